@@ -1,0 +1,48 @@
+// capz — readers and writers. Every function throws capz::Error naming the file on failure.
+// Writers never leave a partial output: they write a temporary sibling and rename it into place.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "capz/take.h"
+
+namespace capz {
+
+// Format from the path: a directory -> PCD folder; else by the file's magic/extension.
+Format detect_format(const std::string& path);
+
+// Reads any supported input (.c3d, .trc, a folder of .pcd frames).
+Take read_take(const std::string& path);
+
+struct WriteOptions {
+  bool overwrite = false;            // replace an existing output (the CLI's -f)
+  std::string pcd_encoding = "binary";  // "ascii", "binary", "binary_compressed"
+  bool c3d_float = false;  // C3D written as float even if the source was int16 (default: source's)
+};
+
+// Writes by the output path: ".c3d", ".trc", otherwise (a directory path, existing or ending in
+// '/') a PCD folder. Throws kUsage if the output exists and !opts.overwrite.
+void write_take(const Take& take, const std::string& path, const WriteOptions& opts = {});
+Format format_for_output(const std::string& path);
+
+// Per format. `name` in the *_bytes readers is only used in messages.
+Take read_c3d(const std::string& path);
+Take read_c3d_bytes(const uint8_t* data, size_t size, const std::string& name);
+void write_c3d(const Take& take, const std::string& path, const WriteOptions& opts = {});
+
+Take read_trc(const std::string& path);
+Take read_trc_bytes(const uint8_t* data, size_t size, const std::string& name);
+void write_trc(const Take& take, const std::string& path, const WriteOptions& opts = {});
+
+Take read_pcd_folder(const std::string& dir);
+void write_pcd_folder(const Take& take, const std::string& dir, const WriteOptions& opts = {});
+
+// The C3D parameter section alone, in C3D's own byte layout (Intel processor type, blocks of
+// 512 bytes, first 4 bytes = the section header). The .capz container stores C3D parameters in
+// exactly this form; see docs/FORMAT.md.
+std::vector<uint8_t> encode_c3d_parameters(const C3DExtra& extra);
+void decode_c3d_parameters(const uint8_t* data, size_t size, const std::string& name,
+                           C3DExtra* extra);
+
+}  // namespace capz

@@ -1,0 +1,147 @@
+// capz — the Take: the one data model every reader fills, every writer reads and every codec sees.
+//
+// Shapes (frame-major, row-major):
+//   xyz   : frames x points x 3 doubles, xyz[(f * points + p) * 3 + axis], in the file's own units
+//   valid : frames x points bytes, 1 = the sample holds a measured position, 0 = a gap
+// A gap sample's xyz is unspecified by contract (readers store 0); codecs fill gaps for coding
+// only and must never rely on the value. Every source format is converted exactly into double:
+// float32 values are widened, C3D int16 values are stored as int16 * POINT:SCALE (so the stored
+// integer is recovered as round(x / scale)).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace capz {
+
+enum class Format { kUnknown = 0, kC3D = 1, kTRC = 2, kPCDFolder = 3 };
+const char* format_name(Format f);  // "c3d", "trc", "pcd-folder", "unknown"
+
+// ---------------------------------------------------------------------------------------------
+// C3D specifics: what a C3D carries beyond positions, kept so a C3D written back is faithful.
+
+// One parameter of the C3D parameter section, values decoded to host form.
+struct C3DParameter {
+  std::string name;         // as stored (upper case in practice)
+  std::string description;  //
+  bool locked = false;      // stored as a negative name length
+  int8_t type = -1;         // -1 char, 1 byte, 2 int16, 4 float (element size = |type|)
+  std::vector<int> dims;    // 0..7 dimensions, first varies fastest; empty = scalar
+  // Elements in host order: char/byte as bytes, int16 as little-endian int16, float as
+  // little-endian IEEE float32 (DEC floats are converted on read). Size = |type| * prod(dims).
+  std::vector<uint8_t> data;
+
+  size_t element_count() const;
+  // Typed views; they throw Error(kCorrupt) on a type mismatch.
+  std::string as_string() const;                // the whole char array, trailing blanks removed
+  std::vector<std::string> as_strings() const;  // 2-D char array: dims[1] strings of dims[0]
+  std::vector<int> as_ints() const;             // byte (unsigned) or int16 elements
+  std::vector<float> as_floats() const;         // float, int16 or byte elements widened
+};
+
+struct C3DGroup {
+  int id = 0;  // positive group number (parameters refer to it)
+  std::string name;
+  std::string description;
+  bool locked = false;
+  std::vector<C3DParameter> params;
+
+  const C3DParameter* find(const std::string& name) const;  // case-insensitive, nullptr if absent
+};
+
+struct C3DHeaderEvent {
+  float time = 0;  // seconds
+  bool display = false;
+  std::string label;  // up to 4 characters
+};
+
+struct C3DExtra {
+  int processor = 84;          // as read: 84 Intel, 85 DEC, 86 MIPS (the writer writes Intel)
+  bool float_storage = false;  // POINT:SCALE < 0
+  double point_scale = 1.0;    // |POINT:SCALE|: the int16 step in the file's units
+  int max_interpolation_gap = 0;
+  std::vector<C3DGroup> groups;  // the whole parameter section in file order
+  std::vector<C3DHeaderEvent> header_events;
+  bool header_events_label_range = false;  // header word 150 (0x3039 = events with 4-char labels)
+
+  // Per sample 4th word: residual (file units, >= 0 valid, negative = invalid as stored) and the
+  // camera-contribution byte. Both frames x points; empty when the take did not come from C3D.
+  std::vector<float> residual;
+  std::vector<uint8_t> camera_mask;
+
+  const C3DGroup* group(const std::string& name) const;  // case-insensitive, nullptr if absent
+  const C3DParameter* param(const std::string& group, const std::string& name) const;
+};
+
+// Analog channels sampled `samples_per_frame` times per point frame.
+// values: (frames * samples_per_frame) x channels, row-major, exactly as stored in the file
+// (int16 files give integers, float files give the float32 values). Real units follow from
+// ANALOG:SCALE/OFFSET/GEN_SCALE in the C3D parameters; capz keeps the stored numbers.
+struct Analog {
+  int channels = 0;
+  int samples_per_frame = 0;
+  double rate = 0;  // Hz
+  std::vector<std::string> labels;
+  std::vector<double> values;
+};
+
+// TRC specifics (OpenSim / Motion Analysis). Kept so a TRC written back looks like the source.
+struct TRCExtra {
+  std::string path_file_type_line;  // first line verbatim, e.g. "PathFileType\t4\t(X/Y/Z)\tname.trc"
+  double camera_rate = 0;
+  double orig_data_rate = 0;
+  long orig_data_start_frame = 1;
+  long orig_num_frames = 0;
+  std::vector<double> times;       // the Time column, one per frame
+  std::vector<long> frame_numbers;  // the Frame# column, one per frame
+  int decimals = -1;                // most decimals seen in coordinate fields; -1 unknown
+};
+
+// PCD folder specifics.
+struct PCDExtra {
+  std::vector<std::string> frame_names;  // file names in natural-sort order, one per frame
+  std::string encoding = "binary";       // "ascii", "binary" or "binary_compressed" (first file)
+};
+
+// ---------------------------------------------------------------------------------------------
+struct Take {
+  std::string source;  // path it was read from (for messages), may be empty
+  Format format = Format::kUnknown;
+
+  size_t frames = 0;
+  size_t points = 0;
+  std::vector<double> xyz;     // frames x points x 3 (see top of file)
+  std::vector<uint8_t> valid;  // frames x points
+
+  double rate = 0;     // frames per second; 0 = unknown
+  std::string units;   // "mm", "cm", "m", ... as the file says; empty = unknown (PCD)
+  long first_frame = 1;  // number of the first frame as the source counts them
+  std::vector<std::string> labels;        // one per point (may be empty strings)
+  std::vector<std::string> descriptions;  // one per point or empty
+
+  Analog analog;                    // channels == 0 when none
+  std::shared_ptr<C3DExtra> c3d;    // set when read from C3D
+  std::shared_ptr<TRCExtra> trc;    // set when read from TRC
+  std::shared_ptr<PCDExtra> pcd;    // set when read from a PCD folder
+
+  // Inconsistencies found while reading that did not stop it ("header says 1149 frames, file
+  // holds 29"). `capz info` prints them.
+  std::vector<std::string> warnings;
+
+  double* at(size_t f, size_t p) { return &xyz[(f * points + p) * 3]; }
+  const double* at(size_t f, size_t p) const { return &xyz[(f * points + p) * 3]; }
+  bool is_valid(size_t f, size_t p) const { return valid[f * points + p] != 0; }
+
+  // Allocates xyz and valid for frames x points (all gaps, zero positions).
+  void resize(size_t frames, size_t points);
+  size_t gap_samples() const;  // number of (frame, point) samples that are gaps
+};
+
+// Scale factor from a units string to metres: "mm" -> 0.001, "cm" -> 0.01, "m" -> 1,
+// "in" -> 0.0254; 0 when unknown. Case-insensitive, surrounding blanks ignored.
+double units_to_metres(const std::string& units);
+
+}  // namespace capz

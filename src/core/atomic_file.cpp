@@ -1,0 +1,116 @@
+#include "core/atomic_file.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "capz/error.h"
+
+namespace fs = std::filesystem;
+
+namespace capz {
+
+static std::string sys_error() { return std::strerror(errno); }
+
+void check_output_free(const std::string& path, bool overwrite) {
+  std::error_code ec;
+  if (!overwrite && fs::exists(fs::symlink_status(path, ec)))
+    fail(ErrorCode::kUsage, path, "output exists (use -f to overwrite)");
+}
+
+AtomicFile::AtomicFile(const std::string& path, bool overwrite) : path_(path), overwrite_(overwrite) {
+  check_output_free(path, overwrite);
+  std::string templ = path + ".tmp-XXXXXX";
+  std::vector<char> buf(templ.begin(), templ.end());
+  buf.push_back('\0');
+  fd_ = mkstemp(buf.data());
+  if (fd_ < 0) fail(ErrorCode::kIo, path, "cannot create temporary file: " + sys_error());
+  tmp_ = buf.data();
+  fchmod(fd_, 0644);
+}
+
+AtomicFile::~AtomicFile() {
+  if (fd_ >= 0) ::close(fd_);
+  if (!committed_ && !tmp_.empty()) ::unlink(tmp_.c_str());
+}
+
+void AtomicFile::write(const void* data, size_t size) {
+  const char* p = static_cast<const char*>(data);
+  while (size > 0) {
+    ssize_t n = ::write(fd_, p, size);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) fail(ErrorCode::kIo, path_, "write failed: " + (n < 0 ? sys_error() : std::string("no space")));
+    p += n;
+    size -= static_cast<size_t>(n);
+  }
+}
+
+void AtomicFile::commit() {
+  if (::fsync(fd_) != 0) fail(ErrorCode::kIo, path_, "fsync failed: " + sys_error());
+  int fd = fd_;
+  fd_ = -1;
+  if (::close(fd) != 0) fail(ErrorCode::kIo, path_, "close failed: " + sys_error());
+  check_output_free(path_, overwrite_);
+  if (::rename(tmp_.c_str(), path_.c_str()) != 0)
+    fail(ErrorCode::kIo, path_, "cannot rename temporary file into place: " + sys_error());
+  committed_ = true;
+}
+
+AtomicDir::AtomicDir(const std::string& path, bool overwrite) : path_(path), overwrite_(overwrite) {
+  while (path_.size() > 1 && path_.back() == '/') path_.pop_back();
+  check_output_free(path_, overwrite);
+  std::string templ = path_ + ".tmp-XXXXXX";
+  std::vector<char> buf(templ.begin(), templ.end());
+  buf.push_back('\0');
+  if (!mkdtemp(buf.data())) fail(ErrorCode::kIo, path_, "cannot create temporary directory: " + sys_error());
+  tmp_ = buf.data();
+}
+
+AtomicDir::~AtomicDir() {
+  if (!committed_ && !tmp_.empty()) {
+    std::error_code ec;
+    fs::remove_all(tmp_, ec);
+  }
+}
+
+void AtomicDir::commit() {
+  check_output_free(path_, overwrite_);
+  std::error_code ec;
+  std::string old;
+  if (fs::exists(path_, ec)) {
+    old = path_ + ".old-" + std::to_string(::getpid());
+    fs::rename(path_, old, ec);
+    if (ec) fail(ErrorCode::kIo, path_, "cannot move the existing output aside: " + ec.message());
+  }
+  fs::rename(tmp_, path_, ec);
+  if (ec) {
+    if (!old.empty()) fs::rename(old, path_, ec);
+    fail(ErrorCode::kIo, path_, "cannot rename temporary directory into place");
+  }
+  committed_ = true;
+  if (!old.empty()) fs::remove_all(old, ec);
+}
+
+std::vector<uint8_t> read_file(const std::string& path, uint64_t max_bytes) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) fail(ErrorCode::kUsage, path, "is a directory, expected a file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(ErrorCode::kIo, path, "cannot open: " + sys_error());
+  in.seekg(0, std::ios::end);
+  std::streamoff size = in.tellg();
+  if (size < 0) fail(ErrorCode::kIo, path, "cannot determine size");
+  if (static_cast<uint64_t>(size) > max_bytes)
+    fail(ErrorCode::kUsage, path, "file too large (" + std::to_string(size) + " bytes)");
+  in.seekg(0, std::ios::beg);
+  std::vector<uint8_t> data(static_cast<size_t>(size));
+  if (size > 0 && !in.read(reinterpret_cast<char*>(data.data()), size))
+    fail(ErrorCode::kIo, path, "read failed");
+  return data;
+}
+
+}  // namespace capz

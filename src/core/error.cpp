@@ -1,0 +1,22 @@
+#include "capz/error.h"
+
+namespace capz {
+
+const char* error_code_name(ErrorCode code) {
+  switch (code) {
+    case ErrorCode::kUsage: return "usage";
+    case ErrorCode::kIo: return "io";
+    case ErrorCode::kNotOurFormat: return "not-our-format";
+    case ErrorCode::kUnsupportedVersion: return "unsupported-version";
+    case ErrorCode::kCorrupt: return "corrupt";
+    case ErrorCode::kInvalidParameter: return "invalid-parameter";
+    case ErrorCode::kInternal: return "internal";
+  }
+  return "unknown";
+}
+
+void fail(ErrorCode code, const std::string& file, const std::string& what) {
+  throw Error(code, file.empty() ? what : file + ": " + what);
+}
+
+}  // namespace capz

@@ -1,0 +1,139 @@
+#include "capz/take.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstring>
+
+#include "capz/error.h"
+
+namespace capz {
+
+const char* format_name(Format f) {
+  switch (f) {
+    case Format::kC3D: return "c3d";
+    case Format::kTRC: return "trc";
+    case Format::kPCDFolder: return "pcd-folder";
+    case Format::kUnknown: break;
+  }
+  return "unknown";
+}
+
+static std::string lower(std::string s) {
+  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+static std::string trim(const std::string& s) {
+  size_t b = 0, e = s.size();
+  while (b < e && (std::isspace(static_cast<unsigned char>(s[b])) || s[b] == '\0')) ++b;
+  while (e > b && (std::isspace(static_cast<unsigned char>(s[e - 1])) || s[e - 1] == '\0')) --e;
+  return s.substr(b, e - b);
+}
+
+size_t C3DParameter::element_count() const {
+  size_t n = 1;
+  for (int d : dims) n *= static_cast<size_t>(d < 0 ? 0 : d);
+  return n;
+}
+
+std::string C3DParameter::as_string() const {
+  if (type != -1) fail(ErrorCode::kCorrupt, "", "parameter " + name + " is not a char array");
+  std::string s(data.begin(), data.end());
+  size_t e = s.size();
+  while (e > 0 && (s[e - 1] == ' ' || s[e - 1] == '\0')) --e;
+  return s.substr(0, e);
+}
+
+std::vector<std::string> C3DParameter::as_strings() const {
+  if (type != -1) fail(ErrorCode::kCorrupt, "", "parameter " + name + " is not a char array");
+  std::vector<std::string> out;
+  if (dims.empty()) {
+    out.push_back(as_string());
+    return out;
+  }
+  size_t len = static_cast<size_t>(std::max(dims[0], 0));
+  size_t count = len == 0 ? 0 : data.size() / len;
+  for (size_t i = 0; i < count; ++i) {
+    std::string s(data.begin() + i * len, data.begin() + (i + 1) * len);
+    size_t e = s.size();
+    while (e > 0 && (s[e - 1] == ' ' || s[e - 1] == '\0')) --e;
+    out.push_back(s.substr(0, e));
+  }
+  return out;
+}
+
+std::vector<int> C3DParameter::as_ints() const {
+  std::vector<int> out;
+  if (type == 1) {
+    for (uint8_t b : data) out.push_back(b);
+  } else if (type == 2) {
+    for (size_t i = 0; i + 1 < data.size(); i += 2)
+      out.push_back(static_cast<int16_t>(static_cast<uint16_t>(data[i] | (data[i + 1] << 8))));
+  } else {
+    fail(ErrorCode::kCorrupt, "", "parameter " + name + " is not an integer array");
+  }
+  return out;
+}
+
+std::vector<float> C3DParameter::as_floats() const {
+  std::vector<float> out;
+  if (type == 4) {
+    for (size_t i = 0; i + 3 < data.size(); i += 4) {
+      uint32_t u = static_cast<uint32_t>(data[i]) | (static_cast<uint32_t>(data[i + 1]) << 8) |
+                   (static_cast<uint32_t>(data[i + 2]) << 16) |
+                   (static_cast<uint32_t>(data[i + 3]) << 24);
+      float f;
+      std::memcpy(&f, &u, 4);
+      out.push_back(f);
+    }
+  } else if (type == 1 || type == 2) {
+    for (int v : as_ints()) out.push_back(static_cast<float>(v));
+  } else {
+    fail(ErrorCode::kCorrupt, "", "parameter " + name + " is not numeric");
+  }
+  return out;
+}
+
+const C3DParameter* C3DGroup::find(const std::string& n) const {
+  std::string key = lower(trim(n));
+  for (const auto& p : params)
+    if (lower(trim(p.name)) == key) return &p;
+  return nullptr;
+}
+
+const C3DGroup* C3DExtra::group(const std::string& n) const {
+  std::string key = lower(trim(n));
+  for (const auto& g : groups)
+    if (lower(trim(g.name)) == key) return &g;
+  return nullptr;
+}
+
+const C3DParameter* C3DExtra::param(const std::string& g, const std::string& n) const {
+  const C3DGroup* grp = group(g);
+  return grp ? grp->find(n) : nullptr;
+}
+
+void Take::resize(size_t f, size_t p) {
+  frames = f;
+  points = p;
+  xyz.assign(f * p * 3, 0.0);
+  valid.assign(f * p, 0);
+}
+
+size_t Take::gap_samples() const {
+  return static_cast<size_t>(std::count(valid.begin(), valid.end(), uint8_t{0}));
+}
+
+double units_to_metres(const std::string& units) {
+  std::string u = lower(trim(units));
+  if (u == "mm" || u == "millimeters" || u == "millimetres") return 0.001;
+  if (u == "cm" || u == "centimeters" || u == "centimetres") return 0.01;
+  if (u == "m" || u == "meters" || u == "metres") return 1.0;
+  if (u == "dm") return 0.1;
+  if (u == "in" || u == "inch" || u == "inches") return 0.0254;
+  if (u == "ft" || u == "feet") return 0.3048;
+  if (u == "um" || u == "micrometers") return 1e-6;
+  return 0.0;
+}
+
+}  // namespace capz
