@@ -1,0 +1,46 @@
+// Transform codecs (ts, pdct) plug in front of the container's bound layer through this
+// interface. A transform predicts a whole window of positions; the bound layer then quantises
+// the original on the user's grid and entropy-codes (original - prediction) on that grid, so
+// the max-error bound holds whatever the transform did. With only a KG target (no max error),
+// the bound layer may be skipped and the transform's reconstruction is the output.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "capz/codec.h"
+
+namespace capz {
+
+struct TransformParams {
+  double max_error = 0;  // per-coordinate bound in the take's units; 0 = none given
+  double kg_error = 0;   // KG error target in percent (see metrics.h); 0 = none given
+  int clusters = 0;      // 0 = the codec's default, -1 = auto (search)
+  // Codec-specific knobs from the CLI's repeated `--codec-opt key=value`; codecs document
+  // their keys in docs/CLI.md and reject unknown ones with Error(kInvalidParameter).
+  std::map<std::string, std::string> options;
+};
+
+class TransformCodec {
+ public:
+  virtual ~TransformCodec() = default;
+  // Stable numeric id stored in the bitstream (docs/FORMAT.md); never reuse a retired one.
+  virtual uint8_t id() const = 0;
+  virtual const char* name() const = 0;  // "ts", "pdct"
+
+  // Encodes one window. Appends the payload to *out and sets *recon (frames x points x 3) to
+  // exactly what decode() will return for that payload (the closed loop depends on it).
+  // `in.valid` marks measured samples; gap samples carry filled values and may be predicted
+  // freely. Deterministic: the same input and params give the same bytes.
+  virtual void encode(const PositionsView& in, const TransformParams& params,
+                      std::vector<uint8_t>* out, std::vector<double>* recon) const = 0;
+
+  // Inverse of encode() for a window of `frames` x `points`. Throws Error(kCorrupt) on any
+  // inconsistency; never reads past `size`, never allocates more than the window needs.
+  virtual void decode(const uint8_t* data, size_t size, size_t frames, size_t points,
+                      std::vector<double>* recon) const = 0;
+};
+
+}  // namespace capz
