@@ -2,7 +2,30 @@
 
 #include <algorithm>
 
+#include "coding/bytes.h"
+
 namespace capz {
+
+std::vector<uint8_t> IntEncoder::finish() {
+  std::vector<uint8_t> range = rc_.finish();
+  std::vector<uint8_t> raw = bits_.finish();
+  ByteWriter w;
+  w.varint(range.size());
+  w.bytes(range);
+  w.bytes(raw);
+  return std::move(w.buffer());
+}
+
+IntDecoder::Split IntDecoder::split(const uint8_t* data, size_t size, const std::string& what) {
+  ByteReader r(data, size, what);
+  size_t n = static_cast<size_t>(r.count(1, "length of the range-coded part"));
+  size_t h = r.offset();
+  return Split{data + h, n, data + h + n, size - h - n};
+}
+
+IntDecoder::IntDecoder(const uint8_t* data, size_t size, int contexts, const std::string& what)
+    : IntDecoder(split(data, size, what), contexts, what) {}
+
 namespace {
 
 template <typename T, typename Map>
@@ -10,10 +33,7 @@ std::vector<uint8_t> encode_stream(const std::vector<T>& values, Map map) {
   IntEncoder enc(kIntStreamContexts);
   int ctx = 0;
   for (T v : values) {
-    uint32_t u = map(v);
-    int nbits;
-    int tok = token_of(u, &nbits);
-    enc.put(u, ctx);
+    int tok = enc.put(map(v), ctx);
     ctx = std::min(tok, kIntStreamContexts - 1);
   }
   return enc.finish();
@@ -30,7 +50,7 @@ std::vector<T> decode_stream(const uint8_t* data, size_t size, size_t count,
   int ctx = 0;
   for (size_t i = 0; i < count; ++i) {
     int tok;
-    out[i] = unmap(dec.get_tok(ctx, &tok));
+    out[i] = unmap(dec.get(ctx, &tok));
     ctx = std::min(tok, kIntStreamContexts - 1);
   }
   if (!dec.at_end()) dec.coder()->corrupt("entropy-coded block has bytes past its last value");

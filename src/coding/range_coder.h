@@ -1,6 +1,6 @@
 // Adaptive range coder: the entropy stage every capz stream ends in (docs/FORMAT.md section 1).
 //
-// RangeEncoder/RangeDecoder code intervals of a fixed total 2^15 (kTotalBits) and raw bit fields.
+// RangeEncoder/RangeDecoder code intervals of a fixed total 2^15 (kTotalBits).
 // SymbolModel is an adaptive cumulative-frequency table over up to 64 symbols; every symbol keeps
 // a frequency >= 1, so any symbol can always be coded. Header-only: the hot loops inline.
 //
@@ -12,6 +12,10 @@
 #include <cstring>
 #include <string>
 #include <vector>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "capz/error.h"
 
@@ -30,15 +34,6 @@ class RangeEncoder {
     range_ = r * freq;
     normalize();
   }
-  // n raw bits of v (0 <= n <= 32).
-  void raw_bits(uint32_t v, int n) {
-    while (n > 16) {
-      raw16(v & 0xFFFF, 16);
-      v >>= 16;
-      n -= 16;
-    }
-    if (n > 0) raw16(v, n);
-  }
   // Flushes and returns the block; the encoder is reset afterwards.
   std::vector<uint8_t> finish() {
     for (int i = 0; i < 5; ++i) shift_low();
@@ -53,11 +48,6 @@ class RangeEncoder {
   size_t bytes_so_far() const { return out_.size() + pending_ + 4; }
 
  private:
-  void raw16(uint32_t v, int n) {
-    range_ >>= n;
-    low_ += static_cast<uint64_t>(range_) * v;
-    normalize();
-  }
   void normalize() {
     while (range_ < kTopValue) {
       range_ <<= 8;
@@ -93,29 +83,18 @@ class RangeDecoder {
     for (int i = 0; i < 4; ++i) code_ = (code_ << 8) | next_byte();
   }
 
-  // Scaled target for an interval decode: returns r and leaves the caller to find the symbol s
-  // with r * cum(s) <= code < r * cum(s + 1); then call consume(r, start, freq).
-  uint32_t begin(uint32_t* code) {
-    uint32_t r = range_ >> kTotalBits;
-    if (code_ >= r * kTotal) corrupt("entropy-coded value out of range");
-    *code = code_;
-    return r;
-  }
-  void consume(uint32_t r, uint32_t start, uint32_t freq) {
-    code_ -= r * start;
-    range_ = r * freq;
-    normalize();
-  }
-  uint32_t raw_bits(int n) {
-    uint32_t v = 0;
-    int shift = 0;
-    while (n > 16) {
-      v |= raw16(16) << shift;
-      shift += 16;
-      n -= 16;
-    }
-    if (n > 0) v |= raw16(n) << shift;
+  // First half of an interval decode: returns the cumulative target v in [0, kTotal); the caller
+  // finds the symbol s with cum(s) <= v < cum(s + 1), then calls consume(start, freq).
+  uint32_t target() {
+    r_ = range_ >> kTotalBits;
+    uint32_t v = code_ / r_;
+    if (v >= kTotal) corrupt("entropy-coded value out of range");
     return v;
+  }
+  void consume(uint32_t start, uint32_t freq) {
+    code_ -= r_ * start;
+    range_ = r_ * freq;
+    normalize();
   }
   // True when every byte of the block has been consumed (a valid block ends exactly there).
   bool at_end() const { return p_ == end_; }
@@ -124,14 +103,6 @@ class RangeDecoder {
   }
 
  private:
-  uint32_t raw16(int n) {
-    range_ >>= n;
-    uint32_t v = code_ / range_;
-    if (v >> n) corrupt("entropy-coded raw bits out of range");
-    code_ -= v * range_;
-    normalize();
-    return v;
-  }
   uint8_t next_byte() {
     if (p_ == end_) corrupt("entropy-coded block is truncated");
     return *p_++;
@@ -147,20 +118,76 @@ class RangeDecoder {
   const uint8_t* end_;
   uint32_t code_ = 0;
   uint32_t range_ = 0xFFFFFFFFu;
+  uint32_t r_ = 0;
   std::string what_;
 };
 
-// Adaptive model over n <= 64 symbols (docs/FORMAT.md 1.2). cum(i) = c[i] + i over kTotal.
+// Raw bit fields travel beside the range-coded bytes (docs/FORMAT.md 1.3): packed LSB first.
+class BitWriter {
+ public:
+  // n low bits of v, 0 <= n <= 32.
+  void put(uint32_t v, int n) {
+    acc_ |= static_cast<uint64_t>(v) << bits_;
+    bits_ += n;
+    while (bits_ >= 8) {
+      out_.push_back(static_cast<uint8_t>(acc_));
+      acc_ >>= 8;
+      bits_ -= 8;
+    }
+  }
+  // Pads the last byte with zero bits and returns the bytes; the writer is reset.
+  std::vector<uint8_t> finish() {
+    if (bits_ > 0) out_.push_back(static_cast<uint8_t>(acc_));
+    acc_ = 0;
+    bits_ = 0;
+    std::vector<uint8_t> out;
+    out.swap(out_);
+    return out;
+  }
+
+ private:
+  uint64_t acc_ = 0;
+  int bits_ = 0;
+  std::vector<uint8_t> out_;
+};
+
+class BitReader {
+ public:
+  BitReader(const uint8_t* data, size_t size) : p_(data), end_(data + size) {}
+  // n bits, 0 <= n <= 32; returns false (value unspecified) when the bytes run out.
+  bool get(int n, uint32_t* v) {
+    if (bits_ < n) {
+      while (bits_ <= 56 && p_ != end_) {
+        acc_ |= static_cast<uint64_t>(*p_++) << bits_;
+        bits_ += 8;
+      }
+      if (bits_ < n) return false;
+    }
+    *v = static_cast<uint32_t>(acc_ & ((uint64_t{1} << n) - 1));
+    acc_ >>= n;
+    bits_ -= n;
+    return true;
+  }
+  // A valid stream ends with fewer than 8 padding bits, all zero.
+  bool at_valid_end() const { return p_ == end_ && bits_ < 8 && acc_ == 0; }
+
+ private:
+  const uint8_t* p_;
+  const uint8_t* end_;
+  uint64_t acc_ = 0;
+  int bits_ = 0;
+};
+
+// Adaptive model over 16 symbols (docs/FORMAT.md 1.2): cum(i) = c[i] + i over kTotal, so every
+// symbol keeps a frequency >= 1. Alphabets of n < 16 symbols simply never code the top ones.
 class SymbolModel {
  public:
-  static constexpr int kMaxSymbols = 64;
-  explicit SymbolModel(int n = kMaxSymbols) : n_(n) {
-    if (n < 2 || n > kMaxSymbols) throw Error(ErrorCode::kInternal, "SymbolModel: bad alphabet size");
-    const int t = static_cast<int>(kTotal) - n;
-    for (int i = 0; i <= kMaxSymbols; ++i)
-      c_[i] = static_cast<int16_t>(i <= n ? static_cast<int>(static_cast<int64_t>(i) * t / n) : t);
+  static constexpr int kSymbols = 16;
+  static constexpr int16_t kT = static_cast<int16_t>(kTotal - kSymbols);
+  SymbolModel() {
+    for (int i = 0; i < kSymbols; ++i) c_[i] = static_cast<int16_t>(i * kT / kSymbols);
+    c_[kSymbols] = kT;
   }
-  int size() const { return n_; }
 
   void encode(RangeEncoder* enc, int s) {
     uint32_t lo = static_cast<uint32_t>(c_[s] + s);
@@ -169,33 +196,64 @@ class SymbolModel {
     update(s);
   }
   int decode(RangeDecoder* dec) {
-    uint32_t code;
-    uint32_t r = dec->begin(&code);
-    // Largest s with r * cum(s) <= code; cum(0) = 0 and code < r * kTotal = r * cum(n).
-    int s = 0;
-    while (s + 1 < n_ && r * static_cast<uint32_t>(c_[s + 1] + s + 1) <= code) ++s;
+    const int v = static_cast<int>(dec->target());
+    const int s = find(v);
     uint32_t lo = static_cast<uint32_t>(c_[s] + s);
     uint32_t hi = static_cast<uint32_t>(c_[s + 1] + s + 1);
-    dec->consume(r, lo, hi - lo);
+    dec->consume(lo, hi - lo);
     update(s);
     return s;
   }
 
  private:
-  void update(int s) {
-    const int rate = count_ < 16 ? 4 : count_ < 64 ? 5 : count_ < 256 ? 6 : 7;
+  int rate() {
+    const int r = count_ < 16 ? 4 : count_ < 64 ? 5 : count_ < 256 ? 6 : 7;
     if (count_ < 256) ++count_;
-    const int16_t t = static_cast<int16_t>(static_cast<int>(kTotal) - n_);
-    // Branch-free so the compiler vectorises it; entries past n_ stay at t (target t, no change).
-    for (int i = 1; i < kMaxSymbols; ++i) {
-      int16_t target = i > s ? t : 0;
-      c_[i] = static_cast<int16_t>(c_[i] + ((target - c_[i]) >> rate));
+    return r;
+  }
+#if defined(__SSE2__)
+  // s = (number of i in [0, 16) with cum(i) <= v) - 1; cum(0) = 0 <= v always.
+  int find(int v) const {
+    const __m128i idx0 = _mm_setr_epi16(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m128i idx1 = _mm_setr_epi16(8, 9, 10, 11, 12, 13, 14, 15);
+    const __m128i vv = _mm_set1_epi16(static_cast<int16_t>(v));
+    __m128i a = _mm_add_epi16(_mm_load_si128(reinterpret_cast<const __m128i*>(c_)), idx0);
+    __m128i b = _mm_add_epi16(_mm_load_si128(reinterpret_cast<const __m128i*>(c_ + 8)), idx1);
+    int gt = _mm_movemask_epi8(_mm_packs_epi16(_mm_cmpgt_epi16(a, vv), _mm_cmpgt_epi16(b, vv)));
+    return 15 - __builtin_popcount(static_cast<unsigned>(gt));
+  }
+  void update(int s) {
+    const __m128i r = _mm_cvtsi32_si128(rate());
+    const __m128i idx0 = _mm_setr_epi16(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m128i idx1 = _mm_setr_epi16(8, 9, 10, 11, 12, 13, 14, 15);
+    const __m128i ss = _mm_set1_epi16(static_cast<int16_t>(s));
+    const __m128i t = _mm_set1_epi16(kT);
+    __m128i* p = reinterpret_cast<__m128i*>(c_);
+    __m128i a = _mm_load_si128(p), b = _mm_load_si128(p + 1);
+    __m128i ta = _mm_and_si128(_mm_cmpgt_epi16(idx0, ss), t);  // i > s ? T : 0
+    __m128i tb = _mm_and_si128(_mm_cmpgt_epi16(idx1, ss), t);
+    a = _mm_add_epi16(a, _mm_sra_epi16(_mm_sub_epi16(ta, a), r));
+    b = _mm_add_epi16(b, _mm_sra_epi16(_mm_sub_epi16(tb, b), r));
+    _mm_store_si128(p, a);  // c[0] stays 0: its target is 0
+    _mm_store_si128(p + 1, b);
+  }
+#else
+  int find(int v) const {
+    int n = 0;
+    for (int i = 1; i < kSymbols; ++i) n += (c_[i] + i <= v);
+    return n;
+  }
+  void update(int s) {
+    const int r = rate();
+    for (int i = 1; i < kSymbols; ++i) {
+      int target = i > s ? kT : 0;
+      c_[i] = static_cast<int16_t>(c_[i] + ((target - c_[i]) >> r));
     }
   }
+#endif
 
-  int n_;
   int count_ = 0;
-  alignas(16) int16_t c_[kMaxSymbols + 1];
+  alignas(16) int16_t c_[kSymbols + 8];  // c_[16] = T; the rest is padding
 };
 
 }  // namespace capz

@@ -66,13 +66,13 @@ TEST(Entropy, GivenUnsignedStreamWithContextsWhenRoundTrippedThenExact) {
   IntEncoder enc(3);
   for (size_t i = 0; i < v.size(); ++i) {
     enc.put(v[i], static_cast<int>(i % 3));
-    enc.coder()->raw_bits(static_cast<uint32_t>(i) & 0x1FFFFF, 21);
+    enc.raw_bits(static_cast<uint32_t>(i) & 0x1FFFFF, 21);
   }
   auto b2 = enc.finish();
   IntDecoder dec(b2.data(), b2.size(), 3, "test");
   for (size_t i = 0; i < v.size(); ++i) {
     ASSERT_EQ(dec.get(static_cast<int>(i % 3)), v[i]);
-    ASSERT_EQ(dec.coder()->raw_bits(21), static_cast<uint32_t>(i) & 0x1FFFFF);
+    ASSERT_EQ(dec.raw_bits(21), static_cast<uint32_t>(i) & 0x1FFFFF);
   }
   EXPECT_TRUE(dec.at_end());
 }
@@ -82,11 +82,11 @@ TEST(Entropy, GivenSymbolModelWithSmallAlphabetWhenRoundTrippedThenExact) {
   std::vector<int> s(50000);
   for (auto& x : s) x = (rng() % 10 == 0) ? static_cast<int>(rng() % 5) : 0;
   RangeEncoder enc;
-  SymbolModel m(5);
+  SymbolModel m;
   for (int x : s) m.encode(&enc, x);
   auto block = enc.finish();
   RangeDecoder dec(block.data(), block.size(), "test");
-  SymbolModel m2(5);
+  SymbolModel m2;
   for (int x : s) ASSERT_EQ(m2.decode(&dec), x);
   EXPECT_TRUE(dec.at_end());
 }
