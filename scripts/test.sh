@@ -1,8 +1,22 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds, and runs the whole test suite (ctest).
+# Installs what is missing, builds, and runs the whole test suite (ctest) in the Release build;
+# then builds again with AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/, -O1) and
+# runs the unit, round-trip, corrupt-input, reliability and fuzz-corpus-replay tests there.
+# CAPZ_SKIP_ASAN=1 skips the sanitizer pass (e.g. for a quick local run).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 scripts/build.sh
-cd build
-ctest --output-on-failure -j"$(nproc)" --timeout 900
+(cd build && ctest --output-on-failure -j"$(nproc)" --timeout 900)
+
+if [ "${CAPZ_SKIP_ASAN:-0}" != "1" ]; then
+  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g1" \
+    "-DCMAKE_C_FLAGS_DEBUG=-O1 -g1" -DCAPZ_SANITIZE=address,undefined -DCAPZ_BUILD_BENCH=OFF \
+    >/dev/null
+  cmake --build build-asan -j"$(nproc)"
+  # Any sanitizer report fails the test (the build uses -fno-sanitize-recover=all).
+  export ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1
+  export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+  (cd build-asan && ctest --output-on-failure -j"$(nproc)" --timeout 1800 \
+     -L '^(unit|roundtrip|corrupt|reliability|fuzz)$')
+fi

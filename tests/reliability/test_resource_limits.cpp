@@ -1,0 +1,141 @@
+// Resource limits: a small hostile file whose counts claim gigabytes is refused (capz::Error) or
+// read as what it really holds, without the reader asking for more than a small budget of heap.
+// Every case runs inside an AllocScope (alloc_counter.h): a single request above 256 MB is
+// refused (bad_alloc) and fails the test; the peak heap use must stay under kBudget.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "alloc_counter.h"
+#include "capz/error.h"
+#include "capz/io.h"
+#include "test_util.h"
+
+namespace fs = std::filesystem;
+using capz_test::AllocReport;
+using capz_test::AllocScope;
+
+namespace {
+
+// A 1 KB input may cost a few MB while being read (a Take holds 25 bytes per sample); not more.
+constexpr int64_t kBudget = int64_t{64} << 20;
+
+struct Outcome {
+  bool threw_error = false;
+  bool threw_bad_alloc = false;
+  std::string message;
+  AllocReport alloc;
+};
+
+Outcome run_bounded(const std::function<void()>& read) {
+  Outcome o;
+  {
+    AllocScope scope;
+    try {
+      read();
+    } catch (const capz::Error& e) {
+      o.threw_error = true;
+      o.message = e.what();
+    } catch (const std::bad_alloc&) {
+      o.threw_bad_alloc = true;
+    }
+    o.alloc = scope.report();
+  }
+  return o;
+}
+
+void expect_bounded(const Outcome& o, const std::string& what) {
+  EXPECT_FALSE(o.threw_bad_alloc) << what << ": ran out of memory";
+  EXPECT_EQ(o.alloc.refused_request, 0u)
+      << what << ": asked for " << o.alloc.refused_request << " bytes in one request";
+  EXPECT_LT(o.alloc.peak_bytes, kBudget) << what << ": peak heap " << o.alloc.peak_bytes;
+}
+
+std::vector<uint8_t> bytes_of(const std::string& s) { return std::vector<uint8_t>(s.begin(), s.end()); }
+
+void write_file(const fs::path& p, const std::string& s) {
+  std::ofstream o(p, std::ios::binary);
+  o << s;
+}
+
+}  // namespace
+
+// The allocation counter itself: it must see a large request and refuse a huge one, or every
+// other test here could pass without measuring anything.
+TEST(ResourceLimits, CounterSeesAndRefusesLargeRequests) {
+  Outcome o = run_bounded([] {
+    std::vector<uint8_t> v(size_t{8} << 20);
+    v[123] = 1;
+  });
+  EXPECT_GE(o.alloc.peak_bytes, int64_t{8} << 20);
+  EXPECT_GE(o.alloc.largest_request, size_t{8} << 20);
+  EXPECT_EQ(o.alloc.refused_request, 0u);
+  Outcome huge = run_bounded([] { std::vector<double> v(size_t{1} << 30); });
+  EXPECT_TRUE(huge.threw_bad_alloc);
+  EXPECT_EQ(huge.alloc.refused_request, (size_t{1} << 30) * sizeof(double));
+}
+
+TEST(ResourceLimits, TrcHeaderCountsClaimingBillionsAreOnlyWarnings) {
+  const std::string trc =
+      "PathFileType\t4\t(X/Y/Z)\thostile.trc\n"
+      "DataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\tOrigDataRate\tOrigDataStartFrame\t"
+      "OrigNumFrames\n"
+      "100\t100\t2000000000\t50000000\tmm\t100\t1\t2000000000\n"
+      "Frame#\tTime\tA\t\t\tB\t\t\n"
+      "\t\tX1\tY1\tZ1\tX2\tY2\tZ2\n"
+      "1\t0\t1\t2\t3\t4\t5\t6\n"
+      "2\t0.01\t1\t2\t3\t4\t5\t6\n";
+  ASSERT_LT(trc.size(), 1024u);
+  std::vector<uint8_t> b = bytes_of(trc);
+  capz::Take t;
+  Outcome o = run_bounded([&] { t = capz::read_trc_bytes(b.data(), b.size(), "hostile.trc"); });
+  expect_bounded(o, "TRC header counts");
+  ASSERT_FALSE(o.threw_error) << o.message;
+  EXPECT_EQ(t.frames, 2u);
+  EXPECT_EQ(t.points, 2u);
+}
+
+TEST(ResourceLimits, TrcManyShortRowsTimesAWideRowIsBounded) {
+  // One row reaching marker 300 through empty fields, then ~900 one-field rows: rows x markers
+  // samples from one kilobyte. The reader must refuse or stay within the budget.
+  std::string trc =
+      "PathFileType\t4\t(X/Y/Z)\th.trc\nDataRate\tNumFrames\tNumMarkers\n100\t1\t1\nFrame#\tTime\tA\n\n";
+  trc += "1\t0" + std::string(900, '\t') + "1\n";
+  while (trc.size() < 4000) trc += "1\n";
+  std::vector<uint8_t> b = bytes_of(trc);
+  Outcome o = run_bounded([&] { capz::read_trc_bytes(b.data(), b.size(), "wide.trc"); });
+  expect_bounded(o, "TRC wide x long");
+}
+
+// PCD headers: each lie in its own one-file folder.
+TEST(ResourceLimits, PcdHeadersClaimingBillionsOfPointsAreRefused) {
+  const std::string head = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"binary body", head + "COUNT 1 1 1\nWIDTH 1000000000\nHEIGHT 1\nPOINTS 1000000000\n"
+                             "DATA binary\n" + std::string(120, '\0')},
+      {"zero COUNT", head + "COUNT 0 0 0\nWIDTH 1000000000\nHEIGHT 1\nPOINTS 1000000000\n"
+                            "DATA binary\n" + std::string(120, '\0')},
+      {"width x height", head + "COUNT 1 1 1\nWIDTH 1000000\nHEIGHT 1000000\n"
+                                "DATA binary\n" + std::string(120, '\0')},
+      {"ascii body", head + "COUNT 1 1 1\nWIDTH 4000000000\nHEIGHT 1\nDATA ascii\n1 2 3\n"},
+      {"compressed body",
+       head + "COUNT 1 1 1\nWIDTH 100000000\nHEIGHT 1\nDATA binary_compressed\n" +
+           std::string("\x10\x00\x00\x00\x00\x8c\x86\x47", 8) + std::string(16, 'A')},
+      {"huge COUNT", "VERSION 0.7\nFIELDS x y z n\nSIZE 4 4 4 4\nTYPE F F F F\n"
+                     "COUNT 1 1 1 1048576\nWIDTH 1\nHEIGHT 1\nDATA ascii\n1 2 3 4\n"},
+  };
+  for (const auto& c : cases) {
+    capz_test::TempDir dir("capz_limits");
+    write_file(dir.path() / "frame_0.pcd", c.second);
+    Outcome o = run_bounded([&] { capz::read_pcd_folder(dir.path().string()); });
+    expect_bounded(o, "PCD " + c.first);
+    EXPECT_TRUE(o.threw_error) << "PCD " << c.first << " was accepted";
+    std::printf("PCD %s: %s (peak %lld bytes)\n", c.first.c_str(), o.message.c_str(),
+                static_cast<long long>(o.alloc.peak_bytes));
+  }
+}
