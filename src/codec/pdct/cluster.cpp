@@ -1,5 +1,6 @@
 #include "codec/pdct/cluster.h"
 
+#include <algorithm>
 #include <limits>
 
 namespace capz {
@@ -20,17 +21,31 @@ std::vector<int32_t> assign_clusters(const PositionsView& in, const std::vector<
     if (clusters <= 1) continue;
     std::fill(theta.begin(), theta.end(), 0.0);
     size_t pairs = 0;
-    for (size_t f = 1; f < F; f += stride) {
-      if (!in.valid[f * P + i] || !in.valid[(f - 1) * P + i]) continue;
-      ++pairs;
-      const double* a = in.xyz + 3 * ((f - 1) * P + i);
-      const double* b = in.xyz + 3 * (f * P + i);
-      for (size_t k = 0; k < clusters; ++k) {
-        double qa[3], qb[3];
-        to_local(frames_lcf[k * F + f - 1], a, qa);
-        to_local(frames_lcf[k * F + f], b, qb);
-        theta[k] += (qb[0] - qa[0]) * (qb[0] - qa[0]) + (qb[1] - qa[1]) * (qb[1] - qa[1]) +
-                    (qb[2] - qa[2]) * (qb[2] - qa[2]);
+    for (size_t k = 0; k < clusters; ++k) {
+      const Lcf* fr = &frames_lcf[k * F];
+      double prev[3], cur[3];
+      size_t prev_f = 0;
+      bool have_prev = false;
+      for (size_t f = 0; f < F; f += (f == 0 ? 1 : stride)) {
+        // Pairs (f-1, f) for f = 1, 1 + stride, ...: f-1 must be transformed too.
+        const bool v0 = in.valid[(f == 0 ? 0 : f - 1) * P + i] != 0, v1 = in.valid[f * P + i] != 0;
+        if (f == 0) {
+          if (v1) {
+            to_local(fr[0], in.xyz + 3 * i, prev);
+            prev_f = 0;
+            have_prev = true;
+          }
+          continue;
+        }
+        if (!(v0 && v1)) continue;
+        if (!have_prev || prev_f != f - 1) to_local(fr[f - 1], in.xyz + 3 * ((f - 1) * P + i), prev);
+        to_local(fr[f], in.xyz + 3 * (f * P + i), cur);
+        theta[k] += (cur[0] - prev[0]) * (cur[0] - prev[0]) + (cur[1] - prev[1]) * (cur[1] - prev[1]) +
+                    (cur[2] - prev[2]) * (cur[2] - prev[2]);
+        if (k == 0) ++pairs;
+        std::copy(cur, cur + 3, prev);
+        prev_f = f;
+        have_prev = true;
       }
     }
     if (pairs == 0) {

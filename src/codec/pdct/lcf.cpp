@@ -65,15 +65,5 @@ Lcf make_lcf(const double* p1, const double* p2, const double* p3) {
   return f;
 }
 
-void to_local(const Lcf& f, const double* p, double* q) {
-  const double d[3] = {p[0] - f.o[0], p[1] - f.o[1], p[2] - f.o[2]};
-  for (int r = 0; r < 3; ++r) q[r] = f.t[3 * r] * d[0] + f.t[3 * r + 1] * d[1] + f.t[3 * r + 2] * d[2];
-}
-
-void to_world(const Lcf& f, const double* q, double* p) {
-  for (int c = 0; c < 3; ++c)
-    p[c] = (f.t[c] * q[0] + f.t[3 + c] * q[1] + f.t[6 + c] * q[2]) + f.o[c];
-}
-
 }  // namespace pdct
 }  // namespace capz

@@ -25,9 +25,14 @@ Lcf make_lcf(const double* p1, const double* p2, const double* p3);
 inline Lcf identity_lcf() { return Lcf(); }
 
 // q = T (p - o); p, q: 3 doubles (may not alias).
-void to_local(const Lcf& f, const double* p, double* q);
+inline void to_local(const Lcf& f, const double* p, double* q) {
+  const double d0 = p[0] - f.o[0], d1 = p[1] - f.o[1], d2 = p[2] - f.o[2];
+  for (int r = 0; r < 3; ++r) q[r] = f.t[3 * r] * d0 + f.t[3 * r + 1] * d1 + f.t[3 * r + 2] * d2;
+}
 // p = T^T q + o; the inverse of to_local up to rounding (~1e-15 relative to |p - o|).
-void to_world(const Lcf& f, const double* q, double* p);
+inline void to_world(const Lcf& f, const double* q, double* p) {
+  for (int c = 0; c < 3; ++c) p[c] = (f.t[c] * q[0] + f.t[3 + c] * q[1] + f.t[6 + c] * q[2]) + f.o[c];
+}
 
 }  // namespace pdct
 }  // namespace capz

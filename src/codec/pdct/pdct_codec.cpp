@@ -1,6 +1,7 @@
 #include "codec/pdct/pdct_codec.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -13,6 +14,7 @@
 #include "codec/pdct/predict.h"
 #include "codec/pdct/seeds.h"
 #include "coding/bytes.h"
+#include "coding/entropy.h"
 
 namespace capz {
 namespace {
@@ -49,27 +51,35 @@ int parse_int(const std::string& key, const std::string& v, int lo, int hi) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Integer streams. Interim serialisation until the container's range coder lands: a varint byte
-// length, then zig-zag LEB128 values. The decoder knows every stream's count from the window.
+// Integer streams: three blocks of the container's integer entropy coder (coding/entropy.h), each
+// stored as varint(length) + block. Contexts (docs/CODEC-PDCT.md):
+//   frame-point residuals: the axis (3 contexts); frame-0 residuals: the axis (3);
+//   DCT coefficients: 5 frequency bands of the index l in its block (0 | 1-3 | 4-15 | 16-63 | 64+)
+//   times 3 classes of the previous coefficient's token in the same block (0 | 1-2 | 3+): 15.
+// Every stored integer is within +-2^30 (kMaxQuantised below keeps each quantised value within
+// 2^29, so differences fit too).
 
-void put_stream(ByteWriter* w, const std::vector<int64_t>& v) {
-  ByteWriter s;
-  for (int64_t x : v) s.svarint(x);
-  w->varint(s.size());
-  w->bytes(s.buffer());
+constexpr int kSeedContexts = 3, kFirstContexts = 3, kCoefContexts = 15;
+constexpr double kMaxQuantised = 536870912.0;  // 2^29
+
+int coef_context(size_t l, int prev_token) {
+  const int band = l == 0 ? 0 : l < 4 ? 1 : l < 16 ? 2 : l < 64 ? 3 : 4;
+  const int prev = prev_token == 0 ? 0 : prev_token < 3 ? 1 : 2;
+  return band * 3 + prev;
 }
 
-std::vector<int64_t> get_stream(ByteReader* r, size_t count, const char* name) {
-  const uint64_t len = r->count(1, name);
-  if (count > len)
-    throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": " + name + " holds " + std::to_string(len) +
-                                         " bytes, too few for " + std::to_string(count) + " values");
-  const uint8_t* p = r->bytes(static_cast<size_t>(len));
-  ByteReader s(p, static_cast<size_t>(len), std::string(kWhat) + " " + name);
-  std::vector<int64_t> v(count);
-  for (size_t i = 0; i < count; ++i) v[i] = s.svarint();
-  if (!s.at_end()) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": " + name + " has trailing bytes");
-  return v;
+int64_t quantise_checked(double v, double step, const char* what) {
+  const double x = v / step;
+  if (!(std::fabs(x) < kMaxQuantised))
+    throw Error(ErrorCode::kInvalidParameter,
+                std::string("pdct: ") + what + " " + std::to_string(v) + " is more than 2^29 steps of " +
+                    std::to_string(step) + " (step too small for this take)");
+  return std::llround(x);
+}
+
+int32_t to_i32(int64_t r) {
+  if (r < INT32_MIN || r > INT32_MAX) throw Error(ErrorCode::kInvalidParameter, "pdct: a residual exceeds 2^31 steps (step too small for this take)");
+  return static_cast<int32_t>(r);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -138,15 +148,15 @@ class EncoderHooks : public pdct::LoopHooks {
 
   int64_t seed_residual(size_t f, size_t k, int a, int64_t prediction) override {
     const double v = in_.xyz[3 * (f * in_.points + L_.frame_points[k]) + a];
-    const int64_t r = pdct::wrap_add(quantise(v, S_.seed), -prediction);
-    seed.push_back(r);
+    const int32_t r = to_i32(quantise_checked(v, S_.seed, "frame-point coordinate") - prediction);
+    seed.put_signed(r, a);
     return r;
   }
 
   int64_t first_residual(size_t c, size_t m, int a, const Lcf& frame, int64_t prediction) override {
     if (a == 0) pdct::to_local(frame, in_.xyz + 3 * L_.members[c][m], q_);
-    const int64_t r = pdct::wrap_add(quantise(q_[a], S_.first), -prediction);
-    first.push_back(r);
+    const int32_t r = to_i32(quantise_checked(q_[a], S_.first, "frame-0 local coordinate") - prediction);
+    first.put_signed(r, a);
     return r;
   }
 
@@ -167,17 +177,21 @@ class EncoderHooks : public pdct::LoopHooks {
       dct.forward(&delta_[a * n], X_.data());
       for (size_t b = 0; b < dct.blocks(); ++b) {
         const size_t o = dct.block_begin(b);
-        pdct::zero_and_quantise(&X_[o], dct.block_size(b), pdct::CoefQuantParams{S_.coef, zero_share_},
-                                coefs + a * n + o);
+        const size_t len = dct.block_size(b);
+        for (size_t l = 0; l < len; ++l)
+          if (!(std::fabs(X_[o + l] / S_.coef) < kMaxQuantised))
+            quantise_checked(X_[o + l], S_.coef, "DCT coefficient");  // throws
+        pdct::zero_and_quantise(&X_[o], len, pdct::CoefQuantParams{S_.coef, zero_share_}, coefs + a * n + o);
+        int prev = 0;
+        for (size_t l = 0; l < len; ++l)
+          prev = coef.put_signed(static_cast<int32_t>(coefs[a * n + o + l]), coef_context(l, prev));
       }
     }
-    coef.insert(coef.end(), coefs, coefs + 3 * n);
   }
 
-  std::vector<int64_t> seed, first, coef;
+  IntEncoder seed{kSeedContexts}, first{kFirstContexts}, coef{kCoefContexts};
 
  private:
-  static int64_t quantise(double v, double step) { return std::llround(v / step); }
   const PositionsView& in_;
   const Layout& L_;
   const Steps& S_;
@@ -188,26 +202,33 @@ class EncoderHooks : public pdct::LoopHooks {
 
 class DecoderHooks : public pdct::LoopHooks {
  public:
-  DecoderHooks(std::vector<int64_t> seed, std::vector<int64_t> first, std::vector<int64_t> coef)
-      : seed_(std::move(seed)), first_(std::move(first)), coef_(std::move(coef)) {}
-  int64_t seed_residual(size_t, size_t, int, int64_t) override { return seed_[is_++]; }
-  int64_t first_residual(size_t, size_t, int, const Lcf&, int64_t) override { return first_[if_++]; }
+  DecoderHooks(IntDecoder* seed, IntDecoder* first, IntDecoder* coef) : seed_(seed), first_(first), coef_(coef) {}
+  int64_t seed_residual(size_t, size_t, int a, int64_t) override { return seed_->get_signed(a); }
+  int64_t first_residual(size_t, size_t, int a, const Lcf&, int64_t) override { return first_->get_signed(a); }
   void coefficients(size_t, size_t, const Lcf&, const double*, const pdct::BlockDct& dct,
                     int64_t* coefs) override {
-    std::copy(coef_.begin() + static_cast<std::ptrdiff_t>(ic_),
-              coef_.begin() + static_cast<std::ptrdiff_t>(ic_ + 3 * dct.size()), coefs);
-    ic_ += 3 * dct.size();
+    const size_t n = dct.size();
+    for (int a = 0; a < 3; ++a)
+      for (size_t b = 0; b < dct.blocks(); ++b) {
+        const size_t o = dct.block_begin(b), len = dct.block_size(b);
+        int prev = 0;
+        for (size_t l = 0; l < len; ++l) coefs[a * n + o + l] = coef_->get_signed(coef_context(l, prev), &prev);
+      }
   }
 
  private:
-  std::vector<int64_t> seed_, first_, coef_;
-  size_t is_ = 0, if_ = 0, ic_ = 0;
+  IntDecoder *seed_, *first_, *coef_;
 };
 
 // ---------------------------------------------------------------------------------------------
 // Serialisation
 
-void write_payload(const Layout& L, const Steps& S, const EncoderHooks& h, std::vector<uint8_t>* out,
+void put_block(ByteWriter* w, const std::vector<uint8_t>& block) {
+  w->varint(block.size());
+  w->bytes(block);
+}
+
+void write_payload(const Layout& L, const Steps& S, EncoderHooks& h, std::vector<uint8_t>* out,
                    PdctReport* rep) {
   ByteWriter w;
   w.u8(kVersion);
@@ -231,14 +252,16 @@ void write_payload(const Layout& L, const Steps& S, const EncoderHooks& h, std::
     for (uint32_t p : L.members[c]) cl[p] = static_cast<uint32_t>(c);
   std::vector<uint8_t> is_fp(L.points, 0);
   for (uint32_t p : L.frame_points) is_fp[p] = 1;
+  std::vector<uint32_t> ids;
   for (size_t i = 0; i < L.points; ++i)
-    if (!is_fp[i]) w.varint(cl[i]);
+    if (!is_fp[i]) ids.push_back(cl[i]);
+  put_block(&w, encode_uints(ids));
   const size_t layout_bytes = w.size();
-  put_stream(&w, h.seed);
+  put_block(&w, h.seed.finish());
   const size_t a = w.size();
-  put_stream(&w, h.first);
+  put_block(&w, h.first.finish());
   const size_t b = w.size();
-  put_stream(&w, h.coef);
+  put_block(&w, h.coef.finish());
   if (rep) {
     rep->layout_bytes = layout_bytes;
     rep->seed_bytes = a - layout_bytes;
@@ -290,18 +313,18 @@ double open_loop_max_coefficient(const PositionsView& in, const Layout& L) {
                             b + 3 * L.frame_points[t[2]]);
     };
     Lcf prev = frame_at(0);
-    d.resize(n);
+    d.resize(3 * n);
     X.resize(n);
     for (size_t f = 1; f < F; ++f) {
       const Lcf cur = frame_at(f);
+      for (size_t m = 0; m < n; ++m) {
+        double q0[3], q1[3];
+        pdct::to_local(prev, in.xyz + 3 * ((f - 1) * P + mem[m]), q0);
+        pdct::to_local(cur, in.xyz + 3 * (f * P + mem[m]), q1);
+        for (int a = 0; a < 3; ++a) d[a * n + m] = q1[a] - q0[a];
+      }
       for (int a = 0; a < 3; ++a) {
-        for (size_t m = 0; m < n; ++m) {
-          double q0[3], q1[3];
-          pdct::to_local(prev, in.xyz + 3 * ((f - 1) * P + mem[m]), q0);
-          pdct::to_local(cur, in.xyz + 3 * (f * P + mem[m]), q1);
-          d[m] = q1[a] - q0[a];
-        }
-        dct.forward(d.data(), X.data());
+        dct.forward(&d[a * n], X.data());
         for (double x : X) M = std::max(M, std::fabs(x));
       }
       prev = cur;
@@ -378,8 +401,9 @@ void encode_pdct(const PositionsView& in, const TransformParams& params, std::ve
   const double maxabs = max_abs_coordinate(in);
   double diag = pdct::first_frame_diagonal(in);
   if (!(diag > 0)) diag = maxabs > 0 ? maxabs : 1.0;
-  // No step may put a value beyond 2^40 steps (integers and DCT sums stay exact far below 2^52).
-  const double min_step = std::max(maxabs, diag) * std::ldexp(1.0, -40);
+  // No step below 2^-26 of the take's extent, so positions (|local| <= 2 extent) stay well inside
+  // the 2^29 steps a stored integer may hold.
+  const double min_step = std::max(maxabs, diag) * std::ldexp(1.0, -26);
 
   Steps S;
   S.seed_order = o.seed_order;
@@ -431,36 +455,55 @@ void encode_pdct(const PositionsView& in, const TransformParams& params, std::ve
     }
   }
 
-  // KG target without a max error: scale the frame-0 and coefficient steps (log2 bisection) to
-  // the largest that keeps the KG error at or below the target.
+  // KG target without a max error: scale the frame-0 and coefficient steps by 2^e, e found by a
+  // guess (KG is close to proportional to the step) then bisection, to the largest scale whose KG
+  // error is at or below the target (to 2^(1/32)). An unreachable target (e.g. too many zeroed
+  // coefficients) gives the lowest KG error seen.
   if (!bounded && params.kg_error > 0) {
-    auto kg_of = [&](const Trial& t) {
-      return compare(in.frames, in.points, in.xyz, t.recon.data(), in.valid).kg_error;
+    const double target = params.kg_error;
+    struct Point {
+      double e, kg;
+      Trial t;
     };
     auto at = [&](double e) {
       Steps s = S;
       s.first = std::max(S.first * std::exp2(e), min_step);
       s.coef = std::max(S.coef * std::exp2(e), min_step);
-      return run_encode(in, best_layout, s, o.zero_share);
+      Point p{e, 0, run_encode(in, best_layout, s, o.zero_share)};
+      p.kg = compare(in.frames, in.points, in.xyz, p.t.recon.data(), in.valid).kg_error;
+      return p;
     };
-    double lo = -16, hi = 8;
-    Trial t_hi = at(hi);
-    if (kg_of(t_hi) <= params.kg_error) {
-      best = std::move(t_hi);
-    } else {
-      Trial t_lo = at(lo);
-      for (int it = 0; it < 14 && kg_of(t_lo) <= params.kg_error; ++it) {
-        const double mid = 0.5 * (lo + hi);
-        Trial t = at(mid);
-        if (kg_of(t) <= params.kg_error) {
-          lo = mid;
-          t_lo = std::move(t);
-        } else {
-          hi = mid;
-        }
+    const double kg0 = compare(in.frames, in.points, in.xyz, best.recon.data(), in.valid).kg_error;
+    Point cur = kg0 > 0 ? at(std::min(8.0, std::max(-16.0, std::log2(target / kg0)))) : Point{0, 0, best};
+    Point ok{0, 0, {}}, bad{0, 0, {}};
+    bool have_ok = false, have_bad = false;
+    // For an unreachable target: the lowest KG seen, preferring a smaller payload within 2%.
+    Point lowest = cur;
+    for (int it = 0; it < 8; ++it) {
+      if (cur.kg < 0.98 * lowest.kg || (cur.kg <= 1.02 * lowest.kg && cur.t.bytes.size() < lowest.t.bytes.size()))
+        lowest = cur;
+      if (cur.kg <= target) {
+        ok = cur;
+        have_ok = true;
+        if (have_bad || cur.e >= 8) break;
+        cur = at(cur.e + 1);
+      } else {
+        bad = cur;
+        have_bad = true;
+        if (have_ok || cur.e <= -16) break;
+        cur = at(cur.e - 1);
       }
-      best = std::move(t_lo);
     }
+    if (have_ok && have_bad) {
+      for (int it = 0; it < 5; ++it) {
+        Point mid = at(0.5 * (ok.e + bad.e));
+        if (mid.kg <= target)
+          ok = std::move(mid);
+        else
+          bad = std::move(mid);
+      }
+    }
+    best = have_ok ? std::move(ok.t) : std::move(lowest.t);
   }
   out->insert(out->end(), best.bytes.begin(), best.bytes.end());
   *recon = std::move(best.recon);
@@ -518,20 +561,32 @@ void PdctCodec::decode(const uint8_t* data, size_t size, size_t frames, size_t p
   L.members.assign(static_cast<size_t>(C), {});
   std::vector<uint8_t> is_fp(points, 0);
   for (uint32_t p : L.frame_points) is_fp[p] = 1;
-  for (size_t i = 0; i < points; ++i) {
-    if (is_fp[i]) continue;
-    const uint64_t c = r.varint();
-    if (c >= C) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": cluster id out of range");
-    L.members[static_cast<size_t>(c)].push_back(static_cast<uint32_t>(i));
+  const size_t rest = points - static_cast<size_t>(K);
+  {
+    const size_t len = static_cast<size_t>(r.count(1, "cluster id block length"));
+    const uint8_t* blk = r.bytes(len);
+    const auto ids = decode_uints(blk, len, rest, std::string(kWhat) + " cluster ids");
+    size_t j = 0;
+    for (size_t i = 0; i < points; ++i) {
+      if (is_fp[i]) continue;
+      if (ids[j] >= C) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": cluster id out of range");
+      L.members[ids[j++]].push_back(static_cast<uint32_t>(i));
+    }
   }
   pdct::check_layout(L, kWhat);
-  const size_t rest = points - static_cast<size_t>(K);
-  auto seed = get_stream(&r, frames * static_cast<size_t>(K) * 3, "frame-point stream");
-  auto first = get_stream(&r, frames > 0 ? rest * 3 : 0, "first-frame stream");
-  auto coef = get_stream(&r, frames > 1 ? (frames - 1) * rest * 3 : 0, "coefficient stream");
+  auto block = [&](const char* name, int contexts) {
+    const size_t len = static_cast<size_t>(r.count(1, name));
+    const uint8_t* blk = r.bytes(len);
+    return std::unique_ptr<IntDecoder>(new IntDecoder(blk, len, contexts, std::string(kWhat) + " " + name));
+  };
+  auto seed = block("frame-point block", kSeedContexts);
+  auto first = block("frame-0 block", kFirstContexts);
+  auto coef = block("coefficient block", kCoefContexts);
   if (!r.at_end()) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": trailing bytes");
-  DecoderHooks h(std::move(seed), std::move(first), std::move(coef));
+  DecoderHooks h(seed.get(), first.get(), coef.get());
   pdct::run_closed_loop(L, S, &h, recon);
+  if (!seed->at_end() || !first->at_end() || !coef->at_end())
+    throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": an entropy-coded block has bytes left over");
 }
 
 }  // namespace capz

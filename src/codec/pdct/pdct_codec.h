@@ -27,7 +27,7 @@ struct PdctOptions {
   double seed_factor = 0.5;   // (seed_factor)
   int seed_order = 2;   // (seed_order) 1 = the paper's differential coding of frame points, 2 = linear
   int local_order = 1;  // (local_order) 1 = the paper's q~(f-1), 2 = 2 q~(f-1) - q~(f-2)
-  size_t dct_block = 256;     // (dct_block) longest DCT along a cluster, 1..4096
+  size_t dct_block = 64;      // (dct_block) longest DCT along a cluster, 1..4096
   int knn = 12;               // (knn) neighbours examined for each seed triangle
   double min_angle_deg = 10;  // (min_angle_deg) triangle rejection, see seeds.h
   double min_edge = 1e-3;     // (min_edge) triangle rejection, share of the frame-0 diagonal

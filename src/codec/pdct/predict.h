@@ -43,7 +43,7 @@ struct Layout {
   std::vector<std::array<uint32_t, 3>> triangles;
   // One per cluster: its non-frame points in ascending order (the DCT's order).
   std::vector<std::vector<uint32_t>> members;
-  size_t dct_block = 256;  // longest DCT; a cluster is transformed in blocks of at most this many
+  size_t dct_block = 64;   // longest DCT; a cluster is transformed in blocks of at most this many
 };
 
 constexpr size_t kMaxDctBlock = 4096;  // bounds the cosine tables (dct_block^2 doubles each)
