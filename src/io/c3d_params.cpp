@@ -227,7 +227,7 @@ ParameterSection parse_parameter_section(const uint8_t* data, size_t size, size_
             } else if (p.type == 4) {
               for (size_t i = 0; i < n; i += 4) put_f32le(nf.f32(data + q + i), &p.data[i]);
             } else {
-              std::memcpy(p.data.data(), data + q, n);
+              if (n > 0) std::memcpy(p.data.data(), data + q, n);  // data() may be null
             }
             q += n;
             ok = read_desc(&p.description);

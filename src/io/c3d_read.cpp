@@ -263,6 +263,13 @@ Take read_c3d_bytes(const uint8_t* data, size_t size, const std::string& name) {
   }
 
   const size_t per_frame = (points * 4 + analog_total) * elem;
+  if (per_frame == 0 && frames > 0) {
+    // No bytes per frame: nothing bounds the count (TRIAL fields can claim 4 billion frames of
+    // nothing, which every later stage would loop over). Such frames carry no data.
+    warn("header says " + std::to_string(frames) +
+         " frames of no points and no analog values; read as 0 frames");
+    frames = 0;
+  }
   if (per_frame > 0) {
     size_t avail = data_bytes / per_frame;
     if (frames > avail) {

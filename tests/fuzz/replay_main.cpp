@@ -6,10 +6,14 @@
 // Directories are read non-recursively, files in name order. Each input is copied into a heap
 // buffer of exactly its size so a sanitizer build catches any read past its end. A target
 // signals a failure by aborting (or by an exception other than capz::Error escaping), which
-// ends this process with a non-zero status naming the input.
+// ends this process with a non-zero status naming the input. An input that runs longer than
+// CAPZ_REPLAY_TIMEOUT seconds (default 30) is a hang: SIGALRM ends the process.
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -43,6 +47,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "replay: no inputs (an empty corpus replays nothing and proves nothing)\n");
     return 2;
   }
+  unsigned timeout = 30;
+  if (const char* env = std::getenv("CAPZ_REPLAY_TIMEOUT")) timeout = static_cast<unsigned>(std::atoi(env));
   for (const std::string& path : inputs) {
     std::ifstream in(path, std::ios::binary);
     std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -54,7 +60,9 @@ int main(int argc, char** argv) {
     // Exact-size heap copy (new[] of 0 is valid and distinct from nullptr).
     std::unique_ptr<uint8_t[]> buf(new uint8_t[bytes.size()]);
     if (!bytes.empty()) std::memcpy(buf.get(), bytes.data(), bytes.size());
+    alarm(timeout);
     LLVMFuzzerTestOneInput(buf.get(), bytes.size());
+    alarm(0);
   }
   std::fprintf(stderr, "replay: %zu inputs, all passed\n", inputs.size());
   return 0;

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -137,5 +138,31 @@ TEST(ResourceLimits, PcdHeadersClaimingBillionsOfPointsAreRefused) {
     EXPECT_TRUE(o.threw_error) << "PCD " << c.first << " was accepted";
     std::printf("PCD %s: %s (peak %lld bytes)\n", c.first.c_str(), o.message.c_str(),
                 static_cast<long long>(o.alloc.peak_bytes));
+  }
+}
+
+// Hand-built C3D files (tests/fuzz/corpus/read_c3d/, made by a script from the C3D layout):
+// 1424 bytes whose header, POINT:USED/FRAMES and TRIAL:ACTUAL_END_FIELD claim up to 65535 points
+// and 4 billion frames.
+TEST(ResourceLimits, C3dCountsClaimingBillionsAreClampedToTheData) {
+  const std::string dir = std::string(CAPZ_TEST_DIR) + "/fuzz/corpus/read_c3d/";
+  for (const char* file : {"hostile-65535-points-65535-frames.c3d",
+                           "crash-zero-points-4g-frames.c3d"}) {
+    std::vector<uint8_t> b;
+    {
+      std::ifstream in(dir + file, std::ios::binary);
+      ASSERT_TRUE(in) << dir + file;
+      b.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    ASSERT_LT(b.size(), 2048u);
+    capz::Take t;
+    Outcome o = run_bounded([&] { t = capz::read_c3d_bytes(b.data(), b.size(), file); });
+    expect_bounded(o, file);
+    if (!o.threw_error) {
+      // What the file really holds: 400 bytes of data cannot be one frame of 65535 points, and
+      // frames of nothing are not kept (4 billion of them would stall every later stage).
+      EXPECT_EQ(t.frames, 0u) << file;
+      EXPECT_FALSE(t.warnings.empty()) << file;
+    }
   }
 }

@@ -1,0 +1,40 @@
+// Fuzz target: the C3D reader (read_c3d_bytes) on arbitrary bytes. It must return a well-formed
+// Take or throw capz::Error. For a file it accepts, the parameter section must survive the trip
+// the .capz container gives it (encode_c3d_parameters -> decode_c3d_parameters) without an
+// error: otherwise a take that compresses could not be decompressed.
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+
+#include "capz/error.h"
+#include "capz/io.h"
+#include "fuzz_common.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  capz::Take t;
+  try {
+    t = capz::read_c3d_bytes(data, size, "fuzz.c3d");
+  } catch (const capz::Error&) {
+    return 0;
+  }
+  capz_fuzz::check_take_shape(t);
+  CAPZ_FUZZ_CHECK(t.c3d != nullptr);
+  const capz::C3DExtra& x = *t.c3d;
+  CAPZ_FUZZ_CHECK(x.residual.size() == t.frames * t.points);
+  CAPZ_FUZZ_CHECK(x.camera_mask.size() == t.frames * t.points);
+  for (size_t i = 0; i < t.frames * t.points; ++i)
+    if (t.valid[i])
+      for (int a = 0; a < 3; ++a) CAPZ_FUZZ_CHECK(std::isfinite(t.xyz[i * 3 + a]));
+  try {
+    std::vector<uint8_t> params = capz::encode_c3d_parameters(x);
+    capz::C3DExtra back;
+    capz::decode_c3d_parameters(params.data(), params.size(), "re-encoded parameters", &back);
+    CAPZ_FUZZ_CHECK(back.groups.size() == x.groups.size());
+  } catch (const capz::Error& e) {
+    std::fprintf(stderr, "parameters of an accepted C3D do not survive re-encoding: %s\n",
+                 e.what());
+    std::abort();
+  }
+  return 0;
+}
