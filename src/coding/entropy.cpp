@@ -1,0 +1,77 @@
+#include "coding/entropy.h"
+
+#include <algorithm>
+
+#include "coding/bytes.h"
+
+namespace capz {
+
+std::vector<uint8_t> IntEncoder::finish() {
+  std::vector<uint8_t> range = rc_.finish();
+  std::vector<uint8_t> raw = bits_.finish();
+  ByteWriter w;
+  w.varint(range.size());
+  w.bytes(range);
+  w.bytes(raw);
+  return std::move(w.buffer());
+}
+
+IntDecoder::Split IntDecoder::split(const uint8_t* data, size_t size, const std::string& what) {
+  ByteReader r(data, size, what);
+  size_t n = static_cast<size_t>(r.count(1, "length of the range-coded part"));
+  size_t h = r.offset();
+  return Split{data + h, n, data + h + n, size - h - n};
+}
+
+IntDecoder::IntDecoder(const uint8_t* data, size_t size, int contexts, const std::string& what)
+    : IntDecoder(split(data, size, what), contexts, what) {}
+
+namespace {
+
+template <typename T, typename Map>
+std::vector<uint8_t> encode_stream(const std::vector<T>& values, Map map) {
+  IntEncoder enc(kIntStreamContexts);
+  int ctx = 0;
+  for (T v : values) {
+    int tok = enc.put(map(v), ctx);
+    ctx = std::min(tok, kIntStreamContexts - 1);
+  }
+  return enc.finish();
+}
+
+template <typename T, typename Unmap>
+std::vector<T> decode_stream(const uint8_t* data, size_t size, size_t count,
+                             const std::string& what, Unmap unmap) {
+  if (count > kMaxSymbolsPerByte * size)
+    throw Error(ErrorCode::kCorrupt, what + ": " + std::to_string(count) +
+                                         " values cannot fit in " + std::to_string(size) + " bytes");
+  IntDecoder dec(data, size, kIntStreamContexts, what);
+  std::vector<T> out(count);
+  int ctx = 0;
+  for (size_t i = 0; i < count; ++i) {
+    int tok;
+    out[i] = unmap(dec.get(ctx, &tok));
+    ctx = std::min(tok, kIntStreamContexts - 1);
+  }
+  if (!dec.at_end()) dec.coder()->corrupt("entropy-coded block has bytes past its last value");
+  return out;
+}
+
+}  // namespace
+
+std::vector<uint8_t> encode_ints(const std::vector<int32_t>& values) {
+  return encode_stream(values, zigzag);
+}
+std::vector<uint8_t> encode_uints(const std::vector<uint32_t>& values) {
+  return encode_stream(values, [](uint32_t u) { return u; });
+}
+std::vector<int32_t> decode_ints(const uint8_t* data, size_t size, size_t count,
+                                 const std::string& what) {
+  return decode_stream<int32_t>(data, size, count, what, unzigzag);
+}
+std::vector<uint32_t> decode_uints(const uint8_t* data, size_t size, size_t count,
+                                   const std::string& what) {
+  return decode_stream<uint32_t>(data, size, count, what, [](uint32_t u) { return u; });
+}
+
+}  // namespace capz

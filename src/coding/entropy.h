@@ -1,0 +1,146 @@
+// Integer entropy coding on top of the range coder (docs/FORMAT.md 1.3).
+//
+// A value is split into a "hybrid token" (an adaptive 64-symbol model picks it, under a context
+// chosen by the caller) and raw low bits, so small values cost one model step and large ones
+// cost one model step plus a raw field: never one binary decision per bit.
+//
+//   IntEncoder enc(16);            // 16 contexts
+//   enc.put_signed(v, ctx);        // ctx in [0, 16)
+//   std::vector<uint8_t> block = enc.finish();
+//   IntDecoder dec(block.data(), block.size(), 16, "chunk POSW");
+//   int32_t v = dec.get_signed(ctx);
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "coding/range_coder.h"
+
+namespace capz {
+
+// Token of an unsigned value: u < 4 -> u; else 4 + 2 * (e - 2) + (bit e-1 of u), e = floor(log2 u).
+inline int token_of(uint32_t u, int* extra_bits) {
+  if (u < 4) {
+    *extra_bits = 0;
+    return static_cast<int>(u);
+  }
+  int e = 31 - __builtin_clz(u);
+  *extra_bits = e - 1;
+  return 4 + 2 * (e - 2) + static_cast<int>((u >> (e - 1)) & 1);
+}
+inline uint32_t zigzag(int32_t v) {
+  return (static_cast<uint32_t>(v) << 1) ^ static_cast<uint32_t>(v >> 31);
+}
+inline int32_t unzigzag(uint32_t u) {
+  return static_cast<int32_t>((u >> 1) ^ (0u - (u & 1)));
+}
+
+// Tokens 0..63 go through up to five 16-symbol models: the context's own model codes
+// min(token, 15); 15 escapes to shared model k (k = 0..3), which codes min(token - 15 (k + 1), 15).
+constexpr int kEscapeLevels = 4;
+
+class IntEncoder {
+ public:
+  explicit IntEncoder(int contexts = 1) : models_(static_cast<size_t>(contexts)) {}
+  // Codes u under context ctx (0 <= ctx < contexts); returns its token.
+  int put(uint32_t u, int ctx) {
+    int nbits;
+    const int tok = token_of(u, &nbits);
+    if (tok < 15) {
+      models_[static_cast<size_t>(ctx)].encode(&rc_, tok);
+    } else {
+      models_[static_cast<size_t>(ctx)].encode(&rc_, 15);
+      int rest = tok - 15;
+      for (int k = 0;; ++k) {
+        const int sym = rest < 15 ? rest : 15;
+        escape_[k].encode(&rc_, sym);
+        if (sym < 15) break;
+        rest -= 15;
+      }
+    }
+    if (nbits) bits_.put(u & ((1u << nbits) - 1), nbits);
+    return tok;
+  }
+  int put_signed(int32_t v, int ctx) { return put(zigzag(v), ctx); }
+  // n raw bits of v (0 <= n <= 32), uncompressed.
+  void raw_bits(uint32_t v, int n) { bits_.put(v, n); }
+  // The block: varint(length of the range-coded part), that part, then the raw bits.
+  std::vector<uint8_t> finish();
+  RangeEncoder* coder() { return &rc_; }
+
+ private:
+  RangeEncoder rc_;
+  BitWriter bits_;
+  std::vector<SymbolModel> models_;
+  SymbolModel escape_[kEscapeLevels];
+};
+
+class IntDecoder {
+ public:
+  IntDecoder(const uint8_t* data, size_t size, int contexts, const std::string& what);
+  // Decodes one value under ctx and stores its token in *tok.
+  uint32_t get(int ctx, int* tok_out) {
+    int tok = models_[static_cast<size_t>(ctx)].decode(&rc_);
+    if (tok == 15) {
+      for (int k = 0;; ++k) {
+        if (k == kEscapeLevels) rc_.corrupt("entropy-coded token out of range");
+        const int sym = escape_[k].decode(&rc_);
+        tok += sym;
+        if (sym < 15) break;
+      }
+      if (tok > 63) rc_.corrupt("entropy-coded token out of range");
+    }
+    *tok_out = tok;
+    if (tok < 4) return static_cast<uint32_t>(tok);
+    const int e = (tok - 4) / 2 + 2;
+    const uint32_t top = (2u | static_cast<uint32_t>(tok & 1)) << (e - 1);
+    return top | raw_bits(e - 1);
+  }
+  uint32_t raw_bits(int n) {
+    uint32_t v;
+    if (!bits_.get(n, &v)) rc_.corrupt("raw bits of an entropy-coded block are truncated");
+    return v;
+  }
+  uint32_t get(int ctx) {
+    int tok;
+    return get(ctx, &tok);
+  }
+  int32_t get_signed(int ctx, int* tok) { return unzigzag(get(ctx, tok)); }
+  int32_t get_signed(int ctx) { return unzigzag(get(ctx)); }
+  // True when both parts of the block were consumed exactly (a valid block ends there).
+  bool at_end() const { return rc_.at_end() && bits_.at_valid_end(); }
+  RangeDecoder* coder() { return &rc_; }
+
+ private:
+  struct Split {
+    const uint8_t* range;
+    size_t range_size;
+    const uint8_t* raw;
+    size_t raw_size;
+  };
+  static Split split(const uint8_t* data, size_t size, const std::string& what);
+  IntDecoder(const Split& sp, int contexts, const std::string& what)
+      : rc_(sp.range, sp.range_size, what),
+        bits_(sp.raw, sp.raw_size),
+        models_(static_cast<size_t>(contexts)) {}
+  RangeDecoder rc_;
+  BitReader bits_;
+  std::vector<SymbolModel> models_;
+  SymbolModel escape_[kEscapeLevels];
+};
+
+// Generic integer streams (16 contexts from the previous token; FORMAT.md 1.3).
+constexpr int kIntStreamContexts = 16;
+constexpr size_t kMaxSymbolsPerByte = 2900;
+std::vector<uint8_t> encode_ints(const std::vector<int32_t>& values);
+std::vector<uint8_t> encode_uints(const std::vector<uint32_t>& values);
+// Decodes exactly `count` values; throws Error(kCorrupt) naming `what` if the block is truncated,
+// inconsistent, or has bytes left over. A symbol costs at least -log2(1 - 63/2^15) > 1/360 bit,
+// so count <= kMaxSymbolsPerByte * size is enforced before allocating.
+std::vector<int32_t> decode_ints(const uint8_t* data, size_t size, size_t count,
+                                 const std::string& what = "integer stream");
+std::vector<uint32_t> decode_uints(const uint8_t* data, size_t size, size_t count,
+                                   const std::string& what = "integer stream");
+
+}  // namespace capz
