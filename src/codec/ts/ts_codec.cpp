@@ -31,13 +31,14 @@ double since(Clock::time_point t0) {
 struct Options {
   int lpc_order = 2;
   int lcps_k = 2;
-  int bits_min = 8, bits_max = 16;
+  int bits_min = 4, bits_max = 16;  // the paper: 8..16
+  bool basis_predict = true;         // the paper: false (plain quantised values)
   bool align = true;
   int max_clusters = 5;
   int restarts = 4;
   uint64_t seed = 0x5eed;
-  double trunc_share = 0.5;    // share of the squared-error budget left to PCA truncation
-  double basis_share = 0.25;   // share for basis quantisation (the rest: coefficients)
+  double trunc_share = 0.25;   // share of the squared-error budget left to PCA truncation
+  double basis_share = 0.65;   // share for basis quantisation (the rest: coefficients)
   double rms_per_bound = 1.0;  // with only --max-error: aim the transform's RMS at this x bound
 };
 
@@ -68,6 +69,7 @@ Options parse_options(const TransformParams& p) {
     else if (k == "basis_bits") o.bits_min = o.bits_max = static_cast<int>(parse_int(k, v, 2, 24));
     else if (k == "basis_bits_min") o.bits_min = static_cast<int>(parse_int(k, v, 2, 24));
     else if (k == "basis_bits_max") o.bits_max = static_cast<int>(parse_int(k, v, 2, 24));
+    else if (k == "basis_predict") o.basis_predict = parse_int(k, v, 0, 1) != 0;
     else if (k == "align") o.align = parse_int(k, v, 0, 1) != 0;
     else if (k == "max_clusters") o.max_clusters = static_cast<int>(parse_int(k, v, 1, 64));
     else if (k == "kmeans_restarts") o.restarts = static_cast<int>(parse_int(k, v, 1, 100));
@@ -136,6 +138,7 @@ Trial build_trial(const Base& base, const Prepared& prep, double budget, const O
   m.frames = base.in.frames;
   m.points = base.in.points;
   m.rigid = base.rigid;
+  m.basis_predict = o.basis_predict;
   m.rot_step = base.rot_step;
   m.trans_step = base.trans_step;
   m.rigid_code = base.rigid_code;
@@ -217,9 +220,15 @@ Trial build_trial(const Base& base, const Prepared& prep, double budget, const O
   ts::reconstruct(m, &tr.recon);
   tr.sq = sq_error(base.in, tr.recon);
   ByteWriter bw;
-  ts::write_model(m, &bw);
-  tr.bytes = std::move(bw.buffer());
-  tr.ok = tr.sq <= base.target_sq;
+  try {
+    ts::write_model(m, &bw);
+    tr.bytes = std::move(bw.buffer());
+    tr.ok = tr.sq <= base.target_sq;
+  } catch (const Error& e) {  // a quantised value outside int32: this budget is unusable
+    if (e.code() != ErrorCode::kInternal) throw;
+    tr.sq = std::numeric_limits<double>::infinity();
+    tr.ok = false;
+  }
   if (rep) {
     rep->t_quant += t_quant;
     rep->t_lcps += t_lcps;
@@ -230,13 +239,14 @@ Trial build_trial(const Base& base, const Prepared& prep, double budget, const O
 }
 
 // Searches the budget scale so that the error lands just under the target; smallest passing wins.
-Trial rate_search(const Base& base, const Prepared& prep, const Options& o, TsEncodeReport* rep) {
+Trial rate_search(const Base& base, const Prepared& prep, const Options& o, double* scale,
+                  TsEncodeReport* rep) {
   Trial best;
   bool have = false;
   Trial fallback;
   bool have_fb = false;
   double lo = 0, hi = std::numeric_limits<double>::infinity();
-  double s = 1.0;
+  double s = *scale, best_s = s;
   for (int it = 0; it < 10; ++it) {
     Trial t = build_trial(base, prep, s * base.target_sq, o, rep);
     const double err = std::max(t.sq, 1e-300);
@@ -245,6 +255,7 @@ Trial rate_search(const Base& base, const Prepared& prep, const Options& o, TsEn
       if (!have || t.bytes.size() < best.bytes.size()) {
         best = std::move(t);
         have = true;
+        best_s = s;
       }
     } else {
       hi = std::min(hi, s);
@@ -261,6 +272,7 @@ Trial rate_search(const Base& base, const Prepared& prep, const Options& o, TsEn
     if (s < 1e-12) break;
     s = next;
   }
+  *scale = best_s;
   return have ? best : fallback;
 }
 
@@ -405,10 +417,11 @@ void TsCodec::encode_report(const PositionsView& in, const TransformParams& para
   }
   Trial best;
   bool have = false;
+  double scale = 1.0;  // each cluster count starts its search where the previous one ended
   for (int k : ks) {
     if (nf == 0) break;
     Prepared prep = prepare(base, k, o, rep);
-    Trial t = rate_search(base, prep, o, rep);
+    Trial t = rate_search(base, prep, o, &scale, rep);
     const bool better = !have || (t.ok && !best.ok) ||
                         (t.ok == best.ok && (t.ok ? t.bytes.size() < best.bytes.size() : t.sq < best.sq));
     if (better) {
@@ -433,11 +446,13 @@ void TsCodec::encode_report(const PositionsView& in, const TransformParams& para
     const auto lay = ts::cluster_layout(best.model.label, best.model.clusters);
     for (size_t c = 0; c < best.model.cluster.size(); ++c) {
       rep->pcs.push_back(static_cast<int>(best.model.cluster[c].basis.size()));
+      for (const auto& q : best.model.cluster[c].basis) rep->basis_bits.push_back(q.bits);
       rep->cluster_frames.push_back(lay[c].frames.size());
     }
   }
   rep->kg_error = centred > 0 ? 100 * std::sqrt(best.sq / centred) : 0;
   rep->bytes = best.bytes.size();
+  rep->coef_step = best.model.coef_step;
   out->insert(out->end(), best.bytes.begin(), best.bytes.end());
   *recon = std::move(best.recon);
   rep->t_total = since(t_start);

@@ -18,6 +18,8 @@ namespace capz {
 struct TsEncodeReport {
   int clusters = 0;
   std::vector<int> pcs;          // PCs kept per cluster
+  std::vector<int> basis_bits;   // quantiser bits of every kept PC, cluster by cluster
+  double coef_step = 0;
   std::vector<size_t> cluster_frames;
   double kg_target = 0;          // percent
   double kg_error = 0;           // percent, of the reconstruction returned

@@ -26,6 +26,7 @@ struct TsModel {
   size_t frames = 0, points = 0;
   double coef_step = 1;  // quantisation step of every PC coefficient / residual
   bool rigid = false;    // frames were aligned; rigid_code holds their 6 parameters
+  bool basis_predict = true;  // basis entries coded as residuals of basis_predict.h
   double rot_step = 0, trans_step = 0;
   LpcCode rigid_code;               // 6 x frames: rotation vector (3), translation (3)
   int clusters = 1;
