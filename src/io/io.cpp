@@ -1,7 +1,7 @@
 // Format detection and dispatch to the per-format readers and writers.
 //
 // Input: a directory is a PCD folder; a file is recognised by its first bytes (C3D: byte 2 is
-// 0x50, the parameter-section key; TRC: "PathFileType"; .capz: "CAPZ") and, when the bytes say
+// 0x50, the parameter-section key; TRC: "PathFileType"; .capz: 0x89 "capz", see docs/FORMAT.md) and, when the bytes say
 // nothing (empty or damaged files), by its extension, so that the format's own reader can name
 // the fault. A .capz archive is not a take: read_take refuses it (kNotOurFormat) and points to
 // `capz decompress`.
@@ -51,7 +51,7 @@ Format sniff(const std::string& path, bool* is_capz) {
   in.read(head, sizeof head);
   const size_t n = static_cast<size_t>(in.gcount());
   const std::string ext = lower_extension(path);
-  if (n >= 4 && std::memcmp(head, "CAPZ", 4) == 0) {
+  if (n >= 5 && static_cast<unsigned char>(head[0]) == 0x89 && std::memcmp(head + 1, "capz", 4) == 0) {
     *is_capz = true;
     return Format::kUnknown;
   }
@@ -65,15 +65,6 @@ Format sniff(const std::string& path, bool* is_capz) {
   if (ext == ".c3d") return Format::kC3D;
   if (ext == ".trc") return Format::kTRC;
   return Format::kUnknown;
-}
-
-// TEMPORARY until src/io/c3d_*.cpp is in main: the C3D reader/writer are another helper's work
-// and do not link yet. Replace the bodies with read_c3d(path) / write_c3d(take, path, opts).
-Take read_c3d_dispatch(const std::string& path) {
-  fail(ErrorCode::kUnsupportedVersion, path, "C3D is not supported by this build yet");
-}
-void write_c3d_dispatch(const Take&, const std::string& path, const WriteOptions&) {
-  fail(ErrorCode::kUnsupportedVersion, path, "C3D output is not supported by this build yet");
 }
 
 }  // namespace
@@ -94,7 +85,7 @@ Take read_take(const std::string& path) {
   if (fs::is_directory(st)) return read_pcd_folder(path);
   bool capz = false;
   switch (sniff(path, &capz)) {
-    case Format::kC3D: return read_c3d_dispatch(path);
+    case Format::kC3D: return read_c3d(path);
     case Format::kTRC: return read_trc(path);
     case Format::kPCDFolder: break;
     case Format::kUnknown:
@@ -127,7 +118,7 @@ void write_take(const Take& take, const std::string& path, const WriteOptions& o
   while (target.size() > 1 && target.back() == '/') target.pop_back();
   check_output_free(target, opts.overwrite);
   switch (f) {
-    case Format::kC3D: write_c3d_dispatch(take, target, opts); return;
+    case Format::kC3D: write_c3d(take, target, opts); return;
     case Format::kTRC: write_trc(take, target, opts); return;
     case Format::kPCDFolder: write_pcd_folder(take, target, opts); return;
     case Format::kUnknown: break;
