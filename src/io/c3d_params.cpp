@@ -316,10 +316,12 @@ void put_name(std::vector<uint8_t>& out, const std::string& name, bool locked, i
   if (name.empty() || name.size() > 127)
     fail(ErrorCode::kUsage, "",
          std::string("C3D ") + kind + " name '" + name + "' must be 1..127 bytes long");
-  if (id < -127 || id > 127 || id == 0)
+  // A group is stored with -id (the reader accepts id byte 0x80, i.e. group 128); a parameter
+  // with its group's positive id.
+  if (id < -128 || id > 127 || id == 0)
     fail(ErrorCode::kUsage, "",
          std::string("C3D ") + kind + " " + name + " has group id " + std::to_string(id) +
-             " (must be 1..127)");
+             " (must be 1..127, or 128 for a group)");
   int n = static_cast<int>(name.size());
   out.push_back(static_cast<uint8_t>(static_cast<int8_t>(locked ? -n : n)));
   out.push_back(static_cast<uint8_t>(static_cast<int8_t>(id)));
