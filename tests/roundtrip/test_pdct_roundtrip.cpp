@@ -103,13 +103,29 @@ TEST(PdctRoundTrip, GivenChickenWhenZeroingCoefficientsThenRateDropsAndErrorRise
   EXPECT_LT(full.stats.kg_error, 0.2);
 }
 
-TEST(PdctRoundTrip, GivenMaxErrorWhenEncodedThenTransformAloneStaysNearTheBound) {
+TEST(PdctRoundTrip, GivenMaxErrorWhenEncodedThenGridModeHoldsTheBound) {
+  for (const char* dir : {"pcow", "chickenCrossing"}) {
+    SCOPED_TRACE(dir);
+    const capz::Take t = capz::read_pcd_folder(kData + "/pcd/" + dir);
+    const Window w = window_of(t, 40);
+    capz::TransformParams p;
+    p.max_error = 0.002;  // the sequences span ~4 and ~18 units
+    p.clusters = 25;
+    const Outcome o = round_trip(w, p);
+    EXPECT_TRUE(o.report.grid_mode);
+    EXPECT_LE(o.stats.max_abs, p.max_error);  // on the bound layer's grid: nothing left to code
+    EXPECT_LT(o.bpvf, 16);
+  }
+}
+
+TEST(PdctRoundTrip, GivenMaxErrorInDctModeWhenEncodedThenTransformAloneStaysNearTheBound) {
   const capz::Take t = capz::read_pcd_folder(kData + "/pcd/pcow");
   const Window w = window_of(t, 40);
   capz::TransformParams p;
-  p.max_error = 0.002;  // pcow spans ~4 units
+  p.max_error = 0.002;
+  p.options["mode"] = "dct";
   const Outcome o = round_trip(w, p);
-  // The bound itself is the container's job; the transform's steps sit on its grid, so its RMS
+  // The bound itself is the bound layer's job; the transform's steps sit on its grid, so its RMS
   // error is below the bound and its worst case within a few grid steps.
   EXPECT_LT(o.stats.rmse, p.max_error);
   EXPECT_LT(o.stats.max_abs, 8 * p.max_error);
