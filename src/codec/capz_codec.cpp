@@ -255,52 +255,6 @@ std::vector<double> filled_window(const Take& t, size_t f0, size_t fn) {
   return x;
 }
 
-struct ErrorAccumulator {
-  double sq = 0, centred = 0;
-  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  ErrorStats s;
-  // a, b: fn x points x 3 (original, reconstruction); valid: fn x points.
-  void add(size_t fn, size_t points, const double* a, const double* b, const uint8_t* valid) {
-    for (size_t f = 0; f < fn; ++f) {
-      double c[3] = {0, 0, 0};
-      size_t n = 0;
-      for (size_t p = 0; p < points; ++p)
-        if (valid[f * points + p]) {
-          for (int k = 0; k < 3; ++k) c[k] += a[(f * points + p) * 3 + k];
-          ++n;
-        }
-      if (!n) continue;
-      for (double& v : c) v /= static_cast<double>(n);
-      for (size_t p = 0; p < points; ++p) {
-        if (!valid[f * points + p]) continue;
-        const double* x = a + (f * points + p) * 3;
-        const double* y = b + (f * points + p) * 3;
-        double d2 = 0;
-        for (int k = 0; k < 3; ++k) {
-          double d = x[k] - y[k];
-          d2 += d * d;
-          s.max_abs = std::max(s.max_abs, std::fabs(d));
-          centred += (x[k] - c[k]) * (x[k] - c[k]);
-          lo[k] = std::min(lo[k], x[k]);
-          hi[k] = std::max(hi[k], x[k]);
-        }
-        s.max_error = std::max(s.max_error, std::sqrt(d2));
-        sq += d2;
-        ++s.samples;
-      }
-    }
-  }
-  ErrorStats finish() {
-    if (s.samples == 0) return s;
-    s.rmse = std::sqrt(sq / static_cast<double>(s.samples));
-    s.kg_error = centred > 0 ? 100.0 * std::sqrt(sq / centred) : (sq > 0 ? INFINITY : 0.0);
-    double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                            (hi[2] - lo[2]) * (hi[2] - lo[2]));
-    s.psnr = s.rmse > 0 ? 20.0 * std::log10(diag / s.rmse) : INFINITY;
-    return s;
-  }
-};
-
 [[noreturn]] void check_failed(const Take& t, size_t w, const std::string& what) {
   fail(ErrorCode::kInternal, t.source,
        "self-check failed in window " + std::to_string(w) + ": " + what +
