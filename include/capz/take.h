@@ -98,6 +98,7 @@ struct TRCExtra {
   std::vector<double> times;       // the Time column, one per frame
   std::vector<long> frame_numbers;  // the Frame# column, one per frame
   int decimals = -1;                // most decimals seen in coordinate fields; -1 unknown
+  int time_decimals = -1;           // most decimals seen in the Time column; -1 unknown
 };
 
 // PCD folder specifics.

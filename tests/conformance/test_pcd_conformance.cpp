@@ -1,0 +1,61 @@
+// The three shared PCD sequences read with their known sizes; PCD -> PCD is exact.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "capz/error.h"
+#include "capz/io.h"
+#include "test_util.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kData = CAPZ_SHARED_DATA;
+
+struct Seq {
+  const char* name;
+  size_t points, frames;
+};
+const Seq kSeqs[] = {{"chickenCrossing", 3030, 400}, {"horse-gallop", 8431, 48}, {"pcow", 2904, 204}};
+
+}  // namespace
+
+TEST(PcdConformance, SharedSequencesReadRoundTripExactly) {
+  capz_test::TempDir tmp("capz_pcd_conf");
+  for (const auto& s : kSeqs) {
+    SCOPED_TRACE(s.name);
+    capz::Take t = capz::read_pcd_folder(kData + "/pcd/" + s.name);
+    EXPECT_EQ(t.format, capz::Format::kPCDFolder);
+    EXPECT_EQ(t.points, s.points);
+    EXPECT_EQ(t.frames, s.frames);
+    ASSERT_TRUE(t.pcd);
+    EXPECT_EQ(t.pcd->frame_names.size(), s.frames);
+    EXPECT_EQ(t.pcd->encoding, "binary");
+    // Positions are real geometry: finite, and frames differ (the sequences move).
+    bool moves = false;
+    for (size_t p = 0; p < t.points && !moves; ++p)
+      for (int a = 0; a < 3; ++a) moves = moves || t.at(0, p)[a] != t.at(t.frames - 1, p)[a];
+    EXPECT_TRUE(moves);
+    // Binary for all, compressed for the shortest sequence (the slowest writer).
+    for (const char* enc : {"binary", "binary_compressed"}) {
+      if (std::string(enc) == "binary_compressed" && s.frames > 50) continue;
+      const std::string out = tmp.file(std::string(s.name) + "_" + enc);
+      capz::WriteOptions o;
+      o.pcd_encoding = enc;
+      capz::write_pcd_folder(t, out, o);
+      capz::Take u = capz::read_pcd_folder(out);
+      EXPECT_EQ(u.pcd->frame_names, t.pcd->frame_names);
+      EXPECT_EQ(u.valid, t.valid);
+      EXPECT_EQ(u.xyz, t.xyz) << enc;
+    }
+  }
+}
+
+TEST(PcdConformance, FrameOrderIsNatural) {
+  capz::Take t = capz::read_pcd_folder(kData + "/pcd/chickenCrossing");
+  EXPECT_EQ(t.pcd->frame_names.front(), "frame_0001.pcd");
+  EXPECT_EQ(t.pcd->frame_names.back(), "frame_0400.pcd");
+}

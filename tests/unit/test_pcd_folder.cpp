@@ -1,0 +1,215 @@
+// PCD folder reader/writer on small synthetic folders: natural order, point-count mismatch, NaN
+// gaps, the three encodings, lying headers, empty folders, no partial output.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "capz/error.h"
+#include "capz/io.h"
+#include "io/natural_sort.h"
+#include "test_util.h"
+
+namespace fs = std::filesystem;
+using capz::ErrorCode;
+using capz_test::TempDir;
+using capz_test::expect_same_samples;
+
+namespace {
+
+// An ASCII PCD frame with the given points (NaN allowed).
+void write_ascii_pcd(const fs::path& file, const std::vector<std::array<float, 3>>& pts) {
+  std::ofstream o(file);
+  o << "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH "
+    << pts.size() << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << pts.size()
+    << "\nDATA ascii\n";
+  o.precision(9);
+  for (const auto& p : pts) {
+    for (int a = 0; a < 3; ++a) {
+      if (std::isnan(p[a])) {
+        o << "nan";
+      } else {
+        o << p[a];
+      }
+      o << (a < 2 ? " " : "\n");
+    }
+  }
+}
+
+capz::Take make_take(size_t frames, size_t points) {
+  capz::Take t;
+  t.resize(frames, points);
+  for (size_t f = 0; f < frames; ++f)
+    for (size_t p = 0; p < points; ++p) {
+      float v[3] = {static_cast<float>(f) * 0.5f + static_cast<float>(p) / 3.0f,
+                    -static_cast<float>(p) * 1.25f, 1000.0f + static_cast<float>(f) / 7.0f};
+      for (int a = 0; a < 3; ++a) t.at(f, p)[a] = v[a];
+      t.valid[f * points + p] = (f + p) % 5 != 3;
+    }
+  return t;
+}
+
+ErrorCode read_error(const std::string& dir, std::string* msg = nullptr) {
+  try {
+    capz::read_pcd_folder(dir);
+  } catch (const capz::Error& e) {
+    if (msg) *msg = e.what();
+    return e.code();
+  }
+  return ErrorCode::kInternal;
+}
+
+}  // namespace
+
+TEST(NaturalSort, NumbersCompareByValue) {
+  std::vector<std::string> v = {"frame_10.pcd", "frame_2.pcd", "frame_1.pcd", "frame_02.pcd",
+                                "a.pcd", "frame_100.pcd", "frame_9b.pcd", "frame_9a.pcd"};
+  std::sort(v.begin(), v.end(), capz::natural_less);
+  EXPECT_EQ(v, (std::vector<std::string>{"a.pcd", "frame_1.pcd", "frame_02.pcd", "frame_2.pcd",
+                                         "frame_9a.pcd", "frame_9b.pcd", "frame_10.pcd",
+                                         "frame_100.pcd"}));
+  EXPECT_FALSE(capz::natural_less("x", "x"));
+}
+
+TEST(PcdFolder, ReadsFramesInNaturalOrderWithNanGaps) {
+  TempDir d;
+  const float nan = std::nanf("");
+  write_ascii_pcd(d.path() / "frame_10.pcd", {{{10, 0, 0}}, {{1, 2, 3}}});
+  write_ascii_pcd(d.path() / "frame_2.pcd", {{{2, 0, 0}}, {{nan, 2, 3}}});
+  write_ascii_pcd(d.path() / "frame_1.pcd", {{{1, 0, 0}}, {{0.1f, 0.2f, 0.3f}}});
+  std::ofstream(d.path() / "notes.txt") << "not a frame\n";
+  capz::Take t = capz::read_pcd_folder(d.path().string());
+  EXPECT_EQ(t.format, capz::Format::kPCDFolder);
+  ASSERT_EQ(t.frames, 3u);
+  ASSERT_EQ(t.points, 2u);
+  EXPECT_EQ(t.at(0, 0)[0], 1.0);
+  EXPECT_EQ(t.at(1, 0)[0], 2.0);
+  EXPECT_EQ(t.at(2, 0)[0], 10.0);
+  EXPECT_EQ(t.at(0, 1)[0], static_cast<double>(0.1f));
+  EXPECT_FALSE(t.is_valid(1, 1));
+  EXPECT_EQ(t.gap_samples(), 1u);
+  ASSERT_TRUE(t.pcd);
+  EXPECT_EQ(t.pcd->frame_names,
+            (std::vector<std::string>{"frame_1.pcd", "frame_2.pcd", "frame_10.pcd"}));
+  EXPECT_EQ(t.pcd->encoding, "ascii");
+  EXPECT_EQ(t.labels.size(), 2u);
+}
+
+TEST(PcdFolder, PointCountMismatchNamesTheFirstOffendingFile) {
+  TempDir d;
+  write_ascii_pcd(d.path() / "f1.pcd", {{{1, 0, 0}}, {{1, 2, 3}}});
+  write_ascii_pcd(d.path() / "f2.pcd", {{{1, 0, 0}}, {{1, 2, 3}}});
+  write_ascii_pcd(d.path() / "f3.pcd", {{{1, 0, 0}}});
+  write_ascii_pcd(d.path() / "f4.pcd", {{{1, 0, 0}}});
+  std::string msg;
+  EXPECT_EQ(read_error(d.path().string(), &msg), ErrorCode::kCorrupt);
+  EXPECT_NE(msg.find("f3.pcd: frame has 1 points, the first frame (f1.pcd) has 2"),
+            std::string::npos)
+      << msg;
+}
+
+TEST(PcdFolder, EmptyDirectoryAndMissingPathAreClearErrors) {
+  TempDir d;
+  std::string msg;
+  EXPECT_EQ(read_error(d.path().string(), &msg), ErrorCode::kNotOurFormat);
+  EXPECT_NE(msg.find("no .pcd files"), std::string::npos) << msg;
+  EXPECT_EQ(read_error((d.path() / "nope").string(), &msg), ErrorCode::kUsage);
+}
+
+TEST(PcdFolder, LyingHeadersAreRejectedBeforeAllocating) {
+  TempDir d;
+  // Binary body of 12 bytes, header announcing a billion points.
+  {
+    std::ofstream o(d.path() / "a.pcd", std::ios::binary);
+    o << "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1000000000\n"
+         "HEIGHT 1\nPOINTS 1000000000\nDATA binary\n";
+    o.write("\0\0\0\0\0\0\0\0\0\0\0\0", 12);
+  }
+  std::string msg;
+  EXPECT_EQ(read_error(d.path().string(), &msg), ErrorCode::kCorrupt);
+  EXPECT_NE(msg.find("a.pcd: PCD header announces 1000000000 points"), std::string::npos) << msg;
+  // Compressed body claiming a huge uncompressed size.
+  {
+    std::ofstream o(d.path() / "a.pcd", std::ios::binary | std::ios::trunc);
+    o << "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 100000000\n"
+         "HEIGHT 1\nPOINTS 100000000\nDATA binary_compressed\n";
+    const unsigned char sizes[8] = {4, 0, 0, 0, 0, 0x84, 0xD7, 0x47};  // 4, 1.2e9
+    o.write(reinterpret_cast<const char*>(sizes), 8);
+    o.write("\0\0\0\0", 4);
+  }
+  EXPECT_EQ(read_error(d.path().string(), &msg), ErrorCode::kCorrupt);
+  // Not a PCD at all.
+  std::ofstream(d.path() / "a.pcd", std::ios::trunc) << "hello\n";
+  EXPECT_EQ(read_error(d.path().string(), &msg), ErrorCode::kNotOurFormat);
+  // Truncated binary body.
+  {
+    std::ofstream o(d.path() / "a.pcd", std::ios::binary | std::ios::trunc);
+    o << "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 2\nHEIGHT 1\nPOINTS 2\n"
+         "DATA binary\n";
+    o.write("\0\0\0\0\0\0\0\0\0\0\0\0\0\0", 14);
+  }
+  EXPECT_EQ(read_error(d.path().string(), &msg), ErrorCode::kCorrupt);
+}
+
+TEST(PcdFolder, AllThreeEncodingsRoundTripExactly) {
+  capz::Take t = make_take(12, 37);
+  for (const char* enc : {"ascii", "binary", "binary_compressed"}) {
+    TempDir d;
+    std::string out = (d.path() / "seq").string();
+    capz::WriteOptions o;
+    o.pcd_encoding = enc;
+    capz::write_pcd_folder(t, out, o);
+    capz::Take u = capz::read_pcd_folder(out);
+    SCOPED_TRACE(enc);
+    expect_same_samples(t, u);
+    EXPECT_EQ(u.pcd->encoding, enc);
+    EXPECT_EQ(u.pcd->frame_names.front(), "frame_000001.pcd");
+    EXPECT_EQ(u.pcd->frame_names.back(), "frame_000012.pcd");
+    // Writing a PCD take back keeps its frame names.
+    std::string out2 = (d.path() / "seq2").string();
+    capz::write_pcd_folder(u, out2, o);
+    EXPECT_TRUE(fs::exists(fs::path(out2) / "frame_000012.pcd"));
+  }
+}
+
+TEST(PcdFolder, DoublesThatAreNotFloatsAreKeptExactly) {
+  capz::Take t = make_take(3, 4);
+  t.at(0, 0)[0] = 0.1;  // not a float
+  TempDir d;
+  std::string out = (d.path() / "seq").string();
+  capz::write_pcd_folder(t, out);
+  capz::Take u = capz::read_pcd_folder(out);
+  expect_same_samples(t, u);
+}
+
+TEST(PcdFolder, WriterRefusesExistingOutputAndBadEncodingWithoutLeavingFiles) {
+  capz::Take t = make_take(2, 3);
+  TempDir d;
+  std::string out = (d.path() / "seq").string();
+  capz::write_pcd_folder(t, out);
+  try {
+    capz::write_pcd_folder(t, out);
+    FAIL() << "overwrote without permission";
+  } catch (const capz::Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kUsage);
+  }
+  capz::WriteOptions o;
+  o.pcd_encoding = "zip";
+  try {
+    capz::write_pcd_folder(t, (d.path() / "other").string(), o);
+    FAIL() << "accepted encoding zip";
+  } catch (const capz::Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInvalidParameter);
+  }
+  o.pcd_encoding = "binary";
+  o.overwrite = true;
+  capz::Take small = make_take(1, 3);
+  capz::write_pcd_folder(small, out, o);
+  EXPECT_EQ(capz::read_pcd_folder(out).frames, 1u);
+  // Only the two outputs' directories ever existed: no temporaries left.
+  EXPECT_EQ(std::distance(fs::directory_iterator(d.path()), fs::directory_iterator()), 1);
+}
