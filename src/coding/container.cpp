@@ -7,6 +7,7 @@
 #include "capz/io.h"
 #include "coding/bytes.h"
 #include "coding/crc32c.h"
+#include "coding/entropy.h"
 
 namespace capz {
 namespace {
@@ -186,7 +187,7 @@ std::vector<uint8_t> encode_meta(const Take& t, bool has_sample_words) {
     w.svarint(x.orig_data_start_frame);
     w.svarint(x.orig_num_frames);
     w.svarint(x.decimals);
-    // Time column: regular when every time is exactly t0 + i * dt.
+    // Time column: regular (t0 + i * dt exactly), on a decimal grid, or listed.
     if (x.times.size() != t.frames) {
       w.u8(0);
     } else {
@@ -194,10 +195,34 @@ std::vector<uint8_t> encode_meta(const Take& t, bool has_sample_words) {
       double t0 = t.frames ? x.times[0] : 0, dt = t.frames > 1 ? x.times[1] - x.times[0] : 0;
       for (size_t i = 0; regular && i < t.frames; ++i)
         regular = (t0 + static_cast<double>(i) * dt) == x.times[i];
+      int decimals = -1;
+      for (int k = 0; !regular && decimals < 0 && k <= 9; ++k) {
+        const double d = std::pow(10.0, k);
+        bool ok = true;
+        for (size_t i = 0; ok && i < t.frames; ++i) {
+          const double v = x.times[i] * d;
+          ok = std::fabs(v) < 2e9 && std::round(v) / d == x.times[i];
+        }
+        if (ok) decimals = k;
+      }
       if (regular) {
         w.u8(1);
         w.f64(t0);
         w.f64(dt);
+      } else if (decimals >= 0) {
+        const double d = std::pow(10.0, decimals);
+        std::vector<int32_t> deltas(t.frames);
+        int32_t prev = 0;
+        for (size_t i = 0; i < t.frames; ++i) {
+          const int32_t k = static_cast<int32_t>(std::round(x.times[i] * d));
+          deltas[i] = k - prev;
+          prev = k;
+        }
+        w.u8(3);
+        w.u8(static_cast<uint8_t>(decimals));
+        std::vector<uint8_t> block = encode_ints(deltas);
+        w.varint(block.size());
+        w.bytes(block);
       } else {
         w.u8(2);
         for (double v : x.times) w.f64(v);
@@ -284,6 +309,19 @@ void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sam
       if (t->frames > r.remaining() / 8) fail(ErrorCode::kCorrupt, what, "truncated Time column");
       x->times.resize(t->frames);
       for (auto& v : x->times) v = r.f64();
+    } else if (kt == 3) {
+      const uint8_t k = r.u8();
+      if (k > 9) fail(ErrorCode::kCorrupt, what, "Time column with more than 9 decimals");
+      const double d = std::pow(10.0, k);
+      uint64_t n = r.count(1, "Time column block length");
+      const uint8_t* b = r.bytes(static_cast<size_t>(n));
+      std::vector<int32_t> deltas = decode_ints(b, static_cast<size_t>(n), t->frames, what + " Time column");
+      x->times.resize(t->frames);
+      int32_t prev = 0;
+      for (size_t i = 0; i < t->frames; ++i) {
+        prev = static_cast<int32_t>(static_cast<uint32_t>(prev) + static_cast<uint32_t>(deltas[i]));
+        x->times[i] = static_cast<double>(prev) / d;
+      }
     } else if (kt != 0) {
       fail(ErrorCode::kCorrupt, what, "unknown Time column kind");
     }
