@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <string>
 
+#include "capz/error.h"
 #include "capz/take.h"
 
 namespace capz_test {
@@ -47,6 +48,19 @@ inline void expect_same_samples(const capz::Take& a, const capz::Take& b) {
   }
   EXPECT_EQ(differ, 0u) << "first differing sample: frame " << first / (a.points ? a.points : 1)
                         << ", point " << first % (a.points ? a.points : 1);
+}
+
+// Runs `f` and returns the code of the capz::Error it throws (its message in *msg); a call that
+// does not throw returns kInternal, which no test expects from a correct reader.
+template <typename F>
+capz::ErrorCode error_of(F&& f, std::string* msg = nullptr) {
+  try {
+    f();
+  } catch (const capz::Error& e) {
+    if (msg) *msg = e.what();
+    return e.code();
+  }
+  return capz::ErrorCode::kInternal;
 }
 
 }  // namespace capz_test

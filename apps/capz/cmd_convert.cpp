@@ -1,13 +1,105 @@
-// Placeholder until the command is implemented (see the open issues); it says so and fails.
+// capz convert IN OUT: between .c3d, .trc and PCD folders, keeping point order, labels, rate,
+// units and gaps. The output format follows OUT's name (see format_for_output in capz/io.h).
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <string>
 
+#include "capz/error.h"
+#include "capz/io.h"
+#include "cli_util.h"
 #include "commands.h"
+#include "core/atomic_file.h"
 
 namespace capz_cli {
 
-int cmd_convert(const Args&) {
-  std::fprintf(stderr, "capz convert: not implemented yet\n");
-  return 7;
+namespace fs = std::filesystem;
+
+int cmd_convert(const Args& args) {
+  po::options_description opts("convert options");
+  opts.add_options()("force,f", "overwrite OUT if it exists")(
+      "pcd-encoding", po::value<std::string>(),
+      "PCD output: ascii, binary or binary_compressed (default: the source's encoding when it is "
+      "a PCD folder, else binary)")(
+      "c3d-float", "C3D output: store coordinates as float even if the source was int16")(
+      "rate", po::value<double>(), "set the frame rate in Hz (for sources without one, e.g. PCD)")(
+      "units", po::value<std::string>(), "set the units (mm, cm, m, ...) when the source has none");
+  po::options_description positionals;
+  positionals.add_options()("input", po::value<std::string>(), "IN")(
+      "output", po::value<std::string>(), "OUT");
+  po::positional_options_description pos;
+  pos.add("input", 1).add("output", 1);
+  po::variables_map vm;
+  if (!parse_args(args, "capz convert IN OUT [-f] [--pcd-encoding E] [--c3d-float]",
+                  "Converts IN to OUT, each a .c3d, a .trc or a folder of .pcd frames (OUT: a path\n"
+                  "without extension or ending in '/'), keeping point order,\n"
+                  "labels, rate, units and gaps (a gap is an empty field in TRC, a NaN point in\n"
+                  "PCD). The output is written to a temporary name and renamed into place; an\n"
+                  "existing OUT is never replaced without -f.",
+                  opts, positionals, pos, &vm))
+    return 0;
+  if (!vm.count("input") || !vm.count("output")) throw po::error("need IN and OUT");
+  const std::string in = vm["input"].as<std::string>();
+  const std::string out = vm["output"].as<std::string>();
+
+  capz::WriteOptions wo;
+  wo.overwrite = vm.count("force") > 0;
+  wo.c3d_float = vm.count("c3d-float") > 0;
+  if (vm.count("pcd-encoding")) {
+    const std::string e = vm["pcd-encoding"].as<std::string>();
+    if (e != "ascii" && e != "binary" && e != "binary_compressed")
+      capz::fail(capz::ErrorCode::kInvalidParameter, "",
+                 "--pcd-encoding must be ascii, binary or binary_compressed, not '" + e + "'");
+    wo.pcd_encoding = e;
+  }
+  if (vm.count("rate")) {
+    double r = vm["rate"].as<double>();
+    if (!(r > 0) || !std::isfinite(r))
+      capz::fail(capz::ErrorCode::kInvalidParameter, "", "--rate must be a positive number of Hz");
+  }
+
+  // Cheap checks first: a bad output name or an existing output fails before reading anything.
+  const capz::Format out_format = capz::format_for_output(out);
+  if (out_format == capz::Format::kUnknown)
+    capz::fail(capz::ErrorCode::kUsage, out,
+               "cannot tell the output format from the name: use .c3d, .trc, or a folder path "
+               "(no extension or ending in '/') for PCD frames");
+  std::string target = out;
+  while (target.size() > 1 && target.back() == '/') target.pop_back();
+  capz::check_output_free(target, wo.overwrite);
+  std::error_code ec;
+  if (fs::exists(in, ec) && fs::exists(target, ec) && fs::equivalent(in, target, ec))
+    capz::fail(capz::ErrorCode::kUsage, out, "output is the input");
+
+  capz::Take take = capz::read_take(in);
+  if (vm.count("rate")) take.rate = vm["rate"].as<double>();
+  if (vm.count("units") && take.units.empty()) take.units = vm["units"].as<std::string>();
+  if (!vm.count("pcd-encoding") && take.pcd) wo.pcd_encoding = take.pcd->encoding;
+
+  if (g_verbosity >= 1) {
+    for (const auto& w : take.warnings) std::fprintf(stderr, "capz convert: %s: %s\n", in.c_str(), w.c_str());
+    if (out_format != capz::Format::kC3D) {
+      if (take.analog.channels > 0)
+        std::fprintf(stderr, "capz convert: note: %s does not keep the %d analog channels\n",
+                     capz::format_name(out_format), take.analog.channels);
+      if (take.c3d)
+        std::fprintf(stderr, "capz convert: note: %s does not keep the C3D parameter section\n",
+                     capz::format_name(out_format));
+    }
+    if (out_format == capz::Format::kPCDFolder && take.rate > 0)
+      std::fprintf(stderr, "capz convert: note: PCD frames do not store the frame rate (%s Hz)\n",
+                   number(take.rate).c_str());
+    if (out_format != capz::Format::kPCDFolder && take.rate <= 0)
+      std::fprintf(stderr, "capz convert: note: the source has no frame rate; give --rate\n");
+  }
+
+  capz::write_take(take, out, wo);
+  if (g_verbosity >= 1)
+    std::fprintf(stderr, "capz convert: %s (%s) -> %s (%s): %zu points x %zu frames, %s\n",
+                 in.c_str(), capz::format_name(take.format), target.c_str(),
+                 capz::format_name(out_format), take.points, take.frames,
+                 human_size(path_size(target)).c_str());
+  return 0;
 }
 
 }  // namespace capz_cli

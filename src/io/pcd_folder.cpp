@@ -377,6 +377,17 @@ void write_pcd_folder(const Take& take, const std::string& dir, const WriteOptio
   }
   const uint32_t size = as_float ? 4 : 8;
 
+  // Replacing an existing directory deletes it: only allow that for a folder of PCD frames.
+  std::error_code ec;
+  if (opts.overwrite && fs::is_directory(dir, ec)) {
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+      std::error_code ec2;
+      if (!has_pcd_extension(it->path()) || !fs::is_regular_file(it->symlink_status(ec2)))
+        fail(ErrorCode::kUsage, dir,
+             "refusing to replace this directory: it holds " + it->path().filename().string() +
+                 ", which is not a PCD frame");
+    }
+  }
   AtomicDir out(dir, opts.overwrite);
   QuietPcl quiet;
   pcl::PCDWriter writer;

@@ -54,13 +54,7 @@ capz::Take make_take(size_t frames, size_t points) {
 }
 
 ErrorCode read_error(const std::string& dir, std::string* msg = nullptr) {
-  try {
-    capz::read_pcd_folder(dir);
-  } catch (const capz::Error& e) {
-    if (msg) *msg = e.what();
-    return e.code();
-  }
-  return ErrorCode::kInternal;
+  return capz_test::error_of([&] { capz::read_pcd_folder(dir); }, msg);
 }
 
 }  // namespace

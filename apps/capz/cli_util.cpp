@@ -1,0 +1,161 @@
+#include "cli_util.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "io/text_number.h"
+
+namespace fs = std::filesystem;
+
+namespace capz_cli {
+
+bool parse_args(const Args& args, const std::string& usage, const std::string& description,
+                const po::options_description& options, const po::options_description& positionals,
+                const po::positional_options_description& pos, po::variables_map* vm) {
+  po::options_description common("common options");
+  common.add_options()("help,h", "print this help and exit")(
+      "quiet,q", "print nothing but errors")("verbose,v", "print more detail");
+  po::options_description shown;
+  shown.add(options).add(common);
+  po::options_description all;
+  all.add(shown).add(positionals);
+  po::store(po::command_line_parser(args).options(all).positional(pos).run(), *vm);
+  if (vm->count("help")) {
+    std::cout << "usage: " << usage << "\n\n" << description << "\n\n" << shown << "\n";
+    return false;
+  }
+  po::notify(*vm);
+  if (vm->count("quiet")) g_verbosity = 0;
+  if (vm->count("verbose")) g_verbosity = 2;
+  return true;
+}
+
+std::string human_size(uint64_t bytes) {
+  if (bytes < 1024) return std::to_string(bytes) + " B";
+  const char* units[] = {"KiB", "MiB", "GiB", "TiB"};
+  double v = static_cast<double>(bytes);
+  int u = -1;
+  while (v >= 1024 && u < 3) {
+    v /= 1024;
+    ++u;
+  }
+  char buf[32];
+  std::snprintf(buf, sizeof buf, v < 10 ? "%.2f %s" : v < 100 ? "%.1f %s" : "%.0f %s", v, units[u]);
+  return buf;
+}
+
+uint64_t path_size(const std::string& path) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) {
+    uint64_t total = 0;
+    for (fs::directory_iterator it(path, ec), end; !ec && it != end; it.increment(ec)) {
+      std::error_code e2;
+      if (it->is_regular_file(e2)) total += it->file_size(e2);
+    }
+    return total;
+  }
+  uint64_t s = fs::file_size(path, ec);
+  return ec ? 0 : s;
+}
+
+std::string number(double v) { return capz::format_decimal(v, -1); }
+
+std::string percent(double share) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, share > 0 && share < 0.01 ? "%.2f%%" : "%.1f%%", share * 100);
+  return buf;
+}
+
+std::string Json::escape(const std::string& s) {
+  std::string o = "\"";
+  for (unsigned char c : s) {
+    switch (c) {
+      case '"': o += "\\\""; break;
+      case '\\': o += "\\\\"; break;
+      case '\b': o += "\\b"; break;
+      case '\f': o += "\\f"; break;
+      case '\n': o += "\\n"; break;
+      case '\r': o += "\\r"; break;
+      case '\t': o += "\\t"; break;
+      default:
+        if (c < 0x20 || c == 0x7f) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04x", c);
+          o += buf;
+        } else {
+          o += static_cast<char>(c);  // UTF-8 passes through; other bytes are the file's own
+        }
+    }
+  }
+  return o + "\"";
+}
+
+void Json::separate() {
+  if (after_key_) {
+    after_key_ = false;
+    return;
+  }
+  if (!first_.empty()) {
+    if (!first_.back()) out_ += ',';
+    first_.back() = false;
+  }
+}
+
+void Json::begin_object() {
+  separate();
+  out_ += '{';
+  first_.push_back(true);
+}
+void Json::end_object() {
+  first_.pop_back();
+  out_ += '}';
+}
+void Json::begin_array() {
+  separate();
+  out_ += '[';
+  first_.push_back(true);
+}
+void Json::end_array() {
+  first_.pop_back();
+  out_ += ']';
+}
+void Json::key(const std::string& k) {
+  separate();
+  out_ += escape(k);
+  out_ += ':';
+  after_key_ = true;
+}
+void Json::value(const std::string& s) {
+  separate();
+  out_ += escape(s);
+}
+void Json::value(double v) {
+  separate();
+  out_ += std::isfinite(v) ? capz::format_decimal(v, -1) : std::string("null");
+}
+void Json::value(uint64_t v) {
+  separate();
+  out_ += std::to_string(v);
+}
+void Json::value(int64_t v) {
+  separate();
+  out_ += std::to_string(v);
+}
+void Json::value(bool b) {
+  separate();
+  out_ += b ? "true" : "false";
+}
+void Json::null() {
+  separate();
+  out_ += "null";
+}
+void Json::member_strings(const std::string& k, const std::vector<std::string>& v) {
+  key(k);
+  begin_array();
+  for (const auto& s : v) value(s);
+  end_array();
+}
+
+}  // namespace capz_cli

@@ -1,0 +1,69 @@
+// Helpers shared by the capz subcommands: option parsing with the common -h/-q/-v, human-readable
+// numbers, and a small JSON writer (hand-written, strings escaped per RFC 8259).
+#pragma once
+
+#include <boost/program_options.hpp>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "capz/take.h"
+#include "commands.h"
+
+namespace capz_cli {
+
+namespace po = boost::program_options;
+
+// Parses `args` against `options` plus the common options (-h/--help, -q/--quiet, -v/--verbose,
+// which set g_verbosity), and `positionals` (options named in `pos`, left out of the help: the
+// usage line and description document them). On --help prints "usage: <usage>", the
+// `description` and every option to stdout and returns false (the command then returns 0).
+// Throws po::error on bad options (main() reports it with exit status 1).
+bool parse_args(const Args& args, const std::string& usage, const std::string& description,
+                const po::options_description& options, const po::options_description& positionals,
+                const po::positional_options_description& pos, po::variables_map* vm);
+
+// "512 B", "1.5 KiB", "3.20 MiB", "1.07 GiB".
+std::string human_size(uint64_t bytes);
+// Size of a file, or the total of the regular files directly inside a directory.
+uint64_t path_size(const std::string& path);
+// Shortest decimal text that reads back exactly (no exponent for ordinary magnitudes).
+std::string number(double v);
+// "3.2%" style share with one decimal (two below 1%).
+std::string percent(double share);
+
+// JSON text built incrementally; keys and values are escaped. Usage:
+//   Json j; j.begin_object(); j.key("points"); j.value(44); j.end_object(); j.str();
+class Json {
+ public:
+  void begin_object();
+  void end_object();
+  void begin_array();
+  void end_array();
+  void key(const std::string& k);
+  void value(const std::string& s);
+  void value(const char* s) { value(std::string(s)); }
+  void value(double v);  // NaN/inf -> null
+  void value(uint64_t v);
+  void value(int64_t v);
+  void value(int v) { value(static_cast<int64_t>(v)); }
+  void value(bool b);
+  void null();
+  // Shorthands for one member.
+  template <typename T>
+  void member(const std::string& k, const T& v) {
+    key(k);
+    value(v);
+  }
+  void member_strings(const std::string& k, const std::vector<std::string>& v);
+  const std::string& str() const { return out_; }
+  static std::string escape(const std::string& s);  // with the surrounding quotes
+
+ private:
+  void separate();
+  std::string out_;
+  std::vector<bool> first_;  // per open container: no member written yet
+  bool after_key_ = false;
+};
+
+}  // namespace capz_cli

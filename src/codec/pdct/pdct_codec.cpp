@@ -1,0 +1,592 @@
+#include "codec/pdct/pdct_codec.h"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <limits>
+#include <memory>
+
+#include "capz/error.h"
+#include "capz/metrics.h"
+#include "codec/pdct/cluster.h"
+#include "codec/pdct/dct.h"
+#include "codec/pdct/lcf.h"
+#include "codec/pdct/predict.h"
+#include "codec/pdct/seeds.h"
+#include "coding/bytes.h"
+#include "coding/entropy.h"
+
+namespace capz {
+namespace {
+
+using pdct::Layout;
+using pdct::Lcf;
+using pdct::Steps;
+
+constexpr uint8_t kVersion = 1;
+const char* const kWhat = "pdct payload";
+
+// ---------------------------------------------------------------------------------------------
+// Options
+
+double parse_double(const std::string& key, const std::string& v, double lo, double hi) {
+  size_t used = 0;
+  double d = 0;
+  try {
+    d = std::stod(v, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != v.size() || !(d >= lo && d <= hi))
+    throw Error(ErrorCode::kInvalidParameter, "pdct option " + key + "=" + v + ": expected a number in [" +
+                                                  std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return d;
+}
+
+int parse_int(const std::string& key, const std::string& v, int lo, int hi) {
+  const double d = parse_double(key, v, lo, hi);
+  if (d != std::floor(d))
+    throw Error(ErrorCode::kInvalidParameter, "pdct option " + key + "=" + v + ": expected an integer");
+  return static_cast<int>(d);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Integer streams: three blocks of the container's integer entropy coder (coding/entropy.h), each
+// stored as varint(length) + block. Contexts (docs/CODEC-PDCT.md):
+//   frame-point residuals: the axis (3 contexts); frame-0 residuals: the axis (3);
+//   DCT coefficients: 5 frequency bands of the index l in its block (0 | 1-3 | 4-15 | 16-63 | 64+)
+//   times 3 classes of the previous coefficient's token in the same block (0 | 1-2 | 3+): 15.
+// Every stored integer is within +-2^30 (kMaxQuantised below keeps each quantised value within
+// 2^29, so differences fit too).
+
+constexpr int kSeedContexts = 3, kFirstContexts = 3, kCoefContexts = 15;
+constexpr double kMaxQuantised = 536870912.0;  // 2^29
+
+int coef_context(size_t l, int prev_token) {
+  const int band = l == 0 ? 0 : l < 4 ? 1 : l < 16 ? 2 : l < 64 ? 3 : 4;
+  const int prev = prev_token == 0 ? 0 : prev_token < 3 ? 1 : 2;
+  return band * 3 + prev;
+}
+
+int64_t quantise_checked(double v, double step, const char* what) {
+  const double x = v / step;
+  if (!(std::fabs(x) < kMaxQuantised))
+    throw Error(ErrorCode::kInvalidParameter,
+                std::string("pdct: ") + what + " " + std::to_string(v) + " is more than 2^29 steps of " +
+                    std::to_string(step) + " (step too small for this take)");
+  return std::llround(x);
+}
+
+int32_t to_i32(int64_t r) {
+  if (r < INT32_MIN || r > INT32_MAX) throw Error(ErrorCode::kInvalidParameter, "pdct: a residual exceeds 2^31 steps (step too small for this take)");
+  return static_cast<int32_t>(r);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Layout (encoder): seeds, triangles, clusters.
+
+Layout build_layout(const PositionsView& in, size_t clusters, const PdctOptions& o) {
+  const size_t F = in.frames, P = in.points;
+  Layout L;
+  L.frames = F;
+  L.points = P;
+  L.dct_block = o.dct_block;
+  // Seed candidates: points measured in every frame if at least 3, else in frame 0, else all.
+  std::vector<uint8_t> always(P, 1), first(P, 0);
+  size_t n_always = 0, n_first = 0;
+  for (size_t i = 0; i < P; ++i) {
+    for (size_t f = 0; f < F && always[i]; ++f) always[i] = in.valid[f * P + i];
+    first[i] = in.valid[i];
+    n_always += always[i];
+    n_first += first[i];
+  }
+  const uint8_t* cand = n_always >= 3 ? always.data() : n_first >= 3 ? first.data() : nullptr;
+  std::vector<pdct::Triangle> tris;
+  if (P >= 3 && clusters > 0) {
+    const auto seeds = pdct::farthest_point_seeds(in.xyz, P, cand, pdct::SeedParams{clusters});
+    pdct::TriangleParams tp;
+    tp.knn = o.knn;
+    tp.min_angle_deg = o.min_angle_deg;
+    tp.min_edge = o.min_edge;
+    tris = pdct::seed_triangles(in, seeds, tp);
+  }
+  std::vector<uint8_t> is_fp(P, 0);
+  for (const auto& t : tris) is_fp[t.p1] = is_fp[t.p2] = is_fp[t.p3] = 1;
+  std::vector<uint32_t> where(P, 0);
+  for (size_t i = 0; i < P; ++i)
+    if (is_fp[i]) {
+      where[i] = static_cast<uint32_t>(L.frame_points.size());
+      L.frame_points.push_back(static_cast<uint32_t>(i));
+    }
+  std::vector<Lcf> lcfs;
+  if (tris.empty()) {
+    L.triangles.push_back({0, 0, 0});
+    lcfs.assign(F, pdct::identity_lcf());
+  } else {
+    for (const auto& t : tris) {
+      L.triangles.push_back({where[t.p1], where[t.p2], where[t.p3]});
+      for (size_t f = 0; f < F; ++f) {
+        const double* b = in.xyz + 3 * f * P;
+        lcfs.push_back(pdct::make_lcf(b + 3 * t.p1, b + 3 * t.p2, b + 3 * t.p3));
+      }
+    }
+  }
+  const auto assign = pdct::assign_clusters(in, lcfs, L.triangles.size(), is_fp, pdct::ClusterParams{});
+  L.members.assign(L.triangles.size(), {});
+  for (size_t i = 0; i < P; ++i)
+    if (assign[i] >= 0) L.members[static_cast<size_t>(assign[i])].push_back(static_cast<uint32_t>(i));
+  return L;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Encoder hooks: integers from the original.
+
+class EncoderHooks : public pdct::LoopHooks {
+ public:
+  EncoderHooks(const PositionsView& in, const Layout& L, const Steps& S, double zero_share)
+      : in_(in), L_(L), S_(S), zero_share_(zero_share) {}
+
+  int64_t seed_residual(size_t f, size_t k, int a, int64_t prediction) override {
+    const double v = in_.xyz[3 * (f * in_.points + L_.frame_points[k]) + a];
+    const int32_t r = to_i32(quantise_checked(v, S_.seed, "frame-point coordinate") - prediction);
+    seed.put_signed(r, a);
+    return r;
+  }
+
+  int64_t first_residual(size_t c, size_t m, int a, const Lcf& frame, int64_t prediction) override {
+    if (a == 0) pdct::to_local(frame, in_.xyz + 3 * L_.members[c][m], q_);
+    const int32_t r = to_i32(quantise_checked(q_[a], S_.first, "frame-0 local coordinate") - prediction);
+    first.put_signed(r, a);
+    return r;
+  }
+
+  void coefficients(size_t f, size_t c, const Lcf& frame, const double* pred, const pdct::BlockDct& dct,
+                    int64_t* coefs) override {
+    const auto& mem = L_.members[c];
+    const size_t n = mem.size();
+    delta_.assign(3 * n, 0.0);
+    for (size_t m = 0; m < n; ++m) {
+      const size_t s = f * in_.points + mem[m];
+      if (!in_.valid[s]) continue;  // a gap rides with its cluster's frame: delta 0
+      double q[3];
+      pdct::to_local(frame, in_.xyz + 3 * s, q);
+      for (int a = 0; a < 3; ++a) delta_[a * n + m] = q[a] - pred[3 * m + a];
+    }
+    X_.resize(n);
+    for (int a = 0; a < 3; ++a) {
+      dct.forward(&delta_[a * n], X_.data());
+      for (size_t b = 0; b < dct.blocks(); ++b) {
+        const size_t o = dct.block_begin(b);
+        const size_t len = dct.block_size(b);
+        for (size_t l = 0; l < len; ++l)
+          if (!(std::fabs(X_[o + l] / S_.coef) < kMaxQuantised))
+            quantise_checked(X_[o + l], S_.coef, "DCT coefficient");  // throws
+        pdct::zero_and_quantise(&X_[o], len, pdct::CoefQuantParams{S_.coef, zero_share_}, coefs + a * n + o);
+        int prev = 0;
+        for (size_t l = 0; l < len; ++l)
+          prev = coef.put_signed(static_cast<int32_t>(coefs[a * n + o + l]), coef_context(l, prev));
+      }
+    }
+  }
+
+  IntEncoder seed{kSeedContexts}, first{kFirstContexts}, coef{kCoefContexts};
+
+ private:
+  const PositionsView& in_;
+  const Layout& L_;
+  const Steps& S_;
+  double zero_share_;
+  double q_[3] = {0, 0, 0};
+  std::vector<double> delta_, X_;
+};
+
+class DecoderHooks : public pdct::LoopHooks {
+ public:
+  DecoderHooks(IntDecoder* seed, IntDecoder* first, IntDecoder* coef) : seed_(seed), first_(first), coef_(coef) {}
+  int64_t seed_residual(size_t, size_t, int a, int64_t) override { return seed_->get_signed(a); }
+  int64_t first_residual(size_t, size_t, int a, const Lcf&, int64_t) override { return first_->get_signed(a); }
+  void coefficients(size_t, size_t, const Lcf&, const double*, const pdct::BlockDct& dct,
+                    int64_t* coefs) override {
+    const size_t n = dct.size();
+    for (int a = 0; a < 3; ++a)
+      for (size_t b = 0; b < dct.blocks(); ++b) {
+        const size_t o = dct.block_begin(b), len = dct.block_size(b);
+        int prev = 0;
+        for (size_t l = 0; l < len; ++l) coefs[a * n + o + l] = coef_->get_signed(coef_context(l, prev), &prev);
+      }
+  }
+
+ private:
+  IntDecoder *seed_, *first_, *coef_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Serialisation
+
+void put_block(ByteWriter* w, const std::vector<uint8_t>& block) {
+  w->varint(block.size());
+  w->bytes(block);
+}
+
+void write_payload(const Layout& L, const Steps& S, EncoderHooks& h, std::vector<uint8_t>* out,
+                   PdctReport* rep) {
+  ByteWriter w;
+  w.u8(kVersion);
+  w.u8(static_cast<uint8_t>((S.seed_order == 2 ? 1 : 0) | (S.local_order == 2 ? 2 : 0)));
+  w.f64(S.seed);
+  w.f64(S.first);
+  w.f64(S.coef);
+  w.varint(L.dct_block);
+  w.varint(L.frame_points.size());
+  uint32_t prev = 0;
+  for (size_t k = 0; k < L.frame_points.size(); ++k) {
+    w.varint(k == 0 ? L.frame_points[0] : L.frame_points[k] - prev - 1);
+    prev = L.frame_points[k];
+  }
+  w.varint(L.triangles.size());
+  for (const auto& t : L.triangles)
+    for (uint32_t v : t) w.varint(v);
+  // Cluster of every non-frame point, in ascending point order.
+  std::vector<uint32_t> cl(L.points, 0);
+  for (size_t c = 0; c < L.members.size(); ++c)
+    for (uint32_t p : L.members[c]) cl[p] = static_cast<uint32_t>(c);
+  std::vector<uint8_t> is_fp(L.points, 0);
+  for (uint32_t p : L.frame_points) is_fp[p] = 1;
+  std::vector<uint32_t> ids;
+  for (size_t i = 0; i < L.points; ++i)
+    if (!is_fp[i]) ids.push_back(cl[i]);
+  put_block(&w, encode_uints(ids));
+  const size_t layout_bytes = w.size();
+  put_block(&w, h.seed.finish());
+  const size_t a = w.size();
+  put_block(&w, h.first.finish());
+  const size_t b = w.size();
+  put_block(&w, h.coef.finish());
+  if (rep) {
+    rep->layout_bytes = layout_bytes;
+    rep->seed_bytes = a - layout_bytes;
+    rep->first_bytes = b - a;
+    rep->coef_bytes = w.size() - b;
+    rep->payload_bytes = w.size();
+  }
+  out->insert(out->end(), w.buffer().begin(), w.buffer().end());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Encoder driver
+
+struct Trial {
+  std::vector<uint8_t> bytes;
+  std::vector<double> recon;
+  PdctReport report;
+};
+
+Trial run_encode(const PositionsView& in, const Layout& L, const Steps& S, double zero_share) {
+  Trial t;
+  EncoderHooks h(in, L, S, zero_share);
+  pdct::run_closed_loop(L, S, &h, &t.recon);
+  write_payload(L, S, h, &t.bytes, &t.report);
+  t.report.clusters = L.triangles.size();
+  t.report.frame_points = L.frame_points.size();
+  t.report.seed_step = S.seed;
+  t.report.first_step = S.first;
+  t.report.coef_step = S.coef;
+  return t;
+}
+
+// Largest |DCT coefficient| of an open-loop pass (deltas between the original local coordinates
+// of consecutive frames, frames built on the original triangles): the range coef_bits spans.
+double open_loop_max_coefficient(const PositionsView& in, const Layout& L) {
+  const size_t F = in.frames, P = in.points;
+  double M = 0;
+  std::vector<double> d, X;
+  for (size_t c = 0; c < L.triangles.size(); ++c) {
+    const auto& mem = L.members[c];
+    const size_t n = mem.size();
+    if (n == 0 || F < 2) continue;
+    const pdct::BlockDct dct(n, L.dct_block);
+    const auto& t = L.triangles[c];
+    auto frame_at = [&](size_t f) {
+      if (t[0] == t[1] && t[1] == t[2]) return pdct::identity_lcf();
+      const double* b = in.xyz + 3 * f * P;
+      return pdct::make_lcf(b + 3 * L.frame_points[t[0]], b + 3 * L.frame_points[t[1]],
+                            b + 3 * L.frame_points[t[2]]);
+    };
+    Lcf prev = frame_at(0);
+    d.resize(3 * n);
+    X.resize(n);
+    for (size_t f = 1; f < F; ++f) {
+      const Lcf cur = frame_at(f);
+      for (size_t m = 0; m < n; ++m) {
+        double q0[3], q1[3];
+        pdct::to_local(prev, in.xyz + 3 * ((f - 1) * P + mem[m]), q0);
+        pdct::to_local(cur, in.xyz + 3 * (f * P + mem[m]), q1);
+        for (int a = 0; a < 3; ++a) d[a * n + m] = q1[a] - q0[a];
+      }
+      for (int a = 0; a < 3; ++a) {
+        dct.forward(&d[a * n], X.data());
+        for (double x : X) M = std::max(M, std::fabs(x));
+      }
+      prev = cur;
+    }
+  }
+  return M;
+}
+
+// Rough bits the bound layer would spend on the residual left by `recon` (for --clusters auto).
+double bound_bits_estimate(const PositionsView& in, const std::vector<double>& recon, double max_error) {
+  double bits = 0;
+  const double grid = 2 * max_error;
+  for (size_t s = 0; s < in.frames * in.points; ++s) {
+    if (!in.valid[s]) continue;
+    for (int a = 0; a < 3; ++a) {
+      const double r = std::fabs(std::round((in.xyz[3 * s + a] - recon[3 * s + a]) / grid));
+      bits += r == 0 ? 0.05 : 2.0 + 2.0 * std::log2(r + 1);
+    }
+  }
+  return bits;
+}
+
+double max_abs_coordinate(const PositionsView& in) {
+  double m = 0;
+  for (size_t i = 0; i < in.frames * in.points * 3; ++i) {
+    const double v = in.xyz[i];
+    if (!std::isfinite(v))
+      throw Error(ErrorCode::kInvalidParameter, "pdct: position " + std::to_string(i / 3) +
+                                                    " is not finite (gaps must be filled before coding)");
+    m = std::max(m, std::fabs(v));
+  }
+  return m;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+PdctOptions parse_pdct_options(const TransformParams& params) {
+  PdctOptions o;
+  for (const auto& kv : params.options) {
+    const std::string& k = kv.first;
+    const std::string& v = kv.second;
+    if (k == "zero_share") o.zero_share = parse_double(k, v, 0, 0.999);
+    else if (k == "coef_bits") o.coef_bits = parse_int(k, v, 2, 24);
+    else if (k == "first_bits") o.first_bits = parse_int(k, v, 2, 24);
+    else if (k == "seed_bits") o.seed_bits = parse_int(k, v, 2, 30);
+    else if (k == "coef_factor") o.coef_factor = parse_double(k, v, 1e-3, 1e3);
+    else if (k == "first_factor") o.first_factor = parse_double(k, v, 1e-3, 1e3);
+    else if (k == "seed_factor") o.seed_factor = parse_double(k, v, 1e-3, 1e3);
+    else if (k == "seed_order") o.seed_order = parse_int(k, v, 1, 2);
+    else if (k == "local_order") o.local_order = parse_int(k, v, 1, 2);
+    else if (k == "dct_block") o.dct_block = static_cast<size_t>(parse_int(k, v, 1, static_cast<int>(pdct::kMaxDctBlock)));
+    else if (k == "knn") o.knn = parse_int(k, v, 2, 64);
+    else if (k == "min_angle_deg") o.min_angle_deg = parse_double(k, v, 0, 59);
+    else if (k == "min_edge") o.min_edge = parse_double(k, v, 0, 0.5);
+    else
+      throw Error(ErrorCode::kInvalidParameter,
+                  "pdct: unknown option '" + k + "' (known: zero_share coef_bits first_bits seed_bits "
+                  "coef_factor first_factor seed_factor seed_order local_order dct_block knn "
+                  "min_angle_deg min_edge)");
+  }
+  return o;
+}
+
+size_t pdct_default_clusters(size_t points) { return std::min<size_t>(40, std::max<size_t>(1, points / 8)); }
+
+void encode_pdct(const PositionsView& in, const TransformParams& params, std::vector<uint8_t>* out,
+                 std::vector<double>* recon, PdctReport* report) {
+  const PdctOptions o = parse_pdct_options(params);
+  if (params.max_error < 0 || params.kg_error < 0 || !std::isfinite(params.max_error) ||
+      !std::isfinite(params.kg_error))
+    throw Error(ErrorCode::kInvalidParameter, "pdct: error targets must be finite and >= 0");
+  const double maxabs = max_abs_coordinate(in);
+  double diag = pdct::first_frame_diagonal(in);
+  if (!(diag > 0)) diag = maxabs > 0 ? maxabs : 1.0;
+  // No step below 2^-26 of the take's extent, so positions (|local| <= 2 extent) stay well inside
+  // the 2^29 steps a stored integer may hold.
+  const double min_step = std::max(maxabs, diag) * std::ldexp(1.0, -26);
+
+  Steps S;
+  S.seed_order = o.seed_order;
+  S.local_order = o.local_order;
+  const bool bounded = params.max_error > 0;
+  if (bounded) {
+    S.seed = o.seed_factor * 2 * params.max_error;
+    S.first = o.first_factor * 2 * params.max_error;
+    S.coef = o.coef_factor * 2 * params.max_error;
+  } else {
+    S.seed = std::ldexp(diag, -o.seed_bits);
+    S.first = std::ldexp(diag, -o.first_bits);
+  }
+  S.seed = std::max(S.seed, min_step);
+  S.first = std::max(S.first, min_step);
+
+  // Candidate cluster counts.
+  std::vector<size_t> counts;
+  if (params.clusters > 0) {
+    counts.push_back(static_cast<size_t>(params.clusters));
+  } else if (params.clusters == 0) {
+    counts.push_back(pdct_default_clusters(in.points));
+  } else {
+    for (size_t n : {2, 4, 6, 8, 12, 16, 24, 32, 40, 56, 80})
+      if (n == 2 || 3 * n <= in.points) counts.push_back(n);
+  }
+
+  auto coef_step_for = [&](const Layout& L) {
+    if (bounded) return std::max(S.coef, min_step);
+    const double M = open_loop_max_coefficient(in, L);
+    return std::max(M > 0 ? std::ldexp(2 * M, -o.coef_bits) : S.first, min_step);
+  };
+
+  Layout best_layout;
+  Trial best;
+  double best_cost = std::numeric_limits<double>::infinity();
+  for (size_t n : counts) {
+    Layout L = build_layout(in, n, o);
+    Steps s = S;
+    s.coef = coef_step_for(counts.size() == 1 ? L : build_layout(in, pdct_default_clusters(in.points), o));
+    Trial t = run_encode(in, L, s, o.zero_share);
+    double cost = 8.0 * static_cast<double>(t.bytes.size());
+    if (bounded) cost += bound_bits_estimate(in, t.recon, params.max_error);
+    if (cost < best_cost) {
+      best_cost = cost;
+      best = std::move(t);
+      best_layout = std::move(L);
+      S.coef = s.coef;
+    }
+  }
+
+  // KG target without a max error: scale the frame-0 and coefficient steps by 2^e, e found by a
+  // guess (KG is close to proportional to the step) then bisection, to the largest scale whose KG
+  // error is at or below the target (to 2^(1/32)). An unreachable target (e.g. too many zeroed
+  // coefficients) gives the lowest KG error seen.
+  if (!bounded && params.kg_error > 0) {
+    const double target = params.kg_error;
+    struct Point {
+      double e, kg;
+      Trial t;
+    };
+    auto at = [&](double e) {
+      Steps s = S;
+      s.first = std::max(S.first * std::exp2(e), min_step);
+      s.coef = std::max(S.coef * std::exp2(e), min_step);
+      Point p{e, 0, run_encode(in, best_layout, s, o.zero_share)};
+      p.kg = compare(in.frames, in.points, in.xyz, p.t.recon.data(), in.valid).kg_error;
+      return p;
+    };
+    const double kg0 = compare(in.frames, in.points, in.xyz, best.recon.data(), in.valid).kg_error;
+    Point cur = kg0 > 0 ? at(std::min(8.0, std::max(-16.0, std::log2(target / kg0)))) : Point{0, 0, best};
+    Point ok{0, 0, {}}, bad{0, 0, {}};
+    bool have_ok = false, have_bad = false;
+    // For an unreachable target: the lowest KG seen, preferring a smaller payload within 2%.
+    Point lowest = cur;
+    for (int it = 0; it < 8; ++it) {
+      if (cur.kg < 0.98 * lowest.kg || (cur.kg <= 1.02 * lowest.kg && cur.t.bytes.size() < lowest.t.bytes.size()))
+        lowest = cur;
+      if (cur.kg <= target) {
+        ok = cur;
+        have_ok = true;
+        if (have_bad || cur.e >= 8) break;
+        cur = at(cur.e + 1);
+      } else {
+        bad = cur;
+        have_bad = true;
+        if (have_ok || cur.e <= -16) break;
+        cur = at(cur.e - 1);
+      }
+    }
+    if (have_ok && have_bad) {
+      for (int it = 0; it < 5; ++it) {
+        Point mid = at(0.5 * (ok.e + bad.e));
+        if (mid.kg <= target)
+          ok = std::move(mid);
+        else
+          bad = std::move(mid);
+      }
+    }
+    best = have_ok ? std::move(ok.t) : std::move(lowest.t);
+  }
+  out->insert(out->end(), best.bytes.begin(), best.bytes.end());
+  *recon = std::move(best.recon);
+  if (report) *report = best.report;
+}
+
+void PdctCodec::encode(const PositionsView& in, const TransformParams& params, std::vector<uint8_t>* out,
+                       std::vector<double>* recon) const {
+  encode_pdct(in, params, out, recon, nullptr);
+}
+
+void PdctCodec::decode(const uint8_t* data, size_t size, size_t frames, size_t points,
+                       std::vector<double>* recon) const {
+  ByteReader r(data, size, kWhat);
+  const uint8_t version = r.u8();
+  if (version != kVersion)
+    throw Error(ErrorCode::kUnsupportedVersion, std::string(kWhat) + ": version " + std::to_string(version) +
+                                                    " (this build reads " + std::to_string(kVersion) + ")");
+  const uint8_t flags = r.u8();
+  if (flags & ~3u) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": unknown flags");
+  Steps S;
+  S.seed_order = (flags & 1) ? 2 : 1;
+  S.local_order = (flags & 2) ? 2 : 1;
+  S.seed = r.f64();
+  S.first = r.f64();
+  S.coef = r.f64();
+  for (double s : {S.seed, S.first, S.coef})
+    if (!(s > 0) || !std::isfinite(s)) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": bad step");
+  Layout L;
+  L.frames = frames;
+  L.points = points;
+  L.dct_block = static_cast<size_t>(r.varint());
+  if (L.dct_block < 1 || L.dct_block > pdct::kMaxDctBlock)
+    throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": dct block " + std::to_string(L.dct_block));
+  const uint64_t K = r.count(1, "frame point count");
+  if (K > points) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": more frame points than points");
+  L.frame_points.resize(static_cast<size_t>(K));
+  uint64_t at = 0;
+  for (size_t k = 0; k < K; ++k) {
+    const uint64_t g = r.varint();
+    at = k == 0 ? g : at + 1 + g;
+    if (g > points || at >= points)
+      throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": frame point index out of range");
+    L.frame_points[k] = static_cast<uint32_t>(at);
+  }
+  const uint64_t C = r.count(3, "cluster count");
+  if (C == 0 || C > points + 1) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": cluster count");
+  L.triangles.resize(static_cast<size_t>(C));
+  for (auto& t : L.triangles)
+    for (auto& v : t) {
+      const uint64_t x = r.varint();
+      if (x > points) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": triangle vertex out of range");
+      v = static_cast<uint32_t>(x);
+    }
+  L.members.assign(static_cast<size_t>(C), {});
+  std::vector<uint8_t> is_fp(points, 0);
+  for (uint32_t p : L.frame_points) is_fp[p] = 1;
+  const size_t rest = points - static_cast<size_t>(K);
+  {
+    const size_t len = static_cast<size_t>(r.count(1, "cluster id block length"));
+    const uint8_t* blk = r.bytes(len);
+    const auto ids = decode_uints(blk, len, rest, std::string(kWhat) + " cluster ids");
+    size_t j = 0;
+    for (size_t i = 0; i < points; ++i) {
+      if (is_fp[i]) continue;
+      if (ids[j] >= C) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": cluster id out of range");
+      L.members[ids[j++]].push_back(static_cast<uint32_t>(i));
+    }
+  }
+  pdct::check_layout(L, kWhat);
+  auto block = [&](const char* name, int contexts) {
+    const size_t len = static_cast<size_t>(r.count(1, name));
+    const uint8_t* blk = r.bytes(len);
+    return std::unique_ptr<IntDecoder>(new IntDecoder(blk, len, contexts, std::string(kWhat) + " " + name));
+  };
+  auto seed = block("frame-point block", kSeedContexts);
+  auto first = block("frame-0 block", kFirstContexts);
+  auto coef = block("coefficient block", kCoefContexts);
+  if (!r.at_end()) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": trailing bytes");
+  DecoderHooks h(seed.get(), first.get(), coef.get());
+  pdct::run_closed_loop(L, S, &h, recon);
+  if (!seed->at_end() || !first->at_end() || !coef->at_end())
+    throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": an entropy-coded block has bytes left over");
+}
+
+}  // namespace capz

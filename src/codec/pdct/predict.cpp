@@ -1,0 +1,144 @@
+#include "codec/pdct/predict.h"
+
+#include <algorithm>
+#include <memory>
+#include <string>
+
+#include "capz/error.h"
+#include "codec/pdct/dct.h"
+
+namespace capz {
+namespace pdct {
+
+BlockDct::BlockDct(size_t n, size_t block) : n_(n), block_(block) {
+  if (n_ >= block_) full_.reset(new DctPlan(block_));
+  if (n_ % block_) tail_.reset(new DctPlan(n_ % block_));
+}
+
+size_t BlockDct::block_size(size_t b) const { return std::min(block_, n_ - b * block_); }
+
+void BlockDct::forward(const double* x, double* X) const {
+  for (size_t b = 0; b < blocks(); ++b) {
+    const DctPlan& p = block_size(b) == block_ ? *full_ : *tail_;
+    p.forward(x + b * block_, X + b * block_);
+  }
+}
+
+void BlockDct::inverse(const double* X, double* x) const {
+  for (size_t b = 0; b < blocks(); ++b) {
+    const DctPlan& p = block_size(b) == block_ ? *full_ : *tail_;
+    p.inverse(X + b * block_, x + b * block_);
+  }
+}
+
+void check_layout(const Layout& L, const char* what) {
+  auto bad = [what](const std::string& m) { throw Error(ErrorCode::kCorrupt, std::string(what) + ": " + m); };
+  std::vector<uint8_t> seen(L.points, 0);
+  for (size_t k = 0; k < L.frame_points.size(); ++k) {
+    const uint32_t p = L.frame_points[k];
+    if (p >= L.points) bad("frame point " + std::to_string(p) + " out of range");
+    if (k > 0 && p <= L.frame_points[k - 1]) bad("frame points not ascending");
+    seen[p] = 1;
+  }
+  if (L.dct_block < 1 || L.dct_block > kMaxDctBlock) bad("dct block " + std::to_string(L.dct_block));
+  if (L.triangles.size() != L.members.size()) bad("cluster count mismatch");
+  for (const auto& t : L.triangles)
+    if (!(t[0] == t[1] && t[1] == t[2]))
+      for (uint32_t v : t)
+      if (v >= L.frame_points.size()) bad("triangle vertex " + std::to_string(v) + " out of range");
+  for (const auto& m : L.members)
+    for (size_t j = 0; j < m.size(); ++j) {
+      if (m[j] >= L.points) bad("member " + std::to_string(m[j]) + " out of range");
+      if (j > 0 && m[j] <= m[j - 1]) bad("cluster members not ascending");
+      if (seen[m[j]]) bad("point " + std::to_string(m[j]) + " coded twice");
+      seen[m[j]] = 1;
+    }
+  for (size_t i = 0; i < L.points; ++i)
+    if (!seen[i]) bad("point " + std::to_string(i) + " belongs to no cluster");
+}
+
+void run_closed_loop(const Layout& L, const Steps& S, LoopHooks* hooks, std::vector<double>* recon) {
+  const size_t F = L.frames, P = L.points, K = L.frame_points.size(), C = L.triangles.size();
+  recon->assign(F * P * 3, 0.0);
+  if (F == 0 || P == 0) return;
+
+  // Frame points: integer history of the last two frames.
+  std::vector<int64_t> I1(K * 3, 0), I2(K * 3, 0), I0(K * 3, 0);
+  std::vector<double> fp(K * 3);  // decoded frame-point positions in the current frame
+  // Per cluster: decoded local coordinates in the last two frames (members x 3).
+  std::vector<std::vector<double>> q1(C), q2(C);
+  std::vector<std::unique_ptr<BlockDct>> dcts(C);
+  for (size_t c = 0; c < C; ++c) {
+    const size_t n = L.members[c].size();
+    q1[c].assign(n * 3, 0.0);
+    q2[c].assign(n * 3, 0.0);
+    if (n > 0 && F > 1) dcts[c].reset(new BlockDct(n, L.dct_block));
+  }
+  std::vector<double> pred, col, col_out;
+  std::vector<int64_t> coefs;
+
+  for (size_t f = 0; f < F; ++f) {
+    // 1. Frame points.
+    for (size_t k = 0; k < K; ++k)
+      for (int a = 0; a < 3; ++a) {
+        const size_t j = 3 * k + a;
+        int64_t p;
+        if (f == 0)
+          p = k == 0 ? 0 : I0[j - 3];
+        else if (S.seed_order == 2 && f >= 2)
+          p = wrap_add(wrap_add(I1[j], I1[j]), -I2[j]);
+        else
+          p = I1[j];
+        I0[j] = wrap_add(p, hooks->seed_residual(f, k, a, p));
+      }
+    for (size_t j = 0; j < K * 3; ++j) {
+      fp[j] = on_grid(I0[j], S.seed);
+      (*recon)[3 * (f * P + L.frame_points[j / 3]) + j % 3] = fp[j];
+    }
+    I2.swap(I1);
+    I1 = I0;
+
+    // 2. Clusters.
+    for (size_t c = 0; c < C; ++c) {
+      const auto& t = L.triangles[c];
+      const Lcf frame = (t[0] == t[1] && t[1] == t[2])
+                            ? identity_lcf()
+                            : make_lcf(&fp[3 * t[0]], &fp[3 * t[1]], &fp[3 * t[2]]);
+      const auto& mem = L.members[c];
+      const size_t n = mem.size();
+      if (n == 0) continue;
+      std::vector<double> q(n * 3);
+      if (f == 0) {
+        int64_t prev[3] = {0, 0, 0};
+        for (size_t m = 0; m < n; ++m)
+          for (int a = 0; a < 3; ++a) {
+            const int64_t v = wrap_add(prev[a], hooks->first_residual(c, m, a, frame, prev[a]));
+            prev[a] = v;
+            q[3 * m + a] = on_grid(v, S.first);
+          }
+      } else {
+        pred.resize(n * 3);
+        if (S.local_order == 2 && f >= 2)
+          for (size_t j = 0; j < n * 3; ++j) pred[j] = 2.0 * q1[c][j] - q2[c][j];
+        else
+          pred = q1[c];
+        coefs.assign(3 * n, 0);
+        const BlockDct& plan = *dcts[c];
+        hooks->coefficients(f, c, frame, pred.data(), plan, coefs.data());
+        col.resize(n);
+        col_out.resize(n);
+        for (int a = 0; a < 3; ++a) {
+          dequantise(&coefs[a * n], n, S.coef, col.data());
+          plan.inverse(col.data(), col_out.data());
+          for (size_t m = 0; m < n; ++m) q[3 * m + a] = pred[3 * m + a] + col_out[m];
+        }
+      }
+      for (size_t m = 0; m < n; ++m) to_world(frame, &q[3 * m], &(*recon)[3 * (f * P + mem[m])]);
+      q2[c].swap(q1[c]);
+      q1[c].swap(q);
+    }
+  }
+}
+
+}  // namespace pdct
+}  // namespace capz

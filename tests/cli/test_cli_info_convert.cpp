@@ -1,0 +1,291 @@
+// Runs the built capz binary (CAPZ_CLI) on the shared real files: `capz info` (text and --json)
+// and `capz convert` (round trips, refusal to overwrite, one-line errors, no partial output).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cctype>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "capz/io.h"
+#include "test_util.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kData = CAPZ_SHARED_DATA;
+const std::string kCli = CAPZ_CLI;
+
+struct CliRun {
+  int status = -1;
+  std::string out, err;
+};
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// Runs `capz <args>` (args already shell-quoted where needed), capturing stdout and stderr.
+CliRun run_capz(const std::string& args) {
+  static capz_test::TempDir io("capz_cli_io");
+  const std::string out = io.file("stdout"), err = io.file("stderr");
+  const std::string cmd = quote(kCli) + " " + args + " >" + quote(out) + " 2>" + quote(err);
+  int rc = std::system(cmd.c_str());
+  CliRun r;
+  r.status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  r.out = slurp(out);
+  r.err = slurp(err);
+  return r;
+}
+
+size_t lines(const std::string& s) {
+  size_t n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+// Minimal JSON syntax check (RFC 8259 grammar; numbers, strings with escapes, nesting).
+class JsonCheck {
+ public:
+  explicit JsonCheck(const std::string& s) : s_(s) {}
+  bool ok() {
+    ws();
+    if (!value()) return false;
+    ws();
+    return i_ == s_.size();
+  }
+
+ private:
+  void ws() {
+    while (i_ < s_.size() && std::strchr(" \t\r\n", s_[i_])) ++i_;
+  }
+  bool lit(const char* w) {
+    size_t n = std::strlen(w);
+    if (s_.compare(i_, n, w) != 0) return false;
+    i_ += n;
+    return true;
+  }
+  bool string() {
+    if (s_[i_] != '"') return false;
+    for (++i_; i_ < s_.size(); ++i_) {
+      unsigned char c = static_cast<unsigned char>(s_[i_]);
+      if (c == '"') {
+        ++i_;
+        return true;
+      }
+      if (c < 0x20) return false;
+      if (c == '\\') {
+        ++i_;
+        if (i_ >= s_.size() || !std::strchr("\"\\/bfnrtu", s_[i_])) return false;
+      }
+    }
+    return false;
+  }
+  bool number() {
+    size_t b = i_;
+    if (s_[i_] == '-') ++i_;
+    while (i_ < s_.size() && (std::isdigit(static_cast<unsigned char>(s_[i_])) ||
+                              std::strchr(".eE+-", s_[i_])))
+      ++i_;
+    return i_ > b && std::isdigit(static_cast<unsigned char>(s_[i_ - 1]));
+  }
+  bool value() {
+    ws();
+    if (i_ >= s_.size()) return false;
+    char c = s_[i_];
+    if (c == '{' || c == '[') {
+      const char close = c == '{' ? '}' : ']';
+      ++i_;
+      ws();
+      if (s_[i_] == close) {
+        ++i_;
+        return true;
+      }
+      for (;;) {
+        ws();
+        if (c == '{') {
+          if (!string()) return false;
+          ws();
+          if (s_[i_++] != ':') return false;
+        }
+        if (!value()) return false;
+        ws();
+        if (s_[i_] == ',') {
+          ++i_;
+          continue;
+        }
+        if (s_[i_] == close) {
+          ++i_;
+          return true;
+        }
+        return false;
+      }
+    }
+    if (c == '"') return string();
+    if (lit("true") || lit("false") || lit("null")) return true;
+    return number();
+  }
+  const std::string& s_;
+  size_t i_ = 0;
+};
+
+bool contains(const std::string& hay, const std::string& needle) {
+  return hay.find(needle) != std::string::npos;
+}
+
+}  // namespace
+
+TEST(CliInfo, DescribesATrcFile) {
+  CliRun r = run_capz("info " + quote(kData + "/trc/opensim/walk_free_01.trc"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "format:    trc")) << r.out;
+  EXPECT_TRUE(contains(r.out, "points:    41")) << r.out;
+  EXPECT_TRUE(contains(r.out, "frames:    73 (first frame 185)")) << r.out;
+  EXPECT_TRUE(contains(r.out, "rate:      60 Hz")) << r.out;
+  EXPECT_TRUE(contains(r.out, "units:     mm")) << r.out;
+  EXPECT_TRUE(contains(r.out, "gaps:      0.0% of samples")) << r.out;
+  EXPECT_TRUE(contains(r.out, "labels:    R.ASIS, L.ASIS, V.Sacral")) << r.out;
+  EXPECT_TRUE(contains(r.out, "(33 more; -v lists all)")) << r.out;
+  EXPECT_TRUE(contains(r.out, "analog:    none")) << r.out;
+  EXPECT_TRUE(contains(r.out, "- header says 900 frames, file holds 73")) << r.out;
+  EXPECT_EQ(r.err, "");
+  CliRun v = run_capz("info -v " + quote(kData + "/trc/opensim/walk_free_01.trc"));
+  EXPECT_FALSE(contains(v.out, "more; -v lists all")) << v.out;
+}
+
+TEST(CliInfo, DescribesAPcdFolderAndGaps) {
+  CliRun r = run_capz("info " + quote(kData + "/pcd/pcow"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "format:    pcd-folder: binary PCD frames")) << r.out;
+  EXPECT_TRUE(contains(r.out, "points:    2904")) << r.out;
+  EXPECT_TRUE(contains(r.out, "frames:    204")) << r.out;
+  EXPECT_TRUE(contains(r.out, "rate:      unknown")) << r.out;
+  CliRun g = run_capz("info " + quote(kData + "/trc/opensim/std_walking2_markers.trc"));
+  EXPECT_TRUE(contains(g.out, "gaps:      50.7% of samples (2809 of 5544), 44 of 44 points have gaps"))
+      << g.out;
+}
+
+TEST(CliInfo, JsonIsOneValidObjectWithTheFields) {
+  CliRun r = run_capz("info --json " + quote(kData + "/c3d/btkdata/TRCSamples/Gait.trc"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(lines(r.out), 1u);
+  EXPECT_TRUE(JsonCheck(r.out).ok()) << r.out;
+  for (const char* f : {"\"format\":\"trc\"", "\"points\":105", "\"frames\":487", "\"rate\":100",
+                        "\"units\":\"mm\"", "\"gap_samples\":39015", "\"labels\":[\"R.Shoulder\"",
+                        "\"path_file_type\":\"PathFileType\\t4\\t(X/Y/Z)\\tgait2.trc\"",
+                        "\"warnings\":[\"header says 66 markers, file holds 105\""})
+    EXPECT_TRUE(contains(r.out, f)) << f << "\n" << r.out;
+  CliRun p = run_capz("info --json " + quote(kData + "/pcd/horse-gallop"));
+  EXPECT_TRUE(JsonCheck(p.out).ok()) << p.out;
+  EXPECT_TRUE(contains(p.out, "\"rate\":null")) << p.out;
+  EXPECT_TRUE(contains(p.out, "\"points\":8431")) << p.out;
+}
+
+TEST(CliInfo, BadInputsGiveOneLineErrorsAndTheirExitStatus) {
+  CliRun e = run_capz("info " + quote(kData + "/c3d/btkdata/TRCSamples/Truncated.trc"));
+  EXPECT_EQ(e.status, 5);
+  EXPECT_EQ(lines(e.err), 1u) << e.err;
+  EXPECT_TRUE(contains(e.err, "Truncated.trc: file ends after line 2")) << e.err;
+  EXPECT_EQ(e.out, "");
+  CliRun m = run_capz("info /nonexistent/file.trc");
+  EXPECT_EQ(m.status, 2);
+  EXPECT_EQ(lines(m.err), 1u) << m.err;
+  CliRun u = run_capz("info");
+  EXPECT_EQ(u.status, 1);
+  CliRun h = run_capz("info --help");
+  EXPECT_EQ(h.status, 0);
+  EXPECT_TRUE(contains(h.out, "--json")) << h.out;
+}
+
+TEST(CliConvert, TrcToPcdToTrcKeepsEverySample) {
+  capz_test::TempDir d("capz_cli_conv");
+  const std::string src = kData + "/trc/opensim/dataWithNaNsWithSpaces.trc";
+  CliRun a = run_capz("convert -q " + quote(src) + " " + quote(d.file("seq")));
+  ASSERT_EQ(a.status, 0) << a.err;
+  EXPECT_EQ(a.err, "");
+  CliRun b = run_capz("convert --rate 100 --units mm " + quote(d.file("seq")) + " " + quote(d.file("back.trc")));
+  ASSERT_EQ(b.status, 0) << b.err;
+  capz::Take t = capz::read_trc(src);
+  capz::Take p = capz::read_pcd_folder(d.file("seq"));
+  capz::Take u = capz::read_trc(d.file("back.trc"));
+  capz_test::expect_same_samples(t, p);
+  capz_test::expect_same_samples(t, u);
+  EXPECT_EQ(u.rate, 100);
+  EXPECT_EQ(u.units, "mm");
+  EXPECT_EQ(p.pcd->frame_names.size(), t.frames);
+}
+
+TEST(CliConvert, PcdFolderToPcdFolderKeepsNamesAndEncoding) {
+  capz_test::TempDir d("capz_cli_conv");
+  CliRun a = run_capz("convert " + quote(kData + "/pcd/horse-gallop") + " " + quote(d.file("h") + "/") +
+               " --pcd-encoding binary_compressed");
+  ASSERT_EQ(a.status, 0) << a.err;
+  capz::Take t = capz::read_pcd_folder(kData + "/pcd/horse-gallop");
+  capz::Take u = capz::read_pcd_folder(d.file("h"));
+  capz_test::expect_same_samples(t, u);
+  EXPECT_EQ(u.pcd->frame_names, t.pcd->frame_names);
+  EXPECT_EQ(u.pcd->encoding, "binary_compressed");
+}
+
+TEST(CliConvert, RefusesToOverwriteWithoutForce) {
+  capz_test::TempDir d("capz_cli_conv");
+  const std::string src = kData + "/trc/opensim/init100.trc";
+  const std::string out = d.file("out.trc");
+  std::ofstream(out) << "keep me\n";
+  CliRun r = run_capz("convert " + quote(src) + " " + quote(out));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_TRUE(contains(r.err, "output exists (use -f to overwrite)")) << r.err;
+  EXPECT_EQ(slurp(out), "keep me\n");
+  CliRun f = run_capz("convert -q -f " + quote(src) + " " + quote(out));
+  EXPECT_EQ(f.status, 0) << f.err;
+  EXPECT_EQ(capz::read_trc(out).frames, 120u);
+  EXPECT_EQ(std::distance(fs::directory_iterator(d.path()), fs::directory_iterator()), 1);
+}
+
+TEST(CliConvert, BadInputFailsInOneLineAndLeavesNoOutput) {
+  capz_test::TempDir d("capz_cli_conv");
+  std::ofstream(d.file("bad.trc")) << "PathFileType\t4\nDataRate\tNumFrames\n100\t2\nFrame#\tTime\tA\n"
+                                      "\t\tX1\n1\t0\t1\t2\t3\n2\t0.01\t4\tfive\t6\n";
+  CliRun r = run_capz("convert " + quote(d.file("bad.trc")) + " " + quote(d.file("out.trc")));
+  EXPECT_EQ(r.status, 5);
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_TRUE(contains(r.err, "bad.trc: line 7, column 4: 'five' is not a number")) << r.err;
+  CliRun n = run_capz("convert " + quote(kData + "/c3d/btkdata/TRCSamples/Empty.trc") + " " +
+               quote(d.file("pcdout")));
+  EXPECT_EQ(n.status, 3);
+  EXPECT_EQ(lines(n.err), 1u) << n.err;
+  CliRun x = run_capz("convert " + quote(kData + "/trc/opensim/init100.trc") + " " + quote(d.file("out.xyz")));
+  EXPECT_EQ(x.status, 1);
+  EXPECT_TRUE(contains(x.err, "cannot tell the output format")) << x.err;
+  CliRun e = run_capz("convert " + quote(d.path().string()) + " " + quote(d.file("o.trc")));
+  EXPECT_EQ(e.status, 3);
+  EXPECT_TRUE(contains(e.err, "no .pcd files")) << e.err;
+  // Only the bad input is left: no output, no temporary.
+  EXPECT_EQ(std::distance(fs::directory_iterator(d.path()), fs::directory_iterator()), 1);
+}
+
+TEST(CliConvert, HelpDocumentsEveryOption) {
+  CliRun h = run_capz("convert --help");
+  EXPECT_EQ(h.status, 0);
+  for (const char* o : {"--force", "--pcd-encoding", "--c3d-float", "--rate", "--units", "--quiet",
+                        "--verbose", "--help"})
+    EXPECT_TRUE(contains(h.out, o)) << o;
+  CliRun bad = run_capz("convert --pcd-encoding zip a.trc b/");
+  EXPECT_EQ(bad.status, 6);
+}
