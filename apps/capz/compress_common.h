@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -11,24 +12,13 @@
 
 #include "capz/error.h"
 #include "core/atomic_file.h"
+#include "capz/metrics.h"
+#include "cli_util.h"
 #include "commands.h"
 
 namespace capz_cli {
 
 namespace fs = std::filesystem;
-
-// Bytes of a file, or of the regular files directly inside a folder.
-inline uint64_t input_bytes(const std::string& path) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) {
-    uint64_t n = 0;
-    for (const auto& e : fs::directory_iterator(path, ec))
-      if (e.is_regular_file(ec)) n += e.file_size(ec);
-    return n;
-  }
-  uint64_t n = fs::file_size(path, ec);
-  return ec ? 0 : n;
-}
 
 // "a/b/frames/" -> "a/b/frames"
 inline std::string strip_slashes(std::string p) {
@@ -71,6 +61,27 @@ inline std::string num(double v, int digits = 4) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*g", digits, v);
   return buf;
+}
+
+// `capz info` on a .capz (cmd_info_capz.cpp).
+int info_capz(const std::string& path, bool json);
+
+// The error measures as JSON members.
+inline void json_error_stats(Json* j, const capz::ErrorStats& e) {
+  j->member("max_error_per_coordinate", e.max_abs);
+  j->member("max_error_euclidean", e.max_error);
+  j->member("rmse", e.rmse);
+  j->member("kg_error_percent", e.kg_error);
+  j->member("psnr_db", e.psnr);
+  j->member("samples", static_cast<uint64_t>(e.samples));
+  j->member("mask_mismatches", static_cast<uint64_t>(e.mask_mismatches));
+}
+
+// CPU time of this thread, seconds (speed figures stay meaningful on a loaded machine).
+inline double thread_cpu_seconds() {
+  timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
 }  // namespace capz_cli

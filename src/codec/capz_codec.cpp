@@ -744,6 +744,11 @@ StreamInfo describe(const uint8_t* data, size_t size, const std::string& name) {
   si.analog_channels = ps.take.analog.channels;
   si.analog_samples_per_frame = ps.take.analog.samples_per_frame;
   si.chunk_bytes = ps.chunk_bytes;
+  for (size_t off = ps.first_window_offset; off < ps.index_offset;) {  // the window chunks
+    Chunk k = read_chunk(data, size, off, name);
+    si.chunk_bytes[k.type] += k.end - k.offset;
+    off = k.end;
+  }
   return si;
 }
 
