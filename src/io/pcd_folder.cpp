@@ -31,6 +31,7 @@
 #include "capz/io.h"
 #include "core/atomic_file.h"
 #include "io/natural_sort.h"
+#include "io/text_number.h"
 
 namespace fs = std::filesystem;
 
@@ -206,6 +207,46 @@ PcdHeader parse_header(const std::vector<uint8_t>& bytes, const std::string& nam
   return h;
 }
 
+// PCL's ASCII body reader turns a bad token or a short line into zeros without a word, so the
+// body is checked here first: after the header, every non-blank line holds exactly
+// values_per_point numbers (nan allowed), and there are exactly `points` such lines.
+void check_ascii_body(const std::vector<uint8_t>& bytes, const PcdHeader& h, const std::string& name) {
+  const char* p = reinterpret_cast<const char*>(bytes.data()) + h.data_idx;
+  const char* end = reinterpret_cast<const char*>(bytes.data()) + bytes.size();
+  uint64_t line_no = 0, rows = 0;
+  std::string tok;
+  while (p < end) {
+    const char* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<size_t>(end - p)));
+    const char* le = nl ? nl : end;
+    ++line_no;
+    uint64_t count = 0;
+    for (const char* q = p; q < le;) {
+      while (q < le && (*q == ' ' || *q == '\t' || *q == '\r')) ++q;
+      if (q == le) break;
+      const char* b = q;
+      while (q < le && *q != ' ' && *q != '\t' && *q != '\r') ++q;
+      tok.assign(b, q);
+      double v;
+      if (!parse_double(tok, &v))
+        fail(ErrorCode::kCorrupt, name,
+             "ASCII body line " + std::to_string(line_no) + ": '" + tok + "' is not a number");
+      ++count;
+    }
+    if (count != 0) {
+      if (count != h.values_per_point)
+        fail(ErrorCode::kCorrupt, name,
+             "ASCII body line " + std::to_string(line_no) + " holds " + std::to_string(count) +
+                 " values, the header needs " + std::to_string(h.values_per_point));
+      ++rows;
+    }
+    p = nl ? nl + 1 : end;
+  }
+  if (rows != h.points)
+    fail(ErrorCode::kCorrupt, name,
+         "ASCII body holds " + std::to_string(rows) + " points, the header says " +
+             std::to_string(h.points));
+}
+
 struct FieldRef {
   uint32_t offset = 0;
   uint8_t datatype = 0;
@@ -236,6 +277,8 @@ std::string read_one(const std::string& path, pcl::PCLPointCloud2* cloud) {
     if (std::find(h.fields.begin(), h.fields.end(), axis) == h.fields.end())
       fail(ErrorCode::kCorrupt, path, std::string("PCD file has no '") + axis + "' field");
 
+  if (h.data == "ascii") check_ascii_body(bytes, h, path);
+
   QuietPcl quiet;
   pcl::PCDReader reader;
   Eigen::Vector4f origin;
@@ -263,6 +306,12 @@ std::string read_one(const std::string& path, pcl::PCLPointCloud2* cloud) {
     if (res < 0) fail(ErrorCode::kCorrupt, path, "PCL cannot read the PCD body (" + h.data + ")");
   } catch (const pcl::PCLException& e) {
     fail(ErrorCode::kCorrupt, path, std::string("PCL: ") + e.what());
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const std::exception& e) {  // e.g. boost::bad_lexical_cast on an ASCII body
+    fail(ErrorCode::kCorrupt, path, std::string("PCL cannot parse the body: ") + e.what());
   }
   if (cloud->data.size() < h.points * h.point_step)
     fail(ErrorCode::kCorrupt, path, "PCD body is shorter than its header says");

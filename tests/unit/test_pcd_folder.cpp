@@ -147,6 +147,23 @@ TEST(PcdFolder, LyingHeadersAreRejectedBeforeAllocating) {
     o.write("\0\0\0\0\0\0\0\0\0\0\0\0\0\0", 14);
   }
   EXPECT_EQ(read_error(d.path().string(), &msg), ErrorCode::kCorrupt);
+  // ASCII bodies: a bad token, a short line, missing points (PCL would read zeros).
+  const std::string head =
+      "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 3\nHEIGHT 1\nPOINTS 3\n"
+      "DATA ascii\n";
+  std::ofstream(d.path() / "a.pcd", std::ios::trunc) << head << "1 2 3\n4 5 abc\n7 8 9\n";
+  EXPECT_EQ(read_error(d.path().string(), &msg), ErrorCode::kCorrupt);
+  EXPECT_NE(msg.find("line 2: 'abc' is not a number"), std::string::npos) << msg;
+  std::ofstream(d.path() / "a.pcd", std::ios::trunc) << head << "10 20 30\n40 50\n70 80 90\n";
+  EXPECT_EQ(read_error(d.path().string(), &msg), ErrorCode::kCorrupt);
+  EXPECT_NE(msg.find("line 2 holds 2 values, the header needs 3"), std::string::npos) << msg;
+  std::ofstream(d.path() / "a.pcd", std::ios::trunc) << head << "1 2 3\n4 5 6\n\n\n\n\n\n";
+  EXPECT_EQ(read_error(d.path().string(), &msg), ErrorCode::kCorrupt);
+  EXPECT_NE(msg.find("ASCII body holds 2 points, the header says 3"), std::string::npos) << msg;
+  std::ofstream(d.path() / "a.pcd", std::ios::trunc) << head << "1 2 3\r\n4 5 6\r\nnan nan nan\r\n";
+  capz::Take t = capz::read_pcd_folder(d.path().string());
+  EXPECT_EQ(t.at(0, 1)[2], 6.0);
+  EXPECT_FALSE(t.is_valid(0, 2));
 }
 
 TEST(PcdFolder, AllThreeEncodingsRoundTripExactly) {
