@@ -1,5 +1,6 @@
 #include "codec/registry.h"
 
+#include "codec/pdct/pdct_codec.h"
 #include "codec/ts/ts_codec.h"
 
 namespace capz {
@@ -7,7 +8,8 @@ namespace capz {
 std::vector<const TransformCodec*> all_codecs() {
   // One line per codec; ids are stored in files and never reused (1 ts, 2 pdct).
   static const TsCodec ts;
-  static const std::vector<const TransformCodec*> codecs = {&ts};
+  static const PdctCodec pdct;
+  static const std::vector<const TransformCodec*> codecs = {&ts, &pdct};
   return codecs;
 }
 
