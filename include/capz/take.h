@@ -47,6 +47,9 @@ struct C3DGroup {
   std::string name;
   std::string description;
   bool locked = false;
+  // Parameters naming a group id that has no group entry in the file: kept under an unnamed
+  // group with implicit = true, written back as they were (parameters only, no group entry).
+  bool implicit = false;
   std::vector<C3DParameter> params;
 
   const C3DParameter* find(const std::string& name) const;  // case-insensitive, nullptr if absent

@@ -1,0 +1,309 @@
+// capz — C3D writer: Intel (processor 84) files.
+//
+// Contract:
+//   - Storage: int16 when the source C3D was int16 (and !opts.c3d_float), re-quantised with the
+//     source's |POINT:SCALE|: stored = round(x / scale), which gives back the integer the file
+//     held. If a valid coordinate or an analog value does not fit int16 that way (a take changed
+//     since it was read), the file is written as float instead. Otherwise float storage, with
+//     the source's scale magnitude (or max |coordinate| / 32000 for a take not read from C3D).
+//   - Gaps: x = y = z = 0 and 4th word -1. A valid sample's 4th word is
+//     (camera_mask & 0x7f) << 8 | round(residual / scale) clamped to 0..255 (0 when the take has
+//     no residuals). A valid sample at exactly (0, 0, 0) reads back as a gap (see the reader).
+//   - Parameters: every group and parameter of take.c3d in order, with descriptions and locks;
+//     updated only where the data says otherwise: POINT:USED, FRAMES, DATA_START, SCALE, RATE,
+//     UNITS, LABELS/LABELS2..., DESCRIPTIONS...; ANALOG:USED, LABELS..., RATE; TRIAL:ACTUAL_START_
+//     FIELD / ACTUAL_END_FIELD when the frames pass 65535 or the stored ones disagree. A take not
+//     read from C3D gets a fresh POINT / ANALOG / TRIAL section.
+//   - More than 65535 frames: header last frame 65535, POINT:FRAMES as float, TRIAL fields set.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "capz/error.h"
+#include "capz/io.h"
+#include "core/atomic_file.h"
+#include "io/c3d_internal.h"
+
+namespace capz {
+namespace c3d {
+
+namespace {
+
+void check_take(const Take& t, const std::string& name) {
+  const size_t n = t.frames * t.points;
+  if (t.xyz.size() != n * 3 || t.valid.size() != n)
+    fail(ErrorCode::kInternal, name,
+         "take has " + std::to_string(t.xyz.size()) + " coordinates and " +
+             std::to_string(t.valid.size()) + " validity flags for " + std::to_string(t.frames) +
+             " frames x " + std::to_string(t.points) + " points");
+  const Analog& a = t.analog;
+  if (a.channels < 0 || a.samples_per_frame < 0 ||
+      a.values.size() !=
+          t.frames * static_cast<size_t>(a.channels) * static_cast<size_t>(a.samples_per_frame))
+    fail(ErrorCode::kInternal, name, "analog values do not match frames x samples x channels");
+  if (t.points > 65535)
+    fail(ErrorCode::kUsage, name,
+         std::to_string(t.points) + " points: a C3D file holds at most 65535");
+  if (static_cast<size_t>(a.channels) * static_cast<size_t>(a.samples_per_frame) > 65535)
+    fail(ErrorCode::kUsage, name, "more than 65535 analog values per frame: C3D cannot hold them");
+}
+
+bool fits_int16(double v, double scale) {
+  double q = std::round(v / scale);
+  return std::isfinite(q) && q >= -32768 && q <= 32767;
+}
+
+std::vector<std::string> padded(std::vector<std::string> v, size_t n) {
+  v.resize(n);
+  return v;
+}
+
+// Labels as the reader derives them (base, base2, ... cut or padded to n).
+bool same_list(const C3DExtra& x, const char* group, const char* base,
+               const std::vector<std::string>& want, size_t n) {
+  if (!x.param(group, base)) return false;
+  return padded(string_list(x, group, base), n) == padded(want, n);
+}
+
+// GROUP:USED as the reader counts it (int16 read unsigned); -1 when absent.
+long used_count(const C3DExtra& x, const char* group) {
+  const C3DParameter* p = x.param(group, "USED");
+  if (!p || p->type != 2 || p->data.size() < 2) return -1;
+  return static_cast<uint16_t>(p->as_ints()[0]);
+}
+
+void put_header_u16(std::vector<uint8_t>& h, int word, uint32_t v) {
+  put_u16le(static_cast<uint16_t>(v), &h[2 * (word - 1)]);
+}
+void put_header_f32(std::vector<uint8_t>& h, int word, float v) {
+  put_f32le(v, &h[2 * (word - 1)]);
+}
+
+}  // namespace
+
+std::vector<uint8_t> encode_c3d_file(const Take& take, const WriteOptions& opts,
+                                     const std::string& name) {
+  check_take(take, name);
+  const size_t F = take.frames, N = take.points;
+  const Analog& an = take.analog;
+  const size_t channels = static_cast<size_t>(an.channels);
+  const size_t spf = channels ? static_cast<size_t>(an.samples_per_frame) : 0;
+  const size_t analog_total = channels * spf;
+  const C3DExtra* src = take.c3d.get();
+
+  // ---- storage and scale ----
+  bool float_storage = opts.c3d_float || !src || src->float_storage;
+  double scale = src ? src->point_scale : 0;
+  if (!(std::isfinite(scale) && scale > 0)) {
+    double m = 0;
+    for (size_t i = 0; i < F * N; ++i)
+      if (take.valid[i])
+        for (int a = 0; a < 3; ++a) m = std::max(m, std::fabs(take.xyz[3 * i + a]));
+    scale = m > 0 && std::isfinite(m) ? m / 32000.0 : 1.0;
+  }
+  scale = static_cast<float>(scale);  // what the file stores
+  if (!float_storage) {
+    for (size_t i = 0; i < F * N && !float_storage; ++i)
+      if (take.valid[i])
+        for (int a = 0; a < 3; ++a)
+          if (!fits_int16(take.xyz[3 * i + a], scale)) float_storage = true;
+    for (double v : an.values)
+      if (!(std::isfinite(v) && v == std::round(v) && v >= -32768 && v <= 65535)) {
+        float_storage = true;
+        break;
+      }
+  }
+  const bool have_res = src && src->residual.size() == F * N && src->camera_mask.size() == F * N;
+
+  // ---- parameters ----
+  std::vector<C3DGroup> groups;
+  C3DExtra x;
+  if (src) groups = src->groups;
+  x.groups = groups;  // for lookups of what was read
+  const long first = take.first_frame;
+  const long last = first + static_cast<long>(F) - 1;
+  const bool long_take = F > 65535 || last > 65535;
+
+  C3DGroup& point = ensure_group(groups, "POINT", "3-D point parameters");
+  set_int16(ensure_param(point, "USED", "Number of 3-D points"), static_cast<int>(N));
+  {
+    C3DParameter& p = ensure_param(point, "FRAMES", "Number of 3-D frames");
+    if (F > 65535 || p.type == 4)
+      set_float(p, static_cast<float>(F));
+    else
+      set_int16(p, static_cast<int>(F));
+  }
+  set_int16(ensure_param(point, "DATA_START", "Number of the first block of 3-D data"), 0);
+  {
+    C3DParameter& p = ensure_param(point, "SCALE", "3-D scale factor");
+    float want = static_cast<float>(float_storage ? -scale : scale);
+    if (!(p.type == 4 && p.data.size() == 4 && get_f32le(p.data.data()) == want))
+      set_float(p, want);
+  }
+  if (take.rate > 0 || !x.param("POINT", "RATE")) {
+    double have = number_param(x, "POINT", "RATE", -1);
+    if (have != static_cast<double>(static_cast<float>(take.rate)) || !x.param("POINT", "RATE"))
+      set_float(ensure_param(point, "RATE", "3-D frame rate"), static_cast<float>(take.rate));
+  }
+  if (!take.units.empty() || !x.param("POINT", "UNITS")) {
+    const C3DParameter* u = x.param("POINT", "UNITS");
+    std::string have = u && u->type == -1 ? u->as_string() : std::string();
+    while (!have.empty() && (have[0] == ' ' || have[0] == '\0')) have.erase(0, 1);
+    if (!u || have != take.units) set_string(ensure_param(point, "UNITS", "3-D units"), take.units);
+  }
+  // Labels are rebuilt when they differ from what the reader derives, or when the count of
+  // points changed (then continuations beyond the new count go too).
+  const bool points_changed = used_count(x, "POINT") != static_cast<long>(N);
+  if (points_changed || !same_list(x, "POINT", "LABELS", take.labels, N))
+    set_string_list(point, "LABELS", padded(take.labels, N), "3-D point labels");
+  if (!take.descriptions.empty() &&
+      (points_changed || !same_list(x, "POINT", "DESCRIPTIONS", take.descriptions, N)))
+    set_string_list(point, "DESCRIPTIONS", padded(take.descriptions, N), "3-D point descriptions");
+
+  if (channels > 0 || !src || x.group("ANALOG")) {
+    C3DGroup& ag = ensure_group(groups, "ANALOG", "Analog data parameters");
+    const bool fresh = !x.param("ANALOG", "USED");
+    set_int16(ensure_param(ag, "USED", "Number of analog channels"), static_cast<int>(channels));
+    if (channels > 0 || fresh) {
+      if (used_count(x, "ANALOG") != static_cast<long>(channels) ||
+          !same_list(x, "ANALOG", "LABELS", an.labels, channels))
+        set_string_list(ag, "LABELS", padded(an.labels, channels), "Analog channel labels");
+      double have = number_param(x, "ANALOG", "RATE", -1);
+      if (have != static_cast<double>(static_cast<float>(an.rate)))
+        set_float(ensure_param(ag, "RATE", "Analog sample rate"), static_cast<float>(an.rate));
+    }
+    if (channels > 0 && !src) {  // a fresh section: what readers need to scale analog
+      std::vector<uint8_t> d(channels * 4);
+      for (size_t c = 0; c < channels; ++c) put_f32le(1.0f, &d[4 * c]);
+      C3DParameter& p = ensure_param(ag, "SCALE", "Analog scale factors");
+      p.type = 4;
+      p.dims = {static_cast<int>(channels)};
+      p.data = d;
+    }
+    if (channels > 0 && !src)
+      set_int16_array(ensure_param(ag, "OFFSET", "Analog offsets"), std::vector<int>(channels, 0));
+    if (channels > 0 && !src)
+      set_float(ensure_param(ag, "GEN_SCALE", "Analog general scale factor"), 1.0f);
+  }
+
+  {
+    long tr_start = -1, tr_end = -1;
+    if (const C3DParameter* p = x.param("TRIAL", "ACTUAL_START_FIELD"))
+      if (p->type == 2 && !p->data.empty()) {
+        auto v = p->as_ints();
+        tr_start =
+            static_cast<uint16_t>(v[0]) + 65536L * (v.size() > 1 ? static_cast<uint16_t>(v[1]) : 0);
+      }
+    if (const C3DParameter* p = x.param("TRIAL", "ACTUAL_END_FIELD"))
+      if (p->type == 2 && !p->data.empty()) {
+        auto v = p->as_ints();
+        tr_end =
+            static_cast<uint16_t>(v[0]) + 65536L * (v.size() > 1 ? static_cast<uint16_t>(v[1]) : 0);
+      }
+    const bool have = tr_start >= 0 && tr_end >= 0;
+    const bool consistent =
+        have && tr_end - tr_start + 1 == static_cast<long>(F) && (!long_take || tr_start == first);
+    if (!src || long_take || (have && !consistent)) {
+      C3DGroup& tg = ensure_group(groups, "TRIAL", "Trial parameters");
+      if (!consistent) {
+        long s = std::max(0L, first), e = std::max(s - 1, last);
+        if (F == 0) e = s;  // nothing to count; keep a valid pair
+        set_int16_array(ensure_param(tg, "ACTUAL_START_FIELD", "First frame (low, high word)"),
+                        {static_cast<int>(s & 0xffff), static_cast<int>((s >> 16) & 0xffff)});
+        set_int16_array(ensure_param(tg, "ACTUAL_END_FIELD", "Last frame (low, high word)"),
+                        {static_cast<int>(e & 0xffff), static_cast<int>((e >> 16) & 0xffff)});
+      }
+    }
+  }
+
+  // DATA_START's value does not change the section's size: encode, then fill it in.
+  std::vector<uint8_t> params = encode_parameter_section(groups);
+  const size_t data_start = 2 + params.size() / kBlock;
+  if (data_start > 65535) fail(ErrorCode::kUsage, name, "parameter section too large");
+  set_int16(*find_param(*find_group(groups, "POINT"), "DATA_START"), static_cast<int>(data_start));
+  params = encode_parameter_section(groups);
+
+  // ---- header ----
+  std::vector<uint8_t> header(kBlock, 0);
+  header[0] = 2;
+  header[1] = 0x50;
+  long h_first = std::min(65535L, std::max(0L, first));
+  long h_last = long_take ? 65535L : std::max(h_first - 1, last);
+  if (F == 0 && h_first == 0) h_first = 1, h_last = 0;
+  put_header_u16(header, 2, static_cast<uint32_t>(N));
+  put_header_u16(header, 3, static_cast<uint32_t>(analog_total));
+  put_header_u16(header, 4, static_cast<uint32_t>(h_first));
+  put_header_u16(header, 5, static_cast<uint32_t>(h_last));
+  put_header_u16(header, 6,
+                 static_cast<uint32_t>(src ? std::max(0, src->max_interpolation_gap) : 0));
+  put_header_f32(header, 7, static_cast<float>(float_storage ? -scale : scale));
+  put_header_u16(header, 9, static_cast<uint32_t>(data_start));
+  put_header_u16(header, 10, static_cast<uint32_t>(spf));
+  put_header_f32(header, 11, static_cast<float>(take.rate));
+  if (!src || src->header_events_label_range) put_header_u16(header, 150, 12345);
+  if (src) {
+    size_t nev = std::min<size_t>(18, src->header_events.size());
+    put_header_u16(header, 151, static_cast<uint32_t>(nev));
+    for (size_t i = 0; i < nev; ++i) {
+      const C3DHeaderEvent& e = src->header_events[i];
+      put_header_f32(header, 153 + 2 * static_cast<int>(i), e.time);
+      header[376 + i] = e.display ? 1 : 0;
+      for (size_t k = 0; k < 4; ++k)
+        header[396 + 4 * i + k] = k < e.label.size() ? e.label[k] : ' ';
+    }
+  }
+
+  // ---- data ----
+  const size_t elem = float_storage ? 4 : 2;
+  const size_t per_frame = (N * 4 + analog_total) * elem;
+  std::vector<uint8_t> out(header.size() + params.size() + F * per_frame, 0);
+  std::copy(header.begin(), header.end(), out.begin());
+  std::copy(params.begin(), params.end(), out.begin() + static_cast<long>(header.size()));
+  uint8_t* d = out.data() + header.size() + params.size();
+  for (size_t f = 0; f < F; ++f) {
+    for (size_t p = 0; p < N; ++p) {
+      const size_t i = f * N + p;
+      uint32_t word4 = 0;
+      if (take.valid[i] && have_res) {
+        float r = src->residual[i];
+        long low = r > 0 ? std::lround(r / scale) : 0;
+        word4 = (static_cast<uint32_t>(src->camera_mask[i] & 0x7f) << 8) |
+                static_cast<uint32_t>(std::min(255L, std::max(0L, low)));
+      }
+      const double* c = &take.xyz[3 * i];
+      if (float_storage) {
+        for (int a = 0; a < 3; ++a)
+          put_f32le(take.valid[i] ? static_cast<float>(c[a]) : 0.0f, d + 4 * a);
+        put_f32le(take.valid[i] ? static_cast<float>(word4) : -1.0f, d + 12);
+      } else {
+        for (int a = 0; a < 3; ++a) {
+          long q = take.valid[i] ? std::lround(c[a] / scale) : 0;
+          put_u16le(static_cast<uint16_t>(static_cast<int16_t>(q)), d + 2 * a);
+        }
+        put_u16le(take.valid[i] ? static_cast<uint16_t>(word4) : 0xffff, d + 6);
+      }
+      d += 4 * elem;
+    }
+    const double* av = an.values.data() + f * analog_total;
+    for (size_t k = 0; k < analog_total; ++k) {
+      if (float_storage)
+        put_f32le(static_cast<float>(av[k]), d);
+      else
+        put_u16le(static_cast<uint16_t>(static_cast<int32_t>(std::lround(av[k]))), d);
+      d += elem;
+    }
+  }
+  return out;
+}
+
+}  // namespace c3d
+
+void write_c3d(const Take& take, const std::string& path, const WriteOptions& opts) {
+  check_output_free(path, opts.overwrite);
+  std::vector<uint8_t> bytes = c3d::encode_c3d_file(take, opts, path);
+  AtomicFile out(path, opts.overwrite);
+  out.write(bytes);
+  out.commit();
+}
+
+}  // namespace capz
