@@ -15,6 +15,7 @@ def load(csv_path):
         rows = list(csv.DictReader(f))
     for r in rows:
         r["bytes"] = int(r["bytes"])
+        r["total_bytes"] = int(r.get("total_bytes") or r["bytes"])
         for k in ("bpvf", "ratio", "max_error", "max_abs", "rmse", "kg_error", "tol", "enc_cpu_s",
                   "dec_cpu_s", "enc_wall_s", "dec_wall_s", "enc_peak_mb", "dec_peak_mb",
                   "enc_mb_s", "dec_mb_s"):
@@ -171,14 +172,16 @@ def input_table(best, rows, inp):
              "%s bytes" % (inp, r0["format"], r0["frames"], r0["points"], r0["units"] or "none",
                            r0["storage"], r0["gap_pct"], fmt_bytes(r0["frames"] * r0["points"] *
                                                                    12)), "",
-             "| method | variant | target | bytes | bpvf | ratio | max abs | max err | RMSE | KG % "
-             "| enc s | dec s | peak MB enc/dec | within | note |",
-             "|" + "---|" * 15]
+             "| method | variant | target | bytes | whole file | bpvf | ratio | max abs | max err "
+             "| RMSE | KG % | enc s | dec s | peak MB enc/dec | within | note |",
+             "|" + "---|" * 16]
     order = {"max-error": 0, "kg": 1, "lossless": 2}
     rs.sort(key=lambda r: (order.get(r["target_kind"], 3), r["tol"] or 0, r["method"]))
     for r in rs:
-        lines.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s/%s | %s | %s |"
-                     % (r["method"], r["variant"], r["target"], fmt_bytes(r["bytes"]),
+        lines.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s/%s "
+                     "| %s | %s |" % (r["method"], r["variant"], r["target"], fmt_bytes(r["bytes"]),
+                                 fmt_bytes(r["total_bytes"]) if r["total_bytes"] != r["bytes"]
+                                 else "",
                         fmt(r["bpvf"], "%.3f"), fmt(r["ratio"], "%.2f"), fmt(r["max_abs"]),
                         fmt(r["max_error"]), fmt(r["rmse"]), fmt(r["kg_error"]),
                         fmt(r["enc_cpu_s"], "%.2f"), fmt(r["dec_cpu_s"], "%.2f"),
