@@ -26,9 +26,11 @@ bool looks_like_capz(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return false;
   std::ifstream in(path, std::ios::binary);
-  char head[4] = {};
-  in.read(head, 4);
-  if (in.gcount() == 4 && std::memcmp(head, "CAPZ", 4) == 0) return true;
+  char head[5] = {};
+  in.read(head, 5);  // the .capz magic starts 0x89 "capz" (docs/FORMAT.md)
+  if (in.gcount() == 5 && static_cast<unsigned char>(head[0]) == 0x89 &&
+      std::memcmp(head + 1, "capz", 4) == 0)
+    return true;
   std::string ext = std::filesystem::path(path).extension().string();
   return ext == ".capz" || ext == ".CAPZ";
 }
