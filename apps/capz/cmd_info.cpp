@@ -12,6 +12,7 @@
 
 #include "capz/error.h"
 #include "capz/io.h"
+#include "compress_common.h"
 #include "cli_util.h"
 #include "commands.h"
 
@@ -204,12 +205,7 @@ int cmd_info(const Args& args) {
   if (!vm.count("input")) throw po::error("missing FILE");
   const std::string path = vm["input"].as<std::string>();
 
-  // HOOK (.capz): the container's `capz info` support goes here, e.g.
-  //   if (looks_like_capz(path)) return info_capz(path, vm.count("json") > 0);
-  // Until then a .capz is reported as not a take.
-  if (looks_like_capz(path))
-    capz::fail(capz::ErrorCode::kNotOurFormat, path,
-               "is a .capz archive; capz info does not describe archives yet");
+  if (looks_like_capz(path)) return info_capz(path, vm.count("json") > 0);
 
   capz::Take t = capz::read_take(path);
   if (vm.count("json"))
