@@ -28,6 +28,8 @@ TEST(IoDispatch, DetectsByContentThenExtension) {
   std::ofstream(d.file("x.bin")) << "hello";
   EXPECT_EQ(capz::detect_format(d.path().string()), Format::kPCDFolder);
   EXPECT_EQ(capz::detect_format(d.file("a.txt")), Format::kTRC);
+  std::ofstream(d.file("bom.txt")) << "\xEF\xBB\xBFPathFileType\t4\n";
+  EXPECT_EQ(capz::detect_format(d.file("bom.txt")), Format::kTRC);
   EXPECT_EQ(capz::detect_format(d.file("b.dat")), Format::kC3D);
   EXPECT_EQ(capz::detect_format(d.file("empty.trc")), Format::kTRC);
   EXPECT_EQ(capz::detect_format(d.file("empty.c3d")), Format::kC3D);
@@ -42,10 +44,13 @@ TEST(IoDispatch, DetectsByContentThenExtension) {
 
 TEST(IoDispatch, ReadTakeRoutesAndRefusesWhatIsNotATake) {
   capz_test::TempDir d("capz_io");
-  std::ofstream(d.file("a.txt")) << "PathFileType\t4\nDataRate\tNumFrames\n100\t1\nFrame#\tTime\tA\n"
-                                    "\t\tX1\tY1\tZ1\n1\t0\t1\t2\t3\n";
-  std::ofstream(d.file("z.capz"), std::ios::binary) << "\x89" "capz\r\n\x1a\n\x01\x00";
-  std::ofstream(d.file("renamed.dat"), std::ios::binary) << "\x89" "capz\r\n\x1a\n\x01\x00";
+  std::ofstream(d.file("a.txt"))
+      << "PathFileType\t4\nDataRate\tNumFrames\n100\t1\nFrame#\tTime\tA\n"
+         "\t\tX1\tY1\tZ1\n1\t0\t1\t2\t3\n";
+  std::ofstream(d.file("z.capz"), std::ios::binary) << "\x89"
+                                                       "capz\r\n\x1a\n\x01\x00";
+  std::ofstream(d.file("renamed.dat"), std::ios::binary) << "\x89"
+                                                            "capz\r\n\x1a\n\x01\x00";
   std::ofstream(d.file("frame.pcd")) << "VERSION 0.7\n";
   std::ofstream(d.file("x.bin")) << "hello";
   capz::Take t = capz::read_take(d.file("a.txt"));

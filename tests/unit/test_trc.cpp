@@ -13,8 +13,8 @@
 
 namespace fs = std::filesystem;
 using capz::ErrorCode;
-using capz_test::TempDir;
 using capz_test::expect_same_samples;
+using capz_test::TempDir;
 
 namespace {
 
@@ -80,7 +80,8 @@ TEST(Trc, ReadsTabSeparatedFileWithGapsAndShortRows) {
 TEST(Trc, ReadsSpaceSeparatedCrlfFileAndWarnsOnCounts) {
   std::string text =
       "PathFileType 4 (X/Y/Z) a.trc\r\n"
-      "DataRate CameraRate NumFrames NumMarkers Units OrigDataRate OrigDataStartFrame OrigNumFrames\r\n"
+      "DataRate CameraRate NumFrames NumMarkers Units OrigDataRate OrigDataStartFrame "
+      "OrigNumFrames\r\n"
       "60 60 900 3 m 60 1 900\r\n"
       "Frame# Time A B\r\n"
       "X1 Y1 Z1 X2 Y2 Z2\r\n"
@@ -96,6 +97,12 @@ TEST(Trc, ReadsSpaceSeparatedCrlfFileAndWarnsOnCounts) {
   EXPECT_EQ(t.trc->decimals, -1);  // an exponent was seen
   EXPECT_TRUE(has_warning(t, "header says 900 frames, file holds 2"));
   EXPECT_TRUE(has_warning(t, "header says 3 markers, file holds 2"));
+}
+
+TEST(Trc, SkipsAUtf8ByteOrderMark) {
+  capz::Take t = parse(std::string("\xEF\xBB\xBF") + kTabFile);
+  EXPECT_EQ(t.points, 2u);
+  EXPECT_EQ(t.trc->path_file_type_line, "PathFileType\t4\t(X/Y/Z)\twalk.trc");
 }
 
 TEST(Trc, DataWiderThanTheNamesAddsUnnamedPoints) {
@@ -126,7 +133,8 @@ TEST(Trc, RejectsEmptyForeignAndTruncatedFiles) {
   EXPECT_EQ(parse_error("PathFileType\t4\n"), ErrorCode::kCorrupt);
   EXPECT_EQ(parse_error("PathFileType\t4\nDataRate\tNumFrames\n", &msg), ErrorCode::kCorrupt);
   EXPECT_NE(msg.find("file ends after line 2"), std::string::npos) << msg;
-  EXPECT_EQ(parse_error("PathFileType\t4\nDataRate\tNumFrames\nabc\t3\n", &msg), ErrorCode::kCorrupt);
+  EXPECT_EQ(parse_error("PathFileType\t4\nDataRate\tNumFrames\nabc\t3\n", &msg),
+            ErrorCode::kCorrupt);
   EXPECT_NE(msg.find("DataRate 'abc' is not a number"), std::string::npos) << msg;
   EXPECT_EQ(parse_error("PathFileType\t4\nDataRate\n100\nNames\n", &msg), ErrorCode::kCorrupt);
   EXPECT_NE(msg.find("Frame#"), std::string::npos) << msg;
@@ -172,7 +180,8 @@ TEST(Trc, WriteThenReadIsExactAndTextRoundTrips) {
   std::string out2 = (tmp.path() / "out2.trc").string();
   capz::write_trc(u, out2);
   std::ifstream a(out), b(out2);
-  std::string sa((std::istreambuf_iterator<char>(a)), {}), sb((std::istreambuf_iterator<char>(b)), {});
+  std::string sa((std::istreambuf_iterator<char>(a)), {}),
+      sb((std::istreambuf_iterator<char>(b)), {});
   EXPECT_EQ(sa, sb);
   // Gaps are empty fields, values carry the source's three decimals, rows end with a tab (as
   // OpenSim writes them; its reader drops an empty last field).
