@@ -313,7 +313,8 @@ namespace {
 
 void put_name(std::vector<uint8_t>& out, const std::string& name, bool locked, int id,
               const char* kind) {
-  if (name.empty() || name.size() > 127)
+  // The length is stored as int8, negated when locked: a locked name may have 128 bytes.
+  if (name.empty() || name.size() > (locked ? 128u : 127u))
     fail(ErrorCode::kUsage, "",
          std::string("C3D ") + kind + " name '" + name + "' must be 1..127 bytes long");
   // A group is stored with -id (the reader accepts id byte 0x80, i.e. group 128); a parameter

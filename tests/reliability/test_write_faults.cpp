@@ -82,7 +82,9 @@ TEST(WriteFaults, EveryWriterLeavesNothingWhenTheDiskFills) {
       EXPECT_EQ(run_with_file_limit(4096, [&] { c.write(out, true); }), kIo);
       EXPECT_EQ(list_dir(dir.path().string()), std::vector<std::string>{c.name});
       EXPECT_EQ(slurp(probe), before);
-      if (is_dir) EXPECT_EQ(list_dir(out).size(), entries);
+      if (is_dir) {
+        EXPECT_EQ(list_dir(out).size(), entries);
+      }
     }
   }
 }
