@@ -324,6 +324,7 @@ std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, Com
   }
   TransformParams tparams;
   tparams.max_error = g.bound > 0 ? g.bound : g.step / 2;
+  tparams.grid_step = g.step;
   tparams.kg_error = opts.kg_error;
   tparams.clusters = opts.clusters;
   tparams.options = opts.codec_options;
