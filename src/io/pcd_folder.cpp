@@ -387,9 +387,11 @@ Take read_pcd_folder(const std::string& dir) {
     pcl::PCLPointCloud2 cloud;
     std::string enc = read_one(path, &cloud);
     const size_t n = static_cast<size_t>(cloud.width) * cloud.height;
+    // The take grows frame by frame (not resized for every file up front), so memory follows
+    // what has actually been read and checked, not the first frame's count times the file count.
     if (f == 0) {
       extra->encoding = enc;
-      t.resize(names.size(), n);
+      t.points = n;
       t.labels.assign(n, std::string());
     } else if (n != t.points) {
       fail(ErrorCode::kCorrupt, path,
@@ -404,6 +406,9 @@ Take read_pcd_folder(const std::string& dir) {
       ref[a].offset = it->offset;
       ref[a].datatype = it->datatype;
     }
+    t.frames = f + 1;
+    t.xyz.resize(t.frames * n * 3, 0.0);
+    t.valid.resize(t.frames * n, 0);
     for (size_t p = 0; p < n; ++p) {
       const uint8_t* base = cloud.data.data() + p * cloud.point_step;
       double v[3];
