@@ -13,7 +13,9 @@
 #include <vector>
 
 #include "alloc_counter.h"
+#include "capz/codec.h"
 #include "capz/error.h"
+#include "coding/container.h"
 #include "capz/io.h"
 #include "test_util.h"
 
@@ -164,5 +166,65 @@ TEST(ResourceLimits, C3dCountsClaimingBillionsAreClampedToTheData) {
       EXPECT_EQ(t.frames, 0u) << file;
       EXPECT_FALSE(t.warnings.empty()) << file;
     }
+  }
+}
+
+// The decoder: a valid small stream whose HEAD (CRC made valid again) claims 2^40 frames of
+// 2^31 points, or analog channels by the billion, is refused without allocating for the claim.
+TEST(ResourceLimits, CapzHeaderCountsClaimingBillionsAreRefused) {
+  capz::Take t;
+  t.format = capz::Format::kTRC;
+  t.resize(4, 2);
+  t.units = "mm";
+  t.rate = 100;
+  for (size_t i = 0; i < 8; ++i) {
+    t.valid[i] = 1;
+    t.xyz[i * 3] = static_cast<double>(i);
+  }
+  capz::CompressOptions co;
+  co.max_error = 0.01;
+  const std::vector<uint8_t> good = capz::compress(t, co);
+  // Rebuilds the stream with HEAD replaced by `edit(header)`.
+  auto with_head = [&](const std::function<void(capz::StreamHeader*)>& edit) {
+    std::vector<uint8_t> out;
+    capz::write_file_header(&out);
+    size_t off = capz::kFileHeaderBytes;
+    while (off < good.size()) {
+      capz::Chunk c = capz::read_chunk(good.data(), good.size(), off, "good");
+      std::vector<uint8_t> payload(c.payload, c.payload + c.size);
+      if (c.type == "HEAD") {
+        capz::StreamHeader h = capz::decode_header(c, "good");
+        edit(&h);
+        payload = capz::encode_header(h);
+      }
+      capz::append_chunk(&out, c.type.c_str(), payload);
+      off = c.end;
+    }
+    return out;
+  };
+  const std::vector<std::pair<std::string, std::function<void(capz::StreamHeader*)>>> cases = {
+      {"2^40 frames", [](capz::StreamHeader* h) { h->frames = uint64_t{1} << 40; }},
+      {"2^31 points", [](capz::StreamHeader* h) { h->points = 1u << 31; }},
+      {"both", [](capz::StreamHeader* h) {
+         h->frames = uint64_t{1} << 40;
+         h->points = 0xFFFFFFFFu;
+       }},
+      {"huge window", [](capz::StreamHeader* h) {
+         h->frames = uint64_t{1} << 40;
+         h->window_frames = 0xFFFFFFFFu;
+       }},
+      {"analog", [](capz::StreamHeader* h) {
+         h->analog_channels = 1u << 30;
+         h->analog_samples_per_frame = 1u << 30;
+       }},
+  };
+  for (const auto& c : cases) {
+    std::vector<uint8_t> s = with_head(c.second);
+    ASSERT_LT(s.size(), 2048u);
+    Outcome o = run_bounded([&] { capz::decompress(s.data(), s.size(), "hostile.capz"); });
+    expect_bounded(o, "capz " + c.first);
+    EXPECT_TRUE(o.threw_error) << "capz " << c.first << " was accepted";
+    Outcome d = run_bounded([&] { capz::describe(s.data(), s.size(), "hostile.capz"); });
+    expect_bounded(d, "describe " + c.first);
   }
 }

@@ -88,3 +88,27 @@ TEST(WriteFaults, EveryWriterLeavesNothingWhenTheDiskFills) {
     }
   }
 }
+
+// `capz compress` on a full disk: exit status 2 (kIo), no output or temporary file, the input
+// unchanged, and --rm does not remove the input when the write failed. Without the fault, --rm
+// removes it only after the output is in place.
+TEST(WriteFaults, CompressOnAFullDiskKeepsTheInputAndLeavesNoOutput) {
+  capz_test::TempDir dir("capz_faults");
+  const std::string in = dir.file("walk.trc");
+  fs::copy_file(shared("trc/opensim/walk_free_01.trc"), in);
+  const std::vector<char> before = slurp(in);
+  const std::string out = dir.file("walk.capz");
+  for (bool rm : {false, true}) {
+    std::vector<std::string> args = {"compress", in, "-o", out, "--lossless"};
+    if (rm) args.push_back("--rm");
+    EXPECT_EQ(capz_test::run_cli(args, 2048), kIo) << (rm ? "with --rm" : "");
+    EXPECT_EQ(list_dir(dir.path().string()), std::vector<std::string>{"walk.trc"});
+    EXPECT_EQ(slurp(in), before);
+  }
+  EXPECT_EQ(capz_test::run_cli({"compress", in, "-o", out, "--lossless", "--rm"}, 0), 0);
+  EXPECT_EQ(list_dir(dir.path().string()), std::vector<std::string>{"walk.capz"});
+  // And back: the decompressed file is the input, exactly (lossless TRC).
+  EXPECT_EQ(capz_test::run_cli({"decompress", out, "-o", in}, 0), 0);
+  capz_test::expect_same_samples(capz::read_trc(shared("trc/opensim/walk_free_01.trc")),
+                                 capz::read_trc(in));
+}
