@@ -67,15 +67,6 @@ Format sniff(const std::string& path, bool* is_capz) {
   return Format::kUnknown;
 }
 
-// TEMPORARY until src/io/c3d_*.cpp is in main: the C3D reader/writer are another helper's work
-// and do not link yet. Replace the bodies with read_c3d(path) / write_c3d(take, path, opts).
-Take read_c3d_dispatch(const std::string& path) {
-  fail(ErrorCode::kUnsupportedVersion, path, "C3D is not supported by this build yet");
-}
-void write_c3d_dispatch(const Take&, const std::string& path, const WriteOptions&) {
-  fail(ErrorCode::kUnsupportedVersion, path, "C3D output is not supported by this build yet");
-}
-
 }  // namespace
 
 Format detect_format(const std::string& path) {
@@ -94,7 +85,7 @@ Take read_take(const std::string& path) {
   if (fs::is_directory(st)) return read_pcd_folder(path);
   bool capz = false;
   switch (sniff(path, &capz)) {
-    case Format::kC3D: return read_c3d_dispatch(path);
+    case Format::kC3D: return read_c3d(path);
     case Format::kTRC: return read_trc(path);
     case Format::kPCDFolder: break;
     case Format::kUnknown:
@@ -127,7 +118,7 @@ void write_take(const Take& take, const std::string& path, const WriteOptions& o
   while (target.size() > 1 && target.back() == '/') target.pop_back();
   check_output_free(target, opts.overwrite);
   switch (f) {
-    case Format::kC3D: write_c3d_dispatch(take, target, opts); return;
+    case Format::kC3D: write_c3d(take, target, opts); return;
     case Format::kTRC: write_trc(take, target, opts); return;
     case Format::kPCDFolder: write_pcd_folder(take, target, opts); return;
     case Format::kUnknown: break;

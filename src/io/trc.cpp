@@ -401,7 +401,9 @@ void write_trc(const Take& take, const std::string& path, const WriteOptions& op
         s += format_decimal(v[a], dec);
       }
     }
-    s += '\n';
+    // A closing tab, as OpenSim writes: its reader drops an empty last field, so a row ending
+    // in a gap would otherwise be one field short.
+    s += "\t\n";
     if (s.size() > (size_t{1} << 22)) {
       out.write(s.data(), s.size());
       s.clear();

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -180,6 +182,27 @@ TEST(CliInfo, DescribesAPcdFolderAndGaps) {
       << g.out;
 }
 
+TEST(CliInfo, DescribesAC3dFileWithItsVariantAndAnalogChannels) {
+  const std::string f = quote(kData + "/c3d/c3dorg/sample_01/Eb015vi.c3d");
+  CliRun r = run_capz("info " + f);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "format:    c3d: DEC (85), int16 storage, scale 0.08333")) << r.out;
+  EXPECT_TRUE(contains(r.out, "points:    26")) << r.out;
+  EXPECT_TRUE(contains(r.out, "frames:    450")) << r.out;
+  EXPECT_TRUE(contains(r.out, "rate:      50 Hz")) << r.out;
+  EXPECT_TRUE(contains(r.out, "analog:    16 channels at 200 Hz (4 per frame)")) << r.out;
+  CliRun j = run_capz("info --json " + f);
+  ASSERT_EQ(j.status, 0) << j.err;
+  EXPECT_TRUE(JsonCheck(j.out).ok()) << j.out;
+  for (const char* k : {"\"processor\":\"DEC\"", "\"processor_type\":85", "\"storage\":\"int16\"",
+                        "\"channels\":16", "\"samples_per_frame\":4"})
+    EXPECT_TRUE(contains(j.out, k)) << k << "\n" << j.out;
+  CliRun e = run_capz("info " + quote(kData + "/c3d/btkdata/others/Empty.c3d"));
+  EXPECT_NE(e.status, 0);
+  EXPECT_EQ(lines(e.err), 1u) << e.err;
+  EXPECT_TRUE(contains(e.err, "Empty.c3d")) << e.err;
+}
+
 TEST(CliInfo, JsonIsOneValidObjectWithTheFields) {
   CliRun r = run_capz("info --json " + quote(kData + "/c3d/btkdata/TRCSamples/Gait.trc"));
   ASSERT_EQ(r.status, 0) << r.err;
@@ -228,6 +251,40 @@ TEST(CliConvert, TrcToPcdToTrcKeepsEverySample) {
   EXPECT_EQ(u.rate, 100);
   EXPECT_EQ(u.units, "mm");
   EXPECT_EQ(p.pcd->frame_names.size(), t.frames);
+}
+
+TEST(CliConvert, C3dToTrcAndPcdAndBack) {
+  capz_test::TempDir d("capz_cli_conv");
+  const std::string src = kData + "/c3d/c3dorg/sample_01/Eb015pr.c3d";
+  capz::Take t = capz::read_take(src);
+  ASSERT_GT(t.gap_samples(), 0u);
+  CliRun a = run_capz("convert -q " + quote(src) + " " + quote(d.file("e.trc")));
+  ASSERT_EQ(a.status, 0) << a.err;
+  CliRun b = run_capz("convert -q " + quote(src) + " " + quote(d.file("e/")));
+  ASSERT_EQ(b.status, 0) << b.err;
+  capz::Take trc = capz::read_trc(d.file("e.trc"));
+  capz::Take pcd = capz::read_pcd_folder(d.file("e"));
+  capz_test::expect_same_samples(t, trc);  // TRC text carries every double exactly
+  capz_test::expect_same_samples(t, pcd);
+  EXPECT_EQ(trc.labels, t.labels);
+  EXPECT_EQ(trc.rate, t.rate);
+  EXPECT_EQ(trc.units, t.units);
+  // Back to C3D: same shape, gaps, labels and rate; positions within float precision.
+  CliRun c = run_capz("convert -q " + quote(d.file("e.trc")) + " " + quote(d.file("back.c3d")));
+  ASSERT_EQ(c.status, 0) << c.err;
+  capz::Take u = capz::read_take(d.file("back.c3d"));
+  ASSERT_EQ(u.frames, t.frames);
+  ASSERT_EQ(u.points, t.points);
+  EXPECT_EQ(u.valid, t.valid);
+  EXPECT_EQ(u.labels, t.labels);
+  EXPECT_EQ(u.rate, t.rate);
+  double worst = 0;
+  for (size_t i = 0; i < t.valid.size(); ++i)
+    if (t.valid[i])
+      for (int k = 0; k < 3; ++k)
+        worst = std::max(worst, std::fabs(u.xyz[i * 3 + k] - t.xyz[i * 3 + k]) /
+                                    std::max(1.0, std::fabs(t.xyz[i * 3 + k])));
+  EXPECT_LT(worst, 1e-6);
 }
 
 TEST(CliConvert, PcdFolderToPcdFolderKeepsNamesAndEncoding) {

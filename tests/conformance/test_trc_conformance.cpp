@@ -3,7 +3,9 @@
 // survives read -> write -> read exactly.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <set>
 #include <string>
 #include <vector>
@@ -171,5 +173,60 @@ TEST(TrcConformance, ReadWriteReadIsExactForEveryReadableFile) {
     EXPECT_EQ(u.trc->times, t.trc->times);
     EXPECT_EQ(u.trc->frame_numbers, t.trc->frame_numbers);
     EXPECT_EQ(u.trc->decimals, t.trc->decimals);
+  }
+}
+
+namespace {
+
+// OpenSim's TRC reader splits rows at tabs, keeps empty fields between tabs and drops an empty
+// field after the last tab; it wants exactly 2 + 3 * NumMarkers fields per row.
+std::vector<std::string> opensim_tokens(const std::string& line) {
+  std::vector<std::string> t;
+  size_t start = 0, tab;
+  while ((tab = line.find('\t', start)) != std::string::npos) {
+    t.push_back(line.substr(start, tab - start));
+    start = tab + 1;
+  }
+  if (start < line.size()) t.push_back(line.substr(start));
+  return t;
+}
+
+std::vector<std::string> non_empty(std::vector<std::string> v) {
+  v.erase(std::remove(v.begin(), v.end(), std::string()), v.end());
+  return v;
+}
+
+}  // namespace
+
+TEST(TrcConformance, WrittenFilesFollowTheLayoutOpenSimReads) {
+  capz_test::TempDir tmp("capz_trc_osim");
+  for (const char* f : {"trc/opensim/dataWithBlanksForMissingMarkers.trc",
+                        "c3d/btkdata/TRCSamples/10002-20130626160334-Unnamed.trc"}) {
+    SCOPED_TRACE(f);
+    capz::Take t = capz::read_trc(kData + "/" + f);
+    const std::string out = tmp.file("o.trc");
+    capz::WriteOptions o;
+    o.overwrite = true;
+    capz::write_trc(t, out, o);
+    std::ifstream in(out);
+    std::string line;
+    std::vector<std::string> lines;
+    while (std::getline(in, line)) lines.push_back(line);
+    ASSERT_GE(lines.size(), 6u);
+    EXPECT_EQ(non_empty(opensim_tokens(lines[1])),
+              (std::vector<std::string>{"DataRate", "CameraRate", "NumFrames", "NumMarkers", "Units",
+                                        "OrigDataRate", "OrigDataStartFrame", "OrigNumFrames"}));
+    std::vector<std::string> values = non_empty(opensim_tokens(lines[2]));
+    ASSERT_EQ(values.size(), 8u);
+    EXPECT_EQ(values[3], std::to_string(t.points));
+    EXPECT_EQ(non_empty(opensim_tokens(lines[3])).size(), t.points + 2);
+    std::vector<std::string> xyz = non_empty(opensim_tokens(lines[4]));
+    ASSERT_EQ(xyz.size(), 3 * t.points);
+    EXPECT_EQ(xyz.back(), "Z" + std::to_string(t.points));
+    EXPECT_EQ(lines[5], "");
+    size_t rows = 0;
+    for (size_t i = 6; i < lines.size(); ++i, ++rows)
+      ASSERT_EQ(opensim_tokens(lines[i]).size(), 2 + 3 * t.points) << "line " << i + 1;
+    EXPECT_EQ(rows, t.frames);
   }
 }

@@ -174,8 +174,11 @@ TEST(Trc, WriteThenReadIsExactAndTextRoundTrips) {
   std::ifstream a(out), b(out2);
   std::string sa((std::istreambuf_iterator<char>(a)), {}), sb((std::istreambuf_iterator<char>(b)), {});
   EXPECT_EQ(sa, sb);
-  // Gaps are empty fields, values carry the source's three decimals.
-  EXPECT_NE(sa.find("\n7\t0.060\t1.250\t-2.500\t3.125\t\t\t\n"), std::string::npos) << sa;
+  // Gaps are empty fields, values carry the source's three decimals, rows end with a tab (as
+  // OpenSim writes them; its reader drops an empty last field).
+  EXPECT_NE(sa.find("\n7\t0.060\t1.250\t-2.500\t3.125\t\t\t\t\n"), std::string::npos) << sa;
+  EXPECT_EQ(sa.find("Frame#\tTime\tLASI\t\t\tRASI\t\t\n\t\tX1\tY1\tZ1\tX2\tY2\tZ2\n\n7\t"),
+            sa.find("Frame#"));
 }
 
 TEST(Trc, WriterRefusesExistingOutputWithoutOverwrite) {

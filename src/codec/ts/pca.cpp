@@ -1,0 +1,92 @@
+#include "codec/ts/pca.h"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+
+#include "capz/error.h"
+
+namespace capz {
+namespace ts {
+
+Pca pca_frames(const Eigen::MatrixXd& frames, const PcaParams& params) {
+  Pca out;
+  const Eigen::Index dim = frames.rows(), l = frames.cols();
+  if (dim == 0 || l == 0) {
+    out.basis.resize(dim, 0);
+    out.coeff.resize(0, l);
+    return out;
+  }
+  Eigen::MatrixXd u;
+  Eigen::VectorXd s;
+  if (dim > l) {
+    // Gram route: F^T F = V S^2 V^T, U = F V S^-1.
+    Eigen::MatrixXd g = frames.transpose() * frames;
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(g);
+    if (eig.info() != Eigen::Success) fail(ErrorCode::kInternal, "", "ts: PCA eigen solver failed");
+    Eigen::VectorXd lam = eig.eigenvalues().reverse();
+    Eigen::MatrixXd v = eig.eigenvectors().rowwise().reverse();
+    const double top = std::sqrt(std::max(0.0, lam[0]));
+    Eigen::Index r = 0;
+    while (r < l && std::sqrt(std::max(0.0, lam[r])) > params.rel_rank_tol * top && top > 0) ++r;
+    s.resize(r);
+    for (Eigen::Index i = 0; i < r; ++i) s[i] = std::sqrt(lam[i]);
+    u = frames * v.leftCols(r);
+    for (Eigen::Index i = 0; i < r; ++i) {
+      u.col(i) /= s[i];
+      u.col(i).normalize();  // undo the Gram route's rounding drift
+    }
+  } else {
+    Eigen::BDCSVD<Eigen::MatrixXd> svd(frames, Eigen::ComputeThinU);
+    const Eigen::VectorXd& sv = svd.singularValues();
+    Eigen::Index r = 0;
+    while (r < sv.size() && sv[r] > params.rel_rank_tol * sv[0] && sv[0] > 0) ++r;
+    s = sv.head(r);
+    u = svd.matrixU().leftCols(r);
+  }
+  for (Eigen::Index i = 0; i < u.cols(); ++i) {
+    Eigen::Index at;
+    u.col(i).cwiseAbs().maxCoeff(&at);
+    if (u(at, i) < 0) u.col(i) = -u.col(i);
+  }
+  out.basis = std::move(u);
+  out.sigma = std::move(s);
+  out.coeff = out.basis.transpose() * frames;
+  return out;
+}
+
+QuantisedVector quantise_vector(const double* v, size_t n, int bits) {
+  if (bits < 2 || bits > 30) fail(ErrorCode::kInvalidParameter, "", "ts: basis bits out of 2..30");
+  QuantisedVector qv;
+  qv.bits = bits;
+  qv.q.resize(n);
+  double scale = 0;
+  for (size_t i = 0; i < n; ++i) scale = std::max(scale, std::fabs(v[i]));
+  qv.scale = scale;
+  if (scale == 0) return qv;
+  const double step = quant_step(bits, scale);
+  const int32_t lim = static_cast<int32_t>((int64_t{1} << (bits - 1)) - 1);
+  for (size_t i = 0; i < n; ++i) {
+    long long q = std::llround(v[i] / step);
+    qv.q[i] = static_cast<int32_t>(std::max<long long>(-lim, std::min<long long>(lim, q)));
+  }
+  return qv;
+}
+
+void dequantise_vector(const QuantisedVector& qv, double* out) {
+  const double step = qv.scale > 0 ? quant_step(qv.bits, qv.scale) : 0.0;
+  for (size_t i = 0; i < qv.q.size(); ++i) out[i] = static_cast<double>(qv.q[i]) * step;
+}
+
+int basis_bits_for(double sigma, double scale, size_t n, double budget, int min_bits,
+                   int max_bits) {
+  for (int b = min_bits; b < max_bits; ++b) {
+    const double step = quant_step(b, scale);
+    if (sigma * sigma * static_cast<double>(n) * step * step / 12.0 <= budget) return b;
+  }
+  return max_bits;
+}
+
+}  // namespace ts
+}  // namespace capz

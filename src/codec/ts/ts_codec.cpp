@@ -1,0 +1,469 @@
+#include "codec/ts/ts_codec.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "capz/error.h"
+#include "codec/ts/align.h"
+#include "codec/ts/cluster.h"
+#include "codec/ts/lcps.h"
+#include "codec/ts/lpc.h"
+#include "codec/ts/pca.h"
+#include "codec/ts/rigid.h"
+#include "codec/ts/ts_model.h"
+
+namespace capz {
+
+namespace {
+
+using ts::ClusterLayout;
+using ts::TsCluster;
+using ts::TsModel;
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+struct Options {
+  int lpc_order = 2;
+  int lcps_k = 2;
+  int bits_min = 4, bits_max = 16;  // the paper: 8..16
+  bool basis_predict = true;         // the paper: false (plain quantised values)
+  bool align = true;
+  int max_clusters = 5;
+  int restarts = 4;
+  uint64_t seed = 0x5eed;
+  double trunc_share = 0.25;   // share of the squared-error budget left to PCA truncation
+  double basis_share = 0.65;   // share for basis quantisation (the rest: coefficients)
+  double rms_per_bound = 1.0;  // with only --max-error: aim the transform's RMS at this x bound
+};
+
+long parse_int(const std::string& key, const std::string& v, long lo, long hi) {
+  char* end = nullptr;
+  long x = std::strtol(v.c_str(), &end, 10);
+  if (v.empty() || *end != '\0' || x < lo || x > hi)
+    fail(ErrorCode::kInvalidParameter, "", "ts: option " + key + "=" + v + " is not an integer in " +
+                                               std::to_string(lo) + ".." + std::to_string(hi));
+  return x;
+}
+double parse_real(const std::string& key, const std::string& v, double lo, double hi) {
+  char* end = nullptr;
+  double x = std::strtod(v.c_str(), &end);
+  if (v.empty() || *end != '\0' || !(x >= lo && x <= hi))
+    fail(ErrorCode::kInvalidParameter, "", "ts: option " + key + "=" + v + " is not a number in [" +
+                                               std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return x;
+}
+
+Options parse_options(const TransformParams& p) {
+  Options o;
+  for (const auto& kv : p.options) {
+    const std::string& k = kv.first;
+    const std::string& v = kv.second;
+    if (k == "lpc_order") o.lpc_order = static_cast<int>(parse_int(k, v, 0, 8));
+    else if (k == "lcps_k") o.lcps_k = static_cast<int>(parse_int(k, v, 1, 16));
+    else if (k == "basis_bits") o.bits_min = o.bits_max = static_cast<int>(parse_int(k, v, 2, 24));
+    else if (k == "basis_bits_min") o.bits_min = static_cast<int>(parse_int(k, v, 2, 24));
+    else if (k == "basis_bits_max") o.bits_max = static_cast<int>(parse_int(k, v, 2, 24));
+    else if (k == "basis_predict") o.basis_predict = parse_int(k, v, 0, 1) != 0;
+    else if (k == "align") o.align = parse_int(k, v, 0, 1) != 0;
+    else if (k == "max_clusters") o.max_clusters = static_cast<int>(parse_int(k, v, 1, 64));
+    else if (k == "kmeans_restarts") o.restarts = static_cast<int>(parse_int(k, v, 1, 100));
+    else if (k == "seed") o.seed = static_cast<uint64_t>(parse_int(k, v, 0, 0x7fffffff));
+    else if (k == "trunc_share") o.trunc_share = parse_real(k, v, 0.0, 0.95);
+    else if (k == "basis_share") o.basis_share = parse_real(k, v, 0.0, 0.9);
+    else if (k == "rms_per_bound") o.rms_per_bound = parse_real(k, v, 0.01, 100.0);
+    else fail(ErrorCode::kInvalidParameter, "", "ts: unknown option '" + k + "' (see docs/CODEC-TS.md)");
+  }
+  if (o.bits_min > o.bits_max)
+    fail(ErrorCode::kInvalidParameter, "", "ts: basis_bits_min > basis_bits_max");
+  if (o.trunc_share + o.basis_share >= 0.99)
+    fail(ErrorCode::kInvalidParameter, "", "ts: trunc_share + basis_share must leave room for the coefficients");
+  if (p.clusters < -1 || p.clusters > 64)
+    fail(ErrorCode::kInvalidParameter, "", "ts: clusters must be auto or 1..64");
+  return o;
+}
+
+// What every trial shares: the input, the aligned frames, the coded rigid motion.
+struct Base {
+  PositionsView in;
+  size_t dim = 0;
+  double target_sq = 0;  // allowed sum of squared errors over valid samples
+  Eigen::MatrixXd aligned;  // dim x F
+  bool rigid = false;
+  double rot_step = 0, trans_step = 0;
+  ts::LpcCode rigid_code;
+};
+
+// Per cluster count: the clustering and the PCA of each cluster.
+struct Prepared {
+  int k = 0;
+  std::vector<uint8_t> label;
+  std::vector<ClusterLayout> layout;
+  std::vector<Eigen::MatrixXd> frames;  // dim x l_c, time order
+  std::vector<ts::Pca> pca;
+};
+
+struct Trial {
+  TsModel model;
+  std::vector<double> recon;
+  std::vector<uint8_t> bytes;
+  double sq = 0;  // sum of squared errors over valid samples
+  bool ok = false;
+};
+
+double sq_error(const PositionsView& in, const std::vector<double>& recon) {
+  double s = 0;
+  for (size_t f = 0; f < in.frames; ++f)
+    for (size_t p = 0; p < in.points; ++p) {
+      if (!in.valid[f * in.points + p]) continue;
+      for (int a = 0; a < 3; ++a) {
+        const size_t i = (f * in.points + p) * 3 + static_cast<size_t>(a);
+        const double d = in.xyz[i] - recon[i];
+        s += d * d;
+      }
+    }
+  return s;
+}
+
+Trial build_trial(const Base& base, const Prepared& prep, double budget, const Options& o,
+                  TsEncodeReport* rep) {
+  auto t0 = Clock::now();
+  Trial tr;
+  TsModel& m = tr.model;
+  m.frames = base.in.frames;
+  m.points = base.in.points;
+  m.rigid = base.rigid;
+  m.basis_predict = o.basis_predict;
+  m.rot_step = base.rot_step;
+  m.trans_step = base.trans_step;
+  m.rigid_code = base.rigid_code;
+  m.clusters = prep.k;
+  m.label = prep.label;
+  const size_t nc = static_cast<size_t>(prep.k);
+
+  // PCs: a global threshold on sigma^2 (the paper's per-cluster "covered variation" threshold,
+  // set from the error target): drop the smallest components while their energy fits.
+  const double d_trunc = o.trunc_share * budget, d_basis = o.basis_share * budget;
+  const double d_coef = budget - d_trunc - d_basis;
+  std::vector<std::pair<double, size_t>> comp;  // (sigma^2, cluster)
+  for (size_t c = 0; c < nc; ++c)
+    for (Eigen::Index j = 0; j < prep.pca[c].sigma.size(); ++j)
+      comp.emplace_back(prep.pca[c].sigma[j] * prep.pca[c].sigma[j], c);
+  std::sort(comp.begin(), comp.end());
+  std::vector<int> r(nc);
+  for (size_t c = 0; c < nc; ++c) r[c] = static_cast<int>(prep.pca[c].sigma.size());
+  double dropped = 0;
+  for (const auto& e : comp) {
+    if (dropped + e.first > d_trunc) break;
+    if (r[e.second] <= 1) continue;  // every cluster keeps its mean-shape component
+    dropped += e.first;
+    --r[e.second];
+  }
+  size_t total_r = 0, total_coefs = 0;
+  for (size_t c = 0; c < nc; ++c) {
+    total_r += static_cast<size_t>(r[c]);
+    total_coefs += static_cast<size_t>(r[c]) * prep.layout[c].frames.size();
+  }
+  m.coef_step = total_coefs > 0 ? std::sqrt(12.0 * d_coef / static_cast<double>(total_coefs)) : 1.0;
+  if (!(m.coef_step > 0) || !std::isfinite(m.coef_step)) m.coef_step = 1e-12;
+  const double per_pc = total_r > 0 ? d_basis / static_cast<double>(total_r) : 0;
+
+  m.cluster.resize(nc);
+  double t_quant = 0, t_lcps = 0;
+  for (size_t c = 0; c < nc; ++c) {
+    const ts::Pca& pca = prep.pca[c];
+    const ClusterLayout& lay = prep.layout[c];
+    TsCluster& tc = m.cluster[c];
+    auto tq = Clock::now();
+    Eigen::MatrixXd bq(static_cast<Eigen::Index>(base.dim), r[c]);
+    for (int j = 0; j < r[c]; ++j) {
+      const double* col = pca.basis.col(j).data();
+      double scale = 0;
+      for (size_t i = 0; i < base.dim; ++i) scale = std::max(scale, std::fabs(col[i]));
+      const int bits = ts::basis_bits_for(pca.sigma[j], scale, base.dim, per_pc, o.bits_min, o.bits_max);
+      tc.basis.push_back(ts::quantise_vector(col, base.dim, bits));
+      ts::dequantise_vector(tc.basis.back(), bq.col(j).data());
+    }
+    // Coefficients refitted on the quantised basis (least squares), which absorbs part of the
+    // basis quantisation error.
+    Eigen::MatrixXd w;
+    if (r[c] > 0) {
+      Eigen::MatrixXd g = bq.transpose() * bq;
+      w = g.ldlt().solve(bq.transpose() * prep.frames[c]);
+    } else {
+      w.resize(0, static_cast<Eigen::Index>(lay.frames.size()));
+    }
+    t_quant += since(tq);
+    auto tl = Clock::now();
+    const Eigen::Index l1 = static_cast<Eigen::Index>(lay.first_len);
+    ts::LpcParams lp;
+    lp.order = o.lpc_order;
+    Eigen::MatrixXd first;
+    tc.first = ts::lpc_encode(w.leftCols(l1), std::vector<double>(static_cast<size_t>(r[c]), m.coef_step), lp, &first);
+    double maxnorm = 0;
+    for (Eigen::Index j = 0; j < first.cols(); ++j) maxnorm = std::max(maxnorm, first.col(j).norm());
+    int wb = maxnorm > 0 ? static_cast<int>(std::ceil(std::log2(maxnorm / m.coef_step))) + 2 : 4;
+    tc.lcps_weight_bits = std::max(4, std::min(30, wb));
+    ts::LcpsParams cp;
+    cp.k = o.lcps_k;
+    cp.weight_bits = tc.lcps_weight_bits;
+    for (Eigen::Index j = l1; j < w.cols(); ++j)
+      tc.later.push_back(ts::lcps_encode(w.col(j), first, m.coef_step, cp, nullptr));
+    t_lcps += since(tl);
+  }
+  // The decoder's reconstruction path on the quantised model.
+  ts::reconstruct(m, &tr.recon);
+  tr.sq = sq_error(base.in, tr.recon);
+  ByteWriter bw;
+  try {
+    ts::write_model(m, &bw);
+    tr.bytes = std::move(bw.buffer());
+    tr.ok = tr.sq <= base.target_sq;
+  } catch (const Error& e) {  // a quantised value outside int32: this budget is unusable
+    if (e.code() != ErrorCode::kInternal) throw;
+    tr.sq = std::numeric_limits<double>::infinity();
+    tr.ok = false;
+  }
+  if (rep) {
+    rep->t_quant += t_quant;
+    rep->t_lcps += t_lcps;
+    ++rep->trials;
+  }
+  (void)t0;
+  return tr;
+}
+
+// Searches the budget scale so that the error lands just under the target; smallest passing wins.
+Trial rate_search(const Base& base, const Prepared& prep, const Options& o, double* scale,
+                  TsEncodeReport* rep) {
+  Trial best;
+  bool have = false;
+  Trial fallback;
+  bool have_fb = false;
+  double lo = 0, hi = std::numeric_limits<double>::infinity();
+  double s = *scale, best_s = s;
+  for (int it = 0; it < 10; ++it) {
+    Trial t = build_trial(base, prep, s * base.target_sq, o, rep);
+    const double err = std::max(t.sq, 1e-300);
+    if (t.ok) {
+      lo = std::max(lo, s);
+      if (!have || t.bytes.size() < best.bytes.size()) {
+        best = std::move(t);
+        have = true;
+        best_s = s;
+      }
+    } else {
+      hi = std::min(hi, s);
+      if (!have_fb || t.sq < fallback.sq) {
+        fallback = std::move(t);
+        have_fb = true;
+      }
+    }
+    // Error grows about linearly with the budget: aim just under the target.
+    double next = s * base.target_sq / err * 0.97;
+    if (!(next > lo && next < hi)) next = std::isinf(hi) ? std::max(lo, s) * 2 : (lo > 0 ? std::sqrt(lo * hi) : hi / 4);
+    if (have && std::fabs(next / s - 1) < 0.02) break;
+    if (have && hi < std::numeric_limits<double>::infinity() && hi / lo < 1.04) break;
+    if (s < 1e-12) break;
+    s = next;
+  }
+  *scale = best_s;
+  return have ? best : fallback;
+}
+
+Prepared prepare(const Base& base, int k, const Options& o, TsEncodeReport* rep) {
+  Prepared p;
+  auto t0 = Clock::now();
+  const size_t nf = base.in.frames;
+  if (k <= 1) {
+    p.k = 1;
+    p.label.assign(nf, 0);
+  } else {
+    ts::ClusterParams cp;
+    cp.k = k;
+    cp.seed = o.seed;
+    cp.restarts = o.restarts;
+    ts::Clustering cl = ts::kmeans_frames(base.aligned, cp);
+    p.k = cl.k;
+    p.label.assign(cl.label.begin(), cl.label.end());
+  }
+  p.layout = ts::cluster_layout(p.label, p.k);
+  if (rep) rep->t_cluster += since(t0);
+  auto t1 = Clock::now();
+  for (const auto& lay : p.layout) {
+    Eigen::MatrixXd f(static_cast<Eigen::Index>(base.dim), static_cast<Eigen::Index>(lay.frames.size()));
+    for (size_t j = 0; j < lay.frames.size(); ++j)
+      f.col(static_cast<Eigen::Index>(j)) = base.aligned.col(static_cast<Eigen::Index>(lay.frames[j]));
+    p.pca.push_back(ts::pca_frames(f, ts::PcaParams()));
+    p.frames.push_back(std::move(f));
+  }
+  if (rep) rep->t_pca += since(t1);
+  return p;
+}
+
+}  // namespace
+
+void TsCodec::encode(const PositionsView& in, const TransformParams& params,
+                     std::vector<uint8_t>* out, std::vector<double>* recon) const {
+  encode_report(in, params, out, recon, nullptr);
+}
+
+void TsCodec::encode_report(const PositionsView& in, const TransformParams& params,
+                            std::vector<uint8_t>* out, std::vector<double>* recon,
+                            TsEncodeReport* report) const {
+  TsEncodeReport local;
+  TsEncodeReport* rep = report ? report : &local;
+  *rep = TsEncodeReport();
+  auto t_start = Clock::now();
+  const Options o = parse_options(params);
+  if (params.max_error < 0 || params.kg_error < 0 || !std::isfinite(params.max_error) ||
+      !std::isfinite(params.kg_error))
+    fail(ErrorCode::kInvalidParameter, "", "ts: error targets must be finite and >= 0");
+  Base base;
+  base.in = in;
+  base.dim = 3 * in.points;
+  const size_t nf = in.frames;
+
+  // Error budget: sum of squared errors over the valid samples.
+  size_t samples = 0;
+  double centred = 0, diag2 = 0;
+  {
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t f = 0; f < nf; ++f) {
+      double c[3] = {0, 0, 0};
+      size_t n = 0;
+      for (size_t p = 0; p < in.points; ++p) {
+        if (!in.valid[f * in.points + p]) continue;
+        for (int a = 0; a < 3; ++a) c[a] += in.xyz[(f * in.points + p) * 3 + a];
+        ++n;
+      }
+      if (n == 0) continue;
+      samples += n;
+      for (int a = 0; a < 3; ++a) c[a] /= static_cast<double>(n);
+      for (size_t p = 0; p < in.points; ++p) {
+        if (!in.valid[f * in.points + p]) continue;
+        for (int a = 0; a < 3; ++a) {
+          const double x = in.xyz[(f * in.points + p) * 3 + a];
+          centred += (x - c[a]) * (x - c[a]);
+          lo[a] = std::min(lo[a], x);
+          hi[a] = std::max(hi[a], x);
+        }
+      }
+    }
+    if (samples > 0)
+      for (int a = 0; a < 3; ++a) diag2 += (hi[a] - lo[a]) * (hi[a] - lo[a]);
+  }
+  if (params.kg_error > 0) {
+    base.target_sq = (params.kg_error / 100) * (params.kg_error / 100) * centred;
+    rep->kg_target = params.kg_error;
+  } else if (params.max_error > 0) {
+    const double rms = o.rms_per_bound * params.max_error;
+    base.target_sq = 3.0 * static_cast<double>(samples) * rms * rms;
+    rep->kg_target = centred > 0 ? 100 * std::sqrt(base.target_sq / centred) : 0;
+  } else {
+    base.target_sq = 1e-6 * centred;  // KG 0.1 %
+    rep->kg_target = 0.1;
+  }
+  if (!(base.target_sq > 0)) base.target_sq = 1e-20 * std::max(1.0, diag2) * static_cast<double>(std::max<size_t>(samples, 1));
+
+  // Stage 1: alignment, its 6 parameters coded with LPC; the frames are aligned with the
+  // decoded parameters so that the decoder's inverse is exact.
+  auto ta = Clock::now();
+  base.aligned.resize(static_cast<Eigen::Index>(base.dim), static_cast<Eigen::Index>(nf));
+  for (size_t f = 0; f < nf; ++f)
+    std::copy(in.xyz + f * base.dim, in.xyz + (f + 1) * base.dim, base.aligned.col(static_cast<Eigen::Index>(f)).data());
+  base.rigid = o.align && nf > 1 && in.points >= 3;
+  if (base.rigid) {
+    std::vector<ts::RigidParams> rp = ts::estimate_alignment(in, ts::AlignParams());
+    const double rms = std::sqrt(base.target_sq / (3.0 * static_cast<double>(std::max<size_t>(samples, 1))));
+    const double extent = std::max(std::sqrt(diag2), 1e-300);
+    base.trans_step = std::max(0.5 * rms, extent * 1e-9);
+    base.rot_step = std::min(1e-2, std::max(0.5 * rms / extent, 1e-9));
+    Eigen::MatrixXd series(6, static_cast<Eigen::Index>(nf));
+    for (size_t f = 0; f < nf; ++f)
+      for (int a = 0; a < 3; ++a) {
+        series(a, static_cast<Eigen::Index>(f)) = rp[f].rot[a];
+        series(3 + a, static_cast<Eigen::Index>(f)) = rp[f].trans[a];
+      }
+    ts::LpcParams lp;
+    lp.order = o.lpc_order;
+    Eigen::MatrixXd dec;
+    base.rigid_code = ts::lpc_encode(series, {base.rot_step, base.rot_step, base.rot_step, base.trans_step, base.trans_step, base.trans_step}, lp, &dec);
+    for (size_t f = 0; f < nf; ++f) {
+      ts::RigidParams q;
+      for (int a = 0; a < 3; ++a) {
+        q.rot[a] = dec(a, static_cast<Eigen::Index>(f));
+        q.trans[a] = dec(3 + a, static_cast<Eigen::Index>(f));
+      }
+      ts::apply_rigid(q, base.aligned.col(static_cast<Eigen::Index>(f)).data(), in.points);
+    }
+  }
+  rep->t_align = since(ta);
+
+  // Stage 2..4 for each cluster count tried; the smallest payload wins.
+  std::vector<int> ks;
+  const int kmax = static_cast<int>(std::min<size_t>(static_cast<size_t>(o.max_clusters), std::max<size_t>(nf, 1)));
+  if (params.clusters == -1) {
+    for (int k = 1; k <= kmax; ++k) ks.push_back(k);
+  } else if (params.clusters == 0) {
+    ks.push_back(std::min(2, kmax));
+  } else {
+    ks.push_back(static_cast<int>(std::min<size_t>(static_cast<size_t>(params.clusters), std::max<size_t>(nf, 1))));
+  }
+  Trial best;
+  bool have = false;
+  double scale = 1.0;  // each cluster count starts its search where the previous one ended
+  for (int k : ks) {
+    if (nf == 0) break;
+    Prepared prep = prepare(base, k, o, rep);
+    Trial t = rate_search(base, prep, o, &scale, rep);
+    const bool better = !have || (t.ok && !best.ok) ||
+                        (t.ok == best.ok && (t.ok ? t.bytes.size() < best.bytes.size() : t.sq < best.sq));
+    if (better) {
+      best = std::move(t);
+      have = true;
+    }
+  }
+  if (!have) {  // empty window
+    best.model.frames = nf;
+    best.model.points = in.points;
+    best.model.clusters = 1;
+    best.model.label.assign(nf, 0);
+    ts::reconstruct(best.model, &best.recon);
+    ByteWriter bw;
+    ts::write_model(best.model, &bw);
+    best.bytes = std::move(bw.buffer());
+  }
+  rep->clusters = best.model.clusters;
+  rep->pcs.clear();
+  rep->cluster_frames.clear();
+  if (nf > 0) {
+    const auto lay = ts::cluster_layout(best.model.label, best.model.clusters);
+    for (size_t c = 0; c < best.model.cluster.size(); ++c) {
+      rep->pcs.push_back(static_cast<int>(best.model.cluster[c].basis.size()));
+      for (const auto& q : best.model.cluster[c].basis) rep->basis_bits.push_back(q.bits);
+      rep->cluster_frames.push_back(lay[c].frames.size());
+    }
+  }
+  rep->kg_error = centred > 0 ? 100 * std::sqrt(best.sq / centred) : 0;
+  rep->bytes = best.bytes.size();
+  rep->coef_step = best.model.coef_step;
+  out->insert(out->end(), best.bytes.begin(), best.bytes.end());
+  *recon = std::move(best.recon);
+  rep->t_total = since(t_start);
+}
+
+void TsCodec::decode(const uint8_t* data, size_t size, size_t frames, size_t points,
+                     std::vector<double>* recon) const {
+  if (points > 0 && frames > (size_t{1} << 40) / points)
+    fail(ErrorCode::kCorrupt, "ts payload", "window too large");
+  ts::TsModel m = ts::read_model(data, size, frames, points);
+  ts::reconstruct(m, recon);
+}
+
+}  // namespace capz

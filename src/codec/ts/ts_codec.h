@@ -1,0 +1,47 @@
+// ts codec — temporal segmentation (Luo, Cordier & Seo 2013) as a capz::TransformCodec:
+// align ► cluster ► PCA per cluster ► quantise ► LPC (first fragment) / LCPS (later fragments).
+// Options (TransformParams::options, documented in docs/CODEC-TS.md): lpc_order, lcps_k,
+// basis_bits, basis_bits_min, basis_bits_max, align, max_clusters, kmeans_restarts, seed,
+// trunc_share, rms_per_bound.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "codec/transform.h"
+
+namespace capz {
+
+// What the last encode decided, for benchmarks and tests (not part of the payload contract).
+struct TsEncodeReport {
+  int clusters = 0;
+  std::vector<int> pcs;          // PCs kept per cluster
+  std::vector<int> basis_bits;   // quantiser bits of every kept PC, cluster by cluster
+  double coef_step = 0;
+  std::vector<size_t> cluster_frames;
+  double kg_target = 0;          // percent
+  double kg_error = 0;           // percent, of the reconstruction returned
+  size_t bytes = 0;
+  int trials = 0;                // payloads built while searching
+  double t_align = 0, t_cluster = 0, t_pca = 0, t_quant = 0, t_lcps = 0, t_total = 0;  // seconds
+};
+
+class TsCodec : public TransformCodec {
+ public:
+  static constexpr uint8_t kId = 1;
+  uint8_t id() const override { return kId; }
+  const char* name() const override { return "ts"; }
+  void encode(const PositionsView& in, const TransformParams& params, std::vector<uint8_t>* out,
+              std::vector<double>* recon) const override;
+  void decode(const uint8_t* data, size_t size, size_t frames, size_t points,
+              std::vector<double>* recon) const override;
+
+  // encode() that also says what it chose.
+  void encode_report(const PositionsView& in, const TransformParams& params,
+                     std::vector<uint8_t>* out, std::vector<double>* recon,
+                     TsEncodeReport* report) const;
+};
+
+}  // namespace capz

@@ -1,0 +1,331 @@
+#include "codec/ts/ts_model.h"
+
+#include <Eigen/Core>
+#include <cmath>
+#include <string>
+
+#include "capz/error.h"
+#include "codec/ts/basis_predict.h"
+#include "codec/ts/rigid.h"
+#include "coding/entropy.h"
+
+namespace capz {
+namespace ts {
+
+namespace {
+
+const char* kWhat = "ts payload";
+constexpr uint8_t kVersion = 1;
+
+[[noreturn]] void corrupt(const std::string& what) { fail(ErrorCode::kCorrupt, kWhat, what); }
+
+Eigen::MatrixXd dequantise_basis(const std::vector<QuantisedVector>& basis, size_t dim) {
+  Eigen::MatrixXd b(static_cast<Eigen::Index>(dim), static_cast<Eigen::Index>(basis.size()));
+  for (size_t j = 0; j < basis.size(); ++j) dequantise_vector(basis[j], b.col(static_cast<Eigen::Index>(j)).data());
+  return b;
+}
+
+// The entropy-coded part: one IntEncoder block; each kind of value has its own group of 16
+// contexts chosen by the previous token of that group, labels use context 128 + previous label.
+enum Group { kLabels = 0, kRigid, kBasis, kLpcWeight, kLpcValue, kLcpsCount, kLcpsWeight, kLcpsResid, kGroups };
+constexpr int kLabelCtx = kGroups * 16;
+constexpr int kContexts = kLabelCtx + 256;
+
+class Out {
+ public:
+  Out() : enc_(kContexts) {}
+  void put(int64_t v, Group g) {
+    if (v < INT32_MIN || v > INT32_MAX) fail(ErrorCode::kInternal, kWhat, "value outside int32");
+    prev_[g] = std::min(enc_.put_signed(static_cast<int32_t>(v), g * 16 + prev_[g]), 15);
+  }
+  void put_unsigned(uint32_t v, Group g) { prev_[g] = std::min(enc_.put(v, g * 16 + prev_[g]), 15); }
+  void label(int v) {
+    enc_.put(static_cast<uint32_t>(v), kLabelCtx + prev_label_);
+    prev_label_ = v;
+  }
+  void raw(uint32_t v, int n) { enc_.raw_bits(v, n); }
+  std::vector<uint8_t> finish() { return enc_.finish(); }
+
+ private:
+  IntEncoder enc_;
+  int prev_[kGroups] = {};
+  int prev_label_ = 0;
+};
+
+class In {
+ public:
+  In(const uint8_t* data, size_t size) : dec_(data, size, kContexts, kWhat), size_(size) {}
+  int64_t get(Group g) {
+    int tok;
+    const int32_t v = dec_.get_signed(g * 16 + prev_[g], &tok);
+    prev_[g] = std::min(tok, 15);
+    return v;
+  }
+  uint32_t get_unsigned(Group g) {
+    int tok;
+    const uint32_t v = dec_.get(g * 16 + prev_[g], &tok);
+    prev_[g] = std::min(tok, 15);
+    return v;
+  }
+  int label(int clusters) {
+    const uint32_t v = dec_.get(kLabelCtx + prev_label_);
+    if (v >= static_cast<uint32_t>(clusters)) corrupt("cluster index out of range");
+    prev_label_ = static_cast<int>(v);
+    return prev_label_;
+  }
+  uint32_t raw(int n) { return dec_.raw_bits(n); }
+  // Guards an allocation of `n` more values: every value costs more than 1/360 bit.
+  void budget(uint64_t n) {
+    used_ += n;
+    if (used_ > kMaxSymbolsPerByte * static_cast<uint64_t>(size_) + 64) corrupt("value counts larger than the payload can hold");
+  }
+  bool at_end() const { return dec_.at_end(); }
+
+ private:
+  IntDecoder dec_;
+  size_t size_;
+  uint64_t used_ = 0;
+  int prev_[kGroups] = {};
+  int prev_label_ = 0;
+};
+
+int index_bits(size_t l1) {  // ceil(log2 l1)
+  int b = 0;
+  while ((size_t{1} << b) < l1) ++b;
+  return b;
+}
+
+void write_lpc_header(const LpcCode& c, ByteWriter* out) {
+  out->u8(static_cast<uint8_t>(c.order));
+  out->u8(static_cast<uint8_t>(c.weight_bits));
+}
+void read_lpc_header(ByteReader* in, LpcCode* c, size_t rows, size_t length) {
+  c->rows = rows;
+  c->length = length;
+  c->order = in->u8();
+  c->weight_bits = in->u8();
+  if (c->order > 8 || c->weight_bits > 30) corrupt("LPC order or weight bits out of range");
+}
+void write_lpc_body(const LpcCode& c, Group g, Out* out) {
+  for (int32_t w : c.weights) out->put(w, kLpcWeight);
+  for (int64_t v : c.values) out->put(v, g);
+}
+void read_lpc_body(LpcCode* c, Group g, In* in) {
+  const size_t nw = c->has_weights() ? c->rows * static_cast<size_t>(c->order) : 0;
+  in->budget(nw + c->rows * c->length);
+  c->weights.resize(nw);
+  for (auto& w : c->weights) w = static_cast<int32_t>(in->get(kLpcWeight));
+  c->values.resize(c->rows * c->length);
+  for (auto& v : c->values) v = in->get(g);
+}
+
+double read_step(ByteReader* in, const char* name) {
+  const double s = in->f64();
+  if (!std::isfinite(s) || s <= 0) corrupt(std::string(name) + " is not a positive number");
+  return s;
+}
+
+}  // namespace
+
+std::vector<ClusterLayout> cluster_layout(const std::vector<uint8_t>& label, int clusters) {
+  std::vector<ClusterLayout> out(static_cast<size_t>(std::max(0, clusters)));
+  for (size_t f = 0; f < label.size(); ++f) {
+    if (label[f] >= clusters) corrupt("frame " + std::to_string(f) + " has cluster index " + std::to_string(label[f]));
+    out[label[f]].frames.push_back(f);
+  }
+  for (size_t c = 0; c < out.size(); ++c) {
+    auto& l = out[c];
+    if (l.frames.empty()) corrupt("cluster " + std::to_string(c) + " has no frames");
+    l.first_len = 1;
+    while (l.first_len < l.frames.size() && l.frames[l.first_len] == l.frames[l.first_len - 1] + 1)
+      ++l.first_len;
+  }
+  return out;
+}
+
+void reconstruct(const TsModel& m, std::vector<double>* xyz) {
+  const size_t dim = 3 * m.points;
+  xyz->assign(m.frames * dim, 0.0);
+  const auto layout = cluster_layout(m.label, m.clusters);
+  if (m.cluster.size() != layout.size()) corrupt("cluster count disagrees with the labels");
+  for (size_t c = 0; c < layout.size(); ++c) {
+    const TsCluster& tc = m.cluster[c];
+    const ClusterLayout& lay = layout[c];
+    const size_t r = tc.basis.size();
+    if (tc.first.rows != r || tc.first.length != lay.first_len ||
+        tc.later.size() != lay.frames.size() - lay.first_len)
+      corrupt("cluster " + std::to_string(c) + " sizes disagree with its frames");
+    const Eigen::MatrixXd b = dequantise_basis(tc.basis, dim);
+    Eigen::MatrixXd w(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(lay.frames.size()));
+    const Eigen::MatrixXd first = lpc_decode(tc.first, std::vector<double>(r, m.coef_step));
+    w.leftCols(static_cast<Eigen::Index>(lay.first_len)) = first;
+    for (size_t j = 0; j < tc.later.size(); ++j)
+      w.col(static_cast<Eigen::Index>(lay.first_len + j)) =
+          lcps_decode(tc.later[j], first, m.coef_step, tc.lcps_weight_bits);
+    const Eigen::MatrixXd x = b * w;  // dim x l_c
+    for (size_t j = 0; j < lay.frames.size(); ++j) {
+      const double* src = x.col(static_cast<Eigen::Index>(j)).data();
+      std::copy(src, src + dim, xyz->begin() + static_cast<std::ptrdiff_t>(lay.frames[j] * dim));
+    }
+  }
+  if (m.rigid) {
+    if (m.rigid_code.rows != 6 || m.rigid_code.length != m.frames) corrupt("rigid block size");
+    std::vector<double> steps = {m.rot_step, m.rot_step, m.rot_step, m.trans_step, m.trans_step, m.trans_step};
+    const Eigen::MatrixXd p = lpc_decode(m.rigid_code, steps);
+    for (size_t f = 0; f < m.frames; ++f) {
+      RigidParams rp;
+      for (int a = 0; a < 3; ++a) {
+        rp.rot[a] = p(a, static_cast<Eigen::Index>(f));
+        rp.trans[a] = p(3 + a, static_cast<Eigen::Index>(f));
+      }
+      apply_rigid_inverse(rp, xyz->data() + f * dim, m.points);
+    }
+  }
+}
+
+void write_model(const TsModel& m, ByteWriter* out) {
+  out->u8(kVersion);
+  out->u8(static_cast<uint8_t>((m.rigid ? 1 : 0) | (m.basis_predict ? 2 : 0)));
+  out->varint(m.frames);
+  out->varint(m.points);
+  out->f64(m.coef_step);
+  out->u8(static_cast<uint8_t>(m.clusters));
+  if (m.rigid) {
+    out->f64(m.rot_step);
+    out->f64(m.trans_step);
+    write_lpc_header(m.rigid_code, out);
+  }
+  for (const TsCluster& c : m.cluster) {
+    out->varint(c.basis.size());
+    write_lpc_header(c.first, out);
+    out->u8(static_cast<uint8_t>(c.lcps_weight_bits));
+    for (const QuantisedVector& q : c.basis) {
+      out->u8(static_cast<uint8_t>(q.bits));
+      out->f64(q.scale);
+    }
+  }
+  Out e;
+  if (m.clusters > 1)
+    for (uint8_t l : m.label) e.label(l);
+  if (m.rigid) write_lpc_body(m.rigid_code, kRigid, &e);
+  if (!m.frames) {
+    out->bytes(e.finish());
+    return;
+  }
+  const auto layout = cluster_layout(m.label, m.clusters);
+  for (size_t c = 0; c < m.cluster.size(); ++c) {
+    const TsCluster& tc = m.cluster[c];
+    std::vector<uint32_t> parents;
+    for (size_t j = 0; j < tc.basis.size(); ++j) {
+      const QuantisedVector& q = tc.basis[j];
+      for (size_t i = 0; i < m.points; ++i)
+        for (int a = 0; a < 3; ++a)
+          e.put(q.q[3 * i + static_cast<size_t>(a)] - (m.basis_predict ? basis_prediction(q.q.data(), parents, i, a) : 0), kBasis);
+      if (j == 0 && m.basis_predict) parents = spatial_parents(q.q, m.points);
+    }
+    write_lpc_body(tc.first, kLpcValue, &e);
+    const int ib = index_bits(layout[c].first_len);
+    for (const LcpsFrame& f : tc.later) {
+      e.put_unsigned(static_cast<uint32_t>(f.index.size()), kLcpsCount);
+      for (uint32_t i : f.index) e.raw(i, ib);
+      for (int32_t w : f.weight) e.put(w, kLcpsWeight);
+      for (int64_t v : f.resid) e.put(v, kLcpsResid);
+    }
+  }
+  out->bytes(e.finish());
+}
+
+TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t points) {
+  ByteReader in(data, size, kWhat);
+  TsModel m;
+  const uint8_t version = in.u8();
+  if (version != kVersion)
+    fail(ErrorCode::kUnsupportedVersion, kWhat, "version " + std::to_string(version) + " (this build reads 1)");
+  const uint8_t flags = in.u8();
+  if (flags > 3) corrupt("unknown flags");
+  m.rigid = flags & 1;
+  m.basis_predict = (flags & 2) != 0;
+  m.frames = in.varint();
+  m.points = in.varint();
+  if (m.frames != frames || m.points != points) corrupt("window shape disagrees with the container");
+  const size_t dim = 3 * points;
+  m.coef_step = read_step(&in, "coefficient step");
+  m.clusters = in.u8();
+  if (m.clusters < 1 || static_cast<size_t>(m.clusters) > std::max<size_t>(frames, 1)) corrupt("cluster count out of range");
+  if (m.rigid) {
+    m.rot_step = read_step(&in, "rotation step");
+    m.trans_step = read_step(&in, "translation step");
+    read_lpc_header(&in, &m.rigid_code, 6, frames);
+  }
+  if (static_cast<size_t>(m.clusters) > in.remaining()) corrupt("cluster headers larger than the payload");
+  m.cluster.resize(static_cast<size_t>(m.clusters));
+  for (TsCluster& tc : m.cluster) {
+    const uint64_t r = in.varint();
+    if (r > std::min<size_t>(dim, frames)) corrupt("a cluster has more PCs than frames or dimensions");
+    if (r > in.remaining() / 9) corrupt("basis headers larger than the payload");
+    read_lpc_header(&in, &tc.first, r, 0);
+    tc.lcps_weight_bits = in.u8();
+    if (tc.lcps_weight_bits > 30) corrupt("LCPS weight bits out of range");
+    tc.basis.resize(r);
+    for (auto& q : tc.basis) {
+      q.bits = in.u8();
+      if (q.bits < 2 || q.bits > 30) corrupt("basis bits out of 2..30");
+      q.scale = in.f64();
+      if (!std::isfinite(q.scale) || q.scale < 0) corrupt("basis scale is not a finite number >= 0");
+    }
+  }
+  In e(data + in.offset(), in.remaining());
+  e.budget(frames);
+  m.label.assign(frames, 0);
+  if (m.clusters > 1)
+    for (auto& l : m.label) l = static_cast<uint8_t>(e.label(m.clusters));
+  if (m.rigid) read_lpc_body(&m.rigid_code, kRigid, &e);
+  if (frames > 0) {
+    const auto layout = cluster_layout(m.label, m.clusters);
+    for (size_t c = 0; c < layout.size(); ++c) {
+      TsCluster& tc = m.cluster[c];
+      const size_t lc = layout[c].frames.size(), l1 = layout[c].first_len;
+      const size_t r = tc.basis.size();
+      if (r > lc) corrupt("cluster " + std::to_string(c) + " has more PCs than frames");
+      e.budget(r * dim);
+      std::vector<uint32_t> parents;
+      for (size_t j = 0; j < r; ++j) {
+        QuantisedVector& q = tc.basis[j];
+        const int64_t lim = (int64_t{1} << (q.bits - 1)) - 1;
+        q.q.resize(dim);
+        for (size_t i = 0; i < points; ++i)
+          for (int a = 0; a < 3; ++a) {
+            const int64_t x = e.get(kBasis) + (m.basis_predict ? basis_prediction(q.q.data(), parents, i, a) : 0);
+            if (x < -lim || x > lim) corrupt("basis value outside its bit range");
+            q.q[3 * i + static_cast<size_t>(a)] = static_cast<int32_t>(x);
+          }
+        if (j == 0 && m.basis_predict) parents = spatial_parents(q.q, points);
+      }
+      tc.first.rows = r;
+      tc.first.length = l1;
+      read_lpc_body(&tc.first, kLpcValue, &e);
+      const int ib = index_bits(l1);
+      e.budget(lc - l1);
+      tc.later.resize(lc - l1);
+      for (LcpsFrame& f : tc.later) {
+        const uint32_t k = e.get_unsigned(kLcpsCount);
+        if (k > l1) corrupt("LCPS uses more references than the first fragment has");
+        e.budget(2 * k + r);
+        f.index.resize(k);
+        for (auto& i : f.index) {
+          i = e.raw(ib);
+          if (i >= l1) corrupt("LCPS reference index out of range");
+        }
+        f.weight.resize(k);
+        for (auto& w : f.weight) w = static_cast<int32_t>(e.get(kLcpsWeight));
+        f.resid.resize(r);
+        for (auto& v : f.resid) v = e.get(kLcpsResid);
+      }
+    }
+  }
+  if (!e.at_end()) corrupt("bytes left after the last value");
+  return m;
+}
+
+}  // namespace ts
+}  // namespace capz

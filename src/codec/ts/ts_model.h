@@ -1,0 +1,55 @@
+// ts codec — the quantised model: everything the payload holds, as integers and a few steps.
+// The encoder builds it, reconstruct() turns it into positions (the one reconstruction path the
+// encoder and the decoder share), write_model()/read_model() (de)serialise it (docs/CODEC-TS.md).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "codec/ts/lcps.h"
+#include "codec/ts/lpc.h"
+#include "codec/ts/pca.h"
+#include "coding/bytes.h"
+
+namespace capz {
+namespace ts {
+
+struct TsCluster {
+  std::vector<QuantisedVector> basis;  // r PCs, each 3N entries
+  LpcCode first;                       // r x l1: the first motion fragment's coefficients
+  int lcps_weight_bits = 14;
+  std::vector<LcpsFrame> later;        // the cluster's later frames, in time order
+};
+
+struct TsModel {
+  size_t frames = 0, points = 0;
+  double coef_step = 1;  // quantisation step of every PC coefficient / residual
+  bool rigid = false;    // frames were aligned; rigid_code holds their 6 parameters
+  bool basis_predict = true;  // basis entries coded as residuals of basis_predict.h
+  double rot_step = 0, trans_step = 0;
+  LpcCode rigid_code;               // 6 x frames: rotation vector (3), translation (3)
+  int clusters = 1;
+  std::vector<uint8_t> label;       // per frame, < clusters
+  std::vector<TsCluster> cluster;
+};
+
+// Frames of each cluster in time order, and l1 = the length of its first motion fragment
+// (the first run of temporally consecutive frames). Throws kCorrupt on an empty cluster or a
+// label >= clusters.
+struct ClusterLayout {
+  std::vector<size_t> frames;
+  size_t first_len = 0;
+};
+std::vector<ClusterLayout> cluster_layout(const std::vector<uint8_t>& label, int clusters);
+
+// Positions (frames x points x 3) from the model. The decoder's only reconstruction path; the
+// encoder calls it too, so its `recon` is bit for bit the decoder's.
+void reconstruct(const TsModel& model, std::vector<double>* xyz);
+
+void write_model(const TsModel& model, ByteWriter* out);
+// `frames`/`points` come from the container; any disagreement or overrun throws kCorrupt.
+TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t points);
+
+}  // namespace ts
+}  // namespace capz
