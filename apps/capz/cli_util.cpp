@@ -68,9 +68,34 @@ std::string percent(double share) {
   return buf;
 }
 
+// Length of the valid UTF-8 sequence starting at s[i], or 0 if it is not one.
+static size_t utf8_length(const std::string& s, size_t i) {
+  const unsigned char c = static_cast<unsigned char>(s[i]);
+  size_t n = c >= 0xF0 && c <= 0xF4 ? 4 : c >= 0xE0 ? 3 : c >= 0xC2 && c < 0xE0 ? 2 : 0;
+  if (n == 0 || i + n > s.size()) return 0;
+  for (size_t k = 1; k < n; ++k)
+    if ((static_cast<unsigned char>(s[i + k]) & 0xC0) != 0x80) return 0;
+  return n;
+}
+
 std::string Json::escape(const std::string& s) {
   std::string o = "\"";
-  for (unsigned char c : s) {
+  for (size_t i = 0; i < s.size(); ++i) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    if (c >= 0x80) {
+      // Valid UTF-8 passes through; any other byte (Latin-1 labels in old files) is read as
+      // Latin-1 and escaped, so the output is always valid JSON.
+      size_t n = utf8_length(s, i);
+      if (n > 0) {
+        o.append(s, i, n);
+        i += n - 1;
+      } else {
+        char buf[8];
+        std::snprintf(buf, sizeof buf, "\\u%04x", c);
+        o += buf;
+      }
+      continue;
+    }
     switch (c) {
       case '"': o += "\\\""; break;
       case '\\': o += "\\\\"; break;
@@ -85,7 +110,7 @@ std::string Json::escape(const std::string& s) {
           std::snprintf(buf, sizeof buf, "\\u%04x", c);
           o += buf;
         } else {
-          o += static_cast<char>(c);  // UTF-8 passes through; other bytes are the file's own
+          o += static_cast<char>(c);
         }
     }
   }

@@ -1,13 +1,188 @@
-// Placeholder until the command is implemented (see the open issues); it says so and fails.
+// capz compress IN [-o OUT] [--max-error E | --kg-error X | --lossless] [--codec NAME] ...
+#include <cmath>
 #include <cstdio>
 
-#include "commands.h"
+#include "capz/codec.h"
+#include "capz/io.h"
+#include "compress_common.h"
 
 namespace capz_cli {
 
-int cmd_compress(const Args&) {
-  std::fprintf(stderr, "capz compress: not implemented yet\n");
-  return 7;
+namespace {
+
+// Default bound for data without units: 1e-4 of the bounding-box diagonal of the valid samples.
+double unitless_default_bound(const capz::Take& take) {
+  double lo[3] = {1e308, 1e308, 1e308}, hi[3] = {-1e308, -1e308, -1e308};
+  for (size_t i = 0; i < take.frames * take.points; ++i)
+    if (take.valid[i])
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::min(lo[a], take.xyz[i * 3 + a]);
+        hi[a] = std::max(hi[a], take.xyz[i * 3 + a]);
+      }
+  double d2 = 0;
+  for (int a = 0; a < 3; ++a) d2 += hi[a] > lo[a] ? (hi[a] - lo[a]) * (hi[a] - lo[a]) : 0;
+  return d2 > 0 ? 1e-4 * std::sqrt(d2) : 1e-4;
+}
+
+}  // namespace
+
+int cmd_compress(const Args& args) {
+  po::options_description o("compress options");
+  o.add_options()
+      ("output,o", po::value<std::string>(), "output file (default IN.capz)")
+      ("max-error,e", po::value<std::string>(),
+       "per-coordinate bound: a length with a unit (0.1mm, 0.05cm, 0.0001m, 0.01in) or a bare "
+       "number in the data's own units. Default 0.1mm. For data without units (PCD folders, "
+       "unless --units is given) the default is 1e-4 x the bounding-box diagonal of the data, "
+       "and a bound with a unit needs --units")
+      ("kg-error", po::value<double>(), "instead of a bound: KG error target in percent; the "
+       "grid is chosen so the achieved KG error is at or just under it")
+      ("lossless", "every stored coordinate back exactly: int16 C3D integers, float32 bits, "
+       "TRC decimals")
+      ("codec", po::value<std::string>()->default_value("none"),
+       "transform stage in front of the coder: none (temporal prediction only), or a "
+       "transform codec built in (ts, pdct)")
+      ("codec-opt", po::value<std::vector<std::string>>(), "codec option key=value (repeatable)")
+      ("clusters", po::value<int>()->default_value(0),
+       "clusters for the transform codec (0 = its default, -1 = search)")
+      ("units", po::value<std::string>(), "units of data that has none (PCD folders): mm, cm or m")
+      ("window", po::value<size_t>()->default_value(1024),
+       "frames per independently decodable window, 1..8192")
+      ("no-check", "skip decoding each window after writing it (the bound then rests on the "
+       "quantiser alone)")
+      ("force,f", "overwrite OUT if it exists")
+      ("rm", "remove IN (a file) after a successful compression")
+      ("json", "print the report as one JSON object");
+  po::options_description positionals;
+  positionals.add_options()("input", po::value<std::string>(), "IN");
+  po::positional_options_description pos;
+  pos.add("input", 1);
+  po::variables_map vm;
+  if (!parse_args(args, "capz compress IN [-o OUT] [--max-error E | --kg-error X | --lossless] [options]",
+                  "Compresses IN (a .c3d, a .trc or a folder of .pcd frames) to a .capz.\n"
+                  "Error bounds are per coordinate: every valid coordinate comes back within the\n"
+                  "bound (a point's Euclidean error is then at most sqrt(3) times it); the report\n"
+                  "gives both, with the KG error and bits per vertex per frame (bpvf). Gaps,\n"
+                  "analog channels, labels, rate, units, C3D parameters and events come back exactly.",
+                  o, positionals, pos, &vm))
+    return 0;
+  if (!vm.count("input")) throw po::error("missing IN");
+  const std::string in = vm["input"].as<std::string>();
+  const int targets = (vm.count("lossless") ? 1 : 0) + (vm.count("kg-error") ? 1 : 0) +
+                      (vm.count("max-error") ? 1 : 0);
+  if (targets > 1) throw po::error("give only one of --max-error, --kg-error, --lossless");
+  const std::string units = vm.count("units") ? vm["units"].as<std::string>() : "";
+  if (!units.empty() && capz::units_to_metres(units) == 0)
+    capz::fail(capz::ErrorCode::kInvalidParameter, "", "--units: unknown unit '" + units + "'");
+  const bool force = vm.count("force") != 0;
+  const std::string out =
+      vm.count("output") ? vm["output"].as<std::string>() : strip_slashes(in) + ".capz";
+  capz::check_output_free(out, force);
+  if (vm.count("rm") && fs::is_directory(in))
+    capz::fail(capz::ErrorCode::kUsage, in, "--rm removes files only, not PCD folders");
+
+  const double c_read = thread_cpu_seconds();
+  capz::Take take = capz::read_take(in);
+  const double t_read = thread_cpu_seconds() - c_read;
+  if (take.units.empty() && !units.empty()) take.units = units;
+
+  capz::CompressOptions opts;
+  opts.codec = vm["codec"].as<std::string>();
+  opts.clusters = vm["clusters"].as<int>();
+  opts.window_frames = vm["window"].as<size_t>();
+  opts.check = vm.count("no-check") == 0;
+  if (vm.count("codec-opt"))
+    for (const auto& kv : vm["codec-opt"].as<std::vector<std::string>>()) {
+      auto eq = kv.find('=');
+      if (eq == std::string::npos) throw po::error("--codec-opt wants key=value, got '" + kv + "'");
+      opts.codec_options[kv.substr(0, eq)] = kv.substr(eq + 1);
+    }
+  if (vm.count("lossless")) {
+    opts.lossless = true;
+  } else if (vm.count("kg-error")) {
+    opts.kg_error = vm["kg-error"].as<double>();
+    if (!(opts.kg_error > 0)) capz::fail(capz::ErrorCode::kInvalidParameter, "", "--kg-error must be > 0");
+  } else if (!vm.count("max-error") && take.units.empty()) {
+    opts.max_error = unitless_default_bound(take);
+  } else {
+    opts.max_error =
+        capz::parse_length(vm.count("max-error") ? vm["max-error"].as<std::string>() : "0.1mm", take.units);
+    if (!(opts.max_error > 0))
+      capz::fail(capz::ErrorCode::kInvalidParameter, "", "--max-error must be > 0 (or use --lossless)");
+  }
+
+  capz::CompressStats st;
+  std::vector<uint8_t> bytes;
+  const double c_enc = thread_cpu_seconds();
+  {
+    Progress progress("compress");
+    opts.progress = [&](size_t d, size_t t) { progress(d, t); };
+    bytes = capz::compress(take, opts, &st);
+  }
+  const double t_enc = thread_cpu_seconds() - c_enc;
+  const uint64_t in_bytes = path_size(in);
+  capz::AtomicFile f(out, force);
+  f.write(bytes);
+  f.commit();
+  if (vm.count("rm")) {
+    std::error_code ec;
+    fs::remove(in, ec);
+    if (ec) capz::fail(capz::ErrorCode::kIo, in, "could not remove after compressing: " + ec.message());
+  }
+
+  const double ratio = st.bytes ? static_cast<double>(in_bytes) / static_cast<double>(st.bytes) : 0;
+  const double mbps = t_enc > 0 ? static_cast<double>(st.raw_bytes) / 1e6 / t_enc : 0;
+  if (vm.count("json")) {
+    Json j;
+    j.begin_object();
+    j.member("input", in);
+    j.member("output", out);
+    j.member("input_bytes", in_bytes);
+    j.member("output_bytes", static_cast<uint64_t>(st.bytes));
+    j.member("ratio", ratio);
+    j.member("frames", static_cast<uint64_t>(take.frames));
+    j.member("points", static_cast<uint64_t>(take.points));
+    j.member("units", take.units);
+    j.member("bpvf", st.bpvf);
+    j.member("mode", st.mode);
+    j.member("lossless", st.lossless);
+    j.member("grid_step", st.step);
+    j.member("max_error_target", opts.max_error);
+    j.member("kg_error_target", opts.kg_error);
+    json_error_stats(&j, st.error);
+    j.member("position_bytes", static_cast<uint64_t>(st.position_bytes));
+    j.member("analog_bytes", static_cast<uint64_t>(st.analog_bytes));
+    j.member("other_bytes", static_cast<uint64_t>(st.other_bytes));
+    j.member("raw_float32_position_bytes", static_cast<uint64_t>(st.raw_bytes));
+    j.member("read_cpu_seconds", t_read);
+    j.member("encode_cpu_seconds", t_enc);
+    j.member("encode_checked", opts.check);
+    j.member("encode_mb_per_s", mbps);
+    j.end_object();
+    std::printf("%s\n", j.str().c_str());
+    return 0;
+  }
+  if (g_verbosity >= 1) {
+    const std::string u = take.units.empty() ? "" : " " + take.units;
+    std::string err = st.lossless ? "lossless (" + st.mode + ")"
+                                  : "max error " + num(st.error.max_abs) + u + " per coordinate (" +
+                                        num(st.error.max_error) + u + " Euclidean), KG " +
+                                        num(st.error.kg_error) + "%";
+    std::printf("%s -> %s: %s -> %s (ratio %s), %s bpvf, %s\n", in.c_str(), out.c_str(),
+                human_size(in_bytes).c_str(), human_size(st.bytes).c_str(), num(ratio).c_str(),
+                num(st.bpvf).c_str(), err.c_str());
+  }
+  if (g_verbosity >= 2) {
+    std::printf("  %zu frames x %zu points, %s coding, grid step %s%s; positions %zu B (x%s vs "
+                "raw float32), analog %zu B, other %zu B\n",
+                take.frames, take.points, st.mode.c_str(), num(st.step, 6).c_str(),
+                take.units.empty() ? "" : (" " + take.units).c_str(), st.position_bytes,
+                num(st.position_bytes ? static_cast<double>(st.raw_bytes) / st.position_bytes : 0).c_str(),
+                st.analog_bytes, st.other_bytes);
+    std::printf("  cpu: read %.3f s, encode%s %.3f s (%s MB/s of raw float32 positions)\n", t_read,
+                opts.check ? "+check" : "", t_enc, num(mbps).c_str());
+  }
+  return 0;
 }
 
 }  // namespace capz_cli

@@ -1,13 +1,103 @@
-// Placeholder until the command is implemented (see the open issues); it says so and fails.
+// capz decompress X.capz [-o OUT] [--frames FIRST:COUNT]
 #include <cstdio>
 
-#include "commands.h"
+#include "capz/codec.h"
+#include "capz/io.h"
+#include "compress_common.h"
 
 namespace capz_cli {
 
-int cmd_decompress(const Args&) {
-  std::fprintf(stderr, "capz decompress: not implemented yet\n");
-  return 7;
+namespace {
+
+bool ends_with(const std::string& s, const std::string& e) {
+  return s.size() > e.size() && s.compare(s.size() - e.size(), e.size(), e) == 0;
+}
+
+// Default output: X.capz -> X when X names the source's format (take.c3d.capz -> take.c3d,
+// frames.capz -> frames/ for a PCD folder); else the source's own name beside X.capz.
+std::string default_output(const std::string& in, const capz::Take& take) {
+  std::string stem = ends_with(in, ".capz") ? in.substr(0, in.size() - 5) : in;
+  const capz::Format f = take.format;
+  if ((f == capz::Format::kC3D && ends_with(stem, ".c3d")) ||
+      (f == capz::Format::kTRC && ends_with(stem, ".trc")))
+    return stem;
+  if (f == capz::Format::kPCDFolder && stem != in && !ends_with(stem, ".c3d") && !ends_with(stem, ".trc"))
+    return stem + "/";
+  const std::string dir = fs::path(in).parent_path().string();
+  std::string name = take.source.empty() ? fs::path(stem).filename().string() : take.source;
+  if (f == capz::Format::kC3D && !ends_with(name, ".c3d")) name += ".c3d";
+  if ((f == capz::Format::kTRC || f == capz::Format::kUnknown) && !ends_with(name, ".trc")) name += ".trc";
+  if (f == capz::Format::kPCDFolder) name += "/";
+  return dir.empty() ? name : dir + "/" + name;
+}
+
+}  // namespace
+
+int cmd_decompress(const Args& args) {
+  po::options_description o("decompress options");
+  o.add_options()
+      ("output,o", po::value<std::string>(), "output .c3d, .trc, or a folder for PCD frames")
+      ("frames", po::value<std::string>(), "decode only frames FIRST:COUNT (0-based); only the "
+       "windows they touch are read")
+      ("force,f", "overwrite OUT if it exists")
+      ("json", "print the report as one JSON object");
+  po::options_description positionals;
+  positionals.add_options()("input", po::value<std::string>(), "X.capz");
+  po::positional_options_description pos;
+  pos.add("input", 1);
+  po::variables_map vm;
+  if (!parse_args(args, "capz decompress X.capz [-o OUT] [--frames FIRST:COUNT] [-f]",
+                  "Decompresses X.capz to OUT: a .c3d, a .trc or a folder of PCD frames, chosen by\n"
+                  "OUT's name. By default the source's format and name: take.c3d.capz -> take.c3d,\n"
+                  "frames.capz -> frames/ (never overwritten without -f).",
+                  o, positionals, pos, &vm))
+    return 0;
+  if (!vm.count("input")) throw po::error("missing X.capz");
+  const std::string in = vm["input"].as<std::string>();
+  const bool force = vm.count("force") != 0;
+  std::string out = vm.count("output") ? vm["output"].as<std::string>() : "";
+  if (!out.empty()) capz::check_output_free(out, force);
+
+  std::vector<uint8_t> bytes = capz::read_file(in);
+  const double c0 = thread_cpu_seconds();
+  capz::Take take;
+  if (vm.count("frames")) {
+    const std::string fr = vm["frames"].as<std::string>();
+    unsigned long long a = 0, n = 0;
+    char extra;
+    if (std::sscanf(fr.c_str(), "%llu:%llu%c", &a, &n, &extra) != 2)
+      throw po::error("--frames wants FIRST:COUNT, got '" + fr + "'");
+    take = capz::decompress_frames(bytes.data(), bytes.size(), a, n, in);
+  } else {
+    take = capz::decompress(bytes.data(), bytes.size(), in);
+  }
+  const double t_dec = thread_cpu_seconds() - c0;
+  if (out.empty()) {
+    out = default_output(in, take);
+    capz::check_output_free(strip_slashes(out), force);
+  }
+  capz::WriteOptions wo;
+  wo.overwrite = force;
+  capz::write_take(take, out, wo);
+  const double raw = static_cast<double>(take.frames * take.points * 12);
+  const double mbps = t_dec > 0 ? raw / 1e6 / t_dec : 0;
+  if (vm.count("json")) {
+    Json j;
+    j.begin_object();
+    j.member("input", in);
+    j.member("output", out);
+    j.member("frames", static_cast<uint64_t>(take.frames));
+    j.member("points", static_cast<uint64_t>(take.points));
+    j.member("decode_cpu_seconds", t_dec);
+    j.member("decode_mb_per_s", mbps);
+    j.end_object();
+    std::printf("%s\n", j.str().c_str());
+  } else if (g_verbosity >= 1) {
+    std::printf("%s -> %s: %zu frames x %zu points\n", in.c_str(), out.c_str(), take.frames, take.points);
+    if (g_verbosity >= 2)
+      std::printf("  cpu: decode %.3f s (%s MB/s of raw float32 positions)\n", t_dec, num(mbps).c_str());
+  }
+  return 0;
 }
 
 }  // namespace capz_cli

@@ -12,6 +12,7 @@
 
 #include "capz/error.h"
 #include "capz/io.h"
+#include "compress_common.h"
 #include "cli_util.h"
 #include "commands.h"
 
@@ -26,9 +27,11 @@ bool looks_like_capz(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return false;
   std::ifstream in(path, std::ios::binary);
-  char head[4] = {};
-  in.read(head, 4);
-  if (in.gcount() == 4 && std::memcmp(head, "CAPZ", 4) == 0) return true;
+  char head[5] = {};
+  in.read(head, 5);  // the .capz magic starts 0x89 "capz" (docs/FORMAT.md)
+  if (in.gcount() == 5 && static_cast<unsigned char>(head[0]) == 0x89 &&
+      std::memcmp(head + 1, "capz", 4) == 0)
+    return true;
   std::string ext = std::filesystem::path(path).extension().string();
   return ext == ".capz" || ext == ".CAPZ";
 }
@@ -202,12 +205,7 @@ int cmd_info(const Args& args) {
   if (!vm.count("input")) throw po::error("missing FILE");
   const std::string path = vm["input"].as<std::string>();
 
-  // HOOK (.capz): the container's `capz info` support goes here, e.g.
-  //   if (looks_like_capz(path)) return info_capz(path, vm.count("json") > 0);
-  // Until then a .capz is reported as not a take.
-  if (looks_like_capz(path))
-    capz::fail(capz::ErrorCode::kNotOurFormat, path,
-               "is a .capz archive; capz info does not describe archives yet");
+  if (looks_like_capz(path)) return info_capz(path, vm.count("json") > 0);
 
   capz::Take t = capz::read_take(path);
   if (vm.count("json"))

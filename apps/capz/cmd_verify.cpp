@@ -1,13 +1,89 @@
-// Placeholder until the command is implemented (see the open issues); it says so and fails.
+// capz verify X.capz [--against ORIGINAL]
 #include <cstdio>
 
-#include "commands.h"
+#include "capz/codec.h"
+#include "capz/io.h"
+#include "capz/metrics.h"
+#include "compress_common.h"
 
 namespace capz_cli {
 
-int cmd_verify(const Args&) {
-  std::fprintf(stderr, "capz verify: not implemented yet\n");
-  return 7;
+int cmd_verify(const Args& args) {
+  po::options_description o("verify options");
+  o.add_options()
+      ("against,a", po::value<std::string>(), "the original .c3d, .trc or PCD folder")
+      ("json", "print the report as one JSON object");
+  po::options_description positionals;
+  positionals.add_options()("input", po::value<std::string>(), "X.capz");
+  po::positional_options_description pos;
+  pos.add("input", 1);
+  po::variables_map vm;
+  if (!parse_args(args, "capz verify X.capz [--against ORIGINAL] [--json]",
+                  "Decodes X.capz completely (every CRC, every window). With --against, compares\n"
+                  "the result with the original and prints the max error (per coordinate and\n"
+                  "Euclidean), RMSE, KG error and bpvf. Exit status 5 when the stream is damaged,\n"
+                  "the stored bound does not hold, or the gap masks differ.",
+                  o, positionals, pos, &vm))
+    return 0;
+  if (!vm.count("input")) throw po::error("missing X.capz");
+  const std::string in = vm["input"].as<std::string>();
+
+  std::vector<uint8_t> bytes = capz::read_file(in);
+  const double c0 = thread_cpu_seconds();
+  capz::StreamInfo si = capz::describe(bytes.data(), bytes.size(), in);
+  capz::Take b = capz::decompress(bytes.data(), bytes.size(), in);
+  const double t_dec = thread_cpu_seconds() - c0;
+  const double bp = capz::bpvf(bytes.size(), b.frames, b.points);
+  const std::string u = b.units.empty() ? "" : " " + b.units;
+  const std::string bound = si.lossless ? "lossless" : "bound " + num(si.max_error) + u;
+
+  capz::ErrorStats e;
+  bool ok = true;
+  const bool against = vm.count("against") != 0;
+  if (against) {
+    const std::string orig = vm["against"].as<std::string>();
+    capz::Take a = capz::read_take(orig);
+    if (a.frames != b.frames || a.points != b.points)
+      capz::fail(capz::ErrorCode::kCorrupt, in,
+                 "decodes to " + std::to_string(b.frames) + " frames x " + std::to_string(b.points) +
+                     " points, " + orig + " has " + std::to_string(a.frames) + " x " +
+                     std::to_string(a.points));
+    e = capz::compare(a, b);
+    ok = e.mask_mismatches == 0 && (si.lossless ? e.max_abs == 0 : e.max_abs <= si.max_error);
+  }
+  if (vm.count("json")) {
+    Json j;
+    j.begin_object();
+    j.member("input", in);
+    j.member("ok", ok);
+    j.member("frames", static_cast<uint64_t>(b.frames));
+    j.member("points", static_cast<uint64_t>(b.points));
+    j.member("bytes", static_cast<uint64_t>(bytes.size()));
+    j.member("bpvf", bp);
+    j.member("lossless", si.lossless);
+    j.member("bound", si.max_error);
+    if (against) {
+      j.member("against", vm["against"].as<std::string>());
+      json_error_stats(&j, e);
+    }
+    j.member("decode_cpu_seconds", t_dec);
+    j.end_object();
+    std::printf("%s\n", j.str().c_str());
+  } else if (g_verbosity >= 1) {
+    if (!against) {
+      std::printf("%s: ok, %zu frames x %zu points, %s bpvf, %s\n", in.c_str(), b.frames, b.points,
+                  num(bp).c_str(), bound.c_str());
+    } else {
+      std::printf("%s: max error %s%s per coordinate (%s%s Euclidean), RMSE %s%s, KG %s%%, %s bpvf, "
+                  "gaps %s; %s %s\n",
+                  in.c_str(), num(e.max_abs).c_str(), u.c_str(), num(e.max_error).c_str(), u.c_str(),
+                  num(e.rmse).c_str(), u.c_str(), num(e.kg_error).c_str(), num(bp).c_str(),
+                  e.mask_mismatches ? (std::to_string(e.mask_mismatches) + " differ").c_str() : "identical",
+                  bound.c_str(), ok ? "holds" : "DOES NOT HOLD");
+    }
+    if (g_verbosity >= 2) std::printf("  cpu: decode %.3f s\n", t_dec);
+  }
+  return ok ? 0 : 5;
 }
 
 }  // namespace capz_cli

@@ -1,12 +1,14 @@
-// capz — compression API. The container, the bound layer and the codec registry live behind it.
-// (Filled in by the container work: compress()/decompress() of a Take to .capz bytes.)
+// capz — compression API: a Take to .capz bytes and back (docs/FORMAT.md describes the bytes).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
+#include "capz/metrics.h"
 #include "capz/take.h"
 
 namespace capz {
@@ -20,5 +22,71 @@ struct PositionsView {
   const double* xyz = nullptr;
   const uint8_t* valid = nullptr;
 };
+
+struct CompressOptions {
+  // Exactly one target applies, in this order: lossless, kg_error (> 0), max_error (> 0).
+  bool lossless = false;
+  double kg_error = 0;   // KG error target in percent (metrics.h): the grid step is searched so
+                         // the achieved KG error is at or just under it
+  double max_error = 0;  // per-coordinate bound, in the take's own units
+  std::string codec;     // "" or "none": temporal prediction only; else a transform ("ts", ...)
+  int clusters = 0;      // passed to the transform codec (0 = its default)
+  std::map<std::string, std::string> codec_options;  // the CLI's --codec-opt key=value
+  size_t window_frames = 1024;  // frames per independently decodable window, 1 .. 8192
+  bool check = true;  // decode every window after writing it and verify the bound / exactness
+  // Called after each window with (frames done, frames total); may be empty.
+  std::function<void(size_t, size_t)> progress;
+};
+
+struct CompressStats {
+  size_t bytes = 0;            // size of the .capz stream
+  size_t raw_bytes = 0;        // frames x points x 3 x 4: the positions as raw float32
+  double bpvf = 0;             // 8 * bytes / (frames * points)
+  double step = 0;             // grid step used (0 for float-bit lossless coding)
+  std::string mode;            // "grid", "decimal-grid", "float32-bits", "float64-bits"
+  bool lossless = false;
+  ErrorStats error;            // achieved, over valid samples (zero when lossless)
+  size_t position_bytes = 0;   // bytes of POSW + MASK chunks
+  size_t analog_bytes = 0;     // bytes of ANLG chunks
+  size_t other_bytes = 0;      // everything else
+};
+
+// Throws Error(kInvalidParameter) for an impossible target (no target, bound too fine for the
+// coordinate range, unknown codec), Error(kInternal) if the self-check fails.
+std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts,
+                              CompressStats* stats = nullptr);
+
+// Throws Error(kNotOurFormat / kUnsupportedVersion / kCorrupt) naming `name` and the chunk.
+Take decompress(const uint8_t* data, size_t size, const std::string& name = "");
+// Frames [first, first + count) only (clipped to the take); decodes only the windows they touch.
+Take decompress_frames(const uint8_t* data, size_t size, size_t first, size_t count,
+                       const std::string& name = "");
+
+// What `capz info` prints about a .capz, read from HEAD, META and the chunk table.
+struct StreamInfo {
+  int major = 0, minor = 0;
+  Format source_format = Format::kUnknown;
+  std::string source_name;
+  size_t frames = 0, points = 0, window_frames = 0, windows = 0;
+  std::string mode;   // as CompressStats::mode
+  std::string codec;  // "none", "ts", "pdct", or "id N" when unknown
+  bool lossless = false;
+  double step = 0, max_error = 0;
+  double rate = 0;
+  std::string units;
+  int analog_channels = 0, analog_samples_per_frame = 0;
+  std::map<std::string, size_t> chunk_bytes;  // total bytes (with framing) per chunk type
+};
+StreamInfo describe(const uint8_t* data, size_t size, const std::string& name = "");
+
+// True when the bytes start with the .capz magic.
+bool is_capz(const uint8_t* data, size_t size);
+
+// A length typed by the user: "0.1mm", "2 cm", "0.001m", "0.5in" or a bare number (the take's
+// units). Converted to `take_units` ("mm", "cm", "m", ...). A number with a unit on a take
+// whose units are unknown (empty) throws Error(kInvalidParameter) unless `assume_units` says
+// what the take's units are. Throws kInvalidParameter on a malformed or negative value.
+double parse_length(const std::string& text, const std::string& take_units,
+                    const std::string& assume_units = "");
 
 }  // namespace capz

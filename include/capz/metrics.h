@@ -20,6 +20,20 @@ struct ErrorStats {
   size_t mask_mismatches = 0;  // samples whose validity differs between the two takes
 };
 
+// Accumulates the measures over blocks of frames (e.g. one window at a time), so a long take
+// is measured without a second full copy. a: original, b: reconstruction, both
+// frames x points x 3; valid: frames x points (a's mask). Blocks are whole frames.
+class ErrorAccumulator {
+ public:
+  void add(size_t frames, size_t points, const double* a, const double* b, const uint8_t* valid);
+  ErrorStats finish() const;
+
+ private:
+  ErrorStats s_;
+  double sq_ = 0, centred_sq_ = 0;
+  double lo_[3] = {1e308, 1e308, 1e308}, hi_[3] = {-1e308, -1e308, -1e308};
+};
+
 // `a` is the original, `b` the reconstruction; both frames x points x 3 with a's mask.
 // Throws kInvalidParameter when the shapes differ.
 ErrorStats compare(const Take& a, const Take& b);

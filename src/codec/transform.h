@@ -16,6 +16,10 @@ namespace capz {
 
 struct TransformParams {
   double max_error = 0;  // per-coordinate bound in the take's units; 0 = none given
+  // The bound layer's grid step (quantiser.h: q = round-half-away(x / grid)) when it is known;
+  // 0 = not given (a codec may then assume grid_step_for_bound(max_error)). A transform whose
+  // reconstruction lies on this grid leaves the bound layer nothing to code.
+  double grid_step = 0;
   double kg_error = 0;   // KG error target in percent (see metrics.h); 0 = none given
   int clusters = 0;      // 0 = the codec's default, -1 = auto (search)
   // Codec-specific knobs from the CLI's repeated `--codec-opt key=value`; codecs document

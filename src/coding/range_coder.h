@@ -219,8 +219,9 @@ class SymbolModel {
     const __m128i vv = _mm_set1_epi16(static_cast<int16_t>(v));
     __m128i a = _mm_add_epi16(_mm_load_si128(reinterpret_cast<const __m128i*>(c_)), idx0);
     __m128i b = _mm_add_epi16(_mm_load_si128(reinterpret_cast<const __m128i*>(c_ + 8)), idx1);
+    // cum is non-decreasing, so the lanes with cum > v form a suffix: s = its start - 1.
     int gt = _mm_movemask_epi8(_mm_packs_epi16(_mm_cmpgt_epi16(a, vv), _mm_cmpgt_epi16(b, vv)));
-    return 15 - __builtin_popcount(static_cast<unsigned>(gt));
+    return gt ? __builtin_ctz(static_cast<unsigned>(gt)) - 1 : 15;
   }
   void update(int s) {
     const __m128i r = _mm_cvtsi32_si128(rate());

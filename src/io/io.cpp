@@ -1,7 +1,7 @@
 // Format detection and dispatch to the per-format readers and writers.
 //
 // Input: a directory is a PCD folder; a file is recognised by its first bytes (C3D: byte 2 is
-// 0x50, the parameter-section key; TRC: "PathFileType"; .capz: "CAPZ") and, when the bytes say
+// 0x50, the parameter-section key; TRC: "PathFileType"; .capz: 0x89 "capz", see docs/FORMAT.md) and, when the bytes say
 // nothing (empty or damaged files), by its extension, so that the format's own reader can name
 // the fault. A .capz archive is not a take: read_take refuses it (kNotOurFormat) and points to
 // `capz decompress`.
@@ -51,7 +51,7 @@ Format sniff(const std::string& path, bool* is_capz) {
   in.read(head, sizeof head);
   const size_t n = static_cast<size_t>(in.gcount());
   const std::string ext = lower_extension(path);
-  if (n >= 4 && std::memcmp(head, "CAPZ", 4) == 0) {
+  if (n >= 5 && static_cast<unsigned char>(head[0]) == 0x89 && std::memcmp(head + 1, "capz", 4) == 0) {
     *is_capz = true;
     return Format::kUnknown;
   }

@@ -8,13 +8,8 @@
 
 namespace capz {
 
-ErrorStats compare(size_t frames, size_t points, const double* a, const double* b,
-                   const uint8_t* valid) {
-  ErrorStats s;
-  double sq = 0, centred_sq = 0;
-  double lo[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-                  std::numeric_limits<double>::infinity()};
-  double hi[3] = {-lo[0], -lo[1], -lo[2]};
+void ErrorAccumulator::add(size_t frames, size_t points, const double* a, const double* b,
+                           const uint8_t* valid) {
   for (size_t f = 0; f < frames; ++f) {
     double c[3] = {0, 0, 0};
     size_t n = 0;
@@ -34,24 +29,35 @@ ErrorStats compare(size_t frames, size_t points, const double* a, const double* 
       for (int k = 0; k < 3; ++k) {
         double d = x[k] - y[k];
         d2 += d * d;
-        s.max_abs = std::max(s.max_abs, std::fabs(d));
+        s_.max_abs = std::max(s_.max_abs, std::fabs(d));
         double e = x[k] - c[k];
-        centred_sq += e * e;
-        lo[k] = std::min(lo[k], x[k]);
-        hi[k] = std::max(hi[k], x[k]);
+        centred_sq_ += e * e;
+        lo_[k] = std::min(lo_[k], x[k]);
+        hi_[k] = std::max(hi_[k], x[k]);
       }
-      s.max_error = std::max(s.max_error, std::sqrt(d2));
-      sq += d2;
-      ++s.samples;
+      s_.max_error = std::max(s_.max_error, std::sqrt(d2));
+      sq_ += d2;
+      ++s_.samples;
     }
   }
+}
+
+ErrorStats ErrorAccumulator::finish() const {
+  ErrorStats s = s_;
   if (s.samples == 0) return s;
-  s.rmse = std::sqrt(sq / static_cast<double>(s.samples));
-  s.kg_error = centred_sq > 0 ? 100.0 * std::sqrt(sq / centred_sq) : (sq > 0 ? INFINITY : 0.0);
-  double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                          (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  s.rmse = std::sqrt(sq_ / static_cast<double>(s.samples));
+  s.kg_error = centred_sq_ > 0 ? 100.0 * std::sqrt(sq_ / centred_sq_) : (sq_ > 0 ? INFINITY : 0.0);
+  double diag = std::sqrt((hi_[0] - lo_[0]) * (hi_[0] - lo_[0]) + (hi_[1] - lo_[1]) * (hi_[1] - lo_[1]) +
+                          (hi_[2] - lo_[2]) * (hi_[2] - lo_[2]));
   s.psnr = s.rmse > 0 ? 20.0 * std::log10(diag / s.rmse) : INFINITY;
   return s;
+}
+
+ErrorStats compare(size_t frames, size_t points, const double* a, const double* b,
+                   const uint8_t* valid) {
+  ErrorAccumulator acc;
+  acc.add(frames, points, a, b, valid);
+  return acc.finish();
 }
 
 ErrorStats compare(const Take& a, const Take& b) {

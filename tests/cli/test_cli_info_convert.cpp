@@ -219,6 +219,19 @@ TEST(CliInfo, JsonIsOneValidObjectWithTheFields) {
   EXPECT_TRUE(contains(p.out, "\"points\":8431")) << p.out;
 }
 
+TEST(CliInfo, JsonEscapesQuotesBackslashesAndLatin1Labels) {
+  capz_test::TempDir d("capz_cli_json");
+  std::ofstream(d.file("l.trc"), std::ios::binary)
+      << "PathFileType\t4\t(X/Y/Z)\tl.trc\nDataRate\tNumFrames\tNumMarkers\tUnits\n100\t1\t3\tmm\n"
+         "Frame#\tTime\tsay \"hi\"\t\t\tback\\slash\t\t\tcaf\xe9\t\t\tna\xc3\xafve\n\t\tX1\n"
+         "1\t0\t1\t2\t3\t4\t5\t6\t7\t8\t9\t1\t2\t3\n";
+  CliRun r = run_capz("info --json " + quote(d.file("l.trc")));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(JsonCheck(r.out).ok()) << r.out;
+  EXPECT_TRUE(contains(r.out, "\"labels\":[\"say \\\"hi\\\"\",\"back\\\\slash\",\"caf\\u00e9\",\"na\xc3\xafve\"]"))
+      << r.out;
+}
+
 TEST(CliInfo, BadInputsGiveOneLineErrorsAndTheirExitStatus) {
   CliRun e = run_capz("info " + quote(kData + "/c3d/btkdata/TRCSamples/Truncated.trc"));
   EXPECT_EQ(e.status, 5);

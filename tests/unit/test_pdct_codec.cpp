@@ -55,19 +55,51 @@ TEST(PdctCodec, GivenNoTargetWhenEncodedThenPaperBitsGiveSmallError) {
   EXPECT_GT(rep.frame_points, 0u);
 }
 
-TEST(PdctCodec, GivenMaxErrorWhenEncodedThenErrorsNearTheBoundAndSmallerOnTheSeedGrid) {
+TEST(PdctCodec, GivenMaxErrorInDctModeWhenEncodedThenStepsFollowTheBound) {
   const auto t = capz_test::rigid_bodies(2, 40, 60, 3, 0.2);
   TransformParams p;
   p.max_error = 0.5;
+  p.options["mode"] = "dct";
   std::vector<uint8_t> bytes;
   std::vector<double> rec;
   capz::PdctReport rep;
   capz::encode_pdct(t.view(), p, &bytes, &rec, &rep);
+  EXPECT_FALSE(rep.grid_mode);
   EXPECT_DOUBLE_EQ(rep.seed_step, 0.5);  // seed_factor 0.5 of the bound's grid 2 * 0.5
   const auto s = capz::compare(t.frames, t.points, t.xyz.data(), rec.data(), t.valid.data());
-  // The transform alone does not guarantee the bound (the container's bound layer does), but
+  // The DCT path alone does not guarantee the bound (the container's bound layer does), but
   // with steps at the bound's grid the RMS error stays well inside it.
   EXPECT_LT(s.rmse, 0.5);
+}
+
+TEST(PdctCodec, GivenMaxErrorWhenEncodedThenGridModeReconstructsTheBoundLayersGridExactly) {
+  auto t = capz_test::rigid_bodies(3, 20, 50, 12, 0.3);
+  for (size_t f = 5; f < 20; ++f) t.valid[f * t.points + 4] = 0;  // a gap (values left as they are)
+  for (double grid_step : {0.0, 0.37}) {
+    TransformParams p;
+    p.max_error = 0.25;
+    p.grid_step = grid_step;
+    std::vector<uint8_t> bytes;
+    std::vector<double> enc, dec;
+    capz::PdctReport rep;
+    capz::encode_pdct(t.view(), p, &bytes, &enc, &rep);
+    EXPECT_TRUE(rep.grid_mode);
+    PdctCodec().decode(bytes.data(), bytes.size(), t.frames, t.points, &dec);
+    expect_bit_identical(enc, dec);
+    const double g = grid_step > 0 ? grid_step : 2 * 0.25 * (1 - 0x1p-30);
+    size_t checked = 0;
+    for (size_t s = 0; s < t.frames * t.points; ++s) {
+      if (!t.valid[s]) continue;
+      for (int a = 0; a < 3; ++a) {
+        // Exactly the bound layer's quantisation: round half away from zero, times the step.
+        ASSERT_EQ(dec[3 * s + a], static_cast<double>(std::llround(t.xyz[3 * s + a] / g)) * g) << s;
+        ++checked;
+      }
+    }
+    EXPECT_EQ(checked, (t.frames * t.points - 15) * 3);
+    size_t local = rep.predictors[1] + rep.predictors[2] + rep.predictors[3];
+    EXPECT_GT(local, 0u);  // rigid bodies: local-frame predictors win for some points
+  }
 }
 
 TEST(PdctCodec, GivenKgTargetWhenEncodedThenTargetMetAndCoarserIsSmaller) {
@@ -131,7 +163,8 @@ TEST(PdctCodec, GivenBadOptionsWhenEncodingThenInvalidParameter) {
   std::vector<uint8_t> bytes;
   std::vector<double> rec;
   for (auto kv : std::vector<std::pair<std::string, std::string>>{
-           {"nonsense", "1"}, {"zero_share", "1.5"}, {"coef_bits", "x"}, {"local_order", "3"}}) {
+           {"nonsense", "1"}, {"zero_share", "1.5"}, {"coef_bits", "x"}, {"local_order", "3"},
+           {"mode", "grid"} /* grid needs a max error */, {"mode", "fast"}}) {
     TransformParams p;
     p.options[kv.first] = kv.second;
     try {

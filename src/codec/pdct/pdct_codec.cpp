@@ -221,6 +221,73 @@ class DecoderHooks : public pdct::LoopHooks {
 };
 
 // ---------------------------------------------------------------------------------------------
+// Grid mode (predict.h): hooks and encoder.
+
+constexpr int kGridContexts = pdct::kPointPredictors * 9;  // kind x axis x class of the previous axis
+
+int token_class(int tok) { return tok == 0 ? 0 : tok < 3 ? 1 : 2; }
+int grid_context(int kind, int a, int prev_tok) { return kind * 9 + a * 3 + (a == 0 ? 0 : token_class(prev_tok)); }
+
+// Rough cost in bits of a residual, for choosing predictors (not the coder's exact cost).
+double residual_bits(int64_t r) { return r == 0 ? 0.3 : 2.0 + 2.0 * std::log2(1.0 + std::fabs(static_cast<double>(r))); }
+
+class GridEncoderHooks : public pdct::GridHooks {
+ public:
+  GridEncoderHooks(const PositionsView& in, const Layout& L, double grid, bool code)
+      : in_(in), L_(L), g_(grid), code_(code), cost(in.points, 0.0) {}
+
+  int64_t seed_residual(size_t f, size_t k, int a, int64_t prediction) override {
+    const double v = in_.xyz[3 * (f * in_.points + L_.frame_points[k]) + a];
+    const int32_t r = to_i32(quantise_checked(v, g_, "frame-point coordinate") - prediction);
+    if (code_) seed.put_signed(r, a);
+    return r;
+  }
+  int64_t point_residual(size_t f, uint32_t i, int a, int kind, int64_t prediction) override {
+    const size_t s = f * in_.points + i;
+    int32_t r = 0;
+    if (in_.valid[s] || f == 0)  // frame 0 codes filled values too: later frames predict from them
+      r = to_i32(quantise_checked(in_.xyz[3 * s + a], g_, "coordinate") - prediction);
+    if (f >= 1 && in_.valid[s]) cost[i] += residual_bits(r);
+    if (!code_) return r;
+    if (f == 0) {
+      first.put_signed(r, a);
+    } else {
+      prev_tok_ = resid.put_signed(r, grid_context(kind, a, a == 0 ? 0 : prev_tok_));
+    }
+    return r;
+  }
+
+  IntEncoder seed{kSeedContexts}, first{kFirstContexts}, resid{kGridContexts};
+
+ private:
+  const PositionsView& in_;
+  const Layout& L_;
+  double g_;
+  bool code_;
+  int prev_tok_ = 0;
+
+ public:
+  std::vector<double> cost;  // per point: estimated bits of its residuals (f >= 1, measured samples)
+};
+
+class GridDecoderHooks : public pdct::GridHooks {
+ public:
+  GridDecoderHooks(IntDecoder* seed, IntDecoder* first, IntDecoder* resid) : seed_(seed), first_(first), resid_(resid) {}
+  int64_t seed_residual(size_t, size_t, int a, int64_t) override { return seed_->get_signed(a); }
+  int64_t point_residual(size_t f, uint32_t, int a, int kind, int64_t) override {
+    if (f == 0) return first_->get_signed(a);
+    int tok = 0;
+    const int32_t r = resid_->get_signed(grid_context(kind, a, a == 0 ? 0 : prev_tok_), &tok);
+    prev_tok_ = tok;
+    return r;
+  }
+
+ private:
+  IntDecoder *seed_, *first_, *resid_;
+  int prev_tok_ = 0;
+};
+
+// ---------------------------------------------------------------------------------------------
 // Serialisation
 
 void put_block(ByteWriter* w, const std::vector<uint8_t>& block) {
@@ -228,11 +295,12 @@ void put_block(ByteWriter* w, const std::vector<uint8_t>& block) {
   w->bytes(block);
 }
 
-void write_payload(const Layout& L, const Steps& S, EncoderHooks& h, std::vector<uint8_t>* out,
-                   PdctReport* rep) {
+// Header and layout (docs/CODEC-PDCT.md), then the given blocks (each varint length + bytes).
+void write_payload(const Layout& L, const Steps& S, bool grid, const std::vector<uint8_t>* kinds,
+                   const std::vector<std::vector<uint8_t>>& blocks, std::vector<uint8_t>* out, PdctReport* rep) {
   ByteWriter w;
   w.u8(kVersion);
-  w.u8(static_cast<uint8_t>((S.seed_order == 2 ? 1 : 0) | (S.local_order == 2 ? 2 : 0)));
+  w.u8(static_cast<uint8_t>((S.seed_order == 2 ? 1 : 0) | (S.local_order == 2 ? 2 : 0) | (grid ? 4 : 0)));
   w.f64(S.seed);
   w.f64(S.first);
   w.f64(S.coef);
@@ -246,27 +314,32 @@ void write_payload(const Layout& L, const Steps& S, EncoderHooks& h, std::vector
   w.varint(L.triangles.size());
   for (const auto& t : L.triangles)
     for (uint32_t v : t) w.varint(v);
-  // Cluster of every non-frame point, in ascending point order.
+  // Cluster (and in grid mode predictor kind) of every non-frame point, in ascending point order.
   std::vector<uint32_t> cl(L.points, 0);
   for (size_t c = 0; c < L.members.size(); ++c)
     for (uint32_t p : L.members[c]) cl[p] = static_cast<uint32_t>(c);
   std::vector<uint8_t> is_fp(L.points, 0);
   for (uint32_t p : L.frame_points) is_fp[p] = 1;
-  std::vector<uint32_t> ids;
+  std::vector<uint32_t> ids, ks;
   for (size_t i = 0; i < L.points; ++i)
-    if (!is_fp[i]) ids.push_back(cl[i]);
+    if (!is_fp[i]) {
+      ids.push_back(cl[i]);
+      if (kinds) ks.push_back((*kinds)[i]);
+    }
   put_block(&w, encode_uints(ids));
+  if (grid) put_block(&w, encode_uints(ks));
   const size_t layout_bytes = w.size();
-  put_block(&w, h.seed.finish());
-  const size_t a = w.size();
-  put_block(&w, h.first.finish());
-  const size_t b = w.size();
-  put_block(&w, h.coef.finish());
+  std::vector<size_t> sizes;
+  for (const auto& b : blocks) {
+    const size_t before = w.size();
+    put_block(&w, b);
+    sizes.push_back(w.size() - before);
+  }
   if (rep) {
     rep->layout_bytes = layout_bytes;
-    rep->seed_bytes = a - layout_bytes;
-    rep->first_bytes = b - a;
-    rep->coef_bytes = w.size() - b;
+    rep->seed_bytes = sizes.size() > 0 ? sizes[0] : 0;
+    rep->first_bytes = sizes.size() > 1 ? sizes[1] : 0;
+    rep->coef_bytes = sizes.size() > 2 ? sizes[2] : 0;
     rep->payload_bytes = w.size();
   }
   out->insert(out->end(), w.buffer().begin(), w.buffer().end());
@@ -285,12 +358,45 @@ Trial run_encode(const PositionsView& in, const Layout& L, const Steps& S, doubl
   Trial t;
   EncoderHooks h(in, L, S, zero_share);
   pdct::run_closed_loop(L, S, &h, &t.recon);
-  write_payload(L, S, h, &t.bytes, &t.report);
+  write_payload(L, S, false, nullptr, {h.seed.finish(), h.first.finish(), h.coef.finish()}, &t.bytes, &t.report);
   t.report.clusters = L.triangles.size();
   t.report.frame_points = L.frame_points.size();
   t.report.seed_step = S.seed;
   t.report.first_step = S.first;
   t.report.coef_step = S.coef;
+  return t;
+}
+
+// Grid mode: each point's predictor is the kind with the lowest estimated residual cost over the
+// window (one trial pass per kind; frame 0 and gaps do not count), then the coding pass.
+Trial run_grid_encode(const PositionsView& in, const Layout& L, double grid) {
+  std::vector<std::vector<double>> costs;
+  for (int k = 0; k < pdct::kPointPredictors; ++k) {
+    std::vector<uint8_t> kinds(in.points, static_cast<uint8_t>(k));
+    GridEncoderHooks h(in, L, grid, false);
+    std::vector<double> rec;
+    pdct::run_grid_loop(L, grid, 2, kinds, &h, &rec);
+    costs.push_back(h.cost);
+  }
+  std::vector<uint8_t> kinds(in.points, pdct::kLocal1);
+  for (size_t i = 0; i < in.points; ++i)
+    for (int k = 0; k < pdct::kPointPredictors; ++k)
+      if (costs[static_cast<size_t>(k)][i] < costs[kinds[i]][i]) kinds[i] = static_cast<uint8_t>(k);
+  Trial t;
+  GridEncoderHooks h(in, L, grid, true);
+  pdct::run_grid_loop(L, grid, 2, kinds, &h, &t.recon);
+  Steps S;
+  S.seed = S.first = S.coef = grid;
+  S.seed_order = 2;
+  write_payload(L, S, true, &kinds, {h.seed.finish(), h.first.finish(), h.resid.finish()}, &t.bytes, &t.report);
+  t.report.clusters = L.triangles.size();
+  t.report.frame_points = L.frame_points.size();
+  t.report.seed_step = t.report.first_step = t.report.coef_step = grid;
+  t.report.grid_mode = true;
+  std::vector<uint8_t> is_fp(in.points, 0);
+  for (uint32_t p : L.frame_points) is_fp[p] = 1;
+  for (size_t i = 0; i < in.points; ++i)
+    if (!is_fp[i]) ++t.report.predictors[kinds[i]];
   return t;
 }
 
@@ -368,7 +474,11 @@ PdctOptions parse_pdct_options(const TransformParams& params) {
   for (const auto& kv : params.options) {
     const std::string& k = kv.first;
     const std::string& v = kv.second;
-    if (k == "zero_share") o.zero_share = parse_double(k, v, 0, 0.999);
+    if (k == "mode") {
+      if (v != "auto" && v != "grid" && v != "dct")
+        throw Error(ErrorCode::kInvalidParameter, "pdct option mode=" + v + ": expected auto, grid or dct");
+      o.mode = v;
+    } else if (k == "zero_share") o.zero_share = parse_double(k, v, 0, 0.999);
     else if (k == "coef_bits") o.coef_bits = parse_int(k, v, 2, 24);
     else if (k == "first_bits") o.first_bits = parse_int(k, v, 2, 24);
     else if (k == "seed_bits") o.seed_bits = parse_int(k, v, 2, 30);
@@ -383,7 +493,7 @@ PdctOptions parse_pdct_options(const TransformParams& params) {
     else if (k == "min_edge") o.min_edge = parse_double(k, v, 0, 0.5);
     else
       throw Error(ErrorCode::kInvalidParameter,
-                  "pdct: unknown option '" + k + "' (known: zero_share coef_bits first_bits seed_bits "
+                  "pdct: unknown option '" + k + "' (known: mode zero_share coef_bits first_bits seed_bits "
                   "coef_factor first_factor seed_factor seed_order local_order dct_block knn "
                   "min_angle_deg min_edge)");
   }
@@ -436,6 +546,26 @@ void encode_pdct(const PositionsView& in, const TransformParams& params, std::ve
     const double M = open_loop_max_coefficient(in, L);
     return std::max(M > 0 ? std::ldexp(2 * M, -o.coef_bits) : S.first, min_step);
   };
+
+  const bool grid_mode = o.mode == "grid" || (o.mode == "auto" && bounded);
+  if (grid_mode && !bounded)
+    throw Error(ErrorCode::kInvalidParameter, "pdct: mode=grid needs a max error (the bound layer's grid)");
+  if (grid_mode) {
+    const double grid = params.grid_step > 0 ? params.grid_step : 2.0 * params.max_error * (1.0 - 0x1p-30);
+    if (!(grid >= min_step) || !std::isfinite(grid))
+      throw Error(ErrorCode::kInvalidParameter, "pdct: grid step " + std::to_string(grid) + " too fine for this take");
+    Trial best;
+    bool have = false;
+    for (size_t n : counts) {
+      Trial t = run_grid_encode(in, build_layout(in, n, o), grid);
+      if (!have || t.bytes.size() < best.bytes.size()) best = std::move(t);
+      have = true;
+    }
+    out->insert(out->end(), best.bytes.begin(), best.bytes.end());
+    *recon = std::move(best.recon);
+    if (report) *report = best.report;
+    return;
+  }
 
   Layout best_layout;
   Trial best;
@@ -523,7 +653,8 @@ void PdctCodec::decode(const uint8_t* data, size_t size, size_t frames, size_t p
     throw Error(ErrorCode::kUnsupportedVersion, std::string(kWhat) + ": version " + std::to_string(version) +
                                                     " (this build reads " + std::to_string(kVersion) + ")");
   const uint8_t flags = r.u8();
-  if (flags & ~3u) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": unknown flags");
+  if (flags & ~7u) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": unknown flags");
+  const bool grid = (flags & 4) != 0;
   Steps S;
   S.seed_order = (flags & 1) ? 2 : 1;
   S.local_order = (flags & 2) ? 2 : 1;
@@ -562,14 +693,26 @@ void PdctCodec::decode(const uint8_t* data, size_t size, size_t frames, size_t p
   std::vector<uint8_t> is_fp(points, 0);
   for (uint32_t p : L.frame_points) is_fp[p] = 1;
   const size_t rest = points - static_cast<size_t>(K);
+  std::vector<uint8_t> kinds(points, pdct::kLocal1);
   {
     const size_t len = static_cast<size_t>(r.count(1, "cluster id block length"));
     const uint8_t* blk = r.bytes(len);
     const auto ids = decode_uints(blk, len, rest, std::string(kWhat) + " cluster ids");
+    std::vector<uint32_t> ks;
+    if (grid) {
+      const size_t klen = static_cast<size_t>(r.count(1, "predictor block length"));
+      const uint8_t* kblk = r.bytes(klen);
+      ks = decode_uints(kblk, klen, rest, std::string(kWhat) + " predictors");
+    }
     size_t j = 0;
     for (size_t i = 0; i < points; ++i) {
       if (is_fp[i]) continue;
       if (ids[j] >= C) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": cluster id out of range");
+      if (grid) {
+        if (ks[j] >= static_cast<uint32_t>(pdct::kPointPredictors))
+          throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": unknown predictor");
+        kinds[i] = static_cast<uint8_t>(ks[j]);
+      }
       L.members[ids[j++]].push_back(static_cast<uint32_t>(i));
     }
   }
@@ -581,10 +724,15 @@ void PdctCodec::decode(const uint8_t* data, size_t size, size_t frames, size_t p
   };
   auto seed = block("frame-point block", kSeedContexts);
   auto first = block("frame-0 block", kFirstContexts);
-  auto coef = block("coefficient block", kCoefContexts);
+  auto coef = grid ? block("residual block", kGridContexts) : block("coefficient block", kCoefContexts);
   if (!r.at_end()) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": trailing bytes");
-  DecoderHooks h(seed.get(), first.get(), coef.get());
-  pdct::run_closed_loop(L, S, &h, recon);
+  if (grid) {
+    GridDecoderHooks h(seed.get(), first.get(), coef.get());
+    pdct::run_grid_loop(L, S.seed, S.seed_order, kinds, &h, recon);
+  } else {
+    DecoderHooks h(seed.get(), first.get(), coef.get());
+    pdct::run_closed_loop(L, S, &h, recon);
+  }
   if (!seed->at_end() || !first->at_end() || !coef->at_end())
     throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": an entropy-coded block has bytes left over");
 }

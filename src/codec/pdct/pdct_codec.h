@@ -16,6 +16,9 @@ namespace capz {
 
 // The codec's options (TransformParams::options keys in parentheses), resolved.
 struct PdctOptions {
+  // (mode) "grid": predictive coding on the bound layer's grid (needs a max error; exact on the
+  // grid, no DCT); "dct": the paper's DCT path; "auto" (default): grid with a max error, else dct.
+  std::string mode = "auto";
   double zero_share = 0;  // (zero_share) share of each block's DCT coefficients set to zero, [0, 1)
   int coef_bits = 12;     // (coef_bits) without --max-error: coefficient step = 2 M / 2^coef_bits,
                           // M = largest |coefficient| of an open-loop pass (the paper: 8-12)
@@ -59,6 +62,8 @@ struct PdctReport {
   size_t payload_bytes = 0;
   size_t layout_bytes = 0;   // header + layout
   size_t seed_bytes = 0, first_bytes = 0, coef_bytes = 0;  // the three integer streams
+  bool grid_mode = false;
+  size_t predictors[4] = {0, 0, 0, 0};  // grid mode: points per PointPredictor kind
 };
 
 // encode() with its decisions reported.

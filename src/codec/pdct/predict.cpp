@@ -140,5 +140,77 @@ void run_closed_loop(const Layout& L, const Steps& S, LoopHooks* hooks, std::vec
   }
 }
 
+void run_grid_loop(const Layout& L, double g, int seed_order, const std::vector<uint8_t>& kind,
+                   GridHooks* hooks, std::vector<double>* recon) {
+  const size_t F = L.frames, P = L.points, K = L.frame_points.size(), C = L.triangles.size();
+  recon->assign(F * P * 3, 0.0);
+  if (F == 0 || P == 0) return;
+  // Decoded grid integers of the last three frames (current, f-1, f-2), all points.
+  std::vector<int64_t> I0(P * 3, 0), I1(P * 3, 0), I2(P * 3, 0);
+  std::vector<Lcf> fr0(C), fr1(C), fr2(C);  // cluster frames at f, f-1, f-2
+  std::vector<double> fp(K * 3);
+  for (size_t f = 0; f < F; ++f) {
+    for (size_t k = 0; k < K; ++k)
+      for (int a = 0; a < 3; ++a) {
+        const size_t j = 3 * static_cast<size_t>(L.frame_points[k]) + a;
+        int64_t p;
+        if (f == 0)
+          p = k == 0 ? 0 : I0[3 * static_cast<size_t>(L.frame_points[k - 1]) + a];
+        else if (seed_order == 2 && f >= 2)
+          p = wrap_add(wrap_add(I1[j], I1[j]), -I2[j]);
+        else
+          p = I1[j];
+        I0[j] = wrap_add(p, hooks->seed_residual(f, k, a, p));
+        fp[3 * k + a] = on_grid(I0[j], g);
+      }
+    for (size_t c = 0; c < C; ++c) {
+      const auto& t = L.triangles[c];
+      fr0[c] = (t[0] == t[1] && t[1] == t[2]) ? identity_lcf()
+                                               : make_lcf(&fp[3 * t[0]], &fp[3 * t[1]], &fp[3 * t[2]]);
+      int64_t prev[3] = {0, 0, 0};
+      for (uint32_t i : L.members[c]) {
+        int64_t pred[3];
+        const size_t j = 3 * static_cast<size_t>(i);
+        if (f == 0) {
+          for (int a = 0; a < 3; ++a) pred[a] = prev[a];
+        } else if (kind[i] == kWorldLinear) {
+          for (int a = 0; a < 3; ++a) pred[a] = f >= 2 ? wrap_add(wrap_add(I1[j + a], I1[j + a]), -I2[j + a]) : I1[j + a];
+        } else {
+          double w1[3], q1[3], q[3], x[3];
+          for (int a = 0; a < 3; ++a) w1[a] = on_grid(I1[j + a], g);
+          to_local(fr1[c], w1, q1);
+          if (kind[i] == kClusterAccel && f >= 2) {
+            for (int a = 0; a < 3; ++a)
+              pred[a] = grid_index((on_grid(wrap_add(wrap_add(I1[j + a], I1[j + a]), -I2[j + a]), g) +
+                                    (fr0[c].o[a] - 2.0 * fr1[c].o[a] + fr2[c].o[a])) / g);
+            goto have_pred;
+          }
+          if (kind[i] == kLocal2 && f >= 2) {
+            double w2[3], q2[3];
+            for (int a = 0; a < 3; ++a) w2[a] = on_grid(I2[j + a], g);
+            to_local(fr2[c], w2, q2);
+            for (int a = 0; a < 3; ++a) q[a] = 2.0 * q1[a] - q2[a];
+          } else {
+            for (int a = 0; a < 3; ++a) q[a] = q1[a];
+          }
+          to_world(fr0[c], q, x);
+          for (int a = 0; a < 3; ++a) pred[a] = grid_index(x[a] / g);
+        }
+      have_pred:
+        for (int a = 0; a < 3; ++a) {
+          I0[j + a] = wrap_add(pred[a], hooks->point_residual(f, i, a, kind[i], pred[a]));
+          prev[a] = I0[j + a];
+        }
+      }
+    }
+    double* out = recon->data() + f * P * 3;
+    for (size_t j = 0; j < P * 3; ++j) out[j] = on_grid(I0[j], g);
+    I2.swap(I1);
+    I1 = I0;
+    fr2.swap(fr1);
+    fr1 = fr0;
+  }
+}
+
 }  // namespace pdct
 }  // namespace capz

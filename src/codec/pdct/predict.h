@@ -24,6 +24,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <memory>
 #include <cstddef>
 #include <cstdint>
@@ -95,6 +96,49 @@ class LoopHooks {
 // Runs the window; recon: frames x points x 3, resized and filled with the decoded positions.
 void run_closed_loop(const Layout& layout, const Steps& steps, LoopHooks* hooks,
                      std::vector<double>* recon);
+
+// ---------------------------------------------------------------------------------------------
+// Grid mode (used with a max error): every point lives on the bound layer's world grid g, so
+// the reconstruction of every measured sample is exactly the bound layer's quantisation
+// round(p / g) * g and the bound layer has nothing left to code. The DCT is not used (it cannot
+// be exact on the grid); prediction is the paper's, in the clusters' local frames, built on the
+// decoded (grid) positions of the frame points:
+//  * frame points: as in the DCT mode with seed_step = g and seed_order 2;
+//  * frame 0, members of each cluster in ascending order: I = round(p / g) per axis, stored
+//    I - (previous member's I, 0 for the first);
+//  * frame f >= 1, point i of cluster c with predictor kind:
+//      kWorldLinear: 2 I(f-1) - I(f-2) (I(f-1) at f = 1), in integers;
+//      kLocal1:      the paper's: x = to_world(F(f), to_local(F(f-1), I(f-1) g));
+//      kLocal2:      x = to_world(F(f), 2 to_local(F(f-1), I(f-1) g) - to_local(F(f-2), I(f-2) g))
+//                    (kLocal1 at f = 1);
+//      kClusterAccel: x = (2 I(f-1) - I(f-2)) g + (o(f) - 2 o(f-1) + o(f-2)), o = the frame's origin:
+//                    linear extrapolation plus the cluster's acceleration (kLocal1 at f = 1);
+//    F(f) = the cluster's frame in frame f; prediction = grid_index(x / g) per axis; stored:
+//    I - prediction. The encoder stores 0 for a gap sample, so a gap is predicted through its
+//    cluster's frame.
+enum PointPredictor : uint8_t { kWorldLinear = 0, kLocal1 = 1, kLocal2 = 2, kClusterAccel = 3 };
+constexpr int kPointPredictors = 4;
+
+class GridHooks {
+ public:
+  virtual ~GridHooks() = default;
+  virtual int64_t seed_residual(size_t f, size_t k, int a, int64_t prediction) = 0;
+  // Frame 0 (prediction = previous member) and f >= 1 (prediction per the point's kind).
+  virtual int64_t point_residual(size_t f, uint32_t point, int a, int kind, int64_t prediction) = 0;
+};
+
+// predictor: one kind per point (frame points' entries are ignored). recon: frames x points x 3.
+void run_grid_loop(const Layout& layout, double grid, int seed_order, const std::vector<uint8_t>& predictor,
+                   GridHooks* hooks, std::vector<double>* recon);
+
+// round-half-away-from-zero(x) clamped to +-2^40 (NaN -> 0): predictions from corrupt streams
+// stay defined.
+inline int64_t grid_index(double x) {
+  if (!(x == x)) return 0;
+  if (x > 1099511627776.0) return 1099511627776;
+  if (x < -1099511627776.0) return -1099511627776;
+  return static_cast<int64_t>(x < 0 ? -std::floor(-x + 0.5) : std::floor(x + 0.5));
+}
 
 // The decoded value of an integer on a grid (shared rounding-free dequantiser).
 inline double on_grid(int64_t v, double step) { return static_cast<double>(v) * step; }

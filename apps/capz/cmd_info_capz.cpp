@@ -1,0 +1,68 @@
+// `capz info X.capz`: the stream header, metadata and chunk sizes of an archive.
+#include <cstdio>
+
+#include "capz/codec.h"
+#include "compress_common.h"
+
+namespace capz_cli {
+
+int info_capz(const std::string& path, bool json) {
+  std::vector<uint8_t> bytes = capz::read_file(path);
+  capz::StreamInfo si = capz::describe(bytes.data(), bytes.size(), path);
+  const double bp = capz::bpvf(bytes.size(), si.frames, si.points);
+  const std::string u = si.units.empty() ? "" : " " + si.units;
+  if (json) {
+    Json j;
+    j.begin_object();
+    j.member("file", path);
+    j.member("format", "capz");
+    j.member("version", std::to_string(si.major) + "." + std::to_string(si.minor));
+    j.member("bytes", static_cast<uint64_t>(bytes.size()));
+    j.member("source_format", capz::format_name(si.source_format));
+    j.member("source_name", si.source_name);
+    j.member("frames", static_cast<uint64_t>(si.frames));
+    j.member("points", static_cast<uint64_t>(si.points));
+    j.member("rate", si.rate);
+    j.member("units", si.units);
+    j.member("mode", si.mode);
+    j.member("codec", si.codec);
+    j.member("lossless", si.lossless);
+    j.member("grid_step", si.step);
+    j.member("max_error", si.max_error);
+    j.member("window_frames", static_cast<uint64_t>(si.window_frames));
+    j.member("windows", static_cast<uint64_t>(si.windows));
+    j.member("analog_channels", si.analog_channels);
+    j.member("analog_samples_per_frame", si.analog_samples_per_frame);
+    j.member("bpvf", bp);
+    j.key("chunk_bytes");
+    j.begin_object();
+    for (const auto& kv : si.chunk_bytes) j.member(kv.first, static_cast<uint64_t>(kv.second));
+    j.end_object();
+    j.end_object();
+    std::printf("%s\n", j.str().c_str());
+    return 0;
+  }
+  auto line = [](const char* k, const std::string& v) { std::printf("  %-12s %s\n", k, v.c_str()); };
+  std::printf("%s\n", path.c_str());
+  line("format:", "capz " + std::to_string(si.major) + "." + std::to_string(si.minor) + ", " +
+                      human_size(bytes.size()) + ", " + num(bp) + " bpvf");
+  line("source:", std::string(capz::format_name(si.source_format)) +
+                      (si.source_name.empty() ? "" : " " + si.source_name));
+  line("take:", std::to_string(si.frames) + " frames x " + std::to_string(si.points) + " points" +
+                    (si.rate > 0 ? ", " + num(si.rate) + " Hz" : "") +
+                    (si.units.empty() ? ", units unknown" : ", " + si.units));
+  line("coding:", si.mode + (si.lossless ? ", lossless" : ", bound " + num(si.max_error) + u +
+                                                               " per coordinate") +
+                      (si.step > 0 ? ", grid step " + num(si.step, 6) + u : "") + ", codec " + si.codec);
+  line("windows:", std::to_string(si.windows) + " of " + std::to_string(si.window_frames) + " frames");
+  if (si.analog_channels > 0)
+    line("analog:", std::to_string(si.analog_channels) + " channels x " +
+                        std::to_string(si.analog_samples_per_frame) + " samples per frame");
+  std::string chunks;
+  for (const auto& kv : si.chunk_bytes)
+    chunks += (chunks.empty() ? "" : ", ") + kv.first + " " + human_size(kv.second);
+  line("chunks:", chunks);
+  return 0;
+}
+
+}  // namespace capz_cli

@@ -1,0 +1,87 @@
+// Helpers shared by compress / decompress / verify: sizes, names, progress, .capz loading.
+#pragma once
+
+#include <unistd.h>
+
+#include <chrono>
+#include <ctime>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "capz/error.h"
+#include "core/atomic_file.h"
+#include "capz/metrics.h"
+#include "cli_util.h"
+#include "commands.h"
+
+namespace capz_cli {
+
+namespace fs = std::filesystem;
+
+// "a/b/frames/" -> "a/b/frames"
+inline std::string strip_slashes(std::string p) {
+  while (p.size() > 1 && p.back() == '/') p.pop_back();
+  return p;
+}
+
+// A progress line on stderr, only at normal verbosity on a terminal, at most ~10 times a second.
+class Progress {
+ public:
+  explicit Progress(const char* what)
+      : what_(what), on_(g_verbosity >= 1 && isatty(STDERR_FILENO)),
+        last_(std::chrono::steady_clock::now()) {}
+  void operator()(size_t done, size_t total) {
+    if (!on_ || total == 0) return;
+    auto now = std::chrono::steady_clock::now();
+    if (done < total && now - last_ < std::chrono::milliseconds(100)) return;
+    last_ = now;
+    std::fprintf(stderr, "\r%s: %3d%% (%zu / %zu frames)", what_, static_cast<int>(100.0 * done / total),
+                 done, total);
+    shown_ = true;
+  }
+  ~Progress() {
+    if (shown_) std::fprintf(stderr, "\r\033[K");
+  }
+
+ private:
+  const char* what_;
+  bool on_;
+  bool shown_ = false;
+  std::chrono::steady_clock::time_point last_;
+};
+
+inline double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Number formatting with a sensible number of significant digits.
+inline std::string num(double v, int digits = 4) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+// `capz info` on a .capz (cmd_info_capz.cpp).
+int info_capz(const std::string& path, bool json);
+
+// The error measures as JSON members.
+inline void json_error_stats(Json* j, const capz::ErrorStats& e) {
+  j->member("max_error_per_coordinate", e.max_abs);
+  j->member("max_error_euclidean", e.max_error);
+  j->member("rmse", e.rmse);
+  j->member("kg_error_percent", e.kg_error);
+  j->member("psnr_db", e.psnr);
+  j->member("samples", static_cast<uint64_t>(e.samples));
+  j->member("mask_mismatches", static_cast<uint64_t>(e.mask_mismatches));
+}
+
+// CPU time of this thread, seconds (speed figures stay meaningful on a loaded machine).
+inline double thread_cpu_seconds() {
+  timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+}  // namespace capz_cli

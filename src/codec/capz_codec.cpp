@@ -1,0 +1,783 @@
+// compress / decompress / describe (include/capz/codec.h): the Take <-> .capz pipeline.
+// Per window: quantise (bound layer) -> optional transform prediction -> predictors + entropy
+// coding (coding/window_coder.h); gaps, C3D sample words and analog beside it.
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "capz/codec.h"
+#include "capz/error.h"
+#include "codec/registry.h"
+#include "coding/bytes.h"
+#include "coding/container.h"
+#include "coding/entropy.h"
+#include "coding/window_coder.h"
+
+namespace capz {
+namespace {
+
+const char* mode_name(PosMode m) {
+  switch (m) {
+    case PosMode::kGrid: return "grid";
+    case PosMode::kDecimal: return "decimal-grid";
+    case PosMode::kFloat32: return "float32-bits";
+    case PosMode::kFloat64: return "float64-bits";
+  }
+  return "?";
+}
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, 8) == 0; }
+
+// How coordinates become integers (docs/FORMAT.md 3.1).
+struct Grid {
+  PosMode mode = PosMode::kGrid;
+  double step = 0;  // kGrid: multiplier; kDecimal: divisor
+  double bound = 0;  // per-coordinate bound that holds (0 = exact)
+  bool lossless = false;
+};
+
+inline double dequantise(const Grid& g, int32_t q, uint32_t lo) {
+  switch (g.mode) {
+    case PosMode::kGrid: return static_cast<double>(q) * g.step;
+    case PosMode::kDecimal: return static_cast<double>(q) / g.step;
+    case PosMode::kFloat32: return static_cast<double>(ordered_to_float(q));
+    default:
+      return ordered_to_double(static_cast<int64_t>(
+          (static_cast<uint64_t>(static_cast<uint32_t>(q)) << 32) | lo));
+  }
+}
+
+bool c3d_int16(const Take& t) {
+  return t.c3d && !t.c3d->float_storage && t.c3d->point_scale > 0;
+}
+
+double max_abs_coordinate(const Take& t) {
+  double m = 0;
+  for (size_t i = 0; i < t.frames * t.points; ++i)
+    if (t.valid[i])
+      for (int a = 0; a < 3; ++a) m = std::max(m, std::fabs(t.xyz[i * 3 + a]));
+  return m;
+}
+
+// True when every valid coordinate is exactly reproduced by grid g (bit for bit).
+bool grid_exact(const Take& t, const Grid& g) {
+  const double limit = kMaxGridIndex;
+  for (size_t i = 0; i < t.frames * t.points; ++i) {
+    if (!t.valid[i]) continue;
+    for (int a = 0; a < 3; ++a) {
+      const double x = t.xyz[i * 3 + a];
+      const double v = g.mode == PosMode::kGrid ? x / g.step : x * g.step;
+      if (!(std::fabs(v) <= limit)) return false;
+      if (!same_bits(dequantise(g, round_to_int(v), 0), x)) return false;
+    }
+  }
+  return true;
+}
+
+Grid lossless_grid(const Take& t) {
+  Grid g;
+  g.lossless = true;
+  if (c3d_int16(t)) {
+    g.mode = PosMode::kGrid;
+    g.step = t.c3d->point_scale;
+    if (grid_exact(t, g)) return g;
+  }
+  std::vector<int> ks;
+  if (t.trc && t.trc->decimals >= 0 && t.trc->decimals <= 9) ks.push_back(t.trc->decimals);
+  for (int k = 0; k <= 9; ++k)
+    if (ks.empty() || k != ks[0]) ks.push_back(k);
+  for (int k : ks) {
+    g.mode = PosMode::kDecimal;
+    g.step = std::pow(10.0, k);
+    if (grid_exact(t, g)) return g;
+  }
+  g.step = 0;
+  g.mode = PosMode::kFloat32;
+  for (size_t i = 0; i < t.frames * t.points && g.mode == PosMode::kFloat32; ++i)
+    if (t.valid[i])
+      for (int a = 0; a < 3; ++a)
+        if (!is_float32(t.xyz[i * 3 + a])) g.mode = PosMode::kFloat64;
+  return g;
+}
+
+// A grid whose step bounds every coordinate's error by `bound`.
+Grid bounded_grid(const Take& t, double bound) {
+  Grid g;
+  g.mode = PosMode::kGrid;
+  g.bound = bound;
+  if (c3d_int16(t)) {
+    const double s = t.c3d->point_scale;
+    double m = std::max(1.0, std::floor(2.0 * bound / s));
+    if (m == 1.0) {
+      g.step = s;
+      g.bound = s / 2;
+      if (grid_exact(t, g)) {
+        g.lossless = true;
+        g.bound = 0;
+        return g;
+      }
+    }
+    g.step = m * s;
+    if (m * s / 2 > bound) g.step = grid_step_for_bound(bound);  // source is off its grid
+  } else {
+    g.step = grid_step_for_bound(bound);
+  }
+  double top = max_abs_coordinate(t);
+  if (top / g.step >= kMaxGridIndex)
+    fail(ErrorCode::kInvalidParameter, t.source,
+         "max error " + std::to_string(bound) + " is too fine for coordinates up to " +
+             std::to_string(top) + " (the grid index would overflow 32 bits)");
+  return g;
+}
+
+// Sum of squared errors of quantising every valid coordinate on a grid of `step`.
+double quantised_sq_error(const Take& t, double step) {
+  double sq = 0;
+  for (size_t i = 0; i < t.frames * t.points; ++i) {
+    if (!t.valid[i]) continue;
+    for (int a = 0; a < 3; ++a) {
+      const double x = t.xyz[i * 3 + a];
+      const double d = x - static_cast<double>(round_to_int(x / step)) * step;
+      sq += d * d;
+    }
+  }
+  return sq;
+}
+
+double centred_sq(const Take& t) {
+  double cs = 0;
+  for (size_t f = 0; f < t.frames; ++f) {
+    double c[3] = {0, 0, 0};
+    size_t n = 0;
+    for (size_t p = 0; p < t.points; ++p)
+      if (t.is_valid(f, p)) {
+        for (int a = 0; a < 3; ++a) c[a] += t.at(f, p)[a];
+        ++n;
+      }
+    if (!n) continue;
+    for (double& v : c) v /= static_cast<double>(n);
+    for (size_t p = 0; p < t.points; ++p)
+      if (t.is_valid(f, p))
+        for (int a = 0; a < 3; ++a) cs += (t.at(f, p)[a] - c[a]) * (t.at(f, p)[a] - c[a]);
+  }
+  return cs;
+}
+
+// The largest grid whose KG error is at or under `kg` percent (bisection on the step).
+Grid kg_grid(const Take& t, double kg) {
+  const double cs = centred_sq(t);
+  const double top = std::max(max_abs_coordinate(t), 1e-300);
+  auto kg_of = [&](double step) { return cs > 0 ? 100.0 * std::sqrt(quantised_sq_error(t, step) / cs) : 0.0; };
+  double lo = top / 1e9, hi = 2 * top;
+  if (kg_of(hi) <= kg) {
+    lo = hi;
+  } else {
+    for (int it = 0; it < 50 && hi / lo > 1.0 + 1e-6; ++it) {
+      double mid = std::sqrt(lo * hi);
+      (kg_of(mid) <= kg ? lo : hi) = mid;
+    }
+  }
+  double step = lo;
+  if (c3d_int16(t)) {  // stay on the file's int16 grid
+    const double s = t.c3d->point_scale;
+    step = std::max(1.0, std::floor(step / s)) * s;
+  }
+  Grid g = bounded_grid(t, step / 2 / (1.0 - 0x1p-30));
+  return g;
+}
+
+// Integers of frames [f0, f0 + fn).
+WindowInts window_ints(const Take& t, const Grid& g, size_t f0, size_t fn) {
+  WindowInts w;
+  w.frames = fn;
+  w.points = t.points;
+  const size_t n = fn * t.points;
+  w.valid.assign(t.valid.begin() + static_cast<long>(f0 * t.points),
+                 t.valid.begin() + static_cast<long>(f0 * t.points + n));
+  w.q.assign(n * 3, 0);
+  if (g.mode == PosMode::kFloat64) w.lo.assign(n * 3, 0);
+  const double* x = t.xyz.data() + f0 * t.points * 3;
+  for (size_t i = 0; i < n; ++i) {
+    if (!w.valid[i]) continue;
+    for (size_t k = i * 3; k < i * 3 + 3; ++k) {
+      switch (g.mode) {
+        case PosMode::kGrid: w.q[k] = round_to_int(x[k] / g.step); break;
+        case PosMode::kDecimal: w.q[k] = round_to_int(x[k] * g.step); break;
+        case PosMode::kFloat32: w.q[k] = float_to_ordered(static_cast<float>(x[k])); break;
+        case PosMode::kFloat64: {
+          uint64_t o = static_cast<uint64_t>(double_to_ordered(x[k]));
+          w.q[k] = static_cast<int32_t>(static_cast<uint32_t>(o >> 32));
+          w.lo[k] = static_cast<uint32_t>(o);
+          break;
+        }
+      }
+    }
+  }
+  return w;
+}
+
+// Transform prediction on the grid (docs/FORMAT.md 3.3 predictor 3): round(recon / step).
+std::vector<int32_t> grid_prediction(const std::vector<double>& recon, double step) {
+  std::vector<int32_t> t(recon.size());
+  for (size_t i = 0; i < recon.size(); ++i) {
+    double v = recon[i] / step;
+    if (!(v >= -kMaxGridIndex)) v = -kMaxGridIndex;  // also NaN
+    if (v > kMaxGridIndex) v = kMaxGridIndex;
+    t[i] = round_to_int(v);
+  }
+  return t;
+}
+
+// Positions of a window with gaps filled (hold the last valid value, else the next, else 0):
+// what a transform codec is given.
+std::vector<double> filled_window(const Take& t, size_t f0, size_t fn) {
+  std::vector<double> x(t.xyz.begin() + static_cast<long>(f0 * t.points * 3),
+                        t.xyz.begin() + static_cast<long>((f0 + fn) * t.points * 3));
+  for (size_t p = 0; p < t.points; ++p) {
+    long last = -1;
+    for (size_t f = 0; f < fn; ++f) {
+      if (t.valid[(f0 + f) * t.points + p]) {
+        if (last < 0)  // back-fill the leading gap
+          for (size_t g = 0; g < f; ++g)
+            std::copy(&x[(f * t.points + p) * 3], &x[(f * t.points + p) * 3] + 3,
+                      &x[(g * t.points + p) * 3]);
+        last = static_cast<long>(f);
+      } else if (last >= 0) {
+        std::copy(&x[(static_cast<size_t>(last) * t.points + p) * 3],
+                  &x[(static_cast<size_t>(last) * t.points + p) * 3] + 3, &x[(f * t.points + p) * 3]);
+      }
+    }
+    if (last < 0)
+      for (size_t f = 0; f < fn; ++f) std::fill_n(&x[(f * t.points + p) * 3], 3, 0.0);
+  }
+  return x;
+}
+
+[[noreturn]] void check_failed(const Take& t, size_t w, const std::string& what) {
+  fail(ErrorCode::kInternal, t.source,
+       "self-check failed in window " + std::to_string(w) + ": " + what +
+           " (please report this; --no-check skips the check)");
+}
+
+std::vector<uint8_t> with_window_index(size_t w, uint8_t flag, const std::vector<uint8_t>& body) {
+  ByteWriter b;
+  b.varint(w);
+  if (flag != 0xFF) b.u8(flag);
+  b.bytes(body);
+  return std::move(b.buffer());
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, CompressStats* stats) {
+  const std::string& src = take.source;
+  if (take.xyz.size() != take.frames * take.points * 3 || take.valid.size() != take.frames * take.points)
+    fail(ErrorCode::kInvalidParameter, src, "take arrays do not match its frame and point counts");
+  // Up to 8192 frames a window keeps even an all-gap window above the decoder's plausibility
+  // floor of one byte per 2900 samples (docs/FORMAT.md 2).
+  if (opts.window_frames == 0 || opts.window_frames > 8192)
+    fail(ErrorCode::kInvalidParameter, src, "window size must be 1 .. 8192 frames");
+  for (size_t i = 0; i < take.frames * take.points; ++i)
+    if (take.valid[i])
+      for (int a = 0; a < 3; ++a)
+        if (!std::isfinite(take.xyz[i * 3 + a]))
+          fail(ErrorCode::kInvalidParameter, src, "a valid sample holds NaN or infinity");
+
+  Grid g;
+  if (opts.lossless) {
+    g = lossless_grid(take);
+  } else if (opts.kg_error > 0) {
+    g = kg_grid(take, opts.kg_error);
+  } else if (opts.max_error > 0 && std::isfinite(opts.max_error)) {
+    g = bounded_grid(take, opts.max_error);
+  } else {
+    fail(ErrorCode::kInvalidParameter, src,
+         "no error target: give a positive max error, a KG error target, or lossless");
+  }
+
+  const TransformCodec* codec = nullptr;
+  if (!opts.codec.empty() && opts.codec != "none") {
+    codec = find_codec(opts.codec);
+    if (!codec) fail(ErrorCode::kInvalidParameter, src, "unknown codec '" + opts.codec + "'");
+    if (g.mode != PosMode::kGrid) codec = nullptr;  // float-bit lossless: prediction only
+  }
+  TransformParams tparams;
+  tparams.max_error = g.bound > 0 ? g.bound : g.step / 2;
+  tparams.kg_error = opts.kg_error;
+  tparams.clusters = opts.clusters;
+  tparams.options = opts.codec_options;
+
+  const size_t F = take.frames, N = take.points;
+  const bool analog = take.analog.channels > 0 && take.analog.samples_per_frame > 0;
+  const size_t S = analog ? static_cast<size_t>(take.analog.samples_per_frame) : 0;
+  const size_t C = analog ? static_cast<size_t>(take.analog.channels) : 0;
+  if (analog && take.analog.values.size() != F * S * C)
+    fail(ErrorCode::kInvalidParameter, src, "analog values do not match frames x samples x channels");
+  const bool words = take.c3d && take.c3d->residual.size() == F * N &&
+                     take.c3d->camera_mask.size() == F * N;
+  const bool words_on_grid = words && residuals_on_grid(take.c3d->residual, take.c3d->point_scale);
+  const std::vector<uint8_t> kinds = analog ? analog_kinds(take.analog.values, take.analog.channels)
+                                            : std::vector<uint8_t>();
+
+  StreamHeader h;
+  h.frames = F;
+  h.points = static_cast<uint32_t>(N);
+  h.window_frames = static_cast<uint32_t>(opts.window_frames);
+  h.source_format = take.format;
+  h.mode = g.mode;
+  h.codec = codec ? codec->id() : 0;
+  h.lossless = g.lossless;
+  h.step = g.step;
+  h.max_error = g.bound;
+  h.analog_channels = static_cast<uint32_t>(C);
+  h.analog_samples_per_frame = static_cast<uint32_t>(S);
+
+  std::vector<uint8_t> out;
+  write_file_header(&out);
+  append_chunk(&out, "HEAD", encode_header(h));
+  append_chunk(&out, "META", encode_meta(take, words));
+  size_t other = out.size(), pos_bytes = 0, analog_bytes = 0;
+
+  ErrorAccumulator acc;
+  std::vector<IndexEntry> index;
+  const bool f64 = g.mode == PosMode::kFloat64;
+  for (size_t w = 0, f0 = 0; f0 < F; ++w, f0 += opts.window_frames) {
+    const size_t fn = std::min(opts.window_frames, F - f0);
+    IndexEntry ie;
+    ie.offset = out.size();
+    WindowInts wi = window_ints(take, g, f0, fn);
+    std::vector<uint8_t> codec_bytes;
+    std::vector<int32_t> tpred;
+    if (codec && N > 0) {
+      std::vector<double> filled = filled_window(take, f0, fn);
+      PositionsView view{fn, N, filled.data(), wi.valid.data()};
+      std::vector<double> recon;
+      codec->encode(view, tparams, &codec_bytes, &recon);
+      if (recon.size() != fn * N * 3)
+        throw Error(ErrorCode::kInternal, std::string("codec ") + codec->name() +
+                                              " returned a reconstruction of the wrong size");
+      tpred = grid_prediction(recon, g.step);
+    }
+    const bool gaps = std::find(wi.valid.begin(), wi.valid.end(), 0) != wi.valid.end();
+    std::vector<uint8_t> pos = encode_positions(wi, codec_bytes, tpred, f64);
+    size_t before = out.size();
+    append_chunk(&out, "POSW", with_window_index(w, gaps ? 1 : 0, pos));
+    std::vector<uint8_t> mask;
+    if (gaps) {
+      mask = encode_mask(wi.valid.data(), fn, N);
+      append_chunk(&out, "MASK", with_window_index(w, 0xFF, mask));
+    }
+    pos_bytes += out.size() - before;
+    std::vector<uint8_t> cw;
+    if (words) {
+      before = out.size();
+      cw = encode_c3d_words(take.c3d->residual.data() + f0 * N, take.c3d->camera_mask.data() + f0 * N,
+                            fn * N, N, take.c3d->point_scale, words_on_grid);
+      append_chunk(&out, "C3DW", with_window_index(w, 0xFF, cw));
+      other += out.size() - before;
+    }
+    std::vector<uint8_t> an;
+    if (analog) {
+      before = out.size();
+      an = encode_analog(take.analog.values.data() + f0 * S * C, fn * S, take.analog.channels, kinds);
+      append_chunk(&out, "ANLG", with_window_index(w, 0xFF, an));
+      analog_bytes += out.size() - before;
+    }
+    ie.bytes = out.size() - ie.offset;
+    index.push_back(ie);
+
+    // Reconstruction as the decoder will produce it, for the bound check and the stats.
+    std::vector<double> rec(fn * N * 3, 0.0);
+    for (size_t i = 0; i < fn * N; ++i)
+      if (wi.valid[i])
+        for (size_t k = i * 3; k < i * 3 + 3; ++k) rec[k] = dequantise(g, wi.q[k], f64 ? wi.lo[k] : 0);
+    const double* orig = take.xyz.data() + f0 * N * 3;
+    for (size_t i = 0; i < fn * N; ++i) {
+      if (!wi.valid[i]) continue;
+      for (size_t k = i * 3; k < i * 3 + 3; ++k) {
+        bool ok = g.lossless ? same_bits(rec[k], orig[k]) : std::fabs(rec[k] - orig[k]) <= g.bound;
+        if (!ok)
+          check_failed(take, w, "coordinate " + std::to_string(orig[k]) + " comes back as " +
+                                    std::to_string(rec[k]));
+      }
+    }
+    acc.add(fn, N, orig, rec.data(), wi.valid.data());
+
+    if (opts.check) {  // decode what was written and compare
+      const std::string what = "self-check";
+      WindowInts back;
+      back.frames = fn;
+      back.points = N;
+      back.valid.assign(fn * N, 1);
+      if (gaps) decode_mask(mask.data(), mask.size(), fn, N, back.valid.data(), what);
+      if (back.valid != wi.valid) check_failed(take, w, "gap mask differs");
+      PositionsPayload pp = split_positions(pos.data(), pos.size(), what);
+      std::vector<int32_t> tback;
+      if (codec && N > 0) {
+        std::vector<double> recon;
+        codec->decode(pp.codec_bytes, pp.codec_size, fn, N, &recon);
+        tback = grid_prediction(recon, g.step);
+        if (tback != tpred) check_failed(take, w, std::string("codec ") + codec->name() +
+                                                      " decodes differently than it encoded");
+      }
+      decode_positions(pp, tback, f64, &back, what);
+      for (size_t i = 0; i < fn * N; ++i)
+        if (wi.valid[i])
+          for (size_t k = i * 3; k < i * 3 + 3; ++k)
+            if (back.q[k] != wi.q[k] || (f64 && back.lo[k] != wi.lo[k]))
+              check_failed(take, w, "positions decode differently");
+      if (words) {
+        std::vector<float> r(fn * N);
+        std::vector<uint8_t> cam(fn * N);
+        decode_c3d_words(cw.data(), cw.size(), fn * N, N,
+                         take.c3d->point_scale, r.data(), cam.data(), what);
+        if (std::memcmp(r.data(), take.c3d->residual.data() + f0 * N, fn * N * 4) != 0 ||
+            std::memcmp(cam.data(), take.c3d->camera_mask.data() + f0 * N, fn * N) != 0)
+          check_failed(take, w, "C3D sample words differ");
+      }
+      if (analog) {
+        std::vector<double> rows(fn * S * C);
+        decode_analog(an.data(), an.size(), fn * S, take.analog.channels, rows.data(), what);
+        if (std::memcmp(rows.data(), take.analog.values.data() + f0 * S * C, rows.size() * 8) != 0)
+          check_failed(take, w, "analog values differ");
+      }
+    }
+    if (opts.progress) opts.progress(f0 + fn, F);
+  }
+  size_t before = out.size();
+  append_chunk(&out, "INDX", encode_index(index));
+  other += out.size() - before;
+
+  if (stats) {
+    stats->bytes = out.size();
+    stats->raw_bytes = F * N * 12;
+    stats->bpvf = bpvf(out.size(), F, N);
+    stats->step = g.mode == PosMode::kGrid || g.mode == PosMode::kDecimal
+                      ? (g.mode == PosMode::kGrid ? g.step : 1.0 / g.step)
+                      : 0;
+    stats->mode = mode_name(g.mode);
+    stats->lossless = g.lossless;
+    stats->error = acc.finish();
+    stats->position_bytes = pos_bytes;
+    stats->analog_bytes = analog_bytes;
+    stats->other_bytes = other;
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+namespace {
+
+struct Parsed {
+  StreamHeader h;
+  Take take;  // metadata only
+  bool words = false;
+  std::vector<IndexEntry> index;
+  size_t first_window_offset = 0;
+  size_t index_offset = 0;
+  std::map<std::string, size_t> chunk_bytes;
+  int minor = 0;
+};
+
+// Reads HEAD, META and INDX (walking the chunk headers to find it).
+Parsed parse_stream(const uint8_t* data, size_t size, const std::string& name) {
+  Parsed ps;
+  ps.minor = check_file_header(data, size, name);
+  Chunk c = read_chunk(data, size, kFileHeaderBytes, name);
+  if (c.type != "HEAD") fail(ErrorCode::kCorrupt, name, "first chunk is " + c.type + ", not HEAD");
+  ps.h = decode_header(c, name);
+  ps.chunk_bytes["HEAD"] += c.end - c.offset;
+  Chunk m = read_chunk(data, size, c.end, name);
+  if (m.type != "META") fail(ErrorCode::kCorrupt, name, "second chunk is " + m.type + ", not META");
+  ps.chunk_bytes["META"] += m.end - m.offset;
+  // Windows must be able to hold the counts HEAD claims: at least one byte per window chunk...
+  const size_t windows = ps.h.windows();
+  if (windows > size / kChunkOverhead)
+    fail(ErrorCode::kCorrupt, name, "HEAD claims " + std::to_string(windows) +
+                                        " windows; the file cannot hold them");
+  // ...and a coded value costs more than 1/2900 byte.
+  const double samples = static_cast<double>(ps.h.frames) * ps.h.points;
+  const double analog = static_cast<double>(ps.h.frames) * ps.h.analog_samples_per_frame *
+                        ps.h.analog_channels;
+  if (samples > static_cast<double>(size) * kMaxSymbolsPerByte ||
+      analog > static_cast<double>(size) * kMaxSymbolsPerByte)
+    fail(ErrorCode::kCorrupt, name, "HEAD claims more samples than the file can hold");
+  ps.take.frames = static_cast<size_t>(ps.h.frames);
+  ps.take.points = ps.h.points;
+  ps.take.format = ps.h.source_format;
+  ps.take.analog.channels = static_cast<int>(std::min<uint32_t>(ps.h.analog_channels, 1u << 30));
+  ps.take.analog.samples_per_frame =
+      static_cast<int>(std::min<uint32_t>(ps.h.analog_samples_per_frame, 1u << 30));
+  decode_meta(m, name, &ps.take, &ps.words);
+  ps.first_window_offset = m.end;
+  // INDX ends the file; its payload's last 4 bytes give its payload length.
+  if (size < m.end + kChunkOverhead + 4)
+    fail(ErrorCode::kCorrupt, name, "truncated: the stream ends before its INDX chunk");
+  const uint8_t* t = data + size - 8;
+  const uint64_t ilen = static_cast<uint64_t>(t[0]) | static_cast<uint64_t>(t[1]) << 8 |
+                        static_cast<uint64_t>(t[2]) << 16 | static_cast<uint64_t>(t[3]) << 24;
+  if (ilen + kChunkOverhead > size - m.end)
+    fail(ErrorCode::kCorrupt, name, "truncated or damaged: no INDX chunk at the end of the stream");
+  const size_t ioff = size - kChunkOverhead - static_cast<size_t>(ilen);
+  Chunk k = read_chunk(data, size, ioff, name);
+  if (k.type != "INDX" || k.end != size)
+    fail(ErrorCode::kCorrupt, name, "truncated or damaged: no INDX chunk at the end of the stream");
+  ps.index = decode_index(k, name);
+  ps.index_offset = ioff;
+  ps.chunk_bytes["INDX"] += k.end - k.offset;
+  if (ps.index.size() != windows)
+    fail(ErrorCode::kCorrupt, name, "INDX lists " + std::to_string(ps.index.size()) +
+                                        " windows, HEAD implies " + std::to_string(windows));
+  return ps;
+}
+
+// Decodes window w into rows [f_out, ...) of `out` (frames f_lo..f_hi of the window).
+void decode_window(const uint8_t* data, size_t size, const std::string& name, const Parsed& ps,
+                   size_t w, size_t f_lo, size_t f_hi, size_t f_out, Take* out) {
+  const StreamHeader& h = ps.h;
+  const size_t N = h.points;
+  const size_t f0 = w * h.window_frames;
+  const size_t fn = std::min<size_t>(h.window_frames, static_cast<size_t>(h.frames) - f0);
+  const IndexEntry& ie = ps.index[w];
+  if (ie.offset < ps.first_window_offset || ie.offset >= size || ie.bytes > size - ie.offset)
+    fail(ErrorCode::kCorrupt, name, "INDX entry of window " + std::to_string(w) + " points outside the file");
+  size_t off = static_cast<size_t>(ie.offset);
+  const size_t end = off + static_cast<size_t>(ie.bytes);
+  const std::string wname = " of window " + std::to_string(w);
+  auto next = [&](const char* type, bool required) -> Chunk {
+    while (off < end) {
+      Chunk c = read_chunk(data, size, off, name);
+      if (c.end > end)
+        fail(ErrorCode::kCorrupt, name, "chunk " + c.type + wname + " runs past its INDX extent");
+      if (c.type == type) {
+        off = c.end;
+        return c;
+      }
+      if (c.type == "POSW" || c.type == "MASK" || c.type == "C3DW" || c.type == "ANLG") break;
+      off = c.end;  // unknown chunk: skipped
+    }
+    if (required)
+      fail(ErrorCode::kCorrupt, name, std::string("missing chunk ") + type + wname);
+    return Chunk();
+  };
+  auto open = [&](const Chunk& c, ByteReader* r) {
+    uint64_t idx = r->varint();
+    if (idx != w)
+      fail(ErrorCode::kCorrupt, name, "chunk " + c.type + " at byte " + std::to_string(c.offset) +
+                                          " belongs to window " + std::to_string(idx) +
+                                          ", expected " + std::to_string(w));
+  };
+  Chunk pc = next("POSW", true);
+  const std::string pwhat = (name.empty() ? "" : name + ": ") + "chunk POSW" + wname;
+  ByteReader pr(pc.payload, pc.size, pwhat);
+  open(pc, &pr);
+  const uint8_t has_mask = pr.u8();
+  if (has_mask > 1) fail(ErrorCode::kCorrupt, pwhat, "bad has_mask byte");
+  WindowInts wi;
+  wi.frames = fn;
+  wi.points = N;
+  wi.valid.assign(fn * N, 1);
+  if (has_mask) {
+    Chunk mc = next("MASK", true);
+    ByteReader mr(mc.payload, mc.size, "MASK");
+    open(mc, &mr);
+    decode_mask(mc.payload + mr.offset(), mc.size - mr.offset(), fn, N, wi.valid.data(),
+                (name.empty() ? "" : name + ": ") + "chunk MASK" + wname);
+  }
+  PositionsPayload pp = split_positions(pc.payload + pr.offset(), pc.size - pr.offset(), pwhat);
+  std::vector<int32_t> tpred;
+  if (h.codec != 0 && N > 0) {
+    const TransformCodec* codec = find_codec(h.codec);
+    if (!codec)
+      fail(ErrorCode::kUnsupportedVersion, name,
+           "stream uses transform codec id " + std::to_string(h.codec) + ", unknown to this capz");
+    std::vector<double> recon;
+    codec->decode(pp.codec_bytes, pp.codec_size, fn, N, &recon);
+    if (recon.size() != fn * N * 3) fail(ErrorCode::kCorrupt, pwhat, "codec payload has the wrong size");
+    tpred = grid_prediction(recon, h.step);
+  }
+  const bool f64 = h.mode == PosMode::kFloat64;
+  decode_positions(pp, tpred, f64, &wi, pwhat);
+  Grid g;
+  g.mode = h.mode;
+  g.step = h.step;
+  for (size_t f = f_lo; f < f_hi; ++f)
+    for (size_t p = 0; p < N; ++p) {
+      const size_t i = f * N + p, o = (f_out + f - f_lo) * N + p;
+      out->valid[o] = wi.valid[i];
+      if (wi.valid[i])
+        for (int a = 0; a < 3; ++a)
+          out->xyz[o * 3 + a] = dequantise(g, wi.q[i * 3 + a], f64 ? wi.lo[i * 3 + a] : 0);
+    }
+  if (ps.words) {
+    Chunk cc = next("C3DW", true);
+    const std::string cwhat = (name.empty() ? "" : name + ": ") + "chunk C3DW" + wname;
+    ByteReader cr(cc.payload, cc.size, cwhat);
+    open(cc, &cr);
+    std::vector<float> r(fn * N);
+    std::vector<uint8_t> cam(fn * N);
+    decode_c3d_words(cc.payload + cr.offset(), cc.size - cr.offset(), fn * N, N,
+                     out->c3d->point_scale, r.data(), cam.data(), cwhat);
+    std::copy(r.begin() + static_cast<long>(f_lo * N), r.begin() + static_cast<long>(f_hi * N),
+              out->c3d->residual.begin() + static_cast<long>(f_out * N));
+    std::copy(cam.begin() + static_cast<long>(f_lo * N), cam.begin() + static_cast<long>(f_hi * N),
+              out->c3d->camera_mask.begin() + static_cast<long>(f_out * N));
+  }
+  const size_t S = h.analog_samples_per_frame, C = h.analog_channels;
+  if (C > 0 && S > 0) {
+    Chunk ac = next("ANLG", true);
+    const std::string awhat = (name.empty() ? "" : name + ": ") + "chunk ANLG" + wname;
+    ByteReader ar(ac.payload, ac.size, awhat);
+    open(ac, &ar);
+    if (fn * S * C > kMaxSymbolsPerByte * ac.size)
+      fail(ErrorCode::kCorrupt, awhat, "analog window larger than its chunk can hold");
+    std::vector<double> rows(fn * S * C);
+    decode_analog(ac.payload + ar.offset(), ac.size - ar.offset(), fn * S, static_cast<int>(C),
+                  rows.data(), awhat);
+    std::copy(rows.begin() + static_cast<long>(f_lo * S * C), rows.begin() + static_cast<long>(f_hi * S * C),
+              out->analog.values.begin() + static_cast<long>(f_out * S * C));
+  }
+}
+
+Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
+                  const std::string& name) {
+  Parsed ps = parse_stream(data, size, name);
+  const size_t F = ps.take.frames;
+  first = std::min(first, F);
+  count = std::min(count, F - first);
+  Take t = ps.take;
+  t.frames = count;
+  const size_t N = t.points;
+  t.xyz.assign(count * N * 3, 0.0);
+  t.valid.assign(count * N, 0);
+  const size_t S = ps.h.analog_samples_per_frame, C = ps.h.analog_channels;
+  if (C > 0 && S > 0) t.analog.values.assign(count * S * C, 0.0);
+  if (ps.words) {
+    t.c3d->residual.assign(count * N, 0.0f);
+    t.c3d->camera_mask.assign(count * N, 0);
+  }
+  const size_t W = ps.h.window_frames;
+  if (first == 0 && count == F) {  // whole stream: windows must tile it exactly
+    size_t expect = ps.first_window_offset;
+    for (size_t w = 0; w < ps.index.size(); ++w) {
+      if (ps.index[w].offset != expect)
+        fail(ErrorCode::kCorrupt, name, "INDX: window " + std::to_string(w) + " starts at byte " +
+                                            std::to_string(ps.index[w].offset) + ", expected " +
+                                            std::to_string(expect));
+      expect += static_cast<size_t>(std::min<uint64_t>(ps.index[w].bytes, size));
+    }
+    if (expect != ps.index_offset)
+      fail(ErrorCode::kCorrupt, name, "INDX: windows end at byte " + std::to_string(expect) +
+                                          ", the index starts at " + std::to_string(ps.index_offset));
+  }
+  for (size_t f = first; f < first + count;) {
+    const size_t w = f / W;
+    const size_t f_lo = f - w * W;
+    const size_t f_hi = std::min(W, first + count - w * W);
+    const size_t wn = std::min<size_t>(W, F - w * W);
+    decode_window(data, size, name, ps, w, f_lo, std::min(f_hi, wn), f - first, &t);
+    f = w * W + std::min(f_hi, wn);
+  }
+  if (first > 0 || count < F) {  // slice the per-frame metadata
+    t.first_frame += static_cast<long>(first);
+    if (t.trc) {
+      auto x = std::make_shared<TRCExtra>(*t.trc);
+      if (x->times.size() == F)
+        x->times = std::vector<double>(x->times.begin() + static_cast<long>(first),
+                                       x->times.begin() + static_cast<long>(first + count));
+      if (x->frame_numbers.size() == F)
+        x->frame_numbers = std::vector<long>(x->frame_numbers.begin() + static_cast<long>(first),
+                                             x->frame_numbers.begin() + static_cast<long>(first + count));
+      t.trc = x;
+    }
+    if (t.pcd && t.pcd->frame_names.size() == F) {
+      auto x = std::make_shared<PCDExtra>(*t.pcd);
+      x->frame_names = std::vector<std::string>(x->frame_names.begin() + static_cast<long>(first),
+                                                x->frame_names.begin() + static_cast<long>(first + count));
+      t.pcd = x;
+    }
+  }
+  return t;
+}
+
+}  // namespace
+
+Take decompress(const uint8_t* data, size_t size, const std::string& name) {
+  return decode_range(data, size, 0, std::numeric_limits<size_t>::max(), name);
+}
+
+Take decompress_frames(const uint8_t* data, size_t size, size_t first, size_t count,
+                       const std::string& name) {
+  return decode_range(data, size, first, count, name);
+}
+
+bool is_capz(const uint8_t* data, size_t size) {
+  return size >= 9 && std::memcmp(data, kCapzMagic, 9) == 0;
+}
+
+StreamInfo describe(const uint8_t* data, size_t size, const std::string& name) {
+  Parsed ps = parse_stream(data, size, name);
+  StreamInfo si;
+  si.major = data[9];
+  si.minor = ps.minor;
+  si.source_format = ps.h.source_format;
+  si.source_name = ps.take.source;
+  si.frames = ps.take.frames;
+  si.points = ps.take.points;
+  si.window_frames = ps.h.window_frames;
+  si.windows = ps.h.windows();
+  si.mode = mode_name(ps.h.mode);
+  if (ps.h.codec == 0) {
+    si.codec = "none";
+  } else {
+    const TransformCodec* c = find_codec(ps.h.codec);
+    si.codec = c ? c->name() : "id " + std::to_string(ps.h.codec);
+  }
+  si.lossless = ps.h.lossless;
+  si.step = ps.h.mode == PosMode::kDecimal ? 1.0 / ps.h.step : ps.h.step;
+  si.max_error = ps.h.max_error;
+  si.rate = ps.take.rate;
+  si.units = ps.take.units;
+  si.analog_channels = ps.take.analog.channels;
+  si.analog_samples_per_frame = ps.take.analog.samples_per_frame;
+  si.chunk_bytes = ps.chunk_bytes;
+  for (size_t off = ps.first_window_offset; off < ps.index_offset;) {  // the window chunks
+    Chunk k = read_chunk(data, size, off, name);
+    si.chunk_bytes[k.type] += k.end - k.offset;
+    off = k.end;
+  }
+  return si;
+}
+
+double parse_length(const std::string& text, const std::string& take_units,
+                    const std::string& assume_units) {
+  std::string s;
+  for (char c : text)
+    if (!std::isspace(static_cast<unsigned char>(c))) s.push_back(c);
+  size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(s, &used);
+  } catch (const std::exception&) {
+    fail(ErrorCode::kInvalidParameter, "", "'" + text + "' is not a length (e.g. 0.1mm)");
+  }
+  if (!(v >= 0) || !std::isfinite(v))
+    fail(ErrorCode::kInvalidParameter, "", "'" + text + "': a length must be a finite number >= 0");
+  std::string unit = s.substr(used);
+  if (unit.empty()) return v;
+  const double from = units_to_metres(unit);
+  if (from == 0) fail(ErrorCode::kInvalidParameter, "", "'" + text + "': unknown unit '" + unit + "'");
+  const std::string& tu = take_units.empty() ? assume_units : take_units;
+  const double to = units_to_metres(tu);
+  if (to == 0)
+    fail(ErrorCode::kInvalidParameter, "",
+         "'" + text + "' has a unit but the data's units are " +
+             (tu.empty() ? std::string("unknown (say them with --units mm|cm|m, or give a bare number)")
+                         : "'" + tu + "', which capz does not know"));
+  return v * from / to;
+}
+
+}  // namespace capz

@@ -1,0 +1,377 @@
+#include "coding/container.h"
+
+#include <cmath>
+#include <cstring>
+
+#include "capz/error.h"
+#include "capz/io.h"
+#include "coding/bytes.h"
+#include "coding/crc32c.h"
+#include "coding/entropy.h"
+
+namespace capz {
+namespace {
+
+std::string chunk_what(const std::string& name, const Chunk& c) {
+  return (name.empty() ? std::string() : name + ": ") + "chunk " + c.type + " at byte " +
+         std::to_string(c.offset);
+}
+
+void put_strings(ByteWriter* w, const std::vector<std::string>& v) {
+  w->varint(v.size());
+  for (const auto& s : v) w->str(s);
+}
+std::vector<std::string> get_strings(ByteReader* r, size_t expect, const char* what) {
+  uint64_t n = r->count(1, what);
+  if (n != 0 && n != expect)
+    throw Error(ErrorCode::kCorrupt, r->what() + ": " + what + " = " + std::to_string(n) +
+                                         ", expected 0 or " + std::to_string(expect));
+  std::vector<std::string> v(static_cast<size_t>(n));
+  for (auto& s : v) s = r->str();
+  return v;
+}
+
+}  // namespace
+
+void write_file_header(std::vector<uint8_t>* out) {
+  out->insert(out->end(), kCapzMagic, kCapzMagic + 9);
+  out->push_back(kCapzMajor);
+  out->push_back(kCapzMinor);
+}
+
+void append_chunk(std::vector<uint8_t>* out, const char type[4],
+                  const std::vector<uint8_t>& payload) {
+  if (payload.size() > 0xFFFFFFFFull)
+    throw Error(ErrorCode::kInternal, std::string("chunk ") + std::string(type, 4) +
+                                          " larger than 4 GiB; use smaller windows");
+  ByteWriter w;
+  w.bytes(reinterpret_cast<const uint8_t*>(type), 4);
+  w.u32(static_cast<uint32_t>(payload.size()));
+  uint32_t crc = crc32c_update(0, reinterpret_cast<const uint8_t*>(type), 4);
+  crc = crc32c_update(crc, payload.data(), payload.size());
+  out->insert(out->end(), w.buffer().begin(), w.buffer().end());
+  out->insert(out->end(), payload.begin(), payload.end());
+  ByteWriter t;
+  t.u32(crc);
+  out->insert(out->end(), t.buffer().begin(), t.buffer().end());
+}
+
+int check_file_header(const uint8_t* data, size_t size, const std::string& name) {
+  if (size < 9 || std::memcmp(data, kCapzMagic, 9) != 0) {
+    if (size >= 5 && std::memcmp(data + 1, "capz", 4) == 0)
+      fail(ErrorCode::kCorrupt, name, "damaged .capz magic (a text-mode transfer?)");
+    fail(ErrorCode::kNotOurFormat, name, "not a .capz file (wrong magic)");
+  }
+  if (size < kFileHeaderBytes) fail(ErrorCode::kCorrupt, name, "truncated before the version");
+  if (data[9] > kCapzMajor)
+    fail(ErrorCode::kUnsupportedVersion, name,
+         "format version " + std::to_string(data[9]) + "." + std::to_string(data[10]) +
+             " is newer than this capz reads (" + std::to_string(kCapzMajor) + ".x)");
+  if (data[9] < 1) fail(ErrorCode::kCorrupt, name, "format major version 0 does not exist");
+  return data[10];
+}
+
+Chunk read_chunk(const uint8_t* data, size_t size, size_t offset, const std::string& name) {
+  Chunk c;
+  c.offset = offset;
+  if (offset > size || size - offset < kChunkOverhead)
+    fail(ErrorCode::kCorrupt, name, "truncated: chunk header at byte " + std::to_string(offset) +
+                                        " runs past the end of the file");
+  const uint8_t* p = data + offset;
+  for (int i = 0; i < 4; ++i) {
+    if (p[i] < 0x20 || p[i] > 0x7E)
+      fail(ErrorCode::kCorrupt, name, "byte " + std::to_string(offset) + " does not start a chunk");
+    c.type.push_back(static_cast<char>(p[i]));
+  }
+  uint32_t len = static_cast<uint32_t>(p[4]) | static_cast<uint32_t>(p[5]) << 8 |
+                 static_cast<uint32_t>(p[6]) << 16 | static_cast<uint32_t>(p[7]) << 24;
+  if (len > size - offset - kChunkOverhead)
+    fail(ErrorCode::kCorrupt, name, "truncated: " + chunk_what("", c) + " says " +
+                                        std::to_string(len) + " bytes, the file has " +
+                                        std::to_string(size - offset - kChunkOverhead));
+  c.payload = p + 8;
+  c.size = len;
+  c.end = offset + kChunkOverhead + len;
+  const uint8_t* q = p + 8 + len;
+  uint32_t stored = static_cast<uint32_t>(q[0]) | static_cast<uint32_t>(q[1]) << 8 |
+                    static_cast<uint32_t>(q[2]) << 16 | static_cast<uint32_t>(q[3]) << 24;
+  if (crc32c_update(crc32c(p, 4), c.payload, len) != stored)
+    fail(ErrorCode::kCorrupt, name, chunk_what("", c) + ": CRC mismatch (damaged file)");
+  return c;
+}
+
+// ---------------------------------------------------------------------------------------------
+std::vector<uint8_t> encode_header(const StreamHeader& h) {
+  ByteWriter w;
+  w.u64(h.frames);
+  w.u32(h.points);
+  w.u32(h.window_frames);
+  w.u8(static_cast<uint8_t>(h.source_format));
+  w.u8(static_cast<uint8_t>(h.mode));
+  w.u8(h.codec);
+  w.u8(h.lossless ? 1 : 0);
+  w.f64(h.step);
+  w.f64(h.max_error);
+  w.u32(h.analog_channels);
+  w.u32(h.analog_samples_per_frame);
+  return std::move(w.buffer());
+}
+
+StreamHeader decode_header(const Chunk& c, const std::string& name) {
+  const std::string what = chunk_what(name, c);
+  ByteReader r(c.payload, c.size, what);
+  StreamHeader h;
+  h.frames = r.u64();
+  h.points = r.u32();
+  h.window_frames = r.u32();
+  uint8_t fmt = r.u8(), mode = r.u8();
+  h.codec = r.u8();
+  uint8_t flags = r.u8();
+  h.step = r.f64();
+  h.max_error = r.f64();
+  h.analog_channels = r.u32();
+  h.analog_samples_per_frame = r.u32();
+  if (fmt > 3) fail(ErrorCode::kCorrupt, what, "unknown source format " + std::to_string(fmt));
+  if (mode > 3) fail(ErrorCode::kCorrupt, what, "unknown position mode " + std::to_string(mode));
+  if (h.window_frames == 0) fail(ErrorCode::kCorrupt, what, "window of 0 frames");
+  if ((mode == 0 || mode == 1) && !(h.step > 0 && std::isfinite(h.step)))
+    fail(ErrorCode::kCorrupt, what, "grid step is not a positive number");
+  if (h.frames > (uint64_t{1} << 40)) fail(ErrorCode::kCorrupt, what, "implausible frame count");
+  if ((h.analog_channels == 0) != (h.analog_samples_per_frame == 0) && h.analog_channels != 0)
+    fail(ErrorCode::kCorrupt, what, "analog channels without samples per frame");
+  h.source_format = static_cast<Format>(fmt);
+  h.mode = static_cast<PosMode>(mode);
+  h.lossless = (flags & 1) != 0;
+  return h;
+}
+
+// ---------------------------------------------------------------------------------------------
+std::vector<uint8_t> encode_meta(const Take& t, bool has_sample_words) {
+  ByteWriter w;
+  std::string src = t.source;
+  while (!src.empty() && src.back() == '/') src.pop_back();
+  size_t slash = src.find_last_of('/');
+  w.str(slash == std::string::npos ? src : src.substr(slash + 1));
+  w.str(t.units);
+  w.f64(t.rate);
+  w.svarint(t.first_frame);
+  put_strings(&w, t.labels);
+  put_strings(&w, t.descriptions);
+  w.f64(t.analog.rate);
+  put_strings(&w, t.analog.labels);
+  uint8_t extras = (t.c3d ? 1 : 0) | (t.trc ? 2 : 0) | (t.pcd ? 4 : 0);
+  w.u8(extras);
+  if (t.c3d) {
+    const C3DExtra& c = *t.c3d;
+    w.u8(static_cast<uint8_t>(c.processor));
+    w.u8(c.float_storage ? 1 : 0);
+    w.f64(c.point_scale);
+    w.varint(static_cast<uint64_t>(std::max(0, c.max_interpolation_gap)));
+    w.u8(c.header_events_label_range ? 1 : 0);
+    w.varint(c.header_events.size());
+    for (const auto& e : c.header_events) {
+      w.f32(e.time);
+      w.u8(e.display ? 1 : 0);
+      w.str(e.label);
+    }
+    w.u8(has_sample_words ? 1 : 0);
+    std::vector<uint8_t> params = encode_c3d_parameters(c);
+    w.varint(params.size());
+    w.bytes(params);
+  }
+  if (t.trc) {
+    const TRCExtra& x = *t.trc;
+    w.str(x.path_file_type_line);
+    w.f64(x.camera_rate);
+    w.f64(x.orig_data_rate);
+    w.svarint(x.orig_data_start_frame);
+    w.svarint(x.orig_num_frames);
+    w.svarint(x.decimals);
+    // Time column: regular (t0 + i * dt exactly), on a decimal grid, or listed.
+    if (x.times.size() != t.frames) {
+      w.u8(0);
+    } else {
+      bool regular = t.frames >= 1;
+      double t0 = t.frames ? x.times[0] : 0, dt = t.frames > 1 ? x.times[1] - x.times[0] : 0;
+      for (size_t i = 0; regular && i < t.frames; ++i)
+        regular = (t0 + static_cast<double>(i) * dt) == x.times[i];
+      int decimals = -1;
+      for (int k = 0; !regular && decimals < 0 && k <= 9; ++k) {
+        const double d = std::pow(10.0, k);
+        bool ok = true;
+        for (size_t i = 0; ok && i < t.frames; ++i) {
+          const double v = x.times[i] * d;
+          ok = std::fabs(v) < 2e9 && std::round(v) / d == x.times[i];
+        }
+        if (ok) decimals = k;
+      }
+      if (regular) {
+        w.u8(1);
+        w.f64(t0);
+        w.f64(dt);
+      } else if (decimals >= 0) {
+        const double d = std::pow(10.0, decimals);
+        std::vector<int32_t> deltas(t.frames);
+        int32_t prev = 0;
+        for (size_t i = 0; i < t.frames; ++i) {
+          const int32_t k = static_cast<int32_t>(std::round(x.times[i] * d));
+          deltas[i] = k - prev;
+          prev = k;
+        }
+        w.u8(3);
+        w.u8(static_cast<uint8_t>(decimals));
+        std::vector<uint8_t> block = encode_ints(deltas);
+        w.varint(block.size());
+        w.bytes(block);
+      } else {
+        w.u8(2);
+        for (double v : x.times) w.f64(v);
+      }
+    }
+    if (x.frame_numbers.size() != t.frames) {
+      w.u8(0);
+    } else {
+      bool regular = t.frames >= 1;
+      for (size_t i = 1; regular && i < t.frames; ++i)
+        regular = x.frame_numbers[i] == x.frame_numbers[0] + static_cast<long>(i);
+      if (regular) {
+        w.u8(1);
+        w.svarint(x.frame_numbers[0]);
+      } else {
+        w.u8(2);
+        long prev = 0;
+        for (long v : x.frame_numbers) {
+          w.svarint(v - prev);
+          prev = v;
+        }
+      }
+    }
+  }
+  if (t.pcd) {
+    w.str(t.pcd->encoding);
+    put_strings(&w, t.pcd->frame_names.size() == t.frames ? t.pcd->frame_names
+                                                          : std::vector<std::string>());
+  }
+  return std::move(w.buffer());
+}
+
+void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sample_words) {
+  const std::string what = chunk_what(name, c);
+  ByteReader r(c.payload, c.size, what);
+  t->source = r.str();
+  t->units = r.str();
+  t->rate = r.f64();
+  t->first_frame = static_cast<long>(r.svarint());
+  t->labels = get_strings(&r, t->points, "label count");
+  t->descriptions = get_strings(&r, t->points, "description count");
+  t->analog.rate = r.f64();
+  t->analog.labels = get_strings(&r, static_cast<size_t>(t->analog.channels), "analog label count");
+  uint8_t extras = r.u8();
+  *has_sample_words = false;
+  if (extras & 1) {
+    auto c3d = std::make_shared<C3DExtra>();
+    c3d->processor = r.u8();
+    c3d->float_storage = r.u8() != 0;
+    c3d->point_scale = r.f64();
+    c3d->max_interpolation_gap = static_cast<int>(std::min<uint64_t>(r.varint(), 1u << 30));
+    c3d->header_events_label_range = r.u8() != 0;
+    uint64_t ne = r.count(6, "header event count");
+    c3d->header_events.resize(static_cast<size_t>(ne));
+    for (auto& e : c3d->header_events) {
+      e.time = r.f32();
+      e.display = r.u8() != 0;
+      e.label = r.str();
+    }
+    *has_sample_words = r.u8() != 0;
+    uint64_t np = r.count(1, "parameter section length");
+    const uint8_t* pb = r.bytes(static_cast<size_t>(np));
+    try {
+      decode_c3d_parameters(pb, static_cast<size_t>(np), what + " C3D parameters", c3d.get());
+    } catch (const Error& e) {
+      throw Error(ErrorCode::kCorrupt, e.what());
+    }
+    t->c3d = c3d;
+  }
+  if (extras & 2) {
+    auto x = std::make_shared<TRCExtra>();
+    x->path_file_type_line = r.str();
+    x->camera_rate = r.f64();
+    x->orig_data_rate = r.f64();
+    x->orig_data_start_frame = static_cast<long>(r.svarint());
+    x->orig_num_frames = static_cast<long>(r.svarint());
+    x->decimals = static_cast<int>(r.svarint());
+    uint8_t kt = r.u8();
+    if (kt == 1) {
+      double t0 = r.f64(), dt = r.f64();
+      x->times.resize(t->frames);
+      for (size_t i = 0; i < t->frames; ++i) x->times[i] = t0 + static_cast<double>(i) * dt;
+    } else if (kt == 2) {
+      if (t->frames > r.remaining() / 8) fail(ErrorCode::kCorrupt, what, "truncated Time column");
+      x->times.resize(t->frames);
+      for (auto& v : x->times) v = r.f64();
+    } else if (kt == 3) {
+      const uint8_t k = r.u8();
+      if (k > 9) fail(ErrorCode::kCorrupt, what, "Time column with more than 9 decimals");
+      const double d = std::pow(10.0, k);
+      uint64_t n = r.count(1, "Time column block length");
+      const uint8_t* b = r.bytes(static_cast<size_t>(n));
+      std::vector<int32_t> deltas = decode_ints(b, static_cast<size_t>(n), t->frames, what + " Time column");
+      x->times.resize(t->frames);
+      int32_t prev = 0;
+      for (size_t i = 0; i < t->frames; ++i) {
+        prev = static_cast<int32_t>(static_cast<uint32_t>(prev) + static_cast<uint32_t>(deltas[i]));
+        x->times[i] = static_cast<double>(prev) / d;
+      }
+    } else if (kt != 0) {
+      fail(ErrorCode::kCorrupt, what, "unknown Time column kind");
+    }
+    uint8_t kf = r.u8();
+    if (kf == 1) {
+      long n0 = static_cast<long>(r.svarint());
+      x->frame_numbers.resize(t->frames);
+      for (size_t i = 0; i < t->frames; ++i) x->frame_numbers[i] = n0 + static_cast<long>(i);
+    } else if (kf == 2) {
+      if (t->frames > r.remaining()) fail(ErrorCode::kCorrupt, what, "truncated Frame# column");
+      x->frame_numbers.resize(t->frames);
+      long prev = 0;
+      for (auto& v : x->frame_numbers) v = prev = prev + static_cast<long>(r.svarint());
+    } else if (kf != 0) {
+      fail(ErrorCode::kCorrupt, what, "unknown Frame# column kind");
+    }
+    t->trc = x;
+  }
+  if (extras & 4) {
+    auto p = std::make_shared<PCDExtra>();
+    p->encoding = r.str();
+    p->frame_names = get_strings(&r, t->frames, "frame name count");
+    t->pcd = p;
+  }
+  if (extras & ~7) fail(ErrorCode::kCorrupt, what, "unknown metadata blocks");
+  // Fields appended by later minor versions follow; they are skipped.
+}
+
+// ---------------------------------------------------------------------------------------------
+std::vector<uint8_t> encode_index(const std::vector<IndexEntry>& idx) {
+  ByteWriter w;
+  w.varint(idx.size());
+  for (const auto& e : idx) {
+    w.u64(e.offset);
+    w.u64(e.bytes);
+  }
+  w.u32(static_cast<uint32_t>(w.size() + 4));  // lets a reader find INDX from the file's end
+  return std::move(w.buffer());
+}
+
+std::vector<IndexEntry> decode_index(const Chunk& c, const std::string& name) {
+  ByteReader r(c.payload, c.size, chunk_what(name, c));
+  uint64_t n = r.count(16, "window count");
+  std::vector<IndexEntry> idx(static_cast<size_t>(n));
+  for (auto& e : idx) {
+    e.offset = r.u64();
+    e.bytes = r.u64();
+  }
+  if (r.u32() != c.size) fail(ErrorCode::kCorrupt, chunk_what(name, c), "bad trailing length");
+  return idx;
+}
+
+}  // namespace capz

@@ -1,0 +1,73 @@
+// The .capz framing (docs/FORMAT.md sections 2, 3.1, 3.2, 3.7): magic, version, CRC-checked
+// chunks, and the HEAD / META / INDX payloads.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "capz/take.h"
+#include "coding/quantiser.h"
+
+namespace capz {
+
+constexpr uint8_t kCapzMagic[9] = {0x89, 'c', 'a', 'p', 'z', 0x0D, 0x0A, 0x1A, 0x0A};
+constexpr uint8_t kCapzMajor = 1;
+constexpr uint8_t kCapzMinor = 0;
+constexpr size_t kFileHeaderBytes = 11;  // magic + major + minor
+constexpr size_t kChunkOverhead = 12;    // type + length + crc
+
+// Appends magic and version.
+void write_file_header(std::vector<uint8_t>* out);
+// Appends one chunk: type (4 ASCII bytes), u32 length, payload, CRC-32C of type + payload.
+void append_chunk(std::vector<uint8_t>* out, const char type[4], const std::vector<uint8_t>& payload);
+
+struct Chunk {
+  std::string type;  // 4 characters
+  const uint8_t* payload = nullptr;
+  size_t size = 0;
+  size_t offset = 0;  // file offset of the chunk's first byte
+  size_t end = 0;     // file offset just past its CRC
+};
+
+// Checks magic (kNotOurFormat) and version (kUnsupportedVersion); returns the minor version.
+int check_file_header(const uint8_t* data, size_t size, const std::string& name);
+// Reads the chunk at `offset`: framing and CRC checked (kCorrupt naming the chunk and offset).
+Chunk read_chunk(const uint8_t* data, size_t size, size_t offset, const std::string& name);
+
+struct StreamHeader {
+  uint64_t frames = 0;
+  uint32_t points = 0;
+  uint32_t window_frames = 0;
+  Format source_format = Format::kUnknown;
+  PosMode mode = PosMode::kGrid;
+  uint8_t codec = 0;
+  bool lossless = false;
+  double step = 0;
+  double max_error = 0;
+  uint32_t analog_channels = 0;
+  uint32_t analog_samples_per_frame = 0;
+
+  size_t windows() const {
+    return frames == 0 ? 0 : static_cast<size_t>((frames + window_frames - 1) / window_frames);
+  }
+};
+std::vector<uint8_t> encode_header(const StreamHeader& h);
+StreamHeader decode_header(const Chunk& c, const std::string& name);
+
+// META: everything of the Take except positions, mask, analog values and the C3D per-sample
+// words. decode_meta fills those fields of *take (frames/points from the header must already be
+// set; per-frame TRC/PCD lists are checked against them). has_sample_words tells whether C3DW
+// chunks follow.
+std::vector<uint8_t> encode_meta(const Take& take, bool has_sample_words);
+void decode_meta(const Chunk& c, const std::string& name, Take* take, bool* has_sample_words);
+
+struct IndexEntry {
+  uint64_t offset = 0;
+  uint64_t bytes = 0;
+};
+std::vector<uint8_t> encode_index(const std::vector<IndexEntry>& idx);
+std::vector<IndexEntry> decode_index(const Chunk& c, const std::string& name);
+
+}  // namespace capz

@@ -1,0 +1,61 @@
+// The bound layer's number mappings (docs/FORMAT.md 3.1): between a coordinate x (double, the
+// take's units) and the 32-bit integer q that is predicted and entropy-coded.
+//
+// Rounding rule (grid): q = round-half-away-from-zero(x / s), computed in double; x' = q * s.
+// With s = 2 * max_error * (1 - 2^-30), |x - x'| <= max_error holds for every coordinate whose
+// |x / s| < 2^31 (the encoder checks the range and, by default, re-decodes and checks the bound).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+namespace capz {
+
+enum class PosMode : uint8_t { kGrid = 0, kDecimal = 1, kFloat32 = 2, kFloat64 = 3 };
+
+// Step for a per-coordinate bound; see the rounding rule above.
+inline double grid_step_for_bound(double max_error) { return 2.0 * max_error * (1.0 - 0x1p-30); }
+
+// Largest |q| the grid accepts, so predictions and residuals never overflow in practice
+// (arithmetic wraps anyway, see predict.h).
+constexpr double kMaxGridIndex = 2147483647.0;
+
+// round half away from zero; the caller checks |v| <= kMaxGridIndex first.
+inline int32_t round_to_int(double v) {
+  return static_cast<int32_t>(v < 0 ? -std::floor(-v + 0.5) : std::floor(v + 0.5));
+}
+
+// float32 bits <-> an int32 that orders like the float values (sign-magnitude to two's
+// complement): non-negative floats keep their bits, negative ones flip the magnitude bits.
+inline int32_t float_to_ordered(float f) {
+  uint32_t b;
+  std::memcpy(&b, &f, 4);
+  if (b & 0x80000000u) b ^= 0x7FFFFFFFu;
+  return static_cast<int32_t>(b);
+}
+inline float ordered_to_float(int32_t q) {
+  uint32_t b = static_cast<uint32_t>(q);
+  if (b & 0x80000000u) b ^= 0x7FFFFFFFu;
+  float f;
+  std::memcpy(&f, &b, 4);
+  return f;
+}
+inline int64_t double_to_ordered(double d) {
+  uint64_t b;
+  std::memcpy(&b, &d, 8);
+  if (b >> 63) b ^= 0x7FFFFFFFFFFFFFFFull;
+  return static_cast<int64_t>(b);
+}
+inline double ordered_to_double(int64_t q) {
+  uint64_t b = static_cast<uint64_t>(q);
+  if (b >> 63) b ^= 0x7FFFFFFFFFFFFFFFull;
+  double d;
+  std::memcpy(&d, &b, 8);
+  return d;
+}
+
+// True when x is exactly a float32 value (NaN excluded).
+inline bool is_float32(double x) { return static_cast<double>(static_cast<float>(x)) == x; }
+
+}  // namespace capz

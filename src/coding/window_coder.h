@@ -1,0 +1,77 @@
+// Coding of one window's streams (docs/FORMAT.md 3.3 - 3.6): positions as integers, the gap
+// mask, C3D per-sample words and analog channels. Each encode_* returns a chunk payload; each
+// decode_* parses one, throwing Error(kCorrupt) naming `what` on any inconsistency.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "coding/quantiser.h"
+
+namespace capz {
+
+class TransformCodec;
+struct TransformParams;
+
+// Integers of one window. q: frames x points x 3 (gap samples: anything, filled on coding);
+// lo: the low 32 bits in mode kFloat64, else empty. valid: frames x points.
+struct WindowInts {
+  size_t frames = 0, points = 0;
+  std::vector<int32_t> q;
+  std::vector<uint32_t> lo;
+  std::vector<uint8_t> valid;
+};
+
+// The codec's view of the grid (used to map its reconstruction to integer predictions).
+struct GridInfo {
+  PosMode mode = PosMode::kGrid;
+  double step = 0;  // kGrid: x = q * step
+};
+
+// POSW payload after the window index and has_mask byte: codec bytes, modes, residuals.
+// `codec_payload` is what the transform codec wrote (empty if none), `tpred` its prediction on
+// the grid (frames x points x 3, empty if none).
+std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uint8_t>& codec_payload,
+                                      const std::vector<int32_t>& tpred, bool float64);
+// Parses what encode_positions wrote from `r`'s current position to the end of the payload.
+// `codec_payload` receives the codec bytes; `make_tpred` is called with them to produce the
+// transform prediction when any point's predictor needs it (it throws if there is no codec).
+struct PositionsPayload {
+  const uint8_t* codec_bytes = nullptr;
+  size_t codec_size = 0;
+  const uint8_t* modes = nullptr;
+  size_t modes_size = 0;
+  const uint8_t* residuals = nullptr;
+  size_t residuals_size = 0;
+};
+PositionsPayload split_positions(const uint8_t* data, size_t size, const std::string& what);
+// Decodes into w (frames, points, valid set by the caller). tpred may be empty if no codec.
+void decode_positions(const PositionsPayload& pp, const std::vector<int32_t>& tpred, bool float64,
+                      WindowInts* w, const std::string& what);
+// Predictor modes of a payload (to know whether tpred is needed before decoding).
+std::vector<uint8_t> decode_modes(const PositionsPayload& pp, size_t points, const std::string& what);
+
+// Gap mask: frames x points, 1 = valid. Runs per point (3.4).
+std::vector<uint8_t> encode_mask(const uint8_t* valid, size_t frames, size_t points);
+void decode_mask(const uint8_t* data, size_t size, size_t frames, size_t points, uint8_t* valid,
+                 const std::string& what);
+
+// C3D residual (file units) and camera bytes of a window, frames x points each (3.5).
+// residual_on_grid: residuals are k * point_scale exactly (int16 files).
+std::vector<uint8_t> encode_c3d_words(const float* residual, const uint8_t* camera, size_t count,
+                                      size_t points, double point_scale, bool residual_on_grid);
+void decode_c3d_words(const uint8_t* data, size_t size, size_t count, size_t points,
+                      double point_scale, float* residual, uint8_t* camera, const std::string& what);
+bool residuals_on_grid(const std::vector<float>& residual, double point_scale);
+
+// Analog samples of a window: rows x channels, row-major doubles (3.6). Kind per channel is
+// chosen over the whole take by analog_kinds() so every window agrees.
+std::vector<uint8_t> analog_kinds(const std::vector<double>& values, int channels);
+std::vector<uint8_t> encode_analog(const double* rows, size_t nrows, int channels,
+                                   const std::vector<uint8_t>& kinds);
+void decode_analog(const uint8_t* data, size_t size, size_t nrows, int channels, double* rows,
+                   const std::string& what);
+
+}  // namespace capz

@@ -1,0 +1,132 @@
+// pdct on the real sequences: encoder reconstruction == decoder output bit for bit, and the
+// error targets hold. Frame subsets keep the runtime modest.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <string>
+
+#include "capz/io.h"
+#include "capz/metrics.h"
+#include "codec/pdct/pdct_codec.h"
+
+namespace {
+
+const std::string kData = CAPZ_SHARED_DATA;
+
+// The first `frames` frames of a take, gaps filled as a container fills them for coding: the last
+// measured value (the next one before the first measurement; 0 if never measured).
+struct Window {
+  size_t frames = 0, points = 0;
+  std::vector<double> xyz;
+  std::vector<uint8_t> valid;
+  capz::PositionsView view() const { return capz::PositionsView{frames, points, xyz.data(), valid.data()}; }
+};
+
+Window window_of(const capz::Take& t, size_t frames) {
+  Window w;
+  w.frames = std::min(frames, t.frames);
+  w.points = t.points;
+  w.xyz.assign(t.xyz.begin(), t.xyz.begin() + static_cast<std::ptrdiff_t>(w.frames * w.points * 3));
+  w.valid.assign(t.valid.begin(), t.valid.begin() + static_cast<std::ptrdiff_t>(w.frames * w.points));
+  for (size_t p = 0; p < w.points; ++p) {
+    long last = -1;
+    for (size_t f = 0; f < w.frames; ++f) {
+      if (w.valid[f * w.points + p]) {
+        if (last < 0)  // leading gap: back-fill with this first measurement
+          for (size_t g = 0; g < f; ++g) std::memcpy(&w.xyz[3 * (g * w.points + p)], &w.xyz[3 * (f * w.points + p)], 24);
+        last = static_cast<long>(f);
+      } else if (last >= 0) {
+        std::memcpy(&w.xyz[3 * (f * w.points + p)], &w.xyz[3 * (static_cast<size_t>(last) * w.points + p)], 24);
+      }
+    }
+  }
+  return w;
+}
+
+struct Outcome {
+  capz::ErrorStats stats;
+  double bpvf = 0;
+  capz::PdctReport report;
+};
+
+Outcome round_trip(const Window& w, const capz::TransformParams& p) {
+  Outcome o;
+  std::vector<uint8_t> bytes;
+  std::vector<double> enc, dec;
+  capz::encode_pdct(w.view(), p, &bytes, &enc, &o.report);
+  capz::PdctCodec().decode(bytes.data(), bytes.size(), w.frames, w.points, &dec);
+  EXPECT_EQ(enc.size(), dec.size());
+  EXPECT_EQ(std::memcmp(enc.data(), dec.data(), enc.size() * sizeof(double)), 0)
+      << "encoder reconstruction differs from the decoder's output";
+  o.stats = capz::compare(w.frames, w.points, w.xyz.data(), dec.data(), w.valid.data());
+  o.bpvf = capz::bpvf(bytes.size(), w.frames, w.points);
+  return o;
+}
+
+}  // namespace
+
+TEST(PdctRoundTrip, GivenPcdSequencesWhenKgTargetThenMetAndBitIdentical) {
+  struct Case {
+    const char* dir;
+    size_t frames;
+    double kg;
+    double max_bpvf;  // regression guard, well above what the codec reaches
+  };
+  for (const Case c : {Case{"chickenCrossing", 60, 0.5, 6}, Case{"pcow", 60, 1.0, 8},
+                       Case{"horse-gallop", 16, 1.0, 10}}) {
+    SCOPED_TRACE(c.dir);
+    const capz::Take t = capz::read_pcd_folder(kData + "/pcd/" + c.dir);
+    const Window w = window_of(t, c.frames);
+    capz::TransformParams p;
+    p.kg_error = c.kg;
+    p.clusters = 25;
+    const Outcome o = round_trip(w, p);
+    EXPECT_LE(o.stats.kg_error, c.kg);
+    EXPECT_GT(o.stats.kg_error, c.kg / 3);  // the search uses the budget
+    EXPECT_LT(o.bpvf, c.max_bpvf);
+    EXPECT_EQ(o.report.clusters, 25u);
+  }
+}
+
+TEST(PdctRoundTrip, GivenChickenWhenZeroingCoefficientsThenRateDropsAndErrorRises) {
+  const capz::Take t = capz::read_pcd_folder(kData + "/pcd/chickenCrossing");
+  const Window w = window_of(t, 40);
+  // Fixed quantisation (the paper's 12 bits): zeroing coefficients lowers the rate and raises
+  // the error.
+  capz::TransformParams p;
+  p.clusters = 25;
+  const Outcome full = round_trip(w, p);
+  p.options["zero_share"] = "0.75";
+  const Outcome zeroed = round_trip(w, p);
+  EXPECT_LT(zeroed.bpvf, full.bpvf);
+  EXPECT_GT(zeroed.stats.kg_error, full.stats.kg_error);
+  EXPECT_LT(full.stats.kg_error, 0.2);
+}
+
+TEST(PdctRoundTrip, GivenMaxErrorWhenEncodedThenGridModeHoldsTheBound) {
+  for (const char* dir : {"pcow", "chickenCrossing"}) {
+    SCOPED_TRACE(dir);
+    const capz::Take t = capz::read_pcd_folder(kData + "/pcd/" + dir);
+    const Window w = window_of(t, 40);
+    capz::TransformParams p;
+    p.max_error = 0.002;  // the sequences span ~4 and ~18 units
+    p.clusters = 25;
+    const Outcome o = round_trip(w, p);
+    EXPECT_TRUE(o.report.grid_mode);
+    EXPECT_LE(o.stats.max_abs, p.max_error);  // on the bound layer's grid: nothing left to code
+    EXPECT_LT(o.bpvf, 16);
+  }
+}
+
+TEST(PdctRoundTrip, GivenMaxErrorInDctModeWhenEncodedThenTransformAloneStaysNearTheBound) {
+  const capz::Take t = capz::read_pcd_folder(kData + "/pcd/pcow");
+  const Window w = window_of(t, 40);
+  capz::TransformParams p;
+  p.max_error = 0.002;
+  p.options["mode"] = "dct";
+  const Outcome o = round_trip(w, p);
+  // The bound itself is the bound layer's job; the transform's steps sit on its grid, so its RMS
+  // error is below the bound and its worst case within a few grid steps.
+  EXPECT_LT(o.stats.rmse, p.max_error);
+  EXPECT_LT(o.stats.max_abs, 8 * p.max_error);
+}

@@ -1,0 +1,301 @@
+// The container end to end on synthetic takes: bounds, lossless modes, gaps, analog, C3D words,
+// frame ranges, CRC, quantiser rounding, unit parsing.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+
+#include "capz/codec.h"
+#include "capz/error.h"
+#include "capz/metrics.h"
+#include "coding/container.h"
+#include "coding/crc32c.h"
+#include "coding/quantiser.h"
+#include "coding/window_coder.h"
+
+namespace capz {
+namespace {
+
+// Smooth random trajectories (mm), with optional gaps.
+Take synthetic(size_t frames, size_t points, double gap_rate, unsigned seed) {
+  Take t;
+  t.source = "synthetic";
+  t.format = Format::kTRC;
+  t.resize(frames, points);
+  t.rate = 100;
+  t.units = "mm";
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n(0, 1);
+  for (size_t p = 0; p < points; ++p) {
+    t.labels.push_back("M" + std::to_string(p));
+    double x[3] = {n(rng) * 300, n(rng) * 300, 800 + n(rng) * 300};
+    double v[3] = {0, 0, 0};
+    bool gap = false;
+    for (size_t f = 0; f < frames; ++f) {
+      for (int a = 0; a < 3; ++a) {
+        v[a] = 0.98 * v[a] + n(rng) * 0.3;
+        x[a] += v[a];
+        t.at(f, p)[a] = x[a];
+      }
+      if (gap_rate > 0 && std::uniform_real_distribution<double>(0, 1)(rng) < gap_rate) gap = !gap;
+      t.valid[f * points + p] = gap ? 0 : 1;
+      if (gap) std::fill_n(t.at(f, p), 3, 0.0);
+    }
+  }
+  return t;
+}
+
+void expect_same_mask(const Take& a, const Take& b) {
+  ASSERT_EQ(a.valid.size(), b.valid.size());
+  for (size_t i = 0; i < a.valid.size(); ++i) ASSERT_EQ(a.valid[i] != 0, b.valid[i] != 0) << i;
+}
+
+TEST(Crc32c, GivenCheckStringThenKnownValue) {
+  const char* s = "123456789";
+  EXPECT_EQ(crc32c(reinterpret_cast<const uint8_t*>(s), 9), 0xE3069283u);
+  std::vector<uint8_t> big(1000);
+  for (size_t i = 0; i < big.size(); ++i) big[i] = static_cast<uint8_t>(i * 7);
+  EXPECT_EQ(crc32c_update(crc32c(big.data(), 333), big.data() + 333, 667), crc32c(big.data(), 1000));
+}
+
+TEST(Quantiser, GivenHalfwayValuesThenRoundsAwayFromZero) {
+  EXPECT_EQ(round_to_int(2.5), 3);
+  EXPECT_EQ(round_to_int(-2.5), -3);
+  EXPECT_EQ(round_to_int(2.4999), 2);
+  EXPECT_EQ(round_to_int(-0.5), -1);
+  EXPECT_EQ(round_to_int(0.0), 0);
+  // The bound holds on the grid for values right at the half-step.
+  const double e = 0.1, s = grid_step_for_bound(e);
+  for (double x : {0.05, 0.1, 0.15, 1234.5678, -987.65, 0.1 * 12345 + 0.1}) {
+    double back = round_to_int(x / s) * s;
+    EXPECT_LE(std::fabs(back - x), e) << x;
+  }
+}
+
+TEST(Quantiser, GivenFloatsThenOrderedMappingIsMonotoneAndExact) {
+  std::vector<float> v = {-1e30f, -2.5f, -1e-30f, -0.0f, 0.0f, 1e-30f, 1.0f, 3e38f};
+  for (size_t i = 0; i + 1 < v.size(); ++i)
+    EXPECT_LE(float_to_ordered(v[i]), float_to_ordered(v[i + 1]));
+  for (float f : v) {
+    float b = ordered_to_float(float_to_ordered(f));
+    EXPECT_EQ(std::memcmp(&b, &f, 4), 0);
+  }
+}
+
+TEST(Units, GivenTypedLengthsThenConvertedToTakeUnits) {
+  EXPECT_DOUBLE_EQ(parse_length("0.1mm", "m"), 0.0001);
+  EXPECT_DOUBLE_EQ(parse_length("0.1", "m"), 0.1);
+  EXPECT_DOUBLE_EQ(parse_length("2 cm", "mm"), 20);
+  EXPECT_DOUBLE_EQ(parse_length("1mm", "", "m"), 0.001);
+  EXPECT_THROW(parse_length("1mm", ""), Error);
+  EXPECT_THROW(parse_length("abc", "mm"), Error);
+  EXPECT_THROW(parse_length("-1mm", "mm"), Error);
+  EXPECT_THROW(parse_length("1 furlong", "mm"), Error);
+}
+
+TEST(MaskCoding, GivenRandomMasksThenRoundTripExactly) {
+  std::mt19937 rng(9);
+  for (int trial = 0; trial < 20; ++trial) {
+    size_t F = 1 + rng() % 300, N = 1 + rng() % 20;
+    std::vector<uint8_t> v(F * N);
+    for (auto& b : v) b = (rng() % 5) != 0;
+    auto block = encode_mask(v.data(), F, N);
+    std::vector<uint8_t> back(F * N, 7);
+    decode_mask(block.data(), block.size(), F, N, back.data(), "mask");
+    EXPECT_EQ(back, v);
+  }
+}
+
+TEST(AnalogCoding, GivenIntFloatAndNaNChannelsThenExact) {
+  std::mt19937 rng(10);
+  const size_t rows = 500;
+  const int C = 3;
+  std::vector<double> v(rows * C);
+  for (size_t k = 0; k < rows; ++k) {
+    v[k * C + 0] = std::round(1000 * std::sin(k * 0.05)) + static_cast<int>(rng() % 3);
+    v[k * C + 1] = static_cast<float>(std::cos(k * 0.01) * 3.3);
+    v[k * C + 2] = k == 7 ? std::nan("") : 0.1 * static_cast<double>(k);
+  }
+  auto kinds = analog_kinds(v, C);
+  EXPECT_EQ(kinds[0], 0);
+  EXPECT_EQ(kinds[1], 1);
+  EXPECT_EQ(kinds[2], 2);
+  auto block = encode_analog(v.data(), rows, C, kinds);
+  std::vector<double> back(rows * C);
+  decode_analog(block.data(), block.size(), rows, C, back.data(), "analog");
+  EXPECT_EQ(std::memcmp(back.data(), v.data(), v.size() * 8), 0);
+}
+
+TEST(Container, GivenBoundWhenRoundTrippedThenEveryCoordinateWithinBoundAndMaskExact) {
+  Take t = synthetic(700, 12, 0.01, 1);
+  for (double bound : {0.1, 1.0}) {
+    CompressOptions o;
+    o.max_error = bound;
+    o.window_frames = 256;
+    CompressStats st;
+    auto bytes = compress(t, o, &st);
+    Take b = decompress(bytes.data(), bytes.size(), "mem");
+    ASSERT_EQ(b.frames, t.frames);
+    expect_same_mask(t, b);
+    ErrorStats e = compare(t, b);
+    EXPECT_LE(e.max_abs, bound);
+    EXPECT_GT(e.max_abs, bound * 0.5);
+    EXPECT_NEAR(e.kg_error, st.error.kg_error, 1e-9);
+    EXPECT_EQ(st.bytes, bytes.size());
+    EXPECT_EQ(b.labels, t.labels);
+    EXPECT_EQ(b.units, "mm");
+    EXPECT_EQ(b.rate, 100);
+    for (size_t i = 0; i < b.valid.size(); ++i)
+      if (!b.valid[i]) {
+        EXPECT_EQ(b.xyz[i * 3], 0.0);
+      }
+  }
+}
+
+TEST(Container, GivenKgTargetThenAchievedAtOrJustUnder) {
+  Take t = synthetic(400, 10, 0, 2);
+  CompressOptions o;
+  o.kg_error = 0.05;
+  CompressStats st;
+  auto bytes = compress(t, o, &st);
+  Take b = decompress(bytes.data(), bytes.size());
+  ErrorStats e = compare(t, b);
+  EXPECT_LE(e.kg_error, 0.05);
+  EXPECT_GT(e.kg_error, 0.04);
+}
+
+TEST(Container, GivenDecimalDataWhenLosslessThenBitExact) {
+  Take t = synthetic(300, 5, 0.02, 3);
+  for (double& x : t.xyz) x = std::round(x * 1000) / 1000;  // as a TRC with 3 decimals reads
+  CompressOptions o;
+  o.lossless = true;
+  CompressStats st;
+  auto bytes = compress(t, o, &st);
+  EXPECT_EQ(st.mode, "decimal-grid");
+  Take b = decompress(bytes.data(), bytes.size());
+  expect_same_mask(t, b);
+  for (size_t i = 0; i < t.valid.size(); ++i)
+    if (t.valid[i]) {
+      ASSERT_EQ(std::memcmp(&t.xyz[i * 3], &b.xyz[i * 3], 24), 0);
+    }
+}
+
+TEST(Container, GivenFloat32AndFloat64DataWhenLosslessThenBitExact) {
+  Take t = synthetic(300, 5, 0.02, 4);
+  for (double& x : t.xyz) x = static_cast<float>(x * 1.0000001);
+  for (int pass = 0; pass < 2; ++pass) {
+    CompressOptions o;
+    o.lossless = true;
+    CompressStats st;
+    auto bytes = compress(t, o, &st);
+    EXPECT_EQ(st.mode, pass == 0 ? "float32-bits" : "float64-bits");
+    Take b = decompress(bytes.data(), bytes.size());
+    for (size_t i = 0; i < t.valid.size(); ++i)
+      if (t.valid[i]) {
+        ASSERT_EQ(std::memcmp(&t.xyz[i * 3], &b.xyz[i * 3], 24), 0);
+      }
+    for (double& x : t.xyz) x += 1e-12;  // now not float32
+  }
+}
+
+TEST(Container, GivenC3DInt16TakeThenStoredIntegersAndWordsComeBack) {
+  Take t = synthetic(200, 6, 0.02, 5);
+  t.format = Format::kC3D;
+  t.c3d = std::make_shared<C3DExtra>();
+  t.c3d->point_scale = 0.0833333;
+  t.c3d->float_storage = false;
+  t.c3d->residual.resize(t.frames * t.points);
+  t.c3d->camera_mask.resize(t.frames * t.points);
+  for (size_t i = 0; i < t.valid.size(); ++i) {
+    for (int a = 0; a < 3; ++a)
+      t.xyz[i * 3 + a] = std::round(t.xyz[i * 3 + a] / t.c3d->point_scale) * t.c3d->point_scale;
+    t.c3d->residual[i] = t.valid[i] ? static_cast<float>((i % 5) * t.c3d->point_scale) : -1.0f;
+    t.c3d->camera_mask[i] = static_cast<uint8_t>(t.valid[i] ? 0x3F : 0);
+  }
+  for (bool lossless : {true, false}) {
+    CompressOptions o;
+    o.lossless = lossless;
+    o.max_error = 0.5;
+    auto bytes = compress(t, o);
+    Take b = decompress(bytes.data(), bytes.size());
+    ASSERT_TRUE(b.c3d);
+    EXPECT_EQ(b.c3d->camera_mask, t.c3d->camera_mask);
+    EXPECT_EQ(std::memcmp(b.c3d->residual.data(), t.c3d->residual.data(), t.valid.size() * 4), 0);
+    for (size_t i = 0; i < t.valid.size(); ++i)
+      if (t.valid[i])
+        for (int a = 0; a < 3; ++a) {
+          double k = b.xyz[i * 3 + a] / t.c3d->point_scale;
+          EXPECT_NEAR(k, std::round(k), 1e-6);  // still on the int16 grid
+          if (lossless) ASSERT_EQ(b.xyz[i * 3 + a], t.xyz[i * 3 + a]);
+          else ASSERT_LE(std::fabs(b.xyz[i * 3 + a] - t.xyz[i * 3 + a]), 0.5);
+        }
+  }
+}
+
+TEST(Container, GivenAnalogThenExactAndFrameRangeDecodesOnlyThatRange) {
+  Take t = synthetic(1000, 4, 0.01, 6);
+  t.analog.channels = 2;
+  t.analog.samples_per_frame = 4;
+  t.analog.rate = 400;
+  t.analog.labels = {"A", "B"};
+  t.analog.values.resize(1000 * 4 * 2);
+  for (size_t i = 0; i < t.analog.values.size(); ++i)
+    t.analog.values[i] = std::round(100 * std::sin(i * 0.01)) + (i % 2 ? 0.5 : 0);
+  CompressOptions o;
+  o.max_error = 0.1;
+  o.window_frames = 128;
+  auto bytes = compress(t, o);
+  Take all = decompress(bytes.data(), bytes.size());
+  EXPECT_EQ(std::memcmp(all.analog.values.data(), t.analog.values.data(), t.analog.values.size() * 8), 0);
+  EXPECT_EQ(all.analog.labels, t.analog.labels);
+  Take part = decompress_frames(bytes.data(), bytes.size(), 300, 250);
+  ASSERT_EQ(part.frames, 250u);
+  EXPECT_EQ(part.first_frame, t.first_frame + 300);
+  for (size_t i = 0; i < 250 * 4 * 3; ++i) ASSERT_EQ(part.xyz[i], all.xyz[300 * 4 * 3 + i]);
+  for (size_t i = 0; i < 250 * 4; ++i) ASSERT_EQ(part.valid[i], all.valid[300 * 4 + i]);
+  for (size_t i = 0; i < 250 * 8; ++i) ASSERT_EQ(part.analog.values[i], all.analog.values[300 * 8 + i]);
+  // A range needs only its windows: damage a window outside it and the range still decodes.
+  auto damaged = bytes;
+  StreamInfo si = describe(bytes.data(), bytes.size());
+  EXPECT_EQ(si.windows, 8u);
+  damaged[bytes.size() / 2 + 3000] ^= 0x40;  // somewhere in a later window
+  EXPECT_THROW(decompress(damaged.data(), damaged.size()), Error);
+  Take early = decompress_frames(damaged.data(), damaged.size(), 0, 100);
+  EXPECT_EQ(early.frames, 100u);
+}
+
+TEST(Container, GivenEmptyAndAllGapTakesThenRoundTrip) {
+  Take t = synthetic(50, 3, 0, 7);
+  std::fill(t.valid.begin(), t.valid.end(), 0);
+  std::fill(t.xyz.begin(), t.xyz.end(), 0.0);
+  CompressOptions o;
+  o.max_error = 0.1;
+  auto bytes = compress(t, o);
+  Take b = decompress(bytes.data(), bytes.size());
+  EXPECT_EQ(b.gap_samples(), 150u);
+  Take e;
+  e.units = "m";
+  auto eb = compress(e, o);
+  Take be = decompress(eb.data(), eb.size());
+  EXPECT_EQ(be.frames, 0u);
+}
+
+TEST(Container, GivenNoTargetOrTooFineBoundThenInvalidParameter) {
+  Take t = synthetic(20, 2, 0, 8);
+  CompressOptions o;
+  try {
+    compress(t, o);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInvalidParameter);
+  }
+  o.max_error = 1e-300;
+  EXPECT_THROW(compress(t, o), Error);
+  o.max_error = 0.1;
+  o.codec = "no-such-codec";
+  EXPECT_THROW(compress(t, o), Error);
+}
+
+}  // namespace
+}  // namespace capz
