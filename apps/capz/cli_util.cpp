@@ -15,8 +15,8 @@ bool parse_args(const Args& args, const std::string& usage, const std::string& d
                 const po::options_description& options, const po::options_description& positionals,
                 const po::positional_options_description& pos, po::variables_map* vm) {
   po::options_description common("common options");
-  common.add_options()("help,h", "print this help and exit")(
-      "quiet,q", "print nothing but errors")("verbose,v", "print more detail");
+  common.add_options()("help,h", "print this help and exit")("quiet,q", "print nothing but errors")(
+      "verbose,v", "print more detail");
   po::options_description shown;
   shown.add(options).add(common);
   po::options_description all;
@@ -60,7 +60,9 @@ uint64_t path_size(const std::string& path) {
   return ec ? 0 : s;
 }
 
-std::string number(double v) { return capz::format_decimal(v, -1); }
+std::string number(double v) {
+  return capz::format_decimal(v, -1);
+}
 
 std::string percent(double share) {
   char buf[32];
@@ -97,13 +99,27 @@ std::string Json::escape(const std::string& s) {
       continue;
     }
     switch (c) {
-      case '"': o += "\\\""; break;
-      case '\\': o += "\\\\"; break;
-      case '\b': o += "\\b"; break;
-      case '\f': o += "\\f"; break;
-      case '\n': o += "\\n"; break;
-      case '\r': o += "\\r"; break;
-      case '\t': o += "\\t"; break;
+      case '"':
+        o += "\\\"";
+        break;
+      case '\\':
+        o += "\\\\";
+        break;
+      case '\b':
+        o += "\\b";
+        break;
+      case '\f':
+        o += "\\f";
+        break;
+      case '\n':
+        o += "\\n";
+        break;
+      case '\r':
+        o += "\\r";
+        break;
+      case '\t':
+        o += "\\t";
+        break;
       default:
         if (c < 0x20 || c == 0x7f) {
           char buf[8];

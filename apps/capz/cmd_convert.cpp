@@ -30,13 +30,14 @@ int cmd_convert(const Args& args) {
   po::positional_options_description pos;
   pos.add("input", 1).add("output", 1);
   po::variables_map vm;
-  if (!parse_args(args, "capz convert IN OUT [-f] [--pcd-encoding E] [--c3d-float]",
-                  "Converts IN to OUT, each a .c3d, a .trc or a folder of .pcd frames (OUT: a path\n"
-                  "without extension or ending in '/'), keeping point order,\n"
-                  "labels, rate, units and gaps (a gap is an empty field in TRC, a NaN point in\n"
-                  "PCD). The output is written to a temporary name and renamed into place; an\n"
-                  "existing OUT is never replaced without -f.",
-                  opts, positionals, pos, &vm))
+  if (!parse_args(
+          args, "capz convert IN OUT [-f] [--pcd-encoding E] [--c3d-float]",
+          "Converts IN to OUT, each a .c3d, a .trc or a folder of .pcd frames (OUT: a path\n"
+          "without extension or ending in '/'), keeping point order,\n"
+          "labels, rate, units and gaps (a gap is an empty field in TRC, a NaN point in\n"
+          "PCD). The output is written to a temporary name and renamed into place; an\n"
+          "existing OUT is never replaced without -f.",
+          opts, positionals, pos, &vm))
     return 0;
   if (!vm.count("input") || !vm.count("output")) throw po::error("need IN and OUT");
   const std::string in = vm["input"].as<std::string>();
@@ -77,7 +78,8 @@ int cmd_convert(const Args& args) {
   if (!vm.count("pcd-encoding") && take.pcd) wo.pcd_encoding = take.pcd->encoding;
 
   if (g_verbosity >= 1) {
-    for (const auto& w : take.warnings) std::fprintf(stderr, "capz convert: %s: %s\n", in.c_str(), w.c_str());
+    for (const auto& w : take.warnings)
+      std::fprintf(stderr, "capz convert: %s: %s\n", in.c_str(), w.c_str());
     if (out_format != capz::Format::kC3D) {
       if (take.analog.channels > 0)
         std::fprintf(stderr, "capz convert: note: %s does not keep the %d analog channels\n",

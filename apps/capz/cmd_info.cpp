@@ -38,9 +38,12 @@ bool looks_like_capz(const std::string& path) {
 
 const char* processor_name(int p) {
   switch (p) {
-    case 84: return "Intel";
-    case 85: return "DEC";
-    case 86: return "MIPS";
+    case 84:
+      return "Intel";
+    case 85:
+      return "DEC";
+    case 86:
+      return "MIPS";
   }
   return "unknown processor";
 }
@@ -94,22 +97,25 @@ void print_text(const std::string& path, const capz::Take& t) {
   line("file:", path + " (" + human_size(path_size(path)) + ")");
   line("format:", std::string(capz::format_name(t.format)) + ": " + variant_text(t));
   line("points:", std::to_string(t.points));
-  line("frames:", std::to_string(t.frames) + " (first frame " + std::to_string(t.first_frame) + ")");
+  line("frames:",
+       std::to_string(t.frames) + " (first frame " + std::to_string(t.first_frame) + ")");
   line("rate:", t.rate > 0 ? number(t.rate) + " Hz" : std::string("unknown"));
-  line("duration:", t.rate > 0 ? number(std::round(s.duration * 1000) / 1000) + " s"
-                               : std::string("unknown"));
+  line("duration:",
+       t.rate > 0 ? number(std::round(s.duration * 1000) / 1000) + " s" : std::string("unknown"));
   line("units:", t.units.empty() ? std::string("unknown") : t.units);
-  line("gaps:", s.samples == 0 ? std::string("none (no samples)")
-                               : percent(static_cast<double>(s.gaps) / s.samples) + " of samples (" +
-                                     std::to_string(s.gaps) + " of " + std::to_string(s.samples) +
-                                     "), " + std::to_string(s.points_with_gaps) + " of " +
-                                     std::to_string(t.points) + " points have gaps");
+  line("gaps:", s.samples == 0
+                    ? std::string("none (no samples)")
+                    : percent(static_cast<double>(s.gaps) / s.samples) + " of samples (" +
+                          std::to_string(s.gaps) + " of " + std::to_string(s.samples) + "), " +
+                          std::to_string(s.points_with_gaps) + " of " + std::to_string(t.points) +
+                          " points have gaps");
   size_t named = 0;
   for (const auto& l : t.labels) named += !l.empty();
   if (named == 0) {
     line("labels:", "none");
   } else {
-    const size_t shown = g_verbosity >= 2 ? t.labels.size() : std::min(kLabelsShown, t.labels.size());
+    const size_t shown =
+        g_verbosity >= 2 ? t.labels.size() : std::min(kLabelsShown, t.labels.size());
     std::string v;
     for (size_t i = 0; i < shown; ++i) {
       if (i) v += ", ";
@@ -165,9 +171,15 @@ void print_json(const std::string& path, const capz::Take& t) {
   j.member("frames", static_cast<uint64_t>(t.frames));
   j.member("first_frame", static_cast<int64_t>(t.first_frame));
   j.key("rate");
-  if (t.rate > 0) j.value(t.rate); else j.null();
+  if (t.rate > 0)
+    j.value(t.rate);
+  else
+    j.null();
   j.key("duration_s");
-  if (t.rate > 0) j.value(s.duration); else j.null();
+  if (t.rate > 0)
+    j.value(s.duration);
+  else
+    j.null();
   j.member("units", t.units);
   j.member("samples", static_cast<uint64_t>(s.samples));
   j.member("gap_samples", static_cast<uint64_t>(s.gaps));
@@ -196,11 +208,12 @@ int cmd_info(const Args& args) {
   po::positional_options_description pos;
   pos.add("input", 1);
   po::variables_map vm;
-  if (!parse_args(args, "capz info FILE [--json] [-v]",
-                  "Describes FILE (a .c3d, a .trc or a folder of .pcd frames): format and variant,\n"
-                  "points, frames, rate, duration, units, gaps, labels (the first 8; all with -v),\n"
-                  "analog channels and every inconsistency the reader found.",
-                  opts, positionals, pos, &vm))
+  if (!parse_args(
+          args, "capz info FILE [--json] [-v]",
+          "Describes FILE (a .c3d, a .trc or a folder of .pcd frames): format and variant,\n"
+          "points, frames, rate, duration, units, gaps, labels (the first 8; all with -v),\n"
+          "analog channels and every inconsistency the reader found.",
+          opts, positionals, pos, &vm))
     return 0;
   if (!vm.count("input")) throw po::error("missing FILE");
   const std::string path = vm["input"].as<std::string>();

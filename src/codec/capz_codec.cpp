@@ -49,6 +49,14 @@ inline double dequantise(const Grid& g, int32_t q, uint32_t lo) {
   }
 }
 
+// C3D reads an all-zero coordinate triple as a gap, so a valid sample that quantises to
+// exactly (0, 0, 0) comes back as (0, 0, FLT_MIN) from a lossy C3D stream (FORMAT.md 3.3): a
+// normal float32 that survives float storage, far inside the bound's margin.
+inline void keep_valid_off_origin(Format source, bool lossless, double* x) {
+  if (source == Format::kC3D && !lossless && x[0] == 0 && x[1] == 0 && x[2] == 0)
+    x[2] = static_cast<double>(std::numeric_limits<float>::min());
+}
+
 bool c3d_int16(const Take& t) {
   return t.c3d && !t.c3d->float_storage && t.c3d->point_scale > 0;
 }
@@ -119,8 +127,18 @@ Grid bounded_grid(const Take& t, double bound) {
         return g;
       }
     }
+    // A coarser int16 multiple must not move a valid sample onto (0, 0, 0), which C3D reads as
+    // a gap (the FLT_MIN rule cannot help int16 storage): step down m until none does.
+    for (; m > 1; m -= 1) {
+      bool origin = false;
+      for (size_t i = 0; i < t.frames * t.points && !origin; ++i)
+        origin = t.valid[i] && std::fabs(t.xyz[i * 3]) < m * s / 2 &&
+                 std::fabs(t.xyz[i * 3 + 1]) < m * s / 2 && std::fabs(t.xyz[i * 3 + 2]) < m * s / 2;
+      if (!origin) break;
+    }
     g.step = m * s;
     if (m * s / 2 > bound) g.step = grid_step_for_bound(bound);  // source is off its grid
+    if (m == 1) g.bound = s / 2;
   } else {
     g.step = grid_step_for_bound(bound);
   }
@@ -306,6 +324,7 @@ std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, Com
   }
   TransformParams tparams;
   tparams.max_error = g.bound > 0 ? g.bound : g.step / 2;
+  tparams.grid_step = g.step;
   tparams.kg_error = opts.kg_error;
   tparams.clusters = opts.clusters;
   tparams.options = opts.codec_options;
@@ -392,8 +411,10 @@ std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, Com
     // Reconstruction as the decoder will produce it, for the bound check and the stats.
     std::vector<double> rec(fn * N * 3, 0.0);
     for (size_t i = 0; i < fn * N; ++i)
-      if (wi.valid[i])
+      if (wi.valid[i]) {
         for (size_t k = i * 3; k < i * 3 + 3; ++k) rec[k] = dequantise(g, wi.q[k], f64 ? wi.lo[k] : 0);
+        keep_valid_off_origin(take.format, g.lossless, &rec[i * 3]);
+      }
     const double* orig = take.xyz.data() + f0 * N * 3;
     for (size_t i = 0; i < fn * N; ++i) {
       if (!wi.valid[i]) continue;
@@ -608,9 +629,11 @@ void decode_window(const uint8_t* data, size_t size, const std::string& name, co
     for (size_t p = 0; p < N; ++p) {
       const size_t i = f * N + p, o = (f_out + f - f_lo) * N + p;
       out->valid[o] = wi.valid[i];
-      if (wi.valid[i])
+      if (wi.valid[i]) {
         for (int a = 0; a < 3; ++a)
           out->xyz[o * 3 + a] = dequantise(g, wi.q[i * 3 + a], f64 ? wi.lo[i * 3 + a] : 0);
+        keep_valid_off_origin(h.source_format, h.lossless, &out->xyz[o * 3]);
+      }
     }
   if (ps.words) {
     Chunk cc = next("C3DW", true);

@@ -1,10 +1,13 @@
 #include "codec/registry.h"
 
+#include "codec/pdct/pdct_codec.h"
+
 namespace capz {
 
 std::vector<const TransformCodec*> all_codecs() {
   // One line per codec; ids are stored in files and never reused (1 ts, 2 pdct).
-  static const std::vector<const TransformCodec*> codecs = {};
+  static const PdctCodec pdct;
+  static const std::vector<const TransformCodec*> codecs = {&pdct};
   return codecs;
 }
 

@@ -1,12 +1,13 @@
 // Format detection and dispatch to the per-format readers and writers.
 //
 // Input: a directory is a PCD folder; a file is recognised by its first bytes (C3D: byte 2 is
-// 0x50, the parameter-section key; TRC: "PathFileType"; .capz: 0x89 "capz", see docs/FORMAT.md) and, when the bytes say
-// nothing (empty or damaged files), by its extension, so that the format's own reader can name
-// the fault. A .capz archive is not a take: read_take refuses it (kNotOurFormat) and points to
-// `capz decompress`.
-// Output: ".c3d" and ".trc" by extension; a path ending in '/', an existing directory or a name
-// without extension is a PCD folder.
+// 0x50, the parameter-section key; TRC: "PathFileType"; .capz: 0x89 "capz", see docs/FORMAT.md)
+// and, when the bytes say nothing (empty or damaged files), by its extension, so that the format's
+// own reader can name the fault. A .capz archive is not a take: read_take refuses it
+// (kNotOurFormat) and points to `capz decompress`. Output: ".c3d" and ".trc" by extension; a path
+// ending in '/', an existing directory or a name without extension is a PCD folder.
+#include "capz/io.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cstring>
@@ -15,7 +16,6 @@
 #include <string>
 
 #include "capz/error.h"
-#include "capz/io.h"
 #include "core/atomic_file.h"
 
 namespace fs = std::filesystem;
@@ -51,7 +51,8 @@ Format sniff(const std::string& path, bool* is_capz) {
   in.read(head, sizeof head);
   const size_t n = static_cast<size_t>(in.gcount());
   const std::string ext = lower_extension(path);
-  if (n >= 5 && static_cast<unsigned char>(head[0]) == 0x89 && std::memcmp(head + 1, "capz", 4) == 0) {
+  if (n >= 5 && static_cast<unsigned char>(head[0]) == 0x89 &&
+      std::memcmp(head + 1, "capz", 4) == 0) {
     *is_capz = true;
     return Format::kUnknown;
   }
@@ -85,9 +86,12 @@ Take read_take(const std::string& path) {
   if (fs::is_directory(st)) return read_pcd_folder(path);
   bool capz = false;
   switch (sniff(path, &capz)) {
-    case Format::kC3D: return read_c3d(path);
-    case Format::kTRC: return read_trc(path);
-    case Format::kPCDFolder: break;
+    case Format::kC3D:
+      return read_c3d(path);
+    case Format::kTRC:
+      return read_trc(path);
+    case Format::kPCDFolder:
+      break;
     case Format::kUnknown:
       if (capz)
         fail(ErrorCode::kNotOurFormat, path,
@@ -118,10 +122,17 @@ void write_take(const Take& take, const std::string& path, const WriteOptions& o
   while (target.size() > 1 && target.back() == '/') target.pop_back();
   check_output_free(target, opts.overwrite);
   switch (f) {
-    case Format::kC3D: write_c3d(take, target, opts); return;
-    case Format::kTRC: write_trc(take, target, opts); return;
-    case Format::kPCDFolder: write_pcd_folder(take, target, opts); return;
-    case Format::kUnknown: break;
+    case Format::kC3D:
+      write_c3d(take, target, opts);
+      return;
+    case Format::kTRC:
+      write_trc(take, target, opts);
+      return;
+    case Format::kPCDFolder:
+      write_pcd_folder(take, target, opts);
+      return;
+    case Format::kUnknown:
+      break;
   }
   fail(ErrorCode::kUsage, path,
        "cannot tell the output format from the name: use .c3d, .trc, or a folder path "

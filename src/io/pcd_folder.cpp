@@ -60,8 +60,8 @@ struct PcdHeader {
   std::vector<char> types;
   std::vector<uint64_t> counts;
   uint64_t width = 0, height = 1, points = 0;
-  std::string data;       // "ascii", "binary", "binary_compressed"
-  size_t data_idx = 0;    // offset of the body
+  std::string data;         // "ascii", "binary", "binary_compressed"
+  size_t data_idx = 0;      // offset of the body
   uint64_t point_step = 0;  // bytes per point (sum size * count)
   uint64_t values_per_point = 0;
 };
@@ -210,7 +210,8 @@ PcdHeader parse_header(const std::vector<uint8_t>& bytes, const std::string& nam
 // PCL's ASCII body reader turns a bad token or a short line into zeros without a word, so the
 // body is checked here first: after the header, every non-blank line holds exactly
 // values_per_point numbers (nan allowed), and there are exactly `points` such lines.
-void check_ascii_body(const std::vector<uint8_t>& bytes, const PcdHeader& h, const std::string& name) {
+void check_ascii_body(const std::vector<uint8_t>& bytes, const PcdHeader& h,
+                      const std::string& name) {
   const char* p = reinterpret_cast<const char*>(bytes.data()) + h.data_idx;
   const char* end = reinterpret_cast<const char*>(bytes.data()) + bytes.size();
   uint64_t line_no = 0, rows = 0;
@@ -254,16 +255,53 @@ struct FieldRef {
 
 double read_value(const uint8_t* p, uint8_t datatype) {
   switch (datatype) {
-    case pcl::PCLPointField::FLOAT32: { float v; std::memcpy(&v, p, 4); return v; }
-    case pcl::PCLPointField::FLOAT64: { double v; std::memcpy(&v, p, 8); return v; }
-    case pcl::PCLPointField::INT8: { int8_t v; std::memcpy(&v, p, 1); return v; }
-    case pcl::PCLPointField::UINT8: return p[0];
-    case pcl::PCLPointField::INT16: { int16_t v; std::memcpy(&v, p, 2); return v; }
-    case pcl::PCLPointField::UINT16: { uint16_t v; std::memcpy(&v, p, 2); return v; }
-    case pcl::PCLPointField::INT32: { int32_t v; std::memcpy(&v, p, 4); return v; }
-    case pcl::PCLPointField::UINT32: { uint32_t v; std::memcpy(&v, p, 4); return v; }
-    case pcl::PCLPointField::INT64: { int64_t v; std::memcpy(&v, p, 8); return static_cast<double>(v); }
-    case pcl::PCLPointField::UINT64: { uint64_t v; std::memcpy(&v, p, 8); return static_cast<double>(v); }
+    case pcl::PCLPointField::FLOAT32: {
+      float v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case pcl::PCLPointField::FLOAT64: {
+      double v;
+      std::memcpy(&v, p, 8);
+      return v;
+    }
+    case pcl::PCLPointField::INT8: {
+      int8_t v;
+      std::memcpy(&v, p, 1);
+      return v;
+    }
+    case pcl::PCLPointField::UINT8:
+      return p[0];
+    case pcl::PCLPointField::INT16: {
+      int16_t v;
+      std::memcpy(&v, p, 2);
+      return v;
+    }
+    case pcl::PCLPointField::UINT16: {
+      uint16_t v;
+      std::memcpy(&v, p, 2);
+      return v;
+    }
+    case pcl::PCLPointField::INT32: {
+      int32_t v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case pcl::PCLPointField::UINT32: {
+      uint32_t v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case pcl::PCLPointField::INT64: {
+      int64_t v;
+      std::memcpy(&v, p, 8);
+      return static_cast<double>(v);
+    }
+    case pcl::PCLPointField::UINT64: {
+      uint64_t v;
+      std::memcpy(&v, p, 8);
+      return static_cast<double>(v);
+    }
   }
   return std::nan("");
 }
@@ -349,9 +387,11 @@ Take read_pcd_folder(const std::string& dir) {
     pcl::PCLPointCloud2 cloud;
     std::string enc = read_one(path, &cloud);
     const size_t n = static_cast<size_t>(cloud.width) * cloud.height;
+    // The take grows frame by frame (not resized for every file up front), so memory follows
+    // what has actually been read and checked, not the first frame's count times the file count.
     if (f == 0) {
       extra->encoding = enc;
-      t.resize(names.size(), n);
+      t.points = n;
       t.labels.assign(n, std::string());
     } else if (n != t.points) {
       fail(ErrorCode::kCorrupt, path,
@@ -366,6 +406,9 @@ Take read_pcd_folder(const std::string& dir) {
       ref[a].offset = it->offset;
       ref[a].datatype = it->datatype;
     }
+    t.frames = f + 1;
+    t.xyz.resize(t.frames * n * 3, 0.0);
+    t.valid.resize(t.frames * n, 0);
     for (size_t p = 0; p < n; ++p) {
       const uint8_t* base = cloud.data.data() + p * cloud.point_step;
       double v[3];
@@ -479,10 +522,11 @@ void write_pcd_folder(const Take& take, const std::string& dir, const WriteOptio
     int res = -1;
     try {
       if (enc == "ascii")
-        res = writer.writeASCII(path, cloud, Eigen::Vector4f::Zero(), Eigen::Quaternionf::Identity(),
-                                as_float ? 9 : 17);
+        res = writer.writeASCII(path, cloud, Eigen::Vector4f::Zero(),
+                                Eigen::Quaternionf::Identity(), as_float ? 9 : 17);
       else if (enc == "binary")
-        res = writer.writeBinary(path, cloud, Eigen::Vector4f::Zero(), Eigen::Quaternionf::Identity());
+        res = writer.writeBinary(path, cloud, Eigen::Vector4f::Zero(),
+                                 Eigen::Quaternionf::Identity());
       else
         res = writer.writeBinaryCompressed(path, cloud, Eigen::Vector4f::Zero(),
                                            Eigen::Quaternionf::Identity());

@@ -35,7 +35,9 @@ struct Field {
   std::string str() const { return std::string(b, e); }
 };
 
-bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\0' || c == '\f' || c == '\v'; }
+bool is_blank(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\0' || c == '\f' || c == '\v';
+}
 
 // Splits [b, e) into fields (see the top of the file). Reuses `out`.
 void split_fields(const char* b, const char* e, std::vector<Field>* out) {
@@ -72,7 +74,8 @@ class LineReader {
   LineReader(const char* data, size_t size) : p_(data), end_(data + size) {}
   bool next(const char** b, const char** e) {
     if (p_ >= end_) return false;
-    const char* nl = static_cast<const char*>(std::memchr(p_, '\n', static_cast<size_t>(end_ - p_)));
+    const char* nl =
+        static_cast<const char*>(std::memchr(p_, '\n', static_cast<size_t>(end_ - p_)));
     const char* le = nl ? nl : end_;
     *b = p_;
     *e = le;
@@ -82,7 +85,7 @@ class LineReader {
     return true;
   }
   size_t number() const { return number_; }  // 1-based number of the last line returned
-  const char* pos() const { return p_; }      // start of the next line
+  const char* pos() const { return p_; }     // start of the next line
 
  private:
   const char* p_;
@@ -100,7 +103,8 @@ bool iequals(const std::string& a, const char* b) {
   size_t n = std::strlen(b);
   if (a.size() != n) return false;
   for (size_t i = 0; i < n; ++i)
-    if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i])))
+    if (std::tolower(static_cast<unsigned char>(a[i])) !=
+        std::tolower(static_cast<unsigned char>(b[i])))
       return false;
   return true;
 }
@@ -141,7 +145,8 @@ Take read_trc_bytes(const uint8_t* data, size_t size, const std::string& name) {
   // "PathFileType", then tab- or blank-separated fields (both occur).
   std::string first(b, std::min<size_t>(static_cast<size_t>(e - b), 12));
   if (!iequals(first, "PathFileType"))
-    fail(ErrorCode::kNotOurFormat, name, "not a TRC file (line 1 does not start with PathFileType)");
+    fail(ErrorCode::kNotOurFormat, name,
+         "not a TRC file (line 1 does not start with PathFileType)");
   auto trc = std::make_shared<TRCExtra>();
   trc->path_file_type_line.assign(b, e);
 
@@ -151,7 +156,8 @@ Take read_trc_bytes(const uint8_t* data, size_t size, const std::string& name) {
   std::vector<Field> keys;
   split_fields(b, e, &keys);
   if (!lines.next(&b, &e))
-    fail(ErrorCode::kCorrupt, name, "file ends after line 2: the header values (line 3) are missing");
+    fail(ErrorCode::kCorrupt, name,
+         "file ends after line 2: the header values (line 3) are missing");
   std::vector<Field> vals;
   split_fields(b, e, &vals);
   Header h;
@@ -177,19 +183,28 @@ Take read_trc_bytes(const uint8_t* data, size_t size, const std::string& name) {
       warnings.push_back("header value of " + k + " is missing");
       continue;
     }
-    if (iequals(k, "DataRate")) num(&h.data_rate);
-    else if (iequals(k, "CameraRate")) num(&h.camera_rate);
-    else if (iequals(k, "NumFrames")) integer(&h.num_frames);
-    else if (iequals(k, "NumMarkers")) integer(&h.num_markers);
-    else if (iequals(k, "Units")) h.units = v;
-    else if (iequals(k, "OrigDataRate")) num(&h.orig_data_rate);
-    else if (iequals(k, "OrigDataStartFrame")) integer(&h.orig_start);
-    else if (iequals(k, "OrigNumFrames")) integer(&h.orig_num_frames);
+    if (iequals(k, "DataRate"))
+      num(&h.data_rate);
+    else if (iequals(k, "CameraRate"))
+      num(&h.camera_rate);
+    else if (iequals(k, "NumFrames"))
+      integer(&h.num_frames);
+    else if (iequals(k, "NumMarkers"))
+      integer(&h.num_markers);
+    else if (iequals(k, "Units"))
+      h.units = v;
+    else if (iequals(k, "OrigDataRate"))
+      num(&h.orig_data_rate);
+    else if (iequals(k, "OrigDataStartFrame"))
+      integer(&h.orig_start);
+    else if (iequals(k, "OrigNumFrames"))
+      integer(&h.orig_num_frames);
   }
 
   // Line 4: Frame# Time names...
   if (!lines.next(&b, &e))
-    fail(ErrorCode::kCorrupt, name, "file ends after line 3: the marker names (line 4) are missing");
+    fail(ErrorCode::kCorrupt, name,
+         "file ends after line 3: the marker names (line 4) are missing");
   split_fields(b, e, &f);
   if (f.empty() || !iequals(f[0].str(), "Frame#"))
     fail(ErrorCode::kCorrupt, name, "line 4 should start with Frame# (the marker names line)");
@@ -223,7 +238,8 @@ Take read_trc_bytes(const uint8_t* data, size_t size, const std::string& name) {
   // Legitimate files hold at least a few bytes per sample; refuse expansions beyond 8 samples
   // per byte of file.
   if (c.rows > 0 && points > 0 &&
-      static_cast<double>(c.rows) * static_cast<double>(points) > 8.0 * static_cast<double>(size) + 65536.0)
+      static_cast<double>(c.rows) * static_cast<double>(points) >
+          8.0 * static_cast<double>(size) + 65536.0)
     fail(ErrorCode::kCorrupt, name,
          std::to_string(c.rows) + " rows x " + std::to_string(points) +
              " markers is far more than a file of " + std::to_string(size) + " bytes can hold");
@@ -316,17 +332,17 @@ Take read_trc_bytes(const uint8_t* data, size_t size, const std::string& name) {
     warnings.push_back("header says " + std::to_string(h.num_markers) + " markers, file holds " +
                        std::to_string(points));
   if (names.size() != points)
-    warnings.push_back(std::to_string(names.size()) + " marker names for " + std::to_string(points) +
-                       " markers with data (" + std::to_string(points - names.size()) +
-                       " unnamed)");
+    warnings.push_back(std::to_string(names.size()) + " marker names for " +
+                       std::to_string(points) + " markers with data (" +
+                       std::to_string(points - names.size()) + " unnamed)");
   if (short_rows > 0)
     warnings.push_back(std::to_string(short_rows) + " of " + std::to_string(c.rows) +
                        " rows end before the last marker (missing values read as gaps)");
   if (no_time > 0)
-    warnings.push_back(std::to_string(no_time) + " rows without a Time value (computed from DataRate)");
+    warnings.push_back(std::to_string(no_time) +
+                       " rows without a Time value (computed from DataRate)");
   if (partial > 0)
-    warnings.push_back(std::to_string(partial) +
-                       " samples have only some of X/Y/Z (read as gaps)");
+    warnings.push_back(std::to_string(partial) + " samples have only some of X/Y/Z (read as gaps)");
   if (h.data_rate <= 0) warnings.push_back("no DataRate: frame rate unknown");
   if (h.units.empty()) warnings.push_back("no Units in the header");
   t.warnings = std::move(warnings);
@@ -371,7 +387,8 @@ void write_trc(const Take& take, const std::string& path, const WriteOptions& op
   s += '\t';
   s += format_decimal(x && x->orig_data_rate > 0 ? x->orig_data_rate : rate, 2);
   s += '\t' + std::to_string(x ? x->orig_data_start_frame : take.first_frame);
-  s += '\t' + std::to_string(x && x->orig_num_frames > 0 ? static_cast<size_t>(x->orig_num_frames) : F);
+  s += '\t' +
+       std::to_string(x && x->orig_num_frames > 0 ? static_cast<size_t>(x->orig_num_frames) : F);
   s += "\nFrame#\tTime";
   for (size_t p = 0; p < N; ++p) {
     s += '\t';
@@ -386,7 +403,8 @@ void write_trc(const Take& take, const std::string& path, const WriteOptions& op
   }
   s += "\n\n";
   for (size_t fr = 0; fr < F; ++fr) {
-    s += std::to_string(have_numbers ? x->frame_numbers[fr] : take.first_frame + static_cast<long>(fr));
+    s += std::to_string(have_numbers ? x->frame_numbers[fr]
+                                     : take.first_frame + static_cast<long>(fr));
     s += '\t';
     double t = have_times ? x->times[fr] : (rate > 0 ? static_cast<double>(fr) / rate : 0.0);
     s += format_decimal(t, tdec);

@@ -101,8 +101,8 @@ class JsonCheck {
   bool number() {
     size_t b = i_;
     if (s_[i_] == '-') ++i_;
-    while (i_ < s_.size() && (std::isdigit(static_cast<unsigned char>(s_[i_])) ||
-                              std::strchr(".eE+-", s_[i_])))
+    while (i_ < s_.size() &&
+           (std::isdigit(static_cast<unsigned char>(s_[i_])) || std::strchr(".eE+-", s_[i_])))
       ++i_;
     return i_ > b && std::isdigit(static_cast<unsigned char>(s_[i_ - 1]));
   }
@@ -178,7 +178,8 @@ TEST(CliInfo, DescribesAPcdFolderAndGaps) {
   EXPECT_TRUE(contains(r.out, "frames:    204")) << r.out;
   EXPECT_TRUE(contains(r.out, "rate:      unknown")) << r.out;
   CliRun g = run_capz("info " + quote(kData + "/trc/opensim/std_walking2_markers.trc"));
-  EXPECT_TRUE(contains(g.out, "gaps:      50.7% of samples (2809 of 5544), 44 of 44 points have gaps"))
+  EXPECT_TRUE(
+      contains(g.out, "gaps:      50.7% of samples (2809 of 5544), 44 of 44 points have gaps"))
       << g.out;
 }
 
@@ -228,7 +229,8 @@ TEST(CliInfo, JsonEscapesQuotesBackslashesAndLatin1Labels) {
   CliRun r = run_capz("info --json " + quote(d.file("l.trc")));
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(JsonCheck(r.out).ok()) << r.out;
-  EXPECT_TRUE(contains(r.out, "\"labels\":[\"say \\\"hi\\\"\",\"back\\\\slash\",\"caf\\u00e9\",\"na\xc3\xafve\"]"))
+  EXPECT_TRUE(contains(
+      r.out, "\"labels\":[\"say \\\"hi\\\"\",\"back\\\\slash\",\"caf\\u00e9\",\"na\xc3\xafve\"]"))
       << r.out;
 }
 
@@ -254,7 +256,8 @@ TEST(CliConvert, TrcToPcdToTrcKeepsEverySample) {
   CliRun a = run_capz("convert -q " + quote(src) + " " + quote(d.file("seq")));
   ASSERT_EQ(a.status, 0) << a.err;
   EXPECT_EQ(a.err, "");
-  CliRun b = run_capz("convert --rate 100 --units mm " + quote(d.file("seq")) + " " + quote(d.file("back.trc")));
+  CliRun b = run_capz("convert --rate 100 --units mm " + quote(d.file("seq")) + " " +
+                      quote(d.file("back.trc")));
   ASSERT_EQ(b.status, 0) << b.err;
   capz::Take t = capz::read_trc(src);
   capz::Take p = capz::read_pcd_folder(d.file("seq"));
@@ -302,8 +305,8 @@ TEST(CliConvert, C3dToTrcAndPcdAndBack) {
 
 TEST(CliConvert, PcdFolderToPcdFolderKeepsNamesAndEncoding) {
   capz_test::TempDir d("capz_cli_conv");
-  CliRun a = run_capz("convert " + quote(kData + "/pcd/horse-gallop") + " " + quote(d.file("h") + "/") +
-               " --pcd-encoding binary_compressed");
+  CliRun a = run_capz("convert " + quote(kData + "/pcd/horse-gallop") + " " +
+                      quote(d.file("h") + "/") + " --pcd-encoding binary_compressed");
   ASSERT_EQ(a.status, 0) << a.err;
   capz::Take t = capz::read_pcd_folder(kData + "/pcd/horse-gallop");
   capz::Take u = capz::read_pcd_folder(d.file("h"));
@@ -330,17 +333,19 @@ TEST(CliConvert, RefusesToOverwriteWithoutForce) {
 
 TEST(CliConvert, BadInputFailsInOneLineAndLeavesNoOutput) {
   capz_test::TempDir d("capz_cli_conv");
-  std::ofstream(d.file("bad.trc")) << "PathFileType\t4\nDataRate\tNumFrames\n100\t2\nFrame#\tTime\tA\n"
-                                      "\t\tX1\n1\t0\t1\t2\t3\n2\t0.01\t4\tfive\t6\n";
+  std::ofstream(d.file("bad.trc"))
+      << "PathFileType\t4\nDataRate\tNumFrames\n100\t2\nFrame#\tTime\tA\n"
+         "\t\tX1\n1\t0\t1\t2\t3\n2\t0.01\t4\tfive\t6\n";
   CliRun r = run_capz("convert " + quote(d.file("bad.trc")) + " " + quote(d.file("out.trc")));
   EXPECT_EQ(r.status, 5);
   EXPECT_EQ(lines(r.err), 1u) << r.err;
   EXPECT_TRUE(contains(r.err, "bad.trc: line 7, column 4: 'five' is not a number")) << r.err;
   CliRun n = run_capz("convert " + quote(kData + "/c3d/btkdata/TRCSamples/Empty.trc") + " " +
-               quote(d.file("pcdout")));
+                      quote(d.file("pcdout")));
   EXPECT_EQ(n.status, 3);
   EXPECT_EQ(lines(n.err), 1u) << n.err;
-  CliRun x = run_capz("convert " + quote(kData + "/trc/opensim/init100.trc") + " " + quote(d.file("out.xyz")));
+  CliRun x = run_capz("convert " + quote(kData + "/trc/opensim/init100.trc") + " " +
+                      quote(d.file("out.xyz")));
   EXPECT_EQ(x.status, 1);
   EXPECT_TRUE(contains(x.err, "cannot tell the output format")) << x.err;
   CliRun e = run_capz("convert " + quote(d.path().string()) + " " + quote(d.file("o.trc")));

@@ -19,7 +19,8 @@ struct Seq {
   const char* name;
   size_t points, frames;
 };
-const Seq kSeqs[] = {{"chickenCrossing", 3030, 400}, {"horse-gallop", 8431, 48}, {"pcow", 2904, 204}};
+const Seq kSeqs[] = {
+    {"chickenCrossing", 3030, 400}, {"horse-gallop", 8431, 48}, {"pcow", 2904, 204}};
 
 }  // namespace
 

@@ -22,8 +22,8 @@ namespace {
 const std::string kData = CAPZ_SHARED_DATA;
 
 struct Expect {
-  const char* path;    // relative to the shared data folder
-  bool reads;          // false: must fail with `code` and a message containing `message`
+  const char* path;  // relative to the shared data folder
+  bool reads;        // false: must fail with `code` and a message containing `message`
   size_t frames, points;
   long first_frame;
   double rate;
@@ -34,34 +34,105 @@ struct Expect {
 
 // Files whose header disagrees with their body read what is there and say so in a warning.
 const Expect kFiles[] = {
-    {"trc/opensim/abdbonepin.trc", true, 1991, 11, 0, 100, "header says 3514 frames, file holds 1991", {}, ""},
+    {"trc/opensim/abdbonepin.trc",
+     true,
+     1991,
+     11,
+     0,
+     100,
+     "header says 3514 frames, file holds 1991",
+     {},
+     ""},
     {"trc/opensim/constraintTest.trc", true, 2105, 44, 1, 200, "", {}, ""},
     {"trc/opensim/dataWithBlanksForMissingMarkers.trc", true, 464, 40, 1, 250, "", {}, ""},
     {"trc/opensim/dataWithNaNsWithSpaces.trc", true, 427, 42, 1, 100, "", {}, ""},
     {"trc/opensim/init100.trc", true, 120, 22, 101, 120, "", {}, ""},
     {"trc/opensim/std_walking2_markers.trc", true, 126, 44, 1, 250, "", {}, ""},
     {"trc/opensim/std_walking5_markers.trc", true, 112, 40, 1, 250, "", {}, ""},
-    {"trc/opensim/walk_free_01.trc", true, 73, 41, 185, 60, "header says 900 frames, file holds 73", {}, ""},
-    {"trc/opensim/walk_free_02.trc", true, 75, 41, 258, 60, "header says 900 frames, file holds 75", {}, ""},
-    {"trc/opensim/walk_free_03.trc", true, 73, 41, 333, 60, "header says 900 frames, file holds 73", {}, ""},
+    {"trc/opensim/walk_free_01.trc",
+     true,
+     73,
+     41,
+     185,
+     60,
+     "header says 900 frames, file holds 73",
+     {},
+     ""},
+    {"trc/opensim/walk_free_02.trc",
+     true,
+     75,
+     41,
+     258,
+     60,
+     "header says 900 frames, file holds 75",
+     {},
+     ""},
+    {"trc/opensim/walk_free_03.trc",
+     true,
+     73,
+     41,
+     333,
+     60,
+     "header says 900 frames, file holds 73",
+     {},
+     ""},
     // NumMarkers 0 and no names, but rows hold up to 10 (37) unnamed markers.
-    {"c3d/btkdata/TRCSamples/10002-20130626160334-Unnamed.trc", true, 882, 10, 1, 400,
-     "header says 0 markers, file holds 10", {}, ""},
-    {"c3d/btkdata/TRCSamples/10002-20130731010438-Unnamed.trc", true, 1313, 37, 1, 400,
-     "header says 0 markers, file holds 37", {}, ""},
+    {"c3d/btkdata/TRCSamples/10002-20130626160334-Unnamed.trc",
+     true,
+     882,
+     10,
+     1,
+     400,
+     "header says 0 markers, file holds 10",
+     {},
+     ""},
+    {"c3d/btkdata/TRCSamples/10002-20130731010438-Unnamed.trc",
+     true,
+     1313,
+     37,
+     1,
+     400,
+     "header says 0 markers, file holds 37",
+     {},
+     ""},
     {"c3d/btkdata/TRCSamples/Anto.trc", true, 128, 34, 1, 100, "", {}, ""},
     // Header says 66 markers, the names line holds 33, rows hold up to 105 markers.
-    {"c3d/btkdata/TRCSamples/Gait.trc", true, 487, 105, 1, 100, "header says 66 markers, file holds 105", {}, ""},
+    {"c3d/btkdata/TRCSamples/Gait.trc",
+     true,
+     487,
+     105,
+     1,
+     100,
+     "header says 66 markers, file holds 105",
+     {},
+     ""},
     {"c3d/btkdata/TRCSamples/Knee.trc", true, 200, 71, 1, 200, "", {}, ""},
     {"c3d/btkdata/TRCSamples/Res16bits.trc", true, 100, 44, 1, 100, "", {}, ""},
     // Names and header: 65 markers; every row holds 70.
-    {"c3d/btkdata/TRCSamples/SprintCalib.trc", true, 337, 70, 1, 250, "header says 65 markers, file holds 70", {}, ""},
+    {"c3d/btkdata/TRCSamples/SprintCalib.trc",
+     true,
+     337,
+     70,
+     1,
+     250,
+     "header says 65 markers, file holds 70",
+     {},
+     ""},
     {"c3d/btkdata/TRCSamples/SprintMotion.trc", true, 788, 59, 1, 250, "", {}, ""},
     // 10 rows carry values for 1-2 markers beyond the 34 named ones.
-    {"c3d/btkdata/TRCSamples/UpperLimbStatic.trc", true, 146, 36, 1, 100, "header says 34 markers, file holds 36", {}, ""},
+    {"c3d/btkdata/TRCSamples/UpperLimbStatic.trc",
+     true,
+     146,
+     36,
+     1,
+     100,
+     "header says 34 markers, file holds 36",
+     {},
+     ""},
     {"c3d/btkdata/TRCSamples/MOTEK/T.trc", true, 89, 41, 1, 30, "", {}, ""},
     {"c3d/btkdata/TRCSamples/MOTEK/ballet_reduced.trc", true, 100, 41, 1, 30, "", {}, ""},
-    {"c3d/btkdata/TRCSamples/Empty.trc", false, 0, 0, 0, 0, "", ErrorCode::kNotOurFormat, "empty file (0 bytes)"},
+    {"c3d/btkdata/TRCSamples/Empty.trc", false, 0, 0, 0, 0, "", ErrorCode::kNotOurFormat,
+     "empty file (0 bytes)"},
     {"c3d/btkdata/TRCSamples/Truncated.trc", false, 0, 0, 0, 0, "", ErrorCode::kCorrupt,
      "file ends after line 2: the header values (line 3) are missing"},
 };
@@ -127,7 +198,7 @@ TEST(TrcConformance, ValuesAndGapsMatchTheText) {
   EXPECT_EQ(a.at(0, 0)[2], -6.82);
   EXPECT_EQ(a.at(0, 1)[0], 213.878);
   EXPECT_EQ(a.trc->decimals, 3);
-  // dataWithNaNsWithSpaces.trc row 1: "1\t0\t       NaN\t...NaN\t1009.526917\t1016.496277\t-198.410294"
+  // dataWithNaNsWithSpaces.trc row 1: "1\t0\t NaN\t...NaN\t1009.526917\t1016.496277\t-198.410294"
   capz::Take n = capz::read_trc(kData + "/trc/opensim/dataWithNaNsWithSpaces.trc");
   EXPECT_EQ(n.labels[0], "LASI");
   EXPECT_FALSE(n.is_valid(0, 0));
@@ -213,9 +284,10 @@ TEST(TrcConformance, WrittenFilesFollowTheLayoutOpenSimReads) {
     std::vector<std::string> lines;
     while (std::getline(in, line)) lines.push_back(line);
     ASSERT_GE(lines.size(), 6u);
-    EXPECT_EQ(non_empty(opensim_tokens(lines[1])),
-              (std::vector<std::string>{"DataRate", "CameraRate", "NumFrames", "NumMarkers", "Units",
-                                        "OrigDataRate", "OrigDataStartFrame", "OrigNumFrames"}));
+    EXPECT_EQ(
+        non_empty(opensim_tokens(lines[1])),
+        (std::vector<std::string>{"DataRate", "CameraRate", "NumFrames", "NumMarkers", "Units",
+                                  "OrigDataRate", "OrigDataStartFrame", "OrigNumFrames"}));
     std::vector<std::string> values = non_empty(opensim_tokens(lines[2]));
     ASSERT_EQ(values.size(), 8u);
     EXPECT_EQ(values[3], std::to_string(t.points));

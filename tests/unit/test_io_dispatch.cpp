@@ -42,10 +42,13 @@ TEST(IoDispatch, DetectsByContentThenExtension) {
 
 TEST(IoDispatch, ReadTakeRoutesAndRefusesWhatIsNotATake) {
   capz_test::TempDir d("capz_io");
-  std::ofstream(d.file("a.txt")) << "PathFileType\t4\nDataRate\tNumFrames\n100\t1\nFrame#\tTime\tA\n"
-                                    "\t\tX1\tY1\tZ1\n1\t0\t1\t2\t3\n";
-  std::ofstream(d.file("z.capz"), std::ios::binary) << "\x89" "capz\r\n\x1a\n\x01\x00";
-  std::ofstream(d.file("renamed.dat"), std::ios::binary) << "\x89" "capz\r\n\x1a\n\x01\x00";
+  std::ofstream(d.file("a.txt"))
+      << "PathFileType\t4\nDataRate\tNumFrames\n100\t1\nFrame#\tTime\tA\n"
+         "\t\tX1\tY1\tZ1\n1\t0\t1\t2\t3\n";
+  std::ofstream(d.file("z.capz"), std::ios::binary) << "\x89"
+                                                       "capz\r\n\x1a\n\x01\x00";
+  std::ofstream(d.file("renamed.dat"), std::ios::binary) << "\x89"
+                                                            "capz\r\n\x1a\n\x01\x00";
   std::ofstream(d.file("frame.pcd")) << "VERSION 0.7\n";
   std::ofstream(d.file("x.bin")) << "hello";
   capz::Take t = capz::read_take(d.file("a.txt"));

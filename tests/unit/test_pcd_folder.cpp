@@ -16,8 +16,8 @@
 
 namespace fs = std::filesystem;
 using capz::ErrorCode;
-using capz_test::TempDir;
 using capz_test::expect_same_samples;
+using capz_test::TempDir;
 
 namespace {
 
@@ -60,8 +60,8 @@ ErrorCode read_error(const std::string& dir, std::string* msg = nullptr) {
 }  // namespace
 
 TEST(NaturalSort, NumbersCompareByValue) {
-  std::vector<std::string> v = {"frame_10.pcd", "frame_2.pcd", "frame_1.pcd", "frame_02.pcd",
-                                "a.pcd", "frame_100.pcd", "frame_9b.pcd", "frame_9a.pcd"};
+  std::vector<std::string> v = {"frame_10.pcd", "frame_2.pcd",   "frame_1.pcd",  "frame_02.pcd",
+                                "a.pcd",        "frame_100.pcd", "frame_9b.pcd", "frame_9a.pcd"};
   std::sort(v.begin(), v.end(), capz::natural_less);
   EXPECT_EQ(v, (std::vector<std::string>{"a.pcd", "frame_1.pcd", "frame_02.pcd", "frame_2.pcd",
                                          "frame_9a.pcd", "frame_9b.pcd", "frame_10.pcd",

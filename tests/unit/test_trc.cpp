@@ -13,8 +13,8 @@
 
 namespace fs = std::filesystem;
 using capz::ErrorCode;
-using capz_test::TempDir;
 using capz_test::expect_same_samples;
+using capz_test::TempDir;
 
 namespace {
 
@@ -80,7 +80,8 @@ TEST(Trc, ReadsTabSeparatedFileWithGapsAndShortRows) {
 TEST(Trc, ReadsSpaceSeparatedCrlfFileAndWarnsOnCounts) {
   std::string text =
       "PathFileType 4 (X/Y/Z) a.trc\r\n"
-      "DataRate CameraRate NumFrames NumMarkers Units OrigDataRate OrigDataStartFrame OrigNumFrames\r\n"
+      "DataRate CameraRate NumFrames NumMarkers Units OrigDataRate OrigDataStartFrame "
+      "OrigNumFrames\r\n"
       "60 60 900 3 m 60 1 900\r\n"
       "Frame# Time A B\r\n"
       "X1 Y1 Z1 X2 Y2 Z2\r\n"
@@ -126,7 +127,8 @@ TEST(Trc, RejectsEmptyForeignAndTruncatedFiles) {
   EXPECT_EQ(parse_error("PathFileType\t4\n"), ErrorCode::kCorrupt);
   EXPECT_EQ(parse_error("PathFileType\t4\nDataRate\tNumFrames\n", &msg), ErrorCode::kCorrupt);
   EXPECT_NE(msg.find("file ends after line 2"), std::string::npos) << msg;
-  EXPECT_EQ(parse_error("PathFileType\t4\nDataRate\tNumFrames\nabc\t3\n", &msg), ErrorCode::kCorrupt);
+  EXPECT_EQ(parse_error("PathFileType\t4\nDataRate\tNumFrames\nabc\t3\n", &msg),
+            ErrorCode::kCorrupt);
   EXPECT_NE(msg.find("DataRate 'abc' is not a number"), std::string::npos) << msg;
   EXPECT_EQ(parse_error("PathFileType\t4\nDataRate\n100\nNames\n", &msg), ErrorCode::kCorrupt);
   EXPECT_NE(msg.find("Frame#"), std::string::npos) << msg;
@@ -172,7 +174,8 @@ TEST(Trc, WriteThenReadIsExactAndTextRoundTrips) {
   std::string out2 = (tmp.path() / "out2.trc").string();
   capz::write_trc(u, out2);
   std::ifstream a(out), b(out2);
-  std::string sa((std::istreambuf_iterator<char>(a)), {}), sb((std::istreambuf_iterator<char>(b)), {});
+  std::string sa((std::istreambuf_iterator<char>(a)), {}),
+      sb((std::istreambuf_iterator<char>(b)), {});
   EXPECT_EQ(sa, sb);
   // Gaps are empty fields, values carry the source's three decimals, rows end with a tab (as
   // OpenSim writes them; its reader drops an empty last field).
