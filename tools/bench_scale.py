@@ -65,7 +65,22 @@ def run_scale(bench, minutes_list, command):
             w.writerow(r)
             f.flush()
             rows.append(r)
+    with open(os.path.join(bench.out, "scale_command.txt"), "w") as f:
+        f.write(command + "\n")
     write_scale_report(rows, bench.out, command)
+
+
+def report_from_csv(out):
+    rows = []
+    with open(os.path.join(out, "scale.csv"), newline="") as f:
+        for r in csv.DictReader(f):
+            r["minutes"] = float(r["minutes"])
+            if r["frames"]:
+                r["frames"] = int(r["frames"])
+            rows.append(r)
+    with open(os.path.join(out, "scale_command.txt")) as f:
+        command = f.read().strip()
+    write_scale_report(rows, out, command)
 
 
 def write_scale_report(rows, out, command):

@@ -1,13 +1,15 @@
 #include "codec/registry.h"
 
 #include "codec/pdct/pdct_codec.h"
+#include "codec/ts/ts_codec.h"
 
 namespace capz {
 
 std::vector<const TransformCodec*> all_codecs() {
   // One line per codec; ids are stored in files and never reused (1 ts, 2 pdct).
+  static const TsCodec ts;
   static const PdctCodec pdct;
-  static const std::vector<const TransformCodec*> codecs = {&pdct};
+  static const std::vector<const TransformCodec*> codecs = {&ts, &pdct};
   return codecs;
 }
 

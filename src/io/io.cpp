@@ -47,7 +47,7 @@ Format sniff(const std::string& path, bool* is_capz) {
   *is_capz = false;
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(ErrorCode::kIo, path, "cannot open: " + std::string(std::strerror(errno)));
-  char head[16] = {};
+  char head[24] = {};
   in.read(head, sizeof head);
   const size_t n = static_cast<size_t>(in.gcount());
   const std::string ext = lower_extension(path);
@@ -56,7 +56,10 @@ Format sniff(const std::string& path, bool* is_capz) {
     *is_capz = true;
     return Format::kUnknown;
   }
-  if (starts_with_nocase(head, n, "PathFileType")) return Format::kTRC;
+  if (starts_with_nocase(head, n, "PathFileType") ||
+      (n >= 3 && std::memcmp(head, "\xEF\xBB\xBF", 3) == 0 &&
+       starts_with_nocase(head + 3, n - 3, "PathFileType")))
+    return Format::kTRC;
   // C3D header word 1: byte 1 is 0x50 (the parameter-section key), byte 0 the parameter block.
   if (n >= 2 && static_cast<unsigned char>(head[1]) == 0x50 && head[0] != 0) return Format::kC3D;
   if (ext == ".capz") {

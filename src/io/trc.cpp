@@ -135,6 +135,10 @@ struct Counted {
 Take read_trc_bytes(const uint8_t* data, size_t size, const std::string& name) {
   if (size == 0) fail(ErrorCode::kNotOurFormat, name, "empty file (0 bytes), not a TRC file");
   const char* text = reinterpret_cast<const char*>(data);
+  if (size >= 3 && std::memcmp(text, "\xEF\xBB\xBF", 3) == 0) {  // UTF-8 byte-order mark
+    text += 3;
+    size -= 3;
+  }
   LineReader lines(text, size);
   const char* b = text;
   const char* e = text;

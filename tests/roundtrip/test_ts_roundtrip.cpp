@@ -2,9 +2,12 @@
 // the output), asserting the decoder reproduces the encoder bit for bit and the KG error holds.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <string>
 
+#include "capz/codec.h"
 #include "capz/io.h"
 #include "capz/metrics.h"
 #include "codec/ts/ts_codec.h"
@@ -57,3 +60,48 @@ TEST(TsRoundtrip, ChickenCrossingFirst200FramesThreeClusters) {
   run_case({"chickenCrossing", 200, 0.15, 3, 4.5});
 }
 TEST(TsRoundtrip, PcowTwoClustersLooseTarget) { run_case({"pcow", 0, 0.5, 2, 4.0}); }
+
+// Through the container: --codec ts in front of the bound layer; the bound must hold exactly
+// and the stream must record the ts transform.
+namespace {
+void container_case(const char* name, size_t frames, double bound_frac, double kg) {
+  Take full = read_pcd_folder(std::string(CAPZ_SHARED_DATA) + "/pcd/" + name);
+  Take t = full;
+  if (frames && frames < t.frames) {
+    t.frames = frames;
+    t.xyz.resize(frames * t.points * 3);
+    t.valid.resize(frames * t.points);
+    if (t.pcd) t.pcd->frame_names.resize(frames);
+  }
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  for (size_t i = 0; i < t.frames * t.points; ++i)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], t.xyz[i * 3 + a]);
+      hi[a] = std::max(hi[a], t.xyz[i * 3 + a]);
+    }
+  const double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  CompressOptions o;
+  o.codec = "ts";
+  o.clusters = 2;
+  if (kg > 0) o.kg_error = kg;
+  else o.max_error = bound_frac * diag;
+  CompressStats st;
+  std::vector<uint8_t> bytes = compress(t, o, &st);
+  EXPECT_EQ(describe(bytes.data(), bytes.size()).codec, "ts");
+  Take back = decompress(bytes.data(), bytes.size(), name);
+  ErrorStats e = compare(t, back);
+  if (kg > 0) {
+    EXPECT_LE(e.kg_error, kg);
+  } else {
+    EXPECT_LE(e.max_abs, o.max_error);
+  }
+  std::printf("%s via container (%s): %.3f bpvf, max abs %.4g, KG %.4f%%\n", name,
+              kg > 0 ? "KG target" : "max error", bpvf(bytes.size(), t.frames, t.points), e.max_abs,
+              e.kg_error);
+}
+}  // namespace
+
+TEST(TsContainer, HorseGallopMaxErrorHolds) { container_case("horse-gallop", 0, 1e-4, 0); }
+TEST(TsContainer, ChickenCrossingKgTargetHolds) { container_case("chickenCrossing", 120, 0, 0.15); }
+TEST(TsContainer, PcowMaxErrorHolds) { container_case("pcow", 100, 5e-4, 0); }

@@ -28,6 +28,8 @@ TEST(IoDispatch, DetectsByContentThenExtension) {
   std::ofstream(d.file("x.bin")) << "hello";
   EXPECT_EQ(capz::detect_format(d.path().string()), Format::kPCDFolder);
   EXPECT_EQ(capz::detect_format(d.file("a.txt")), Format::kTRC);
+  std::ofstream(d.file("bom.txt")) << "\xEF\xBB\xBFPathFileType\t4\n";
+  EXPECT_EQ(capz::detect_format(d.file("bom.txt")), Format::kTRC);
   EXPECT_EQ(capz::detect_format(d.file("b.dat")), Format::kC3D);
   EXPECT_EQ(capz::detect_format(d.file("empty.trc")), Format::kTRC);
   EXPECT_EQ(capz::detect_format(d.file("empty.c3d")), Format::kC3D);

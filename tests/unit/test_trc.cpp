@@ -99,6 +99,12 @@ TEST(Trc, ReadsSpaceSeparatedCrlfFileAndWarnsOnCounts) {
   EXPECT_TRUE(has_warning(t, "header says 3 markers, file holds 2"));
 }
 
+TEST(Trc, SkipsAUtf8ByteOrderMark) {
+  capz::Take t = parse(std::string("\xEF\xBB\xBF") + kTabFile);
+  EXPECT_EQ(t.points, 2u);
+  EXPECT_EQ(t.trc->path_file_type_line, "PathFileType\t4\t(X/Y/Z)\twalk.trc");
+}
+
 TEST(Trc, DataWiderThanTheNamesAddsUnnamedPoints) {
   std::string text =
       "PathFileType\t4\t(X/Y/Z)\tx\n"

@@ -59,7 +59,27 @@ int parse_int(const std::string& key, const std::string& v, int lo, int hi) {
 // Every stored integer is within +-2^30 (kMaxQuantised below keeps each quantised value within
 // 2^29, so differences fit too).
 
-constexpr int kSeedContexts = 3, kFirstContexts = 3, kCoefContexts = 15;
+constexpr int kSeedContexts = 27, kFirstContexts = 3, kCoefContexts = 15;
+
+int token_class(int tok) { return tok == 0 ? 0 : tok < 3 ? 1 : 2; }
+
+// Frame-point residual contexts: axis x class of the previous axis's token (same point and
+// frame; 0 for x) x class of the same point and axis's token in the previous frame.
+class SeedContexts {
+ public:
+  explicit SeedContexts(size_t frame_points) : last_(frame_points * 3, 0) {}
+  int context(size_t k, int a) const {
+    return a * 9 + (a == 0 ? 0 : token_class(prev_)) * 3 + token_class(last_[3 * k + a]);
+  }
+  void update(size_t k, int a, int tok) {
+    prev_ = tok;
+    last_[3 * k + a] = static_cast<uint8_t>(tok);
+  }
+
+ private:
+  std::vector<uint8_t> last_;
+  int prev_ = 0;
+};
 constexpr double kMaxQuantised = 536870912.0;  // 2^29
 
 int coef_context(size_t l, int prev_token) {
@@ -144,12 +164,12 @@ Layout build_layout(const PositionsView& in, size_t clusters, const PdctOptions&
 class EncoderHooks : public pdct::LoopHooks {
  public:
   EncoderHooks(const PositionsView& in, const Layout& L, const Steps& S, double zero_share)
-      : in_(in), L_(L), S_(S), zero_share_(zero_share) {}
+      : in_(in), L_(L), S_(S), zero_share_(zero_share), sc_(L.frame_points.size()) {}
 
   int64_t seed_residual(size_t f, size_t k, int a, int64_t prediction) override {
     const double v = in_.xyz[3 * (f * in_.points + L_.frame_points[k]) + a];
     const int32_t r = to_i32(quantise_checked(v, S_.seed, "frame-point coordinate") - prediction);
-    seed.put_signed(r, a);
+    sc_.update(k, a, seed.put_signed(r, sc_.context(k, a)));
     return r;
   }
 
@@ -196,14 +216,21 @@ class EncoderHooks : public pdct::LoopHooks {
   const Layout& L_;
   const Steps& S_;
   double zero_share_;
+  SeedContexts sc_;
   double q_[3] = {0, 0, 0};
   std::vector<double> delta_, X_;
 };
 
 class DecoderHooks : public pdct::LoopHooks {
  public:
-  DecoderHooks(IntDecoder* seed, IntDecoder* first, IntDecoder* coef) : seed_(seed), first_(first), coef_(coef) {}
-  int64_t seed_residual(size_t, size_t, int a, int64_t) override { return seed_->get_signed(a); }
+  DecoderHooks(IntDecoder* seed, IntDecoder* first, IntDecoder* coef, size_t frame_points)
+      : seed_(seed), first_(first), coef_(coef), sc_(frame_points) {}
+  int64_t seed_residual(size_t, size_t k, int a, int64_t) override {
+    int tok = 0;
+    const int32_t r = seed_->get_signed(sc_.context(k, a), &tok);
+    sc_.update(k, a, tok);
+    return r;
+  }
   int64_t first_residual(size_t, size_t, int a, const Lcf&, int64_t) override { return first_->get_signed(a); }
   void coefficients(size_t, size_t, const Lcf&, const double*, const pdct::BlockDct& dct,
                     int64_t* coefs) override {
@@ -218,15 +245,19 @@ class DecoderHooks : public pdct::LoopHooks {
 
  private:
   IntDecoder *seed_, *first_, *coef_;
+  SeedContexts sc_;
 };
 
 // ---------------------------------------------------------------------------------------------
 // Grid mode (predict.h): hooks and encoder.
 
-constexpr int kGridContexts = pdct::kPointPredictors * 9;  // kind x axis x class of the previous axis
+// Contexts: kind x axis x class of the previous axis's token (same sample; 0 for x) x class of
+// the same point and axis's token in the previous frame.
+constexpr int kGridContexts = pdct::kPointPredictors * 27;
 
-int token_class(int tok) { return tok == 0 ? 0 : tok < 3 ? 1 : 2; }
-int grid_context(int kind, int a, int prev_tok) { return kind * 9 + a * 3 + (a == 0 ? 0 : token_class(prev_tok)); }
+int grid_context(int kind, int a, int prev_tok, int last_frame_tok) {
+  return kind * 27 + a * 9 + (a == 0 ? 0 : token_class(prev_tok)) * 3 + token_class(last_frame_tok);
+}
 
 // Rough cost in bits of a residual, for choosing predictors (not the coder's exact cost).
 double residual_bits(int64_t r) { return r == 0 ? 0.3 : 2.0 + 2.0 * std::log2(1.0 + std::fabs(static_cast<double>(r))); }
@@ -234,12 +265,13 @@ double residual_bits(int64_t r) { return r == 0 ? 0.3 : 2.0 + 2.0 * std::log2(1.
 class GridEncoderHooks : public pdct::GridHooks {
  public:
   GridEncoderHooks(const PositionsView& in, const Layout& L, double grid, bool code)
-      : in_(in), L_(L), g_(grid), code_(code), cost(in.points, 0.0) {}
+      : in_(in), L_(L), g_(grid), code_(code), sc_(L.frame_points.size()), last_(in.points * 3, 0),
+        cost(in.points, 0.0) {}
 
   int64_t seed_residual(size_t f, size_t k, int a, int64_t prediction) override {
     const double v = in_.xyz[3 * (f * in_.points + L_.frame_points[k]) + a];
     const int32_t r = to_i32(quantise_checked(v, g_, "frame-point coordinate") - prediction);
-    if (code_) seed.put_signed(r, a);
+    if (code_) sc_.update(k, a, seed.put_signed(r, sc_.context(k, a)));
     return r;
   }
   int64_t point_residual(size_t f, uint32_t i, int a, int kind, int64_t prediction) override {
@@ -252,7 +284,9 @@ class GridEncoderHooks : public pdct::GridHooks {
     if (f == 0) {
       first.put_signed(r, a);
     } else {
-      prev_tok_ = resid.put_signed(r, grid_context(kind, a, a == 0 ? 0 : prev_tok_));
+      uint8_t& last = last_[3 * static_cast<size_t>(i) + a];
+      prev_tok_ = resid.put_signed(r, grid_context(kind, a, prev_tok_, last));
+      last = static_cast<uint8_t>(prev_tok_);
     }
     return r;
   }
@@ -264,7 +298,9 @@ class GridEncoderHooks : public pdct::GridHooks {
   const Layout& L_;
   double g_;
   bool code_;
+  SeedContexts sc_;
   int prev_tok_ = 0;
+  std::vector<uint8_t> last_;  // per point and axis: token of the previous frame's residual
 
  public:
   std::vector<double> cost;  // per point: estimated bits of its residuals (f >= 1, measured samples)
@@ -272,19 +308,29 @@ class GridEncoderHooks : public pdct::GridHooks {
 
 class GridDecoderHooks : public pdct::GridHooks {
  public:
-  GridDecoderHooks(IntDecoder* seed, IntDecoder* first, IntDecoder* resid) : seed_(seed), first_(first), resid_(resid) {}
-  int64_t seed_residual(size_t, size_t, int a, int64_t) override { return seed_->get_signed(a); }
-  int64_t point_residual(size_t f, uint32_t, int a, int kind, int64_t) override {
+  GridDecoderHooks(IntDecoder* seed, IntDecoder* first, IntDecoder* resid, size_t points, size_t frame_points)
+      : seed_(seed), first_(first), resid_(resid), sc_(frame_points), last_(points * 3, 0) {}
+  int64_t seed_residual(size_t, size_t k, int a, int64_t) override {
+    int tok = 0;
+    const int32_t r = seed_->get_signed(sc_.context(k, a), &tok);
+    sc_.update(k, a, tok);
+    return r;
+  }
+  int64_t point_residual(size_t f, uint32_t i, int a, int kind, int64_t) override {
     if (f == 0) return first_->get_signed(a);
     int tok = 0;
-    const int32_t r = resid_->get_signed(grid_context(kind, a, a == 0 ? 0 : prev_tok_), &tok);
+    uint8_t& last = last_[3 * static_cast<size_t>(i) + a];
+    const int32_t r = resid_->get_signed(grid_context(kind, a, prev_tok_, last), &tok);
     prev_tok_ = tok;
+    last = static_cast<uint8_t>(tok);
     return r;
   }
 
  private:
   IntDecoder *seed_, *first_, *resid_;
+  SeedContexts sc_;
   int prev_tok_ = 0;
+  std::vector<uint8_t> last_;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -727,10 +773,10 @@ void PdctCodec::decode(const uint8_t* data, size_t size, size_t frames, size_t p
   auto coef = grid ? block("residual block", kGridContexts) : block("coefficient block", kCoefContexts);
   if (!r.at_end()) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": trailing bytes");
   if (grid) {
-    GridDecoderHooks h(seed.get(), first.get(), coef.get());
+    GridDecoderHooks h(seed.get(), first.get(), coef.get(), points, L.frame_points.size());
     pdct::run_grid_loop(L, S.seed, S.seed_order, kinds, &h, recon);
   } else {
-    DecoderHooks h(seed.get(), first.get(), coef.get());
+    DecoderHooks h(seed.get(), first.get(), coef.get(), L.frame_points.size());
     pdct::run_closed_loop(L, S, &h, recon);
   }
   if (!seed->at_end() || !first->at_end() || !coef->at_end())

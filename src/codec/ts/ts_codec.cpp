@@ -358,7 +358,9 @@ void TsCodec::encode_report(const PositionsView& in, const TransformParams& para
     if (samples > 0)
       for (int a = 0; a < 3; ++a) diag2 += (hi[a] - lo[a]) * (hi[a] - lo[a]);
   }
-  if (params.kg_error > 0) {
+  // With a max error the container's bound layer codes what the transform leaves, so ts aims
+  // its RMS at the bound (rms_per_bound); with only a KG target its reconstruction is the output.
+  if (params.kg_error > 0 && params.max_error == 0) {
     base.target_sq = (params.kg_error / 100) * (params.kg_error / 100) * centred;
     rep->kg_target = params.kg_error;
   } else if (params.max_error > 0) {

@@ -1,0 +1,127 @@
+#!/usr/bin/python3
+"""ts codec measurements recorded in docs/BENCHMARKS.md (ts section).
+
+Usage (repository root, after a Release build in build/):
+  python3 tools/ts_bench.py [--out bench-out/ts] [--quick]
+
+1. The paper's Table 2 (Luo et al. 2013): clusters 1..5 at a fixed KG error on horse-gallop and
+   chickenCrossing (build/tools/capz_tsbench table2), with the encoder's time per step (Table 3).
+2. Rate-distortion, bpvf against KG error 0.02 % .. 1 %, on horse-gallop, chickenCrossing, pcow:
+   ts (--clusters auto) against the simple quantise + linear-predict + `xz -9e` reference coder
+   (build/tools/capz_refcoder, the bench harness's "refcoder"): its tolerance T is searched so its
+   KG error lands at or just under the target (KG measured by build/tools/capz_metrics), and
+   against `capz compress` without a transform (the container's plain bound coder) when the
+   built CLI supports --kg-error.
+Everything is printed as markdown tables (and written to OUT/ts_bench.md).
+"""
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BUILD = os.path.join(ROOT, "build")
+DATA = os.path.join(ROOT, "..", "shared", "data", "pcd")
+TSBENCH = os.path.join(BUILD, "tools", "capz_tsbench")
+REFCODER = os.path.join(BUILD, "tools", "capz_refcoder")
+METRICS = os.path.join(BUILD, "tools", "capz_metrics")
+CLI = os.path.join(BUILD, "capz")
+
+SHAPES = {"horse-gallop": (48, 8431), "chickenCrossing": (400, 3030), "pcow": (204, 2904)}
+
+
+def run(cmd):
+    return subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+
+
+def refcoder_size_and_kg(seq, tol, tmp):
+    src = os.path.join(DATA, seq)
+    binf = os.path.join(tmp, "ref.bin")
+    run([REFCODER, "encode", src, binf, "--tolerance", repr(tol)])
+    xz = subprocess.run(["xz", "-9e", "-c", binf], check=True, capture_output=True).stdout
+    f32 = os.path.join(tmp, "ref.f32")
+    run([REFCODER, "decode", binf, f32])
+    m = json.loads(run([METRICS, src, f32]))
+    return len(xz), m["kg_error"]
+
+
+def refcoder_at_kg(seq, kg, tmp):
+    """Largest tolerance whose KG error is <= kg (bisection in log space), its size."""
+    lo, hi = 1e-7, 1.0
+    best = None
+    for _ in range(14):
+        mid = math.sqrt(lo * hi)
+        size, got = refcoder_size_and_kg(seq, mid, tmp)
+        if got <= kg:
+            lo = mid
+            best = (size, got, mid)
+        else:
+            hi = mid
+        if best and hi / lo < 1.03:
+            break
+    return best
+
+
+def cli_at_kg(seq, kg, tmp):
+    if not os.path.exists(CLI):
+        return None
+    out = os.path.join(tmp, "plain.capz")
+    r = subprocess.run([CLI, "compress", os.path.join(DATA, seq), "-o", out, "-f", "--kg-error", str(kg),
+                        "--json"], capture_output=True, text=True)
+    if r.returncode != 0:
+        return None
+    try:
+        j = json.loads(r.stdout)
+        return os.path.getsize(out), j.get("kg_error", j.get("error", {}).get("kg_error"))
+    except (ValueError, AttributeError):
+        return os.path.getsize(out), None
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--out", default=os.path.join(ROOT, "bench-out", "ts"))
+    ap.add_argument("--quick", action="store_true", help="fewer KG targets")
+    a = ap.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    lines = []
+
+    def emit(s=""):
+        print(s, flush=True)
+        lines.append(s)
+
+    emit("## Table 2 (clusters 1..5 at KG 0.15 %), default options")
+    for seq in ("horse-gallop", "chickenCrossing"):
+        emit(run([TSBENCH, "table2", os.path.join(DATA, seq), "--kg", "0.15"]))
+    emit("## Table 2, the paper's own settings (basis bits 8..16, no basis prediction)")
+    for seq in ("horse-gallop", "chickenCrossing"):
+        emit(run([TSBENCH, "table2", os.path.join(DATA, seq), "--kg", "0.15", "--opt", "basis_bits_min=8",
+                  "--opt", "basis_predict=0"]))
+
+    kgs = [0.05, 0.15, 0.5] if a.quick else [0.02, 0.05, 0.1, 0.15, 0.25, 0.5, 1.0]
+    emit("## Rate-distortion: ts (clusters auto) against the reference coder (quantise + predict + xz -9e)")
+    with tempfile.TemporaryDirectory() as tmp:
+        for seq in ("horse-gallop", "chickenCrossing", "pcow"):
+            f, n = SHAPES[seq]
+            ts_rows = run([TSBENCH, "rd", os.path.join(DATA, seq), "--kg", ",".join(map(str, kgs)),
+                           "--clusters", "auto"]).strip().splitlines()
+            emit(f"### {seq} ({f} frames x {n} points)")
+            emit("| KG target (%) | ts K {PCs} | ts KG (%) | ts bytes | ts bpvf | ref KG (%) | ref bytes | ref bpvf | ref / ts | plain capz bpvf |")
+            emit("|---|---|---|---|---|---|---|---|---|---|")
+            for kg, row in zip(kgs, ts_rows[3:]):
+                c = [x.strip() for x in row.strip("|").split("|")]
+                ts_bytes = int(c[4])
+                ref = refcoder_at_kg(seq, kg, tmp)
+                plain = cli_at_kg(seq, kg, tmp)
+                ref_bpvf = 8.0 * ref[0] / (f * n)
+                plain_s = f"{8.0 * plain[0] / (f * n):.3f}" if plain else "n/a"
+                emit(f"| {kg} | {c[1]} | {c[2]} | {ts_bytes} | {c[5]} | {ref[1]:.4f} | {ref[0]} | {ref_bpvf:.3f} | "
+                     f"{ref[0] / ts_bytes:.2f} | {plain_s} |")
+    with open(os.path.join(a.out, "ts_bench.md"), "w") as fh:
+        fh.write("\n".join(lines) + "\n")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
