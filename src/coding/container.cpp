@@ -132,9 +132,9 @@ StreamHeader decode_header(const Chunk& c, const std::string& name) {
   h.analog_channels = r.u32();
   h.analog_samples_per_frame = r.u32();
   if (fmt > 3) fail(ErrorCode::kCorrupt, what, "unknown source format " + std::to_string(fmt));
-  if (mode > 3) fail(ErrorCode::kCorrupt, what, "unknown position mode " + std::to_string(mode));
+  if (mode > 4) fail(ErrorCode::kCorrupt, what, "unknown position mode " + std::to_string(mode));
   if (h.window_frames == 0) fail(ErrorCode::kCorrupt, what, "window of 0 frames");
-  if ((mode == 0 || mode == 1) && !(h.step > 0 && std::isfinite(h.step)))
+  if ((mode == 0 || mode == 1 || mode == 4) && !(h.step > 0 && std::isfinite(h.step)))
     fail(ErrorCode::kCorrupt, what, "grid step is not a positive number");
   if (h.frames > (uint64_t{1} << 40)) fail(ErrorCode::kCorrupt, what, "implausible frame count");
   if ((h.analog_channels == 0) != (h.analog_samples_per_frame == 0) && h.analog_channels != 0)
@@ -146,7 +146,8 @@ StreamHeader decode_header(const Chunk& c, const std::string& name) {
 }
 
 // ---------------------------------------------------------------------------------------------
-std::vector<uint8_t> encode_meta(const Take& t, bool has_sample_words) {
+namespace {
+std::vector<uint8_t> encode_meta_fields(const Take& t, bool has_sample_words) {
   ByteWriter w;
   std::string src = t.source;
   while (!src.empty() && src.back() == '/') src.pop_back();
@@ -254,10 +255,39 @@ std::vector<uint8_t> encode_meta(const Take& t, bool has_sample_words) {
   }
   return std::move(w.buffer());
 }
+}  // namespace
+
+std::vector<uint8_t> encode_meta(const Take& t, bool has_sample_words) {
+  std::vector<uint8_t> fields = encode_meta_fields(t, has_sample_words);
+  std::vector<uint8_t> coded = encode_bytes(fields.data(), fields.size());
+  ByteWriter w;
+  if (coded.size() + 8 < fields.size()) {
+    w.u8(1);
+    w.varint(fields.size());
+    w.bytes(coded);
+  } else {
+    w.u8(0);
+    w.bytes(fields);
+  }
+  return std::move(w.buffer());
+}
 
 void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sample_words) {
   const std::string what = chunk_what(name, c);
-  ByteReader r(c.payload, c.size, what);
+  ByteReader outer(c.payload, c.size, what);
+  const uint8_t coding = outer.u8();
+  std::vector<uint8_t> fields;
+  if (coding == 1) {
+    const uint64_t n = outer.varint();
+    if (n > kMaxSymbolsPerByte / 2 * outer.remaining())
+      fail(ErrorCode::kCorrupt, what, "metadata size " + std::to_string(n) + " is implausible");
+    fields = decode_bytes(c.payload + outer.offset(), outer.remaining(), static_cast<size_t>(n), what);
+  } else if (coding == 0) {
+    fields.assign(c.payload + 1, c.payload + c.size);
+  } else {
+    fail(ErrorCode::kCorrupt, what, "unknown metadata coding " + std::to_string(coding));
+  }
+  ByteReader r(fields.data(), fields.size(), what);
   t->source = r.str();
   t->units = r.str();
   t->rate = r.f64();

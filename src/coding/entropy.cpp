@@ -74,4 +74,38 @@ std::vector<uint32_t> decode_uints(const uint8_t* data, size_t size, size_t coun
   return decode_stream<uint32_t>(data, size, count, what, [](uint32_t u) { return u; });
 }
 
+std::vector<uint8_t> encode_bytes(const uint8_t* data, size_t size) {
+  RangeEncoder enc;
+  std::vector<SymbolModel> hi(256), lo(256);
+  int h1 = 0, h2 = 0;
+  for (size_t i = 0; i < size; ++i) {
+    const int x = data[i];
+    hi[static_cast<size_t>(h1 | (h2 << 4))].encode(&enc, x >> 4);
+    lo[static_cast<size_t>(((x >> 4) << 4) | h1)].encode(&enc, x & 15);
+    h2 = h1;
+    h1 = x >> 4;
+  }
+  return enc.finish();
+}
+
+std::vector<uint8_t> decode_bytes(const uint8_t* data, size_t size, size_t count,
+                                  const std::string& what) {
+  if (count > kMaxSymbolsPerByte / 2 * size)
+    throw Error(ErrorCode::kCorrupt, what + ": " + std::to_string(count) +
+                                         " bytes cannot be coded in " + std::to_string(size));
+  RangeDecoder dec(data, size, what);
+  std::vector<SymbolModel> hi(256), lo(256);
+  std::vector<uint8_t> out(count);
+  int h1 = 0, h2 = 0;
+  for (size_t i = 0; i < count; ++i) {
+    const int a = hi[static_cast<size_t>(h1 | (h2 << 4))].decode(&dec);
+    const int b = lo[static_cast<size_t>((a << 4) | h1)].decode(&dec);
+    out[i] = static_cast<uint8_t>((a << 4) | b);
+    h2 = h1;
+    h1 = a;
+  }
+  if (!dec.at_end()) dec.corrupt("byte block has bytes past its end");
+  return out;
+}
+
 }  // namespace capz

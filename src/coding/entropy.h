@@ -143,4 +143,12 @@ std::vector<int32_t> decode_ints(const uint8_t* data, size_t size, size_t count,
 std::vector<uint32_t> decode_uints(const uint8_t* data, size_t size, size_t count,
                                    const std::string& what = "integer stream");
 
+// Byte strings (text-like metadata, FORMAT.md 1.4): each byte as two nibbles, the high one under
+// the context of the previous two bytes' high nibbles, the low one under the context of its high
+// nibble and the previous byte's high nibble.
+std::vector<uint8_t> encode_bytes(const uint8_t* data, size_t size);
+// Decodes exactly `count` bytes (count <= kMaxSymbolsPerByte / 2 * size is enforced).
+std::vector<uint8_t> decode_bytes(const uint8_t* data, size_t size, size_t count,
+                                  const std::string& what);
+
 }  // namespace capz

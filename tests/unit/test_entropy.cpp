@@ -130,3 +130,25 @@ TEST(Entropy, GivenImplausibleCountWhenDecodedThenThrowsBeforeAllocating) {
 
 }  // namespace
 }  // namespace capz
+
+namespace capz {
+namespace {
+
+TEST(EntropyBytes, GivenTextAndBinaryBytesWhenRoundTrippedThenExactAndTextShrinks) {
+  std::string text;
+  for (int i = 0; i < 200; ++i) text += "POINT:LABELS RightKnee LeftKnee " + std::to_string(i) + "    ";
+  std::vector<uint8_t> t(text.begin(), text.end());
+  auto block = encode_bytes(t.data(), t.size());
+  EXPECT_LT(block.size(), t.size() / 2);
+  EXPECT_EQ(decode_bytes(block.data(), block.size(), t.size(), "bytes"), t);
+  std::mt19937 rng(12);
+  std::vector<uint8_t> r(5000);
+  for (auto& b : r) b = static_cast<uint8_t>(rng());
+  auto rb = encode_bytes(r.data(), r.size());
+  EXPECT_EQ(decode_bytes(rb.data(), rb.size(), r.size(), "bytes"), r);
+  EXPECT_THROW(decode_bytes(rb.data(), rb.size() / 2, r.size(), "bytes"), Error);
+  EXPECT_THROW(decode_bytes(rb.data(), rb.size(), size_t{1} << 40, "bytes"), Error);
+}
+
+}  // namespace
+}  // namespace capz
