@@ -102,6 +102,8 @@ int cmd_compress(const Args& args) {
   } else if (vm.count("kg-error")) {
     opts.kg_error = vm["kg-error"].as<double>();
     if (!(opts.kg_error > 0)) capz::fail(capz::ErrorCode::kInvalidParameter, "", "--kg-error must be > 0");
+  } else if (take.units.empty() && take.gap_samples() == take.frames * take.points) {
+    opts.max_error = 1;  // no positions to bound (analog-only take): any bound will do
   } else if (!vm.count("max-error") && take.units.empty()) {
     opts.max_error = unitless_default_bound(take);
   } else {

@@ -70,8 +70,10 @@ struct C3DExtra {
   std::vector<C3DHeaderEvent> header_events;
   bool header_events_label_range = false;  // header word 150 (0x3039 = events with 4-char labels)
 
-  // Per sample 4th word: residual (file units, >= 0 valid, negative = invalid as stored) and the
-  // camera-contribution byte. Both frames x points; empty when the take did not come from C3D.
+  // Per sample 4th word, both frames x points (empty when the take did not come from C3D):
+  // residual = low byte x point_scale in file units for a valid sample, -1 for a gap; camera_mask
+  // = the high byte (0 for a gap). The writer stores round(residual / scale) and mask & 0x7f.
+  // See docs/C3D.md for what the reader counts as a gap.
   std::vector<float> residual;
   std::vector<uint8_t> camera_mask;
 

@@ -24,6 +24,7 @@ const char* mode_name(PosMode m) {
     case PosMode::kDecimal: return "decimal-grid";
     case PosMode::kFloat32: return "float32-bits";
     case PosMode::kFloat64: return "float64-bits";
+    case PosMode::kFloat32Grid: return "float32-grid";
   }
   return "?";
 }
@@ -43,6 +44,8 @@ inline double dequantise(const Grid& g, int32_t q, uint32_t lo) {
     case PosMode::kGrid: return static_cast<double>(q) * g.step;
     case PosMode::kDecimal: return static_cast<double>(q) / g.step;
     case PosMode::kFloat32: return static_cast<double>(ordered_to_float(q));
+    case PosMode::kFloat32Grid:
+      return static_cast<double>(static_cast<float>(static_cast<double>(q) * g.step));
     default:
       return ordered_to_double(static_cast<int64_t>(
           (static_cast<uint64_t>(static_cast<uint32_t>(q)) << 32) | lo));
@@ -76,7 +79,7 @@ bool grid_exact(const Take& t, const Grid& g) {
     if (!t.valid[i]) continue;
     for (int a = 0; a < 3; ++a) {
       const double x = t.xyz[i * 3 + a];
-      const double v = g.mode == PosMode::kGrid ? x / g.step : x * g.step;
+      const double v = g.mode == PosMode::kDecimal ? x * g.step : x / g.step;
       if (!(std::fabs(v) <= limit)) return false;
       if (!same_bits(dequantise(g, round_to_int(v), 0), x)) return false;
     }
@@ -89,6 +92,12 @@ Grid lossless_grid(const Take& t) {
   g.lossless = true;
   if (c3d_int16(t)) {
     g.mode = PosMode::kGrid;
+    g.step = t.c3d->point_scale;
+    if (grid_exact(t, g)) return g;
+  }
+  if (t.c3d && t.c3d->float_storage && t.c3d->point_scale > 0) {
+    // Float C3D files often hold int16-scale multiples rounded to float32.
+    g.mode = PosMode::kFloat32Grid;
     g.step = t.c3d->point_scale;
     if (grid_exact(t, g)) return g;
   }
@@ -224,6 +233,7 @@ WindowInts window_ints(const Take& t, const Grid& g, size_t f0, size_t fn) {
         case PosMode::kGrid: w.q[k] = round_to_int(x[k] / g.step); break;
         case PosMode::kDecimal: w.q[k] = round_to_int(x[k] * g.step); break;
         case PosMode::kFloat32: w.q[k] = float_to_ordered(static_cast<float>(x[k])); break;
+        case PosMode::kFloat32Grid: w.q[k] = round_to_int(x[k] / g.step); break;
         case PosMode::kFloat64: {
           uint64_t o = static_cast<uint64_t>(double_to_ordered(x[k]));
           w.q[k] = static_cast<int32_t>(static_cast<uint32_t>(o >> 32));
@@ -476,9 +486,8 @@ std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, Com
     stats->bytes = out.size();
     stats->raw_bytes = F * N * 12;
     stats->bpvf = bpvf(out.size(), F, N);
-    stats->step = g.mode == PosMode::kGrid || g.mode == PosMode::kDecimal
-                      ? (g.mode == PosMode::kGrid ? g.step : 1.0 / g.step)
-                      : 0;
+    stats->step = g.mode == PosMode::kDecimal ? 1.0 / g.step
+                  : (g.mode == PosMode::kGrid || g.mode == PosMode::kFloat32Grid) ? g.step : 0;
     stats->mode = mode_name(g.mode);
     stats->lossless = g.lossless;
     stats->error = acc.finish();

@@ -132,9 +132,9 @@ StreamHeader decode_header(const Chunk& c, const std::string& name) {
   h.analog_channels = r.u32();
   h.analog_samples_per_frame = r.u32();
   if (fmt > 3) fail(ErrorCode::kCorrupt, what, "unknown source format " + std::to_string(fmt));
-  if (mode > 3) fail(ErrorCode::kCorrupt, what, "unknown position mode " + std::to_string(mode));
+  if (mode > 4) fail(ErrorCode::kCorrupt, what, "unknown position mode " + std::to_string(mode));
   if (h.window_frames == 0) fail(ErrorCode::kCorrupt, what, "window of 0 frames");
-  if ((mode == 0 || mode == 1) && !(h.step > 0 && std::isfinite(h.step)))
+  if ((mode == 0 || mode == 1 || mode == 4) && !(h.step > 0 && std::isfinite(h.step)))
     fail(ErrorCode::kCorrupt, what, "grid step is not a positive number");
   if (h.frames > (uint64_t{1} << 40)) fail(ErrorCode::kCorrupt, what, "implausible frame count");
   if ((h.analog_channels == 0) != (h.analog_samples_per_frame == 0) && h.analog_channels != 0)

@@ -12,7 +12,8 @@
 
 namespace capz {
 
-enum class PosMode : uint8_t { kGrid = 0, kDecimal = 1, kFloat32 = 2, kFloat64 = 3 };
+// kFloat32Grid: x = float32(q * s), float C3D files whose floats are int16-scale multiples.
+enum class PosMode : uint8_t { kGrid = 0, kDecimal = 1, kFloat32 = 2, kFloat64 = 3, kFloat32Grid = 4 };
 
 // Step for a per-coordinate bound; see the rounding rule above.
 inline double grid_step_for_bound(double max_error) { return 2.0 * max_error * (1.0 - 0x1p-30); }

@@ -145,9 +145,11 @@ ParameterSection parse_parameter_section(const uint8_t* data, size_t size, size_
     }
     int8_t nlen = static_cast<int8_t>(data[pos]);
     int8_t gid = static_cast<int8_t>(data[pos + 1]);
-    if (nlen == 0) break;  // terminator
-    if (gid == 0) {
-      warn(at(pos) + " has group id 0; ignoring the rest of the section");
+    if (nlen == 0) break;                           // terminator
+    if (gid == 0 || gid == -128 || nlen == -128) {  // ids and name lengths are 1..127
+      warn(at(pos) + " has " +
+           (nlen == -128 ? "name length -128" : "group id " + std::to_string(gid)) +
+           "; ignoring the rest of the section");
       break;
     }
     size_t len = static_cast<size_t>(nlen < 0 ? -nlen : nlen);
@@ -226,7 +228,7 @@ ParameterSection parse_parameter_section(const uint8_t* data, size_t size, size_
               for (size_t i = 0; i < n; i += 2) put_u16le(nf.u16(data + q + i), &p.data[i]);
             } else if (p.type == 4) {
               for (size_t i = 0; i < n; i += 4) put_f32le(nf.f32(data + q + i), &p.data[i]);
-            } else {
+            } else if (n > 0) {
               std::memcpy(p.data.data(), data + q, n);
             }
             q += n;

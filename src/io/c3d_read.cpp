@@ -270,6 +270,12 @@ Take read_c3d_bytes(const uint8_t* data, size_t size, const std::string& name) {
            std::to_string(avail));
       frames = avail;
     }
+  } else if (frames > 0) {
+    // Frames of nothing: the count is unverifiable, and a lying one would make every consumer
+    // loop over billions of empty frames.
+    warn("header says " + std::to_string(frames) +
+         " frames of no points and no analog channels; read as 0 frames");
+    frames = 0;
   }
 
   // ---- data ----

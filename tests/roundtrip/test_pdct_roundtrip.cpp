@@ -20,7 +20,9 @@ struct Window {
   size_t frames = 0, points = 0;
   std::vector<double> xyz;
   std::vector<uint8_t> valid;
-  capz::PositionsView view() const { return capz::PositionsView{frames, points, xyz.data(), valid.data()}; }
+  capz::PositionsView view() const {
+    return capz::PositionsView{frames, points, xyz.data(), valid.data()};
+  }
 };
 
 Window window_of(const capz::Take& t, size_t frames) {
@@ -28,16 +30,19 @@ Window window_of(const capz::Take& t, size_t frames) {
   w.frames = std::min(frames, t.frames);
   w.points = t.points;
   w.xyz.assign(t.xyz.begin(), t.xyz.begin() + static_cast<std::ptrdiff_t>(w.frames * w.points * 3));
-  w.valid.assign(t.valid.begin(), t.valid.begin() + static_cast<std::ptrdiff_t>(w.frames * w.points));
+  w.valid.assign(t.valid.begin(),
+                 t.valid.begin() + static_cast<std::ptrdiff_t>(w.frames * w.points));
   for (size_t p = 0; p < w.points; ++p) {
     long last = -1;
     for (size_t f = 0; f < w.frames; ++f) {
       if (w.valid[f * w.points + p]) {
         if (last < 0)  // leading gap: back-fill with this first measurement
-          for (size_t g = 0; g < f; ++g) std::memcpy(&w.xyz[3 * (g * w.points + p)], &w.xyz[3 * (f * w.points + p)], 24);
+          for (size_t g = 0; g < f; ++g)
+            std::memcpy(&w.xyz[3 * (g * w.points + p)], &w.xyz[3 * (f * w.points + p)], 24);
         last = static_cast<long>(f);
       } else if (last >= 0) {
-        std::memcpy(&w.xyz[3 * (f * w.points + p)], &w.xyz[3 * (static_cast<size_t>(last) * w.points + p)], 24);
+        std::memcpy(&w.xyz[3 * (f * w.points + p)],
+                    &w.xyz[3 * (static_cast<size_t>(last) * w.points + p)], 24);
       }
     }
   }
@@ -134,7 +139,8 @@ TEST(PdctRoundTrip, GivenMaxErrorInDctModeWhenEncodedThenTransformAloneStaysNear
 
 // Real mocap takes with gaps (Plug-in-Gait with holes, the c3d.org gait trial, a c3d.org sample
 // with gaps in 27 of 36 markers).
-const char* const kMocap[] = {"/c3d/btkdata/PiG/PiG_Motion-FlatFoot-Hole.c3d", "/c3d/c3dorg/sample_01/Eb015pr.c3d",
+const char* const kMocap[] = {"/c3d/btkdata/PiG/PiG_Motion-FlatFoot-Hole.c3d",
+                              "/c3d/c3dorg/sample_01/Eb015pr.c3d",
                               "/c3d/c3dorg/sample_02/pc_real.c3d"};
 
 TEST(PdctRoundTrip, GivenMocapWithGapsWhenMaxErrorThenGridModeExactAndBitIdentical) {

@@ -17,7 +17,9 @@ struct SyntheticTake {
   size_t frames = 0, points = 0;
   std::vector<double> xyz;
   std::vector<uint8_t> valid;
-  capz::PositionsView view() const { return capz::PositionsView{frames, points, xyz.data(), valid.data()}; }
+  capz::PositionsView view() const {
+    return capz::PositionsView{frames, points, xyz.data(), valid.data()};
+  }
 };
 
 inline SyntheticTake rigid_bodies(size_t bodies, size_t per_body, size_t frames, uint32_t seed,
@@ -33,8 +35,8 @@ inline SyntheticTake rigid_bodies(size_t bodies, size_t per_body, size_t frames,
   for (size_t b = 0; b < bodies; ++b) {
     std::vector<double> local(per_body * 3);
     for (double& v : local) v = u(rng);
-    const double rate = 0.02 + 0.03 * static_cast<double>(b);      // rad / frame
-    const double tilt = 0.3 * static_cast<double>(b + 1);           // axis tilt
+    const double rate = 0.02 + 0.03 * static_cast<double>(b);  // rad / frame
+    const double tilt = 0.3 * static_cast<double>(b + 1);      // axis tilt
     const double ax[3] = {std::sin(tilt), 0.3, std::cos(tilt)};
     const double n = std::sqrt(ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2]);
     const double k[3] = {ax[0] / n, ax[1] / n, ax[2] / n};
@@ -46,7 +48,8 @@ inline SyntheticTake rigid_bodies(size_t bodies, size_t per_body, size_t frames,
         const double* v = &local[3 * i];
         // Rodrigues rotation of v about k by th.
         const double kv = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
-        const double kxv[3] = {k[1] * v[2] - k[2] * v[1], k[2] * v[0] - k[0] * v[2], k[0] * v[1] - k[1] * v[0]};
+        const double kxv[3] = {k[1] * v[2] - k[2] * v[1], k[2] * v[0] - k[0] * v[2],
+                               k[0] * v[1] - k[1] * v[0]};
         double* out = &t.xyz[3 * (f * t.points + b * per_body + i)];
         for (int a = 0; a < 3; ++a)
           out[a] = v[a] * c + kxv[a] * s + k[a] * kv * (1 - c) + shift[a] + noise * g(rng);

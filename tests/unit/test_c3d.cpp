@@ -69,6 +69,8 @@ struct Built {
   std::vector<Sample> samples;                      // frames x points
   std::vector<double> analog;                       // frames x spf x channels
   size_t frames_written = static_cast<size_t>(-1);  // truncate the data section
+  std::string swapped_offset;  // this parameter's offset is written in the other byte order
+  std::string no_desc_byte;    // this parameter lacks its description byte (offset skips it)
 
   void i16(std::vector<uint8_t>& o, double v) const {
     uint16_t u = static_cast<uint16_t>(static_cast<int16_t>(static_cast<long>(v)));
@@ -109,6 +111,7 @@ struct Built {
       o.push_back(static_cast<uint8_t>(static_cast<int8_t>(id)));
       o.insert(o.end(), name.begin(), name.end());
       i16(o, static_cast<double>(body.size() + 2));
+      if (name == swapped_offset) std::swap(o[o.size() - 2], o[o.size() - 1]);
       o.insert(o.end(), body.begin(), body.end());
     };
     for (const auto& g : groups) {
@@ -125,8 +128,10 @@ struct Built {
           if (p.type == 2) i16(b, v);
           if (p.type == 4) f32(b, v);
         }
-        b.push_back(static_cast<uint8_t>(p.desc.size()));
-        b.insert(b.end(), p.desc.begin(), p.desc.end());
+        if (p.name != no_desc_byte) {
+          b.push_back(static_cast<uint8_t>(p.desc.size()));
+          b.insert(b.end(), p.desc.begin(), p.desc.end());
+        }
         entry(p.name, p.locked, g.id, b);
       }
     }
@@ -525,12 +530,39 @@ TEST(C3DRead, LyingCountsAreClampedWithoutBigAllocations) {
   EXPECT_TRUE(t.analog.values.empty());
   EXPECT_TRUE(has_warning(t, "file holds 0"));
 
+  // Frames of nothing (no points, no analog): a count nothing can check is not trusted.
+  Built e;
+  e.frames = 60000;
+  standard_groups(e, {});
+  Take te = read(e);
+  EXPECT_EQ(te.frames, 0u);
+  EXPECT_TRUE(has_warning(te, "read as 0 frames"));
+
   // A parameter whose dimensions claim 4 * 255^7 bytes.
   Built p = small_trial(c3d::kIntel, false);
   p.groups[1].params.push_back({"HUGE", 4, {255, 255, 255, 255, 255, 255, 255}, {}, "", "", false});
   auto w = p.bytes();
   Take tp = read_c3d_bytes(w.data(), w.size(), "huge.c3d");
   EXPECT_TRUE(has_warning(tp, "HUGE"));
+}
+
+TEST(C3DRead, ParameterOffsetQuirksOfRealWriters) {
+  // A MIPS file with one little-endian offset (c3d.org sample_02/sgi_*.c3d).
+  Built m = small_trial(c3d::kMips, false);
+  m.swapped_offset = "UNITS";
+  Take tm = read(m);
+  EXPECT_TRUE(has_warning(tm, "byte-swapped offset"));
+  EXPECT_EQ(tm.units, "mm");
+  EXPECT_EQ(tm.labels, (std::vector<std::string>{"LASI", "RASI", "LHEE"}));
+  // A char parameter without its description byte, the offset skipping it (BTK's
+  // badParameterOffset.c3d): the offset is followed and nothing after it is lost.
+  Built d = small_trial(c3d::kIntel, false);
+  d.no_desc_byte = "UNITS";
+  Take td = read(d);
+  EXPECT_TRUE(td.warnings.empty());
+  EXPECT_EQ(td.units, "mm");
+  EXPECT_EQ(td.labels, (std::vector<std::string>{"LASI", "RASI", "LHEE"}));
+  EXPECT_EQ(td.analog.labels, (std::vector<std::string>{"FZ1", "EMG1"}));
 }
 
 TEST(C3DRead, UnsignedAnalogFormat) {

@@ -299,3 +299,37 @@ TEST(Container, GivenNoTargetOrTooFineBoundThenInvalidParameter) {
 
 }  // namespace
 }  // namespace capz
+
+namespace capz {
+namespace {
+
+TEST(Container, GivenFloatC3DOnItsScaleGridWhenLosslessThenFloat32GridModeAndBitExact) {
+  Take t;
+  t.format = Format::kC3D;
+  t.resize(100, 4);
+  t.units = "mm";
+  t.c3d = std::make_shared<C3DExtra>();
+  t.c3d->float_storage = true;
+  t.c3d->point_scale = static_cast<double>(0.0833333358f);
+  for (size_t i = 0; i < t.valid.size(); ++i) {
+    t.valid[i] = i % 11 != 0;
+    for (int a = 0; a < 3; ++a)
+      t.xyz[i * 3 + a] = t.valid[i] ? static_cast<double>(static_cast<float>(
+                                          static_cast<double>(static_cast<int>(i * 7 + a * 1000) - 3000) *
+                                          t.c3d->point_scale))
+                                    : 0.0;
+  }
+  CompressOptions o;
+  o.lossless = true;
+  CompressStats st;
+  auto bytes = compress(t, o, &st);
+  EXPECT_EQ(st.mode, "float32-grid");
+  Take b = decompress(bytes.data(), bytes.size());
+  for (size_t i = 0; i < t.valid.size(); ++i)
+    if (t.valid[i]) {
+      ASSERT_EQ(std::memcmp(&t.xyz[i * 3], &b.xyz[i * 3], 24), 0);
+    }
+}
+
+}  // namespace
+}  // namespace capz

@@ -127,7 +127,8 @@ TEST(PdctCodec, GivenGapsWhenEncodedThenValidSamplesCodedAndDecoderMatches) {
   for (size_t f = 10; f < 30; ++f)
     for (size_t i : {7u, 33u}) {
       t.valid[f * t.points + i] = 0;
-      for (int a = 0; a < 3; ++a) t.xyz[3 * (f * t.points + i) + a] = t.xyz[3 * (9 * t.points + i) + a];
+      for (int a = 0; a < 3; ++a)
+        t.xyz[3 * (f * t.points + i) + a] = t.xyz[3 * (9 * t.points + i) + a];
     }
   t.valid[12] = 0;
   TransformParams p;
@@ -163,8 +164,12 @@ TEST(PdctCodec, GivenBadOptionsWhenEncodingThenInvalidParameter) {
   std::vector<uint8_t> bytes;
   std::vector<double> rec;
   for (auto kv : std::vector<std::pair<std::string, std::string>>{
-           {"nonsense", "1"}, {"zero_share", "1.5"}, {"coef_bits", "x"}, {"local_order", "3"},
-           {"mode", "grid"} /* grid needs a max error */, {"mode", "fast"}}) {
+           {"nonsense", "1"},
+           {"zero_share", "1.5"},
+           {"coef_bits", "x"},
+           {"local_order", "3"},
+           {"mode", "grid"} /* grid needs a max error */,
+           {"mode", "fast"}}) {
     TransformParams p;
     p.options[kv.first] = kv.second;
     try {
@@ -178,23 +183,28 @@ TEST(PdctCodec, GivenBadOptionsWhenEncodingThenInvalidParameter) {
 
 TEST(PdctCodec, GivenTruncatedOrFlippedPayloadWhenDecodingThenCleanErrorOrOutput) {
   const auto t = capz_test::rigid_bodies(2, 15, 12, 9, 0.05);
-  std::vector<uint8_t> bytes;
-  std::vector<double> rec;
   PdctCodec codec;
-  codec.encode(t.view(), TransformParams{}, &bytes, &rec);
-  for (size_t n = 0; n < bytes.size(); n += 7) {
-    EXPECT_THROW(codec.decode(bytes.data(), n, t.frames, t.points, &rec), capz::Error) << n;
-  }
-  // Bit flips: either a capz::Error or some output of the window's size, never a crash.
-  for (size_t i = 0; i < bytes.size(); i += 3) {
-    auto b = bytes;
-    b[i] ^= 0x5a;
-    try {
-      codec.decode(b.data(), b.size(), t.frames, t.points, &rec);
-      EXPECT_EQ(rec.size(), t.frames * t.points * 3);
-    } catch (const capz::Error&) {
+  for (double max_error : {0.0, 0.05}) {  // dct mode, grid mode
+    std::vector<uint8_t> bytes;
+    std::vector<double> rec;
+    TransformParams params;
+    params.max_error = max_error;
+    codec.encode(t.view(), params, &bytes, &rec);
+    for (size_t n = 0; n < bytes.size(); n += 7) {
+      EXPECT_THROW(codec.decode(bytes.data(), n, t.frames, t.points, &rec), capz::Error) << n;
     }
+    // Bit flips: either a capz::Error or some output of the window's size, never a crash.
+    for (size_t i = 0; i < bytes.size(); i += 3) {
+      auto b = bytes;
+      b[i] ^= 0x5a;
+      try {
+        codec.decode(b.data(), b.size(), t.frames, t.points, &rec);
+        EXPECT_EQ(rec.size(), t.frames * t.points * 3);
+      } catch (const capz::Error&) {
+      }
+    }
+    // A window of another shape is rejected.
+    EXPECT_THROW(codec.decode(bytes.data(), bytes.size(), t.frames, t.points + 1, &rec),
+                 capz::Error);
   }
-  // A window of another shape is rejected.
-  EXPECT_THROW(codec.decode(bytes.data(), bytes.size(), t.frames, t.points + 1, &rec), capz::Error);
 }

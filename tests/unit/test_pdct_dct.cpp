@@ -17,8 +17,9 @@ TEST(PdctDct, GivenRatiosWhenCosPiRatioThenMatchesLibm) {
   for (int64_t den = 1; den <= 600; den += 7)
     for (int64_t num = -3 * den; num <= 3 * den; ++num)
       // long double reference: libm's double cos of a rounded pi*num/den is itself off by ~1e-15.
-      ASSERT_NEAR(cos_pi_ratio(num, den),
-                  static_cast<double>(std::cos(3.141592653589793238462643383279502884L * num / den)), 3e-16)
+      ASSERT_NEAR(
+          cos_pi_ratio(num, den),
+          static_cast<double>(std::cos(3.141592653589793238462643383279502884L * num / den)), 3e-16)
           << num << "/" << den;
 }
 
@@ -66,7 +67,7 @@ TEST(PdctDct, GivenShareWhenQuantiseThenSmallestZeroedAndRoundedHalfAway) {
   const double X[6] = {5.0, -0.1, 2.5, 0.2, -2.5, 9.0};
   int64_t q[6];
   zero_and_quantise(X, 6, CoefQuantParams{1.0, 0.5}, q);  // 3 smallest |X| zeroed
-  const int64_t want[6] = {5, 0, 0, 0, -3, 9};             // ties 2.5/-2.5: lower index zeroed
+  const int64_t want[6] = {5, 0, 0, 0, -3, 9};            // ties 2.5/-2.5: lower index zeroed
   for (int i = 0; i < 6; ++i) EXPECT_EQ(q[i], want[i]) << i;
   zero_and_quantise(X, 6, CoefQuantParams{1.0, 0.0}, q);
   const int64_t all[6] = {5, 0, 3, 0, -3, 9};

@@ -66,16 +66,17 @@ void fill_gaps(capz::Take* t) {
 void row(const char* mode, const std::string& take, size_t F, size_t P, const std::string& clusters,
          double zero, int bits, double target, size_t bytes, const capz::ErrorStats& s, double secs,
          const std::string& detail) {
-  std::printf("%s,%s,%zu,%zu,%s,%.3f,%d,%.6g,%zu,%.4f,%.5f,%.6g,%.6g,%.2f,%s\n", mode, take.c_str(), F, P,
-              clusters.c_str(), zero, bits, target, bytes, capz::bpvf(bytes, F, P), s.kg_error, s.max_error,
-              s.rmse, secs, detail.c_str());
+  std::printf("%s,%s,%zu,%zu,%s,%.3f,%d,%.6g,%zu,%.4f,%.5f,%.6g,%.6g,%.2f,%s\n", mode, take.c_str(),
+              F, P, clusters.c_str(), zero, bits, target, bytes, capz::bpvf(bytes, F, P),
+              s.kg_error, s.max_error, s.rmse, secs, detail.c_str());
   std::fflush(stdout);
 }
 
 int usage() {
-  std::fprintf(stderr,
-               "usage: pdct_bench grid|kg SEQ [--frames N] [--clusters L] [--zero L] [--bits L] [--kg L]\n"
-               "       pdct_bench bound --max-error L [--clusters N|auto] TAKE...\n");
+  std::fprintf(
+      stderr,
+      "usage: pdct_bench grid|kg SEQ [--frames N] [--clusters L] [--zero L] [--bits L] [--kg L]\n"
+      "       pdct_bench bound --max-error L [--clusters N|auto] TAKE...\n");
   return 2;
 }
 
@@ -86,23 +87,32 @@ int main(int argc, char** argv) {
   const std::string mode = argv[1];
   std::vector<std::string> inputs;
   size_t frames = 0;
-  std::vector<std::string> clusters = {"10", "25", "40"}, zero = {"0"}, bits = {"12"}, kg = {"0.1", "0.5", "1"},
-                           max_err = {"0.1", "1"};
+  std::vector<std::string> clusters = {"10", "25", "40"}, zero = {"0"}, bits = {"12"},
+                           kg = {"0.1", "0.5", "1"}, max_err = {"0.1", "1"};
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
       if (i + 1 >= argc) std::exit(usage());
       return argv[++i];
     };
-    if (a == "--frames") frames = std::stoul(next());
-    else if (a == "--clusters") clusters = split(next());
-    else if (a == "--zero") zero = split(next());
-    else if (a == "--bits") bits = split(next());
-    else if (a == "--kg") kg = split(next());
-    else if (a == "--max-error") max_err = split(next());
-    else inputs.push_back(a);
+    if (a == "--frames")
+      frames = std::stoul(next());
+    else if (a == "--clusters")
+      clusters = split(next());
+    else if (a == "--zero")
+      zero = split(next());
+    else if (a == "--bits")
+      bits = split(next());
+    else if (a == "--kg")
+      kg = split(next());
+    else if (a == "--max-error")
+      max_err = split(next());
+    else
+      inputs.push_back(a);
   }
-  std::printf("mode,take,frames,points,clusters,zero_share,coef_bits,target,bytes,bpvf,kg,max_error,rmse,seconds,detail\n");
+  std::printf(
+      "mode,take,frames,points,clusters,zero_share,coef_bits,target,bytes,bpvf,kg,max_error,rmse,"
+      "seconds,detail\n");
   try {
     for (const std::string& in : inputs) {
       capz::Take t = capz::read_take(in);
@@ -115,27 +125,34 @@ int main(int argc, char** argv) {
       if (mode == "grid" || mode == "kg") {
         capz::Take filled = t;
         fill_gaps(&filled);
-        const capz::PositionsView v{filled.frames, filled.points, filled.xyz.data(), filled.valid.data()};
+        const capz::PositionsView v{filled.frames, filled.points, filled.xyz.data(),
+                                    filled.valid.data()};
         for (const auto& c : clusters)
           for (const auto& z : zero)
             for (const auto& x : (mode == "grid" ? bits : kg)) {
               capz::TransformParams p;
               p.clusters = c == "auto" ? -1 : std::stoi(c);
               p.options["zero_share"] = z;
-              if (mode == "grid") p.options["coef_bits"] = x;
-              else p.kg_error = std::stod(x);
+              if (mode == "grid")
+                p.options["coef_bits"] = x;
+              else
+                p.kg_error = std::stod(x);
               std::vector<uint8_t> bytes;
               std::vector<double> rec;
               capz::PdctReport rep;
               const auto t0 = std::chrono::steady_clock::now();
               capz::encode_pdct(v, p, &bytes, &rec, &rep);
               const double secs = seconds_since(t0);
-              const auto s = capz::compare(t.frames, t.points, t.xyz.data(), rec.data(), t.valid.data());
+              const auto s =
+                  capz::compare(t.frames, t.points, t.xyz.data(), rec.data(), t.valid.data());
               char detail[200];
-              std::snprintf(detail, sizeof detail, "frames_pts=%zu seed_B=%zu first_B=%zu coef_B=%zu clusters=%zu",
-                            rep.frame_points, rep.seed_bytes, rep.first_bytes, rep.coef_bytes, rep.clusters);
-              row(mode.c_str(), name, t.frames, t.points, c, std::stod(z), mode == "grid" ? std::stoi(x) : 0,
-                  mode == "kg" ? std::stod(x) : 0, bytes.size(), s, secs, detail);
+              std::snprintf(detail, sizeof detail,
+                            "frames_pts=%zu seed_B=%zu first_B=%zu coef_B=%zu clusters=%zu",
+                            rep.frame_points, rep.seed_bytes, rep.first_bytes, rep.coef_bytes,
+                            rep.clusters);
+              row(mode.c_str(), name, t.frames, t.points, c, std::stod(z),
+                  mode == "grid" ? std::stoi(x) : 0, mode == "kg" ? std::stod(x) : 0, bytes.size(),
+                  s, secs, detail);
             }
       } else if (mode == "bound") {
 #ifdef CAPZ_PDCT_BENCH_BOUND
@@ -150,8 +167,9 @@ int main(int argc, char** argv) {
               const auto t0 = std::chrono::steady_clock::now();
               const auto bytes = capz::compress(t, o, &st);
               const double secs = seconds_since(t0);
-              row((std::string("bound-") + codec).c_str(), name, t.frames, t.points, c, 0, 0, o.max_error,
-                  st.position_bytes, st.error, secs, "total_B=" + std::to_string(bytes.size()));
+              row((std::string("bound-") + codec).c_str(), name, t.frames, t.points, c, 0, 0,
+                  o.max_error, st.position_bytes, st.error, secs,
+                  "total_B=" + std::to_string(bytes.size()));
             }
 #else
         std::fprintf(stderr, "pdct_bench: built without the container (bound mode unavailable)\n");

@@ -38,9 +38,11 @@ std::vector<int32_t> assign_clusters(const PositionsView& in, const std::vector<
           continue;
         }
         if (!(v0 && v1)) continue;
-        if (!have_prev || prev_f != f - 1) to_local(fr[f - 1], in.xyz + 3 * ((f - 1) * P + i), prev);
+        if (!have_prev || prev_f != f - 1)
+          to_local(fr[f - 1], in.xyz + 3 * ((f - 1) * P + i), prev);
         to_local(fr[f], in.xyz + 3 * (f * P + i), cur);
-        theta[k] += (cur[0] - prev[0]) * (cur[0] - prev[0]) + (cur[1] - prev[1]) * (cur[1] - prev[1]) +
+        theta[k] += (cur[0] - prev[0]) * (cur[0] - prev[0]) +
+                    (cur[1] - prev[1]) * (cur[1] - prev[1]) +
                     (cur[2] - prev[2]) * (cur[2] - prev[2]);
         if (k == 0) ++pairs;
         std::copy(cur, cur + 3, prev);

@@ -40,7 +40,8 @@ double cos_pi_ratio(int64_t num, int64_t den) {
     sign = -1.0;
   }
   // a = pi r / d in [0, pi/2]. Above pi/4 use cos(a) = sin(pi/2 - a) = sin(pi (d - 2r) / 2d).
-  if (4 * r > den) return sign * sin_small(kPi * static_cast<double>(den - 2 * r) / static_cast<double>(d2));
+  if (4 * r > den)
+    return sign * sin_small(kPi * static_cast<double>(den - 2 * r) / static_cast<double>(d2));
   return sign * cos_small(kPi * static_cast<double>(r) / static_cast<double>(den));
 }
 
@@ -74,7 +75,8 @@ void DctPlan::inverse(const double* X, double* x) const {
 }
 
 void zero_and_quantise(const double* X, size_t n, const CoefQuantParams& p, int64_t* q) {
-  const size_t zeroed = static_cast<size_t>(std::floor(std::min(1.0, std::max(0.0, p.zero_share)) * n));
+  const size_t zeroed =
+      static_cast<size_t>(std::floor(std::min(1.0, std::max(0.0, p.zero_share)) * n));
   std::vector<uint8_t> keep(n, 1);
   if (zeroed > 0) {
     std::vector<size_t> idx(n);
@@ -92,8 +94,9 @@ void zero_and_quantise(const double* X, size_t n, const CoefQuantParams& p, int6
     const double v = X[l] / p.step;
     if (!(std::fabs(v) < 4503599627370496.0))  // 2^52
       throw Error(ErrorCode::kInvalidParameter,
-                  "pdct: a DCT coefficient is " + std::to_string(X[l]) + ", more than 2^52 steps of " +
-                      std::to_string(p.step) + " (coefficient step too small)");
+                  "pdct: a DCT coefficient is " + std::to_string(X[l]) +
+                      ", more than 2^52 steps of " + std::to_string(p.step) +
+                      " (coefficient step too small)");
     q[l] = std::llround(v);
   }
 }

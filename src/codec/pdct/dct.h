@@ -1,8 +1,8 @@
 // pdct stage: the orthonormal DCT along a cluster's points (Amjoun & Strasser 2007, Sec. 4.5)
 // and the coefficient quantiser (Sec. 4.6).
 //
-//   forward (DCT-II):  X[l] = a(l) sum_i x[i] cos(pi l (2i+1) / 2n),  a(0) = sqrt(1/n), else sqrt(2/n)
-//   inverse (DCT-III): x[i] = sum_l a(l) X[l] cos(pi l (2i+1) / 2n)
+//   forward (DCT-II):  X[l] = a(l) sum_i x[i] cos(pi l (2i+1) / 2n),  a(0) = sqrt(1/n), else
+//   sqrt(2/n) inverse (DCT-III): x[i] = sum_l a(l) X[l] cos(pi l (2i+1) / 2n)
 //
 // The cosine table is computed with cos_pi_ratio(), which uses only +, -, *, / on doubles (no
 // libm), and sums run in a fixed order, so the decoder's inverse is bit-identical to the

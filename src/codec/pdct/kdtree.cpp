@@ -16,7 +16,8 @@ std::vector<std::vector<uint32_t>> nearest_neighbours(const double* cloud, size_
   std::vector<uint32_t> ids;  // cloud index of each indexed point
   for (size_t i = 0; i < points; ++i) {
     if (usable && !usable[i]) continue;
-    pc->push_back(pcl::PointXYZ(static_cast<float>(cloud[3 * i]), static_cast<float>(cloud[3 * i + 1]),
+    pc->push_back(pcl::PointXYZ(static_cast<float>(cloud[3 * i]),
+                                static_cast<float>(cloud[3 * i + 1]),
                                 static_cast<float>(cloud[3 * i + 2])));
     ids.push_back(static_cast<uint32_t>(i));
   }

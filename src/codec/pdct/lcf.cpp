@@ -6,7 +6,9 @@ namespace capz {
 namespace pdct {
 namespace {
 
-double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double dot3(const double* a, const double* b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 
 // Normalises v in place; returns false (v unchanged) when its length is zero or not finite.
 bool normalise(double* v) {

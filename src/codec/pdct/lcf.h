@@ -22,7 +22,9 @@ struct Lcf {
 Lcf make_lcf(const double* p1, const double* p2, const double* p3);
 
 // The identity frame (origin 0, world axes): used by a cluster that has no triangle.
-inline Lcf identity_lcf() { return Lcf(); }
+inline Lcf identity_lcf() {
+  return Lcf();
+}
 
 // q = T (p - o); p, q: 3 doubles (may not alias).
 inline void to_local(const Lcf& f, const double* p, double* q) {
@@ -31,7 +33,8 @@ inline void to_local(const Lcf& f, const double* p, double* q) {
 }
 // p = T^T q + o; the inverse of to_local up to rounding (~1e-15 relative to |p - o|).
 inline void to_world(const Lcf& f, const double* q, double* p) {
-  for (int c = 0; c < 3; ++c) p[c] = (f.t[c] * q[0] + f.t[3 + c] * q[1] + f.t[6 + c] * q[2]) + f.o[c];
+  for (int c = 0; c < 3; ++c)
+    p[c] = (f.t[c] * q[0] + f.t[3 + c] * q[1] + f.t[6 + c] * q[2]) + f.o[c];
 }
 
 }  // namespace pdct

@@ -38,15 +38,17 @@ double parse_double(const std::string& key, const std::string& v, double lo, dou
     used = 0;
   }
   if (used != v.size() || !(d >= lo && d <= hi))
-    throw Error(ErrorCode::kInvalidParameter, "pdct option " + key + "=" + v + ": expected a number in [" +
-                                                  std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    throw Error(ErrorCode::kInvalidParameter, "pdct option " + key + "=" + v +
+                                                  ": expected a number in [" + std::to_string(lo) +
+                                                  ", " + std::to_string(hi) + "]");
   return d;
 }
 
 int parse_int(const std::string& key, const std::string& v, int lo, int hi) {
   const double d = parse_double(key, v, lo, hi);
   if (d != std::floor(d))
-    throw Error(ErrorCode::kInvalidParameter, "pdct option " + key + "=" + v + ": expected an integer");
+    throw Error(ErrorCode::kInvalidParameter,
+                "pdct option " + key + "=" + v + ": expected an integer");
   return static_cast<int>(d);
 }
 
@@ -61,7 +63,9 @@ int parse_int(const std::string& key, const std::string& v, int lo, int hi) {
 
 constexpr int kSeedContexts = 27, kFirstContexts = 3, kCoefContexts = 15;
 
-int token_class(int tok) { return tok == 0 ? 0 : tok < 3 ? 1 : 2; }
+int token_class(int tok) {
+  return tok == 0 ? 0 : tok < 3 ? 1 : 2;
+}
 
 // Frame-point residual contexts: axis x class of the previous axis's token (same point and
 // frame; 0 for x) x class of the same point and axis's token in the previous frame.
@@ -92,13 +96,16 @@ int64_t quantise_checked(double v, double step, const char* what) {
   const double x = v / step;
   if (!(std::fabs(x) < kMaxQuantised))
     throw Error(ErrorCode::kInvalidParameter,
-                std::string("pdct: ") + what + " " + std::to_string(v) + " is more than 2^29 steps of " +
-                    std::to_string(step) + " (step too small for this take)");
+                std::string("pdct: ") + what + " " + std::to_string(v) +
+                    " is more than 2^29 steps of " + std::to_string(step) +
+                    " (step too small for this take)");
   return std::llround(x);
 }
 
 int32_t to_i32(int64_t r) {
-  if (r < INT32_MIN || r > INT32_MAX) throw Error(ErrorCode::kInvalidParameter, "pdct: a residual exceeds 2^31 steps (step too small for this take)");
+  if (r < INT32_MIN || r > INT32_MAX)
+    throw Error(ErrorCode::kInvalidParameter,
+                "pdct: a residual exceeds 2^31 steps (step too small for this take)");
   return static_cast<int32_t>(r);
 }
 
@@ -151,10 +158,12 @@ Layout build_layout(const PositionsView& in, size_t clusters, const PdctOptions&
       }
     }
   }
-  const auto assign = pdct::assign_clusters(in, lcfs, L.triangles.size(), is_fp, pdct::ClusterParams{});
+  const auto assign =
+      pdct::assign_clusters(in, lcfs, L.triangles.size(), is_fp, pdct::ClusterParams{});
   L.members.assign(L.triangles.size(), {});
   for (size_t i = 0; i < P; ++i)
-    if (assign[i] >= 0) L.members[static_cast<size_t>(assign[i])].push_back(static_cast<uint32_t>(i));
+    if (assign[i] >= 0)
+      L.members[static_cast<size_t>(assign[i])].push_back(static_cast<uint32_t>(i));
   return L;
 }
 
@@ -175,13 +184,14 @@ class EncoderHooks : public pdct::LoopHooks {
 
   int64_t first_residual(size_t c, size_t m, int a, const Lcf& frame, int64_t prediction) override {
     if (a == 0) pdct::to_local(frame, in_.xyz + 3 * L_.members[c][m], q_);
-    const int32_t r = to_i32(quantise_checked(q_[a], S_.first, "frame-0 local coordinate") - prediction);
+    const int32_t r =
+        to_i32(quantise_checked(q_[a], S_.first, "frame-0 local coordinate") - prediction);
     first.put_signed(r, a);
     return r;
   }
 
-  void coefficients(size_t f, size_t c, const Lcf& frame, const double* pred, const pdct::BlockDct& dct,
-                    int64_t* coefs) override {
+  void coefficients(size_t f, size_t c, const Lcf& frame, const double* pred,
+                    const pdct::BlockDct& dct, int64_t* coefs) override {
     const auto& mem = L_.members[c];
     const size_t n = mem.size();
     delta_.assign(3 * n, 0.0);
@@ -201,7 +211,8 @@ class EncoderHooks : public pdct::LoopHooks {
         for (size_t l = 0; l < len; ++l)
           if (!(std::fabs(X_[o + l] / S_.coef) < kMaxQuantised))
             quantise_checked(X_[o + l], S_.coef, "DCT coefficient");  // throws
-        pdct::zero_and_quantise(&X_[o], len, pdct::CoefQuantParams{S_.coef, zero_share_}, coefs + a * n + o);
+        pdct::zero_and_quantise(&X_[o], len, pdct::CoefQuantParams{S_.coef, zero_share_},
+                                coefs + a * n + o);
         int prev = 0;
         for (size_t l = 0; l < len; ++l)
           prev = coef.put_signed(static_cast<int32_t>(coefs[a * n + o + l]), coef_context(l, prev));
@@ -231,7 +242,9 @@ class DecoderHooks : public pdct::LoopHooks {
     sc_.update(k, a, tok);
     return r;
   }
-  int64_t first_residual(size_t, size_t, int a, const Lcf&, int64_t) override { return first_->get_signed(a); }
+  int64_t first_residual(size_t, size_t, int a, const Lcf&, int64_t) override {
+    return first_->get_signed(a);
+  }
   void coefficients(size_t, size_t, const Lcf&, const double*, const pdct::BlockDct& dct,
                     int64_t* coefs) override {
     const size_t n = dct.size();
@@ -239,7 +252,8 @@ class DecoderHooks : public pdct::LoopHooks {
       for (size_t b = 0; b < dct.blocks(); ++b) {
         const size_t o = dct.block_begin(b), len = dct.block_size(b);
         int prev = 0;
-        for (size_t l = 0; l < len; ++l) coefs[a * n + o + l] = coef_->get_signed(coef_context(l, prev), &prev);
+        for (size_t l = 0; l < len; ++l)
+          coefs[a * n + o + l] = coef_->get_signed(coef_context(l, prev), &prev);
       }
   }
 
@@ -260,12 +274,19 @@ int grid_context(int kind, int a, int prev_tok, int last_frame_tok) {
 }
 
 // Rough cost in bits of a residual, for choosing predictors (not the coder's exact cost).
-double residual_bits(int64_t r) { return r == 0 ? 0.3 : 2.0 + 2.0 * std::log2(1.0 + std::fabs(static_cast<double>(r))); }
+double residual_bits(int64_t r) {
+  return r == 0 ? 0.3 : 2.0 + 2.0 * std::log2(1.0 + std::fabs(static_cast<double>(r)));
+}
 
 class GridEncoderHooks : public pdct::GridHooks {
  public:
   GridEncoderHooks(const PositionsView& in, const Layout& L, double grid, bool code)
-      : in_(in), L_(L), g_(grid), code_(code), sc_(L.frame_points.size()), last_(in.points * 3, 0),
+      : in_(in),
+        L_(L),
+        g_(grid),
+        code_(code),
+        sc_(L.frame_points.size()),
+        last_(in.points * 3, 0),
         cost(in.points, 0.0) {}
 
   int64_t seed_residual(size_t f, size_t k, int a, int64_t prediction) override {
@@ -303,12 +324,14 @@ class GridEncoderHooks : public pdct::GridHooks {
   std::vector<uint8_t> last_;  // per point and axis: token of the previous frame's residual
 
  public:
-  std::vector<double> cost;  // per point: estimated bits of its residuals (f >= 1, measured samples)
+  std::vector<double>
+      cost;  // per point: estimated bits of its residuals (f >= 1, measured samples)
 };
 
 class GridDecoderHooks : public pdct::GridHooks {
  public:
-  GridDecoderHooks(IntDecoder* seed, IntDecoder* first, IntDecoder* resid, size_t points, size_t frame_points)
+  GridDecoderHooks(IntDecoder* seed, IntDecoder* first, IntDecoder* resid, size_t points,
+                   size_t frame_points)
       : seed_(seed), first_(first), resid_(resid), sc_(frame_points), last_(points * 3, 0) {}
   int64_t seed_residual(size_t, size_t k, int a, int64_t) override {
     int tok = 0;
@@ -343,10 +366,12 @@ void put_block(ByteWriter* w, const std::vector<uint8_t>& block) {
 
 // Header and layout (docs/CODEC-PDCT.md), then the given blocks (each varint length + bytes).
 void write_payload(const Layout& L, const Steps& S, bool grid, const std::vector<uint8_t>* kinds,
-                   const std::vector<std::vector<uint8_t>>& blocks, std::vector<uint8_t>* out, PdctReport* rep) {
+                   const std::vector<std::vector<uint8_t>>& blocks, std::vector<uint8_t>* out,
+                   PdctReport* rep) {
   ByteWriter w;
   w.u8(kVersion);
-  w.u8(static_cast<uint8_t>((S.seed_order == 2 ? 1 : 0) | (S.local_order == 2 ? 2 : 0) | (grid ? 4 : 0)));
+  w.u8(static_cast<uint8_t>((S.seed_order == 2 ? 1 : 0) | (S.local_order == 2 ? 2 : 0) |
+                            (grid ? 4 : 0)));
   w.f64(S.seed);
   w.f64(S.first);
   w.f64(S.coef);
@@ -404,7 +429,8 @@ Trial run_encode(const PositionsView& in, const Layout& L, const Steps& S, doubl
   Trial t;
   EncoderHooks h(in, L, S, zero_share);
   pdct::run_closed_loop(L, S, &h, &t.recon);
-  write_payload(L, S, false, nullptr, {h.seed.finish(), h.first.finish(), h.coef.finish()}, &t.bytes, &t.report);
+  write_payload(L, S, false, nullptr, {h.seed.finish(), h.first.finish(), h.coef.finish()},
+                &t.bytes, &t.report);
   t.report.clusters = L.triangles.size();
   t.report.frame_points = L.frame_points.size();
   t.report.seed_step = S.seed;
@@ -434,7 +460,8 @@ Trial run_grid_encode(const PositionsView& in, const Layout& L, double grid) {
   Steps S;
   S.seed = S.first = S.coef = grid;
   S.seed_order = 2;
-  write_payload(L, S, true, &kinds, {h.seed.finish(), h.first.finish(), h.resid.finish()}, &t.bytes, &t.report);
+  write_payload(L, S, true, &kinds, {h.seed.finish(), h.first.finish(), h.resid.finish()}, &t.bytes,
+                &t.report);
   t.report.clusters = L.triangles.size();
   t.report.frame_points = L.frame_points.size();
   t.report.seed_step = t.report.first_step = t.report.coef_step = grid;
@@ -486,7 +513,8 @@ double open_loop_max_coefficient(const PositionsView& in, const Layout& L) {
 }
 
 // Rough bits the bound layer would spend on the residual left by `recon` (for --clusters auto).
-double bound_bits_estimate(const PositionsView& in, const std::vector<double>& recon, double max_error) {
+double bound_bits_estimate(const PositionsView& in, const std::vector<double>& recon,
+                           double max_error) {
   double bits = 0;
   const double grid = 2 * max_error;
   for (size_t s = 0; s < in.frames * in.points; ++s) {
@@ -504,8 +532,9 @@ double max_abs_coordinate(const PositionsView& in) {
   for (size_t i = 0; i < in.frames * in.points * 3; ++i) {
     const double v = in.xyz[i];
     if (!std::isfinite(v))
-      throw Error(ErrorCode::kInvalidParameter, "pdct: position " + std::to_string(i / 3) +
-                                                    " is not finite (gaps must be filled before coding)");
+      throw Error(ErrorCode::kInvalidParameter,
+                  "pdct: position " + std::to_string(i / 3) +
+                      " is not finite (gaps must be filled before coding)");
     m = std::max(m, std::fabs(v));
   }
   return m;
@@ -522,31 +551,48 @@ PdctOptions parse_pdct_options(const TransformParams& params) {
     const std::string& v = kv.second;
     if (k == "mode") {
       if (v != "auto" && v != "grid" && v != "dct")
-        throw Error(ErrorCode::kInvalidParameter, "pdct option mode=" + v + ": expected auto, grid or dct");
+        throw Error(ErrorCode::kInvalidParameter,
+                    "pdct option mode=" + v + ": expected auto, grid or dct");
       o.mode = v;
-    } else if (k == "zero_share") o.zero_share = parse_double(k, v, 0, 0.999);
-    else if (k == "coef_bits") o.coef_bits = parse_int(k, v, 2, 24);
-    else if (k == "first_bits") o.first_bits = parse_int(k, v, 2, 24);
-    else if (k == "seed_bits") o.seed_bits = parse_int(k, v, 2, 30);
-    else if (k == "coef_factor") o.coef_factor = parse_double(k, v, 1e-3, 1e3);
-    else if (k == "first_factor") o.first_factor = parse_double(k, v, 1e-3, 1e3);
-    else if (k == "seed_factor") o.seed_factor = parse_double(k, v, 1e-3, 1e3);
-    else if (k == "seed_order") o.seed_order = parse_int(k, v, 1, 2);
-    else if (k == "local_order") o.local_order = parse_int(k, v, 1, 2);
-    else if (k == "dct_block") o.dct_block = static_cast<size_t>(parse_int(k, v, 1, static_cast<int>(pdct::kMaxDctBlock)));
-    else if (k == "knn") o.knn = parse_int(k, v, 2, 64);
-    else if (k == "min_angle_deg") o.min_angle_deg = parse_double(k, v, 0, 59);
-    else if (k == "min_edge") o.min_edge = parse_double(k, v, 0, 0.5);
+    } else if (k == "zero_share")
+      o.zero_share = parse_double(k, v, 0, 0.999);
+    else if (k == "coef_bits")
+      o.coef_bits = parse_int(k, v, 2, 24);
+    else if (k == "first_bits")
+      o.first_bits = parse_int(k, v, 2, 24);
+    else if (k == "seed_bits")
+      o.seed_bits = parse_int(k, v, 2, 30);
+    else if (k == "coef_factor")
+      o.coef_factor = parse_double(k, v, 1e-3, 1e3);
+    else if (k == "first_factor")
+      o.first_factor = parse_double(k, v, 1e-3, 1e3);
+    else if (k == "seed_factor")
+      o.seed_factor = parse_double(k, v, 1e-3, 1e3);
+    else if (k == "seed_order")
+      o.seed_order = parse_int(k, v, 1, 2);
+    else if (k == "local_order")
+      o.local_order = parse_int(k, v, 1, 2);
+    else if (k == "dct_block")
+      o.dct_block = static_cast<size_t>(parse_int(k, v, 1, static_cast<int>(pdct::kMaxDctBlock)));
+    else if (k == "knn")
+      o.knn = parse_int(k, v, 2, 64);
+    else if (k == "min_angle_deg")
+      o.min_angle_deg = parse_double(k, v, 0, 59);
+    else if (k == "min_edge")
+      o.min_edge = parse_double(k, v, 0, 0.5);
     else
       throw Error(ErrorCode::kInvalidParameter,
-                  "pdct: unknown option '" + k + "' (known: mode zero_share coef_bits first_bits seed_bits "
-                  "coef_factor first_factor seed_factor seed_order local_order dct_block knn "
-                  "min_angle_deg min_edge)");
+                  "pdct: unknown option '" + k +
+                      "' (known: mode zero_share coef_bits first_bits seed_bits "
+                      "coef_factor first_factor seed_factor seed_order local_order dct_block knn "
+                      "min_angle_deg min_edge)");
   }
   return o;
 }
 
-size_t pdct_default_clusters(size_t points) { return std::min<size_t>(40, std::max<size_t>(1, points / 8)); }
+size_t pdct_default_clusters(size_t points) {
+  return std::min<size_t>(40, std::max<size_t>(1, points / 8));
+}
 
 void encode_pdct(const PositionsView& in, const TransformParams& params, std::vector<uint8_t>* out,
                  std::vector<double>* recon, PdctReport* report) {
@@ -595,11 +641,14 @@ void encode_pdct(const PositionsView& in, const TransformParams& params, std::ve
 
   const bool grid_mode = o.mode == "grid" || (o.mode == "auto" && bounded);
   if (grid_mode && !bounded)
-    throw Error(ErrorCode::kInvalidParameter, "pdct: mode=grid needs a max error (the bound layer's grid)");
+    throw Error(ErrorCode::kInvalidParameter,
+                "pdct: mode=grid needs a max error (the bound layer's grid)");
   if (grid_mode) {
-    const double grid = params.grid_step > 0 ? params.grid_step : 2.0 * params.max_error * (1.0 - 0x1p-30);
+    const double grid =
+        params.grid_step > 0 ? params.grid_step : 2.0 * params.max_error * (1.0 - 0x1p-30);
     if (!(grid >= min_step) || !std::isfinite(grid))
-      throw Error(ErrorCode::kInvalidParameter, "pdct: grid step " + std::to_string(grid) + " too fine for this take");
+      throw Error(ErrorCode::kInvalidParameter,
+                  "pdct: grid step " + std::to_string(grid) + " too fine for this take");
     Trial best;
     bool have = false;
     for (size_t n : counts) {
@@ -619,7 +668,8 @@ void encode_pdct(const PositionsView& in, const TransformParams& params, std::ve
   for (size_t n : counts) {
     Layout L = build_layout(in, n, o);
     Steps s = S;
-    s.coef = coef_step_for(counts.size() == 1 ? L : build_layout(in, pdct_default_clusters(in.points), o));
+    s.coef = coef_step_for(
+        counts.size() == 1 ? L : build_layout(in, pdct_default_clusters(in.points), o));
     Trial t = run_encode(in, L, s, o.zero_share);
     double cost = 8.0 * static_cast<double>(t.bytes.size());
     if (bounded) cost += bound_bits_estimate(in, t.recon, params.max_error);
@@ -650,13 +700,15 @@ void encode_pdct(const PositionsView& in, const TransformParams& params, std::ve
       return p;
     };
     const double kg0 = compare(in.frames, in.points, in.xyz, best.recon.data(), in.valid).kg_error;
-    Point cur = kg0 > 0 ? at(std::min(8.0, std::max(-16.0, std::log2(target / kg0)))) : Point{0, 0, best};
+    Point cur =
+        kg0 > 0 ? at(std::min(8.0, std::max(-16.0, std::log2(target / kg0)))) : Point{0, 0, best};
     Point ok{0, 0, {}}, bad{0, 0, {}};
     bool have_ok = false, have_bad = false;
     // For an unreachable target: the lowest KG seen, preferring a smaller payload within 2%.
     Point lowest = cur;
     for (int it = 0; it < 8; ++it) {
-      if (cur.kg < 0.98 * lowest.kg || (cur.kg <= 1.02 * lowest.kg && cur.t.bytes.size() < lowest.t.bytes.size()))
+      if (cur.kg < 0.98 * lowest.kg ||
+          (cur.kg <= 1.02 * lowest.kg && cur.t.bytes.size() < lowest.t.bytes.size()))
         lowest = cur;
       if (cur.kg <= target) {
         ok = cur;
@@ -686,8 +738,8 @@ void encode_pdct(const PositionsView& in, const TransformParams& params, std::ve
   if (report) *report = best.report;
 }
 
-void PdctCodec::encode(const PositionsView& in, const TransformParams& params, std::vector<uint8_t>* out,
-                       std::vector<double>* recon) const {
+void PdctCodec::encode(const PositionsView& in, const TransformParams& params,
+                       std::vector<uint8_t>* out, std::vector<double>* recon) const {
   encode_pdct(in, params, out, recon, nullptr);
 }
 
@@ -696,8 +748,9 @@ void PdctCodec::decode(const uint8_t* data, size_t size, size_t frames, size_t p
   ByteReader r(data, size, kWhat);
   const uint8_t version = r.u8();
   if (version != kVersion)
-    throw Error(ErrorCode::kUnsupportedVersion, std::string(kWhat) + ": version " + std::to_string(version) +
-                                                    " (this build reads " + std::to_string(kVersion) + ")");
+    throw Error(ErrorCode::kUnsupportedVersion,
+                std::string(kWhat) + ": version " + std::to_string(version) +
+                    " (this build reads " + std::to_string(kVersion) + ")");
   const uint8_t flags = r.u8();
   if (flags & ~7u) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": unknown flags");
   const bool grid = (flags & 4) != 0;
@@ -708,15 +761,18 @@ void PdctCodec::decode(const uint8_t* data, size_t size, size_t frames, size_t p
   S.first = r.f64();
   S.coef = r.f64();
   for (double s : {S.seed, S.first, S.coef})
-    if (!(s > 0) || !std::isfinite(s)) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": bad step");
+    if (!(s > 0) || !std::isfinite(s))
+      throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": bad step");
   Layout L;
   L.frames = frames;
   L.points = points;
   L.dct_block = static_cast<size_t>(r.varint());
   if (L.dct_block < 1 || L.dct_block > pdct::kMaxDctBlock)
-    throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": dct block " + std::to_string(L.dct_block));
+    throw Error(ErrorCode::kCorrupt,
+                std::string(kWhat) + ": dct block " + std::to_string(L.dct_block));
   const uint64_t K = r.count(1, "frame point count");
-  if (K > points) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": more frame points than points");
+  if (K > points)
+    throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": more frame points than points");
   L.frame_points.resize(static_cast<size_t>(K));
   uint64_t at = 0;
   for (size_t k = 0; k < K; ++k) {
@@ -727,12 +783,14 @@ void PdctCodec::decode(const uint8_t* data, size_t size, size_t frames, size_t p
     L.frame_points[k] = static_cast<uint32_t>(at);
   }
   const uint64_t C = r.count(3, "cluster count");
-  if (C == 0 || C > points + 1) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": cluster count");
+  if (C == 0 || C > points + 1)
+    throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": cluster count");
   L.triangles.resize(static_cast<size_t>(C));
   for (auto& t : L.triangles)
     for (auto& v : t) {
       const uint64_t x = r.varint();
-      if (x > points) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": triangle vertex out of range");
+      if (x > points)
+        throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": triangle vertex out of range");
       v = static_cast<uint32_t>(x);
     }
   L.members.assign(static_cast<size_t>(C), {});
@@ -753,7 +811,8 @@ void PdctCodec::decode(const uint8_t* data, size_t size, size_t frames, size_t p
     size_t j = 0;
     for (size_t i = 0; i < points; ++i) {
       if (is_fp[i]) continue;
-      if (ids[j] >= C) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": cluster id out of range");
+      if (ids[j] >= C)
+        throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": cluster id out of range");
       if (grid) {
         if (ks[j] >= static_cast<uint32_t>(pdct::kPointPredictors))
           throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": unknown predictor");
@@ -766,11 +825,13 @@ void PdctCodec::decode(const uint8_t* data, size_t size, size_t frames, size_t p
   auto block = [&](const char* name, int contexts) {
     const size_t len = static_cast<size_t>(r.count(1, name));
     const uint8_t* blk = r.bytes(len);
-    return std::unique_ptr<IntDecoder>(new IntDecoder(blk, len, contexts, std::string(kWhat) + " " + name));
+    return std::unique_ptr<IntDecoder>(
+        new IntDecoder(blk, len, contexts, std::string(kWhat) + " " + name));
   };
   auto seed = block("frame-point block", kSeedContexts);
   auto first = block("frame-0 block", kFirstContexts);
-  auto coef = grid ? block("residual block", kGridContexts) : block("coefficient block", kCoefContexts);
+  auto coef =
+      grid ? block("residual block", kGridContexts) : block("coefficient block", kCoefContexts);
   if (!r.at_end()) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": trailing bytes");
   if (grid) {
     GridDecoderHooks h(seed.get(), first.get(), coef.get(), points, L.frame_points.size());
@@ -780,7 +841,8 @@ void PdctCodec::decode(const uint8_t* data, size_t size, size_t frames, size_t p
     pdct::run_closed_loop(L, S, &h, recon);
   }
   if (!seed->at_end() || !first->at_end() || !coef->at_end())
-    throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": an entropy-coded block has bytes left over");
+    throw Error(ErrorCode::kCorrupt,
+                std::string(kWhat) + ": an entropy-coded block has bytes left over");
 }
 
 }  // namespace capz

@@ -28,8 +28,9 @@ struct PdctOptions {
   double coef_factor = 1.0;   // (coef_factor)
   double first_factor = 1.0;  // (first_factor)
   double seed_factor = 0.5;   // (seed_factor)
-  int seed_order = 2;   // (seed_order) 1 = the paper's differential coding of frame points, 2 = linear
-  int local_order = 1;  // (local_order) 1 = the paper's q~(f-1), 2 = 2 q~(f-1) - q~(f-2)
+  int seed_order =
+      2;  // (seed_order) 1 = the paper's differential coding of frame points, 2 = linear
+  int local_order = 1;        // (local_order) 1 = the paper's q~(f-1), 2 = 2 q~(f-1) - q~(f-2)
   size_t dct_block = 64;      // (dct_block) longest DCT along a cluster, 1..4096
   int knn = 12;               // (knn) neighbours examined for each seed triangle
   double min_angle_deg = 10;  // (min_angle_deg) triangle rejection, see seeds.h
@@ -56,11 +57,11 @@ class PdctCodec : public TransformCodec {
 
 // What encode() decided, for benchmarks and tests (filled by encode_pdct when non-null).
 struct PdctReport {
-  size_t clusters = 0;       // clusters with a local frame (triangle or identity)
-  size_t frame_points = 0;   // triangle vertices, coded on the seed grid
+  size_t clusters = 0;      // clusters with a local frame (triangle or identity)
+  size_t frame_points = 0;  // triangle vertices, coded on the seed grid
   double seed_step = 0, first_step = 0, coef_step = 0;
   size_t payload_bytes = 0;
-  size_t layout_bytes = 0;   // header + layout
+  size_t layout_bytes = 0;                                 // header + layout
   size_t seed_bytes = 0, first_bytes = 0, coef_bytes = 0;  // the three integer streams
   bool grid_mode = false;
   size_t predictors[4] = {0, 0, 0, 0};  // grid mode: points per PointPredictor kind

@@ -15,7 +15,9 @@ BlockDct::BlockDct(size_t n, size_t block) : n_(n), block_(block) {
   if (n_ % block_) tail_.reset(new DctPlan(n_ % block_));
 }
 
-size_t BlockDct::block_size(size_t b) const { return std::min(block_, n_ - b * block_); }
+size_t BlockDct::block_size(size_t b) const {
+  return std::min(block_, n_ - b * block_);
+}
 
 void BlockDct::forward(const double* x, double* X) const {
   for (size_t b = 0; b < blocks(); ++b) {
@@ -32,7 +34,9 @@ void BlockDct::inverse(const double* X, double* x) const {
 }
 
 void check_layout(const Layout& L, const char* what) {
-  auto bad = [what](const std::string& m) { throw Error(ErrorCode::kCorrupt, std::string(what) + ": " + m); };
+  auto bad = [what](const std::string& m) {
+    throw Error(ErrorCode::kCorrupt, std::string(what) + ": " + m);
+  };
   std::vector<uint8_t> seen(L.points, 0);
   for (size_t k = 0; k < L.frame_points.size(); ++k) {
     const uint32_t p = L.frame_points[k];
@@ -40,12 +44,14 @@ void check_layout(const Layout& L, const char* what) {
     if (k > 0 && p <= L.frame_points[k - 1]) bad("frame points not ascending");
     seen[p] = 1;
   }
-  if (L.dct_block < 1 || L.dct_block > kMaxDctBlock) bad("dct block " + std::to_string(L.dct_block));
+  if (L.dct_block < 1 || L.dct_block > kMaxDctBlock)
+    bad("dct block " + std::to_string(L.dct_block));
   if (L.triangles.size() != L.members.size()) bad("cluster count mismatch");
   for (const auto& t : L.triangles)
     if (!(t[0] == t[1] && t[1] == t[2]))
       for (uint32_t v : t)
-      if (v >= L.frame_points.size()) bad("triangle vertex " + std::to_string(v) + " out of range");
+        if (v >= L.frame_points.size())
+          bad("triangle vertex " + std::to_string(v) + " out of range");
   for (const auto& m : L.members)
     for (size_t j = 0; j < m.size(); ++j) {
       if (m[j] >= L.points) bad("member " + std::to_string(m[j]) + " out of range");
@@ -57,7 +63,8 @@ void check_layout(const Layout& L, const char* what) {
     if (!seen[i]) bad("point " + std::to_string(i) + " belongs to no cluster");
 }
 
-void run_closed_loop(const Layout& L, const Steps& S, LoopHooks* hooks, std::vector<double>* recon) {
+void run_closed_loop(const Layout& L, const Steps& S, LoopHooks* hooks,
+                     std::vector<double>* recon) {
   const size_t F = L.frames, P = L.points, K = L.frame_points.size(), C = L.triangles.size();
   recon->assign(F * P * 3, 0.0);
   if (F == 0 || P == 0) return;
@@ -165,8 +172,9 @@ void run_grid_loop(const Layout& L, double g, int seed_order, const std::vector<
       }
     for (size_t c = 0; c < C; ++c) {
       const auto& t = L.triangles[c];
-      fr0[c] = (t[0] == t[1] && t[1] == t[2]) ? identity_lcf()
-                                               : make_lcf(&fp[3 * t[0]], &fp[3 * t[1]], &fp[3 * t[2]]);
+      fr0[c] = (t[0] == t[1] && t[1] == t[2])
+                   ? identity_lcf()
+                   : make_lcf(&fp[3 * t[0]], &fp[3 * t[1]], &fp[3 * t[2]]);
       int64_t prev[3] = {0, 0, 0};
       for (uint32_t i : L.members[c]) {
         int64_t pred[3];
@@ -174,15 +182,18 @@ void run_grid_loop(const Layout& L, double g, int seed_order, const std::vector<
         if (f == 0) {
           for (int a = 0; a < 3; ++a) pred[a] = prev[a];
         } else if (kind[i] == kWorldLinear) {
-          for (int a = 0; a < 3; ++a) pred[a] = f >= 2 ? wrap_add(wrap_add(I1[j + a], I1[j + a]), -I2[j + a]) : I1[j + a];
+          for (int a = 0; a < 3; ++a)
+            pred[a] = f >= 2 ? wrap_add(wrap_add(I1[j + a], I1[j + a]), -I2[j + a]) : I1[j + a];
         } else {
           double w1[3], q1[3], q[3], x[3];
           for (int a = 0; a < 3; ++a) w1[a] = on_grid(I1[j + a], g);
           to_local(fr1[c], w1, q1);
           if (kind[i] == kClusterAccel && f >= 2) {
             for (int a = 0; a < 3; ++a)
-              pred[a] = grid_index((on_grid(wrap_add(wrap_add(I1[j + a], I1[j + a]), -I2[j + a]), g) +
-                                    (fr0[c].o[a] - 2.0 * fr1[c].o[a] + fr2[c].o[a])) / g);
+              pred[a] =
+                  grid_index((on_grid(wrap_add(wrap_add(I1[j + a], I1[j + a]), -I2[j + a]), g) +
+                              (fr0[c].o[a] - 2.0 * fr1[c].o[a] + fr2[c].o[a])) /
+                             g);
             goto have_pred;
           }
           if (kind[i] == kLocal2 && f >= 2) {

@@ -25,9 +25,9 @@
 
 #include <array>
 #include <cmath>
-#include <memory>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "codec/pdct/dct.h"
@@ -44,7 +44,7 @@ struct Layout {
   std::vector<std::array<uint32_t, 3>> triangles;
   // One per cluster: its non-frame points in ascending order (the DCT's order).
   std::vector<std::vector<uint32_t>> members;
-  size_t dct_block = 64;   // longest DCT; a cluster is transformed in blocks of at most this many
+  size_t dct_block = 64;  // longest DCT; a cluster is transformed in blocks of at most this many
 };
 
 constexpr size_t kMaxDctBlock = 4096;  // bounds the cosine tables (dct_block^2 doubles each)
@@ -67,9 +67,9 @@ class BlockDct {
 };
 
 struct Steps {
-  double seed = 0;   // frame-point grid, position units, > 0
-  double first = 0;  // frame-0 local grid, > 0
-  double coef = 0;   // DCT coefficient step, > 0
+  double seed = 0;      // frame-point grid, position units, > 0
+  double first = 0;     // frame-0 local grid, > 0
+  double coef = 0;      // DCT coefficient step, > 0
   int seed_order = 1;   // 1 or 2
   int local_order = 1;  // 1 or 2
 };
@@ -86,7 +86,8 @@ class LoopHooks {
   // Residual of frame point k (index into frame_points), axis a, frame f, given its prediction.
   virtual int64_t seed_residual(size_t f, size_t k, int a, int64_t prediction) = 0;
   // Frame 0: residual of member m of cluster c, axis a (frame = the cluster's frame-0 frame).
-  virtual int64_t first_residual(size_t c, size_t m, int a, const Lcf& frame, int64_t prediction) = 0;
+  virtual int64_t first_residual(size_t c, size_t m, int a, const Lcf& frame,
+                                 int64_t prediction) = 0;
   // Frame f >= 1: fills coefs (3 x n, axis-major) for cluster c given its frame, the
   // prediction pred (n x 3 local coordinates) and the cluster's transform.
   virtual void coefficients(size_t f, size_t c, const Lcf& frame, const double* pred,
@@ -111,7 +112,8 @@ void run_closed_loop(const Layout& layout, const Steps& steps, LoopHooks* hooks,
 //      kLocal1:      the paper's: x = to_world(F(f), to_local(F(f-1), I(f-1) g));
 //      kLocal2:      x = to_world(F(f), 2 to_local(F(f-1), I(f-1) g) - to_local(F(f-2), I(f-2) g))
 //                    (kLocal1 at f = 1);
-//      kClusterAccel: x = (2 I(f-1) - I(f-2)) g + (o(f) - 2 o(f-1) + o(f-2)), o = the frame's origin:
+//      kClusterAccel: x = (2 I(f-1) - I(f-2)) g + (o(f) - 2 o(f-1) + o(f-2)), o = the frame's
+//      origin:
 //                    linear extrapolation plus the cluster's acceleration (kLocal1 at f = 1);
 //    F(f) = the cluster's frame in frame f; prediction = grid_index(x / g) per axis; stored:
 //    I - prediction. The encoder stores 0 for a gap sample, so a gap is predicted through its
@@ -128,8 +130,9 @@ class GridHooks {
 };
 
 // predictor: one kind per point (frame points' entries are ignored). recon: frames x points x 3.
-void run_grid_loop(const Layout& layout, double grid, int seed_order, const std::vector<uint8_t>& predictor,
-                   GridHooks* hooks, std::vector<double>* recon);
+void run_grid_loop(const Layout& layout, double grid, int seed_order,
+                   const std::vector<uint8_t>& predictor, GridHooks* hooks,
+                   std::vector<double>* recon);
 
 // round-half-away-from-zero(x) clamped to +-2^40 (NaN -> 0): predictions from corrupt streams
 // stay defined.
@@ -141,7 +144,9 @@ inline int64_t grid_index(double x) {
 }
 
 // The decoded value of an integer on a grid (shared rounding-free dequantiser).
-inline double on_grid(int64_t v, double step) { return static_cast<double>(v) * step; }
+inline double on_grid(int64_t v, double step) {
+  return static_cast<double>(v) * step;
+}
 
 // Wrapping int64 add: a corrupt stream gives garbage positions, never undefined behaviour.
 inline int64_t wrap_add(int64_t a, int64_t b) {

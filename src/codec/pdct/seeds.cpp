@@ -19,8 +19,8 @@ double dist2(const double* a, const double* b) {
 
 }  // namespace
 
-std::vector<uint32_t> farthest_point_seeds(const double* frame, size_t points, const uint8_t* candidate,
-                                           const SeedParams& params) {
+std::vector<uint32_t> farthest_point_seeds(const double* frame, size_t points,
+                                           const uint8_t* candidate, const SeedParams& params) {
   std::vector<uint32_t> seeds;
   std::vector<uint32_t> cand;
   for (size_t i = 0; i < points; ++i)
@@ -61,16 +61,19 @@ std::vector<uint32_t> farthest_point_seeds(const double* frame, size_t points, c
 
 bool triangle_ok(const double* a, const double* b, const double* c, double min_edge_abs,
                  double min_angle_deg) {
-  const double ab = std::sqrt(dist2(a, b)), bc = std::sqrt(dist2(b, c)), ca = std::sqrt(dist2(c, a));
+  const double ab = std::sqrt(dist2(a, b)), bc = std::sqrt(dist2(b, c)),
+               ca = std::sqrt(dist2(c, a));
   if (!(ab >= min_edge_abs && bc >= min_edge_abs && ca >= min_edge_abs)) return false;
   if (!(ab > 0 && bc > 0 && ca > 0)) return false;
   const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
   const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-  const double w[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+  const double w[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+                       u[0] * v[1] - u[1] * v[0]};
   const double twice_area = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
   const double min_sin = std::sin(min_angle_deg * kPi / 180.0);
   // sin of the angle at a, b, c
-  const double sa = twice_area / (ab * ca), sb = twice_area / (ab * bc), sc = twice_area / (bc * ca);
+  const double sa = twice_area / (ab * ca), sb = twice_area / (ab * bc),
+               sc = twice_area / (bc * ca);
   return std::min(sa, std::min(sb, sc)) >= min_sin;
 }
 
@@ -119,7 +122,8 @@ std::vector<Triangle> seed_triangles(const PositionsView& in, const std::vector<
           const double *x = pos(f, p1), *y = pos(f, a), *z = pos(f, b);
           good = triangle_ok(x, y, z, min_edge_abs, params.min_angle_deg);
           if (!good || !(ok(f, p1) && ok(f, a) && ok(f, b))) continue;
-          const double e[3] = {std::sqrt(dist2(x, y)), std::sqrt(dist2(y, z)), std::sqrt(dist2(z, x))};
+          const double e[3] = {std::sqrt(dist2(x, y)), std::sqrt(dist2(y, z)),
+                               std::sqrt(dist2(z, x))};
           for (int k = 0; k < 3; ++k) {
             sum[k] += e[k];
             sum2[k] += e[k] * e[k];
@@ -127,7 +131,8 @@ std::vector<Triangle> seed_triangles(const PositionsView& in, const std::vector<
           ++measured;
         }
         if (!good) continue;
-        double score = params.gap_penalty * static_cast<double>(F - measured) / static_cast<double>(F);
+        double score =
+            params.gap_penalty * static_cast<double>(F - measured) / static_cast<double>(F);
         if (measured > 0) {
           for (int k = 0; k < 3; ++k) {
             const double m = sum[k] / static_cast<double>(measured);

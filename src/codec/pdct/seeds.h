@@ -28,8 +28,8 @@ struct SeedParams {
 // Farthest-point selection on one frame (points x 3 doubles), among points with candidate[i] != 0
 // (null = all). The first seed is the candidate farthest from the candidates' centroid; each next
 // one maximises the distance to the nearest seed chosen so far. Ties go to the lower index.
-std::vector<uint32_t> farthest_point_seeds(const double* frame, size_t points, const uint8_t* candidate,
-                                           const SeedParams& params);
+std::vector<uint32_t> farthest_point_seeds(const double* frame, size_t points,
+                                           const uint8_t* candidate, const SeedParams& params);
 
 struct TriangleParams {
   int knn = 12;  // neighbours of the seed examined (pairs among them are tried)

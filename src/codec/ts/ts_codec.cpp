@@ -31,7 +31,7 @@ double since(Clock::time_point t0) {
 struct Options {
   int lpc_order = 2;
   int lcps_k = 2;
-  int bits_min = 4, bits_max = 16;  // the paper: 8..16
+  int bits_min = 4, bits_max = 20;  // the paper: 8..16
   bool basis_predict = true;         // the paper: false (plain quantised values)
   bool align = true;
   int max_clusters = 5;
@@ -39,7 +39,7 @@ struct Options {
   uint64_t seed = 0x5eed;
   double trunc_share = 0.25;   // share of the squared-error budget left to PCA truncation
   double basis_share = 0.65;   // share for basis quantisation (the rest: coefficients)
-  double rms_per_bound = 1.0;  // with only --max-error: aim the transform's RMS at this x bound
+  double rms_per_bound = 0.5;  // with a max error: aim the transform's RMS at this x bound
 };
 
 long parse_int(const std::string& key, const std::string& v, long lo, long hi) {
@@ -424,6 +424,14 @@ void TsCodec::encode_report(const PositionsView& in, const TransformParams& para
     if (nf == 0) break;
     Prepared prep = prepare(base, k, o, rep);
     Trial t = rate_search(base, prep, o, &scale, rep);
+    // A target tighter than the basis quantiser allows (the first PC carries the mean shape and
+    // needs the finest step): widen the basis bits beyond the paper's 16 until it is met.
+    for (Options wide = o; !t.ok && wide.bits_max < 24;) {
+      wide.bits_max = std::min(24, wide.bits_max + 4);
+      double s2 = 1.0;
+      Trial t2 = rate_search(base, prep, wide, &s2, rep);
+      if (t2.ok || t2.sq < t.sq) t = std::move(t2);
+    }
     const bool better = !have || (t.ok && !best.ok) ||
                         (t.ok == best.ok && (t.ok ? t.bytes.size() < best.bytes.size() : t.sq < best.sq));
     if (better) {

@@ -1,0 +1,110 @@
+// The capz binary's compress / decompress / verify / info-on-.capz, on real shared files:
+// exit statuses, the one-line report, default names, refusal to overwrite, --json.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "capz/codec.h"
+#include "capz/io.h"
+#include "capz/metrics.h"
+#include "test_util.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int status = -1;
+  std::string out;
+};
+
+// `capz <args>` with stdout captured (stderr to stdout too when `merge`).
+Result capz_cli(const std::string& args, bool merge = false) {
+  static capz_test::TempDir io("capz_cli_compress_io");
+  const std::string out = io.file("out");
+  const std::string cmd = std::string("'") + CAPZ_CLI + "' " + args + " >'" + out + "'" +
+                          (merge ? " 2>&1" : " 2>/dev/null");
+  const int rc = std::system(cmd.c_str());
+  std::ifstream in(out);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str()};
+}
+
+const std::string kTrc = std::string(CAPZ_SHARED_DATA) + "/trc/opensim/walk_free_01.trc";
+const std::string kC3d = std::string(CAPZ_REPO_DATA) + "/EB015PI.c3d";
+
+TEST(CliCompress, GivenTrcWhenCompressedWithDefaultsThenReportLineAndBoundHolds) {
+  capz_test::TempDir d("capz_cli_compress");
+  const std::string in = d.file("walk.trc");
+  fs::copy_file(kTrc, in);
+  Result r = capz_cli("compress '" + in + "'");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_TRUE(fs::exists(in + ".capz"));
+  EXPECT_NE(r.out.find("bpvf"), std::string::npos);
+  EXPECT_NE(r.out.find("max error"), std::string::npos);
+  EXPECT_NE(r.out.find("KG"), std::string::npos);
+  // Not overwritten without -f (exit 1), overwritten with it.
+  EXPECT_EQ(capz_cli("compress '" + in + "'").status, 1);
+  EXPECT_EQ(capz_cli("compress -f -q '" + in + "'").status, 0);
+  // verify against the original: bound holds.
+  Result v = capz_cli("verify '" + in + ".capz' --against '" + in + "'");
+  EXPECT_EQ(v.status, 0) << v.out;
+  EXPECT_NE(v.out.find("holds"), std::string::npos);
+  // decompress: the default name is the source's (exists -> refused), -o writes a TRC.
+  EXPECT_EQ(capz_cli("decompress '" + in + ".capz'").status, 1);
+  ASSERT_EQ(capz_cli("decompress -q '" + in + ".capz' -o '" + d.file("back.trc") + "'").status, 0);
+  capz::Take a = capz::read_take(in), b = capz::read_take(d.file("back.trc"));
+  capz::ErrorStats e = capz::compare(a, b);
+  EXPECT_LE(e.max_abs, 0.1 + 1e-9);  // the file is in mm; default bound 0.1mm, written to its decimals
+  EXPECT_EQ(e.mask_mismatches, 0u);
+}
+
+TEST(CliCompress, GivenC3DWhenCompressedWithJsonAndUnitsThenFieldsAndConversion) {
+  capz_test::TempDir d("capz_cli_compress");
+  const std::string out = d.file("e.capz");
+  Result r = capz_cli("compress '" + kC3d + "' -o '" + out + "' --max-error 0.0005m --json");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("\"max_error_target\":0.5"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"position_bytes\""), std::string::npos);
+  EXPECT_NE(r.out.find("\"encode_mb_per_s\""), std::string::npos);
+  Result i = capz_cli("info '" + out + "'");
+  EXPECT_EQ(i.status, 0);
+  EXPECT_NE(i.out.find("capz 1.0"), std::string::npos);
+  EXPECT_NE(i.out.find("POSW"), std::string::npos);
+  EXPECT_EQ(capz_cli("info --json '" + out + "'").status, 0);
+  // Frame range decode to a C3D.
+  EXPECT_EQ(capz_cli("decompress -q '" + out + "' --frames 100:50 -o '" + d.file("part.c3d") + "'").status, 0);
+  EXPECT_EQ(capz::read_take(d.file("part.c3d")).frames, 50u);
+  // Lossless: verify says exact.
+  EXPECT_EQ(capz_cli("compress -q --lossless '" + kC3d + "' -o '" + d.file("l.capz") + "'").status, 0);
+  EXPECT_EQ(capz_cli("verify '" + d.file("l.capz") + "' --against '" + kC3d + "'").status, 0);
+}
+
+TEST(CliCompress, GivenBadRequestsThenOneLineErrorsAndStatuses) {
+  capz_test::TempDir d("capz_cli_compress");
+  EXPECT_EQ(capz_cli("compress '" + kC3d + "' -o '" + d.file("x.capz") + "' --lossless --max-error 1mm").status, 1);
+  Result bad = capz_cli("compress '" + kC3d + "' -o '" + d.file("x.capz") + "' --max-error 3furlongs", true);
+  EXPECT_EQ(bad.status, 6);
+  EXPECT_EQ(std::count(bad.out.begin(), bad.out.end(), '\n'), 1) << bad.out;
+  EXPECT_FALSE(fs::exists(d.file("x.capz")));
+  // A damaged archive: status 5, nothing written.
+  ASSERT_EQ(capz_cli("compress -q '" + kC3d + "' -o '" + d.file("y.capz") + "'").status, 0);
+  {
+    std::fstream f(d.file("y.capz"), std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(2000);
+    f.put('\x55');
+  }
+  EXPECT_EQ(capz_cli("verify '" + d.file("y.capz") + "'").status, 5);
+  EXPECT_EQ(capz_cli("decompress '" + d.file("y.capz") + "' -o '" + d.file("y.c3d") + "'").status, 5);
+  EXPECT_FALSE(fs::exists(d.file("y.c3d")));
+  EXPECT_EQ(capz_cli("decompress '" + kC3d + "' -o '" + d.file("z.c3d") + "'").status, 3);
+}
+
+}  // namespace
