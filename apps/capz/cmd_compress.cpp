@@ -40,8 +40,9 @@ int cmd_compress(const Args& args) {
       ("lossless", "every stored coordinate back exactly: int16 C3D integers, float32 bits, "
        "TRC decimals")
       ("codec", po::value<std::string>()->default_value("none"),
-       "transform stage in front of the coder: none (temporal prediction only), or a "
-       "transform codec built in (ts, pdct)")
+       "transform stage in front of the coder: none (temporal prediction only), a "
+       "transform codec built in (ts, pdct), or auto (tries each on the take and keeps the "
+       "smallest; encoding takes about as long as all of them together)")
       ("codec-opt", po::value<std::vector<std::string>>(), "codec option key=value (repeatable)")
       ("clusters", po::value<int>()->default_value(0),
        "clusters for the transform codec (0 = its default, -1 = search)")
@@ -147,6 +148,7 @@ int cmd_compress(const Args& args) {
     j.member("units", take.units);
     j.member("bpvf", st.bpvf);
     j.member("mode", st.mode);
+    j.member("codec", st.codec);
     j.member("lossless", st.lossless);
     j.member("grid_step", st.step);
     j.member("max_error_target", opts.max_error);
@@ -170,6 +172,7 @@ int cmd_compress(const Args& args) {
                                   : "max error " + num(st.error.max_abs) + u + " per coordinate (" +
                                         num(st.error.max_error) + u + " Euclidean), KG " +
                                         num(st.error.kg_error) + "%";
+    if (opts.codec == "auto") err += ", codec " + st.codec;
     std::printf("%s -> %s: %s -> %s (ratio %s), %s bpvf, %s\n", in.c_str(), out.c_str(),
                 human_size(in_bytes).c_str(), human_size(st.bytes).c_str(), num(ratio).c_str(),
                 num(st.bpvf).c_str(), err.c_str());

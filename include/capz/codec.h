@@ -29,7 +29,8 @@ struct CompressOptions {
   double kg_error = 0;   // KG error target in percent (metrics.h): the grid step is searched so
                          // the achieved KG error is at or just under it
   double max_error = 0;  // per-coordinate bound, in the take's own units
-  std::string codec;     // "" or "none": temporal prediction only; else a transform ("ts", ...)
+  std::string codec;     // "" or "none": temporal prediction only; a transform ("ts", ...);
+                         // "auto": each of them on the whole take, the smallest kept
   int clusters = 0;      // passed to the transform codec (0 = its default)
   std::map<std::string, std::string> codec_options;  // the CLI's --codec-opt key=value
   size_t window_frames = 1024;  // frames per independently decodable window, 1 .. 8192
@@ -44,6 +45,7 @@ struct CompressStats {
   double bpvf = 0;             // 8 * bytes / (frames * points)
   double step = 0;             // grid step used (0 for float-bit lossless coding)
   std::string mode;            // "grid", "decimal-grid", "float32-bits", "float64-bits"
+  std::string codec;           // transform stage used: "none", "ts", "pdct" (what auto chose)
   bool lossless = false;
   ErrorStats error;            // achieved, over valid samples (zero when lossless)
   size_t position_bytes = 0;   // bytes of POSW + MASK chunks
