@@ -439,6 +439,9 @@ void TsCodec::encode_report(const PositionsView& in, const TransformParams& para
       have = true;
     }
   }
+  if (have && best.bytes.empty())  // every budget tried gave values outside the payload's range
+    fail(ErrorCode::kInvalidParameter, "",
+         "ts: no coding of this window fits the payload's integer range (try --codec none)");
   if (!have) {  // empty window
     best.model.frames = nf;
     best.model.points = in.points;
