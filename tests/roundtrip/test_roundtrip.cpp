@@ -49,8 +49,10 @@ void expect_same_analog(const Take& a, const Take& b) {
   EXPECT_EQ(a.analog.samples_per_frame, b.analog.samples_per_frame);
   EXPECT_EQ(a.analog.labels, b.analog.labels);
   ASSERT_EQ(a.analog.values.size(), b.analog.values.size());
-  if (!a.analog.values.empty())  // memcmp must not see the null data() of an empty vector
+  // memcmp must not see the null data() of an empty vector
+  if (!a.analog.values.empty()) {
     EXPECT_EQ(std::memcmp(a.analog.values.data(), b.analog.values.data(), a.analog.values.size() * 8), 0);
+  }
 }
 
 // Bound in the take's units: 0.1 mm / 1 mm converted; for PCD (no units) relative to the data.

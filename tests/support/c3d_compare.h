@@ -29,9 +29,11 @@ inline void expect_same_take(const Take& a, const Take& b) {
   EXPECT_EQ(a.analog.rate, b.analog.rate);
   EXPECT_EQ(a.analog.labels, b.analog.labels);
   ASSERT_EQ(a.analog.values.size(), b.analog.values.size());
-  if (!a.analog.values.empty())  // memcmp must not see the null data() of an empty vector
+  // memcmp must not see the null data() of an empty vector
+  if (!a.analog.values.empty()) {
     EXPECT_EQ(0, std::memcmp(a.analog.values.data(), b.analog.values.data(),
                              a.analog.values.size() * sizeof(double)));
+  }
   ASSERT_TRUE(a.c3d && b.c3d);
   EXPECT_EQ(a.c3d->residual, b.c3d->residual);
   EXPECT_EQ(a.c3d->camera_mask, b.c3d->camera_mask);
