@@ -32,6 +32,19 @@ bool parse_args(const Args& args, const std::string& usage, const std::string& d
   return true;
 }
 
+bool parse_single_input(const Args& args, const std::string& usage, const std::string& description,
+                        const po::options_description& options, const std::string& input_name,
+                        po::variables_map* vm, std::string* input) {
+  po::options_description positionals;
+  positionals.add_options()("input", po::value<std::string>(), input_name.c_str());
+  po::positional_options_description pos;
+  pos.add("input", 1);
+  if (!parse_args(args, usage, description, options, positionals, pos, vm)) return false;
+  if (!vm->count("input")) throw po::error("missing " + input_name);
+  *input = (*vm)["input"].as<std::string>();
+  return true;
+}
+
 std::string human_size(uint64_t bytes) {
   if (bytes < 1024) return std::to_string(bytes) + " B";
   const char* units[] = {"KiB", "MiB", "GiB", "TiB"};

@@ -23,6 +23,12 @@ bool parse_args(const Args& args, const std::string& usage, const std::string& d
                 const po::options_description& options, const po::options_description& positionals,
                 const po::positional_options_description& pos, po::variables_map* vm);
 
+// parse_args for a command with one positional input named `input_name` (e.g. "IN"): sets
+// *input, throws po::error("missing IN") when absent; false when --help was printed.
+bool parse_single_input(const Args& args, const std::string& usage, const std::string& description,
+                        const po::options_description& options, const std::string& input_name,
+                        po::variables_map* vm, std::string* input);
+
 // "512 B", "1.5 KiB", "3.20 MiB", "1.07 GiB".
 std::string human_size(uint64_t bytes);
 // Size of a file, or the total of the regular files directly inside a directory.

@@ -28,47 +28,44 @@ double unitless_default_bound(const capz::Take& take) {
 
 int cmd_compress(const Args& args) {
   po::options_description o("compress options");
-  o.add_options()
-      ("output,o", po::value<std::string>(), "output file (default IN.capz)")
-      ("max-error,e", po::value<std::string>(),
-       "per-coordinate bound: a length with a unit (0.1mm, 0.05cm, 0.0001m, 0.01in) or a bare "
-       "number in the data's own units. Default 0.1mm. For data without units (PCD folders, "
-       "unless --units is given) the default is 1e-4 x the bounding-box diagonal of the data, "
-       "and a bound with a unit needs --units")
-      ("kg-error", po::value<double>(), "instead of a bound: KG error target in percent; the "
-       "grid is chosen so the achieved KG error is at or just under it")
-      ("lossless", "every stored coordinate back exactly: int16 C3D integers, float32 bits, "
-       "TRC decimals")
-      ("codec", po::value<std::string>()->default_value("none"),
-       "transform stage in front of the coder: none (temporal prediction only), a "
-       "transform codec built in (ts, pdct), or auto (tries each on the take and keeps the "
-       "smallest; encoding takes about as long as all of them together)")
-      ("codec-opt", po::value<std::vector<std::string>>(), "codec option key=value (repeatable)")
-      ("clusters", po::value<int>()->default_value(0),
-       "clusters for the transform codec (0 = its default, -1 = search)")
-      ("units", po::value<std::string>(), "units of data that has none (PCD folders): mm, cm or m")
-      ("window", po::value<size_t>()->default_value(1024),
-       "frames per independently decodable window, 1..8192")
-      ("no-check", "skip decoding each window after writing it (the bound then rests on the "
-       "quantiser alone)")
-      ("force,f", "overwrite OUT if it exists")
-      ("rm", "remove IN (a file) after a successful compression")
-      ("json", "print the report as one JSON object");
-  po::options_description positionals;
-  positionals.add_options()("input", po::value<std::string>(), "IN");
-  po::positional_options_description pos;
-  pos.add("input", 1);
+  o.add_options()("output,o", po::value<std::string>(), "output file (default IN.capz)")(
+      "max-error,e", po::value<std::string>(),
+      "per-coordinate bound: a length with a unit (0.1mm, 0.05cm, 0.0001m, 0.01in) or a bare "
+      "number in the data's own units. Default 0.1mm. For data without units (PCD folders, "
+      "unless --units is given) the default is 1e-4 x the bounding-box diagonal of the data, "
+      "and a bound with a unit needs --units")(
+      "kg-error", po::value<double>(),
+      "instead of a bound: KG error target in percent; the "
+      "grid is chosen so the achieved KG error is at or just under it")(
+      "lossless",
+      "every stored coordinate back exactly: int16 C3D integers, float32 bits, "
+      "TRC decimals")(
+      "codec", po::value<std::string>()->default_value("none"),
+      "transform stage in front of the coder: none (temporal prediction only), a "
+      "transform codec built in (ts, pdct), or auto (tries each on the take and keeps the "
+      "smallest; encoding takes about as long as all of them together)")(
+      "codec-opt", po::value<std::vector<std::string>>(), "codec option key=value (repeatable)")(
+      "clusters", po::value<int>()->default_value(0),
+      "clusters for the transform codec (0 = its default, -1 = search)")(
+      "units", po::value<std::string>(), "units of data that has none (PCD folders): mm, cm or m")(
+      "window", po::value<size_t>()->default_value(1024),
+      "frames per independently decodable window, 1..8192")(
+      "no-check",
+      "skip decoding each window after writing it (the bound then rests on the "
+      "quantiser alone)")("force,f", "overwrite OUT if it exists")(
+      "rm", "remove IN (a file) after a successful compression")(
+      "json", "print the report as one JSON object");
   po::variables_map vm;
-  if (!parse_args(args, "capz compress IN [-o OUT] [--max-error E | --kg-error X | --lossless] [options]",
-                  "Compresses IN (a .c3d, a .trc or a folder of .pcd frames) to a .capz.\n"
-                  "Error bounds are per coordinate: every valid coordinate comes back within the\n"
-                  "bound (a point's Euclidean error is then at most sqrt(3) times it); the report\n"
-                  "gives both, with the KG error and bits per vertex per frame (bpvf). Gaps,\n"
-                  "analog channels, labels, rate, units, C3D parameters and events come back exactly.",
-                  o, positionals, pos, &vm))
+  std::string in;
+  if (!parse_single_input(
+          args, "capz compress IN [-o OUT] [--max-error E | --kg-error X | --lossless] [options]",
+          "Compresses IN (a .c3d, a .trc or a folder of .pcd frames) to a .capz.\n"
+          "Error bounds are per coordinate: every valid coordinate comes back within the\n"
+          "bound (a point's Euclidean error is then at most sqrt(3) times it); the report\n"
+          "gives both, with the KG error and bits per vertex per frame (bpvf). Gaps,\n"
+          "analog channels, labels, rate, units, C3D parameters and events come back exactly.",
+          o, "IN", &vm, &in))
     return 0;
-  if (!vm.count("input")) throw po::error("missing IN");
-  const std::string in = vm["input"].as<std::string>();
   const int targets = (vm.count("lossless") ? 1 : 0) + (vm.count("kg-error") ? 1 : 0) +
                       (vm.count("max-error") ? 1 : 0);
   if (targets > 1) throw po::error("give only one of --max-error, --kg-error, --lossless");
@@ -102,16 +99,18 @@ int cmd_compress(const Args& args) {
     opts.lossless = true;
   } else if (vm.count("kg-error")) {
     opts.kg_error = vm["kg-error"].as<double>();
-    if (!(opts.kg_error > 0)) capz::fail(capz::ErrorCode::kInvalidParameter, "", "--kg-error must be > 0");
+    if (!(opts.kg_error > 0))
+      capz::fail(capz::ErrorCode::kInvalidParameter, "", "--kg-error must be > 0");
   } else if (take.units.empty() && take.gap_samples() == take.frames * take.points) {
     opts.max_error = 1;  // no positions to bound (analog-only take): any bound will do
   } else if (!vm.count("max-error") && take.units.empty()) {
     opts.max_error = unitless_default_bound(take);
   } else {
-    opts.max_error =
-        capz::parse_length(vm.count("max-error") ? vm["max-error"].as<std::string>() : "0.1mm", take.units);
+    opts.max_error = capz::parse_length(
+        vm.count("max-error") ? vm["max-error"].as<std::string>() : "0.1mm", take.units);
     if (!(opts.max_error > 0))
-      capz::fail(capz::ErrorCode::kInvalidParameter, "", "--max-error must be > 0 (or use --lossless)");
+      capz::fail(capz::ErrorCode::kInvalidParameter, "",
+                 "--max-error must be > 0 (or use --lossless)");
   }
 
   capz::CompressStats st;
@@ -130,7 +129,8 @@ int cmd_compress(const Args& args) {
   if (vm.count("rm")) {
     std::error_code ec;
     fs::remove(in, ec);
-    if (ec) capz::fail(capz::ErrorCode::kIo, in, "could not remove after compressing: " + ec.message());
+    if (ec)
+      capz::fail(capz::ErrorCode::kIo, in, "could not remove after compressing: " + ec.message());
   }
 
   const double ratio = st.bytes ? static_cast<double>(in_bytes) / static_cast<double>(st.bytes) : 0;
@@ -178,12 +178,13 @@ int cmd_compress(const Args& args) {
                 num(st.bpvf).c_str(), err.c_str());
   }
   if (g_verbosity >= 2) {
-    std::printf("  %zu frames x %zu points, %s coding, grid step %s%s; positions %zu B (x%s vs "
-                "raw float32), analog %zu B, other %zu B\n",
-                take.frames, take.points, st.mode.c_str(), num(st.step, 6).c_str(),
-                take.units.empty() ? "" : (" " + take.units).c_str(), st.position_bytes,
-                num(st.position_bytes ? static_cast<double>(st.raw_bytes) / st.position_bytes : 0).c_str(),
-                st.analog_bytes, st.other_bytes);
+    std::printf(
+        "  %zu frames x %zu points, %s coding, grid step %s%s; positions %zu B (x%s vs "
+        "raw float32), analog %zu B, other %zu B\n",
+        take.frames, take.points, st.mode.c_str(), num(st.step, 6).c_str(),
+        take.units.empty() ? "" : (" " + take.units).c_str(), st.position_bytes,
+        num(st.position_bytes ? static_cast<double>(st.raw_bytes) / st.position_bytes : 0).c_str(),
+        st.analog_bytes, st.other_bytes);
     std::printf("  cpu: read %.3f s, encode%s %.3f s (%s MB/s of raw float32 positions)\n", t_read,
                 opts.check ? "+check" : "", t_enc, num(mbps).c_str());
   }

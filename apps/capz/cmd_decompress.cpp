@@ -21,12 +21,14 @@ std::string default_output(const std::string& in, const capz::Take& take) {
   if ((f == capz::Format::kC3D && ends_with(stem, ".c3d")) ||
       (f == capz::Format::kTRC && ends_with(stem, ".trc")))
     return stem;
-  if (f == capz::Format::kPCDFolder && stem != in && !ends_with(stem, ".c3d") && !ends_with(stem, ".trc"))
+  if (f == capz::Format::kPCDFolder && stem != in && !ends_with(stem, ".c3d") &&
+      !ends_with(stem, ".trc"))
     return stem + "/";
   const std::string dir = fs::path(in).parent_path().string();
   std::string name = take.source.empty() ? fs::path(stem).filename().string() : take.source;
   if (f == capz::Format::kC3D && !ends_with(name, ".c3d")) name += ".c3d";
-  if ((f == capz::Format::kTRC || f == capz::Format::kUnknown) && !ends_with(name, ".trc")) name += ".trc";
+  if ((f == capz::Format::kTRC || f == capz::Format::kUnknown) && !ends_with(name, ".trc"))
+    name += ".trc";
   if (f == capz::Format::kPCDFolder) name += "/";
   return dir.empty() ? name : dir + "/" + name;
 }
@@ -35,25 +37,21 @@ std::string default_output(const std::string& in, const capz::Take& take) {
 
 int cmd_decompress(const Args& args) {
   po::options_description o("decompress options");
-  o.add_options()
-      ("output,o", po::value<std::string>(), "output .c3d, .trc, or a folder for PCD frames")
-      ("frames", po::value<std::string>(), "decode only frames FIRST:COUNT (0-based); only the "
-       "windows they touch are read")
-      ("force,f", "overwrite OUT if it exists")
-      ("json", "print the report as one JSON object");
-  po::options_description positionals;
-  positionals.add_options()("input", po::value<std::string>(), "X.capz");
-  po::positional_options_description pos;
-  pos.add("input", 1);
+  o.add_options()("output,o", po::value<std::string>(),
+                  "output .c3d, .trc, or a folder for PCD frames")(
+      "frames", po::value<std::string>(),
+      "decode only frames FIRST:COUNT (0-based); only the "
+      "windows they touch are read")("force,f", "overwrite OUT if it exists")(
+      "json", "print the report as one JSON object");
   po::variables_map vm;
-  if (!parse_args(args, "capz decompress X.capz [-o OUT] [--frames FIRST:COUNT] [-f]",
-                  "Decompresses X.capz to OUT: a .c3d, a .trc or a folder of PCD frames, chosen by\n"
-                  "OUT's name. By default the source's format and name: take.c3d.capz -> take.c3d,\n"
-                  "frames.capz -> frames/ (never overwritten without -f).",
-                  o, positionals, pos, &vm))
+  std::string in;
+  if (!parse_single_input(
+          args, "capz decompress X.capz [-o OUT] [--frames FIRST:COUNT] [-f]",
+          "Decompresses X.capz to OUT: a .c3d, a .trc or a folder of PCD frames, chosen by\n"
+          "OUT's name. By default the source's format and name: take.c3d.capz -> take.c3d,\n"
+          "frames.capz -> frames/ (never overwritten without -f).",
+          o, "X.capz", &vm, &in))
     return 0;
-  if (!vm.count("input")) throw po::error("missing X.capz");
-  const std::string in = vm["input"].as<std::string>();
   const bool force = vm.count("force") != 0;
   std::string out = vm.count("output") ? vm["output"].as<std::string>() : "";
   if (!out.empty()) capz::check_output_free(out, force);
@@ -93,9 +91,11 @@ int cmd_decompress(const Args& args) {
     j.end_object();
     std::printf("%s\n", j.str().c_str());
   } else if (g_verbosity >= 1) {
-    std::printf("%s -> %s: %zu frames x %zu points\n", in.c_str(), out.c_str(), take.frames, take.points);
+    std::printf("%s -> %s: %zu frames x %zu points\n", in.c_str(), out.c_str(), take.frames,
+                take.points);
     if (g_verbosity >= 2)
-      std::printf("  cpu: decode %.3f s (%s MB/s of raw float32 positions)\n", t_dec, num(mbps).c_str());
+      std::printf("  cpu: decode %.3f s (%s MB/s of raw float32 positions)\n", t_dec,
+                  num(mbps).c_str());
   }
   return 0;
 }

@@ -12,9 +12,9 @@
 
 #include "capz/error.h"
 #include "capz/io.h"
-#include "compress_common.h"
 #include "cli_util.h"
 #include "commands.h"
+#include "compress_common.h"
 
 namespace capz_cli {
 
@@ -203,20 +203,15 @@ void print_json(const std::string& path, const capz::Take& t) {
 int cmd_info(const Args& args) {
   po::options_description opts("info options");
   opts.add_options()("json", "print one JSON object instead of text (all labels included)");
-  po::options_description positionals;
-  positionals.add_options()("input", po::value<std::string>(), "FILE");
-  po::positional_options_description pos;
-  pos.add("input", 1);
   po::variables_map vm;
-  if (!parse_args(
+  std::string path;
+  if (!parse_single_input(
           args, "capz info FILE [--json] [-v]",
           "Describes FILE (a .c3d, a .trc or a folder of .pcd frames): format and variant,\n"
           "points, frames, rate, duration, units, gaps, labels (the first 8; all with -v),\n"
           "analog channels and every inconsistency the reader found.",
-          opts, positionals, pos, &vm))
+          opts, "FILE", &vm, &path))
     return 0;
-  if (!vm.count("input")) throw po::error("missing FILE");
-  const std::string path = vm["input"].as<std::string>();
 
   if (looks_like_capz(path)) return info_capz(path, vm.count("json") > 0);
 

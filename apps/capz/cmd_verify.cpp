@@ -10,23 +10,18 @@ namespace capz_cli {
 
 int cmd_verify(const Args& args) {
   po::options_description o("verify options");
-  o.add_options()
-      ("against,a", po::value<std::string>(), "the original .c3d, .trc or PCD folder")
-      ("json", "print the report as one JSON object");
-  po::options_description positionals;
-  positionals.add_options()("input", po::value<std::string>(), "X.capz");
-  po::positional_options_description pos;
-  pos.add("input", 1);
+  o.add_options()("against,a", po::value<std::string>(), "the original .c3d, .trc or PCD folder")(
+      "json", "print the report as one JSON object");
   po::variables_map vm;
-  if (!parse_args(args, "capz verify X.capz [--against ORIGINAL] [--json]",
-                  "Decodes X.capz completely (every CRC, every window). With --against, compares\n"
-                  "the result with the original and prints the max error (per coordinate and\n"
-                  "Euclidean), RMSE, KG error and bpvf. Exit status 5 when the stream is damaged,\n"
-                  "the stored bound does not hold, or the gap masks differ.",
-                  o, positionals, pos, &vm))
+  std::string in;
+  if (!parse_single_input(
+          args, "capz verify X.capz [--against ORIGINAL] [--json]",
+          "Decodes X.capz completely (every CRC, every window). With --against, compares\n"
+          "the result with the original and prints the max error (per coordinate and\n"
+          "Euclidean), RMSE, KG error and bpvf. Exit status 5 when the stream is damaged,\n"
+          "the stored bound does not hold, or the gap masks differ.",
+          o, "X.capz", &vm, &in))
     return 0;
-  if (!vm.count("input")) throw po::error("missing X.capz");
-  const std::string in = vm["input"].as<std::string>();
 
   std::vector<uint8_t> bytes = capz::read_file(in);
   const double c0 = thread_cpu_seconds();
@@ -45,9 +40,9 @@ int cmd_verify(const Args& args) {
     capz::Take a = capz::read_take(orig);
     if (a.frames != b.frames || a.points != b.points)
       capz::fail(capz::ErrorCode::kCorrupt, in,
-                 "decodes to " + std::to_string(b.frames) + " frames x " + std::to_string(b.points) +
-                     " points, " + orig + " has " + std::to_string(a.frames) + " x " +
-                     std::to_string(a.points));
+                 "decodes to " + std::to_string(b.frames) + " frames x " +
+                     std::to_string(b.points) + " points, " + orig + " has " +
+                     std::to_string(a.frames) + " x " + std::to_string(a.points));
     e = capz::compare(a, b);
     ok = e.mask_mismatches == 0 && (si.lossless ? e.max_abs == 0 : e.max_abs <= si.max_error);
   }
@@ -74,12 +69,13 @@ int cmd_verify(const Args& args) {
       std::printf("%s: ok, %zu frames x %zu points, %s bpvf, %s\n", in.c_str(), b.frames, b.points,
                   num(bp).c_str(), bound.c_str());
     } else {
-      std::printf("%s: max error %s%s per coordinate (%s%s Euclidean), RMSE %s%s, KG %s%%, %s bpvf, "
-                  "gaps %s; %s %s\n",
-                  in.c_str(), num(e.max_abs).c_str(), u.c_str(), num(e.max_error).c_str(), u.c_str(),
-                  num(e.rmse).c_str(), u.c_str(), num(e.kg_error).c_str(), num(bp).c_str(),
-                  e.mask_mismatches ? (std::to_string(e.mask_mismatches) + " differ").c_str() : "identical",
-                  bound.c_str(), ok ? "holds" : "DOES NOT HOLD");
+      std::printf(
+          "%s: max error %s%s per coordinate (%s%s Euclidean), RMSE %s%s, KG %s%%, %s bpvf, "
+          "gaps %s; %s %s\n",
+          in.c_str(), num(e.max_abs).c_str(), u.c_str(), num(e.max_error).c_str(), u.c_str(),
+          num(e.rmse).c_str(), u.c_str(), num(e.kg_error).c_str(), num(bp).c_str(),
+          e.mask_mismatches ? (std::to_string(e.mask_mismatches) + " differ").c_str() : "identical",
+          bound.c_str(), ok ? "holds" : "DOES NOT HOLD");
     }
     if (g_verbosity >= 2) std::printf("  cpu: decode %.3f s\n", t_dec);
   }
