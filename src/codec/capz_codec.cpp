@@ -283,6 +283,49 @@ std::vector<double> filled_window(const Take& t, size_t f0, size_t fn) {
   return x;
 }
 
+// POSW body with transform output (FORMAT.md 3.3): the codec block alone.
+std::vector<uint8_t> transform_only_positions(const std::vector<uint8_t>& codec_bytes) {
+  ByteWriter b;
+  b.varint(codec_bytes.size());
+  b.bytes(codec_bytes);
+  return std::move(b.buffer());
+}
+
+struct CodecOnly {
+  const uint8_t* data = nullptr;
+  size_t size = 0;
+};
+CodecOnly split_transform_only(const uint8_t* data, size_t size, const std::string& what) {
+  ByteReader r(data, size, what);
+  CodecOnly c;
+  const uint64_t n = r.varint();
+  if (n == 0 || n > r.remaining())
+    fail(ErrorCode::kCorrupt, what, "transform output: codec block length " + std::to_string(n) +
+                                        " with " + std::to_string(r.remaining()) + " bytes left");
+  c.size = static_cast<size_t>(n);
+  c.data = r.bytes(c.size);
+  if (r.remaining() != 0)
+    fail(ErrorCode::kCorrupt, what, "transform output: bytes after the codec block");
+  return c;
+}
+
+// Window positions with transform output: the codec's reconstruction of the valid samples.
+void decode_transform_output(const uint8_t* data, size_t size, const StreamHeader& h, size_t fn,
+                             const std::string& what, WindowInts* wi, std::vector<double>* xyz) {
+  const TransformCodec* codec = find_codec(h.codec);
+  if (!codec)
+    fail(ErrorCode::kUnsupportedVersion, what,
+         "stream uses transform codec id " + std::to_string(h.codec) + ", unknown to this capz");
+  const CodecOnly co = split_transform_only(data, size, what);
+  codec->decode(co.data, co.size, fn, h.points, xyz);
+  if (xyz->size() != fn * h.points * 3) fail(ErrorCode::kCorrupt, what, "codec payload has the wrong size");
+  for (size_t i = 0; i < fn * h.points; ++i)
+    if (wi->valid[i])
+      for (int a = 0; a < 3; ++a)
+        if (!std::isfinite((*xyz)[i * 3 + a]))
+          fail(ErrorCode::kCorrupt, what, "the transform reconstructs a non-finite value");
+}
+
 [[noreturn]] void check_failed(const Take& t, size_t w, const std::string& what) {
   fail(ErrorCode::kInternal, t.source,
        "self-check failed in window " + std::to_string(w) + ": " + what +
@@ -352,8 +395,18 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
         if (!std::isfinite(take.xyz[i * 3 + a]))
           fail(ErrorCode::kInvalidParameter, src, "a valid sample holds NaN or infinity");
 
+  const TransformCodec* codec = nullptr;
+  if (!opts.codec.empty() && opts.codec != "none") {
+    codec = find_codec(opts.codec);
+    if (!codec) fail(ErrorCode::kInvalidParameter, src, "unknown codec '" + opts.codec + "'");
+  }
+  // Only a KG target and a transform: the transform's reconstruction is the output, no grid and
+  // no bound layer (FORMAT.md 3.1 "transform output"); the transform meets the KG target itself.
+  const bool tout = !opts.lossless && opts.kg_error > 0 && codec && take.points > 0 && take.frames > 0;
   Grid g;
-  if (opts.lossless) {
+  if (tout) {
+    g.mode = PosMode::kGrid;  // step 0, bound 0: nothing is quantised
+  } else if (opts.lossless) {
     g = lossless_grid(take);
   } else if (opts.kg_error > 0) {
     g = kg_grid(take, opts.kg_error);
@@ -364,14 +417,9 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
          "no error target: give a positive max error, a KG error target, or lossless");
   }
 
-  const TransformCodec* codec = nullptr;
-  if (!opts.codec.empty() && opts.codec != "none") {
-    codec = find_codec(opts.codec);
-    if (!codec) fail(ErrorCode::kInvalidParameter, src, "unknown codec '" + opts.codec + "'");
-    if (g.mode != PosMode::kGrid) codec = nullptr;  // float-bit lossless: prediction only
-  }
+  if (g.mode != PosMode::kGrid) codec = nullptr;  // float-bit lossless: prediction only
   TransformParams tparams;
-  tparams.max_error = g.bound > 0 ? g.bound : g.step / 2;
+  tparams.max_error = tout ? 0.0 : g.bound > 0 ? g.bound : g.step / 2;
   tparams.grid_step = g.step;
   tparams.kg_error = opts.kg_error;
   tparams.clusters = opts.clusters;
@@ -397,6 +445,8 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
   h.mode = g.mode;
   h.codec = codec ? codec->id() : 0;
   h.lossless = g.lossless;
+  h.transform_output = tout;
+  h.kg_target = tout ? opts.kg_error : 0.0;
   h.step = g.step;
   h.max_error = g.bound;
   h.analog_channels = static_cast<uint32_t>(C);
@@ -418,18 +468,19 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
     WindowInts wi = window_ints(take, g, f0, fn);
     std::vector<uint8_t> codec_bytes;
     std::vector<int32_t> tpred;
+    std::vector<double> recon;
     if (codec && N > 0) {
       std::vector<double> filled = filled_window(take, f0, fn);
       PositionsView view{fn, N, filled.data(), wi.valid.data()};
-      std::vector<double> recon;
       codec->encode(view, tparams, &codec_bytes, &recon);
       if (recon.size() != fn * N * 3)
         throw Error(ErrorCode::kInternal, std::string("codec ") + codec->name() +
                                               " returned a reconstruction of the wrong size");
-      tpred = grid_prediction(recon, g.step);
+      if (!tout) tpred = grid_prediction(recon, g.step);
     }
     const bool gaps = std::find(wi.valid.begin(), wi.valid.end(), 0) != wi.valid.end();
-    std::vector<uint8_t> pos = encode_positions(wi, codec_bytes, tpred, f64);
+    std::vector<uint8_t> pos = tout ? transform_only_positions(codec_bytes)
+                                    : encode_positions(wi, codec_bytes, tpred, f64);
     size_t before = out.size();
     append_chunk(&out, "POSW", with_window_index(w, gaps ? 1 : 0, pos));
     std::vector<uint8_t> mask;
@@ -460,11 +511,15 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
     std::vector<double> rec(fn * N * 3, 0.0);
     for (size_t i = 0; i < fn * N; ++i)
       if (wi.valid[i]) {
-        for (size_t k = i * 3; k < i * 3 + 3; ++k) rec[k] = dequantise(g, wi.q[k], f64 ? wi.lo[k] : 0);
+        for (size_t k = i * 3; k < i * 3 + 3; ++k) {
+          rec[k] = tout ? recon[k] : dequantise(g, wi.q[k], f64 ? wi.lo[k] : 0);
+          if (!std::isfinite(rec[k]))
+            check_failed(take, w, "a valid coordinate reconstructs to a non-finite value");
+        }
         keep_valid_off_origin(take.format, g.lossless, &rec[i * 3]);
       }
     const double* orig = take.xyz.data() + f0 * N * 3;
-    for (size_t i = 0; i < fn * N; ++i) {
+    for (size_t i = 0; i < fn * N && !tout; ++i) {  // transform output promises no bound
       if (!wi.valid[i]) continue;
       for (size_t k = i * 3; k < i * 3 + 3; ++k) {
         bool ok = g.lossless ? same_bits(rec[k], orig[k]) : std::fabs(rec[k] - orig[k]) <= g.bound;
@@ -483,21 +538,31 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
       back.valid.assign(fn * N, 1);
       if (gaps) decode_mask(mask.data(), mask.size(), fn, N, back.valid.data(), what);
       if (back.valid != wi.valid) check_failed(take, w, "gap mask differs");
-      PositionsPayload pp = split_positions(pos.data(), pos.size(), what);
-      std::vector<int32_t> tback;
-      if (codec && N > 0) {
-        std::vector<double> recon;
-        codec->decode(pp.codec_bytes, pp.codec_size, fn, N, &recon);
-        tback = grid_prediction(recon, g.step);
-        if (tback != tpred) check_failed(take, w, std::string("codec ") + codec->name() +
-                                                      " decodes differently than it encoded");
+      if (tout) {
+        const CodecOnly co = split_transform_only(pos.data(), pos.size(), what);
+        std::vector<double> rback;
+        codec->decode(co.data, co.size, fn, N, &rback);
+        if (rback.size() != recon.size() ||
+            std::memcmp(rback.data(), recon.data(), recon.size() * sizeof(double)) != 0)
+          check_failed(take, w, std::string("codec ") + codec->name() +
+                                    " decodes differently than it encoded");
+      } else {
+        PositionsPayload pp = split_positions(pos.data(), pos.size(), what);
+        std::vector<int32_t> tback;
+        if (codec && N > 0) {
+          std::vector<double> rback;
+          codec->decode(pp.codec_bytes, pp.codec_size, fn, N, &rback);
+          tback = grid_prediction(rback, g.step);
+          if (tback != tpred) check_failed(take, w, std::string("codec ") + codec->name() +
+                                                        " decodes differently than it encoded");
+        }
+        decode_positions(pp, tback, f64, &back, what);
+        for (size_t i = 0; i < fn * N; ++i)
+          if (wi.valid[i])
+            for (size_t k = i * 3; k < i * 3 + 3; ++k)
+              if (back.q[k] != wi.q[k] || (f64 && back.lo[k] != wi.lo[k]))
+                check_failed(take, w, "positions decode differently");
       }
-      decode_positions(pp, tback, f64, &back, what);
-      for (size_t i = 0; i < fn * N; ++i)
-        if (wi.valid[i])
-          for (size_t k = i * 3; k < i * 3 + 3; ++k)
-            if (back.q[k] != wi.q[k] || (f64 && back.lo[k] != wi.lo[k]))
-              check_failed(take, w, "positions decode differently");
       if (words) {
         std::vector<float> r(fn * N);
         std::vector<uint8_t> cam(fn * N);
@@ -526,7 +591,7 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
     stats->bpvf = bpvf(out.size(), F, N);
     stats->step = g.mode == PosMode::kDecimal ? 1.0 / g.step
                   : (g.mode == PosMode::kGrid || g.mode == PosMode::kFloat32Grid) ? g.step : 0;
-    stats->mode = mode_name(g.mode);
+    stats->mode = tout ? "transform-output" : mode_name(g.mode);
     stats->lossless = g.lossless;
     stats->codec = codec ? codec->name() : "none";
     stats->error = acc.finish();
@@ -657,9 +722,15 @@ void decode_window(const uint8_t* data, size_t size, const std::string& name, co
     decode_mask(mc.payload + mr.offset(), mc.size - mr.offset(), fn, N, wi.valid.data(),
                 (name.empty() ? "" : name + ": ") + "chunk MASK" + wname);
   }
-  PositionsPayload pp = split_positions(pc.payload + pr.offset(), pc.size - pr.offset(), pwhat);
+  std::vector<double> tout_xyz;  // transform output (FORMAT.md 3.1): the reconstruction itself
+  if (h.transform_output)
+    decode_transform_output(pc.payload + pr.offset(), pc.size - pr.offset(), h, fn, pwhat, &wi,
+                            &tout_xyz);
+  PositionsPayload pp;
+  if (!h.transform_output)
+    pp = split_positions(pc.payload + pr.offset(), pc.size - pr.offset(), pwhat);
   std::vector<int32_t> tpred;
-  if (h.codec != 0 && N > 0) {
+  if (h.codec != 0 && N > 0 && !h.transform_output) {
     const TransformCodec* codec = find_codec(h.codec);
     if (!codec)
       fail(ErrorCode::kUnsupportedVersion, name,
@@ -670,7 +741,7 @@ void decode_window(const uint8_t* data, size_t size, const std::string& name, co
     tpred = grid_prediction(recon, h.step);
   }
   const bool f64 = h.mode == PosMode::kFloat64;
-  decode_positions(pp, tpred, f64, &wi, pwhat);
+  if (!h.transform_output) decode_positions(pp, tpred, f64, &wi, pwhat);
   Grid g;
   g.mode = h.mode;
   g.step = h.step;
@@ -680,7 +751,9 @@ void decode_window(const uint8_t* data, size_t size, const std::string& name, co
       out->valid[o] = wi.valid[i];
       if (wi.valid[i]) {
         for (int a = 0; a < 3; ++a)
-          out->xyz[o * 3 + a] = dequantise(g, wi.q[i * 3 + a], f64 ? wi.lo[i * 3 + a] : 0);
+          out->xyz[o * 3 + a] = h.transform_output
+                                    ? tout_xyz[i * 3 + a]
+                                    : dequantise(g, wi.q[i * 3 + a], f64 ? wi.lo[i * 3 + a] : 0);
         keep_valid_off_origin(h.source_format, h.lossless, &out->xyz[o * 3]);
       }
     }
@@ -801,7 +874,9 @@ StreamInfo describe(const uint8_t* data, size_t size, const std::string& name) {
   si.points = ps.take.points;
   si.window_frames = ps.h.window_frames;
   si.windows = ps.h.windows();
-  si.mode = mode_name(ps.h.mode);
+  si.mode = ps.h.transform_output ? "transform-output" : mode_name(ps.h.mode);
+  si.transform_output = ps.h.transform_output;
+  si.kg_target = ps.h.kg_target;
   if (ps.h.codec == 0) {
     si.codec = "none";
   } else {

@@ -44,6 +44,10 @@ struct StreamHeader {
   PosMode mode = PosMode::kGrid;
   uint8_t codec = 0;
   bool lossless = false;
+  // HEAD flags bit 1: positions are the transform's reconstruction, no grid and no bound layer
+  // (docs/FORMAT.md 3.1); kg_target (percent) is then stored after the analog fields.
+  bool transform_output = false;
+  double kg_target = 0;
   double step = 0;
   double max_error = 0;
   uint32_t analog_channels = 0;
