@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <map>
+#include <string>
 
 #include "capz/codec.h"
 #include "capz/error.h"
@@ -305,19 +307,55 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
                                          CompressStats* stats);
 }  // namespace
 
+namespace {
+// The --codec-opt keys meant for `codec`: a key "name.key" goes to the codec called name only
+// (a name that is no codec is an error); a bare key goes to whichever codec was chosen.
+std::map<std::string, std::string> options_for(const TransformCodec& codec,
+                                               const std::map<std::string, std::string>& all) {
+  std::map<std::string, std::string> mine;
+  for (const auto& kv : all) {
+    const size_t dot = kv.first.find('.');
+    if (dot == std::string::npos) {
+      mine[kv.first] = kv.second;
+      continue;
+    }
+    const std::string prefix = kv.first.substr(0, dot);
+    if (!find_codec(prefix))
+      fail(ErrorCode::kInvalidParameter, "",
+           "--codec-opt " + kv.first + ": '" + prefix + "' is not a codec (ts, pdct)");
+    if (prefix == codec.name()) mine[kv.first.substr(dot + 1)] = kv.second;
+  }
+  return mine;
+}
+}  // namespace
+
 // "auto" tries every candidate stage on the whole take and keeps the smallest stream: the plain
 // coder ("none") first, then each registered transform. A transform that cannot run on this
 // take (e.g. pdct on fewer than 3 points) is skipped, never fatal, so auto is never worse than
 // "none". Encode time is the sum of all candidates' (about 3x), decode time is the winner's.
 std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, CompressStats* stats) {
   if (opts.codec != "auto") return compress_with_codec(take, opts, stats);
+  // Options are checked before any trial: a mistyped key is the user's error, not a reason to
+  // skip a codec. Under auto a key must name its codec ("ts.lpc_order=2").
+  for (const auto& kv : opts.codec_options)
+    if (kv.first.find('.') == std::string::npos)
+      fail(ErrorCode::kInvalidParameter, take.source,
+           "--codec auto: name the codec of option '" + kv.first + "' (e.g. ts." + kv.first + ")");
+  for (const TransformCodec* c : all_codecs()) {
+    TransformParams p;
+    p.clusters = opts.clusters;
+    p.options = options_for(*c, opts.codec_options);
+    c->check_params(p);
+  }
   CompressOptions o = opts;
   o.codec = "none";
+  o.codec_options.clear();
   CompressStats best_stats;
   std::vector<uint8_t> best = compress_with_codec(take, o, &best_stats);
   if (!opts.lossless) {
     for (const TransformCodec* c : all_codecs()) {
       o.codec = c->name();
+      o.codec_options = opts.codec_options;
       CompressStats st;
       std::vector<uint8_t> out;
       try {
@@ -368,14 +406,20 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
   if (!opts.codec.empty() && opts.codec != "none") {
     codec = find_codec(opts.codec);
     if (!codec) fail(ErrorCode::kInvalidParameter, src, "unknown codec '" + opts.codec + "'");
-    if (g.mode != PosMode::kGrid) codec = nullptr;  // float-bit lossless: prediction only
+  } else if (!opts.codec_options.empty()) {
+    fail(ErrorCode::kInvalidParameter, src,
+         "--codec-opt " + opts.codec_options.begin()->first + ": codec none takes no options");
   }
   TransformParams tparams;
   tparams.max_error = g.bound > 0 ? g.bound : g.step / 2;
   tparams.grid_step = g.step;
   tparams.kg_error = opts.kg_error;
   tparams.clusters = opts.clusters;
-  tparams.options = opts.codec_options;
+  if (codec) {
+    tparams.options = options_for(*codec, opts.codec_options);
+    codec->check_params(tparams);
+  }
+  if (g.mode != PosMode::kGrid) codec = nullptr;  // float-bit lossless: prediction only
 
   const size_t F = take.frames, N = take.points;
   const bool analog = take.analog.channels > 0 && take.analog.samples_per_frame > 0;
