@@ -429,7 +429,7 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
     fail(ErrorCode::kInvalidParameter, src, "analog values do not match frames x samples x channels");
   const bool words = take.c3d && take.c3d->residual.size() == F * N &&
                      take.c3d->camera_mask.size() == F * N;
-  const bool words_on_grid = words && residuals_on_grid(take.c3d->residual, take.c3d->point_scale);
+  const bool words_on_grid = words && residuals_on_grid(take.c3d->residual, take.valid, take.c3d->point_scale);
   const std::vector<uint8_t> kinds = analog ? analog_kinds(take.analog.values, take.analog.channels)
                                             : std::vector<uint8_t>();
 
@@ -486,7 +486,7 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
     if (words) {
       before = out.size();
       cw = encode_c3d_words(take.c3d->residual.data() + f0 * N, take.c3d->camera_mask.data() + f0 * N,
-                            fn * N, N, take.c3d->point_scale, words_on_grid);
+                            wi.valid.data(), fn * N, N, take.c3d->point_scale, words_on_grid);
       append_chunk(&out, "C3DW", with_window_index(w, 0xFF, cw));
       other += out.size() - before;
     }
@@ -545,7 +545,7 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
       if (words) {
         std::vector<float> r(fn * N);
         std::vector<uint8_t> cam(fn * N);
-        decode_c3d_words(cw.data(), cw.size(), fn * N, N,
+        decode_c3d_words(cw.data(), cw.size(), wi.valid.data(), fn * N, N,
                          take.c3d->point_scale, r.data(), cam.data(), what);
         if (std::memcmp(r.data(), take.c3d->residual.data() + f0 * N, fn * N * 4) != 0 ||
             std::memcmp(cam.data(), take.c3d->camera_mask.data() + f0 * N, fn * N) != 0)
@@ -735,7 +735,7 @@ void decode_window(const uint8_t* data, size_t size, const std::string& name, co
     open(cc, &cr);
     std::vector<float> r(fn * N);
     std::vector<uint8_t> cam(fn * N);
-    decode_c3d_words(cc.payload + cr.offset(), cc.size - cr.offset(), fn * N, N,
+    decode_c3d_words(cc.payload + cr.offset(), cc.size - cr.offset(), wi.valid.data(), fn * N, N,
                      out->c3d->point_scale, r.data(), cam.data(), cwhat);
     std::copy(r.begin() + static_cast<long>(f_lo * N), r.begin() + static_cast<long>(f_hi * N),
               out->c3d->residual.begin() + static_cast<long>(f_out * N));
