@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <map>
+#include <string>
 
 #include "capz/codec.h"
 #include "capz/error.h"
@@ -348,19 +350,55 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
                                          CompressStats* stats);
 }  // namespace
 
+namespace {
+// The --codec-opt keys meant for `codec`: a key "name.key" goes to the codec called name only
+// (a name that is no codec is an error); a bare key goes to whichever codec was chosen.
+std::map<std::string, std::string> options_for(const TransformCodec& codec,
+                                               const std::map<std::string, std::string>& all) {
+  std::map<std::string, std::string> mine;
+  for (const auto& kv : all) {
+    const size_t dot = kv.first.find('.');
+    if (dot == std::string::npos) {
+      mine[kv.first] = kv.second;
+      continue;
+    }
+    const std::string prefix = kv.first.substr(0, dot);
+    if (!find_codec(prefix))
+      fail(ErrorCode::kInvalidParameter, "",
+           "--codec-opt " + kv.first + ": '" + prefix + "' is not a codec (ts, pdct)");
+    if (prefix == codec.name()) mine[kv.first.substr(dot + 1)] = kv.second;
+  }
+  return mine;
+}
+}  // namespace
+
 // "auto" tries every candidate stage on the whole take and keeps the smallest stream: the plain
 // coder ("none") first, then each registered transform. A transform that cannot run on this
 // take (e.g. pdct on fewer than 3 points) is skipped, never fatal, so auto is never worse than
 // "none". Encode time is the sum of all candidates' (about 3x), decode time is the winner's.
 std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, CompressStats* stats) {
   if (opts.codec != "auto") return compress_with_codec(take, opts, stats);
+  // Options are checked before any trial: a mistyped key is the user's error, not a reason to
+  // skip a codec. Under auto a key must name its codec ("ts.lpc_order=2").
+  for (const auto& kv : opts.codec_options)
+    if (kv.first.find('.') == std::string::npos)
+      fail(ErrorCode::kInvalidParameter, take.source,
+           "--codec auto: name the codec of option '" + kv.first + "' (e.g. ts." + kv.first + ")");
+  for (const TransformCodec* c : all_codecs()) {
+    TransformParams p;
+    p.clusters = opts.clusters;
+    p.options = options_for(*c, opts.codec_options);
+    c->check_params(p);
+  }
   CompressOptions o = opts;
   o.codec = "none";
+  o.codec_options.clear();
   CompressStats best_stats;
   std::vector<uint8_t> best = compress_with_codec(take, o, &best_stats);
   if (!opts.lossless) {
     for (const TransformCodec* c : all_codecs()) {
       o.codec = c->name();
+      o.codec_options = opts.codec_options;
       CompressStats st;
       std::vector<uint8_t> out;
       try {
@@ -399,6 +437,9 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
   if (!opts.codec.empty() && opts.codec != "none") {
     codec = find_codec(opts.codec);
     if (!codec) fail(ErrorCode::kInvalidParameter, src, "unknown codec '" + opts.codec + "'");
+  } else if (!opts.codec_options.empty()) {
+    fail(ErrorCode::kInvalidParameter, src,
+         "--codec-opt " + opts.codec_options.begin()->first + ": codec none takes no options");
   }
   // Only a KG target and a transform: the transform's reconstruction is the output, no grid and
   // no bound layer (FORMAT.md 3.1 "transform output"); the transform meets the KG target itself.
@@ -417,13 +458,16 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
          "no error target: give a positive max error, a KG error target, or lossless");
   }
 
-  if (g.mode != PosMode::kGrid) codec = nullptr;  // float-bit lossless: prediction only
   TransformParams tparams;
   tparams.max_error = tout ? 0.0 : g.bound > 0 ? g.bound : g.step / 2;
   tparams.grid_step = g.step;
   tparams.kg_error = opts.kg_error;
   tparams.clusters = opts.clusters;
-  tparams.options = opts.codec_options;
+  if (codec) {
+    tparams.options = options_for(*codec, opts.codec_options);
+    codec->check_params(tparams);
+  }
+  if (g.mode != PosMode::kGrid) codec = nullptr;  // float-bit lossless: prediction only
 
   const size_t F = take.frames, N = take.points;
   const bool analog = take.analog.channels > 0 && take.analog.samples_per_frame > 0;
@@ -433,7 +477,7 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
     fail(ErrorCode::kInvalidParameter, src, "analog values do not match frames x samples x channels");
   const bool words = take.c3d && take.c3d->residual.size() == F * N &&
                      take.c3d->camera_mask.size() == F * N;
-  const bool words_on_grid = words && residuals_on_grid(take.c3d->residual, take.c3d->point_scale);
+  const bool words_on_grid = words && residuals_on_grid(take.c3d->residual, take.valid, take.c3d->point_scale);
   const std::vector<uint8_t> kinds = analog ? analog_kinds(take.analog.values, take.analog.channels)
                                             : std::vector<uint8_t>();
 
@@ -493,7 +537,7 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
     if (words) {
       before = out.size();
       cw = encode_c3d_words(take.c3d->residual.data() + f0 * N, take.c3d->camera_mask.data() + f0 * N,
-                            fn * N, N, take.c3d->point_scale, words_on_grid);
+                            wi.valid.data(), fn * N, N, take.c3d->point_scale, words_on_grid);
       append_chunk(&out, "C3DW", with_window_index(w, 0xFF, cw));
       other += out.size() - before;
     }
@@ -566,7 +610,7 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
       if (words) {
         std::vector<float> r(fn * N);
         std::vector<uint8_t> cam(fn * N);
-        decode_c3d_words(cw.data(), cw.size(), fn * N, N,
+        decode_c3d_words(cw.data(), cw.size(), wi.valid.data(), fn * N, N,
                          take.c3d->point_scale, r.data(), cam.data(), what);
         if (std::memcmp(r.data(), take.c3d->residual.data() + f0 * N, fn * N * 4) != 0 ||
             std::memcmp(cam.data(), take.c3d->camera_mask.data() + f0 * N, fn * N) != 0)
@@ -764,7 +808,7 @@ void decode_window(const uint8_t* data, size_t size, const std::string& name, co
     open(cc, &cr);
     std::vector<float> r(fn * N);
     std::vector<uint8_t> cam(fn * N);
-    decode_c3d_words(cc.payload + cr.offset(), cc.size - cr.offset(), fn * N, N,
+    decode_c3d_words(cc.payload + cr.offset(), cc.size - cr.offset(), wi.valid.data(), fn * N, N,
                      out->c3d->point_scale, r.data(), cam.data(), cwhat);
     std::copy(r.begin() + static_cast<long>(f_lo * N), r.begin() + static_cast<long>(f_hi * N),
               out->c3d->residual.begin() + static_cast<long>(f_out * N));

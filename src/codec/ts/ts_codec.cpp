@@ -308,6 +308,8 @@ Prepared prepare(const Base& base, int k, const Options& o, TsEncodeReport* rep)
 
 }  // namespace
 
+void TsCodec::check_params(const TransformParams& params) const { parse_options(params); }
+
 void TsCodec::encode(const PositionsView& in, const TransformParams& params,
                      std::vector<uint8_t>* out, std::vector<double>* recon) const {
   encode_report(in, params, out, recon, nullptr);
