@@ -492,7 +492,7 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
         if (tback != tpred) check_failed(take, w, std::string("codec ") + codec->name() +
                                                       " decodes differently than it encoded");
       }
-      decode_positions(pp, tback, f64, &back, what);
+      decode_positions(pp, tback, f64, kPositionScheme, &back, what);
       for (size_t i = 0; i < fn * N; ++i)
         if (wi.valid[i])
           for (size_t k = i * 3; k < i * 3 + 3; ++k)
@@ -549,13 +549,14 @@ struct Parsed {
   size_t first_window_offset = 0;
   size_t index_offset = 0;
   std::map<std::string, size_t> chunk_bytes;
-  int minor = 0;
+  int major = 1, minor = 0;
 };
 
 // Reads HEAD, META and INDX (walking the chunk headers to find it).
 Parsed parse_stream(const uint8_t* data, size_t size, const std::string& name) {
   Parsed ps;
   ps.minor = check_file_header(data, size, name);
+  ps.major = data[9];
   Chunk c = read_chunk(data, size, kFileHeaderBytes, name);
   if (c.type != "HEAD") fail(ErrorCode::kCorrupt, name, "first chunk is " + c.type + ", not HEAD");
   ps.h = decode_header(c, name);
@@ -670,7 +671,7 @@ void decode_window(const uint8_t* data, size_t size, const std::string& name, co
     tpred = grid_prediction(recon, h.step);
   }
   const bool f64 = h.mode == PosMode::kFloat64;
-  decode_positions(pp, tpred, f64, &wi, pwhat);
+  decode_positions(pp, tpred, f64, ps.major >= 2 ? 2 : 1, &wi, pwhat);
   Grid g;
   g.mode = h.mode;
   g.step = h.step;
