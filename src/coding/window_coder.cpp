@@ -336,9 +336,15 @@ inline float residual_from_grid(int32_t k, double scale) {
 }
 }  // namespace
 
-bool residuals_on_grid(const std::vector<float>& residual, double point_scale) {
-  if (!(point_scale > 0)) return false;
-  for (float r : residual) {
+bool residuals_on_grid(const std::vector<float>& residual, const std::vector<uint8_t>& valid,
+                       double point_scale) {
+  if (!(point_scale > 0) || valid.size() != residual.size()) return false;
+  for (size_t i = 0; i < residual.size(); ++i) {
+    const float r = residual[i];
+    if (!valid[i]) {
+      if (r != -1.0f) return false;
+      continue;
+    }
     double k = std::round(static_cast<double>(r) / point_scale);
     if (!(std::fabs(k) < 2e9)) return false;
     float back = residual_from_grid(static_cast<int32_t>(k), point_scale);
@@ -347,15 +353,18 @@ bool residuals_on_grid(const std::vector<float>& residual, double point_scale) {
   return true;
 }
 
-std::vector<uint8_t> encode_c3d_words(const float* residual, const uint8_t* camera, size_t count,
-                                      size_t points, double point_scale, bool on_grid) {
+std::vector<uint8_t> encode_c3d_words(const float* residual, const uint8_t* camera,
+                                      const uint8_t* valid, size_t count, size_t points,
+                                      double point_scale, bool on_grid) {
   IntEncoder enc(3);
   std::vector<int32_t> prev(points, 0), prev_d(points, 0);
   std::vector<uint8_t> prev_cam(points, 0);
   for (size_t i = 0; i < count; ++i) {
     const size_t p = i % points;
-    int32_t v = on_grid ? static_cast<int32_t>(std::round(residual[i] / point_scale))
-                        : float_to_ordered(residual[i]);
+    // Mode 0 gaps decode to -1 whatever is coded: repeat the previous value (difference 0).
+    int32_t v = !on_grid  ? float_to_ordered(residual[i])
+                : valid[i] ? static_cast<int32_t>(std::round(residual[i] / point_scale))
+                           : prev[p];
     int32_t d = wrap_sub(v, prev[p]);
     enc.put_signed(d, prev_d[p] == 0 ? 1 : 0);
     prev[p] = v;
@@ -369,8 +378,8 @@ std::vector<uint8_t> encode_c3d_words(const float* residual, const uint8_t* came
   return std::move(w.buffer());
 }
 
-void decode_c3d_words(const uint8_t* data, size_t size, size_t count, size_t points,
-                      double point_scale, float* residual, uint8_t* camera,
+void decode_c3d_words(const uint8_t* data, size_t size, const uint8_t* valid, size_t count,
+                      size_t points, double point_scale, float* residual, uint8_t* camera,
                       const std::string& what) {
   ByteReader r(data, size, what);
   uint8_t mode = r.u8();
@@ -386,7 +395,7 @@ void decode_c3d_words(const uint8_t* data, size_t size, size_t count, size_t poi
     int32_t v = wrap_add(prev[p], d);
     prev[p] = v;
     prev_d[p] = d;
-    residual[i] = mode == 0 ? residual_from_grid(v, point_scale) : ordered_to_float(v);
+    residual[i] = mode == 1 ? ordered_to_float(v) : valid[i] ? residual_from_grid(v, point_scale) : -1.0f;
     uint32_t c = dec.get(2);
     if (c > 255) fail(ErrorCode::kCorrupt, what, "camera byte out of range");
     camera[i] = static_cast<uint8_t>(c ^ prev_cam[p]);

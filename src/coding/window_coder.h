@@ -64,13 +64,17 @@ std::vector<uint8_t> encode_mask(const uint8_t* valid, size_t frames, size_t poi
 void decode_mask(const uint8_t* data, size_t size, size_t frames, size_t points, uint8_t* valid,
                  const std::string& what);
 
-// C3D residual (file units) and camera bytes of a window, frames x points each (3.5).
-// residual_on_grid: residuals are k * point_scale exactly (int16 files).
-std::vector<uint8_t> encode_c3d_words(const float* residual, const uint8_t* camera, size_t count,
-                                      size_t points, double point_scale, bool residual_on_grid);
-void decode_c3d_words(const uint8_t* data, size_t size, size_t count, size_t points,
-                      double point_scale, float* residual, uint8_t* camera, const std::string& what);
-bool residuals_on_grid(const std::vector<float>& residual, double point_scale);
+// C3D residual (file units) and camera bytes of a window, frames x points each (3.5), with the
+// window's gap mask `valid` (1 = valid). residual_on_grid (from residuals_on_grid()): every valid
+// sample's residual is float32(k * point_scale) exactly and every gap's is -1 (mode 0).
+std::vector<uint8_t> encode_c3d_words(const float* residual, const uint8_t* camera,
+                                      const uint8_t* valid, size_t count, size_t points,
+                                      double point_scale, bool residual_on_grid);
+void decode_c3d_words(const uint8_t* data, size_t size, const uint8_t* valid, size_t count,
+                      size_t points, double point_scale, float* residual, uint8_t* camera,
+                      const std::string& what);
+bool residuals_on_grid(const std::vector<float>& residual, const std::vector<uint8_t>& valid,
+                       double point_scale);
 
 // Analog samples of a window: rows x channels, row-major doubles (3.6). Kind per channel is
 // chosen over the whole take by analog_kinds() so every window agrees.
