@@ -695,7 +695,7 @@ void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut
           if (tback != tpred) check_failed(take, w, std::string("codec ") + codec->name() +
                                                         " decodes differently than it encoded");
         }
-        decode_positions(pp, tback, f64, &back, what);
+        decode_positions(pp, tback, f64, kPositionScheme, &back, what);
         for (size_t i = 0; i < fn * N; ++i)
           if (wi.valid[i])
             for (size_t k = i * 3; k < i * 3 + 3; ++k)
@@ -816,15 +816,16 @@ struct Parsed {
   size_t first_window_offset = 0;
   size_t index_offset = 0;
   std::map<std::string, size_t> chunk_bytes;
-  int minor = 0;
+  int major = 1, minor = 0;
 };
 
 // Reads HEAD, META and INDX (found from the end of the stream).
 Parsed parse_stream(StreamBytes& b, const std::string& name) {
   const size_t size = b.size();
   Parsed ps;
-  ps.minor = check_file_header(b.get(0, std::min(size, kFileHeaderBytes)),
-                               std::min(size, kFileHeaderBytes), name);
+  const uint8_t* fh = b.get(0, std::min(size, kFileHeaderBytes));
+  ps.minor = check_file_header(fh, std::min(size, kFileHeaderBytes), name);
+  ps.major = fh[9];
   Chunk c = chunk_at(b, kFileHeaderBytes, name);
   if (c.type != "HEAD") fail(ErrorCode::kCorrupt, name, "first chunk is " + c.type + ", not HEAD");
   ps.h = decode_header(c, name);
@@ -964,7 +965,8 @@ void decode_window(StreamBytes& bytes, const std::string& name, const Parsed& ps
     tpred = grid_prediction(recon, h.step);
   }
   const bool f64 = h.mode == PosMode::kFloat64;
-  if (!h.transform_output) decode_positions(pp, tpred, f64, &wi, pwhat);
+  if (!h.transform_output)
+    decode_positions(pp, tpred, f64, ps.major >= 2 ? 2 : 1, &wi, pwhat);
   if (C > 0 && S > 0 && fn * S * C > kMaxSymbolsPerByte * (end - base))
     fail(ErrorCode::kCorrupt, name, "analog window" + wname + " larger than its chunks can hold");
   out->reset(f0, fn, N, C > 0 && S > 0 ? S * C : 0, ps.words);
