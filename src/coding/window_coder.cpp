@@ -130,21 +130,33 @@ std::vector<uint32_t> ref_candidates(const int32_t* q, const uint8_t* valid, siz
   return cand;
 }
 
-// Estimated bits of point p under predictor `base` (previous or linear) plus reference r's
-// deviation, over frames 1.. of the window (q filled, as after a walk).
-void ref_cost(const int32_t* q, const uint8_t* valid, size_t frames, size_t points, size_t p,
-              size_t r, int base, TokenHist* h) {
+// Residuals of every sample under the previous (e[0]) and linear (e[1]) predictors, frames
+// 1.. of the window (q filled, as after a walk); frame 0 entries are 0.
+void base_residuals(const int32_t* q, size_t frames, size_t points, std::vector<int32_t> e[2]) {
+  const size_t stride = points * 3;
+  for (int b = 0; b < 2; ++b) e[b].assign(frames * stride, 0);
+  for (size_t f = 1; f < frames; ++f)
+    for (size_t k = 0; k < stride; ++k) {
+      const size_t i = f * stride + k;
+      e[0][i] = wrap_sub(q[i], q[i - stride]);
+      e[1][i] = f < 2 ? e[0][i] : wrap_sub(e[0][i], wrap_sub(q[i - stride], q[i - 2 * stride]));
+    }
+}
+
+// Adds to h the residuals of point p under base residuals e plus reference r's deviation, over
+// frames first, first + step, ... of the window (the reference predictors 5/6).
+void ref_cost(const std::vector<int32_t>& e, const uint8_t* valid, size_t frames, size_t points,
+              size_t p, size_t r, size_t first, size_t step, TokenHist* h) {
   const size_t stride = points * 3;
   int prev[3] = {0, 0, 0};
-  for (size_t f = 1; f < frames; ++f) {
+  for (size_t f = first; f < frames; f += step) {
     if (!valid[f * points + p]) continue;
-    const int32_t* c = q + f * stride + p * 3;
-    const int32_t* cr = q + f * stride + r * 3;
-    const bool rv = valid[f * points + r] != 0;
-    for (int a = 0; a < 3; ++a) {
-      int32_t pred = predict_one(base, f, c + a, stride, nullptr);
-      if (rv) pred = wrap_add(pred, wrap_sub(cr[a], predict_one(base, f, cr + a, stride, nullptr)));
-      prev[a] = h->add(wrap_sub(c[a], pred), prev[a]);
+    const int32_t* c = &e[f * stride + p * 3];
+    if (valid[f * points + r]) {
+      const int32_t* cr = &e[f * stride + r * 3];
+      for (int a = 0; a < 3; ++a) prev[a] = h->add(wrap_sub(c[a], cr[a]), prev[a]);
+    } else {
+      for (int a = 0; a < 3; ++a) prev[a] = h->add(c[a], prev[a]);
     }
   }
 }
@@ -165,44 +177,89 @@ std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uin
   // Predictor per point: the cheapest by an estimate of coded bits over the window.
   if (F > 1) {
     std::vector<uint64_t> best(N, UINT64_MAX);
-    std::vector<TokenHist> hist(N), first(N);
-    const int nmodes = t ? kPredRefPrevious : kPredTransform;
-    for (int m = 0; m < nmodes; ++m) {
-      std::vector<uint8_t> mm(N, static_cast<uint8_t>(m));
-      for (TokenHist& h : hist) h.clear();
-      std::fill(tok.begin(), tok.end(), 0);
-      CostCoder cc{q.data(), N, hist.data(), tok.data()};
-      walk_window(F, N, w.valid.data(), mm.data(), nullptr, t, q.data(), ctx, cc);
-      for (size_t p = 0; p < N; ++p) {
-        const uint64_t c = hist[p].bits16();
-        if (c < best[p]) best[p] = c, modes[p] = static_cast<uint8_t>(m);
-      }
-      if (m == kPredPrevious) {  // frame 0's share, the same for every non-transform predictor
-        for (TokenHist& h : first) h.clear();
+    std::vector<TokenHist> first(N);
+    // Frame 0's share (the `last` rule), the same for every non-transform predictor; the walk
+    // also fills frame 0's gaps. Then later gaps hold the previous frame's integers.
+    {
+      const std::vector<uint8_t> mm(N, static_cast<uint8_t>(kPredPrevious));
+      for (TokenHist& h : first) h.clear();
+      CostCoder c0{q.data(), N, first.data(), tok.data()};
+      walk_window(1, N, w.valid.data(), mm.data(), nullptr, t, q.data(), ctx, c0);
+      const size_t S = N * 3;
+      for (size_t f = 1; f < F; ++f)
+        for (size_t p = 0; p < N; ++p)
+          if (!w.valid[f * N + p])
+            std::copy(&q[(f - 1) * S + p * 3], &q[(f - 1) * S + p * 3 + 3], &q[f * S + p * 3]);
+    }
+    std::vector<int32_t> e[2];
+    base_residuals(q.data(), F, N, e);
+    {  // predictors 0-2 in one pass: residuals e0, e1 and e1[f] - e1[f-1] (quadratic)
+      std::vector<TokenHist> hist(3 * N);
+      std::vector<uint8_t> prev(9 * N, 0);  // [mode][point][axis]
+      for (size_t p = 0; p < N; ++p)
+        for (int m = 0; m < 3; ++m) hist[m * N + p] = first[p];
+      const size_t S = N * 3;
+      for (size_t f = 1; f < F; ++f)
+        for (size_t p = 0; p < N; ++p) {
+          if (!w.valid[f * N + p]) continue;
+          for (int a = 0; a < 3; ++a) {
+            const size_t i = f * S + p * 3 + a, k = p * 3 + static_cast<size_t>(a);
+            const int32_t r2 = f < 2 ? e[0][i] : f < 3 ? e[1][i] : wrap_sub(e[1][i], e[1][i - S]);
+            prev[k] = static_cast<uint8_t>(hist[p].add(e[0][i], prev[k]));
+            prev[S + k] = static_cast<uint8_t>(hist[N + p].add(e[1][i], prev[S + k]));
+            prev[2 * S + k] = static_cast<uint8_t>(hist[2 * N + p].add(r2, prev[2 * S + k]));
+          }
+        }
+      for (int m = 0; m < 3; ++m)
+        for (size_t p = 0; p < N; ++p) {
+          const uint64_t c = hist[m * N + p].bits16();
+          if (c < best[p]) best[p] = c, modes[p] = static_cast<uint8_t>(m);
+        }
+    }
+    if (t) {  // transform predictors: walks (their frame-0 rule and gap fill differ)
+      std::vector<int32_t> qt = q;
+      std::vector<TokenHist> hist(N);
+      for (int m = kPredTransform; m <= kPredTransformLinear; ++m) {
+        const std::vector<uint8_t> mm(N, static_cast<uint8_t>(m));
+        for (TokenHist& h : hist) h.clear();
         std::fill(tok.begin(), tok.end(), 0);
-        CostCoder c0{q.data(), N, first.data(), tok.data()};
-        walk_window(1, N, w.valid.data(), mm.data(), nullptr, t, q.data(), ctx, c0);
+        CostCoder cc{qt.data(), N, hist.data(), tok.data()};
+        walk_window(F, N, w.valid.data(), mm.data(), nullptr, t, qt.data(), ctx, cc);
+        for (size_t p = 0; p < N; ++p) {
+          const uint64_t c = hist[p].bits16();
+          if (c < best[p]) best[p] = c, modes[p] = static_cast<uint8_t>(m);
+        }
       }
     }
-    // Reference predictors (q is now filled as the walks leave it: estimates only).
+    // Reference predictors. Candidates are ranked on every `step`-th frame; the winner's full
+    // estimate then competes with the point's best predictor so far.
     if (scheme >= 2 && F > 2 && N > 1) {
       size_t K;
       std::vector<uint32_t> cand = ref_candidates(q.data(), w.valid.data(), F, N, &K);
-      for (size_t p = 1; p < N; ++p)
+      const size_t step = F >= 512 ? 8 : F >= 256 ? 4 : F >= 64 ? 2 : 1;
+      for (size_t p = 1; p < N; ++p) {
+        uint64_t rank = UINT64_MAX;
+        size_t best_r = 0;
+        int best_b = -1;
         for (size_t k = 0; k < K && cand[p * K + k] != UINT32_MAX; ++k)
-          for (int base = kPredPrevious; base <= kPredLinear; ++base) {
-            const size_t r = cand[p * K + k];
-            TokenHist h = first[p];
-            ref_cost(q.data(), w.valid.data(), F, N, p, r, base, &h);
+          for (int b = 0; b < 2; ++b) {
+            TokenHist h;
+            h.clear();
+            ref_cost(e[b], w.valid.data(), F, N, p, cand[p * K + k], 1, step, &h);
             const uint64_t c = h.bits16();
-            if (c < best[p]) {
-              best[p] = c;
-              modes[p] = static_cast<uint8_t>(base == kPredPrevious ? kPredRefPrevious
-                                                                    : kPredRefLinear);
-              ref[p] = static_cast<uint32_t>(r);
-            }
+            if (c < rank) rank = c, best_r = cand[p * K + k], best_b = b;
           }
-      for (size_t p = 0; p < N; ++p) any_ref = any_ref || uses_ref(modes[p]);
+        if (best_b < 0) continue;
+        TokenHist h = first[p];
+        ref_cost(e[best_b], w.valid.data(), F, N, p, best_r, 1, 1, &h);
+        const uint64_t c = h.bits16();
+        if (c < best[p]) {
+          best[p] = c;
+          modes[p] = static_cast<uint8_t>(best_b == 0 ? kPredRefPrevious : kPredRefLinear);
+          ref[p] = static_cast<uint32_t>(best_r);
+          any_ref = true;
+        }
+      }
     }
   } else if (t) {
     std::fill(modes.begin(), modes.end(), static_cast<uint8_t>(kPredTransform));
