@@ -478,16 +478,21 @@ inline int32_t analog_predict(int pred, const int32_t* v, size_t k) {
 
 std::vector<uint8_t> analog_kinds(const std::vector<double>& values, int channels) {
   std::vector<uint8_t> kinds(static_cast<size_t>(channels), kAnalogInt);
+  update_analog_kinds(values.data(), values.size(), channels, &kinds);
+  return kinds;
+}
+
+void update_analog_kinds(const double* values, size_t count, int channels,
+                         std::vector<uint8_t>* kinds) {
   const size_t C = static_cast<size_t>(channels);
-  for (size_t i = 0; i < values.size(); ++i) {
+  for (size_t i = 0; i < count; ++i) {
     const double v = values[i];
-    uint8_t& k = kinds[i % C];
+    uint8_t& k = (*kinds)[i % C];
     if (k == kAnalogInt && !(v == std::floor(v) && std::fabs(v) < 2147483647.0 &&
                              !(v == 0 && std::signbit(v))))
       k = kAnalogFloat32;
     if (k == kAnalogFloat32 && !is_float32(v)) k = kAnalogFloat64;
   }
-  return kinds;
 }
 
 std::vector<uint8_t> encode_analog(const double* rows, size_t nrows, int channels,
