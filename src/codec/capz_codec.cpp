@@ -85,6 +85,7 @@ struct TakeScan {
   double min_cheb = std::numeric_limits<double>::infinity();  // smallest max(|x|, |y|, |z|)
   std::vector<Grid> candidates;  // lossless grids in order of preference (lossless_candidates)
   std::vector<uint8_t> exact;    // per candidate: every valid coordinate reproduced exactly
+  bool lossless = false;         // a lossless target: all_float32 is tracked
   bool all_float32 = true;       // every valid coordinate is a float32 value
   bool words_on_grid = false;    // C3D residual words are point_scale multiples
   std::vector<uint8_t> kinds;    // analog channel kinds (window_coder.h)
@@ -129,6 +130,7 @@ TakeScan start_scan(const Take& hdr, const CompressOptions& opts) {
   s.words_on_grid = hdr.c3d && hdr.c3d->point_scale > 0;
   s.kinds.assign(static_cast<size_t>(std::max(0, hdr.analog.channels)), 0);
   s.kg = !opts.lossless && opts.kg_error > 0;
+  s.lossless = opts.lossless;
   return s;
 }
 
@@ -147,7 +149,7 @@ void scan_block(const FrameBlock& b, const std::string& src, bool words, double 
       const double ax = std::fabs(x[a]);
       s->max_abs = std::max(s->max_abs, ax);
       cheb = std::max(cheb, ax);
-      if (s->all_float32 && !is_float32(x[a])) s->all_float32 = false;
+      if (s->lossless && s->all_float32 && !is_float32(x[a])) s->all_float32 = false;
       for (size_t c = 0; c < s->candidates.size(); ++c)
         if (s->exact[c] && !grid_exact_at(s->candidates[c], x[a])) s->exact[c] = 0;
     }

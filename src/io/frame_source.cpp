@@ -9,6 +9,7 @@
 #include "core/atomic_file.h"
 #include "core/input_file.h"
 #include "io/c3d_internal.h"
+#include "io/trc_internal.h"
 
 namespace capz {
 
@@ -242,6 +243,38 @@ class C3DSink : public FrameSink {
   size_t written_ = 0;
 };
 
+// A TRC written as it comes: the header lines at once, then rows.
+class TRCSink : public FrameSink {
+ public:
+  TRCSink(const Take& header, const std::string& path, const WriteOptions& opts)
+      : header_(header), path_(path) {
+    file_.reset(new AtomicFile(path, opts.overwrite));
+    text_ = trc::header_text(header_, path_);
+  }
+  void write(const FrameBlock& b) override {
+    if (b.first != written_ || b.points != header_.points || written_ + b.frames > header_.frames)
+      fail(ErrorCode::kInternal, path_, "frames written out of order or beyond the header's count");
+    trc::append_rows(header_, b.first, b.frames, b.xyz.data(), b.valid.data(), &text_);
+    file_->write(text_.data(), text_.size());
+    text_.clear();
+    written_ += b.frames;
+  }
+  void commit() override {
+    if (written_ != header_.frames)
+      fail(ErrorCode::kInternal, path_,
+           std::to_string(written_) + " of " + std::to_string(header_.frames) + " frames written");
+    file_->write(text_.data(), text_.size());
+    file_->commit();
+  }
+
+ private:
+  Take header_;
+  std::string path_;
+  std::unique_ptr<AtomicFile> file_;
+  std::string text_;
+  size_t written_ = 0;
+};
+
 }  // namespace
 
 std::unique_ptr<FrameSource> open_c3d_frames(const std::string& path) {
@@ -265,8 +298,13 @@ std::unique_ptr<FrameSink> create_frame_sink(const Take& header, bool words,
   while (target.size() > 1 && target.back() == '/') target.pop_back();
   const bool int16_from_data = c3d::c3d_known_scale(header) == 0 && header.c3d &&
                                !header.c3d->float_storage && !opts.c3d_float;
-  if (!path.empty() && format_for_output(path) == Format::kC3D && !int16_from_data)
+  const Format f = path.empty() ? Format::kUnknown : format_for_output(path);
+  if (f == Format::kC3D && !int16_from_data)
     return std::unique_ptr<FrameSink>(new C3DSink(header, words, target, opts));
+  if (f == Format::kTRC) {
+    check_output_free(target, opts.overwrite);
+    return std::unique_ptr<FrameSink>(new TRCSink(header, target, opts));
+  }
   return std::unique_ptr<FrameSink>(new WholeTakeSink(header, words, path, opts));
 }
 
