@@ -65,7 +65,7 @@ struct EncCoder {
   const int32_t* q;
   const uint32_t* lo;
   int32_t operator()(size_t i, int32_t pred, int ctx, int* tok) {
-    *tok = enc->put_signed(wrap_sub(q[i], pred), ctx);
+    *tok = enc->put_signed(wrap_sub(q[i], pred), ctx, ResidualContexts::escape_set(ctx));
     if (lo) enc->raw_bits(lo[i], 32);
     return q[i];
   }
@@ -75,7 +75,7 @@ struct DecCoder {
   IntDecoder* dec;
   uint32_t* lo;
   int32_t operator()(size_t i, int32_t pred, int ctx, int* tok) {
-    int32_t r = dec->get_signed(ctx, tok);
+    int32_t r = dec->get_signed(ctx, tok, ResidualContexts::escape_set(ctx));
     if (lo) lo[i] = dec->raw_bits(32);
     return wrap_add(pred, r);
   }
