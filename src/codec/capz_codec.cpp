@@ -194,6 +194,36 @@ double centred_sq(const Take& t) {
   return cs;
 }
 
+// Squared error and centred energy (per-frame centroid, metrics.h) of a window's valid samples.
+double window_sq_error(size_t fn, size_t n, const double* a, const double* b, const uint8_t* valid) {
+  double s = 0;
+  for (size_t i = 0; i < fn * n; ++i)
+    if (valid[i])
+      for (size_t k = i * 3; k < i * 3 + 3; ++k) s += (a[k] - b[k]) * (a[k] - b[k]);
+  return s;
+}
+double centred_sq_window(size_t fn, size_t n, const double* x, const uint8_t* valid) {
+  double cs = 0;
+  for (size_t f = 0; f < fn; ++f) {
+    double c[3] = {0, 0, 0};
+    size_t m = 0;
+    for (size_t p = 0; p < n; ++p)
+      if (valid[f * n + p]) {
+        for (int a = 0; a < 3; ++a) c[a] += x[(f * n + p) * 3 + a];
+        ++m;
+      }
+    if (!m) continue;
+    for (double& v : c) v /= static_cast<double>(m);
+    for (size_t p = 0; p < n; ++p)
+      if (valid[f * n + p])
+        for (int a = 0; a < 3; ++a) {
+          const double d = x[(f * n + p) * 3 + a] - c[a];
+          cs += d * d;
+        }
+  }
+  return cs;
+}
+
 // The largest grid whose KG error is at or under `kg` percent (bisection on the step).
 Grid kg_grid(const Take& t, double kg) {
   const double cs = centred_sq(t);
@@ -346,8 +376,20 @@ std::vector<uint8_t> with_window_index(size_t w, uint8_t flag, const std::vector
 
 // ---------------------------------------------------------------------------------------------
 namespace {
+// allow_tout = false: a KG target with a transform goes through the grid (the fallback when the
+// transform's own reconstruction misses the target in some window).
 std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions& opts,
-                                         CompressStats* stats);
+                                         CompressStats* stats, bool allow_tout = true);
+// Thrown inside compress_with_codec when a transform-output window misses the KG target.
+struct TransformMissedTarget {};
+
+std::vector<uint8_t> compress_one(const Take& take, const CompressOptions& opts, CompressStats* stats) {
+  try {
+    return compress_with_codec(take, opts, stats);
+  } catch (const TransformMissedTarget&) {
+    return compress_with_codec(take, opts, stats, false);
+  }
+}
 }  // namespace
 
 namespace {
@@ -377,7 +419,7 @@ std::map<std::string, std::string> options_for(const TransformCodec& codec,
 // take (e.g. pdct on fewer than 3 points) is skipped, never fatal, so auto is never worse than
 // "none". Encode time is the sum of all candidates' (about 3x), decode time is the winner's.
 std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, CompressStats* stats) {
-  if (opts.codec != "auto") return compress_with_codec(take, opts, stats);
+  if (opts.codec != "auto") return compress_one(take, opts, stats);
   // Options are checked before any trial: a mistyped key is the user's error, not a reason to
   // skip a codec. Under auto a key must name its codec ("ts.lpc_order=2").
   for (const auto& kv : opts.codec_options)
@@ -402,7 +444,7 @@ std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, Com
       CompressStats st;
       std::vector<uint8_t> out;
       try {
-        out = compress_with_codec(take, o, &st);
+        out = compress_one(take, o, &st);
       } catch (const Error& e) {
         if (e.code() != ErrorCode::kInvalidParameter) throw;
         continue;  // this stage does not apply to the take
@@ -419,7 +461,7 @@ std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, Com
 
 namespace {
 std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions& opts,
-                                         CompressStats* stats) {
+                                         CompressStats* stats, bool allow_tout) {
   const std::string& src = take.source;
   if (take.xyz.size() != take.frames * take.points * 3 || take.valid.size() != take.frames * take.points)
     fail(ErrorCode::kInvalidParameter, src, "take arrays do not match its frame and point counts");
@@ -443,7 +485,8 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
   }
   // Only a KG target and a transform: the transform's reconstruction is the output, no grid and
   // no bound layer (FORMAT.md 3.1 "transform output"); the transform meets the KG target itself.
-  const bool tout = !opts.lossless && opts.kg_error > 0 && codec && take.points > 0 && take.frames > 0;
+  const bool tout = allow_tout && !opts.lossless && opts.kg_error > 0 && codec && take.points > 0 &&
+                    take.frames > 0;
   Grid g;
   if (tout) {
     g.mode = PosMode::kGrid;  // step 0, bound 0: nothing is quantised
@@ -571,6 +614,12 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
           check_failed(take, w, "coordinate " + std::to_string(orig[k]) + " comes back as " +
                                     std::to_string(rec[k]));
       }
+    }
+    if (tout) {  // each window within the KG target makes the take meet it (FORMAT.md 3.1)
+      const double kg = opts.kg_error / 100;
+      if (window_sq_error(fn, N, orig, rec.data(), wi.valid.data()) >
+          kg * kg * centred_sq_window(fn, N, orig, wi.valid.data()))
+        throw TransformMissedTarget();
     }
     acc.add(fn, N, orig, rec.data(), wi.valid.data());
 
