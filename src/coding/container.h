@@ -13,8 +13,8 @@
 namespace capz {
 
 constexpr uint8_t kCapzMagic[9] = {0x89, 'c', 'a', 'p', 'z', 0x0D, 0x0A, 0x1A, 0x0A};
-constexpr uint8_t kCapzMajor = 1;
-constexpr uint8_t kCapzMinor = 1;  // docs/FORMAT.md 2: what each minor version added
+constexpr uint8_t kCapzMajor = 2;
+constexpr uint8_t kCapzMinor = 0;  // docs/FORMAT.md 2: what each version added
 constexpr size_t kFileHeaderBytes = 11;  // magic + major + minor
 constexpr size_t kChunkOverhead = 12;    // type + length + crc
 
@@ -34,7 +34,11 @@ struct Chunk {
 // Checks magic (kNotOurFormat) and version (kUnsupportedVersion); returns the minor version.
 int check_file_header(const uint8_t* data, size_t size, const std::string& name);
 // Reads the chunk at `offset`: framing and CRC checked (kCorrupt naming the chunk and offset).
-Chunk read_chunk(const uint8_t* data, size_t size, size_t offset, const std::string& name);
+// `data` holds the stream's bytes from offset `base` on (base <= offset), `size` is where they
+// end: the bytes of the chunk at `offset` must be there (its first 8 suffice when its length
+// runs past `size`). Offsets in the result and in messages are stream offsets.
+Chunk read_chunk(const uint8_t* data, size_t size, size_t offset, const std::string& name,
+                 size_t base = 0);
 
 struct StreamHeader {
   uint64_t frames = 0;

@@ -33,8 +33,12 @@ struct GridInfo {
 // POSW payload after the window index and has_mask byte: codec bytes, modes, residuals.
 // `codec_payload` is what the transform codec wrote (empty if none), `tpred` its prediction on
 // the grid (frames x points x 3, empty if none).
+// `scheme` is the coding generation (FORMAT.md 3.3): 2 (format 2.x: reference predictors, 144
+// residual contexts), what capz writes; 1 (format 1.x) only for tests of old streams.
+constexpr int kPositionScheme = 2;
 std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uint8_t>& codec_payload,
-                                      const std::vector<int32_t>& tpred, bool float64);
+                                      const std::vector<int32_t>& tpred, bool float64,
+                                      int scheme = kPositionScheme);
 // Parses what encode_positions wrote from `r`'s current position to the end of the payload.
 // `codec_payload` receives the codec bytes; `make_tpred` is called with them to produce the
 // transform prediction when any point's predictor needs it (it throws if there is no codec).
@@ -48,10 +52,12 @@ struct PositionsPayload {
 };
 PositionsPayload split_positions(const uint8_t* data, size_t size, const std::string& what);
 // Decodes into w (frames, points, valid set by the caller). tpred may be empty if no codec.
+// `scheme`: 1 for a format 1.x stream, 2 for 2.x.
 void decode_positions(const PositionsPayload& pp, const std::vector<int32_t>& tpred, bool float64,
-                      WindowInts* w, const std::string& what);
-// Predictor modes of a payload (to know whether tpred is needed before decoding).
-std::vector<uint8_t> decode_modes(const PositionsPayload& pp, size_t points, const std::string& what);
+                      int scheme, WindowInts* w, const std::string& what);
+// Predictor modes of a payload.
+std::vector<uint8_t> decode_modes(const PositionsPayload& pp, size_t points, int scheme,
+                                  const std::string& what);
 
 // Gap mask: frames x points, 1 = valid. Runs per point (3.4).
 std::vector<uint8_t> encode_mask(const uint8_t* valid, size_t frames, size_t points);
@@ -73,6 +79,10 @@ bool residuals_on_grid(const std::vector<float>& residual, const std::vector<uin
 // Analog samples of a window: rows x channels, row-major doubles (3.6). Kind per channel is
 // chosen over the whole take by analog_kinds() so every window agrees.
 std::vector<uint8_t> analog_kinds(const std::vector<double>& values, int channels);
+// The same decision accumulated over consecutive blocks of whole rows (count values): start
+// from `channels` kinds of 0 (integers) and feed the blocks in order.
+void update_analog_kinds(const double* values, size_t count, int channels,
+                         std::vector<uint8_t>* kinds);
 std::vector<uint8_t> encode_analog(const double* rows, size_t nrows, int channels,
                                    const std::vector<uint8_t>& kinds);
 void decode_analog(const uint8_t* data, size_t size, size_t nrows, int channels, double* rows,
