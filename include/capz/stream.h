@@ -59,6 +59,12 @@ class FrameSource {
   virtual uint64_t bytes_read() const { return 0; }
 
  protected:
+  // Clips [*first, *first + *count) to the take's frames.
+  void clip(size_t* first, size_t* count) const {
+    *first = *first < header_.frames ? *first : header_.frames;
+    *count = *count < header_.frames - *first ? *count : header_.frames - *first;
+  }
+
   Take header_;
 };
 
