@@ -63,6 +63,19 @@ inline std::string num(double v, int digits = 4) {
   return buf;
 }
 
+// check_written.cpp. "" when `b` (decoded from the archive) reproduces `a` (the input): same
+// shape and gap mask, every valid coordinate within `bound` per coordinate (bit-identical when
+// `lossless`), and rate, units, first frame, labels, descriptions, analog channels and the format
+// extras a .capz keeps (C3D parameter section, header fields and events, residual/camera words;
+// TRC time and frame columns; PCD frame names) identical; else what differs first.
+std::string written_take_difference(const capz::Take& a, const capz::Take& b, double bound,
+                                    bool lossless);
+
+// `compress --rm`: reads OUT back from disk, decodes it and compares it with `input` (read from
+// IN) within the bound stored in OUT. On any difference or decoding error, removes OUT and throws
+// Error(kCorrupt) saying IN was kept.
+void check_written(const std::string& out, const std::string& in, const capz::Take& input);
+
 // `capz info` on a .capz (cmd_info_capz.cpp).
 int info_capz(const std::string& path, bool json);
 
