@@ -28,6 +28,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       try {
         if (c.type == "HEAD") {
           h = capz::decode_header(c, "fuzz.capz");
+          capz::check_header_fits(h, v.size(), "fuzz.capz");  // decode_meta's precondition
           have_head = true;
         } else if (c.type == "META" && have_head) {
           capz::Take t;
