@@ -7,6 +7,7 @@
 
 #include "capz/codec.h"
 #include "capz/io.h"
+#include "capz/metrics.h"
 #include "compress_common.h"
 
 namespace capz_cli {
@@ -50,13 +51,24 @@ std::string c3d_difference(const capz::C3DExtra& a, const capz::C3DExtra& b) {
 
 }  // namespace
 
-std::string written_take_difference(const capz::Take& a, const capz::Take& b, double bound,
-                                    bool lossless) {
+std::string written_take_difference(const capz::Take& a, const capz::Take& b,
+                                    const capz::StreamInfo& promise) {
+  const bool lossless = promise.lossless;
+  const double bound = promise.max_error;
   if (a.frames != b.frames || a.points != b.points)
     return "decodes to " + std::to_string(b.frames) + " frames x " + std::to_string(b.points) +
            " points instead of " + std::to_string(a.frames) + " x " + std::to_string(a.points);
   if (a.valid != b.valid) return "the gap mask differs";
-  for (size_t i = 0; i < a.frames * a.points; ++i) {
+  if (promise.transform_output) {  // only the KG target is promised (FORMAT.md 3.1)
+    for (size_t i = 0; i < a.frames * a.points; ++i)
+      if (a.valid[i])
+        for (size_t k = i * 3; k < i * 3 + 3; ++k)
+          if (!std::isfinite(b.xyz[k])) return "a coordinate at " + sample_name(a, i) + " is not finite";
+    const double kg = capz::compare(a, b).kg_error;
+    if (!(kg <= promise.kg_target * (1 + 1e-9)))
+      return "KG error " + num(kg, 6) + "% over its target " + num(promise.kg_target, 6) + "%";
+  }
+  for (size_t i = 0; i < a.frames * a.points && !promise.transform_output; ++i) {
     if (!a.valid[i]) continue;
     for (size_t k = i * 3; k < i * 3 + 3; ++k) {
       const double x = a.xyz[k], y = b.xyz[k];
@@ -104,7 +116,7 @@ void check_written(const std::string& out, const std::string& in, const capz::Ta
   try {
     const capz::StreamInfo si = capz::describe(bytes.data(), bytes.size(), out);
     const capz::Take back = capz::decompress(bytes.data(), bytes.size(), out);
-    what = written_take_difference(input, back, si.max_error, si.lossless);
+    what = written_take_difference(input, back, si);
   } catch (const capz::Error& e) {
     what = e.what();
   }

@@ -29,6 +29,7 @@ int info_capz(const std::string& path, bool json) {
     j.member("lossless", si.lossless);
     j.member("grid_step", si.step);
     j.member("max_error", si.max_error);
+    if (si.transform_output) j.member("kg_target", si.kg_target);
     j.member("window_frames", static_cast<uint64_t>(si.window_frames));
     j.member("windows", static_cast<uint64_t>(si.windows));
     j.member("analog_channels", si.analog_channels);
@@ -51,8 +52,9 @@ int info_capz(const std::string& path, bool json) {
   line("take:", std::to_string(si.frames) + " frames x " + std::to_string(si.points) + " points" +
                     (si.rate > 0 ? ", " + num(si.rate) + " Hz" : "") +
                     (si.units.empty() ? ", units unknown" : ", " + si.units));
-  line("coding:", si.mode + (si.lossless ? ", lossless" : ", bound " + num(si.max_error) + u +
-                                                               " per coordinate") +
+  line("coding:", si.mode + (si.lossless           ? ", lossless"
+                             : si.transform_output ? ", KG target " + num(si.kg_target) + "%, no bound"
+                                                   : ", bound " + num(si.max_error) + u + " per coordinate") +
                       (si.step > 0 ? ", grid step " + num(si.step, 6) + u : "") + ", codec " + si.codec);
   line("windows:", std::to_string(si.windows) + " of " + std::to_string(si.window_frames) + " frames");
   if (si.analog_channels > 0)

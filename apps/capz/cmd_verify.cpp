@@ -19,7 +19,8 @@ int cmd_verify(const Args& args) {
           "Decodes X.capz completely (every CRC, every window). With --against, compares\n"
           "the result with the original and prints the max error (per coordinate and\n"
           "Euclidean), RMSE, KG error and bpvf. Exit status 5 when the stream is damaged,\n"
-          "the stored bound does not hold, or the gap masks differ.",
+          "the stored bound (or, for a --kg-error transform stream, its KG target) does not\n"
+          "hold, or the gap masks differ.",
           o, "X.capz", &vm, &in))
     return 0;
 
@@ -30,7 +31,9 @@ int cmd_verify(const Args& args) {
   const double t_dec = thread_cpu_seconds() - c0;
   const double bp = capz::bpvf(bytes.size(), b.frames, b.points);
   const std::string u = b.units.empty() ? "" : " " + b.units;
-  const std::string bound = si.lossless ? "lossless" : "bound " + num(si.max_error) + u;
+  const std::string bound = si.lossless           ? "lossless"
+                            : si.transform_output ? "KG target " + num(si.kg_target) + "%"
+                                                  : "bound " + num(si.max_error) + u;
 
   capz::ErrorStats e;
   bool ok = true;
@@ -44,7 +47,11 @@ int cmd_verify(const Args& args) {
                      std::to_string(b.points) + " points, " + orig + " has " +
                      std::to_string(a.frames) + " x " + std::to_string(a.points));
     e = capz::compare(a, b);
-    ok = e.mask_mismatches == 0 && (si.lossless ? e.max_abs == 0 : e.max_abs <= si.max_error);
+    // A transform-output stream (only a KG target was given) promises its KG target, not a bound.
+    ok = e.mask_mismatches == 0 &&
+         (si.lossless           ? e.max_abs == 0
+          : si.transform_output ? e.kg_error <= si.kg_target * (1 + 1e-9)
+                                : e.max_abs <= si.max_error);
   }
   if (vm.count("json")) {
     Json j;
@@ -57,6 +64,7 @@ int cmd_verify(const Args& args) {
     j.member("bpvf", bp);
     j.member("lossless", si.lossless);
     j.member("bound", si.max_error);
+    if (si.transform_output) j.member("kg_target", si.kg_target);
     if (against) {
       j.member("against", vm["against"].as<std::string>());
       json_error_stats(&j, e);

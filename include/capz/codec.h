@@ -27,7 +27,9 @@ struct CompressOptions {
   // Exactly one target applies, in this order: lossless, kg_error (> 0), max_error (> 0).
   bool lossless = false;
   double kg_error = 0;   // KG error target in percent (metrics.h): the grid step is searched so
-                         // the achieved KG error is at or just under it
+                         // the achieved KG error is at or just under it; with a transform codec
+                         // the transform's reconstruction is the output instead and the
+                         // transform meets the target (no per-coordinate bound then)
   double max_error = 0;  // per-coordinate bound, in the take's own units
   std::string codec;     // "" or "none": temporal prediction only; a transform ("ts", ...);
                          // "auto": each of them on the whole take, the smallest kept
@@ -44,7 +46,8 @@ struct CompressStats {
   size_t raw_bytes = 0;        // frames x points x 3 x 4: the positions as raw float32
   double bpvf = 0;             // 8 * bytes / (frames * points)
   double step = 0;             // grid step used (0 for float-bit lossless coding)
-  std::string mode;            // "grid", "decimal-grid", "float32-bits", "float64-bits"
+  std::string mode;            // "grid", "decimal-grid", "float32-bits", "float64-bits",
+                               // "transform-output" (only a KG target and a transform)
   std::string codec;           // transform stage used: "none", "ts", "pdct" (what auto chose)
   bool lossless = false;
   ErrorStats error;            // achieved, over valid samples (zero when lossless)
@@ -73,6 +76,10 @@ struct StreamInfo {
   std::string mode;   // as CompressStats::mode
   std::string codec;  // "none", "ts", "pdct", or "id N" when unknown
   bool lossless = false;
+  // The transform's reconstruction is the output (only a KG target was given): no bound holds,
+  // max_error is 0, and kg_target is the KG error target (percent) the encoder met.
+  bool transform_output = false;
+  double kg_target = 0;
   double step = 0, max_error = 0;
   double rate = 0;
   std::string units;

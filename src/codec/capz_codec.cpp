@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <map>
+#include <string>
 
 #include "capz/codec.h"
 #include "capz/error.h"
@@ -283,6 +285,49 @@ std::vector<double> filled_window(const Take& t, size_t f0, size_t fn) {
   return x;
 }
 
+// POSW body with transform output (FORMAT.md 3.3): the codec block alone.
+std::vector<uint8_t> transform_only_positions(const std::vector<uint8_t>& codec_bytes) {
+  ByteWriter b;
+  b.varint(codec_bytes.size());
+  b.bytes(codec_bytes);
+  return std::move(b.buffer());
+}
+
+struct CodecOnly {
+  const uint8_t* data = nullptr;
+  size_t size = 0;
+};
+CodecOnly split_transform_only(const uint8_t* data, size_t size, const std::string& what) {
+  ByteReader r(data, size, what);
+  CodecOnly c;
+  const uint64_t n = r.varint();
+  if (n == 0 || n > r.remaining())
+    fail(ErrorCode::kCorrupt, what, "transform output: codec block length " + std::to_string(n) +
+                                        " with " + std::to_string(r.remaining()) + " bytes left");
+  c.size = static_cast<size_t>(n);
+  c.data = r.bytes(c.size);
+  if (r.remaining() != 0)
+    fail(ErrorCode::kCorrupt, what, "transform output: bytes after the codec block");
+  return c;
+}
+
+// Window positions with transform output: the codec's reconstruction of the valid samples.
+void decode_transform_output(const uint8_t* data, size_t size, const StreamHeader& h, size_t fn,
+                             const std::string& what, WindowInts* wi, std::vector<double>* xyz) {
+  const TransformCodec* codec = find_codec(h.codec);
+  if (!codec)
+    fail(ErrorCode::kUnsupportedVersion, what,
+         "stream uses transform codec id " + std::to_string(h.codec) + ", unknown to this capz");
+  const CodecOnly co = split_transform_only(data, size, what);
+  codec->decode(co.data, co.size, fn, h.points, xyz);
+  if (xyz->size() != fn * h.points * 3) fail(ErrorCode::kCorrupt, what, "codec payload has the wrong size");
+  for (size_t i = 0; i < fn * h.points; ++i)
+    if (wi->valid[i])
+      for (int a = 0; a < 3; ++a)
+        if (!std::isfinite((*xyz)[i * 3 + a]))
+          fail(ErrorCode::kCorrupt, what, "the transform reconstructs a non-finite value");
+}
+
 [[noreturn]] void check_failed(const Take& t, size_t w, const std::string& what) {
   fail(ErrorCode::kInternal, t.source,
        "self-check failed in window " + std::to_string(w) + ": " + what +
@@ -305,19 +350,55 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
                                          CompressStats* stats);
 }  // namespace
 
+namespace {
+// The --codec-opt keys meant for `codec`: a key "name.key" goes to the codec called name only
+// (a name that is no codec is an error); a bare key goes to whichever codec was chosen.
+std::map<std::string, std::string> options_for(const TransformCodec& codec,
+                                               const std::map<std::string, std::string>& all) {
+  std::map<std::string, std::string> mine;
+  for (const auto& kv : all) {
+    const size_t dot = kv.first.find('.');
+    if (dot == std::string::npos) {
+      mine[kv.first] = kv.second;
+      continue;
+    }
+    const std::string prefix = kv.first.substr(0, dot);
+    if (!find_codec(prefix))
+      fail(ErrorCode::kInvalidParameter, "",
+           "--codec-opt " + kv.first + ": '" + prefix + "' is not a codec (ts, pdct)");
+    if (prefix == codec.name()) mine[kv.first.substr(dot + 1)] = kv.second;
+  }
+  return mine;
+}
+}  // namespace
+
 // "auto" tries every candidate stage on the whole take and keeps the smallest stream: the plain
 // coder ("none") first, then each registered transform. A transform that cannot run on this
 // take (e.g. pdct on fewer than 3 points) is skipped, never fatal, so auto is never worse than
 // "none". Encode time is the sum of all candidates' (about 3x), decode time is the winner's.
 std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, CompressStats* stats) {
   if (opts.codec != "auto") return compress_with_codec(take, opts, stats);
+  // Options are checked before any trial: a mistyped key is the user's error, not a reason to
+  // skip a codec. Under auto a key must name its codec ("ts.lpc_order=2").
+  for (const auto& kv : opts.codec_options)
+    if (kv.first.find('.') == std::string::npos)
+      fail(ErrorCode::kInvalidParameter, take.source,
+           "--codec auto: name the codec of option '" + kv.first + "' (e.g. ts." + kv.first + ")");
+  for (const TransformCodec* c : all_codecs()) {
+    TransformParams p;
+    p.clusters = opts.clusters;
+    p.options = options_for(*c, opts.codec_options);
+    c->check_params(p);
+  }
   CompressOptions o = opts;
   o.codec = "none";
+  o.codec_options.clear();
   CompressStats best_stats;
   std::vector<uint8_t> best = compress_with_codec(take, o, &best_stats);
   if (!opts.lossless) {
     for (const TransformCodec* c : all_codecs()) {
       o.codec = c->name();
+      o.codec_options = opts.codec_options;
       CompressStats st;
       std::vector<uint8_t> out;
       try {
@@ -352,8 +433,21 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
         if (!std::isfinite(take.xyz[i * 3 + a]))
           fail(ErrorCode::kInvalidParameter, src, "a valid sample holds NaN or infinity");
 
+  const TransformCodec* codec = nullptr;
+  if (!opts.codec.empty() && opts.codec != "none") {
+    codec = find_codec(opts.codec);
+    if (!codec) fail(ErrorCode::kInvalidParameter, src, "unknown codec '" + opts.codec + "'");
+  } else if (!opts.codec_options.empty()) {
+    fail(ErrorCode::kInvalidParameter, src,
+         "--codec-opt " + opts.codec_options.begin()->first + ": codec none takes no options");
+  }
+  // Only a KG target and a transform: the transform's reconstruction is the output, no grid and
+  // no bound layer (FORMAT.md 3.1 "transform output"); the transform meets the KG target itself.
+  const bool tout = !opts.lossless && opts.kg_error > 0 && codec && take.points > 0 && take.frames > 0;
   Grid g;
-  if (opts.lossless) {
+  if (tout) {
+    g.mode = PosMode::kGrid;  // step 0, bound 0: nothing is quantised
+  } else if (opts.lossless) {
     g = lossless_grid(take);
   } else if (opts.kg_error > 0) {
     g = kg_grid(take, opts.kg_error);
@@ -364,18 +458,16 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
          "no error target: give a positive max error, a KG error target, or lossless");
   }
 
-  const TransformCodec* codec = nullptr;
-  if (!opts.codec.empty() && opts.codec != "none") {
-    codec = find_codec(opts.codec);
-    if (!codec) fail(ErrorCode::kInvalidParameter, src, "unknown codec '" + opts.codec + "'");
-    if (g.mode != PosMode::kGrid) codec = nullptr;  // float-bit lossless: prediction only
-  }
   TransformParams tparams;
-  tparams.max_error = g.bound > 0 ? g.bound : g.step / 2;
+  tparams.max_error = tout ? 0.0 : g.bound > 0 ? g.bound : g.step / 2;
   tparams.grid_step = g.step;
   tparams.kg_error = opts.kg_error;
   tparams.clusters = opts.clusters;
-  tparams.options = opts.codec_options;
+  if (codec) {
+    tparams.options = options_for(*codec, opts.codec_options);
+    codec->check_params(tparams);
+  }
+  if (g.mode != PosMode::kGrid) codec = nullptr;  // float-bit lossless: prediction only
 
   const size_t F = take.frames, N = take.points;
   const bool analog = take.analog.channels > 0 && take.analog.samples_per_frame > 0;
@@ -385,7 +477,7 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
     fail(ErrorCode::kInvalidParameter, src, "analog values do not match frames x samples x channels");
   const bool words = take.c3d && take.c3d->residual.size() == F * N &&
                      take.c3d->camera_mask.size() == F * N;
-  const bool words_on_grid = words && residuals_on_grid(take.c3d->residual, take.c3d->point_scale);
+  const bool words_on_grid = words && residuals_on_grid(take.c3d->residual, take.valid, take.c3d->point_scale);
   const std::vector<uint8_t> kinds = analog ? analog_kinds(take.analog.values, take.analog.channels)
                                             : std::vector<uint8_t>();
 
@@ -397,6 +489,8 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
   h.mode = g.mode;
   h.codec = codec ? codec->id() : 0;
   h.lossless = g.lossless;
+  h.transform_output = tout;
+  h.kg_target = tout ? opts.kg_error : 0.0;
   h.step = g.step;
   h.max_error = g.bound;
   h.analog_channels = static_cast<uint32_t>(C);
@@ -418,18 +512,19 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
     WindowInts wi = window_ints(take, g, f0, fn);
     std::vector<uint8_t> codec_bytes;
     std::vector<int32_t> tpred;
+    std::vector<double> recon;
     if (codec && N > 0) {
       std::vector<double> filled = filled_window(take, f0, fn);
       PositionsView view{fn, N, filled.data(), wi.valid.data()};
-      std::vector<double> recon;
       codec->encode(view, tparams, &codec_bytes, &recon);
       if (recon.size() != fn * N * 3)
         throw Error(ErrorCode::kInternal, std::string("codec ") + codec->name() +
                                               " returned a reconstruction of the wrong size");
-      tpred = grid_prediction(recon, g.step);
+      if (!tout) tpred = grid_prediction(recon, g.step);
     }
     const bool gaps = std::find(wi.valid.begin(), wi.valid.end(), 0) != wi.valid.end();
-    std::vector<uint8_t> pos = encode_positions(wi, codec_bytes, tpred, f64);
+    std::vector<uint8_t> pos = tout ? transform_only_positions(codec_bytes)
+                                    : encode_positions(wi, codec_bytes, tpred, f64);
     size_t before = out.size();
     append_chunk(&out, "POSW", with_window_index(w, gaps ? 1 : 0, pos));
     std::vector<uint8_t> mask;
@@ -442,7 +537,7 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
     if (words) {
       before = out.size();
       cw = encode_c3d_words(take.c3d->residual.data() + f0 * N, take.c3d->camera_mask.data() + f0 * N,
-                            fn * N, N, take.c3d->point_scale, words_on_grid);
+                            wi.valid.data(), fn * N, N, take.c3d->point_scale, words_on_grid);
       append_chunk(&out, "C3DW", with_window_index(w, 0xFF, cw));
       other += out.size() - before;
     }
@@ -460,11 +555,15 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
     std::vector<double> rec(fn * N * 3, 0.0);
     for (size_t i = 0; i < fn * N; ++i)
       if (wi.valid[i]) {
-        for (size_t k = i * 3; k < i * 3 + 3; ++k) rec[k] = dequantise(g, wi.q[k], f64 ? wi.lo[k] : 0);
+        for (size_t k = i * 3; k < i * 3 + 3; ++k) {
+          rec[k] = tout ? recon[k] : dequantise(g, wi.q[k], f64 ? wi.lo[k] : 0);
+          if (!std::isfinite(rec[k]))
+            check_failed(take, w, "a valid coordinate reconstructs to a non-finite value");
+        }
         keep_valid_off_origin(take.format, g.lossless, &rec[i * 3]);
       }
     const double* orig = take.xyz.data() + f0 * N * 3;
-    for (size_t i = 0; i < fn * N; ++i) {
+    for (size_t i = 0; i < fn * N && !tout; ++i) {  // transform output promises no bound
       if (!wi.valid[i]) continue;
       for (size_t k = i * 3; k < i * 3 + 3; ++k) {
         bool ok = g.lossless ? same_bits(rec[k], orig[k]) : std::fabs(rec[k] - orig[k]) <= g.bound;
@@ -483,25 +582,35 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
       back.valid.assign(fn * N, 1);
       if (gaps) decode_mask(mask.data(), mask.size(), fn, N, back.valid.data(), what);
       if (back.valid != wi.valid) check_failed(take, w, "gap mask differs");
-      PositionsPayload pp = split_positions(pos.data(), pos.size(), what);
-      std::vector<int32_t> tback;
-      if (codec && N > 0) {
-        std::vector<double> recon;
-        codec->decode(pp.codec_bytes, pp.codec_size, fn, N, &recon);
-        tback = grid_prediction(recon, g.step);
-        if (tback != tpred) check_failed(take, w, std::string("codec ") + codec->name() +
-                                                      " decodes differently than it encoded");
+      if (tout) {
+        const CodecOnly co = split_transform_only(pos.data(), pos.size(), what);
+        std::vector<double> rback;
+        codec->decode(co.data, co.size, fn, N, &rback);
+        if (rback.size() != recon.size() ||
+            std::memcmp(rback.data(), recon.data(), recon.size() * sizeof(double)) != 0)
+          check_failed(take, w, std::string("codec ") + codec->name() +
+                                    " decodes differently than it encoded");
+      } else {
+        PositionsPayload pp = split_positions(pos.data(), pos.size(), what);
+        std::vector<int32_t> tback;
+        if (codec && N > 0) {
+          std::vector<double> rback;
+          codec->decode(pp.codec_bytes, pp.codec_size, fn, N, &rback);
+          tback = grid_prediction(rback, g.step);
+          if (tback != tpred) check_failed(take, w, std::string("codec ") + codec->name() +
+                                                        " decodes differently than it encoded");
+        }
+        decode_positions(pp, tback, f64, kPositionScheme, &back, what);
+        for (size_t i = 0; i < fn * N; ++i)
+          if (wi.valid[i])
+            for (size_t k = i * 3; k < i * 3 + 3; ++k)
+              if (back.q[k] != wi.q[k] || (f64 && back.lo[k] != wi.lo[k]))
+                check_failed(take, w, "positions decode differently");
       }
-      decode_positions(pp, tback, f64, &back, what);
-      for (size_t i = 0; i < fn * N; ++i)
-        if (wi.valid[i])
-          for (size_t k = i * 3; k < i * 3 + 3; ++k)
-            if (back.q[k] != wi.q[k] || (f64 && back.lo[k] != wi.lo[k]))
-              check_failed(take, w, "positions decode differently");
       if (words) {
         std::vector<float> r(fn * N);
         std::vector<uint8_t> cam(fn * N);
-        decode_c3d_words(cw.data(), cw.size(), fn * N, N,
+        decode_c3d_words(cw.data(), cw.size(), wi.valid.data(), fn * N, N,
                          take.c3d->point_scale, r.data(), cam.data(), what);
         if (std::memcmp(r.data(), take.c3d->residual.data() + f0 * N, fn * N * 4) != 0 ||
             std::memcmp(cam.data(), take.c3d->camera_mask.data() + f0 * N, fn * N) != 0)
@@ -526,7 +635,7 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
     stats->bpvf = bpvf(out.size(), F, N);
     stats->step = g.mode == PosMode::kDecimal ? 1.0 / g.step
                   : (g.mode == PosMode::kGrid || g.mode == PosMode::kFloat32Grid) ? g.step : 0;
-    stats->mode = mode_name(g.mode);
+    stats->mode = tout ? "transform-output" : mode_name(g.mode);
     stats->lossless = g.lossless;
     stats->codec = codec ? codec->name() : "none";
     stats->error = acc.finish();
@@ -549,13 +658,14 @@ struct Parsed {
   size_t first_window_offset = 0;
   size_t index_offset = 0;
   std::map<std::string, size_t> chunk_bytes;
-  int minor = 0;
+  int major = 1, minor = 0;
 };
 
 // Reads HEAD, META and INDX (walking the chunk headers to find it).
 Parsed parse_stream(const uint8_t* data, size_t size, const std::string& name) {
   Parsed ps;
   ps.minor = check_file_header(data, size, name);
+  ps.major = data[9];
   Chunk c = read_chunk(data, size, kFileHeaderBytes, name);
   if (c.type != "HEAD") fail(ErrorCode::kCorrupt, name, "first chunk is " + c.type + ", not HEAD");
   ps.h = decode_header(c, name);
@@ -646,9 +756,15 @@ void decode_window(const uint8_t* data, size_t size, const std::string& name, co
     decode_mask(mc.payload + mr.offset(), mc.size - mr.offset(), fn, N, wi.valid.data(),
                 (name.empty() ? "" : name + ": ") + "chunk MASK" + wname);
   }
-  PositionsPayload pp = split_positions(pc.payload + pr.offset(), pc.size - pr.offset(), pwhat);
+  std::vector<double> tout_xyz;  // transform output (FORMAT.md 3.1): the reconstruction itself
+  if (h.transform_output)
+    decode_transform_output(pc.payload + pr.offset(), pc.size - pr.offset(), h, fn, pwhat, &wi,
+                            &tout_xyz);
+  PositionsPayload pp;
+  if (!h.transform_output)
+    pp = split_positions(pc.payload + pr.offset(), pc.size - pr.offset(), pwhat);
   std::vector<int32_t> tpred;
-  if (h.codec != 0 && N > 0) {
+  if (h.codec != 0 && N > 0 && !h.transform_output) {
     const TransformCodec* codec = find_codec(h.codec);
     if (!codec)
       fail(ErrorCode::kUnsupportedVersion, name,
@@ -659,7 +775,8 @@ void decode_window(const uint8_t* data, size_t size, const std::string& name, co
     tpred = grid_prediction(recon, h.step);
   }
   const bool f64 = h.mode == PosMode::kFloat64;
-  decode_positions(pp, tpred, f64, &wi, pwhat);
+  if (!h.transform_output)
+    decode_positions(pp, tpred, f64, ps.major >= 2 ? 2 : 1, &wi, pwhat);
   Grid g;
   g.mode = h.mode;
   g.step = h.step;
@@ -669,7 +786,9 @@ void decode_window(const uint8_t* data, size_t size, const std::string& name, co
       out->valid[o] = wi.valid[i];
       if (wi.valid[i]) {
         for (int a = 0; a < 3; ++a)
-          out->xyz[o * 3 + a] = dequantise(g, wi.q[i * 3 + a], f64 ? wi.lo[i * 3 + a] : 0);
+          out->xyz[o * 3 + a] = h.transform_output
+                                    ? tout_xyz[i * 3 + a]
+                                    : dequantise(g, wi.q[i * 3 + a], f64 ? wi.lo[i * 3 + a] : 0);
         keep_valid_off_origin(h.source_format, h.lossless, &out->xyz[o * 3]);
       }
     }
@@ -680,7 +799,7 @@ void decode_window(const uint8_t* data, size_t size, const std::string& name, co
     open(cc, &cr);
     std::vector<float> r(fn * N);
     std::vector<uint8_t> cam(fn * N);
-    decode_c3d_words(cc.payload + cr.offset(), cc.size - cr.offset(), fn * N, N,
+    decode_c3d_words(cc.payload + cr.offset(), cc.size - cr.offset(), wi.valid.data(), fn * N, N,
                      out->c3d->point_scale, r.data(), cam.data(), cwhat);
     std::copy(r.begin() + static_cast<long>(f_lo * N), r.begin() + static_cast<long>(f_hi * N),
               out->c3d->residual.begin() + static_cast<long>(f_out * N));
@@ -790,7 +909,9 @@ StreamInfo describe(const uint8_t* data, size_t size, const std::string& name) {
   si.points = ps.take.points;
   si.window_frames = ps.h.window_frames;
   si.windows = ps.h.windows();
-  si.mode = mode_name(ps.h.mode);
+  si.mode = ps.h.transform_output ? "transform-output" : mode_name(ps.h.mode);
+  si.transform_output = ps.h.transform_output;
+  si.kg_target = ps.h.kg_target;
   if (ps.h.codec == 0) {
     si.codec = "none";
   } else {

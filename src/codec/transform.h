@@ -34,6 +34,12 @@ class TransformCodec {
   virtual uint8_t id() const = 0;
   virtual const char* name() const = 0;  // "ts", "pdct"
 
+  // Throws Error(kInvalidParameter) when params.options holds a key this codec does not know
+  // or a value out of range (also params.clusters). Called before any encoding, so that a
+  // mistyped --codec-opt is an error even under --codec auto, which skips a codec whose
+  // encode() throws kInvalidParameter because it does not apply to the take.
+  virtual void check_params(const TransformParams& params) const = 0;
+
   // Encodes one window. Appends the payload to *out and sets *recon (frames x points x 3) to
   // exactly what decode() will return for that payload (the closed loop depends on it).
   // `in.valid` marks measured samples; gap samples carry filled values and may be predicted

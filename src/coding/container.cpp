@@ -109,11 +109,12 @@ std::vector<uint8_t> encode_header(const StreamHeader& h) {
   w.u8(static_cast<uint8_t>(h.source_format));
   w.u8(static_cast<uint8_t>(h.mode));
   w.u8(h.codec);
-  w.u8(h.lossless ? 1 : 0);
+  w.u8(static_cast<uint8_t>((h.lossless ? 1 : 0) | (h.transform_output ? 2 : 0)));
   w.f64(h.step);
   w.f64(h.max_error);
   w.u32(h.analog_channels);
   w.u32(h.analog_samples_per_frame);
+  if (h.transform_output) w.f64(h.kg_target);
   return std::move(w.buffer());
 }
 
@@ -137,7 +138,18 @@ StreamHeader decode_header(const Chunk& c, const std::string& name) {
     fail(ErrorCode::kCorrupt, what,
          "window of " + std::to_string(h.window_frames) + " frames (1.." +
              std::to_string(kMaxWindowFrames) + ")");
-  if ((mode == 0 || mode == 1 || mode == 4) && !(h.step > 0 && std::isfinite(h.step)))
+  if (flags > 3) fail(ErrorCode::kCorrupt, what, "unknown flag bits " + std::to_string(flags));
+  h.transform_output = (flags & 2) != 0;
+  if (h.transform_output) {  // FORMAT.md 3.1: the transform's reconstruction is the output
+    h.kg_target = r.f64();
+    if (flags & 1) fail(ErrorCode::kCorrupt, what, "transform output cannot be lossless");
+    if (h.codec == 0) fail(ErrorCode::kCorrupt, what, "transform output without a transform codec");
+    if (mode != 0 || h.step != 0 || h.max_error != 0)
+      fail(ErrorCode::kCorrupt, what, "transform output with a grid mode, step or bound");
+    if (h.points == 0) fail(ErrorCode::kCorrupt, what, "transform output without points");
+    if (!(h.kg_target > 0 && std::isfinite(h.kg_target)))
+      fail(ErrorCode::kCorrupt, what, "transform output: KG target is not a positive number");
+  } else if ((mode == 0 || mode == 1 || mode == 4) && !(h.step > 0 && std::isfinite(h.step)))
     fail(ErrorCode::kCorrupt, what, "grid step is not a positive number");
   if (h.frames > (uint64_t{1} << 40)) fail(ErrorCode::kCorrupt, what, "implausible frame count");
   if ((h.analog_channels == 0) != (h.analog_samples_per_frame == 0) && h.analog_channels != 0)

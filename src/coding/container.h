@@ -13,8 +13,8 @@
 namespace capz {
 
 constexpr uint8_t kCapzMagic[9] = {0x89, 'c', 'a', 'p', 'z', 0x0D, 0x0A, 0x1A, 0x0A};
-constexpr uint8_t kCapzMajor = 1;
-constexpr uint8_t kCapzMinor = 0;
+constexpr uint8_t kCapzMajor = 2;
+constexpr uint8_t kCapzMinor = 0;  // docs/FORMAT.md 2: what each version added
 constexpr size_t kFileHeaderBytes = 11;  // magic + major + minor
 constexpr size_t kChunkOverhead = 12;    // type + length + crc
 
@@ -44,6 +44,10 @@ struct StreamHeader {
   PosMode mode = PosMode::kGrid;
   uint8_t codec = 0;
   bool lossless = false;
+  // HEAD flags bit 1: positions are the transform's reconstruction, no grid and no bound layer
+  // (docs/FORMAT.md 3.1); kg_target (percent) is then stored after the analog fields.
+  bool transform_output = false;
+  double kg_target = 0;
   double step = 0;
   double max_error = 0;
   uint32_t analog_channels = 0;

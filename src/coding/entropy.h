@@ -43,6 +43,10 @@ constexpr int kEscapeLevels = 4;
 class IntEncoder {
  public:
   explicit IntEncoder(int contexts = 1) : models_(static_cast<size_t>(contexts)) {}
+  // Starts the context models skewed towards small tokens (SymbolModel::skew).
+  void skew_contexts() {
+    for (SymbolModel& m : models_) m.skew();
+  }
   // Codes u under context ctx (0 <= ctx < contexts); returns its token.
   int put(uint32_t u, int ctx) {
     int nbits;
@@ -111,6 +115,9 @@ class IntDecoder {
   // True when both parts of the block were consumed exactly (a valid block ends there).
   bool at_end() const { return rc_.at_end() && bits_.at_valid_end(); }
   RangeDecoder* coder() { return &rc_; }
+  void skew_contexts() {
+    for (SymbolModel& m : models_) m.skew();
+  }
 
  private:
   struct Split {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace capz {
 
@@ -16,10 +17,13 @@ enum Predictor : uint8_t {
   kPredQuadratic = 2,  // 3 q[f-1] - 3 q[f-2] + q[f-3]
   kPredTransform = 3,  // t[f]  (the transform codec's reconstruction on the grid)
   kPredTransformLinear = 4,  // t[f] + linear extrapolation of (q - t)
-  kPredCount = 5,
+  kPredRefPrevious = 5,      // q[f-1] + (q[f][r] - q[f-1][r]): reference point r < p's motion
+  kPredRefLinear = 6,        // linear(p) + (q[f][r] - linear(r)): r's deviation from linear
+  kPredCount = 7,
 };
 
-constexpr int kPosContexts = 32;
+// Predictors that add a reference point's motion (docs/FORMAT.md 3.3); ref[p] = r < p.
+inline bool uses_ref(int mode) { return mode == kPredRefPrevious || mode == kPredRefLinear; }
 
 inline int32_t wrap_add(int32_t a, int32_t b) {
   return static_cast<int32_t>(static_cast<uint32_t>(a) + static_cast<uint32_t>(b));
@@ -57,17 +61,42 @@ inline int32_t predict_one(int mode, size_t f, const int32_t* c, size_t stride,
   }
 }
 
-inline int pos_context(int ta, int tb) { return std::min(ta, 7) * 4 + std::min(tb, 3); }
+// Residual contexts of a window (docs/FORMAT.md 3.3.1). Per point and axis: `ta`, the token of
+// the last residual coded for it in this window, and `z`, the number of zero tokens ending there
+// (capped at 6). Scheme 1 (format 1.x): 32 contexts from ta and tb (the token coded just before
+// in the same frame). Scheme 2 (format 2.x): 144 contexts from ta or the zero run, tb, and the
+// larger of the other two axes' ta.
+class ResidualContexts {
+ public:
+  ResidualContexts(int scheme, size_t points)
+      : scheme_(scheme), ta_(points * 3, 0), z_(points * 3, 0) {}
+  static int count(int scheme) { return scheme == 1 ? 32 : 56; }
+  void reset() {
+    std::fill(ta_.begin(), ta_.end(), 0);
+    std::fill(z_.begin(), z_.end(), 0);
+  }
+  // Context of axis a of point p (k = 3 p + a, a = k % 3) when tb was coded last in the frame.
+  int context(size_t k, int tb) const {
+    const int ta = ta_[k];
+    if (scheme_ == 1) return std::min(ta, 7) * 4 + std::min(tb, 3);
 
-// Walks a window in coding order (docs/FORMAT.md 3.3): for every valid sample and axis calls
-// `code(index, prediction, context)`, which returns the sample's integer (the encoder returns
-// the true value after coding the residual, the decoder the prediction plus the decoded
-// residual) and stores it in q; fills gap samples by the hold rule. `modes` has one predictor
-// per point; `t` may be null if no point uses a transform predictor. `tok_of_last()` of the
-// coder gives the token of the last residual it coded.
+    static constexpr uint8_t kRunBucket[13] = {0, 1, 2, 3, 4, 4, 5, 5, 5, 6, 6, 6, 6};
+    const int s = ta ? 6 + std::min(ta, 7) : kRunBucket[z_[k]];
+    return s * 4 + std::min(tb, 3);
+  }
+  void update(size_t k, int tok) {
+    ta_[k] = static_cast<uint8_t>(tok);
+    z_[k] = tok ? 0 : static_cast<uint8_t>(std::min(z_[k] + 1, 12));
+  }
+
+ private:
+  int scheme_;
+  std::vector<uint8_t> ta_, z_;
+};
+
 template <typename Coder>
 void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8_t* modes,
-                 const int32_t* t, int32_t* q, uint8_t* tok_prev /* points*3, zeroed */,
+                 const uint32_t* ref, const int32_t* t, int32_t* q, ResidualContexts& ctx,
                  Coder& code) {
   const size_t stride = points * 3;
   for (size_t f = 0; f < frames; ++f) {
@@ -84,14 +113,22 @@ void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8
       }
       for (int a = 0; a < 3; ++a) {
         int32_t pred;
-        if (f == 0)
+        if (f == 0) {
           pred = transform ? t[i + a] : last[a];
-        else
+        } else if (uses_ref(m)) {
+          const int base = m == kPredRefPrevious ? kPredPrevious : kPredLinear;
+          pred = predict_one(base, f, q + i + a, stride, nullptr);
+          const size_t r = ref[p];
+          if (valid[f * points + r]) {
+            const int32_t* qr = q + f * stride + r * 3 + a;
+            pred = wrap_add(pred, wrap_sub(*qr, predict_one(base, f, qr, stride, nullptr)));
+          }
+        } else {
           pred = predict_one(m, f, q + i + a, stride, t ? t + i + a : nullptr);
-        uint8_t& ta = tok_prev[p * 3 + a];
+        }
         int tok;
-        q[i + a] = code(i + a, pred, pos_context(ta, tb), &tok);
-        ta = static_cast<uint8_t>(tok);
+        q[i + a] = code(i + a, pred, ctx.context(p * 3 + a, tb), &tok);
+        ctx.update(p * 3 + a, tok);
         tb = tok;
       }
       if (f == 0) std::copy(q + i, q + i + 3, last);

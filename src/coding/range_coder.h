@@ -188,6 +188,10 @@ class SymbolModel {
     for (int i = 0; i < kSymbols; ++i) c_[i] = static_cast<int16_t>(i * kT / kSymbols);
     c_[kSymbols] = kT;
   }
+  // Skewed start (FORMAT.md 1.2): c[i] = T - floor(T / 2^i), symbol i has about 2^-(i+1).
+  void skew() {
+    for (int i = 1; i < kSymbols; ++i) c_[i] = static_cast<int16_t>(kT - (kT >> i));
+  }
 
   void encode(RangeEncoder* enc, int s) {
     uint32_t lo = static_cast<uint32_t>(c_[s] + s);

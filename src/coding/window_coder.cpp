@@ -16,13 +16,46 @@ inline uint32_t bit_cost(int32_t r) {
   return u ? 33u - static_cast<uint32_t>(__builtin_clz(u)) : 0u;
 }
 
+// Token histogram of one point's residuals under 4 contexts (the previous token of the same
+// axis, capped at 3), for estimating its coded size: the conditional order-0 entropy of the
+// tokens (capped at 15) plus their raw bits.
+struct TokenHist {
+  uint32_t count[4][16];
+  uint64_t raw;
+  void clear() { std::memset(this, 0, sizeof *this); }
+  // Adds residual r after a residual of token `prev`; returns r's token.
+  int add(int32_t r, int prev) {
+    int nbits;
+    const int tok = token_of(zigzag(r), &nbits);
+    ++count[prev < 3 ? prev : 3][tok < 15 ? tok : 15];
+    raw += static_cast<uint64_t>(nbits) + (tok < 15 ? 0 : 4);
+    return tok;
+  }
+  // Estimated bits, in 1/16 bit units.
+  uint64_t bits16() const {
+    double e = 0;
+    for (int c = 0; c < 4; ++c) {
+      uint32_t n = 0;
+      for (int k = 0; k < 16; ++k)
+        if (count[c][k]) {
+          n += count[c][k];
+          e -= count[c][k] * std::log2(static_cast<double>(count[c][k]));
+        }
+      if (n) e += static_cast<double>(n) * std::log2(static_cast<double>(n));
+    }
+    return static_cast<uint64_t>(e * 16) + raw * 16;
+  }
+};
+
 struct CostCoder {
   const int32_t* q;
   size_t points;
-  uint64_t* cost;  // per point
+  TokenHist* hist;       // per point
+  uint8_t* prev;         // per point and axis: the last token, zeroed at the start
   int32_t operator()(size_t i, int32_t pred, int, int* tok) {
-    cost[(i / 3) % points] += bit_cost(wrap_sub(q[i], pred));
-    *tok = 0;
+    const size_t k = i % (points * 3);
+    *tok = hist[k / 3].add(wrap_sub(q[i], pred), prev[k]);
+    prev[k] = static_cast<uint8_t>(*tok);
     return q[i];
   }
 };
@@ -57,38 +90,195 @@ const uint8_t* get_block(ByteReader* r, size_t* n, const char* name) {
   return r->bytes(*n);
 }
 
+// Candidate reference points of every point p: up to kRefCandidates points r < p nearest to p
+// at p's first valid frame of the window, among those valid there (squared distance of the
+// integers; ties to the larger r). UINT32_MAX marks unused slots.
+std::vector<uint32_t> ref_candidates(const int32_t* q, const uint8_t* valid, size_t frames,
+                                     size_t points, size_t* per_point) {
+  constexpr size_t kRefCandidates = 16;
+  constexpr size_t kBruteForce = 4096;  // beyond: search only the 512 preceding indices
+  *per_point = kRefCandidates;
+  std::vector<uint32_t> cand(points * kRefCandidates, UINT32_MAX);
+  double d[kRefCandidates];
+  for (size_t p = 1; p < points; ++p) {
+    size_t f = 0;
+    while (f < frames && !valid[f * points + p]) ++f;
+    if (f == frames) continue;
+    const int32_t* qf = q + f * points * 3;
+    const uint8_t* vf = valid + f * points;
+    size_t n = 0;
+    const size_t lo = points <= kBruteForce || p < 512 ? 0 : p - 512;
+    uint32_t* c = &cand[p * kRefCandidates];
+    for (size_t r = p; r-- > lo;) {
+      if (!vf[r]) continue;
+      double dd = 0;
+      for (int a = 0; a < 3; ++a) {
+        const double x = static_cast<double>(qf[p * 3 + a]) - static_cast<double>(qf[r * 3 + a]);
+        dd += x * x;
+      }
+      if (n == kRefCandidates && dd >= d[n - 1]) continue;
+      size_t k = n < kRefCandidates ? n++ : n - 1;
+      while (k > 0 && d[k - 1] > dd) {
+        d[k] = d[k - 1];
+        c[k] = c[k - 1];
+        --k;
+      }
+      d[k] = dd;
+      c[k] = static_cast<uint32_t>(r);
+    }
+  }
+  return cand;
+}
+
+// Residuals of every sample under the previous (e[0]) and linear (e[1]) predictors, frames
+// 1.. of the window (q filled, as after a walk); frame 0 entries are 0.
+void base_residuals(const int32_t* q, size_t frames, size_t points, std::vector<int32_t> e[2]) {
+  const size_t stride = points * 3;
+  for (int b = 0; b < 2; ++b) e[b].assign(frames * stride, 0);
+  for (size_t f = 1; f < frames; ++f)
+    for (size_t k = 0; k < stride; ++k) {
+      const size_t i = f * stride + k;
+      e[0][i] = wrap_sub(q[i], q[i - stride]);
+      e[1][i] = f < 2 ? e[0][i] : wrap_sub(e[0][i], wrap_sub(q[i - stride], q[i - 2 * stride]));
+    }
+}
+
+// Adds to h the residuals of point p under base residuals e plus reference r's deviation, over
+// frames first, first + step, ... of the window (the reference predictors 5/6).
+void ref_cost(const std::vector<int32_t>& e, const uint8_t* valid, size_t frames, size_t points,
+              size_t p, size_t r, size_t first, size_t step, TokenHist* h) {
+  const size_t stride = points * 3;
+  int prev[3] = {0, 0, 0};
+  for (size_t f = first; f < frames; f += step) {
+    if (!valid[f * points + p]) continue;
+    const int32_t* c = &e[f * stride + p * 3];
+    if (valid[f * points + r]) {
+      const int32_t* cr = &e[f * stride + r * 3];
+      for (int a = 0; a < 3; ++a) prev[a] = h->add(wrap_sub(c[a], cr[a]), prev[a]);
+    } else {
+      for (int a = 0; a < 3; ++a) prev[a] = h->add(c[a], prev[a]);
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uint8_t>& codec_payload,
-                                      const std::vector<int32_t>& tpred, bool float64) {
+                                      const std::vector<int32_t>& tpred, bool float64,
+                                      int scheme) {
   const size_t F = w.frames, N = w.points;
   std::vector<int32_t> q = w.q;  // gap entries get filled by the walks
   std::vector<uint8_t> tok(N * 3);
+  ResidualContexts ctx(scheme, N);
   std::vector<uint8_t> modes(N);
+  std::vector<uint32_t> ref(N, 0);
+  bool any_ref = false;
   const int32_t* t = tpred.empty() ? nullptr : tpred.data();
   // Predictor per point: the cheapest by an estimate of coded bits over the window.
   if (F > 1) {
-    std::vector<uint64_t> best(N, UINT64_MAX), cost(N);
-    const int nmodes = t ? kPredCount : kPredTransform;
-    for (int m = 0; m < nmodes; ++m) {
-      std::vector<uint8_t> mm(N, static_cast<uint8_t>(m));
-      std::fill(cost.begin(), cost.end(), 0);
-      CostCoder cc{q.data(), N, cost.data()};
-      walk_window(F, N, w.valid.data(), mm.data(), t, q.data(), tok.data(), cc);
+    std::vector<uint64_t> best(N, UINT64_MAX);
+    std::vector<TokenHist> first(N);
+    // Frame 0's share (the `last` rule), the same for every non-transform predictor; the walk
+    // also fills frame 0's gaps. Then later gaps hold the previous frame's integers.
+    {
+      const std::vector<uint8_t> mm(N, static_cast<uint8_t>(kPredPrevious));
+      for (TokenHist& h : first) h.clear();
+      CostCoder c0{q.data(), N, first.data(), tok.data()};
+      walk_window(1, N, w.valid.data(), mm.data(), nullptr, t, q.data(), ctx, c0);
+      const size_t S = N * 3;
+      for (size_t f = 1; f < F; ++f)
+        for (size_t p = 0; p < N; ++p)
+          if (!w.valid[f * N + p])
+            std::copy(&q[(f - 1) * S + p * 3], &q[(f - 1) * S + p * 3 + 3], &q[f * S + p * 3]);
+    }
+    std::vector<int32_t> e[2];
+    base_residuals(q.data(), F, N, e);
+    {  // predictors 0-2 in one pass: residuals e0, e1 and e1[f] - e1[f-1] (quadratic)
+      std::vector<TokenHist> hist(3 * N);
+      std::vector<uint8_t> prev(9 * N, 0);  // [mode][point][axis]
       for (size_t p = 0; p < N; ++p)
-        if (cost[p] < best[p]) best[p] = cost[p], modes[p] = static_cast<uint8_t>(m);
+        for (int m = 0; m < 3; ++m) hist[m * N + p] = first[p];
+      const size_t S = N * 3;
+      for (size_t f = 1; f < F; ++f)
+        for (size_t p = 0; p < N; ++p) {
+          if (!w.valid[f * N + p]) continue;
+          for (int a = 0; a < 3; ++a) {
+            const size_t i = f * S + p * 3 + a, k = p * 3 + static_cast<size_t>(a);
+            const int32_t r2 = f < 2 ? e[0][i] : f < 3 ? e[1][i] : wrap_sub(e[1][i], e[1][i - S]);
+            prev[k] = static_cast<uint8_t>(hist[p].add(e[0][i], prev[k]));
+            prev[S + k] = static_cast<uint8_t>(hist[N + p].add(e[1][i], prev[S + k]));
+            prev[2 * S + k] = static_cast<uint8_t>(hist[2 * N + p].add(r2, prev[2 * S + k]));
+          }
+        }
+      for (int m = 0; m < 3; ++m)
+        for (size_t p = 0; p < N; ++p) {
+          const uint64_t c = hist[m * N + p].bits16();
+          if (c < best[p]) best[p] = c, modes[p] = static_cast<uint8_t>(m);
+        }
+    }
+    if (t) {  // transform predictors: walks (their frame-0 rule and gap fill differ)
+      std::vector<int32_t> qt = q;
+      std::vector<TokenHist> hist(N);
+      for (int m = kPredTransform; m <= kPredTransformLinear; ++m) {
+        const std::vector<uint8_t> mm(N, static_cast<uint8_t>(m));
+        for (TokenHist& h : hist) h.clear();
+        std::fill(tok.begin(), tok.end(), 0);
+        CostCoder cc{qt.data(), N, hist.data(), tok.data()};
+        walk_window(F, N, w.valid.data(), mm.data(), nullptr, t, qt.data(), ctx, cc);
+        for (size_t p = 0; p < N; ++p) {
+          const uint64_t c = hist[p].bits16();
+          if (c < best[p]) best[p] = c, modes[p] = static_cast<uint8_t>(m);
+        }
+      }
+    }
+    // Reference predictors. Candidates are ranked on every `step`-th frame; the winner's full
+    // estimate then competes with the point's best predictor so far.
+    if (scheme >= 2 && F > 2 && N > 1) {
+      size_t K;
+      std::vector<uint32_t> cand = ref_candidates(q.data(), w.valid.data(), F, N, &K);
+      const size_t step = F >= 512 ? 8 : F >= 256 ? 4 : F >= 64 ? 2 : 1;
+      for (size_t p = 1; p < N; ++p) {
+        uint64_t rank = UINT64_MAX;
+        size_t best_r = 0;
+        int best_b = -1;
+        for (size_t k = 0; k < K && cand[p * K + k] != UINT32_MAX; ++k)
+          for (int b = 0; b < 2; ++b) {
+            TokenHist h;
+            h.clear();
+            ref_cost(e[b], w.valid.data(), F, N, p, cand[p * K + k], 1, step, &h);
+            const uint64_t c = h.bits16();
+            if (c < rank) rank = c, best_r = cand[p * K + k], best_b = b;
+          }
+        if (best_b < 0) continue;
+        TokenHist h = first[p];
+        ref_cost(e[best_b], w.valid.data(), F, N, p, best_r, 1, 1, &h);
+        const uint64_t c = h.bits16();
+        if (c < best[p]) {
+          best[p] = c;
+          modes[p] = static_cast<uint8_t>(best_b == 0 ? kPredRefPrevious : kPredRefLinear);
+          ref[p] = static_cast<uint32_t>(best_r);
+          any_ref = true;
+        }
+      }
     }
   } else if (t) {
     std::fill(modes.begin(), modes.end(), static_cast<uint8_t>(kPredTransform));
   }
-  std::fill(tok.begin(), tok.end(), 0);
-  IntEncoder enc(kPosContexts);
+  ctx.reset();
+  IntEncoder enc(ResidualContexts::count(scheme));
+  if (scheme >= 2) enc.skew_contexts();
   EncCoder ec{&enc, q.data(), float64 ? w.lo.data() : nullptr};
-  walk_window(F, N, w.valid.data(), modes.data(), t, q.data(), tok.data(), ec);
+  walk_window(F, N, w.valid.data(), modes.data(), ref.data(), t, q.data(), ctx, ec);
 
   ByteWriter out;
   put_block(&out, codec_payload);
   put_block(&out, encode_ints(std::vector<int32_t>(modes.begin(), modes.end())));
+  if (any_ref) {
+    std::vector<uint32_t> dist;
+    for (size_t p = 0; p < N; ++p)
+      if (uses_ref(modes[p])) dist.push_back(static_cast<uint32_t>(p - 1 - ref[p]));
+    put_block(&out, encode_uints(dist));
+  }
   out.bytes(enc.finish());
   return std::move(out.buffer());
 }
@@ -103,32 +293,56 @@ PositionsPayload split_positions(const uint8_t* data, size_t size, const std::st
   return pp;
 }
 
-std::vector<uint8_t> decode_modes(const PositionsPayload& pp, size_t points,
+std::vector<uint8_t> decode_modes(const PositionsPayload& pp, size_t points, int scheme,
                                   const std::string& what) {
   std::vector<int32_t> m = decode_ints(pp.modes, pp.modes_size, points, what + " predictors");
   std::vector<uint8_t> modes(points);
   for (size_t p = 0; p < points; ++p) {
-    if (m[p] < 0 || m[p] >= kPredCount)
+    if (m[p] < 0 || m[p] >= (scheme >= 2 ? kPredCount : kPredRefPrevious))
       fail(ErrorCode::kCorrupt, what, "unknown predictor " + std::to_string(m[p]));
+    if (p == 0 && uses_ref(m[p]))
+      fail(ErrorCode::kCorrupt, what, "point 0 uses a reference predictor");
     modes[p] = static_cast<uint8_t>(m[p]);
   }
   return modes;
 }
 
 void decode_positions(const PositionsPayload& pp, const std::vector<int32_t>& tpred, bool float64,
-                      WindowInts* w, const std::string& what) {
+                      int scheme, WindowInts* w, const std::string& what) {
   const size_t F = w->frames, N = w->points;
-  std::vector<uint8_t> modes = decode_modes(pp, N, what);
-  for (uint8_t m : modes)
+  std::vector<uint8_t> modes = decode_modes(pp, N, scheme, what);
+  size_t nref = 0;
+  for (uint8_t m : modes) {
     if ((m == kPredTransform || m == kPredTransformLinear) && tpred.size() != F * N * 3)
       fail(ErrorCode::kCorrupt, what, "a point uses the transform predictor but no codec ran");
+    nref += uses_ref(m) ? 1 : 0;
+  }
+  const uint8_t* res = pp.residuals;
+  size_t res_size = pp.residuals_size;
+  std::vector<uint32_t> ref(N, 0);
+  if (nref > 0) {  // the reference block comes first in the rest of the payload (3.3)
+    ByteReader r(pp.residuals, pp.residuals_size, what);
+    size_t n;
+    const uint8_t* b = get_block(&r, &n, "reference block length");
+    std::vector<uint32_t> dist = decode_uints(b, n, nref, what + " references");
+    for (size_t p = 0, k = 0; p < N; ++p) {
+      if (!uses_ref(modes[p])) continue;
+      if (dist[k] > p - 1)
+        fail(ErrorCode::kCorrupt, what, "point " + std::to_string(p) + " refers to point -" +
+                                            std::to_string(dist[k] - (p - 1)));
+      ref[p] = static_cast<uint32_t>(p - 1 - dist[k++]);
+    }
+    res_size = r.remaining();
+    res = r.bytes(res_size);
+  }
   w->q.assign(F * N * 3, 0);
   if (float64) w->lo.assign(F * N * 3, 0);
-  std::vector<uint8_t> tok(N * 3);
-  IntDecoder dec(pp.residuals, pp.residuals_size, kPosContexts, what + " residuals");
+  ResidualContexts ctx(scheme, N);
+  IntDecoder dec(res, res_size, ResidualContexts::count(scheme), what + " residuals");
+  if (scheme >= 2) dec.skew_contexts();
   DecCoder dc{&dec, float64 ? w->lo.data() : nullptr};
-  walk_window(F, N, w->valid.data(), modes.data(), tpred.empty() ? nullptr : tpred.data(),
-              w->q.data(), tok.data(), dc);
+  walk_window(F, N, w->valid.data(), modes.data(), ref.data(),
+              tpred.empty() ? nullptr : tpred.data(), w->q.data(), ctx, dc);
   if (!dec.at_end()) fail(ErrorCode::kCorrupt, what, "residual block has bytes past its end");
 }
 
@@ -179,9 +393,15 @@ inline float residual_from_grid(int32_t k, double scale) {
 }
 }  // namespace
 
-bool residuals_on_grid(const std::vector<float>& residual, double point_scale) {
-  if (!(point_scale > 0)) return false;
-  for (float r : residual) {
+bool residuals_on_grid(const std::vector<float>& residual, const std::vector<uint8_t>& valid,
+                       double point_scale) {
+  if (!(point_scale > 0) || valid.size() != residual.size()) return false;
+  for (size_t i = 0; i < residual.size(); ++i) {
+    const float r = residual[i];
+    if (!valid[i]) {
+      if (r != -1.0f) return false;
+      continue;
+    }
     double k = std::round(static_cast<double>(r) / point_scale);
     if (!(std::fabs(k) < 2e9)) return false;
     float back = residual_from_grid(static_cast<int32_t>(k), point_scale);
@@ -190,15 +410,18 @@ bool residuals_on_grid(const std::vector<float>& residual, double point_scale) {
   return true;
 }
 
-std::vector<uint8_t> encode_c3d_words(const float* residual, const uint8_t* camera, size_t count,
-                                      size_t points, double point_scale, bool on_grid) {
+std::vector<uint8_t> encode_c3d_words(const float* residual, const uint8_t* camera,
+                                      const uint8_t* valid, size_t count, size_t points,
+                                      double point_scale, bool on_grid) {
   IntEncoder enc(3);
   std::vector<int32_t> prev(points, 0), prev_d(points, 0);
   std::vector<uint8_t> prev_cam(points, 0);
   for (size_t i = 0; i < count; ++i) {
     const size_t p = i % points;
-    int32_t v = on_grid ? static_cast<int32_t>(std::round(residual[i] / point_scale))
-                        : float_to_ordered(residual[i]);
+    // Mode 0 gaps decode to -1 whatever is coded: repeat the previous value (difference 0).
+    int32_t v = !on_grid  ? float_to_ordered(residual[i])
+                : valid[i] ? static_cast<int32_t>(std::round(residual[i] / point_scale))
+                           : prev[p];
     int32_t d = wrap_sub(v, prev[p]);
     enc.put_signed(d, prev_d[p] == 0 ? 1 : 0);
     prev[p] = v;
@@ -212,8 +435,8 @@ std::vector<uint8_t> encode_c3d_words(const float* residual, const uint8_t* came
   return std::move(w.buffer());
 }
 
-void decode_c3d_words(const uint8_t* data, size_t size, size_t count, size_t points,
-                      double point_scale, float* residual, uint8_t* camera,
+void decode_c3d_words(const uint8_t* data, size_t size, const uint8_t* valid, size_t count,
+                      size_t points, double point_scale, float* residual, uint8_t* camera,
                       const std::string& what) {
   ByteReader r(data, size, what);
   uint8_t mode = r.u8();
@@ -229,7 +452,7 @@ void decode_c3d_words(const uint8_t* data, size_t size, size_t count, size_t poi
     int32_t v = wrap_add(prev[p], d);
     prev[p] = v;
     prev_d[p] = d;
-    residual[i] = mode == 0 ? residual_from_grid(v, point_scale) : ordered_to_float(v);
+    residual[i] = mode == 1 ? ordered_to_float(v) : valid[i] ? residual_from_grid(v, point_scale) : -1.0f;
     uint32_t c = dec.get(2);
     if (c > 255) fail(ErrorCode::kCorrupt, what, "camera byte out of range");
     camera[i] = static_cast<uint8_t>(c ^ prev_cam[p]);

@@ -33,8 +33,12 @@ struct GridInfo {
 // POSW payload after the window index and has_mask byte: codec bytes, modes, residuals.
 // `codec_payload` is what the transform codec wrote (empty if none), `tpred` its prediction on
 // the grid (frames x points x 3, empty if none).
+// `scheme` is the coding generation (FORMAT.md 3.3): 2 (format 2.x: reference predictors, 144
+// residual contexts), what capz writes; 1 (format 1.x) only for tests of old streams.
+constexpr int kPositionScheme = 2;
 std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uint8_t>& codec_payload,
-                                      const std::vector<int32_t>& tpred, bool float64);
+                                      const std::vector<int32_t>& tpred, bool float64,
+                                      int scheme = kPositionScheme);
 // Parses what encode_positions wrote from `r`'s current position to the end of the payload.
 // `codec_payload` receives the codec bytes; `make_tpred` is called with them to produce the
 // transform prediction when any point's predictor needs it (it throws if there is no codec).
@@ -48,23 +52,29 @@ struct PositionsPayload {
 };
 PositionsPayload split_positions(const uint8_t* data, size_t size, const std::string& what);
 // Decodes into w (frames, points, valid set by the caller). tpred may be empty if no codec.
+// `scheme`: 1 for a format 1.x stream, 2 for 2.x.
 void decode_positions(const PositionsPayload& pp, const std::vector<int32_t>& tpred, bool float64,
-                      WindowInts* w, const std::string& what);
-// Predictor modes of a payload (to know whether tpred is needed before decoding).
-std::vector<uint8_t> decode_modes(const PositionsPayload& pp, size_t points, const std::string& what);
+                      int scheme, WindowInts* w, const std::string& what);
+// Predictor modes of a payload.
+std::vector<uint8_t> decode_modes(const PositionsPayload& pp, size_t points, int scheme,
+                                  const std::string& what);
 
 // Gap mask: frames x points, 1 = valid. Runs per point (3.4).
 std::vector<uint8_t> encode_mask(const uint8_t* valid, size_t frames, size_t points);
 void decode_mask(const uint8_t* data, size_t size, size_t frames, size_t points, uint8_t* valid,
                  const std::string& what);
 
-// C3D residual (file units) and camera bytes of a window, frames x points each (3.5).
-// residual_on_grid: residuals are k * point_scale exactly (int16 files).
-std::vector<uint8_t> encode_c3d_words(const float* residual, const uint8_t* camera, size_t count,
-                                      size_t points, double point_scale, bool residual_on_grid);
-void decode_c3d_words(const uint8_t* data, size_t size, size_t count, size_t points,
-                      double point_scale, float* residual, uint8_t* camera, const std::string& what);
-bool residuals_on_grid(const std::vector<float>& residual, double point_scale);
+// C3D residual (file units) and camera bytes of a window, frames x points each (3.5), with the
+// window's gap mask `valid` (1 = valid). residual_on_grid (from residuals_on_grid()): every valid
+// sample's residual is float32(k * point_scale) exactly and every gap's is -1 (mode 0).
+std::vector<uint8_t> encode_c3d_words(const float* residual, const uint8_t* camera,
+                                      const uint8_t* valid, size_t count, size_t points,
+                                      double point_scale, bool residual_on_grid);
+void decode_c3d_words(const uint8_t* data, size_t size, const uint8_t* valid, size_t count,
+                      size_t points, double point_scale, float* residual, uint8_t* camera,
+                      const std::string& what);
+bool residuals_on_grid(const std::vector<float>& residual, const std::vector<uint8_t>& valid,
+                       double point_scale);
 
 // Analog samples of a window: rows x channels, row-major doubles (3.6). Kind per channel is
 // chosen over the whole take by analog_kinds() so every window agrees.

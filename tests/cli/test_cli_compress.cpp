@@ -79,7 +79,7 @@ TEST(CliCompress, GivenC3DWhenCompressedWithJsonAndUnitsThenFieldsAndConversion)
   EXPECT_NE(r.out.find("\"encode_mb_per_s\""), std::string::npos);
   Result i = capz_cli("info '" + out + "'");
   EXPECT_EQ(i.status, 0);
-  EXPECT_NE(i.out.find("capz 1.0"), std::string::npos);
+  EXPECT_NE(i.out.find("capz 2."), std::string::npos);
   EXPECT_NE(i.out.find("POSW"), std::string::npos);
   EXPECT_EQ(capz_cli("info --json '" + out + "'").status, 0);
   // Frame range decode to a C3D.
@@ -119,7 +119,8 @@ std::vector<char> file_bytes(const std::string& path) {
 // failure is provoked with CAPZ_TEST_FLIP_WRITTEN_BYTE (a bit of the bytes read back is flipped,
 // as a disk returning bad data would): then IN stays byte-identical, the bad OUT is removed, and
 // one line on stderr says so, status 5. Without the fault the check passes on real files, lossy
-// (bound) and lossless, TRC and C3D with analog channels and parameters, and IN is removed.
+// (bound), lossless and a KG target with a transform (no bound: the KG target is checked), TRC
+// and C3D with analog channels and parameters, and IN is removed.
 TEST(CliCompress, GivenRmWhenWrittenOutputReadsBackWrongThenInputKeptElseRemoved) {
   capz_test::TempDir d("capz_cli_compress");
   struct Case {
@@ -128,7 +129,8 @@ TEST(CliCompress, GivenRmWhenWrittenOutputReadsBackWrongThenInputKeptElseRemoved
   const Case cases[] = {{kTrc, "walk.trc", "--max-error 0.5mm"},
                         {kTrc, "walk2.trc", "--lossless"},
                         {kC3d, "eb.c3d", "--max-error 1mm --codec ts"},
-                        {kC3d, "eb2.c3d", "--lossless"}};
+                        {kC3d, "eb2.c3d", "--lossless"},
+                        {kC3d, "eb3.c3d", "--kg-error 0.5 --codec ts"}};
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name + " " + c.opts);
     const std::string in = d.file(c.name), out = in + ".capz";

@@ -127,6 +127,42 @@ TEST(AnalogCoding, GivenIntFloatAndNaNChannelsThenExact) {
   EXPECT_EQ(std::memcmp(back.data(), v.data(), v.size() * 8), 0);
 }
 
+// C3D 4th words of a float file: residual = byte x scale for valid samples, -1 for gaps. With a
+// scale that does not divide 1 (Capture0004's 0.0581 mm) the gaps' -1 is off the grid; mode 0
+// must still apply (gaps decode to -1) and round-trip every word exactly.
+TEST(C3dWordCoding, GivenGapsAndScaleNotDividingOneThenGridModeAndExact) {
+  const double scale = 0.05810098350048065;
+  const size_t frames = 50, points = 6, n = frames * points;
+  std::mt19937 rng(7);
+  std::vector<float> residual(n);
+  std::vector<uint8_t> camera(n), valid(n);
+  for (size_t i = 0; i < n; ++i) {
+    valid[i] = rng() % 5 != 0;
+    residual[i] = valid[i] ? static_cast<float>((rng() % 12) * scale) : -1.0f;
+    camera[i] = valid[i] ? static_cast<uint8_t>(rng() % 4) : 0;
+  }
+  ASSERT_NE(static_cast<float>(std::round(-1.0 / scale) * scale), -1.0f);  // -1 is off the grid
+  ASSERT_TRUE(residuals_on_grid(residual, valid, scale));
+  std::vector<uint8_t> c = encode_c3d_words(residual.data(), camera.data(), valid.data(), n,
+                                            points, scale, true);
+  EXPECT_EQ(c[0], 0);  // mode 0
+  std::vector<float> r(n);
+  std::vector<uint8_t> cam(n);
+  decode_c3d_words(c.data(), c.size(), valid.data(), n, points, scale, r.data(), cam.data(), "t");
+  EXPECT_EQ(std::memcmp(r.data(), residual.data(), n * 4), 0);
+  EXPECT_EQ(cam, camera);
+  std::vector<uint8_t> bits = encode_c3d_words(residual.data(), camera.data(), valid.data(), n,
+                                               points, scale, false);
+  EXPECT_LT(c.size(), bits.size());
+  // A gap whose residual is not -1 cannot use mode 0.
+  for (size_t i = 0; i < n; ++i)
+    if (!valid[i]) {
+      residual[i] = 0.0f;
+      break;
+    }
+  EXPECT_FALSE(residuals_on_grid(residual, valid, scale));
+}
+
 TEST(Container, GivenBoundWhenRoundTrippedThenEveryCoordinateWithinBoundAndMaskExact) {
   Take t = synthetic(700, 12, 0.01, 1);
   for (double bound : {0.1, 1.0}) {

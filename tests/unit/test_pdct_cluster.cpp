@@ -4,7 +4,7 @@
 
 #include "codec/pdct/cluster.h"
 #include "codec/pdct/seeds.h"
-#include "pdct_synthetic.h"
+#include "synthetic.h"
 
 using namespace capz::pdct;
 

@@ -6,7 +6,7 @@
 #include "capz/error.h"
 #include "capz/metrics.h"
 #include "codec/pdct/pdct_codec.h"
-#include "pdct_synthetic.h"
+#include "synthetic.h"
 
 using capz::PdctCodec;
 using capz::TransformParams;

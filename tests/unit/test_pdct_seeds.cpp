@@ -6,7 +6,7 @@
 
 #include "codec/pdct/kdtree.h"
 #include "codec/pdct/seeds.h"
-#include "pdct_synthetic.h"
+#include "synthetic.h"
 
 using namespace capz::pdct;
 

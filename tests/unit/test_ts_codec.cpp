@@ -5,7 +5,7 @@
 #include "capz/error.h"
 #include "capz/metrics.h"
 #include "codec/ts/ts_codec.h"
-#include "ts_synth.h"
+#include "synthetic.h"
 
 using namespace capz;
 

@@ -49,6 +49,7 @@ class PdctCodec : public TransformCodec {
   static constexpr uint8_t kId = 2;
   uint8_t id() const override { return kId; }
   const char* name() const override { return "pdct"; }
+  void check_params(const TransformParams& params) const override { parse_pdct_options(params); }
   void encode(const PositionsView& in, const TransformParams& params, std::vector<uint8_t>* out,
               std::vector<double>* recon) const override;
   void decode(const uint8_t* data, size_t size, size_t frames, size_t points,

@@ -308,6 +308,8 @@ Prepared prepare(const Base& base, int k, const Options& o, TsEncodeReport* rep)
 
 }  // namespace
 
+void TsCodec::check_params(const TransformParams& params) const { parse_options(params); }
+
 void TsCodec::encode(const PositionsView& in, const TransformParams& params,
                      std::vector<uint8_t>* out, std::vector<double>* recon) const {
   encode_report(in, params, out, recon, nullptr);
@@ -410,10 +412,8 @@ void TsCodec::encode_report(const PositionsView& in, const TransformParams& para
   // Stage 2..4 for each cluster count tried; the smallest payload wins.
   std::vector<int> ks;
   const int kmax = static_cast<int>(std::min<size_t>(static_cast<size_t>(o.max_clusters), std::max<size_t>(nf, 1)));
-  if (params.clusters == -1) {
+  if (params.clusters <= 0) {  // auto (the default): the smallest payload of K = 1..max_clusters
     for (int k = 1; k <= kmax; ++k) ks.push_back(k);
-  } else if (params.clusters == 0) {
-    ks.push_back(std::min(2, kmax));
   } else {
     ks.push_back(static_cast<int>(std::min<size_t>(static_cast<size_t>(params.clusters), std::max<size_t>(nf, 1))));
   }

@@ -33,6 +33,7 @@ class TsCodec : public TransformCodec {
   static constexpr uint8_t kId = 1;
   uint8_t id() const override { return kId; }
   const char* name() const override { return "ts"; }
+  void check_params(const TransformParams& params) const override;
   void encode(const PositionsView& in, const TransformParams& params, std::vector<uint8_t>* out,
               std::vector<double>* recon) const override;
   void decode(const uint8_t* data, size_t size, size_t frames, size_t points,

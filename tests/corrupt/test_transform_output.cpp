@@ -1,0 +1,224 @@
+// Transform-output streams (docs/FORMAT.md 3.1, HEAD flags bit 1: the transform's reconstruction
+// is the output, no bound layer): a valid one decodes to the encoder's reconstruction and meets
+// its KG target; every inconsistent combination of flags and fields is rejected as corrupt.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "capz/codec.h"
+#include "capz/error.h"
+#include "capz/metrics.h"
+#include "coding/bytes.h"
+#include "coding/crc32c.h"
+
+namespace capz {
+namespace {
+
+struct Piece {
+  std::string type;
+  std::vector<uint8_t> payload;
+};
+
+// Splits a stream into its chunks (no checks: the input is one this test just wrote).
+std::vector<Piece> pieces(const std::vector<uint8_t>& b) {
+  std::vector<Piece> out;
+  for (size_t off = 11; off + 12 <= b.size();) {
+    const uint32_t n = static_cast<uint32_t>(b[off + 4]) | static_cast<uint32_t>(b[off + 5]) << 8 |
+                       static_cast<uint32_t>(b[off + 6]) << 16 | static_cast<uint32_t>(b[off + 7]) << 24;
+    out.push_back({std::string(b.begin() + static_cast<long>(off), b.begin() + static_cast<long>(off) + 4),
+                   std::vector<uint8_t>(b.begin() + static_cast<long>(off) + 8,
+                                        b.begin() + static_cast<long>(off + 8 + n))});
+    off += 12 + n;
+  }
+  return out;
+}
+
+// Reassembles chunks with valid CRCs and a recomputed INDX (one window per POSW; a window's
+// extent runs to the next POSW or to INDX), so only the deliberate change is wrong.
+std::vector<uint8_t> assemble(const std::vector<uint8_t>& original, std::vector<Piece> ps) {
+  std::vector<uint8_t> out(original.begin(), original.begin() + 11);
+  auto put = [&](const Piece& p) {
+    ByteWriter w;
+    for (char c : p.type) w.u8(static_cast<uint8_t>(c));
+    w.u32(static_cast<uint32_t>(p.payload.size()));
+    w.bytes(p.payload);
+    std::vector<uint8_t> tp(p.type.begin(), p.type.end());
+    tp.insert(tp.end(), p.payload.begin(), p.payload.end());
+    w.u32(crc32c(tp.data(), tp.size()));
+    out.insert(out.end(), w.buffer().begin(), w.buffer().end());
+  };
+  std::vector<uint64_t> starts;
+  for (const Piece& p : ps) {
+    if (p.type == "INDX") continue;
+    if (p.type == "POSW") starts.push_back(out.size());
+    put(p);
+  }
+  ByteWriter ix;
+  ix.varint(starts.size());
+  for (size_t w = 0; w < starts.size(); ++w) {
+    ix.u64(starts[w]);
+    ix.u64((w + 1 < starts.size() ? starts[w + 1] : out.size()) - starts[w]);
+  }
+  const uint32_t len = static_cast<uint32_t>(ix.buffer().size() + 4);
+  ix.u32(len);
+  put({"INDX", ix.buffer()});
+  return out;
+}
+
+Take smooth_take(size_t frames, size_t points) {
+  Take t;
+  t.format = Format::kPCDFolder;
+  t.resize(frames, points);
+  for (size_t f = 0; f < frames; ++f)
+    for (size_t p = 0; p < points; ++p) {
+      const double u = 0.3 * static_cast<double>(p), s = 0.2 * static_cast<double>(f);
+      t.at(f, p)[0] = std::cos(u) * (1 + 0.1 * std::sin(s + u));
+      t.at(f, p)[1] = std::sin(u) * (1 + 0.1 * std::cos(s));
+      t.at(f, p)[2] = 0.05 * static_cast<double>(p) + 0.2 * std::sin(s);
+      t.valid[f * points + p] = (f * 7 + p) % 23 != 0;  // a few gaps
+    }
+  return t;
+}
+
+std::vector<uint8_t> tout_stream(const Take& t) {
+  CompressOptions o;
+  o.codec = "ts";
+  o.kg_error = 0.5;
+  o.window_frames = 12;
+  return compress(t, o);
+}
+
+std::string decode_error(const std::vector<uint8_t>& b) {
+  try {
+    decompress(b.data(), b.size(), "crafted");
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << e.what();
+    return e.what();
+  }
+  return "";
+}
+
+TEST(TransformOutput, GivenKgTargetAndTsThenStreamIsTransformOutputAndMeetsTarget) {
+  const Take t = smooth_take(30, 40);
+  CompressOptions o;
+  o.codec = "ts";
+  o.kg_error = 0.5;
+  o.window_frames = 12;
+  CompressStats st;
+  std::vector<uint8_t> b = compress(t, o, &st);
+  EXPECT_EQ(st.mode, "transform-output");
+  const StreamInfo si = describe(b.data(), b.size());
+  EXPECT_TRUE(si.transform_output);
+  EXPECT_EQ(si.kg_target, 0.5);
+  EXPECT_EQ(si.max_error, 0.0);
+  const Take back = decompress(b.data(), b.size());
+  const ErrorStats e = compare(t, back);
+  EXPECT_EQ(e.mask_mismatches, 0u);
+  EXPECT_LE(e.kg_error, 0.5);
+  EXPECT_GT(e.kg_error, 0.05);  // the budget is spent, not wasted on an exact copy
+  EXPECT_EQ(e.max_abs, st.error.max_abs);  // the encoder reported what the decoder produces
+  for (const Piece& p : pieces(b))
+    if (p.type == "HEAD") {
+      EXPECT_EQ(p.payload[19], 2);
+    }
+}
+
+TEST(TransformOutput, GivenMaxErrorOrNoTransformThenBoundLayerAsBefore) {
+  const Take t = smooth_take(30, 40);
+  CompressOptions o;
+  o.codec = "none";
+  o.kg_error = 0.5;
+  CompressStats st;
+  std::vector<uint8_t> b = compress(t, o, &st);
+  EXPECT_EQ(st.mode, "grid");
+  EXPECT_FALSE(describe(b.data(), b.size()).transform_output);
+  o.codec = "ts";
+  o.kg_error = 0;
+  o.max_error = 0.01;
+  b = compress(t, o, &st);
+  EXPECT_EQ(st.mode, "grid");
+  EXPECT_LE(compare(t, decompress(b.data(), b.size())).max_abs, 0.01);
+}
+
+TEST(TransformOutput, GivenInconsistentHeadOrPositionsThenCorrupt) {
+  const Take t = smooth_take(30, 40);
+  const std::vector<uint8_t> good = tout_stream(t);
+  ASSERT_EQ(assemble(good, pieces(good)), good);  // the crafting helper itself is faithful
+  auto with_head = [&](auto change) {
+    std::vector<Piece> ps = pieces(good);
+    change(&ps[0].payload);
+    return assemble(good, ps);
+  };
+  auto set_f64 = [](std::vector<uint8_t>* h, size_t at, double v) {
+    uint64_t u;
+    std::memcpy(&u, &v, 8);
+    for (int i = 0; i < 8; ++i) (*h)[at + i] = static_cast<uint8_t>(u >> (8 * i));
+  };
+  // HEAD: frames u64 @0, points @8, window @12, format @16, mode @17, codec @18, flags @19,
+  // step @20, max_error @28, analog @36/@40, kg_target @44.
+  EXPECT_NE(decode_error(with_head([](std::vector<uint8_t>* h) { (*h)[19] = 3; })).find("lossless"),
+            std::string::npos);
+  EXPECT_NE(decode_error(with_head([](std::vector<uint8_t>* h) { (*h)[19] = 6; })).find("flag"),
+            std::string::npos);
+  EXPECT_NE(decode_error(with_head([](std::vector<uint8_t>* h) { (*h)[18] = 0; })).find("codec"),
+            std::string::npos);
+  EXPECT_NE(decode_error(with_head([](std::vector<uint8_t>* h) { (*h)[17] = 1; })).find("grid"),
+            std::string::npos);
+  EXPECT_NE(decode_error(with_head([&](std::vector<uint8_t>* h) { set_f64(h, 20, 0.01); })).find("step"),
+            std::string::npos);
+  EXPECT_NE(decode_error(with_head([&](std::vector<uint8_t>* h) { set_f64(h, 28, 0.01); })).find("bound"),
+            std::string::npos);
+  EXPECT_NE(decode_error(with_head([&](std::vector<uint8_t>* h) { set_f64(h, 44, NAN); })).find("KG target"),
+            std::string::npos);
+  EXPECT_NE(decode_error(with_head([&](std::vector<uint8_t>* h) { set_f64(h, 44, -1); })).find("KG target"),
+            std::string::npos);
+  EXPECT_FALSE(decode_error(with_head([](std::vector<uint8_t>* h) { h->resize(44); })).empty());
+  // The flag cleared (a grid stream with a step): POSW lacks the predictor and residual blocks.
+  EXPECT_FALSE(decode_error(with_head([&](std::vector<uint8_t>* h) {
+                 (*h)[19] = 0;
+                 set_f64(h, 20, 0.01);
+                 h->resize(44);
+               })).empty());
+  // POSW: a byte after the codec block; an empty codec block.
+  {
+    std::vector<Piece> ps = pieces(good);
+    for (Piece& p : ps)
+      if (p.type == "POSW") {
+        p.payload.push_back(0);
+        break;
+      }
+    EXPECT_NE(decode_error(assemble(good, ps)).find("after the codec block"), std::string::npos);
+  }
+  {
+    std::vector<Piece> ps = pieces(good);
+    for (Piece& p : ps)
+      if (p.type == "POSW") {  // window 0, has_mask, then codec length 0 and nothing else
+        p.payload.resize(3);
+        p.payload[2] = 0;
+        break;
+      }
+    EXPECT_NE(decode_error(assemble(good, ps)).find("codec block"), std::string::npos);
+  }
+  // A grid stream given the flag (and a KG target field) has codec 0 and a step: rejected.
+  {
+    const std::vector<uint8_t> grid = [&] {
+      CompressOptions o;
+      o.max_error = 0.01;
+      o.window_frames = 12;
+      return compress(t, o);
+    }();
+    std::vector<Piece> ps = pieces(grid);
+    ps[0].payload[19] = 2;
+    set_f64(&ps[0].payload, 28, 0);
+    ps[0].payload.resize(44);
+    std::vector<uint8_t> kg(8);
+    set_f64(&kg, 0, 0.5);
+    ps[0].payload.insert(ps[0].payload.end(), kg.begin(), kg.end());
+    EXPECT_FALSE(decode_error(assemble(grid, ps)).empty());
+  }
+}
+
+}  // namespace
+}  // namespace capz

@@ -1,0 +1,69 @@
+// The position coder's reference predictors (docs/FORMAT.md 3.3, predictors 5/6) on real data:
+// a mesh sequence's float32 bits (the lossless path) and grid integers, and a mocap take's grid
+// integers, are coded with references chosen by the encoder and decode to the same integers.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "capz/io.h"
+#include "coding/predict.h"
+#include "coding/quantiser.h"
+#include "coding/window_coder.h"
+
+namespace capz {
+namespace {
+
+const std::string kData = CAPZ_SHARED_DATA;
+
+// Integers of frames [0, frames) of t: ordered float32 bits (step 0) or round(x / step).
+WindowInts ints_of(const Take& t, size_t frames, double step) {
+  WindowInts w;
+  w.frames = std::min(frames, t.frames);
+  w.points = t.points;
+  w.valid.assign(t.valid.begin(), t.valid.begin() + static_cast<long>(w.frames * t.points));
+  w.q.resize(w.frames * t.points * 3);
+  for (size_t k = 0; k < w.q.size(); ++k) {
+    const double x = std::isfinite(t.xyz[k]) ? t.xyz[k] : 0.0;
+    w.q[k] = step > 0 ? round_to_int(x / step) : float_to_ordered(static_cast<float>(x));
+  }
+  return w;
+}
+
+size_t refs_and_check(const WindowInts& w) {
+  std::vector<uint8_t> pos = encode_positions(w, {}, {}, false);
+  PositionsPayload pp = split_positions(pos.data(), pos.size(), "test");
+  WindowInts back;
+  back.frames = w.frames;
+  back.points = w.points;
+  back.valid = w.valid;
+  decode_positions(pp, {}, false, kPositionScheme, &back, "test");
+  size_t diff = 0;
+  for (size_t i = 0; i < w.frames * w.points; ++i)
+    if (w.valid[i])
+      for (size_t k = i * 3; k < i * 3 + 3; ++k) diff += back.q[k] != w.q[k];
+  EXPECT_EQ(diff, 0u);
+  size_t refs = 0;
+  for (uint8_t m : decode_modes(pp, w.points, kPositionScheme, "test")) refs += uses_ref(m);
+  return refs;
+}
+
+TEST(PositionsReal, GivenMeshSequenceThenReferencesUsedAndExact) {
+  const std::string path = kData + "/pcd/chickenCrossing";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " missing";
+  Take t = read_take(path);
+  // Most vertices move with a neighbour: expect references for a clear majority of points.
+  EXPECT_GT(refs_and_check(ints_of(t, 40, 0)), t.points / 2);      // float32 bits (lossless)
+  EXPECT_GT(refs_and_check(ints_of(t, 40, 0.004)), t.points / 2);  // a grid
+}
+
+TEST(PositionsReal, GivenMocapTakeThenReferencesUsedAndExact) {
+  const std::string path = kData + "/c3d/c3dorg/sample_37/ART-Human_2persons_integer.c3d";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " missing";
+  Take t = read_take(path);
+  EXPECT_GT(refs_and_check(ints_of(t, 500, 2.0)), 0u);
+  EXPECT_GT(refs_and_check(ints_of(t, 500, 0.049)), 0u);
+}
+
+}  // namespace
+}  // namespace capz
