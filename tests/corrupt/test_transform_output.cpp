@@ -142,6 +142,30 @@ TEST(TransformOutput, GivenMaxErrorOrNoTransformThenBoundLayerAsBefore) {
   EXPECT_LE(compare(t, decompress(b.data(), b.size())).max_abs, 0.01);
 }
 
+// Found by fuzz_simple_round_trip (pdct, one point): with one point per frame KG's denominator (distance to the
+// frame centroid) is 0, so any lossy output has an infinite KG error. The encoder must not write
+// a stream whose HEAD promises a KG target its output misses: it refuses (kInvalidParameter, so
+// --codec auto skips the transform), and the same take with --codec auto still compresses.
+TEST(TransformOutput, GivenKgTargetTheTransformCannotMeetThenRefusedNotPromised) {
+  Take t = smooth_take(11, 1);
+  t.valid.assign(t.valid.size(), 1);
+  CompressOptions o;
+  o.codec = "pdct";
+  o.kg_error = 0.9;
+  o.window_frames = 4;
+  std::string msg;
+  try {
+    compress(t, o);
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInvalidParameter) << e.what();
+    msg = e.what();
+  }
+  EXPECT_NE(msg.find("output reaches only"), std::string::npos) << msg;
+  o.codec = "auto";
+  std::vector<uint8_t> b = compress(t, o);
+  EXPECT_FALSE(describe(b.data(), b.size()).transform_output);
+}
+
 TEST(TransformOutput, GivenInconsistentHeadOrPositionsThenCorrupt) {
   const Take t = smooth_take(30, 40);
   const std::vector<uint8_t> good = tout_stream(t);
