@@ -1,26 +1,45 @@
 // capz compress IN [-o OUT] [--max-error E | --kg-error X | --lossless] [--codec NAME] ...
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include "capz/codec.h"
 #include "capz/io.h"
+#include "capz/stream.h"
 #include "compress_common.h"
 
 namespace capz_cli {
 
 namespace {
 
-// Default bound for data without units: 1e-4 of the bounding-box diagonal of the valid samples.
-double unitless_default_bound(const capz::Take& take) {
+// One pass over the source: the bounding box of the valid samples and how many there are.
+struct ValidExtent {
   double lo[3] = {1e308, 1e308, 1e308}, hi[3] = {-1e308, -1e308, -1e308};
-  for (size_t i = 0; i < take.frames * take.points; ++i)
-    if (take.valid[i])
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = std::min(lo[a], take.xyz[i * 3 + a]);
-        hi[a] = std::max(hi[a], take.xyz[i * 3 + a]);
+  size_t valid = 0;
+};
+ValidExtent valid_extent(capz::FrameSource& src) {
+  ValidExtent e;
+  capz::FrameBlock b;
+  const size_t F = src.header().frames, B = src.preferred_block();
+  for (size_t f = 0; f < F; f += B) {
+    src.read(f, std::min(B, F - f), &b);
+    for (size_t i = 0; i < b.frames * b.points; ++i)
+      if (b.valid[i]) {
+        ++e.valid;
+        for (int a = 0; a < 3; ++a) {
+          e.lo[a] = std::min(e.lo[a], b.xyz[i * 3 + a]);
+          e.hi[a] = std::max(e.hi[a], b.xyz[i * 3 + a]);
+        }
       }
+  }
+  return e;
+}
+
+// Default bound for data without units: 1e-4 of the bounding-box diagonal of the valid samples.
+double unitless_default_bound(const ValidExtent& e) {
   double d2 = 0;
-  for (int a = 0; a < 3; ++a) d2 += hi[a] > lo[a] ? (hi[a] - lo[a]) * (hi[a] - lo[a]) : 0;
+  for (int a = 0; a < 3; ++a) d2 += e.hi[a] > e.lo[a] ? (e.hi[a] - e.lo[a]) * (e.hi[a] - e.lo[a]) : 0;
   return d2 > 0 ? 1e-4 * std::sqrt(d2) : 1e-4;
 }
 
@@ -81,13 +100,24 @@ int cmd_compress(const Args& args) {
   if (vm.count("rm") && fs::is_directory(in))
     capz::fail(capz::ErrorCode::kUsage, in, "--rm removes files only, not PCD folders");
 
-  const double c_read = thread_cpu_seconds();
-  capz::Take take = capz::read_take(in);
-  const double t_read = thread_cpu_seconds() - c_read;
-  if (take.units.empty() && !units.empty()) take.units = units;
-
   capz::CompressOptions opts;
   opts.codec = vm["codec"].as<std::string>();
+  // C3D inputs stream: the file is read a window at a time (twice: a scan that fixes the grid,
+  // then the coding pass), so memory stays bounded by the window. codec auto compares
+  // whole-take encodings and reads the take whole, as do TRC and PCD folder inputs.
+  const double c_read = thread_cpu_seconds();
+  capz::Take whole;
+  std::unique_ptr<capz::FrameSource> source;
+  if (opts.codec == "auto") {
+    whole = capz::read_take(in);
+    source = capz::take_frames(whole);
+  } else {
+    source = capz::open_frames(in);
+  }
+  const double t_read = thread_cpu_seconds() - c_read;
+  if (source->header().units.empty() && !units.empty()) source->edit_header().units = units;
+  if (opts.codec == "auto" && whole.units.empty()) whole.units = source->header().units;
+  const capz::Take& take = source->header();
   opts.clusters = vm["clusters"].as<int>();
   opts.window_frames = vm["window"].as<size_t>();
   opts.check = vm.count("no-check") == 0;
@@ -97,16 +127,17 @@ int cmd_compress(const Args& args) {
       if (eq == std::string::npos) throw po::error("--codec-opt wants key=value, got '" + kv + "'");
       opts.codec_options[kv.substr(0, eq)] = kv.substr(eq + 1);
     }
+  ValidExtent extent;
   if (vm.count("lossless")) {
     opts.lossless = true;
   } else if (vm.count("kg-error")) {
     opts.kg_error = vm["kg-error"].as<double>();
     if (!(opts.kg_error > 0))
       capz::fail(capz::ErrorCode::kInvalidParameter, "", "--kg-error must be > 0");
-  } else if (take.units.empty() && take.gap_samples() == take.frames * take.points) {
+  } else if (take.units.empty() && (extent = valid_extent(*source)).valid == 0) {
     opts.max_error = 1;  // no positions to bound (analog-only take): any bound will do
   } else if (!vm.count("max-error") && take.units.empty()) {
-    opts.max_error = unitless_default_bound(take);
+    opts.max_error = unitless_default_bound(extent);
   } else {
     opts.max_error = capz::parse_length(
         vm.count("max-error") ? vm["max-error"].as<std::string>() : "0.1mm", take.units);
@@ -116,18 +147,21 @@ int cmd_compress(const Args& args) {
   }
 
   capz::CompressStats st;
-  std::vector<uint8_t> bytes;
   const double c_enc = thread_cpu_seconds();
   {
     Progress progress("compress");
     opts.progress = [&](size_t d, size_t t) { progress(d, t); };
-    bytes = capz::compress(take, opts, &st);
+    if (opts.codec == "auto") {
+      std::vector<uint8_t> bytes = capz::compress(whole, opts, &st);
+      capz::AtomicFile f(out, force);
+      f.write(bytes);
+      f.commit();
+    } else {
+      capz::compress_stream(*source, opts, out, force, &st);
+    }
   }
   const double t_enc = thread_cpu_seconds() - c_enc;
   const uint64_t in_bytes = path_size(in);
-  capz::AtomicFile f(out, force);
-  f.write(bytes);
-  f.commit();
   if (vm.count("rm")) {
     check_written(out, in, take);  // like zstd: only a verified output lets IN go
     std::error_code ec;

@@ -1,8 +1,10 @@
 // capz decompress X.capz [-o OUT] [--frames FIRST:COUNT]
 #include <cstdio>
+#include <memory>
 
 #include "capz/codec.h"
 #include "capz/io.h"
+#include "capz/stream.h"
 #include "compress_common.h"
 
 namespace capz_cli {
@@ -56,43 +58,54 @@ int cmd_decompress(const Args& args) {
   std::string out = vm.count("output") ? vm["output"].as<std::string>() : "";
   if (!out.empty()) capz::check_output_free(out, force);
 
-  std::vector<uint8_t> bytes = capz::read_file(in);
   const double c0 = thread_cpu_seconds();
-  capz::Take take;
-  if (vm.count("frames")) {
+  capz::WriteOptions wo;
+  wo.overwrite = force;
+  size_t frames = 0, points = 0;
+  if (vm.count("frames")) {  // a range: decoded into memory (only the windows it touches)
     const std::string fr = vm["frames"].as<std::string>();
     unsigned long long a = 0, n = 0;
     char extra;
     if (std::sscanf(fr.c_str(), "%llu:%llu%c", &a, &n, &extra) != 2)
       throw po::error("--frames wants FIRST:COUNT, got '" + fr + "'");
-    take = capz::decompress_frames(bytes.data(), bytes.size(), a, n, in);
-  } else {
-    take = capz::decompress(bytes.data(), bytes.size(), in);
+    std::vector<uint8_t> bytes = capz::read_file(in);
+    capz::Take take = capz::decompress_frames(bytes.data(), bytes.size(), a, n, in);
+    if (out.empty()) {
+      out = default_output(in, take);
+      capz::check_output_free(strip_slashes(out), force);
+    }
+    capz::write_take(take, out, wo);
+    frames = take.frames;
+    points = take.points;
+  } else {  // the whole take: decoded and written window by window
+    std::unique_ptr<capz::FrameSource> src = capz::open_capz_frames(in);
+    const capz::Take& take = src->header();
+    if (out.empty()) {
+      out = default_output(in, take);
+      capz::check_output_free(strip_slashes(out), force);
+    }
+    std::unique_ptr<capz::FrameSink> sink =
+        capz::create_frame_sink(take, src->has_sample_words(), out, wo);
+    capz::copy_frames(*src, *sink, src->preferred_block());
+    frames = take.frames;
+    points = take.points;
   }
   const double t_dec = thread_cpu_seconds() - c0;
-  if (out.empty()) {
-    out = default_output(in, take);
-    capz::check_output_free(strip_slashes(out), force);
-  }
-  capz::WriteOptions wo;
-  wo.overwrite = force;
-  capz::write_take(take, out, wo);
-  const double raw = static_cast<double>(take.frames * take.points * 12);
+  const double raw = static_cast<double>(frames * points * 12);
   const double mbps = t_dec > 0 ? raw / 1e6 / t_dec : 0;
   if (vm.count("json")) {
     Json j;
     j.begin_object();
     j.member("input", in);
     j.member("output", out);
-    j.member("frames", static_cast<uint64_t>(take.frames));
-    j.member("points", static_cast<uint64_t>(take.points));
+    j.member("frames", static_cast<uint64_t>(frames));
+    j.member("points", static_cast<uint64_t>(points));
     j.member("decode_cpu_seconds", t_dec);
     j.member("decode_mb_per_s", mbps);
     j.end_object();
     std::printf("%s\n", j.str().c_str());
   } else if (g_verbosity >= 1) {
-    std::printf("%s -> %s: %zu frames x %zu points\n", in.c_str(), out.c_str(), take.frames,
-                take.points);
+    std::printf("%s -> %s: %zu frames x %zu points\n", in.c_str(), out.c_str(), frames, points);
     if (g_verbosity >= 2)
       std::printf("  cpu: decode %.3f s (%s MB/s of raw float32 positions)\n", t_dec,
                   num(mbps).c_str());

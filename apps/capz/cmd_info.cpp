@@ -8,10 +8,13 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "capz/error.h"
 #include "capz/io.h"
+#include "capz/stream.h"
 #include "cli_util.h"
 #include "commands.h"
 #include "compress_common.h"
@@ -53,16 +56,24 @@ struct Summary {
   double duration = 0;  // seconds, 0 when the rate is unknown
 };
 
-Summary summarise(const capz::Take& t) {
+// One pass over the frames, a block at a time (a C3D is read by frame ranges, so memory stays
+// bounded by the block).
+Summary summarise(capz::FrameSource& src) {
+  const capz::Take& t = src.header();
   Summary s;
   s.samples = t.frames * t.points;
-  s.gaps = t.gap_samples();
-  for (size_t p = 0; p < t.points; ++p)
-    for (size_t f = 0; f < t.frames; ++f)
-      if (!t.is_valid(f, p)) {
-        ++s.points_with_gaps;
-        break;
+  std::vector<uint8_t> has_gap(t.points, 0);
+  capz::FrameBlock b;
+  const size_t B = src.preferred_block();
+  for (size_t f0 = 0; f0 < t.frames; f0 += B) {
+    src.read(f0, std::min(B, t.frames - f0), &b);
+    for (size_t i = 0; i < b.frames * b.points; ++i)
+      if (!b.valid[i]) {
+        ++s.gaps;
+        has_gap[i % t.points] = 1;
       }
+  }
+  for (uint8_t g : has_gap) s.points_with_gaps += g;
   if (t.rate > 0) s.duration = static_cast<double>(t.frames) / t.rate;
   return s;
 }
@@ -91,8 +102,7 @@ std::string variant_text(const capz::Take& t) {
   return "";
 }
 
-void print_text(const std::string& path, const capz::Take& t) {
-  const Summary s = summarise(t);
+void print_text(const std::string& path, const capz::Take& t, const Summary& s) {
   auto line = [](const char* k, const std::string& v) { std::printf("%-10s %s\n", k, v.c_str()); };
   line("file:", path + " (" + human_size(path_size(path)) + ")");
   line("format:", std::string(capz::format_name(t.format)) + ": " + variant_text(t));
@@ -145,8 +155,7 @@ void print_text(const std::string& path, const capz::Take& t) {
   }
 }
 
-void print_json(const std::string& path, const capz::Take& t) {
-  const Summary s = summarise(t);
+void print_json(const std::string& path, const capz::Take& t, const Summary& s) {
   Json j;
   j.begin_object();
   j.member("file", path);
@@ -215,11 +224,14 @@ int cmd_info(const Args& args) {
 
   if (looks_like_capz(path)) return info_capz(path, vm.count("json") > 0);
 
-  capz::Take t = capz::read_take(path);
+  std::unique_ptr<capz::FrameSource> src = capz::open_frames(path);
+  const Summary s = summarise(*src);
+  capz::Take& t = src->edit_header();
+  for (const std::string& w : src->frame_warnings()) t.warnings.push_back(w);
   if (vm.count("json"))
-    print_json(path, t);
+    print_json(path, t, s);
   else
-    print_text(path, t);
+    print_text(path, t, s);
   return 0;
 }
 

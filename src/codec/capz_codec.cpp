@@ -7,10 +7,14 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <memory>
 #include <string>
 
 #include "capz/codec.h"
 #include "capz/error.h"
+#include "capz/stream.h"
+#include "core/atomic_file.h"
+#include "core/input_file.h"
 #include "codec/registry.h"
 #include "coding/bytes.h"
 #include "coding/container.h"
@@ -66,42 +70,46 @@ bool c3d_int16(const Take& t) {
   return t.c3d && !t.c3d->float_storage && t.c3d->point_scale > 0;
 }
 
-double max_abs_coordinate(const Take& t) {
-  double m = 0;
-  for (size_t i = 0; i < t.frames * t.points; ++i)
-    if (t.valid[i])
-      for (int a = 0; a < 3; ++a) m = std::max(m, std::fabs(t.xyz[i * 3 + a]));
-  return m;
+// True when grid g reproduces coordinate x exactly (bit for bit).
+inline bool grid_exact_at(const Grid& g, double x) {
+  const double v = g.mode == PosMode::kDecimal ? x * g.step : x / g.step;
+  if (!(std::fabs(v) <= kMaxGridIndex)) return false;
+  return same_bits(dequantise(g, round_to_int(v), 0), x);
 }
 
-// True when every valid coordinate is exactly reproduced by grid g (bit for bit).
-bool grid_exact(const Take& t, const Grid& g) {
-  const double limit = kMaxGridIndex;
-  for (size_t i = 0; i < t.frames * t.points; ++i) {
-    if (!t.valid[i]) continue;
-    for (int a = 0; a < 3; ++a) {
-      const double x = t.xyz[i * 3 + a];
-      const double v = g.mode == PosMode::kDecimal ? x * g.step : x / g.step;
-      if (!(std::fabs(v) <= limit)) return false;
-      if (!same_bits(dequantise(g, round_to_int(v), 0), x)) return false;
-    }
-  }
-  return true;
-}
+// What choosing the grid needs to know of every valid sample, gathered in one pass over the
+// take (a block of frames at a time, blocks in order). Each field equals what a pass over the
+// whole take computes: maxima, minima, all-of flags and in-order sums.
+struct TakeScan {
+  double max_abs = 0;  // largest |coordinate|
+  double min_cheb = std::numeric_limits<double>::infinity();  // smallest max(|x|, |y|, |z|)
+  std::vector<Grid> candidates;  // lossless grids in order of preference (lossless_candidates)
+  std::vector<uint8_t> exact;    // per candidate: every valid coordinate reproduced exactly
+  bool lossless = false;         // a lossless target: all_float32 is tracked
+  bool all_float32 = true;       // every valid coordinate is a float32 value
+  bool words_on_grid = false;    // C3D residual words are point_scale multiples
+  std::vector<uint8_t> kinds;    // analog channel kinds (window_coder.h)
+  bool kg = false;               // accumulate centred_sq
+  double centred_sq = 0;         // sum of squared distances to each frame's centroid
+};
 
-Grid lossless_grid(const Take& t) {
+// Exact lossless grids in the order the encoder prefers them (docs/FORMAT.md 3.1): the int16
+// C3D grid, a float C3D's scale grid, then decimal grids (the TRC's own decimals first).
+// all = false: only the int16 grid (what a bound needs to detect a lossless int16 take).
+std::vector<Grid> lossless_candidates(const Take& t, bool all) {
+  std::vector<Grid> c;
   Grid g;
   g.lossless = true;
   if (c3d_int16(t)) {
     g.mode = PosMode::kGrid;
     g.step = t.c3d->point_scale;
-    if (grid_exact(t, g)) return g;
+    c.push_back(g);
   }
+  if (!all) return c;
   if (t.c3d && t.c3d->float_storage && t.c3d->point_scale > 0) {
-    // Float C3D files often hold int16-scale multiples rounded to float32.
     g.mode = PosMode::kFloat32Grid;
     g.step = t.c3d->point_scale;
-    if (grid_exact(t, g)) return g;
+    c.push_back(g);
   }
   std::vector<int> ks;
   if (t.trc && t.trc->decimals >= 0 && t.trc->decimals <= 9) ks.push_back(t.trc->decimals);
@@ -110,95 +118,142 @@ Grid lossless_grid(const Take& t) {
   for (int k : ks) {
     g.mode = PosMode::kDecimal;
     g.step = std::pow(10.0, k);
-    if (grid_exact(t, g)) return g;
+    c.push_back(g);
   }
+  return c;
+}
+
+TakeScan start_scan(const Take& hdr, const CompressOptions& opts) {
+  TakeScan s;
+  s.candidates = lossless_candidates(hdr, opts.lossless);
+  s.exact.assign(s.candidates.size(), 1);
+  s.words_on_grid = hdr.c3d && hdr.c3d->point_scale > 0;
+  s.kinds.assign(static_cast<size_t>(std::max(0, hdr.analog.channels)), 0);
+  s.kg = !opts.lossless && opts.kg_error > 0;
+  s.lossless = opts.lossless;
+  return s;
+}
+
+// Adds frames b (blocks in order) to the scan; throws kInvalidParameter on a valid sample that is
+// not finite. words: the blocks carry C3D residual words (point_scale: the take's).
+void scan_block(const FrameBlock& b, const std::string& src, bool words, double point_scale,
+                TakeScan* s) {
+  const size_t n = b.frames * b.points;
+  for (size_t i = 0; i < n; ++i) {
+    if (!b.valid[i]) continue;
+    const double* x = &b.xyz[i * 3];
+    double cheb = 0;
+    for (int a = 0; a < 3; ++a) {
+      if (!std::isfinite(x[a]))
+        fail(ErrorCode::kInvalidParameter, src, "a valid sample holds NaN or infinity");
+      const double ax = std::fabs(x[a]);
+      s->max_abs = std::max(s->max_abs, ax);
+      cheb = std::max(cheb, ax);
+      if (s->lossless && s->all_float32 && !is_float32(x[a])) s->all_float32 = false;
+      for (size_t c = 0; c < s->candidates.size(); ++c)
+        if (s->exact[c] && !grid_exact_at(s->candidates[c], x[a])) s->exact[c] = 0;
+    }
+    s->min_cheb = std::min(s->min_cheb, cheb);
+  }
+  if (words && s->words_on_grid && !residuals_on_grid(b.residual, b.valid, point_scale))
+    s->words_on_grid = false;
+  if (s->kg) {
+    for (size_t f = 0; f < b.frames; ++f) {
+      const double* fx = &b.xyz[f * b.points * 3];
+      const uint8_t* fv = &b.valid[f * b.points];
+      double c[3] = {0, 0, 0};
+      size_t k = 0;
+      for (size_t p = 0; p < b.points; ++p)
+        if (fv[p]) {
+          for (int a = 0; a < 3; ++a) c[a] += fx[p * 3 + a];
+          ++k;
+        }
+      if (!k) continue;
+      for (double& v : c) v /= static_cast<double>(k);
+      for (size_t p = 0; p < b.points; ++p)
+        if (fv[p])
+          for (int a = 0; a < 3; ++a)
+            s->centred_sq += (fx[p * 3 + a] - c[a]) * (fx[p * 3 + a] - c[a]);
+    }
+  }
+  if (!s->kinds.empty())
+    update_analog_kinds(b.analog.data(), b.analog.size(), static_cast<int>(s->kinds.size()),
+                        &s->kinds);
+}
+
+Grid lossless_grid(const TakeScan& s) {
+  for (size_t c = 0; c < s.candidates.size(); ++c)
+    if (s.exact[c]) return s.candidates[c];
+  Grid g;
+  g.lossless = true;
   g.step = 0;
-  g.mode = PosMode::kFloat32;
-  for (size_t i = 0; i < t.frames * t.points && g.mode == PosMode::kFloat32; ++i)
-    if (t.valid[i])
-      for (int a = 0; a < 3; ++a)
-        if (!is_float32(t.xyz[i * 3 + a])) g.mode = PosMode::kFloat64;
+  g.mode = s.all_float32 ? PosMode::kFloat32 : PosMode::kFloat64;
   return g;
 }
 
 // A grid whose step bounds every coordinate's error by `bound`.
-Grid bounded_grid(const Take& t, double bound) {
+Grid bounded_grid(const Take& t, const TakeScan& s, double bound) {
   Grid g;
   g.mode = PosMode::kGrid;
   g.bound = bound;
   if (c3d_int16(t)) {
-    const double s = t.c3d->point_scale;
-    double m = std::max(1.0, std::floor(2.0 * bound / s));
+    const double sc = t.c3d->point_scale;
+    double m = std::max(1.0, std::floor(2.0 * bound / sc));
     if (m == 1.0) {
-      g.step = s;
-      g.bound = s / 2;
-      if (grid_exact(t, g)) {
+      g.step = sc;
+      g.bound = sc / 2;
+      if (!s.exact.empty() && s.exact[0]) {  // candidate 0 is the int16 grid
         g.lossless = true;
         g.bound = 0;
         return g;
       }
     }
     // A coarser int16 multiple must not move a valid sample onto (0, 0, 0), which C3D reads as
-    // a gap (the FLT_MIN rule cannot help int16 storage): step down m until none does.
-    for (; m > 1; m -= 1) {
-      bool origin = false;
-      for (size_t i = 0; i < t.frames * t.points && !origin; ++i)
-        origin = t.valid[i] && std::fabs(t.xyz[i * 3]) < m * s / 2 &&
-                 std::fabs(t.xyz[i * 3 + 1]) < m * s / 2 && std::fabs(t.xyz[i * 3 + 2]) < m * s / 2;
-      if (!origin) break;
-    }
-    g.step = m * s;
-    if (m * s / 2 > bound) g.step = grid_step_for_bound(bound);  // source is off its grid
-    if (m == 1) g.bound = s / 2;
+    // a gap (the FLT_MIN rule cannot help int16 storage): step down m until none does. A sample
+    // lands there when max(|x|, |y|, |z|) < m s / 2.
+    for (; m > 1; m -= 1)
+      if (!(s.min_cheb < m * sc / 2)) break;
+    g.step = m * sc;
+    if (m * sc / 2 > bound) g.step = grid_step_for_bound(bound);  // source is off its grid
+    if (m == 1) g.bound = sc / 2;
   } else {
     g.step = grid_step_for_bound(bound);
   }
-  double top = max_abs_coordinate(t);
-  if (top / g.step >= kMaxGridIndex)
+  if (s.max_abs / g.step >= kMaxGridIndex)
     fail(ErrorCode::kInvalidParameter, t.source,
          "max error " + std::to_string(bound) + " is too fine for coordinates up to " +
-             std::to_string(top) + " (the grid index would overflow 32 bits)");
+             std::to_string(s.max_abs) + " (the grid index would overflow 32 bits)");
   return g;
 }
 
-// Sum of squared errors of quantising every valid coordinate on a grid of `step`.
-double quantised_sq_error(const Take& t, double step) {
+// Sum of squared errors of quantising every valid coordinate of the source on a grid of
+// `step`, in take order (one pass over the source).
+double quantised_sq_error(FrameSource& src, double step, size_t block, FrameBlock* b) {
   double sq = 0;
-  for (size_t i = 0; i < t.frames * t.points; ++i) {
-    if (!t.valid[i]) continue;
-    for (int a = 0; a < 3; ++a) {
-      const double x = t.xyz[i * 3 + a];
-      const double d = x - static_cast<double>(round_to_int(x / step)) * step;
-      sq += d * d;
+  const size_t F = src.header().frames;
+  for (size_t f0 = 0; f0 < F; f0 += block) {
+    src.read(f0, std::min(block, F - f0), b);
+    for (size_t i = 0; i < b->frames * b->points; ++i) {
+      if (!b->valid[i]) continue;
+      for (int a = 0; a < 3; ++a) {
+        const double x = b->xyz[i * 3 + a];
+        const double d = x - static_cast<double>(round_to_int(x / step)) * step;
+        sq += d * d;
+      }
     }
   }
   return sq;
 }
 
-double centred_sq(const Take& t) {
-  double cs = 0;
-  for (size_t f = 0; f < t.frames; ++f) {
-    double c[3] = {0, 0, 0};
-    size_t n = 0;
-    for (size_t p = 0; p < t.points; ++p)
-      if (t.is_valid(f, p)) {
-        for (int a = 0; a < 3; ++a) c[a] += t.at(f, p)[a];
-        ++n;
-      }
-    if (!n) continue;
-    for (double& v : c) v /= static_cast<double>(n);
-    for (size_t p = 0; p < t.points; ++p)
-      if (t.is_valid(f, p))
-        for (int a = 0; a < 3; ++a) cs += (t.at(f, p)[a] - c[a]) * (t.at(f, p)[a] - c[a]);
-  }
-  return cs;
-}
-
-// The largest grid whose KG error is at or under `kg` percent (bisection on the step).
-Grid kg_grid(const Take& t, double kg) {
-  const double cs = centred_sq(t);
-  const double top = std::max(max_abs_coordinate(t), 1e-300);
-  auto kg_of = [&](double step) { return cs > 0 ? 100.0 * std::sqrt(quantised_sq_error(t, step) / cs) : 0.0; };
+// The largest grid whose KG error is at or under `kg` percent (bisection on the step; each step
+// is one pass over the source).
+Grid kg_grid(FrameSource& src, const TakeScan& s, double kg, size_t block, FrameBlock* b) {
+  const Take& t = src.header();
+  const double cs = s.centred_sq;
+  const double top = std::max(s.max_abs, 1e-300);
+  auto kg_of = [&](double step) {
+    return cs > 0 ? 100.0 * std::sqrt(quantised_sq_error(src, step, block, b) / cs) : 0.0;
+  };
   double lo = top / 1e9, hi = 2 * top;
   if (kg_of(hi) <= kg) {
     lo = hi;
@@ -210,24 +265,22 @@ Grid kg_grid(const Take& t, double kg) {
   }
   double step = lo;
   if (c3d_int16(t)) {  // stay on the file's int16 grid
-    const double s = t.c3d->point_scale;
-    step = std::max(1.0, std::floor(step / s)) * s;
+    const double sc = t.c3d->point_scale;
+    step = std::max(1.0, std::floor(step / sc)) * sc;
   }
-  Grid g = bounded_grid(t, step / 2 / (1.0 - 0x1p-30));
-  return g;
+  return bounded_grid(t, s, step / 2 / (1.0 - 0x1p-30));
 }
 
-// Integers of frames [f0, f0 + fn).
-WindowInts window_ints(const Take& t, const Grid& g, size_t f0, size_t fn) {
+// Integers of a block of frames.
+WindowInts window_ints(const FrameBlock& b, const Grid& g) {
   WindowInts w;
-  w.frames = fn;
-  w.points = t.points;
-  const size_t n = fn * t.points;
-  w.valid.assign(t.valid.begin() + static_cast<long>(f0 * t.points),
-                 t.valid.begin() + static_cast<long>(f0 * t.points + n));
+  w.frames = b.frames;
+  w.points = b.points;
+  const size_t n = b.frames * b.points;
+  w.valid = b.valid;
   w.q.assign(n * 3, 0);
   if (g.mode == PosMode::kFloat64) w.lo.assign(n * 3, 0);
-  const double* x = t.xyz.data() + f0 * t.points * 3;
+  const double* x = b.xyz.data();
   for (size_t i = 0; i < n; ++i) {
     if (!w.valid[i]) continue;
     for (size_t k = i * 3; k < i * 3 + 3; ++k) {
@@ -247,7 +300,6 @@ WindowInts window_ints(const Take& t, const Grid& g, size_t f0, size_t fn) {
   }
   return w;
 }
-
 // Transform prediction on the grid (docs/FORMAT.md 3.3 predictor 3): round(recon / step).
 std::vector<int32_t> grid_prediction(const std::vector<double>& recon, double step) {
   std::vector<int32_t> t(recon.size());
@@ -262,25 +314,27 @@ std::vector<int32_t> grid_prediction(const std::vector<double>& recon, double st
 
 // Positions of a window with gaps filled (hold the last valid value, else the next, else 0):
 // what a transform codec is given.
-std::vector<double> filled_window(const Take& t, size_t f0, size_t fn) {
-  std::vector<double> x(t.xyz.begin() + static_cast<long>(f0 * t.points * 3),
-                        t.xyz.begin() + static_cast<long>((f0 + fn) * t.points * 3));
-  for (size_t p = 0; p < t.points; ++p) {
+
+// Positions of a block with gaps filled (hold the last valid value, else the next, else 0):
+// what a transform codec is given.
+std::vector<double> filled_window(const FrameBlock& b) {
+  const size_t fn = b.frames, N = b.points;
+  std::vector<double> x = b.xyz;
+  for (size_t p = 0; p < N; ++p) {
     long last = -1;
     for (size_t f = 0; f < fn; ++f) {
-      if (t.valid[(f0 + f) * t.points + p]) {
+      if (b.valid[f * N + p]) {
         if (last < 0)  // back-fill the leading gap
           for (size_t g = 0; g < f; ++g)
-            std::copy(&x[(f * t.points + p) * 3], &x[(f * t.points + p) * 3] + 3,
-                      &x[(g * t.points + p) * 3]);
+            std::copy(&x[(f * N + p) * 3], &x[(f * N + p) * 3] + 3, &x[(g * N + p) * 3]);
         last = static_cast<long>(f);
       } else if (last >= 0) {
-        std::copy(&x[(static_cast<size_t>(last) * t.points + p) * 3],
-                  &x[(static_cast<size_t>(last) * t.points + p) * 3] + 3, &x[(f * t.points + p) * 3]);
+        std::copy(&x[(static_cast<size_t>(last) * N + p) * 3],
+                  &x[(static_cast<size_t>(last) * N + p) * 3] + 3, &x[(f * N + p) * 3]);
       }
     }
     if (last < 0)
-      for (size_t f = 0; f < fn; ++f) std::fill_n(&x[(f * t.points + p) * 3], 3, 0.0);
+      for (size_t f = 0; f < fn; ++f) std::fill_n(&x[(f * N + p) * 3], 3, 0.0);
   }
   return x;
 }
@@ -342,12 +396,54 @@ std::vector<uint8_t> with_window_index(size_t w, uint8_t flag, const std::vector
   return std::move(b.buffer());
 }
 
+// Where the encoder puts the stream: appended to memory, or written to a file as it goes.
+class StreamOut {
+ public:
+  explicit StreamOut(std::vector<uint8_t>* mem) : mem_(mem) {}
+  explicit StreamOut(AtomicFile* file) : file_(file) {}
+  // Appends buf and clears it.
+  void flush(std::vector<uint8_t>* buf) {
+    if (mem_) {
+      mem_->insert(mem_->end(), buf->begin(), buf->end());
+    } else {
+      file_->write(*buf);
+    }
+    size_ += buf->size();
+    buf->clear();
+  }
+  size_t size() const { return size_; }
+
+ private:
+  std::vector<uint8_t>* mem_ = nullptr;
+  AtomicFile* file_ = nullptr;
+  size_t size_ = 0;
+};
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
 namespace {
+void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut* out,
+                     CompressStats* stats);
+
 std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions& opts,
-                                         CompressStats* stats);
+                                         CompressStats* stats) {
+  if (take.xyz.size() != take.frames * take.points * 3 ||
+      take.valid.size() != take.frames * take.points)
+    fail(ErrorCode::kInvalidParameter, take.source,
+         "take arrays do not match its frame and point counts");
+  const bool analog = take.analog.channels > 0 && take.analog.samples_per_frame > 0;
+  if (analog && take.analog.values.size() != take.frames *
+                                                 static_cast<size_t>(take.analog.samples_per_frame) *
+                                                 static_cast<size_t>(take.analog.channels))
+    fail(ErrorCode::kInvalidParameter, take.source,
+         "analog values do not match frames x samples x channels");
+  std::unique_ptr<FrameSource> src = take_frames(take);
+  std::vector<uint8_t> bytes;
+  StreamOut out(&bytes);
+  compress_source(*src, opts, &out, stats);
+  return bytes;
+}
 }  // namespace
 
 namespace {
@@ -418,20 +514,18 @@ std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, Com
 }
 
 namespace {
-std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions& opts,
-                                         CompressStats* stats) {
+void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut* out,
+                     CompressStats* stats) {
+  const Take& take = source.header();
   const std::string& src = take.source;
-  if (take.xyz.size() != take.frames * take.points * 3 || take.valid.size() != take.frames * take.points)
-    fail(ErrorCode::kInvalidParameter, src, "take arrays do not match its frame and point counts");
   // Up to 8192 frames a window keeps even an all-gap window above the decoder's plausibility
   // floor of one byte per 2900 samples (docs/FORMAT.md 2).
   if (opts.window_frames == 0 || opts.window_frames > 8192)
     fail(ErrorCode::kInvalidParameter, src, "window size must be 1 .. 8192 frames");
-  for (size_t i = 0; i < take.frames * take.points; ++i)
-    if (take.valid[i])
-      for (int a = 0; a < 3; ++a)
-        if (!std::isfinite(take.xyz[i * 3 + a]))
-          fail(ErrorCode::kInvalidParameter, src, "a valid sample holds NaN or infinity");
+  const size_t F = take.frames, N = take.points, W = opts.window_frames;
+  const bool words = source.has_sample_words();
+  const double point_scale = take.c3d ? take.c3d->point_scale : 0;
+  FrameBlock block;
 
   const TransformCodec* codec = nullptr;
   if (!opts.codec.empty() && opts.codec != "none") {
@@ -443,16 +537,22 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
   }
   // Only a KG target and a transform: the transform's reconstruction is the output, no grid and
   // no bound layer (FORMAT.md 3.1 "transform output"); the transform meets the KG target itself.
-  const bool tout = !opts.lossless && opts.kg_error > 0 && codec && take.points > 0 && take.frames > 0;
+  const bool tout = !opts.lossless && opts.kg_error > 0 && codec && N > 0 && F > 0;
+  // Pass 1: what the grid and the per-take coding choices depend on.
+  TakeScan scan = start_scan(take, opts);
+  for (size_t f0 = 0; f0 < F; f0 += W) {
+    source.read(f0, std::min(W, F - f0), &block);
+    scan_block(block, src, words, point_scale, &scan);
+  }
   Grid g;
   if (tout) {
     g.mode = PosMode::kGrid;  // step 0, bound 0: nothing is quantised
   } else if (opts.lossless) {
-    g = lossless_grid(take);
+    g = lossless_grid(scan);
   } else if (opts.kg_error > 0) {
-    g = kg_grid(take, opts.kg_error);
+    g = kg_grid(source, scan, opts.kg_error, W, &block);
   } else if (opts.max_error > 0 && std::isfinite(opts.max_error)) {
-    g = bounded_grid(take, opts.max_error);
+    g = bounded_grid(take, scan, opts.max_error);
   } else {
     fail(ErrorCode::kInvalidParameter, src,
          "no error target: give a positive max error, a KG error target, or lossless");
@@ -469,22 +569,16 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
   }
   if (g.mode != PosMode::kGrid) codec = nullptr;  // float-bit lossless: prediction only
 
-  const size_t F = take.frames, N = take.points;
   const bool analog = take.analog.channels > 0 && take.analog.samples_per_frame > 0;
   const size_t S = analog ? static_cast<size_t>(take.analog.samples_per_frame) : 0;
   const size_t C = analog ? static_cast<size_t>(take.analog.channels) : 0;
-  if (analog && take.analog.values.size() != F * S * C)
-    fail(ErrorCode::kInvalidParameter, src, "analog values do not match frames x samples x channels");
-  const bool words = take.c3d && take.c3d->residual.size() == F * N &&
-                     take.c3d->camera_mask.size() == F * N;
-  const bool words_on_grid = words && residuals_on_grid(take.c3d->residual, take.valid, take.c3d->point_scale);
-  const std::vector<uint8_t> kinds = analog ? analog_kinds(take.analog.values, take.analog.channels)
-                                            : std::vector<uint8_t>();
+  const bool words_on_grid = words && scan.words_on_grid;
+  const std::vector<uint8_t> kinds = analog ? scan.kinds : std::vector<uint8_t>();
 
   StreamHeader h;
   h.frames = F;
   h.points = static_cast<uint32_t>(N);
-  h.window_frames = static_cast<uint32_t>(opts.window_frames);
+  h.window_frames = static_cast<uint32_t>(W);
   h.source_format = take.format;
   h.mode = g.mode;
   h.codec = codec ? codec->id() : 0;
@@ -496,25 +590,28 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
   h.analog_channels = static_cast<uint32_t>(C);
   h.analog_samples_per_frame = static_cast<uint32_t>(S);
 
-  std::vector<uint8_t> out;
-  write_file_header(&out);
-  append_chunk(&out, "HEAD", encode_header(h));
-  append_chunk(&out, "META", encode_meta(take, words));
-  size_t other = out.size(), pos_bytes = 0, analog_bytes = 0;
+  // Pass 2: code each window, write its chunks, drop it.
+  std::vector<uint8_t> buf;
+  write_file_header(&buf);
+  append_chunk(&buf, "HEAD", encode_header(h));
+  append_chunk(&buf, "META", encode_meta(take, words));
+  size_t other = buf.size(), pos_bytes = 0, analog_bytes = 0;
+  out->flush(&buf);
 
   ErrorAccumulator acc;
   std::vector<IndexEntry> index;
   const bool f64 = g.mode == PosMode::kFloat64;
-  for (size_t w = 0, f0 = 0; f0 < F; ++w, f0 += opts.window_frames) {
-    const size_t fn = std::min(opts.window_frames, F - f0);
+  for (size_t w = 0, f0 = 0; f0 < F; ++w, f0 += W) {
+    const size_t fn = std::min(W, F - f0);
+    source.read(f0, fn, &block);
     IndexEntry ie;
-    ie.offset = out.size();
-    WindowInts wi = window_ints(take, g, f0, fn);
+    ie.offset = out->size();
+    WindowInts wi = window_ints(block, g);
     std::vector<uint8_t> codec_bytes;
     std::vector<int32_t> tpred;
     std::vector<double> recon;
     if (codec && N > 0) {
-      std::vector<double> filled = filled_window(take, f0, fn);
+      std::vector<double> filled = filled_window(block);
       PositionsView view{fn, N, filled.data(), wi.valid.data()};
       codec->encode(view, tparams, &codec_bytes, &recon);
       if (recon.size() != fn * N * 3)
@@ -525,31 +622,31 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
     const bool gaps = std::find(wi.valid.begin(), wi.valid.end(), 0) != wi.valid.end();
     std::vector<uint8_t> pos = tout ? transform_only_positions(codec_bytes)
                                     : encode_positions(wi, codec_bytes, tpred, f64);
-    size_t before = out.size();
-    append_chunk(&out, "POSW", with_window_index(w, gaps ? 1 : 0, pos));
+    append_chunk(&buf, "POSW", with_window_index(w, gaps ? 1 : 0, pos));
     std::vector<uint8_t> mask;
     if (gaps) {
       mask = encode_mask(wi.valid.data(), fn, N);
-      append_chunk(&out, "MASK", with_window_index(w, 0xFF, mask));
+      append_chunk(&buf, "MASK", with_window_index(w, 0xFF, mask));
     }
-    pos_bytes += out.size() - before;
+    pos_bytes += buf.size();
+    size_t before = buf.size();
     std::vector<uint8_t> cw;
     if (words) {
-      before = out.size();
-      cw = encode_c3d_words(take.c3d->residual.data() + f0 * N, take.c3d->camera_mask.data() + f0 * N,
-                            wi.valid.data(), fn * N, N, take.c3d->point_scale, words_on_grid);
-      append_chunk(&out, "C3DW", with_window_index(w, 0xFF, cw));
-      other += out.size() - before;
+      cw = encode_c3d_words(block.residual.data(), block.camera_mask.data(), wi.valid.data(),
+                            fn * N, N, point_scale, words_on_grid);
+      append_chunk(&buf, "C3DW", with_window_index(w, 0xFF, cw));
+      other += buf.size() - before;
     }
     std::vector<uint8_t> an;
     if (analog) {
-      before = out.size();
-      an = encode_analog(take.analog.values.data() + f0 * S * C, fn * S, take.analog.channels, kinds);
-      append_chunk(&out, "ANLG", with_window_index(w, 0xFF, an));
-      analog_bytes += out.size() - before;
+      before = buf.size();
+      an = encode_analog(block.analog.data(), fn * S, take.analog.channels, kinds);
+      append_chunk(&buf, "ANLG", with_window_index(w, 0xFF, an));
+      analog_bytes += buf.size() - before;
     }
-    ie.bytes = out.size() - ie.offset;
+    ie.bytes = buf.size();
     index.push_back(ie);
+    out->flush(&buf);
 
     // Reconstruction as the decoder will produce it, for the bound check and the stats.
     std::vector<double> rec(fn * N * 3, 0.0);
@@ -562,7 +659,7 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
         }
         keep_valid_off_origin(take.format, g.lossless, &rec[i * 3]);
       }
-    const double* orig = take.xyz.data() + f0 * N * 3;
+    const double* orig = block.xyz.data();
     for (size_t i = 0; i < fn * N && !tout; ++i) {  // transform output promises no bound
       if (!wi.valid[i]) continue;
       for (size_t k = i * 3; k < i * 3 + 3; ++k) {
@@ -610,24 +707,24 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
       if (words) {
         std::vector<float> r(fn * N);
         std::vector<uint8_t> cam(fn * N);
-        decode_c3d_words(cw.data(), cw.size(), wi.valid.data(), fn * N, N,
-                         take.c3d->point_scale, r.data(), cam.data(), what);
-        if (std::memcmp(r.data(), take.c3d->residual.data() + f0 * N, fn * N * 4) != 0 ||
-            std::memcmp(cam.data(), take.c3d->camera_mask.data() + f0 * N, fn * N) != 0)
+        decode_c3d_words(cw.data(), cw.size(), wi.valid.data(), fn * N, N, point_scale, r.data(),
+                         cam.data(), what);
+        if (std::memcmp(r.data(), block.residual.data(), fn * N * 4) != 0 ||
+            std::memcmp(cam.data(), block.camera_mask.data(), fn * N) != 0)
           check_failed(take, w, "C3D sample words differ");
       }
       if (analog) {
         std::vector<double> rows(fn * S * C);
         decode_analog(an.data(), an.size(), fn * S, take.analog.channels, rows.data(), what);
-        if (std::memcmp(rows.data(), take.analog.values.data() + f0 * S * C, rows.size() * 8) != 0)
+        if (std::memcmp(rows.data(), block.analog.data(), rows.size() * 8) != 0)
           check_failed(take, w, "analog values differ");
       }
     }
     if (opts.progress) opts.progress(f0 + fn, F);
   }
-  size_t before = out.size();
-  append_chunk(&out, "INDX", encode_index(index));
-  other += out.size() - before;
+  append_chunk(&buf, "INDX", encode_index(index));
+  other += buf.size();
+  out->flush(&buf);
 
   const ErrorStats achieved = acc.finish();
   // A transform-output stream promises its KG target in HEAD and nothing else; the transform
@@ -641,9 +738,9 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
              "% on this take; use --max-error or --codec none");
 
   if (stats) {
-    stats->bytes = out.size();
+    stats->bytes = out->size();
     stats->raw_bytes = F * N * 12;
-    stats->bpvf = bpvf(out.size(), F, N);
+    stats->bpvf = bpvf(out->size(), F, N);
     stats->step = g.mode == PosMode::kDecimal ? 1.0 / g.step
                   : (g.mode == PosMode::kGrid || g.mode == PosMode::kFloat32Grid) ? g.step : 0;
     stats->mode = tout ? "transform-output" : mode_name(g.mode);
@@ -654,12 +751,75 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
     stats->analog_bytes = analog_bytes;
     stats->other_bytes = other;
   }
-  return out;
 }
 }  // namespace
 
+void compress_stream(FrameSource& source, const CompressOptions& opts, const std::string& path,
+                     bool overwrite, CompressStats* stats) {
+  if (opts.codec == "auto")
+    fail(ErrorCode::kInvalidParameter, source.header().source,
+         "codec auto compares whole-take encodings and is not streamed");
+  AtomicFile file(path, overwrite);
+  StreamOut out(&file);
+  compress_source(source, opts, &out, stats);
+  file.commit();
+}
+
 // ---------------------------------------------------------------------------------------------
 namespace {
+
+// The .capz bytes a decoder reads: all in memory, or read from a file on demand (then only
+// HEAD, META, INDX and one window's chunks are held at a time).
+class StreamBytes {
+ public:
+  virtual ~StreamBytes() = default;
+  virtual size_t size() const = 0;
+  // Bytes [off, off + n), off + n <= size(); the pointer is valid until the next call.
+  virtual const uint8_t* get(size_t off, size_t n) = 0;
+  virtual uint64_t bytes_read() const { return 0; }
+};
+
+class MemoryBytes : public StreamBytes {
+ public:
+  MemoryBytes(const uint8_t* data, size_t size) : data_(data), size_(size) {}
+  size_t size() const override { return size_; }
+  const uint8_t* get(size_t off, size_t) override { return data_ + off; }
+
+ private:
+  const uint8_t* data_;
+  size_t size_;
+};
+
+class FileBytes : public StreamBytes {
+ public:
+  explicit FileBytes(const std::string& path) : file_(path) {}
+  size_t size() const override { return static_cast<size_t>(file_.size()); }
+  const uint8_t* get(size_t off, size_t n) override {
+    buf_.resize(n);
+    file_.read_at(off, buf_.data(), n);
+    return buf_.data();
+  }
+  uint64_t bytes_read() const override { return file_.bytes_read(); }
+
+ private:
+  InputFile file_;
+  std::vector<uint8_t> buf_;
+};
+
+uint32_t le32(const uint8_t* p) {
+  return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 |
+         static_cast<uint32_t>(p[2]) << 16 | static_cast<uint32_t>(p[3]) << 24;
+}
+
+// The chunk at `off` (read_chunk's checks), its bytes fetched from `b`; its payload pointer is
+// valid until the next b.get().
+Chunk chunk_at(StreamBytes& b, size_t off, const std::string& name) {
+  const size_t size = b.size();
+  if (off > size || size - off < kChunkOverhead) return read_chunk(nullptr, size, off, name, off);
+  const uint32_t len = le32(b.get(off, 8) + 4);
+  const size_t n = len <= size - off - kChunkOverhead ? kChunkOverhead + len : 8;
+  return read_chunk(b.get(off, n), size, off, name, off);
+}
 
 struct Parsed {
   StreamHeader h;
@@ -672,16 +832,18 @@ struct Parsed {
   int major = 1, minor = 0;
 };
 
-// Reads HEAD, META and INDX (walking the chunk headers to find it).
-Parsed parse_stream(const uint8_t* data, size_t size, const std::string& name) {
+// Reads HEAD, META and INDX (found from the end of the stream).
+Parsed parse_stream(StreamBytes& b, const std::string& name) {
+  const size_t size = b.size();
   Parsed ps;
-  ps.minor = check_file_header(data, size, name);
-  ps.major = data[9];
-  Chunk c = read_chunk(data, size, kFileHeaderBytes, name);
+  const uint8_t* fh = b.get(0, std::min(size, kFileHeaderBytes));
+  ps.minor = check_file_header(fh, std::min(size, kFileHeaderBytes), name);
+  ps.major = fh[9];
+  Chunk c = chunk_at(b, kFileHeaderBytes, name);
   if (c.type != "HEAD") fail(ErrorCode::kCorrupt, name, "first chunk is " + c.type + ", not HEAD");
   ps.h = decode_header(c, name);
   ps.chunk_bytes["HEAD"] += c.end - c.offset;
-  Chunk m = read_chunk(data, size, c.end, name);
+  Chunk m = chunk_at(b, c.end, name);
   if (m.type != "META") fail(ErrorCode::kCorrupt, name, "second chunk is " + m.type + ", not META");
   ps.chunk_bytes["META"] += m.end - m.offset;
   check_header_fits(ps.h, size, name);
@@ -696,13 +858,11 @@ Parsed parse_stream(const uint8_t* data, size_t size, const std::string& name) {
   // INDX ends the file; its payload's last 4 bytes give its payload length.
   if (size < m.end + kChunkOverhead + 4)
     fail(ErrorCode::kCorrupt, name, "truncated: the stream ends before its INDX chunk");
-  const uint8_t* t = data + size - 8;
-  const uint64_t ilen = static_cast<uint64_t>(t[0]) | static_cast<uint64_t>(t[1]) << 8 |
-                        static_cast<uint64_t>(t[2]) << 16 | static_cast<uint64_t>(t[3]) << 24;
+  const uint64_t ilen = le32(b.get(size - 8, 4));
   if (ilen + kChunkOverhead > size - m.end)
     fail(ErrorCode::kCorrupt, name, "truncated or damaged: no INDX chunk at the end of the stream");
   const size_t ioff = size - kChunkOverhead - static_cast<size_t>(ilen);
-  Chunk k = read_chunk(data, size, ioff, name);
+  Chunk k = chunk_at(b, ioff, name);
   if (k.type != "INDX" || k.end != size)
     fail(ErrorCode::kCorrupt, name, "truncated or damaged: no INDX chunk at the end of the stream");
   ps.index = decode_index(k, name);
@@ -714,24 +874,45 @@ Parsed parse_stream(const uint8_t* data, size_t size, const std::string& name) {
   return ps;
 }
 
-// Decodes window w into rows [f_out, ...) of `out` (frames f_lo..f_hi of the window).
-void decode_window(const uint8_t* data, size_t size, const std::string& name, const Parsed& ps,
-                   size_t w, size_t f_lo, size_t f_hi, size_t f_out, Take* out) {
+// A whole-stream decode checks that the windows tile the stream exactly.
+void check_tiling(const Parsed& ps, size_t size, const std::string& name) {
+  size_t expect = ps.first_window_offset;
+  for (size_t w = 0; w < ps.index.size(); ++w) {
+    if (ps.index[w].offset != expect)
+      fail(ErrorCode::kCorrupt, name, "INDX: window " + std::to_string(w) + " starts at byte " +
+                                          std::to_string(ps.index[w].offset) + ", expected " +
+                                          std::to_string(expect));
+    expect += static_cast<size_t>(std::min<uint64_t>(ps.index[w].bytes, size));
+  }
+  if (expect != ps.index_offset)
+    fail(ErrorCode::kCorrupt, name, "INDX: windows end at byte " + std::to_string(expect) +
+                                        ", the index starts at " + std::to_string(ps.index_offset));
+}
+
+// Decodes window w whole into *out (frames [w W, ...), the take's points).
+void decode_window(StreamBytes& bytes, const std::string& name, const Parsed& ps, size_t w,
+                   FrameBlock* out) {
   const StreamHeader& h = ps.h;
   const size_t N = h.points;
   const size_t f0 = w * h.window_frames;
   const size_t fn = std::min<size_t>(h.window_frames, static_cast<size_t>(h.frames) - f0);
+  const size_t S = h.analog_samples_per_frame, C = h.analog_channels;
   const IndexEntry& ie = ps.index[w];
+  const size_t size = bytes.size();
   if (ie.offset < ps.first_window_offset || ie.offset >= size || ie.bytes > size - ie.offset)
     fail(ErrorCode::kCorrupt, name, "INDX entry of window " + std::to_string(w) + " points outside the file");
-  size_t off = static_cast<size_t>(ie.offset);
-  const size_t end = off + static_cast<size_t>(ie.bytes);
+  const size_t base = static_cast<size_t>(ie.offset);
+  const size_t end = base + static_cast<size_t>(ie.bytes);
+  const uint8_t* region = bytes.get(base, end - base);  // the window's chunks
+  size_t off = base;
   const std::string wname = " of window " + std::to_string(w);
   auto next = [&](const char* type, bool required) -> Chunk {
     while (off < end) {
-      Chunk c = read_chunk(data, size, off, name);
-      if (c.end > end)
-        fail(ErrorCode::kCorrupt, name, "chunk " + c.type + wname + " runs past its INDX extent");
+      const uint8_t* p = region + (off - base);
+      if (end - off < kChunkOverhead || le32(p + 4) > end - off - kChunkOverhead)
+        fail(ErrorCode::kCorrupt, name, "chunk at byte " + std::to_string(off) + wname +
+                                            " runs past its INDX extent");
+      Chunk c = read_chunk(region, end, off, name, base);
       if (c.type == type) {
         off = c.end;
         return c;
@@ -788,36 +969,29 @@ void decode_window(const uint8_t* data, size_t size, const std::string& name, co
   const bool f64 = h.mode == PosMode::kFloat64;
   if (!h.transform_output)
     decode_positions(pp, tpred, f64, ps.major >= 2 ? 2 : 1, &wi, pwhat);
+  if (C > 0 && S > 0 && fn * S * C > kMaxSymbolsPerByte * (end - base))
+    fail(ErrorCode::kCorrupt, name, "analog window" + wname + " larger than its chunks can hold");
+  out->reset(f0, fn, N, C > 0 && S > 0 ? S * C : 0, ps.words);
   Grid g;
   g.mode = h.mode;
   g.step = h.step;
-  for (size_t f = f_lo; f < f_hi; ++f)
-    for (size_t p = 0; p < N; ++p) {
-      const size_t i = f * N + p, o = (f_out + f - f_lo) * N + p;
-      out->valid[o] = wi.valid[i];
-      if (wi.valid[i]) {
-        for (int a = 0; a < 3; ++a)
-          out->xyz[o * 3 + a] = h.transform_output
-                                    ? tout_xyz[i * 3 + a]
-                                    : dequantise(g, wi.q[i * 3 + a], f64 ? wi.lo[i * 3 + a] : 0);
-        keep_valid_off_origin(h.source_format, h.lossless, &out->xyz[o * 3]);
-      }
+  out->valid = wi.valid;
+  for (size_t i = 0; i < fn * N; ++i)
+    if (wi.valid[i]) {
+      for (int a = 0; a < 3; ++a)
+        out->xyz[i * 3 + a] = h.transform_output
+                                  ? tout_xyz[i * 3 + a]
+                                  : dequantise(g, wi.q[i * 3 + a], f64 ? wi.lo[i * 3 + a] : 0);
+      keep_valid_off_origin(h.source_format, h.lossless, &out->xyz[i * 3]);
     }
   if (ps.words) {
     Chunk cc = next("C3DW", true);
     const std::string cwhat = (name.empty() ? "" : name + ": ") + "chunk C3DW" + wname;
     ByteReader cr(cc.payload, cc.size, cwhat);
     open(cc, &cr);
-    std::vector<float> r(fn * N);
-    std::vector<uint8_t> cam(fn * N);
     decode_c3d_words(cc.payload + cr.offset(), cc.size - cr.offset(), wi.valid.data(), fn * N, N,
-                     out->c3d->point_scale, r.data(), cam.data(), cwhat);
-    std::copy(r.begin() + static_cast<long>(f_lo * N), r.begin() + static_cast<long>(f_hi * N),
-              out->c3d->residual.begin() + static_cast<long>(f_out * N));
-    std::copy(cam.begin() + static_cast<long>(f_lo * N), cam.begin() + static_cast<long>(f_hi * N),
-              out->c3d->camera_mask.begin() + static_cast<long>(f_out * N));
+                     ps.take.c3d->point_scale, out->residual.data(), out->camera_mask.data(), cwhat);
   }
-  const size_t S = h.analog_samples_per_frame, C = h.analog_channels;
   if (C > 0 && S > 0) {
     Chunk ac = next("ANLG", true);
     const std::string awhat = (name.empty() ? "" : name + ": ") + "chunk ANLG" + wname;
@@ -825,52 +999,92 @@ void decode_window(const uint8_t* data, size_t size, const std::string& name, co
     open(ac, &ar);
     if (fn * S * C > kMaxSymbolsPerByte * ac.size)
       fail(ErrorCode::kCorrupt, awhat, "analog window larger than its chunk can hold");
-    std::vector<double> rows(fn * S * C);
     decode_analog(ac.payload + ar.offset(), ac.size - ar.offset(), fn * S, static_cast<int>(C),
-                  rows.data(), awhat);
-    std::copy(rows.begin() + static_cast<long>(f_lo * S * C), rows.begin() + static_cast<long>(f_hi * S * C),
-              out->analog.values.begin() + static_cast<long>(f_out * S * C));
+                  out->analog.data(), awhat);
   }
 }
 
+// A .capz as a frame source: a range decodes the windows it touches (the last one decoded is
+// kept, so reading in window-sized steps decodes each window once).
+class CapzSource : public FrameSource {
+ public:
+  CapzSource(std::unique_ptr<StreamBytes> bytes, const std::string& name, bool whole)
+      : bytes_(std::move(bytes)), name_(name), ps_(parse_stream(*bytes_, name)) {
+    if (whole) check_tiling(ps_, bytes_->size(), name_);
+    header_ = ps_.take;
+  }
+  bool has_sample_words() const override { return ps_.words; }
+  size_t preferred_block() const override { return ps_.h.window_frames; }
+  uint64_t bytes_read() const override { return bytes_->bytes_read(); }
+  const Parsed& parsed() const { return ps_; }
+
+  void read(size_t first, size_t count, FrameBlock* out) override {
+    const size_t F = ps_.take.frames, N = ps_.take.points;
+    first = std::min(first, F);
+    count = std::min(count, F - first);
+    const size_t S = ps_.h.analog_samples_per_frame, C = ps_.h.analog_channels;
+    const size_t A = C > 0 && S > 0 ? S * C : 0;
+    const size_t W = ps_.h.window_frames;
+    // A block that is exactly one window is handed over without a copy.
+    if (count > 0 && first % W == 0 && count == std::min<size_t>(W, F - first)) {
+      decode(first / W);
+      *out = win_;
+      return;
+    }
+    out->reset(first, count, N, A, ps_.words);
+    for (size_t f = first; f < first + count;) {
+      const size_t w = f / W;
+      decode(w);
+      const size_t lo = f - win_.first, hi = std::min(win_.frames, first + count - win_.first);
+      const size_t o = f - first, n = hi - lo;
+      std::copy_n(&win_.xyz[lo * N * 3], n * N * 3, &out->xyz[o * N * 3]);
+      std::copy_n(&win_.valid[lo * N], n * N, &out->valid[o * N]);
+      if (ps_.words) {
+        std::copy_n(&win_.residual[lo * N], n * N, &out->residual[o * N]);
+        std::copy_n(&win_.camera_mask[lo * N], n * N, &out->camera_mask[o * N]);
+      }
+      std::copy_n(win_.analog.data() + lo * A, n * A, out->analog.data() + o * A);
+      f += n;
+    }
+  }
+
+ private:
+  void decode(size_t w) {
+    if (have_ && cached_ == w) return;
+    have_ = false;
+    decode_window(*bytes_, name_, ps_, w, &win_);
+    cached_ = w;
+    have_ = true;
+  }
+
+  std::unique_ptr<StreamBytes> bytes_;
+  std::string name_;
+  Parsed ps_;
+  FrameBlock win_;
+  size_t cached_ = 0;
+  bool have_ = false;
+};
+
 Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
                   const std::string& name) {
-  Parsed ps = parse_stream(data, size, name);
+  std::unique_ptr<StreamBytes> mem(new MemoryBytes(data, size));
+  CapzSource src(std::move(mem), name, false);
+  const Parsed& ps = src.parsed();
   const size_t F = ps.take.frames;
   first = std::min(first, F);
   count = std::min(count, F - first);
+  if (first == 0 && count == F) check_tiling(ps, size, name);
+  FrameBlock b;
+  src.read(first, count, &b);
   Take t = ps.take;
   t.frames = count;
-  const size_t N = t.points;
-  t.xyz.assign(count * N * 3, 0.0);
-  t.valid.assign(count * N, 0);
-  const size_t S = ps.h.analog_samples_per_frame, C = ps.h.analog_channels;
-  if (C > 0 && S > 0) t.analog.values.assign(count * S * C, 0.0);
+  t.xyz = std::move(b.xyz);
+  t.valid = std::move(b.valid);
+  t.analog.values = std::move(b.analog);
   if (ps.words) {
-    t.c3d->residual.assign(count * N, 0.0f);
-    t.c3d->camera_mask.assign(count * N, 0);
-  }
-  const size_t W = ps.h.window_frames;
-  if (first == 0 && count == F) {  // whole stream: windows must tile it exactly
-    size_t expect = ps.first_window_offset;
-    for (size_t w = 0; w < ps.index.size(); ++w) {
-      if (ps.index[w].offset != expect)
-        fail(ErrorCode::kCorrupt, name, "INDX: window " + std::to_string(w) + " starts at byte " +
-                                            std::to_string(ps.index[w].offset) + ", expected " +
-                                            std::to_string(expect));
-      expect += static_cast<size_t>(std::min<uint64_t>(ps.index[w].bytes, size));
-    }
-    if (expect != ps.index_offset)
-      fail(ErrorCode::kCorrupt, name, "INDX: windows end at byte " + std::to_string(expect) +
-                                          ", the index starts at " + std::to_string(ps.index_offset));
-  }
-  for (size_t f = first; f < first + count;) {
-    const size_t w = f / W;
-    const size_t f_lo = f - w * W;
-    const size_t f_hi = std::min(W, first + count - w * W);
-    const size_t wn = std::min<size_t>(W, F - w * W);
-    decode_window(data, size, name, ps, w, f_lo, std::min(f_hi, wn), f - first, &t);
-    f = w * W + std::min(f_hi, wn);
+    t.c3d = std::make_shared<C3DExtra>(*ps.take.c3d);
+    t.c3d->residual = std::move(b.residual);
+    t.c3d->camera_mask = std::move(b.camera_mask);
   }
   if (first > 0 || count < F) {  // slice the per-frame metadata
     t.first_frame += static_cast<long>(first);
@@ -896,6 +1110,11 @@ Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
 
 }  // namespace
 
+std::unique_ptr<FrameSource> open_capz_frames(const std::string& path) {
+  std::unique_ptr<StreamBytes> file(new FileBytes(path));
+  return std::unique_ptr<FrameSource>(new CapzSource(std::move(file), path, true));
+}
+
 Take decompress(const uint8_t* data, size_t size, const std::string& name) {
   return decode_range(data, size, 0, std::numeric_limits<size_t>::max(), name);
 }
@@ -910,7 +1129,8 @@ bool is_capz(const uint8_t* data, size_t size) {
 }
 
 StreamInfo describe(const uint8_t* data, size_t size, const std::string& name) {
-  Parsed ps = parse_stream(data, size, name);
+  MemoryBytes bytes(data, size);
+  Parsed ps = parse_stream(bytes, name);
   StreamInfo si;
   si.major = data[9];
   si.minor = ps.minor;

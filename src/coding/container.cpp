@@ -71,13 +71,14 @@ int check_file_header(const uint8_t* data, size_t size, const std::string& name)
   return data[10];
 }
 
-Chunk read_chunk(const uint8_t* data, size_t size, size_t offset, const std::string& name) {
+Chunk read_chunk(const uint8_t* data, size_t size, size_t offset, const std::string& name,
+                 size_t base) {
   Chunk c;
   c.offset = offset;
   if (offset > size || size - offset < kChunkOverhead)
     fail(ErrorCode::kCorrupt, name, "truncated: chunk header at byte " + std::to_string(offset) +
                                         " runs past the end of the file");
-  const uint8_t* p = data + offset;
+  const uint8_t* p = data + (offset - base);
   for (int i = 0; i < 4; ++i) {
     if (p[i] < 0x20 || p[i] > 0x7E)
       fail(ErrorCode::kCorrupt, name, "byte " + std::to_string(offset) + " does not start a chunk");

@@ -34,7 +34,11 @@ struct Chunk {
 // Checks magic (kNotOurFormat) and version (kUnsupportedVersion); returns the minor version.
 int check_file_header(const uint8_t* data, size_t size, const std::string& name);
 // Reads the chunk at `offset`: framing and CRC checked (kCorrupt naming the chunk and offset).
-Chunk read_chunk(const uint8_t* data, size_t size, size_t offset, const std::string& name);
+// `data` holds the stream's bytes from offset `base` on (base <= offset), `size` is where they
+// end: the bytes of the chunk at `offset` must be there (its first 8 suffice when its length
+// runs past `size`). Offsets in the result and in messages are stream offsets.
+Chunk read_chunk(const uint8_t* data, size_t size, size_t offset, const std::string& name,
+                 size_t base = 0);
 
 struct StreamHeader {
   uint64_t frames = 0;

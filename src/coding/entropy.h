@@ -39,6 +39,9 @@ inline int32_t unzigzag(uint32_t u) {
 // Tokens 0..63 go through up to five 16-symbol models: the context's own model codes
 // min(token, 15); 15 escapes to shared model k (k = 0..3), which codes min(token - 15 (k + 1), 15).
 constexpr int kEscapeLevels = 4;
+// Sets of escape models a block may choose between per value (set 0 is the only one most
+// streams use; position residuals of format 2.x choose by context, FORMAT.md 3.3.1).
+constexpr int kEscapeSets = 3;
 
 class IntEncoder {
  public:
@@ -48,7 +51,8 @@ class IntEncoder {
     for (SymbolModel& m : models_) m.skew();
   }
   // Codes u under context ctx (0 <= ctx < contexts); returns its token.
-  int put(uint32_t u, int ctx) {
+  // `eset` picks the set of escape models (0 <= eset < kEscapeSets).
+  int put(uint32_t u, int ctx, int eset = 0) {
     int nbits;
     const int tok = token_of(u, &nbits);
     if (tok < 15) {
@@ -56,9 +60,10 @@ class IntEncoder {
     } else {
       models_[static_cast<size_t>(ctx)].encode(&rc_, 15);
       int rest = tok - 15;
+      SymbolModel* escape = escape_ + kEscapeLevels * eset;
       for (int k = 0;; ++k) {
         const int sym = rest < 15 ? rest : 15;
-        escape_[k].encode(&rc_, sym);
+        escape[k].encode(&rc_, sym);
         if (sym < 15) break;
         rest -= 15;
       }
@@ -66,7 +71,7 @@ class IntEncoder {
     if (nbits) bits_.put(u & ((1u << nbits) - 1), nbits);
     return tok;
   }
-  int put_signed(int32_t v, int ctx) { return put(zigzag(v), ctx); }
+  int put_signed(int32_t v, int ctx, int eset = 0) { return put(zigzag(v), ctx, eset); }
   // n raw bits of v (0 <= n <= 32), uncompressed.
   void raw_bits(uint32_t v, int n) { bits_.put(v, n); }
   // The block: varint(length of the range-coded part), that part, then the raw bits.
@@ -77,19 +82,20 @@ class IntEncoder {
   RangeEncoder rc_;
   BitWriter bits_;
   std::vector<SymbolModel> models_;
-  SymbolModel escape_[kEscapeLevels];
+  SymbolModel escape_[kEscapeLevels * kEscapeSets];
 };
 
 class IntDecoder {
  public:
   IntDecoder(const uint8_t* data, size_t size, int contexts, const std::string& what);
   // Decodes one value under ctx and stores its token in *tok.
-  uint32_t get(int ctx, int* tok_out) {
+  uint32_t get(int ctx, int* tok_out, int eset = 0) {
     int tok = models_[static_cast<size_t>(ctx)].decode(&rc_);
     if (tok == 15) {
+      SymbolModel* escape = escape_ + kEscapeLevels * eset;
       for (int k = 0;; ++k) {
         if (k == kEscapeLevels) rc_.corrupt("entropy-coded token out of range");
-        const int sym = escape_[k].decode(&rc_);
+        const int sym = escape[k].decode(&rc_);
         tok += sym;
         if (sym < 15) break;
       }
@@ -110,7 +116,7 @@ class IntDecoder {
     int tok;
     return get(ctx, &tok);
   }
-  int32_t get_signed(int ctx, int* tok) { return unzigzag(get(ctx, tok)); }
+  int32_t get_signed(int ctx, int* tok, int eset = 0) { return unzigzag(get(ctx, tok, eset)); }
   int32_t get_signed(int ctx) { return unzigzag(get(ctx)); }
   // True when both parts of the block were consumed exactly (a valid block ends there).
   bool at_end() const { return rc_.at_end() && bits_.at_valid_end(); }
@@ -134,7 +140,7 @@ class IntDecoder {
   RangeDecoder rc_;
   BitReader bits_;
   std::vector<SymbolModel> models_;
-  SymbolModel escape_[kEscapeLevels];
+  SymbolModel escape_[kEscapeLevels * kEscapeSets];
 };
 
 // Generic integer streams (16 contexts from the previous token; FORMAT.md 1.3).

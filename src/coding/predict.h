@@ -70,7 +70,10 @@ class ResidualContexts {
  public:
   ResidualContexts(int scheme, size_t points)
       : scheme_(scheme), ta_(points * 3, 0), z_(points * 3, 0) {}
-  static int count(int scheme) { return scheme == 1 ? 32 : 56; }
+  static int count(int scheme) { return scheme == 1 ? 32 : 84; }
+  // Escape model set of a context (1.3): scheme 2 states 18, 19, 20 use sets 0, 1, 2 (large
+  // previous tokens: float-bit data); every other context, and all of scheme 1, set 0.
+  static int escape_set(int ctx) { return ctx < 76 ? 0 : ctx < 80 ? 1 : 2; }
   void reset() {
     std::fill(ta_.begin(), ta_.end(), 0);
     std::fill(z_.begin(), z_.end(), 0);
@@ -81,7 +84,12 @@ class ResidualContexts {
     if (scheme_ == 1) return std::min(ta, 7) * 4 + std::min(tb, 3);
 
     static constexpr uint8_t kRunBucket[13] = {0, 1, 2, 3, 4, 4, 5, 5, 5, 6, 6, 6, 6};
-    const int s = ta ? 6 + std::min(ta, 7) : kRunBucket[z_[k]];
+    static constexpr uint8_t kTokBucket[64] = {
+        0,  7,  8,  9,  10, 11, 12, 13, 14, 14, 14, 14, 15, 15, 16, 16,  // 0-15
+        17, 17, 17, 17, 18, 18, 18, 18, 18, 18, 18, 18, 19, 19, 19, 19,  // 16-31
+        19, 19, 19, 19, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20,  // 32-47
+        20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20};
+    const int s = ta ? kTokBucket[ta] : kRunBucket[z_[k]];
     return s * 4 + std::min(tb, 3);
   }
   void update(size_t k, int tok) {

@@ -65,7 +65,7 @@ struct EncCoder {
   const int32_t* q;
   const uint32_t* lo;
   int32_t operator()(size_t i, int32_t pred, int ctx, int* tok) {
-    *tok = enc->put_signed(wrap_sub(q[i], pred), ctx);
+    *tok = enc->put_signed(wrap_sub(q[i], pred), ctx, ResidualContexts::escape_set(ctx));
     if (lo) enc->raw_bits(lo[i], 32);
     return q[i];
   }
@@ -75,7 +75,7 @@ struct DecCoder {
   IntDecoder* dec;
   uint32_t* lo;
   int32_t operator()(size_t i, int32_t pred, int ctx, int* tok) {
-    int32_t r = dec->get_signed(ctx, tok);
+    int32_t r = dec->get_signed(ctx, tok, ResidualContexts::escape_set(ctx));
     if (lo) lo[i] = dec->raw_bits(32);
     return wrap_add(pred, r);
   }
@@ -478,16 +478,21 @@ inline int32_t analog_predict(int pred, const int32_t* v, size_t k) {
 
 std::vector<uint8_t> analog_kinds(const std::vector<double>& values, int channels) {
   std::vector<uint8_t> kinds(static_cast<size_t>(channels), kAnalogInt);
+  update_analog_kinds(values.data(), values.size(), channels, &kinds);
+  return kinds;
+}
+
+void update_analog_kinds(const double* values, size_t count, int channels,
+                         std::vector<uint8_t>* kinds) {
   const size_t C = static_cast<size_t>(channels);
-  for (size_t i = 0; i < values.size(); ++i) {
+  for (size_t i = 0; i < count; ++i) {
     const double v = values[i];
-    uint8_t& k = kinds[i % C];
+    uint8_t& k = (*kinds)[i % C];
     if (k == kAnalogInt && !(v == std::floor(v) && std::fabs(v) < 2147483647.0 &&
                              !(v == 0 && std::signbit(v))))
       k = kAnalogFloat32;
     if (k == kAnalogFloat32 && !is_float32(v)) k = kAnalogFloat64;
   }
-  return kinds;
 }
 
 std::vector<uint8_t> encode_analog(const double* rows, size_t nrows, int channels,

@@ -79,6 +79,10 @@ bool residuals_on_grid(const std::vector<float>& residual, const std::vector<uin
 // Analog samples of a window: rows x channels, row-major doubles (3.6). Kind per channel is
 // chosen over the whole take by analog_kinds() so every window agrees.
 std::vector<uint8_t> analog_kinds(const std::vector<double>& values, int channels);
+// The same decision accumulated over consecutive blocks of whole rows (count values): start
+// from `channels` kinds of 0 (integers) and feed the blocks in order.
+void update_analog_kinds(const double* values, size_t count, int channels,
+                         std::vector<uint8_t>* kinds);
 std::vector<uint8_t> encode_analog(const double* rows, size_t nrows, int channels,
                                    const std::vector<uint8_t>& kinds);
 void decode_analog(const uint8_t* data, size_t size, size_t nrows, int channels, double* rows,

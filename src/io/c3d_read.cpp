@@ -78,12 +78,34 @@ long trial_field(const C3DExtra& x, const char* name) {
 
 }  // namespace
 
-Take read_c3d(const std::string& path) {
-  std::vector<uint8_t> bytes = read_file(path);
-  return read_c3d_bytes(bytes.data(), bytes.size(), path);
+namespace c3d {
+
+namespace {
+
+// Where parameter entries must start before, from the header block (data[0..17]) of a file of
+// `size` bytes. The data start word is read in both byte orders: the processor is not known
+// yet; the smaller plausible value past the parameters bounds them.
+size_t parameter_limit(const uint8_t* data, size_t size) {
+  const size_t param_offset = (static_cast<size_t>(data[0]) - 1) * kBlock;
+  size_t limit = size;
+  for (uint16_t ds : {static_cast<uint16_t>(data[16] | (data[17] << 8)),
+                      static_cast<uint16_t>((data[16] << 8) | data[17])}) {
+    size_t off = ds > 0 ? (static_cast<size_t>(ds) - 1) * kBlock : 0;
+    if (off > param_offset) limit = std::min(limit, off);
+  }
+  return limit;
 }
 
-Take read_c3d_bytes(const uint8_t* data, size_t size, const std::string& name) {
+}  // namespace
+
+size_t header_extent(const uint8_t* data, size_t avail, size_t size) {
+  if (avail < kBlock || data[0] == 0) return std::min(size, kBlock);
+  // Entries start before the limit but may run past it (a section without terminator).
+  return std::min(size, parameter_limit(data, size) + kHeaderSlack);
+}
+
+Take read_header(const uint8_t* data, size_t avail, size_t size, const std::string& name,
+                 DataLayout* out) {
   if (size == 0) fail(ErrorCode::kNotOurFormat, name, "empty file (0 bytes), not a C3D file");
   if (size < 2 || data[1] != 0x50) {
     char buf[96];
@@ -91,21 +113,14 @@ Take read_c3d_bytes(const uint8_t* data, size_t size, const std::string& name) {
                   size < 2 ? 0 : data[1]);
     fail(ErrorCode::kNotOurFormat, name, buf);
   }
-  if (size < kBlock)
+  if (size < kBlock || avail < kBlock)
     fail(ErrorCode::kCorrupt, name,
          "truncated: " + std::to_string(size) + " bytes, the C3D header alone needs 512");
   if (data[0] == 0) fail(ErrorCode::kCorrupt, name, "header points to parameter block 0");
 
   const size_t param_offset = (static_cast<size_t>(data[0]) - 1) * kBlock;
-  // The data start word is read in both byte orders: the processor is not known yet; the
-  // smaller plausible value past the parameters bounds them.
-  size_t limit = size;
-  for (uint16_t ds : {static_cast<uint16_t>(data[16] | (data[17] << 8)),
-                      static_cast<uint16_t>((data[16] << 8) | data[17])}) {
-    size_t off = ds > 0 ? (static_cast<size_t>(ds) - 1) * kBlock : 0;
-    if (off > param_offset) limit = std::min(limit, off);
-  }
-  c3d::ParameterSection sec = c3d::parse_parameter_section(data, size, param_offset, limit, name);
+  const size_t limit = parameter_limit(data, size);
+  c3d::ParameterSection sec = c3d::parse_parameter_section(data, avail, param_offset, limit, name);
   const c3d::NumberFormat nf{sec.processor};
   auto word = [&](int w) { return nf.u16(data + 2 * (w - 1)); };  // 1-based header words
   auto fword = [&](int w) { return nf.f32(data + 2 * (w - 1)); };
@@ -285,70 +300,25 @@ Take read_c3d_bytes(const uint8_t* data, size_t size, const std::string& name) {
     frames = 0;
   }
 
-  // ---- data ----
-  t.resize(frames, points);
+  // ---- data layout ----
+  t.frames = frames;
+  t.points = points;
   t.first_frame = first;
-  x->residual.assign(frames * points, -1.0f);
-  x->camera_mask.assign(frames * points, 0);
   t.analog.channels = static_cast<int>(channels);
   t.analog.samples_per_frame = static_cast<int>(spf);
-  t.analog.values.assign(frames * spf * channels, 0.0);
   bool analog_unsigned = false;
   if (const C3DParameter* fmt = x->param("ANALOG", "FORMAT"))
     if (fmt->type == -1) analog_unsigned = upper(trim(fmt->as_string())) == "UNSIGNED";
-
-  size_t wide_word4 = 0;
-  for (size_t f = 0; f < frames; ++f) {
-    const uint8_t* fp = data + data_offset + f * per_frame;
-    for (size_t p = 0; p < points; ++p) {
-      const uint8_t* q = fp + p * 4 * elem;
-      double c[3];
-      bool valid;
-      uint32_t word4 = 0;
-      if (x->float_storage) {
-        for (int a = 0; a < 3; ++a) c[a] = nf.f32(q + 4 * a);
-        // The float holds the int16 4th word: 32768..65535 are negative int16 values (Qualisys
-        // and Vicon write 65535 for -1). Larger values are no int16 at all: valid, residual 0.
-        float w = nf.f32(q + 12);
-        valid = w >= 0 && !(w >= 32768.0f && w <= 65535.0f);  // NaN is not >= 0
-        if (valid && w < 32768.0f) word4 = static_cast<uint32_t>(w);
-        if (valid && w > 65535.0f) ++wide_word4;
-      } else {
-        for (int a = 0; a < 3; ++a) c[a] = nf.i16(q + 2 * a) * scale;
-        int16_t w = nf.i16(q + 6);
-        valid = w >= 0;
-        if (valid) word4 = static_cast<uint32_t>(w);
-      }
-      if (valid) {
-        bool finite = std::isfinite(c[0]) && std::isfinite(c[1]) && std::isfinite(c[2]);
-        bool zero = c[0] == 0 && c[1] == 0 && c[2] == 0;
-        valid = finite && !zero;
-      }
-      size_t i = f * points + p;
-      if (!valid) continue;  // resize() left xyz = 0, valid = 0; residual = -1, mask = 0
-      double* dst = t.at(f, p);
-      dst[0] = c[0];
-      dst[1] = c[1];
-      dst[2] = c[2];
-      t.valid[i] = 1;
-      x->residual[i] = static_cast<float>((word4 & 0xff) * scale);
-      x->camera_mask[i] = static_cast<uint8_t>((word4 >> 8) & 0xff);
-    }
-    const uint8_t* ap = fp + points * 4 * elem;
-    double* av = t.analog.values.data() + f * spf * channels;
-    for (size_t k = 0; k < spf * channels; ++k) {
-      const uint8_t* q = ap + k * elem;
-      if (x->float_storage)
-        av[k] = nf.f32(q);
-      else
-        av[k] = analog_unsigned ? static_cast<double>(nf.u16(q)) : static_cast<double>(nf.i16(q));
-    }
-  }
-
-  if (wide_word4)
-    warn(std::to_string(wide_word4) +
-         " samples have a 4th word beyond 16 bits; read as valid with "
-         "residual 0 and no camera mask");
+  out->nf = nf;
+  out->data_offset = data_offset;
+  out->per_frame = per_frame;
+  out->frames = frames;
+  out->points = points;
+  out->analog_values = spf * channels;
+  out->float_storage = x->float_storage;
+  out->analog_unsigned = analog_unsigned;
+  out->scale = scale;
+  out->warning_at = t.warnings.size();
 
   // ---- labels, rate, units ----
   t.labels = c3d::string_list(*x, "POINT", "LABELS");
@@ -389,6 +359,88 @@ Take read_c3d_bytes(const uint8_t* data, size_t size, const std::string& name) {
   }
 
   t.c3d = std::move(x);
+  return t;
+}
+
+void decode_frames(const DataLayout& lay, const uint8_t* bytes, size_t count, double* xyz,
+                   uint8_t* valid_out, float* residual, uint8_t* camera, double* analog,
+                   size_t* wide_word4) {
+  const NumberFormat& nf = lay.nf;
+  const size_t points = lay.points, elem = lay.float_storage ? 4 : 2;
+  const double scale = lay.scale;
+  for (size_t f = 0; f < count; ++f) {
+    const uint8_t* fp = bytes + f * lay.per_frame;
+    for (size_t p = 0; p < points; ++p) {
+      const uint8_t* q = fp + p * 4 * elem;
+      double c[3];
+      bool valid;
+      uint32_t word4 = 0;
+      if (lay.float_storage) {
+        for (int a = 0; a < 3; ++a) c[a] = nf.f32(q + 4 * a);
+        // The float holds the int16 4th word: 32768..65535 are negative int16 values (Qualisys
+        // and Vicon write 65535 for -1). Larger values are no int16 at all: valid, residual 0.
+        float w = nf.f32(q + 12);
+        valid = w >= 0 && !(w >= 32768.0f && w <= 65535.0f);  // NaN is not >= 0
+        if (valid && w < 32768.0f) word4 = static_cast<uint32_t>(w);
+        if (valid && w > 65535.0f) ++*wide_word4;
+      } else {
+        for (int a = 0; a < 3; ++a) c[a] = nf.i16(q + 2 * a) * scale;
+        int16_t w = nf.i16(q + 6);
+        valid = w >= 0;
+        if (valid) word4 = static_cast<uint32_t>(w);
+      }
+      if (valid) {
+        bool finite = std::isfinite(c[0]) && std::isfinite(c[1]) && std::isfinite(c[2]);
+        bool zero = c[0] == 0 && c[1] == 0 && c[2] == 0;
+        valid = finite && !zero;
+      }
+      const size_t i = f * points + p;
+      double* dst = xyz + 3 * i;
+      valid_out[i] = valid ? 1 : 0;
+      residual[i] = valid ? static_cast<float>((word4 & 0xff) * scale) : -1.0f;
+      camera[i] = valid ? static_cast<uint8_t>((word4 >> 8) & 0xff) : 0;
+      for (int a = 0; a < 3; ++a) dst[a] = valid ? c[a] : 0.0;
+    }
+    const uint8_t* ap = fp + points * 4 * elem;
+    double* av = analog + f * lay.analog_values;
+    for (size_t k = 0; k < lay.analog_values; ++k) {
+      const uint8_t* q = ap + k * elem;
+      if (lay.float_storage)
+        av[k] = nf.f32(q);
+      else
+        av[k] = lay.analog_unsigned ? static_cast<double>(nf.u16(q)) : static_cast<double>(nf.i16(q));
+    }
+  }
+}
+
+std::string wide_word4_warning(size_t n) {
+  return std::to_string(n) +
+         " samples have a 4th word beyond 16 bits; read as valid with "
+         "residual 0 and no camera mask";
+}
+
+}  // namespace c3d
+
+Take read_c3d(const std::string& path) {
+  std::vector<uint8_t> bytes = read_file(path);
+  return read_c3d_bytes(bytes.data(), bytes.size(), path);
+}
+
+Take read_c3d_bytes(const uint8_t* data, size_t size, const std::string& name) {
+  c3d::DataLayout lay;
+  Take t = c3d::read_header(data, size, size, name, &lay);
+  const size_t frames = t.frames, points = t.points;
+  t.resize(frames, points);
+  C3DExtra& x = *t.c3d;
+  x.residual.assign(frames * points, -1.0f);
+  x.camera_mask.assign(frames * points, 0);
+  t.analog.values.assign(frames * lay.analog_values, 0.0);
+  size_t wide_word4 = 0;
+  c3d::decode_frames(lay, data + lay.data_offset, frames, t.xyz.data(), t.valid.data(),
+                     x.residual.data(), x.camera_mask.data(), t.analog.values.data(), &wide_word4);
+  if (wide_word4)
+    t.warnings.insert(t.warnings.begin() + static_cast<long>(lay.warning_at),
+                      c3d::wide_word4_warning(wide_word4));
   return t;
 }
 

@@ -41,12 +41,22 @@ void check_take(const Take& t, const std::string& name) {
       a.values.size() !=
           t.frames * static_cast<size_t>(a.channels) * static_cast<size_t>(a.samples_per_frame))
     fail(ErrorCode::kInternal, name, "analog values do not match frames x samples x channels");
+}
+
+}  // namespace
+
+void check_c3d_limits(const Take& t, const std::string& name) {
+  const Analog& a = t.analog;
+  if (a.channels < 0 || a.samples_per_frame < 0)
+    fail(ErrorCode::kInternal, name, "negative analog channel or sample count");
   if (t.points > 65535)
     fail(ErrorCode::kUsage, name,
          std::to_string(t.points) + " points: a C3D file holds at most 65535");
   if (static_cast<size_t>(a.channels) * static_cast<size_t>(a.samples_per_frame) > 65535)
     fail(ErrorCode::kUsage, name, "more than 65535 analog values per frame: C3D cannot hold them");
 }
+
+namespace {
 
 bool fits_int16(double v, double scale) {
   double q = std::round(v / scale);
@@ -81,9 +91,38 @@ void put_header_f32(std::vector<uint8_t>& h, int word, float v) {
 
 }  // namespace
 
-std::vector<uint8_t> encode_c3d_file(const Take& take, const WriteOptions& opts,
-                                     const std::string& name) {
-  check_take(take, name);
+void C3DWriteScan::add(size_t count, const double* xyz, const uint8_t* valid,
+                       size_t analog_count, const double* analog) {
+  for (size_t i = 0; i < count; ++i)
+    if (valid[i])
+      for (int a = 0; a < 3; ++a) {
+        const double v = xyz[3 * i + a];
+        max_abs = std::max(max_abs, std::fabs(v));
+        if (fits && scale > 0 && !fits_int16(v, scale)) fits = false;
+      }
+  for (size_t k = 0; k < analog_count && fits; ++k) {
+    const double v = analog[k];
+    if (!(std::isfinite(v) && v == std::round(v) && v >= -32768 && v <= 65535)) fits = false;
+  }
+}
+
+double c3d_known_scale(const Take& take) {
+  const double scale = take.c3d ? take.c3d->point_scale : 0;
+  return std::isfinite(scale) && scale > 0 ? static_cast<float>(scale) : 0;
+}
+
+double c3d_scale_from_data(double max_abs) {
+  return static_cast<float>(max_abs > 0 && std::isfinite(max_abs) ? max_abs / 32000.0 : 1.0);
+}
+
+bool c3d_needs_scan(const Take& take, const WriteOptions& opts) {
+  const bool float_storage = opts.c3d_float || !take.c3d || take.c3d->float_storage;
+  return !float_storage || c3d_known_scale(take) == 0;
+}
+
+C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& opts,
+                          const C3DWriteScan& scan, const std::string& name) {
+  check_c3d_limits(take, name);
   const size_t F = take.frames, N = take.points;
   const Analog& an = take.analog;
   const size_t channels = static_cast<size_t>(an.channels);
@@ -93,27 +132,10 @@ std::vector<uint8_t> encode_c3d_file(const Take& take, const WriteOptions& opts,
 
   // ---- storage and scale ----
   bool float_storage = opts.c3d_float || !src || src->float_storage;
-  double scale = src ? src->point_scale : 0;
-  if (!(std::isfinite(scale) && scale > 0)) {
-    double m = 0;
-    for (size_t i = 0; i < F * N; ++i)
-      if (take.valid[i])
-        for (int a = 0; a < 3; ++a) m = std::max(m, std::fabs(take.xyz[3 * i + a]));
-    scale = m > 0 && std::isfinite(m) ? m / 32000.0 : 1.0;
-  }
-  scale = static_cast<float>(scale);  // what the file stores
-  if (!float_storage) {
-    for (size_t i = 0; i < F * N && !float_storage; ++i)
-      if (take.valid[i])
-        for (int a = 0; a < 3; ++a)
-          if (!fits_int16(take.xyz[3 * i + a], scale)) float_storage = true;
-    for (double v : an.values)
-      if (!(std::isfinite(v) && v == std::round(v) && v >= -32768 && v <= 65535)) {
-        float_storage = true;
-        break;
-      }
-  }
-  const bool have_res = src && src->residual.size() == F * N && src->camera_mask.size() == F * N;
+  double scale = c3d_known_scale(take);
+  if (scale == 0) scale = c3d_scale_from_data(scan.max_abs);
+  // The int16 fit is known only when the scan used this scale.
+  if (!float_storage && !(scan.scale == scale && scan.fits)) float_storage = true;
 
   // ---- parameters ----
   std::vector<C3DGroup> groups;
@@ -253,38 +275,53 @@ std::vector<uint8_t> encode_c3d_file(const Take& take, const WriteOptions& opts,
     }
   }
 
-  // ---- data ----
+  C3DFilePlan plan;
+  plan.float_storage = float_storage;
+  plan.scale = scale;
+  plan.have_res = have_res;
+  plan.points = N;
+  plan.analog_total = analog_total;
+  plan.per_frame = (N * 4 + analog_total) * (float_storage ? 4 : 2);
+  plan.frames = F;
+  plan.head.resize(header.size() + params.size());
+  std::copy(header.begin(), header.end(), plan.head.begin());
+  std::copy(params.begin(), params.end(), plan.head.begin() + static_cast<long>(header.size()));
+  return plan;
+}
+
+void encode_c3d_frames(const C3DFilePlan& plan, size_t count, const double* xyz,
+                       const uint8_t* valid, const float* residual, const uint8_t* camera,
+                       const double* analog, uint8_t* out) {
+  const size_t N = plan.points, analog_total = plan.analog_total;
+  const bool float_storage = plan.float_storage;
+  const double scale = plan.scale;
   const size_t elem = float_storage ? 4 : 2;
-  const size_t per_frame = (N * 4 + analog_total) * elem;
-  std::vector<uint8_t> out(header.size() + params.size() + F * per_frame, 0);
-  std::copy(header.begin(), header.end(), out.begin());
-  std::copy(params.begin(), params.end(), out.begin() + static_cast<long>(header.size()));
-  uint8_t* d = out.data() + header.size() + params.size();
-  for (size_t f = 0; f < F; ++f) {
+  uint8_t* d = out;
+  for (size_t f = 0; f < count; ++f) {
     for (size_t p = 0; p < N; ++p) {
       const size_t i = f * N + p;
       uint32_t word4 = 0;
-      if (take.valid[i] && have_res) {
-        float r = src->residual[i];
+      if (valid[i] && plan.have_res) {
+        float r = residual[i];
         long low = r > 0 ? std::lround(r / scale) : 0;
-        word4 = (static_cast<uint32_t>(src->camera_mask[i] & 0x7f) << 8) |
+        word4 = (static_cast<uint32_t>(camera[i] & 0x7f) << 8) |
                 static_cast<uint32_t>(std::min(255L, std::max(0L, low)));
       }
-      const double* c = &take.xyz[3 * i];
+      const double* c = &xyz[3 * i];
       if (float_storage) {
         for (int a = 0; a < 3; ++a)
-          put_f32le(take.valid[i] ? static_cast<float>(c[a]) : 0.0f, d + 4 * a);
-        put_f32le(take.valid[i] ? static_cast<float>(word4) : -1.0f, d + 12);
+          put_f32le(valid[i] ? static_cast<float>(c[a]) : 0.0f, d + 4 * a);
+        put_f32le(valid[i] ? static_cast<float>(word4) : -1.0f, d + 12);
       } else {
         for (int a = 0; a < 3; ++a) {
-          long q = take.valid[i] ? std::lround(c[a] / scale) : 0;
+          long q = valid[i] ? std::lround(c[a] / scale) : 0;
           put_u16le(static_cast<uint16_t>(static_cast<int16_t>(q)), d + 2 * a);
         }
-        put_u16le(take.valid[i] ? static_cast<uint16_t>(word4) : 0xffff, d + 6);
+        put_u16le(valid[i] ? static_cast<uint16_t>(word4) : 0xffff, d + 6);
       }
       d += 4 * elem;
     }
-    const double* av = an.values.data() + f * analog_total;
+    const double* av = analog + f * analog_total;
     for (size_t k = 0; k < analog_total; ++k) {
       if (float_storage)
         put_f32le(static_cast<float>(av[k]), d);
@@ -293,6 +330,32 @@ std::vector<uint8_t> encode_c3d_file(const Take& take, const WriteOptions& opts,
       d += elem;
     }
   }
+}
+
+std::vector<uint8_t> encode_c3d_file(const Take& take, const WriteOptions& opts,
+                                     const std::string& name) {
+  check_take(take, name);
+  const size_t F = take.frames, N = take.points;
+  const C3DExtra* src = take.c3d.get();
+  const bool have_res = src && src->residual.size() == F * N && src->camera_mask.size() == F * N;
+  C3DWriteScan scan;
+  scan.scale = c3d_known_scale(take);
+  scan.add(F * N, take.xyz.data(), take.valid.data(), take.analog.values.size(),
+           take.analog.values.data());
+  if (scan.scale == 0) {  // an int16 scale from the data: check the fit at that scale
+    const double m = scan.max_abs;
+    scan = C3DWriteScan();
+    scan.scale = c3d_scale_from_data(m);
+    scan.add(F * N, take.xyz.data(), take.valid.data(), take.analog.values.size(),
+             take.analog.values.data());
+  }
+  C3DFilePlan plan = plan_c3d_file(take, have_res, opts, scan, name);
+  std::vector<uint8_t> out(plan.head.size() + F * plan.per_frame, 0);
+  std::copy(plan.head.begin(), plan.head.end(), out.begin());
+  encode_c3d_frames(plan, F, take.xyz.data(), take.valid.data(),
+                    have_res ? src->residual.data() : nullptr,
+                    have_res ? src->camera_mask.data() : nullptr, take.analog.values.data(),
+                    out.data() + plan.head.size());
   return out;
 }
 

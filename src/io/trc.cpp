@@ -23,6 +23,7 @@
 #include "capz/io.h"
 #include "core/atomic_file.h"
 #include "io/text_number.h"
+#include "io/trc_internal.h"
 
 namespace capz {
 
@@ -359,22 +360,14 @@ Take read_trc(const std::string& path) {
   return read_trc_bytes(bytes.data(), bytes.size(), path);
 }
 
-void write_trc(const Take& take, const std::string& path, const WriteOptions& opts) {
+namespace trc {
+
+std::string header_text(const Take& take, const std::string& path) {
   const TRCExtra* x = take.trc.get();
   const size_t F = take.frames, N = take.points;
-  if (take.xyz.size() != F * N * 3 || take.valid.size() != F * N)
-    fail(ErrorCode::kInternal, path, "take arrays do not match frames x points");
-  // Output is created before formatting so an existing file is refused without work.
-  AtomicFile out(path, opts.overwrite);
-
   const double rate = take.rate;
-  const int dec = x ? x->decimals : -1;
-  const int tdec = x && x->time_decimals >= 0 ? x->time_decimals : 3;
-  const bool have_times = x && x->times.size() == F;
-  const bool have_numbers = x && x->frame_numbers.size() == F;
-
   std::string s;
-  s.reserve(64 + N * 32 + F * (16 + N * 30));
+  s.reserve(64 + N * 32);
   if (x && !x->path_file_type_line.empty()) {
     s += x->path_file_type_line;
   } else {
@@ -406,18 +399,32 @@ void write_trc(const Take& take, const std::string& path, const WriteOptions& op
     s += "\tX" + i + "\tY" + i + "\tZ" + i;
   }
   s += "\n\n";
-  for (size_t fr = 0; fr < F; ++fr) {
+  return s;
+}
+
+void append_rows(const Take& take, size_t first, size_t count, const double* xyz,
+                 const uint8_t* valid, std::string* out) {
+  const TRCExtra* x = take.trc.get();
+  const size_t F = take.frames, N = take.points;
+  const double rate = take.rate;
+  const int dec = x ? x->decimals : -1;
+  const int tdec = x && x->time_decimals >= 0 ? x->time_decimals : 3;
+  const bool have_times = x && x->times.size() == F;
+  const bool have_numbers = x && x->frame_numbers.size() == F;
+  std::string& s = *out;
+  for (size_t k = 0; k < count; ++k) {
+    const size_t fr = first + k;
     s += std::to_string(have_numbers ? x->frame_numbers[fr]
                                      : take.first_frame + static_cast<long>(fr));
     s += '\t';
     double t = have_times ? x->times[fr] : (rate > 0 ? static_cast<double>(fr) / rate : 0.0);
     s += format_decimal(t, tdec);
     for (size_t p = 0; p < N; ++p) {
-      if (!take.is_valid(fr, p)) {
+      if (!valid[k * N + p]) {
         s += "\t\t\t";
         continue;
       }
-      const double* v = take.at(fr, p);
+      const double* v = xyz + (k * N + p) * 3;
       for (int a = 0; a < 3; ++a) {
         s += '\t';
         s += format_decimal(v[a], dec);
@@ -426,10 +433,24 @@ void write_trc(const Take& take, const std::string& path, const WriteOptions& op
     // A closing tab, as OpenSim writes: its reader drops an empty last field, so a row ending
     // in a gap would otherwise be one field short.
     s += "\t\n";
-    if (s.size() > (size_t{1} << 22)) {
-      out.write(s.data(), s.size());
-      s.clear();
-    }
+  }
+}
+
+}  // namespace trc
+
+void write_trc(const Take& take, const std::string& path, const WriteOptions& opts) {
+  const size_t F = take.frames, N = take.points;
+  if (take.xyz.size() != F * N * 3 || take.valid.size() != F * N)
+    fail(ErrorCode::kInternal, path, "take arrays do not match frames x points");
+  // Output is created before formatting so an existing file is refused without work.
+  AtomicFile out(path, opts.overwrite);
+  std::string s = trc::header_text(take, path);
+  constexpr size_t kRows = 256;  // rows formatted between writes
+  for (size_t fr = 0; fr < F; fr += kRows) {
+    const size_t n = std::min(kRows, F - fr);
+    trc::append_rows(take, fr, n, take.xyz.data() + fr * N * 3, take.valid.data() + fr * N, &s);
+    out.write(s.data(), s.size());
+    s.clear();
   }
   out.write(s.data(), s.size());
   out.commit();

@@ -1,0 +1,106 @@
+// capz — streaming: takes read, compressed, decompressed and written a block of frames at a time,
+// so memory is bounded by the block (the coder's window), not by the take.
+//
+// A FrameSource gives a take's metadata (everything of a Take but the per-frame arrays) without
+// reading its frames, then any range of frames on demand. A FrameSink writes a take whose
+// metadata and frame count are known up front, frames in order. compress_stream and
+// decompress_stream connect them to the .capz coder; they produce exactly what compress() and
+// decompress() followed by write_take() produce.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "capz/codec.h"
+#include "capz/io.h"
+#include "capz/take.h"
+
+namespace capz {
+
+// Frames [first, first + frames) of a take: the per-frame arrays of Take (take.h) cut to them,
+// in the same layouts.
+struct FrameBlock {
+  size_t first = 0, frames = 0, points = 0;
+  std::vector<double> xyz;          // frames x points x 3
+  std::vector<uint8_t> valid;       // frames x points
+  std::vector<float> residual;      // frames x points (C3D 4th word), empty when the take has none
+  std::vector<uint8_t> camera_mask;  // frames x points, empty when the take has none
+  std::vector<double> analog;       // (frames * samples_per_frame) x channels
+
+  // Sizes every array for `frames` x `points` (gaps, zeros); words: with residual/camera arrays.
+  void reset(size_t first, size_t frames, size_t points, size_t analog_values_per_frame,
+             bool words);
+};
+
+class FrameSource {
+ public:
+  virtual ~FrameSource() = default;
+  // The take without its per-frame arrays: frames and points set; xyz, valid, analog.values and
+  // c3d->residual / camera_mask empty. Per-frame metadata that is small (TRC times and frame
+  // numbers, PCD frame names) is kept.
+  const Take& header() const { return header_; }
+  // The same, for a caller that amends metadata before using the source (e.g. units for data
+  // that has none); the frame and point counts and the analog layout must not change.
+  Take& edit_header() { return header_; }
+  // True when read() fills residual and camera_mask (C3D 4th words).
+  virtual bool has_sample_words() const = 0;
+  // Frames [first, first + count), clipped to the take. Reads only those frames where the
+  // format allows it (C3D: seek; .capz: the windows they touch). Throws capz::Error.
+  virtual void read(size_t first, size_t count, FrameBlock* out) = 0;
+  // The block size reads are cheapest in (a .capz: its window size).
+  virtual size_t preferred_block() const { return 1024; }
+  // Warnings found while reading frames (e.g. C3D 4th words beyond 16 bits); complete after
+  // every frame has been read once, in order.
+  virtual std::vector<std::string> frame_warnings() const { return {}; }
+  // Bytes read from the file so far (0 for sources in memory).
+  virtual uint64_t bytes_read() const { return 0; }
+
+ protected:
+  Take header_;
+};
+
+// A C3D file read by frame ranges (the file stays open; frames are read with seeks).
+std::unique_ptr<FrameSource> open_c3d_frames(const std::string& path);
+// A .capz read window by window (HEAD, META and INDX up front; a range decodes the windows it
+// touches). The header is what decompress() returns without its frame arrays.
+std::unique_ptr<FrameSource> open_capz_frames(const std::string& path);
+// An in-memory take as a source (the take must outlive the source).
+std::unique_ptr<FrameSource> take_frames(const Take& take);
+// Any input read_take() accepts: C3D and .capz stream; TRC and PCD folders are read whole
+// (their readers need every line / file to know the layout) and served from memory.
+std::unique_ptr<FrameSource> open_frames(const std::string& path);
+
+class FrameSink {
+ public:
+  virtual ~FrameSink() = default;
+  // True when the writer must see every frame once before the first write() (a C3D written as
+  // int16 checks that every value fits); the caller then calls prescan() on all frames in order.
+  virtual bool wants_prescan() const { return false; }
+  virtual void prescan(const FrameBlock&) {}
+  // Frames in order, starting at 0, ending at header().frames.
+  virtual void write(const FrameBlock& block) = 0;
+  // Checks that every frame was written, then renames the output into place.
+  virtual void commit() = 0;
+};
+
+// A writer for `path` by its extension (.c3d, .trc; other paths: a PCD folder, written whole
+// from memory). `header` as FrameSource::header(); `words`: blocks carry C3D 4th words.
+std::unique_ptr<FrameSink> create_frame_sink(const Take& header, bool words,
+                                             const std::string& path,
+                                             const WriteOptions& opts = {});
+
+// Compresses a source window by window into `path` (an AtomicFile). Same bytes as compress()
+// on the whole take. Lossless and --max-error read the source twice (a scan that fixes the
+// grid, then the coding pass); a KG target reads it once per bisection step of the grid search
+// (about 30). codec "auto" is not streamed (throws kInvalidParameter: use compress()).
+void compress_stream(FrameSource& source, const CompressOptions& opts, const std::string& path,
+                     bool overwrite, CompressStats* stats = nullptr);
+
+// Copies every frame of the source to the sink, `block` frames at a time (prescanning first
+// when the sink asks), then commits the sink.
+void copy_frames(FrameSource& source, FrameSink& sink, size_t block = 1024);
+
+}  // namespace capz

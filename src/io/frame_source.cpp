@@ -1,0 +1,327 @@
+// Frame sources and sinks (include/capz/stream.h): C3D read by frame ranges, an in-memory take,
+// a C3D written frame block by frame block, and the whole-take fallback for the other formats.
+#include <algorithm>
+#include <memory>
+
+#include "capz/error.h"
+#include "capz/io.h"
+#include "capz/stream.h"
+#include "core/atomic_file.h"
+#include "core/input_file.h"
+#include "io/c3d_internal.h"
+#include "io/trc_internal.h"
+
+namespace capz {
+
+void FrameBlock::reset(size_t first_frame, size_t n, size_t n_points, size_t analog_per_frame,
+                       bool words) {
+  first = first_frame;
+  frames = n;
+  points = n_points;
+  xyz.assign(n * n_points * 3, 0.0);
+  valid.assign(n * n_points, 0);
+  residual.assign(words ? n * n_points : 0, 0.0f);
+  camera_mask.assign(words ? n * n_points : 0, 0);
+  analog.assign(n * analog_per_frame, 0.0);
+}
+
+namespace {
+
+// Analog values per frame as the coder and the writers see them (0 without channels).
+size_t analog_per_frame(const Take& t) {
+  return t.analog.channels > 0 && t.analog.samples_per_frame > 0
+             ? static_cast<size_t>(t.analog.channels) *
+                   static_cast<size_t>(t.analog.samples_per_frame)
+             : 0;
+}
+
+// The take's metadata without its per-frame arrays.
+Take header_of(const Take& t) {
+  Take h;
+  h.source = t.source;
+  h.format = t.format;
+  h.frames = t.frames;
+  h.points = t.points;
+  h.rate = t.rate;
+  h.units = t.units;
+  h.first_frame = t.first_frame;
+  h.labels = t.labels;
+  h.descriptions = t.descriptions;
+  h.analog.channels = t.analog.channels;
+  h.analog.samples_per_frame = t.analog.samples_per_frame;
+  h.analog.rate = t.analog.rate;
+  h.analog.labels = t.analog.labels;
+  if (t.c3d) {
+    auto x = std::make_shared<C3DExtra>();
+    x->processor = t.c3d->processor;
+    x->float_storage = t.c3d->float_storage;
+    x->point_scale = t.c3d->point_scale;
+    x->max_interpolation_gap = t.c3d->max_interpolation_gap;
+    x->groups = t.c3d->groups;
+    x->header_events = t.c3d->header_events;
+    x->header_events_label_range = t.c3d->header_events_label_range;
+    h.c3d = x;
+  }
+  h.trc = t.trc;
+  h.pcd = t.pcd;
+  h.warnings = t.warnings;
+  return h;
+}
+
+// ---------------------------------------------------------------------------------------------
+class C3DSource : public FrameSource {
+ public:
+  explicit C3DSource(const std::string& path) : file_(path) {
+    const size_t size = static_cast<size_t>(file_.size());
+    std::vector<uint8_t> head(std::min<size_t>(size, c3d::kBlock));
+    file_.read_at(0, head.data(), head.size());
+    const size_t extent = c3d::header_extent(head.data(), head.size(), size);
+    if (extent > head.size()) {
+      const size_t had = head.size();
+      head.resize(extent);
+      file_.read_at(had, head.data() + had, extent - had);
+    }
+    header_ = c3d::read_header(head.data(), head.size(), size, path, &lay_);
+  }
+  bool has_sample_words() const override { return true; }
+  void read(size_t first, size_t count, FrameBlock* out) override {
+    const size_t F = header_.frames;
+    first = std::min(first, F);
+    count = std::min(count, F - first);
+    out->reset(first, count, lay_.points, lay_.analog_values, true);
+    buf_.resize(count * lay_.per_frame);
+    file_.read_at(lay_.data_offset + first * lay_.per_frame, buf_.data(), buf_.size());
+    size_t wide = 0;
+    c3d::decode_frames(lay_, buf_.data(), count, out->xyz.data(), out->valid.data(),
+                       out->residual.data(), out->camera_mask.data(), out->analog.data(), &wide);
+    if (first == scanned_to_) {  // count each frame once, on the first pass in order
+      wide_ += wide;
+      scanned_to_ = first + count;
+    }
+  }
+  std::vector<std::string> frame_warnings() const override {
+    if (wide_ == 0) return {};
+    return {c3d::wide_word4_warning(wide_)};
+  }
+  uint64_t bytes_read() const override { return file_.bytes_read(); }
+
+ private:
+  InputFile file_;
+  c3d::DataLayout lay_;
+  std::vector<uint8_t> buf_;
+  size_t wide_ = 0, scanned_to_ = 0;
+};
+
+class TakeSource : public FrameSource {
+ public:
+  // `owned` keeps a take read here alive; else `take` must outlive the source.
+  TakeSource(const Take& take, std::unique_ptr<Take> owned)
+      : owned_(std::move(owned)), take_(take) {
+    header_ = header_of(take);
+    const size_t n = take.frames * take.points;
+    words_ = take.c3d && take.c3d->residual.size() == n && take.c3d->camera_mask.size() == n;
+    analog_ = analog_per_frame(take);
+    if (take.xyz.size() != n * 3 || take.valid.size() != n ||
+        take.analog.values.size() < take.frames * analog_)
+      fail(ErrorCode::kInvalidParameter, take.source,
+           "take arrays do not match its frame and point counts");
+  }
+  bool has_sample_words() const override { return words_; }
+  void read(size_t first, size_t count, FrameBlock* out) override {
+    const size_t F = take_.frames, N = take_.points;
+    first = std::min(first, F);
+    count = std::min(count, F - first);
+    out->first = first;
+    out->frames = count;
+    out->points = N;
+    const auto cut = [&](const auto& v, size_t per, auto* dst) {
+      dst->assign(v.begin() + static_cast<long>(first * per),
+                  v.begin() + static_cast<long>((first + count) * per));
+    };
+    cut(take_.xyz, N * 3, &out->xyz);
+    cut(take_.valid, N, &out->valid);
+    if (words_) {
+      cut(take_.c3d->residual, N, &out->residual);
+      cut(take_.c3d->camera_mask, N, &out->camera_mask);
+    } else {
+      out->residual.clear();
+      out->camera_mask.clear();
+    }
+    cut(take_.analog.values, analog_, &out->analog);
+  }
+
+ private:
+  std::unique_ptr<Take> owned_;
+  const Take& take_;
+  bool words_ = false;
+  size_t analog_ = 0;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Collects the frames and writes the whole take at commit (TRC, PCD folders, and C3D files
+// whose int16 scale must come from the data).
+class WholeTakeSink : public FrameSink {
+ public:
+  WholeTakeSink(const Take& header, bool words, const std::string& path, const WriteOptions& opts)
+      : take_(header), words_(words), path_(path), opts_(opts) {
+    take_.xyz.clear();
+    take_.valid.clear();
+    take_.analog.values.clear();
+    if (take_.c3d) {
+      take_.c3d = std::make_shared<C3DExtra>(*header.c3d);
+      take_.c3d->residual.clear();
+      take_.c3d->camera_mask.clear();
+    }
+  }
+  void write(const FrameBlock& b) override {
+    take_.xyz.insert(take_.xyz.end(), b.xyz.begin(), b.xyz.end());
+    take_.valid.insert(take_.valid.end(), b.valid.begin(), b.valid.end());
+    take_.analog.values.insert(take_.analog.values.end(), b.analog.begin(), b.analog.end());
+    if (words_ && take_.c3d) {
+      take_.c3d->residual.insert(take_.c3d->residual.end(), b.residual.begin(), b.residual.end());
+      take_.c3d->camera_mask.insert(take_.c3d->camera_mask.end(), b.camera_mask.begin(),
+                                    b.camera_mask.end());
+    }
+  }
+  void commit() override { write_take(take_, path_, opts_); }
+
+ private:
+  Take take_;
+  bool words_;
+  std::string path_;
+  WriteOptions opts_;
+};
+
+// A C3D written as it comes: header and parameters at the first block, then frames.
+class C3DSink : public FrameSink {
+ public:
+  C3DSink(const Take& header, bool words, const std::string& path, const WriteOptions& opts)
+      : header_(header), words_(words), path_(path), opts_(opts) {
+    c3d::check_c3d_limits(header_, path_);
+    check_output_free(path, opts.overwrite);
+    scan_.scale = c3d::c3d_known_scale(header_);
+  }
+  bool wants_prescan() const override { return c3d::c3d_needs_scan(header_, opts_); }
+  void prescan(const FrameBlock& b) override {
+    scan_.add(b.frames * b.points, b.xyz.data(), b.valid.data(), b.analog.size(), b.analog.data());
+  }
+  void write(const FrameBlock& b) override {
+    start();
+    if (b.first != written_ || b.points != plan_.points || written_ + b.frames > plan_.frames)
+      fail(ErrorCode::kInternal, path_, "frames written out of order or beyond the header's count");
+    buf_.assign(b.frames * plan_.per_frame, 0);
+    c3d::encode_c3d_frames(plan_, b.frames, b.xyz.data(), b.valid.data(),
+                           words_ ? b.residual.data() : nullptr,
+                           words_ ? b.camera_mask.data() : nullptr, b.analog.data(), buf_.data());
+    file_->write(buf_);
+    written_ += b.frames;
+  }
+  void commit() override {
+    start();
+    if (written_ != plan_.frames)
+      fail(ErrorCode::kInternal, path_,
+           std::to_string(written_) + " of " + std::to_string(plan_.frames) + " frames written");
+    file_->commit();
+  }
+
+ private:
+  void start() {  // header and parameters, once every prescan block has been seen
+    if (file_) return;
+    plan_ = c3d::plan_c3d_file(header_, words_, opts_, scan_, path_);
+    file_.reset(new AtomicFile(path_, opts_.overwrite));
+    file_->write(plan_.head);
+  }
+
+  Take header_;
+  bool words_;
+  std::string path_;
+  WriteOptions opts_;
+  c3d::C3DWriteScan scan_;
+  c3d::C3DFilePlan plan_;
+  std::unique_ptr<AtomicFile> file_;
+  std::vector<uint8_t> buf_;
+  size_t written_ = 0;
+};
+
+// A TRC written as it comes: the header lines at once, then rows.
+class TRCSink : public FrameSink {
+ public:
+  TRCSink(const Take& header, const std::string& path, const WriteOptions& opts)
+      : header_(header), path_(path) {
+    file_.reset(new AtomicFile(path, opts.overwrite));
+    text_ = trc::header_text(header_, path_);
+  }
+  void write(const FrameBlock& b) override {
+    if (b.first != written_ || b.points != header_.points || written_ + b.frames > header_.frames)
+      fail(ErrorCode::kInternal, path_, "frames written out of order or beyond the header's count");
+    trc::append_rows(header_, b.first, b.frames, b.xyz.data(), b.valid.data(), &text_);
+    file_->write(text_.data(), text_.size());
+    text_.clear();
+    written_ += b.frames;
+  }
+  void commit() override {
+    if (written_ != header_.frames)
+      fail(ErrorCode::kInternal, path_,
+           std::to_string(written_) + " of " + std::to_string(header_.frames) + " frames written");
+    file_->write(text_.data(), text_.size());
+    file_->commit();
+  }
+
+ private:
+  Take header_;
+  std::string path_;
+  std::unique_ptr<AtomicFile> file_;
+  std::string text_;
+  size_t written_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<FrameSource> open_c3d_frames(const std::string& path) {
+  return std::unique_ptr<FrameSource>(new C3DSource(path));
+}
+
+std::unique_ptr<FrameSource> take_frames(const Take& take) {
+  return std::unique_ptr<FrameSource>(new TakeSource(take, nullptr));
+}
+
+std::unique_ptr<FrameSource> open_frames(const std::string& path) {
+  if (detect_format(path) == Format::kC3D) return open_c3d_frames(path);
+  std::unique_ptr<Take> t(new Take(read_take(path)));
+  const Take& ref = *t;
+  return std::unique_ptr<FrameSource>(new TakeSource(ref, std::move(t)));
+}
+
+std::unique_ptr<FrameSink> create_frame_sink(const Take& header, bool words,
+                                             const std::string& path, const WriteOptions& opts) {
+  std::string target = path;
+  while (target.size() > 1 && target.back() == '/') target.pop_back();
+  const bool int16_from_data = c3d::c3d_known_scale(header) == 0 && header.c3d &&
+                               !header.c3d->float_storage && !opts.c3d_float;
+  const Format f = path.empty() ? Format::kUnknown : format_for_output(path);
+  if (f == Format::kC3D && !int16_from_data)
+    return std::unique_ptr<FrameSink>(new C3DSink(header, words, target, opts));
+  if (f == Format::kTRC) {
+    check_output_free(target, opts.overwrite);
+    return std::unique_ptr<FrameSink>(new TRCSink(header, target, opts));
+  }
+  return std::unique_ptr<FrameSink>(new WholeTakeSink(header, words, path, opts));
+}
+
+void copy_frames(FrameSource& source, FrameSink& sink, size_t block) {
+  const size_t F = source.header().frames;
+  if (block == 0) block = 1;
+  FrameBlock b;
+  if (sink.wants_prescan())
+    for (size_t f = 0; f < F; f += block) {
+      source.read(f, std::min(block, F - f), &b);
+      sink.prescan(b);
+    }
+  for (size_t f = 0; f < F; f += block) {
+    source.read(f, std::min(block, F - f), &b);
+    sink.write(b);
+  }
+  sink.commit();
+}
+
+}  // namespace capz
