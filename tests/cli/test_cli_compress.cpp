@@ -116,7 +116,7 @@ std::vector<char> file_bytes(const std::string& path) {
 }
 
 // --rm deletes IN only after OUT, read back from disk and decoded, reproduces it. The check's
-// failure is provoked with CAPZ_TEST_FLIP_WRITTEN_BYTE (a bit of the bytes read back is flipped,
+// failure is provoked with CAPZ_TEST_FLIP_WRITTEN_BYTE (a bit of OUT on disk is flipped first,
 // as a disk returning bad data would): then IN stays byte-identical, the bad OUT is removed, and
 // one line on stderr says so, status 5. Without the fault the check passes on real files, lossy
 // (bound), lossless and a KG target with a transform (no bound: the KG target is checked), TRC
