@@ -130,6 +130,10 @@ def write_scale_report(rows, out, command):
             ax.set_yscale("log")
             ax.grid(True, which="both", alpha=0.25)
             ax.legend(fontsize=8)
+        # A flat memory curve must look flat: at least a decade above and below the data.
+        top = max(float(r[k]) for r in good for k in ("enc_peak_mb", "dec_peak_mb", "read_peak_mb"))
+        low = min(float(r[k]) for r in good for k in ("enc_peak_mb", "dec_peak_mb", "read_peak_mb"))
+        ax2.set_ylim(min(low / 3, 10), max(top * 3, 1000))
         fig.suptitle("capz: time and memory against take length")
         fig.text(0.01, 0.01, command, fontsize=7, color="gray")
         fig.tight_layout(rect=(0, 0.03, 1, 0.97))

@@ -64,13 +64,17 @@ class FrameSource {
 
 // A C3D file read by frame ranges (the file stays open; frames are read with seeks).
 std::unique_ptr<FrameSource> open_c3d_frames(const std::string& path);
+// A TRC read by frame ranges: opening reads every line once (the point count, the decimals and
+// the Time column depend on all of them), keeping the per-row metadata (times, frame numbers) and
+// each row's file offset, about 32 bytes a frame; a range reads and parses only its rows.
+std::unique_ptr<FrameSource> open_trc_frames(const std::string& path);
 // A .capz read window by window (HEAD, META and INDX up front; a range decodes the windows it
 // touches). The header is what decompress() returns without its frame arrays.
 std::unique_ptr<FrameSource> open_capz_frames(const std::string& path);
 // An in-memory take as a source (the take must outlive the source).
 std::unique_ptr<FrameSource> take_frames(const Take& take);
-// Any input read_take() accepts: C3D and .capz stream; TRC and PCD folders are read whole
-// (their readers need every line / file to know the layout) and served from memory.
+// Any input read_take() accepts: C3D and TRC files by frame ranges; PCD folders are read whole
+// and served from memory.
 std::unique_ptr<FrameSource> open_frames(const std::string& path);
 
 class FrameSink {

@@ -245,6 +245,36 @@ double quantised_sq_error(FrameSource& src, double step, size_t block, FrameBloc
   return sq;
 }
 
+// Squared error and centred energy (per-frame centroid, metrics.h) of a window's valid samples.
+double window_sq_error(size_t fn, size_t n, const double* a, const double* b, const uint8_t* valid) {
+  double s = 0;
+  for (size_t i = 0; i < fn * n; ++i)
+    if (valid[i])
+      for (size_t k = i * 3; k < i * 3 + 3; ++k) s += (a[k] - b[k]) * (a[k] - b[k]);
+  return s;
+}
+double centred_sq_window(size_t fn, size_t n, const double* x, const uint8_t* valid) {
+  double cs = 0;
+  for (size_t f = 0; f < fn; ++f) {
+    double c[3] = {0, 0, 0};
+    size_t m = 0;
+    for (size_t p = 0; p < n; ++p)
+      if (valid[f * n + p]) {
+        for (int a = 0; a < 3; ++a) c[a] += x[(f * n + p) * 3 + a];
+        ++m;
+      }
+    if (!m) continue;
+    for (double& v : c) v /= static_cast<double>(m);
+    for (size_t p = 0; p < n; ++p)
+      if (valid[f * n + p])
+        for (int a = 0; a < 3; ++a) {
+          const double d = x[(f * n + p) * 3 + a] - c[a];
+          cs += d * d;
+        }
+  }
+  return cs;
+}
+
 // The largest grid whose KG error is at or under `kg` percent (bisection on the step; each step
 // is one pass over the source).
 Grid kg_grid(FrameSource& src, const TakeScan& s, double kg, size_t block, FrameBlock* b) {
@@ -423,11 +453,15 @@ class StreamOut {
 
 // ---------------------------------------------------------------------------------------------
 namespace {
+// allow_tout = false: a KG target with a transform goes through the grid (the fallback when the
+// transform's own reconstruction misses the target in some window).
 void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut* out,
-                     CompressStats* stats);
+                     CompressStats* stats, bool allow_tout = true);
+// Thrown by compress_source when a transform-output window misses the KG target.
+struct TransformMissedTarget {};
 
 std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions& opts,
-                                         CompressStats* stats) {
+                                         CompressStats* stats, bool allow_tout = true) {
   if (take.xyz.size() != take.frames * take.points * 3 ||
       take.valid.size() != take.frames * take.points)
     fail(ErrorCode::kInvalidParameter, take.source,
@@ -441,8 +475,16 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
   std::unique_ptr<FrameSource> src = take_frames(take);
   std::vector<uint8_t> bytes;
   StreamOut out(&bytes);
-  compress_source(*src, opts, &out, stats);
+  compress_source(*src, opts, &out, stats, allow_tout);
   return bytes;
+}
+
+std::vector<uint8_t> compress_one(const Take& take, const CompressOptions& opts, CompressStats* stats) {
+  try {
+    return compress_with_codec(take, opts, stats);
+  } catch (const TransformMissedTarget&) {
+    return compress_with_codec(take, opts, stats, false);
+  }
 }
 }  // namespace
 
@@ -473,7 +515,7 @@ std::map<std::string, std::string> options_for(const TransformCodec& codec,
 // take (e.g. pdct on fewer than 3 points) is skipped, never fatal, so auto is never worse than
 // "none". Encode time is the sum of all candidates' (about 3x), decode time is the winner's.
 std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, CompressStats* stats) {
-  if (opts.codec != "auto") return compress_with_codec(take, opts, stats);
+  if (opts.codec != "auto") return compress_one(take, opts, stats);
   // Options are checked before any trial: a mistyped key is the user's error, not a reason to
   // skip a codec. Under auto a key must name its codec ("ts.lpc_order=2").
   for (const auto& kv : opts.codec_options)
@@ -498,7 +540,7 @@ std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, Com
       CompressStats st;
       std::vector<uint8_t> out;
       try {
-        out = compress_with_codec(take, o, &st);
+        out = compress_one(take, o, &st);
       } catch (const Error& e) {
         if (e.code() != ErrorCode::kInvalidParameter) throw;
         continue;  // this stage does not apply to the take
@@ -515,7 +557,7 @@ std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, Com
 
 namespace {
 void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut* out,
-                     CompressStats* stats) {
+                     CompressStats* stats, bool allow_tout) {
   const Take& take = source.header();
   const std::string& src = take.source;
   // Up to 8192 frames a window keeps even an all-gap window above the decoder's plausibility
@@ -537,7 +579,7 @@ void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut
   }
   // Only a KG target and a transform: the transform's reconstruction is the output, no grid and
   // no bound layer (FORMAT.md 3.1 "transform output"); the transform meets the KG target itself.
-  const bool tout = !opts.lossless && opts.kg_error > 0 && codec && N > 0 && F > 0;
+  const bool tout = allow_tout && !opts.lossless && opts.kg_error > 0 && codec && N > 0 && F > 0;
   // Pass 1: what the grid and the per-take coding choices depend on.
   TakeScan scan = start_scan(take, opts);
   for (size_t f0 = 0; f0 < F; f0 += W) {
@@ -669,6 +711,12 @@ void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut
                                     std::to_string(rec[k]));
       }
     }
+    if (tout) {  // each window within the KG target makes the take meet it (FORMAT.md 3.1)
+      const double kg = opts.kg_error / 100;
+      if (window_sq_error(fn, N, orig, rec.data(), wi.valid.data()) >
+          kg * kg * centred_sq_window(fn, N, orig, wi.valid.data()))
+        throw TransformMissedTarget();
+    }
     acc.add(fn, N, orig, rec.data(), wi.valid.data());
 
     if (opts.check) {  // decode what was written and compare
@@ -759,10 +807,17 @@ void compress_stream(FrameSource& source, const CompressOptions& opts, const std
   if (opts.codec == "auto")
     fail(ErrorCode::kInvalidParameter, source.header().source,
          "codec auto compares whole-take encodings and is not streamed");
-  AtomicFile file(path, overwrite);
-  StreamOut out(&file);
-  compress_source(source, opts, &out, stats);
-  file.commit();
+  try {
+    AtomicFile file(path, overwrite);
+    StreamOut out(&file);
+    compress_source(source, opts, &out, stats);
+    file.commit();
+  } catch (const TransformMissedTarget&) {  // a second pass through the grid (see compress_one)
+    AtomicFile file(path, overwrite);
+    StreamOut out(&file);
+    compress_source(source, opts, &out, stats, false);
+    file.commit();
+  }
 }
 
 // ---------------------------------------------------------------------------------------------

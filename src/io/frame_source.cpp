@@ -286,7 +286,9 @@ std::unique_ptr<FrameSource> take_frames(const Take& take) {
 }
 
 std::unique_ptr<FrameSource> open_frames(const std::string& path) {
-  if (detect_format(path) == Format::kC3D) return open_c3d_frames(path);
+  const Format f = detect_format(path);
+  if (f == Format::kC3D) return open_c3d_frames(path);
+  if (f == Format::kTRC) return open_trc_frames(path);
   std::unique_ptr<Take> t(new Take(read_take(path)));
   const Take& ref = *t;
   return std::unique_ptr<FrameSource>(new TakeSource(ref, std::move(t)));

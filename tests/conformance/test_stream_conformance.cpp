@@ -50,32 +50,43 @@ Take assemble(FrameSource& src, size_t block) {
   return t;
 }
 
-std::vector<std::string> all_c3d_files() {
+// Every shared file with extension `ext` (".c3d", ".trc"), sorted.
+std::vector<std::string> shared_files(const std::string& ext) {
   std::vector<std::string> v;
-  for (const auto& e : fs::recursive_directory_iterator(kData + "/c3d"))
-    if (e.is_regular_file() && e.path().extension() == ".c3d") v.push_back(e.path().string());
+  for (const auto& e : fs::recursive_directory_iterator(kData))
+    if (e.is_regular_file() && e.path().extension() == ext) v.push_back(e.path().string());
   std::sort(v.begin(), v.end());
   return v;
 }
 
+// Reads `path` whole; when that throws, checks the frame source refuses it alike and returns
+// false.
+template <typename Whole, typename Open>
+bool read_whole_or_same_refusal(const std::string& path, Whole whole_reader, Open open_source,
+                                Take* out) {
+  try {
+    *out = whole_reader(path);
+    return true;
+  } catch (const Error& e) {
+    try {
+      open_source(path);
+      ADD_FAILURE() << "the frame source opened a file the whole reader refuses: " << e.what();
+    } catch (const Error& e2) {
+      EXPECT_EQ(e.code(), e2.code());
+      EXPECT_STREQ(e.what(), e2.what());
+    }
+    return false;
+  }
+}
+
 TEST(StreamC3D, GivenEverySharedC3dWhenReadInBlocksThenSameAsTheWholeReader) {
-  const std::vector<std::string> files = all_c3d_files();
+  const std::vector<std::string> files = shared_files(".c3d");
   ASSERT_GT(files.size(), 50u);
   size_t compared = 0;
   for (const std::string& path : files) {
     SCOPED_TRACE(path);
     Take whole;
-    try {
-      whole = read_c3d(path);
-    } catch (const Error& e) {
-      try {
-        open_c3d_frames(path);
-        ADD_FAILURE() << "the frame source opened a file read_c3d refuses: " << e.what();
-      } catch (const Error& e2) {
-        EXPECT_EQ(e.code(), e2.code());
-      }
-      continue;
-    }
+    if (!read_whole_or_same_refusal(path, read_c3d, open_c3d_frames, &whole)) continue;
     std::unique_ptr<FrameSource> src = open_c3d_frames(path);
     Take parts = assemble(*src, 37);  // blocks that do not divide the frame count
     capz::testing_support::expect_same_take(whole, parts);
@@ -93,6 +104,49 @@ TEST(StreamC3D, GivenEverySharedC3dWhenReadInBlocksThenSameAsTheWholeReader) {
     ++compared;
   }
   EXPECT_GT(compared, 50u);
+}
+
+TEST(StreamTRC, GivenEverySharedTrcWhenReadInBlocksThenSameAsTheWholeReader) {
+  const std::vector<std::string> files = shared_files(".trc");
+  ASSERT_GE(files.size(), 20u);
+  size_t compared = 0;
+  for (const std::string& path : files) {
+    SCOPED_TRACE(path);
+    Take whole;
+    if (!read_whole_or_same_refusal(path, read_trc, open_trc_frames, &whole)) continue;
+    std::unique_ptr<FrameSource> src = open_trc_frames(path);
+    Take parts = assemble(*src, 7);
+    capz_test::expect_same_samples(whole, parts);
+    EXPECT_EQ(whole.labels, parts.labels);
+    EXPECT_EQ(whole.units, parts.units);
+    EXPECT_EQ(whole.rate, parts.rate);
+    EXPECT_EQ(whole.first_frame, parts.first_frame);
+    EXPECT_EQ(whole.warnings, parts.warnings);
+    ASSERT_TRUE(whole.trc && parts.trc);
+    EXPECT_EQ(whole.trc->times, parts.trc->times);
+    EXPECT_EQ(whole.trc->frame_numbers, parts.trc->frame_numbers);
+    EXPECT_EQ(whole.trc->decimals, parts.trc->decimals);
+    EXPECT_EQ(whole.trc->time_decimals, parts.trc->time_decimals);
+    EXPECT_EQ(whole.trc->path_file_type_line, parts.trc->path_file_type_line);
+    EXPECT_EQ(whole.trc->orig_num_frames, parts.trc->orig_num_frames);
+    ++compared;
+  }
+  EXPECT_GE(compared, 15u);
+}
+
+TEST(StreamTRC, GivenARangeThenOnlyItsRowsAreRead) {
+  const std::string path = kData + "/trc/opensim/constraintTest.trc";
+  const uint64_t size = fs::file_size(path);
+  std::unique_ptr<FrameSource> src = open_trc_frames(path);
+  const uint64_t opened = src->bytes_read();  // every line once per pass
+  ASSERT_GT(src->header().frames, 100u);
+  FrameBlock b;
+  src->read(50, 10, &b);
+  const uint64_t range = src->bytes_read() - opened;
+  EXPECT_GT(range, 0u);
+  EXPECT_LT(range, 20 * size / src->header().frames) << "read more than about its 10 rows";
+  Take whole = read_trc(path);
+  EXPECT_EQ(0, std::memcmp(b.xyz.data(), whole.at(50, 0), b.xyz.size() * sizeof(double)));
 }
 
 TEST(StreamC3D, GivenARangeThenOnlyItsFramesAreRead) {

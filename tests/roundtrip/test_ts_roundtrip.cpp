@@ -105,3 +105,49 @@ void container_case(const char* name, size_t frames, double bound_frac, double k
 TEST(TsContainer, HorseGallopMaxErrorHolds) { container_case("horse-gallop", 0, 1e-4, 0); }
 TEST(TsContainer, ChickenCrossingKgTargetHolds) { container_case("chickenCrossing", 120, 0, 0.15); }
 TEST(TsContainer, PcowMaxErrorHolds) { container_case("pcow", 100, 5e-4, 0); }
+
+// A real C3D take with heavy occlusion (51 % gaps) through the container with --codec ts: with
+// only a KG target the stream is transform output and meets it on the valid samples; with a max
+// error the bound layer makes the bound hold exactly. Gap masks come back identical either way.
+TEST(TsContainer, RealC3DWithGapsKgTargetAndMaxError) {
+  const std::string path = std::string(CAPZ_SHARED_DATA) + "/c3d/btkdata/others/FunctionalLHip.c3d";
+  const Take t = read_take(path);
+  ASSERT_GT(t.gap_samples(), 0u);
+  CompressOptions o;
+  o.codec = "ts";
+  o.kg_error = 0.5;
+  CompressStats st;
+  std::vector<uint8_t> b = compress(t, o, &st);
+  EXPECT_EQ(st.mode, "transform-output");
+  Take back = decompress(b.data(), b.size(), path);
+  ErrorStats e = compare(t, back);
+  EXPECT_EQ(e.mask_mismatches, 0u);
+  EXPECT_LE(e.kg_error, 0.5);
+  EXPECT_GT(e.kg_error, 0.1);
+  EXPECT_EQ(e.max_abs, st.error.max_abs);  // the reported max error is the decoder's
+  EXPECT_LT(e.max_abs, 50.0);              // mm: a sane reconstruction, not a bound
+  std::printf("FunctionalLHip KG 0.5%%: %.3f bpvf, max %.4g mm, KG %.4f%%\n", st.bpvf, e.max_abs, e.kg_error);
+  o.kg_error = 0;
+  o.max_error = 0.5;
+  b = compress(t, o, &st);
+  back = decompress(b.data(), b.size(), path);
+  e = compare(t, back);
+  EXPECT_EQ(e.mask_mismatches, 0u);
+  EXPECT_LE(e.max_abs, 0.5);
+}
+
+// The three PCD sequences at KG 0.15 % through the container: transform output, target met.
+TEST(TsContainer, HorseGallopTransformOutputMeetsKg) {
+  Take t = read_pcd_folder(std::string(CAPZ_SHARED_DATA) + "/pcd/horse-gallop");
+  CompressOptions o;
+  o.codec = "ts";
+  o.clusters = 1;
+  o.kg_error = 0.15;
+  CompressStats st;
+  std::vector<uint8_t> b = compress(t, o, &st);
+  EXPECT_EQ(describe(b.data(), b.size()).mode, "transform-output");
+  ErrorStats e = compare(t, decompress(b.data(), b.size()));
+  EXPECT_LE(e.kg_error, 0.15);
+  EXPECT_GT(e.kg_error, 0.1);
+  EXPECT_LT(st.bpvf, 3.0);  // measured 2.2 (the bound layer at the same KG: 6.4)
+}

@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/metrics.h"
 #include "codec/ts/ts_codec.h"
@@ -130,4 +131,45 @@ TEST(TsCodec, GivenTruncatedOrAlteredPayloadThenCorruptNotCrash) {
           << e.what();
     }
   }
+}
+
+// A take far from the origin with a target far below what int32 coefficients can express: no
+// trial of the rate search is writable, so the encoder writes its fallback model (one cluster, the
+// mean-shape PC) instead of refusing the window; it decodes bit for bit. A target ts cannot meet
+// through the container: the KG target is then met by the grid instead, and a max error holds.
+TEST(TsCodec, GivenNoWritableTrialThenFallbackModelInsteadOfRefusal) {
+  auto s = capz_test::make_synth(12, 30, 6, false, 3);
+  for (double& v : s.xyz) v = 1e12 + v;
+  TransformParams tp;
+  tp.kg_error = 1e-7;
+  tp.clusters = 1;
+  TsEncodeReport rep;
+  std::vector<uint8_t> bytes;
+  roundtrip(s, tp, &rep, &bytes);
+  EXPECT_FALSE(bytes.empty());
+  EXPECT_EQ(rep.clusters, 1);
+  ASSERT_EQ(rep.pcs.size(), 1u);
+  EXPECT_EQ(rep.pcs[0], 1);  // the fallback's single mean-shape component
+  EXPECT_GT(rep.kg_error, 1e-7);  // ... which cannot meet this target
+
+  // Offset 1e3, KG 1e-4 %: beyond the 24-bit basis quantiser, within the container's grid.
+  auto s2 = capz_test::make_synth(12, 30, 6, false, 3);
+  for (double& v : s2.xyz) v = 1e3 + v;
+  Take t;
+  t.format = Format::kPCDFolder;
+  t.resize(s2.frames, s2.points);
+  t.xyz = s2.xyz;
+  t.valid = s2.valid;
+  CompressOptions o;
+  o.codec = "ts";
+  o.clusters = 1;
+  o.kg_error = 1e-4;
+  CompressStats st;
+  std::vector<uint8_t> b = compress(t, o, &st);
+  EXPECT_EQ(st.mode, "grid");  // transform output missed the target: the grid meets it
+  EXPECT_LE(compare(t, decompress(b.data(), b.size())).kg_error, 1e-4);
+  o.kg_error = 0;
+  o.max_error = 1e-4;
+  b = compress(t, o, &st);
+  EXPECT_LE(compare(t, decompress(b.data(), b.size())).max_abs, 1e-4);
 }

@@ -74,6 +74,26 @@ QuantisedVector quantise_vector(const double* v, size_t n, int bits) {
   return qv;
 }
 
+QuantisedVector quantise_vector_step(const double* v, size_t n, double step, int max_bits) {
+  if (max_bits < 2 || max_bits > 30) fail(ErrorCode::kInvalidParameter, "", "ts: basis bits out of 2..30");
+  double top = 0;
+  for (size_t i = 0; i < n; ++i) top = std::max(top, std::fabs(v[i]));
+  QuantisedVector qv;
+  qv.bits = 2;
+  qv.q.assign(n, 0);
+  if (top == 0 || !(step > 0)) return qv;
+  while (qv.bits < max_bits && static_cast<double>((int64_t{1} << (qv.bits - 1)) - 1) * step < top) ++qv.bits;
+  const double lim = static_cast<double>((int64_t{1} << (qv.bits - 1)) - 1);
+  qv.scale = std::max(step * lim, top);
+  const double s = quant_step(qv.bits, qv.scale);
+  const int32_t ilim = static_cast<int32_t>(lim);
+  for (size_t i = 0; i < n; ++i) {
+    const long long q = std::llround(v[i] / s);
+    qv.q[i] = static_cast<int32_t>(std::max<long long>(-ilim, std::min<long long>(ilim, q)));
+  }
+  return qv;
+}
+
 void dequantise_vector(const QuantisedVector& qv, double* out) {
   const double step = qv.scale > 0 ? quant_step(qv.bits, qv.scale) : 0.0;
   for (size_t i = 0; i < qv.q.size(); ++i) out[i] = static_cast<double>(qv.q[i]) * step;

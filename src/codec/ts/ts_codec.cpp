@@ -33,12 +33,13 @@ struct Options {
   int lcps_k = 2;
   int bits_min = 4, bits_max = 20;  // the paper: 8..16
   bool basis_predict = true;         // the paper: false (plain quantised values)
+  bool free_step = true;             // basis step chosen freely per PC (the paper: 2^q levels)
   bool align = true;
   int max_clusters = 5;
   int restarts = 4;
   uint64_t seed = 0x5eed;
-  double trunc_share = 0.25;   // share of the squared-error budget left to PCA truncation
-  double basis_share = 0.65;   // share for basis quantisation (the rest: coefficients)
+  double trunc_share = 0.1;    // share of the squared-error budget left to PCA truncation
+  double basis_share = 0.8;    // share for basis quantisation (the rest: coefficients)
   double rms_per_bound = 0.5;  // with a max error: aim the transform's RMS at this x bound
 };
 
@@ -70,6 +71,7 @@ Options parse_options(const TransformParams& p) {
     else if (k == "basis_bits_min") o.bits_min = static_cast<int>(parse_int(k, v, 2, 24));
     else if (k == "basis_bits_max") o.bits_max = static_cast<int>(parse_int(k, v, 2, 24));
     else if (k == "basis_predict") o.basis_predict = parse_int(k, v, 0, 1) != 0;
+    else if (k == "basis_free_step") o.free_step = parse_int(k, v, 0, 1) != 0;
     else if (k == "align") o.align = parse_int(k, v, 0, 1) != 0;
     else if (k == "max_clusters") o.max_clusters = static_cast<int>(parse_int(k, v, 1, 64));
     else if (k == "kmeans_restarts") o.restarts = static_cast<int>(parse_int(k, v, 1, 100));
@@ -185,8 +187,15 @@ Trial build_trial(const Base& base, const Prepared& prep, double budget, const O
       const double* col = pca.basis.col(j).data();
       double scale = 0;
       for (size_t i = 0; i < base.dim; ++i) scale = std::max(scale, std::fabs(col[i]));
-      const int bits = ts::basis_bits_for(pca.sigma[j], scale, base.dim, per_pc, o.bits_min, o.bits_max);
-      tc.basis.push_back(ts::quantise_vector(col, base.dim, bits));
+      if (o.free_step && o.bits_min != o.bits_max) {
+        // Equal share of the basis budget per PC: sigma^2 3N step^2 / 12 = per_pc.
+        const double sg = std::max(static_cast<double>(pca.sigma[j]), 1e-300);
+        const double step = std::sqrt(12.0 * per_pc / (sg * sg * static_cast<double>(base.dim)));
+        tc.basis.push_back(ts::quantise_vector_step(col, base.dim, step, o.bits_max));
+      } else {
+        const int bits = ts::basis_bits_for(pca.sigma[j], scale, base.dim, per_pc, o.bits_min, o.bits_max);
+        tc.basis.push_back(ts::quantise_vector(col, base.dim, bits));
+      }
       ts::dequantise_vector(tc.basis.back(), bq.col(j).data());
     }
     // Coefficients refitted on the quantised basis (least squares), which absorbs part of the
@@ -274,6 +283,48 @@ Trial rate_search(const Base& base, const Prepared& prep, const Options& o, doub
   }
   *scale = best_s;
   return have ? best : fallback;
+}
+
+// The model every window can be written with (when no trial fits the payload's int32 values):
+// one cluster, no rigid motion, one PC = the direction of the mean frame, its coefficients coded
+// directly (LPC order 0) with a step fine enough for the target when int32 allows, else the
+// finest that fits (|value| <= 2^29). An all-zero window gets zero PCs.
+Trial fallback_trial(const Base& base, const Options& o) {
+  Trial tr;
+  TsModel& m = tr.model;
+  const size_t nf = base.in.frames;
+  m.frames = nf;
+  m.points = base.in.points;
+  m.basis_predict = o.basis_predict;
+  m.clusters = 1;
+  m.label.assign(nf, 0);
+  m.cluster.resize(1);
+  TsCluster& tc = m.cluster[0];
+  Eigen::Map<const Eigen::MatrixXd> x(base.in.xyz, static_cast<Eigen::Index>(base.dim), static_cast<Eigen::Index>(nf));
+  const Eigen::VectorXd mean = x.rowwise().mean();
+  Eigen::MatrixXd w(0, static_cast<Eigen::Index>(nf));
+  if (mean.norm() > 0 && std::isfinite(mean.norm())) {
+    const Eigen::VectorXd dir = mean / mean.norm();
+    tc.basis.push_back(ts::quantise_vector_step(dir.data(), base.dim, std::ldexp(1.0, -24), 30));
+    Eigen::VectorXd bq(static_cast<Eigen::Index>(base.dim));
+    ts::dequantise_vector(tc.basis[0], bq.data());
+    w = (bq.transpose() * x) / bq.squaredNorm();
+  }
+  double top = 0;
+  for (Eigen::Index j = 0; j < w.size(); ++j) top = std::max(top, std::fabs(w(j)));
+  const double target_step = std::sqrt(12.0 * base.target_sq / std::max<double>(1.0, static_cast<double>(w.size())));
+  m.coef_step = std::max({target_step, top * std::ldexp(1.0, -29), 1e-300});
+  ts::LpcParams lp;
+  lp.order = 0;
+  tc.first = ts::lpc_encode(w, std::vector<double>(static_cast<size_t>(w.rows()), m.coef_step), lp, nullptr);
+  tc.lcps_weight_bits = 4;
+  ts::reconstruct(m, &tr.recon);
+  tr.sq = sq_error(base.in, tr.recon);
+  ByteWriter bw;
+  ts::write_model(m, &bw);
+  tr.bytes = std::move(bw.buffer());
+  tr.ok = tr.sq <= base.target_sq;
+  return tr;
 }
 
 Prepared prepare(const Base& base, int k, const Options& o, TsEncodeReport* rep) {
@@ -440,8 +491,7 @@ void TsCodec::encode_report(const PositionsView& in, const TransformParams& para
     }
   }
   if (have && best.bytes.empty())  // every budget tried gave values outside the payload's range
-    fail(ErrorCode::kInvalidParameter, "",
-         "ts: no coding of this window fits the payload's integer range (try --codec none)");
+    best = fallback_trial(base, o);
   if (!have) {  // empty window
     best.model.frames = nf;
     best.model.points = in.points;
