@@ -1069,8 +1069,7 @@ class CapzSource : public FrameSource {
 
   void read(size_t first, size_t count, FrameBlock* out) override {
     const size_t F = ps_.take.frames, N = ps_.take.points;
-    first = std::min(first, F);
-    count = std::min(count, F - first);
+    clip(&first, &count);
     const size_t S = ps_.h.analog_samples_per_frame, C = ps_.h.analog_channels;
     const size_t A = C > 0 && S > 0 ? S * C : 0;
     const size_t W = ps_.h.window_frames;
