@@ -72,7 +72,9 @@ int cmd_compress(const Args& args) {
       "no-check",
       "skip decoding each window after writing it (the bound then rests on the "
       "quantiser alone)")("force,f", "overwrite OUT if it exists")(
-      "rm", "remove IN (a file) after a successful compression")(
+      "rm",
+      "remove IN (a file) after the output, read back from disk and decoded, reproduced it "
+      "within the bound")(
       "json", "print the report as one JSON object");
   po::variables_map vm;
   std::string in;
@@ -161,6 +163,7 @@ int cmd_compress(const Args& args) {
   const double t_enc = thread_cpu_seconds() - c_enc;
   const uint64_t in_bytes = path_size(in);
   if (vm.count("rm")) {
+    check_written(out, in, take);  // like zstd: only a verified output lets IN go
     std::error_code ec;
     fs::remove(in, ec);
     if (ec)

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "capz/codec.h"
 #include "capz/error.h"
 #include "core/atomic_file.h"
 #include "capz/metrics.h"
@@ -62,6 +63,17 @@ inline std::string num(double v, int digits = 4) {
   std::snprintf(buf, sizeof buf, "%.*g", digits, v);
   return buf;
 }
+
+// `compress --rm` (check_written.cpp): reads OUT back from disk and decodes it, a window at a
+// time, against IN read again from disk, as OUT's header promises: same shape and gap mask;
+// every valid coordinate within the stored bound per coordinate, bit-identical when lossless,
+// or for a transform-output stream (no bound, FORMAT.md 3.1) finite with the KG error within
+// its target; rate, units, first frame, labels, descriptions, analog channels and values, and
+// the format extras a .capz keeps (C3D parameter section, header fields and events,
+// residual/camera words; TRC time and frame columns; PCD frame names) identical to `in_header`
+// (the metadata compress coded). On any difference or decoding error, removes OUT and throws
+// Error(kCorrupt) saying IN was kept.
+void check_written(const std::string& out, const std::string& in, const capz::Take& in_header);
 
 // `capz info` on a .capz (cmd_info_capz.cpp).
 int info_capz(const std::string& path, bool json);

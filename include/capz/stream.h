@@ -59,6 +59,12 @@ class FrameSource {
   virtual uint64_t bytes_read() const { return 0; }
 
  protected:
+  // Clips [*first, *first + *count) to the take's frames.
+  void clip(size_t* first, size_t* count) const {
+    *first = *first < header_.frames ? *first : header_.frames;
+    *count = *count < header_.frames - *first ? *count : header_.frames - *first;
+  }
+
   Take header_;
 };
 
@@ -68,13 +74,14 @@ std::unique_ptr<FrameSource> open_c3d_frames(const std::string& path);
 // the Time column depend on all of them), keeping the per-row metadata (times, frame numbers) and
 // each row's file offset, about 32 bytes a frame; a range reads and parses only its rows.
 std::unique_ptr<FrameSource> open_trc_frames(const std::string& path);
+// A folder of PCD frames read file by file (opening lists the files and reads the first).
+std::unique_ptr<FrameSource> open_pcd_frames(const std::string& dir);
 // A .capz read window by window (HEAD, META and INDX up front; a range decodes the windows it
 // touches). The header is what decompress() returns without its frame arrays.
 std::unique_ptr<FrameSource> open_capz_frames(const std::string& path);
 // An in-memory take as a source (the take must outlive the source).
 std::unique_ptr<FrameSource> take_frames(const Take& take);
-// Any input read_take() accepts: C3D and TRC files by frame ranges; PCD folders are read whole
-// and served from memory.
+// Any input read_take() accepts (C3D, TRC, a PCD folder), read by frame ranges.
 std::unique_ptr<FrameSource> open_frames(const std::string& path);
 
 class FrameSink {

@@ -890,18 +890,7 @@ Parsed parse_stream(StreamBytes& b, const std::string& name) {
   Chunk m = chunk_at(b, c.end, name);
   if (m.type != "META") fail(ErrorCode::kCorrupt, name, "second chunk is " + m.type + ", not META");
   ps.chunk_bytes["META"] += m.end - m.offset;
-  // Windows must be able to hold the counts HEAD claims: at least one byte per window chunk...
-  const size_t windows = ps.h.windows();
-  if (windows > size / kChunkOverhead)
-    fail(ErrorCode::kCorrupt, name, "HEAD claims " + std::to_string(windows) +
-                                        " windows; the file cannot hold them");
-  // ...and a coded value costs more than 1/2900 byte.
-  const double samples = static_cast<double>(ps.h.frames) * ps.h.points;
-  const double analog = static_cast<double>(ps.h.frames) * ps.h.analog_samples_per_frame *
-                        ps.h.analog_channels;
-  if (samples > static_cast<double>(size) * kMaxSymbolsPerByte ||
-      analog > static_cast<double>(size) * kMaxSymbolsPerByte)
-    fail(ErrorCode::kCorrupt, name, "HEAD claims more samples than the file can hold");
+  check_header_fits(ps.h, size, name);
   ps.take.frames = static_cast<size_t>(ps.h.frames);
   ps.take.points = ps.h.points;
   ps.take.format = ps.h.source_format;
@@ -923,9 +912,9 @@ Parsed parse_stream(StreamBytes& b, const std::string& name) {
   ps.index = decode_index(k, name);
   ps.index_offset = ioff;
   ps.chunk_bytes["INDX"] += k.end - k.offset;
-  if (ps.index.size() != windows)
+  if (ps.index.size() != ps.h.windows())
     fail(ErrorCode::kCorrupt, name, "INDX lists " + std::to_string(ps.index.size()) +
-                                        " windows, HEAD implies " + std::to_string(windows));
+                                        " windows, HEAD implies " + std::to_string(ps.h.windows()));
   return ps;
 }
 
@@ -1075,8 +1064,7 @@ class CapzSource : public FrameSource {
 
   void read(size_t first, size_t count, FrameBlock* out) override {
     const size_t F = ps_.take.frames, N = ps_.take.points;
-    first = std::min(first, F);
-    count = std::min(count, F - first);
+    clip(&first, &count);
     const size_t S = ps_.h.analog_samples_per_frame, C = ps_.h.analog_channels;
     const size_t A = C > 0 && S > 0 ? S * C : 0;
     const size_t W = ps_.h.window_frames;

@@ -135,7 +135,10 @@ StreamHeader decode_header(const Chunk& c, const std::string& name) {
   h.analog_samples_per_frame = r.u32();
   if (fmt > 3) fail(ErrorCode::kCorrupt, what, "unknown source format " + std::to_string(fmt));
   if (mode > 4) fail(ErrorCode::kCorrupt, what, "unknown position mode " + std::to_string(mode));
-  if (h.window_frames == 0) fail(ErrorCode::kCorrupt, what, "window of 0 frames");
+  if (h.window_frames == 0 || h.window_frames > kMaxWindowFrames)
+    fail(ErrorCode::kCorrupt, what,
+         "window of " + std::to_string(h.window_frames) + " frames (1.." +
+             std::to_string(kMaxWindowFrames) + ")");
   if (flags > 3) fail(ErrorCode::kCorrupt, what, "unknown flag bits " + std::to_string(flags));
   h.transform_output = (flags & 2) != 0;
   if (h.transform_output) {  // FORMAT.md 3.1: the transform's reconstruction is the output
@@ -156,6 +159,19 @@ StreamHeader decode_header(const Chunk& c, const std::string& name) {
   h.mode = static_cast<PosMode>(mode);
   h.lossless = (flags & 1) != 0;
   return h;
+}
+
+void check_header_fits(const StreamHeader& h, size_t file_size, const std::string& name) {
+  const size_t windows = h.windows();
+  if (windows > file_size / kChunkOverhead)
+    fail(ErrorCode::kCorrupt, name, "HEAD claims " + std::to_string(windows) +
+                                        " windows; the file cannot hold them");
+  const double samples = static_cast<double>(h.frames) * h.points;
+  const double analog =
+      static_cast<double>(h.frames) * h.analog_samples_per_frame * h.analog_channels;
+  if (samples > static_cast<double>(file_size) * kMaxSymbolsPerByte ||
+      analog > static_cast<double>(file_size) * kMaxSymbolsPerByte)
+    fail(ErrorCode::kCorrupt, name, "HEAD claims more samples than the file can hold");
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -61,12 +61,19 @@ struct StreamHeader {
     return frames == 0 ? 0 : static_cast<size_t>((frames + window_frames - 1) / window_frames);
   }
 };
+constexpr uint32_t kMaxWindowFrames = 8192;  // HEAD window_frames is 1..this (FORMAT.md 3.1)
 std::vector<uint8_t> encode_header(const StreamHeader& h);
 StreamHeader decode_header(const Chunk& c, const std::string& name);
+// Throws kCorrupt unless a file of `file_size` bytes can hold what `h` claims: one chunk per
+// window at least, and no more coded values (samples, analog values) than
+// kMaxSymbolsPerByte per byte. Frames are then at most file_size / kChunkOverhead *
+// kMaxWindowFrames, so everything sized per frame (decode_meta's TRC/PCD lists) is bounded by
+// the file. Call it before decode_meta.
+void check_header_fits(const StreamHeader& h, size_t file_size, const std::string& name);
 
 // META: everything of the Take except positions, mask, analog values and the C3D per-sample
 // words. decode_meta fills those fields of *take (frames/points from the header must already be
-// set; per-frame TRC/PCD lists are checked against them). has_sample_words tells whether C3DW
+// set and checked with check_header_fits; per-frame TRC/PCD lists are checked against them). has_sample_words tells whether C3DW
 // chunks follow.
 std::vector<uint8_t> encode_meta(const Take& take, bool has_sample_words);
 void decode_meta(const Chunk& c, const std::string& name, Take* take, bool* has_sample_words);

@@ -85,9 +85,7 @@ class C3DSource : public FrameSource {
   }
   bool has_sample_words() const override { return true; }
   void read(size_t first, size_t count, FrameBlock* out) override {
-    const size_t F = header_.frames;
-    first = std::min(first, F);
-    count = std::min(count, F - first);
+    clip(&first, &count);
     out->reset(first, count, lay_.points, lay_.analog_values, true);
     buf_.resize(count * lay_.per_frame);
     file_.read_at(lay_.data_offset + first * lay_.per_frame, buf_.data(), buf_.size());
@@ -128,9 +126,8 @@ class TakeSource : public FrameSource {
   }
   bool has_sample_words() const override { return words_; }
   void read(size_t first, size_t count, FrameBlock* out) override {
-    const size_t F = take_.frames, N = take_.points;
-    first = std::min(first, F);
-    count = std::min(count, F - first);
+    const size_t N = take_.points;
+    clip(&first, &count);
     out->first = first;
     out->frames = count;
     out->points = N;
@@ -289,6 +286,7 @@ std::unique_ptr<FrameSource> open_frames(const std::string& path) {
   const Format f = detect_format(path);
   if (f == Format::kC3D) return open_c3d_frames(path);
   if (f == Format::kTRC) return open_trc_frames(path);
+  if (f == Format::kPCDFolder) return open_pcd_frames(path);
   std::unique_ptr<Take> t(new Take(read_take(path)));
   const Take& ref = *t;
   return std::unique_ptr<FrameSource>(new TakeSource(ref, std::move(t)));

@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <string>
@@ -29,6 +30,7 @@
 
 #include "capz/error.h"
 #include "capz/io.h"
+#include "capz/stream.h"
 #include "core/atomic_file.h"
 #include "io/natural_sort.h"
 #include "io/text_number.h"
@@ -364,7 +366,10 @@ bool has_pcd_extension(const fs::path& p) {
 
 }  // namespace
 
-Take read_pcd_folder(const std::string& dir) {
+namespace {
+
+// The .pcd files of a folder in natural-sort order (the frames).
+std::vector<std::string> list_frames(const std::string& dir) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) fail(ErrorCode::kUsage, dir, "not a directory");
   std::vector<std::string> names;
@@ -376,54 +381,113 @@ Take read_pcd_folder(const std::string& dir) {
   if (ec) fail(ErrorCode::kIo, dir, "cannot list directory: " + ec.message());
   if (names.empty()) fail(ErrorCode::kNotOurFormat, dir, "no .pcd files in directory");
   std::sort(names.begin(), names.end(), natural_less);
+  return names;
+}
 
+// Reads frame `f` (file `names[f]`) into xyz (n x 3) and valid (n), where n is the first
+// frame's point count (*points; set from frame 0 when f == 0, with *encoding). A frame of
+// another count is an error.
+void read_frame(const std::string& dir, const std::vector<std::string>& names, size_t f,
+                size_t* points, std::string* encoding, std::vector<double>* xyz,
+                std::vector<uint8_t>* valid) {
+  const std::string path = (fs::path(dir) / names[f]).string();
+  pcl::PCLPointCloud2 cloud;
+  std::string enc = read_one(path, &cloud);
+  const size_t n = static_cast<size_t>(cloud.width) * cloud.height;
+  if (f == 0) {
+    *encoding = enc;
+    *points = n;
+  } else if (n != *points) {
+    fail(ErrorCode::kCorrupt, path,
+         "frame has " + std::to_string(n) + " points, the first frame (" + names[0] + ") has " +
+             std::to_string(*points));
+  }
+  FieldRef ref[3];
+  const char* axes[3] = {"x", "y", "z"};
+  for (int a = 0; a < 3; ++a) {
+    auto it = std::find_if(cloud.fields.begin(), cloud.fields.end(),
+                           [&](const pcl::PCLPointField& fd) { return fd.name == axes[a]; });
+    ref[a].offset = it->offset;
+    ref[a].datatype = it->datatype;
+  }
+  xyz->assign(n * 3, 0.0);
+  valid->assign(n, 0);
+  for (size_t p = 0; p < n; ++p) {
+    const uint8_t* base = cloud.data.data() + p * cloud.point_step;
+    double v[3];
+    for (int a = 0; a < 3; ++a) v[a] = read_value(base + ref[a].offset, ref[a].datatype);
+    if (std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2])) {
+      std::copy(v, v + 3, xyz->data() + 3 * p);
+      (*valid)[p] = 1;
+    }
+  }
+}
+
+// A PCD folder read frame file by frame file: opening lists the files and reads the first one
+// (the point count and encoding); a range reads its files only.
+class PCDSource : public FrameSource {
+ public:
+  explicit PCDSource(const std::string& dir) : dir_(dir), names_(list_frames(dir)) {
+    std::string enc;
+    size_t points = 0;
+    read_frame(dir_, names_, 0, &points, &enc, &xyz_, &valid_);
+    header_.source = dir;
+    header_.format = Format::kPCDFolder;
+    header_.frames = names_.size();
+    header_.points = points;
+    header_.labels.assign(points, std::string());
+    auto extra = std::make_shared<PCDExtra>();
+    extra->frame_names = names_;
+    extra->encoding = enc;
+    header_.pcd = std::move(extra);
+  }
+  bool has_sample_words() const override { return false; }
+  void read(size_t first, size_t count, FrameBlock* out) override {
+    const size_t N = header_.points;
+    clip(&first, &count);
+    out->reset(first, count, N, 0, false);
+    size_t points = N;
+    std::string enc;
+    for (size_t k = 0; k < count; ++k) {
+      read_frame(dir_, names_, first + k, &points, &enc, &xyz_, &valid_);
+      std::copy(xyz_.begin(), xyz_.end(), out->xyz.begin() + static_cast<long>(k * N * 3));
+      std::copy(valid_.begin(), valid_.end(), out->valid.begin() + static_cast<long>(k * N));
+    }
+  }
+
+ private:
+  std::string dir_;
+  std::vector<std::string> names_;
+  std::vector<double> xyz_;
+  std::vector<uint8_t> valid_;
+};
+
+}  // namespace
+
+Take read_pcd_folder(const std::string& dir) {
+  const std::vector<std::string> names = list_frames(dir);
   Take t;
   t.source = dir;
   t.format = Format::kPCDFolder;
   auto extra = std::make_shared<PCDExtra>();
   extra->frame_names = names;
+  std::vector<double> xyz;
+  std::vector<uint8_t> valid;
   for (size_t f = 0; f < names.size(); ++f) {
-    const std::string path = (fs::path(dir) / names[f]).string();
-    pcl::PCLPointCloud2 cloud;
-    std::string enc = read_one(path, &cloud);
-    const size_t n = static_cast<size_t>(cloud.width) * cloud.height;
+    read_frame(dir, names, f, &t.points, &extra->encoding, &xyz, &valid);
+    if (f == 0) t.labels.assign(t.points, std::string());
     // The take grows frame by frame (not resized for every file up front), so memory follows
     // what has actually been read and checked, not the first frame's count times the file count.
-    if (f == 0) {
-      extra->encoding = enc;
-      t.points = n;
-      t.labels.assign(n, std::string());
-    } else if (n != t.points) {
-      fail(ErrorCode::kCorrupt, path,
-           "frame has " + std::to_string(n) + " points, the first frame (" + names[0] + ") has " +
-               std::to_string(t.points));
-    }
-    FieldRef ref[3];
-    const char* axes[3] = {"x", "y", "z"};
-    for (int a = 0; a < 3; ++a) {
-      auto it = std::find_if(cloud.fields.begin(), cloud.fields.end(),
-                             [&](const pcl::PCLPointField& fd) { return fd.name == axes[a]; });
-      ref[a].offset = it->offset;
-      ref[a].datatype = it->datatype;
-    }
     t.frames = f + 1;
-    t.xyz.resize(t.frames * n * 3, 0.0);
-    t.valid.resize(t.frames * n, 0);
-    for (size_t p = 0; p < n; ++p) {
-      const uint8_t* base = cloud.data.data() + p * cloud.point_step;
-      double v[3];
-      for (int a = 0; a < 3; ++a) v[a] = read_value(base + ref[a].offset, ref[a].datatype);
-      if (std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2])) {
-        double* d = t.at(f, p);
-        d[0] = v[0];
-        d[1] = v[1];
-        d[2] = v[2];
-        t.valid[f * n + p] = 1;
-      }
-    }
+    t.xyz.insert(t.xyz.end(), xyz.begin(), xyz.end());
+    t.valid.insert(t.valid.end(), valid.begin(), valid.end());
   }
   t.pcd = std::move(extra);
   return t;
+}
+
+std::unique_ptr<FrameSource> open_pcd_frames(const std::string& dir) {
+  return std::unique_ptr<FrameSource>(new PCDSource(dir));
 }
 
 void write_pcd_folder(const Take& take, const std::string& dir, const WriteOptions& opts) {

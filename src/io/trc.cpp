@@ -475,9 +475,8 @@ class TRCSource : public FrameSource {
   }
   bool has_sample_words() const override { return false; }
   void read(size_t first, size_t count, FrameBlock* out) override {
-    const size_t F = header_.frames, N = header_.points;
-    first = std::min(first, F);
-    count = std::min(count, F - first);
+    const size_t N = header_.points;
+    clip(&first, &count);
     out->reset(first, count, N, 0, false);
     if (count == 0) return;
     buf_.resize(static_cast<size_t>(offsets_[first + count] - offsets_[first]));

@@ -7,8 +7,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "capz/codec.h"
 #include "capz/io.h"
@@ -24,11 +26,12 @@ struct Result {
   std::string out;
 };
 
-// `capz <args>` with stdout captured (stderr to stdout too when `merge`).
-Result capz_cli(const std::string& args, bool merge = false) {
+// `capz <args>` with stdout captured (stderr to stdout too when `merge`); `env` ("NAME=VALUE ")
+// is set for that one run.
+Result capz_cli(const std::string& args, bool merge = false, const std::string& env = "") {
   static capz_test::TempDir io("capz_cli_compress_io");
   const std::string out = io.file("out");
-  const std::string cmd = std::string("'") + CAPZ_CLI + "' " + args + " >'" + out + "'" +
+  const std::string cmd = env + "'" + CAPZ_CLI + "' " + args + " >'" + out + "'" +
                           (merge ? " 2>&1" : " 2>/dev/null");
   const int rc = std::system(cmd.c_str());
   std::ifstream in(out);
@@ -105,6 +108,56 @@ TEST(CliCompress, GivenBadRequestsThenOneLineErrorsAndStatuses) {
   EXPECT_EQ(capz_cli("decompress '" + d.file("y.capz") + "' -o '" + d.file("y.c3d") + "'").status, 5);
   EXPECT_FALSE(fs::exists(d.file("y.c3d")));
   EXPECT_EQ(capz_cli("decompress '" + kC3d + "' -o '" + d.file("z.c3d") + "'").status, 3);
+}
+
+std::vector<char> file_bytes(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  return std::vector<char>(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+}
+
+// --rm deletes IN only after OUT, read back from disk and decoded, reproduces it. The check's
+// failure is provoked with CAPZ_TEST_FLIP_WRITTEN_BYTE (a bit of OUT on disk is flipped first,
+// as a disk returning bad data would): then IN stays byte-identical, the bad OUT is removed, and
+// one line on stderr says so, status 5. Without the fault the check passes on real files, lossy
+// (bound), lossless and a KG target with a transform (no bound: the KG target is checked), TRC
+// and C3D with analog channels and parameters, and IN is removed.
+TEST(CliCompress, GivenRmWhenWrittenOutputReadsBackWrongThenInputKeptElseRemoved) {
+  capz_test::TempDir d("capz_cli_compress");
+  struct Case {
+    std::string src, name, opts;
+  };
+  const Case cases[] = {{kTrc, "walk.trc", "--max-error 0.5mm"},
+                        {kTrc, "walk2.trc", "--lossless"},
+                        {kC3d, "eb.c3d", "--max-error 1mm --codec ts"},
+                        {kC3d, "eb2.c3d", "--lossless"},
+                        {kC3d, "eb3.c3d", "--kg-error 0.5 --codec ts"}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name + " " + c.opts);
+    const std::string in = d.file(c.name), out = in + ".capz";
+    fs::copy_file(c.src, in);
+    const std::vector<char> before = file_bytes(in);
+    // The size of OUT, to flip a byte in its middle (in the position data) as well as near the
+    // start (the file header and HEAD).
+    ASSERT_EQ(capz_cli("compress -q " + c.opts + " '" + in + "'").status, 0);
+    const size_t size = fs::file_size(out);
+    for (size_t at : {size_t{9}, size / 2, size - 3}) {
+      Result r = capz_cli("compress -f --rm " + c.opts + " '" + in + "'", true,
+                          "CAPZ_TEST_FLIP_WRITTEN_BYTE=" + std::to_string(at) + " ");
+      EXPECT_EQ(r.status, 5) << r.out;
+      EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+      EXPECT_NE(r.out.find("kept despite --rm"), std::string::npos) << r.out;
+      ASSERT_TRUE(fs::exists(in));
+      EXPECT_TRUE(file_bytes(in) == before);
+      EXPECT_FALSE(fs::exists(out));
+    }
+    Result r = capz_cli("compress --rm " + c.opts + " '" + in + "'", true);
+    EXPECT_EQ(r.status, 0) << r.out;
+    EXPECT_FALSE(fs::exists(in));
+    ASSERT_TRUE(fs::exists(out));
+    // What --rm let go is really in OUT.
+    fs::copy_file(c.src, in);
+    EXPECT_EQ(capz_cli("verify '" + out + "' --against '" + in + "'").status, 0);
+  }
 }
 
 }  // namespace

@@ -189,7 +189,7 @@ CompressOptions options_for(const Case& c, const Take& t) {
   } else if (w == "kg") {
     o.kg_error = 0.5;
   } else {
-    o.max_error = parse_length("0.1mm", t.units, "mm");
+    o.max_error = t.units.empty() ? 0.01 : parse_length("0.1mm", t.units);
     if (w == "ts") o.codec = "ts";
   }
   return o;
@@ -211,6 +211,7 @@ const Case kCases[] = {
     {"c3d/c3dorg/sample_23/Vicon_analysis.c3d", "ts", 200},
     {"trc/opensim/walk_free_01.trc", "lossless", 16},
     {"trc/opensim/dataWithNaNsWithSpaces.trc", "max", 16},
+    {"pcd/horse-gallop", "max", 10},  // a PCD folder read file by file
 };
 
 TEST(StreamCodec, GivenRealTakesThenStreamingCompressWritesTheSameBytes) {
@@ -253,6 +254,7 @@ TEST(StreamCodec, GivenRealStreamsThenWindowByWindowDecodeWritesTheSameFile) {
       f.write(bytes);
       f.commit();
     }
+    if (whole.format == Format::kPCDFolder) continue;  // PCD output is written whole
     const std::string ext = whole.format == Format::kTRC ? ".trc" : ".c3d";
     const std::string a = dir.file("whole" + ext), b = dir.file("stream" + ext);
     WriteOptions wo;

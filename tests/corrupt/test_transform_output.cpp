@@ -142,6 +142,30 @@ TEST(TransformOutput, GivenMaxErrorOrNoTransformThenBoundLayerAsBefore) {
   EXPECT_LE(compare(t, decompress(b.data(), b.size())).max_abs, 0.01);
 }
 
+// Found by fuzz_simple_round_trip (pdct, one point): with one point per frame KG's denominator
+// (distance to the frame centroid) is 0, so any lossy transform output has an infinite KG error;
+// the stream claimed 0.9 %. The encoder must not promise a KG target its output misses: it falls
+// back to the grid (a bound), and whatever it writes keeps what HEAD promises.
+TEST(TransformOutput, GivenKgTargetTheTransformCannotMeetThenNotPromised) {
+  Take t = smooth_take(11, 1);
+  t.valid.assign(t.valid.size(), 1);
+  for (const char* codec : {"pdct", "ts", "auto"}) {
+    SCOPED_TRACE(codec);
+    CompressOptions o;
+    o.codec = codec;
+    o.kg_error = 0.9;
+    o.window_frames = 4;
+    std::vector<uint8_t> b = compress(t, o);
+    const StreamInfo si = describe(b.data(), b.size());
+    const ErrorStats e = compare(t, decompress(b.data(), b.size()));
+    if (si.transform_output) {
+      EXPECT_LE(e.kg_error, 0.9);
+    } else {
+      EXPECT_LE(e.max_abs, si.max_error);
+    }
+  }
+}
+
 TEST(TransformOutput, GivenInconsistentHeadOrPositionsThenCorrupt) {
   const Take t = smooth_take(30, 40);
   const std::vector<uint8_t> good = tout_stream(t);

@@ -1,11 +1,13 @@
 // Fuzz target: a take built from the fuzz bytes -> compress -> decompress must come back with the
-// same shape and gap mask, every valid coordinate within the bound (bit-exact when lossless), and
-// the same rate, units and labels. compress may refuse an impossible target (kInvalidParameter);
+// same shape and gap mask, every valid coordinate within the bound (bit-exact when lossless; for a
+// KG target with a transform, whose reconstruction is the output and has no bound, finite with a
+// KG error at most the target), and the same rate, units and labels. compress may refuse an impossible target (kInvalidParameter);
 // any other capz::Error, in particular a failed self-check (kInternal), is a finding.
 //
 // Bytes: [0] frames-1 (1..32), [1] points-1 (1..8), [2] options: bit 0 lossless, bits 1-2 value
 // kind (int16 x 0.01, int16 x 1, float32 bits, small ints), bits 3-5 window frames (1..8),
-// bit 6 codec ts; [3] bound exponent; then one byte of gap bits per 8 samples, then values
+// bit 6 codec ts, bit 7 a KG target (0.05 .. 3.2 %) instead of a bound, with ts (bit 6) or pdct;
+// [3] bound exponent (or KG target); then one byte of gap bits per 8 samples, then values
 // (read cyclically, so short inputs still fill the take).
 #include <cmath>
 #include <cstddef>
@@ -26,6 +28,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const int kind = (opt >> 1) & 3;
   const size_t window = 1 + ((opt >> 3) & 7);
   const bool ts = (opt >> 6) & 1;
+  const bool kg = !lossless && ((opt >> 7) & 1);
+  const double kg_target = 0.05 * (1 + data[3] % 64);  // percent
   const double bound = std::ldexp(1.0, -static_cast<int>(data[3] % 24) + 4);  // 16 .. 2^-19
   const uint8_t* rest = data + 4;
   const size_t n_rest = size - 4;
@@ -68,9 +72,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
   capz::CompressOptions o;
   o.lossless = lossless;
-  o.max_error = lossless ? 0 : bound;
+  o.max_error = lossless || kg ? 0 : bound;
+  o.kg_error = kg ? kg_target : 0;
   o.window_frames = window;
-  o.codec = ts ? "ts" : "none";
+  o.codec = ts ? "ts" : kg ? "pdct" : "none";
   std::vector<uint8_t> bytes;
   try {
     bytes = capz::compress(t, o);
@@ -86,18 +91,33 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::fprintf(stderr, "decompress of a fresh stream failed: %s\n", e.what());
     std::abort();
   }
+  const capz::StreamInfo si = capz::describe(bytes.data(), bytes.size(), "round trip");
   capz_fuzz::check_take_shape(b);
   CAPZ_FUZZ_CHECK(b.frames == t.frames && b.points == t.points);
   CAPZ_FUZZ_CHECK(b.valid == t.valid);
   CAPZ_FUZZ_CHECK(b.rate == t.rate && b.units == t.units && b.labels == t.labels);
+  if (si.transform_output) {
+    CAPZ_FUZZ_CHECK(kg);
+    for (size_t i = 0; i < samples; ++i)
+      if (t.valid[i])
+        for (int a = 0; a < 3; ++a) CAPZ_FUZZ_CHECK(std::isfinite(b.xyz[i * 3 + a]));
+    const double achieved = capz::compare(t, b).kg_error;
+    if (!(achieved <= kg_target * (1 + 1e-9))) {
+      std::fprintf(stderr, "KG error %.17g over the target %.17g\n", achieved, kg_target);
+      std::abort();
+    }
+    return 0;
+  }
+  // Otherwise a bound holds: the one asked for, or with a KG target (codec none) the stored one.
+  const double held = kg ? si.max_error : bound;
   for (size_t i = 0; i < samples; ++i) {
     if (!t.valid[i]) continue;
     for (int a = 0; a < 3; ++a) {
       const double x = t.xyz[i * 3 + a], y = b.xyz[i * 3 + a];
       if (lossless) {
         CAPZ_FUZZ_CHECK(std::memcmp(&x, &y, sizeof x) == 0);
-      } else if (!(std::fabs(x - y) <= bound)) {
-        std::fprintf(stderr, "sample %zu axis %d: %.17g -> %.17g, bound %.17g\n", i, a, x, y, bound);
+      } else if (!(std::fabs(x - y) <= held)) {
+        std::fprintf(stderr, "sample %zu axis %d: %.17g -> %.17g, bound %.17g\n", i, a, x, y, held);
         std::abort();
       }
     }

@@ -10,6 +10,7 @@
 
 #include "capz/codec.h"
 #include "capz/error.h"
+#include "capz/io.h"
 #include "test_util.h"
 
 namespace {
@@ -50,6 +51,15 @@ void check_every_flip(const std::vector<uint8_t>& stream, const capz::Take& ref)
         ASSERT_EQ(b.labels, ref.labels) << "byte " << byte << " bit " << bit;
         ASSERT_EQ(b.units, ref.units) << "byte " << byte << " bit " << bit;
         ASSERT_EQ(b.rate, ref.rate) << "byte " << byte << " bit " << bit;
+        ASSERT_EQ(b.analog.values, ref.analog.values) << "byte " << byte << " bit " << bit;
+        ASSERT_EQ(b.analog.labels, ref.analog.labels) << "byte " << byte << " bit " << bit;
+        ASSERT_EQ(!b.c3d, !ref.c3d) << "byte " << byte << " bit " << bit;
+        if (ref.c3d) {
+          ASSERT_EQ(b.c3d->residual, ref.c3d->residual) << "byte " << byte << " bit " << bit;
+          ASSERT_EQ(b.c3d->camera_mask, ref.c3d->camera_mask) << "byte " << byte << " bit " << bit;
+          ASSERT_EQ(capz::encode_c3d_parameters(*b.c3d), capz::encode_c3d_parameters(*ref.c3d))
+              << "byte " << byte << " bit " << bit;
+        }
         ++harmless;
       } catch (const capz::Error& e) {
         const std::string m = e.what();
@@ -88,5 +98,24 @@ TEST(BitFlips, EveryFlipInALosslessStreamIsDetectedOrHarmless) {
   std::vector<uint8_t> s = capz::compress(t, o);
   capz::Take ref = capz::decompress(s.data(), s.size(), "ref");
   capz_test::expect_same_samples(t, ref);
+  check_every_flip(s, ref);
+}
+
+// A real C3D cut to 8 frames (24 points with gaps, int16 storage, 16 analog channels, a full
+// parameter section), lossy in windows of 3 frames with the ts codec: every chunk type a C3D
+// stream has (META with the parameter section, C3DW, ANLG, MASK, POSW with a codec payload).
+TEST(BitFlips, EveryFlipInAC3DStreamWithAnalogAndParametersIsDetectedOrHarmless) {
+  capz::Take t = capz::read_take(std::string(CAPZ_TEST_DIR) +
+                                 "/fuzz/corpus/read_c3d/"
+                                 "seed-btkdata-others-ADemo1_rewrite_c3d_pc_integer.c3d");
+  ASSERT_GT(t.analog.channels, 0);
+  ASSERT_GT(t.gap_samples(), 0u);
+  capz::CompressOptions o;
+  o.max_error = 0.5;  // mm
+  o.window_frames = 3;
+  o.codec = "ts";
+  std::vector<uint8_t> s = capz::compress(t, o);
+  capz::Take ref = capz::decompress(s.data(), s.size(), "ref");
+  ASSERT_EQ(ref.analog.values, t.analog.values);
   check_every_flip(s, ref);
 }

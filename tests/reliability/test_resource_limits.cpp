@@ -9,6 +9,7 @@
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -184,8 +185,22 @@ TEST(ResourceLimits, CapzHeaderCountsClaimingBillionsAreRefused) {
   capz::CompressOptions co;
   co.max_error = 0.01;
   const std::vector<uint8_t> good = capz::compress(t, co);
-  // Rebuilds the stream with HEAD replaced by `edit(header)`.
-  auto with_head = [&](const std::function<void(capz::StreamHeader*)>& edit) {
+  // A take without points and analog channels, whose TRC Time and Frame# columns META stores as
+  // start + step (sized by HEAD's frame count, not by the file): found by fuzz_parse_container,
+  // a 1 KB stream claiming 2^30 frames in one window of 2^30 frames made the decoder allocate
+  // 8 GB for the Frame# column.
+  capz::Take e;
+  e.format = capz::Format::kTRC;
+  e.resize(4, 0);
+  e.rate = 100;
+  e.units = "mm";
+  e.trc = std::make_shared<capz::TRCExtra>();
+  e.trc->times = {0, 0.01, 0.02, 0.03};
+  e.trc->frame_numbers = {1, 2, 3, 4};
+  const std::vector<uint8_t> empty = capz::compress(e, co);
+  // Rebuilds the stream `good` (or `empty`) with HEAD replaced by `edit(header)`.
+  auto with_head = [&](const std::function<void(capz::StreamHeader*)>& edit,
+                       const std::vector<uint8_t>& good) {
     std::vector<uint8_t> out;
     capz::write_file_header(&out);
     size_t off = capz::kFileHeaderBytes;
@@ -217,9 +232,18 @@ TEST(ResourceLimits, CapzHeaderCountsClaimingBillionsAreRefused) {
          h->analog_channels = 1u << 30;
          h->analog_samples_per_frame = 1u << 30;
        }},
+      {"no points, 2^30 frames in one window", [](capz::StreamHeader* h) {
+         h->frames = uint64_t{1} << 30;
+         h->window_frames = 1u << 30;
+       }},
+      {"no points, 2^30 frames in windows of 8192", [](capz::StreamHeader* h) {
+         h->frames = uint64_t{1} << 30;
+         h->window_frames = 8192;
+       }},
   };
   for (const auto& c : cases) {
-    std::vector<uint8_t> s = with_head(c.second);
+    std::vector<uint8_t> s =
+        with_head(c.second, c.first.compare(0, 9, "no points") == 0 ? empty : good);
     ASSERT_LT(s.size(), 2048u);
     Outcome o = run_bounded([&] { capz::decompress(s.data(), s.size(), "hostile.capz"); });
     expect_bounded(o, "capz " + c.first);
