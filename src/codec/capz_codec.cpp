@@ -310,6 +310,11 @@ WindowInts window_ints(const FrameBlock& b, const Grid& g) {
   w.valid = b.valid;
   w.q.assign(n * 3, 0);
   if (g.mode == PosMode::kFloat64) w.lo.assign(n * 3, 0);
+  // Transform output (grid mode, step 0, FORMAT.md 3.1) quantises nothing: q stays 0. Dividing
+  // by the step would give infinities, and converting them to int is undefined behaviour (found
+  // by fuzz_simple_round_trip under clang's UBSan, whose -fsanitize=undefined includes
+  // float-cast-overflow; GCC's does not).
+  if (g.mode == PosMode::kGrid && g.step == 0) return w;
   const double* x = b.xyz.data();
   for (size_t i = 0; i < n; ++i) {
     if (!w.valid[i]) continue;

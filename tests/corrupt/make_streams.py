@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
 """Hand-crafts the corrupt .capz streams in streams/ from a valid one (docs/FORMAT.md).
-Run: python3 make_streams.py VALID.capz   (committed outputs; rerun only when the format changes)
+Run: python3 make_streams.py VALID.capz [VALID_2.0.capz]   (committed outputs; rerun only when the
+format changes; the second stream, e.g. tests/golden/streams/Capture0004.c3d.grid1mm.v2.0.capz,
+gives the version-downgrade case)
 Each file's name says what is wrong; test_corrupt.cpp expects every one to be rejected cleanly."""
 import struct, sys, zlib, os
 
@@ -75,6 +77,10 @@ ip[1:9] = struct.pack('<Q', struct.unpack('<Q', ip[1:9])[0] + 3)
 out['indx_bad_offset.capz'] = src[:ix[0]] + rechunk(b'INDX', bytes(ip))
 # INDX removed
 out['indx_missing.capz'] = src[:ix[0]]
+# A 2.0 stream relabelled 1.1: its POSW is then read with the 1.x coding and must fail cleanly.
+if len(sys.argv) > 2:
+    v2 = open(sys.argv[2], 'rb').read()
+    out['v2_stream_labelled_major_1.capz'] = v2[:9] + bytes([1, 1]) + v2[11:]
 os.makedirs('streams', exist_ok=True)
 for k, v in out.items():
     open(os.path.join('streams', k), 'wb').write(v)

@@ -4,6 +4,7 @@
 // refused (bad_alloc) and fails the test; the peak heap use must stay under kBudget.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -18,6 +19,7 @@
 #include "capz/error.h"
 #include "coding/container.h"
 #include "capz/io.h"
+#include "capz/stream.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;
@@ -67,6 +69,15 @@ void write_file(const fs::path& p, const std::string& s) {
   o << s;
 }
 
+// The streaming path `capz compress` and `decompress` use (include/capz/stream.h): open the
+// file as a FrameSource and read every frame, a block at a time.
+void read_all_frames(const std::string& path) {
+  std::unique_ptr<capz::FrameSource> src = capz::open_frames(path);
+  const size_t block = std::max<size_t>(1, src->preferred_block());
+  capz::FrameBlock b;
+  for (size_t f = 0; f < src->header().frames; f += block) src->read(f, block, &b);
+}
+
 }  // namespace
 
 // The allocation counter itself: it must see a large request and refuse a huge one, or every
@@ -102,6 +113,11 @@ TEST(ResourceLimits, TrcHeaderCountsClaimingBillionsAreOnlyWarnings) {
   ASSERT_FALSE(o.threw_error) << o.message;
   EXPECT_EQ(t.frames, 2u);
   EXPECT_EQ(t.points, 2u);
+  capz_test::TempDir dir("capz_limits");
+  write_file(dir.path() / "hostile.trc", trc);
+  Outcome so = run_bounded([&] { read_all_frames((dir.path() / "hostile.trc").string()); });
+  expect_bounded(so, "TRC header counts, streamed");
+  EXPECT_FALSE(so.threw_error) << so.message;
 }
 
 TEST(ResourceLimits, TrcManyShortRowsTimesAWideRowIsBounded) {
@@ -114,6 +130,10 @@ TEST(ResourceLimits, TrcManyShortRowsTimesAWideRowIsBounded) {
   std::vector<uint8_t> b = bytes_of(trc);
   Outcome o = run_bounded([&] { capz::read_trc_bytes(b.data(), b.size(), "wide.trc"); });
   expect_bounded(o, "TRC wide x long");
+  capz_test::TempDir dir("capz_limits");
+  write_file(dir.path() / "wide.trc", trc);
+  Outcome so = run_bounded([&] { read_all_frames((dir.path() / "wide.trc").string()); });
+  expect_bounded(so, "TRC wide x long, streamed");
 }
 
 // PCD headers: each lie in its own one-file folder.
@@ -167,6 +187,8 @@ TEST(ResourceLimits, C3dCountsClaimingBillionsAreClampedToTheData) {
       EXPECT_EQ(t.frames, 0u) << file;
       EXPECT_FALSE(t.warnings.empty()) << file;
     }
+    Outcome so = run_bounded([&] { read_all_frames(dir + file); });
+    expect_bounded(so, std::string(file) + ", streamed");
   }
 }
 
@@ -250,5 +272,11 @@ TEST(ResourceLimits, CapzHeaderCountsClaimingBillionsAreRefused) {
     EXPECT_TRUE(o.threw_error) << "capz " << c.first << " was accepted";
     Outcome d = run_bounded([&] { capz::describe(s.data(), s.size(), "hostile.capz"); });
     expect_bounded(d, "describe " + c.first);
+    capz_test::TempDir dir("capz_limits");
+    const fs::path path = dir.path() / "hostile.capz";
+    write_file(path, std::string(s.begin(), s.end()));
+    Outcome so = run_bounded([&] { read_all_frames(path.string()); });
+    expect_bounded(so, "capz streamed " + c.first);
+    EXPECT_TRUE(so.threw_error) << "capz streamed " << c.first << " was accepted";
   }
 }

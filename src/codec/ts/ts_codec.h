@@ -1,7 +1,8 @@
 // ts codec — temporal segmentation (Luo, Cordier & Seo 2013) as a capz::TransformCodec:
 // align ► cluster ► PCA per cluster ► quantise ► LPC (first fragment) / LCPS (later fragments).
 // Options (TransformParams::options, documented in docs/CODEC-TS.md): lpc_order, lcps_k,
-// basis_bits, basis_bits_min, basis_bits_max, align, max_clusters, kmeans_restarts, seed,
+// basis_bits, basis_bits_min, basis_bits_max, basis_predict, basis_free_step, align,
+// max_clusters, kmeans_restarts, seed,
 // trunc_share, rms_per_bound.
 #pragma once
 
