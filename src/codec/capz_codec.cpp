@@ -191,7 +191,30 @@ Grid lossless_grid(const TakeScan& s) {
   return g;
 }
 
-// A grid whose step bounds every coordinate's error by `bound`.
+// A C3D stores every coordinate off its int16 grid as float32, so writing the decoded take
+// rounds it once more, by up to half a float32 ulp at the largest coordinate. The grid keeps
+// that much of the bound in reserve, so the bound holds in the written file, not only in the
+// decoded doubles (bigparlove.c3d, with coordinates near 2^18 mm, missed 0.03 mm by 0.00125
+// mm without it). Returns 0 for outputs that store the decoded doubles exactly.
+double output_rounding_reserve(const Take& t, const TakeScan& s, double bound) {
+  if (t.format != Format::kC3D) return 0;  // TRC and PCD writers keep every decoded double
+  int e = 0;
+  std::frexp(s.max_abs + bound, &e);  // magnitude in [2^(e-1), 2^e): float32 ulp 2^(e-24)
+  return std::ldexp(1.0, e - 25);
+}
+
+// A grid step for `bound` with the output's rounding reserve taken off.
+double reserved_step(const Take& t, const TakeScan& s, double bound) {
+  const double r = output_rounding_reserve(t, s, bound);
+  if (!(bound > r))
+    fail(ErrorCode::kInvalidParameter, t.source,
+         "max error " + std::to_string(bound) + " is below the float32 resolution of a C3D at " +
+             "coordinates up to " + std::to_string(s.max_abs) + " (use --lossless)");
+  return grid_step_for_bound(bound - r);
+}
+
+// A grid whose step bounds every coordinate's error by `bound`, in the decoded take and in the
+// file the decoder writes in the source's format.
 Grid bounded_grid(const Take& t, const TakeScan& s, double bound) {
   Grid g;
   g.mode = PosMode::kGrid;
@@ -214,10 +237,10 @@ Grid bounded_grid(const Take& t, const TakeScan& s, double bound) {
     for (; m > 1; m -= 1)
       if (!(s.min_cheb < m * sc / 2)) break;
     g.step = m * sc;
-    if (m * sc / 2 > bound) g.step = grid_step_for_bound(bound);  // source is off its grid
+    if (m * sc / 2 > bound) g.step = reserved_step(t, s, bound);  // off the grid: float32 C3D
     if (m == 1) g.bound = sc / 2;
   } else {
-    g.step = grid_step_for_bound(bound);
+    g.step = reserved_step(t, s, bound);
   }
   if (s.max_abs / g.step >= kMaxGridIndex)
     fail(ErrorCode::kInvalidParameter, t.source,
