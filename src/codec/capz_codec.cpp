@@ -370,31 +370,9 @@ std::vector<int32_t> grid_prediction(const std::vector<double>& recon, double st
   return t;
 }
 
-// Positions of a window with gaps filled (hold the last valid value, else the next, else 0):
-// what a transform codec is given.
-
-// Positions of a block with gaps filled (hold the last valid value, else the next, else 0):
-// what a transform codec is given.
+// What a transform codec is given: the block's positions with gaps filled (transform.h).
 std::vector<double> filled_window(const FrameBlock& b) {
-  const size_t fn = b.frames, N = b.points;
-  std::vector<double> x = b.xyz;
-  for (size_t p = 0; p < N; ++p) {
-    long last = -1;
-    for (size_t f = 0; f < fn; ++f) {
-      if (b.valid[f * N + p]) {
-        if (last < 0)  // back-fill the leading gap
-          for (size_t g = 0; g < f; ++g)
-            std::copy(&x[(f * N + p) * 3], &x[(f * N + p) * 3] + 3, &x[(g * N + p) * 3]);
-        last = static_cast<long>(f);
-      } else if (last >= 0) {
-        std::copy(&x[(static_cast<size_t>(last) * N + p) * 3],
-                  &x[(static_cast<size_t>(last) * N + p) * 3] + 3, &x[(f * N + p) * 3]);
-      }
-    }
-    if (last < 0)
-      for (size_t f = 0; f < fn; ++f) std::fill_n(&x[(f * N + p) * 3], 3, 0.0);
-  }
-  return x;
+  return fill_gaps(b.frames, b.points, b.xyz.data(), b.valid.data());
 }
 
 // POSW body with transform output (FORMAT.md 3.3): the codec block alone.

@@ -27,6 +27,12 @@ struct TransformParams {
   std::map<std::string, std::string> options;
 };
 
+// Positions (frames x points x 3) with gaps filled as the container fills them before a transform
+// sees them (`in.valid` still marks the measured samples): a gap holds the point's last valid
+// value, a leading gap its first valid one, a point never valid in the window 0.
+std::vector<double> fill_gaps(size_t frames, size_t points, const double* xyz,
+                              const uint8_t* valid);
+
 class TransformCodec {
  public:
   virtual ~TransformCodec() = default;

@@ -14,6 +14,22 @@ using namespace capz;
 
 namespace {
 
+// A small take of smooth, distinct trajectories (mm).
+Take small_moving_take(size_t frames, size_t points) {
+  Take t;
+  t.resize(frames, points);
+  t.rate = 100;
+  t.units = "mm";
+  for (size_t f = 0; f < t.frames; ++f)
+    for (size_t p = 0; p < t.points; ++p) {
+      t.valid[f * t.points + p] = 1;
+      t.at(f, p)[0] = 10.0 * p + 0.25 * f;
+      t.at(f, p)[1] = 3.0 * f + (p % 3);
+      t.at(f, p)[2] = -1.0 * p + 0.1 * f * (p % 2);
+    }
+  return t;
+}
+
 size_t size_with(const Take& t, CompressOptions o, const std::string& codec) {
   o.codec = codec;
   return compress(t, o).size();
@@ -44,17 +60,7 @@ TEST(AutoCodec, GivenRealGaitTrialWhenAutoThenSmallestCandidateAndWithinBound) {
 }
 
 TEST(AutoCodec, GivenTooFewPointsForTransformsWhenAutoThenPlainCoderStillWorks) {
-  Take t;
-  t.resize(40, 2);
-  t.rate = 100;
-  t.units = "mm";
-  for (size_t f = 0; f < t.frames; ++f)
-    for (size_t p = 0; p < t.points; ++p) {
-      t.valid[f * 2 + p] = 1;
-      t.at(f, p)[0] = 10.0 * p + 0.25 * f;
-      t.at(f, p)[1] = 3.0 * f;
-      t.at(f, p)[2] = -1.0 * p;
-    }
+  const Take t = small_moving_take(40, 2);
   CompressOptions o;
   o.max_error = 0.1;
   o.codec = "auto";
@@ -67,20 +73,6 @@ TEST(AutoCodec, GivenTooFewPointsForTransformsWhenAutoThenPlainCoderStillWorks) 
 
 namespace {
 
-Take small_moving_take() {
-  Take t;
-  t.resize(30, 12);
-  t.rate = 100;
-  t.units = "mm";
-  for (size_t f = 0; f < t.frames; ++f)
-    for (size_t p = 0; p < t.points; ++p) {
-      t.valid[f * t.points + p] = 1;
-      t.at(f, p)[0] = 10.0 * p + 0.25 * f;
-      t.at(f, p)[1] = 3.0 * f + (p % 3);
-      t.at(f, p)[2] = -1.0 * p + 0.1 * f * (p % 2);
-    }
-  return t;
-}
 
 // false when compress rejects the options as kInvalidParameter; any other error propagates.
 bool accepted(const Take& t, const CompressOptions& o) {
@@ -97,7 +89,7 @@ bool accepted(const Take& t, const CompressOptions& o) {
 
 // A mistyped option must be an error under auto too, not a reason to skip the codec.
 TEST(AutoCodec, GivenUnknownOrUnaddressedOptionWhenAutoThenInvalidParameter) {
-  const Take t = small_moving_take();
+  const Take t = small_moving_take(30, 12);
   CompressOptions o;
   o.max_error = 0.1;
   o.codec = "auto";
@@ -112,7 +104,7 @@ TEST(AutoCodec, GivenUnknownOrUnaddressedOptionWhenAutoThenInvalidParameter) {
 }
 
 TEST(AutoCodec, GivenOptionsNamedPerCodecWhenAutoOrExplicitThenEachCodecGetsOnlyItsOwn) {
-  const Take t = small_moving_take();
+  const Take t = small_moving_take(30, 12);
   CompressOptions o;
   o.max_error = 0.1;
   o.codec = "auto";

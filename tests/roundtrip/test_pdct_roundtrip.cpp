@@ -9,43 +9,23 @@
 #include "capz/io.h"
 #include "capz/metrics.h"
 #include "codec/pdct/pdct_codec.h"
+#include "codec/transform.h"
+#include "unit/synthetic.h"
 
 namespace {
 
 const std::string kData = CAPZ_SHARED_DATA;
 
-// The first `frames` frames of a take, gaps filled as a container fills them for coding: the last
-// measured value (the next one before the first measurement; 0 if never measured).
-struct Window {
-  size_t frames = 0, points = 0;
-  std::vector<double> xyz;
-  std::vector<uint8_t> valid;
-  capz::PositionsView view() const {
-    return capz::PositionsView{frames, points, xyz.data(), valid.data()};
-  }
-};
+// The first `frames` frames of a take, gaps filled as the container fills them for coding.
+using Window = capz_test::Synth;
 
 Window window_of(const capz::Take& t, size_t frames) {
   Window w;
   w.frames = std::min(frames, t.frames);
   w.points = t.points;
-  w.xyz.assign(t.xyz.begin(), t.xyz.begin() + static_cast<std::ptrdiff_t>(w.frames * w.points * 3));
   w.valid.assign(t.valid.begin(),
                  t.valid.begin() + static_cast<std::ptrdiff_t>(w.frames * w.points));
-  for (size_t p = 0; p < w.points; ++p) {
-    long last = -1;
-    for (size_t f = 0; f < w.frames; ++f) {
-      if (w.valid[f * w.points + p]) {
-        if (last < 0)  // leading gap: back-fill with this first measurement
-          for (size_t g = 0; g < f; ++g)
-            std::memcpy(&w.xyz[3 * (g * w.points + p)], &w.xyz[3 * (f * w.points + p)], 24);
-        last = static_cast<long>(f);
-      } else if (last >= 0) {
-        std::memcpy(&w.xyz[3 * (f * w.points + p)],
-                    &w.xyz[3 * (static_cast<size_t>(last) * w.points + p)], 24);
-      }
-    }
-  }
+  w.xyz = capz::fill_gaps(w.frames, w.points, t.xyz.data(), w.valid.data());
   return w;
 }
 

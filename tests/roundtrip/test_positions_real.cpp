@@ -10,6 +10,7 @@
 #include "coding/predict.h"
 #include "coding/quantiser.h"
 #include "coding/window_coder.h"
+#include "support/positions_round_trip.h"
 
 namespace capz {
 namespace {
@@ -31,21 +32,7 @@ WindowInts ints_of(const Take& t, size_t frames, double step) {
 }
 
 size_t refs_and_check(const WindowInts& w) {
-  std::vector<uint8_t> pos = encode_positions(w, {}, {}, false);
-  PositionsPayload pp = split_positions(pos.data(), pos.size(), "test");
-  WindowInts back;
-  back.frames = w.frames;
-  back.points = w.points;
-  back.valid = w.valid;
-  decode_positions(pp, {}, false, kPositionScheme, &back, "test");
-  size_t diff = 0;
-  for (size_t i = 0; i < w.frames * w.points; ++i)
-    if (w.valid[i])
-      for (size_t k = i * 3; k < i * 3 + 3; ++k) diff += back.q[k] != w.q[k];
-  EXPECT_EQ(diff, 0u);
-  size_t refs = 0;
-  for (uint8_t m : decode_modes(pp, w.points, kPositionScheme, "test")) refs += uses_ref(m);
-  return refs;
+  return count_refs(positions_round_trip(w, kPositionScheme));
 }
 
 TEST(PositionsReal, GivenMeshSequenceThenReferencesUsedAndExact) {

@@ -10,6 +10,7 @@
 #include "coding/entropy.h"
 #include "coding/predict.h"
 #include "coding/window_coder.h"
+#include "support/positions_round_trip.h"
 
 namespace capz {
 namespace {
@@ -52,35 +53,11 @@ WindowInts rigid_groups(size_t frames, size_t points, size_t group, double gap_r
   return w;
 }
 
-// Encodes, decodes, and checks every valid integer comes back; returns the predictor modes.
-std::vector<uint8_t> round_trip(const WindowInts& w, int scheme, bool float64 = false) {
-  std::vector<uint8_t> pos = encode_positions(w, {}, {}, float64, scheme);
-  PositionsPayload pp = split_positions(pos.data(), pos.size(), "test");
-  WindowInts back;
-  back.frames = w.frames;
-  back.points = w.points;
-  back.valid = w.valid;
-  decode_positions(pp, {}, float64, scheme, &back, "test");
-  size_t diff = 0;
-  for (size_t i = 0; i < w.frames * w.points; ++i)
-    if (w.valid[i])
-      for (size_t k = i * 3; k < i * 3 + 3; ++k)
-        diff += back.q[k] != w.q[k] || (float64 && back.lo[k] != w.lo[k]);
-  EXPECT_EQ(diff, 0u);
-  return decode_modes(pp, w.points, scheme, "test");
-}
-
-size_t count_refs(const std::vector<uint8_t>& modes) {
-  size_t n = 0;
-  for (uint8_t m : modes) n += uses_ref(m) ? 1 : 0;
-  return n;
-}
-
 TEST(Positions, GivenRigidGroupsThenReferencePredictorsChosenAndExact) {
   for (unsigned seed = 1; seed <= 3; ++seed) {
     SCOPED_TRACE(seed);
     WindowInts w = rigid_groups(200, 40, 5, 0, seed);
-    std::vector<uint8_t> modes = round_trip(w, 2);
+    std::vector<uint8_t> modes = positions_round_trip(w, 2);
     // Every group but its first point can follow another point of the group.
     EXPECT_GE(count_refs(modes), 20u);
   }
@@ -90,7 +67,7 @@ TEST(Positions, GivenGapsThenBothSchemesRoundTripExactly) {
   for (int scheme = 1; scheme <= 2; ++scheme) {
     SCOPED_TRACE(scheme);
     WindowInts w = rigid_groups(150, 30, 3, 0.05, 7);
-    std::vector<uint8_t> modes = round_trip(w, scheme);
+    std::vector<uint8_t> modes = positions_round_trip(w, scheme);
     if (scheme == 1) {
       EXPECT_EQ(count_refs(modes), 0u);  // format 1.x has no references
     }
@@ -103,14 +80,14 @@ TEST(Positions, GivenWrappingValuesAndFloat64LowBitsThenExact) {
   for (size_t i = 0; i < w.q.size(); i += 7) w.q[i] = static_cast<int32_t>(rng());
   w.lo.resize(w.q.size());
   for (uint32_t& v : w.lo) v = static_cast<uint32_t>(rng());
-  round_trip(w, 2, true);
+  positions_round_trip(w, 2, true);
 }
 
 TEST(Positions, GivenTinyWindowsThenExact) {
   for (size_t frames : {1, 2, 3}) {
     for (size_t points : {1, 2, 5}) {
       WindowInts w = rigid_groups(frames, points, 2, 0, 5);
-      round_trip(w, 2);
+      positions_round_trip(w, 2);
     }
   }
 }
