@@ -102,10 +102,14 @@ class ResidualContexts {
   std::vector<uint8_t> ta_, z_;
 };
 
+// Coder: int32_t operator()(size_t i, int32_t pred, int ctx, int* tok), coding sample i under
+// context ctx and returning its value; trivially copyable: the walk codes through a local copy
+// (kept in registers) and stores it back into `coder` at the end.
 template <typename Coder>
 void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8_t* modes,
                  const uint32_t* ref, const int32_t* t, int32_t* q, ResidualContexts& ctx,
-                 Coder& code) {
+                 Coder& coder) {
+  Coder code = coder;
   const size_t stride = points * 3;
   for (size_t f = 0; f < frames; ++f) {
     int tb = 0;
@@ -142,6 +146,7 @@ void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8
       if (f == 0) std::copy(q + i, q + i + 3, last);
     }
   }
+  coder = code;
 }
 
 }  // namespace capz
