@@ -181,10 +181,11 @@ void ref_cost(const std::vector<int32_t>& e, const uint8_t* valid, size_t frames
   }
 }
 
-// The window's period for predictors 8/9, or 0 when none is worth trying: the T in
-// [2, min(F / 2, 256)] whose differences q[f] - q[f-T] cost the fewest bits (bit_cost) on a
-// sample of at most 32 points and 64 frames per T, if that is under half the cost of
-// q[f] - q[f-1] on the same samples (a motion that repeats, e.g. a looped animation).
+// The window's period for predictors 8/9, or 0 when none is worth trying. Differences
+// q[f] - q[f-T] are costed (bit_cost, averaged) on a sample of at most 32 points and 64 frames
+// for each T in [2, min(F / 2, 256)]; the frames before T count at the cost of
+// q[f] - q[f-1]. The T with the lowest total is kept if it is under 0.8 times that of
+// q[f] - q[f-1] over the window (a motion that repeats, e.g. a looped animation).
 size_t find_period(const int32_t* q, const uint8_t* valid, size_t frames, size_t points) {
   if (frames < 4 || points == 0) return 0;
   const size_t stride = points * 3, pstep = (points + 31) / 32;
@@ -200,12 +201,12 @@ size_t find_period(const int32_t* q, const uint8_t* valid, size_t frames, size_t
       }
     return n ? static_cast<double>(bits) / static_cast<double>(n) : 1e30;
   };
-  const double base = cost(1);
+  const double base = cost(1), F = static_cast<double>(frames);
   size_t best = 0;
-  double best_cost = base * 0.5;
+  double best_total = 0.8 * base * F;
   for (size_t T = 2; T <= std::min<size_t>(frames / 2, 256); ++T) {
-    const double c = cost(T);
-    if (c < best_cost) best_cost = c, best = T;
+    const double total = cost(T) * (F - static_cast<double>(T)) + base * static_cast<double>(T);
+    if (total < best_total) best_total = total, best = T;
   }
   return best;
 }
