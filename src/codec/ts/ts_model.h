@@ -31,6 +31,12 @@ struct TsModel {
   LpcCode rigid_code;               // 6 x frames: rotation vector (3), translation (3)
   int clusters = 1;
   std::vector<uint8_t> label;       // per frame, < clusters
+  // Point segments (payload version 2 when > 1): per point its segment, < segments; empty (or
+  // all 0) for one segment.
+  int segments = 1;
+  std::vector<uint8_t> segment;
+  // segments x clusters, segment-major (cluster[s * clusters + c]); the bases of segment s have
+  // 3 N_s entries, entry 3 i + axis for the segment's i-th point (points in increasing order).
   std::vector<TsCluster> cluster;
 };
 
@@ -42,6 +48,10 @@ struct ClusterLayout {
   size_t first_len = 0;
 };
 std::vector<ClusterLayout> cluster_layout(const std::vector<uint8_t>& label, int clusters);
+
+// Points of each segment in increasing order (all points for one segment). Throws kCorrupt on
+// an inconsistent model (label >= segments, empty segment, label count != points).
+std::vector<std::vector<uint32_t>> segment_points_of(const TsModel& model);
 
 // Positions (frames x points x 3) from the model. The decoder's only reconstruction path; the
 // encoder calls it too, so its `recon` is bit for bit the decoder's.
