@@ -43,6 +43,7 @@ struct Options {
   bool align = true;
   int max_clusters = 5;
   int segments = 0;  // point segments; 0 = auto (the smallest payload of a few counts)
+  bool segment_align = true;  // each segment gets its own rigid alignment (flags bit 2)
   int restarts = 4;
   uint64_t seed = 0x5eed;
   double trunc_share = 0.1;    // share of the squared-error budget left to PCA truncation
@@ -81,6 +82,7 @@ Options parse_options(const TransformParams& p) {
     else if (k == "basis_free_step") o.free_step = parse_int(k, v, 0, 1) != 0;
     else if (k == "align") o.align = parse_int(k, v, 0, 1) != 0;
     else if (k == "segments") o.segments = v == "auto" ? 0 : static_cast<int>(parse_int(k, v, 1, ts::kMaxSegments));
+    else if (k == "segment_align") o.segment_align = parse_int(k, v, 0, 1) != 0;
     else if (k == "max_clusters") o.max_clusters = static_cast<int>(parse_int(k, v, 1, 64));
     else if (k == "kmeans_restarts") o.restarts = static_cast<int>(parse_int(k, v, 1, 100));
     else if (k == "seed") o.seed = static_cast<uint64_t>(parse_int(k, v, 0, 0x7fffffff));
@@ -103,6 +105,7 @@ struct Base {
   PositionsView in;
   size_t dim = 0;
   double target_sq = 0;  // allowed sum of squared errors over valid samples
+  double rms = 0;        // the target RMS per coordinate, sqrt(target_sq / (3 valid samples))
   Eigen::MatrixXd aligned;  // dim x F
   bool rigid = false;
   double rot_step = 0, trans_step = 0;
@@ -118,6 +121,7 @@ struct Prepared {
   int segments = 1;
   std::vector<uint8_t> segment;                // per point (empty for one segment)
   std::vector<std::vector<uint32_t>> members;  // points of each segment, increasing
+  std::vector<TsModel::SegmentMotion> motion;  // per segment, when segments are aligned
   std::vector<Eigen::MatrixXd> frames;         // per unit: 3 N_s x l_c, time order
   std::vector<ts::Pca> pca;                    // per unit
   size_t unit_dim(size_t u) const { return 3 * members[u / layout.size()].size(); }
@@ -130,6 +134,38 @@ struct Trial {
   double sq = 0;  // sum of squared errors over valid samples
   bool ok = false;
 };
+
+// Stage 1 (and per segment): aligns the frames (3n x F, column = frame) to frame 0 in place, with
+// the decoded parameters of the returned LPC code so that the decoder's inverse is exact; the
+// quantisation steps are tied to the target RMS: translation 0.5 rms, rotation 0.5 rms / extent.
+// `valid` is per (frame, point) with stride `valid_stride` points per frame, `valid_map` (if not
+// empty) the points' indices in it.
+ts::LpcCode code_rigid(const uint8_t* valid, size_t valid_stride, double rms, double extent,
+                       int lpc_order, Eigen::MatrixXd* frames, double* rot_step, double* trans_step,
+                       const std::vector<uint32_t>& valid_map = {}) {
+  const size_t nf = static_cast<size_t>(frames->cols()), n = static_cast<size_t>(frames->rows() / 3);
+  std::vector<uint8_t> v(nf * n);
+  for (size_t f = 0; f < nf; ++f)
+    for (size_t i = 0; i < n; ++i) v[f * n + i] = valid[f * valid_stride + (valid_map.empty() ? i : valid_map[i])];
+  const PositionsView view{nf, n, frames->data(), v.data()};
+  std::vector<ts::RigidParams> rp = ts::estimate_alignment(view, ts::AlignParams());
+  extent = std::max(extent, 1e-300);
+  *trans_step = std::max(0.5 * rms, extent * 1e-9);
+  *rot_step = std::min(1e-2, std::max(0.5 * rms / extent, 1e-9));
+  Eigen::MatrixXd series(6, static_cast<Eigen::Index>(nf));
+  for (size_t f = 0; f < nf; ++f)
+    for (int a = 0; a < 3; ++a) {
+      series(a, static_cast<Eigen::Index>(f)) = rp[f].rot[a];
+      series(3 + a, static_cast<Eigen::Index>(f)) = rp[f].trans[a];
+    }
+  ts::LpcParams lp;
+  lp.order = lpc_order;
+  Eigen::MatrixXd dec;
+  ts::LpcCode code = ts::lpc_encode(series, {*rot_step, *rot_step, *rot_step, *trans_step, *trans_step, *trans_step}, lp, &dec);
+  for (size_t f = 0; f < nf; ++f)
+    ts::apply_rigid(ts::rigid_at(dec, f), frames->col(static_cast<Eigen::Index>(f)).data(), n);
+  return code;
+}
 
 double sq_error(const PositionsView& in, const std::vector<double>& recon) {
   double s = 0;
@@ -161,6 +197,8 @@ Trial build_trial(const Base& base, const Prepared& prep, double budget, const O
   m.label = prep.label;
   m.segments = prep.segments;
   m.segment = prep.segment;
+  m.segment_rigid = !prep.motion.empty();
+  m.segment_motion = prep.motion;
   const size_t nc = prep.pca.size();  // units: segments x clusters
 
   // PCs: a global threshold on sigma^2 (the paper's per-cluster "covered variation" threshold,
@@ -377,18 +415,36 @@ Prepared prepare(const Base& base, int k, const ts::Segmentation& seg, const Opt
   }
   if (rep) rep->t_cluster += since(t0);
   auto t1 = Clock::now();
-  for (const auto& pts : p.members)
+  const size_t nf_all = base.in.frames;
+  for (const auto& pts : p.members) {
+    // The segment's aligned frames (3 N_s x F), with its own rigid motion removed when asked.
+    Eigen::MatrixXd seg(static_cast<Eigen::Index>(3 * pts.size()), static_cast<Eigen::Index>(nf_all));
+    for (size_t f = 0; f < nf_all; ++f) {
+      const double* src = base.aligned.col(static_cast<Eigen::Index>(f)).data();
+      double* dst = seg.col(static_cast<Eigen::Index>(f)).data();
+      for (size_t i = 0; i < pts.size(); ++i)
+        for (size_t a = 0; a < 3; ++a) dst[3 * i + a] = src[3 * size_t{pts[i]} + a];
+    }
+    if (p.segments > 1 && o.segment_align && nf_all > 1) {
+      TsModel::SegmentMotion sm;
+      Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
+      for (Eigen::Index f = 0; f < seg.cols(); ++f)
+        for (Eigen::Index i = 0; i < seg.rows() / 3; ++i) {
+          lo = lo.cwiseMin(seg.col(f).segment<3>(3 * i));
+          hi = hi.cwiseMax(seg.col(f).segment<3>(3 * i));
+        }
+      sm.code = code_rigid(base.in.valid, base.in.points, base.rms, (hi - lo).norm(), o.lpc_order, &seg,
+                           &sm.rot_step, &sm.trans_step, pts);
+      p.motion.push_back(std::move(sm));
+    }
     for (const auto& lay : p.layout) {
-      Eigen::MatrixXd f(static_cast<Eigen::Index>(3 * pts.size()), static_cast<Eigen::Index>(lay.frames.size()));
-      for (size_t j = 0; j < lay.frames.size(); ++j) {
-        const double* src = base.aligned.col(static_cast<Eigen::Index>(lay.frames[j])).data();
-        double* dst = f.col(static_cast<Eigen::Index>(j)).data();
-        for (size_t i = 0; i < pts.size(); ++i)
-          for (size_t a = 0; a < 3; ++a) dst[3 * i + a] = src[3 * size_t{pts[i]} + a];
-      }
+      Eigen::MatrixXd f(seg.rows(), static_cast<Eigen::Index>(lay.frames.size()));
+      for (size_t j = 0; j < lay.frames.size(); ++j)
+        f.col(static_cast<Eigen::Index>(j)) = seg.col(static_cast<Eigen::Index>(lay.frames[j]));
       p.pca.push_back(ts::pca_frames(f, ts::PcaParams()));
       p.frames.push_back(std::move(f));
     }
+  }
   if (rep) rep->t_pca += since(t1);
   return p;
 }
@@ -469,31 +525,10 @@ void TsCodec::encode_report(const PositionsView& in, const TransformParams& para
   for (size_t f = 0; f < nf; ++f)
     std::copy(in.xyz + f * base.dim, in.xyz + (f + 1) * base.dim, base.aligned.col(static_cast<Eigen::Index>(f)).data());
   base.rigid = o.align && nf > 1 && in.points >= 3;
-  if (base.rigid) {
-    std::vector<ts::RigidParams> rp = ts::estimate_alignment(in, ts::AlignParams());
-    const double rms = std::sqrt(base.target_sq / (3.0 * static_cast<double>(std::max<size_t>(samples, 1))));
-    const double extent = std::max(std::sqrt(diag2), 1e-300);
-    base.trans_step = std::max(0.5 * rms, extent * 1e-9);
-    base.rot_step = std::min(1e-2, std::max(0.5 * rms / extent, 1e-9));
-    Eigen::MatrixXd series(6, static_cast<Eigen::Index>(nf));
-    for (size_t f = 0; f < nf; ++f)
-      for (int a = 0; a < 3; ++a) {
-        series(a, static_cast<Eigen::Index>(f)) = rp[f].rot[a];
-        series(3 + a, static_cast<Eigen::Index>(f)) = rp[f].trans[a];
-      }
-    ts::LpcParams lp;
-    lp.order = o.lpc_order;
-    Eigen::MatrixXd dec;
-    base.rigid_code = ts::lpc_encode(series, {base.rot_step, base.rot_step, base.rot_step, base.trans_step, base.trans_step, base.trans_step}, lp, &dec);
-    for (size_t f = 0; f < nf; ++f) {
-      ts::RigidParams q;
-      for (int a = 0; a < 3; ++a) {
-        q.rot[a] = dec(a, static_cast<Eigen::Index>(f));
-        q.trans[a] = dec(3 + a, static_cast<Eigen::Index>(f));
-      }
-      ts::apply_rigid(q, base.aligned.col(static_cast<Eigen::Index>(f)).data(), in.points);
-    }
-  }
+  base.rms = std::sqrt(base.target_sq / (3.0 * static_cast<double>(std::max<size_t>(samples, 1))));
+  if (base.rigid)
+    base.rigid_code = code_rigid(in.valid, in.points, base.rms, std::sqrt(diag2), o.lpc_order,
+                                 &base.aligned, &base.rot_step, &base.trans_step);
   rep->t_align = since(ta);
 
   // Stage 2..4 for each (segment count, cluster count) tried; the smallest payload wins.

@@ -2,7 +2,7 @@
 // align ► cluster ► PCA per cluster ► quantise ► LPC (first fragment) / LCPS (later fragments).
 // Options (TransformParams::options, documented in docs/CODEC-TS.md): lpc_order, lcps_k,
 // basis_bits, basis_bits_min, basis_bits_max, basis_predict, basis_free_step, align,
-// segments, max_clusters, kmeans_restarts, seed,
+// segments, segment_align, max_clusters, kmeans_restarts, seed,
 // trunc_share, rms_per_bound.
 #pragma once
 

@@ -190,9 +190,16 @@ void reconstruct(const TsModel& m, std::vector<double>* xyz) {
   const auto layout = cluster_layout(m.label, m.clusters);
   const auto members = segment_points_of(m);
   if (m.cluster.size() != layout.size() * members.size()) corrupt("cluster count disagrees with the labels");
+  if (m.segment_rigid && m.segment_motion.size() != members.size()) corrupt("segment motion count");
   for (size_t s = 0; s < members.size(); ++s) {
     const std::vector<uint32_t>& pts = members[s];
     const size_t dim_s = 3 * pts.size();
+    Eigen::MatrixXd motion;  // 6 x frames when the segment has its own rigid motion
+    if (m.segment_rigid) {
+      const TsModel::SegmentMotion& sm = m.segment_motion[s];
+      if (sm.code.rows != 6 || sm.code.length != m.frames) corrupt("segment rigid block size");
+      motion = lpc_decode(sm.code, {sm.rot_step, sm.rot_step, sm.rot_step, sm.trans_step, sm.trans_step, sm.trans_step});
+    }
     for (size_t c = 0; c < layout.size(); ++c) {
       const TsCluster& tc = m.cluster[s * layout.size() + c];
       const ClusterLayout& lay = layout[c];
@@ -209,8 +216,10 @@ void reconstruct(const TsModel& m, std::vector<double>* xyz) {
       for (size_t j = 0; j < tc.later.size(); ++j)
         w.col(static_cast<Eigen::Index>(lay.first_len + j)) =
             lcps_decode(tc.later[j], first, m.coef_step, tc.lcps_weight_bits);
-      const Eigen::MatrixXd x = b * w;  // dim_s x l_c
+      Eigen::MatrixXd x = b * w;  // dim_s x l_c
       for (size_t j = 0; j < lay.frames.size(); ++j) {
+        if (m.segment_rigid)
+          apply_rigid_inverse(rigid_at(motion, lay.frames[j]), x.col(static_cast<Eigen::Index>(j)).data(), pts.size());
         const double* src = x.col(static_cast<Eigen::Index>(j)).data();
         double* dst = xyz->data() + lay.frames[j] * dim;
         for (size_t i = 0; i < pts.size(); ++i)
@@ -222,21 +231,24 @@ void reconstruct(const TsModel& m, std::vector<double>* xyz) {
     if (m.rigid_code.rows != 6 || m.rigid_code.length != m.frames) corrupt("rigid block size");
     std::vector<double> steps = {m.rot_step, m.rot_step, m.rot_step, m.trans_step, m.trans_step, m.trans_step};
     const Eigen::MatrixXd p = lpc_decode(m.rigid_code, steps);
-    for (size_t f = 0; f < m.frames; ++f) {
-      RigidParams rp;
-      for (int a = 0; a < 3; ++a) {
-        rp.rot[a] = p(a, static_cast<Eigen::Index>(f));
-        rp.trans[a] = p(3 + a, static_cast<Eigen::Index>(f));
-      }
-      apply_rigid_inverse(rp, xyz->data() + f * dim, m.points);
-    }
+    for (size_t f = 0; f < m.frames; ++f) apply_rigid_inverse(rigid_at(p, f), xyz->data() + f * dim, m.points);
   }
+}
+
+RigidParams rigid_at(const Eigen::MatrixXd& decoded, size_t f) {
+  RigidParams rp;
+  for (int a = 0; a < 3; ++a) {
+    rp.rot[a] = decoded(a, static_cast<Eigen::Index>(f));
+    rp.trans[a] = decoded(3 + a, static_cast<Eigen::Index>(f));
+  }
+  return rp;
 }
 
 void write_model(const TsModel& m, ByteWriter* out) {
   const bool segmented = m.segments > 1;
   out->u8(segmented ? kVersionSegments : kVersionOneSegment);
-  out->u8(static_cast<uint8_t>((m.rigid ? 1 : 0) | (m.basis_predict ? 2 : 0)));
+  if (m.segment_rigid && !segmented) fail(ErrorCode::kInternal, kWhat, "segment motion without segments");
+  out->u8(static_cast<uint8_t>((m.rigid ? 1 : 0) | (m.basis_predict ? 2 : 0) | (m.segment_rigid ? 4 : 0)));
   out->varint(m.frames);
   out->varint(m.points);
   out->f64(m.coef_step);
@@ -247,6 +259,12 @@ void write_model(const TsModel& m, ByteWriter* out) {
     write_lpc_header(m.rigid_code, out);
   }
   if (segmented) out->u8(static_cast<uint8_t>(m.segments));
+  if (m.segment_rigid)
+    for (const TsModel::SegmentMotion& sm : m.segment_motion) {
+      out->f64(sm.rot_step);
+      out->f64(sm.trans_step);
+      write_lpc_header(sm.code, out);
+    }
   for (const TsCluster& c : m.cluster) {
     out->varint(c.basis.size());
     write_lpc_header(c.first, out);
@@ -272,6 +290,8 @@ void write_model(const TsModel& m, ByteWriter* out) {
     }
   }
   if (m.rigid) write_lpc_body(m.rigid_code, kRigid, &e);
+  if (m.segment_rigid)
+    for (const TsModel::SegmentMotion& sm : m.segment_motion) write_lpc_body(sm.code, kRigid, &e);
   if (!m.frames) {
     out->bytes(e.finish());
     return;
@@ -308,9 +328,10 @@ TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t point
   if (version != kVersionOneSegment && version != kVersionSegments)
     fail(ErrorCode::kUnsupportedVersion, kWhat, "version " + std::to_string(version) + " (this build reads 1 and 2)");
   const uint8_t flags = in.u8();
-  if (flags > 3) corrupt("unknown flags");
+  if (flags > (version == kVersionSegments ? 7 : 3)) corrupt("unknown flags");
   m.rigid = flags & 1;
   m.basis_predict = (flags & 2) != 0;
+  m.segment_rigid = (flags & 4) != 0;
   m.frames = in.varint();
   m.points = in.varint();
   if (m.frames != frames || m.points != points) corrupt("window shape disagrees with the container");
@@ -327,6 +348,15 @@ TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t point
     m.segments = in.u8();
     if (m.segments < 2 || m.segments > kMaxSegments || static_cast<size_t>(m.segments) > points)
       corrupt("segment count out of range");
+  }
+  if (m.segment_rigid) {
+    if (static_cast<size_t>(m.segments) * 18 > in.remaining()) corrupt("segment motion headers larger than the payload");
+    m.segment_motion.resize(static_cast<size_t>(m.segments));
+    for (TsModel::SegmentMotion& sm : m.segment_motion) {
+      sm.rot_step = read_step(&in, "segment rotation step");
+      sm.trans_step = read_step(&in, "segment translation step");
+      read_lpc_header(&in, &sm.code, 6, frames);
+    }
   }
   const size_t units = static_cast<size_t>(m.clusters) * static_cast<size_t>(m.segments);
   if (units > in.remaining()) corrupt("cluster headers larger than the payload");
@@ -364,6 +394,7 @@ TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t point
     }
   }
   if (m.rigid) read_lpc_body(&m.rigid_code, kRigid, &e);
+  for (TsModel::SegmentMotion& sm : m.segment_motion) read_lpc_body(&sm.code, kRigid, &e);
   if (frames > 0) {
     const auto layout = cluster_layout(m.label, m.clusters);
     const auto members = segment_points_of(m);
