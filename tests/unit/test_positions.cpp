@@ -97,6 +97,17 @@ TEST(Positions, GivenTinyWindowsThenExact) {
   }
 }
 
+// A walk's coder that records each prediction and returns the true integers (token 0).
+struct Recorder {
+  const int32_t* q;
+  std::vector<int32_t>* preds;
+  int32_t operator()(size_t i, int32_t pred, int, int* tok) {
+    (*preds)[i] = pred;
+    *tok = 0;
+    return q[i];
+  }
+};
+
 // Every predictor computed by the walk equals its definition in FORMAT.md 3.3, for a fixed
 // mode and reference set (independent of the encoder's choices).
 TEST(Positions, GivenFixedModesThenWalkPredictsAsSpecified) {
@@ -105,15 +116,6 @@ TEST(Positions, GivenFixedModesThenWalkPredictsAsSpecified) {
   const std::vector<uint8_t> modes = {kPredLinear, kPredRefPrevious, kPredRefLinear,
                                       kPredRefLinear};
   const std::vector<uint32_t> ref = {0, 0, 1, 0};
-  struct Recorder {
-    const int32_t* q;
-    std::vector<int32_t>* preds;
-    int32_t operator()(size_t i, int32_t pred, int, int* tok) {
-      (*preds)[i] = pred;
-      *tok = 0;
-      return q[i];
-    }
-  };
   std::vector<int32_t> q = w.q, preds(q.size(), 0);
   Recorder rec{w.q.data(), &preds};
   ResidualContexts ctx(2, 4);
@@ -144,15 +146,6 @@ TEST(Positions, GivenSmoothAndPeriodModesThenWalkPredictsAsSpecified) {
   w.valid[5 * N + 1] = 0;                    // a gap: the walk holds frame 4's integers
   const std::vector<uint8_t> modes = {kPredSmooth, kPredPeriod, kPredPeriodPrevious};
   const std::vector<uint32_t> ref(N, 0);
-  struct Recorder {
-    const int32_t* q;
-    std::vector<int32_t>* preds;
-    int32_t operator()(size_t i, int32_t pred, int, int* tok) {
-      (*preds)[i] = pred;
-      *tok = 0;
-      return q[i];
-    }
-  };
   std::vector<int32_t> q = w.q, preds(q.size(), 0);
   Recorder rec{w.q.data(), &preds};
   ResidualContexts ctx(3, N);
