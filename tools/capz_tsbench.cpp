@@ -52,12 +52,14 @@ void run(const Take& t, size_t nf, const TransformParams& tp, const char* mode) 
   ErrorStats e = compare(nf, t.points, t.xyz.data(), dec.data(), t.valid.data());
   std::ostringstream pcs;
   int total = 0;
-  pcs << "{";
-  for (size_t i = 0; i < rep.pcs.size(); ++i) {
-    pcs << (i ? ", " : "") << rep.pcs[i];
-    total += rep.pcs[i];
+  for (int p : rep.pcs) total += p;
+  if (rep.segments > 1) {  // per (segment, cluster) lists get long: the total only
+    pcs << "S=" << rep.segments << ": " << total << " PCs";
+  } else {
+    pcs << "{";
+    for (size_t i = 0; i < rep.pcs.size(); ++i) pcs << (i ? ", " : "") << rep.pcs[i];
+    pcs << "}";
   }
-  pcs << "}";
   const double rate = bpvf(bytes.size(), nf, t.points);
   const double ratio = 100.0 * static_cast<double>(bytes.size()) / (static_cast<double>(nf * t.points) * 12.0);
   if (std::strcmp(mode, "table2") == 0) {

@@ -70,6 +70,19 @@ bool c3d_int16(const Take& t) {
   return t.c3d && !t.c3d->float_storage && t.c3d->point_scale > 0;
 }
 
+// The step of the integers `capz decompress` writes for this take (c3d_write.cpp: stored =
+// lround(x / scale) with the scale as float32), or 0 when the written values are the decoded
+// doubles to within float32 (float C3D, TRC, PCD).
+double written_int16_scale(const Take& t) {
+  return c3d_int16(t) ? static_cast<double>(static_cast<float>(t.c3d->point_scale)) : 0.0;
+}
+
+// x as the C3D writer stores it at int16 scale `scale`.
+inline double as_written(double x, double scale) {
+  const double q = x / scale;
+  return std::fabs(q) < 4.5e15 ? std::round(q) * scale : x;  // beyond: not int16, written as is
+}
+
 // True when grid g reproduces coordinate x exactly (bit for bit).
 inline bool grid_exact_at(const Grid& g, double x) {
   const double v = g.mode == PosMode::kDecimal ? x * g.step : x / g.step;
@@ -274,6 +287,18 @@ double window_sq_error(size_t fn, size_t n, const double* a, const double* b, co
   for (size_t i = 0; i < fn * n; ++i)
     if (valid[i])
       for (size_t k = i * 3; k < i * 3 + 3; ++k) s += (a[k] - b[k]) * (a[k] - b[k]);
+  return s;
+}
+// window_sq_error against b as written at int16 scale `scale` (as_written).
+double written_sq_error(size_t fn, size_t n, const double* a, const double* b,
+                        const uint8_t* valid, double scale) {
+  double s = 0;
+  for (size_t i = 0; i < fn * n; ++i)
+    if (valid[i])
+      for (size_t k = i * 3; k < i * 3 + 3; ++k) {
+        const double d = a[k] - as_written(b[k], scale);
+        s += d * d;
+      }
   return s;
 }
 double centred_sq_window(size_t fn, size_t n, const double* x, const uint8_t* valid) {
@@ -586,6 +611,7 @@ void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut
   // Only a KG target and a transform: the transform's reconstruction is the output, no grid and
   // no bound layer (FORMAT.md 3.1 "transform output"); the transform meets the KG target itself.
   const bool tout = allow_tout && !opts.lossless && opts.kg_error > 0 && codec && N > 0 && F > 0;
+  const double written_scale = tout ? written_int16_scale(take) : 0.0;
   // Pass 1: what the grid and the per-take coding choices depend on.
   TakeScan scan = start_scan(take, opts);
   for (size_t f0 = 0; f0 < F; f0 += W) {
@@ -661,10 +687,30 @@ void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut
     if (codec && N > 0) {
       std::vector<double> filled = filled_window(block);
       PositionsView view{fn, N, filled.data(), wi.valid.data()};
-      codec->encode(view, tparams, &codec_bytes, &recon);
-      if (recon.size() != fn * N * 3)
-        throw Error(ErrorCode::kInternal, std::string("codec ") + codec->name() +
-                                              " returned a reconstruction of the wrong size");
+      TransformParams wp = tparams;
+      for (int attempt = 0;; ++attempt) {
+        codec_bytes.clear();  // encode appends
+        recon.clear();
+        codec->encode(view, wp, &codec_bytes, &recon);
+        if (recon.size() != fn * N * 3)
+          throw Error(ErrorCode::kInternal, std::string("codec ") + codec->name() +
+                                                " returned a reconstruction of the wrong size");
+        // Transform output decompressed to an int16 C3D is rounded once more to the file's
+        // scale, which adds error the codec did not see. When the rounded window misses the KG
+        // target, the codec is run again with the target lowered by what the rounding added
+        // (squared errors add: e_t^2 + rounding = target^2), at most three times; the check
+        // below then holds both the decoded and the written values to the target.
+        if (!tout || written_scale == 0 || attempt == 3) break;
+        const double cs = centred_sq_window(fn, N, block.xyz.data(), wi.valid.data());
+        const double target = opts.kg_error / 100 * (opts.kg_error / 100) * cs;
+        const double e_t = window_sq_error(fn, N, block.xyz.data(), recon.data(), wi.valid.data());
+        const double e_w = written_sq_error(fn, N, block.xyz.data(), recon.data(),
+                                            wi.valid.data(), written_scale);
+        if (e_w <= target || !(cs > 0)) break;
+        const double room = target - std::max(0.0, e_w - e_t);
+        if (!(room > 0)) break;  // the rounding alone exceeds the target: the grid fallback
+        wp.kg_error = 100 * std::sqrt(0.98 * room / cs);
+      }
       if (!tout) tpred = grid_prediction(recon, g.step);
     }
     const bool gaps = std::find(wi.valid.begin(), wi.valid.end(), 0) != wi.valid.end();
@@ -719,8 +765,10 @@ void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut
     }
     if (tout) {  // each window within the KG target makes the take meet it (FORMAT.md 3.1)
       const double kg = opts.kg_error / 100;
-      if (window_sq_error(fn, N, orig, rec.data(), wi.valid.data()) >
-          kg * kg * centred_sq_window(fn, N, orig, wi.valid.data()))
+      const double target = kg * kg * centred_sq_window(fn, N, orig, wi.valid.data());
+      if (window_sq_error(fn, N, orig, rec.data(), wi.valid.data()) > target ||
+          (written_scale > 0 &&
+           written_sq_error(fn, N, orig, rec.data(), wi.valid.data(), written_scale) > target))
         throw TransformMissedTarget();
     }
     acc.add(fn, N, orig, rec.data(), wi.valid.data());
@@ -1018,7 +1066,7 @@ void decode_window(StreamBytes& bytes, const std::string& name, const Parsed& ps
   }
   const bool f64 = h.mode == PosMode::kFloat64;
   if (!h.transform_output)
-    decode_positions(pp, tpred, f64, ps.major >= 2 ? 2 : 1, &wi, pwhat);
+    decode_positions(pp, tpred, f64, position_scheme(ps.major), &wi, pwhat);
   if (C > 0 && S > 0 && fn * S * C > kMaxSymbolsPerByte * (end - base))
     fail(ErrorCode::kCorrupt, name, "analog window" + wname + " larger than its chunks can hold");
   out->reset(f0, fn, N, C > 0 && S > 0 ? S * C : 0, ps.words);

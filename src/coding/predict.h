@@ -19,8 +19,24 @@ enum Predictor : uint8_t {
   kPredTransformLinear = 4,  // t[f] + linear extrapolation of (q - t)
   kPredRefPrevious = 5,      // q[f-1] + (q[f][r] - q[f-1][r]): reference point r < p's motion
   kPredRefLinear = 6,        // linear(p) + (q[f][r] - linear(r)): r's deviation from linear
-  kPredCount = 7,
+  kPredSmooth = 7,           // least-squares line through the last min(6, f) frames (format 3)
+  kPredPeriod = 8,           // q[f-T], T = the window's period (format 3)
+  kPredPeriodPrevious = 9,   // q[f-1] + q[f-T] - q[f-T-1]
+  kPredCount = 10,
 };
+
+// Predictor ids a stream of position-coding scheme `scheme` may use (FORMAT.md 3.3).
+inline int predictor_count(int scheme) {
+  return scheme >= 3 ? kPredCount : scheme == 2 ? kPredSmooth : kPredRefPrevious;
+}
+// Predictors extrapolating the last two frames' motion: after a step on the grid their next
+// residual tends to undo it, so scheme 3 gives them their own contexts.
+inline bool extrapolates(int mode) {
+  return mode == kPredLinear || mode == kPredQuadratic || mode == kPredTransformLinear ||
+         mode == kPredRefLinear;
+}
+// Predictors that need the window's period field.
+inline bool uses_period(int mode) { return mode == kPredPeriod || mode == kPredPeriodPrevious; }
 
 // Predictors that add a reference point's motion (docs/FORMAT.md 3.3); ref[p] = r < p.
 inline bool uses_ref(int mode) { return mode == kPredRefPrevious || mode == kPredRefLinear; }
@@ -35,12 +51,38 @@ inline int32_t wrap_mul(int32_t a, uint32_t k) {
   return static_cast<int32_t>(static_cast<uint32_t>(a) * k);
 }
 
+// n / d rounded to the nearest integer, halves away from zero (d > 0).
+inline int64_t round_div(int64_t n, int64_t d) {
+  return n >= 0 ? (n + d / 2) / d : -((-n + d / 2) / d);
+}
+
+// Predictor 7: the least-squares line through q[f-1] .. q[f-K], K = min(6, f), at frame f, as
+// q[f-1] + rdiv(sum_{j=2..K} (4K + 2 - 6j) (q[f-j] - q[f-1]), K (K - 1)) (FORMAT.md 3.3).
+// Differences wrap to int32; the sum (|.| < 5 * 26 * 2^31) cannot overflow int64.
+inline int32_t predict_smooth(size_t f, const int32_t* c, size_t stride) {
+  const int32_t q1 = *(c - stride);
+  const int64_t k = f < 6 ? static_cast<int64_t>(f) : 6;
+  if (k < 2) return q1;
+  int64_t n = 0;
+  for (int64_t j = 2; j <= k; ++j)
+    n += (4 * k + 2 - 6 * j) * static_cast<int64_t>(wrap_sub(*(c - j * stride), q1));
+  return wrap_add(q1, static_cast<int32_t>(static_cast<uint32_t>(round_div(n, k * (k - 1)))));
+}
+
 // Prediction of q[f] from the point's history. `c` points at q[f][p][a]; `stride` = points * 3;
-// `tc` at t[f][p][a] (may be null when no transform ran). Requires f >= 1.
-inline int32_t predict_one(int mode, size_t f, const int32_t* c, size_t stride,
-                           const int32_t* tc) {
+// `tc` at t[f][p][a] (may be null when no transform ran); `period` is the window's period T
+// (used by predictors 8 and 9 only). Requires f >= 1.
+inline int32_t predict_one(int mode, size_t f, const int32_t* c, size_t stride, const int32_t* tc,
+                           size_t period = 0) {
   const int32_t q1 = *(c - stride);
   switch (mode) {
+    case kPredSmooth:
+      return predict_smooth(f, c, stride);
+    case kPredPeriod:
+      return f < period ? q1 : *(c - period * stride);
+    case kPredPeriodPrevious:
+      if (f < period + 1) return q1;
+      return wrap_add(q1, wrap_sub(*(c - period * stride), *(c - (period + 1) * stride)));
     case kPredPrevious:
       return q1;
     case kPredLinear:
@@ -63,23 +105,29 @@ inline int32_t predict_one(int mode, size_t f, const int32_t* c, size_t stride,
 
 // Residual contexts of a window (docs/FORMAT.md 3.3.1). Per point and axis: `ta`, the token of
 // the last residual coded for it in this window, and `z`, the number of zero tokens ending there
-// (capped at 6). Scheme 1 (format 1.x): 32 contexts from ta and tb (the token coded just before
-// in the same frame). Scheme 2 (format 2.x): 144 contexts from ta or the zero run, tb, and the
-// larger of the other two axes' ta.
+// (capped at 12). Scheme 1 (format 1.x): 32 contexts from ta and tb (the token coded just before
+// in the same frame). Scheme 2 (format 2.x): 84 contexts from ta or the zero run, and tb.
+// Scheme 3 (format 3.x): scheme 2's context times 6, refined while ta = 0 by the phase of the
+// zero run against the previous run length `L` and the sign `g` of the token that ended it.
 class ResidualContexts {
  public:
   ResidualContexts(int scheme, size_t points)
-      : scheme_(scheme), ta_(points * 3, 0), z_(points * 3, 0) {}
-  static int count(int scheme) { return scheme == 1 ? 32 : 84; }
+      : scheme_(scheme), ta_(points * 3, 0), z_(points * 3, 0), run_(points * 3, 0) {}
+  static int count(int scheme) { return scheme == 1 ? 32 : scheme == 2 ? 84 : 1008; }
   // Escape model set of a context (1.3): scheme 2 states 18, 19, 20 use sets 0, 1, 2 (large
-  // previous tokens: float-bit data); every other context, and all of scheme 1, set 0.
-  static int escape_set(int ctx) { return ctx < 76 ? 0 : ctx < 80 ? 1 : 2; }
+  // previous tokens: float-bit data); scheme 3 as its scheme 2 context; all of scheme 1, set 0.
+  int escape_set(int ctx) const {
+    if (scheme_ == 1) return 0;
+    const int c2 = scheme_ == 3 ? ctx % 504 / 6 : ctx;
+    return c2 < 76 ? 0 : c2 < 80 ? 1 : 2;
+  }
   void reset() {
     std::fill(ta_.begin(), ta_.end(), 0);
     std::fill(z_.begin(), z_.end(), 0);
+    std::fill(run_.begin(), run_.end(), 0);
   }
   // Context of axis a of point p (k = 3 p + a, a = k % 3) when tb was coded last in the frame.
-  int context(size_t k, int tb) const {
+  int context(size_t k, int tb, int mode = 0) const {
     const int ta = ta_[k];
     if (scheme_ == 1) return std::min(ta, 7) * 4 + std::min(tb, 3);
 
@@ -90,25 +138,35 @@ class ResidualContexts {
         19, 19, 19, 19, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20,  // 32-47
         20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20};
     const int s = ta ? kTokBucket[ta] : kRunBucket[z_[k]];
-    return s * 4 + std::min(tb, 3);
+    const int c2 = s * 4 + std::min(tb, 3);
+    if (scheme_ == 2) return c2;
+    const int base = extrapolates(mode) ? 504 : 0;
+    if (ta) return base + c2 * 6;
+    // run_ = L << 1 | g: L the previous run length + 1 (capped at 16, 0 = none), g its sign.
+    const int L = run_[k] >> 1, z = z_[k];
+    const int h = L == 0 || z < L - 1 ? 0 : z == L - 1 ? 1 : 2;
+    return base + c2 * 6 + 2 * h + (run_[k] & 1);
   }
   void update(size_t k, int tok) {
+    if (tok && !ta_[k]) run_[k] = static_cast<uint8_t>(std::min(z_[k] + 1, 16) << 1 | (tok & 1));
     ta_[k] = static_cast<uint8_t>(tok);
     z_[k] = tok ? 0 : static_cast<uint8_t>(std::min(z_[k] + 1, 12));
   }
 
  private:
   int scheme_;
-  std::vector<uint8_t> ta_, z_;
+  std::vector<uint8_t> ta_, z_, run_;
 };
 
-// Coder: int32_t operator()(size_t i, int32_t pred, int ctx, int* tok), coding sample i under
-// context ctx and returning its value; trivially copyable: the walk codes through a local copy
-// (kept in registers) and stores it back into `coder` at the end.
+// Codes (or decodes) one window frame by frame, point by point, x, y, z (FORMAT.md 3.3):
+// `code(i, pred, ctx, &tok)` returns q[i] and the residual's token. Gap samples are filled so
+// histories stay defined. `period` is the window's period T (only read by predictors 8 and 9).
+// Coder is trivially copyable: the walk codes through a local copy (kept in registers) and
+// stores it back into `coder` at the end.
 template <typename Coder>
 void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8_t* modes,
                  const uint32_t* ref, const int32_t* t, int32_t* q, ResidualContexts& ctx,
-                 Coder& coder) {
+                 Coder& coder, size_t period = 0) {
   Coder code = coder;
   const size_t stride = points * 3;
   for (size_t f = 0; f < frames; ++f) {
@@ -136,10 +194,10 @@ void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8
             pred = wrap_add(pred, wrap_sub(*qr, predict_one(base, f, qr, stride, nullptr)));
           }
         } else {
-          pred = predict_one(m, f, q + i + a, stride, t ? t + i + a : nullptr);
+          pred = predict_one(m, f, q + i + a, stride, t ? t + i + a : nullptr, period);
         }
         int tok;
-        q[i + a] = code(i + a, pred, ctx.context(p * 3 + a, tb), &tok);
+        q[i + a] = code(i + a, pred, ctx.context(p * 3 + a, tb, m), &tok);
         ctx.update(p * 3 + a, tok);
         tb = tok;
       }

@@ -16,25 +16,44 @@ inline uint32_t bit_cost(int32_t r) {
   return u ? 33u - static_cast<uint32_t>(__builtin_clz(u)) : 0u;
 }
 
-// Token histogram of one point's residuals under 4 contexts (the previous token of the same
-// axis, capped at 3), for estimating its coded size: the conditional order-0 entropy of the
-// tokens (capped at 15) plus their raw bits.
+// What the estimate conditions a residual on, per point, axis and predictor: a coarse copy of
+// the scheme 3 context (FORMAT.md 3.3.1): the previous token (capped at 3), and after a zero
+// token the zero run's phase against the previous run length and that run's sign.
+struct EstState {
+  uint8_t ta = 0, z = 0, run = 0;  // run = L << 1 | g, as ResidualContexts
+  int context() const {
+    if (ta) return ta < 3 ? ta : 3;
+    const int L = run >> 1;
+    const int h = L == 0 || z < L - 1 ? 0 : z == L - 1 ? 1 : 2;
+    return 4 + 2 * h + (run & 1);
+  }
+  void update(int tok) {
+    if (tok && !ta) run = static_cast<uint8_t>(std::min(z + 1, 16) << 1 | (tok & 1));
+    ta = static_cast<uint8_t>(tok);
+    z = tok ? 0 : static_cast<uint8_t>(std::min(z + 1, 12));
+  }
+};
+
+// Token histogram of one point's residuals under the EstState contexts, for estimating its coded
+// size: the conditional order-0 entropy of the tokens (capped at 15) plus their raw bits.
 struct TokenHist {
-  uint32_t count[4][16];
+  static constexpr int kContexts = 10;
+  uint32_t count[kContexts][16];
   uint64_t raw;
   void clear() { std::memset(this, 0, sizeof *this); }
-  // Adds residual r after a residual of token `prev`; returns r's token.
-  int add(int32_t r, int prev) {
+  // Adds residual r in state st (then updated); returns r's token.
+  int add(int32_t r, EstState* st) {
     int nbits;
     const int tok = token_of(zigzag(r), &nbits);
-    ++count[prev < 3 ? prev : 3][tok < 15 ? tok : 15];
+    ++count[st->context()][tok < 15 ? tok : 15];
     raw += static_cast<uint64_t>(nbits) + (tok < 15 ? 0 : 4);
+    st->update(tok);
     return tok;
   }
   // Estimated bits, in 1/16 bit units.
   uint64_t bits16() const {
     double e = 0;
-    for (int c = 0; c < 4; ++c) {
+    for (int c = 0; c < kContexts; ++c) {
       uint32_t n = 0;
       for (int k = 0; k < 16; ++k)
         if (count[c][k]) {
@@ -51,11 +70,10 @@ struct CostCoder {
   const int32_t* q;
   size_t points;
   TokenHist* hist;       // per point
-  uint8_t* prev;         // per point and axis: the last token, zeroed at the start
+  EstState* state;       // per point and axis, reset at the start
   int32_t operator()(size_t i, int32_t pred, int, int* tok) {
     const size_t k = i % (points * 3);
-    *tok = hist[k / 3].add(wrap_sub(q[i], pred), prev[k]);
-    prev[k] = static_cast<uint8_t>(*tok);
+    *tok = hist[k / 3].add(wrap_sub(q[i], pred), &state[k]);
     return q[i];
   }
 };
@@ -64,10 +82,11 @@ struct CostCoder {
 // works on a local copy of its Coder, so the coder state stays in registers; commit it after.
 struct EncCoder {
   IntEncoder::Cursor enc;
+  const ResidualContexts* contexts;
   const int32_t* q;
   const uint32_t* lo;
   int32_t operator()(size_t i, int32_t pred, int ctx, int* tok) {
-    *tok = enc.put_signed(wrap_sub(q[i], pred), ctx, ResidualContexts::escape_set(ctx));
+    *tok = enc.put_signed(wrap_sub(q[i], pred), ctx, contexts->escape_set(ctx));
     if (lo) enc.raw_bits(lo[i], 32);
     return q[i];
   }
@@ -75,9 +94,10 @@ struct EncCoder {
 
 struct DecCoder {
   IntDecoder::Cursor dec;
+  const ResidualContexts* contexts;
   uint32_t* lo;
   int32_t operator()(size_t i, int32_t pred, int ctx, int* tok) {
-    int32_t r = dec.get_signed(ctx, tok, ResidualContexts::escape_set(ctx));
+    int32_t r = dec.get_signed(ctx, tok, contexts->escape_set(ctx));
     if (lo) lo[i] = dec.raw_bits(32);
     return wrap_add(pred, r);
   }
@@ -150,17 +170,47 @@ void base_residuals(const int32_t* q, size_t frames, size_t points, std::vector<
 void ref_cost(const std::vector<int32_t>& e, const uint8_t* valid, size_t frames, size_t points,
               size_t p, size_t r, size_t first, size_t step, TokenHist* h) {
   const size_t stride = points * 3;
-  int prev[3] = {0, 0, 0};
+  EstState st[3];
   for (size_t f = first; f < frames; f += step) {
     if (!valid[f * points + p]) continue;
     const int32_t* c = &e[f * stride + p * 3];
     if (valid[f * points + r]) {
       const int32_t* cr = &e[f * stride + r * 3];
-      for (int a = 0; a < 3; ++a) prev[a] = h->add(wrap_sub(c[a], cr[a]), prev[a]);
+      for (int a = 0; a < 3; ++a) h->add(wrap_sub(c[a], cr[a]), &st[a]);
     } else {
-      for (int a = 0; a < 3; ++a) prev[a] = h->add(c[a], prev[a]);
+      for (int a = 0; a < 3; ++a) h->add(c[a], &st[a]);
     }
   }
+}
+
+// The window's period for predictors 8/9, or 0 when none is worth trying. Differences
+// q[f] - q[f-T] are costed (bit_cost, averaged) on a sample of at most 32 points and 64 frames
+// for each T in [2, min(F / 2, 256)]; the frames before T count at the cost of
+// q[f] - q[f-1]. The T with the lowest total is kept if it is under 0.8 times that of
+// q[f] - q[f-1] over the window (a motion that repeats, e.g. a looped animation).
+size_t find_period(const int32_t* q, const uint8_t* valid, size_t frames, size_t points) {
+  if (frames < 4 || points == 0) return 0;
+  const size_t stride = points * 3, pstep = (points + 31) / 32;
+  auto cost = [&](size_t T) {  // average bits per sampled value
+    const size_t fstep = std::max<size_t>(1, (frames - T + 63) / 64);
+    uint64_t bits = 0, n = 0;
+    for (size_t f = T; f < frames; f += fstep)
+      for (size_t p = 0; p < points; p += pstep) {
+        if (!valid[f * points + p] || !valid[(f - T) * points + p]) continue;
+        const int32_t* c = q + f * stride + p * 3;
+        for (int a = 0; a < 3; ++a) bits += bit_cost(wrap_sub(c[a], *(c + a - T * stride)));
+        n += 3;
+      }
+    return n ? static_cast<double>(bits) / static_cast<double>(n) : 1e30;
+  };
+  const double base = cost(1), F = static_cast<double>(frames);
+  size_t best = 0;
+  double best_total = 0.8 * base * F;
+  for (size_t T = 2; T <= std::min<size_t>(frames / 2, 256); ++T) {
+    const double total = cost(T) * (F - static_cast<double>(T)) + base * static_cast<double>(T);
+    if (total < best_total) best_total = total, best = T;
+  }
+  return best;
 }
 
 }  // namespace
@@ -170,11 +220,12 @@ std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uin
                                       int scheme) {
   const size_t F = w.frames, N = w.points;
   std::vector<int32_t> q = w.q;  // gap entries get filled by the walks
-  std::vector<uint8_t> tok(N * 3);
+  std::vector<EstState> est(N * 3);
   ResidualContexts ctx(scheme, N);
   std::vector<uint8_t> modes(N);
   std::vector<uint32_t> ref(N, 0);
   bool any_ref = false;
+  size_t period = 0;
   const int32_t* t = tpred.empty() ? nullptr : tpred.data();
   // Predictor per point: the cheapest by an estimate of coded bits over the window.
   if (F > 1) {
@@ -185,7 +236,7 @@ std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uin
     {
       const std::vector<uint8_t> mm(N, static_cast<uint8_t>(kPredPrevious));
       for (TokenHist& h : first) h.clear();
-      CostCoder c0{q.data(), N, first.data(), tok.data()};
+      CostCoder c0{q.data(), N, first.data(), est.data()};
       walk_window(1, N, w.valid.data(), mm.data(), nullptr, t, q.data(), ctx, c0);
       const size_t S = N * 3;
       for (size_t f = 1; f < F; ++f)
@@ -195,27 +246,37 @@ std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uin
     }
     std::vector<int32_t> e[2];
     base_residuals(q.data(), F, N, e);
-    {  // predictors 0-2 in one pass: residuals e0, e1 and e1[f] - e1[f-1] (quadratic)
-      std::vector<TokenHist> hist(3 * N);
-      std::vector<uint8_t> prev(9 * N, 0);  // [mode][point][axis]
-      for (size_t p = 0; p < N; ++p)
-        for (int m = 0; m < 3; ++m) hist[m * N + p] = first[p];
+    {  // predictors 0-2 in one pass: residuals e0, e1 and e1[f] - e1[f-1] (quadratic); with
+       // scheme 3 also smooth (7) and, when the window repeats with a period, 8 and 9
+      const bool smooth = scheme >= 3;
+      if (scheme >= 3) period = find_period(q.data(), w.valid.data(), F, N);
+      const int nm = period ? 6 : smooth ? 4 : 3;
+      static constexpr uint8_t kIds[6] = {kPredPrevious, kPredLinear, kPredQuadratic, kPredSmooth,
+                                          kPredPeriod,   kPredPeriodPrevious};
+      std::vector<TokenHist> hist(static_cast<size_t>(nm) * N);
       const size_t S = N * 3;
+      std::vector<EstState> st(static_cast<size_t>(nm) * S);  // [mode][point][axis]
+      for (size_t p = 0; p < N; ++p)
+        for (int m = 0; m < nm; ++m) hist[m * N + p] = first[p];
       for (size_t f = 1; f < F; ++f)
         for (size_t p = 0; p < N; ++p) {
           if (!w.valid[f * N + p]) continue;
           for (int a = 0; a < 3; ++a) {
             const size_t i = f * S + p * 3 + a, k = p * 3 + static_cast<size_t>(a);
             const int32_t r2 = f < 2 ? e[0][i] : f < 3 ? e[1][i] : wrap_sub(e[1][i], e[1][i - S]);
-            prev[k] = static_cast<uint8_t>(hist[p].add(e[0][i], prev[k]));
-            prev[S + k] = static_cast<uint8_t>(hist[N + p].add(e[1][i], prev[S + k]));
-            prev[2 * S + k] = static_cast<uint8_t>(hist[2 * N + p].add(r2, prev[2 * S + k]));
+            hist[p].add(e[0][i], &st[k]);
+            hist[N + p].add(e[1][i], &st[S + k]);
+            hist[2 * N + p].add(r2, &st[2 * S + k]);
+            for (int m = 3; m < nm; ++m) {
+              const int32_t r = wrap_sub(q[i], predict_one(kIds[m], f, &q[i], S, nullptr, period));
+              hist[m * N + p].add(r, &st[m * S + k]);
+            }
           }
         }
-      for (int m = 0; m < 3; ++m)
+      for (int m = 0; m < nm; ++m)
         for (size_t p = 0; p < N; ++p) {
           const uint64_t c = hist[m * N + p].bits16();
-          if (c < best[p]) best[p] = c, modes[p] = static_cast<uint8_t>(m);
+          if (c < best[p]) best[p] = c, modes[p] = kIds[m];
         }
     }
     if (t) {  // transform predictors: walks (their frame-0 rule and gap fill differ)
@@ -224,8 +285,8 @@ std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uin
       for (int m = kPredTransform; m <= kPredTransformLinear; ++m) {
         const std::vector<uint8_t> mm(N, static_cast<uint8_t>(m));
         for (TokenHist& h : hist) h.clear();
-        std::fill(tok.begin(), tok.end(), 0);
-        CostCoder cc{qt.data(), N, hist.data(), tok.data()};
+        std::fill(est.begin(), est.end(), EstState());
+        CostCoder cc{qt.data(), N, hist.data(), est.data()};
         walk_window(F, N, w.valid.data(), mm.data(), nullptr, t, qt.data(), ctx, cc);
         for (size_t p = 0; p < N; ++p) {
           const uint64_t c = hist[p].bits16();
@@ -269,8 +330,8 @@ std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uin
   ctx.reset();
   IntEncoder enc(ResidualContexts::count(scheme));
   if (scheme >= 2) enc.skew_contexts();
-  EncCoder ec{enc.cursor(), q.data(), float64 ? w.lo.data() : nullptr};
-  walk_window(F, N, w.valid.data(), modes.data(), ref.data(), t, q.data(), ctx, ec);
+  EncCoder ec{enc.cursor(), &ctx, q.data(), float64 ? w.lo.data() : nullptr};
+  walk_window(F, N, w.valid.data(), modes.data(), ref.data(), t, q.data(), ctx, ec, period);
   enc.commit(ec.enc);
 
   ByteWriter out;
@@ -282,6 +343,8 @@ std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uin
       if (uses_ref(modes[p])) dist.push_back(static_cast<uint32_t>(p - 1 - ref[p]));
     put_block(&out, encode_uints(dist));
   }
+  if (std::any_of(modes.begin(), modes.end(), [](uint8_t m) { return uses_period(m); }))
+    out.varint(period);
   out.bytes(enc.finish());
   return std::move(out.buffer());
 }
@@ -301,7 +364,7 @@ std::vector<uint8_t> decode_modes(const PositionsPayload& pp, size_t points, int
   std::vector<int32_t> m = decode_ints(pp.modes, pp.modes_size, points, what + " predictors");
   std::vector<uint8_t> modes(points);
   for (size_t p = 0; p < points; ++p) {
-    if (m[p] < 0 || m[p] >= (scheme >= 2 ? kPredCount : kPredRefPrevious))
+    if (m[p] < 0 || m[p] >= predictor_count(scheme))
       fail(ErrorCode::kCorrupt, what, "unknown predictor " + std::to_string(m[p]));
     if (p == 0 && uses_ref(m[p]))
       fail(ErrorCode::kCorrupt, what, "point 0 uses a reference predictor");
@@ -315,16 +378,17 @@ void decode_positions(const PositionsPayload& pp, const std::vector<int32_t>& tp
   const size_t F = w->frames, N = w->points;
   std::vector<uint8_t> modes = decode_modes(pp, N, scheme, what);
   size_t nref = 0;
+  bool any_period = false;
   for (uint8_t m : modes) {
     if ((m == kPredTransform || m == kPredTransformLinear) && tpred.size() != F * N * 3)
       fail(ErrorCode::kCorrupt, what, "a point uses the transform predictor but no codec ran");
     nref += uses_ref(m) ? 1 : 0;
+    any_period = any_period || uses_period(m);
   }
-  const uint8_t* res = pp.residuals;
-  size_t res_size = pp.residuals_size;
+  // The reference block, then the period, come first in the rest of the payload (3.3).
+  ByteReader r(pp.residuals, pp.residuals_size, what);
   std::vector<uint32_t> ref(N, 0);
-  if (nref > 0) {  // the reference block comes first in the rest of the payload (3.3)
-    ByteReader r(pp.residuals, pp.residuals_size, what);
+  if (nref > 0) {
     size_t n;
     const uint8_t* b = get_block(&r, &n, "reference block length");
     std::vector<uint32_t> dist = decode_uints(b, n, nref, what + " references");
@@ -335,17 +399,25 @@ void decode_positions(const PositionsPayload& pp, const std::vector<int32_t>& tp
                                             std::to_string(dist[k] - (p - 1)));
       ref[p] = static_cast<uint32_t>(p - 1 - dist[k++]);
     }
-    res_size = r.remaining();
-    res = r.bytes(res_size);
   }
+  size_t period = 0;
+  if (any_period) {
+    const uint64_t T = r.varint();
+    if (T < 1 || T >= F)
+      fail(ErrorCode::kCorrupt, what,
+           "period of " + std::to_string(T) + " frames in a window of " + std::to_string(F));
+    period = static_cast<size_t>(T);
+  }
+  const size_t res_size = r.remaining();
+  const uint8_t* res = r.bytes(res_size);
   w->q.assign(F * N * 3, 0);
   if (float64) w->lo.assign(F * N * 3, 0);
   ResidualContexts ctx(scheme, N);
   IntDecoder dec(res, res_size, ResidualContexts::count(scheme), what + " residuals");
   if (scheme >= 2) dec.skew_contexts();
-  DecCoder dc{dec.cursor(), float64 ? w->lo.data() : nullptr};
+  DecCoder dc{dec.cursor(), &ctx, float64 ? w->lo.data() : nullptr};
   walk_window(F, N, w->valid.data(), modes.data(), ref.data(),
-              tpred.empty() ? nullptr : tpred.data(), w->q.data(), ctx, dc);
+              tpred.empty() ? nullptr : tpred.data(), w->q.data(), ctx, dc, period);
   dec.commit(dc.dec);
   if (!dec.at_end()) fail(ErrorCode::kCorrupt, what, "residual block has bytes past its end");
 }

@@ -22,6 +22,8 @@ struct Case {
   double kg;
   int clusters;
   double max_bpvf;  // a regression bound well above what the codec reaches today
+  const char* segments = nullptr;  // the `segments` option (nullptr: the default)
+  int want_segments = 0;           // > 0: the segment count the payload must use
 };
 
 void run_case(const Case& c) {
@@ -31,6 +33,7 @@ void run_case(const Case& c) {
   TransformParams tp;
   tp.kg_error = c.kg;
   tp.clusters = c.clusters;
+  if (c.segments) tp.options["segments"] = c.segments;
   TsCodec codec;
   TsEncodeReport rep;
   std::vector<uint8_t> bytes;
@@ -45,21 +48,35 @@ void run_case(const Case& c) {
   const double rate = bpvf(bytes.size(), nf, t.points);
   std::string pcs;
   for (int p : rep.pcs) pcs += std::to_string(p) + " ";
-  std::printf("%s: %zu frames x %zu points, K=%d PCs {%s} KG %.4f%% max %.4g  %zu bytes  %.3f bpvf  %.2fs\n",
-              c.name, nf, t.points, rep.clusters, pcs.c_str(), e.kg_error, e.max_error,
+  std::printf("%s: %zu frames x %zu points, K=%d S=%d PCs {%s} KG %.4f%% max %.4g  %zu bytes  %.3f bpvf  %.2fs\n",
+              c.name, nf, t.points, rep.clusters, rep.segments, pcs.c_str(), e.kg_error, e.max_error,
               bytes.size(), rate, rep.t_total);
   EXPECT_LT(rate, c.max_bpvf);
+  if (c.want_segments > 0) {
+    EXPECT_EQ(rep.segments, c.want_segments);
+    EXPECT_EQ(bytes[0], c.want_segments > 1 ? 2 : 1);  // payload version: 2 = point segments
+  }
 }
 
 }  // namespace
 
-// Measured at landing: horse 2.6 bpvf (auto picks K = 1), chickenCrossing 2.1 (all 400 frames,
-// K = 1), pcow 5.6 (K = 1); see docs/BENCHMARKS.md.
-TEST(TsRoundtrip, HorseGallopAutoClusters) { run_case({"horse-gallop", 0, 0.15, -1, 3.5}); }
-TEST(TsRoundtrip, ChickenCrossingFirst200FramesThreeClusters) {
-  run_case({"chickenCrossing", 200, 0.15, 3, 4.5});
+// Measured at landing (one segment, the paper's model): horse 2.6 bpvf (auto picks K = 1),
+// chickenCrossing 2.1 (all 400 frames, K = 1), pcow 5.6 (K = 1); see docs/BENCHMARKS.md.
+// With point segments and their own rigid motion: horse-gallop 16 segments 1.16 bpvf (1.66
+// without segment_align), chickenCrossing (400 frames, K = 1, auto picks 16) 0.95.
+TEST(TsRoundtrip, HorseGallopAutoClusters) { run_case({"horse-gallop", 0, 0.15, -1, 3.5, "1", 1}); }
+TEST(TsRoundtrip, HorseGallopSixteenSegments) {
+  run_case({"horse-gallop", 0, 0.15, 1, 1.4, "16", 16});
 }
-TEST(TsRoundtrip, PcowTwoClustersLooseTarget) { run_case({"pcow", 0, 0.5, 2, 4.0}); }
+TEST(TsRoundtrip, ChickenCrossingFirst200FramesThreeClusters) {
+  run_case({"chickenCrossing", 200, 0.15, 3, 4.5, "1", 1});
+}
+TEST(TsRoundtrip, ChickenCrossingFirst200FramesTwoClustersEightSegments) {
+  run_case({"chickenCrossing", 200, 0.15, 2, 3.0, "8", 8});
+}
+// The target: at most 1.5 bpvf at KG 0.15 % (the transform alone).
+TEST(TsRoundtrip, ChickenCrossingSegmentsAuto) { run_case({"chickenCrossing", 0, 0.15, 1, 1.5}); }
+TEST(TsRoundtrip, PcowTwoClustersLooseTarget) { run_case({"pcow", 0, 0.5, 2, 4.0, "4", 4}); }
 
 // Through the container: --codec ts in front of the bound layer; the bound must hold exactly
 // and the stream must record the ts transform.
@@ -116,6 +133,8 @@ TEST(TsContainer, RealC3DWithGapsKgTargetAndMaxError) {
   CompressOptions o;
   o.codec = "ts";
   o.kg_error = 0.5;
+  // 74 markers: segments=auto would keep one segment (fewer than 2 x 48 points); force 4.
+  o.codec_options["segments"] = "4";
   CompressStats st;
   std::vector<uint8_t> b = compress(t, o, &st);
   EXPECT_EQ(st.mode, "transform-output");

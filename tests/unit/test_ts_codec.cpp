@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <string>
 
 #include "capz/codec.h"
 #include "capz/error.h"
@@ -172,4 +173,39 @@ TEST(TsCodec, GivenNoWritableTrialThenFallbackModelInsteadOfRefusal) {
   o.max_error = 1e-4;
   b = compress(t, o, &st);
   EXPECT_LE(compare(t, decompress(b.data(), b.size())).max_abs, 1e-4);
+}
+
+// Point segments (payload version 2) on a take with gaps: bit-exact decode, target held; the
+// option is validated by check_params.
+TEST(TsCodec, GivenSegmentsWithGapsThenVersionTwoBitExactAndTargetHolds) {
+  auto s = capz_test::make_synth(40, 200, 10, true, 17, 0.1);
+  for (const char* seg : {"3", "auto"}) {
+    TransformParams tp;
+    tp.kg_error = 0.3;
+    tp.clusters = 2;
+    tp.options["segments"] = seg;
+    TsEncodeReport rep;
+    std::vector<uint8_t> bytes;
+    roundtrip(s, tp, &rep, &bytes);
+    if (std::string(seg) == "3") {
+      EXPECT_EQ(rep.segments, 3);
+      EXPECT_EQ(bytes[0], 2);
+      EXPECT_EQ(rep.pcs.size(), 6u);  // segments x clusters
+    }
+    size_t pts = 0;
+    for (size_t n : rep.segment_points) pts += n;
+    EXPECT_EQ(pts, s.points);
+    EXPECT_LE(rep.kg_error, 0.3);
+  }
+  TsCodec codec;
+  for (const char* bad : {"0", "65", "x", ""}) {
+    TransformParams tp;
+    tp.options["segments"] = bad;
+    try {
+      codec.check_params(tp);
+      ADD_FAILURE() << "segments=" << bad << " accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::kInvalidParameter);
+    }
+  }
 }

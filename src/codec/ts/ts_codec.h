@@ -2,7 +2,7 @@
 // align ► cluster ► PCA per cluster ► quantise ► LPC (first fragment) / LCPS (later fragments).
 // Options (TransformParams::options, documented in docs/CODEC-TS.md): lpc_order, lcps_k,
 // basis_bits, basis_bits_min, basis_bits_max, basis_predict, basis_free_step, align,
-// max_clusters, kmeans_restarts, seed,
+// segments, segment_align, max_clusters, kmeans_restarts, seed,
 // trunc_share, rms_per_bound.
 #pragma once
 
@@ -18,15 +18,18 @@ namespace capz {
 // What the last encode decided, for benchmarks and tests (not part of the payload contract).
 struct TsEncodeReport {
   int clusters = 0;
-  std::vector<int> pcs;          // PCs kept per cluster
-  std::vector<int> basis_bits;   // quantiser bits of every kept PC, cluster by cluster
+  int segments = 0;              // point segments (1 = the paper's model)
+  std::vector<int> pcs;          // PCs kept per (segment, cluster), segment-major
+  std::vector<int> basis_bits;   // quantiser bits of every kept PC, in the order of pcs
   double coef_step = 0;
   std::vector<size_t> cluster_frames;
+  std::vector<size_t> segment_points;
   double kg_target = 0;          // percent
   double kg_error = 0;           // percent, of the reconstruction returned
   size_t bytes = 0;
   int trials = 0;                // payloads built while searching
-  double t_align = 0, t_cluster = 0, t_pca = 0, t_quant = 0, t_lcps = 0, t_total = 0;  // seconds
+  double t_align = 0, t_segment = 0, t_cluster = 0, t_pca = 0, t_quant = 0, t_lcps = 0,
+         t_total = 0;  // seconds
 };
 
 class TsCodec : public TransformCodec {

@@ -1,12 +1,14 @@
 #include "codec/ts/ts_model.h"
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <string>
 
 #include "capz/error.h"
 #include "codec/ts/basis_predict.h"
 #include "codec/ts/rigid.h"
+#include "codec/ts/segment.h"
 #include "coding/entropy.h"
 
 namespace capz {
@@ -15,7 +17,8 @@ namespace ts {
 namespace {
 
 const char* kWhat = "ts payload";
-constexpr uint8_t kVersion = 1;
+constexpr uint8_t kVersionOneSegment = 1;  // the paper's model
+constexpr uint8_t kVersionSegments = 2;    // point segments (docs/CODEC-TS.md)
 
 [[noreturn]] void corrupt(const std::string& what) { fail(ErrorCode::kCorrupt, kWhat, what); }
 
@@ -26,10 +29,34 @@ Eigen::MatrixXd dequantise_basis(const std::vector<QuantisedVector>& basis, size
 }
 
 // The entropy-coded part: one IntEncoder block; each kind of value has its own group of 16
-// contexts chosen by the previous token of that group, labels use context 128 + previous label.
+// contexts chosen by the previous token of that group, labels use context 128 + previous label,
+// segment labels 384 + the previous point's segment.
 enum Group { kLabels = 0, kRigid, kBasis, kLpcWeight, kLpcValue, kLcpsCount, kLcpsWeight, kLcpsResid, kGroups };
 constexpr int kLabelCtx = kGroups * 16;
-constexpr int kContexts = kLabelCtx + 256;
+constexpr int kSegmentCtx = kLabelCtx + 256;
+constexpr int kContexts = kSegmentCtx + kMaxSegments;
+
+// Move-to-front list of segment indices (segment labels are coded as their rank in it).
+class SegmentMtf {
+ public:
+  explicit SegmentMtf(int segments) {
+    for (int s = 0; s < segments; ++s) list_.push_back(static_cast<uint8_t>(s));
+  }
+  uint32_t rank_of(uint8_t seg) const {
+    return static_cast<uint32_t>(std::find(list_.begin(), list_.end(), seg) - list_.begin());
+  }
+  // The segment at `rank` (< size), moved to the front.
+  uint8_t take(uint32_t rank) {
+    const uint8_t seg = list_[rank];
+    list_.erase(list_.begin() + rank);
+    list_.insert(list_.begin(), seg);
+    return seg;
+  }
+  size_t size() const { return list_.size(); }
+
+ private:
+  std::vector<uint8_t> list_;
+};
 
 class Out {
  public:
@@ -43,6 +70,7 @@ class Out {
     enc_.put(static_cast<uint32_t>(v), kLabelCtx + prev_label_);
     prev_label_ = v;
   }
+  void segment_rank(uint32_t rank, int prev_segment) { enc_.put(rank, kSegmentCtx + prev_segment); }
   void raw(uint32_t v, int n) { enc_.raw_bits(v, n); }
   std::vector<uint8_t> finish() { return enc_.finish(); }
 
@@ -73,6 +101,7 @@ class In {
     prev_label_ = static_cast<int>(v);
     return prev_label_;
   }
+  uint32_t segment_rank(int prev_segment) { return dec_.get(kSegmentCtx + prev_segment); }
   uint32_t raw(int n) { return dec_.raw_bits(n); }
   // Guards an allocation of `n` more values: every value costs more than 1/360 bit.
   void budget(uint64_t n) {
@@ -143,49 +172,83 @@ std::vector<ClusterLayout> cluster_layout(const std::vector<uint8_t>& label, int
   return out;
 }
 
+std::vector<std::vector<uint32_t>> segment_points_of(const TsModel& m) {
+  if (m.segments < 1 || m.segments > kMaxSegments) corrupt("segment count out of range");
+  if (m.segments == 1 && m.segment.empty()) {
+    std::vector<std::vector<uint32_t>> all(1);
+    all[0].resize(m.points);
+    for (size_t i = 0; i < m.points; ++i) all[0][i] = static_cast<uint32_t>(i);
+    return all;
+  }
+  if (m.segment.size() != m.points) corrupt("segment labels disagree with the points");
+  return segment_members(m.segment, m.segments);
+}
+
 void reconstruct(const TsModel& m, std::vector<double>* xyz) {
   const size_t dim = 3 * m.points;
   xyz->assign(m.frames * dim, 0.0);
   const auto layout = cluster_layout(m.label, m.clusters);
-  if (m.cluster.size() != layout.size()) corrupt("cluster count disagrees with the labels");
-  for (size_t c = 0; c < layout.size(); ++c) {
-    const TsCluster& tc = m.cluster[c];
-    const ClusterLayout& lay = layout[c];
-    const size_t r = tc.basis.size();
-    if (tc.first.rows != r || tc.first.length != lay.first_len ||
-        tc.later.size() != lay.frames.size() - lay.first_len)
-      corrupt("cluster " + std::to_string(c) + " sizes disagree with its frames");
-    const Eigen::MatrixXd b = dequantise_basis(tc.basis, dim);
-    Eigen::MatrixXd w(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(lay.frames.size()));
-    const Eigen::MatrixXd first = lpc_decode(tc.first, std::vector<double>(r, m.coef_step));
-    w.leftCols(static_cast<Eigen::Index>(lay.first_len)) = first;
-    for (size_t j = 0; j < tc.later.size(); ++j)
-      w.col(static_cast<Eigen::Index>(lay.first_len + j)) =
-          lcps_decode(tc.later[j], first, m.coef_step, tc.lcps_weight_bits);
-    const Eigen::MatrixXd x = b * w;  // dim x l_c
-    for (size_t j = 0; j < lay.frames.size(); ++j) {
-      const double* src = x.col(static_cast<Eigen::Index>(j)).data();
-      std::copy(src, src + dim, xyz->begin() + static_cast<std::ptrdiff_t>(lay.frames[j] * dim));
+  const auto members = segment_points_of(m);
+  if (m.cluster.size() != layout.size() * members.size()) corrupt("cluster count disagrees with the labels");
+  if (m.segment_rigid && m.segment_motion.size() != members.size()) corrupt("segment motion count");
+  for (size_t s = 0; s < members.size(); ++s) {
+    const std::vector<uint32_t>& pts = members[s];
+    const size_t dim_s = 3 * pts.size();
+    Eigen::MatrixXd motion;  // 6 x frames when the segment has its own rigid motion
+    if (m.segment_rigid) {
+      const TsModel::SegmentMotion& sm = m.segment_motion[s];
+      if (sm.code.rows != 6 || sm.code.length != m.frames) corrupt("segment rigid block size");
+      motion = lpc_decode(sm.code, {sm.rot_step, sm.rot_step, sm.rot_step, sm.trans_step, sm.trans_step, sm.trans_step});
+    }
+    for (size_t c = 0; c < layout.size(); ++c) {
+      const TsCluster& tc = m.cluster[s * layout.size() + c];
+      const ClusterLayout& lay = layout[c];
+      const size_t r = tc.basis.size();
+      if (tc.first.rows != r || tc.first.length != lay.first_len ||
+          tc.later.size() != lay.frames.size() - lay.first_len)
+        corrupt("cluster " + std::to_string(c) + " sizes disagree with its frames");
+      for (const QuantisedVector& q : tc.basis)
+        if (q.q.size() != dim_s) corrupt("basis length disagrees with the segment");
+      const Eigen::MatrixXd b = dequantise_basis(tc.basis, dim_s);
+      Eigen::MatrixXd w(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(lay.frames.size()));
+      const Eigen::MatrixXd first = lpc_decode(tc.first, std::vector<double>(r, m.coef_step));
+      w.leftCols(static_cast<Eigen::Index>(lay.first_len)) = first;
+      for (size_t j = 0; j < tc.later.size(); ++j)
+        w.col(static_cast<Eigen::Index>(lay.first_len + j)) =
+            lcps_decode(tc.later[j], first, m.coef_step, tc.lcps_weight_bits);
+      Eigen::MatrixXd x = b * w;  // dim_s x l_c
+      for (size_t j = 0; j < lay.frames.size(); ++j) {
+        if (m.segment_rigid)
+          apply_rigid_inverse(rigid_at(motion, lay.frames[j]), x.col(static_cast<Eigen::Index>(j)).data(), pts.size());
+        const double* src = x.col(static_cast<Eigen::Index>(j)).data();
+        double* dst = xyz->data() + lay.frames[j] * dim;
+        for (size_t i = 0; i < pts.size(); ++i)
+          for (size_t a = 0; a < 3; ++a) dst[3 * size_t{pts[i]} + a] = src[3 * i + a];
+      }
     }
   }
   if (m.rigid) {
     if (m.rigid_code.rows != 6 || m.rigid_code.length != m.frames) corrupt("rigid block size");
     std::vector<double> steps = {m.rot_step, m.rot_step, m.rot_step, m.trans_step, m.trans_step, m.trans_step};
     const Eigen::MatrixXd p = lpc_decode(m.rigid_code, steps);
-    for (size_t f = 0; f < m.frames; ++f) {
-      RigidParams rp;
-      for (int a = 0; a < 3; ++a) {
-        rp.rot[a] = p(a, static_cast<Eigen::Index>(f));
-        rp.trans[a] = p(3 + a, static_cast<Eigen::Index>(f));
-      }
-      apply_rigid_inverse(rp, xyz->data() + f * dim, m.points);
-    }
+    for (size_t f = 0; f < m.frames; ++f) apply_rigid_inverse(rigid_at(p, f), xyz->data() + f * dim, m.points);
   }
 }
 
+RigidParams rigid_at(const Eigen::MatrixXd& decoded, size_t f) {
+  RigidParams rp;
+  for (int a = 0; a < 3; ++a) {
+    rp.rot[a] = decoded(a, static_cast<Eigen::Index>(f));
+    rp.trans[a] = decoded(3 + a, static_cast<Eigen::Index>(f));
+  }
+  return rp;
+}
+
 void write_model(const TsModel& m, ByteWriter* out) {
-  out->u8(kVersion);
-  out->u8(static_cast<uint8_t>((m.rigid ? 1 : 0) | (m.basis_predict ? 2 : 0)));
+  const bool segmented = m.segments > 1;
+  out->u8(segmented ? kVersionSegments : kVersionOneSegment);
+  if (m.segment_rigid && !segmented) fail(ErrorCode::kInternal, kWhat, "segment motion without segments");
+  out->u8(static_cast<uint8_t>((m.rigid ? 1 : 0) | (m.basis_predict ? 2 : 0) | (m.segment_rigid ? 4 : 0)));
   out->varint(m.frames);
   out->varint(m.points);
   out->f64(m.coef_step);
@@ -195,6 +258,13 @@ void write_model(const TsModel& m, ByteWriter* out) {
     out->f64(m.trans_step);
     write_lpc_header(m.rigid_code, out);
   }
+  if (segmented) out->u8(static_cast<uint8_t>(m.segments));
+  if (m.segment_rigid)
+    for (const TsModel::SegmentMotion& sm : m.segment_motion) {
+      out->f64(sm.rot_step);
+      out->f64(sm.trans_step);
+      write_lpc_header(sm.code, out);
+    }
   for (const TsCluster& c : m.cluster) {
     out->varint(c.basis.size());
     write_lpc_header(c.first, out);
@@ -207,21 +277,37 @@ void write_model(const TsModel& m, ByteWriter* out) {
   Out e;
   if (m.clusters > 1)
     for (uint8_t l : m.label) e.label(l);
+  if (segmented) {
+    if (m.segment.size() != m.points) fail(ErrorCode::kInternal, kWhat, "segment labels disagree with the points");
+    SegmentMtf mtf(m.segments);
+    int prev = 0;
+    for (uint8_t sg : m.segment) {
+      const uint32_t rank = mtf.rank_of(sg);
+      if (rank >= mtf.size()) fail(ErrorCode::kInternal, kWhat, "segment label out of range");
+      e.segment_rank(rank, prev);
+      mtf.take(rank);
+      prev = sg;
+    }
+  }
   if (m.rigid) write_lpc_body(m.rigid_code, kRigid, &e);
+  if (m.segment_rigid)
+    for (const TsModel::SegmentMotion& sm : m.segment_motion) write_lpc_body(sm.code, kRigid, &e);
   if (!m.frames) {
     out->bytes(e.finish());
     return;
   }
   const auto layout = cluster_layout(m.label, m.clusters);
-  for (size_t c = 0; c < m.cluster.size(); ++c) {
-    const TsCluster& tc = m.cluster[c];
+  const auto members = segment_points_of(m);
+  for (size_t u = 0; u < m.cluster.size(); ++u) {
+    const TsCluster& tc = m.cluster[u];
+    const size_t c = u % layout.size(), np = members[u / layout.size()].size();
     std::vector<uint32_t> parents;
     for (size_t j = 0; j < tc.basis.size(); ++j) {
       const QuantisedVector& q = tc.basis[j];
-      for (size_t i = 0; i < m.points; ++i)
+      for (size_t i = 0; i < np; ++i)
         for (int a = 0; a < 3; ++a)
           e.put(q.q[3 * i + static_cast<size_t>(a)] - (m.basis_predict ? basis_prediction(q.q.data(), parents, i, a) : 0), kBasis);
-      if (j == 0 && m.basis_predict) parents = spatial_parents(q.q, m.points);
+      if (j == 0 && m.basis_predict) parents = spatial_parents(q.q, np);
     }
     write_lpc_body(tc.first, kLpcValue, &e);
     const int ib = index_bits(layout[c].first_len);
@@ -239,12 +325,13 @@ TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t point
   ByteReader in(data, size, kWhat);
   TsModel m;
   const uint8_t version = in.u8();
-  if (version != kVersion)
-    fail(ErrorCode::kUnsupportedVersion, kWhat, "version " + std::to_string(version) + " (this build reads 1)");
+  if (version != kVersionOneSegment && version != kVersionSegments)
+    fail(ErrorCode::kUnsupportedVersion, kWhat, "version " + std::to_string(version) + " (this build reads 1 and 2)");
   const uint8_t flags = in.u8();
-  if (flags > 3) corrupt("unknown flags");
+  if (flags > (version == kVersionSegments ? 7 : 3)) corrupt("unknown flags");
   m.rigid = flags & 1;
   m.basis_predict = (flags & 2) != 0;
+  m.segment_rigid = (flags & 4) != 0;
   m.frames = in.varint();
   m.points = in.varint();
   if (m.frames != frames || m.points != points) corrupt("window shape disagrees with the container");
@@ -257,8 +344,23 @@ TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t point
     m.trans_step = read_step(&in, "translation step");
     read_lpc_header(&in, &m.rigid_code, 6, frames);
   }
-  if (static_cast<size_t>(m.clusters) > in.remaining()) corrupt("cluster headers larger than the payload");
-  m.cluster.resize(static_cast<size_t>(m.clusters));
+  if (version == kVersionSegments) {
+    m.segments = in.u8();
+    if (m.segments < 2 || m.segments > kMaxSegments || static_cast<size_t>(m.segments) > points)
+      corrupt("segment count out of range");
+  }
+  if (m.segment_rigid) {
+    if (static_cast<size_t>(m.segments) * 18 > in.remaining()) corrupt("segment motion headers larger than the payload");
+    m.segment_motion.resize(static_cast<size_t>(m.segments));
+    for (TsModel::SegmentMotion& sm : m.segment_motion) {
+      sm.rot_step = read_step(&in, "segment rotation step");
+      sm.trans_step = read_step(&in, "segment translation step");
+      read_lpc_header(&in, &sm.code, 6, frames);
+    }
+  }
+  const size_t units = static_cast<size_t>(m.clusters) * static_cast<size_t>(m.segments);
+  if (units > in.remaining()) corrupt("cluster headers larger than the payload");
+  m.cluster.resize(units);
   for (TsCluster& tc : m.cluster) {
     const uint64_t r = in.varint();
     if (r > std::min<size_t>(dim, frames)) corrupt("a cluster has more PCs than frames or dimensions");
@@ -279,27 +381,42 @@ TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t point
   m.label.assign(frames, 0);
   if (m.clusters > 1)
     for (auto& l : m.label) l = static_cast<uint8_t>(e.label(m.clusters));
+  if (m.segments > 1) {
+    e.budget(points);
+    m.segment.resize(points);
+    SegmentMtf mtf(m.segments);
+    int prev = 0;
+    for (auto& sg : m.segment) {
+      const uint32_t rank = e.segment_rank(prev);
+      if (rank >= mtf.size()) corrupt("segment rank out of range");
+      sg = mtf.take(rank);
+      prev = sg;
+    }
+  }
   if (m.rigid) read_lpc_body(&m.rigid_code, kRigid, &e);
+  for (TsModel::SegmentMotion& sm : m.segment_motion) read_lpc_body(&sm.code, kRigid, &e);
   if (frames > 0) {
     const auto layout = cluster_layout(m.label, m.clusters);
-    for (size_t c = 0; c < layout.size(); ++c) {
-      TsCluster& tc = m.cluster[c];
+    const auto members = segment_points_of(m);
+    for (size_t u = 0; u < units; ++u) {
+      TsCluster& tc = m.cluster[u];
+      const size_t c = u % layout.size(), np = members[u / layout.size()].size(), dim_s = 3 * np;
       const size_t lc = layout[c].frames.size(), l1 = layout[c].first_len;
       const size_t r = tc.basis.size();
-      if (r > lc) corrupt("cluster " + std::to_string(c) + " has more PCs than frames");
-      e.budget(r * dim);
+      if (r > lc || r > dim_s) corrupt("cluster " + std::to_string(c) + " has more PCs than frames or segment dimensions");
+      e.budget(r * dim_s);
       std::vector<uint32_t> parents;
       for (size_t j = 0; j < r; ++j) {
         QuantisedVector& q = tc.basis[j];
         const int64_t lim = (int64_t{1} << (q.bits - 1)) - 1;
-        q.q.resize(dim);
-        for (size_t i = 0; i < points; ++i)
+        q.q.resize(dim_s);
+        for (size_t i = 0; i < np; ++i)
           for (int a = 0; a < 3; ++a) {
             const int64_t x = e.get(kBasis) + (m.basis_predict ? basis_prediction(q.q.data(), parents, i, a) : 0);
             if (x < -lim || x > lim) corrupt("basis value outside its bit range");
             q.q[3 * i + static_cast<size_t>(a)] = static_cast<int32_t>(x);
           }
-        if (j == 0 && m.basis_predict) parents = spatial_parents(q.q, points);
+        if (j == 0 && m.basis_predict) parents = spatial_parents(q.q, np);
       }
       tc.first.rows = r;
       tc.first.length = l1;

@@ -10,6 +10,7 @@
 #include "codec/ts/lcps.h"
 #include "codec/ts/lpc.h"
 #include "codec/ts/pca.h"
+#include "codec/ts/rigid.h"
 #include "coding/bytes.h"
 
 namespace capz {
@@ -31,6 +32,20 @@ struct TsModel {
   LpcCode rigid_code;               // 6 x frames: rotation vector (3), translation (3)
   int clusters = 1;
   std::vector<uint8_t> label;       // per frame, < clusters
+  // Point segments (payload version 2 when > 1): per point its segment, < segments; empty (or
+  // all 0) for one segment.
+  int segments = 1;
+  std::vector<uint8_t> segment;
+  // Per-segment rigid motion (version 2, flags bit 2): each segment's frames were aligned to its
+  // frame 0 with these decoded parameters (6 x frames each, like rigid_code) before its PCA.
+  struct SegmentMotion {
+    double rot_step = 0, trans_step = 0;
+    LpcCode code;
+  };
+  bool segment_rigid = false;
+  std::vector<SegmentMotion> segment_motion;  // per segment when segment_rigid
+  // segments x clusters, segment-major (cluster[s * clusters + c]); the bases of segment s have
+  // 3 N_s entries, entry 3 i + axis for the segment's i-th point (points in increasing order).
   std::vector<TsCluster> cluster;
 };
 
@@ -43,9 +58,16 @@ struct ClusterLayout {
 };
 std::vector<ClusterLayout> cluster_layout(const std::vector<uint8_t>& label, int clusters);
 
+// Points of each segment in increasing order (all points for one segment). Throws kCorrupt on
+// an inconsistent model (label >= segments, empty segment, label count != points).
+std::vector<std::vector<uint32_t>> segment_points_of(const TsModel& model);
+
 // Positions (frames x points x 3) from the model. The decoder's only reconstruction path; the
 // encoder calls it too, so its `recon` is bit for bit the decoder's.
 void reconstruct(const TsModel& model, std::vector<double>* xyz);
+
+// The decoded rigid parameters of `code` (6 x frames: rotation vector, translation) for frame f.
+RigidParams rigid_at(const Eigen::MatrixXd& decoded, size_t f);
 
 void write_model(const TsModel& model, ByteWriter* out);
 // `frames`/`points` come from the container; any disagreement or overrun throws kCorrupt.

@@ -1,0 +1,135 @@
+#include "codec/ts/segment.h"
+
+#include <algorithm>
+#include <limits>
+#include <random>
+#include <string>
+
+#include "capz/error.h"
+
+namespace capz {
+namespace ts {
+
+namespace {
+
+// Uniform in [0, 1) from 53 bits of the generator (no implementation-defined distribution).
+double uniform01(std::mt19937_64& rng) {
+  return static_cast<double>(rng() >> 11) * (1.0 / 9007199254740992.0);
+}
+
+}  // namespace
+
+Segmentation segment_points(const Eigen::MatrixXd& frames, const SegmentParams& params) {
+  if (params.segments < 1 || params.segments > kMaxSegments)
+    fail(ErrorCode::kInvalidParameter, "", "ts: segments must be 1.." + std::to_string(kMaxSegments));
+  Segmentation out;
+  const Eigen::Index n = frames.rows() / 3, nf = frames.cols();
+  if (n == 0) return out;
+  const int k = static_cast<int>(std::min<Eigen::Index>(params.segments, n));
+  out.label.assign(static_cast<size_t>(n), 0);
+  out.segments = 1;
+  if (k == 1) return out;
+
+  // Features: N x 3F, row i = point i's trajectory minus its mean.
+  Eigen::MatrixXd x(n, 3 * nf);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (int a = 0; a < 3; ++a) {
+      const auto row = frames.row(3 * i + a);
+      const double mean = row.mean();
+      for (Eigen::Index t = 0; t < nf; ++t) x(i, 3 * t + a) = row(t) - mean;
+    }
+  const Eigen::VectorXd sq = x.rowwise().squaredNorm();
+
+  // k-means++ seeding.
+  std::mt19937_64 rng(params.seed);
+  Eigen::MatrixXd mu(k, x.cols());
+  std::vector<double> d2(static_cast<size_t>(n), std::numeric_limits<double>::infinity());
+  Eigen::Index pick = static_cast<Eigen::Index>(rng() % static_cast<uint64_t>(n));
+  for (int c = 0; c < k; ++c) {
+    mu.row(c) = x.row(pick);
+    double total = 0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      d2[i] = std::min(d2[i], (x.row(i) - mu.row(c)).squaredNorm());
+      total += d2[i];
+    }
+    if (c + 1 == k) break;
+    if (!(total > 0)) {  // fewer distinct trajectories than segments: stop seeding
+      mu.conservativeResize(c + 1, Eigen::NoChange);
+      break;
+    }
+    const double target = uniform01(rng) * total;
+    double acc = 0;
+    pick = n - 1;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      acc += d2[i];
+      if (acc > target && d2[i] > 0) {
+        pick = i;
+        break;
+      }
+    }
+  }
+  const Eigen::Index kc = mu.rows();
+
+  // Lloyd iterations; distances through ||x||^2 - 2 x.mu + ||mu||^2 (one matrix product).
+  std::vector<int> lab(static_cast<size_t>(n), -1);
+  std::vector<Eigen::Index> count(static_cast<size_t>(kc));
+  double wcss = 0;
+  for (int it = 0; it < std::max(1, params.max_iterations); ++it) {
+    const Eigen::MatrixXd dot = x * mu.transpose();  // n x kc
+    const Eigen::VectorXd musq = mu.rowwise().squaredNorm();
+    bool changed = false;
+    wcss = 0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      int best = 0;
+      double bd = std::numeric_limits<double>::infinity();
+      for (Eigen::Index c = 0; c < kc; ++c) {
+        if (it > 0 && count[c] == 0) continue;
+        const double d = sq[i] - 2 * dot(i, c) + musq[c];
+        if (d < bd) {
+          bd = d;
+          best = static_cast<int>(c);
+        }
+      }
+      if (best != lab[i]) changed = true;
+      lab[i] = best;
+      wcss += std::max(0.0, bd);
+    }
+    if (!changed) break;
+    mu.setZero();
+    std::fill(count.begin(), count.end(), 0);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      mu.row(lab[i]) += x.row(i);
+      ++count[lab[i]];
+    }
+    for (Eigen::Index c = 0; c < kc; ++c)
+      if (count[c] > 0) mu.row(c) /= static_cast<double>(count[c]);
+  }
+
+  // Renumber by first appearance in point order (empty segments vanish).
+  std::vector<int> map(static_cast<size_t>(kc), -1);
+  int next = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    int& m = map[lab[i]];
+    if (m < 0) m = next++;
+    out.label[i] = static_cast<uint8_t>(m);
+  }
+  out.segments = next;
+  out.wcss = wcss;
+  return out;
+}
+
+std::vector<std::vector<uint32_t>> segment_members(const std::vector<uint8_t>& label,
+                                                   int segments) {
+  std::vector<std::vector<uint32_t>> out(static_cast<size_t>(std::max(0, segments)));
+  for (size_t i = 0; i < label.size(); ++i) {
+    if (label[i] >= segments)
+      fail(ErrorCode::kCorrupt, "ts payload", "point " + std::to_string(i) + " has segment " + std::to_string(label[i]));
+    out[label[i]].push_back(static_cast<uint32_t>(i));
+  }
+  for (size_t s = 0; s < out.size(); ++s)
+    if (out[s].empty()) fail(ErrorCode::kCorrupt, "ts payload", "segment " + std::to_string(s) + " has no points");
+  return out;
+}
+
+}  // namespace ts
+}  // namespace capz
