@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 namespace capz {
@@ -109,54 +110,127 @@ inline int32_t predict_one(int mode, size_t f, const int32_t* c, size_t stride, 
 // in the same frame). Scheme 2 (format 2.x): 84 contexts from ta or the zero run, and tb.
 // Scheme 3 (format 3.x): scheme 2's context times 6, refined while ta = 0 by the phase of the
 // zero run against the previous run length `L` and the sign `g` of the token that ended it.
+//
+// Mechanics (not format): each (point, axis) keeps, besides ta, z and the run, `part`: its share
+// of the context (scheme 2: 4 s; scheme 3: 24 s + the zero-run phase and sign), recomputed by
+// update(), so context() on the decoder's critical path only adds tb's share and the mode's base.
+// Escape sets come from a table by context.
 class ResidualContexts {
  public:
   ResidualContexts(int scheme, size_t points)
-      : scheme_(scheme), ta_(points * 3, 0), z_(points * 3, 0), run_(points * 3, 0) {}
-  static int count(int scheme) { return scheme == 1 ? 32 : scheme == 2 ? 84 : 1008; }
-  // Escape model set of a context (1.3): scheme 2 states 18, 19, 20 use sets 0, 1, 2 (large
-  // previous tokens: float-bit data); scheme 3 as its scheme 2 context; all of scheme 1, set 0.
-  int escape_set(int ctx) const {
-    if (scheme_ == 1) return 0;
-    const int c2 = scheme_ == 3 ? ctx % 504 / 6 : ctx;
-    return c2 < 76 ? 0 : c2 < 80 ? 1 : 2;
+      : scheme_(scheme),
+        ta_(points * 3, 0),
+        z_(points * 3, 0),
+        run_(points * 3, 0),
+        part_(points * 3, 0),
+        eset_(static_cast<size_t>(count(scheme))) {
+    for (int c = 0; c < count(scheme); ++c) {
+      int e = 0;
+      if (scheme != 1) {
+        const int c2 = scheme == 3 ? c % 504 / 6 : c;
+        e = c2 < 76 ? 0 : c2 < 80 ? 1 : 2;
+      }
+      eset_[static_cast<size_t>(c)] = static_cast<uint8_t>(e);
+    }
   }
+  static int count(int scheme) { return scheme == 1 ? 32 : scheme == 2 ? 84 : 1008; }
+
+  // The state by raw pointers, trivially copyable: the walk works on a local copy, whose fields
+  // the compiler keeps in registers (through the object, every byte the walk stores might alias
+  // them and force reloads).
+  class Cursor {
+   public:
+    // Escape model set of a context (1.3): scheme 2 states 18, 19, 20 use sets 0, 1, 2 (large
+    // previous tokens: float-bit data); scheme 3 as its scheme 2 context; all of scheme 1, 0.
+    int escape_set(int ctx) const { return eset_[ctx]; }
+    // Context of axis a of point p (k = 3 p + a, a = k % 3) when tb was coded last in the
+    // frame. Scheme 2: s * 4 + min(tb, 3), s = ta ? bucket(ta) : bucket(z). Scheme 3:
+    // base + 6 * that (base 504 for extrapolating predictors), plus 2 h + g while ta = 0.
+    int context(size_t k, int tb, int mode) const {
+      const int t = std::min(tb, 3);
+      if (scheme_ == 1) return std::min<int>(ta_[k], 7) * 4 + t;
+      if (scheme_ == 2) return part_[k] + t;
+      return (extrapolates(mode) ? 504 : 0) + part_[k] + 6 * t;
+    }
+    void update(size_t k, int tok) {
+      const int ta = ta_[k], z = z_[k];
+      // run_ = L << 1 | g: L the previous run length + 1 (capped at 16, 0 = none), g its sign.
+      const int run = tok && !ta ? std::min(z + 1, 16) << 1 | (tok & 1) : run_[k];
+      const int nz = tok ? 0 : std::min(z + 1, 12);
+      run_[k] = static_cast<uint8_t>(run);
+      ta_[k] = static_cast<uint8_t>(tok);
+      z_[k] = static_cast<uint8_t>(nz);
+      part_[k] = part(tok, nz, run);
+    }
+
+   private:
+    friend class ResidualContexts;
+    // The (point, axis) share of the context from its state after an update (see context()).
+    uint16_t part(int ta, int z, int run) const {
+      static constexpr uint8_t kRunBucket[13] = {0, 1, 2, 3, 4, 4, 5, 5, 5, 6, 6, 6, 6};
+      static constexpr uint8_t kTokBucket[64] = {
+          0,  7,  8,  9,  10, 11, 12, 13, 14, 14, 14, 14, 15, 15, 16, 16,  // 0-15
+          17, 17, 17, 17, 18, 18, 18, 18, 18, 18, 18, 18, 19, 19, 19, 19,  // 16-31
+          19, 19, 19, 19, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20,  // 32-47
+          20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20};
+      const int s = ta ? kTokBucket[ta] : kRunBucket[z];
+      if (scheme_ != 3) return static_cast<uint16_t>(s * 4);
+      if (ta) return static_cast<uint16_t>(s * 24);
+      const int L = run >> 1;
+      const int h = L == 0 || z < L - 1 ? 0 : z == L - 1 ? 1 : 2;
+      return static_cast<uint16_t>(s * 24 + 2 * h + (run & 1));
+    }
+
+    int scheme_;
+    uint8_t *ta_, *z_, *run_;
+    uint16_t* part_;
+    const uint8_t* eset_;
+  };
+  Cursor cursor() {
+    Cursor c;
+    c.scheme_ = scheme_;
+    c.ta_ = ta_.data();
+    c.z_ = z_.data();
+    c.run_ = run_.data();
+    c.part_ = part_.data();
+    c.eset_ = eset_.data();
+    return c;
+  }
+
+  int escape_set(int ctx) const { return eset_[static_cast<size_t>(ctx)]; }
+  int context(size_t k, int tb, int mode = 0) { return cursor().context(k, tb, mode); }
+  void update(size_t k, int tok) { cursor().update(k, tok); }
   void reset() {
     std::fill(ta_.begin(), ta_.end(), 0);
     std::fill(z_.begin(), z_.end(), 0);
     std::fill(run_.begin(), run_.end(), 0);
-  }
-  // Context of axis a of point p (k = 3 p + a, a = k % 3) when tb was coded last in the frame.
-  int context(size_t k, int tb, int mode = 0) const {
-    const int ta = ta_[k];
-    if (scheme_ == 1) return std::min(ta, 7) * 4 + std::min(tb, 3);
-
-    static constexpr uint8_t kRunBucket[13] = {0, 1, 2, 3, 4, 4, 5, 5, 5, 6, 6, 6, 6};
-    static constexpr uint8_t kTokBucket[64] = {
-        0,  7,  8,  9,  10, 11, 12, 13, 14, 14, 14, 14, 15, 15, 16, 16,  // 0-15
-        17, 17, 17, 17, 18, 18, 18, 18, 18, 18, 18, 18, 19, 19, 19, 19,  // 16-31
-        19, 19, 19, 19, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20,  // 32-47
-        20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20};
-    const int s = ta ? kTokBucket[ta] : kRunBucket[z_[k]];
-    const int c2 = s * 4 + std::min(tb, 3);
-    if (scheme_ == 2) return c2;
-    const int base = extrapolates(mode) ? 504 : 0;
-    if (ta) return base + c2 * 6;
-    // run_ = L << 1 | g: L the previous run length + 1 (capped at 16, 0 = none), g its sign.
-    const int L = run_[k] >> 1, z = z_[k];
-    const int h = L == 0 || z < L - 1 ? 0 : z == L - 1 ? 1 : 2;
-    return base + c2 * 6 + 2 * h + (run_[k] & 1);
-  }
-  void update(size_t k, int tok) {
-    if (tok && !ta_[k]) run_[k] = static_cast<uint8_t>(std::min(z_[k] + 1, 16) << 1 | (tok & 1));
-    ta_[k] = static_cast<uint8_t>(tok);
-    z_[k] = tok ? 0 : static_cast<uint8_t>(std::min(z_[k] + 1, 12));
+    std::fill(part_.begin(), part_.end(), 0);
   }
 
  private:
   int scheme_;
   std::vector<uint8_t> ta_, z_, run_;
+  std::vector<uint16_t> part_;
+  std::vector<uint8_t> eset_;
 };
+
+// Calls fn(std::integral_constant<int, m>()) for predictor m, so a loop over axes inside fn
+// has its predictor fixed at compile time (one dispatch per point, not per axis). Ids without
+// a case get fn(m) (a plain int).
+template <typename Fn>
+inline void with_predictor(int m, Fn&& fn) {
+  switch (m) {
+    case kPredPrevious: fn(std::integral_constant<int, kPredPrevious>()); break;
+    case kPredLinear: fn(std::integral_constant<int, kPredLinear>()); break;
+    case kPredQuadratic: fn(std::integral_constant<int, kPredQuadratic>()); break;
+    case kPredTransform: fn(std::integral_constant<int, kPredTransform>()); break;
+    case kPredTransformLinear: fn(std::integral_constant<int, kPredTransformLinear>()); break;
+    case kPredSmooth: fn(std::integral_constant<int, kPredSmooth>()); break;
+    case kPredPeriod: fn(std::integral_constant<int, kPredPeriod>()); break;
+    case kPredPeriodPrevious: fn(std::integral_constant<int, kPredPeriodPrevious>()); break;
+    default: fn(m);
+  }
+}
 
 // Codes (or decodes) one window frame by frame, point by point, x, y, z (FORMAT.md 3.3):
 // `code(i, pred, ctx, &tok)` returns q[i] and the residual's token. Gap samples are filled so
@@ -165,9 +239,10 @@ class ResidualContexts {
 // stores it back into `coder` at the end.
 template <typename Coder>
 void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8_t* modes,
-                 const uint32_t* ref, const int32_t* t, int32_t* q, ResidualContexts& ctx,
+                 const uint32_t* ref, const int32_t* t, int32_t* q, ResidualContexts& contexts,
                  Coder& coder, size_t period = 0) {
   Coder code = coder;
+  ResidualContexts::Cursor ctx = contexts.cursor();
   const size_t stride = points * 3;
   for (size_t f = 0; f < frames; ++f) {
     int tb = 0;
@@ -181,23 +256,31 @@ void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8
                                                        : q[i + a - stride];
         continue;
       }
-      for (int a = 0; a < 3; ++a) {
-        int32_t pred;
-        if (f == 0) {
-          pred = transform ? t[i + a] : last[a];
-        } else if (uses_ref(m)) {
-          const int base = m == kPredRefPrevious ? kPredPrevious : kPredLinear;
-          pred = predict_one(base, f, q + i + a, stride, nullptr);
-          const size_t r = ref[p];
-          if (valid[f * points + r]) {
+      // The three predictions first (none reads this point's frame f): one mode dispatch per
+      // point, and the loads stay off the coder's chain from token to next context.
+      int32_t pred[3];
+      if (f == 0) {
+        for (int a = 0; a < 3; ++a) pred[a] = transform ? t[i + a] : last[a];
+      } else if (uses_ref(m)) {
+        const int base = m == kPredRefPrevious ? kPredPrevious : kPredLinear;
+        const size_t r = ref[p];
+        const bool rv = valid[f * points + r] != 0;
+        for (int a = 0; a < 3; ++a) {
+          pred[a] = predict_one(base, f, q + i + a, stride, nullptr);
+          if (rv) {
             const int32_t* qr = q + f * stride + r * 3 + a;
-            pred = wrap_add(pred, wrap_sub(*qr, predict_one(base, f, qr, stride, nullptr)));
+            pred[a] = wrap_add(pred[a], wrap_sub(*qr, predict_one(base, f, qr, stride, nullptr)));
           }
-        } else {
-          pred = predict_one(m, f, q + i + a, stride, t ? t + i + a : nullptr, period);
         }
+      } else {
+        with_predictor(m, [&](auto mode) {
+          for (int a = 0; a < 3; ++a)
+            pred[a] = predict_one(mode, f, q + i + a, stride, t ? t + i + a : nullptr, period);
+        });
+      }
+      for (int a = 0; a < 3; ++a) {
         int tok;
-        q[i + a] = code(i + a, pred, ctx.context(p * 3 + a, tb, m), &tok);
+        q[i + a] = code(i + a, pred[a], ctx.context(p * 3 + a, tb, m), &tok);
         ctx.update(p * 3 + a, tok);
         tb = tok;
       }
