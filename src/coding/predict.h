@@ -190,10 +190,13 @@ class ResidualContexts {
 // Codes (or decodes) one window frame by frame, point by point, x, y, z (FORMAT.md 3.3):
 // `code(i, pred, ctx, &tok)` returns q[i] and the residual's token. Gap samples are filled so
 // histories stay defined. `period` is the window's period T (only read by predictors 8 and 9).
+// Coder is trivially copyable: the walk codes through a local copy (kept in registers) and
+// stores it back into `coder` at the end.
 template <typename Coder>
 void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8_t* modes,
                  const uint32_t* ref, const int32_t* t, int32_t* q, ResidualContexts& ctx,
-                 Coder& code, size_t period = 0) {
+                 Coder& coder, size_t period = 0) {
+  Coder code = coder;
   const size_t stride = points * 3;
   for (size_t f = 0; f < frames; ++f) {
     int tb = 0;
@@ -231,6 +234,7 @@ void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8
       if (f == 0) std::copy(q + i, q + i + 3, last);
     }
   }
+  coder = code;
 }
 
 }  // namespace capz
