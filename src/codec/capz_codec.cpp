@@ -1066,7 +1066,7 @@ void decode_window(StreamBytes& bytes, const std::string& name, const Parsed& ps
   }
   const bool f64 = h.mode == PosMode::kFloat64;
   if (!h.transform_output)
-    decode_positions(pp, tpred, f64, ps.major >= 2 ? 2 : 1, &wi, pwhat);
+    decode_positions(pp, tpred, f64, position_scheme(ps.major), &wi, pwhat);
   if (C > 0 && S > 0 && fn * S * C > kMaxSymbolsPerByte * (end - base))
     fail(ErrorCode::kCorrupt, name, "analog window" + wname + " larger than its chunks can hold");
   out->reset(f0, fn, N, C > 0 && S > 0 ? S * C : 0, ps.words);

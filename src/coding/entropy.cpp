@@ -7,24 +7,36 @@
 namespace capz {
 
 std::vector<uint8_t> IntEncoder::finish() {
-  std::vector<uint8_t> range = rc_.finish();
-  std::vector<uint8_t> raw = bits_.finish();
+  RangeEncoder::Core& rc = cur_.rc_;
+  for (int i = 0; i < 5; ++i) rc.shift_low(&rc_out_);
+  BitWriter::Core& bits = cur_.bits_;
+  if (bits.bits > 0) bits_out_.push_back(static_cast<uint8_t>(bits.acc));
   ByteWriter w;
-  w.varint(range.size());
-  w.bytes(range);
-  w.bytes(raw);
+  w.varint(rc_out_.size());
+  w.bytes(rc_out_);
+  w.bytes(bits_out_);
+  rc = RangeEncoder::Core();
+  bits = BitWriter::Core();
+  rc_out_.clear();
+  bits_out_.clear();
   return std::move(w.buffer());
 }
 
-IntDecoder::Split IntDecoder::split(const uint8_t* data, size_t size, const std::string& what) {
-  ByteReader r(data, size, what);
-  size_t n = static_cast<size_t>(r.count(1, "length of the range-coded part"));
-  size_t h = r.offset();
-  return Split{data + h, n, data + h + n, size - h - n};
+void throw_corrupt(const std::string& what, const char* msg) {
+  throw Error(ErrorCode::kCorrupt, what + ": " + msg);
 }
 
 IntDecoder::IntDecoder(const uint8_t* data, size_t size, int contexts, const std::string& what)
-    : IntDecoder(split(data, size, what), contexts, what) {}
+    : what_(what), models_(static_cast<size_t>(contexts)) {
+  ByteReader r(data, size, what);
+  const size_t n = static_cast<size_t>(r.count(1, "length of the range-coded part"));
+  const size_t h = r.offset();
+  cur_.rc_ = RangeDecoder::start(data + h, n, what_);
+  cur_.bits_ = BitReader(data + h + n, size - h - n);
+  cur_.models_ = models_.data();
+  cur_.escape_ = escape_;
+  cur_.what_ = &what_;
+}
 
 namespace {
 
@@ -53,7 +65,7 @@ std::vector<T> decode_stream(const uint8_t* data, size_t size, size_t count,
     out[i] = unmap(dec.get(ctx, &tok));
     ctx = std::min(tok, kIntStreamContexts - 1);
   }
-  if (!dec.at_end()) dec.coder()->corrupt("entropy-coded block has bytes past its last value");
+  if (!dec.at_end()) dec.corrupt("entropy-coded block has bytes past its last value");
   return out;
 }
 

@@ -19,8 +19,24 @@ enum Predictor : uint8_t {
   kPredTransformLinear = 4,  // t[f] + linear extrapolation of (q - t)
   kPredRefPrevious = 5,      // q[f-1] + (q[f][r] - q[f-1][r]): reference point r < p's motion
   kPredRefLinear = 6,        // linear(p) + (q[f][r] - linear(r)): r's deviation from linear
-  kPredCount = 7,
+  kPredSmooth = 7,           // least-squares line through the last min(6, f) frames (format 3)
+  kPredPeriod = 8,           // q[f-T], T = the window's period (format 3)
+  kPredPeriodPrevious = 9,   // q[f-1] + q[f-T] - q[f-T-1]
+  kPredCount = 10,
 };
+
+// Predictor ids a stream of position-coding scheme `scheme` may use (FORMAT.md 3.3).
+inline int predictor_count(int scheme) {
+  return scheme >= 3 ? kPredCount : scheme == 2 ? kPredSmooth : kPredRefPrevious;
+}
+// Predictors extrapolating the last two frames' motion: after a step on the grid their next
+// residual tends to undo it, so scheme 3 gives them their own contexts.
+inline bool extrapolates(int mode) {
+  return mode == kPredLinear || mode == kPredQuadratic || mode == kPredTransformLinear ||
+         mode == kPredRefLinear;
+}
+// Predictors that need the window's period field.
+inline bool uses_period(int mode) { return mode == kPredPeriod || mode == kPredPeriodPrevious; }
 
 // Predictors that add a reference point's motion (docs/FORMAT.md 3.3); ref[p] = r < p.
 inline bool uses_ref(int mode) { return mode == kPredRefPrevious || mode == kPredRefLinear; }
@@ -35,12 +51,45 @@ inline int32_t wrap_mul(int32_t a, uint32_t k) {
   return static_cast<int32_t>(static_cast<uint32_t>(a) * k);
 }
 
+// n / d rounded to the nearest integer, halves away from zero (d > 0).
+inline int64_t round_div(int64_t n, int64_t d) {
+  return n >= 0 ? (n + d / 2) / d : -((-n + d / 2) / d);
+}
+
+// Predictor 7: the least-squares line through q[f-1] .. q[f-K], K = min(6, f), at frame f, as
+// q[f-1] + rdiv(sum_{j=2..K} (4K + 2 - 6j) (q[f-j] - q[f-1]), K (K - 1)) (FORMAT.md 3.3).
+// Differences wrap to int32; the sum (|.| < 5 * 26 * 2^31) cannot overflow int64.
+inline int32_t predict_smooth(size_t f, const int32_t* c, size_t stride) {
+  const int32_t q1 = *(c - stride);
+  auto d = [&](size_t j) { return static_cast<int64_t>(wrap_sub(*(c - j * stride), q1)); };
+  int64_t r;
+  if (f >= 6) {  // K = 6, the usual case: a constant divisor (no division instruction)
+    const int64_t n = 14 * d(2) + 8 * d(3) + 2 * d(4) - 4 * d(5) - 10 * d(6);
+    r = n >= 0 ? (n + 15) / 30 : -((-n + 15) / 30);
+  } else {
+    const int64_t k = static_cast<int64_t>(f);
+    if (k < 2) return q1;
+    int64_t n = 0;
+    for (int64_t j = 2; j <= k; ++j) n += (4 * k + 2 - 6 * j) * d(static_cast<size_t>(j));
+    r = round_div(n, k * (k - 1));
+  }
+  return wrap_add(q1, static_cast<int32_t>(static_cast<uint32_t>(r)));
+}
+
 // Prediction of q[f] from the point's history. `c` points at q[f][p][a]; `stride` = points * 3;
-// `tc` at t[f][p][a] (may be null when no transform ran). Requires f >= 1.
-inline int32_t predict_one(int mode, size_t f, const int32_t* c, size_t stride,
-                           const int32_t* tc) {
+// `tc` at t[f][p][a] (may be null when no transform ran); `period` is the window's period T
+// (used by predictors 8 and 9 only). Requires f >= 1.
+inline int32_t predict_one(int mode, size_t f, const int32_t* c, size_t stride, const int32_t* tc,
+                           size_t period = 0) {
   const int32_t q1 = *(c - stride);
   switch (mode) {
+    case kPredSmooth:
+      return predict_smooth(f, c, stride);
+    case kPredPeriod:
+      return f < period ? q1 : *(c - period * stride);
+    case kPredPeriodPrevious:
+      if (f < period + 1) return q1;
+      return wrap_add(q1, wrap_sub(*(c - period * stride), *(c - (period + 1) * stride)));
     case kPredPrevious:
       return q1;
     case kPredLinear:
@@ -61,51 +110,93 @@ inline int32_t predict_one(int mode, size_t f, const int32_t* c, size_t stride,
   }
 }
 
+// Scheme 3's refinement of a zero run (FORMAT.md 3.3.1): 2 h + g by the run z (0..12) and
+// run = L << 1 | g (L = 0..16), h the phase of z against the previous run length L.
+struct ZeroPhaseTable {
+  uint8_t v[13][34];
+};
+constexpr ZeroPhaseTable zero_phase_table() {
+  ZeroPhaseTable t{};
+  for (int z = 0; z < 13; ++z)
+    for (int run = 0; run < 34; ++run) {
+      const int L = run >> 1;
+      const int h = L == 0 || z < L - 1 ? 0 : z == L - 1 ? 1 : 2;
+      t.v[z][run] = static_cast<uint8_t>(2 * h + (run & 1));
+    }
+  return t;
+}
+constexpr ZeroPhaseTable kZeroPhase = zero_phase_table();
+
 // Residual contexts of a window (docs/FORMAT.md 3.3.1). Per point and axis: `ta`, the token of
 // the last residual coded for it in this window, and `z`, the number of zero tokens ending there
-// (capped at 6). Scheme 1 (format 1.x): 32 contexts from ta and tb (the token coded just before
-// in the same frame). Scheme 2 (format 2.x): 144 contexts from ta or the zero run, tb, and the
-// larger of the other two axes' ta.
+// (capped at 12). Scheme 1 (format 1.x): 32 contexts from ta and tb (the token coded just before
+// in the same frame). Scheme 2 (format 2.x): 84 contexts from ta or the zero run, and tb.
+// Scheme 3 (format 3.x): 448 contexts: a state u (0..55) per point and axis (ta's bucket, or
+// the zero run refined by its phase against the previous run length L and that run's sign g),
+// tb, and whether the point's predictor extrapolates; u is updated once per coded token.
 class ResidualContexts {
  public:
-  ResidualContexts(int scheme, size_t points)
-      : scheme_(scheme), ta_(points * 3, 0), z_(points * 3, 0) {}
-  static int count(int scheme) { return scheme == 1 ? 32 : 84; }
+  ResidualContexts(int scheme, size_t points) : scheme_(scheme), st_(points * 3) {}
+  static int count(int scheme) { return scheme == 1 ? 32 : scheme == 2 ? 84 : 448; }
   // Escape model set of a context (1.3): scheme 2 states 18, 19, 20 use sets 0, 1, 2 (large
-  // previous tokens: float-bit data); every other context, and all of scheme 1, set 0.
-  static int escape_set(int ctx) { return ctx < 76 ? 0 : ctx < 80 ? 1 : 2; }
-  void reset() {
-    std::fill(ta_.begin(), ta_.end(), 0);
-    std::fill(z_.begin(), z_.end(), 0);
+  // previous tokens: float-bit data), scheme 3 the same states (u = 53, 54, 55); scheme 1 set 0.
+  int escape_set(int ctx) const {
+    if (scheme_ == 1) return 0;
+    if (scheme_ == 2) return ctx < 76 ? 0 : ctx < 80 ? 1 : 2;
+    const int u = ctx % 56;
+    return u < 54 ? 0 : u - 53;
   }
-  // Context of axis a of point p (k = 3 p + a, a = k % 3) when tb was coded last in the frame.
-  int context(size_t k, int tb) const {
-    const int ta = ta_[k];
-    if (scheme_ == 1) return std::min(ta, 7) * 4 + std::min(tb, 3);
-
-    static constexpr uint8_t kRunBucket[13] = {0, 1, 2, 3, 4, 4, 5, 5, 5, 6, 6, 6, 6};
-    static constexpr uint8_t kTokBucket[64] = {
-        0,  7,  8,  9,  10, 11, 12, 13, 14, 14, 14, 14, 15, 15, 16, 16,  // 0-15
-        17, 17, 17, 17, 18, 18, 18, 18, 18, 18, 18, 18, 19, 19, 19, 19,  // 16-31
-        19, 19, 19, 19, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20,  // 32-47
-        20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20};
-    const int s = ta ? kTokBucket[ta] : kRunBucket[z_[k]];
-    return s * 4 + std::min(tb, 3);
+  void reset() { std::fill(st_.begin(), st_.end(), State()); }
+  // The offset of scheme 3's contexts for a point whose predictor is `mode` (0 otherwise).
+  int family(int mode) const { return scheme_ == 3 && extrapolates(mode) ? 224 : 0; }
+  // Context of axis a of point p (k = 3 p + a, a = k % 3) when tb was coded last in the frame,
+  // `fam` = family(the point's predictor).
+  int context(size_t k, int tb, int fam = 0) const {
+    const int t = tb < 3 ? tb : 3;
+    const State& s = st_[k];
+    if (scheme_ == 3) return fam + 56 * t + s.u;
+    if (scheme_ == 1) return std::min<int>(s.ta, 7) * 4 + t;
+    return (s.ta ? kTokBucket[s.ta] : kRunBucket[s.z]) * 4 + t;
   }
   void update(size_t k, int tok) {
-    ta_[k] = static_cast<uint8_t>(tok);
-    z_[k] = tok ? 0 : static_cast<uint8_t>(std::min(z_[k] + 1, 12));
+    State& s = st_[k];
+    if (tok) {
+      // run = L << 1 | g: L the previous run length + 1 (capped at 16, 0 = none), g its sign.
+      if (!s.ta) s.run = static_cast<uint8_t>((s.z + 1) << 1 | (tok & 1));  // z + 1 <= 13
+      s.ta = static_cast<uint8_t>(tok);
+      s.z = 0;
+      s.u = static_cast<uint8_t>(42 + kTokBucket[tok] - 7);
+    } else {
+      s.ta = 0;
+      s.z = static_cast<uint8_t>(s.z < 12 ? s.z + 1 : 12);
+      s.u = static_cast<uint8_t>(6 * kRunBucket[s.z] + kZeroPhase.v[s.z][s.run]);
+    }
   }
 
  private:
+  static constexpr uint8_t kRunBucket[13] = {0, 1, 2, 3, 4, 4, 5, 5, 5, 6, 6, 6, 6};
+  static constexpr uint8_t kTokBucket[64] = {
+      0,  7,  8,  9,  10, 11, 12, 13, 14, 14, 14, 14, 15, 15, 16, 16,  // 0-15
+      17, 17, 17, 17, 18, 18, 18, 18, 18, 18, 18, 18, 19, 19, 19, 19,  // 16-31
+      19, 19, 19, 19, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20,  // 32-47
+      20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20};
+  struct State {
+    uint8_t ta = 0, z = 0, run = 0, u = 0;  // u: scheme 3's state, from the other three
+  };
   int scheme_;
-  std::vector<uint8_t> ta_, z_;
+  std::vector<State> st_;
 };
 
+// Codes (or decodes) one window frame by frame, point by point, x, y, z (FORMAT.md 3.3):
+// `code(i, pred, ctx, &tok)` returns q[i] and the residual's token. Gap samples are filled so
+// histories stay defined. `period` is the window's period T (only read by predictors 8 and 9).
+// Coder is trivially copyable: the walk codes through a local copy (kept in registers) and
+// stores it back into `coder` at the end.
 template <typename Coder>
 void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8_t* modes,
                  const uint32_t* ref, const int32_t* t, int32_t* q, ResidualContexts& ctx,
-                 Coder& code) {
+                 Coder& coder, size_t period = 0) {
+  Coder code = coder;
   const size_t stride = points * 3;
   for (size_t f = 0; f < frames; ++f) {
     int tb = 0;
@@ -113,6 +204,7 @@ void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8
     for (size_t p = 0; p < points; ++p) {
       const size_t i = f * stride + p * 3;
       const int m = modes[p];
+      const int fam = ctx.family(m);
       const bool transform = m == kPredTransform || m == kPredTransformLinear;
       if (!valid[f * points + p]) {
         for (int a = 0; a < 3; ++a) q[i + a] = f == 0 ? (transform ? t[i + a] : last[a])
@@ -132,16 +224,17 @@ void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8
             pred = wrap_add(pred, wrap_sub(*qr, predict_one(base, f, qr, stride, nullptr)));
           }
         } else {
-          pred = predict_one(m, f, q + i + a, stride, t ? t + i + a : nullptr);
+          pred = predict_one(m, f, q + i + a, stride, t ? t + i + a : nullptr, period);
         }
         int tok;
-        q[i + a] = code(i + a, pred, ctx.context(p * 3 + a, tb), &tok);
+        q[i + a] = code(i + a, pred, ctx.context(p * 3 + a, tb, fam), &tok);
         ctx.update(p * 3 + a, tok);
         tb = tok;
       }
       if (f == 0) std::copy(q + i, q + i + 3, last);
     }
   }
+  coder = code;
 }
 
 }  // namespace capz

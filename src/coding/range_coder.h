@@ -25,100 +25,134 @@ constexpr int kTotalBits = 15;
 constexpr uint32_t kTotal = 1u << kTotalBits;
 constexpr uint32_t kTopValue = 1u << 24;
 
+// Throws Error(kCorrupt, what + ": " + msg). Out of line: the decoders' hot paths only branch
+// to it.
+[[noreturn]] void throw_corrupt(const std::string& what, const char* msg);
+
 class RangeEncoder {
  public:
+  // The coder's moving state, trivially copyable and apart from the output bytes (passed in), so
+  // a hot loop can work on a copy the compiler keeps in registers (IntEncoder::Cursor): when it
+  // lives in memory, every byte or int stored in the loop may alias it and forces reloads.
+  struct Core {
+    uint64_t low = 0;
+    uint32_t range = 0xFFFFFFFFu;
+    uint8_t cache = 0;
+    uint64_t pending = 1;
+
+    // Codes [start, start + freq) of kTotal. Precondition: freq >= 1, start + freq <= kTotal.
+    void encode(uint32_t start, uint32_t freq, std::vector<uint8_t>* out) {
+      uint32_t r = range >> kTotalBits;
+      low += static_cast<uint64_t>(r) * start;
+      range = r * freq;
+      while (range < kTopValue) {
+        range <<= 8;
+        shift_low(out);
+      }
+    }
+    void shift_low(std::vector<uint8_t>* out) {
+      if (static_cast<uint32_t>(low) < 0xFF000000u || (low >> 32) != 0) {
+        uint8_t carry = static_cast<uint8_t>(low >> 32);
+        uint8_t temp = cache;
+        do {
+          out->push_back(static_cast<uint8_t>(temp + carry));
+          temp = 0xFF;
+        } while (--pending != 0);
+        cache = static_cast<uint8_t>(static_cast<uint32_t>(low) >> 24);
+      }
+      ++pending;
+      low = static_cast<uint32_t>(static_cast<uint32_t>(low) << 8);
+    }
+  };
+
   // Codes [start, start + freq) of kTotal. Precondition: freq >= 1, start + freq <= kTotal.
-  void encode(uint32_t start, uint32_t freq) {
-    uint32_t r = range_ >> kTotalBits;
-    low_ += static_cast<uint64_t>(r) * start;
-    range_ = r * freq;
-    normalize();
-  }
+  void encode(uint32_t start, uint32_t freq) { core_.encode(start, freq, &out_); }
   // Flushes and returns the block; the encoder is reset afterwards.
   std::vector<uint8_t> finish() {
-    for (int i = 0; i < 5; ++i) shift_low();
+    for (int i = 0; i < 5; ++i) core_.shift_low(&out_);
     std::vector<uint8_t> out;
     out.swap(out_);
-    low_ = 0;
-    range_ = 0xFFFFFFFFu;
-    cache_ = 0;
-    pending_ = 1;
+    core_ = Core();
     return out;
   }
-  size_t bytes_so_far() const { return out_.size() + pending_ + 4; }
+  size_t bytes_so_far() const { return out_.size() + core_.pending + 4; }
+
+  const Core& core() const { return core_; }
+  void set_core(const Core& c) { core_ = c; }
+  std::vector<uint8_t>* out() { return &out_; }
 
  private:
-  void normalize() {
-    while (range_ < kTopValue) {
-      range_ <<= 8;
-      shift_low();
-    }
-  }
-  void shift_low() {
-    if (static_cast<uint32_t>(low_) < 0xFF000000u || (low_ >> 32) != 0) {
-      uint8_t carry = static_cast<uint8_t>(low_ >> 32);
-      uint8_t temp = cache_;
-      do {
-        out_.push_back(static_cast<uint8_t>(temp + carry));
-        temp = 0xFF;
-      } while (--pending_ != 0);
-      cache_ = static_cast<uint8_t>(static_cast<uint32_t>(low_) >> 24);
-    }
-    ++pending_;
-    low_ = static_cast<uint32_t>(static_cast<uint32_t>(low_) << 8);
-  }
-
-  uint64_t low_ = 0;
-  uint32_t range_ = 0xFFFFFFFFu;
-  uint8_t cache_ = 0;
-  uint64_t pending_ = 1;
+  Core core_;
   std::vector<uint8_t> out_;
 };
 
 class RangeDecoder {
  public:
-  RangeDecoder(const uint8_t* data, size_t size, std::string what)
-      : p_(data), end_(data + size), what_(std::move(what)) {
-    if (next_byte() != 0) corrupt("entropy-coded block does not start with 0");
-    for (int i = 0; i < 4; ++i) code_ = (code_ << 8) | next_byte();
+  // The moving state, trivially copyable (see RangeEncoder::Core); `what` names the block in
+  // errors.
+  struct Core {
+    const uint8_t* p = nullptr;
+    const uint8_t* end = nullptr;
+    uint32_t code = 0;
+    uint32_t range = 0xFFFFFFFFu;
+    uint32_t r = 0;
+
+    // First half of an interval decode: returns the cumulative target v in [0, kTotal); the
+    // caller finds the symbol s with cum(s) <= v < cum(s + 1), then calls consume(start, freq).
+    uint32_t target(const std::string& what) {
+      r = range >> kTotalBits;
+      uint32_t v = code / r;
+      if (v >= kTotal) throw_corrupt(what, "entropy-coded value out of range");
+      return v;
+    }
+    void consume(uint32_t start, uint32_t freq, const std::string& what) {
+      code -= r * start;
+      range = r * freq;
+      // Normalisation: shift in k bytes until range >= 2^24. Here range >= r >= 2^9, so k =
+      // clz(range) / 8 is 0, 1 or 2: computed, not looped, because its branch is as
+      // unpredictable as the data. The byte-loop (which throws at the block's end) only within
+      // 4 bytes of the end.
+      if (end - p >= 4) {
+        const int k = __builtin_clz(range) >> 3;
+        const uint32_t w = static_cast<uint32_t>(p[0]) << 24 | static_cast<uint32_t>(p[1]) << 16 |
+                           static_cast<uint32_t>(p[2]) << 8 | p[3];
+        code = static_cast<uint32_t>((static_cast<uint64_t>(code) << 32 | w) >> (32 - 8 * k));
+        range <<= 8 * k;
+        p += k;
+      } else {
+        while (range < kTopValue) {
+          range <<= 8;
+          code = (code << 8) | next_byte(what);
+        }
+      }
+    }
+    uint8_t next_byte(const std::string& what) {
+      if (p == end) throw_corrupt(what, "entropy-coded block is truncated");
+      return *p++;
+    }
+  };
+
+  RangeDecoder(const uint8_t* data, size_t size, std::string what) : what_(std::move(what)) {
+    core_ = start(data, size, what_);
+  }
+  // The state after the block's first 5 bytes (which must start with 0).
+  static Core start(const uint8_t* data, size_t size, const std::string& what) {
+    Core c;
+    c.p = data;
+    c.end = data + size;
+    if (c.next_byte(what) != 0) throw_corrupt(what, "entropy-coded block does not start with 0");
+    for (int i = 0; i < 4; ++i) c.code = (c.code << 8) | c.next_byte(what);
+    return c;
   }
 
-  // First half of an interval decode: returns the cumulative target v in [0, kTotal); the caller
-  // finds the symbol s with cum(s) <= v < cum(s + 1), then calls consume(start, freq).
-  uint32_t target() {
-    r_ = range_ >> kTotalBits;
-    uint32_t v = code_ / r_;
-    if (v >= kTotal) corrupt("entropy-coded value out of range");
-    return v;
-  }
-  void consume(uint32_t start, uint32_t freq) {
-    code_ -= r_ * start;
-    range_ = r_ * freq;
-    normalize();
-  }
+  uint32_t target() { return core_.target(what_); }
+  void consume(uint32_t start, uint32_t freq) { core_.consume(start, freq, what_); }
   // True when every byte of the block has been consumed (a valid block ends exactly there).
-  bool at_end() const { return p_ == end_; }
-  [[noreturn]] void corrupt(const char* msg) const {
-    throw Error(ErrorCode::kCorrupt, what_ + ": " + msg);
-  }
+  bool at_end() const { return core_.p == core_.end; }
+  [[noreturn]] void corrupt(const char* msg) const { throw_corrupt(what_, msg); }
 
  private:
-  uint8_t next_byte() {
-    if (p_ == end_) corrupt("entropy-coded block is truncated");
-    return *p_++;
-  }
-  void normalize() {
-    while (range_ < kTopValue) {
-      range_ <<= 8;
-      code_ = (code_ << 8) | next_byte();
-    }
-  }
-
-  const uint8_t* p_;
-  const uint8_t* end_;
-  uint32_t code_ = 0;
-  uint32_t range_ = 0xFFFFFFFFu;
-  uint32_t r_ = 0;
+  Core core_;
   std::string what_;
 };
 
@@ -126,33 +160,43 @@ class RangeDecoder {
 class BitWriter {
  public:
   // n low bits of v, 0 <= n <= 32.
-  void put(uint32_t v, int n) {
-    acc_ |= static_cast<uint64_t>(v) << bits_;
-    bits_ += n;
-    while (bits_ >= 8) {
-      out_.push_back(static_cast<uint8_t>(acc_));
-      acc_ >>= 8;
-      bits_ -= 8;
-    }
-  }
+  void put(uint32_t v, int n) { core_.put(v, n, &out_); }
   // Pads the last byte with zero bits and returns the bytes; the writer is reset.
   std::vector<uint8_t> finish() {
-    if (bits_ > 0) out_.push_back(static_cast<uint8_t>(acc_));
-    acc_ = 0;
-    bits_ = 0;
+    if (core_.bits > 0) out_.push_back(static_cast<uint8_t>(core_.acc));
+    core_ = Core();
     std::vector<uint8_t> out;
     out.swap(out_);
     return out;
   }
 
+  // The moving state (see RangeEncoder::Core).
+  struct Core {
+    uint64_t acc = 0;
+    int bits = 0;
+    void put(uint32_t v, int n, std::vector<uint8_t>* out) {
+      acc |= static_cast<uint64_t>(v) << bits;
+      bits += n;
+      while (bits >= 8) {
+        out->push_back(static_cast<uint8_t>(acc));
+        acc >>= 8;
+        bits -= 8;
+      }
+    }
+  };
+  const Core& core() const { return core_; }
+  void set_core(const Core& c) { core_ = c; }
+  std::vector<uint8_t>* out() { return &out_; }
+
  private:
-  uint64_t acc_ = 0;
-  int bits_ = 0;
+  Core core_;
   std::vector<uint8_t> out_;
 };
 
+// Trivially copyable: hot loops work on a copy (IntDecoder::Cursor).
 class BitReader {
  public:
+  BitReader() = default;
   BitReader(const uint8_t* data, size_t size) : p_(data), end_(data + size) {}
   // n bits, 0 <= n <= 32; returns false (value unspecified) when the bytes run out.
   bool get(int n, uint32_t* v) {
@@ -172,38 +216,61 @@ class BitReader {
   bool at_valid_end() const { return p_ == end_ && bits_ < 8 && acc_ == 0; }
 
  private:
-  const uint8_t* p_;
-  const uint8_t* end_;
+  const uint8_t* p_ = nullptr;
+  const uint8_t* end_ = nullptr;
   uint64_t acc_ = 0;
   int bits_ = 0;
 };
 
+namespace detail {
+// SymbolModel's adaptation shift by the number of updates so far: 4 for the first 16, 5 up to
+// 64, 6 up to 256, then 7 (a table: the comparisons' branches cost more than the lookup).
+struct RateTable {
+  uint8_t r[257];
+  constexpr RateTable() : r() {
+    for (int n = 0; n <= 256; ++n) r[n] = static_cast<uint8_t>(n < 16 ? 4 : n < 64 ? 5 : n < 256 ? 6 : 7);
+  }
+};
+inline constexpr RateTable kRates{};
+// SymbolModel's update target for symbol s, plus i: lane i holds (i > s ? T : 0) + i, T = 2^15 - 16.
+struct TargetTable {
+  alignas(16) uint16_t t[16][16];
+  constexpr TargetTable() : t() {
+    for (int s = 0; s < 16; ++s)
+      for (int i = 0; i < 16; ++i) t[s][i] = static_cast<uint16_t>((i > s ? kTotal - 16 : 0) + i);
+  }
+};
+inline constexpr TargetTable kTargets{};
+}  // namespace detail
+
 // Adaptive model over 16 symbols (docs/FORMAT.md 1.2): cum(i) = c[i] + i over kTotal, so every
 // symbol keeps a frequency >= 1. Alphabets of n < 16 symbols simply never code the top ones.
+// Stored as cum itself (cum_[i] = c[i] + i; cum_[16] = kTotal): the update
+// c += (target - c) >> rate is the same as cum += ((target + i) - cum) >> rate.
 class SymbolModel {
  public:
   static constexpr int kSymbols = 16;
   static constexpr int16_t kT = static_cast<int16_t>(kTotal - kSymbols);
   SymbolModel() {
-    for (int i = 0; i < kSymbols; ++i) c_[i] = static_cast<int16_t>(i * kT / kSymbols);
-    c_[kSymbols] = kT;
+    for (int i = 0; i <= kSymbols; ++i) cum_[i] = static_cast<uint16_t>(i * kT / kSymbols + i);
   }
   // Skewed start (FORMAT.md 1.2): c[i] = T - floor(T / 2^i), symbol i has about 2^-(i+1).
   void skew() {
-    for (int i = 1; i < kSymbols; ++i) c_[i] = static_cast<int16_t>(kT - (kT >> i));
+    for (int i = 1; i < kSymbols; ++i) cum_[i] = static_cast<uint16_t>(kT - (kT >> i) + i);
   }
 
-  void encode(RangeEncoder* enc, int s) {
-    uint32_t lo = static_cast<uint32_t>(c_[s] + s);
-    uint32_t hi = static_cast<uint32_t>(c_[s + 1] + s + 1);
+  // Enc: RangeEncoder or anything with encode(start, freq); Dec: RangeDecoder or anything with
+  // target() and consume(start, freq) (the cursors of entropy.h).
+  template <typename Enc>
+  void encode(Enc* enc, int s) {
+    const uint32_t lo = cum_[s], hi = cum_[s + 1];
     enc->encode(lo, hi - lo);
     update(s);
   }
-  int decode(RangeDecoder* dec) {
-    const int v = static_cast<int>(dec->target());
-    const int s = find(v);
-    uint32_t lo = static_cast<uint32_t>(c_[s] + s);
-    uint32_t hi = static_cast<uint32_t>(c_[s + 1] + s + 1);
+  template <typename Dec>
+  int decode(Dec* dec) {
+    const int s = find(static_cast<int>(dec->target()));
+    const uint32_t lo = cum_[s], hi = cum_[s + 1];
     dec->consume(lo, hi - lo);
     update(s);
     return s;
@@ -211,54 +278,49 @@ class SymbolModel {
 
  private:
   int rate() {
-    const int r = count_ < 16 ? 4 : count_ < 64 ? 5 : count_ < 256 ? 6 : 7;
-    if (count_ < 256) ++count_;
+    const int r = detail::kRates.r[count_];
+    count_ += count_ < 256;
     return r;
   }
 #if defined(__SSE2__)
-  // s = (number of i in [0, 16) with cum(i) <= v) - 1; cum(0) = 0 <= v always.
+  // s = (number of i in [0, 16) with cum(i) <= v) - 1; cum(0) = 0 <= v always. cum(i) for
+  // i < 16 is below 2^15, so the signed 16-bit comparison is exact.
   int find(int v) const {
-    const __m128i idx0 = _mm_setr_epi16(0, 1, 2, 3, 4, 5, 6, 7);
-    const __m128i idx1 = _mm_setr_epi16(8, 9, 10, 11, 12, 13, 14, 15);
     const __m128i vv = _mm_set1_epi16(static_cast<int16_t>(v));
-    __m128i a = _mm_add_epi16(_mm_load_si128(reinterpret_cast<const __m128i*>(c_)), idx0);
-    __m128i b = _mm_add_epi16(_mm_load_si128(reinterpret_cast<const __m128i*>(c_ + 8)), idx1);
+    const __m128i a = _mm_load_si128(reinterpret_cast<const __m128i*>(cum_));
+    const __m128i b = _mm_load_si128(reinterpret_cast<const __m128i*>(cum_ + 8));
     // cum is non-decreasing, so the lanes with cum > v form a suffix: s = its start - 1.
+    // No lane above v (gt = 0) means s = 15: bit 16 stands in for that (no branch).
     int gt = _mm_movemask_epi8(_mm_packs_epi16(_mm_cmpgt_epi16(a, vv), _mm_cmpgt_epi16(b, vv)));
-    return gt ? __builtin_ctz(static_cast<unsigned>(gt)) - 1 : 15;
+    return __builtin_ctz(static_cast<unsigned>(gt) | 0x10000u) - 1;
   }
   void update(int s) {
     const __m128i r = _mm_cvtsi32_si128(rate());
-    const __m128i idx0 = _mm_setr_epi16(0, 1, 2, 3, 4, 5, 6, 7);
-    const __m128i idx1 = _mm_setr_epi16(8, 9, 10, 11, 12, 13, 14, 15);
-    const __m128i ss = _mm_set1_epi16(static_cast<int16_t>(s));
-    const __m128i t = _mm_set1_epi16(kT);
-    __m128i* p = reinterpret_cast<__m128i*>(c_);
+    const __m128i* t = reinterpret_cast<const __m128i*>(detail::kTargets.t[s]);
+    __m128i* p = reinterpret_cast<__m128i*>(cum_);
     __m128i a = _mm_load_si128(p), b = _mm_load_si128(p + 1);
-    __m128i ta = _mm_and_si128(_mm_cmpgt_epi16(idx0, ss), t);  // i > s ? T : 0
-    __m128i tb = _mm_and_si128(_mm_cmpgt_epi16(idx1, ss), t);
-    a = _mm_add_epi16(a, _mm_sra_epi16(_mm_sub_epi16(ta, a), r));
-    b = _mm_add_epi16(b, _mm_sra_epi16(_mm_sub_epi16(tb, b), r));
-    _mm_store_si128(p, a);  // c[0] stays 0: its target is 0
+    a = _mm_add_epi16(a, _mm_sra_epi16(_mm_sub_epi16(_mm_load_si128(t), a), r));
+    b = _mm_add_epi16(b, _mm_sra_epi16(_mm_sub_epi16(_mm_load_si128(t + 1), b), r));
+    _mm_store_si128(p, a);  // cum[0] stays 0: its target is 0
     _mm_store_si128(p + 1, b);
   }
 #else
   int find(int v) const {
     int n = 0;
-    for (int i = 1; i < kSymbols; ++i) n += (c_[i] + i <= v);
+    for (int i = 1; i < kSymbols; ++i) n += (cum_[i] <= v);
     return n;
   }
   void update(int s) {
     const int r = rate();
     for (int i = 1; i < kSymbols; ++i) {
-      int target = i > s ? kT : 0;
-      c_[i] = static_cast<int16_t>(c_[i] + ((target - c_[i]) >> r));
+      const int c = cum_[i];
+      cum_[i] = static_cast<uint16_t>(c + ((detail::kTargets.t[s][i] - c) >> r));
     }
   }
 #endif
 
   int count_ = 0;
-  alignas(16) int16_t c_[kSymbols + 8];  // c_[16] = T; the rest is padding
+  alignas(16) uint16_t cum_[kSymbols + 8];  // cum_[16] = kTotal; the rest is padding
 };
 
 }  // namespace capz

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 
 #include "capz/error.h"
 #include "coding/bytes.h"
@@ -16,26 +17,61 @@ inline uint32_t bit_cost(int32_t r) {
   return u ? 33u - static_cast<uint32_t>(__builtin_clz(u)) : 0u;
 }
 
-// Token histogram of one point's residuals under 4 contexts (the previous token of the same
-// axis, capped at 3), for estimating its coded size: the conditional order-0 entropy of the
-// tokens (capped at 15) plus their raw bits.
-struct TokenHist {
-  uint32_t count[4][16];
-  uint64_t raw;
+// What the estimate conditions a residual on, per point, axis and predictor: a coarse copy of
+// the scheme 3 context (FORMAT.md 3.3.1): the previous token (capped at 3), and after a zero
+// token the zero run's phase against the previous run length and that run's sign.
+struct EstState {
+  static constexpr int kContexts = 10;
+  uint8_t ta = 0, z = 0, run = 0, ctx = 4;  // run = L << 1 | g, as ResidualContexts
+  int context() const { return ctx; }
+  void update(int tok) {
+    if (tok) {
+      if (!ta) run = static_cast<uint8_t>((z + 1) << 1 | (tok & 1));  // z + 1 <= 13
+      ta = static_cast<uint8_t>(tok);
+      z = 0;
+      ctx = static_cast<uint8_t>(tok < 3 ? tok : 3);
+    } else {
+      ta = 0;
+      z = static_cast<uint8_t>(z < 12 ? z + 1 : 12);
+      ctx = static_cast<uint8_t>(4 + kZeroPhase.v[z][run]);
+    }
+  }
+};
+
+// The cheaper condition used to rank reference candidates: the previous token (capped at 3).
+struct PrevState {
+  static constexpr int kContexts = 4;
+  uint8_t ta = 0;
+  int context() const { return ta < 3 ? ta : 3; }
+  void update(int tok) { ta = static_cast<uint8_t>(tok); }
+};
+
+// Token histogram of one point's residuals under the contexts of State, for estimating its coded
+// size: the conditional order-0 entropy of the tokens (capped at 15) plus their raw bits.
+template <typename State>
+struct Hist {
+  using StateType = State;
+  static constexpr int kContexts = State::kContexts;
+  uint16_t count[kContexts][16];  // a window codes at most 8192 x 3 values of a point
+  uint32_t raw;  // raw bits (plus 4 for the escape) of tokens >= 15; those of the others follow
+                 // from their counts
   void clear() { std::memset(this, 0, sizeof *this); }
-  // Adds residual r after a residual of token `prev`; returns r's token.
-  int add(int32_t r, int prev) {
+  // Adds residual r in state st (then updated); returns r's token.
+  int add(int32_t r, State* st) {
     int nbits;
     const int tok = token_of(zigzag(r), &nbits);
-    ++count[prev < 3 ? prev : 3][tok < 15 ? tok : 15];
-    raw += static_cast<uint64_t>(nbits) + (tok < 15 ? 0 : 4);
+    ++count[st->context()][tok < 15 ? tok : 15];
+    if (tok >= 15) raw += static_cast<uint32_t>(nbits) + 4;
+    st->update(tok);
     return tok;
   }
   // Estimated bits, in 1/16 bit units.
   uint64_t bits16() const {
     double e = 0;
-    for (int c = 0; c < 4; ++c) {
+    uint64_t bits = raw;
+    for (int c = 0; c < kContexts; ++c) {
       uint32_t n = 0;
+      for (int k = 4; k < 15; ++k) bits += uint64_t{count[c][k]} * static_cast<uint64_t>((k - 4) / 2 + 1);
       for (int k = 0; k < 16; ++k)
         if (count[c][k]) {
           n += count[c][k];
@@ -43,40 +79,44 @@ struct TokenHist {
         }
       if (n) e += static_cast<double>(n) * std::log2(static_cast<double>(n));
     }
-    return static_cast<uint64_t>(e * 16) + raw * 16;
+    return static_cast<uint64_t>(e * 16) + bits * 16;
   }
 };
+using TokenHist = Hist<EstState>;
 
 struct CostCoder {
   const int32_t* q;
   size_t points;
   TokenHist* hist;       // per point
-  uint8_t* prev;         // per point and axis: the last token, zeroed at the start
+  EstState* state;       // per point and axis, reset at the start
   int32_t operator()(size_t i, int32_t pred, int, int* tok) {
     const size_t k = i % (points * 3);
-    *tok = hist[k / 3].add(wrap_sub(q[i], pred), prev[k]);
-    prev[k] = static_cast<uint8_t>(*tok);
+    *tok = hist[k / 3].add(wrap_sub(q[i], pred), &state[k]);
     return q[i];
   }
 };
 
+// The coders of the final walks hold the entropy coder's cursor by value (entropy.h): walk_window
+// works on a local copy of its Coder, so the coder state stays in registers; commit it after.
 struct EncCoder {
-  IntEncoder* enc;
+  IntEncoder::Cursor enc;
+  const ResidualContexts* contexts;
   const int32_t* q;
   const uint32_t* lo;
   int32_t operator()(size_t i, int32_t pred, int ctx, int* tok) {
-    *tok = enc->put_signed(wrap_sub(q[i], pred), ctx, ResidualContexts::escape_set(ctx));
-    if (lo) enc->raw_bits(lo[i], 32);
+    *tok = enc.put_signed(wrap_sub(q[i], pred), ctx, contexts->escape_set(ctx));
+    if (lo) enc.raw_bits(lo[i], 32);
     return q[i];
   }
 };
 
 struct DecCoder {
-  IntDecoder* dec;
+  IntDecoder::Cursor dec;
+  const ResidualContexts* contexts;
   uint32_t* lo;
   int32_t operator()(size_t i, int32_t pred, int ctx, int* tok) {
-    int32_t r = dec->get_signed(ctx, tok, ResidualContexts::escape_set(ctx));
-    if (lo) lo[i] = dec->raw_bits(32);
+    int32_t r = dec.get_signed(ctx, tok, contexts->escape_set(ctx));
+    if (lo) lo[i] = dec.raw_bits(32);
     return wrap_add(pred, r);
   }
 };
@@ -145,20 +185,60 @@ void base_residuals(const int32_t* q, size_t frames, size_t points, std::vector<
 
 // Adds to h the residuals of point p under base residuals e plus reference r's deviation, over
 // frames first, first + step, ... of the window (the reference predictors 5/6).
+template <typename H>
 void ref_cost(const std::vector<int32_t>& e, const uint8_t* valid, size_t frames, size_t points,
-              size_t p, size_t r, size_t first, size_t step, TokenHist* h) {
+              size_t p, size_t r, size_t first, size_t step, H* h) {
   const size_t stride = points * 3;
-  int prev[3] = {0, 0, 0};
+  typename std::remove_pointer<decltype(h)>::type::StateType st[3];
   for (size_t f = first; f < frames; f += step) {
     if (!valid[f * points + p]) continue;
     const int32_t* c = &e[f * stride + p * 3];
     if (valid[f * points + r]) {
       const int32_t* cr = &e[f * stride + r * 3];
-      for (int a = 0; a < 3; ++a) prev[a] = h->add(wrap_sub(c[a], cr[a]), prev[a]);
+      for (int a = 0; a < 3; ++a) h->add(wrap_sub(c[a], cr[a]), &st[a]);
     } else {
-      for (int a = 0; a < 3; ++a) prev[a] = h->add(c[a], prev[a]);
+      for (int a = 0; a < 3; ++a) h->add(c[a], &st[a]);
     }
   }
+}
+
+// The window's period for predictors 8/9, or 0 when none is worth trying. Differences
+// q[f] - q[f-T] are costed (bit_cost, averaged) on a sample of points and frames for each T in
+// [2, min(F / 2, 256)], first on at most 4 points x 8 frames, then the 8 best T again on 16 x 32;
+// the frames before T count at the cost of q[f] - q[f-1]. The T with the lowest total is kept
+// if it is under 0.8 times that of q[f] - q[f-1] over the window (a motion that repeats, e.g. a
+// looped animation).
+size_t find_period(const int32_t* q, const uint8_t* valid, size_t frames, size_t points) {
+  if (frames < 4 || points == 0) return 0;
+  const size_t stride = points * 3;
+  const double F = static_cast<double>(frames);
+  auto total = [&](size_t T, size_t np, size_t nf, double base) {  // estimated window bits
+    const size_t pstep = (points + np - 1) / np, fstep = std::max<size_t>(1, (frames - T) / nf);
+    uint64_t bits = 0, n = 0;
+    for (size_t f = T; f < frames; f += fstep)
+      for (size_t p = 0; p < points; p += pstep) {
+        if (!valid[f * points + p] || !valid[(f - T) * points + p]) continue;
+        const int32_t* c = q + f * stride + p * 3;
+        for (int a = 0; a < 3; ++a) bits += bit_cost(wrap_sub(c[a], *(c + a - T * stride)));
+        n += 3;
+      }
+    const double avg = n ? static_cast<double>(bits) / static_cast<double>(n) : 1e30;
+    return avg * (F - static_cast<double>(T)) + base * static_cast<double>(T);
+  };
+  const size_t top = std::min<size_t>(frames / 2, 256);
+  std::vector<std::pair<double, size_t>> coarse;
+  const double base_coarse = total(1, 4, 8, 0) / (F - 1);
+  for (size_t T = 2; T <= top; ++T) coarse.emplace_back(total(T, 4, 8, base_coarse), T);
+  const size_t keep = std::min<size_t>(8, coarse.size());
+  std::partial_sort(coarse.begin(), coarse.begin() + static_cast<std::ptrdiff_t>(keep), coarse.end());
+  const double base = total(1, 16, 32, 0) / (F - 1);
+  size_t best = 0;
+  double best_total = 0.8 * base * F;
+  for (size_t k = 0; k < keep; ++k) {
+    const double c = total(coarse[k].second, 16, 32, base);
+    if (c < best_total) best_total = c, best = coarse[k].second;
+  }
+  return best;
 }
 
 }  // namespace
@@ -168,11 +248,12 @@ std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uin
                                       int scheme) {
   const size_t F = w.frames, N = w.points;
   std::vector<int32_t> q = w.q;  // gap entries get filled by the walks
-  std::vector<uint8_t> tok(N * 3);
+  std::vector<EstState> est(N * 3);
   ResidualContexts ctx(scheme, N);
   std::vector<uint8_t> modes(N);
   std::vector<uint32_t> ref(N, 0);
   bool any_ref = false;
+  size_t period = 0;
   const int32_t* t = tpred.empty() ? nullptr : tpred.data();
   // Predictor per point: the cheapest by an estimate of coded bits over the window.
   if (F > 1) {
@@ -183,7 +264,7 @@ std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uin
     {
       const std::vector<uint8_t> mm(N, static_cast<uint8_t>(kPredPrevious));
       for (TokenHist& h : first) h.clear();
-      CostCoder c0{q.data(), N, first.data(), tok.data()};
+      CostCoder c0{q.data(), N, first.data(), est.data()};
       walk_window(1, N, w.valid.data(), mm.data(), nullptr, t, q.data(), ctx, c0);
       const size_t S = N * 3;
       for (size_t f = 1; f < F; ++f)
@@ -193,27 +274,44 @@ std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uin
     }
     std::vector<int32_t> e[2];
     base_residuals(q.data(), F, N, e);
-    {  // predictors 0-2 in one pass: residuals e0, e1 and e1[f] - e1[f-1] (quadratic)
-      std::vector<TokenHist> hist(3 * N);
-      std::vector<uint8_t> prev(9 * N, 0);  // [mode][point][axis]
-      for (size_t p = 0; p < N; ++p)
-        for (int m = 0; m < 3; ++m) hist[m * N + p] = first[p];
+    {  // In one pass: predictors 0 and 1 (residuals e0, e1), then with scheme 1/2 quadratic (2,
+       // e1[f] - e1[f-1]); with scheme 3 smooth (7) instead (quadratic is almost never the best
+       // then, and is not tried) and, when the window repeats with a period, 8 and 9.
+      if (scheme >= 3) period = find_period(q.data(), w.valid.data(), F, N);
+      const int nm = scheme < 3 ? 3 : period ? 5 : 3;
+      const uint8_t ids[5] = {kPredPrevious, kPredLinear,
+                              static_cast<uint8_t>(scheme < 3 ? kPredQuadratic : kPredSmooth),
+                              kPredPeriod, kPredPeriodPrevious};
+      std::vector<TokenHist> hist(static_cast<size_t>(nm) * N);
       const size_t S = N * 3;
+      std::vector<EstState> st(static_cast<size_t>(nm) * S);  // [mode][point][axis]
+      for (size_t p = 0; p < N; ++p)
+        for (int m = 0; m < nm; ++m) hist[m * N + p] = first[p];
       for (size_t f = 1; f < F; ++f)
         for (size_t p = 0; p < N; ++p) {
           if (!w.valid[f * N + p]) continue;
           for (int a = 0; a < 3; ++a) {
             const size_t i = f * S + p * 3 + a, k = p * 3 + static_cast<size_t>(a);
-            const int32_t r2 = f < 2 ? e[0][i] : f < 3 ? e[1][i] : wrap_sub(e[1][i], e[1][i - S]);
-            prev[k] = static_cast<uint8_t>(hist[p].add(e[0][i], prev[k]));
-            prev[S + k] = static_cast<uint8_t>(hist[N + p].add(e[1][i], prev[S + k]));
-            prev[2 * S + k] = static_cast<uint8_t>(hist[2 * N + p].add(r2, prev[2 * S + k]));
+            const int32_t r2 =
+                scheme >= 3 ? wrap_sub(q[i], predict_smooth(f, &q[i], S))
+                : f < 2     ? e[0][i]
+                : f < 3     ? e[1][i]
+                            : wrap_sub(e[1][i], e[1][i - S]);
+            hist[p].add(e[0][i], &st[k]);
+            hist[N + p].add(e[1][i], &st[S + k]);
+            hist[2 * N + p].add(r2, &st[2 * S + k]);
+            if (nm > 3) {
+              const int32_t r3 = wrap_sub(q[i], predict_one(kPredPeriod, f, &q[i], S, nullptr, period));
+              const int32_t r4 = wrap_sub(q[i], predict_one(kPredPeriodPrevious, f, &q[i], S, nullptr, period));
+              hist[3 * N + p].add(r3, &st[3 * S + k]);
+              hist[4 * N + p].add(r4, &st[4 * S + k]);
+            }
           }
         }
-      for (int m = 0; m < 3; ++m)
+      for (int m = 0; m < nm; ++m)
         for (size_t p = 0; p < N; ++p) {
           const uint64_t c = hist[m * N + p].bits16();
-          if (c < best[p]) best[p] = c, modes[p] = static_cast<uint8_t>(m);
+          if (c < best[p]) best[p] = c, modes[p] = ids[m];
         }
     }
     if (t) {  // transform predictors: walks (their frame-0 rule and gap fill differ)
@@ -222,8 +320,8 @@ std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uin
       for (int m = kPredTransform; m <= kPredTransformLinear; ++m) {
         const std::vector<uint8_t> mm(N, static_cast<uint8_t>(m));
         for (TokenHist& h : hist) h.clear();
-        std::fill(tok.begin(), tok.end(), 0);
-        CostCoder cc{qt.data(), N, hist.data(), tok.data()};
+        std::fill(est.begin(), est.end(), EstState());
+        CostCoder cc{qt.data(), N, hist.data(), est.data()};
         walk_window(F, N, w.valid.data(), mm.data(), nullptr, t, qt.data(), ctx, cc);
         for (size_t p = 0; p < N; ++p) {
           const uint64_t c = hist[p].bits16();
@@ -243,7 +341,7 @@ std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uin
         int best_b = -1;
         for (size_t k = 0; k < K && cand[p * K + k] != UINT32_MAX; ++k)
           for (int b = 0; b < 2; ++b) {
-            TokenHist h;
+            Hist<PrevState> h;  // ranking only: the cheaper estimate
             h.clear();
             ref_cost(e[b], w.valid.data(), F, N, p, cand[p * K + k], 1, step, &h);
             const uint64_t c = h.bits16();
@@ -267,8 +365,9 @@ std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uin
   ctx.reset();
   IntEncoder enc(ResidualContexts::count(scheme));
   if (scheme >= 2) enc.skew_contexts();
-  EncCoder ec{&enc, q.data(), float64 ? w.lo.data() : nullptr};
-  walk_window(F, N, w.valid.data(), modes.data(), ref.data(), t, q.data(), ctx, ec);
+  EncCoder ec{enc.cursor(), &ctx, q.data(), float64 ? w.lo.data() : nullptr};
+  walk_window(F, N, w.valid.data(), modes.data(), ref.data(), t, q.data(), ctx, ec, period);
+  enc.commit(ec.enc);
 
   ByteWriter out;
   put_block(&out, codec_payload);
@@ -279,6 +378,8 @@ std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uin
       if (uses_ref(modes[p])) dist.push_back(static_cast<uint32_t>(p - 1 - ref[p]));
     put_block(&out, encode_uints(dist));
   }
+  if (std::any_of(modes.begin(), modes.end(), [](uint8_t m) { return uses_period(m); }))
+    out.varint(period);
   out.bytes(enc.finish());
   return std::move(out.buffer());
 }
@@ -298,7 +399,7 @@ std::vector<uint8_t> decode_modes(const PositionsPayload& pp, size_t points, int
   std::vector<int32_t> m = decode_ints(pp.modes, pp.modes_size, points, what + " predictors");
   std::vector<uint8_t> modes(points);
   for (size_t p = 0; p < points; ++p) {
-    if (m[p] < 0 || m[p] >= (scheme >= 2 ? kPredCount : kPredRefPrevious))
+    if (m[p] < 0 || m[p] >= predictor_count(scheme))
       fail(ErrorCode::kCorrupt, what, "unknown predictor " + std::to_string(m[p]));
     if (p == 0 && uses_ref(m[p]))
       fail(ErrorCode::kCorrupt, what, "point 0 uses a reference predictor");
@@ -312,16 +413,17 @@ void decode_positions(const PositionsPayload& pp, const std::vector<int32_t>& tp
   const size_t F = w->frames, N = w->points;
   std::vector<uint8_t> modes = decode_modes(pp, N, scheme, what);
   size_t nref = 0;
+  bool any_period = false;
   for (uint8_t m : modes) {
     if ((m == kPredTransform || m == kPredTransformLinear) && tpred.size() != F * N * 3)
       fail(ErrorCode::kCorrupt, what, "a point uses the transform predictor but no codec ran");
     nref += uses_ref(m) ? 1 : 0;
+    any_period = any_period || uses_period(m);
   }
-  const uint8_t* res = pp.residuals;
-  size_t res_size = pp.residuals_size;
+  // The reference block, then the period, come first in the rest of the payload (3.3).
+  ByteReader r(pp.residuals, pp.residuals_size, what);
   std::vector<uint32_t> ref(N, 0);
-  if (nref > 0) {  // the reference block comes first in the rest of the payload (3.3)
-    ByteReader r(pp.residuals, pp.residuals_size, what);
+  if (nref > 0) {
     size_t n;
     const uint8_t* b = get_block(&r, &n, "reference block length");
     std::vector<uint32_t> dist = decode_uints(b, n, nref, what + " references");
@@ -332,17 +434,26 @@ void decode_positions(const PositionsPayload& pp, const std::vector<int32_t>& tp
                                             std::to_string(dist[k] - (p - 1)));
       ref[p] = static_cast<uint32_t>(p - 1 - dist[k++]);
     }
-    res_size = r.remaining();
-    res = r.bytes(res_size);
   }
+  size_t period = 0;
+  if (any_period) {
+    const uint64_t T = r.varint();
+    if (T < 1 || T >= F)
+      fail(ErrorCode::kCorrupt, what,
+           "period of " + std::to_string(T) + " frames in a window of " + std::to_string(F));
+    period = static_cast<size_t>(T);
+  }
+  const size_t res_size = r.remaining();
+  const uint8_t* res = r.bytes(res_size);
   w->q.assign(F * N * 3, 0);
   if (float64) w->lo.assign(F * N * 3, 0);
   ResidualContexts ctx(scheme, N);
   IntDecoder dec(res, res_size, ResidualContexts::count(scheme), what + " residuals");
   if (scheme >= 2) dec.skew_contexts();
-  DecCoder dc{&dec, float64 ? w->lo.data() : nullptr};
+  DecCoder dc{dec.cursor(), &ctx, float64 ? w->lo.data() : nullptr};
   walk_window(F, N, w->valid.data(), modes.data(), ref.data(),
-              tpred.empty() ? nullptr : tpred.data(), w->q.data(), ctx, dc);
+              tpred.empty() ? nullptr : tpred.data(), w->q.data(), ctx, dc, period);
+  dec.commit(dc.dec);
   if (!dec.at_end()) fail(ErrorCode::kCorrupt, what, "residual block has bytes past its end");
 }
 

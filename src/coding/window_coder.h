@@ -33,9 +33,12 @@ struct GridInfo {
 // POSW payload after the window index and has_mask byte: codec bytes, modes, residuals.
 // `codec_payload` is what the transform codec wrote (empty if none), `tpred` its prediction on
 // the grid (frames x points x 3, empty if none).
-// `scheme` is the coding generation (FORMAT.md 3.3): 2 (format 2.x: reference predictors, 144
-// residual contexts), what capz writes; 1 (format 1.x) only for tests of old streams.
-constexpr int kPositionScheme = 2;
+// `scheme` is the coding generation (FORMAT.md 3.3): 3 (format 3.x: smooth and period
+// predictors, 504 residual contexts), what capz writes; 2 (format 2.x: reference predictors, 84
+// contexts) and 1 (format 1.x) for reading old streams and for their tests.
+constexpr int kPositionScheme = 3;
+// The scheme of a stream of format major version `major`.
+inline int position_scheme(int major) { return major >= 3 ? 3 : major == 2 ? 2 : 1; }
 std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uint8_t>& codec_payload,
                                       const std::vector<int32_t>& tpred, bool float64,
                                       int scheme = kPositionScheme);
@@ -52,7 +55,7 @@ struct PositionsPayload {
 };
 PositionsPayload split_positions(const uint8_t* data, size_t size, const std::string& what);
 // Decodes into w (frames, points, valid set by the caller). tpred may be empty if no codec.
-// `scheme`: 1 for a format 1.x stream, 2 for 2.x.
+// `scheme`: position_scheme(major) of the stream.
 void decode_positions(const PositionsPayload& pp, const std::vector<int32_t>& tpred, bool float64,
                       int scheme, WindowInts* w, const std::string& what);
 // Predictor modes of a payload.

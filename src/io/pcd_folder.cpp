@@ -1,5 +1,5 @@
-// A folder of PCD frames <-> Take, through PCL's PCDReader / PCDWriter. The only capz file of the
-// I/O layer that includes PCL headers.
+// A folder of PCD frames <-> Take, through PCL's PCDReader / PCDWriter, which live in a module
+// loaded on first use (io/pcd_backend.h: the capz binary does not link PCL's I/O library).
 //
 // Reading: frames are the *.pcd files of the folder in natural order of their names
 // (frame_2 before frame_10); every frame must have the first frame's point count; a point with a
@@ -11,11 +11,6 @@
 // Writing: one file per frame, x y z, float32 when every coordinate of the take is exactly a
 // float (e.g. the take came from PCD), float64 otherwise (so no precision is lost); gaps are NaN
 // points. Files are written into a temporary sibling folder renamed into place (AtomicDir).
-#include <pcl/PCLPointCloud2.h>
-#include <pcl/console/print.h>
-#include <pcl/exceptions.h>
-#include <pcl/io/pcd_io.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -33,6 +28,7 @@
 #include "capz/stream.h"
 #include "core/atomic_file.h"
 #include "io/natural_sort.h"
+#include "io/pcd_backend.h"
 #include "io/text_number.h"
 
 namespace fs = std::filesystem;
@@ -40,19 +36,6 @@ namespace fs = std::filesystem;
 namespace capz {
 
 namespace {
-
-// Silences PCL's console output for the lifetime of the object (PCL prints its own messages to
-// stderr on bad files; capz reports errors itself). Restores the previous level.
-class QuietPcl {
- public:
-  QuietPcl() : saved_(pcl::console::getVerbosityLevel()) {
-    pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
-  }
-  ~QuietPcl() { pcl::console::setVerbosityLevel(saved_); }
-
- private:
-  pcl::console::VERBOSITY_LEVEL saved_;
-};
 
 // What capz needs from a PCD header, parsed independently of PCL so the counts can be checked
 // against the file size before PCL allocates anything.
@@ -252,64 +235,67 @@ void check_ascii_body(const std::vector<uint8_t>& bytes, const PcdHeader& h,
 
 struct FieldRef {
   uint32_t offset = 0;
-  uint8_t datatype = 0;
+  pcd::FieldType type = pcd::FieldType::kUnknown;
 };
 
-double read_value(const uint8_t* p, uint8_t datatype) {
-  switch (datatype) {
-    case pcl::PCLPointField::FLOAT32: {
+double read_value(const uint8_t* p, pcd::FieldType type) {
+  switch (type) {
+    case pcd::FieldType::kFloat32: {
       float v;
       std::memcpy(&v, p, 4);
       return v;
     }
-    case pcl::PCLPointField::FLOAT64: {
+    case pcd::FieldType::kFloat64: {
       double v;
       std::memcpy(&v, p, 8);
       return v;
     }
-    case pcl::PCLPointField::INT8: {
+    case pcd::FieldType::kInt8: {
       int8_t v;
       std::memcpy(&v, p, 1);
       return v;
     }
-    case pcl::PCLPointField::UINT8:
+    case pcd::FieldType::kUInt8:
       return p[0];
-    case pcl::PCLPointField::INT16: {
+    case pcd::FieldType::kInt16: {
       int16_t v;
       std::memcpy(&v, p, 2);
       return v;
     }
-    case pcl::PCLPointField::UINT16: {
+    case pcd::FieldType::kUInt16: {
       uint16_t v;
       std::memcpy(&v, p, 2);
       return v;
     }
-    case pcl::PCLPointField::INT32: {
+    case pcd::FieldType::kInt32: {
       int32_t v;
       std::memcpy(&v, p, 4);
       return v;
     }
-    case pcl::PCLPointField::UINT32: {
+    case pcd::FieldType::kUInt32: {
       uint32_t v;
       std::memcpy(&v, p, 4);
       return v;
     }
-    case pcl::PCLPointField::INT64: {
+    case pcd::FieldType::kInt64: {
       int64_t v;
       std::memcpy(&v, p, 8);
       return static_cast<double>(v);
     }
-    case pcl::PCLPointField::UINT64: {
+    case pcd::FieldType::kUInt64: {
       uint64_t v;
       std::memcpy(&v, p, 8);
       return static_cast<double>(v);
     }
+    case pcd::FieldType::kUnknown:
+      break;
   }
   return std::nan("");
 }
 
-// Reads one PCD file into a PCL blob after checking its header; returns the DATA encoding.
-std::string read_one(const std::string& path, pcl::PCLPointCloud2* cloud) {
+// Reads one PCD file into a cloud (through PCL) after checking its header; returns the DATA
+// encoding.
+std::string read_one(const std::string& path, pcd::Cloud* cloud) {
   std::vector<uint8_t> bytes = read_file(path);
   if (bytes.empty()) fail(ErrorCode::kCorrupt, path, "empty PCD file (0 bytes)");
   PcdHeader h = parse_header(bytes, path);
@@ -319,39 +305,21 @@ std::string read_one(const std::string& path, pcl::PCLPointCloud2* cloud) {
 
   if (h.data == "ascii") check_ascii_body(bytes, h, path);
 
-  QuietPcl quiet;
-  pcl::PCDReader reader;
-  Eigen::Vector4f origin;
-  Eigen::Quaternionf orientation;
-  int version = 0, data_type = 0;
-  unsigned int data_idx = 0;
-  try {
-    std::string head(reinterpret_cast<const char*>(bytes.data()), h.data_idx);
-    std::istringstream hs(head, std::ios::binary);
-    if (reader.readHeader(hs, *cloud, origin, orientation, version, data_type, data_idx) < 0)
+  std::string msg;
+  switch (pcd::backend(path).read(bytes.data(), bytes.size(), h.data_idx, h.points, h.point_step,
+                                  cloud, &msg)) {
+    case pcd::Status::kOk:
+      break;
+    case pcd::Status::kHeaderRejected:
       fail(ErrorCode::kCorrupt, path, "PCL rejects the PCD header");
-    if (cloud->width * static_cast<uint64_t>(cloud->height) != h.points ||
-        cloud->point_step != h.point_step)
+    case pcd::Status::kHeaderDiffers:
       fail(ErrorCode::kCorrupt, path, "PCD header read differently by PCL and capz");
-    int res;
-    if (data_type == 0) {
-      std::string body(reinterpret_cast<const char*>(bytes.data()) + h.data_idx,
-                       bytes.size() - h.data_idx);
-      std::istringstream bs(body, std::ios::binary);
-      res = reader.readBodyASCII(bs, *cloud, version);
-    } else {
-      res = reader.readBodyBinary(bytes.data(), *cloud, version, data_type == 2,
-                                  static_cast<unsigned int>(h.data_idx));
-    }
-    if (res < 0) fail(ErrorCode::kCorrupt, path, "PCL cannot read the PCD body (" + h.data + ")");
-  } catch (const pcl::PCLException& e) {
-    fail(ErrorCode::kCorrupt, path, std::string("PCL: ") + e.what());
-  } catch (const Error&) {
-    throw;
-  } catch (const std::bad_alloc&) {
-    throw;
-  } catch (const std::exception& e) {  // e.g. boost::bad_lexical_cast on an ASCII body
-    fail(ErrorCode::kCorrupt, path, std::string("PCL cannot parse the body: ") + e.what());
+    case pcd::Status::kPclException:
+      fail(ErrorCode::kCorrupt, path, "PCL: " + msg);
+    case pcd::Status::kOtherException:
+      fail(ErrorCode::kCorrupt, path, "PCL cannot parse the body: " + msg);
+    default:
+      fail(ErrorCode::kCorrupt, path, "PCL cannot read the PCD body (" + h.data + ")");
   }
   if (cloud->data.size() < h.points * h.point_step)
     fail(ErrorCode::kCorrupt, path, "PCD body is shorter than its header says");
@@ -391,7 +359,7 @@ void read_frame(const std::string& dir, const std::vector<std::string>& names, s
                 size_t* points, std::string* encoding, std::vector<double>* xyz,
                 std::vector<uint8_t>* valid) {
   const std::string path = (fs::path(dir) / names[f]).string();
-  pcl::PCLPointCloud2 cloud;
+  pcd::Cloud cloud;
   std::string enc = read_one(path, &cloud);
   const size_t n = static_cast<size_t>(cloud.width) * cloud.height;
   if (f == 0) {
@@ -406,16 +374,16 @@ void read_frame(const std::string& dir, const std::vector<std::string>& names, s
   const char* axes[3] = {"x", "y", "z"};
   for (int a = 0; a < 3; ++a) {
     auto it = std::find_if(cloud.fields.begin(), cloud.fields.end(),
-                           [&](const pcl::PCLPointField& fd) { return fd.name == axes[a]; });
+                           [&](const pcd::Field& fd) { return fd.name == axes[a]; });
     ref[a].offset = it->offset;
-    ref[a].datatype = it->datatype;
+    ref[a].type = it->type;
   }
   xyz->assign(n * 3, 0.0);
   valid->assign(n, 0);
   for (size_t p = 0; p < n; ++p) {
     const uint8_t* base = cloud.data.data() + p * cloud.point_step;
     double v[3];
-    for (int a = 0; a < 3; ++a) v[a] = read_value(base + ref[a].offset, ref[a].datatype);
+    for (int a = 0; a < 3; ++a) v[a] = read_value(base + ref[a].offset, ref[a].type);
     if (std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2])) {
       std::copy(v, v + 3, xyz->data() + 3 * p);
       (*valid)[p] = 1;
@@ -545,24 +513,21 @@ void write_pcd_folder(const Take& take, const std::string& dir, const WriteOptio
     }
   }
   AtomicDir out(dir, opts.overwrite);
-  QuietPcl quiet;
-  pcl::PCDWriter writer;
-  pcl::PCLPointCloud2 cloud;
+  const pcd::Backend& backend = pcd::backend(dir);
+  pcd::Cloud cloud;
   const char* axes[3] = {"x", "y", "z"};
   for (int a = 0; a < 3; ++a) {
-    pcl::PCLPointField fd;
+    pcd::Field fd;
     fd.name = axes[a];
     fd.offset = static_cast<uint32_t>(a) * size;
-    fd.datatype = as_float ? pcl::PCLPointField::FLOAT32 : pcl::PCLPointField::FLOAT64;
+    fd.type = as_float ? pcd::FieldType::kFloat32 : pcd::FieldType::kFloat64;
     fd.count = 1;
     cloud.fields.push_back(fd);
   }
   cloud.width = static_cast<uint32_t>(N);
   cloud.height = 1;
   cloud.point_step = 3 * size;
-  cloud.row_step = cloud.point_step * cloud.width;
-  cloud.is_bigendian = false;
-  cloud.data.resize(static_cast<size_t>(cloud.row_step));
+  cloud.data.resize(static_cast<size_t>(cloud.point_step) * cloud.width);
   const double nan = std::nan("");
   for (size_t f = 0; f < F; ++f) {
     bool dense = true;
@@ -581,23 +546,13 @@ void write_pcd_folder(const Take& take, const std::string& dir, const WriteOptio
         }
       }
     }
-    cloud.is_dense = dense;
+    cloud.dense = dense;
     const std::string path = (fs::path(out.temp_dir()) / names[f]).string();
-    int res = -1;
-    try {
-      if (enc == "ascii")
-        res = writer.writeASCII(path, cloud, Eigen::Vector4f::Zero(),
-                                Eigen::Quaternionf::Identity(), as_float ? 9 : 17);
-      else if (enc == "binary")
-        res = writer.writeBinary(path, cloud, Eigen::Vector4f::Zero(),
-                                 Eigen::Quaternionf::Identity());
-      else
-        res = writer.writeBinaryCompressed(path, cloud, Eigen::Vector4f::Zero(),
-                                           Eigen::Quaternionf::Identity());
-    } catch (const pcl::PCLException& e) {
-      fail(ErrorCode::kIo, (fs::path(dir) / names[f]).string(), std::string("PCL: ") + e.what());
-    }
-    if (res != 0)
+    std::string msg;
+    const pcd::Status st = backend.write(path, cloud, enc, as_float ? 9 : 17, &msg);
+    if (st == pcd::Status::kPclException)
+      fail(ErrorCode::kIo, (fs::path(dir) / names[f]).string(), "PCL: " + msg);
+    if (st != pcd::Status::kOk)
       fail(ErrorCode::kIo, (fs::path(dir) / names[f]).string(), "PCL could not write the frame");
   }
   out.commit();

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Hand-crafts the corrupt .capz streams in streams/ from a valid one (docs/FORMAT.md).
-Run: python3 make_streams.py VALID.capz [VALID_2.0.capz]   (committed outputs; rerun only when the
-format changes; the second stream, e.g. tests/golden/streams/Capture0004.c3d.grid1mm.v2.0.capz,
-gives the version-downgrade case)
+Run: python3 make_streams.py VALID.capz [VALID_2.0.capz [VALID_3.0.capz]]   (committed outputs;
+rerun only when the format changes; VALID.capz was tests/golden/streams/Capture0004.c3d.grid1mm.v1.0.capz,
+the second and third streams, its v2.0 and v3.0 siblings, give the version-downgrade cases)
 Each file's name says what is wrong; test_corrupt.cpp expects every one to be rejected cleanly."""
 import struct, sys, zlib, os
 
@@ -33,7 +33,7 @@ out['empty.capz'] = b''
 out['text_file.capz'] = b'hello, this is not a capz file\n'
 out['magic_only.capz'] = src[:9]
 out['crlf_converted_magic.capz'] = src[:5] + b'\r\r\n' + src[7:]
-out['future_major_version.capz'] = src[:9] + bytes([3, 0]) + src[11:]  # capz reads 1.x and 2.x
+out['future_major_version.capz'] = src[:9] + bytes([4, 0]) + src[11:]  # capz reads 1.x to 3.x
 out['major_version_zero.capz'] = src[:9] + bytes([0, 0]) + src[11:]
 out['truncated_half.capz'] = src[:len(src)//2]
 out['truncated_last_byte.capz'] = src[:-1]
@@ -81,6 +81,10 @@ out['indx_missing.capz'] = src[:ix[0]]
 if len(sys.argv) > 2:
     v2 = open(sys.argv[2], 'rb').read()
     out['v2_stream_labelled_major_1.capz'] = v2[:9] + bytes([1, 1]) + v2[11:]
+# A 3.0 stream relabelled 2.0: its POSW is then read with the 2.x coding and must fail cleanly.
+if len(sys.argv) > 3:
+    v3 = open(sys.argv[3], 'rb').read()
+    out['v3_stream_labelled_major_2.capz'] = v3[:9] + bytes([2, 0]) + v3[11:]
 os.makedirs('streams', exist_ok=True)
 for k, v in out.items():
     open(os.path.join('streams', k), 'wb').write(v)

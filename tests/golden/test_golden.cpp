@@ -1,4 +1,4 @@
-// Golden streams (tests/golden/streams, made by capz 1.0 and 2.0 from data/ samples; names say input,
+// Golden streams (tests/golden/streams, made by capz 1.0, 2.0 and 3.0 from data/ samples; names say input,
 // method and format version) must keep decoding: to the same bytes as when they were made
 // (CRC-32C of the decoded take, MANIFEST.txt) and to the source file within the stored bound.
 #include <gtest/gtest.h>

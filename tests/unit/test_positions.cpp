@@ -1,8 +1,11 @@
 // The POSW position coder alone (docs/FORMAT.md 3.3): every predictor, the reference predictors
-// 5/6 and both residual context schemes round-trip exactly, the encoder's choices decode to the
-// same integers, and malformed predictor / reference fields are rejected.
+// 5/6, the smooth and period predictors 7-9 and all three residual context schemes round-trip
+// exactly, the encoder's choices decode to the same integers, and malformed predictor /
+// reference / period fields are rejected.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "capz/error.h"
@@ -63,8 +66,8 @@ TEST(Positions, GivenRigidGroupsThenReferencePredictorsChosenAndExact) {
   }
 }
 
-TEST(Positions, GivenGapsThenBothSchemesRoundTripExactly) {
-  for (int scheme = 1; scheme <= 2; ++scheme) {
+TEST(Positions, GivenGapsThenEverySchemeRoundTripsExactly) {
+  for (int scheme = 1; scheme <= 3; ++scheme) {
     SCOPED_TRACE(scheme);
     WindowInts w = rigid_groups(150, 30, 3, 0.05, 7);
     std::vector<uint8_t> modes = positions_round_trip(w, scheme);
@@ -81,6 +84,7 @@ TEST(Positions, GivenWrappingValuesAndFloat64LowBitsThenExact) {
   w.lo.resize(w.q.size());
   for (uint32_t& v : w.lo) v = static_cast<uint32_t>(rng());
   positions_round_trip(w, 2, true);
+  positions_round_trip(w, 3, true);
 }
 
 TEST(Positions, GivenTinyWindowsThenExact) {
@@ -88,9 +92,21 @@ TEST(Positions, GivenTinyWindowsThenExact) {
     for (size_t points : {1, 2, 5}) {
       WindowInts w = rigid_groups(frames, points, 2, 0, 5);
       positions_round_trip(w, 2);
+      positions_round_trip(w, 3);
     }
   }
 }
+
+// A walk's coder that records each prediction and returns the true integers (token 0).
+struct Recorder {
+  const int32_t* q;
+  std::vector<int32_t>* preds;
+  int32_t operator()(size_t i, int32_t pred, int, int* tok) {
+    (*preds)[i] = pred;
+    *tok = 0;
+    return q[i];
+  }
+};
 
 // Every predictor computed by the walk equals its definition in FORMAT.md 3.3, for a fixed
 // mode and reference set (independent of the encoder's choices).
@@ -100,15 +116,6 @@ TEST(Positions, GivenFixedModesThenWalkPredictsAsSpecified) {
   const std::vector<uint8_t> modes = {kPredLinear, kPredRefPrevious, kPredRefLinear,
                                       kPredRefLinear};
   const std::vector<uint32_t> ref = {0, 0, 1, 0};
-  struct Recorder {
-    const int32_t* q;
-    std::vector<int32_t>* preds;
-    int32_t operator()(size_t i, int32_t pred, int, int* tok) {
-      (*preds)[i] = pred;
-      *tok = 0;
-      return q[i];
-    }
-  };
   std::vector<int32_t> q = w.q, preds(q.size(), 0);
   Recorder rec{w.q.data(), &preds};
   ResidualContexts ctx(2, 4);
@@ -130,8 +137,126 @@ TEST(Positions, GivenFixedModesThenWalkPredictsAsSpecified) {
   EXPECT_EQ(Q(3, 1, 0), Q(2, 1, 0));  // the gap holds the previous frame's integers
 }
 
+// Predictors 7-9 as computed by the walk equal their definitions in FORMAT.md 3.3 (integer
+// least-squares line with its rounding rule, one period back), including wrapping histories.
+TEST(Positions, GivenSmoothAndPeriodModesThenWalkPredictsAsSpecified) {
+  const size_t F = 12, N = 3, T = 4;
+  WindowInts w = rigid_groups(F, N, 1, 0, 13);
+  w.q[(2 * N + 0) * 3 + 1] = INT32_MAX - 3;  // wraps against its neighbours' values
+  w.valid[5 * N + 1] = 0;                    // a gap: the walk holds frame 4's integers
+  const std::vector<uint8_t> modes = {kPredSmooth, kPredPeriod, kPredPeriodPrevious};
+  const std::vector<uint32_t> ref(N, 0);
+  std::vector<int32_t> q = w.q, preds(q.size(), 0);
+  Recorder rec{w.q.data(), &preds};
+  ResidualContexts ctx(3, N);
+  walk_window(F, N, w.valid.data(), modes.data(), ref.data(), nullptr, q.data(), ctx, rec, T);
+  auto Q = [&](size_t f, size_t p, int a) -> int64_t { return q[(f * N + p) * 3 + a]; };
+  auto wrap = [](int64_t v) { return static_cast<int32_t>(static_cast<uint32_t>(v)); };
+  for (size_t f = 1; f < F; ++f)
+    for (int a = 0; a < 3; ++a) {
+      // Smooth: the least-squares line through the last K = min(6, f) values, at frame f.
+      const int64_t K = std::min<int64_t>(6, static_cast<int64_t>(f));
+      int64_t expect = Q(f - 1, 0, a);
+      if (K >= 2) {
+        int64_t n = 0;
+        for (int64_t j = 2; j <= K; ++j) {
+          const int64_t d = wrap(Q(f - static_cast<size_t>(j), 0, a) - Q(f - 1, 0, a));
+          n += (4 * K + 2 - 6 * j) * d;
+        }
+        const int64_t D = K * (K - 1);
+        const double exact = static_cast<double>(n) / static_cast<double>(D);
+        const int64_t r = static_cast<int64_t>(std::llround(exact));  // halves away from zero
+        EXPECT_LE(std::fabs(static_cast<double>(r) - exact), 0.5);
+        expect = Q(f - 1, 0, a) + r;
+      }
+      EXPECT_EQ(preds[(f * N + 0) * 3 + a], wrap(expect)) << f;
+      if (f != 5) {  // point 1 is a gap at frame 5
+        EXPECT_EQ(preds[(f * N + 1) * 3 + a], wrap(f < T ? Q(f - 1, 1, a) : Q(f - T, 1, a)));
+      }
+      EXPECT_EQ(preds[(f * N + 2) * 3 + a],
+                wrap(f < T + 1 ? Q(f - 1, 2, a)
+                               : Q(f - 1, 2, a) + Q(f - T, 2, a) - Q(f - T - 1, 2, a)));
+    }
+}
+
+// The smooth predictor's rounding: halves go away from zero on both sides.
+TEST(Positions, GivenHalfwayLinesThenSmoothRoundsAwayFromZero) {
+  const size_t stride = 1;
+  // K = 2 (f = 2) is linear; K = 4: weights 1, 1/2, 0, -1/2 -> q1 + (q2 - q1) / 2 - (q4 - q1) / 2.
+  const int32_t up[5] = {0, 0, 1, 1, 0};    // q4..q1 = 0, 0, 1, 1 -> 1 + (1 - 1) / 2 + 1 / 2
+  const int32_t down[5] = {0, 0, -1, -1, 0};
+  EXPECT_EQ(predict_smooth(4, up + 4, stride), 2);     // 1.5 -> 2
+  EXPECT_EQ(predict_smooth(4, down + 4, stride), -2);  // -1.5 -> -2
+  const int32_t lin[3] = {3, 5, 0};
+  EXPECT_EQ(predict_smooth(2, lin + 2, stride), 7);
+  EXPECT_EQ(predict_smooth(1, lin + 1, stride), 3);
+}
+
+// A take whose motion repeats every `period` frames (a looped animation), with a little noise
+// in the repeats when `noise` is set: one integer in 10 of a repeat differs by 1.
+WindowInts looped(size_t frames, size_t points, size_t period, bool noise, unsigned seed) {
+  WindowInts cycle = rigid_groups(period, points, 4, 0, seed);
+  WindowInts w;
+  w.frames = frames;
+  w.points = points;
+  w.valid.assign(frames * points, 1);
+  w.q.resize(frames * points * 3);
+  std::mt19937 rng(seed + 100);
+  for (size_t f = 0; f < frames; ++f)
+    for (size_t k = 0; k < points * 3; ++k)
+      w.q[f * points * 3 + k] = cycle.q[(f % period) * points * 3 + k] +
+                                (noise && f >= period && rng() % 10 == 0 ? static_cast<int32_t>(rng() % 2) * 2 - 1 : 0);
+  return w;
+}
+
+TEST(Positions, GivenLoopedMotionThenPeriodPredictorsChosenAndSmaller) {
+  for (bool noise : {false, true}) {
+    SCOPED_TRACE(noise);
+    const WindowInts w = looped(96, 40, 24, noise, 21);
+    const std::vector<uint8_t> modes = positions_round_trip(w, 3);
+    size_t periodic = 0;
+    for (uint8_t m : modes) periodic += uses_period(m) ? 1 : 0;
+    EXPECT_GE(periodic, 30u);  // a few points may follow a rigid neighbour instead
+    const size_t with = encode_positions(w, {}, {}, false, 3).size();
+    const size_t without = encode_positions(w, {}, {}, false, 2).size();  // no period predictor
+    EXPECT_LT(static_cast<double>(with), 0.7 * static_cast<double>(without))
+        << with << " vs " << without;
+    // The stream holds the period, 24 frames, after the reference block if there is one.
+    std::vector<uint8_t> pos = encode_positions(w, {}, {}, false, 3);
+    PositionsPayload pp = split_positions(pos.data(), pos.size(), "test");
+    ByteReader r(pp.residuals, pp.residuals_size, "test");
+    if (count_refs(modes) > 0) r.bytes(static_cast<size_t>(r.varint()));
+    EXPECT_EQ(r.varint(), 24u);
+  }
+}
+
+// Noisy sines a few grid steps a frame fast (a coarse grid's staircase): the smooth predictor
+// is chosen for most points and codes them smaller than the 2.0 coder.
+TEST(Positions, GivenStaircasesThenSmoothPredictorChosenAndSmaller) {
+  WindowInts w;
+  w.frames = 600;
+  w.points = 12;
+  w.valid.assign(w.frames * w.points, 1);
+  w.q.resize(w.frames * w.points * 3);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> n(0, 1);
+  for (size_t k = 0; k < w.points * 3; ++k) {
+    const double amp = 40 * (1 + 0.3 * n(rng)), freq = 0.03 * (1 + 0.2 * n(rng)), ph = n(rng);
+    for (size_t f = 0; f < w.frames; ++f)
+      w.q[f * w.points * 3 + k] = static_cast<int32_t>(
+          std::lround(amp * std::sin(freq * static_cast<double>(f) + ph) + 0.1 * n(rng)));
+  }
+  const std::vector<uint8_t> modes = positions_round_trip(w, 3);
+  EXPECT_GE(std::count(modes.begin(), modes.end(), kPredSmooth), 9);
+  const size_t with = encode_positions(w, {}, {}, false, 3).size();
+  const size_t without = encode_positions(w, {}, {}, false, 2).size();
+  EXPECT_LT(static_cast<double>(with), 0.85 * static_cast<double>(without))
+      << with << " vs " << without;
+}
+
 // A POSW payload with the given modes, reference distances and an empty residual block.
-std::vector<uint8_t> crafted(const std::vector<int32_t>& modes, const std::vector<uint32_t>& refs) {
+std::vector<uint8_t> crafted(const std::vector<int32_t>& modes, const std::vector<uint32_t>& refs,
+                             int64_t period = -1) {
   ByteWriter w;
   w.varint(0);  // no codec payload
   std::vector<uint8_t> m = encode_ints(modes);
@@ -142,6 +267,7 @@ std::vector<uint8_t> crafted(const std::vector<int32_t>& modes, const std::vecto
     w.varint(r.size());
     w.bytes(r);
   }
+  if (period >= 0) w.varint(static_cast<uint64_t>(period));
   w.bytes(IntEncoder(1).finish());
   return std::move(w.buffer());
 }
@@ -167,7 +293,17 @@ TEST(Positions, GivenBadPredictorOrReferenceFieldsThenCorrupt) {
   expect_corrupt(crafted({5, 0, 0}, {0}), 2, "point 0");              // nothing to refer to
   expect_corrupt(crafted({0, 5, 0}, {0}), 1, "unknown predictor 5");  // not in format 1.x
   expect_corrupt(crafted({0, 7, 0}, {}), 2, "unknown predictor 7");
+  expect_corrupt(crafted({0, 10, 0}, {}), 3, "unknown predictor 10");
+  expect_corrupt(crafted({0, 8, 0}, {}, 2), 2, "unknown predictor 8");  // not in format 2.x
   expect_corrupt(crafted({0, 5, 6}, {0}), 2, "POSW");                 // one distance missing
+}
+
+TEST(Positions, GivenBadPeriodFieldThenCorrupt) {
+  // The window has 4 frames: 1 <= T <= 3.
+  expect_corrupt(crafted({0, 8, 0}, {}, 0), 3, "period of 0 frames");
+  expect_corrupt(crafted({9, 0, 0}, {}, 4), 3, "period of 4 frames");
+  expect_corrupt(crafted({0, 5, 9}, {0}, int64_t{1} << 40), 3, "period of");
+  expect_corrupt(crafted({0, 0, 8}, {}), 3, "POSW");  // the period is missing (truncated)
 }
 
 }  // namespace
