@@ -62,12 +62,19 @@ inline int64_t round_div(int64_t n, int64_t d) {
 // Differences wrap to int32; the sum (|.| < 5 * 26 * 2^31) cannot overflow int64.
 inline int32_t predict_smooth(size_t f, const int32_t* c, size_t stride) {
   const int32_t q1 = *(c - stride);
-  const int64_t k = f < 6 ? static_cast<int64_t>(f) : 6;
-  if (k < 2) return q1;
-  int64_t n = 0;
-  for (int64_t j = 2; j <= k; ++j)
-    n += (4 * k + 2 - 6 * j) * static_cast<int64_t>(wrap_sub(*(c - j * stride), q1));
-  return wrap_add(q1, static_cast<int32_t>(static_cast<uint32_t>(round_div(n, k * (k - 1)))));
+  auto d = [&](size_t j) { return static_cast<int64_t>(wrap_sub(*(c - j * stride), q1)); };
+  int64_t r;
+  if (f >= 6) {  // K = 6, the usual case: a constant divisor (no division instruction)
+    const int64_t n = 14 * d(2) + 8 * d(3) + 2 * d(4) - 4 * d(5) - 10 * d(6);
+    r = n >= 0 ? (n + 15) / 30 : -((-n + 15) / 30);
+  } else {
+    const int64_t k = static_cast<int64_t>(f);
+    if (k < 2) return q1;
+    int64_t n = 0;
+    for (int64_t j = 2; j <= k; ++j) n += (4 * k + 2 - 6 * j) * d(static_cast<size_t>(j));
+    r = round_div(n, k * (k - 1));
+  }
+  return wrap_add(q1, static_cast<int32_t>(static_cast<uint32_t>(r)));
 }
 
 // Prediction of q[f] from the point's history. `c` points at q[f][p][a]; `stride` = points * 3;
@@ -104,114 +111,105 @@ inline int32_t predict_one(int mode, size_t f, const int32_t* c, size_t stride, 
   }
 }
 
+// Scheme 3's refinement of a zero run (FORMAT.md 3.3.1): 2 h + g by the run z (0..12) and
+// run = L << 1 | g (L = 0..16), h the phase of z against the previous run length L.
+struct ZeroPhaseTable {
+  uint8_t v[13][34];
+};
+constexpr ZeroPhaseTable zero_phase_table() {
+  ZeroPhaseTable t{};
+  for (int z = 0; z < 13; ++z)
+    for (int run = 0; run < 34; ++run) {
+      const int L = run >> 1;
+      const int h = L == 0 || z < L - 1 ? 0 : z == L - 1 ? 1 : 2;
+      t.v[z][run] = static_cast<uint8_t>(2 * h + (run & 1));
+    }
+  return t;
+}
+constexpr ZeroPhaseTable kZeroPhase = zero_phase_table();
+
 // Residual contexts of a window (docs/FORMAT.md 3.3.1). Per point and axis: `ta`, the token of
 // the last residual coded for it in this window, and `z`, the number of zero tokens ending there
 // (capped at 12). Scheme 1 (format 1.x): 32 contexts from ta and tb (the token coded just before
 // in the same frame). Scheme 2 (format 2.x): 84 contexts from ta or the zero run, and tb.
-// Scheme 3 (format 3.x): scheme 2's context times 6, refined while ta = 0 by the phase of the
-// zero run against the previous run length `L` and the sign `g` of the token that ended it.
-//
-// Mechanics (not format): each (point, axis) keeps, besides ta, z and the run, `part`: its share
-// of the context (scheme 2: 4 s; scheme 3: 24 s + the zero-run phase and sign), recomputed by
-// update(), so context() on the decoder's critical path only adds tb's share and the mode's base.
-// Escape sets come from a table by context.
+// Scheme 3 (format 3.x): 448 contexts: a state u (0..55) per point and axis (ta's bucket, or
+// the zero run refined by its phase against the previous run length L and that run's sign g),
+// tb, and whether the point's predictor extrapolates; u is updated once per coded token.
 class ResidualContexts {
  public:
-  ResidualContexts(int scheme, size_t points)
-      : scheme_(scheme),
-        ta_(points * 3, 0),
-        z_(points * 3, 0),
-        run_(points * 3, 0),
-        part_(points * 3, 0),
-        eset_(static_cast<size_t>(count(scheme))) {
-    for (int c = 0; c < count(scheme); ++c) {
-      int e = 0;
-      if (scheme != 1) {
-        const int c2 = scheme == 3 ? c % 504 / 6 : c;
-        e = c2 < 76 ? 0 : c2 < 80 ? 1 : 2;
-      }
-      eset_[static_cast<size_t>(c)] = static_cast<uint8_t>(e);
-    }
-  }
-  static int count(int scheme) { return scheme == 1 ? 32 : scheme == 2 ? 84 : 1008; }
+  ResidualContexts(int scheme, size_t points) : scheme_(scheme), st_(points * 3) {}
+  static int count(int scheme) { return scheme == 1 ? 32 : scheme == 2 ? 84 : 448; }
+  struct State {
+    uint8_t ta = 0, z = 0, run = 0, u = 0;  // u: scheme 3's state, from the other three
+  };
 
-  // The state by raw pointers, trivially copyable: the walk works on a local copy, whose fields
-  // the compiler keeps in registers (through the object, every byte the walk stores might alias
-  // them and force reloads).
+  // The contexts by raw pointer, trivially copyable (mechanics, not format): the walk works on
+  // a local copy the compiler keeps in registers; through the object, every byte the walk
+  // stores might alias its members and force reloads.
   class Cursor {
    public:
     // Escape model set of a context (1.3): scheme 2 states 18, 19, 20 use sets 0, 1, 2 (large
-    // previous tokens: float-bit data); scheme 3 as its scheme 2 context; all of scheme 1, 0.
-    int escape_set(int ctx) const { return eset_[ctx]; }
+    // previous tokens: float-bit data), scheme 3 the same states (u = 53, 54, 55); scheme 1
+    // set 0.
+    int escape_set(int ctx) const {
+      if (scheme_ == 1) return 0;
+      if (scheme_ == 2) return ctx < 76 ? 0 : ctx < 80 ? 1 : 2;
+      const int u = ctx % 56;
+      return u < 54 ? 0 : u - 53;
+    }
+    // The offset of scheme 3's contexts for a point whose predictor is `mode` (0 otherwise).
+    int family(int mode) const { return scheme_ == 3 && extrapolates(mode) ? 224 : 0; }
     // Context of axis a of point p (k = 3 p + a, a = k % 3) when tb was coded last in the
-    // frame. Scheme 2: s * 4 + min(tb, 3), s = ta ? bucket(ta) : bucket(z). Scheme 3:
-    // base + 6 * that (base 504 for extrapolating predictors), plus 2 h + g while ta = 0.
-    int context(size_t k, int tb, int mode) const {
-      const int t = std::min(tb, 3);
-      if (scheme_ == 1) return std::min<int>(ta_[k], 7) * 4 + t;
-      if (scheme_ == 2) return part_[k] + t;
-      return (extrapolates(mode) ? 504 : 0) + part_[k] + 6 * t;
+    // frame, `fam` = family(the point's predictor).
+    int context(size_t k, int tb, int fam = 0) const {
+      const int t = tb < 3 ? tb : 3;
+      const State& s = st_[k];
+      if (scheme_ == 3) return fam + 56 * t + s.u;
+      if (scheme_ == 1) return std::min<int>(s.ta, 7) * 4 + t;
+      return (s.ta ? kTokBucket[s.ta] : kRunBucket[s.z]) * 4 + t;
     }
     void update(size_t k, int tok) {
-      const int ta = ta_[k], z = z_[k];
-      // run_ = L << 1 | g: L the previous run length + 1 (capped at 16, 0 = none), g its sign.
-      const int run = tok && !ta ? std::min(z + 1, 16) << 1 | (tok & 1) : run_[k];
-      const int nz = tok ? 0 : std::min(z + 1, 12);
-      run_[k] = static_cast<uint8_t>(run);
-      ta_[k] = static_cast<uint8_t>(tok);
-      z_[k] = static_cast<uint8_t>(nz);
-      part_[k] = part(tok, nz, run);
+      State& s = st_[k];
+      if (tok) {
+        // run = L << 1 | g: L the previous run length + 1 (capped at 16, 0 = none), g its sign.
+        if (!s.ta) s.run = static_cast<uint8_t>((s.z + 1) << 1 | (tok & 1));  // z + 1 <= 13
+        s.ta = static_cast<uint8_t>(tok);
+        s.z = 0;
+        s.u = static_cast<uint8_t>(42 + kTokBucket[tok] - 7);
+      } else {
+        s.ta = 0;
+        s.z = static_cast<uint8_t>(s.z < 12 ? s.z + 1 : 12);
+        s.u = static_cast<uint8_t>(6 * kRunBucket[s.z] + kZeroPhase.v[s.z][s.run]);
+      }
     }
 
    private:
     friend class ResidualContexts;
-    // The (point, axis) share of the context from its state after an update (see context()).
-    uint16_t part(int ta, int z, int run) const {
-      static constexpr uint8_t kRunBucket[13] = {0, 1, 2, 3, 4, 4, 5, 5, 5, 6, 6, 6, 6};
-      static constexpr uint8_t kTokBucket[64] = {
-          0,  7,  8,  9,  10, 11, 12, 13, 14, 14, 14, 14, 15, 15, 16, 16,  // 0-15
-          17, 17, 17, 17, 18, 18, 18, 18, 18, 18, 18, 18, 19, 19, 19, 19,  // 16-31
-          19, 19, 19, 19, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20,  // 32-47
-          20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20};
-      const int s = ta ? kTokBucket[ta] : kRunBucket[z];
-      if (scheme_ != 3) return static_cast<uint16_t>(s * 4);
-      if (ta) return static_cast<uint16_t>(s * 24);
-      const int L = run >> 1;
-      const int h = L == 0 || z < L - 1 ? 0 : z == L - 1 ? 1 : 2;
-      return static_cast<uint16_t>(s * 24 + 2 * h + (run & 1));
-    }
-
-    int scheme_;
-    uint8_t *ta_, *z_, *run_;
-    uint16_t* part_;
-    const uint8_t* eset_;
+    int scheme_ = 0;
+    State* st_ = nullptr;
   };
   Cursor cursor() {
     Cursor c;
     c.scheme_ = scheme_;
-    c.ta_ = ta_.data();
-    c.z_ = z_.data();
-    c.run_ = run_.data();
-    c.part_ = part_.data();
-    c.eset_ = eset_.data();
+    c.st_ = st_.data();
     return c;
   }
 
-  int escape_set(int ctx) const { return eset_[static_cast<size_t>(ctx)]; }
-  int context(size_t k, int tb, int mode = 0) { return cursor().context(k, tb, mode); }
+  int escape_set(int ctx) { return cursor().escape_set(ctx); }
+  void reset() { std::fill(st_.begin(), st_.end(), State()); }
+  int family(int mode) { return cursor().family(mode); }
+  int context(size_t k, int tb, int fam = 0) { return cursor().context(k, tb, fam); }
   void update(size_t k, int tok) { cursor().update(k, tok); }
-  void reset() {
-    std::fill(ta_.begin(), ta_.end(), 0);
-    std::fill(z_.begin(), z_.end(), 0);
-    std::fill(run_.begin(), run_.end(), 0);
-    std::fill(part_.begin(), part_.end(), 0);
-  }
 
  private:
+  static constexpr uint8_t kRunBucket[13] = {0, 1, 2, 3, 4, 4, 5, 5, 5, 6, 6, 6, 6};
+  static constexpr uint8_t kTokBucket[64] = {
+      0,  7,  8,  9,  10, 11, 12, 13, 14, 14, 14, 14, 15, 15, 16, 16,  // 0-15
+      17, 17, 17, 17, 18, 18, 18, 18, 18, 18, 18, 18, 19, 19, 19, 19,  // 16-31
+      19, 19, 19, 19, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20,  // 32-47
+      20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20};
   int scheme_;
-  std::vector<uint8_t> ta_, z_, run_;
-  std::vector<uint16_t> part_;
-  std::vector<uint8_t> eset_;
+  std::vector<State> st_;
 };
 
 // Calls fn(std::integral_constant<int, m>()) for predictor m, so a loop over axes inside fn
@@ -250,6 +248,7 @@ void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8
     for (size_t p = 0; p < points; ++p) {
       const size_t i = f * stride + p * 3;
       const int m = modes[p];
+      const int fam = ctx.family(m);
       const bool transform = m == kPredTransform || m == kPredTransformLinear;
       if (!valid[f * points + p]) {
         for (int a = 0; a < 3; ++a) q[i + a] = f == 0 ? (transform ? t[i + a] : last[a])
@@ -280,7 +279,7 @@ void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8
       }
       for (int a = 0; a < 3; ++a) {
         int tok;
-        q[i + a] = code(i + a, pred[a], ctx.context(p * 3 + a, tb, m), &tok);
+        q[i + a] = code(i + a, pred[a], ctx.context(p * 3 + a, tb, fam), &tok);
         ctx.update(p * 3 + a, tok);
         tb = tok;
       }

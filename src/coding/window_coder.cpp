@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 
 #include "capz/error.h"
 #include "coding/bytes.h"
@@ -20,41 +21,57 @@ inline uint32_t bit_cost(int32_t r) {
 // the scheme 3 context (FORMAT.md 3.3.1): the previous token (capped at 3), and after a zero
 // token the zero run's phase against the previous run length and that run's sign.
 struct EstState {
-  uint8_t ta = 0, z = 0, run = 0;  // run = L << 1 | g, as ResidualContexts
-  int context() const {
-    if (ta) return ta < 3 ? ta : 3;
-    const int L = run >> 1;
-    const int h = L == 0 || z < L - 1 ? 0 : z == L - 1 ? 1 : 2;
-    return 4 + 2 * h + (run & 1);
-  }
+  static constexpr int kContexts = 10;
+  uint8_t ta = 0, z = 0, run = 0, ctx = 4;  // run = L << 1 | g, as ResidualContexts
+  int context() const { return ctx; }
   void update(int tok) {
-    if (tok && !ta) run = static_cast<uint8_t>(std::min(z + 1, 16) << 1 | (tok & 1));
-    ta = static_cast<uint8_t>(tok);
-    z = tok ? 0 : static_cast<uint8_t>(std::min(z + 1, 12));
+    if (tok) {
+      if (!ta) run = static_cast<uint8_t>((z + 1) << 1 | (tok & 1));  // z + 1 <= 13
+      ta = static_cast<uint8_t>(tok);
+      z = 0;
+      ctx = static_cast<uint8_t>(tok < 3 ? tok : 3);
+    } else {
+      ta = 0;
+      z = static_cast<uint8_t>(z < 12 ? z + 1 : 12);
+      ctx = static_cast<uint8_t>(4 + kZeroPhase.v[z][run]);
+    }
   }
 };
 
-// Token histogram of one point's residuals under the EstState contexts, for estimating its coded
+// The cheaper condition used to rank reference candidates: the previous token (capped at 3).
+struct PrevState {
+  static constexpr int kContexts = 4;
+  uint8_t ta = 0;
+  int context() const { return ta < 3 ? ta : 3; }
+  void update(int tok) { ta = static_cast<uint8_t>(tok); }
+};
+
+// Token histogram of one point's residuals under the contexts of State, for estimating its coded
 // size: the conditional order-0 entropy of the tokens (capped at 15) plus their raw bits.
-struct TokenHist {
-  static constexpr int kContexts = 10;
-  uint32_t count[kContexts][16];
-  uint64_t raw;
+template <typename State>
+struct Hist {
+  using StateType = State;
+  static constexpr int kContexts = State::kContexts;
+  uint16_t count[kContexts][16];  // a window codes at most 8192 x 3 values of a point
+  uint32_t raw;  // raw bits (plus 4 for the escape) of tokens >= 15; those of the others follow
+                 // from their counts
   void clear() { std::memset(this, 0, sizeof *this); }
   // Adds residual r in state st (then updated); returns r's token.
-  int add(int32_t r, EstState* st) {
+  int add(int32_t r, State* st) {
     int nbits;
     const int tok = token_of(zigzag(r), &nbits);
     ++count[st->context()][tok < 15 ? tok : 15];
-    raw += static_cast<uint64_t>(nbits) + (tok < 15 ? 0 : 4);
+    if (tok >= 15) raw += static_cast<uint32_t>(nbits) + 4;
     st->update(tok);
     return tok;
   }
   // Estimated bits, in 1/16 bit units.
   uint64_t bits16() const {
     double e = 0;
+    uint64_t bits = raw;
     for (int c = 0; c < kContexts; ++c) {
       uint32_t n = 0;
+      for (int k = 4; k < 15; ++k) bits += uint64_t{count[c][k]} * static_cast<uint64_t>((k - 4) / 2 + 1);
       for (int k = 0; k < 16; ++k)
         if (count[c][k]) {
           n += count[c][k];
@@ -62,9 +79,10 @@ struct TokenHist {
         }
       if (n) e += static_cast<double>(n) * std::log2(static_cast<double>(n));
     }
-    return static_cast<uint64_t>(e * 16) + raw * 16;
+    return static_cast<uint64_t>(e * 16) + bits * 16;
   }
 };
+using TokenHist = Hist<EstState>;
 
 struct CostCoder {
   const int32_t* q;
@@ -167,10 +185,11 @@ void base_residuals(const int32_t* q, size_t frames, size_t points, std::vector<
 
 // Adds to h the residuals of point p under base residuals e plus reference r's deviation, over
 // frames first, first + step, ... of the window (the reference predictors 5/6).
+template <typename H>
 void ref_cost(const std::vector<int32_t>& e, const uint8_t* valid, size_t frames, size_t points,
-              size_t p, size_t r, size_t first, size_t step, TokenHist* h) {
+              size_t p, size_t r, size_t first, size_t step, H* h) {
   const size_t stride = points * 3;
-  EstState st[3];
+  typename std::remove_pointer<decltype(h)>::type::StateType st[3];
   for (size_t f = first; f < frames; f += step) {
     if (!valid[f * points + p]) continue;
     const int32_t* c = &e[f * stride + p * 3];
@@ -184,15 +203,17 @@ void ref_cost(const std::vector<int32_t>& e, const uint8_t* valid, size_t frames
 }
 
 // The window's period for predictors 8/9, or 0 when none is worth trying. Differences
-// q[f] - q[f-T] are costed (bit_cost, averaged) on a sample of at most 32 points and 64 frames
-// for each T in [2, min(F / 2, 256)]; the frames before T count at the cost of
-// q[f] - q[f-1]. The T with the lowest total is kept if it is under 0.8 times that of
-// q[f] - q[f-1] over the window (a motion that repeats, e.g. a looped animation).
+// q[f] - q[f-T] are costed (bit_cost, averaged) on a sample of points and frames for each T in
+// [2, min(F / 2, 256)], first on at most 4 points x 8 frames, then the 8 best T again on 16 x 32;
+// the frames before T count at the cost of q[f] - q[f-1]. The T with the lowest total is kept
+// if it is under 0.8 times that of q[f] - q[f-1] over the window (a motion that repeats, e.g. a
+// looped animation).
 size_t find_period(const int32_t* q, const uint8_t* valid, size_t frames, size_t points) {
   if (frames < 4 || points == 0) return 0;
-  const size_t stride = points * 3, pstep = (points + 31) / 32;
-  auto cost = [&](size_t T) {  // average bits per sampled value
-    const size_t fstep = std::max<size_t>(1, (frames - T + 63) / 64);
+  const size_t stride = points * 3;
+  const double F = static_cast<double>(frames);
+  auto total = [&](size_t T, size_t np, size_t nf, double base) {  // estimated window bits
+    const size_t pstep = (points + np - 1) / np, fstep = std::max<size_t>(1, (frames - T) / nf);
     uint64_t bits = 0, n = 0;
     for (size_t f = T; f < frames; f += fstep)
       for (size_t p = 0; p < points; p += pstep) {
@@ -201,14 +222,21 @@ size_t find_period(const int32_t* q, const uint8_t* valid, size_t frames, size_t
         for (int a = 0; a < 3; ++a) bits += bit_cost(wrap_sub(c[a], *(c + a - T * stride)));
         n += 3;
       }
-    return n ? static_cast<double>(bits) / static_cast<double>(n) : 1e30;
+    const double avg = n ? static_cast<double>(bits) / static_cast<double>(n) : 1e30;
+    return avg * (F - static_cast<double>(T)) + base * static_cast<double>(T);
   };
-  const double base = cost(1), F = static_cast<double>(frames);
+  const size_t top = std::min<size_t>(frames / 2, 256);
+  std::vector<std::pair<double, size_t>> coarse;
+  const double base_coarse = total(1, 4, 8, 0) / (F - 1);
+  for (size_t T = 2; T <= top; ++T) coarse.emplace_back(total(T, 4, 8, base_coarse), T);
+  const size_t keep = std::min<size_t>(8, coarse.size());
+  std::partial_sort(coarse.begin(), coarse.begin() + static_cast<std::ptrdiff_t>(keep), coarse.end());
+  const double base = total(1, 16, 32, 0) / (F - 1);
   size_t best = 0;
   double best_total = 0.8 * base * F;
-  for (size_t T = 2; T <= std::min<size_t>(frames / 2, 256); ++T) {
-    const double total = cost(T) * (F - static_cast<double>(T)) + base * static_cast<double>(T);
-    if (total < best_total) best_total = total, best = T;
+  for (size_t k = 0; k < keep; ++k) {
+    const double c = total(coarse[k].second, 16, 32, base);
+    if (c < best_total) best_total = c, best = coarse[k].second;
   }
   return best;
 }
@@ -246,13 +274,14 @@ std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uin
     }
     std::vector<int32_t> e[2];
     base_residuals(q.data(), F, N, e);
-    {  // predictors 0-2 in one pass: residuals e0, e1 and e1[f] - e1[f-1] (quadratic); with
-       // scheme 3 also smooth (7) and, when the window repeats with a period, 8 and 9
-      const bool smooth = scheme >= 3;
+    {  // In one pass: predictors 0 and 1 (residuals e0, e1), then with scheme 1/2 quadratic (2,
+       // e1[f] - e1[f-1]); with scheme 3 smooth (7) instead (quadratic is almost never the best
+       // then, and is not tried) and, when the window repeats with a period, 8 and 9.
       if (scheme >= 3) period = find_period(q.data(), w.valid.data(), F, N);
-      const int nm = period ? 6 : smooth ? 4 : 3;
-      static constexpr uint8_t kIds[6] = {kPredPrevious, kPredLinear, kPredQuadratic, kPredSmooth,
-                                          kPredPeriod,   kPredPeriodPrevious};
+      const int nm = scheme < 3 ? 3 : period ? 5 : 3;
+      const uint8_t ids[5] = {kPredPrevious, kPredLinear,
+                              static_cast<uint8_t>(scheme < 3 ? kPredQuadratic : kPredSmooth),
+                              kPredPeriod, kPredPeriodPrevious};
       std::vector<TokenHist> hist(static_cast<size_t>(nm) * N);
       const size_t S = N * 3;
       std::vector<EstState> st(static_cast<size_t>(nm) * S);  // [mode][point][axis]
@@ -263,20 +292,26 @@ std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uin
           if (!w.valid[f * N + p]) continue;
           for (int a = 0; a < 3; ++a) {
             const size_t i = f * S + p * 3 + a, k = p * 3 + static_cast<size_t>(a);
-            const int32_t r2 = f < 2 ? e[0][i] : f < 3 ? e[1][i] : wrap_sub(e[1][i], e[1][i - S]);
+            const int32_t r2 =
+                scheme >= 3 ? wrap_sub(q[i], predict_smooth(f, &q[i], S))
+                : f < 2     ? e[0][i]
+                : f < 3     ? e[1][i]
+                            : wrap_sub(e[1][i], e[1][i - S]);
             hist[p].add(e[0][i], &st[k]);
             hist[N + p].add(e[1][i], &st[S + k]);
             hist[2 * N + p].add(r2, &st[2 * S + k]);
-            for (int m = 3; m < nm; ++m) {
-              const int32_t r = wrap_sub(q[i], predict_one(kIds[m], f, &q[i], S, nullptr, period));
-              hist[m * N + p].add(r, &st[m * S + k]);
+            if (nm > 3) {
+              const int32_t r3 = wrap_sub(q[i], predict_one(kPredPeriod, f, &q[i], S, nullptr, period));
+              const int32_t r4 = wrap_sub(q[i], predict_one(kPredPeriodPrevious, f, &q[i], S, nullptr, period));
+              hist[3 * N + p].add(r3, &st[3 * S + k]);
+              hist[4 * N + p].add(r4, &st[4 * S + k]);
             }
           }
         }
       for (int m = 0; m < nm; ++m)
         for (size_t p = 0; p < N; ++p) {
           const uint64_t c = hist[m * N + p].bits16();
-          if (c < best[p]) best[p] = c, modes[p] = kIds[m];
+          if (c < best[p]) best[p] = c, modes[p] = ids[m];
         }
     }
     if (t) {  // transform predictors: walks (their frame-0 rule and gap fill differ)
@@ -306,7 +341,7 @@ std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uin
         int best_b = -1;
         for (size_t k = 0; k < K && cand[p * K + k] != UINT32_MAX; ++k)
           for (int b = 0; b < 2; ++b) {
-            TokenHist h;
+            Hist<PrevState> h;  // ranking only: the cheaper estimate
             h.clear();
             ref_cost(e[b], w.valid.data(), F, N, p, cand[p * K + k], 1, step, &h);
             const uint64_t c = h.bits16();
