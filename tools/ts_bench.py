@@ -31,7 +31,16 @@ REFCODER = os.path.join(BUILD, "tools", "capz_refcoder")
 METRICS = os.path.join(BUILD, "tools", "capz_metrics")
 CLI = os.path.join(BUILD, "capz")
 
-SHAPES = {"horse-gallop": (48, 8431), "chickenCrossing": (400, 3030), "pcow": (204, 2904)}
+SHAPES = {"horse-gallop": (48, 8431), "chickenCrossing": (400, 3030), "pcow": (204, 2904),
+          "AlbertoREAL.c3d": (4921, 64), "FunctionalLHip.c3d": (1577, 74)}
+C3D = os.path.join(ROOT, "..", "shared", "data", "c3d")
+PATHS = {"AlbertoREAL.c3d": os.path.join(C3D, "c3dorg", "sample_34", "AlbertoREAL.c3d"),
+         "FunctionalLHip.c3d": os.path.join(C3D, "btkdata", "others", "FunctionalLHip.c3d")}
+
+
+def src_of(seq):
+    """A PCD sequence name (a folder of ../shared/data/pcd) or one of the C3D takes of PATHS."""
+    return PATHS.get(seq, os.path.join(DATA, seq))
 
 
 def run(cmd):
@@ -39,7 +48,7 @@ def run(cmd):
 
 
 def refcoder_kg(seq, tol, tmp):
-    src = os.path.join(DATA, seq)
+    src = src_of(seq)
     binf = os.path.join(tmp, "ref.bin")
     run([REFCODER, "encode", src, binf, "--tolerance", repr(tol)])
     f32 = os.path.join(tmp, "ref.f32")
@@ -60,7 +69,7 @@ def refcoder_at_kg(seq, kg, tmp):
             hi = mid
         if best and hi / lo < 1.02:
             break
-    run([REFCODER, "encode", os.path.join(DATA, seq), os.path.join(tmp, "ref.bin"), "--tolerance", repr(best[1])])
+    run([REFCODER, "encode", src_of(seq), os.path.join(tmp, "ref.bin"), "--tolerance", repr(best[1])])
     xz = subprocess.run(["xz", "-9e", "-c", os.path.join(tmp, "ref.bin")], check=True, capture_output=True).stdout
     return len(xz), best[0], best[1]
 
@@ -68,7 +77,7 @@ def refcoder_at_kg(seq, kg, tmp):
 def cli_at_kg(seq, kg, tmp, codec):
     """capz compress through the container (its grid meets the KG target), bytes of the .capz."""
     out = os.path.join(tmp, "c.capz")
-    r = subprocess.run([CLI, "compress", os.path.join(DATA, seq), "-o", out, "-f", "-q", "--kg-error", str(kg),
+    r = subprocess.run([CLI, "compress", src_of(seq), "-o", out, "-f", "-q", "--kg-error", str(kg),
                         "--codec", codec], capture_output=True, text=True)
     if r.returncode != 0:
         return None
@@ -97,11 +106,11 @@ def main():
         table2 = ("horse-gallop", "chickenCrossing")
     emit("## Table 2 (clusters 1..5 at KG 0.15 %), default options")
     for seq in table2:
-        emit(run([TSBENCH, "table2", os.path.join(DATA, seq), "--kg", "0.15"]))
-    emit("## Table 2, the paper's own settings (basis bits 8..16, no basis prediction)")
+        emit(run([TSBENCH, "table2", src_of(seq), "--kg", "0.15"]))
+    emit("## Table 2, the paper's own settings (basis bits 8..16, no basis prediction, one segment)")
     for seq in table2:
-        emit(run([TSBENCH, "table2", os.path.join(DATA, seq), "--kg", "0.15", "--opt", "basis_bits_min=8",
-                  "--opt", "basis_bits_max=16", "--opt", "basis_predict=0", "--opt", "basis_free_step=0"]))
+        emit(run([TSBENCH, "table2", src_of(seq), "--kg", "0.15", "--opt", "basis_bits_min=8",
+                  "--opt", "basis_bits_max=16", "--opt", "basis_predict=0", "--opt", "basis_free_step=0", "--opt", "segments=1"]))
 
     kgs = [0.05, 0.15, 0.5] if a.quick else [0.02, 0.05, 0.1, 0.15, 0.25, 0.5, 1.0]
     if a.kgs:
@@ -110,7 +119,7 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         for seq in ([] if a.no_rd else a.seqs.split(",")):
             f, n = SHAPES[seq]
-            ts_rows = run([TSBENCH, "rd", os.path.join(DATA, seq), "--kg", ",".join(map(str, kgs)),
+            ts_rows = run([TSBENCH, "rd", src_of(seq), "--kg", ",".join(map(str, kgs)),
                            "--clusters", "auto"]).strip().splitlines()
             emit(f"### {seq} ({f} frames x {n} points)")
             emit("| KG target (%) | ts K {PCs} | ts KG (%) | ts bytes | ts bpvf | ref KG (%) | ref bytes | ref bpvf | ref / ts "
