@@ -100,11 +100,11 @@ struct CostCoder {
 // works on a local copy of its Coder, so the coder state stays in registers; commit it after.
 struct EncCoder {
   IntEncoder::Cursor enc;
-  const ResidualContexts* contexts;
+  ResidualContexts::Cursor contexts;
   const int32_t* q;
   const uint32_t* lo;
   int32_t operator()(size_t i, int32_t pred, int ctx, int* tok) {
-    *tok = enc.put_signed(wrap_sub(q[i], pred), ctx, contexts->escape_set(ctx));
+    *tok = enc.put_signed(wrap_sub(q[i], pred), ctx, contexts.escape_set(ctx));
     if (lo) enc.raw_bits(lo[i], 32);
     return q[i];
   }
@@ -112,10 +112,10 @@ struct EncCoder {
 
 struct DecCoder {
   IntDecoder::Cursor dec;
-  const ResidualContexts* contexts;
+  ResidualContexts::Cursor contexts;
   uint32_t* lo;
   int32_t operator()(size_t i, int32_t pred, int ctx, int* tok) {
-    int32_t r = dec.get_signed(ctx, tok, contexts->escape_set(ctx));
+    int32_t r = dec.get_signed(ctx, tok, contexts.escape_set(ctx));
     if (lo) lo[i] = dec.raw_bits(32);
     return wrap_add(pred, r);
   }
@@ -365,7 +365,7 @@ std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uin
   ctx.reset();
   IntEncoder enc(ResidualContexts::count(scheme));
   if (scheme >= 2) enc.skew_contexts();
-  EncCoder ec{enc.cursor(), &ctx, q.data(), float64 ? w.lo.data() : nullptr};
+  EncCoder ec{enc.cursor(), ctx.cursor(), q.data(), float64 ? w.lo.data() : nullptr};
   walk_window(F, N, w.valid.data(), modes.data(), ref.data(), t, q.data(), ctx, ec, period);
   enc.commit(ec.enc);
 
@@ -450,7 +450,7 @@ void decode_positions(const PositionsPayload& pp, const std::vector<int32_t>& tp
   ResidualContexts ctx(scheme, N);
   IntDecoder dec(res, res_size, ResidualContexts::count(scheme), what + " residuals");
   if (scheme >= 2) dec.skew_contexts();
-  DecCoder dc{dec.cursor(), &ctx, float64 ? w->lo.data() : nullptr};
+  DecCoder dc{dec.cursor(), ctx.cursor(), float64 ? w->lo.data() : nullptr};
   walk_window(F, N, w->valid.data(), modes.data(), ref.data(),
               tpred.empty() ? nullptr : tpred.data(), w->q.data(), ctx, dc, period);
   dec.commit(dc.dec);
