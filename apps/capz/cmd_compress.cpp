@@ -67,8 +67,9 @@ int cmd_compress(const Args& args) {
       "clusters", po::value<int>()->default_value(0),
       "clusters for the transform codec (0 = its default, -1 = search)")(
       "units", po::value<std::string>(), "units of data that has none (PCD folders): mm, cm or m")(
-      "window", po::value<size_t>()->default_value(1024),
-      "frames per independently decodable window, 1..8192")(
+      "window", po::value<size_t>()->default_value(0),
+      "frames per independently decodable window, 1..8192; 0 (default): 1024, or with codec "
+      "none up to 8192 for takes of fewer than 64 points (about 2^16 samples a window)")(
       "no-check",
       "skip decoding each window after writing it (the bound then rests on the "
       "quantiser alone)")("force,f", "overwrite OUT if it exists")(

@@ -35,11 +35,18 @@ struct CompressOptions {
                          // "auto": each of them on the whole take, the smallest kept
   int clusters = 0;      // passed to the transform codec (0 = its default)
   std::map<std::string, std::string> codec_options;  // the CLI's --codec-opt key=value
-  size_t window_frames = 1024;  // frames per independently decodable window, 1 .. 8192
+  // Frames per independently decodable window, 1 .. 8192; 0: auto_window_frames(points).
+  size_t window_frames = 0;
   bool check = true;  // decode every window after writing it and verify the bound / exactness
   // Called after each window with (frames done, frames total); may be empty.
   std::function<void(size_t, size_t)> progress;
 };
+
+// The window size `window_frames = 0` stands for with codec none: 1024 frames, or for takes
+// of few points as many more (a power of two, at most 8192) as make a window hold about 2^16
+// samples, so a small take is not split into windows that each pay their own headers and
+// context warm-up. With a transform codec it stands for 1024.
+size_t auto_window_frames(size_t points);
 
 struct CompressStats {
   size_t bytes = 0;            // size of the .capz stream

@@ -91,6 +91,12 @@ class FrameSink {
   // int16 checks that every value fits); the caller then calls prescan() on all frames in order.
   virtual bool wants_prescan() const { return false; }
   virtual void prescan(const FrameBlock&) {}
+  // Instead of the prescan, a sink may offer to plan its output from what it expects and check
+  // each block as it is written (true: it will). If a block then proves the plan wrong, the sink
+  // discards what it wrote and needs_rewrite() turns true: the caller prescans every frame and
+  // writes them all again. The output is the same either way.
+  virtual bool skip_prescan() { return false; }
+  virtual bool needs_rewrite() const { return false; }
   // Frames in order, starting at 0, ending at header().frames.
   virtual void write(const FrameBlock& block) = 0;
   // Checks that every frame was written, then renames the output into place.
@@ -111,7 +117,8 @@ void compress_stream(FrameSource& source, const CompressOptions& opts, const std
                      bool overwrite, CompressStats* stats = nullptr);
 
 // Copies every frame of the source to the sink, `block` frames at a time (prescanning first
-// when the sink asks), then commits the sink.
+// when the sink asks and cannot skip it, or when a write without it needs redoing), then
+// commits the sink.
 void copy_frames(FrameSource& source, FrameSink& sink, size_t block = 1024);
 
 }  // namespace capz

@@ -483,6 +483,12 @@ class StreamOut {
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
+size_t auto_window_frames(size_t points) {
+  size_t w = 1024;
+  while (w < 8192 && w * points < (size_t{1} << 16)) w *= 2;
+  return w;
+}
+
 namespace {
 // allow_tout = false: a KG target with a transform goes through the grid (the fallback when the
 // transform's own reconstruction misses the target in some window).
@@ -593,9 +599,12 @@ void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut
   const std::string& src = take.source;
   // Up to 8192 frames a window keeps even an all-gap window above the decoder's plausibility
   // floor of one byte per 2900 samples (docs/FORMAT.md 2).
-  if (opts.window_frames == 0 || opts.window_frames > 8192)
+  if (opts.window_frames > 8192)
     fail(ErrorCode::kInvalidParameter, src, "window size must be 1 .. 8192 frames");
-  const size_t F = take.frames, N = take.points, W = opts.window_frames;
+  const size_t F = take.frames, N = take.points;
+  // Transform codecs keep 1024-frame windows by default (their cost grows with the window).
+  const bool plain = opts.codec.empty() || opts.codec == "none";
+  const size_t W = opts.window_frames ? opts.window_frames : plain ? auto_window_frames(N) : 1024;
   const bool words = source.has_sample_words();
   const double point_scale = take.c3d ? take.c3d->point_scale : 0;
   FrameBlock block;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 namespace capz {
@@ -138,40 +139,67 @@ class ResidualContexts {
  public:
   ResidualContexts(int scheme, size_t points) : scheme_(scheme), st_(points * 3) {}
   static int count(int scheme) { return scheme == 1 ? 32 : scheme == 2 ? 84 : 448; }
-  // Escape model set of a context (1.3): scheme 2 states 18, 19, 20 use sets 0, 1, 2 (large
-  // previous tokens: float-bit data), scheme 3 the same states (u = 53, 54, 55); scheme 1 set 0.
-  int escape_set(int ctx) const {
-    if (scheme_ == 1) return 0;
-    if (scheme_ == 2) return ctx < 76 ? 0 : ctx < 80 ? 1 : 2;
-    const int u = ctx % 56;
-    return u < 54 ? 0 : u - 53;
-  }
-  void reset() { std::fill(st_.begin(), st_.end(), State()); }
-  // The offset of scheme 3's contexts for a point whose predictor is `mode` (0 otherwise).
-  int family(int mode) const { return scheme_ == 3 && extrapolates(mode) ? 224 : 0; }
-  // Context of axis a of point p (k = 3 p + a, a = k % 3) when tb was coded last in the frame,
-  // `fam` = family(the point's predictor).
-  int context(size_t k, int tb, int fam = 0) const {
-    const int t = tb < 3 ? tb : 3;
-    const State& s = st_[k];
-    if (scheme_ == 3) return fam + 56 * t + s.u;
-    if (scheme_ == 1) return std::min<int>(s.ta, 7) * 4 + t;
-    return (s.ta ? kTokBucket[s.ta] : kRunBucket[s.z]) * 4 + t;
-  }
-  void update(size_t k, int tok) {
-    State& s = st_[k];
-    if (tok) {
-      // run = L << 1 | g: L the previous run length + 1 (capped at 16, 0 = none), g its sign.
-      if (!s.ta) s.run = static_cast<uint8_t>((s.z + 1) << 1 | (tok & 1));  // z + 1 <= 13
-      s.ta = static_cast<uint8_t>(tok);
-      s.z = 0;
-      s.u = static_cast<uint8_t>(42 + kTokBucket[tok] - 7);
-    } else {
-      s.ta = 0;
-      s.z = static_cast<uint8_t>(s.z < 12 ? s.z + 1 : 12);
-      s.u = static_cast<uint8_t>(6 * kRunBucket[s.z] + kZeroPhase.v[s.z][s.run]);
+  struct State {
+    uint8_t ta = 0, z = 0, run = 0, u = 0;  // u: scheme 3's state, from the other three
+  };
+
+  // The contexts by raw pointer, trivially copyable (mechanics, not format): the walk works on
+  // a local copy the compiler keeps in registers; through the object, every byte the walk
+  // stores might alias its members and force reloads.
+  class Cursor {
+   public:
+    // Escape model set of a context (1.3): scheme 2 states 18, 19, 20 use sets 0, 1, 2 (large
+    // previous tokens: float-bit data), scheme 3 the same states (u = 53, 54, 55); scheme 1
+    // set 0.
+    int escape_set(int ctx) const {
+      if (scheme_ == 1) return 0;
+      if (scheme_ == 2) return ctx < 76 ? 0 : ctx < 80 ? 1 : 2;
+      const int u = ctx % 56;
+      return u < 54 ? 0 : u - 53;
     }
+    // The offset of scheme 3's contexts for a point whose predictor is `mode` (0 otherwise).
+    int family(int mode) const { return scheme_ == 3 && extrapolates(mode) ? 224 : 0; }
+    // Context of axis a of point p (k = 3 p + a, a = k % 3) when tb was coded last in the
+    // frame, `fam` = family(the point's predictor).
+    int context(size_t k, int tb, int fam = 0) const {
+      const int t = tb < 3 ? tb : 3;
+      const State& s = st_[k];
+      if (scheme_ == 3) return fam + 56 * t + s.u;
+      if (scheme_ == 1) return std::min<int>(s.ta, 7) * 4 + t;
+      return (s.ta ? kTokBucket[s.ta] : kRunBucket[s.z]) * 4 + t;
+    }
+    void update(size_t k, int tok) {
+      State& s = st_[k];
+      if (tok) {
+        // run = L << 1 | g: L the previous run length + 1 (capped at 16, 0 = none), g its sign.
+        if (!s.ta) s.run = static_cast<uint8_t>((s.z + 1) << 1 | (tok & 1));  // z + 1 <= 13
+        s.ta = static_cast<uint8_t>(tok);
+        s.z = 0;
+        s.u = static_cast<uint8_t>(42 + kTokBucket[tok] - 7);
+      } else {
+        s.ta = 0;
+        s.z = static_cast<uint8_t>(s.z < 12 ? s.z + 1 : 12);
+        s.u = static_cast<uint8_t>(6 * kRunBucket[s.z] + kZeroPhase.v[s.z][s.run]);
+      }
+    }
+
+   private:
+    friend class ResidualContexts;
+    int scheme_ = 0;
+    State* st_ = nullptr;
+  };
+  Cursor cursor() {
+    Cursor c;
+    c.scheme_ = scheme_;
+    c.st_ = st_.data();
+    return c;
   }
+
+  int escape_set(int ctx) { return cursor().escape_set(ctx); }
+  void reset() { std::fill(st_.begin(), st_.end(), State()); }
+  int family(int mode) { return cursor().family(mode); }
+  int context(size_t k, int tb, int fam = 0) { return cursor().context(k, tb, fam); }
+  void update(size_t k, int tok) { cursor().update(k, tok); }
 
  private:
   static constexpr uint8_t kRunBucket[13] = {0, 1, 2, 3, 4, 4, 5, 5, 5, 6, 6, 6, 6};
@@ -180,12 +208,27 @@ class ResidualContexts {
       17, 17, 17, 17, 18, 18, 18, 18, 18, 18, 18, 18, 19, 19, 19, 19,  // 16-31
       19, 19, 19, 19, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20,  // 32-47
       20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20};
-  struct State {
-    uint8_t ta = 0, z = 0, run = 0, u = 0;  // u: scheme 3's state, from the other three
-  };
   int scheme_;
   std::vector<State> st_;
 };
+
+// Calls fn(std::integral_constant<int, m>()) for predictor m, so a loop over axes inside fn
+// has its predictor fixed at compile time (one dispatch per point, not per axis). Ids without
+// a case get fn(m) (a plain int).
+template <typename Fn>
+inline void with_predictor(int m, Fn&& fn) {
+  switch (m) {
+    case kPredPrevious: fn(std::integral_constant<int, kPredPrevious>()); break;
+    case kPredLinear: fn(std::integral_constant<int, kPredLinear>()); break;
+    case kPredQuadratic: fn(std::integral_constant<int, kPredQuadratic>()); break;
+    case kPredTransform: fn(std::integral_constant<int, kPredTransform>()); break;
+    case kPredTransformLinear: fn(std::integral_constant<int, kPredTransformLinear>()); break;
+    case kPredSmooth: fn(std::integral_constant<int, kPredSmooth>()); break;
+    case kPredPeriod: fn(std::integral_constant<int, kPredPeriod>()); break;
+    case kPredPeriodPrevious: fn(std::integral_constant<int, kPredPeriodPrevious>()); break;
+    default: fn(m);
+  }
+}
 
 // Codes (or decodes) one window frame by frame, point by point, x, y, z (FORMAT.md 3.3):
 // `code(i, pred, ctx, &tok)` returns q[i] and the residual's token. Gap samples are filled so
@@ -194,9 +237,10 @@ class ResidualContexts {
 // stores it back into `coder` at the end.
 template <typename Coder>
 void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8_t* modes,
-                 const uint32_t* ref, const int32_t* t, int32_t* q, ResidualContexts& ctx,
+                 const uint32_t* ref, const int32_t* t, int32_t* q, ResidualContexts& contexts,
                  Coder& coder, size_t period = 0) {
   Coder code = coder;
+  ResidualContexts::Cursor ctx = contexts.cursor();
   const size_t stride = points * 3;
   for (size_t f = 0; f < frames; ++f) {
     int tb = 0;
@@ -211,23 +255,31 @@ void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8
                                                        : q[i + a - stride];
         continue;
       }
-      for (int a = 0; a < 3; ++a) {
-        int32_t pred;
-        if (f == 0) {
-          pred = transform ? t[i + a] : last[a];
-        } else if (uses_ref(m)) {
-          const int base = m == kPredRefPrevious ? kPredPrevious : kPredLinear;
-          pred = predict_one(base, f, q + i + a, stride, nullptr);
-          const size_t r = ref[p];
-          if (valid[f * points + r]) {
+      // The three predictions first (none reads this point's frame f): one mode dispatch per
+      // point, and the loads stay off the coder's chain from token to next context.
+      int32_t pred[3];
+      if (f == 0) {
+        for (int a = 0; a < 3; ++a) pred[a] = transform ? t[i + a] : last[a];
+      } else if (uses_ref(m)) {
+        const int base = m == kPredRefPrevious ? kPredPrevious : kPredLinear;
+        const size_t r = ref[p];
+        const bool rv = valid[f * points + r] != 0;
+        for (int a = 0; a < 3; ++a) {
+          pred[a] = predict_one(base, f, q + i + a, stride, nullptr);
+          if (rv) {
             const int32_t* qr = q + f * stride + r * 3 + a;
-            pred = wrap_add(pred, wrap_sub(*qr, predict_one(base, f, qr, stride, nullptr)));
+            pred[a] = wrap_add(pred[a], wrap_sub(*qr, predict_one(base, f, qr, stride, nullptr)));
           }
-        } else {
-          pred = predict_one(m, f, q + i + a, stride, t ? t + i + a : nullptr, period);
         }
+      } else {
+        with_predictor(m, [&](auto mode) {
+          for (int a = 0; a < 3; ++a)
+            pred[a] = predict_one(mode, f, q + i + a, stride, t ? t + i + a : nullptr, period);
+        });
+      }
+      for (int a = 0; a < 3; ++a) {
         int tok;
-        q[i + a] = code(i + a, pred, ctx.context(p * 3 + a, tb, fam), &tok);
+        q[i + a] = code(i + a, pred[a], ctx.context(p * 3 + a, tb, fam), &tok);
         ctx.update(p * 3 + a, tok);
         tb = tok;
       }

@@ -58,9 +58,21 @@ void check_c3d_limits(const Take& t, const std::string& name) {
 
 namespace {
 
+// std::lround without the libm call (the writer rounds every coordinate of a take): for
+// |x| < 2^52, truncation and x - trunc(x) are exact, so this is lround's result (halves away
+// from zero); larger or non-finite x go to std::lround itself.
+inline long lround_fast(double x) {
+  if (!(std::fabs(x) < 0x1p52)) return std::lround(x);
+  const long t = static_cast<long>(x);
+  const double d = x - static_cast<double>(t);
+  return t + (d >= 0.5) - (d <= -0.5);
+}
+
 bool fits_int16(double v, double scale) {
-  double q = std::round(v / scale);
-  return std::isfinite(q) && q >= -32768 && q <= 32767;
+  const double x = v / scale;
+  if (!(std::fabs(x) < 65536.0)) return false;  // round(x) is beyond int16, or x not finite
+  const long q = lround_fast(x);
+  return q >= -32768 && q <= 32767;
 }
 
 std::vector<std::string> padded(std::vector<std::string> v, size_t n) {
@@ -303,7 +315,7 @@ void encode_c3d_frames(const C3DFilePlan& plan, size_t count, const double* xyz,
       uint32_t word4 = 0;
       if (valid[i] && plan.have_res) {
         float r = residual[i];
-        long low = r > 0 ? std::lround(r / scale) : 0;
+        long low = r > 0 ? lround_fast(r / scale) : 0;
         word4 = (static_cast<uint32_t>(camera[i] & 0x7f) << 8) |
                 static_cast<uint32_t>(std::min(255L, std::max(0L, low)));
       }
@@ -314,7 +326,7 @@ void encode_c3d_frames(const C3DFilePlan& plan, size_t count, const double* xyz,
         put_f32le(valid[i] ? static_cast<float>(word4) : -1.0f, d + 12);
       } else {
         for (int a = 0; a < 3; ++a) {
-          long q = valid[i] ? std::lround(c[a] / scale) : 0;
+          long q = valid[i] ? lround_fast(c[a] / scale) : 0;
           put_u16le(static_cast<uint16_t>(static_cast<int16_t>(q)), d + 2 * a);
         }
         put_u16le(valid[i] ? static_cast<uint16_t>(word4) : 0xffff, d + 6);
@@ -326,7 +338,7 @@ void encode_c3d_frames(const C3DFilePlan& plan, size_t count, const double* xyz,
       if (float_storage)
         put_f32le(static_cast<float>(av[k]), d);
       else
-        put_u16le(static_cast<uint16_t>(static_cast<int32_t>(std::lround(av[k]))), d);
+        put_u16le(static_cast<uint16_t>(static_cast<int32_t>(lround_fast(av[k]))), d);
       d += elem;
     }
   }

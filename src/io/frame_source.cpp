@@ -202,7 +202,32 @@ class C3DSink : public FrameSink {
   void prescan(const FrameBlock& b) override {
     scan_.add(b.frames * b.points, b.xyz.data(), b.valid.data(), b.analog.size(), b.analog.data());
   }
+  // int16 output at the take's own scale: the prescan only decides whether every value fits
+  // (else the file is float). Here that is assumed, and each block gets the prescan's own check
+  // (scan_.add at the same scale) before it is written; the first block that does not fit
+  // discards the file. For a .capz source this saves decoding every window twice.
+  bool skip_prescan() override {
+    if (written_ != 0 || file_ || opts_.c3d_float || !header_.c3d || header_.c3d->float_storage ||
+        scan_.scale == 0)
+      return false;
+    optimistic_ = true;
+    return true;
+  }
+  bool needs_rewrite() const override { return rewrite_; }
   void write(const FrameBlock& b) override {
+    if (optimistic_) {
+      prescan(b);
+      if (!scan_.fits) {  // back to the plain path: a prescan of every frame, then the writes
+        file_.reset();    // the temporary file is removed, nothing was committed
+        written_ = 0;
+        optimistic_ = false;
+        rewrite_ = true;
+        scan_ = c3d::C3DWriteScan();
+        scan_.scale = c3d::c3d_known_scale(header_);
+        return;
+      }
+    }
+    rewrite_ = false;
     start();
     if (b.first != written_ || b.points != plan_.points || written_ + b.frames > plan_.frames)
       fail(ErrorCode::kInternal, path_, "frames written out of order or beyond the header's count");
@@ -238,6 +263,8 @@ class C3DSink : public FrameSink {
   std::unique_ptr<AtomicFile> file_;
   std::vector<uint8_t> buf_;
   size_t written_ = 0;
+  bool optimistic_ = false;  // writing without a prescan (skip_prescan)
+  bool rewrite_ = false;
 };
 
 // A TRC written as it comes: the header lines at once, then rows.
@@ -312,14 +339,20 @@ void copy_frames(FrameSource& source, FrameSink& sink, size_t block) {
   const size_t F = source.header().frames;
   if (block == 0) block = 1;
   FrameBlock b;
-  if (sink.wants_prescan())
-    for (size_t f = 0; f < F; f += block) {
+  bool prescan = sink.wants_prescan() && !sink.skip_prescan();
+  for (bool done = false; !done;) {
+    if (prescan)
+      for (size_t f = 0; f < F; f += block) {
+        source.read(f, std::min(block, F - f), &b);
+        sink.prescan(b);
+      }
+    done = true;
+    for (size_t f = 0; f < F && done; f += block) {
       source.read(f, std::min(block, F - f), &b);
-      sink.prescan(b);
+      sink.write(b);
+      done = !sink.needs_rewrite();
     }
-  for (size_t f = 0; f < F; f += block) {
-    source.read(f, std::min(block, F - f), &b);
-    sink.write(b);
+    prescan = true;  // a rewrite follows the prescan skip_prescan avoided
   }
   sink.commit();
 }

@@ -269,6 +269,40 @@ TEST(StreamCodec, GivenRealStreamsThenWindowByWindowDecodeWritesTheSameFile) {
   }
 }
 
+// The C3D writer fed block by block writes int16 frames before it has seen them all (a prescan
+// would decode a .capz twice): a value that does not fit int16 at the take's scale, in the first
+// block or a later one, must still give the float file the whole-take writer gives.
+TEST(StreamCodec, GivenAnInt16TakeWithAnOutOfRangeValueThenTheStreamedC3DFallsBackToFloat) {
+  capz_test::TempDir dir("capz_stream");
+  const Take orig = read_take(kData + "/c3d/c3dorg/sample_34/AlbertoREAL.c3d");
+  ASSERT_TRUE(orig.c3d && !orig.c3d->float_storage);
+  WriteOptions wo;
+  wo.overwrite = true;
+  // Writes t whole and streamed; true when both files are the same. *float_out: the storage.
+  auto same_both_ways = [&](const Take& t, bool* float_out) {
+    const std::string a = dir.file("whole.c3d"), b = dir.file("stream.c3d");
+    write_take(t, a, wo);
+    std::unique_ptr<FrameSource> src = take_frames(t);
+    std::unique_ptr<FrameSink> sink = create_frame_sink(t, true, b, wo);
+    copy_frames(*src, *sink, 1024);
+    *float_out = read_take(b).c3d->float_storage;
+    return read_file(a) == read_file(b);
+  };
+  bool is_float = false;
+  for (size_t frame : {size_t{0}, size_t{3000}, orig.frames - 1}) {
+    SCOPED_TRACE("out-of-range value in frame " + std::to_string(frame));
+    Take t = orig;
+    const size_t i = frame * t.points + 5;
+    t.valid[i] = 1;
+    t.xyz[3 * i + 1] = 40000.0 * t.c3d->point_scale;  // beyond int16 at the file's scale
+    EXPECT_TRUE(same_both_ways(t, &is_float));
+    EXPECT_TRUE(is_float);
+  }
+  // And every value in range: int16, the same file as the whole-take writer's.
+  EXPECT_TRUE(same_both_ways(orig, &is_float));
+  EXPECT_FALSE(is_float);
+}
+
 TEST(StreamCodec, GivenACapzThenARangeReadsOnlyTheWindowsItTouches) {
   capz_test::TempDir dir("capz_stream");
   const std::string path = kData + "/c3d/c3dorg/sample_34/AlbertoREAL.c3d";

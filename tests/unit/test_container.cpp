@@ -189,6 +189,31 @@ TEST(Container, GivenBoundWhenRoundTrippedThenEveryCoordinateWithinBoundAndMaskE
   }
 }
 
+// The default window (window_frames = 0): 1024 frames, more for takes of few points with codec
+// none (about 2^16 samples a window, at most 8192 frames), 1024 with a transform codec; an
+// explicit size is kept.
+TEST(Container, GivenDefaultWindowThenSizedByPointCount) {
+  EXPECT_EQ(auto_window_frames(2), 8192u);
+  EXPECT_EQ(auto_window_frames(40), 2048u);
+  EXPECT_EQ(auto_window_frames(64), 1024u);
+  EXPECT_EQ(auto_window_frames(8000), 1024u);
+  Take t = synthetic(3000, 3, 0.01, 8);
+  auto window_of = [&](const std::string& codec, size_t w) {
+    CompressOptions o;
+    o.max_error = 0.5;
+    o.codec = codec;
+    o.window_frames = w;
+    auto bytes = compress(t, o);
+    Take b = decompress(bytes.data(), bytes.size(), "mem");
+    EXPECT_LE(compare(t, b).max_abs, 0.5);
+    return describe(bytes.data(), bytes.size(), "mem").window_frames;
+  };
+  EXPECT_EQ(window_of("none", 0), 8192u);  // 3 points: one window of the whole take
+  EXPECT_EQ(window_of("", 0), 8192u);
+  EXPECT_EQ(window_of("none", 500), 500u);
+  EXPECT_EQ(window_of("ts", 0), 1024u);
+}
+
 TEST(Container, GivenKgTargetThenAchievedAtOrJustUnder) {
   Take t = synthetic(400, 10, 0, 2);
   CompressOptions o;
