@@ -23,8 +23,22 @@ inline double grid_step_for_bound(double max_error) { return 2.0 * max_error * (
 constexpr double kMaxGridIndex = 2147483647.0;
 
 // round half away from zero; the caller checks |v| <= kMaxGridIndex first.
+// Defined as v < 0 ? -floor(-v + 0.5) : floor(v + 0.5) (the sum rounded in double, as written
+// in FORMAT.md); the sum is positive on both branches, where truncation toward zero is floor,
+// so the conversion computes it exactly without a call to floor.
 inline int32_t round_to_int(double v) {
-  return static_cast<int32_t>(v < 0 ? -std::floor(-v + 0.5) : std::floor(v + 0.5));
+  return static_cast<int32_t>(v < 0 ? -static_cast<int64_t>(-v + 0.5)
+                                    : static_cast<int64_t>(v + 0.5));
+}
+
+// std::round(x) as an integer value (halves away from zero) without the libm call, for hot
+// loops: for |x| < 2^52, truncation and x - trunc(x) are exact; larger or non-finite x go to
+// std::round. Only the sign of a zero result may differ (-0.3 gives +0).
+inline double round_half_away(double x) {
+  if (!(std::fabs(x) < 0x1p52)) return std::round(x);
+  const double t = static_cast<double>(static_cast<int64_t>(x));
+  const double d = x - t;
+  return d >= 0.5 ? t + 1 : d <= -0.5 ? t - 1 : t;
 }
 
 // float32 bits <-> an int32 that orders like the float values (sign-magnitude to two's

@@ -511,7 +511,7 @@ bool residuals_on_grid(const std::vector<float>& residual, const std::vector<uin
       if (r != -1.0f) return false;
       continue;
     }
-    double k = std::round(static_cast<double>(r) / point_scale);
+    double k = round_half_away(static_cast<double>(r) / point_scale);
     if (!(std::fabs(k) < 2e9)) return false;
     float back = residual_from_grid(static_cast<int32_t>(k), point_scale);
     if (std::memcmp(&back, &r, 4) != 0) return false;
@@ -523,21 +523,23 @@ std::vector<uint8_t> encode_c3d_words(const float* residual, const uint8_t* came
                                       const uint8_t* valid, size_t count, size_t points,
                                       double point_scale, bool on_grid) {
   IntEncoder enc(3);
+  IntEncoder::Cursor c = enc.cursor();  // in registers for the loop (entropy.h)
   std::vector<int32_t> prev(points, 0), prev_d(points, 0);
   std::vector<uint8_t> prev_cam(points, 0);
-  for (size_t i = 0; i < count; ++i) {
-    const size_t p = i % points;
-    // Mode 0 gaps decode to -1 whatever is coded: repeat the previous value (difference 0).
-    int32_t v = !on_grid  ? float_to_ordered(residual[i])
-                : valid[i] ? static_cast<int32_t>(std::round(residual[i] / point_scale))
-                           : prev[p];
-    int32_t d = wrap_sub(v, prev[p]);
-    enc.put_signed(d, prev_d[p] == 0 ? 1 : 0);
-    prev[p] = v;
-    prev_d[p] = d;
-    enc.put(static_cast<uint32_t>(camera[i] ^ prev_cam[p]), 2);
-    prev_cam[p] = camera[i];
-  }
+  for (size_t i0 = 0; i0 < count; i0 += points)  // frame by frame: p = i % points
+    for (size_t p = 0, i = i0; p < points && i < count; ++p, ++i) {
+      // Mode 0 gaps decode to -1 whatever is coded: repeat the previous value (difference 0).
+      int32_t v = !on_grid  ? float_to_ordered(residual[i])
+                  : valid[i] ? static_cast<int32_t>(round_half_away(residual[i] / point_scale))
+                             : prev[p];
+      int32_t d = wrap_sub(v, prev[p]);
+      c.put_signed(d, prev_d[p] == 0 ? 1 : 0);
+      prev[p] = v;
+      prev_d[p] = d;
+      c.put(static_cast<uint32_t>(camera[i] ^ prev_cam[p]), 2);
+      prev_cam[p] = camera[i];
+    }
+  enc.commit(c);
   ByteWriter w;
   w.u8(on_grid ? 0 : 1);
   w.bytes(enc.finish());
@@ -553,20 +555,25 @@ void decode_c3d_words(const uint8_t* data, size_t size, const uint8_t* valid, si
   if (count > kMaxSymbolsPerByte * r.remaining())
     fail(ErrorCode::kCorrupt, what, "sample words cannot fit in the chunk");
   IntDecoder dec(data + 1, size - 1, 3, what);
+  IntDecoder::Cursor c = dec.cursor();  // in registers for the loop (entropy.h)
   std::vector<int32_t> prev(points, 0), prev_d(points, 0);
   std::vector<uint8_t> prev_cam(points, 0);
-  for (size_t i = 0; i < count; ++i) {
-    const size_t p = i % points;
-    int32_t d = dec.get_signed(prev_d[p] == 0 ? 1 : 0);
-    int32_t v = wrap_add(prev[p], d);
-    prev[p] = v;
-    prev_d[p] = d;
-    residual[i] = mode == 1 ? ordered_to_float(v) : valid[i] ? residual_from_grid(v, point_scale) : -1.0f;
-    uint32_t c = dec.get(2);
-    if (c > 255) fail(ErrorCode::kCorrupt, what, "camera byte out of range");
-    camera[i] = static_cast<uint8_t>(c ^ prev_cam[p]);
-    prev_cam[p] = camera[i];
-  }
+  for (size_t i0 = 0; i0 < count; i0 += points)  // frame by frame: p = i % points
+    for (size_t p = 0, i = i0; p < points && i < count; ++p, ++i) {
+      int tok;
+      int32_t d = c.get_signed(prev_d[p] == 0 ? 1 : 0, &tok);
+      int32_t v = wrap_add(prev[p], d);
+      prev[p] = v;
+      prev_d[p] = d;
+      residual[i] = mode == 1   ? ordered_to_float(v)
+                    : valid[i] ? residual_from_grid(v, point_scale)
+                               : -1.0f;
+      uint32_t cam = c.get(2, &tok);
+      if (cam > 255) fail(ErrorCode::kCorrupt, what, "camera byte out of range");
+      camera[i] = static_cast<uint8_t>(cam ^ prev_cam[p]);
+      prev_cam[p] = camera[i];
+    }
+  dec.commit(c);
   if (!dec.at_end()) fail(ErrorCode::kCorrupt, what, "sample-word block has bytes past its end");
 }
 

@@ -10,6 +10,11 @@ namespace capz {
 
 void ErrorAccumulator::add(size_t frames, size_t points, const double* a, const double* b,
                            const uint8_t* valid) {
+  // The running figures in locals (registers), stored back at the end: the same operations in
+  // the same order as on the members, which the stores would otherwise force to memory.
+  double max_abs = s_.max_abs, max_error = s_.max_error, sq = sq_, centred_sq = centred_sq_;
+  double lo[3] = {lo_[0], lo_[1], lo_[2]}, hi[3] = {hi_[0], hi_[1], hi_[2]};
+  size_t samples = s_.samples;
   for (size_t f = 0; f < frames; ++f) {
     double c[3] = {0, 0, 0};
     size_t n = 0;
@@ -29,17 +34,23 @@ void ErrorAccumulator::add(size_t frames, size_t points, const double* a, const 
       for (int k = 0; k < 3; ++k) {
         double d = x[k] - y[k];
         d2 += d * d;
-        s_.max_abs = std::max(s_.max_abs, std::fabs(d));
+        max_abs = std::max(max_abs, std::fabs(d));
         double e = x[k] - c[k];
-        centred_sq_ += e * e;
-        lo_[k] = std::min(lo_[k], x[k]);
-        hi_[k] = std::max(hi_[k], x[k]);
+        centred_sq += e * e;
+        lo[k] = std::min(lo[k], x[k]);
+        hi[k] = std::max(hi[k], x[k]);
       }
-      s_.max_error = std::max(s_.max_error, std::sqrt(d2));
-      sq_ += d2;
-      ++s_.samples;
+      max_error = std::max(max_error, std::sqrt(d2));
+      sq += d2;
+      ++samples;
     }
   }
+  s_.max_abs = max_abs;
+  s_.max_error = max_error;
+  sq_ = sq;
+  centred_sq_ = centred_sq;
+  for (int k = 0; k < 3; ++k) lo_[k] = lo[k], hi_[k] = hi[k];
+  s_.samples = samples;
 }
 
 ErrorStats ErrorAccumulator::finish() const {
