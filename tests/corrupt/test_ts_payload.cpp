@@ -23,16 +23,26 @@ constexpr int kContexts = 448;
 // A version-2 payload of 1 frame x `points`, K = 1, no rigid motion, no basis prediction, S
 // segments each with zero PCs: header, S unit headers, then the block holding only the segment
 // ranks. With zero PCs the reconstruction is all zeros.
+// With `centre` (flags bit 2): per segment steps 1, 1, that centre, LPC order 0, and a rigid
+// block of 6 zeros (the identity): segment s then decodes to centre + s.
 std::vector<uint8_t> payload(size_t points, int s_field, const std::vector<uint32_t>& ranks,
-                             int units = -1) {
+                             int units = -1, const double* centre = nullptr) {
   ByteWriter w;
   w.u8(2);        // version
-  w.u8(0);        // flags
+  w.u8(centre ? 4 : 0);  // flags
   w.varint(1);    // frames
   w.varint(points);
   w.f64(1.0);     // coef_step
   w.u8(1);        // K
   w.u8(static_cast<uint8_t>(s_field));
+  if (centre)
+    for (int sg = 0; sg < s_field; ++sg) {
+      w.f64(1.0);
+      w.f64(1.0);
+      for (int a = 0; a < 3; ++a) w.f64(centre[a] + sg);
+      w.u8(0);
+      w.u8(0);
+    }
   for (int u = 0; u < (units < 0 ? s_field : units); ++u) {
     w.varint(0);  // r
     w.u8(0);      // LPC order
@@ -54,6 +64,8 @@ std::vector<uint8_t> payload(size_t points, int s_field, const std::vector<uint3
       prev = seg;
     }
   }
+  if (centre)
+    for (int i = 0; i < 6 * s_field; ++i) e.put_signed(0, 1 * 16);  // group 1 (rigid), context 16
   w.bytes(e.finish());
   return w.buffer();
 }
@@ -77,6 +89,24 @@ TEST(TsPayloadSegments, GivenConsistentHandBuiltPayloadThenDecodes) {
   const auto p = payload(4, 2, {0, 1, 0, 1});  // segments 0, 1, 1, 0
   codec.decode(p.data(), p.size(), 1, 4, &out);
   EXPECT_EQ(out, std::vector<double>(12, 0.0));
+}
+
+// Per-segment rigid motion with zero PCs: every point decodes to its segment's centre (the
+// identity motion, then + c_s); a centre that is not finite is corrupt.
+TEST(TsPayloadSegments, GivenSegmentMotionThenCentreAppliedAndNonFiniteCentreCorrupt) {
+  TsCodec codec;
+  std::vector<double> out;
+  const double c[3] = {10.5, -2.0, 0.25};
+  const auto p = payload(4, 2, {0, 1, 0, 1}, -1, c);  // segments 0, 1, 1, 0
+  codec.decode(p.data(), p.size(), 1, 4, &out);
+  const int seg[4] = {0, 1, 1, 0};
+  ASSERT_EQ(out.size(), 12u);
+  for (int i = 0; i < 4; ++i)
+    for (int a = 0; a < 3; ++a) EXPECT_EQ(out[3 * i + a], c[a] + seg[i]) << i << " " << a;
+  const double bad[3] = {1.0, NAN, 0.0};
+  expect_corrupt(payload(4, 2, {0, 1, 0, 1}, -1, bad), 4, "a NaN centre");
+  const double inf[3] = {INFINITY, 0.0, 0.0};
+  expect_corrupt(payload(4, 2, {0, 1, 0, 1}, -1, inf), 4, "an infinite centre");
 }
 
 TEST(TsPayloadSegments, GivenInconsistentSegmentFieldsThenCorrupt) {

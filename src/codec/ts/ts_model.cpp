@@ -218,8 +218,13 @@ void reconstruct(const TsModel& m, std::vector<double>* xyz) {
             lcps_decode(tc.later[j], first, m.coef_step, tc.lcps_weight_bits);
       Eigen::MatrixXd x = b * w;  // dim_s x l_c
       for (size_t j = 0; j < lay.frames.size(); ++j) {
-        if (m.segment_rigid)
-          apply_rigid_inverse(rigid_at(motion, lay.frames[j]), x.col(static_cast<Eigen::Index>(j)).data(), pts.size());
+        if (m.segment_rigid) {
+          double* col = x.col(static_cast<Eigen::Index>(j)).data();
+          apply_rigid_inverse(rigid_at(motion, lay.frames[j]), col, pts.size());
+          const double* c = m.segment_motion[s].center;
+          for (size_t i = 0; i < pts.size(); ++i)
+            for (size_t a = 0; a < 3; ++a) col[3 * i + a] += c[a];
+        }
         const double* src = x.col(static_cast<Eigen::Index>(j)).data();
         double* dst = xyz->data() + lay.frames[j] * dim;
         for (size_t i = 0; i < pts.size(); ++i)
@@ -263,6 +268,7 @@ void write_model(const TsModel& m, ByteWriter* out) {
     for (const TsModel::SegmentMotion& sm : m.segment_motion) {
       out->f64(sm.rot_step);
       out->f64(sm.trans_step);
+      for (double c : sm.center) out->f64(c);
       write_lpc_header(sm.code, out);
     }
   for (const TsCluster& c : m.cluster) {
@@ -350,11 +356,15 @@ TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t point
       corrupt("segment count out of range");
   }
   if (m.segment_rigid) {
-    if (static_cast<size_t>(m.segments) * 18 > in.remaining()) corrupt("segment motion headers larger than the payload");
+    if (static_cast<size_t>(m.segments) * 42 > in.remaining()) corrupt("segment motion headers larger than the payload");
     m.segment_motion.resize(static_cast<size_t>(m.segments));
     for (TsModel::SegmentMotion& sm : m.segment_motion) {
       sm.rot_step = read_step(&in, "segment rotation step");
       sm.trans_step = read_step(&in, "segment translation step");
+      for (double& c : sm.center) {
+        c = in.f64();
+        if (!std::isfinite(c)) corrupt("segment centre is not a finite number");
+      }
       read_lpc_header(&in, &sm.code, 6, frames);
     }
   }

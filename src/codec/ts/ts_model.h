@@ -36,10 +36,12 @@ struct TsModel {
   // all 0) for one segment.
   int segments = 1;
   std::vector<uint8_t> segment;
-  // Per-segment rigid motion (version 2, flags bit 2): each segment's frames were aligned to its
-  // frame 0 with these decoded parameters (6 x frames each, like rigid_code) before its PCA.
+  // Per-segment rigid motion (version 2, flags bit 2): each segment's points, moved by -center
+  // (its centroid in frame 0, so that rotations turn about the segment itself), were aligned to
+  // its frame 0 with these decoded parameters (6 x frames each, like rigid_code) before its PCA.
   struct SegmentMotion {
     double rot_step = 0, trans_step = 0;
+    double center[3] = {0, 0, 0};
     LpcCode code;
   };
   bool segment_rigid = false;
