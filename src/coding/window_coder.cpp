@@ -274,14 +274,12 @@ std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uin
     }
     std::vector<int32_t> e[2];
     base_residuals(q.data(), F, N, e);
-    {  // In one pass: predictors 0 and 1 (residuals e0, e1), then with scheme 1/2 quadratic (2,
-       // e1[f] - e1[f-1]); with scheme 3 smooth (7) instead (quadratic is almost never the best
-       // then, and is not tried) and, when the window repeats with a period, 8 and 9.
+    {  // In one pass: predictors 0-2 (residuals e0, e1 and e1[f] - e1[f-1]), with scheme 3
+       // also smooth (7) and, when the window repeats with a period, 8 and 9.
       if (scheme >= 3) period = find_period(q.data(), w.valid.data(), F, N);
-      const int nm = scheme < 3 ? 3 : period ? 5 : 3;
-      const uint8_t ids[5] = {kPredPrevious, kPredLinear,
-                              static_cast<uint8_t>(scheme < 3 ? kPredQuadratic : kPredSmooth),
-                              kPredPeriod, kPredPeriodPrevious};
+      const int nm = scheme < 3 ? 3 : period ? 6 : 4;
+      static constexpr uint8_t kIds[6] = {kPredPrevious, kPredLinear, kPredQuadratic,
+                                          kPredSmooth,   kPredPeriod, kPredPeriodPrevious};
       std::vector<TokenHist> hist(static_cast<size_t>(nm) * N);
       const size_t S = N * 3;
       std::vector<EstState> st(static_cast<size_t>(nm) * S);  // [mode][point][axis]
@@ -292,26 +290,26 @@ std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uin
           if (!w.valid[f * N + p]) continue;
           for (int a = 0; a < 3; ++a) {
             const size_t i = f * S + p * 3 + a, k = p * 3 + static_cast<size_t>(a);
-            const int32_t r2 =
-                scheme >= 3 ? wrap_sub(q[i], predict_smooth(f, &q[i], S))
-                : f < 2     ? e[0][i]
-                : f < 3     ? e[1][i]
-                            : wrap_sub(e[1][i], e[1][i - S]);
+            const int32_t r2 = f < 2 ? e[0][i] : f < 3 ? e[1][i] : wrap_sub(e[1][i], e[1][i - S]);
             hist[p].add(e[0][i], &st[k]);
             hist[N + p].add(e[1][i], &st[S + k]);
             hist[2 * N + p].add(r2, &st[2 * S + k]);
             if (nm > 3) {
-              const int32_t r3 = wrap_sub(q[i], predict_one(kPredPeriod, f, &q[i], S, nullptr, period));
-              const int32_t r4 = wrap_sub(q[i], predict_one(kPredPeriodPrevious, f, &q[i], S, nullptr, period));
+              const int32_t r3 = wrap_sub(q[i], predict_smooth(f, &q[i], S));
               hist[3 * N + p].add(r3, &st[3 * S + k]);
+            }
+            if (nm > 4) {
+              const int32_t r4 = wrap_sub(q[i], predict_one(kPredPeriod, f, &q[i], S, nullptr, period));
+              const int32_t r5 = wrap_sub(q[i], predict_one(kPredPeriodPrevious, f, &q[i], S, nullptr, period));
               hist[4 * N + p].add(r4, &st[4 * S + k]);
+              hist[5 * N + p].add(r5, &st[5 * S + k]);
             }
           }
         }
       for (int m = 0; m < nm; ++m)
         for (size_t p = 0; p < N; ++p) {
           const uint64_t c = hist[m * N + p].bits16();
-          if (c < best[p]) best[p] = c, modes[p] = ids[m];
+          if (c < best[p]) best[p] = c, modes[p] = kIds[m];
         }
     }
     if (t) {  // transform predictors: walks (their frame-0 rule and gap fill differ)
