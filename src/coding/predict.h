@@ -128,6 +128,23 @@ constexpr ZeroPhaseTable zero_phase_table() {
 }
 constexpr ZeroPhaseTable kZeroPhase = zero_phase_table();
 
+// Escape sets by context for schemes 1, 2, 3 (FORMAT.md 1.3; see escape_set()): a table, as
+// scheme 3's rule takes a modulo per coded value.
+struct EscapeSetTable {
+  uint8_t by_scheme[3][448];
+};
+constexpr EscapeSetTable escape_set_table() {
+  EscapeSetTable t{};
+  for (int c = 0; c < 448; ++c) {
+    t.by_scheme[0][c] = 0;
+    t.by_scheme[1][c] = static_cast<uint8_t>(c < 76 ? 0 : c < 80 ? 1 : 2);
+    const int u = c % 56;
+    t.by_scheme[2][c] = static_cast<uint8_t>(u < 54 ? 0 : u - 53);
+  }
+  return t;
+}
+constexpr EscapeSetTable kEscapeSetOfContext = escape_set_table();
+
 // Residual contexts of a window (docs/FORMAT.md 3.3.1). Per point and axis: `ta`, the token of
 // the last residual coded for it in this window, and `z`, the number of zero tokens ending there
 // (capped at 12). Scheme 1 (format 1.x): 32 contexts from ta and tb (the token coded just before
@@ -151,12 +168,7 @@ class ResidualContexts {
     // Escape model set of a context (1.3): scheme 2 states 18, 19, 20 use sets 0, 1, 2 (large
     // previous tokens: float-bit data), scheme 3 the same states (u = 53, 54, 55); scheme 1
     // set 0.
-    int escape_set(int ctx) const {
-      if (scheme_ == 1) return 0;
-      if (scheme_ == 2) return ctx < 76 ? 0 : ctx < 80 ? 1 : 2;
-      const int u = ctx % 56;
-      return u < 54 ? 0 : u - 53;
-    }
+    int escape_set(int ctx) const { return eset_[ctx]; }
     // The offset of scheme 3's contexts for a point whose predictor is `mode` (0 otherwise).
     int family(int mode) const { return scheme_ == 3 && extrapolates(mode) ? 224 : 0; }
     // Context of axis a of point p (k = 3 p + a, a = k % 3) when tb was coded last in the
@@ -187,11 +199,13 @@ class ResidualContexts {
     friend class ResidualContexts;
     int scheme_ = 0;
     State* st_ = nullptr;
+    const uint8_t* eset_ = nullptr;  // escape set by context (kEscapeSetOfContext)
   };
   Cursor cursor() {
     Cursor c;
     c.scheme_ = scheme_;
     c.st_ = st_.data();
+    c.eset_ = kEscapeSetOfContext.by_scheme[scheme_ == 1 ? 0 : scheme_ == 2 ? 1 : 2];
     return c;
   }
 

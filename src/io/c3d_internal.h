@@ -179,10 +179,12 @@ struct C3DFilePlan {
 C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& opts,
                           const C3DWriteScan& scan, const std::string& name);
 // `count` frames into out (count * plan.per_frame bytes). residual/camera unused (may be null)
-// when !plan.have_res.
+// when !plan.have_res. points_fit (int16 storage; may be null): set to whether every valid
+// coordinate fits int16 at plan.scale (C3DWriteScan's check, made while rounding); where one
+// does not, the bytes written wrap and are not a faithful file.
 void encode_c3d_frames(const C3DFilePlan& plan, size_t count, const double* xyz,
                        const uint8_t* valid, const float* residual, const uint8_t* camera,
-                       const double* analog, uint8_t* out);
+                       const double* analog, uint8_t* out, bool* points_fit = nullptr);
 
 // The whole file write_c3d writes, in memory (`name` only for messages).
 std::vector<uint8_t> encode_c3d_file(const Take& take, const WriteOptions& opts,

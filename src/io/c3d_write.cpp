@@ -303,7 +303,8 @@ C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& o
 
 void encode_c3d_frames(const C3DFilePlan& plan, size_t count, const double* xyz,
                        const uint8_t* valid, const float* residual, const uint8_t* camera,
-                       const double* analog, uint8_t* out) {
+                       const double* analog, uint8_t* out, bool* points_fit) {
+  bool fit = true;
   const size_t N = plan.points, analog_total = plan.analog_total;
   const bool float_storage = plan.float_storage;
   const double scale = plan.scale;
@@ -327,6 +328,7 @@ void encode_c3d_frames(const C3DFilePlan& plan, size_t count, const double* xyz,
       } else {
         for (int a = 0; a < 3; ++a) {
           long q = valid[i] ? lround_fast(c[a] / scale) : 0;
+          fit = fit && q >= -32768 && q <= 32767;  // = fits_int16(c[a], scale)
           put_u16le(static_cast<uint16_t>(static_cast<int16_t>(q)), d + 2 * a);
         }
         put_u16le(valid[i] ? static_cast<uint16_t>(word4) : 0xffff, d + 6);
@@ -342,6 +344,7 @@ void encode_c3d_frames(const C3DFilePlan& plan, size_t count, const double* xyz,
       d += elem;
     }
   }
+  if (points_fit) *points_fit = fit;
 }
 
 std::vector<uint8_t> encode_c3d_file(const Take& take, const WriteOptions& opts,

@@ -203,9 +203,10 @@ class C3DSink : public FrameSink {
     scan_.add(b.frames * b.points, b.xyz.data(), b.valid.data(), b.analog.size(), b.analog.data());
   }
   // int16 output at the take's own scale: the prescan only decides whether every value fits
-  // (else the file is float). Here that is assumed, and each block gets the prescan's own check
-  // (scan_.add at the same scale) before it is written; the first block that does not fit
-  // discards the file. For a .capz source this saves decoding every window twice.
+  // (else the file is float). Here that is assumed, and each block gets the prescan's checks
+  // at the same scale (analog by scan_.add, positions while encode_c3d_frames rounds them)
+  // before it is written; the first block that does not fit discards the file. For a .capz
+  // source this saves decoding every window twice.
   bool skip_prescan() override {
     if (written_ != 0 || file_ || opts_.c3d_float || !header_.c3d || header_.c3d->float_storage ||
         scan_.scale == 0)
@@ -215,26 +216,32 @@ class C3DSink : public FrameSink {
   }
   bool needs_rewrite() const override { return rewrite_; }
   void write(const FrameBlock& b) override {
-    if (optimistic_) {
-      prescan(b);
-      if (!scan_.fits) {  // back to the plain path: a prescan of every frame, then the writes
-        file_.reset();    // the temporary file is removed, nothing was committed
-        written_ = 0;
-        optimistic_ = false;
-        rewrite_ = true;
-        scan_ = c3d::C3DWriteScan();
-        scan_.scale = c3d::c3d_known_scale(header_);
-        return;
-      }
+    bool fits = true;
+    if (optimistic_) {  // the prescan's analog check here, its position check while rounding
+      scan_.add(0, nullptr, nullptr, b.analog.size(), b.analog.data());
+      fits = scan_.fits;
     }
     rewrite_ = false;
-    start();
-    if (b.first != written_ || b.points != plan_.points || written_ + b.frames > plan_.frames)
-      fail(ErrorCode::kInternal, path_, "frames written out of order or beyond the header's count");
-    buf_.assign(b.frames * plan_.per_frame, 0);
-    c3d::encode_c3d_frames(plan_, b.frames, b.xyz.data(), b.valid.data(),
-                           words_ ? b.residual.data() : nullptr,
-                           words_ ? b.camera_mask.data() : nullptr, b.analog.data(), buf_.data());
+    if (fits) {
+      start();
+      if (b.first != written_ || b.points != plan_.points || written_ + b.frames > plan_.frames)
+        fail(ErrorCode::kInternal, path_,
+             "frames written out of order or beyond the header's count");
+      buf_.assign(b.frames * plan_.per_frame, 0);
+      c3d::encode_c3d_frames(plan_, b.frames, b.xyz.data(), b.valid.data(),
+                             words_ ? b.residual.data() : nullptr,
+                             words_ ? b.camera_mask.data() : nullptr, b.analog.data(),
+                             buf_.data(), optimistic_ ? &fits : nullptr);
+    }
+    if (!fits) {       // back to the plain path: a prescan of every frame, then the writes
+      file_.reset();   // the temporary file is removed, nothing was committed
+      written_ = 0;
+      optimistic_ = false;
+      rewrite_ = true;
+      scan_ = c3d::C3DWriteScan();
+      scan_.scale = c3d::c3d_known_scale(header_);
+      return;
+    }
     file_->write(buf_);
     written_ += b.frames;
   }
