@@ -250,7 +250,7 @@ TEST(Positions, GivenStaircasesThenSmoothPredictorChosenAndSmaller) {
   EXPECT_GE(std::count(modes.begin(), modes.end(), kPredSmooth), 9);
   const size_t with = encode_positions(w, {}, {}, false, 3).size();
   const size_t without = encode_positions(w, {}, {}, false, 2).size();
-  EXPECT_LT(static_cast<double>(with), 0.85 * static_cast<double>(without))
+  EXPECT_LT(static_cast<double>(with), 0.9 * static_cast<double>(without))
       << with << " vs " << without;
 }
 
