@@ -1131,10 +1131,12 @@ class CapzSource : public FrameSource {
     const size_t S = ps_.h.analog_samples_per_frame, C = ps_.h.analog_channels;
     const size_t A = C > 0 && S > 0 ? S * C : 0;
     const size_t W = ps_.h.window_frames;
-    // A block that is exactly one window is handed over without a copy.
+    // A block that is exactly one window is handed over without a copy: swapped with the
+    // caller's block (whose buffers the next decode refills), so it is no longer cached.
     if (count > 0 && first % W == 0 && count == std::min<size_t>(W, F - first)) {
       decode(first / W);
-      *out = win_;
+      std::swap(*out, win_);
+      have_ = false;
       return;
     }
     out->reset(first, count, N, A, ps_.words);
