@@ -34,7 +34,7 @@ struct GridInfo {
 // `codec_payload` is what the transform codec wrote (empty if none), `tpred` its prediction on
 // the grid (frames x points x 3, empty if none).
 // `scheme` is the coding generation (FORMAT.md 3.3): 3 (format 3.x: smooth and period
-// predictors, 504 residual contexts), what capz writes; 2 (format 2.x: reference predictors, 84
+// predictors, 448 residual contexts), what capz writes; 2 (format 2.x: reference predictors, 84
 // contexts) and 1 (format 1.x) for reading old streams and for their tests.
 constexpr int kPositionScheme = 3;
 // The scheme of a stream of format major version `major`.

@@ -118,8 +118,8 @@ TEST(TsPayloadSegments, GivenInconsistentSegmentFieldsThenCorrupt) {
   expect_corrupt(payload(4, 2, {0, 0, 0, 0}), 4, "an empty segment (all points in one)");
   expect_corrupt(payload(4, 2, {0, 1, 0, 1}, 1), 4, "fewer unit headers than S x K");
   std::vector<uint8_t> p = payload(4, 2, {0, 1, 0, 1});
-  p[1] = 8;
-  expect_corrupt(p, 4, "unknown flag bit 3");
+  p[1] = 16;
+  expect_corrupt(p, 4, "unknown flag bit 4");
   p[1] = 4;  // per-segment rigid motion announced, its headers absent
   expect_corrupt(p, 4, "segment motion headers missing");
   p[1] = 0;

@@ -4,6 +4,7 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "capz/error.h"
 
@@ -56,13 +57,21 @@ Pca pca_frames(const Eigen::MatrixXd& frames, const PcaParams& params) {
   return out;
 }
 
-QuantisedVector quantise_vector(const double* v, size_t n, int bits) {
+double round_up_to_f32(double x) {
+  float f = static_cast<float>(x);
+  if (!std::isfinite(f)) return static_cast<double>(std::numeric_limits<float>::max());
+  if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+  return static_cast<double>(f);
+}
+
+QuantisedVector quantise_vector(const double* v, size_t n, int bits, bool f32_scale) {
   if (bits < 2 || bits > 30) fail(ErrorCode::kInvalidParameter, "", "ts: basis bits out of 2..30");
   QuantisedVector qv;
   qv.bits = bits;
   qv.q.resize(n);
   double scale = 0;
   for (size_t i = 0; i < n; ++i) scale = std::max(scale, std::fabs(v[i]));
+  if (f32_scale) scale = round_up_to_f32(scale);
   qv.scale = scale;
   if (scale == 0) return qv;
   const double step = quant_step(bits, scale);
@@ -74,7 +83,8 @@ QuantisedVector quantise_vector(const double* v, size_t n, int bits) {
   return qv;
 }
 
-QuantisedVector quantise_vector_step(const double* v, size_t n, double step, int max_bits) {
+QuantisedVector quantise_vector_step(const double* v, size_t n, double step, int max_bits,
+                                     bool f32_scale) {
   if (max_bits < 2 || max_bits > 30) fail(ErrorCode::kInvalidParameter, "", "ts: basis bits out of 2..30");
   double top = 0;
   for (size_t i = 0; i < n; ++i) top = std::max(top, std::fabs(v[i]));
@@ -85,6 +95,7 @@ QuantisedVector quantise_vector_step(const double* v, size_t n, double step, int
   while (qv.bits < max_bits && static_cast<double>((int64_t{1} << (qv.bits - 1)) - 1) * step < top) ++qv.bits;
   const double lim = static_cast<double>((int64_t{1} << (qv.bits - 1)) - 1);
   qv.scale = std::max(step * lim, top);
+  if (f32_scale) qv.scale = round_up_to_f32(qv.scale);
   const double s = quant_step(qv.bits, qv.scale);
   const int32_t ilim = static_cast<int32_t>(lim);
   for (size_t i = 0; i < n; ++i) {

@@ -37,12 +37,17 @@ struct QuantisedVector {
 inline double quant_step(int bits, double scale) {
   return scale / static_cast<double>((int64_t{1} << (bits - 1)) - 1);
 }
-QuantisedVector quantise_vector(const double* v, size_t n, int bits);
+// With f32_scale the scale is rounded up to the nearest float32 (a version-2 payload with flags
+// bit 3 stores it as f32), and the values are quantised with that scale.
+QuantisedVector quantise_vector(const double* v, size_t n, int bits, bool f32_scale = false);
 // The same quantiser with a free step (no power-of-two grid of steps): bits = the fewest in
 // 2..max_bits with (2^(bits-1) - 1) step >= max_i |v_i|, scale = step (2^(bits-1) - 1), so the
 // decoder's quant_step(bits, scale) is `step` up to rounding. When max_bits cannot hold the
 // range, the step grows to max_i |v_i| / (2^(max_bits-1) - 1).
-QuantisedVector quantise_vector_step(const double* v, size_t n, double step, int max_bits);
+QuantisedVector quantise_vector_step(const double* v, size_t n, double step, int max_bits,
+                                     bool f32_scale = false);
+// x rounded up to a float32 value (FLT_MAX when beyond it).
+double round_up_to_f32(double x);
 void dequantise_vector(const QuantisedVector& qv, double* out);  // writes qv.q.size() values
 
 // Fewest bits in [min_bits, max_bits] whose step keeps the basis error of a component with

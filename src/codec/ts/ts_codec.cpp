@@ -198,6 +198,7 @@ Trial build_trial(const Base& base, const Prepared& prep, double budget, const O
   m.segments = prep.segments;
   m.segment = prep.segment;
   m.segment_rigid = !prep.motion.empty();
+  m.f32_scales = prep.segments > 1;
   m.segment_motion = prep.motion;
   const size_t nc = prep.pca.size();  // units: segments x clusters
 
@@ -251,10 +252,10 @@ Trial build_trial(const Base& base, const Prepared& prep, double budget, const O
         // The PC's share of the basis budget: sigma^2 3N_s step^2 / 12 = per_pc.
         const double sg = std::max(static_cast<double>(pca.sigma[j]), 1e-300);
         const double step = std::sqrt(12.0 * per_pc / (sg * sg * static_cast<double>(dim)));
-        tc.basis.push_back(ts::quantise_vector_step(col, dim, step, o.bits_max));
+        tc.basis.push_back(ts::quantise_vector_step(col, dim, step, o.bits_max, m.f32_scales));
       } else {
         const int bits = ts::basis_bits_for(pca.sigma[j], scale, dim, per_pc, o.bits_min, o.bits_max);
-        tc.basis.push_back(ts::quantise_vector(col, dim, bits));
+        tc.basis.push_back(ts::quantise_vector(col, dim, bits, m.f32_scales));
       }
       ts::dequantise_vector(tc.basis.back(), bq.col(j).data());
     }

@@ -253,7 +253,9 @@ void write_model(const TsModel& m, ByteWriter* out) {
   const bool segmented = m.segments > 1;
   out->u8(segmented ? kVersionSegments : kVersionOneSegment);
   if (m.segment_rigid && !segmented) fail(ErrorCode::kInternal, kWhat, "segment motion without segments");
-  out->u8(static_cast<uint8_t>((m.rigid ? 1 : 0) | (m.basis_predict ? 2 : 0) | (m.segment_rigid ? 4 : 0)));
+  if (m.f32_scales && !segmented) fail(ErrorCode::kInternal, kWhat, "float32 scales without segments");
+  out->u8(static_cast<uint8_t>((m.rigid ? 1 : 0) | (m.basis_predict ? 2 : 0) | (m.segment_rigid ? 4 : 0) |
+                               (m.f32_scales ? 8 : 0)));
   out->varint(m.frames);
   out->varint(m.points);
   out->f64(m.coef_step);
@@ -277,7 +279,13 @@ void write_model(const TsModel& m, ByteWriter* out) {
     out->u8(static_cast<uint8_t>(c.lcps_weight_bits));
     for (const QuantisedVector& q : c.basis) {
       out->u8(static_cast<uint8_t>(q.bits));
-      out->f64(q.scale);
+      if (m.f32_scales) {
+        if (static_cast<double>(static_cast<float>(q.scale)) != q.scale)
+          fail(ErrorCode::kInternal, kWhat, "basis scale is not a float32 value");
+        out->f32(static_cast<float>(q.scale));
+      } else {
+        out->f64(q.scale);
+      }
     }
   }
   Out e;
@@ -334,10 +342,11 @@ TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t point
   if (version != kVersionOneSegment && version != kVersionSegments)
     fail(ErrorCode::kUnsupportedVersion, kWhat, "version " + std::to_string(version) + " (this build reads 1 and 2)");
   const uint8_t flags = in.u8();
-  if (flags > (version == kVersionSegments ? 7 : 3)) corrupt("unknown flags");
+  if (flags > (version == kVersionSegments ? 15 : 3)) corrupt("unknown flags");
   m.rigid = flags & 1;
   m.basis_predict = (flags & 2) != 0;
   m.segment_rigid = (flags & 4) != 0;
+  m.f32_scales = (flags & 8) != 0;
   m.frames = in.varint();
   m.points = in.varint();
   if (m.frames != frames || m.points != points) corrupt("window shape disagrees with the container");
@@ -374,7 +383,7 @@ TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t point
   for (TsCluster& tc : m.cluster) {
     const uint64_t r = in.varint();
     if (r > std::min<size_t>(dim, frames)) corrupt("a cluster has more PCs than frames or dimensions");
-    if (r > in.remaining() / 9) corrupt("basis headers larger than the payload");
+    if (r > in.remaining() / (m.f32_scales ? 5 : 9)) corrupt("basis headers larger than the payload");
     read_lpc_header(&in, &tc.first, r, 0);
     tc.lcps_weight_bits = in.u8();
     if (tc.lcps_weight_bits > 30) corrupt("LCPS weight bits out of range");
@@ -382,7 +391,7 @@ TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t point
     for (auto& q : tc.basis) {
       q.bits = in.u8();
       if (q.bits < 2 || q.bits > 30) corrupt("basis bits out of 2..30");
-      q.scale = in.f64();
+      q.scale = m.f32_scales ? static_cast<double>(in.f32()) : in.f64();
       if (!std::isfinite(q.scale) || q.scale < 0) corrupt("basis scale is not a finite number >= 0");
     }
   }

@@ -45,6 +45,7 @@ struct TsModel {
     LpcCode code;
   };
   bool segment_rigid = false;
+  bool f32_scales = false;  // version 2, flags bit 3: basis scales are float32 values
   std::vector<SegmentMotion> segment_motion;  // per segment when segment_rigid
   // segments x clusters, segment-major (cluster[s * clusters + c]); the bases of segment s have
   // 3 N_s entries, entry 3 i + axis for the segment's i-th point (points in increasing order).
