@@ -37,8 +37,8 @@ Cloud::Ptr frame_cloud(const std::vector<double>& xyz, size_t f, size_t points) 
   c->resize(points);
   for (size_t p = 0; p < points; ++p) {
     const double* x = &xyz[(f * points + p) * 3];
-    (*c)[p] = pcl::PointXYZ(static_cast<float>(x[0]), static_cast<float>(x[1]),
-                            static_cast<float>(x[2]));
+    (*c)[p] =
+        pcl::PointXYZ(static_cast<float>(x[0]), static_cast<float>(x[1]), static_cast<float>(x[2]));
   }
   return c;
 }

@@ -13,8 +13,9 @@
 // OUT.bin layout (little-endian): "CZRQ", u8 version = 1, u32 frames, u32 points, f64 step,
 // the mask as frames*points bits (sample i = f * points + p at bit i % 8 of byte i / 8),
 // then residuals as int32 in trajectory order (point, axis, frame).
-// Quantiser: q = round(x / step) (half away from zero), reconstruction q * step, so |x - x'| <= step / 2 = T.
-// Predictor: pred(0) = 0, pred(1) = q(0), pred(t) = 2 q(t-1) - q(t-2); residual q(t) - pred(t).
+// Quantiser: q = round(x / step) (half away from zero), reconstruction q * step, so |x - x'| <=
+// step / 2 = T. Predictor: pred(0) = 0, pred(1) = q(0), pred(t) = 2 q(t-1) - q(t-2); residual q(t)
+// - pred(t).
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -34,8 +35,8 @@ int64_t predict(const int64_t* q, size_t t) {
   return 2 * q[t - 1] - q[t - 2];
 }
 
-void encode(const std::string& in, const std::string& out, double tol, size_t frames,
-            size_t points, const std::string& mask) {
+void encode(const std::string& in, const std::string& out, double tol, size_t frames, size_t points,
+            const std::string& mask) {
   if (!(tol > 0)) capz::fail(capz::ErrorCode::kInvalidParameter, in, "tolerance must be > 0");
   capz::Take t = capz_tools::load_input(in, frames, points, mask);
   capz_tools::fill_gaps(&t);
@@ -49,7 +50,8 @@ void encode(const std::string& in, const std::string& out, double tol, size_t fr
   const size_t n = t.frames * t.points;
   for (size_t i = 0; i < n; i += 8) {
     uint8_t b = 0;
-    for (size_t k = 0; k < 8 && i + k < n; ++k) b |= static_cast<uint8_t>((t.valid[i + k] ? 1 : 0) << k);
+    for (size_t k = 0; k < 8 && i + k < n; ++k)
+      b |= static_cast<uint8_t>((t.valid[i + k] ? 1 : 0) << k);
     w.u8(b);
   }
   std::vector<int64_t> q(t.frames);

@@ -15,7 +15,9 @@
 
 namespace {
 
-double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+double cpu_seconds() {
+  return static_cast<double>(std::clock()) / CLOCKS_PER_SEC;
+}
 
 int usage() {
   std::fprintf(stderr,
@@ -60,10 +62,10 @@ int main(int argc, char** argv) {
       enc = std::min(enc, t1 - t0);
       dec = std::min(dec, t2 - t1);
     }
-    std::printf("%s: raw %.2f MB, %zu bytes; encode %.1f ms (%.1f MB/s), decode %.1f ms (%.1f MB/s)"
-                ", best of %d\n",
-                argv[1], raw_mb, bytes.size(), enc * 1e3, raw_mb / enc, dec * 1e3, raw_mb / dec,
-                reps);
+    std::printf(
+        "%s: raw %.2f MB, %zu bytes; encode %.1f ms (%.1f MB/s), decode %.1f ms (%.1f MB/s)"
+        ", best of %d\n",
+        argv[1], raw_mb, bytes.size(), enc * 1e3, raw_mb / enc, dec * 1e3, raw_mb / dec, reps);
   } catch (const capz::Error& e) {
     std::fprintf(stderr, "capz_speed: %s\n", e.what());
     return 2;

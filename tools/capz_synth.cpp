@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
       capz::fail(capz::ErrorCode::kInvalidParameter, src, "source needs >= 2 frames and points");
     capz_tools::fill_gaps(&s);
     double metres = capz::units_to_metres(s.units);
-    if (metres == 0) metres = 0.001;  // unknown units: treat as mm
+    if (metres == 0) metres = 0.001;   // unknown units: treat as mm
     const double mm = 0.001 / metres;  // one millimetre in the source's units
     const size_t frames = static_cast<size_t>(std::llround(minutes * 60 * rate));
 
@@ -66,8 +66,7 @@ int main(int argc, char** argv) {
     t.resize(frames, want_points);
     t.rate = rate;
     t.units = s.units.empty() ? "mm" : s.units;
-    for (size_t p = 0; p < want_points; ++p)
-      t.labels.push_back("M" + std::to_string(p + 1));
+    for (size_t p = 0; p < want_points; ++p) t.labels.push_back("M" + std::to_string(p + 1));
     std::mt19937_64 rng(seed);
     std::normal_distribution<double> noise(0.0, noise_mm * mm);
     const size_t period = 2 * (s.frames - 1);

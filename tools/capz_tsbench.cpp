@@ -27,7 +27,8 @@ namespace {
 int usage() {
   std::fprintf(stderr,
                "usage: capz_tsbench table2 IN --kg X [--kmax 5] [--frames F] [--opt k=v ...]\n"
-               "       capz_tsbench rd IN --kg X1,X2,... [--clusters K|auto] [--frames F] [--opt k=v ...]\n");
+               "       capz_tsbench rd IN --kg X1,X2,... [--clusters K|auto] [--frames F] [--opt "
+               "k=v ...]\n");
   return 1;
 }
 
@@ -61,12 +62,15 @@ void run(const Take& t, size_t nf, const TransformParams& tp, const char* mode) 
     pcs << "}";
   }
   const double rate = bpvf(bytes.size(), nf, t.points);
-  const double ratio = 100.0 * static_cast<double>(bytes.size()) / (static_cast<double>(nf * t.points) * 12.0);
+  const double ratio =
+      100.0 * static_cast<double>(bytes.size()) / (static_cast<double>(nf * t.points) * 12.0);
   if (std::strcmp(mode, "table2") == 0) {
-    std::printf("| %d | %.4f | %s | %d | %zu | %.3f | %.3f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %d |%s\n",
-                rep.clusters, e.kg_error, pcs.str().c_str(), total, bytes.size(), rate, ratio,
-                rep.t_align, rep.t_cluster, rep.t_pca, rep.t_quant, rep.t_lcps, rep.t_total,
-                rep.trials, exact ? "" : " DECODE MISMATCH");
+    std::printf(
+        "| %d | %.4f | %s | %d | %zu | %.3f | %.3f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %d "
+        "|%s\n",
+        rep.clusters, e.kg_error, pcs.str().c_str(), total, bytes.size(), rate, ratio, rep.t_align,
+        rep.t_cluster, rep.t_pca, rep.t_quant, rep.t_lcps, rep.t_total, rep.trials,
+        exact ? "" : " DECODE MISMATCH");
   } else {
     std::printf("| %.3f | %d %s | %.4f | %.4g | %zu | %.3f | %.2f |%s\n", tp.kg_error, rep.clusters,
                 pcs.str().c_str(), e.kg_error, e.max_error, bytes.size(), rate, rep.t_total,
@@ -113,7 +117,9 @@ int main(int argc, char** argv) {
     const size_t nf = frames ? std::min(frames, t.frames) : t.frames;
     std::printf("%s: %zu frames x %zu points\n", in.c_str(), nf, t.points);
     if (mode == "table2") {
-      std::printf("| K | KG (%%) | PCs per cluster | total PCs | bytes | bpvf | size (%% of float32) | align s | cluster s | PCA s | quantise s | LPC+LCPS s | total s | trials |\n");
+      std::printf(
+          "| K | KG (%%) | PCs per cluster | total PCs | bytes | bpvf | size (%% of float32) | "
+          "align s | cluster s | PCA s | quantise s | LPC+LCPS s | total s | trials |\n");
       std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
       for (int k = 1; k <= kmax; ++k) {
         TransformParams tp = base;

@@ -20,8 +20,12 @@ namespace capz_cli {
 namespace {
 
 // Equal values, or both NaN (a NaN's payload bits are not part of what a take promises).
-bool same_value(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool same_value(double a, double b) {
+  return a == b || (std::isnan(a) && std::isnan(b));
+}
+bool same_bits(double a, double b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
+}
 
 template <typename T, typename Eq>
 bool same_vector(const std::vector<T>& a, const std::vector<T>& b, Eq eq) {
@@ -92,9 +96,8 @@ std::string block_difference(const capz::FrameBlock& a, const capz::FrameBlock& 
                       : promise.lossless       ? same_bits(x, y)
                                                : std::fabs(x - y) <= promise.max_error;
       if (!ok)
-        return "coordinate " + num(x, 17) + " at frame " +
-               std::to_string(a.first + i / a.points) + ", point " +
-               std::to_string(i % a.points) + " comes back as " + num(y, 17) +
+        return "coordinate " + num(x, 17) + " at frame " + std::to_string(a.first + i / a.points) +
+               ", point " + std::to_string(i % a.points) + " comes back as " + num(y, 17) +
                (promise.lossless ? " (lossless)" : " (bound " + num(promise.max_error, 6) + ")");
     }
   }

@@ -39,7 +39,8 @@ ValidExtent valid_extent(capz::FrameSource& src) {
 // Default bound for data without units: 1e-4 of the bounding-box diagonal of the valid samples.
 double unitless_default_bound(const ValidExtent& e) {
   double d2 = 0;
-  for (int a = 0; a < 3; ++a) d2 += e.hi[a] > e.lo[a] ? (e.hi[a] - e.lo[a]) * (e.hi[a] - e.lo[a]) : 0;
+  for (int a = 0; a < 3; ++a)
+    d2 += e.hi[a] > e.lo[a] ? (e.hi[a] - e.lo[a]) * (e.hi[a] - e.lo[a]) : 0;
   return d2 > 0 ? 1e-4 * std::sqrt(d2) : 1e-4;
 }
 
@@ -75,8 +76,7 @@ int cmd_compress(const Args& args) {
       "quantiser alone)")("force,f", "overwrite OUT if it exists")(
       "rm",
       "remove IN (a file) after the output, read back from disk and decoded, reproduced it "
-      "within the bound")(
-      "json", "print the report as one JSON object");
+      "within the bound")("json", "print the report as one JSON object");
   po::variables_map vm;
   std::string in;
   if (!parse_single_input(

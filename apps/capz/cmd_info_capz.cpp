@@ -43,7 +43,9 @@ int info_capz(const std::string& path, bool json) {
     std::printf("%s\n", j.str().c_str());
     return 0;
   }
-  auto line = [](const char* k, const std::string& v) { std::printf("  %-12s %s\n", k, v.c_str()); };
+  auto line = [](const char* k, const std::string& v) {
+    std::printf("  %-12s %s\n", k, v.c_str());
+  };
   std::printf("%s\n", path.c_str());
   line("format:", "capz " + std::to_string(si.major) + "." + std::to_string(si.minor) + ", " +
                       human_size(bytes.size()) + ", " + num(bp) + " bpvf");
@@ -52,11 +54,14 @@ int info_capz(const std::string& path, bool json) {
   line("take:", std::to_string(si.frames) + " frames x " + std::to_string(si.points) + " points" +
                     (si.rate > 0 ? ", " + num(si.rate) + " Hz" : "") +
                     (si.units.empty() ? ", units unknown" : ", " + si.units));
-  line("coding:", si.mode + (si.lossless           ? ", lossless"
-                             : si.transform_output ? ", KG target " + num(si.kg_target) + "%, no bound"
-                                                   : ", bound " + num(si.max_error) + u + " per coordinate") +
-                      (si.step > 0 ? ", grid step " + num(si.step, 6) + u : "") + ", codec " + si.codec);
-  line("windows:", std::to_string(si.windows) + " of " + std::to_string(si.window_frames) + " frames");
+  line("coding:",
+       si.mode +
+           (si.lossless           ? ", lossless"
+            : si.transform_output ? ", KG target " + num(si.kg_target) + "%, no bound"
+                                  : ", bound " + num(si.max_error) + u + " per coordinate") +
+           (si.step > 0 ? ", grid step " + num(si.step, 6) + u : "") + ", codec " + si.codec);
+  line("windows:",
+       std::to_string(si.windows) + " of " + std::to_string(si.window_frames) + " frames");
   if (si.analog_channels > 0)
     line("analog:", std::to_string(si.analog_channels) + " channels x " +
                         std::to_string(si.analog_samples_per_frame) + " samples per frame");

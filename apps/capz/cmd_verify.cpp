@@ -48,10 +48,9 @@ int cmd_verify(const Args& args) {
                      std::to_string(a.frames) + " x " + std::to_string(a.points));
     e = capz::compare(a, b);
     // A transform-output stream (only a KG target was given) promises its KG target, not a bound.
-    ok = e.mask_mismatches == 0 &&
-         (si.lossless           ? e.max_abs == 0
-          : si.transform_output ? e.kg_error <= si.kg_target * (1 + 1e-9)
-                                : e.max_abs <= si.max_error);
+    ok = e.mask_mismatches == 0 && (si.lossless           ? e.max_abs == 0
+                                    : si.transform_output ? e.kg_error <= si.kg_target * (1 + 1e-9)
+                                                          : e.max_abs <= si.max_error);
   }
   if (vm.count("json")) {
     Json j;

@@ -4,18 +4,18 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "capz/codec.h"
 #include "capz/error.h"
-#include "core/atomic_file.h"
 #include "capz/metrics.h"
 #include "cli_util.h"
 #include "commands.h"
+#include "core/atomic_file.h"
 
 namespace capz_cli {
 
@@ -31,15 +31,16 @@ inline std::string strip_slashes(std::string p) {
 class Progress {
  public:
   explicit Progress(const char* what)
-      : what_(what), on_(g_verbosity >= 1 && isatty(STDERR_FILENO)),
+      : what_(what),
+        on_(g_verbosity >= 1 && isatty(STDERR_FILENO)),
         last_(std::chrono::steady_clock::now()) {}
   void operator()(size_t done, size_t total) {
     if (!on_ || total == 0) return;
     auto now = std::chrono::steady_clock::now();
     if (done < total && now - last_ < std::chrono::milliseconds(100)) return;
     last_ = now;
-    std::fprintf(stderr, "\r%s: %3d%% (%zu / %zu frames)", what_, static_cast<int>(100.0 * done / total),
-                 done, total);
+    std::fprintf(stderr, "\r%s: %3d%% (%zu / %zu frames)", what_,
+                 static_cast<int>(100.0 * done / total), done, total);
     shown_ = true;
   }
   ~Progress() {

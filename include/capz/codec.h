@@ -49,18 +49,18 @@ struct CompressOptions {
 size_t auto_window_frames(size_t points);
 
 struct CompressStats {
-  size_t bytes = 0;            // size of the .capz stream
-  size_t raw_bytes = 0;        // frames x points x 3 x 4: the positions as raw float32
-  double bpvf = 0;             // 8 * bytes / (frames * points)
-  double step = 0;             // grid step used (0 for float-bit lossless coding)
-  std::string mode;            // "grid", "decimal-grid", "float32-bits", "float64-bits",
-                               // "transform-output" (only a KG target and a transform)
-  std::string codec;           // transform stage used: "none", "ts", "pdct" (what auto chose)
+  size_t bytes = 0;      // size of the .capz stream
+  size_t raw_bytes = 0;  // frames x points x 3 x 4: the positions as raw float32
+  double bpvf = 0;       // 8 * bytes / (frames * points)
+  double step = 0;       // grid step used (0 for float-bit lossless coding)
+  std::string mode;      // "grid", "decimal-grid", "float32-bits", "float64-bits",
+                         // "transform-output" (only a KG target and a transform)
+  std::string codec;     // transform stage used: "none", "ts", "pdct" (what auto chose)
   bool lossless = false;
-  ErrorStats error;            // achieved, over valid samples (zero when lossless)
-  size_t position_bytes = 0;   // bytes of POSW + MASK chunks
-  size_t analog_bytes = 0;     // bytes of ANLG chunks
-  size_t other_bytes = 0;      // everything else
+  ErrorStats error;           // achieved, over valid samples (zero when lossless)
+  size_t position_bytes = 0;  // bytes of POSW + MASK chunks
+  size_t analog_bytes = 0;    // bytes of ANLG chunks
+  size_t other_bytes = 0;     // everything else
 };
 
 // Throws Error(kInvalidParameter) for an impossible target (no target, bound too fine for the

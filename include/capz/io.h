@@ -16,7 +16,7 @@ Format detect_format(const std::string& path);
 Take read_take(const std::string& path);
 
 struct WriteOptions {
-  bool overwrite = false;            // replace an existing output (the CLI's -f)
+  bool overwrite = false;               // replace an existing output (the CLI's -f)
   std::string pcd_encoding = "binary";  // "ascii", "binary", "binary_compressed"
   bool c3d_float = false;  // C3D written as float even if the source was int16 (default: source's)
 };

@@ -15,8 +15,8 @@ struct ErrorStats {
   // Karni & Gotsman error in percent: 100 * ||A - A'||_F / ||A - E(A)||_F, where E(A) holds each
   // frame's centroid of the valid points (as in Luo et al. 2013 and Amjoun & Strasser 2007).
   double kg_error = 0;
-  double psnr = 0;  // 20 log10(bbox diagonal / rmse), dB; infinite when rmse is 0
-  size_t samples = 0;  // valid samples compared
+  double psnr = 0;             // 20 log10(bbox diagonal / rmse), dB; infinite when rmse is 0
+  size_t samples = 0;          // valid samples compared
   size_t mask_mismatches = 0;  // samples whose validity differs between the two takes
 };
 

@@ -24,11 +24,11 @@ namespace capz {
 // in the same layouts.
 struct FrameBlock {
   size_t first = 0, frames = 0, points = 0;
-  std::vector<double> xyz;          // frames x points x 3
-  std::vector<uint8_t> valid;       // frames x points
-  std::vector<float> residual;      // frames x points (C3D 4th word), empty when the take has none
+  std::vector<double> xyz;           // frames x points x 3
+  std::vector<uint8_t> valid;        // frames x points
+  std::vector<float> residual;       // frames x points (C3D 4th word), empty when the take has none
   std::vector<uint8_t> camera_mask;  // frames x points, empty when the take has none
-  std::vector<double> analog;       // (frames * samples_per_frame) x channels
+  std::vector<double> analog;        // (frames * samples_per_frame) x channels
 
   // Sizes every array for `frames` x `points` (gaps, zeros); words: with residual/camera arrays.
   void reset(size_t first, size_t frames, size_t points, size_t analog_values_per_frame,

@@ -95,12 +95,13 @@ struct Analog {
 
 // TRC specifics (OpenSim / Motion Analysis). Kept so a TRC written back looks like the source.
 struct TRCExtra {
-  std::string path_file_type_line;  // first line verbatim, e.g. "PathFileType\t4\t(X/Y/Z)\tname.trc"
+  std::string
+      path_file_type_line;  // first line verbatim, e.g. "PathFileType\t4\t(X/Y/Z)\tname.trc"
   double camera_rate = 0;
   double orig_data_rate = 0;
   long orig_data_start_frame = 1;
   long orig_num_frames = 0;
-  std::vector<double> times;       // the Time column, one per frame
+  std::vector<double> times;        // the Time column, one per frame
   std::vector<long> frame_numbers;  // the Frame# column, one per frame
   int decimals = -1;                // most decimals seen in coordinate fields; -1 unknown
   int time_decimals = -1;           // most decimals seen in the Time column; -1 unknown
@@ -122,16 +123,16 @@ struct Take {
   std::vector<double> xyz;     // frames x points x 3 (see top of file)
   std::vector<uint8_t> valid;  // frames x points
 
-  double rate = 0;     // frames per second; 0 = unknown
-  std::string units;   // "mm", "cm", "m", ... as the file says; empty = unknown (PCD)
-  long first_frame = 1;  // number of the first frame as the source counts them
-  std::vector<std::string> labels;        // one per point (may be empty strings)
+  double rate = 0;                  // frames per second; 0 = unknown
+  std::string units;                // "mm", "cm", "m", ... as the file says; empty = unknown (PCD)
+  long first_frame = 1;             // number of the first frame as the source counts them
+  std::vector<std::string> labels;  // one per point (may be empty strings)
   std::vector<std::string> descriptions;  // one per point or empty
 
-  Analog analog;                    // channels == 0 when none
-  std::shared_ptr<C3DExtra> c3d;    // set when read from C3D
-  std::shared_ptr<TRCExtra> trc;    // set when read from TRC
-  std::shared_ptr<PCDExtra> pcd;    // set when read from a PCD folder
+  Analog analog;                  // channels == 0 when none
+  std::shared_ptr<C3DExtra> c3d;  // set when read from C3D
+  std::shared_ptr<TRCExtra> trc;  // set when read from TRC
+  std::shared_ptr<PCDExtra> pcd;  // set when read from a PCD folder
 
   // Inconsistencies found while reading that did not stop it ("header says 1149 frames, file
   // holds 29"). `capz info` prints them.

@@ -13,48 +13,58 @@
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/stream.h"
-#include "core/atomic_file.h"
-#include "core/input_file.h"
 #include "codec/registry.h"
 #include "coding/bytes.h"
 #include "coding/container.h"
 #include "coding/entropy.h"
 #include "coding/window_coder.h"
+#include "core/atomic_file.h"
+#include "core/input_file.h"
 
 namespace capz {
 namespace {
 
 const char* mode_name(PosMode m) {
   switch (m) {
-    case PosMode::kGrid: return "grid";
-    case PosMode::kDecimal: return "decimal-grid";
-    case PosMode::kFloat32: return "float32-bits";
-    case PosMode::kFloat64: return "float64-bits";
-    case PosMode::kFloat32Grid: return "float32-grid";
+    case PosMode::kGrid:
+      return "grid";
+    case PosMode::kDecimal:
+      return "decimal-grid";
+    case PosMode::kFloat32:
+      return "float32-bits";
+    case PosMode::kFloat64:
+      return "float64-bits";
+    case PosMode::kFloat32Grid:
+      return "float32-grid";
   }
   return "?";
 }
 
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, 8) == 0; }
+bool same_bits(double a, double b) {
+  return std::memcmp(&a, &b, 8) == 0;
+}
 
 // How coordinates become integers (docs/FORMAT.md 3.1).
 struct Grid {
   PosMode mode = PosMode::kGrid;
-  double step = 0;  // kGrid: multiplier; kDecimal: divisor
+  double step = 0;   // kGrid: multiplier; kDecimal: divisor
   double bound = 0;  // per-coordinate bound that holds (0 = exact)
   bool lossless = false;
 };
 
 inline double dequantise(const Grid& g, int32_t q, uint32_t lo) {
   switch (g.mode) {
-    case PosMode::kGrid: return static_cast<double>(q) * g.step;
-    case PosMode::kDecimal: return static_cast<double>(q) / g.step;
-    case PosMode::kFloat32: return static_cast<double>(ordered_to_float(q));
+    case PosMode::kGrid:
+      return static_cast<double>(q) * g.step;
+    case PosMode::kDecimal:
+      return static_cast<double>(q) / g.step;
+    case PosMode::kFloat32:
+      return static_cast<double>(ordered_to_float(q));
     case PosMode::kFloat32Grid:
       return static_cast<double>(static_cast<float>(static_cast<double>(q) * g.step));
     default:
-      return ordered_to_double(static_cast<int64_t>(
-          (static_cast<uint64_t>(static_cast<uint32_t>(q)) << 32) | lo));
+      return ordered_to_double(
+          static_cast<int64_t>((static_cast<uint64_t>(static_cast<uint32_t>(q)) << 32) | lo));
   }
 }
 
@@ -94,7 +104,7 @@ inline bool grid_exact_at(const Grid& g, double x) {
 // take (a block of frames at a time, blocks in order). Each field equals what a pass over the
 // whole take computes: maxima, minima, all-of flags and in-order sums.
 struct TakeScan {
-  double max_abs = 0;  // largest |coordinate|
+  double max_abs = 0;                                         // largest |coordinate|
   double min_cheb = std::numeric_limits<double>::infinity();  // smallest max(|x|, |y|, |z|)
   std::vector<Grid> candidates;  // lossless grids in order of preference (lossless_candidates)
   std::vector<uint8_t> exact;    // per candidate: every valid coordinate reproduced exactly
@@ -282,7 +292,8 @@ double quantised_sq_error(FrameSource& src, double step, size_t block, FrameBloc
 }
 
 // Squared error and centred energy (per-frame centroid, metrics.h) of a window's valid samples.
-double window_sq_error(size_t fn, size_t n, const double* a, const double* b, const uint8_t* valid) {
+double window_sq_error(size_t fn, size_t n, const double* a, const double* b,
+                       const uint8_t* valid) {
   double s = 0;
   for (size_t i = 0; i < fn * n; ++i)
     if (valid[i])
@@ -290,8 +301,8 @@ double window_sq_error(size_t fn, size_t n, const double* a, const double* b, co
   return s;
 }
 // window_sq_error against b as written at int16 scale `scale` (as_written).
-double written_sq_error(size_t fn, size_t n, const double* a, const double* b,
-                        const uint8_t* valid, double scale) {
+double written_sq_error(size_t fn, size_t n, const double* a, const double* b, const uint8_t* valid,
+                        double scale) {
   double s = 0;
   for (size_t i = 0; i < fn * n; ++i)
     if (valid[i])
@@ -368,10 +379,18 @@ WindowInts window_ints(const FrameBlock& b, const Grid& g) {
     if (!w.valid[i]) continue;
     for (size_t k = i * 3; k < i * 3 + 3; ++k) {
       switch (g.mode) {
-        case PosMode::kGrid: w.q[k] = round_to_int(x[k] / g.step); break;
-        case PosMode::kDecimal: w.q[k] = round_to_int(x[k] * g.step); break;
-        case PosMode::kFloat32: w.q[k] = float_to_ordered(static_cast<float>(x[k])); break;
-        case PosMode::kFloat32Grid: w.q[k] = round_to_int(x[k] / g.step); break;
+        case PosMode::kGrid:
+          w.q[k] = round_to_int(x[k] / g.step);
+          break;
+        case PosMode::kDecimal:
+          w.q[k] = round_to_int(x[k] * g.step);
+          break;
+        case PosMode::kFloat32:
+          w.q[k] = float_to_ordered(static_cast<float>(x[k]));
+          break;
+        case PosMode::kFloat32Grid:
+          w.q[k] = round_to_int(x[k] / g.step);
+          break;
         case PosMode::kFloat64: {
           uint64_t o = static_cast<uint64_t>(double_to_ordered(x[k]));
           w.q[k] = static_cast<int32_t>(static_cast<uint32_t>(o >> 32));
@@ -417,8 +436,9 @@ CodecOnly split_transform_only(const uint8_t* data, size_t size, const std::stri
   CodecOnly c;
   const uint64_t n = r.varint();
   if (n == 0 || n > r.remaining())
-    fail(ErrorCode::kCorrupt, what, "transform output: codec block length " + std::to_string(n) +
-                                        " with " + std::to_string(r.remaining()) + " bytes left");
+    fail(ErrorCode::kCorrupt, what,
+         "transform output: codec block length " + std::to_string(n) + " with " +
+             std::to_string(r.remaining()) + " bytes left");
   c.size = static_cast<size_t>(n);
   c.data = r.bytes(c.size);
   if (r.remaining() != 0)
@@ -435,7 +455,8 @@ void decode_transform_output(const uint8_t* data, size_t size, const StreamHeade
          "stream uses transform codec id " + std::to_string(h.codec) + ", unknown to this capz");
   const CodecOnly co = split_transform_only(data, size, what);
   codec->decode(co.data, co.size, fn, h.points, xyz);
-  if (xyz->size() != fn * h.points * 3) fail(ErrorCode::kCorrupt, what, "codec payload has the wrong size");
+  if (xyz->size() != fn * h.points * 3)
+    fail(ErrorCode::kCorrupt, what, "codec payload has the wrong size");
   for (size_t i = 0; i < fn * h.points; ++i)
     if (wi->valid[i])
       for (int a = 0; a < 3; ++a)
@@ -504,9 +525,9 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
     fail(ErrorCode::kInvalidParameter, take.source,
          "take arrays do not match its frame and point counts");
   const bool analog = take.analog.channels > 0 && take.analog.samples_per_frame > 0;
-  if (analog && take.analog.values.size() != take.frames *
-                                                 static_cast<size_t>(take.analog.samples_per_frame) *
-                                                 static_cast<size_t>(take.analog.channels))
+  if (analog && take.analog.values.size() !=
+                    take.frames * static_cast<size_t>(take.analog.samples_per_frame) *
+                        static_cast<size_t>(take.analog.channels))
     fail(ErrorCode::kInvalidParameter, take.source,
          "analog values do not match frames x samples x channels");
   std::unique_ptr<FrameSource> src = take_frames(take);
@@ -516,7 +537,8 @@ std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions
   return bytes;
 }
 
-std::vector<uint8_t> compress_one(const Take& take, const CompressOptions& opts, CompressStats* stats) {
+std::vector<uint8_t> compress_one(const Take& take, const CompressOptions& opts,
+                                  CompressStats* stats) {
   try {
     return compress_with_codec(take, opts, stats);
   } catch (const TransformMissedTarget&) {
@@ -713,8 +735,8 @@ void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut
         const double cs = centred_sq_window(fn, N, block.xyz.data(), wi.valid.data());
         const double target = opts.kg_error / 100 * (opts.kg_error / 100) * cs;
         const double e_t = window_sq_error(fn, N, block.xyz.data(), recon.data(), wi.valid.data());
-        const double e_w = written_sq_error(fn, N, block.xyz.data(), recon.data(),
-                                            wi.valid.data(), written_scale);
+        const double e_w =
+            written_sq_error(fn, N, block.xyz.data(), recon.data(), wi.valid.data(), written_scale);
         if (e_w <= target || !(cs > 0)) break;
         const double room = target - std::max(0.0, e_w - e_t);
         if (!(room > 0)) break;  // the rounding alone exceeds the target: the grid fallback
@@ -768,8 +790,9 @@ void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut
       for (size_t k = i * 3; k < i * 3 + 3; ++k) {
         bool ok = g.lossless ? same_bits(rec[k], orig[k]) : std::fabs(rec[k] - orig[k]) <= g.bound;
         if (!ok)
-          check_failed(take, w, "coordinate " + std::to_string(orig[k]) + " comes back as " +
-                                    std::to_string(rec[k]));
+          check_failed(
+              take, w,
+              "coordinate " + std::to_string(orig[k]) + " comes back as " + std::to_string(rec[k]));
       }
     }
     if (tout) {  // each window within the KG target makes the take meet it (FORMAT.md 3.1)
@@ -796,8 +819,9 @@ void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut
         codec->decode(co.data, co.size, fn, N, &rback);
         if (rback.size() != recon.size() ||
             std::memcmp(rback.data(), recon.data(), recon.size() * sizeof(double)) != 0)
-          check_failed(take, w, std::string("codec ") + codec->name() +
-                                    " decodes differently than it encoded");
+          check_failed(
+              take, w,
+              std::string("codec ") + codec->name() + " decodes differently than it encoded");
       } else {
         PositionsPayload pp = split_positions(pos.data(), pos.size(), what);
         std::vector<int32_t> tback;
@@ -805,8 +829,10 @@ void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut
           std::vector<double> rback;
           codec->decode(pp.codec_bytes, pp.codec_size, fn, N, &rback);
           tback = grid_prediction(rback, g.step);
-          if (tback != tpred) check_failed(take, w, std::string("codec ") + codec->name() +
-                                                        " decodes differently than it encoded");
+          if (tback != tpred)
+            check_failed(
+                take, w,
+                std::string("codec ") + codec->name() + " decodes differently than it encoded");
         }
         decode_positions(pp, tback, f64, kPositionScheme, &back, what);
         for (size_t i = 0; i < fn * N; ++i)
@@ -841,8 +867,9 @@ void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut
     stats->bytes = out->size();
     stats->raw_bytes = F * N * 12;
     stats->bpvf = bpvf(out->size(), F, N);
-    stats->step = g.mode == PosMode::kDecimal ? 1.0 / g.step
-                  : (g.mode == PosMode::kGrid || g.mode == PosMode::kFloat32Grid) ? g.step : 0;
+    stats->step = g.mode == PosMode::kDecimal                                     ? 1.0 / g.step
+                  : (g.mode == PosMode::kGrid || g.mode == PosMode::kFloat32Grid) ? g.step
+                                                                                  : 0;
     stats->mode = tout ? "transform-output" : mode_name(g.mode);
     stats->lossless = g.lossless;
     stats->codec = codec ? codec->name() : "none";
@@ -976,8 +1003,9 @@ Parsed parse_stream(StreamBytes& b, const std::string& name) {
   ps.index_offset = ioff;
   ps.chunk_bytes["INDX"] += k.end - k.offset;
   if (ps.index.size() != ps.h.windows())
-    fail(ErrorCode::kCorrupt, name, "INDX lists " + std::to_string(ps.index.size()) +
-                                        " windows, HEAD implies " + std::to_string(ps.h.windows()));
+    fail(ErrorCode::kCorrupt, name,
+         "INDX lists " + std::to_string(ps.index.size()) + " windows, HEAD implies " +
+             std::to_string(ps.h.windows()));
   return ps;
 }
 
@@ -986,14 +1014,15 @@ void check_tiling(const Parsed& ps, size_t size, const std::string& name) {
   size_t expect = ps.first_window_offset;
   for (size_t w = 0; w < ps.index.size(); ++w) {
     if (ps.index[w].offset != expect)
-      fail(ErrorCode::kCorrupt, name, "INDX: window " + std::to_string(w) + " starts at byte " +
-                                          std::to_string(ps.index[w].offset) + ", expected " +
-                                          std::to_string(expect));
+      fail(ErrorCode::kCorrupt, name,
+           "INDX: window " + std::to_string(w) + " starts at byte " +
+               std::to_string(ps.index[w].offset) + ", expected " + std::to_string(expect));
     expect += static_cast<size_t>(std::min<uint64_t>(ps.index[w].bytes, size));
   }
   if (expect != ps.index_offset)
-    fail(ErrorCode::kCorrupt, name, "INDX: windows end at byte " + std::to_string(expect) +
-                                        ", the index starts at " + std::to_string(ps.index_offset));
+    fail(ErrorCode::kCorrupt, name,
+         "INDX: windows end at byte " + std::to_string(expect) + ", the index starts at " +
+             std::to_string(ps.index_offset));
 }
 
 // Decodes window w whole into *out (frames [w W, ...), the take's points).
@@ -1007,7 +1036,8 @@ void decode_window(StreamBytes& bytes, const std::string& name, const Parsed& ps
   const IndexEntry& ie = ps.index[w];
   const size_t size = bytes.size();
   if (ie.offset < ps.first_window_offset || ie.offset >= size || ie.bytes > size - ie.offset)
-    fail(ErrorCode::kCorrupt, name, "INDX entry of window " + std::to_string(w) + " points outside the file");
+    fail(ErrorCode::kCorrupt, name,
+         "INDX entry of window " + std::to_string(w) + " points outside the file");
   const size_t base = static_cast<size_t>(ie.offset);
   const size_t end = base + static_cast<size_t>(ie.bytes);
   const uint8_t* region = bytes.get(base, end - base);  // the window's chunks
@@ -1017,8 +1047,8 @@ void decode_window(StreamBytes& bytes, const std::string& name, const Parsed& ps
     while (off < end) {
       const uint8_t* p = region + (off - base);
       if (end - off < kChunkOverhead || le32(p + 4) > end - off - kChunkOverhead)
-        fail(ErrorCode::kCorrupt, name, "chunk at byte " + std::to_string(off) + wname +
-                                            " runs past its INDX extent");
+        fail(ErrorCode::kCorrupt, name,
+             "chunk at byte " + std::to_string(off) + wname + " runs past its INDX extent");
       Chunk c = read_chunk(region, end, off, name, base);
       if (c.type == type) {
         off = c.end;
@@ -1027,16 +1057,15 @@ void decode_window(StreamBytes& bytes, const std::string& name, const Parsed& ps
       if (c.type == "POSW" || c.type == "MASK" || c.type == "C3DW" || c.type == "ANLG") break;
       off = c.end;  // unknown chunk: skipped
     }
-    if (required)
-      fail(ErrorCode::kCorrupt, name, std::string("missing chunk ") + type + wname);
+    if (required) fail(ErrorCode::kCorrupt, name, std::string("missing chunk ") + type + wname);
     return Chunk();
   };
   auto open = [&](const Chunk& c, ByteReader* r) {
     uint64_t idx = r->varint();
     if (idx != w)
-      fail(ErrorCode::kCorrupt, name, "chunk " + c.type + " at byte " + std::to_string(c.offset) +
-                                          " belongs to window " + std::to_string(idx) +
-                                          ", expected " + std::to_string(w));
+      fail(ErrorCode::kCorrupt, name,
+           "chunk " + c.type + " at byte " + std::to_string(c.offset) + " belongs to window " +
+               std::to_string(idx) + ", expected " + std::to_string(w));
   };
   Chunk pc = next("POSW", true);
   const std::string pwhat = (name.empty() ? "" : name + ": ") + "chunk POSW" + wname;
@@ -1070,12 +1099,12 @@ void decode_window(StreamBytes& bytes, const std::string& name, const Parsed& ps
            "stream uses transform codec id " + std::to_string(h.codec) + ", unknown to this capz");
     std::vector<double> recon;
     codec->decode(pp.codec_bytes, pp.codec_size, fn, N, &recon);
-    if (recon.size() != fn * N * 3) fail(ErrorCode::kCorrupt, pwhat, "codec payload has the wrong size");
+    if (recon.size() != fn * N * 3)
+      fail(ErrorCode::kCorrupt, pwhat, "codec payload has the wrong size");
     tpred = grid_prediction(recon, h.step);
   }
   const bool f64 = h.mode == PosMode::kFloat64;
-  if (!h.transform_output)
-    decode_positions(pp, tpred, f64, position_scheme(ps.major), &wi, pwhat);
+  if (!h.transform_output) decode_positions(pp, tpred, f64, position_scheme(ps.major), &wi, pwhat);
   if (C > 0 && S > 0 && fn * S * C > kMaxSymbolsPerByte * (end - base))
     fail(ErrorCode::kCorrupt, name, "analog window" + wname + " larger than its chunks can hold");
   out->reset(f0, fn, N, C > 0 && S > 0 ? S * C : 0, ps.words);
@@ -1097,7 +1126,8 @@ void decode_window(StreamBytes& bytes, const std::string& name, const Parsed& ps
     ByteReader cr(cc.payload, cc.size, cwhat);
     open(cc, &cr);
     decode_c3d_words(cc.payload + cr.offset(), cc.size - cr.offset(), wi.valid.data(), fn * N, N,
-                     ps.take.c3d->point_scale, out->residual.data(), out->camera_mask.data(), cwhat);
+                     ps.take.c3d->point_scale, out->residual.data(), out->camera_mask.data(),
+                     cwhat);
   }
   if (C > 0 && S > 0) {
     Chunk ac = next("ANLG", true);
@@ -1202,14 +1232,16 @@ Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
         x->times = std::vector<double>(x->times.begin() + static_cast<long>(first),
                                        x->times.begin() + static_cast<long>(first + count));
       if (x->frame_numbers.size() == F)
-        x->frame_numbers = std::vector<long>(x->frame_numbers.begin() + static_cast<long>(first),
-                                             x->frame_numbers.begin() + static_cast<long>(first + count));
+        x->frame_numbers =
+            std::vector<long>(x->frame_numbers.begin() + static_cast<long>(first),
+                              x->frame_numbers.begin() + static_cast<long>(first + count));
       t.trc = x;
     }
     if (t.pcd && t.pcd->frame_names.size() == F) {
       auto x = std::make_shared<PCDExtra>(*t.pcd);
-      x->frame_names = std::vector<std::string>(x->frame_names.begin() + static_cast<long>(first),
-                                                x->frame_names.begin() + static_cast<long>(first + count));
+      x->frame_names =
+          std::vector<std::string>(x->frame_names.begin() + static_cast<long>(first),
+                                   x->frame_names.begin() + static_cast<long>(first + count));
       t.pcd = x;
     }
   }
@@ -1290,14 +1322,16 @@ double parse_length(const std::string& text, const std::string& take_units,
   std::string unit = s.substr(used);
   if (unit.empty()) return v;
   const double from = units_to_metres(unit);
-  if (from == 0) fail(ErrorCode::kInvalidParameter, "", "'" + text + "': unknown unit '" + unit + "'");
+  if (from == 0)
+    fail(ErrorCode::kInvalidParameter, "", "'" + text + "': unknown unit '" + unit + "'");
   const std::string& tu = take_units.empty() ? assume_units : take_units;
   const double to = units_to_metres(tu);
   if (to == 0)
     fail(ErrorCode::kInvalidParameter, "",
          "'" + text + "' has a unit but the data's units are " +
-             (tu.empty() ? std::string("unknown (say them with --units mm|cm|m, or give a bare number)")
-                         : "'" + tu + "', which capz does not know"));
+             (tu.empty()
+                  ? std::string("unknown (say them with --units mm|cm|m, or give a bare number)")
+                  : "'" + tu + "', which capz does not know"));
   return v * from / to;
 }
 

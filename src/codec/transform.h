@@ -20,8 +20,8 @@ struct TransformParams {
   // 0 = not given (a codec may then assume grid_step_for_bound(max_error)). A transform whose
   // reconstruction lies on this grid leaves the bound layer nothing to code.
   double grid_step = 0;
-  double kg_error = 0;   // KG error target in percent (see metrics.h); 0 = none given
-  int clusters = 0;      // 0 = the codec's default, -1 = auto (search)
+  double kg_error = 0;  // KG error target in percent (see metrics.h); 0 = none given
+  int clusters = 0;     // 0 = the codec's default, -1 = auto (search)
   // Codec-specific knobs from the CLI's repeated `--codec-opt key=value`; codecs document
   // their keys in docs/CLI.md and reject unknown ones with Error(kInvalidParameter).
   std::map<std::string, std::string> options;

@@ -1,5 +1,5 @@
-// Explicit little-endian byte I/O. Every stored number goes through these; never write(&x, sizeof x).
-// ByteReader checks every read against the end of its buffer and throws Error(kCorrupt) naming
+// Explicit little-endian byte I/O. Every stored number goes through these; never write(&x, sizeof
+// x). ByteReader checks every read against the end of its buffer and throws Error(kCorrupt) naming
 // `what` (e.g. "chunk POS0") instead of reading past it.
 #pragma once
 
@@ -15,23 +15,45 @@ namespace capz {
 class ByteWriter {
  public:
   void u8(uint8_t v) { buf_.push_back(v); }
-  void u16(uint16_t v) { for (int i = 0; i < 2; ++i) buf_.push_back(static_cast<uint8_t>(v >> (8 * i))); }
-  void u32(uint32_t v) { for (int i = 0; i < 4; ++i) buf_.push_back(static_cast<uint8_t>(v >> (8 * i))); }
-  void u64(uint64_t v) { for (int i = 0; i < 8; ++i) buf_.push_back(static_cast<uint8_t>(v >> (8 * i))); }
+  void u16(uint16_t v) {
+    for (int i = 0; i < 2; ++i) buf_.push_back(static_cast<uint8_t>(v >> (8 * i)));
+  }
+  void u32(uint32_t v) {
+    for (int i = 0; i < 4; ++i) buf_.push_back(static_cast<uint8_t>(v >> (8 * i)));
+  }
+  void u64(uint64_t v) {
+    for (int i = 0; i < 8; ++i) buf_.push_back(static_cast<uint8_t>(v >> (8 * i)));
+  }
   void i32(int32_t v) { u32(static_cast<uint32_t>(v)); }
-  void f32(float v) { uint32_t u; std::memcpy(&u, &v, 4); u32(u); }
-  void f64(double v) { uint64_t u; std::memcpy(&u, &v, 8); u64(u); }
+  void f32(float v) {
+    uint32_t u;
+    std::memcpy(&u, &v, 4);
+    u32(u);
+  }
+  void f64(double v) {
+    uint64_t u;
+    std::memcpy(&u, &v, 8);
+    u64(u);
+  }
   // Unsigned LEB128: 7 bits a byte, low first, high bit = more.
   void varint(uint64_t v) {
-    while (v >= 0x80) { buf_.push_back(static_cast<uint8_t>(v | 0x80)); v >>= 7; }
+    while (v >= 0x80) {
+      buf_.push_back(static_cast<uint8_t>(v | 0x80));
+      v >>= 7;
+    }
     buf_.push_back(static_cast<uint8_t>(v));
   }
   // Zig-zag then LEB128.
-  void svarint(int64_t v) { varint((static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63)); }
+  void svarint(int64_t v) {
+    varint((static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63));
+  }
   void bytes(const uint8_t* p, size_t n) { buf_.insert(buf_.end(), p, p + n); }
   void bytes(const std::vector<uint8_t>& v) { bytes(v.data(), v.size()); }
   // varint length, then the bytes
-  void str(const std::string& s) { varint(s.size()); bytes(reinterpret_cast<const uint8_t*>(s.data()), s.size()); }
+  void str(const std::string& s) {
+    varint(s.size());
+    bytes(reinterpret_cast<const uint8_t*>(s.data()), s.size());
+  }
 
   std::vector<uint8_t>& buffer() { return buf_; }
   const std::vector<uint8_t>& buffer() const { return buf_; }
@@ -51,8 +73,16 @@ class ByteReader {
   bool at_end() const { return p_ == end_; }
   const std::string& what() const { return what_; }
 
-  uint8_t u8() { need(1); return *p_++; }
-  uint16_t u16() { need(2); uint16_t v = static_cast<uint16_t>(p_[0] | (p_[1] << 8)); p_ += 2; return v; }
+  uint8_t u8() {
+    need(1);
+    return *p_++;
+  }
+  uint16_t u16() {
+    need(2);
+    uint16_t v = static_cast<uint16_t>(p_[0] | (p_[1] << 8));
+    p_ += 2;
+    return v;
+  }
   uint32_t u32() {
     need(4);
     uint32_t v = 0;
@@ -68,8 +98,18 @@ class ByteReader {
     return v;
   }
   int32_t i32() { return static_cast<int32_t>(u32()); }
-  float f32() { uint32_t u = u32(); float f; std::memcpy(&f, &u, 4); return f; }
-  double f64() { uint64_t u = u64(); double d; std::memcpy(&d, &u, 8); return d; }
+  float f32() {
+    uint32_t u = u32();
+    float f;
+    std::memcpy(&f, &u, 4);
+    return f;
+  }
+  double f64() {
+    uint64_t u = u64();
+    double d;
+    std::memcpy(&d, &u, 8);
+    return d;
+  }
   uint64_t varint() {
     uint64_t v = 0;
     for (int shift = 0; shift < 64; shift += 7) {
@@ -77,18 +117,28 @@ class ByteReader {
       v |= static_cast<uint64_t>(b & 0x7f) << shift;
       if (!(b & 0x80)) return v;
     }
-    throw Error(ErrorCode::kCorrupt, what_ + ": varint longer than 10 bytes at offset " + std::to_string(offset()));
+    throw Error(ErrorCode::kCorrupt,
+                what_ + ": varint longer than 10 bytes at offset " + std::to_string(offset()));
   }
-  int64_t svarint() { uint64_t u = varint(); return static_cast<int64_t>(u >> 1) ^ -static_cast<int64_t>(u & 1); }
+  int64_t svarint() {
+    uint64_t u = varint();
+    return static_cast<int64_t>(u >> 1) ^ -static_cast<int64_t>(u & 1);
+  }
   // A count that must fit in what is left, at `min_bytes_each` bytes per element.
   uint64_t count(size_t min_bytes_each, const char* name) {
     uint64_t n = varint();
     if (min_bytes_each > 0 && n > remaining() / min_bytes_each)
       throw Error(ErrorCode::kCorrupt, what_ + ": " + name + " = " + std::to_string(n) +
-                                           " cannot fit in the " + std::to_string(remaining()) + " bytes left");
+                                           " cannot fit in the " + std::to_string(remaining()) +
+                                           " bytes left");
     return n;
   }
-  const uint8_t* bytes(size_t n) { need(n); const uint8_t* q = p_; p_ += n; return q; }
+  const uint8_t* bytes(size_t n) {
+    need(n);
+    const uint8_t* q = p_;
+    p_ += n;
+    return q;
+  }
   std::string str() {
     uint64_t n = count(1, "string length");
     const uint8_t* q = bytes(static_cast<size_t>(n));
@@ -98,8 +148,9 @@ class ByteReader {
  private:
   void need(size_t n) const {
     if (static_cast<size_t>(end_ - p_) < n)
-      throw Error(ErrorCode::kCorrupt, what_ + ": truncated (needs " + std::to_string(n) + " bytes at offset " +
-                                           std::to_string(offset()) + ", " + std::to_string(remaining()) + " left)");
+      throw Error(ErrorCode::kCorrupt, what_ + ": truncated (needs " + std::to_string(n) +
+                                           " bytes at offset " + std::to_string(offset()) + ", " +
+                                           std::to_string(remaining()) + " left)");
   }
   const uint8_t* p_;
   const uint8_t* end_;

@@ -76,8 +76,9 @@ Chunk read_chunk(const uint8_t* data, size_t size, size_t offset, const std::str
   Chunk c;
   c.offset = offset;
   if (offset > size || size - offset < kChunkOverhead)
-    fail(ErrorCode::kCorrupt, name, "truncated: chunk header at byte " + std::to_string(offset) +
-                                        " runs past the end of the file");
+    fail(ErrorCode::kCorrupt, name,
+         "truncated: chunk header at byte " + std::to_string(offset) +
+             " runs past the end of the file");
   const uint8_t* p = data + (offset - base);
   for (int i = 0; i < 4; ++i) {
     if (p[i] < 0x20 || p[i] > 0x7E)
@@ -87,9 +88,9 @@ Chunk read_chunk(const uint8_t* data, size_t size, size_t offset, const std::str
   uint32_t len = static_cast<uint32_t>(p[4]) | static_cast<uint32_t>(p[5]) << 8 |
                  static_cast<uint32_t>(p[6]) << 16 | static_cast<uint32_t>(p[7]) << 24;
   if (len > size - offset - kChunkOverhead)
-    fail(ErrorCode::kCorrupt, name, "truncated: " + chunk_what("", c) + " says " +
-                                        std::to_string(len) + " bytes, the file has " +
-                                        std::to_string(size - offset - kChunkOverhead));
+    fail(ErrorCode::kCorrupt, name,
+         "truncated: " + chunk_what("", c) + " says " + std::to_string(len) +
+             " bytes, the file has " + std::to_string(size - offset - kChunkOverhead));
   c.payload = p + 8;
   c.size = len;
   c.end = offset + kChunkOverhead + len;
@@ -164,8 +165,8 @@ StreamHeader decode_header(const Chunk& c, const std::string& name) {
 void check_header_fits(const StreamHeader& h, size_t file_size, const std::string& name) {
   const size_t windows = h.windows();
   if (windows > file_size / kChunkOverhead)
-    fail(ErrorCode::kCorrupt, name, "HEAD claims " + std::to_string(windows) +
-                                        " windows; the file cannot hold them");
+    fail(ErrorCode::kCorrupt, name,
+         "HEAD claims " + std::to_string(windows) + " windows; the file cannot hold them");
   const double samples = static_cast<double>(h.frames) * h.points;
   const double analog =
       static_cast<double>(h.frames) * h.analog_samples_per_frame * h.analog_channels;
@@ -310,7 +311,8 @@ void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sam
     const uint64_t n = outer.varint();
     if (n > kMaxSymbolsPerByte / 2 * outer.remaining())
       fail(ErrorCode::kCorrupt, what, "metadata size " + std::to_string(n) + " is implausible");
-    fields = decode_bytes(c.payload + outer.offset(), outer.remaining(), static_cast<size_t>(n), what);
+    fields =
+        decode_bytes(c.payload + outer.offset(), outer.remaining(), static_cast<size_t>(n), what);
   } else if (coding == 0) {
     fields.assign(c.payload + 1, c.payload + c.size);
   } else {
@@ -374,7 +376,8 @@ void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sam
       const double d = std::pow(10.0, k);
       uint64_t n = r.count(1, "Time column block length");
       const uint8_t* b = r.bytes(static_cast<size_t>(n));
-      std::vector<int32_t> deltas = decode_ints(b, static_cast<size_t>(n), t->frames, what + " Time column");
+      std::vector<int32_t> deltas =
+          decode_ints(b, static_cast<size_t>(n), t->frames, what + " Time column");
       x->times.resize(t->frames);
       int32_t prev = 0;
       for (size_t i = 0; i < t->frames; ++i) {

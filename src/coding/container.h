@@ -14,14 +14,15 @@ namespace capz {
 
 constexpr uint8_t kCapzMagic[9] = {0x89, 'c', 'a', 'p', 'z', 0x0D, 0x0A, 0x1A, 0x0A};
 constexpr uint8_t kCapzMajor = 3;
-constexpr uint8_t kCapzMinor = 0;  // docs/FORMAT.md 2: what each version added
+constexpr uint8_t kCapzMinor = 0;        // docs/FORMAT.md 2: what each version added
 constexpr size_t kFileHeaderBytes = 11;  // magic + major + minor
 constexpr size_t kChunkOverhead = 12;    // type + length + crc
 
 // Appends magic and version.
 void write_file_header(std::vector<uint8_t>* out);
 // Appends one chunk: type (4 ASCII bytes), u32 length, payload, CRC-32C of type + payload.
-void append_chunk(std::vector<uint8_t>* out, const char type[4], const std::vector<uint8_t>& payload);
+void append_chunk(std::vector<uint8_t>* out, const char type[4],
+                  const std::vector<uint8_t>& payload);
 
 struct Chunk {
   std::string type;  // 4 characters
@@ -73,8 +74,8 @@ void check_header_fits(const StreamHeader& h, size_t file_size, const std::strin
 
 // META: everything of the Take except positions, mask, analog values and the C3D per-sample
 // words. decode_meta fills those fields of *take (frames/points from the header must already be
-// set and checked with check_header_fits; per-frame TRC/PCD lists are checked against them). has_sample_words tells whether C3DW
-// chunks follow.
+// set and checked with check_header_fits; per-frame TRC/PCD lists are checked against them).
+// has_sample_words tells whether C3DW chunks follow.
 std::vector<uint8_t> encode_meta(const Take& take, bool has_sample_words);
 void decode_meta(const Chunk& c, const std::string& name, Take* take, bool* has_sample_words);
 

@@ -9,6 +9,8 @@ namespace capz {
 
 // Continues a CRC: crc32c_update(crc32c_update(0, a), b) == CRC of a followed by b.
 uint32_t crc32c_update(uint32_t crc, const uint8_t* data, size_t size);
-inline uint32_t crc32c(const uint8_t* data, size_t size) { return crc32c_update(0, data, size); }
+inline uint32_t crc32c(const uint8_t* data, size_t size) {
+  return crc32c_update(0, data, size);
+}
 
 }  // namespace capz

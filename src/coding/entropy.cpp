@@ -56,7 +56,8 @@ std::vector<T> decode_stream(const uint8_t* data, size_t size, size_t count,
                              const std::string& what, Unmap unmap) {
   if (count > kMaxSymbolsPerByte * size)
     throw Error(ErrorCode::kCorrupt, what + ": " + std::to_string(count) +
-                                         " values cannot fit in " + std::to_string(size) + " bytes");
+                                         " values cannot fit in " + std::to_string(size) +
+                                         " bytes");
   IntDecoder dec(data, size, kIntStreamContexts, what);
   std::vector<T> out(count);
   int ctx = 0;

@@ -13,10 +13,10 @@
 namespace capz {
 
 enum Predictor : uint8_t {
-  kPredPrevious = 0,   // q[f-1]
-  kPredLinear = 1,     // 2 q[f-1] - q[f-2]
-  kPredQuadratic = 2,  // 3 q[f-1] - 3 q[f-2] + q[f-3]
-  kPredTransform = 3,  // t[f]  (the transform codec's reconstruction on the grid)
+  kPredPrevious = 0,         // q[f-1]
+  kPredLinear = 1,           // 2 q[f-1] - q[f-2]
+  kPredQuadratic = 2,        // 3 q[f-1] - 3 q[f-2] + q[f-3]
+  kPredTransform = 3,        // t[f]  (the transform codec's reconstruction on the grid)
   kPredTransformLinear = 4,  // t[f] + linear extrapolation of (q - t)
   kPredRefPrevious = 5,      // q[f-1] + (q[f][r] - q[f-1][r]): reference point r < p's motion
   kPredRefLinear = 6,        // linear(p) + (q[f][r] - linear(r)): r's deviation from linear
@@ -37,10 +37,14 @@ inline bool extrapolates(int mode) {
          mode == kPredRefLinear;
 }
 // Predictors that need the window's period field.
-inline bool uses_period(int mode) { return mode == kPredPeriod || mode == kPredPeriodPrevious; }
+inline bool uses_period(int mode) {
+  return mode == kPredPeriod || mode == kPredPeriodPrevious;
+}
 
 // Predictors that add a reference point's motion (docs/FORMAT.md 3.3); ref[p] = r < p.
-inline bool uses_ref(int mode) { return mode == kPredRefPrevious || mode == kPredRefLinear; }
+inline bool uses_ref(int mode) {
+  return mode == kPredRefPrevious || mode == kPredRefLinear;
+}
 
 inline int32_t wrap_add(int32_t a, int32_t b) {
   return static_cast<int32_t>(static_cast<uint32_t>(a) + static_cast<uint32_t>(b));
@@ -232,15 +236,32 @@ class ResidualContexts {
 template <typename Fn>
 inline void with_predictor(int m, Fn&& fn) {
   switch (m) {
-    case kPredPrevious: fn(std::integral_constant<int, kPredPrevious>()); break;
-    case kPredLinear: fn(std::integral_constant<int, kPredLinear>()); break;
-    case kPredQuadratic: fn(std::integral_constant<int, kPredQuadratic>()); break;
-    case kPredTransform: fn(std::integral_constant<int, kPredTransform>()); break;
-    case kPredTransformLinear: fn(std::integral_constant<int, kPredTransformLinear>()); break;
-    case kPredSmooth: fn(std::integral_constant<int, kPredSmooth>()); break;
-    case kPredPeriod: fn(std::integral_constant<int, kPredPeriod>()); break;
-    case kPredPeriodPrevious: fn(std::integral_constant<int, kPredPeriodPrevious>()); break;
-    default: fn(m);
+    case kPredPrevious:
+      fn(std::integral_constant<int, kPredPrevious>());
+      break;
+    case kPredLinear:
+      fn(std::integral_constant<int, kPredLinear>());
+      break;
+    case kPredQuadratic:
+      fn(std::integral_constant<int, kPredQuadratic>());
+      break;
+    case kPredTransform:
+      fn(std::integral_constant<int, kPredTransform>());
+      break;
+    case kPredTransformLinear:
+      fn(std::integral_constant<int, kPredTransformLinear>());
+      break;
+    case kPredSmooth:
+      fn(std::integral_constant<int, kPredSmooth>());
+      break;
+    case kPredPeriod:
+      fn(std::integral_constant<int, kPredPeriod>());
+      break;
+    case kPredPeriodPrevious:
+      fn(std::integral_constant<int, kPredPeriodPrevious>());
+      break;
+    default:
+      fn(m);
   }
 }
 
@@ -265,8 +286,8 @@ void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8
       const int fam = ctx.family(m);
       const bool transform = m == kPredTransform || m == kPredTransformLinear;
       if (!valid[f * points + p]) {
-        for (int a = 0; a < 3; ++a) q[i + a] = f == 0 ? (transform ? t[i + a] : last[a])
-                                                       : q[i + a - stride];
+        for (int a = 0; a < 3; ++a)
+          q[i + a] = f == 0 ? (transform ? t[i + a] : last[a]) : q[i + a - stride];
         continue;
       }
       // The three predictions first (none reads this point's frame f): one mode dispatch per

@@ -13,10 +13,18 @@
 namespace capz {
 
 // kFloat32Grid: x = float32(q * s), float C3D files whose floats are int16-scale multiples.
-enum class PosMode : uint8_t { kGrid = 0, kDecimal = 1, kFloat32 = 2, kFloat64 = 3, kFloat32Grid = 4 };
+enum class PosMode : uint8_t {
+  kGrid = 0,
+  kDecimal = 1,
+  kFloat32 = 2,
+  kFloat64 = 3,
+  kFloat32Grid = 4
+};
 
 // Step for a per-coordinate bound; see the rounding rule above.
-inline double grid_step_for_bound(double max_error) { return 2.0 * max_error * (1.0 - 0x1p-30); }
+inline double grid_step_for_bound(double max_error) {
+  return 2.0 * max_error * (1.0 - 0x1p-30);
+}
 
 // Largest |q| the grid accepts, so predictions and residuals never overflow in practice
 // (arithmetic wraps anyway, see predict.h).
@@ -71,6 +79,8 @@ inline double ordered_to_double(int64_t q) {
 }
 
 // True when x is exactly a float32 value (NaN excluded).
-inline bool is_float32(double x) { return static_cast<double>(static_cast<float>(x)) == x; }
+inline bool is_float32(double x) {
+  return static_cast<double>(static_cast<float>(x)) == x;
+}
 
 }  // namespace capz

@@ -228,11 +228,13 @@ namespace detail {
 struct RateTable {
   uint8_t r[257];
   constexpr RateTable() : r() {
-    for (int n = 0; n <= 256; ++n) r[n] = static_cast<uint8_t>(n < 16 ? 4 : n < 64 ? 5 : n < 256 ? 6 : 7);
+    for (int n = 0; n <= 256; ++n)
+      r[n] = static_cast<uint8_t>(n < 16 ? 4 : n < 64 ? 5 : n < 256 ? 6 : 7);
   }
 };
 inline constexpr RateTable kRates{};
-// SymbolModel's update target for symbol s, plus i: lane i holds (i > s ? T : 0) + i, T = 2^15 - 16.
+// SymbolModel's update target for symbol s, plus i: lane i holds (i > s ? T : 0) + i, T = 2^15
+// - 16.
 struct TargetTable {
   alignas(16) uint16_t t[16][16];
   constexpr TargetTable() : t() {

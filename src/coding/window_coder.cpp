@@ -52,7 +52,8 @@ struct Hist {
     uint64_t bits = raw;
     for (int c = 0; c < kContexts; ++c) {
       uint32_t n = 0;
-      for (int k = 4; k < 15; ++k) bits += uint64_t{count[c][k]} * static_cast<uint64_t>((k - 4) / 2 + 1);
+      for (int k = 4; k < 15; ++k)
+        bits += uint64_t{count[c][k]} * static_cast<uint64_t>((k - 4) / 2 + 1);
       for (int k = 0; k < 16; ++k)
         if (count[c][k]) {
           n += count[c][k];
@@ -68,8 +69,8 @@ using TokenHist = Hist<PrevState>;
 struct CostCoder {
   const int32_t* q;
   size_t points;
-  TokenHist* hist;       // per point
-  PrevState* state;       // per point and axis, reset at the start
+  TokenHist* hist;   // per point
+  PrevState* state;  // per point and axis, reset at the start
   int32_t operator()(size_t i, int32_t pred, int, int* tok) {
     const size_t k = i % (points * 3);
     *tok = hist[k / 3].add(wrap_sub(q[i], pred), &state[k]);
@@ -211,7 +212,8 @@ size_t find_period(const int32_t* q, const uint8_t* valid, size_t frames, size_t
   const double base_coarse = total(1, 4, 8, 0) / (F - 1);
   for (size_t T = 2; T <= top; ++T) coarse.emplace_back(total(T, 4, 8, base_coarse), T);
   const size_t keep = std::min<size_t>(8, coarse.size());
-  std::partial_sort(coarse.begin(), coarse.begin() + static_cast<std::ptrdiff_t>(keep), coarse.end());
+  std::partial_sort(coarse.begin(), coarse.begin() + static_cast<std::ptrdiff_t>(keep),
+                    coarse.end());
   const double base = total(1, 16, 32, 0) / (F - 1);
   size_t best = 0;
   double best_total = 0.8 * base * F;
@@ -224,9 +226,9 @@ size_t find_period(const int32_t* q, const uint8_t* valid, size_t frames, size_t
 
 }  // namespace
 
-std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uint8_t>& codec_payload,
-                                      const std::vector<int32_t>& tpred, bool float64,
-                                      int scheme) {
+std::vector<uint8_t> encode_positions(const WindowInts& w,
+                                      const std::vector<uint8_t>& codec_payload,
+                                      const std::vector<int32_t>& tpred, bool float64, int scheme) {
   const size_t F = w.frames, N = w.points;
   std::vector<int32_t> q = w.q;  // gap entries get filled by the walks
   std::vector<PrevState> est(N * 3);
@@ -280,8 +282,10 @@ std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uin
               hist[3 * N + p].add(r3, &st[3 * S + k]);
             }
             if (nm > 4) {
-              const int32_t r4 = wrap_sub(q[i], predict_one(kPredPeriod, f, &q[i], S, nullptr, period));
-              const int32_t r5 = wrap_sub(q[i], predict_one(kPredPeriodPrevious, f, &q[i], S, nullptr, period));
+              const int32_t r4 =
+                  wrap_sub(q[i], predict_one(kPredPeriod, f, &q[i], S, nullptr, period));
+              const int32_t r5 =
+                  wrap_sub(q[i], predict_one(kPredPeriodPrevious, f, &q[i], S, nullptr, period));
               hist[4 * N + p].add(r4, &st[4 * S + k]);
               hist[5 * N + p].add(r5, &st[5 * S + k]);
             }
@@ -409,8 +413,9 @@ void decode_positions(const PositionsPayload& pp, const std::vector<int32_t>& tp
     for (size_t p = 0, k = 0; p < N; ++p) {
       if (!uses_ref(modes[p])) continue;
       if (dist[k] > p - 1)
-        fail(ErrorCode::kCorrupt, what, "point " + std::to_string(p) + " refers to point -" +
-                                            std::to_string(dist[k] - (p - 1)));
+        fail(ErrorCode::kCorrupt, what,
+             "point " + std::to_string(p) + " refers to point -" +
+                 std::to_string(dist[k] - (p - 1)));
       ref[p] = static_cast<uint32_t>(p - 1 - dist[k++]);
     }
   }
@@ -465,8 +470,8 @@ void decode_mask(const uint8_t* data, size_t size, size_t frames, size_t points,
     while (f < frames) {
       uint32_t run = dec.get(first ? 0 : want ? 2 : 1);
       if (run > frames - f || (run == 0 && !first))
-        fail(ErrorCode::kCorrupt, what, "gap-mask run of " + std::to_string(run) +
-                                            " frames does not fit the window");
+        fail(ErrorCode::kCorrupt, what,
+             "gap-mask run of " + std::to_string(run) + " frames does not fit the window");
       for (size_t k = 0; k < run; ++k) valid[(f + k) * points + p] = want ? 1 : 0;
       f += run;
       first = false;
@@ -510,7 +515,7 @@ std::vector<uint8_t> encode_c3d_words(const float* residual, const uint8_t* came
   for (size_t i0 = 0; i0 < count; i0 += points)  // frame by frame: p = i % points
     for (size_t p = 0, i = i0; p < points && i < count; ++p, ++i) {
       // Mode 0 gaps decode to -1 whatever is coded: repeat the previous value (difference 0).
-      int32_t v = !on_grid  ? float_to_ordered(residual[i])
+      int32_t v = !on_grid   ? float_to_ordered(residual[i])
                   : valid[i] ? static_cast<int32_t>(round_half_away(residual[i] / point_scale))
                              : prev[p];
       int32_t d = wrap_sub(v, prev[p]);
@@ -546,7 +551,7 @@ void decode_c3d_words(const uint8_t* data, size_t size, const uint8_t* valid, si
       int32_t v = wrap_add(prev[p], d);
       prev[p] = v;
       prev_d[p] = d;
-      residual[i] = mode == 1   ? ordered_to_float(v)
+      residual[i] = mode == 1  ? ordered_to_float(v)
                     : valid[i] ? residual_from_grid(v, point_scale)
                                : -1.0f;
       uint32_t cam = c.get(2, &tok);
@@ -565,10 +570,14 @@ enum AnalogKind : uint8_t { kAnalogInt = 0, kAnalogFloat32 = 1, kAnalogFloat64 =
 inline int32_t analog_predict(int pred, const int32_t* v, size_t k) {
   const int32_t a = k >= 1 ? v[k - 1] : 0, b = k >= 2 ? v[k - 2] : 0, c = k >= 3 ? v[k - 3] : 0;
   switch (pred) {
-    case 0: return 0;
-    case 1: return a;
-    case 2: return wrap_sub(wrap_mul(a, 2), b);
-    default: return wrap_add(wrap_mul(wrap_sub(a, b), 3), c);
+    case 0:
+      return 0;
+    case 1:
+      return a;
+    case 2:
+      return wrap_sub(wrap_mul(a, 2), b);
+    default:
+      return wrap_add(wrap_mul(wrap_sub(a, b), 3), c);
   }
 }
 }  // namespace
@@ -585,8 +594,8 @@ void update_analog_kinds(const double* values, size_t count, int channels,
   for (size_t i = 0; i < count; ++i) {
     const double v = values[i];
     uint8_t& k = (*kinds)[i % C];
-    if (k == kAnalogInt && !(v == std::floor(v) && std::fabs(v) < 2147483647.0 &&
-                             !(v == 0 && std::signbit(v))))
+    if (k == kAnalogInt &&
+        !(v == std::floor(v) && std::fabs(v) < 2147483647.0 && !(v == 0 && std::signbit(v))))
       k = kAnalogFloat32;
     if (k == kAnalogFloat32 && !is_float32(v)) k = kAnalogFloat64;
   }
@@ -606,13 +615,15 @@ std::vector<uint8_t> encode_analog(const double* rows, size_t nrows, int channel
     }
     for (size_t k = 0; k < nrows; ++k) {
       const double x = rows[k * C + c];
-      v[k] = kinds[c] == kAnalogInt ? static_cast<int32_t>(x) : float_to_ordered(static_cast<float>(x));
+      v[k] = kinds[c] == kAnalogInt ? static_cast<int32_t>(x)
+                                    : float_to_ordered(static_cast<float>(x));
     }
     int best = 0;
     uint64_t best_cost = UINT64_MAX;
     for (int pred = 0; pred < 4; ++pred) {
       uint64_t cost = 0;
-      for (size_t k = 0; k < nrows; ++k) cost += bit_cost(wrap_sub(v[k], analog_predict(pred, v.data(), k)));
+      for (size_t k = 0; k < nrows; ++k)
+        cost += bit_cost(wrap_sub(v[k], analog_predict(pred, v.data(), k)));
       if (cost < best_cost) best_cost = cost, best = pred;
     }
     for (size_t k = 0; k < nrows; ++k) res[k] = wrap_sub(v[k], analog_predict(best, v.data(), k));
@@ -631,7 +642,8 @@ void decode_analog(const uint8_t* data, size_t size, size_t nrows, int channels,
     const uint8_t kind = r.u8();
     const uint8_t pred = r.u8();
     if (kind > kAnalogFloat64 || pred > 3)
-      fail(ErrorCode::kCorrupt, what, "channel " + std::to_string(c) + ": unknown kind or predictor");
+      fail(ErrorCode::kCorrupt, what,
+           "channel " + std::to_string(c) + ": unknown kind or predictor");
     if (kind == kAnalogFloat64) {
       if (nrows > r.remaining() / 8) fail(ErrorCode::kCorrupt, what, "truncated float64 channel");
       for (size_t k = 0; k < nrows; ++k) rows[k * C + c] = r.f64();

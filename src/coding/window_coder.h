@@ -38,8 +38,11 @@ struct GridInfo {
 // contexts) and 1 (format 1.x) for reading old streams and for their tests.
 constexpr int kPositionScheme = 3;
 // The scheme of a stream of format major version `major`.
-inline int position_scheme(int major) { return major >= 3 ? 3 : major == 2 ? 2 : 1; }
-std::vector<uint8_t> encode_positions(const WindowInts& w, const std::vector<uint8_t>& codec_payload,
+inline int position_scheme(int major) {
+  return major >= 3 ? 3 : major == 2 ? 2 : 1;
+}
+std::vector<uint8_t> encode_positions(const WindowInts& w,
+                                      const std::vector<uint8_t>& codec_payload,
                                       const std::vector<int32_t>& tpred, bool float64,
                                       int scheme = kPositionScheme);
 // Parses what encode_positions wrote from `r`'s current position to the end of the payload.

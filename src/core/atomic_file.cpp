@@ -15,7 +15,9 @@ namespace fs = std::filesystem;
 
 namespace capz {
 
-static std::string sys_error() { return std::strerror(errno); }
+static std::string sys_error() {
+  return std::strerror(errno);
+}
 
 void check_output_free(const std::string& path, bool overwrite) {
   std::error_code ec;
@@ -23,7 +25,8 @@ void check_output_free(const std::string& path, bool overwrite) {
     fail(ErrorCode::kUsage, path, "output exists (use -f to overwrite)");
 }
 
-AtomicFile::AtomicFile(const std::string& path, bool overwrite) : path_(path), overwrite_(overwrite) {
+AtomicFile::AtomicFile(const std::string& path, bool overwrite)
+    : path_(path), overwrite_(overwrite) {
   check_output_free(path, overwrite);
   std::string templ = path + ".tmp-XXXXXX";
   std::vector<char> buf(templ.begin(), templ.end());
@@ -44,7 +47,9 @@ void AtomicFile::write(const void* data, size_t size) {
   while (size > 0) {
     ssize_t n = ::write(fd_, p, size);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) fail(ErrorCode::kIo, path_, "write failed: " + (n < 0 ? sys_error() : std::string("no space")));
+    if (n <= 0)
+      fail(ErrorCode::kIo, path_,
+           "write failed: " + (n < 0 ? sys_error() : std::string("no space")));
     p += n;
     size -= static_cast<size_t>(n);
   }
@@ -67,7 +72,8 @@ AtomicDir::AtomicDir(const std::string& path, bool overwrite) : path_(path), ove
   std::string templ = path_ + ".tmp-XXXXXX";
   std::vector<char> buf(templ.begin(), templ.end());
   buf.push_back('\0');
-  if (!mkdtemp(buf.data())) fail(ErrorCode::kIo, path_, "cannot create temporary directory: " + sys_error());
+  if (!mkdtemp(buf.data()))
+    fail(ErrorCode::kIo, path_, "cannot create temporary directory: " + sys_error());
   tmp_ = buf.data();
 }
 

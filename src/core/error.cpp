@@ -4,13 +4,20 @@ namespace capz {
 
 const char* error_code_name(ErrorCode code) {
   switch (code) {
-    case ErrorCode::kUsage: return "usage";
-    case ErrorCode::kIo: return "io";
-    case ErrorCode::kNotOurFormat: return "not-our-format";
-    case ErrorCode::kUnsupportedVersion: return "unsupported-version";
-    case ErrorCode::kCorrupt: return "corrupt";
-    case ErrorCode::kInvalidParameter: return "invalid-parameter";
-    case ErrorCode::kInternal: return "internal";
+    case ErrorCode::kUsage:
+      return "usage";
+    case ErrorCode::kIo:
+      return "io";
+    case ErrorCode::kNotOurFormat:
+      return "not-our-format";
+    case ErrorCode::kUnsupportedVersion:
+      return "unsupported-version";
+    case ErrorCode::kCorrupt:
+      return "corrupt";
+    case ErrorCode::kInvalidParameter:
+      return "invalid-parameter";
+    case ErrorCode::kInternal:
+      return "internal";
   }
   return "unknown";
 }

@@ -42,7 +42,8 @@ void InputFile::read_at(uint64_t offset, void* out, size_t n) {
     if (r < 0 && errno == EINTR) continue;
     if (r <= 0)
       fail(ErrorCode::kIo, path_,
-           r == 0 ? std::string("file shrank while reading") : std::string("read failed: ") + std::strerror(errno));
+           r == 0 ? std::string("file shrank while reading")
+                  : std::string("read failed: ") + std::strerror(errno));
     p += r;
     n -= static_cast<size_t>(r);
     offset += static_cast<uint64_t>(r);

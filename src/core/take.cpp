@@ -10,10 +10,14 @@ namespace capz {
 
 const char* format_name(Format f) {
   switch (f) {
-    case Format::kC3D: return "c3d";
-    case Format::kTRC: return "trc";
-    case Format::kPCDFolder: return "pcd-folder";
-    case Format::kUnknown: break;
+    case Format::kC3D:
+      return "c3d";
+    case Format::kTRC:
+      return "trc";
+    case Format::kPCDFolder:
+      return "pcd-folder";
+    case Format::kUnknown:
+      break;
   }
   return "unknown";
 }

@@ -112,14 +112,14 @@ void set_string_list(C3DGroup& group, const std::string& base, const std::vector
 // Where and how the frames are stored, as read_header found it.
 struct DataLayout {
   NumberFormat nf;
-  size_t data_offset = 0;    // file offset of frame 0
-  size_t per_frame = 0;      // bytes per frame
+  size_t data_offset = 0;  // file offset of frame 0
+  size_t per_frame = 0;    // bytes per frame
   size_t frames = 0, points = 0;
   size_t analog_values = 0;  // analog samples per frame x channels
   bool float_storage = false;
   bool analog_unsigned = false;  // ANALOG:FORMAT = UNSIGNED (int16 files)
   double scale = 1;              // |POINT:SCALE| as used for int16 coordinates
-  size_t warning_at = 0;  // where in Take::warnings a warning about the frames belongs
+  size_t warning_at = 0;         // where in Take::warnings a warning about the frames belongs
 };
 
 // Bytes past the parameter section's limit that read_header is also given, for an entry that

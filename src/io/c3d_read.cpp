@@ -408,7 +408,8 @@ void decode_frames(const DataLayout& lay, const uint8_t* bytes, size_t count, do
       if (lay.float_storage)
         av[k] = nf.f32(q);
       else
-        av[k] = lay.analog_unsigned ? static_cast<double>(nf.u16(q)) : static_cast<double>(nf.i16(q));
+        av[k] =
+            lay.analog_unsigned ? static_cast<double>(nf.u16(q)) : static_cast<double>(nf.i16(q));
     }
   }
 }

@@ -103,8 +103,8 @@ void put_header_f32(std::vector<uint8_t>& h, int word, float v) {
 
 }  // namespace
 
-void C3DWriteScan::add(size_t count, const double* xyz, const uint8_t* valid,
-                       size_t analog_count, const double* analog) {
+void C3DWriteScan::add(size_t count, const double* xyz, const uint8_t* valid, size_t analog_count,
+                       const double* analog) {
   for (size_t i = 0; i < count; ++i)
     if (valid[i])
       for (int a = 0; a < 3; ++a) {

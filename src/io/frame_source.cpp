@@ -230,11 +230,11 @@ class C3DSink : public FrameSink {
       buf_.assign(b.frames * plan_.per_frame, 0);
       c3d::encode_c3d_frames(plan_, b.frames, b.xyz.data(), b.valid.data(),
                              words_ ? b.residual.data() : nullptr,
-                             words_ ? b.camera_mask.data() : nullptr, b.analog.data(),
-                             buf_.data(), optimistic_ ? &fits : nullptr);
+                             words_ ? b.camera_mask.data() : nullptr, b.analog.data(), buf_.data(),
+                             optimistic_ ? &fits : nullptr);
     }
-    if (!fits) {       // back to the plain path: a prescan of every frame, then the writes
-      file_.reset();   // the temporary file is removed, nothing was committed
+    if (!fits) {      // back to the plain path: a prescan of every frame, then the writes
+      file_.reset();  // the temporary file is removed, nothing was committed
       written_ = 0;
       optimistic_ = false;
       rewrite_ = true;

@@ -83,8 +83,10 @@ const Backend& backend(const std::string& file) {
   std::call_once(once, [] { loaded = load(); });
   if (!loaded.backend)
     fail(ErrorCode::kIo, file,
-         std::string("PCD files need capz's PCL module ") + kModuleName + ", which could not be "
-         "loaded: " + loaded.error);
+         std::string("PCD files need capz's PCL module ") + kModuleName +
+             ", which could not be "
+             "loaded: " +
+             loaded.error);
   return *loaded.backend;
 }
 

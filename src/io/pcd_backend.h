@@ -17,8 +17,19 @@ namespace capz {
 namespace pcd {
 
 // Field types (PCL's PCLPointField::PointFieldTypes, translated by the module).
-enum class FieldType : uint8_t { kInt8, kUInt8, kInt16, kUInt16, kInt32, kUInt32, kInt64,
-                                 kUInt64, kFloat32, kFloat64, kUnknown };
+enum class FieldType : uint8_t {
+  kInt8,
+  kUInt8,
+  kInt16,
+  kUInt16,
+  kInt32,
+  kUInt32,
+  kInt64,
+  kUInt64,
+  kFloat32,
+  kFloat64,
+  kUnknown
+};
 
 struct Field {
   std::string name;

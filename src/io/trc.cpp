@@ -22,8 +22,8 @@
 
 #include "capz/error.h"
 #include "capz/io.h"
-#include "core/atomic_file.h"
 #include "capz/stream.h"
+#include "core/atomic_file.h"
 #include "core/input_file.h"
 #include "io/text_number.h"
 #include "io/trc_internal.h"
@@ -357,7 +357,8 @@ void finish_header(Prelude& pre, const RowParser& rp, size_t rows, Take* t) {
     warnings.push_back(std::to_string(rp.no_time) +
                        " rows without a Time value (computed from DataRate)");
   if (rp.partial > 0)
-    warnings.push_back(std::to_string(rp.partial) + " samples have only some of X/Y/Z (read as gaps)");
+    warnings.push_back(std::to_string(rp.partial) +
+                       " samples have only some of X/Y/Z (read as gaps)");
   if (h.data_rate <= 0) warnings.push_back("no DataRate: frame rate unknown");
   if (h.units.empty()) warnings.push_back("no Units in the header");
   t->warnings = std::move(warnings);
@@ -374,8 +375,7 @@ class FileLines {
   FileLines(InputFile* file, uint64_t offset) : file_(file), pos_(offset) {}
   bool next(const char** b, const char** e, uint64_t* offset) {
     for (;;) {
-      const char* nl = static_cast<const char*>(
-          std::memchr(buf_.data() + cur_, '\n', end_ - cur_));
+      const char* nl = static_cast<const char*>(std::memchr(buf_.data() + cur_, '\n', end_ - cur_));
       if (nl || eof_) {
         if (cur_ >= end_ && !nl) return false;
         const char* le = nl ? nl : buf_.data() + end_;
@@ -408,7 +408,7 @@ class FileLines {
 
   static constexpr size_t kChunk = size_t{1} << 20;
   InputFile* file_;
-  uint64_t pos_;              // next file offset to read
+  uint64_t pos_;  // next file offset to read
   std::vector<char> buf_ = std::vector<char>(1);
   uint64_t buf_off_ = pos_;   // file offset of buf_[0]
   size_t cur_ = 0, end_ = 0;  // unread lines are buf_[cur_, end_)
@@ -428,14 +428,16 @@ class TRCSource : public FrameSource {
     size_t lines = 0;
     while (lines < 5 && head.size() < size) {
       const size_t had = head.size();
-      const size_t more = static_cast<size_t>(std::min<uint64_t>(size - had, std::max<size_t>(had, 65536)));
+      const size_t more =
+          static_cast<size_t>(std::min<uint64_t>(size - had, std::max<size_t>(had, 65536)));
       head.resize(had + more);
       file_.read_at(had, head.data() + had, more);
-      lines += static_cast<size_t>(std::count(head.begin() + static_cast<long>(had), head.end(), '\n'));
+      lines +=
+          static_cast<size_t>(std::count(head.begin() + static_cast<long>(had), head.end(), '\n'));
     }
     bom_ = bom_bytes(head.data(), head.size());
-    Prelude pre = parse_prelude(reinterpret_cast<const char*>(head.data()) + bom_,
-                                head.size() - bom_, path);
+    Prelude pre =
+        parse_prelude(reinterpret_cast<const char*>(head.data()) + bom_, head.size() - bom_, path);
     const uint64_t start = bom_ + pre.data_offset;
     Counted c;
     {
@@ -501,7 +503,7 @@ class TRCSource : public FrameSource {
   InputFile file_;
   size_t bom_ = 0;
   RowParser parser_;
-  std::vector<uint64_t> offsets_;    // file offset of each row line, then the file size
+  std::vector<uint64_t> offsets_;     // file offset of each row line, then the file size
   std::vector<size_t> line_numbers_;  // each row's line number (for messages)
   std::vector<char> buf_;
 };

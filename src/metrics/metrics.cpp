@@ -58,8 +58,9 @@ ErrorStats ErrorAccumulator::finish() const {
   if (s.samples == 0) return s;
   s.rmse = std::sqrt(sq_ / static_cast<double>(s.samples));
   s.kg_error = centred_sq_ > 0 ? 100.0 * std::sqrt(sq_ / centred_sq_) : (sq_ > 0 ? INFINITY : 0.0);
-  double diag = std::sqrt((hi_[0] - lo_[0]) * (hi_[0] - lo_[0]) + (hi_[1] - lo_[1]) * (hi_[1] - lo_[1]) +
-                          (hi_[2] - lo_[2]) * (hi_[2] - lo_[2]));
+  double diag =
+      std::sqrt((hi_[0] - lo_[0]) * (hi_[0] - lo_[0]) + (hi_[1] - lo_[1]) * (hi_[1] - lo_[1]) +
+                (hi_[2] - lo_[2]) * (hi_[2] - lo_[2]));
   s.psnr = s.rmse > 0 ? 20.0 * std::log10(diag / s.rmse) : INFINITY;
   return s;
 }
@@ -79,13 +80,15 @@ ErrorStats compare(const Take& a, const Take& b) {
              std::to_string(b.points) + ")");
   ErrorStats s = compare(a.frames, a.points, a.xyz.data(), b.xyz.data(), a.valid.data());
   if (b.valid.size() == a.valid.size())
-    for (size_t i = 0; i < a.valid.size(); ++i) s.mask_mismatches += (a.valid[i] != 0) != (b.valid[i] != 0);
+    for (size_t i = 0; i < a.valid.size(); ++i)
+      s.mask_mismatches += (a.valid[i] != 0) != (b.valid[i] != 0);
   return s;
 }
 
 double bpvf(size_t bytes, size_t frames, size_t points) {
   if (frames == 0 || points == 0) return 0;
-  return 8.0 * static_cast<double>(bytes) / (static_cast<double>(frames) * static_cast<double>(points));
+  return 8.0 * static_cast<double>(bytes) /
+         (static_cast<double>(frames) * static_cast<double>(points));
 }
 
 }  // namespace capz

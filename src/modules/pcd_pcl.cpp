@@ -32,33 +32,54 @@ class QuietPcl {
 
 FieldType from_pcl(uint8_t t) {
   switch (t) {
-    case pcl::PCLPointField::INT8: return FieldType::kInt8;
-    case pcl::PCLPointField::UINT8: return FieldType::kUInt8;
-    case pcl::PCLPointField::INT16: return FieldType::kInt16;
-    case pcl::PCLPointField::UINT16: return FieldType::kUInt16;
-    case pcl::PCLPointField::INT32: return FieldType::kInt32;
-    case pcl::PCLPointField::UINT32: return FieldType::kUInt32;
-    case pcl::PCLPointField::INT64: return FieldType::kInt64;
-    case pcl::PCLPointField::UINT64: return FieldType::kUInt64;
-    case pcl::PCLPointField::FLOAT32: return FieldType::kFloat32;
-    case pcl::PCLPointField::FLOAT64: return FieldType::kFloat64;
+    case pcl::PCLPointField::INT8:
+      return FieldType::kInt8;
+    case pcl::PCLPointField::UINT8:
+      return FieldType::kUInt8;
+    case pcl::PCLPointField::INT16:
+      return FieldType::kInt16;
+    case pcl::PCLPointField::UINT16:
+      return FieldType::kUInt16;
+    case pcl::PCLPointField::INT32:
+      return FieldType::kInt32;
+    case pcl::PCLPointField::UINT32:
+      return FieldType::kUInt32;
+    case pcl::PCLPointField::INT64:
+      return FieldType::kInt64;
+    case pcl::PCLPointField::UINT64:
+      return FieldType::kUInt64;
+    case pcl::PCLPointField::FLOAT32:
+      return FieldType::kFloat32;
+    case pcl::PCLPointField::FLOAT64:
+      return FieldType::kFloat64;
   }
   return FieldType::kUnknown;
 }
 
 uint8_t to_pcl(FieldType t) {
   switch (t) {
-    case FieldType::kInt8: return pcl::PCLPointField::INT8;
-    case FieldType::kUInt8: return pcl::PCLPointField::UINT8;
-    case FieldType::kInt16: return pcl::PCLPointField::INT16;
-    case FieldType::kUInt16: return pcl::PCLPointField::UINT16;
-    case FieldType::kInt32: return pcl::PCLPointField::INT32;
-    case FieldType::kUInt32: return pcl::PCLPointField::UINT32;
-    case FieldType::kInt64: return pcl::PCLPointField::INT64;
-    case FieldType::kUInt64: return pcl::PCLPointField::UINT64;
-    case FieldType::kFloat32: return pcl::PCLPointField::FLOAT32;
-    case FieldType::kFloat64: return pcl::PCLPointField::FLOAT64;
-    case FieldType::kUnknown: break;
+    case FieldType::kInt8:
+      return pcl::PCLPointField::INT8;
+    case FieldType::kUInt8:
+      return pcl::PCLPointField::UINT8;
+    case FieldType::kInt16:
+      return pcl::PCLPointField::INT16;
+    case FieldType::kUInt16:
+      return pcl::PCLPointField::UINT16;
+    case FieldType::kInt32:
+      return pcl::PCLPointField::INT32;
+    case FieldType::kUInt32:
+      return pcl::PCLPointField::UINT32;
+    case FieldType::kInt64:
+      return pcl::PCLPointField::INT64;
+    case FieldType::kUInt64:
+      return pcl::PCLPointField::UINT64;
+    case FieldType::kFloat32:
+      return pcl::PCLPointField::FLOAT32;
+    case FieldType::kFloat64:
+      return pcl::PCLPointField::FLOAT64;
+    case FieldType::kUnknown:
+      break;
   }
   return 0;
 }
@@ -118,8 +139,8 @@ class PclBackend : public Backend {
     return Status::kOk;
   }
 
-  Status write(const std::string& path, const Cloud& in, const std::string& encoding,
-               int precision, std::string* message) const override {
+  Status write(const std::string& path, const Cloud& in, const std::string& encoding, int precision,
+               std::string* message) const override {
     QuietPcl quiet;
     pcl::PCDWriter writer;
     pcl::PCLPointCloud2 cloud;

@@ -31,8 +31,8 @@ struct Result {
 Result capz_cli(const std::string& args, bool merge = false, const std::string& env = "") {
   static capz_test::TempDir io("capz_cli_compress_io");
   const std::string out = io.file("out");
-  const std::string cmd = env + "'" + CAPZ_CLI + "' " + args + " >'" + out + "'" +
-                          (merge ? " 2>&1" : " 2>/dev/null");
+  const std::string cmd =
+      env + "'" + CAPZ_CLI + "' " + args + " >'" + out + "'" + (merge ? " 2>&1" : " 2>/dev/null");
   const int rc = std::system(cmd.c_str());
   std::ifstream in(out);
   std::stringstream ss;
@@ -65,7 +65,8 @@ TEST(CliCompress, GivenTrcWhenCompressedWithDefaultsThenReportLineAndBoundHolds)
   ASSERT_EQ(capz_cli("decompress -q '" + in + ".capz' -o '" + d.file("back.trc") + "'").status, 0);
   capz::Take a = capz::read_take(in), b = capz::read_take(d.file("back.trc"));
   capz::ErrorStats e = capz::compare(a, b);
-  EXPECT_LE(e.max_abs, 0.1 + 1e-9);  // the file is in mm; default bound 0.1mm, written to its decimals
+  EXPECT_LE(e.max_abs,
+            0.1 + 1e-9);  // the file is in mm; default bound 0.1mm, written to its decimals
   EXPECT_EQ(e.mask_mismatches, 0u);
 }
 
@@ -83,17 +84,24 @@ TEST(CliCompress, GivenC3DWhenCompressedWithJsonAndUnitsThenFieldsAndConversion)
   EXPECT_NE(i.out.find("POSW"), std::string::npos);
   EXPECT_EQ(capz_cli("info --json '" + out + "'").status, 0);
   // Frame range decode to a C3D.
-  EXPECT_EQ(capz_cli("decompress -q '" + out + "' --frames 100:50 -o '" + d.file("part.c3d") + "'").status, 0);
+  EXPECT_EQ(capz_cli("decompress -q '" + out + "' --frames 100:50 -o '" + d.file("part.c3d") + "'")
+                .status,
+            0);
   EXPECT_EQ(capz::read_take(d.file("part.c3d")).frames, 50u);
   // Lossless: verify says exact.
-  EXPECT_EQ(capz_cli("compress -q --lossless '" + kC3d + "' -o '" + d.file("l.capz") + "'").status, 0);
+  EXPECT_EQ(capz_cli("compress -q --lossless '" + kC3d + "' -o '" + d.file("l.capz") + "'").status,
+            0);
   EXPECT_EQ(capz_cli("verify '" + d.file("l.capz") + "' --against '" + kC3d + "'").status, 0);
 }
 
 TEST(CliCompress, GivenBadRequestsThenOneLineErrorsAndStatuses) {
   capz_test::TempDir d("capz_cli_compress");
-  EXPECT_EQ(capz_cli("compress '" + kC3d + "' -o '" + d.file("x.capz") + "' --lossless --max-error 1mm").status, 1);
-  Result bad = capz_cli("compress '" + kC3d + "' -o '" + d.file("x.capz") + "' --max-error 3furlongs", true);
+  EXPECT_EQ(
+      capz_cli("compress '" + kC3d + "' -o '" + d.file("x.capz") + "' --lossless --max-error 1mm")
+          .status,
+      1);
+  Result bad =
+      capz_cli("compress '" + kC3d + "' -o '" + d.file("x.capz") + "' --max-error 3furlongs", true);
   EXPECT_EQ(bad.status, 6);
   EXPECT_EQ(std::count(bad.out.begin(), bad.out.end(), '\n'), 1) << bad.out;
   EXPECT_FALSE(fs::exists(d.file("x.capz")));
@@ -105,7 +113,8 @@ TEST(CliCompress, GivenBadRequestsThenOneLineErrorsAndStatuses) {
     f.put('\x55');
   }
   EXPECT_EQ(capz_cli("verify '" + d.file("y.capz") + "'").status, 5);
-  EXPECT_EQ(capz_cli("decompress '" + d.file("y.capz") + "' -o '" + d.file("y.c3d") + "'").status, 5);
+  EXPECT_EQ(capz_cli("decompress '" + d.file("y.capz") + "' -o '" + d.file("y.c3d") + "'").status,
+            5);
   EXPECT_FALSE(fs::exists(d.file("y.c3d")));
   EXPECT_EQ(capz_cli("decompress '" + kC3d + "' -o '" + d.file("z.c3d") + "'").status, 3);
 }

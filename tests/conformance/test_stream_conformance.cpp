@@ -261,7 +261,8 @@ TEST(StreamCodec, GivenRealStreamsThenWindowByWindowDecodeWritesTheSameFile) {
     wo.overwrite = true;
     write_take(decompress(bytes.data(), bytes.size(), capz), a, wo);
     std::unique_ptr<FrameSource> src = open_capz_frames(capz);
-    std::unique_ptr<FrameSink> sink = create_frame_sink(src->header(), src->has_sample_words(), b, wo);
+    std::unique_ptr<FrameSink> sink =
+        create_frame_sink(src->header(), src->has_sample_words(), b, wo);
     copy_frames(*src, *sink, src->preferred_block());
     EXPECT_TRUE(read_file(a) == read_file(b));
     // Read by the window: every window is read once, and little more than the stream.

@@ -26,10 +26,12 @@ std::vector<Piece> pieces(const std::vector<uint8_t>& b) {
   std::vector<Piece> out;
   for (size_t off = 11; off + 12 <= b.size();) {
     const uint32_t n = static_cast<uint32_t>(b[off + 4]) | static_cast<uint32_t>(b[off + 5]) << 8 |
-                       static_cast<uint32_t>(b[off + 6]) << 16 | static_cast<uint32_t>(b[off + 7]) << 24;
-    out.push_back({std::string(b.begin() + static_cast<long>(off), b.begin() + static_cast<long>(off) + 4),
-                   std::vector<uint8_t>(b.begin() + static_cast<long>(off) + 8,
-                                        b.begin() + static_cast<long>(off + 8 + n))});
+                       static_cast<uint32_t>(b[off + 6]) << 16 |
+                       static_cast<uint32_t>(b[off + 7]) << 24;
+    out.push_back(
+        {std::string(b.begin() + static_cast<long>(off), b.begin() + static_cast<long>(off) + 4),
+         std::vector<uint8_t>(b.begin() + static_cast<long>(off) + 8,
+                              b.begin() + static_cast<long>(off + 8 + n))});
     off += 12 + n;
   }
   return out;
@@ -117,7 +119,7 @@ TEST(TransformOutput, GivenKgTargetAndTsThenStreamIsTransformOutputAndMeetsTarge
   const ErrorStats e = compare(t, back);
   EXPECT_EQ(e.mask_mismatches, 0u);
   EXPECT_LE(e.kg_error, 0.5);
-  EXPECT_GT(e.kg_error, 0.05);  // the budget is spent, not wasted on an exact copy
+  EXPECT_GT(e.kg_error, 0.05);             // the budget is spent, not wasted on an exact copy
   EXPECT_EQ(e.max_abs, st.error.max_abs);  // the encoder reported what the decoder produces
   for (const Piece& p : pieces(b))
     if (p.type == "HEAD") {
@@ -190,13 +192,19 @@ TEST(TransformOutput, GivenInconsistentHeadOrPositionsThenCorrupt) {
             std::string::npos);
   EXPECT_NE(decode_error(with_head([](std::vector<uint8_t>* h) { (*h)[17] = 1; })).find("grid"),
             std::string::npos);
-  EXPECT_NE(decode_error(with_head([&](std::vector<uint8_t>* h) { set_f64(h, 20, 0.01); })).find("step"),
+  EXPECT_NE(
+      decode_error(with_head([&](std::vector<uint8_t>* h) { set_f64(h, 20, 0.01); })).find("step"),
+      std::string::npos);
+  EXPECT_NE(
+      decode_error(with_head([&](std::vector<uint8_t>* h) { set_f64(h, 28, 0.01); })).find("bound"),
+      std::string::npos);
+  EXPECT_NE(decode_error(with_head([&](std::vector<uint8_t>* h) {
+              set_f64(h, 44, NAN);
+            })).find("KG target"),
             std::string::npos);
-  EXPECT_NE(decode_error(with_head([&](std::vector<uint8_t>* h) { set_f64(h, 28, 0.01); })).find("bound"),
-            std::string::npos);
-  EXPECT_NE(decode_error(with_head([&](std::vector<uint8_t>* h) { set_f64(h, 44, NAN); })).find("KG target"),
-            std::string::npos);
-  EXPECT_NE(decode_error(with_head([&](std::vector<uint8_t>* h) { set_f64(h, 44, -1); })).find("KG target"),
+  EXPECT_NE(decode_error(with_head([&](std::vector<uint8_t>* h) {
+              set_f64(h, 44, -1);
+            })).find("KG target"),
             std::string::npos);
   EXPECT_FALSE(decode_error(with_head([](std::vector<uint8_t>* h) { h->resize(44); })).empty());
   // The flag cleared (a grid stream with a step): POSW lacks the predictor and residual blocks.

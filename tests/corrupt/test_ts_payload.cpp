@@ -28,12 +28,12 @@ constexpr int kContexts = 448;
 std::vector<uint8_t> payload(size_t points, int s_field, const std::vector<uint32_t>& ranks,
                              int units = -1, const double* centre = nullptr) {
   ByteWriter w;
-  w.u8(2);        // version
+  w.u8(2);               // version
   w.u8(centre ? 4 : 0);  // flags
-  w.varint(1);    // frames
+  w.varint(1);           // frames
   w.varint(points);
-  w.f64(1.0);     // coef_step
-  w.u8(1);        // K
+  w.f64(1.0);  // coef_step
+  w.u8(1);     // K
   w.u8(static_cast<uint8_t>(s_field));
   if (centre)
     for (int sg = 0; sg < s_field; ++sg) {
@@ -143,8 +143,9 @@ TEST(TsPayloadSegments, GivenRealSegmentedPayloadTruncatedOrAlteredThenCorruptNo
   for (size_t f = 0; f < frames; ++f)
     for (size_t p = 0; p < points; ++p)
       for (size_t a = 0; a < 3; ++a)
-        xyz[(f * points + p) * 3 + a] = std::sin(0.1 * static_cast<double>(p * 3 + a)) +
-                                        0.05 * static_cast<double>((p % 4 + 1) * f) * (a == p % 3 ? 1.0 : 0.2);
+        xyz[(f * points + p) * 3 + a] =
+            std::sin(0.1 * static_cast<double>(p * 3 + a)) +
+            0.05 * static_cast<double>((p % 4 + 1) * f) * (a == p % 3 ? 1.0 : 0.2);
   TransformParams tp;
   tp.kg_error = 0.5;
   tp.clusters = 1;

@@ -1,8 +1,9 @@
 // Fuzz target: a take built from the fuzz bytes -> compress -> decompress must come back with the
 // same shape and gap mask, every valid coordinate within the bound (bit-exact when lossless; for a
 // KG target with a transform, whose reconstruction is the output and has no bound, finite with a
-// KG error at most the target), and the same rate, units and labels. compress may refuse an impossible target (kInvalidParameter);
-// any other capz::Error, in particular a failed self-check (kInternal), is a finding.
+// KG error at most the target), and the same rate, units and labels. compress may refuse an
+// impossible target (kInvalidParameter); any other capz::Error, in particular a failed self-check
+// (kInternal), is a finding.
 //
 // Bytes: [0] frames-1 (1..32), [1] points-1 (1..8), [2] options: bit 0 lossless, bits 1-2 value
 // kind (int16 x 0.01, int16 x 1, float32 bits, small ints), bits 3-5 window frames (1..8),
@@ -29,7 +30,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const size_t window = 1 + ((opt >> 3) & 7);
   const bool ts = (opt >> 6) & 1;
   const bool kg = !lossless && ((opt >> 7) & 1);
-  const double kg_target = 0.05 * (1 + data[3] % 64);  // percent
+  const double kg_target = 0.05 * (1 + data[3] % 64);                         // percent
   const double bound = std::ldexp(1.0, -static_cast<int>(data[3] % 24) + 4);  // 16 .. 2^-19
   const uint8_t* rest = data + 4;
   const size_t n_rest = size - 4;

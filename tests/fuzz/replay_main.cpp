@@ -44,11 +44,13 @@ int main(int argc, char** argv) {
     }
   }
   if (inputs.empty()) {
-    std::fprintf(stderr, "replay: no inputs (an empty corpus replays nothing and proves nothing)\n");
+    std::fprintf(stderr,
+                 "replay: no inputs (an empty corpus replays nothing and proves nothing)\n");
     return 2;
   }
   unsigned timeout = 30;
-  if (const char* env = std::getenv("CAPZ_REPLAY_TIMEOUT")) timeout = static_cast<unsigned>(std::atoi(env));
+  if (const char* env = std::getenv("CAPZ_REPLAY_TIMEOUT"))
+    timeout = static_cast<unsigned>(std::atoi(env));
   for (const std::string& path : inputs) {
     std::ifstream in(path, std::ios::binary);
     std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

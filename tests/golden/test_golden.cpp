@@ -1,5 +1,5 @@
-// Golden streams (tests/golden/streams, made by capz 1.0, 2.0 and 3.0 from data/ samples; names say input,
-// method and format version) must keep decoding: to the same bytes as when they were made
+// Golden streams (tests/golden/streams, made by capz 1.0, 2.0 and 3.0 from data/ samples; names say
+// input, method and format version) must keep decoding: to the same bytes as when they were made
 // (CRC-32C of the decoded take, MANIFEST.txt) and to the source file within the stored bound.
 #include <gtest/gtest.h>
 
@@ -51,7 +51,9 @@ std::vector<Entry> manifest() {
   return v;
 }
 
-TEST(Golden, GivenManifestThenItListsStreams) { EXPECT_GE(manifest().size(), 3u); }
+TEST(Golden, GivenManifestThenItListsStreams) {
+  EXPECT_GE(manifest().size(), 3u);
+}
 
 TEST(Golden, GivenGoldenStreamsWhenDecodedThenKnownContentAndWithinBoundOfSource) {
   for (const Entry& e : manifest()) {
@@ -71,7 +73,8 @@ TEST(Golden, GivenGoldenStreamsWhenDecodedThenKnownContentAndWithinBoundOfSource
     else
       EXPECT_LE(s.max_abs, si.max_error);
     ASSERT_EQ(a.analog.values.size(), b.analog.values.size());
-    EXPECT_EQ(std::memcmp(a.analog.values.data(), b.analog.values.data(), a.analog.values.size() * 8), 0);
+    EXPECT_EQ(
+        std::memcmp(a.analog.values.data(), b.analog.values.data(), a.analog.values.size() * 8), 0);
     EXPECT_EQ(a.labels, b.labels);
   }
 }

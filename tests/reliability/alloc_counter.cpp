@@ -57,16 +57,36 @@ void counted_free(void* p) noexcept {
 
 }  // namespace
 
-void* operator new(size_t n) { return counted_alloc(n, false); }
-void* operator new[](size_t n) { return counted_alloc(n, false); }
-void* operator new(size_t n, const std::nothrow_t&) noexcept { return counted_alloc(n, true); }
-void* operator new[](size_t n, const std::nothrow_t&) noexcept { return counted_alloc(n, true); }
-void operator delete(void* p) noexcept { counted_free(p); }
-void operator delete[](void* p) noexcept { counted_free(p); }
-void operator delete(void* p, size_t) noexcept { counted_free(p); }
-void operator delete[](void* p, size_t) noexcept { counted_free(p); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { counted_free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { counted_free(p); }
+void* operator new(size_t n) {
+  return counted_alloc(n, false);
+}
+void* operator new[](size_t n) {
+  return counted_alloc(n, false);
+}
+void* operator new(size_t n, const std::nothrow_t&) noexcept {
+  return counted_alloc(n, true);
+}
+void* operator new[](size_t n, const std::nothrow_t&) noexcept {
+  return counted_alloc(n, true);
+}
+void operator delete(void* p) noexcept {
+  counted_free(p);
+}
+void operator delete[](void* p) noexcept {
+  counted_free(p);
+}
+void operator delete(void* p, size_t) noexcept {
+  counted_free(p);
+}
+void operator delete[](void* p, size_t) noexcept {
+  counted_free(p);
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept {
+  counted_free(p);
+}
+void operator delete[](void* p, const std::nothrow_t&) noexcept {
+  counted_free(p);
+}
 
 namespace capz_test {
 
@@ -79,7 +99,9 @@ AllocScope::AllocScope(size_t refuse_bytes) {
   g_armed = true;
 }
 
-AllocScope::~AllocScope() { g_armed = false; }
+AllocScope::~AllocScope() {
+  g_armed = false;
+}
 
 AllocReport AllocScope::report() const {
   AllocReport r;

@@ -17,9 +17,9 @@
 #include "alloc_counter.h"
 #include "capz/codec.h"
 #include "capz/error.h"
-#include "coding/container.h"
 #include "capz/io.h"
 #include "capz/stream.h"
+#include "coding/container.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;
@@ -62,7 +62,9 @@ void expect_bounded(const Outcome& o, const std::string& what) {
   EXPECT_LT(o.alloc.peak_bytes, kBudget) << what << ": peak heap " << o.alloc.peak_bytes;
 }
 
-std::vector<uint8_t> bytes_of(const std::string& s) { return std::vector<uint8_t>(s.begin(), s.end()); }
+std::vector<uint8_t> bytes_of(const std::string& s) {
+  return std::vector<uint8_t>(s.begin(), s.end());
+}
 
 void write_file(const fs::path& p, const std::string& s) {
   std::ofstream o(p, std::ios::binary);
@@ -124,7 +126,8 @@ TEST(ResourceLimits, TrcManyShortRowsTimesAWideRowIsBounded) {
   // One row reaching marker 300 through empty fields, then ~900 one-field rows: rows x markers
   // samples from one kilobyte. The reader must refuse or stay within the budget.
   std::string trc =
-      "PathFileType\t4\t(X/Y/Z)\th.trc\nDataRate\tNumFrames\tNumMarkers\n100\t1\t1\nFrame#\tTime\tA\n\n";
+      "PathFileType\t4\t(X/Y/"
+      "Z)\th.trc\nDataRate\tNumFrames\tNumMarkers\n100\t1\t1\nFrame#\tTime\tA\n\n";
   trc += "1\t0" + std::string(900, '\t') + "1\n";
   while (trc.size() < 4000) trc += "1\n";
   std::vector<uint8_t> b = bytes_of(trc);
@@ -140,18 +143,25 @@ TEST(ResourceLimits, TrcManyShortRowsTimesAWideRowIsBounded) {
 TEST(ResourceLimits, PcdHeadersClaimingBillionsOfPointsAreRefused) {
   const std::string head = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n";
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"binary body", head + "COUNT 1 1 1\nWIDTH 1000000000\nHEIGHT 1\nPOINTS 1000000000\n"
-                             "DATA binary\n" + std::string(120, '\0')},
-      {"zero COUNT", head + "COUNT 0 0 0\nWIDTH 1000000000\nHEIGHT 1\nPOINTS 1000000000\n"
-                            "DATA binary\n" + std::string(120, '\0')},
-      {"width x height", head + "COUNT 1 1 1\nWIDTH 1000000\nHEIGHT 1000000\n"
-                                "DATA binary\n" + std::string(120, '\0')},
+      {"binary body", head +
+                          "COUNT 1 1 1\nWIDTH 1000000000\nHEIGHT 1\nPOINTS 1000000000\n"
+                          "DATA binary\n" +
+                          std::string(120, '\0')},
+      {"zero COUNT", head +
+                         "COUNT 0 0 0\nWIDTH 1000000000\nHEIGHT 1\nPOINTS 1000000000\n"
+                         "DATA binary\n" +
+                         std::string(120, '\0')},
+      {"width x height", head +
+                             "COUNT 1 1 1\nWIDTH 1000000\nHEIGHT 1000000\n"
+                             "DATA binary\n" +
+                             std::string(120, '\0')},
       {"ascii body", head + "COUNT 1 1 1\nWIDTH 4000000000\nHEIGHT 1\nDATA ascii\n1 2 3\n"},
       {"compressed body",
        head + "COUNT 1 1 1\nWIDTH 100000000\nHEIGHT 1\nDATA binary_compressed\n" +
            std::string("\x10\x00\x00\x00\x00\x8c\x86\x47", 8) + std::string(16, 'A')},
-      {"huge COUNT", "VERSION 0.7\nFIELDS x y z n\nSIZE 4 4 4 4\nTYPE F F F F\n"
-                     "COUNT 1 1 1 1048576\nWIDTH 1\nHEIGHT 1\nDATA ascii\n1 2 3 4\n"},
+      {"huge COUNT",
+       "VERSION 0.7\nFIELDS x y z n\nSIZE 4 4 4 4\nTYPE F F F F\n"
+       "COUNT 1 1 1 1048576\nWIDTH 1\nHEIGHT 1\nDATA ascii\n1 2 3 4\n"},
   };
   for (const auto& c : cases) {
     capz_test::TempDir dir("capz_limits");
@@ -169,8 +179,8 @@ TEST(ResourceLimits, PcdHeadersClaimingBillionsOfPointsAreRefused) {
 // and 4 billion frames.
 TEST(ResourceLimits, C3dCountsClaimingBillionsAreClampedToTheData) {
   const std::string dir = std::string(CAPZ_TEST_DIR) + "/fuzz/corpus/read_c3d/";
-  for (const char* file : {"hostile-65535-points-65535-frames.c3d",
-                           "crash-zero-points-4g-frames.c3d"}) {
+  for (const char* file :
+       {"hostile-65535-points-65535-frames.c3d", "crash-zero-points-4g-frames.c3d"}) {
     std::vector<uint8_t> b;
     {
       std::ifstream in(dir + file, std::ios::binary);
@@ -242,23 +252,28 @@ TEST(ResourceLimits, CapzHeaderCountsClaimingBillionsAreRefused) {
   const std::vector<std::pair<std::string, std::function<void(capz::StreamHeader*)>>> cases = {
       {"2^40 frames", [](capz::StreamHeader* h) { h->frames = uint64_t{1} << 40; }},
       {"2^31 points", [](capz::StreamHeader* h) { h->points = 1u << 31; }},
-      {"both", [](capz::StreamHeader* h) {
+      {"both",
+       [](capz::StreamHeader* h) {
          h->frames = uint64_t{1} << 40;
          h->points = 0xFFFFFFFFu;
        }},
-      {"huge window", [](capz::StreamHeader* h) {
+      {"huge window",
+       [](capz::StreamHeader* h) {
          h->frames = uint64_t{1} << 40;
          h->window_frames = 0xFFFFFFFFu;
        }},
-      {"analog", [](capz::StreamHeader* h) {
+      {"analog",
+       [](capz::StreamHeader* h) {
          h->analog_channels = 1u << 30;
          h->analog_samples_per_frame = 1u << 30;
        }},
-      {"no points, 2^30 frames in one window", [](capz::StreamHeader* h) {
+      {"no points, 2^30 frames in one window",
+       [](capz::StreamHeader* h) {
          h->frames = uint64_t{1} << 30;
          h->window_frames = 1u << 30;
        }},
-      {"no points, 2^30 frames in windows of 8192", [](capz::StreamHeader* h) {
+      {"no points, 2^30 frames in windows of 8192",
+       [](capz::StreamHeader* h) {
          h->frames = uint64_t{1} << 30;
          h->window_frames = 8192;
        }},

@@ -21,10 +21,14 @@ namespace {
 
 constexpr int kIo = static_cast<int>(capz::ErrorCode::kIo);
 
-std::string shared(const std::string& rel) { return std::string(CAPZ_SHARED_DATA) + "/" + rel; }
+std::string shared(const std::string& rel) {
+  return std::string(CAPZ_SHARED_DATA) + "/" + rel;
+}
 
 // A real take big enough that every writer's output exceeds the 4 KB limit used below.
-capz::Take sample_take() { return capz::read_trc(shared("trc/opensim/walk_free_01.trc")); }
+capz::Take sample_take() {
+  return capz::read_trc(shared("trc/opensim/walk_free_01.trc"));
+}
 
 }  // namespace
 
@@ -32,7 +36,8 @@ TEST(WriteFaults, FileSizeLimitReallyFailsWrites) {
   // The simulation itself: without a limit the write succeeds, with one it fails with kIo.
   capz_test::TempDir dir("capz_faults");
   capz::Take t = sample_take();
-  EXPECT_EQ(run_with_file_limit(size_t{1} << 30, [&] { capz::write_trc(t, dir.file("a.trc")); }), 0);
+  EXPECT_EQ(run_with_file_limit(size_t{1} << 30, [&] { capz::write_trc(t, dir.file("a.trc")); }),
+            0);
   EXPECT_GT(fs::file_size(dir.file("a.trc")), 4096u);
   EXPECT_EQ(run_with_file_limit(4096, [&] { capz::write_trc(t, dir.file("b.trc")); }), kIo);
 }
@@ -44,17 +49,20 @@ TEST(WriteFaults, EveryWriterLeavesNothingWhenTheDiskFills) {
     std::function<void(const std::string&, bool)> write;
   };
   const std::vector<Case> cases = {
-      {"out.trc", [&](const std::string& p, bool f) {
+      {"out.trc",
+       [&](const std::string& p, bool f) {
          capz::WriteOptions o;
          o.overwrite = f;
          capz::write_trc(t, p, o);
        }},
-      {"out.c3d", [&](const std::string& p, bool f) {
+      {"out.c3d",
+       [&](const std::string& p, bool f) {
          capz::WriteOptions o;
          o.overwrite = f;
          capz::write_c3d(t, p, o);
        }},
-      {"out_pcd", [&](const std::string& p, bool f) {
+      {"out_pcd",
+       [&](const std::string& p, bool f) {
          capz::WriteOptions o;
          o.overwrite = f;
          capz::write_pcd_folder(t, p, o);

@@ -73,7 +73,6 @@ TEST(AutoCodec, GivenTooFewPointsForTransformsWhenAutoThenPlainCoderStillWorks) 
 
 namespace {
 
-
 // false when compress rejects the options as kInvalidParameter; any other error propagates.
 bool accepted(const Take& t, const CompressOptions& o) {
   try {

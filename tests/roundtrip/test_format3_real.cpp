@@ -18,9 +18,9 @@ namespace fs = std::filesystem;
 const std::string kData = CAPZ_SHARED_DATA;
 
 struct Coarse {
-  const char* path;   // under kData
-  double mm;          // bound in millimetres
-  size_t reference;   // the reference coder's bytes at that bound (docs/bench/results.csv)
+  const char* path;  // under kData
+  double mm;         // bound in millimetres
+  size_t reference;  // the reference coder's bytes at that bound (docs/bench/results.csv)
 };
 
 TEST(Format3Real, GivenCoarseBoundsOnSmoothTakesThenWithinBoundAndUnderReferenceCoder) {

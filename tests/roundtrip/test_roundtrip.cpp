@@ -2,7 +2,6 @@
 // the per-coordinate bound holds on every valid sample, gap masks and analog come back exactly,
 // lossless is bit for bit, metadata comes back, and a frame range decodes alone.
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <cmath>
@@ -26,20 +25,22 @@ struct Case {
 };
 
 const Case kCases[] = {
-    {"c3d/c3dorg/sample_01/Eb015pr.c3d"},                 // float storage
-    {"c3d/c3dorg/sample_01/Eb015si.c3d"},                 // int16 storage, analog
-    {"c3d/btkdata/PiG/PiG_Motion-FlatFoot-Hole.c3d"},     // gaps, analog
-    {"c3d/c3dorg/sample_17/128analogchannels.c3d"},       // many analog channels
-    {"c3d/btkdata/others/FunctionalLHip.c3d"},            // heavy occlusion
-    {"trc/opensim/dataWithNaNsWithSpaces.trc"},           // NaN gaps
+    {"c3d/c3dorg/sample_01/Eb015pr.c3d"},              // float storage
+    {"c3d/c3dorg/sample_01/Eb015si.c3d"},              // int16 storage, analog
+    {"c3d/btkdata/PiG/PiG_Motion-FlatFoot-Hole.c3d"},  // gaps, analog
+    {"c3d/c3dorg/sample_17/128analogchannels.c3d"},    // many analog channels
+    {"c3d/btkdata/others/FunctionalLHip.c3d"},         // heavy occlusion
+    {"trc/opensim/dataWithNaNsWithSpaces.trc"},        // NaN gaps
     {"trc/opensim/walk_free_01.trc"},
-    {"pcd/pcow"},                                          // PCD folder, no units
+    {"pcd/pcow"},  // PCD folder, no units
     // Frames 24-47 repeat 0-23 (format 3.0's period predictor). xz -9e makes its raw float32
     // positions 1,993,776 B; format 2.0 coded them in 2,573,710 B (docs/BENCHMARKS.md).
     {"pcd/horse-gallop", 1900000},
 };
 
-std::string path_of(const Case& c) { return kData + "/" + c.path; }
+std::string path_of(const Case& c) {
+  return kData + "/" + c.path;
+}
 
 void expect_same_mask(const Take& a, const Take& b) {
   ASSERT_EQ(a.valid.size(), b.valid.size());
@@ -55,7 +56,8 @@ void expect_same_analog(const Take& a, const Take& b) {
   ASSERT_EQ(a.analog.values.size(), b.analog.values.size());
   // memcmp must not see the null data() of an empty vector
   if (!a.analog.values.empty()) {
-    EXPECT_EQ(std::memcmp(a.analog.values.data(), b.analog.values.data(), a.analog.values.size() * 8), 0);
+    EXPECT_EQ(
+        std::memcmp(a.analog.values.data(), b.analog.values.data(), a.analog.values.size() * 8), 0);
   }
 }
 
@@ -116,7 +118,8 @@ TEST_P(RoundTrip, GivenRealFileWhenLosslessThenEveryStoredCoordinateBitExact) {
     ASSERT_TRUE(b.c3d);
     EXPECT_EQ(b.c3d->camera_mask, t.c3d->camera_mask);
     ASSERT_EQ(b.c3d->residual.size(), t.c3d->residual.size());
-    EXPECT_EQ(std::memcmp(b.c3d->residual.data(), t.c3d->residual.data(), t.c3d->residual.size() * 4), 0);
+    EXPECT_EQ(
+        std::memcmp(b.c3d->residual.data(), t.c3d->residual.data(), t.c3d->residual.size() * 4), 0);
     EXPECT_EQ(b.c3d->groups.size(), t.c3d->groups.size());
     EXPECT_EQ(b.c3d->header_events.size(), t.c3d->header_events.size());
   }
@@ -166,13 +169,15 @@ INSTANTIATE_TEST_SUITE_P(Shared, RoundTrip, ::testing::ValuesIn(kCases),
 // bound holds in the written file, float32 rounding included (bigparlove has coordinates near
 // 2^18 mm, where a float32 step is 0.03 mm; test1 is in metres).
 TEST(RoundTripC3D, GivenC3DWhenDecompressedAndWrittenThenRereadsWithinBound) {
-  for (const char* rel : {"c3d/c3dorg/sample_01/Eb015pr.c3d", "c3d/btkdata/PiG/PiG_Motion-FlatFoot-Hole.c3d",
-                          "c3d/c3dorg/sample_33/bigparlove.c3d",
-                          "c3d/c3dorg/sample_00/NexGen Ergonomics/test1.c3d"}) {
+  for (const char* rel :
+       {"c3d/c3dorg/sample_01/Eb015pr.c3d", "c3d/btkdata/PiG/PiG_Motion-FlatFoot-Hole.c3d",
+        "c3d/c3dorg/sample_33/bigparlove.c3d",
+        "c3d/c3dorg/sample_00/NexGen Ergonomics/test1.c3d"}) {
     const std::string path = kData + "/" + rel;
     if (!fs::exists(path)) GTEST_SKIP() << path << " missing";
     Take t = read_take(path);
-    const std::string tmp = fs::temp_directory_path() / ("capz_rt_" + std::to_string(getpid()) + ".c3d");
+    const std::string tmp =
+        fs::temp_directory_path() / ("capz_rt_" + std::to_string(getpid()) + ".c3d");
     for (const char* bound : {"lossless", "0.03mm", "0.1mm"}) {
       const bool lossless = std::string(bound) == "lossless";
       CompressOptions o;

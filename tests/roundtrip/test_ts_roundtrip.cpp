@@ -21,7 +21,7 @@ struct Case {
   size_t frames;  // 0 = all (keeps the runtime modest on long sequences)
   double kg;
   int clusters;
-  double max_bpvf;  // a regression bound well above what the codec reaches today
+  double max_bpvf;                 // a regression bound well above what the codec reaches today
   const char* segments = nullptr;  // the `segments` option (nullptr: the default)
   int want_segments = 0;           // > 0: the segment count the payload must use
 };
@@ -48,9 +48,11 @@ void run_case(const Case& c) {
   const double rate = bpvf(bytes.size(), nf, t.points);
   std::string pcs;
   for (int p : rep.pcs) pcs += std::to_string(p) + " ";
-  std::printf("%s: %zu frames x %zu points, K=%d S=%d PCs {%s} KG %.4f%% max %.4g  %zu bytes  %.3f bpvf  %.2fs\n",
-              c.name, nf, t.points, rep.clusters, rep.segments, pcs.c_str(), e.kg_error, e.max_error,
-              bytes.size(), rate, rep.t_total);
+  std::printf(
+      "%s: %zu frames x %zu points, K=%d S=%d PCs {%s} KG %.4f%% max %.4g  %zu bytes  %.3f bpvf  "
+      "%.2fs\n",
+      c.name, nf, t.points, rep.clusters, rep.segments, pcs.c_str(), e.kg_error, e.max_error,
+      bytes.size(), rate, rep.t_total);
   EXPECT_LT(rate, c.max_bpvf);
   if (c.want_segments > 0) {
     EXPECT_EQ(rep.segments, c.want_segments);
@@ -64,7 +66,9 @@ void run_case(const Case& c) {
 // chickenCrossing 2.1 (all 400 frames, K = 1), pcow 5.6 (K = 1); see docs/BENCHMARKS.md.
 // With point segments and their own rigid motion: horse-gallop 16 segments 1.16 bpvf (1.66
 // without segment_align), chickenCrossing (400 frames, K = 1, auto picks 16) 0.77.
-TEST(TsRoundtrip, HorseGallopAutoClusters) { run_case({"horse-gallop", 0, 0.15, -1, 3.5, "1", 1}); }
+TEST(TsRoundtrip, HorseGallopAutoClusters) {
+  run_case({"horse-gallop", 0, 0.15, -1, 3.5, "1", 1});
+}
 TEST(TsRoundtrip, HorseGallopSixteenSegments) {
   run_case({"horse-gallop", 0, 0.15, 1, 1.4, "16", 16});
 }
@@ -79,7 +83,9 @@ TEST(TsRoundtrip, ChickenCrossingFirst200FramesTwoClustersEightSegments) {
 TEST(TsRoundtrip, ChickenCrossingSixteenSegmentsMeetsTarget) {
   run_case({"chickenCrossing", 0, 0.15, 1, 1.5, "16", 16});
 }
-TEST(TsRoundtrip, PcowTwoClustersLooseTarget) { run_case({"pcow", 0, 0.5, 2, 4.0, "4", 4}); }
+TEST(TsRoundtrip, PcowTwoClustersLooseTarget) {
+  run_case({"pcow", 0, 0.5, 2, 4.0, "4", 4});
+}
 
 // Through the container: --codec ts in front of the bound layer; the bound must hold exactly
 // and the stream must record the ts transform.
@@ -99,13 +105,16 @@ void container_case(const char* name, size_t frames, double bound_frac, double k
       lo[a] = std::min(lo[a], t.xyz[i * 3 + a]);
       hi[a] = std::max(hi[a], t.xyz[i * 3 + a]);
     }
-  const double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                                (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  const double diag =
+      std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                (hi[2] - lo[2]) * (hi[2] - lo[2]));
   CompressOptions o;
   o.codec = "ts";
   o.clusters = 2;
-  if (kg > 0) o.kg_error = kg;
-  else o.max_error = bound_frac * diag;
+  if (kg > 0)
+    o.kg_error = kg;
+  else
+    o.max_error = bound_frac * diag;
   CompressStats st;
   std::vector<uint8_t> bytes = compress(t, o, &st);
   EXPECT_EQ(describe(bytes.data(), bytes.size()).codec, "ts");
@@ -122,9 +131,15 @@ void container_case(const char* name, size_t frames, double bound_frac, double k
 }
 }  // namespace
 
-TEST(TsContainer, HorseGallopMaxErrorHolds) { container_case("horse-gallop", 0, 1e-4, 0); }
-TEST(TsContainer, ChickenCrossingKgTargetHolds) { container_case("chickenCrossing", 120, 0, 0.15); }
-TEST(TsContainer, PcowMaxErrorHolds) { container_case("pcow", 100, 5e-4, 0); }
+TEST(TsContainer, HorseGallopMaxErrorHolds) {
+  container_case("horse-gallop", 0, 1e-4, 0);
+}
+TEST(TsContainer, ChickenCrossingKgTargetHolds) {
+  container_case("chickenCrossing", 120, 0, 0.15);
+}
+TEST(TsContainer, PcowMaxErrorHolds) {
+  container_case("pcow", 100, 5e-4, 0);
+}
 
 // A real C3D take with heavy occlusion (51 % gaps) through the container with --codec ts: with
 // only a KG target the stream is transform output and meets it on the valid samples; with a max
@@ -148,7 +163,8 @@ TEST(TsContainer, RealC3DWithGapsKgTargetAndMaxError) {
   EXPECT_GT(e.kg_error, 0.1);
   EXPECT_EQ(e.max_abs, st.error.max_abs);  // the reported max error is the decoder's
   EXPECT_LT(e.max_abs, 50.0);              // mm: a sane reconstruction, not a bound
-  std::printf("FunctionalLHip KG 0.5%%: %.3f bpvf, max %.4g mm, KG %.4f%%\n", st.bpvf, e.max_abs, e.kg_error);
+  std::printf("FunctionalLHip KG 0.5%%: %.3f bpvf, max %.4g mm, KG %.4f%%\n", st.bpvf, e.max_abs,
+              e.kg_error);
   o.kg_error = 0;
   o.max_error = 0.5;
   b = compress(t, o, &st);

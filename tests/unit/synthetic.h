@@ -67,7 +67,7 @@ inline Synth make_synth(size_t frames, size_t points, size_t period, bool rigid,
 // points [b * per_body, (b + 1) * per_body)). Each body spins about its own axis at its own rate
 // and translates; body b is centred near (300 b, 0, 0) in frame 0. Sizes ~ 100 units.
 inline Synth rigid_bodies(size_t bodies, size_t per_body, size_t frames, uint32_t seed,
-                                  double noise = 0.0) {
+                          double noise = 0.0) {
   Synth t;
   t.frames = frames;
   t.points = bodies * per_body;

@@ -56,7 +56,8 @@ TEST(Crc32c, GivenCheckStringThenKnownValue) {
   EXPECT_EQ(crc32c(reinterpret_cast<const uint8_t*>(s), 9), 0xE3069283u);
   std::vector<uint8_t> big(1000);
   for (size_t i = 0; i < big.size(); ++i) big[i] = static_cast<uint8_t>(i * 7);
-  EXPECT_EQ(crc32c_update(crc32c(big.data(), 333), big.data() + 333, 667), crc32c(big.data(), 1000));
+  EXPECT_EQ(crc32c_update(crc32c(big.data(), 333), big.data() + 333, 667),
+            crc32c(big.data(), 1000));
 }
 
 TEST(Quantiser, GivenHalfwayValuesThenRoundsAwayFromZero) {
@@ -143,16 +144,16 @@ TEST(C3dWordCoding, GivenGapsAndScaleNotDividingOneThenGridModeAndExact) {
   }
   ASSERT_NE(static_cast<float>(std::round(-1.0 / scale) * scale), -1.0f);  // -1 is off the grid
   ASSERT_TRUE(residuals_on_grid(residual, valid, scale));
-  std::vector<uint8_t> c = encode_c3d_words(residual.data(), camera.data(), valid.data(), n,
-                                            points, scale, true);
+  std::vector<uint8_t> c =
+      encode_c3d_words(residual.data(), camera.data(), valid.data(), n, points, scale, true);
   EXPECT_EQ(c[0], 0);  // mode 0
   std::vector<float> r(n);
   std::vector<uint8_t> cam(n);
   decode_c3d_words(c.data(), c.size(), valid.data(), n, points, scale, r.data(), cam.data(), "t");
   EXPECT_EQ(std::memcmp(r.data(), residual.data(), n * 4), 0);
   EXPECT_EQ(cam, camera);
-  std::vector<uint8_t> bits = encode_c3d_words(residual.data(), camera.data(), valid.data(), n,
-                                               points, scale, false);
+  std::vector<uint8_t> bits =
+      encode_c3d_words(residual.data(), camera.data(), valid.data(), n, points, scale, false);
   EXPECT_LT(c.size(), bits.size());
   // A gap whose residual is not -1 cannot use mode 0.
   for (size_t i = 0; i < n; ++i)
@@ -288,8 +289,10 @@ TEST(Container, GivenC3DInt16TakeThenStoredIntegersAndWordsComeBack) {
         for (int a = 0; a < 3; ++a) {
           double k = b.xyz[i * 3 + a] / t.c3d->point_scale;
           EXPECT_NEAR(k, std::round(k), 1e-6);  // still on the int16 grid
-          if (lossless) ASSERT_EQ(b.xyz[i * 3 + a], t.xyz[i * 3 + a]);
-          else ASSERT_LE(std::fabs(b.xyz[i * 3 + a] - t.xyz[i * 3 + a]), 0.5);
+          if (lossless)
+            ASSERT_EQ(b.xyz[i * 3 + a], t.xyz[i * 3 + a]);
+          else
+            ASSERT_LE(std::fabs(b.xyz[i * 3 + a] - t.xyz[i * 3 + a]), 0.5);
         }
   }
 }
@@ -308,14 +311,16 @@ TEST(Container, GivenAnalogThenExactAndFrameRangeDecodesOnlyThatRange) {
   o.window_frames = 128;
   auto bytes = compress(t, o);
   Take all = decompress(bytes.data(), bytes.size());
-  EXPECT_EQ(std::memcmp(all.analog.values.data(), t.analog.values.data(), t.analog.values.size() * 8), 0);
+  EXPECT_EQ(
+      std::memcmp(all.analog.values.data(), t.analog.values.data(), t.analog.values.size() * 8), 0);
   EXPECT_EQ(all.analog.labels, t.analog.labels);
   Take part = decompress_frames(bytes.data(), bytes.size(), 300, 250);
   ASSERT_EQ(part.frames, 250u);
   EXPECT_EQ(part.first_frame, t.first_frame + 300);
   for (size_t i = 0; i < 250 * 4 * 3; ++i) ASSERT_EQ(part.xyz[i], all.xyz[300 * 4 * 3 + i]);
   for (size_t i = 0; i < 250 * 4; ++i) ASSERT_EQ(part.valid[i], all.valid[300 * 4 + i]);
-  for (size_t i = 0; i < 250 * 8; ++i) ASSERT_EQ(part.analog.values[i], all.analog.values[300 * 8 + i]);
+  for (size_t i = 0; i < 250 * 8; ++i)
+    ASSERT_EQ(part.analog.values[i], all.analog.values[300 * 8 + i]);
   // A range needs only its windows: damage a window outside it and the range still decodes.
   auto damaged = bytes;
   StreamInfo si = describe(bytes.data(), bytes.size());
@@ -375,10 +380,11 @@ TEST(Container, GivenFloatC3DOnItsScaleGridWhenLosslessThenFloat32GridModeAndBit
   for (size_t i = 0; i < t.valid.size(); ++i) {
     t.valid[i] = i % 11 != 0;
     for (int a = 0; a < 3; ++a)
-      t.xyz[i * 3 + a] = t.valid[i] ? static_cast<double>(static_cast<float>(
-                                          static_cast<double>(static_cast<int>(i * 7 + a * 1000) - 3000) *
-                                          t.c3d->point_scale))
-                                    : 0.0;
+      t.xyz[i * 3 + a] = t.valid[i]
+                             ? static_cast<double>(static_cast<float>(
+                                   static_cast<double>(static_cast<int>(i * 7 + a * 1000) - 3000) *
+                                   t.c3d->point_scale))
+                             : 0.0;
   }
   CompressOptions o;
   o.lossless = true;

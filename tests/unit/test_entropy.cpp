@@ -136,7 +136,8 @@ namespace {
 
 TEST(EntropyBytes, GivenTextAndBinaryBytesWhenRoundTrippedThenExactAndTextShrinks) {
   std::string text;
-  for (int i = 0; i < 200; ++i) text += "POINT:LABELS RightKnee LeftKnee " + std::to_string(i) + "    ";
+  for (int i = 0; i < 200; ++i)
+    text += "POINT:LABELS RightKnee LeftKnee " + std::to_string(i) + "    ";
   std::vector<uint8_t> t(text.begin(), text.end());
   auto block = encode_bytes(t.data(), t.size());
   EXPECT_LT(block.size(), t.size() / 2);

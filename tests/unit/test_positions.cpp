@@ -173,9 +173,9 @@ TEST(Positions, GivenSmoothAndPeriodModesThenWalkPredictsAsSpecified) {
       if (f != 5) {  // point 1 is a gap at frame 5
         EXPECT_EQ(preds[(f * N + 1) * 3 + a], wrap(f < T ? Q(f - 1, 1, a) : Q(f - T, 1, a)));
       }
-      EXPECT_EQ(preds[(f * N + 2) * 3 + a],
-                wrap(f < T + 1 ? Q(f - 1, 2, a)
-                               : Q(f - 1, 2, a) + Q(f - T, 2, a) - Q(f - T - 1, 2, a)));
+      EXPECT_EQ(
+          preds[(f * N + 2) * 3 + a],
+          wrap(f < T + 1 ? Q(f - 1, 2, a) : Q(f - 1, 2, a) + Q(f - T, 2, a) - Q(f - T - 1, 2, a)));
     }
 }
 
@@ -183,7 +183,7 @@ TEST(Positions, GivenSmoothAndPeriodModesThenWalkPredictsAsSpecified) {
 TEST(Positions, GivenHalfwayLinesThenSmoothRoundsAwayFromZero) {
   const size_t stride = 1;
   // K = 2 (f = 2) is linear; K = 4: weights 1, 1/2, 0, -1/2 -> q1 + (q2 - q1) / 2 - (q4 - q1) / 2.
-  const int32_t up[5] = {0, 0, 1, 1, 0};    // q4..q1 = 0, 0, 1, 1 -> 1 + (1 - 1) / 2 + 1 / 2
+  const int32_t up[5] = {0, 0, 1, 1, 0};  // q4..q1 = 0, 0, 1, 1 -> 1 + (1 - 1) / 2 + 1 / 2
   const int32_t down[5] = {0, 0, -1, -1, 0};
   EXPECT_EQ(predict_smooth(4, up + 4, stride), 2);     // 1.5 -> 2
   EXPECT_EQ(predict_smooth(4, down + 4, stride), -2);  // -1.5 -> -2
@@ -204,8 +204,9 @@ WindowInts looped(size_t frames, size_t points, size_t period, bool noise, unsig
   std::mt19937 rng(seed + 100);
   for (size_t f = 0; f < frames; ++f)
     for (size_t k = 0; k < points * 3; ++k)
-      w.q[f * points * 3 + k] = cycle.q[(f % period) * points * 3 + k] +
-                                (noise && f >= period && rng() % 10 == 0 ? static_cast<int32_t>(rng() % 2) * 2 - 1 : 0);
+      w.q[f * points * 3 + k] =
+          cycle.q[(f % period) * points * 3 + k] +
+          (noise && f >= period && rng() % 10 == 0 ? static_cast<int32_t>(rng() % 2) * 2 - 1 : 0);
   return w;
 }
 
@@ -295,7 +296,7 @@ TEST(Positions, GivenBadPredictorOrReferenceFieldsThenCorrupt) {
   expect_corrupt(crafted({0, 7, 0}, {}), 2, "unknown predictor 7");
   expect_corrupt(crafted({0, 10, 0}, {}), 3, "unknown predictor 10");
   expect_corrupt(crafted({0, 8, 0}, {}, 2), 2, "unknown predictor 8");  // not in format 2.x
-  expect_corrupt(crafted({0, 5, 6}, {0}), 2, "POSW");                 // one distance missing
+  expect_corrupt(crafted({0, 5, 6}, {0}), 2, "POSW");                   // one distance missing
 }
 
 TEST(Positions, GivenBadPeriodFieldThenCorrupt) {

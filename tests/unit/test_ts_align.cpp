@@ -48,7 +48,8 @@ TEST(TsAlign, GivenRotationVectorWhenConvertedBothWaysThenSameMatrix) {
   p.rot[2] = 0.9;
   const Eigen::Matrix3d r = rotation_matrix(p);
   EXPECT_NEAR((r * r.transpose() - Eigen::Matrix3d::Identity()).norm(), 0, 1e-12);
-  Eigen::AngleAxisd aa(Eigen::Vector3d(-2.0, 0.4, 0.9).norm(), Eigen::Vector3d(-2.0, 0.4, 0.9).normalized());
+  Eigen::AngleAxisd aa(Eigen::Vector3d(-2.0, 0.4, 0.9).norm(),
+                       Eigen::Vector3d(-2.0, 0.4, 0.9).normalized());
   EXPECT_NEAR((r - aa.toRotationMatrix()).norm(), 0, 1e-12);
   RigidParams q = params_from_transform(r, Eigen::Vector3d(1, 2, 3));
   for (int a = 0; a < 3; ++a) EXPECT_NEAR(q.rot[a], p.rot[a], 1e-12);

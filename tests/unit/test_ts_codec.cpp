@@ -150,7 +150,7 @@ TEST(TsCodec, GivenNoWritableTrialThenFallbackModelInsteadOfRefusal) {
   EXPECT_FALSE(bytes.empty());
   EXPECT_EQ(rep.clusters, 1);
   ASSERT_EQ(rep.pcs.size(), 1u);
-  EXPECT_EQ(rep.pcs[0], 1);  // the fallback's single mean-shape component
+  EXPECT_EQ(rep.pcs[0], 1);       // the fallback's single mean-shape component
   EXPECT_GT(rep.kg_error, 1e-7);  // ... which cannot meet this target
 
   // Offset 1e3, KG 1e-4 %: beyond the 24-bit basis quantiser, within the container's grid.

@@ -19,7 +19,8 @@ std::vector<uint32_t> spatial_parents(const std::vector<int32_t>& q1, size_t poi
     }
   const int64_t ext = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], int64_t{1}});
   // About one point per cell for a surface sampled by `points` points.
-  const int64_t h = std::max<int64_t>(1, static_cast<int64_t>(static_cast<double>(ext) / std::sqrt(static_cast<double>(points))));
+  const int64_t h = std::max<int64_t>(
+      1, static_cast<int64_t>(static_cast<double>(ext) / std::sqrt(static_cast<double>(points))));
   const int64_t dims = ext / h + 1;
   auto key = [&](int64_t cx, int64_t cy, int64_t cz) { return (cx * dims + cy) * dims + cz; };
   std::unordered_map<int64_t, std::vector<uint32_t>> grid;
@@ -41,7 +42,8 @@ std::vector<uint32_t> spatial_parents(const std::vector<int32_t>& q1, size_t poi
             for (uint32_t j : it->second) {
               int64_t d = 0;
               for (int a = 0; a < 3; ++a) {
-                const int64_t e = static_cast<int64_t>(q1[3 * i + a]) - q1[3 * static_cast<size_t>(j) + a];
+                const int64_t e =
+                    static_cast<int64_t>(q1[3 * i + a]) - q1[3 * static_cast<size_t>(j) + a];
                 d += e * e;
               }
               if (d < best || (d == best && j > bj)) {

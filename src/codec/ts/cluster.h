@@ -19,9 +19,9 @@ struct ClusterParams {
 };
 
 struct Clustering {
-  int k = 0;                // clusters actually used (empty ones are dropped and renumbered)
-  std::vector<int> label;   // per frame, 0..k-1, numbered by first appearance in time
-  double wcss = 0;          // within-cluster sum of squared distances
+  int k = 0;               // clusters actually used (empty ones are dropped and renumbered)
+  std::vector<int> label;  // per frame, 0..k-1, numbered by first appearance in time
+  double wcss = 0;         // within-cluster sum of squared distances
 };
 
 // frames: 3N x F (one aligned frame per column).

@@ -26,7 +26,8 @@ void lcps_select(const Eigen::VectorXd& w, const Eigen::MatrixXd& refs, int k,
     double best_cos = -1;
     for (Eigen::Index c = 0; c < count; ++c) {
       if (norms[c] == 0) continue;
-      if (std::find(index->begin(), index->end(), static_cast<uint32_t>(c)) != index->end()) continue;
+      if (std::find(index->begin(), index->end(), static_cast<uint32_t>(c)) != index->end())
+        continue;
       const double cs = std::fabs(d.dot(refs.col(c))) / (dn * norms[c]);
       if (cs > best_cos) {
         best_cos = cs;
@@ -36,7 +37,8 @@ void lcps_select(const Eigen::VectorXd& w, const Eigen::MatrixXd& refs, int k,
     if (best < 0) break;
     index->push_back(static_cast<uint32_t>(best));
     Eigen::MatrixXd sel(refs.rows(), static_cast<Eigen::Index>(index->size()));
-    for (size_t j = 0; j < index->size(); ++j) sel.col(static_cast<Eigen::Index>(j)) = refs.col((*index)[j]);
+    for (size_t j = 0; j < index->size(); ++j)
+      sel.col(static_cast<Eigen::Index>(j)) = refs.col((*index)[j]);
     b = sel.colPivHouseholderQr().solve(w);
     d = w - sel * b;
   }
@@ -57,8 +59,9 @@ LcpsFrame lcps_encode(const Eigen::VectorXd& w, const Eigen::MatrixXd& refs, dou
   f.resid.resize(dim);
   Eigen::VectorXd out(w.size());
   for (size_t i = 0; i < dim; ++i) {
-    const double pred = lcps_predict(f.index.data(), f.weight.data(), static_cast<int>(f.index.size()),
-                                     params.weight_bits, refs.data(), dim, i);
+    const double pred =
+        lcps_predict(f.index.data(), f.weight.data(), static_cast<int>(f.index.size()),
+                     params.weight_bits, refs.data(), dim, i);
     const int64_t q = quantise(w[static_cast<Eigen::Index>(i)] - pred, step);
     f.resid[i] = q;
     out[static_cast<Eigen::Index>(i)] = pred + dequantise(q, step);
@@ -73,11 +76,13 @@ Eigen::VectorXd lcps_decode(const LcpsFrame& f, const Eigen::MatrixXd& refs, dou
   if (f.resid.size() != dim || f.weight.size() != f.index.size())
     fail(ErrorCode::kCorrupt, "", "ts: LCPS frame sizes disagree");
   for (uint32_t i : f.index)
-    if (i >= static_cast<uint64_t>(refs.cols())) fail(ErrorCode::kCorrupt, "", "ts: LCPS reference index out of range");
+    if (i >= static_cast<uint64_t>(refs.cols()))
+      fail(ErrorCode::kCorrupt, "", "ts: LCPS reference index out of range");
   Eigen::VectorXd out(static_cast<Eigen::Index>(dim));
   for (size_t i = 0; i < dim; ++i) {
-    const double pred = lcps_predict(f.index.data(), f.weight.data(), static_cast<int>(f.index.size()),
-                                     weight_bits, refs.data(), dim, i);
+    const double pred =
+        lcps_predict(f.index.data(), f.weight.data(), static_cast<int>(f.index.size()), weight_bits,
+                     refs.data(), dim, i);
     out[static_cast<Eigen::Index>(i)] = pred + dequantise(f.resid[i], step);
   }
   return out;

@@ -14,8 +14,8 @@ namespace capz {
 namespace ts {
 
 struct LcpsParams {
-  int k = 2;                // references per frame (the paper: 2)
-  int weight_bits = 14;     // fractional bits of the fixed-point weights
+  int k = 2;                 // references per frame (the paper: 2)
+  int weight_bits = 14;      // fractional bits of the fixed-point weights
   double max_weight = 1024;  // weights are clamped to [-max_weight, max_weight]
 };
 

@@ -45,12 +45,14 @@ LpcCode lpc_encode(const Eigen::MatrixXd& series, const std::vector<double>& ste
   const double wscale = std::ldexp(1.0, params.weight_bits);
   Eigen::MatrixXd out(series.rows(), series.cols());
   for (size_t i = 0; i < c.rows; ++i) {
-    for (size_t t = 0; t < c.length; ++t) x[t] = series(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(t));
+    for (size_t t = 0; t < c.length; ++t)
+      x[t] = series(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(t));
     int32_t* w = c.has_weights() ? &c.weights[i * static_cast<size_t>(c.order)] : nullptr;
     if (w) {
       std::vector<double> a = lpc_fit(x.data(), c.length, c.order);
       for (int j = 0; j < c.order; ++j) {
-        double v = std::max(-params.max_weight, std::min(params.max_weight, a[static_cast<size_t>(j)]));
+        double v =
+            std::max(-params.max_weight, std::min(params.max_weight, a[static_cast<size_t>(j)]));
         w[j] = static_cast<int32_t>(std::llround(v * wscale));
       }
     }
@@ -63,7 +65,8 @@ LpcCode lpc_encode(const Eigen::MatrixXd& series, const std::vector<double>& ste
       c.values[i * c.length + t] = q;
       rec[t] = pred + dequantise(q, step);
     }
-    for (size_t t = 0; t < c.length; ++t) out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(t)) = rec[t];
+    for (size_t t = 0; t < c.length; ++t)
+      out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(t)) = rec[t];
   }
   if (recon) *recon = std::move(out);
   return c;

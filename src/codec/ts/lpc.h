@@ -14,8 +14,8 @@ namespace capz {
 namespace ts {
 
 struct LpcParams {
-  int order = 2;         // m, 0..8; 0 codes every value directly
-  int weight_bits = 14;  // fractional bits of the fixed-point weights
+  int order = 2;           // m, 0..8; 0 codes every value directly
+  int weight_bits = 14;    // fractional bits of the fixed-point weights
   double max_weight = 16;  // weights are clamped to [-max_weight, max_weight]
 };
 

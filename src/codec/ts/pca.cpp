@@ -85,14 +85,16 @@ QuantisedVector quantise_vector(const double* v, size_t n, int bits, bool f32_sc
 
 QuantisedVector quantise_vector_step(const double* v, size_t n, double step, int max_bits,
                                      bool f32_scale) {
-  if (max_bits < 2 || max_bits > 30) fail(ErrorCode::kInvalidParameter, "", "ts: basis bits out of 2..30");
+  if (max_bits < 2 || max_bits > 30)
+    fail(ErrorCode::kInvalidParameter, "", "ts: basis bits out of 2..30");
   double top = 0;
   for (size_t i = 0; i < n; ++i) top = std::max(top, std::fabs(v[i]));
   QuantisedVector qv;
   qv.bits = 2;
   qv.q.assign(n, 0);
   if (top == 0 || !(step > 0)) return qv;
-  while (qv.bits < max_bits && static_cast<double>((int64_t{1} << (qv.bits - 1)) - 1) * step < top) ++qv.bits;
+  while (qv.bits < max_bits && static_cast<double>((int64_t{1} << (qv.bits - 1)) - 1) * step < top)
+    ++qv.bits;
   const double lim = static_cast<double>((int64_t{1} << (qv.bits - 1)) - 1);
   qv.scale = std::max(step * lim, top);
   if (f32_scale) qv.scale = round_up_to_f32(qv.scale);

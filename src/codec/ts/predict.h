@@ -10,11 +10,17 @@ namespace capz {
 namespace ts {
 
 // Fixed-point weight: w = q / 2^frac_bits.
-inline double fixed_to_double(int32_t q, int frac_bits) { return std::ldexp(static_cast<double>(q), -frac_bits); }
+inline double fixed_to_double(int32_t q, int frac_bits) {
+  return std::ldexp(static_cast<double>(q), -frac_bits);
+}
 
 // Rounding rule of every uniform quantiser in ts: round half away from zero (std::llround).
-inline int64_t quantise(double x, double step) { return std::llround(x / step); }
-inline double dequantise(int64_t q, double step) { return static_cast<double>(q) * step; }
+inline int64_t quantise(double x, double step) {
+  return std::llround(x / step);
+}
+inline double dequantise(int64_t q, double step) {
+  return static_cast<double>(q) * step;
+}
 
 // LPC prediction of x_t from the reconstructed history: sum_j a_j x~_{t-j}, j = 1..order.
 // `row` points at the reconstructed series, `t` >= order.
@@ -30,7 +36,8 @@ inline double lpc_predict(const int32_t* weights, int order, int frac_bits, cons
 inline double lcps_predict(const uint32_t* index, const int32_t* weights, int k, int frac_bits,
                            const double* refs, size_t dim, size_t i) {
   double p = 0;
-  for (int s = 0; s < k; ++s) p += fixed_to_double(weights[s], frac_bits) * refs[index[s] * dim + i];
+  for (int s = 0; s < k; ++s)
+    p += fixed_to_double(weights[s], frac_bits) * refs[index[s] * dim + i];
   return p;
 }
 

@@ -41,7 +41,8 @@ void apply_rigid(const RigidParams& p, double* xyz, size_t points) {
   for (size_t i = 0; i < points; ++i) {
     double* v = xyz + 3 * i;
     double o[3];
-    for (int a = 0; a < 3; ++a) o[a] = r(a, 0) * v[0] + r(a, 1) * v[1] + r(a, 2) * v[2] + p.trans[a];
+    for (int a = 0; a < 3; ++a)
+      o[a] = r(a, 0) * v[0] + r(a, 1) * v[1] + r(a, 2) * v[2] + p.trans[a];
     for (int a = 0; a < 3; ++a) v[a] = o[a];
   }
 }

@@ -21,7 +21,8 @@ double uniform01(std::mt19937_64& rng) {
 
 Segmentation segment_points(const Eigen::MatrixXd& frames, const SegmentParams& params) {
   if (params.segments < 1 || params.segments > kMaxSegments)
-    fail(ErrorCode::kInvalidParameter, "", "ts: segments must be 1.." + std::to_string(kMaxSegments));
+    fail(ErrorCode::kInvalidParameter, "",
+         "ts: segments must be 1.." + std::to_string(kMaxSegments));
   Segmentation out;
   const Eigen::Index n = frames.rows() / 3, nf = frames.cols();
   if (n == 0) return out;
@@ -123,11 +124,13 @@ std::vector<std::vector<uint32_t>> segment_members(const std::vector<uint8_t>& l
   std::vector<std::vector<uint32_t>> out(static_cast<size_t>(std::max(0, segments)));
   for (size_t i = 0; i < label.size(); ++i) {
     if (label[i] >= segments)
-      fail(ErrorCode::kCorrupt, "ts payload", "point " + std::to_string(i) + " has segment " + std::to_string(label[i]));
+      fail(ErrorCode::kCorrupt, "ts payload",
+           "point " + std::to_string(i) + " has segment " + std::to_string(label[i]));
     out[label[i]].push_back(static_cast<uint32_t>(i));
   }
   for (size_t s = 0; s < out.size(); ++s)
-    if (out[s].empty()) fail(ErrorCode::kCorrupt, "ts payload", "segment " + std::to_string(s) + " has no points");
+    if (out[s].empty())
+      fail(ErrorCode::kCorrupt, "ts payload", "segment " + std::to_string(s) + " has no points");
   return out;
 }
 

@@ -33,8 +33,7 @@ Segmentation segment_points(const Eigen::MatrixXd& frames, const SegmentParams& 
 
 // Points of each segment in increasing order. Throws kCorrupt ("ts payload") on a label >=
 // segments or an empty segment.
-std::vector<std::vector<uint32_t>> segment_members(const std::vector<uint8_t>& label,
-                                                   int segments);
+std::vector<std::vector<uint32_t>> segment_members(const std::vector<uint8_t>& label, int segments);
 
 }  // namespace ts
 }  // namespace capz

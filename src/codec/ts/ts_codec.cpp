@@ -38,11 +38,11 @@ struct Options {
   int lpc_order = 2;
   int lcps_k = 2;
   int bits_min = 4, bits_max = 20;  // the paper: 8..16
-  bool basis_predict = true;         // the paper: false (plain quantised values)
-  bool free_step = true;             // basis step chosen freely per PC (the paper: 2^q levels)
+  bool basis_predict = true;        // the paper: false (plain quantised values)
+  bool free_step = true;            // basis step chosen freely per PC (the paper: 2^q levels)
   bool align = true;
   int max_clusters = 5;
-  int segments = 0;  // point segments; 0 = auto (the smallest payload of a few counts)
+  int segments = 0;           // point segments; 0 = auto (the smallest payload of a few counts)
   bool segment_align = true;  // each segment gets its own rigid alignment (flags bit 2)
   int restarts = 4;
   uint64_t seed = 0x5eed;
@@ -55,16 +55,18 @@ long parse_int(const std::string& key, const std::string& v, long lo, long hi) {
   char* end = nullptr;
   long x = std::strtol(v.c_str(), &end, 10);
   if (v.empty() || *end != '\0' || x < lo || x > hi)
-    fail(ErrorCode::kInvalidParameter, "", "ts: option " + key + "=" + v + " is not an integer in " +
-                                               std::to_string(lo) + ".." + std::to_string(hi));
+    fail(ErrorCode::kInvalidParameter, "",
+         "ts: option " + key + "=" + v + " is not an integer in " + std::to_string(lo) + ".." +
+             std::to_string(hi));
   return x;
 }
 double parse_real(const std::string& key, const std::string& v, double lo, double hi) {
   char* end = nullptr;
   double x = std::strtod(v.c_str(), &end);
   if (v.empty() || *end != '\0' || !(x >= lo && x <= hi))
-    fail(ErrorCode::kInvalidParameter, "", "ts: option " + key + "=" + v + " is not a number in [" +
-                                               std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    fail(ErrorCode::kInvalidParameter, "",
+         "ts: option " + key + "=" + v + " is not a number in [" + std::to_string(lo) + ", " +
+             std::to_string(hi) + "]");
   return x;
 }
 
@@ -73,28 +75,47 @@ Options parse_options(const TransformParams& p) {
   for (const auto& kv : p.options) {
     const std::string& k = kv.first;
     const std::string& v = kv.second;
-    if (k == "lpc_order") o.lpc_order = static_cast<int>(parse_int(k, v, 0, 8));
-    else if (k == "lcps_k") o.lcps_k = static_cast<int>(parse_int(k, v, 1, 16));
-    else if (k == "basis_bits") o.bits_min = o.bits_max = static_cast<int>(parse_int(k, v, 2, 24));
-    else if (k == "basis_bits_min") o.bits_min = static_cast<int>(parse_int(k, v, 2, 24));
-    else if (k == "basis_bits_max") o.bits_max = static_cast<int>(parse_int(k, v, 2, 24));
-    else if (k == "basis_predict") o.basis_predict = parse_int(k, v, 0, 1) != 0;
-    else if (k == "basis_free_step") o.free_step = parse_int(k, v, 0, 1) != 0;
-    else if (k == "align") o.align = parse_int(k, v, 0, 1) != 0;
-    else if (k == "segments") o.segments = v == "auto" ? 0 : static_cast<int>(parse_int(k, v, 1, ts::kMaxSegments));
-    else if (k == "segment_align") o.segment_align = parse_int(k, v, 0, 1) != 0;
-    else if (k == "max_clusters") o.max_clusters = static_cast<int>(parse_int(k, v, 1, 64));
-    else if (k == "kmeans_restarts") o.restarts = static_cast<int>(parse_int(k, v, 1, 100));
-    else if (k == "seed") o.seed = static_cast<uint64_t>(parse_int(k, v, 0, 0x7fffffff));
-    else if (k == "trunc_share") o.trunc_share = parse_real(k, v, 0.0, 0.95);
-    else if (k == "basis_share") o.basis_share = parse_real(k, v, 0.0, 0.9);
-    else if (k == "rms_per_bound") o.rms_per_bound = parse_real(k, v, 0.01, 100.0);
-    else fail(ErrorCode::kInvalidParameter, "", "ts: unknown option '" + k + "' (see docs/CODEC-TS.md)");
+    if (k == "lpc_order")
+      o.lpc_order = static_cast<int>(parse_int(k, v, 0, 8));
+    else if (k == "lcps_k")
+      o.lcps_k = static_cast<int>(parse_int(k, v, 1, 16));
+    else if (k == "basis_bits")
+      o.bits_min = o.bits_max = static_cast<int>(parse_int(k, v, 2, 24));
+    else if (k == "basis_bits_min")
+      o.bits_min = static_cast<int>(parse_int(k, v, 2, 24));
+    else if (k == "basis_bits_max")
+      o.bits_max = static_cast<int>(parse_int(k, v, 2, 24));
+    else if (k == "basis_predict")
+      o.basis_predict = parse_int(k, v, 0, 1) != 0;
+    else if (k == "basis_free_step")
+      o.free_step = parse_int(k, v, 0, 1) != 0;
+    else if (k == "align")
+      o.align = parse_int(k, v, 0, 1) != 0;
+    else if (k == "segments")
+      o.segments = v == "auto" ? 0 : static_cast<int>(parse_int(k, v, 1, ts::kMaxSegments));
+    else if (k == "segment_align")
+      o.segment_align = parse_int(k, v, 0, 1) != 0;
+    else if (k == "max_clusters")
+      o.max_clusters = static_cast<int>(parse_int(k, v, 1, 64));
+    else if (k == "kmeans_restarts")
+      o.restarts = static_cast<int>(parse_int(k, v, 1, 100));
+    else if (k == "seed")
+      o.seed = static_cast<uint64_t>(parse_int(k, v, 0, 0x7fffffff));
+    else if (k == "trunc_share")
+      o.trunc_share = parse_real(k, v, 0.0, 0.95);
+    else if (k == "basis_share")
+      o.basis_share = parse_real(k, v, 0.0, 0.9);
+    else if (k == "rms_per_bound")
+      o.rms_per_bound = parse_real(k, v, 0.01, 100.0);
+    else
+      fail(ErrorCode::kInvalidParameter, "",
+           "ts: unknown option '" + k + "' (see docs/CODEC-TS.md)");
   }
   if (o.bits_min > o.bits_max)
     fail(ErrorCode::kInvalidParameter, "", "ts: basis_bits_min > basis_bits_max");
   if (o.trunc_share + o.basis_share >= 0.99)
-    fail(ErrorCode::kInvalidParameter, "", "ts: trunc_share + basis_share must leave room for the coefficients");
+    fail(ErrorCode::kInvalidParameter, "",
+         "ts: trunc_share + basis_share must leave room for the coefficients");
   if (p.clusters < -1 || p.clusters > 64)
     fail(ErrorCode::kInvalidParameter, "", "ts: clusters must be auto or 1..64");
   return o;
@@ -104,8 +125,8 @@ Options parse_options(const TransformParams& p) {
 struct Base {
   PositionsView in;
   size_t dim = 0;
-  double target_sq = 0;  // allowed sum of squared errors over valid samples
-  double rms = 0;        // the target RMS per coordinate, sqrt(target_sq / (3 valid samples))
+  double target_sq = 0;     // allowed sum of squared errors over valid samples
+  double rms = 0;           // the target RMS per coordinate, sqrt(target_sq / (3 valid samples))
   Eigen::MatrixXd aligned;  // dim x F
   bool rigid = false;
   double rot_step = 0, trans_step = 0;
@@ -143,10 +164,12 @@ struct Trial {
 ts::LpcCode code_rigid(const uint8_t* valid, size_t valid_stride, double rms, double extent,
                        int lpc_order, Eigen::MatrixXd* frames, double* rot_step, double* trans_step,
                        const std::vector<uint32_t>& valid_map = {}) {
-  const size_t nf = static_cast<size_t>(frames->cols()), n = static_cast<size_t>(frames->rows() / 3);
+  const size_t nf = static_cast<size_t>(frames->cols()),
+               n = static_cast<size_t>(frames->rows() / 3);
   std::vector<uint8_t> v(nf * n);
   for (size_t f = 0; f < nf; ++f)
-    for (size_t i = 0; i < n; ++i) v[f * n + i] = valid[f * valid_stride + (valid_map.empty() ? i : valid_map[i])];
+    for (size_t i = 0; i < n; ++i)
+      v[f * n + i] = valid[f * valid_stride + (valid_map.empty() ? i : valid_map[i])];
   const PositionsView view{nf, n, frames->data(), v.data()};
   std::vector<ts::RigidParams> rp = ts::estimate_alignment(view, ts::AlignParams());
   extent = std::max(extent, 1e-300);
@@ -161,7 +184,8 @@ ts::LpcCode code_rigid(const uint8_t* valid, size_t valid_stride, double rms, do
   ts::LpcParams lp;
   lp.order = lpc_order;
   Eigen::MatrixXd dec;
-  ts::LpcCode code = ts::lpc_encode(series, {*rot_step, *rot_step, *rot_step, *trans_step, *trans_step, *trans_step}, lp, &dec);
+  ts::LpcCode code = ts::lpc_encode(
+      series, {*rot_step, *rot_step, *rot_step, *trans_step, *trans_step, *trans_step}, lp, &dec);
   for (size_t f = 0; f < nf; ++f)
     ts::apply_rigid(ts::rigid_at(dec, f), frames->col(static_cast<Eigen::Index>(f)).data(), n);
   return code;
@@ -254,7 +278,8 @@ Trial build_trial(const Base& base, const Prepared& prep, double budget, const O
         const double step = std::sqrt(12.0 * per_pc / (sg * sg * static_cast<double>(dim)));
         tc.basis.push_back(ts::quantise_vector_step(col, dim, step, o.bits_max, m.f32_scales));
       } else {
-        const int bits = ts::basis_bits_for(pca.sigma[j], scale, dim, per_pc, o.bits_min, o.bits_max);
+        const int bits =
+            ts::basis_bits_for(pca.sigma[j], scale, dim, per_pc, o.bits_min, o.bits_max);
         tc.basis.push_back(ts::quantise_vector(col, dim, bits, m.f32_scales));
       }
       ts::dequantise_vector(tc.basis.back(), bq.col(j).data());
@@ -274,9 +299,11 @@ Trial build_trial(const Base& base, const Prepared& prep, double budget, const O
     ts::LpcParams lp;
     lp.order = o.lpc_order;
     Eigen::MatrixXd first;
-    tc.first = ts::lpc_encode(w.leftCols(l1), std::vector<double>(static_cast<size_t>(r[c]), m.coef_step), lp, &first);
+    tc.first = ts::lpc_encode(
+        w.leftCols(l1), std::vector<double>(static_cast<size_t>(r[c]), m.coef_step), lp, &first);
     double maxnorm = 0;
-    for (Eigen::Index j = 0; j < first.cols(); ++j) maxnorm = std::max(maxnorm, first.col(j).norm());
+    for (Eigen::Index j = 0; j < first.cols(); ++j)
+      maxnorm = std::max(maxnorm, first.col(j).norm());
     int wb = maxnorm > 0 ? static_cast<int>(std::ceil(std::log2(maxnorm / m.coef_step))) + 2 : 4;
     tc.lcps_weight_bits = std::max(4, std::min(30, wb));
     ts::LcpsParams cp;
@@ -336,7 +363,8 @@ Trial rate_search(const Base& base, const Prepared& prep, const Options& o, doub
     }
     // Error grows about linearly with the budget: aim just under the target.
     double next = s * base.target_sq / err * 0.97;
-    if (!(next > lo && next < hi)) next = std::isinf(hi) ? std::max(lo, s) * 2 : (lo > 0 ? std::sqrt(lo * hi) : hi / 4);
+    if (!(next > lo && next < hi))
+      next = std::isinf(hi) ? std::max(lo, s) * 2 : (lo > 0 ? std::sqrt(lo * hi) : hi / 4);
     if (have && std::fabs(next / s - 1) < 0.02) break;
     if (have && hi < std::numeric_limits<double>::infinity() && hi / lo < 1.04) break;
     if (s < 1e-12) break;
@@ -361,7 +389,8 @@ Trial fallback_trial(const Base& base, const Options& o) {
   m.label.assign(nf, 0);
   m.cluster.resize(1);
   TsCluster& tc = m.cluster[0];
-  Eigen::Map<const Eigen::MatrixXd> x(base.in.xyz, static_cast<Eigen::Index>(base.dim), static_cast<Eigen::Index>(nf));
+  Eigen::Map<const Eigen::MatrixXd> x(base.in.xyz, static_cast<Eigen::Index>(base.dim),
+                                      static_cast<Eigen::Index>(nf));
   const Eigen::VectorXd mean = x.rowwise().mean();
   Eigen::MatrixXd w(0, static_cast<Eigen::Index>(nf));
   if (mean.norm() > 0 && std::isfinite(mean.norm())) {
@@ -373,11 +402,13 @@ Trial fallback_trial(const Base& base, const Options& o) {
   }
   double top = 0;
   for (Eigen::Index j = 0; j < w.size(); ++j) top = std::max(top, std::fabs(w(j)));
-  const double target_step = std::sqrt(12.0 * base.target_sq / std::max<double>(1.0, static_cast<double>(w.size())));
+  const double target_step =
+      std::sqrt(12.0 * base.target_sq / std::max<double>(1.0, static_cast<double>(w.size())));
   m.coef_step = std::max({target_step, top * std::ldexp(1.0, -29), 1e-300});
   ts::LpcParams lp;
   lp.order = 0;
-  tc.first = ts::lpc_encode(w, std::vector<double>(static_cast<size_t>(w.rows()), m.coef_step), lp, nullptr);
+  tc.first = ts::lpc_encode(w, std::vector<double>(static_cast<size_t>(w.rows()), m.coef_step), lp,
+                            nullptr);
   tc.lcps_weight_bits = 4;
   ts::reconstruct(m, &tr.recon);
   tr.sq = sq_error(base.in, tr.recon);
@@ -419,7 +450,8 @@ Prepared prepare(const Base& base, int k, const ts::Segmentation& seg, const Opt
   const size_t nf_all = base.in.frames;
   for (const auto& pts : p.members) {
     // The segment's aligned frames (3 N_s x F), with its own rigid motion removed when asked.
-    Eigen::MatrixXd seg(static_cast<Eigen::Index>(3 * pts.size()), static_cast<Eigen::Index>(nf_all));
+    Eigen::MatrixXd seg(static_cast<Eigen::Index>(3 * pts.size()),
+                        static_cast<Eigen::Index>(nf_all));
     for (size_t f = 0; f < nf_all; ++f) {
       const double* src = base.aligned.col(static_cast<Eigen::Index>(f)).data();
       double* dst = seg.col(static_cast<Eigen::Index>(f)).data();
@@ -446,8 +478,8 @@ Prepared prepare(const Base& base, int k, const ts::Segmentation& seg, const Opt
           for (Eigen::Index a = 0; a < 3; ++a) seg(3 * i + a, f) -= sm.center[a];
       // (Measured: steps 4x / 16x / 64x coarser cut the rigid part but the PCs absorb the
       // misalignment: -1 % / 0 % / 0 % on chickenCrossing, +3 % / +7 % / +18 % on horse-gallop.)
-      sm.code = code_rigid(base.in.valid, base.in.points, base.rms, (hi - lo).norm(), o.lpc_order, &seg,
-                           &sm.rot_step, &sm.trans_step, pts);
+      sm.code = code_rigid(base.in.valid, base.in.points, base.rms, (hi - lo).norm(), o.lpc_order,
+                           &seg, &sm.rot_step, &sm.trans_step, pts);
       p.motion.push_back(std::move(sm));
     }
     for (const auto& lay : p.layout) {
@@ -464,7 +496,9 @@ Prepared prepare(const Base& base, int k, const ts::Segmentation& seg, const Opt
 
 }  // namespace
 
-void TsCodec::check_params(const TransformParams& params) const { parse_options(params); }
+void TsCodec::check_params(const TransformParams& params) const {
+  parse_options(params);
+}
 
 void TsCodec::encode(const PositionsView& in, const TransformParams& params,
                      std::vector<uint8_t>* out, std::vector<double>* recon) const {
@@ -529,14 +563,17 @@ void TsCodec::encode_report(const PositionsView& in, const TransformParams& para
     base.target_sq = 1e-6 * centred;  // KG 0.1 %
     rep->kg_target = 0.1;
   }
-  if (!(base.target_sq > 0)) base.target_sq = 1e-20 * std::max(1.0, diag2) * static_cast<double>(std::max<size_t>(samples, 1));
+  if (!(base.target_sq > 0))
+    base.target_sq =
+        1e-20 * std::max(1.0, diag2) * static_cast<double>(std::max<size_t>(samples, 1));
 
   // Stage 1: alignment, its 6 parameters coded with LPC; the frames are aligned with the
   // decoded parameters so that the decoder's inverse is exact.
   auto ta = Clock::now();
   base.aligned.resize(static_cast<Eigen::Index>(base.dim), static_cast<Eigen::Index>(nf));
   for (size_t f = 0; f < nf; ++f)
-    std::copy(in.xyz + f * base.dim, in.xyz + (f + 1) * base.dim, base.aligned.col(static_cast<Eigen::Index>(f)).data());
+    std::copy(in.xyz + f * base.dim, in.xyz + (f + 1) * base.dim,
+              base.aligned.col(static_cast<Eigen::Index>(f)).data());
   base.rigid = o.align && nf > 1 && in.points >= 3;
   base.rms = std::sqrt(base.target_sq / (3.0 * static_cast<double>(std::max<size_t>(samples, 1))));
   if (base.rigid)
@@ -545,9 +582,12 @@ void TsCodec::encode_report(const PositionsView& in, const TransformParams& para
   rep->t_align = since(ta);
 
   // Stage 2..4 for each (segment count, cluster count) tried; the smallest payload wins.
-  const int kmax = static_cast<int>(std::min<size_t>(static_cast<size_t>(o.max_clusters), std::max<size_t>(nf, 1)));
+  const int kmax = static_cast<int>(
+      std::min<size_t>(static_cast<size_t>(o.max_clusters), std::max<size_t>(nf, 1)));
   const bool k_auto = params.clusters <= 0;  // auto (the default): K = 1..max_clusters
-  const int k_fixed = k_auto ? 1 : static_cast<int>(std::min<size_t>(static_cast<size_t>(params.clusters), std::max<size_t>(nf, 1)));
+  const int k_fixed = k_auto ? 1
+                             : static_cast<int>(std::min<size_t>(
+                                   static_cast<size_t>(params.clusters), std::max<size_t>(nf, 1)));
   Trial best;
   bool have = false;
   double scale = 1.0;  // each run starts its search where the previous one ended
@@ -564,8 +604,9 @@ void TsCodec::encode_report(const PositionsView& in, const TransformParams& para
       if (t2.ok || t2.sq < t.sq) t = std::move(t2);
     }
     const double size = t.ok && !t.bytes.empty() ? static_cast<double>(t.bytes.size()) : INFINITY;
-    const bool better = !have || (t.ok && !best.ok) ||
-                        (t.ok == best.ok && (t.ok ? t.bytes.size() < best.bytes.size() : t.sq < best.sq));
+    const bool better =
+        !have || (t.ok && !best.ok) ||
+        (t.ok == best.ok && (t.ok ? t.bytes.size() < best.bytes.size() : t.sq < best.sq));
     if (better) {
       best = std::move(t);
       have = true;
@@ -594,7 +635,9 @@ void TsCodec::encode_report(const PositionsView& in, const TransformParams& para
       // on average; start at kAutoSegmentsStart (or the largest allowed), then walk down while
       // the payload shrinks, else up while it shrinks.
       std::vector<int> ladder;
-      for (int n = 1; n <= ts::kMaxSegments && (n == 1 || static_cast<size_t>(n) * kMinPointsPerSegment <= in.points); n *= 2)
+      for (int n = 1; n <= ts::kMaxSegments &&
+                      (n == 1 || static_cast<size_t>(n) * kMinPointsPerSegment <= in.points);
+           n *= 2)
         ladder.push_back(n);
       size_t at = 0;
       while (at + 1 < ladder.size() && ladder[at + 1] <= kAutoSegmentsStart) ++at;
@@ -611,7 +654,8 @@ void TsCodec::encode_report(const PositionsView& in, const TransformParams& para
       eval(at);
       for (size_t i = at; i > 0 && eval(i - 1) < size[best_i]; --i) best_i = i - 1;
       if (best_i == at)
-        for (size_t i = at; i + 1 < ladder.size() && eval(i + 1) < size[best_i]; ++i) best_i = i + 1;
+        for (size_t i = at; i + 1 < ladder.size() && eval(i + 1) < size[best_i]; ++i)
+          best_i = i + 1;
       best_seg = std::move(segs[best_i]);
       seg_size = size[best_i];
     }
@@ -642,7 +686,8 @@ void TsCodec::encode_report(const PositionsView& in, const TransformParams& para
   if (nf > 0) {
     const auto lay = ts::cluster_layout(best.model.label, best.model.clusters);
     for (const auto& l : lay) rep->cluster_frames.push_back(l.frames.size());
-    for (const auto& pts : ts::segment_points_of(best.model)) rep->segment_points.push_back(pts.size());
+    for (const auto& pts : ts::segment_points_of(best.model))
+      rep->segment_points.push_back(pts.size());
     for (const TsCluster& tc : best.model.cluster) {
       rep->pcs.push_back(static_cast<int>(tc.basis.size()));
       for (const auto& q : tc.basis) rep->basis_bits.push_back(q.bits);

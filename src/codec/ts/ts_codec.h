@@ -18,16 +18,16 @@ namespace capz {
 // What the last encode decided, for benchmarks and tests (not part of the payload contract).
 struct TsEncodeReport {
   int clusters = 0;
-  int segments = 0;              // point segments (1 = the paper's model)
-  std::vector<int> pcs;          // PCs kept per (segment, cluster), segment-major
-  std::vector<int> basis_bits;   // quantiser bits of every kept PC, in the order of pcs
+  int segments = 0;             // point segments (1 = the paper's model)
+  std::vector<int> pcs;         // PCs kept per (segment, cluster), segment-major
+  std::vector<int> basis_bits;  // quantiser bits of every kept PC, in the order of pcs
   double coef_step = 0;
   std::vector<size_t> cluster_frames;
   std::vector<size_t> segment_points;
-  double kg_target = 0;          // percent
-  double kg_error = 0;           // percent, of the reconstruction returned
+  double kg_target = 0;  // percent
+  double kg_error = 0;   // percent, of the reconstruction returned
   size_t bytes = 0;
-  int trials = 0;                // payloads built while searching
+  int trials = 0;  // payloads built while searching
   double t_align = 0, t_segment = 0, t_cluster = 0, t_pca = 0, t_quant = 0, t_lcps = 0,
          t_total = 0;  // seconds
 };

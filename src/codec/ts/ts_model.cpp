@@ -20,18 +20,31 @@ const char* kWhat = "ts payload";
 constexpr uint8_t kVersionOneSegment = 1;  // the paper's model
 constexpr uint8_t kVersionSegments = 2;    // point segments (docs/CODEC-TS.md)
 
-[[noreturn]] void corrupt(const std::string& what) { fail(ErrorCode::kCorrupt, kWhat, what); }
+[[noreturn]] void corrupt(const std::string& what) {
+  fail(ErrorCode::kCorrupt, kWhat, what);
+}
 
 Eigen::MatrixXd dequantise_basis(const std::vector<QuantisedVector>& basis, size_t dim) {
   Eigen::MatrixXd b(static_cast<Eigen::Index>(dim), static_cast<Eigen::Index>(basis.size()));
-  for (size_t j = 0; j < basis.size(); ++j) dequantise_vector(basis[j], b.col(static_cast<Eigen::Index>(j)).data());
+  for (size_t j = 0; j < basis.size(); ++j)
+    dequantise_vector(basis[j], b.col(static_cast<Eigen::Index>(j)).data());
   return b;
 }
 
 // The entropy-coded part: one IntEncoder block; each kind of value has its own group of 16
 // contexts chosen by the previous token of that group, labels use context 128 + previous label,
 // segment labels 384 + the previous point's segment.
-enum Group { kLabels = 0, kRigid, kBasis, kLpcWeight, kLpcValue, kLcpsCount, kLcpsWeight, kLcpsResid, kGroups };
+enum Group {
+  kLabels = 0,
+  kRigid,
+  kBasis,
+  kLpcWeight,
+  kLpcValue,
+  kLcpsCount,
+  kLcpsWeight,
+  kLcpsResid,
+  kGroups
+};
 constexpr int kLabelCtx = kGroups * 16;
 constexpr int kSegmentCtx = kLabelCtx + 256;
 constexpr int kContexts = kSegmentCtx + kMaxSegments;
@@ -65,7 +78,9 @@ class Out {
     if (v < INT32_MIN || v > INT32_MAX) fail(ErrorCode::kInternal, kWhat, "value outside int32");
     prev_[g] = std::min(enc_.put_signed(static_cast<int32_t>(v), g * 16 + prev_[g]), 15);
   }
-  void put_unsigned(uint32_t v, Group g) { prev_[g] = std::min(enc_.put(v, g * 16 + prev_[g]), 15); }
+  void put_unsigned(uint32_t v, Group g) {
+    prev_[g] = std::min(enc_.put(v, g * 16 + prev_[g]), 15);
+  }
   void label(int v) {
     enc_.put(static_cast<uint32_t>(v), kLabelCtx + prev_label_);
     prev_label_ = v;
@@ -106,7 +121,8 @@ class In {
   // Guards an allocation of `n` more values: every value costs more than 1/360 bit.
   void budget(uint64_t n) {
     used_ += n;
-    if (used_ > kMaxSymbolsPerByte * static_cast<uint64_t>(size_) + 64) corrupt("value counts larger than the payload can hold");
+    if (used_ > kMaxSymbolsPerByte * static_cast<uint64_t>(size_) + 64)
+      corrupt("value counts larger than the payload can hold");
   }
   bool at_end() const { return dec_.at_end(); }
 
@@ -159,7 +175,8 @@ double read_step(ByteReader* in, const char* name) {
 std::vector<ClusterLayout> cluster_layout(const std::vector<uint8_t>& label, int clusters) {
   std::vector<ClusterLayout> out(static_cast<size_t>(std::max(0, clusters)));
   for (size_t f = 0; f < label.size(); ++f) {
-    if (label[f] >= clusters) corrupt("frame " + std::to_string(f) + " has cluster index " + std::to_string(label[f]));
+    if (label[f] >= clusters)
+      corrupt("frame " + std::to_string(f) + " has cluster index " + std::to_string(label[f]));
     out[label[f]].frames.push_back(f);
   }
   for (size_t c = 0; c < out.size(); ++c) {
@@ -189,7 +206,8 @@ void reconstruct(const TsModel& m, std::vector<double>* xyz) {
   xyz->assign(m.frames * dim, 0.0);
   const auto layout = cluster_layout(m.label, m.clusters);
   const auto members = segment_points_of(m);
-  if (m.cluster.size() != layout.size() * members.size()) corrupt("cluster count disagrees with the labels");
+  if (m.cluster.size() != layout.size() * members.size())
+    corrupt("cluster count disagrees with the labels");
   if (m.segment_rigid && m.segment_motion.size() != members.size()) corrupt("segment motion count");
   for (size_t s = 0; s < members.size(); ++s) {
     const std::vector<uint32_t>& pts = members[s];
@@ -198,7 +216,8 @@ void reconstruct(const TsModel& m, std::vector<double>* xyz) {
     if (m.segment_rigid) {
       const TsModel::SegmentMotion& sm = m.segment_motion[s];
       if (sm.code.rows != 6 || sm.code.length != m.frames) corrupt("segment rigid block size");
-      motion = lpc_decode(sm.code, {sm.rot_step, sm.rot_step, sm.rot_step, sm.trans_step, sm.trans_step, sm.trans_step});
+      motion = lpc_decode(sm.code, {sm.rot_step, sm.rot_step, sm.rot_step, sm.trans_step,
+                                    sm.trans_step, sm.trans_step});
     }
     for (size_t c = 0; c < layout.size(); ++c) {
       const TsCluster& tc = m.cluster[s * layout.size() + c];
@@ -234,9 +253,11 @@ void reconstruct(const TsModel& m, std::vector<double>* xyz) {
   }
   if (m.rigid) {
     if (m.rigid_code.rows != 6 || m.rigid_code.length != m.frames) corrupt("rigid block size");
-    std::vector<double> steps = {m.rot_step, m.rot_step, m.rot_step, m.trans_step, m.trans_step, m.trans_step};
+    std::vector<double> steps = {m.rot_step,   m.rot_step,   m.rot_step,
+                                 m.trans_step, m.trans_step, m.trans_step};
     const Eigen::MatrixXd p = lpc_decode(m.rigid_code, steps);
-    for (size_t f = 0; f < m.frames; ++f) apply_rigid_inverse(rigid_at(p, f), xyz->data() + f * dim, m.points);
+    for (size_t f = 0; f < m.frames; ++f)
+      apply_rigid_inverse(rigid_at(p, f), xyz->data() + f * dim, m.points);
   }
 }
 
@@ -252,10 +273,12 @@ RigidParams rigid_at(const Eigen::MatrixXd& decoded, size_t f) {
 void write_model(const TsModel& m, ByteWriter* out) {
   const bool segmented = m.segments > 1;
   out->u8(segmented ? kVersionSegments : kVersionOneSegment);
-  if (m.segment_rigid && !segmented) fail(ErrorCode::kInternal, kWhat, "segment motion without segments");
-  if (m.f32_scales && !segmented) fail(ErrorCode::kInternal, kWhat, "float32 scales without segments");
-  out->u8(static_cast<uint8_t>((m.rigid ? 1 : 0) | (m.basis_predict ? 2 : 0) | (m.segment_rigid ? 4 : 0) |
-                               (m.f32_scales ? 8 : 0)));
+  if (m.segment_rigid && !segmented)
+    fail(ErrorCode::kInternal, kWhat, "segment motion without segments");
+  if (m.f32_scales && !segmented)
+    fail(ErrorCode::kInternal, kWhat, "float32 scales without segments");
+  out->u8(static_cast<uint8_t>((m.rigid ? 1 : 0) | (m.basis_predict ? 2 : 0) |
+                               (m.segment_rigid ? 4 : 0) | (m.f32_scales ? 8 : 0)));
   out->varint(m.frames);
   out->varint(m.points);
   out->f64(m.coef_step);
@@ -292,7 +315,8 @@ void write_model(const TsModel& m, ByteWriter* out) {
   if (m.clusters > 1)
     for (uint8_t l : m.label) e.label(l);
   if (segmented) {
-    if (m.segment.size() != m.points) fail(ErrorCode::kInternal, kWhat, "segment labels disagree with the points");
+    if (m.segment.size() != m.points)
+      fail(ErrorCode::kInternal, kWhat, "segment labels disagree with the points");
     SegmentMtf mtf(m.segments);
     int prev = 0;
     for (uint8_t sg : m.segment) {
@@ -320,7 +344,9 @@ void write_model(const TsModel& m, ByteWriter* out) {
       const QuantisedVector& q = tc.basis[j];
       for (size_t i = 0; i < np; ++i)
         for (int a = 0; a < 3; ++a)
-          e.put(q.q[3 * i + static_cast<size_t>(a)] - (m.basis_predict ? basis_prediction(q.q.data(), parents, i, a) : 0), kBasis);
+          e.put(q.q[3 * i + static_cast<size_t>(a)] -
+                    (m.basis_predict ? basis_prediction(q.q.data(), parents, i, a) : 0),
+                kBasis);
       if (j == 0 && m.basis_predict) parents = spatial_parents(q.q, np);
     }
     write_lpc_body(tc.first, kLpcValue, &e);
@@ -340,7 +366,8 @@ TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t point
   TsModel m;
   const uint8_t version = in.u8();
   if (version != kVersionOneSegment && version != kVersionSegments)
-    fail(ErrorCode::kUnsupportedVersion, kWhat, "version " + std::to_string(version) + " (this build reads 1 and 2)");
+    fail(ErrorCode::kUnsupportedVersion, kWhat,
+         "version " + std::to_string(version) + " (this build reads 1 and 2)");
   const uint8_t flags = in.u8();
   if (flags > (version == kVersionSegments ? 15 : 3)) corrupt("unknown flags");
   m.rigid = flags & 1;
@@ -349,11 +376,13 @@ TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t point
   m.f32_scales = (flags & 8) != 0;
   m.frames = in.varint();
   m.points = in.varint();
-  if (m.frames != frames || m.points != points) corrupt("window shape disagrees with the container");
+  if (m.frames != frames || m.points != points)
+    corrupt("window shape disagrees with the container");
   const size_t dim = 3 * points;
   m.coef_step = read_step(&in, "coefficient step");
   m.clusters = in.u8();
-  if (m.clusters < 1 || static_cast<size_t>(m.clusters) > std::max<size_t>(frames, 1)) corrupt("cluster count out of range");
+  if (m.clusters < 1 || static_cast<size_t>(m.clusters) > std::max<size_t>(frames, 1))
+    corrupt("cluster count out of range");
   if (m.rigid) {
     m.rot_step = read_step(&in, "rotation step");
     m.trans_step = read_step(&in, "translation step");
@@ -365,7 +394,8 @@ TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t point
       corrupt("segment count out of range");
   }
   if (m.segment_rigid) {
-    if (static_cast<size_t>(m.segments) * 42 > in.remaining()) corrupt("segment motion headers larger than the payload");
+    if (static_cast<size_t>(m.segments) * 42 > in.remaining())
+      corrupt("segment motion headers larger than the payload");
     m.segment_motion.resize(static_cast<size_t>(m.segments));
     for (TsModel::SegmentMotion& sm : m.segment_motion) {
       sm.rot_step = read_step(&in, "segment rotation step");
@@ -382,8 +412,10 @@ TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t point
   m.cluster.resize(units);
   for (TsCluster& tc : m.cluster) {
     const uint64_t r = in.varint();
-    if (r > std::min<size_t>(dim, frames)) corrupt("a cluster has more PCs than frames or dimensions");
-    if (r > in.remaining() / (m.f32_scales ? 5 : 9)) corrupt("basis headers larger than the payload");
+    if (r > std::min<size_t>(dim, frames))
+      corrupt("a cluster has more PCs than frames or dimensions");
+    if (r > in.remaining() / (m.f32_scales ? 5 : 9))
+      corrupt("basis headers larger than the payload");
     read_lpc_header(&in, &tc.first, r, 0);
     tc.lcps_weight_bits = in.u8();
     if (tc.lcps_weight_bits > 30) corrupt("LCPS weight bits out of range");
@@ -392,7 +424,8 @@ TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t point
       q.bits = in.u8();
       if (q.bits < 2 || q.bits > 30) corrupt("basis bits out of 2..30");
       q.scale = m.f32_scales ? static_cast<double>(in.f32()) : in.f64();
-      if (!std::isfinite(q.scale) || q.scale < 0) corrupt("basis scale is not a finite number >= 0");
+      if (!std::isfinite(q.scale) || q.scale < 0)
+        corrupt("basis scale is not a finite number >= 0");
     }
   }
   In e(data + in.offset(), in.remaining());
@@ -422,7 +455,8 @@ TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t point
       const size_t c = u % layout.size(), np = members[u / layout.size()].size(), dim_s = 3 * np;
       const size_t lc = layout[c].frames.size(), l1 = layout[c].first_len;
       const size_t r = tc.basis.size();
-      if (r > lc || r > dim_s) corrupt("cluster " + std::to_string(c) + " has more PCs than frames or segment dimensions");
+      if (r > lc || r > dim_s)
+        corrupt("cluster " + std::to_string(c) + " has more PCs than frames or segment dimensions");
       e.budget(r * dim_s);
       std::vector<uint32_t> parents;
       for (size_t j = 0; j < r; ++j) {
@@ -431,7 +465,8 @@ TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t point
         q.q.resize(dim_s);
         for (size_t i = 0; i < np; ++i)
           for (int a = 0; a < 3; ++a) {
-            const int64_t x = e.get(kBasis) + (m.basis_predict ? basis_prediction(q.q.data(), parents, i, a) : 0);
+            const int64_t x =
+                e.get(kBasis) + (m.basis_predict ? basis_prediction(q.q.data(), parents, i, a) : 0);
             if (x < -lim || x > lim) corrupt("basis value outside its bit range");
             q.q[3 * i + static_cast<size_t>(a)] = static_cast<int32_t>(x);
           }

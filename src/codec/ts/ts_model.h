@@ -20,18 +20,18 @@ struct TsCluster {
   std::vector<QuantisedVector> basis;  // r PCs, each 3N entries
   LpcCode first;                       // r x l1: the first motion fragment's coefficients
   int lcps_weight_bits = 14;
-  std::vector<LcpsFrame> later;        // the cluster's later frames, in time order
+  std::vector<LcpsFrame> later;  // the cluster's later frames, in time order
 };
 
 struct TsModel {
   size_t frames = 0, points = 0;
-  double coef_step = 1;  // quantisation step of every PC coefficient / residual
-  bool rigid = false;    // frames were aligned; rigid_code holds their 6 parameters
+  double coef_step = 1;       // quantisation step of every PC coefficient / residual
+  bool rigid = false;         // frames were aligned; rigid_code holds their 6 parameters
   bool basis_predict = true;  // basis entries coded as residuals of basis_predict.h
   double rot_step = 0, trans_step = 0;
-  LpcCode rigid_code;               // 6 x frames: rotation vector (3), translation (3)
+  LpcCode rigid_code;  // 6 x frames: rotation vector (3), translation (3)
   int clusters = 1;
-  std::vector<uint8_t> label;       // per frame, < clusters
+  std::vector<uint8_t> label;  // per frame, < clusters
   // Point segments (payload version 2 when > 1): per point its segment, < segments; empty (or
   // all 0) for one segment.
   int segments = 1;
