@@ -715,6 +715,9 @@ void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut
     std::vector<uint8_t> codec_bytes;
     std::vector<int32_t> tpred;
     std::vector<double> recon;
+    // With transform output: the window's centred energy and its squared-error budget.
+    const double centred = tout ? centred_sq_window(fn, N, block.xyz.data(), wi.valid.data()) : 0;
+    const double kg_budget = opts.kg_error / 100 * (opts.kg_error / 100) * centred;
     if (codec && N > 0) {
       std::vector<double> filled = filled_window(block);
       PositionsView view{fn, N, filled.data(), wi.valid.data()};
@@ -732,15 +735,13 @@ void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut
         // (squared errors add: e_t^2 + rounding = target^2), at most three times; the check
         // below then holds both the decoded and the written values to the target.
         if (!tout || written_scale == 0 || attempt == 3) break;
-        const double cs = centred_sq_window(fn, N, block.xyz.data(), wi.valid.data());
-        const double target = opts.kg_error / 100 * (opts.kg_error / 100) * cs;
         const double e_t = window_sq_error(fn, N, block.xyz.data(), recon.data(), wi.valid.data());
         const double e_w =
             written_sq_error(fn, N, block.xyz.data(), recon.data(), wi.valid.data(), written_scale);
-        if (e_w <= target || !(cs > 0)) break;
-        const double room = target - std::max(0.0, e_w - e_t);
+        if (e_w <= kg_budget || !(centred > 0)) break;
+        const double room = kg_budget - std::max(0.0, e_w - e_t);
         if (!(room > 0)) break;  // the rounding alone exceeds the target: the grid fallback
-        wp.kg_error = 100 * std::sqrt(0.98 * room / cs);
+        wp.kg_error = 100 * std::sqrt(0.98 * room / centred);
       }
       if (!tout) tpred = grid_prediction(recon, g.step);
     }
@@ -796,11 +797,9 @@ void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut
       }
     }
     if (tout) {  // each window within the KG target makes the take meet it (FORMAT.md 3.1)
-      const double kg = opts.kg_error / 100;
-      const double target = kg * kg * centred_sq_window(fn, N, orig, wi.valid.data());
-      if (window_sq_error(fn, N, orig, rec.data(), wi.valid.data()) > target ||
+      if (window_sq_error(fn, N, orig, rec.data(), wi.valid.data()) > kg_budget ||
           (written_scale > 0 &&
-           written_sq_error(fn, N, orig, rec.data(), wi.valid.data(), written_scale) > target))
+           written_sq_error(fn, N, orig, rec.data(), wi.valid.data(), written_scale) > kg_budget))
         throw TransformMissedTarget();
     }
     acc.add(fn, N, orig, rec.data(), wi.valid.data());
