@@ -96,16 +96,7 @@ Clustering kmeans_frames(const Eigen::MatrixXd& frames, const ClusterParams& par
       best_lab = lab;
     }
   }
-  // Renumber by first appearance in time; drop empty clusters.
-  std::vector<int> map(static_cast<size_t>(k), -1);
-  int next = 0;
-  out.label.resize(static_cast<size_t>(n));
-  for (Eigen::Index j = 0; j < n; ++j) {
-    int& m = map[best_lab[j]];
-    if (m < 0) m = next++;
-    out.label[j] = m;
-  }
-  out.k = next;
+  out.k = renumber_by_first_appearance(best_lab, k, &out.label);  // in time; empty ones dropped
   out.wcss = best;
   return out;
 }

@@ -27,5 +27,21 @@ struct Clustering {
 // frames: 3N x F (one aligned frame per column).
 Clustering kmeans_frames(const Eigen::MatrixXd& frames, const ClusterParams& params);
 
+// Renumbers k-means labels 0..k-1 by first appearance in order (out[j] = new id of lab[j]);
+// labels no item carries vanish. Returns the number of labels left. Shared by the frame
+// clustering and the point segmentation (segment.h).
+template <typename Label>
+int renumber_by_first_appearance(const std::vector<int>& lab, int k, std::vector<Label>* out) {
+  std::vector<int> map(static_cast<size_t>(k), -1);
+  int next = 0;
+  out->resize(lab.size());
+  for (size_t j = 0; j < lab.size(); ++j) {
+    int& m = map[static_cast<size_t>(lab[j])];
+    if (m < 0) m = next++;
+    (*out)[j] = static_cast<Label>(m);
+  }
+  return next;
+}
+
 }  // namespace ts
 }  // namespace capz

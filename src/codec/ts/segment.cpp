@@ -6,6 +6,7 @@
 #include <string>
 
 #include "capz/error.h"
+#include "codec/ts/cluster.h"
 
 namespace capz {
 namespace ts {
@@ -106,15 +107,8 @@ Segmentation segment_points(const Eigen::MatrixXd& frames, const SegmentParams& 
       if (count[c] > 0) mu.row(c) /= static_cast<double>(count[c]);
   }
 
-  // Renumber by first appearance in point order (empty segments vanish).
-  std::vector<int> map(static_cast<size_t>(kc), -1);
-  int next = 0;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    int& m = map[lab[i]];
-    if (m < 0) m = next++;
-    out.label[i] = static_cast<uint8_t>(m);
-  }
-  out.segments = next;
+  // In point order; empty segments vanish.
+  out.segments = renumber_by_first_appearance(lab, static_cast<int>(kc), &out.label);
   out.wcss = wcss;
   return out;
 }
