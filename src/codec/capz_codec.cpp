@@ -292,22 +292,14 @@ double quantised_sq_error(FrameSource& src, double step, size_t block, FrameBloc
 }
 
 // Squared error and centred energy (per-frame centroid, metrics.h) of a window's valid samples.
-double window_sq_error(size_t fn, size_t n, const double* a, const double* b,
-                       const uint8_t* valid) {
-  double s = 0;
-  for (size_t i = 0; i < fn * n; ++i)
-    if (valid[i])
-      for (size_t k = i * 3; k < i * 3 + 3; ++k) s += (a[k] - b[k]) * (a[k] - b[k]);
-  return s;
-}
-// window_sq_error against b as written at int16 scale `scale` (as_written).
-double written_sq_error(size_t fn, size_t n, const double* a, const double* b, const uint8_t* valid,
-                        double scale) {
+// written_scale > 0: the error of b as the C3D writer stores it at that int16 scale (as_written).
+double window_sq_error(size_t fn, size_t n, const double* a, const double* b, const uint8_t* valid,
+                       double written_scale = 0) {
   double s = 0;
   for (size_t i = 0; i < fn * n; ++i)
     if (valid[i])
       for (size_t k = i * 3; k < i * 3 + 3; ++k) {
-        const double d = a[k] - as_written(b[k], scale);
+        const double d = a[k] - (written_scale > 0 ? as_written(b[k], written_scale) : b[k]);
         s += d * d;
       }
   return s;
@@ -737,7 +729,7 @@ void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut
         if (!tout || written_scale == 0 || attempt == 3) break;
         const double e_t = window_sq_error(fn, N, block.xyz.data(), recon.data(), wi.valid.data());
         const double e_w =
-            written_sq_error(fn, N, block.xyz.data(), recon.data(), wi.valid.data(), written_scale);
+            window_sq_error(fn, N, block.xyz.data(), recon.data(), wi.valid.data(), written_scale);
         if (e_w <= kg_budget || !(centred > 0)) break;
         const double room = kg_budget - std::max(0.0, e_w - e_t);
         if (!(room > 0)) break;  // the rounding alone exceeds the target: the grid fallback
@@ -799,7 +791,7 @@ void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut
     if (tout) {  // each window within the KG target makes the take meet it (FORMAT.md 3.1)
       if (window_sq_error(fn, N, orig, rec.data(), wi.valid.data()) > kg_budget ||
           (written_scale > 0 &&
-           written_sq_error(fn, N, orig, rec.data(), wi.valid.data(), written_scale) > kg_budget))
+           window_sq_error(fn, N, orig, rec.data(), wi.valid.data(), written_scale) > kg_budget))
         throw TransformMissedTarget();
     }
     acc.add(fn, N, orig, rec.data(), wi.valid.data());
