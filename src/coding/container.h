@@ -14,7 +14,7 @@ namespace capz {
 
 constexpr uint8_t kCapzMagic[9] = {0x89, 'c', 'a', 'p', 'z', 0x0D, 0x0A, 0x1A, 0x0A};
 constexpr uint8_t kCapzMajor = 3;
-constexpr uint8_t kCapzMinor = 0;        // docs/FORMAT.md 2: what each version added
+constexpr uint8_t kCapzMinor = 1;        // docs/FORMAT.md 2: what each version added
 constexpr size_t kFileHeaderBytes = 11;  // magic + major + minor
 constexpr size_t kChunkOverhead = 12;    // type + length + crc
 

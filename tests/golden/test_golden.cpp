@@ -1,6 +1,7 @@
-// Golden streams (tests/golden/streams, made by capz 1.0, 2.0 and 3.0 from data/ samples; names say
-// input, method and format version) must keep decoding: to the same bytes as when they were made
-// (CRC-32C of the decoded take, MANIFEST.txt) and to the source file within the stored bound.
+// Golden streams (tests/golden/streams, made by capz 1.0, 2.0, 3.0 and 3.1 from data/ samples;
+// names say input, method and format version) must keep decoding: to the same bytes as when they
+// were made (CRC-32C of the decoded take, MANIFEST.txt) and to the source file within the stored
+// bound.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -76,6 +77,15 @@ TEST(Golden, GivenGoldenStreamsWhenDecodedThenKnownContentAndWithinBoundOfSource
     EXPECT_EQ(
         std::memcmp(a.analog.values.data(), b.analog.values.data(), a.analog.values.size() * 8), 0);
     EXPECT_EQ(a.labels, b.labels);
+    // C3D 4th words (residual and camera bytes) are always kept exactly.
+    ASSERT_EQ(a.c3d != nullptr, b.c3d != nullptr);
+    if (a.c3d) {
+      ASSERT_EQ(a.c3d->residual.size(), b.c3d->residual.size());
+      EXPECT_EQ(
+          std::memcmp(a.c3d->residual.data(), b.c3d->residual.data(), a.c3d->residual.size() * 4),
+          0);
+      EXPECT_EQ(a.c3d->camera_mask, b.c3d->camera_mask);
+    }
   }
 }
 

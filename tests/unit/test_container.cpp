@@ -11,6 +11,7 @@
 #include "capz/metrics.h"
 #include "coding/container.h"
 #include "coding/crc32c.h"
+#include "coding/entropy.h"
 #include "coding/quantiser.h"
 #include "coding/window_coder.h"
 
@@ -146,7 +147,7 @@ TEST(C3dWordCoding, GivenGapsAndScaleNotDividingOneThenGridModeAndExact) {
   ASSERT_TRUE(residuals_on_grid(residual, valid, scale));
   std::vector<uint8_t> c =
       encode_c3d_words(residual.data(), camera.data(), valid.data(), n, points, scale, true);
-  EXPECT_EQ(c[0], 0);  // mode 0
+  EXPECT_EQ(c[0], 2);  // mode 0 with frame flags (3.1)
   std::vector<float> r(n);
   std::vector<uint8_t> cam(n);
   decode_c3d_words(c.data(), c.size(), valid.data(), n, points, scale, r.data(), cam.data(), "t");
@@ -162,6 +163,61 @@ TEST(C3dWordCoding, GivenGapsAndScaleNotDividingOneThenGridModeAndExact) {
       break;
     }
   EXPECT_FALSE(residuals_on_grid(residual, valid, scale));
+}
+
+// Words that repeat for runs of frames (as most takes write them), with gaps: all four residual
+// modes (0/1 of 3.0, 2/3 with frame repeat flags of 3.1) decode every word exactly, the flags
+// make runs of repeated frames cheaper (and far faster to code), and a flag above 1 is rejected.
+TEST(C3dWordCoding, GivenRepeatedFramesWhenCodedInEveryModeThenExactAndFlagsCheaper) {
+  const double scale = 0.25;
+  const size_t frames = 300, points = 9, n = frames * points;
+  std::mt19937 rng(11);
+  std::vector<float> residual(n);
+  std::vector<uint8_t> camera(n), valid(n);
+  float r = 0.5f;
+  uint8_t cam = 3;
+  for (size_t f = 0; f < frames; ++f) {
+    if (f % 40 == 17) r = static_cast<float>((rng() % 8) * scale), cam = rng() % 16;
+    for (size_t p = 0; p < points; ++p) {
+      const size_t i = f * points + p;
+      valid[i] = !(p == 4 && f >= 100 && f < 130);  // a gap of 30 frames
+      residual[i] = valid[i] ? r : -1.0f;
+      camera[i] = valid[i] ? cam : 0;
+    }
+  }
+  ASSERT_TRUE(residuals_on_grid(residual, valid, scale));
+  size_t sizes[4];
+  for (int mode = 0; mode < 4; ++mode) {
+    const bool on_grid = (mode & 1) == 0, flags = mode >= 2;
+    std::vector<uint8_t> c = encode_c3d_words(residual.data(), camera.data(), valid.data(), n,
+                                              points, scale, on_grid, flags);
+    ASSERT_EQ(c[0], mode);
+    sizes[mode] = c.size();
+    std::vector<float> back(n);
+    std::vector<uint8_t> cb(n);
+    decode_c3d_words(c.data(), c.size(), valid.data(), n, points, scale, back.data(), cb.data(),
+                     "t");
+    EXPECT_EQ(std::memcmp(back.data(), residual.data(), n * 4), 0) << "mode " << mode;
+    EXPECT_EQ(cb, camera) << "mode " << mode;
+  }
+  EXPECT_LT(sizes[2], sizes[0]);
+  EXPECT_LT(sizes[3], sizes[1]);
+  // Mode 4 does not exist, and a frame flag of 2 is corrupt (flag context 3 seeded with a 2).
+  std::vector<uint8_t> c =
+      encode_c3d_words(residual.data(), camera.data(), valid.data(), n, points, scale, true, true);
+  std::vector<float> back(n);
+  std::vector<uint8_t> cb(n);
+  c[0] = 4;
+  EXPECT_THROW(decode_c3d_words(c.data(), c.size(), valid.data(), n, points, scale, back.data(),
+                                cb.data(), "t"),
+               Error);
+  IntEncoder bad(4);
+  bad.put(2, 3);
+  std::vector<uint8_t> b = bad.finish();
+  b.insert(b.begin(), 2);
+  EXPECT_THROW(decode_c3d_words(b.data(), b.size(), valid.data(), points, points, scale,
+                                back.data(), cb.data(), "t"),
+               Error);
 }
 
 TEST(Container, GivenBoundWhenRoundTrippedThenEveryCoordinateWithinBoundAndMaskExact) {
