@@ -27,6 +27,21 @@ struct PrevState {
   void update(int tok) { ta = static_cast<uint8_t>(tok); }
 };
 
+// token_of(u) for u < 64 (tokens 0-11), by table, and 16 x the estimate's next context
+// (min(token, 3)).
+struct SmallTokenTable {
+  uint8_t t[64], next[64];
+  constexpr SmallTokenTable() : t(), next() {
+    for (uint32_t u = 0; u < 64; ++u) {
+      int e = 0;
+      while ((u >> (e + 1)) != 0) ++e;
+      t[u] = static_cast<uint8_t>(u < 4 ? u : 4 + 2 * (e - 2) + ((u >> (e - 1)) & 1));
+      next[u] = static_cast<uint8_t>(16 * (t[u] < 3 ? t[u] : 3));
+    }
+  }
+};
+constexpr SmallTokenTable kSmallTokens{};
+
 // Token histogram of one point's residuals under the contexts of State, for estimating its coded
 // size: the conditional order-0 entropy of the tokens (capped at 15) plus their raw bits.
 template <typename State>
@@ -45,6 +60,44 @@ struct Hist {
     if (tok >= 15) raw += static_cast<uint32_t>(nbits) + 4;
     st->update(tok);
     return tok;
+  }
+  // Adds res[a][f], a = 0..2, for the frames f in [from, to) with valid[f], as add() would for
+  // each axis's sequence from state st[a] (then updated): the hot loop of the estimate. The
+  // states stay in registers, small values' tokens come from a table, and each axis counts
+  // into its own table until the end, so the three increments of a frame are independent
+  // (one shared table makes a chain through memory when a count repeats, as in a zero run).
+  void add_run3(const int32_t* const res[3], const uint8_t* valid, size_t from, size_t to,
+                State st[3]) {
+    uint16_t c[3][kContexts * 16] = {};
+    int s0 = st[0].context() * 16, s1 = st[1].context() * 16, s2 = st[2].context() * 16;
+    auto one = [&](int32_t r, uint16_t* cnt, int* sv) {
+      const uint32_t u = zigzag(r);
+      int idx, next;
+      if (u < 64) {
+        idx = kSmallTokens.t[u];
+        next = kSmallTokens.next[u];
+      } else {
+        int nbits;
+        const int tok = token_of(u, &nbits);
+        if (tok >= 15) raw += static_cast<uint32_t>(nbits) + 4;
+        idx = tok < 15 ? tok : 15;
+        next = 3 * 16;
+      }
+      ++cnt[*sv + idx];
+      *sv = next;
+    };
+    for (size_t f = from; f < to; ++f) {
+      if (!valid[f]) continue;
+      one(res[0][f], c[0], &s0);
+      one(res[1][f], c[1], &s1);
+      one(res[2][f], c[2], &s2);
+    }
+    uint16_t* all = &count[0][0];
+    for (int k = 0; k < kContexts * 16; ++k)
+      all[k] = static_cast<uint16_t>(all[k] + c[0][k] + c[1][k] + c[2][k]);
+    st[0].update(s0 / 16);
+    st[1].update(s1 / 16);
+    st[2].update(s2 / 16);
   }
   // Estimated bits, in 1/16 bit units.
   uint64_t bits16() const {
@@ -165,23 +218,69 @@ void base_residuals(const int32_t* q, size_t frames, size_t points, std::vector<
     }
 }
 
+// Residuals res[f] = x[f] - prediction, f = 1 .. frames - 1, of a trajectory x (one axis of one
+// point, frames contiguous, gaps filled) under predictor `mode` (0-2, 7-9; predict_one's
+// formulas with stride 1, written out for 0-2 so the loops vectorise).
+void predictor_residuals(int mode, const int32_t* x, size_t frames, size_t period, int32_t* res) {
+  switch (mode) {
+    case kPredPrevious:
+      for (size_t f = 1; f < frames; ++f) res[f] = wrap_sub(x[f], x[f - 1]);
+      break;
+    case kPredLinear:
+      if (frames > 1) res[1] = wrap_sub(x[1], x[0]);
+      for (size_t f = 2; f < frames; ++f)
+        res[f] = wrap_sub(x[f], wrap_sub(wrap_mul(x[f - 1], 2), x[f - 2]));
+      break;
+    case kPredQuadratic:
+      if (frames > 1) res[1] = wrap_sub(x[1], x[0]);
+      if (frames > 2) res[2] = wrap_sub(x[2], wrap_sub(wrap_mul(x[1], 2), x[0]));
+      for (size_t f = 3; f < frames; ++f)
+        res[f] = wrap_sub(x[f], wrap_add(wrap_mul(wrap_sub(x[f - 1], x[f - 2]), 3), x[f - 3]));
+      break;
+    case kPredSmooth:
+      for (size_t f = 1; f < frames; ++f) res[f] = wrap_sub(x[f], predict_smooth(f, x + f, 1));
+      break;
+    default:
+      for (size_t f = 1; f < frames; ++f)
+        res[f] = wrap_sub(x[f], predict_one(mode, f, x + f, 1, nullptr, period));
+  }
+}
+
 // Adds to h the residuals of point p under base residuals e plus reference r's deviation, over
-// frames first, first + step, ... of the window (the reference predictors 5/6).
+// frames 1.. of the window (the reference predictors 5/6), through `res` (3 x frames) and `vs`
+// (frames) as scratch.
 template <typename H>
 void ref_cost(const std::vector<int32_t>& e, const uint8_t* valid, size_t frames, size_t points,
-              size_t p, size_t r, size_t first, size_t step, H* h) {
+              size_t p, size_t r, H* h, std::vector<int32_t>* res, std::vector<uint8_t>* vs) {
   const size_t stride = points * 3;
-  typename std::remove_pointer<decltype(h)>::type::StateType st[3];
-  for (size_t f = first; f < frames; f += step) {
-    if (!valid[f * points + p]) continue;
-    const int32_t* c = &e[f * stride + p * 3];
-    if (valid[f * points + r]) {
-      const int32_t* cr = &e[f * stride + r * 3];
-      for (int a = 0; a < 3; ++a) h->add(wrap_sub(c[a], cr[a]), &st[a]);
-    } else {
-      for (int a = 0; a < 3; ++a) h->add(c[a], &st[a]);
+  int32_t* out[3] = {res->data(), res->data() + frames, res->data() + 2 * frames};
+  for (size_t f = 1; f < frames; ++f) {
+    (*vs)[f] = valid[f * points + p];
+    const bool rv = valid[f * points + r] != 0;
+    for (size_t a = 0; a < 3; ++a) {
+      const int32_t c = e[f * stride + p * 3 + a];
+      out[a][f] = rv ? wrap_sub(c, e[f * stride + r * 3 + a]) : c;
     }
   }
+  const int32_t* in[3] = {out[0], out[1], out[2]};
+  typename H::StateType st[3];
+  h->add_run3(in, vs->data(), 1, frames, st);
+}
+
+// Rank of reference r for point p under base residuals e: the summed bit lengths of p's
+// residuals (its base residual minus r's where r is valid) on frames 1, 1 + step, ...
+uint64_t ref_rank_cost(const std::vector<int32_t>& e, const uint8_t* valid, size_t frames,
+                       size_t points, size_t p, size_t r, size_t step) {
+  const size_t stride = points * 3;
+  uint64_t bits = 0;
+  for (size_t f = 1; f < frames; f += step) {
+    if (!valid[f * points + p]) continue;
+    const int32_t* c = &e[f * stride + p * 3];
+    const int32_t* cr = &e[f * stride + r * 3];
+    const bool rv = valid[f * points + r] != 0;
+    for (int a = 0; a < 3; ++a) bits += bit_cost(rv ? wrap_sub(c[a], cr[a]) : c[a]);
+  }
+  return bits;
 }
 
 // The window's period for predictors 8/9, or 0 when none is worth trying. Differences
@@ -257,45 +356,36 @@ std::vector<uint8_t> encode_positions(const WindowInts& w,
     }
     std::vector<int32_t> e[2];
     base_residuals(q.data(), F, N, e);
-    {  // In one pass: predictors 0-2 (residuals e0, e1 and e1[f] - e1[f-1]), with scheme 3
-       // also smooth (7) and, when the window repeats with a period, 8 and 9.
+    std::vector<int32_t> res(3 * F);  // scratch of the estimates: a point's residuals by axis
+    std::vector<uint8_t> vs(F);       // and the point's validity, by frame
+    {  // Predictors 0-2, with scheme 3 also smooth (7) and, when the window repeats with a
+       // period, 8 and 9.
       if (scheme >= 3) period = find_period(q.data(), w.valid.data(), F, N);
       const int nm = scheme < 3 ? 3 : period ? 6 : 4;
       static constexpr uint8_t kIds[6] = {kPredPrevious, kPredLinear, kPredQuadratic,
                                           kPredSmooth,   kPredPeriod, kPredPeriodPrevious};
-      std::vector<TokenHist> hist(static_cast<size_t>(nm) * N);
+      // Point by point: the point's trajectory is gathered per axis into contiguous arrays, so
+      // each predictor's residuals are one simple loop over frames and the estimate's state
+      // stays in registers (the same histograms as a frame-by-frame walk: counts are sums, and
+      // the state of each predictor, point and axis sees the same sequence).
       const size_t S = N * 3;
-      std::vector<PrevState> st(static_cast<size_t>(nm) * S);  // [mode][point][axis]
-      for (size_t p = 0; p < N; ++p)
-        for (int m = 0; m < nm; ++m) hist[m * N + p] = first[p];
-      for (size_t f = 1; f < F; ++f)
-        for (size_t p = 0; p < N; ++p) {
-          if (!w.valid[f * N + p]) continue;
-          for (int a = 0; a < 3; ++a) {
-            const size_t i = f * S + p * 3 + a, k = p * 3 + static_cast<size_t>(a);
-            const int32_t r2 = f < 2 ? e[0][i] : f < 3 ? e[1][i] : wrap_sub(e[1][i], e[1][i - S]);
-            hist[p].add(e[0][i], &st[k]);
-            hist[N + p].add(e[1][i], &st[S + k]);
-            hist[2 * N + p].add(r2, &st[2 * S + k]);
-            if (nm > 3) {
-              const int32_t r3 = wrap_sub(q[i], predict_smooth(f, &q[i], S));
-              hist[3 * N + p].add(r3, &st[3 * S + k]);
-            }
-            if (nm > 4) {
-              const int32_t r4 =
-                  wrap_sub(q[i], predict_one(kPredPeriod, f, &q[i], S, nullptr, period));
-              const int32_t r5 =
-                  wrap_sub(q[i], predict_one(kPredPeriodPrevious, f, &q[i], S, nullptr, period));
-              hist[4 * N + p].add(r4, &st[4 * S + k]);
-              hist[5 * N + p].add(r5, &st[5 * S + k]);
-            }
-          }
+      std::vector<int32_t> xs(3 * F);
+      for (size_t p = 0; p < N; ++p) {
+        for (size_t f = 0; f < F; ++f) {
+          vs[f] = w.valid[f * N + p];
+          for (size_t a = 0; a < 3; ++a) xs[a * F + f] = q[f * S + p * 3 + a];
         }
-      for (int m = 0; m < nm; ++m)
-        for (size_t p = 0; p < N; ++p) {
-          const uint64_t c = hist[m * N + p].bits16();
+        for (int m = 0; m < nm; ++m) {
+          TokenHist h = first[p];
+          for (size_t a = 0; a < 3; ++a)
+            predictor_residuals(kIds[m], &xs[a * F], F, period, &res[a * F]);
+          const int32_t* r3[3] = {&res[0], &res[F], &res[2 * F]};
+          PrevState st[3];
+          h.add_run3(r3, vs.data(), 1, F, st);
+          const uint64_t c = h.bits16();
           if (c < best[p]) best[p] = c, modes[p] = kIds[m];
         }
+      }
     }
     if (t) {  // transform predictors: walks (their frame-0 rule and gap fill differ)
       std::vector<int32_t> qt = q;
@@ -312,33 +402,40 @@ std::vector<uint8_t> encode_positions(const WindowInts& w,
         }
       }
     }
-    // Reference predictors. Candidates are ranked on every `step`-th frame; the winner's full
-    // estimate then competes with the point's best predictor so far.
+    // Reference predictors. Candidate pairs (reference, base) are ranked by the summed bit
+    // lengths of their residuals on every `step`-th frame (ref_rank_cost); the full estimate of
+    // the two best then competes with the point's best predictor so far.
     if (scheme >= 2 && F > 2 && N > 1) {
       size_t K;
       std::vector<uint32_t> cand = ref_candidates(q.data(), w.valid.data(), F, N, &K);
       const size_t step = F >= 512 ? 8 : F >= 256 ? 4 : F >= 64 ? 2 : 1;
       for (size_t p = 1; p < N; ++p) {
-        uint64_t rank = UINT64_MAX;
-        size_t best_r = 0;
-        int best_b = -1;
+        constexpr int kFinalists = 2;
+        uint64_t rank[kFinalists] = {UINT64_MAX, UINT64_MAX};
+        size_t fin_r[kFinalists] = {0, 0};
+        int fin_b[kFinalists] = {-1, -1};
         for (size_t k = 0; k < K && cand[p * K + k] != UINT32_MAX; ++k)
           for (int b = 0; b < 2; ++b) {
-            TokenHist h;
-            h.clear();
-            ref_cost(e[b], w.valid.data(), F, N, p, cand[p * K + k], 1, step, &h);
-            const uint64_t c = h.bits16();
-            if (c < rank) rank = c, best_r = cand[p * K + k], best_b = b;
+            const size_t r = cand[p * K + k];
+            const uint64_t c = ref_rank_cost(e[b], w.valid.data(), F, N, p, r, step);
+            for (int j = 0; j < kFinalists; ++j)
+              if (c < rank[j]) {
+                for (int m = kFinalists - 1; m > j; --m)
+                  rank[m] = rank[m - 1], fin_r[m] = fin_r[m - 1], fin_b[m] = fin_b[m - 1];
+                rank[j] = c, fin_r[j] = r, fin_b[j] = b;
+                break;
+              }
           }
-        if (best_b < 0) continue;
-        TokenHist h = first[p];
-        ref_cost(e[best_b], w.valid.data(), F, N, p, best_r, 1, 1, &h);
-        const uint64_t c = h.bits16();
-        if (c < best[p]) {
-          best[p] = c;
-          modes[p] = static_cast<uint8_t>(best_b == 0 ? kPredRefPrevious : kPredRefLinear);
-          ref[p] = static_cast<uint32_t>(best_r);
-          any_ref = true;
+        for (int j = 0; j < kFinalists && fin_b[j] >= 0; ++j) {
+          TokenHist h = first[p];
+          ref_cost(e[fin_b[j]], w.valid.data(), F, N, p, fin_r[j], &h, &res, &vs);
+          const uint64_t c = h.bits16();
+          if (c < best[p]) {
+            best[p] = c;
+            modes[p] = static_cast<uint8_t>(fin_b[j] == 0 ? kPredRefPrevious : kPredRefLinear);
+            ref[p] = static_cast<uint32_t>(fin_r[j]);
+            any_ref = true;
+          }
         }
       }
     }
