@@ -3,6 +3,9 @@
 #include <cstring>
 #include <iostream>
 #include <string>
+#if defined(__GLIBC__)  // set by any libc header above
+#include <malloc.h>
+#endif
 
 #include "capz/error.h"
 #include "commands.h"
@@ -41,6 +44,14 @@ void usage(std::FILE* out) {
 }  // namespace
 
 int main(int argc, char** argv) {
+#if defined(__GLIBC__)
+  // Each window allocates and frees the same few large buffers. By default glibc serves those
+  // with mmap and returns them on free, so every window pays fresh page faults (about a sixth
+  // of the CPU time of compressing AlbertoREAL.c3d). Keeping up to 64 MiB of freed heap for
+  // reuse removes that; memory stays bounded by the window.
+  mallopt(M_MMAP_THRESHOLD, 64 << 20);
+  mallopt(M_TRIM_THRESHOLD, 64 << 20);
+#endif
   if (argc < 2) {
     usage(stderr);
     return 1;

@@ -52,20 +52,54 @@ struct Grid {
   bool lossless = false;
 };
 
-inline double dequantise(const Grid& g, int32_t q, uint32_t lo) {
-  switch (g.mode) {
+template <PosMode M>
+inline double dequantise_as(const Grid& g, int32_t q, uint32_t lo) {
+  if constexpr (M == PosMode::kGrid) return static_cast<double>(q) * g.step;
+  if constexpr (M == PosMode::kDecimal) return static_cast<double>(q) / g.step;
+  if constexpr (M == PosMode::kFloat32) return static_cast<double>(ordered_to_float(q));
+  if constexpr (M == PosMode::kFloat32Grid)
+    return static_cast<double>(static_cast<float>(static_cast<double>(q) * g.step));
+  if constexpr (M == PosMode::kFloat64)
+    return ordered_to_double(
+        static_cast<int64_t>((static_cast<uint64_t>(static_cast<uint32_t>(q)) << 32) | lo));
+}
+
+// Calls fn(std::integral_constant<PosMode, g.mode>()): one dispatch, then code for that mode.
+template <typename Fn>
+void with_mode(PosMode m, Fn&& fn) {
+  switch (m) {
     case PosMode::kGrid:
-      return static_cast<double>(q) * g.step;
+      return fn(std::integral_constant<PosMode, PosMode::kGrid>());
     case PosMode::kDecimal:
-      return static_cast<double>(q) / g.step;
+      return fn(std::integral_constant<PosMode, PosMode::kDecimal>());
     case PosMode::kFloat32:
-      return static_cast<double>(ordered_to_float(q));
+      return fn(std::integral_constant<PosMode, PosMode::kFloat32>());
     case PosMode::kFloat32Grid:
-      return static_cast<double>(static_cast<float>(static_cast<double>(q) * g.step));
-    default:
-      return ordered_to_double(
-          static_cast<int64_t>((static_cast<uint64_t>(static_cast<uint32_t>(q)) << 32) | lo));
+      return fn(std::integral_constant<PosMode, PosMode::kFloat32Grid>());
+    case PosMode::kFloat64:
+      return fn(std::integral_constant<PosMode, PosMode::kFloat64>());
   }
+}
+
+inline double dequantise(const Grid& g, int32_t q, uint32_t lo) {
+  double x = 0;
+  with_mode(g.mode, [&](auto m) { x = dequantise_as<decltype(m)::value>(g, q, lo); });
+  return x;
+}
+
+// dequantise() of every valid coordinate of a window into rec (frames x points x 3), one loop
+// per mode.
+void dequantise_window(const Grid& g, const WindowInts& wi, std::vector<double>* rec) {
+  const size_t n = wi.frames * wi.points;
+  double* out = rec->data();
+  const int32_t* q = wi.q.data();
+  const uint32_t* lo = g.mode == PosMode::kFloat64 ? wi.lo.data() : nullptr;
+  with_mode(g.mode, [&](auto m) {
+    for (size_t i = 0; i < n; ++i)
+      if (wi.valid[i])
+        for (size_t k = i * 3; k < i * 3 + 3; ++k)
+          out[k] = dequantise_as<decltype(m)::value>(g, q[k], lo ? lo[k] : 0);
+  });
 }
 
 // C3D reads an all-zero coordinate triple as a gap, so a valid sample that quantises to
@@ -94,10 +128,11 @@ inline double as_written(double x, double scale) {
 }
 
 // True when grid g reproduces coordinate x exactly (bit for bit).
-inline bool grid_exact_at(const Grid& g, double x) {
-  const double v = g.mode == PosMode::kDecimal ? x * g.step : x / g.step;
+template <PosMode M>
+inline bool grid_exact_as(const Grid& g, double x) {
+  const double v = M == PosMode::kDecimal ? x * g.step : x / g.step;
   if (!(std::fabs(v) <= kMaxGridIndex)) return false;
-  return same_bits(dequantise(g, round_to_int(v), 0), x);
+  return same_bits(dequantise_as<M>(g, round_to_int(v), 0), x);
 }
 
 // What choosing the grid needs to know of every valid sample, gathered in one pass over the
@@ -173,10 +208,22 @@ void scan_block(const FrameBlock& b, const std::string& src, bool words, double 
       s->max_abs = std::max(s->max_abs, ax);
       cheb = std::max(cheb, ax);
       if (s->lossless && s->all_float32 && !is_float32(x[a])) s->all_float32 = false;
-      for (size_t c = 0; c < s->candidates.size(); ++c)
-        if (s->exact[c] && !grid_exact_at(s->candidates[c], x[a])) s->exact[c] = 0;
     }
     s->min_cheb = std::min(s->min_cheb, cheb);
+  }
+  // Each candidate grid still exact, one loop per grid (its mode fixed), until a miss.
+  for (size_t c = 0; c < s->candidates.size(); ++c) {
+    if (!s->exact[c]) continue;
+    const Grid& g = s->candidates[c];
+    with_mode(g.mode, [&](auto m) {
+      for (size_t i = 0; i < n; ++i)
+        if (b.valid[i])
+          for (size_t k = i * 3; k < i * 3 + 3; ++k)
+            if (!grid_exact_as<decltype(m)::value>(g, b.xyz[k])) {
+              s->exact[c] = 0;
+              return;
+            }
+    });
   }
   if (words && s->words_on_grid && !residuals_on_grid(b.residual, b.valid, point_scale))
     s->words_on_grid = false;
@@ -367,30 +414,31 @@ WindowInts window_ints(const FrameBlock& b, const Grid& g) {
   // float-cast-overflow; GCC's does not).
   if (g.mode == PosMode::kGrid && g.step == 0) return w;
   const double* x = b.xyz.data();
-  for (size_t i = 0; i < n; ++i) {
-    if (!w.valid[i]) continue;
-    for (size_t k = i * 3; k < i * 3 + 3; ++k) {
-      switch (g.mode) {
-        case PosMode::kGrid:
-          w.q[k] = round_to_int(x[k] / g.step);
-          break;
-        case PosMode::kDecimal:
-          w.q[k] = round_to_int(x[k] * g.step);
-          break;
-        case PosMode::kFloat32:
-          w.q[k] = float_to_ordered(static_cast<float>(x[k]));
-          break;
-        case PosMode::kFloat32Grid:
-          w.q[k] = round_to_int(x[k] / g.step);
-          break;
-        case PosMode::kFloat64: {
-          uint64_t o = static_cast<uint64_t>(double_to_ordered(x[k]));
-          w.q[k] = static_cast<int32_t>(static_cast<uint32_t>(o >> 32));
-          w.lo[k] = static_cast<uint32_t>(o);
-          break;
-        }
-      }
-    }
+  // One loop per mode (the mode is the same for every coordinate).
+  auto each_valid = [&](auto quantise) {
+    for (size_t i = 0; i < n; ++i)
+      if (w.valid[i])
+        for (size_t k = i * 3; k < i * 3 + 3; ++k) quantise(k);
+  };
+  const double step = g.step;
+  switch (g.mode) {
+    case PosMode::kGrid:
+    case PosMode::kFloat32Grid:
+      each_valid([&](size_t k) { w.q[k] = round_to_int(x[k] / step); });
+      break;
+    case PosMode::kDecimal:
+      each_valid([&](size_t k) { w.q[k] = round_to_int(x[k] * step); });
+      break;
+    case PosMode::kFloat32:
+      each_valid([&](size_t k) { w.q[k] = float_to_ordered(static_cast<float>(x[k])); });
+      break;
+    case PosMode::kFloat64:
+      each_valid([&](size_t k) {
+        uint64_t o = static_cast<uint64_t>(double_to_ordered(x[k]));
+        w.q[k] = static_cast<int32_t>(static_cast<uint32_t>(o >> 32));
+        w.lo[k] = static_cast<uint32_t>(o);
+      });
+      break;
   }
   return w;
 }
@@ -768,18 +816,20 @@ void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut
 
     // Reconstruction as the decoder will produce it, for the bound check and the stats.
     std::vector<double> rec(fn * N * 3, 0.0);
-    for (size_t i = 0; i < fn * N; ++i)
-      if (wi.valid[i]) {
-        for (size_t k = i * 3; k < i * 3 + 3; ++k) {
-          rec[k] = tout ? recon[k] : dequantise(g, wi.q[k], f64 ? wi.lo[k] : 0);
-          if (!std::isfinite(rec[k]))
-            check_failed(take, w, "a valid coordinate reconstructs to a non-finite value");
-        }
-        keep_valid_off_origin(take.format, g.lossless, &rec[i * 3]);
-      }
+    if (tout) {
+      for (size_t i = 0; i < fn * N; ++i)
+        if (wi.valid[i]) std::copy(&recon[i * 3], &recon[i * 3 + 3], &rec[i * 3]);
+    } else {
+      dequantise_window(g, wi, &rec);
+    }
     const double* orig = block.xyz.data();
-    for (size_t i = 0; i < fn * N && !tout; ++i) {  // transform output promises no bound
+    for (size_t i = 0; i < fn * N; ++i) {
       if (!wi.valid[i]) continue;
+      for (size_t k = i * 3; k < i * 3 + 3; ++k)
+        if (!std::isfinite(rec[k]))
+          check_failed(take, w, "a valid coordinate reconstructs to a non-finite value");
+      keep_valid_off_origin(take.format, g.lossless, &rec[i * 3]);
+      if (tout) continue;  // transform output promises no bound
       for (size_t k = i * 3; k < i * 3 + 3; ++k) {
         bool ok = g.lossless ? same_bits(rec[k], orig[k]) : std::fabs(rec[k] - orig[k]) <= g.bound;
         if (!ok)
@@ -1103,12 +1153,10 @@ void decode_window(StreamBytes& bytes, const std::string& name, const Parsed& ps
   g.mode = h.mode;
   g.step = h.step;
   out->valid = wi.valid;
+  if (!h.transform_output) dequantise_window(g, wi, &out->xyz);
   for (size_t i = 0; i < fn * N; ++i)
     if (wi.valid[i]) {
-      for (int a = 0; a < 3; ++a)
-        out->xyz[i * 3 + a] = h.transform_output
-                                  ? tout_xyz[i * 3 + a]
-                                  : dequantise(g, wi.q[i * 3 + a], f64 ? wi.lo[i * 3 + a] : 0);
+      if (h.transform_output) std::copy(&tout_xyz[i * 3], &tout_xyz[i * 3 + 3], &out->xyz[i * 3]);
       keep_valid_off_origin(h.source_format, h.lossless, &out->xyz[i * 3]);
     }
   if (ps.words) {

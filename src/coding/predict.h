@@ -64,7 +64,9 @@ inline int64_t round_div(int64_t n, int64_t d) {
 // Predictor 7: the least-squares line through q[f-1] .. q[f-K], K = min(6, f), at frame f, as
 // q[f-1] + rdiv(sum_{j=2..K} (4K + 2 - 6j) (q[f-j] - q[f-1]), K (K - 1)) (FORMAT.md 3.3).
 // Differences wrap to int32; the sum (|.| < 5 * 26 * 2^31) cannot overflow int64.
-inline int32_t predict_smooth(size_t f, const int32_t* c, size_t stride) {
+// Always inlined: the walks call it per coordinate, where a call costs about as much as its body.
+__attribute__((always_inline)) inline int32_t predict_smooth(size_t f, const int32_t* c,
+                                                             size_t stride) {
   const int32_t q1 = *(c - stride);
   auto d = [&](size_t j) { return static_cast<int64_t>(wrap_sub(*(c - j * stride), q1)); };
   int64_t r;

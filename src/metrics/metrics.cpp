@@ -12,7 +12,10 @@ void ErrorAccumulator::add(size_t frames, size_t points, const double* a, const 
                            const uint8_t* valid) {
   // The running figures in locals (registers), stored back at the end: the same operations in
   // the same order as on the members, which the stores would otherwise force to memory.
-  double max_abs = s_.max_abs, max_error = s_.max_error, sq = sq_, centred_sq = centred_sq_;
+  double max_abs = s_.max_abs, sq = sq_, centred_sq = centred_sq_;
+  // The block's largest squared error, its root taken once at the end: sqrt is correctly
+  // rounded and monotonic, so sqrt(max d2) = max sqrt(d2) exactly.
+  double max_d2 = 0;
   double lo[3] = {lo_[0], lo_[1], lo_[2]}, hi[3] = {hi_[0], hi_[1], hi_[2]};
   size_t samples = s_.samples;
   for (size_t f = 0; f < frames; ++f) {
@@ -40,13 +43,13 @@ void ErrorAccumulator::add(size_t frames, size_t points, const double* a, const 
         lo[k] = std::min(lo[k], x[k]);
         hi[k] = std::max(hi[k], x[k]);
       }
-      max_error = std::max(max_error, std::sqrt(d2));
+      max_d2 = std::max(max_d2, d2);
       sq += d2;
       ++samples;
     }
   }
   s_.max_abs = max_abs;
-  s_.max_error = max_error;
+  s_.max_error = std::max(s_.max_error, std::sqrt(max_d2));
   sq_ = sq;
   centred_sq_ = centred_sq;
   for (int k = 0; k < 3; ++k) lo_[k] = lo[k], hi_[k] = hi[k];
