@@ -177,15 +177,27 @@ class ResidualContexts {
     int escape_set(int ctx) const { return eset_[ctx]; }
     // The offset of scheme 3's contexts for a point whose predictor is `mode` (0 otherwise).
     int family(int mode) const { return scheme_ == 3 && extrapolates(mode) ? 224 : 0; }
+    template <int Scheme>
+    int family_as(int mode) const {
+      return Scheme == 3 && extrapolates(mode) ? 224 : 0;
+    }
     // Context of axis a of point p (k = 3 p + a, a = k % 3) when tb was coded last in the
     // frame, `fam` = family(the point's predictor).
     int context(size_t k, int tb, int fam = 0) const {
+      return scheme_ == 3   ? context_as<3>(k, tb, fam)
+             : scheme_ == 1 ? context_as<1>(k, tb, fam)
+                            : context_as<2>(k, tb, fam);
+    }
+    // The same for a scheme known at compile time (walk_window's loops).
+    template <int Scheme>
+    int context_as(size_t k, int tb, int fam) const {
       const int t = tb < 3 ? tb : 3;
       const State& s = st_[k];
-      if (scheme_ == 3) return fam + 56 * t + s.u;
-      if (scheme_ == 1) return std::min<int>(s.ta, 7) * 4 + t;
+      if (Scheme == 3) return fam + 56 * t + s.u;
+      if (Scheme == 1) return std::min<int>(s.ta, 7) * 4 + t;
       return (s.ta ? kTokBucket[s.ta] : kRunBucket[s.z]) * 4 + t;
     }
+    int scheme() const { return scheme_; }
     void update(size_t k, int tok) {
       State& s = st_[k];
       if (tok) {
@@ -267,17 +279,13 @@ inline void with_predictor(int m, Fn&& fn) {
   }
 }
 
-// Codes (or decodes) one window frame by frame, point by point, x, y, z (FORMAT.md 3.3):
-// `code(i, pred, ctx, &tok)` returns q[i] and the residual's token. Gap samples are filled so
-// histories stay defined. `period` is the window's period T (only read by predictors 8 and 9).
-// Coder is trivially copyable: the walk codes through a local copy (kept in registers) and
-// stores it back into `coder` at the end.
-template <typename Coder>
-void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8_t* modes,
-                 const uint32_t* ref, const int32_t* t, int32_t* q, ResidualContexts& contexts,
-                 Coder& coder, size_t period = 0) {
+// walk_window with the contexts' scheme fixed at compile time, so the per-value path has no
+// branch on it.
+template <int Scheme, typename Coder>
+void walk_window_as(size_t frames, size_t points, const uint8_t* valid, const uint8_t* modes,
+                    const uint32_t* ref, const int32_t* t, int32_t* q, ResidualContexts::Cursor ctx,
+                    Coder& coder, size_t period) {
   Coder code = coder;
-  ResidualContexts::Cursor ctx = contexts.cursor();
   const size_t stride = points * 3;
   for (size_t f = 0; f < frames; ++f) {
     int tb = 0;
@@ -285,7 +293,7 @@ void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8
     for (size_t p = 0; p < points; ++p) {
       const size_t i = f * stride + p * 3;
       const int m = modes[p];
-      const int fam = ctx.family(m);
+      const int fam = ctx.family_as<Scheme>(m);
       const bool transform = m == kPredTransform || m == kPredTransformLinear;
       if (!valid[f * points + p]) {
         for (int a = 0; a < 3; ++a)
@@ -316,7 +324,7 @@ void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8
       }
       for (int a = 0; a < 3; ++a) {
         int tok;
-        q[i + a] = code(i + a, pred[a], ctx.context(p * 3 + a, tb, fam), &tok);
+        q[i + a] = code(i + a, pred[a], ctx.context_as<Scheme>(p * 3 + a, tb, fam), &tok);
         ctx.update(p * 3 + a, tok);
         tb = tok;
       }
@@ -324,6 +332,26 @@ void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8
     }
   }
   coder = code;
+}
+
+// Codes (or decodes) one window frame by frame, point by point, x, y, z (FORMAT.md 3.3):
+// `code(i, pred, ctx, &tok)` returns q[i] and the residual's token. Gap samples are filled so
+// histories stay defined. `period` is the window's period T (only read by predictors 8 and 9).
+// Coder is trivially copyable: the walk codes through a local copy (kept in registers) and
+// stores it back into `coder` at the end.
+template <typename Coder>
+void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8_t* modes,
+                 const uint32_t* ref, const int32_t* t, int32_t* q, ResidualContexts& contexts,
+                 Coder& coder, size_t period = 0) {
+  const ResidualContexts::Cursor ctx = contexts.cursor();
+  switch (ctx.scheme()) {
+    case 3:
+      return walk_window_as<3>(frames, points, valid, modes, ref, t, q, ctx, coder, period);
+    case 2:
+      return walk_window_as<2>(frames, points, valid, modes, ref, t, q, ctx, coder, period);
+    default:
+      return walk_window_as<1>(frames, points, valid, modes, ref, t, q, ctx, coder, period);
+  }
 }
 
 }  // namespace capz

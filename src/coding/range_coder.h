@@ -264,13 +264,13 @@ class SymbolModel {
   // Enc: RangeEncoder or anything with encode(start, freq); Dec: RangeDecoder or anything with
   // target() and consume(start, freq) (the cursors of entropy.h).
   template <typename Enc>
-  void encode(Enc* enc, int s) {
+  __attribute__((always_inline)) void encode(Enc* enc, int s) {
     const uint32_t lo = cum_[s], hi = cum_[s + 1];
     enc->encode(lo, hi - lo);
     update(s);
   }
   template <typename Dec>
-  int decode(Dec* dec) {
+  __attribute__((always_inline)) int decode(Dec* dec) {
     const int s = find(static_cast<int>(dec->target()));
     const uint32_t lo = cum_[s], hi = cum_[s + 1];
     dec->consume(lo, hi - lo);
