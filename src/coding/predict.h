@@ -86,8 +86,9 @@ __attribute__((always_inline)) inline int32_t predict_smooth(size_t f, const int
 // Prediction of q[f] from the point's history. `c` points at q[f][p][a]; `stride` = points * 3;
 // `tc` at t[f][p][a] (may be null when no transform ran); `period` is the window's period T
 // (used by predictors 8 and 9 only). Requires f >= 1.
-inline int32_t predict_one(int mode, size_t f, const int32_t* c, size_t stride, const int32_t* tc,
-                           size_t period = 0) {
+__attribute__((always_inline)) inline int32_t predict_one(int mode, size_t f, const int32_t* c,
+                                                          size_t stride, const int32_t* tc,
+                                                          size_t period = 0) {
   const int32_t q1 = *(c - stride);
   switch (mode) {
     case kPredSmooth:
@@ -306,16 +307,17 @@ void walk_window_as(size_t frames, size_t points, const uint8_t* valid, const ui
       if (f == 0) {
         for (int a = 0; a < 3; ++a) pred[a] = transform ? t[i + a] : last[a];
       } else if (uses_ref(m)) {
-        const int base = m == kPredRefPrevious ? kPredPrevious : kPredLinear;
         const size_t r = ref[p];
         const bool rv = valid[f * points + r] != 0;
-        for (int a = 0; a < 3; ++a) {
-          pred[a] = predict_one(base, f, q + i + a, stride, nullptr);
-          if (rv) {
-            const int32_t* qr = q + f * stride + r * 3 + a;
-            pred[a] = wrap_add(pred[a], wrap_sub(*qr, predict_one(base, f, qr, stride, nullptr)));
+        with_predictor(m == kPredRefPrevious ? kPredPrevious : kPredLinear, [&](auto base) {
+          for (int a = 0; a < 3; ++a) {
+            pred[a] = predict_one(base, f, q + i + a, stride, nullptr);
+            if (rv) {
+              const int32_t* qr = q + f * stride + r * 3 + a;
+              pred[a] = wrap_add(pred[a], wrap_sub(*qr, predict_one(base, f, qr, stride, nullptr)));
+            }
           }
-        }
+        });
       } else {
         with_predictor(m, [&](auto mode) {
           for (int a = 0; a < 3; ++a)

@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -43,13 +44,39 @@ struct NumberFormat {
                               : static_cast<uint16_t>(p[0] | (p[1] << 8));
   }
   int16_t i16(const uint8_t* p) const { return static_cast<int16_t>(u16(p)); }
-  float f32(const uint8_t* p) const;
+  float f32(const uint8_t* p) const {
+    if (processor == kDec) return dec_to_float(p);
+    uint32_t u;
+    if (processor == kMips)
+      u = (static_cast<uint32_t>(p[0]) << 24) | (static_cast<uint32_t>(p[1]) << 16) |
+          (static_cast<uint32_t>(p[2]) << 8) | p[3];
+    else
+      u = static_cast<uint32_t>(p[0]) | (static_cast<uint32_t>(p[1]) << 8) |
+          (static_cast<uint32_t>(p[2]) << 16) | (static_cast<uint32_t>(p[3]) << 24);
+    float f;
+    std::memcpy(&f, &u, 4);
+    return f;
+  }
 };
 
-// Host form used inside C3DParameter::data and written by capz: little-endian.
-void put_u16le(uint16_t v, uint8_t* out);
-void put_f32le(float v, uint8_t* out);
-float get_f32le(const uint8_t* p);
+// Host form used inside C3DParameter::data and written by capz: little-endian. Inline: the
+// frame readers and writers call them per coordinate.
+inline void put_u16le(uint16_t v, uint8_t* out) {
+  out[0] = static_cast<uint8_t>(v & 0xff);
+  out[1] = static_cast<uint8_t>(v >> 8);
+}
+inline void put_f32le(float v, uint8_t* out) {
+  uint32_t u;
+  std::memcpy(&u, &v, 4);
+  for (int i = 0; i < 4; ++i) out[i] = static_cast<uint8_t>(u >> (8 * i));
+}
+inline float get_f32le(const uint8_t* p) {
+  uint32_t u = static_cast<uint32_t>(p[0]) | (static_cast<uint32_t>(p[1]) << 8) |
+               (static_cast<uint32_t>(p[2]) << 16) | (static_cast<uint32_t>(p[3]) << 24);
+  float f;
+  std::memcpy(&f, &u, 4);
+  return f;
+}
 
 // A parsed parameter section.
 struct ParameterSection {

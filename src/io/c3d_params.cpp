@@ -61,39 +61,6 @@ void float_to_dec(float v, uint8_t* out) {
   out[3] = static_cast<uint8_t>(lo >> 8);
 }
 
-float NumberFormat::f32(const uint8_t* p) const {
-  if (processor == kDec) return dec_to_float(p);
-  uint32_t u;
-  if (processor == kMips)
-    u = (static_cast<uint32_t>(p[0]) << 24) | (static_cast<uint32_t>(p[1]) << 16) |
-        (static_cast<uint32_t>(p[2]) << 8) | p[3];
-  else
-    u = static_cast<uint32_t>(p[0]) | (static_cast<uint32_t>(p[1]) << 8) |
-        (static_cast<uint32_t>(p[2]) << 16) | (static_cast<uint32_t>(p[3]) << 24);
-  float f;
-  std::memcpy(&f, &u, 4);
-  return f;
-}
-
-void put_u16le(uint16_t v, uint8_t* out) {
-  out[0] = static_cast<uint8_t>(v & 0xff);
-  out[1] = static_cast<uint8_t>(v >> 8);
-}
-
-void put_f32le(float v, uint8_t* out) {
-  uint32_t u;
-  std::memcpy(&u, &v, 4);
-  for (int i = 0; i < 4; ++i) out[i] = static_cast<uint8_t>(u >> (8 * i));
-}
-
-float get_f32le(const uint8_t* p) {
-  uint32_t u = static_cast<uint32_t>(p[0]) | (static_cast<uint32_t>(p[1]) << 8) |
-               (static_cast<uint32_t>(p[2]) << 16) | (static_cast<uint32_t>(p[3]) << 24);
-  float f;
-  std::memcpy(&f, &u, 4);
-  return f;
-}
-
 // ---- parsing --------------------------------------------------------------------------------
 
 namespace {
