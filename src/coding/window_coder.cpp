@@ -267,21 +267,44 @@ void ref_cost(const std::vector<int32_t>& e, const uint8_t* valid, size_t frames
   h->add_run3(in, vs->data(), 1, frames, st);
 }
 
-// Rank of reference r for point p under base residuals e: the summed bit lengths of p's
-// residuals (its base residual minus r's where r is valid) on frames 1, 1 + step, ...
-uint64_t ref_rank_cost(const std::vector<int32_t>& e, const uint8_t* valid, size_t frames,
-                       size_t points, size_t p, size_t r, size_t step) {
-  const size_t stride = points * 3;
-  uint64_t bits = 0;
-  for (size_t f = 1; f < frames; f += step) {
-    if (!valid[f * points + p]) continue;
-    const int32_t* c = &e[f * stride + p * 3];
-    const int32_t* cr = &e[f * stride + r * 3];
-    const bool rv = valid[f * points + r] != 0;
-    for (int a = 0; a < 3; ++a) bits += bit_cost(rv ? wrap_sub(c[a], cr[a]) : c[a]);
+// The base residuals e[0], e[1] of every point on the frames 1, 1 + step, ... that rank the
+// reference candidates, point by point (so a pair's rank reads two short contiguous runs, not
+// one cache line per frame): per point, per sampled frame, the three values of each base, 0
+// for a gap, and a mask of -1 where the point is valid (0 where not).
+struct RankSamples {
+  size_t n = 0;               // sampled frames
+  std::vector<int32_t> e[2];  // [point][sample][axis]
+  std::vector<int32_t> mask;  // [point][sample]
+  RankSamples(const std::vector<int32_t> base[2], const uint8_t* valid, size_t frames,
+              size_t points, size_t step) {
+    const size_t stride = points * 3;
+    n = frames > 1 ? (frames - 2) / step + 1 : 0;
+    for (int b = 0; b < 2; ++b) e[b].assign(points * n * 3, 0);
+    mask.assign(points * n, 0);
+    for (size_t j = 0; j < n; ++j) {
+      const size_t f = 1 + j * step;
+      for (size_t p = 0; p < points; ++p) {
+        if (!valid[f * points + p]) continue;
+        mask[p * n + j] = -1;
+        for (int b = 0; b < 2; ++b)
+          for (size_t a = 0; a < 3; ++a)
+            e[b][(p * n + j) * 3 + a] = base[b][f * stride + p * 3 + a];
+      }
+    }
   }
-  return bits;
-}
+  // Rank of reference r for point p under base b: the summed bit lengths of p's residuals (its
+  // base residual minus r's where r is valid) on the sampled frames where p is valid.
+  uint64_t rank(int b, size_t p, size_t r) const {
+    const int32_t* c = &e[b][p * n * 3];
+    const int32_t* cr = &e[b][r * n * 3];
+    const int32_t* m = &mask[p * n];
+    uint64_t bits = 0;
+    for (size_t j = 0; j < n; ++j)
+      for (size_t a = 0; a < 3; ++a)
+        bits += bit_cost(wrap_sub(c[j * 3 + a], cr[j * 3 + a]) & m[j]);  // r's gaps hold 0
+    return bits;
+  }
+};
 
 // The window's period for predictors 8/9, or 0 when none is worth trying. Differences
 // q[f] - q[f-T] are costed (bit_cost, averaged) on a sample of points and frames for each T in
@@ -403,12 +426,13 @@ std::vector<uint8_t> encode_positions(const WindowInts& w,
       }
     }
     // Reference predictors. Candidate pairs (reference, base) are ranked by the summed bit
-    // lengths of their residuals on every `step`-th frame (ref_rank_cost); the full estimate of
+    // lengths of their residuals on every `step`-th frame (RankSamples); the full estimate of
     // the two best then competes with the point's best predictor so far.
     if (scheme >= 2 && F > 2 && N > 1) {
       size_t K;
       std::vector<uint32_t> cand = ref_candidates(q.data(), w.valid.data(), F, N, &K);
       const size_t step = F >= 512 ? 8 : F >= 256 ? 4 : F >= 64 ? 2 : 1;
+      const RankSamples samples(e, w.valid.data(), F, N, step);
       for (size_t p = 1; p < N; ++p) {
         constexpr int kFinalists = 2;
         uint64_t rank[kFinalists] = {UINT64_MAX, UINT64_MAX};
@@ -417,7 +441,7 @@ std::vector<uint8_t> encode_positions(const WindowInts& w,
         for (size_t k = 0; k < K && cand[p * K + k] != UINT32_MAX; ++k)
           for (int b = 0; b < 2; ++b) {
             const size_t r = cand[p * K + k];
-            const uint64_t c = ref_rank_cost(e[b], w.valid.data(), F, N, p, r, step);
+            const uint64_t c = samples.rank(b, p, r);
             for (int j = 0; j < kFinalists; ++j)
               if (c < rank[j]) {
                 for (int m = kFinalists - 1; m > j; --m)
