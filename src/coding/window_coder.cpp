@@ -13,8 +13,10 @@ namespace capz {
 namespace {
 
 inline uint32_t bit_cost(int32_t r) {
-  uint32_t u = zigzag(r);
-  return u ? 33u - static_cast<uint32_t>(__builtin_clz(u)) : 0u;
+  const uint32_t u = zigzag(r);
+  // Without a branch (zero and nonzero residuals alternate unpredictably): clz(u | 1) is
+  // defined for every u, and the mask zeroes the result for u = 0.
+  return (33u - static_cast<uint32_t>(__builtin_clz(u | 1))) & (0u - (u != 0));
 }
 
 // What the estimate conditions a residual on, per point, axis and predictor: the previous token
