@@ -93,8 +93,9 @@ class FrameSink {
   virtual void prescan(const FrameBlock&) {}
   // Instead of the prescan, a sink may offer to plan its output from what it expects and check
   // each block as it is written (true: it will). If a block then proves the plan wrong, the sink
-  // discards what it wrote and needs_rewrite() turns true: the caller prescans every frame and
-  // writes them all again. The output is the same either way.
+  // discards what it wrote and needs_rewrite() turns true: the caller writes every frame again,
+  // after a prescan of them all if wants_prescan() still holds (a C3D sink that found a value
+  // beyond int16 knows the file is float and needs none). The output is the same either way.
   virtual bool skip_prescan() { return false; }
   virtual bool needs_rewrite() const { return false; }
   // Frames in order, starting at 0, ending at header().frames.
@@ -111,8 +112,9 @@ std::unique_ptr<FrameSink> create_frame_sink(const Take& header, bool words,
 
 // Compresses a source window by window into `path` (an AtomicFile). Same bytes as compress()
 // on the whole take. Lossless and --max-error read the source twice (a scan that fixes the
-// grid, then the coding pass); a KG target reads it once per bisection step of the grid search
-// (about 30). codec "auto" is not streamed (throws kInvalidParameter: use compress()).
+// grid, then the coding pass); a KG target reads it three times when its valid coordinates fit
+// CompressOptions::kg_cache_bytes, else once per bisection step of the grid search (about 26)
+// plus two. codec "auto" is not streamed (throws kInvalidParameter: use compress()).
 void compress_stream(FrameSource& source, const CompressOptions& opts, const std::string& path,
                      bool overwrite, CompressStats* stats = nullptr);
 

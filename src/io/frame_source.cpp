@@ -198,7 +198,9 @@ class C3DSink : public FrameSink {
     check_output_free(path, opts.overwrite);
     scan_.scale = c3d::c3d_known_scale(header_);
   }
-  bool wants_prescan() const override { return c3d::c3d_needs_scan(header_, opts_); }
+  bool wants_prescan() const override {
+    return !known_float_ && c3d::c3d_needs_scan(header_, opts_);
+  }
   void prescan(const FrameBlock& b) override {
     scan_.add(b.frames * b.points, b.xyz.data(), b.valid.data(), b.analog.size(), b.analog.data());
   }
@@ -233,13 +235,17 @@ class C3DSink : public FrameSink {
                              words_ ? b.camera_mask.data() : nullptr, b.analog.data(), buf_.data(),
                              optimistic_ ? &fits : nullptr);
     }
-    if (!fits) {      // back to the plain path: a prescan of every frame, then the writes
-      file_.reset();  // the temporary file is removed, nothing was committed
+    if (!fits) {      // the file cannot be int16 at the take's scale: float storage, then
+      file_.reset();  // (the temporary file is removed, nothing was committed)
       written_ = 0;
       optimistic_ = false;
       rewrite_ = true;
+      // What a prescan of every frame would conclude, without one (the plan reads only the
+      // scale and the fit when the scale is known): every frame is written again, once.
       scan_ = c3d::C3DWriteScan();
       scan_.scale = c3d::c3d_known_scale(header_);
+      scan_.fits = false;
+      known_float_ = true;
       return;
     }
     file_->write(buf_);
@@ -270,7 +276,8 @@ class C3DSink : public FrameSink {
   std::unique_ptr<AtomicFile> file_;
   std::vector<uint8_t> buf_;
   size_t written_ = 0;
-  bool optimistic_ = false;  // writing without a prescan (skip_prescan)
+  bool optimistic_ = false;   // writing without a prescan (skip_prescan)
+  bool known_float_ = false;  // a block did not fit int16: float storage, no prescan needed
   bool rewrite_ = false;
 };
 
@@ -359,7 +366,7 @@ void copy_frames(FrameSource& source, FrameSink& sink, size_t block) {
       sink.write(b);
       done = !sink.needs_rewrite();
     }
-    prescan = true;  // a rewrite follows the prescan skip_prescan avoided
+    prescan = sink.wants_prescan();  // before a rewrite, if the sink still needs one
   }
   sink.commit();
 }

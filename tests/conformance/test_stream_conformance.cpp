@@ -270,9 +270,28 @@ TEST(StreamCodec, GivenRealStreamsThenWindowByWindowDecodeWritesTheSameFile) {
   }
 }
 
+// A source that counts the frames read through it (a .capz source decodes each of them).
+class CountingSource : public FrameSource {
+ public:
+  explicit CountingSource(std::unique_ptr<FrameSource> inner) : inner_(std::move(inner)) {
+    edit_header() = inner_->header();
+  }
+  bool has_sample_words() const override { return inner_->has_sample_words(); }
+  void read(size_t first, size_t count, FrameBlock* out) override {
+    inner_->read(first, count, out);
+    frames_read += out->frames;
+  }
+  size_t frames_read = 0;
+
+ private:
+  std::unique_ptr<FrameSource> inner_;
+};
+
 // The C3D writer fed block by block writes int16 frames before it has seen them all (a prescan
 // would decode a .capz twice): a value that does not fit int16 at the take's scale, in the first
-// block or a later one, must still give the float file the whole-take writer gives.
+// block or a later one, must still give the float file the whole-take writer gives. It then
+// writes every frame again as float, without a prescan: each frame is read at most twice (once
+// when every value fits).
 TEST(StreamCodec, GivenAnInt16TakeWithAnOutOfRangeValueThenTheStreamedC3DFallsBackToFloat) {
   capz_test::TempDir dir("capz_stream");
   const Take orig = read_take(kData + "/c3d/c3dorg/sample_34/AlbertoREAL.c3d");
@@ -280,12 +299,14 @@ TEST(StreamCodec, GivenAnInt16TakeWithAnOutOfRangeValueThenTheStreamedC3DFallsBa
   WriteOptions wo;
   wo.overwrite = true;
   // Writes t whole and streamed; true when both files are the same. *float_out: the storage.
+  size_t frames_read = 0;
   auto same_both_ways = [&](const Take& t, bool* float_out) {
     const std::string a = dir.file("whole.c3d"), b = dir.file("stream.c3d");
     write_take(t, a, wo);
-    std::unique_ptr<FrameSource> src = take_frames(t);
+    CountingSource src(take_frames(t));
     std::unique_ptr<FrameSink> sink = create_frame_sink(t, true, b, wo);
-    copy_frames(*src, *sink, 1024);
+    copy_frames(src, *sink, 1024);
+    frames_read = src.frames_read;
     *float_out = read_take(b).c3d->float_storage;
     return read_file(a) == read_file(b);
   };
@@ -298,10 +319,13 @@ TEST(StreamCodec, GivenAnInt16TakeWithAnOutOfRangeValueThenTheStreamedC3DFallsBa
     t.xyz[3 * i + 1] = 40000.0 * t.c3d->point_scale;  // beyond int16 at the file's scale
     EXPECT_TRUE(same_both_ways(t, &is_float));
     EXPECT_TRUE(is_float);
+    EXPECT_GT(frames_read, t.frames);  // the blocks up to the failing one, then all again
+    EXPECT_LE(frames_read, 2 * t.frames);
   }
   // And every value in range: int16, the same file as the whole-take writer's.
   EXPECT_TRUE(same_both_ways(orig, &is_float));
   EXPECT_FALSE(is_float);
+  EXPECT_EQ(frames_read, orig.frames);
 }
 
 TEST(StreamCodec, GivenACapzThenARangeReadsOnlyTheWindowsItTouches) {
