@@ -221,31 +221,13 @@ void base_residuals(const int32_t* q, size_t frames, size_t points, std::vector<
 }
 
 // Residuals res[f] = x[f] - prediction, f = 1 .. frames - 1, of a trajectory x (one axis of one
-// point, frames contiguous, gaps filled) under predictor `mode` (0-2, 7-9; predict_one's
-// formulas with stride 1, written out for 0-2 so the loops vectorise).
+// point, frames contiguous, gaps filled) under predictor `mode` (0-2, 7-9): predict_one with
+// stride 1, its mode fixed at compile time for the loop.
 void predictor_residuals(int mode, const int32_t* x, size_t frames, size_t period, int32_t* res) {
-  switch (mode) {
-    case kPredPrevious:
-      for (size_t f = 1; f < frames; ++f) res[f] = wrap_sub(x[f], x[f - 1]);
-      break;
-    case kPredLinear:
-      if (frames > 1) res[1] = wrap_sub(x[1], x[0]);
-      for (size_t f = 2; f < frames; ++f)
-        res[f] = wrap_sub(x[f], wrap_sub(wrap_mul(x[f - 1], 2), x[f - 2]));
-      break;
-    case kPredQuadratic:
-      if (frames > 1) res[1] = wrap_sub(x[1], x[0]);
-      if (frames > 2) res[2] = wrap_sub(x[2], wrap_sub(wrap_mul(x[1], 2), x[0]));
-      for (size_t f = 3; f < frames; ++f)
-        res[f] = wrap_sub(x[f], wrap_add(wrap_mul(wrap_sub(x[f - 1], x[f - 2]), 3), x[f - 3]));
-      break;
-    case kPredSmooth:
-      for (size_t f = 1; f < frames; ++f) res[f] = wrap_sub(x[f], predict_smooth(f, x + f, 1));
-      break;
-    default:
-      for (size_t f = 1; f < frames; ++f)
-        res[f] = wrap_sub(x[f], predict_one(mode, f, x + f, 1, nullptr, period));
-  }
+  with_predictor(mode, [&](auto m) {
+    for (size_t f = 1; f < frames; ++f)
+      res[f] = wrap_sub(x[f], predict_one(m, f, x + f, 1, nullptr, period));
+  });
 }
 
 // Adds to h the residuals of point p under base residuals e plus reference r's deviation, over
