@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 
 #include "capz/error.h"
 #include "capz/io.h"
@@ -310,40 +311,52 @@ void encode_c3d_frames(const C3DFilePlan& plan, size_t count, const double* xyz,
   const double scale = plan.scale;
   const size_t elem = float_storage ? 4 : 2;
   uint8_t* d = out;
-  for (size_t f = 0; f < count; ++f) {
-    for (size_t p = 0; p < N; ++p) {
-      const size_t i = f * N + p;
-      uint32_t word4 = 0;
-      if (valid[i] && plan.have_res) {
-        float r = residual[i];
-        long low = r > 0 ? lround_fast(r / scale) : 0;
-        word4 = (static_cast<uint32_t>(camera[i] & 0x7f) << 8) |
-                static_cast<uint32_t>(std::min(255L, std::max(0L, low)));
-      }
-      const double* c = &xyz[3 * i];
-      if (float_storage) {
-        for (int a = 0; a < 3; ++a)
-          put_f32le(valid[i] ? static_cast<float>(c[a]) : 0.0f, d + 4 * a);
-        put_f32le(valid[i] ? static_cast<float>(word4) : -1.0f, d + 12);
-      } else {
-        for (int a = 0; a < 3; ++a) {
-          long q = valid[i] ? lround_fast(c[a] / scale) : 0;
-          fit = fit && q >= -32768 && q <= 32767;  // = fits_int16(c[a], scale)
-          put_u16le(static_cast<uint16_t>(static_cast<int16_t>(q)), d + 2 * a);
+  // One loop per storage and words layout (fixed for the file), so the per-sample path has no
+  // branch on them.
+  auto frames_as = [&](auto float_tag, auto res_tag) {
+    constexpr bool kFloat = decltype(float_tag)::value, kRes = decltype(res_tag)::value;
+    for (size_t f = 0; f < count; ++f) {
+      for (size_t p = 0; p < N; ++p, d += 4 * elem) {
+        const size_t i = f * N + p;
+        const bool v = valid[i] != 0;
+        uint32_t word4 = 0;
+        if (kRes && v) {
+          float r = residual[i];
+          long low = r > 0 ? lround_fast(r / scale) : 0;
+          word4 = (static_cast<uint32_t>(camera[i] & 0x7f) << 8) |
+                  static_cast<uint32_t>(std::min(255L, std::max(0L, low)));
         }
-        put_u16le(valid[i] ? static_cast<uint16_t>(word4) : 0xffff, d + 6);
+        const double* c = &xyz[3 * i];
+        if (kFloat) {
+          for (int a = 0; a < 3; ++a) put_f32le(v ? static_cast<float>(c[a]) : 0.0f, d + 4 * a);
+          put_f32le(v ? static_cast<float>(word4) : -1.0f, d + 12);
+        } else if (v) {
+          for (int a = 0; a < 3; ++a) {
+            const long q = lround_fast(c[a] / scale);
+            fit = fit && q >= -32768 && q <= 32767;  // = fits_int16(c[a], scale)
+            put_u16le(static_cast<uint16_t>(static_cast<int16_t>(q)), d + 2 * a);
+          }
+          put_u16le(static_cast<uint16_t>(word4), d + 6);
+        } else {
+          for (int a = 0; a < 3; ++a) put_u16le(0, d + 2 * a);
+          put_u16le(0xffff, d + 6);
+        }
       }
-      d += 4 * elem;
+      const double* av = analog + f * analog_total;
+      for (size_t k = 0; k < analog_total; ++k, d += elem) {
+        if (kFloat)
+          put_f32le(static_cast<float>(av[k]), d);
+        else
+          put_u16le(static_cast<uint16_t>(static_cast<int32_t>(lround_fast(av[k]))), d);
+      }
     }
-    const double* av = analog + f * analog_total;
-    for (size_t k = 0; k < analog_total; ++k) {
-      if (float_storage)
-        put_f32le(static_cast<float>(av[k]), d);
-      else
-        put_u16le(static_cast<uint16_t>(static_cast<int32_t>(lround_fast(av[k]))), d);
-      d += elem;
-    }
-  }
+  };
+  using Yes = std::true_type;
+  using No = std::false_type;
+  if (float_storage)
+    plan.have_res ? frames_as(Yes(), Yes()) : frames_as(Yes(), No());
+  else
+    plan.have_res ? frames_as(No(), Yes()) : frames_as(No(), No());
   if (points_fit) *points_fit = fit;
 }
 
