@@ -31,6 +31,16 @@ std::vector<std::string> get_strings(ByteReader* r, size_t expect, const char* w
   return v;
 }
 
+// Frame numbers are coded with wrapping int64 arithmetic (FORMAT.md 3.2): every long
+// round-trips, and no input makes the sums overflow (signed overflow is undefined).
+static_assert(sizeof(long) == sizeof(int64_t), "Take::frame_numbers are coded as int64");
+int64_t wrap_add64(int64_t a, int64_t b) {
+  return static_cast<int64_t>(static_cast<uint64_t>(a) + static_cast<uint64_t>(b));
+}
+int64_t wrap_sub64(int64_t a, int64_t b) {
+  return static_cast<int64_t>(static_cast<uint64_t>(a) - static_cast<uint64_t>(b));
+}
+
 }  // namespace
 
 void write_file_header(std::vector<uint8_t>* out) {
@@ -264,15 +274,15 @@ std::vector<uint8_t> encode_meta_fields(const Take& t, bool has_sample_words) {
     } else {
       bool regular = t.frames >= 1;
       for (size_t i = 1; regular && i < t.frames; ++i)
-        regular = x.frame_numbers[i] == x.frame_numbers[0] + static_cast<long>(i);
+        regular = x.frame_numbers[i] == wrap_add64(x.frame_numbers[0], static_cast<int64_t>(i));
       if (regular) {
         w.u8(1);
         w.svarint(x.frame_numbers[0]);
       } else {
         w.u8(2);
-        long prev = 0;
+        int64_t prev = 0;
         for (long v : x.frame_numbers) {
-          w.svarint(v - prev);
+          w.svarint(wrap_sub64(v, prev));
           prev = v;
         }
       }
@@ -389,14 +399,15 @@ void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sam
     }
     uint8_t kf = r.u8();
     if (kf == 1) {
-      long n0 = static_cast<long>(r.svarint());
+      const int64_t n0 = r.svarint();
       x->frame_numbers.resize(t->frames);
-      for (size_t i = 0; i < t->frames; ++i) x->frame_numbers[i] = n0 + static_cast<long>(i);
+      for (size_t i = 0; i < t->frames; ++i)
+        x->frame_numbers[i] = wrap_add64(n0, static_cast<int64_t>(i));
     } else if (kf == 2) {
       if (t->frames > r.remaining()) fail(ErrorCode::kCorrupt, what, "truncated Frame# column");
       x->frame_numbers.resize(t->frames);
-      long prev = 0;
-      for (auto& v : x->frame_numbers) v = prev = prev + static_cast<long>(r.svarint());
+      int64_t prev = 0;
+      for (auto& v : x->frame_numbers) v = prev = wrap_add64(prev, r.svarint());
     } else if (kf != 0) {
       fail(ErrorCode::kCorrupt, what, "unknown Frame# column kind");
     }

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <random>
 
 #include "capz/codec.h"
@@ -295,6 +296,27 @@ TEST(Container, GivenKgTargetWhenSearchCachedOrStreamedThenSameStream) {
   for (size_t cache : {size_t{0}, size_t{24}, size_t{1000} * 8}) {  // 0, 1 triple, 1000 values
     o.kg_cache_bytes = cache;
     EXPECT_EQ(compress(t, o), cached) << "cache of " << cache << " bytes";
+  }
+}
+
+// Frame numbers are coded with wrapping int64 sums (FORMAT.md 3.2): extreme values from the API
+// round-trip exactly, listed and regular (a run that wraps past the largest long), and under
+// UBSan no sum overflows (fuzz corpus crash-frame-number-delta-overflow.capz: a crafted delta).
+TEST(Container, GivenExtremeFrameNumbersThenTheyRoundTripWithoutOverflow) {
+  constexpr long kMax = std::numeric_limits<long>::max(), kMin = std::numeric_limits<long>::min();
+  const std::vector<std::vector<long>> cases = {
+      {kMax, kMin, 0, kMax, -1, kMin},                        // listed
+      {kMax - 2, kMax - 1, kMax, kMin, kMin + 1, kMin + 2}};  // regular, wrapping
+  for (const auto& numbers : cases) {
+    Take t = synthetic(6, 3, 0, 5);
+    t.trc = std::make_shared<TRCExtra>();
+    t.trc->frame_numbers = numbers;
+    CompressOptions o;
+    o.lossless = true;
+    auto bytes = compress(t, o);
+    Take b = decompress(bytes.data(), bytes.size());
+    ASSERT_TRUE(b.trc);
+    EXPECT_EQ(b.trc->frame_numbers, numbers);
   }
 }
 
