@@ -81,13 +81,7 @@ void with_mode(PosMode m, Fn&& fn) {
   }
 }
 
-inline double dequantise(const Grid& g, int32_t q, uint32_t lo) {
-  double x = 0;
-  with_mode(g.mode, [&](auto m) { x = dequantise_as<decltype(m)::value>(g, q, lo); });
-  return x;
-}
-
-// dequantise() of every valid coordinate of a window into rec (frames x points x 3), one loop
+// dequantise_as() of every valid coordinate of a window into rec (frames x points x 3), one loop
 // per mode.
 void dequantise_window(const Grid& g, const WindowInts& wi, std::vector<double>* rec) {
   const size_t n = wi.frames * wi.points;

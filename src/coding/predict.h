@@ -177,19 +177,13 @@ class ResidualContexts {
     // set 0.
     int escape_set(int ctx) const { return eset_[ctx]; }
     // The offset of scheme 3's contexts for a point whose predictor is `mode` (0 otherwise).
-    int family(int mode) const { return scheme_ == 3 && extrapolates(mode) ? 224 : 0; }
     template <int Scheme>
     int family_as(int mode) const {
       return Scheme == 3 && extrapolates(mode) ? 224 : 0;
     }
     // Context of axis a of point p (k = 3 p + a, a = k % 3) when tb was coded last in the
-    // frame, `fam` = family(the point's predictor).
-    int context(size_t k, int tb, int fam = 0) const {
-      return scheme_ == 3   ? context_as<3>(k, tb, fam)
-             : scheme_ == 1 ? context_as<1>(k, tb, fam)
-                            : context_as<2>(k, tb, fam);
-    }
-    // The same for a scheme known at compile time (walk_window's loops).
+    // frame, `fam` = family_as(the point's predictor); the scheme is fixed at compile time
+    // (walk_window dispatches on scheme() once).
     template <int Scheme>
     int context_as(size_t k, int tb, int fam) const {
       const int t = tb < 3 ? tb : 3;
@@ -228,11 +222,7 @@ class ResidualContexts {
     return c;
   }
 
-  int escape_set(int ctx) { return cursor().escape_set(ctx); }
   void reset() { std::fill(st_.begin(), st_.end(), State()); }
-  int family(int mode) { return cursor().family(mode); }
-  int context(size_t k, int tb, int fam = 0) { return cursor().context(k, tb, fam); }
-  void update(size_t k, int tok) { cursor().update(k, tok); }
 
  private:
   static constexpr uint8_t kRunBucket[13] = {0, 1, 2, 3, 4, 4, 5, 5, 5, 6, 6, 6, 6};

@@ -215,8 +215,8 @@ void base_residuals(const int32_t* q, size_t frames, size_t points, std::vector<
   for (size_t f = 1; f < frames; ++f)
     for (size_t k = 0; k < stride; ++k) {
       const size_t i = f * stride + k;
-      e[0][i] = wrap_sub(q[i], q[i - stride]);
-      e[1][i] = f < 2 ? e[0][i] : wrap_sub(e[0][i], wrap_sub(q[i - stride], q[i - 2 * stride]));
+      e[0][i] = wrap_sub(q[i], predict_one(kPredPrevious, f, &q[i], stride, nullptr));
+      e[1][i] = wrap_sub(q[i], predict_one(kPredLinear, f, &q[i], stride, nullptr));
     }
 }
 
