@@ -143,6 +143,11 @@ struct TakeScan {
   std::vector<uint8_t> kinds;    // analog channel kinds (window_coder.h)
   bool kg = false;               // accumulate centred_sq
   double centred_sq = 0;         // sum of squared distances to each frame's centroid
+  // With kg: the valid coordinates in take order, for the grid search, while they number at
+  // most kg_cap (kg_cached turns false, and the vector is freed, past it).
+  size_t kg_cap = 0;
+  bool kg_cached = false;
+  std::vector<double> kg_coords;
 };
 
 // Exact lossless grids in the order the encoder prefers them (docs/FORMAT.md 3.1): the int16
@@ -186,6 +191,13 @@ TakeScan start_scan(const Take& hdr, const CompressOptions& opts) {
   return s;
 }
 
+// Keeps the KG search's coordinates during the scan (TakeScan::kg_coords), up to cap_bytes.
+void cache_kg_coordinates(const Take& hdr, size_t cap_bytes, TakeScan* s) {
+  s->kg_cap = cap_bytes / sizeof(double);
+  s->kg_cached = s->kg && s->kg_cap >= 3;
+  if (s->kg_cached) s->kg_coords.reserve(std::min(s->kg_cap, hdr.frames * hdr.points * 3));
+}
+
 // Adds frames b (blocks in order) to the scan; throws kInvalidParameter on a valid sample that is
 // not finite. words: the blocks carry C3D residual words (point_scale: the take's).
 void scan_block(const FrameBlock& b, const std::string& src, bool words, double point_scale,
@@ -221,6 +233,17 @@ void scan_block(const FrameBlock& b, const std::string& src, bool words, double 
   }
   if (words && s->words_on_grid && !residuals_on_grid(b.residual, b.valid, point_scale))
     s->words_on_grid = false;
+  if (s->kg_cached) {
+    for (size_t i = 0; i < b.frames * b.points && s->kg_cached; ++i) {
+      if (!b.valid[i]) continue;
+      if (s->kg_coords.size() + 3 > s->kg_cap) {
+        s->kg_cached = false;
+        std::vector<double>().swap(s->kg_coords);
+        break;
+      }
+      s->kg_coords.insert(s->kg_coords.end(), &b.xyz[i * 3], &b.xyz[i * 3 + 3]);
+    }
+  }
   if (s->kg) {
     for (size_t f = 0; f < b.frames; ++f) {
       const double* fx = &b.xyz[f * b.points * 3];
@@ -323,30 +346,8 @@ double quantised_sq_error(const double* x, size_t n, double step, double sq = 0)
   return sq;
 }
 
-// The valid coordinates of the take in order (frames, then points, then x y z), read a block at a
-// time; false (and `out` cleared) when there are more than `cap` of them.
-bool valid_coordinates(FrameSource& src, size_t block, size_t cap, FrameBlock* b,
-                       std::vector<double>* out) {
-  out->clear();
-  const size_t F = src.header().frames;
-  out->reserve(std::min(cap, F * src.header().points * 3));  // no growth by doubling
-  for (size_t f0 = 0; f0 < F; f0 += block) {
-    src.read(f0, std::min(block, F - f0), b);
-    for (size_t i = 0; i < b->frames * b->points; ++i) {
-      if (!b->valid[i]) continue;
-      if (out->size() + 3 > cap) {
-        out->clear();
-        out->shrink_to_fit();
-        return false;
-      }
-      out->insert(out->end(), &b->xyz[i * 3], &b->xyz[i * 3 + 3]);
-    }
-  }
-  return true;
-}
-
 // Sum of squared errors of quantising every valid coordinate of the source on a grid of
-// `step`, in take order (one pass over the source; the same sum as over valid_coordinates()).
+// `step`, in take order (one pass over the source; the same sum as over TakeScan::kg_coords).
 double quantised_sq_error(FrameSource& src, double step, size_t block, FrameBlock* b) {
   double sq = 0;
   const size_t F = src.header().frames;
@@ -398,21 +399,17 @@ double centred_sq_window(size_t fn, size_t n, const double* x, const uint8_t* va
 
 // The largest grid whose KG error is at or under `kg` percent (bisection on the step; each step
 // is one pass over the valid coordinates).
-Grid kg_grid(FrameSource& src, const TakeScan& s, double kg, size_t block, FrameBlock* b,
-             size_t cache_bytes) {
+Grid kg_grid(FrameSource& src, const TakeScan& s, double kg, size_t block, FrameBlock* b) {
   const Take& t = src.header();
   const double cs = s.centred_sq;
   const double top = std::max(s.max_abs, 1e-300);
   // The search evaluates about 26 steps. Each used to read the whole source again (for a C3D,
-  // parsing it: 14 MB/s against 32 MB/s with --max-error on AlbertoREAL.c3d); the valid
-  // coordinates are kept in memory for it up to cache_bytes, else still streamed.
-  std::vector<double> cached;
-  const bool in_memory = cs > 0 && cache_bytes >= 3 * sizeof(double) &&
-                         valid_coordinates(src, block, cache_bytes / sizeof(double), b, &cached);
+  // parsing it: 14 MB/s against 32 MB/s with --max-error on AlbertoREAL.c3d); the scan kept the
+  // valid coordinates for it when they fit CompressOptions::kg_cache_bytes, else it streams.
   auto kg_of = [&](double step) {
     if (!(cs > 0)) return 0.0;
-    const double sq = in_memory ? quantised_sq_error(cached.data(), cached.size(), step)
-                                : quantised_sq_error(src, step, block, b);
+    const double sq = s.kg_cached ? quantised_sq_error(s.kg_coords.data(), s.kg_coords.size(), step)
+                                  : quantised_sq_error(src, step, block, b);
     return 100.0 * std::sqrt(sq / cs);
   };
   double lo = top / 1e9, hi = 2 * top;
@@ -718,6 +715,7 @@ void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut
   const double written_scale = tout ? written_int16_scale(take) : 0.0;
   // Pass 1: what the grid and the per-take coding choices depend on.
   TakeScan scan = start_scan(take, opts);
+  if (!tout) cache_kg_coordinates(take, opts.kg_cache_bytes, &scan);
   for (size_t f0 = 0; f0 < F; f0 += W) {
     source.read(f0, std::min(W, F - f0), &block);
     scan_block(block, src, words, point_scale, &scan);
@@ -728,7 +726,8 @@ void compress_source(FrameSource& source, const CompressOptions& opts, StreamOut
   } else if (opts.lossless) {
     g = lossless_grid(scan);
   } else if (opts.kg_error > 0) {
-    g = kg_grid(source, scan, opts.kg_error, W, &block, opts.kg_cache_bytes);
+    g = kg_grid(source, scan, opts.kg_error, W, &block);
+    std::vector<double>().swap(scan.kg_coords);  // not needed by the coding pass
   } else if (opts.max_error > 0 && std::isfinite(opts.max_error)) {
     g = bounded_grid(take, scan, opts.max_error);
   } else {
