@@ -38,10 +38,6 @@ struct CompressOptions {
   // Frames per independently decodable window, 1 .. 8192; 0: auto_window_frames(points).
   size_t window_frames = 0;
   bool check = true;  // decode every window after writing it and verify the bound / exactness
-  // The KG search (kg_error with codec none) tries about 26 grid steps; the first pass keeps
-  // the take's valid coordinates in memory for them when they take at most this many bytes,
-  // else the search reads the source once per step. Either way it finds the same step.
-  size_t kg_cache_bytes = size_t{64} << 20;
   // Called after each window with (frames done, frames total); may be empty.
   std::function<void(size_t, size_t)> progress;
 };

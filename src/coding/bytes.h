@@ -12,6 +12,12 @@
 
 namespace capz {
 
+// The little-endian uint32 at p[0..3].
+inline uint32_t load_le32(const uint8_t* p) {
+  return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 |
+         static_cast<uint32_t>(p[2]) << 16 | static_cast<uint32_t>(p[3]) << 24;
+}
+
 class ByteWriter {
  public:
   void u8(uint8_t v) { buf_.push_back(v); }
@@ -85,8 +91,7 @@ class ByteReader {
   }
   uint32_t u32() {
     need(4);
-    uint32_t v = 0;
-    for (int i = 0; i < 4; ++i) v |= static_cast<uint32_t>(p_[i]) << (8 * i);
+    const uint32_t v = load_le32(p_);
     p_ += 4;
     return v;
   }

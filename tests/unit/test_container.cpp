@@ -10,6 +10,7 @@
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/metrics.h"
+#include "codec/encoder.h"
 #include "coding/container.h"
 #include "coding/crc32c.h"
 #include "coding/entropy.h"
@@ -285,8 +286,8 @@ TEST(Container, GivenKgTargetThenAchievedAtOrJustUnder) {
 }
 
 // The KG search finds the same grid whether it keeps the coordinates in memory or reads the
-// source once per step (kg_cache_bytes 0, or a cache too small for the take), windows of 64
-// frames so the streamed sum crosses blocks; gaps included.
+// source once per step (EncoderTuning::kg_cache_bytes 0, or a cache too small for the take),
+// windows of 64 frames so the streamed sum crosses blocks; gaps included.
 TEST(Container, GivenKgTargetWhenSearchCachedOrStreamedThenSameStream) {
   Take t = synthetic(500, 9, 0.05, 4);
   CompressOptions o;
@@ -294,8 +295,9 @@ TEST(Container, GivenKgTargetWhenSearchCachedOrStreamedThenSameStream) {
   o.window_frames = 64;
   const std::vector<uint8_t> cached = compress(t, o);
   for (size_t cache : {size_t{0}, size_t{24}, size_t{1000} * 8}) {  // 0, 1 triple, 1000 values
-    o.kg_cache_bytes = cache;
-    EXPECT_EQ(compress(t, o), cached) << "cache of " << cache << " bytes";
+    EncoderTuning tuning;
+    tuning.kg_cache_bytes = cache;
+    EXPECT_EQ(compress_tuned(t, o, tuning), cached) << "cache of " << cache << " bytes";
   }
 }
 

@@ -1,0 +1,121 @@
+// compress() and compress_stream() (capz/codec.h, capz/stream.h): the encoder driver run on a
+// take or a frame source, once per codec, or for every codec under "auto".
+#include <memory>
+
+#include "capz/codec.h"
+#include "capz/error.h"
+#include "capz/stream.h"
+#include "codec/encoder.h"
+#include "codec/registry.h"
+#include "core/atomic_file.h"
+
+namespace capz {
+
+size_t auto_window_frames(size_t points) {
+  size_t w = 1024;
+  while (w < 8192 && w * points < (size_t{1} << 16)) w *= 2;
+  return w;
+}
+
+namespace {
+
+std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions& opts,
+                                         const EncoderTuning& tuning, CompressStats* stats,
+                                         bool allow_tout = true) {
+  if (take.xyz.size() != take.frames * take.points * 3 ||
+      take.valid.size() != take.frames * take.points)
+    fail(ErrorCode::kInvalidParameter, take.source,
+         "take arrays do not match its frame and point counts");
+  const bool analog = take.analog.channels > 0 && take.analog.samples_per_frame > 0;
+  if (analog && take.analog.values.size() !=
+                    take.frames * static_cast<size_t>(take.analog.samples_per_frame) *
+                        static_cast<size_t>(take.analog.channels))
+    fail(ErrorCode::kInvalidParameter, take.source,
+         "analog values do not match frames x samples x channels");
+  std::unique_ptr<FrameSource> src = take_frames(take);
+  std::vector<uint8_t> bytes;
+  StreamOut out(&bytes);
+  encode_source(*src, opts, tuning, &out, stats, allow_tout);
+  return bytes;
+}
+
+// One codec; a transform-output stream that misses the KG target goes through the grid.
+std::vector<uint8_t> compress_one(const Take& take, const CompressOptions& opts,
+                                  const EncoderTuning& tuning, CompressStats* stats) {
+  try {
+    return compress_with_codec(take, opts, tuning, stats);
+  } catch (const TransformMissedTarget&) {
+    return compress_with_codec(take, opts, tuning, stats, false);
+  }
+}
+}  // namespace
+
+// "auto" tries every candidate stage on the whole take and keeps the smallest stream: the plain
+// coder ("none") first, then each registered transform. A transform that cannot run on this
+// take (e.g. pdct on fewer than 3 points) is skipped, never fatal, so auto is never worse than
+// "none". Encode time is the sum of all candidates' (about 3x), decode time is the winner's.
+std::vector<uint8_t> compress_tuned(const Take& take, const CompressOptions& opts,
+                                    const EncoderTuning& tuning, CompressStats* stats) {
+  if (opts.codec != "auto") return compress_one(take, opts, tuning, stats);
+  // Options are checked before any trial: a mistyped key is the user's error, not a reason to
+  // skip a codec. Under auto a key must name its codec ("ts.lpc_order=2").
+  for (const auto& kv : opts.codec_options)
+    if (kv.first.find('.') == std::string::npos)
+      fail(ErrorCode::kInvalidParameter, take.source,
+           "--codec auto: name the codec of option '" + kv.first + "' (e.g. ts." + kv.first + ")");
+  for (const TransformCodec* c : all_codecs()) {
+    TransformParams p;
+    p.clusters = opts.clusters;
+    p.options = options_for(*c, opts.codec_options);
+    c->check_params(p);
+  }
+  CompressOptions o = opts;
+  o.codec = "none";
+  o.codec_options.clear();
+  CompressStats best_stats;
+  std::vector<uint8_t> best = compress_with_codec(take, o, tuning, &best_stats);
+  if (!opts.lossless) {
+    for (const TransformCodec* c : all_codecs()) {
+      o.codec = c->name();
+      o.codec_options = opts.codec_options;
+      CompressStats st;
+      std::vector<uint8_t> out;
+      try {
+        out = compress_one(take, o, tuning, &st);
+      } catch (const Error& e) {
+        if (e.code() != ErrorCode::kInvalidParameter) throw;
+        continue;  // this stage does not apply to the take
+      }
+      if (out.size() < best.size()) {
+        best.swap(out);
+        best_stats = st;
+      }
+    }
+  }
+  if (stats) *stats = best_stats;
+  return best;
+}
+
+std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, CompressStats* stats) {
+  return compress_tuned(take, opts, EncoderTuning(), stats);
+}
+
+void compress_stream(FrameSource& source, const CompressOptions& opts, const std::string& path,
+                     bool overwrite, CompressStats* stats) {
+  if (opts.codec == "auto")
+    fail(ErrorCode::kInvalidParameter, source.header().source,
+         "codec auto compares whole-take encodings and is not streamed");
+  try {
+    AtomicFile file(path, overwrite);
+    StreamOut out(&file);
+    encode_source(source, opts, EncoderTuning(), &out, stats);
+    file.commit();
+  } catch (const TransformMissedTarget&) {  // a second pass through the grid (compress_one)
+    AtomicFile file(path, overwrite);
+    StreamOut out(&file);
+    encode_source(source, opts, EncoderTuning(), &out, stats, false);
+    file.commit();
+  }
+}
+
+}  // namespace capz

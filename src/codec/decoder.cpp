@@ -1,0 +1,203 @@
+// The decoder (decoder.h). Part of the decoder library.
+#include "codec/decoder.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "capz/error.h"
+#include "codec/grid.h"
+#include "codec/registry.h"
+#include "codec/transform_output.h"
+#include "coding/bytes.h"
+#include "coding/entropy.h"
+#include "coding/window_coder.h"
+
+namespace capz {
+namespace {
+
+// The chunks of one window, in order: next() returns the next chunk of a type, skipping unknown
+// ones; a known chunk of another type ends the search.
+class WindowChunks {
+ public:
+  WindowChunks(const StreamContext& ctx, size_t w, const uint8_t* region, size_t base, size_t end)
+      : ctx_(ctx), w_(w), region_(region), base_(base), end_(end), off_(base),
+        wname_(" of window " + std::to_string(w)) {}
+
+  Chunk next(const char* type, bool required) {
+    while (off_ < end_) {
+      const uint8_t* p = region_ + (off_ - base_);
+      if (end_ - off_ < kChunkOverhead || load_le32(p + 4) > end_ - off_ - kChunkOverhead)
+        fail(ErrorCode::kCorrupt, ctx_.name,
+             "chunk at byte " + std::to_string(off_) + wname_ + " runs past its INDX extent");
+      Chunk c = read_chunk(region_, end_, off_, ctx_.name, base_);
+      if (c.type == type) {
+        off_ = c.end;
+        return c;
+      }
+      if (c.type == "POSW" || c.type == "MASK" || c.type == "C3DW" || c.type == "ANLG") break;
+      off_ = c.end;  // unknown chunk: skipped
+    }
+    if (required) fail(ErrorCode::kCorrupt, ctx_.name, std::string("missing chunk ") + type + wname_);
+    return Chunk();
+  }
+  // Reads the window index that starts every window chunk's payload; it must be w.
+  void open(const Chunk& c, ByteReader* r) const {
+    const uint64_t idx = r->varint();
+    if (idx != w_)
+      fail(ErrorCode::kCorrupt, ctx_.name,
+           "chunk " + c.type + " at byte " + std::to_string(c.offset) + " belongs to window " +
+               std::to_string(idx) + ", expected " + std::to_string(w_));
+  }
+  // "name: chunk TYPE of window w", for messages.
+  std::string what(const char* type) const {
+    return (ctx_.name.empty() ? "" : ctx_.name + ": ") + "chunk " + type + wname_;
+  }
+  const std::string& wname() const { return wname_; }
+
+ private:
+  const StreamContext& ctx_;
+  size_t w_;
+  const uint8_t* region_;
+  size_t base_, end_, off_;
+  std::string wname_;
+};
+
+// Window positions with transform output: the codec's reconstruction of the valid samples.
+void decode_transform_output(const uint8_t* data, size_t size, const StreamHeader& h, size_t fn,
+                             const std::string& what, const WindowInts& wi,
+                             std::vector<double>* xyz) {
+  const TransformCodec* codec = find_codec(h.codec);
+  if (!codec)
+    fail(ErrorCode::kUnsupportedVersion, what,
+         "stream uses transform codec id " + std::to_string(h.codec) + ", unknown to this capz");
+  const CodecOnly co = split_transform_only(data, size, what);
+  codec->decode(co.data, co.size, fn, h.points, xyz);
+  if (xyz->size() != fn * h.points * 3)
+    fail(ErrorCode::kCorrupt, what, "codec payload has the wrong size");
+  for (size_t i = 0; i < fn * h.points; ++i)
+    if (wi.valid[i])
+      for (int a = 0; a < 3; ++a)
+        if (!std::isfinite((*xyz)[i * 3 + a]))
+          fail(ErrorCode::kCorrupt, what, "the transform reconstructs a non-finite value");
+}
+
+// The transform's prediction on the grid for a POSW with a codec block (empty without a codec).
+std::vector<int32_t> transform_prediction(const StreamContext& ctx, const PositionsPayload& pp,
+                                          size_t fn, const std::string& what) {
+  const StreamHeader& h = ctx.h;
+  if (h.codec == 0 || h.points == 0) return {};
+  const TransformCodec* codec = find_codec(h.codec);
+  if (!codec)
+    fail(ErrorCode::kUnsupportedVersion, ctx.name,
+         "stream uses transform codec id " + std::to_string(h.codec) + ", unknown to this capz");
+  std::vector<double> recon;
+  codec->decode(pp.codec_bytes, pp.codec_size, fn, h.points, &recon);
+  if (recon.size() != fn * h.points * 3)
+    fail(ErrorCode::kCorrupt, what, "codec payload has the wrong size");
+  return grid_prediction(recon, h.step);
+}
+
+// POSW (and MASK) of the window: the gap mask into *valid and the coordinates of its valid
+// samples into *xyz (fn x points x 3, gap samples 0).
+void decode_window_positions(const StreamContext& ctx, WindowChunks* chunks, size_t fn,
+                             std::vector<uint8_t>* valid, std::vector<double>* xyz) {
+  const StreamHeader& h = ctx.h;
+  const size_t N = h.points;
+  Chunk pc = chunks->next("POSW", true);
+  const std::string pwhat = chunks->what("POSW");
+  ByteReader pr(pc.payload, pc.size, pwhat);
+  chunks->open(pc, &pr);
+  const uint8_t has_mask = pr.u8();
+  if (has_mask > 1) fail(ErrorCode::kCorrupt, pwhat, "bad has_mask byte");
+  WindowInts wi;
+  wi.frames = fn;
+  wi.points = N;
+  wi.valid.assign(fn * N, 1);
+  if (has_mask) {
+    Chunk mc = chunks->next("MASK", true);
+    ByteReader mr(mc.payload, mc.size, "MASK");
+    chunks->open(mc, &mr);
+    decode_mask(mc.payload + mr.offset(), mc.size - mr.offset(), fn, N, wi.valid.data(),
+                chunks->what("MASK"));
+  }
+  const uint8_t* body = pc.payload + pr.offset();
+  const size_t body_size = pc.size - pr.offset();
+  std::vector<double> tout_xyz;  // transform output (FORMAT.md 3.1): the reconstruction itself
+  if (h.transform_output) {
+    decode_transform_output(body, body_size, h, fn, pwhat, wi, &tout_xyz);
+  } else {
+    const PositionsPayload pp = split_positions(body, body_size, pwhat);
+    const std::vector<int32_t> tpred = transform_prediction(ctx, pp, fn, pwhat);
+    decode_positions(pp, tpred, h.mode == PosMode::kFloat64, position_scheme(ctx.major), &wi,
+                     pwhat);
+  }
+  xyz->assign(fn * N * 3, 0.0);
+  if (!h.transform_output) {
+    Grid g;
+    g.mode = h.mode;
+    g.step = h.step;
+    dequantise_window(g, wi, xyz);
+  }
+  for (size_t i = 0; i < fn * N; ++i)
+    if (wi.valid[i]) {
+      if (h.transform_output) std::copy(&tout_xyz[i * 3], &tout_xyz[i * 3 + 3], &(*xyz)[i * 3]);
+      keep_valid_off_origin(h.source_format, h.lossless, &(*xyz)[i * 3]);
+    }
+  valid->assign(wi.valid.begin(), wi.valid.end());
+}
+
+}  // namespace
+
+void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* region, size_t base,
+                          size_t end, FrameBlock* out) {
+  const StreamHeader& h = ctx.h;
+  const size_t N = h.points;
+  const size_t f0 = w * h.window_frames;
+  const size_t fn = std::min<size_t>(h.window_frames, static_cast<size_t>(h.frames) - f0);
+  const size_t S = h.analog_samples_per_frame, C = h.analog_channels;
+  WindowChunks chunks(ctx, w, region, base, end);
+  FrameBlock& b = *out;
+  // Decoded straight into the caller's arrays (their capacity is reused window after window).
+  decode_window_positions(ctx, &chunks, fn, &b.valid, &b.xyz);
+  // The analog rows must fit what the chunks can hold before they are allocated.
+  if (C > 0 && S > 0 && fn * S * C > kMaxSymbolsPerByte * (end - base))
+    fail(ErrorCode::kCorrupt, ctx.name,
+         "analog window" + chunks.wname() + " larger than its chunks can hold");
+  b.first = f0;
+  b.frames = fn;
+  b.points = N;
+  b.residual.assign(ctx.words ? fn * N : 0, 0.0f);
+  b.camera_mask.assign(ctx.words ? fn * N : 0, 0);
+  b.analog.assign(C > 0 && S > 0 ? fn * S * C : 0, 0.0);
+  if (ctx.words) {
+    Chunk cc = chunks.next("C3DW", true);
+    const std::string cwhat = chunks.what("C3DW");
+    ByteReader cr(cc.payload, cc.size, cwhat);
+    chunks.open(cc, &cr);
+    decode_c3d_words(cc.payload + cr.offset(), cc.size - cr.offset(), b.valid.data(), fn * N, N,
+                     ctx.take.c3d->point_scale, b.residual.data(), b.camera_mask.data(), cwhat);
+  }
+  if (C > 0 && S > 0) {
+    Chunk ac = chunks.next("ANLG", true);
+    const std::string awhat = chunks.what("ANLG");
+    ByteReader ar(ac.payload, ac.size, awhat);
+    chunks.open(ac, &ar);
+    if (fn * S * C > kMaxSymbolsPerByte * ac.size)
+      fail(ErrorCode::kCorrupt, awhat, "analog window larger than its chunk can hold");
+    decode_analog(ac.payload + ar.offset(), ac.size - ar.offset(), fn * S, static_cast<int>(C),
+                  b.analog.data(), awhat);
+  }
+}
+
+void decode_window(StreamBytes& bytes, const ParsedStream& ps, size_t w, FrameBlock* out) {
+  const IndexEntry& ie = ps.index[w];
+  const size_t size = bytes.size();
+  if (ie.offset < ps.first_window_offset || ie.offset >= size || ie.bytes > size - ie.offset)
+    fail(ErrorCode::kCorrupt, ps.name,
+         "INDX entry of window " + std::to_string(w) + " points outside the file");
+  const size_t base = static_cast<size_t>(ie.offset);
+  const size_t end = base + static_cast<size_t>(ie.bytes);
+  decode_window_chunks(ps, w, bytes.get(base, end - base), base, end, out);
+}
+
+}  // namespace capz

@@ -1,0 +1,24 @@
+// The decoder: one window of a .capz back to frames (docs/FORMAT.md 3.3 - 3.6). This is the one
+// decoder: decompress(), the .capz frame source, `capz verify` / `test` and the encoder's
+// self-check all call decode_window_chunks. Part of the decoder library.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "capz/stream.h"
+#include "codec/stream_reader.h"
+
+namespace capz {
+
+// Decodes window w of the stream described by ctx into *out (frames [w W, ...), every point).
+// region holds the window's chunks, the file's bytes [base, end); offsets in messages are file
+// offsets. Unknown chunks between the known ones are skipped. Throws kCorrupt naming ctx.name,
+// the chunk and the window; kUnsupportedVersion for an unknown transform codec.
+void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* region, size_t base,
+                          size_t end, FrameBlock* out);
+
+// Window w of a parsed stream, its chunks fetched from `bytes` as INDX says.
+void decode_window(StreamBytes& bytes, const ParsedStream& ps, size_t w, FrameBlock* out);
+
+}  // namespace capz

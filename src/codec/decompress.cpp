@@ -1,0 +1,119 @@
+// decompress(), decompress_frames() and describe() (capz/codec.h): a .capz in memory back to a
+// Take, through the frame source and the one decoder. Part of the decoder library.
+#include <algorithm>
+#include <cstddef>
+#include <limits>
+#include <memory>
+
+#include "capz/codec.h"
+#include "capz/error.h"
+#include "codec/grid.h"
+#include "codec/registry.h"
+#include "io/capz_source.h"
+
+namespace capz {
+namespace {
+
+// Elements [first, first + count) of v, when v holds one per frame of a take of F frames.
+template <typename T>
+void slice(size_t first, size_t count, size_t F, std::vector<T>* v) {
+  if (v->size() != F) return;
+  const auto b = v->begin() + static_cast<std::ptrdiff_t>(first);
+  *v = std::vector<T>(b, b + static_cast<std::ptrdiff_t>(count));
+}
+
+// The per-frame metadata of *t (a take of F frames) cut to frames [first, first + count).
+void slice_frame_metadata(size_t first, size_t count, size_t F, Take* t) {
+  t->first_frame += static_cast<decltype(t->first_frame)>(first);
+  if (t->trc) {
+    auto x = std::make_shared<TRCExtra>(*t->trc);
+    slice(first, count, F, &x->times);
+    slice(first, count, F, &x->frame_numbers);
+    t->trc = x;
+  }
+  if (t->pcd) {
+    auto x = std::make_shared<PCDExtra>(*t->pcd);
+    slice(first, count, F, &x->frame_names);
+    t->pcd = x;
+  }
+}
+
+// Frames [first, first + count) of the stream, clipped, with the per-frame metadata sliced.
+Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
+                  const std::string& name) {
+  std::unique_ptr<StreamBytes> mem(new MemoryBytes(data, size));
+  CapzSource src(std::move(mem), name, false);
+  const ParsedStream& ps = src.parsed();
+  const size_t F = ps.take.frames;
+  first = std::min(first, F);
+  count = std::min(count, F - first);
+  if (first == 0 && count == F) check_tiling(ps, size, name);
+  FrameBlock b;
+  src.read(first, count, &b);
+  Take t = ps.take;
+  t.frames = count;
+  t.xyz = std::move(b.xyz);
+  t.valid = std::move(b.valid);
+  t.analog.values = std::move(b.analog);
+  if (ps.words) {
+    t.c3d = std::make_shared<C3DExtra>(*ps.take.c3d);
+    t.c3d->residual = std::move(b.residual);
+    t.c3d->camera_mask = std::move(b.camera_mask);
+  }
+  if (first > 0 || count < F) slice_frame_metadata(first, count, F, &t);
+  return t;
+}
+
+}  // namespace
+
+Take decompress(const uint8_t* data, size_t size, const std::string& name) {
+  return decode_range(data, size, 0, std::numeric_limits<size_t>::max(), name);
+}
+
+Take decompress_frames(const uint8_t* data, size_t size, size_t first, size_t count,
+                       const std::string& name) {
+  return decode_range(data, size, first, count, name);
+}
+
+bool is_capz(const uint8_t* data, size_t size) {
+  return size >= 9 && std::memcmp(data, kCapzMagic, 9) == 0;
+}
+
+StreamInfo describe(const uint8_t* data, size_t size, const std::string& name) {
+  MemoryBytes bytes(data, size);
+  ParsedStream ps = parse_stream(bytes, name);
+  StreamInfo si;
+  si.major = data[9];
+  si.minor = ps.minor;
+  si.source_format = ps.h.source_format;
+  si.source_name = ps.take.source;
+  si.frames = ps.take.frames;
+  si.points = ps.take.points;
+  si.window_frames = ps.h.window_frames;
+  si.windows = ps.h.windows();
+  si.mode = ps.h.transform_output ? "transform-output" : mode_name(ps.h.mode);
+  si.transform_output = ps.h.transform_output;
+  si.kg_target = ps.h.kg_target;
+  if (ps.h.codec == 0) {
+    si.codec = "none";
+  } else {
+    const TransformCodec* c = find_codec(ps.h.codec);
+    si.codec = c ? c->name() : "id " + std::to_string(ps.h.codec);
+  }
+  si.lossless = ps.h.lossless;
+  si.step = ps.h.mode == PosMode::kDecimal ? 1.0 / ps.h.step : ps.h.step;
+  si.max_error = ps.h.max_error;
+  si.rate = ps.take.rate;
+  si.units = ps.take.units;
+  si.analog_channels = ps.take.analog.channels;
+  si.analog_samples_per_frame = ps.take.analog.samples_per_frame;
+  si.chunk_bytes = ps.chunk_bytes;
+  for (size_t off = ps.first_window_offset; off < ps.index_offset;) {  // the window chunks
+    Chunk k = read_chunk(data, size, off, name);
+    si.chunk_bytes[k.type] += k.end - k.offset;
+    off = k.end;
+  }
+  return si;
+}
+
+}  // namespace capz

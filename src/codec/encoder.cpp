@@ -1,0 +1,411 @@
+// The encoder driver (encoder.h): resolve the options, scan the take, choose the grid, write the
+// header, then encode and check each window, and sum up the stats.
+#include "codec/encoder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <string>
+
+#include "capz/error.h"
+#include "codec/decoder.h"
+#include "codec/grid.h"
+#include "codec/grid_choice.h"
+#include "codec/registry.h"
+#include "codec/stream_reader.h"
+#include "codec/transform_output.h"
+#include "codec/window_error.h"
+#include "coding/bytes.h"
+#include "coding/container.h"
+#include "coding/window_coder.h"
+
+namespace capz {
+
+void StreamOut::flush(std::vector<uint8_t>* buf) {
+  if (mem_) {
+    mem_->insert(mem_->end(), buf->begin(), buf->end());
+  } else {
+    file_->write(*buf);
+  }
+  size_ += buf->size();
+  buf->clear();
+}
+
+std::map<std::string, std::string> options_for(const TransformCodec& codec,
+                                               const std::map<std::string, std::string>& all) {
+  std::map<std::string, std::string> mine;
+  for (const auto& kv : all) {
+    const size_t dot = kv.first.find('.');
+    if (dot == std::string::npos) {
+      mine[kv.first] = kv.second;
+      continue;
+    }
+    const std::string prefix = kv.first.substr(0, dot);
+    if (!find_codec(prefix))
+      fail(ErrorCode::kInvalidParameter, "",
+           "--codec-opt " + kv.first + ": '" + prefix + "' is not a codec (ts, pdct)");
+    if (prefix == codec.name()) mine[kv.first.substr(dot + 1)] = kv.second;
+  }
+  return mine;
+}
+
+namespace {
+
+std::vector<uint8_t> with_window_index(size_t w, uint8_t flag, const std::vector<uint8_t>& body) {
+  ByteWriter b;
+  b.varint(w);
+  if (flag != 0xFF) b.u8(flag);
+  b.bytes(body);
+  return std::move(b.buffer());
+}
+
+bool same_bits(double a, double b) {
+  return std::memcmp(&a, &b, 8) == 0;
+}
+
+// What the options resolve to for this take, before anything is read.
+struct Plan {
+  size_t W = 0;                          // frames per window
+  bool words = false;                    // C3D 4th words are coded (C3DW)
+  double point_scale = 0;                // the take's POINT:SCALE (0 without C3D)
+  const TransformCodec* codec = nullptr;  // the transform stage, nullptr for none
+  // Only a KG target and a transform: the transform's reconstruction is the output, no grid and
+  // no bound layer (FORMAT.md 3.1 "transform output"); the transform meets the KG target itself.
+  bool tout = false;
+  double written_scale = 0;  // with tout: the int16 scale `capz decompress` writes at, or 0
+  bool analog = false;
+  size_t S = 0, C = 0;  // analog samples per frame and channels (0 without analog)
+};
+
+Plan resolve(const FrameSource& source, const CompressOptions& opts, bool allow_tout) {
+  const Take& take = source.header();
+  const std::string& src = take.source;
+  // Up to 8192 frames a window keeps even an all-gap window above the decoder's plausibility
+  // floor of one byte per 2900 samples (docs/FORMAT.md 2).
+  if (opts.window_frames > 8192)
+    fail(ErrorCode::kInvalidParameter, src, "window size must be 1 .. 8192 frames");
+  Plan p;
+  const size_t F = take.frames, N = take.points;
+  // Transform codecs keep 1024-frame windows by default (their cost grows with the window).
+  const bool plain = opts.codec.empty() || opts.codec == "none";
+  p.W = opts.window_frames ? opts.window_frames : plain ? auto_window_frames(N) : 1024;
+  p.words = source.has_sample_words();
+  p.point_scale = take.c3d ? take.c3d->point_scale : 0;
+  if (!plain) {
+    p.codec = find_codec(opts.codec);
+    if (!p.codec) fail(ErrorCode::kInvalidParameter, src, "unknown codec '" + opts.codec + "'");
+  } else if (!opts.codec_options.empty()) {
+    fail(ErrorCode::kInvalidParameter, src,
+         "--codec-opt " + opts.codec_options.begin()->first + ": codec none takes no options");
+  }
+  p.tout = allow_tout && !opts.lossless && opts.kg_error > 0 && p.codec && N > 0 && F > 0;
+  p.written_scale = p.tout ? written_int16_scale(take) : 0.0;
+  p.analog = take.analog.channels > 0 && take.analog.samples_per_frame > 0;
+  p.S = p.analog ? static_cast<size_t>(take.analog.samples_per_frame) : 0;
+  p.C = p.analog ? static_cast<size_t>(take.analog.channels) : 0;
+  return p;
+}
+
+// One window's encoding: its chunks and what the decoder must give back for it.
+struct EncodedWindow {
+  WindowInts wi;             // the window's integers on the grid, with its gap mask
+  std::vector<double> rec;   // the reconstruction the decoder must produce (valid samples)
+  std::vector<uint8_t> buf;  // the window's chunks, as they go into the stream
+};
+
+class Encoder {
+ public:
+  Encoder(FrameSource& source, const CompressOptions& opts, const EncoderTuning& tuning,
+          StreamOut* out, bool allow_tout)
+      : source_(source), take_(source.header()), opts_(opts), tuning_(tuning), out_(out),
+        plan_(resolve(source, opts, allow_tout)) {}
+
+  void run(CompressStats* stats) {
+    scan();
+    choose_grid();
+    set_transform_params();
+    write_header();
+    const size_t F = take_.frames, W = plan_.W;
+    for (size_t w = 0, f0 = 0; f0 < F; ++w, f0 += W) {
+      const size_t fn = std::min(W, F - f0);
+      source_.read(f0, fn, &block_);
+      IndexEntry ie;
+      ie.offset = out_->size();
+      EncodedWindow ew = encode_window(w);
+      check_bound(w, &ew);
+      if (opts_.check) check_window(w, ie.offset, ew);
+      ie.bytes = ew.buf.size();
+      index_.push_back(ie);
+      out_->flush(&ew.buf);
+      if (opts_.progress) opts_.progress(f0 + fn, F);
+    }
+    std::vector<uint8_t> buf;
+    append_chunk(&buf, "INDX", encode_index(index_));
+    other_bytes_ += buf.size();
+    out_->flush(&buf);
+    if (stats) fill_stats(stats);
+  }
+
+ private:
+  // Pass 1: what the grid and the per-take coding choices depend on.
+  void scan() {
+    scan_ = start_scan(take_, opts_);
+    if (!plan_.tout) cache_kg_coordinates(take_, tuning_.kg_cache_bytes, &scan_);
+    const size_t F = take_.frames, W = plan_.W;
+    for (size_t f0 = 0; f0 < F; f0 += W) {
+      source_.read(f0, std::min(W, F - f0), &block_);
+      scan_block(block_, take_.source, plan_.words, plan_.point_scale, &scan_);
+    }
+  }
+
+  void choose_grid() {
+    if (plan_.tout) {
+      g_.mode = PosMode::kGrid;  // step 0, bound 0: nothing is quantised
+    } else if (opts_.lossless) {
+      g_ = lossless_grid(scan_);
+    } else if (opts_.kg_error > 0) {
+      g_ = kg_grid(source_, scan_, opts_.kg_error, plan_.W, &block_);
+      std::vector<double>().swap(scan_.kg_coords);  // not needed by the coding pass
+    } else if (opts_.max_error > 0 && std::isfinite(opts_.max_error)) {
+      g_ = bounded_grid(take_, scan_, opts_.max_error);
+    } else {
+      fail(ErrorCode::kInvalidParameter, take_.source,
+           "no error target: give a positive max error, a KG error target, or lossless");
+    }
+  }
+
+  void set_transform_params() {
+    tparams_.max_error = plan_.tout ? 0.0 : g_.bound > 0 ? g_.bound : g_.step / 2;
+    tparams_.grid_step = g_.step;
+    tparams_.kg_error = opts_.kg_error;
+    tparams_.clusters = opts_.clusters;
+    if (plan_.codec) {
+      tparams_.options = options_for(*plan_.codec, opts_.codec_options);
+      plan_.codec->check_params(tparams_);
+    }
+    if (g_.mode != PosMode::kGrid) plan_.codec = nullptr;  // float-bit lossless: prediction only
+  }
+
+  // HEAD and META; the decoder's context for the self-check is read back from them.
+  void write_header() {
+    StreamHeader h;
+    h.frames = take_.frames;
+    h.points = static_cast<uint32_t>(take_.points);
+    h.window_frames = static_cast<uint32_t>(plan_.W);
+    h.source_format = take_.format;
+    h.mode = g_.mode;
+    h.codec = plan_.codec ? plan_.codec->id() : 0;
+    h.lossless = g_.lossless;
+    h.transform_output = plan_.tout;
+    h.kg_target = plan_.tout ? opts_.kg_error : 0.0;
+    h.step = g_.step;
+    h.max_error = g_.bound;
+    h.analog_channels = static_cast<uint32_t>(plan_.C);
+    h.analog_samples_per_frame = static_cast<uint32_t>(plan_.S);
+    std::vector<uint8_t> buf;
+    write_file_header(&buf);
+    append_chunk(&buf, "HEAD", encode_header(h));
+    const size_t meta_at = buf.size();
+    append_chunk(&buf, "META", encode_meta(take_, plan_.words));
+    if (opts_.check) {
+      const std::string what = take_.source + " (self-check)";
+      const Chunk head = read_chunk(buf.data(), buf.size(), kFileHeaderBytes, what);
+      const Chunk meta = read_chunk(buf.data(), buf.size(), meta_at, what);
+      ctx_ = read_context(decode_header(head, what), meta, kCapzMajor, kCapzMinor, what);
+    }
+    other_bytes_ = buf.size();
+    out_->flush(&buf);
+  }
+
+  // The transform's reconstruction of the window (codec_bytes: its payload), rerun with a lower
+  // target when transform output written to an int16 C3D would miss the KG target.
+  void run_transform(const WindowInts& wi, std::vector<uint8_t>* codec_bytes,
+                     std::vector<double>* recon) {
+    const size_t fn = block_.frames, N = take_.points;
+    std::vector<double> filled = fill_gaps(fn, N, block_.xyz.data(), block_.valid.data());
+    PositionsView view{fn, N, filled.data(), wi.valid.data()};
+    TransformParams wp = tparams_;
+    for (int attempt = 0;; ++attempt) {
+      codec_bytes->clear();  // encode appends
+      recon->clear();
+      plan_.codec->encode(view, wp, codec_bytes, recon);
+      if (recon->size() != fn * N * 3)
+        throw Error(ErrorCode::kInternal, std::string("codec ") + plan_.codec->name() +
+                                              " returned a reconstruction of the wrong size");
+      // Transform output decompressed to an int16 C3D is rounded once more to the file's
+      // scale, which adds error the codec did not see. When the rounded window misses the KG
+      // target, the codec is run again with the target lowered by what the rounding added
+      // (squared errors add: e_t^2 + rounding = target^2), at most three times; the check
+      // then holds both the decoded and the written values to the target.
+      if (!plan_.tout || plan_.written_scale == 0 || attempt == 3) break;
+      const double e_t = window_sq_error(fn, N, block_.xyz.data(), recon->data(), wi.valid.data());
+      const double e_w = window_sq_error(fn, N, block_.xyz.data(), recon->data(), wi.valid.data(),
+                                         plan_.written_scale);
+      if (e_w <= kg_budget_ || !(centred_ > 0)) break;
+      const double room = kg_budget_ - std::max(0.0, e_w - e_t);
+      if (!(room > 0)) break;  // the rounding alone exceeds the target: the grid fallback
+      wp.kg_error = 100 * std::sqrt(0.98 * room / centred_);
+    }
+  }
+
+  EncodedWindow encode_window(size_t w) {
+    const size_t fn = block_.frames, N = take_.points;
+    EncodedWindow ew;
+    ew.wi = quantise_window(block_, g_);
+    const WindowInts& wi = ew.wi;
+    std::vector<uint8_t> codec_bytes;
+    std::vector<int32_t> tpred;
+    std::vector<double> recon;
+    // With transform output: the window's centred energy and its squared-error budget.
+    centred_ = plan_.tout ? centred_sq_window(fn, N, block_.xyz.data(), wi.valid.data()) : 0;
+    kg_budget_ = opts_.kg_error / 100 * (opts_.kg_error / 100) * centred_;
+    if (plan_.codec && N > 0) {
+      run_transform(wi, &codec_bytes, &recon);
+      if (!plan_.tout) tpred = grid_prediction(recon, g_.step);
+    }
+    std::vector<uint8_t>& buf = ew.buf;
+    const bool gaps = std::find(wi.valid.begin(), wi.valid.end(), 0) != wi.valid.end();
+    const std::vector<uint8_t> pos =
+        plan_.tout ? transform_only_positions(codec_bytes)
+                   : encode_positions(wi, codec_bytes, tpred, g_.mode == PosMode::kFloat64);
+    append_chunk(&buf, "POSW", with_window_index(w, gaps ? 1 : 0, pos));
+    if (gaps)
+      append_chunk(&buf, "MASK", with_window_index(w, 0xFF, encode_mask(wi.valid.data(), fn, N)));
+    position_bytes_ += buf.size();
+    if (plan_.words) {
+      const size_t before = buf.size();
+      const std::vector<uint8_t> cw =
+          encode_c3d_words(block_.residual.data(), block_.camera_mask.data(), wi.valid.data(),
+                           fn * N, N, plan_.point_scale, plan_.words && scan_.words_on_grid);
+      append_chunk(&buf, "C3DW", with_window_index(w, 0xFF, cw));
+      other_bytes_ += buf.size() - before;
+    }
+    if (plan_.analog) {
+      const size_t before = buf.size();
+      const std::vector<uint8_t> an = encode_analog(block_.analog.data(), fn * plan_.S,
+                                                    take_.analog.channels, scan_.kinds);
+      append_chunk(&buf, "ANLG", with_window_index(w, 0xFF, an));
+      analog_bytes_ += buf.size() - before;
+    }
+    reconstruct(wi, recon, &ew.rec);
+    return ew;
+  }
+
+  // The reconstruction the decoder will produce for the window's valid samples.
+  void reconstruct(const WindowInts& wi, const std::vector<double>& recon,
+                   std::vector<double>* rec) const {
+    const size_t n = block_.frames * take_.points;
+    rec->assign(n * 3, 0.0);
+    if (plan_.tout) {
+      for (size_t i = 0; i < n; ++i)
+        if (wi.valid[i]) std::copy(&recon[i * 3], &recon[i * 3 + 3], &(*rec)[i * 3]);
+    } else {
+      dequantise_window(g_, wi, rec);
+    }
+    for (size_t i = 0; i < n; ++i)
+      if (wi.valid[i]) keep_valid_off_origin(take_.format, g_.lossless, &(*rec)[i * 3]);
+  }
+
+  [[noreturn]] void check_failed(size_t w, const std::string& what) const {
+    fail(ErrorCode::kInternal, take_.source,
+         "self-check failed in window " + std::to_string(w) + ": " + what +
+             " (please report this; --no-check skips the check)");
+  }
+
+  // The promise of the stream for the window: every valid coordinate back exactly (lossless),
+  // within the bound, or (transform output) the window within the KG target. Adds the window to
+  // the error stats.
+  void check_bound(size_t w, EncodedWindow* ew) {
+    const size_t fn = block_.frames, N = take_.points;
+    const double* orig = block_.xyz.data();
+    const std::vector<double>& rec = ew->rec;
+    const uint8_t* valid = ew->wi.valid.data();
+    for (size_t i = 0; i < fn * N; ++i) {
+      if (!valid[i]) continue;
+      for (size_t k = i * 3; k < i * 3 + 3; ++k)
+        if (!std::isfinite(rec[k]))
+          check_failed(w, "a valid coordinate reconstructs to a non-finite value");
+      if (plan_.tout) continue;  // transform output promises no bound
+      for (size_t k = i * 3; k < i * 3 + 3; ++k) {
+        const bool ok =
+            g_.lossless ? same_bits(rec[k], orig[k]) : std::fabs(rec[k] - orig[k]) <= g_.bound;
+        if (!ok)
+          check_failed(w, "coordinate " + std::to_string(orig[k]) + " comes back as " +
+                              std::to_string(rec[k]));
+      }
+    }
+    if (plan_.tout) {  // each window within the KG target makes the take meet it (FORMAT.md 3.1)
+      if (window_sq_error(fn, N, orig, rec.data(), valid) > kg_budget_ ||
+          (plan_.written_scale > 0 &&
+           window_sq_error(fn, N, orig, rec.data(), valid, plan_.written_scale) > kg_budget_))
+        throw TransformMissedTarget();
+    }
+    acc_.add(fn, N, orig, rec.data(), valid);
+  }
+
+  // Runs the decoder on the window's chunks (as they will stand at file offset `at`) and
+  // compares what it gives with what the window must give back, bit for bit.
+  void check_window(size_t w, size_t at, const EncodedWindow& ew) {
+    FrameBlock back;
+    try {
+      decode_window_chunks(ctx_, w, ew.buf.data(), at, at + ew.buf.size(), &back);
+    } catch (const Error& e) {
+      check_failed(w, std::string("the decoder rejects the window: ") + e.what());
+    }
+    const size_t n = block_.frames * take_.points;
+    if (back.valid != ew.wi.valid) check_failed(w, "gap mask differs");
+    for (size_t i = 0; i < n; ++i)
+      if (ew.wi.valid[i] && std::memcmp(&back.xyz[i * 3], &ew.rec[i * 3], 24) != 0)
+        check_failed(w, "positions decode differently");
+    if (plan_.words && (std::memcmp(back.residual.data(), block_.residual.data(), n * 4) != 0 ||
+                        std::memcmp(back.camera_mask.data(), block_.camera_mask.data(), n) != 0))
+      check_failed(w, "C3D sample words differ");
+    if (plan_.analog && (back.analog.size() != block_.analog.size() ||
+                         std::memcmp(back.analog.data(), block_.analog.data(),
+                                     back.analog.size() * 8) != 0))
+      check_failed(w, "analog values differ");
+  }
+
+  void fill_stats(CompressStats* stats) const {
+    const size_t F = take_.frames, N = take_.points;
+    stats->bytes = out_->size();
+    stats->raw_bytes = F * N * 12;
+    stats->bpvf = bpvf(out_->size(), F, N);
+    stats->step = g_.mode == PosMode::kDecimal                                      ? 1.0 / g_.step
+                  : (g_.mode == PosMode::kGrid || g_.mode == PosMode::kFloat32Grid) ? g_.step
+                                                                                    : 0;
+    stats->mode = plan_.tout ? "transform-output" : mode_name(g_.mode);
+    stats->lossless = g_.lossless;
+    stats->codec = plan_.codec ? plan_.codec->name() : "none";
+    stats->error = acc_.finish();
+    stats->position_bytes = position_bytes_;
+    stats->analog_bytes = analog_bytes_;
+    stats->other_bytes = other_bytes_;
+  }
+
+  FrameSource& source_;
+  const Take& take_;
+  const CompressOptions& opts_;
+  const EncoderTuning& tuning_;
+  StreamOut* out_;
+  Plan plan_;
+  TakeScan scan_;
+  Grid g_;
+  TransformParams tparams_;
+  StreamContext ctx_;  // what the decoder reads from HEAD and META (with opts.check)
+  FrameBlock block_;
+  double centred_ = 0, kg_budget_ = 0;  // the current window's (transform output)
+  ErrorAccumulator acc_;
+  std::vector<IndexEntry> index_;
+  size_t position_bytes_ = 0, analog_bytes_ = 0, other_bytes_ = 0;
+};
+
+}  // namespace
+
+void encode_source(FrameSource& source, const CompressOptions& opts, const EncoderTuning& tuning,
+                   StreamOut* out, CompressStats* stats, bool allow_transform_output) {
+  Encoder(source, opts, tuning, out, allow_transform_output).run(stats);
+}
+
+}  // namespace capz

@@ -1,0 +1,70 @@
+// Encoder stage: choosing the grid (docs/FORMAT.md 3.1). A first pass over the take (scan_block,
+// a block of frames at a time) gathers what the choice depends on; then exactly one of
+// lossless_grid, bounded_grid or kg_grid picks the grid, and quantise_window maps each window's
+// coordinates onto it.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "capz/codec.h"
+#include "capz/stream.h"
+#include "codec/grid.h"
+
+namespace capz {
+
+// What choosing the grid needs to know of every valid sample, gathered in one pass over the
+// take (a block of frames at a time, blocks in order). Each field equals what a pass over the
+// whole take computes: maxima, minima, all-of flags and in-order sums.
+struct TakeScan {
+  double max_abs = 0;                                         // largest |coordinate|
+  double min_cheb = std::numeric_limits<double>::infinity();  // smallest max(|x|, |y|, |z|)
+  std::vector<Grid> candidates;  // lossless grids in order of preference (lossless_candidates)
+  std::vector<uint8_t> exact;    // per candidate: every valid coordinate reproduced exactly
+  bool lossless = false;         // a lossless target: all_float32 is tracked
+  bool all_float32 = true;       // every valid coordinate is a float32 value
+  bool words_on_grid = false;    // C3D residual words are point_scale multiples
+  std::vector<uint8_t> kinds;    // analog channel kinds (coding/window_coder.h)
+  bool kg = false;               // accumulate centred_sq
+  double centred_sq = 0;         // sum of squared distances to each frame's centroid
+  // With kg: the valid coordinates in take order, for the grid search, while they number at
+  // most kg_cap (kg_cached turns false, and the vector is freed, past it).
+  size_t kg_cap = 0;
+  bool kg_cached = false;
+  std::vector<double> kg_coords;
+};
+
+// True when the take is an int16 C3D (its coordinates are multiples of POINT:SCALE).
+bool c3d_int16(const Take& t);
+// The step of the integers `capz decompress` writes for this take (c3d_write.cpp: stored =
+// lround(x / scale) with the scale as float32), or 0 when the written values are the decoded
+// doubles to within float32 (float C3D, TRC, PCD).
+double written_int16_scale(const Take& t);
+
+// An empty scan for take header `hdr` under `opts`. With a KG target, cache_kg_coordinates lets
+// the scan keep up to cap_bytes of coordinates for kg_grid.
+TakeScan start_scan(const Take& hdr, const CompressOptions& opts);
+void cache_kg_coordinates(const Take& hdr, size_t cap_bytes, TakeScan* s);
+// Adds frames b (blocks in order) to the scan; throws kInvalidParameter, naming `src`, on a valid
+// sample that is not finite. words: the blocks carry C3D residual words (point_scale: the
+// take's).
+void scan_block(const FrameBlock& b, const std::string& src, bool words, double point_scale,
+                TakeScan* s);
+
+// The first lossless candidate that reproduces every valid coordinate, else float32 or float64
+// bits.
+Grid lossless_grid(const TakeScan& s);
+// A grid whose step bounds every coordinate's error by `bound` (take units), in the decoded take
+// and in the file the decoder writes in the source's format. Throws kInvalidParameter when the
+// bound is too fine for the coordinates.
+Grid bounded_grid(const Take& t, const TakeScan& s, double bound);
+// The largest grid whose KG error is at or under `kg` percent (bisection on the step). Reads the
+// source again in blocks of `block` frames (into *b) unless the scan cached the coordinates.
+Grid kg_grid(FrameSource& src, const TakeScan& s, double kg, size_t block, FrameBlock* b);
+
+// The window's integers on grid g (transform output, grid step 0: all zero).
+WindowInts quantise_window(const FrameBlock& b, const Grid& g);
+
+}  // namespace capz
