@@ -20,7 +20,12 @@ namespace {
 class WindowChunks {
  public:
   WindowChunks(const StreamContext& ctx, size_t w, const uint8_t* region, size_t base, size_t end)
-      : ctx_(ctx), w_(w), region_(region), base_(base), end_(end), off_(base),
+      : ctx_(ctx),
+        w_(w),
+        region_(region),
+        base_(base),
+        end_(end),
+        off_(base),
         wname_(" of window " + std::to_string(w)) {}
 
   Chunk next(const char* type, bool required) {
@@ -37,7 +42,8 @@ class WindowChunks {
       if (c.type == "POSW" || c.type == "MASK" || c.type == "C3DW" || c.type == "ANLG") break;
       off_ = c.end;  // unknown chunk: skipped
     }
-    if (required) fail(ErrorCode::kCorrupt, ctx_.name, std::string("missing chunk ") + type + wname_);
+    if (required)
+      fail(ErrorCode::kCorrupt, ctx_.name, std::string("missing chunk ") + type + wname_);
     return Chunk();
   }
   // Reads the window index that starts every window chunk's payload; it must be w.

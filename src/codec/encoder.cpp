@@ -60,15 +60,11 @@ std::vector<uint8_t> with_window_index(size_t w, uint8_t flag, const std::vector
   return std::move(b.buffer());
 }
 
-bool same_bits(double a, double b) {
-  return std::memcmp(&a, &b, 8) == 0;
-}
-
 // What the options resolve to for this take, before anything is read.
 struct Plan {
-  size_t W = 0;                          // frames per window
-  bool words = false;                    // C3D 4th words are coded (C3DW)
-  double point_scale = 0;                // the take's POINT:SCALE (0 without C3D)
+  size_t W = 0;                           // frames per window
+  bool words = false;                     // C3D 4th words are coded (C3DW)
+  double point_scale = 0;                 // the take's POINT:SCALE (0 without C3D)
   const TransformCodec* codec = nullptr;  // the transform stage, nullptr for none
   // Only a KG target and a transform: the transform's reconstruction is the output, no grid and
   // no bound layer (FORMAT.md 3.1 "transform output"); the transform meets the KG target itself.
@@ -118,7 +114,11 @@ class Encoder {
  public:
   Encoder(FrameSource& source, const CompressOptions& opts, const EncoderTuning& tuning,
           StreamOut* out, bool allow_tout)
-      : source_(source), take_(source.header()), opts_(opts), tuning_(tuning), out_(out),
+      : source_(source),
+        take_(source.header()),
+        opts_(opts),
+        tuning_(tuning),
+        out_(out),
         plan_(resolve(source, opts, allow_tout)) {}
 
   void run(CompressStats* stats) {
@@ -283,8 +283,8 @@ class Encoder {
     }
     if (plan_.analog) {
       const size_t before = buf.size();
-      const std::vector<uint8_t> an = encode_analog(block_.analog.data(), fn * plan_.S,
-                                                    take_.analog.channels, scan_.kinds);
+      const std::vector<uint8_t> an =
+          encode_analog(block_.analog.data(), fn * plan_.S, take_.analog.channels, scan_.kinds);
       append_chunk(&buf, "ANLG", with_window_index(w, 0xFF, an));
       analog_bytes_ += buf.size() - before;
     }
@@ -361,9 +361,9 @@ class Encoder {
     if (plan_.words && (std::memcmp(back.residual.data(), block_.residual.data(), n * 4) != 0 ||
                         std::memcmp(back.camera_mask.data(), block_.camera_mask.data(), n) != 0))
       check_failed(w, "C3D sample words differ");
-    if (plan_.analog && (back.analog.size() != block_.analog.size() ||
-                         std::memcmp(back.analog.data(), block_.analog.data(),
-                                     back.analog.size() * 8) != 0))
+    if (plan_.analog &&
+        (back.analog.size() != block_.analog.size() ||
+         std::memcmp(back.analog.data(), block_.analog.data(), back.analog.size() * 8) != 0))
       check_failed(w, "analog values differ");
   }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <type_traits>
 #include <vector>
@@ -21,6 +22,11 @@ struct Grid {
   double bound = 0;  // per-coordinate bound that holds (0 = exact)
   bool lossless = false;
 };
+
+// True when a and b have the same bits (lossless compares this way: NaN payloads, -0.0).
+inline bool same_bits(double a, double b) {
+  return std::memcmp(&a, &b, 8) == 0;
+}
 
 // "grid", "decimal-grid", "float32-bits", "float64-bits", "float32-grid".
 const char* mode_name(PosMode m);

@@ -11,10 +11,6 @@
 namespace capz {
 namespace {
 
-bool same_bits(double a, double b) {
-  return std::memcmp(&a, &b, 8) == 0;
-}
-
 // True when grid g reproduces coordinate x exactly (bit for bit).
 template <PosMode M>
 inline bool grid_exact_as(const Grid& g, double x) {

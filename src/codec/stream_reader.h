@@ -56,7 +56,7 @@ struct StreamContext {
   std::string name;  // for messages
   int major = 1, minor = 0;
   StreamHeader h;
-  Take take;  // metadata only: frames, points, analog layout, META's fields
+  Take take;           // metadata only: frames, points, analog layout, META's fields
   bool words = false;  // windows carry C3DW chunks
 };
 // The context of a stream of version major.minor from its decoded HEAD and its META chunk.
