@@ -68,8 +68,8 @@ class PromiseCheck {
 
 struct PromiseResult {
   bool holds = false;
-  std::string why;     // "" when it holds
-  ErrorStats error;    // as compare(original, decoded) when the shapes agree
+  std::string why;   // "" when it holds
+  ErrorStats error;  // as compare(original, decoded) when the shapes agree
 };
 // The whole check on two whole takes (in memory).
 PromiseResult check_promise(const Take& original, const Take& decoded, const Promise& promise);

@@ -153,7 +153,7 @@ bool PromiseCheck::positions(const Frames& a, const Frames& b) {
     if (!a.valid[i]) continue;
     for (size_t k = i * 3; k < i * 3 + 3; ++k) {
       const double x = a.xyz[k], y = b.xyz[k];
-      const bool ok = kind == Promise::Kind::kKgTarget  ? std::isfinite(y)
+      const bool ok = kind == Promise::Kind::kKgTarget   ? std::isfinite(y)
                       : kind == Promise::Kind::kLossless ? same_bits(x, y)
                                                          : std::fabs(x - y) <= promise_.max_error;
       if (!ok)

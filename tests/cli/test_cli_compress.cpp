@@ -15,6 +15,7 @@
 #include "capz/codec.h"
 #include "capz/io.h"
 #include "capz/metrics.h"
+#include "capz/version.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;
@@ -44,6 +45,22 @@ Result capz_cli(const std::string& args, bool merge = false, const std::string& 
 
 const std::string kTrc = std::string(CAPZ_SHARED_DATA) + "/trc/opensim/walk_free_01.trc";
 const std::string kC3d = std::string(CAPZ_REPO_DATA) + "/EB015PI.c3d";
+
+// `capz --version`: the library version and the .capz versions written and read (version.h).
+TEST(CliVersion, GivenVersionThenLibraryAndFormatVersionsArePrinted) {
+  auto text = [](capz::FormatVersion v) {
+    return std::to_string(v.major) + "." + std::to_string(v.minor);
+  };
+  const std::string expected = std::string("capz ") + capz::version_string() +
+                               "\n.capz format: writes " + text(capz::kFormatWritten) + ", reads " +
+                               text(capz::kFormatOldestRead) + " to " +
+                               text(capz::kFormatNewestRead) + "\n";
+  for (const char* flag : {"--version", "-V"}) {
+    const Result r = capz_cli(flag);
+    EXPECT_EQ(r.status, 0);
+    EXPECT_EQ(r.out, expected);
+  }
+}
 
 TEST(CliCompress, GivenTrcWhenCompressedWithDefaultsThenReportLineAndBoundHolds) {
   capz_test::TempDir d("capz_cli_compress");

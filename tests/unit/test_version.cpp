@@ -29,9 +29,8 @@ TEST(Version, GivenTheLibraryThenItsVersionStringSpellsItsNumbers) {
   EXPECT_EQ(v.major, kVersion.major);
   EXPECT_EQ(v.minor, kVersion.minor);
   EXPECT_EQ(v.patch, kVersion.patch);
-  EXPECT_EQ(std::string(version_string()), std::to_string(v.major) + "." +
-                                               std::to_string(v.minor) + "." +
-                                               std::to_string(v.patch));
+  EXPECT_EQ(std::string(version_string()), std::to_string(v.major) + "." + std::to_string(v.minor) +
+                                               "." + std::to_string(v.patch));
 }
 
 TEST(Version, GivenACompressedTakeThenItsVersionIsTheOneWrittenAndItIsRead) {
