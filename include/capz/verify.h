@@ -30,12 +30,12 @@ struct Promise {
 };
 Promise promise_of(const StreamInfo& info);
 
+struct PromiseResult;
+
 // Checks a decoded take against its original piece by piece, so a long take is checked a block
 // of frames at a time: header() once, frames() for consecutive blocks covering the take, then
 // finish(). Every call returns holds(); the first breach found is kept in why() (later ones are
 // not), and the error measures go on accumulating over every block given.
-struct PromiseResult;
-
 class PromiseCheck {
  public:
   explicit PromiseCheck(const Promise& promise) : promise_(promise) {}
