@@ -1,11 +1,10 @@
 #include "cli_util.h"
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-
-#include "io/text_number.h"
 
 namespace fs = std::filesystem;
 
@@ -74,7 +73,12 @@ uint64_t path_size(const std::string& path) {
 }
 
 std::string number(double v) {
-  return capz::format_decimal(v, -1);
+  if (std::isnan(v)) return "NaN";
+  char buf[400];  // the longest fixed form of a double below 1e21 fits
+  const double a = std::fabs(v);
+  const auto fmt =
+      a != 0 && (a >= 1e21 || a < 1e-12) ? std::chars_format::scientific : std::chars_format::fixed;
+  return std::string(buf, std::to_chars(buf, buf + sizeof buf, v, fmt).ptr);
 }
 
 std::string percent(double share) {
@@ -187,7 +191,7 @@ void Json::value(const std::string& s) {
 }
 void Json::value(double v) {
   separate();
-  out_ += std::isfinite(v) ? capz::format_decimal(v, -1) : std::string("null");
+  out_ += std::isfinite(v) ? number(v) : std::string("null");
 }
 void Json::value(uint64_t v) {
   separate();

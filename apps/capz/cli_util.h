@@ -33,7 +33,7 @@ bool parse_single_input(const Args& args, const std::string& usage, const std::s
 std::string human_size(uint64_t bytes);
 // Size of a file, or the total of the regular files directly inside a directory.
 uint64_t path_size(const std::string& path);
-// Shortest decimal text that reads back exactly (no exponent for ordinary magnitudes).
+// Shortest decimal text that reads back exactly (no exponent for magnitudes in [1e-12, 1e21)).
 std::string number(double v);
 // "3.2%" style share with one decimal (two below 1%).
 std::string percent(double share);

@@ -6,10 +6,10 @@
 #include <string>
 
 #include "capz/error.h"
+#include "capz/file.h"
 #include "capz/io.h"
 #include "cli_util.h"
 #include "commands.h"
-#include "core/atomic_file.h"
 
 namespace capz_cli {
 

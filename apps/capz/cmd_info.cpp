@@ -178,7 +178,7 @@ void print_json(const std::string& path, const capz::Take& t, const Summary& s) 
   j.end_object();
   j.member("points", static_cast<uint64_t>(t.points));
   j.member("frames", static_cast<uint64_t>(t.frames));
-  j.member("first_frame", static_cast<int64_t>(t.first_frame));
+  j.member("first_frame", t.first_frame);
   j.key("rate");
   if (t.rate > 0)
     j.value(t.rate);

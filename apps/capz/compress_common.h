@@ -12,10 +12,10 @@
 
 #include "capz/codec.h"
 #include "capz/error.h"
+#include "capz/file.h"
 #include "capz/metrics.h"
 #include "cli_util.h"
 #include "commands.h"
-#include "core/atomic_file.h"
 
 namespace capz_cli {
 
@@ -66,15 +66,15 @@ inline std::string num(double v, int digits = 4) {
 }
 
 // `compress --rm` (check_written.cpp): reads OUT back from disk and decodes it, a window at a
-// time, against IN read again from disk, as OUT's header promises: same shape and gap mask;
-// every valid coordinate within the stored bound per coordinate, bit-identical when lossless,
-// or for a transform-output stream (no bound, FORMAT.md 3.1) finite with the KG error within
-// its target; rate, units, first frame, labels, descriptions, analog channels and values, and
-// the format extras a .capz keeps (C3D parameter section, header fields and events,
-// residual/camera words; TRC time and frame columns; PCD frame names) identical to `in_header`
-// (the metadata compress coded). On any difference or decoding error, removes OUT and throws
-// Error(kCorrupt) saying IN was kept.
+// time, against IN read again from disk (with `in_header`, the metadata compress coded), as
+// OUT's header promises (capz/verify.h). On any difference or decoding error, removes OUT and
+// throws Error(kCorrupt) saying IN was kept. The rule is the library's (capz/verify.h).
 void check_written(const std::string& out, const std::string& in, const capz::Take& in_header);
+
+// Called by check_written just before OUT is read back. The release binary's does nothing
+// (release_hooks.cpp); the CLI built for the tests (tests/support/flip_written_byte.cpp) damages
+// OUT there, as a disk returning bad data would, so a test can see --rm keep its input.
+void before_reading_back(const std::string& out);
 
 // `capz info` on a .capz (cmd_info_capz.cpp).
 int info_capz(const std::string& path, bool json);

@@ -8,6 +8,7 @@
 #endif
 
 #include "capz/error.h"
+#include "capz/version.h"
 #include "commands.h"
 
 namespace capz_cli {
@@ -62,7 +63,10 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (name == "--version" || name == "-V") {
-    std::printf("capz 0.1.0\n");
+    std::printf("capz %s\n.capz format: writes %d.%d, reads %d.%d to %d.%d\n",
+                capz::version_string(), capz::kFormatWritten.major, capz::kFormatWritten.minor,
+                capz::kFormatOldestRead.major, capz::kFormatOldestRead.minor,
+                capz::kFormatNewestRead.major, capz::kFormatNewestRead.minor);
     return 0;
   }
   capz_cli::Args args(argv + 2, argv + argc);

@@ -38,11 +38,4 @@ void write_trc(const Take& take, const std::string& path, const WriteOptions& op
 Take read_pcd_folder(const std::string& dir);
 void write_pcd_folder(const Take& take, const std::string& dir, const WriteOptions& opts = {});
 
-// The C3D parameter section alone, in C3D's own byte layout (Intel processor type, blocks of
-// 512 bytes, first 4 bytes = the section header). The .capz container stores C3D parameters in
-// exactly this form; see docs/FORMAT.md.
-std::vector<uint8_t> encode_c3d_parameters(const C3DExtra& extra);
-void decode_c3d_parameters(const uint8_t* data, size_t size, const std::string& name,
-                           C3DExtra* extra);
-
 }  // namespace capz

@@ -110,11 +110,11 @@ std::unique_ptr<FrameSink> create_frame_sink(const Take& header, bool words,
                                              const std::string& path,
                                              const WriteOptions& opts = {});
 
-// Compresses a source window by window into `path` (an AtomicFile). Same bytes as compress()
-// on the whole take. Lossless and --max-error read the source twice (a scan that fixes the
-// grid, then the coding pass); so does a KG target when its valid coordinates fit in 64 MiB
-// (the scan keeps them for the grid search), else it reads it once more per bisection step of
-// the search (about 26). codec "auto" is not streamed (throws
+// Compresses a source window by window into `path` (written atomically, as file.h says). Same
+// bytes as compress() on the whole take. Lossless and --max-error read the source twice (a scan
+// that fixes the grid, then the coding pass); so does a KG target when its valid coordinates fit
+// in 64 MiB (the scan keeps them for the grid search), else it reads it once more per bisection
+// step of the search (about 26). codec "auto" is not streamed (throws
 // kInvalidParameter: use compress()).
 void compress_stream(FrameSource& source, const CompressOptions& opts, const std::string& path,
                      bool overwrite, CompressStats* stats = nullptr);

@@ -99,12 +99,12 @@ struct TRCExtra {
       path_file_type_line;  // first line verbatim, e.g. "PathFileType\t4\t(X/Y/Z)\tname.trc"
   double camera_rate = 0;
   double orig_data_rate = 0;
-  long orig_data_start_frame = 1;
-  long orig_num_frames = 0;
-  std::vector<double> times;        // the Time column, one per frame
-  std::vector<long> frame_numbers;  // the Frame# column, one per frame
-  int decimals = -1;                // most decimals seen in coordinate fields; -1 unknown
-  int time_decimals = -1;           // most decimals seen in the Time column; -1 unknown
+  int64_t orig_data_start_frame = 1;
+  int64_t orig_num_frames = 0;
+  std::vector<double> times;           // the Time column, one per frame
+  std::vector<int64_t> frame_numbers;  // the Frame# column, one per frame
+  int decimals = -1;                   // most decimals seen in coordinate fields; -1 unknown
+  int time_decimals = -1;              // most decimals seen in the Time column; -1 unknown
 };
 
 // PCD folder specifics.
@@ -125,7 +125,7 @@ struct Take {
 
   double rate = 0;                  // frames per second; 0 = unknown
   std::string units;                // "mm", "cm", "m", ... as the file says; empty = unknown (PCD)
-  long first_frame = 1;             // number of the first frame as the source counts them
+  int64_t first_frame = 1;          // number of the first frame as the source counts them
   std::vector<std::string> labels;  // one per point (may be empty strings)
   std::vector<std::string> descriptions;  // one per point or empty
 

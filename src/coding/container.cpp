@@ -4,10 +4,10 @@
 #include <cstring>
 
 #include "capz/error.h"
-#include "capz/io.h"
 #include "coding/bytes.h"
 #include "coding/crc32c.h"
 #include "coding/entropy.h"
+#include "io/c3d_params.h"
 
 namespace capz {
 namespace {
@@ -31,9 +31,8 @@ std::vector<std::string> get_strings(ByteReader* r, size_t expect, const char* w
   return v;
 }
 
-// Frame numbers are coded with wrapping int64 arithmetic (FORMAT.md 3.2): every long
+// Frame numbers are coded with wrapping int64 arithmetic (FORMAT.md 3.2): every int64
 // round-trips, and no input makes the sums overflow (signed overflow is undefined).
-static_assert(sizeof(long) == sizeof(int64_t), "Take::frame_numbers are coded as int64");
 int64_t wrap_add64(int64_t a, int64_t b) {
   return static_cast<int64_t>(static_cast<uint64_t>(a) + static_cast<uint64_t>(b));
 }
@@ -73,10 +72,10 @@ int check_file_header(const uint8_t* data, size_t size, const std::string& name)
     fail(ErrorCode::kNotOurFormat, name, "not a .capz file (wrong magic)");
   }
   if (size < kFileHeaderBytes) fail(ErrorCode::kCorrupt, name, "truncated before the version");
-  if (data[9] > kCapzMajor)
+  if (data[9] > kFormatNewestRead.major)
     fail(ErrorCode::kUnsupportedVersion, name,
          "format version " + std::to_string(data[9]) + "." + std::to_string(data[10]) +
-             " is newer than this capz reads (" + std::to_string(kCapzMajor) + ".x)");
+             " is newer than this capz reads (" + std::to_string(kFormatNewestRead.major) + ".x)");
   if (data[9] < 1) fail(ErrorCode::kCorrupt, name, "format major version 0 does not exist");
   return data[10];
 }
@@ -281,7 +280,7 @@ std::vector<uint8_t> encode_meta_fields(const Take& t, bool has_sample_words) {
       } else {
         w.u8(2);
         int64_t prev = 0;
-        for (long v : x.frame_numbers) {
+        for (int64_t v : x.frame_numbers) {
           w.svarint(wrap_sub64(v, prev));
           prev = v;
         }
@@ -332,7 +331,7 @@ void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sam
   t->source = r.str();
   t->units = r.str();
   t->rate = r.f64();
-  t->first_frame = static_cast<long>(r.svarint());
+  t->first_frame = r.svarint();
   t->labels = get_strings(&r, t->points, "label count");
   t->descriptions = get_strings(&r, t->points, "description count");
   t->analog.rate = r.f64();
@@ -368,8 +367,8 @@ void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sam
     x->path_file_type_line = r.str();
     x->camera_rate = r.f64();
     x->orig_data_rate = r.f64();
-    x->orig_data_start_frame = static_cast<long>(r.svarint());
-    x->orig_num_frames = static_cast<long>(r.svarint());
+    x->orig_data_start_frame = r.svarint();
+    x->orig_num_frames = r.svarint();
     x->decimals = static_cast<int>(r.svarint());
     uint8_t kt = r.u8();
     if (kt == 1) {

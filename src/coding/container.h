@@ -8,15 +8,16 @@
 #include <vector>
 
 #include "capz/take.h"
+#include "capz/version.h"
 #include "coding/quantiser.h"
 
 namespace capz {
 
 constexpr uint8_t kCapzMagic[9] = {0x89, 'c', 'a', 'p', 'z', 0x0D, 0x0A, 0x1A, 0x0A};
-constexpr uint8_t kCapzMajor = 3;
-constexpr uint8_t kCapzMinor = 1;        // docs/FORMAT.md 2: what each version added
-constexpr size_t kFileHeaderBytes = 11;  // magic + major + minor
-constexpr size_t kChunkOverhead = 12;    // type + length + crc
+constexpr uint8_t kCapzMajor = kFormatWritten.major;  // capz/version.h; docs/FORMAT.md 2:
+constexpr uint8_t kCapzMinor = kFormatWritten.minor;  // what each version added
+constexpr size_t kFileHeaderBytes = 11;               // magic + major + minor
+constexpr size_t kChunkOverhead = 12;                 // type + length + crc
 
 // Appends magic and version.
 void write_file_header(std::vector<uint8_t>* out);

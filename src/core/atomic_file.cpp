@@ -119,4 +119,10 @@ std::vector<uint8_t> read_file(const std::string& path, uint64_t max_bytes) {
   return data;
 }
 
+void write_file(const std::string& path, const std::vector<uint8_t>& bytes, bool overwrite) {
+  AtomicFile f(path, overwrite);
+  f.write(bytes);
+  f.commit();
+}
+
 }  // namespace capz

@@ -7,10 +7,9 @@
 #include <string>
 #include <vector>
 
-namespace capz {
+#include "capz/file.h"  // check_output_free, read_file, write_file
 
-// Throws Error(kUsage) if `path` exists and !overwrite.
-void check_output_free(const std::string& path, bool overwrite);
+namespace capz {
 
 class AtomicFile {
  public:
@@ -47,8 +46,5 @@ class AtomicDir {
   bool overwrite_;
   bool committed_ = false;
 };
-
-// Whole-file read with a clear error; refuses files larger than `max_bytes`.
-std::vector<uint8_t> read_file(const std::string& path, uint64_t max_bytes = (uint64_t{1} << 34));
 
 }  // namespace capz

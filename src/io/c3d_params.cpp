@@ -1,4 +1,6 @@
 // capz — the C3D parameter section: number forms, parsing, encoding, and typed helpers.
+#include "io/c3d_params.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -535,7 +537,8 @@ void set_string_list(C3DGroup& group, const std::string& base, const std::vector
 
 }  // namespace c3d
 
-// ---- public API -----------------------------------------------------------------------------
+// ---- the container's entry points (io/c3d_params.h)
+// -----------------------------------------------------------------------------
 
 std::vector<uint8_t> encode_c3d_parameters(const C3DExtra& extra) {
   return c3d::encode_parameter_section(extra.groups);

@@ -191,7 +191,7 @@ Take read_header(const uint8_t* data, size_t avail, size_t size, const std::stri
   const size_t data_bytes = data_offset < size ? size - data_offset : 0;
 
   // ---- frames ----
-  long first = h_first;
+  int64_t first = h_first;
   size_t frames = h_last >= h_first ? static_cast<size_t>(h_last - h_first + 1) : 0;
   long p_frames = count_param(*x, "POINT", "FRAMES");
   long tr_start = trial_field(*x, "ACTUAL_START_FIELD");

@@ -155,8 +155,8 @@ C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& o
   C3DExtra x;
   if (src) groups = src->groups;
   x.groups = groups;  // for lookups of what was read
-  const long first = take.first_frame;
-  const long last = first + static_cast<long>(F) - 1;
+  const int64_t first = take.first_frame;
+  const int64_t last = first + static_cast<int64_t>(F) - 1;
   const bool long_take = F > 65535 || last > 65535;
 
   C3DGroup& point = ensure_group(groups, "POINT", "3-D point parameters");
@@ -222,26 +222,26 @@ C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& o
   }
 
   {
-    long tr_start = -1, tr_end = -1;
+    int64_t tr_start = -1, tr_end = -1;
     if (const C3DParameter* p = x.param("TRIAL", "ACTUAL_START_FIELD"))
       if (p->type == 2 && !p->data.empty()) {
         auto v = p->as_ints();
-        tr_start =
-            static_cast<uint16_t>(v[0]) + 65536L * (v.size() > 1 ? static_cast<uint16_t>(v[1]) : 0);
+        tr_start = static_cast<uint16_t>(v[0]) +
+                   int64_t{65536} * (v.size() > 1 ? static_cast<uint16_t>(v[1]) : 0);
       }
     if (const C3DParameter* p = x.param("TRIAL", "ACTUAL_END_FIELD"))
       if (p->type == 2 && !p->data.empty()) {
         auto v = p->as_ints();
-        tr_end =
-            static_cast<uint16_t>(v[0]) + 65536L * (v.size() > 1 ? static_cast<uint16_t>(v[1]) : 0);
+        tr_end = static_cast<uint16_t>(v[0]) +
+                 int64_t{65536} * (v.size() > 1 ? static_cast<uint16_t>(v[1]) : 0);
       }
     const bool have = tr_start >= 0 && tr_end >= 0;
-    const bool consistent =
-        have && tr_end - tr_start + 1 == static_cast<long>(F) && (!long_take || tr_start == first);
+    const bool consistent = have && tr_end - tr_start + 1 == static_cast<int64_t>(F) &&
+                            (!long_take || tr_start == first);
     if (!src || long_take || (have && !consistent)) {
       C3DGroup& tg = ensure_group(groups, "TRIAL", "Trial parameters");
       if (!consistent) {
-        long s = std::max(0L, first), e = std::max(s - 1, last);
+        int64_t s = std::max<int64_t>(0, first), e = std::max(s - 1, last);
         if (F == 0) e = s;  // nothing to count; keep a valid pair
         set_int16_array(ensure_param(tg, "ACTUAL_START_FIELD", "First frame (low, high word)"),
                         {static_cast<int>(s & 0xffff), static_cast<int>((s >> 16) & 0xffff)});
@@ -262,8 +262,8 @@ C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& o
   std::vector<uint8_t> header(kBlock, 0);
   header[0] = 2;
   header[1] = 0x50;
-  long h_first = std::min(65535L, std::max(0L, first));
-  long h_last = long_take ? 65535L : std::max(h_first - 1, last);
+  int64_t h_first = std::min<int64_t>(65535, std::max<int64_t>(0, first));
+  int64_t h_last = long_take ? 65535 : std::max(h_first - 1, last);
   if (F == 0 && h_first == 0) h_first = 1, h_last = 0;
   put_header_u16(header, 2, static_cast<uint32_t>(N));
   put_header_u16(header, 3, static_cast<uint32_t>(analog_total));

@@ -125,7 +125,7 @@ int decimals_of(const Field& f) {
 
 struct Header {
   double data_rate = 0, camera_rate = 0, orig_data_rate = 0;
-  long num_frames = -1, num_markers = -1, orig_start = 1, orig_num_frames = 0;
+  int64_t num_frames = -1, num_markers = -1, orig_start = 1, orig_num_frames = 0;
   std::string units;
 };
 
@@ -198,12 +198,12 @@ Prelude parse_prelude(const char* text, size_t size, const std::string& name) {
         fail(ErrorCode::kCorrupt, name, "line 3: " + k + " '" + v + "' is not a number");
       *out = x;
     };
-    auto integer = [&](long* out) {
+    auto integer = [&](int64_t* out) {
       double x;
       num(&x);
       if (x != std::floor(x) || std::fabs(x) > 1e15)
         fail(ErrorCode::kCorrupt, name, "line 3: " + k + " '" + v + "' is not an integer");
-      *out = static_cast<long>(x);
+      *out = static_cast<int64_t>(x);
     };
     if (v.empty()) {
       pre.warnings.push_back("header value of " + k + " is missing");
@@ -255,7 +255,7 @@ struct RowParser {
 
   // Parses row r (a non-blank line, file line line_no): frame number, time and, when xyz is not
   // null, the samples (xyz: points x 3, valid: points; gaps left as they are).
-  void parse(const char* b, const char* e, size_t line_no, size_t r, long* frame_number,
+  void parse(const char* b, const char* e, size_t line_no, size_t r, int64_t* frame_number,
              double* time_out, double* xyz, uint8_t* valid) {
     split_fields(b, e, &f);
     auto bad = [&](size_t col, const Field& fld, const char* what) {
@@ -277,7 +277,7 @@ struct RowParser {
       if (d < 0) time_exponent = true;
       time_decimals = std::max(time_decimals, d);
     }
-    *frame_number = static_cast<long>(frame_no);
+    *frame_number = static_cast<int64_t>(frame_no);
     *time_out = time;
     if (f.size() < 2 + 3 * points) ++short_rows;
     for (size_t p = 0; p < points; ++p) {
@@ -463,7 +463,7 @@ class TRCSource : public FrameSource {
       while (rows.next(&b, &e, &off)) {
         ++line_no;
         if (all_blank(b, e)) continue;
-        long fn;
+        int64_t fn;
         double t;
         parser_.parse(b, e, line_no, offsets_.size(), &fn, &t, nullptr, nullptr);
         trc.frame_numbers.push_back(fn);
@@ -489,7 +489,7 @@ class TRCSource : public FrameSource {
     RowParser rp = parser_;  // counters of the open pass stay as they were
     while (r < count && lines.next(&b, &e)) {
       if (all_blank(b, e)) continue;
-      long fn;
+      int64_t fn;
       double t;
       rp.parse(b, e, line_numbers_[first + r], first + r, &fn, &t, &out->xyz[r * N * 3],
                &out->valid[r * N]);
@@ -545,7 +545,7 @@ Take read_trc_bytes(const uint8_t* data, size_t size, const std::string& name) {
     size_t r = 0;
     while (rows.next(&b, &e)) {
       if (all_blank(b, e)) continue;
-      long fn;
+      int64_t fn;
       double time;
       rp.parse(b, e, pre.data_line0 + rows.number() - 1, r, &fn, &time,
                rp.points ? t.at(r, 0) : nullptr, rp.points ? &t.valid[r * rp.points] : nullptr);
@@ -622,7 +622,7 @@ void append_rows(const Take& take, size_t first, size_t count, const double* xyz
   for (size_t k = 0; k < count; ++k) {
     const size_t fr = first + k;
     s += std::to_string(have_numbers ? x->frame_numbers[fr]
-                                     : take.first_frame + static_cast<long>(fr));
+                                     : take.first_frame + static_cast<int64_t>(fr));
     s += '\t';
     double t = have_times ? x->times[fr] : (rate > 0 ? static_cast<double>(fr) / rate : 0.0);
     s += format_decimal(t, tdec);

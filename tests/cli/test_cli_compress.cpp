@@ -15,6 +15,7 @@
 #include "capz/codec.h"
 #include "capz/io.h"
 #include "capz/metrics.h"
+#include "capz/version.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;
@@ -27,12 +28,14 @@ struct Result {
 };
 
 // `capz <args>` with stdout captured (stderr to stdout too when `merge`); `env` ("NAME=VALUE ")
-// is set for that one run.
-Result capz_cli(const std::string& args, bool merge = false, const std::string& env = "") {
+// is set for that one run. `exe`: the release binary, or CAPZ_CLI_FAULTS (the CLI with its test
+// hook, tests/support/flip_written_byte.cpp).
+Result capz_cli(const std::string& args, bool merge = false, const std::string& env = "",
+                const std::string& exe = CAPZ_CLI) {
   static capz_test::TempDir io("capz_cli_compress_io");
   const std::string out = io.file("out");
   const std::string cmd =
-      env + "'" + CAPZ_CLI + "' " + args + " >'" + out + "'" + (merge ? " 2>&1" : " 2>/dev/null");
+      env + "'" + exe + "' " + args + " >'" + out + "'" + (merge ? " 2>&1" : " 2>/dev/null");
   const int rc = std::system(cmd.c_str());
   std::ifstream in(out);
   std::stringstream ss;
@@ -42,6 +45,22 @@ Result capz_cli(const std::string& args, bool merge = false, const std::string& 
 
 const std::string kTrc = std::string(CAPZ_SHARED_DATA) + "/trc/opensim/walk_free_01.trc";
 const std::string kC3d = std::string(CAPZ_REPO_DATA) + "/EB015PI.c3d";
+
+// `capz --version`: the library version and the .capz versions written and read (version.h).
+TEST(CliVersion, GivenVersionThenLibraryAndFormatVersionsArePrinted) {
+  auto text = [](capz::FormatVersion v) {
+    return std::to_string(v.major) + "." + std::to_string(v.minor);
+  };
+  const std::string expected = std::string("capz ") + capz::version_string() +
+                               "\n.capz format: writes " + text(capz::kFormatWritten) + ", reads " +
+                               text(capz::kFormatOldestRead) + " to " +
+                               text(capz::kFormatNewestRead) + "\n";
+  for (const char* flag : {"--version", "-V"}) {
+    const Result r = capz_cli(flag);
+    EXPECT_EQ(r.status, 0);
+    EXPECT_EQ(r.out, expected);
+  }
+}
 
 TEST(CliCompress, GivenTrcWhenCompressedWithDefaultsThenReportLineAndBoundHolds) {
   capz_test::TempDir d("capz_cli_compress");
@@ -125,11 +144,12 @@ std::vector<char> file_bytes(const std::string& path) {
 }
 
 // --rm deletes IN only after OUT, read back from disk and decoded, reproduces it. The check's
-// failure is provoked with CAPZ_TEST_FLIP_WRITTEN_BYTE (a bit of OUT on disk is flipped first,
-// as a disk returning bad data would): then IN stays byte-identical, the bad OUT is removed, and
-// one line on stderr says so, status 5. Without the fault the check passes on real files, lossy
-// (bound), lossless and a KG target with a transform (no bound: the KG target is checked), TRC
-// and C3D with analog channels and parameters, and IN is removed.
+// failure is provoked with CAPZ_TEST_FLIP_WRITTEN_BYTE in the CLI built for the tests (a bit of
+// OUT on disk is flipped first, as a disk returning bad data would): then IN stays
+// byte-identical, the bad OUT is removed, and one line on stderr says so, status 5. The release
+// binary has no such hook: the same variable leaves it working. Without the fault the check passes
+// on real files, lossy (bound), lossless and a KG target with a transform (no bound: the KG target
+// is checked), TRC and C3D with analog channels and parameters, and IN is removed.
 TEST(CliCompress, GivenRmWhenWrittenOutputReadsBackWrongThenInputKeptElseRemoved) {
   capz_test::TempDir d("capz_cli_compress");
   struct Case {
@@ -150,8 +170,9 @@ TEST(CliCompress, GivenRmWhenWrittenOutputReadsBackWrongThenInputKeptElseRemoved
     ASSERT_EQ(capz_cli("compress -q " + c.opts + " '" + in + "'").status, 0);
     const size_t size = fs::file_size(out);
     for (size_t at : {size_t{9}, size / 2, size - 3}) {
-      Result r = capz_cli("compress -f --rm " + c.opts + " '" + in + "'", true,
-                          "CAPZ_TEST_FLIP_WRITTEN_BYTE=" + std::to_string(at) + " ");
+      Result r =
+          capz_cli("compress -f --rm " + c.opts + " '" + in + "'", true,
+                   "CAPZ_TEST_FLIP_WRITTEN_BYTE=" + std::to_string(at) + " ", CAPZ_CLI_FAULTS);
       EXPECT_EQ(r.status, 5) << r.out;
       EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
       EXPECT_NE(r.out.find("kept despite --rm"), std::string::npos) << r.out;
@@ -159,7 +180,8 @@ TEST(CliCompress, GivenRmWhenWrittenOutputReadsBackWrongThenInputKeptElseRemoved
       EXPECT_TRUE(file_bytes(in) == before);
       EXPECT_FALSE(fs::exists(out));
     }
-    Result r = capz_cli("compress --rm " + c.opts + " '" + in + "'", true);
+    Result r = capz_cli("compress --rm " + c.opts + " '" + in + "'", true,
+                        "CAPZ_TEST_FLIP_WRITTEN_BYTE=9 ");
     EXPECT_EQ(r.status, 0) << r.out;
     EXPECT_FALSE(fs::exists(in));
     ASSERT_TRUE(fs::exists(out));

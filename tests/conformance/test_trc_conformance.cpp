@@ -25,7 +25,7 @@ struct Expect {
   const char* path;  // relative to the shared data folder
   bool reads;        // false: must fail with `code` and a message containing `message`
   size_t frames, points;
-  long first_frame;
+  int64_t first_frame;
   double rate;
   const char* warning;  // a warning that must be present ("" = none required)
   ErrorCode code;

@@ -11,6 +11,7 @@
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/io.h"
+#include "io/c3d_params.h"
 #include "test_util.h"
 
 namespace {

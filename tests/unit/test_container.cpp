@@ -302,11 +302,12 @@ TEST(Container, GivenKgTargetWhenSearchCachedOrStreamedThenSameStream) {
 }
 
 // Frame numbers are coded with wrapping int64 sums (FORMAT.md 3.2): extreme values from the API
-// round-trip exactly, listed and regular (a run that wraps past the largest long), and under
+// round-trip exactly, listed and regular (a run that wraps past the largest int64), and under
 // UBSan no sum overflows (fuzz corpus crash-frame-number-delta-overflow.capz: a crafted delta).
 TEST(Container, GivenExtremeFrameNumbersThenTheyRoundTripWithoutOverflow) {
-  constexpr long kMax = std::numeric_limits<long>::max(), kMin = std::numeric_limits<long>::min();
-  const std::vector<std::vector<long>> cases = {
+  constexpr int64_t kMax = std::numeric_limits<int64_t>::max();
+  constexpr int64_t kMin = std::numeric_limits<int64_t>::min();
+  const std::vector<std::vector<int64_t>> cases = {
       {kMax, kMin, 0, kMax, -1, kMin},                        // listed
       {kMax - 2, kMax - 1, kMax, kMin, kMin + 1, kMin + 2}};  // regular, wrapping
   for (const auto& numbers : cases) {

@@ -70,7 +70,7 @@ TEST(Trc, ReadsTabSeparatedFileWithGapsAndShortRows) {
   EXPECT_EQ(t.trc->time_decimals, 3);
   EXPECT_DOUBLE_EQ(t.trc->camera_rate, 120.0);
   EXPECT_EQ(t.trc->orig_data_start_frame, 7);
-  EXPECT_EQ(t.trc->frame_numbers, (std::vector<long>{7, 8, 9}));
+  EXPECT_EQ(t.trc->frame_numbers, (std::vector<int64_t>{7, 8, 9}));
   EXPECT_EQ(t.trc->times, (std::vector<double>{0.06, 0.07, 0.08}));
   EXPECT_EQ(t.trc->path_file_type_line, "PathFileType\t4\t(X/Y/Z)\twalk.trc");
   EXPECT_TRUE(has_warning(t, "1 of 3 rows end before the last marker")) << t.warnings.size();

@@ -1,0 +1,35 @@
+// capz — versions: of the library, and of the .capz format it writes and reads (docs/FORMAT.md 2).
+// The CAPZ_VERSION_* numbers are the one place the library version is kept: CMakeLists.txt
+// reads them for project(VERSION).
+#pragma once
+
+#define CAPZ_VERSION_MAJOR 0
+#define CAPZ_VERSION_MINOR 1
+#define CAPZ_VERSION_PATCH 0
+
+namespace capz {
+
+struct Version {
+  int major = 0, minor = 0, patch = 0;
+};
+struct FormatVersion {
+  int major = 0, minor = 0;
+};
+
+// The version of the headers in use.
+constexpr Version kVersion{CAPZ_VERSION_MAJOR, CAPZ_VERSION_MINOR, CAPZ_VERSION_PATCH};
+// The version of the library linked (differs from kVersion only when headers and library
+// come from different builds).
+Version library_version();
+// "0.1.0"
+const char* version_string();
+
+// The .capz version every stream is written in.
+constexpr FormatVersion kFormatWritten{3, 1};
+// The versions read: every one from kFormatOldestRead to kFormatNewestRead, and any later
+// minor version of kFormatNewestRead's major (minor versions only add what older decoders skip;
+// FORMAT.md 2). A later major version is refused (Error kUnsupportedVersion).
+constexpr FormatVersion kFormatOldestRead{1, 0};
+constexpr FormatVersion kFormatNewestRead{3, 1};
+
+}  // namespace capz

@@ -1,0 +1,231 @@
+// The rule for "the stream keeps its promise" (include/capz/verify.h).
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "capz/verify.h"
+#include "io/c3d_params.h"
+
+namespace capz {
+
+namespace {
+
+// Equal values, or both NaN (a NaN's payload bits are not part of what a take promises).
+bool same_value(double a, double b) {
+  return a == b || (std::isnan(a) && std::isnan(b));
+}
+bool same_bits(double a, double b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
+}
+bool same_values(const double* a, const double* b, size_t n) {
+  for (size_t i = 0; i < n; ++i)
+    if (!same_value(a[i], b[i])) return false;
+  return true;
+}
+
+std::string text(double v, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+// The C3D extras of the header a .capz keeps: "" when `a` and `b` agree, else what differs.
+std::string c3d_difference(const C3DExtra& a, const C3DExtra& b) {
+  if (encode_c3d_parameters(a) != encode_c3d_parameters(b))
+    return "the C3D parameter section differs";
+  if (a.max_interpolation_gap != b.max_interpolation_gap || a.processor != b.processor ||
+      a.float_storage != b.float_storage || a.point_scale != b.point_scale ||
+      a.header_events_label_range != b.header_events_label_range)
+    return "the C3D header fields differ";
+  if (a.header_events.size() != b.header_events.size()) return "the C3D header events differ";
+  for (size_t i = 0; i < a.header_events.size(); ++i) {
+    const C3DHeaderEvent &x = a.header_events[i], &y = b.header_events[i];
+    if (x.time != y.time || x.display != y.display || x.label != y.label)
+      return "C3D header event " + std::to_string(i) + " differs";
+  }
+  return "";
+}
+
+// The format extras (C3D, TRC, PCD) of the header: "" when they agree.
+std::string extras_difference(const Take& a, const Take& b) {
+  if (a.c3d) {
+    if (!b.c3d) return "the C3D extras are missing";
+    std::string d = c3d_difference(*a.c3d, *b.c3d);
+    if (!d.empty()) return d;
+  }
+  if (a.trc) {
+    if (!b.trc) return "the TRC extras are missing";
+    if (a.trc->times.size() != b.trc->times.size() ||
+        !same_values(a.trc->times.data(), b.trc->times.data(), a.trc->times.size()) ||
+        a.trc->frame_numbers != b.trc->frame_numbers)
+      return "the TRC time or frame columns differ";
+  }
+  if (a.pcd) {
+    if (!b.pcd) return "the PCD extras are missing";
+    if (a.pcd->frame_names != b.pcd->frame_names) return "the PCD frame names differ";
+  }
+  return "";
+}
+
+std::string header_difference(const Take& a, const Take& b) {
+  if (a.frames != b.frames || a.points != b.points)
+    return "decodes to " + std::to_string(b.frames) + " frames x " + std::to_string(b.points) +
+           " points instead of " + std::to_string(a.frames) + " x " + std::to_string(a.points);
+  if (!same_value(a.rate, b.rate) || a.units != b.units || a.first_frame != b.first_frame)
+    return "the rate, units or first frame differ";
+  if (a.labels != b.labels || a.descriptions != b.descriptions)
+    return "the point labels or descriptions differ";
+  const Analog &p = a.analog, &q = b.analog;
+  if (p.channels != q.channels || p.samples_per_frame != q.samples_per_frame ||
+      !same_value(p.rate, q.rate) || p.labels != q.labels)
+    return "the analog channel layout differs";
+  return extras_difference(a, b);
+}
+
+}  // namespace
+
+// The per-frame arrays of frames [first, first + frames): a block, or a whole take.
+struct PromiseCheck::Frames {
+  size_t first = 0, frames = 0, points = 0;
+  const double* xyz = nullptr;
+  const uint8_t* valid = nullptr;
+  const std::vector<float>* residual = nullptr;  // null: none
+  const std::vector<uint8_t>* camera_mask = nullptr;
+  const double* analog = nullptr;
+  size_t analog_values = 0;
+
+  explicit Frames(const FrameBlock& b)
+      : first(b.first),
+        frames(b.frames),
+        points(b.points),
+        xyz(b.xyz.data()),
+        valid(b.valid.data()),
+        residual(&b.residual),
+        camera_mask(&b.camera_mask),
+        analog(b.analog.data()),
+        analog_values(b.analog.size()) {}
+  explicit Frames(const Take& t)
+      : frames(t.frames),
+        points(t.points),
+        xyz(t.xyz.data()),
+        valid(t.valid.data()),
+        analog(t.analog.values.data()),
+        analog_values(t.analog.values.size()) {
+    if (t.c3d) residual = &t.c3d->residual, camera_mask = &t.c3d->camera_mask;
+  }
+  // The C3D 4th words of both takes agree (absent counts as empty).
+  bool same_words(const Frames& o) const {
+    static const std::vector<float> no_residual;
+    static const std::vector<uint8_t> no_mask;
+    return (residual ? *residual : no_residual) == (o.residual ? *o.residual : no_residual) &&
+           (camera_mask ? *camera_mask : no_mask) == (o.camera_mask ? *o.camera_mask : no_mask);
+  }
+};
+
+Promise promise_of(const StreamInfo& info) {
+  Promise p;
+  if (info.lossless) {
+    p.kind = Promise::Kind::kLossless;
+  } else if (info.transform_output) {
+    p.kind = Promise::Kind::kKgTarget;
+    p.kg_target = info.kg_target;
+  } else {
+    p.kind = Promise::Kind::kBound;
+    p.max_error = info.max_error;
+  }
+  return p;
+}
+
+bool PromiseCheck::breach(const std::string& what) {
+  if (why_.empty()) why_ = what;
+  return false;
+}
+
+bool PromiseCheck::header(const Take& original, const Take& decoded) {
+  const std::string what = header_difference(original, decoded);
+  return what.empty() ? holds() : breach(what);
+}
+
+// Every valid sample of the original (a): its coordinates as the promise says.
+bool PromiseCheck::positions(const Frames& a, const Frames& b) {
+  const Promise::Kind kind = promise_.kind;
+  for (size_t i = 0; i < a.frames * a.points; ++i) {
+    if (!a.valid[i]) continue;
+    for (size_t k = i * 3; k < i * 3 + 3; ++k) {
+      const double x = a.xyz[k], y = b.xyz[k];
+      const bool ok = kind == Promise::Kind::kKgTarget   ? std::isfinite(y)
+                      : kind == Promise::Kind::kLossless ? same_bits(x, y)
+                                                         : std::fabs(x - y) <= promise_.max_error;
+      if (!ok)
+        return breach(
+            "coordinate " + text(x, 17) + " at frame " + std::to_string(a.first + i / a.points) +
+            ", point " + std::to_string(i % a.points) + " comes back as " + text(y, 17) +
+            (kind == Promise::Kind::kLossless   ? " (lossless)"
+             : kind == Promise::Kind::kKgTarget ? " (not finite)"
+                                                : " (bound " + text(promise_.max_error, 6) + ")"));
+    }
+  }
+  return true;
+}
+
+// Mask, positions, 4th words and analog values of one stretch of frames.
+bool PromiseCheck::check(const Frames& a, const Frames& b) {
+  if (a.frames != b.frames || a.points != b.points)
+    return breach("frame count differs at frame " + std::to_string(a.first));
+  acc_.add(a.frames, a.points, a.xyz, b.xyz, a.valid);
+  size_t n = 0, at = 0;
+  for (size_t i = 0; i < a.frames * a.points; ++i)
+    if ((a.valid[i] != 0) != (b.valid[i] != 0) && n++ == 0) at = i;
+  mask_mismatches_ += n;
+  if (n)
+    return breach(std::to_string(n) + " samples' gap mask differs, first at frame " +
+                  std::to_string(a.first + at / a.points) + ", point " +
+                  std::to_string(at % a.points));
+  if (!positions(a, b)) return false;
+  if (!a.same_words(b)) return breach("the C3D residual/camera words differ");
+  if (a.analog_values != b.analog_values || !same_values(a.analog, b.analog, a.analog_values))
+    return breach("the analog values differ");
+  return holds();
+}
+
+bool PromiseCheck::frames(const FrameBlock& original, const FrameBlock& decoded) {
+  return check(Frames(original), Frames(decoded));
+}
+
+bool PromiseCheck::finish() {
+  if (promise_.kind != Promise::Kind::kKgTarget) return holds();
+  const double kg = acc_.finish().kg_error;
+  // The encoder met the target on its own measure; 1e-9 relative absorbs summation order.
+  if (!(kg <= promise_.kg_target * (1 + 1e-9)))
+    return breach("KG error " + text(kg, 6) + "% over its target " + text(promise_.kg_target, 6) +
+                  "%");
+  return holds();
+}
+
+ErrorStats PromiseCheck::error() const {
+  ErrorStats s = acc_.finish();
+  s.mask_mismatches = mask_mismatches_;
+  return s;
+}
+
+PromiseResult check_promise(const Take& original, const Take& decoded, const Promise& promise) {
+  PromiseCheck c(promise);
+  PromiseResult r;
+  c.header(original, decoded);
+  // The frames are measured even when the metadata differs, so the caller can report both.
+  const bool whole = original.xyz.size() == original.frames * original.points * 3 &&
+                     original.valid.size() == original.frames * original.points &&
+                     decoded.xyz.size() == original.xyz.size() &&
+                     decoded.valid.size() == original.valid.size();
+  if (original.frames == decoded.frames && original.points == decoded.points) {
+    if (!whole) return {false, "the takes' frame arrays do not match their shapes", c.error()};
+    c.check(PromiseCheck::Frames(original), PromiseCheck::Frames(decoded));
+    c.finish();
+  }
+  r.holds = c.holds();
+  r.why = c.why();
+  r.error = c.error();
+  return r;
+}
+
+}  // namespace capz

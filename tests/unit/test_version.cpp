@@ -1,0 +1,70 @@
+// The version API (capz/version.h) against what the library really writes and reads.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "capz/codec.h"
+#include "capz/error.h"
+#include "capz/version.h"
+
+using namespace capz;
+
+namespace {
+
+Take small_take() {
+  Take t;
+  t.resize(3, 2);
+  t.units = "mm";
+  t.rate = 100;
+  for (size_t i = 0; i < t.xyz.size(); ++i) t.xyz[i] = static_cast<double>(i);
+  for (auto& v : t.valid) v = 1;
+  return t;
+}
+
+}  // namespace
+
+TEST(Version, GivenTheLibraryThenItsVersionStringSpellsItsNumbers) {
+  const Version v = library_version();
+  EXPECT_EQ(v.major, kVersion.major);
+  EXPECT_EQ(v.minor, kVersion.minor);
+  EXPECT_EQ(v.patch, kVersion.patch);
+  EXPECT_EQ(std::string(version_string()), std::to_string(v.major) + "." + std::to_string(v.minor) +
+                                               "." + std::to_string(v.patch));
+}
+
+TEST(Version, GivenACompressedTakeThenItsVersionIsTheOneWrittenAndItIsRead) {
+  CompressOptions o;
+  o.max_error = 0.01;
+  const std::vector<uint8_t> bytes = compress(small_take(), o);
+  ASSERT_GE(bytes.size(), 11u);
+  EXPECT_EQ(bytes[9], kFormatWritten.major);
+  EXPECT_EQ(bytes[10], kFormatWritten.minor);
+  const StreamInfo si = describe(bytes.data(), bytes.size(), "v.capz");
+  EXPECT_EQ(si.major, kFormatWritten.major);
+  EXPECT_EQ(si.minor, kFormatWritten.minor);
+  // What is written is within what is read.
+  EXPECT_TRUE(kFormatOldestRead.major < kFormatWritten.major ||
+              (kFormatOldestRead.major == kFormatWritten.major &&
+               kFormatOldestRead.minor <= kFormatWritten.minor));
+  EXPECT_EQ(kFormatNewestRead.major, kFormatWritten.major);
+  EXPECT_GE(kFormatNewestRead.minor, kFormatWritten.minor);
+}
+
+TEST(Version, GivenAMajorVersionBeyondTheNewestReadThenTheStreamIsRefused) {
+  CompressOptions o;
+  o.max_error = 0.01;
+  std::vector<uint8_t> bytes = compress(small_take(), o);
+  bytes[9] = static_cast<uint8_t>(kFormatNewestRead.major + 1);
+  bytes[10] = 0;
+  try {
+    decompress(bytes.data(), bytes.size(), "future.capz");
+    FAIL() << "a stream of a later major version was read";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kUnsupportedVersion) << e.what();
+  }
+  // A later minor version of the newest major is read (it only adds what a decoder skips).
+  bytes[9] = static_cast<uint8_t>(kFormatNewestRead.major);
+  bytes[10] = static_cast<uint8_t>(kFormatNewestRead.minor + 1);
+  EXPECT_EQ(decompress(bytes.data(), bytes.size(), "later-minor.capz").frames, 3u);
+}
