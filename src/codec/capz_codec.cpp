@@ -1,6 +1,6 @@
 // compress / decompress / describe (include/capz/codec.h): the Take <-> .capz pipeline.
 // Per window: quantise (bound layer) -> optional transform prediction -> predictors + entropy
-// coding (coding/window_coder.h); gaps, C3D sample words and analog beside it.
+// coding (coding/positions.h); gaps, C3D sample words and analog beside it.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -14,10 +14,13 @@
 #include "capz/error.h"
 #include "capz/stream.h"
 #include "codec/registry.h"
+#include "coding/analog_v3.h"
 #include "coding/bytes.h"
+#include "coding/c3d_words.h"
 #include "coding/container.h"
 #include "coding/entropy.h"
-#include "coding/window_coder.h"
+#include "coding/mask.h"
+#include "coding/positions.h"
 #include "core/atomic_file.h"
 #include "core/input_file.h"
 
@@ -140,7 +143,7 @@ struct TakeScan {
   bool lossless = false;         // a lossless target: all_float32 is tracked
   bool all_float32 = true;       // every valid coordinate is a float32 value
   bool words_on_grid = false;    // C3D residual words are point_scale multiples
-  std::vector<uint8_t> kinds;    // analog channel kinds (window_coder.h)
+  std::vector<uint8_t> kinds;    // analog channel kinds (analog_v3.h)
   bool kg = false;               // accumulate centred_sq
   double centred_sq = 0;         // sum of squared distances to each frame's centroid
   // With kg: the valid coordinates in take order, for the grid search, while they number at

@@ -359,11 +359,6 @@ class GridDecoderHooks : public pdct::GridHooks {
 // ---------------------------------------------------------------------------------------------
 // Serialisation
 
-void put_block(ByteWriter* w, const std::vector<uint8_t>& block) {
-  w->varint(block.size());
-  w->bytes(block);
-}
-
 // Header and layout (docs/CODEC-PDCT.md), then the given blocks (each varint length + bytes).
 void write_payload(const Layout& L, const Steps& S, bool grid, const std::vector<uint8_t>* kinds,
                    const std::vector<std::vector<uint8_t>>& blocks, std::vector<uint8_t>* out,
