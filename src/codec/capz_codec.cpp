@@ -13,6 +13,7 @@
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/stream.h"
+#include "codec/decoder_registry.h"
 #include "codec/registry.h"
 #include "coding/analog_v3.h"
 #include "coding/bytes.h"
@@ -522,7 +523,7 @@ CodecOnly split_transform_only(const uint8_t* data, size_t size, const std::stri
 // Window positions with transform output: the codec's reconstruction of the valid samples.
 void decode_transform_output(const uint8_t* data, size_t size, const StreamHeader& h, size_t fn,
                              const std::string& what, WindowInts* wi, std::vector<double>* xyz) {
-  const TransformCodec* codec = find_codec(h.codec);
+  const TransformDecoder* codec = find_decoder(h.codec);
   if (!codec)
     fail(ErrorCode::kUnsupportedVersion, what,
          "stream uses transform codec id " + std::to_string(h.codec) + ", unknown to this capz");
@@ -1169,7 +1170,7 @@ void decode_window(StreamBytes& bytes, const std::string& name, const Parsed& ps
     pp = split_positions(pc.payload + pr.offset(), pc.size - pr.offset(), pwhat);
   std::vector<int32_t> tpred;
   if (h.codec != 0 && N > 0 && !h.transform_output) {
-    const TransformCodec* codec = find_codec(h.codec);
+    const TransformDecoder* codec = find_decoder(h.codec);
     if (!codec)
       fail(ErrorCode::kUnsupportedVersion, name,
            "stream uses transform codec id " + std::to_string(h.codec) + ", unknown to this capz");
@@ -1360,7 +1361,7 @@ StreamInfo describe(const uint8_t* data, size_t size, const std::string& name) {
   if (ps.h.codec == 0) {
     si.codec = "none";
   } else {
-    const TransformCodec* c = find_codec(ps.h.codec);
+    const TransformDecoder* c = find_decoder(ps.h.codec);
     si.codec = c ? c->name() : "id " + std::to_string(ps.h.codec);
   }
   si.lossless = ps.h.lossless;

@@ -1,3 +1,4 @@
+// Decoder library (capz_decode): builds without PCL and without the transform encoders.
 #include "coding/positions.h"
 
 #include <algorithm>
@@ -337,8 +338,8 @@ void frame0_share(const WindowInts& w, const int32_t* t, ResidualContexts& ctx,
   int32_t* x = q->data();
   for (size_t f = 1; f < F; ++f)
     for (size_t p = 0; p < N; ++p)
-      if (!w.valid[f * N + p]) std::copy(&x[(f - 1) * S + p * 3], &x[(f - 1) * S + p * 3 + 3],
-                                         &x[f * S + p * 3]);
+      if (!w.valid[f * N + p])
+        std::copy(&x[(f - 1) * S + p * 3], &x[(f - 1) * S + p * 3 + 3], &x[f * S + p * 3]);
 }
 
 // Predictors 0-2, with scheme 3 also smooth (7) and, when the window repeats with a period, 8
@@ -474,8 +475,8 @@ ModeChoice choose_modes(const WindowInts& w, const int32_t* t, int scheme, Resid
 
 // The POSW payload after the window index and has_mask byte (3.3): codec block, predictor
 // block, reference block (when a point uses one), period (when a point uses it), residuals.
-std::vector<uint8_t> write_positions(const std::vector<uint8_t>& codec_payload,
-                                     const ModeChoice& c, const std::vector<uint8_t>& residuals) {
+std::vector<uint8_t> write_positions(const std::vector<uint8_t>& codec_payload, const ModeChoice& c,
+                                     const std::vector<uint8_t>& residuals) {
   ByteWriter out;
   put_block(&out, codec_payload);
   put_block(&out, encode_ints(std::vector<int32_t>(c.modes.begin(), c.modes.end())));
@@ -505,8 +506,7 @@ std::vector<uint8_t> encode_positions(const WindowInts& w,
   IntEncoder enc(ResidualContexts::count(scheme));
   if (scheme >= 2) enc.skew_contexts();
   EncCoder ec{enc.cursor(), ctx.cursor(), q.data(), float64 ? w.lo.data() : nullptr};
-  walk_window(F, N, w.valid.data(), c.modes.data(), c.ref.data(), t, q.data(), ctx, ec,
-              c.period);
+  walk_window(F, N, w.valid.data(), c.modes.data(), c.ref.data(), t, q.data(), ctx, ec, c.period);
   enc.commit(ec.enc);
   return write_positions(codec_payload, c, enc.finish());
 }
