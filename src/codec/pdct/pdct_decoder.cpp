@@ -83,7 +83,8 @@ Steps read_header(ByteReader* r, bool* grid) {
                 std::string(kWhat) + ": version " + std::to_string(version) +
                     " (this build reads " + std::to_string(kVersion) + ")");
   const uint8_t flags = r->u8();
-  if (flags & ~static_cast<unsigned>(kKnownFlags)) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": unknown flags");
+  if (flags & ~static_cast<unsigned>(kKnownFlags))
+    throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": unknown flags");
   *grid = (flags & kFlagGrid) != 0;
   Steps S;
   S.seed_order = (flags & kFlagSeedOrder2) ? 2 : 1;

@@ -58,8 +58,8 @@ inline int coef_context(size_t l, int prev_token) {
   return band * 3 + prev;
 }
 
-// Grid-mode residual contexts: kind x axis x class of the previous axis's token (same sample; 0 for x) x class of
-// the same point and axis's token in the previous frame.
+// Grid-mode residual contexts: kind x axis x class of the previous axis's token (same sample; 0 for
+// x) x class of the same point and axis's token in the previous frame.
 constexpr int kGridContexts = kPointPredictors * 27;
 
 inline int grid_context(int kind, int a, int prev_tok, int last_frame_tok) {
