@@ -18,7 +18,7 @@
 #include "capz/error.h"
 #include "capz/io.h"
 #include "capz/metrics.h"
-#include "codec/ts/ts_codec.h"
+#include "codec/ts/ts_encoder.h"
 
 using namespace capz;
 

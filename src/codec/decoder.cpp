@@ -5,12 +5,15 @@
 #include <cmath>
 
 #include "capz/error.h"
+#include "codec/decoder_registry.h"
 #include "codec/grid.h"
-#include "codec/registry.h"
 #include "codec/transform_output.h"
+#include "coding/analog_v3.h"
 #include "coding/bytes.h"
+#include "coding/c3d_words.h"
 #include "coding/entropy.h"
-#include "coding/window_coder.h"
+#include "coding/mask.h"
+#include "coding/positions.h"
 
 namespace capz {
 namespace {
@@ -72,7 +75,7 @@ class WindowChunks {
 void decode_transform_output(const uint8_t* data, size_t size, const StreamHeader& h, size_t fn,
                              const std::string& what, const WindowInts& wi,
                              std::vector<double>* xyz) {
-  const TransformCodec* codec = find_codec(h.codec);
+  const TransformDecoder* codec = find_decoder(h.codec);
   if (!codec)
     fail(ErrorCode::kUnsupportedVersion, what,
          "stream uses transform codec id " + std::to_string(h.codec) + ", unknown to this capz");
@@ -92,7 +95,7 @@ std::vector<int32_t> transform_prediction(const StreamContext& ctx, const Positi
                                           size_t fn, const std::string& what) {
   const StreamHeader& h = ctx.h;
   if (h.codec == 0 || h.points == 0) return {};
-  const TransformCodec* codec = find_codec(h.codec);
+  const TransformDecoder* codec = find_decoder(h.codec);
   if (!codec)
     fail(ErrorCode::kUnsupportedVersion, ctx.name,
          "stream uses transform codec id " + std::to_string(h.codec) + ", unknown to this capz");

@@ -7,8 +7,8 @@
 
 #include "capz/codec.h"
 #include "capz/error.h"
+#include "codec/decoder_registry.h"
 #include "codec/grid.h"
-#include "codec/registry.h"
 #include "io/capz_source.h"
 
 namespace capz {
@@ -97,7 +97,7 @@ StreamInfo describe(const uint8_t* data, size_t size, const std::string& name) {
   if (ps.h.codec == 0) {
     si.codec = "none";
   } else {
-    const TransformCodec* c = find_codec(ps.h.codec);
+    const TransformDecoder* c = find_decoder(ps.h.codec);
     si.codec = c ? c->name() : "id " + std::to_string(ps.h.codec);
   }
   si.lossless = ps.h.lossless;

@@ -17,9 +17,12 @@
 #include "codec/stream_reader.h"
 #include "codec/transform_output.h"
 #include "codec/window_error.h"
+#include "coding/analog_v3.h"
 #include "coding/bytes.h"
+#include "coding/c3d_words.h"
 #include "coding/container.h"
-#include "coding/window_coder.h"
+#include "coding/mask.h"
+#include "coding/positions.h"
 
 namespace capz {
 

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "capz/take.h"
+#include "coding/positions.h"
 #include "coding/quantiser.h"
-#include "coding/window_coder.h"
 
 namespace capz {
 

@@ -1,8 +1,7 @@
-// The transform codecs the container knows, by stored id and by CLI name (docs/FORMAT.md 3.1).
-// A codec adds itself with one line in registry.cpp.
+// The transform codecs the encoder knows, by CLI name (docs/FORMAT.md 3.1). A codec adds itself
+// with one line in registry.cpp; its decoder goes in decoder_registry.cpp.
 #pragma once
 
-#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -10,9 +9,8 @@
 
 namespace capz {
 
-// nullptr when unknown. Names are case-sensitive ("ts", "pdct"); id 0 means "none".
+// nullptr when unknown. Names are case-sensitive ("ts", "pdct").
 const TransformCodec* find_codec(const std::string& name);
-const TransformCodec* find_codec(uint8_t id);
 std::vector<const TransformCodec*> all_codecs();
 
 }  // namespace capz

@@ -10,9 +10,19 @@
 #include <string>
 #include <vector>
 
-#include "capz/codec.h"
+#include "codec/transform_decoder.h"
 
 namespace capz {
+
+// A read-only view of a block of positions, as transform encoders see it.
+// xyz: frames x points x 3 (frame-major, see take.h); valid: frames x points (1 = measured).
+// Gap samples in xyz hold filled-in values chosen by the caller (never garbage, never NaN).
+struct PositionsView {
+  size_t frames = 0;
+  size_t points = 0;
+  const double* xyz = nullptr;
+  const uint8_t* valid = nullptr;
+};
 
 struct TransformParams {
   double max_error = 0;  // per-coordinate bound in the take's units; 0 = none given
@@ -33,12 +43,19 @@ struct TransformParams {
 std::vector<double> fill_gaps(size_t frames, size_t points, const double* xyz,
                               const uint8_t* valid);
 
+// The encode side of a transform codec, paired with its decoder (transform_decoder.h), which
+// holds the codec's id and name.
 class TransformCodec {
  public:
   virtual ~TransformCodec() = default;
-  // Stable numeric id stored in the bitstream (docs/FORMAT.md); never reuse a retired one.
-  virtual uint8_t id() const = 0;
-  virtual const char* name() const = 0;  // "ts", "pdct"
+  virtual const TransformDecoder& decoder() const = 0;
+  uint8_t id() const { return decoder().id(); }
+  const char* name() const { return decoder().name(); }
+  // decoder().decode(): what the closed loop and the encoder's self-check run.
+  void decode(const uint8_t* data, size_t size, size_t frames, size_t points,
+              std::vector<double>* recon) const {
+    decoder().decode(data, size, frames, points, recon);
+  }
 
   // Throws Error(kInvalidParameter) when params.options holds a key this codec does not know
   // or a value out of range (also params.clusters). Called before any encoding, so that a
@@ -52,11 +69,6 @@ class TransformCodec {
   // freely. Deterministic: the same input and params give the same bytes.
   virtual void encode(const PositionsView& in, const TransformParams& params,
                       std::vector<uint8_t>* out, std::vector<double>* recon) const = 0;
-
-  // Inverse of encode() for a window of `frames` x `points`. Throws Error(kCorrupt) on any
-  // inconsistency; never reads past `size`, never allocates more than the window needs.
-  virtual void decode(const uint8_t* data, size_t size, size_t frames, size_t points,
-                      std::vector<double>* recon) const = 0;
 };
 
 }  // namespace capz

@@ -163,4 +163,16 @@ class ByteReader {
   std::string what_;
 };
 
+// A length-prefixed block: varint(size), then the bytes. put_block writes one;
+// get_block reads one, throwing Error(kCorrupt) naming `name` when its size exceeds what is
+// left, and returns its first byte with *n = its size.
+inline void put_block(ByteWriter* w, const std::vector<uint8_t>& b) {
+  w->varint(b.size());
+  w->bytes(b);
+}
+inline const uint8_t* get_block(ByteReader* r, size_t* n, const char* name) {
+  *n = static_cast<size_t>(r->count(1, name));
+  return r->bytes(*n);
+}
+
 }  // namespace capz

@@ -35,6 +35,13 @@ inline uint32_t zigzag(int32_t v) {
 inline int32_t unzigzag(uint32_t u) {
   return static_cast<int32_t>((u >> 1) ^ (0u - (u & 1)));
 }
+// Bit length of zigzag(r) (0 for r = 0): encoders' quick estimate of a residual's cost.
+inline uint32_t bit_cost(int32_t r) {
+  const uint32_t u = zigzag(r);
+  // Without a branch (zero and nonzero residuals alternate unpredictably): clz(u | 1) is
+  // defined for every u, and the mask zeroes the result for u = 0.
+  return (33u - static_cast<uint32_t>(__builtin_clz(u | 1))) & (0u - (u != 0));
+}
 
 // Tokens 0..63 go through up to five 16-symbol models: the context's own model codes
 // min(token, 15); 15 escapes to shared model k (k = 0..3), which codes min(token - 15 (k + 1), 15).

@@ -1,3 +1,4 @@
+// Decoder library (capz_decode): builds without PCL and without the transform encoders.
 // capz — the C3D parameter section: number forms, parsing, encoding, and typed helpers.
 #include "io/c3d_params.h"
 

@@ -1,3 +1,4 @@
+// Decoder library (capz_decode): builds without PCL and without the transform encoders.
 // capz — C3D reader.
 //
 // Accepts Intel (84), DEC (85) and MIPS (86) files with int16 or float storage. What the reader

@@ -1,3 +1,4 @@
+// Decoder library (capz_decode): builds without PCL and without the transform encoders.
 // capz — C3D writer: Intel (processor 84) files.
 //
 // Contract:

@@ -1,3 +1,4 @@
+// Decoder library (capz_decode): builds without PCL and without the transform encoders.
 // Frame sources and sinks (include/capz/stream.h): C3D read by frame ranges, an in-memory take,
 // a C3D written frame block by frame block, and the whole-take fallback for the other formats.
 #include <algorithm>

@@ -1,3 +1,4 @@
+// Decoder library (capz_decode): builds without PCL and without the transform encoders.
 // Format detection and dispatch to the per-format readers and writers.
 //
 // Input: a directory is a PCD folder; a file is recognised by its first bytes (C3D: byte 2 is

@@ -1,3 +1,4 @@
+// Decoder library (capz_decode): builds without PCL and without the transform encoders.
 // Loads the PCL-backed PCD module (pcd_backend.h) on first use.
 #include "io/pcd_backend.h"
 

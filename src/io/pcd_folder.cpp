@@ -1,3 +1,4 @@
+// Decoder library (capz_decode): builds without PCL and without the transform encoders.
 // A folder of PCD frames <-> Take, through PCL's PCDReader / PCDWriter, which live in a module
 // loaded on first use (io/pcd_backend.h: the capz binary does not link PCL's I/O library).
 //

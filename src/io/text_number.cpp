@@ -1,3 +1,4 @@
+// Decoder library (capz_decode): builds without PCL and without the transform encoders.
 #include "io/text_number.h"
 
 #include <charconv>

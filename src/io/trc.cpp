@@ -1,3 +1,4 @@
+// Decoder library (capz_decode): builds without PCL and without the transform encoders.
 // TRC (OpenSim / Motion Analysis "track row column") reader and writer.
 //
 // Layout read:

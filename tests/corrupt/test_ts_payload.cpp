@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "capz/error.h"
-#include "codec/ts/ts_codec.h"
+#include "codec/ts/ts_encoder.h"
 #include "coding/bytes.h"
 #include "coding/entropy.h"
 

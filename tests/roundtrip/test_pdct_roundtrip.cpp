@@ -8,7 +8,7 @@
 #include "capz/codec.h"
 #include "capz/io.h"
 #include "capz/metrics.h"
-#include "codec/pdct/pdct_codec.h"
+#include "codec/pdct/pdct_encoder.h"
 #include "codec/transform.h"
 #include "unit/synthetic.h"
 

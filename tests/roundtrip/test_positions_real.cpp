@@ -7,9 +7,9 @@
 #include <filesystem>
 
 #include "capz/io.h"
+#include "coding/positions.h"
 #include "coding/predict.h"
 #include "coding/quantiser.h"
-#include "coding/window_coder.h"
 #include "support/positions_round_trip.h"
 
 namespace capz {

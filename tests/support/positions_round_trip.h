@@ -5,8 +5,8 @@
 
 #include <vector>
 
+#include "coding/positions.h"
 #include "coding/predict.h"
-#include "coding/window_coder.h"
 
 namespace capz {
 

@@ -11,11 +11,13 @@
 #include "capz/error.h"
 #include "capz/metrics.h"
 #include "codec/encoder.h"
+#include "coding/analog_v3.h"
+#include "coding/c3d_words.h"
 #include "coding/container.h"
 #include "coding/crc32c.h"
 #include "coding/entropy.h"
+#include "coding/mask.h"
 #include "coding/quantiser.h"
-#include "coding/window_coder.h"
 
 namespace capz {
 namespace {

@@ -5,7 +5,7 @@
 
 #include "capz/error.h"
 #include "capz/metrics.h"
-#include "codec/pdct/pdct_codec.h"
+#include "codec/pdct/pdct_encoder.h"
 #include "synthetic.h"
 
 using capz::PdctCodec;

@@ -11,8 +11,8 @@
 #include "capz/error.h"
 #include "coding/bytes.h"
 #include "coding/entropy.h"
+#include "coding/positions.h"
 #include "coding/predict.h"
-#include "coding/window_coder.h"
 #include "support/positions_round_trip.h"
 
 namespace capz {

@@ -6,7 +6,7 @@
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/metrics.h"
-#include "codec/ts/ts_codec.h"
+#include "codec/ts/ts_encoder.h"
 #include "synthetic.h"
 
 using namespace capz;

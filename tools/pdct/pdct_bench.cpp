@@ -20,7 +20,7 @@
 #include "capz/error.h"
 #include "capz/io.h"
 #include "capz/metrics.h"
-#include "codec/pdct/pdct_codec.h"
+#include "codec/pdct/pdct_encoder.h"
 #ifdef CAPZ_PDCT_BENCH_BOUND
 #include "capz/codec.h"
 #endif

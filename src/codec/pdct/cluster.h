@@ -13,8 +13,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "capz/codec.h"
 #include "codec/pdct/lcf.h"
+#include "codec/transform.h"
 
 namespace capz {
 namespace pdct {

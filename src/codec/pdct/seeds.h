@@ -16,7 +16,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "capz/codec.h"
+#include "codec/transform.h"
 
 namespace capz {
 namespace pdct {

@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "capz/codec.h"
+#include "codec/transform.h"
 #include "codec/ts/rigid.h"
 
 namespace capz {

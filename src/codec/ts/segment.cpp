@@ -113,20 +113,5 @@ Segmentation segment_points(const Eigen::MatrixXd& frames, const SegmentParams& 
   return out;
 }
 
-std::vector<std::vector<uint32_t>> segment_members(const std::vector<uint8_t>& label,
-                                                   int segments) {
-  std::vector<std::vector<uint32_t>> out(static_cast<size_t>(std::max(0, segments)));
-  for (size_t i = 0; i < label.size(); ++i) {
-    if (label[i] >= segments)
-      fail(ErrorCode::kCorrupt, "ts payload",
-           "point " + std::to_string(i) + " has segment " + std::to_string(label[i]));
-    out[label[i]].push_back(static_cast<uint32_t>(i));
-  }
-  for (size_t s = 0; s < out.size(); ++s)
-    if (out[s].empty())
-      fail(ErrorCode::kCorrupt, "ts payload", "segment " + std::to_string(s) + " has no points");
-  return out;
-}
-
 }  // namespace ts
 }  // namespace capz

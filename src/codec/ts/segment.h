@@ -8,11 +8,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "codec/ts/ts_model.h"  // kMaxSegments, segment_members
+
 namespace capz {
 namespace ts {
-
-// Largest segment count a payload can hold.
-constexpr int kMaxSegments = 64;
 
 struct SegmentParams {
   int segments = 8;        // wanted, 1..kMaxSegments; clamped to the number of points
@@ -30,10 +29,6 @@ struct Segmentation {
 // its trajectory minus its temporal mean (a 3F-vector); k-means++ seeding (draws from the seed
 // with integer arithmetic only), then Lloyd iterations until no label changes. Deterministic.
 Segmentation segment_points(const Eigen::MatrixXd& frames, const SegmentParams& params);
-
-// Points of each segment in increasing order. Throws kCorrupt ("ts payload") on a label >=
-// segments or an empty segment.
-std::vector<std::vector<uint32_t>> segment_members(const std::vector<uint8_t>& label, int segments);
 
 }  // namespace ts
 }  // namespace capz

@@ -1,3 +1,4 @@
+// Decoder library (capz_decode): builds without PCL and without the transform encoders.
 #include "codec/ts/ts_model.h"
 
 #include <Eigen/Core>
@@ -8,7 +9,6 @@
 #include "capz/error.h"
 #include "codec/ts/basis_predict.h"
 #include "codec/ts/rigid.h"
-#include "codec/ts/segment.h"
 #include "coding/entropy.h"
 
 namespace capz {
@@ -186,6 +186,21 @@ std::vector<ClusterLayout> cluster_layout(const std::vector<uint8_t>& label, int
     while (l.first_len < l.frames.size() && l.frames[l.first_len] == l.frames[l.first_len - 1] + 1)
       ++l.first_len;
   }
+  return out;
+}
+
+std::vector<std::vector<uint32_t>> segment_members(const std::vector<uint8_t>& label,
+                                                   int segments) {
+  std::vector<std::vector<uint32_t>> out(static_cast<size_t>(std::max(0, segments)));
+  for (size_t i = 0; i < label.size(); ++i) {
+    if (label[i] >= segments)
+      fail(ErrorCode::kCorrupt, "ts payload",
+           "point " + std::to_string(i) + " has segment " + std::to_string(label[i]));
+    out[label[i]].push_back(static_cast<uint32_t>(i));
+  }
+  for (size_t s = 0; s < out.size(); ++s)
+    if (out[s].empty())
+      fail(ErrorCode::kCorrupt, "ts payload", "segment " + std::to_string(s) + " has no points");
   return out;
 }
 

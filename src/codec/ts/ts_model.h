@@ -16,6 +16,9 @@
 namespace capz {
 namespace ts {
 
+// Largest segment count a payload can hold.
+constexpr int kMaxSegments = 64;
+
 struct TsCluster {
   std::vector<QuantisedVector> basis;  // r PCs, each 3N entries
   LpcCode first;                       // r x l1: the first motion fragment's coefficients
@@ -64,6 +67,10 @@ std::vector<ClusterLayout> cluster_layout(const std::vector<uint8_t>& label, int
 // Points of each segment in increasing order (all points for one segment). Throws kCorrupt on
 // an inconsistent model (label >= segments, empty segment, label count != points).
 std::vector<std::vector<uint32_t>> segment_points_of(const TsModel& model);
+
+// Points of each segment in increasing order. Throws kCorrupt ("ts payload") on a label >=
+// segments or an empty segment.
+std::vector<std::vector<uint32_t>> segment_members(const std::vector<uint8_t>& label, int segments);
 
 // Positions (frames x points x 3) from the model. The decoder's only reconstruction path; the
 // encoder calls it too, so its `recon` is bit for bit the decoder's.

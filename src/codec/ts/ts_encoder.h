@@ -1,7 +1,7 @@
-// ts codec — temporal segmentation (Luo, Cordier & Seo 2013) as a capz::TransformCodec:
-// align ► cluster ► PCA per cluster ► quantise ► LPC (first fragment) / LCPS (later fragments).
-// Options (TransformParams::options, documented in docs/CODEC-TS.md): lpc_order, lcps_k,
-// basis_bits, basis_bits_min, basis_bits_max, basis_predict, basis_free_step, align,
+// ts codec, encode side — temporal segmentation (Luo, Cordier & Seo 2013) as a
+// capz::TransformCodec: align ► cluster ► PCA per cluster ► quantise ► LPC (first fragment) / LCPS
+// (later fragments). Options (TransformParams::options, documented in docs/CODEC-TS.md): lpc_order,
+// lcps_k, basis_bits, basis_bits_min, basis_bits_max, basis_predict, basis_free_step, align,
 // segments, segment_align, max_clusters, kmeans_restarts, seed,
 // trunc_share, rms_per_bound.
 #pragma once
@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "codec/transform.h"
+#include "codec/ts/ts_decoder.h"
 
 namespace capz {
 
@@ -34,19 +35,19 @@ struct TsEncodeReport {
 
 class TsCodec : public TransformCodec {
  public:
-  static constexpr uint8_t kId = 1;
-  uint8_t id() const override { return kId; }
-  const char* name() const override { return "ts"; }
+  static constexpr uint8_t kId = TsDecoder::kId;
+  const TransformDecoder& decoder() const override { return decoder_; }
   void check_params(const TransformParams& params) const override;
   void encode(const PositionsView& in, const TransformParams& params, std::vector<uint8_t>* out,
-              std::vector<double>* recon) const override;
-  void decode(const uint8_t* data, size_t size, size_t frames, size_t points,
               std::vector<double>* recon) const override;
 
   // encode() that also says what it chose.
   void encode_report(const PositionsView& in, const TransformParams& params,
                      std::vector<uint8_t>* out, std::vector<double>* recon,
                      TsEncodeReport* report) const;
+
+ private:
+  TsDecoder decoder_;
 };
 
 }  // namespace capz

@@ -1,4 +1,4 @@
-#include "codec/pdct/pdct_codec.h"
+#include "codec/pdct/pdct_encoder.h"
 
 #include <algorithm>
 #include <climits>
@@ -11,6 +11,7 @@
 #include "codec/pdct/cluster.h"
 #include "codec/pdct/dct.h"
 #include "codec/pdct/lcf.h"
+#include "codec/pdct/pdct_shared.h"
 #include "codec/pdct/predict.h"
 #include "codec/pdct/seeds.h"
 #include "coding/bytes.h"
@@ -19,12 +20,16 @@
 namespace capz {
 namespace {
 
+using pdct::coef_context;
+using pdct::grid_context;
+using pdct::kCoefContexts;
+using pdct::kFirstContexts;
+using pdct::kGridContexts;
+using pdct::kSeedContexts;
 using pdct::Layout;
 using pdct::Lcf;
+using pdct::SeedContexts;
 using pdct::Steps;
-
-constexpr uint8_t kVersion = 1;
-const char* const kWhat = "pdct payload";
 
 // ---------------------------------------------------------------------------------------------
 // Options
@@ -53,44 +58,9 @@ int parse_int(const std::string& key, const std::string& v, int lo, int hi) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Integer streams: three blocks of the container's integer entropy coder (coding/entropy.h), each
-// stored as varint(length) + block. Contexts (docs/CODEC-PDCT.md):
-//   frame-point residuals: the axis (3 contexts); frame-0 residuals: the axis (3);
-//   DCT coefficients: 5 frequency bands of the index l in its block (0 | 1-3 | 4-15 | 16-63 | 64+)
-//   times 3 classes of the previous coefficient's token in the same block (0 | 1-2 | 3+): 15.
-// Every stored integer is within +-2^30 (kMaxQuantised below keeps each quantised value within
-// 2^29, so differences fit too).
+// Quantisation: every stored integer within 2^29 steps (pdct_shared.h).
 
-constexpr int kSeedContexts = 27, kFirstContexts = 3, kCoefContexts = 15;
-
-int token_class(int tok) {
-  return tok == 0 ? 0 : tok < 3 ? 1 : 2;
-}
-
-// Frame-point residual contexts: axis x class of the previous axis's token (same point and
-// frame; 0 for x) x class of the same point and axis's token in the previous frame.
-class SeedContexts {
- public:
-  explicit SeedContexts(size_t frame_points) : last_(frame_points * 3, 0) {}
-  int context(size_t k, int a) const {
-    return a * 9 + (a == 0 ? 0 : token_class(prev_)) * 3 + token_class(last_[3 * k + a]);
-  }
-  void update(size_t k, int a, int tok) {
-    prev_ = tok;
-    last_[3 * k + a] = static_cast<uint8_t>(tok);
-  }
-
- private:
-  std::vector<uint8_t> last_;
-  int prev_ = 0;
-};
 constexpr double kMaxQuantised = 536870912.0;  // 2^29
-
-int coef_context(size_t l, int prev_token) {
-  const int band = l == 0 ? 0 : l < 4 ? 1 : l < 16 ? 2 : l < 64 ? 3 : 4;
-  const int prev = prev_token == 0 ? 0 : prev_token < 3 ? 1 : 2;
-  return band * 3 + prev;
-}
 
 int64_t quantise_checked(double v, double step, const char* what) {
   const double x = v / step;
@@ -232,46 +202,8 @@ class EncoderHooks : public pdct::LoopHooks {
   std::vector<double> delta_, X_;
 };
 
-class DecoderHooks : public pdct::LoopHooks {
- public:
-  DecoderHooks(IntDecoder* seed, IntDecoder* first, IntDecoder* coef, size_t frame_points)
-      : seed_(seed), first_(first), coef_(coef), sc_(frame_points) {}
-  int64_t seed_residual(size_t, size_t k, int a, int64_t) override {
-    int tok = 0;
-    const int32_t r = seed_->get_signed(sc_.context(k, a), &tok);
-    sc_.update(k, a, tok);
-    return r;
-  }
-  int64_t first_residual(size_t, size_t, int a, const Lcf&, int64_t) override {
-    return first_->get_signed(a);
-  }
-  void coefficients(size_t, size_t, const Lcf&, const double*, const pdct::BlockDct& dct,
-                    int64_t* coefs) override {
-    const size_t n = dct.size();
-    for (int a = 0; a < 3; ++a)
-      for (size_t b = 0; b < dct.blocks(); ++b) {
-        const size_t o = dct.block_begin(b), len = dct.block_size(b);
-        int prev = 0;
-        for (size_t l = 0; l < len; ++l)
-          coefs[a * n + o + l] = coef_->get_signed(coef_context(l, prev), &prev);
-      }
-  }
-
- private:
-  IntDecoder *seed_, *first_, *coef_;
-  SeedContexts sc_;
-};
-
 // ---------------------------------------------------------------------------------------------
 // Grid mode (predict.h): hooks and encoder.
-
-// Contexts: kind x axis x class of the previous axis's token (same sample; 0 for x) x class of
-// the same point and axis's token in the previous frame.
-constexpr int kGridContexts = pdct::kPointPredictors * 27;
-
-int grid_context(int kind, int a, int prev_tok, int last_frame_tok) {
-  return kind * 27 + a * 9 + (a == 0 ? 0 : token_class(prev_tok)) * 3 + token_class(last_frame_tok);
-}
 
 // Rough cost in bits of a residual, for choosing predictors (not the coder's exact cost).
 double residual_bits(int64_t r) {
@@ -328,50 +260,18 @@ class GridEncoderHooks : public pdct::GridHooks {
       cost;  // per point: estimated bits of its residuals (f >= 1, measured samples)
 };
 
-class GridDecoderHooks : public pdct::GridHooks {
- public:
-  GridDecoderHooks(IntDecoder* seed, IntDecoder* first, IntDecoder* resid, size_t points,
-                   size_t frame_points)
-      : seed_(seed), first_(first), resid_(resid), sc_(frame_points), last_(points * 3, 0) {}
-  int64_t seed_residual(size_t, size_t k, int a, int64_t) override {
-    int tok = 0;
-    const int32_t r = seed_->get_signed(sc_.context(k, a), &tok);
-    sc_.update(k, a, tok);
-    return r;
-  }
-  int64_t point_residual(size_t f, uint32_t i, int a, int kind, int64_t) override {
-    if (f == 0) return first_->get_signed(a);
-    int tok = 0;
-    uint8_t& last = last_[3 * static_cast<size_t>(i) + a];
-    const int32_t r = resid_->get_signed(grid_context(kind, a, prev_tok_, last), &tok);
-    prev_tok_ = tok;
-    last = static_cast<uint8_t>(tok);
-    return r;
-  }
-
- private:
-  IntDecoder *seed_, *first_, *resid_;
-  SeedContexts sc_;
-  int prev_tok_ = 0;
-  std::vector<uint8_t> last_;
-};
-
 // ---------------------------------------------------------------------------------------------
 // Serialisation
-
-void put_block(ByteWriter* w, const std::vector<uint8_t>& block) {
-  w->varint(block.size());
-  w->bytes(block);
-}
 
 // Header and layout (docs/CODEC-PDCT.md), then the given blocks (each varint length + bytes).
 void write_payload(const Layout& L, const Steps& S, bool grid, const std::vector<uint8_t>* kinds,
                    const std::vector<std::vector<uint8_t>>& blocks, std::vector<uint8_t>* out,
                    PdctReport* rep) {
   ByteWriter w;
-  w.u8(kVersion);
-  w.u8(static_cast<uint8_t>((S.seed_order == 2 ? 1 : 0) | (S.local_order == 2 ? 2 : 0) |
-                            (grid ? 4 : 0)));
+  w.u8(pdct::kVersion);
+  w.u8(static_cast<uint8_t>((S.seed_order == 2 ? pdct::kFlagSeedOrder2 : 0) |
+                            (S.local_order == 2 ? pdct::kFlagLocalOrder2 : 0) |
+                            (grid ? pdct::kFlagGrid : 0)));
   w.f64(S.seed);
   w.f64(S.first);
   w.f64(S.coef);
@@ -741,108 +641,6 @@ void encode_pdct(const PositionsView& in, const TransformParams& params, std::ve
 void PdctCodec::encode(const PositionsView& in, const TransformParams& params,
                        std::vector<uint8_t>* out, std::vector<double>* recon) const {
   encode_pdct(in, params, out, recon, nullptr);
-}
-
-void PdctCodec::decode(const uint8_t* data, size_t size, size_t frames, size_t points,
-                       std::vector<double>* recon) const {
-  ByteReader r(data, size, kWhat);
-  const uint8_t version = r.u8();
-  if (version != kVersion)
-    throw Error(ErrorCode::kUnsupportedVersion,
-                std::string(kWhat) + ": version " + std::to_string(version) +
-                    " (this build reads " + std::to_string(kVersion) + ")");
-  const uint8_t flags = r.u8();
-  if (flags & ~7u) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": unknown flags");
-  const bool grid = (flags & 4) != 0;
-  Steps S;
-  S.seed_order = (flags & 1) ? 2 : 1;
-  S.local_order = (flags & 2) ? 2 : 1;
-  S.seed = r.f64();
-  S.first = r.f64();
-  S.coef = r.f64();
-  for (double s : {S.seed, S.first, S.coef})
-    if (!(s > 0) || !std::isfinite(s))
-      throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": bad step");
-  Layout L;
-  L.frames = frames;
-  L.points = points;
-  L.dct_block = static_cast<size_t>(r.varint());
-  if (L.dct_block < 1 || L.dct_block > pdct::kMaxDctBlock)
-    throw Error(ErrorCode::kCorrupt,
-                std::string(kWhat) + ": dct block " + std::to_string(L.dct_block));
-  const uint64_t K = r.count(1, "frame point count");
-  if (K > points)
-    throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": more frame points than points");
-  L.frame_points.resize(static_cast<size_t>(K));
-  uint64_t at = 0;
-  for (size_t k = 0; k < K; ++k) {
-    const uint64_t g = r.varint();
-    at = k == 0 ? g : at + 1 + g;
-    if (g > points || at >= points)
-      throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": frame point index out of range");
-    L.frame_points[k] = static_cast<uint32_t>(at);
-  }
-  const uint64_t C = r.count(3, "cluster count");
-  if (C == 0 || C > points + 1)
-    throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": cluster count");
-  L.triangles.resize(static_cast<size_t>(C));
-  for (auto& t : L.triangles)
-    for (auto& v : t) {
-      const uint64_t x = r.varint();
-      if (x > points)
-        throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": triangle vertex out of range");
-      v = static_cast<uint32_t>(x);
-    }
-  L.members.assign(static_cast<size_t>(C), {});
-  std::vector<uint8_t> is_fp(points, 0);
-  for (uint32_t p : L.frame_points) is_fp[p] = 1;
-  const size_t rest = points - static_cast<size_t>(K);
-  std::vector<uint8_t> kinds(points, pdct::kLocal1);
-  {
-    const size_t len = static_cast<size_t>(r.count(1, "cluster id block length"));
-    const uint8_t* blk = r.bytes(len);
-    const auto ids = decode_uints(blk, len, rest, std::string(kWhat) + " cluster ids");
-    std::vector<uint32_t> ks;
-    if (grid) {
-      const size_t klen = static_cast<size_t>(r.count(1, "predictor block length"));
-      const uint8_t* kblk = r.bytes(klen);
-      ks = decode_uints(kblk, klen, rest, std::string(kWhat) + " predictors");
-    }
-    size_t j = 0;
-    for (size_t i = 0; i < points; ++i) {
-      if (is_fp[i]) continue;
-      if (ids[j] >= C)
-        throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": cluster id out of range");
-      if (grid) {
-        if (ks[j] >= static_cast<uint32_t>(pdct::kPointPredictors))
-          throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": unknown predictor");
-        kinds[i] = static_cast<uint8_t>(ks[j]);
-      }
-      L.members[ids[j++]].push_back(static_cast<uint32_t>(i));
-    }
-  }
-  pdct::check_layout(L, kWhat);
-  auto block = [&](const char* name, int contexts) {
-    const size_t len = static_cast<size_t>(r.count(1, name));
-    const uint8_t* blk = r.bytes(len);
-    return std::unique_ptr<IntDecoder>(
-        new IntDecoder(blk, len, contexts, std::string(kWhat) + " " + name));
-  };
-  auto seed = block("frame-point block", kSeedContexts);
-  auto first = block("frame-0 block", kFirstContexts);
-  auto coef =
-      grid ? block("residual block", kGridContexts) : block("coefficient block", kCoefContexts);
-  if (!r.at_end()) throw Error(ErrorCode::kCorrupt, std::string(kWhat) + ": trailing bytes");
-  if (grid) {
-    GridDecoderHooks h(seed.get(), first.get(), coef.get(), points, L.frame_points.size());
-    pdct::run_grid_loop(L, S.seed, S.seed_order, kinds, &h, recon);
-  } else {
-    DecoderHooks h(seed.get(), first.get(), coef.get(), L.frame_points.size());
-    pdct::run_closed_loop(L, S, &h, recon);
-  }
-  if (!seed->at_end() || !first->at_end() || !coef->at_end())
-    throw Error(ErrorCode::kCorrupt,
-                std::string(kWhat) + ": an entropy-coded block has bytes left over");
 }
 
 }  // namespace capz

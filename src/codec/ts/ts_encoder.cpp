@@ -1,4 +1,4 @@
-#include "codec/ts/ts_codec.h"
+#include "codec/ts/ts_encoder.h"
 
 #include <Eigen/Cholesky>
 #include <algorithm>
@@ -699,14 +699,6 @@ void TsCodec::encode_report(const PositionsView& in, const TransformParams& para
   out->insert(out->end(), best.bytes.begin(), best.bytes.end());
   *recon = std::move(best.recon);
   rep->t_total = since(t_start);
-}
-
-void TsCodec::decode(const uint8_t* data, size_t size, size_t frames, size_t points,
-                     std::vector<double>* recon) const {
-  if (points > 0 && frames > (size_t{1} << 40) / points)
-    fail(ErrorCode::kCorrupt, "ts payload", "window too large");
-  ts::TsModel m = ts::read_model(data, size, frames, points);
-  ts::reconstruct(m, recon);
 }
 
 }  // namespace capz

@@ -1,8 +1,8 @@
-// Codec pdct: predictive-spectral coding in local frames (Amjoun & Strasser 2007, "Predictive-
-// spectral compression of dynamic 3D meshes"), on point sequences without connectivity.
-// The stages: seeds.h (seed triangles, kdtree.h), lcf.h (local frames), cluster.h (theta
-// clustering), predict.h (closed loop shared by encoder and decoder), dct.h (DCT + quantiser).
-// Options and bitstream: docs/CODEC-PDCT.md.
+// Codec pdct, encode side: predictive-spectral coding in local frames (Amjoun & Strasser 2007,
+// "Predictive- spectral compression of dynamic 3D meshes"), on point sequences without
+// connectivity. The stages: seeds.h (seed triangles, kdtree.h), lcf.h (local frames), cluster.h
+// (theta clustering), predict.h (closed loop shared by encoder and decoder), dct.h (DCT +
+// quantiser). Options and bitstream: docs/CODEC-PDCT.md.
 #pragma once
 
 #include <cstddef>
@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "codec/pdct/pdct_decoder.h"
 #include "codec/transform.h"
 
 namespace capz {
@@ -46,14 +47,14 @@ size_t pdct_default_clusters(size_t points);
 
 class PdctCodec : public TransformCodec {
  public:
-  static constexpr uint8_t kId = 2;
-  uint8_t id() const override { return kId; }
-  const char* name() const override { return "pdct"; }
+  static constexpr uint8_t kId = PdctDecoder::kId;
+  const TransformDecoder& decoder() const override { return decoder_; }
   void check_params(const TransformParams& params) const override { parse_pdct_options(params); }
   void encode(const PositionsView& in, const TransformParams& params, std::vector<uint8_t>* out,
               std::vector<double>* recon) const override;
-  void decode(const uint8_t* data, size_t size, size_t frames, size_t points,
-              std::vector<double>* recon) const override;
+
+ private:
+  PdctDecoder decoder_;
 };
 
 // What encode() decided, for benchmarks and tests (filled by encode_pdct when non-null).

@@ -1,0 +1,588 @@
+// Decoder library (capz_decode): builds without PCL and without the transform encoders.
+#include "coding/positions.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "capz/error.h"
+#include "coding/bytes.h"
+#include "coding/entropy.h"
+#include "coding/predict.h"
+
+namespace capz {
+namespace {
+
+// What the estimate conditions a residual on, per point, axis and predictor: the previous token
+// of the same axis (capped at 3). (Conditioning on scheme 3's zero-run phase as well changed
+// the chosen predictors' coded sizes by under 0.5% and cost about a fifth of the encode time.)
+struct PrevState {
+  static constexpr int kContexts = 4;
+  uint8_t ta = 0;
+  int context() const { return ta < 3 ? ta : 3; }
+  void update(int tok) { ta = static_cast<uint8_t>(tok); }
+};
+
+// token_of(u) for u < 64 (tokens 0-11), by table, and 16 x the estimate's next context
+// (min(token, 3)).
+struct SmallTokenTable {
+  uint8_t t[64], next[64];
+  constexpr SmallTokenTable() : t(), next() {
+    for (uint32_t u = 0; u < 64; ++u) {
+      int e = 0;
+      while ((u >> (e + 1)) != 0) ++e;
+      t[u] = static_cast<uint8_t>(u < 4 ? u : 4 + 2 * (e - 2) + ((u >> (e - 1)) & 1));
+      next[u] = static_cast<uint8_t>(16 * (t[u] < 3 ? t[u] : 3));
+    }
+  }
+};
+constexpr SmallTokenTable kSmallTokens{};
+
+// Token histogram of one point's residuals under the contexts of State, for estimating its coded
+// size: the conditional order-0 entropy of the tokens (capped at 15) plus their raw bits.
+template <typename State>
+struct Hist {
+  using StateType = State;
+  static constexpr int kContexts = State::kContexts;
+  uint16_t count[kContexts][16];  // a window codes at most 8192 x 3 values of a point
+  uint32_t raw;  // raw bits (plus 4 for the escape) of tokens >= 15; those of the others follow
+                 // from their counts
+  void clear() { std::memset(this, 0, sizeof *this); }
+  // Adds residual r in state st (then updated); returns r's token.
+  int add(int32_t r, State* st) {
+    int nbits;
+    const int tok = token_of(zigzag(r), &nbits);
+    ++count[st->context()][tok < 15 ? tok : 15];
+    if (tok >= 15) raw += static_cast<uint32_t>(nbits) + 4;
+    st->update(tok);
+    return tok;
+  }
+  // Adds res[a][f], a = 0..2, for the frames f in [from, to) with valid[f], as add() would for
+  // each axis's sequence from state st[a] (then updated): the hot loop of the estimate. The
+  // states stay in registers, small values' tokens come from a table, and each axis counts
+  // into its own table until the end, so the three increments of a frame are independent
+  // (one shared table makes a chain through memory when a count repeats, as in a zero run).
+  void add_run3(const int32_t* const res[3], const uint8_t* valid, size_t from, size_t to,
+                State st[3]) {
+    uint16_t c[3][kContexts * 16] = {};
+    int s0 = st[0].context() * 16, s1 = st[1].context() * 16, s2 = st[2].context() * 16;
+    auto one = [&](int32_t r, uint16_t* cnt, int* sv) {
+      const uint32_t u = zigzag(r);
+      int idx, next;
+      if (u < 64) {
+        idx = kSmallTokens.t[u];
+        next = kSmallTokens.next[u];
+      } else {
+        int nbits;
+        const int tok = token_of(u, &nbits);
+        if (tok >= 15) raw += static_cast<uint32_t>(nbits) + 4;
+        idx = tok < 15 ? tok : 15;
+        next = 3 * 16;
+      }
+      ++cnt[*sv + idx];
+      *sv = next;
+    };
+    for (size_t f = from; f < to; ++f) {
+      if (!valid[f]) continue;
+      one(res[0][f], c[0], &s0);
+      one(res[1][f], c[1], &s1);
+      one(res[2][f], c[2], &s2);
+    }
+    uint16_t* all = &count[0][0];
+    for (int k = 0; k < kContexts * 16; ++k)
+      all[k] = static_cast<uint16_t>(all[k] + c[0][k] + c[1][k] + c[2][k]);
+    st[0].update(s0 / 16);
+    st[1].update(s1 / 16);
+    st[2].update(s2 / 16);
+  }
+  // Estimated bits, in 1/16 bit units.
+  uint64_t bits16() const {
+    double e = 0;
+    uint64_t bits = raw;
+    for (int c = 0; c < kContexts; ++c) {
+      uint32_t n = 0;
+      for (int k = 4; k < 15; ++k)
+        bits += uint64_t{count[c][k]} * static_cast<uint64_t>((k - 4) / 2 + 1);
+      for (int k = 0; k < 16; ++k)
+        if (count[c][k]) {
+          n += count[c][k];
+          e -= count[c][k] * std::log2(static_cast<double>(count[c][k]));
+        }
+      if (n) e += static_cast<double>(n) * std::log2(static_cast<double>(n));
+    }
+    return static_cast<uint64_t>(e * 16) + bits * 16;
+  }
+};
+using TokenHist = Hist<PrevState>;
+
+struct CostCoder {
+  const int32_t* q;
+  size_t points;
+  TokenHist* hist;   // per point
+  PrevState* state;  // per point and axis, reset at the start
+  int32_t operator()(size_t i, int32_t pred, int, int* tok) {
+    const size_t k = i % (points * 3);
+    *tok = hist[k / 3].add(wrap_sub(q[i], pred), &state[k]);
+    return q[i];
+  }
+};
+
+// The coders of the final walks hold the entropy coder's cursor by value (entropy.h): walk_window
+// works on a local copy of its Coder, so the coder state stays in registers; commit it after.
+struct EncCoder {
+  IntEncoder::Cursor enc;
+  ResidualContexts::Cursor contexts;
+  const int32_t* q;
+  const uint32_t* lo;
+  int32_t operator()(size_t i, int32_t pred, int ctx, int* tok) {
+    *tok = enc.put_signed(wrap_sub(q[i], pred), ctx, contexts.escape_set(ctx));
+    if (lo) enc.raw_bits(lo[i], 32);
+    return q[i];
+  }
+};
+
+struct DecCoder {
+  IntDecoder::Cursor dec;
+  ResidualContexts::Cursor contexts;
+  uint32_t* lo;
+  int32_t operator()(size_t i, int32_t pred, int ctx, int* tok) {
+    int32_t r = dec.get_signed(ctx, tok, contexts.escape_set(ctx));
+    if (lo) lo[i] = dec.raw_bits(32);
+    return wrap_add(pred, r);
+  }
+};
+
+// Candidate reference points of every point p: up to kRefCandidates points r < p nearest to p
+// at p's first valid frame of the window, among those valid there (squared distance of the
+// integers; ties to the larger r). UINT32_MAX marks unused slots.
+std::vector<uint32_t> ref_candidates(const int32_t* q, const uint8_t* valid, size_t frames,
+                                     size_t points, size_t* per_point) {
+  constexpr size_t kRefCandidates = 16;
+  constexpr size_t kBruteForce = 4096;  // beyond: search only the 512 preceding indices
+  *per_point = kRefCandidates;
+  std::vector<uint32_t> cand(points * kRefCandidates, UINT32_MAX);
+  double d[kRefCandidates];
+  for (size_t p = 1; p < points; ++p) {
+    size_t f = 0;
+    while (f < frames && !valid[f * points + p]) ++f;
+    if (f == frames) continue;
+    const int32_t* qf = q + f * points * 3;
+    const uint8_t* vf = valid + f * points;
+    size_t n = 0;
+    const size_t lo = points <= kBruteForce || p < 512 ? 0 : p - 512;
+    uint32_t* c = &cand[p * kRefCandidates];
+    for (size_t r = p; r-- > lo;) {
+      if (!vf[r]) continue;
+      double dd = 0;
+      for (int a = 0; a < 3; ++a) {
+        const double x = static_cast<double>(qf[p * 3 + a]) - static_cast<double>(qf[r * 3 + a]);
+        dd += x * x;
+      }
+      if (n == kRefCandidates && dd >= d[n - 1]) continue;
+      size_t k = n < kRefCandidates ? n++ : n - 1;
+      while (k > 0 && d[k - 1] > dd) {
+        d[k] = d[k - 1];
+        c[k] = c[k - 1];
+        --k;
+      }
+      d[k] = dd;
+      c[k] = static_cast<uint32_t>(r);
+    }
+  }
+  return cand;
+}
+
+// Residuals of every sample under the previous (e[0]) and linear (e[1]) predictors, frames
+// 1.. of the window (q filled, as after a walk); frame 0 entries are 0.
+void base_residuals(const int32_t* q, size_t frames, size_t points, std::vector<int32_t> e[2]) {
+  const size_t stride = points * 3;
+  for (int b = 0; b < 2; ++b) e[b].assign(frames * stride, 0);
+  for (size_t f = 1; f < frames; ++f)
+    for (size_t k = 0; k < stride; ++k) {
+      const size_t i = f * stride + k;
+      e[0][i] = wrap_sub(q[i], predict_one(kPredPrevious, f, &q[i], stride, nullptr));
+      e[1][i] = wrap_sub(q[i], predict_one(kPredLinear, f, &q[i], stride, nullptr));
+    }
+}
+
+// Residuals res[f] = x[f] - prediction, f = 1 .. frames - 1, of a trajectory x (one axis of one
+// point, frames contiguous, gaps filled) under predictor `mode` (0-2, 7-9): predict_one with
+// stride 1, its mode fixed at compile time for the loop.
+void predictor_residuals(int mode, const int32_t* x, size_t frames, size_t period, int32_t* res) {
+  with_predictor(mode, [&](auto m) {
+    for (size_t f = 1; f < frames; ++f)
+      res[f] = wrap_sub(x[f], predict_one(m, f, x + f, 1, nullptr, period));
+  });
+}
+
+// Adds to h the residuals of point p under base residuals e plus reference r's deviation, over
+// frames 1.. of the window (the reference predictors 5/6), through `res` (3 x frames) and `vs`
+// (frames) as scratch.
+template <typename H>
+void ref_cost(const std::vector<int32_t>& e, const uint8_t* valid, size_t frames, size_t points,
+              size_t p, size_t r, H* h, std::vector<int32_t>* res, std::vector<uint8_t>* vs) {
+  const size_t stride = points * 3;
+  int32_t* out[3] = {res->data(), res->data() + frames, res->data() + 2 * frames};
+  for (size_t f = 1; f < frames; ++f) {
+    (*vs)[f] = valid[f * points + p];
+    const bool rv = valid[f * points + r] != 0;
+    for (size_t a = 0; a < 3; ++a) {
+      const int32_t c = e[f * stride + p * 3 + a];
+      out[a][f] = rv ? wrap_sub(c, e[f * stride + r * 3 + a]) : c;
+    }
+  }
+  const int32_t* in[3] = {out[0], out[1], out[2]};
+  typename H::StateType st[3];
+  h->add_run3(in, vs->data(), 1, frames, st);
+}
+
+// The base residuals e[0], e[1] of every point on the frames 1, 1 + step, ... that rank the
+// reference candidates, point by point (so a pair's rank reads two short contiguous runs, not
+// one cache line per frame): per point, per sampled frame, the three values of each base, 0
+// for a gap, and a mask of -1 where the point is valid (0 where not).
+struct RankSamples {
+  size_t n = 0;               // sampled frames
+  std::vector<int32_t> e[2];  // [point][sample][axis]
+  std::vector<int32_t> mask;  // [point][sample]
+  RankSamples(const std::vector<int32_t> base[2], const uint8_t* valid, size_t frames,
+              size_t points, size_t step) {
+    const size_t stride = points * 3;
+    n = frames > 1 ? (frames - 2) / step + 1 : 0;
+    for (int b = 0; b < 2; ++b) e[b].assign(points * n * 3, 0);
+    mask.assign(points * n, 0);
+    for (size_t j = 0; j < n; ++j) {
+      const size_t f = 1 + j * step;
+      for (size_t p = 0; p < points; ++p) {
+        if (!valid[f * points + p]) continue;
+        mask[p * n + j] = -1;
+        for (int b = 0; b < 2; ++b)
+          for (size_t a = 0; a < 3; ++a)
+            e[b][(p * n + j) * 3 + a] = base[b][f * stride + p * 3 + a];
+      }
+    }
+  }
+  // Rank of reference r for point p under base b: the summed bit lengths of p's residuals (its
+  // base residual minus r's where r is valid) on the sampled frames where p is valid.
+  uint64_t rank(int b, size_t p, size_t r) const {
+    const int32_t* c = &e[b][p * n * 3];
+    const int32_t* cr = &e[b][r * n * 3];
+    const int32_t* m = &mask[p * n];
+    uint64_t bits = 0;
+    for (size_t j = 0; j < n; ++j)
+      for (size_t a = 0; a < 3; ++a)
+        bits += bit_cost(wrap_sub(c[j * 3 + a], cr[j * 3 + a]) & m[j]);  // r's gaps hold 0
+    return bits;
+  }
+};
+
+// The window's period for predictors 8/9, or 0 when none is worth trying. Differences
+// q[f] - q[f-T] are costed (bit_cost, averaged) on a sample of points and frames for each T in
+// [2, min(F / 2, 256)], first on at most 4 points x 8 frames, then the 8 best T again on 16 x 32;
+// the frames before T count at the cost of q[f] - q[f-1]. The T with the lowest total is kept
+// if it is under 0.8 times that of q[f] - q[f-1] over the window (a motion that repeats, e.g. a
+// looped animation).
+size_t find_period(const int32_t* q, const uint8_t* valid, size_t frames, size_t points) {
+  if (frames < 4 || points == 0) return 0;
+  const size_t stride = points * 3;
+  const double F = static_cast<double>(frames);
+  auto total = [&](size_t T, size_t np, size_t nf, double base) {  // estimated window bits
+    const size_t pstep = (points + np - 1) / np, fstep = std::max<size_t>(1, (frames - T) / nf);
+    uint64_t bits = 0, n = 0;
+    for (size_t f = T; f < frames; f += fstep)
+      for (size_t p = 0; p < points; p += pstep) {
+        if (!valid[f * points + p] || !valid[(f - T) * points + p]) continue;
+        const int32_t* c = q + f * stride + p * 3;
+        for (int a = 0; a < 3; ++a) bits += bit_cost(wrap_sub(c[a], *(c + a - T * stride)));
+        n += 3;
+      }
+    const double avg = n ? static_cast<double>(bits) / static_cast<double>(n) : 1e30;
+    return avg * (F - static_cast<double>(T)) + base * static_cast<double>(T);
+  };
+  const size_t top = std::min<size_t>(frames / 2, 256);
+  std::vector<std::pair<double, size_t>> coarse;
+  const double base_coarse = total(1, 4, 8, 0) / (F - 1);
+  for (size_t T = 2; T <= top; ++T) coarse.emplace_back(total(T, 4, 8, base_coarse), T);
+  const size_t keep = std::min<size_t>(8, coarse.size());
+  std::partial_sort(coarse.begin(), coarse.begin() + static_cast<std::ptrdiff_t>(keep),
+                    coarse.end());
+  const double base = total(1, 16, 32, 0) / (F - 1);
+  size_t best = 0;
+  double best_total = 0.8 * base * F;
+  for (size_t k = 0; k < keep; ++k) {
+    const double c = total(coarse[k].second, 16, 32, base);
+    if (c < best_total) best_total = c, best = coarse[k].second;
+  }
+  return best;
+}
+
+// What the estimate chose for a window: a predictor per point, the reference point of those
+// using predictors 5/6, and the period of predictors 8/9 (0 when none is tried).
+struct ModeChoice {
+  std::vector<uint8_t> modes;
+  std::vector<uint32_t> ref;
+  bool any_ref = false;
+  size_t period = 0;
+};
+
+// Frame 0's share of every point's estimate (the `last` rule), the same for every non-transform
+// predictor, into first[p]; fills q's gaps: frame 0's by the walk, later ones with the previous
+// frame's integers.
+void frame0_share(const WindowInts& w, const int32_t* t, ResidualContexts& ctx,
+                  std::vector<int32_t>* q, std::vector<TokenHist>* first) {
+  const size_t F = w.frames, N = w.points, S = N * 3;
+  std::vector<PrevState> est(N * 3);
+  const std::vector<uint8_t> mm(N, static_cast<uint8_t>(kPredPrevious));
+  for (TokenHist& h : *first) h.clear();
+  CostCoder c0{q->data(), N, first->data(), est.data()};
+  walk_window(1, N, w.valid.data(), mm.data(), nullptr, t, q->data(), ctx, c0);
+  int32_t* x = q->data();
+  for (size_t f = 1; f < F; ++f)
+    for (size_t p = 0; p < N; ++p)
+      if (!w.valid[f * N + p])
+        std::copy(&x[(f - 1) * S + p * 3], &x[(f - 1) * S + p * 3 + 3], &x[f * S + p * 3]);
+}
+
+// Predictors 0-2, with scheme 3 also smooth (7) and, when the window repeats with a period, 8
+// and 9: each point's cheapest into best[p] / c->modes[p]. q: the window's integers, gaps
+// filled.
+void choose_temporal(const WindowInts& w, const std::vector<int32_t>& q,
+                     const std::vector<TokenHist>& first, int scheme, std::vector<uint64_t>* best,
+                     ModeChoice* c) {
+  const size_t F = w.frames, N = w.points, S = N * 3;
+  if (scheme >= 3) c->period = find_period(q.data(), w.valid.data(), F, N);
+  const size_t period = c->period;
+  const int nm = scheme < 3 ? 3 : period ? 6 : 4;
+  static constexpr uint8_t kIds[6] = {kPredPrevious, kPredLinear, kPredQuadratic,
+                                      kPredSmooth,   kPredPeriod, kPredPeriodPrevious};
+  // Point by point: the point's trajectory is gathered per axis into contiguous arrays, so
+  // each predictor's residuals are one simple loop over frames and the estimate's state
+  // stays in registers (the same histograms as a frame-by-frame walk: counts are sums, and
+  // the state of each predictor, point and axis sees the same sequence).
+  std::vector<int32_t> xs(3 * F), res(3 * F);
+  std::vector<uint8_t> vs(F);
+  for (size_t p = 0; p < N; ++p) {
+    for (size_t f = 0; f < F; ++f) {
+      vs[f] = w.valid[f * N + p];
+      for (size_t a = 0; a < 3; ++a) xs[a * F + f] = q[f * S + p * 3 + a];
+    }
+    for (int m = 0; m < nm; ++m) {
+      TokenHist h = first[p];
+      for (size_t a = 0; a < 3; ++a)
+        predictor_residuals(kIds[m], &xs[a * F], F, period, &res[a * F]);
+      const int32_t* r3[3] = {&res[0], &res[F], &res[2 * F]};
+      PrevState st[3];
+      h.add_run3(r3, vs.data(), 1, F, st);
+      const uint64_t cost = h.bits16();
+      if (cost < (*best)[p]) (*best)[p] = cost, c->modes[p] = kIds[m];
+    }
+  }
+}
+
+// The transform predictors 3/4, estimated by walks (their frame-0 rule and gap fill differ).
+void choose_transform(const WindowInts& w, const std::vector<int32_t>& q, const int32_t* t,
+                      ResidualContexts& ctx, std::vector<uint64_t>* best, ModeChoice* c) {
+  const size_t F = w.frames, N = w.points;
+  std::vector<int32_t> qt = q;
+  std::vector<TokenHist> hist(N);
+  std::vector<PrevState> est(N * 3);
+  for (int m = kPredTransform; m <= kPredTransformLinear; ++m) {
+    const std::vector<uint8_t> mm(N, static_cast<uint8_t>(m));
+    for (TokenHist& h : hist) h.clear();
+    std::fill(est.begin(), est.end(), PrevState());
+    CostCoder cc{qt.data(), N, hist.data(), est.data()};
+    walk_window(F, N, w.valid.data(), mm.data(), nullptr, t, qt.data(), ctx, cc);
+    for (size_t p = 0; p < N; ++p) {
+      const uint64_t cost = hist[p].bits16();
+      if (cost < (*best)[p]) (*best)[p] = cost, c->modes[p] = static_cast<uint8_t>(m);
+    }
+  }
+}
+
+// The two best (reference, base) pairs of point p by RankSamples::rank over its K candidates
+// cand[0..K) (UINT32_MAX ends the list early); fin_b[j] = -1 where fewer were found.
+constexpr int kFinalists = 2;
+void rank_references(const RankSamples& samples, const uint32_t* cand, size_t K, size_t p,
+                     size_t fin_r[kFinalists], int fin_b[kFinalists]) {
+  uint64_t rank[kFinalists] = {UINT64_MAX, UINT64_MAX};
+  for (int j = 0; j < kFinalists; ++j) fin_r[j] = 0, fin_b[j] = -1;
+  for (size_t k = 0; k < K && cand[k] != UINT32_MAX; ++k)
+    for (int b = 0; b < 2; ++b) {
+      const size_t r = cand[k];
+      const uint64_t cost = samples.rank(b, p, r);
+      for (int j = 0; j < kFinalists; ++j)
+        if (cost < rank[j]) {
+          for (int m = kFinalists - 1; m > j; --m)
+            rank[m] = rank[m - 1], fin_r[m] = fin_r[m - 1], fin_b[m] = fin_b[m - 1];
+          rank[j] = cost, fin_r[j] = r, fin_b[j] = b;
+          break;
+        }
+    }
+}
+
+// Reference predictors 5/6. Candidate pairs (reference, base) are ranked by the summed bit
+// lengths of their residuals on every `step`-th frame (RankSamples); the full estimate of the
+// two best then competes with the point's best predictor so far. e: base_residuals of q.
+void choose_references(const WindowInts& w, const std::vector<int32_t>& q,
+                       const std::vector<int32_t> e[2], const std::vector<TokenHist>& first,
+                       std::vector<uint64_t>* best, ModeChoice* c) {
+  const size_t F = w.frames, N = w.points;
+  size_t K;
+  const std::vector<uint32_t> cand = ref_candidates(q.data(), w.valid.data(), F, N, &K);
+  const size_t step = F >= 512 ? 8 : F >= 256 ? 4 : F >= 64 ? 2 : 1;
+  const RankSamples samples(e, w.valid.data(), F, N, step);
+  std::vector<int32_t> res(3 * F);  // scratch of the estimates: a point's residuals by axis
+  std::vector<uint8_t> vs(F);       // and the point's validity, by frame
+  for (size_t p = 1; p < N; ++p) {
+    size_t fin_r[kFinalists];
+    int fin_b[kFinalists];
+    rank_references(samples, &cand[p * K], K, p, fin_r, fin_b);
+    for (int j = 0; j < kFinalists && fin_b[j] >= 0; ++j) {
+      TokenHist h = first[p];
+      ref_cost(e[fin_b[j]], w.valid.data(), F, N, p, fin_r[j], &h, &res, &vs);
+      const uint64_t cost = h.bits16();
+      if (cost < (*best)[p]) {
+        (*best)[p] = cost;
+        c->modes[p] = static_cast<uint8_t>(fin_b[j] == 0 ? kPredRefPrevious : kPredRefLinear);
+        c->ref[p] = static_cast<uint32_t>(fin_r[j]);
+        c->any_ref = true;
+      }
+    }
+  }
+}
+
+// Predictor per point: the cheapest by an estimate of coded bits over the window. Fills q's
+// gaps (windows of 2 frames or more). t: the transform prediction, or nullptr.
+ModeChoice choose_modes(const WindowInts& w, const int32_t* t, int scheme, ResidualContexts& ctx,
+                        std::vector<int32_t>* q) {
+  const size_t F = w.frames, N = w.points;
+  ModeChoice c;
+  c.modes.assign(N, 0);
+  c.ref.assign(N, 0);
+  if (F <= 1) {
+    if (t) std::fill(c.modes.begin(), c.modes.end(), static_cast<uint8_t>(kPredTransform));
+    return c;
+  }
+  std::vector<uint64_t> best(N, UINT64_MAX);
+  std::vector<TokenHist> first(N);
+  frame0_share(w, t, ctx, q, &first);
+  std::vector<int32_t> e[2];
+  base_residuals(q->data(), F, N, e);
+  choose_temporal(w, *q, first, scheme, &best, &c);
+  if (t) choose_transform(w, *q, t, ctx, &best, &c);
+  if (scheme >= 2 && F > 2 && N > 1) choose_references(w, *q, e, first, &best, &c);
+  return c;
+}
+
+// The POSW payload after the window index and has_mask byte (3.3): codec block, predictor
+// block, reference block (when a point uses one), period (when a point uses it), residuals.
+std::vector<uint8_t> write_positions(const std::vector<uint8_t>& codec_payload, const ModeChoice& c,
+                                     const std::vector<uint8_t>& residuals) {
+  ByteWriter out;
+  put_block(&out, codec_payload);
+  put_block(&out, encode_ints(std::vector<int32_t>(c.modes.begin(), c.modes.end())));
+  if (c.any_ref) {
+    std::vector<uint32_t> dist;
+    for (size_t p = 0; p < c.modes.size(); ++p)
+      if (uses_ref(c.modes[p])) dist.push_back(static_cast<uint32_t>(p - 1 - c.ref[p]));
+    put_block(&out, encode_uints(dist));
+  }
+  if (std::any_of(c.modes.begin(), c.modes.end(), [](uint8_t m) { return uses_period(m); }))
+    out.varint(c.period);
+  out.bytes(residuals);
+  return std::move(out.buffer());
+}
+
+}  // namespace
+
+std::vector<uint8_t> encode_positions(const WindowInts& w,
+                                      const std::vector<uint8_t>& codec_payload,
+                                      const std::vector<int32_t>& tpred, bool float64, int scheme) {
+  const size_t F = w.frames, N = w.points;
+  std::vector<int32_t> q = w.q;  // gap entries get filled by the walks
+  ResidualContexts ctx(scheme, N);
+  const int32_t* t = tpred.empty() ? nullptr : tpred.data();
+  const ModeChoice c = choose_modes(w, t, scheme, ctx, &q);
+  ctx.reset();
+  IntEncoder enc(ResidualContexts::count(scheme));
+  if (scheme >= 2) enc.skew_contexts();
+  EncCoder ec{enc.cursor(), ctx.cursor(), q.data(), float64 ? w.lo.data() : nullptr};
+  walk_window(F, N, w.valid.data(), c.modes.data(), c.ref.data(), t, q.data(), ctx, ec, c.period);
+  enc.commit(ec.enc);
+  return write_positions(codec_payload, c, enc.finish());
+}
+
+PositionsPayload split_positions(const uint8_t* data, size_t size, const std::string& what) {
+  ByteReader r(data, size, what);
+  PositionsPayload pp;
+  pp.codec_bytes = get_block(&r, &pp.codec_size, "codec payload length");
+  pp.modes = get_block(&r, &pp.modes_size, "predictor block length");
+  pp.residuals_size = r.remaining();
+  pp.residuals = r.bytes(pp.residuals_size);
+  return pp;
+}
+
+std::vector<uint8_t> decode_modes(const PositionsPayload& pp, size_t points, int scheme,
+                                  const std::string& what) {
+  std::vector<int32_t> m = decode_ints(pp.modes, pp.modes_size, points, what + " predictors");
+  std::vector<uint8_t> modes(points);
+  for (size_t p = 0; p < points; ++p) {
+    if (m[p] < 0 || m[p] >= predictor_count(scheme))
+      fail(ErrorCode::kCorrupt, what, "unknown predictor " + std::to_string(m[p]));
+    if (p == 0 && uses_ref(m[p]))
+      fail(ErrorCode::kCorrupt, what, "point 0 uses a reference predictor");
+    modes[p] = static_cast<uint8_t>(m[p]);
+  }
+  return modes;
+}
+
+void decode_positions(const PositionsPayload& pp, const std::vector<int32_t>& tpred, bool float64,
+                      int scheme, WindowInts* w, const std::string& what) {
+  const size_t F = w->frames, N = w->points;
+  std::vector<uint8_t> modes = decode_modes(pp, N, scheme, what);
+  size_t nref = 0;
+  bool any_period = false;
+  for (uint8_t m : modes) {
+    if ((m == kPredTransform || m == kPredTransformLinear) && tpred.size() != F * N * 3)
+      fail(ErrorCode::kCorrupt, what, "a point uses the transform predictor but no codec ran");
+    nref += uses_ref(m) ? 1 : 0;
+    any_period = any_period || uses_period(m);
+  }
+  // The reference block, then the period, come first in the rest of the payload (3.3).
+  ByteReader r(pp.residuals, pp.residuals_size, what);
+  std::vector<uint32_t> ref(N, 0);
+  if (nref > 0) {
+    size_t n;
+    const uint8_t* b = get_block(&r, &n, "reference block length");
+    std::vector<uint32_t> dist = decode_uints(b, n, nref, what + " references");
+    for (size_t p = 0, k = 0; p < N; ++p) {
+      if (!uses_ref(modes[p])) continue;
+      if (dist[k] > p - 1)
+        fail(ErrorCode::kCorrupt, what,
+             "point " + std::to_string(p) + " refers to point -" +
+                 std::to_string(dist[k] - (p - 1)));
+      ref[p] = static_cast<uint32_t>(p - 1 - dist[k++]);
+    }
+  }
+  size_t period = 0;
+  if (any_period) {
+    const uint64_t T = r.varint();
+    if (T < 1 || T >= F)
+      fail(ErrorCode::kCorrupt, what,
+           "period of " + std::to_string(T) + " frames in a window of " + std::to_string(F));
+    period = static_cast<size_t>(T);
+  }
+  const size_t res_size = r.remaining();
+  const uint8_t* res = r.bytes(res_size);
+  w->q.assign(F * N * 3, 0);
+  if (float64) w->lo.assign(F * N * 3, 0);
+  ResidualContexts ctx(scheme, N);
+  IntDecoder dec(res, res_size, ResidualContexts::count(scheme), what + " residuals");
+  if (scheme >= 2) dec.skew_contexts();
+  DecCoder dc{dec.cursor(), ctx.cursor(), float64 ? w->lo.data() : nullptr};
+  walk_window(F, N, w->valid.data(), modes.data(), ref.data(),
+              tpred.empty() ? nullptr : tpred.data(), w->q.data(), ctx, dc, period);
+  dec.commit(dc.dec);
+  if (!dec.at_end()) fail(ErrorCode::kCorrupt, what, "residual block has bytes past its end");
+}
+
+}  // namespace capz

@@ -1,0 +1,58 @@
+// Positions of one window as integers (docs/FORMAT.md 3.3): a predictor per point chosen by an
+// estimate of its coded size, then every sample's residual entropy-coded. encode_positions
+// returns a POSW payload (after the window index and has_mask byte); split_positions and
+// decode_positions parse one, throwing Error(kCorrupt) naming `what` on any inconsistency.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace capz {
+
+// Integers of one window. q: frames x points x 3 (gap samples: anything, filled on coding);
+// lo: the low 32 bits in mode kFloat64, else empty. valid: frames x points.
+struct WindowInts {
+  size_t frames = 0, points = 0;
+  std::vector<int32_t> q;
+  std::vector<uint32_t> lo;
+  std::vector<uint8_t> valid;
+};
+
+// POSW payload after the window index and has_mask byte: codec bytes, modes, residuals.
+// `codec_payload` is what the transform codec wrote (empty if none), `tpred` its prediction on
+// the grid (frames x points x 3, empty if none).
+// `scheme` is the coding generation (FORMAT.md 3.3): 3 (format 3.x: smooth and period
+// predictors, 448 residual contexts), what capz writes; 2 (format 2.x: reference predictors, 84
+// contexts) and 1 (format 1.x) for reading old streams and for their tests.
+constexpr int kPositionScheme = 3;
+// The scheme of a stream of format major version `major`.
+inline int position_scheme(int major) {
+  return major >= 3 ? 3 : major == 2 ? 2 : 1;
+}
+std::vector<uint8_t> encode_positions(const WindowInts& w,
+                                      const std::vector<uint8_t>& codec_payload,
+                                      const std::vector<int32_t>& tpred, bool float64,
+                                      int scheme = kPositionScheme);
+// Parses what encode_positions wrote from `r`'s current position to the end of the payload.
+// `codec_payload` receives the codec bytes; `make_tpred` is called with them to produce the
+// transform prediction when any point's predictor needs it (it throws if there is no codec).
+struct PositionsPayload {
+  const uint8_t* codec_bytes = nullptr;
+  size_t codec_size = 0;
+  const uint8_t* modes = nullptr;
+  size_t modes_size = 0;
+  const uint8_t* residuals = nullptr;
+  size_t residuals_size = 0;
+};
+PositionsPayload split_positions(const uint8_t* data, size_t size, const std::string& what);
+// Decodes into w (frames, points, valid set by the caller). tpred may be empty if no codec.
+// `scheme`: position_scheme(major) of the stream.
+void decode_positions(const PositionsPayload& pp, const std::vector<int32_t>& tpred, bool float64,
+                      int scheme, WindowInts* w, const std::string& what);
+// Predictor modes of a payload.
+std::vector<uint8_t> decode_modes(const PositionsPayload& pp, size_t points, int scheme,
+                                  const std::string& what);
+
+}  // namespace capz
