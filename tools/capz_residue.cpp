@@ -28,43 +28,27 @@ struct Row {
 Row measure(const std::string& path, const std::string& via, size_t block) {
   Row r;
   auto src = open_c3d_frames(path);
-  residue::C3DResidueEncoder enc(path);
-  const size_t F = src->header().frames;
-  std::vector<std::vector<uint8_t>> wins;
-  FrameBlock b;
-  for (size_t f = 0; f < F; f += block) {
-    src->read(f, std::min(block, F - f), &b);
-    wins.push_back(enc.window(b));
-    r.windows += wins.back().size();
-  }
-  const std::vector<C3DGroup>& groups = src->header().c3d->groups;
-  const std::vector<uint8_t> part = enc.file_part(groups);
-  r.file_part = part.size();
-  r.size = enc.layout().file_size();
-
+  const residue::C3DResidue res = residue::encode_c3d_residue(path, *src, block);
+  r.file_part = res.file_part.size();
+  r.windows = res.bytes() - r.file_part;
   std::unique_ptr<FrameSource> back = std::move(src);
   if (!via.empty()) {
     const std::string out = via + "/residue_probe.capz";
     CompressOptions opts;
     opts.lossless = true;
-    CompressStats stats;
     auto again = open_c3d_frames(path);
-    compress_stream(*again, opts, out, true, &stats);
+    compress_stream(*again, opts, out, true);
     back = open_capz_frames(out);
-    InputFile capz(out);
-    r.capz = capz.size();
+    r.capz = InputFile(out).size();
   }
-  residue::C3DResidueDecoder dec(part.data(), part.size(), back->header().c3d->groups, path);
   Hasher h;
-  h.update(dec.head().data(), dec.head().size());
-  std::vector<uint8_t> bytes;
-  for (size_t f = 0, w = 0; f < F; f += block, ++w) {
-    back->read(f, std::min(block, F - f), &b);
-    bytes.clear();
-    dec.window(b, wins[w].data(), wins[w].size(), &bytes);
-    h.update(bytes.data(), bytes.size());
-  }
-  h.update(dec.tail().data(), dec.tail().size());
+  residue::rebuild_c3d(
+      res, *back, block,
+      [&](const uint8_t* p, size_t n) {
+        h.update(p, n);
+        r.size += n;
+      },
+      path);
   r.exact = h.digest() == hash128_file(path);
   return r;
 }

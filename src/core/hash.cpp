@@ -21,7 +21,9 @@ Hasher::Hasher() : state_(new State) {
     fail(ErrorCode::kInternal, "", "XXH3: cannot create a hash state");
 }
 
-Hasher::~Hasher() { XXH3_freeState(state_->s); }
+Hasher::~Hasher() {
+  XXH3_freeState(state_->s);
+}
 
 void Hasher::update(const void* data, size_t size) {
   if (size == 0) return;

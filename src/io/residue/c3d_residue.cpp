@@ -19,7 +19,9 @@ namespace {
 
 constexpr uint8_t kKindC3D = 1;
 
-size_t elem_size(const C3DFrameLayout& lay) { return lay.float_storage ? 4 : 2; }
+size_t elem_size(const C3DFrameLayout& lay) {
+  return lay.float_storage ? 4 : 2;
+}
 
 // Intel-form numbers (what encode_c3d_frames writes) to the layout's processor form, in place.
 void to_processor_form(const C3DFrameLayout& lay, uint8_t* p, size_t n) {
@@ -77,8 +79,8 @@ void check_block(const C3DFrameLayout& lay, const FrameBlock& b, const std::stri
       b.analog.size() != b.frames * lay.analog_values)
     fail(code, name,
          "C3D residue: block of frames " + std::to_string(b.first) + "+" +
-             std::to_string(b.frames) + " does not match the file's " +
-             std::to_string(lay.frames) + " frames x " + std::to_string(lay.points) + " points");
+             std::to_string(b.frames) + " does not match the file's " + std::to_string(lay.frames) +
+             " frames x " + std::to_string(lay.points) + " points");
 }
 
 }  // namespace
@@ -97,12 +99,12 @@ void regenerate_c3d_frames(const C3DFrameLayout& lay, const FrameBlock& b, uint8
   const float* res = plan.have_res ? b.residual.data() : nullptr;
   const uint8_t* cam = plan.have_res ? b.camera_mask.data() : nullptr;
   if (plan.per_frame == lay.per_frame) {
-    c3d::encode_c3d_frames(plan, b.frames, b.xyz.data(), b.valid.data(), res, cam,
-                           b.analog.data(), out);
+    c3d::encode_c3d_frames(plan, b.frames, b.xyz.data(), b.valid.data(), res, cam, b.analog.data(),
+                           out);
   } else {  // frames hold analog values the reader skips: regenerated as zeros
     std::vector<uint8_t> tmp(b.frames * plan.per_frame);
-    c3d::encode_c3d_frames(plan, b.frames, b.xyz.data(), b.valid.data(), res, cam,
-                           b.analog.data(), tmp.data());
+    c3d::encode_c3d_frames(plan, b.frames, b.xyz.data(), b.valid.data(), res, cam, b.analog.data(),
+                           tmp.data());
     std::fill(out, out + n, 0);
     for (size_t f = 0; f < b.frames; ++f)
       std::copy_n(tmp.data() + f * plan.per_frame, plan.per_frame, out + f * lay.per_frame);
@@ -227,6 +229,50 @@ const std::vector<uint8_t>& C3DResidueDecoder::tail() const {
          "C3D residue: " + std::to_string(next_) + " of " + std::to_string(lay_.frames) +
              " frames rebuilt before the tail");
   return tail_;
+}
+
+// ---- whole-file helpers ----------------------------------------------------------------------
+
+size_t C3DResidue::bytes() const {
+  size_t n = file_part.size();
+  for (const auto& w : windows) n += w.size();
+  return n;
+}
+
+C3DResidue encode_c3d_residue(const std::string& path, FrameSource& frames, size_t block) {
+  C3DResidueEncoder enc(path);
+  C3DResidue r;
+  FrameBlock b;
+  for (size_t f = 0; f < frames.header().frames; f += block) {
+    frames.read(f, block, &b);
+    r.windows.push_back(enc.window(b));
+  }
+  static const std::vector<C3DGroup> kNone;
+  r.file_part = enc.file_part(frames.header().c3d ? frames.header().c3d->groups : kNone);
+  return r;
+}
+
+void rebuild_c3d(const C3DResidue& residue, FrameSource& frames, size_t block,
+                 const std::function<void(const uint8_t*, size_t)>& write,
+                 const std::string& name) {
+  static const std::vector<C3DGroup> kNone;
+  C3DResidueDecoder dec(residue.file_part.data(), residue.file_part.size(),
+                        frames.header().c3d ? frames.header().c3d->groups : kNone, name);
+  write(dec.head().data(), dec.head().size());
+  const size_t F = frames.header().frames;
+  if (F != dec.layout().frames || (F + block - 1) / block != residue.windows.size())
+    fail(ErrorCode::kCorrupt, name,
+         "C3D residue: " + std::to_string(residue.windows.size()) + " windows for " +
+             std::to_string(F) + " frames in blocks of " + std::to_string(block));
+  FrameBlock b;
+  std::vector<uint8_t> bytes;
+  for (size_t f = 0, w = 0; f < F; f += block, ++w) {
+    frames.read(f, block, &b);
+    bytes.clear();
+    dec.window(b, residue.windows[w].data(), residue.windows[w].size(), &bytes);
+    write(bytes.data(), bytes.size());
+  }
+  write(dec.tail().data(), dec.tail().size());
 }
 
 }  // namespace residue

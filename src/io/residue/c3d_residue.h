@@ -18,6 +18,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -77,8 +78,7 @@ class C3DResidueDecoder {
   const std::vector<uint8_t>& head() const { return head_; }
   // The original bytes of block's frames, appended to *out. Blocks must come in order from
   // frame 0; `payload` is the window's payload (n = 0: none). Throws Error(kCorrupt).
-  void window(const FrameBlock& block, const uint8_t* payload, size_t n,
-              std::vector<uint8_t>* out);
+  void window(const FrameBlock& block, const uint8_t* payload, size_t n, std::vector<uint8_t>* out);
   // The bytes after the frames; throws Error(kCorrupt) unless every frame was given.
   const std::vector<uint8_t>& tail() const;
 
@@ -88,6 +88,20 @@ class C3DResidueDecoder {
   std::vector<uint8_t> head_, tail_;
   uint64_t next_ = 0;
 };
+
+// The whole residue of the C3D at `path` in one call: frames read from `frames` (the file's own
+// frame source, or any source giving the same frames) in blocks of `block`.
+struct C3DResidue {
+  std::vector<uint8_t> file_part;
+  std::vector<std::vector<uint8_t>> windows;  // one per block, in order
+  size_t bytes() const;                       // file part + every window
+};
+C3DResidue encode_c3d_residue(const std::string& path, FrameSource& frames, size_t block);
+
+// Rebuilds the original from `frames` (the decoded take, read in the encoder's blocks) and the
+// residue, handing consecutive byte ranges to `write`: head, each window, tail.
+void rebuild_c3d(const C3DResidue& residue, FrameSource& frames, size_t block,
+                 const std::function<void(const uint8_t*, size_t)>& write, const std::string& name);
 
 }  // namespace residue
 }  // namespace capz

@@ -32,8 +32,7 @@ std::vector<uint8_t> zstd(const std::vector<uint8_t>& data, const std::vector<ui
   if (dict) ZSTD_CCtx_refPrefix(c.get(), dict->data(), dict->size());
   std::vector<uint8_t> out(ZSTD_compressBound(data.size()));
   const size_t n = ZSTD_compress2(c.get(), out.data(), out.size(), data.data(), data.size());
-  if (ZSTD_isError(n))
-    fail(ErrorCode::kInternal, "", std::string("zstd: ") + ZSTD_getErrorName(n));
+  if (ZSTD_isError(n)) fail(ErrorCode::kInternal, "", std::string("zstd: ") + ZSTD_getErrorName(n));
   out.resize(n);
   return out;
 }
