@@ -1,6 +1,6 @@
 // capz_residue FILE... [--via-capz DIR] [--block N]
-// Measures the lossless residue (src/io/residue/) of C3D files and checks that it rebuilds each
-// file byte for byte. Per file, one tab-separated line:
+// Measures the lossless residue (src/io/residue/) of C3D and TRC files and checks that it rebuilds
+// each file byte for byte. Per file, one tab-separated line:
 //   file  result  size  file_part  windows  residue  [capz  residue/capz]
 // result: "exact" (rebuilt bytes hash to the original's XXH3-128), "DIFF", or "unreadable: why".
 // --via-capz DIR: also compress the file --lossless into DIR and rebuild from the frames the
@@ -12,9 +12,11 @@
 
 #include "capz/codec.h"
 #include "capz/error.h"
+#include "capz/io.h"
 #include "capz/stream.h"
 #include "core/hash.h"
 #include "io/residue/c3d_residue.h"
+#include "io/residue/trc_residue.h"
 
 using namespace capz;
 
@@ -27,8 +29,10 @@ struct Row {
 
 Row measure(const std::string& path, const std::string& via, size_t block) {
   Row r;
-  auto src = open_c3d_frames(path);
-  const residue::C3DResidue res = residue::encode_c3d_residue(path, *src, block);
+  const bool trc = detect_format(path) == Format::kTRC;
+  auto src = trc ? open_trc_frames(path) : open_c3d_frames(path);
+  const residue::FileResidue res = trc ? residue::encode_trc_residue(path, *src, block)
+                                       : residue::encode_c3d_residue(path, *src, block);
   r.file_part = res.file_part.size();
   r.windows = res.bytes() - r.file_part;
   std::unique_ptr<FrameSource> back = std::move(src);
@@ -36,19 +40,20 @@ Row measure(const std::string& path, const std::string& via, size_t block) {
     const std::string out = via + "/residue_probe.capz";
     CompressOptions opts;
     opts.lossless = true;
-    auto again = open_c3d_frames(path);
+    auto again = trc ? open_trc_frames(path) : open_c3d_frames(path);
     compress_stream(*again, opts, out, true);
     back = open_capz_frames(out);
     r.capz = InputFile(out).size();
   }
   Hasher h;
-  residue::rebuild_c3d(
-      res, *back, block,
-      [&](const uint8_t* p, size_t n) {
-        h.update(p, n);
-        r.size += n;
-      },
-      path);
+  auto write = [&](const uint8_t* p, size_t n) {
+    h.update(p, n);
+    r.size += n;
+  };
+  if (trc)
+    residue::rebuild_trc(res, *back, block, write, path);
+  else
+    residue::rebuild_c3d(res, *back, block, write, path);
   r.exact = h.digest() == hash128_file(path);
   return r;
 }

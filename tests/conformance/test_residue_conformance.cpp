@@ -45,7 +45,7 @@ struct Result {
 Result c3d_round_trip(const std::string& path, const std::string& capz_path, size_t block) {
   Result r;
   auto src = open_c3d_frames(path);
-  const residue::C3DResidue res = residue::encode_c3d_residue(path, *src, block);
+  const residue::FileResidue res = residue::encode_c3d_residue(path, *src, block);
   r.residue = res.bytes();
   r.windows = r.residue - res.file_part.size();
   CompressOptions opts;

@@ -81,8 +81,8 @@ TEST(ResiduePack, RoundTripsStoredZstdAndDictionary) {
     std::vector<uint8_t> data, dict;
     int method;
   };
-  for (const Case& c : {Case{{}, {}, 0}, Case{noise, {}, 0}, Case{text, {}, 1},
-                        Case{like_dict, dict, 2}}) {
+  for (const Case& c :
+       {Case{{}, {}, 0}, Case{noise, {}, 0}, Case{text, {}, 1}, Case{like_dict, dict, 2}}) {
     ByteWriter w;
     residue::pack(c.data, c.dict, w);
     EXPECT_EQ(w.buffer()[0], c.method);
@@ -273,7 +273,7 @@ TEST(ResidueC3D, FloatOdditiesRoundTrip) {
   const size_t d = data_offset(clean), per_frame = (4 * 4 + 4) * 4;
   std::vector<uint8_t> v = clean;
   c3d::put_f32le(1.7e38f, &v[d + 12]);  // a 4th word beyond 16 bits (valid, residual 0)
-  uint32_t nan = 0x7fc01234;  // a NaN with a payload in a gap's x
+  uint32_t nan = 0x7fc01234;            // a NaN with a payload in a gap's x
   std::memcpy(&v[d + 3 * per_frame + 3 * 16], &nan, 4);
   c3d::put_f32le(-2.0f, &v[d + 3 * per_frame + 3 * 16 + 12]);
   c3d::put_f32le(7.5f, &v[d + 5 * per_frame + 16 + 12]);  // a 4th word with a fraction
@@ -314,8 +314,8 @@ TEST(ResidueC3D, RegeneratedDecAndMipsFramesDecodeToTheirValues) {
       FrameBlock got;
       got.reset(0, 3, 2, 3, true);
       size_t wide = 0;
-      c3d::decode_frames(dl, bytes.data(), 3, got.xyz.data(), got.valid.data(),
-                         got.residual.data(), got.camera_mask.data(), got.analog.data(), &wide);
+      c3d::decode_frames(dl, bytes.data(), 3, got.xyz.data(), got.valid.data(), got.residual.data(),
+                         got.camera_mask.data(), got.analog.data(), &wide);
       EXPECT_EQ(got.xyz, b.xyz);
       EXPECT_EQ(got.valid, b.valid);
       EXPECT_EQ(got.residual, b.residual);

@@ -233,15 +233,9 @@ const std::vector<uint8_t>& C3DResidueDecoder::tail() const {
 
 // ---- whole-file helpers ----------------------------------------------------------------------
 
-size_t C3DResidue::bytes() const {
-  size_t n = file_part.size();
-  for (const auto& w : windows) n += w.size();
-  return n;
-}
-
-C3DResidue encode_c3d_residue(const std::string& path, FrameSource& frames, size_t block) {
+FileResidue encode_c3d_residue(const std::string& path, FrameSource& frames, size_t block) {
   C3DResidueEncoder enc(path);
-  C3DResidue r;
+  FileResidue r;
   FrameBlock b;
   for (size_t f = 0; f < frames.header().frames; f += block) {
     frames.read(f, block, &b);
@@ -252,7 +246,7 @@ C3DResidue encode_c3d_residue(const std::string& path, FrameSource& frames, size
   return r;
 }
 
-void rebuild_c3d(const C3DResidue& residue, FrameSource& frames, size_t block,
+void rebuild_c3d(const FileResidue& residue, FrameSource& frames, size_t block,
                  const std::function<void(const uint8_t*, size_t)>& write,
                  const std::string& name) {
   static const std::vector<C3DGroup> kNone;

@@ -25,6 +25,7 @@
 #include "capz/stream.h"
 #include "capz/take.h"
 #include "core/input_file.h"
+#include "io/residue/pack.h"
 
 namespace capz {
 namespace residue {
@@ -91,16 +92,11 @@ class C3DResidueDecoder {
 
 // The whole residue of the C3D at `path` in one call: frames read from `frames` (the file's own
 // frame source, or any source giving the same frames) in blocks of `block`.
-struct C3DResidue {
-  std::vector<uint8_t> file_part;
-  std::vector<std::vector<uint8_t>> windows;  // one per block, in order
-  size_t bytes() const;                       // file part + every window
-};
-C3DResidue encode_c3d_residue(const std::string& path, FrameSource& frames, size_t block);
+FileResidue encode_c3d_residue(const std::string& path, FrameSource& frames, size_t block);
 
 // Rebuilds the original from `frames` (the decoded take, read in the encoder's blocks) and the
 // residue, handing consecutive byte ranges to `write`: head, each window, tail.
-void rebuild_c3d(const C3DResidue& residue, FrameSource& frames, size_t block,
+void rebuild_c3d(const FileResidue& residue, FrameSource& frames, size_t block,
                  const std::function<void(const uint8_t*, size_t)>& write, const std::string& name);
 
 }  // namespace residue

@@ -98,5 +98,11 @@ std::vector<uint8_t> unpack(ByteReader& in, const std::vector<uint8_t>& dict) {
   return out;
 }
 
+size_t FileResidue::bytes() const {
+  size_t n = file_part.size();
+  for (const auto& w : windows) n += w.size();
+  return n;
+}
+
 }  // namespace residue
 }  // namespace capz

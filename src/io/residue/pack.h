@@ -28,5 +28,12 @@ void pack(const std::vector<uint8_t>& data, const std::vector<uint8_t>& dict, By
 // with the stored size alone.
 std::vector<uint8_t> unpack(ByteReader& in, const std::vector<uint8_t>& dict);
 
+// A file's whole residue: the file-level payload and one payload per window of frames, in order.
+struct FileResidue {
+  std::vector<uint8_t> file_part;
+  std::vector<std::vector<uint8_t>> windows;
+  size_t bytes() const;  // file part + every window
+};
+
 }  // namespace residue
 }  // namespace capz
