@@ -19,6 +19,7 @@
 #include "io/residue/c3d_residue.h"
 #include "io/residue/pack.h"
 #include "io/residue/patch.h"
+#include "io/residue/trc_residue.h"
 #include "test_util.h"
 
 using namespace capz;
@@ -368,4 +369,103 @@ TEST(ResidueC3D, DamagedResidueThrowsCorruptNeverCrashes) {
   std::vector<uint8_t> out;
   EXPECT_EQ(error_of([&] { dec.window(good.blocks[1], nullptr, 0, &out); }), ErrorCode::kCorrupt);
   EXPECT_EQ(error_of([&] { dec.tail(); }), ErrorCode::kCorrupt);
+}
+
+// ---- TRC residue ------------------------------------------------------------------------------
+
+namespace {
+
+const char* kTrcHead =
+    "PathFileType\t4\t(X/Y/Z)\tx.trc\n"
+    "DataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\n"
+    "100.00\t100.00\t  4\t2\tmm\n"
+    "Frame#\tTime\tA\t\t\tB\t\t\n"
+    "\t\tX1\tY1\tZ1\tX2\tY2\tZ2\n"
+    "\n";
+
+// Encodes `text` (written to a file) in blocks of 2 rows, rebuilds it from the frames as read,
+// and returns the residue's size.
+size_t trc_round_trip(const std::string& text, const std::string& what) {
+  capz_test::TempDir dir("capz_residue_unit");
+  const std::string path = dir.file("t.trc");
+  AtomicFile f(path, true);
+  f.write(text.data(), text.size());
+  f.commit();
+  auto src = open_trc_frames(path);
+  const residue::FileResidue r = residue::encode_trc_residue(path, *src, 2);
+  std::string back;
+  residue::rebuild_trc(
+      r, *src, 2, [&](const uint8_t* p, size_t n) { back.append(p, p + n); }, path);
+  EXPECT_EQ(back, text) << what;
+  return r.bytes();
+}
+
+}  // namespace
+
+TEST(ResidueTRC, SpellingsLineEndsAndOddRowsRoundTrip) {
+  const std::string rows =
+      "1\t0.000\t1.500000\t-2.250000\t3.000000\tNaN\tNaN\tNaN\t\n"
+      "2\t0.010\t1.600000\t-2.350000\t3.100000\t4.000000\t5.000000\t6.000000\t\n"
+      "3\t0.020\t1.700000\t-0.000000\t3.200000\t4.100000\t5.100000\t6.100000\t\n"
+      "4\t0.030\t1.800000\t-2.550000\t3.300000\t4.200000\t5.200000\t6.200000\t\n";
+  const size_t clean = trc_round_trip(kTrcHead + rows, "padded decimals, NaN gaps");
+  // Shortest spellings, CRLF, a BOM, blank lines between rows, a partial sample, a short row,
+  // a field in exponent form and no line end after the last row.
+  std::string odd = "\xEF\xBB\xBF" + std::string(kTrcHead) +
+                    "1\t0\t1.5\t-2.25\t3\t\t\t\r\n"
+                    "\r\n"
+                    "2\t0.01\t1.6\t-2.35\t3.1\t4\t5\tNaN\r\n"
+                    "3\t0.02\t1.7\t1e-3\t3.2\r\n"
+                    "4\t0.03\t1.8\t-2.55\t3.3\t4.2\t5.2\t6.2";
+  trc_round_trip(odd, "odd rows");
+  // Space-separated columns with alignment: every row is an exception, still exact.
+  std::string spaced = kTrcHead;
+  spaced += "1  0.00   1.5  2.5  3.5   4.5  5.5  6.5\n2  0.01   1.5  2.5  3.5   4.5  5.5  6.5\n";
+  trc_round_trip(spaced, "space separated");
+  EXPECT_LT(clean, 200u);
+}
+
+TEST(ResidueTRC, DamagedResidueThrowsCorruptNeverCrashes) {
+  const std::string text = std::string(kTrcHead) +
+                           "1\t0.000\t1.5\t2.5\t3.5\t\t\t\n2\t0.010\t1.5\t2.5\t3.5\t4\t5\t6\n"
+                           "3\t0.020\t1.5\t2.5\t3.5\t4\t5\t6\n";
+  capz_test::TempDir dir("capz_residue_unit");
+  const std::string path = dir.file("t.trc");
+  AtomicFile f(path, true);
+  f.write(text.data(), text.size());
+  f.commit();
+  auto src = open_trc_frames(path);
+  const residue::FileResidue good = residue::encode_trc_residue(path, *src, 2);
+  auto rebuild = [&](const residue::FileResidue& r) {
+    std::string back;
+    residue::rebuild_trc(
+        r, *src, 2, [&](const uint8_t* p, size_t n) { back.append(p, p + n); }, path);
+    return back;
+  };
+  ASSERT_EQ(rebuild(good), text);
+  for (size_t w = 0; w < good.windows.size(); ++w)
+    for (size_t cut = 0; cut < good.windows[w].size(); ++cut) {
+      residue::FileResidue bad = good;
+      bad.windows[w].resize(cut);
+      EXPECT_EQ(error_of([&] { rebuild(bad); }), ErrorCode::kCorrupt) << w << " " << cut;
+    }
+  for (size_t cut = 0; cut < good.file_part.size(); ++cut) {
+    residue::FileResidue bad = good;
+    bad.file_part.resize(cut);
+    EXPECT_EQ(error_of([&] { rebuild(bad); }), ErrorCode::kCorrupt) << cut;
+  }
+  for (size_t w = 0; w < good.windows.size(); ++w)
+    for (size_t i = 0; i < good.windows[w].size(); ++i)
+      for (int bit = 0; bit < 8; ++bit) {
+        residue::FileResidue bad = good;
+        bad.windows[w][i] ^= static_cast<uint8_t>(1 << bit);
+        try {
+          rebuild(bad);
+        } catch (const Error& e) {
+          EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << w << " " << i << " " << bit << e.what();
+        }
+      }
+  residue::FileResidue fewer = good;
+  fewer.windows.pop_back();
+  EXPECT_EQ(error_of([&] { rebuild(fewer); }), ErrorCode::kCorrupt);
 }

@@ -11,6 +11,7 @@
 #include "io/c3d_internal.h"
 #include "io/residue/pack.h"
 #include "io/residue/patch.h"
+#include "io/residue/windows.h"
 
 namespace capz {
 namespace residue {
@@ -233,39 +234,38 @@ const std::vector<uint8_t>& C3DResidueDecoder::tail() const {
 
 // ---- whole-file helpers ----------------------------------------------------------------------
 
+namespace {
+const std::vector<C3DGroup>& groups_of(const Take& t) {
+  static const std::vector<C3DGroup> kNone;
+  return t.c3d ? t.c3d->groups : kNone;
+}
+}  // namespace
+
 FileResidue encode_c3d_residue(const std::string& path, FrameSource& frames, size_t block) {
   C3DResidueEncoder enc(path);
   FileResidue r;
-  FrameBlock b;
-  for (size_t f = 0; f < frames.header().frames; f += block) {
-    frames.read(f, block, &b);
-    r.windows.push_back(enc.window(b));
-  }
-  static const std::vector<C3DGroup> kNone;
-  r.file_part = enc.file_part(frames.header().c3d ? frames.header().c3d->groups : kNone);
+  encode_windows(
+      frames, block, [&](const FrameBlock& b) { return enc.window(b); }, &r);
+  r.file_part = enc.file_part(groups_of(frames.header()));
   return r;
 }
 
 void rebuild_c3d(const FileResidue& residue, FrameSource& frames, size_t block,
                  const std::function<void(const uint8_t*, size_t)>& write,
                  const std::string& name) {
-  static const std::vector<C3DGroup> kNone;
   C3DResidueDecoder dec(residue.file_part.data(), residue.file_part.size(),
-                        frames.header().c3d ? frames.header().c3d->groups : kNone, name);
-  write(dec.head().data(), dec.head().size());
-  const size_t F = frames.header().frames;
-  if (F != dec.layout().frames || (F + block - 1) / block != residue.windows.size())
+                        groups_of(frames.header()), name);
+  if (frames.header().frames != dec.layout().frames)
     fail(ErrorCode::kCorrupt, name,
-         "C3D residue: " + std::to_string(residue.windows.size()) + " windows for " +
-             std::to_string(F) + " frames in blocks of " + std::to_string(block));
-  FrameBlock b;
-  std::vector<uint8_t> bytes;
-  for (size_t f = 0, w = 0; f < F; f += block, ++w) {
-    frames.read(f, block, &b);
-    bytes.clear();
-    dec.window(b, residue.windows[w].data(), residue.windows[w].size(), &bytes);
-    write(bytes.data(), bytes.size());
-  }
+         "C3D residue for " + std::to_string(dec.layout().frames) + " frames, the take has " +
+             std::to_string(frames.header().frames));
+  write(dec.head().data(), dec.head().size());
+  rebuild_windows(
+      residue, frames, block,
+      [&](const FrameBlock& b, const std::vector<uint8_t>& w, std::vector<uint8_t>* out) {
+        dec.window(b, w.data(), w.size(), out);
+      },
+      write, name);
   write(dec.tail().data(), dec.tail().size());
 }
 

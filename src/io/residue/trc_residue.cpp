@@ -8,6 +8,7 @@
 #include "capz/error.h"
 #include "coding/bytes.h"
 #include "io/residue/pack.h"
+#include "io/residue/windows.h"
 #include "io/text_number.h"
 #include "io/trc_internal.h"
 
@@ -29,9 +30,9 @@ constexpr size_t kMaxGapText = 64, kMaxEnding = 4096;
 // How the window's rows are spelled (see trc_residue.h).
 struct RowModel {
   uint64_t time_decimals = 0;
-  uint64_t trailing = 0;  // empty fields after the last coordinate
-  std::string gap;        // the text of each of a gap's three fields
-  std::string ending;     // line end (and blank lines) after a row's last field
+  uint64_t trailing = 0;           // empty fields after the last coordinate
+  std::string gap;                 // the text of each of a gap's three fields
+  std::string ending;              // line end (and blank lines) after a row's last field
   std::vector<uint64_t> decimals;  // per coordinate column (points x 3)
 };
 
@@ -90,10 +91,9 @@ void predict(const RowModel& m, const Take& t, const FrameBlock& b, size_t k,
                      : std::string());
   for (size_t p = 0; p < N; ++p)
     for (size_t a = 0; a < 3; ++a)
-      out->push_back(b.valid[k * N + p]
-                         ? format_decimal(b.xyz[(k * N + p) * 3 + a],
-                                          static_cast<int>(m.decimals[3 * p + a]))
-                         : m.gap);
+      out->push_back(b.valid[k * N + p] ? format_decimal(b.xyz[(k * N + p) * 3 + a],
+                                                         static_cast<int>(m.decimals[3 * p + a]))
+                                        : m.gap);
   out->resize(out->size() + m.trailing);
 }
 
@@ -161,8 +161,8 @@ void check_block(const Take& t, const FrameBlock& b, const std::string& name, Er
       b.xyz.size() != b.frames * b.points * 3 || b.valid.size() != b.frames * b.points)
     fail(code, name,
          "TRC residue: block of frames " + std::to_string(b.first) + "+" +
-             std::to_string(b.frames) + " does not match the take's " +
-             std::to_string(t.frames) + " frames x " + std::to_string(t.points) + " points");
+             std::to_string(b.frames) + " does not match the take's " + std::to_string(t.frames) +
+             " frames x " + std::to_string(t.points) + " points");
 }
 
 }  // namespace
@@ -225,15 +225,15 @@ std::vector<uint8_t> TRCResidueEncoder::window(const FrameBlock& block) {
   for (size_t k = 0; k < block.frames; ++k) {
     predict(m, header_, block, k, &want);
     const Row& row = rows[k];
-    const bool same_count = row.fields.size() == want.size() ||
-                            row.fields.size() > want.size() + kMaxExtraFields;
+    const bool same_count =
+        row.fields.size() == want.size() || row.fields.size() > want.size() + kMaxExtraFields;
     if (!same_count || row.fields.size() > want.size()) want.resize(row.fields.size());
     std::vector<size_t> fix;
     for (size_t i = 0; i < row.fields.size(); ++i)
       if (row.fields[i] != want[i]) fix.push_back(i);
-    const uint8_t flags = static_cast<uint8_t>((same_count ? 0 : kFieldCount) |
-                                               (fix.empty() ? 0 : kFixFields) |
-                                               (row.ending != m.ending ? kNewEnding : 0));
+    const uint8_t flags =
+        static_cast<uint8_t>((same_count ? 0 : kFieldCount) | (fix.empty() ? 0 : kFixFields) |
+                             (row.ending != m.ending ? kNewEnding : 0));
     if (!flags) continue;
     ++exceptions;
     ex.varint(k - last);
@@ -357,11 +357,8 @@ void TRCResidueDecoder::finish() const {
 FileResidue encode_trc_residue(const std::string& path, FrameSource& frames, size_t block) {
   TRCResidueEncoder enc(path, frames.header());
   FileResidue r;
-  FrameBlock b;
-  for (size_t f = 0; f < frames.header().frames; f += block) {
-    frames.read(f, block, &b);
-    r.windows.push_back(enc.window(b));
-  }
+  encode_windows(
+      frames, block, [&](const FrameBlock& b) { return enc.window(b); }, &r);
   r.file_part = enc.file_part();
   return r;
 }
@@ -369,22 +366,14 @@ FileResidue encode_trc_residue(const std::string& path, FrameSource& frames, siz
 void rebuild_trc(const FileResidue& residue, FrameSource& frames, size_t block,
                  const std::function<void(const uint8_t*, size_t)>& write,
                  const std::string& name) {
-  TRCResidueDecoder dec(residue.file_part.data(), residue.file_part.size(), frames.header(),
-                        name);
+  TRCResidueDecoder dec(residue.file_part.data(), residue.file_part.size(), frames.header(), name);
   write(dec.head().data(), dec.head().size());
-  const size_t F = frames.header().frames;
-  if ((F + block - 1) / block != residue.windows.size())
-    fail(ErrorCode::kCorrupt, name,
-         "TRC residue: " + std::to_string(residue.windows.size()) + " windows for " +
-             std::to_string(F) + " frames in blocks of " + std::to_string(block));
-  FrameBlock b;
-  std::vector<uint8_t> bytes;
-  for (size_t f = 0, w = 0; f < F; f += block, ++w) {
-    frames.read(f, block, &b);
-    bytes.clear();
-    dec.window(b, residue.windows[w].data(), residue.windows[w].size(), &bytes);
-    write(bytes.data(), bytes.size());
-  }
+  rebuild_windows(
+      residue, frames, block,
+      [&](const FrameBlock& b, const std::vector<uint8_t>& w, std::vector<uint8_t>* out) {
+        dec.window(b, w.data(), w.size(), out);
+      },
+      write, name);
   dec.finish();
 }
 

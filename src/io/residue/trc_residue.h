@@ -53,8 +53,7 @@ class TRCResidueDecoder {
                     const std::string& name);
   const std::vector<uint8_t>& head() const { return head_; }
   // The original text of block's rows, appended to *out; blocks in order from frame 0.
-  void window(const FrameBlock& block, const uint8_t* payload, size_t n,
-              std::vector<uint8_t>* out);
+  void window(const FrameBlock& block, const uint8_t* payload, size_t n, std::vector<uint8_t>* out);
   // Throws Error(kCorrupt) unless every frame was given.
   void finish() const;
 
@@ -70,8 +69,7 @@ FileResidue encode_trc_residue(const std::string& path, FrameSource& frames, siz
 // Rebuilds the original from `frames` (the decoded take, in the encoder's blocks) and the
 // residue, handing consecutive byte ranges to `write`.
 void rebuild_trc(const FileResidue& residue, FrameSource& frames, size_t block,
-                 const std::function<void(const uint8_t*, size_t)>& write,
-                 const std::string& name);
+                 const std::function<void(const uint8_t*, size_t)>& write, const std::string& name);
 
 }  // namespace residue
 }  // namespace capz
