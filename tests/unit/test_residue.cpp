@@ -27,6 +27,16 @@ using capz_test::error_of;
 
 namespace {
 
+// Writes `n` bytes to `name` in `dir`; returns the path.
+std::string put_file(const capz_test::TempDir& dir, const std::string& name, const void* p,
+                     size_t n) {
+  const std::string path = dir.file(name);
+  AtomicFile f(path, true);
+  f.write(p, n);
+  f.commit();
+  return path;
+}
+
 std::vector<uint8_t> random_bytes(size_t n, uint32_t seed) {
   std::mt19937 rng(seed);
   std::vector<uint8_t> v(n);
@@ -64,10 +74,7 @@ TEST(ResidueHash, PiecesGiveTheOneShotDigestInCanonicalOrder) {
 TEST(ResidueHash, FileDigestEqualsBufferDigest) {
   capz_test::TempDir dir("capz_residue_unit");
   const std::vector<uint8_t> v = random_bytes(3u << 20, 2);  // spans several 1 MiB reads
-  AtomicFile f(dir.file("a.bin"), true);
-  f.write(v);
-  f.commit();
-  EXPECT_EQ(hash128_file(dir.file("a.bin")), hash128(v.data(), v.size()));
+  EXPECT_EQ(hash128_file(put_file(dir, "a.bin", v.data(), v.size())), hash128(v.data(), v.size()));
 }
 
 // ---- pack -------------------------------------------------------------------------------------
@@ -230,10 +237,7 @@ std::vector<uint8_t> decode(const Encoded& e) {
 // total size of the window payloads.
 size_t round_trip(const std::vector<uint8_t>& bytes, const std::string& what) {
   capz_test::TempDir dir("capz_residue_unit");
-  const std::string path = dir.file("t.c3d");
-  AtomicFile f(path, true);
-  f.write(bytes);
-  f.commit();
+  const std::string path = put_file(dir, "t.c3d", bytes.data(), bytes.size());
   Encoded e = encode(path, 3);
   EXPECT_EQ(decode(e), bytes) << what;
   size_t n = 0;
@@ -333,10 +337,7 @@ TEST(ResidueC3D, DamagedResidueThrowsCorruptNeverCrashes) {
   const size_t d = data_offset(v);
   put16(v, d + 2 * 40 + 2 * 8, 999);  // gap garbage, so window 0 has a patch
   capz_test::TempDir dir("capz_residue_unit");
-  const std::string path = dir.file("t.c3d");
-  AtomicFile f(path, true);
-  f.write(v);
-  f.commit();
+  const std::string path = put_file(dir, "t.c3d", v.data(), v.size());
   const Encoded good = encode(path, 3);
   ASSERT_FALSE(good.windows[0].empty());
   for (size_t cut = 0; cut < good.part.size(); ++cut) {
@@ -387,10 +388,7 @@ const char* kTrcHead =
 // and returns the residue's size.
 size_t trc_round_trip(const std::string& text, const std::string& what) {
   capz_test::TempDir dir("capz_residue_unit");
-  const std::string path = dir.file("t.trc");
-  AtomicFile f(path, true);
-  f.write(text.data(), text.size());
-  f.commit();
+  const std::string path = put_file(dir, "t.trc", text.data(), text.size());
   auto src = open_trc_frames(path);
   const residue::FileResidue r = residue::encode_trc_residue(path, *src, 2);
   std::string back;
@@ -430,10 +428,7 @@ TEST(ResidueTRC, DamagedResidueThrowsCorruptNeverCrashes) {
                            "1\t0.000\t1.5\t2.5\t3.5\t\t\t\n2\t0.010\t1.5\t2.5\t3.5\t4\t5\t6\n"
                            "3\t0.020\t1.5\t2.5\t3.5\t4\t5\t6\n";
   capz_test::TempDir dir("capz_residue_unit");
-  const std::string path = dir.file("t.trc");
-  AtomicFile f(path, true);
-  f.write(text.data(), text.size());
-  f.commit();
+  const std::string path = put_file(dir, "t.trc", text.data(), text.size());
   auto src = open_trc_frames(path);
   const residue::FileResidue good = residue::encode_trc_residue(path, *src, 2);
   auto rebuild = [&](const residue::FileResidue& r) {

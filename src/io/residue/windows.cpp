@@ -16,11 +16,11 @@ void encode_windows(FrameSource& frames, size_t block,
   }
 }
 
-void rebuild_windows(
-    const FileResidue& residue, FrameSource& frames, size_t block,
-    const std::function<void(const FrameBlock&, const std::vector<uint8_t>&,
-                             std::vector<uint8_t>*)>& rebuild,
-    const std::function<void(const uint8_t*, size_t)>& write, const std::string& name) {
+void rebuild_windows(const FileResidue& residue, FrameSource& frames, size_t block,
+                     const std::function<void(const FrameBlock&, const std::vector<uint8_t>&,
+                                              std::vector<uint8_t>*)>& rebuild,
+                     const std::function<void(const uint8_t*, size_t)>& write,
+                     const std::string& name) {
   const size_t F = frames.header().frames;
   if (block == 0 || (F + block - 1) / block != residue.windows.size())
     fail(ErrorCode::kCorrupt, name,

@@ -22,11 +22,11 @@ void encode_windows(FrameSource& frames, size_t block,
 // Reads every frame of `frames` in blocks of `block`; for each, rebuild(block, payload, &bytes)
 // gives the block's original bytes, handed to write(). Throws Error(kCorrupt) naming `name`
 // when the residue does not hold one window per block.
-void rebuild_windows(
-    const FileResidue& residue, FrameSource& frames, size_t block,
-    const std::function<void(const FrameBlock&, const std::vector<uint8_t>&,
-                             std::vector<uint8_t>*)>& rebuild,
-    const std::function<void(const uint8_t*, size_t)>& write, const std::string& name);
+void rebuild_windows(const FileResidue& residue, FrameSource& frames, size_t block,
+                     const std::function<void(const FrameBlock&, const std::vector<uint8_t>&,
+                                              std::vector<uint8_t>*)>& rebuild,
+                     const std::function<void(const uint8_t*, size_t)>& write,
+                     const std::string& name);
 
 }  // namespace residue
 }  // namespace capz
