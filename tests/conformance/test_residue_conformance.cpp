@@ -14,6 +14,7 @@
 #include "capz/error.h"
 #include "capz/stream.h"
 #include "core/hash.h"
+#include "core/input_file.h"
 #include "io/residue/c3d_residue.h"
 #include "io/residue/trc_residue.h"
 #include "test_util.h"
@@ -58,9 +59,9 @@ Result round_trip(const std::string& path, bool trc, const std::string& capz_pat
   Hasher h;
   auto write = [&](const uint8_t* p, size_t n) { h.update(p, n); };
   if (trc)
-    residue::rebuild_trc(res, *back, block, write, path);
+    residue::rebuild_trc(res, *back, block, write, path, InputFile(path).size());
   else
-    residue::rebuild_c3d(res, *back, block, write, path);
+    residue::rebuild_c3d(res, *back, block, write, path, InputFile(path).size());
   r.exact = h.digest() == hash128_file(path);
   return r;
 }

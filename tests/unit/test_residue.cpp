@@ -129,6 +129,11 @@ TEST(ResiduePack, DamagedPayloadThrowsCorrupt) {
   huge.bytes(good.data() + 3, good.size() - 3);
   ByteReader r(huge.buffer().data(), huge.size(), "test");
   EXPECT_EQ(error_of([&] { residue::unpack(r, {}); }), ErrorCode::kCorrupt);
+  // A size above the caller's limit is refused before any zstd work.
+  ByteReader within(good.data(), good.size(), "test");
+  EXPECT_EQ(residue::unpack(within, {}, text.size()), text);
+  ByteReader over(good.data(), good.size(), "test");
+  EXPECT_EQ(error_of([&] { residue::unpack(over, {}, text.size() - 1); }), ErrorCode::kCorrupt);
 }
 
 // ---- patch ------------------------------------------------------------------------------------
@@ -365,6 +370,14 @@ TEST(ResidueC3D, DamagedResidueThrowsCorruptNeverCrashes) {
         EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << i << " " << bit << " " << e.what();
       }
     }
+  // The original's size, when known, must be the layout's.
+  EXPECT_NO_THROW(residue::C3DResidueDecoder(good.part.data(), good.part.size(), good.groups,
+                                             "test", v.size()));
+  EXPECT_EQ(error_of([&] {
+              residue::C3DResidueDecoder(good.part.data(), good.part.size(), good.groups, "test",
+                                         v.size() + 1);
+            }),
+            ErrorCode::kCorrupt);
   // Blocks out of order, and a tail asked for before every frame was rebuilt.
   residue::C3DResidueDecoder dec(good.part.data(), good.part.size(), good.groups, "test");
   std::vector<uint8_t> out;

@@ -174,7 +174,8 @@ std::vector<uint8_t> C3DResidueEncoder::file_part(const std::vector<C3DGroup>& g
 // ---- decoder ---------------------------------------------------------------------------------
 
 C3DResidueDecoder::C3DResidueDecoder(const uint8_t* data, size_t size,
-                                     const std::vector<C3DGroup>& groups, const std::string& name)
+                                     const std::vector<C3DGroup>& groups, const std::string& name,
+                                     uint64_t file_size)
     : name_(name) {
   const std::string what = name + ": C3D residue";
   ByteReader in(data, size, what);
@@ -197,11 +198,16 @@ C3DResidueDecoder::C3DResidueDecoder(const uint8_t* data, size_t size,
       (lay_.frames > 0 && lay_.per_frame == 0) ||
       (lay_.per_frame > 0 && lay_.frames > (uint64_t{1} << 62) / lay_.per_frame))
     fail(ErrorCode::kCorrupt, what, "impossible frame layout");
-  std::vector<uint8_t> rest = unpack(in, dictionary(groups, lay_.processor));
+  std::vector<uint8_t> rest =
+      unpack(in, dictionary(groups, lay_.processor), file_size ? file_size : UINT64_MAX);
   if (!in.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the payload");
   if (lay_.head_size > rest.size())
     fail(ErrorCode::kCorrupt, what, "head longer than the bytes stored");
   lay_.tail_size = rest.size() - lay_.head_size;
+  if (file_size && lay_.file_size() != file_size)
+    fail(ErrorCode::kCorrupt, what,
+         "layout gives " + std::to_string(lay_.file_size()) + " bytes, the original had " +
+             std::to_string(file_size));
   head_.assign(rest.begin(), rest.begin() + static_cast<long>(lay_.head_size));
   tail_.assign(rest.begin() + static_cast<long>(lay_.head_size), rest.end());
 }
@@ -217,7 +223,8 @@ void C3DResidueDecoder::window(const FrameBlock& block, const uint8_t* payload, 
   regenerate_c3d_frames(lay_, block, out->data() + at);
   if (n > 0) {
     ByteReader in(payload, n, what);
-    std::vector<uint8_t> patch = unpack(in, {});
+    // A patch holds at most every byte plus two varints a run.
+    std::vector<uint8_t> patch = unpack(in, {}, 16 * uint64_t{bytes} + 64);
     if (!in.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the patch");
     apply_patch(patch, out->data() + at, bytes, what.c_str());
   }
@@ -251,10 +258,10 @@ FileResidue encode_c3d_residue(const std::string& path, FrameSource& frames, siz
 }
 
 void rebuild_c3d(const FileResidue& residue, FrameSource& frames, size_t block,
-                 const std::function<void(const uint8_t*, size_t)>& write,
-                 const std::string& name) {
+                 const std::function<void(const uint8_t*, size_t)>& write, const std::string& name,
+                 uint64_t file_size) {
   C3DResidueDecoder dec(residue.file_part.data(), residue.file_part.size(),
-                        groups_of(frames.header()), name);
+                        groups_of(frames.header()), name, file_size);
   if (frames.header().frames != dec.layout().frames)
     fail(ErrorCode::kCorrupt, name,
          "C3D residue for " + std::to_string(dec.layout().frames) + " frames, the take has " +

@@ -72,9 +72,11 @@ class C3DResidueEncoder {
 
 class C3DResidueDecoder {
  public:
-  // Parses a file-level payload. Throws Error(kCorrupt) naming `name` when it is malformed.
+  // Parses a file-level payload. `file_size`: the original's size when the archive records it
+  // (0: unknown), which bounds what the payload may unpack to and must match its layout.
+  // Throws Error(kCorrupt) naming `name` when it is malformed.
   C3DResidueDecoder(const uint8_t* file_part, size_t size, const std::vector<C3DGroup>& groups,
-                    const std::string& name);
+                    const std::string& name, uint64_t file_size = 0);
   const C3DFrameLayout& layout() const { return lay_; }
   const std::vector<uint8_t>& head() const { return head_; }
   // The original bytes of block's frames, appended to *out. Blocks must come in order from
@@ -96,8 +98,10 @@ FileResidue encode_c3d_residue(const std::string& path, FrameSource& frames, siz
 
 // Rebuilds the original from `frames` (the decoded take, read in the encoder's blocks) and the
 // residue, handing consecutive byte ranges to `write`: head, each window, tail.
+// `file_size`: as C3DResidueDecoder's.
 void rebuild_c3d(const FileResidue& residue, FrameSource& frames, size_t block,
-                 const std::function<void(const uint8_t*, size_t)>& write, const std::string& name);
+                 const std::function<void(const uint8_t*, size_t)>& write, const std::string& name,
+                 uint64_t file_size = 0);
 
 }  // namespace residue
 }  // namespace capz

@@ -56,9 +56,13 @@ void pack(const std::vector<uint8_t>& data, const std::vector<uint8_t>& dict, By
   out.bytes(best);
 }
 
-std::vector<uint8_t> unpack(ByteReader& in, const std::vector<uint8_t>& dict) {
+std::vector<uint8_t> unpack(ByteReader& in, const std::vector<uint8_t>& dict, uint64_t limit) {
   const uint8_t method = in.u8();
   const uint64_t size = in.varint();
+  if (size > limit)
+    fail(ErrorCode::kCorrupt, in.what(),
+         "packed bytes of " + std::to_string(size) + " bytes, at most " + std::to_string(limit) +
+             " possible");
   const uint64_t n = in.count(1, "packed size");
   const uint8_t* src = in.bytes(static_cast<size_t>(n));
   if (method == 0) {

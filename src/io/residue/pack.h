@@ -25,8 +25,10 @@ void pack(const std::vector<uint8_t>& data, const std::vector<uint8_t>& dict, By
 // Reads one packed string. `dict` must be the bytes the packer was given (only method 2 uses
 // it). Throws Error(kCorrupt) naming `in.what()` when the method is unknown, the zstd frame is
 // damaged or its size is not the stored one. Memory grows with the bytes really produced, never
-// with the stored size alone.
-std::vector<uint8_t> unpack(ByteReader& in, const std::vector<uint8_t>& dict);
+// with the stored size alone; a stored size above `limit` is corrupt (a bound the caller knows,
+// e.g. the original file's size, so a damaged frame cannot make it expand without end).
+std::vector<uint8_t> unpack(ByteReader& in, const std::vector<uint8_t>& dict,
+                            uint64_t limit = UINT64_MAX);
 
 // A file's whole residue: the file-level payload and one payload per window of frames, in order.
 struct FileResidue {

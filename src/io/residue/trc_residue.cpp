@@ -269,13 +269,17 @@ std::vector<uint8_t> TRCResidueEncoder::file_part() {
 // ---- decoder ---------------------------------------------------------------------------------
 
 TRCResidueDecoder::TRCResidueDecoder(const uint8_t* data, size_t size, const Take& header,
-                                     const std::string& name)
+                                     const std::string& name, uint64_t file_size)
     : name_(name), header_(header) {
   const std::string what = name + ": TRC residue";
   ByteReader in(data, size, what);
   if (in.u8() != kKindTRC) fail(ErrorCode::kCorrupt, what, "not a TRC residue");
   const std::string dict = trc::header_text(header, name);
-  head_ = unpack(in, std::vector<uint8_t>(dict.begin(), dict.end()));
+  head_ = unpack(in, std::vector<uint8_t>(dict.begin(), dict.end()),
+                 file_size ? file_size : UINT64_MAX);
+  // A window payload: the model (a varint a column, gap and ending text) and exceptions, whose
+  // texts are the window's own bytes plus two varints a field at most.
+  if (file_size) window_limit_ = 3 * file_size + 3 * uint64_t{header.points} * 10 + 65536;
   if (!in.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the payload");
 }
 
@@ -286,7 +290,7 @@ void TRCResidueDecoder::window(const FrameBlock& block, const uint8_t* payload, 
     fail(ErrorCode::kCorrupt, what, "expected frame " + std::to_string(next_) + " next");
   check_block(header_, block, name_, ErrorCode::kCorrupt);
   ByteReader packed(payload, n, what);
-  const std::vector<uint8_t> body = unpack(packed, {});
+  const std::vector<uint8_t> body = unpack(packed, {}, window_limit_);
   if (!packed.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the payload");
   ByteReader in(body.data(), body.size(), what);
   const uint64_t bytes = in.varint();
@@ -364,9 +368,10 @@ FileResidue encode_trc_residue(const std::string& path, FrameSource& frames, siz
 }
 
 void rebuild_trc(const FileResidue& residue, FrameSource& frames, size_t block,
-                 const std::function<void(const uint8_t*, size_t)>& write,
-                 const std::string& name) {
-  TRCResidueDecoder dec(residue.file_part.data(), residue.file_part.size(), frames.header(), name);
+                 const std::function<void(const uint8_t*, size_t)>& write, const std::string& name,
+                 uint64_t file_size) {
+  TRCResidueDecoder dec(residue.file_part.data(), residue.file_part.size(), frames.header(), name,
+                        file_size);
   write(dec.head().data(), dec.head().size());
   rebuild_windows(
       residue, frames, block,

@@ -47,10 +47,12 @@ class TRCResidueEncoder {
 
 class TRCResidueDecoder {
  public:
-  // `header`: the decoded take's metadata (times, frame numbers: as the encoder's). Throws
-  // Error(kCorrupt) naming `name` when the payload is malformed.
+  // `header`: the decoded take's metadata (times, frame numbers: as the encoder's).
+  // `file_size`: the original's size when the archive records it (0: unknown), which bounds
+  // what payloads may unpack to. Throws Error(kCorrupt) naming `name` when a payload is
+  // malformed.
   TRCResidueDecoder(const uint8_t* file_part, size_t size, const Take& header,
-                    const std::string& name);
+                    const std::string& name, uint64_t file_size = 0);
   const std::vector<uint8_t>& head() const { return head_; }
   // The original text of block's rows, appended to *out; blocks in order from frame 0.
   void window(const FrameBlock& block, const uint8_t* payload, size_t n, std::vector<uint8_t>* out);
@@ -62,14 +64,17 @@ class TRCResidueDecoder {
   const Take& header_;
   std::vector<uint8_t> head_;
   uint64_t next_ = 0;
+  uint64_t window_limit_ = UINT64_MAX;  // most bytes a window payload may unpack to
 };
 
 // The whole residue of the TRC at `path`: frames read from `frames` in blocks of `block`.
 FileResidue encode_trc_residue(const std::string& path, FrameSource& frames, size_t block);
 // Rebuilds the original from `frames` (the decoded take, in the encoder's blocks) and the
 // residue, handing consecutive byte ranges to `write`.
+// `file_size`: as TRCResidueDecoder's.
 void rebuild_trc(const FileResidue& residue, FrameSource& frames, size_t block,
-                 const std::function<void(const uint8_t*, size_t)>& write, const std::string& name);
+                 const std::function<void(const uint8_t*, size_t)>& write, const std::string& name,
+                 uint64_t file_size = 0);
 
 }  // namespace residue
 }  // namespace capz
