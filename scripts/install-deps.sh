@@ -4,6 +4,7 @@
 set -euo pipefail
 pkgs=(build-essential cmake ccache pkg-config
       libpcl-dev libeigen3-dev libflann-dev libboost-program-options-dev libgtest-dev
+      libxxhash-dev libzstd-dev
       clang libclang-rt-14-dev clang-format
       xz-utils zstd zfp fpzip-utils draco python3 python3-matplotlib python3-numpy)
 missing=()

@@ -1,0 +1,280 @@
+// capz — C3D residue (see c3d_residue.h; byte layout in docs/format-drafts/residue.md).
+#include "io/residue/c3d_residue.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <utility>
+
+#include "capz/error.h"
+#include "coding/bytes.h"
+#include "io/c3d_internal.h"
+#include "io/residue/pack.h"
+#include "io/residue/patch.h"
+#include "io/residue/windows.h"
+
+namespace capz {
+namespace residue {
+
+namespace {
+
+constexpr uint8_t kKindC3D = 1;
+
+size_t elem_size(const C3DFrameLayout& lay) {
+  return lay.float_storage ? 4 : 2;
+}
+
+// Intel-form numbers (what encode_c3d_frames writes) to the layout's processor form, in place.
+void to_processor_form(const C3DFrameLayout& lay, uint8_t* p, size_t n) {
+  if (lay.processor == c3d::kIntel) return;
+  const size_t elem = elem_size(lay);
+  for (size_t i = 0; i + elem <= n; i += elem) {
+    uint8_t* q = p + i;
+    if (lay.processor == c3d::kMips)
+      std::reverse(q, q + elem);
+    else if (elem == 4)  // DEC: int16 is little-endian as Intel's; floats are VAX F
+      c3d::float_to_dec(c3d::get_f32le(q), q);
+  }
+}
+
+// The parameter section as the writer encodes it, numbers in the file's processor form: most of
+// the head's bytes, so zstd finds them as matches. Empty when the writer refuses the groups.
+std::vector<uint8_t> dictionary(std::vector<C3DGroup> groups, int processor) {
+  C3DFrameLayout form;
+  form.processor = processor;
+  for (auto& g : groups)
+    for (auto& p : g.params)
+      if (p.type == 2 || p.type == 4) {
+        form.float_storage = p.type == 4;
+        to_processor_form(form, p.data.data(), p.data.size());
+      }
+  std::vector<uint8_t> out;
+  try {
+    out = c3d::encode_parameter_section(groups);
+  } catch (const Error&) {
+    return {};
+  }
+  out[3] = static_cast<uint8_t>(processor);
+  if (processor != c3d::kMips) return out;
+  // MIPS: every entry's next-entry offset (after its name) is big-endian too.
+  for (size_t p = 4; p + 2 <= out.size();) {
+    const size_t name = static_cast<size_t>(std::abs(static_cast<int8_t>(out[p])));
+    const size_t at = p + 2 + name;
+    if (name == 0 || at + 2 > out.size()) break;
+    const size_t off = out[at] | (out[at + 1] << 8);
+    std::swap(out[at], out[at + 1]);
+    if (off == 0) break;
+    p = at + off;
+  }
+  return out;
+}
+
+// kInternal on the encoding side (the caller's blocks are wrong), kCorrupt on the decoding side
+// (the residue's layout does not fit the decoded take).
+void check_block(const C3DFrameLayout& lay, const FrameBlock& b, const std::string& name,
+                 ErrorCode code = ErrorCode::kInternal) {
+  const bool words = !b.residual.empty();
+  if (b.points != lay.points || b.first > lay.frames || b.frames > lay.frames - b.first ||
+      b.xyz.size() != b.frames * b.points * 3 || b.valid.size() != b.frames * b.points ||
+      (words && (b.residual.size() != b.valid.size() || b.camera_mask.size() != b.valid.size())) ||
+      b.analog.size() != b.frames * lay.analog_values)
+    fail(code, name,
+         "C3D residue: block of frames " + std::to_string(b.first) + "+" +
+             std::to_string(b.frames) + " does not match the file's " + std::to_string(lay.frames) +
+             " frames x " + std::to_string(lay.points) + " points");
+}
+
+}  // namespace
+
+void regenerate_c3d_frames(const C3DFrameLayout& lay, const FrameBlock& b, uint8_t* out) {
+  check_block(lay, b, "");
+  c3d::C3DFilePlan plan;
+  plan.float_storage = lay.float_storage;
+  plan.scale = lay.scale;
+  plan.have_res = !b.residual.empty();
+  plan.frames = b.frames;
+  plan.points = lay.points;
+  plan.analog_total = lay.analog_values;
+  plan.per_frame = (lay.points * 4 + lay.analog_values) * elem_size(lay);
+  const size_t n = b.frames * lay.per_frame;
+  const float* res = plan.have_res ? b.residual.data() : nullptr;
+  const uint8_t* cam = plan.have_res ? b.camera_mask.data() : nullptr;
+  if (plan.per_frame == lay.per_frame) {
+    c3d::encode_c3d_frames(plan, b.frames, b.xyz.data(), b.valid.data(), res, cam, b.analog.data(),
+                           out);
+  } else {  // frames hold analog values the reader skips: regenerated as zeros
+    std::vector<uint8_t> tmp(b.frames * plan.per_frame);
+    c3d::encode_c3d_frames(plan, b.frames, b.xyz.data(), b.valid.data(), res, cam, b.analog.data(),
+                           tmp.data());
+    std::fill(out, out + n, 0);
+    for (size_t f = 0; f < b.frames; ++f)
+      std::copy_n(tmp.data() + f * plan.per_frame, plan.per_frame, out + f * lay.per_frame);
+  }
+  to_processor_form(lay, out, n);
+}
+
+// ---- encoder ---------------------------------------------------------------------------------
+
+C3DResidueEncoder::C3DResidueEncoder(const std::string& path) : in_(path) {
+  const uint64_t size = in_.size();
+  std::vector<uint8_t> head(static_cast<size_t>(std::min<uint64_t>(size, c3d::kBlock)));
+  in_.read_at(0, head.data(), head.size());
+  const size_t extent = c3d::header_extent(head.data(), head.size(), size);
+  if (extent > head.size()) {
+    head.resize(extent);
+    in_.read_at(0, head.data(), extent);
+  }
+  c3d::DataLayout dl;
+  c3d::read_header(head.data(), head.size(), size, path, &dl);
+  lay_.processor = dl.nf.processor;
+  lay_.float_storage = dl.float_storage;
+  lay_.analog_unsigned = dl.analog_unsigned;
+  lay_.scale = dl.scale;
+  lay_.frames = dl.frames;
+  lay_.points = dl.points;
+  lay_.analog_values = dl.analog_values;
+  lay_.per_frame = dl.per_frame;
+  lay_.head_size = std::min<uint64_t>(dl.data_offset, size);
+  lay_.tail_size = size - lay_.head_size - lay_.frames * lay_.per_frame;
+}
+
+std::vector<uint8_t> C3DResidueEncoder::window(const FrameBlock& block) {
+  check_block(lay_, block, in_.path());
+  const size_t n = block.frames * lay_.per_frame;
+  regen_.resize(n);
+  orig_.resize(n);
+  regenerate_c3d_frames(lay_, block, regen_.data());
+  in_.read_at(lay_.head_size + block.first * lay_.per_frame, orig_.data(), n);
+  std::vector<uint8_t> patch = diff_bytes(regen_.data(), orig_.data(), n);
+  if (patch.empty()) return {};
+  ByteWriter out;
+  pack(patch, {}, out);
+  return std::move(out.buffer());
+}
+
+std::vector<uint8_t> C3DResidueEncoder::file_part(const std::vector<C3DGroup>& groups) {
+  std::vector<uint8_t> rest(static_cast<size_t>(lay_.head_size + lay_.tail_size));
+  in_.read_at(0, rest.data(), static_cast<size_t>(lay_.head_size));
+  in_.read_at(lay_.file_size() - lay_.tail_size, rest.data() + lay_.head_size,
+              static_cast<size_t>(lay_.tail_size));
+  ByteWriter out;
+  out.u8(kKindC3D);
+  out.u8(static_cast<uint8_t>(lay_.processor));
+  out.u8(static_cast<uint8_t>((lay_.float_storage ? 1 : 0) | (lay_.analog_unsigned ? 2 : 0)));
+  out.f64(lay_.scale);
+  out.varint(lay_.frames);
+  out.varint(lay_.points);
+  out.varint(lay_.analog_values);
+  out.varint(lay_.per_frame);
+  out.varint(lay_.head_size);
+  pack(rest, dictionary(groups, lay_.processor), out);
+  return std::move(out.buffer());
+}
+
+// ---- decoder ---------------------------------------------------------------------------------
+
+C3DResidueDecoder::C3DResidueDecoder(const uint8_t* data, size_t size,
+                                     const std::vector<C3DGroup>& groups, const std::string& name,
+                                     uint64_t file_size)
+    : name_(name) {
+  const std::string what = name + ": C3D residue";
+  ByteReader in(data, size, what);
+  if (in.u8() != kKindC3D) fail(ErrorCode::kCorrupt, what, "not a C3D residue");
+  lay_.processor = in.u8();
+  const uint8_t flags = in.u8();
+  lay_.float_storage = flags & 1;
+  lay_.analog_unsigned = flags & 2;
+  lay_.scale = in.f64();
+  lay_.frames = in.varint();
+  lay_.points = in.varint();
+  lay_.analog_values = in.varint();
+  lay_.per_frame = in.varint();
+  lay_.head_size = in.varint();
+  const uint64_t sample_bytes = (lay_.points * 4 + lay_.analog_values) * elem_size(lay_);
+  if (lay_.processor < c3d::kIntel || lay_.processor > c3d::kMips || flags > 3 ||
+      !(std::isfinite(lay_.scale) && lay_.scale > 0) || lay_.points > 65535 ||
+      lay_.analog_values > 65535 || lay_.per_frame < sample_bytes ||
+      lay_.per_frame % elem_size(lay_) != 0 || lay_.per_frame > uint64_t{65535} * 5 * 4 ||
+      (lay_.frames > 0 && lay_.per_frame == 0) ||
+      (lay_.per_frame > 0 && lay_.frames > (uint64_t{1} << 62) / lay_.per_frame))
+    fail(ErrorCode::kCorrupt, what, "impossible frame layout");
+  std::vector<uint8_t> rest =
+      unpack(in, dictionary(groups, lay_.processor), file_size ? file_size : UINT64_MAX);
+  if (!in.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the payload");
+  if (lay_.head_size > rest.size())
+    fail(ErrorCode::kCorrupt, what, "head longer than the bytes stored");
+  lay_.tail_size = rest.size() - lay_.head_size;
+  if (file_size && lay_.file_size() != file_size)
+    fail(ErrorCode::kCorrupt, what,
+         "layout gives " + std::to_string(lay_.file_size()) + " bytes, the original had " +
+             std::to_string(file_size));
+  head_.assign(rest.begin(), rest.begin() + static_cast<long>(lay_.head_size));
+  tail_.assign(rest.begin() + static_cast<long>(lay_.head_size), rest.end());
+}
+
+void C3DResidueDecoder::window(const FrameBlock& block, const uint8_t* payload, size_t n,
+                               std::vector<uint8_t>* out) {
+  const std::string what = name_ + ": C3D residue window at frame " + std::to_string(block.first);
+  if (block.first != next_)
+    fail(ErrorCode::kCorrupt, what, "expected frame " + std::to_string(next_) + " next");
+  check_block(lay_, block, name_, ErrorCode::kCorrupt);
+  const size_t at = out->size(), bytes = block.frames * lay_.per_frame;
+  out->resize(at + bytes);
+  regenerate_c3d_frames(lay_, block, out->data() + at);
+  if (n > 0) {
+    ByteReader in(payload, n, what);
+    // A patch holds at most every byte plus two varints a run.
+    std::vector<uint8_t> patch = unpack(in, {}, 16 * uint64_t{bytes} + 64);
+    if (!in.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the patch");
+    apply_patch(patch, out->data() + at, bytes, what.c_str());
+  }
+  next_ += block.frames;
+}
+
+const std::vector<uint8_t>& C3DResidueDecoder::tail() const {
+  if (next_ != lay_.frames)
+    fail(ErrorCode::kCorrupt, name_,
+         "C3D residue: " + std::to_string(next_) + " of " + std::to_string(lay_.frames) +
+             " frames rebuilt before the tail");
+  return tail_;
+}
+
+// ---- whole-file helpers ----------------------------------------------------------------------
+
+namespace {
+const std::vector<C3DGroup>& groups_of(const Take& t) {
+  static const std::vector<C3DGroup> kNone;
+  return t.c3d ? t.c3d->groups : kNone;
+}
+}  // namespace
+
+FileResidue encode_c3d_residue(const std::string& path, FrameSource& frames, size_t block) {
+  C3DResidueEncoder enc(path);
+  FileResidue r;
+  encode_windows(
+      frames, block, [&](const FrameBlock& b) { return enc.window(b); }, &r);
+  r.file_part = enc.file_part(groups_of(frames.header()));
+  return r;
+}
+
+void rebuild_c3d(const FileResidue& residue, FrameSource& frames, size_t block,
+                 const std::function<void(const uint8_t*, size_t)>& write, const std::string& name,
+                 uint64_t file_size) {
+  C3DResidueDecoder dec(residue.file_part.data(), residue.file_part.size(),
+                        groups_of(frames.header()), name, file_size);
+  if (frames.header().frames != dec.layout().frames)
+    fail(ErrorCode::kCorrupt, name,
+         "C3D residue for " + std::to_string(dec.layout().frames) + " frames, the take has " +
+             std::to_string(frames.header().frames));
+  write(dec.head().data(), dec.head().size());
+  rebuild_windows(
+      residue, frames, block,
+      [&](const FrameBlock& b, const std::vector<uint8_t>& w, std::vector<uint8_t>* out) {
+        dec.window(b, w.data(), w.size(), out);
+      },
+      write, name);
+  write(dec.tail().data(), dec.tail().size());
+}
+
+}  // namespace residue
+}  // namespace capz

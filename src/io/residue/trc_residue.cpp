@@ -1,0 +1,386 @@
+// capz — TRC residue (see trc_residue.h; byte layout in docs/format-drafts/residue.md).
+#include "io/residue/trc_residue.h"
+
+#include <algorithm>
+#include <cstring>
+#include <map>
+
+#include "capz/error.h"
+#include "coding/bytes.h"
+#include "io/residue/pack.h"
+#include "io/residue/windows.h"
+#include "io/text_number.h"
+#include "io/trc_internal.h"
+
+namespace capz {
+namespace residue {
+
+namespace {
+
+constexpr uint8_t kKindTRC = 2;
+// A row's exception: its field count differs from the model's (missing fields are empty, extra
+// ones predicted empty), some fields' text differs, its line end differs.
+constexpr uint8_t kFixFields = 1, kNewEnding = 2, kFieldCount = 4;
+constexpr uint64_t kMaxExtraFields = 65536;
+// Caps on the row model, so a damaged payload cannot make the decoder spell rows of unbounded
+// size (a value beyond them stays possible, as an exception).
+constexpr uint64_t kMaxDecimals = 40, kMaxTrailing = 4096;
+constexpr size_t kMaxGapText = 64, kMaxEnding = 4096;
+
+// How the window's rows are spelled (see trc_residue.h).
+struct RowModel {
+  uint64_t time_decimals = 0;
+  uint64_t trailing = 0;           // empty fields after the last coordinate
+  std::string gap;                 // the text of each of a gap's three fields
+  std::string ending;              // line end (and blank lines) after a row's last field
+  std::vector<uint64_t> decimals;  // per coordinate column (points x 3)
+};
+
+// A row's line split at tabs (no trimming) and what follows its last field.
+struct Row {
+  std::vector<std::string> fields;
+  std::string ending;
+};
+
+// The TRC reader's blank characters (trc.cpp is_blank): a line of only these is not a row.
+bool blank_char(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\0' || c == '\f' || c == '\v';
+}
+
+Row split_row(const char* b, const char* e) {
+  const char* nl = static_cast<const char*>(std::memchr(b, '\n', static_cast<size_t>(e - b)));
+  const char* ce = nl ? nl : e;
+  while (ce > b && ce[-1] == '\r') --ce;
+  Row r;
+  r.ending.assign(ce, e);
+  for (const char* s = b;;) {
+    const char* t = std::find(s, ce, '\t');
+    r.fields.emplace_back(s, t);
+    if (t == ce) break;
+    s = t + 1;
+  }
+  return r;
+}
+
+// Digits after the point; 0 without one or with an exponent (format_decimal's shortest form).
+uint64_t decimals_of(const std::string& s) {
+  if (s.find_first_of("eE") != std::string::npos) return 0;
+  const size_t dot = s.find('.');
+  return dot == std::string::npos ? 0 : s.size() - dot - 1;
+}
+
+template <typename K>
+K mode(const std::map<K, size_t>& counts, K fallback) {
+  size_t best = 0;
+  for (const auto& kv : counts)
+    if (kv.second > best) best = kv.second, fallback = kv.first;
+  return fallback;
+}
+
+// The fields the model predicts for row k of `b` (frame b.first + k of `t`).
+void predict(const RowModel& m, const Take& t, const FrameBlock& b, size_t k,
+             std::vector<std::string>* out) {
+  const size_t r = b.first + k, N = b.points;
+  const TRCExtra* x = t.trc.get();
+  out->clear();
+  out->push_back(std::to_string(x && x->frame_numbers.size() == t.frames
+                                    ? x->frame_numbers[r]
+                                    : t.first_frame + static_cast<long>(r)));
+  out->push_back(x && x->times.size() == t.frames
+                     ? format_decimal(x->times[r], static_cast<int>(m.time_decimals))
+                     : std::string());
+  for (size_t p = 0; p < N; ++p)
+    for (size_t a = 0; a < 3; ++a)
+      out->push_back(b.valid[k * N + p] ? format_decimal(b.xyz[(k * N + p) * 3 + a],
+                                                         static_cast<int>(m.decimals[3 * p + a]))
+                                        : m.gap);
+  out->resize(out->size() + m.trailing);
+}
+
+// Votes for the decimals a column is spelled with. A field with k decimals whose value's
+// shortest text has s decimals is reproduced by format_decimal(v, d) for every d <= k when
+// k == s (the text is the shortest), and only for d == k when k > s (zero padded).
+struct DecimalVotes {
+  std::map<uint64_t, size_t> exact, up_to;
+  void add(const std::string& text, double v) {
+    const uint64_t k = decimals_of(text);
+    if (decimals_of(format_decimal(v, 0)) == k)
+      ++up_to[k];
+    else
+      ++exact[k];
+  }
+  uint64_t best() const {
+    uint64_t d_best = 0;
+    size_t score_best = 0;
+    std::vector<uint64_t> cands = {0};
+    for (const auto& kv : exact) cands.push_back(kv.first);
+    for (const auto& kv : up_to) cands.push_back(kv.first);
+    for (uint64_t d : cands) {
+      size_t score = exact.count(d) ? exact.at(d) : 0;
+      for (auto it = up_to.lower_bound(d); it != up_to.end(); ++it) score += it->second;
+      if (score > score_best || (score == score_best && d < d_best)) score_best = score, d_best = d;
+    }
+    return std::min(kMaxDecimals, d_best);
+  }
+};
+
+RowModel choose_model(const std::vector<Row>& rows, const Take& t, const FrameBlock& b) {
+  const size_t N = b.points;
+  const TRCExtra* x = t.trc.get();
+  const bool times = x && x->times.size() == t.frames;
+  std::map<uint64_t, size_t> trailing;
+  std::map<std::string, size_t> gap, ending;
+  DecimalVotes tdec;
+  std::vector<DecimalVotes> dec(3 * N);
+  for (size_t k = 0; k < rows.size(); ++k) {
+    const Row& row = rows[k];
+    ++ending[row.ending];
+    if (row.fields.size() >= 2 && times) tdec.add(row.fields[1], x->times[b.first + k]);
+    if (row.fields.size() >= 2 + 3 * N) ++trailing[row.fields.size() - 2 - 3 * N];
+    for (size_t c = 0; c < 3 * N && 2 + c < row.fields.size(); ++c) {
+      if (b.valid[k * N + c / 3])
+        dec[c].add(row.fields[2 + c], b.xyz[k * N * 3 + c]);
+      else
+        ++gap[row.fields[2 + c]];
+    }
+  }
+  RowModel m;
+  m.time_decimals = tdec.best();
+  m.trailing = std::min(kMaxTrailing, mode<uint64_t>(trailing, 0));
+  m.gap = mode<std::string>(gap, "");
+  if (m.gap.size() > kMaxGapText) m.gap.clear();
+  m.ending = mode<std::string>(ending, "\n");
+  if (m.ending.size() > kMaxEnding) m.ending = "\n";
+  m.decimals.resize(3 * N);
+  for (size_t c = 0; c < 3 * N; ++c) m.decimals[c] = dec[c].best();
+  return m;
+}
+
+void check_block(const Take& t, const FrameBlock& b, const std::string& name, ErrorCode code) {
+  if (b.points != t.points || b.first > t.frames || b.frames > t.frames - b.first ||
+      b.xyz.size() != b.frames * b.points * 3 || b.valid.size() != b.frames * b.points)
+    fail(code, name,
+         "TRC residue: block of frames " + std::to_string(b.first) + "+" +
+             std::to_string(b.frames) + " does not match the take's " + std::to_string(t.frames) +
+             " frames x " + std::to_string(t.points) + " points");
+}
+
+}  // namespace
+
+// ---- encoder ---------------------------------------------------------------------------------
+
+TRCResidueEncoder::TRCResidueEncoder(const std::string& path, const Take& header)
+    : in_(path), header_(header) {
+  // One pass over the file a chunk at a time: past the BOM and five lines, then the start of
+  // every non-blank line.
+  const uint64_t size = in_.size();
+  std::vector<char> buf(size_t{1} << 20);
+  size_t lines = 0;
+  bool line_start = true, blank = true;
+  uint64_t start = 0;
+  for (uint64_t at = 0; at < size;) {
+    const size_t n = static_cast<size_t>(std::min<uint64_t>(buf.size(), size - at));
+    in_.read_at(at, buf.data(), n);
+    for (size_t i = 0; i < n; ++i) {
+      const char c = buf[i];
+      if (line_start) start = at + i, blank = true, line_start = false;
+      if (c == '\n') {
+        if (lines >= 5 && !blank) offsets_.push_back(start);
+        ++lines;
+        line_start = true;
+      } else if (!blank_char(c)) {
+        blank = false;
+      }
+    }
+    at += n;
+  }
+  if (!line_start && lines >= 5 && !blank) offsets_.push_back(start);
+  if (offsets_.size() != header.frames)
+    fail(ErrorCode::kInternal, path,
+         "TRC residue: " + std::to_string(offsets_.size()) + " rows found, the reader read " +
+             std::to_string(header.frames));
+  offsets_.push_back(size);
+}
+
+std::vector<uint8_t> TRCResidueEncoder::window(const FrameBlock& block) {
+  check_block(header_, block, in_.path(), ErrorCode::kInternal);
+  const uint64_t b0 = offsets_[block.first], b1 = offsets_[block.first + block.frames];
+  text_.resize(static_cast<size_t>(b1 - b0));
+  in_.read_at(b0, &text_[0], text_.size());
+  std::vector<Row> rows;
+  for (size_t k = 0; k < block.frames; ++k)
+    rows.push_back(split_row(text_.data() + (offsets_[block.first + k] - b0),
+                             text_.data() + (offsets_[block.first + k + 1] - b0)));
+  const RowModel m = choose_model(rows, header_, block);
+  ByteWriter w;
+  w.varint(text_.size());
+  w.varint(m.time_decimals);
+  w.varint(m.trailing);
+  w.str(m.gap);
+  w.str(m.ending);
+  for (uint64_t d : m.decimals) w.varint(d);
+  std::vector<std::string> want;
+  size_t last = 0, exceptions = 0;
+  ByteWriter ex;
+  for (size_t k = 0; k < block.frames; ++k) {
+    predict(m, header_, block, k, &want);
+    const Row& row = rows[k];
+    const bool same_count =
+        row.fields.size() == want.size() || row.fields.size() > want.size() + kMaxExtraFields;
+    if (!same_count || row.fields.size() > want.size()) want.resize(row.fields.size());
+    std::vector<size_t> fix;
+    for (size_t i = 0; i < row.fields.size(); ++i)
+      if (row.fields[i] != want[i]) fix.push_back(i);
+    const uint8_t flags =
+        static_cast<uint8_t>((same_count ? 0 : kFieldCount) | (fix.empty() ? 0 : kFixFields) |
+                             (row.ending != m.ending ? kNewEnding : 0));
+    if (!flags) continue;
+    ++exceptions;
+    ex.varint(k - last);
+    last = k;
+    ex.u8(flags);
+    if (flags & kFieldCount) ex.varint(row.fields.size());
+    if (flags & kFixFields) {
+      ex.varint(fix.size());
+      for (size_t i = 0, prev = 0; i < fix.size(); prev = fix[i], ++i) {
+        ex.varint(fix[i] - prev);
+        ex.str(row.fields[fix[i]]);
+      }
+    }
+    if (flags & kNewEnding) ex.str(row.ending);
+  }
+  w.varint(exceptions);
+  w.bytes(ex.buffer());
+  ByteWriter out;
+  pack(w.buffer(), {}, out);
+  return std::move(out.buffer());
+}
+
+std::vector<uint8_t> TRCResidueEncoder::file_part() {
+  std::vector<uint8_t> head(static_cast<size_t>(offsets_.front()));
+  in_.read_at(0, head.data(), head.size());
+  const std::string dict = trc::header_text(header_, in_.path());
+  ByteWriter out;
+  out.u8(kKindTRC);
+  pack(head, std::vector<uint8_t>(dict.begin(), dict.end()), out);
+  return std::move(out.buffer());
+}
+
+// ---- decoder ---------------------------------------------------------------------------------
+
+TRCResidueDecoder::TRCResidueDecoder(const uint8_t* data, size_t size, const Take& header,
+                                     const std::string& name, uint64_t file_size)
+    : name_(name), header_(header) {
+  const std::string what = name + ": TRC residue";
+  ByteReader in(data, size, what);
+  if (in.u8() != kKindTRC) fail(ErrorCode::kCorrupt, what, "not a TRC residue");
+  const std::string dict = trc::header_text(header, name);
+  head_ = unpack(in, std::vector<uint8_t>(dict.begin(), dict.end()),
+                 file_size ? file_size : UINT64_MAX);
+  // A window payload: the model (a varint a column, gap and ending text) and exceptions, whose
+  // texts are the window's own bytes plus two varints a field at most.
+  if (file_size) window_limit_ = 3 * file_size + 3 * uint64_t{header.points} * 10 + 65536;
+  if (!in.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the payload");
+}
+
+void TRCResidueDecoder::window(const FrameBlock& block, const uint8_t* payload, size_t n,
+                               std::vector<uint8_t>* out) {
+  const std::string what = name_ + ": TRC residue window at frame " + std::to_string(block.first);
+  if (block.first != next_)
+    fail(ErrorCode::kCorrupt, what, "expected frame " + std::to_string(next_) + " next");
+  check_block(header_, block, name_, ErrorCode::kCorrupt);
+  ByteReader packed(payload, n, what);
+  const std::vector<uint8_t> body = unpack(packed, {}, window_limit_);
+  if (!packed.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the payload");
+  ByteReader in(body.data(), body.size(), what);
+  const uint64_t bytes = in.varint();
+  RowModel m;
+  m.time_decimals = in.varint();
+  m.trailing = in.varint();
+  m.gap = in.str();
+  m.ending = in.str();
+  if (m.time_decimals > kMaxDecimals || m.trailing > kMaxTrailing || m.gap.size() > kMaxGapText ||
+      m.ending.size() > kMaxEnding)
+    fail(ErrorCode::kCorrupt, what, "impossible row model");
+  m.decimals.resize(3 * block.points);
+  for (auto& d : m.decimals)
+    if ((d = in.varint()) > kMaxDecimals) fail(ErrorCode::kCorrupt, what, "impossible decimals");
+  const size_t at = out->size();
+  uint64_t exceptions = in.count(2, "exceptions");
+  uint64_t next_ex = exceptions ? in.varint() : block.frames;
+  std::vector<std::string> fields;
+  for (size_t k = 0; k < block.frames; ++k) {
+    predict(m, header_, block, k, &fields);
+    std::string ending = m.ending;
+    if (k == next_ex) {
+      const uint8_t flags = in.u8();
+      if (flags == 0 || flags > 7) fail(ErrorCode::kCorrupt, what, "bad exception flags");
+      if (flags & kFieldCount) {
+        const uint64_t count = in.varint();
+        if (count == 0 || count > fields.size() + kMaxExtraFields)
+          fail(ErrorCode::kCorrupt, what, "impossible field count");
+        fields.resize(static_cast<size_t>(count));
+      }
+      if (flags & kFixFields) {
+        const uint64_t nfix = in.count(2, "field fixes");
+        for (uint64_t i = 0, at = 0; i < nfix; ++i) {
+          at += in.varint();
+          if (at >= fields.size()) fail(ErrorCode::kCorrupt, what, "field fix past the row");
+          fields[at] = in.str();
+        }
+      }
+      if (flags & kNewEnding) ending = in.str();
+      const uint64_t step = --exceptions ? in.varint() : block.frames;
+      if (exceptions && step == 0) fail(ErrorCode::kCorrupt, what, "exceptions out of order");
+      next_ex = exceptions ? next_ex + step : block.frames;
+    }
+    for (size_t i = 0; i < fields.size(); ++i) {
+      if (i) out->push_back('\t');
+      out->insert(out->end(), fields[i].begin(), fields[i].end());
+    }
+    out->insert(out->end(), ending.begin(), ending.end());
+  }
+  if (exceptions || !in.at_end())
+    fail(ErrorCode::kCorrupt, what, "exceptions beyond the window's rows");
+  if (out->size() - at != bytes)
+    fail(ErrorCode::kCorrupt, what,
+         "rebuilt " + std::to_string(out->size() - at) + " bytes, the residue says " +
+             std::to_string(bytes));
+  next_ += block.frames;
+}
+
+void TRCResidueDecoder::finish() const {
+  if (next_ != header_.frames)
+    fail(ErrorCode::kCorrupt, name_,
+         "TRC residue: " + std::to_string(next_) + " of " + std::to_string(header_.frames) +
+             " frames rebuilt");
+}
+
+// ---- whole-file helpers ----------------------------------------------------------------------
+
+FileResidue encode_trc_residue(const std::string& path, FrameSource& frames, size_t block) {
+  TRCResidueEncoder enc(path, frames.header());
+  FileResidue r;
+  encode_windows(
+      frames, block, [&](const FrameBlock& b) { return enc.window(b); }, &r);
+  r.file_part = enc.file_part();
+  return r;
+}
+
+void rebuild_trc(const FileResidue& residue, FrameSource& frames, size_t block,
+                 const std::function<void(const uint8_t*, size_t)>& write, const std::string& name,
+                 uint64_t file_size) {
+  TRCResidueDecoder dec(residue.file_part.data(), residue.file_part.size(), frames.header(), name,
+                        file_size);
+  write(dec.head().data(), dec.head().size());
+  rebuild_windows(
+      residue, frames, block,
+      [&](const FrameBlock& b, const std::vector<uint8_t>& w, std::vector<uint8_t>* out) {
+        dec.window(b, w.data(), w.size(), out);
+      },
+      write, name);
+  dec.finish();
+}
+
+}  // namespace residue
+}  // namespace capz
