@@ -221,7 +221,7 @@ class Encoder {
       p.kg_target = plan_.tout ? opts_.kg_error : 0.0;
       promise_ = PromiseCheck(p);
       const std::string what = take_.source + " (self-check)";
-      const Chunk head = read_chunk(buf.data(), buf.size(), kFileHeaderBytes, what);
+      const Chunk head = read_chunk(buf.data(), buf.size(), file_header_bytes(kCapzMajor), what);
       const Chunk meta = read_chunk(buf.data(), buf.size(), meta_at, what);
       ctx_ = read_context(decode_header(head, what), meta, kCapzMajor, kCapzMinor, what);
     }

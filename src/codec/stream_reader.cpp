@@ -60,10 +60,11 @@ Chunk index_chunk(StreamBytes& b, size_t meta_end, const std::string& name) {
 
 ParsedStream parse_stream(StreamBytes& b, const std::string& name) {
   const size_t size = b.size();
-  const uint8_t* fh = b.get(0, std::min(size, kFileHeaderBytes));
-  const int minor = check_file_header(fh, std::min(size, kFileHeaderBytes), name);
+  const size_t longest = file_header_bytes(255);
+  const uint8_t* fh = b.get(0, std::min(size, longest));
+  const int minor = check_file_header(fh, std::min(size, longest), name);
   const int major = fh[9];
-  Chunk c = chunk_at(b, kFileHeaderBytes, name);
+  Chunk c = chunk_at(b, file_header_bytes(major), name);
   if (c.type != "HEAD") fail(ErrorCode::kCorrupt, name, "first chunk is " + c.type + ", not HEAD");
   // HEAD's payload pointer is invalidated by the next get(): decode it before reading META.
   const StreamHeader h = decode_header(c, name);

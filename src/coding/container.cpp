@@ -47,6 +47,11 @@ void write_file_header(std::vector<uint8_t>* out) {
   out->insert(out->end(), kCapzMagic, kCapzMagic + 9);
   out->push_back(kCapzMajor);
   out->push_back(kCapzMinor);
+  if (kCapzMajor >= 4) {
+    ByteWriter w;
+    w.u32(crc32c(out->data() + out->size() - kFileHeaderBytes, kFileHeaderBytes));
+    out->insert(out->end(), w.buffer().begin(), w.buffer().end());
+  }
 }
 
 void append_chunk(std::vector<uint8_t>* out, const char type[4],
@@ -73,6 +78,17 @@ int check_file_header(const uint8_t* data, size_t size, const std::string& name)
     fail(ErrorCode::kNotOurFormat, name, "not a .capz file (wrong magic)");
   }
   if (size < kFileHeaderBytes) fail(ErrorCode::kCorrupt, name, "truncated before the version");
+  // From 4.0 on the version bytes carry a CRC of their own, so a flipped major or minor byte is
+  // caught here, not later by chunks that fail to decode. A major above every one known is
+  // checked the same way: later versions keep this header.
+  if (data[9] >= 4) {
+    if (size < file_header_bytes(data[9]))
+      fail(ErrorCode::kCorrupt, name, "truncated in the file header");
+    if (crc32c(data, kFileHeaderBytes) != load_le32(data + kFileHeaderBytes))
+      fail(ErrorCode::kCorrupt, name,
+           "damaged file header: the version bytes (" + std::to_string(data[9]) + "." +
+               std::to_string(data[10]) + ") fail their CRC");
+  }
   if (data[9] > kFormatNewestRead.major)
     fail(ErrorCode::kUnsupportedVersion, name,
          "format version " + std::to_string(data[9]) + "." + std::to_string(data[10]) +

@@ -16,10 +16,15 @@ namespace capz {
 constexpr uint8_t kCapzMagic[9] = {0x89, 'c', 'a', 'p', 'z', 0x0D, 0x0A, 0x1A, 0x0A};
 constexpr uint8_t kCapzMajor = kFormatWritten.major;  // capz/version.h; docs/FORMAT.md 2:
 constexpr uint8_t kCapzMinor = kFormatWritten.minor;  // what each version added
-constexpr size_t kFileHeaderBytes = 11;               // magic + major + minor
+constexpr size_t kFileHeaderBytes = 11;               // magic + major + minor (1.x - 3.x)
+// Bytes of the file header of a stream of major version `major` (FORMAT.md 2): magic, major,
+// minor, and from 4.0 on a u32 CRC-32C of those 11 bytes.
+inline size_t file_header_bytes(int major) {
+  return major >= 4 ? kFileHeaderBytes + 4 : kFileHeaderBytes;
+}
 constexpr size_t kChunkOverhead = 12;                 // type + length + crc
 
-// Appends magic and version.
+// Appends magic and version (and from 4.0 on the version's CRC).
 void write_file_header(std::vector<uint8_t>* out);
 // Appends one chunk: type (4 ASCII bytes), u32 length, payload, CRC-32C of type + payload.
 void append_chunk(std::vector<uint8_t>* out, const char type[4],
@@ -33,7 +38,9 @@ struct Chunk {
   size_t end = 0;     // file offset just past its CRC
 };
 
-// Checks magic (kNotOurFormat) and version (kUnsupportedVersion); returns the minor version.
+// Checks magic (kNotOurFormat), from 4.0 on the header's CRC (kCorrupt), and version
+// (kUnsupportedVersion); returns the minor version. The header is file_header_bytes(data[9])
+// long.
 int check_file_header(const uint8_t* data, size_t size, const std::string& name);
 // Reads the chunk at `offset`: framing and CRC checked (kCorrupt naming the chunk and offset).
 // `data` holds the stream's bytes from offset `base` on (base <= offset), `size` is where they

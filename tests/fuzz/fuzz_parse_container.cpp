@@ -20,7 +20,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     capz::check_file_header(v.data(), v.size(), "fuzz.capz");
     capz::StreamHeader h;
     bool have_head = false;
-    size_t off = capz::kFileHeaderBytes;
+    size_t off = capz::file_header_bytes(v[9]);
     while (off < v.size()) {
       capz::Chunk c = capz::read_chunk(v.data(), v.size(), off, "fuzz.capz");
       CAPZ_FUZZ_CHECK(c.end > off && c.end <= v.size());
