@@ -454,6 +454,12 @@ C3DParameter& ensure_param(C3DGroup& group, const std::string& name,
 }
 
 void set_int16(C3DParameter& p, int value) {
+  // A byte parameter (some writers store DATA_START or USED as one byte) stays a byte while the
+  // value fits one, read unsigned as the reader does.
+  if (p.type == 1 && p.data.size() == 1 && value >= 0 && value <= 255) {
+    p.data[0] = static_cast<uint8_t>(value);
+    return;
+  }
   uint8_t b[2];
   put_u16le(static_cast<uint16_t>(value), b);
   if (p.type == 2 && p.data.size() == 2) {

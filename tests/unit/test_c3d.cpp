@@ -597,6 +597,29 @@ TEST(C3DWrite, ReadWriteReadIsExactForEveryEncoding) {
     }
 }
 
+// Some writers store counts as one byte (sample_35's Mega Electronics file: POINT:DATA_START).
+// The writer updates such a parameter in place: still one byte while the value fits one.
+TEST(C3DWrite, ByteTypedCountsStayOneByte) {
+  Built b = small_trial(c3d::kIntel, false);
+  for (Param& p : b.groups[0].params)
+    if (p.name == "DATA_START" || p.name == "USED") p.type = 1;
+  Take t = read(b);
+  ASSERT_EQ(t.c3d->param("POINT", "DATA_START")->type, 1);
+  auto bytes = c3d::encode_c3d_file(t, {}, "byte.c3d");
+  Take back = read_c3d_bytes(bytes.data(), bytes.size(), "byte.c3d");
+  for (const char* name : {"DATA_START", "USED"}) {
+    SCOPED_TRACE(name);
+    const C3DParameter* p = back.c3d->param("POINT", name);
+    ASSERT_NE(p, nullptr);
+    EXPECT_EQ(p->type, 1);
+    EXPECT_EQ(p->data.size(), 1u);
+  }
+  EXPECT_EQ(back.c3d->param("POINT", "USED")->as_ints()[0], 3);
+  const int header_data_start = bytes[16] | bytes[17] << 8;  // header word 9
+  EXPECT_EQ(back.c3d->param("POINT", "DATA_START")->as_ints()[0], header_data_start);
+  expect_same_take(t, back);
+}
+
 TEST(C3DWrite, Int16StorageKeepsTheStoredIntegers) {
   Built b = small_trial(c3d::kIntel, false);
   b.scale = 0.0833333;  // not exact in binary
