@@ -67,7 +67,8 @@ int cmd_compress(const Args& args) {
       "codec-opt", po::value<std::vector<std::string>>(), "codec option key=value (repeatable)")(
       "clusters", po::value<int>()->default_value(0),
       "clusters for the transform codec (0 = its default, -1 = search)")(
-      "units", po::value<std::string>(), "units of data that has none (PCD folders): mm, cm or m")(
+      "units", po::value<std::string>(),
+      "units of data that has none (PCD folders) or whose units capz cannot read: mm, cm or m")(
       "window", po::value<size_t>()->default_value(0),
       "frames per independently decodable window, 1..8192; 0 (default): 1024, or with codec "
       "none up to 8192 for takes of fewer than 64 points (about 2^16 samples a window)")(
@@ -116,8 +117,11 @@ int cmd_compress(const Args& args) {
     source = capz::open_frames(in);
   }
   const double t_read = thread_cpu_seconds() - c_read;
-  if (source->header().units.empty() && !units.empty()) source->edit_header().units = units;
-  if (opts.codec == "auto" && whole.units.empty()) whole.units = source->header().units;
+  // --units says what data without units is in, or data whose units capz cannot read
+  // (a POINT:UNITS naming several different units, a name it does not know).
+  if (!units.empty() && capz::units_to_metres(source->header().units) == 0)
+    source->edit_header().units = units;
+  if (opts.codec == "auto") whole.units = source->header().units;
   const capz::Take& take = source->header();
   opts.clusters = vm["clusters"].as<int>();
   opts.window_frames = vm["window"].as<size_t>();

@@ -15,6 +15,10 @@
 //     FIELD / ACTUAL_END_FIELD when the frames pass 65535 or the stored ones disagree. A take not
 //     read from C3D gets a fresh POINT / ANALOG / TRIAL section.
 //   - More than 65535 frames: header last frame 65535, POINT:FRAMES as float, TRIAL fields set.
+//   - Rotations (take.rotations): the ROTATION group (USED, RATIO, RATE, LABELS, DATA_START),
+//     and from the block after the frames (zero padding between) per point frame, per sample,
+//     per segment the 16 matrix float32s (column-major) and the reliability float32, each
+//     written with the bits the take holds.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -42,9 +46,19 @@ void check_take(const Take& t, const std::string& name) {
       a.values.size() !=
           t.frames * static_cast<size_t>(a.channels) * static_cast<size_t>(a.samples_per_frame))
     fail(ErrorCode::kInternal, name, "analog values do not match frames x samples x channels");
+  check_c3d_rotations(t, name);
 }
 
 }  // namespace
+
+void check_c3d_rotations(const Take& t, const std::string& name) {
+  const Rotations& r = t.rotations;
+  const size_t rn = r.samples(t.frames) * static_cast<size_t>(std::max(0, r.segments));
+  if (r.segments < 0 || (r.segments > 0 && r.samples_per_frame < 1) ||
+      r.matrices.size() != rn * 16 || r.reliability.size() != rn)
+    fail(ErrorCode::kInternal, name,
+         "rotation arrays do not match frames x samples per frame x segments");
+}
 
 void check_c3d_limits(const Take& t, const std::string& name) {
   const Analog& a = t.analog;
@@ -55,6 +69,13 @@ void check_c3d_limits(const Take& t, const std::string& name) {
          std::to_string(t.points) + " points: a C3D file holds at most 65535");
   if (static_cast<size_t>(a.channels) * static_cast<size_t>(a.samples_per_frame) > 65535)
     fail(ErrorCode::kUsage, name, "more than 65535 analog values per frame: C3D cannot hold them");
+  const Rotations& r = t.rotations;
+  if (r.segments < 0 || r.segments > 65535 || r.samples_per_frame > 65535 ||
+      (r.segments > 0 && r.samples_per_frame < 1))
+    fail(ErrorCode::kUsage, name,
+         std::to_string(r.segments) + " rotation segments x " +
+             std::to_string(r.samples_per_frame) +
+             " samples per frame: a C3D holds 1..65535 of each");
 }
 
 namespace {
@@ -133,6 +154,35 @@ bool c3d_needs_scan(const Take& take, const WriteOptions& opts) {
   return !float_storage || c3d_known_scale(take) == 0;
 }
 
+namespace {
+
+// The ROTATION group for the take's rotations (or, for a group read from the file, what keeps
+// it consistent when the take has none: USED 0): USED, RATIO, RATE, LABELS updated where the
+// take says otherwise, DATA_START added with 0 (filled in once the layout is known). `x` holds
+// the parameters as read; the group is left out when neither has rotations.
+void set_rotation_params(const Take& take, const C3DExtra& x, std::vector<C3DGroup>& groups) {
+  const Rotations& r = take.rotations;
+  if (r.segments == 0 && !x.group("ROTATION")) return;
+  C3DGroup& g = ensure_group(groups, "ROTATION", "Rotation (4x4 transform) signals");
+  set_int16(ensure_param(g, "USED", "Number of rotation signals"), r.segments);
+  set_int16(ensure_param(g, "DATA_START", "Number of the first block of rotation data"), 0);
+  const int ratio = std::max(1, r.samples_per_frame);
+  // RATIO kept or added unless RATE alone says it (ezc3d reads RATE / point rate then).
+  const double rate = number_param(x, "ROTATION", "RATE", 0);
+  const bool rate_says =
+      rate > 0 && take.rate > 0 && std::lround(rate / take.rate) == static_cast<long>(ratio);
+  if (x.param("ROTATION", "RATIO") || !rate_says)
+    set_int16(ensure_param(g, "RATIO", "Rotation samples per point frame"), ratio);
+  if (r.rate > 0 && rate != static_cast<double>(static_cast<float>(r.rate)))
+    set_float(ensure_param(g, "RATE", "Rotation sample rate"), static_cast<float>(r.rate));
+  const size_t n = static_cast<size_t>(r.segments);
+  if (n > 0 && (used_count(x, "ROTATION") != static_cast<long>(n) ||
+                !same_list(x, "ROTATION", "LABELS", r.labels, n)))
+    set_string_list(g, "LABELS", padded(r.labels, n), "Rotation signal labels");
+}
+
+}  // namespace
+
 C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& opts,
                           const C3DWriteScan& scan, const std::string& name) {
   check_c3d_limits(take, name);
@@ -181,10 +231,10 @@ C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& o
       set_float(ensure_param(point, "RATE", "3-D frame rate"), static_cast<float>(take.rate));
   }
   if (!take.units.empty() || !x.param("POINT", "UNITS")) {
-    const C3DParameter* u = x.param("POINT", "UNITS");
-    std::string have = u && u->type == -1 ? u->as_string() : std::string();
-    while (!have.empty() && (have[0] == ' ' || have[0] == '\0')) have.erase(0, 1);
-    if (!u || have != take.units) set_string(ensure_param(point, "UNITS", "3-D units"), take.units);
+    // Kept as stored (an array of units per point, padding, capitals) while the reader derives
+    // the take's units from it.
+    if (!x.param("POINT", "UNITS") || point_units(x) != take.units)
+      set_string(ensure_param(point, "UNITS", "3-D units"), take.units);
   }
   // Labels are rebuilt when they differ from what the reader derives, or when the count of
   // points changed (then continuations beyond the new count go too).
@@ -251,11 +301,23 @@ C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& o
     }
   }
 
-  // DATA_START's value does not change the section's size: encode, then fill it in.
+  set_rotation_params(take, x, groups);
+
+  // The DATA_STARTs' values do not change the section's size: encode, then fill them in. The
+  // rotations start at the block after the frames.
+  const size_t per_frame = (N * 4 + analog_total) * (float_storage ? 4 : 2);
   std::vector<uint8_t> params = encode_parameter_section(groups);
   const size_t data_start = 2 + params.size() / kBlock;
   if (data_start > 65535) fail(ErrorCode::kUsage, name, "parameter section too large");
   set_int16(*find_param(*find_group(groups, "POINT"), "DATA_START"), static_cast<int>(data_start));
+  const size_t rot_start = data_start + (F * per_frame + kBlock - 1) / kBlock;
+  if (C3DGroup* rg = find_group(groups, "ROTATION")) {
+    if (rot_start > 65535)
+      fail(ErrorCode::kUsage, name,
+           "the rotations would start at block " + std::to_string(rot_start) +
+               ": ROTATION:DATA_START cannot point past block 65535");
+    set_int16(*find_param(*rg, "DATA_START"), static_cast<int>(rot_start));
+  }
   params = encode_parameter_section(groups);
 
   // ---- header ----
@@ -294,8 +356,13 @@ C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& o
   plan.have_res = have_res;
   plan.points = N;
   plan.analog_total = analog_total;
-  plan.per_frame = (N * 4 + analog_total) * (float_storage ? 4 : 2);
+  plan.per_frame = per_frame;
   plan.frames = F;
+  const Rotations& rot = take.rotations;
+  if (rot.segments > 0) {
+    plan.rot_offset = (rot_start - 1) * kBlock;
+    plan.rot_bytes = rot.samples(F) * static_cast<size_t>(rot.segments) * kRotationBytes;
+  }
   plan.head.resize(header.size() + params.size());
   std::copy(header.begin(), header.end(), plan.head.begin());
   std::copy(params.begin(), params.end(), plan.head.begin() + static_cast<long>(header.size()));
@@ -360,6 +427,14 @@ void encode_c3d_frames(const C3DFilePlan& plan, size_t count, const double* xyz,
   if (points_fit) *points_fit = fit;
 }
 
+void encode_c3d_rotations(const Rotations& r, size_t frames, uint8_t* out) {
+  const size_t n = r.samples(frames) * static_cast<size_t>(r.segments);
+  for (size_t i = 0; i < n; ++i, out += kRotationBytes) {
+    for (size_t k = 0; k < 16; ++k) put_f32le(r.matrices[i * 16 + k], out + 4 * k);
+    put_f32le(r.reliability[i], out + 64);
+  }
+}
+
 std::vector<uint8_t> encode_c3d_file(const Take& take, const WriteOptions& opts,
                                      const std::string& name) {
   check_take(take, name);
@@ -378,12 +453,14 @@ std::vector<uint8_t> encode_c3d_file(const Take& take, const WriteOptions& opts,
              take.analog.values.data());
   }
   C3DFilePlan plan = plan_c3d_file(take, have_res, opts, scan, name);
-  std::vector<uint8_t> out(plan.head.size() + F * plan.per_frame, 0);
+  const size_t frames_end = plan.head.size() + F * plan.per_frame;
+  std::vector<uint8_t> out(plan.rot_bytes > 0 ? plan.rot_offset + plan.rot_bytes : frames_end, 0);
   std::copy(plan.head.begin(), plan.head.end(), out.begin());
   encode_c3d_frames(plan, F, take.xyz.data(), take.valid.data(),
                     have_res ? src->residual.data() : nullptr,
                     have_res ? src->camera_mask.data() : nullptr, take.analog.values.data(),
                     out.data() + plan.head.size());
+  if (plan.rot_bytes > 0) encode_c3d_rotations(take.rotations, F, out.data() + plan.rot_offset);
   return out;
 }
 
