@@ -18,15 +18,19 @@ namespace capz {
 
 namespace {
 
-constexpr int kElements = 17;            // 16 matrix elements + reliability
-constexpr int kContextsPerClass = 16;    // by the series' previous token
+constexpr int kElements = 17;          // 16 matrix elements + reliability
+constexpr int kContextsPerClass = 16;  // by the series' previous token
 constexpr int kRotationContexts = kRotationClasses * kContextsPerClass;
 constexpr int kPredictors = 3;
 
 // float_to_ordered / ordered_to_float (quantiser.h) on the bits themselves, so no value is
 // passed as a float on its way (a signalling NaN keeps its bits).
-uint32_t ordered(uint32_t bits) { return bits & 0x80000000u ? bits ^ 0x7FFFFFFFu : bits; }
-uint32_t unordered(uint32_t q) { return ordered(q); }  // the map is its own inverse
+uint32_t ordered(uint32_t bits) {
+  return bits & 0x80000000u ? bits ^ 0x7FFFFFFFu : bits;
+}
+uint32_t unordered(uint32_t q) {
+  return ordered(q);
+}  // the map is its own inverse
 
 // The prediction's float32 bits from the series' previous values' bits a = v[s-1], b = v[s-2]
 // (`have` of them exist). No arithmetic touches a non-finite value, so NaN payloads never
@@ -88,8 +92,8 @@ void choose_predictors(const WindowBits& w, size_t samples, RotationPredictor* o
     for (size_t g = 0; g < w.segments; ++g)
       for (int k = 0; k < kElements; ++k)
         for (int p = 0; p < kPredictors; ++p) {
-          const uint32_t u = zigzag(static_cast<int32_t>(
-              residual(w, static_cast<RotationPredictor>(p), s, g, k)));
+          const uint32_t u =
+              zigzag(static_cast<int32_t>(residual(w, static_cast<RotationPredictor>(p), s, g, k)));
           cost[static_cast<int>(rotation_class(k))][p] +=
               static_cast<uint64_t>(32 - __builtin_clz(u | 1));
         }
@@ -122,7 +126,8 @@ std::vector<uint8_t> encode_rotations(const float* matrices, const float* reliab
   });
   const std::vector<uint8_t> block = enc.finish();
   std::vector<uint8_t> out(kRotationClasses + block.size());
-  for (int c = 0; c < kRotationClasses; ++c) out[static_cast<size_t>(c)] = static_cast<uint8_t>(pred[c]);
+  for (int c = 0; c < kRotationClasses; ++c)
+    out[static_cast<size_t>(c)] = static_cast<uint8_t>(pred[c]);
   std::copy(block.begin(), block.end(), out.begin() + kRotationClasses);
   return out;
 }
@@ -142,16 +147,16 @@ RotationWindow decode_rotations(const uint8_t* data, size_t size, size_t samples
   if ((segments != 0 && per_sample / kElements != segments) ||
       (per_sample != 0 && samples > kMaxSymbolsPerByte * block / per_sample))
     throw Error(ErrorCode::kCorrupt, what + ": " + std::to_string(samples) + " samples x " +
-                                         std::to_string(segments) +
-                                         " segments cannot fit in " + std::to_string(block) +
-                                         " bytes");
+                                         std::to_string(segments) + " segments cannot fit in " +
+                                         std::to_string(block) + " bytes");
   RotationWindow out;
   out.matrices.resize(samples * segments * 16);
   out.reliability.resize(samples * segments);
   IntDecoder dec(data + r.offset(), block, kRotationContexts, what);
   const WindowBits w{out.matrices.data(), out.reliability.data(), segments};
   in_coding_order(samples, segments, [&](size_t s, size_t g, int k, RotationClass c, int* tok) {
-    const uint32_t res = static_cast<uint32_t>(dec.get_signed(context(c, *tok), tok, escape_set(c)));
+    const uint32_t res =
+        static_cast<uint32_t>(dec.get_signed(context(c, *tok), tok, escape_set(c)));
     const uint32_t a = s >= 1 ? w.get(s - 1, g, k) : 0, b = s >= 2 ? w.get(s - 2, g, k) : 0;
     const uint32_t v = unordered(ordered(predict(pred[static_cast<int>(c)], s, a, b)) + res);
     const size_t i = s * segments + g;

@@ -297,11 +297,19 @@ void read_rotation_layout(const C3DExtra& x, double point_rate, DataLayout* lay,
   }
   long ratio = count_param(x, "ROTATION", "RATIO");
   const double rate = number_param(x, "ROTATION", "RATE", 0);
-  if (ratio <= 0 && std::isfinite(rate) && rate > 0 && point_rate > 0)
-    ratio = std::lround(rate / point_rate);  // ezc3d's fallback without RATIO
+  const double rate_ratio = point_rate > 0 ? rate / point_rate : 0;
+  if (ratio <= 0 && rate_ratio >= 0.5 && rate_ratio < 65535.5)
+    ratio = std::lround(rate_ratio);  // ezc3d's fallback without RATIO
   if (ratio <= 0) {
     warnings->push_back("ROTATION:RATIO and RATE give no samples per frame; 1 is used");
     ratio = 1;
+  }
+  if (used > 65535 || ratio > 65535) {  // float parameters can claim billions
+    warnings->push_back("ROTATION:USED " + std::to_string(used) + " x RATIO " +
+                        std::to_string(ratio) +
+                        " is beyond what a C3D holds (65535 each); "
+                        "the rotations are not read");
+    return;
   }
   r->segments = static_cast<int>(used);
   r->samples_per_frame = static_cast<int>(ratio);

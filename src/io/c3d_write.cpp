@@ -181,6 +181,119 @@ void set_rotation_params(const Take& take, const C3DExtra& x, std::vector<C3DGro
     set_string_list(g, "LABELS", padded(r.labels, n), "Rotation signal labels");
 }
 
+// The ANALOG group: USED, LABELS..., RATE where the take says otherwise; for a take not read from
+// a C3D (`fresh_take`) with channels also the SCALE, OFFSET and GEN_SCALE readers need.
+void set_analog_params(const Take& take, const C3DExtra& x, bool fresh_take,
+                       std::vector<C3DGroup>& groups) {
+  const Analog& an = take.analog;
+  const size_t channels = static_cast<size_t>(an.channels);
+  const bool src = !fresh_take;
+  if (channels > 0 || !src || x.group("ANALOG")) {
+    C3DGroup& ag = ensure_group(groups, "ANALOG", "Analog data parameters");
+    const bool fresh = !x.param("ANALOG", "USED");
+    set_int16(ensure_param(ag, "USED", "Number of analog channels"), static_cast<int>(channels));
+    if (channels > 0 || fresh) {
+      if (used_count(x, "ANALOG") != static_cast<long>(channels) ||
+          !same_list(x, "ANALOG", "LABELS", an.labels, channels))
+        set_string_list(ag, "LABELS", padded(an.labels, channels), "Analog channel labels");
+      double have = number_param(x, "ANALOG", "RATE", -1);
+      if (have != static_cast<double>(static_cast<float>(an.rate)))
+        set_float(ensure_param(ag, "RATE", "Analog sample rate"), static_cast<float>(an.rate));
+    }
+    if (channels > 0 && !src) {  // a fresh section: what readers need to scale analog
+      std::vector<uint8_t> d(channels * 4);
+      for (size_t c = 0; c < channels; ++c) put_f32le(1.0f, &d[4 * c]);
+      C3DParameter& p = ensure_param(ag, "SCALE", "Analog scale factors");
+      p.type = 4;
+      p.dims = {static_cast<int>(channels)};
+      p.data = d;
+    }
+    if (channels > 0 && !src)
+      set_int16_array(ensure_param(ag, "OFFSET", "Analog offsets"), std::vector<int>(channels, 0));
+    if (channels > 0 && !src)
+      set_float(ensure_param(ag, "GEN_SCALE", "Analog general scale factor"), 1.0f);
+  }
+}
+
+// TRIAL:ACTUAL_START_FIELD / ACTUAL_END_FIELD for frames first .. first + F - 1, written when the
+// take passes frame 65535, the stored pair disagrees, or the take was not read from a C3D.
+void set_trial_params(const C3DExtra& x, bool fresh_take, long first, size_t F,
+                      std::vector<C3DGroup>& groups) {
+  const bool src = !fresh_take;
+  const long last = first + static_cast<long>(F) - 1;
+  const bool long_take = F > 65535 || last > 65535;
+  long tr_start = -1, tr_end = -1;
+  if (const C3DParameter* p = x.param("TRIAL", "ACTUAL_START_FIELD"))
+    if (p->type == 2 && !p->data.empty()) {
+      auto v = p->as_ints();
+      tr_start =
+          static_cast<uint16_t>(v[0]) + 65536L * (v.size() > 1 ? static_cast<uint16_t>(v[1]) : 0);
+    }
+  if (const C3DParameter* p = x.param("TRIAL", "ACTUAL_END_FIELD"))
+    if (p->type == 2 && !p->data.empty()) {
+      auto v = p->as_ints();
+      tr_end =
+          static_cast<uint16_t>(v[0]) + 65536L * (v.size() > 1 ? static_cast<uint16_t>(v[1]) : 0);
+    }
+  const bool have = tr_start >= 0 && tr_end >= 0;
+  const bool consistent =
+      have && tr_end - tr_start + 1 == static_cast<long>(F) && (!long_take || tr_start == first);
+  if (!src || long_take || (have && !consistent)) {
+    C3DGroup& tg = ensure_group(groups, "TRIAL", "Trial parameters");
+    if (!consistent) {
+      long s = std::max(0L, first), e = std::max(s - 1, last);
+      if (F == 0) e = s;  // nothing to count; keep a valid pair
+      set_int16_array(ensure_param(tg, "ACTUAL_START_FIELD", "First frame (low, high word)"),
+                      {static_cast<int>(s & 0xffff), static_cast<int>((s >> 16) & 0xffff)});
+      set_int16_array(ensure_param(tg, "ACTUAL_END_FIELD", "Last frame (low, high word)"),
+                      {static_cast<int>(e & 0xffff), static_cast<int>((e >> 16) & 0xffff)});
+    }
+  }
+}
+
+// The 512-byte header block for `plan` (its counts, storage and scale), the first data block and
+// the frames first .. first + F - 1, with the source's header events.
+std::vector<uint8_t> header_block(const Take& take, const C3DFilePlan& plan, size_t data_start) {
+  const C3DExtra* src = take.c3d.get();
+  const size_t F = plan.frames, N = plan.points, analog_total = plan.analog_total;
+  const size_t spf =
+      take.analog.channels > 0 ? static_cast<size_t>(take.analog.samples_per_frame) : 0;
+  const bool float_storage = plan.float_storage;
+  const double scale = plan.scale;
+  const long first = take.first_frame;
+  const long last = first + static_cast<long>(F) - 1;
+  const bool long_take = F > 65535 || last > 65535;
+  std::vector<uint8_t> header(kBlock, 0);
+  header[0] = 2;
+  header[1] = 0x50;
+  long h_first = std::min(65535L, std::max(0L, first));
+  long h_last = long_take ? 65535L : std::max(h_first - 1, last);
+  if (F == 0 && h_first == 0) h_first = 1, h_last = 0;
+  put_header_u16(header, 2, static_cast<uint32_t>(N));
+  put_header_u16(header, 3, static_cast<uint32_t>(analog_total));
+  put_header_u16(header, 4, static_cast<uint32_t>(h_first));
+  put_header_u16(header, 5, static_cast<uint32_t>(h_last));
+  put_header_u16(header, 6,
+                 static_cast<uint32_t>(src ? std::max(0, src->max_interpolation_gap) : 0));
+  put_header_f32(header, 7, static_cast<float>(float_storage ? -scale : scale));
+  put_header_u16(header, 9, static_cast<uint32_t>(data_start));
+  put_header_u16(header, 10, static_cast<uint32_t>(spf));
+  put_header_f32(header, 11, static_cast<float>(take.rate));
+  if (!src || src->header_events_label_range) put_header_u16(header, 150, 12345);
+  if (src) {
+    size_t nev = std::min<size_t>(18, src->header_events.size());
+    put_header_u16(header, 151, static_cast<uint32_t>(nev));
+    for (size_t i = 0; i < nev; ++i) {
+      const C3DHeaderEvent& e = src->header_events[i];
+      put_header_f32(header, 153 + 2 * static_cast<int>(i), e.time);
+      header[376 + i] = e.display ? 1 : 0;
+      for (size_t k = 0; k < 4; ++k)
+        header[396 + 4 * i + k] = k < e.label.size() ? e.label[k] : ' ';
+    }
+  }
+  return header;
+}
+
 }  // namespace
 
 C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& opts,
@@ -206,8 +319,6 @@ C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& o
   if (src) groups = src->groups;
   x.groups = groups;  // for lookups of what was read
   const long first = take.first_frame;
-  const long last = first + static_cast<long>(F) - 1;
-  const bool long_take = F > 65535 || last > 65535;
 
   C3DGroup& point = ensure_group(groups, "POINT", "3-D point parameters");
   set_int16(ensure_param(point, "USED", "Number of 3-D points"), static_cast<int>(N));
@@ -245,62 +356,8 @@ C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& o
       (points_changed || !same_list(x, "POINT", "DESCRIPTIONS", take.descriptions, N)))
     set_string_list(point, "DESCRIPTIONS", padded(take.descriptions, N), "3-D point descriptions");
 
-  if (channels > 0 || !src || x.group("ANALOG")) {
-    C3DGroup& ag = ensure_group(groups, "ANALOG", "Analog data parameters");
-    const bool fresh = !x.param("ANALOG", "USED");
-    set_int16(ensure_param(ag, "USED", "Number of analog channels"), static_cast<int>(channels));
-    if (channels > 0 || fresh) {
-      if (used_count(x, "ANALOG") != static_cast<long>(channels) ||
-          !same_list(x, "ANALOG", "LABELS", an.labels, channels))
-        set_string_list(ag, "LABELS", padded(an.labels, channels), "Analog channel labels");
-      double have = number_param(x, "ANALOG", "RATE", -1);
-      if (have != static_cast<double>(static_cast<float>(an.rate)))
-        set_float(ensure_param(ag, "RATE", "Analog sample rate"), static_cast<float>(an.rate));
-    }
-    if (channels > 0 && !src) {  // a fresh section: what readers need to scale analog
-      std::vector<uint8_t> d(channels * 4);
-      for (size_t c = 0; c < channels; ++c) put_f32le(1.0f, &d[4 * c]);
-      C3DParameter& p = ensure_param(ag, "SCALE", "Analog scale factors");
-      p.type = 4;
-      p.dims = {static_cast<int>(channels)};
-      p.data = d;
-    }
-    if (channels > 0 && !src)
-      set_int16_array(ensure_param(ag, "OFFSET", "Analog offsets"), std::vector<int>(channels, 0));
-    if (channels > 0 && !src)
-      set_float(ensure_param(ag, "GEN_SCALE", "Analog general scale factor"), 1.0f);
-  }
-
-  {
-    long tr_start = -1, tr_end = -1;
-    if (const C3DParameter* p = x.param("TRIAL", "ACTUAL_START_FIELD"))
-      if (p->type == 2 && !p->data.empty()) {
-        auto v = p->as_ints();
-        tr_start =
-            static_cast<uint16_t>(v[0]) + 65536L * (v.size() > 1 ? static_cast<uint16_t>(v[1]) : 0);
-      }
-    if (const C3DParameter* p = x.param("TRIAL", "ACTUAL_END_FIELD"))
-      if (p->type == 2 && !p->data.empty()) {
-        auto v = p->as_ints();
-        tr_end =
-            static_cast<uint16_t>(v[0]) + 65536L * (v.size() > 1 ? static_cast<uint16_t>(v[1]) : 0);
-      }
-    const bool have = tr_start >= 0 && tr_end >= 0;
-    const bool consistent =
-        have && tr_end - tr_start + 1 == static_cast<long>(F) && (!long_take || tr_start == first);
-    if (!src || long_take || (have && !consistent)) {
-      C3DGroup& tg = ensure_group(groups, "TRIAL", "Trial parameters");
-      if (!consistent) {
-        long s = std::max(0L, first), e = std::max(s - 1, last);
-        if (F == 0) e = s;  // nothing to count; keep a valid pair
-        set_int16_array(ensure_param(tg, "ACTUAL_START_FIELD", "First frame (low, high word)"),
-                        {static_cast<int>(s & 0xffff), static_cast<int>((s >> 16) & 0xffff)});
-        set_int16_array(ensure_param(tg, "ACTUAL_END_FIELD", "Last frame (low, high word)"),
-                        {static_cast<int>(e & 0xffff), static_cast<int>((e >> 16) & 0xffff)});
-      }
-    }
-  }
-
+  set_analog_params(take, x, !src, groups);
+  set_trial_params(x, !src, first, F, groups);
   set_rotation_params(take, x, groups);
 
   // The DATA_STARTs' values do not change the section's size: encode, then fill them in. The
@@ -320,36 +377,6 @@ C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& o
   }
   params = encode_parameter_section(groups);
 
-  // ---- header ----
-  std::vector<uint8_t> header(kBlock, 0);
-  header[0] = 2;
-  header[1] = 0x50;
-  long h_first = std::min(65535L, std::max(0L, first));
-  long h_last = long_take ? 65535L : std::max(h_first - 1, last);
-  if (F == 0 && h_first == 0) h_first = 1, h_last = 0;
-  put_header_u16(header, 2, static_cast<uint32_t>(N));
-  put_header_u16(header, 3, static_cast<uint32_t>(analog_total));
-  put_header_u16(header, 4, static_cast<uint32_t>(h_first));
-  put_header_u16(header, 5, static_cast<uint32_t>(h_last));
-  put_header_u16(header, 6,
-                 static_cast<uint32_t>(src ? std::max(0, src->max_interpolation_gap) : 0));
-  put_header_f32(header, 7, static_cast<float>(float_storage ? -scale : scale));
-  put_header_u16(header, 9, static_cast<uint32_t>(data_start));
-  put_header_u16(header, 10, static_cast<uint32_t>(spf));
-  put_header_f32(header, 11, static_cast<float>(take.rate));
-  if (!src || src->header_events_label_range) put_header_u16(header, 150, 12345);
-  if (src) {
-    size_t nev = std::min<size_t>(18, src->header_events.size());
-    put_header_u16(header, 151, static_cast<uint32_t>(nev));
-    for (size_t i = 0; i < nev; ++i) {
-      const C3DHeaderEvent& e = src->header_events[i];
-      put_header_f32(header, 153 + 2 * static_cast<int>(i), e.time);
-      header[376 + i] = e.display ? 1 : 0;
-      for (size_t k = 0; k < 4; ++k)
-        header[396 + 4 * i + k] = k < e.label.size() ? e.label[k] : ' ';
-    }
-  }
-
   C3DFilePlan plan;
   plan.float_storage = float_storage;
   plan.scale = scale;
@@ -363,6 +390,7 @@ C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& o
     plan.rot_offset = (rot_start - 1) * kBlock;
     plan.rot_bytes = rot.samples(F) * static_cast<size_t>(rot.segments) * kRotationBytes;
   }
+  const std::vector<uint8_t> header = header_block(take, plan, data_start);
   plan.head.resize(header.size() + params.size());
   std::copy(header.begin(), header.end(), plan.head.begin());
   std::copy(params.begin(), params.end(), plan.head.begin() + static_cast<long>(header.size()));

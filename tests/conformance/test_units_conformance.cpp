@@ -15,8 +15,7 @@ namespace {
 
 const std::string kRoot = std::string(CAPZ_SHARED_DATA) + "/c3d";
 
-void compress_at_default_bound(const std::string& rel, const std::string& units,
-                               double metres) {
+void compress_at_default_bound(const std::string& rel, const std::string& units, double metres) {
   const std::string path = kRoot + "/" + rel;
   if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not found (shared data absent)";
   const Take t = read_c3d(path);
@@ -34,7 +33,8 @@ void compress_at_default_bound(const std::string& rel, const std::string& units,
   double worst = 0;
   for (size_t i = 0; i < t.frames * t.points; ++i)
     if (t.valid[i])
-      for (int a = 0; a < 3; ++a) worst = std::max(worst, std::fabs(back.xyz[3 * i + a] - t.xyz[3 * i + a]));
+      for (int a = 0; a < 3; ++a)
+        worst = std::max(worst, std::fabs(back.xyz[3 * i + a] - t.xyz[3 * i + a]));
   EXPECT_LE(worst, opts.max_error);
 }
 

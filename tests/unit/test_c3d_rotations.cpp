@@ -9,16 +9,15 @@
 #include <memory>
 
 #include "capz/error.h"
-#include "coding/quantiser.h"
 #include "capz/io.h"
 #include "capz/stream.h"
+#include "coding/quantiser.h"
 #include "io/c3d_internal.h"
 #include "test_util.h"
 
 using namespace capz;
 
 namespace {
-
 
 C3DParameter int16_param(const std::string& name, int v) {
   C3DParameter p;
@@ -64,8 +63,8 @@ Hand hand_made(size_t extra_blocks = 1) {
   groups[1].id = 2;
   groups[1].name = "ROTATION";
   groups[1].params = {int16_param("USED", static_cast<int>(h.segments)),
-                      int16_param("RATIO", static_cast<int>(h.ratio)),
-                      float_param("RATE", 100.0f), int16_param("DATA_START", 0)};
+                      int16_param("RATIO", static_cast<int>(h.ratio)), float_param("RATE", 100.0f),
+                      int16_param("DATA_START", 0)};
   C3DParameter labels;
   labels.name = "LABELS";
   c3d::set_strings(labels, {"pelvis", "thigh"});
@@ -169,7 +168,8 @@ TEST(C3DRotations, HandMadeRotationsOnlyFileReadsEveryFrame) {
   for (size_t s = 0; s < 10; ++s)
     for (size_t g = 0; g < 2; ++g) {
       for (size_t k = 0; k < 16; ++k)
-        ASSERT_EQ(float_bits(r.matrices[(s * 2 + g) * 16 + k]), float_bits(element(s, g, k))) << s << g << k;
+        ASSERT_EQ(float_bits(r.matrices[(s * 2 + g) * 16 + k]), float_bits(element(s, g, k)))
+            << s << g << k;
       ASSERT_EQ(float_bits(r.reliability[s * 2 + g]), float_bits(element(s, g, 16)));
     }
   EXPECT_EQ(float_bits(r.reliability[3 * 2 + 1]), 0x7fc00123u);
@@ -208,7 +208,8 @@ TEST(C3DRotations, WrittenBackExactlyWithDataStartAfterTheFrames) {
   // No frames of points: the rotations start at the data block, and the writer's bytes there
   // are the hand-made file's rotation bytes.
   const long data_start = static_cast<long>(c3d::number_param(*back.c3d, "POINT", "DATA_START", 0));
-  const long rot_start = static_cast<long>(c3d::number_param(*back.c3d, "ROTATION", "DATA_START", 0));
+  const long rot_start =
+      static_cast<long>(c3d::number_param(*back.c3d, "ROTATION", "DATA_START", 0));
   EXPECT_EQ(rot_start, data_start);
   const size_t n = t.frames * 2 * 2 * c3d::kRotationBytes;
   ASSERT_EQ(out.size(), static_cast<size_t>(rot_start - 1) * 512 + n);
@@ -226,7 +227,8 @@ TEST(C3DRotations, TakeWithPointsAnalogAndRotationsRoundTrips) {
   EXPECT_EQ(back.analog.values, t.analog.values);
   expect_same_rotations(back.rotations, t.rotations);
   // The rotation block follows the frames' last block.
-  const size_t data_start = static_cast<size_t>(c3d::number_param(*back.c3d, "POINT", "DATA_START", 0));
+  const size_t data_start =
+      static_cast<size_t>(c3d::number_param(*back.c3d, "POINT", "DATA_START", 0));
   const size_t rot_start =
       static_cast<size_t>(c3d::number_param(*back.c3d, "ROTATION", "DATA_START", 0));
   const size_t frame_bytes = 7 * (2 * 4 + 2) * 4;
@@ -280,4 +282,20 @@ TEST(C3DRotations, MissingDataStartIsAWarningNotACrash) {
   const Take back = read_c3d_bytes(bytes.data(), bytes.size(), "nostart.c3d");
   EXPECT_EQ(back.rotations.segments, 0);
   EXPECT_TRUE(has_warning(back, "ROTATION:DATA_START")) << back.warnings.size();
+}
+
+TEST(C3DRotations, CountsBeyondWhatAC3DHoldsAreAWarning) {
+  Hand h = hand_made();
+  Take t = read_c3d_bytes(h.bytes.data(), h.bytes.size(), "rot.c3d");
+  for (const char* name : {"USED", "RATIO"}) {
+    std::vector<C3DGroup> groups = t.c3d->groups;
+    c3d::set_float(*c3d::find_param(groups[1], name), 3.0e9f);
+    const std::vector<uint8_t> params = c3d::encode_parameter_section(groups);
+    std::vector<uint8_t> bytes = h.bytes;  // the same file with these parameters
+    ASSERT_LE(512 + params.size(), (h.rot_block - 1) * 512);
+    std::copy(params.begin(), params.end(), bytes.begin() + 512);
+    const Take back = read_c3d_bytes(bytes.data(), bytes.size(), "huge.c3d");
+    EXPECT_EQ(back.rotations.segments, 0) << name;
+    EXPECT_TRUE(has_warning(back, "beyond what a C3D holds")) << name;
+  }
 }

@@ -15,7 +15,6 @@ using namespace capz;
 
 namespace {
 
-
 struct Window {
   size_t samples = 0, segments = 0;
   std::vector<float> matrices, reliability;
@@ -31,9 +30,22 @@ Window smooth(size_t samples, size_t segments, uint32_t seed) {
   for (size_t s = 0; s < samples; ++s)
     for (size_t g = 0; g < segments; ++g) {
       const float a = 0.01f * float(s) + 0.7f * float(g);
-      const float m[16] = {std::cos(a), std::sin(a), 0, 0,  -std::sin(a), std::cos(a), 0, 0,
-                           0,           0,           1, 0,  100 + float(s) + noise(rng),
-                           200 - 0.5f * float(s),    900, 1};
+      const float m[16] = {std::cos(a),
+                           std::sin(a),
+                           0,
+                           0,
+                           -std::sin(a),
+                           std::cos(a),
+                           0,
+                           0,
+                           0,
+                           0,
+                           1,
+                           0,
+                           100 + float(s) + noise(rng),
+                           200 - 0.5f * float(s),
+                           900,
+                           1};
       w.matrices.insert(w.matrices.end(), m, m + 16);
       w.reliability.push_back(s % 50 == 7 ? 0.5f : 1.0f);
     }
@@ -57,7 +69,7 @@ void expect_round_trip(const Window& w) {
 
 // Every special float32 worth a test, in turn.
 const uint32_t kSpecial[] = {
-    0x00000000u, 0x80000000u,  // +0, -0
+    0x00000000u, 0x80000000u,                                         // +0, -0
     0x00000001u, 0x80000001u, 0x007fffffu, 0x807fffffu, 0x00400000u,  // denormals
     0x00800000u, 0x7f7fffffu, 0xff7fffffu,                            // smallest normal, +-max
     0x7f800000u, 0xff800000u,                                         // +-inf
