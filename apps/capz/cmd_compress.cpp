@@ -123,6 +123,12 @@ int cmd_compress(const Args& args) {
     source->edit_header().units = units;
   if (opts.codec == "auto") whole.units = source->header().units;
   const capz::Take& take = source->header();
+  // Until the .capz format stores rotations (format 4.0), say what the archive leaves out.
+  if (take.rotations.segments > 0 && g_verbosity >= 1)
+    std::fprintf(stderr,
+                 "capz compress: warning: %s: the %d rotation segments (%zu samples) are not "
+                 "stored: this .capz format version has no place for them yet\n",
+                 in.c_str(), take.rotations.segments, take.rotations.samples(take.frames));
   opts.clusters = vm["clusters"].as<int>();
   opts.window_frames = vm["window"].as<size_t>();
   opts.check = vm.count("no-check") == 0;
