@@ -67,7 +67,8 @@ po::options_description compress_options() {
       "codec-opt", po::value<std::vector<std::string>>(), "codec option key=value (repeatable)")(
       "clusters", po::value<int>()->default_value(0),
       "clusters for the transform codec (0 = its default, -1 = search)")(
-      "units", po::value<std::string>(), "units of data that has none (PCD folders): mm, cm or m")(
+      "units", po::value<std::string>(),
+      "units of data that has none (PCD folders) or whose units capz cannot read: mm, cm or m")(
       "window", po::value<size_t>()->default_value(0),
       "frames per independently decodable window, 1..8192; 0 (default): 1024, or with codec "
       "none up to 8192 for takes of fewer than 64 points (about 2^16 samples a window)")(
@@ -89,7 +90,8 @@ struct Input {
   double read_cpu_seconds = 0;
 };
 
-// Opens IN; `units` (--units, may be empty) is given to data that has none.
+// Opens IN; `units` (--units, may be empty) is given to data that has none, or whose units capz
+// cannot read (a POINT:UNITS naming several different units, a name it does not know).
 void open_input(const std::string& in, bool whole, const std::string& units, Input* input) {
   const double c_read = thread_cpu_seconds();
   if (whole) {
@@ -99,9 +101,16 @@ void open_input(const std::string& in, bool whole, const std::string& units, Inp
     input->source = capz::open_frames(in);
   }
   input->read_cpu_seconds = thread_cpu_seconds() - c_read;
-  if (input->source->header().units.empty() && !units.empty())
+  if (!units.empty() && capz::units_to_metres(input->source->header().units) == 0)
     input->source->edit_header().units = units;
-  if (whole && input->whole.units.empty()) input->whole.units = input->source->header().units;
+  if (whole) input->whole.units = input->source->header().units;
+  // Until the .capz format stores rotations (format 4.0), say what the archive leaves out.
+  const capz::Take& take = input->source->header();
+  if (take.rotations.segments > 0 && g_verbosity >= 1)
+    std::fprintf(stderr,
+                 "capz compress: warning: %s: the %d rotation segments (%zu samples) are not "
+                 "stored: this .capz format version has no place for them yet\n",
+                 in.c_str(), take.rotations.segments, take.rotations.samples(take.frames));
 }
 
 // Codec, clusters, window, check and --codec-opt from the options.

@@ -87,6 +87,9 @@ int cmd_convert(const Args& args) {
       if (take.c3d)
         std::fprintf(stderr, "capz convert: note: %s does not keep the C3D parameter section\n",
                      capz::format_name(out_format));
+      if (take.rotations.segments > 0)
+        std::fprintf(stderr, "capz convert: note: %s does not keep the %d rotation segments\n",
+                     capz::format_name(out_format), take.rotations.segments);
     }
     if (out_format == capz::Format::kPCDFolder && take.rate > 0)
       std::fprintf(stderr, "capz convert: note: PCD frames do not store the frame rate (%s Hz)\n",

@@ -140,6 +140,13 @@ void print_text(const std::string& path, const capz::Take& t, const Summary& s) 
                         " Hz (" + std::to_string(t.analog.samples_per_frame) + " per frame)");
   else
     line("analog:", "none");
+  const capz::Rotations& r = t.rotations;
+  if (r.segments > 0)
+    line("rotations:", std::to_string(r.segments) + " segments x " +
+                           std::to_string(r.samples(t.frames)) + " samples at " + number(r.rate) +
+                           " Hz (" + std::to_string(r.samples_per_frame) + " per frame)");
+  else if (t.c3d)
+    line("rotations:", "none");
   if (t.c3d && g_verbosity >= 2) {
     size_t params = 0;
     for (const auto& g : t.c3d->groups) params += g.params.size();
@@ -201,6 +208,14 @@ void print_json(const std::string& path, const capz::Take& t, const Summary& s) 
   j.member("rate", t.analog.rate);
   j.member("samples_per_frame", t.analog.samples_per_frame);
   j.member_strings("labels", t.analog.labels);
+  j.end_object();
+  j.key("rotations");
+  j.begin_object();
+  j.member("segments", t.rotations.segments);
+  j.member("samples", static_cast<uint64_t>(t.rotations.samples(t.frames)));
+  j.member("rate", t.rotations.rate);
+  j.member("samples_per_frame", t.rotations.samples_per_frame);
+  j.member_strings("labels", t.rotations.labels);
   j.end_object();
   j.member_strings("warnings", t.warnings);
   j.end_object();

@@ -93,6 +93,28 @@ struct Analog {
   std::vector<double> values;
 };
 
+// Rotation signals (the C3D ROTATION group that Visual3D, Theia and ezc3d use): per segment a
+// 4x4 transform from the segment's local coordinates to the lab's, and a reliability value,
+// sampled `samples_per_frame` times per point frame. Shapes (sample-major, as the C3D stores
+// them), with samples = frames * samples_per_frame:
+//   matrices    : samples x segments x 16 float32, matrices[(s * segments + g) * 16 + k], k the
+//                 element's index in column-major order (row = k % 4, column = k / 4)
+//   reliability : samples x segments float32, reliability[s * segments + g]
+// Values are the float32s the file holds, bit for bit (NaN payloads kept; DEC floats
+// converted). segments == 0: no rotations (both arrays empty).
+struct Rotations {
+  int segments = 0;                 // ROTATION:USED
+  int samples_per_frame = 0;        // ROTATION:RATIO (>= 1 when segments > 0)
+  double rate = 0;                  // Hz, ROTATION:RATE (0 when the file gives none)
+  std::vector<std::string> labels;  // one per segment (may be empty strings)
+  std::vector<float> matrices;
+  std::vector<float> reliability;
+
+  size_t samples(size_t frames) const {
+    return segments > 0 ? frames * static_cast<size_t>(samples_per_frame) : 0;
+  }
+};
+
 // TRC specifics (OpenSim / Motion Analysis). Kept so a TRC written back looks like the source.
 struct TRCExtra {
   std::string
@@ -130,6 +152,7 @@ struct Take {
   std::vector<std::string> descriptions;  // one per point or empty
 
   Analog analog;                  // channels == 0 when none
+  Rotations rotations;            // segments == 0 when none
   std::shared_ptr<C3DExtra> c3d;  // set when read from C3D
   std::shared_ptr<TRCExtra> trc;  // set when read from TRC
   std::shared_ptr<PCDExtra> pcd;  // set when read from a PCD folder
@@ -147,8 +170,11 @@ struct Take {
   size_t gap_samples() const;  // number of (frame, point) samples that are gaps
 };
 
-// Scale factor from a units string to metres: "mm" -> 0.001, "cm" -> 0.01, "m" -> 1,
-// "in" -> 0.0254; 0 when unknown. Case-insensitive, surrounding blanks ignored.
+// Scale factor from one unit's name to metres: "mm" -> 0.001, "cm" -> 0.01, "m" -> 1,
+// "in" -> 0.0254; 0 when unknown. Case-insensitive, surrounding blanks ignored. Abbreviations
+// (mm cm dm m km um in ft yd) match whole; names spelled out match in either spelling, singular
+// or plural ("millimetres", "meter"), or cut short to at least 4 letters ("mete", "mill") when
+// the letters name one unit only.
 double units_to_metres(const std::string& units);
 
 }  // namespace capz

@@ -7,6 +7,8 @@
 #include <limits>
 
 #include "capz/error.h"
+#include "coding/analog_v3.h"
+#include "coding/c3d_words.h"
 
 namespace capz {
 namespace {

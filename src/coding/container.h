@@ -22,7 +22,7 @@ constexpr size_t kFileHeaderBytes = 11;               // magic + major + minor (
 inline size_t file_header_bytes(int major) {
   return major >= 4 ? kFileHeaderBytes + 4 : kFileHeaderBytes;
 }
-constexpr size_t kChunkOverhead = 12;                 // type + length + crc
+constexpr size_t kChunkOverhead = 12;  // type + length + crc
 
 // Appends magic and version (and from 4.0 on the version's CRC).
 void write_file_header(std::vector<uint8_t>* out);

@@ -49,20 +49,30 @@ inline double round_half_away(double x) {
   return d >= 0.5 ? t + 1 : d <= -0.5 ? t - 1 : t;
 }
 
+// A float32's bits and back (memcpy: no value passes through a float register on the way, so a
+// signalling NaN keeps its bits).
+inline uint32_t float_bits(float f) {
+  uint32_t u;
+  std::memcpy(&u, &f, 4);
+  return u;
+}
+inline float bits_float(uint32_t u) {
+  float f;
+  std::memcpy(&f, &u, 4);
+  return f;
+}
+
 // float32 bits <-> an int32 that orders like the float values (sign-magnitude to two's
 // complement): non-negative floats keep their bits, negative ones flip the magnitude bits.
 inline int32_t float_to_ordered(float f) {
-  uint32_t b;
-  std::memcpy(&b, &f, 4);
+  uint32_t b = float_bits(f);
   if (b & 0x80000000u) b ^= 0x7FFFFFFFu;
   return static_cast<int32_t>(b);
 }
 inline float ordered_to_float(int32_t q) {
   uint32_t b = static_cast<uint32_t>(q);
   if (b & 0x80000000u) b ^= 0x7FFFFFFFu;
-  float f;
-  std::memcpy(&f, &b, 4);
-  return f;
+  return bits_float(b);
 }
 inline int64_t double_to_ordered(double d) {
   uint64_t b;

@@ -129,16 +129,47 @@ size_t Take::gap_samples() const {
   return static_cast<size_t>(std::count(valid.begin(), valid.end(), uint8_t{0}));
 }
 
+namespace {
+
+struct UnitName {
+  const char* name;
+  double metres;
+};
+// Abbreviations, matched whole.
+const UnitName kUnitAbbreviations[] = {
+    {"mm", 0.001}, {"cm", 0.01},        {"dm", 0.1},    {"m", 1.0},     {"km", 1000.0},
+    {"um", 1e-6},  {"\xc2\xb5m", 1e-6}, {"in", 0.0254}, {"ft", 0.3048}, {"yd", 0.9144},
+};
+// Names spelled out, matched whole or cut short (C3D writers truncate char parameters: "mete"),
+// both spellings, singular or plural.
+const UnitName kUnitNames[] = {
+    {"millimetres", 0.001}, {"millimeters", 0.001}, {"centimetres", 0.01}, {"centimeters", 0.01},
+    {"decimetres", 0.1},    {"decimeters", 0.1},    {"metres", 1.0},       {"meters", 1.0},
+    {"kilometres", 1000.0}, {"kilometers", 1000.0}, {"micrometres", 1e-6}, {"micrometers", 1e-6},
+    {"microns", 1e-6},      {"inches", 0.0254},     {"feet", 0.3048},      {"foot", 0.3048},
+    {"yards", 0.9144},
+};
+// A cut-short name must keep this many letters ("met" could be a typo for anything).
+constexpr size_t kMinUnitPrefix = 4;
+
+}  // namespace
+
 double units_to_metres(const std::string& units) {
-  std::string u = lower(trim(units));
-  if (u == "mm" || u == "millimeters" || u == "millimetres") return 0.001;
-  if (u == "cm" || u == "centimeters" || u == "centimetres") return 0.01;
-  if (u == "m" || u == "meters" || u == "metres") return 1.0;
-  if (u == "dm") return 0.1;
-  if (u == "in" || u == "inch" || u == "inches") return 0.0254;
-  if (u == "ft" || u == "feet") return 0.3048;
-  if (u == "um" || u == "micrometers") return 1e-6;
-  return 0.0;
+  const std::string u = lower(trim(units));
+  if (u.empty()) return 0.0;
+  for (const UnitName& a : kUnitAbbreviations)
+    if (u == a.name) return a.metres;
+  // Whole names and their singulars ("metre", "inch") are prefixes of the plurals too.
+  double found = 0;
+  for (const UnitName& n : kUnitNames) {
+    const std::string name = n.name;
+    const bool whole = u == name || u + "s" == name || u + "es" == name;
+    const bool prefix = u.size() >= kMinUnitPrefix && name.compare(0, u.size(), u) == 0;
+    if (!whole && !prefix) continue;
+    if (found != 0 && found != n.metres) return 0.0;  // a prefix of two different units
+    found = n.metres;
+  }
+  return found;
 }
 
 }  // namespace capz

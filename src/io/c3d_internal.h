@@ -108,6 +108,13 @@ std::vector<uint8_t> encode_parameter_section(const std::vector<C3DGroup>& group
 // (e.g. LABELS, LABELS2). Empty when the base parameter is absent or not a char array.
 std::vector<std::string> string_list(const C3DExtra& extra, const std::string& group,
                                      const std::string& base);
+// POINT:UNITS as one unit name: the first of its entries (a 2-D char array's strings, or a 1-D
+// one's blank-separated words; trimmed; empty ones skipped) when every entry names the same unit
+// (the same units_to_metres factor, or the same letters ignoring case for names capz does not
+// know). When they disagree: the distinct entries joined by ", " (which no unit parses as, so a
+// bound in length units is refused) and *disagreement says which they are. "" when the
+// parameter is absent, empty or not a char array.
+std::string point_units(const C3DExtra& extra, std::string* disagreement = nullptr);
 // First element of a numeric parameter, or `fallback` when absent / empty / not numeric.
 double number_param(const C3DExtra& extra, const std::string& group, const std::string& name,
                     double fallback);
@@ -148,7 +155,16 @@ struct DataLayout {
   bool analog_unsigned = false;  // ANALOG:FORMAT = UNSIGNED (int16 files)
   double scale = 1;              // |POINT:SCALE| as used for int16 coordinates
   size_t warning_at = 0;         // where in Take::warnings a warning about the frames belongs
+  // The ROTATION section (rot_per_frame = 0 when the take has none): from file offset
+  // rot_offset, per point frame rot_samples_per_frame x rot_segments rotations of
+  // kRotationBytes each.
+  size_t rot_offset = 0, rot_per_frame = 0;
+  size_t rot_samples_per_frame = 0, rot_segments = 0;
 };
+
+// One stored rotation: 16 float32 matrix elements, column-major, then the reliability float32,
+// in the file's number form (ezc3d and Visual3D lay it out so; Rotations in take.h).
+constexpr size_t kRotationBytes = 17 * 4;
 
 // Bytes past the parameter section's limit that read_header is also given, for an entry that
 // starts before the data section and runs on into it (an entry's next-entry offset is an int16,
@@ -173,6 +189,9 @@ void decode_frames(const DataLayout& lay, const uint8_t* bytes, size_t count, do
                    uint8_t* valid, float* residual, uint8_t* camera, double* analog,
                    size_t* wide_word4);
 std::string wide_word4_warning(size_t count);
+// Decodes the rotations of `frames` point frames stored at `bytes` (frames * lay.rot_per_frame
+// bytes) into r's arrays (take.h shapes); r's counts are read_header's.
+void decode_c3d_rotations(const DataLayout& lay, const uint8_t* bytes, size_t frames, Rotations* r);
 
 // ---- writing by parts (c3d_write.cpp): header and parameters first, then frames -------------
 
@@ -194,6 +213,8 @@ double c3d_scale_from_data(double max_abs);
 bool c3d_needs_scan(const Take& take, const WriteOptions& opts);
 // Throws kUsage when the take does not fit C3D's counts.
 void check_c3d_limits(const Take& take, const std::string& name);
+// Throws kInternal when take.rotations' arrays do not have the shapes take.h gives.
+void check_c3d_rotations(const Take& take, const std::string& name);
 
 struct C3DFilePlan {
   bool float_storage = false;
@@ -202,6 +223,9 @@ struct C3DFilePlan {
   size_t frames = 0, points = 0, analog_total = 0;
   size_t per_frame = 0;       // bytes per frame
   std::vector<uint8_t> head;  // header block + parameter section: the bytes before frame 0
+  // Rotations (rot_bytes = 0 without): file offset (a block boundary at or past the frames'
+  // end; zeros between) and size of the rotation section.
+  size_t rot_offset = 0, rot_bytes = 0;
 };
 // `take`: metadata and frame count (per-frame arrays not used).
 C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& opts,
@@ -213,6 +237,10 @@ C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& o
 void encode_c3d_frames(const C3DFilePlan& plan, size_t count, const double* xyz,
                        const uint8_t* valid, const float* residual, const uint8_t* camera,
                        const double* analog, uint8_t* out, bool* points_fit = nullptr);
+
+// The rotations of `frames` point frames into out (Rotations::samples(frames) x segments x
+// kRotationBytes bytes, Intel form), laid out as decode_c3d_rotations reads them.
+void encode_c3d_rotations(const Rotations& r, size_t frames, uint8_t* out);
 
 // The whole file write_c3d writes, in memory (`name` only for messages).
 std::vector<uint8_t> encode_c3d_file(const Take& take, const WriteOptions& opts,

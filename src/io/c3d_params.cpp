@@ -396,6 +396,56 @@ std::vector<std::string> string_list(const C3DExtra& extra, const std::string& g
   return out;
 }
 
+namespace {
+
+// The entries of a units parameter: a 2-D array's strings, or a 1-D one's blank-separated words
+// (writers pad one unit per point into a single string too), trimmed, empty ones skipped.
+std::vector<std::string> unit_entries(const C3DParameter& p) {
+  std::vector<std::string> out;
+  for (const std::string& s : p.as_strings()) {
+    std::string word;
+    for (char c : s + ' ') {
+      if (c != ' ' && c != '\0' && c != '\t') {
+        word.push_back(c);
+      } else if (!word.empty()) {
+        out.push_back(word);
+        word.clear();
+      }
+    }
+  }
+  return out;
+}
+
+bool same_unit(const std::string& a, const std::string& b) {
+  const double fa = units_to_metres(a), fb = units_to_metres(b);
+  return fa != 0 || fb != 0 ? fa == fb : lower(a) == lower(b);
+}
+
+}  // namespace
+
+std::string point_units(const C3DExtra& extra, std::string* disagreement) {
+  if (disagreement) disagreement->clear();
+  const C3DParameter* p = extra.param("POINT", "UNITS");
+  if (!p || p->type != -1) return "";
+  const std::vector<std::string> entries = unit_entries(*p);
+  if (entries.empty()) return "";
+  std::vector<std::string> distinct;
+  for (const std::string& e : entries)
+    if (std::none_of(distinct.begin(), distinct.end(),
+                     [&](const std::string& d) { return same_unit(d, e); }))
+      distinct.push_back(e);
+  if (distinct.size() == 1) return entries[0];
+  std::string joined, quoted;
+  for (const std::string& d : distinct) {
+    joined += (joined.empty() ? "" : ", ") + d;
+    quoted += (quoted.empty() ? "'" : ", '") + d + "'";
+  }
+  if (disagreement)
+    *disagreement = "POINT:UNITS names different units (" + quoted +
+                    "); capz does not know which the coordinates are in (give --units)";
+  return joined;
+}
+
 double number_param(const C3DExtra& extra, const std::string& group, const std::string& name,
                     double fallback) {
   const C3DParameter* p = extra.param(group, name);

@@ -1,5 +1,5 @@
-// Decoder library (capz_decode): builds without PCL and without the transform encoders.
 // capz — C3D reader.
+// Decoder library (capz_decode): builds without PCL and without the transform encoders.
 //
 // Accepts Intel (84), DEC (85) and MIPS (86) files with int16 or float storage. What the reader
 // decides when the file is inconsistent, in order:
@@ -105,8 +105,21 @@ size_t header_extent(const uint8_t* data, size_t avail, size_t size) {
   return std::min(size, parameter_limit(data, size) + kHeaderSlack);
 }
 
-Take read_header(const uint8_t* data, size_t avail, size_t size, const std::string& name,
-                 DataLayout* out) {
+namespace {
+
+// The header block's fields (1-based 16-bit words, docs/C3D.md) in the file's number form.
+struct HeaderFields {
+  size_t points = 0;         // word 2
+  size_t analog_total = 0;   // word 3: analog values per frame
+  long first = 0, last = 0;  // words 4, 5
+  float scale = 0;           // words 7-8
+  size_t data_start = 0;     // word 9
+  size_t analog_spf = 0;     // word 10
+  float rate = 0;            // words 11-12
+};
+
+// Throws unless the first bytes can be a C3D header pointing at a parameter block.
+void check_header_block(const uint8_t* data, size_t avail, size_t size, const std::string& name) {
   if (size == 0) fail(ErrorCode::kNotOurFormat, name, "empty file (0 bytes), not a C3D file");
   if (size < 2 || data[1] != 0x50) {
     char buf[96];
@@ -118,11 +131,288 @@ Take read_header(const uint8_t* data, size_t avail, size_t size, const std::stri
     fail(ErrorCode::kCorrupt, name,
          "truncated: " + std::to_string(size) + " bytes, the C3D header alone needs 512");
   if (data[0] == 0) fail(ErrorCode::kCorrupt, name, "header points to parameter block 0");
+}
 
+// Storage type and |scale| from the header's scale and POINT:SCALE (the header's wins).
+void read_storage(const HeaderFields& h, C3DExtra* x, std::vector<std::string>* warnings) {
+  auto warn = [&](const std::string& w) { warnings->push_back(w); };
+  const C3DParameter* scale_par = x->param("POINT", "SCALE");
+  float p_scale = 0;
+  bool have_p_scale = false;
+  if (scale_par && scale_par->type != -1 && !scale_par->data.empty()) {
+    p_scale = scale_par->as_floats()[0];
+    have_p_scale = true;
+  }
+  x->float_storage = h.scale < 0;
+  if (have_p_scale && (p_scale < 0) != (h.scale < 0))
+    warn("header scale " + num(h.scale) + " and POINT:SCALE " + num(p_scale) +
+         " disagree on the storage type (the header's is used)");
+  double scale = std::fabs(static_cast<double>(h.scale));
+  if (have_p_scale && std::fabs(p_scale) != std::fabs(h.scale)) {
+    warn("header scale " + num(h.scale) + " differs from POINT:SCALE " + num(p_scale) +
+         (x->float_storage ? "" : " (the header's is used)"));
+  }
+  if (!std::isfinite(scale) || scale == 0) {
+    double alt = have_p_scale ? std::fabs(static_cast<double>(p_scale)) : 0;
+    if (std::isfinite(alt) && alt > 0) {
+      scale = alt;
+    } else {
+      if (!x->float_storage) warn("scale factor is " + num(h.scale) + "; using 1");
+      scale = 1.0;
+    }
+  }
+  x->point_scale = scale;
+}
+
+// The first data block: the header's, or POINT:DATA_START when the header gives 0.
+size_t data_start_block(const HeaderFields& h, const C3DExtra& x, const std::string& name,
+                        std::vector<std::string>* warnings) {
+  size_t data_start = h.data_start;
+  long p_start = count_param(x, "POINT", "DATA_START");
+  if (data_start == 0) {
+    if (p_start <= 0)
+      fail(ErrorCode::kCorrupt, name, "header and POINT:DATA_START give no data block");
+    warnings->push_back("header data start is 0; using POINT:DATA_START = " +
+                        std::to_string(p_start));
+    data_start = static_cast<size_t>(p_start);
+  } else if (p_start >= 0 && static_cast<size_t>(p_start) != data_start) {
+    warnings->push_back("header says the data starts at block " + std::to_string(data_start) +
+                        ", POINT:DATA_START says " + std::to_string(p_start) +
+                        " (the header's is used)");
+  }
+  return data_start;
+}
+
+// Frames the header and parameters claim (before checking them against the bytes present), and
+// the first frame's number.
+size_t claimed_frames(const HeaderFields& h, const C3DExtra& x, long* first,
+                      std::vector<std::string>* warnings) {
+  *first = h.first;
+  size_t frames = h.last >= h.first ? static_cast<size_t>(h.last - h.first + 1) : 0;
+  long p_frames = count_param(x, "POINT", "FRAMES");
+  long tr_start = trial_field(x, "ACTUAL_START_FIELD");
+  long tr_end = trial_field(x, "ACTUAL_END_FIELD");
+  bool have_trial = tr_start >= 0 && tr_end >= tr_start;
+  long tr_frames = have_trial ? tr_end - tr_start + 1 : -1;
+  bool header_limited = h.last == 65535 || tr_frames > 65535 || p_frames > 65535;
+  if (header_limited && (have_trial || p_frames > 0)) {
+    size_t f = have_trial ? static_cast<size_t>(tr_frames) : static_cast<size_t>(p_frames);
+    if (f != frames)
+      warnings->push_back("header says " + std::to_string(frames) +
+                          " frames, which 16 bits cannot exceed; " +
+                          (have_trial ? "TRIAL:ACTUAL_*_FIELD" : "POINT:FRAMES") + " says " +
+                          std::to_string(f) + " (used)");
+    frames = f;
+    if (have_trial) *first = tr_start;
+  } else if (p_frames >= 0 && static_cast<size_t>(p_frames) != frames) {
+    warnings->push_back("header says " + std::to_string(frames) + " frames, POINT:FRAMES says " +
+                        std::to_string(p_frames) + " (the header's count is used)");
+  }
+  return frames;
+}
+
+struct FrameLayout {
+  size_t points = 0, analog_total = 0, spf = 0, channels = 0;
+};
+
+// Points and analog values per frame: the header's counts, unless POINT:USED / ANALOG:USED
+// give a layout that fills the `data_bytes` of the data section exactly where the header's does
+// not fit or leaves more unexplained bytes (some writers put the channel count in header word 3
+// instead of channels x samples).
+FrameLayout choose_layout(const HeaderFields& h, const C3DExtra& x, size_t frames, size_t elem,
+                          size_t data_bytes, std::vector<std::string>* warnings) {
+  auto warn = [&](const std::string& w) { warnings->push_back(w); };
+  size_t spf = h.analog_spf;
+  long p_used = count_param(x, "POINT", "USED");
+  long a_used = count_param(x, "ANALOG", "USED");
+  if (h.analog_total > 0 && spf == 0) {
+    spf = 1;
+    if (a_used > 0 && h.analog_total % static_cast<size_t>(a_used) == 0)
+      spf = h.analog_total / static_cast<size_t>(a_used);
+    warn("header gives 0 analog samples per frame for " + std::to_string(h.analog_total) +
+         " analog values per frame; using " + std::to_string(spf));
+  }
+  struct Layout {
+    size_t points, analog_total;
+  };
+  std::vector<Layout> cands = {{h.points, h.analog_total}};
+  std::vector<size_t> point_opts = {h.points}, analog_opts = {h.analog_total};
+  if (p_used >= 0 && static_cast<size_t>(p_used) != h.points) point_opts.push_back(p_used);
+  if (a_used >= 0 && spf > 0 && static_cast<size_t>(a_used) * spf != h.analog_total)
+    analog_opts.push_back(static_cast<size_t>(a_used) * spf);
+  for (size_t pp : point_opts)
+    for (size_t aa : analog_opts)
+      if (pp != h.points || aa != h.analog_total) cands.push_back({pp, aa});
+  auto tight = [&](const Layout& l) {  // fills the data section up to block padding
+    const size_t frame_bytes = (l.points * 4 + l.analog_total) * elem;
+    long double sl = static_cast<long double>(data_bytes) -
+                     static_cast<long double>(frames) * static_cast<long double>(frame_bytes);
+    return sl >= 0 && sl < static_cast<long double>(kBlock + frame_bytes);
+  };
+  Layout lay = cands[0];
+  if (frames > 0 && !tight(lay))
+    for (size_t i = 1; i < cands.size(); ++i)
+      if (tight(cands[i])) {
+        lay = cands[i];
+        break;
+      }
+  FrameLayout out;
+  out.points = lay.points;
+  out.analog_total = lay.analog_total;
+  if (p_used >= 0 && static_cast<size_t>(p_used) != h.points)
+    warn("header says " + std::to_string(h.points) + " points, POINT:USED says " +
+         std::to_string(p_used) + " (" +
+         (out.points == h.points ? "the header's" : "POINT:USED's") +
+         " count fits the data and is used)");
+  if (out.analog_total != h.analog_total)
+    warn("header says " + std::to_string(h.analog_total) +
+         " analog values per frame, ANALOG:USED " + std::to_string(a_used) + " x " +
+         std::to_string(spf) + " samples per frame fits the data and is used");
+  if (out.analog_total == 0) return out;
+  out.spf = spf;
+  out.channels = out.analog_total / spf;
+  if (out.analog_total % spf != 0)
+    warn("the " + std::to_string(out.analog_total) +
+         " analog values per frame are not a multiple of " + std::to_string(spf) +
+         " samples per frame; the remainder is skipped");
+  if (a_used >= 0 && static_cast<size_t>(a_used) != out.channels &&
+      out.analog_total == h.analog_total)
+    warn("header gives " + std::to_string(out.channels) + " analog channels, ANALOG:USED says " +
+         std::to_string(a_used) + " (the header's count is used)");
+  return out;
+}
+
+// The ROTATION group's layout into lay->rot_* and r's segments, ratio, rate and labels (arrays
+// left empty). No rotations (segments 0) without the group, with USED 0, or when the group does
+// not say where the data is (a warning then).
+void read_rotation_layout(const C3DExtra& x, double point_rate, DataLayout* lay, Rotations* r,
+                          std::vector<std::string>* warnings) {
+  const long used = count_param(x, "ROTATION", "USED");
+  if (used <= 0) return;
+  const long start = count_param(x, "ROTATION", "DATA_START");
+  if (start < 2) {
+    warnings->push_back("ROTATION:USED says " + std::to_string(used) +
+                        " segments but ROTATION:DATA_START gives no data block (" +
+                        std::to_string(start) + "); the rotations are not read");
+    return;
+  }
+  long ratio = count_param(x, "ROTATION", "RATIO");
+  const double rate = number_param(x, "ROTATION", "RATE", 0);
+  const double rate_ratio = point_rate > 0 ? rate / point_rate : 0;
+  if (ratio <= 0 && rate_ratio >= 0.5 && rate_ratio < 65535.5)
+    ratio = std::lround(rate_ratio);  // ezc3d's fallback without RATIO
+  if (ratio <= 0) {
+    warnings->push_back("ROTATION:RATIO and RATE give no samples per frame; 1 is used");
+    ratio = 1;
+  }
+  if (used > 65535 || ratio > 65535) {  // float parameters can claim billions
+    warnings->push_back("ROTATION:USED " + std::to_string(used) + " x RATIO " +
+                        std::to_string(ratio) +
+                        " is beyond what a C3D holds (65535 each); "
+                        "the rotations are not read");
+    return;
+  }
+  r->segments = static_cast<int>(used);
+  r->samples_per_frame = static_cast<int>(ratio);
+  r->rate = std::isfinite(rate) && rate > 0 ? rate : point_rate * static_cast<double>(ratio);
+  r->labels = string_list(x, "ROTATION", "LABELS");
+  r->labels.resize(static_cast<size_t>(used));
+  lay->rot_offset = (static_cast<size_t>(start) - 1) * kBlock;
+  lay->rot_samples_per_frame = static_cast<size_t>(ratio);
+  lay->rot_segments = static_cast<size_t>(used);
+  lay->rot_per_frame = lay->rot_samples_per_frame * lay->rot_segments * kRotationBytes;
+}
+
+// The frame count checked against the bytes there are: the point / analog section holds
+// `data_bytes`, the rotation section runs to the end of a file of `size` bytes.
+size_t frames_present(size_t frames, size_t per_frame, size_t data_bytes, size_t size,
+                      DataLayout* lay, Rotations* rot, std::vector<std::string>* warnings) {
+  auto warn = [&](const std::string& w) { warnings->push_back(w); };
+  if (per_frame > 0 && frames > data_bytes / per_frame) {
+    warn("header says " + std::to_string(frames) + " frames, file holds " +
+         std::to_string(data_bytes / per_frame));
+    frames = data_bytes / per_frame;
+  }
+  if (lay->rot_per_frame > 0) {
+    const size_t rot_frames =
+        lay->rot_offset < size ? (size - lay->rot_offset) / lay->rot_per_frame : 0;
+    if (rot_frames == 0 && per_frame > 0 && frames > 0) {
+      warn("ROTATION:DATA_START points past the file's end; the " + std::to_string(rot->segments) +
+           " rotation segments are not read");
+      *rot = Rotations();
+      lay->rot_per_frame = lay->rot_segments = lay->rot_samples_per_frame = 0;
+    } else if (frames > rot_frames) {
+      warn("header says " + std::to_string(frames) + " frames, the rotation section holds " +
+           std::to_string(rot_frames));
+      frames = rot_frames;
+    }
+  } else if (per_frame == 0 && frames > 0) {
+    // Frames of nothing: the count is unverifiable (TRIAL fields can claim 4 billion frames of
+    // nothing, which every later stage would loop over). Such frames carry no data.
+    warn("header says " + std::to_string(frames) +
+         " frames of no points and no analog values; read as 0 frames");
+    frames = 0;
+  }
+  return frames;
+}
+
+// POINT / ANALOG labels, rates and units into t (points and channels already set).
+void read_labels_rates_units(const C3DExtra& x, float h_rate, Take* t,
+                             std::vector<std::string>* warnings) {
+  auto warn = [&](const std::string& w) { warnings->push_back(w); };
+  const size_t points = t->points, channels = static_cast<size_t>(t->analog.channels);
+  t->labels = string_list(x, "POINT", "LABELS");
+  if (t->labels.size() < points && x.group("POINT"))
+    warn("POINT:LABELS has " + std::to_string(t->labels.size()) + " labels for " +
+         std::to_string(points) + " points");
+  t->labels.resize(points);
+  t->descriptions = string_list(x, "POINT", "DESCRIPTIONS");
+  if (!t->descriptions.empty()) t->descriptions.resize(points);
+  t->analog.labels = string_list(x, "ANALOG", "LABELS");
+  t->analog.labels.resize(channels);
+
+  double p_rate = number_param(x, "POINT", "RATE", 0);
+  t->rate = std::isfinite(p_rate) && p_rate > 0 ? p_rate : static_cast<double>(h_rate);
+  if (!std::isfinite(t->rate) || t->rate < 0) t->rate = 0;
+  if (p_rate > 0 && std::isfinite(h_rate) && std::fabs(p_rate - h_rate) > 1e-3 * p_rate)
+    warn("header rate " + num(h_rate) + " Hz differs from POINT:RATE " + num(p_rate) +
+         " Hz (POINT:RATE is used)");
+  double a_rate = number_param(x, "ANALOG", "RATE", 0);
+  const bool a_ok = std::isfinite(a_rate) && a_rate > 0;
+  t->analog.rate = a_ok ? a_rate : channels == 0 ? 0 : t->rate * t->analog.samples_per_frame;
+  std::string units_fault;
+  t->units = point_units(x, &units_fault);
+  if (!units_fault.empty()) warn(units_fault);
+}
+
+// The header's events (words 150..198, bytes 376.. and 396..).
+void read_header_events(const uint8_t* data, const NumberFormat& nf, C3DExtra* x,
+                        std::vector<std::string>* warnings) {
+  auto word = [&](int w) { return nf.u16(data + 2 * (w - 1)); };
+  x->header_events_label_range = word(150) == 12345;
+  size_t nev = word(151);
+  if (nev > 18) {
+    warnings->push_back("header says " + std::to_string(nev) + " events, it holds at most 18");
+    nev = 18;
+  }
+  for (size_t i = 0; i < nev; ++i) {
+    C3DHeaderEvent e;
+    e.time = nf.f32(data + 2 * (153 + 2 * static_cast<int>(i) - 1));
+    e.display = data[376 + i] != 0;
+    e.label = trim(std::string(reinterpret_cast<const char*>(data + 396 + 4 * i), 4));
+    x->header_events.push_back(e);
+  }
+}
+
+}  // namespace
+
+Take read_header(const uint8_t* data, size_t avail, size_t size, const std::string& name,
+                 DataLayout* out) {
+  check_header_block(data, avail, size, name);
   const size_t param_offset = (static_cast<size_t>(data[0]) - 1) * kBlock;
   const size_t limit = parameter_limit(data, size);
-  c3d::ParameterSection sec = c3d::parse_parameter_section(data, avail, param_offset, limit, name);
-  const c3d::NumberFormat nf{sec.processor};
+  ParameterSection sec = parse_parameter_section(data, avail, param_offset, limit, name);
+  const NumberFormat nf{sec.processor};
   auto word = [&](int w) { return nf.u16(data + 2 * (w - 1)); };  // 1-based header words
   auto fword = [&](int w) { return nf.f32(data + 2 * (w - 1)); };
 
@@ -134,179 +424,43 @@ Take read_header(const uint8_t* data, size_t avail, size_t size, const std::stri
   x->groups = std::move(sec.groups);
   for (auto& w : sec.warnings) t.warnings.push_back(w);
   for (auto& w : sec.notes) t.warnings.push_back(w);
-  auto warn = [&](const std::string& w) { t.warnings.push_back(w); };
+  std::vector<std::string>* warnings = &t.warnings;
 
-  // ---- header ----
-  const size_t h_points = word(2);
-  const size_t h_analog_total = word(3);
-  const long h_first = word(4);
-  const long h_last = word(5);
+  HeaderFields h;
+  h.points = word(2);
+  h.analog_total = word(3);
+  h.first = word(4);
+  h.last = word(5);
   x->max_interpolation_gap = word(6);
-  const float h_scale = fword(7);
-  const size_t h_data_start = word(9);
-  const size_t h_analog_spf = word(10);
-  const float h_rate = fword(11);
+  h.scale = fword(7);
+  h.data_start = word(9);
+  h.analog_spf = word(10);
+  h.rate = fword(11);
 
-  // ---- storage ----
-  const C3DParameter* scale_par = x->param("POINT", "SCALE");
-  float p_scale = 0;
-  bool have_p_scale = false;
-  if (scale_par && scale_par->type != -1 && !scale_par->data.empty()) {
-    p_scale = scale_par->as_floats()[0];
-    have_p_scale = true;
-  }
-  x->float_storage = h_scale < 0;
-  if (have_p_scale && (p_scale < 0) != (h_scale < 0))
-    warn("header scale " + num(h_scale) + " and POINT:SCALE " + num(p_scale) +
-         " disagree on the storage type (the header's is used)");
-  double scale = std::fabs(static_cast<double>(h_scale));
-  if (have_p_scale && std::fabs(p_scale) != std::fabs(h_scale)) {
-    warn("header scale " + num(h_scale) + " differs from POINT:SCALE " + num(p_scale) +
-         (x->float_storage ? "" : " (the header's is used)"));
-  }
-  if (!std::isfinite(scale) || scale == 0) {
-    double alt = have_p_scale ? std::fabs(static_cast<double>(p_scale)) : 0;
-    if (std::isfinite(alt) && alt > 0) {
-      scale = alt;
-    } else {
-      if (!x->float_storage) warn("scale factor is " + num(h_scale) + "; using 1");
-      scale = 1.0;
-    }
-  }
-  x->point_scale = scale;
+  read_storage(h, x.get(), warnings);
   const size_t elem = x->float_storage ? 4 : 2;
+  const size_t data_offset = (data_start_block(h, *x, name, warnings) - 1) * kBlock;
+  long first = 0;
+  size_t frames = claimed_frames(h, *x, &first, warnings);
 
-  // ---- data start ----
-  size_t data_start = h_data_start;
-  long p_start = count_param(*x, "POINT", "DATA_START");
-  if (data_start == 0) {
-    if (p_start <= 0)
-      fail(ErrorCode::kCorrupt, name, "header and POINT:DATA_START give no data block");
-    warn("header data start is 0; using POINT:DATA_START = " + std::to_string(p_start));
-    data_start = static_cast<size_t>(p_start);
-  } else if (p_start >= 0 && static_cast<size_t>(p_start) != data_start) {
-    warn("header says the data starts at block " + std::to_string(data_start) +
-         ", POINT:DATA_START says " + std::to_string(p_start) + " (the header's is used)");
-  }
-  const size_t data_offset = (data_start - 1) * kBlock;
-  const size_t data_bytes = data_offset < size ? size - data_offset : 0;
+  // Point rate before the rotation layout (a ROTATION group without RATIO needs it).
+  const double p_rate = number_param(*x, "POINT", "RATE", 0);
+  const double point_rate = std::isfinite(p_rate) && p_rate > 0 ? p_rate : h.rate;
+  read_rotation_layout(*x, point_rate, out, &t.rotations, warnings);
+  // The point / analog section ends where a rotation section after it starts.
+  size_t data_end = size;
+  if (out->rot_per_frame > 0 && out->rot_offset > data_offset)
+    data_end = std::min(size, out->rot_offset);
+  const size_t data_bytes = data_offset < data_end ? data_end - data_offset : 0;
+  const FrameLayout fl = choose_layout(h, *x, frames, elem, data_bytes, warnings);
+  const size_t per_frame = (fl.points * 4 + fl.analog_total) * elem;
+  frames = frames_present(frames, per_frame, data_bytes, size, out, &t.rotations, warnings);
 
-  // ---- frames ----
-  int64_t first = h_first;
-  size_t frames = h_last >= h_first ? static_cast<size_t>(h_last - h_first + 1) : 0;
-  long p_frames = count_param(*x, "POINT", "FRAMES");
-  long tr_start = trial_field(*x, "ACTUAL_START_FIELD");
-  long tr_end = trial_field(*x, "ACTUAL_END_FIELD");
-  bool have_trial = tr_start >= 0 && tr_end >= tr_start;
-  long tr_frames = have_trial ? tr_end - tr_start + 1 : -1;
-  bool header_limited = h_last == 65535 || tr_frames > 65535 || p_frames > 65535;
-  if (header_limited && (have_trial || p_frames > 0)) {
-    size_t f = have_trial ? static_cast<size_t>(tr_frames) : static_cast<size_t>(p_frames);
-    if (f != frames)
-      warn("header says " + std::to_string(frames) + " frames, which 16 bits cannot exceed; " +
-           (have_trial ? "TRIAL:ACTUAL_*_FIELD" : "POINT:FRAMES") + " says " + std::to_string(f) +
-           " (used)");
-    frames = f;
-    if (have_trial) first = tr_start;
-  } else if (p_frames >= 0 && static_cast<size_t>(p_frames) != frames) {
-    warn("header says " + std::to_string(frames) + " frames, POINT:FRAMES says " +
-         std::to_string(p_frames) + " (the header's count is used)");
-  }
-
-  // ---- layout: points and analog values per frame ----
-  // The header's counts, unless POINT:USED / ANALOG:USED give a layout that fills the data
-  // section exactly where the header's does not fit or leaves more unexplained bytes (some
-  // writers put the channel count in header word 3 instead of channels x samples).
-  size_t spf = h_analog_spf;
-  long p_used = count_param(*x, "POINT", "USED");
-  long a_used = count_param(*x, "ANALOG", "USED");
-  if (h_analog_total > 0 && spf == 0) {
-    spf = 1;
-    if (a_used > 0 && h_analog_total % static_cast<size_t>(a_used) == 0)
-      spf = h_analog_total / static_cast<size_t>(a_used);
-    warn("header gives 0 analog samples per frame for " + std::to_string(h_analog_total) +
-         " analog values per frame; using " + std::to_string(spf));
-  }
-  struct Layout {
-    size_t points, analog_total;
-  };
-  std::vector<Layout> cands = {{h_points, h_analog_total}};
-  std::vector<size_t> point_opts = {h_points}, analog_opts = {h_analog_total};
-  if (p_used >= 0 && static_cast<size_t>(p_used) != h_points) point_opts.push_back(p_used);
-  if (a_used >= 0 && spf > 0 && static_cast<size_t>(a_used) * spf != h_analog_total)
-    analog_opts.push_back(static_cast<size_t>(a_used) * spf);
-  for (size_t pp : point_opts)
-    for (size_t aa : analog_opts)
-      if (pp != h_points || aa != h_analog_total) cands.push_back({pp, aa});
-  auto slack = [&](const Layout& l) -> long double {  // < 0: does not fit
-    long double need = static_cast<long double>(frames) * (l.points * 4 + l.analog_total) * elem;
-    return static_cast<long double>(data_bytes) - need;
-  };
-  auto tight = [&](const Layout& l) {  // fills the data section up to block padding
-    long double sl = slack(l);
-    return sl >= 0 &&
-           sl < static_cast<long double>(kBlock + (l.points * 4 + l.analog_total) * elem);
-  };
-  Layout lay = cands[0];
-  if (frames > 0 && !tight(lay))
-    for (size_t i = 1; i < cands.size(); ++i)
-      if (tight(cands[i])) {
-        lay = cands[i];
-        break;
-      }
-  const size_t points = lay.points;
-  const size_t analog_total = lay.analog_total;
-  if (p_used >= 0 && static_cast<size_t>(p_used) != h_points)
-    warn("header says " + std::to_string(h_points) + " points, POINT:USED says " +
-         std::to_string(p_used) + " (" + (points == h_points ? "the header's" : "POINT:USED's") +
-         " count fits the data and is used)");
-  if (analog_total != h_analog_total)
-    warn("header says " + std::to_string(h_analog_total) +
-         " analog values per frame, ANALOG:USED " + std::to_string(a_used) + " x " +
-         std::to_string(spf) + " samples per frame fits the data and is used");
-  size_t channels = 0;
-  if (analog_total == 0) {
-    spf = 0;
-  } else {
-    channels = analog_total / spf;
-    if (analog_total % spf != 0)
-      warn("the " + std::to_string(analog_total) +
-           " analog values per frame are not a multiple of " + std::to_string(spf) +
-           " samples per frame; the remainder is skipped");
-    if (a_used >= 0 && static_cast<size_t>(a_used) != channels && analog_total == h_analog_total)
-      warn("header gives " + std::to_string(channels) + " analog channels, ANALOG:USED says " +
-           std::to_string(a_used) + " (the header's count is used)");
-  }
-
-  const size_t per_frame = (points * 4 + analog_total) * elem;
-  if (per_frame == 0 && frames > 0) {
-    // No bytes per frame: nothing bounds the count (TRIAL fields can claim 4 billion frames of
-    // nothing, which every later stage would loop over). Such frames carry no data.
-    warn("header says " + std::to_string(frames) +
-         " frames of no points and no analog values; read as 0 frames");
-    frames = 0;
-  }
-  if (per_frame > 0) {
-    size_t avail = data_bytes / per_frame;
-    if (frames > avail) {
-      warn("header says " + std::to_string(frames) + " frames, file holds " +
-           std::to_string(avail));
-      frames = avail;
-    }
-  } else if (frames > 0) {
-    // Frames of nothing: the count is unverifiable, and a lying one would make every consumer
-    // loop over billions of empty frames.
-    warn("header says " + std::to_string(frames) +
-         " frames of no points and no analog channels; read as 0 frames");
-    frames = 0;
-  }
-
-  // ---- data layout ----
   t.frames = frames;
-  t.points = points;
+  t.points = fl.points;
   t.first_frame = first;
-  t.analog.channels = static_cast<int>(channels);
-  t.analog.samples_per_frame = static_cast<int>(spf);
+  t.analog.channels = static_cast<int>(fl.channels);
+  t.analog.samples_per_frame = static_cast<int>(fl.spf);
   bool analog_unsigned = false;
   if (const C3DParameter* fmt = x->param("ANALOG", "FORMAT"))
     if (fmt->type == -1) analog_unsigned = upper(trim(fmt->as_string())) == "UNSIGNED";
@@ -314,51 +468,15 @@ Take read_header(const uint8_t* data, size_t avail, size_t size, const std::stri
   out->data_offset = data_offset;
   out->per_frame = per_frame;
   out->frames = frames;
-  out->points = points;
-  out->analog_values = spf * channels;
+  out->points = fl.points;
+  out->analog_values = fl.spf * fl.channels;
   out->float_storage = x->float_storage;
   out->analog_unsigned = analog_unsigned;
-  out->scale = scale;
+  out->scale = x->point_scale;
   out->warning_at = t.warnings.size();
 
-  // ---- labels, rate, units ----
-  t.labels = c3d::string_list(*x, "POINT", "LABELS");
-  if (t.labels.size() < points && x->group("POINT"))
-    warn("POINT:LABELS has " + std::to_string(t.labels.size()) + " labels for " +
-         std::to_string(points) + " points");
-  t.labels.resize(points);
-  t.descriptions = c3d::string_list(*x, "POINT", "DESCRIPTIONS");
-  if (!t.descriptions.empty()) t.descriptions.resize(points);
-  t.analog.labels = c3d::string_list(*x, "ANALOG", "LABELS");
-  t.analog.labels.resize(channels);
-
-  double p_rate = c3d::number_param(*x, "POINT", "RATE", 0);
-  t.rate = std::isfinite(p_rate) && p_rate > 0 ? p_rate : static_cast<double>(h_rate);
-  if (!std::isfinite(t.rate) || t.rate < 0) t.rate = 0;
-  if (p_rate > 0 && std::isfinite(h_rate) && std::fabs(p_rate - h_rate) > 1e-3 * p_rate)
-    warn("header rate " + num(h_rate) + " Hz differs from POINT:RATE " + num(p_rate) +
-         " Hz (POINT:RATE is used)");
-  double a_rate = c3d::number_param(*x, "ANALOG", "RATE", 0);
-  t.analog.rate = channels == 0 ? (std::isfinite(a_rate) && a_rate > 0 ? a_rate : 0)
-                                : (std::isfinite(a_rate) && a_rate > 0 ? a_rate : t.rate * spf);
-  if (const C3DParameter* u = x->param("POINT", "UNITS"))
-    if (u->type == -1) t.units = trim(u->as_string());
-
-  // ---- header events ----
-  x->header_events_label_range = word(150) == 12345;
-  size_t nev = word(151);
-  if (nev > 18) {
-    warn("header says " + std::to_string(nev) + " events, it holds at most 18");
-    nev = 18;
-  }
-  for (size_t i = 0; i < nev; ++i) {
-    C3DHeaderEvent e;
-    e.time = fword(153 + 2 * static_cast<int>(i));
-    e.display = data[376 + i] != 0;
-    e.label = trim(std::string(reinterpret_cast<const char*>(data + 396 + 4 * i), 4));
-    x->header_events.push_back(e);
-  }
-
+  read_labels_rates_units(*x, h.rate, &t, warnings);
+  read_header_events(data, nf, x.get(), warnings);
   t.c3d = std::move(x);
   return t;
 }
@@ -415,6 +533,18 @@ void decode_frames(const DataLayout& lay, const uint8_t* bytes, size_t count, do
   }
 }
 
+void decode_c3d_rotations(const DataLayout& lay, const uint8_t* bytes, size_t frames,
+                          Rotations* r) {
+  const size_t n = frames * lay.rot_samples_per_frame * lay.rot_segments;
+  r->matrices.resize(n * 16);
+  r->reliability.resize(n);
+  const NumberFormat& nf = lay.nf;
+  for (size_t i = 0; i < n; ++i, bytes += kRotationBytes) {
+    for (size_t k = 0; k < 16; ++k) r->matrices[i * 16 + k] = nf.f32(bytes + 4 * k);
+    r->reliability[i] = nf.f32(bytes + 64);
+  }
+}
+
 std::string wide_word4_warning(size_t n) {
   return std::to_string(n) +
          " samples have a 4th word beyond 16 bits; read as valid with "
@@ -443,6 +573,7 @@ Take read_c3d_bytes(const uint8_t* data, size_t size, const std::string& name) {
   if (wide_word4)
     t.warnings.insert(t.warnings.begin() + static_cast<long>(lay.warning_at),
                       c3d::wide_word4_warning(wide_word4));
+  c3d::decode_c3d_rotations(lay, data + lay.rot_offset, frames, &t.rotations);
   return t;
 }
 

@@ -1,5 +1,5 @@
-// Decoder library (capz_decode): builds without PCL and without the transform encoders.
 // capz — C3D writer: Intel (processor 84) files.
+// Decoder library (capz_decode): builds without PCL and without the transform encoders.
 //
 // Contract:
 //   - Storage: int16 when the source C3D was int16 (and !opts.c3d_float), re-quantised with the
@@ -16,6 +16,10 @@
 //     FIELD / ACTUAL_END_FIELD when the frames pass 65535 or the stored ones disagree. A take not
 //     read from C3D gets a fresh POINT / ANALOG / TRIAL section.
 //   - More than 65535 frames: header last frame 65535, POINT:FRAMES as float, TRIAL fields set.
+//   - Rotations (take.rotations): the ROTATION group (USED, RATIO, RATE, LABELS, DATA_START),
+//     and from the block after the frames (zero padding between) per point frame, per sample,
+//     per segment the 16 matrix float32s (column-major) and the reliability float32, each
+//     written with the bits the take holds.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -43,9 +47,19 @@ void check_take(const Take& t, const std::string& name) {
       a.values.size() !=
           t.frames * static_cast<size_t>(a.channels) * static_cast<size_t>(a.samples_per_frame))
     fail(ErrorCode::kInternal, name, "analog values do not match frames x samples x channels");
+  check_c3d_rotations(t, name);
 }
 
 }  // namespace
+
+void check_c3d_rotations(const Take& t, const std::string& name) {
+  const Rotations& r = t.rotations;
+  const size_t rn = r.samples(t.frames) * static_cast<size_t>(std::max(0, r.segments));
+  if (r.segments < 0 || (r.segments > 0 && r.samples_per_frame < 1) ||
+      r.matrices.size() != rn * 16 || r.reliability.size() != rn)
+    fail(ErrorCode::kInternal, name,
+         "rotation arrays do not match frames x samples per frame x segments");
+}
 
 void check_c3d_limits(const Take& t, const std::string& name) {
   const Analog& a = t.analog;
@@ -56,6 +70,13 @@ void check_c3d_limits(const Take& t, const std::string& name) {
          std::to_string(t.points) + " points: a C3D file holds at most 65535");
   if (static_cast<size_t>(a.channels) * static_cast<size_t>(a.samples_per_frame) > 65535)
     fail(ErrorCode::kUsage, name, "more than 65535 analog values per frame: C3D cannot hold them");
+  const Rotations& r = t.rotations;
+  if (r.segments < 0 || r.segments > 65535 || r.samples_per_frame > 65535 ||
+      (r.segments > 0 && r.samples_per_frame < 1))
+    fail(ErrorCode::kUsage, name,
+         std::to_string(r.segments) + " rotation segments x " +
+             std::to_string(r.samples_per_frame) +
+             " samples per frame: a C3D holds 1..65535 of each");
 }
 
 namespace {
@@ -134,68 +155,40 @@ bool c3d_needs_scan(const Take& take, const WriteOptions& opts) {
   return !float_storage || c3d_known_scale(take) == 0;
 }
 
-C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& opts,
-                          const C3DWriteScan& scan, const std::string& name) {
-  check_c3d_limits(take, name);
-  const size_t F = take.frames, N = take.points;
+namespace {
+
+// The ROTATION group for the take's rotations (or, for a group read from the file, what keeps
+// it consistent when the take has none: USED 0): USED, RATIO, RATE, LABELS updated where the
+// take says otherwise, DATA_START added with 0 (filled in once the layout is known). `x` holds
+// the parameters as read; the group is left out when neither has rotations.
+void set_rotation_params(const Take& take, const C3DExtra& x, std::vector<C3DGroup>& groups) {
+  const Rotations& r = take.rotations;
+  if (r.segments == 0 && !x.group("ROTATION")) return;
+  C3DGroup& g = ensure_group(groups, "ROTATION", "Rotation (4x4 transform) signals");
+  set_int16(ensure_param(g, "USED", "Number of rotation signals"), r.segments);
+  set_int16(ensure_param(g, "DATA_START", "Number of the first block of rotation data"), 0);
+  const int ratio = std::max(1, r.samples_per_frame);
+  // RATIO kept or added unless RATE alone says it (ezc3d reads RATE / point rate then).
+  const double rate = number_param(x, "ROTATION", "RATE", 0);
+  const bool rate_says =
+      rate > 0 && take.rate > 0 && std::lround(rate / take.rate) == static_cast<long>(ratio);
+  if (x.param("ROTATION", "RATIO") || !rate_says)
+    set_int16(ensure_param(g, "RATIO", "Rotation samples per point frame"), ratio);
+  if (r.rate > 0 && rate != static_cast<double>(static_cast<float>(r.rate)))
+    set_float(ensure_param(g, "RATE", "Rotation sample rate"), static_cast<float>(r.rate));
+  const size_t n = static_cast<size_t>(r.segments);
+  if (n > 0 && (used_count(x, "ROTATION") != static_cast<long>(n) ||
+                !same_list(x, "ROTATION", "LABELS", r.labels, n)))
+    set_string_list(g, "LABELS", padded(r.labels, n), "Rotation signal labels");
+}
+
+// The ANALOG group: USED, LABELS..., RATE where the take says otherwise; for a take not read from
+// a C3D (`fresh_take`) with channels also the SCALE, OFFSET and GEN_SCALE readers need.
+void set_analog_params(const Take& take, const C3DExtra& x, bool fresh_take,
+                       std::vector<C3DGroup>& groups) {
   const Analog& an = take.analog;
   const size_t channels = static_cast<size_t>(an.channels);
-  const size_t spf = channels ? static_cast<size_t>(an.samples_per_frame) : 0;
-  const size_t analog_total = channels * spf;
-  const C3DExtra* src = take.c3d.get();
-
-  // ---- storage and scale ----
-  bool float_storage = opts.c3d_float || !src || src->float_storage;
-  double scale = c3d_known_scale(take);
-  if (scale == 0) scale = c3d_scale_from_data(scan.max_abs);
-  // The int16 fit is known only when the scan used this scale.
-  if (!float_storage && !(scan.scale == scale && scan.fits)) float_storage = true;
-
-  // ---- parameters ----
-  std::vector<C3DGroup> groups;
-  C3DExtra x;
-  if (src) groups = src->groups;
-  x.groups = groups;  // for lookups of what was read
-  const int64_t first = take.first_frame;
-  const int64_t last = first + static_cast<int64_t>(F) - 1;
-  const bool long_take = F > 65535 || last > 65535;
-
-  C3DGroup& point = ensure_group(groups, "POINT", "3-D point parameters");
-  set_int16(ensure_param(point, "USED", "Number of 3-D points"), static_cast<int>(N));
-  {
-    C3DParameter& p = ensure_param(point, "FRAMES", "Number of 3-D frames");
-    if (F > 65535 || p.type == 4)
-      set_float(p, static_cast<float>(F));
-    else
-      set_int16(p, static_cast<int>(F));
-  }
-  set_int16(ensure_param(point, "DATA_START", "Number of the first block of 3-D data"), 0);
-  {
-    C3DParameter& p = ensure_param(point, "SCALE", "3-D scale factor");
-    float want = static_cast<float>(float_storage ? -scale : scale);
-    if (!(p.type == 4 && p.data.size() == 4 && get_f32le(p.data.data()) == want))
-      set_float(p, want);
-  }
-  if (take.rate > 0 || !x.param("POINT", "RATE")) {
-    double have = number_param(x, "POINT", "RATE", -1);
-    if (have != static_cast<double>(static_cast<float>(take.rate)) || !x.param("POINT", "RATE"))
-      set_float(ensure_param(point, "RATE", "3-D frame rate"), static_cast<float>(take.rate));
-  }
-  if (!take.units.empty() || !x.param("POINT", "UNITS")) {
-    const C3DParameter* u = x.param("POINT", "UNITS");
-    std::string have = u && u->type == -1 ? u->as_string() : std::string();
-    while (!have.empty() && (have[0] == ' ' || have[0] == '\0')) have.erase(0, 1);
-    if (!u || have != take.units) set_string(ensure_param(point, "UNITS", "3-D units"), take.units);
-  }
-  // Labels are rebuilt when they differ from what the reader derives, or when the count of
-  // points changed (then continuations beyond the new count go too).
-  const bool points_changed = used_count(x, "POINT") != static_cast<long>(N);
-  if (points_changed || !same_list(x, "POINT", "LABELS", take.labels, N))
-    set_string_list(point, "LABELS", padded(take.labels, N), "3-D point labels");
-  if (!take.descriptions.empty() &&
-      (points_changed || !same_list(x, "POINT", "DESCRIPTIONS", take.descriptions, N)))
-    set_string_list(point, "DESCRIPTIONS", padded(take.descriptions, N), "3-D point descriptions");
-
+  const bool src = !fresh_take;
   if (channels > 0 || !src || x.group("ANALOG")) {
     C3DGroup& ag = ensure_group(groups, "ANALOG", "Analog data parameters");
     const bool fresh = !x.param("ANALOG", "USED");
@@ -221,50 +214,61 @@ C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& o
     if (channels > 0 && !src)
       set_float(ensure_param(ag, "GEN_SCALE", "Analog general scale factor"), 1.0f);
   }
+}
 
-  {
-    int64_t tr_start = -1, tr_end = -1;
-    if (const C3DParameter* p = x.param("TRIAL", "ACTUAL_START_FIELD"))
-      if (p->type == 2 && !p->data.empty()) {
-        auto v = p->as_ints();
-        tr_start = static_cast<uint16_t>(v[0]) +
-                   int64_t{65536} * (v.size() > 1 ? static_cast<uint16_t>(v[1]) : 0);
-      }
-    if (const C3DParameter* p = x.param("TRIAL", "ACTUAL_END_FIELD"))
-      if (p->type == 2 && !p->data.empty()) {
-        auto v = p->as_ints();
-        tr_end = static_cast<uint16_t>(v[0]) +
-                 int64_t{65536} * (v.size() > 1 ? static_cast<uint16_t>(v[1]) : 0);
-      }
-    const bool have = tr_start >= 0 && tr_end >= 0;
-    const bool consistent = have && tr_end - tr_start + 1 == static_cast<int64_t>(F) &&
-                            (!long_take || tr_start == first);
-    if (!src || long_take || (have && !consistent)) {
-      C3DGroup& tg = ensure_group(groups, "TRIAL", "Trial parameters");
-      if (!consistent) {
-        int64_t s = std::max<int64_t>(0, first), e = std::max(s - 1, last);
-        if (F == 0) e = s;  // nothing to count; keep a valid pair
-        set_int16_array(ensure_param(tg, "ACTUAL_START_FIELD", "First frame (low, high word)"),
-                        {static_cast<int>(s & 0xffff), static_cast<int>((s >> 16) & 0xffff)});
-        set_int16_array(ensure_param(tg, "ACTUAL_END_FIELD", "Last frame (low, high word)"),
-                        {static_cast<int>(e & 0xffff), static_cast<int>((e >> 16) & 0xffff)});
-      }
+// TRIAL:ACTUAL_START_FIELD / ACTUAL_END_FIELD for frames first .. first + F - 1, written when the
+// take passes frame 65535, the stored pair disagrees, or the take was not read from a C3D.
+void set_trial_params(const C3DExtra& x, bool fresh_take, long first, size_t F,
+                      std::vector<C3DGroup>& groups) {
+  const bool src = !fresh_take;
+  const long last = first + static_cast<long>(F) - 1;
+  const bool long_take = F > 65535 || last > 65535;
+  long tr_start = -1, tr_end = -1;
+  if (const C3DParameter* p = x.param("TRIAL", "ACTUAL_START_FIELD"))
+    if (p->type == 2 && !p->data.empty()) {
+      auto v = p->as_ints();
+      tr_start =
+          static_cast<uint16_t>(v[0]) + 65536L * (v.size() > 1 ? static_cast<uint16_t>(v[1]) : 0);
+    }
+  if (const C3DParameter* p = x.param("TRIAL", "ACTUAL_END_FIELD"))
+    if (p->type == 2 && !p->data.empty()) {
+      auto v = p->as_ints();
+      tr_end =
+          static_cast<uint16_t>(v[0]) + 65536L * (v.size() > 1 ? static_cast<uint16_t>(v[1]) : 0);
+    }
+  const bool have = tr_start >= 0 && tr_end >= 0;
+  const bool consistent =
+      have && tr_end - tr_start + 1 == static_cast<long>(F) && (!long_take || tr_start == first);
+  if (!src || long_take || (have && !consistent)) {
+    C3DGroup& tg = ensure_group(groups, "TRIAL", "Trial parameters");
+    if (!consistent) {
+      long s = std::max(0L, first), e = std::max(s - 1, last);
+      if (F == 0) e = s;  // nothing to count; keep a valid pair
+      set_int16_array(ensure_param(tg, "ACTUAL_START_FIELD", "First frame (low, high word)"),
+                      {static_cast<int>(s & 0xffff), static_cast<int>((s >> 16) & 0xffff)});
+      set_int16_array(ensure_param(tg, "ACTUAL_END_FIELD", "Last frame (low, high word)"),
+                      {static_cast<int>(e & 0xffff), static_cast<int>((e >> 16) & 0xffff)});
     }
   }
+}
 
-  // DATA_START's value does not change the section's size: encode, then fill it in.
-  std::vector<uint8_t> params = encode_parameter_section(groups);
-  const size_t data_start = 2 + params.size() / kBlock;
-  if (data_start > 65535) fail(ErrorCode::kUsage, name, "parameter section too large");
-  set_int16(*find_param(*find_group(groups, "POINT"), "DATA_START"), static_cast<int>(data_start));
-  params = encode_parameter_section(groups);
-
-  // ---- header ----
+// The 512-byte header block for `plan` (its counts, storage and scale), the first data block and
+// the frames first .. first + F - 1, with the source's header events.
+std::vector<uint8_t> header_block(const Take& take, const C3DFilePlan& plan, size_t data_start) {
+  const C3DExtra* src = take.c3d.get();
+  const size_t F = plan.frames, N = plan.points, analog_total = plan.analog_total;
+  const size_t spf =
+      take.analog.channels > 0 ? static_cast<size_t>(take.analog.samples_per_frame) : 0;
+  const bool float_storage = plan.float_storage;
+  const double scale = plan.scale;
+  const long first = take.first_frame;
+  const long last = first + static_cast<long>(F) - 1;
+  const bool long_take = F > 65535 || last > 65535;
   std::vector<uint8_t> header(kBlock, 0);
   header[0] = 2;
   header[1] = 0x50;
-  int64_t h_first = std::min<int64_t>(65535, std::max<int64_t>(0, first));
-  int64_t h_last = long_take ? 65535 : std::max(h_first - 1, last);
+  long h_first = std::min(65535L, std::max(0L, first));
+  long h_last = long_take ? 65535L : std::max(h_first - 1, last);
   if (F == 0 && h_first == 0) h_first = 1, h_last = 0;
   put_header_u16(header, 2, static_cast<uint32_t>(N));
   put_header_u16(header, 3, static_cast<uint32_t>(analog_total));
@@ -288,6 +292,91 @@ C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& o
         header[396 + 4 * i + k] = k < e.label.size() ? e.label[k] : ' ';
     }
   }
+  return header;
+}
+
+}  // namespace
+
+C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& opts,
+                          const C3DWriteScan& scan, const std::string& name) {
+  check_c3d_limits(take, name);
+  const size_t F = take.frames, N = take.points;
+  const Analog& an = take.analog;
+  const size_t channels = static_cast<size_t>(an.channels);
+  const size_t spf = channels ? static_cast<size_t>(an.samples_per_frame) : 0;
+  const size_t analog_total = channels * spf;
+  const C3DExtra* src = take.c3d.get();
+
+  // ---- storage and scale ----
+  bool float_storage = opts.c3d_float || !src || src->float_storage;
+  double scale = c3d_known_scale(take);
+  if (scale == 0) scale = c3d_scale_from_data(scan.max_abs);
+  // The int16 fit is known only when the scan used this scale.
+  if (!float_storage && !(scan.scale == scale && scan.fits)) float_storage = true;
+
+  // ---- parameters ----
+  std::vector<C3DGroup> groups;
+  C3DExtra x;
+  if (src) groups = src->groups;
+  x.groups = groups;  // for lookups of what was read
+  const long first = take.first_frame;
+
+  C3DGroup& point = ensure_group(groups, "POINT", "3-D point parameters");
+  set_int16(ensure_param(point, "USED", "Number of 3-D points"), static_cast<int>(N));
+  {
+    C3DParameter& p = ensure_param(point, "FRAMES", "Number of 3-D frames");
+    if (F > 65535 || p.type == 4)
+      set_float(p, static_cast<float>(F));
+    else
+      set_int16(p, static_cast<int>(F));
+  }
+  set_int16(ensure_param(point, "DATA_START", "Number of the first block of 3-D data"), 0);
+  {
+    C3DParameter& p = ensure_param(point, "SCALE", "3-D scale factor");
+    float want = static_cast<float>(float_storage ? -scale : scale);
+    if (!(p.type == 4 && p.data.size() == 4 && get_f32le(p.data.data()) == want))
+      set_float(p, want);
+  }
+  if (take.rate > 0 || !x.param("POINT", "RATE")) {
+    double have = number_param(x, "POINT", "RATE", -1);
+    if (have != static_cast<double>(static_cast<float>(take.rate)) || !x.param("POINT", "RATE"))
+      set_float(ensure_param(point, "RATE", "3-D frame rate"), static_cast<float>(take.rate));
+  }
+  if (!take.units.empty() || !x.param("POINT", "UNITS")) {
+    // Kept as stored (an array of units per point, padding, capitals) while the reader derives
+    // the take's units from it.
+    if (!x.param("POINT", "UNITS") || point_units(x) != take.units)
+      set_string(ensure_param(point, "UNITS", "3-D units"), take.units);
+  }
+  // Labels are rebuilt when they differ from what the reader derives, or when the count of
+  // points changed (then continuations beyond the new count go too).
+  const bool points_changed = used_count(x, "POINT") != static_cast<long>(N);
+  if (points_changed || !same_list(x, "POINT", "LABELS", take.labels, N))
+    set_string_list(point, "LABELS", padded(take.labels, N), "3-D point labels");
+  if (!take.descriptions.empty() &&
+      (points_changed || !same_list(x, "POINT", "DESCRIPTIONS", take.descriptions, N)))
+    set_string_list(point, "DESCRIPTIONS", padded(take.descriptions, N), "3-D point descriptions");
+
+  set_analog_params(take, x, !src, groups);
+  set_trial_params(x, !src, first, F, groups);
+  set_rotation_params(take, x, groups);
+
+  // The DATA_STARTs' values do not change the section's size: encode, then fill them in. The
+  // rotations start at the block after the frames.
+  const size_t per_frame = (N * 4 + analog_total) * (float_storage ? 4 : 2);
+  std::vector<uint8_t> params = encode_parameter_section(groups);
+  const size_t data_start = 2 + params.size() / kBlock;
+  if (data_start > 65535) fail(ErrorCode::kUsage, name, "parameter section too large");
+  set_int16(*find_param(*find_group(groups, "POINT"), "DATA_START"), static_cast<int>(data_start));
+  const size_t rot_start = data_start + (F * per_frame + kBlock - 1) / kBlock;
+  if (C3DGroup* rg = find_group(groups, "ROTATION")) {
+    if (rot_start > 65535)
+      fail(ErrorCode::kUsage, name,
+           "the rotations would start at block " + std::to_string(rot_start) +
+               ": ROTATION:DATA_START cannot point past block 65535");
+    set_int16(*find_param(*rg, "DATA_START"), static_cast<int>(rot_start));
+  }
+  params = encode_parameter_section(groups);
 
   C3DFilePlan plan;
   plan.float_storage = float_storage;
@@ -295,8 +384,14 @@ C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& o
   plan.have_res = have_res;
   plan.points = N;
   plan.analog_total = analog_total;
-  plan.per_frame = (N * 4 + analog_total) * (float_storage ? 4 : 2);
+  plan.per_frame = per_frame;
   plan.frames = F;
+  const Rotations& rot = take.rotations;
+  if (rot.segments > 0) {
+    plan.rot_offset = (rot_start - 1) * kBlock;
+    plan.rot_bytes = rot.samples(F) * static_cast<size_t>(rot.segments) * kRotationBytes;
+  }
+  const std::vector<uint8_t> header = header_block(take, plan, data_start);
   plan.head.resize(header.size() + params.size());
   std::copy(header.begin(), header.end(), plan.head.begin());
   std::copy(params.begin(), params.end(), plan.head.begin() + static_cast<long>(header.size()));
@@ -361,6 +456,14 @@ void encode_c3d_frames(const C3DFilePlan& plan, size_t count, const double* xyz,
   if (points_fit) *points_fit = fit;
 }
 
+void encode_c3d_rotations(const Rotations& r, size_t frames, uint8_t* out) {
+  const size_t n = r.samples(frames) * static_cast<size_t>(r.segments);
+  for (size_t i = 0; i < n; ++i, out += kRotationBytes) {
+    for (size_t k = 0; k < 16; ++k) put_f32le(r.matrices[i * 16 + k], out + 4 * k);
+    put_f32le(r.reliability[i], out + 64);
+  }
+}
+
 std::vector<uint8_t> encode_c3d_file(const Take& take, const WriteOptions& opts,
                                      const std::string& name) {
   check_take(take, name);
@@ -379,12 +482,14 @@ std::vector<uint8_t> encode_c3d_file(const Take& take, const WriteOptions& opts,
              take.analog.values.data());
   }
   C3DFilePlan plan = plan_c3d_file(take, have_res, opts, scan, name);
-  std::vector<uint8_t> out(plan.head.size() + F * plan.per_frame, 0);
+  const size_t frames_end = plan.head.size() + F * plan.per_frame;
+  std::vector<uint8_t> out(plan.rot_bytes > 0 ? plan.rot_offset + plan.rot_bytes : frames_end, 0);
   std::copy(plan.head.begin(), plan.head.end(), out.begin());
   encode_c3d_frames(plan, F, take.xyz.data(), take.valid.data(),
                     have_res ? src->residual.data() : nullptr,
                     have_res ? src->camera_mask.data() : nullptr, take.analog.values.data(),
                     out.data() + plan.head.size());
+  if (plan.rot_bytes > 0) encode_c3d_rotations(take.rotations, F, out.data() + plan.rot_offset);
   return out;
 }
 

@@ -52,6 +52,7 @@ Take header_of(const Take& t) {
   h.analog.samples_per_frame = t.analog.samples_per_frame;
   h.analog.rate = t.analog.rate;
   h.analog.labels = t.analog.labels;
+  h.rotations = t.rotations;  // whole: rotations are not cut into frame blocks
   if (t.c3d) {
     auto x = std::make_shared<C3DExtra>();
     x->processor = t.c3d->processor;
@@ -83,6 +84,10 @@ class C3DSource : public FrameSource {
       file_.read_at(had, head.data() + had, extent - had);
     }
     header_ = c3d::read_header(head.data(), head.size(), size, path, &lay_);
+    // The rotations come with the header, whole (a section of their own after the frames).
+    std::vector<uint8_t> rot(header_.frames * lay_.rot_per_frame);
+    if (!rot.empty()) file_.read_at(lay_.rot_offset, rot.data(), rot.size());
+    c3d::decode_c3d_rotations(lay_, rot.data(), header_.frames, &header_.rotations);
   }
   bool has_sample_words() const override { return true; }
   void read(size_t first, size_t count, FrameBlock* out) override {
@@ -196,6 +201,7 @@ class C3DSink : public FrameSink {
   C3DSink(const Take& header, bool words, const std::string& path, const WriteOptions& opts)
       : header_(header), words_(words), path_(path), opts_(opts) {
     c3d::check_c3d_limits(header_, path_);
+    c3d::check_c3d_rotations(header_, path_);
     check_output_free(path, opts.overwrite);
     scan_.scale = c3d::c3d_known_scale(header_);
   }
@@ -257,6 +263,13 @@ class C3DSink : public FrameSink {
     if (written_ != plan_.frames)
       fail(ErrorCode::kInternal, path_,
            std::to_string(written_) + " of " + std::to_string(plan_.frames) + " frames written");
+    if (plan_.rot_bytes > 0) {  // zeros up to the rotations' block, then the rotations
+      buf_.assign(plan_.rot_offset - plan_.head.size() - written_ * plan_.per_frame, 0);
+      buf_.resize(buf_.size() + plan_.rot_bytes);
+      c3d::encode_c3d_rotations(header_.rotations, plan_.frames,
+                                buf_.data() + buf_.size() - plan_.rot_bytes);
+      file_->write(buf_);
+    }
     file_->commit();
   }
 

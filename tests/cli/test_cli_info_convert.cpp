@@ -204,6 +204,30 @@ TEST(CliInfo, DescribesAC3dFileWithItsVariantAndAnalogChannels) {
   EXPECT_TRUE(contains(e.err, "Empty.c3d")) << e.err;
 }
 
+TEST(CliInfo, ReportsAC3dFilesRotations) {
+  capz_test::TempDir d("capz_cli_rot");
+  capz::Take t;  // rotations only: 2 segments x 3 samples per frame x 4 frames
+  t.format = capz::Format::kC3D;
+  t.frames = 4;
+  t.rate = 100;
+  t.rotations.segments = 2;
+  t.rotations.samples_per_frame = 3;
+  t.rotations.rate = 300;
+  t.rotations.labels = {"pelvis", "thorax"};
+  t.rotations.matrices.assign(4 * 3 * 2 * 16, 0.5f);
+  t.rotations.reliability.assign(4 * 3 * 2, 1.0f);
+  capz::write_c3d(t, d.file("rot.c3d"));
+  CliRun r = run_capz("info " + quote(d.file("rot.c3d")));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "frames:    4")) << r.out;
+  EXPECT_TRUE(contains(r.out, "rotations: 2 segments x 12 samples at 300 Hz (3 per frame)"))
+      << r.out;
+  CliRun j = run_capz("info --json " + quote(d.file("rot.c3d")));
+  EXPECT_TRUE(JsonCheck(j.out).ok()) << j.out;
+  EXPECT_TRUE(contains(j.out, "\"rotations\":{\"segments\":2,\"samples\":12")) << j.out;
+  EXPECT_TRUE(contains(j.out, "\"labels\":[\"pelvis\",\"thorax\"]")) << j.out;
+}
+
 TEST(CliInfo, JsonIsOneValidObjectWithTheFields) {
   CliRun r = run_capz("info --json " + quote(kData + "/c3d/btkdata/TRCSamples/Gait.trc"));
   ASSERT_EQ(r.status, 0) << r.err;

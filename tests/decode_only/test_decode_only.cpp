@@ -1,9 +1,8 @@
 // The decoder library alone (capz::decode, no encoders, no PCL): this executable links nothing
 // else, so it fails to link if a decode-side file reaches for encoder code. It decodes every
 // golden stream and checks the transform decoders are registered.
-#include <gtest/gtest.h>
-
 #include <dirent.h>
+#include <gtest/gtest.h>
 
 #include <fstream>
 #include <iterator>

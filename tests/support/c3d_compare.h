@@ -36,6 +36,18 @@ inline void expect_same_take(const Take& a, const Take& b) {
     EXPECT_EQ(0, std::memcmp(a.analog.values.data(), b.analog.values.data(),
                              a.analog.values.size() * sizeof(double)));
   }
+  EXPECT_EQ(a.rotations.segments, b.rotations.segments);
+  EXPECT_EQ(a.rotations.samples_per_frame, b.rotations.samples_per_frame);
+  EXPECT_EQ(a.rotations.rate, b.rotations.rate);
+  EXPECT_EQ(a.rotations.labels, b.rotations.labels);
+  ASSERT_EQ(a.rotations.matrices.size(), b.rotations.matrices.size());
+  ASSERT_EQ(a.rotations.reliability.size(), b.rotations.reliability.size());
+  if (!a.rotations.matrices.empty()) {  // as bytes: NaN payloads count
+    EXPECT_EQ(0, std::memcmp(a.rotations.matrices.data(), b.rotations.matrices.data(),
+                             a.rotations.matrices.size() * sizeof(float)));
+    EXPECT_EQ(0, std::memcmp(a.rotations.reliability.data(), b.rotations.reliability.data(),
+                             a.rotations.reliability.size() * sizeof(float)));
+  }
   ASSERT_TRUE(a.c3d && b.c3d);
   EXPECT_EQ(a.c3d->residual, b.c3d->residual);
   EXPECT_EQ(a.c3d->camera_mask, b.c3d->camera_mask);
