@@ -40,9 +40,9 @@ void check_block(const capz::Take& h, const capz::FrameBlock& b, size_t first, s
                                                   b.analog.size() * 8) == 0);
   if (whole->c3d && !whole->c3d->residual.empty()) {
     CAPZ_FUZZ_CHECK(b.residual.size() == n * p);
-    CAPZ_FUZZ_CHECK(b.residual.empty() || std::memcmp(b.residual.data(),
-                                                      &whole->c3d->residual[f0 * p],
-                                                      b.residual.size() * 4) == 0);
+    CAPZ_FUZZ_CHECK(
+        b.residual.empty() ||
+        std::memcmp(b.residual.data(), &whole->c3d->residual[f0 * p], b.residual.size() * 4) == 0);
   }
 }
 

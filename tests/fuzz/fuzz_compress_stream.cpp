@@ -43,10 +43,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   out.remove();
   std::vector<uint8_t> whole;
   std::string whole_error, stream_error;
-  const int whole_code = error_code_of([&] { whole = capz::compress(c.take, c.opts); }, &whole_error);
+  const int whole_code =
+      error_code_of([&] { whole = capz::compress(c.take, c.opts); }, &whole_error);
   std::unique_ptr<capz::FrameSource> src = capz::take_frames(c.take);
-  const int stream_code = error_code_of(
-      [&] { capz::compress_stream(*src, c.opts, out.path(), true); }, &stream_error);
+  const int stream_code =
+      error_code_of([&] { capz::compress_stream(*src, c.opts, out.path(), true); }, &stream_error);
   if (whole_code != stream_code) {
     std::fprintf(stderr, "compress: %s\ncompress_stream: %s\n",
                  whole_code < 0 ? "ok" : whole_error.c_str(),
