@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <string>
+#include <system_error>
 
 #include "capz/error.h"
 #include "capz/take.h"
@@ -33,6 +34,31 @@ class TempDir {
  private:
   std::filesystem::path path_;
 };
+
+// The shared real data (compile definition CAPZ_SHARED_DATA; README, "Real data"): the path of
+// `rel` under it (the folder itself for ""). When the folder is absent the running test is
+// marked skipped with a message saying so and "" is returned; when the folder is there but `rel`
+// is not, the data set is incomplete, which is a failure (never a silent skip), and "" is
+// returned too. Callers return at once on "":
+//   const std::string path = capz_test::shared_data_or_skip("trc/opensim/x.trc");
+//   if (path.empty()) return;
+inline std::string shared_data_or_skip(const std::string& rel = "") {
+  const std::filesystem::path root = CAPZ_SHARED_DATA;
+  const std::filesystem::path path = rel.empty() ? root : root / rel;
+  std::error_code ec;
+  if (!std::filesystem::is_directory(root, ec)) {
+    [&] {
+      GTEST_SKIP() << "shared real data not found at " << root.string()
+                   << " (configure with -DCAPZ_SHARED_DATA=<folder holding c3d/, trc/, pcd/>)";
+    }();
+    return "";
+  }
+  if (!std::filesystem::exists(path, ec)) {
+    ADD_FAILURE() << path.string() << " is missing from the shared real data";
+    return "";
+  }
+  return path.string();
+}
 
 // Same shape, same gaps, and bit-identical coordinates at every valid sample.
 inline void expect_same_samples(const capz::Take& a, const capz::Take& b) {

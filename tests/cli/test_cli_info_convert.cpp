@@ -21,7 +21,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kData = CAPZ_SHARED_DATA;
 const std::string kCli = CAPZ_CLI;
 
 struct CliRun {
@@ -153,7 +152,9 @@ bool contains(const std::string& hay, const std::string& needle) {
 }  // namespace
 
 TEST(CliInfo, DescribesATrcFile) {
-  CliRun r = run_capz("info " + quote(kData + "/trc/opensim/walk_free_01.trc"));
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
+  CliRun r = run_capz("info " + quote(data + "/trc/opensim/walk_free_01.trc"));
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(contains(r.out, "format:    trc")) << r.out;
   EXPECT_TRUE(contains(r.out, "points:    41")) << r.out;
@@ -166,25 +167,29 @@ TEST(CliInfo, DescribesATrcFile) {
   EXPECT_TRUE(contains(r.out, "analog:    none")) << r.out;
   EXPECT_TRUE(contains(r.out, "- header says 900 frames, file holds 73")) << r.out;
   EXPECT_EQ(r.err, "");
-  CliRun v = run_capz("info -v " + quote(kData + "/trc/opensim/walk_free_01.trc"));
+  CliRun v = run_capz("info -v " + quote(data + "/trc/opensim/walk_free_01.trc"));
   EXPECT_FALSE(contains(v.out, "more; -v lists all")) << v.out;
 }
 
 TEST(CliInfo, DescribesAPcdFolderAndGaps) {
-  CliRun r = run_capz("info " + quote(kData + "/pcd/pcow"));
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
+  CliRun r = run_capz("info " + quote(data + "/pcd/pcow"));
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(contains(r.out, "format:    pcd-folder: binary PCD frames")) << r.out;
   EXPECT_TRUE(contains(r.out, "points:    2904")) << r.out;
   EXPECT_TRUE(contains(r.out, "frames:    204")) << r.out;
   EXPECT_TRUE(contains(r.out, "rate:      unknown")) << r.out;
-  CliRun g = run_capz("info " + quote(kData + "/trc/opensim/std_walking2_markers.trc"));
+  CliRun g = run_capz("info " + quote(data + "/trc/opensim/std_walking2_markers.trc"));
   EXPECT_TRUE(
       contains(g.out, "gaps:      50.7% of samples (2809 of 5544), 44 of 44 points have gaps"))
       << g.out;
 }
 
 TEST(CliInfo, DescribesAC3dFileWithItsVariantAndAnalogChannels) {
-  const std::string f = quote(kData + "/c3d/c3dorg/sample_01/Eb015vi.c3d");
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
+  const std::string f = quote(data + "/c3d/c3dorg/sample_01/Eb015vi.c3d");
   CliRun r = run_capz("info " + f);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(contains(r.out, "format:    c3d: DEC (85), int16 storage, scale 0.08333")) << r.out;
@@ -198,7 +203,7 @@ TEST(CliInfo, DescribesAC3dFileWithItsVariantAndAnalogChannels) {
   for (const char* k : {"\"processor\":\"DEC\"", "\"processor_type\":85", "\"storage\":\"int16\"",
                         "\"channels\":16", "\"samples_per_frame\":4"})
     EXPECT_TRUE(contains(j.out, k)) << k << "\n" << j.out;
-  CliRun e = run_capz("info " + quote(kData + "/c3d/btkdata/others/Empty.c3d"));
+  CliRun e = run_capz("info " + quote(data + "/c3d/btkdata/others/Empty.c3d"));
   EXPECT_NE(e.status, 0);
   EXPECT_EQ(lines(e.err), 1u) << e.err;
   EXPECT_TRUE(contains(e.err, "Empty.c3d")) << e.err;
@@ -229,7 +234,9 @@ TEST(CliInfo, ReportsAC3dFilesRotations) {
 }
 
 TEST(CliInfo, JsonIsOneValidObjectWithTheFields) {
-  CliRun r = run_capz("info --json " + quote(kData + "/c3d/btkdata/TRCSamples/Gait.trc"));
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
+  CliRun r = run_capz("info --json " + quote(data + "/c3d/btkdata/TRCSamples/Gait.trc"));
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(lines(r.out), 1u);
   EXPECT_TRUE(JsonCheck(r.out).ok()) << r.out;
@@ -238,7 +245,7 @@ TEST(CliInfo, JsonIsOneValidObjectWithTheFields) {
                         "\"path_file_type\":\"PathFileType\\t4\\t(X/Y/Z)\\tgait2.trc\"",
                         "\"warnings\":[\"header says 66 markers, file holds 105\""})
     EXPECT_TRUE(contains(r.out, f)) << f << "\n" << r.out;
-  CliRun p = run_capz("info --json " + quote(kData + "/pcd/horse-gallop"));
+  CliRun p = run_capz("info --json " + quote(data + "/pcd/horse-gallop"));
   EXPECT_TRUE(JsonCheck(p.out).ok()) << p.out;
   EXPECT_TRUE(contains(p.out, "\"rate\":null")) << p.out;
   EXPECT_TRUE(contains(p.out, "\"points\":8431")) << p.out;
@@ -259,11 +266,6 @@ TEST(CliInfo, JsonEscapesQuotesBackslashesAndLatin1Labels) {
 }
 
 TEST(CliInfo, BadInputsGiveOneLineErrorsAndTheirExitStatus) {
-  CliRun e = run_capz("info " + quote(kData + "/c3d/btkdata/TRCSamples/Truncated.trc"));
-  EXPECT_EQ(e.status, 5);
-  EXPECT_EQ(lines(e.err), 1u) << e.err;
-  EXPECT_TRUE(contains(e.err, "Truncated.trc: file ends after line 2")) << e.err;
-  EXPECT_EQ(e.out, "");
   CliRun m = run_capz("info /nonexistent/file.trc");
   EXPECT_EQ(m.status, 2);
   EXPECT_EQ(lines(m.err), 1u) << m.err;
@@ -272,11 +274,20 @@ TEST(CliInfo, BadInputsGiveOneLineErrorsAndTheirExitStatus) {
   CliRun h = run_capz("info --help");
   EXPECT_EQ(h.status, 0);
   EXPECT_TRUE(contains(h.out, "--json")) << h.out;
+  const std::string data = capz_test::shared_data_or_skip();  // the rest needs the shared data
+  if (data.empty()) return;
+  CliRun e = run_capz("info " + quote(data + "/c3d/btkdata/TRCSamples/Truncated.trc"));
+  EXPECT_EQ(e.status, 5);
+  EXPECT_EQ(lines(e.err), 1u) << e.err;
+  EXPECT_TRUE(contains(e.err, "Truncated.trc: file ends after line 2")) << e.err;
+  EXPECT_EQ(e.out, "");
 }
 
 TEST(CliConvert, TrcToPcdToTrcKeepsEverySample) {
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
   capz_test::TempDir d("capz_cli_conv");
-  const std::string src = kData + "/trc/opensim/dataWithNaNsWithSpaces.trc";
+  const std::string src = data + "/trc/opensim/dataWithNaNsWithSpaces.trc";
   CliRun a = run_capz("convert -q " + quote(src) + " " + quote(d.file("seq")));
   ASSERT_EQ(a.status, 0) << a.err;
   EXPECT_EQ(a.err, "");
@@ -294,8 +305,10 @@ TEST(CliConvert, TrcToPcdToTrcKeepsEverySample) {
 }
 
 TEST(CliConvert, C3dToTrcAndPcdAndBack) {
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
   capz_test::TempDir d("capz_cli_conv");
-  const std::string src = kData + "/c3d/c3dorg/sample_01/Eb015pr.c3d";
+  const std::string src = data + "/c3d/c3dorg/sample_01/Eb015pr.c3d";
   capz::Take t = capz::read_take(src);
   ASSERT_GT(t.gap_samples(), 0u);
   CliRun a = run_capz("convert -q " + quote(src) + " " + quote(d.file("e.trc")));
@@ -328,11 +341,13 @@ TEST(CliConvert, C3dToTrcAndPcdAndBack) {
 }
 
 TEST(CliConvert, PcdFolderToPcdFolderKeepsNamesAndEncoding) {
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
   capz_test::TempDir d("capz_cli_conv");
-  CliRun a = run_capz("convert " + quote(kData + "/pcd/horse-gallop") + " " +
+  CliRun a = run_capz("convert " + quote(data + "/pcd/horse-gallop") + " " +
                       quote(d.file("h") + "/") + " --pcd-encoding binary_compressed");
   ASSERT_EQ(a.status, 0) << a.err;
-  capz::Take t = capz::read_pcd_folder(kData + "/pcd/horse-gallop");
+  capz::Take t = capz::read_pcd_folder(data + "/pcd/horse-gallop");
   capz::Take u = capz::read_pcd_folder(d.file("h"));
   capz_test::expect_same_samples(t, u);
   EXPECT_EQ(u.pcd->frame_names, t.pcd->frame_names);
@@ -340,8 +355,10 @@ TEST(CliConvert, PcdFolderToPcdFolderKeepsNamesAndEncoding) {
 }
 
 TEST(CliConvert, RefusesToOverwriteWithoutForce) {
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
   capz_test::TempDir d("capz_cli_conv");
-  const std::string src = kData + "/trc/opensim/init100.trc";
+  const std::string src = data + "/trc/opensim/init100.trc";
   const std::string out = d.file("out.trc");
   std::ofstream(out) << "keep me\n";
   CliRun r = run_capz("convert " + quote(src) + " " + quote(out));
@@ -364,18 +381,21 @@ TEST(CliConvert, BadInputFailsInOneLineAndLeavesNoOutput) {
   EXPECT_EQ(r.status, 5);
   EXPECT_EQ(lines(r.err), 1u) << r.err;
   EXPECT_TRUE(contains(r.err, "bad.trc: line 7, column 4: 'five' is not a number")) << r.err;
-  CliRun n = run_capz("convert " + quote(kData + "/c3d/btkdata/TRCSamples/Empty.trc") + " " +
-                      quote(d.file("pcdout")));
-  EXPECT_EQ(n.status, 3);
-  EXPECT_EQ(lines(n.err), 1u) << n.err;
-  CliRun x = run_capz("convert " + quote(kData + "/trc/opensim/init100.trc") + " " +
-                      quote(d.file("out.xyz")));
-  EXPECT_EQ(x.status, 1);
-  EXPECT_TRUE(contains(x.err, "cannot tell the output format")) << x.err;
   CliRun e = run_capz("convert " + quote(d.path().string()) + " " + quote(d.file("o.trc")));
   EXPECT_EQ(e.status, 3);
   EXPECT_TRUE(contains(e.err, "no .pcd files")) << e.err;
   // Only the bad input is left: no output, no temporary.
+  EXPECT_EQ(std::distance(fs::directory_iterator(d.path()), fs::directory_iterator()), 1);
+  const std::string data = capz_test::shared_data_or_skip();  // the rest needs the shared data
+  if (data.empty()) return;
+  CliRun n = run_capz("convert " + quote(data + "/c3d/btkdata/TRCSamples/Empty.trc") + " " +
+                      quote(d.file("pcdout")));
+  EXPECT_EQ(n.status, 3);
+  EXPECT_EQ(lines(n.err), 1u) << n.err;
+  CliRun x = run_capz("convert " + quote(data + "/trc/opensim/init100.trc") + " " +
+                      quote(d.file("out.xyz")));
+  EXPECT_EQ(x.status, 1);
+  EXPECT_TRUE(contains(x.err, "cannot tell the output format")) << x.err;
   EXPECT_EQ(std::distance(fs::directory_iterator(d.path()), fs::directory_iterator()), 1);
 }
 

@@ -210,11 +210,9 @@ bool has_warning(const Take& t, const std::string& part) {
   return false;
 }
 
-#define SKIP_WITHOUT_DATA()                                               \
-  if (!fs::is_directory(kRoot)) {                                         \
-    GTEST_SKIP() << "shared C3D data not found at " << kRoot              \
-                 << " (set CAPZ_SHARED_DATA to the folder holding c3d/)"; \
-  }
+// Skips the test (no shared data) or fails it (c3d/ missing from it) and returns.
+#define SKIP_WITHOUT_DATA() \
+  if (capz_test::shared_data_or_skip("c3d").empty()) return
 
 }  // namespace
 

@@ -23,8 +23,6 @@ using namespace capz;
 
 namespace {
 
-const std::string kData = CAPZ_SHARED_DATA;
-
 // A take assembled from a source read in blocks of `block` frames.
 Take assemble(FrameSource& src, size_t block) {
   Take t = src.header();
@@ -50,10 +48,10 @@ Take assemble(FrameSource& src, size_t block) {
   return t;
 }
 
-// Every shared file with extension `ext` (".c3d", ".trc"), sorted.
-std::vector<std::string> shared_files(const std::string& ext) {
+// Every file under `root` with extension `ext` (".c3d", ".trc"), sorted.
+std::vector<std::string> files_under(const std::string& root, const std::string& ext) {
   std::vector<std::string> v;
-  for (const auto& e : fs::recursive_directory_iterator(kData))
+  for (const auto& e : fs::recursive_directory_iterator(root))
     if (e.is_regular_file() && e.path().extension() == ext) v.push_back(e.path().string());
   std::sort(v.begin(), v.end());
   return v;
@@ -80,7 +78,9 @@ bool read_whole_or_same_refusal(const std::string& path, Whole whole_reader, Ope
 }
 
 TEST(StreamC3D, GivenEverySharedC3dWhenReadInBlocksThenSameAsTheWholeReader) {
-  const std::vector<std::string> files = shared_files(".c3d");
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
+  const std::vector<std::string> files = files_under(data, ".c3d");
   ASSERT_GT(files.size(), 50u);
   size_t compared = 0;
   for (const std::string& path : files) {
@@ -107,7 +107,9 @@ TEST(StreamC3D, GivenEverySharedC3dWhenReadInBlocksThenSameAsTheWholeReader) {
 }
 
 TEST(StreamTRC, GivenEverySharedTrcWhenReadInBlocksThenSameAsTheWholeReader) {
-  const std::vector<std::string> files = shared_files(".trc");
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
+  const std::vector<std::string> files = files_under(data, ".trc");
   ASSERT_GE(files.size(), 20u);
   size_t compared = 0;
   for (const std::string& path : files) {
@@ -135,7 +137,9 @@ TEST(StreamTRC, GivenEverySharedTrcWhenReadInBlocksThenSameAsTheWholeReader) {
 }
 
 TEST(StreamTRC, GivenARangeThenOnlyItsRowsAreRead) {
-  const std::string path = kData + "/trc/opensim/constraintTest.trc";
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
+  const std::string path = data + "/trc/opensim/constraintTest.trc";
   const uint64_t size = fs::file_size(path);
   std::unique_ptr<FrameSource> src = open_trc_frames(path);
   const uint64_t opened = src->bytes_read();  // every line once per pass
@@ -150,7 +154,9 @@ TEST(StreamTRC, GivenARangeThenOnlyItsRowsAreRead) {
 }
 
 TEST(StreamC3D, GivenARangeThenOnlyItsFramesAreRead) {
-  const std::string path = kData + "/c3d/c3dorg/sample_34/AlbertoREAL.c3d";  // 4921 frames
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
+  const std::string path = data + "/c3d/c3dorg/sample_34/AlbertoREAL.c3d";  // 4921 frames
   const uint64_t size = fs::file_size(path);
   std::unique_ptr<FrameSource> src = open_c3d_frames(path);
   const Take& h = src->header();
@@ -215,9 +221,11 @@ const Case kCases[] = {
 };
 
 TEST(StreamCodec, GivenRealTakesThenStreamingCompressWritesTheSameBytes) {
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
   capz_test::TempDir dir("capz_stream");
   for (const Case& c : kCases) {
-    const std::string path = kData + "/" + c.path;
+    const std::string path = data + "/" + c.path;
     SCOPED_TRACE(std::string(c.path) + " " + c.what + " window " + std::to_string(c.window));
     Take whole = read_take(path);
     ASSERT_GT(whole.frames, c.window) << "the case should span several windows";
@@ -242,9 +250,11 @@ TEST(StreamCodec, GivenRealTakesThenStreamingCompressWritesTheSameBytes) {
 }
 
 TEST(StreamCodec, GivenRealStreamsThenWindowByWindowDecodeWritesTheSameFile) {
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
   capz_test::TempDir dir("capz_stream");
   for (const Case& c : kCases) {
-    const std::string path = kData + "/" + c.path;
+    const std::string path = data + "/" + c.path;
     SCOPED_TRACE(std::string(c.path) + " " + c.what);
     Take whole = read_take(path);
     const std::vector<uint8_t> bytes = compress(whole, options_for(c, whole));
@@ -293,8 +303,10 @@ class CountingSource : public FrameSource {
 // writes every frame again as float, without a prescan: each frame is read at most twice (once
 // when every value fits).
 TEST(StreamCodec, GivenAnInt16TakeWithAnOutOfRangeValueThenTheStreamedC3DFallsBackToFloat) {
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
   capz_test::TempDir dir("capz_stream");
-  const Take orig = read_take(kData + "/c3d/c3dorg/sample_34/AlbertoREAL.c3d");
+  const Take orig = read_take(data + "/c3d/c3dorg/sample_34/AlbertoREAL.c3d");
   ASSERT_TRUE(orig.c3d && !orig.c3d->float_storage);
   WriteOptions wo;
   wo.overwrite = true;
@@ -329,8 +341,10 @@ TEST(StreamCodec, GivenAnInt16TakeWithAnOutOfRangeValueThenTheStreamedC3DFallsBa
 }
 
 TEST(StreamCodec, GivenACapzThenARangeReadsOnlyTheWindowsItTouches) {
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
   capz_test::TempDir dir("capz_stream");
-  const std::string path = kData + "/c3d/c3dorg/sample_34/AlbertoREAL.c3d";
+  const std::string path = data + "/c3d/c3dorg/sample_34/AlbertoREAL.c3d";
   Take whole = read_take(path);
   CompressOptions o;
   o.max_error = 0.1;

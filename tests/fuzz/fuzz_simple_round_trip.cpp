@@ -1,127 +1,29 @@
-// Fuzz target: a take built from the fuzz bytes -> compress -> decompress must come back with the
-// same shape and gap mask, every valid coordinate within the bound (bit-exact when lossless; for a
-// KG target with a transform, whose reconstruction is the output and has no bound, finite with a
-// KG error at most the target), and the same rate, units and labels. compress may refuse an
-// impossible target (kInvalidParameter); any other capz::Error, in particular a failed self-check
-// (kInternal), is a finding.
-//
-// Bytes: [0] frames-1 (1..32), [1] points-1 (1..8), [2] options: bit 0 lossless, bits 1-2 value
-// kind (int16 x 0.01, int16 x 1, float32 bits, small ints), bits 3-5 window frames (1..8),
-// bit 6 codec ts, bit 7 a KG target (0.05 .. 3.2 %) instead of a bound, with ts (bit 6) or pdct;
-// [3] bound exponent (or KG target); then one byte of gap bits per 8 samples, then values
-// (read cyclically, so short inputs still fill the take).
-#include <cmath>
+// Fuzz target: a take built from the fuzz bytes (fuzz_take.h says how) -> compress -> decompress
+// must come back with the same shape and gap mask, every valid coordinate within the bound
+// (bit-exact when lossless; for a KG target with a transform, whose reconstruction is the output
+// and has no bound, finite with a KG error at most the target), and the same rate, units and
+// labels. compress may refuse an impossible target (kInvalidParameter); any other capz::Error, in
+// particular a failed self-check (kInternal), is a finding.
 #include <cstddef>
 #include <cstdint>
-#include <cstring>
+#include <cstdio>
+#include <cstdlib>
 
 #include "capz/codec.h"
 #include "capz/error.h"
-#include "capz/metrics.h"
-#include "fuzz_common.h"
+#include "fuzz_take.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  if (size < 5) return 0;
-  const size_t frames = 1 + data[0] % 32;
-  const size_t points = 1 + data[1] % 8;
-  const uint8_t opt = data[2];
-  const bool lossless = opt & 1;
-  const int kind = (opt >> 1) & 3;
-  const size_t window = 1 + ((opt >> 3) & 7);
-  const bool ts = (opt >> 6) & 1;
-  const bool kg = !lossless && ((opt >> 7) & 1);
-  const double kg_target = 0.05 * (1 + data[3] % 64);                         // percent
-  const double bound = std::ldexp(1.0, -static_cast<int>(data[3] % 24) + 4);  // 16 .. 2^-19
-  const uint8_t* rest = data + 4;
-  const size_t n_rest = size - 4;
-  size_t pos = 0;
-  auto next = [&]() { return rest[pos++ % n_rest]; };
-
-  capz::Take t;
-  t.source = "fuzz";
-  t.format = capz::Format::kTRC;
-  t.resize(frames, points);
-  t.rate = 100;
-  t.units = "mm";
-  for (size_t p = 0; p < points; ++p) t.labels.push_back("M" + std::to_string(p));
-  const size_t samples = frames * points;
-  for (size_t i = 0; i < samples; i += 8) {
-    const uint8_t bits = next();
-    for (size_t k = i; k < std::min(samples, i + 8); ++k) t.valid[k] = (bits >> (k - i)) & 1;
-  }
-  for (size_t i = 0; i < samples; ++i) {
-    for (int a = 0; a < 3; ++a) {
-      double v = 0;
-      if (kind == 0 || kind == 1) {
-        const int16_t q = static_cast<int16_t>(next() | next() << 8);
-        v = kind == 0 ? q * 0.01 : q;
-      } else if (kind == 2) {
-        uint32_t u = 0;
-        for (int b = 0; b < 4; ++b) u |= static_cast<uint32_t>(next()) << (8 * b);
-        float f;
-        std::memcpy(&f, &u, 4);
-        v = f;
-      } else {
-        v = static_cast<int8_t>(next());
-      }
-      if (!std::isfinite(v) || std::fabs(v) > 1e12) t.valid[i] = 0;
-      t.xyz[i * 3 + a] = v;
-    }
-  }
-  for (size_t i = 0; i < samples; ++i)
-    if (!t.valid[i]) t.xyz[i * 3] = t.xyz[i * 3 + 1] = t.xyz[i * 3 + 2] = 0;
-
-  capz::CompressOptions o;
-  o.lossless = lossless;
-  o.max_error = lossless || kg ? 0 : bound;
-  o.kg_error = kg ? kg_target : 0;
-  o.window_frames = window;
-  o.codec = ts ? "ts" : kg ? "pdct" : "none";
+  capz_fuzz::RoundTripCase c;
+  if (!capz_fuzz::round_trip_case(data, size, &c)) return 0;
   std::vector<uint8_t> bytes;
   try {
-    bytes = capz::compress(t, o);
+    bytes = capz::compress(c.take, c.opts);
   } catch (const capz::Error& e) {
     if (e.code() == capz::ErrorCode::kInvalidParameter) return 0;
     std::fprintf(stderr, "compress failed: %s\n", e.what());
     std::abort();
   }
-  capz::Take b;
-  try {
-    b = capz::decompress(bytes.data(), bytes.size(), "round trip");
-  } catch (const capz::Error& e) {
-    std::fprintf(stderr, "decompress of a fresh stream failed: %s\n", e.what());
-    std::abort();
-  }
-  const capz::StreamInfo si = capz::describe(bytes.data(), bytes.size(), "round trip");
-  capz_fuzz::check_take_shape(b);
-  CAPZ_FUZZ_CHECK(b.frames == t.frames && b.points == t.points);
-  CAPZ_FUZZ_CHECK(b.valid == t.valid);
-  CAPZ_FUZZ_CHECK(b.rate == t.rate && b.units == t.units && b.labels == t.labels);
-  if (si.transform_output) {
-    CAPZ_FUZZ_CHECK(kg);
-    for (size_t i = 0; i < samples; ++i)
-      if (t.valid[i])
-        for (int a = 0; a < 3; ++a) CAPZ_FUZZ_CHECK(std::isfinite(b.xyz[i * 3 + a]));
-    const double achieved = capz::compare(t, b).kg_error;
-    if (!(achieved <= kg_target * (1 + 1e-9))) {
-      std::fprintf(stderr, "KG error %.17g over the target %.17g\n", achieved, kg_target);
-      std::abort();
-    }
-    return 0;
-  }
-  // Otherwise a bound holds: the one asked for, or with a KG target (codec none) the stored one.
-  const double held = kg ? si.max_error : bound;
-  for (size_t i = 0; i < samples; ++i) {
-    if (!t.valid[i]) continue;
-    for (int a = 0; a < 3; ++a) {
-      const double x = t.xyz[i * 3 + a], y = b.xyz[i * 3 + a];
-      if (lossless) {
-        CAPZ_FUZZ_CHECK(std::memcmp(&x, &y, sizeof x) == 0);
-      } else if (!(std::fabs(x - y) <= held)) {
-        std::fprintf(stderr, "sample %zu axis %d: %.17g -> %.17g, bound %.17g\n", i, a, x, y, held);
-        std::abort();
-      }
-    }
-  }
+  capz_fuzz::check_round_trip(c, bytes);
   return 0;
 }

@@ -21,13 +21,12 @@ namespace {
 
 constexpr int kIo = static_cast<int>(capz::ErrorCode::kIo);
 
-std::string shared(const std::string& rel) {
-  return std::string(CAPZ_SHARED_DATA) + "/" + rel;
-}
+// A real take (bundled: OpenSim's std_walking5_markers.trc, data/README.md) big enough that
+// every writer's output exceeds the 4 KB limit used below.
+const std::string kTrc = std::string(CAPZ_REPO_DATA) + "/std_walking5_markers.trc";
 
-// A real take big enough that every writer's output exceeds the 4 KB limit used below.
 capz::Take sample_take() {
-  return capz::read_trc(shared("trc/opensim/walk_free_01.trc"));
+  return capz::read_trc(kTrc);
 }
 
 }  // namespace
@@ -103,7 +102,7 @@ TEST(WriteFaults, EveryWriterLeavesNothingWhenTheDiskFills) {
 TEST(WriteFaults, CompressOnAFullDiskKeepsTheInputAndLeavesNoOutput) {
   capz_test::TempDir dir("capz_faults");
   const std::string in = dir.file("walk.trc");
-  fs::copy_file(shared("trc/opensim/walk_free_01.trc"), in);
+  fs::copy_file(kTrc, in);
   const std::vector<char> before = slurp(in);
   const std::string out = dir.file("walk.capz");
   for (bool rm : {false, true}) {
@@ -117,6 +116,5 @@ TEST(WriteFaults, CompressOnAFullDiskKeepsTheInputAndLeavesNoOutput) {
   EXPECT_EQ(list_dir(dir.path().string()), std::vector<std::string>{"walk.capz"});
   // And back: the decompressed file is the input, exactly (lossless TRC).
   EXPECT_EQ(capz_test::run_cli({"decompress", out, "-o", in}, 0), 0);
-  capz_test::expect_same_samples(capz::read_trc(shared("trc/opensim/walk_free_01.trc")),
-                                 capz::read_trc(in));
+  capz_test::expect_same_samples(capz::read_trc(kTrc), capz::read_trc(in));
 }

@@ -5,20 +5,16 @@
 // sequence, the period predictor's case, is in test_roundtrip.cpp's lossless cases.)
 #include <gtest/gtest.h>
 
-#include <filesystem>
-
 #include "capz/codec.h"
 #include "capz/io.h"
 #include "capz/metrics.h"
+#include "test_util.h"
 
 namespace capz {
 namespace {
 
-namespace fs = std::filesystem;
-const std::string kData = CAPZ_SHARED_DATA;
-
 struct Coarse {
-  const char* path;  // under kData
+  const char* path;  // under the shared real data
   double mm;         // bound in millimetres
   size_t reference;  // the reference coder's bytes at that bound (docs/bench/results.csv)
 };
@@ -30,9 +26,9 @@ TEST(Format3Real, GivenCoarseBoundsOnSmoothTakesThenWithinBoundAndUnderReference
       {"c3d/c3dorg/sample_00/NexGen Ergonomics/test1.c3d", 0.3, 1368},
   };
   for (const Coarse& c : cases) {
-    const std::string path = kData + "/" + c.path;
-    SCOPED_TRACE(path);
-    if (!fs::exists(path)) continue;
+    SCOPED_TRACE(c.path);
+    const std::string path = capz_test::shared_data_or_skip(c.path);
+    if (path.empty()) return;  // skipped (no shared data) or failed (a file missing from it)
     Take t = read_take(path);
     CompressOptions o;
     o.max_error = parse_length(std::to_string(c.mm) + "mm", t.units);

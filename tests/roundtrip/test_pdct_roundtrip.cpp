@@ -10,11 +10,10 @@
 #include "capz/metrics.h"
 #include "codec/pdct/pdct_encoder.h"
 #include "codec/transform.h"
+#include "test_util.h"
 #include "unit/synthetic.h"
 
 namespace {
-
-const std::string kData = CAPZ_SHARED_DATA;
 
 // The first `frames` frames of a take, gaps filled as the container fills them for coding.
 using Window = capz_test::Synth;
@@ -52,6 +51,8 @@ Outcome round_trip(const Window& w, const capz::TransformParams& p) {
 }  // namespace
 
 TEST(PdctRoundTrip, GivenPcdSequencesWhenKgTargetThenMetAndBitIdentical) {
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
   struct Case {
     const char* dir;
     size_t frames;
@@ -61,7 +62,7 @@ TEST(PdctRoundTrip, GivenPcdSequencesWhenKgTargetThenMetAndBitIdentical) {
   for (const Case c : {Case{"chickenCrossing", 60, 0.5, 6}, Case{"pcow", 60, 1.0, 8},
                        Case{"horse-gallop", 16, 1.0, 10}}) {
     SCOPED_TRACE(c.dir);
-    const capz::Take t = capz::read_pcd_folder(kData + "/pcd/" + c.dir);
+    const capz::Take t = capz::read_pcd_folder(data + "/pcd/" + c.dir);
     const Window w = window_of(t, c.frames);
     capz::TransformParams p;
     p.kg_error = c.kg;
@@ -75,7 +76,9 @@ TEST(PdctRoundTrip, GivenPcdSequencesWhenKgTargetThenMetAndBitIdentical) {
 }
 
 TEST(PdctRoundTrip, GivenChickenWhenZeroingCoefficientsThenRateDropsAndErrorRises) {
-  const capz::Take t = capz::read_pcd_folder(kData + "/pcd/chickenCrossing");
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
+  const capz::Take t = capz::read_pcd_folder(data + "/pcd/chickenCrossing");
   const Window w = window_of(t, 40);
   // Fixed quantisation (the paper's 12 bits): zeroing coefficients lowers the rate and raises
   // the error.
@@ -90,9 +93,11 @@ TEST(PdctRoundTrip, GivenChickenWhenZeroingCoefficientsThenRateDropsAndErrorRise
 }
 
 TEST(PdctRoundTrip, GivenMaxErrorWhenEncodedThenGridModeHoldsTheBound) {
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
   for (const char* dir : {"pcow", "chickenCrossing"}) {
     SCOPED_TRACE(dir);
-    const capz::Take t = capz::read_pcd_folder(kData + "/pcd/" + dir);
+    const capz::Take t = capz::read_pcd_folder(data + "/pcd/" + dir);
     const Window w = window_of(t, 40);
     capz::TransformParams p;
     p.max_error = 0.002;  // the sequences span ~4 and ~18 units
@@ -105,7 +110,9 @@ TEST(PdctRoundTrip, GivenMaxErrorWhenEncodedThenGridModeHoldsTheBound) {
 }
 
 TEST(PdctRoundTrip, GivenMaxErrorInDctModeWhenEncodedThenTransformAloneStaysNearTheBound) {
-  const capz::Take t = capz::read_pcd_folder(kData + "/pcd/pcow");
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
+  const capz::Take t = capz::read_pcd_folder(data + "/pcd/pcow");
   const Window w = window_of(t, 40);
   capz::TransformParams p;
   p.max_error = 0.002;
@@ -124,9 +131,11 @@ const char* const kMocap[] = {"/c3d/btkdata/PiG/PiG_Motion-FlatFoot-Hole.c3d",
                               "/c3d/c3dorg/sample_02/pc_real.c3d"};
 
 TEST(PdctRoundTrip, GivenMocapWithGapsWhenMaxErrorThenGridModeExactAndBitIdentical) {
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
   for (const char* rel : kMocap) {
     SCOPED_TRACE(rel);
-    const capz::Take t = capz::read_c3d(kData + rel);
+    const capz::Take t = capz::read_c3d(data + rel);
     ASSERT_GT(t.gap_samples(), 0u);
     const Window w = window_of(t, 200);
     for (double e : {0.1, 1.0}) {  // mm
@@ -141,9 +150,11 @@ TEST(PdctRoundTrip, GivenMocapWithGapsWhenMaxErrorThenGridModeExactAndBitIdentic
 }
 
 TEST(PdctRoundTrip, GivenMocapWithGapsWhenKgTargetInDctModeThenMet) {
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
   for (const char* rel : kMocap) {
     SCOPED_TRACE(rel);
-    const capz::Take t = capz::read_c3d(kData + rel);
+    const capz::Take t = capz::read_c3d(data + rel);
     const Window w = window_of(t, 200);
     capz::TransformParams p;
     p.kg_error = 0.5;
@@ -154,9 +165,11 @@ TEST(PdctRoundTrip, GivenMocapWithGapsWhenKgTargetInDctModeThenMet) {
 }
 
 TEST(PdctRoundTrip, GivenMocapWhenCompressedWithCodecPdctThenBoundHoldsAndGapsComeBack) {
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
   for (const char* rel : kMocap) {
     SCOPED_TRACE(rel);
-    const capz::Take t = capz::read_c3d(kData + rel);
+    const capz::Take t = capz::read_c3d(data + rel);
     capz::CompressOptions o;
     o.max_error = 0.1;
     o.codec = "pdct";

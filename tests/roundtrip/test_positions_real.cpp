@@ -4,18 +4,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
 
 #include "capz/io.h"
 #include "coding/positions.h"
 #include "coding/predict.h"
 #include "coding/quantiser.h"
 #include "support/positions_round_trip.h"
+#include "test_util.h"
 
 namespace capz {
 namespace {
-
-const std::string kData = CAPZ_SHARED_DATA;
 
 // Integers of frames [0, frames) of t: ordered float32 bits (step 0) or round(x / step).
 WindowInts ints_of(const Take& t, size_t frames, double step) {
@@ -36,8 +34,8 @@ size_t refs_and_check(const WindowInts& w) {
 }
 
 TEST(PositionsReal, GivenMeshSequenceThenReferencesUsedAndExact) {
-  const std::string path = kData + "/pcd/chickenCrossing";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " missing";
+  const std::string path = capz_test::shared_data_or_skip("pcd/chickenCrossing");
+  if (path.empty()) return;
   Take t = read_take(path);
   // Most vertices move with a neighbour: expect references for a clear majority of points.
   EXPECT_GT(refs_and_check(ints_of(t, 40, 0)), t.points / 2);      // float32 bits (lossless)
@@ -45,8 +43,9 @@ TEST(PositionsReal, GivenMeshSequenceThenReferencesUsedAndExact) {
 }
 
 TEST(PositionsReal, GivenMocapTakeThenReferencesUsedAndExact) {
-  const std::string path = kData + "/c3d/c3dorg/sample_37/ART-Human_2persons_integer.c3d";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " missing";
+  const std::string path =
+      capz_test::shared_data_or_skip("c3d/c3dorg/sample_37/ART-Human_2persons_integer.c3d");
+  if (path.empty()) return;
   Take t = read_take(path);
   EXPECT_GT(refs_and_check(ints_of(t, 500, 2.0)), 0u);
   EXPECT_GT(refs_and_check(ints_of(t, 500, 0.049)), 0u);

@@ -12,15 +12,14 @@
 #include "capz/error.h"
 #include "capz/io.h"
 #include "capz/metrics.h"
+#include "test_util.h"
 
 namespace capz {
 namespace {
 
 namespace fs = std::filesystem;
-const std::string kData = CAPZ_SHARED_DATA;
-
 struct Case {
-  const char* path;               // under kData
+  const char* path;               // under the shared real data
   size_t max_lossless_bytes = 0;  // if set: lossless POSW + MASK bytes must stay under it
 };
 
@@ -37,10 +36,6 @@ const Case kCases[] = {
     // positions 1,993,776 B; format 2.0 coded them in 2,573,710 B (docs/BENCHMARKS.md).
     {"pcd/horse-gallop", 1900000},
 };
-
-std::string path_of(const Case& c) {
-  return kData + "/" + c.path;
-}
 
 void expect_same_mask(const Take& a, const Take& b) {
   ASSERT_EQ(a.valid.size(), b.valid.size());
@@ -70,8 +65,8 @@ double bound_for(const Take& t, double mm) {
 class RoundTrip : public ::testing::TestWithParam<Case> {};
 
 TEST_P(RoundTrip, GivenRealFileWhenCompressedAtBoundsThenBoundHoldsAndEverythingElseExact) {
-  const std::string path = path_of(GetParam());
-  if (!fs::exists(path)) GTEST_SKIP() << path << " missing";
+  const std::string path = capz_test::shared_data_or_skip(GetParam().path);
+  if (path.empty()) return;
   Take t = read_take(path);
   for (double mm : {0.1, 1.0}) {
     CompressOptions o;
@@ -96,8 +91,8 @@ TEST_P(RoundTrip, GivenRealFileWhenCompressedAtBoundsThenBoundHoldsAndEverything
 }
 
 TEST_P(RoundTrip, GivenRealFileWhenLosslessThenEveryStoredCoordinateBitExact) {
-  const std::string path = path_of(GetParam());
-  if (!fs::exists(path)) GTEST_SKIP() << path << " missing";
+  const std::string path = capz_test::shared_data_or_skip(GetParam().path);
+  if (path.empty()) return;
   Take t = read_take(path);
   CompressOptions o;
   o.lossless = true;
@@ -135,10 +130,10 @@ TEST_P(RoundTrip, GivenRealFileWhenLosslessThenEveryStoredCoordinateBitExact) {
 }
 
 TEST_P(RoundTrip, GivenSmallWindowsWhenAFrameRangeIsDecodedThenItMatchesTheFullDecode) {
-  const std::string path = path_of(GetParam());
-  if (!fs::exists(path)) GTEST_SKIP() << path << " missing";
+  const std::string path = capz_test::shared_data_or_skip(GetParam().path);
+  if (path.empty()) return;
   Take t = read_take(path);
-  if (t.frames < 10) GTEST_SKIP();
+  ASSERT_GE(t.frames, 10u) << "every case is long enough for a range inside it";
   CompressOptions o;
   o.max_error = bound_for(t, 0.5);
   o.window_frames = 64;
@@ -173,8 +168,8 @@ TEST(RoundTripC3D, GivenC3DWhenDecompressedAndWrittenThenRereadsWithinBound) {
        {"c3d/c3dorg/sample_01/Eb015pr.c3d", "c3d/btkdata/PiG/PiG_Motion-FlatFoot-Hole.c3d",
         "c3d/c3dorg/sample_33/bigparlove.c3d",
         "c3d/c3dorg/sample_00/NexGen Ergonomics/test1.c3d"}) {
-    const std::string path = kData + "/" + rel;
-    if (!fs::exists(path)) GTEST_SKIP() << path << " missing";
+    const std::string path = capz_test::shared_data_or_skip(rel);
+    if (path.empty()) return;
     Take t = read_take(path);
     const std::string tmp =
         fs::temp_directory_path() / ("capz_rt_" + std::to_string(getpid()) + ".c3d");
