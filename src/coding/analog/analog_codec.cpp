@@ -1,0 +1,128 @@
+#include "coding/analog/analog_codec.h"
+
+#include "capz/error.h"
+#include "coding/analog/analog_entropy.h"
+#include "coding/analog/analog_float.h"
+#include "coding/analog/analog_lpc.h"
+#include "coding/bytes.h"
+
+namespace capz {
+namespace {
+
+using analog::ChannelRepr;
+using analog::Kind;
+
+constexpr size_t kBlockRows = 4096;  // LPC block length (A.3)
+constexpr uint8_t kWindowVersion = 0;
+
+// Side information of one LPC block: order, then shift and coefficients.
+void put_lpc(const analog::LpcParams& p, IntEncoder::Cursor* enc) {
+  enc->put(static_cast<uint32_t>(p.order), analog::kParamContext);
+  if (p.order == 0) return;
+  enc->put(static_cast<uint32_t>(p.shift), analog::kParamContext);
+  for (int32_t q : p.q) enc->put_signed(q, analog::kCoefContext);
+}
+analog::LpcParams get_lpc(IntDecoder::Cursor* dec) {
+  analog::LpcParams p;
+  int tok;
+  p.order = static_cast<int>(dec->get(analog::kParamContext, &tok));
+  if (p.order > analog::kMaxLpcOrder) dec->corrupt("analog LPC order above 32");
+  if (p.order == 0) return p;
+  p.shift = static_cast<int>(dec->get(analog::kParamContext, &tok));
+  if (p.shift > analog::kMaxLpcShift) dec->corrupt("analog LPC shift above 20");
+  for (int j = 0; j < p.order; ++j) {
+    const int32_t q = dec->get_signed(analog::kCoefContext, &tok);
+    if (q >= (1 << analog::kLpcPrecision) || q <= -(1 << analog::kLpcPrecision))
+      dec->corrupt("analog LPC coefficient out of range");
+    p.q.push_back(q);
+  }
+  return p;
+}
+
+// Prediction of sample i of a block whose LPC is p: the first min(order, ...) samples of the
+// window use the previous sample (0 for the first).
+inline int64_t predict(const analog::LpcParams& p, const int32_t* x, size_t i) {
+  if (i >= static_cast<size_t>(p.order)) return analog::lpc_predict(p, x + i);
+  return i ? x[i - 1] : 0;
+}
+
+void encode_int_channel(const std::vector<int32_t>& x, IntEncoder::Cursor* enc) {
+  analog::Magnitude mag;
+  for (size_t b0 = 0; b0 < x.size(); b0 += kBlockRows) {
+    const size_t b1 = std::min(x.size(), b0 + kBlockRows);
+    const analog::LpcParams p = analog::choose_lpc(x.data() + b0, b1 - b0);
+    put_lpc(p, enc);
+    for (size_t i = b0; i < b1; ++i) {
+      const int64_t e = x[i] - predict(p, x.data(), i);
+      analog::put_residual(enc, &mag, static_cast<int32_t>(e));
+    }
+  }
+}
+
+void decode_int_channel(size_t n, IntDecoder::Cursor* dec, std::vector<int32_t>* x) {
+  x->resize(n);
+  analog::Magnitude mag;
+  for (size_t b0 = 0; b0 < n; b0 += kBlockRows) {
+    const size_t b1 = std::min(n, b0 + kBlockRows);
+    const analog::LpcParams p = get_lpc(dec);
+    int32_t* xs = x->data();
+    for (size_t i = b0; i < b1; ++i) {
+      const int64_t v = analog::get_residual(dec, &mag) + predict(p, xs, i);
+      if (v > analog::kMaxSample || v < -analog::kMaxSample) dec->corrupt("analog sample out of range");
+      xs[i] = static_cast<int32_t>(v);
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int channels,
+                                          const AnalogHints& hints) {
+  ByteWriter head;
+  IntEncoder ent(analog::kAnalogContexts);
+  IntEncoder::Cursor cur = ent.cursor();
+  for (int c = 0; c < channels; ++c) {
+    const analog::ChannelHint hint =
+        static_cast<size_t>(c) < hints.channel.size() ? hints.channel[c] : analog::ChannelHint();
+    const ChannelRepr r = analog::choose_representation(rows + c, static_cast<size_t>(channels), nrows, hint);
+    analog::write_repr_header(r, &head);
+    if (analog::is_integer_kind(r.kind))
+      encode_int_channel(r.ints, &cur);
+    else if (r.kind == Kind::kFloat32 || r.kind == Kind::kFloat64)
+      analog::encode_float_channel(r.filled, r.kind == Kind::kFloat32, &cur);
+  }
+  ent.commit(cur);
+  ByteWriter out;
+  out.u8(kWindowVersion);
+  out.varint(head.size());
+  out.bytes(head.buffer());
+  out.bytes(ent.finish());
+  return std::move(out.buffer());
+}
+
+void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int channels,
+                          double* rows, const std::string& what) {
+  ByteReader in(data, size, what);
+  if (in.u8() != kWindowVersion) throw Error(ErrorCode::kCorrupt, what + ": unknown analog window version");
+  const uint64_t head_size = in.count(1, "analog header size");
+  ByteReader head(in.bytes(static_cast<size_t>(head_size)), static_cast<size_t>(head_size), what);
+  std::vector<ChannelRepr> reprs;
+  for (int c = 0; c < channels; ++c) reprs.push_back(analog::read_repr_header(&head, nrows));
+  if (!head.at_end()) throw Error(ErrorCode::kCorrupt, what + ": analog header has bytes left over");
+  IntDecoder ent(data + in.offset(), in.remaining(), analog::kAnalogContexts, what);
+  IntDecoder::Cursor cur = ent.cursor();
+  for (int c = 0; c < channels; ++c) {
+    ChannelRepr& r = reprs[c];
+    if (analog::is_integer_kind(r.kind))
+      decode_int_channel(nrows, &cur, &r.ints);
+    else if (r.kind == Kind::kFloat32 || r.kind == Kind::kFloat64)
+      analog::decode_float_channel(nrows, r.kind == Kind::kFloat32, &cur, &r.filled);
+    analog::reconstruct(r, nrows, rows + c, static_cast<size_t>(channels), what);
+    std::vector<int32_t>().swap(r.ints);
+    std::vector<double>().swap(r.filled);
+  }
+  ent.commit(cur);
+  if (!ent.at_end()) throw Error(ErrorCode::kCorrupt, what + ": analog samples have bytes left over");
+}
+
+}  // namespace capz

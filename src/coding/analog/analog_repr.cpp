@@ -1,0 +1,358 @@
+#include "coding/analog/analog_repr.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "capz/error.h"
+#include "coding/analog/analog_lpc.h"
+
+namespace capz {
+namespace analog {
+
+uint64_t bits_of(double v) {
+  uint64_t b;
+  std::memcpy(&b, &v, 8);
+  return b;
+}
+double from_bits(uint64_t b) {
+  double v;
+  std::memcpy(&v, &b, 8);
+  return v;
+}
+double round_to_float32(double y) {
+  constexpr double kMax = std::numeric_limits<float>::max();
+  if (y > kMax && y <= std::numeric_limits<double>::max()) y = kMax;
+  if (y < -kMax && y >= -std::numeric_limits<double>::max()) y = -kMax;
+  return static_cast<double>(static_cast<float>(y));
+}
+
+namespace {
+
+constexpr uint64_t kNegZero = uint64_t{1} << 63;
+constexpr int64_t kMaxScaledK = int64_t{1} << 24;
+
+// R(k * s + o): the scaled representation's reconstruction (this file is built with
+// -ffp-contract=off, so the product is rounded before the sum on every platform).
+double scaled_value(int64_t k, double s, double o, bool round_f32) {
+  const double y = static_cast<double>(k) * s + o;
+  return round_f32 ? round_to_float32(y) : y;
+}
+
+bool is_float32(double v) { return bits_of(round_to_float32(v)) == bits_of(v); }
+
+// Replaces non-finite samples by the previous finite one (the first finite one before any),
+// recording them in r->gap_index / gap_bits.
+std::vector<double> fill_gaps(const double* col, size_t stride, size_t n, ChannelRepr* r) {
+  std::vector<double> v(n);
+  double first = 0;
+  for (size_t i = 0; i < n; ++i)
+    if (std::isfinite(col[i * stride])) {
+      first = col[i * stride];
+      break;
+    }
+  double last = first;
+  for (size_t i = 0; i < n; ++i) {
+    const double x = col[i * stride];
+    if (std::isfinite(x)) {
+      last = x;
+    } else {
+      r->gap_index.push_back(static_cast<uint32_t>(i));
+      r->gap_bits.push_back(bits_of(x));
+    }
+    v[i] = last;
+  }
+  return v;
+}
+
+// The scaled fit for step s: o, the k and the exceptions; false when more than n / 32 samples
+// would be exceptions or a k is out of range.
+bool fit_scaled(const std::vector<double>& v, double s, double o, bool f32, ChannelRepr* r) {
+  if (!(s > 0) || !std::isfinite(s) || !std::isfinite(o)) return false;
+  const size_t n = v.size(), max_exc = n / 32;
+  r->ints.resize(n);
+  r->exc_index.clear();
+  r->exc_delta.clear();
+  for (size_t i = 0; i < n; ++i) {
+    const double kd = std::round((v[i] - o) / s);
+    if (!(std::fabs(kd) <= static_cast<double>(kMaxScaledK))) return false;
+    const int64_t k = static_cast<int64_t>(kd);
+    r->ints[i] = static_cast<int32_t>(k);
+    const uint64_t want = bits_of(v[i]), got = bits_of(scaled_value(k, s, o, f32));
+    if (want != got) {
+      if (r->exc_index.size() == max_exc) return false;
+      r->exc_index.push_back(static_cast<uint32_t>(i));
+      r->exc_delta.push_back(static_cast<int64_t>(want - got));
+    }
+  }
+  r->round_f32 = f32;
+  r->step = s;
+  r->offset = o;
+  return true;
+}
+
+// Tries the steps suggested by the data (the smallest gap between distinct values, refined over
+// the whole range) and by the hint; keeps the fit with the fewest exceptions.
+bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted, bool f32,
+                 const ChannelHint& hint, ChannelRepr* r) {
+  double gap = 0;
+  for (size_t i = 1; i < sorted.size(); ++i) {
+    const double d = sorted[i] - sorted[i - 1];
+    if (d > 0 && (gap == 0 || d < gap)) gap = d;
+  }
+  const double range = sorted.back() - sorted.front();
+  std::vector<double> steps;
+  if (gap > 0) {
+    steps.push_back(gap);
+    const double k = std::round(range / gap);
+    if (k >= 1 && k <= static_cast<double>(kMaxScaledK)) steps.push_back(range / k);
+  }
+  if (hint.scale != 0) steps.push_back(std::fabs(hint.scale));
+  ChannelRepr best;
+  bool found = false;
+  for (double s : steps) {
+    for (double o : {sorted.front() - std::round(sorted.front() / s) * s, hint.offset * s, 0.0}) {
+      ChannelRepr t;
+      if (!fit_scaled(v, s, o, f32, &t)) continue;
+      if (!found || t.exc_index.size() < best.exc_index.size()) {
+        best = std::move(t);
+        found = true;
+      }
+      if (best.exc_index.empty()) break;
+    }
+    if (found && best.exc_index.empty()) break;
+  }
+  if (!found) return false;
+  r->round_f32 = best.round_f32;
+  r->step = best.step;
+  r->offset = best.offset;
+  r->exc_index = std::move(best.exc_index);
+  r->exc_delta = std::move(best.exc_delta);
+  r->ints = std::move(best.ints);
+  return true;
+}
+
+bool all_integers(const std::vector<double>& v) {
+  for (double x : v)
+    if (!(std::fabs(x) <= kMaxSample) || x != std::floor(x) || bits_of(x) == kNegZero) return false;
+  return true;
+}
+
+}  // namespace
+
+ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
+                                  const ChannelHint& hint) {
+  ChannelRepr r;
+  std::vector<double> v = fill_gaps(col, stride, n, &r);
+  bool constant = true;
+  for (size_t i = 1; i < n && constant; ++i) constant = bits_of(v[i]) == bits_of(v[0]);
+  if (constant) {
+    r.kind = Kind::kConst;
+    r.const_bits = n ? bits_of(v[0]) : 0;
+    return r;
+  }
+  if (all_integers(v)) {
+    r.kind = Kind::kInt;
+    r.ints.resize(n);
+    for (size_t i = 0; i < n; ++i) r.ints[i] = static_cast<int32_t>(v[i]);
+    return r;
+  }
+  bool f32 = true;
+  for (size_t i = 0; i < n && f32; ++i) f32 = is_float32(v[i]);
+  std::vector<uint64_t> ord(n);
+  for (size_t i = 0; i < n; ++i) ord[i] = ordered_bits(bits_of(v[i]));
+  std::sort(ord.begin(), ord.end());
+  ord.erase(std::unique(ord.begin(), ord.end()), ord.end());
+  std::vector<double> sorted(ord.size());
+  for (size_t i = 0; i < ord.size(); ++i) sorted[i] = from_bits(from_ordered_bits(ord[i]));
+  if (find_scaled(v, sorted, f32, hint, &r)) {
+    r.kind = Kind::kScaled;
+    return r;
+  }
+  if (ord.size() <= n / 8 && ord.size() <= 65536) {
+    r.kind = Kind::kRank;
+    r.table = sorted;
+    r.ints.resize(n);
+    for (size_t i = 0; i < n; ++i)
+      r.ints[i] = static_cast<int32_t>(
+          std::lower_bound(ord.begin(), ord.end(), ordered_bits(bits_of(v[i]))) - ord.begin());
+    return r;
+  }
+  r.kind = f32 ? Kind::kFloat32 : Kind::kFloat64;
+  r.filled = std::move(v);
+  return r;
+}
+
+void write_repr_header(const ChannelRepr& r, ByteWriter* w) {
+  const bool gaps = !r.gap_index.empty();
+  w->u8(static_cast<uint8_t>(static_cast<int>(r.kind) | (gaps ? 8 : 0)));
+  if (gaps) {
+    // Runs of consecutive gap samples: count, then (distance from the previous run's end,
+    // length - 1) each; then the distinct bit patterns and, when several, each sample's index.
+    std::vector<std::pair<uint32_t, uint32_t>> runs;
+    for (uint32_t i : r.gap_index) {
+      if (!runs.empty() && runs.back().first + runs.back().second == i)
+        ++runs.back().second;
+      else
+        runs.push_back({i, 1});
+    }
+    w->varint(runs.size());
+    uint32_t end = 0;
+    for (const auto& run : runs) {
+      w->varint(run.first - end);
+      w->varint(run.second - 1);
+      end = run.first + run.second;
+    }
+    std::vector<uint64_t> pats;
+    for (uint64_t b : r.gap_bits)
+      if (std::find(pats.begin(), pats.end(), b) == pats.end()) pats.push_back(b);
+    w->varint(pats.size());
+    for (uint64_t b : pats) w->u64(b);
+    if (pats.size() > 1)
+      for (uint64_t b : r.gap_bits)
+        w->varint(static_cast<uint64_t>(std::find(pats.begin(), pats.end(), b) - pats.begin()));
+  }
+  switch (r.kind) {
+    case Kind::kConst:
+      w->u64(r.const_bits);
+      break;
+    case Kind::kScaled: {
+      w->u8(r.round_f32 ? 1 : 0);
+      w->f64(r.step);
+      w->f64(r.offset);
+      w->varint(r.exc_index.size());
+      uint32_t prev = 0;
+      for (size_t e = 0; e < r.exc_index.size(); ++e) {
+        w->varint(r.exc_index[e] - prev);
+        w->svarint(r.exc_delta[e]);
+        prev = r.exc_index[e] + 1;
+      }
+      break;
+    }
+    case Kind::kRank: {
+      w->varint(r.table.size());
+      uint64_t prev = 0;
+      for (size_t i = 0; i < r.table.size(); ++i) {
+        const uint64_t o = ordered_bits(bits_of(r.table[i]));
+        if (i == 0)
+          w->u64(o);
+        else
+          w->varint(o - prev - 1);
+        prev = o;
+      }
+      break;
+    }
+    default:
+      break;
+  }
+}
+
+namespace {
+
+void read_gaps(ByteReader* in, size_t n, ChannelRepr* r) {
+  const uint64_t runs = in->count(2, "analog gap runs");
+  uint64_t end = 0;
+  for (uint64_t k = 0; k < runs; ++k) {
+    const uint64_t start = end + in->varint();
+    const uint64_t len = in->varint() + 1;
+    if (start > n || len > n - start)
+      throw Error(ErrorCode::kCorrupt, in->what() + ": analog gap run past the window's end");
+    for (uint64_t i = start; i < start + len; ++i) r->gap_index.push_back(static_cast<uint32_t>(i));
+    end = start + len;
+  }
+  const uint64_t npat = in->count(8, "analog gap patterns");
+  if (npat == 0 || npat > r->gap_index.size())
+    throw Error(ErrorCode::kCorrupt, in->what() + ": bad number of analog gap patterns");
+  std::vector<uint64_t> pats(npat);
+  for (uint64_t& p : pats) p = in->u64();
+  r->gap_bits.assign(r->gap_index.size(), pats[0]);
+  if (npat > 1)
+    for (uint64_t& b : r->gap_bits) {
+      const uint64_t k = in->varint();
+      if (k >= npat) throw Error(ErrorCode::kCorrupt, in->what() + ": analog gap pattern index");
+      b = pats[k];
+    }
+}
+
+}  // namespace
+
+ChannelRepr read_repr_header(ByteReader* in, size_t n) {
+  ChannelRepr r;
+  const int byte = in->u8();
+  if ((byte & 7) >= kKinds || (byte & ~15) != 0)
+    throw Error(ErrorCode::kCorrupt, in->what() + ": unknown analog channel kind " + std::to_string(byte));
+  r.kind = static_cast<Kind>(byte & 7);
+  if (byte & 8) read_gaps(in, n, &r);
+  switch (r.kind) {
+    case Kind::kConst:
+      r.const_bits = in->u64();
+      break;
+    case Kind::kScaled: {
+      const int f = in->u8();
+      if (f > 1) throw Error(ErrorCode::kCorrupt, in->what() + ": bad analog rounding flag");
+      r.round_f32 = f == 1;
+      r.step = in->f64();
+      r.offset = in->f64();
+      const uint64_t ne = in->count(2, "analog exceptions");
+      uint64_t prev = 0;
+      for (uint64_t e = 0; e < ne; ++e) {
+        const uint64_t i = prev + in->varint();
+        if (i >= n) throw Error(ErrorCode::kCorrupt, in->what() + ": analog exception past the window");
+        r.exc_index.push_back(static_cast<uint32_t>(i));
+        r.exc_delta.push_back(in->svarint());
+        prev = i + 1;
+      }
+      break;
+    }
+    case Kind::kRank: {
+      const uint64_t m = in->count(1, "analog value table");
+      if (m == 0) throw Error(ErrorCode::kCorrupt, in->what() + ": empty analog value table");
+      uint64_t prev = 0;
+      for (uint64_t i = 0; i < m; ++i) {
+        const uint64_t o = i == 0 ? in->u64() : prev + in->varint() + 1;
+        r.table.push_back(from_bits(from_ordered_bits(o)));
+        prev = o;
+      }
+      break;
+    }
+    default:
+      break;
+  }
+  return r;
+}
+
+void reconstruct(const ChannelRepr& r, size_t n, double* col, size_t stride, const std::string& what) {
+  switch (r.kind) {
+    case Kind::kConst:
+      for (size_t i = 0; i < n; ++i) col[i * stride] = from_bits(r.const_bits);
+      break;
+    case Kind::kInt:
+      for (size_t i = 0; i < n; ++i) col[i * stride] = r.ints[i];
+      break;
+    case Kind::kScaled: {
+      for (size_t i = 0; i < n; ++i)
+        col[i * stride] = scaled_value(r.ints[i], r.step, r.offset, r.round_f32);
+      for (size_t e = 0; e < r.exc_index.size(); ++e) {
+        double* p = &col[r.exc_index[e] * stride];
+        *p = from_bits(bits_of(*p) + static_cast<uint64_t>(r.exc_delta[e]));
+      }
+      break;
+    }
+    case Kind::kRank:
+      for (size_t i = 0; i < n; ++i) {
+        const int32_t k = r.ints[i];
+        if (k < 0 || static_cast<size_t>(k) >= r.table.size())
+          throw Error(ErrorCode::kCorrupt, what + ": analog rank outside its table");
+        col[i * stride] = r.table[k];
+      }
+      break;
+    default:
+      for (size_t i = 0; i < n; ++i) col[i * stride] = r.filled[i];
+      break;
+  }
+  for (size_t g = 0; g < r.gap_index.size(); ++g) col[r.gap_index[g] * stride] = from_bits(r.gap_bits[g]);
+}
+
+}  // namespace analog
+}  // namespace capz
