@@ -44,10 +44,10 @@ long file_size(const std::string& path) {
   return n;
 }
 
-// Runs `cmd` (which writes `out`); returns the size of `out`, -1 on failure.
+// Runs `cmd` (which writes `out`, quietly); returns the size of `out`, -1 on failure.
 long run_peer(const std::string& cmd, const std::string& out) {
   std::remove(out.c_str());
-  if (std::system((cmd + " >/dev/null 2>&1").c_str()) != 0) return -1;
+  if (std::system((cmd + " 2>/dev/null").c_str()) != 0) return -1;
   return file_size(out);
 }
 
@@ -123,8 +123,10 @@ std::vector<std::vector<int16_t>> int16_channels(const Analog& a, const AnalogHi
   const size_t rows = a.values.size() / a.channels;
   std::vector<std::vector<int16_t>> out;
   for (int c = 0; c < a.channels; ++c) {
-    const analog::ChannelHint hint = h.channel.size() > static_cast<size_t>(c) ? h.channel[c] : analog::ChannelHint();
-    const analog::ChannelRepr r = analog::choose_representation(&a.values[c], a.channels, rows, hint);
+    const analog::ChannelHint hint =
+        h.channel.size() > static_cast<size_t>(c) ? h.channel[c] : analog::ChannelHint();
+    const analog::ChannelRepr r =
+        analog::choose_representation(&a.values[c], a.channels, rows, hint);
     std::vector<int16_t> v(rows, 0);
     if (r.kind == analog::Kind::kConst) {
       out.push_back(v);
@@ -149,13 +151,14 @@ Peers run_peers(const Analog& a, const AnalogHints& h) {
   const size_t rows = a.values.size() / a.channels;
   std::vector<float> cm(a.values.size());
   for (int c = 0; c < a.channels; ++c)
-    for (size_t i = 0; i < rows; ++i) cm[c * rows + i] = static_cast<float>(a.values[i * a.channels + c]);
+    for (size_t i = 0; i < rows; ++i)
+      cm[c * rows + i] = static_cast<float>(a.values[i * a.channels + c]);
   const std::string raw = g_tmp + "/f32.raw";
   write_file(raw, cm.data(), cm.size() * 4);
   p.xz = run_peer("xz -9e -T1 -k -c " + raw + " > " + raw + ".xz", raw + ".xz");
   p.zstd = run_peer("zstd -19 -q -f " + raw + " -o " + raw + ".zst", raw + ".zst");
-  p.fpzip = run_peer("fpzip -q -t float -2 " + std::to_string(rows) + " " + std::to_string(a.channels) +
-                         " -i " + raw + " -o " + raw + ".fpz",
+  p.fpzip = run_peer("fpzip -q -t float -2 " + std::to_string(rows) + " " +
+                         std::to_string(a.channels) + " -i " + raw + " -o " + raw + ".fpz",
                      raw + ".fpz");
   const auto ch = int16_channels(a, h);
   if (ch.empty()) return p;
@@ -163,11 +166,14 @@ Peers run_peers(const Analog& a, const AnalogHints& h) {
   for (const auto& v : ch) {
     const std::string pcm = g_tmp + "/ch.raw";
     write_file(pcm, v.data(), v.size() * 2);
-    const long f = run_peer("flac -8 -s -f --force-raw-format --endian=little --sign=signed "
-                            "--channels=1 --bps=16 --sample-rate=1000 -o " + pcm + ".flac " + pcm,
-                            pcm + ".flac");
-    const long w = run_peer("wavpack -hhx6 -q -y --raw-pcm=1000,16,1,le " + pcm + " -o " + pcm + ".wv",
-                            pcm + ".wv");
+    const long f = run_peer(
+        "flac -8 -s -f --no-padding --no-seektable --force-raw-format --endian=little "
+        "--sign=signed "
+        "--channels=1 --bps=16 --sample-rate=1000 -o " +
+            pcm + ".flac " + pcm,
+        pcm + ".flac");
+    const long w = run_peer(
+        "wavpack -hhx6 -q -y --raw-pcm=1000,16,1,le " + pcm + " -o " + pcm + ".wv", pcm + ".wv");
     p.flac = (f < 0 || p.flac < 0) ? -1 : p.flac + f;
     p.wavpack = (w < 0 || p.wavpack < 0) ? -1 : p.wavpack + w;
   }
@@ -191,8 +197,9 @@ int main(int argc, char** argv) {
   char tmpl[] = "/tmp/capz_analog_bench.XXXXXX";
   if (!mkdtemp(tmpl)) return 2;
   g_tmp = tmpl;
-  std::printf("%-48s %5s %7s %9s %9s %9s %9s %9s %9s %7s %7s %7s %s\n", "take", "ch", "rows", "raw_f32",
-              "capz", "xz-9e", "zstd-19", "fpzip", "flac-8", "wavpack", "ratio", "enc", "dec");
+  std::printf("%-48s %5s %7s %9s %9s %9s %9s %9s %9s %7s %7s %7s %s\n", "take", "ch", "rows",
+              "raw_f32", "capz", "xz-9e", "zstd-19", "fpzip", "flac-8", "wavpack", "ratio", "enc",
+              "dec");
   size_t total_ours = 0, total_raw = 0, miss = 0, n_takes = 0;
   double total_enc_s = 0, total_dec_s = 0;
   for (const std::string& path : files) {
@@ -218,16 +225,18 @@ int main(int argc, char** argv) {
     ++n_takes;
     miss += ratio > 0.85;
     std::string name = path.size() > 48 ? path.substr(path.size() - 48) : path;
-    std::printf("%-48s %5d %7zu %9zu %9zu %9ld %9ld %9ld %9ld %9ld %7.3f %7.1f %7.1f%s\n", name.c_str(),
-                t.analog.channels, t.analog.values.size() / t.analog.channels, raw, r.ours, p.xz, p.zstd,
-                p.fpzip, p.flac, p.wavpack, ratio, r.enc_mbs, r.dec_mbs, r.exact ? "" : "  NOT EXACT");
+    std::printf("%-48s %5d %7zu %9zu %9zu %9ld %9ld %9ld %9ld %9ld %7.3f %7.1f %7.1f%s\n",
+                name.c_str(), t.analog.channels, t.analog.values.size() / t.analog.channels, raw,
+                r.ours, p.xz, p.zstd, p.fpzip, p.flac, p.wavpack, ratio, r.enc_mbs, r.dec_mbs,
+                r.exact ? "" : "  NOT EXACT");
     std::fflush(stdout);
     if (!r.exact) miss += 1000;
   }
-  std::printf("takes %zu, raw %zu, capz %zu (%.3f), above 0.85x best peer: %zu; overall encode %.1f MB/s, "
-              "decode %.1f MB/s\n",
-              n_takes, total_raw, total_ours, static_cast<double>(total_ours) / total_raw, miss,
-              total_raw / 1e6 / total_enc_s, total_raw / 1e6 / total_dec_s);
+  std::printf(
+      "takes %zu, raw %zu, capz %zu (%.3f), above 0.85x best peer: %zu; overall encode %.1f MB/s, "
+      "decode %.1f MB/s\n",
+      n_takes, total_raw, total_ours, static_cast<double>(total_ours) / total_raw, miss,
+      total_raw / 1e6 / total_enc_s, total_raw / 1e6 / total_dec_s);
   std::string rm = "rm -rf " + g_tmp;
   if (std::system(rm.c_str()) != 0) return 2;
   return 0;

@@ -68,7 +68,8 @@ void decode_int_channel(size_t n, IntDecoder::Cursor* dec, std::vector<int32_t>*
     int32_t* xs = x->data();
     for (size_t i = b0; i < b1; ++i) {
       const int64_t v = analog::get_residual(dec, &mag) + predict(p, xs, i);
-      if (v > analog::kMaxSample || v < -analog::kMaxSample) dec->corrupt("analog sample out of range");
+      if (v > analog::kMaxSample || v < -analog::kMaxSample)
+        dec->corrupt("analog sample out of range");
       xs[i] = static_cast<int32_t>(v);
     }
   }
@@ -84,7 +85,8 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
   for (int c = 0; c < channels; ++c) {
     const analog::ChannelHint hint =
         static_cast<size_t>(c) < hints.channel.size() ? hints.channel[c] : analog::ChannelHint();
-    const ChannelRepr r = analog::choose_representation(rows + c, static_cast<size_t>(channels), nrows, hint);
+    const ChannelRepr r =
+        analog::choose_representation(rows + c, static_cast<size_t>(channels), nrows, hint);
     analog::write_repr_header(r, &head);
     if (analog::is_integer_kind(r.kind))
       encode_int_channel(r.ints, &cur);
@@ -103,12 +105,14 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
 void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int channels,
                           double* rows, const std::string& what) {
   ByteReader in(data, size, what);
-  if (in.u8() != kWindowVersion) throw Error(ErrorCode::kCorrupt, what + ": unknown analog window version");
+  if (in.u8() != kWindowVersion)
+    throw Error(ErrorCode::kCorrupt, what + ": unknown analog window version");
   const uint64_t head_size = in.count(1, "analog header size");
   ByteReader head(in.bytes(static_cast<size_t>(head_size)), static_cast<size_t>(head_size), what);
   std::vector<ChannelRepr> reprs;
   for (int c = 0; c < channels; ++c) reprs.push_back(analog::read_repr_header(&head, nrows));
-  if (!head.at_end()) throw Error(ErrorCode::kCorrupt, what + ": analog header has bytes left over");
+  if (!head.at_end())
+    throw Error(ErrorCode::kCorrupt, what + ": analog header has bytes left over");
   IntDecoder ent(data + in.offset(), in.remaining(), analog::kAnalogContexts, what);
   IntDecoder::Cursor cur = ent.cursor();
   for (int c = 0; c < channels; ++c) {
@@ -122,7 +126,8 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
     std::vector<double>().swap(r.filled);
   }
   ent.commit(cur);
-  if (!ent.at_end()) throw Error(ErrorCode::kCorrupt, what + ": analog samples have bytes left over");
+  if (!ent.at_end())
+    throw Error(ErrorCode::kCorrupt, what + ": analog samples have bytes left over");
 }
 
 }  // namespace capz

@@ -16,28 +16,13 @@ double predict(int kind, double a, double b, bool f32) {
   return f32 ? round_to_float32(p) : p;
 }
 
-// v is a float32 value (or the result of round_to_float32).
-uint32_t ord32(double v) {
-  const float f = static_cast<float>(v);
-  uint32_t b;
-  std::memcpy(&b, &f, 4);
-  return (b >> 31) ? ~b : b | 0x80000000u;
-}
-double from_ord32(uint32_t o) {
-  const uint32_t b = (o >> 31) ? o & 0x7FFFFFFFu : ~o;
-  float f;
-  std::memcpy(&f, &b, 4);
-  return f;
-}
-
 // Residual of sample v against prediction p in the channel's ordered integers.
 int64_t residual(double v, double p, bool f32) {
-  if (f32) return static_cast<int64_t>(ord32(v)) - static_cast<int64_t>(ord32(p));
+  if (f32) return static_cast<int64_t>(ordered_f32(v)) - static_cast<int64_t>(ordered_f32(p));
   return static_cast<int64_t>(ordered_bits(bits_of(v)) - ordered_bits(bits_of(p)));
 }
 double apply(double p, int64_t d, bool f32) {
-  if (f32) return from_ord32(static_cast<uint32_t>(static_cast<int64_t>(ord32(p)) + d));
-  return from_bits(from_ordered_bits(ordered_bits(bits_of(p)) + static_cast<uint64_t>(d)));
+  return apply_ordered_delta(p, d, f32);
 }
 
 int bit_length(int64_t d) {
@@ -52,7 +37,8 @@ void encode_float_channel(const std::vector<double>& x, bool f32, IntEncoder::Cu
   uint64_t cost[kFloatPredictors] = {0, 0};
   for (size_t i = 0; i < n; ++i) {
     const double a = i > 0 ? x[i - 1] : 0, b = i > 1 ? x[i - 2] : 0;
-    for (int k = 0; k < kFloatPredictors; ++k) cost[k] += bit_length(residual(x[i], predict(k, a, b, f32), f32));
+    for (int k = 0; k < kFloatPredictors; ++k)
+      cost[k] += bit_length(residual(x[i], predict(k, a, b, f32), f32));
   }
   const int kind = cost[1] < cost[0] ? 1 : 0;
   enc->put(static_cast<uint32_t>(kind), kParamContext);
@@ -71,7 +57,8 @@ void decode_float_channel(size_t n, bool f32, IntDecoder::Cursor* dec, std::vect
   int prev_nb = 0;
   double a = 0, b = 0;
   for (size_t i = 0; i < n; ++i) {
-    const double v = apply(predict(static_cast<int>(kind), a, b, f32), get_float_residual(dec, &prev_nb), f32);
+    const double v =
+        apply(predict(static_cast<int>(kind), a, b, f32), get_float_residual(dec, &prev_nb), f32);
     (*x)[i] = v;
     b = a;
     a = v;

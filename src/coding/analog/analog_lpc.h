@@ -17,7 +17,7 @@ namespace analog {
 
 constexpr int kMaxLpcOrder = 32;
 constexpr int kMaxLpcShift = 20;
-constexpr int kLpcPrecision = 14;     // coefficient magnitude bits, sign excluded
+constexpr int kLpcPrecision = 14;        // coefficient magnitude bits, sign excluded
 constexpr int32_t kMaxSample = 1 << 28;  // integer samples satisfy |x| <= kMaxSample
 
 // r[0..max_lag] of x[0..n) after a Tukey(0.5) window.

@@ -21,6 +21,22 @@ double from_bits(uint64_t b) {
   std::memcpy(&v, &b, 8);
   return v;
 }
+uint32_t ordered_f32(double v) {
+  const float f = static_cast<float>(v);
+  uint32_t b;
+  std::memcpy(&b, &f, 4);
+  return (b >> 31) ? ~b : b | 0x80000000u;
+}
+double from_ordered_f32(uint32_t o) {
+  const uint32_t b = (o >> 31) ? o & 0x7FFFFFFFu : ~o;
+  float f;
+  std::memcpy(&f, &b, 4);
+  return f;
+}
+double apply_ordered_delta(double v, int64_t d, bool f32) {
+  if (f32) return from_ordered_f32(static_cast<uint32_t>(static_cast<int64_t>(ordered_f32(v)) + d));
+  return from_bits(from_ordered_bits(ordered_bits(bits_of(v)) + static_cast<uint64_t>(d)));
+}
 double round_to_float32(double y) {
   constexpr double kMax = std::numeric_limits<float>::max();
   if (y > kMax && y <= std::numeric_limits<double>::max()) y = kMax;
@@ -40,7 +56,9 @@ double scaled_value(int64_t k, double s, double o, bool round_f32) {
   return round_f32 ? round_to_float32(y) : y;
 }
 
-bool is_float32(double v) { return bits_of(round_to_float32(v)) == bits_of(v); }
+bool is_float32(double v) {
+  return bits_of(round_to_float32(v)) == bits_of(v);
+}
 
 // Replaces non-finite samples by the previous finite one (the first finite one before any),
 // recording them in r->gap_index / gap_bits.
@@ -66,11 +84,23 @@ std::vector<double> fill_gaps(const double* col, size_t stride, size_t n, Channe
   return v;
 }
 
-// The scaled fit for step s: o, the k and the exceptions; false when more than n / 32 samples
-// would be exceptions or a k is out of range.
-bool fit_scaled(const std::vector<double>& v, double s, double o, bool f32, ChannelRepr* r) {
+size_t n_max_exc(size_t n) {
+  return n / 8;
+}
+
+// Exception delta: want - got in float32 units (ordered float bits) when rounding to float32,
+// else in ordered double bits; wrapping.
+int64_t exception_delta(double want, double got, bool f32) {
+  if (f32) return static_cast<int64_t>(ordered_f32(want)) - static_cast<int64_t>(ordered_f32(got));
+  return static_cast<int64_t>(ordered_bits(bits_of(want)) - ordered_bits(bits_of(got)));
+}
+
+// The scaled fit for step s and offset o: the k and the exceptions; false when more than
+// max_exc samples would be exceptions or a k is out of range.
+bool fit_scaled(const std::vector<double>& v, double s, double o, bool f32, size_t max_exc,
+                ChannelRepr* r) {
   if (!(s > 0) || !std::isfinite(s) || !std::isfinite(o)) return false;
-  const size_t n = v.size(), max_exc = n / 32;
+  const size_t n = v.size();
   r->ints.resize(n);
   r->exc_index.clear();
   r->exc_delta.clear();
@@ -83,7 +113,7 @@ bool fit_scaled(const std::vector<double>& v, double s, double o, bool f32, Chan
     if (want != got) {
       if (r->exc_index.size() == max_exc) return false;
       r->exc_index.push_back(static_cast<uint32_t>(i));
-      r->exc_delta.push_back(static_cast<int64_t>(want - got));
+      r->exc_delta.push_back(exception_delta(v[i], from_bits(got), f32));
     }
   }
   r->round_f32 = f32;
@@ -92,8 +122,31 @@ bool fit_scaled(const std::vector<double>& v, double s, double o, bool f32, Chan
   return true;
 }
 
-// Tries the steps suggested by the data (the smallest gap between distinct values, refined over
-// the whole range) and by the hint; keeps the fit with the fewest exceptions.
+// Least-squares line through (k_i, v_i) with k_i = round((v_i - o) / s): a step and offset
+// accurate to far below one float32 unit when the samples are rounded k * s + o.
+void refine_fit(const std::vector<double>& v, double* s, double* o) {
+  const size_t n = v.size();
+  std::vector<double> k(n);
+  double kbar = 0, vbar = 0;
+  for (size_t i = 0; i < n; ++i) {
+    k[i] = std::round((v[i] - *o) / *s);
+    kbar += k[i];
+    vbar += v[i];
+  }
+  kbar /= static_cast<double>(n);
+  vbar /= static_cast<double>(n);
+  double skv = 0, skk = 0;
+  for (size_t i = 0; i < n; ++i) {
+    skv += (k[i] - kbar) * (v[i] - vbar);
+    skk += (k[i] - kbar) * (k[i] - kbar);
+  }
+  if (!(skk > 0)) return;
+  *s = skv / skk;
+  *o = vbar - *s * kbar;
+}
+
+// Tries the steps suggested by the data (the smallest gap between distinct values, refined by a
+// least-squares fit) and by the hint; keeps the fit with the fewest exceptions.
 bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted, bool f32,
                  const ChannelHint& hint, ChannelRepr* r) {
   double gap = 0;
@@ -101,27 +154,38 @@ bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted
     const double d = sorted[i] - sorted[i - 1];
     if (d > 0 && (gap == 0 || d < gap)) gap = d;
   }
-  const double range = sorted.back() - sorted.front();
-  std::vector<double> steps;
-  if (gap > 0) {
-    steps.push_back(gap);
-    const double k = std::round(range / gap);
-    if (k >= 1 && k <= static_cast<double>(kMaxScaledK)) steps.push_back(range / k);
+  double small = sorted.front();
+  for (double x : sorted)
+    if (std::fabs(x) < std::fabs(small)) small = x;
+  std::vector<std::pair<double, double>> fits;  // (step, offset)
+  auto add = [&](double s, bool refine) {
+    if (!(s > 0) || !std::isfinite(s)) return;
+    double o = sorted.front() - std::round(sorted.front() / s) * s;
+    fits.push_back({s, o});
+    if (!refine) return;
+    for (int it = 0; it < 2; ++it) {
+      refine_fit(v, &s, &o);
+      if (!(s > 0) || !std::isfinite(s) || !std::isfinite(o)) return;
+      fits.push_back({s, o});
+      // The sample nearest 0 has the finest rounding: pin the offset there.
+      fits.push_back({s, small - std::round((small - o) / s) * s});
+    }
+  };
+  add(gap, true);
+  if (hint.scale != 0) {
+    fits.push_back({std::fabs(hint.scale), hint.offset * std::fabs(hint.scale)});
+    add(std::fabs(hint.scale), true);
   }
-  if (hint.scale != 0) steps.push_back(std::fabs(hint.scale));
   ChannelRepr best;
   bool found = false;
-  for (double s : steps) {
-    for (double o : {sorted.front() - std::round(sorted.front() / s) * s, hint.offset * s, 0.0}) {
-      ChannelRepr t;
-      if (!fit_scaled(v, s, o, f32, &t)) continue;
-      if (!found || t.exc_index.size() < best.exc_index.size()) {
-        best = std::move(t);
-        found = true;
-      }
+  for (auto it = fits.rbegin(); it != fits.rend(); ++it) {
+    ChannelRepr t;
+    if (!fit_scaled(v, it->first, it->second, f32, n_max_exc(v.size()), &t)) continue;
+    if (!found || t.exc_index.size() < best.exc_index.size()) {
+      best = std::move(t);
+      found = true;
       if (best.exc_index.empty()) break;
     }
-    if (found && best.exc_index.empty()) break;
   }
   if (!found) return false;
   r->round_f32 = best.round_f32;
@@ -281,7 +345,8 @@ ChannelRepr read_repr_header(ByteReader* in, size_t n) {
   ChannelRepr r;
   const int byte = in->u8();
   if ((byte & 7) >= kKinds || (byte & ~15) != 0)
-    throw Error(ErrorCode::kCorrupt, in->what() + ": unknown analog channel kind " + std::to_string(byte));
+    throw Error(ErrorCode::kCorrupt,
+                in->what() + ": unknown analog channel kind " + std::to_string(byte));
   r.kind = static_cast<Kind>(byte & 7);
   if (byte & 8) read_gaps(in, n, &r);
   switch (r.kind) {
@@ -298,7 +363,8 @@ ChannelRepr read_repr_header(ByteReader* in, size_t n) {
       uint64_t prev = 0;
       for (uint64_t e = 0; e < ne; ++e) {
         const uint64_t i = prev + in->varint();
-        if (i >= n) throw Error(ErrorCode::kCorrupt, in->what() + ": analog exception past the window");
+        if (i >= n)
+          throw Error(ErrorCode::kCorrupt, in->what() + ": analog exception past the window");
         r.exc_index.push_back(static_cast<uint32_t>(i));
         r.exc_delta.push_back(in->svarint());
         prev = i + 1;
@@ -322,7 +388,8 @@ ChannelRepr read_repr_header(ByteReader* in, size_t n) {
   return r;
 }
 
-void reconstruct(const ChannelRepr& r, size_t n, double* col, size_t stride, const std::string& what) {
+void reconstruct(const ChannelRepr& r, size_t n, double* col, size_t stride,
+                 const std::string& what) {
   switch (r.kind) {
     case Kind::kConst:
       for (size_t i = 0; i < n; ++i) col[i * stride] = from_bits(r.const_bits);
@@ -335,7 +402,7 @@ void reconstruct(const ChannelRepr& r, size_t n, double* col, size_t stride, con
         col[i * stride] = scaled_value(r.ints[i], r.step, r.offset, r.round_f32);
       for (size_t e = 0; e < r.exc_index.size(); ++e) {
         double* p = &col[r.exc_index[e] * stride];
-        *p = from_bits(bits_of(*p) + static_cast<uint64_t>(r.exc_delta[e]));
+        *p = apply_ordered_delta(*p, r.exc_delta[e], r.round_f32);
       }
       break;
     }
@@ -351,7 +418,8 @@ void reconstruct(const ChannelRepr& r, size_t n, double* col, size_t stride, con
       for (size_t i = 0; i < n; ++i) col[i * stride] = r.filled[i];
       break;
   }
-  for (size_t g = 0; g < r.gap_index.size(); ++g) col[r.gap_index[g] * stride] = from_bits(r.gap_bits[g]);
+  for (size_t g = 0; g < r.gap_index.size(); ++g)
+    col[r.gap_index[g] * stride] = from_bits(r.gap_bits[g]);
 }
 
 }  // namespace analog

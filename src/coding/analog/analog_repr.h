@@ -22,9 +22,18 @@
 namespace capz {
 namespace analog {
 
-enum class Kind : uint8_t { kConst = 0, kInt = 1, kScaled = 2, kRank = 3, kFloat32 = 4, kFloat64 = 5 };
+enum class Kind : uint8_t {
+  kConst = 0,
+  kInt = 1,
+  kScaled = 2,
+  kRank = 3,
+  kFloat32 = 4,
+  kFloat64 = 5
+};
 constexpr int kKinds = 6;
-inline bool is_integer_kind(Kind k) { return k == Kind::kInt || k == Kind::kScaled || k == Kind::kRank; }
+inline bool is_integer_kind(Kind k) {
+  return k == Kind::kInt || k == Kind::kScaled || k == Kind::kRank;
+}
 
 // What the file says about a channel; only ever a hint (the encoder verifies everything).
 struct ChannelHint {
@@ -40,7 +49,8 @@ struct ChannelRepr {
   bool round_f32 = false;           // kScaled: R = float32 rounding
   double step = 0, offset = 0;      // kScaled
   std::vector<uint32_t> exc_index;  // kScaled exceptions: increasing sample indices
-  std::vector<int64_t> exc_delta;   // their bits minus the bits of R(k * s + o), wrapping
+  std::vector<int64_t> exc_delta;   // their ordered bits minus those of R(k * s + o) (float32
+                                    // patterns when round_f32), wrapping
   std::vector<double> table;        // kRank: distinct values in increasing ordered-bits order
   std::vector<int32_t> ints;        // integer kinds: n values, |v| <= kMaxSample
   std::vector<double> filled;       // float kinds: the n samples with gaps filled
@@ -58,6 +68,11 @@ double from_bits(uint64_t b);
 // y rounded to float32 (nearest even) and widened; finite values beyond the float range become
 // +-FLT_MAX first, so the conversion is always defined.
 double round_to_float32(double y);
+// Ordered 32-bit pattern of a float32 value v (widened to double), and back.
+uint32_t ordered_f32(double v);
+double from_ordered_f32(uint32_t o);
+// v moved by d units of its ordered pattern: float32 patterns when f32, else double; wrapping.
+double apply_ordered_delta(double v, int64_t d, bool f32);
 
 // Chooses the representation of samples col[0], col[stride], ... (n of them).
 ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
@@ -71,7 +86,8 @@ ChannelRepr read_repr_header(ByteReader* in, size_t n);
 
 // Writes the n samples to col[0], col[stride], ... from the header and `ints` / `filled`.
 // Throws Error(kCorrupt) naming `what` when a rank is outside the table.
-void reconstruct(const ChannelRepr& r, size_t n, double* col, size_t stride, const std::string& what);
+void reconstruct(const ChannelRepr& r, size_t n, double* col, size_t stride,
+                 const std::string& what);
 
 }  // namespace analog
 }  // namespace capz
