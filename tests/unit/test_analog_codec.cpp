@@ -151,10 +151,10 @@ TEST(AnalogCodec, GivenAllNaNOrConstantChannelsWhenCodedThenNearlyFree) {
 }
 
 TEST(AnalogCodec, GivenChannelsChangingRepresentationBetweenWindowsThenEachWindowExact) {
-  std::vector<double> a = sine(1500, 1000, 1, 0, 8);     // integers
-  std::vector<double> b = sine(1500, 1000, 0.1, 0, 9);   // scaled (double, not float)
-  std::vector<double> c(1500, 4.0);                      // constant
-  std::vector<double> d(1500);                           // arbitrary float64
+  std::vector<double> a = sine(1500, 1000, 1, 0, 8);    // integers
+  std::vector<double> b = sine(1500, 1000, 0.1, 0, 9);  // scaled (double, not float)
+  std::vector<double> c(1500, 4.0);                     // constant
+  std::vector<double> d(1500);                          // arbitrary float64
   for (size_t i = 0; i < d.size(); ++i) d[i] = std::exp(std::sin(i * 0.01));
   const std::vector<double>* order[4][2] = {{&a, &b}, {&b, &c}, {&c, &d}, {&d, &a}};
   for (const auto& w : order) {
@@ -192,7 +192,8 @@ TEST(AnalogCodec, GivenCorruptPayloadsThenKCorruptNeverCrash) {
     if (trial < static_cast<int>(p.size())) {
       q.resize(trial);  // every truncation
     } else {
-      for (int k = 0; k < 1 + trial % 4; ++k) q[rng() % q.size()] ^= static_cast<uint8_t>(1 + rng() % 255);
+      for (int k = 0; k < 1 + trial % 4; ++k)
+        q[rng() % q.size()] ^= static_cast<uint8_t>(1 + rng() % 255);
     }
     try {
       decode_analog_window(q.data(), q.size(), 700, 4, out.data(), "corrupt window");

@@ -32,7 +32,8 @@ TEST(AnalogLpc, GivenSingularAutocorrelationWhenLevinsonThenStopsEarly) {
   EXPECT_EQ(levinson({0, 0, 0}, 2, &a, &err), 0);
   // A pure sinusoid is predicted exactly at order 2: the recursion stops there.
   std::vector<int32_t> x(2000);
-  for (size_t i = 0; i < x.size(); ++i) x[i] = static_cast<int32_t>(std::lround(1e6 * std::sin(0.05 * i)));
+  for (size_t i = 0; i < x.size(); ++i)
+    x[i] = static_cast<int32_t>(std::lround(1e6 * std::sin(0.05 * i)));
   EXPECT_LE(levinson(autocorrelation(x.data(), x.size(), 8), 8, &a, &err), 8);
   EXPECT_LT(err.back(), err[0] * 1e-6);
 }

@@ -15,6 +15,12 @@ using analog::Kind;
 constexpr size_t kBlockRows = 4096;  // LPC block length (A.3)
 constexpr uint8_t kWindowVersion = 0;
 
+// Whether a channel of this kind has numbers in the entropy-coded block (a window whose
+// channels have none omits the block).
+bool coded(Kind k) {
+  return k != Kind::kConst;
+}
+
 // Side information of one LPC block: order, then shift and coefficients.
 void put_lpc(const analog::LpcParams& p, IntEncoder::Cursor* enc) {
   enc->put(static_cast<uint32_t>(p.order), analog::kParamContext);
@@ -80,6 +86,8 @@ void decode_int_channel(size_t n, IntDecoder::Cursor* dec, std::vector<int32_t>*
 std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int channels,
                                           const AnalogHints& hints) {
   ByteWriter head;
+  uint64_t last_const = 0;
+  bool any_coded = false;
   IntEncoder ent(analog::kAnalogContexts);
   IntEncoder::Cursor cur = ent.cursor();
   for (int c = 0; c < channels; ++c) {
@@ -87,7 +95,8 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
         static_cast<size_t>(c) < hints.channel.size() ? hints.channel[c] : analog::ChannelHint();
     const ChannelRepr r =
         analog::choose_representation(rows + c, static_cast<size_t>(channels), nrows, hint);
-    analog::write_repr_header(r, &head);
+    analog::write_repr_header(r, &last_const, &head);
+    any_coded |= coded(r.kind);
     if (analog::is_integer_kind(r.kind))
       encode_int_channel(r.ints, &cur);
     else if (r.kind == Kind::kFloat32 || r.kind == Kind::kFloat64)
@@ -98,7 +107,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
   out.u8(kWindowVersion);
   out.varint(head.size());
   out.bytes(head.buffer());
-  out.bytes(ent.finish());
+  if (any_coded) out.bytes(ent.finish());
   return std::move(out.buffer());
 }
 
@@ -110,9 +119,21 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
   const uint64_t head_size = in.count(1, "analog header size");
   ByteReader head(in.bytes(static_cast<size_t>(head_size)), static_cast<size_t>(head_size), what);
   std::vector<ChannelRepr> reprs;
-  for (int c = 0; c < channels; ++c) reprs.push_back(analog::read_repr_header(&head, nrows));
+  uint64_t last_const = 0;
+  bool any_coded = false;
+  for (int c = 0; c < channels; ++c) {
+    reprs.push_back(analog::read_repr_header(&head, nrows, &last_const));
+    any_coded |= coded(reprs.back().kind);
+  }
   if (!head.at_end())
     throw Error(ErrorCode::kCorrupt, what + ": analog header has bytes left over");
+  if (!any_coded) {
+    if (!in.at_end())
+      throw Error(ErrorCode::kCorrupt, what + ": analog window has bytes left over");
+    for (int c = 0; c < channels; ++c)
+      analog::reconstruct(reprs[c], nrows, rows + c, static_cast<size_t>(channels), what);
+    return;
+  }
   IntDecoder ent(data + in.offset(), in.remaining(), analog::kAnalogContexts, what);
   IntDecoder::Cursor cur = ent.cursor();
   for (int c = 0; c < channels; ++c) {

@@ -145,6 +145,28 @@ void refine_fit(const std::vector<double>& v, double* s, double* o) {
   *o = vbar - *s * kbar;
 }
 
+// The largest power of two that divides (as a multiple) at least 7/8 of the samples: a step
+// when a few off-grid samples hide the grid from the smallest gap.
+double common_power_of_two(const std::vector<double>& v) {
+  int hist[2100] = {0};
+  size_t nonzero = 0;
+  for (double x : v) {
+    if (x == 0) continue;
+    int e;
+    const double m = std::frexp(x, &e);  // x = m 2^e, 0.5 <= |m| < 1, 53-bit mantissa
+    const uint64_t mant = static_cast<uint64_t>(std::fabs(std::ldexp(m, 53)));
+    const int lsb = e - 53 + __builtin_ctzll(mant);
+    ++hist[std::min(2099, std::max(0, lsb + 1100))];
+    ++nonzero;
+  }
+  size_t above = 0;
+  for (int b = 2099; b >= 0; --b) {
+    above += hist[b];
+    if (above * 8 >= nonzero * 7 && nonzero > 0) return std::ldexp(1.0, b - 1100);
+  }
+  return 0;
+}
+
 // Tries the steps suggested by the data (the smallest gap between distinct values, refined by a
 // least-squares fit) and by the hint; keeps the fit with the fewest exceptions.
 bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted, bool f32,
@@ -160,7 +182,7 @@ bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted
   std::vector<std::pair<double, double>> fits;  // (step, offset)
   auto add = [&](double s, bool refine) {
     if (!(s > 0) || !std::isfinite(s)) return;
-    double o = sorted.front() - std::round(sorted.front() / s) * s;
+    double o = refine ? sorted.front() - std::round(sorted.front() / s) * s : 0.0;
     fits.push_back({s, o});
     if (!refine) return;
     for (int it = 0; it < 2; ++it) {
@@ -172,19 +194,26 @@ bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted
     }
   };
   add(gap, true);
+  add(common_power_of_two(v), false);
   if (hint.scale != 0) {
     fits.push_back({std::fabs(hint.scale), hint.offset * std::fabs(hint.scale)});
     add(std::fabs(hint.scale), true);
   }
+  // Cost of a fit in bits, up to a constant: exceptions (about 3 bytes each) and log2 of the
+  // k's spread, which grows as the step shrinks.
+  const size_t n = v.size();
+  auto cost = [&](const ChannelRepr& t) {
+    return 24.0 * static_cast<double>(t.exc_index.size()) -
+           static_cast<double>(n) * std::log2(t.step);
+  };
   ChannelRepr best;
   bool found = false;
   for (auto it = fits.rbegin(); it != fits.rend(); ++it) {
     ChannelRepr t;
-    if (!fit_scaled(v, it->first, it->second, f32, n_max_exc(v.size()), &t)) continue;
-    if (!found || t.exc_index.size() < best.exc_index.size()) {
+    if (!fit_scaled(v, it->first, it->second, f32, n_max_exc(n), &t)) continue;
+    if (!found || cost(t) < cost(best)) {
       best = std::move(t);
       found = true;
-      if (best.exc_index.empty()) break;
     }
   }
   if (!found) return false;
@@ -195,6 +224,25 @@ bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted
   r->exc_delta = std::move(best.exc_delta);
   r->ints = std::move(best.ints);
   return true;
+}
+
+constexpr size_t kMaxTable = 65536;
+
+// Rough coded sizes in bits, to choose between ranks and float coding: the table (about 3 bytes
+// an entry for float32, 5 for float64) plus unpredicted ranks, against the float coder's bit
+// lengths of previous-sample residuals plus 2 bits a sample for the lengths themselves.
+double rank_bits(size_t m, size_t n, bool f32) {
+  return static_cast<double>(m) * (f32 ? 24 : 40) +
+         static_cast<double>(n) * std::log2(static_cast<double>(m));
+}
+double float_bits(const std::vector<double>& v, bool f32) {
+  double bits = 0;
+  for (size_t i = 1; i < v.size(); ++i) {
+    const int64_t d = exception_delta(v[i], v[i - 1], f32);
+    const uint64_t u = (static_cast<uint64_t>(d) << 1) ^ static_cast<uint64_t>(d >> 63);
+    bits += 2 + (u == 0 ? 0 : 64 - __builtin_clzll(u));
+  }
+  return bits;
 }
 
 bool all_integers(const std::vector<double>& v) {
@@ -234,7 +282,7 @@ ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
     r.kind = Kind::kScaled;
     return r;
   }
-  if (ord.size() <= n / 8 && ord.size() <= 65536) {
+  if (ord.size() <= kMaxTable && rank_bits(ord.size(), n, f32) < float_bits(v, f32)) {
     r.kind = Kind::kRank;
     r.table = sorted;
     r.ints.resize(n);
@@ -248,9 +296,10 @@ ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
   return r;
 }
 
-void write_repr_header(const ChannelRepr& r, ByteWriter* w) {
+void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w) {
   const bool gaps = !r.gap_index.empty();
-  w->u8(static_cast<uint8_t>(static_cast<int>(r.kind) | (gaps ? 8 : 0)));
+  const bool same = r.kind == Kind::kConst && r.const_bits == *last_const;
+  w->u8(static_cast<uint8_t>(static_cast<int>(r.kind) | (gaps ? 8 : 0) | (same ? 16 : 0)));
   if (gaps) {
     // Runs of consecutive gap samples: count, then (distance from the previous run's end,
     // length - 1) each; then the distinct bit patterns and, when several, each sample's index.
@@ -279,7 +328,8 @@ void write_repr_header(const ChannelRepr& r, ByteWriter* w) {
   }
   switch (r.kind) {
     case Kind::kConst:
-      w->u64(r.const_bits);
+      if (!same) w->varint(__builtin_bswap64(r.const_bits));
+      *last_const = r.const_bits;
       break;
     case Kind::kScaled: {
       w->u8(r.round_f32 ? 1 : 0);
@@ -296,9 +346,11 @@ void write_repr_header(const ChannelRepr& r, ByteWriter* w) {
     }
     case Kind::kRank: {
       w->varint(r.table.size());
+      const bool f32 = std::all_of(r.table.begin(), r.table.end(), is_float32);
+      w->u8(f32 ? 1 : 0);
       uint64_t prev = 0;
       for (size_t i = 0; i < r.table.size(); ++i) {
-        const uint64_t o = ordered_bits(bits_of(r.table[i]));
+        const uint64_t o = f32 ? ordered_f32(r.table[i]) : ordered_bits(bits_of(r.table[i]));
         if (i == 0)
           w->u64(o);
         else
@@ -341,17 +393,18 @@ void read_gaps(ByteReader* in, size_t n, ChannelRepr* r) {
 
 }  // namespace
 
-ChannelRepr read_repr_header(ByteReader* in, size_t n) {
+ChannelRepr read_repr_header(ByteReader* in, size_t n, uint64_t* last_const) {
   ChannelRepr r;
   const int byte = in->u8();
-  if ((byte & 7) >= kKinds || (byte & ~15) != 0)
+  if ((byte & 7) >= kKinds || (byte & ~31) != 0 || ((byte & 16) && (byte & 7) != 0))
     throw Error(ErrorCode::kCorrupt,
                 in->what() + ": unknown analog channel kind " + std::to_string(byte));
   r.kind = static_cast<Kind>(byte & 7);
   if (byte & 8) read_gaps(in, n, &r);
   switch (r.kind) {
     case Kind::kConst:
-      r.const_bits = in->u64();
+      r.const_bits = (byte & 16) ? *last_const : __builtin_bswap64(in->varint());
+      *last_const = r.const_bits;
       break;
     case Kind::kScaled: {
       const int f = in->u8();
@@ -374,10 +427,16 @@ ChannelRepr read_repr_header(ByteReader* in, size_t n) {
     case Kind::kRank: {
       const uint64_t m = in->count(1, "analog value table");
       if (m == 0) throw Error(ErrorCode::kCorrupt, in->what() + ": empty analog value table");
+      const int f32 = in->u8();
+      if (f32 > 1) throw Error(ErrorCode::kCorrupt, in->what() + ": bad analog table flag");
       uint64_t prev = 0;
       for (uint64_t i = 0; i < m; ++i) {
         const uint64_t o = i == 0 ? in->u64() : prev + in->varint() + 1;
-        r.table.push_back(from_bits(from_ordered_bits(o)));
+        if (f32 && o > 0xFFFFFFFFu)
+          throw Error(ErrorCode::kCorrupt,
+                      in->what() + ": analog float32 table entry out of range");
+        r.table.push_back(f32 ? from_ordered_f32(static_cast<uint32_t>(o))
+                              : from_bits(from_ordered_bits(o)));
         prev = o;
       }
       break;

@@ -78,11 +78,13 @@ double apply_ordered_delta(double v, int64_t d, bool f32);
 ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
                                   const ChannelHint& hint);
 
-// The kind byte's low 3 bits are the kind; bit 3 says a gap list follows. The header carries
-// everything but the per-sample numbers (ints or float samples), which the entropy stage codes.
-void write_repr_header(const ChannelRepr& r, ByteWriter* w);
+// The kind byte's low 3 bits are the kind; bit 3 says a gap list follows; bit 4 (kConst only)
+// says the value is *last_const, the previous constant channel's of the window (0 before any).
+// The header carries everything but the per-sample numbers (ints or float samples), which the
+// entropy stage codes. *last_const is updated by kConst channels.
+void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w);
 // Reads a header for a channel of n samples; sizes are bounded by the bytes left in `in`.
-ChannelRepr read_repr_header(ByteReader* in, size_t n);
+ChannelRepr read_repr_header(ByteReader* in, size_t n, uint64_t* last_const);
 
 // Writes the n samples to col[0], col[stride], ... from the header and `ints` / `filled`.
 // Throws Error(kCorrupt) naming `what` when a rank is outside the table.
