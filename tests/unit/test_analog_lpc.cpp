@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 
+#include "coding/analog/analog_cascade.h"
 #include "coding/analog/analog_lpc.h"
 
 namespace capz {
@@ -85,6 +86,45 @@ TEST(AnalogLpc, GivenExtremeInputsWhenPredictedThenClampedToSampleRange) {
   p.q = {(1 << kLpcPrecision) - 1, (1 << kLpcPrecision) - 1};
   const int32_t x[3] = {kMaxSample, kMaxSample, 0};
   EXPECT_EQ(lpc_predict(p, x + 2), kMaxSample);
+}
+
+}  // namespace
+}  // namespace analog
+}  // namespace capz
+
+namespace capz {
+namespace analog {
+namespace {
+
+// The cascade learns what LPC left: a residual that is itself predictable shrinks.
+TEST(AnalogCascade, GivenCorrelatedResidualWhenAdaptedThenOutputSmaller) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> e(0, 50);
+  SignLms lms;
+  double x1 = 0, in_ss = 0, out_ss = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const double y = 0.9 * x1 + e(rng);
+    x1 = y;
+    const int64_t in = std::lround(y);
+    const int64_t out = in - lms.predict();
+    lms.update(in, out);
+    if (i >= 10000) {
+      in_ss += static_cast<double>(in) * in;
+      out_ss += static_cast<double>(out) * out;
+    }
+  }
+  EXPECT_LT(out_ss, 0.4 * in_ss);  // an AR(1) with 0.9: innovation power 0.19 of the total
+}
+
+TEST(AnalogCascade, GivenExtremeInputsThenPredictionStaysInSampleRange) {
+  SignLms lms;
+  for (int i = 0; i < 5000; ++i) {
+    const int64_t in = (i & 1) ? kMaxSample : -kMaxSample;
+    const int64_t p = lms.predict();
+    EXPECT_LE(p, kMaxSample);
+    EXPECT_GE(p, -kMaxSample);
+    lms.update(in, in - p);
+  }
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "coding/analog/analog_codec.h"
 
 #include "capz/error.h"
+#include "coding/analog/analog_cascade.h"
 #include "coding/analog/analog_entropy.h"
 #include "coding/analog/analog_float.h"
 #include "coding/analog/analog_lpc.h"
@@ -52,28 +53,74 @@ inline int64_t predict(const analog::LpcParams& p, const int32_t* x, size_t i) {
   return i ? x[i - 1] : 0;
 }
 
-void encode_int_channel(const std::vector<int32_t>& x, IntEncoder::Cursor* enc) {
-  analog::Magnitude mag;
+int bit_length(int64_t e) {
+  const uint64_t u = analog::zigzag64(e);
+  return u == 0 ? 0 : 64 - __builtin_clzll(u);
+}
+
+// The LPC stage of a whole channel: per-block parameters and the residuals x - p.
+void lpc_stage(const std::vector<int32_t>& x, std::vector<analog::LpcParams>* params,
+               std::vector<int32_t>* r) {
+  r->resize(x.size());
   for (size_t b0 = 0; b0 < x.size(); b0 += kBlockRows) {
     const size_t b1 = std::min(x.size(), b0 + kBlockRows);
-    const analog::LpcParams p = analog::choose_lpc(x.data() + b0, b1 - b0);
-    put_lpc(p, enc);
-    for (size_t i = b0; i < b1; ++i) {
-      const int64_t e = x[i] - predict(p, x.data(), i);
-      analog::put_residual(enc, &mag, static_cast<int32_t>(e));
-    }
+    params->push_back(analog::choose_lpc(x.data() + b0, b1 - b0));
+    for (size_t i = b0; i < b1; ++i)
+      (*r)[i] = static_cast<int32_t>(x[i] - predict(params->back(), x.data(), i));
+  }
+}
+
+// The cascade stage over residuals r, in place; returns the summed bit lengths before and after.
+std::pair<uint64_t, uint64_t> cascade_stage(std::vector<int32_t>* r) {
+  analog::SignLms lms;
+  uint64_t before = 0, after = 0;
+  for (int32_t& v : *r) {
+    const int64_t out = v - lms.predict();
+    lms.update(v, out);
+    before += bit_length(v);
+    after += bit_length(out);
+    v = static_cast<int32_t>(out);
+  }
+  return {before, after};
+}
+
+// Integer channel: a flag (cascade on/off), then per block the LPC parameters and residuals.
+void encode_int_channel(const std::vector<int32_t>& x, IntEncoder::Cursor* enc) {
+  std::vector<analog::LpcParams> params;
+  std::vector<int32_t> r1;
+  lpc_stage(x, &params, &r1);
+  std::vector<int32_t> r3 = r1;
+  const auto cost = cascade_stage(&r3);
+  const bool cascade = cost.second < cost.first;
+  const std::vector<int32_t>& r = cascade ? r3 : r1;
+  enc->put(cascade ? 1 : 0, analog::kParamContext);
+  analog::Magnitude mag;
+  for (size_t b0 = 0, b = 0; b0 < x.size(); b0 += kBlockRows, ++b) {
+    const size_t b1 = std::min(x.size(), b0 + kBlockRows);
+    put_lpc(params[b], enc);
+    for (size_t i = b0; i < b1; ++i) analog::put_residual(enc, &mag, r[i]);
   }
 }
 
 void decode_int_channel(size_t n, IntDecoder::Cursor* dec, std::vector<int32_t>* x) {
   x->resize(n);
+  int tok;
+  const uint32_t cascade = dec->get(analog::kParamContext, &tok);
+  if (cascade > 1) dec->corrupt("bad analog cascade flag");
   analog::Magnitude mag;
+  analog::SignLms lms;
   for (size_t b0 = 0; b0 < n; b0 += kBlockRows) {
     const size_t b1 = std::min(n, b0 + kBlockRows);
     const analog::LpcParams p = get_lpc(dec);
     int32_t* xs = x->data();
     for (size_t i = b0; i < b1; ++i) {
-      const int64_t v = analog::get_residual(dec, &mag) + predict(p, xs, i);
+      int64_t e = analog::get_residual(dec, &mag);
+      if (cascade) {
+        const int64_t out = e;
+        e += lms.predict();
+        lms.update(e, out);
+      }
+      const int64_t v = e + predict(p, xs, i);
       if (v > analog::kMaxSample || v < -analog::kMaxSample)
         dec->corrupt("analog sample out of range");
       xs[i] = static_cast<int32_t>(v);

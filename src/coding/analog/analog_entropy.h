@@ -17,7 +17,7 @@
 namespace capz {
 namespace analog {
 
-constexpr int kMagContexts = 24;
+constexpr int kMagContexts = 48;
 constexpr int kFloatContexts = 33;
 constexpr int kParamContext = kMagContexts + kFloatContexts;
 constexpr int kCoefContext = kParamContext + 1;
@@ -28,9 +28,12 @@ constexpr int kAnalogContexts = kCoefContext + 1;
 struct Magnitude {
   uint64_t avg = 0;
   int context() const {
-    const uint64_t a = avg >> 3;
-    const int bits = a == 0 ? 0 : 64 - __builtin_clzll(a);
-    return bits < kMagContexts ? bits : kMagContexts - 1;
+    // Half-bit steps of log2(avg): 2 * bit length + the bit below the top one.
+    const uint64_t a = avg >> 2;
+    if (a < 2) return static_cast<int>(a);
+    const int bits = 64 - __builtin_clzll(a);
+    const int c = 2 * bits - 2 + static_cast<int>((a >> (bits - 2)) & 1);
+    return c < kMagContexts ? c : kMagContexts - 1;
   }
   void update(uint32_t u) {
     const uint64_t t = static_cast<uint64_t>(u) << 4;
