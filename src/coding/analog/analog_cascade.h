@@ -40,7 +40,9 @@ class SignLms {
         w_[j] = w > kMaxWeight ? kMaxWeight : w < -kMaxWeight ? -kMaxWeight : w;
       }
     for (int j = kTaps - 1; j > 0; --j) h_[j] = h_[j - 1];
-    h_[0] = static_cast<int32_t>(in > kMaxSample ? kMaxSample : in < -kMaxSample ? -kMaxSample : in);
+    h_[0] = static_cast<int32_t>(in > kMaxSample    ? kMaxSample
+                                 : in < -kMaxSample ? -kMaxSample
+                                                    : in);
   }
 
  private:

@@ -2,6 +2,7 @@
 
 #include "capz/error.h"
 #include "coding/analog/analog_cascade.h"
+#include "coding/analog/analog_cross.h"
 #include "coding/analog/analog_entropy.h"
 #include "coding/analog/analog_float.h"
 #include "coding/analog/analog_lpc.h"
@@ -84,16 +85,45 @@ std::pair<uint64_t, uint64_t> cascade_stage(std::vector<int32_t>* r) {
   return {before, after};
 }
 
-// Integer channel: a flag (cascade on/off), then per block the LPC parameters and residuals.
-void encode_int_channel(const std::vector<int32_t>& x, IntEncoder::Cursor* enc) {
+// The LPC residuals of the channels before c that can serve as references (A.3.2).
+std::vector<const std::vector<int32_t>*> cross_refs(const std::vector<std::vector<int32_t>>& r1s,
+                                                    const std::vector<bool>& has, int c) {
+  std::vector<const std::vector<int32_t>*> refs;
+  for (int d = 1; d <= analog::kMaxCrossDistance && c - d >= 0; ++d)
+    refs.push_back(has[c - d] ? &r1s[c - d] : nullptr);
+  return refs;
+}
+
+// Integer channel: the cascade flag, the reference distance (and beta), then per block the LPC
+// parameters and residuals. *r1 receives the LPC residuals (a later channel's reference).
+void encode_int_channel(const std::vector<int32_t>& x,
+                        const std::vector<const std::vector<int32_t>*>& refs,
+                        IntEncoder::Cursor* enc, std::vector<int32_t>* r1) {
   std::vector<analog::LpcParams> params;
-  std::vector<int32_t> r1;
-  lpc_stage(x, &params, &r1);
-  std::vector<int32_t> r3 = r1;
-  const auto cost = cascade_stage(&r3);
-  const bool cascade = cost.second < cost.first;
-  const std::vector<int32_t>& r = cascade ? r3 : r1;
+  lpc_stage(x, &params, r1);
+  // Four pipelines (reference or not, cascade or not), kept by the summed bit lengths.
+  analog::CrossParams cross = analog::choose_cross(*r1, refs);
+  std::vector<int32_t> with_ref = *r1;
+  if (cross.distance)
+    for (size_t i = 0; i < with_ref.size(); ++i)
+      with_ref[i] = static_cast<int32_t>(
+          with_ref[i] - analog::cross_predict(cross.beta, (*refs[cross.distance - 1])[i]));
+  std::vector<int32_t> plain_lms = *r1, ref_lms = with_ref;
+  const auto plain_cost = cascade_stage(&plain_lms);
+  const auto ref_cost = cross.distance ? cascade_stage(&ref_lms) : plain_cost;
+  const uint64_t costs[4] = {plain_cost.first, plain_cost.second, ref_cost.first, ref_cost.second};
+  int best = 0;
+  for (int k = 1; k < (cross.distance ? 4 : 2); ++k)
+    if (costs[k] < costs[best]) best = k;
+  const bool cascade = best & 1;
+  if (best < 2) cross = analog::CrossParams();
+  const std::vector<int32_t>& r = best == 0   ? *r1
+                                  : best == 1 ? plain_lms
+                                  : best == 2 ? with_ref
+                                              : ref_lms;
   enc->put(cascade ? 1 : 0, analog::kParamContext);
+  enc->put(static_cast<uint32_t>(cross.distance), analog::kParamContext);
+  if (cross.distance) enc->put_signed(cross.beta, analog::kCoefContext);
   analog::Magnitude mag;
   for (size_t b0 = 0, b = 0; b0 < x.size(); b0 += kBlockRows, ++b) {
     const size_t b1 = std::min(x.size(), b0 + kBlockRows);
@@ -102,11 +132,25 @@ void encode_int_channel(const std::vector<int32_t>& x, IntEncoder::Cursor* enc) 
   }
 }
 
-void decode_int_channel(size_t n, IntDecoder::Cursor* dec, std::vector<int32_t>* x) {
+void decode_int_channel(size_t n, const std::vector<const std::vector<int32_t>*>& refs,
+                        IntDecoder::Cursor* dec, std::vector<int32_t>* x,
+                        std::vector<int32_t>* r1) {
   x->resize(n);
+  r1->resize(n);
   int tok;
   const uint32_t cascade = dec->get(analog::kParamContext, &tok);
   if (cascade > 1) dec->corrupt("bad analog cascade flag");
+  analog::CrossParams cross;
+  cross.distance = static_cast<int>(dec->get(analog::kParamContext, &tok));
+  if (cross.distance > static_cast<int>(refs.size()) ||
+      (cross.distance && !refs[cross.distance - 1]))
+    dec->corrupt("analog inter-channel reference is not an integer channel");
+  if (cross.distance) {
+    cross.beta = dec->get_signed(analog::kCoefContext, &tok);
+    if (cross.beta >= analog::kMaxBeta || cross.beta <= -analog::kMaxBeta)
+      dec->corrupt("analog inter-channel weight out of range");
+  }
+  const int32_t* ref = cross.distance ? refs[cross.distance - 1]->data() : nullptr;
   analog::Magnitude mag;
   analog::SignLms lms;
   for (size_t b0 = 0; b0 < n; b0 += kBlockRows) {
@@ -120,10 +164,12 @@ void decode_int_channel(size_t n, IntDecoder::Cursor* dec, std::vector<int32_t>*
         e += lms.predict();
         lms.update(e, out);
       }
+      if (ref) e += analog::cross_predict(cross.beta, ref[i]);
       const int64_t v = e + predict(p, xs, i);
       if (v > analog::kMaxSample || v < -analog::kMaxSample)
         dec->corrupt("analog sample out of range");
       xs[i] = static_cast<int32_t>(v);
+      (*r1)[i] = static_cast<int32_t>(e);
     }
   }
 }
@@ -137,6 +183,8 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
   bool any_coded = false;
   IntEncoder ent(analog::kAnalogContexts);
   IntEncoder::Cursor cur = ent.cursor();
+  std::vector<std::vector<int32_t>> r1s(static_cast<size_t>(channels));
+  std::vector<bool> has_r1(static_cast<size_t>(channels), false);
   for (int c = 0; c < channels; ++c) {
     const analog::ChannelHint hint =
         static_cast<size_t>(c) < hints.channel.size() ? hints.channel[c] : analog::ChannelHint();
@@ -144,9 +192,10 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
         analog::choose_representation(rows + c, static_cast<size_t>(channels), nrows, hint);
     analog::write_repr_header(r, &last_const, &head);
     any_coded |= coded(r.kind);
-    if (analog::is_integer_kind(r.kind))
-      encode_int_channel(r.ints, &cur);
-    else if (r.kind == Kind::kFloat32 || r.kind == Kind::kFloat64)
+    if (analog::is_integer_kind(r.kind)) {
+      encode_int_channel(r.ints, cross_refs(r1s, has_r1, c), &cur, &r1s[c]);
+      has_r1[c] = true;
+    } else if (r.kind == Kind::kFloat32 || r.kind == Kind::kFloat64)
       analog::encode_float_channel(r.filled, r.kind == Kind::kFloat32, &cur);
   }
   ent.commit(cur);
@@ -183,11 +232,14 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
   }
   IntDecoder ent(data + in.offset(), in.remaining(), analog::kAnalogContexts, what);
   IntDecoder::Cursor cur = ent.cursor();
+  std::vector<std::vector<int32_t>> r1s(static_cast<size_t>(channels));
+  std::vector<bool> has_r1(static_cast<size_t>(channels), false);
   for (int c = 0; c < channels; ++c) {
     ChannelRepr& r = reprs[c];
-    if (analog::is_integer_kind(r.kind))
-      decode_int_channel(nrows, &cur, &r.ints);
-    else if (r.kind == Kind::kFloat32 || r.kind == Kind::kFloat64)
+    if (analog::is_integer_kind(r.kind)) {
+      decode_int_channel(nrows, cross_refs(r1s, has_r1, c), &cur, &r.ints, &r1s[c]);
+      has_r1[c] = true;
+    } else if (r.kind == Kind::kFloat32 || r.kind == Kind::kFloat64)
       analog::decode_float_channel(nrows, r.kind == Kind::kFloat32, &cur, &r.filled);
     analog::reconstruct(r, nrows, rows + c, static_cast<size_t>(channels), what);
     std::vector<int32_t>().swap(r.ints);
