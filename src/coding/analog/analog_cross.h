@@ -2,7 +2,8 @@
 // channel predicted from the LPC residual of an earlier channel of the window at the same row
 // (the channels of one force plate see the same load and the same disturbances).
 //
-//   r2[i] = r1[i] - clamp((beta * ref[i] + 2^(kCrossShift-1)) >> kCrossShift, -kMaxSample, kMaxSample)
+//   r2[i] = r1[i] - clamp((beta * ref[i] + 2^(kCrossShift-1)) >> kCrossShift, -kMaxSample,
+//   kMaxSample)
 //
 // The reference is one of the kMaxCrossDistance channels before (integer kinds only), chosen by
 // the encoder with beta from least squares; distance 0 means no reference.
