@@ -174,6 +174,15 @@ void decode_int_channel(size_t n, const std::vector<const std::vector<int32_t>*>
   }
 }
 
+// The per-sample numbers of one channel in its representation (nothing for kConst).
+void encode_channel(const ChannelRepr& r, const std::vector<const std::vector<int32_t>*>& refs,
+                    IntEncoder::Cursor* enc, std::vector<int32_t>* r1) {
+  if (analog::is_integer_kind(r.kind))
+    encode_int_channel(r.ints, refs, enc, r1);
+  else if (r.kind == Kind::kFloat32 || r.kind == Kind::kFloat64)
+    analog::encode_float_channel(r.filled, r.kind == Kind::kFloat32, enc);
+}
+
 }  // namespace
 
 std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int channels,
@@ -188,15 +197,33 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
   for (int c = 0; c < channels; ++c) {
     const analog::ChannelHint hint =
         static_cast<size_t>(c) < hints.channel.size() ? hints.channel[c] : analog::ChannelHint();
-    const ChannelRepr r =
-        analog::choose_representation(rows + c, static_cast<size_t>(channels), nrows, hint);
+    std::vector<ChannelRepr> cands =
+        analog::candidate_representations(rows + c, static_cast<size_t>(channels), nrows, hint);
+    size_t pick = 0;
+    if (cands.size() > 1) {
+      // Measured: each candidate coded alone (fresh models), the smallest kept.
+      size_t best = 0;
+      for (size_t k = 0; k < cands.size(); ++k) {
+        IntEncoder trial(analog::kAnalogContexts);
+        IntEncoder::Cursor tc = trial.cursor();
+        ByteWriter th;
+        uint64_t tl = last_const;
+        std::vector<int32_t> r1;
+        analog::write_repr_header(cands[k], &tl, &th);
+        encode_channel(cands[k], cross_refs(r1s, has_r1, c), &tc, &r1);
+        trial.commit(tc);
+        const size_t bytes = th.size() + trial.finish().size();
+        if (k == 0 || bytes < best) {
+          best = bytes;
+          pick = k;
+        }
+      }
+    }
+    const ChannelRepr& r = cands[pick];
     analog::write_repr_header(r, &last_const, &head);
     any_coded |= coded(r.kind);
-    if (analog::is_integer_kind(r.kind)) {
-      encode_int_channel(r.ints, cross_refs(r1s, has_r1, c), &cur, &r1s[c]);
-      has_r1[c] = true;
-    } else if (r.kind == Kind::kFloat32 || r.kind == Kind::kFloat64)
-      analog::encode_float_channel(r.filled, r.kind == Kind::kFloat32, &cur);
+    encode_channel(r, cross_refs(r1s, has_r1, c), &cur, &r1s[c]);
+    has_r1[c] = analog::is_integer_kind(r.kind);
   }
   ent.commit(cur);
   ByteWriter out;

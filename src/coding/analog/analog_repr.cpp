@@ -253,8 +253,8 @@ bool all_integers(const std::vector<double>& v) {
 
 }  // namespace
 
-ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
-                                  const ChannelHint& hint) {
+std::vector<ChannelRepr> candidate_representations(const double* col, size_t stride, size_t n,
+                                                   const ChannelHint& hint) {
   ChannelRepr r;
   std::vector<double> v = fill_gaps(col, stride, n, &r);
   bool constant = true;
@@ -262,13 +262,13 @@ ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
   if (constant) {
     r.kind = Kind::kConst;
     r.const_bits = n ? bits_of(v[0]) : 0;
-    return r;
+    return {r};
   }
   if (all_integers(v)) {
     r.kind = Kind::kInt;
     r.ints.resize(n);
     for (size_t i = 0; i < n; ++i) r.ints[i] = static_cast<int32_t>(v[i]);
-    return r;
+    return {r};
   }
   bool f32 = true;
   for (size_t i = 0; i < n && f32; ++i) f32 = is_float32(v[i]);
@@ -278,22 +278,32 @@ ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
   ord.erase(std::unique(ord.begin(), ord.end()), ord.end());
   std::vector<double> sorted(ord.size());
   for (size_t i = 0; i < ord.size(); ++i) sorted[i] = from_bits(from_ordered_bits(ord[i]));
-  if (find_scaled(v, sorted, f32, hint, &r)) {
-    r.kind = Kind::kScaled;
-    return r;
+  std::vector<ChannelRepr> out;
+  ChannelRepr scaled = r;
+  if (find_scaled(v, sorted, f32, hint, &scaled)) {
+    scaled.kind = Kind::kScaled;
+    out.push_back(std::move(scaled));
   }
-  if (ord.size() <= kMaxTable && rank_bits(ord.size(), n, f32) < float_bits(v, f32)) {
-    r.kind = Kind::kRank;
-    r.table = sorted;
-    r.ints.resize(n);
+  const bool rank_better = rank_bits(ord.size(), n, f32) < float_bits(v, f32);
+  if (ord.size() <= kMaxTable && (rank_better || ord.size() <= n / 2)) {
+    ChannelRepr rank = r;
+    rank.kind = Kind::kRank;
+    rank.table = sorted;
+    rank.ints.resize(n);
     for (size_t i = 0; i < n; ++i)
-      r.ints[i] = static_cast<int32_t>(
+      rank.ints[i] = static_cast<int32_t>(
           std::lower_bound(ord.begin(), ord.end(), ordered_bits(bits_of(v[i]))) - ord.begin());
-    return r;
+    out.push_back(std::move(rank));
   }
   r.kind = f32 ? Kind::kFloat32 : Kind::kFloat64;
   r.filled = std::move(v);
-  return r;
+  out.push_back(std::move(r));
+  return out;
+}
+
+ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
+                                  const ChannelHint& hint) {
+  return std::move(candidate_representations(col, stride, n, hint).front());
 }
 
 void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w) {

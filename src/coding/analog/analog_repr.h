@@ -74,7 +74,13 @@ double from_ordered_f32(uint32_t o);
 // v moved by d units of its ordered pattern: float32 patterns when f32, else double; wrapping.
 double apply_ordered_delta(double v, int64_t d, bool f32);
 
-// Chooses the representation of samples col[0], col[stride], ... (n of them).
+// The representations worth trying for samples col[0], col[stride], ... (n of them), the
+// preferred one first: a single one for kConst and kInt; else kScaled when a fit exists, kRank
+// when the table is small enough, and always the float kind (the window codec codes each and
+// keeps the smallest).
+std::vector<ChannelRepr> candidate_representations(const double* col, size_t stride, size_t n,
+                                                   const ChannelHint& hint);
+// The first of candidate_representations.
 ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
                                   const ChannelHint& hint);
 
