@@ -51,29 +51,6 @@ long run_peer(const std::string& cmd, const std::string& out) {
   return file_size(out);
 }
 
-AnalogHints hints_of(const Take& t) {
-  AnalogHints h;
-  if (!t.c3d) return h;
-  const C3DParameter* scale = t.c3d->param("ANALOG", "SCALE");
-  const C3DParameter* gen = t.c3d->param("ANALOG", "GEN_SCALE");
-  const C3DParameter* offset = t.c3d->param("ANALOG", "OFFSET");
-  std::vector<float> s, o;
-  float g = 1;
-  try {
-    if (scale) s = scale->as_floats();
-    if (offset) o = offset->as_floats();
-    if (gen && !gen->as_floats().empty()) g = gen->as_floats()[0];
-  } catch (const Error&) {
-  }
-  for (int c = 0; c < t.analog.channels; ++c) {
-    analog::ChannelHint ch;
-    if (static_cast<size_t>(c) < s.size()) ch.scale = static_cast<double>(s[c]) * g;
-    if (static_cast<size_t>(c) < o.size()) ch.offset = -static_cast<double>(o[c]);
-    h.channel.push_back(ch);
-  }
-  return h;
-}
-
 struct Result {
   size_t ours = 0;
   double enc_mbs = 0, dec_mbs = 0;
@@ -210,7 +187,7 @@ int main(int argc, char** argv) {
       continue;
     }
     if (t.analog.channels == 0 || t.analog.values.empty()) continue;
-    const AnalogHints h = hints_of(t);
+    const AnalogHints h = analog_hints(t);
     const Result r = run_ours(t.analog, h, window);
     const Peers p = peers ? run_peers(t.analog, h) : Peers();
     long best = -1;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "capz/take.h"
 #include "coding/analog/analog_repr.h"
 
 namespace capz {
@@ -20,6 +21,10 @@ namespace capz {
 struct AnalogHints {
   std::vector<analog::ChannelHint> channel;
 };
+
+// Hints from the take's C3D parameters: per channel the stored-value step ANALOG:SCALE x
+// GEN_SCALE and the offset -ANALOG:OFFSET (none for other sources or unreadable parameters).
+AnalogHints analog_hints(const Take& t);
 
 // rows: nrows x channels doubles, row-major (capz::Analog::values). Lossless: decoding gives
 // every sample back bit for bit (NaN payloads, -0.0, denormals, Inf included).
