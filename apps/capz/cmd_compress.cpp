@@ -225,7 +225,10 @@ void report_text(const Report& r, const capz::Take& take, const capz::CompressOp
         "raw float32), analog %zu B, other %zu B\n",
         take.frames, take.points, st.mode.c_str(), num(st.step, 6).c_str(),
         take.units.empty() ? "" : (" " + take.units).c_str(), st.position_bytes,
-        num(st.position_bytes ? static_cast<double>(st.raw_bytes) / st.position_bytes : 0).c_str(),
+        num(st.position_bytes
+                ? static_cast<double>(st.raw_bytes) / static_cast<double>(st.position_bytes)
+                : 0)
+            .c_str(),
         st.analog_bytes, st.other_bytes);
     std::printf("  cpu: read %.3f s, encode%s %.3f s (%s MB/s of raw float32 positions)\n",
                 r.t_read, opts.check ? "+check" : "", r.t_enc, num(r.mbps).c_str());

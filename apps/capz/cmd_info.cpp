@@ -115,10 +115,10 @@ void print_text(const std::string& path, const capz::Take& t, const Summary& s) 
   line("units:", t.units.empty() ? std::string("unknown") : t.units);
   line("gaps:", s.samples == 0
                     ? std::string("none (no samples)")
-                    : percent(static_cast<double>(s.gaps) / s.samples) + " of samples (" +
-                          std::to_string(s.gaps) + " of " + std::to_string(s.samples) + "), " +
-                          std::to_string(s.points_with_gaps) + " of " + std::to_string(t.points) +
-                          " points have gaps");
+                    : percent(static_cast<double>(s.gaps) / static_cast<double>(s.samples)) +
+                          " of samples (" + std::to_string(s.gaps) + " of " +
+                          std::to_string(s.samples) + "), " + std::to_string(s.points_with_gaps) +
+                          " of " + std::to_string(t.points) + " points have gaps");
   size_t named = 0;
   for (const auto& l : t.labels) named += !l.empty();
   if (named == 0) {
@@ -199,7 +199,8 @@ void print_json(const std::string& path, const capz::Take& t, const Summary& s) 
   j.member("units", t.units);
   j.member("samples", static_cast<uint64_t>(s.samples));
   j.member("gap_samples", static_cast<uint64_t>(s.gaps));
-  j.member("gap_share", s.samples ? static_cast<double>(s.gaps) / s.samples : 0.0);
+  j.member("gap_share",
+           s.samples ? static_cast<double>(s.gaps) / static_cast<double>(s.samples) : 0.0);
   j.member("points_with_gaps", static_cast<uint64_t>(s.points_with_gaps));
   j.member_strings("labels", t.labels);
   j.key("analog");

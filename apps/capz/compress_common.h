@@ -40,7 +40,8 @@ class Progress {
     if (done < total && now - last_ < std::chrono::milliseconds(100)) return;
     last_ = now;
     std::fprintf(stderr, "\r%s: %3d%% (%zu / %zu frames)", what_,
-                 static_cast<int>(100.0 * done / total), done, total);
+                 static_cast<int>(100.0 * static_cast<double>(done) / static_cast<double>(total)),
+                 done, total);
     shown_ = true;
   }
   ~Progress() {

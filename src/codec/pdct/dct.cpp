@@ -76,8 +76,8 @@ void DctPlan::inverse(const double* X, double* x) const {
 }
 
 void zero_and_quantise(const double* X, size_t n, const CoefQuantParams& p, int64_t* q) {
-  const size_t zeroed =
-      static_cast<size_t>(std::floor(std::min(1.0, std::max(0.0, p.zero_share)) * n));
+  const size_t zeroed = static_cast<size_t>(
+      std::floor(std::min(1.0, std::max(0.0, p.zero_share)) * static_cast<double>(n)));
   std::vector<uint8_t> keep(n, 1);
   if (zeroed > 0) {
     std::vector<size_t> idx(n);

@@ -450,42 +450,43 @@ Prepared prepare(const Base& base, int k, const ts::Segmentation& seg, const Opt
   const size_t nf_all = base.in.frames;
   for (const auto& pts : p.members) {
     // The segment's aligned frames (3 N_s x F), with its own rigid motion removed when asked.
-    Eigen::MatrixXd seg(static_cast<Eigen::Index>(3 * pts.size()),
-                        static_cast<Eigen::Index>(nf_all));
+    Eigen::MatrixXd frames_s(static_cast<Eigen::Index>(3 * pts.size()),
+                             static_cast<Eigen::Index>(nf_all));
     for (size_t f = 0; f < nf_all; ++f) {
       const double* src = base.aligned.col(static_cast<Eigen::Index>(f)).data();
-      double* dst = seg.col(static_cast<Eigen::Index>(f)).data();
+      double* dst = frames_s.col(static_cast<Eigen::Index>(f)).data();
       for (size_t i = 0; i < pts.size(); ++i)
         for (size_t a = 0; a < 3; ++a) dst[3 * i + a] = src[3 * size_t{pts[i]} + a];
     }
     if (p.segments > 1 && o.segment_align && nf_all > 1) {
       TsModel::SegmentMotion sm;
       Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
-      for (Eigen::Index f = 0; f < seg.cols(); ++f)
-        for (Eigen::Index i = 0; i < seg.rows() / 3; ++i) {
-          lo = lo.cwiseMin(seg.col(f).segment<3>(3 * i));
-          hi = hi.cwiseMax(seg.col(f).segment<3>(3 * i));
+      for (Eigen::Index f = 0; f < frames_s.cols(); ++f)
+        for (Eigen::Index i = 0; i < frames_s.rows() / 3; ++i) {
+          lo = lo.cwiseMin(frames_s.col(f).segment<3>(3 * i));
+          hi = hi.cwiseMax(frames_s.col(f).segment<3>(3 * i));
         }
       // Rotations about the segment's centroid in frame 0, not the origin: the translations stay
       // small and smooth (measured: -19 % on chickenCrossing, -1.6 % on horse-gallop).
       for (Eigen::Index a = 0; a < 3; ++a) {
         double c = 0;
-        for (Eigen::Index i = 0; i < seg.rows() / 3; ++i) c += seg(3 * i + a, 0);
-        sm.center[a] = c / static_cast<double>(seg.rows() / 3);
+        for (Eigen::Index i = 0; i < frames_s.rows() / 3; ++i) c += frames_s(3 * i + a, 0);
+        sm.center[a] = c / static_cast<double>(frames_s.rows() / 3);
       }
-      for (Eigen::Index f = 0; f < seg.cols(); ++f)
-        for (Eigen::Index i = 0; i < seg.rows() / 3; ++i)
-          for (Eigen::Index a = 0; a < 3; ++a) seg(3 * i + a, f) -= sm.center[a];
+      for (Eigen::Index f = 0; f < frames_s.cols(); ++f)
+        for (Eigen::Index i = 0; i < frames_s.rows() / 3; ++i)
+          for (Eigen::Index a = 0; a < 3; ++a) frames_s(3 * i + a, f) -= sm.center[a];
       // (Measured: steps 4x / 16x / 64x coarser cut the rigid part but the PCs absorb the
       // misalignment: -1 % / 0 % / 0 % on chickenCrossing, +3 % / +7 % / +18 % on horse-gallop.)
       sm.code = code_rigid(base.in.valid, base.in.points, base.rms, (hi - lo).norm(), o.lpc_order,
-                           &seg, &sm.rot_step, &sm.trans_step, pts);
+                           &frames_s, &sm.rot_step, &sm.trans_step, pts);
       p.motion.push_back(std::move(sm));
     }
     for (const auto& lay : p.layout) {
-      Eigen::MatrixXd f(seg.rows(), static_cast<Eigen::Index>(lay.frames.size()));
+      Eigen::MatrixXd f(frames_s.rows(), static_cast<Eigen::Index>(lay.frames.size()));
       for (size_t j = 0; j < lay.frames.size(); ++j)
-        f.col(static_cast<Eigen::Index>(j)) = seg.col(static_cast<Eigen::Index>(lay.frames[j]));
+        f.col(static_cast<Eigen::Index>(j)) =
+            frames_s.col(static_cast<Eigen::Index>(lay.frames[j]));
       p.pca.push_back(ts::pca_frames(f, ts::PcaParams()));
       p.frames.push_back(std::move(f));
     }

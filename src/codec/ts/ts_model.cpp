@@ -255,9 +255,9 @@ void reconstruct(const TsModel& m, std::vector<double>* xyz) {
         if (m.segment_rigid) {
           double* col = x.col(static_cast<Eigen::Index>(j)).data();
           apply_rigid_inverse(rigid_at(motion, lay.frames[j]), col, pts.size());
-          const double* c = m.segment_motion[s].center;
+          const double* centre = m.segment_motion[s].center;
           for (size_t i = 0; i < pts.size(); ++i)
-            for (size_t a = 0; a < 3; ++a) col[3 * i + a] += c[a];
+            for (size_t a = 0; a < 3; ++a) col[3 * i + a] += centre[a];
         }
         const double* src = x.col(static_cast<Eigen::Index>(j)).data();
         double* dst = xyz->data() + lay.frames[j] * dim;

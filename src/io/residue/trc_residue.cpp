@@ -323,10 +323,10 @@ void TRCResidueDecoder::window(const FrameBlock& block, const uint8_t* payload, 
       }
       if (flags & kFixFields) {
         const uint64_t nfix = in.count(2, "field fixes");
-        for (uint64_t i = 0, at = 0; i < nfix; ++i) {
-          at += in.varint();
-          if (at >= fields.size()) fail(ErrorCode::kCorrupt, what, "field fix past the row");
-          fields[at] = in.str();
+        for (uint64_t i = 0, field = 0; i < nfix; ++i) {
+          field += in.varint();
+          if (field >= fields.size()) fail(ErrorCode::kCorrupt, what, "field fix past the row");
+          fields[field] = in.str();
         }
       }
       if (flags & kNewEnding) ending = in.str();
