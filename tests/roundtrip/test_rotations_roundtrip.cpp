@@ -50,9 +50,9 @@ Take c3d_with_rotations(const std::string& path, size_t frames, size_t points) {
     for (size_t p = 0; p < points; ++p) {
       t.valid[f * points + p] = (f + p) % 13 != 4;
       for (int a = 0; a < 3; ++a)
-        t.at(f, p)[a] = t.valid[f * points + p] ? static_cast<float>(100.0 * (p + 1) +
-                                                                     10 * std::sin(0.05 * f + a))
-                                                : 0.0;
+        t.at(f, p)[a] = t.valid[f * points + p]
+                            ? static_cast<float>(100.0 * (p + 1) + 10 * std::sin(0.05 * f + a))
+                            : 0.0;
     }
   Rotations& r = t.rotations;
   r.segments = 3;
@@ -141,14 +141,12 @@ TEST_P(RotationsRoundTrip, StreamedBothWaysGivesTheSameStreamAndTheSameFile) {
   // block's rotations at their place in the rotation section).
   for (size_t block : {size_t{16}, size_t{7}}) {
     std::unique_ptr<FrameSource> dec = open_capz_frames(tmp.file("a.capz"));
-    expect_same_rotations(
-        dec->header().rotations,
-        [&] {
-          Rotations r = t.rotations;
-          r.matrices.clear();
-          r.reliability.clear();
-          return r;
-        }());
+    expect_same_rotations(dec->header().rotations, [&] {
+      Rotations r = t.rotations;
+      r.matrices.clear();
+      r.reliability.clear();
+      return r;
+    }());
     WriteOptions wo;
     wo.overwrite = true;
     std::unique_ptr<FrameSink> sink =
@@ -214,8 +212,9 @@ TEST(RotationsCorrupt, DamagedRotwChunksAreCorrupt) {
     return capz_test::assemble(good, ps);
   };
   // Payload: window varint (1), 4 predictor bytes, then the block.
-  EXPECT_NE(decode_error(with_rotw([](std::vector<uint8_t>*) { return false; }))
-                .find("missing chunk ROTW"),
+  EXPECT_NE(decode_error(with_rotw([](std::vector<uint8_t>*) {
+              return false;
+            })).find("missing chunk ROTW"),
             std::string::npos);
   EXPECT_NE(decode_error(with_rotw([](std::vector<uint8_t>* p) {
               (*p)[0] = 2;
