@@ -266,7 +266,7 @@ TEST(CliCompress, KeepsAC3dFilesRotations) {
     EXPECT_FALSE(contains(c.err, "rotation")) << c.err;
     CliRun i = run_capz("info " + quote(capz));
     ASSERT_EQ(i.status, 0) << i.err;
-    EXPECT_TRUE(contains(i.out, "rotations: 2 segments x 150 samples at 300 Hz (3 per frame)"))
+    EXPECT_TRUE(contains(i.out, "2 segments x 150 samples at 300 Hz (3 per frame), lossless"))
         << i.out;
     CliRun j = run_capz("info --json " + quote(capz));
     EXPECT_TRUE(JsonCheck(j.out).ok()) << j.out;
