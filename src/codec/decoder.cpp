@@ -8,6 +8,7 @@
 #include "codec/decoder_registry.h"
 #include "codec/grid.h"
 #include "codec/transform_output.h"
+#include "coding/analog/analog_codec.h"
 #include "coding/analog_v3.h"
 #include "coding/bytes.h"
 #include "coding/c3d_words.h"
@@ -188,7 +189,8 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
   // Decoded straight into the caller's arrays (their capacity is reused window after window).
   decode_window_positions(ctx, &chunks, fn, &b.valid, &b.xyz);
   // The analog rows must fit what the chunks can hold before they are allocated.
-  if (C > 0 && S > 0 && fn * S * C > kMaxSymbolsPerByte * (end - base))
+  const size_t per_byte = analog_values_per_byte(ctx.major);
+  if (C > 0 && S > 0 && fn * S * C > per_byte * (end - base))
     fail(ErrorCode::kCorrupt, ctx.name,
          "analog window" + chunks.wname() + " larger than its chunks can hold");
   b.first = f0;
@@ -210,10 +212,14 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
     const std::string awhat = chunks.what("ANLG");
     ByteReader ar(ac.payload, ac.size, awhat);
     chunks.open(ac, &ar);
-    if (fn * S * C > kMaxSymbolsPerByte * ac.size)
+    if (fn * S * C > per_byte * ac.size)
       fail(ErrorCode::kCorrupt, awhat, "analog window larger than its chunk can hold");
-    decode_analog(ac.payload + ar.offset(), ac.size - ar.offset(), fn * S, static_cast<int>(C),
-                  b.analog.data(), awhat);
+    if (ctx.major >= 4)
+      decode_analog_window(ac.payload + ar.offset(), ac.size - ar.offset(), fn * S,
+                           static_cast<int>(C), b.analog.data(), awhat);
+    else
+      decode_analog(ac.payload + ar.offset(), ac.size - ar.offset(), fn * S, static_cast<int>(C),
+                    b.analog.data(), awhat);
   }
   b.rotation_matrices.clear();
   b.rotation_reliability.clear();

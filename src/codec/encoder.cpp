@@ -17,6 +17,7 @@
 #include "codec/stream_reader.h"
 #include "codec/transform_output.h"
 #include "codec/window_error.h"
+#include "coding/analog/analog_codec.h"
 #include "coding/analog_v3.h"
 #include "coding/bytes.h"
 #include "coding/c3d_words.h"
@@ -132,6 +133,7 @@ class Encoder {
         plan_(resolve(source, opts, allow_tout)) {}
 
   void run(CompressStats* stats) {
+    if (plan_.analog) hints_ = analog_hints(take_);
     scan();
     choose_grid();
     set_transform_params();
@@ -303,7 +305,7 @@ class Encoder {
     if (plan_.analog) {
       const size_t before = buf.size();
       const std::vector<uint8_t> an =
-          encode_analog(block_.analog.data(), fn * plan_.S, take_.analog.channels, scan_.kinds);
+          encode_analog_window(block_.analog.data(), fn * plan_.S, take_.analog.channels, hints_);
       append_chunk(&buf, "ANLG", with_window_index(w, 0xFF, an));
       analog_bytes_ += buf.size() - before;
     }
@@ -424,6 +426,7 @@ class Encoder {
   PromiseCheck promise_{Promise()};  // the stream's promise, checked on what the decoder gives
   FrameBlock block_;
   double centred_ = 0, kg_budget_ = 0;  // the current window's (transform output)
+  AnalogHints hints_;                   // what the C3D parameters say of the analog channels
   ErrorAccumulator acc_;
   std::vector<IndexEntry> index_;
   size_t position_bytes_ = 0, analog_bytes_ = 0, rotation_bytes_ = 0, other_bytes_ = 0;

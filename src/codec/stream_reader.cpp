@@ -74,7 +74,7 @@ ParsedStream parse_stream(StreamBytes& b, const std::string& name) {
   const size_t head_bytes = c.end - c.offset;
   Chunk m = chunk_at(b, c.end, name);
   if (m.type != "META") fail(ErrorCode::kCorrupt, name, "second chunk is " + m.type + ", not META");
-  check_header_fits(h, size, name);
+  check_header_fits(h, size, major, name);
   ParsedStream ps;
   static_cast<StreamContext&>(ps) = read_context(h, m, major, minor, name);
   ps.chunk_bytes["HEAD"] += head_bytes;

@@ -199,7 +199,12 @@ StreamHeader decode_header(const Chunk& c, const std::string& name) {
   return h;
 }
 
-void check_header_fits(const StreamHeader& h, size_t file_size, const std::string& name) {
+size_t analog_values_per_byte(int major) {
+  return major >= 4 ? size_t{1} << 18 : kMaxSymbolsPerByte;
+}
+
+void check_header_fits(const StreamHeader& h, size_t file_size, int major,
+                       const std::string& name) {
   const size_t windows = h.windows();
   if (windows > file_size / kChunkOverhead)
     fail(ErrorCode::kCorrupt, name,
@@ -210,7 +215,8 @@ void check_header_fits(const StreamHeader& h, size_t file_size, const std::strin
   const double rotations =
       static_cast<double>(h.frames) * h.rotation_samples_per_frame * h.rotation_segments * 17;
   if (samples > static_cast<double>(file_size) * kMaxSymbolsPerByte ||
-      analog > static_cast<double>(file_size) * kMaxSymbolsPerByte ||
+      analog >
+          static_cast<double>(file_size) * static_cast<double>(analog_values_per_byte(major)) ||
       rotations > static_cast<double>(file_size) * kMaxSymbolsPerByte)
     fail(ErrorCode::kCorrupt, name, "HEAD claims more samples than the file can hold");
 }

@@ -75,7 +75,11 @@ struct StreamHeader {
     return frames == 0 ? 0 : static_cast<size_t>((frames + window_frames - 1) / window_frames);
   }
 };
-constexpr uint32_t kMaxWindowFrames = 8192;  // HEAD window_frames is 1..this (FORMAT.md 3.1)
+constexpr uint32_t kMaxWindowFrames = 8192;
+// Most analog values a coded byte may stand for, in a stream of major version `major`: the
+// format 1-3 coder spends at least a token per value (kMaxSymbolsPerByte); the 4.x coder codes a
+// constant channel of a whole window in a few bytes (FORMAT.md 4.2), so its cap is 2^18.
+size_t analog_values_per_byte(int major);  // HEAD window_frames is 1..this (FORMAT.md 3.1)
 std::vector<uint8_t> encode_header(const StreamHeader& h);
 StreamHeader decode_header(const Chunk& c, const std::string& name);
 // Throws kCorrupt unless a file of `file_size` bytes can hold what `h` claims: one chunk per
@@ -83,7 +87,7 @@ StreamHeader decode_header(const Chunk& c, const std::string& name);
 // kMaxSymbolsPerByte per byte. Frames are then at most file_size / kChunkOverhead *
 // kMaxWindowFrames, so everything sized per frame (decode_meta's TRC/PCD lists) is bounded by
 // the file. Call it before decode_meta.
-void check_header_fits(const StreamHeader& h, size_t file_size, const std::string& name);
+void check_header_fits(const StreamHeader& h, size_t file_size, int major, const std::string& name);
 
 // META: everything of the Take except positions, mask, analog values, rotation samples and the
 // C3D per-sample words. decode_meta fills those fields of *take (frames/points, the analog

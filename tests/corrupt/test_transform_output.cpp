@@ -11,6 +11,7 @@
 #include "capz/error.h"
 #include "capz/metrics.h"
 #include "coding/bytes.h"
+#include "coding/container.h"
 #include "coding/crc32c.h"
 #include "support/stream_pieces.h"
 

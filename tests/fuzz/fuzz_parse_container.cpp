@@ -30,7 +30,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
           // decode_meta's precondition, as in the decoder; a later HEAD that fails it must not
           // replace the one META is read with.
           capz::StreamHeader next = capz::decode_header(c, "fuzz.capz");
-          capz::check_header_fits(next, v.size(), "fuzz.capz");
+          capz::check_header_fits(next, v.size(), v[9], "fuzz.capz");
           h = next;
           have_head = true;
         } else if (c.type == "META" && have_head) {

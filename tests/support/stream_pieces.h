@@ -1,4 +1,4 @@
-// Test helpers: a .capz stream (major 3 file header) cut into its chunks and put together again
+// Test helpers: a .capz stream cut into its chunks and put together again
 // with valid CRCs and a recomputed INDX, so a test changes one thing and only that is wrong.
 #pragma once
 
@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "coding/bytes.h"
+#include "coding/container.h"
 #include "coding/crc32c.h"
 
 namespace capz_test {
@@ -19,7 +20,7 @@ struct Piece {
 // Splits a stream into its chunks (no checks: the input is one this test just wrote).
 inline std::vector<Piece> pieces(const std::vector<uint8_t>& b) {
   std::vector<Piece> out;
-  for (size_t off = 11; off + 12 <= b.size();) {
+  for (size_t off = capz::file_header_bytes(b[9]); off + 12 <= b.size();) {
     const uint32_t n = static_cast<uint32_t>(b[off + 4]) | static_cast<uint32_t>(b[off + 5]) << 8 |
                        static_cast<uint32_t>(b[off + 6]) << 16 |
                        static_cast<uint32_t>(b[off + 7]) << 24;
@@ -35,7 +36,8 @@ inline std::vector<Piece> pieces(const std::vector<uint8_t>& b) {
 // Reassembles chunks with valid CRCs and a recomputed INDX (one window per POSW; a window's
 // extent runs to the next POSW or to INDX), so only the deliberate change is wrong.
 inline std::vector<uint8_t> assemble(const std::vector<uint8_t>& original, std::vector<Piece> ps) {
-  std::vector<uint8_t> out(original.begin(), original.begin() + 11);
+  std::vector<uint8_t> out(
+      original.begin(), original.begin() + static_cast<long>(capz::file_header_bytes(original[9])));
   auto put = [&](const Piece& p) {
     capz::ByteWriter w;
     for (char c : p.type) w.u8(static_cast<uint8_t>(c));

@@ -1,12 +1,16 @@
 // The version API (capz/version.h) against what the library really writes and reads.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstddef>
 #include <string>
 #include <vector>
 
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/version.h"
+#include "coding/container.h"
+#include "coding/crc32c.h"
 
 using namespace capz;
 
@@ -55,16 +59,36 @@ TEST(Version, GivenAMajorVersionBeyondTheNewestReadThenTheStreamIsRefused) {
   CompressOptions o;
   o.max_error = 0.01;
   std::vector<uint8_t> bytes = compress(small_take(), o);
-  bytes[9] = static_cast<uint8_t>(kFormatNewestRead.major + 1);
-  bytes[10] = 0;
+  // A later major keeps the 4.x file header: magic, version, and the version's CRC-32C.
+  std::vector<uint8_t> future(bytes.begin(), bytes.begin() + 9);
+  future.push_back(static_cast<uint8_t>(std::max(4, kFormatNewestRead.major + 1)));
+  future.push_back(0);
+  const uint32_t crc = crc32c(future.data(), 11);
+  for (int i = 0; i < 4; ++i) future.push_back(static_cast<uint8_t>(crc >> (8 * i)));
+  future.insert(future.end(),
+                bytes.begin() + static_cast<std::ptrdiff_t>(file_header_bytes(bytes[9])),
+                bytes.end());
   try {
-    decompress(bytes.data(), bytes.size(), "future.capz");
+    decompress(future.data(), future.size(), "future.capz");
     FAIL() << "a stream of a later major version was read";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::kUnsupportedVersion) << e.what();
   }
+  // Its version bytes damaged: caught by the header's own CRC.
+  future[9] ^= 0x01;
+  try {
+    decompress(future.data(), future.size(), "flipped.capz");
+    FAIL() << "a damaged version byte was read";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << e.what();
+  }
   // A later minor version of the newest major is read (it only adds what a decoder skips).
   bytes[9] = static_cast<uint8_t>(kFormatNewestRead.major);
   bytes[10] = static_cast<uint8_t>(kFormatNewestRead.minor + 1);
+  if (bytes[9] >= 4) {  // the header's CRC, for the new minor
+    const uint32_t c = crc32c(bytes.data(), 11);
+    for (int i = 0; i < 4; ++i)
+      bytes[11 + static_cast<size_t>(i)] = static_cast<uint8_t>(c >> (8 * i));
+  }
   EXPECT_EQ(decompress(bytes.data(), bytes.size(), "later-minor.capz").frames, 3u);
 }

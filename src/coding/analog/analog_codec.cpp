@@ -1,0 +1,280 @@
+#include "coding/analog/analog_codec.h"
+
+#include "capz/error.h"
+#include "coding/analog/analog_cascade.h"
+#include "coding/analog/analog_cross.h"
+#include "coding/analog/analog_entropy.h"
+#include "coding/analog/analog_float.h"
+#include "coding/analog/analog_lpc.h"
+#include "coding/bytes.h"
+
+namespace capz {
+namespace {
+
+using analog::ChannelRepr;
+using analog::Kind;
+
+constexpr size_t kBlockRows = 4096;  // LPC block length (A.3)
+constexpr uint8_t kWindowVersion = 0;
+
+// Whether a channel of this kind has numbers in the entropy-coded block (a window whose
+// channels have none omits the block).
+bool coded(Kind k) {
+  return k != Kind::kConst;
+}
+
+// Side information of one LPC block: order, then shift and coefficients.
+void put_lpc(const analog::LpcParams& p, IntEncoder::Cursor* enc) {
+  enc->put(static_cast<uint32_t>(p.order), analog::kParamContext);
+  if (p.order == 0) return;
+  enc->put(static_cast<uint32_t>(p.shift), analog::kParamContext);
+  for (int32_t q : p.q) enc->put_signed(q, analog::kCoefContext);
+}
+analog::LpcParams get_lpc(IntDecoder::Cursor* dec) {
+  analog::LpcParams p;
+  int tok;
+  p.order = static_cast<int>(dec->get(analog::kParamContext, &tok));
+  if (p.order > analog::kMaxLpcOrder) dec->corrupt("analog LPC order above 32");
+  if (p.order == 0) return p;
+  p.shift = static_cast<int>(dec->get(analog::kParamContext, &tok));
+  if (p.shift > analog::kMaxLpcShift) dec->corrupt("analog LPC shift above 20");
+  for (int j = 0; j < p.order; ++j) {
+    const int32_t q = dec->get_signed(analog::kCoefContext, &tok);
+    if (q >= (1 << analog::kLpcPrecision) || q <= -(1 << analog::kLpcPrecision))
+      dec->corrupt("analog LPC coefficient out of range");
+    p.q.push_back(q);
+  }
+  return p;
+}
+
+// Prediction of sample i of a block whose LPC is p: the first min(order, ...) samples of the
+// window use the previous sample (0 for the first).
+inline int64_t predict(const analog::LpcParams& p, const int32_t* x, size_t i) {
+  if (i >= static_cast<size_t>(p.order)) return analog::lpc_predict(p, x + i);
+  return i ? x[i - 1] : 0;
+}
+
+int bit_length(int64_t e) {
+  const uint64_t u = analog::zigzag64(e);
+  return u == 0 ? 0 : 64 - __builtin_clzll(u);
+}
+
+// The LPC stage of a whole channel: per-block parameters and the residuals x - p.
+void lpc_stage(const std::vector<int32_t>& x, std::vector<analog::LpcParams>* params,
+               std::vector<int32_t>* r) {
+  r->resize(x.size());
+  for (size_t b0 = 0; b0 < x.size(); b0 += kBlockRows) {
+    const size_t b1 = std::min(x.size(), b0 + kBlockRows);
+    params->push_back(analog::choose_lpc(x.data() + b0, b1 - b0));
+    for (size_t i = b0; i < b1; ++i)
+      (*r)[i] = static_cast<int32_t>(x[i] - predict(params->back(), x.data(), i));
+  }
+}
+
+// The cascade stage over residuals r, in place; returns the summed bit lengths before and after.
+std::pair<uint64_t, uint64_t> cascade_stage(std::vector<int32_t>* r) {
+  analog::SignLms lms;
+  uint64_t before = 0, after = 0;
+  for (int32_t& v : *r) {
+    const int64_t out = v - lms.predict();
+    lms.update(v, out);
+    before += bit_length(v);
+    after += bit_length(out);
+    v = static_cast<int32_t>(out);
+  }
+  return {before, after};
+}
+
+// The LPC residuals of the channels before c that can serve as references (A.3.2).
+std::vector<const std::vector<int32_t>*> cross_refs(const std::vector<std::vector<int32_t>>& r1s,
+                                                    const std::vector<bool>& has, int c) {
+  std::vector<const std::vector<int32_t>*> refs;
+  for (int d = 1; d <= analog::kMaxCrossDistance && c - d >= 0; ++d)
+    refs.push_back(has[c - d] ? &r1s[c - d] : nullptr);
+  return refs;
+}
+
+// Integer channel: the cascade flag, the reference distance (and beta), then per block the LPC
+// parameters and residuals. *r1 receives the LPC residuals (a later channel's reference).
+void encode_int_channel(const std::vector<int32_t>& x,
+                        const std::vector<const std::vector<int32_t>*>& refs,
+                        IntEncoder::Cursor* enc, std::vector<int32_t>* r1) {
+  std::vector<analog::LpcParams> params;
+  lpc_stage(x, &params, r1);
+  // Four pipelines (reference or not, cascade or not), kept by the summed bit lengths.
+  analog::CrossParams cross = analog::choose_cross(*r1, refs);
+  std::vector<int32_t> with_ref = *r1;
+  if (cross.distance)
+    for (size_t i = 0; i < with_ref.size(); ++i)
+      with_ref[i] = static_cast<int32_t>(
+          with_ref[i] - analog::cross_predict(cross.beta, (*refs[cross.distance - 1])[i]));
+  std::vector<int32_t> plain_lms = *r1, ref_lms = with_ref;
+  const auto plain_cost = cascade_stage(&plain_lms);
+  const auto ref_cost = cross.distance ? cascade_stage(&ref_lms) : plain_cost;
+  const uint64_t costs[4] = {plain_cost.first, plain_cost.second, ref_cost.first, ref_cost.second};
+  int best = 0;
+  for (int k = 1; k < (cross.distance ? 4 : 2); ++k)
+    if (costs[k] < costs[best]) best = k;
+  const bool cascade = best & 1;
+  if (best < 2) cross = analog::CrossParams();
+  const std::vector<int32_t>& r = best == 0   ? *r1
+                                  : best == 1 ? plain_lms
+                                  : best == 2 ? with_ref
+                                              : ref_lms;
+  enc->put(cascade ? 1 : 0, analog::kParamContext);
+  enc->put(static_cast<uint32_t>(cross.distance), analog::kParamContext);
+  if (cross.distance) enc->put_signed(cross.beta, analog::kCoefContext);
+  analog::Magnitude mag;
+  for (size_t b0 = 0, b = 0; b0 < x.size(); b0 += kBlockRows, ++b) {
+    const size_t b1 = std::min(x.size(), b0 + kBlockRows);
+    put_lpc(params[b], enc);
+    for (size_t i = b0; i < b1; ++i) analog::put_residual(enc, &mag, r[i]);
+  }
+}
+
+void decode_int_channel(size_t n, const std::vector<const std::vector<int32_t>*>& refs,
+                        IntDecoder::Cursor* dec, std::vector<int32_t>* x,
+                        std::vector<int32_t>* r1) {
+  x->resize(n);
+  r1->resize(n);
+  int tok;
+  const uint32_t cascade = dec->get(analog::kParamContext, &tok);
+  if (cascade > 1) dec->corrupt("bad analog cascade flag");
+  analog::CrossParams cross;
+  cross.distance = static_cast<int>(dec->get(analog::kParamContext, &tok));
+  if (cross.distance > static_cast<int>(refs.size()) ||
+      (cross.distance && !refs[cross.distance - 1]))
+    dec->corrupt("analog inter-channel reference is not an integer channel");
+  if (cross.distance) {
+    cross.beta = dec->get_signed(analog::kCoefContext, &tok);
+    if (cross.beta >= analog::kMaxBeta || cross.beta <= -analog::kMaxBeta)
+      dec->corrupt("analog inter-channel weight out of range");
+  }
+  const int32_t* ref = cross.distance ? refs[cross.distance - 1]->data() : nullptr;
+  analog::Magnitude mag;
+  analog::SignLms lms;
+  for (size_t b0 = 0; b0 < n; b0 += kBlockRows) {
+    const size_t b1 = std::min(n, b0 + kBlockRows);
+    const analog::LpcParams p = get_lpc(dec);
+    int32_t* xs = x->data();
+    for (size_t i = b0; i < b1; ++i) {
+      int64_t e = analog::get_residual(dec, &mag);
+      if (cascade) {
+        const int64_t out = e;
+        e += lms.predict();
+        lms.update(e, out);
+      }
+      if (ref) e += analog::cross_predict(cross.beta, ref[i]);
+      const int64_t v = e + predict(p, xs, i);
+      if (v > analog::kMaxSample || v < -analog::kMaxSample)
+        dec->corrupt("analog sample out of range");
+      xs[i] = static_cast<int32_t>(v);
+      (*r1)[i] = static_cast<int32_t>(e);
+    }
+  }
+}
+
+// The per-sample numbers of one channel in its representation (nothing for kConst).
+void encode_channel(const ChannelRepr& r, const std::vector<const std::vector<int32_t>*>& refs,
+                    IntEncoder::Cursor* enc, std::vector<int32_t>* r1) {
+  if (analog::is_integer_kind(r.kind))
+    encode_int_channel(r.ints, refs, enc, r1);
+  else if (r.kind == Kind::kFloat32 || r.kind == Kind::kFloat64)
+    analog::encode_float_channel(r.filled, r.kind == Kind::kFloat32, enc);
+}
+
+}  // namespace
+
+std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int channels,
+                                          const AnalogHints& hints) {
+  ByteWriter head;
+  uint64_t last_const = 0;
+  bool any_coded = false;
+  IntEncoder ent(analog::kAnalogContexts);
+  IntEncoder::Cursor cur = ent.cursor();
+  std::vector<std::vector<int32_t>> r1s(static_cast<size_t>(channels));
+  std::vector<bool> has_r1(static_cast<size_t>(channels), false);
+  for (int c = 0; c < channels; ++c) {
+    const analog::ChannelHint hint =
+        static_cast<size_t>(c) < hints.channel.size() ? hints.channel[c] : analog::ChannelHint();
+    std::vector<ChannelRepr> cands =
+        analog::candidate_representations(rows + c, static_cast<size_t>(channels), nrows, hint);
+    size_t pick = 0;
+    if (cands.size() > 1) {
+      // Measured: each candidate coded alone (fresh models), the smallest kept.
+      size_t best = 0;
+      for (size_t k = 0; k < cands.size(); ++k) {
+        IntEncoder trial(analog::kAnalogContexts);
+        IntEncoder::Cursor tc = trial.cursor();
+        ByteWriter th;
+        uint64_t tl = last_const;
+        std::vector<int32_t> r1;
+        analog::write_repr_header(cands[k], &tl, &th);
+        encode_channel(cands[k], cross_refs(r1s, has_r1, c), &tc, &r1);
+        trial.commit(tc);
+        const size_t bytes = th.size() + trial.finish().size();
+        if (k == 0 || bytes < best) {
+          best = bytes;
+          pick = k;
+        }
+      }
+    }
+    const ChannelRepr& r = cands[pick];
+    analog::write_repr_header(r, &last_const, &head);
+    any_coded |= coded(r.kind);
+    encode_channel(r, cross_refs(r1s, has_r1, c), &cur, &r1s[c]);
+    has_r1[c] = analog::is_integer_kind(r.kind);
+  }
+  ent.commit(cur);
+  ByteWriter out;
+  out.u8(kWindowVersion);
+  out.varint(head.size());
+  out.bytes(head.buffer());
+  if (any_coded) out.bytes(ent.finish());
+  return std::move(out.buffer());
+}
+
+void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int channels,
+                          double* rows, const std::string& what) {
+  ByteReader in(data, size, what);
+  if (in.u8() != kWindowVersion)
+    throw Error(ErrorCode::kCorrupt, what + ": unknown analog window version");
+  const uint64_t head_size = in.count(1, "analog header size");
+  ByteReader head(in.bytes(static_cast<size_t>(head_size)), static_cast<size_t>(head_size), what);
+  std::vector<ChannelRepr> reprs;
+  uint64_t last_const = 0;
+  bool any_coded = false;
+  for (int c = 0; c < channels; ++c) {
+    reprs.push_back(analog::read_repr_header(&head, nrows, &last_const));
+    any_coded |= coded(reprs.back().kind);
+  }
+  if (!head.at_end())
+    throw Error(ErrorCode::kCorrupt, what + ": analog header has bytes left over");
+  if (!any_coded) {
+    if (!in.at_end())
+      throw Error(ErrorCode::kCorrupt, what + ": analog window has bytes left over");
+    for (int c = 0; c < channels; ++c)
+      analog::reconstruct(reprs[c], nrows, rows + c, static_cast<size_t>(channels), what);
+    return;
+  }
+  IntDecoder ent(data + in.offset(), in.remaining(), analog::kAnalogContexts, what);
+  IntDecoder::Cursor cur = ent.cursor();
+  std::vector<std::vector<int32_t>> r1s(static_cast<size_t>(channels));
+  std::vector<bool> has_r1(static_cast<size_t>(channels), false);
+  for (int c = 0; c < channels; ++c) {
+    ChannelRepr& r = reprs[c];
+    if (analog::is_integer_kind(r.kind)) {
+      decode_int_channel(nrows, cross_refs(r1s, has_r1, c), &cur, &r.ints, &r1s[c]);
+      has_r1[c] = true;
+    } else if (r.kind == Kind::kFloat32 || r.kind == Kind::kFloat64)
+      analog::decode_float_channel(nrows, r.kind == Kind::kFloat32, &cur, &r.filled);
+    analog::reconstruct(r, nrows, rows + c, static_cast<size_t>(channels), what);
+    std::vector<int32_t>().swap(r.ints);
+    std::vector<double>().swap(r.filled);
+  }
+  ent.commit(cur);
+  if (!ent.at_end())
+    throw Error(ErrorCode::kCorrupt, what + ": analog samples have bytes left over");
+}
+
+}  // namespace capz

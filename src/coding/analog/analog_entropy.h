@@ -1,0 +1,71 @@
+// Analog residual entropy stage (docs/format-drafts/analog.md section A.5).
+//
+// Every coded number of an analog window goes through one IntEncoder (entropy.h) whose contexts
+// are laid out here:
+//   - integer residuals (int32) under a context from the running mean of recent magnitudes
+//     (kMagContexts contexts), as adaptive Rice coders pick their parameter;
+//   - float residuals (wrapping differences of ordered float bits, up to 64 bits) as a bit
+//     length under a context from the previous bit length, then the bits below the leading one
+//     raw (fpzip's scheme);
+//   - side information (LPC orders, coefficients, stage flags) under two parameter contexts.
+#pragma once
+
+#include <cstdint>
+
+#include "coding/entropy.h"
+
+namespace capz {
+namespace analog {
+
+constexpr int kMagContexts = 48;
+constexpr int kFloatContexts = 33;
+constexpr int kParamContext = kMagContexts + kFloatContexts;
+constexpr int kCoefContext = kParamContext + 1;
+constexpr int kAnalogContexts = kCoefContext + 1;
+
+// Running magnitude of a residual sequence: avg in 1/16 units, updated by an exponential mean
+// with weight 1/8. Encoder and decoder update it identically after every residual.
+struct Magnitude {
+  uint64_t avg = 0;
+  int context() const {
+    // Half-bit steps of log2(avg): 2 * bit length + the bit below the top one.
+    const uint64_t a = avg >> 2;
+    if (a < 2) return static_cast<int>(a);
+    const int bits = 64 - __builtin_clzll(a);
+    const int c = 2 * bits - 2 + static_cast<int>((a >> (bits - 2)) & 1);
+    return c < kMagContexts ? c : kMagContexts - 1;
+  }
+  void update(uint32_t u) {
+    const uint64_t t = static_cast<uint64_t>(u) << 4;
+    avg = avg + (t >> 3) - (avg >> 3);
+  }
+};
+
+// One int32 residual under the magnitude context (the zig-zag of |v| < 2^31 fits 32 bits).
+inline void put_residual(IntEncoder::Cursor* enc, Magnitude* m, int32_t v) {
+  const uint32_t u = zigzag(v);
+  enc->put(u, m->context());
+  m->update(u);
+}
+inline int32_t get_residual(IntDecoder::Cursor* dec, Magnitude* m) {
+  int tok;
+  const uint32_t u = dec->get(m->context(), &tok);
+  m->update(u);
+  return unzigzag(u);
+}
+
+inline uint64_t zigzag64(int64_t v) {
+  return (static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63);
+}
+inline int64_t unzigzag64(uint64_t u) {
+  return static_cast<int64_t>((u >> 1) ^ (0 - (u & 1)));
+}
+
+// A float residual d (the wrapping difference of two ordered bit patterns, as int64): its bit
+// length nb = 0..64 of zigzag64(d) under context min(prev_nb, 64) / 2, then the nb - 1 bits
+// below the leading one, raw (low 32 first when 32 or more). *prev_nb is updated.
+void put_float_residual(IntEncoder::Cursor* enc, int* prev_nb, int64_t d);
+int64_t get_float_residual(IntDecoder::Cursor* dec, int* prev_nb);
+
+}  // namespace analog
+}  // namespace capz

@@ -1,0 +1,25 @@
+// Predictive coding of float channels (docs/format-drafts/analog.md A.4), as fpzip does:
+// predict each sample from the previous ones in floating point, map prediction and sample to
+// ordered integers (monotone in the value), code their difference (analog_entropy.h).
+//
+// Predictors (chosen per channel and window by the summed bit lengths of the residuals):
+//   0: p = x[i-1]                       1: p = x[i-1] + (x[i-1] - x[i-2])
+// computed in double (no fused operations), then rounded to float32 for kFloat32 channels;
+// samples before the first are 0. kFloat32 uses 32-bit ordered patterns of the float, kFloat64
+// the 64-bit ones, differences wrapping.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "coding/entropy.h"
+
+namespace capz {
+namespace analog {
+
+void encode_float_channel(const std::vector<double>& x, bool f32, IntEncoder::Cursor* enc);
+// Decodes n samples into x (resized to n).
+void decode_float_channel(size_t n, bool f32, IntDecoder::Cursor* dec, std::vector<double>* x);
+
+}  // namespace analog
+}  // namespace capz

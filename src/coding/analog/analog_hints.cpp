@@ -1,0 +1,32 @@
+// Channel hints from a take's C3D parameters (analog_codec.h). Part of the decoder library's
+// files, used by the encoder only.
+#include "capz/error.h"
+#include "capz/take.h"
+#include "coding/analog/analog_codec.h"
+
+namespace capz {
+
+AnalogHints analog_hints(const Take& t) {
+  AnalogHints h;
+  if (!t.c3d) return h;
+  const C3DParameter* scale = t.c3d->param("ANALOG", "SCALE");
+  const C3DParameter* gen = t.c3d->param("ANALOG", "GEN_SCALE");
+  const C3DParameter* offset = t.c3d->param("ANALOG", "OFFSET");
+  std::vector<float> s, o;
+  float g = 1;
+  try {
+    if (scale) s = scale->as_floats();
+    if (offset) o = offset->as_floats();
+    if (gen && !gen->as_floats().empty()) g = gen->as_floats()[0];
+  } catch (const Error&) {
+  }
+  for (int c = 0; c < t.analog.channels; ++c) {
+    analog::ChannelHint ch;
+    if (static_cast<size_t>(c) < s.size()) ch.scale = static_cast<double>(s[c]) * g;
+    if (static_cast<size_t>(c) < o.size()) ch.offset = -static_cast<double>(o[c]);
+    h.channel.push_back(ch);
+  }
+  return h;
+}
+
+}  // namespace capz

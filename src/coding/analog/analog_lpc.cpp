@@ -1,0 +1,97 @@
+#include "coding/analog/analog_lpc.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace capz {
+namespace analog {
+
+std::vector<double> autocorrelation(const int32_t* x, size_t n, int max_lag) {
+  std::vector<double> w(n);
+  const double taper = 0.25 * static_cast<double>(n);  // each end tapers over a quarter
+  for (size_t i = 0; i < n; ++i) {
+    const double d = std::min<double>(static_cast<double>(i), static_cast<double>(n - 1 - i));
+    const double g = d < taper ? 0.5 - 0.5 * std::cos(M_PI * (d + 0.5) / taper) : 1.0;
+    w[i] = g * x[i];
+  }
+  std::vector<double> r(static_cast<size_t>(max_lag) + 1, 0.0);
+  for (int k = 0; k <= max_lag; ++k) {
+    double s = 0;
+    for (size_t i = static_cast<size_t>(k); i < n; ++i) s += w[i] * w[i - k];
+    r[k] = s;
+  }
+  return r;
+}
+
+int levinson(const std::vector<double>& r, int order, std::vector<std::vector<double>>* a_by_order,
+             std::vector<double>* err) {
+  err->assign(1, r[0]);
+  a_by_order->assign(1, {});
+  if (!(r[0] > 0)) return 0;
+  std::vector<double> a, prev;
+  double e = r[0];
+  for (int m = 1; m <= order; ++m) {
+    double acc = r[m];
+    for (int j = 0; j < m - 1; ++j) acc -= a[j] * r[m - 1 - j];
+    const double k = acc / e;
+    prev = a;
+    a.resize(m);
+    a[m - 1] = k;
+    for (int j = 0; j < m - 1; ++j) a[j] = prev[j] - k * prev[m - 2 - j];
+    e *= 1 - k * k;
+    if (!(e > 0) || !std::isfinite(k)) return m - 1;
+    err->push_back(e);
+    a_by_order->push_back(a);
+  }
+  return order;
+}
+
+LpcParams quantise_lpc(const double* a, int order, int precision) {
+  LpcParams p;
+  p.order = order;
+  double cmax = 0;
+  for (int j = 0; j < order; ++j) cmax = std::max(cmax, std::fabs(a[j]));
+  if (order == 0 || cmax == 0) {
+    p.order = 0;
+    return p;
+  }
+  int log2c;
+  std::frexp(cmax, &log2c);  // cmax < 2^log2c
+  p.shift = std::min(kMaxLpcShift, std::max(0, precision - log2c));
+  const double lim = std::ldexp(1.0, precision) - 1;
+  double carry = 0;
+  for (int j = 0; j < order; ++j) {
+    const double v = a[j] * std::ldexp(1.0, p.shift) + carry;
+    const double q = std::max(-lim, std::min(lim, std::round(v)));
+    carry = v - q;
+    p.q.push_back(static_cast<int32_t>(q));
+  }
+  return p;
+}
+
+LpcParams choose_lpc(const int32_t* x, size_t n) {
+  const int max_order = static_cast<int>(std::min<size_t>(kMaxLpcOrder, n / 8));
+  if (max_order < 1) return LpcParams();
+  const std::vector<double> r = autocorrelation(x, n, max_order);
+  std::vector<std::vector<double>> a;
+  std::vector<double> err;
+  const int reached = levinson(r, max_order, &a, &err);
+  // Estimated bits: n/2 log2(error per sample) for the residual, plus the coefficients.
+  const double floor_err = 0.1 * static_cast<double>(n);  // below a tenth of a count: no gain
+  int best = 0;
+  double best_bits = 0;
+  for (int m = 0; m <= reached; ++m) {
+    const double e = std::max(err[m], floor_err);
+    const double bits = 0.5 * static_cast<double>(n) * std::log2(e / static_cast<double>(n)) +
+                        m * (kLpcPrecision + 2.0);
+    if (m == 0 || bits < best_bits) {
+      best = m;
+      best_bits = bits;
+    }
+  }
+  if (best == 0) return LpcParams();
+  return quantise_lpc(a[best].data(), best, kLpcPrecision);
+}
+
+}  // namespace analog
+}  // namespace capz

@@ -1,0 +1,495 @@
+#include "coding/analog/analog_repr.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "capz/error.h"
+#include "coding/analog/analog_lpc.h"
+
+namespace capz {
+namespace analog {
+
+uint64_t bits_of(double v) {
+  uint64_t b;
+  std::memcpy(&b, &v, 8);
+  return b;
+}
+double from_bits(uint64_t b) {
+  double v;
+  std::memcpy(&v, &b, 8);
+  return v;
+}
+uint32_t ordered_f32(double v) {
+  const float f = static_cast<float>(v);
+  uint32_t b;
+  std::memcpy(&b, &f, 4);
+  return (b >> 31) ? ~b : b | 0x80000000u;
+}
+double from_ordered_f32(uint32_t o) {
+  const uint32_t b = (o >> 31) ? o & 0x7FFFFFFFu : ~o;
+  float f;
+  std::memcpy(&f, &b, 4);
+  return f;
+}
+double apply_ordered_delta(double v, int64_t d, bool f32) {
+  if (f32) return from_ordered_f32(static_cast<uint32_t>(static_cast<int64_t>(ordered_f32(v)) + d));
+  return from_bits(from_ordered_bits(ordered_bits(bits_of(v)) + static_cast<uint64_t>(d)));
+}
+double round_to_float32(double y) {
+  constexpr double kMax = std::numeric_limits<float>::max();
+  if (y > kMax && y <= std::numeric_limits<double>::max()) y = kMax;
+  if (y < -kMax && y >= -std::numeric_limits<double>::max()) y = -kMax;
+  return static_cast<double>(static_cast<float>(y));
+}
+
+namespace {
+
+constexpr uint64_t kNegZero = uint64_t{1} << 63;
+constexpr int64_t kMaxScaledK = int64_t{1} << 24;
+
+// R(k * s + o): the scaled representation's reconstruction (this file is built with
+// -ffp-contract=off, so the product is rounded before the sum on every platform).
+double scaled_value(int64_t k, double s, double o, bool round_f32) {
+  const double y = static_cast<double>(k) * s + o;
+  return round_f32 ? round_to_float32(y) : y;
+}
+
+bool is_float32(double v) {
+  return bits_of(round_to_float32(v)) == bits_of(v);
+}
+
+// Replaces non-finite samples by the previous finite one (the first finite one before any),
+// recording them in r->gap_index / gap_bits.
+std::vector<double> fill_gaps(const double* col, size_t stride, size_t n, ChannelRepr* r) {
+  std::vector<double> v(n);
+  double first = 0;
+  for (size_t i = 0; i < n; ++i)
+    if (std::isfinite(col[i * stride])) {
+      first = col[i * stride];
+      break;
+    }
+  double last = first;
+  for (size_t i = 0; i < n; ++i) {
+    const double x = col[i * stride];
+    if (std::isfinite(x)) {
+      last = x;
+    } else {
+      r->gap_index.push_back(static_cast<uint32_t>(i));
+      r->gap_bits.push_back(bits_of(x));
+    }
+    v[i] = last;
+  }
+  return v;
+}
+
+size_t n_max_exc(size_t n) {
+  return n / 8;
+}
+
+// Exception delta: want - got in float32 units (ordered float bits) when rounding to float32,
+// else in ordered double bits; wrapping.
+int64_t exception_delta(double want, double got, bool f32) {
+  if (f32) return static_cast<int64_t>(ordered_f32(want)) - static_cast<int64_t>(ordered_f32(got));
+  return static_cast<int64_t>(ordered_bits(bits_of(want)) - ordered_bits(bits_of(got)));
+}
+
+// The scaled fit for step s and offset o: the k and the exceptions; false when more than
+// max_exc samples would be exceptions or a k is out of range.
+bool fit_scaled(const std::vector<double>& v, double s, double o, bool f32, size_t max_exc,
+                ChannelRepr* r) {
+  if (!(s > 0) || !std::isfinite(s) || !std::isfinite(o)) return false;
+  const size_t n = v.size();
+  r->ints.resize(n);
+  r->exc_index.clear();
+  r->exc_delta.clear();
+  for (size_t i = 0; i < n; ++i) {
+    const double kd = std::round((v[i] - o) / s);
+    if (!(std::fabs(kd) <= static_cast<double>(kMaxScaledK))) return false;
+    const int64_t k = static_cast<int64_t>(kd);
+    r->ints[i] = static_cast<int32_t>(k);
+    const uint64_t want = bits_of(v[i]), got = bits_of(scaled_value(k, s, o, f32));
+    if (want != got) {
+      if (r->exc_index.size() == max_exc) return false;
+      r->exc_index.push_back(static_cast<uint32_t>(i));
+      r->exc_delta.push_back(exception_delta(v[i], from_bits(got), f32));
+    }
+  }
+  r->round_f32 = f32;
+  r->step = s;
+  r->offset = o;
+  return true;
+}
+
+// Least-squares line through (k_i, v_i) with k_i = round((v_i - o) / s): a step and offset
+// accurate to far below one float32 unit when the samples are rounded k * s + o.
+void refine_fit(const std::vector<double>& v, double* s, double* o) {
+  const size_t n = v.size();
+  std::vector<double> k(n);
+  double kbar = 0, vbar = 0;
+  for (size_t i = 0; i < n; ++i) {
+    k[i] = std::round((v[i] - *o) / *s);
+    kbar += k[i];
+    vbar += v[i];
+  }
+  kbar /= static_cast<double>(n);
+  vbar /= static_cast<double>(n);
+  double skv = 0, skk = 0;
+  for (size_t i = 0; i < n; ++i) {
+    skv += (k[i] - kbar) * (v[i] - vbar);
+    skk += (k[i] - kbar) * (k[i] - kbar);
+  }
+  if (!(skk > 0)) return;
+  *s = skv / skk;
+  *o = vbar - *s * kbar;
+}
+
+// The largest power of two that divides (as a multiple) at least 7/8 of the samples: a step
+// when a few off-grid samples hide the grid from the smallest gap.
+double common_power_of_two(const std::vector<double>& v) {
+  int hist[2100] = {0};
+  size_t nonzero = 0;
+  for (double x : v) {
+    if (x == 0) continue;
+    int e;
+    const double m = std::frexp(x, &e);  // x = m 2^e, 0.5 <= |m| < 1, 53-bit mantissa
+    const uint64_t mant = static_cast<uint64_t>(std::fabs(std::ldexp(m, 53)));
+    const int lsb = e - 53 + __builtin_ctzll(mant);
+    ++hist[std::min(2099, std::max(0, lsb + 1100))];
+    ++nonzero;
+  }
+  size_t above = 0;
+  for (int b = 2099; b >= 0; --b) {
+    above += hist[b];
+    if (above * 8 >= nonzero * 7 && nonzero > 0) return std::ldexp(1.0, b - 1100);
+  }
+  return 0;
+}
+
+// Tries the steps suggested by the data (the smallest gap between distinct values, refined by a
+// least-squares fit) and by the hint; keeps the fit with the fewest exceptions.
+bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted, bool f32,
+                 const ChannelHint& hint, ChannelRepr* r) {
+  double gap = 0;
+  for (size_t i = 1; i < sorted.size(); ++i) {
+    const double d = sorted[i] - sorted[i - 1];
+    if (d > 0 && (gap == 0 || d < gap)) gap = d;
+  }
+  double small = sorted.front();
+  for (double x : sorted)
+    if (std::fabs(x) < std::fabs(small)) small = x;
+  std::vector<std::pair<double, double>> fits;  // (step, offset)
+  auto add = [&](double s, bool refine) {
+    if (!(s > 0) || !std::isfinite(s)) return;
+    double o = refine ? sorted.front() - std::round(sorted.front() / s) * s : 0.0;
+    fits.push_back({s, o});
+    if (!refine) return;
+    for (int it = 0; it < 2; ++it) {
+      refine_fit(v, &s, &o);
+      if (!(s > 0) || !std::isfinite(s) || !std::isfinite(o)) return;
+      fits.push_back({s, o});
+      // The sample nearest 0 has the finest rounding: pin the offset there.
+      fits.push_back({s, small - std::round((small - o) / s) * s});
+    }
+  };
+  add(gap, true);
+  add(common_power_of_two(v), false);
+  if (hint.scale != 0) {
+    fits.push_back({std::fabs(hint.scale), hint.offset * std::fabs(hint.scale)});
+    add(std::fabs(hint.scale), true);
+  }
+  // Cost of a fit in bits, up to a constant: exceptions (about 3 bytes each) and log2 of the
+  // k's spread, which grows as the step shrinks.
+  const size_t n = v.size();
+  auto cost = [&](const ChannelRepr& t) {
+    return 24.0 * static_cast<double>(t.exc_index.size()) -
+           static_cast<double>(n) * std::log2(t.step);
+  };
+  ChannelRepr best;
+  bool found = false;
+  for (auto it = fits.rbegin(); it != fits.rend(); ++it) {
+    ChannelRepr t;
+    if (!fit_scaled(v, it->first, it->second, f32, n_max_exc(n), &t)) continue;
+    if (!found || cost(t) < cost(best)) {
+      best = std::move(t);
+      found = true;
+    }
+  }
+  if (!found) return false;
+  r->round_f32 = best.round_f32;
+  r->step = best.step;
+  r->offset = best.offset;
+  r->exc_index = std::move(best.exc_index);
+  r->exc_delta = std::move(best.exc_delta);
+  r->ints = std::move(best.ints);
+  return true;
+}
+
+constexpr size_t kMaxTable = 65536;
+
+// Rough coded sizes in bits, to choose between ranks and float coding: the table (about 3 bytes
+// an entry for float32, 5 for float64) plus unpredicted ranks, against the float coder's bit
+// lengths of previous-sample residuals plus 2 bits a sample for the lengths themselves.
+double rank_bits(size_t m, size_t n, bool f32) {
+  return static_cast<double>(m) * (f32 ? 24 : 40) +
+         static_cast<double>(n) * std::log2(static_cast<double>(m));
+}
+double float_bits(const std::vector<double>& v, bool f32) {
+  double bits = 0;
+  for (size_t i = 1; i < v.size(); ++i) {
+    const int64_t d = exception_delta(v[i], v[i - 1], f32);
+    const uint64_t u = (static_cast<uint64_t>(d) << 1) ^ static_cast<uint64_t>(d >> 63);
+    bits += 2 + (u == 0 ? 0 : 64 - __builtin_clzll(u));
+  }
+  return bits;
+}
+
+bool all_integers(const std::vector<double>& v) {
+  for (double x : v)
+    if (!(std::fabs(x) <= kMaxSample) || x != std::floor(x) || bits_of(x) == kNegZero) return false;
+  return true;
+}
+
+}  // namespace
+
+std::vector<ChannelRepr> candidate_representations(const double* col, size_t stride, size_t n,
+                                                   const ChannelHint& hint) {
+  ChannelRepr r;
+  std::vector<double> v = fill_gaps(col, stride, n, &r);
+  bool constant = true;
+  for (size_t i = 1; i < n && constant; ++i) constant = bits_of(v[i]) == bits_of(v[0]);
+  if (constant) {
+    r.kind = Kind::kConst;
+    r.const_bits = n ? bits_of(v[0]) : 0;
+    return {r};
+  }
+  if (all_integers(v)) {
+    r.kind = Kind::kInt;
+    r.ints.resize(n);
+    for (size_t i = 0; i < n; ++i) r.ints[i] = static_cast<int32_t>(v[i]);
+    return {r};
+  }
+  bool f32 = true;
+  for (size_t i = 0; i < n && f32; ++i) f32 = is_float32(v[i]);
+  std::vector<uint64_t> ord(n);
+  for (size_t i = 0; i < n; ++i) ord[i] = ordered_bits(bits_of(v[i]));
+  std::sort(ord.begin(), ord.end());
+  ord.erase(std::unique(ord.begin(), ord.end()), ord.end());
+  std::vector<double> sorted(ord.size());
+  for (size_t i = 0; i < ord.size(); ++i) sorted[i] = from_bits(from_ordered_bits(ord[i]));
+  std::vector<ChannelRepr> out;
+  ChannelRepr scaled = r;
+  if (find_scaled(v, sorted, f32, hint, &scaled)) {
+    scaled.kind = Kind::kScaled;
+    out.push_back(std::move(scaled));
+  }
+  const bool rank_better = rank_bits(ord.size(), n, f32) < float_bits(v, f32);
+  if (ord.size() <= kMaxTable && (rank_better || ord.size() <= n / 2)) {
+    ChannelRepr rank = r;
+    rank.kind = Kind::kRank;
+    rank.table = sorted;
+    rank.ints.resize(n);
+    for (size_t i = 0; i < n; ++i)
+      rank.ints[i] = static_cast<int32_t>(
+          std::lower_bound(ord.begin(), ord.end(), ordered_bits(bits_of(v[i]))) - ord.begin());
+    out.push_back(std::move(rank));
+  }
+  r.kind = f32 ? Kind::kFloat32 : Kind::kFloat64;
+  r.filled = std::move(v);
+  out.push_back(std::move(r));
+  return out;
+}
+
+ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
+                                  const ChannelHint& hint) {
+  return std::move(candidate_representations(col, stride, n, hint).front());
+}
+
+void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w) {
+  const bool gaps = !r.gap_index.empty();
+  const bool same = r.kind == Kind::kConst && r.const_bits == *last_const;
+  w->u8(static_cast<uint8_t>(static_cast<int>(r.kind) | (gaps ? 8 : 0) | (same ? 16 : 0)));
+  if (gaps) {
+    // Runs of consecutive gap samples: count, then (distance from the previous run's end,
+    // length - 1) each; then the distinct bit patterns and, when several, each sample's index.
+    std::vector<std::pair<uint32_t, uint32_t>> runs;
+    for (uint32_t i : r.gap_index) {
+      if (!runs.empty() && runs.back().first + runs.back().second == i)
+        ++runs.back().second;
+      else
+        runs.push_back({i, 1});
+    }
+    w->varint(runs.size());
+    uint32_t end = 0;
+    for (const auto& run : runs) {
+      w->varint(run.first - end);
+      w->varint(run.second - 1);
+      end = run.first + run.second;
+    }
+    std::vector<uint64_t> pats;
+    for (uint64_t b : r.gap_bits)
+      if (std::find(pats.begin(), pats.end(), b) == pats.end()) pats.push_back(b);
+    w->varint(pats.size());
+    for (uint64_t b : pats) w->u64(b);
+    if (pats.size() > 1)
+      for (uint64_t b : r.gap_bits)
+        w->varint(static_cast<uint64_t>(std::find(pats.begin(), pats.end(), b) - pats.begin()));
+  }
+  switch (r.kind) {
+    case Kind::kConst:
+      if (!same) w->varint(__builtin_bswap64(r.const_bits));
+      *last_const = r.const_bits;
+      break;
+    case Kind::kScaled: {
+      w->u8(r.round_f32 ? 1 : 0);
+      w->f64(r.step);
+      w->f64(r.offset);
+      w->varint(r.exc_index.size());
+      uint32_t prev = 0;
+      for (size_t e = 0; e < r.exc_index.size(); ++e) {
+        w->varint(r.exc_index[e] - prev);
+        w->svarint(r.exc_delta[e]);
+        prev = r.exc_index[e] + 1;
+      }
+      break;
+    }
+    case Kind::kRank: {
+      w->varint(r.table.size());
+      const bool f32 = std::all_of(r.table.begin(), r.table.end(), is_float32);
+      w->u8(f32 ? 1 : 0);
+      uint64_t prev = 0;
+      for (size_t i = 0; i < r.table.size(); ++i) {
+        const uint64_t o = f32 ? ordered_f32(r.table[i]) : ordered_bits(bits_of(r.table[i]));
+        if (i == 0)
+          w->u64(o);
+        else
+          w->varint(o - prev - 1);
+        prev = o;
+      }
+      break;
+    }
+    default:
+      break;
+  }
+}
+
+namespace {
+
+void read_gaps(ByteReader* in, size_t n, ChannelRepr* r) {
+  const uint64_t runs = in->count(2, "analog gap runs");
+  uint64_t end = 0;
+  for (uint64_t k = 0; k < runs; ++k) {
+    const uint64_t start = end + in->varint();
+    const uint64_t len = in->varint() + 1;
+    if (start > n || len > n - start)
+      throw Error(ErrorCode::kCorrupt, in->what() + ": analog gap run past the window's end");
+    for (uint64_t i = start; i < start + len; ++i) r->gap_index.push_back(static_cast<uint32_t>(i));
+    end = start + len;
+  }
+  const uint64_t npat = in->count(8, "analog gap patterns");
+  if (npat == 0 || npat > r->gap_index.size())
+    throw Error(ErrorCode::kCorrupt, in->what() + ": bad number of analog gap patterns");
+  std::vector<uint64_t> pats(npat);
+  for (uint64_t& p : pats) p = in->u64();
+  r->gap_bits.assign(r->gap_index.size(), pats[0]);
+  if (npat > 1)
+    for (uint64_t& b : r->gap_bits) {
+      const uint64_t k = in->varint();
+      if (k >= npat) throw Error(ErrorCode::kCorrupt, in->what() + ": analog gap pattern index");
+      b = pats[k];
+    }
+}
+
+}  // namespace
+
+ChannelRepr read_repr_header(ByteReader* in, size_t n, uint64_t* last_const) {
+  ChannelRepr r;
+  const int byte = in->u8();
+  if ((byte & 7) >= kKinds || (byte & ~31) != 0 || ((byte & 16) && (byte & 7) != 0))
+    throw Error(ErrorCode::kCorrupt,
+                in->what() + ": unknown analog channel kind " + std::to_string(byte));
+  r.kind = static_cast<Kind>(byte & 7);
+  if (byte & 8) read_gaps(in, n, &r);
+  switch (r.kind) {
+    case Kind::kConst:
+      r.const_bits = (byte & 16) ? *last_const : __builtin_bswap64(in->varint());
+      *last_const = r.const_bits;
+      break;
+    case Kind::kScaled: {
+      const int f = in->u8();
+      if (f > 1) throw Error(ErrorCode::kCorrupt, in->what() + ": bad analog rounding flag");
+      r.round_f32 = f == 1;
+      r.step = in->f64();
+      r.offset = in->f64();
+      const uint64_t ne = in->count(2, "analog exceptions");
+      uint64_t prev = 0;
+      for (uint64_t e = 0; e < ne; ++e) {
+        const uint64_t i = prev + in->varint();
+        if (i >= n)
+          throw Error(ErrorCode::kCorrupt, in->what() + ": analog exception past the window");
+        r.exc_index.push_back(static_cast<uint32_t>(i));
+        r.exc_delta.push_back(in->svarint());
+        prev = i + 1;
+      }
+      break;
+    }
+    case Kind::kRank: {
+      const uint64_t m = in->count(1, "analog value table");
+      if (m == 0) throw Error(ErrorCode::kCorrupt, in->what() + ": empty analog value table");
+      const int f32 = in->u8();
+      if (f32 > 1) throw Error(ErrorCode::kCorrupt, in->what() + ": bad analog table flag");
+      uint64_t prev = 0;
+      for (uint64_t i = 0; i < m; ++i) {
+        const uint64_t o = i == 0 ? in->u64() : prev + in->varint() + 1;
+        if (f32 && o > 0xFFFFFFFFu)
+          throw Error(ErrorCode::kCorrupt,
+                      in->what() + ": analog float32 table entry out of range");
+        r.table.push_back(f32 ? from_ordered_f32(static_cast<uint32_t>(o))
+                              : from_bits(from_ordered_bits(o)));
+        prev = o;
+      }
+      break;
+    }
+    default:
+      break;
+  }
+  return r;
+}
+
+void reconstruct(const ChannelRepr& r, size_t n, double* col, size_t stride,
+                 const std::string& what) {
+  switch (r.kind) {
+    case Kind::kConst:
+      for (size_t i = 0; i < n; ++i) col[i * stride] = from_bits(r.const_bits);
+      break;
+    case Kind::kInt:
+      for (size_t i = 0; i < n; ++i) col[i * stride] = r.ints[i];
+      break;
+    case Kind::kScaled: {
+      for (size_t i = 0; i < n; ++i)
+        col[i * stride] = scaled_value(r.ints[i], r.step, r.offset, r.round_f32);
+      for (size_t e = 0; e < r.exc_index.size(); ++e) {
+        double* p = &col[r.exc_index[e] * stride];
+        *p = apply_ordered_delta(*p, r.exc_delta[e], r.round_f32);
+      }
+      break;
+    }
+    case Kind::kRank:
+      for (size_t i = 0; i < n; ++i) {
+        const int32_t k = r.ints[i];
+        if (k < 0 || static_cast<size_t>(k) >= r.table.size())
+          throw Error(ErrorCode::kCorrupt, what + ": analog rank outside its table");
+        col[i * stride] = r.table[k];
+      }
+      break;
+    default:
+      for (size_t i = 0; i < n; ++i) col[i * stride] = r.filled[i];
+      break;
+  }
+  for (size_t g = 0; g < r.gap_index.size(); ++g)
+    col[r.gap_index[g] * stride] = from_bits(r.gap_bits[g]);
+}
+
+}  // namespace analog
+}  // namespace capz

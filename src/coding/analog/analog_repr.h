@@ -1,0 +1,101 @@
+// Representation of one analog channel in one window (docs/format-drafts/analog.md A.2).
+//
+// A channel's n samples (doubles, exactly as the take stores them) become:
+//   - a gap list: the indices of non-finite samples (NaN, Inf) and their 64-bit patterns; for
+//     coding, each is replaced by the previous finite sample (the first finite one before any);
+//   - then one kind for the filled samples:
+//       kConst    every sample has the same bit pattern (8 bytes, nothing per sample);
+//       kInt      integers with |x| <= kMaxSample, no -0.0: the integers themselves;
+//       kScaled   x == R(k * s + o) for integers k (R = rounding to float32 when every sample is
+//                 a float32, else none), a few exceptions stored whole: the k;
+//       kRank     few distinct values: a sorted table and each sample's rank;
+//       kFloat32  / kFloat64: the values, coded by the float predictor (analog_float.h).
+// Kinds kInt, kScaled and kRank feed `ints` to the integer pipeline (LPC, cascade).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "coding/bytes.h"
+
+namespace capz {
+namespace analog {
+
+enum class Kind : uint8_t {
+  kConst = 0,
+  kInt = 1,
+  kScaled = 2,
+  kRank = 3,
+  kFloat32 = 4,
+  kFloat64 = 5
+};
+constexpr int kKinds = 6;
+inline bool is_integer_kind(Kind k) {
+  return k == Kind::kInt || k == Kind::kScaled || k == Kind::kRank;
+}
+
+// What the file says about a channel; only ever a hint (the encoder verifies everything).
+struct ChannelHint {
+  double scale = 0;   // a candidate step of the stored values (0 = none)
+  double offset = 0;  // a candidate offset, in stored units
+};
+
+struct ChannelRepr {
+  Kind kind = Kind::kConst;
+  std::vector<uint32_t> gap_index;  // increasing
+  std::vector<uint64_t> gap_bits;   // bit pattern of each gap sample
+  uint64_t const_bits = 0;          // kConst
+  bool round_f32 = false;           // kScaled: R = float32 rounding
+  double step = 0, offset = 0;      // kScaled
+  std::vector<uint32_t> exc_index;  // kScaled exceptions: increasing sample indices
+  std::vector<int64_t> exc_delta;   // their ordered bits minus those of R(k * s + o) (float32
+                                    // patterns when round_f32), wrapping
+  std::vector<double> table;        // kRank: distinct values in increasing ordered-bits order
+  std::vector<int32_t> ints;        // integer kinds: n values, |v| <= kMaxSample
+  std::vector<double> filled;       // float kinds: the n samples with gaps filled
+};
+
+// Monotone map of double bit patterns to unsigned integers (-0.0 just below +0.0).
+inline uint64_t ordered_bits(uint64_t b) {
+  return (b >> 63) ? ~b : b | (uint64_t{1} << 63);
+}
+inline uint64_t from_ordered_bits(uint64_t o) {
+  return (o >> 63) ? o & ~(uint64_t{1} << 63) : ~o;
+}
+uint64_t bits_of(double v);
+double from_bits(uint64_t b);
+// y rounded to float32 (nearest even) and widened; finite values beyond the float range become
+// +-FLT_MAX first, so the conversion is always defined.
+double round_to_float32(double y);
+// Ordered 32-bit pattern of a float32 value v (widened to double), and back.
+uint32_t ordered_f32(double v);
+double from_ordered_f32(uint32_t o);
+// v moved by d units of its ordered pattern: float32 patterns when f32, else double; wrapping.
+double apply_ordered_delta(double v, int64_t d, bool f32);
+
+// The representations worth trying for samples col[0], col[stride], ... (n of them), the
+// preferred one first: a single one for kConst and kInt; else kScaled when a fit exists, kRank
+// when the table is small enough, and always the float kind (the window codec codes each and
+// keeps the smallest).
+std::vector<ChannelRepr> candidate_representations(const double* col, size_t stride, size_t n,
+                                                   const ChannelHint& hint);
+// The first of candidate_representations.
+ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
+                                  const ChannelHint& hint);
+
+// The kind byte's low 3 bits are the kind; bit 3 says a gap list follows; bit 4 (kConst only)
+// says the value is *last_const, the previous constant channel's of the window (0 before any).
+// The header carries everything but the per-sample numbers (ints or float samples), which the
+// entropy stage codes. *last_const is updated by kConst channels.
+void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w);
+// Reads a header for a channel of n samples; sizes are bounded by the bytes left in `in`.
+ChannelRepr read_repr_header(ByteReader* in, size_t n, uint64_t* last_const);
+
+// Writes the n samples to col[0], col[stride], ... from the header and `ints` / `filled`.
+// Throws Error(kCorrupt) naming `what` when a rank is outside the table.
+void reconstruct(const ChannelRepr& r, size_t n, double* col, size_t stride,
+                 const std::string& what);
+
+}  // namespace analog
+}  // namespace capz

@@ -1,0 +1,132 @@
+// LPC analysis stage: autocorrelation, Levinson-Durbin, quantisation and order choice.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "coding/analog/analog_cascade.h"
+#include "coding/analog/analog_lpc.h"
+
+namespace capz {
+namespace analog {
+namespace {
+
+TEST(AnalogLpc, GivenKnownAr2AutocorrelationWhenLevinsonThenExactCoefficients) {
+  // x[i] = 1.2 x[i-1] - 0.5 x[i-2] + e: r from the Yule-Walker equations (r0 = 1).
+  const double a1 = 1.2, a2 = -0.5;
+  const double r1 = a1 / (1 - a2), r2 = a1 * r1 + a2;
+  const double r3 = a1 * r2 + a2 * r1;
+  std::vector<std::vector<double>> a;
+  std::vector<double> err;
+  EXPECT_EQ(levinson({1, r1, r2, r3}, 3, &a, &err), 3);
+  EXPECT_NEAR(a[2][0], a1, 1e-12);
+  EXPECT_NEAR(a[2][1], a2, 1e-12);
+  EXPECT_NEAR(a[3][2], 0, 1e-12);  // order 3 adds nothing
+  EXPECT_NEAR(err[3], err[2], 1e-12);
+  EXPECT_LT(err[2], err[1]);
+  EXPECT_LT(err[1], err[0]);
+}
+
+TEST(AnalogLpc, GivenSingularAutocorrelationWhenLevinsonThenStopsEarly) {
+  std::vector<std::vector<double>> a;
+  std::vector<double> err;
+  EXPECT_EQ(levinson({0, 0, 0}, 2, &a, &err), 0);
+  // A pure sinusoid is predicted exactly at order 2: the recursion stops there.
+  std::vector<int32_t> x(2000);
+  for (size_t i = 0; i < x.size(); ++i)
+    x[i] = static_cast<int32_t>(std::lround(1e6 * std::sin(0.05 * i)));
+  EXPECT_LE(levinson(autocorrelation(x.data(), x.size(), 8), 8, &a, &err), 8);
+  EXPECT_LT(err.back(), err[0] * 1e-6);
+}
+
+TEST(AnalogLpc, GivenCoefficientsWhenQuantisedThenWithinPrecisionAndClose) {
+  const double a[4] = {1.9, -0.93, 0.02, -0.0001};
+  const LpcParams p = quantise_lpc(a, 4, kLpcPrecision);
+  ASSERT_EQ(p.order, 4);
+  for (int j = 0; j < 4; ++j) {
+    EXPECT_LT(std::abs(p.q[j]), 1 << kLpcPrecision);
+    EXPECT_NEAR(p.q[j] / std::ldexp(1.0, p.shift), a[j], 2.0 / std::ldexp(1.0, p.shift));
+  }
+  EXPECT_EQ(quantise_lpc(a, 0, kLpcPrecision).order, 0);
+}
+
+TEST(AnalogLpc, GivenAr2SignalWhenOrderChosenThenResidualNearInnovation) {
+  std::mt19937 rng(1);
+  std::normal_distribution<double> e(0, 10);
+  std::vector<int32_t> x(4096);
+  double x1 = 0, x2 = 0;
+  for (auto& v : x) {
+    const double y = 1.6 * x1 - 0.8 * x2 + e(rng);
+    v = static_cast<int32_t>(std::lround(y));
+    x2 = x1;
+    x1 = y;
+  }
+  const LpcParams p = choose_lpc(x.data(), x.size());
+  EXPECT_GE(p.order, 2);
+  EXPECT_LE(p.order, 8);
+  double ss = 0;
+  for (size_t i = 32; i < x.size(); ++i) {
+    const double r = x[i] - lpc_predict(p, x.data() + i);
+    ss += r * r;
+  }
+  EXPECT_LT(std::sqrt(ss / (x.size() - 32)), 12.0);  // innovation sd 10 (+ rounding)
+}
+
+TEST(AnalogLpc, GivenWhiteNoiseWhenOrderChosenThenNoPrediction) {
+  std::mt19937 rng(2);
+  std::vector<int32_t> x(4096);
+  for (auto& v : x) v = static_cast<int32_t>(rng() % 1000) - 500;
+  EXPECT_EQ(choose_lpc(x.data(), x.size()).order, 0);
+}
+
+TEST(AnalogLpc, GivenExtremeInputsWhenPredictedThenClampedToSampleRange) {
+  LpcParams p;
+  p.order = 2;
+  p.shift = 0;
+  p.q = {(1 << kLpcPrecision) - 1, (1 << kLpcPrecision) - 1};
+  const int32_t x[3] = {kMaxSample, kMaxSample, 0};
+  EXPECT_EQ(lpc_predict(p, x + 2), kMaxSample);
+}
+
+}  // namespace
+}  // namespace analog
+}  // namespace capz
+
+namespace capz {
+namespace analog {
+namespace {
+
+// The cascade learns what LPC left: a residual that is itself predictable shrinks.
+TEST(AnalogCascade, GivenCorrelatedResidualWhenAdaptedThenOutputSmaller) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> e(0, 50);
+  SignLms lms;
+  double x1 = 0, in_ss = 0, out_ss = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const double y = 0.9 * x1 + e(rng);
+    x1 = y;
+    const int64_t in = std::lround(y);
+    const int64_t out = in - lms.predict();
+    lms.update(in, out);
+    if (i >= 10000) {
+      in_ss += static_cast<double>(in) * in;
+      out_ss += static_cast<double>(out) * out;
+    }
+  }
+  EXPECT_LT(out_ss, 0.4 * in_ss);  // an AR(1) with 0.9: innovation power 0.19 of the total
+}
+
+TEST(AnalogCascade, GivenExtremeInputsThenPredictionStaysInSampleRange) {
+  SignLms lms;
+  for (int i = 0; i < 5000; ++i) {
+    const int64_t in = (i & 1) ? kMaxSample : -kMaxSample;
+    const int64_t p = lms.predict();
+    EXPECT_LE(p, kMaxSample);
+    EXPECT_GE(p, -kMaxSample);
+    lms.update(in, in - p);
+  }
+}
+
+}  // namespace
+}  // namespace analog
+}  // namespace capz

@@ -1,0 +1,220 @@
+// Analog coder benchmark (docs/format-drafts/analog-bench.md): for every C3D take given on the
+// command line that has analog channels, the bytes of the analog window codec (in process,
+// verified bit for bit) against general and signal codecs run on the same samples:
+//   xz -9e, zstd -19 and fpzip of the channel-major float32 samples;
+//   flac -8 and wavpack -hhx6 on each channel as 16-bit mono, when every channel is an integer
+//   (or a scaled integer) that fits int16.
+// Speed is MB/s of raw float32 samples (4 bytes a sample), single thread, best of 3.
+//
+//   capz_analog_bench [--window ROWS] [--no-peers] FILE.c3d...
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "capz/io.h"
+#include "capz/take.h"
+#include "coding/analog/analog_codec.h"
+
+using namespace capz;
+
+namespace {
+
+std::string g_tmp;
+
+void write_file(const std::string& path, const void* data, size_t size) {
+  FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f || std::fwrite(data, 1, size, f) != size) {
+    std::perror(path.c_str());
+    std::exit(2);
+  }
+  std::fclose(f);
+}
+
+long file_size(const std::string& path) {
+  FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return -1;
+  std::fseek(f, 0, SEEK_END);
+  const long n = std::ftell(f);
+  std::fclose(f);
+  return n;
+}
+
+// Runs `cmd` (which writes `out`, quietly); returns the size of `out`, -1 on failure.
+long run_peer(const std::string& cmd, const std::string& out) {
+  std::remove(out.c_str());
+  if (std::system((cmd + " 2>/dev/null").c_str()) != 0) return -1;
+  return file_size(out);
+}
+
+struct Result {
+  size_t ours = 0;
+  double enc_mbs = 0, dec_mbs = 0;
+  bool exact = true;
+};
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+Result run_ours(const Analog& a, const AnalogHints& h, size_t window) {
+  const size_t rows = a.values.size() / a.channels;
+  const double mb = 4.0 * static_cast<double>(a.values.size()) / 1e6;
+  Result r;
+  std::vector<std::vector<uint8_t>> payloads;
+  double best_enc = 1e30, best_dec = 1e30;
+  for (int rep = 0; rep < 3; ++rep) {
+    payloads.clear();
+    auto t0 = std::chrono::steady_clock::now();
+    for (size_t r0 = 0; r0 < rows; r0 += window) {
+      const size_t n = std::min(window, rows - r0);
+      payloads.push_back(encode_analog_window(&a.values[r0 * a.channels], n, a.channels, h));
+    }
+    best_enc = std::min(best_enc, seconds_since(t0));
+  }
+  std::vector<double> back(a.values.size());
+  for (int rep = 0; rep < 3; ++rep) {
+    auto t0 = std::chrono::steady_clock::now();
+    size_t w = 0;
+    for (size_t r0 = 0; r0 < rows; r0 += window, ++w) {
+      const size_t n = std::min(window, rows - r0);
+      decode_analog_window(payloads[w].data(), payloads[w].size(), n, a.channels,
+                           &back[r0 * a.channels], "bench");
+    }
+    best_dec = std::min(best_dec, seconds_since(t0));
+  }
+  for (const auto& p : payloads) r.ours += p.size();
+  r.exact = std::memcmp(back.data(), a.values.data(), back.size() * sizeof(double)) == 0;
+  r.enc_mbs = mb / best_enc;
+  r.dec_mbs = mb / best_dec;
+  return r;
+}
+
+// Each channel as int16 counts when every sample is an integer or scaled integer within int16;
+// empty when some channel is not.
+std::vector<std::vector<int16_t>> int16_channels(const Analog& a, const AnalogHints& h) {
+  const size_t rows = a.values.size() / a.channels;
+  std::vector<std::vector<int16_t>> out;
+  for (int c = 0; c < a.channels; ++c) {
+    const analog::ChannelHint hint =
+        h.channel.size() > static_cast<size_t>(c) ? h.channel[c] : analog::ChannelHint();
+    const analog::ChannelRepr r =
+        analog::choose_representation(&a.values[c], a.channels, rows, hint);
+    std::vector<int16_t> v(rows, 0);
+    if (r.kind == analog::Kind::kConst) {
+      out.push_back(v);
+      continue;
+    }
+    if (r.kind != analog::Kind::kInt && r.kind != analog::Kind::kScaled) return {};
+    for (size_t i = 0; i < rows; ++i) {
+      if (r.ints[i] < -32768 || r.ints[i] > 32767) return {};
+      v[i] = static_cast<int16_t>(r.ints[i]);
+    }
+    out.push_back(v);
+  }
+  return out;
+}
+
+struct Peers {
+  long xz = -1, zstd = -1, fpzip = -1, flac = -1, wavpack = -1;
+};
+
+Peers run_peers(const Analog& a, const AnalogHints& h) {
+  Peers p;
+  const size_t rows = a.values.size() / a.channels;
+  std::vector<float> cm(a.values.size());
+  for (int c = 0; c < a.channels; ++c)
+    for (size_t i = 0; i < rows; ++i)
+      cm[c * rows + i] = static_cast<float>(a.values[i * a.channels + c]);
+  const std::string raw = g_tmp + "/f32.raw";
+  write_file(raw, cm.data(), cm.size() * 4);
+  p.xz = run_peer("xz -9e -T1 -k -c " + raw + " > " + raw + ".xz", raw + ".xz");
+  p.zstd = run_peer("zstd -19 -q -f " + raw + " -o " + raw + ".zst", raw + ".zst");
+  p.fpzip = run_peer("fpzip -q -t float -2 " + std::to_string(rows) + " " +
+                         std::to_string(a.channels) + " -i " + raw + " -o " + raw + ".fpz",
+                     raw + ".fpz");
+  const auto ch = int16_channels(a, h);
+  if (ch.empty()) return p;
+  p.flac = p.wavpack = 0;
+  for (const auto& v : ch) {
+    const std::string pcm = g_tmp + "/ch.raw";
+    write_file(pcm, v.data(), v.size() * 2);
+    const long f = run_peer(
+        "flac -8 -s -f --no-padding --no-seektable --force-raw-format --endian=little "
+        "--sign=signed "
+        "--channels=1 --bps=16 --sample-rate=1000 -o " +
+            pcm + ".flac " + pcm,
+        pcm + ".flac");
+    const long w = run_peer(
+        "wavpack -hhx6 -q -y --raw-pcm=1000,16,1,le " + pcm + " -o " + pcm + ".wv", pcm + ".wv");
+    p.flac = (f < 0 || p.flac < 0) ? -1 : p.flac + f;
+    p.wavpack = (w < 0 || p.wavpack < 0) ? -1 : p.wavpack + w;
+  }
+  return p;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  size_t window = 8192;
+  bool peers = true;
+  std::vector<std::string> files;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--window") && i + 1 < argc)
+      window = std::strtoul(argv[++i], nullptr, 10);
+    else if (!std::strcmp(argv[i], "--no-peers"))
+      peers = false;
+    else
+      files.push_back(argv[i]);
+  }
+  char tmpl[] = "/tmp/capz_analog_bench.XXXXXX";
+  if (!mkdtemp(tmpl)) return 2;
+  g_tmp = tmpl;
+  std::printf("%-48s %5s %7s %9s %9s %9s %9s %9s %9s %7s %7s %7s %s\n", "take", "ch", "rows",
+              "raw_f32", "capz", "xz-9e", "zstd-19", "fpzip", "flac-8", "wavpack", "ratio", "enc",
+              "dec");
+  size_t total_ours = 0, total_raw = 0, miss = 0, n_takes = 0;
+  double total_enc_s = 0, total_dec_s = 0;
+  for (const std::string& path : files) {
+    Take t;
+    try {
+      t = read_take(path);
+    } catch (const Error&) {
+      continue;
+    }
+    if (t.analog.channels == 0 || t.analog.values.empty()) continue;
+    const AnalogHints h = analog_hints(t);
+    const Result r = run_ours(t.analog, h, window);
+    const Peers p = peers ? run_peers(t.analog, h) : Peers();
+    long best = -1;
+    for (long v : {p.xz, p.zstd, p.fpzip, p.flac, p.wavpack})
+      if (v > 0 && (best < 0 || v < best)) best = v;
+    const double ratio = best > 0 ? static_cast<double>(r.ours) / best : 0;
+    const size_t raw = t.analog.values.size() * 4;
+    total_ours += r.ours;
+    total_raw += raw;
+    total_enc_s += raw / 1e6 / r.enc_mbs;
+    total_dec_s += raw / 1e6 / r.dec_mbs;
+    ++n_takes;
+    miss += ratio > 0.85;
+    std::string name = path.size() > 48 ? path.substr(path.size() - 48) : path;
+    std::printf("%-48s %5d %7zu %9zu %9zu %9ld %9ld %9ld %9ld %9ld %7.3f %7.1f %7.1f%s\n",
+                name.c_str(), t.analog.channels, t.analog.values.size() / t.analog.channels, raw,
+                r.ours, p.xz, p.zstd, p.fpzip, p.flac, p.wavpack, ratio, r.enc_mbs, r.dec_mbs,
+                r.exact ? "" : "  NOT EXACT");
+    std::fflush(stdout);
+    if (!r.exact) miss += 1000;
+  }
+  std::printf(
+      "takes %zu, raw %zu, capz %zu (%.3f), above 0.85x best peer: %zu; overall encode %.1f MB/s, "
+      "decode %.1f MB/s\n",
+      n_takes, total_raw, total_ours, static_cast<double>(total_ours) / total_raw, miss,
+      total_raw / 1e6 / total_enc_s, total_raw / 1e6 / total_dec_s);
+  std::string rm = "rm -rf " + g_tmp;
+  if (std::system(rm.c_str()) != 0) return 2;
+  return 0;
+}
