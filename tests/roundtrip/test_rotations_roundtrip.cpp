@@ -156,6 +156,26 @@ TEST_P(RotationsRoundTrip, StreamedBothWaysGivesTheSameStreamAndTheSameFile) {
   }
 }
 
+// An int16 C3D whose scale comes from the data is written whole at commit (the sink collects
+// the blocks): its rotations are collected with them.
+TEST_P(RotationsRoundTrip, TheWholeTakeSinkCollectsTheBlocksRotations) {
+  capz_test::TempDir tmp("capz_rot_whole");
+  Take t = c3d_with_rotations(tmp.file("a.c3d"), 45, GetParam());
+  auto x = std::make_shared<C3DExtra>(*t.c3d);
+  x->float_storage = false;
+  x->point_scale = 0;  // no usable scale: the int16 scale comes from the data
+  t.c3d = x;
+  WriteOptions wo;
+  wo.overwrite = true;
+  write_take(t, tmp.file("whole.c3d"), wo);
+  std::unique_ptr<FrameSource> src = take_frames(t);
+  std::unique_ptr<FrameSink> sink =
+      create_frame_sink(src->header(), src->has_sample_words(), tmp.file("blocks.c3d"), wo);
+  copy_frames(*src, *sink, 7);
+  EXPECT_TRUE(read_file(tmp.file("whole.c3d")) == read_file(tmp.file("blocks.c3d")));
+  expect_same_rotations(read_c3d(tmp.file("blocks.c3d")).rotations, t.rotations);
+}
+
 INSTANTIATE_TEST_SUITE_P(Points, RotationsRoundTrip, ::testing::Values(size_t{0}, size_t{4}));
 
 TEST(RotationsRoundTrip, ATakeWithoutRotationsHasNoRotationChunks) {

@@ -82,8 +82,8 @@ TEST(RotationHead, FitsCountsTheRotationValues) {
   StreamHeader h = grid_header();
   h.rotation_segments = 100;
   h.rotation_samples_per_frame = 10;  // 100 frames: 1.7e6 values
-  EXPECT_NO_THROW(check_header_fits(h, 1000, "t"));
-  EXPECT_THROW(check_header_fits(h, 500, "t"), Error);
+  EXPECT_NO_THROW(check_header_fits(h, 1000, kCapzMajor, "t"));
+  EXPECT_THROW(check_header_fits(h, 500, kCapzMajor, "t"), Error);
 }
 
 TEST(RotationMeta, RateAndLabelsAreAppendedWhenTheTakeHasRotations) {
