@@ -104,13 +104,6 @@ void open_input(const std::string& in, bool whole, const std::string& units, Inp
   if (!units.empty() && capz::units_to_metres(input->source->header().units) == 0)
     input->source->edit_header().units = units;
   if (whole) input->whole.units = input->source->header().units;
-  // Until the .capz format stores rotations (format 4.0), say what the archive leaves out.
-  const capz::Take& take = input->source->header();
-  if (take.rotations.segments > 0 && g_verbosity >= 1)
-    std::fprintf(stderr,
-                 "capz compress: warning: %s: the %d rotation segments (%zu samples) are not "
-                 "stored: this .capz format version has no place for them yet\n",
-                 in.c_str(), take.rotations.segments, take.rotations.samples(take.frames));
 }
 
 // Codec, clusters, window, check and --codec-opt from the options.
@@ -196,6 +189,7 @@ void report_json(const Report& r, const capz::Take& take, const capz::CompressOp
   json_error_stats(&j, st.error);
   j.member("position_bytes", static_cast<uint64_t>(st.position_bytes));
   j.member("analog_bytes", static_cast<uint64_t>(st.analog_bytes));
+  j.member("rotation_bytes", static_cast<uint64_t>(st.rotation_bytes));
   j.member("other_bytes", static_cast<uint64_t>(st.other_bytes));
   j.member("raw_float32_position_bytes", static_cast<uint64_t>(st.raw_bytes));
   j.member("read_cpu_seconds", r.t_read);
@@ -222,14 +216,14 @@ void report_text(const Report& r, const capz::Take& take, const capz::CompressOp
   if (g_verbosity >= 2) {
     std::printf(
         "  %zu frames x %zu points, %s coding, grid step %s%s; positions %zu B (x%s vs "
-        "raw float32), analog %zu B, other %zu B\n",
+        "raw float32), analog %zu B, rotations %zu B, other %zu B\n",
         take.frames, take.points, st.mode.c_str(), num(st.step, 6).c_str(),
         take.units.empty() ? "" : (" " + take.units).c_str(), st.position_bytes,
         num(st.position_bytes
                 ? static_cast<double>(st.raw_bytes) / static_cast<double>(st.position_bytes)
                 : 0)
             .c_str(),
-        st.analog_bytes, st.other_bytes);
+        st.analog_bytes, st.rotation_bytes, st.other_bytes);
     std::printf("  cpu: read %.3f s, encode%s %.3f s (%s MB/s of raw float32 positions)\n",
                 r.t_read, opts.check ? "+check" : "", r.t_enc, num(r.mbps).c_str());
   }

@@ -6,6 +6,13 @@
 
 namespace capz_cli {
 
+namespace {
+// Rotation samples per point frame (0 without rotations).
+size_t rotations_per_frame(const capz::StreamInfo& si) {
+  return si.rotation_segments > 0 ? static_cast<size_t>(si.rotation_samples_per_frame) : 0;
+}
+}  // namespace
+
 int info_capz(const std::string& path, bool json) {
   std::vector<uint8_t> bytes = capz::read_file(path);
   capz::StreamInfo si = capz::describe(bytes.data(), bytes.size(), path);
@@ -34,6 +41,14 @@ int info_capz(const std::string& path, bool json) {
     j.member("windows", static_cast<uint64_t>(si.windows));
     j.member("analog_channels", si.analog_channels);
     j.member("analog_samples_per_frame", si.analog_samples_per_frame);
+    j.key("rotations");
+    j.begin_object();
+    j.member("segments", si.rotation_segments);
+    j.member("samples", static_cast<uint64_t>(si.frames * rotations_per_frame(si)));
+    j.member("rate", si.rotation_rate);
+    j.member("samples_per_frame", si.rotation_samples_per_frame);
+    j.member_strings("labels", si.rotation_labels);
+    j.end_object();
     j.member("bpvf", bp);
     j.key("chunk_bytes");
     j.begin_object();
@@ -65,6 +80,11 @@ int info_capz(const std::string& path, bool json) {
   if (si.analog_channels > 0)
     line("analog:", std::to_string(si.analog_channels) + " channels x " +
                         std::to_string(si.analog_samples_per_frame) + " samples per frame");
+  if (si.rotation_segments > 0)
+    line("rotations:", std::to_string(si.rotation_segments) + " segments x " +
+                           std::to_string(si.frames * rotations_per_frame(si)) + " samples at " +
+                           num(si.rotation_rate) + " Hz (" +
+                           std::to_string(si.rotation_samples_per_frame) + " per frame), lossless");
   std::string chunks;
   for (const auto& kv : si.chunk_bytes)
     chunks += (chunks.empty() ? "" : ", ") + kv.first + " " + human_size(kv.second);

@@ -23,7 +23,8 @@ int cmd_verify(const Args& args) {
           "Euclidean), RMSE, KG error and bpvf. Exit status 5 when the stream is damaged\n"
           "or does not keep its promise: the gap mask, every valid coordinate bit for bit\n"
           "(lossless), within the stored bound, or for a --kg-error transform stream within\n"
-          "its KG target, and the metadata, analog values and format extras exactly.",
+          "its KG target, and the metadata, analog values, rotations (bit for bit) and\n"
+          "format extras exactly.",
           o, "X.capz", &vm, &in))
     return 0;
 

@@ -50,6 +50,7 @@ struct CompressStats {
   ErrorStats error;           // achieved, over valid samples (zero when lossless)
   size_t position_bytes = 0;  // bytes of POSW + MASK chunks
   size_t analog_bytes = 0;    // bytes of ANLG chunks
+  size_t rotation_bytes = 0;  // bytes of ROTW chunks
   size_t other_bytes = 0;     // everything else
 };
 
@@ -81,6 +82,10 @@ struct StreamInfo {
   double rate = 0;
   std::string units;
   int analog_channels = 0, analog_samples_per_frame = 0;
+  // Rotations (Rotations in take.h): segments 0 when the take has none.
+  int rotation_segments = 0, rotation_samples_per_frame = 0;
+  double rotation_rate = 0;  // Hz, 0 unknown
+  std::vector<std::string> rotation_labels;
   std::map<std::string, size_t> chunk_bytes;  // total bytes (with framing) per chunk type
 };
 StreamInfo describe(const uint8_t* data, size_t size, const std::string& name = "");

@@ -29,21 +29,27 @@ struct FrameBlock {
   std::vector<float> residual;       // frames x points (C3D 4th word), empty when the take has none
   std::vector<uint8_t> camera_mask;  // frames x points, empty when the take has none
   std::vector<double> analog;        // (frames * samples_per_frame) x channels
+  // The frames' rotation samples (Rotations in take.h), bit for bit; empty without rotations:
+  std::vector<float> rotation_matrices;     // (frames * R) x segments x 16
+  std::vector<float> rotation_reliability;  // (frames * R) x segments
 
-  // Sizes every array for `frames` x `points` (gaps, zeros); words: with residual/camera arrays.
-  void reset(size_t first, size_t frames, size_t points, size_t analog_values_per_frame,
-             bool words);
+  // Sizes every array for `frames` x `points` (gaps, zeros); words: with residual/camera arrays;
+  // rotations_per_frame: R x segments (0 without rotations).
+  void reset(size_t first, size_t frames, size_t points, size_t analog_values_per_frame, bool words,
+             size_t rotations_per_frame = 0);
 };
 
 class FrameSource {
  public:
   virtual ~FrameSource() = default;
-  // The take without its per-frame arrays: frames and points set; xyz, valid, analog.values and
-  // c3d->residual / camera_mask empty. Per-frame metadata that is small (TRC times and frame
-  // numbers, PCD frame names) is kept.
+  // The take without its per-frame arrays: frames and points set; xyz, valid, analog.values,
+  // rotations.matrices / reliability and c3d->residual / camera_mask empty (the rotation layout,
+  // rate and labels are set). Per-frame metadata that is small (TRC times and frame numbers, PCD
+  // frame names) is kept.
   const Take& header() const { return header_; }
   // The same, for a caller that amends metadata before using the source (e.g. units for data
-  // that has none); the frame and point counts and the analog layout must not change.
+  // that has none); the frame and point counts, the analog and the rotation layouts must not
+  // change.
   Take& edit_header() { return header_; }
   // True when read() fills residual and camera_mask (C3D 4th words).
   virtual bool has_sample_words() const = 0;

@@ -113,6 +113,11 @@ struct Rotations {
   size_t samples(size_t frames) const {
     return segments > 0 ? frames * static_cast<size_t>(samples_per_frame) : 0;
   }
+  // Rotations (samples x segments) per point frame: 0 without.
+  size_t per_frame() const {
+    return segments > 0 ? static_cast<size_t>(samples_per_frame) * static_cast<size_t>(segments)
+                        : 0;
+  }
 };
 
 // TRC specifics (OpenSim / Motion Analysis). Kept so a TRC written back looks like the source.

@@ -6,6 +6,7 @@
 //   - every valid coordinate as its header says (Promise below): bit-identical (lossless), within
 //     the stored per-coordinate bound, or, for a transform-output stream (FORMAT.md 3.1, a KG
 //     target and no bound), finite with the KG error over the whole take at most its target;
+//   - the rotations (layout, rate, labels, and every sample bit for bit: NaN payloads count);
 //   - rate, units, first frame, labels, descriptions, analog layout and values, and the format
 //     extras a .capz keeps (C3D parameter section, header fields and events, residual/camera
 //     words; TRC time and frame columns; PCD frame names) exactly (NaN equals NaN).

@@ -15,6 +15,7 @@
 #include "coding/entropy.h"
 #include "coding/mask.h"
 #include "coding/positions.h"
+#include "coding/rotations.h"
 
 namespace capz {
 namespace {
@@ -43,7 +44,9 @@ class WindowChunks {
         off_ = c.end;
         return c;
       }
-      if (c.type == "POSW" || c.type == "MASK" || c.type == "C3DW" || c.type == "ANLG") break;
+      if (c.type == "POSW" || c.type == "MASK" || c.type == "C3DW" || c.type == "ANLG" ||
+          c.type == "ROTW")
+        break;
       off_ = c.end;  // unknown chunk: skipped
     }
     if (required)
@@ -156,6 +159,22 @@ void decode_window_positions(const StreamContext& ctx, WindowChunks* chunks, siz
   valid->assign(wi.valid.begin(), wi.valid.end());
 }
 
+// ROTW of the window (FORMAT.md 4.3): its fn x R samples of G segments into the block's
+// rotation arrays.
+void decode_window_rotations(const StreamContext& ctx, WindowChunks* chunks, size_t fn,
+                             FrameBlock* b) {
+  const size_t R = ctx.h.rotation_samples_per_frame, G = ctx.h.rotation_segments;
+  Chunk rc = chunks->next("ROTW", true);
+  const std::string rwhat = chunks->what("ROTW");
+  ByteReader rr(rc.payload, rc.size, rwhat);
+  chunks->open(rc, &rr);
+  // decode_rotations checks the count against the block's size before allocating.
+  RotationWindow rw =
+      decode_rotations(rc.payload + rr.offset(), rc.size - rr.offset(), fn * R, G, rwhat);
+  b->rotation_matrices.swap(rw.matrices);
+  b->rotation_reliability.swap(rw.reliability);
+}
+
 }  // namespace
 
 void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* region, size_t base,
@@ -202,6 +221,9 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
       decode_analog(ac.payload + ar.offset(), ac.size - ar.offset(), fn * S, static_cast<int>(C),
                     b.analog.data(), awhat);
   }
+  b.rotation_matrices.clear();
+  b.rotation_reliability.clear();
+  if (ctx.h.rotations()) decode_window_rotations(ctx, &chunks, fn, out);
 }
 
 void decode_window(StreamBytes& bytes, const ParsedStream& ps, size_t w, FrameBlock* out) {

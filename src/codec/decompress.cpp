@@ -55,6 +55,8 @@ Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
   t.xyz = std::move(b.xyz);
   t.valid = std::move(b.valid);
   t.analog.values = std::move(b.analog);
+  t.rotations.matrices = std::move(b.rotation_matrices);
+  t.rotations.reliability = std::move(b.rotation_reliability);
   if (ps.words) {
     t.c3d = std::make_shared<C3DExtra>(*ps.take.c3d);
     t.c3d->residual = std::move(b.residual);
@@ -107,6 +109,10 @@ StreamInfo describe(const uint8_t* data, size_t size, const std::string& name) {
   si.units = ps.take.units;
   si.analog_channels = ps.take.analog.channels;
   si.analog_samples_per_frame = ps.take.analog.samples_per_frame;
+  si.rotation_segments = ps.take.rotations.segments;
+  si.rotation_samples_per_frame = ps.take.rotations.samples_per_frame;
+  si.rotation_rate = ps.take.rotations.rate;
+  si.rotation_labels = ps.take.rotations.labels;
   si.chunk_bytes = ps.chunk_bytes;
   for (size_t off = ps.first_window_offset; off < ps.index_offset;) {  // the window chunks
     Chunk k = read_chunk(data, size, off, name);

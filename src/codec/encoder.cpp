@@ -24,6 +24,7 @@
 #include "coding/container.h"
 #include "coding/mask.h"
 #include "coding/positions.h"
+#include "coding/rotations.h"
 
 namespace capz {
 
@@ -77,6 +78,7 @@ struct Plan {
   double written_scale = 0;  // with tout: the int16 scale `capz decompress` writes at, or 0
   bool analog = false;
   size_t S = 0, C = 0;  // analog samples per frame and channels (0 without analog)
+  size_t R = 0, G = 0;  // rotation samples per frame and segments (0 without rotations)
 };
 
 Plan resolve(const FrameSource& source, const CompressOptions& opts, bool allow_tout) {
@@ -105,6 +107,10 @@ Plan resolve(const FrameSource& source, const CompressOptions& opts, bool allow_
   p.analog = take.analog.channels > 0 && take.analog.samples_per_frame > 0;
   p.S = p.analog ? static_cast<size_t>(take.analog.samples_per_frame) : 0;
   p.C = p.analog ? static_cast<size_t>(take.analog.channels) : 0;
+  if (take.rotations.per_frame() > 0) {
+    p.R = static_cast<size_t>(take.rotations.samples_per_frame);
+    p.G = static_cast<size_t>(take.rotations.segments);
+  }
   return p;
 }
 
@@ -209,6 +215,8 @@ class Encoder {
     h.max_error = g_.bound;
     h.analog_channels = static_cast<uint32_t>(plan_.C);
     h.analog_samples_per_frame = static_cast<uint32_t>(plan_.S);
+    h.rotation_segments = static_cast<uint32_t>(plan_.G);
+    h.rotation_samples_per_frame = static_cast<uint32_t>(plan_.R);
     std::vector<uint8_t> buf;
     write_file_header(&buf);
     append_chunk(&buf, "HEAD", encode_header(h));
@@ -301,8 +309,21 @@ class Encoder {
       append_chunk(&buf, "ANLG", with_window_index(w, 0xFF, an));
       analog_bytes_ += buf.size() - before;
     }
+    if (plan_.G > 0) append_rotations(w, &buf);
     reconstruct(wi, recon, &ew.rec);
     return ew;
+  }
+
+  // ROTW (FORMAT.md 4.3): the window's rotation samples, lossless whatever the bound.
+  void append_rotations(size_t w, std::vector<uint8_t>* buf) {
+    const size_t samples = block_.frames * plan_.R, n = samples * plan_.G;
+    if (block_.rotation_matrices.size() != n * 16 || block_.rotation_reliability.size() != n)
+      fail(ErrorCode::kInternal, take_.source, "a block's rotations do not match its frames");
+    const size_t before = buf->size();
+    const std::vector<uint8_t> rot = encode_rotations(
+        block_.rotation_matrices.data(), block_.rotation_reliability.data(), samples, plan_.G);
+    append_chunk(buf, "ROTW", with_window_index(w, 0xFF, rot));
+    rotation_bytes_ += buf->size() - before;
   }
 
   // The reconstruction the decoder will produce for the window's valid samples.
@@ -388,6 +409,7 @@ class Encoder {
     stats->error = acc_.finish();
     stats->position_bytes = position_bytes_;
     stats->analog_bytes = analog_bytes_;
+    stats->rotation_bytes = rotation_bytes_;
     stats->other_bytes = other_bytes_;
   }
 
@@ -407,7 +429,7 @@ class Encoder {
   AnalogHints hints_;                   // what the C3D parameters say of the analog channels
   ErrorAccumulator acc_;
   std::vector<IndexEntry> index_;
-  size_t position_bytes_ = 0, analog_bytes_ = 0, other_bytes_ = 0;
+  size_t position_bytes_ = 0, analog_bytes_ = 0, rotation_bytes_ = 0, other_bytes_ = 0;
 };
 
 }  // namespace

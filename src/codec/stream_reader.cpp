@@ -35,6 +35,9 @@ StreamContext read_context(const StreamHeader& h, const Chunk& meta, int major, 
   c.take.analog.channels = static_cast<int>(std::min<uint32_t>(c.h.analog_channels, 1u << 30));
   c.take.analog.samples_per_frame =
       static_cast<int>(std::min<uint32_t>(c.h.analog_samples_per_frame, 1u << 30));
+  c.take.rotations.segments = static_cast<int>(std::min<uint32_t>(c.h.rotation_segments, 1u << 30));
+  c.take.rotations.samples_per_frame =
+      static_cast<int>(std::min<uint32_t>(c.h.rotation_samples_per_frame, 1u << 30));
   decode_meta(meta, name, &c.take, &c.words);
   return c;
 }

@@ -137,12 +137,17 @@ std::vector<uint8_t> encode_header(const StreamHeader& h) {
   w.u8(static_cast<uint8_t>(h.source_format));
   w.u8(static_cast<uint8_t>(h.mode));
   w.u8(h.codec);
-  w.u8(static_cast<uint8_t>((h.lossless ? 1 : 0) | (h.transform_output ? 2 : 0)));
+  w.u8(static_cast<uint8_t>((h.lossless ? 1 : 0) | (h.transform_output ? 2 : 0) |
+                            (h.rotations() ? 4 : 0)));
   w.f64(h.step);
   w.f64(h.max_error);
   w.u32(h.analog_channels);
   w.u32(h.analog_samples_per_frame);
   if (h.transform_output) w.f64(h.kg_target);
+  if (h.rotations()) {  // FORMAT.md 4.3
+    w.u32(h.rotation_segments);
+    w.u32(h.rotation_samples_per_frame);
+  }
   return std::move(w.buffer());
 }
 
@@ -166,7 +171,7 @@ StreamHeader decode_header(const Chunk& c, const std::string& name) {
     fail(ErrorCode::kCorrupt, what,
          "window of " + std::to_string(h.window_frames) + " frames (1.." +
              std::to_string(kMaxWindowFrames) + ")");
-  if (flags > 3) fail(ErrorCode::kCorrupt, what, "unknown flag bits " + std::to_string(flags));
+  if (flags > 7) fail(ErrorCode::kCorrupt, what, "unknown flag bits " + std::to_string(flags));
   h.transform_output = (flags & 2) != 0;
   if (h.transform_output) {  // FORMAT.md 3.1: the transform's reconstruction is the output
     h.kg_target = r.f64();
@@ -179,6 +184,12 @@ StreamHeader decode_header(const Chunk& c, const std::string& name) {
       fail(ErrorCode::kCorrupt, what, "transform output: KG target is not a positive number");
   } else if ((mode == 0 || mode == 1 || mode == 4) && !(h.step > 0 && std::isfinite(h.step)))
     fail(ErrorCode::kCorrupt, what, "grid step is not a positive number");
+  if (flags & 4) {  // FORMAT.md 4.3: the rotation layout
+    h.rotation_segments = r.u32();
+    h.rotation_samples_per_frame = r.u32();
+    if (h.rotation_segments == 0 || h.rotation_samples_per_frame == 0)
+      fail(ErrorCode::kCorrupt, what, "rotations with 0 segments or 0 samples per frame");
+  }
   if (h.frames > (uint64_t{1} << 40)) fail(ErrorCode::kCorrupt, what, "implausible frame count");
   if ((h.analog_channels == 0) != (h.analog_samples_per_frame == 0) && h.analog_channels != 0)
     fail(ErrorCode::kCorrupt, what, "analog channels without samples per frame");
@@ -201,8 +212,12 @@ void check_header_fits(const StreamHeader& h, size_t file_size, int major,
   const double samples = static_cast<double>(h.frames) * h.points;
   const double analog =
       static_cast<double>(h.frames) * h.analog_samples_per_frame * h.analog_channels;
+  const double rotations =
+      static_cast<double>(h.frames) * h.rotation_samples_per_frame * h.rotation_segments * 17;
   if (samples > static_cast<double>(file_size) * kMaxSymbolsPerByte ||
-      analog > static_cast<double>(file_size) * static_cast<double>(analog_values_per_byte(major)))
+      analog >
+          static_cast<double>(file_size) * static_cast<double>(analog_values_per_byte(major)) ||
+      rotations > static_cast<double>(file_size) * kMaxSymbolsPerByte)
     fail(ErrorCode::kCorrupt, name, "HEAD claims more samples than the file can hold");
 }
 
@@ -313,6 +328,10 @@ std::vector<uint8_t> encode_meta_fields(const Take& t, bool has_sample_words) {
     w.str(t.pcd->encoding);
     put_strings(&w, t.pcd->frame_names.size() == t.frames ? t.pcd->frame_names
                                                           : std::vector<std::string>());
+  }
+  if (t.rotations.segments > 0) {  // FORMAT.md 4.3 (HEAD says rotations)
+    w.f64(t.rotations.rate);
+    put_strings(&w, t.rotations.labels);
   }
   return std::move(w.buffer());
 }
@@ -441,6 +460,11 @@ void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sam
     t->pcd = p;
   }
   if (extras & ~7) fail(ErrorCode::kCorrupt, what, "unknown metadata blocks");
+  if (t->rotations.segments > 0) {  // FORMAT.md 4.3
+    t->rotations.rate = r.f64();
+    t->rotations.labels =
+        get_strings(&r, static_cast<size_t>(t->rotations.segments), "rotation label count");
+  }
   // Fields appended by later minor versions follow; they are skipped.
 }
 

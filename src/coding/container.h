@@ -65,7 +65,12 @@ struct StreamHeader {
   double max_error = 0;
   uint32_t analog_channels = 0;
   uint32_t analog_samples_per_frame = 0;
+  // HEAD flags bit 2 (docs/FORMAT.md 4.3): the take has rotations, G segments sampled R times
+  // per point frame; both 0 without (both at least 1 with), and each window has a ROTW chunk.
+  uint32_t rotation_segments = 0;
+  uint32_t rotation_samples_per_frame = 0;
 
+  bool rotations() const { return rotation_segments > 0; }
   size_t windows() const {
     return frames == 0 ? 0 : static_cast<size_t>((frames + window_frames - 1) / window_frames);
   }
@@ -84,9 +89,11 @@ StreamHeader decode_header(const Chunk& c, const std::string& name);
 // the file. Call it before decode_meta.
 void check_header_fits(const StreamHeader& h, size_t file_size, int major, const std::string& name);
 
-// META: everything of the Take except positions, mask, analog values and the C3D per-sample
-// words. decode_meta fills those fields of *take (frames/points from the header must already be
+// META: everything of the Take except positions, mask, analog values, rotation samples and the
+// C3D per-sample words. decode_meta fills those fields of *take (frames/points, the analog
+// layout and take->rotations' segments and samples per frame from the header must already be
 // set and checked with check_header_fits; per-frame TRC/PCD lists are checked against them).
+// With rotations (segments > 0) META ends with their rate and labels (FORMAT.md 4.3).
 // has_sample_words tells whether C3DW chunks follow.
 std::vector<uint8_t> encode_meta(const Take& take, bool has_sample_words);
 void decode_meta(const Chunk& c, const std::string& name, Take* take, bool* has_sample_words);

@@ -20,6 +20,9 @@ class AtomicFile {
 
   void write(const void* data, size_t size);  // throws Error(kIo) on a short write (disk full)
   void write(const std::vector<uint8_t>& v) { write(v.data(), v.size()); }
+  // Writes at file offset `offset` without moving where write() appends (a file laid out ahead,
+  // e.g. a C3D's rotation section after frames not written yet; a gap left reads as zeros).
+  void write_at(uint64_t offset, const void* data, size_t size);
   void commit();  // flush, fsync, close, rename into place
   const std::string& temp_path() const { return tmp_; }
 

@@ -189,9 +189,10 @@ void decode_frames(const DataLayout& lay, const uint8_t* bytes, size_t count, do
                    uint8_t* valid, float* residual, uint8_t* camera, double* analog,
                    size_t* wide_word4);
 std::string wide_word4_warning(size_t count);
-// Decodes the rotations of `frames` point frames stored at `bytes` (frames * lay.rot_per_frame
-// bytes) into r's arrays (take.h shapes); r's counts are read_header's.
-void decode_c3d_rotations(const DataLayout& lay, const uint8_t* bytes, size_t frames, Rotations* r);
+// Decodes `count` stored rotations (samples x segments, count * kRotationBytes bytes at `bytes`)
+// into matrices (count x 16) and reliability (count), take.h's layouts.
+void decode_c3d_rotations(const DataLayout& lay, const uint8_t* bytes, size_t count,
+                          float* matrices, float* reliability);
 
 // ---- writing by parts (c3d_write.cpp): header and parameters first, then frames -------------
 
@@ -238,9 +239,10 @@ void encode_c3d_frames(const C3DFilePlan& plan, size_t count, const double* xyz,
                        const uint8_t* valid, const float* residual, const uint8_t* camera,
                        const double* analog, uint8_t* out, bool* points_fit = nullptr);
 
-// The rotations of `frames` point frames into out (Rotations::samples(frames) x segments x
-// kRotationBytes bytes, Intel form), laid out as decode_c3d_rotations reads them.
-void encode_c3d_rotations(const Rotations& r, size_t frames, uint8_t* out);
+// `count` rotations (samples x segments; matrices count x 16, reliability count) into out
+// (count x kRotationBytes bytes, Intel form), laid out as decode_c3d_rotations reads them.
+void encode_c3d_rotations(const float* matrices, const float* reliability, size_t count,
+                          uint8_t* out);
 
 // The whole file write_c3d writes, in memory (`name` only for messages).
 std::vector<uint8_t> encode_c3d_file(const Take& take, const WriteOptions& opts,

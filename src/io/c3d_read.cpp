@@ -533,15 +533,12 @@ void decode_frames(const DataLayout& lay, const uint8_t* bytes, size_t count, do
   }
 }
 
-void decode_c3d_rotations(const DataLayout& lay, const uint8_t* bytes, size_t frames,
-                          Rotations* r) {
-  const size_t n = frames * lay.rot_samples_per_frame * lay.rot_segments;
-  r->matrices.resize(n * 16);
-  r->reliability.resize(n);
+void decode_c3d_rotations(const DataLayout& lay, const uint8_t* bytes, size_t count,
+                          float* matrices, float* reliability) {
   const NumberFormat& nf = lay.nf;
-  for (size_t i = 0; i < n; ++i, bytes += kRotationBytes) {
-    for (size_t k = 0; k < 16; ++k) r->matrices[i * 16 + k] = nf.f32(bytes + 4 * k);
-    r->reliability[i] = nf.f32(bytes + 64);
+  for (size_t i = 0; i < count; ++i, bytes += kRotationBytes) {
+    for (size_t k = 0; k < 16; ++k) matrices[i * 16 + k] = nf.f32(bytes + 4 * k);
+    reliability[i] = nf.f32(bytes + 64);
   }
 }
 
@@ -573,7 +570,11 @@ Take read_c3d_bytes(const uint8_t* data, size_t size, const std::string& name) {
   if (wide_word4)
     t.warnings.insert(t.warnings.begin() + static_cast<long>(lay.warning_at),
                       c3d::wide_word4_warning(wide_word4));
-  c3d::decode_c3d_rotations(lay, data + lay.rot_offset, frames, &t.rotations);
+  const size_t rotations = frames * lay.rot_samples_per_frame * lay.rot_segments;
+  t.rotations.matrices.resize(rotations * 16);
+  t.rotations.reliability.resize(rotations);
+  c3d::decode_c3d_rotations(lay, data + lay.rot_offset, rotations, t.rotations.matrices.data(),
+                            t.rotations.reliability.data());
   return t;
 }
 

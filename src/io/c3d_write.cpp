@@ -456,11 +456,11 @@ void encode_c3d_frames(const C3DFilePlan& plan, size_t count, const double* xyz,
   if (points_fit) *points_fit = fit;
 }
 
-void encode_c3d_rotations(const Rotations& r, size_t frames, uint8_t* out) {
-  const size_t n = r.samples(frames) * static_cast<size_t>(r.segments);
-  for (size_t i = 0; i < n; ++i, out += kRotationBytes) {
-    for (size_t k = 0; k < 16; ++k) put_f32le(r.matrices[i * 16 + k], out + 4 * k);
-    put_f32le(r.reliability[i], out + 64);
+void encode_c3d_rotations(const float* matrices, const float* reliability, size_t count,
+                          uint8_t* out) {
+  for (size_t i = 0; i < count; ++i, out += kRotationBytes) {
+    for (size_t k = 0; k < 16; ++k) put_f32le(matrices[i * 16 + k], out + 4 * k);
+    put_f32le(reliability[i], out + 64);
   }
 }
 
@@ -489,7 +489,9 @@ std::vector<uint8_t> encode_c3d_file(const Take& take, const WriteOptions& opts,
                     have_res ? src->residual.data() : nullptr,
                     have_res ? src->camera_mask.data() : nullptr, take.analog.values.data(),
                     out.data() + plan.head.size());
-  if (plan.rot_bytes > 0) encode_c3d_rotations(take.rotations, F, out.data() + plan.rot_offset);
+  if (plan.rot_bytes > 0)
+    encode_c3d_rotations(take.rotations.matrices.data(), take.rotations.reliability.data(),
+                         plan.rot_bytes / kRotationBytes, out.data() + plan.rot_offset);
   return out;
 }
 

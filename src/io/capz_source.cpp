@@ -19,6 +19,7 @@ void CapzSource::read(size_t first, size_t count, FrameBlock* out) {
   const size_t S = ps_.h.analog_samples_per_frame, C = ps_.h.analog_channels;
   const size_t A = C > 0 && S > 0 ? S * C : 0;
   const size_t W = ps_.h.window_frames;
+  const size_t R = ps_.take.rotations.per_frame();  // rotations per frame
   // A block that is exactly one window is handed over without a copy: swapped with the
   // caller's block (whose buffers the next decode refills), so it is no longer cached.
   if (count > 0 && first % W == 0 && count == std::min<size_t>(W, F - first)) {
@@ -27,7 +28,7 @@ void CapzSource::read(size_t first, size_t count, FrameBlock* out) {
     have_ = false;
     return;
   }
-  out->reset(first, count, N, A, ps_.words);
+  out->reset(first, count, N, A, ps_.words, R);
   for (size_t f = first; f < first + count;) {
     const size_t w = f / W;
     decode(w);
@@ -40,6 +41,10 @@ void CapzSource::read(size_t first, size_t count, FrameBlock* out) {
       std::copy_n(&win_.camera_mask[lo * N], n * N, &out->camera_mask[o * N]);
     }
     std::copy_n(win_.analog.data() + lo * A, n * A, out->analog.data() + o * A);
+    std::copy_n(win_.rotation_matrices.data() + lo * R * 16, n * R * 16,
+                out->rotation_matrices.data() + o * R * 16);
+    std::copy_n(win_.rotation_reliability.data() + lo * R, n * R,
+                out->rotation_reliability.data() + o * R);
     f += n;
   }
 }

@@ -15,7 +15,7 @@
 namespace capz {
 
 void FrameBlock::reset(size_t first_frame, size_t n, size_t n_points, size_t analog_per_frame,
-                       bool words) {
+                       bool words, size_t rotations_per_frame) {
   first = first_frame;
   frames = n;
   points = n_points;
@@ -24,6 +24,8 @@ void FrameBlock::reset(size_t first_frame, size_t n, size_t n_points, size_t ana
   residual.assign(words ? n * n_points : 0, 0.0f);
   camera_mask.assign(words ? n * n_points : 0, 0);
   analog.assign(n * analog_per_frame, 0.0);
+  rotation_matrices.assign(n * rotations_per_frame * 16, 0.0f);
+  rotation_reliability.assign(n * rotations_per_frame, 0.0f);
 }
 
 namespace {
@@ -52,7 +54,10 @@ Take header_of(const Take& t) {
   h.analog.samples_per_frame = t.analog.samples_per_frame;
   h.analog.rate = t.analog.rate;
   h.analog.labels = t.analog.labels;
-  h.rotations = t.rotations;  // whole: rotations are not cut into frame blocks
+  h.rotations.segments = t.rotations.segments;  // the layout; the samples come in blocks
+  h.rotations.samples_per_frame = t.rotations.samples_per_frame;
+  h.rotations.rate = t.rotations.rate;
+  h.rotations.labels = t.rotations.labels;
   if (t.c3d) {
     auto x = std::make_shared<C3DExtra>();
     x->processor = t.c3d->processor;
@@ -84,20 +89,23 @@ class C3DSource : public FrameSource {
       file_.read_at(had, head.data() + had, extent - had);
     }
     header_ = c3d::read_header(head.data(), head.size(), size, path, &lay_);
-    // The rotations come with the header, whole (a section of their own after the frames).
-    std::vector<uint8_t> rot(header_.frames * lay_.rot_per_frame);
-    if (!rot.empty()) file_.read_at(lay_.rot_offset, rot.data(), rot.size());
-    c3d::decode_c3d_rotations(lay_, rot.data(), header_.frames, &header_.rotations);
   }
   bool has_sample_words() const override { return true; }
   void read(size_t first, size_t count, FrameBlock* out) override {
     clip(&first, &count);
-    out->reset(first, count, lay_.points, lay_.analog_values, true);
+    const size_t rot_per_frame = header_.rotations.per_frame();
+    out->reset(first, count, lay_.points, lay_.analog_values, true, rot_per_frame);
     buf_.resize(count * lay_.per_frame);
     file_.read_at(lay_.data_offset + first * lay_.per_frame, buf_.data(), buf_.size());
     size_t wide = 0;
     c3d::decode_frames(lay_, buf_.data(), count, out->xyz.data(), out->valid.data(),
                        out->residual.data(), out->camera_mask.data(), out->analog.data(), &wide);
+    if (rot_per_frame > 0) {  // the frames' part of the rotation section (after the frames)
+      buf_.resize(count * lay_.rot_per_frame);
+      file_.read_at(lay_.rot_offset + first * lay_.rot_per_frame, buf_.data(), buf_.size());
+      c3d::decode_c3d_rotations(lay_, buf_.data(), count * rot_per_frame,
+                                out->rotation_matrices.data(), out->rotation_reliability.data());
+    }
     if (first == scanned_to_) {  // count each frame once, on the first pass in order
       wide_ += wide;
       scanned_to_ = first + count;
@@ -125,10 +133,18 @@ class TakeSource : public FrameSource {
     const size_t n = take.frames * take.points;
     words_ = take.c3d && take.c3d->residual.size() == n && take.c3d->camera_mask.size() == n;
     analog_ = analog_per_frame(take);
+    rotations_ = take.rotations.per_frame();
     if (take.xyz.size() != n * 3 || take.valid.size() != n ||
         take.analog.values.size() < take.frames * analog_)
       fail(ErrorCode::kInvalidParameter, take.source,
            "take arrays do not match its frame and point counts");
+    const Rotations& r = take.rotations;
+    if (r.segments < 0 || (r.segments > 0 && r.samples_per_frame < 1) ||
+        r.matrices.size() != take.frames * rotations_ * 16 ||
+        r.reliability.size() != take.frames * rotations_ ||
+        (!r.labels.empty() && r.labels.size() != static_cast<size_t>(r.segments)))
+      fail(ErrorCode::kInvalidParameter, take.source,
+           "rotation arrays or labels do not match frames x samples per frame x segments");
   }
   bool has_sample_words() const override { return words_; }
   void read(size_t first, size_t count, FrameBlock* out) override {
@@ -151,13 +167,15 @@ class TakeSource : public FrameSource {
       out->camera_mask.clear();
     }
     cut(take_.analog.values, analog_, &out->analog);
+    cut(take_.rotations.matrices, rotations_ * 16, &out->rotation_matrices);
+    cut(take_.rotations.reliability, rotations_, &out->rotation_reliability);
   }
 
  private:
   std::unique_ptr<Take> owned_;
   const Take& take_;
   bool words_ = false;
-  size_t analog_ = 0;
+  size_t analog_ = 0, rotations_ = 0;  // analog values and rotations per frame
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -170,6 +188,8 @@ class WholeTakeSink : public FrameSink {
     take_.xyz.clear();
     take_.valid.clear();
     take_.analog.values.clear();
+    take_.rotations.matrices.clear();
+    take_.rotations.reliability.clear();
     if (take_.c3d) {
       take_.c3d = std::make_shared<C3DExtra>(*header.c3d);
       take_.c3d->residual.clear();
@@ -180,6 +200,10 @@ class WholeTakeSink : public FrameSink {
     take_.xyz.insert(take_.xyz.end(), b.xyz.begin(), b.xyz.end());
     take_.valid.insert(take_.valid.end(), b.valid.begin(), b.valid.end());
     take_.analog.values.insert(take_.analog.values.end(), b.analog.begin(), b.analog.end());
+    Rotations& r = take_.rotations;
+    r.matrices.insert(r.matrices.end(), b.rotation_matrices.begin(), b.rotation_matrices.end());
+    r.reliability.insert(r.reliability.end(), b.rotation_reliability.begin(),
+                         b.rotation_reliability.end());
     if (words_ && take_.c3d) {
       take_.c3d->residual.insert(take_.c3d->residual.end(), b.residual.begin(), b.residual.end());
       take_.c3d->camera_mask.insert(take_.c3d->camera_mask.end(), b.camera_mask.begin(),
@@ -201,7 +225,6 @@ class C3DSink : public FrameSink {
   C3DSink(const Take& header, bool words, const std::string& path, const WriteOptions& opts)
       : header_(header), words_(words), path_(path), opts_(opts) {
     c3d::check_c3d_limits(header_, path_);
-    c3d::check_c3d_rotations(header_, path_);
     check_output_free(path, opts.overwrite);
     scan_.scale = c3d::c3d_known_scale(header_);
   }
@@ -256,6 +279,7 @@ class C3DSink : public FrameSink {
       return;
     }
     file_->write(buf_);
+    write_rotations(b);
     written_ += b.frames;
   }
   void commit() override {
@@ -263,17 +287,30 @@ class C3DSink : public FrameSink {
     if (written_ != plan_.frames)
       fail(ErrorCode::kInternal, path_,
            std::to_string(written_) + " of " + std::to_string(plan_.frames) + " frames written");
-    if (plan_.rot_bytes > 0) {  // zeros up to the rotations' block, then the rotations
+    if (plan_.rot_bytes > 0) {  // zeros from the frames' end up to the rotations' block
       buf_.assign(plan_.rot_offset - plan_.head.size() - written_ * plan_.per_frame, 0);
-      buf_.resize(buf_.size() + plan_.rot_bytes);
-      c3d::encode_c3d_rotations(header_.rotations, plan_.frames,
-                                buf_.data() + buf_.size() - plan_.rot_bytes);
       file_->write(buf_);
     }
     file_->commit();
   }
 
  private:
+  // The block's rotations go straight to their place in the rotation section, which follows
+  // every frame (the plan knows where): memory stays bounded by the block, and the frames
+  // written later fill the file up to it.
+  void write_rotations(const FrameBlock& b) {
+    const size_t per_frame = header_.rotations.per_frame();
+    const size_t n = b.frames * per_frame;
+    if (b.rotation_matrices.size() != n * 16 || b.rotation_reliability.size() != n)
+      fail(ErrorCode::kInternal, path_, "a block's rotations do not match its frames");
+    if (n == 0) return;
+    rot_buf_.resize(n * c3d::kRotationBytes);
+    c3d::encode_c3d_rotations(b.rotation_matrices.data(), b.rotation_reliability.data(), n,
+                              rot_buf_.data());
+    file_->write_at(plan_.rot_offset + b.first * per_frame * c3d::kRotationBytes, rot_buf_.data(),
+                    rot_buf_.size());
+  }
+
   void start() {  // header and parameters, once every prescan block has been seen
     if (file_) return;
     plan_ = c3d::plan_c3d_file(header_, words_, opts_, scan_, path_);
@@ -288,7 +325,7 @@ class C3DSink : public FrameSink {
   c3d::C3DWriteScan scan_;
   c3d::C3DFilePlan plan_;
   std::unique_ptr<AtomicFile> file_;
-  std::vector<uint8_t> buf_;
+  std::vector<uint8_t> buf_, rot_buf_;
   size_t written_ = 0;
   bool optimistic_ = false;   // writing without a prescan (skip_prescan)
   bool known_float_ = false;  // a block did not fit int16: float storage, no prescan needed

@@ -79,6 +79,10 @@ std::string header_difference(const Take& a, const Take& b) {
   if (p.channels != q.channels || p.samples_per_frame != q.samples_per_frame ||
       !same_value(p.rate, q.rate) || p.labels != q.labels)
     return "the analog channel layout differs";
+  const Rotations &r = a.rotations, &o = b.rotations;
+  if (r.segments != o.segments || r.per_frame() != o.per_frame() || !same_value(r.rate, o.rate) ||
+      r.labels != o.labels)
+    return "the rotation layout, rate or labels differ";
   return extras_difference(a, b);
 }
 
@@ -93,6 +97,8 @@ struct PromiseCheck::Frames {
   const std::vector<uint8_t>* camera_mask = nullptr;
   const double* analog = nullptr;
   size_t analog_values = 0;
+  const std::vector<float>* rotation_matrices = nullptr;
+  const std::vector<float>* rotation_reliability = nullptr;
 
   explicit Frames(const FrameBlock& b)
       : first(b.first),
@@ -103,14 +109,18 @@ struct PromiseCheck::Frames {
         residual(&b.residual),
         camera_mask(&b.camera_mask),
         analog(b.analog.data()),
-        analog_values(b.analog.size()) {}
+        analog_values(b.analog.size()),
+        rotation_matrices(&b.rotation_matrices),
+        rotation_reliability(&b.rotation_reliability) {}
   explicit Frames(const Take& t)
       : frames(t.frames),
         points(t.points),
         xyz(t.xyz.data()),
         valid(t.valid.data()),
         analog(t.analog.values.data()),
-        analog_values(t.analog.values.size()) {
+        analog_values(t.analog.values.size()),
+        rotation_matrices(&t.rotations.matrices),
+        rotation_reliability(&t.rotations.reliability) {
     if (t.c3d) residual = &t.c3d->residual, camera_mask = &t.c3d->camera_mask;
   }
   // The C3D 4th words of both takes agree (absent counts as empty).
@@ -119,6 +129,15 @@ struct PromiseCheck::Frames {
     static const std::vector<uint8_t> no_mask;
     return (residual ? *residual : no_residual) == (o.residual ? *o.residual : no_residual) &&
            (camera_mask ? *camera_mask : no_mask) == (o.camera_mask ? *o.camera_mask : no_mask);
+  }
+  // The rotation samples of both agree bit for bit (NaN payloads and -0.0 included).
+  bool same_rotations(const Frames& o) const {
+    return same_float_bits(*rotation_matrices, *o.rotation_matrices) &&
+           same_float_bits(*rotation_reliability, *o.rotation_reliability);
+  }
+  static bool same_float_bits(const std::vector<float>& a, const std::vector<float>& b) {
+    return a.size() == b.size() &&
+           (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0);
   }
 };
 
@@ -185,6 +204,7 @@ bool PromiseCheck::check(const Frames& a, const Frames& b) {
   if (!a.same_words(b)) return breach("the C3D residual/camera words differ");
   if (a.analog_values != b.analog_values || !same_values(a.analog, b.analog, a.analog_values))
     return breach("the analog values differ");
+  if (!a.same_rotations(b)) return breach("the rotation samples differ");
   return holds();
 }
 

@@ -65,7 +65,7 @@ TEST(Corrupt, GivenErrorsThenTheyNameTheProblem) {
   EXPECT_NE(message("indx_missing.capz").find("INDX"), std::string::npos);
 }
 
-// A small stream with everything in it: gaps, analog, C3D words, several windows.
+// A small stream with everything in it: gaps, analog, C3D words, rotations, several windows.
 std::vector<uint8_t> small_stream() {
   Take t;
   t.format = Format::kC3D;
@@ -87,6 +87,11 @@ std::vector<uint8_t> small_stream() {
   t.analog.samples_per_frame = 2;
   t.analog.labels = {"X", "Y"};
   for (size_t i = 0; i < 240; ++i) t.analog.values.push_back(static_cast<double>((i * 37) % 101));
+  t.rotations.segments = 1;
+  t.rotations.samples_per_frame = 2;
+  for (size_t i = 0; i < 120 * 16; ++i)
+    t.rotations.matrices.push_back(i % 5 == 4 ? 1.0f : 0.01f * static_cast<float>(i % 97));
+  t.rotations.reliability.assign(120, 1.0f);
   CompressOptions o;
   o.max_error = 0.05;
   o.window_frames = 16;

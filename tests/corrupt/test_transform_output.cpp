@@ -13,63 +13,14 @@
 #include "coding/bytes.h"
 #include "coding/container.h"
 #include "coding/crc32c.h"
+#include "support/stream_pieces.h"
 
 namespace capz {
 namespace {
 
-struct Piece {
-  std::string type;
-  std::vector<uint8_t> payload;
-};
-
-// Splits a stream into its chunks (no checks: the input is one this test just wrote).
-std::vector<Piece> pieces(const std::vector<uint8_t>& b) {
-  std::vector<Piece> out;
-  for (size_t off = file_header_bytes(b[9]); off + 12 <= b.size();) {
-    const uint32_t n = static_cast<uint32_t>(b[off + 4]) | static_cast<uint32_t>(b[off + 5]) << 8 |
-                       static_cast<uint32_t>(b[off + 6]) << 16 |
-                       static_cast<uint32_t>(b[off + 7]) << 24;
-    out.push_back(
-        {std::string(b.begin() + static_cast<long>(off), b.begin() + static_cast<long>(off) + 4),
-         std::vector<uint8_t>(b.begin() + static_cast<long>(off) + 8,
-                              b.begin() + static_cast<long>(off + 8 + n))});
-    off += 12 + n;
-  }
-  return out;
-}
-
-// Reassembles chunks with valid CRCs and a recomputed INDX (one window per POSW; a window's
-// extent runs to the next POSW or to INDX), so only the deliberate change is wrong.
-std::vector<uint8_t> assemble(const std::vector<uint8_t>& original, std::vector<Piece> ps) {
-  std::vector<uint8_t> out(original.begin(),
-                           original.begin() + static_cast<long>(file_header_bytes(original[9])));
-  auto put = [&](const Piece& p) {
-    ByteWriter w;
-    for (char c : p.type) w.u8(static_cast<uint8_t>(c));
-    w.u32(static_cast<uint32_t>(p.payload.size()));
-    w.bytes(p.payload);
-    std::vector<uint8_t> tp(p.type.begin(), p.type.end());
-    tp.insert(tp.end(), p.payload.begin(), p.payload.end());
-    w.u32(crc32c(tp.data(), tp.size()));
-    out.insert(out.end(), w.buffer().begin(), w.buffer().end());
-  };
-  std::vector<uint64_t> starts;
-  for (const Piece& p : ps) {
-    if (p.type == "INDX") continue;
-    if (p.type == "POSW") starts.push_back(out.size());
-    put(p);
-  }
-  ByteWriter ix;
-  ix.varint(starts.size());
-  for (size_t w = 0; w < starts.size(); ++w) {
-    ix.u64(starts[w]);
-    ix.u64((w + 1 < starts.size() ? starts[w + 1] : out.size()) - starts[w]);
-  }
-  const uint32_t len = static_cast<uint32_t>(ix.buffer().size() + 4);
-  ix.u32(len);
-  put({"INDX", ix.buffer()});
-  return out;
-}
+using capz_test::assemble;
+using capz_test::Piece;
+using capz_test::pieces;
 
 Take smooth_take(size_t frames, size_t points) {
   Take t;
@@ -188,7 +139,7 @@ TEST(TransformOutput, GivenInconsistentHeadOrPositionsThenCorrupt) {
   // step @20, max_error @28, analog @36/@40, kg_target @44.
   EXPECT_NE(decode_error(with_head([](std::vector<uint8_t>* h) { (*h)[19] = 3; })).find("lossless"),
             std::string::npos);
-  EXPECT_NE(decode_error(with_head([](std::vector<uint8_t>* h) { (*h)[19] = 6; })).find("flag"),
+  EXPECT_NE(decode_error(with_head([](std::vector<uint8_t>* h) { (*h)[19] = 10; })).find("flag"),
             std::string::npos);
   EXPECT_NE(decode_error(with_head([](std::vector<uint8_t>* h) { (*h)[18] = 0; })).find("codec"),
             std::string::npos);

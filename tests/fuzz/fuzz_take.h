@@ -1,7 +1,9 @@
 // For the round-trip fuzz targets: a take and compression options built from fuzz bytes, and the
 // checks every decode of its stream must pass.
 //
-// Bytes: [0] frames-1 (1..32), [1] points-1 (1..8), [2] options: bit 0 lossless, bits 1-2 value
+// Bytes: [0] frames-1 (1..32), [1] bits 0-2 points-1 (1..8), bit 7 rotations (bits 3-4
+// segments-1, bit 5 samples per frame-1, values as raw float32 bits after the coordinates),
+// [2] options: bit 0 lossless, bits 1-2 value
 // kind (int16 x 0.01, int16 x 1, float32 bits, small ints), bits 3-5 window frames (1..8),
 // bit 6 codec ts, bit 7 a KG target (0.05 .. 3.2 %) instead of a bound, with ts (bit 6) or pdct;
 // [3] bound exponent (or KG target); then one byte of gap bits per 8 samples, then values
@@ -85,6 +87,24 @@ inline bool round_trip_case(const uint8_t* data, size_t size, RoundTripCase* c) 
   }
   for (size_t i = 0; i < samples; ++i)
     if (!t.valid[i]) t.xyz[i * 3] = t.xyz[i * 3 + 1] = t.xyz[i * 3 + 2] = 0;
+  if (data[1] & 0x80) {  // rotations: any float32 bits, kept exactly whatever the bound
+    capz::Rotations& r = t.rotations;
+    r.segments = 1 + ((data[1] >> 3) & 3);
+    r.samples_per_frame = 1 + ((data[1] >> 5) & 1);
+    r.rate = 100.0 * r.samples_per_frame;
+    const size_t n = frames * r.per_frame();
+    r.matrices.resize(n * 16);
+    r.reliability.resize(n);
+    auto bits = [&]() {
+      uint32_t u = 0;
+      for (int b = 0; b < 4; ++b) u |= static_cast<uint32_t>(next()) << (8 * b);
+      float f;
+      std::memcpy(&f, &u, 4);
+      return f;
+    };
+    for (float& v : r.matrices) v = bits();
+    for (float& v : r.reliability) v = bits();
+  }
 
   capz::CompressOptions& o = c->opts;
   o = capz::CompressOptions();
@@ -114,6 +134,15 @@ inline void check_round_trip(const RoundTripCase& c, const std::vector<uint8_t>&
   CAPZ_FUZZ_CHECK(b.frames == t.frames && b.points == t.points);
   CAPZ_FUZZ_CHECK(b.valid == t.valid);
   CAPZ_FUZZ_CHECK(b.rate == t.rate && b.units == t.units && b.labels == t.labels);
+  CAPZ_FUZZ_CHECK(b.rotations.segments == t.rotations.segments &&
+                  b.rotations.per_frame() == t.rotations.per_frame() &&
+                  b.rotations.matrices.size() == t.rotations.matrices.size() &&
+                  b.rotations.reliability.size() == t.rotations.reliability.size());
+  if (!t.rotations.matrices.empty())  // bit for bit, in every mode
+    CAPZ_FUZZ_CHECK(std::memcmp(b.rotations.matrices.data(), t.rotations.matrices.data(),
+                                t.rotations.matrices.size() * 4) == 0 &&
+                    std::memcmp(b.rotations.reliability.data(), t.rotations.reliability.data(),
+                                t.rotations.reliability.size() * 4) == 0);
   const size_t samples = t.frames * t.points;
   if (si.transform_output) {
     CAPZ_FUZZ_CHECK(c.kg);
