@@ -17,8 +17,7 @@ std::unique_ptr<ResidueWriter> ResidueWriter::open(const FrameSource& source, bo
   return std::unique_ptr<ResidueWriter>(new ResidueWriter(path, source.header(), lossless, check));
 }
 
-ResidueWriter::ResidueWriter(const std::string& path, const Take& header, bool lossless,
-                             bool check)
+ResidueWriter::ResidueWriter(const std::string& path, const Take& header, bool lossless, bool check)
     : path_(path), header_(header), lossless_(lossless), check_(check && lossless) {
   hash_ = hash128_file(path);
   if (header.format == Format::kC3D)
@@ -47,8 +46,8 @@ void ResidueWriter::file_chunks(std::vector<uint8_t>* buf) {
   const std::string what = header_.source + " (self-check)";
   std::vector<uint8_t> head;
   if (c3d_) {
-    c3d_back_.reset(new residue::C3DResidueDecoder(file_part_.data(), file_part_.size(), groups,
-                                                   what, size_));
+    c3d_back_.reset(
+        new residue::C3DResidueDecoder(file_part_.data(), file_part_.size(), groups, what, size_));
     head = c3d_back_->head();
   } else {
     trc_back_.reset(
