@@ -32,4 +32,8 @@ void rebuild_original(const std::string& capz_path, const std::string& out, bool
 // The same rebuild, written nowhere: checks size and hash (lossless) or size (bound).
 void test_original(const std::string& capz_path);
 
+// For --rm: "" when `capz_path` is exact and its rebuilt bytes (size and hash checked) hash as
+// the file at `original` does now; else what differs.
+std::string rebuilds_file(const std::string& capz_path, const std::string& original);
+
 }  // namespace capz

@@ -108,9 +108,9 @@ void rebuild(const std::string& path, const Write& write) {
   std::vector<uint8_t> bytes;
   for (size_t w = 0, f0 = 0; f0 < t.frames; ++w, f0 += W) {
     src.read(f0, W, &block);
-    const std::vector<uint8_t> p =
-        ps.h.lossless ? window_payload(*raw, ps, w, r.c3d ? "C3DP" : "TRCP", path)
-                      : std::vector<uint8_t>();
+    const std::vector<uint8_t> p = ps.h.lossless
+                                       ? window_payload(*raw, ps, w, r.c3d ? "C3DP" : "TRCP", path)
+                                       : std::vector<uint8_t>();
     bytes.clear();
     if (c3d)
       c3d->window(block, p.data(), p.size(), &bytes);
@@ -152,6 +152,16 @@ void rebuild_original(const std::string& capz_path, const std::string& out, bool
 
 void test_original(const std::string& capz_path) {
   rebuild(capz_path, [](const uint8_t*, size_t) {});
+}
+
+std::string rebuilds_file(const std::string& capz_path, const std::string& original) {
+  FileBytes b(capz_path);
+  const ParsedStream ps = parse_stream(b, capz_path);
+  const Record r = read_record(b, ps, capz_path);
+  if (!r.info.exact) return "the archive cannot rebuild the original byte for byte";
+  test_original(capz_path);  // the rebuilt bytes hash as recorded
+  if (r.hash != hash128_file(original)) return "the recorded hash is not the input's";
+  return "";
 }
 
 }  // namespace capz
