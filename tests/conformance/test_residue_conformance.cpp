@@ -92,8 +92,7 @@ size_t check_all(const std::string& root, const std::string& ext, bool trc) {
     }
     std::printf("  %-66s %s  exactness %zu of %zu bytes (%.3f%%; windows %zu)\n", name.c_str(),
                 r.exact ? "exact" : "DIFFERS", r.residue, r.archive,
-                100.0 * static_cast<double>(r.residue) / static_cast<double>(r.archive),
-                r.windows);
+                100.0 * static_cast<double>(r.residue) / static_cast<double>(r.archive), r.windows);
     EXPECT_TRUE(r.exact) << name;
     // Patches would make any regeneration exact; these need none: one trial in every processor
     // form and storage, regenerated right byte for byte.

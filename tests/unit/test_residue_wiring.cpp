@@ -96,8 +96,8 @@ TEST(ResidueWiring, CompressOfATakeWritesNoResidue) {
 // A damaged stored hash (its chunk CRC fixed, so only the checksum can tell) fails the rebuild
 // as corrupt, naming the archive, and leaves no output.
 TEST(ResidueWiring, ChecksumMismatchIsCaught) {
-  const std::string z = compress_file(std::string(CAPZ_REPO_DATA) + "/admarche2.c3d", true,
-                                      tmp("h.capz"));
+  const std::string z =
+      compress_file(std::string(CAPZ_REPO_DATA) + "/admarche2.c3d", true, tmp("h.capz"));
   std::vector<uint8_t> b = capz::read_file(z);
   const size_t at = find_chunk(b, "HASH");
   ASSERT_NE(at, std::string::npos);
