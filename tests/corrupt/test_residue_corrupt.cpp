@@ -74,14 +74,16 @@ void damage_every_byte(const char* name, const char* type, uint8_t flip) {
     if (thrown)
       EXPECT_FALSE(fs::exists(out)) << type << " byte " << i;
     else
-      EXPECT_EQ(capz::read_file(out), orig) << type << " byte " << i << " xor " << int(flip)
-                                             << ": a wrong file was written";
+      EXPECT_EQ(capz::read_file(out), orig)
+          << type << " byte " << i << " xor " << int(flip) << ": a wrong file was written";
   }
 }
 
 }  // namespace
 
-TEST(ResidueCorrupt, DamagedHashIsCaught) { damage_every_byte("admarche2.c3d", "HASH", 0x01); }
+TEST(ResidueCorrupt, DamagedHashIsCaught) {
+  damage_every_byte("admarche2.c3d", "HASH", 0x01);
+}
 
 TEST(ResidueCorrupt, DamagedFileResidueIsCaught) {
   damage_every_byte("admarche2.c3d", "C3DR", 0x01);
