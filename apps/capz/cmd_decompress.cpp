@@ -1,9 +1,11 @@
 // capz decompress X.capz [-o OUT] [--frames FIRST:COUNT]
+#include <cctype>
 #include <cstdio>
 #include <memory>
 
 #include "capz/codec.h"
 #include "capz/io.h"
+#include "capz/original.h"
 #include "capz/stream.h"
 #include "compress_common.h"
 
@@ -33,6 +35,14 @@ std::string default_output(const std::string& in, const capz::Take& take) {
     name += ".trc";
   if (f == capz::Format::kPCDFolder) name += "/";
   return dir.empty() ? name : dir + "/" + name;
+}
+
+// True when OUT names the source's own format (.c3d / .trc, any case).
+bool same_format(const std::string& out, capz::Format f) {
+  std::string lower = out;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return (f == capz::Format::kC3D && ends_with(lower, ".c3d")) ||
+         (f == capz::Format::kTRC && ends_with(lower, ".trc"));
 }
 
 }  // namespace
@@ -84,11 +94,19 @@ int cmd_decompress(const Args& args) {
       out = default_output(in, take);
       capz::check_output_free(strip_slashes(out), force);
     }
-    std::unique_ptr<capz::FrameSink> sink =
-        capz::create_frame_sink(take, src->has_sample_words(), out, wo);
-    capz::copy_frames(*src, *sink, src->preferred_block());
     frames = take.frames;
     points = take.points;
+    // The original's own format from an archive with its residue: the original file rebuilt
+    // (byte for byte when lossless, FORMAT.md 4.4); any other output through the writer.
+    if (same_format(out, take.format) &&
+        capz::can_rebuild(capz::original_info(in), take.format == capz::Format::kC3D)) {
+      src.reset();
+      capz::rebuild_original(in, out, force);
+    } else {
+      std::unique_ptr<capz::FrameSink> sink =
+          capz::create_frame_sink(take, src->has_sample_words(), out, wo);
+      capz::copy_frames(*src, *sink, src->preferred_block());
+    }
   }
   const double t_dec = thread_cpu_seconds() - c0;
   const double raw = static_cast<double>(frames * points * 12);

@@ -16,6 +16,8 @@ int cmd_convert(const Args& args);
 int cmd_compress(const Args& args);
 int cmd_decompress(const Args& args);
 int cmd_verify(const Args& args);
+int cmd_test(const Args& args);
+int cmd_list(const Args& args);
 
 // Shared by commands: -q/-v level (0 quiet, 1 normal, 2 verbose).
 extern int g_verbosity;

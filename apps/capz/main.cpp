@@ -29,6 +29,8 @@ const Command kCommands[] = {
     {"info", capz_cli::cmd_info, "describe a .c3d, .trc, PCD folder or .capz"},
     {"convert", capz_cli::cmd_convert, "convert between .c3d, .trc and PCD folders"},
     {"verify", capz_cli::cmd_verify, "decode a .capz and report its error against the original"},
+    {"test", capz_cli::cmd_test, "check .capz archives: every chunk, CRC and the original's hash"},
+    {"list", capz_cli::cmd_list, "one line per .capz: source, frames, points, mode, ratio, hash"},
 };
 
 void usage(std::FILE* out) {

@@ -14,6 +14,7 @@
 #include "codec/grid.h"
 #include "codec/grid_choice.h"
 #include "codec/registry.h"
+#include "codec/residue_writer.h"
 #include "codec/stream_reader.h"
 #include "codec/transform_output.h"
 #include "codec/window_error.h"
@@ -130,7 +131,8 @@ class Encoder {
         opts_(opts),
         tuning_(tuning),
         out_(out),
-        plan_(resolve(source, opts, allow_tout)) {}
+        plan_(resolve(source, opts, allow_tout)),
+        residue_(ResidueWriter::open(source, opts.lossless, opts.check)) {}
 
   void run(CompressStats* stats) {
     if (plan_.analog) hints_ = analog_hints(take_);
@@ -147,11 +149,13 @@ class Encoder {
       EncodedWindow ew = encode_window(w);
       check_bound(w, &ew);
       if (opts_.check) check_window(w, ie.offset, ew);
+      if (residue_) residue_->window_chunk(w, block_, opts_.check ? &back_ : nullptr, &ew.buf);
       ie.bytes = ew.buf.size();
       index_.push_back(ie);
       out_->flush(&ew.buf);
       if (opts_.progress) opts_.progress(f0 + fn, F);
     }
+    if (residue_) residue_->finish();
     std::vector<uint8_t> buf;
     append_chunk(&buf, "INDX", encode_index(index_));
     other_bytes_ += buf.size();
@@ -222,6 +226,7 @@ class Encoder {
     append_chunk(&buf, "HEAD", encode_header(h));
     const size_t meta_at = buf.size();
     append_chunk(&buf, "META", encode_meta(take_, plan_.words));
+    if (residue_) residue_->file_chunks(&buf);
     if (opts_.check) {
       Promise p;
       p.kind = plan_.tout    ? Promise::Kind::kKgTarget
@@ -382,7 +387,7 @@ class Encoder {
   // gives must keep the stream's promise (capz/verify.h, the rule `verify` and `--rm` use) and be,
   // bit for bit, what the encoder reconstructed and measured.
   void check_window(size_t w, size_t at, const EncodedWindow& ew) {
-    FrameBlock back;
+    FrameBlock& back = back_;
     try {
       decode_window_chunks(ctx_, w, ew.buf.data(), at, at + ew.buf.size(), &back);
     } catch (const Error& e) {
@@ -410,7 +415,7 @@ class Encoder {
     stats->position_bytes = position_bytes_;
     stats->analog_bytes = analog_bytes_;
     stats->rotation_bytes = rotation_bytes_;
-    stats->other_bytes = other_bytes_;
+    stats->other_bytes = other_bytes_ + (residue_ ? residue_->bytes() - residue_->file_bytes() : 0);
   }
 
   FrameSource& source_;
@@ -425,8 +430,10 @@ class Encoder {
   StreamContext ctx_;                // what the decoder reads from HEAD and META (with opts.check)
   PromiseCheck promise_{Promise()};  // the stream's promise, checked on what the decoder gives
   FrameBlock block_;
-  double centred_ = 0, kg_budget_ = 0;  // the current window's (transform output)
-  AnalogHints hints_;                   // what the C3D parameters say of the analog channels
+  FrameBlock back_;  // the current window as the decoder gives it back (with opts.check)
+  std::unique_ptr<ResidueWriter> residue_;  // HASH and residue chunks (an original file only)
+  double centred_ = 0, kg_budget_ = 0;      // the current window's (transform output)
+  AnalogHints hints_;                       // what the C3D parameters say of the analog channels
   ErrorAccumulator acc_;
   std::vector<IndexEntry> index_;
   size_t position_bytes_ = 0, analog_bytes_ = 0, rotation_bytes_ = 0, other_bytes_ = 0;

@@ -61,6 +61,27 @@ Chunk index_chunk(StreamBytes& b, size_t meta_end, const std::string& name) {
 
 }  // namespace
 
+namespace {
+
+// The file-level chunks after META (4.0: HASH, C3DR, TRCR; any other type but a window's POSW or
+// INDX), each checked, recorded in ps->file_chunks; returns the offset of the first window.
+size_t file_level_chunks(StreamBytes& b, size_t off, const std::string& name, ParsedStream* ps) {
+  const size_t size = b.size();
+  while (off + 4 <= size) {
+    const uint8_t* t = b.get(off, 4);
+    const std::string type(reinterpret_cast<const char*>(t), 4);
+    if (type == "POSW" || type == "INDX") break;
+    const Chunk x = chunk_at(b, off, name);
+    if (ps->file_chunks.count(x.type)) fail(ErrorCode::kCorrupt, name, "two " + x.type + " chunks");
+    ps->file_chunks[x.type] = {x.offset, x.end};
+    ps->chunk_bytes[x.type] += x.end - x.offset;
+    off = x.end;
+  }
+  return off;
+}
+
+}  // namespace
+
 ParsedStream parse_stream(StreamBytes& b, const std::string& name) {
   const size_t size = b.size();
   const size_t longest = file_header_bytes(255);
@@ -79,8 +100,8 @@ ParsedStream parse_stream(StreamBytes& b, const std::string& name) {
   static_cast<StreamContext&>(ps) = read_context(h, m, major, minor, name);
   ps.chunk_bytes["HEAD"] += head_bytes;
   ps.chunk_bytes["META"] += m.end - m.offset;
-  ps.first_window_offset = m.end;
-  Chunk k = index_chunk(b, m.end, name);
+  ps.first_window_offset = file_level_chunks(b, m.end, name, &ps);
+  Chunk k = index_chunk(b, ps.first_window_offset, name);
   ps.index = decode_index(k, name);
   ps.index_offset = k.offset;
   ps.chunk_bytes["INDX"] += k.end - k.offset;

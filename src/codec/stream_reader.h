@@ -69,6 +69,9 @@ struct ParsedStream : StreamContext {
   size_t first_window_offset = 0;
   size_t index_offset = 0;
   std::map<std::string, size_t> chunk_bytes;  // HEAD, META, INDX sizes with framing
+  // File-level chunks between META and the first window (HASH, C3DR, TRCR: FORMAT.md 4.4),
+  // each checked: type -> [offset, end).
+  std::map<std::string, std::pair<size_t, size_t>> file_chunks;
 };
 
 // The chunk at `off` (read_chunk's checks), its bytes fetched from `b`; its payload pointer is

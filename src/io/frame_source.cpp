@@ -116,6 +116,7 @@ class C3DSource : public FrameSource {
     return {c3d::wide_word4_warning(wide_)};
   }
   uint64_t bytes_read() const override { return file_.bytes_read(); }
+  std::string original_file() const override { return file_.path(); }
 
  private:
   InputFile file_;

@@ -499,6 +499,7 @@ class TRCSource : public FrameSource {
     if (r != count) fail(ErrorCode::kIo, header_.source, "file changed while reading");
   }
   uint64_t bytes_read() const override { return file_.bytes_read(); }
+  std::string original_file() const override { return file_.path(); }
 
  private:
   InputFile file_;

@@ -10,7 +10,7 @@
 // per-window payload patches the bytes that regeneration gets wrong (gap samples whose
 // coordinates or 4th word are not the writer's, 4th words beyond 16 bits, analog values past
 // the whole channels, DEC values without an IEEE counterpart). It is empty for most files.
-// Byte layout: docs/format-drafts/residue.md.
+// Byte layout: docs/FORMAT.md 4.4.
 //
 // Streaming: the encoder reads the original by ranges and holds one block of frames; the
 // decoder holds the head and tail (small but for files with large trailing data) and one block.

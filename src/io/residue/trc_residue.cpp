@@ -1,4 +1,4 @@
-// capz — TRC residue (see trc_residue.h; byte layout in docs/format-drafts/residue.md).
+// capz — TRC residue (see trc_residue.h; byte layout in docs/FORMAT.md 4.4).
 #include "io/residue/trc_residue.h"
 
 #include <algorithm>

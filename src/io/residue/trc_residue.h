@@ -10,7 +10,7 @@
 // back, padded with zeros), gaps spelled as the window's most frequent gap field ("", "NaN",
 // "       NaN"), the most frequent count of empty trailing fields and line end. Rows that differ
 // store exceptions: the fields whose text differs, a different line end, or (when the field
-// count differs) the whole line. Byte layout: docs/format-drafts/residue.md.
+// count differs) the whole line. Byte layout: docs/FORMAT.md 4.4.
 #pragma once
 
 #include <cstddef>

@@ -1,0 +1,39 @@
+// capz — the original file a .capz records (docs/FORMAT.md 4.4): its size and XXH3-128 hash
+// (chunk HASH) and the residue that rebuilds it from the decoded take (C3DR/C3DP, TRCR/TRCP).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace capz {
+
+struct OriginalInfo {
+  bool hashed = false;   // the archive carries HASH
+  uint64_t size = 0;     // the original's bytes (hashed only)
+  std::string hash_hex;  // 32 hex digits (hashed only)
+  bool residue = false;  // and a file-level residue (C3DR or TRCR)
+  bool exact = false;    // and lossless: the original comes back byte for byte, hash checked
+};
+
+// Reads HEAD, META and the file-level chunks of `capz_path`. Throws capz::Error.
+OriginalInfo original_info(const std::string& capz_path);
+
+// True when rebuild_original can write the original's own format from this archive: a residue,
+// and lossless or a C3D (a TRC at a bound goes through the normal writer).
+bool can_rebuild(const OriginalInfo& info, bool c3d);
+
+// Rebuilds the original file from `capz_path` into `out` (written atomically, window by window):
+// lossless, byte for byte with the size and hash checked before the output is renamed into
+// place; at a bound (C3D only), the original head and tail around frames regenerated from the
+// decoded coordinates, the size checked. A mismatch is Error(kCorrupt) naming the archive, and
+// no output is left.
+void rebuild_original(const std::string& capz_path, const std::string& out, bool overwrite);
+
+// The same rebuild, written nowhere: checks size and hash (lossless) or size (bound).
+void test_original(const std::string& capz_path);
+
+// For --rm: "" when `capz_path` is exact and its rebuilt bytes (size and hash checked) hash as
+// the file at `original` does now; else what differs.
+std::string rebuilds_file(const std::string& capz_path, const std::string& original);
+
+}  // namespace capz

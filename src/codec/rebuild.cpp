@@ -1,0 +1,167 @@
+// Rebuilding the original file from a .capz (capz/original.h; docs/FORMAT.md 4.4): the decoded
+// take, read one window at a time, plus the residue chunks. Memory: one window, the residue's
+// head and tail.
+#include <functional>
+#include <memory>
+
+#include "capz/error.h"
+#include "capz/original.h"
+#include "coding/bytes.h"
+#include "core/atomic_file.h"
+#include "core/hash.h"
+#include "io/capz_source.h"
+#include "io/residue/c3d_residue.h"
+#include "io/residue/trc_residue.h"
+
+namespace capz {
+namespace {
+
+using Write = std::function<void(const uint8_t*, size_t)>;
+
+struct Record {
+  OriginalInfo info;
+  Digest128 hash{};
+  std::vector<uint8_t> file_part;
+  bool c3d = false;
+};
+
+std::vector<uint8_t> chunk_payload(StreamBytes& b, const ParsedStream& ps, const char* type,
+                                   const std::string& name) {
+  const auto it = ps.file_chunks.find(type);
+  if (it == ps.file_chunks.end()) return {};
+  const Chunk c = chunk_at(b, it->second.first, name);
+  return std::vector<uint8_t>(c.payload, c.payload + c.size);
+}
+
+Record read_record(StreamBytes& b, const ParsedStream& ps, const std::string& name) {
+  Record r;
+  if (!ps.file_chunks.count("HASH")) return r;
+  const std::vector<uint8_t> h = chunk_payload(b, ps, "HASH", name);
+  ByteReader in(h.data(), h.size(), name + ": HASH");
+  r.info.hashed = true;
+  r.info.size = in.u64();
+  for (uint8_t& x : r.hash) x = in.u8();
+  if (in.remaining() != 0) fail(ErrorCode::kCorrupt, name, "HASH: bytes left over");
+  r.info.hash_hex = digest_hex(r.hash);
+  const Format f = ps.h.source_format;
+  r.c3d = f == Format::kC3D;
+  const char* type = r.c3d ? "C3DR" : f == Format::kTRC ? "TRCR" : nullptr;
+  if (type && ps.file_chunks.count(type)) {
+    r.file_part = chunk_payload(b, ps, type, name);
+    r.info.residue = true;
+    r.info.exact = ps.h.lossless;
+  }
+  return r;
+}
+
+// Window w's residue payload (C3DP / TRCP, after its window index); empty when it has none.
+std::vector<uint8_t> window_payload(StreamBytes& b, const ParsedStream& ps, size_t w,
+                                    const char* type, const std::string& name) {
+  const IndexEntry& e = ps.index[w];
+  size_t off = static_cast<size_t>(e.offset);
+  const size_t end = off + static_cast<size_t>(e.bytes);
+  while (off < end) {
+    const Chunk c = chunk_at(b, off, name);
+    if (c.end > end) fail(ErrorCode::kCorrupt, name, "a chunk runs past its window");
+    if (c.type == type) {
+      ByteReader in(c.payload, c.size, name + ": " + type);
+      if (in.varint() != w)
+        fail(ErrorCode::kCorrupt, name, std::string(type) + " of the wrong window");
+      const size_t at = in.offset();
+      return std::vector<uint8_t>(c.payload + at, c.payload + c.size);
+    }
+    off = c.end;
+  }
+  return {};
+}
+
+// The rebuild, handed to `write` in order; checks the size, and the hash when lossless.
+void rebuild(const std::string& path, const Write& write) {
+  std::unique_ptr<StreamBytes> raw(new FileBytes(path));
+  CapzSource src(std::unique_ptr<StreamBytes>(new FileBytes(path)), path, true);
+  const ParsedStream& ps = src.parsed();
+  const Record r = read_record(*raw, ps, path);
+  if (!can_rebuild(r.info, r.c3d))
+    fail(ErrorCode::kInvalidParameter, path, "the archive holds no residue to rebuild from");
+  Hasher hasher;
+  uint64_t n = 0;
+  const Write out = [&](const uint8_t* p, size_t k) {
+    hasher.update(p, k);
+    n += k;
+    write(p, k);
+  };
+  const Take& t = ps.take;
+  static const std::vector<C3DGroup> kNone;
+  std::unique_ptr<residue::C3DResidueDecoder> c3d;
+  std::unique_ptr<residue::TRCResidueDecoder> trc;
+  if (r.c3d) {
+    c3d.reset(new residue::C3DResidueDecoder(r.file_part.data(), r.file_part.size(),
+                                             t.c3d ? t.c3d->groups : kNone, path, r.info.size));
+    out(c3d->head().data(), c3d->head().size());
+  } else {
+    trc.reset(new residue::TRCResidueDecoder(r.file_part.data(), r.file_part.size(), t, path,
+                                             r.info.size));
+    out(trc->head().data(), trc->head().size());
+  }
+  const size_t W = ps.h.window_frames;
+  FrameBlock block;
+  std::vector<uint8_t> bytes;
+  for (size_t w = 0, f0 = 0; f0 < t.frames; ++w, f0 += W) {
+    src.read(f0, W, &block);
+    const std::vector<uint8_t> p = ps.h.lossless
+                                       ? window_payload(*raw, ps, w, r.c3d ? "C3DP" : "TRCP", path)
+                                       : std::vector<uint8_t>();
+    bytes.clear();
+    if (c3d)
+      c3d->window(block, p.data(), p.size(), &bytes);
+    else
+      trc->window(block, p.data(), p.size(), &bytes);
+    out(bytes.data(), bytes.size());
+  }
+  if (c3d)
+    out(c3d->tail().data(), c3d->tail().size());
+  else
+    trc->finish();
+  if (n != r.info.size)
+    fail(ErrorCode::kCorrupt, path,
+         "the rebuilt original has " + std::to_string(n) + " bytes, the archive records " +
+             std::to_string(r.info.size));
+  if (r.info.exact && hasher.digest() != r.hash)
+    fail(ErrorCode::kCorrupt, path,
+         "the rebuilt original's XXH3-128 " + digest_hex(hasher.digest()) +
+             " differs from the recorded " + r.info.hash_hex);
+}
+
+}  // namespace
+
+OriginalInfo original_info(const std::string& capz_path) {
+  FileBytes b(capz_path);
+  const ParsedStream ps = parse_stream(b, capz_path);
+  return read_record(b, ps, capz_path).info;
+}
+
+bool can_rebuild(const OriginalInfo& info, bool c3d) {
+  return info.hashed && info.residue && (info.exact || c3d);
+}
+
+void rebuild_original(const std::string& capz_path, const std::string& out, bool overwrite) {
+  AtomicFile file(out, overwrite);
+  rebuild(capz_path, [&](const uint8_t* p, size_t n) { file.write(p, n); });
+  file.commit();
+}
+
+void test_original(const std::string& capz_path) {
+  rebuild(capz_path, [](const uint8_t*, size_t) {});
+}
+
+std::string rebuilds_file(const std::string& capz_path, const std::string& original) {
+  FileBytes b(capz_path);
+  const ParsedStream ps = parse_stream(b, capz_path);
+  const Record r = read_record(b, ps, capz_path);
+  if (!r.info.exact) return "the archive cannot rebuild the original byte for byte";
+  test_original(capz_path);  // the rebuilt bytes hash as recorded
+  if (r.hash != hash128_file(original)) return "the recorded hash is not the input's";
+  return "";
+}
+
+}  // namespace capz

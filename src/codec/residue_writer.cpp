@@ -1,0 +1,119 @@
+// The encoder's HASH and residue chunks (see residue_writer.h; layout in docs/FORMAT.md 4.4).
+#include "codec/residue_writer.h"
+
+#include <cstring>
+
+#include "capz/error.h"
+#include "coding/bytes.h"
+#include "coding/container.h"
+
+namespace capz {
+
+std::unique_ptr<ResidueWriter> ResidueWriter::open(const FrameSource& source, bool lossless,
+                                                   bool check) {
+  const std::string path = source.original_file();
+  const Format f = source.header().format;
+  if (path.empty() || (f != Format::kC3D && f != Format::kTRC)) return nullptr;
+  return std::unique_ptr<ResidueWriter>(new ResidueWriter(path, source.header(), lossless, check));
+}
+
+ResidueWriter::ResidueWriter(const std::string& path, const Take& header, bool lossless, bool check)
+    : path_(path), header_(header), lossless_(lossless), check_(check && lossless) {
+  hash_ = hash128_file(path);
+  if (header.format == Format::kC3D)
+    c3d_.reset(new residue::C3DResidueEncoder(path));
+  else
+    trc_.reset(new residue::TRCResidueEncoder(path, header));
+}
+
+ResidueWriter::~ResidueWriter() = default;
+
+void ResidueWriter::file_chunks(std::vector<uint8_t>* buf) {
+  const size_t before = buf->size();
+  orig_.reset(new InputFile(path_));
+  size_ = orig_->size();
+  ByteWriter h;
+  h.u64(size_);
+  for (uint8_t b : hash_) h.u8(b);
+  append_chunk(buf, "HASH", h.buffer());
+  static const std::vector<C3DGroup> kNone;
+  const std::vector<C3DGroup>& groups = header_.c3d ? header_.c3d->groups : kNone;
+  file_part_ = c3d_ ? c3d_->file_part(groups) : trc_->file_part();
+  append_chunk(buf, c3d_ ? "C3DR" : "TRCR", file_part_);
+  file_bytes_ = buf->size() - before;
+  bytes_ += file_bytes_;
+  if (!check_) return;
+  const std::string what = header_.source + " (self-check)";
+  std::vector<uint8_t> head;
+  if (c3d_) {
+    c3d_back_.reset(
+        new residue::C3DResidueDecoder(file_part_.data(), file_part_.size(), groups, what, size_));
+    head = c3d_back_->head();
+  } else {
+    trc_back_.reset(
+        new residue::TRCResidueDecoder(file_part_.data(), file_part_.size(), header_, what, size_));
+    head = trc_back_->head();
+  }
+  check_bytes(0, head);
+}
+
+void ResidueWriter::window_chunk(size_t w, const FrameBlock& block, const FrameBlock* back,
+                                 std::vector<uint8_t>* buf) {
+  if (!lossless_) return;
+  const std::vector<uint8_t> payload = c3d_ ? c3d_->window(block) : trc_->window(block);
+  const size_t before = buf->size();
+  if (trc_ || !payload.empty()) {
+    ByteWriter b;
+    b.varint(w);
+    b.bytes(payload);
+    append_chunk(buf, c3d_ ? "C3DP" : "TRCP", b.buffer());
+  }
+  bytes_ += buf->size() - before;
+  if (!check_ || !back) return;
+  std::vector<uint8_t> rebuilt;
+  try {
+    if (c3d_)
+      c3d_back_->window(*back, payload.data(), payload.size(), &rebuilt);
+    else
+      trc_back_->window(*back, payload.data(), payload.size(), &rebuilt);
+  } catch (const Error& e) {
+    failed("window " + std::to_string(w) + ": the residue does not rebuild: " + e.what());
+  }
+  check_bytes(w, rebuilt);
+}
+
+// The rebuilt bytes continue the original at rebuilt_: compares them and hashes them.
+void ResidueWriter::check_bytes(size_t w, const std::vector<uint8_t>& rebuilt) {
+  if (rebuilt_ + rebuilt.size() > size_)
+    failed("window " + std::to_string(w) + " rebuilds past the original's size");
+  std::vector<uint8_t> orig(rebuilt.size());
+  orig_->read_at(rebuilt_, orig.data(), orig.size());
+  if (!rebuilt.empty() && std::memcmp(orig.data(), rebuilt.data(), rebuilt.size()) != 0)
+    failed("window " + std::to_string(w) + " rebuilds bytes other than the original's");
+  rebuilt_hash_.update(rebuilt.data(), rebuilt.size());
+  rebuilt_ += rebuilt.size();
+}
+
+void ResidueWriter::finish() {
+  if (!check_) return;
+  try {
+    if (c3d_) {
+      const std::vector<uint8_t> tail = c3d_back_->tail();
+      check_bytes(0, tail);
+    } else {
+      trc_back_->finish();
+    }
+  } catch (const Error& e) {
+    failed(std::string("the residue does not rebuild: ") + e.what());
+  }
+  if (rebuilt_ != size_ || rebuilt_hash_.digest() != hash_)
+    failed("the rebuilt file's size or hash differs from the original's");
+}
+
+void ResidueWriter::failed(const std::string& what) const {
+  fail(ErrorCode::kInternal, header_.source,
+       "self-check of the byte-exact residue failed: " + what +
+           " (please report this; --no-check skips the check)");
+}
+
+}  // namespace capz

@@ -1,0 +1,64 @@
+// The encoder's side of byte-exact archives (docs/FORMAT.md 4.4): for a source read from an
+// original C3D or TRC file, the HASH chunk (size and XXH3-128 of the file), the file-level
+// residue (C3DR / TRCR) and, at --lossless, each window's residue (C3DP / TRCP). With the
+// self-check it rebuilds the original window by window, as the decoder will, from the frames
+// the archive gives back, compares each window's bytes with the file's and, at the end, the
+// rebuilt size and hash with the original's. Memory: one window of the original.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "capz/stream.h"
+#include "core/hash.h"
+#include "core/input_file.h"
+#include "io/residue/c3d_residue.h"
+#include "io/residue/trc_residue.h"
+
+namespace capz {
+
+class ResidueWriter {
+ public:
+  // nullptr unless the source reads an original C3D or TRC file (FrameSource::original_file).
+  static std::unique_ptr<ResidueWriter> open(const FrameSource& source, bool lossless, bool check);
+  ResidueWriter(const std::string& path, const Take& header, bool lossless, bool check);
+  ~ResidueWriter();
+
+  // Appends HASH and C3DR or TRCR (after META).
+  void file_chunks(std::vector<uint8_t>* buf);
+  // At --lossless: appends window w's residue chunk for `block` (the frames as read), C3DP left
+  // out when empty. With the check, `back` (the frames the archive gives back for the window)
+  // rebuilds the window's bytes, which must equal the original's. Throws Error(kInternal).
+  void window_chunk(size_t w, const FrameBlock& block, const FrameBlock* back,
+                    std::vector<uint8_t>* buf);
+  // With the check at --lossless: the rebuilt file's size and hash equal the original's.
+  void finish();
+  // Bytes of the chunks written so far: all, and HASH + C3DR/TRCR alone.
+  size_t bytes() const { return bytes_; }
+  size_t file_bytes() const { return file_bytes_; }
+
+ private:
+  void check_bytes(size_t w, const std::vector<uint8_t>& rebuilt);
+  [[noreturn]] void failed(const std::string& what) const;
+
+  std::string path_;
+  const Take& header_;
+  bool lossless_, check_;
+  uint64_t size_ = 0;
+  Digest128 hash_{};
+  std::unique_ptr<residue::C3DResidueEncoder> c3d_;
+  std::unique_ptr<residue::TRCResidueEncoder> trc_;
+  std::vector<uint8_t> file_part_;
+  // The self-check's rebuild.
+  std::unique_ptr<residue::C3DResidueDecoder> c3d_back_;
+  std::unique_ptr<residue::TRCResidueDecoder> trc_back_;
+  std::unique_ptr<InputFile> orig_;
+  Hasher rebuilt_hash_;
+  uint64_t rebuilt_ = 0;
+  size_t bytes_ = 0, file_bytes_ = 0;
+};
+
+}  // namespace capz
