@@ -16,6 +16,7 @@
 #include "capz/stream.h"
 #include "core/atomic_file.h"
 #include "support/c3d_compare.h"
+#include "support/without_original.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;
@@ -220,21 +221,6 @@ const Case kCases[] = {
     {"pcd/horse-gallop", "max", 10},  // a PCD folder read file by file
 };
 
-// A file source with its original_file() hidden: streaming then writes no HASH or residue
-// chunks (FORMAT.md 4.4), so its bytes must be compress()'s of the whole take.
-class WithoutOriginal : public FrameSource {
- public:
-  explicit WithoutOriginal(std::unique_ptr<FrameSource> s) : s_(std::move(s)) {
-    header_ = s_->header();
-  }
-  bool has_sample_words() const override { return s_->has_sample_words(); }
-  void read(size_t first, size_t count, FrameBlock* out) override { s_->read(first, count, out); }
-  size_t preferred_block() const override { return s_->preferred_block(); }
-
- private:
-  std::unique_ptr<FrameSource> s_;
-};
-
 TEST(StreamCodec, GivenRealTakesThenStreamingCompressWritesTheSameBytes) {
   const std::string data = capz_test::shared_data_or_skip();
   if (data.empty()) return;
@@ -247,7 +233,7 @@ TEST(StreamCodec, GivenRealTakesThenStreamingCompressWritesTheSameBytes) {
     const CompressOptions o = options_for(c, whole);
     CompressStats st_whole, st_stream;
     const std::vector<uint8_t> expect = compress(whole, o, &st_whole);
-    WithoutOriginal src(open_frames(path));
+    capz_test::WithoutOriginal src(open_frames(path));
     const std::string out = dir.file("s.capz");
     compress_stream(src, o, out, true, &st_stream);
     const std::vector<uint8_t> got = read_file(out);

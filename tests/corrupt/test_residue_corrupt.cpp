@@ -2,6 +2,7 @@
 // its chunk CRC recomputed (so only the payload's own checks and the hash can tell): the rebuild
 // throws a capz::Error or gives the original back exactly; never a crash, never a wrong file.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <string>
@@ -18,8 +19,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// Per process and per test: ctest runs the tests of this executable in parallel processes.
 std::string tmp(const std::string& name) {
-  return (fs::temp_directory_path() / ("capz_rcorrupt_" + name)).string();
+  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  return (fs::temp_directory_path() /
+          ("capz_rcorrupt_" + std::to_string(::getpid()) + "_" + test + "_" + name))
+      .string();
 }
 
 size_t find_chunk(const std::vector<uint8_t>& b, const char* type) {

@@ -1,6 +1,7 @@
 // The byte-exact residue wired into .capz (docs/FORMAT.md 4.4): HASH, C3DR/C3DP written for a
 // C3D read from a path, the original rebuilt byte for byte, a damaged checksum caught.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -20,7 +21,8 @@ namespace fs = std::filesystem;
 namespace {
 
 std::string tmp(const std::string& name) {
-  return (fs::temp_directory_path() / ("capz_wire_" + name)).string();
+  return (fs::temp_directory_path() / ("capz_wire_" + std::to_string(::getpid()) + "_" + name))
+      .string();
 }
 
 std::string compress_file(const std::string& in, bool lossless, const std::string& out) {

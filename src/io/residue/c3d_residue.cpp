@@ -195,7 +195,6 @@ C3DResidueDecoder::C3DResidueDecoder(const uint8_t* data, size_t size,
       !(std::isfinite(lay_.scale) && lay_.scale > 0) || lay_.points > 65535 ||
       lay_.analog_values > 65535 || lay_.per_frame < sample_bytes ||
       lay_.per_frame % elem_size(lay_) != 0 || lay_.per_frame > uint64_t{65535} * 5 * 4 ||
-      (lay_.frames > 0 && lay_.per_frame == 0) ||
       (lay_.per_frame > 0 && lay_.frames > (uint64_t{1} << 62) / lay_.per_frame))
     fail(ErrorCode::kCorrupt, what, "impossible frame layout");
   std::vector<uint8_t> rest =
