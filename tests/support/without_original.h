@@ -16,7 +16,9 @@ class WithoutOriginal : public capz::FrameSource {
     header_ = s_->header();
   }
   bool has_sample_words() const override { return s_->has_sample_words(); }
-  void read(size_t first, size_t count, capz::FrameBlock* out) override { s_->read(first, count, out); }
+  void read(size_t first, size_t count, capz::FrameBlock* out) override {
+    s_->read(first, count, out);
+  }
   size_t preferred_block() const override { return s_->preferred_block(); }
 
  private:
