@@ -74,6 +74,122 @@ std::string printable(const std::string& s) {
   return out;
 }
 
+// A parameter entry read, waiting to be attached to its group once all groups are known.
+struct Pending {
+  int group_id;
+  size_t order;  // index among all entries, to resolve "most recent group with this id"
+  C3DParameter p;
+};
+
+// Reads a parameter's type, dimensions and data (normalized to little-endian) starting at *q,
+// advancing *q past them; false with *what set when the entry is malformed or cut off.
+bool read_parameter_value(const uint8_t* data, size_t size, const NumberFormat& nf, size_t* q,
+                          C3DParameter* p, std::string* what) {
+  if (size - *q < 2) {
+    *what = "cut off before its type";
+    return false;
+  }
+  p->type = static_cast<int8_t>(data[*q]);
+  size_t ndims = data[*q + 1];
+  *q += 2;
+  if (p->type != -1 && p->type != 1 && p->type != 2 && p->type != 4) {
+    *what = "has type " + std::to_string(p->type) + " (expected -1, 1, 2 or 4)";
+    return false;
+  }
+  if (ndims > 7) {
+    *what = "has " + std::to_string(ndims) + " dimensions (at most 7)";
+    return false;
+  }
+  if (size - *q < ndims) {
+    *what = "dimensions cut off by the end of the file";
+    return false;
+  }
+  uint64_t bytes = static_cast<uint64_t>(p->type < 0 ? -p->type : p->type);
+  for (size_t d = 0; d < ndims; ++d) {
+    p->dims.push_back(data[*q + d]);
+    bytes *= data[*q + d];  // at most 4 * 255^7 < 2^59: no overflow
+  }
+  *q += ndims;
+  if (bytes > size - *q) {
+    *what = "needs " + std::to_string(bytes) + " data bytes but the file has " +
+            std::to_string(size - *q) + " left";
+    return false;
+  }
+  size_t n = static_cast<size_t>(bytes);
+  p->data.resize(n);
+  if (p->type == 2) {
+    for (size_t i = 0; i < n; i += 2) put_u16le(nf.u16(data + *q + i), &p->data[i]);
+  } else if (p->type == 4) {
+    for (size_t i = 0; i < n; i += 4) put_f32le(nf.f32(data + *q + i), &p->data[i]);
+  } else if (n > 0) {
+    std::memcpy(p->data.data(), data + *q, n);
+  }
+  *q += n;
+  return true;
+}
+
+// The start of the entry after one whose offset word `off` sits at offpos and whose own bytes end
+// at q (entry names it in messages). The offset is what C3D readers follow, and some writers rely
+// on it: e.g. char parameters written without their description byte, the offset skipping it.
+// An offset pointing backwards, into the entry's own name, or past `limit` is wrong: a
+// byte-swapped offset (seen in MIPS files) is tried (noted), then the entry's own end (warned).
+size_t next_entry(int off, size_t offpos, size_t q, size_t limit, const std::string& entry,
+                  ParameterSection* s) {
+  auto fits = [&](long o) {
+    size_t n = offpos + static_cast<size_t>(o);
+    return o >= 2 && n <= limit;
+  };
+  if (fits(off)) return offpos + static_cast<size_t>(off > 0 ? off : 0);
+  long swapped = static_cast<int16_t>(((off & 0xff) << 8) | ((off >> 8) & 0xff));
+  if (fits(swapped) && offpos + static_cast<size_t>(swapped) >= q) {
+    s->notes.push_back(entry + " has a byte-swapped offset " + std::to_string(off) + "; used as " +
+                       std::to_string(swapped));
+    return offpos + static_cast<size_t>(swapped);
+  }
+  s->warnings.push_back(entry + " has offset " + std::to_string(off) +
+                        " to the next entry; continuing after the entry's own end");
+  return q;
+}
+
+// Attaches each parameter to the most recent group with its id before it, else the first group
+// with the id after it, else an implicit group per id; notes shared and missing group ids.
+void attach_parameters(std::vector<Pending>& params,
+                       const std::vector<std::pair<size_t, size_t>>& group_order,
+                       ParameterSection* s) {
+  std::map<int, std::vector<std::pair<size_t, size_t>>> by_id;  // id -> (entry, group index)
+  for (const auto& go : group_order) by_id[s->groups[go.second].id].push_back(go);
+  for (const auto& ids : by_id)
+    if (ids.second.size() > 1)
+      s->notes.push_back("group id " + std::to_string(ids.first) + " is used by " +
+                         std::to_string(ids.second.size()) + " groups (" +
+                         printable(s->groups[ids.second[0].second].name) + ")");
+  std::map<int, size_t> implicit;  // group id -> index of its implicit group
+  for (auto& pp : params) {
+    auto it = by_id.find(pp.group_id);
+    if (it == by_id.end()) {
+      auto ig = implicit.find(pp.group_id);
+      if (ig == implicit.end()) {
+        C3DGroup g;
+        g.id = pp.group_id;
+        g.implicit = true;
+        ig = implicit.emplace(pp.group_id, s->groups.size()).first;
+        s->groups.push_back(std::move(g));
+      }
+      s->groups[ig->second].params.push_back(std::move(pp.p));
+      continue;
+    }
+    const auto& list = it->second;
+    size_t target = list.front().second;
+    for (const auto& e : list)
+      if (e.first < pp.order) target = e.second;
+    s->groups[target].params.push_back(std::move(pp.p));
+  }
+  for (const auto& ig : implicit)
+    s->notes.push_back(std::to_string(s->groups[ig.second].params.size()) +
+                       " parameter(s) name group id " + std::to_string(ig.first) +
+                       ", which has no group entry (kept in an unnamed group)");
+}
+
 }  // namespace
 
 ParameterSection parse_parameter_section(const uint8_t* data, size_t size, size_t offset,
@@ -92,11 +208,6 @@ ParameterSection parse_parameter_section(const uint8_t* data, size_t size, size_
              " (expected 84 Intel, 85 DEC or 86 MIPS)");
   NumberFormat nf{s.processor};
 
-  struct Pending {
-    int group_id;
-    size_t order;  // index among all entries, to resolve "most recent group with this id"
-    C3DParameter p;
-  };
   std::vector<Pending> params;
   std::vector<std::pair<size_t, size_t>> group_order;  // (entry index, group index)
   size_t entry = 0;
@@ -164,49 +275,8 @@ ParameterSection parse_parameter_section(const uint8_t* data, size_t size, size_
       C3DParameter p;
       p.name = ename;
       p.locked = nlen < 0;
-      if (size - q < 2) {
-        ok = false;
-        what = "cut off before its type";
-      } else {
-        p.type = static_cast<int8_t>(data[q]);
-        size_t ndims = data[q + 1];
-        q += 2;
-        if (p.type != -1 && p.type != 1 && p.type != 2 && p.type != 4) {
-          ok = false;
-          what = "has type " + std::to_string(p.type) + " (expected -1, 1, 2 or 4)";
-        } else if (ndims > 7) {
-          ok = false;
-          what = "has " + std::to_string(ndims) + " dimensions (at most 7)";
-        } else if (size - q < ndims) {
-          ok = false;
-          what = "dimensions cut off by the end of the file";
-        } else {
-          uint64_t bytes = static_cast<uint64_t>(p.type < 0 ? -p.type : p.type);
-          for (size_t d = 0; d < ndims; ++d) {
-            p.dims.push_back(data[q + d]);
-            bytes *= data[q + d];  // at most 4 * 255^7 < 2^59: no overflow
-          }
-          q += ndims;
-          if (bytes > size - q) {
-            ok = false;
-            what = "needs " + std::to_string(bytes) + " data bytes but the file has " +
-                   std::to_string(size - q) + " left";
-          } else {
-            size_t n = static_cast<size_t>(bytes);
-            p.data.resize(n);
-            if (p.type == 2) {
-              for (size_t i = 0; i < n; i += 2) put_u16le(nf.u16(data + q + i), &p.data[i]);
-            } else if (p.type == 4) {
-              for (size_t i = 0; i < n; i += 4) put_f32le(nf.f32(data + q + i), &p.data[i]);
-            } else if (n > 0) {
-              std::memcpy(p.data.data(), data + q, n);
-            }
-            q += n;
-            ok = read_desc(&p.description);
-            if (ok) params.push_back({gid, entry, std::move(p)});
-          }
-        }
-      }
+      ok = read_parameter_value(data, size, nf, &q, &p, &what) && read_desc(&p.description);
+      if (ok) params.push_back({gid, entry, std::move(p)});
     }
     if (!ok) {
       warn(at(pos) + " (" + printable(ename) + ") " + what + "; ignoring the rest of the section");
@@ -214,27 +284,9 @@ ParameterSection parse_parameter_section(const uint8_t* data, size_t size, size_
     }
     ++entry;
     if (off == 0) break;  // the last entry
-    // The offset is what C3D readers follow, and some writers rely on it: e.g. char parameters
-    // written without their description byte, the offset skipping it. An offset pointing
-    // backwards, into the entry's own name, or past the declared section is wrong: a byte-swapped
-    // offset (seen in MIPS files) is tried, then the entry's own end.
-    auto fits = [&](long o) {
-      size_t n = offpos + static_cast<size_t>(o);
-      return o >= 2 && n <= limit;
-    };
-    size_t next = offpos + static_cast<size_t>(off > 0 ? off : 0);
-    if (!fits(off)) {
-      long swapped = static_cast<int16_t>(((off & 0xff) << 8) | ((off >> 8) & 0xff));
-      if (fits(swapped) && offpos + static_cast<size_t>(swapped) >= q) {
-        s.notes.push_back(at(pos) + " (" + printable(ename) + ") has a byte-swapped offset " +
-                          std::to_string(off) + "; used as " + std::to_string(swapped));
-        next = offpos + static_cast<size_t>(swapped);
-      } else {
-        warn(at(pos) + " (" + printable(ename) + ") has offset " + std::to_string(off) +
-             " to the next entry; continuing after the entry's own end");
-        next = q;
-      }
-    } else if (next < q) {
+    const size_t next =
+        next_entry(off, offpos, q, limit, at(pos) + " (" + printable(ename) + ")", &s);
+    if (next < q) {
       // The entry claims to end before its description does: the description is not there.
       if (!s.groups.empty() && gid < 0) s.groups.back().description.clear();
       if (!params.empty() && gid > 0) params.back().p.description.clear();
@@ -242,40 +294,7 @@ ParameterSection parse_parameter_section(const uint8_t* data, size_t size, size_
     pos = next;
   }
 
-  // Attach parameters to groups: the most recent group with the id before the parameter, else
-  // the first group with the id after it.
-  std::map<int, std::vector<std::pair<size_t, size_t>>> by_id;  // id -> (entry, group index)
-  for (const auto& go : group_order) by_id[s.groups[go.second].id].push_back(go);
-  for (const auto& ids : by_id)
-    if (ids.second.size() > 1)
-      s.notes.push_back("group id " + std::to_string(ids.first) + " is used by " +
-                        std::to_string(ids.second.size()) + " groups (" +
-                        printable(s.groups[ids.second[0].second].name) + ")");
-  std::map<int, size_t> implicit;  // group id -> index of its implicit group
-  for (auto& pp : params) {
-    auto it = by_id.find(pp.group_id);
-    if (it == by_id.end()) {
-      auto ig = implicit.find(pp.group_id);
-      if (ig == implicit.end()) {
-        C3DGroup g;
-        g.id = pp.group_id;
-        g.implicit = true;
-        ig = implicit.emplace(pp.group_id, s.groups.size()).first;
-        s.groups.push_back(std::move(g));
-      }
-      s.groups[ig->second].params.push_back(std::move(pp.p));
-      continue;
-    }
-    const auto& list = it->second;
-    size_t target = list.front().second;
-    for (const auto& e : list)
-      if (e.first < pp.order) target = e.second;
-    s.groups[target].params.push_back(std::move(pp.p));
-  }
-  for (const auto& ig : implicit)
-    s.notes.push_back(std::to_string(s.groups[ig.second].params.size()) +
-                      " parameter(s) name group id " + std::to_string(ig.first) +
-                      ", which has no group entry (kept in an unnamed group)");
+  attach_parameters(params, group_order, &s);
   return s;
 }
 

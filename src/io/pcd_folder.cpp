@@ -71,6 +71,49 @@ bool parse_u64(const std::string& s, uint64_t* out) {
   return true;
 }
 
+// Checks that the body after the header (at h.data_idx) can hold what the header announces, for
+// its DATA type (binary, binary_compressed or ascii); fails on an unknown type.
+void check_body_size(const std::vector<uint8_t>& bytes, const PcdHeader& h,
+                     const std::string& name) {
+  const size_t n = bytes.size();
+  const uint64_t body = n - h.data_idx;
+  if (h.data == "binary") {
+    if (h.point_step != 0 && h.points > body / h.point_step)
+      fail(ErrorCode::kCorrupt, name,
+           "PCD header announces " + std::to_string(h.points) + " points (" +
+               std::to_string(h.points * h.point_step) + " bytes) but the body holds " +
+               std::to_string(body) + " bytes");
+  } else if (h.data == "binary_compressed") {
+    if (body < 8) fail(ErrorCode::kCorrupt, name, "compressed PCD body is shorter than 8 bytes");
+    const uint8_t* p = bytes.data() + h.data_idx;
+    uint64_t csize = static_cast<uint64_t>(p[0]) | static_cast<uint64_t>(p[1]) << 8 |
+                     static_cast<uint64_t>(p[2]) << 16 | static_cast<uint64_t>(p[3]) << 24;
+    uint64_t usize = static_cast<uint64_t>(p[4]) | static_cast<uint64_t>(p[5]) << 8 |
+                     static_cast<uint64_t>(p[6]) << 16 | static_cast<uint64_t>(p[7]) << 24;
+    if (csize > body - 8)
+      fail(ErrorCode::kCorrupt, name,
+           "compressed PCD body says " + std::to_string(csize) + " bytes but the file holds " +
+               std::to_string(body - 8));
+    if (h.point_step != 0 && h.points > (uint64_t{1} << 32) / h.point_step)
+      fail(ErrorCode::kCorrupt, name, "PCD header announces too many points for a compressed body");
+    if (usize != h.points * h.point_step)
+      fail(ErrorCode::kCorrupt, name,
+           "compressed PCD body unpacks to " + std::to_string(usize) + " bytes, the header needs " +
+               std::to_string(h.points * h.point_step));
+    // LZF expands at most ~90x; anything above that cannot be a valid stream.
+    if (usize > csize * 100 + 1024)
+      fail(ErrorCode::kCorrupt, name, "compressed PCD body is too small for the points announced");
+  } else if (h.data == "ascii") {
+    // Every value takes at least one character and one separator.
+    if (h.values_per_point != 0 && h.points > (body + 1) / (2 * h.values_per_point))
+      fail(ErrorCode::kCorrupt, name,
+           "PCD header announces " + std::to_string(h.points) +
+               " points but the ASCII body is only " + std::to_string(body) + " bytes");
+  } else {
+    fail(ErrorCode::kCorrupt, name, "unknown PCD DATA type '" + h.data + "'");
+  }
+}
+
 PcdHeader parse_header(const std::vector<uint8_t>& bytes, const std::string& name) {
   PcdHeader h;
   size_t pos = 0;
@@ -154,42 +197,7 @@ PcdHeader parse_header(const std::vector<uint8_t>& bytes, const std::string& nam
     h.values_per_point += h.counts[i];
   }
   // The body must be able to hold what the header announces.
-  const uint64_t body = n - h.data_idx;
-  if (h.data == "binary") {
-    if (h.point_step != 0 && h.points > body / h.point_step)
-      fail(ErrorCode::kCorrupt, name,
-           "PCD header announces " + std::to_string(h.points) + " points (" +
-               std::to_string(h.points * h.point_step) + " bytes) but the body holds " +
-               std::to_string(body) + " bytes");
-  } else if (h.data == "binary_compressed") {
-    if (body < 8) fail(ErrorCode::kCorrupt, name, "compressed PCD body is shorter than 8 bytes");
-    const uint8_t* p = bytes.data() + h.data_idx;
-    uint64_t csize = static_cast<uint64_t>(p[0]) | static_cast<uint64_t>(p[1]) << 8 |
-                     static_cast<uint64_t>(p[2]) << 16 | static_cast<uint64_t>(p[3]) << 24;
-    uint64_t usize = static_cast<uint64_t>(p[4]) | static_cast<uint64_t>(p[5]) << 8 |
-                     static_cast<uint64_t>(p[6]) << 16 | static_cast<uint64_t>(p[7]) << 24;
-    if (csize > body - 8)
-      fail(ErrorCode::kCorrupt, name,
-           "compressed PCD body says " + std::to_string(csize) + " bytes but the file holds " +
-               std::to_string(body - 8));
-    if (h.point_step != 0 && h.points > (uint64_t{1} << 32) / h.point_step)
-      fail(ErrorCode::kCorrupt, name, "PCD header announces too many points for a compressed body");
-    if (usize != h.points * h.point_step)
-      fail(ErrorCode::kCorrupt, name,
-           "compressed PCD body unpacks to " + std::to_string(usize) + " bytes, the header needs " +
-               std::to_string(h.points * h.point_step));
-    // LZF expands at most ~90x; anything above that cannot be a valid stream.
-    if (usize > csize * 100 + 1024)
-      fail(ErrorCode::kCorrupt, name, "compressed PCD body is too small for the points announced");
-  } else if (h.data == "ascii") {
-    // Every value takes at least one character and one separator.
-    if (h.values_per_point != 0 && h.points > (body + 1) / (2 * h.values_per_point))
-      fail(ErrorCode::kCorrupt, name,
-           "PCD header announces " + std::to_string(h.points) +
-               " points but the ASCII body is only " + std::to_string(body) + " bytes");
-  } else {
-    fail(ErrorCode::kCorrupt, name, "unknown PCD DATA type '" + h.data + "'");
-  }
+  check_body_size(bytes, h, name);
   return h;
 }
 

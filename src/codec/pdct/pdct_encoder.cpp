@@ -440,6 +440,60 @@ double max_abs_coordinate(const PositionsView& in) {
   return m;
 }
 
+// KG target without a max error: scale the frame-0 and coefficient steps by 2^e, e found by a
+// guess (KG is close to proportional to the step) then bisection, to the largest scale whose KG
+// error is at or below the target (to 2^(1/32)). An unreachable target (e.g. too many zeroed
+// coefficients) gives the lowest KG error seen.
+// best is the trial at the unscaled steps S (on layout).
+Trial kg_search(const PositionsView& in, const Layout& layout, const Steps& S, double min_step,
+                double zero_share, double target, const Trial& best) {
+  struct Point {
+    double e, kg;
+    Trial t;
+  };
+  auto at = [&](double e) {
+    Steps s = S;
+    s.first = std::max(S.first * std::exp2(e), min_step);
+    s.coef = std::max(S.coef * std::exp2(e), min_step);
+    Point p{e, 0, run_encode(in, layout, s, zero_share)};
+    p.kg = compare(in.frames, in.points, in.xyz, p.t.recon.data(), in.valid).kg_error;
+    return p;
+  };
+  const double kg0 = compare(in.frames, in.points, in.xyz, best.recon.data(), in.valid).kg_error;
+  Point cur =
+      kg0 > 0 ? at(std::min(8.0, std::max(-16.0, std::log2(target / kg0)))) : Point{0, 0, best};
+  Point ok{0, 0, {}}, bad{0, 0, {}};
+  bool have_ok = false, have_bad = false;
+  // For an unreachable target: the lowest KG seen, preferring a smaller payload within 2%.
+  Point lowest = cur;
+  for (int it = 0; it < 8; ++it) {
+    if (cur.kg < 0.98 * lowest.kg ||
+        (cur.kg <= 1.02 * lowest.kg && cur.t.bytes.size() < lowest.t.bytes.size()))
+      lowest = cur;
+    if (cur.kg <= target) {
+      ok = cur;
+      have_ok = true;
+      if (have_bad || cur.e >= 8) break;
+      cur = at(cur.e + 1);
+    } else {
+      bad = cur;
+      have_bad = true;
+      if (have_ok || cur.e <= -16) break;
+      cur = at(cur.e - 1);
+    }
+  }
+  if (have_ok && have_bad) {
+    for (int it = 0; it < 5; ++it) {
+      Point mid = at(0.5 * (ok.e + bad.e));
+      if (mid.kg <= target)
+        ok = std::move(mid);
+      else
+        bad = std::move(mid);
+    }
+  }
+  return have_ok ? std::move(ok.t) : std::move(lowest.t);
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -581,58 +635,9 @@ void encode_pdct(const PositionsView& in, const TransformParams& params, std::ve
     }
   }
 
-  // KG target without a max error: scale the frame-0 and coefficient steps by 2^e, e found by a
-  // guess (KG is close to proportional to the step) then bisection, to the largest scale whose KG
-  // error is at or below the target (to 2^(1/32)). An unreachable target (e.g. too many zeroed
-  // coefficients) gives the lowest KG error seen.
-  if (!bounded && params.kg_error > 0) {
-    const double target = params.kg_error;
-    struct Point {
-      double e, kg;
-      Trial t;
-    };
-    auto at = [&](double e) {
-      Steps s = S;
-      s.first = std::max(S.first * std::exp2(e), min_step);
-      s.coef = std::max(S.coef * std::exp2(e), min_step);
-      Point p{e, 0, run_encode(in, best_layout, s, o.zero_share)};
-      p.kg = compare(in.frames, in.points, in.xyz, p.t.recon.data(), in.valid).kg_error;
-      return p;
-    };
-    const double kg0 = compare(in.frames, in.points, in.xyz, best.recon.data(), in.valid).kg_error;
-    Point cur =
-        kg0 > 0 ? at(std::min(8.0, std::max(-16.0, std::log2(target / kg0)))) : Point{0, 0, best};
-    Point ok{0, 0, {}}, bad{0, 0, {}};
-    bool have_ok = false, have_bad = false;
-    // For an unreachable target: the lowest KG seen, preferring a smaller payload within 2%.
-    Point lowest = cur;
-    for (int it = 0; it < 8; ++it) {
-      if (cur.kg < 0.98 * lowest.kg ||
-          (cur.kg <= 1.02 * lowest.kg && cur.t.bytes.size() < lowest.t.bytes.size()))
-        lowest = cur;
-      if (cur.kg <= target) {
-        ok = cur;
-        have_ok = true;
-        if (have_bad || cur.e >= 8) break;
-        cur = at(cur.e + 1);
-      } else {
-        bad = cur;
-        have_bad = true;
-        if (have_ok || cur.e <= -16) break;
-        cur = at(cur.e - 1);
-      }
-    }
-    if (have_ok && have_bad) {
-      for (int it = 0; it < 5; ++it) {
-        Point mid = at(0.5 * (ok.e + bad.e));
-        if (mid.kg <= target)
-          ok = std::move(mid);
-        else
-          bad = std::move(mid);
-      }
-    }
-    best = have_ok ? std::move(ok.t) : std::move(lowest.t);
-  }
+  // KG target without a max error: scale the steps to meet it (kg_search).
+  if (!bounded && params.kg_error > 0)
+    best = kg_search(in, best_layout, S, min_step, o.zero_share, params.kg_error, best);
   out->insert(out->end(), best.bytes.begin(), best.bytes.end());
   *recon = std::move(best.recon);
   if (report) *report = best.report;

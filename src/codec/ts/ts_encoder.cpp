@@ -205,6 +205,62 @@ double sq_error(const PositionsView& in, const std::vector<double>& recon) {
   return s;
 }
 
+// Codes unit c of prep with its first `rank` PCs: the basis quantised (per_entry: the basis
+// error budget per entry), the coefficients refitted on the quantised basis, then LPC-coded on the
+// cluster's first fragment (step coef_step) and LCPS-coded on the rest. Adds the times taken.
+void code_unit(const Prepared& prep, size_t c, int rank, double per_entry, double coef_step,
+               bool f32_scales, const Options& o, TsCluster* out, double* t_quant, double* t_lcps) {
+  const ts::Pca& pca = prep.pca[c];
+  const ClusterLayout& lay = prep.layout[c % prep.layout.size()];
+  TsCluster& tc = *out;
+  const size_t dim = prep.unit_dim(c);
+  const double per_pc = per_entry * static_cast<double>(dim);
+  auto tq = Clock::now();
+  Eigen::MatrixXd bq(static_cast<Eigen::Index>(dim), rank);
+  for (int j = 0; j < rank; ++j) {
+    const double* col = pca.basis.col(j).data();
+    double scale = 0;
+    for (size_t i = 0; i < dim; ++i) scale = std::max(scale, std::fabs(col[i]));
+    if (o.free_step && o.bits_min != o.bits_max) {
+      // The PC's share of the basis budget: sigma^2 3N_s step^2 / 12 = per_pc.
+      const double sg = std::max(static_cast<double>(pca.sigma[j]), 1e-300);
+      const double step = std::sqrt(12.0 * per_pc / (sg * sg * static_cast<double>(dim)));
+      tc.basis.push_back(ts::quantise_vector_step(col, dim, step, o.bits_max, f32_scales));
+    } else {
+      const int bits = ts::basis_bits_for(pca.sigma[j], scale, dim, per_pc, o.bits_min, o.bits_max);
+      tc.basis.push_back(ts::quantise_vector(col, dim, bits, f32_scales));
+    }
+    ts::dequantise_vector(tc.basis.back(), bq.col(j).data());
+  }
+  // Coefficients refitted on the quantised basis (least squares), which absorbs part of the
+  // basis quantisation error.
+  Eigen::MatrixXd w;
+  if (rank > 0) {
+    Eigen::MatrixXd g = bq.transpose() * bq;
+    w = g.ldlt().solve(bq.transpose() * prep.frames[c]);
+  } else {
+    w.resize(0, static_cast<Eigen::Index>(lay.frames.size()));
+  }
+  *t_quant += since(tq);
+  auto tl = Clock::now();
+  const Eigen::Index l1 = static_cast<Eigen::Index>(lay.first_len);
+  ts::LpcParams lp;
+  lp.order = o.lpc_order;
+  Eigen::MatrixXd first;
+  tc.first = ts::lpc_encode(w.leftCols(l1),
+                            std::vector<double>(static_cast<size_t>(rank), coef_step), lp, &first);
+  double maxnorm = 0;
+  for (Eigen::Index j = 0; j < first.cols(); ++j) maxnorm = std::max(maxnorm, first.col(j).norm());
+  int wb = maxnorm > 0 ? static_cast<int>(std::ceil(std::log2(maxnorm / coef_step))) + 2 : 4;
+  tc.lcps_weight_bits = std::max(4, std::min(30, wb));
+  ts::LcpsParams cp;
+  cp.k = o.lcps_k;
+  cp.weight_bits = tc.lcps_weight_bits;
+  for (Eigen::Index j = l1; j < w.cols(); ++j)
+    tc.later.push_back(ts::lcps_encode(w.col(j), first, coef_step, cp, nullptr));
+  *t_lcps += since(tl);
+}
+
 Trial build_trial(const Base& base, const Prepared& prep, double budget, const Options& o,
                   TsEncodeReport* rep) {
   auto t0 = Clock::now();
@@ -260,59 +316,9 @@ Trial build_trial(const Base& base, const Prepared& prep, double budget, const O
 
   m.cluster.resize(nc);
   double t_quant = 0, t_lcps = 0;
-  for (size_t c = 0; c < nc; ++c) {
-    const ts::Pca& pca = prep.pca[c];
-    const ClusterLayout& lay = prep.layout[c % prep.layout.size()];
-    TsCluster& tc = m.cluster[c];
-    const size_t dim = prep.unit_dim(c);
-    const double per_pc = per_entry * static_cast<double>(dim);
-    auto tq = Clock::now();
-    Eigen::MatrixXd bq(static_cast<Eigen::Index>(dim), r[c]);
-    for (int j = 0; j < r[c]; ++j) {
-      const double* col = pca.basis.col(j).data();
-      double scale = 0;
-      for (size_t i = 0; i < dim; ++i) scale = std::max(scale, std::fabs(col[i]));
-      if (o.free_step && o.bits_min != o.bits_max) {
-        // The PC's share of the basis budget: sigma^2 3N_s step^2 / 12 = per_pc.
-        const double sg = std::max(static_cast<double>(pca.sigma[j]), 1e-300);
-        const double step = std::sqrt(12.0 * per_pc / (sg * sg * static_cast<double>(dim)));
-        tc.basis.push_back(ts::quantise_vector_step(col, dim, step, o.bits_max, m.f32_scales));
-      } else {
-        const int bits =
-            ts::basis_bits_for(pca.sigma[j], scale, dim, per_pc, o.bits_min, o.bits_max);
-        tc.basis.push_back(ts::quantise_vector(col, dim, bits, m.f32_scales));
-      }
-      ts::dequantise_vector(tc.basis.back(), bq.col(j).data());
-    }
-    // Coefficients refitted on the quantised basis (least squares), which absorbs part of the
-    // basis quantisation error.
-    Eigen::MatrixXd w;
-    if (r[c] > 0) {
-      Eigen::MatrixXd g = bq.transpose() * bq;
-      w = g.ldlt().solve(bq.transpose() * prep.frames[c]);
-    } else {
-      w.resize(0, static_cast<Eigen::Index>(lay.frames.size()));
-    }
-    t_quant += since(tq);
-    auto tl = Clock::now();
-    const Eigen::Index l1 = static_cast<Eigen::Index>(lay.first_len);
-    ts::LpcParams lp;
-    lp.order = o.lpc_order;
-    Eigen::MatrixXd first;
-    tc.first = ts::lpc_encode(
-        w.leftCols(l1), std::vector<double>(static_cast<size_t>(r[c]), m.coef_step), lp, &first);
-    double maxnorm = 0;
-    for (Eigen::Index j = 0; j < first.cols(); ++j)
-      maxnorm = std::max(maxnorm, first.col(j).norm());
-    int wb = maxnorm > 0 ? static_cast<int>(std::ceil(std::log2(maxnorm / m.coef_step))) + 2 : 4;
-    tc.lcps_weight_bits = std::max(4, std::min(30, wb));
-    ts::LcpsParams cp;
-    cp.k = o.lcps_k;
-    cp.weight_bits = tc.lcps_weight_bits;
-    for (Eigen::Index j = l1; j < w.cols(); ++j)
-      tc.later.push_back(ts::lcps_encode(w.col(j), first, m.coef_step, cp, nullptr));
-    t_lcps += since(tl);
-  }
+  for (size_t c = 0; c < nc; ++c)
+    code_unit(prep, c, r[c], per_entry, m.coef_step, m.f32_scales, o, &m.cluster[c], &t_quant,
+              &t_lcps);
   // The decoder's reconstruction path on the quantised model.
   ts::reconstruct(m, &tr.recon);
   tr.sq = sq_error(base.in, tr.recon);
@@ -495,94 +501,90 @@ Prepared prepare(const Base& base, int k, const ts::Segmentation& seg, const Opt
   return p;
 }
 
-}  // namespace
-
-void TsCodec::check_params(const TransformParams& params) const {
-  parse_options(params);
-}
-
-void TsCodec::encode(const PositionsView& in, const TransformParams& params,
-                     std::vector<uint8_t>* out, std::vector<double>* recon) const {
-  encode_report(in, params, out, recon, nullptr);
-}
-
-void TsCodec::encode_report(const PositionsView& in, const TransformParams& params,
-                            std::vector<uint8_t>* out, std::vector<double>* recon,
-                            TsEncodeReport* report) const {
-  TsEncodeReport local;
-  TsEncodeReport* rep = report ? report : &local;
-  *rep = TsEncodeReport();
-  auto t_start = Clock::now();
-  const Options o = parse_options(params);
-  if (params.max_error < 0 || params.kg_error < 0 || !std::isfinite(params.max_error) ||
-      !std::isfinite(params.kg_error))
-    fail(ErrorCode::kInvalidParameter, "", "ts: error targets must be finite and >= 0");
-  Base base;
-  base.in = in;
-  base.dim = 3 * in.points;
-  const size_t nf = in.frames;
-
-  // Error budget: sum of squared errors over the valid samples.
+// Sums over a window's valid samples: their count, the squared distances from each frame's
+// centroid, and the squared diagonal of their bounding box (0 when there are none).
+struct WindowStats {
   size_t samples = 0;
   double centred = 0, diag2 = 0;
-  {
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (size_t f = 0; f < nf; ++f) {
-      double c[3] = {0, 0, 0};
-      size_t n = 0;
-      for (size_t p = 0; p < in.points; ++p) {
-        if (!in.valid[f * in.points + p]) continue;
-        for (int a = 0; a < 3; ++a) c[a] += in.xyz[(f * in.points + p) * 3 + a];
-        ++n;
-      }
-      if (n == 0) continue;
-      samples += n;
-      for (int a = 0; a < 3; ++a) c[a] /= static_cast<double>(n);
-      for (size_t p = 0; p < in.points; ++p) {
-        if (!in.valid[f * in.points + p]) continue;
-        for (int a = 0; a < 3; ++a) {
-          const double x = in.xyz[(f * in.points + p) * 3 + a];
-          centred += (x - c[a]) * (x - c[a]);
-          lo[a] = std::min(lo[a], x);
-          hi[a] = std::max(hi[a], x);
-        }
+};
+
+WindowStats window_stats(const PositionsView& in) {
+  WindowStats st;
+  const size_t nf = in.frames;
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (size_t f = 0; f < nf; ++f) {
+    double c[3] = {0, 0, 0};
+    size_t n = 0;
+    for (size_t p = 0; p < in.points; ++p) {
+      if (!in.valid[f * in.points + p]) continue;
+      for (int a = 0; a < 3; ++a) c[a] += in.xyz[(f * in.points + p) * 3 + a];
+      ++n;
+    }
+    if (n == 0) continue;
+    st.samples += n;
+    for (int a = 0; a < 3; ++a) c[a] /= static_cast<double>(n);
+    for (size_t p = 0; p < in.points; ++p) {
+      if (!in.valid[f * in.points + p]) continue;
+      for (int a = 0; a < 3; ++a) {
+        const double x = in.xyz[(f * in.points + p) * 3 + a];
+        st.centred += (x - c[a]) * (x - c[a]);
+        lo[a] = std::min(lo[a], x);
+        hi[a] = std::max(hi[a], x);
       }
     }
-    if (samples > 0)
-      for (int a = 0; a < 3; ++a) diag2 += (hi[a] - lo[a]) * (hi[a] - lo[a]);
   }
-  // With a max error the container's bound layer codes what the transform leaves, so ts aims
-  // its RMS at the bound (rms_per_bound); with only a KG target its reconstruction is the output.
+  if (st.samples > 0)
+    for (int a = 0; a < 3; ++a) st.diag2 += (hi[a] - lo[a]) * (hi[a] - lo[a]);
+  return st;
+}
+
+// Sets base->target_sq (the error budget: a sum of squared errors over the valid samples) and
+// rep->kg_target from the error targets.
+void set_target(const TransformParams& params, const Options& o, const WindowStats& st, Base* base,
+                TsEncodeReport* rep) {
   if (params.kg_error > 0 && params.max_error == 0) {
-    base.target_sq = (params.kg_error / 100) * (params.kg_error / 100) * centred;
+    base->target_sq = (params.kg_error / 100) * (params.kg_error / 100) * st.centred;
     rep->kg_target = params.kg_error;
   } else if (params.max_error > 0) {
     const double rms = o.rms_per_bound * params.max_error;
-    base.target_sq = 3.0 * static_cast<double>(samples) * rms * rms;
-    rep->kg_target = centred > 0 ? 100 * std::sqrt(base.target_sq / centred) : 0;
+    base->target_sq = 3.0 * static_cast<double>(st.samples) * rms * rms;
+    rep->kg_target = st.centred > 0 ? 100 * std::sqrt(base->target_sq / st.centred) : 0;
   } else {
-    base.target_sq = 1e-6 * centred;  // KG 0.1 %
+    base->target_sq = 1e-6 * st.centred;  // KG 0.1 %
     rep->kg_target = 0.1;
   }
-  if (!(base.target_sq > 0))
-    base.target_sq =
-        1e-20 * std::max(1.0, diag2) * static_cast<double>(std::max<size_t>(samples, 1));
+  if (!(base->target_sq > 0))
+    base->target_sq =
+        1e-20 * std::max(1.0, st.diag2) * static_cast<double>(std::max<size_t>(st.samples, 1));
+}
 
-  // Stage 1: alignment, its 6 parameters coded with LPC; the frames are aligned with the
-  // decoded parameters so that the decoder's inverse is exact.
+// Stage 1: copies the frames into base->aligned and, when alignment applies, codes their rigid
+// motion (6 parameters, LPC) and removes it with the decoded parameters, so that the decoder's
+// inverse is exact.
+void align_stage(const PositionsView& in, const Options& o, const WindowStats& st, Base* base,
+                 TsEncodeReport* rep) {
+  const size_t nf = in.frames;
   auto ta = Clock::now();
-  base.aligned.resize(static_cast<Eigen::Index>(base.dim), static_cast<Eigen::Index>(nf));
+  base->aligned.resize(static_cast<Eigen::Index>(base->dim), static_cast<Eigen::Index>(nf));
   for (size_t f = 0; f < nf; ++f)
-    std::copy(in.xyz + f * base.dim, in.xyz + (f + 1) * base.dim,
-              base.aligned.col(static_cast<Eigen::Index>(f)).data());
-  base.rigid = o.align && nf > 1 && in.points >= 3;
-  base.rms = std::sqrt(base.target_sq / (3.0 * static_cast<double>(std::max<size_t>(samples, 1))));
-  if (base.rigid)
-    base.rigid_code = code_rigid(in.valid, in.points, base.rms, std::sqrt(diag2), o.lpc_order,
-                                 &base.aligned, &base.rot_step, &base.trans_step);
+    std::copy(in.xyz + f * base->dim, in.xyz + (f + 1) * base->dim,
+              base->aligned.col(static_cast<Eigen::Index>(f)).data());
+  base->rigid = o.align && nf > 1 && in.points >= 3;
+  base->rms =
+      std::sqrt(base->target_sq / (3.0 * static_cast<double>(std::max<size_t>(st.samples, 1))));
+  if (base->rigid)
+    base->rigid_code = code_rigid(in.valid, in.points, base->rms, std::sqrt(st.diag2), o.lpc_order,
+                                  &base->aligned, &base->rot_step, &base->trans_step);
   rep->t_align = since(ta);
+}
 
-  // Stage 2..4 for each (segment count, cluster count) tried; the smallest payload wins.
+// Stages 2..4 for each (segment count, cluster count) tried: the trial with the smallest payload
+// that meets the target (else the one closest to it); the fallback model when no trial fits the
+// payload's int32 values, the empty model for an empty window.
+Trial search_models(const Base& base, const TransformParams& params, const Options& o,
+                    TsEncodeReport* rep) {
+  const PositionsView& in = base.in;
+  const size_t nf = in.frames;
   const int kmax = static_cast<int>(
       std::min<size_t>(static_cast<size_t>(o.max_clusters), std::max<size_t>(nf, 1)));
   const bool k_auto = params.clusters <= 0;  // auto (the default): K = 1..max_clusters
@@ -679,6 +681,11 @@ void TsCodec::encode_report(const PositionsView& in, const TransformParams& para
     ts::write_model(best.model, &bw);
     best.bytes = std::move(bw.buffer());
   }
+  return best;
+}
+
+// Fills the report's model description and achieved error from the chosen trial.
+void fill_report(const Trial& best, size_t nf, const WindowStats& st, TsEncodeReport* rep) {
   rep->clusters = best.model.clusters;
   rep->segments = best.model.segments;
   rep->pcs.clear();
@@ -694,9 +701,45 @@ void TsCodec::encode_report(const PositionsView& in, const TransformParams& para
       for (const auto& q : tc.basis) rep->basis_bits.push_back(q.bits);
     }
   }
-  rep->kg_error = centred > 0 ? 100 * std::sqrt(best.sq / centred) : 0;
+  rep->kg_error = st.centred > 0 ? 100 * std::sqrt(best.sq / st.centred) : 0;
   rep->bytes = best.bytes.size();
   rep->coef_step = best.model.coef_step;
+}
+
+}  // namespace
+
+void TsCodec::check_params(const TransformParams& params) const {
+  parse_options(params);
+}
+
+void TsCodec::encode(const PositionsView& in, const TransformParams& params,
+                     std::vector<uint8_t>* out, std::vector<double>* recon) const {
+  encode_report(in, params, out, recon, nullptr);
+}
+
+void TsCodec::encode_report(const PositionsView& in, const TransformParams& params,
+                            std::vector<uint8_t>* out, std::vector<double>* recon,
+                            TsEncodeReport* report) const {
+  TsEncodeReport local;
+  TsEncodeReport* rep = report ? report : &local;
+  *rep = TsEncodeReport();
+  auto t_start = Clock::now();
+  const Options o = parse_options(params);
+  if (params.max_error < 0 || params.kg_error < 0 || !std::isfinite(params.max_error) ||
+      !std::isfinite(params.kg_error))
+    fail(ErrorCode::kInvalidParameter, "", "ts: error targets must be finite and >= 0");
+  Base base;
+  base.in = in;
+  base.dim = 3 * in.points;
+  const size_t nf = in.frames;
+
+  // Error budget: sum of squared errors over the valid samples.
+  const WindowStats st = window_stats(in);
+  set_target(params, o, st, &base, rep);
+  // Stage 1: alignment.
+  align_stage(in, o, st, &base, rep);
+  Trial best = search_models(base, params, o, rep);
+  fill_report(best, nf, st, rep);
   out->insert(out->end(), best.bytes.begin(), best.bytes.end());
   *recon = std::move(best.recon);
   rep->t_total = since(t_start);

@@ -376,6 +376,71 @@ void write_model(const TsModel& m, ByteWriter* out) {
   out->bytes(e.finish());
 }
 
+// Reads one unit's header (PC count, LPC header of its first fragment, LCPS weight bits, basis
+// bits and scales); the counts are checked against the payload left.
+static void read_unit_header(ByteReader* in, size_t dim, size_t frames, bool f32_scales,
+                             TsCluster* tc) {
+  const uint64_t r = in->varint();
+  if (r > std::min<size_t>(dim, frames))
+    corrupt("a cluster has more PCs than frames or dimensions");
+  if (r > in->remaining() / (f32_scales ? 5 : 9)) corrupt("basis headers larger than the payload");
+  read_lpc_header(in, &tc->first, r, 0);
+  tc->lcps_weight_bits = in->u8();
+  if (tc->lcps_weight_bits > 30) corrupt("LCPS weight bits out of range");
+  tc->basis.resize(r);
+  for (auto& q : tc->basis) {
+    q.bits = in->u8();
+    if (q.bits < 2 || q.bits > 30) corrupt("basis bits out of 2..30");
+    q.scale = f32_scales ? static_cast<double>(in->f32()) : in->f64();
+    if (!std::isfinite(q.scale) || q.scale < 0) corrupt("basis scale is not a finite number >= 0");
+  }
+}
+
+// Reads unit body values: its quantised basis (np points; c is its cluster, for messages), its
+// first fragment's LPC values (l1 frames) and the LCPS frames of the rest (lc - l1 frames).
+static void read_unit_body(In* e, bool basis_predict, size_t c, size_t np, size_t lc, size_t l1,
+                           TsCluster* tc) {
+  const size_t dim_s = 3 * np;
+  const size_t r = tc->basis.size();
+  if (r > lc || r > dim_s)
+    corrupt("cluster " + std::to_string(c) + " has more PCs than frames or segment dimensions");
+  e->budget(r * dim_s);
+  std::vector<uint32_t> parents;
+  for (size_t j = 0; j < r; ++j) {
+    QuantisedVector& q = tc->basis[j];
+    const int64_t lim = (int64_t{1} << (q.bits - 1)) - 1;
+    q.q.resize(dim_s);
+    for (size_t i = 0; i < np; ++i)
+      for (int a = 0; a < 3; ++a) {
+        const int64_t x =
+            e->get(kBasis) + (basis_predict ? basis_prediction(q.q.data(), parents, i, a) : 0);
+        if (x < -lim || x > lim) corrupt("basis value outside its bit range");
+        q.q[3 * i + static_cast<size_t>(a)] = static_cast<int32_t>(x);
+      }
+    if (j == 0 && basis_predict) parents = spatial_parents(q.q, np);
+  }
+  tc->first.rows = r;
+  tc->first.length = l1;
+  read_lpc_body(&tc->first, kLpcValue, e);
+  const int ib = index_bits(l1);
+  e->budget(lc - l1);
+  tc->later.resize(lc - l1);
+  for (LcpsFrame& f : tc->later) {
+    const uint32_t k = e->get_unsigned(kLcpsCount);
+    if (k > l1) corrupt("LCPS uses more references than the first fragment has");
+    e->budget(2 * k + r);
+    f.index.resize(k);
+    for (auto& i : f.index) {
+      i = e->raw(ib);
+      if (i >= l1) corrupt("LCPS reference index out of range");
+    }
+    f.weight.resize(k);
+    for (auto& w : f.weight) w = static_cast<int32_t>(e->get(kLcpsWeight));
+    f.resid.resize(r);
+    for (auto& v : f.resid) v = e->get(kLcpsResid);
+  }
+}
+
 TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t points) {
   ByteReader in(data, size, kWhat);
   TsModel m;
@@ -425,24 +490,7 @@ TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t point
   const size_t units = static_cast<size_t>(m.clusters) * static_cast<size_t>(m.segments);
   if (units > in.remaining()) corrupt("cluster headers larger than the payload");
   m.cluster.resize(units);
-  for (TsCluster& tc : m.cluster) {
-    const uint64_t r = in.varint();
-    if (r > std::min<size_t>(dim, frames))
-      corrupt("a cluster has more PCs than frames or dimensions");
-    if (r > in.remaining() / (m.f32_scales ? 5 : 9))
-      corrupt("basis headers larger than the payload");
-    read_lpc_header(&in, &tc.first, r, 0);
-    tc.lcps_weight_bits = in.u8();
-    if (tc.lcps_weight_bits > 30) corrupt("LCPS weight bits out of range");
-    tc.basis.resize(r);
-    for (auto& q : tc.basis) {
-      q.bits = in.u8();
-      if (q.bits < 2 || q.bits > 30) corrupt("basis bits out of 2..30");
-      q.scale = m.f32_scales ? static_cast<double>(in.f32()) : in.f64();
-      if (!std::isfinite(q.scale) || q.scale < 0)
-        corrupt("basis scale is not a finite number >= 0");
-    }
-  }
+  for (TsCluster& tc : m.cluster) read_unit_header(&in, dim, frames, m.f32_scales, &tc);
   In e(data + in.offset(), in.remaining());
   e.budget(frames);
   m.label.assign(frames, 0);
@@ -466,47 +514,9 @@ TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t point
     const auto layout = cluster_layout(m.label, m.clusters);
     const auto members = segment_points_of(m);
     for (size_t u = 0; u < units; ++u) {
-      TsCluster& tc = m.cluster[u];
-      const size_t c = u % layout.size(), np = members[u / layout.size()].size(), dim_s = 3 * np;
-      const size_t lc = layout[c].frames.size(), l1 = layout[c].first_len;
-      const size_t r = tc.basis.size();
-      if (r > lc || r > dim_s)
-        corrupt("cluster " + std::to_string(c) + " has more PCs than frames or segment dimensions");
-      e.budget(r * dim_s);
-      std::vector<uint32_t> parents;
-      for (size_t j = 0; j < r; ++j) {
-        QuantisedVector& q = tc.basis[j];
-        const int64_t lim = (int64_t{1} << (q.bits - 1)) - 1;
-        q.q.resize(dim_s);
-        for (size_t i = 0; i < np; ++i)
-          for (int a = 0; a < 3; ++a) {
-            const int64_t x =
-                e.get(kBasis) + (m.basis_predict ? basis_prediction(q.q.data(), parents, i, a) : 0);
-            if (x < -lim || x > lim) corrupt("basis value outside its bit range");
-            q.q[3 * i + static_cast<size_t>(a)] = static_cast<int32_t>(x);
-          }
-        if (j == 0 && m.basis_predict) parents = spatial_parents(q.q, np);
-      }
-      tc.first.rows = r;
-      tc.first.length = l1;
-      read_lpc_body(&tc.first, kLpcValue, &e);
-      const int ib = index_bits(l1);
-      e.budget(lc - l1);
-      tc.later.resize(lc - l1);
-      for (LcpsFrame& f : tc.later) {
-        const uint32_t k = e.get_unsigned(kLcpsCount);
-        if (k > l1) corrupt("LCPS uses more references than the first fragment has");
-        e.budget(2 * k + r);
-        f.index.resize(k);
-        for (auto& i : f.index) {
-          i = e.raw(ib);
-          if (i >= l1) corrupt("LCPS reference index out of range");
-        }
-        f.weight.resize(k);
-        for (auto& w : f.weight) w = static_cast<int32_t>(e.get(kLcpsWeight));
-        f.resid.resize(r);
-        for (auto& v : f.resid) v = e.get(kLcpsResid);
-      }
+      const size_t c = u % layout.size(), np = members[u / layout.size()].size();
+      read_unit_body(&e, m.basis_predict, c, np, layout[c].frames.size(), layout[c].first_len,
+                     &m.cluster[u]);
     }
   }
   if (!e.at_end()) corrupt("bytes left after the last value");
