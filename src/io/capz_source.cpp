@@ -34,11 +34,13 @@ void CapzSource::read(size_t first, size_t count, FrameBlock* out) {
     decode(w);
     const size_t lo = f - win_.first, hi = std::min(win_.frames, first + count - win_.first);
     const size_t o = f - first, n = hi - lo;
-    std::copy_n(&win_.xyz[lo * N * 3], n * N * 3, &out->xyz[o * N * 3]);
-    std::copy_n(&win_.valid[lo * N], n * N, &out->valid[o * N]);
+    // Through data(): a take may have no points (rotations only), and element access into an
+    // empty vector is undefined even for a copy of nothing.
+    std::copy_n(win_.xyz.data() + lo * N * 3, n * N * 3, out->xyz.data() + o * N * 3);
+    std::copy_n(win_.valid.data() + lo * N, n * N, out->valid.data() + o * N);
     if (ps_.words) {
-      std::copy_n(&win_.residual[lo * N], n * N, &out->residual[o * N]);
-      std::copy_n(&win_.camera_mask[lo * N], n * N, &out->camera_mask[o * N]);
+      std::copy_n(win_.residual.data() + lo * N, n * N, out->residual.data() + o * N);
+      std::copy_n(win_.camera_mask.data() + lo * N, n * N, out->camera_mask.data() + o * N);
     }
     std::copy_n(win_.analog.data() + lo * A, n * A, out->analog.data() + o * A);
     std::copy_n(win_.rotation_matrices.data() + lo * R * 16, n * R * 16,
