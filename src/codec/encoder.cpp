@@ -19,7 +19,6 @@
 #include "codec/transform_output.h"
 #include "codec/window_error.h"
 #include "coding/analog/analog_codec.h"
-#include "coding/analog_v3.h"
 #include "coding/bytes.h"
 #include "coding/c3d_words.h"
 #include "coding/container.h"

@@ -7,7 +7,6 @@
 #include <limits>
 
 #include "capz/error.h"
-#include "coding/analog_v3.h"
 #include "coding/c3d_words.h"
 
 namespace capz {
@@ -66,7 +65,6 @@ TakeScan start_scan(const Take& hdr, const CompressOptions& opts) {
   s.candidates = lossless_candidates(hdr, opts.lossless);
   s.exact.assign(s.candidates.size(), 1);
   s.words_on_grid = hdr.c3d && hdr.c3d->point_scale > 0;
-  s.kinds.assign(static_cast<size_t>(std::max(0, hdr.analog.channels)), 0);
   s.kg = !opts.lossless && opts.kg_error > 0;
   s.lossless = opts.lossless;
   return s;
@@ -144,9 +142,6 @@ void scan_block(const FrameBlock& b, const std::string& src, bool words, double 
             s->centred_sq += (fx[p * 3 + a] - c[a]) * (fx[p * 3 + a] - c[a]);
     }
   }
-  if (!s->kinds.empty())
-    update_analog_kinds(b.analog.data(), b.analog.size(), static_cast<int>(s->kinds.size()),
-                        &s->kinds);
 }
 
 Grid lossless_grid(const TakeScan& s) {

@@ -26,7 +26,6 @@ struct TakeScan {
   bool lossless = false;         // a lossless target: all_float32 is tracked
   bool all_float32 = true;       // every valid coordinate is a float32 value
   bool words_on_grid = false;    // C3D residual words are point_scale multiples
-  std::vector<uint8_t> kinds;    // analog channel kinds (coding/analog_v3.h)
   bool kg = false;               // accumulate centred_sq
   double centred_sq = 0;         // sum of squared distances to each frame's centroid
   // With kg: the valid coordinates in take order, for the grid search, while they number at

@@ -45,15 +45,7 @@ std::vector<uint8_t> tout_stream(const Take& t) {
   return compress(t, o);
 }
 
-std::string decode_error(const std::vector<uint8_t>& b) {
-  try {
-    decompress(b.data(), b.size(), "crafted");
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << e.what();
-    return e.what();
-  }
-  return "";
-}
+using capz_test::decode_error;
 
 TEST(TransformOutput, GivenKgTargetAndTsThenStreamIsTransformOutputAndMeetsTarget) {
   const Take t = smooth_take(30, 40);

@@ -181,6 +181,8 @@ TEST_P(RotationsRoundTrip, TheWholeTakeSinkCollectsTheBlocksRotations) {
 
 INSTANTIATE_TEST_SUITE_P(Points, RotationsRoundTrip, ::testing::Values(size_t{0}, size_t{4}));
 
+using capz_test::decode_error;
+
 TEST(RotationsRoundTrip, ATakeWithoutRotationsHasNoRotationChunks) {
   Take t;
   t.resize(20, 2);
@@ -206,16 +208,6 @@ TEST(RotationsRoundTrip, MismatchedRotationArraysAreRefused) {
 }
 
 // ---- damaged ROTW chunks (CRCs and INDX made valid again, so only the change is wrong) -------
-
-std::string decode_error(const std::vector<uint8_t>& b) {
-  try {
-    decompress(b.data(), b.size(), "crafted");
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << e.what();
-    return e.what();
-  }
-  return "";
-}
 
 TEST(RotationsCorrupt, DamagedRotwChunksAreCorrupt) {
   capz_test::TempDir tmp("capz_rot_corrupt");

@@ -2,10 +2,14 @@
 // with valid CRCs and a recomputed INDX, so a test changes one thing and only that is wrong.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "capz/codec.h"
+#include "capz/error.h"
 #include "coding/bytes.h"
 #include "coding/container.h"
 #include "coding/crc32c.h"
@@ -64,6 +68,18 @@ inline std::vector<uint8_t> assemble(const std::vector<uint8_t>& original, std::
   ix.u32(len);
   put({"INDX", ix.buffer()});
   return out;
+}
+
+// The message of decompress()'s error on a crafted stream, which must be kCorrupt ("" when
+// it decodes).
+inline std::string decode_error(const std::vector<uint8_t>& b) {
+  try {
+    capz::decompress(b.data(), b.size(), "crafted");
+  } catch (const capz::Error& e) {
+    EXPECT_EQ(e.code(), capz::ErrorCode::kCorrupt) << e.what();
+    return e.what();
+  }
+  return "";
 }
 
 }  // namespace capz_test
