@@ -32,6 +32,8 @@ struct FrameBlock {
   // The frames' rotation samples (Rotations in take.h), bit for bit; empty without rotations:
   std::vector<float> rotation_matrices;     // (frames * R) x segments x 16
   std::vector<float> rotation_reliability;  // (frames * R) x segments
+  // Per Take::attributes entry, the frames' bytes: frames x points x count x size (take.h).
+  std::vector<std::vector<uint8_t>> attributes;
 
   // Sizes every array for `frames` x `points` (gaps, zeros); words: with residual/camera arrays;
   // rotations_per_frame: R x segments (0 without rotations).

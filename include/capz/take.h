@@ -134,10 +134,39 @@ struct TRCExtra {
   int time_decimals = -1;              // most decimals seen in the Time column; -1 unknown
 };
 
+// One per-point attribute channel: a field of the source other than x y z (a PCD field:
+// colour, intensity, normals, labels, ring, time, descriptors), one value (or `count` values)
+// per point and frame. data holds frames x points x count elements of `size` bytes each,
+// data[((f * points + p) * count + k) * size + b], little-endian, exactly the bytes the file
+// holds (float NaN payloads and PCL's packed "rgb" float kept bit for bit).
+struct PointAttribute {
+  std::string name;  // as the source spells it ("rgb", "normal_x", "_" for padding)
+  char type = 'F';   // 'F' float, 'U' unsigned integer, 'I' signed integer
+  int size = 4;      // bytes per element: 1, 2, 4 or 8 (F: 4 or 8)
+  int count = 1;     // elements per point (PCD COUNT), >= 1
+  std::vector<uint8_t> data;
+
+  size_t bytes_per_point() const { return static_cast<size_t>(size) * static_cast<size_t>(count); }
+};
+
+// One field of a PCD frame's layout, x y z included.
+struct PCDField {
+  std::string name;
+  char type = 'F';
+  int size = 4;
+  int count = 1;
+};
+
 // PCD folder specifics.
 struct PCDExtra {
   std::vector<std::string> frame_names;  // file names in natural-sort order, one per frame
   std::string encoding = "binary";       // "ascii", "binary" or "binary_compressed" (first file)
+  std::string version = "0.7";           // the VERSION line's value
+  // Every field in the file's order, x y z included; empty means "x y z", F, 4 bytes each.
+  std::vector<PCDField> fields;
+  size_t width = 0;               // WIDTH; 0: points (unorganized)
+  size_t height = 1;              // HEIGHT; > 1: an organized cloud, width x height = points
+  std::vector<double> viewpoint;  // VIEWPOINT's 7 values (tx ty tz qw qx qy qz); empty: default
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -156,8 +185,10 @@ struct Take {
   std::vector<std::string> labels;  // one per point (may be empty strings)
   std::vector<std::string> descriptions;  // one per point or empty
 
-  Analog analog;                  // channels == 0 when none
-  Rotations rotations;            // segments == 0 when none
+  Analog analog;        // channels == 0 when none
+  Rotations rotations;  // segments == 0 when none
+  // Per-point attribute channels in the source's field order (x y z are xyz); empty when none.
+  std::vector<PointAttribute> attributes;
   std::shared_ptr<C3DExtra> c3d;  // set when read from C3D
   std::shared_ptr<TRCExtra> trc;  // set when read from TRC
   std::shared_ptr<PCDExtra> pcd;  // set when read from a PCD folder
