@@ -131,7 +131,7 @@ class Encoder {
         tuning_(tuning),
         out_(out),
         plan_(resolve(source, opts, allow_tout)),
-        residue_(ResidueWriter::open(source, opts.lossless, opts.check)) {}
+        residue_(ResidueWriter::open(source, opts.check)) {}
 
   void run(CompressStats* stats) {
     if (plan_.analog) hints_ = analog_hints(take_);
@@ -225,7 +225,7 @@ class Encoder {
     append_chunk(&buf, "HEAD", encode_header(h));
     const size_t meta_at = buf.size();
     append_chunk(&buf, "META", encode_meta(take_, plan_.words));
-    if (residue_) residue_->file_chunks(&buf);
+    if (residue_) residue_->file_chunks(&buf, g_.lossless);
     if (opts_.check) {
       Promise p;
       p.kind = plan_.tout    ? Promise::Kind::kKgTarget

@@ -108,7 +108,8 @@ void rebuild(const std::string& path, const Write& write) {
   std::vector<uint8_t> bytes;
   for (size_t w = 0, f0 = 0; f0 < t.frames; ++w, f0 += W) {
     src.read(f0, W, &block);
-    const std::vector<uint8_t> p = ps.h.lossless
+    // C3DP: at every target from 5.0 on (a 4.0 stream has it when lossless only); TRCP: lossless.
+    const std::vector<uint8_t> p = r.c3d || ps.h.lossless
                                        ? window_payload(*raw, ps, w, r.c3d ? "C3DP" : "TRCP", path)
                                        : std::vector<uint8_t>();
     bytes.clear();

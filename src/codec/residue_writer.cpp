@@ -9,16 +9,15 @@
 
 namespace capz {
 
-std::unique_ptr<ResidueWriter> ResidueWriter::open(const FrameSource& source, bool lossless,
-                                                   bool check) {
+std::unique_ptr<ResidueWriter> ResidueWriter::open(const FrameSource& source, bool check) {
   const std::string path = source.original_file();
   const Format f = source.header().format;
   if (path.empty() || (f != Format::kC3D && f != Format::kTRC)) return nullptr;
-  return std::unique_ptr<ResidueWriter>(new ResidueWriter(path, source.header(), lossless, check));
+  return std::unique_ptr<ResidueWriter>(new ResidueWriter(path, source.header(), check));
 }
 
-ResidueWriter::ResidueWriter(const std::string& path, const Take& header, bool lossless, bool check)
-    : path_(path), header_(header), lossless_(lossless), check_(check && lossless) {
+ResidueWriter::ResidueWriter(const std::string& path, const Take& header, bool check)
+    : path_(path), header_(header), check_(check) {
   hash_ = hash128_file(path);
   if (header.format == Format::kC3D)
     c3d_.reset(new residue::C3DResidueEncoder(path));
@@ -28,7 +27,9 @@ ResidueWriter::ResidueWriter(const std::string& path, const Take& header, bool l
 
 ResidueWriter::~ResidueWriter() = default;
 
-void ResidueWriter::file_chunks(std::vector<uint8_t>* buf) {
+void ResidueWriter::file_chunks(std::vector<uint8_t>* buf, bool exact) {
+  exact_ = exact;
+  check_ = check_ && exact;
   const size_t before = buf->size();
   orig_.reset(new InputFile(path_));
   size_ = orig_->size();
@@ -59,8 +60,8 @@ void ResidueWriter::file_chunks(std::vector<uint8_t>* buf) {
 
 void ResidueWriter::window_chunk(size_t w, const FrameBlock& block, const FrameBlock* back,
                                  std::vector<uint8_t>* buf) {
-  if (!lossless_) return;
-  const std::vector<uint8_t> payload = c3d_ ? c3d_->window(block) : trc_->window(block);
+  if (trc_ && !exact_) return;
+  const std::vector<uint8_t> payload = c3d_ ? c3d_->window(block, exact_) : trc_->window(block);
   const size_t before = buf->size();
   if (trc_ || !payload.empty()) {
     ByteWriter b;

@@ -1,9 +1,10 @@
 // The encoder's side of byte-exact archives (docs/FORMAT.md 4.4): for a source read from an
 // original C3D or TRC file, the HASH chunk (size and XXH3-128 of the file), the file-level
-// residue (C3DR / TRCR) and, at --lossless, each window's residue (C3DP / TRCP). With the
-// self-check it rebuilds the original window by window, as the decoder will, from the frames
-// the archive gives back, compares each window's bytes with the file's and, at the end, the
-// rebuilt size and hash with the original's. Memory: one window of the original.
+// residue (C3DR / TRCR) and each window's residue: C3DP at every target, TRCP when the stream is
+// lossless. With the self-check of a lossless stream it rebuilds the original window by window,
+// as the decoder will, from the frames the archive gives back, compares each window's bytes with
+// the file's and, at the end, the rebuilt size and hash with the original's. Memory: one window
+// of the original.
 #pragma once
 
 #include <cstddef>
@@ -23,18 +24,20 @@ namespace capz {
 class ResidueWriter {
  public:
   // nullptr unless the source reads an original C3D or TRC file (FrameSource::original_file).
-  static std::unique_ptr<ResidueWriter> open(const FrameSource& source, bool lossless, bool check);
-  ResidueWriter(const std::string& path, const Take& header, bool lossless, bool check);
+  static std::unique_ptr<ResidueWriter> open(const FrameSource& source, bool check);
+  ResidueWriter(const std::string& path, const Take& header, bool check);
   ~ResidueWriter();
 
-  // Appends HASH and C3DR or TRCR (after META).
-  void file_chunks(std::vector<uint8_t>* buf);
-  // At --lossless: appends window w's residue chunk for `block` (the frames as read), C3DP left
-  // out when empty. With the check, `back` (the frames the archive gives back for the window)
-  // rebuilds the window's bytes, which must equal the original's. Throws Error(kInternal).
+  // Appends HASH and C3DR or TRCR (after META). `exact`: the stream is lossless (HEAD flag bit
+  // 0), whatever target gave it (a bound coarser than an int16 C3D's step gives it too).
+  void file_chunks(std::vector<uint8_t>* buf, bool exact);
+  // Appends window w's residue chunk for `block` (the frames as read): C3DP at every target,
+  // left out when empty; TRCP when exact. With the check of an exact stream, `back` (the frames
+  // the archive gives back for the window) rebuilds the window's bytes, which must equal the
+  // original's. Throws Error(kInternal).
   void window_chunk(size_t w, const FrameBlock& block, const FrameBlock* back,
                     std::vector<uint8_t>* buf);
-  // With the check at --lossless: the rebuilt file's size and hash equal the original's.
+  // With the check of an exact stream: the rebuilt file's size and hash equal the original's.
   void finish();
   // Bytes of the chunks written so far: all, and HASH + C3DR/TRCR alone.
   size_t bytes() const { return bytes_; }
@@ -46,7 +49,7 @@ class ResidueWriter {
 
   std::string path_;
   const Take& header_;
-  bool lossless_, check_;
+  bool exact_ = false, check_;
   uint64_t size_ = 0;
   Digest128 hash_{};
   std::unique_ptr<residue::C3DResidueEncoder> c3d_;

@@ -430,7 +430,12 @@ void encode_c3d_frames(const C3DFilePlan& plan, size_t count, const double* xyz,
           for (int a = 0; a < 3; ++a) {
             const long q = lround_fast(c[a] / scale);
             fit = fit && q >= -32768 && q <= 32767;  // = fits_int16(c[a], scale)
-            put_u16le(static_cast<uint16_t>(static_cast<int16_t>(q)), d + 2 * a);
+            // Out of range only at a bound (a value at the int16 limit decoded a count beyond
+            // it): clamped, never wrapped. The original was in range, so the clamped value lies
+            // between it and the decoded one and stays within the bound. The writer rewrites
+            // the file as float then (points_fit); a rebuild keeps the original's int16 form.
+            const long qc = std::min(32767L, std::max(-32768L, q));
+            put_u16le(static_cast<uint16_t>(static_cast<int16_t>(qc)), d + 2 * a);
           }
           put_u16le(static_cast<uint16_t>(word4), d + 6);
         } else {

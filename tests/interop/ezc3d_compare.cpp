@@ -104,8 +104,10 @@ void compare_points(const EzTake& a, const EzTake& b, double bound, Diffs* d) {
                              std::to_string(b.residual[i]));
     for (int k = 0; k < 3; ++k) {
       const double x = a.xyz[3 * i + k], y = b.xyz[3 * i + k];
-      if (bound == 0 ? same_bits(x, y) : std::fabs(x - y) <= bound + float_step(x)) {
-        d->max_point_error = std::max(d->max_point_error, std::fabs(x - y));
+      if (bound == 0
+              ? same_bits(x, y)
+              : std::fabs(x - y) <= bound + float_step(x) || (std::isnan(x) && std::isnan(y))) {
+        if (!std::isnan(x)) d->max_point_error = std::max(d->max_point_error, std::fabs(x - y));
         continue;
       }
       d->max_point_error = std::isnan(x - y) ? NAN : std::max(d->max_point_error, std::fabs(x - y));

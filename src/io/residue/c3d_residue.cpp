@@ -84,6 +84,18 @@ void check_block(const C3DFrameLayout& lay, const FrameBlock& b, const std::stri
              " frames x " + std::to_string(lay.points) + " points");
 }
 
+// True when the 4th word of the sample at `q` (the file's bytes, processor form) has its sign
+// bit set: a sample every reader takes as absent. Intel and DEC store an int16 little-endian;
+// an IEEE float (Intel) has its sign in its last byte, a VAX F float (DEC) in bit 15 of its first
+// little-endian 16-bit word; MIPS is big-endian.
+bool word4_negative(const C3DFrameLayout& lay, const uint8_t* q) {
+  const size_t elem = elem_size(lay);
+  const uint8_t* w = q + 3 * elem;
+  if (lay.processor == c3d::kMips) return (w[0] & 0x80) != 0;
+  if (elem == 2 || lay.processor == c3d::kDec) return (w[1] & 0x80) != 0;
+  return (w[3] & 0x80) != 0;
+}
+
 }  // namespace
 
 void regenerate_c3d_frames(const C3DFrameLayout& lay, const FrameBlock& b, uint8_t* out) {
@@ -138,13 +150,22 @@ C3DResidueEncoder::C3DResidueEncoder(const std::string& path) : in_(path) {
   lay_.tail_size = size - lay_.head_size - lay_.frames * lay_.per_frame;
 }
 
-std::vector<uint8_t> C3DResidueEncoder::window(const FrameBlock& block) {
+std::vector<uint8_t> C3DResidueEncoder::window(const FrameBlock& block, bool exact) {
   check_block(lay_, block, in_.path());
   const size_t n = block.frames * lay_.per_frame;
   regen_.resize(n);
   orig_.resize(n);
   regenerate_c3d_frames(lay_, block, regen_.data());
   in_.read_at(lay_.head_size + block.first * lay_.per_frame, orig_.data(), n);
+  if (!exact) {  // at a bound: absent samples' coordinates are not kept
+    const size_t elem = elem_size(lay_);
+    for (size_t f = 0; f < block.frames; ++f)
+      for (size_t p = 0; p < lay_.points; ++p) {
+        const size_t at = f * lay_.per_frame + p * 4 * elem;
+        if (!block.valid[f * lay_.points + p] && word4_negative(lay_, &orig_[at]))
+          std::copy_n(&regen_[at], 3 * elem, &orig_[at]);
+      }
+  }
   std::vector<uint8_t> patch = diff_bytes(regen_.data(), orig_.data(), n);
   if (patch.empty()) return {};
   ByteWriter out;

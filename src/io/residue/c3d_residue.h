@@ -58,8 +58,10 @@ class C3DResidueEncoder {
   const C3DFrameLayout& layout() const { return lay_; }
   // The per-window payload for the frames of `block` (as open_c3d_frames() reads them, or as a
   // lossless decode gives them back); empty when regeneration gets every byte right. Blocks may
-  // come in any order.
-  std::vector<uint8_t> window(const FrameBlock& block);
+  // come in any order. `exact` false (an archive at a bound): the coordinates of samples that
+  // are gaps in the take and whose 4th word in the file is negative (absent to every reader)
+  // are left as regenerated, not patched (docs/FORMAT.md 4.4.3.3).
+  std::vector<uint8_t> window(const FrameBlock& block, bool exact = true);
   // The file-level payload: layout, head and tail. `groups` (the parameter section as the Take
   // holds it) serve as zstd's prefix dictionary; the decoder must be given the same ones.
   std::vector<uint8_t> file_part(const std::vector<C3DGroup>& groups);
