@@ -13,20 +13,23 @@ struct OriginalInfo {
   std::string hash_hex;  // 32 hex digits (hashed only)
   bool residue = false;  // and a file-level residue (C3DR or TRCR)
   bool exact = false;    // and lossless: the original comes back byte for byte, hash checked
+  // and a per-window residue at any target (format 5.0 on): at a bound everything but the
+  // coordinates comes back as the file holds it (a 4.0 archive has it for C3D only)
+  bool windows_at_bound = false;
 };
 
 // Reads HEAD, META and the file-level chunks of `capz_path`. Throws capz::Error.
 OriginalInfo original_info(const std::string& capz_path);
 
 // True when rebuild_original can write the original's own format from this archive: a residue,
-// and lossless or a C3D (a TRC at a bound goes through the normal writer).
+// and lossless, a C3D, or a 5.0 archive (a 4.0 TRC at a bound goes through the normal writer).
 bool can_rebuild(const OriginalInfo& info, bool c3d);
 
 // Rebuilds the original file from `capz_path` into `out` (written atomically, window by window):
 // lossless, byte for byte with the size and hash checked before the output is renamed into
-// place; at a bound (C3D only), the original head and tail around frames regenerated from the
-// decoded coordinates, the size checked. A mismatch is Error(kCorrupt) naming the archive, and
-// no output is left.
+// place; at a bound, the original head and tail around frames regenerated from the decoded
+// coordinates (a C3D: its size checked; a TRC: coordinates printed with the source's decimals). A
+// mismatch is Error(kCorrupt) naming the archive, and no output is left.
 void rebuild_original(const std::string& capz_path, const std::string& out, bool overwrite);
 
 // The same rebuild, written nowhere: checks size and hash (lossless) or size (bound).

@@ -25,11 +25,11 @@ Version library_version();
 const char* version_string();
 
 // The .capz version every stream is written in.
-constexpr FormatVersion kFormatWritten{4, 0};
+constexpr FormatVersion kFormatWritten{5, 0};
 // The versions read: every one from kFormatOldestRead to kFormatNewestRead, and any later
 // minor version of kFormatNewestRead's major (minor versions only add what older decoders skip;
 // FORMAT.md 2). A later major version is refused (Error kUnsupportedVersion).
 constexpr FormatVersion kFormatOldestRead{1, 0};
-constexpr FormatVersion kFormatNewestRead{4, 0};
+constexpr FormatVersion kFormatNewestRead{5, 0};
 
 }  // namespace capz

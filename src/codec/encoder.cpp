@@ -121,6 +121,13 @@ struct EncodedWindow {
   std::vector<uint8_t> buf;  // the window's chunks, as they go into the stream
 };
 
+// Half a unit of the last decimal a TRC source printed its coordinates with (a hair more, for
+// the double arithmetic): what the TRC writer's rounding may add; 0 for other sources.
+double trc_print_room(const Take& t) {
+  if (t.format != Format::kTRC || !t.trc || t.trc->decimals < 0) return 0;
+  return 0.5 * std::pow(10.0, -t.trc->decimals) * (1.0 + 0x1p-20);
+}
+
 class Encoder {
  public:
   Encoder(FrameSource& source, const CompressOptions& opts, const EncoderTuning& tuning,
@@ -183,7 +190,15 @@ class Encoder {
       g_ = kg_grid(source_, scan_, opts_.kg_error, plan_.W, &block_);
       std::vector<double>().swap(scan_.kg_coords);  // not needed by the coding pass
     } else if (opts_.max_error > 0 && std::isfinite(opts_.max_error)) {
-      g_ = bounded_grid(take_, scan_, opts_.max_error);
+      // A TRC written back prints each coordinate rounded to the source's decimals (the TRC
+      // writer), which moves it by up to half a unit of the last decimal: the grid keeps that
+      // room so the written file holds the bound too. A bound within that room is below the
+      // file's own precision: the file's decimal grid (lossless) is the only output within it.
+      const double room = trc_print_room(take_);
+      if (room > 0 && opts_.max_error <= room)
+        g_ = lossless_grid(scan_);
+      else
+        g_ = bounded_grid(take_, scan_, opts_.max_error - room);
     } else {
       fail(ErrorCode::kInvalidParameter, take_.source,
            "no error target: give a positive max error, a KG error target, or lossless");

@@ -50,6 +50,7 @@ Record read_record(StreamBytes& b, const ParsedStream& ps, const std::string& na
     r.file_part = chunk_payload(b, ps, type, name);
     r.info.residue = true;
     r.info.exact = ps.h.lossless;
+    r.info.windows_at_bound = ps.major >= 5;
   }
   return r;
 }
@@ -108,22 +109,21 @@ void rebuild(const std::string& path, const Write& write) {
   std::vector<uint8_t> bytes;
   for (size_t w = 0, f0 = 0; f0 < t.frames; ++w, f0 += W) {
     src.read(f0, W, &block);
-    // C3DP: at every target from 5.0 on (a 4.0 stream has it when lossless only); TRCP: lossless.
-    const std::vector<uint8_t> p = r.c3d || ps.h.lossless
-                                       ? window_payload(*raw, ps, w, r.c3d ? "C3DP" : "TRCP", path)
-                                       : std::vector<uint8_t>();
+    // At every target from 5.0 on (a 4.0 stream has them when lossless only).
+    const std::vector<uint8_t> p = window_payload(*raw, ps, w, r.c3d ? "C3DP" : "TRCP", path);
     bytes.clear();
     if (c3d)
       c3d->window(block, p.data(), p.size(), &bytes);
     else
-      trc->window(block, p.data(), p.size(), &bytes);
+      trc->window(block, p.data(), p.size(), &bytes, ps.h.lossless);
     out(bytes.data(), bytes.size());
   }
   if (c3d)
     out(c3d->tail().data(), c3d->tail().size());
   else
     trc->finish();
-  if (n != r.info.size)
+  // A TRC at a bound prints its own coordinates: its size is its own.
+  if ((r.c3d || r.info.exact) && n != r.info.size)
     fail(ErrorCode::kCorrupt, path,
          "the rebuilt original has " + std::to_string(n) + " bytes, the archive records " +
              std::to_string(r.info.size));
@@ -142,7 +142,7 @@ OriginalInfo original_info(const std::string& capz_path) {
 }
 
 bool can_rebuild(const OriginalInfo& info, bool c3d) {
-  return info.hashed && info.residue && (info.exact || c3d);
+  return info.hashed && info.residue && (info.exact || c3d || info.windows_at_bound);
 }
 
 void rebuild_original(const std::string& capz_path, const std::string& out, bool overwrite) {

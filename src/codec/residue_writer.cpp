@@ -60,8 +60,8 @@ void ResidueWriter::file_chunks(std::vector<uint8_t>* buf, bool exact) {
 
 void ResidueWriter::window_chunk(size_t w, const FrameBlock& block, const FrameBlock* back,
                                  std::vector<uint8_t>* buf) {
-  if (trc_ && !exact_) return;
-  const std::vector<uint8_t> payload = c3d_ ? c3d_->window(block, exact_) : trc_->window(block);
+  const std::vector<uint8_t> payload =
+      c3d_ ? c3d_->window(block, exact_) : trc_->window(block, exact_);
   const size_t before = buf->size();
   if (trc_ || !payload.empty()) {
     ByteWriter b;

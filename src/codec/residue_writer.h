@@ -1,10 +1,9 @@
 // The encoder's side of byte-exact archives (docs/FORMAT.md 4.4): for a source read from an
 // original C3D or TRC file, the HASH chunk (size and XXH3-128 of the file), the file-level
-// residue (C3DR / TRCR) and each window's residue: C3DP at every target, TRCP when the stream is
-// lossless. With the self-check of a lossless stream it rebuilds the original window by window,
-// as the decoder will, from the frames the archive gives back, compares each window's bytes with
-// the file's and, at the end, the rebuilt size and hash with the original's. Memory: one window
-// of the original.
+// residue (C3DR / TRCR) and each window's residue (C3DP / TRCP) at every target. With the
+// self-check of a lossless stream it rebuilds the original window by window, as the decoder will,
+// from the frames the archive gives back, compares each window's bytes with the file's and, at the
+// end, the rebuilt size and hash with the original's. Memory: one window of the original.
 #pragma once
 
 #include <cstddef>
@@ -31,8 +30,8 @@ class ResidueWriter {
   // Appends HASH and C3DR or TRCR (after META). `exact`: the stream is lossless (HEAD flag bit
   // 0), whatever target gave it (a bound coarser than an int16 C3D's step gives it too).
   void file_chunks(std::vector<uint8_t>* buf, bool exact);
-  // Appends window w's residue chunk for `block` (the frames as read): C3DP at every target,
-  // left out when empty; TRCP when exact. With the check of an exact stream, `back` (the frames
+  // Appends window w's residue chunk for `block` (the frames as read): C3DP (left out when empty)
+  // or TRCP, at every target. With the check of an exact stream, `back` (the frames
   // the archive gives back for the window) rebuilds the window's bytes, which must equal the
   // original's. Throws Error(kInternal).
   void window_chunk(size_t w, const FrameBlock& block, const FrameBlock* back,

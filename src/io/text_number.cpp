@@ -3,6 +3,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 namespace capz {
@@ -35,6 +36,19 @@ std::string format_decimal(double v, int min_decimals) {
     if (have < min_decimals) s.append(static_cast<size_t>(min_decimals - have), '0');
   }
   return s;
+}
+
+std::string format_decimal_rounded(double v, int decimals) {
+  std::string s = format_decimal(v, decimals);
+  if (decimals < 0) return s;
+  const size_t dot = s.find('.');
+  if (dot == std::string::npos || s.find('e') != std::string::npos ||
+      static_cast<int>(s.size() - dot - 1) <= decimals)
+    return s;
+  char buf[64];
+  const int n = std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return n > 0 && static_cast<size_t>(n) < sizeof buf ? std::string(buf, static_cast<size_t>(n))
+                                                      : s;
 }
 
 }  // namespace capz

@@ -15,4 +15,10 @@ bool parse_double(const std::string& s, double* out);
 // Values whose fixed form would exceed 40 characters use exponent form; NaN gives "NaN".
 std::string format_decimal(double v, int min_decimals);
 
+// format_decimal(v, decimals) when that text has at most `decimals` digits after the point (every
+// value a text with `decimals` decimals gave), else `v` correctly rounded to `decimals` decimals
+// (`%.*f`): the coordinates of a take decoded at a bound, printed as the source printed its
+// own. decimals < 0: format_decimal(v, 0).
+std::string format_decimal_rounded(double v, int decimals);
+
 }  // namespace capz

@@ -636,7 +636,7 @@ void append_rows(const Take& take, size_t first, size_t count, const double* xyz
       const double* v = xyz + (k * N + p) * 3;
       for (int a = 0; a < 3; ++a) {
         s += '\t';
-        s += format_decimal(v[a], dec);
+        s += format_decimal_rounded(v[a], dec);  // = format_decimal(v[a], dec) when lossless
       }
     }
     // A closing tab, as OpenSim writes: its reader drops an empty last field, so a row ending

@@ -77,11 +77,16 @@ K mode(const std::map<K, size_t>& counts, K fallback) {
   return fallback;
 }
 
-// The fields the model predicts for row k of `b` (frame b.first + k of `t`).
+// The fields the model predicts for row k of `b` (frame b.first + k of `t`). `exact` false (an
+// archive at a bound): coordinates are printed rounded to the take's TRC decimals.
 void predict(const RowModel& m, const Take& t, const FrameBlock& b, size_t k,
-             std::vector<std::string>* out) {
+             std::vector<std::string>* out, bool exact = true) {
   const size_t r = b.first + k, N = b.points;
   const TRCExtra* x = t.trc.get();
+  // At a bound: the most decimals the source printed a coordinate with, which the encoder's
+  // grid left room for (its rounding stays within the bound); the model's per-column decimals
+  // are only the padding that reproduced the most fields.
+  const int bound_decimals = x ? x->decimals : -1;
   out->clear();
   out->push_back(std::to_string(x && x->frame_numbers.size() == t.frames
                                     ? x->frame_numbers[r]
@@ -91,9 +96,10 @@ void predict(const RowModel& m, const Take& t, const FrameBlock& b, size_t k,
                      : std::string());
   for (size_t p = 0; p < N; ++p)
     for (size_t a = 0; a < 3; ++a)
-      out->push_back(b.valid[k * N + p] ? format_decimal(b.xyz[(k * N + p) * 3 + a],
-                                                         static_cast<int>(m.decimals[3 * p + a]))
-                                        : m.gap);
+      out->push_back(!b.valid[k * N + p] ? m.gap
+                     : exact             ? format_decimal(b.xyz[(k * N + p) * 3 + a],
+                                                          static_cast<int>(m.decimals[3 * p + a]))
+                             : format_decimal_rounded(b.xyz[(k * N + p) * 3 + a], bound_decimals));
   out->resize(out->size() + m.trailing);
 }
 
@@ -202,7 +208,7 @@ TRCResidueEncoder::TRCResidueEncoder(const std::string& path, const Take& header
   offsets_.push_back(size);
 }
 
-std::vector<uint8_t> TRCResidueEncoder::window(const FrameBlock& block) {
+std::vector<uint8_t> TRCResidueEncoder::window(const FrameBlock& block, bool exact) {
   check_block(header_, block, in_.path(), ErrorCode::kInternal);
   const uint64_t b0 = offsets_[block.first], b1 = offsets_[block.first + block.frames];
   text_.resize(static_cast<size_t>(b1 - b0));
@@ -223,14 +229,18 @@ std::vector<uint8_t> TRCResidueEncoder::window(const FrameBlock& block) {
   size_t last = 0, exceptions = 0;
   ByteWriter ex;
   for (size_t k = 0; k < block.frames; ++k) {
-    predict(m, header_, block, k, &want);
+    predict(m, header_, block, k, &want, exact);
     const Row& row = rows[k];
     const bool same_count =
         row.fields.size() == want.size() || row.fields.size() > want.size() + kMaxExtraFields;
     if (!same_count || row.fields.size() > want.size()) want.resize(row.fields.size());
     std::vector<size_t> fix;
-    for (size_t i = 0; i < row.fields.size(); ++i)
-      if (row.fields[i] != want[i]) fix.push_back(i);
+    const size_t N = block.points;
+    for (size_t i = 0; i < row.fields.size(); ++i) {
+      // At a bound a valid sample's coordinates are the decoder's to print: never fixed.
+      const bool coordinate = i >= 2 && i < 2 + 3 * N && block.valid[k * N + (i - 2) / 3];
+      if (row.fields[i] != want[i] && (exact || !coordinate)) fix.push_back(i);
+    }
     const uint8_t flags =
         static_cast<uint8_t>((same_count ? 0 : kFieldCount) | (fix.empty() ? 0 : kFixFields) |
                              (row.ending != m.ending ? kNewEnding : 0));
@@ -284,7 +294,7 @@ TRCResidueDecoder::TRCResidueDecoder(const uint8_t* data, size_t size, const Tak
 }
 
 void TRCResidueDecoder::window(const FrameBlock& block, const uint8_t* payload, size_t n,
-                               std::vector<uint8_t>* out) {
+                               std::vector<uint8_t>* out, bool exact) {
   const std::string what = name_ + ": TRC residue window at frame " + std::to_string(block.first);
   if (block.first != next_)
     fail(ErrorCode::kCorrupt, what, "expected frame " + std::to_string(next_) + " next");
@@ -310,7 +320,7 @@ void TRCResidueDecoder::window(const FrameBlock& block, const uint8_t* payload, 
   uint64_t next_ex = exceptions ? in.varint() : block.frames;
   std::vector<std::string> fields;
   for (size_t k = 0; k < block.frames; ++k) {
-    predict(m, header_, block, k, &fields);
+    predict(m, header_, block, k, &fields, exact);
     std::string ending = m.ending;
     if (k == next_ex) {
       const uint8_t flags = in.u8();
@@ -342,7 +352,7 @@ void TRCResidueDecoder::window(const FrameBlock& block, const uint8_t* payload, 
   }
   if (exceptions || !in.at_end())
     fail(ErrorCode::kCorrupt, what, "exceptions beyond the window's rows");
-  if (out->size() - at != bytes)
+  if (exact && out->size() - at != bytes)
     fail(ErrorCode::kCorrupt, what,
          "rebuilt " + std::to_string(out->size() - at) + " bytes, the residue says " +
              std::to_string(bytes));

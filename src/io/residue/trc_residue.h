@@ -33,8 +33,10 @@ class TRCResidueEncoder {
   // every non-blank line is a row). `header`: the take's metadata as open_trc_frames() gives it
   // (times and frame numbers); throws Error(kInternal) if the rows found are not its frames.
   TRCResidueEncoder(const std::string& path, const Take& header);
-  // The per-window payload for `block`'s frames (in any order).
-  std::vector<uint8_t> window(const FrameBlock& block);
+  // The per-window payload for `block`'s frames (in any order). `exact` false (an archive at a
+  // bound): no field fix for a valid sample's coordinates, and the model prints coordinates
+  // rounded to its decimals (docs/FORMAT.md 4.4.4.2).
+  std::vector<uint8_t> window(const FrameBlock& block, bool exact = true);
   // The file-level payload: the head, packed.
   std::vector<uint8_t> file_part();
 
@@ -54,8 +56,11 @@ class TRCResidueDecoder {
   TRCResidueDecoder(const uint8_t* file_part, size_t size, const Take& header,
                     const std::string& name, uint64_t file_size = 0);
   const std::vector<uint8_t>& head() const { return head_; }
-  // The original text of block's rows, appended to *out; blocks in order from frame 0.
-  void window(const FrameBlock& block, const uint8_t* payload, size_t n, std::vector<uint8_t>* out);
+  // The original text of block's rows, appended to *out; blocks in order from frame 0. `exact`
+  // false (an archive at a bound): coordinates printed rounded to the model's decimals, the
+  // window's size not checked.
+  void window(const FrameBlock& block, const uint8_t* payload, size_t n, std::vector<uint8_t>* out,
+              bool exact = true);
   // Throws Error(kCorrupt) unless every frame was given.
   void finish() const;
 

@@ -1,0 +1,61 @@
+#!/usr/bin/env python3
+"""Makes the golden streams of a new format version (CONTRIBUTING.md, "Adding a golden stream").
+
+Run from the repository root, after building:
+    python3 tests/golden/make_newest.py build/capz build/tests/capz_golden_tests 5.0
+
+For every MANIFEST.txt line of the newest version already listed that records its options, the
+CLI makes the same stream as `capz compress data/SOURCE -o STREAM OPTIONS` under the new version
+tag, and the line is appended with the CRC-32C of the decoded take, which capz_golden_tests
+reports ("decoded content changed: now XXXXXXXX") for a line appended with a placeholder. Lines of
+the new version already present are replaced: run it only while that version is being written
+(never on a version that has shipped). Existing streams of older versions are never touched."""
+import os, re, subprocess, sys
+
+cli, golden_test, version = sys.argv[1], sys.argv[2], sys.argv[3]
+root = os.path.dirname(os.path.abspath(__file__))
+streams = os.path.join(root, 'streams')
+manifest = os.path.join(streams, 'MANIFEST.txt')
+data = os.path.join(os.path.dirname(os.path.dirname(root)), 'data')
+
+lines = open(manifest).read().splitlines()
+tag = '.v' + version + '.capz'
+kept, entries = [], []
+for l in lines:
+    if not l.startswith('#') and l.split() and l.split()[0].endswith(tag):
+        continue  # remade below
+    kept.append(l)
+    if l.startswith('#') or len(l.split()) < 4:
+        continue
+    entries.append(l.split())
+versions = sorted({re.search(r'\.v(\d+)\.(\d+)\.capz$', e[0]).groups() for e in entries},
+                  key=lambda v: (int(v[0]), int(v[1])))
+newest = '.v%s.%s.capz' % versions[-1]
+made = []
+for e in entries:
+    if not e[0].endswith(newest):
+        continue
+    name = e[0][:-len(newest)] + tag
+    out = os.path.join(streams, name)
+    subprocess.run([cli, 'compress', os.path.join(data, e[1]), '-o', out, '-f', '-q'] + e[3:],
+                   check=True)
+    made.append([name, e[1], '00000000'] + e[3:])
+open(manifest, 'w').write('\n'.join(kept + [' '.join(m) for m in made]) + '\n')
+r = subprocess.run([golden_test, '--gtest_filter=Golden.GivenGoldenStreamsWhenDecoded*'],
+                   capture_output=True, text=True)
+crc = {}
+pending = None  # gtest prints the failure, then the trace line naming the stream
+for l in r.stdout.splitlines():
+    c = re.search(r'decoded content changed: now ([0-9a-f]{8})', l)
+    if c:
+        pending = c.group(1)
+    s = re.search(r'test_golden\.cpp:\d+: (\S+\.capz)$', l)
+    if s and pending:
+        crc[s.group(1)] = pending
+        pending = None
+for m in made:
+    if m[0] not in crc:
+        sys.exit('no CRC reported for ' + m[0] + ':\n' + r.stdout[-3000:])
+    m[2] = crc[m[0]]
+open(manifest, 'w').write('\n'.join(kept + [' '.join(m) for m in made]) + '\n')
+print('made %d streams of version %s' % (len(made), version))
