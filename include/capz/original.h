@@ -22,7 +22,7 @@ struct OriginalInfo {
 OriginalInfo original_info(const std::string& capz_path);
 
 // True when rebuild_original can write the original's own format from this archive: a residue,
-// and lossless, a C3D, or a 5.0 archive (a 4.0 TRC at a bound goes through the normal writer).
+// and lossless, a C3D, or a 5.0 archive (a 4.0 TRC at a bound goes through the TRC writer).
 bool can_rebuild(const OriginalInfo& info, bool c3d);
 
 // Rebuilds the original file from `capz_path` into `out` (written atomically, window by window):
