@@ -8,6 +8,7 @@
 #include "coding/bytes.h"
 #include "coding/crc32c.h"
 #include "coding/entropy.h"
+#include "coding/lzma_block.h"
 #include "io/c3d_params.h"
 
 namespace capz {
@@ -339,15 +340,18 @@ std::vector<uint8_t> encode_meta_fields(const Take& t, bool has_sample_words) {
 
 std::vector<uint8_t> encode_meta(const Take& t, bool has_sample_words) {
   std::vector<uint8_t> fields = encode_meta_fields(t, has_sample_words);
-  std::vector<uint8_t> coded = encode_bytes(fields.data(), fields.size());
+  // The smallest of codings 0 (as they are), 1 (byte model) and 2 (LZMA2); ties: the lowest.
   ByteWriter w;
-  if (coded.size() + 8 < fields.size()) {
-    w.u8(1);
-    w.varint(fields.size());
-    w.bytes(coded);
-  } else {
-    w.u8(0);
-    w.bytes(fields);
+  w.u8(0);
+  w.bytes(fields);
+  for (uint8_t coding = 1; coding <= 2; ++coding) {
+    const std::vector<uint8_t> coded = coding == 1 ? encode_bytes(fields.data(), fields.size())
+                                                   : lzma2_encode(fields.data(), fields.size());
+    ByteWriter c;
+    c.u8(coding);
+    c.varint(fields.size());
+    c.bytes(coded);
+    if (c.buffer().size() < w.buffer().size()) w = std::move(c);
   }
   return std::move(w.buffer());
 }
@@ -365,6 +369,12 @@ void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sam
         decode_bytes(c.payload + outer.offset(), outer.remaining(), static_cast<size_t>(n), what);
   } else if (coding == 0) {
     fields.assign(c.payload + 1, c.payload + c.size);
+  } else if (coding == 2) {  // FORMAT.md 5.1
+    const uint64_t n = outer.varint();
+    if (n == 0 || n > (uint64_t{1} << 26))
+      fail(ErrorCode::kCorrupt, what, "metadata size " + std::to_string(n) + " is implausible");
+    fields =
+        lzma2_decode(c.payload + outer.offset(), outer.remaining(), static_cast<size_t>(n), what);
   } else {
     fail(ErrorCode::kCorrupt, what, "unknown metadata coding " + std::to_string(coding));
   }

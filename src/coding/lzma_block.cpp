@@ -1,0 +1,51 @@
+// Decoder library (capz_decode). Raw LZMA2 blocks (lzma_block.h; docs/FORMAT.md 5.1).
+#include "coding/lzma_block.h"
+
+#include <lzma.h>
+
+#include "capz/error.h"
+
+namespace capz {
+
+namespace {
+
+lzma_options_lzma lzma2_options() {
+  lzma_options_lzma o;
+  lzma_lzma_preset(&o, 9 | LZMA_PRESET_EXTREME);
+  o.dict_size = kLzmaDictBytes;
+  return o;
+}
+
+}  // namespace
+
+std::vector<uint8_t> lzma2_encode(const uint8_t* data, size_t n) {
+  lzma_options_lzma o = lzma2_options();
+  const lzma_filter filters[] = {{LZMA_FILTER_LZMA2, &o}, {LZMA_VLI_UNKNOWN, nullptr}};
+  // LZMA2 stores incompressible data in chunks with 3 bytes of header per 64 KiB.
+  std::vector<uint8_t> out(n + n / 16384 * 3 + 64);
+  size_t pos = 0;
+  const lzma_ret r =
+      lzma_raw_buffer_encode(filters, nullptr, data, n, out.data(), &pos, out.size());
+  if (r != LZMA_OK)
+    fail(ErrorCode::kInternal, "", "liblzma failed to encode (" + std::to_string(r) + ")");
+  out.resize(pos);
+  return out;
+}
+
+std::vector<uint8_t> lzma2_decode(const uint8_t* data, size_t size, size_t n,
+                                  const std::string& what) {
+  lzma_options_lzma o = lzma2_options();
+  const lzma_filter filters[] = {{LZMA_FILTER_LZMA2, &o}, {LZMA_VLI_UNKNOWN, nullptr}};
+  std::vector<uint8_t> out(n);
+  size_t in_pos = 0, out_pos = 0;
+  const lzma_ret r =
+      lzma_raw_buffer_decode(filters, nullptr, data, &in_pos, size, out.data(), &out_pos, n);
+  // The buffer API returns LZMA_OK once the stream's end is reached; LZMA_BUF_ERROR when the
+  // output fills first (the stream holds more than n bytes) or the input ends first.
+  if (r != LZMA_OK || out_pos != n || in_pos != size)
+    fail(ErrorCode::kCorrupt, what,
+         "the LZMA2 block does not decode to exactly " + std::to_string(n) + " bytes");
+  return out;
+}
+
+}  // namespace capz

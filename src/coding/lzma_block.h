@@ -1,0 +1,23 @@
+// capz — raw LZMA2 blocks (docs/FORMAT.md 5.1): META coding 2, through liblzma.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace capz {
+
+// LZMA2 with a fixed 2^20-byte dictionary, preset 9e; the decoder needs nothing else.
+constexpr uint32_t kLzmaDictBytes = uint32_t{1} << 20;
+
+// `n` bytes as a raw LZMA2 stream (liblzma lzma_raw_buffer_encode). Throws Error(kInternal) if
+// liblzma fails.
+std::vector<uint8_t> lzma2_encode(const uint8_t* data, size_t n);
+
+// Decodes a raw LZMA2 stream that must give exactly `n` bytes and end exactly at `size`.
+// Throws Error(kCorrupt) naming `what` otherwise. Memory: the output and the fixed dictionary.
+std::vector<uint8_t> lzma2_decode(const uint8_t* data, size_t size, size_t n,
+                                  const std::string& what);
+
+}  // namespace capz

@@ -1,0 +1,161 @@
+// META coding 2 (docs/FORMAT.md 5.1): raw LZMA2 blocks round-trip exactly, anything else is
+// rejected as corrupt, and the encoder keeps the smallest of codings 0, 1 and 2.
+#include <gtest/gtest.h>
+
+#include <functional>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "capz/error.h"
+#include "capz/take.h"
+#include "coding/bytes.h"
+#include "coding/container.h"
+#include "coding/lzma_block.h"
+
+using namespace capz;
+
+namespace {
+
+std::vector<uint8_t> text_like(size_t n, unsigned seed) {
+  std::mt19937 rng(seed);
+  const std::string words[] = {"POINT", "ANALOG", "LABELS",        "SCALE",
+                               "RATE",  "  ",     "FORCE_PLATFORM"};
+  std::vector<uint8_t> v;
+  while (v.size() < n) {
+    const std::string& w = words[rng() % 7];
+    v.insert(v.end(), w.begin(), w.end());
+    v.push_back(static_cast<uint8_t>(rng() % 4 == 0 ? rng() : ' '));
+  }
+  v.resize(n);
+  return v;
+}
+
+// The error code f throws, 0 when it throws none.
+int code_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return static_cast<int>(e.code());
+  }
+  return 0;
+}
+constexpr int kCorrupt = static_cast<int>(ErrorCode::kCorrupt);
+
+// A META chunk of `coding` with `n` and `data` as its fields, wrapped as a decoder sees it.
+Take decode_meta_payload(const std::vector<uint8_t>& payload) {
+  std::vector<uint8_t> buf;
+  append_chunk(&buf, "META", payload);
+  const Chunk c = read_chunk(buf.data(), buf.size(), 0, "t");
+  Take t;
+  bool words = false;
+  decode_meta(c, "t", &t, &words);
+  return t;
+}
+
+}  // namespace
+
+TEST(Lzma2Block, GivenTextAndRandomInputsThenExactRoundTrip) {
+  std::mt19937 rng(7);
+  for (size_t n : {size_t{1}, size_t{100}, size_t{70000}, size_t{300000}}) {
+    std::vector<uint8_t> text = text_like(n, static_cast<unsigned>(n));
+    std::vector<uint8_t> noise(n);
+    for (auto& b : noise) b = static_cast<uint8_t>(rng());
+    for (const auto* in : {&text, &noise}) {
+      const std::vector<uint8_t> z = lzma2_encode(in->data(), in->size());
+      EXPECT_EQ(lzma2_decode(z.data(), z.size(), in->size(), "t"), *in) << n;
+    }
+    const std::vector<uint8_t> z = lzma2_encode(text.data(), text.size());
+    if (n >= 70000) {
+      EXPECT_LT(z.size(), n / 4) << "text-like bytes should compress";
+    }
+  }
+}
+
+TEST(Lzma2Block, GivenWrongSizeTruncatedOrGarbageThenCorrupt) {
+  const std::vector<uint8_t> in = text_like(5000, 1);
+  const std::vector<uint8_t> z = lzma2_encode(in.data(), in.size());
+  auto dec = [&](const std::vector<uint8_t>& b, size_t n) {
+    return code_of([&] { lzma2_decode(b.data(), b.size(), n, "t"); });
+  };
+  EXPECT_EQ(dec(z, in.size() + 1), kCorrupt);  // says fewer bytes than asked
+  EXPECT_EQ(dec(z, in.size() - 1), kCorrupt);  // holds more than asked
+  EXPECT_EQ(dec(std::vector<uint8_t>(z.begin(), z.end() - 1), in.size()), kCorrupt);
+  std::vector<uint8_t> trailing = z;
+  trailing.push_back(0);
+  EXPECT_EQ(dec(trailing, in.size()), kCorrupt);
+  std::mt19937 rng(3);
+  for (int k = 0; k < 200; ++k) {
+    std::vector<uint8_t> g(1 + rng() % 300);
+    for (auto& b : g) b = static_cast<uint8_t>(rng());
+    const int c = dec(g, 1 + rng() % 10000);
+    EXPECT_EQ(c, kCorrupt);
+  }
+  std::vector<uint8_t> flipped = z;
+  flipped[flipped.size() / 2] ^= 0x55;
+  const int c = dec(flipped, in.size());
+  // A flip may still decode to n bytes (LZMA2 has no check of its own: the chunk CRC has it);
+  // it must never crash or decode to another size.
+  EXPECT_TRUE(c == kCorrupt || c == 0);
+}
+
+TEST(MetaCoding, GivenALargeParameterSectionThenCoding2IsChosenAndFieldsComeBack) {
+  Take t;
+  t.format = Format::kC3D;
+  t.units = "mm";
+  t.rate = 100;
+  t.points = 3;
+  t.labels = {"LASI", "RASI", "LPSI"};
+  t.c3d = std::make_shared<C3DExtra>();
+  C3DGroup g;
+  g.id = 1;
+  g.name = "POINT";
+  for (int k = 0; k < 60; ++k) {
+    C3DParameter p;
+    p.name = "DESCRIPTION" + std::to_string(k);
+    p.description = "a description that repeats in many parameters of the section";
+    p.type = -1;
+    const std::vector<uint8_t> text = text_like(64, static_cast<unsigned>(k % 5));
+    p.dims = {64};
+    p.data = text;
+    g.params.push_back(p);
+  }
+  t.c3d->groups.push_back(g);
+  const std::vector<uint8_t> meta = encode_meta(t, false);
+  ASSERT_FALSE(meta.empty());
+  EXPECT_EQ(meta[0], 2) << "LZMA2 should be the smallest coding of a repetitive section";
+  // Coding 1 of the same fields, for comparison.
+  Take back;
+  back.points = 3;
+  std::vector<uint8_t> buf;
+  append_chunk(&buf, "META", meta);
+  const Chunk c = read_chunk(buf.data(), buf.size(), 0, "t");
+  bool words = true;
+  decode_meta(c, "t", &back, &words);
+  EXPECT_EQ(back.labels, t.labels);
+  EXPECT_EQ(back.units, "mm");
+  ASSERT_TRUE(back.c3d);
+  ASSERT_EQ(back.c3d->groups.size(), 1u);
+  ASSERT_EQ(back.c3d->groups[0].params.size(), 60u);
+  EXPECT_EQ(back.c3d->groups[0].params[59].data, t.c3d->groups[0].params[59].data);
+}
+
+TEST(MetaCoding, GivenCoding2WithImplausibleSizeOrBadStreamThenCorrupt) {
+  auto payload = [](uint64_t n, const std::vector<uint8_t>& data) {
+    ByteWriter w;
+    w.u8(2);
+    w.varint(n);
+    w.bytes(data);
+    return w.buffer();
+  };
+  const std::vector<uint8_t> fields = text_like(100, 2);
+  const std::vector<uint8_t> z = lzma2_encode(fields.data(), fields.size());
+  EXPECT_EQ(code_of([&] { decode_meta_payload(payload(0, z)); }), kCorrupt);
+  EXPECT_EQ(code_of([&] { decode_meta_payload(payload(uint64_t{1} << 27, z)); }), kCorrupt);
+  EXPECT_EQ(code_of([&] { decode_meta_payload(payload(fields.size() + 5, z)); }), kCorrupt);
+  EXPECT_EQ(code_of([&] { decode_meta_payload(payload(10, {1, 2, 3})); }), kCorrupt);
+  ByteWriter w;
+  w.u8(3);
+  EXPECT_EQ(code_of([&] { decode_meta_payload(w.buffer()); }), kCorrupt);
+}
