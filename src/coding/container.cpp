@@ -9,6 +9,7 @@
 #include "coding/crc32c.h"
 #include "coding/entropy.h"
 #include "coding/lzma_block.h"
+#include "io/c3d_internal.h"
 #include "io/c3d_params.h"
 
 namespace capz {
@@ -224,6 +225,29 @@ void check_header_fits(const StreamHeader& h, size_t file_size, int major,
 
 // ---------------------------------------------------------------------------------------------
 namespace {
+// The lists the C3D reader derives from the parameters (FORMAT.md 5.1, "Labels from the
+// parameters"; c3d_read.cpp read_labels_rates_units): cut or padded to the points (descriptions:
+// when there are any) and to the channels.
+void derive_labels(const C3DExtra& c, size_t points, int channels, std::vector<std::string>* l,
+                   std::vector<std::string>* d, std::vector<std::string>* a) {
+  *l = c3d::string_list(c, "POINT", "LABELS");
+  l->resize(points);
+  *d = c3d::string_list(c, "POINT", "DESCRIPTIONS");
+  if (!d->empty()) d->resize(points);
+  *a = c3d::string_list(c, "ANALOG", "LABELS");
+  a->resize(static_cast<size_t>(std::max(0, channels)));
+}
+
+// True when those lists are exactly the given ones.
+bool labels_from_parameters(const C3DExtra& c, size_t points, int channels,
+                            const std::vector<std::string>& labels,
+                            const std::vector<std::string>& descriptions,
+                            const std::vector<std::string>& analog_labels) {
+  std::vector<std::string> l, d, a;
+  derive_labels(c, points, channels, &l, &d, &a);
+  return l == labels && d == descriptions && a == analog_labels;
+}
+
 std::vector<uint8_t> encode_meta_fields(const Take& t, bool has_sample_words) {
   ByteWriter w;
   std::string src = t.source;
@@ -233,11 +257,16 @@ std::vector<uint8_t> encode_meta_fields(const Take& t, bool has_sample_words) {
   w.str(t.units);
   w.f64(t.rate);
   w.svarint(t.first_frame);
-  put_strings(&w, t.labels);
-  put_strings(&w, t.descriptions);
+  // FORMAT.md 5.1: labels the C3D parameters already hold are not written twice.
+  const bool derived = t.c3d && labels_from_parameters(*t.c3d, t.points, t.analog.channels,
+                                                       t.labels, t.descriptions, t.analog.labels);
+  static const std::vector<std::string> kNone;
+  put_strings(&w, derived ? kNone : t.labels);
+  put_strings(&w, derived ? kNone : t.descriptions);
   w.f64(t.analog.rate);
-  put_strings(&w, t.analog.labels);
-  uint8_t extras = (t.c3d ? 1 : 0) | (t.trc ? 2 : 0) | (t.pcd ? 4 : 0);
+  put_strings(&w, derived ? kNone : t.analog.labels);
+  uint8_t extras =
+      static_cast<uint8_t>((t.c3d ? 1 : 0) | (t.trc ? 2 : 0) | (t.pcd ? 4 : 0) | (derived ? 8 : 0));
   w.u8(extras);
   if (t.c3d) {
     const C3DExtra& c = *t.c3d;
@@ -412,6 +441,14 @@ void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sam
       throw Error(ErrorCode::kCorrupt, e.what());
     }
     t->c3d = c3d;
+    if (extras & 8) {  // FORMAT.md 5.1: the lists are the parameters'
+      if (!t->labels.empty() || !t->descriptions.empty() || !t->analog.labels.empty())
+        fail(ErrorCode::kCorrupt, what, "labels both listed and taken from the parameters");
+      derive_labels(*c3d, t->points, t->analog.channels, &t->labels, &t->descriptions,
+                    &t->analog.labels);
+    }
+  } else if (extras & 8) {
+    fail(ErrorCode::kCorrupt, what, "labels from parameters without a C3D block");
   }
   if (extras & 2) {
     auto x = std::make_shared<TRCExtra>();
@@ -469,7 +506,7 @@ void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sam
     p->frame_names = get_strings(&r, t->frames, "frame name count");
     t->pcd = p;
   }
-  if (extras & ~7) fail(ErrorCode::kCorrupt, what, "unknown metadata blocks");
+  if (extras & ~15) fail(ErrorCode::kCorrupt, what, "unknown metadata blocks");
   if (t->rotations.segments > 0) {  // FORMAT.md 4.3
     t->rotations.rate = r.f64();
     t->rotations.labels =

@@ -19,17 +19,27 @@ lzma_options_lzma lzma2_options() {
 }  // namespace
 
 std::vector<uint8_t> lzma2_encode(const uint8_t* data, size_t n) {
-  lzma_options_lzma o = lzma2_options();
-  const lzma_filter filters[] = {{LZMA_FILTER_LZMA2, &o}, {LZMA_VLI_UNKNOWN, nullptr}};
-  // LZMA2 stores incompressible data in chunks with 3 bytes of header per 64 KiB.
-  std::vector<uint8_t> out(n + n / 16384 * 3 + 64);
-  size_t pos = 0;
-  const lzma_ret r =
-      lzma_raw_buffer_encode(filters, nullptr, data, n, out.data(), &pos, out.size());
-  if (r != LZMA_OK)
-    fail(ErrorCode::kInternal, "", "liblzma failed to encode (" + std::to_string(r) + ")");
-  out.resize(pos);
-  return out;
+  // The literal context and position bits travel in the stream (LZMA2's properties byte), so
+  // the encoder may pick them: the preset's (lc 3, pb 2) and, for text-like bytes, pb 0 with
+  // lc 0..3. The smallest is kept (ties: the first).
+  static const uint32_t kTrials[][2] = {{3, 2}, {3, 0}, {2, 0}, {1, 0}, {0, 0}};
+  std::vector<uint8_t> best;
+  for (const auto& lc_pb : kTrials) {
+    lzma_options_lzma o = lzma2_options();
+    o.lc = lc_pb[0];
+    o.pb = lc_pb[1];
+    const lzma_filter filters[] = {{LZMA_FILTER_LZMA2, &o}, {LZMA_VLI_UNKNOWN, nullptr}};
+    // LZMA2 stores incompressible data in chunks with 3 bytes of header per 64 KiB.
+    std::vector<uint8_t> out(n + n / 16384 * 3 + 64);
+    size_t pos = 0;
+    const lzma_ret r =
+        lzma_raw_buffer_encode(filters, nullptr, data, n, out.data(), &pos, out.size());
+    if (r != LZMA_OK)
+      fail(ErrorCode::kInternal, "", "liblzma failed to encode (" + std::to_string(r) + ")");
+    out.resize(pos);
+    if (best.empty() || out.size() < best.size()) best = std::move(out);
+  }
+  return best;
 }
 
 std::vector<uint8_t> lzma2_decode(const uint8_t* data, size_t size, size_t n,

@@ -2,6 +2,7 @@
 // rejected as corrupt, and the encoder keeps the smallest of codings 0, 1 and 2.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <functional>
 #include <memory>
 #include <random>
@@ -43,15 +44,27 @@ int code_of(const std::function<void()>& f) {
 }
 constexpr int kCorrupt = static_cast<int>(ErrorCode::kCorrupt);
 
-// A META chunk of `coding` with `n` and `data` as its fields, wrapped as a decoder sees it.
-Take decode_meta_payload(const std::vector<uint8_t>& payload) {
+// A META payload decoded as a decoder does, for a take of `points` and `channels`.
+Take decode_meta_payload(const std::vector<uint8_t>& payload, size_t points = 2, int channels = 3) {
   std::vector<uint8_t> buf;
   append_chunk(&buf, "META", payload);
   const Chunk c = read_chunk(buf.data(), buf.size(), 0, "t");
   Take t;
+  t.points = points;
+  t.analog.channels = channels;
   bool words = false;
   decode_meta(c, "t", &t, &words);
   return t;
+}
+
+// The fields a META payload holds, for codings 0 and 2.
+std::vector<uint8_t> fields_of(const std::vector<uint8_t>& meta) {
+  ByteReader r(meta.data(), meta.size(), "t");
+  const uint8_t coding = r.u8();
+  if (coding == 0) return std::vector<uint8_t>(meta.begin() + 1, meta.end());
+  EXPECT_EQ(coding, 2);
+  const size_t n = static_cast<size_t>(r.varint());
+  return lzma2_decode(meta.data() + r.offset(), r.remaining(), n, "t");
 }
 
 }  // namespace
@@ -157,5 +170,72 @@ TEST(MetaCoding, GivenCoding2WithImplausibleSizeOrBadStreamThenCorrupt) {
   EXPECT_EQ(code_of([&] { decode_meta_payload(payload(10, {1, 2, 3})); }), kCorrupt);
   ByteWriter w;
   w.u8(3);
+  EXPECT_EQ(code_of([&] { decode_meta_payload(w.buffer()); }), kCorrupt);
+}
+
+TEST(MetaCoding, GivenLabelsTheParametersHoldThenNotWrittenTwiceAndDerivedBack) {
+  Take t;
+  t.format = Format::kC3D;
+  t.points = 2;
+  t.analog.channels = 3;
+  t.labels = {"LASI", "RASI"};
+  t.analog.labels = {"Fx", "Fy", ""};  // the reader pads to the channel count
+  t.c3d = std::make_shared<C3DExtra>();
+  C3DGroup point, analog;
+  point.id = 1;
+  point.name = "POINT";
+  analog.id = 2;
+  analog.name = "ANALOG";
+  auto chars = [](const std::string& name, const std::vector<std::string>& v, int w) {
+    C3DParameter p;
+    p.name = name;
+    p.type = -1;
+    p.dims = {w, static_cast<int>(v.size())};
+    for (const std::string& s : v) {
+      std::string f = s;
+      f.resize(static_cast<size_t>(w), ' ');
+      p.data.insert(p.data.end(), f.begin(), f.end());
+    }
+    return p;
+  };
+  point.params.push_back(chars("LABELS", {"LASI", "RASI"}, 4));
+  analog.params.push_back(chars("LABELS", {"Fx", "Fy"}, 2));
+  t.c3d->groups = {point, analog};
+  const std::vector<uint8_t> with = encode_meta(t, false);
+  auto occurrences = [](const std::vector<uint8_t>& b, const std::string& w) {
+    size_t n = 0;
+    for (auto it = b.begin(); (it = std::search(it, b.end(), w.begin(), w.end())) != b.end(); ++it)
+      ++n;
+    return n;
+  };
+  EXPECT_EQ(occurrences(fields_of(with), "RASI"), 1u)
+      << "the label is written once, in the parameters";
+  Take back = decode_meta_payload(with);
+  EXPECT_EQ(back.labels, t.labels);
+  EXPECT_EQ(back.analog.labels, t.analog.labels);
+  EXPECT_TRUE(back.descriptions.empty());
+  // A take whose labels differ from its parameters' keeps its own, listed.
+  Take other = t;
+  other.labels = {"LASI", "renamed"};
+  const std::vector<uint8_t> listed = encode_meta(other, false);
+  EXPECT_EQ(occurrences(fields_of(listed), "LASI"), 2u) << "listed and in the parameters";
+  Take back2 = decode_meta_payload(listed);
+  EXPECT_EQ(back2.labels, other.labels);
+}
+
+TEST(MetaCoding, GivenLabelsFromParametersWithoutAC3DBlockThenCorrupt) {
+  ByteWriter f;  // the fields of 3.2 with extras = 8 (bit 3 without bit 0)
+  f.str("x");
+  f.str("mm");
+  f.f64(100);
+  f.svarint(1);
+  f.varint(0);
+  f.varint(0);
+  f.f64(0);
+  f.varint(0);
+  f.u8(8);
+  ByteWriter w;
+  w.u8(0);
+  w.bytes(f.buffer());
   EXPECT_EQ(code_of([&] { decode_meta_payload(w.buffer()); }), kCorrupt);
 }
