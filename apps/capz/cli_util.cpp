@@ -216,4 +216,27 @@ void Json::member_strings(const std::string& k, const std::vector<std::string>& 
   end_array();
 }
 
+std::string pcd_fields_text(const std::vector<capz::PCDField>& fields) {
+  std::string v;
+  for (const capz::PCDField& f : fields) {
+    v += (v.empty() ? "" : ", ") + f.name + " " + std::string(1, f.type) + std::to_string(f.size);
+    if (f.count != 1) v += "x" + std::to_string(f.count);
+  }
+  return v;
+}
+
+void pcd_fields_json(Json* j, const std::vector<capz::PCDField>& fields) {
+  j->key("fields");
+  j->begin_array();
+  for (const capz::PCDField& f : fields) {
+    j->begin_object();
+    j->member("name", f.name);
+    j->member("type", std::string(1, f.type));
+    j->member("size", f.size);
+    j->member("count", f.count);
+    j->end_object();
+  }
+  j->end_array();
+}
+
 }  // namespace capz_cli

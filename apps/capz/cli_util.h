@@ -72,4 +72,9 @@ class Json {
   bool after_key_ = false;
 };
 
+// PCD fields as `capz info` shows them: "x F4, y F4, ..., fpfh F4x33"; and as a JSON array of
+// objects name / type / size / count under key "fields".
+std::string pcd_fields_text(const std::vector<capz::PCDField>& fields);
+void pcd_fields_json(Json* j, const std::vector<capz::PCDField>& fields);
+
 }  // namespace capz_cli

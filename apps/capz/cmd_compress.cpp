@@ -74,7 +74,10 @@ po::options_description compress_options() {
       "none up to 8192 for takes of fewer than 64 points (about 2^16 samples a window)")(
       "no-check",
       "skip decoding each window after writing it (the bound then rests on the "
-      "quantiser alone)")("force,f", "overwrite OUT if it exists")(
+      "quantiser alone)")(
+      "drop-fields",
+      "leave the point fields of PCD frames (rgb, intensity, normals, ...) out of the archive; "
+      "by default every field is kept, lossless")("force,f", "overwrite OUT if it exists")(
       "rm",
       "remove IN (a file) after the output, read back from disk and decoded, reproduced it "
       "within the bound")("json", "print the report as one JSON object");
@@ -112,6 +115,7 @@ void set_coding_options(const po::variables_map& vm, capz::CompressOptions* opts
   opts->clusters = vm["clusters"].as<int>();
   opts->window_frames = vm["window"].as<size_t>();
   opts->check = vm.count("no-check") == 0;
+  opts->drop_fields = vm.count("drop-fields") > 0;
   if (vm.count("codec-opt"))
     for (const auto& kv : vm["codec-opt"].as<std::vector<std::string>>()) {
       auto eq = kv.find('=');
@@ -190,6 +194,7 @@ void report_json(const Report& r, const capz::Take& take, const capz::CompressOp
   j.member("position_bytes", static_cast<uint64_t>(st.position_bytes));
   j.member("analog_bytes", static_cast<uint64_t>(st.analog_bytes));
   j.member("rotation_bytes", static_cast<uint64_t>(st.rotation_bytes));
+  j.member("attribute_bytes", static_cast<uint64_t>(st.attribute_bytes));
   j.member("other_bytes", static_cast<uint64_t>(st.other_bytes));
   j.member("raw_float32_position_bytes", static_cast<uint64_t>(st.raw_bytes));
   j.member("read_cpu_seconds", r.t_read);
@@ -216,14 +221,14 @@ void report_text(const Report& r, const capz::Take& take, const capz::CompressOp
   if (g_verbosity >= 2) {
     std::printf(
         "  %zu frames x %zu points, %s coding, grid step %s%s; positions %zu B (x%s vs "
-        "raw float32), analog %zu B, rotations %zu B, other %zu B\n",
+        "raw float32), analog %zu B, rotations %zu B, point fields %zu B, other %zu B\n",
         take.frames, take.points, st.mode.c_str(), num(st.step, 6).c_str(),
         take.units.empty() ? "" : (" " + take.units).c_str(), st.position_bytes,
         num(st.position_bytes
                 ? static_cast<double>(st.raw_bytes) / static_cast<double>(st.position_bytes)
                 : 0)
             .c_str(),
-        st.analog_bytes, st.rotation_bytes, st.other_bytes);
+        st.analog_bytes, st.rotation_bytes, st.attribute_bytes, st.other_bytes);
     std::printf("  cpu: read %.3f s, encode%s %.3f s (%s MB/s of raw float32 positions)\n",
                 r.t_read, opts.check ? "+check" : "", r.t_enc, num(r.mbps).c_str());
   }

@@ -54,7 +54,12 @@ int cmd_decompress(const Args& args) {
       "frames", po::value<std::string>(),
       "decode only frames FIRST:COUNT (0-based); only the "
       "windows they touch are read")("force,f", "overwrite OUT if it exists")(
-      "json", "print the report as one JSON object");
+      "pcd-data", po::value<std::string>(),
+      "PCD output: ascii, binary or binary_compressed (default: the source's)")(
+      "drop-fields",
+      "write a C3D or TRC from an archive of PCD frames with point fields by leaving the fields "
+      "out; without it that is an error naming them")("json",
+                                                      "print the report as one JSON object");
   po::variables_map vm;
   std::string in;
   if (!parse_single_input(
@@ -71,6 +76,15 @@ int cmd_decompress(const Args& args) {
   const double c0 = thread_cpu_seconds();
   capz::WriteOptions wo;
   wo.overwrite = force;
+  wo.drop_fields = vm.count("drop-fields") > 0;
+  if (vm.count("pcd-data")) {
+    wo.pcd_encoding = vm["pcd-data"].as<std::string>();
+    if (wo.pcd_encoding != "ascii" && wo.pcd_encoding != "binary" &&
+        wo.pcd_encoding != "binary_compressed")
+      capz::fail(
+          capz::ErrorCode::kInvalidParameter, "",
+          "--pcd-data must be ascii, binary or binary_compressed, not '" + wo.pcd_encoding + "'");
+  }
   size_t frames = 0, points = 0;
   if (vm.count("frames")) {  // a range: decoded into memory (only the windows it touches)
     const std::string fr = vm["frames"].as<std::string>();
@@ -107,6 +121,12 @@ int cmd_decompress(const Args& args) {
           capz::create_frame_sink(take, src->has_sample_words(), out, wo);
       capz::copy_frames(*src, *sink, src->preferred_block());
     }
+  }
+  if (wo.drop_fields && capz::format_for_output(out) != capz::Format::kPCDFolder &&
+      g_verbosity >= 1) {
+    const std::string dropped = capz::field_names(capz::open_capz_frames(in)->header());
+    if (!dropped.empty())
+      std::fprintf(stderr, "capz decompress: dropped point fields: %s\n", dropped.c_str());
   }
   const double t_dec = thread_cpu_seconds() - c0;
   const double raw = static_cast<double>(frames * points * 12);
