@@ -52,8 +52,7 @@ void walk(const fs::path& dir, InputKind kind, std::vector<fs::path>* found) {
       continue;
     }
     const std::string ext = lower_extension(p);
-    const bool wanted =
-        kind == InputKind::kTakes ? ext == ".c3d" || ext == ".trc" : ext == ".capz";
+    const bool wanted = kind == InputKind::kTakes ? ext == ".c3d" || ext == ".trc" : ext == ".capz";
     if (wanted && fs::is_regular_file(p, e2)) found->push_back(p);
   }
 }
@@ -108,12 +107,13 @@ void add_batch_options(po::options_description* o, bool outputs, const std::stri
         "write each output under DIR at its input's path (a/b/x.c3d -> DIR/a/b/x.c3d.capz; "
         "a leading / or ../ is dropped)")(
         "output-dir-flat", po::value<std::string>(),
-        "write every output directly in DIR (two inputs of one name: the second fails)")(
-        "force,f", "overwrite existing outputs");
+        "write every output directly in DIR (two inputs of one name: the second fails)");
   }
-  o->add_options()("recursive,r", "walk folders given as inputs")(
+  o->add_options()("force,f", outputs ? "overwrite existing outputs and --report"
+                                      : "overwrite an existing --report file")(
+      "recursive,r", "walk folders given as inputs")(
       "threads,T", po::value<unsigned>()->default_value(1),
-      "files coded at once (0: one per core); the output bytes do not depend on it")(
+      "files worked on at once (0: one per core); outputs and lines do not depend on it")(
       "report", po::value<std::string>(),
       "write one JSON line per file to FILE.jsonl at the end (never overwritten without -f)");
 }
@@ -124,8 +124,8 @@ BatchSettings batch_settings(const po::variables_map& vm, bool outputs) {
   s.threads = vm["threads"].as<unsigned>();
   if (s.threads == 0) s.threads = std::max(1u, std::thread::hardware_concurrency());
   if (vm.count("report")) s.report = vm["report"].as<std::string>();
-  if (!outputs) return s;
   s.force = vm.count("force") != 0;
+  if (!outputs) return s;
   s.to_stdout = vm.count("stdout") != 0;
   if (vm.count("output")) s.output = vm["output"].as<std::string>();
   if (vm.count("output-dir-mirror")) s.mirror_dir = vm["output-dir-mirror"].as<std::string>();

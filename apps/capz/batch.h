@@ -19,20 +19,20 @@ enum class InputKind { kTakes, kArchives };
 
 // The batch options, as given.
 struct BatchSettings {
-  bool recursive = false;   // -r
-  std::string output;       // -o (a single input only)
-  std::string mirror_dir;   // --output-dir-mirror
-  std::string flat_dir;     // --output-dir-flat
-  bool to_stdout = false;   // -c (a single input only)
-  bool force = false;       // -f
-  unsigned threads = 1;     // -T, 0 resolved to the cores
-  std::string report;       // --report FILE.jsonl
+  bool recursive = false;  // -r
+  std::string output;      // -o (a single input only)
+  std::string mirror_dir;  // --output-dir-mirror
+  std::string flat_dir;    // --output-dir-flat
+  bool to_stdout = false;  // -c (a single input only)
+  bool force = false;      // -f
+  unsigned threads = 1;    // -T, 0 resolved to the cores
+  std::string report;      // --report FILE.jsonl
 };
 
 // One input of the batch.
 struct Job {
-  std::string input;       // the path ("-" for stdin)
-  std::string rel;         // its path under --output-dir-mirror (the path without / or ../)
+  std::string input;  // the path ("-" for stdin)
+  std::string rel;    // its path under --output-dir-mirror (the path without / or ../)
   bool from_stdin = false;
   bool to_stdout = false;  // write the output to stdout (stdin without -o, or -c)
   std::string output;      // -o, else "" (the worker names it: place_output)
@@ -49,8 +49,8 @@ struct FileRecord {
   static constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
   std::string input, output;
   uint64_t bytes_in = 0, bytes_out = 0;
-  double ratio = kNone;      // original bytes / archive bytes
-  double bound = kNone;      // per-coordinate bound in the data's units (lossless: 0)
+  double ratio = kNone;  // original bytes / archive bytes
+  double bound = kNone;  // per-coordinate bound in the data's units (lossless: 0)
   bool lossless = false;
   std::string units;
   double max_error = kNone;  // achieved, per coordinate (compress)
@@ -63,7 +63,7 @@ struct FileRecord {
   double seconds = 0;  // wall time of the file
 };
 
-// Registers -r, -T, --report and, when `outputs`, -o, -c, -f, --output-dir-mirror and
+// Registers -r, -T, -f, --report and, when `outputs`, -o, -c, --output-dir-mirror and
 // --output-dir-flat (`output_help` describes -o).
 void add_batch_options(po::options_description* o, bool outputs, const std::string& output_help);
 BatchSettings batch_settings(const po::variables_map& vm, bool outputs);

@@ -20,7 +20,9 @@ namespace capz_cli {
 
 namespace {
 
-std::string sys_error() { return std::strerror(errno); }
+std::string sys_error() {
+  return std::strerror(errno);
+}
 
 // Writes all of [data, data + n) to `fd`, retrying short writes.
 void write_all(int fd, const char* data, size_t n, const std::string& name) {

@@ -44,8 +44,7 @@ Result shell(const std::string& dir, const std::string& command) {
   std::ofstream(script) << "cd '" << dir << "' || exit 99\nexport CAPZ='" << CAPZ_CLI
                         << "'\ncapz() { \"$CAPZ\" \"$@\"; }\n"
                         << command << "\n";
-  const std::string cmd =
-      "bash '" + script + "' </dev/null >'" + out + "' 2>'" + err + "'";
+  const std::string cmd = "bash '" + script + "' </dev/null >'" + out + "' 2>'" + err + "'";
   const int rc = std::system(cmd.c_str());
   return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(out), slurp(err)};
 }
@@ -61,7 +60,9 @@ std::vector<std::string> split_lines(const std::string& s) {
   return v;
 }
 
-std::string repo(const std::string& name) { return std::string(CAPZ_REPO_DATA) + "/" + name; }
+std::string repo(const std::string& name) {
+  return std::string(CAPZ_REPO_DATA) + "/" + name;
+}
 
 // A small tree of takes: t/s1/a.c3d, t/s1/e.c3d, t/s2/w.trc, t/s2/frames/*.pcd, t/s2/notes.txt.
 void make_tree(const std::string& root) {
@@ -167,7 +168,8 @@ TEST(CliBatch, GivenManyInputsWithOneBadThenOthersWrittenAndExitNonZero) {
   b.resize(b.size() / 2);
   capz::write_file(d.file("bad.capz"), b, false);  // a truncated copy of a.c3d.capz
   fs::create_directories(d.file("back"));
-  Result dr = shell(dir, "capz decompress -q bad.capz a.c3d.capz w.trc.capz --output-dir-flat back");
+  Result dr =
+      shell(dir, "capz decompress -q bad.capz a.c3d.capz w.trc.capz --output-dir-flat back");
   EXPECT_EQ(dr.status, 5) << dr.err;
   EXPECT_TRUE(fs::exists(d.file("back/a.c3d")));
   EXPECT_TRUE(fs::exists(d.file("back/w.trc")));
@@ -201,7 +203,8 @@ TEST(CliBatch, GivenTreeWhenRecursiveThenMirrorAndFlatFoldersAndLosslessBack) {
   make_tree(dir);
   Result m = shell(dir, "capz compress -r -q --lossless t --output-dir-mirror m");
   ASSERT_EQ(m.status, 0) << m.err;
-  for (const std::string& a : kTreeArchives) EXPECT_TRUE(fs::is_regular_file(d.file("m/" + a))) << a;
+  for (const std::string& a : kTreeArchives)
+    EXPECT_TRUE(fs::is_regular_file(d.file("m/" + a))) << a;
   EXPECT_FALSE(fs::exists(d.file("t/s1/a.c3d.capz")));  // nothing beside the inputs
   EXPECT_FALSE(fs::exists(d.file("m/t/s2/notes.txt.capz")));
   size_t files = 0;
@@ -240,7 +243,8 @@ TEST(CliBatch, GivenThreadCountsThenArchivesIdentical) {
   const std::string dir = d.path().string();
   make_tree(dir);
   for (const char* t : {"1", "2", "8", "0"}) {
-    Result r = shell(dir, std::string("capz compress -r -q -T ") + t + " t --output-dir-mirror T" + t);
+    Result r =
+        shell(dir, std::string("capz compress -r -q -T ") + t + " t --output-dir-mirror T" + t);
     ASSERT_EQ(r.status, 0) << t << ": " << r.err;
   }
   for (const std::string& a : kTreeArchives) {
@@ -319,7 +323,8 @@ TEST(CliBatch, GivenReportThenOneParsableLinePerFileInInputOrder) {
   fs::copy_file(repo("admarche2.c3d"), d.file("a.c3d"));
   std::ofstream(d.file("bad.trc")) << "PathFileType\t4\t(X/Y/Z)\tbad.trc\nnothing else\n";
   fs::copy_file(repo("std_walking5_markers.trc"), d.file("w.trc"));
-  Result r = shell(dir, "capz compress -q -T 2 --max-error 0.05mm a.c3d bad.trc w.trc --report r.jsonl");
+  Result r =
+      shell(dir, "capz compress -q -T 2 --max-error 0.05mm a.c3d bad.trc w.trc --report r.jsonl");
   EXPECT_NE(r.status, 0);
   const std::vector<std::string> lines = split_lines(slurp(d.file("r.jsonl")));
   ASSERT_EQ(lines.size(), 3u);
@@ -424,9 +429,13 @@ TEST(CliRecipes, GivenGnuParallelThenEveryTakeCompressed) {
   ASSERT_EQ(one.status, 0) << one.err;
   for (const char* a : {"t/s1/a.c3d.capz", "t/s1/e.c3d.capz", "t/s2/w.trc.capz"})
     EXPECT_TRUE(fs::is_regular_file(d.file(a))) << a;
+  Result failed = shell(dir, "awk -F'\\t' 'NR > 1 && $7 != 0 { print $9 }' j1");
+  EXPECT_EQ(failed.status, 0);
+  EXPECT_EQ(failed.out, "");  // no take failed
   EXPECT_EQ(shell(dir, "capz test -r t").status, 0);
-  Result ssh = shell(dir, find + "parallel -0 --sshlogin 2/: --joblog j2 \"$CAPZ\" compress -q "
-                                 "--output-dir-mirror m {}");
+  Result ssh = shell(dir, find +
+                              "parallel -0 --sshlogin 2/: --joblog j2 \"$CAPZ\" compress -q "
+                              "--output-dir-mirror m {}");
   ASSERT_EQ(ssh.status, 0) << ssh.err;
   for (const char* a : {"m/t/s1/a.c3d.capz", "m/t/s1/e.c3d.capz", "m/t/s2/w.trc.capz"})
     EXPECT_TRUE(fs::is_regular_file(d.file(a))) << a;
@@ -444,8 +453,9 @@ TEST(CliRecipes, GivenSlurmArrayScriptThenEveryTakeDoneExactlyOnce) {
   fs::copy_file(repo("Capture0004.c3d"), d.file("t/s1/c.c3d"));
   const std::string script = std::string(CAPZ_TEST_DIR) + "/../tools/slurm/capz-array.sh";
   ASSERT_TRUE(fs::exists(script)) << script;
-  ASSERT_EQ(shell(dir, "(find t -type f \\( -iname '*.c3d' -o -iname '*.trc' \\); find t -iname "
-                       "'*.pcd' -printf '%h\\n' | sort -u) > takes.txt")
+  ASSERT_EQ(shell(dir,
+                  "(find t -type f \\( -iname '*.c3d' -o -iname '*.trc' \\); find t -iname "
+                  "'*.pcd' -printf '%h\\n' | sort -u) > takes.txt")
                 .status,
             0);
   const std::vector<std::string> takes = split_lines(slurp(d.file("takes.txt")));
@@ -454,14 +464,14 @@ TEST(CliRecipes, GivenSlurmArrayScriptThenEveryTakeDoneExactlyOnce) {
   Result split = shell(dir, "'" + script + "' --split takes.txt " + std::to_string(K) + " lists");
   ASSERT_EQ(split.status, 0) << split.err;
   for (int i = 0; i < K; ++i) {
-    Result r = shell(dir, "SLURM_ARRAY_TASK_ID=" + std::to_string(i) +
-                              " SLURM_CPUS_PER_TASK=2 '" + script +
-                              "' lists --lossless --output-dir-mirror out");
+    Result r = shell(dir, "SLURM_ARRAY_TASK_ID=" + std::to_string(i) + " SLURM_CPUS_PER_TASK=2 '" +
+                              script + "' lists --lossless --output-dir-mirror out");
     ASSERT_EQ(r.status, 0) << "task " << i << ": " << r.err;
   }
   std::map<std::string, int> done;
   for (int i = 0; i < K; ++i)
-    for (const std::string& l : split_lines(slurp(d.file("lists/report." + std::to_string(i) + ".jsonl")))) {
+    for (const std::string& l :
+         split_lines(slurp(d.file("lists/report." + std::to_string(i) + ".jsonl")))) {
       std::map<std::string, std::string> rec = parse_object(l);
       EXPECT_EQ(rec["ok"], "true") << l;
       ++done[rec["input"]];
