@@ -311,6 +311,12 @@ TEST(CliBatch, GivenPipesThenStdinToStdoutWithFormatFromBytes) {
   Result notz = shell(dir, env + "capz decompress < '" + repo("admarche2.c3d") + "' > junk");
   EXPECT_EQ(notz.status, 3);
   EXPECT_NE(notz.err.find("stdin: not a .capz archive"), std::string::npos) << notz.err;
+  // A PCD sequence is a folder: it cannot go to stdout.
+  ASSERT_EQ(shell(dir, env + "capz compress -q '" + repo("synth_wave") + "' -o wave.capz").status,
+            0);
+  Result pcd = shell(dir, env + "capz decompress -c wave.capz > junk");
+  EXPECT_EQ(pcd.status, 1);
+  EXPECT_NE(pcd.err.find("cannot go to stdout"), std::string::npos) << pcd.err;
   // '-' with other inputs is a usage error.
   EXPECT_EQ(shell(dir, env + "capz compress - a.capz < a.capz").status, 1);
   // Every temporary went.
@@ -402,6 +408,13 @@ TEST(CliBatch, GivenManyArchivesThenTestAndListOneLineEachAndRecursive) {
   ASSERT_EQ(rep.size(), kTreeArchives.size());
   EXPECT_EQ(parse_object(rep[1])["ok"], "false");
   EXPECT_EQ(parse_object(rep[0])["ok"], "true");
+  EXPECT_EQ(parse_object(rep[0])["checksum"].size(), 32u);
+  // An existing report: refused without -f (status 1, nothing run), replaced with it.
+  Result kept = shell(dir, "capz test t/s1/a.c3d.capz --report t.jsonl");
+  EXPECT_EQ(kept.status, 1);
+  EXPECT_EQ(kept.out, "");
+  EXPECT_EQ(shell(dir, "capz test -f t/s1/a.c3d.capz --report t.jsonl").status, 0);
+  EXPECT_EQ(count_lines(slurp(d.file("t.jsonl"))), 1u);
   // list over many, and a folder without -r is one failure.
   Result l = shell(dir, "capz list t/s1/a.c3d.capz t/s2/w.trc.capz t/s2/frames.capz");
   EXPECT_EQ(l.status, 0);
