@@ -1,5 +1,6 @@
 // capz test FILE.capz... and capz list FILE.capz... (-r, -T, --report): checking and listing
 // archives.
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 
@@ -23,6 +24,8 @@ bool parse_archives(const Args& args, const std::string& usage, const std::strin
   po::variables_map vm;
   std::vector<std::string> inputs;
   if (!parse_inputs(args, usage, description, o, "FILE.capz", false, &vm, &inputs)) return false;
+  if (std::find(inputs.begin(), inputs.end(), "-") != inputs.end())
+    throw po::error("archives are read from files, not from stdin ('-')");
   *settings = batch_settings(vm, false);
   *jobs = expand_inputs(inputs, InputKind::kArchives, *settings);
   return true;
