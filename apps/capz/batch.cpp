@@ -346,6 +346,7 @@ int run_batch(const std::string& command, const BatchSettings& s, std::vector<Jo
     std::fflush(text_out);
     progress.update(done, bytes_done);
   };
+  progress.update(0, 0);
   auto worker = [&] {
     for (;;) {
       size_t i;

@@ -428,6 +428,27 @@ TEST(CliBatch, GivenManyArchivesThenTestAndListOneLineEachAndRecursive) {
   EXPECT_NE(nr.out.find("t/s2: FAILED: t/s2: is a folder (use -r"), std::string::npos) << nr.out;
 }
 
+// The progress line: on a terminal (util-linux `script` gives the run one), off with -q and
+// when stderr is not a terminal.
+TEST(CliBatch, GivenTerminalThenProgressLineUnlessQuiet) {
+  if (std::system("command -v script >/dev/null 2>&1") != 0) {
+    GTEST_SKIP() << "util-linux 'script' not found: no terminal to show the progress line on";
+  }
+  capz_test::TempDir d("capz_cli_batch");
+  const std::string dir = d.path().string();
+  make_tree(dir);
+  Result tty = shell(dir, "script -qec \"$CAPZ compress -r t --output-dir-flat a\" /dev/null");
+  ASSERT_EQ(tty.status, 0) << tty.out;
+  EXPECT_NE(tty.out.find("capz compress: 4 / 4 files, "), std::string::npos) << tty.out;
+  EXPECT_NE(tty.out.find(" MB/s"), std::string::npos) << tty.out;
+  Result quiet = shell(dir, "script -qec \"$CAPZ compress -q -r t --output-dir-flat b\" /dev/null");
+  ASSERT_EQ(quiet.status, 0) << quiet.out;
+  EXPECT_EQ(quiet.out.find("files, "), std::string::npos) << quiet.out;
+  Result pipe = shell(dir, "capz compress -r t --output-dir-flat c");
+  ASSERT_EQ(pipe.status, 0);
+  EXPECT_EQ(pipe.err, "");
+}
+
 // docs/ARCHIVE.md, GNU parallel: the one-host recipe and --sshlogin with this host (':').
 TEST(CliRecipes, GivenGnuParallelThenEveryTakeCompressed) {
   if (std::system("command -v parallel >/dev/null 2>&1") != 0) {
