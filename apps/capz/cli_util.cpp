@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -42,6 +43,18 @@ bool parse_single_input(const Args& args, const std::string& usage, const std::s
   if (!vm->count("input")) throw po::error("missing " + input_name);
   *input = (*vm)["input"].as<std::string>();
   return true;
+}
+
+std::string strprintf(const char* fmt, ...) {
+  va_list ap, ap2;
+  va_start(ap, fmt);
+  va_copy(ap2, ap);
+  const int n = std::vsnprintf(nullptr, 0, fmt, ap);
+  va_end(ap);
+  std::string s(n > 0 ? static_cast<size_t>(n) : 0, '\0');
+  if (n > 0) std::vsnprintf(&s[0], s.size() + 1, fmt, ap2);
+  va_end(ap2);
+  return s;
 }
 
 std::string human_size(uint64_t bytes) {
