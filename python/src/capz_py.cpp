@@ -15,6 +15,7 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -445,7 +446,11 @@ PYBIND11_MODULE(_capz, m) {
       .def("__repr__", [](const capz::Take& t) {
         std::string s = "<capz.Take " + std::to_string(t.frames) + " frames x " +
                         std::to_string(t.points) + " points";
-        if (t.rate > 0) s += ", " + std::to_string(t.rate) + " Hz";
+        if (t.rate > 0) {
+          char rate[32];
+          std::snprintf(rate, sizeof rate, ", %g Hz", t.rate);
+          s += rate;
+        }
         if (!t.units.empty()) s += ", " + t.units;
         if (t.analog.channels > 0) s += ", " + std::to_string(t.analog.channels) + " analog";
         if (!t.attributes.empty()) s += ", " + std::to_string(t.attributes.size()) + " attributes";
