@@ -19,8 +19,9 @@ CLI = os.environ.get("CAPZ_CLI", os.path.join(REPO, "build", "capz"))
 
 
 def shared(rel):
-    """A path under the shared real data, or a skip when it is absent."""
-    p = os.path.join(SHARED, rel)
+    """A path under the shared real data ("repo:NAME": the repository's data/NAME), or a skip
+    when it is absent."""
+    p = os.path.join(REPO, "data", rel[5:]) if rel.startswith("repo:") else os.path.join(SHARED, rel)
     if not os.path.exists(p):
         pytest.skip(f"shared data not found: {p}")
     return p

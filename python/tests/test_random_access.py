@@ -8,7 +8,7 @@ from conftest import cli, cli_info, shared
 
 @pytest.fixture
 def archive(tmp_path):
-    src = shared("c3d/btkdata/PiG/PiG_Calibration2-NoOption.c3d")
+    src = shared("repo:EB015PI.c3d")  # 450 frames, gaps, 16 analog channels
     out = str(tmp_path / "a.capz")
     cli("compress", src, "-o", out, "--window", "32", "-q")
     return out
@@ -18,7 +18,7 @@ def test_read_frames_equals_slice_of_whole(archive):
     whole = capz.read(archive)
     with capz.open(archive) as z:
         assert z.frames == whole.frames and z.points == whole.points
-        for first, count in [(0, 10), (100, 50), (31, 2), (200, 100), (0, None)]:
+        for first, count in [(0, 10), (100, 50), (31, 2), (400, 100), (0, None)]:
             part = z.read_frames(first=first, count=count)
             end = whole.frames if count is None else min(whole.frames, first + count)
             assert part.frames == end - first
