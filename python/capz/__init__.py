@@ -79,6 +79,15 @@ def _options(codec_options: Optional[Mapping[str, Any]]) -> Dict[str, str]:
     return {str(k): str(v) for k, v in codec_options.items()}
 
 
+def _coding(max_error: Optional[Length], lossless: bool, kg_error: Optional[float],
+            units: Optional[str], codec: str, clusters: int, window: int, check: bool,
+            codec_options: Optional[Mapping[str, Any]]) -> tuple:
+    """The target and coding options of compress() and compress_file(), checked, in the order
+    _capz.compress and _capz.compress_file take them."""
+    return (bool(lossless), _kg(kg_error), _length(max_error, "max_error"), units or "",
+            str(codec), int(clusters), int(window), bool(check), _options(codec_options))
+
+
 def _array(name: str, value: Any, dtype: Optional[np.dtype] = None) -> np.ndarray:
     """`value` as an ndarray without conversion; a wrong dtype is an error, not a cast."""
     a = np.asarray(value)
@@ -309,15 +318,8 @@ def compress(
     _check_positions(take)
     data, report = _capz.compress(
         take,
-        bool(lossless),
-        _kg(kg_error),
-        _length(max_error, "max_error"),
-        units or "",
-        codec,
-        int(clusters),
-        int(window),
-        bool(check),
-        _options(codec_options),
+        *_coding(max_error, lossless, kg_error, units, codec, clusters, window, check,
+                 codec_options),
     )
     return (data, report) if stats else data
 
@@ -358,15 +360,8 @@ def compress_file(
     return _capz.compress_file(
         src,
         out,
-        bool(lossless),
-        _kg(kg_error),
-        _length(max_error, "max_error"),
-        units or "",
-        codec,
-        int(clusters),
-        int(window),
-        bool(check),
-        _options(codec_options),
+        *_coding(max_error, lossless, kg_error, units, codec, clusters, window, check,
+                 codec_options),
         bool(overwrite),
     )
 
