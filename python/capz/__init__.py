@@ -114,6 +114,7 @@ def _from_arrays(
     analog_rate: float = 0.0,
     analog_labels: Optional[Sequence[str]] = None,
     attributes: Optional[Mapping[str, Any]] = None,
+    rotations: Optional[Mapping[str, Any]] = None,
 ) -> Take:
     """A Take from numpy arrays.
 
@@ -130,6 +131,10 @@ def _from_arrays(
                   and analog_labels (one per channel) go with it.
     attributes    dict name -> array (frames, points) or (frames, points, count) of float32,
                   float64, uint8/16/32/64 or int8/16/32/64 (per-point fields, as PCD has).
+    rotations     dict as Take.rotations gives it: matrices float32 (samples, segments, 4, 4)
+                  indexed [sample, segment, row, column], reliability float32
+                  (samples, segments), labels (one per segment), rate (Hz); samples a
+                  multiple of frames.
 
     xyz, valid, analog and attributes are copied once into the take (no copy before that when
     they are C-contiguous).
@@ -199,6 +204,7 @@ def _from_arrays(
         little = arr.dtype.newbyteorder("<")
         arr = np.ascontiguousarray(arr, dtype=little)  # no copy when already little-endian
         attrs.append((name, kind, arr.dtype.itemsize, count, arr))
+    rot = _rotations(rotations, frames)
     return _capz.take_from_arrays(
         np.ascontiguousarray(a),
         np.ascontiguousarray(v).view(np.uint8),
@@ -210,7 +216,33 @@ def _from_arrays(
         float(analog_rate),
         channel_labels,
         attrs,
+        rot,
     )
+
+
+def _rotations(rotations: Optional[Mapping[str, Any]], frames: int) -> Optional[tuple]:
+    """Take.rotations' dict checked, matrices laid out column-major as the library keeps them."""
+    if rotations is None:
+        return None
+    if not isinstance(rotations, Mapping) or "matrices" not in rotations:
+        raise _invalid("rotations must be a dict with matrices, reliability, labels and rate")
+    m = _array("rotation matrices", rotations["matrices"], np.dtype(np.float32))
+    if m.ndim != 4 or m.shape[2:] != (4, 4):
+        raise _invalid(f"rotation matrices must have shape (samples, segments, 4, 4), got {m.shape}")
+    samples, segments = m.shape[0], m.shape[1]
+    if segments and (frames == 0 or samples == 0 or samples % frames):
+        raise _invalid(f"rotations have {samples} samples: a positive multiple of the {frames} "
+                       "frames is needed")
+    rel = rotations.get("reliability")
+    rel = np.ones((samples, segments), np.float32) if rel is None else \
+        _array("rotation reliability", rel, np.dtype(np.float32))
+    if rel.shape != (samples, segments):
+        raise _invalid(f"rotation reliability must have shape {(samples, segments)}, "
+                       f"got {rel.shape}")
+    labels = _labels("rotation labels", rotations.get("labels"), segments)
+    rate = float(rotations.get("rate", 0.0))
+    column_major = np.ascontiguousarray(m.transpose(0, 1, 3, 2)).reshape(samples, segments, 16)
+    return (column_major, np.ascontiguousarray(rel), labels, rate)
 
 
 def _labels(what: str, labels: Optional[Sequence[str]], n: int) -> List[str]:

@@ -63,6 +63,7 @@ class Take:
         analog_rate: float = 0.0,
         analog_labels: Optional[List[str]] = None,
         attributes: Optional[Mapping[str, npt.ArrayLike]] = None,
+        rotations: Optional[Mapping[str, Any]] = None,
     ) -> "Take":
         """A Take from numpy arrays (see capz.Take.from_arrays' docstring)."""
 
@@ -89,6 +90,7 @@ def take_from_arrays(
     analog_rate: float,
     analog_labels: List[str],
     attributes: List[Tuple[str, str, int, int, np.ndarray]],
+    rotations: Optional[Tuple[np.ndarray, np.ndarray, List[str], float]],
 ) -> Take: ...
 def read(path: str) -> Take: ...
 def write(take: Take, path: str, overwrite: bool, pcd_encoding: str, c3d_float: bool) -> None: ...

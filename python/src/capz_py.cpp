@@ -189,7 +189,8 @@ TakePtr take_from_arrays(const py::array& xyz, const py::array& valid, double ra
                          const std::string& units, const std::vector<std::string>& labels,
                          int64_t first_frame, const std::optional<py::array>& analog,
                          double analog_rate, const std::vector<std::string>& analog_labels,
-                         const std::vector<py::tuple>& attributes) {
+                         const std::vector<py::tuple>& attributes,
+                         const std::optional<py::tuple>& rotations) {
   if (xyz.ndim() != 3 || xyz.shape(2) != 3) invalid("xyz must have shape (frames, points, 3)");
   capz::Take t;
   const size_t F = static_cast<size_t>(xyz.shape(0)), N = static_cast<size_t>(xyz.shape(1));
@@ -228,6 +229,28 @@ TakePtr take_from_arrays(const py::array& xyz, const py::array& valid, double ra
       t.analog.values.resize(S * C);
       std::memcpy(t.analog.values.data(), array_bytes(an, S * C * sizeof(double), "analog"),
                   S * C * sizeof(double));
+    }
+  }
+  if (rotations) {  // (matrices float32 (S, G, 16) column-major, reliability (S, G), labels, rate)
+    const py::tuple& r = *rotations;
+    const py::array mats = r[0].cast<py::array>(), rel = r[1].cast<py::array>();
+    if (mats.ndim() != 3 || mats.shape(2) != 16) invalid("rotation matrices: shape (S, G, 16)");
+    const size_t S = static_cast<size_t>(mats.shape(0)), G = static_cast<size_t>(mats.shape(1));
+    if (G > 0) {
+      if (F == 0 || S == 0 || S % F != 0)
+        invalid("rotations: samples must be a positive multiple of the frames");
+      capz::Rotations& ro = t.rotations;
+      ro.segments = static_cast<int>(G);
+      ro.samples_per_frame = static_cast<int>(S / F);
+      ro.labels = r[2].cast<std::vector<std::string>>();
+      ro.rate = r[3].cast<double>();
+      if (ro.labels.size() != G) invalid("rotation labels: one per segment expected");
+      ro.matrices.resize(S * G * 16);
+      ro.reliability.resize(S * G);
+      std::memcpy(ro.matrices.data(), array_bytes(mats, S * G * 16 * 4, "rotation matrices"),
+                  S * G * 16 * 4);
+      std::memcpy(ro.reliability.data(), array_bytes(rel, S * G * 4, "rotation reliability"),
+                  S * G * 4);
     }
   }
   for (const py::tuple& at : attributes) {

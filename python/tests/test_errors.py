@@ -55,6 +55,14 @@ def test_bad_values_and_companions():
            "invalid-parameter", "attribute 'c' must have shape (6, 3)")
     raises(lambda: capz.Take.from_arrays(xyz, attributes={"c": np.zeros((6, 3), bool)}),
            "invalid-parameter", "dtype bool is not a PCD field type")
+    raises(lambda: capz.Take.from_arrays(xyz, rotations={"matrices": np.zeros((6, 1, 4, 4))}),
+           "invalid-parameter", "rotation matrices must be float32, got float64")
+    raises(lambda: capz.Take.from_arrays(
+        xyz, rotations={"matrices": np.zeros((6, 1, 3, 3), np.float32)}),
+        "invalid-parameter", "shape (samples, segments, 4, 4)")
+    raises(lambda: capz.Take.from_arrays(
+        xyz, rotations={"matrices": np.zeros((7, 1, 4, 4), np.float32)}),
+        "invalid-parameter", "positive multiple of the 6 frames")
 
 
 def test_nan_written_into_a_view_is_caught_before_coding():

@@ -93,3 +93,42 @@ def test_metadata_setters():
     for attr, value in (("rate", -1.0), ("units", "parsec"), ("labels", ["only one"])):
         with pytest.raises(capz.Error):
             setattr(t, attr, value)
+
+
+def turning_transforms(samples, segments):
+    """Homogeneous transforms [sample, segment, row, column]: a turn about z and a shift."""
+    m = np.zeros((samples, segments, 4, 4), np.float32)
+    a = 0.05 * np.arange(samples)[:, None] + np.arange(segments)[None, :]
+    m[..., 0, 0], m[..., 0, 1] = np.cos(a), -np.sin(a)
+    m[..., 1, 0], m[..., 1, 1] = np.sin(a), np.cos(a)
+    m[..., 2, 2] = 1
+    m[..., 0, 3] = 100 + np.arange(samples)[:, None]
+    m[..., 1, 3], m[..., 2, 3] = 200, 300 + np.arange(segments)[None, :]
+    m[..., 3, 3] = 1
+    return m
+
+
+def test_rotations_round_trip(tmp_path):
+    frames, segments, ratio = 12, 3, 2
+    m = turning_transforms(frames * ratio, segments)
+    rel = np.full((frames * ratio, segments), 0.5, np.float32)
+    rel[3, 1] = np.nan
+    rot = {"matrices": m, "reliability": rel, "labels": ["pelvis", "thigh", "shank"],
+           "rate": 200.0}
+    t = capz.Take.from_arrays(synthetic_xyz(frames, 4), rotations=rot)
+    r = t.rotations
+    assert r["matrices"].shape == (24, 3, 4, 4) and r["matrices"].dtype == np.float32
+    np.testing.assert_array_equal(r["matrices"], m)  # [sample, segment, row, column]
+    np.testing.assert_array_equal(r["matrices"][..., 3, :], np.broadcast_to([0, 0, 0, 1],
+                                                                           (24, 3, 4)))
+    np.testing.assert_array_equal(r["reliability"], rel)
+    assert (r["labels"], r["rate"], r["samples_per_frame"]) == (rot["labels"], 200.0, 2)
+    back = capz.decompress(capz.compress(t, max_error="0.5mm")).rotations
+    np.testing.assert_array_equal(back["matrices"], m)  # rotations are kept bit for bit
+    np.testing.assert_array_equal(back["reliability"], rel)
+    assert back["labels"] == rot["labels"]
+    out = str(tmp_path / "rot.c3d")
+    capz.write(t, out)
+    again = capz.read(out).rotations
+    np.testing.assert_array_equal(again["matrices"], m)
+    assert again["labels"] == rot["labels"] and again["samples_per_frame"] == 2
