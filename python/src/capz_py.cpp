@@ -23,6 +23,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "capz/codec.h"
@@ -287,7 +288,7 @@ capz::CompressTarget target_of(bool lossless, std::optional<double> kg_error,
   capz::CompressTarget t;
   t.lossless = lossless;
   t.kg_error = kg_error;
-  t.max_error = max_error;
+  t.max_error = std::move(max_error);
   return t;
 }
 
@@ -311,7 +312,7 @@ py::tuple compress_take(const capz::Take& take, bool lossless, std::optional<dou
     const capz::Take& t = give_units ? *with_units : take;
     capz::CompressOptions opts = coding_options(codec, clusters, window, check, codec_options);
     std::unique_ptr<capz::FrameSource> src = capz::take_frames(t);
-    capz::set_compress_target(*src, target_of(lossless, kg_error, max_error), &opts);
+    capz::set_compress_target(*src, target_of(lossless, kg_error, std::move(max_error)), &opts);
     bytes = capz::compress(t, opts, &st);
   }
   return py::make_tuple(py::bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
@@ -346,7 +347,7 @@ class CapzFile {
   capz::StreamInfo info_;
 };
 
-void translate_errors(std::exception_ptr p) {
+void translate_errors(std::exception_ptr p) {  // NOLINT: pybind11 passes it by value
   try {
     if (p) std::rethrow_exception(p);
   } catch (const capz::Error& e) {
@@ -368,7 +369,7 @@ PYBIND11_MODULE(_capz, m) {
   take_class
       .def_property_readonly(
           "xyz",
-          [](py::object self) {
+          [](const py::object& self) {
             const auto& t = self.cast<const capz::Take&>();
             return view(self, py::dtype::of<double>(), {ss(t.frames), ss(t.points), 3},
                         t.xyz.data());
@@ -377,7 +378,7 @@ PYBIND11_MODULE(_capz, m) {
           "the take's storage (no copy): writing to it changes the take")
       .def_property_readonly(
           "valid",
-          [](py::object self) {
+          [](const py::object& self) {
             const auto& t = self.cast<const capz::Take&>();
             return view(self, py::dtype("bool"), {ss(t.frames), ss(t.points)}, t.valid.data());
           },
@@ -418,7 +419,7 @@ PYBIND11_MODULE(_capz, m) {
       .def_property_readonly("warnings", [](const capz::Take& t) { return t.warnings; })
       .def_property_readonly(
           "analog",
-          [](py::object self) {
+          [](const py::object& self) {
             const auto& t = self.cast<const capz::Take&>();
             const size_t C = static_cast<size_t>(std::max(0, t.analog.channels));
             const size_t S = C ? t.analog.values.size() / C : 0;
@@ -433,7 +434,7 @@ PYBIND11_MODULE(_capz, m) {
                              [](const capz::Take& t) { return t.analog.samples_per_frame; })
       .def_property_readonly(
           "rotations",
-          [](py::object self) {
+          [](const py::object& self) {
             const auto& t = self.cast<const capz::Take&>();
             const capz::Rotations& r = t.rotations;
             const size_t G = static_cast<size_t>(std::max(0, r.segments));
@@ -458,7 +459,9 @@ PYBIND11_MODULE(_capz, m) {
           "rate and samples_per_frame")
       .def_property_readonly(
           "attributes",
-          [](py::object self) { return attributes_of(self, self.cast<const capz::Take&>()); },
+          [](const py::object& self) {
+            return attributes_of(self, self.cast<const capz::Take&>());
+          },
           "per-point fields of the source besides x y z (PCD: rgb, "
           "intensity, normals, ...): dict name -> array (frames, points) or "
           "(frames, points, count) of the field's type (float32, uint8, ...)")
@@ -529,7 +532,7 @@ PYBIND11_MODULE(_capz, m) {
           capz::CompressStats st;
           {
             py::gil_scoped_release nogil;
-            capz::compress_file(in, out, target_of(lossless, kg_error, max_error),
+            capz::compress_file(in, out, target_of(lossless, kg_error, std::move(max_error)),
                                 coding_options(codec, clusters, window, check, codec_options),
                                 units, overwrite, &st);
           }
