@@ -15,5 +15,8 @@ class Error(Exception):
         self.message = message
         self.exit_status = exit_status
 
+    def __reduce__(self):  # so it crosses process boundaries (multiprocessing) intact
+        return (Error, (self.code, self.message, self.exit_status))
+
     def __str__(self) -> str:
         return f"{self.message} [{self.code}]"

@@ -113,3 +113,12 @@ def test_files():
 
 def test_write_capz_path_is_refused(small_take, tmp_path):
     raises(lambda: capz.write(small_take, str(tmp_path / "x.capz")), "usage", "compress")
+
+
+def test_error_pickles():
+    import pickle
+
+    e = raises(lambda: capz.decompress(b"nope"), "not-our-format", "")
+    back = pickle.loads(pickle.dumps(e))
+    assert (back.code, back.message, back.exit_status) == (e.code, e.message, e.exit_status)
+    assert back.exit_status == 3 and str(back) == str(e)
