@@ -399,7 +399,8 @@ def compress_file(
 
 
 class CapzFile:
-    """A .capz opened for random access: frames are decoded on demand, a window at a time.
+    """A .capz opened for random access: its bytes are read once, and frames are decoded on
+    demand, only the windows they touch.
 
         with capz.open("walk.capz") as z:
             part = z.read_frames(first=100, count=50)
