@@ -44,13 +44,18 @@ using TakePtr = std::shared_ptr<capz::Take>;
   capz::fail(capz::ErrorCode::kInvalidParameter, "", what);
 }
 
-// A Take for Python: gaps set to NaN (their values are unspecified by contract).
+// A Take for Python: its arrays checked against its counts (the views rely on them), validity
+// as 0 or 1 (numpy's bool), gaps set to NaN (their values are unspecified by contract).
 TakePtr adopt(capz::Take&& t) {
   auto p = std::make_shared<capz::Take>(std::move(t));
-  if (p->xyz.size() == p->valid.size() * 3) {
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    for (size_t i = 0; i < p->valid.size(); ++i)
-      if (!p->valid[i]) p->xyz[3 * i] = p->xyz[3 * i + 1] = p->xyz[3 * i + 2] = nan;
+  const size_t n = p->frames * p->points;
+  if (p->xyz.size() != n * 3 || p->valid.size() != n)
+    capz::fail(capz::ErrorCode::kInternal, p->source,
+               "take arrays do not match its frame and point counts");
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (size_t i = 0; i < n; ++i) {
+    p->valid[i] = p->valid[i] ? 1 : 0;
+    if (!p->valid[i]) p->xyz[3 * i] = p->xyz[3 * i + 1] = p->xyz[3 * i + 2] = nan;
   }
   return p;
 }
