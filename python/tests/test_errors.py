@@ -122,3 +122,22 @@ def test_error_pickles():
     back = pickle.loads(pickle.dumps(e))
     assert (back.code, back.message, back.exit_status) == (e.code, e.message, e.exit_status)
     assert back.exit_status == 3 and str(back) == str(e)
+
+
+def test_every_must_reject_stream_raises():
+    import glob
+    import os
+
+    from conftest import REPO
+
+    streams = sorted(glob.glob(os.path.join(REPO, "tests", "corrupt", "streams", "*.capz")))
+    assert len(streams) > 10
+    for path in streams:
+        with open(path, "rb") as f:
+            data = f.read()
+        with pytest.raises(capz.Error) as e:
+            capz.decompress(data, os.path.basename(path))
+        assert e.value.code in ("corrupt", "not-our-format", "unsupported-version"), path
+        with pytest.raises(capz.Error):  # the same through a file, all frames read
+            with capz.open(path) as z:
+                z.read_frames()
