@@ -7,6 +7,7 @@
 
 #include "batch.h"
 #include "capz/codec.h"
+#include "capz/compress_file.h"
 #include "capz/file.h"
 #include "capz/io.h"
 #include "capz/original.h"
@@ -17,37 +18,6 @@
 namespace capz_cli {
 
 namespace {
-
-// One pass over the source: the bounding box of the valid samples and how many there are.
-struct ValidExtent {
-  double lo[3] = {1e308, 1e308, 1e308}, hi[3] = {-1e308, -1e308, -1e308};
-  size_t valid = 0;
-};
-ValidExtent valid_extent(capz::FrameSource& src) {
-  ValidExtent e;
-  capz::FrameBlock b;
-  const size_t F = src.header().frames, B = src.preferred_block();
-  for (size_t f = 0; f < F; f += B) {
-    src.read(f, std::min(B, F - f), &b);
-    for (size_t i = 0; i < b.frames * b.points; ++i)
-      if (b.valid[i]) {
-        ++e.valid;
-        for (int a = 0; a < 3; ++a) {
-          e.lo[a] = std::min(e.lo[a], b.xyz[i * 3 + a]);
-          e.hi[a] = std::max(e.hi[a], b.xyz[i * 3 + a]);
-        }
-      }
-  }
-  return e;
-}
-
-// Default bound for data without units: 1e-4 of the bounding-box diagonal of the valid samples.
-double unitless_default_bound(const ValidExtent& e) {
-  double d2 = 0;
-  for (int a = 0; a < 3; ++a)
-    d2 += e.hi[a] > e.lo[a] ? (e.hi[a] - e.lo[a]) * (e.hi[a] - e.lo[a]) : 0;
-  return d2 > 0 ? 1e-4 * std::sqrt(d2) : 1e-4;
-}
 
 // The options of `capz compress` (besides the common ones and IN).
 po::options_description compress_options() {
@@ -89,12 +59,9 @@ po::options_description compress_options() {
   return o;
 }
 
-// The input: C3D, TRC and PCD inputs stream (the file is read a window at a time, twice: a scan
-// that fixes the grid, then the coding pass), so memory stays bounded by the window. codec auto
-// compares whole-take encodings and reads the take whole (`whole`, which `source` then reads).
+// The input (capz/compress_file.h) and the thread CPU seconds opening it took.
 struct Input {
-  capz::Take whole;
-  std::unique_ptr<capz::FrameSource> source;
+  capz::CompressInput in;
   double read_cpu_seconds = 0;
 };
 
@@ -102,16 +69,8 @@ struct Input {
 // cannot read (a POINT:UNITS naming several different units, a name it does not know).
 void open_input(const std::string& in, bool whole, const std::string& units, Input* input) {
   const double c_read = thread_cpu_seconds();
-  if (whole) {
-    input->whole = capz::read_take(in);
-    input->source = capz::take_frames(input->whole);
-  } else {
-    input->source = capz::open_frames(in);
-  }
+  input->in = capz::open_compress_input(in, whole, units);
   input->read_cpu_seconds = thread_cpu_seconds() - c_read;
-  if (!units.empty() && capz::units_to_metres(input->source->header().units) == 0)
-    input->source->edit_header().units = units;
-  if (whole) input->whole.units = input->source->header().units;
 }
 
 // Codec, clusters, window, check and --codec-opt from the options.
@@ -129,29 +88,15 @@ void set_coding_options(const po::variables_map& vm, capz::CompressOptions* opts
     }
 }
 
-// The error target: --lossless, --kg-error, --max-error, or the default bound (0.1 mm; for data
-// without units 1e-4 of the valid samples' bounding-box diagonal, which reads the source once).
+// The error target: --lossless, --kg-error, --max-error, or the default bound
+// (capz::set_compress_target).
 void set_target(const po::variables_map& vm, capz::FrameSource& source,
                 capz::CompressOptions* opts) {
-  const capz::Take& take = source.header();
-  ValidExtent extent;
-  if (vm.count("lossless")) {
-    opts->lossless = true;
-  } else if (vm.count("kg-error")) {
-    opts->kg_error = vm["kg-error"].as<double>();
-    if (!(opts->kg_error > 0))
-      capz::fail(capz::ErrorCode::kInvalidParameter, "", "--kg-error must be > 0");
-  } else if (take.units.empty() && (extent = valid_extent(source)).valid == 0) {
-    opts->max_error = 1;  // no positions to bound (analog-only take): any bound will do
-  } else if (!vm.count("max-error") && take.units.empty()) {
-    opts->max_error = unitless_default_bound(extent);
-  } else {
-    opts->max_error = capz::parse_length(
-        vm.count("max-error") ? vm["max-error"].as<std::string>() : "0.1mm", take.units);
-    if (!(opts->max_error > 0))
-      capz::fail(capz::ErrorCode::kInvalidParameter, "",
-                 "--max-error must be > 0 (or use --lossless)");
-  }
+  capz::CompressTarget target;
+  target.lossless = vm.count("lossless") != 0;
+  if (vm.count("kg-error")) target.kg_error = vm["kg-error"].as<double>();
+  if (vm.count("max-error")) target.max_error = vm["max-error"].as<std::string>();
+  capz::set_compress_target(source, target, opts);
 }
 
 // Compresses the input into `out`; returns the encoding's thread CPU seconds.
@@ -161,10 +106,7 @@ double encode(Input& input, capz::CompressOptions opts, const std::string& out, 
   const double c_enc = thread_cpu_seconds();
   Progress progress("compress");
   if (progress_line) opts.progress = [&](size_t d, size_t t) { progress(d, t); };
-  if (opts.codec == "auto")
-    capz::write_file(out, capz::compress(input.whole, opts, st), force);
-  else
-    capz::compress_stream(*input.source, opts, out, force, st);
+  capz::compress_input(input.in, opts, out, force, st);
   return thread_cpu_seconds() - c_enc;
 }
 
@@ -293,8 +235,8 @@ FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
   // -T: job.threads is what this file may use inside the library (1 while a batch codes several
   // files at once). The library has no thread count yet; when CompressOptions gets one, this is
   // where it is set: opts.threads = job.threads.
-  const capz::Take& take = input.source->header();
-  set_target(vm, *input.source, &opts);
+  const capz::Take& take = input.in.source->header();
+  set_target(vm, *input.in.source, &opts);
 
   capz::CompressStats st;
   r.t_enc = encode(input, opts, r.out, force, s.single, &st);
