@@ -331,7 +331,7 @@ class Encoder {
       analog_bytes_ += buf.size() - before;
     }
     if (plan_.G > 0) append_rotations(w, &buf);
-    if (!take_.attributes.empty()) append_attributes(w, &buf);
+    if (!take_.attributes.empty()) append_attributes(w, wi.valid.data(), &buf);
     reconstruct(wi, recon, &ew.rec);
     return ew;
   }
@@ -349,11 +349,11 @@ class Encoder {
   }
 
   // ATTR (FORMAT.md 5.3): the window's point fields, lossless whatever the bound.
-  void append_attributes(size_t w, std::vector<uint8_t>* buf) {
+  void append_attributes(size_t w, const uint8_t* valid, std::vector<uint8_t>* buf) {
     const size_t before = buf->size();
     const std::vector<uint8_t> at =
-        encode_attributes(attribute_specs(take_.pcd->fields), block_.attributes, block_.frames,
-                          take_.points, take_.pcd->width);
+        encode_attributes(attribute_specs(take_.pcd->fields), block_.attributes, valid,
+                          block_.frames, take_.points, take_.pcd->width);
     append_chunk(buf, "ATTR", with_window_index(w, 0xFF, at));
     attribute_bytes_ += buf->size() - before;
   }

@@ -1,5 +1,6 @@
-// ATTR (docs/FORMAT.md 5.3): lanes of ordered integers, one of five predictors per lane,
-// residuals through the analog coder's entropy stage (4.2.5).
+// ATTR (docs/FORMAT.md 5.3): per attribute, lanes of ordered integers with one of nine
+// predictors per lane and residuals through the analog coder's entropy stage (4.2.5), or LZMA2
+// of its byte planes, whichever is smaller.
 #include "coding/attributes.h"
 
 #include <algorithm>
@@ -9,12 +10,13 @@
 #include "coding/analog/analog_entropy.h"
 #include "coding/bytes.h"
 #include "coding/entropy.h"
+#include "coding/lzma_block.h"
 
 namespace capz {
 
 namespace {
 
-constexpr int kPredictors = 5;
+constexpr int kPredictors = 9;
 
 // One lane: frames x points ordered values of `bits` bits.
 struct Lane {
@@ -161,28 +163,129 @@ void store_lane(const AttrSpec& s, const Lane& l, size_t n, size_t j, std::vecto
     store_le(bytes->data() + (i * count + j) * size, s.size, from_ordered(l.u[i], s.type, l.bits));
 }
 
-// The predictor whose residuals have the smallest sum of bit lengths (ties: the lowest).
-int choose_predictor(const Lane& l, size_t frames, size_t N, size_t W) {
+// The prediction of a valid point under predictors 5..8 (FORMAT.md 5.3): only valid points
+// count; `last` is the lane's previous valid value.
+uint64_t predict_masked(int id, const uint64_t* cur, const uint64_t* prev, const uint8_t* vcur,
+                        const uint8_t* vprev, size_t p, size_t W, uint64_t mask, uint64_t last) {
+  const bool has_prev = prev && vprev[p];
+  const bool has_left = p % W > 0 && vcur[p - 1];
+  switch (id) {
+    case 5:
+      return last;
+    case 6:
+      return has_prev ? prev[p] : last;
+    case 7: {
+      const bool has_up = p >= W && vcur[p - W];
+      if (has_left && has_up && p % W > 0 && vcur[p - W - 1])
+        return med(cur[p - 1], cur[p - W], cur[p - W - 1], mask);
+      if (has_left) return cur[p - 1];
+      if (has_up) return cur[p - W];
+      return last;
+    }
+    default:
+      if (has_prev && has_left && vprev[p - 1]) return (prev[p] + cur[p - 1] - prev[p - 1]) & mask;
+      return has_prev ? prev[p] : last;
+  }
+}
+
+// Walks lane `u` (frames x N values) in coding order under predictor `id`, calling
+// step(&value, prediction, gap) for each value: the encoder reads the value, the decoder sets
+// it. valid: the window's gap mask (frames x N), used by predictors 5..8 only.
+template <typename Step>
+void walk_lane(int id, std::vector<uint64_t>* lane, const uint8_t* valid, size_t frames, size_t N,
+               size_t W, uint64_t mask, Step&& step) {
+  uint64_t last = 0, last_gap = 0;
+  const bool masked = id >= 5;
+  for (size_t f = 0; f < frames; ++f) {
+    uint64_t* cur = lane->data() + f * N;
+    const uint64_t* prev = f ? cur - N : nullptr;
+    const uint8_t* vcur = masked ? valid + f * N : nullptr;
+    const uint8_t* vprev = masked && f ? vcur - N : nullptr;
+    for (size_t p = 0; p < N; ++p) {
+      if (!masked) {
+        step(&cur[p], predict(id, cur, prev, p, W, mask), false);
+      } else if (!vcur[p]) {
+        step(&cur[p], last_gap, true);
+        last_gap = cur[p];
+      } else {
+        step(&cur[p], predict_masked(id, cur, prev, vcur, vprev, p, W, mask, last), false);
+        last = cur[p];
+      }
+    }
+  }
+}
+
+// The predictor whose residuals have the smallest sum of bit lengths (ties: the lowest);
+// 5..8 only with a gap mask that has gaps.
+int choose_predictor(Lane& l, const uint8_t* valid, bool gaps, size_t frames, size_t N, size_t W) {
   const uint64_t mask = mask_of(l.bits);
   uint64_t best_cost = ~uint64_t{0};
   int best = 0;
-  for (int id = 0; id < kPredictors; ++id) {
+  for (int id = 0; id < (gaps ? kPredictors : 5); ++id) {
     uint64_t cost = 0;
-    for (size_t f = 0; f < frames; ++f) {
-      const uint64_t* cur = l.u.data() + f * N;
-      const uint64_t* prev = f ? cur - N : nullptr;
-      for (size_t p = 0; p < N; ++p) {
-        const int64_t r =
-            signed_residual((cur[p] - predict(id, cur, prev, p, W, mask)) & mask, l.bits);
-        cost += bit_length(analog::zigzag64(r));
-      }
-    }
+    walk_lane(id, &l.u, valid, frames, N, W, mask, [&](uint64_t* v, uint64_t pred, bool) {
+      cost += bit_length(analog::zigzag64(signed_residual((*v - pred) & mask, l.bits)));
+    });
     if (cost < best_cost) {
       best_cost = cost;
       best = id;
     }
   }
   return best;
+}
+
+// Entropy state of one lane: for valid points and (predictors 5..8) for gap points.
+struct LaneState {
+  analog::Magnitude mag[2];
+  int prev_nb[2] = {0, 0};
+};
+
+// Byte planes of n elements of s bytes: byte 0 of every element, then byte 1, ...
+std::vector<uint8_t> to_planes(const std::vector<uint8_t>& b, size_t s) {
+  const size_t n = s ? b.size() / s : 0;
+  std::vector<uint8_t> out(b.size());
+  for (size_t k = 0; k < s; ++k)
+    for (size_t i = 0; i < n; ++i) out[k * n + i] = b[i * s + k];
+  return out;
+}
+std::vector<uint8_t> from_planes(const std::vector<uint8_t>& planes, size_t s) {
+  const size_t n = s ? planes.size() / s : 0;
+  std::vector<uint8_t> out(planes.size());
+  for (size_t k = 0; k < s; ++k)
+    for (size_t i = 0; i < n; ++i) out[i * s + k] = planes[k * n + i];
+  return out;
+}
+
+// One attribute, predictively (transforms 0 and 1): transform, predictors, size, block.
+std::vector<uint8_t> encode_predictive(const AttrSpec& s, const std::vector<uint8_t>& bytes,
+                                       const uint8_t* valid, bool gaps, size_t frames,
+                                       size_t points, size_t W) {
+  const size_t n = frames * points;
+  const bool colour = is_colour_field(s);
+  ByteWriter w;
+  w.u8(colour ? 1 : 0);
+  IntEncoder enc(analog::kAnalogContexts);
+  IntEncoder::Cursor c = enc.cursor();
+  Lane l;
+  for (size_t j = 0; j < lane_count(s, colour); ++j) {
+    make_lane(s, colour, bytes, n, j, &l);
+    const int pred = choose_predictor(l, valid, gaps, frames, points, W);
+    w.u8(static_cast<uint8_t>(pred));
+    const uint64_t mask = mask_of(l.bits);
+    LaneState st;
+    walk_lane(pred, &l.u, valid, frames, points, W, mask, [&](uint64_t* v, uint64_t p, bool gap) {
+      const int64_t r = signed_residual((*v - p) & mask, l.bits);
+      if (l.float_residuals)
+        analog::put_float_residual(&c, &st.prev_nb[gap], r);
+      else
+        analog::put_residual(&c, &st.mag[gap], static_cast<int32_t>(r));
+    });
+  }
+  enc.commit(c);
+  const std::vector<uint8_t> block = enc.finish();
+  w.varint(block.size());
+  w.bytes(block);
+  return std::move(w.buffer());
 }
 
 }  // namespace
@@ -200,103 +303,104 @@ bool is_colour_field(const AttrSpec& s) {
 }
 
 std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
-                                       const std::vector<std::vector<uint8_t>>& data, size_t frames,
-                                       size_t points, size_t width) {
+                                       const std::vector<std::vector<uint8_t>>& data,
+                                       const uint8_t* valid, size_t frames, size_t points,
+                                       size_t width) {
   const size_t n = frames * points;
   const size_t W = width ? width : std::max<size_t>(points, 1);
+  const bool gaps = valid && std::find(valid, valid + n, 0) != valid + n;
   ByteWriter w;
   for (size_t a = 0; a < specs.size(); ++a) {
-    if (data[a].size() != n * specs[a].size * specs[a].count)
+    const AttrSpec& s = specs[a];
+    const size_t bytes = n * static_cast<size_t>(s.size) * static_cast<size_t>(s.count);
+    if (data[a].size() != bytes)
       fail(ErrorCode::kInternal, "attributes",
-           "field " + specs[a].name + " does not hold frames x points values");
-    w.u8(is_colour_field(specs[a]) ? 1 : 0);
-  }
-  IntEncoder enc(analog::kAnalogContexts);
-  IntEncoder::Cursor c = enc.cursor();
-  Lane l;
-  for (size_t a = 0; a < specs.size(); ++a) {
-    const bool colour = is_colour_field(specs[a]);
-    for (size_t j = 0; j < lane_count(specs[a], colour); ++j) {
-      make_lane(specs[a], colour, data[a], n, j, &l);
-      const int pred = choose_predictor(l, frames, points, W);
-      w.u8(static_cast<uint8_t>(pred));
-      const uint64_t mask = mask_of(l.bits);
-      analog::Magnitude mag;
-      int prev_nb = 0;
-      for (size_t f = 0; f < frames; ++f) {
-        const uint64_t* cur = l.u.data() + f * points;
-        const uint64_t* prev = f ? cur - points : nullptr;
-        for (size_t p = 0; p < points; ++p) {
-          const int64_t r =
-              signed_residual((cur[p] - predict(pred, cur, prev, p, W, mask)) & mask, l.bits);
-          if (l.float_residuals)
-            analog::put_float_residual(&c, &prev_nb, r);
-          else
-            analog::put_residual(&c, &mag, static_cast<int32_t>(r));
-        }
-      }
+           "field " + s.name + " does not hold frames x points values");
+    std::vector<uint8_t> best = encode_predictive(s, data[a], valid, gaps, frames, points, W);
+    // LZMA of the byte planes (2) and, for elements of several bytes, of the bytes as they are
+    // (3): the smallest of the three wins.
+    for (uint8_t t = 2; bytes > 0 && t <= (s.size > 1 ? 3 : 2); ++t) {
+      const std::vector<uint8_t> z =
+          t == 2 ? lzma2_encode_fast(to_planes(data[a], static_cast<size_t>(s.size)).data(), bytes)
+                 : lzma2_encode_fast(data[a].data(), bytes);
+      ByteWriter alt;
+      alt.u8(t);
+      alt.varint(z.size());
+      alt.bytes(z);
+      if (alt.size() < best.size() && bytes <= kMaxSymbolsPerByte * z.size())
+        best = std::move(alt.buffer());
     }
+    w.bytes(best);
   }
-  enc.commit(c);
-  w.bytes(enc.finish());
   return std::move(w.buffer());
 }
 
 void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrSpec>& specs,
-                       size_t frames, size_t points, size_t width,
+                       const uint8_t* valid, size_t frames, size_t points, size_t width,
                        std::vector<std::vector<uint8_t>>* out, const std::string& what) {
   ByteReader r(data, size, what);
   const size_t n = frames * points;
   const size_t W = width ? width : std::max<size_t>(points, 1);
-  std::vector<uint8_t> colour(specs.size());
-  size_t L = 0;
-  for (size_t a = 0; a < specs.size(); ++a) {
-    const uint8_t t = r.u8();
-    if (t > 1 || (t == 1 && (specs[a].size != 4 || specs[a].count != 1)))
-      fail(ErrorCode::kCorrupt, what,
-           "bad transform " + std::to_string(t) + " of field " + specs[a].name);
-    colour[a] = t;
-    L += lane_count(specs[a], t == 1);
-  }
-  // Every value costs at least 1/2900 byte of the payload: check before allocating.
-  if (n != 0 && L > kMaxSymbolsPerByte * size / n)
-    fail(ErrorCode::kCorrupt, what, "attribute window larger than its chunk can hold");
-  std::vector<int> pred(L);
-  for (size_t k = 0; k < L; ++k) {
-    const uint8_t id = r.u8();
-    if (id >= kPredictors)
-      fail(ErrorCode::kCorrupt, what, "unknown attribute predictor " + std::to_string(id));
-    pred[k] = id;
-  }
-  IntDecoder dec(data + r.offset(), r.remaining(), analog::kAnalogContexts, what);
-  IntDecoder::Cursor c = dec.cursor();
-  out->resize(specs.size());
+  out->assign(specs.size(), std::vector<uint8_t>());
+  std::vector<uint8_t> all_valid;  // no mask given: every point valid (made when first needed)
   Lane l, col[4];
-  size_t k = 0;
   for (size_t a = 0; a < specs.size(); ++a) {
     const AttrSpec& s = specs[a];
+    const std::string awhat = what + " field " + s.name;
+    const uint8_t t = r.u8();
+    if (t > 3 || (t == 1 && (s.size != 4 || s.count != 1)))
+      fail(ErrorCode::kCorrupt, awhat, "bad transform " + std::to_string(t));
+    const size_t bpp = static_cast<size_t>(s.size) * static_cast<size_t>(s.count);
     std::vector<uint8_t>& bytes = (*out)[a];
-    bytes.assign(n * static_cast<size_t>(s.size) * static_cast<size_t>(s.count), 0);
-    for (size_t j = 0; j < lane_count(s, colour[a] == 1); ++j, ++k) {
-      Lane& cur_lane = colour[a] ? col[j] : l;
-      cur_lane.bits = lane_bits(s, colour[a] == 1, j);
-      cur_lane.float_residuals = !colour[a] && (s.type == 'F' || cur_lane.bits == 64);
-      cur_lane.u.resize(n);
-      const uint64_t mask = mask_of(cur_lane.bits);
-      analog::Magnitude mag;
-      int prev_nb = 0;
-      for (size_t f = 0; f < frames; ++f) {
-        uint64_t* cur = cur_lane.u.data() + f * points;
-        const uint64_t* prev = f ? cur - points : nullptr;
-        for (size_t p = 0; p < points; ++p) {
-          const int64_t res = cur_lane.float_residuals ? analog::get_float_residual(&c, &prev_nb)
-                                                       : analog::get_residual(&c, &mag);
-          cur[p] = (predict(pred[k], cur, prev, p, W, mask) + static_cast<uint64_t>(res)) & mask;
-        }
-      }
-      if (!colour[a]) store_lane(s, cur_lane, n, j, &bytes);
+    if (t >= 2) {
+      const uint64_t m = r.count(1, "LZMA size");
+      // Every byte of the field costs at least 1/2900 byte of its data: checked before
+      // allocating.
+      if (m == 0 || (n != 0 && bpp > kMaxSymbolsPerByte * m / n))
+        fail(ErrorCode::kCorrupt, awhat, "field larger than its LZMA data can hold");
+      const uint8_t* z = r.bytes(static_cast<size_t>(m));
+      bytes = lzma2_decode(z, static_cast<size_t>(m), n * bpp, awhat);
+      if (t == 2) bytes = from_planes(bytes, static_cast<size_t>(s.size));
+      continue;
     }
-    if (colour[a]) {
+    const bool colour = t == 1;
+    const size_t lanes = lane_count(s, colour);
+    std::vector<int> pred(lanes);
+    for (size_t j = 0; j < lanes; ++j) {
+      const uint8_t id = r.u8();
+      if (id >= kPredictors)
+        fail(ErrorCode::kCorrupt, awhat, "unknown predictor " + std::to_string(id));
+      pred[j] = id;
+    }
+    const uint64_t m = r.count(1, "block size");
+    if (n != 0 && lanes > kMaxSymbolsPerByte * m / n)
+      fail(ErrorCode::kCorrupt, awhat, "field larger than its block can hold");
+    const uint8_t* block = r.bytes(static_cast<size_t>(m));
+    if (!valid && *std::max_element(pred.begin(), pred.end()) >= 5 && all_valid.empty())
+      all_valid.assign(n, 1);
+    const uint8_t* mask_of_window = valid ? valid : all_valid.data();
+    IntDecoder dec(block, static_cast<size_t>(m), analog::kAnalogContexts, awhat);
+    IntDecoder::Cursor c = dec.cursor();
+    bytes.assign(n * bpp, 0);
+    for (size_t j = 0; j < lanes; ++j) {
+      Lane& cur_lane = colour ? col[j] : l;
+      cur_lane.bits = lane_bits(s, colour, j);
+      cur_lane.float_residuals = !colour && (s.type == 'F' || cur_lane.bits == 64);
+      cur_lane.u.assign(n, 0);
+      const uint64_t mask = mask_of(cur_lane.bits);
+      LaneState st;
+      walk_lane(pred[j], &cur_lane.u, mask_of_window, frames, points, W, mask,
+                [&](uint64_t* v, uint64_t p, bool gap) {
+                  const int64_t res = cur_lane.float_residuals
+                                          ? analog::get_float_residual(&c, &st.prev_nb[gap])
+                                          : analog::get_residual(&c, &st.mag[gap]);
+                  *v = (p + static_cast<uint64_t>(res)) & mask;
+                });
+      if (!colour) store_lane(s, cur_lane, n, j, &bytes);
+    }
+    dec.commit(c);
+    if (!dec.at_end()) fail(ErrorCode::kCorrupt, awhat, "attribute block has bytes left over");
+    if (colour) {
       uint64_t v[4];
       for (size_t i = 0; i < n; ++i) {
         for (int j = 0; j < 4; ++j) v[j] = col[j].u[i];
@@ -304,8 +408,7 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
       }
     }
   }
-  dec.commit(c);
-  if (!dec.at_end()) fail(ErrorCode::kCorrupt, what, "attribute block has bytes left over");
+  if (!r.at_end()) fail(ErrorCode::kCorrupt, what, "bytes after the last attribute");
 }
 
 }  // namespace capz

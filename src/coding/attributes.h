@@ -27,16 +27,19 @@ std::vector<AttrSpec> attribute_specs(const std::vector<PCDField>& fields);
 // rgb or rgba).
 bool is_colour_field(const AttrSpec& s);
 
-// The ATTR payload after the window index: transforms, predictors, entropy-coded block.
+// The ATTR payload after the window index: per attribute, its transform and data.
+// valid: the window's gap mask (frames x points, from POSW / MASK), or nullptr for none (the
+// decoder must be given the same).
 std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
-                                       const std::vector<std::vector<uint8_t>>& data, size_t frames,
-                                       size_t points, size_t width);
+                                       const std::vector<std::vector<uint8_t>>& data,
+                                       const uint8_t* valid, size_t frames, size_t points,
+                                       size_t width);
 
 // Decodes what encode_attributes wrote into *out (one byte array per spec, resized). Throws
 // Error(kCorrupt) naming `what` on a bad transform or predictor, a window larger than the
 // payload can hold (checked before allocating), a truncated block or bytes left over.
 void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrSpec>& specs,
-                       size_t frames, size_t points, size_t width,
+                       const uint8_t* valid, size_t frames, size_t points, size_t width,
                        std::vector<std::vector<uint8_t>>* out, const std::string& what);
 
 }  // namespace capz

@@ -16,6 +16,20 @@ lzma_options_lzma lzma2_options() {
   return o;
 }
 
+// One raw LZMA2 stream with options o.
+std::vector<uint8_t> encode_with(lzma_options_lzma o, const uint8_t* data, size_t n) {
+  const lzma_filter filters[] = {{LZMA_FILTER_LZMA2, &o}, {LZMA_VLI_UNKNOWN, nullptr}};
+  // LZMA2 stores incompressible data in chunks with 3 bytes of header per 64 KiB.
+  std::vector<uint8_t> out(n + n / 16384 * 3 + 64);
+  size_t pos = 0;
+  const lzma_ret r =
+      lzma_raw_buffer_encode(filters, nullptr, data, n, out.data(), &pos, out.size());
+  if (r != LZMA_OK)
+    fail(ErrorCode::kInternal, "", "liblzma failed to encode (" + std::to_string(r) + ")");
+  out.resize(pos);
+  return out;
+}
+
 }  // namespace
 
 std::vector<uint8_t> lzma2_encode(const uint8_t* data, size_t n) {
@@ -28,18 +42,20 @@ std::vector<uint8_t> lzma2_encode(const uint8_t* data, size_t n) {
     lzma_options_lzma o = lzma2_options();
     o.lc = lc_pb[0];
     o.pb = lc_pb[1];
-    const lzma_filter filters[] = {{LZMA_FILTER_LZMA2, &o}, {LZMA_VLI_UNKNOWN, nullptr}};
-    // LZMA2 stores incompressible data in chunks with 3 bytes of header per 64 KiB.
-    std::vector<uint8_t> out(n + n / 16384 * 3 + 64);
-    size_t pos = 0;
-    const lzma_ret r =
-        lzma_raw_buffer_encode(filters, nullptr, data, n, out.data(), &pos, out.size());
-    if (r != LZMA_OK)
-      fail(ErrorCode::kInternal, "", "liblzma failed to encode (" + std::to_string(r) + ")");
-    out.resize(pos);
+    std::vector<uint8_t> out = encode_with(o, data, n);
     if (best.empty() || out.size() < best.size()) best = std::move(out);
   }
   return best;
+}
+
+std::vector<uint8_t> lzma2_encode_fast(const uint8_t* data, size_t n) {
+  lzma_options_lzma o;
+  lzma_lzma_preset(&o, 6);
+  o.dict_size = kLzmaDictBytes;
+  o.lc = 0;
+  o.lp = 0;
+  o.pb = 0;
+  return encode_with(o, data, n);
 }
 
 std::vector<uint8_t> lzma2_decode(const uint8_t* data, size_t size, size_t n,

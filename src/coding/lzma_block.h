@@ -15,6 +15,10 @@ constexpr uint32_t kLzmaDictBytes = uint32_t{1} << 20;
 // liblzma fails.
 std::vector<uint8_t> lzma2_encode(const uint8_t* data, size_t n);
 
+// The same stream format, faster: preset 6 (not extreme), one setting lc 0 lp 0 pb 0 (bytes
+// without text-like context, e.g. byte planes of numbers). About 3x faster than lzma2_encode.
+std::vector<uint8_t> lzma2_encode_fast(const uint8_t* data, size_t n);
+
 // Decodes a raw LZMA2 stream that must give exactly `n` bytes and end exactly at `size`.
 // Throws Error(kCorrupt) naming `what` otherwise. Memory: the output and the fixed dictionary.
 std::vector<uint8_t> lzma2_decode(const uint8_t* data, size_t size, size_t n,

@@ -47,11 +47,12 @@ std::vector<capz::AttrSpec> field_set(int k) {
 }
 
 void round_trip(const std::vector<capz::AttrSpec>& specs,
-                const std::vector<std::vector<uint8_t>>& data, size_t frames, size_t points,
-                size_t width) {
-  const std::vector<uint8_t> enc = capz::encode_attributes(specs, data, frames, points, width);
+                const std::vector<std::vector<uint8_t>>& data, const uint8_t* valid, size_t frames,
+                size_t points, size_t width) {
+  const std::vector<uint8_t> enc =
+      capz::encode_attributes(specs, data, valid, frames, points, width);
   std::vector<std::vector<uint8_t>> back;
-  capz::decode_attributes(enc.data(), enc.size(), specs, frames, points, width, &back,
+  capz::decode_attributes(enc.data(), enc.size(), specs, valid, frames, points, width, &back,
                           "re-encoded");
   CAPZ_FUZZ_CHECK(back == data);
 }
@@ -61,20 +62,24 @@ void round_trip(const std::vector<capz::AttrSpec>& specs,
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 3) return 0;
   const uint8_t mode = data[0];
-  const std::vector<capz::AttrSpec> specs = field_set(mode >> 1);
+  const std::vector<capz::AttrSpec> specs = field_set(mode >> 2);
   const size_t frames = 1 + (data[1] & 15);
   const size_t points = 1 + data[2];
   const size_t width = 1 + (static_cast<size_t>(data[1] >> 4) * 7) % points;
+  // Modes 4k+2 and 4k+3 decode / code under a gap mask (every third point a gap, and a run).
+  std::vector<uint8_t> mask(frames * points);
+  for (size_t i = 0; i < mask.size(); ++i) mask[i] = i % 3 != 0 && (i / 7) % 5 != 2;
+  const uint8_t* valid = (mode & 2) ? mask.data() : nullptr;
   data += 3;
   size -= 3;
   if (mode % 2 == 0) {
     std::vector<std::vector<uint8_t>> out;
     try {
-      capz::decode_attributes(data, size, specs, frames, points, width, &out, "fuzz ATTR");
+      capz::decode_attributes(data, size, specs, valid, frames, points, width, &out, "fuzz ATTR");
     } catch (const capz::Error&) {
       return 0;
     }
-    round_trip(specs, out, frames, points, width);
+    round_trip(specs, out, valid, frames, points, width);
     return 0;
   }
   if (size == 0) return 0;
@@ -85,6 +90,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (auto& x : b) x = data[at++ % size];
     fields.push_back(std::move(b));
   }
-  round_trip(specs, fields, frames, points, width);
+  round_trip(specs, fields, valid, frames, points, width);
   return 0;
 }
