@@ -13,9 +13,13 @@
 #include "capz/file.h"
 #include "capz/original.h"
 #include "capz/stream.h"
-#include "coding/crc32c.h"
+#include "chunk_util.h"
 
 namespace fs = std::filesystem;
+
+using capz_test::chunk_len;
+using capz_test::find_chunk;
+using capz_test::fix_crc;
 
 namespace {
 
@@ -25,23 +29,6 @@ std::string tmp(const std::string& name) {
   return (fs::temp_directory_path() /
           ("capz_rcorrupt_" + std::to_string(::getpid()) + "_" + test + "_" + name))
       .string();
-}
-
-size_t find_chunk(const std::vector<uint8_t>& b, const char* type) {
-  for (size_t i = 0; i + 4 <= b.size(); ++i)
-    if (std::equal(type, type + 4, b.begin() + static_cast<long>(i))) return i;
-  return std::string::npos;
-}
-
-uint32_t chunk_len(const std::vector<uint8_t>& b, size_t at) {
-  return b[at + 4] | b[at + 5] << 8 | b[at + 6] << 16 | static_cast<uint32_t>(b[at + 7]) << 24;
-}
-
-void fix_crc(std::vector<uint8_t>* b, size_t at) {
-  const uint8_t* p = b->data() + at;
-  const uint32_t len = chunk_len(*b, at);
-  const uint32_t crc = capz::crc32c_update(capz::crc32c(p, 4), p + 8, len);
-  for (int k = 0; k < 4; ++k) (*b)[at + 8 + len + k] = static_cast<uint8_t>(crc >> (8 * k));
 }
 
 std::vector<uint8_t> lossless_archive(const char* name) {
