@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 
 #include "batch.h"
@@ -53,6 +54,9 @@ po::options_description compress_options() {
       "drop-fields",
       "leave the point fields of PCD frames (rgb, intensity, normals, ...) out of the archive; "
       "by default every field is kept, lossless")(
+      "attr-error", po::value<std::vector<std::string>>()->composing(),
+      "bounds for float point fields, NAME=B[,NAME=B...] in each field's units (NAME: a field, "
+      "or NAME_* as normal for normal_x/y/z); the others stay lossless")(
       "rm",
       "remove IN (a file) after the output, read back from disk and decoded, reproduced it "
       "within the bound")("json", "print the report as one JSON object");
@@ -80,6 +84,22 @@ void set_coding_options(const po::variables_map& vm, capz::CompressOptions* opts
   opts->window_frames = vm["window"].as<size_t>();
   opts->check = vm.count("no-check") == 0;
   opts->drop_fields = vm.count("drop-fields") > 0;
+  if (vm.count("attr-error"))
+    for (const auto& list : vm["attr-error"].as<std::vector<std::string>>()) {
+      size_t at = 0;
+      while (at <= list.size()) {
+        const size_t comma = std::min(list.find(',', at), list.size());
+        const std::string kv = list.substr(at, comma - at);
+        at = comma + 1;
+        const size_t eq = kv.find('=');
+        const std::string num = eq == std::string::npos ? std::string() : kv.substr(eq + 1);
+        char* end = nullptr;
+        const double b = std::strtod(num.c_str(), &end);
+        if (eq == std::string::npos || eq == 0 || num.empty() || *end != '\0')
+          throw po::error("--attr-error wants NAME=BOUND[,NAME=BOUND...], got '" + kv + "'");
+        opts->attr_error[kv.substr(0, eq)] = b;
+      }
+    }
   if (vm.count("codec-opt"))
     for (const auto& kv : vm["codec-opt"].as<std::vector<std::string>>()) {
       auto eq = kv.find('=');

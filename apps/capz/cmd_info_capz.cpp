@@ -53,6 +53,11 @@ int info_capz(const std::string& path, bool json) {
       j.member("width", static_cast<uint64_t>(si.pcd_width));
       j.member("height", static_cast<uint64_t>(si.pcd_height));
       pcd_fields_json(&j, si.pcd_fields);
+      j.key("field_bounds");
+      j.begin_object();
+      for (size_t i = 0; i < si.pcd_field_bounds.size() && i < si.pcd_fields.size(); ++i)
+        if (si.pcd_field_bounds[i] > 0) j.member(si.pcd_fields[i].name, si.pcd_field_bounds[i]);
+      j.end_object();
     }
     j.member("bpvf", bp);
     j.key("chunk_bytes");
@@ -91,8 +96,15 @@ int info_capz(const std::string& path, bool json) {
                            num(si.rotation_rate) + " Hz (" +
                            std::to_string(si.rotation_samples_per_frame) + " per frame), lossless");
   if (!si.pcd_fields.empty()) {
-    const std::string v = pcd_fields_text(si.pcd_fields);
-    line("fields:", v + (si.pcd_fields.size() > 3 ? " (all but x y z lossless)" : ""));
+    std::string v = pcd_fields_text(si.pcd_fields);
+    std::string bounded;
+    for (size_t i = 0; i < si.pcd_field_bounds.size() && i < si.pcd_fields.size(); ++i)
+      if (si.pcd_field_bounds[i] > 0)
+        bounded += (bounded.empty() ? "" : ", ") + si.pcd_fields[i].name + " within " +
+                   num(si.pcd_field_bounds[i]);
+    if (!bounded.empty()) line("bounded:", bounded);
+    line("fields:",
+         v + (si.pcd_fields.size() > 3 && bounded.empty() ? " (all but x y z lossless)" : ""));
     line("layout:", si.pcd_height > 1 ? "organized " + std::to_string(si.pcd_width) + " x " +
                                             std::to_string(si.pcd_height)
                                       : std::string("unorganized"));

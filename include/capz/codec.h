@@ -31,6 +31,10 @@ struct CompressOptions {
   // Leave the take's point fields (Take::attributes, PCD fields other than x y z) out of the
   // archive instead of coding them (they are lossless by default).
   bool drop_fields = false;
+  // Bounds for float point fields (PCD), in each field's own units: a key names a field, or
+  // every field NAME_* ("normal" bounds normal_x, normal_y, normal_z). Fields not named are
+  // lossless. A key that names no float field is an error.
+  std::map<std::string, double> attr_error;
   // Called after each window with (frames done, frames total); may be empty.
   std::function<void(size_t, size_t)> progress;
 };
@@ -94,6 +98,7 @@ struct StreamInfo {
   // stream has none), and WIDTH x HEIGHT (height 1: unorganized). The fields other than x y z
   // are coded losslessly (ATTR).
   std::vector<PCDField> pcd_fields;
+  std::vector<double> pcd_field_bounds;  // per pcd_fields entry, 0: lossless; empty: all lossless
   size_t pcd_width = 0, pcd_height = 1;
   std::map<std::string, size_t> chunk_bytes;  // total bytes (with framing) per chunk type
 };

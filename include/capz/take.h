@@ -167,6 +167,9 @@ struct PCDExtra {
   size_t width = 0;               // WIDTH; 0: points (unorganized)
   size_t height = 1;              // HEIGHT; > 1: an organized cloud, width x height = points
   std::vector<double> viewpoint;  // VIEWPOINT's 7 values (tx ty tz qw qx qy qz); empty: default
+  // Per entry of `fields`, the bound its values were coded within (0: lossless); empty: all
+  // lossless. Set by the encoder from CompressOptions::attr_error, read back from archives.
+  std::vector<double> field_bounds;
 };
 
 // ---------------------------------------------------------------------------------------------

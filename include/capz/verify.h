@@ -14,6 +14,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "capz/codec.h"
 #include "capz/metrics.h"
@@ -28,6 +29,10 @@ struct Promise {
   Kind kind = Kind::kLossless;
   double max_error = 0;  // kBound: per-coordinate bound, in the take's units
   double kg_target = 0;  // kKgTarget: KG error target in percent (metrics.h)
+  // Per point field (Take::attributes): 0 when it comes back byte for byte, else the bound its
+  // float values (float_size 4 or 8 bytes) come back within; NaN and infinities exactly.
+  std::vector<double> attribute_bounds;
+  std::vector<int> attribute_float_size;
 };
 Promise promise_of(const StreamInfo& info);
 

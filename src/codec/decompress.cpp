@@ -117,6 +117,7 @@ StreamInfo describe(const uint8_t* data, size_t size, const std::string& name) {
   si.rotation_labels = ps.take.rotations.labels;
   if (ps.take.pcd) {
     si.pcd_fields = ps.take.pcd->fields;
+    si.pcd_field_bounds = ps.take.pcd->field_bounds;
     si.pcd_width = ps.take.pcd->width;
     si.pcd_height = ps.take.pcd->height;
   }

@@ -348,14 +348,49 @@ class Encoder {
     rotation_bytes_ += buf->size() - before;
   }
 
-  // ATTR (FORMAT.md 5.3): the window's point fields, lossless whatever the bound.
+  // ATTR (FORMAT.md 5.3): the window's point fields, lossless whatever the bound but for the
+  // float fields given a bound of their own (--attr-error), which are quantised first.
   void append_attributes(size_t w, const uint8_t* valid, std::vector<uint8_t>* buf) {
+    quantise_bounded_fields();
     const size_t before = buf->size();
     const std::vector<uint8_t> at =
         encode_attributes(attribute_specs(take_.pcd->fields), block_.attributes, valid,
                           block_.frames, take_.points, take_.pcd->width);
     append_chunk(buf, "ATTR", with_window_index(w, 0xFF, at));
     attribute_bytes_ += buf->size() - before;
+  }
+
+  // FORMAT.md 5.3 "fields within a bound": each finite value of a bounded float field replaced
+  // by the multiple of 2B nearest it, in the field's float type, when that is within B.
+  void quantise_bounded_fields() {
+    const std::vector<double>& bounds = take_.pcd->field_bounds;
+    if (bounds.empty()) return;
+    size_t a = 0;
+    for (size_t i = 0; i < take_.pcd->fields.size(); ++i) {
+      const PCDField& f = take_.pcd->fields[i];
+      if (f.name == "x" || f.name == "y" || f.name == "z") continue;
+      const double b = i < bounds.size() ? bounds[i] : 0;
+      std::vector<uint8_t>& bytes = block_.attributes[a++];
+      if (b <= 0 || f.type != 'F') continue;
+      const double step = 2 * b;
+      for (size_t k = 0; k + static_cast<size_t>(f.size) <= bytes.size();
+           k += static_cast<size_t>(f.size)) {
+        if (f.size == 4) {
+          float v;
+          std::memcpy(&v, &bytes[k], 4);
+          if (!std::isfinite(v)) continue;
+          const float q = static_cast<float>(std::round(static_cast<double>(v) / step) * step);
+          if (std::fabs(static_cast<double>(q) - static_cast<double>(v)) <= b)
+            std::memcpy(&bytes[k], &q, 4);
+        } else {
+          double v;
+          std::memcpy(&v, &bytes[k], 8);
+          if (!std::isfinite(v)) continue;
+          const double q = std::round(v / step) * step;
+          if (std::fabs(q - v) <= b) std::memcpy(&bytes[k], &q, 8);
+        }
+      }
+    }
   }
 
   // The reconstruction the decoder will produce for the window's valid samples.
@@ -474,6 +509,38 @@ namespace {
 // A take with point fields needs a PCD layout in META (FORMAT.md 5.3): one read from a PCD
 // folder has it; for any other (built in memory) it is x y z as float64 then the fields, one
 // row. With opts.drop_fields the fields are left out instead.
+// The per-field bounds of opts.attr_error on the header's PCD layout (field_bounds).
+void set_field_bounds(FrameSource& source, const CompressOptions& opts) {
+  Take& e = source.edit_header();
+  if (opts.attr_error.empty()) return;
+  if (e.attributes.empty() || !e.pcd)
+    fail(ErrorCode::kInvalidParameter, e.source,
+         "--attr-error: the take has no point fields to bound");
+  auto x = std::make_shared<PCDExtra>(*e.pcd);
+  x->field_bounds.assign(x->fields.size(), 0.0);
+  for (const auto& kv : opts.attr_error) {
+    if (!(kv.second > 0) || !std::isfinite(kv.second))
+      fail(ErrorCode::kInvalidParameter, e.source,
+           "--attr-error " + kv.first + ": the bound must be a positive number");
+    bool any = false;
+    for (size_t i = 0; i < x->fields.size(); ++i) {
+      const PCDField& f = x->fields[i];
+      const bool named = f.name == kv.first || f.name.rfind(kv.first + "_", 0) == 0;
+      if (!named || f.name == "x" || f.name == "y" || f.name == "z") continue;
+      if (f.type != 'F')
+        fail(ErrorCode::kInvalidParameter, e.source,
+             "--attr-error " + kv.first + ": field " + f.name +
+                 " holds integers, which are always lossless");
+      x->field_bounds[i] = kv.second;
+      any = true;
+    }
+    if (!any)
+      fail(ErrorCode::kInvalidParameter, e.source,
+           "--attr-error names no float field '" + kv.first + "' (fields: " + field_names(e) + ")");
+  }
+  e.pcd = x;
+}
+
 void settle_fields(FrameSource& source, const CompressOptions& opts) {
   const Take& h = source.header();
   if (h.attributes.empty()) return;
@@ -521,6 +588,7 @@ void settle_fields(FrameSource& source, const CompressOptions& opts) {
 void encode_source(FrameSource& source, const CompressOptions& opts, const EncoderTuning& tuning,
                    StreamOut* out, CompressStats* stats, bool allow_transform_output) {
   settle_fields(source, opts);
+  set_field_bounds(source, opts);
   Encoder(source, opts, tuning, out, allow_transform_output).run(stats);
 }
 

@@ -375,6 +375,14 @@ std::vector<uint8_t> encode_meta_fields(const Take& t, bool has_sample_words) {
         w.u8(static_cast<uint8_t>(f.size));
         w.varint(static_cast<uint64_t>(f.count));
       }
+      size_t bounded = 0;
+      for (double b : x.field_bounds) bounded += b > 0;
+      w.varint(bounded);
+      for (size_t i = 0; i < x.field_bounds.size() && i < x.fields.size(); ++i)
+        if (x.field_bounds[i] > 0) {
+          w.varint(i);
+          w.f64(x.field_bounds[i]);
+        }
     }
   }
   if (t.rotations.segments > 0) {  // FORMAT.md 4.3 (HEAD says rotations)
@@ -454,6 +462,21 @@ void decode_pcd_layout(ByteReader* r, const std::string& what, Take* t, PCDExtra
   }
   if (xyz[0] != 1 || xyz[1] != 1 || xyz[2] != 1)
     fail(ErrorCode::kCorrupt, what, "PCD layout without x, y and z");
+  const uint64_t bounded = r->count(9, "bounded field count");
+  if (bounded > nf) fail(ErrorCode::kCorrupt, what, "more bounded fields than fields");
+  p->field_bounds.clear();
+  if (bounded > 0) p->field_bounds.assign(static_cast<size_t>(nf), 0.0);
+  uint64_t next = 0;
+  for (uint64_t k = 0; k < bounded; ++k) {
+    const uint64_t i = r->varint();
+    const double b = r->f64();
+    const PCDField& f = i < nf ? p->fields[static_cast<size_t>(i)] : p->fields[0];
+    if (i >= nf || i < next || !(b > 0) || !std::isfinite(b) || f.type != 'F' || f.name == "x" ||
+        f.name == "y" || f.name == "z")
+      fail(ErrorCode::kCorrupt, what, "bad bound of a PCD field");
+    p->field_bounds[static_cast<size_t>(i)] = b;
+    next = i + 1;
+  }
 }
 }  // namespace
 

@@ -127,11 +127,38 @@ struct PromiseCheck::Frames {
     if (t.c3d) residual = &t.c3d->residual, camera_mask = &t.c3d->camera_mask;
     for (const auto& a : t.attributes) attributes.push_back(&a.data);
   }
-  // The point fields of both agree byte for byte.
-  bool same_attributes(const Frames& o) const {
+  // The point fields of both agree byte for byte, or, for a field with a bound (Promise), its
+  // float values within the bound and its non-finite values bit for bit.
+  bool same_attributes(const Frames& o, const Promise& p) const {
     if (attributes.size() != o.attributes.size()) return false;
-    for (size_t i = 0; i < attributes.size(); ++i)
-      if (*attributes[i] != *o.attributes[i]) return false;
+    for (size_t i = 0; i < attributes.size(); ++i) {
+      const std::vector<uint8_t>& a = *attributes[i];
+      const std::vector<uint8_t>& b = *o.attributes[i];
+      const double bound = i < p.attribute_bounds.size() ? p.attribute_bounds[i] : 0;
+      const size_t fs =
+          i < p.attribute_float_size.size() ? static_cast<size_t>(p.attribute_float_size[i]) : 0;
+      if (bound <= 0 || (fs != 4 && fs != 8) || a.size() != b.size()) {
+        if (a != b) return false;
+        continue;
+      }
+      for (size_t k = 0; k + fs <= a.size(); k += fs) {
+        double x, y;
+        if (fs == 4) {
+          float fx, fy;
+          std::memcpy(&fx, &a[k], 4);
+          std::memcpy(&fy, &b[k], 4);
+          x = fx, y = fy;
+        } else {
+          std::memcpy(&x, &a[k], 8);
+          std::memcpy(&y, &b[k], 8);
+        }
+        if (!std::isfinite(x) || !std::isfinite(y)) {
+          if (std::memcmp(&a[k], &b[k], fs) != 0) return false;
+        } else if (!(std::fabs(x - y) <= bound)) {
+          return false;
+        }
+      }
+    }
     return true;
   }
   // The C3D 4th words of both takes agree (absent counts as empty).
@@ -162,6 +189,13 @@ Promise promise_of(const StreamInfo& info) {
   } else {
     p.kind = Promise::Kind::kBound;
     p.max_error = info.max_error;
+  }
+  for (size_t i = 0; i < info.pcd_fields.size(); ++i) {
+    const PCDField& f = info.pcd_fields[i];
+    if (f.name == "x" || f.name == "y" || f.name == "z") continue;
+    const double b = i < info.pcd_field_bounds.size() ? info.pcd_field_bounds[i] : 0;
+    p.attribute_bounds.push_back(b);
+    p.attribute_float_size.push_back(f.type == 'F' ? f.size : 0);
   }
   return p;
 }
@@ -216,7 +250,7 @@ bool PromiseCheck::check(const Frames& a, const Frames& b) {
   if (a.analog_values != b.analog_values || !same_values(a.analog, b.analog, a.analog_values))
     return breach("the analog values differ");
   if (!a.same_rotations(b)) return breach("the rotation samples differ");
-  if (!a.same_attributes(b))
+  if (!a.same_attributes(b, promise_))
     return breach("the point fields (" + std::to_string(a.attributes.size()) + ") differ");
   return holds();
 }

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "capz/file.h"
 #include "capz/io.h"
 #include "capz/stream.h"
+#include "capz/verify.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;
@@ -320,4 +322,60 @@ TEST(PcdFields, TakesBuiltInMemoryKeepTheirFieldsToo) {
   std::string msg;
   EXPECT_EQ(capz_test::error_of([&] { capz::compress(t, o); }, &msg), ErrorCode::kInvalidParameter);
   EXPECT_NE(msg.find("ring"), std::string::npos) << msg;
+}
+
+TEST(PcdFields, FloatFieldsWithinTheirOwnBound) {
+  TempDir d;
+  const std::string dir = make_scan_folder(d, 4);
+  capz::Take t = capz::read_pcd_folder(dir);
+  capz::CompressOptions o;
+  o.lossless = true;
+  const size_t lossless = capz::compress(t, o).size();
+  o.attr_error = {{"intensity", 0.05}, {"normal", 0.01}};
+  const std::vector<uint8_t> z = capz::compress(t, o);
+  EXPECT_LT(z.size(), lossless);
+  capz::Take back = capz::decompress(z.data(), z.size(), "test");
+  const capz::StreamInfo si = capz::describe(z.data(), z.size(), "test");
+  ASSERT_EQ(si.pcd_field_bounds.size(), si.pcd_fields.size());
+  EXPECT_EQ(si.pcd_field_bounds[4], 0.05);              // intensity
+  EXPECT_EQ(si.pcd_field_bounds[5], 0.01);              // normal_x
+  EXPECT_EQ(si.pcd_field_bounds[7], 0.01);              // normal_z
+  EXPECT_EQ(si.pcd_field_bounds[3], 0.0);               // rgb: lossless
+  for (size_t a : {size_t{1}, size_t{2}, size_t{4}}) {  // intensity, normal_x, normal_z
+    const double b = a == 1 ? 0.05 : 0.01;
+    const std::vector<uint8_t>& x = t.attributes[a].data;
+    const std::vector<uint8_t>& y = back.attributes[a].data;
+    ASSERT_EQ(x.size(), y.size());
+    size_t changed = 0;
+    for (size_t k = 0; k < x.size(); k += 4) {
+      float fx, fy;
+      std::memcpy(&fx, &x[k], 4);
+      std::memcpy(&fy, &y[k], 4);
+      if (std::isnan(fx)) {
+        EXPECT_EQ(std::memcmp(&x[k], &y[k], 4), 0);  // NaN stays NaN, bit for bit
+      } else {
+        EXPECT_LE(std::fabs(static_cast<double>(fx) - static_cast<double>(fy)), b);
+        changed += fx != fy;
+      }
+    }
+    if (a != 2) {  // normal_x is all 0: on the grid already
+      EXPECT_GT(changed, 0u) << t.attributes[a].name;
+    }
+  }
+  for (size_t a : {size_t{0}, size_t{5}, size_t{6}, size_t{7}})  // rgb, label, desc, _
+    EXPECT_EQ(back.attributes[a].data, t.attributes[a].data) << t.attributes[a].name;
+  // The promise verify checks: within the bounds, and a field pushed past one is a breach.
+  const capz::Promise p = capz::promise_of(si);
+  EXPECT_TRUE(capz::check_promise(t, back, p).holds) << capz::check_promise(t, back, p).why;
+  float v;
+  std::memcpy(&v, &back.attributes[1].data[0], 4);
+  v += 0.2f;
+  std::memcpy(&back.attributes[1].data[0], &v, 4);
+  EXPECT_FALSE(capz::check_promise(t, back, p).holds);
+  // Bounds that name nothing, an integer field, or are not positive are refused.
+  for (const auto& bad : std::vector<std::map<std::string, double>>{
+           {{"colour", 0.1}}, {{"label", 1.0}}, {{"intensity", -1.0}}}) {
+    o.attr_error = bad;
+    EXPECT_EQ(capz_test::error_of([&] { capz::compress(t, o); }), ErrorCode::kInvalidParameter);
+  }
 }

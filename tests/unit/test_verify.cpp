@@ -52,13 +52,21 @@ Take deep_copy(const Take& t) {
 }
 
 Promise lossless() {
-  return Promise{Promise::Kind::kLossless, 0, 0};
+  Promise p;
+  p.kind = Promise::Kind::kLossless;
+  return p;
 }
 Promise bound(double e) {
-  return Promise{Promise::Kind::kBound, e, 0};
+  Promise p;
+  p.kind = Promise::Kind::kBound;
+  p.max_error = e;
+  return p;
 }
 Promise kg(double target) {
-  return Promise{Promise::Kind::kKgTarget, 0, target};
+  Promise p;
+  p.kind = Promise::Kind::kKgTarget;
+  p.kg_target = target;
+  return p;
 }
 
 // Decoded = original with every valid coordinate moved by `d`.
