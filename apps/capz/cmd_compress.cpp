@@ -75,6 +75,9 @@ po::options_description compress_options() {
       "no-check",
       "skip decoding each window after writing it (the bound then rests on the "
       "quantiser alone)")("force,f", "overwrite OUT if it exists")(
+      "threads,T", po::value<int>()->default_value(1),
+      "worker threads coding windows in parallel (0: all cores); the output is the same "
+      "for every count")(
       "rm",
       "remove IN (a file) after the output, read back from disk and decoded, reproduced it "
       "within the bound")("json", "print the report as one JSON object");
@@ -112,6 +115,7 @@ void set_coding_options(const po::variables_map& vm, capz::CompressOptions* opts
   opts->clusters = vm["clusters"].as<int>();
   opts->window_frames = vm["window"].as<size_t>();
   opts->check = vm.count("no-check") == 0;
+  opts->threads = vm["threads"].as<int>();
   if (vm.count("codec-opt"))
     for (const auto& kv : vm["codec-opt"].as<std::vector<std::string>>()) {
       auto eq = kv.find('=');

@@ -54,6 +54,8 @@ int cmd_decompress(const Args& args) {
       "frames", po::value<std::string>(),
       "decode only frames FIRST:COUNT (0-based); only the "
       "windows they touch are read")("force,f", "overwrite OUT if it exists")(
+      "threads,T", po::value<int>()->default_value(1),
+      "worker threads decoding windows in parallel (0: all cores)")(
       "json", "print the report as one JSON object");
   po::variables_map vm;
   std::string in;
@@ -71,6 +73,8 @@ int cmd_decompress(const Args& args) {
   const double c0 = thread_cpu_seconds();
   capz::WriteOptions wo;
   wo.overwrite = force;
+  capz::DecompressOptions dopts;
+  dopts.threads = vm["threads"].as<int>();
   size_t frames = 0, points = 0;
   if (vm.count("frames")) {  // a range: decoded into memory (only the windows it touches)
     const std::string fr = vm["frames"].as<std::string>();
@@ -79,7 +83,7 @@ int cmd_decompress(const Args& args) {
     if (std::sscanf(fr.c_str(), "%llu:%llu%c", &a, &n, &extra) != 2)
       throw po::error("--frames wants FIRST:COUNT, got '" + fr + "'");
     std::vector<uint8_t> bytes = capz::read_file(in);
-    capz::Take take = capz::decompress_frames(bytes.data(), bytes.size(), a, n, in);
+    capz::Take take = capz::decompress_frames(bytes.data(), bytes.size(), a, n, in);  // serial
     if (out.empty()) {
       out = default_output(in, take);
       capz::check_output_free(strip_slashes(out), force);
@@ -88,7 +92,7 @@ int cmd_decompress(const Args& args) {
     frames = take.frames;
     points = take.points;
   } else {  // the whole take: decoded and written window by window
-    std::unique_ptr<capz::FrameSource> src = capz::open_capz_frames(in);
+    std::unique_ptr<capz::FrameSource> src = capz::open_capz_frames(in, dopts);
     const capz::Take& take = src->header();
     if (out.empty()) {
       out = default_output(in, take);
@@ -101,7 +105,7 @@ int cmd_decompress(const Args& args) {
     if (same_format(out, take.format) &&
         capz::can_rebuild(capz::original_info(in), take.format == capz::Format::kC3D)) {
       src.reset();
-      capz::rebuild_original(in, out, force);
+      capz::rebuild_original(in, out, force, dopts);
     } else {
       std::unique_ptr<capz::FrameSink> sink =
           capz::create_frame_sink(take, src->has_sample_words(), out, wo);
