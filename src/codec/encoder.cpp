@@ -265,7 +265,8 @@ class Encoder {
   // the stream and the error are those of a serial run.
   void code_windows() {
     const size_t F = take_.frames, W = plan_.W;
-    const size_t T = resolve_threads(opts_.threads);
+    // No more workers than windows (a short take starts none).
+    const size_t T = std::min(resolve_threads(opts_.threads), (F + W - 1) / W);
     std::deque<std::unique_ptr<Window>> flight, spare;
     // Declared after the windows: destroyed first, it joins the workers before the windows go.
     std::unique_ptr<ThreadPool> pool(T > 1 ? new ThreadPool(T) : nullptr);

@@ -12,7 +12,7 @@ CapzSource::CapzSource(std::unique_ptr<StreamBytes> bytes, const std::string& na
     : bytes_(std::move(bytes)), name_(name), ps_(parse_stream(*bytes_, name)) {
   if (whole) check_tiling(ps_, bytes_->size(), name_);
   header_ = ps_.take;
-  const size_t T = resolve_threads(threads);
+  const size_t T = std::min(resolve_threads(threads), ps_.index.size());
   if (T > 1 && ps_.index.size() > 1) {
     ahead_cap_ = T + 1;
     pool_.reset(new ThreadPool(T));
