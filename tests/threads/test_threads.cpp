@@ -16,8 +16,8 @@
 #include "capz/io.h"
 #include "capz/original.h"
 #include "capz/stream.h"
-#include "coding/container.h"
 #include "codec/transform.h"
+#include "coding/container.h"
 #include "coding/crc32c.h"
 #include "test_util.h"
 #include "unit/synthetic.h"
@@ -189,8 +189,7 @@ TEST(ThreadsSynthetic, ThreadsZeroMeansAllCoresAndNegativeIsRejected) {
   o.threads = 0;
   EXPECT_TRUE(capz::compress(t, o) == one);
   o.threads = -1;
-  EXPECT_EQ(capz_test::error_of([&] { capz::compress(t, o); }),
-            capz::ErrorCode::kInvalidParameter);
+  EXPECT_EQ(capz_test::error_of([&] { capz::compress(t, o); }), capz::ErrorCode::kInvalidParameter);
   capz::DecompressOptions d;
   d.threads = -3;
   EXPECT_EQ(capz_test::error_of([&] { capz::decompress(one.data(), one.size(), "x", d); }),
@@ -341,8 +340,8 @@ TEST(ThreadsSynthetic, CorruptWindowDecodedInParallelThrowsTheSerialError) {
 // streamed (HASH and residue, rebuilt originals) and in memory.
 TEST(ThreadsRepo, SamplesStreamAndDecodeTheSameForEveryThreadCount) {
   const std::string d = CAPZ_REPO_DATA;
-  for (const char* f : {"admarche2.c3d", "EB015PI.c3d", "Capture0004.c3d",
-                        "std_walking5_markers.trc"}) {
+  for (const char* f :
+       {"admarche2.c3d", "EB015PI.c3d", "Capture0004.c3d", "std_walking5_markers.trc"}) {
     const std::string in = d + "/" + f;
     capz::CompressOptions o;
     o.window_frames = 128;
@@ -358,9 +357,9 @@ TEST(ThreadsRepo, SamplesStreamAndDecodeTheSameForEveryThreadCount) {
 TEST(ThreadsShared, C3DTakesAndPcdFolder) {
   const std::string root = capz_test::shared_data_or_skip();
   if (root.empty()) return;
-  for (const char* rel : {"c3d/btkdata/others/FunctionalLHip.c3d",
-                          "c3d/c3dorg/sample_17/128analogchannels.c3d",
-                          "c3d/c3dorg/sample_00/Cometa Systems/EMG Data Cometa.c3d"}) {
+  for (const char* rel :
+       {"c3d/btkdata/others/FunctionalLHip.c3d", "c3d/c3dorg/sample_17/128analogchannels.c3d",
+        "c3d/c3dorg/sample_00/Cometa Systems/EMG Data Cometa.c3d"}) {
     const std::string in = capz_test::shared_data_or_skip(rel);
     if (in.empty()) return;
     capz::CompressOptions o;
