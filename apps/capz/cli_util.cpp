@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -42,6 +43,18 @@ bool parse_single_input(const Args& args, const std::string& usage, const std::s
   if (!vm->count("input")) throw po::error("missing " + input_name);
   *input = (*vm)["input"].as<std::string>();
   return true;
+}
+
+std::string strprintf(const char* fmt, ...) {
+  va_list ap, ap2;
+  va_start(ap, fmt);
+  va_copy(ap2, ap);
+  const int n = std::vsnprintf(nullptr, 0, fmt, ap);
+  va_end(ap);
+  std::string s(n > 0 ? static_cast<size_t>(n) : 0, '\0');
+  if (n > 0) std::vsnprintf(&s[0], s.size() + 1, fmt, ap2);
+  va_end(ap2);
+  return s;
 }
 
 std::string human_size(uint64_t bytes) {
@@ -214,6 +227,29 @@ void Json::member_strings(const std::string& k, const std::vector<std::string>& 
   begin_array();
   for (const auto& s : v) value(s);
   end_array();
+}
+
+std::string pcd_fields_text(const std::vector<capz::PCDField>& fields) {
+  std::string v;
+  for (const capz::PCDField& f : fields) {
+    v += (v.empty() ? "" : ", ") + f.name + " " + std::string(1, f.type) + std::to_string(f.size);
+    if (f.count != 1) v += "x" + std::to_string(f.count);
+  }
+  return v;
+}
+
+void pcd_fields_json(Json* j, const std::vector<capz::PCDField>& fields) {
+  j->key("fields");
+  j->begin_array();
+  for (const capz::PCDField& f : fields) {
+    j->begin_object();
+    j->member("name", f.name);
+    j->member("type", std::string(1, f.type));
+    j->member("size", f.size);
+    j->member("count", f.count);
+    j->end_object();
+  }
+  j->end_array();
 }
 
 }  // namespace capz_cli

@@ -29,6 +29,9 @@ bool parse_single_input(const Args& args, const std::string& usage, const std::s
                         const po::options_description& options, const std::string& input_name,
                         po::variables_map* vm, std::string* input);
 
+// printf into a std::string.
+std::string strprintf(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
+
 // "512 B", "1.5 KiB", "3.20 MiB", "1.07 GiB".
 std::string human_size(uint64_t bytes);
 // Size of a file, or the total of the regular files directly inside a directory.
@@ -71,5 +74,10 @@ class Json {
   std::vector<bool> first_;  // per open container: no member written yet
   bool after_key_ = false;
 };
+
+// PCD fields as `capz info` shows them: "x F4, y F4, ..., fpfh F4x33"; and as a JSON array of
+// objects name / type / size / count under key "fields".
+std::string pcd_fields_text(const std::vector<capz::PCDField>& fields);
+void pcd_fields_json(Json* j, const std::vector<capz::PCDField>& fields);
 
 }  // namespace capz_cli

@@ -1,7 +1,10 @@
-// capz test FILE.capz... and capz list FILE.capz...: checking and listing archives.
+// capz test FILE.capz... and capz list FILE.capz... (-r, -T, --report): checking and listing
+// archives.
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 
+#include "batch.h"
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/io.h"
@@ -13,19 +16,35 @@ namespace capz_cli {
 
 namespace {
 
-// Parses a command whose positionals are one or more archives.
+// Parses a command whose positionals are one or more archives (folders with -r) into jobs.
 bool parse_archives(const Args& args, const std::string& usage, const std::string& description,
-                    std::vector<std::string>* files) {
+                    BatchSettings* settings, std::vector<Job>* jobs) {
   po::options_description o("options");
-  po::options_description positionals;
-  positionals.add_options()("input", po::value<std::vector<std::string>>(), "FILE.capz");
-  po::positional_options_description pos;
-  pos.add("input", -1);
+  add_batch_options(&o, false, "");
   po::variables_map vm;
-  if (!parse_args(args, usage, description, o, positionals, pos, &vm)) return false;
-  if (!vm.count("input")) throw po::error("missing FILE.capz");
-  *files = vm["input"].as<std::vector<std::string>>();
+  std::vector<std::string> inputs;
+  if (!parse_inputs(args, usage, description, o, "FILE.capz", false, &vm, &inputs)) return false;
+  if (std::find(inputs.begin(), inputs.end(), "-") != inputs.end())
+    throw po::error("archives are read from files, not from stdin ('-')");
+  *settings = batch_settings(vm, false);
+  *jobs = expand_inputs(inputs, InputKind::kArchives, *settings);
   return true;
+}
+
+// The archive's size, bound and the original's checksum, for --report.
+void describe_record(const std::string& path, const std::vector<uint8_t>& bytes, FileRecord* r) {
+  const capz::StreamInfo s = capz::describe(bytes.data(), bytes.size(), path);
+  const capz::OriginalInfo o = capz::original_info(path);
+  r->bytes_in = bytes.size();
+  r->lossless = s.lossless;
+  r->bound = s.lossless ? 0 : s.transform_output ? FileRecord::kNone : s.max_error;
+  r->units = s.units;
+  if (o.hashed) {
+    r->checksum = o.hash_hex;
+    r->bytes_out = o.size;
+    if (bytes.size() > 0)
+      r->ratio = static_cast<double>(o.size) / static_cast<double>(bytes.size());
+  }
 }
 
 // Decodes every window (every CRC and chunk checked) and, where the archive is exact, rebuilds
@@ -58,57 +77,60 @@ std::string test_one(const std::string& path) {
 }  // namespace
 
 int cmd_test(const Args& args) {
-  std::vector<std::string> files;
-  if (!parse_archives(args, "capz test FILE.capz...",
+  BatchSettings settings;
+  std::vector<Job> jobs;
+  if (!parse_archives(args, "capz test FILE.capz... [-r] [-T N] [--report FILE.jsonl]",
                       "Decodes every archive (every chunk and CRC checked) and, where it is\n"
                       "lossless with a checksum, rebuilds the original bytes and checks their\n"
                       "size and hash. Writes nothing; one line per file; exit status 1 on any\n"
-                      "fault.",
-                      &files))
+                      "fault. -r walks folders for .capz files.",
+                      &settings, &jobs))
     return 0;
-  int faults = 0;
-  for (const std::string& f : files) {
-    try {
-      std::printf("%s\n", test_one(f).c_str());
-    } catch (const capz::Error& e) {
-      std::printf("%s: FAILED: %s\n", f.c_str(), e.what());
-      ++faults;
-    }
-  }
-  return faults ? 1 : 0;
+  return run_batch(
+      "test", settings, std::move(jobs),
+      [&settings](const Job& job) {
+        FileRecord r;
+        r.text = test_one(job.input) + "\n";
+        if (!settings.report.empty()) describe_record(job.input, capz::read_file(job.input), &r);
+        return r;
+      },
+      true);
 }
 
 int cmd_list(const Args& args) {
-  std::vector<std::string> files;
-  if (!parse_archives(args, "capz list FILE.capz...",
+  BatchSettings settings;
+  std::vector<Job> jobs;
+  if (!parse_archives(args, "capz list FILE.capz... [-r] [-T N] [--report FILE.jsonl]",
                       "One line per archive: source name and format, frames, points, analog\n"
                       "channels, mode and bound, ratio (archive / original size, when the\n"
-                      "archive records it) and the original's XXH3-128 ('-' when it has none).",
-                      &files))
+                      "archive records it) and the original's XXH3-128 ('-' when it has none).\n"
+                      "-r walks folders for .capz files.",
+                      &settings, &jobs))
     return 0;
-  int faults = 0;
-  for (const std::string& f : files) {
-    try {
-      const std::vector<uint8_t> bytes = capz::read_file(f);
-      const capz::StreamInfo s = capz::describe(bytes.data(), bytes.size(), f);
-      const capz::OriginalInfo o = capz::original_info(f);
-      const std::string bound = s.lossless           ? "lossless"
-                                : s.transform_output ? "kg " + number(s.kg_target) + "%"
-                                                     : "max-error " + number(s.max_error);
-      char ratio[32] = "-";
-      if (o.hashed && o.size > 0)
-        std::snprintf(ratio, sizeof ratio, "%.4f",
-                      static_cast<double>(bytes.size()) / static_cast<double>(o.size));
-      std::printf("%s: %s (%s) frames %zu points %zu analog %d %s %s ratio %s xxh3-128 %s\n",
-                  f.c_str(), s.source_name.c_str(), capz::format_name(s.source_format), s.frames,
-                  s.points, s.analog_channels, s.mode.c_str(), bound.c_str(), ratio,
-                  o.hashed ? o.hash_hex.c_str() : "-");
-    } catch (const capz::Error& e) {
-      std::printf("%s: FAILED: %s\n", f.c_str(), e.what());
-      ++faults;
-    }
-  }
-  return faults ? 1 : 0;
+  return run_batch(
+      "list", settings, std::move(jobs),
+      [](const Job& job) {
+        FileRecord r;
+        const std::string& f = job.input;
+        const std::vector<uint8_t> bytes = capz::read_file(f);
+        const capz::StreamInfo s = capz::describe(bytes.data(), bytes.size(), f);
+        const capz::OriginalInfo o = capz::original_info(f);
+        describe_record(f, bytes, &r);
+        const std::string bound = s.lossless           ? "lossless"
+                                  : s.transform_output ? "kg " + number(s.kg_target) + "%"
+                                                       : "max-error " + number(s.max_error);
+        char ratio[32] = "-";
+        if (o.hashed && o.size > 0)
+          std::snprintf(ratio, sizeof ratio, "%.4f",
+                        static_cast<double>(bytes.size()) / static_cast<double>(o.size));
+        r.text =
+            strprintf("%s: %s (%s) frames %zu points %zu analog %d %s %s ratio %s xxh3-128 %s\n",
+                      f.c_str(), s.source_name.c_str(), capz::format_name(s.source_format),
+                      s.frames, s.points, s.analog_channels, s.mode.c_str(), bound.c_str(), ratio,
+                      o.hashed ? o.hash_hex.c_str() : "-");
+        return r;
+      },
+      true);
 }
 
 }  // namespace capz_cli

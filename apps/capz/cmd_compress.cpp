@@ -1,54 +1,29 @@
-// capz compress IN [-o OUT] [--max-error E | --kg-error X | --lossless] [--codec NAME] ...
+// capz compress IN... [-o OUT | -c | --output-dir-mirror DIR | --output-dir-flat DIR] [-r] [-T N]
+//                [--max-error E | --kg-error X | --lossless] [--codec NAME] ...
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
 
+#include "batch.h"
 #include "capz/codec.h"
+#include "capz/compress_file.h"
 #include "capz/file.h"
 #include "capz/io.h"
+#include "capz/original.h"
 #include "capz/stream.h"
 #include "compress_common.h"
+#include "pipe.h"
 
 namespace capz_cli {
 
 namespace {
 
-// One pass over the source: the bounding box of the valid samples and how many there are.
-struct ValidExtent {
-  double lo[3] = {1e308, 1e308, 1e308}, hi[3] = {-1e308, -1e308, -1e308};
-  size_t valid = 0;
-};
-ValidExtent valid_extent(capz::FrameSource& src) {
-  ValidExtent e;
-  capz::FrameBlock b;
-  const size_t F = src.header().frames, B = src.preferred_block();
-  for (size_t f = 0; f < F; f += B) {
-    src.read(f, std::min(B, F - f), &b);
-    for (size_t i = 0; i < b.frames * b.points; ++i)
-      if (b.valid[i]) {
-        ++e.valid;
-        for (int a = 0; a < 3; ++a) {
-          e.lo[a] = std::min(e.lo[a], b.xyz[i * 3 + a]);
-          e.hi[a] = std::max(e.hi[a], b.xyz[i * 3 + a]);
-        }
-      }
-  }
-  return e;
-}
-
-// Default bound for data without units: 1e-4 of the bounding-box diagonal of the valid samples.
-double unitless_default_bound(const ValidExtent& e) {
-  double d2 = 0;
-  for (int a = 0; a < 3; ++a)
-    d2 += e.hi[a] > e.lo[a] ? (e.hi[a] - e.lo[a]) * (e.hi[a] - e.lo[a]) : 0;
-  return d2 > 0 ? 1e-4 * std::sqrt(d2) : 1e-4;
-}
-
 // The options of `capz compress` (besides the common ones and IN).
 po::options_description compress_options() {
   po::options_description o("compress options");
-  o.add_options()("output,o", po::value<std::string>(), "output file (default IN.capz)")(
+  add_batch_options(&o, true, "output file (a single input; default IN.capz)");
+  o.add_options()(
       "max-error,e", po::value<std::string>(),
       "per-coordinate bound: a length with a unit (0.1mm, 0.05cm, 0.0001m, 0.01in) or a bare "
       "number in the data's own units. Default 0.1mm. For data without units (PCD folders, "
@@ -74,22 +49,19 @@ po::options_description compress_options() {
       "none up to 8192 for takes of fewer than 64 points (about 2^16 samples a window)")(
       "no-check",
       "skip decoding each window after writing it (the bound then rests on the "
-      "quantiser alone)")("force,f", "overwrite OUT if it exists")(
-      "threads,T", po::value<int>()->default_value(1),
-      "worker threads coding windows in parallel (0: all cores); the output is the same "
-      "for every count")(
+      "quantiser alone)")(
+      "drop-fields",
+      "leave the point fields of PCD frames (rgb, intensity, normals, ...) out of the archive; "
+      "by default every field is kept, lossless")(
       "rm",
       "remove IN (a file) after the output, read back from disk and decoded, reproduced it "
       "within the bound")("json", "print the report as one JSON object");
   return o;
 }
 
-// The input: C3D, TRC and PCD inputs stream (the file is read a window at a time, twice: a scan
-// that fixes the grid, then the coding pass), so memory stays bounded by the window. codec auto
-// compares whole-take encodings and reads the take whole (`whole`, which `source` then reads).
+// The input (capz/compress_file.h) and the thread CPU seconds opening it took.
 struct Input {
-  capz::Take whole;
-  std::unique_ptr<capz::FrameSource> source;
+  capz::CompressInput in;
   double read_cpu_seconds = 0;
 };
 
@@ -97,16 +69,8 @@ struct Input {
 // cannot read (a POINT:UNITS naming several different units, a name it does not know).
 void open_input(const std::string& in, bool whole, const std::string& units, Input* input) {
   const double c_read = thread_cpu_seconds();
-  if (whole) {
-    input->whole = capz::read_take(in);
-    input->source = capz::take_frames(input->whole);
-  } else {
-    input->source = capz::open_frames(in);
-  }
+  input->in = capz::open_compress_input(in, whole, units);
   input->read_cpu_seconds = thread_cpu_seconds() - c_read;
-  if (!units.empty() && capz::units_to_metres(input->source->header().units) == 0)
-    input->source->edit_header().units = units;
-  if (whole) input->whole.units = input->source->header().units;
 }
 
 // Codec, clusters, window, check and --codec-opt from the options.
@@ -115,7 +79,7 @@ void set_coding_options(const po::variables_map& vm, capz::CompressOptions* opts
   opts->clusters = vm["clusters"].as<int>();
   opts->window_frames = vm["window"].as<size_t>();
   opts->check = vm.count("no-check") == 0;
-  opts->threads = vm["threads"].as<int>();
+  opts->drop_fields = vm.count("drop-fields") > 0;
   if (vm.count("codec-opt"))
     for (const auto& kv : vm["codec-opt"].as<std::vector<std::string>>()) {
       auto eq = kv.find('=');
@@ -124,41 +88,25 @@ void set_coding_options(const po::variables_map& vm, capz::CompressOptions* opts
     }
 }
 
-// The error target: --lossless, --kg-error, --max-error, or the default bound (0.1 mm; for data
-// without units 1e-4 of the valid samples' bounding-box diagonal, which reads the source once).
+// The error target: --lossless, --kg-error, --max-error, or the default bound
+// (capz::set_compress_target).
 void set_target(const po::variables_map& vm, capz::FrameSource& source,
                 capz::CompressOptions* opts) {
-  const capz::Take& take = source.header();
-  ValidExtent extent;
-  if (vm.count("lossless")) {
-    opts->lossless = true;
-  } else if (vm.count("kg-error")) {
-    opts->kg_error = vm["kg-error"].as<double>();
-    if (!(opts->kg_error > 0))
-      capz::fail(capz::ErrorCode::kInvalidParameter, "", "--kg-error must be > 0");
-  } else if (take.units.empty() && (extent = valid_extent(source)).valid == 0) {
-    opts->max_error = 1;  // no positions to bound (analog-only take): any bound will do
-  } else if (!vm.count("max-error") && take.units.empty()) {
-    opts->max_error = unitless_default_bound(extent);
-  } else {
-    opts->max_error = capz::parse_length(
-        vm.count("max-error") ? vm["max-error"].as<std::string>() : "0.1mm", take.units);
-    if (!(opts->max_error > 0))
-      capz::fail(capz::ErrorCode::kInvalidParameter, "",
-                 "--max-error must be > 0 (or use --lossless)");
-  }
+  capz::CompressTarget target;
+  target.lossless = vm.count("lossless") != 0;
+  if (vm.count("kg-error")) target.kg_error = vm["kg-error"].as<double>();
+  if (vm.count("max-error")) target.max_error = vm["max-error"].as<std::string>();
+  capz::set_compress_target(source, target, opts);
 }
 
 // Compresses the input into `out`; returns the encoding's thread CPU seconds.
+// `progress`: the per-frame progress line (a single input; a batch shows its own).
 double encode(Input& input, capz::CompressOptions opts, const std::string& out, bool force,
-              capz::CompressStats* st) {
+              bool progress_line, capz::CompressStats* st) {
   const double c_enc = thread_cpu_seconds();
   Progress progress("compress");
-  opts.progress = [&](size_t d, size_t t) { progress(d, t); };
-  if (opts.codec == "auto")
-    capz::write_file(out, capz::compress(input.whole, opts, st), force);
-  else
-    capz::compress_stream(*input.source, opts, out, force, st);
+  if (progress_line) opts.progress = [&](size_t d, size_t t) { progress(d, t); };
+  capz::compress_input(input.in, opts, out, force, st);
   return thread_cpu_seconds() - c_enc;
 }
 
@@ -171,8 +119,8 @@ struct Report {
   double mbps = 0;               // raw float32 position MB encoded per CPU second
 };
 
-void report_json(const Report& r, const capz::Take& take, const capz::CompressOptions& opts,
-                 const capz::CompressStats& st) {
+std::string report_json(const Report& r, const capz::Take& take, const capz::CompressOptions& opts,
+                        const capz::CompressStats& st) {
   Json j;
   j.begin_object();
   j.member("input", r.in);
@@ -194,6 +142,7 @@ void report_json(const Report& r, const capz::Take& take, const capz::CompressOp
   j.member("position_bytes", static_cast<uint64_t>(st.position_bytes));
   j.member("analog_bytes", static_cast<uint64_t>(st.analog_bytes));
   j.member("rotation_bytes", static_cast<uint64_t>(st.rotation_bytes));
+  j.member("attribute_bytes", static_cast<uint64_t>(st.attribute_bytes));
   j.member("other_bytes", static_cast<uint64_t>(st.other_bytes));
   j.member("raw_float32_position_bytes", static_cast<uint64_t>(st.raw_bytes));
   j.member("read_cpu_seconds", r.t_read);
@@ -201,11 +150,12 @@ void report_json(const Report& r, const capz::Take& take, const capz::CompressOp
   j.member("encode_checked", opts.check);
   j.member("encode_mb_per_s", r.mbps);
   j.end_object();
-  std::printf("%s\n", j.str().c_str());
+  return j.str() + "\n";
 }
 
-void report_text(const Report& r, const capz::Take& take, const capz::CompressOptions& opts,
-                 const capz::CompressStats& st) {
+std::string report_text(const Report& r, const capz::Take& take, const capz::CompressOptions& opts,
+                        const capz::CompressStats& st) {
+  std::string text;
   if (g_verbosity >= 1) {
     const std::string u = take.units.empty() ? "" : " " + take.units;
     std::string err = st.lossless ? "lossless (" + st.mode + ")"
@@ -213,64 +163,83 @@ void report_text(const Report& r, const capz::Take& take, const capz::CompressOp
                                         num(st.error.max_error) + u + " Euclidean), KG " +
                                         num(st.error.kg_error) + "%";
     if (opts.codec == "auto") err += ", codec " + st.codec;
-    std::printf("%s -> %s: %s -> %s (ratio %s), %s bpvf, %s\n", r.in.c_str(), r.out.c_str(),
-                human_size(r.in_bytes).c_str(), human_size(st.bytes).c_str(), num(r.ratio).c_str(),
-                num(st.bpvf).c_str(), err.c_str());
+    text += strprintf("%s -> %s: %s -> %s (ratio %s), %s bpvf, %s\n", r.in.c_str(), r.out.c_str(),
+                      human_size(r.in_bytes).c_str(), human_size(st.bytes).c_str(),
+                      num(r.ratio).c_str(), num(st.bpvf).c_str(), err.c_str());
   }
   if (g_verbosity >= 2) {
-    std::printf(
+    text += strprintf(
         "  %zu frames x %zu points, %s coding, grid step %s%s; positions %zu B (x%s vs "
-        "raw float32), analog %zu B, rotations %zu B, other %zu B\n",
+        "raw float32), analog %zu B, rotations %zu B, point fields %zu B, other %zu B\n",
         take.frames, take.points, st.mode.c_str(), num(st.step, 6).c_str(),
         take.units.empty() ? "" : (" " + take.units).c_str(), st.position_bytes,
         num(st.position_bytes
                 ? static_cast<double>(st.raw_bytes) / static_cast<double>(st.position_bytes)
                 : 0)
             .c_str(),
-        st.analog_bytes, st.rotation_bytes, st.other_bytes);
-    std::printf("  cpu: read %.3f s, encode%s %.3f s (%s MB/s of raw float32 positions)\n",
-                r.t_read, opts.check ? "+check" : "", r.t_enc, num(r.mbps).c_str());
+        st.analog_bytes, st.rotation_bytes, st.attribute_bytes, st.other_bytes);
+    text += strprintf("  cpu: read %.3f s, encode%s %.3f s (%s MB/s of raw float32 positions)\n",
+                      r.t_read, opts.check ? "+check" : "", r.t_enc, num(r.mbps).c_str());
   }
+  return text;
 }
 
-}  // namespace
-
-int cmd_compress(const Args& args) {
+// What every file of one `capz compress` shares.
+struct Settings {
   po::variables_map vm;
-  std::string in;
-  if (!parse_single_input(
-          args, "capz compress IN [-o OUT] [--max-error E | --kg-error X | --lossless] [options]",
-          "Compresses IN (a .c3d, a .trc or a folder of .pcd frames) to a .capz.\n"
-          "Error bounds are per coordinate: every valid coordinate comes back within the\n"
-          "bound (a point's Euclidean error is then at most sqrt(3) times it); the report\n"
-          "gives both, with the KG error and bits per vertex per frame (bpvf). Gaps,\n"
-          "analog channels, labels, rate, units, C3D parameters and events come back exactly.",
-          compress_options(), "IN", &vm, &in))
-    return 0;
-  const int targets = (vm.count("lossless") ? 1 : 0) + (vm.count("kg-error") ? 1 : 0) +
-                      (vm.count("max-error") ? 1 : 0);
-  if (targets > 1) throw po::error("give only one of --max-error, --kg-error, --lossless");
-  const std::string units = vm.count("units") ? vm["units"].as<std::string>() : "";
-  if (!units.empty() && capz::units_to_metres(units) == 0)
-    capz::fail(capz::ErrorCode::kInvalidParameter, "", "--units: unknown unit '" + units + "'");
-  const bool force = vm.count("force") != 0;
+  BatchSettings batch;
+  std::string units;    // --units, may be empty
+  bool single = false;  // one input: the per-frame progress line
+};
+
+// stdin's bytes must be a C3D or a TRC: the format comes from them (the spool has no name).
+void check_take_stream(const std::string& spool) {
+  const capz::Format f = capz::detect_format(spool);
+  if (f == capz::Format::kC3D || f == capz::Format::kTRC) return;
+  const std::vector<uint8_t> head = capz::read_file(spool);
+  if (capz::is_capz(head.data(), head.size()))
+    capz::fail(capz::ErrorCode::kNotOurFormat, "stdin",
+               "is a .capz archive, not a take (use capz decompress)");
+  capz::fail(capz::ErrorCode::kNotOurFormat, "stdin",
+             "not a C3D or TRC stream (a PCD sequence is a folder: give the folder)");
+}
+
+FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
+  const po::variables_map& vm = s.vm;
+  const bool force = s.batch.force;
+  if (vm.count("rm") && (job.from_stdin || job.to_stdout))
+    capz::fail(capz::ErrorCode::kUsage, "", "--rm does not apply to stdin or stdout");
+  std::string in = job.input;
+  if (job.from_stdin) check_take_stream(in = space->spool_stdin("stdin"));
   Report r;
-  r.in = in;
-  r.out = vm.count("output") ? vm["output"].as<std::string>() : strip_slashes(in) + ".capz";
-  capz::check_output_free(r.out, force);
+  r.in = job.from_stdin ? "stdin" : in;
+  if (job.to_stdout) {
+    refuse_terminal_stdout("a .capz archive");
+    r.out = space->path("stdout.capz");
+  } else {
+    r.out =
+        !job.output.empty()
+            ? job.output
+            : place_output(s.batch, job, fs::path(strip_slashes(in)).filename().string() + ".capz");
+    claim_output(r.out, in);
+    capz::check_output_free(r.out, force);
+  }
   if (vm.count("rm") && fs::is_directory(in))
     capz::fail(capz::ErrorCode::kUsage, in, "--rm removes files only, not PCD folders");
 
   Input input;
-  open_input(in, vm["codec"].as<std::string>() == "auto", units, &input);
+  open_input(in, vm["codec"].as<std::string>() == "auto", s.units, &input);
   r.t_read = input.read_cpu_seconds;
   capz::CompressOptions opts;
   set_coding_options(vm, &opts);
-  const capz::Take& take = input.source->header();
-  set_target(vm, *input.source, &opts);
+  // -T: job.threads is what this file may use inside the library (1 while a batch codes several
+  // files at once): the windows of the take coded in parallel.
+  opts.threads = static_cast<int>(job.threads);
+  const capz::Take& take = input.in.source->header();
+  set_target(vm, *input.in.source, &opts);
 
   capz::CompressStats st;
-  r.t_enc = encode(input, opts, r.out, force, &st);
+  r.t_enc = encode(input, opts, r.out, force, s.single, &st);
   r.in_bytes = path_size(in);
   r.ratio = st.bytes ? static_cast<double>(r.in_bytes) / static_cast<double>(st.bytes) : 0;
   r.mbps = r.t_enc > 0 ? static_cast<double>(st.raw_bytes) / 1e6 / r.t_enc : 0;
@@ -281,11 +250,64 @@ int cmd_compress(const Args& args) {
     if (ec)
       capz::fail(capz::ErrorCode::kIo, in, "could not remove after compressing: " + ec.message());
   }
-  if (vm.count("json"))
-    report_json(r, take, opts, st);
-  else
-    report_text(r, take, opts, st);
-  return 0;
+  FileRecord rec;
+  rec.input = r.in;
+  const capz::OriginalInfo original = capz::original_info(r.out);
+  if (original.hashed) rec.checksum = original.hash_hex;
+  if (job.to_stdout) {
+    copy_to_stdout(r.out);
+    r.out = "stdout";
+  }
+  rec.output = r.out;
+  rec.bytes_in = r.in_bytes;
+  rec.bytes_out = st.bytes;
+  rec.ratio = r.ratio;
+  rec.lossless = st.lossless;
+  rec.bound = st.lossless ? 0 : opts.kg_error > 0 ? FileRecord::kNone : opts.max_error;
+  rec.units = take.units;
+  rec.max_error = st.error.max_abs;
+  rec.text = vm.count("json") ? report_json(r, take, opts, st) : report_text(r, take, opts, st);
+  return rec;
+}
+
+}  // namespace
+
+int cmd_compress(const Args& args) {
+  Settings s;
+  std::vector<std::string> inputs;
+  if (!parse_inputs(
+          args,
+          "capz compress IN... [-o OUT | -c | --output-dir-mirror DIR | --output-dir-flat DIR]\n"
+          "                    [-r] [-T N] [--max-error E | --kg-error X | --lossless] [options]",
+          "Compresses each IN (a .c3d, a .trc or a folder of .pcd frames) to a .capz, by\n"
+          "default IN.capz beside it. '-' (or no IN while stdin is a pipe) reads one C3D or\n"
+          "TRC stream from stdin and writes the archive to stdout. -r walks folders: every\n"
+          ".c3d and .trc in them, and every folder holding .pcd frames as one sequence.\n"
+          "Error bounds are per coordinate: every valid coordinate comes back within the\n"
+          "bound (a point's Euclidean error is then at most sqrt(3) times it); the report\n"
+          "gives both, with the KG error and bits per vertex per frame (bpvf). Gaps,\n"
+          "analog channels, labels, rate, units, C3D parameters and events come back exactly.\n"
+          "A file that fails is reported and the others go on; the exit status is then the\n"
+          "first failure's.",
+          compress_options(), "IN", true, &s.vm, &inputs))
+    return 0;
+  const po::variables_map& vm = s.vm;
+  const int targets = (vm.count("lossless") ? 1 : 0) + (vm.count("kg-error") ? 1 : 0) +
+                      (vm.count("max-error") ? 1 : 0);
+  if (targets > 1) throw po::error("give only one of --max-error, --kg-error, --lossless");
+  s.units = vm.count("units") ? vm["units"].as<std::string>() : "";
+  if (!s.units.empty() && capz::units_to_metres(s.units) == 0)
+    capz::fail(capz::ErrorCode::kInvalidParameter, "", "--units: unknown unit '" + s.units + "'");
+  {
+    capz::CompressOptions check;  // a bad --codec-opt is a usage error before any file
+    set_coding_options(vm, &check);
+  }
+  s.batch = batch_settings(vm, true);
+  std::vector<Job> jobs = expand_inputs(inputs, InputKind::kTakes, s.batch);
+  s.single = jobs.size() == 1;
+  return run_batch("compress", s.batch, std::move(jobs), [&s](const Job& job) {
+    return with_pipe_space(job, [&](PipeSpace* p) { return compress_file(job, s, p); });
+  });
 }
 
 }  // namespace capz_cli

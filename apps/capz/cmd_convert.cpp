@@ -20,7 +20,11 @@ int cmd_convert(const Args& args) {
   opts.add_options()("force,f", "overwrite OUT if it exists")(
       "pcd-encoding", po::value<std::string>(),
       "PCD output: ascii, binary or binary_compressed (default: the source's encoding when it is "
-      "a PCD folder, else binary)")(
+      "a PCD folder, else binary)")("pcd-data", po::value<std::string>(),
+                                    "the same as --pcd-encoding")(
+      "drop-fields",
+      "write a C3D or TRC from PCD frames with point fields (rgb, intensity, normals, ...) by "
+      "leaving the fields out; without it that is an error naming them")(
       "c3d-float", "C3D output: store coordinates as float even if the source was int16")(
       "rate", po::value<double>(), "set the frame rate in Hz (for sources without one, e.g. PCD)")(
       "units", po::value<std::string>(), "set the units (mm, cm, m, ...) when the source has none");
@@ -31,7 +35,7 @@ int cmd_convert(const Args& args) {
   pos.add("input", 1).add("output", 1);
   po::variables_map vm;
   if (!parse_args(
-          args, "capz convert IN OUT [-f] [--pcd-encoding E] [--c3d-float]",
+          args, "capz convert IN OUT [-f] [--pcd-encoding E] [--c3d-float] [--drop-fields]",
           "Converts IN to OUT, each a .c3d, a .trc or a folder of .pcd frames (OUT: a path\n"
           "without extension or ending in '/'), keeping point order,\n"
           "labels, rate, units and gaps (a gap is an empty field in TRC, a NaN point in\n"
@@ -46,8 +50,12 @@ int cmd_convert(const Args& args) {
   capz::WriteOptions wo;
   wo.overwrite = vm.count("force") > 0;
   wo.c3d_float = vm.count("c3d-float") > 0;
-  if (vm.count("pcd-encoding")) {
-    const std::string e = vm["pcd-encoding"].as<std::string>();
+  wo.drop_fields = vm.count("drop-fields") > 0;
+  if (vm.count("pcd-encoding") && vm.count("pcd-data"))
+    throw po::error("give --pcd-encoding or --pcd-data, not both");
+  const char* enc_opt = vm.count("pcd-data") ? "pcd-data" : "pcd-encoding";
+  if (vm.count(enc_opt)) {
+    const std::string e = vm[enc_opt].as<std::string>();
     if (e != "ascii" && e != "binary" && e != "binary_compressed")
       capz::fail(capz::ErrorCode::kInvalidParameter, "",
                  "--pcd-encoding must be ascii, binary or binary_compressed, not '" + e + "'");
@@ -75,7 +83,10 @@ int cmd_convert(const Args& args) {
   capz::Take take = capz::read_take(in);
   if (vm.count("rate")) take.rate = vm["rate"].as<double>();
   if (vm.count("units") && take.units.empty()) take.units = vm["units"].as<std::string>();
-  if (!vm.count("pcd-encoding") && take.pcd) wo.pcd_encoding = take.pcd->encoding;
+  if (!vm.count(enc_opt) && take.pcd) wo.pcd_encoding = take.pcd->encoding;
+  // What the output cannot hold is an error naming it (before anything is written), unless
+  // --drop-fields says to leave it out.
+  capz::check_fields_fit(take, out_format, target, wo);
 
   if (g_verbosity >= 1) {
     for (const auto& w : take.warnings)
@@ -99,6 +110,9 @@ int cmd_convert(const Args& args) {
   }
 
   capz::write_take(take, out, wo);
+  if (out_format != capz::Format::kPCDFolder && !take.attributes.empty() && g_verbosity >= 1)
+    std::fprintf(stderr, "capz convert: dropped point fields: %s\n",
+                 capz::field_names(take).c_str());
   if (g_verbosity >= 1)
     std::fprintf(stderr, "capz convert: %s (%s) -> %s (%s): %zu points x %zu frames, %s\n",
                  in.c_str(), capz::format_name(take.format), target.c_str(),

@@ -1,13 +1,16 @@
-// capz decompress X.capz [-o OUT] [--frames FIRST:COUNT]
+// capz decompress X.capz... [-o OUT | -c | --output-dir-mirror DIR | --output-dir-flat DIR] [-r]
+//                  [-T N] [--frames FIRST:COUNT]
 #include <cctype>
 #include <cstdio>
 #include <memory>
 
+#include "batch.h"
 #include "capz/codec.h"
 #include "capz/io.h"
 #include "capz/original.h"
 #include "capz/stream.h"
 #include "compress_common.h"
+#include "pipe.h"
 
 namespace capz_cli {
 
@@ -45,94 +48,187 @@ bool same_format(const std::string& out, capz::Format f) {
          (f == capz::Format::kTRC && ends_with(lower, ".trc"));
 }
 
-}  // namespace
-
-int cmd_decompress(const Args& args) {
-  po::options_description o("decompress options");
-  o.add_options()("output,o", po::value<std::string>(),
-                  "output .c3d, .trc, or a folder for PCD frames")(
-      "frames", po::value<std::string>(),
-      "decode only frames FIRST:COUNT (0-based); only the "
-      "windows they touch are read")("force,f", "overwrite OUT if it exists")(
-      "threads,T", po::value<int>()->default_value(1),
-      "worker threads decoding windows in parallel (0: all cores)")(
-      "json", "print the report as one JSON object");
+// What every file of one `capz decompress` shares.
+struct Settings {
   po::variables_map vm;
-  std::string in;
-  if (!parse_single_input(
-          args, "capz decompress X.capz [-o OUT] [--frames FIRST:COUNT] [-f]",
-          "Decompresses X.capz to OUT: a .c3d, a .trc or a folder of PCD frames, chosen by\n"
-          "OUT's name. By default the source's format and name: take.c3d.capz -> take.c3d,\n"
-          "frames.capz -> frames/ (never overwritten without -f).",
-          o, "X.capz", &vm, &in))
-    return 0;
-  const bool force = vm.count("force") != 0;
-  std::string out = vm.count("output") ? vm["output"].as<std::string>() : "";
-  if (!out.empty()) capz::check_output_free(out, force);
+  BatchSettings batch;
+};
 
-  const double c0 = thread_cpu_seconds();
-  capz::WriteOptions wo;
-  wo.overwrite = force;
+// --frames FIRST:COUNT
+void parse_frames(const std::string& fr, size_t* first, size_t* count) {
+  unsigned long long a = 0, n = 0;
+  char extra;
+  if (std::sscanf(fr.c_str(), "%llu:%llu%c", &a, &n, &extra) != 2)
+    throw po::error("--frames wants FIRST:COUNT, got '" + fr + "'");
+  *first = a;
+  *count = n;
+}
+
+// Where the take goes: stdout (through a file of the source's format in `space`), -o, or its
+// default name placed by the batch settings. Claims it and checks it is free.
+std::string choose_output(const Job& job, const Settings& s, const std::string& in,
+                          const capz::Take& take, PipeSpace* space) {
+  if (job.to_stdout) {
+    if (take.format == capz::Format::kPCDFolder)
+      capz::fail(capz::ErrorCode::kUsage, in,
+                 "holds a PCD sequence, a folder: it cannot go to stdout (give -o DIR)");
+    if (take.format == capz::Format::kC3D) refuse_terminal_stdout("a C3D file");
+    return space->path(take.format == capz::Format::kC3D ? "stdout.c3d" : "stdout.trc");
+  }
+  std::string out = job.output;
+  if (out.empty()) {
+    const std::string beside = default_output(in, take);
+    const bool folder = !beside.empty() && beside.back() == '/';
+    out = place_output(s.batch, job,
+                       fs::path(strip_slashes(beside)).filename().string() + (folder ? "/" : ""));
+  }
+  claim_output(out, in);
+  capz::check_output_free(strip_slashes(out), s.batch.force);
+  return out;
+}
+
+FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) {
+  const po::variables_map& vm = s.vm;
+  std::string in = job.input;
+  if (job.from_stdin) {
+    in = space->spool_stdin("stdin");
+    const std::vector<uint8_t> head = capz::read_file(in);
+    if (!capz::is_capz(head.data(), head.size()))
+      capz::fail(capz::ErrorCode::kNotOurFormat, "stdin", "not a .capz archive");
+  }
+  // -T: job.threads is what this file may use inside the library (windows decoded ahead).
   capz::DecompressOptions dopts;
-  dopts.threads = vm["threads"].as<int>();
+  dopts.threads = static_cast<int>(job.threads);
+  capz::WriteOptions wo;
+  wo.overwrite = s.batch.force;
+  wo.drop_fields = vm.count("drop-fields") > 0;
+  if (vm.count("pcd-data")) wo.pcd_encoding = vm["pcd-data"].as<std::string>();
+  std::string out;
   size_t frames = 0, points = 0;
+  FileRecord rec;
+  const double c0 = thread_cpu_seconds();
   if (vm.count("frames")) {  // a range: decoded into memory (only the windows it touches)
-    const std::string fr = vm["frames"].as<std::string>();
-    unsigned long long a = 0, n = 0;
-    char extra;
-    if (std::sscanf(fr.c_str(), "%llu:%llu%c", &a, &n, &extra) != 2)
-      throw po::error("--frames wants FIRST:COUNT, got '" + fr + "'");
+    size_t a = 0, n = 0;
+    parse_frames(vm["frames"].as<std::string>(), &a, &n);
     std::vector<uint8_t> bytes = capz::read_file(in);
-    capz::Take take = capz::decompress_frames(bytes.data(), bytes.size(), a, n, in);  // serial
-    if (out.empty()) {
-      out = default_output(in, take);
-      capz::check_output_free(strip_slashes(out), force);
-    }
+    capz::Take take = capz::decompress_frames(bytes.data(), bytes.size(), a, n, in);
+    out = choose_output(job, s, in, take, space);
     capz::write_take(take, out, wo);
     frames = take.frames;
     points = take.points;
+    rec.units = take.units;
   } else {  // the whole take: decoded and written window by window
     std::unique_ptr<capz::FrameSource> src = capz::open_capz_frames(in, dopts);
     const capz::Take& take = src->header();
-    if (out.empty()) {
-      out = default_output(in, take);
-      capz::check_output_free(strip_slashes(out), force);
-    }
+    out = choose_output(job, s, in, take, space);
     frames = take.frames;
     points = take.points;
+    rec.units = take.units;
     // The original's own format from an archive with its residue: the original file rebuilt
     // (byte for byte when lossless, FORMAT.md 4.4); any other output through the writer.
     if (same_format(out, take.format) &&
         capz::can_rebuild(capz::original_info(in), take.format == capz::Format::kC3D)) {
       src.reset();
-      capz::rebuild_original(in, out, force, dopts);
+      capz::rebuild_original(in, out, s.batch.force, dopts);
     } else {
       std::unique_ptr<capz::FrameSink> sink =
           capz::create_frame_sink(take, src->has_sample_words(), out, wo);
       capz::copy_frames(*src, *sink, src->preferred_block());
     }
   }
+  if (wo.drop_fields && capz::format_for_output(out) != capz::Format::kPCDFolder &&
+      g_verbosity >= 1) {
+    const std::string dropped = capz::field_names(capz::open_capz_frames(in)->header());
+    if (!dropped.empty())
+      std::fprintf(stderr, "capz decompress: dropped point fields: %s\n", dropped.c_str());
+  }
   const double t_dec = thread_cpu_seconds() - c0;
   const double raw = static_cast<double>(frames * points * 12);
   const double mbps = t_dec > 0 ? raw / 1e6 / t_dec : 0;
+
+  rec.input = job.from_stdin ? "stdin" : in;
+  rec.bytes_in = path_size(in);
+  rec.bytes_out = path_size(strip_slashes(out));
+  rec.ratio = rec.bytes_in ? static_cast<double>(rec.bytes_out) / static_cast<double>(rec.bytes_in)
+                           : FileRecord::kNone;
+  if (!s.batch.report.empty()) {  // the bound, for --report (the archive read whole once more)
+    const std::vector<uint8_t> bytes = capz::read_file(in);
+    const capz::StreamInfo info = capz::describe(bytes.data(), bytes.size(), in);
+    rec.lossless = info.lossless;
+    rec.bound = info.lossless ? 0 : info.transform_output ? FileRecord::kNone : info.max_error;
+  }
+  const capz::OriginalInfo original = capz::original_info(in);
+  if (original.hashed) rec.checksum = original.hash_hex;
+  if (job.to_stdout) {
+    copy_to_stdout(out);
+    out = "stdout";
+  }
+  rec.output = out;
   if (vm.count("json")) {
     Json j;
     j.begin_object();
-    j.member("input", in);
+    j.member("input", rec.input);
     j.member("output", out);
     j.member("frames", static_cast<uint64_t>(frames));
     j.member("points", static_cast<uint64_t>(points));
     j.member("decode_cpu_seconds", t_dec);
     j.member("decode_mb_per_s", mbps);
     j.end_object();
-    std::printf("%s\n", j.str().c_str());
+    rec.text = j.str() + "\n";
   } else if (g_verbosity >= 1) {
-    std::printf("%s -> %s: %zu frames x %zu points\n", in.c_str(), out.c_str(), frames, points);
+    rec.text = strprintf("%s -> %s: %zu frames x %zu points\n", rec.input.c_str(), out.c_str(),
+                         frames, points);
     if (g_verbosity >= 2)
-      std::printf("  cpu: decode %.3f s (%s MB/s of raw float32 positions)\n", t_dec,
-                  num(mbps).c_str());
+      rec.text += strprintf("  cpu: decode %.3f s (%s MB/s of raw float32 positions)\n", t_dec,
+                            num(mbps).c_str());
   }
-  return 0;
+  return rec;
+}
+
+}  // namespace
+
+int cmd_decompress(const Args& args) {
+  po::options_description o("decompress options");
+  add_batch_options(&o, true, "output .c3d, .trc, or a folder for PCD frames (a single input)");
+  o.add_options()("frames", po::value<std::string>(),
+                  "decode only frames FIRST:COUNT (0-based); only the "
+                  "windows they touch are read")(
+      "pcd-data", po::value<std::string>(),
+      "PCD output: ascii, binary or binary_compressed (default: the source's)")(
+      "drop-fields",
+      "write a C3D or TRC from an archive of PCD frames with point fields by leaving the fields "
+      "out; without it that is an error naming them")("json",
+                                                      "print the report as one JSON object");
+  Settings s;
+  std::vector<std::string> inputs;
+  if (!parse_inputs(
+          args,
+          "capz decompress X.capz... [-o OUT | -c | --output-dir-mirror DIR | --output-dir-flat "
+          "DIR]\n                         [-r] [-T N] [--frames FIRST:COUNT] [--pcd-data E] "
+          "[--drop-fields] [-f]",
+          "Decompresses each X.capz to OUT: a .c3d, a .trc or a folder of PCD frames, chosen\n"
+          "by OUT's name. By default the source's format and name: take.c3d.capz -> take.c3d,\n"
+          "frames.capz -> frames/ (never overwritten without -f). '-' (or no X.capz while\n"
+          "stdin is a pipe) reads an archive from stdin and writes its source's format (C3D\n"
+          "or TRC) to stdout. -r walks folders for .capz files. A file that fails is\n"
+          "reported and the others go on; the exit status is then the first failure's.",
+          o, "X.capz", true, &s.vm, &inputs))
+    return 0;
+  if (s.vm.count("frames")) {
+    size_t a = 0, n = 0;
+    parse_frames(s.vm["frames"].as<std::string>(), &a, &n);  // a bad range: before any file
+  }
+  if (s.vm.count("pcd-data")) {  // a bad encoding: before any file
+    const std::string e = s.vm["pcd-data"].as<std::string>();
+    if (e != "ascii" && e != "binary" && e != "binary_compressed")
+      capz::fail(capz::ErrorCode::kInvalidParameter, "",
+                 "--pcd-data must be ascii, binary or binary_compressed, not '" + e + "'");
+  }
+  s.batch = batch_settings(s.vm, true);
+  std::vector<Job> jobs = expand_inputs(inputs, InputKind::kArchives, s.batch);
+  return run_batch("decompress", s.batch, std::move(jobs), [&s](const Job& job) {
+    return with_pipe_space(job, [&](PipeSpace* p) { return decompress_file(job, s, p); });
+  });
 }
 
 }  // namespace capz_cli

@@ -97,6 +97,10 @@ std::string variant_text(const capz::Take& t) {
     std::string s = t.pcd->encoding + " PCD frames";
     if (!t.pcd->frame_names.empty())
       s += " " + t.pcd->frame_names.front() + " .. " + t.pcd->frame_names.back();
+    if (t.pcd->height > 1)
+      s += ", organized " + std::to_string(t.pcd->width) + " x " + std::to_string(t.pcd->height);
+    else
+      s += ", unorganized";
     return s;
   }
   return "";
@@ -134,6 +138,10 @@ void print_text(const std::string& path, const capz::Take& t, const Summary& s) 
     if (shown < t.labels.size())
       v += ", ... (" + std::to_string(t.labels.size() - shown) + " more; -v lists all)";
     line("labels:", v);
+  }
+  if (t.pcd && !t.pcd->fields.empty()) {
+    // Every field of the frames, x y z included: NAME TYPE SIZE[xCOUNT].
+    line("fields:", pcd_fields_text(t.pcd->fields));
   }
   if (t.analog.channels > 0)
     line("analog:", std::to_string(t.analog.channels) + " channels at " + number(t.analog.rate) +
@@ -181,6 +189,10 @@ void print_json(const std::string& path, const capz::Take& t, const Summary& s) 
   } else if (t.pcd) {
     j.member("encoding", t.pcd->encoding);
     j.member_strings("frame_files", t.pcd->frame_names);
+    j.member("organized", t.pcd->height > 1);
+    j.member("width", static_cast<uint64_t>(t.pcd->width ? t.pcd->width : t.points));
+    j.member("height", static_cast<uint64_t>(t.pcd->width ? t.pcd->height : 1));
+    pcd_fields_json(&j, t.pcd->fields);
   }
   j.end_object();
   j.member("points", static_cast<uint64_t>(t.points));

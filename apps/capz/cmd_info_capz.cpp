@@ -49,6 +49,11 @@ int info_capz(const std::string& path, bool json) {
     j.member("samples_per_frame", si.rotation_samples_per_frame);
     j.member_strings("labels", si.rotation_labels);
     j.end_object();
+    if (!si.pcd_fields.empty()) {
+      j.member("width", static_cast<uint64_t>(si.pcd_width));
+      j.member("height", static_cast<uint64_t>(si.pcd_height));
+      pcd_fields_json(&j, si.pcd_fields);
+    }
     j.member("bpvf", bp);
     j.key("chunk_bytes");
     j.begin_object();
@@ -85,6 +90,13 @@ int info_capz(const std::string& path, bool json) {
                            std::to_string(si.frames * rotations_per_frame(si)) + " samples at " +
                            num(si.rotation_rate) + " Hz (" +
                            std::to_string(si.rotation_samples_per_frame) + " per frame), lossless");
+  if (!si.pcd_fields.empty()) {
+    const std::string v = pcd_fields_text(si.pcd_fields);
+    line("fields:", v + (si.pcd_fields.size() > 3 ? " (all but x y z lossless)" : ""));
+    line("layout:", si.pcd_height > 1 ? "organized " + std::to_string(si.pcd_width) + " x " +
+                                            std::to_string(si.pcd_height)
+                                      : std::string("unorganized"));
+  }
   std::string chunks;
   for (const auto& kv : si.chunk_bytes)
     chunks += (chunks.empty() ? "" : ", ") + kv.first + " " + human_size(kv.second);

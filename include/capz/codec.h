@@ -31,6 +31,9 @@ struct CompressOptions {
   // Worker threads coding windows in parallel (0: all cores). The stream's bytes, the stats and
   // any error thrown are the same for every count; at most threads + 1 windows are in memory.
   int threads = 1;
+  // Leave the take's point fields (Take::attributes, PCD fields other than x y z) out of the
+  // archive instead of coding them (they are lossless by default).
+  bool drop_fields = false;
   // Called after each window with (frames done, frames total); may be empty.
   std::function<void(size_t, size_t)> progress;
 };
@@ -50,11 +53,12 @@ struct CompressStats {
                          // "transform-output" (only a KG target and a transform)
   std::string codec;     // transform stage used: "none", "ts", "pdct" (what auto chose)
   bool lossless = false;
-  ErrorStats error;           // achieved, over valid samples (zero when lossless)
-  size_t position_bytes = 0;  // bytes of POSW + MASK chunks
-  size_t analog_bytes = 0;    // bytes of ANLG chunks
-  size_t rotation_bytes = 0;  // bytes of ROTW chunks
-  size_t other_bytes = 0;     // everything else
+  ErrorStats error;            // achieved, over valid samples (zero when lossless)
+  size_t position_bytes = 0;   // bytes of POSW + MASK chunks
+  size_t analog_bytes = 0;     // bytes of ANLG chunks
+  size_t rotation_bytes = 0;   // bytes of ROTW chunks
+  size_t attribute_bytes = 0;  // bytes of ATTR chunks (point fields)
+  size_t other_bytes = 0;      // everything else
 };
 
 // Throws Error(kInvalidParameter) for an impossible target (no target, bound too fine for the
@@ -96,6 +100,11 @@ struct StreamInfo {
   int rotation_segments = 0, rotation_samples_per_frame = 0;
   double rotation_rate = 0;  // Hz, 0 unknown
   std::vector<std::string> rotation_labels;
+  // A PCD source's frame layout (FORMAT.md 5.3): every field, x y z included (empty when the
+  // stream has none), and WIDTH x HEIGHT (height 1: unorganized). The fields other than x y z
+  // are coded losslessly (ATTR).
+  std::vector<PCDField> pcd_fields;
+  size_t pcd_width = 0, pcd_height = 1;
   std::map<std::string, size_t> chunk_bytes;  // total bytes (with framing) per chunk type
 };
 StreamInfo describe(const uint8_t* data, size_t size, const std::string& name = "");

@@ -16,10 +16,20 @@ Format detect_format(const std::string& path);
 Take read_take(const std::string& path);
 
 struct WriteOptions {
-  bool overwrite = false;               // replace an existing output (the CLI's -f)
-  std::string pcd_encoding = "binary";  // "ascii", "binary", "binary_compressed"
+  bool overwrite = false;  // replace an existing output (the CLI's -f)
+  // PCD DATA: "ascii", "binary" or "binary_compressed"; empty: the source's (Take::pcd), else
+  // binary.
+  std::string pcd_encoding;
   bool c3d_float = false;  // C3D written as float even if the source was int16 (default: source's)
+  // Writing a take with point fields (Take::attributes) to C3D or TRC, which cannot hold them,
+  // is an error naming them unless this is set; then they are left out.
+  bool drop_fields = false;
 };
+
+// Throws kUsage naming the take's point fields when a file of format f cannot hold them and
+// !opts.drop_fields (C3D and TRC hold none; a PCD folder holds every one).
+void check_fields_fit(const Take& take, Format f, const std::string& path,
+                      const WriteOptions& opts);
 
 // Writes by the output path: ".c3d", ".trc", otherwise (a directory path, existing or ending in
 // '/') a PCD folder. Throws kUsage if the output exists and !opts.overwrite.

@@ -206,6 +206,9 @@ struct Take {
   size_t gap_samples() const;  // number of (frame, point) samples that are gaps
 };
 
+// The names of the take's point fields (Take::attributes), separated by ", "; empty when none.
+std::string field_names(const Take& take);
+
 // Scale factor from one unit's name to metres: "mm" -> 0.001, "cm" -> 0.01, "m" -> 1,
 // "in" -> 0.0254; 0 when unknown. Case-insensitive, surrounding blanks ignored. Abbreviations
 // (mm cm dm m km um in ft yd) match whole; names spelled out match in either spelling, singular

@@ -10,6 +10,7 @@
 #include "codec/transform_output.h"
 #include "coding/analog/analog_codec.h"
 #include "coding/analog_v3.h"
+#include "coding/attributes.h"
 #include "coding/bytes.h"
 #include "coding/c3d_words.h"
 #include "coding/entropy.h"
@@ -45,7 +46,7 @@ class WindowChunks {
         return c;
       }
       if (c.type == "POSW" || c.type == "MASK" || c.type == "C3DW" || c.type == "ANLG" ||
-          c.type == "ROTW")
+          c.type == "ROTW" || c.type == "ATTR")
         break;
       off_ = c.end;  // unknown chunk: skipped
     }
@@ -224,6 +225,16 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
   b.rotation_matrices.clear();
   b.rotation_reliability.clear();
   if (ctx.h.rotations()) decode_window_rotations(ctx, &chunks, fn, out);
+  b.attributes.clear();
+  if (!ctx.take.attributes.empty()) {  // FORMAT.md 5.3
+    Chunk tc = chunks.next("ATTR", true);
+    const std::string twhat = chunks.what("ATTR");
+    ByteReader tr(tc.payload, tc.size, twhat);
+    chunks.open(tc, &tr);
+    const PCDExtra* px = ctx.take.pcd.get();
+    decode_attributes(tc.payload + tr.offset(), tc.size - tr.offset(), attribute_specs(px->fields),
+                      fn, N, px->width, &b.attributes, twhat);
+  }
 }
 
 void window_extent(const ParsedStream& ps, size_t size, size_t w, size_t* base, size_t* end) {

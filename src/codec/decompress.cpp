@@ -57,6 +57,8 @@ Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
   t.analog.values = std::move(b.analog);
   t.rotations.matrices = std::move(b.rotation_matrices);
   t.rotations.reliability = std::move(b.rotation_reliability);
+  for (size_t a = 0; a < t.attributes.size() && a < b.attributes.size(); ++a)
+    t.attributes[a].data = std::move(b.attributes[a]);
   if (ps.words) {
     t.c3d = std::make_shared<C3DExtra>(*ps.take.c3d);
     t.c3d->residual = std::move(b.residual);
@@ -114,6 +116,11 @@ StreamInfo describe(const uint8_t* data, size_t size, const std::string& name) {
   si.rotation_samples_per_frame = ps.take.rotations.samples_per_frame;
   si.rotation_rate = ps.take.rotations.rate;
   si.rotation_labels = ps.take.rotations.labels;
+  if (ps.take.pcd) {
+    si.pcd_fields = ps.take.pcd->fields;
+    si.pcd_width = ps.take.pcd->width;
+    si.pcd_height = ps.take.pcd->height;
+  }
   si.chunk_bytes = ps.chunk_bytes;
   for (size_t off = ps.first_window_offset; off < ps.index_offset;) {  // the window chunks
     Chunk k = read_chunk(data, size, off, name);

@@ -23,6 +23,7 @@
 #include "codec/transform_output.h"
 #include "codec/window_error.h"
 #include "coding/analog/analog_codec.h"
+#include "coding/attributes.h"
 #include "coding/bytes.h"
 #include "coding/c3d_words.h"
 #include "coding/container.h"
@@ -129,7 +130,8 @@ struct Window {
   std::vector<double> rec;            // the reconstruction the decoder must produce (valid samples)
   std::vector<uint8_t> buf;           // the window's chunks, as they go into the stream
   double centred = 0, kg_budget = 0;  // transform output: centred energy, squared-error budget
-  size_t position_bytes = 0, analog_bytes = 0, rotation_bytes = 0, other_bytes = 0;
+  size_t position_bytes = 0, analog_bytes = 0, rotation_bytes = 0, attribute_bytes = 0;
+  size_t other_bytes = 0;
   std::exception_ptr error;  // what coding the window threw, rethrown when it is emitted
   std::future<void> done;    // ready when a worker has coded it (invalid: coded in place)
 };
@@ -333,6 +335,7 @@ class Encoder {
     position_bytes_ += win->position_bytes;
     analog_bytes_ += win->analog_bytes;
     rotation_bytes_ += win->rotation_bytes;
+    attribute_bytes_ += win->attribute_bytes;
     other_bytes_ += win->other_bytes;
     out_->flush(&win->buf);
     if (opts_.progress)
@@ -374,6 +377,7 @@ class Encoder {
 
   // The window's chunks into win->buf, its reconstruction into win->rec.
   void encode_window(Window* win) const {
+    if (take_.attributes.empty()) win->block.attributes.clear();  // none, or left out (drop_fields)
     const FrameBlock& block = win->block;
     const size_t w = win->w, fn = block.frames, N = take_.points;
     win->wi = quantise_window(block, g_);
@@ -414,6 +418,7 @@ class Encoder {
       win->analog_bytes = buf.size() - before;
     }
     if (plan_.G > 0) append_rotations(win);
+    if (!take_.attributes.empty()) append_attributes(win);
     reconstruct(block.frames, wi, recon, &win->rec);
   }
 
@@ -429,6 +434,17 @@ class Encoder {
         block.rotation_matrices.data(), block.rotation_reliability.data(), samples, plan_.G);
     append_chunk(buf, "ROTW", with_window_index(win->w, 0xFF, rot));
     win->rotation_bytes = buf->size() - before;
+  }
+
+  // ATTR (FORMAT.md 5.3): the window's point fields, lossless whatever the bound.
+  void append_attributes(Window* win) const {
+    std::vector<uint8_t>* buf = &win->buf;
+    const size_t before = buf->size();
+    const std::vector<uint8_t> at =
+        encode_attributes(attribute_specs(take_.pcd->fields), win->block.attributes,
+                          win->block.frames, take_.points, take_.pcd->width);
+    append_chunk(buf, "ATTR", with_window_index(win->w, 0xFF, at));
+    win->attribute_bytes = buf->size() - before;
   }
 
   // The reconstruction the decoder will produce for the window's valid samples.
@@ -517,6 +533,7 @@ class Encoder {
     stats->position_bytes = position_bytes_;
     stats->analog_bytes = analog_bytes_;
     stats->rotation_bytes = rotation_bytes_;
+    stats->attribute_bytes = attribute_bytes_;
     stats->other_bytes = other_bytes_ + (residue_ ? residue_->bytes() - residue_->file_bytes() : 0);
   }
 
@@ -536,12 +553,62 @@ class Encoder {
   ErrorAccumulator acc_;
   std::vector<IndexEntry> index_;
   size_t position_bytes_ = 0, analog_bytes_ = 0, rotation_bytes_ = 0, other_bytes_ = 0;
+  size_t attribute_bytes_ = 0;
 };
 
 }  // namespace
 
+namespace {
+// A take with point fields needs a PCD layout in META (FORMAT.md 5.3): one read from a PCD
+// folder has it; for any other (built in memory) it is x y z as float64 then the fields, one
+// row. With opts.drop_fields the fields are left out instead.
+void settle_fields(FrameSource& source, const CompressOptions& opts) {
+  const Take& h = source.header();
+  if (h.attributes.empty()) return;
+  Take& e = source.edit_header();
+  if (opts.drop_fields) {
+    e.attributes.clear();
+    if (e.pcd) {
+      auto x = std::make_shared<PCDExtra>(*e.pcd);
+      x->fields = std::vector<PCDField>();
+      for (const PCDField& f : e.pcd->fields)
+        if (f.name == "x" || f.name == "y" || f.name == "z") x->fields.push_back(f);
+      e.pcd = x;
+    }
+    return;
+  }
+  bool match = h.pcd && !h.pcd->fields.empty();
+  if (match) {
+    const std::vector<AttrSpec> specs = attribute_specs(h.pcd->fields);
+    match = specs.size() == h.attributes.size();
+    for (size_t i = 0; match && i < specs.size(); ++i)
+      match = specs[i].name == h.attributes[i].name && specs[i].type == h.attributes[i].type &&
+              specs[i].size == h.attributes[i].size && specs[i].count == h.attributes[i].count;
+  }
+  for (const PointAttribute& a : h.attributes)
+    if ((a.type != 'F' && a.type != 'U' && a.type != 'I') ||
+        (a.size != 1 && a.size != 2 && a.size != 4 && a.size != 8) ||
+        (a.type == 'F' && a.size < 4) || a.count < 1 || a.count > (1 << 20) || a.name.empty() ||
+        a.name == "x" || a.name == "y" || a.name == "z")
+      fail(ErrorCode::kInvalidParameter, h.source,
+           "point field '" + a.name + "' has a bad name, type, size or count");
+  if (match) return;
+  auto x = h.pcd ? std::make_shared<PCDExtra>(*h.pcd) : std::make_shared<PCDExtra>();
+  x->fields.clear();
+  for (const char* axis : {"x", "y", "z"}) x->fields.push_back(PCDField{axis, 'F', 8, 1});
+  for (const PointAttribute& a : h.attributes)
+    x->fields.push_back(PCDField{a.name, a.type, a.size, a.count});
+  if (x->width * x->height != h.points) {
+    x->width = h.points;
+    x->height = 1;
+  }
+  e.pcd = x;
+}
+}  // namespace
+
 void encode_source(FrameSource& source, const CompressOptions& opts, const EncoderTuning& tuning,
                    StreamOut* out, CompressStats* stats, bool allow_transform_output) {
+  settle_fields(source, opts);
   Encoder(source, opts, tuning, out, allow_transform_output).run(stats);
 }
 

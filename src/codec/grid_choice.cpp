@@ -162,7 +162,13 @@ namespace {
 // decoded doubles (bigparlove.c3d, with coordinates near 2^18 mm, missed 0.03 mm by 0.00125
 // mm without it). Returns 0 for outputs that store the decoded doubles exactly.
 double output_rounding_reserve(const Take& t, const TakeScan& s, double bound) {
-  if (t.format != Format::kC3D) return 0;  // TRC and PCD writers keep every decoded double
+  // TRC writers keep every decoded double (their printing has its own room, trc_print_room);
+  // PCD writers do too, except for frames whose x y z were float32 (FORMAT.md 5.3), which are
+  // written back as float32.
+  bool f32_pcd = false;
+  if (t.format == Format::kPCDFolder && t.pcd)
+    for (const PCDField& f : t.pcd->fields) f32_pcd = f32_pcd || (f.name == "x" && f.size == 4);
+  if (t.format != Format::kC3D && !f32_pcd) return 0;
   int e = 0;
   std::frexp(s.max_abs + bound, &e);  // magnitude in [2^(e-1), 2^e): float32 ulp 2^(e-24)
   return std::ldexp(1.0, e - 25);

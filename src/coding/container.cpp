@@ -265,8 +265,10 @@ std::vector<uint8_t> encode_meta_fields(const Take& t, bool has_sample_words) {
   put_strings(&w, derived ? kNone : t.descriptions);
   w.f64(t.analog.rate);
   put_strings(&w, derived ? kNone : t.analog.labels);
-  uint8_t extras =
-      static_cast<uint8_t>((t.c3d ? 1 : 0) | (t.trc ? 2 : 0) | (t.pcd ? 4 : 0) | (derived ? 8 : 0));
+  // FORMAT.md 5.3: a PCD layout (fields, WIDTH x HEIGHT, VIEWPOINT) follows the PCD block.
+  const bool layout = t.pcd && !t.pcd->fields.empty();
+  uint8_t extras = static_cast<uint8_t>((t.c3d ? 1 : 0) | (t.trc ? 2 : 0) | (t.pcd ? 4 : 0) |
+                                        (derived ? 8 : 0) | (layout ? 16 : 0));
   w.u8(extras);
   if (t.c3d) {
     const C3DExtra& c = *t.c3d;
@@ -358,6 +360,22 @@ std::vector<uint8_t> encode_meta_fields(const Take& t, bool has_sample_words) {
     w.str(t.pcd->encoding);
     put_strings(&w, t.pcd->frame_names.size() == t.frames ? t.pcd->frame_names
                                                           : std::vector<std::string>());
+    if (layout) {
+      const PCDExtra& x = *t.pcd;
+      w.str(x.version);
+      w.varint(x.width ? x.width : t.points);
+      w.varint(x.width ? x.height : 1);
+      w.u8(x.viewpoint.size() == 7 ? 1 : 0);
+      if (x.viewpoint.size() == 7)
+        for (double v : x.viewpoint) w.f64(v);
+      w.varint(x.fields.size());
+      for (const PCDField& f : x.fields) {
+        w.str(f.name);
+        w.u8(static_cast<uint8_t>(f.type));
+        w.u8(static_cast<uint8_t>(f.size));
+        w.varint(static_cast<uint64_t>(f.count));
+      }
+    }
   }
   if (t.rotations.segments > 0) {  // FORMAT.md 4.3 (HEAD says rotations)
     w.f64(t.rotations.rate);
@@ -384,6 +402,60 @@ std::vector<uint8_t> encode_meta(const Take& t, bool has_sample_words) {
   }
   return std::move(w.buffer());
 }
+
+namespace {
+// FORMAT.md 5.3: the PCD layout; sets the take's attribute layouts (no data).
+void decode_pcd_layout(ByteReader* r, const std::string& what, Take* t, PCDExtra* p) {
+  p->version = r->str();
+  const uint64_t width = r->varint(), height = r->varint();
+  if (width > (uint64_t{1} << 40) || height > (uint64_t{1} << 40) || width * height != t->points)
+    fail(ErrorCode::kCorrupt, what,
+         "PCD layout " + std::to_string(width) + " x " + std::to_string(height) + " is not the " +
+             std::to_string(t->points) + " points");
+  p->width = static_cast<size_t>(width);
+  p->height = static_cast<size_t>(height);
+  const uint8_t vf = r->u8();
+  if (vf > 1) fail(ErrorCode::kCorrupt, what, "bad PCD viewpoint flag");
+  p->viewpoint.clear();
+  if (vf == 1)
+    for (int i = 0; i < 7; ++i) p->viewpoint.push_back(r->f64());
+  const uint64_t nf = r->count(4, "PCD field count");
+  if (nf < 3 || nf > 1024)
+    fail(ErrorCode::kCorrupt, what, "PCD layout with " + std::to_string(nf) + " fields");
+  uint64_t step = 0;
+  int xyz[3] = {0, 0, 0};
+  t->attributes.clear();
+  for (uint64_t i = 0; i < nf; ++i) {
+    PCDField f;
+    f.name = r->str();
+    f.type = static_cast<char>(r->u8());
+    f.size = r->u8();
+    const uint64_t count = r->varint();
+    if ((f.type != 'F' && f.type != 'U' && f.type != 'I') ||
+        (f.size != 1 && f.size != 2 && f.size != 4 && f.size != 8) ||
+        (f.type == 'F' && f.size < 4) || count < 1 || count > (1u << 20))
+      fail(ErrorCode::kCorrupt, what, "PCD field '" + f.name + "' has a bad type, size or count");
+    f.count = static_cast<int>(count);
+    step += count * static_cast<uint64_t>(f.size);
+    if (step > (1u << 20)) fail(ErrorCode::kCorrupt, what, "PCD points larger than 2^20 bytes");
+    const int axis = f.name == "x" ? 0 : f.name == "y" ? 1 : f.name == "z" ? 2 : -1;
+    if (axis >= 0) {
+      if (++xyz[axis] > 1 || f.type != 'F' || f.count != 1)
+        fail(ErrorCode::kCorrupt, what, "PCD field " + f.name + " twice or not one float");
+    } else {
+      PointAttribute a;
+      a.name = f.name;
+      a.type = f.type;
+      a.size = f.size;
+      a.count = f.count;
+      t->attributes.push_back(std::move(a));
+    }
+    p->fields.push_back(std::move(f));
+  }
+  if (xyz[0] != 1 || xyz[1] != 1 || xyz[2] != 1)
+    fail(ErrorCode::kCorrupt, what, "PCD layout without x, y and z");
+}
+}  // namespace
 
 void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sample_words) {
   const std::string what = chunk_what(name, c);
@@ -504,9 +576,12 @@ void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sam
     auto p = std::make_shared<PCDExtra>();
     p->encoding = r.str();
     p->frame_names = get_strings(&r, t->frames, "frame name count");
+    if (extras & 16) decode_pcd_layout(&r, what, t, p.get());
     t->pcd = p;
+  } else if (extras & 16) {
+    fail(ErrorCode::kCorrupt, what, "PCD layout without a PCD block");
   }
-  if (extras & ~15) fail(ErrorCode::kCorrupt, what, "unknown metadata blocks");
+  if (extras & ~31) fail(ErrorCode::kCorrupt, what, "unknown metadata blocks");
   if (t->rotations.segments > 0) {  // FORMAT.md 4.3
     t->rotations.rate = r.f64();
     t->rotations.labels =

@@ -172,4 +172,10 @@ double units_to_metres(const std::string& units) {
   return found;
 }
 
+std::string field_names(const Take& take) {
+  std::string s;
+  for (const PointAttribute& a : take.attributes) s += (s.empty() ? "" : ", ") + a.name;
+  return s;
+}
+
 }  // namespace capz

@@ -39,6 +39,10 @@ void CapzSource::read(size_t first, size_t count, FrameBlock* out) {
     return;
   }
   out->reset(first, count, N, A, ps_.words, R);
+  const std::vector<PointAttribute>& attrs = ps_.take.attributes;
+  out->attributes.resize(attrs.size());
+  for (size_t a = 0; a < attrs.size(); ++a)
+    out->attributes[a].assign(count * N * attrs[a].bytes_per_point(), 0);
   for (size_t f = first; f < first + count;) {
     const size_t w = f / W;
     decode(w);
@@ -57,6 +61,11 @@ void CapzSource::read(size_t first, size_t count, FrameBlock* out) {
                 out->rotation_matrices.data() + o * R * 16);
     std::copy_n(win_.rotation_reliability.data() + lo * R, n * R,
                 out->rotation_reliability.data() + o * R);
+    for (size_t a = 0; a < attrs.size(); ++a) {
+      const size_t bpp = attrs[a].bytes_per_point();
+      std::copy_n(win_.attributes[a].data() + lo * N * bpp, n * N * bpp,
+                  out->attributes[a].data() + o * N * bpp);
+    }
     f += n;
   }
 }

@@ -26,6 +26,7 @@ void FrameBlock::reset(size_t first_frame, size_t n, size_t n_points, size_t ana
   analog.assign(n * analog_per_frame, 0.0);
   rotation_matrices.assign(n * rotations_per_frame * 16, 0.0f);
   rotation_reliability.assign(n * rotations_per_frame, 0.0f);
+  attributes.clear();
 }
 
 namespace {
@@ -58,6 +59,11 @@ Take header_of(const Take& t) {
   h.rotations.samples_per_frame = t.rotations.samples_per_frame;
   h.rotations.rate = t.rotations.rate;
   h.rotations.labels = t.rotations.labels;
+  for (const PointAttribute& a : t.attributes) {  // the layouts; the values come in blocks
+    PointAttribute l = a;
+    l.data.clear();
+    h.attributes.push_back(std::move(l));
+  }
   if (t.c3d) {
     auto x = std::make_shared<C3DExtra>();
     x->processor = t.c3d->processor;
@@ -146,6 +152,10 @@ class TakeSource : public FrameSource {
         (!r.labels.empty() && r.labels.size() != static_cast<size_t>(r.segments)))
       fail(ErrorCode::kInvalidParameter, take.source,
            "rotation arrays or labels do not match frames x samples per frame x segments");
+    for (const PointAttribute& a : take.attributes)
+      if (a.size < 1 || a.count < 1 || a.data.size() != n * a.bytes_per_point())
+        fail(ErrorCode::kInvalidParameter, take.source,
+             "point field '" + a.name + "' does not hold frames x points values");
   }
   bool has_sample_words() const override { return words_; }
   void read(size_t first, size_t count, FrameBlock* out) override {
@@ -170,6 +180,9 @@ class TakeSource : public FrameSource {
     cut(take_.analog.values, analog_, &out->analog);
     cut(take_.rotations.matrices, rotations_ * 16, &out->rotation_matrices);
     cut(take_.rotations.reliability, rotations_, &out->rotation_reliability);
+    out->attributes.resize(take_.attributes.size());
+    for (size_t a = 0; a < take_.attributes.size(); ++a)
+      cut(take_.attributes[a].data, N * take_.attributes[a].bytes_per_point(), &out->attributes[a]);
   }
 
  private:
@@ -191,6 +204,7 @@ class WholeTakeSink : public FrameSink {
     take_.analog.values.clear();
     take_.rotations.matrices.clear();
     take_.rotations.reliability.clear();
+    for (PointAttribute& a : take_.attributes) a.data.clear();
     if (take_.c3d) {
       take_.c3d = std::make_shared<C3DExtra>(*header.c3d);
       take_.c3d->residual.clear();
@@ -205,6 +219,11 @@ class WholeTakeSink : public FrameSink {
     r.matrices.insert(r.matrices.end(), b.rotation_matrices.begin(), b.rotation_matrices.end());
     r.reliability.insert(r.reliability.end(), b.rotation_reliability.begin(),
                          b.rotation_reliability.end());
+    if (b.attributes.size() != take_.attributes.size())
+      fail(ErrorCode::kInternal, path_, "a block without the take's point fields");
+    for (size_t a = 0; a < take_.attributes.size(); ++a)
+      take_.attributes[a].data.insert(take_.attributes[a].data.end(), b.attributes[a].begin(),
+                                      b.attributes[a].end());
     if (words_ && take_.c3d) {
       take_.c3d->residual.insert(take_.c3d->residual.end(), b.residual.begin(), b.residual.end());
       take_.c3d->camera_mask.insert(take_.c3d->camera_mask.end(), b.camera_mask.begin(),
@@ -392,6 +411,7 @@ std::unique_ptr<FrameSink> create_frame_sink(const Take& header, bool words,
   const bool int16_from_data = c3d::c3d_known_scale(header) == 0 && header.c3d &&
                                !header.c3d->float_storage && !opts.c3d_float;
   const Format f = path.empty() ? Format::kUnknown : format_for_output(path);
+  if (f != Format::kUnknown) check_fields_fit(header, f, target, opts);
   if (f == Format::kC3D && !int16_from_data)
     return std::unique_ptr<FrameSink>(new C3DSink(header, words, target, opts));
   if (f == Format::kTRC) {

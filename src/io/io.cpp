@@ -119,11 +119,21 @@ Format format_for_output(const std::string& path) {
   return Format::kUnknown;
 }
 
+void check_fields_fit(const Take& take, Format f, const std::string& path,
+                      const WriteOptions& opts) {
+  if (take.attributes.empty() || opts.drop_fields || f == Format::kPCDFolder) return;
+  fail(ErrorCode::kUsage, path,
+       std::string("a ") + (f == Format::kTRC ? "TRC" : "C3D") +
+           " file cannot hold the point fields " + field_names(take) +
+           ": write a PCD folder, or give --drop-fields to leave them out");
+}
+
 void write_take(const Take& take, const std::string& path, const WriteOptions& opts) {
   if (path.empty()) fail(ErrorCode::kUsage, path, "empty output path");
   const Format f = format_for_output(path);
   std::string target = path;
   while (target.size() > 1 && target.back() == '/') target.pop_back();
+  check_fields_fit(take, f, target, opts);
   check_output_free(target, opts.overwrite);
   switch (f) {
     case Format::kC3D:

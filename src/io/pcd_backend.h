@@ -1,5 +1,6 @@
-// The PCL side of PCD I/O (PCL's PCDReader / PCDWriter), behind a small interface with no PCL
-// types, so that PCL's I/O library is loaded only when a PCD file is read or written.
+// The PCL side of PCD reading (PCL's PCDReader), behind a small interface with no PCL types, so
+// that PCL's I/O library is loaded only when a PCD file is read (capz writes PCD files itself,
+// io/pcd_frame_writer.h).
 //
 // Why: libpcl_io links VTK and about 60 other shared libraries; loading and relocating them
 // cost every capz process about 22 ms of CPU (more than decoding a 40 s take), although only
@@ -41,7 +42,8 @@ struct Field {
 // One frame as PCL holds it: width x height points of point_step bytes each, little-endian.
 struct Cloud {
   uint32_t width = 0, height = 1, point_step = 0;
-  bool dense = true;  // no NaN point (written into the file's header only)
+  bool dense = true;              // no NaN point (written into the file's header only)
+  std::vector<double> viewpoint;  // VIEWPOINT (tx ty tz qw qx qy qz) as PCL read it
   std::vector<Field> fields;
   std::vector<uint8_t> data;
 };
@@ -53,7 +55,6 @@ enum class Status {
   kBodyFailed,      // PCL's body reader returned an error
   kPclException,    // PCL threw pcl::PCLException (message set)
   kOtherException,  // PCL threw another std::exception (message set), e.g. a bad ASCII token
-  kWriteFailed,     // PCL's writer returned an error
 };
 
 class Backend {
@@ -65,14 +66,10 @@ class Backend {
   // std::bad_alloc propagates; every other failure is a Status (and *message).
   virtual Status read(const uint8_t* bytes, size_t size, size_t data_idx, uint64_t expect_points,
                       uint64_t expect_step, Cloud* cloud, std::string* message) const = 0;
-  // Writes cloud to path with encoding "ascii" (precision digits), "binary" or
-  // "binary_compressed", origin 0 and identity orientation.
-  virtual Status write(const std::string& path, const Cloud& cloud, const std::string& encoding,
-                       int precision, std::string* message) const = 0;
 };
 
 // The module's entry point, a C symbol whose name carries the interface version.
-#define CAPZ_PCD_BACKEND_ENTRY capz_pcd_backend_v1
+#define CAPZ_PCD_BACKEND_ENTRY capz_pcd_backend_v2
 using BackendEntry = const Backend* (*)();
 
 // The backend, loaded on first use (thread-safe). Throws Error(kIo) naming `file` (the PCD file

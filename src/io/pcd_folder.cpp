@@ -1,6 +1,8 @@
 // Decoder library (capz_decode): builds without PCL and without the transform encoders.
-// A folder of PCD frames <-> Take, through PCL's PCDReader / PCDWriter, which live in a module
-// loaded on first use (io/pcd_backend.h: the capz binary does not link PCL's I/O library).
+// A folder of PCD frames <-> Take. Read through PCL's PCDReader, which lives in a module loaded
+// on first use (io/pcd_backend.h: the capz binary does not link PCL's I/O library); written by
+// capz itself (io/pcd_frame_writer.h), since PCL's writer drops padding fields and retypes
+// packed colour.
 //
 // Reading: frames are the *.pcd files of the folder in natural order of their names
 // (frame_2 before frame_10); every frame must have the first frame's point count; a point with a
@@ -9,9 +11,12 @@
 // first, its header is parsed here and checked against the file's size, and only then is PCL
 // given the bytes (readHeader on the header text, readBodyBinary / readBodyASCII on the body).
 //
-// Writing: one file per frame, x y z, float32 when every coordinate of the take is exactly a
-// float (e.g. the take came from PCD), float64 otherwise (so no precision is lost); gaps are NaN
-// points. Files are written into a temporary sibling folder renamed into place (AtomicDir).
+// Writing: one file per frame with the source's fields in its order and types (x y z float32
+// when the source's were, else float32 when every coordinate is exactly a float, else float64
+// so no precision is lost), organized when the source was, with its VIEWPOINT; gaps are NaN
+// points; every other field is written with the bytes the take holds. The DATA encoding is the
+// source's unless WriteOptions says otherwise. Files are written into a
+// temporary sibling folder renamed into place (AtomicDir).
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -30,6 +35,7 @@
 #include "core/atomic_file.h"
 #include "io/natural_sort.h"
 #include "io/pcd_backend.h"
+#include "io/pcd_frame_writer.h"
 #include "io/text_number.h"
 
 namespace fs = std::filesystem;
@@ -50,6 +56,8 @@ struct PcdHeader {
   size_t data_idx = 0;      // offset of the body
   uint64_t point_step = 0;  // bytes per point (sum size * count)
   uint64_t values_per_point = 0;
+  std::string version;            // VERSION's value ("0.7"); empty when the file has none
+  std::vector<double> viewpoint;  // VIEWPOINT's 7 values; empty when absent
 };
 
 std::vector<std::string> words(const std::string& line) {
@@ -134,8 +142,17 @@ PcdHeader parse_header(const std::vector<uint8_t>& bytes, const std::string& nam
       if (w.size() < 2 || !parse_u64(w[1], v))
         fail(ErrorCode::kCorrupt, name, "PCD header: bad " + k + " line");
     };
-    if (k == "VERSION" || k == "VIEWPOINT") {
-      continue;
+    if (k == "VERSION") {
+      if (w.size() >= 2) h.version = w[1];
+    } else if (k == "VIEWPOINT") {
+      h.viewpoint.clear();
+      for (size_t i = 1; i < w.size(); ++i) {
+        double v;
+        if (!parse_double(w[i], &v)) fail(ErrorCode::kCorrupt, name, "PCD header: bad VIEWPOINT");
+        h.viewpoint.push_back(v);
+      }
+      if (h.viewpoint.size() != 7)
+        fail(ErrorCode::kCorrupt, name, "PCD header: VIEWPOINT needs 7 values");
     } else if (k == "FIELDS" || k == "COLUMNS") {
       h.fields.assign(w.begin() + 1, w.end());
     } else if (k == "SIZE") {
@@ -304,7 +321,7 @@ double read_value(const uint8_t* p, pcd::FieldType type) {
 
 // Reads one PCD file into a cloud (through PCL) after checking its header; returns the DATA
 // encoding.
-std::string read_one(const std::string& path, pcd::Cloud* cloud) {
+PcdHeader read_one(const std::string& path, pcd::Cloud* cloud) {
   std::vector<uint8_t> bytes = read_file(path);
   if (bytes.empty()) fail(ErrorCode::kCorrupt, path, "empty PCD file (0 bytes)");
   PcdHeader h = parse_header(bytes, path);
@@ -332,7 +349,7 @@ std::string read_one(const std::string& path, pcd::Cloud* cloud) {
   }
   if (cloud->data.size() < h.points * h.point_step)
     fail(ErrorCode::kCorrupt, path, "PCD body is shorter than its header says");
-  return h.data;
+  return h;
 }
 
 bool has_pcd_extension(const fs::path& p) {
@@ -361,23 +378,80 @@ std::vector<std::string> list_frames(const std::string& dir) {
   return names;
 }
 
-// Reads frame `f` (file `names[f]`) into xyz (n x 3) and valid (n), where n is the first
-// frame's point count (*points; set from frame 0 when f == 0, with *encoding). A frame of
-// another count is an error.
+// The layout of one frame: what every frame of a folder must share.
+struct FrameLayout {
+  size_t points = 0, width = 0, height = 1;
+  std::string encoding, version;
+  std::vector<double> viewpoint;  // empty: the default 0 0 0 1 0 0 0
+  std::vector<PCDField> fields;   // x y z as float (size 4 when the file's are float32, else 8)
+  std::vector<uint32_t> offsets;  // each field's offset into a point (PCL's)
+};
+
+bool same_fields(const std::vector<PCDField>& a, const std::vector<PCDField>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (a[i].name != b[i].name || a[i].type != b[i].type || a[i].size != b[i].size ||
+        a[i].count != b[i].count)
+      return false;
+  return true;
+}
+
+FrameLayout layout_of(const PcdHeader& h, const pcd::Cloud& cloud, const std::string& path) {
+  FrameLayout l;
+  l.points = static_cast<size_t>(cloud.width) * cloud.height;
+  l.width = cloud.width;
+  l.height = cloud.height;
+  l.encoding = h.data;
+  l.version = h.version.empty() ? "0.7" : h.version;
+  static const double kDefault[7] = {0, 0, 0, 1, 0, 0, 0};
+  if (h.viewpoint.size() == 7 && !std::equal(h.viewpoint.begin(), h.viewpoint.end(), kDefault))
+    l.viewpoint = h.viewpoint;
+  if (cloud.fields.size() != h.fields.size())
+    fail(ErrorCode::kCorrupt, path, "PCD fields read differently by PCL and capz");
+  int seen[3] = {0, 0, 0};
+  for (size_t i = 0; i < h.fields.size(); ++i) {
+    PCDField f;
+    f.name = h.fields[i];
+    f.type = h.types[i];
+    f.size = h.sizes[i];
+    f.count = static_cast<int>(h.counts[i]);
+    const int axis = f.name == "x" ? 0 : f.name == "y" ? 1 : f.name == "z" ? 2 : -1;
+    if (axis >= 0) {
+      if (++seen[axis] > 1 || f.count != 1)
+        fail(ErrorCode::kCorrupt, path, "PCD field " + f.name + " twice or with a COUNT above 1");
+      // Coordinates are kept as float32 when the file's are, else as float64.
+      f.size = f.type == 'F' && f.size == 4 ? 4 : 8;
+      f.type = 'F';
+    }
+    l.fields.push_back(f);
+    l.offsets.push_back(cloud.fields[i].offset);
+  }
+  if (l.fields.size() > 1024)
+    fail(ErrorCode::kCorrupt, path, "PCD frames with more than 1024 fields");
+  return l;
+}
+
+// Reads frame `f` (file `names[f]`) into xyz (n x 3), valid (n) and one byte array per field
+// other than x y z (n x count x size, as the file holds them). The first frame sets *layout;
+// every other frame must have the same points, fields and organization.
 void read_frame(const std::string& dir, const std::vector<std::string>& names, size_t f,
-                size_t* points, std::string* encoding, std::vector<double>* xyz,
-                std::vector<uint8_t>* valid) {
+                FrameLayout* layout, std::vector<double>* xyz, std::vector<uint8_t>* valid,
+                std::vector<std::vector<uint8_t>>* attrs) {
   const std::string path = (fs::path(dir) / names[f]).string();
   pcd::Cloud cloud;
-  std::string enc = read_one(path, &cloud);
-  const size_t n = static_cast<size_t>(cloud.width) * cloud.height;
+  const PcdHeader h = read_one(path, &cloud);
+  FrameLayout l = layout_of(h, cloud, path);
+  const size_t n = l.points;
   if (f == 0) {
-    *encoding = enc;
-    *points = n;
-  } else if (n != *points) {
+    *layout = l;
+  } else if (n != layout->points) {
     fail(ErrorCode::kCorrupt, path,
          "frame has " + std::to_string(n) + " points, the first frame (" + names[0] + ") has " +
-             std::to_string(*points));
+             std::to_string(layout->points));
+  } else if (!same_fields(l.fields, layout->fields) || l.width != layout->width) {
+    fail(
+        ErrorCode::kCorrupt, path,
+        "frame has other fields or another WIDTH x HEIGHT than the first frame (" + names[0] + ")");
   }
   FieldRef ref[3];
   const char* axes[3] = {"x", "y", "z"};
@@ -398,6 +472,42 @@ void read_frame(const std::string& dir, const std::vector<std::string>& names, s
       (*valid)[p] = 1;
     }
   }
+  attrs->clear();
+  for (size_t i = 0; i < l.fields.size(); ++i) {
+    const PCDField& fd = l.fields[i];
+    if (fd.name == "x" || fd.name == "y" || fd.name == "z") continue;
+    const size_t bpp = static_cast<size_t>(fd.size) * static_cast<size_t>(fd.count);
+    if (static_cast<uint64_t>(l.offsets[i]) + bpp > cloud.point_step)
+      fail(ErrorCode::kCorrupt, path, "PCD field " + fd.name + " lies outside its point");
+    std::vector<uint8_t> bytes(n * bpp);
+    for (size_t p = 0; p < n; ++p)
+      std::memcpy(bytes.data() + p * bpp, cloud.data.data() + p * cloud.point_step + l.offsets[i],
+                  bpp);
+    attrs->push_back(std::move(bytes));
+  }
+}
+
+// The take's PCD metadata and attribute layouts (no values) from the first frame's layout.
+void set_layout(const FrameLayout& l, const std::vector<std::string>& names, Take* t) {
+  auto extra = std::make_shared<PCDExtra>();
+  extra->frame_names = names;
+  extra->encoding = l.encoding;
+  extra->version = l.version;
+  extra->fields = l.fields;
+  extra->width = l.width;
+  extra->height = l.height;
+  extra->viewpoint = l.viewpoint;
+  t->pcd = std::move(extra);
+  t->attributes.clear();
+  for (const PCDField& fd : l.fields) {
+    if (fd.name == "x" || fd.name == "y" || fd.name == "z") continue;
+    PointAttribute a;
+    a.name = fd.name;
+    a.type = fd.type;
+    a.size = fd.size;
+    a.count = fd.count;
+    t->attributes.push_back(std::move(a));
+  }
 }
 
 // A PCD folder read frame file by frame file: opening lists the files and reads the first one
@@ -405,38 +515,40 @@ void read_frame(const std::string& dir, const std::vector<std::string>& names, s
 class PCDSource : public FrameSource {
  public:
   explicit PCDSource(const std::string& dir) : dir_(dir), names_(list_frames(dir)) {
-    std::string enc;
-    size_t points = 0;
-    read_frame(dir_, names_, 0, &points, &enc, &xyz_, &valid_);
+    read_frame(dir_, names_, 0, &layout_, &xyz_, &valid_, &attrs_);
     header_.source = dir;
     header_.format = Format::kPCDFolder;
     header_.frames = names_.size();
-    header_.points = points;
-    header_.labels.assign(points, std::string());
-    auto extra = std::make_shared<PCDExtra>();
-    extra->frame_names = names_;
-    extra->encoding = enc;
-    header_.pcd = std::move(extra);
+    header_.points = layout_.points;
+    header_.labels.assign(layout_.points, std::string());
+    set_layout(layout_, names_, &header_);
   }
   bool has_sample_words() const override { return false; }
   void read(size_t first, size_t count, FrameBlock* out) override {
     const size_t N = header_.points;
     clip(&first, &count);
     out->reset(first, count, N, 0, false);
-    size_t points = N;
-    std::string enc;
+    out->attributes.assign(header_.attributes.size(), std::vector<uint8_t>());
+    for (size_t a = 0; a < header_.attributes.size(); ++a)
+      out->attributes[a].reserve(count * N * header_.attributes[a].bytes_per_point());
+    FrameLayout l = layout_;
     for (size_t k = 0; k < count; ++k) {
-      read_frame(dir_, names_, first + k, &points, &enc, &xyz_, &valid_);
+      read_frame(dir_, names_, first + k, &l, &xyz_, &valid_, &attrs_);
       std::copy(xyz_.begin(), xyz_.end(), out->xyz.begin() + static_cast<long>(k * N * 3));
       std::copy(valid_.begin(), valid_.end(), out->valid.begin() + static_cast<long>(k * N));
+      if (attrs_.size() != out->attributes.size()) continue;  // fields left out (drop_fields)
+      for (size_t a = 0; a < attrs_.size(); ++a)
+        out->attributes[a].insert(out->attributes[a].end(), attrs_[a].begin(), attrs_[a].end());
     }
   }
 
  private:
   std::string dir_;
   std::vector<std::string> names_;
+  FrameLayout layout_;
   std::vector<double> xyz_;
   std::vector<uint8_t> valid_;
+  std::vector<std::vector<uint8_t>> attrs_;
 };
 
 }  // namespace
@@ -446,20 +558,25 @@ Take read_pcd_folder(const std::string& dir) {
   Take t;
   t.source = dir;
   t.format = Format::kPCDFolder;
-  auto extra = std::make_shared<PCDExtra>();
-  extra->frame_names = names;
+  FrameLayout layout;
   std::vector<double> xyz;
   std::vector<uint8_t> valid;
+  std::vector<std::vector<uint8_t>> attrs;
   for (size_t f = 0; f < names.size(); ++f) {
-    read_frame(dir, names, f, &t.points, &extra->encoding, &xyz, &valid);
-    if (f == 0) t.labels.assign(t.points, std::string());
+    read_frame(dir, names, f, &layout, &xyz, &valid, &attrs);
+    if (f == 0) {
+      t.points = layout.points;
+      t.labels.assign(t.points, std::string());
+      set_layout(layout, names, &t);
+    }
     // The take grows frame by frame (not resized for every file up front), so memory follows
     // what has actually been read and checked, not the first frame's count times the file count.
     t.frames = f + 1;
     t.xyz.insert(t.xyz.end(), xyz.begin(), xyz.end());
     t.valid.insert(t.valid.end(), valid.begin(), valid.end());
+    for (size_t a = 0; a < attrs.size(); ++a)
+      t.attributes[a].data.insert(t.attributes[a].data.end(), attrs[a].begin(), attrs[a].end());
   }
-  t.pcd = std::move(extra);
   return t;
 }
 
@@ -468,7 +585,9 @@ std::unique_ptr<FrameSource> open_pcd_frames(const std::string& dir) {
 }
 
 void write_pcd_folder(const Take& take, const std::string& dir, const WriteOptions& opts) {
-  const std::string& enc = opts.pcd_encoding;
+  const std::string enc = !opts.pcd_encoding.empty()                ? opts.pcd_encoding
+                          : take.pcd && !take.pcd->encoding.empty() ? take.pcd->encoding
+                                                                    : "binary";
   if (enc != "ascii" && enc != "binary" && enc != "binary_compressed")
     fail(ErrorCode::kInvalidParameter, dir,
          "unknown PCD encoding '" + enc + "' (ascii, binary or binary_compressed)");
@@ -500,12 +619,48 @@ void write_pcd_folder(const Take& take, const std::string& dir, const WriteOptio
     }
   }
 
-  bool as_float = true;
-  for (size_t i = 0; i < F * N && as_float; ++i) {
-    if (!take.valid[i]) continue;
-    for (int a = 0; a < 3; ++a) {
-      double v = take.xyz[i * 3 + a];
-      if (static_cast<double>(static_cast<float>(v)) != v) as_float = false;
+  // The fields: the source's layout when it matches the take (x y z and its attributes, in
+  // order), else x y z then the attributes.
+  std::vector<PCDField> fields;
+  if (take.pcd && !take.pcd->fields.empty()) {
+    fields = take.pcd->fields;
+    size_t k = 0;
+    bool ok = true;
+    for (const PCDField& fd : fields) {
+      if (fd.name == "x" || fd.name == "y" || fd.name == "z") continue;
+      ok = ok && k < take.attributes.size() && take.attributes[k].name == fd.name &&
+           take.attributes[k].type == fd.type && take.attributes[k].size == fd.size &&
+           take.attributes[k].count == fd.count;
+      ++k;
+    }
+    if (!ok || k != take.attributes.size()) fields.clear();
+  }
+  int xyz_size = 0;  // 4 or 8 when the layout says
+  for (const PCDField& fd : fields)
+    if (fd.name == "x") xyz_size = fd.size;
+  if (fields.empty()) {
+    for (const char* axis : {"x", "y", "z"}) {
+      PCDField fd;
+      fd.name = axis;
+      fields.push_back(fd);
+    }
+    for (const PointAttribute& a : take.attributes)
+      fields.push_back(PCDField{a.name, a.type, a.size, a.count});
+  }
+  for (const PointAttribute& a : take.attributes)
+    if (a.data.size() != F * N * a.bytes_per_point())
+      fail(ErrorCode::kInternal, dir, "point field " + a.name + " does not match frames x points");
+  // Coordinates: float32 when the source's were (or every coordinate is exactly a float), else
+  // float64 so no precision is lost.
+  bool as_float = xyz_size == 4;
+  if (xyz_size == 0) {
+    as_float = true;
+    for (size_t i = 0; i < F * N && as_float; ++i) {
+      if (!take.valid[i]) continue;
+      for (int a = 0; a < 3; ++a) {
+        double v = take.xyz[i * 3 + a];
+        if (static_cast<double>(static_cast<float>(v)) != v) as_float = false;
+      }
     }
   }
   const uint32_t size = as_float ? 4 : 8;
@@ -522,47 +677,53 @@ void write_pcd_folder(const Take& take, const std::string& dir, const WriteOptio
     }
   }
   AtomicDir out(dir, opts.overwrite);
-  const pcd::Backend& backend = pcd::backend(dir);
-  pcd::Cloud cloud;
-  const char* axes[3] = {"x", "y", "z"};
-  for (int a = 0; a < 3; ++a) {
-    pcd::Field fd;
-    fd.name = axes[a];
-    fd.offset = static_cast<uint32_t>(a) * size;
-    fd.type = as_float ? pcd::FieldType::kFloat32 : pcd::FieldType::kFloat64;
-    fd.count = 1;
-    cloud.fields.push_back(fd);
+  PcdFrameLayout layout;
+  layout.encoding = enc;
+  if (take.pcd && !take.pcd->version.empty()) layout.version = take.pcd->version;
+  int axis_offset[3] = {0, 0, 0};
+  std::vector<size_t> attr_offset;  // per take.attributes entry
+  size_t step = 0;
+  for (PCDField f : fields) {
+    const int axis = f.name == "x" ? 0 : f.name == "y" ? 1 : f.name == "z" ? 2 : -1;
+    if (axis >= 0) {
+      axis_offset[axis] = static_cast<int>(step);
+      f.type = 'F';
+      f.size = static_cast<int>(size);
+      f.count = 1;
+    } else {
+      attr_offset.push_back(step);
+    }
+    step += static_cast<size_t>(f.size) * static_cast<size_t>(f.count);
+    layout.fields.push_back(f);
   }
-  cloud.width = static_cast<uint32_t>(N);
-  cloud.height = 1;
-  cloud.point_step = 3 * size;
-  cloud.data.resize(static_cast<size_t>(cloud.point_step) * cloud.width);
+  const PCDExtra* px = take.pcd.get();
+  const bool organized = px && px->width > 0 && px->height > 1 && px->width * px->height == N;
+  layout.width = organized ? px->width : N;
+  layout.height = organized ? px->height : 1;
+  if (px && px->viewpoint.size() == 7) layout.viewpoint = px->viewpoint;
+  std::vector<uint8_t> points(step * N);
   const double nan = std::nan("");
   for (size_t f = 0; f < F; ++f) {
-    bool dense = true;
     for (size_t p = 0; p < N; ++p) {
       const bool ok = take.is_valid(f, p);
-      dense = dense && ok;
       const double* v = take.at(f, p);
-      uint8_t* dst = cloud.data.data() + p * cloud.point_step;
+      uint8_t* dst = points.data() + p * step;
       for (int a = 0; a < 3; ++a) {
         double x = ok ? v[a] : nan;
         if (as_float) {
           float fx = static_cast<float>(x);
-          std::memcpy(dst + a * 4, &fx, 4);
+          std::memcpy(dst + axis_offset[a], &fx, 4);
         } else {
-          std::memcpy(dst + a * 8, &x, 8);
+          std::memcpy(dst + axis_offset[a], &x, 8);
         }
       }
+      for (size_t a = 0; a < take.attributes.size(); ++a) {
+        const size_t bpp = take.attributes[a].bytes_per_point();
+        std::memcpy(dst + attr_offset[a], take.attributes[a].data.data() + (f * N + p) * bpp, bpp);
+      }
     }
-    cloud.dense = dense;
     const std::string path = (fs::path(out.temp_dir()) / names[f]).string();
-    std::string msg;
-    const pcd::Status st = backend.write(path, cloud, enc, as_float ? 9 : 17, &msg);
-    if (st == pcd::Status::kPclException)
-      fail(ErrorCode::kIo, (fs::path(dir) / names[f]).string(), "PCL: " + msg);
-    if (st != pcd::Status::kOk)
-      fail(ErrorCode::kIo, (fs::path(dir) / names[f]).string(), "PCL could not write the frame");
+    write_file(path, pcd_frame_bytes(layout, points.data()), true);
   }
   out.commit();
 }

@@ -99,6 +99,7 @@ struct PromiseCheck::Frames {
   size_t analog_values = 0;
   const std::vector<float>* rotation_matrices = nullptr;
   const std::vector<float>* rotation_reliability = nullptr;
+  std::vector<const std::vector<uint8_t>*> attributes;  // per point field, its bytes
 
   explicit Frames(const FrameBlock& b)
       : first(b.first),
@@ -111,7 +112,9 @@ struct PromiseCheck::Frames {
         analog(b.analog.data()),
         analog_values(b.analog.size()),
         rotation_matrices(&b.rotation_matrices),
-        rotation_reliability(&b.rotation_reliability) {}
+        rotation_reliability(&b.rotation_reliability) {
+    for (const auto& a : b.attributes) attributes.push_back(&a);
+  }
   explicit Frames(const Take& t)
       : frames(t.frames),
         points(t.points),
@@ -122,6 +125,14 @@ struct PromiseCheck::Frames {
         rotation_matrices(&t.rotations.matrices),
         rotation_reliability(&t.rotations.reliability) {
     if (t.c3d) residual = &t.c3d->residual, camera_mask = &t.c3d->camera_mask;
+    for (const auto& a : t.attributes) attributes.push_back(&a.data);
+  }
+  // The point fields of both agree byte for byte.
+  bool same_attributes(const Frames& o) const {
+    if (attributes.size() != o.attributes.size()) return false;
+    for (size_t i = 0; i < attributes.size(); ++i)
+      if (*attributes[i] != *o.attributes[i]) return false;
+    return true;
   }
   // The C3D 4th words of both takes agree (absent counts as empty).
   bool same_words(const Frames& o) const {
@@ -205,6 +216,8 @@ bool PromiseCheck::check(const Frames& a, const Frames& b) {
   if (a.analog_values != b.analog_values || !same_values(a.analog, b.analog, a.analog_values))
     return breach("the analog values differ");
   if (!a.same_rotations(b)) return breach("the rotation samples differ");
+  if (!a.same_attributes(b))
+    return breach("the point fields (" + std::to_string(a.attributes.size()) + ") differ");
   return holds();
 }
 

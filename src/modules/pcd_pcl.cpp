@@ -1,5 +1,5 @@
-// libcapz_pcl_io.so: PCD reading and writing through PCL's PCDReader / PCDWriter, loaded by
-// capz with dlopen the first time a PCD file is read or written (interface and reasons in
+// libcapz_pcl_io.so: PCD reading through PCL's PCDReader, loaded by capz with dlopen the
+// first time a PCD file is read (interface and reasons in
 // src/io/pcd_backend.h). Only PCL calls live here; capz's own checks of a file (header counts
 // against the file size, the ASCII body's tokens) stay in src/io/pcd_folder.cpp.
 // Nothing here throws capz::Error: failures are returned as a Status and a message.
@@ -56,34 +56,6 @@ FieldType from_pcl(uint8_t t) {
   return FieldType::kUnknown;
 }
 
-uint8_t to_pcl(FieldType t) {
-  switch (t) {
-    case FieldType::kInt8:
-      return pcl::PCLPointField::INT8;
-    case FieldType::kUInt8:
-      return pcl::PCLPointField::UINT8;
-    case FieldType::kInt16:
-      return pcl::PCLPointField::INT16;
-    case FieldType::kUInt16:
-      return pcl::PCLPointField::UINT16;
-    case FieldType::kInt32:
-      return pcl::PCLPointField::INT32;
-    case FieldType::kUInt32:
-      return pcl::PCLPointField::UINT32;
-    case FieldType::kInt64:
-      return pcl::PCLPointField::INT64;
-    case FieldType::kUInt64:
-      return pcl::PCLPointField::UINT64;
-    case FieldType::kFloat32:
-      return pcl::PCLPointField::FLOAT32;
-    case FieldType::kFloat64:
-      return pcl::PCLPointField::FLOAT64;
-    case FieldType::kUnknown:
-      break;
-  }
-  return 0;
-}
-
 class PclBackend : public Backend {
  public:
   Status read(const uint8_t* bytes, size_t size, size_t data_idx, uint64_t expect_points,
@@ -136,45 +108,9 @@ class PclBackend : public Backend {
       out->fields.push_back(g);
     }
     out->data = std::move(cloud.data);
+    out->viewpoint = {origin[0],       origin[1],       origin[2],      orientation.w(),
+                      orientation.x(), orientation.y(), orientation.z()};
     return Status::kOk;
-  }
-
-  Status write(const std::string& path, const Cloud& in, const std::string& encoding, int precision,
-               std::string* message) const override {
-    QuietPcl quiet;
-    pcl::PCDWriter writer;
-    pcl::PCLPointCloud2 cloud;
-    for (const Field& g : in.fields) {
-      pcl::PCLPointField f;
-      f.name = g.name;
-      f.offset = g.offset;
-      f.datatype = to_pcl(g.type);
-      f.count = g.count;
-      cloud.fields.push_back(f);
-    }
-    cloud.width = in.width;
-    cloud.height = in.height;
-    cloud.point_step = in.point_step;
-    cloud.row_step = in.point_step * in.width;
-    cloud.is_bigendian = false;
-    cloud.is_dense = in.dense;
-    cloud.data = in.data;
-    int res = -1;
-    try {
-      if (encoding == "ascii")
-        res = writer.writeASCII(path, cloud, Eigen::Vector4f::Zero(),
-                                Eigen::Quaternionf::Identity(), precision);
-      else if (encoding == "binary")
-        res = writer.writeBinary(path, cloud, Eigen::Vector4f::Zero(),
-                                 Eigen::Quaternionf::Identity());
-      else
-        res = writer.writeBinaryCompressed(path, cloud, Eigen::Vector4f::Zero(),
-                                           Eigen::Quaternionf::Identity());
-    } catch (const pcl::PCLException& e) {
-      *message = e.what();
-      return Status::kPclException;
-    }
-    return res == 0 ? Status::kOk : Status::kWriteFailed;
   }
 };
 

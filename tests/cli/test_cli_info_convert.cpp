@@ -468,3 +468,76 @@ TEST(CliConvert, HelpDocumentsEveryOption) {
   CliRun bad = run_capz("convert --pcd-encoding zip a.trc b/");
   EXPECT_EQ(bad.status, 6);
 }
+
+namespace {
+// An organized 4 x 3 ASCII PCD folder of `frames` frames with rgb (U4), intensity (F4) and a
+// 2-count descriptor (F4).
+std::string make_fields_folder(const capz_test::TempDir& d, size_t frames) {
+  const std::string dir = d.file("fields");
+  fs::create_directory(dir);
+  for (size_t f = 0; f < frames; ++f) {
+    std::ofstream o(fs::path(dir) / ("f" + std::to_string(f) + ".pcd"));
+    o << "VERSION 0.7\nFIELDS x y z rgb intensity desc\nSIZE 4 4 4 4 4 4\nTYPE F F F U F F\n"
+         "COUNT 1 1 1 1 1 2\nWIDTH 4\nHEIGHT 3\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 12\nDATA ascii\n";
+    for (size_t p = 0; p < 12; ++p)
+      o << p * 0.25 << " " << f * 0.5 << " 1.5 " << (p * 1000 + f) << " "
+        << (p == 3 ? "nan" : "0.75") << " " << p << " -" << f << "\n";
+  }
+  return dir;
+}
+}  // namespace
+
+TEST(CliFields, InfoListsThemAndNothingIsDroppedWithoutBeingAsked) {
+  capz_test::TempDir d;
+  const std::string dir = make_fields_folder(d, 3);
+  CliRun i = run_capz("info " + quote(dir));
+  ASSERT_EQ(i.status, 0) << i.err;
+  EXPECT_NE(i.out.find("organized 4 x 3"), std::string::npos) << i.out;
+  EXPECT_NE(i.out.find("x F4, y F4, z F4, rgb U4, intensity F4, desc F4x2"), std::string::npos)
+      << i.out;
+  CliRun j = run_capz("info --json " + quote(dir));
+  EXPECT_NE(j.out.find("\"fields\":[{\"name\":\"x\""), std::string::npos) << j.out;
+  EXPECT_NE(j.out.find("\"organized\":true"), std::string::npos) << j.out;
+
+  // To C3D: refused, naming the fields, nothing written; with --drop-fields, one line names them.
+  const std::string c3d = d.file("a.c3d");
+  CliRun c = run_capz("convert " + quote(dir) + " " + quote(c3d) + " --rate 30 --units m");
+  EXPECT_EQ(c.status, 1);
+  EXPECT_NE(c.err.find("rgb, intensity, desc"), std::string::npos) << c.err;
+  EXPECT_NE(c.err.find("--drop-fields"), std::string::npos) << c.err;
+  EXPECT_FALSE(fs::exists(c3d));
+  c = run_capz("convert " + quote(dir) + " " + quote(c3d) + " --rate 30 --units m --drop-fields");
+  EXPECT_EQ(c.status, 0) << c.err;
+  EXPECT_NE(c.err.find("dropped point fields: rgb, intensity, desc"), std::string::npos) << c.err;
+  EXPECT_TRUE(fs::exists(c3d));
+
+  // Through an archive: the fields come back, with the layout and the DATA encoding.
+  const std::string z = d.file("f.capz"), back = d.file("back");
+  CliRun k = run_capz("compress " + quote(dir) + " -o " + quote(z) + " --units m -e 0.001m -v");
+  ASSERT_EQ(k.status, 0) << k.err;
+  EXPECT_NE(k.out.find("point fields"), std::string::npos) << k.out;
+  CliRun iz = run_capz("info " + quote(z));
+  EXPECT_NE(iz.out.find("rgb U4, intensity F4, desc F4x2"), std::string::npos) << iz.out;
+  CliRun x = run_capz("decompress " + quote(z) + " -o " + quote(back + "/"));
+  ASSERT_EQ(x.status, 0) << x.err;
+  const std::string src = slurp(dir + "/f1.pcd"), got = slurp(back + "/f1.pcd");
+  EXPECT_NE(got.find("FIELDS x y z rgb intensity desc\n"), std::string::npos) << got;
+  EXPECT_NE(got.find("HEIGHT 3\n"), std::string::npos) << got;
+  EXPECT_NE(got.find("DATA ascii\n"), std::string::npos) << got;
+  capz::Take a = capz::read_take(dir), b = capz::read_take(back);
+  ASSERT_EQ(b.attributes.size(), 3u);
+  for (size_t n = 0; n < 3; ++n) EXPECT_EQ(a.attributes[n].data, b.attributes[n].data) << n;
+  // To C3D from the archive: refused without --drop-fields.
+  CliRun y = run_capz("decompress " + quote(z) + " -o " + quote(d.file("z.c3d")));
+  EXPECT_EQ(y.status, 1) << y.err;
+  EXPECT_FALSE(fs::exists(d.file("z.c3d")));
+  y = run_capz("decompress " + quote(z) + " -o " + quote(d.file("z.trc")) + " --drop-fields");
+  EXPECT_EQ(y.status, 0) << y.err;
+  EXPECT_NE(y.err.find("dropped point fields"), std::string::npos) << y.err;
+  // --drop-fields on compress leaves them out.
+  CliRun dz = run_capz("compress " + quote(dir) + " -o " + quote(d.file("nf.capz")) +
+                       " --units m --lossless --drop-fields");
+  ASSERT_EQ(dz.status, 0) << dz.err;
+  CliRun inf = run_capz("info " + quote(d.file("nf.capz")));
+  EXPECT_EQ(inf.out.find("rgb"), std::string::npos) << inf.out;
+}

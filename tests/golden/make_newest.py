@@ -20,14 +20,23 @@ data = os.path.join(os.path.dirname(os.path.dirname(root)), 'data')
 
 lines = open(manifest).read().splitlines()
 tag = '.v' + version + '.capz'
+# Streams of the new version with no older counterpart (made by hand for what only the new
+# version carries, e.g. PCD fields in 5.0) are kept as they are; the others are remade.
+older = set()
+for l in lines:
+    w = l.split()
+    if l.startswith('#') or len(w) < 4 or w[0].endswith(tag):
+        continue
+    older.add(re.sub(r'\.v\d+\.\d+\.capz$', '', w[0]))
 kept, entries = [], []
 for l in lines:
-    if not l.startswith('#') and l.split() and l.split()[0].endswith(tag):
+    w = l.split()
+    if not l.startswith('#') and w and w[0].endswith(tag) and w[0][:-len(tag)] in older:
         continue  # remade below
     kept.append(l)
-    if l.startswith('#') or len(l.split()) < 4:
+    if l.startswith('#') or len(w) < 4 or w[0].endswith(tag):
         continue
-    entries.append(l.split())
+    entries.append(w)
 versions = sorted({re.search(r'\.v(\d+)\.(\d+)\.capz$', e[0]).groups() for e in entries},
                   key=lambda v: (int(v[0]), int(v[1])))
 newest = '.v%s.%s.capz' % versions[-1]

@@ -28,7 +28,7 @@ namespace {
 
 const std::string kStreams = std::string(CAPZ_TEST_DIR) + "/golden/streams/";
 
-// CRC-32C of the decoded positions, mask and analog values in a fixed byte layout.
+// CRC-32C of the decoded positions, mask, analog values and point fields in a fixed byte layout.
 uint32_t content_crc(const Take& t) {
   ByteWriter w;
   w.u64(t.frames);
@@ -36,6 +36,7 @@ uint32_t content_crc(const Take& t) {
   for (double x : t.xyz) w.f64(x);
   w.bytes(t.valid);
   for (double x : t.analog.values) w.f64(x);
+  for (const capz::PointAttribute& a : t.attributes) w.bytes(a.data);  // none before 5.0
   return crc32c(w.buffer().data(), w.size());
 }
 
@@ -91,6 +92,12 @@ TEST(Golden, GivenGoldenStreamsWhenDecodedThenKnownContentAndWithinBoundOfSource
     EXPECT_EQ(
         std::memcmp(a.analog.values.data(), b.analog.values.data(), a.analog.values.size() * 8), 0);
     EXPECT_EQ(a.labels, b.labels);
+    // PCD point fields (5.0 on) come back byte for byte at every target.
+    if (!b.attributes.empty()) {
+      ASSERT_EQ(a.attributes.size(), b.attributes.size());
+      for (size_t k = 0; k < a.attributes.size(); ++k)
+        EXPECT_EQ(a.attributes[k].data, b.attributes[k].data) << a.attributes[k].name;
+    }
     // C3D 4th words (residual and camera bytes) are always kept exactly.
     ASSERT_EQ(a.c3d != nullptr, b.c3d != nullptr);
     if (a.c3d) {

@@ -46,6 +46,7 @@ TEST(WriteFaults, EveryWriterLeavesNothingWhenTheDiskFills) {
   struct Case {
     const char* name;
     std::function<void(const std::string&, bool)> write;
+    size_t limit;  // below the size of one output file (a PCD folder: of one frame file)
   };
   const std::vector<Case> cases = {
       {"out.trc",
@@ -53,19 +54,22 @@ TEST(WriteFaults, EveryWriterLeavesNothingWhenTheDiskFills) {
          capz::WriteOptions o;
          o.overwrite = f;
          capz::write_trc(t, p, o);
-       }},
+       },
+       4096},
       {"out.c3d",
        [&](const std::string& p, bool f) {
          capz::WriteOptions o;
          o.overwrite = f;
          capz::write_c3d(t, p, o);
-       }},
+       },
+       4096},
       {"out_pcd",
        [&](const std::string& p, bool f) {
          capz::WriteOptions o;
          o.overwrite = f;
          capz::write_pcd_folder(t, p, o);
-       }},
+       },
+       300},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.name);
@@ -73,7 +77,7 @@ TEST(WriteFaults, EveryWriterLeavesNothingWhenTheDiskFills) {
     {
       capz_test::TempDir dir("capz_faults");
       const std::string out = dir.file(c.name);
-      EXPECT_EQ(run_with_file_limit(4096, [&] { c.write(out, false); }), kIo);
+      EXPECT_EQ(run_with_file_limit(c.limit, [&] { c.write(out, false); }), kIo);
       EXPECT_TRUE(list_dir(dir.path().string()).empty())
           << "left behind: " << list_dir(dir.path().string()).front();
     }
@@ -86,7 +90,7 @@ TEST(WriteFaults, EveryWriterLeavesNothingWhenTheDiskFills) {
       const std::string probe = is_dir ? (fs::path(out) / list_dir(out).front()).string() : out;
       const std::vector<char> before = slurp(probe);
       const size_t entries = is_dir ? list_dir(out).size() : 0;
-      EXPECT_EQ(run_with_file_limit(4096, [&] { c.write(out, true); }), kIo);
+      EXPECT_EQ(run_with_file_limit(c.limit, [&] { c.write(out, true); }), kIo);
       EXPECT_EQ(list_dir(dir.path().string()), std::vector<std::string>{c.name});
       EXPECT_EQ(slurp(probe), before);
       if (is_dir) {

@@ -56,6 +56,9 @@ void expect_same_take(const capz::Take& a, const capz::Take& b) {
             0);
   EXPECT_EQ(a.rotations.matrices, b.rotations.matrices);
   EXPECT_EQ(a.rotations.reliability, b.rotations.reliability);
+  ASSERT_EQ(a.attributes.size(), b.attributes.size());
+  for (size_t i = 0; i < a.attributes.size(); ++i)
+    EXPECT_TRUE(a.attributes[i].data == b.attributes[i].data) << a.attributes[i].name;
   ASSERT_EQ(a.c3d != nullptr, b.c3d != nullptr);
   if (a.c3d) {
     EXPECT_EQ(a.c3d->residual, b.c3d->residual);
@@ -352,6 +355,19 @@ TEST(ThreadsRepo, SamplesStreamAndDecodeTheSameForEveryThreadCount) {
     check_stream(in, o);
     check_compress(capz::read_take(in), o, in);
   }
+}
+
+// A PCD folder with point fields (ATTR chunks, coded on the workers too), one frame a window.
+TEST(ThreadsRepo, PcdFieldsTheSameForEveryThreadCount) {
+  const capz::Take t = capz::read_take(std::string(CAPZ_REPO_DATA) + "/lidar_small");
+  ASSERT_FALSE(t.attributes.empty());
+  capz::CompressOptions o;
+  o.window_frames = 1;
+  o.lossless = true;
+  check_compress(t, o, "lidar_small lossless");
+  o.lossless = false;
+  o.max_error = 0.01;
+  check_compress(t, o, "lidar_small bound");
 }
 
 TEST(ThreadsShared, C3DTakesAndPcdFolder) {

@@ -1,0 +1,56 @@
+// capz — `capz compress IN -o OUT` as library calls: the input opened, the error target chosen
+// and the output written exactly as the command does, so any caller (the CLI, the Python
+// package) gets the same bytes for the same options.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "capz/codec.h"
+#include "capz/stream.h"
+#include "capz/take.h"
+
+namespace capz {
+
+// The error target as the command line gives it: at most one of lossless, kg_error and
+// max_error; none given means the default bound (see set_compress_target).
+struct CompressTarget {
+  bool lossless = false;
+  std::optional<double> kg_error;        // KG error target in percent
+  std::optional<std::string> max_error;  // a length parse_length() reads ("0.1mm", "0.5")
+};
+
+// The input of a compression. C3D, TRC and PCD inputs stream: `source` reads the file a window
+// at a time. `whole` (codec auto, which compares whole-take encodings) reads the take into
+// `take` and `source` serves it (the take is held by pointer, so a moved input stays valid).
+struct CompressInput {
+  std::unique_ptr<Take> take;
+  std::unique_ptr<FrameSource> source;
+};
+
+// Opens `path` (C3D, TRC, a folder of PCD frames) for compression. `units` (may be empty) is
+// given to data that has none, or whose units capz cannot read.
+CompressInput open_compress_input(const std::string& path, bool whole, const std::string& units);
+
+// Sets opts->lossless, kg_error and max_error from `target` as `capz compress` does. The default
+// bound is 0.1 mm; for data without units it is 1e-4 of the bounding-box diagonal of the valid
+// samples (the source is read once for it), and any bound when no sample is valid. Throws
+// Error(kUsage) for more than one target, kInvalidParameter for a KG target or a bound that is
+// not > 0, or a bound with a unit on data without units.
+void set_compress_target(FrameSource& source, const CompressTarget& target, CompressOptions* opts);
+
+// Compresses the input into `out`, written atomically: compress_stream() (for a C3D or TRC
+// source with the original file's checksum and residue), or under codec auto compress() of the
+// whole take. Throws kUsage if `out` exists and !overwrite.
+void compress_input(CompressInput& input, const CompressOptions& opts, const std::string& out,
+                    bool overwrite, CompressStats* stats = nullptr);
+
+// The three above in a row: `capz compress IN -o OUT` with `target`, `units` (--units; checked
+// to name a unit capz knows) and the coding options of `opts` (codec, clusters, codec_options,
+// window_frames, check, progress; its target fields are replaced).
+void compress_file(const std::string& in, const std::string& out, const CompressTarget& target,
+                   const CompressOptions& opts, const std::string& units, bool overwrite,
+                   CompressStats* stats = nullptr);
+
+}  // namespace capz

@@ -1,0 +1,462 @@
+"""capz: compression of motion-capture takes (C3D, TRC, folders of PCD frames), numpy in and out.
+
+    take = capz.read("walk.c3d")                  # also .trc, a folder of .pcd frames, a .capz
+    data = capz.compress(take, max_error="0.1mm")  # bytes
+    back = capz.decompress(data)                   # a Take
+    capz.compress_file("walk.c3d", "walk.capz")    # the same bytes as `capz compress`
+
+A Take's arrays (xyz, valid, analog, attributes) are numpy views of its storage. Every
+function raises capz.Error on failure. See docs/PYTHON.md.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _capz
+from ._capz import Take
+from ._error import Error
+
+__all__ = [
+    "Error",
+    "Take",
+    "CapzFile",
+    "read",
+    "write",
+    "compress",
+    "decompress",
+    "compress_file",
+    "open",
+    "compare",
+]
+__version__: str = _capz.version
+
+PathLike = Union[str, "os.PathLike[str]"]
+Length = Union[str, float, int]
+
+# PCD field types numpy can hold: dtype kind -> PCD type letter.
+_ATTRIBUTE_KINDS = {"f": "F", "u": "U", "i": "I"}
+
+
+def _invalid(message: str) -> Error:
+    return Error("invalid-parameter", message, 6)
+
+
+def _path(p: PathLike, what: str) -> str:
+    try:
+        return os.fspath(p)
+    except TypeError:
+        raise _invalid(f"{what} must be a path (str or os.PathLike), got {type(p).__name__}")
+
+
+def _length(value: Optional[Length], what: str) -> Optional[str]:
+    """A length as the library parses it: "0.1mm", "2 cm", or a number in the take's units."""
+    if value is None:
+        return None
+    if isinstance(value, str):
+        return value
+    if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
+        return repr(float(value))
+    raise _invalid(f"{what} must be a length such as '0.1mm' or a number, got {value!r}")
+
+
+def _kg(value: Optional[float]) -> Optional[float]:
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise _invalid(f"kg_error must be a number (percent), got {value!r}")
+    return float(value)
+
+
+def _options(codec_options: Optional[Mapping[str, Any]]) -> Dict[str, str]:
+    if codec_options is None:
+        return {}
+    if not isinstance(codec_options, Mapping):
+        raise _invalid("codec_options must be a dict of key -> value")
+    return {str(k): str(v) for k, v in codec_options.items()}
+
+
+def _coding(max_error: Optional[Length], lossless: bool, kg_error: Optional[float],
+            units: Optional[str], codec: str, clusters: int, window: int, check: bool,
+            codec_options: Optional[Mapping[str, Any]]) -> tuple:
+    """The target and coding options of compress() and compress_file(), checked, in the order
+    _capz.compress and _capz.compress_file take them."""
+    return (bool(lossless), _kg(kg_error), _length(max_error, "max_error"), units or "",
+            str(codec), int(clusters), int(window), bool(check), _options(codec_options))
+
+
+def _array(name: str, value: Any, dtype: Optional[np.dtype] = None) -> np.ndarray:
+    """`value` as an ndarray without conversion; a wrong dtype is an error, not a cast."""
+    a = np.asarray(value)
+    if dtype is not None and a.dtype != dtype:
+        raise _invalid(
+            f"{name} must be {np.dtype(dtype).name}, got {a.dtype.name}"
+            f" (convert it with .astype(np.{np.dtype(dtype).name}))"
+        )
+    return a
+
+
+def _first_bad(mask: np.ndarray) -> Tuple[int, ...]:
+    return tuple(int(i) for i in np.argwhere(mask)[0])
+
+
+def _from_arrays(
+    xyz: Any,
+    valid: Any = None,
+    rate: float = 100.0,
+    units: str = "mm",
+    labels: Optional[Sequence[str]] = None,
+    first_frame: int = 1,
+    analog: Any = None,
+    analog_rate: float = 0.0,
+    analog_labels: Optional[Sequence[str]] = None,
+    attributes: Optional[Mapping[str, Any]] = None,
+    rotations: Optional[Mapping[str, Any]] = None,
+) -> Take:
+    """A Take from numpy arrays.
+
+    xyz           float64 (frames, points, 3), in `units`. Gap samples may hold anything.
+    valid         bool (frames, points): False marks a gap. None: a sample is a gap where its
+                  coordinates are NaN (all three or some); infinite values are an error.
+                  A valid sample must hold finite coordinates.
+    rate          frames per second (0: unknown).
+    units         "mm", "cm", "m", ... or "" (unknown; a bound with a unit then needs
+                  compress(..., units=...)).
+    labels        one string per point (default: empty strings).
+    first_frame   number of the first frame.
+    analog        float64 (samples, channels), samples a multiple of frames; analog_rate in Hz
+                  and analog_labels (one per channel) go with it.
+    attributes    dict name -> array (frames, points) or (frames, points, count) of float32,
+                  float64, uint8/16/32/64 or int8/16/32/64 (per-point fields, as PCD has).
+    rotations     dict as Take.rotations gives it: matrices float32 (samples, segments, 4, 4)
+                  indexed [sample, segment, row, column], reliability float32
+                  (samples, segments), labels (one per segment), rate (Hz); samples a
+                  multiple of frames.
+
+    xyz, valid, analog and attributes are copied once into the take (no copy before that when
+    they are C-contiguous).
+    """
+    a = _array("xyz", xyz, np.dtype(np.float64))
+    if a.ndim != 3 or a.shape[2] != 3:
+        raise _invalid(f"xyz must have shape (frames, points, 3), got {a.shape}")
+    frames, points = a.shape[0], a.shape[1]
+    if valid is None:
+        nan = np.isnan(a)
+        if np.isinf(a).any():
+            f, p, _ = _first_bad(np.isinf(a))
+            raise _invalid(f"xyz[{f}, {p}] is infinite (mark gaps with NaN or pass valid=)")
+        v = ~nan.any(axis=2)
+    else:
+        v = _array("valid", valid, np.dtype(np.bool_))
+        if v.shape != (frames, points):
+            raise _invalid(f"valid must have shape {(frames, points)}, got {v.shape}")
+        bad = v & ~np.isfinite(a).all(axis=2)
+        if bad.any():
+            f, p = _first_bad(bad)
+            raise _invalid(f"xyz[{f}, {p}] is marked valid but is not a finite number")
+    if isinstance(rate, bool) or not isinstance(rate, (int, float, np.integer, np.floating)):
+        raise _invalid(f"rate must be a number, got {rate!r}")
+    if not (np.isfinite(rate) and rate >= 0):
+        raise _invalid(f"rate must be a finite number >= 0, got {rate!r}")
+    if not isinstance(units, str):
+        raise _invalid(f"units must be a string, got {units!r}")
+    if units and _capz.units_to_metres(units) == 0:
+        raise _invalid(f"units: unknown unit '{units}' (mm, cm, m, in, ...)")
+    label_list = _labels("labels", labels, points)
+    an = None
+    if analog is not None:
+        an = _array("analog", analog, np.dtype(np.float64))
+        if an.ndim != 2:
+            raise _invalid(f"analog must have shape (samples, channels), got {an.shape}")
+        if an.shape[1] > 0 and (frames == 0 or an.shape[0] == 0 or an.shape[0] % frames):
+            raise _invalid(
+                f"analog has {an.shape[0]} samples: a positive multiple of the {frames} frames "
+                "is needed"
+            )
+        if not np.isfinite(an).all():
+            raise _invalid("analog holds NaN or infinite values")
+        if not (np.isfinite(analog_rate) and analog_rate >= 0):
+            raise _invalid(f"analog_rate must be a finite number >= 0, got {analog_rate!r}")
+        an = np.ascontiguousarray(an)
+    channel_labels = _labels("analog_labels", analog_labels, an.shape[1] if an is not None else 0)
+    attrs: List[tuple] = []
+    for name, value in (attributes or {}).items():
+        if not isinstance(name, str) or not name:
+            raise _invalid(f"attribute names must be non-empty strings, got {name!r}")
+        arr = np.asarray(value)
+        kind = _ATTRIBUTE_KINDS.get(arr.dtype.kind)
+        if kind is None or arr.dtype.itemsize not in (1, 2, 4, 8) or arr.dtype == np.float16:
+            raise _invalid(
+                f"attribute '{name}': dtype {arr.dtype} is not a PCD field type (float32, "
+                "float64, uint8..uint64, int8..int64)"
+            )
+        if arr.ndim not in (2, 3) or arr.shape[:2] != (frames, points):
+            raise _invalid(
+                f"attribute '{name}' must have shape ({frames}, {points}) or "
+                f"({frames}, {points}, count), got {arr.shape}"
+            )
+        count = arr.shape[2] if arr.ndim == 3 else 1
+        if count < 1:
+            raise _invalid(f"attribute '{name}': count must be >= 1")
+        little = arr.dtype.newbyteorder("<")
+        arr = np.ascontiguousarray(arr, dtype=little)  # no copy when already little-endian
+        attrs.append((name, kind, arr.dtype.itemsize, count, arr))
+    rot = _rotations(rotations, frames)
+    return _capz.take_from_arrays(
+        np.ascontiguousarray(a),
+        np.ascontiguousarray(v).view(np.uint8),
+        float(rate),
+        units,
+        label_list,
+        int(first_frame),
+        an,
+        float(analog_rate),
+        channel_labels,
+        attrs,
+        rot,
+    )
+
+
+def _rotations(rotations: Optional[Mapping[str, Any]], frames: int) -> Optional[tuple]:
+    """Take.rotations' dict checked, matrices laid out column-major as the library keeps them."""
+    if rotations is None:
+        return None
+    if not isinstance(rotations, Mapping) or "matrices" not in rotations:
+        raise _invalid("rotations must be a dict with matrices, reliability, labels and rate")
+    m = _array("rotation matrices", rotations["matrices"], np.dtype(np.float32))
+    if m.ndim != 4 or m.shape[2:] != (4, 4):
+        raise _invalid(f"rotation matrices must have shape (samples, segments, 4, 4), got {m.shape}")
+    samples, segments = m.shape[0], m.shape[1]
+    if segments and (frames == 0 or samples == 0 or samples % frames):
+        raise _invalid(f"rotations have {samples} samples: a positive multiple of the {frames} "
+                       "frames is needed")
+    rel = rotations.get("reliability")
+    rel = np.ones((samples, segments), np.float32) if rel is None else \
+        _array("rotation reliability", rel, np.dtype(np.float32))
+    if rel.shape != (samples, segments):
+        raise _invalid(f"rotation reliability must have shape {(samples, segments)}, "
+                       f"got {rel.shape}")
+    labels = _labels("rotation labels", rotations.get("labels"), segments)
+    rate = float(rotations.get("rate", 0.0))
+    column_major = np.ascontiguousarray(m.transpose(0, 1, 3, 2)).reshape(samples, segments, 16)
+    return (column_major, np.ascontiguousarray(rel), labels, rate)
+
+
+def _labels(what: str, labels: Optional[Sequence[str]], n: int) -> List[str]:
+    if labels is None:
+        return [""] * n
+    if isinstance(labels, str) or not all(isinstance(s, str) for s in labels):
+        raise _invalid(f"{what} must be a list of strings")
+    out = list(labels)
+    if len(out) != n:
+        raise _invalid(f"{what}: {n} expected, got {len(out)}")
+    return out
+
+
+Take.from_arrays = staticmethod(_from_arrays)  # type: ignore[attr-defined]
+
+
+def read(path: PathLike) -> Take:
+    """Reads a take: a .c3d, a .trc, a folder of .pcd frames, or a .capz (decompressed).
+
+    Gaps read as valid == False and NaN in xyz. Raises capz.Error naming the file and fault.
+    """
+    return _capz.read(_path(path, "path"))
+
+
+def write(
+    take: Take,
+    path: PathLike,
+    *,
+    overwrite: bool = False,
+    pcd_encoding: str = "",
+    c3d_float: bool = False,
+    drop_fields: bool = False,
+) -> None:
+    """Writes a take by the output path: ".c3d", ".trc", otherwise a folder of PCD frames.
+
+    The output appears whole or not at all. overwrite: replace an existing output (the CLI's
+    -f). pcd_encoding: "ascii", "binary" or "binary_compressed" ("": the source folder's, else
+    binary). c3d_float: write a C3D as float even when the source was int16. drop_fields: a take
+    with PCD fields (attributes) written to C3D or TRC, which cannot hold them, leaves them out;
+    without it that is an Error naming them. Use compress()/compress_file() for .capz.
+    """
+    p = _path(path, "path")
+    if p.lower().endswith(".capz"):
+        raise Error("usage", f"{p}: write() writes C3D, TRC and PCD; use compress_file() or "
+                    "compress() for .capz", 1)
+    _check_take(take)
+    _capz.write(take, p, bool(overwrite), pcd_encoding, bool(c3d_float), bool(drop_fields))
+
+
+def _check_take(take: Any) -> None:
+    if not isinstance(take, Take):
+        raise _invalid(f"expected a capz.Take, got {type(take).__name__}")
+
+
+def _check_positions(take: Take) -> None:
+    """A valid sample must hold finite coordinates (the arrays are writeable views)."""
+    bad = take.valid & ~np.isfinite(take.xyz).all(axis=2)
+    if bad.any():
+        f, p = _first_bad(bad)
+        raise _invalid(f"xyz[{f}, {p}] is marked valid but is not a finite number")
+
+
+def compress(
+    take: Take,
+    *,
+    max_error: Optional[Length] = None,
+    lossless: bool = False,
+    kg_error: Optional[float] = None,
+    codec: str = "none",
+    codec_options: Optional[Mapping[str, Any]] = None,
+    clusters: int = 0,
+    window: int = 0,
+    check: bool = True,
+    units: Optional[str] = None,
+    stats: bool = False,
+) -> Union[bytes, Tuple[bytes, Dict[str, Any]]]:
+    """Compresses a take to .capz bytes (`capz compress` on a take in memory).
+
+    Error bounds are per coordinate: every valid coordinate comes back within the bound (a
+    point's Euclidean error is then at most sqrt(3) times it). Gaps, analog channels, labels,
+    rate, units, C3D parameters and events come back exactly. Give at most one target:
+
+    max_error      per-coordinate bound: a length with a unit ("0.1mm", "0.05cm", "0.0001m",
+                   "0.01in") or a number in the take's own units. Default "0.1mm"; for a take
+                   without units (PCD, unless units= is given) 1e-4 x the bounding-box
+                   diagonal of the data, and a bound with a unit needs units=.
+    kg_error       instead of a bound: KG error target in percent; the grid is chosen so the
+                   achieved KG error is at or just under it.
+    lossless       every stored coordinate back exactly (int16 C3D integers, float32 bits,
+                   TRC decimals).
+
+    codec          transform stage in front of the coder: "none" (temporal prediction only),
+                   a transform codec built in ("ts", "pdct"), or "auto" (tries each, keeps the
+                   smallest; encoding takes about as long as all of them together).
+    codec_options  dict of codec option key -> value (the CLI's --codec-opt key=value).
+    clusters       clusters for the transform codec (0 = its default, -1 = search).
+    window         frames per independently decodable window, 1..8192; 0: 1024, or with codec
+                   none up to 8192 for takes of fewer than 64 points.
+    check          decode each window after writing it and verify the bound (False: the CLI's
+                   --no-check).
+    units          units of a take that has none (or whose units capz cannot read): mm, cm, m.
+    stats          also return the report as a dict: (bytes, stats).
+
+    The GIL is released while coding: separate takes can be compressed from several threads.
+    Raises capz.Error (invalid-parameter for an impossible target or bad arrays).
+    """
+    _check_take(take)
+    _check_positions(take)
+    data, report = _capz.compress(
+        take,
+        *_coding(max_error, lossless, kg_error, units, codec, clusters, window, check,
+                 codec_options),
+    )
+    return (data, report) if stats else data
+
+
+def decompress(data: Union[bytes, bytearray, memoryview], name: str = "") -> Take:
+    """Decodes .capz bytes back to a Take (`name` is only used in error messages).
+
+    Damaged bytes raise capz.Error (corrupt, not-our-format or unsupported-version).
+    """
+    if not isinstance(data, (bytes, bytearray, memoryview)):
+        raise _invalid(f"decompress wants bytes, got {type(data).__name__}")
+    return _capz.decompress(data, name)
+
+
+def compress_file(
+    input: PathLike,
+    output: Optional[PathLike] = None,
+    *,
+    max_error: Optional[Length] = None,
+    lossless: bool = False,
+    kg_error: Optional[float] = None,
+    codec: str = "none",
+    codec_options: Optional[Mapping[str, Any]] = None,
+    clusters: int = 0,
+    window: int = 0,
+    check: bool = True,
+    units: Optional[str] = None,
+    overwrite: bool = False,
+) -> Dict[str, Any]:
+    """Compresses a .c3d, a .trc or a folder of .pcd frames to a .capz file: the same bytes as
+    `capz compress INPUT -o OUTPUT` with the same options (see compress() for them; overwrite
+    is the CLI's -f). output defaults to INPUT.capz. The input is read a window at a time (and
+    for a C3D or TRC the original file's checksum and residue are stored, so a lossless
+    archive rebuilds it byte for byte). Returns the report as a dict.
+    """
+    src = _path(input, "input")
+    out = _path(output, "output") if output is not None else src.rstrip("/") + ".capz"
+    return _capz.compress_file(
+        src,
+        out,
+        *_coding(max_error, lossless, kg_error, units, codec, clusters, window, check,
+                 codec_options),
+        bool(overwrite),
+    )
+
+
+class CapzFile:
+    """A .capz opened for random access: its bytes are read once, and frames are decoded on
+    demand, only the windows they touch.
+
+        with capz.open("walk.capz") as z:
+            part = z.read_frames(first=100, count=50)
+            z.info        # what `capz info --json` prints, as a dict
+    """
+
+    def __init__(self, path: PathLike) -> None:
+        self._file: Optional[Any] = _capz.CapzFile(_path(path, "path"))
+
+    def _open(self) -> Any:
+        if self._file is None:
+            raise Error("usage", "the .capz file is closed", 1)
+        return self._file
+
+    def read_frames(self, first: int = 0, count: Optional[int] = None) -> Take:
+        """Frames [first, first + count) as a Take (clipped to the take; count None: to the
+        end). Only the windows those frames touch are decoded."""
+        if first < 0 or (count is not None and count < 0):
+            raise _invalid("first and count must be >= 0")
+        return self._open().read_frames(int(first), None if count is None else int(count))
+
+    @property
+    def info(self) -> Dict[str, Any]:
+        """The stream's header, metadata and chunk sizes: the members of `capz info --json`."""
+        return self._open().info
+
+    @property
+    def frames(self) -> int:
+        return self._open().frames
+
+    @property
+    def points(self) -> int:
+        return self._open().points
+
+    def close(self) -> None:
+        self._file = None
+
+    def __enter__(self) -> "CapzFile":
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close()
+
+
+def open(path: PathLike) -> CapzFile:  # noqa: A001 (capz.open, like gzip.open)
+    """Opens a .capz for random access (see CapzFile); use it in a with statement."""
+    return CapzFile(path)
+
+
+def compare(original: Take, reconstruction: Take) -> Dict[str, Any]:
+    """Error measures of `reconstruction` against `original` over the original's valid
+    samples: max_error_per_coordinate, max_error_euclidean, rmse, kg_error_percent, psnr_db,
+    samples, mask_mismatches (samples whose validity differs)."""
+    _check_take(original)
+    _check_take(reconstruction)
+    return _capz.compare(original, reconstruction)

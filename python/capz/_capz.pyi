@@ -1,0 +1,126 @@
+# Type stubs of capz._capz, the compiled module (python/src/capz_py.cpp). Use it through the
+# package capz, whose functions check their arguments and carry the documentation.
+from typing import Any, Dict, List, Mapping, Optional, Tuple
+
+import numpy as np
+import numpy.typing as npt
+
+version: str
+
+class Take:
+    """A motion-capture take: positions, gaps, analog, metadata."""
+
+    @property
+    def xyz(self) -> npt.NDArray[np.float64]:
+        """(frames, points, 3) in the take's units; NaN at gaps; a view of the take."""
+    @property
+    def valid(self) -> npt.NDArray[np.bool_]:
+        """(frames, points): False at gaps; a view of the take."""
+    @property
+    def frames(self) -> int: ...
+    @property
+    def points(self) -> int: ...
+    labels: List[str]
+    rate: float
+    units: str
+    first_frame: int
+    @property
+    def descriptions(self) -> List[str]: ...
+    @property
+    def source(self) -> str: ...
+    @property
+    def format(self) -> str:
+        """"c3d", "trc", "pcd-folder" or "unknown"."""
+    @property
+    def warnings(self) -> List[str]: ...
+    @property
+    def analog(self) -> npt.NDArray[np.float64]:
+        """(samples, channels), the stored numbers; (0, 0) without analog."""
+    @property
+    def analog_labels(self) -> List[str]: ...
+    @property
+    def analog_rate(self) -> float: ...
+    @property
+    def analog_samples_per_frame(self) -> int: ...
+    @property
+    def rotations(self) -> Dict[str, Any]:
+        """matrices float32 (samples, segments, 4, 4), reliability, labels, rate, ..."""
+    @property
+    def attributes(self) -> Dict[str, np.ndarray]:
+        """name -> (frames, points) or (frames, points, count) of the field's type."""
+    @property
+    def gap_samples(self) -> int: ...
+    def copy(self) -> "Take": ...
+    @staticmethod
+    def from_arrays(
+        xyz: npt.ArrayLike,
+        valid: Optional[npt.ArrayLike] = None,
+        rate: float = 100.0,
+        units: str = "mm",
+        labels: Optional[List[str]] = None,
+        first_frame: int = 1,
+        analog: Optional[npt.ArrayLike] = None,
+        analog_rate: float = 0.0,
+        analog_labels: Optional[List[str]] = None,
+        attributes: Optional[Mapping[str, npt.ArrayLike]] = None,
+        rotations: Optional[Mapping[str, Any]] = None,
+    ) -> "Take":
+        """A Take from numpy arrays (see capz.Take.from_arrays' docstring)."""
+
+class CapzFile:
+    def __init__(self, path: str) -> None: ...
+    def read_frames(self, first: int, count: Optional[int]) -> Take: ...
+    @property
+    def info(self) -> Dict[str, Any]: ...
+    @property
+    def frames(self) -> int: ...
+    @property
+    def points(self) -> int: ...
+    @property
+    def path(self) -> str: ...
+
+def take_from_arrays(
+    xyz: np.ndarray,
+    valid: np.ndarray,
+    rate: float,
+    units: str,
+    labels: List[str],
+    first_frame: int,
+    analog: Optional[np.ndarray],
+    analog_rate: float,
+    analog_labels: List[str],
+    attributes: List[Tuple[str, str, int, int, np.ndarray]],
+    rotations: Optional[Tuple[np.ndarray, np.ndarray, List[str], float]],
+) -> Take: ...
+def read(path: str) -> Take: ...
+def write(take: Take, path: str, overwrite: bool, pcd_encoding: str, c3d_float: bool, drop_fields: bool) -> None: ...
+def compress(
+    take: Take,
+    lossless: bool,
+    kg_error: Optional[float],
+    max_error: Optional[str],
+    units: str,
+    codec: str,
+    clusters: int,
+    window: int,
+    check: bool,
+    codec_options: Dict[str, str],
+) -> Tuple[bytes, Dict[str, Any]]: ...
+def decompress(data: Any, name: str) -> Take: ...
+def compress_file(
+    input: str,
+    output: str,
+    lossless: bool,
+    kg_error: Optional[float],
+    max_error: Optional[str],
+    units: str,
+    codec: str,
+    clusters: int,
+    window: int,
+    check: bool,
+    codec_options: Dict[str, str],
+    overwrite: bool,
+) -> Dict[str, Any]: ...
+def compare(a: Take, b: Take) -> Dict[str, Any]: ...
+def parse_length(text: str, take_units: str, assume_units: str = "") -> float: ...
+def units_to_metres(units: str) -> float: ...

@@ -1,0 +1,567 @@
+// capz._capz: the library's Take and calls for Python (python/capz/__init__.py wraps this module
+// and checks arguments; docs/PYTHON.md documents the package).
+//
+// - A Take's arrays are numpy views of the Take's own storage (no copy on the way out); each
+//   view keeps the Take alive. Gap samples' coordinates are unspecified by contract (take.h),
+//   so a Take handed to Python has NaN there.
+// - Arrays on the way in arrive checked and contiguous (the Python layer) and are copied once
+//   into the Take's storage.
+// - Reading, writing and coding run with the GIL released; each call works on its own Take, so
+//   several threads can code separate Takes at once.
+// - capz::Error becomes capz.Error (python/capz/_error.py) with the code's name, the message and
+//   the CLI's exit status.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "capz/codec.h"
+#include "capz/compress_file.h"
+#include "capz/error.h"
+#include "capz/file.h"
+#include "capz/io.h"
+#include "capz/metrics.h"
+#include "capz/version.h"
+
+namespace py = pybind11;
+
+namespace {
+
+using TakePtr = std::shared_ptr<capz::Take>;
+
+[[noreturn]] void invalid(const std::string& what) {
+  capz::fail(capz::ErrorCode::kInvalidParameter, "", what);
+}
+
+// A Take for Python: its arrays checked against its counts (the views rely on them), validity
+// as 0 or 1 (numpy's bool), gaps set to NaN (their values are unspecified by contract).
+TakePtr adopt(capz::Take&& t) {
+  auto p = std::make_shared<capz::Take>(std::move(t));
+  const size_t n = p->frames * p->points;
+  if (p->xyz.size() != n * 3 || p->valid.size() != n)
+    capz::fail(capz::ErrorCode::kInternal, p->source,
+               "take arrays do not match its frame and point counts");
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (size_t i = 0; i < n; ++i) {
+    p->valid[i] = p->valid[i] ? 1 : 0;
+    if (!p->valid[i]) p->xyz[3 * i] = p->xyz[3 * i + 1] = p->xyz[3 * i + 2] = nan;
+  }
+  return p;
+}
+
+// A numpy array over `data` (C order unless `strides` are given) that keeps `owner` alive.
+py::array view(py::handle owner, const py::dtype& dt, const std::vector<py::ssize_t>& shape,
+               const void* data, std::vector<py::ssize_t> strides = {}) {
+  if (strides.empty()) {
+    strides.assign(shape.size(), dt.itemsize());
+    for (size_t i = shape.size(); i-- > 1;) strides[i - 1] = strides[i] * shape[i];
+  }
+  return py::array(dt, shape, strides, data, owner);
+}
+
+py::ssize_t ss(size_t v) {
+  return static_cast<py::ssize_t>(v);
+}
+
+// numpy's name of a PCD field type: 'F' 4 -> "<f4", 'U' 2 -> "<u2", 'I' 8 -> "<i8".
+std::string attribute_dtype(char type, int size) {
+  const char kind = type == 'F' ? 'f' : type == 'U' ? 'u' : type == 'I' ? 'i' : '?';
+  const bool ok = kind != '?' && (size == 1 || size == 2 || size == 4 || size == 8) &&
+                  (kind != 'f' || size == 4 || size == 8);
+  if (!ok)
+    invalid("attribute type " + std::string(1, type) + " of " + std::to_string(size) +
+            " bytes has no numpy dtype");
+  return std::string("<") + kind + std::to_string(size);
+}
+
+py::dict attributes_of(py::handle self, const capz::Take& t) {
+  py::dict d;
+  std::map<std::string, int> seen;
+  for (const capz::PointAttribute& a : t.attributes) {
+    const size_t count = static_cast<size_t>(a.count);
+    if (a.count < 1 || a.data.size() != t.frames * t.points * a.bytes_per_point())
+      capz::fail(capz::ErrorCode::kInternal, t.source,
+                 "attribute '" + a.name + "' holds " + std::to_string(a.data.size()) +
+                     " bytes, not frames x points x count x size");
+    std::vector<py::ssize_t> shape = {ss(t.frames), ss(t.points)};
+    if (count > 1) shape.push_back(ss(count));
+    // A name repeated in the source (PCD padding "_") gets "#2", "#3", ...
+    const int n = ++seen[a.name];
+    const std::string key = n == 1 ? a.name : a.name + "#" + std::to_string(n);
+    d[py::str(key)] = view(self, py::dtype(attribute_dtype(a.type, a.size)), shape, a.data.data());
+  }
+  return d;
+}
+
+py::dict error_stats(const capz::ErrorStats& e) {
+  py::dict d;
+  d["max_error_per_coordinate"] = e.max_abs;
+  d["max_error_euclidean"] = e.max_error;
+  d["rmse"] = e.rmse;
+  d["kg_error_percent"] = e.kg_error;
+  d["psnr_db"] = e.psnr;
+  d["samples"] = e.samples;
+  d["mask_mismatches"] = e.mask_mismatches;
+  return d;
+}
+
+py::dict compress_stats(const capz::CompressStats& s) {
+  py::dict d;
+  d["bytes"] = s.bytes;
+  d["raw_float32_position_bytes"] = s.raw_bytes;
+  d["bpvf"] = s.bpvf;
+  d["grid_step"] = s.step;
+  d["mode"] = s.mode;
+  d["codec"] = s.codec;
+  d["lossless"] = s.lossless;
+  d["error"] = error_stats(s.error);
+  d["position_bytes"] = s.position_bytes;
+  d["analog_bytes"] = s.analog_bytes;
+  d["rotation_bytes"] = s.rotation_bytes;
+  d["other_bytes"] = s.other_bytes;
+  return d;
+}
+
+// The same members as `capz info --json` on a .capz (apps/capz/cmd_info_capz.cpp).
+py::dict info_dict(const std::string& path, const std::vector<uint8_t>& bytes) {
+  const capz::StreamInfo si = capz::describe(bytes.data(), bytes.size(), path);
+  py::dict d;
+  d["file"] = path;
+  d["format"] = "capz";
+  d["version"] = std::to_string(si.major) + "." + std::to_string(si.minor);
+  d["bytes"] = bytes.size();
+  d["source_format"] = capz::format_name(si.source_format);
+  d["source_name"] = si.source_name;
+  d["frames"] = si.frames;
+  d["points"] = si.points;
+  d["rate"] = si.rate;
+  d["units"] = si.units;
+  d["mode"] = si.mode;
+  d["codec"] = si.codec;
+  d["lossless"] = si.lossless;
+  d["grid_step"] = si.step;
+  d["max_error"] = si.max_error;
+  if (si.transform_output) d["kg_target"] = si.kg_target;
+  d["window_frames"] = si.window_frames;
+  d["windows"] = si.windows;
+  d["analog_channels"] = si.analog_channels;
+  d["analog_samples_per_frame"] = si.analog_samples_per_frame;
+  py::dict rot;
+  rot["segments"] = si.rotation_segments;
+  rot["samples"] = si.rotation_segments > 0
+                       ? si.frames * static_cast<size_t>(si.rotation_samples_per_frame)
+                       : size_t{0};
+  rot["rate"] = si.rotation_rate;
+  rot["samples_per_frame"] = si.rotation_samples_per_frame;
+  rot["labels"] = si.rotation_labels;
+  d["rotations"] = rot;
+  d["bpvf"] = capz::bpvf(bytes.size(), si.frames, si.points);
+  py::dict chunks;
+  for (const auto& kv : si.chunk_bytes) chunks[py::str(kv.first)] = kv.second;
+  d["chunk_bytes"] = chunks;
+  return d;
+}
+
+// True for a file that starts with the .capz magic.
+bool file_is_capz(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  uint8_t head[16] = {};
+  in.read(reinterpret_cast<char*>(head), sizeof head);
+  return in.gcount() > 0 && capz::is_capz(head, static_cast<size_t>(in.gcount()));
+}
+
+// Contiguous bytes of a Python array as the Python layer hands them over.
+const uint8_t* array_bytes(const py::array& a, size_t expect_bytes, const char* what) {
+  if (!(a.flags() & py::array::c_style) || static_cast<size_t>(a.nbytes()) != expect_bytes)
+    invalid(std::string(what) + ": expected a C-contiguous array of " +
+            std::to_string(expect_bytes) + " bytes");
+  return static_cast<const uint8_t*>(a.data());
+}
+
+// Take.from_arrays after the Python layer's checks: xyz float64 (F, N, 3), valid uint8 (F, N),
+// analog float64 (S, C) or None, attributes [(name, type, size, count, array)].
+TakePtr take_from_arrays(const py::array& xyz, const py::array& valid, double rate,
+                         const std::string& units, const std::vector<std::string>& labels,
+                         int64_t first_frame, const std::optional<py::array>& analog,
+                         double analog_rate, const std::vector<std::string>& analog_labels,
+                         const std::vector<py::tuple>& attributes,
+                         const std::optional<py::tuple>& rotations) {
+  if (xyz.ndim() != 3 || xyz.shape(2) != 3) invalid("xyz must have shape (frames, points, 3)");
+  capz::Take t;
+  const size_t F = static_cast<size_t>(xyz.shape(0)), N = static_cast<size_t>(xyz.shape(1));
+  t.resize(F, N);
+  if (F * N > 0) {
+    std::memcpy(t.xyz.data(), array_bytes(xyz, F * N * 3 * sizeof(double), "xyz"),
+                F * N * 3 * sizeof(double));
+    std::memcpy(t.valid.data(), array_bytes(valid, F * N, "valid"), F * N);
+  }
+  for (size_t i = 0; i < F * N; ++i) {
+    t.valid[i] = t.valid[i] ? 1 : 0;
+    for (int a = 0; t.valid[i] && a < 3; ++a)
+      if (!std::isfinite(t.xyz[3 * i + static_cast<size_t>(a)]))
+        invalid("xyz[" + std::to_string(i / N) + ", " + std::to_string(i % N) +
+                "] is marked valid but is not a finite number");
+  }
+  t.rate = rate;
+  t.units = units;
+  t.first_frame = first_frame;
+  t.labels = labels;
+  if (t.labels.empty()) t.labels.assign(N, "");
+  if (t.labels.size() != N) invalid("labels: one per point expected");
+  if (analog) {
+    const py::array& an = *analog;
+    if (an.ndim() != 2) invalid("analog must have shape (samples, channels)");
+    const size_t S = static_cast<size_t>(an.shape(0)), C = static_cast<size_t>(an.shape(1));
+    if (C > 0) {
+      if (F == 0 || S % F != 0 || S == 0)
+        invalid("analog: samples must be a positive multiple of the frames");
+      t.analog.channels = static_cast<int>(C);
+      t.analog.samples_per_frame = static_cast<int>(S / F);
+      t.analog.rate = analog_rate;
+      t.analog.labels = analog_labels;
+      if (t.analog.labels.empty()) t.analog.labels.assign(C, "");
+      if (t.analog.labels.size() != C) invalid("analog_labels: one per channel expected");
+      t.analog.values.resize(S * C);
+      std::memcpy(t.analog.values.data(), array_bytes(an, S * C * sizeof(double), "analog"),
+                  S * C * sizeof(double));
+    }
+  }
+  if (rotations) {  // (matrices float32 (S, G, 16) column-major, reliability (S, G), labels, rate)
+    const py::tuple& r = *rotations;
+    const py::array mats = r[0].cast<py::array>(), rel = r[1].cast<py::array>();
+    if (mats.ndim() != 3 || mats.shape(2) != 16) invalid("rotation matrices: shape (S, G, 16)");
+    const size_t S = static_cast<size_t>(mats.shape(0)), G = static_cast<size_t>(mats.shape(1));
+    if (G > 0) {
+      if (F == 0 || S == 0 || S % F != 0)
+        invalid("rotations: samples must be a positive multiple of the frames");
+      capz::Rotations& ro = t.rotations;
+      ro.segments = static_cast<int>(G);
+      ro.samples_per_frame = static_cast<int>(S / F);
+      ro.labels = r[2].cast<std::vector<std::string>>();
+      ro.rate = r[3].cast<double>();
+      if (ro.labels.size() != G) invalid("rotation labels: one per segment expected");
+      ro.matrices.resize(S * G * 16);
+      ro.reliability.resize(S * G);
+      std::memcpy(ro.matrices.data(), array_bytes(mats, S * G * 16 * 4, "rotation matrices"),
+                  S * G * 16 * 4);
+      std::memcpy(ro.reliability.data(), array_bytes(rel, S * G * 4, "rotation reliability"),
+                  S * G * 4);
+    }
+  }
+  for (const py::tuple& at : attributes) {
+    capz::PointAttribute a;
+    a.name = at[0].cast<std::string>();
+    a.type = at[1].cast<std::string>().at(0);
+    a.size = at[2].cast<int>();
+    a.count = at[3].cast<int>();
+    attribute_dtype(a.type, a.size);
+    if (a.count < 1) invalid("attribute '" + a.name + "': count must be >= 1");
+    const py::array arr = at[4].cast<py::array>();
+    a.data.resize(F * N * a.bytes_per_point());
+    if (!a.data.empty())
+      std::memcpy(a.data.data(), array_bytes(arr, a.data.size(), a.name.c_str()), a.data.size());
+    t.attributes.push_back(std::move(a));
+  }
+  return adopt(std::move(t));
+}
+
+capz::CompressOptions coding_options(const std::string& codec, int clusters, size_t window,
+                                     bool check,
+                                     const std::map<std::string, std::string>& codec_options) {
+  capz::CompressOptions o;
+  o.codec = codec;
+  o.clusters = clusters;
+  o.window_frames = window;
+  o.check = check;
+  o.codec_options = codec_options;
+  return o;
+}
+
+capz::CompressTarget target_of(bool lossless, std::optional<double> kg_error,
+                               std::optional<std::string> max_error) {
+  capz::CompressTarget t;
+  t.lossless = lossless;
+  t.kg_error = kg_error;
+  t.max_error = std::move(max_error);
+  return t;
+}
+
+// capz.compress: (bytes, stats). `units` is given to a take without units, as --units does.
+py::tuple compress_take(const capz::Take& take, bool lossless, std::optional<double> kg_error,
+                        std::optional<std::string> max_error, const std::string& units,
+                        const std::string& codec, int clusters, size_t window, bool check,
+                        const std::map<std::string, std::string>& codec_options) {
+  std::vector<uint8_t> bytes;
+  capz::CompressStats st;
+  {
+    py::gil_scoped_release nogil;
+    if (!units.empty() && capz::units_to_metres(units) == 0)
+      invalid("units: unknown unit '" + units + "'");
+    const bool give_units = !units.empty() && capz::units_to_metres(take.units) == 0;
+    std::unique_ptr<capz::Take> with_units;
+    if (give_units) {  // a copy: the caller's take is left as it is
+      with_units = std::make_unique<capz::Take>(take);
+      with_units->units = units;
+    }
+    const capz::Take& t = give_units ? *with_units : take;
+    capz::CompressOptions opts = coding_options(codec, clusters, window, check, codec_options);
+    std::unique_ptr<capz::FrameSource> src = capz::take_frames(t);
+    capz::set_compress_target(*src, target_of(lossless, kg_error, std::move(max_error)), &opts);
+    bytes = capz::compress(t, opts, &st);
+  }
+  return py::make_tuple(py::bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
+                        compress_stats(st));
+}
+
+// A .capz opened for random access: the file's bytes in memory, frames decoded on demand.
+class CapzFile {
+ public:
+  explicit CapzFile(const std::string& path) : path_(path) {
+    py::gil_scoped_release nogil;
+    bytes_ = capz::read_file(path);
+    info_ = capz::describe(bytes_.data(), bytes_.size(), path);
+  }
+  TakePtr read_frames(size_t first, std::optional<size_t> count) const {
+    const size_t n = count ? *count : info_.frames;
+    capz::Take t;
+    {
+      py::gil_scoped_release nogil;
+      t = capz::decompress_frames(bytes_.data(), bytes_.size(), first, n, path_);
+    }
+    return adopt(std::move(t));
+  }
+  py::dict info() const { return info_dict(path_, bytes_); }
+  size_t frames() const { return info_.frames; }
+  size_t points() const { return info_.points; }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  std::vector<uint8_t> bytes_;
+  capz::StreamInfo info_;
+};
+
+void translate_errors(std::exception_ptr p) {  // NOLINT: pybind11 passes it by value
+  try {
+    if (p) std::rethrow_exception(p);
+  } catch (const capz::Error& e) {
+    py::object cls = py::module_::import("capz._error").attr("Error");
+    py::object exc = cls(capz::error_code_name(e.code()), e.what(), static_cast<int>(e.code()));
+    PyErr_SetObject(cls.ptr(), exc.ptr());
+  }
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_capz, m) {
+  m.doc() = "capz's C++ library (use the package capz, which wraps this module)";
+  py::register_exception_translator(&translate_errors);
+  m.attr("version") = capz::version_string();
+
+  py::class_<capz::Take, TakePtr> take_class(
+      m, "Take", "A motion-capture take: positions, gaps, analog, metadata");
+  take_class
+      .def_property_readonly(
+          "xyz",
+          [](const py::object& self) {
+            const auto& t = self.cast<const capz::Take&>();
+            return view(self, py::dtype::of<double>(), {ss(t.frames), ss(t.points), 3},
+                        t.xyz.data());
+          },
+          "positions, float64 (frames, points, 3) in the take's units; NaN at gaps. A view of "
+          "the take's storage (no copy): writing to it changes the take")
+      .def_property_readonly(
+          "valid",
+          [](const py::object& self) {
+            const auto& t = self.cast<const capz::Take&>();
+            return view(self, py::dtype("bool"), {ss(t.frames), ss(t.points)}, t.valid.data());
+          },
+          "bool (frames, points): True where a sample holds a measured "
+          "position, False at a gap (a view, like xyz)")
+      .def_property_readonly("frames", [](const capz::Take& t) { return t.frames; })
+      .def_property_readonly("points", [](const capz::Take& t) { return t.points; })
+      .def_property(
+          "labels", [](const capz::Take& t) { return t.labels; },
+          [](capz::Take& t, const std::vector<std::string>& v) {
+            if (v.size() != t.points) invalid("labels: one per point expected");
+            t.labels = v;
+          },
+          "one label per point (may be empty strings)")
+      .def_property_readonly("descriptions", [](const capz::Take& t) { return t.descriptions; })
+      .def_property(
+          "rate", [](const capz::Take& t) { return t.rate; },
+          [](capz::Take& t, double r) {
+            if (!(r >= 0) || !std::isfinite(r)) invalid("rate must be a finite number >= 0");
+            t.rate = r;
+          },
+          "frames per second; 0 when unknown")
+      .def_property(
+          "units", [](const capz::Take& t) { return t.units; },
+          [](capz::Take& t, const std::string& u) {
+            if (!u.empty() && capz::units_to_metres(u) == 0)
+              invalid("units: unknown unit '" + u + "'");
+            t.units = u;
+          },
+          "length units of xyz as the source says (\"mm\", \"cm\", \"m\"); \"\" when unknown")
+      .def_property(
+          "first_frame", [](const capz::Take& t) { return t.first_frame; },
+          [](capz::Take& t, int64_t f) { t.first_frame = f; },
+          "number of the first frame as the source counts them")
+      .def_property_readonly("source", [](const capz::Take& t) { return t.source; })
+      .def_property_readonly("format",
+                             [](const capz::Take& t) { return capz::format_name(t.format); })
+      .def_property_readonly("warnings", [](const capz::Take& t) { return t.warnings; })
+      .def_property_readonly(
+          "analog",
+          [](const py::object& self) {
+            const auto& t = self.cast<const capz::Take&>();
+            const size_t C = static_cast<size_t>(std::max(0, t.analog.channels));
+            const size_t S = C ? t.analog.values.size() / C : 0;
+            return view(self, py::dtype::of<double>(), {ss(S), ss(C)}, t.analog.values.data());
+          },
+          "analog channels, float64 (samples, channels), samples = frames x "
+          "analog_samples_per_frame, the numbers the file stores (apply "
+          "ANALOG:SCALE/OFFSET for volts); shape (0, 0) without analog")
+      .def_property_readonly("analog_labels", [](const capz::Take& t) { return t.analog.labels; })
+      .def_property_readonly("analog_rate", [](const capz::Take& t) { return t.analog.rate; })
+      .def_property_readonly("analog_samples_per_frame",
+                             [](const capz::Take& t) { return t.analog.samples_per_frame; })
+      .def_property_readonly(
+          "rotations",
+          [](const py::object& self) {
+            const auto& t = self.cast<const capz::Take&>();
+            const capz::Rotations& r = t.rotations;
+            const size_t G = static_cast<size_t>(std::max(0, r.segments));
+            const size_t S = r.samples(t.frames);
+            if (r.matrices.size() != S * G * 16 || r.reliability.size() != S * G)
+              capz::fail(capz::ErrorCode::kInternal, t.source,
+                         "rotation arrays do not match samples x segments");
+            py::dict d;
+            const py::ssize_t f = sizeof(float);
+            // M[s, g, row, col] = matrices[(s * G + g) * 16 + col * 4 + row] (column-major).
+            d["matrices"] = view(self, py::dtype::of<float>(), {ss(S), ss(G), 4, 4},
+                                 r.matrices.data(), {ss(G) * 16 * f, 16 * f, f, 4 * f});
+            d["reliability"] =
+                view(self, py::dtype::of<float>(), {ss(S), ss(G)}, r.reliability.data());
+            d["labels"] = r.labels;
+            d["rate"] = r.rate;
+            d["samples_per_frame"] = r.samples_per_frame;
+            return d;
+          },
+          "C3D rotations: dict with matrices float32 (samples, segments, 4, 4) indexed "
+          "[sample, segment, row, column], reliability float32 (samples, segments), labels, "
+          "rate and samples_per_frame")
+      .def_property_readonly(
+          "attributes",
+          [](const py::object& self) {
+            return attributes_of(self, self.cast<const capz::Take&>());
+          },
+          "per-point fields of the source besides x y z (PCD: rgb, "
+          "intensity, normals, ...): dict name -> array (frames, points) or "
+          "(frames, points, count) of the field's type (float32, uint8, ...)")
+      .def_property_readonly("gap_samples", &capz::Take::gap_samples)
+      .def(
+          "copy", [](const capz::Take& t) { return std::make_shared<capz::Take>(t); },
+          "a deep copy of the take")
+      .def("__repr__", [](const capz::Take& t) {
+        std::string s = "<capz.Take " + std::to_string(t.frames) + " frames x " +
+                        std::to_string(t.points) + " points";
+        if (t.rate > 0) {
+          char rate[32];
+          std::snprintf(rate, sizeof rate, ", %g Hz", t.rate);
+          s += rate;
+        }
+        if (!t.units.empty()) s += ", " + t.units;
+        if (t.analog.channels > 0) s += ", " + std::to_string(t.analog.channels) + " analog";
+        if (!t.attributes.empty()) s += ", " + std::to_string(t.attributes.size()) + " attributes";
+        if (t.format != capz::Format::kUnknown)
+          s += ", from " + std::string(capz::format_name(t.format));
+        return s + ">";
+      });
+
+  m.def("take_from_arrays", &take_from_arrays);
+
+  m.def("read", [](const std::string& path) {
+    capz::Take t;
+    {
+      py::gil_scoped_release nogil;
+      if (file_is_capz(path)) {
+        const std::vector<uint8_t> bytes = capz::read_file(path);
+        t = capz::decompress(bytes.data(), bytes.size(), path);
+      } else {
+        t = capz::read_take(path);
+      }
+    }
+    return adopt(std::move(t));
+  });
+
+  m.def("write", [](const capz::Take& take, const std::string& path, bool overwrite,
+                    const std::string& pcd_encoding, bool c3d_float, bool drop_fields) {
+    capz::WriteOptions o;
+    o.overwrite = overwrite;
+    o.pcd_encoding = pcd_encoding;
+    o.c3d_float = c3d_float;
+    o.drop_fields = drop_fields;
+    py::gil_scoped_release nogil;
+    capz::write_take(take, path, o);
+  });
+
+  m.def("compress", &compress_take);
+
+  m.def("decompress", [](const py::buffer& data, const std::string& name) {
+    const py::buffer_info b = data.request();
+    if (b.ndim != 1 || b.itemsize != 1) invalid("decompress wants bytes (a 1-D buffer of bytes)");
+    capz::Take t;
+    {
+      py::gil_scoped_release nogil;
+      t = capz::decompress(static_cast<const uint8_t*>(b.ptr), static_cast<size_t>(b.size), name);
+    }
+    return adopt(std::move(t));
+  });
+
+  m.def("compress_file",
+        [](const std::string& in, const std::string& out, bool lossless,
+           std::optional<double> kg_error, std::optional<std::string> max_error,
+           const std::string& units, const std::string& codec, int clusters, size_t window,
+           bool check, const std::map<std::string, std::string>& codec_options, bool overwrite) {
+          capz::CompressStats st;
+          {
+            py::gil_scoped_release nogil;
+            capz::compress_file(in, out, target_of(lossless, kg_error, std::move(max_error)),
+                                coding_options(codec, clusters, window, check, codec_options),
+                                units, overwrite, &st);
+          }
+          return compress_stats(st);
+        });
+
+  m.def("compare", [](const capz::Take& a, const capz::Take& b) {
+    capz::ErrorStats e;
+    {
+      py::gil_scoped_release nogil;
+      e = capz::compare(a, b);
+    }
+    return error_stats(e);
+  });
+
+  m.def("parse_length", &capz::parse_length);
+  m.def("units_to_metres", &capz::units_to_metres);
+
+  py::class_<CapzFile>(m, "CapzFile")
+      .def(py::init<const std::string&>())
+      .def("read_frames", &CapzFile::read_frames)
+      .def_property_readonly("info", &CapzFile::info)
+      .def_property_readonly("frames", &CapzFile::frames)
+      .def_property_readonly("points", &CapzFile::points)
+      .def_property_readonly("path", &CapzFile::path);
+}

@@ -1,0 +1,64 @@
+"""compress_file gives the same bytes as `capz compress`, for every input kind and target."""
+import json
+
+import pytest
+
+import capz
+from conftest import cli, shared
+
+CASES = [
+    ("repo:EB015PI.c3d", {"max_error": "0.5mm"}, ["--max-error", "0.5mm"]),
+    ("repo:std_walking5_markers.trc", {"lossless": True}, ["--lossless"]),
+    ("c3d/btkdata/PiG/PiG_Calibration2-NoOption.c3d", {}, []),  # the default bound, 0.1 mm
+    ("c3d/btkdata/PiG/PiG_Calibration2-NoOption.c3d", {"max_error": "0.5mm"},
+     ["--max-error", "0.5mm"]),
+    ("c3d/c3dorg/sample_01/Eb015vi.c3d", {"lossless": True}, ["--lossless"]),
+    ("trc/opensim/dataWithBlanksForMissingMarkers.trc", {"max_error": 0.02},
+     ["--max-error", "0.02"]),
+    ("trc/opensim/std_walking2_markers.trc", {"kg_error": 0.3}, ["--kg-error", "0.3"]),
+    ("trc/opensim/std_walking2_markers.trc", {"codec": "ts", "max_error": "0.3mm"},
+     ["--codec", "ts", "--max-error", "0.3mm"]),
+    ("c3d/c3dorg/sample_01/Eb015pr.c3d", {"codec": "auto", "window": 64},
+     ["--codec", "auto", "--window", "64"]),
+    ("pcd/pcow", {}, []),  # no units: 1e-4 of the bounding-box diagonal
+    ("pcd/pcow", {"max_error": "0.5mm", "units": "m"}, ["--max-error", "0.5mm", "--units", "m"]),
+]
+
+
+@pytest.mark.parametrize("rel,kwargs,args", CASES)
+def test_same_bytes_as_cli(rel, kwargs, args, tmp_path):
+    src = shared(rel)
+    ours, theirs = str(tmp_path / "py.capz"), str(tmp_path / "cli.capz")
+    report = capz.compress_file(src, ours, **kwargs)
+    out = json.loads(cli("compress", src, "-o", theirs, "--json", *args))
+    with open(ours, "rb") as a, open(theirs, "rb") as b:
+        mine, cli_bytes = a.read(), b.read()
+    assert mine == cli_bytes
+    assert report["bytes"] == out["output_bytes"] == len(mine)
+    assert report["grid_step"] == out["grid_step"] and report["codec"] == out["codec"]
+
+
+def test_compress_file_refuses_to_overwrite(tmp_path):
+    src = shared("trc/opensim/std_walking2_markers.trc")
+    out = str(tmp_path / "o.capz")
+    capz.compress_file(src, out)
+    with pytest.raises(capz.Error) as e:
+        capz.compress_file(src, out)
+    assert e.value.code == "usage" and e.value.exit_status == 1
+    capz.compress_file(src, out, overwrite=True, max_error="1mm")
+
+
+def test_compress_file_default_output_and_bad_options(tmp_path):
+    import shutil
+
+    src = str(tmp_path / "w.trc")
+    shutil.copy(shared("trc/opensim/std_walking2_markers.trc"), src)
+    capz.compress_file(src)
+    assert capz.open(src + ".capz").frames == capz.read(src).frames
+    for kwargs in ({"max_error": "0.1mm", "lossless": True}, {"max_error": "-1"},
+                   {"max_error": "0"}, {"kg_error": 0}, {"max_error": "1 parsec"},
+                   {"codec": "nope"}, {"units": "furlong"}):
+        with pytest.raises(capz.Error) as e:
+            capz.compress_file(src, str(tmp_path / "x.capz"), **kwargs)
+        assert e.value.code in ("usage", "invalid-parameter"), kwargs
+    assert not (tmp_path / "x.capz").exists()  # nothing partial left

@@ -1,0 +1,110 @@
+// capz/compress_file.h: what `capz compress` does between its options and its report.
+#include "capz/compress_file.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "capz/error.h"
+#include "capz/file.h"
+#include "capz/io.h"
+
+namespace capz {
+
+namespace {
+
+// One pass over the source: the bounding box of the valid samples and how many there are.
+struct ValidExtent {
+  double lo[3] = {1e308, 1e308, 1e308}, hi[3] = {-1e308, -1e308, -1e308};
+  size_t valid = 0;
+};
+
+ValidExtent valid_extent(FrameSource& src) {
+  ValidExtent e;
+  FrameBlock b;
+  const size_t F = src.header().frames, B = src.preferred_block();
+  for (size_t f = 0; f < F; f += B) {
+    src.read(f, std::min(B, F - f), &b);
+    for (size_t i = 0; i < b.frames * b.points; ++i)
+      if (b.valid[i]) {
+        ++e.valid;
+        for (int a = 0; a < 3; ++a) {
+          e.lo[a] = std::min(e.lo[a], b.xyz[i * 3 + a]);
+          e.hi[a] = std::max(e.hi[a], b.xyz[i * 3 + a]);
+        }
+      }
+  }
+  return e;
+}
+
+// Default bound for data without units: 1e-4 of the bounding-box diagonal of the valid samples.
+double unitless_default_bound(const ValidExtent& e) {
+  double d2 = 0;
+  for (int a = 0; a < 3; ++a)
+    d2 += e.hi[a] > e.lo[a] ? (e.hi[a] - e.lo[a]) * (e.hi[a] - e.lo[a]) : 0;
+  return d2 > 0 ? 1e-4 * std::sqrt(d2) : 1e-4;
+}
+
+}  // namespace
+
+CompressInput open_compress_input(const std::string& path, bool whole, const std::string& units) {
+  CompressInput input;
+  if (whole) {
+    input.take = std::make_unique<Take>(read_take(path));
+    input.source = take_frames(*input.take);
+  } else {
+    input.source = open_frames(path);
+  }
+  if (!units.empty() && units_to_metres(input.source->header().units) == 0)
+    input.source->edit_header().units = units;
+  if (whole) input.take->units = input.source->header().units;
+  return input;
+}
+
+void set_compress_target(FrameSource& source, const CompressTarget& target, CompressOptions* opts) {
+  const int targets =
+      (target.lossless ? 1 : 0) + (target.kg_error ? 1 : 0) + (target.max_error ? 1 : 0);
+  if (targets > 1)
+    fail(ErrorCode::kUsage, "", "give only one of --max-error, --kg-error, --lossless");
+  opts->lossless = false;
+  opts->kg_error = 0;
+  opts->max_error = 0;
+  const Take& take = source.header();
+  ValidExtent extent;
+  if (target.lossless) {
+    opts->lossless = true;
+  } else if (target.kg_error) {
+    opts->kg_error = *target.kg_error;
+    if (!(opts->kg_error > 0)) fail(ErrorCode::kInvalidParameter, "", "--kg-error must be > 0");
+  } else if (take.units.empty() && (extent = valid_extent(source)).valid == 0) {
+    opts->max_error = 1;  // no positions to bound (analog-only take): any bound will do
+  } else if (!target.max_error && take.units.empty()) {
+    opts->max_error = unitless_default_bound(extent);
+  } else {
+    opts->max_error = parse_length(target.max_error ? *target.max_error : "0.1mm", take.units);
+    if (!(opts->max_error > 0))
+      fail(ErrorCode::kInvalidParameter, "", "--max-error must be > 0 (or use --lossless)");
+  }
+}
+
+void compress_input(CompressInput& input, const CompressOptions& opts, const std::string& out,
+                    bool overwrite, CompressStats* stats) {
+  if (opts.codec == "auto")
+    write_file(out, compress(*input.take, opts, stats), overwrite);
+  else
+    compress_stream(*input.source, opts, out, overwrite, stats);
+}
+
+void compress_file(const std::string& in, const std::string& out, const CompressTarget& target,
+                   const CompressOptions& opts, const std::string& units, bool overwrite,
+                   CompressStats* stats) {
+  if (!units.empty() && units_to_metres(units) == 0)
+    fail(ErrorCode::kInvalidParameter, "", "--units: unknown unit '" + units + "'");
+  check_output_free(out, overwrite);
+  CompressInput input = open_compress_input(in, opts.codec == "auto", units);
+  CompressOptions o = opts;
+  set_compress_target(*input.source, target, &o);
+  compress_input(input, o, out, overwrite, stats);
+}
+
+}  // namespace capz

@@ -1,0 +1,24 @@
+// LZF compression, the byte format PCL's binary_compressed PCD bodies use (liblzf's): a stream
+// of runs, each a control byte c then
+//   c < 32: c + 1 literal bytes;
+//   else a copy of len bytes from `distance` bytes back: len = (c >> 5) + 2, plus a following
+//   byte when c >> 5 == 7; then a byte b, distance = ((c & 31) << 8) + b + 1 (at most 8192).
+// Written here (a hash of 3-byte prefixes, greedy matches) so capz writes PCD files itself;
+// PCL's reader decompresses them.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace capz {
+
+std::vector<uint8_t> lzf_compress(const uint8_t* data, size_t size);
+
+// Decompresses exactly `size` bytes; throws Error(kCorrupt) naming `what` on a stream that is
+// malformed, references before its start, or does not give exactly `size` bytes.
+std::vector<uint8_t> lzf_decompress(const uint8_t* data, size_t n, size_t size,
+                                    const std::string& what);
+
+}  // namespace capz

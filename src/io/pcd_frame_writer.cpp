@@ -1,0 +1,164 @@
+// PCD frame files (io/pcd_frame_writer.h).
+#include "io/pcd_frame_writer.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstring>
+
+#include "capz/error.h"
+#include "coding/lzf.h"
+
+namespace capz {
+
+namespace {
+
+bool is_packed_colour(const PCDField& f) {
+  return f.type == 'F' && f.size == 4 && f.count == 1 && (f.name == "rgb" || f.name == "rgba");
+}
+
+template <typename T>
+void append_float(T v, std::string* s) {
+  if (std::isnan(v)) {
+    *s += "nan";
+  } else if (std::isinf(v)) {
+    *s += v < 0 ? "-inf" : "inf";
+  } else {
+    char buf[64];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    s->append(buf, r.ptr);
+  }
+}
+
+void append_value(const PCDField& f, bool colour, const uint8_t* p, std::string* s) {
+  char buf[32];
+  if (f.type == 'F' && !colour) {
+    if (f.size == 4) {
+      float v;
+      std::memcpy(&v, p, 4);
+      append_float(v, s);
+    } else {
+      double v;
+      std::memcpy(&v, p, 8);
+      append_float(v, s);
+    }
+    return;
+  }
+  uint64_t u = 0;
+  for (int i = 0; i < f.size; ++i) u |= static_cast<uint64_t>(p[i]) << (8 * i);
+  std::to_chars_result r{};
+  if (f.type == 'I') {
+    const int shift = 64 - 8 * f.size;
+    const int64_t v = static_cast<int64_t>(u << shift) >> shift;  // sign-extended
+    r = std::to_chars(buf, buf + sizeof buf, v);
+  } else {
+    r = std::to_chars(buf, buf + sizeof buf, u);
+  }
+  s->append(buf, r.ptr);
+}
+
+std::string header(const PcdFrameLayout& l, size_t n) {
+  std::string h = "# .PCD v" + l.version + " - Point Cloud Data file format\nVERSION " + l.version;
+  std::string fields = "\nFIELDS", sizes = "\nSIZE", types = "\nTYPE", counts = "\nCOUNT";
+  const bool ascii = l.encoding == "ascii";
+  for (const PCDField& f : l.fields) {
+    fields += " " + f.name;
+    sizes += " " + std::to_string(f.size);
+    types += " ";
+    types += ascii && is_packed_colour(f) ? 'U' : f.type;
+    counts += " " + std::to_string(f.count);
+  }
+  h += fields + sizes + types + counts;
+  h += "\nWIDTH " + std::to_string(l.width) + "\nHEIGHT " + std::to_string(l.height);
+  h += "\nVIEWPOINT";
+  static const double kDefault[7] = {0, 0, 0, 1, 0, 0, 0};
+  for (int i = 0; i < 7; ++i) {
+    h += " ";
+    append_float(l.viewpoint.size() == 7 ? l.viewpoint[static_cast<size_t>(i)] : kDefault[i], &h);
+  }
+  h += "\nPOINTS " + std::to_string(n) + "\nDATA " + l.encoding + "\n";
+  return h;
+}
+
+void put_le32(std::vector<uint8_t>* b, uint32_t v) {
+  for (int i = 0; i < 4; ++i) b->push_back(static_cast<uint8_t>(v >> (8 * i)));
+}
+
+}  // namespace
+
+std::vector<uint8_t> pcd_frame_bytes(const PcdFrameLayout& layout, const uint8_t* all_points) {
+  const size_t n = layout.width * layout.height;
+  size_t all_step = 0;
+  for (const PCDField& f : layout.fields)
+    all_step += static_cast<size_t>(f.size) * static_cast<size_t>(f.count);
+  // Padding fields ("_") exist only in binary bodies: PCL's ASCII and compressed readers skip
+  // them, so those encodings leave them out, as PCL's writers do.
+  PcdFrameLayout l = layout;
+  std::vector<uint8_t> packed;
+  const uint8_t* points = all_points;
+  if (l.encoding != "binary") {
+    l.fields.clear();
+    std::vector<std::pair<size_t, size_t>> keep;  // (offset, bytes) of the kept fields
+    size_t off = 0;
+    for (const PCDField& f : layout.fields) {
+      const size_t fs = static_cast<size_t>(f.size) * static_cast<size_t>(f.count);
+      if (f.name != "_") {
+        l.fields.push_back(f);
+        keep.emplace_back(off, fs);
+      }
+      off += fs;
+    }
+    if (l.fields.size() != layout.fields.size()) {
+      for (size_t p = 0; p < n; ++p)
+        for (const auto& k : keep)
+          packed.insert(packed.end(), all_points + p * all_step + k.first,
+                        all_points + p * all_step + k.first + k.second);
+      points = packed.data();
+    }
+  }
+  size_t step = 0;
+  for (const PCDField& f : l.fields)
+    step += static_cast<size_t>(f.size) * static_cast<size_t>(f.count);
+  const std::string h = header(l, n);
+  std::vector<uint8_t> out(h.begin(), h.end());
+  if (l.encoding == "binary") {
+    out.insert(out.end(), points, points + n * step);
+  } else if (l.encoding == "binary_compressed") {
+    std::vector<uint8_t> fm;  // field-major
+    fm.reserve(n * step);
+    size_t off = 0;
+    for (const PCDField& f : l.fields) {
+      const size_t fs = static_cast<size_t>(f.size) * static_cast<size_t>(f.count);
+      for (size_t p = 0; p < n; ++p)
+        fm.insert(fm.end(), points + p * step + off, points + p * step + off + fs);
+      off += fs;
+    }
+    if (fm.size() > 0xFFFFFFFFu)
+      fail(ErrorCode::kUsage, "", "a PCD frame above 4 GiB cannot be binary_compressed");
+    const std::vector<uint8_t> c = lzf_compress(fm.data(), fm.size());
+    put_le32(&out, static_cast<uint32_t>(c.size()));
+    put_le32(&out, static_cast<uint32_t>(fm.size()));
+    out.insert(out.end(), c.begin(), c.end());
+  } else if (l.encoding == "ascii") {
+    std::string body;
+    for (size_t p = 0; p < n; ++p) {
+      const uint8_t* q = points + p * step;
+      bool first = true;
+      for (const PCDField& f : l.fields) {
+        const bool colour = is_packed_colour(f);
+        for (int k = 0; k < f.count; ++k) {
+          if (!first) body += ' ';
+          first = false;
+          append_value(f, colour, q, &body);
+          q += f.size;
+        }
+      }
+      body += '\n';
+    }
+    out.insert(out.end(), body.begin(), body.end());
+  } else {
+    fail(ErrorCode::kInvalidParameter, "", "unknown PCD encoding '" + l.encoding + "'");
+  }
+  return out;
+}
+
+}  // namespace capz

@@ -1,0 +1,90 @@
+// Fuzz target: the ATTR coder of PCD point fields (src/coding/attributes.h, FORMAT.md 5.3).
+// Byte 0 picks the mode and the field set, bytes 1-2 the shape (frames 1..16, points 1..256,
+// width a divisor-free 1..points):
+//   mode even: the rest is an ATTR body; decoding must return or throw capz::Error, and what
+//     decodes must re-encode to a body that decodes to the same bytes;
+//   mode odd: the rest are field bytes (repeated to fill the window), which must round-trip.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "capz/error.h"
+#include "coding/attributes.h"
+#include "fuzz_common.h"
+
+namespace {
+
+capz::AttrSpec spec(const char* name, char type, int size, int count) {
+  capz::AttrSpec s;
+  s.name = name;
+  s.type = type;
+  s.size = size;
+  s.count = count;
+  return s;
+}
+
+// Eight field sets covering every lane kind: colour (F and U), integers of each size and
+// signedness, floats, COUNT above 1.
+std::vector<capz::AttrSpec> field_set(int k) {
+  switch (k & 7) {
+    case 0:
+      return {spec("rgb", 'F', 4, 1)};
+    case 1:
+      return {spec("rgba", 'U', 4, 1), spec("intensity", 'F', 4, 1)};
+    case 2:
+      return {spec("label", 'U', 2, 1), spec("ring", 'U', 1, 1)};
+    case 3:
+      return {spec("t", 'F', 8, 1), spec("id", 'I', 8, 1)};
+    case 4:
+      return {spec("desc", 'F', 4, 5)};
+    case 5:
+      return {spec("a", 'I', 1, 2), spec("b", 'I', 2, 1), spec("c", 'I', 4, 1)};
+    case 6:
+      return {spec("u", 'U', 8, 1), spec("normal_x", 'F', 4, 1)};
+    default:
+      return {spec("rgb", 'U', 4, 1), spec("_", 'U', 1, 3)};
+  }
+}
+
+void round_trip(const std::vector<capz::AttrSpec>& specs,
+                const std::vector<std::vector<uint8_t>>& data, size_t frames, size_t points,
+                size_t width) {
+  const std::vector<uint8_t> enc = capz::encode_attributes(specs, data, frames, points, width);
+  std::vector<std::vector<uint8_t>> back;
+  capz::decode_attributes(enc.data(), enc.size(), specs, frames, points, width, &back,
+                          "re-encoded");
+  CAPZ_FUZZ_CHECK(back == data);
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  if (size < 3) return 0;
+  const uint8_t mode = data[0];
+  const std::vector<capz::AttrSpec> specs = field_set(mode >> 1);
+  const size_t frames = 1 + (data[1] & 15);
+  const size_t points = 1 + data[2];
+  const size_t width = 1 + (static_cast<size_t>(data[1] >> 4) * 7) % points;
+  data += 3;
+  size -= 3;
+  if (mode % 2 == 0) {
+    std::vector<std::vector<uint8_t>> out;
+    try {
+      capz::decode_attributes(data, size, specs, frames, points, width, &out, "fuzz ATTR");
+    } catch (const capz::Error&) {
+      return 0;
+    }
+    round_trip(specs, out, frames, points, width);
+    return 0;
+  }
+  if (size == 0) return 0;
+  std::vector<std::vector<uint8_t>> fields;
+  size_t at = 0;
+  for (const capz::AttrSpec& s : specs) {
+    std::vector<uint8_t> b(frames * points * static_cast<size_t>(s.size * s.count));
+    for (auto& x : b) x = data[at++ % size];
+    fields.push_back(std::move(b));
+  }
+  round_trip(specs, fields, frames, points, width);
+  return 0;
+}
