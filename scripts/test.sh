@@ -30,7 +30,7 @@ if [ "${CAPZ_SKIP_TSAN:-0}" != "1" ]; then
     "-DCMAKE_C_FLAGS_DEBUG=-O1 -g1" -DCAPZ_SANITIZE=thread -DCAPZ_BUILD_BENCH=OFF >/dev/null
   cmake --build build-tsan -j"$(nproc)" --target capz_threads_tests
   # The synthetic and data/ tests (the shared-data ones are for the Release suite): a race or a
-  # lock-order inversion fails the run.
-  TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 build-tsan/tests/capz_threads_tests \
-    --gtest_filter='ThreadsSynthetic.*:ThreadsRepo.*'
+  # lock-order inversion fails the run (third-party suppressions: tests/threads/tsan.supp).
+  TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/tests/threads/tsan.supp" \
+    build-tsan/tests/capz_threads_tests --gtest_filter='ThreadsSynthetic.*:ThreadsRepo.*'
 fi
