@@ -2,7 +2,9 @@
 # Installs what is missing, builds, and runs the whole test suite (ctest) in the Release build;
 # then builds again with AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/, -O1) and
 # runs the unit, round-trip, corrupt-input, reliability and fuzz-corpus-replay tests there.
-# CAPZ_SKIP_ASAN=1 skips the sanitizer pass (e.g. for a quick local run).
+# CAPZ_SKIP_ASAN=1 skips the sanitizer pass (e.g. for a quick local run). Last, a ThreadSanitizer
+# build (build-tsan/) of the libraries and the threads tests alone runs their short tests
+# (-T N's window pipelines); CAPZ_SKIP_TSAN=1 skips it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # ccache keys on paths relative to the checkout, so a fresh clone reuses earlier compilations.
@@ -21,4 +23,14 @@ if [ "${CAPZ_SKIP_ASAN:-0}" != "1" ]; then
   export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
   (cd build-asan && ctest --output-on-failure -j"$(nproc)" --timeout 1800 \
      -L '^(unit|roundtrip|corrupt|reliability|fuzz)$')
+fi
+
+if [ "${CAPZ_SKIP_TSAN:-0}" != "1" ]; then
+  cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g1" \
+    "-DCMAKE_C_FLAGS_DEBUG=-O1 -g1" -DCAPZ_SANITIZE=thread -DCAPZ_BUILD_BENCH=OFF >/dev/null
+  cmake --build build-tsan -j"$(nproc)" --target capz_threads_tests
+  # The synthetic and data/ tests (the shared-data ones are for the Release suite): a race or a
+  # lock-order inversion fails the run (third-party suppressions: tests/threads/tsan.supp).
+  TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/tests/threads/tsan.supp" \
+    build-tsan/tests/capz_threads_tests --gtest_filter='ThreadsSynthetic.*:ThreadsRepo.*'
 fi

@@ -2,9 +2,13 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <system_error>
 
@@ -87,6 +91,22 @@ capz::ErrorCode error_of(F&& f, std::string* msg = nullptr) {
     return e.code();
   }
   return capz::ErrorCode::kInternal;
+}
+
+// A command line run through the shell: its exit status (-1 when it did not exit) and what it
+// printed on stdout and stderr together (collected in `out_file`).
+struct CliResult {
+  int status = -1;
+  std::string out;
+};
+inline CliResult run_command(const std::string& exe, const std::string& args,
+                             const std::string& out_file) {
+  const std::string cmd = "'" + exe + "' " + args + " >'" + out_file + "' 2>&1";
+  const int rc = std::system(cmd.c_str());
+  std::ifstream in(out_file);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str()};
 }
 
 }  // namespace capz_test

@@ -253,8 +253,8 @@ FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
   capz::CompressOptions opts;
   set_coding_options(vm, &opts);
   // -T: job.threads is what this file may use inside the library (1 while a batch codes several
-  // files at once). The library has no thread count yet; when CompressOptions gets one, this is
-  // where it is set: opts.threads = job.threads.
+  // files at once): the windows of the take coded in parallel.
+  opts.threads = static_cast<int>(job.threads);
   const capz::Take& take = input.in.source->header();
   set_target(vm, *input.in.source, &opts);
 

@@ -96,8 +96,9 @@ FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) 
     if (!capz::is_capz(head.data(), head.size()))
       capz::fail(capz::ErrorCode::kNotOurFormat, "stdin", "not a .capz archive");
   }
-  // -T: job.threads is what this file may use inside the library; the decoder takes no thread
-  // count yet (wire it here when it does).
+  // -T: job.threads is what this file may use inside the library (windows decoded ahead).
+  capz::DecompressOptions dopts;
+  dopts.threads = static_cast<int>(job.threads);
   capz::WriteOptions wo;
   wo.overwrite = s.batch.force;
   wo.drop_fields = vm.count("drop-fields") > 0;
@@ -117,7 +118,7 @@ FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) 
     points = take.points;
     rec.units = take.units;
   } else {  // the whole take: decoded and written window by window
-    std::unique_ptr<capz::FrameSource> src = capz::open_capz_frames(in);
+    std::unique_ptr<capz::FrameSource> src = capz::open_capz_frames(in, dopts);
     const capz::Take& take = src->header();
     out = choose_output(job, s, in, take, space);
     frames = take.frames;
@@ -128,7 +129,7 @@ FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) 
     if (same_format(out, take.format) &&
         capz::can_rebuild(capz::original_info(in), take.format == capz::Format::kC3D)) {
       src.reset();
-      capz::rebuild_original(in, out, s.batch.force);
+      capz::rebuild_original(in, out, s.batch.force, dopts);
     } else {
       std::unique_ptr<capz::FrameSink> sink =
           capz::create_frame_sink(take, src->has_sample_words(), out, wo);

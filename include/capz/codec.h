@@ -28,6 +28,9 @@ struct CompressOptions {
   // Frames per independently decodable window, 1 .. 8192; 0: auto_window_frames(points).
   size_t window_frames = 0;
   bool check = true;  // decode every window after writing it and verify the bound / exactness
+  // Worker threads coding windows in parallel (0: all cores). The stream's bytes, the stats and
+  // any error thrown are the same for every count; at most threads + 1 windows are in memory.
+  int threads = 1;
   // Leave the take's point fields (Take::attributes, PCD fields other than x y z) out of the
   // archive instead of coding them (they are lossless by default).
   bool drop_fields = false;
@@ -67,8 +70,15 @@ struct CompressStats {
 std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts,
                               CompressStats* stats = nullptr);
 
+struct DecompressOptions {
+  // Worker threads decoding windows in parallel (0: all cores); the result and any error thrown
+  // are the same for every count. At most threads + 2 windows are decoded ahead in memory.
+  int threads = 1;
+};
+
 // Throws Error(kNotOurFormat / kUnsupportedVersion / kCorrupt) naming `name` and the chunk.
-Take decompress(const uint8_t* data, size_t size, const std::string& name = "");
+Take decompress(const uint8_t* data, size_t size, const std::string& name = "",
+                const DecompressOptions& opts = {});
 // Frames [first, first + count) only (clipped to the take); decodes only the windows they touch.
 Take decompress_frames(const uint8_t* data, size_t size, size_t first, size_t count,
                        const std::string& name = "");

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <string>
 
+#include "capz/codec.h"  // DecompressOptions
+
 namespace capz {
 
 struct OriginalInfo {
@@ -29,8 +31,10 @@ bool can_rebuild(const OriginalInfo& info, bool c3d);
 // lossless, byte for byte with the size and hash checked before the output is renamed into
 // place; at a bound, the original head and tail around frames regenerated from the decoded
 // coordinates (a C3D: its size checked; a TRC: coordinates printed with the source's decimals). A
-// mismatch is Error(kCorrupt) naming the archive, and no output is left.
-void rebuild_original(const std::string& capz_path, const std::string& out, bool overwrite);
+// mismatch is Error(kCorrupt) naming the archive, and no output is left. opts.threads: windows
+// decoded in parallel (the output is the same).
+void rebuild_original(const std::string& capz_path, const std::string& out, bool overwrite,
+                      const DecompressOptions& opts = {});
 
 // The same rebuild, written nowhere: checks size and hash (lossless) or size (bound).
 void test_original(const std::string& capz_path);

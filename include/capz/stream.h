@@ -88,8 +88,10 @@ std::unique_ptr<FrameSource> open_trc_frames(const std::string& path);
 // A folder of PCD frames read file by file (opening lists the files and reads the first).
 std::unique_ptr<FrameSource> open_pcd_frames(const std::string& dir);
 // A .capz read window by window (HEAD, META and INDX up front; a range decodes the windows it
-// touches). The header is what decompress() returns without its frame arrays.
-std::unique_ptr<FrameSource> open_capz_frames(const std::string& path);
+// touches). The header is what decompress() returns without its frame arrays. With
+// opts.threads above 1, windows are decoded ahead in parallel when read in order.
+std::unique_ptr<FrameSource> open_capz_frames(const std::string& path,
+                                              const DecompressOptions& opts = {});
 // An in-memory take as a source (the take must outlive the source).
 std::unique_ptr<FrameSource> take_frames(const Take& take);
 // Any input read_take() accepts (C3D, TRC, a PCD folder), read by frame ranges.

@@ -237,14 +237,18 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
   }
 }
 
-void decode_window(StreamBytes& bytes, const ParsedStream& ps, size_t w, FrameBlock* out) {
+void window_extent(const ParsedStream& ps, size_t size, size_t w, size_t* base, size_t* end) {
   const IndexEntry& ie = ps.index[w];
-  const size_t size = bytes.size();
   if (ie.offset < ps.first_window_offset || ie.offset >= size || ie.bytes > size - ie.offset)
     fail(ErrorCode::kCorrupt, ps.name,
          "INDX entry of window " + std::to_string(w) + " points outside the file");
-  const size_t base = static_cast<size_t>(ie.offset);
-  const size_t end = base + static_cast<size_t>(ie.bytes);
+  *base = static_cast<size_t>(ie.offset);
+  *end = *base + static_cast<size_t>(ie.bytes);
+}
+
+void decode_window(StreamBytes& bytes, const ParsedStream& ps, size_t w, FrameBlock* out) {
+  size_t base = 0, end = 0;
+  window_extent(ps, bytes.size(), w, &base, &end);
   decode_window_chunks(ps, w, bytes.get(base, end - base), base, end, out);
 }
 

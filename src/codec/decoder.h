@@ -18,6 +18,10 @@ namespace capz {
 void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* region, size_t base,
                           size_t end, FrameBlock* out);
 
+// Where window w's chunks are in a stream of `size` bytes, as INDX says: [*base, *end). Throws
+// kCorrupt when the entry points outside the file.
+void window_extent(const ParsedStream& ps, size_t size, size_t w, size_t* base, size_t* end);
+
 // Window w of a parsed stream, its chunks fetched from `bytes` as INDX says.
 void decode_window(StreamBytes& bytes, const ParsedStream& ps, size_t w, FrameBlock* out);
 

@@ -5,7 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <deque>
+#include <exception>
+#include <future>
 #include <map>
+#include <memory>
 #include <string>
 
 #include "capz/error.h"
@@ -26,6 +30,7 @@
 #include "coding/mask.h"
 #include "coding/positions.h"
 #include "coding/rotations.h"
+#include "core/thread_pool.h"
 
 namespace capz {
 
@@ -115,11 +120,20 @@ Plan resolve(const FrameSource& source, const CompressOptions& opts, bool allow_
   return p;
 }
 
-// One window's encoding: its chunks and what the decoder must give back for it.
-struct EncodedWindow {
-  WindowInts wi;             // the window's integers on the grid, with its gap mask
-  std::vector<double> rec;   // the reconstruction the decoder must produce (valid samples)
-  std::vector<uint8_t> buf;  // the window's chunks, as they go into the stream
+// One window in the pipeline: everything the coding of window w reads and writes, so windows are
+// coded on worker threads independently of each other (docs/ARCHITECTURE.md "Threads").
+struct Window {
+  size_t w = 0;
+  FrameBlock block;                   // the frames as read from the source
+  FrameBlock back;                    // the frames as the decoder gives them back (with opts.check)
+  WindowInts wi;                      // the window's integers on the grid, with its gap mask
+  std::vector<double> rec;            // the reconstruction the decoder must produce (valid samples)
+  std::vector<uint8_t> buf;           // the window's chunks, as they go into the stream
+  double centred = 0, kg_budget = 0;  // transform output: centred energy, squared-error budget
+  size_t position_bytes = 0, analog_bytes = 0, rotation_bytes = 0, attribute_bytes = 0;
+  size_t other_bytes = 0;
+  std::exception_ptr error;  // what coding the window threw, rethrown when it is emitted
+  std::future<void> done;    // ready when a worker has coded it (invalid: coded in place)
 };
 
 // Half a unit of the last decimal a TRC source printed its coordinates with (a hair more, for
@@ -147,21 +161,7 @@ class Encoder {
     choose_grid();
     set_transform_params();
     write_header();
-    const size_t F = take_.frames, W = plan_.W;
-    for (size_t w = 0, f0 = 0; f0 < F; ++w, f0 += W) {
-      const size_t fn = std::min(W, F - f0);
-      source_.read(f0, fn, &block_);
-      IndexEntry ie;
-      ie.offset = out_->size();
-      EncodedWindow ew = encode_window(w);
-      check_bound(w, &ew);
-      if (opts_.check) check_window(w, ie.offset, ew);
-      if (residue_) residue_->window_chunk(w, block_, opts_.check ? &back_ : nullptr, &ew.buf);
-      ie.bytes = ew.buf.size();
-      index_.push_back(ie);
-      out_->flush(&ew.buf);
-      if (opts_.progress) opts_.progress(f0 + fn, F);
-    }
+    code_windows();
     if (residue_) residue_->finish();
     std::vector<uint8_t> buf;
     append_chunk(&buf, "INDX", encode_index(index_));
@@ -176,9 +176,10 @@ class Encoder {
     scan_ = start_scan(take_, opts_);
     if (!plan_.tout) cache_kg_coordinates(take_, tuning_.kg_cache_bytes, &scan_);
     const size_t F = take_.frames, W = plan_.W;
+    FrameBlock block;
     for (size_t f0 = 0; f0 < F; f0 += W) {
-      source_.read(f0, std::min(W, F - f0), &block_);
-      scan_block(block_, take_.source, plan_.words, plan_.point_scale, &scan_);
+      source_.read(f0, std::min(W, F - f0), &block);
+      scan_block(block, take_.source, plan_.words, plan_.point_scale, &scan_);
     }
   }
 
@@ -188,7 +189,8 @@ class Encoder {
     } else if (opts_.lossless) {
       g_ = lossless_grid(scan_);
     } else if (opts_.kg_error > 0) {
-      g_ = kg_grid(source_, scan_, opts_.kg_error, plan_.W, &block_);
+      FrameBlock block;  // scratch
+      g_ = kg_grid(source_, scan_, opts_.kg_error, plan_.W, &block);
       std::vector<double>().swap(scan_.kg_coords);  // not needed by the coding pass
     } else if (opts_.max_error > 0 && std::isfinite(opts_.max_error)) {
       // A TRC written back prints each coordinate rounded to the source's decimals (the TRC
@@ -249,7 +251,7 @@ class Encoder {
                              : Promise::Kind::kBound;
       p.max_error = g_.bound;
       p.kg_target = plan_.tout ? opts_.kg_error : 0.0;
-      promise_ = PromiseCheck(p);
+      promise_ = p;
       const std::string what = take_.source + " (self-check)";
       const Chunk head = read_chunk(buf.data(), buf.size(), file_header_bytes(kCapzMajor), what);
       const Chunk meta = read_chunk(buf.data(), buf.size(), meta_at, what);
@@ -259,12 +261,95 @@ class Encoder {
     out_->flush(&buf);
   }
 
+  // The windows in order, read serially from the source, coded by opts.threads workers (in
+  // place with one), emitted in order: at most threads + 1 windows are in flight. Whatever a
+  // window throws is rethrown when its turn to be emitted comes, after every earlier window, so
+  // the stream and the error are those of a serial run.
+  void code_windows() {
+    const size_t F = take_.frames, W = plan_.W;
+    // No more workers than windows (a short take starts none).
+    const size_t T = std::min(resolve_threads(opts_.threads), (F + W - 1) / W);
+    std::deque<std::unique_ptr<Window>> flight, spare;
+    // Declared after the windows: destroyed first, it joins the workers before the windows go.
+    std::unique_ptr<ThreadPool> pool(T > 1 ? new ThreadPool(T) : nullptr);
+    const size_t cap = T > 1 ? T + 1 : 1;
+    std::exception_ptr read_error;
+    for (size_t w = 0, f0 = 0; f0 < F || !flight.empty();) {
+      if (f0 < F && !read_error && flight.size() < cap) {
+        std::unique_ptr<Window> win;
+        if (spare.empty()) {
+          win.reset(new Window);
+        } else {
+          win = std::move(spare.front());
+          spare.pop_front();
+        }
+        win->w = w;
+        win->error = nullptr;
+        try {
+          source_.read(f0, std::min(W, F - f0), &win->block);
+        } catch (...) {  // rethrown after the windows before it
+          read_error = std::current_exception();
+          continue;
+        }
+        Window* p = win.get();
+        if (pool)
+          win->done = pool->submit([this, p] { code(p); });
+        else
+          code(p);
+        flight.push_back(std::move(win));
+        ++w;
+        f0 += W;
+        continue;
+      }
+      if (flight.empty()) break;  // only after a read error
+      std::unique_ptr<Window> win = std::move(flight.front());
+      flight.pop_front();
+      if (win->done.valid()) win->done.get();
+      emit(win.get());
+      spare.push_back(std::move(win));
+    }
+    if (read_error) std::rethrow_exception(read_error);
+  }
+
+  // What a worker does with a window: encode, check the bound, decode and compare.
+  void code(Window* win) {
+    try {
+      encode_window(win);
+      check_bound(*win);
+      if (opts_.check) check_window(win);
+    } catch (...) {
+      win->error = std::current_exception();
+    }
+  }
+
+  // Window w into the stream, in order: its error stats, its residue chunk, its INDX entry.
+  void emit(Window* win) {
+    if (win->error) std::rethrow_exception(win->error);
+    const FrameBlock& b = win->block;
+    acc_.add(b.frames, take_.points, b.xyz.data(), win->rec.data(), win->wi.valid.data());
+    IndexEntry ie;
+    ie.offset = out_->size();
+    if (residue_) residue_->window_chunk(win->w, b, opts_.check ? &win->back : nullptr, &win->buf);
+    ie.bytes = win->buf.size();
+    index_.push_back(ie);
+    position_bytes_ += win->position_bytes;
+    analog_bytes_ += win->analog_bytes;
+    rotation_bytes_ += win->rotation_bytes;
+    attribute_bytes_ += win->attribute_bytes;
+    other_bytes_ += win->other_bytes;
+    out_->flush(&win->buf);
+    if (opts_.progress)
+      opts_.progress(std::min((win->w + 1) * plan_.W, take_.frames), take_.frames);
+  }
+
   // The transform's reconstruction of the window (codec_bytes: its payload), rerun with a lower
   // target when transform output written to an int16 C3D would miss the KG target.
-  void run_transform(const WindowInts& wi, std::vector<uint8_t>* codec_bytes,
-                     std::vector<double>* recon) {
-    const size_t fn = block_.frames, N = take_.points;
-    std::vector<double> filled = fill_gaps(fn, N, block_.xyz.data(), block_.valid.data());
+  void run_transform(const Window& win, std::vector<uint8_t>* codec_bytes,
+                     std::vector<double>* recon) const {
+    const FrameBlock& block = win.block;
+    const WindowInts& wi = win.wi;
+    const size_t fn = block.frames, N = take_.points;
+    std::vector<double> filled = fill_gaps(fn, N, block.xyz.data(), block.valid.data());
     PositionsView view{fn, N, filled.data(), wi.valid.data()};
     TransformParams wp = tparams_;
     for (int attempt = 0;; ++attempt) {
@@ -280,33 +365,35 @@ class Encoder {
       // (squared errors add: e_t^2 + rounding = target^2), at most three times; the check
       // then holds both the decoded and the written values to the target.
       if (!plan_.tout || plan_.written_scale == 0 || attempt == 3) break;
-      const double e_t = window_sq_error(fn, N, block_.xyz.data(), recon->data(), wi.valid.data());
-      const double e_w = window_sq_error(fn, N, block_.xyz.data(), recon->data(), wi.valid.data(),
+      const double e_t = window_sq_error(fn, N, block.xyz.data(), recon->data(), wi.valid.data());
+      const double e_w = window_sq_error(fn, N, block.xyz.data(), recon->data(), wi.valid.data(),
                                          plan_.written_scale);
-      if (e_w <= kg_budget_ || !(centred_ > 0)) break;
-      const double room = kg_budget_ - std::max(0.0, e_w - e_t);
+      if (e_w <= win.kg_budget || !(win.centred > 0)) break;
+      const double room = win.kg_budget - std::max(0.0, e_w - e_t);
       if (!(room > 0)) break;  // the rounding alone exceeds the target: the grid fallback
-      wp.kg_error = 100 * std::sqrt(0.98 * room / centred_);
+      wp.kg_error = 100 * std::sqrt(0.98 * room / win.centred);
     }
   }
 
-  EncodedWindow encode_window(size_t w) {
-    const size_t fn = block_.frames, N = take_.points;
-    EncodedWindow ew;
-    if (take_.attributes.empty()) block_.attributes.clear();  // none, or left out (drop_fields)
-    ew.wi = quantise_window(block_, g_);
-    const WindowInts& wi = ew.wi;
+  // The window's chunks into win->buf, its reconstruction into win->rec.
+  void encode_window(Window* win) const {
+    if (take_.attributes.empty()) win->block.attributes.clear();  // none, or left out (drop_fields)
+    const FrameBlock& block = win->block;
+    const size_t w = win->w, fn = block.frames, N = take_.points;
+    win->wi = quantise_window(block, g_);
+    const WindowInts& wi = win->wi;
     std::vector<uint8_t> codec_bytes;
     std::vector<int32_t> tpred;
     std::vector<double> recon;
     // With transform output: the window's centred energy and its squared-error budget.
-    centred_ = plan_.tout ? centred_sq_window(fn, N, block_.xyz.data(), wi.valid.data()) : 0;
-    kg_budget_ = opts_.kg_error / 100 * (opts_.kg_error / 100) * centred_;
+    win->centred = plan_.tout ? centred_sq_window(fn, N, block.xyz.data(), wi.valid.data()) : 0;
+    win->kg_budget = opts_.kg_error / 100 * (opts_.kg_error / 100) * win->centred;
     if (plan_.codec && N > 0) {
-      run_transform(wi, &codec_bytes, &recon);
+      run_transform(*win, &codec_bytes, &recon);
       if (!plan_.tout) tpred = grid_prediction(recon, g_.step);
     }
-    std::vector<uint8_t>& buf = ew.buf;
+    std::vector<uint8_t>& buf = win->buf;
+    buf.clear();
     const bool gaps = std::find(wi.valid.begin(), wi.valid.end(), 0) != wi.valid.end();
     const std::vector<uint8_t> pos =
         plan_.tout ? transform_only_positions(codec_bytes)
@@ -314,55 +401,57 @@ class Encoder {
     append_chunk(&buf, "POSW", with_window_index(w, gaps ? 1 : 0, pos));
     if (gaps)
       append_chunk(&buf, "MASK", with_window_index(w, 0xFF, encode_mask(wi.valid.data(), fn, N)));
-    position_bytes_ += buf.size();
+    win->position_bytes = buf.size();
     if (plan_.words) {
       const size_t before = buf.size();
       const std::vector<uint8_t> cw =
-          encode_c3d_words(block_.residual.data(), block_.camera_mask.data(), wi.valid.data(),
-                           fn * N, N, plan_.point_scale, plan_.words && scan_.words_on_grid);
+          encode_c3d_words(block.residual.data(), block.camera_mask.data(), wi.valid.data(), fn * N,
+                           N, plan_.point_scale, plan_.words && scan_.words_on_grid);
       append_chunk(&buf, "C3DW", with_window_index(w, 0xFF, cw));
-      other_bytes_ += buf.size() - before;
+      win->other_bytes = buf.size() - before;
     }
     if (plan_.analog) {
       const size_t before = buf.size();
       const std::vector<uint8_t> an =
-          encode_analog_window(block_.analog.data(), fn * plan_.S, take_.analog.channels, hints_);
+          encode_analog_window(block.analog.data(), fn * plan_.S, take_.analog.channels, hints_);
       append_chunk(&buf, "ANLG", with_window_index(w, 0xFF, an));
-      analog_bytes_ += buf.size() - before;
+      win->analog_bytes = buf.size() - before;
     }
-    if (plan_.G > 0) append_rotations(w, &buf);
-    if (!take_.attributes.empty()) append_attributes(w, wi.valid.data(), &buf);
-    reconstruct(wi, recon, &ew.rec);
-    return ew;
+    if (plan_.G > 0) append_rotations(win);
+    if (!take_.attributes.empty()) append_attributes(win);
+    reconstruct(block.frames, wi, recon, &win->rec);
   }
 
   // ROTW (FORMAT.md 4.3): the window's rotation samples, lossless whatever the bound.
-  void append_rotations(size_t w, std::vector<uint8_t>* buf) {
-    const size_t samples = block_.frames * plan_.R, n = samples * plan_.G;
-    if (block_.rotation_matrices.size() != n * 16 || block_.rotation_reliability.size() != n)
+  void append_rotations(Window* win) const {
+    const FrameBlock& block = win->block;
+    std::vector<uint8_t>* buf = &win->buf;
+    const size_t samples = block.frames * plan_.R, n = samples * plan_.G;
+    if (block.rotation_matrices.size() != n * 16 || block.rotation_reliability.size() != n)
       fail(ErrorCode::kInternal, take_.source, "a block's rotations do not match its frames");
     const size_t before = buf->size();
     const std::vector<uint8_t> rot = encode_rotations(
-        block_.rotation_matrices.data(), block_.rotation_reliability.data(), samples, plan_.G);
-    append_chunk(buf, "ROTW", with_window_index(w, 0xFF, rot));
-    rotation_bytes_ += buf->size() - before;
+        block.rotation_matrices.data(), block.rotation_reliability.data(), samples, plan_.G);
+    append_chunk(buf, "ROTW", with_window_index(win->w, 0xFF, rot));
+    win->rotation_bytes = buf->size() - before;
   }
 
   // ATTR (FORMAT.md 5.3): the window's point fields, lossless whatever the bound but for the
   // float fields given a bound of their own (--attr-error), which are quantised first.
-  void append_attributes(size_t w, const uint8_t* valid, std::vector<uint8_t>* buf) {
-    quantise_bounded_fields();
+  void append_attributes(Window* win) const {
+    quantise_bounded_fields(&win->block);
+    std::vector<uint8_t>* buf = &win->buf;
     const size_t before = buf->size();
     const std::vector<uint8_t> at =
-        encode_attributes(attribute_specs(take_.pcd->fields), block_.attributes, valid,
-                          block_.frames, take_.points, take_.pcd->width);
-    append_chunk(buf, "ATTR", with_window_index(w, 0xFF, at));
-    attribute_bytes_ += buf->size() - before;
+        encode_attributes(attribute_specs(take_.pcd->fields), win->block.attributes,
+                          win->wi.valid.data(), win->block.frames, take_.points, take_.pcd->width);
+    append_chunk(buf, "ATTR", with_window_index(win->w, 0xFF, at));
+    win->attribute_bytes = buf->size() - before;
   }
 
   // FORMAT.md 5.3 "fields within a bound": each finite value of a bounded float field replaced
   // by the multiple of 2B nearest it, in the field's float type, when that is within B.
-  void quantise_bounded_fields() {
+  void quantise_bounded_fields(FrameBlock* block) const {
     const std::vector<double>& bounds = take_.pcd->field_bounds;
     if (bounds.empty()) return;
     size_t a = 0;
@@ -370,7 +459,7 @@ class Encoder {
       const PCDField& f = take_.pcd->fields[i];
       if (f.name == "x" || f.name == "y" || f.name == "z") continue;
       const double b = i < bounds.size() ? bounds[i] : 0;
-      std::vector<uint8_t>& bytes = block_.attributes[a++];
+      std::vector<uint8_t>& bytes = block->attributes[a++];
       if (b <= 0 || f.type != 'F') continue;
       const double step = 2 * b;
       for (size_t k = 0; k + static_cast<size_t>(f.size) <= bytes.size();
@@ -394,9 +483,9 @@ class Encoder {
   }
 
   // The reconstruction the decoder will produce for the window's valid samples.
-  void reconstruct(const WindowInts& wi, const std::vector<double>& recon,
+  void reconstruct(size_t frames, const WindowInts& wi, const std::vector<double>& recon,
                    std::vector<double>* rec) const {
-    const size_t n = block_.frames * take_.points;
+    const size_t n = frames * take_.points;
     rec->assign(n * 3, 0.0);
     if (plan_.tout) {
       for (size_t i = 0; i < n; ++i)
@@ -415,13 +504,13 @@ class Encoder {
   }
 
   // The promise of the stream for the window: every valid coordinate back exactly (lossless),
-  // within the bound, or (transform output) the window within the KG target. Adds the window to
-  // the error stats.
-  void check_bound(size_t w, EncodedWindow* ew) {
-    const size_t fn = block_.frames, N = take_.points;
-    const double* orig = block_.xyz.data();
-    const std::vector<double>& rec = ew->rec;
-    const uint8_t* valid = ew->wi.valid.data();
+  // within the bound, or (transform output) the window within the KG target. (The window's error
+  // stats are added when it is emitted, in window order.)
+  void check_bound(const Window& win) const {
+    const size_t w = win.w, fn = win.block.frames, N = take_.points;
+    const double* orig = win.block.xyz.data();
+    const std::vector<double>& rec = win.rec;
+    const uint8_t* valid = win.wi.valid.data();
     for (size_t i = 0; i < fn * N; ++i) {
       if (!valid[i]) continue;
       for (size_t k = i * 3; k < i * 3 + 3; ++k)
@@ -437,28 +526,30 @@ class Encoder {
       }
     }
     if (plan_.tout) {  // each window within the KG target makes the take meet it (FORMAT.md 3.1)
-      if (window_sq_error(fn, N, orig, rec.data(), valid) > kg_budget_ ||
+      if (window_sq_error(fn, N, orig, rec.data(), valid) > win.kg_budget ||
           (plan_.written_scale > 0 &&
-           window_sq_error(fn, N, orig, rec.data(), valid, plan_.written_scale) > kg_budget_))
+           window_sq_error(fn, N, orig, rec.data(), valid, plan_.written_scale) > win.kg_budget))
         throw TransformMissedTarget();
     }
-    acc_.add(fn, N, orig, rec.data(), valid);
   }
 
-  // Runs the decoder on the window's chunks (as they will stand at file offset `at`): what it
-  // gives must keep the stream's promise (capz/verify.h, the rule `verify` and `--rm` use) and be,
-  // bit for bit, what the encoder reconstructed and measured.
-  void check_window(size_t w, size_t at, const EncodedWindow& ew) {
-    FrameBlock& back = back_;
+  // Runs the decoder on the window's chunks: what it gives must keep the stream's promise
+  // (capz/verify.h, the rule `verify` and `--rm` use) and be, bit for bit, what the encoder
+  // reconstructed and measured. The window's file offset is not known until it is emitted, so
+  // offsets in the decoder's messages count from the window's first byte.
+  void check_window(Window* win) const {
+    const size_t w = win->w;
+    FrameBlock& back = win->back;
     try {
-      decode_window_chunks(ctx_, w, ew.buf.data(), at, at + ew.buf.size(), &back);
+      decode_window_chunks(ctx_, w, win->buf.data(), 0, win->buf.size(), &back);
     } catch (const Error& e) {
       check_failed(w, std::string("the decoder rejects the window: ") + e.what());
     }
-    if (!promise_.frames(block_, back)) check_failed(w, promise_.why());
-    const size_t n = block_.frames * take_.points;
+    PromiseCheck promise(promise_);
+    if (!promise.frames(win->block, back)) check_failed(w, promise.why());
+    const size_t n = win->block.frames * take_.points;
     for (size_t i = 0; i < n; ++i)
-      if (ew.wi.valid[i] && std::memcmp(&back.xyz[i * 3], &ew.rec[i * 3], 24) != 0)
+      if (win->wi.valid[i] && std::memcmp(&back.xyz[i * 3], &win->rec[i * 3], 24) != 0)
         check_failed(w, "positions decode differently than the encoder reconstructed them");
   }
 
@@ -490,12 +581,9 @@ class Encoder {
   TakeScan scan_;
   Grid g_;
   TransformParams tparams_;
-  StreamContext ctx_;                // what the decoder reads from HEAD and META (with opts.check)
-  PromiseCheck promise_{Promise()};  // the stream's promise, checked on what the decoder gives
-  FrameBlock block_;
-  FrameBlock back_;  // the current window as the decoder gives it back (with opts.check)
+  StreamContext ctx_;  // what the decoder reads from HEAD and META (with opts.check)
+  Promise promise_;    // the stream's promise, checked on what the decoder gives (each window)
   std::unique_ptr<ResidueWriter> residue_;  // HASH and residue chunks (an original file only)
-  double centred_ = 0, kg_budget_ = 0;      // the current window's (transform output)
   AnalogHints hints_;                       // what the C3D parameters say of the analog channels
   ErrorAccumulator acc_;
   std::vector<IndexEntry> index_;

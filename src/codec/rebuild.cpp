@@ -77,9 +77,9 @@ std::vector<uint8_t> window_payload(StreamBytes& b, const ParsedStream& ps, size
 }
 
 // The rebuild, handed to `write` in order; checks the size, and the hash when lossless.
-void rebuild(const std::string& path, const Write& write) {
+void rebuild(const std::string& path, const Write& write, int threads = 1) {
   std::unique_ptr<StreamBytes> raw(new FileBytes(path));
-  CapzSource src(std::unique_ptr<StreamBytes>(new FileBytes(path)), path, true);
+  CapzSource src(std::unique_ptr<StreamBytes>(new FileBytes(path)), path, true, threads);
   const ParsedStream& ps = src.parsed();
   const Record r = read_record(*raw, ps, path);
   if (!can_rebuild(r.info, r.c3d))
@@ -145,9 +145,11 @@ bool can_rebuild(const OriginalInfo& info, bool c3d) {
   return info.hashed && info.residue && (info.exact || c3d || info.windows_at_bound);
 }
 
-void rebuild_original(const std::string& capz_path, const std::string& out, bool overwrite) {
+void rebuild_original(const std::string& capz_path, const std::string& out, bool overwrite,
+                      const DecompressOptions& opts) {
   AtomicFile file(out, overwrite);
-  rebuild(capz_path, [&](const uint8_t* p, size_t n) { file.write(p, n); });
+  rebuild(
+      capz_path, [&](const uint8_t* p, size_t n) { file.write(p, n); }, opts.threads);
   file.commit();
 }
 

@@ -7,10 +7,20 @@
 
 namespace capz {
 
-CapzSource::CapzSource(std::unique_ptr<StreamBytes> bytes, const std::string& name, bool whole)
+CapzSource::CapzSource(std::unique_ptr<StreamBytes> bytes, const std::string& name, bool whole,
+                       int threads)
     : bytes_(std::move(bytes)), name_(name), ps_(parse_stream(*bytes_, name)) {
   if (whole) check_tiling(ps_, bytes_->size(), name_);
   header_ = ps_.take;
+  const size_t T = std::min(resolve_threads(threads), ps_.index.size());
+  if (T > 1 && ps_.index.size() > 1) {
+    ahead_cap_ = T + 1;
+    pool_.reset(new ThreadPool(T));
+  }
+}
+
+CapzSource::~CapzSource() {
+  pool_.reset();
 }
 
 void CapzSource::read(size_t first, size_t count, FrameBlock* out) {
@@ -63,14 +73,73 @@ void CapzSource::read(size_t first, size_t count, FrameBlock* out) {
 void CapzSource::decode(size_t w) {
   if (have_ && cached_ == w) return;
   have_ = false;
-  decode_window(*bytes_, ps_, w, &win_);
+  if (pool_)
+    decode_ahead(w);
+  else
+    decode_window(*bytes_, ps_, w, &win_);
   cached_ = w;
   have_ = true;
 }
 
-std::unique_ptr<FrameSource> open_capz_frames(const std::string& path) {
+// Window w from the workers: the windows after it are submitted too, up to ahead_cap_. A read
+// that is not the next window ahead starts again from it.
+void CapzSource::decode_ahead(size_t w) {
+  if (!ahead_.empty() && ahead_.front()->w != w) drop_ahead();
+  if (ahead_.empty()) next_ = w;
+  while (ahead_.size() < ahead_cap_ && next_ < ps_.index.size()) submit(next_++);
+  std::unique_ptr<Ahead> a = std::move(ahead_.front());
+  ahead_.pop_front();
+  if (ahead_.size() < ahead_cap_ && next_ < ps_.index.size()) submit(next_++);
+  if (a->done.valid()) a->done.get();
+  const std::exception_ptr error = a->error;
+  if (!error) std::swap(win_, a->block);
+  spare_.push_back(std::move(a));
+  if (error) std::rethrow_exception(error);
+}
+
+// Fetching the chunks (this thread: the stream's bytes are read in order) and handing them to a
+// worker. A fault found on the way is kept for when window w is read, as a serial read meets it.
+void CapzSource::submit(size_t w) {
+  std::unique_ptr<Ahead> a;
+  if (spare_.empty()) {
+    a.reset(new Ahead);
+  } else {
+    a = std::move(spare_.back());
+    spare_.pop_back();
+  }
+  a->w = w;
+  a->error = nullptr;
+  a->done = std::future<void>();
+  try {
+    window_extent(ps_, bytes_->size(), w, &a->base, &a->end);
+    const uint8_t* p = bytes_->get(a->base, a->end - a->base);
+    a->chunks.assign(p, p + (a->end - a->base));
+    Ahead* q = a.get();
+    a->done = pool_->submit([this, q] {
+      try {
+        decode_window_chunks(ps_, q->w, q->chunks.data(), q->base, q->end, &q->block);
+      } catch (...) {
+        q->error = std::current_exception();
+      }
+    });
+  } catch (...) {
+    a->error = std::current_exception();
+  }
+  ahead_.push_back(std::move(a));
+}
+
+void CapzSource::drop_ahead() {
+  for (std::unique_ptr<Ahead>& a : ahead_) {
+    if (a->done.valid()) a->done.wait();
+    spare_.push_back(std::move(a));
+  }
+  ahead_.clear();
+}
+
+std::unique_ptr<FrameSource> open_capz_frames(const std::string& path,
+                                              const DecompressOptions& opts) {
   std::unique_ptr<StreamBytes> file(new FileBytes(path));
-  return std::unique_ptr<FrameSource>(new CapzSource(std::move(file), path, true));
+  return std::unique_ptr<FrameSource>(new CapzSource(std::move(file), path, true, opts.threads));
 }
 
 }  // namespace capz

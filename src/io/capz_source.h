@@ -2,18 +2,28 @@
 // frames decodes the windows it touches. Part of the decoder library.
 #pragma once
 
+#include <cstdint>
+#include <deque>
+#include <exception>
+#include <future>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "capz/stream.h"
 #include "codec/stream_reader.h"
+#include "core/thread_pool.h"
 
 namespace capz {
 
 class CapzSource : public FrameSource {
  public:
   // whole: the stream will be read whole, so check that its windows tile it exactly.
-  CapzSource(std::unique_ptr<StreamBytes> bytes, const std::string& name, bool whole);
+  // threads (0: all cores): above 1, windows after the one asked for are decoded ahead by that
+  // many workers (docs/ARCHITECTURE.md "Threads"); what read() gives and throws is the same.
+  CapzSource(std::unique_ptr<StreamBytes> bytes, const std::string& name, bool whole,
+             int threads = 1);
+  ~CapzSource() override;
   bool has_sample_words() const override { return ps_.words; }
   size_t preferred_block() const override { return ps_.h.window_frames; }
   uint64_t bytes_read() const override { return bytes_->bytes_read(); }
@@ -24,7 +34,19 @@ class CapzSource : public FrameSource {
   void read(size_t first, size_t count, FrameBlock* out) override;
 
  private:
+  // A window decoded ahead: its chunks copied out of the stream (StreamBytes is not shared
+  // with the workers), decoded by a worker into block.
+  struct Ahead {
+    size_t w = 0, base = 0, end = 0;
+    std::vector<uint8_t> chunks;
+    FrameBlock block;
+    std::exception_ptr error;  // rethrown when the window is read
+    std::future<void> done;    // invalid when the chunks could not be fetched
+  };
   void decode(size_t w);
+  void decode_ahead(size_t w);
+  void submit(size_t w);
+  void drop_ahead();
 
   std::unique_ptr<StreamBytes> bytes_;
   std::string name_;
@@ -32,6 +54,11 @@ class CapzSource : public FrameSource {
   FrameBlock win_;
   size_t cached_ = 0;
   bool have_ = false;
+  size_t ahead_cap_ = 0;  // windows decoded ahead at most (threads + 1)
+  size_t next_ = 0;       // the window after the last one submitted
+  std::deque<std::unique_ptr<Ahead>> ahead_;
+  std::vector<std::unique_ptr<Ahead>> spare_;  // their buffers are reused
+  std::unique_ptr<ThreadPool> pool_;           // last: destroyed first, joining the workers
 };
 
 }  // namespace capz

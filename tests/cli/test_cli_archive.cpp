@@ -18,20 +18,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int status = -1;
-  std::string out;
-};
+using Result = capz_test::CliResult;
 
 Result run(const std::string& args) {
   static capz_test::TempDir io("capz_cli_archive_io");
-  const std::string out = io.file("out");
-  const std::string cmd = std::string("'") + CAPZ_CLI + "' " + args + " >'" + out + "' 2>&1";
-  const int rc = std::system(cmd.c_str());
-  std::ifstream in(out);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str()};
+  return capz_test::run_command(CAPZ_CLI, args, io.file("out"));
 }
 
 size_t lines(const std::string& s) {
