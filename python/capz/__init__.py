@@ -81,11 +81,20 @@ def _options(codec_options: Optional[Mapping[str, Any]]) -> Dict[str, str]:
 
 def _coding(max_error: Optional[Length], lossless: bool, kg_error: Optional[float],
             units: Optional[str], codec: str, clusters: int, window: int, check: bool,
-            codec_options: Optional[Mapping[str, Any]]) -> tuple:
+            codec_options: Optional[Mapping[str, Any]], threads: int = 1,
+            attr_error: Optional[Mapping[str, float]] = None, drop_fields: bool = False) -> tuple:
     """The target and coding options of compress() and compress_file(), checked, in the order
     _capz.compress and _capz.compress_file take them."""
+    if not isinstance(threads, (int, np.integer)) or isinstance(threads, bool) or threads < 0:
+        raise _invalid(f"threads must be an int >= 0 (0: every core), got {threads!r}")
+    bounds = {}
+    for k, v in (attr_error or {}).items():
+        if not isinstance(k, str) or isinstance(v, bool) or not isinstance(v, (int, float, np.floating)):
+            raise _invalid(f"attr_error wants field name -> bound, got {k!r}: {v!r}")
+        bounds[k] = float(v)
     return (bool(lossless), _kg(kg_error), _length(max_error, "max_error"), units or "",
-            str(codec), int(clusters), int(window), bool(check), _options(codec_options))
+            str(codec), int(clusters), int(window), bool(check), _options(codec_options),
+            int(threads), bounds, bool(drop_fields))
 
 
 def _array(name: str, value: Any, dtype: Optional[np.dtype] = None) -> np.ndarray:
@@ -318,6 +327,9 @@ def compress(
     check: bool = True,
     units: Optional[str] = None,
     stats: bool = False,
+    threads: int = 1,
+    attr_error: Optional[Mapping[str, float]] = None,
+    drop_fields: bool = False,
 ) -> Union[bytes, Tuple[bytes, Dict[str, Any]]]:
     """Compresses a take to .capz bytes (`capz compress` on a take in memory).
 
@@ -345,6 +357,12 @@ def compress(
                    --no-check).
     units          units of a take that has none (or whose units capz cannot read): mm, cm, m.
     stats          also return the report as a dict: (bytes, stats).
+    threads        windows coded in parallel (the CLI's -T; 0: every core); the bytes do not
+                   depend on it.
+    attr_error     dict field name -> bound for float point fields (PCD attributes), in the
+                   field's units; a name also bounds every field NAME_* ("normal"). The CLI's
+                   --attr-error. Fields not named are lossless.
+    drop_fields    leave the point fields out of the archive (the CLI's --drop-fields).
 
     The GIL is released while coding: separate takes can be compressed from several threads.
     Raises capz.Error (invalid-parameter for an impossible target or bad arrays).
@@ -354,7 +372,7 @@ def compress(
     data, report = _capz.compress(
         take,
         *_coding(max_error, lossless, kg_error, units, codec, clusters, window, check,
-                 codec_options),
+                 codec_options, threads, attr_error, drop_fields),
     )
     return (data, report) if stats else data
 
@@ -383,6 +401,9 @@ def compress_file(
     check: bool = True,
     units: Optional[str] = None,
     overwrite: bool = False,
+    threads: int = 1,
+    attr_error: Optional[Mapping[str, float]] = None,
+    drop_fields: bool = False,
 ) -> Dict[str, Any]:
     """Compresses a .c3d, a .trc or a folder of .pcd frames to a .capz file: the same bytes as
     `capz compress INPUT -o OUTPUT` with the same options (see compress() for them; overwrite
@@ -396,7 +417,7 @@ def compress_file(
         src,
         out,
         *_coding(max_error, lossless, kg_error, units, codec, clusters, window, check,
-                 codec_options),
+                 codec_options, threads, attr_error, drop_fields),
         bool(overwrite),
     )
 

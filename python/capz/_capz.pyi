@@ -105,6 +105,9 @@ def compress(
     window: int,
     check: bool,
     codec_options: Dict[str, str],
+    threads: int,
+    attr_error: Dict[str, float],
+    drop_fields: bool,
 ) -> Tuple[bytes, Dict[str, Any]]: ...
 def decompress(data: Any, name: str) -> Take: ...
 def compress_file(
@@ -119,6 +122,9 @@ def compress_file(
     window: int,
     check: bool,
     codec_options: Dict[str, str],
+    threads: int,
+    attr_error: Dict[str, float],
+    drop_fields: bool,
     overwrite: bool,
 ) -> Dict[str, Any]: ...
 def compare(a: Take, b: Take) -> Dict[str, Any]: ...

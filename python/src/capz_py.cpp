@@ -278,8 +278,13 @@ TakePtr take_from_arrays(const py::array& xyz, const py::array& valid, double ra
 
 capz::CompressOptions coding_options(const std::string& codec, int clusters, size_t window,
                                      bool check,
-                                     const std::map<std::string, std::string>& codec_options) {
+                                     const std::map<std::string, std::string>& codec_options,
+                                     int threads, const std::map<std::string, double>& attr_error,
+                                     bool drop_fields) {
   capz::CompressOptions o;
+  o.threads = threads;
+  o.attr_error = attr_error;
+  o.drop_fields = drop_fields;
   o.codec = codec;
   o.clusters = clusters;
   o.window_frames = window;
@@ -301,7 +306,8 @@ capz::CompressTarget target_of(bool lossless, std::optional<double> kg_error,
 py::tuple compress_take(const capz::Take& take, bool lossless, std::optional<double> kg_error,
                         std::optional<std::string> max_error, const std::string& units,
                         const std::string& codec, int clusters, size_t window, bool check,
-                        const std::map<std::string, std::string>& codec_options) {
+                        const std::map<std::string, std::string>& codec_options, int threads,
+                        const std::map<std::string, double>& attr_error, bool drop_fields) {
   std::vector<uint8_t> bytes;
   capz::CompressStats st;
   {
@@ -315,7 +321,8 @@ py::tuple compress_take(const capz::Take& take, bool lossless, std::optional<dou
       with_units->units = units;
     }
     const capz::Take& t = give_units ? *with_units : take;
-    capz::CompressOptions opts = coding_options(codec, clusters, window, check, codec_options);
+    capz::CompressOptions opts = coding_options(codec, clusters, window, check, codec_options,
+                                                threads, attr_error, drop_fields);
     std::unique_ptr<capz::FrameSource> src = capz::take_frames(t);
     capz::set_compress_target(*src, target_of(lossless, kg_error, std::move(max_error)), &opts);
     bytes = capz::compress(t, opts, &st);
@@ -534,12 +541,14 @@ PYBIND11_MODULE(_capz, m) {
         [](const std::string& in, const std::string& out, bool lossless,
            std::optional<double> kg_error, std::optional<std::string> max_error,
            const std::string& units, const std::string& codec, int clusters, size_t window,
-           bool check, const std::map<std::string, std::string>& codec_options, bool overwrite) {
+           bool check, const std::map<std::string, std::string>& codec_options, int threads,
+           const std::map<std::string, double>& attr_error, bool drop_fields, bool overwrite) {
           capz::CompressStats st;
           {
             py::gil_scoped_release nogil;
             capz::compress_file(in, out, target_of(lossless, kg_error, std::move(max_error)),
-                                coding_options(codec, clusters, window, check, codec_options),
+                                coding_options(codec, clusters, window, check, codec_options,
+                                               threads, attr_error, drop_fields),
                                 units, overwrite, &st);
           }
           return compress_stats(st);

@@ -125,3 +125,24 @@ def test_fields_are_not_dropped_without_being_asked(tmp_path):
     assert e.value.code == "usage" and "intensity, ring, time" in str(e.value)
     capz.write(take, str(tmp_path / "a.c3d"), drop_fields=True)
     assert capz.read(str(tmp_path / "a.c3d")).attributes == {}
+
+
+def test_threads_and_field_bounds():
+    take = capz.read(os.path.join(REPO, "data", "lidar_small"))
+    one = capz.compress(take, lossless=True, window=2)
+    assert capz.compress(take, lossless=True, window=2, threads=2) == one
+    assert capz.compress(take, lossless=True, window=2, threads=0) == one
+    bounded = capz.compress(take, lossless=True, attr_error={"intensity": 0.01})
+    assert len(bounded) < len(one)
+    back = capz.decompress(bounded)
+    a, b = take.attributes["intensity"], back.attributes["intensity"]
+    finite = np.isfinite(a)
+    assert np.array_equal(np.isnan(a), np.isnan(b))
+    assert np.abs(a[finite].astype(np.float64) - b[finite]).max() <= 0.01
+    np.testing.assert_array_equal(back.attributes["time"], take.attributes["time"])
+    assert capz.decompress(capz.compress(take, lossless=True, drop_fields=True)).attributes == {}
+    with pytest.raises(capz.Error) as e:
+        capz.compress(take, attr_error={"colour": 0.1})
+    assert e.value.code == "invalid-parameter"
+    with pytest.raises(capz.Error):
+        capz.compress(take, threads=-1)
