@@ -105,6 +105,7 @@ FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) 
   if (vm.count("pcd-data")) wo.pcd_encoding = vm["pcd-data"].as<std::string>();
   std::string out;
   size_t frames = 0, points = 0;
+  std::string fields;  // the archive's point fields (capz::field_names)
   FileRecord rec;
   const double c0 = thread_cpu_seconds();
   if (vm.count("frames")) {  // a range: decoded into memory (only the windows it touches)
@@ -117,6 +118,7 @@ FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) 
     frames = take.frames;
     points = take.points;
     rec.units = take.units;
+    fields = capz::field_names(take);
   } else {  // the whole take: decoded and written window by window
     std::unique_ptr<capz::FrameSource> src = capz::open_capz_frames(in, dopts);
     const capz::Take& take = src->header();
@@ -124,6 +126,7 @@ FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) 
     frames = take.frames;
     points = take.points;
     rec.units = take.units;
+    fields = capz::field_names(take);
     // The original's own format from an archive with its residue: the original file rebuilt
     // (byte for byte when lossless, FORMAT.md 4.4); any other output through the writer.
     if (same_format(out, take.format) &&
@@ -138,9 +141,8 @@ FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) 
   }
   if (wo.drop_fields && capz::format_for_output(out) != capz::Format::kPCDFolder &&
       g_verbosity >= 1) {
-    const std::string dropped = capz::field_names(capz::open_capz_frames(in)->header());
-    if (!dropped.empty())
-      std::fprintf(stderr, "capz decompress: dropped point fields: %s\n", dropped.c_str());
+    if (!fields.empty())
+      std::fprintf(stderr, "capz decompress: dropped point fields: %s\n", fields.c_str());
   }
   const double t_dec = thread_cpu_seconds() - c0;
   const double raw = static_cast<double>(frames * points * 12);

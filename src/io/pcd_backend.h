@@ -42,8 +42,7 @@ struct Field {
 // One frame as PCL holds it: width x height points of point_step bytes each, little-endian.
 struct Cloud {
   uint32_t width = 0, height = 1, point_step = 0;
-  bool dense = true;              // no NaN point (written into the file's header only)
-  std::vector<double> viewpoint;  // VIEWPOINT (tx ty tz qw qx qy qz) as PCL read it
+  bool dense = true;  // no NaN point (written into the file's header only)
   std::vector<Field> fields;
   std::vector<uint8_t> data;
 };

@@ -108,8 +108,6 @@ class PclBackend : public Backend {
       out->fields.push_back(g);
     }
     out->data = std::move(cloud.data);
-    out->viewpoint = {origin[0],       origin[1],       origin[2],      orientation.w(),
-                      orientation.x(), orientation.y(), orientation.z()};
     return Status::kOk;
   }
 };
