@@ -8,7 +8,7 @@
 // (frame_2 before frame_10); every frame must have the first frame's point count; a point with a
 // NaN or infinite coordinate is a gap. PCL trusts the counts in a PCD header and allocates
 // (and, for binary bodies, reads) whatever they say, so each file is read whole into memory
-// first, its header is parsed here and checked against the file's size, and only then is PCL
+// first, its header is parsed (io/pcd_header.h) and checked against the file's size, then PCL is
 // given the bytes (readHeader on the header text, readBodyBinary / readBodyASCII on the body).
 //
 // Writing: one file per frame with the source's fields in its order and types (x y z float32
