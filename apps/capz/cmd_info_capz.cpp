@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "capz/codec.h"
+#include "capz/original.h"
 #include "compress_common.h"
 
 namespace capz_cli {
@@ -87,6 +88,11 @@ int info_capz(const std::string& path, bool json) {
            (si.step > 0 ? ", grid step " + num(si.step, 6) + u : "") + ", codec " + si.codec);
   line("windows:",
        std::to_string(si.windows) + " of " + std::to_string(si.window_frames) + " frames");
+  const capz::OriginalInfo orig = capz::original_info(path);
+  if (orig.hashed)
+    line("original:", std::to_string(orig.size) + " bytes, xxh3-128 " + orig.hash_hex +
+                          (orig.exact ? ", rebuilt byte for byte (checksum checked)"
+                                      : ", not rebuilt byte for byte"));
   if (si.analog_channels > 0)
     line("analog:", std::to_string(si.analog_channels) + " channels x " +
                         std::to_string(si.analog_samples_per_frame) + " samples per frame");
