@@ -5,8 +5,8 @@
 
 #include <cmath>
 #include <cstring>
-#include <limits>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -24,7 +24,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::vector<uint8_t> bytes_of(const std::string& s) { return std::vector<uint8_t>(s.begin(), s.end()); }
+std::vector<uint8_t> bytes_of(const std::string& s) {
+  return std::vector<uint8_t>(s.begin(), s.end());
+}
 
 void put_f32(std::vector<uint8_t>* b, float v) {
   uint8_t x[4];
@@ -38,17 +40,18 @@ void put_u32(std::vector<uint8_t>* b, uint32_t v) {
 // The header capz's (and PCL's) writer gives x y z float32 frames of n points.
 std::string plain_header(size_t n, const char* data, const std::string& nl = "\n") {
   const std::string N = std::to_string(n);
-  return "# .PCD v0.7 - Point Cloud Data file format" + nl + "VERSION 0.7" + nl +
-         "FIELDS x y z" + nl + "SIZE 4 4 4" + nl + "TYPE F F F" + nl + "COUNT 1 1 1" + nl +
-         "WIDTH " + N + nl + "HEIGHT 1" + nl + "VIEWPOINT 0 0 0 1 0 0 0" + nl + "POINTS " + N +
-         nl + "DATA " + data + nl;
+  return "# .PCD v0.7 - Point Cloud Data file format" + nl + "VERSION 0.7" + nl + "FIELDS x y z" +
+         nl + "SIZE 4 4 4" + nl + "TYPE F F F" + nl + "COUNT 1 1 1" + nl + "WIDTH " + N + nl +
+         "HEIGHT 1" + nl + "VIEWPOINT 0 0 0 1 0 0 0" + nl + "POINTS " + N + nl + "DATA " + data +
+         nl;
 }
 
 // Binary point bytes of frame f (4 points, all valid).
 std::vector<uint8_t> points(int f) {
   std::vector<uint8_t> b;
   for (int p = 0; p < 4; ++p)
-    for (int a = 0; a < 3; ++a) put_f32(&b, 0.25f * static_cast<float>(f + p) + static_cast<float>(a));
+    for (int a = 0; a < 3; ++a)
+      put_f32(&b, 0.25f * static_cast<float>(f + p) + static_cast<float>(a));
   return b;
 }
 
@@ -135,9 +138,10 @@ TEST(PcdResidue, HeaderVariantsComeBackAndAreStoredOnce) {
 TEST(PcdResidue, AsciiNumberSpellingsComeBack) {
   const std::string body = "1.50 1e+00 -0\n0.1 2.0000 3\n-1.25E-3 +4 5.\n7 8 9   \n";
   const std::string body2 = "1.5 1 0\n0.1 2 3\n-0.00125 4 5\n7 8 9\n";  // the writer's form
-  round_trip({frame(plain_header(4, "ascii"), bytes_of(body)),
-              frame(plain_header(4, "ascii"), bytes_of(body2)),
-              frame(plain_header(4, "ascii", "\r\n"), bytes_of("1 2 3\r\n4 5 6\r\n7 8 9\r\n1 1 1\r\n"))});
+  round_trip(
+      {frame(plain_header(4, "ascii"), bytes_of(body)),
+       frame(plain_header(4, "ascii"), bytes_of(body2)),
+       frame(plain_header(4, "ascii", "\r\n"), bytes_of("1 2 3\r\n4 5 6\r\n7 8 9\r\n1 1 1\r\n"))});
 }
 
 // NaN payloads, a negative NaN, a gap with one finite coordinate, an infinite coordinate.

@@ -18,11 +18,15 @@ constexpr uint64_t kMaxReference = uint64_t{1} << 21;
 constexpr uint64_t kMaxFrame = uint64_t{1} << 40;
 const char* const kEncodings[3] = {"ascii", "binary", "binary_compressed"};
 
-bool is_space(uint8_t c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+bool is_space(uint8_t c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+}
 
 // zstd level for a packed string of n bytes: the best below 256 KiB, a fast one above (bodies
 // of their own are rare, and level 19 runs at a few MB/s).
-int level_for(size_t n) { return n <= (size_t{1} << 18) ? 19 : 6; }
+int level_for(size_t n) {
+  return n <= (size_t{1} << 18) ? 19 : 6;
+}
 
 std::vector<uint8_t> slice(const std::vector<uint8_t>& v, size_t a, size_t b) {
   return std::vector<uint8_t>(v.begin() + static_cast<long>(a), v.begin() + static_cast<long>(b));
@@ -77,8 +81,7 @@ void PcdRegen::frame(const FrameBlock& b, size_t k, int enc, std::vector<uint8_t
   if (*header_end == SIZE_MAX) fail(ErrorCode::kInternal, "", "PCD writer wrote no DATA line");
 }
 
-PCDResidueEncoder::PCDResidueEncoder(const Take& header)
-    : regen_(header), frames_(header.frames) {}
+PCDResidueEncoder::PCDResidueEncoder(const Take& header) : regen_(header), frames_(header.frames) {}
 
 std::vector<uint8_t> PCDResidueEncoder::file_part(const std::vector<uint8_t>& first) {
   const std::string h = regen_.take_header();
@@ -101,14 +104,18 @@ void PCDResidueEncoder::frame(const FrameBlock& block, size_t k, const std::vect
     oh = 0;  // no header: the whole file is its body (the reader refuses it; kept all the same)
   } else {
     // The DATA line's second word, lowercased (as the reader takes it).
-    size_t a = oh;
+    size_t end = oh;
+    if (orig[end - 1] == '\n') --end;
+    size_t a = end;
     while (a > 0 && orig[a - 1] != '\n') --a;
-    if (a == oh) a = 0;
-    std::string line(orig.begin() + static_cast<long>(a), orig.begin() + static_cast<long>(oh));
-    size_t p = line.find("DATA") + 4;
+    const std::string line(orig.begin() + static_cast<long>(a),
+                           orig.begin() + static_cast<long>(end));
+    size_t p = 0;
+    while (p < line.size() && is_space(static_cast<uint8_t>(line[p]))) ++p;
+    p += 4;  // DATA
     while (p < line.size() && is_space(static_cast<uint8_t>(line[p]))) ++p;
     size_t q = p;
-    while (q < line.size() && !is_space(static_cast<uint8_t>(line[q])) && line[q] != '\n') ++q;
+    while (q < line.size() && !is_space(static_cast<uint8_t>(line[q]))) ++q;
     std::string word = line.substr(p, q - p);
     for (char& c : word) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     enc = pcd_encoding_code(word);
