@@ -117,7 +117,9 @@ TEST_F(PcdResidueCorrupt, DamagedWindowResidueIsCaught) {
   damage_every_byte("PCDP", 0x80);
 }
 
-TEST_F(PcdResidueCorrupt, DamagedFolderHashIsCaught) { damage_every_byte("HASH", 0x01); }
+TEST_F(PcdResidueCorrupt, DamagedFolderHashIsCaught) {
+  damage_every_byte("HASH", 0x01);
+}
 
 // A window whose PCDP is gone (its tag renamed, CRC fixed): corrupt, nothing written.
 TEST_F(PcdResidueCorrupt, MissingWindowResidueIsCorrupt) {

@@ -87,8 +87,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const size_t edits = next() % 8;
     for (size_t e = 0; e < edits; ++e) {
       const uint8_t op = next(), v = next();
-      const size_t pos = files[k].empty() ? 0 : (static_cast<size_t>(next()) * 257 + v) %
-                                                    files[k].size();
+      const size_t pos =
+          files[k].empty() ? 0 : (static_cast<size_t>(next()) * 257 + v) % files[k].size();
       if (op % 4 == 0 && !files[k].empty())
         files[k][pos] = v;
       else if (op % 4 == 1)

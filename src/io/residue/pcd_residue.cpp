@@ -67,10 +67,11 @@ std::string PcdRegen::take_header() const {
 void PcdRegen::frame(const FrameBlock& b, size_t k, int enc, std::vector<uint8_t>* out,
                      size_t* header_end) {
   const size_t N = b.points;
+  if (b.attributes.size() != attrs_.size() || k >= b.frames)
+    fail(ErrorCode::kInternal, "", "PCD residue: a frame block without its point fields");
   for (size_t a = 0; a < attrs_.size(); ++a) {
-    const size_t per_frame = a < b.attributes.size() ? b.attributes[a].size() / b.frames : 0;
-    if (a >= b.attributes.size() || b.attributes[a].size() != per_frame * b.frames ||
-        per_frame == 0)
+    const size_t per_frame = b.attributes[a].size() / b.frames;
+    if (b.attributes[a].size() != per_frame * b.frames)
       fail(ErrorCode::kInternal, "", "PCD residue: a frame block without its point fields");
     attrs_[a] = b.attributes[a].data() + k * per_frame;
   }
