@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "capz/codec.h"
+#include "capz/original.h"
 #include "compress_common.h"
 
 namespace capz_cli {
@@ -100,6 +101,11 @@ int info_capz(const std::string& path, bool json) {
            (si.step > 0 ? ", grid step " + num(si.step, 6) + u : "") + ", codec " + si.codec);
   line("windows:",
        std::to_string(si.windows) + " of " + std::to_string(si.window_frames) + " frames");
+  const capz::OriginalInfo orig = capz::original_info(path);
+  if (orig.hashed)
+    line("original:", std::to_string(orig.size) + " bytes, xxh3-128 " + orig.hash_hex +
+                          (orig.exact ? ", rebuilt byte for byte (checksum checked)"
+                                      : ", not rebuilt byte for byte"));
   if (si.analog_channels > 0) {
     // Lossy channels grouped by bound and unit, in channel order (FORMAT.md 5.2).
     std::vector<std::pair<std::string, std::vector<std::string>>> groups;
