@@ -106,8 +106,8 @@ TEST(AnalogQuantiser, GivenInt16CountsThenWithinBoundOnTheOddLatticeAndSmaller) 
 TEST(AnalogQuantiser, GivenABoundFinerThanTheStepThenTheChannelIsLeftAlone) {
   const std::vector<double> orig = noisy_counts(1000, 2, 100);
   std::vector<double> q = orig;
-  const ChannelHint h = analog::quantise_channel(q.data(), 1, q.size(), int16_bound(0.009, 0.01),
-                                                 {});
+  const ChannelHint h =
+      analog::quantise_channel(q.data(), 1, q.size(), int16_bound(0.009, 0.01), {});
   EXPECT_EQ(h.lattice_step, 0);
   EXPECT_EQ(q, orig);
 }
