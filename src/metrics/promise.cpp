@@ -236,7 +236,7 @@ bool PromiseCheck::positions(const Frames& a, const Frames& b) {
 bool PromiseCheck::check(const Frames& a, const Frames& b) {
   if (a.frames != b.frames || a.points != b.points)
     return breach("frame count differs at frame " + std::to_string(a.first));
-  acc_.add(a.frames, a.points, a.xyz, b.xyz, a.valid);
+  if (measure_) acc_.add(a.frames, a.points, a.xyz, b.xyz, a.valid);
   size_t n = 0, at = 0;
   for (size_t i = 0; i < a.frames * a.points; ++i)
     if ((a.valid[i] != 0) != (b.valid[i] != 0) && n++ == 0) at = i;
