@@ -486,12 +486,12 @@ class Encoder {
   void reconstruct(size_t frames, const WindowInts& wi, const std::vector<double>& recon,
                    std::vector<double>* rec) const {
     const size_t n = frames * take_.points;
-    rec->assign(n * 3, 0.0);
     if (plan_.tout) {
+      rec->assign(n * 3, 0.0);
       for (size_t i = 0; i < n; ++i)
         if (wi.valid[i]) std::copy(&recon[i * 3], &recon[i * 3 + 3], &(*rec)[i * 3]);
     } else {
-      dequantise_window(g_, wi, rec);
+      dequantise_all(g_, wi, rec);  // gap samples: q = 0 (quantise_window) gives 0.0
     }
     for (size_t i = 0; i < n; ++i)
       if (wi.valid[i]) keep_valid_off_origin(take_.format, g_.lossless, &(*rec)[i * 3]);
