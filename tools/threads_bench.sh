@@ -37,8 +37,8 @@ for f in "$capz" "$synth" "$src"; do
   [ -e "$f" ] || { echo "threads_bench.sh: missing $f" >&2; exit 2; }
 done
 mkdir -p "$work"
-take=$work/take-${minutes}min.c3d
-[ -s "$take" ] || "$synth" "$src" "$take" --minutes "$minutes" >/dev/null
+. "$here/tools/bench_common.sh"
+take=$(bench_take "$synth" "$src" "$work" "$minutes")
 "$capz" compress "$take" -o "$work/ref.capz" -f -q
 raw=$("$capz" info "$work/ref.capz" --json | python3 -c \
   'import json,sys; j=json.load(sys.stdin); print(j["frames"]*j["points"]*12)')
@@ -46,12 +46,7 @@ raw=$("$capz" info "$work/ref.capz" --json | python3 -c \
 # One timed process: appends "op threads round wall cpu" to the log.
 log=$work/times.txt
 : > "$log"
-timed() {  # op threads round command...
-  local op=$1 t=$2 r=$3; shift 3
-  /usr/bin/time -f "%e %U %S" -o "$work/one.time" "$@" >/dev/null
-  read -r wall user sys < "$work/one.time"
-  echo "$op $t $r $wall $(python3 -c "print($user + $sys)")" >> "$log"
-}
+timed() { bench_timed "$log" "$@"; }  # op threads round command...
 for op in compress decompress; do
   for r in $(seq 0 "$runs"); do  # round 0 is a warm-up, not counted
     for t in $threads; do

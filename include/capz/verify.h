@@ -48,6 +48,10 @@ struct PromiseResult;
 class PromiseCheck {
  public:
   explicit PromiseCheck(const Promise& promise) : promise_(promise) {}
+  // measure = false: the rule only, no error measures (error() stays empty, and finish() has no
+  // KG error to hold to a KG target): for a caller that measures the same samples itself (the
+  // encoder's self-check, whose decoded samples must equal its own reconstruction).
+  PromiseCheck(const Promise& promise, bool measure) : promise_(promise), measure_(measure) {}
   // Everything but the per-frame arrays (FrameSource::header()).
   bool header(const Take& original, const Take& decoded);
   // One block of frames; `decoded` must cover the same frames as `original`.
@@ -75,6 +79,7 @@ class PromiseCheck {
   Promise promise_;
   std::string why_;
   double analog_bound_use_ = 0;
+  bool measure_ = true;
   ErrorAccumulator acc_;
   size_t mask_mismatches_ = 0;
 };

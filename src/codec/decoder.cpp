@@ -145,17 +145,20 @@ void decode_window_positions(const StreamContext& ctx, WindowChunks* chunks, siz
     decode_positions(pp, tpred, h.mode == PosMode::kFloat64, position_scheme(ctx.major), &wi,
                      pwhat);
   }
-  xyz->assign(fn * N * 3, 0.0);
-  if (!h.transform_output) {
+  if (h.transform_output) {
+    xyz->assign(fn * N * 3, 0.0);
+  } else {
     Grid g;
     g.mode = h.mode;
     g.step = h.step;
-    dequantise_window(g, wi, xyz);
+    dequantise_all(g, wi, xyz);  // gap samples are set to 0 below
   }
   for (size_t i = 0; i < fn * N; ++i)
     if (wi.valid[i]) {
       if (h.transform_output) std::copy(&tout_xyz[i * 3], &tout_xyz[i * 3 + 3], &(*xyz)[i * 3]);
       keep_valid_off_origin(h.source_format, h.lossless, &(*xyz)[i * 3]);
+    } else {
+      std::fill(&(*xyz)[i * 3], &(*xyz)[i * 3 + 3], 0.0);
     }
   valid->assign(wi.valid.begin(), wi.valid.end());
 }

@@ -19,16 +19,15 @@ const char* mode_name(PosMode m) {
   return "?";
 }
 
-void dequantise_window(const Grid& g, const WindowInts& wi, std::vector<double>* rec) {
-  const size_t n = wi.frames * wi.points;
+void dequantise_all(const Grid& g, const WindowInts& wi, std::vector<double>* rec) {
+  const size_t n = wi.frames * wi.points * 3;
+  rec->resize(n);
   double* out = rec->data();
   const int32_t* q = wi.q.data();
   const uint32_t* lo = g.mode == PosMode::kFloat64 ? wi.lo.data() : nullptr;
   with_mode(g.mode, [&](auto m) {
-    for (size_t i = 0; i < n; ++i)
-      if (wi.valid[i])
-        for (size_t k = i * 3; k < i * 3 + 3; ++k)
-          out[k] = dequantise_as<decltype(m)::value>(g, q[k], lo ? lo[k] : 0);
+    for (size_t k = 0; k < n; ++k)
+      out[k] = dequantise_as<decltype(m)::value>(g, q[k], lo ? lo[k] : 0);
   });
 }
 

@@ -61,9 +61,11 @@ void with_mode(PosMode m, Fn&& fn) {
   }
 }
 
-// dequantise_as() of every valid coordinate of a window into rec (frames x points x 3, sized by
-// the caller); gap samples are left as they are.
-void dequantise_window(const Grid& g, const WindowInts& wi, std::vector<double>* rec);
+// dequantise_as() of every coordinate of a window, gap samples included, into rec (resized to
+// frames x points x 3): one loop without a test per sample. The encoder's gap samples hold
+// q = 0 (and lo = 0), which every mode maps to +0.0; the decoder's hold the walk's gap fill,
+// and it sets them to 0 after.
+void dequantise_all(const Grid& g, const WindowInts& wi, std::vector<double>* rec);
 
 // Transform prediction on the grid (docs/FORMAT.md 3.3 predictor 3): round(recon / step),
 // clamped to the grid's index range (NaN to its low end).

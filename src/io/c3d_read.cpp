@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <type_traits>
 
 #include "capz/error.h"
 #include "capz/io.h"
@@ -484,53 +485,74 @@ Take read_header(const uint8_t* data, size_t avail, size_t size, const std::stri
 void decode_frames(const DataLayout& lay, const uint8_t* bytes, size_t count, double* xyz,
                    uint8_t* valid_out, float* residual, uint8_t* camera, double* analog,
                    size_t* wide_word4) {
-  const NumberFormat& nf = lay.nf;
-  const size_t points = lay.points, elem = lay.float_storage ? 4 : 2;
+  const size_t points = lay.points;
   const double scale = lay.scale;
-  for (size_t f = 0; f < count; ++f) {
-    const uint8_t* fp = bytes + f * lay.per_frame;
-    for (size_t p = 0; p < points; ++p) {
-      const uint8_t* q = fp + p * 4 * elem;
-      double c[3];
-      bool valid;
-      uint32_t word4 = 0;
-      if (lay.float_storage) {
-        for (int a = 0; a < 3; ++a) c[a] = nf.f32(q + 4 * a);
-        // The float holds the int16 4th word: 32768..65535 are negative int16 values (Qualisys
-        // and Vicon write 65535 for -1). Larger values are no int16 at all: valid, residual 0.
-        float w = nf.f32(q + 12);
-        valid = w >= 0 && !(w >= 32768.0f && w <= 65535.0f);  // NaN is not >= 0
-        if (valid && w < 32768.0f) word4 = static_cast<uint32_t>(w);
-        if (valid && w > 65535.0f) ++*wide_word4;
-      } else {
-        for (int a = 0; a < 3; ++a) c[a] = nf.i16(q + 2 * a) * scale;
-        int16_t w = nf.i16(q + 6);
-        valid = w >= 0;
-        if (valid) word4 = static_cast<uint32_t>(w);
+  // One loop per processor type and storage, fixed at compile time: the number reads then
+  // carry no test per value (this loop reads every frame of a take twice when it is
+  // compressed: once for the scan, once to code it).
+  auto frames = [&](auto proc, auto float_c) {
+    NumberFormat nf;
+    nf.processor = decltype(proc)::value;
+    constexpr bool float_storage = decltype(float_c)::value;
+    constexpr size_t elem = float_storage ? 4 : 2;
+    for (size_t f = 0; f < count; ++f) {
+      const uint8_t* fp = bytes + f * lay.per_frame;
+      for (size_t p = 0; p < points; ++p) {
+        const uint8_t* q = fp + p * 4 * elem;
+        double c[3];
+        bool valid;
+        uint32_t word4 = 0;
+        if (float_storage) {
+          for (int a = 0; a < 3; ++a) c[a] = nf.f32(q + 4 * a);
+          // The float holds the int16 4th word: 32768..65535 are negative int16 values
+          // (Qualisys and Vicon write 65535 for -1). Larger values are no int16 at all: valid,
+          // residual 0.
+          float w = nf.f32(q + 12);
+          valid = w >= 0 && !(w >= 32768.0f && w <= 65535.0f);  // NaN is not >= 0
+          if (valid && w < 32768.0f) word4 = static_cast<uint32_t>(w);
+          if (valid && w > 65535.0f) ++*wide_word4;
+        } else {
+          for (int a = 0; a < 3; ++a) c[a] = nf.i16(q + 2 * a) * scale;
+          int16_t w = nf.i16(q + 6);
+          valid = w >= 0;
+          if (valid) word4 = static_cast<uint32_t>(w);
+        }
+        if (valid) {
+          bool finite = std::isfinite(c[0]) && std::isfinite(c[1]) && std::isfinite(c[2]);
+          bool zero = c[0] == 0 && c[1] == 0 && c[2] == 0;
+          valid = finite && !zero;
+        }
+        const size_t i = f * points + p;
+        double* dst = xyz + 3 * i;
+        valid_out[i] = valid ? 1 : 0;
+        residual[i] = valid ? static_cast<float>((word4 & 0xff) * scale) : -1.0f;
+        camera[i] = valid ? static_cast<uint8_t>((word4 >> 8) & 0xff) : 0;
+        for (int a = 0; a < 3; ++a) dst[a] = valid ? c[a] : 0.0;
       }
-      if (valid) {
-        bool finite = std::isfinite(c[0]) && std::isfinite(c[1]) && std::isfinite(c[2]);
-        bool zero = c[0] == 0 && c[1] == 0 && c[2] == 0;
-        valid = finite && !zero;
+      const uint8_t* ap = fp + points * 4 * elem;
+      double* av = analog + f * lay.analog_values;
+      for (size_t k = 0; k < lay.analog_values; ++k) {
+        const uint8_t* q = ap + k * elem;
+        if (float_storage)
+          av[k] = nf.f32(q);
+        else
+          av[k] =
+              lay.analog_unsigned ? static_cast<double>(nf.u16(q)) : static_cast<double>(nf.i16(q));
       }
-      const size_t i = f * points + p;
-      double* dst = xyz + 3 * i;
-      valid_out[i] = valid ? 1 : 0;
-      residual[i] = valid ? static_cast<float>((word4 & 0xff) * scale) : -1.0f;
-      camera[i] = valid ? static_cast<uint8_t>((word4 >> 8) & 0xff) : 0;
-      for (int a = 0; a < 3; ++a) dst[a] = valid ? c[a] : 0.0;
     }
-    const uint8_t* ap = fp + points * 4 * elem;
-    double* av = analog + f * lay.analog_values;
-    for (size_t k = 0; k < lay.analog_values; ++k) {
-      const uint8_t* q = ap + k * elem;
-      if (lay.float_storage)
-        av[k] = nf.f32(q);
-      else
-        av[k] =
-            lay.analog_unsigned ? static_cast<double>(nf.u16(q)) : static_cast<double>(nf.i16(q));
-    }
-  }
+  };
+  auto with_storage = [&](auto proc) {
+    if (lay.float_storage)
+      frames(proc, std::true_type());
+    else
+      frames(proc, std::false_type());
+  };
+  if (lay.nf.processor == kDec)
+    with_storage(std::integral_constant<int, kDec>());
+  else if (lay.nf.processor == kMips)
+    with_storage(std::integral_constant<int, kMips>());
+  else
+    with_storage(std::integral_constant<int, kIntel>());
 }
 
 void decode_c3d_rotations(const DataLayout& lay, const uint8_t* bytes, size_t count,

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <type_traits>
 
 #include "capz/verify.h"
 #include "io/c3d_params.h"
@@ -213,33 +214,51 @@ bool PromiseCheck::header(const Take& original, const Take& decoded) {
   return what.empty() ? holds() : breach(what);
 }
 
-// Every valid sample of the original (a): its coordinates as the promise says.
+// Every valid sample of the original (a): its coordinates as the promise says. One loop per
+// kind (fixed at compile time) with one branch per sample (its three tests combined).
 bool PromiseCheck::positions(const Frames& a, const Frames& b) {
-  const Promise::Kind kind = promise_.kind;
-  for (size_t i = 0; i < a.frames * a.points; ++i) {
-    if (!a.valid[i]) continue;
-    for (size_t k = i * 3; k < i * 3 + 3; ++k) {
-      const double x = a.xyz[k], y = b.xyz[k];
-      const bool ok = kind == Promise::Kind::kKgTarget   ? std::isfinite(y)
-                      : kind == Promise::Kind::kLossless ? same_bits(x, y)
-                                                         : std::fabs(x - y) <= promise_.max_error;
-      if (!ok)
-        return breach(
-            "coordinate " + text(x, 17) + " at frame " + std::to_string(a.first + i / a.points) +
-            ", point " + std::to_string(i % a.points) + " comes back as " + text(y, 17) +
-            (kind == Promise::Kind::kLossless   ? " (lossless)"
-             : kind == Promise::Kind::kKgTarget ? " (not finite)"
-                                                : " (bound " + text(promise_.max_error, 6) + ")"));
+  using K = Promise::Kind;
+  const K kind = promise_.kind;
+  const double bound = promise_.max_error;
+  const size_t n = a.frames * a.points;
+  size_t bad = n, axis = 0;  // the first sample that breaks the promise, and its coordinate
+  auto find = [&](auto kind_c) {
+    constexpr K k = decltype(kind_c)::value;
+    auto ok = [bound](double x, double y) {
+      return k == K::kKgTarget   ? std::isfinite(y)
+             : k == K::kLossless ? same_bits(x, y)
+                                 : std::fabs(x - y) <= bound;
+    };
+    for (size_t i = 0; i < n; ++i) {
+      if (!a.valid[i]) continue;
+      const double *x = a.xyz + i * 3, *y = b.xyz + i * 3;
+      if (ok(x[0], y[0]) & ok(x[1], y[1]) & ok(x[2], y[2])) continue;
+      bad = i;
+      axis = ok(x[0], y[0]) ? ok(x[1], y[1]) ? 2 : 1 : 0;
+      return;
     }
-  }
-  return true;
+  };
+  if (kind == K::kKgTarget)
+    find(std::integral_constant<K, K::kKgTarget>());
+  else if (kind == K::kLossless)
+    find(std::integral_constant<K, K::kLossless>());
+  else
+    find(std::integral_constant<K, K::kBound>());
+  if (bad == n) return true;
+  const double x = a.xyz[bad * 3 + axis], y = b.xyz[bad * 3 + axis];
+  return breach("coordinate " + text(x, 17) + " at frame " +
+                std::to_string(a.first + bad / a.points) + ", point " +
+                std::to_string(bad % a.points) + " comes back as " + text(y, 17) +
+                (kind == K::kLossless   ? " (lossless)"
+                 : kind == K::kKgTarget ? " (not finite)"
+                                        : " (bound " + text(promise_.max_error, 6) + ")"));
 }
 
 // Mask, positions, 4th words and analog values of one stretch of frames.
 bool PromiseCheck::check(const Frames& a, const Frames& b) {
   if (a.frames != b.frames || a.points != b.points)
     return breach("frame count differs at frame " + std::to_string(a.first));
-  acc_.add(a.frames, a.points, a.xyz, b.xyz, a.valid);
+  if (measure_) acc_.add(a.frames, a.points, a.xyz, b.xyz, a.valid);
   size_t n = 0, at = 0;
   for (size_t i = 0; i < a.frames * a.points; ++i)
     if ((a.valid[i] != 0) != (b.valid[i] != 0) && n++ == 0) at = i;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <memory>
 #include <string>
@@ -214,6 +215,33 @@ TEST(Promise, GivenBlocksOfFramesThenTheCheckAgreesWithTheWholeTake) {
     EXPECT_DOUBLE_EQ(check.error().max_abs, compare(a, b).max_abs);
     EXPECT_DOUBLE_EQ(check.error().kg_error, compare(a, b).kg_error);
   }
+}
+
+// Without measures (the encoder's self-check) the verdict and the first breach are the same,
+// whichever coordinate of a sample breaks the promise, and nothing is measured.
+TEST(Promise, GivenNoMeasuresThenTheSameVerdictAndNoMeasures) {
+  const Take a = original();
+  for (int axis = 0; axis < 3; ++axis)
+    for (const Promise& p : {bound(0.1), lossless()}) {
+      SCOPED_TRACE(axis);
+      Take b = shifted(a, p.kind == Promise::Kind::kBound ? 0.05 : 0.0);
+      b.xyz[(4 * a.points + 3) * 3 + static_cast<size_t>(axis)] += 1;  // frame 4, point 3
+      std::unique_ptr<FrameSource> sa = take_frames(a), sb = take_frames(b);
+      FrameBlock x, y;
+      sa->read(0, a.frames, &x);
+      sb->read(0, a.frames, &y);
+      PromiseCheck measured(p), bare(p, false);
+      EXPECT_FALSE(measured.frames(x, y));
+      EXPECT_FALSE(bare.frames(x, y));
+      EXPECT_EQ(bare.why(), measured.why());
+      EXPECT_TRUE(has(bare.why(), "at frame 4, point 3 comes back as")) << bare.why();
+      const double moved = b.xyz[(4 * a.points + 3) * 3 + static_cast<size_t>(axis)];
+      char text[64];
+      std::snprintf(text, sizeof text, "comes back as %.17g", moved);
+      EXPECT_TRUE(has(bare.why(), text)) << bare.why();
+      EXPECT_EQ(bare.error().samples, 0u);
+      EXPECT_EQ(measured.error().samples, a.frames * a.points - 1);  // one gap
+    }
 }
 
 // The rule against the real coder: what compress promises, decompress keeps.
