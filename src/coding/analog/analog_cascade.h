@@ -11,12 +11,16 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 
 #include "coding/analog/analog_lpc.h"
 
 namespace capz {
 namespace analog {
 
+// The arithmetic runs on doubles: weights (|w| <= 2^17), history (|h| <= 2^28), their products
+// (< 2^45) and every partial sum of 16 products (< 2^49) are integers below 2^53, so each step
+// is exact and the sum is the same integer in any order: two-lane vectors, no int64 multiplies.
 class SignLms {
  public:
   static constexpr int kTaps = 16;
@@ -25,29 +29,54 @@ class SignLms {
   static constexpr int32_t kMaxWeight = 1 << 17;
 
   int64_t predict() const {
-    int64_t s = 0;
-    for (int j = 0; j < kTaps; ++j) s += static_cast<int64_t>(w_[j]) * h_[j];
+    const double* h = h_ + pos_;
+    Lanes a0 = {0, 0}, a1 = {0, 0};
+    for (int j = 0; j < kTaps; j += 4) {
+      a0 += w_[j / 2] * load(h + j);
+      a1 += w_[j / 2 + 1] * load(h + j + 2);
+    }
+    const Lanes a = a0 + a1;
+    int64_t s = static_cast<int64_t>(a[0] + a[1]);
     s = (s + (int64_t{1} << (kShift - 1))) >> kShift;
     return s > kMaxSample ? kMaxSample : s < -kMaxSample ? -kMaxSample : s;
   }
   // After coding: `in` was the stage input, `out` = in - predict().
   void update(int64_t in, int64_t out) {
-    const int32_t d = out > 0 ? kStep : out < 0 ? -kStep : 0;
-    if (d != 0)
-      for (int j = 0; j < kTaps; ++j) {
-        const int32_t g = h_[j] > 0 ? d : h_[j] < 0 ? -d : 0;
-        int32_t w = w_[j] + g;
-        w_[j] = w > kMaxWeight ? kMaxWeight : w < -kMaxWeight ? -kMaxWeight : w;
+    if (out != 0) {
+      const double d = out > 0 ? kStep : -kStep;
+      const Lanes lim = {kMaxWeight, kMaxWeight}, nlim = -lim;
+      const double* g = g_ + pos_;
+      for (int j = 0; j < kTaps / 2; ++j) {
+        Lanes w = w_[j] + d * load(g + 2 * j);
+        w = w > lim ? lim : w;
+        w_[j] = w < nlim ? nlim : w;
       }
-    for (int j = kTaps - 1; j > 0; --j) h_[j] = h_[j - 1];
-    h_[0] = static_cast<int32_t>(in > kMaxSample    ? kMaxSample
-                                 : in < -kMaxSample ? -kMaxSample
-                                                    : in);
+    }
+    if (pos_ == 0) {
+      // Slide the window back to the end of the ring (the newest kTaps - 1 survive).
+      std::memmove(h_ + kRing, h_, sizeof(double) * kTaps);
+      std::memmove(g_ + kRing, g_, sizeof(double) * kTaps);
+      pos_ = kRing;
+    }
+    --pos_;
+    const int64_t c = in > kMaxSample ? kMaxSample : in < -kMaxSample ? -kMaxSample : in;
+    h_[pos_] = static_cast<double>(c);
+    g_[pos_] = c > 0 ? 1.0 : c < 0 ? -1.0 : 0.0;
   }
 
  private:
-  int32_t w_[kTaps] = {};
-  int32_t h_[kTaps] = {};
+  typedef double Lanes __attribute__((vector_size(16)));
+  static Lanes load(const double* p) {
+    Lanes v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+  }
+  static constexpr int kRing = 112;
+  // Weights w[j] in lanes; history h[j] = h_[pos_ + j] and its signs g_[pos_ + j].
+  Lanes w_[kTaps / 2] = {};
+  double h_[kRing + kTaps] = {};
+  double g_[kRing + kTaps] = {};
+  int pos_ = kRing;
 };
 
 }  // namespace analog

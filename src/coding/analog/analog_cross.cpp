@@ -22,6 +22,9 @@ CrossParams choose_cross(const std::vector<int32_t>& r1,
   for (int32_t v : r1) ecc += static_cast<double>(v) * v;
   if (n == 0 || ecc <= 0) return best;
   double best_bits = min_gain_bits;
+  // Bits saved = sum bit_length(r1) - sum bit_length(r1 - prediction), the first sum shared.
+  int64_t base = 0;
+  for (size_t i = 0; i < n; ++i) base += bit_length(r1[i]);
   for (size_t d = 0; d < refs.size(); ++d) {
     const std::vector<int32_t>* ref = refs[d];
     if (!ref || ref->size() != n) continue;
@@ -35,9 +38,9 @@ CrossParams choose_cross(const std::vector<int32_t>& r1,
     if (!(std::fabs(beta) < kMaxBeta) || beta == 0) continue;
     // Bits saved, measured as the change of the summed bit lengths of the residuals.
     const int32_t q = static_cast<int32_t>(beta);
-    int64_t saved = 0;
-    for (size_t i = 0; i < n; ++i)
-      saved += bit_length(r1[i]) - bit_length(r1[i] - cross_predict(q, (*ref)[i]));
+    int64_t after = 0;
+    for (size_t i = 0; i < n; ++i) after += bit_length(r1[i] - cross_predict(q, (*ref)[i]));
+    const int64_t saved = base - after;
     const double bits = static_cast<double>(saved) - 20;
     if (bits > best_bits) {
       best_bits = bits;
