@@ -44,12 +44,23 @@ class SignLms {
   void update(int64_t in, int64_t out) {
     if (out != 0) {
       const double d = out > 0 ? kStep : -kStep;
-      const Lanes lim = {kMaxWeight, kMaxWeight}, nlim = -lim;
       const double* g = g_ + pos_;
-      for (int j = 0; j < kTaps / 2; ++j) {
-        Lanes w = w_[j] + d * load(g + 2 * j);
-        w = w > lim ? lim : w;
-        w_[j] = w < nlim ? nlim : w;
+      if (bound_ + kStep <= kMaxWeight) {
+        // No weight can pass the limit in this step: the clamp is the identity.
+        for (int j = 0; j < kTaps / 2; ++j) w_[j] += d * load(g + 2 * j);
+        bound_ += kStep;
+      } else {
+        const Lanes lim = {kMaxWeight, kMaxWeight}, nlim = -lim;
+        Lanes m = {0, 0};
+        for (int j = 0; j < kTaps / 2; ++j) {
+          Lanes w = w_[j] + d * load(g + 2 * j);
+          w = w > lim ? lim : w;
+          w = w < nlim ? nlim : w;
+          w_[j] = w;
+          const Lanes a = w < 0 ? -w : w;
+          m = a > m ? a : m;
+        }
+        bound_ = m[0] > m[1] ? m[0] : m[1];
       }
     }
     if (pos_ == 0) {
@@ -77,6 +88,7 @@ class SignLms {
   double h_[kRing + kTaps] = {};
   double g_[kRing + kTaps] = {};
   int pos_ = kRing;
+  double bound_ = 0;  // at least max |w[j]|
 };
 
 }  // namespace analog

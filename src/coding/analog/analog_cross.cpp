@@ -6,6 +6,8 @@ namespace capz {
 namespace analog {
 namespace {
 
+typedef double Lanes __attribute__((vector_size(16)));
+
 int bit_length(int64_t v) {
   const uint64_t u = (static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63);
   return u == 0 ? 0 : 64 - __builtin_clzll(u);
@@ -25,14 +27,43 @@ CrossParams choose_cross(const std::vector<int32_t>& r1,
   // Bits saved = sum bit_length(r1) - sum bit_length(r1 - prediction), the first sum shared.
   int64_t base = 0;
   for (size_t i = 0; i < n; ++i) base += bit_length(r1[i]);
-  for (size_t d = 0; d < refs.size(); ++d) {
-    const std::vector<int32_t>* ref = refs[d];
-    if (!ref || ref->size() != n) continue;
-    double ecr = 0, err = 0;
-    for (size_t i = 0; i < n; ++i) {
-      ecr += static_cast<double>(r1[i]) * (*ref)[i];
-      err += static_cast<double>((*ref)[i]) * (*ref)[i];
+  // Cross and reference energies, four references a pass in two-lane vectors (each lane the
+  // same sum, in the same order, as one reference alone; a missing reference reads zeros).
+  const size_t nr = refs.size();
+  auto usable = [&](size_t d) { return refs[d] && refs[d]->size() == n; };
+  std::vector<double> ecrs(nr + 3, 0.0), errs(nr + 3, 0.0);
+  std::vector<int32_t> zeros;
+  for (size_t d0 = 0; d0 < nr; d0 += 4) {
+    const int32_t* p[4];
+    for (size_t k = 0; k < 4; ++k) {
+      if (d0 + k < nr && usable(d0 + k)) {
+        p[k] = refs[d0 + k]->data();
+      } else {
+        zeros.resize(n, 0);
+        p[k] = zeros.data();
+      }
     }
+    Lanes e0 = {0, 0}, e1 = {0, 0}, q0 = {0, 0}, q1 = {0, 0};
+    for (size_t i = 0; i < n; ++i) {
+      const double a = r1[i];
+      const Lanes b0 = {static_cast<double>(p[0][i]), static_cast<double>(p[1][i])};
+      const Lanes b1 = {static_cast<double>(p[2][i]), static_cast<double>(p[3][i])};
+      e0 += a * b0;
+      e1 += a * b1;
+      q0 += b0 * b0;
+      q1 += b1 * b1;
+    }
+    for (size_t k = 0; k < 2; ++k) {
+      ecrs[d0 + k] = e0[k];
+      ecrs[d0 + 2 + k] = e1[k];
+      errs[d0 + k] = q0[k];
+      errs[d0 + 2 + k] = q1[k];
+    }
+  }
+  for (size_t d = 0; d < nr; ++d) {
+    if (!usable(d)) continue;
+    const std::vector<int32_t>* ref = refs[d];
+    const double ecr = ecrs[d], err = errs[d];
     if (err <= 0) continue;
     const double beta = std::round(ecr / err * (1 << kCrossShift));
     if (!(std::fabs(beta) < kMaxBeta) || beta == 0) continue;

@@ -11,42 +11,22 @@
 namespace capz {
 namespace analog {
 
-uint64_t bits_of(double v) {
-  uint64_t b;
-  std::memcpy(&b, &v, 8);
-  return b;
-}
-double from_bits(uint64_t b) {
-  double v;
-  std::memcpy(&v, &b, 8);
-  return v;
-}
-uint32_t ordered_f32(double v) {
-  const float f = static_cast<float>(v);
-  uint32_t b;
-  std::memcpy(&b, &f, 4);
-  return (b >> 31) ? ~b : b | 0x80000000u;
-}
-double from_ordered_f32(uint32_t o) {
-  const uint32_t b = (o >> 31) ? o & 0x7FFFFFFFu : ~o;
-  float f;
-  std::memcpy(&f, &b, 4);
-  return f;
-}
 double apply_ordered_delta(double v, int64_t d, bool f32) {
   if (f32) return from_ordered_f32(static_cast<uint32_t>(static_cast<int64_t>(ordered_f32(v)) + d));
   return from_bits(from_ordered_bits(ordered_bits(bits_of(v)) + static_cast<uint64_t>(d)));
-}
-double round_to_float32(double y) {
-  constexpr double kMax = std::numeric_limits<float>::max();
-  if (y > kMax && y <= std::numeric_limits<double>::max()) y = kMax;
-  if (y < -kMax && y >= -std::numeric_limits<double>::max()) y = -kMax;
-  return static_cast<double>(static_cast<float>(y));
 }
 
 namespace {
 
 constexpr uint64_t kNegZero = uint64_t{1} << 63;
+
+// std::round (halves away from zero, sign of zero kept) without the library call; exact.
+inline double round_half_away(double x) {
+  if (!(std::fabs(x) < 4503599627370496.0)) return std::round(x);  // 2^52: integral, NaN, Inf
+  const double t = static_cast<double>(static_cast<int64_t>(x));   // towards zero
+  const double d = x - t;                                          // exact
+  return std::copysign(d >= 0.5 ? t + 1 : d <= -0.5 ? t - 1 : t, x);
+}
 constexpr int64_t kMaxScaledK = int64_t{1} << 24;
 
 // R(k * s + o): the scaled representation's reconstruction (this file is built with
@@ -105,7 +85,7 @@ bool fit_scaled(const std::vector<double>& v, double s, double o, bool f32, size
   r->exc_index.clear();
   r->exc_delta.clear();
   for (size_t i = 0; i < n; ++i) {
-    const double kd = std::round((v[i] - o) / s);
+    const double kd = round_half_away((v[i] - o) / s);
     if (!(std::fabs(kd) <= static_cast<double>(kMaxScaledK))) return false;
     const int64_t k = static_cast<int64_t>(kd);
     r->ints[i] = static_cast<int32_t>(k);
@@ -129,7 +109,7 @@ void refine_fit(const std::vector<double>& v, double* s, double* o) {
   std::vector<double> k(n);
   double kbar = 0, vbar = 0;
   for (size_t i = 0; i < n; ++i) {
-    k[i] = std::round((v[i] - *o) / *s);
+    k[i] = round_half_away((v[i] - *o) / *s);
     kbar += k[i];
     vbar += v[i];
   }
@@ -182,7 +162,7 @@ bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted
   std::vector<std::pair<double, double>> fits;  // (step, offset)
   auto add = [&](double s, bool refine) {
     if (!(s > 0) || !std::isfinite(s)) return;
-    double o = refine ? sorted.front() - std::round(sorted.front() / s) * s : 0.0;
+    double o = refine ? sorted.front() - round_half_away(sorted.front() / s) * s : 0.0;
     fits.push_back({s, o});
     if (!refine) return;
     for (int it = 0; it < 2; ++it) {
@@ -190,7 +170,7 @@ bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted
       if (!(s > 0) || !std::isfinite(s) || !std::isfinite(o)) return;
       fits.push_back({s, o});
       // The sample nearest 0 has the finest rounding: pin the offset there.
-      fits.push_back({s, small - std::round((small - o) / s) * s});
+      fits.push_back({s, small - round_half_away((small - o) / s) * s});
     }
   };
   add(gap, true);
@@ -206,13 +186,12 @@ bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted
     return 24.0 * static_cast<double>(t.exc_index.size()) -
            static_cast<double>(n) * std::log2(t.step);
   };
-  ChannelRepr best;
+  ChannelRepr best, t;  // t's buffers are reused from fit to fit
   bool found = false;
   for (auto it = fits.rbegin(); it != fits.rend(); ++it) {
-    ChannelRepr t;
     if (!fit_scaled(v, it->first, it->second, f32, n_max_exc(n), &t)) continue;
     if (!found || cost(t) < cost(best)) {
-      best = std::move(t);
+      std::swap(best, t);
       found = true;
     }
   }
