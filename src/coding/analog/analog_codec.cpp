@@ -238,15 +238,26 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     std::vector<ChannelRepr> cands =
         analog::candidate_representations(rows + c, static_cast<size_t>(channels), nrows, hint);
     const std::vector<const std::vector<int32_t>*> refs = cross_refs(r1s, has_r1, c);
-    // Integer kinds: the pipeline's decisions, made once per candidate.
+    // Integer kinds: the pipeline's decisions, made once per candidate; float kinds: the
+    // predictor.
     std::vector<IntPlan> plans(cands.size());
-    for (size_t k = 0; k < cands.size(); ++k)
-      if (analog::is_integer_kind(cands[k].kind)) plan_int_channel(cands[k].ints, refs, &plans[k]);
+    std::vector<int> float_predictor(cands.size(), 0);
+    auto is_float = [&](size_t k) {
+      return cands[k].kind == Kind::kFloat32 || cands[k].kind == Kind::kFloat64;
+    };
+    for (size_t k = 0; k < cands.size(); ++k) {
+      if (analog::is_integer_kind(cands[k].kind))
+        plan_int_channel(cands[k].ints, refs, &plans[k]);
+      else if (is_float(k))
+        float_predictor[k] =
+            analog::choose_float_predictor(cands[k].filled, cands[k].kind == Kind::kFloat32);
+    }
     auto emit = [&](size_t k, IntEncoder::Cursor* enc) {
       if (analog::is_integer_kind(cands[k].kind))
         emit_int_channel(plans[k], enc);
-      else if (cands[k].kind == Kind::kFloat32 || cands[k].kind == Kind::kFloat64)
-        analog::encode_float_channel(cands[k].filled, cands[k].kind == Kind::kFloat32, enc);
+      else if (is_float(k))
+        analog::encode_float_channel(cands[k].filled, cands[k].kind == Kind::kFloat32,
+                                     float_predictor[k], enc);
     };
     size_t pick = 0;
     if (cands.size() > 1) {

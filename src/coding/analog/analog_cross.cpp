@@ -8,9 +8,11 @@ namespace {
 
 typedef double Lanes __attribute__((vector_size(16)));
 
+// Bit length of the zig-zag of v (0 for 0), without a branch: clz(u | 1) is defined for every
+// u, and u == 0 gives 64 - 63 - 1 = 0.
 int bit_length(int64_t v) {
   const uint64_t u = (static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63);
-  return u == 0 ? 0 : 64 - __builtin_clzll(u);
+  return 64 - __builtin_clzll(u | 1) - (u == 0);
 }
 
 }  // namespace

@@ -132,10 +132,12 @@ double common_power_of_two(const std::vector<double>& v) {
   size_t nonzero = 0;
   for (double x : v) {
     if (x == 0) continue;
-    int e;
-    const double m = std::frexp(x, &e);  // x = m 2^e, 0.5 <= |m| < 1, 53-bit mantissa
-    const uint64_t mant = static_cast<uint64_t>(std::fabs(std::ldexp(m, 53)));
-    const int lsb = e - 53 + __builtin_ctzll(mant);
+    // The exponent of x's lowest set bit, from its fields: x = mant 2^(e - 1075) (e the biased
+    // exponent, 1 for subnormals, whose mantissa has no implicit bit). x is finite.
+    const uint64_t b = bits_of(x);
+    const int e = static_cast<int>((b >> 52) & 0x7FF);
+    const uint64_t mant = (b & ((uint64_t{1} << 52) - 1)) | (e ? uint64_t{1} << 52 : 0);
+    const int lsb = (e ? e : 1) - 1075 + __builtin_ctzll(mant);
     ++hist[std::min(2099, std::max(0, lsb + 1100))];
     ++nonzero;
   }
@@ -189,6 +191,11 @@ bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted
   ChannelRepr best, t;  // t's buffers are reused from fit to fit
   bool found = false;
   for (auto it = fits.rbegin(); it != fits.rend(); ++it) {
+    // A fit equal to one already tried has the same cost, which never replaces the best.
+    bool seen = false;
+    for (auto jt = fits.rbegin(); jt != it && !seen; ++jt)
+      seen = bits_of(jt->first) == bits_of(it->first) && bits_of(jt->second) == bits_of(it->second);
+    if (seen) continue;
     if (!fit_scaled(v, it->first, it->second, f32, n_max_exc(n), &t)) continue;
     if (!found || cost(t) < cost(best)) {
       std::swap(best, t);
@@ -230,6 +237,38 @@ bool all_integers(const std::vector<double>& v) {
   return true;
 }
 
+// Sorts *keys and drops repeats (as std::sort and std::unique would); (*ranks)[i] receives the
+// position of the i-th original key in the result. LSD radix sort on bytes, stable, skipping
+// the bytes that are the same in every key (the low bytes of float32 values as doubles).
+void sort_unique(std::vector<uint64_t>* keys, std::vector<int32_t>* ranks) {
+  const size_t n = keys->size();
+  std::vector<uint64_t> a = *keys, b(n);
+  std::vector<uint32_t> ia(n), ib(n);
+  for (size_t i = 0; i < n; ++i) ia[i] = static_cast<uint32_t>(i);
+  uint64_t diff = 0;
+  for (size_t i = 1; i < n; ++i) diff |= a[i] ^ a[0];
+  for (int d = 0; d < 8; ++d) {
+    const int sh = 8 * d;
+    if (((diff >> sh) & 0xFF) == 0) continue;
+    size_t count[257] = {0};
+    for (size_t i = 0; i < n; ++i) ++count[((a[i] >> sh) & 0xFF) + 1];
+    for (int k = 0; k < 256; ++k) count[k + 1] += count[k];
+    for (size_t i = 0; i < n; ++i) {
+      const size_t to = count[(a[i] >> sh) & 0xFF]++;
+      b[to] = a[i];
+      ib[to] = ia[i];
+    }
+    a.swap(b);
+    ia.swap(ib);
+  }
+  ranks->resize(n);
+  keys->clear();
+  for (size_t i = 0; i < n; ++i) {
+    if (keys->empty() || keys->back() != a[i]) keys->push_back(a[i]);
+    (*ranks)[ia[i]] = static_cast<int32_t>(keys->size() - 1);
+  }
+}
+
 }  // namespace
 
 std::vector<ChannelRepr> candidate_representations(const double* col, size_t stride, size_t n,
@@ -253,8 +292,8 @@ std::vector<ChannelRepr> candidate_representations(const double* col, size_t str
   for (size_t i = 0; i < n && f32; ++i) f32 = is_float32(v[i]);
   std::vector<uint64_t> ord(n);
   for (size_t i = 0; i < n; ++i) ord[i] = ordered_bits(bits_of(v[i]));
-  std::sort(ord.begin(), ord.end());
-  ord.erase(std::unique(ord.begin(), ord.end()), ord.end());
+  std::vector<int32_t> ranks;
+  sort_unique(&ord, &ranks);
   std::vector<double> sorted(ord.size());
   for (size_t i = 0; i < ord.size(); ++i) sorted[i] = from_bits(from_ordered_bits(ord[i]));
   std::vector<ChannelRepr> out;
@@ -268,10 +307,7 @@ std::vector<ChannelRepr> candidate_representations(const double* col, size_t str
     ChannelRepr rank = r;
     rank.kind = Kind::kRank;
     rank.table = sorted;
-    rank.ints.resize(n);
-    for (size_t i = 0; i < n; ++i)
-      rank.ints[i] = static_cast<int32_t>(
-          std::lower_bound(ord.begin(), ord.end(), ordered_bits(bits_of(v[i]))) - ord.begin());
+    rank.ints = std::move(ranks);
     out.push_back(std::move(rank));
   }
   r.kind = f32 ? Kind::kFloat32 : Kind::kFloat64;
