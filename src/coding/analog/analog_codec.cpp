@@ -232,11 +232,17 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
   IntEncoder::Cursor cur = ent.cursor();
   std::vector<std::vector<int32_t>> r1s(static_cast<size_t>(channels));
   std::vector<bool> has_r1(static_cast<size_t>(channels), false);
+  // Channel-major copy of the window, read row by row: one channel's samples are then
+  // contiguous (a column of the row-major window is one cache line per sample).
+  const size_t nch = static_cast<size_t>(std::max(channels, 0));
+  std::vector<double> cols(nch * nrows);
+  for (size_t i = 0; i < nrows; ++i)
+    for (size_t c = 0; c < nch; ++c) cols[c * nrows + i] = rows[i * nch + c];
   for (int c = 0; c < channels; ++c) {
     const analog::ChannelHint hint =
         static_cast<size_t>(c) < hints.channel.size() ? hints.channel[c] : analog::ChannelHint();
-    std::vector<ChannelRepr> cands =
-        analog::candidate_representations(rows + c, static_cast<size_t>(channels), nrows, hint);
+    std::vector<ChannelRepr> cands = analog::candidate_representations(
+        cols.data() + static_cast<size_t>(c) * nrows, 1, nrows, hint);
     const std::vector<const std::vector<int32_t>*> refs = cross_refs(r1s, has_r1, c);
     // Integer kinds: the pipeline's decisions, made once per candidate; float kinds: the
     // predictor.
