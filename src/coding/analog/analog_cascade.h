@@ -10,8 +10,10 @@
 // All weights and history start at 0 at the start of each channel of each window.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <vector>
 
 #include "coding/analog/analog_lpc.h"
 
@@ -90,6 +92,61 @@ class SignLms {
   int pos_ = kRing;
   double bound_ = 0;  // at least max |w[j]|
 };
+
+// The cascade over a whole known input: out[i] = in[i] - p[i] with p[i] exactly SignLms's
+// prediction after in[0..i) (the encoder's pass). The history is read from a precomputed
+// array of clamped inputs and their signs in increasing addresses (weights kept reversed),
+// so the loop stores nothing that a later load of the history must wait for.
+inline void sign_lms_residuals(const int32_t* in, size_t n, int64_t* out) {
+  typedef double Lanes __attribute__((vector_size(16)));
+  constexpr int kTaps = SignLms::kTaps;
+  constexpr double kStep = SignLms::kStep, kMaxWeight = SignLms::kMaxWeight;
+  // c[kTaps + i] = clamp(in[i]), zeros before; sg the signs.
+  std::vector<double> c(n + kTaps, 0.0), sg(n + kTaps, 0.0);
+  for (size_t i = 0; i < n; ++i) {
+    const int64_t v = in[i] > kMaxSample ? kMaxSample : in[i] < -kMaxSample ? -kMaxSample : in[i];
+    c[kTaps + i] = static_cast<double>(v);
+    sg[kTaps + i] = v > 0 ? 1.0 : v < 0 ? -1.0 : 0.0;
+  }
+  auto load = [](const double* p) {
+    Lanes v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+  };
+  // wr[k] = w[kTaps - 1 - k] multiplies c[kTaps + i - kTaps + k] = in[i - kTaps + k].
+  Lanes wr[kTaps / 2] = {};
+  double bound = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const double* h = c.data() + i;
+    Lanes p[kTaps / 2];
+    for (int j = 0; j < kTaps / 2; ++j) p[j] = wr[j] * load(h + 2 * j);
+    const Lanes a = ((p[0] + p[1]) + (p[2] + p[3])) + ((p[4] + p[5]) + (p[6] + p[7]));
+    int64_t s = static_cast<int64_t>(a[0] + a[1]);
+    s = (s + (int64_t{1} << (SignLms::kShift - 1))) >> SignLms::kShift;
+    s = s > kMaxSample ? kMaxSample : s < -kMaxSample ? -kMaxSample : s;
+    const int64_t o = in[i] - s;
+    out[i] = o;
+    if (o == 0) continue;
+    const double d = o > 0 ? kStep : -kStep;
+    const double* g = sg.data() + i;
+    if (bound + kStep <= kMaxWeight) {
+      for (int j = 0; j < kTaps / 2; ++j) wr[j] += d * load(g + 2 * j);
+      bound += kStep;
+    } else {
+      const Lanes lim = {kMaxWeight, kMaxWeight}, nlim = -lim;
+      Lanes m = {0, 0};
+      for (int j = 0; j < kTaps / 2; ++j) {
+        Lanes w = wr[j] + d * load(g + 2 * j);
+        w = w > lim ? lim : w;
+        w = w < nlim ? nlim : w;
+        wr[j] = w;
+        const Lanes aw = w < 0 ? -w : w;
+        m = aw > m ? aw : m;
+      }
+      bound = m[0] > m[1] ? m[0] : m[1];
+    }
+  }
+}
 
 }  // namespace analog
 }  // namespace capz

@@ -79,14 +79,13 @@ void lpc_stage(const std::vector<int32_t>& x, std::vector<analog::LpcParams>* pa
 
 // The cascade stage over residuals r, in place; returns the summed bit lengths before and after.
 std::pair<uint64_t, uint64_t> cascade_stage(std::vector<int32_t>* r) {
-  analog::SignLms lms;
+  std::vector<int64_t> out(r->size());
+  analog::sign_lms_residuals(r->data(), r->size(), out.data());
   uint64_t before = 0, after = 0;
-  for (int32_t& v : *r) {
-    const int64_t out = v - lms.predict();
-    lms.update(v, out);
-    before += bit_length(v);
-    after += bit_length(out);
-    v = static_cast<int32_t>(out);
+  for (size_t i = 0; i < r->size(); ++i) {
+    before += bit_length((*r)[i]);
+    after += bit_length(out[i]);
+    (*r)[i] = static_cast<int32_t>(out[i]);
   }
   return {before, after};
 }
