@@ -23,8 +23,8 @@ int bit_length(int64_t v) {
 // (< 2^31) is exact too, and the bit length of u >= 1 is its biased exponent - 1022; u = 0 is
 // raised to 1/2, whose exponent gives 0.
 int64_t residual_bits(const int32_t* r1, const int32_t* ref, size_t n, int32_t beta) {
-  typedef long long Ints __attribute__((vector_size(16)));
-  const double kRound = 6755399441055744.0;  // 1.5 2^52
+  typedef unsigned long long Ints __attribute__((vector_size(16)));  // u > 0: logical shift
+  const double kRound = 6755399441055744.0;                          // 1.5 2^52
   const Lanes b = {static_cast<double>(beta), static_cast<double>(beta)};
   const Lanes half = {0.5, 0.5}, scale = {1.0 / 4096, 1.0 / 4096}, big = {kRound, kRound};
   const Lanes hi = {kMaxSample, kMaxSample}, lo = -hi, zero = {0, 0};
@@ -42,7 +42,7 @@ int64_t residual_bits(const int32_t* r1, const int32_t* ref, size_t n, int32_t b
     std::memcpy(&bitsu, &u, sizeof u);
     acc += bitsu >> 52;
   }
-  int64_t after = acc[0] + acc[1] - 1022 * static_cast<int64_t>(i);
+  int64_t after = static_cast<int64_t>(acc[0] + acc[1]) - 1022 * static_cast<int64_t>(i);
   for (; i < n; ++i) after += bit_length(r1[i] - cross_predict(beta, ref[i]));
   return after;
 }
