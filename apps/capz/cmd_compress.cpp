@@ -57,6 +57,10 @@ po::options_description compress_options() {
       "attr-error", po::value<std::vector<std::string>>()->composing(),
       "bounds for float point fields, NAME=B[,NAME=B...] in each field's units (NAME: a field, "
       "or NAME_* as normal for normal_x/y/z); the others stay lossless")(
+      "analog-max-error", po::value<std::vector<std::string>>()->composing(),
+      "bounds for analog channels, KEY=B[,KEY=B...] in each channel's physical units (KEY: a "
+      "channel label such as Fz1, or a unit such as N, Nmm, V, which bounds every channel in "
+      "it; a label wins over its unit); the others stay lossless. Not with --lossless")(
       "rm",
       "remove IN (a file) after the output, read back from disk and decoded, reproduced it "
       "within the bound")("json", "print the report as one JSON object");
@@ -77,6 +81,28 @@ void open_input(const std::string& in, bool whole, const std::string& units, Inp
   input->read_cpu_seconds = thread_cpu_seconds() - c_read;
 }
 
+// --NAME KEY=B[,KEY=B...] (repeatable) into *out.
+void parse_bounds(const po::variables_map& vm, const std::string& name, const std::string& key,
+                  std::map<std::string, double>* out) {
+  if (!vm.count(name)) return;
+  for (const auto& list : vm[name].as<std::vector<std::string>>()) {
+    size_t at = 0;
+    while (at <= list.size()) {
+      const size_t comma = std::min(list.find(',', at), list.size());
+      const std::string kv = list.substr(at, comma - at);
+      at = comma + 1;
+      const size_t eq = kv.find('=');
+      const std::string num = eq == std::string::npos ? std::string() : kv.substr(eq + 1);
+      char* end = nullptr;
+      const double b = std::strtod(num.c_str(), &end);
+      if (eq == std::string::npos || eq == 0 || num.empty() || *end != '\0')
+        throw po::error("--" + name + " wants " + key + "=BOUND[," + key + "=BOUND...], got '" +
+                        kv + "'");
+      (*out)[kv.substr(0, eq)] = b;
+    }
+  }
+}
+
 // Codec, clusters, window, check and --codec-opt from the options.
 void set_coding_options(const po::variables_map& vm, capz::CompressOptions* opts) {
   opts->codec = vm["codec"].as<std::string>();
@@ -84,22 +110,8 @@ void set_coding_options(const po::variables_map& vm, capz::CompressOptions* opts
   opts->window_frames = vm["window"].as<size_t>();
   opts->check = vm.count("no-check") == 0;
   opts->drop_fields = vm.count("drop-fields") > 0;
-  if (vm.count("attr-error"))
-    for (const auto& list : vm["attr-error"].as<std::vector<std::string>>()) {
-      size_t at = 0;
-      while (at <= list.size()) {
-        const size_t comma = std::min(list.find(',', at), list.size());
-        const std::string kv = list.substr(at, comma - at);
-        at = comma + 1;
-        const size_t eq = kv.find('=');
-        const std::string num = eq == std::string::npos ? std::string() : kv.substr(eq + 1);
-        char* end = nullptr;
-        const double b = std::strtod(num.c_str(), &end);
-        if (eq == std::string::npos || eq == 0 || num.empty() || *end != '\0')
-          throw po::error("--attr-error wants NAME=BOUND[,NAME=BOUND...], got '" + kv + "'");
-        opts->attr_error[kv.substr(0, eq)] = b;
-      }
-    }
+  parse_bounds(vm, "attr-error", "NAME", &opts->attr_error);
+  parse_bounds(vm, "analog-max-error", "KEY", &opts->analog_max_error);
   if (vm.count("codec-opt"))
     for (const auto& kv : vm["codec-opt"].as<std::vector<std::string>>()) {
       auto eq = kv.find('=');
@@ -260,6 +272,11 @@ FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
 
   capz::CompressStats st;
   r.t_enc = encode(input, opts, r.out, force, s.single, &st);
+  for (const std::string& k : st.analog_unmatched)
+    std::fprintf(stderr,
+                 "capz compress: note: %s: --analog-max-error %s names no analog channel's label "
+                 "or unit; those stay lossless\n",
+                 in.c_str(), k.c_str());
   r.in_bytes = path_size(in);
   r.ratio = st.bytes ? static_cast<double>(r.in_bytes) / static_cast<double>(st.bytes) : 0;
   r.mbps = r.t_enc > 0 ? static_cast<double>(st.raw_bytes) / 1e6 / r.t_enc : 0;
@@ -306,7 +323,8 @@ int cmd_compress(const Args& args) {
           "Error bounds are per coordinate: every valid coordinate comes back within the\n"
           "bound (a point's Euclidean error is then at most sqrt(3) times it); the report\n"
           "gives both, with the KG error and bits per vertex per frame (bpvf). Gaps,\n"
-          "analog channels, labels, rate, units, C3D parameters and events come back exactly.\n"
+          "analog channels (unless --analog-max-error bounds them), labels, rate, units, C3D\n"
+          "parameters and events come back exactly.\n"
           "A file that fails is reported and the others go on; the exit status is then the\n"
           "first failure's.",
           compress_options(), "IN", true, &s.vm, &inputs))

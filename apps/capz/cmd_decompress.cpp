@@ -45,7 +45,9 @@ bool same_format(const std::string& out, capz::Format f) {
   std::string lower = out;
   for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return (f == capz::Format::kC3D && ends_with(lower, ".c3d")) ||
-         (f == capz::Format::kTRC && ends_with(lower, ".trc"));
+         (f == capz::Format::kTRC && ends_with(lower, ".trc")) ||
+         (f == capz::Format::kPCDFolder &&
+          capz::format_for_output(out) == capz::Format::kPCDFolder);
 }
 
 // What every file of one `capz decompress` shares.
@@ -128,8 +130,9 @@ FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) 
     rec.units = take.units;
     fields = capz::field_names(take);
     // The original's own format from an archive with its residue: the original file rebuilt
-    // (byte for byte when lossless, FORMAT.md 4.4); any other output through the writer.
-    if (same_format(out, take.format) &&
+    // (byte for byte when lossless, FORMAT.md 4.4, 5.4); any other output, and PCD frames asked
+    // in another encoding or without their fields, through the writer.
+    if (same_format(out, take.format) && wo.pcd_encoding.empty() && !wo.drop_fields &&
         capz::can_rebuild(capz::original_info(in), take.format == capz::Format::kC3D)) {
       src.reset();
       capz::rebuild_original(in, out, s.batch.force, dopts);

@@ -143,11 +143,36 @@ void print_text(const std::string& path, const capz::Take& t, const Summary& s) 
     // Every field of the frames, x y z included: NAME TYPE SIZE[xCOUNT].
     line("fields:", pcd_fields_text(t.pcd->fields));
   }
-  if (t.analog.channels > 0)
+  if (t.analog.channels > 0) {
+    // The units are what --analog-max-error's keys name (besides labels): counted here, and
+    // with -v each channel's label, unit and physical value per stored unit.
+    const std::vector<capz::AnalogPhysics> phys = capz::analog_physics(t);
+    std::vector<std::pair<std::string, int>> units;
+    for (const capz::AnalogPhysics& p : phys) {
+      if (p.unit.empty()) continue;
+      auto u = std::find_if(units.begin(), units.end(),
+                            [&](const auto& x) { return x.first == p.unit; });
+      if (u == units.end())
+        units.push_back({p.unit, 1});
+      else
+        ++u->second;
+    }
+    std::string us;
+    for (const auto& u : units)
+      us += (us.empty() ? "; units " : ", ") + u.first + " (" + std::to_string(u.second) + ")";
     line("analog:", std::to_string(t.analog.channels) + " channels at " + number(t.analog.rate) +
-                        " Hz (" + std::to_string(t.analog.samples_per_frame) + " per frame)");
-  else
+                        " Hz (" + std::to_string(t.analog.samples_per_frame) + " per frame)" + us);
+    if (g_verbosity >= 2)
+      for (size_t c = 0; c < phys.size(); ++c)
+        std::printf("  - %s: %s, %s per stored unit\n",
+                    c < t.analog.labels.size() && !t.analog.labels[c].empty()
+                        ? t.analog.labels[c].c_str()
+                        : ("#" + std::to_string(c)).c_str(),
+                    phys[c].unit.empty() ? "no unit" : phys[c].unit.c_str(),
+                    number(phys[c].factor).c_str());
+  } else {
     line("analog:", "none");
+  }
   const capz::Rotations& r = t.rotations;
   if (r.segments > 0)
     line("rotations:", std::to_string(r.segments) + " segments x " +

@@ -1,7 +1,9 @@
 // `capz info X.capz`: the stream header, metadata and chunk sizes of an archive.
+#include <algorithm>
 #include <cstdio>
 
 #include "capz/codec.h"
+#include "capz/original.h"
 #include "compress_common.h"
 
 namespace capz_cli {
@@ -41,6 +43,18 @@ int info_capz(const std::string& path, bool json) {
     j.member("windows", static_cast<uint64_t>(si.windows));
     j.member("analog_channels", si.analog_channels);
     j.member("analog_samples_per_frame", si.analog_samples_per_frame);
+    j.key("analog_bounds");  // the lossy channels (FORMAT.md 5.2); the others are lossless
+    j.begin_array();
+    for (size_t c = 0; c < si.analog_bounds.size(); ++c)
+      if (si.analog_bounds[c] > 0) {
+        j.begin_object();
+        j.member("channel", static_cast<uint64_t>(c));
+        j.member("label", c < si.analog_labels.size() ? si.analog_labels[c] : std::string());
+        j.member("unit", c < si.analog_units.size() ? si.analog_units[c] : std::string());
+        j.member("bound", si.analog_bounds[c]);
+        j.end_object();
+      }
+    j.end_array();
     j.key("rotations");
     j.begin_object();
     j.member("segments", si.rotation_segments);
@@ -87,9 +101,42 @@ int info_capz(const std::string& path, bool json) {
            (si.step > 0 ? ", grid step " + num(si.step, 6) + u : "") + ", codec " + si.codec);
   line("windows:",
        std::to_string(si.windows) + " of " + std::to_string(si.window_frames) + " frames");
-  if (si.analog_channels > 0)
-    line("analog:", std::to_string(si.analog_channels) + " channels x " +
-                        std::to_string(si.analog_samples_per_frame) + " samples per frame");
+  const capz::OriginalInfo orig = capz::original_info(path);
+  if (orig.hashed)
+    line("original:", std::to_string(orig.size) + " bytes, xxh3-128 " + orig.hash_hex +
+                          (orig.exact ? ", rebuilt byte for byte (checksum checked)"
+                                      : ", not rebuilt byte for byte"));
+  if (si.analog_channels > 0) {
+    // Lossy channels grouped by bound and unit, in channel order (FORMAT.md 5.2).
+    std::vector<std::pair<std::string, std::vector<std::string>>> groups;
+    size_t lossy = 0;
+    for (size_t c = 0; c < si.analog_bounds.size(); ++c) {
+      if (!(si.analog_bounds[c] > 0)) continue;
+      ++lossy;
+      const std::string unit = c < si.analog_units.size() ? si.analog_units[c] : "";
+      const std::string key = num(si.analog_bounds[c]) + (unit.empty() ? "" : " " + unit);
+      const std::string label = c < si.analog_labels.size() && !si.analog_labels[c].empty()
+                                    ? si.analog_labels[c]
+                                    : "#" + std::to_string(c);
+      auto g =
+          std::find_if(groups.begin(), groups.end(), [&](const auto& x) { return x.first == key; });
+      if (g == groups.end()) groups.push_back({key, {}}), g = groups.end() - 1;
+      g->second.push_back(label);
+    }
+    std::string v = std::to_string(si.analog_channels) + " channels x " +
+                    std::to_string(si.analog_samples_per_frame) + " samples per frame";
+    if (lossy == 0) {
+      v += ", lossless";
+    } else {
+      v += ", " + std::to_string(si.analog_channels - static_cast<int>(lossy)) + " lossless";
+      for (const auto& g : groups) {
+        std::string names;
+        for (const std::string& n : g.second) names += (names.empty() ? "" : ", ") + n;
+        v += "; within " + g.first + ": " + names;
+      }
+    }
+    line("analog:", v);
+  }
   if (si.rotation_segments > 0)
     line("rotations:", std::to_string(si.rotation_segments) + " segments x " +
                            std::to_string(si.frames * rotations_per_frame(si)) + " samples at " +

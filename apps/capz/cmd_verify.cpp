@@ -40,6 +40,7 @@ int cmd_verify(const Args& args) {
                                                   : "bound " + num(si.max_error) + u;
 
   capz::ErrorStats e;
+  double analog_use = 0;
   bool ok = true;
   std::string why;
   const bool against = vm.count("against") != 0;
@@ -55,6 +56,7 @@ int cmd_verify(const Args& args) {
                      std::to_string(a.frames) + " x " + std::to_string(a.points));
     const capz::PromiseResult r = capz::check_promise(a, b, capz::promise_of(si));
     e = r.error;
+    analog_use = r.analog_bound_use;
     ok = r.holds;
     why = r.why;
   }
@@ -73,6 +75,7 @@ int cmd_verify(const Args& args) {
     if (against) {
       j.member("against", vm["against"].as<std::string>());
       json_error_stats(&j, e);
+      if (!si.analog_bounds.empty()) j.member("analog_bound_use", analog_use);
       if (!ok) j.member("breach", why);
     }
     j.member("decode_cpu_seconds", t_dec);
@@ -90,6 +93,11 @@ int cmd_verify(const Args& args) {
           num(e.rmse).c_str(), u.c_str(), num(e.kg_error).c_str(), num(bp).c_str(),
           e.mask_mismatches ? (std::to_string(e.mask_mismatches) + " differ").c_str() : "identical",
           bound.c_str(), ok ? "holds" : ("DOES NOT HOLD: " + why).c_str());
+      if (!si.analog_bounds.empty() && ok)
+        std::printf(
+            "  analog: the lossy channels within their bounds (largest error %s of its "
+            "bound)\n",
+            num(analog_use, 3).c_str());
     }
     if (g_verbosity >= 2) std::printf("  cpu: decode %.3f s\n", t_dec);
   }

@@ -38,6 +38,12 @@ struct CompressOptions {
   // every field NAME_* ("normal" bounds normal_x, normal_y, normal_z). Fields not named are
   // lossless. A key that names no float field is an error.
   std::map<std::string, double> attr_error;
+  // Bounds for analog channels (docs/FORMAT.md 5.2), each in the channel's physical units
+  // (ANALOG:UNITS, after ANALOG:SCALE, GEN_SCALE and OFFSET): a key names a channel's label
+  // ("Fz1") or a unit ("N", "V"), the label's bound winning over its unit's. Channels not named
+  // stay lossless. Keys that name no channel are reported in CompressStats::analog_unmatched.
+  // Not with lossless (an error).
+  std::map<std::string, double> analog_max_error;
   // Called after each window with (frames done, frames total); may be empty.
   std::function<void(size_t, size_t)> progress;
 };
@@ -57,12 +63,13 @@ struct CompressStats {
                          // "transform-output" (only a KG target and a transform)
   std::string codec;     // transform stage used: "none", "ts", "pdct" (what auto chose)
   bool lossless = false;
-  ErrorStats error;            // achieved, over valid samples (zero when lossless)
-  size_t position_bytes = 0;   // bytes of POSW + MASK chunks
-  size_t analog_bytes = 0;     // bytes of ANLG chunks
-  size_t rotation_bytes = 0;   // bytes of ROTW chunks
-  size_t attribute_bytes = 0;  // bytes of ATTR chunks (point fields)
-  size_t other_bytes = 0;      // everything else
+  ErrorStats error;                           // achieved, over valid samples (zero when lossless)
+  size_t position_bytes = 0;                  // bytes of POSW + MASK chunks
+  size_t analog_bytes = 0;                    // bytes of ANLG chunks
+  size_t rotation_bytes = 0;                  // bytes of ROTW chunks
+  size_t attribute_bytes = 0;                 // bytes of ATTR chunks (point fields)
+  size_t other_bytes = 0;                     // everything else
+  std::vector<std::string> analog_unmatched;  // analog_max_error keys that named no channel
 };
 
 // Throws Error(kInvalidParameter) for an impossible target (no target, bound too fine for the
@@ -110,6 +117,11 @@ struct StreamInfo {
   std::vector<PCDField> pcd_fields;
   std::vector<double> pcd_field_bounds;  // per pcd_fields entry, 0: lossless; empty: all lossless
   size_t pcd_width = 0, pcd_height = 1;
+  // Lossy analog channels (FORMAT.md 5.2), per channel, empty when all are lossless: the bound
+  // in physical units (0: lossless), the factor from stored to physical units, and the label
+  // and unit to name the channel by.
+  std::vector<double> analog_bounds, analog_factors;
+  std::vector<std::string> analog_labels, analog_units;
   std::map<std::string, size_t> chunk_bytes;  // total bytes (with framing) per chunk type
 };
 StreamInfo describe(const uint8_t* data, size_t size, const std::string& name = "");

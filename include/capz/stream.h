@@ -65,8 +65,9 @@ class FrameSource {
   virtual std::vector<std::string> frame_warnings() const { return {}; }
   // Bytes read from the file so far (0 for sources in memory).
   virtual uint64_t bytes_read() const { return 0; }
-  // The path of the original C3D or TRC file whose frames read() gives as read (the encoder
-  // then stores its checksum and residue, FORMAT.md 4.4); empty for every other source.
+  // The path of the original C3D or TRC file (or PCD folder) whose frames read() gives as read
+  // (the encoder then stores its checksum and residue, FORMAT.md 4.4, 5.4); empty for every
+  // other source.
   virtual std::string original_file() const { return std::string(); }
 
  protected:

@@ -91,7 +91,35 @@ struct Analog {
   double rate = 0;  // Hz
   std::vector<std::string> labels;
   std::vector<double> values;
+  // Lossy channels (docs/FORMAT.md 5.2), per channel, empty when every channel is lossless:
+  // bounds[c] > 0 is the bound of channel c in its physical units (0: lossless), factors[c] the
+  // physical units per stored unit, |ANALOG:SCALE x GEN_SCALE| (1 for other sources). Set by
+  // the encoder from CompressOptions::analog_max_error, read back from archives.
+  std::vector<double> bounds, factors;
+  bool lossy() const {
+    for (double b : bounds)
+      if (b > 0) return true;
+    return false;
+  }
 };
+
+// Per analog channel, what gives the stored values physical units (docs/FORMAT.md 5.2): the
+// factor |ANALOG:SCALE x GEN_SCALE| (1 when the take has no C3D parameters or they are
+// unreadable), the stored value of physical zero (ANALOG:OFFSET, 0 without), the unit
+// (ANALOG:UNITS, trimmed, "" without) and the storage (C3D int16, or uint16 with ANALOG:FORMAT
+// UNSIGNED; else floats). Physical value = (stored - offset) * factor, up to SCALE's sign.
+struct AnalogPhysics {
+  double factor = 1, offset = 0;
+  std::string unit;
+  bool integers = false;  // int16 / uint16 storage
+  double lo = 0, hi = 0;  // the storage's range
+};
+struct Take;
+std::vector<AnalogPhysics> analog_physics(const Take& t);
+// One spelling for the analog units C3D writers spell several ways, so that a bound given for
+// "V" also bounds "Volt" and "Volts" channels: V, mV, uV, N, Nm, Nmm (case-insensitive:
+// "volt", "nt", "ntmm", "N-M", "N.mm", "newtons", ...); any other unit trimmed, as written.
+std::string canonical_analog_unit(const std::string& unit);
 
 // Rotation signals (the C3D ROTATION group that Visual3D, Theia and ezc3d use): per segment a
 // 4x4 transform from the segment's local coordinates to the lab's, and a reliability value,

@@ -33,6 +33,9 @@ struct Promise {
   // float values (float_size 4 or 8 bytes) come back within; NaN and infinities exactly.
   std::vector<double> attribute_bounds;
   std::vector<int> attribute_float_size;
+  // Per analog channel (FORMAT.md 5.2), empty when every channel comes back exactly: the bound
+  // in physical units (0: exact) and the factor from stored to physical units.
+  std::vector<double> analog_bounds, analog_factors;
 };
 Promise promise_of(const StreamInfo& info);
 
@@ -58,6 +61,8 @@ class PromiseCheck {
   const std::string& why() const { return why_; }
   // The measures (metrics.h) over the blocks given so far, mask_mismatches included.
   ErrorStats error() const;
+  // PromiseResult::analog_bound_use over the blocks given so far.
+  double analog_bound_use() const { return analog_bound_use_; }
 
  private:
   struct Frames;  // the per-frame arrays of a block or a whole take (promise.cpp)
@@ -65,9 +70,11 @@ class PromiseCheck {
   bool breach(const std::string& what);
   bool check(const Frames& original, const Frames& decoded);
   bool positions(const Frames& original, const Frames& decoded);
+  bool analog(const Frames& original, const Frames& decoded);
 
   Promise promise_;
   std::string why_;
+  double analog_bound_use_ = 0;
   ErrorAccumulator acc_;
   size_t mask_mismatches_ = 0;
 };
@@ -76,6 +83,9 @@ struct PromiseResult {
   bool holds = false;
   std::string why;   // "" when it holds
   ErrorStats error;  // as compare(original, decoded) when the shapes agree
+  // Over the lossy analog channels (FORMAT.md 5.2): the largest error as a fraction of its
+  // channel's bound (0 without such channels).
+  double analog_bound_use = 0;
 };
 // The whole check on two whole takes (in memory).
 PromiseResult check_promise(const Take& original, const Take& decoded, const Promise& promise);

@@ -82,7 +82,8 @@ def _options(codec_options: Optional[Mapping[str, Any]]) -> Dict[str, str]:
 def _coding(max_error: Optional[Length], lossless: bool, kg_error: Optional[float],
             units: Optional[str], codec: str, clusters: int, window: int, check: bool,
             codec_options: Optional[Mapping[str, Any]], threads: int = 1,
-            attr_error: Optional[Mapping[str, float]] = None, drop_fields: bool = False) -> tuple:
+            attr_error: Optional[Mapping[str, float]] = None, drop_fields: bool = False,
+            analog_max_error: Optional[Mapping[str, float]] = None) -> tuple:
     """The target and coding options of compress() and compress_file(), checked, in the order
     _capz.compress and _capz.compress_file take them."""
     if not isinstance(threads, (int, np.integer)) or isinstance(threads, bool) or threads < 0:
@@ -92,9 +93,14 @@ def _coding(max_error: Optional[Length], lossless: bool, kg_error: Optional[floa
         if not isinstance(k, str) or isinstance(v, bool) or not isinstance(v, (int, float, np.floating)):
             raise _invalid(f"attr_error wants field name -> bound, got {k!r}: {v!r}")
         bounds[k] = float(v)
+    analog = {}
+    for k, v in (analog_max_error or {}).items():
+        if not isinstance(k, str) or isinstance(v, bool) or not isinstance(v, (int, float, np.floating)):
+            raise _invalid(f"analog_max_error wants channel label or unit -> bound, got {k!r}: {v!r}")
+        analog[k] = float(v)
     return (bool(lossless), _kg(kg_error), _length(max_error, "max_error"), units or "",
             str(codec), int(clusters), int(window), bool(check), _options(codec_options),
-            int(threads), bounds, bool(drop_fields))
+            int(threads), bounds, bool(drop_fields), analog)
 
 
 def _array(name: str, value: Any, dtype: Optional[np.dtype] = None) -> np.ndarray:
@@ -330,12 +336,14 @@ def compress(
     threads: int = 1,
     attr_error: Optional[Mapping[str, float]] = None,
     drop_fields: bool = False,
+    analog_max_error: Optional[Mapping[str, float]] = None,
 ) -> Union[bytes, Tuple[bytes, Dict[str, Any]]]:
     """Compresses a take to .capz bytes (`capz compress` on a take in memory).
 
     Error bounds are per coordinate: every valid coordinate comes back within the bound (a
-    point's Euclidean error is then at most sqrt(3) times it). Gaps, analog channels, labels,
-    rate, units, C3D parameters and events come back exactly. Give at most one target:
+    point's Euclidean error is then at most sqrt(3) times it). Gaps, analog channels (unless
+    analog_max_error bounds them), labels, rate, units, C3D parameters and events come back
+    exactly. Give at most one target:
 
     max_error      per-coordinate bound: a length with a unit ("0.1mm", "0.05cm", "0.0001m",
                    "0.01in") or a number in the take's own units. Default "0.1mm"; for a take
@@ -363,6 +371,11 @@ def compress(
                    field's units; a name also bounds every field NAME_* ("normal"). The CLI's
                    --attr-error. Fields not named are lossless.
     drop_fields    leave the point fields out of the archive (the CLI's --drop-fields).
+    analog_max_error  dict channel label or unit -> bound for analog channels, in the
+                   channel's physical units (after ANALOG:SCALE, GEN_SCALE and OFFSET), e.g.
+                   {"N": 0.05, "Nmm": 5, "V": 1e-5} or {"Fz1": 0.1}; a label wins over its
+                   unit. The CLI's --analog-max-error. Channels not named stay lossless; not
+                   with lossless=True.
 
     The GIL is released while coding: separate takes can be compressed from several threads.
     Raises capz.Error (invalid-parameter for an impossible target or bad arrays).
@@ -372,7 +385,7 @@ def compress(
     data, report = _capz.compress(
         take,
         *_coding(max_error, lossless, kg_error, units, codec, clusters, window, check,
-                 codec_options, threads, attr_error, drop_fields),
+                 codec_options, threads, attr_error, drop_fields, analog_max_error),
     )
     return (data, report) if stats else data
 
@@ -404,6 +417,7 @@ def compress_file(
     threads: int = 1,
     attr_error: Optional[Mapping[str, float]] = None,
     drop_fields: bool = False,
+    analog_max_error: Optional[Mapping[str, float]] = None,
 ) -> Dict[str, Any]:
     """Compresses a .c3d, a .trc or a folder of .pcd frames to a .capz file: the same bytes as
     `capz compress INPUT -o OUTPUT` with the same options (see compress() for them; overwrite
@@ -417,7 +431,7 @@ def compress_file(
         src,
         out,
         *_coding(max_error, lossless, kg_error, units, codec, clusters, window, check,
-                 codec_options, threads, attr_error, drop_fields),
+                 codec_options, threads, attr_error, drop_fields, analog_max_error),
         bool(overwrite),
     )
 

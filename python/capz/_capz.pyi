@@ -108,6 +108,7 @@ def compress(
     threads: int,
     attr_error: Dict[str, float],
     drop_fields: bool,
+    analog_max_error: Dict[str, float],
 ) -> Tuple[bytes, Dict[str, Any]]: ...
 def decompress(data: Any, name: str) -> Take: ...
 def compress_file(
@@ -125,6 +126,7 @@ def compress_file(
     threads: int,
     attr_error: Dict[str, float],
     drop_fields: bool,
+    analog_max_error: Dict[str, float],
     overwrite: bool,
 ) -> Dict[str, Any]: ...
 def compare(a: Take, b: Take) -> Dict[str, Any]: ...

@@ -157,6 +157,17 @@ py::dict info_dict(const std::string& path, const std::vector<uint8_t>& bytes) {
   d["windows"] = si.windows;
   d["analog_channels"] = si.analog_channels;
   d["analog_samples_per_frame"] = si.analog_samples_per_frame;
+  py::list bounds;  // the lossy analog channels (FORMAT.md 5.2), as `capz info --json`
+  for (size_t c = 0; c < si.analog_bounds.size(); ++c)
+    if (si.analog_bounds[c] > 0) {
+      py::dict b;
+      b["channel"] = c;
+      b["label"] = c < si.analog_labels.size() ? si.analog_labels[c] : std::string();
+      b["unit"] = c < si.analog_units.size() ? si.analog_units[c] : std::string();
+      b["bound"] = si.analog_bounds[c];
+      bounds.append(b);
+    }
+  d["analog_bounds"] = bounds;
   py::dict rot;
   rot["segments"] = si.rotation_segments;
   rot["samples"] = si.rotation_segments > 0
@@ -280,10 +291,12 @@ capz::CompressOptions coding_options(const std::string& codec, int clusters, siz
                                      bool check,
                                      const std::map<std::string, std::string>& codec_options,
                                      int threads, const std::map<std::string, double>& attr_error,
-                                     bool drop_fields) {
+                                     bool drop_fields,
+                                     const std::map<std::string, double>& analog_max_error) {
   capz::CompressOptions o;
   o.threads = threads;
   o.attr_error = attr_error;
+  o.analog_max_error = analog_max_error;
   o.drop_fields = drop_fields;
   o.codec = codec;
   o.clusters = clusters;
@@ -307,7 +320,8 @@ py::tuple compress_take(const capz::Take& take, bool lossless, std::optional<dou
                         std::optional<std::string> max_error, const std::string& units,
                         const std::string& codec, int clusters, size_t window, bool check,
                         const std::map<std::string, std::string>& codec_options, int threads,
-                        const std::map<std::string, double>& attr_error, bool drop_fields) {
+                        const std::map<std::string, double>& attr_error, bool drop_fields,
+                        const std::map<std::string, double>& analog_max_error) {
   std::vector<uint8_t> bytes;
   capz::CompressStats st;
   {
@@ -322,7 +336,7 @@ py::tuple compress_take(const capz::Take& take, bool lossless, std::optional<dou
     }
     const capz::Take& t = give_units ? *with_units : take;
     capz::CompressOptions opts = coding_options(codec, clusters, window, check, codec_options,
-                                                threads, attr_error, drop_fields);
+                                                threads, attr_error, drop_fields, analog_max_error);
     std::unique_ptr<capz::FrameSource> src = capz::take_frames(t);
     capz::set_compress_target(*src, target_of(lossless, kg_error, std::move(max_error)), &opts);
     bytes = capz::compress(t, opts, &st);
@@ -542,13 +556,14 @@ PYBIND11_MODULE(_capz, m) {
            std::optional<double> kg_error, std::optional<std::string> max_error,
            const std::string& units, const std::string& codec, int clusters, size_t window,
            bool check, const std::map<std::string, std::string>& codec_options, int threads,
-           const std::map<std::string, double>& attr_error, bool drop_fields, bool overwrite) {
+           const std::map<std::string, double>& attr_error, bool drop_fields,
+           const std::map<std::string, double>& analog_max_error, bool overwrite) {
           capz::CompressStats st;
           {
             py::gil_scoped_release nogil;
             capz::compress_file(in, out, target_of(lossless, kg_error, std::move(max_error)),
                                 coding_options(codec, clusters, window, check, codec_options,
-                                               threads, attr_error, drop_fields),
+                                               threads, attr_error, drop_fields, analog_max_error),
                                 units, overwrite, &st);
           }
           return compress_stats(st);

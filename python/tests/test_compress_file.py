@@ -8,6 +8,8 @@ from conftest import cli, shared
 
 CASES = [
     ("repo:EB015PI.c3d", {"max_error": "0.5mm"}, ["--max-error", "0.5mm"]),
+    ("repo:EB015PI.c3d", {"analog_max_error": {"N": 0.5, "Nmm": 50}},
+     ["--analog-max-error", "N=0.5,Nmm=50"]),
     ("repo:std_walking5_markers.trc", {"lossless": True}, ["--lossless"]),
     ("c3d/btkdata/PiG/PiG_Calibration2-NoOption.c3d", {}, []),  # the default bound, 0.1 mm
     ("c3d/btkdata/PiG/PiG_Calibration2-NoOption.c3d", {"max_error": "0.5mm"},

@@ -146,3 +146,29 @@ def test_threads_and_field_bounds():
     assert e.value.code == "invalid-parameter"
     with pytest.raises(capz.Error):
         capz.compress(take, threads=-1)
+
+
+def test_analog_max_error_bounds_the_named_channels_only(tmp_path):
+    take = capz.read(os.path.join(REPO, "data", "EB015PI.c3d"))
+    lossless = capz.compress(take)
+    data = capz.compress(take, analog_max_error={"N": 0.5, "Nmm": 50})
+    assert len(data) < len(lossless)
+    back = capz.decompress(data)
+    diff = np.abs(back.analog - take.analog)
+    moved = (diff > 0).any(axis=0)  # per channel
+    # The force (nt) and moment (ntmm) channels move, the four d.u. channels do not.
+    assert moved.sum() > 0 and (~moved).sum() >= 4
+    np.testing.assert_array_equal(back.xyz[take.valid], capz.decompress(lossless).xyz[take.valid])
+    path = str(tmp_path / "a.capz")
+    with open(path, "wb") as f:
+        f.write(data)
+    bounds = capz.open(path).info["analog_bounds"]
+    assert {b["unit"] for b in bounds} == {"nt", "ntmm"}
+    assert {b["bound"] for b in bounds} == {0.5, 50.0}
+    bounded = {b["channel"] for b in bounds}
+    assert not any(moved[c] for c in range(take.analog.shape[1]) if c not in bounded)
+    with pytest.raises(capz.Error) as e:
+        capz.compress(take, lossless=True, analog_max_error={"N": 0.5})
+    assert e.value.code == "invalid-parameter"
+    with pytest.raises(capz.Error):
+        capz.compress(take, analog_max_error={"N": "half"})

@@ -9,6 +9,7 @@
 #include "capz/error.h"
 #include "codec/decoder_registry.h"
 #include "codec/grid.h"
+#include "coding/analog/analog_codec.h"
 #include "io/capz_source.h"
 
 namespace capz {
@@ -121,6 +122,13 @@ StreamInfo describe(const uint8_t* data, size_t size, const std::string& name) {
     si.pcd_field_bounds = ps.take.pcd->field_bounds;
     si.pcd_width = ps.take.pcd->width;
     si.pcd_height = ps.take.pcd->height;
+  }
+  if (ps.take.analog.lossy()) {  // FORMAT.md 5.2
+    si.analog_bounds = ps.take.analog.bounds;
+    si.analog_factors = ps.take.analog.factors;
+    si.analog_labels = ps.take.analog.labels;
+    si.analog_labels.resize(si.analog_bounds.size());
+    for (const AnalogPhysics& p : analog_physics(ps.take)) si.analog_units.push_back(p.unit);
   }
   si.chunk_bytes = ps.chunk_bytes;
   for (size_t off = ps.first_window_offset; off < ps.index_offset;) {  // the window chunks

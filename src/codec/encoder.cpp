@@ -23,6 +23,7 @@
 #include "codec/transform_output.h"
 #include "codec/window_error.h"
 #include "coding/analog/analog_codec.h"
+#include "coding/analog/analog_quant.h"
 #include "coding/attributes.h"
 #include "coding/bytes.h"
 #include "coding/c3d_words.h"
@@ -143,6 +144,25 @@ double trc_print_room(const Take& t) {
   return 0.5 * std::pow(10.0, -t.trc->decimals) * (1.0 + 0x1p-20);
 }
 
+// The quantiser's view of each channel of a take with lossy analog channels (FORMAT.md 5.2);
+// empty when every channel is lossless.
+std::vector<analog::ChannelBound> analog_channel_bounds(const Take& t) {
+  std::vector<analog::ChannelBound> out;
+  if (!t.analog.lossy()) return out;
+  const std::vector<AnalogPhysics> phys = analog_physics(t);
+  out.resize(phys.size());
+  for (size_t c = 0; c < phys.size(); ++c) {
+    analog::ChannelBound& b = out[c];
+    b.bound = c < t.analog.bounds.size() ? t.analog.bounds[c] : 0;
+    b.factor = c < t.analog.factors.size() ? t.analog.factors[c] : 1;
+    b.offset = phys[c].offset;
+    b.integers = phys[c].integers;
+    b.lo = phys[c].lo;
+    b.hi = phys[c].hi;
+  }
+  return out;
+}
+
 class Encoder {
  public:
   Encoder(FrameSource& source, const CompressOptions& opts, const EncoderTuning& tuning,
@@ -156,7 +176,10 @@ class Encoder {
         residue_(ResidueWriter::open(source, opts.check)) {}
 
   void run(CompressStats* stats) {
-    if (plan_.analog) hints_ = analog_hints(take_);
+    if (plan_.analog) {
+      hints_ = analog_hints(take_);
+      abounds_ = analog_channel_bounds(take_);
+    }
     scan();
     choose_grid();
     set_transform_params();
@@ -229,7 +252,9 @@ class Encoder {
     h.source_format = take_.format;
     h.mode = g_.mode;
     h.codec = plan_.codec ? plan_.codec->id() : 0;
-    h.lossless = g_.lossless;
+    // FORMAT.md 5.2: with a lossy analog channel the stream is not lossless, whatever its
+    // positions are.
+    h.lossless = g_.lossless && abounds_.empty();
     h.transform_output = plan_.tout;
     h.kg_target = plan_.tout ? opts_.kg_error : 0.0;
     h.step = g_.step;
@@ -243,13 +268,15 @@ class Encoder {
     append_chunk(&buf, "HEAD", encode_header(h));
     const size_t meta_at = buf.size();
     append_chunk(&buf, "META", encode_meta(take_, plan_.words));
-    if (residue_) residue_->file_chunks(&buf, g_.lossless);
+    if (residue_) residue_->file_chunks(&buf, h.lossless);
     if (opts_.check) {
       Promise p;
       p.kind = plan_.tout    ? Promise::Kind::kKgTarget
                : g_.lossless ? Promise::Kind::kLossless
                              : Promise::Kind::kBound;
       p.max_error = g_.bound;
+      p.analog_bounds = take_.analog.bounds;
+      p.analog_factors = take_.analog.factors;
       p.kg_target = plan_.tout ? opts_.kg_error : 0.0;
       promise_ = p;
       const std::string what = take_.source + " (self-check)";
@@ -412,8 +439,16 @@ class Encoder {
     }
     if (plan_.analog) {
       const size_t before = buf.size();
+      const double* rows = block.analog.data();
+      std::vector<double> moved;  // FORMAT.md 5.2: the bounded channels quantised
+      AnalogHints hints = hints_;
+      if (!abounds_.empty()) {
+        moved = block.analog;
+        analog::quantise_window(moved.data(), fn * plan_.S, abounds_, &hints.channel);
+        rows = moved.data();
+      }
       const std::vector<uint8_t> an =
-          encode_analog_window(block.analog.data(), fn * plan_.S, take_.analog.channels, hints_);
+          encode_analog_window(rows, fn * plan_.S, take_.analog.channels, hints);
       append_chunk(&buf, "ANLG", with_window_index(w, 0xFF, an));
       win->analog_bytes = buf.size() - before;
     }
@@ -583,8 +618,9 @@ class Encoder {
   TransformParams tparams_;
   StreamContext ctx_;  // what the decoder reads from HEAD and META (with opts.check)
   Promise promise_;    // the stream's promise, checked on what the decoder gives (each window)
-  std::unique_ptr<ResidueWriter> residue_;  // HASH and residue chunks (an original file only)
-  AnalogHints hints_;                       // what the C3D parameters say of the analog channels
+  std::unique_ptr<ResidueWriter> residue_;     // HASH and residue chunks (an original file only)
+  AnalogHints hints_;                          // what the C3D parameters say of the analog channels
+  std::vector<analog::ChannelBound> abounds_;  // per channel with a lossy one (FORMAT.md 5.2)
   ErrorAccumulator acc_;
   std::vector<IndexEntry> index_;
   size_t position_bytes_ = 0, analog_bytes_ = 0, rotation_bytes_ = 0, other_bytes_ = 0;
@@ -627,6 +663,56 @@ void set_field_bounds(FrameSource& source, const CompressOptions& opts) {
            "--attr-error names no float field '" + kv.first + "' (fields: " + field_names(e) + ")");
   }
   e.pcd = x;
+}
+
+// The per-channel bounds of opts.analog_max_error (FORMAT.md 5.2) on the header's analog
+// channels: a key names a channel's label or its unit; a label's bound wins over its unit's.
+// Returns the keys that name no channel.
+std::vector<std::string> set_analog_bounds(FrameSource& source, const CompressOptions& opts) {
+  std::vector<std::string> unmatched;
+  if (opts.analog_max_error.empty()) return unmatched;
+  Take& e = source.edit_header();
+  for (const auto& kv : opts.analog_max_error)
+    if (!(kv.second > 0) || !std::isfinite(kv.second))
+      fail(ErrorCode::kInvalidParameter, e.source,
+           "--analog-max-error " + kv.first + ": the bound must be a positive number");
+  if (opts.lossless)
+    fail(ErrorCode::kInvalidParameter, e.source,
+         "--lossless keeps every analog sample: it cannot be given with --analog-max-error");
+  const size_t C = static_cast<size_t>(std::max(0, e.analog.channels));
+  const std::vector<AnalogPhysics> phys = analog_physics(e);
+  std::vector<double> bounds(C, 0.0), factors(C, 1.0);
+  std::map<std::string, bool> used;
+  auto trim = [](const std::string& s) {
+    const size_t a = s.find_first_not_of(" \t");
+    return a == std::string::npos ? std::string() : s.substr(a, s.find_last_not_of(" \t") - a + 1);
+  };
+  for (size_t c = 0; c < C; ++c) {
+    const std::string label = c < e.analog.labels.size() ? trim(e.analog.labels[c]) : "";
+    const std::string unit = canonical_analog_unit(phys[c].unit);
+    auto hit = opts.analog_max_error.end();
+    if (!label.empty()) hit = opts.analog_max_error.find(label);
+    for (auto it = opts.analog_max_error.begin();
+         hit == opts.analog_max_error.end() && !unit.empty() && it != opts.analog_max_error.end();
+         ++it)
+      if (canonical_analog_unit(it->first) == unit) hit = it;
+    if (hit == opts.analog_max_error.end()) continue;
+    used[hit->first] = true;
+    if (!(phys[c].factor > 0) || !std::isfinite(phys[c].factor)) continue;  // cannot be bounded
+    bounds[c] = hit->second;
+    factors[c] = phys[c].factor;
+  }
+  for (const auto& kv : opts.analog_max_error)
+    if (!used.count(kv.first)) unmatched.push_back(kv.first);
+  e.analog.bounds.clear();
+  e.analog.factors.clear();
+  for (double b : bounds)
+    if (b > 0) {
+      e.analog.bounds = bounds;
+      e.analog.factors = factors;
+      break;
+    }
+  return unmatched;
 }
 
 void settle_fields(FrameSource& source, const CompressOptions& opts) {
@@ -677,7 +763,9 @@ void encode_source(FrameSource& source, const CompressOptions& opts, const Encod
                    StreamOut* out, CompressStats* stats, bool allow_transform_output) {
   settle_fields(source, opts);
   set_field_bounds(source, opts);
+  std::vector<std::string> unmatched = set_analog_bounds(source, opts);
   Encoder(source, opts, tuning, out, allow_transform_output).run(stats);
+  if (stats) stats->analog_unmatched = std::move(unmatched);
 }
 
 }  // namespace capz

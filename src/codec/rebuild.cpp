@@ -1,28 +1,34 @@
 // Rebuilding the original file from a .capz (capz/original.h; docs/FORMAT.md 4.4): the decoded
 // take, read one window at a time, plus the residue chunks. Memory: one window, the residue's
 // head and tail.
+#include <filesystem>
 #include <functional>
 #include <memory>
 
 #include "capz/error.h"
+#include "capz/file.h"
 #include "capz/original.h"
 #include "coding/bytes.h"
 #include "core/atomic_file.h"
 #include "core/hash.h"
 #include "io/capz_source.h"
+#include "io/pcd_folder.h"
 #include "io/residue/c3d_residue.h"
+#include "io/residue/pcd_residue.h"
 #include "io/residue/trc_residue.h"
 
 namespace capz {
 namespace {
 
 using Write = std::function<void(const uint8_t*, size_t)>;
+// A PCD folder's frame files, one at a time: its name and bytes.
+using FrameWrite = std::function<void(const std::string&, const std::vector<uint8_t>&)>;
 
 struct Record {
   OriginalInfo info;
   Digest128 hash{};
   std::vector<uint8_t> file_part;
-  bool c3d = false;
+  bool c3d = false, pcd = false;
 };
 
 std::vector<uint8_t> chunk_payload(StreamBytes& b, const ParsedStream& ps, const char* type,
@@ -45,12 +51,15 @@ Record read_record(StreamBytes& b, const ParsedStream& ps, const std::string& na
   r.info.hash_hex = digest_hex(r.hash);
   const Format f = ps.h.source_format;
   r.c3d = f == Format::kC3D;
-  const char* type = r.c3d ? "C3DR" : f == Format::kTRC ? "TRCR" : nullptr;
+  r.pcd = f == Format::kPCDFolder;
+  const char* type = r.c3d ? "C3DR" : f == Format::kTRC ? "TRCR" : r.pcd ? "PCDR" : nullptr;
   if (type && ps.file_chunks.count(type)) {
     r.file_part = chunk_payload(b, ps, type, name);
     r.info.residue = true;
     r.info.exact = ps.h.lossless;
-    r.info.windows_at_bound = ps.major >= 5;
+    r.info.windows_at_bound = ps.major >= 5 && !r.pcd;  // PCDP: lossless archives only
+    if (r.pcd && !r.info.exact)
+      fail(ErrorCode::kCorrupt, name, "PCDR in an archive that is not lossless");
   }
   return r;
 }
@@ -76,8 +85,39 @@ std::vector<uint8_t> window_payload(StreamBytes& b, const ParsedStream& ps, size
   return {};
 }
 
-// The rebuild, handed to `write` in order; checks the size, and the hash when lossless.
-void rebuild(const std::string& path, const Write& write, int threads = 1) {
+// A PCD folder's frame files rebuilt (FORMAT.md 5.4), each handed to `frame` after its size and
+// hash are checked; `out` sees every byte, in order.
+void rebuild_pcd(const std::string& path, StreamBytes& raw, CapzSource& src, const Record& r,
+                 const Write& out, const FrameWrite& frame) {
+  const ParsedStream& ps = src.parsed();
+  const Take& t = ps.take;
+  if (!t.pcd || t.pcd->frame_names.size() != t.frames || pcd_output_names(t) != t.pcd->frame_names)
+    fail(ErrorCode::kCorrupt, path, "PCDR in an archive without one valid name per frame file");
+  residue::PCDResidueDecoder dec(r.file_part.data(), r.file_part.size(), t, path);
+  const size_t W = ps.h.window_frames;
+  FrameBlock block;
+  std::vector<uint8_t> bytes;
+  for (size_t w = 0, f0 = 0; f0 < t.frames; ++w, f0 += W) {
+    src.read(f0, W, &block);
+    // Never empty when present (a record per frame): empty means absent.
+    const std::vector<uint8_t> p = window_payload(raw, ps, w, "PCDP", path);
+    if (p.empty()) fail(ErrorCode::kCorrupt, path, "window " + std::to_string(w) + " has no PCDP");
+    ByteReader in(p.data(), p.size(), path + ": PCDP");
+    for (size_t k = 0; k < block.frames; ++k) {
+      const std::string& name = t.pcd->frame_names[f0 + k];
+      dec.frame(block, k, in, name, &bytes);
+      out(bytes.data(), bytes.size());
+      frame(name, bytes);
+    }
+    if (!in.at_end())
+      fail(ErrorCode::kCorrupt, path, "PCDP of window " + std::to_string(w) + ": bytes left over");
+  }
+}
+
+// The rebuild, handed to `write` in order (a PCD folder's: to `frame`, file by file); checks the
+// size, and the hash when lossless.
+void rebuild(const std::string& path, const Write& write, int threads = 1,
+             const FrameWrite& frame = nullptr) {
   std::unique_ptr<StreamBytes> raw(new FileBytes(path));
   CapzSource src(std::unique_ptr<StreamBytes>(new FileBytes(path)), path, true, threads);
   const ParsedStream& ps = src.parsed();
@@ -91,6 +131,17 @@ void rebuild(const std::string& path, const Write& write, int threads = 1) {
     n += k;
     write(p, k);
   };
+  if (r.pcd) {
+    rebuild_pcd(
+        path, *raw, src, r, out,
+        frame ? frame : [](const std::string&, const std::vector<uint8_t>&) {});
+    if (n != r.info.size || hasher.digest() != r.hash)
+      fail(ErrorCode::kCorrupt, path,
+           "the rebuilt frame files (" + std::to_string(n) + " bytes, XXH3-128 " +
+               digest_hex(hasher.digest()) + ") differ from the recorded " +
+               std::to_string(r.info.size) + " bytes, " + r.info.hash_hex);
+    return;
+  }
   const Take& t = ps.take;
   static const std::vector<C3DGroup> kNone;
   std::unique_ptr<residue::C3DResidueDecoder> c3d;
@@ -147,6 +198,24 @@ bool can_rebuild(const OriginalInfo& info, bool c3d) {
 
 void rebuild_original(const std::string& capz_path, const std::string& out, bool overwrite,
                       const DecompressOptions& opts) {
+  bool pcd = false;
+  {
+    FileBytes b(capz_path);
+    pcd = parse_stream(b, capz_path).h.source_format == Format::kPCDFolder;
+  }
+  if (pcd) {  // a folder of frame files, renamed into place once every file has checked
+    std::string path = out;
+    while (path.size() > 1 && path.back() == '/') path.pop_back();
+    check_replaceable_pcd_dir(path, overwrite);
+    AtomicDir dir(path, overwrite);
+    rebuild(
+        capz_path, [](const uint8_t*, size_t) {}, opts.threads,
+        [&](const std::string& name, const std::vector<uint8_t>& bytes) {
+          write_file((std::filesystem::path(dir.temp_dir()) / name).string(), bytes, true);
+        });
+    dir.commit();
+    return;
+  }
   AtomicFile file(out, overwrite);
   rebuild(
       capz_path, [&](const uint8_t* p, size_t n) { file.write(p, n); }, opts.threads);
@@ -163,7 +232,18 @@ std::string rebuilds_file(const std::string& capz_path, const std::string& origi
   const Record r = read_record(b, ps, capz_path);
   if (!r.info.exact) return "the archive cannot rebuild the original byte for byte";
   test_original(capz_path);  // the rebuilt bytes hash as recorded
-  if (r.hash != hash128_file(original)) return "the recorded hash is not the input's";
+  Digest128 now{};
+  if (r.pcd) {  // a PCD folder: its frame files concatenated in frame order
+    Hasher h;
+    for (const std::string& name : list_pcd_frames(original)) {
+      const std::vector<uint8_t> f = read_file((std::filesystem::path(original) / name).string());
+      h.update(f.data(), f.size());
+    }
+    now = h.digest();
+  } else {
+    now = hash128_file(original);
+  }
+  if (r.hash != now) return "the recorded hash is not the input's";
   return "";
 }
 

@@ -2,22 +2,32 @@
 #include "codec/residue_writer.h"
 
 #include <cstring>
+#include <filesystem>
 
 #include "capz/error.h"
+#include "capz/file.h"
 #include "coding/bytes.h"
 #include "coding/container.h"
+#include "io/pcd_folder.h"
 
 namespace capz {
 
 std::unique_ptr<ResidueWriter> ResidueWriter::open(const FrameSource& source, bool check) {
   const std::string path = source.original_file();
   const Format f = source.header().format;
-  if (path.empty() || (f != Format::kC3D && f != Format::kTRC)) return nullptr;
+  const Take& t = source.header();
+  const bool pcd = f == Format::kPCDFolder && t.pcd && t.pcd->frame_names.size() == t.frames &&
+                   pcd_output_names(t) == t.pcd->frame_names;
+  if (path.empty() || (f != Format::kC3D && f != Format::kTRC && !pcd)) return nullptr;
   return std::unique_ptr<ResidueWriter>(new ResidueWriter(path, source.header(), check));
 }
 
 ResidueWriter::ResidueWriter(const std::string& path, const Take& header, bool check)
     : path_(path), header_(header), check_(check) {
+  if (header.format == Format::kPCDFolder) {
+    pcd_ = true;  // hashed in file_chunks, when the stream turns out lossless
+    return;
+  }
   hash_ = hash128_file(path);
   if (header.format == Format::kC3D)
     c3d_.reset(new residue::C3DResidueEncoder(path));
@@ -30,6 +40,10 @@ ResidueWriter::~ResidueWriter() = default;
 void ResidueWriter::file_chunks(std::vector<uint8_t>* buf, bool exact) {
   exact_ = exact;
   check_ = check_ && exact;
+  if (pcd_) {
+    if (exact) pcd_file_chunks(buf);
+    return;
+  }
   const size_t before = buf->size();
   orig_.reset(new InputFile(path_));
   size_ = orig_->size();
@@ -60,6 +74,10 @@ void ResidueWriter::file_chunks(std::vector<uint8_t>* buf, bool exact) {
 
 void ResidueWriter::window_chunk(size_t w, const FrameBlock& block, const FrameBlock* back,
                                  std::vector<uint8_t>* buf) {
+  if (pcd_) {
+    if (exact_) pcd_window_chunk(w, block, back, buf);
+    return;
+  }
   const std::vector<uint8_t> payload =
       c3d_ ? c3d_->window(block, exact_) : trc_->window(block, exact_);
   const size_t before = buf->size();
@@ -97,6 +115,11 @@ void ResidueWriter::check_bytes(size_t w, const std::vector<uint8_t>& rebuilt) {
 
 void ResidueWriter::finish() {
   if (!check_) return;
+  if (pcd_) {
+    if (rebuilt_ != size_ || rebuilt_hash_.digest() != hash_)
+      failed("the rebuilt frame files' size or hash differs from the originals'");
+    return;
+  }
   try {
     if (c3d_) {
       const std::vector<uint8_t> tail = c3d_back_->tail();
@@ -109,6 +132,72 @@ void ResidueWriter::finish() {
   }
   if (rebuilt_ != size_ || rebuilt_hash_.digest() != hash_)
     failed("the rebuilt file's size or hash differs from the original's");
+}
+
+// HASH over the frame files (each read and hashed once here: the chunk precedes the windows)
+// and PCDR.
+void ResidueWriter::pcd_file_chunks(std::vector<uint8_t>* buf) {
+  const size_t before = buf->size();
+  names_ = header_.pcd->frame_names;
+  Hasher all;
+  std::vector<uint8_t> first;
+  for (size_t f = 0; f < names_.size(); ++f) {
+    std::vector<uint8_t> b = read_file((std::filesystem::path(path_) / names_[f]).string());
+    all.update(b.data(), b.size());
+    sizes_.push_back(b.size());
+    hashes_.push_back(hash128(b.data(), b.size()));
+    size_ += b.size();
+    if (f == 0) first = std::move(b);
+  }
+  hash_ = all.digest();
+  ByteWriter h;
+  h.u64(size_);
+  for (uint8_t b : hash_) h.u8(b);
+  append_chunk(buf, "HASH", h.buffer());
+  pcd_enc_.reset(new residue::PCDResidueEncoder(header_));
+  file_part_ = pcd_enc_->file_part(first);
+  append_chunk(buf, "PCDR", file_part_);
+  file_bytes_ = buf->size() - before;
+  bytes_ += file_bytes_;
+  if (check_)
+    pcd_back_.reset(new residue::PCDResidueDecoder(file_part_.data(), file_part_.size(), header_,
+                                                   header_.source + " (self-check)"));
+}
+
+// PCDP: each frame file read again (it must not have changed since HASH) and described against
+// the writer's bytes; with the check, rebuilt from the frames the archive gives back.
+void ResidueWriter::pcd_window_chunk(size_t w, const FrameBlock& block, const FrameBlock* back,
+                                     std::vector<uint8_t>* buf) {
+  std::vector<std::vector<uint8_t>> orig(block.frames);
+  ByteWriter payload;
+  for (size_t k = 0; k < block.frames; ++k) {
+    const size_t f = block.first + k;
+    const std::string file = (std::filesystem::path(path_) / names_[f]).string();
+    orig[k] = read_file(file);
+    if (orig[k].size() != sizes_[f] || hash128(orig[k].data(), orig[k].size()) != hashes_[f])
+      fail(ErrorCode::kIo, file, "the frame file changed while it was being compressed");
+    pcd_enc_->frame(block, k, orig[k], hashes_[f], payload);
+  }
+  ByteWriter b;
+  b.varint(w);
+  b.bytes(payload.buffer());
+  const size_t before = buf->size();
+  append_chunk(buf, "PCDP", b.buffer());
+  bytes_ += buf->size() - before;
+  if (!check_ || !back) return;
+  ByteReader in(payload.buffer().data(), payload.size(), header_.source + " (self-check): PCDP");
+  std::vector<uint8_t> rebuilt;
+  for (size_t k = 0; k < block.frames; ++k) {
+    const std::string& name = names_[block.first + k];
+    try {
+      pcd_back_->frame(*back, k, in, name, &rebuilt);
+    } catch (const Error& e) {
+      failed("frame file " + name + " does not rebuild: " + e.what());
+    }
+    if (rebuilt != orig[k]) failed("frame file " + name + " rebuilds other bytes");
+    rebuilt_hash_.update(rebuilt.data(), rebuilt.size());
+    rebuilt_ += rebuilt.size();
+  }
 }
 
 void ResidueWriter::failed(const std::string& what) const {

@@ -1,9 +1,11 @@
-// The encoder's side of byte-exact archives (docs/FORMAT.md 4.4): for a source read from an
-// original C3D or TRC file, the HASH chunk (size and XXH3-128 of the file), the file-level
-// residue (C3DR / TRCR) and each window's residue (C3DP / TRCP) at every target. With the
-// self-check of a lossless stream it rebuilds the original window by window, as the decoder will,
-// from the frames the archive gives back, compares each window's bytes with the file's and, at the
-// end, the rebuilt size and hash with the original's. Memory: one window of the original.
+// The encoder's side of byte-exact archives (docs/FORMAT.md 4.4, 5.4): for a source read from an
+// original C3D or TRC file (or, lossless only, a PCD folder: HASH over its frame files, PCDR and
+// per window PCDP, each frame file compared in memory with the writer's bytes), the HASH chunk
+// (size and XXH3-128 of the file), the file-level residue (C3DR / TRCR) and each window's residue
+// (C3DP / TRCP) at every target. With the self-check of a lossless stream it rebuilds the original
+// window by window, as the decoder will, from the frames the archive gives back, compares each
+// window's bytes with the file's and, at the end, the rebuilt size and hash with the original's.
+// Memory: one window of the original.
 #pragma once
 
 #include <cstddef>
@@ -16,13 +18,15 @@
 #include "core/hash.h"
 #include "core/input_file.h"
 #include "io/residue/c3d_residue.h"
+#include "io/residue/pcd_residue.h"
 #include "io/residue/trc_residue.h"
 
 namespace capz {
 
 class ResidueWriter {
  public:
-  // nullptr unless the source reads an original C3D or TRC file (FrameSource::original_file).
+  // nullptr unless the source reads an original C3D or TRC file or a PCD folder
+  // (FrameSource::original_file).
   static std::unique_ptr<ResidueWriter> open(const FrameSource& source, bool check);
   ResidueWriter(const std::string& path, const Take& header, bool check);
   ~ResidueWriter();
@@ -44,6 +48,9 @@ class ResidueWriter {
 
  private:
   void check_bytes(size_t w, const std::vector<uint8_t>& rebuilt);
+  void pcd_file_chunks(std::vector<uint8_t>* buf);
+  void pcd_window_chunk(size_t w, const FrameBlock& block, const FrameBlock* back,
+                        std::vector<uint8_t>* buf);
   [[noreturn]] void failed(const std::string& what) const;
 
   std::string path_;
@@ -53,6 +60,13 @@ class ResidueWriter {
   Digest128 hash_{};
   std::unique_ptr<residue::C3DResidueEncoder> c3d_;
   std::unique_ptr<residue::TRCResidueEncoder> trc_;
+  // A PCD folder (lossless only): each frame file's name, size and hash.
+  bool pcd_ = false;
+  std::unique_ptr<residue::PCDResidueEncoder> pcd_enc_;
+  std::unique_ptr<residue::PCDResidueDecoder> pcd_back_;
+  std::vector<std::string> names_;
+  std::vector<uint64_t> sizes_;
+  std::vector<Digest128> hashes_;
   std::vector<uint8_t> file_part_;
   // The self-check's rebuild.
   std::unique_ptr<residue::C3DResidueDecoder> c3d_back_;

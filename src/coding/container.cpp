@@ -389,6 +389,20 @@ std::vector<uint8_t> encode_meta_fields(const Take& t, bool has_sample_words) {
     w.f64(t.rotations.rate);
     put_strings(&w, t.rotations.labels);
   }
+  if (t.analog.lossy()) {  // FORMAT.md 5.2: the bounded analog channels, appended
+    const Analog& a = t.analog;
+    size_t nb = 0;
+    for (size_t c = 0; c < a.bounds.size(); ++c) nb += a.bounds[c] > 0;
+    w.varint(nb);
+    size_t next = 0;
+    for (size_t c = 0; c < a.bounds.size(); ++c)
+      if (a.bounds[c] > 0) {
+        w.varint(c - next);
+        next = c + 1;
+        w.f64(a.bounds[c]);
+        w.f64(c < a.factors.size() ? a.factors[c] : 1.0);
+      }
+  }
   return std::move(w.buffer());
 }
 }  // namespace
@@ -609,6 +623,28 @@ void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sam
     t->rotations.rate = r.f64();
     t->rotations.labels =
         get_strings(&r, static_cast<size_t>(t->rotations.segments), "rotation label count");
+  }
+  t->analog.bounds.clear();
+  t->analog.factors.clear();
+  if (t->analog.channels > 0 && r.remaining() > 0) {  // FORMAT.md 5.2: bounded analog channels
+    const size_t C = static_cast<size_t>(std::max(0, t->analog.channels));
+    const uint64_t nb = r.varint();
+    if (nb == 0 || nb > C) fail(ErrorCode::kCorrupt, what, "bad count of bounded analog channels");
+    t->analog.bounds.assign(C, 0.0);
+    t->analog.factors.assign(C, 1.0);
+    uint64_t next = 0;
+    for (uint64_t i = 0; i < nb; ++i) {
+      const uint64_t d = r.varint();
+      if (d >= C || next + d >= C)
+        fail(ErrorCode::kCorrupt, what, "a bounded analog channel outside the channels");
+      const size_t ch = static_cast<size_t>(next + d);
+      next = ch + 1;
+      const double b = r.f64(), f = r.f64();
+      if (!(b > 0) || !std::isfinite(b) || !(f > 0) || !std::isfinite(f))
+        fail(ErrorCode::kCorrupt, what, "a bad analog channel bound or factor");
+      t->analog.bounds[ch] = b;
+      t->analog.factors[ch] = f;
+    }
   }
   // Fields appended by later minor versions follow; they are skipped.
 }

@@ -17,6 +17,8 @@
 // points; every other field is written with the bytes the take holds. The DATA encoding is the
 // source's unless WriteOptions says otherwise. Files are written into a
 // temporary sibling folder renamed into place (AtomicDir).
+#include "io/pcd_folder.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -310,6 +312,8 @@ class PCDSource : public FrameSource {
     set_layout(layout_, names_, &header_);
   }
   bool has_sample_words() const override { return false; }
+  // The folder: the encoder stores each frame file's checksum and residue (FORMAT.md 5.4).
+  std::string original_file() const override { return dir_; }
   void read(size_t first, size_t count, FrameBlock* out) override {
     const size_t N = header_.points;
     clip(&first, &count);
@@ -370,20 +374,12 @@ std::unique_ptr<FrameSource> open_pcd_frames(const std::string& dir) {
   return std::unique_ptr<FrameSource>(new PCDSource(dir));
 }
 
-void write_pcd_folder(const Take& take, const std::string& dir, const WriteOptions& opts) {
-  const std::string enc = !opts.pcd_encoding.empty()                ? opts.pcd_encoding
-                          : take.pcd && !take.pcd->encoding.empty() ? take.pcd->encoding
-                                                                    : "binary";
-  if (enc != "ascii" && enc != "binary" && enc != "binary_compressed")
-    fail(ErrorCode::kInvalidParameter, dir,
-         "unknown PCD encoding '" + enc + "' (ascii, binary or binary_compressed)");
-  const size_t F = take.frames, N = take.points;
-  if (take.xyz.size() != F * N * 3 || take.valid.size() != F * N)
-    fail(ErrorCode::kInternal, dir, "take arrays do not match frames x points");
-  if (F == 0) fail(ErrorCode::kUsage, dir, "the take has no frames: nothing to write as PCD");
-  if (N > (size_t{1} << 31)) fail(ErrorCode::kUsage, dir, "too many points for a PCD file");
+std::vector<std::string> list_pcd_frames(const std::string& dir) {
+  return list_frames(dir);
+}
 
-  // File names: the source's when it was a PCD folder with one name per frame.
+std::vector<std::string> pcd_output_names(const Take& take) {
+  const size_t F = take.frames;
   std::vector<std::string> names;
   if (take.pcd && take.pcd->frame_names.size() == F) {
     std::set<std::string> seen;
@@ -404,56 +400,13 @@ void write_pcd_folder(const Take& take, const std::string& dir, const WriteOptio
       names.push_back(buf);
     }
   }
+  return names;
+}
 
-  // The fields: the source's layout when it matches the take (x y z and its attributes, in
-  // order), else x y z then the attributes.
-  std::vector<PCDField> fields;
-  if (take.pcd && !take.pcd->fields.empty()) {
-    fields = take.pcd->fields;
-    size_t k = 0;
-    bool ok = true;
-    for (const PCDField& fd : fields) {
-      if (fd.name == "x" || fd.name == "y" || fd.name == "z") continue;
-      ok = ok && k < take.attributes.size() && take.attributes[k].name == fd.name &&
-           take.attributes[k].type == fd.type && take.attributes[k].size == fd.size &&
-           take.attributes[k].count == fd.count;
-      ++k;
-    }
-    if (!ok || k != take.attributes.size()) fields.clear();
-  }
-  int xyz_size = 0;  // 4 or 8 when the layout says
-  for (const PCDField& fd : fields)
-    if (fd.name == "x") xyz_size = fd.size;
-  if (fields.empty()) {
-    for (const char* axis : {"x", "y", "z"}) {
-      PCDField fd;
-      fd.name = axis;
-      fields.push_back(fd);
-    }
-    for (const PointAttribute& a : take.attributes)
-      fields.push_back(PCDField{a.name, a.type, a.size, a.count});
-  }
-  for (const PointAttribute& a : take.attributes)
-    if (a.data.size() != F * N * a.bytes_per_point())
-      fail(ErrorCode::kInternal, dir, "point field " + a.name + " does not match frames x points");
-  // Coordinates: float32 when the source's were (or every coordinate is exactly a float), else
-  // float64 so no precision is lost.
-  bool as_float = xyz_size == 4;
-  if (xyz_size == 0) {
-    as_float = true;
-    for (size_t i = 0; i < F * N && as_float; ++i) {
-      if (!take.valid[i]) continue;
-      for (int a = 0; a < 3; ++a) {
-        double v = take.xyz[i * 3 + a];
-        if (static_cast<double>(static_cast<float>(v)) != v) as_float = false;
-      }
-    }
-  }
-  const uint32_t size = as_float ? 4 : 8;
-
+void check_replaceable_pcd_dir(const std::string& dir, bool overwrite) {
   // Replacing an existing directory deletes it: only allow that for a folder of PCD frames.
   std::error_code ec;
-  if (opts.overwrite && fs::is_directory(dir, ec)) {
+  if (overwrite && fs::is_directory(dir, ec)) {
     for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
       std::error_code ec2;
       if (!has_pcd_extension(it->path()) || !fs::is_regular_file(it->symlink_status(ec2)))
@@ -462,54 +415,38 @@ void write_pcd_folder(const Take& take, const std::string& dir, const WriteOptio
                  ", which is not a PCD frame");
     }
   }
+}
+
+void write_pcd_folder(const Take& take, const std::string& dir, const WriteOptions& opts) {
+  const std::string enc = !opts.pcd_encoding.empty()                ? opts.pcd_encoding
+                          : take.pcd && !take.pcd->encoding.empty() ? take.pcd->encoding
+                                                                    : "binary";
+  if (enc != "ascii" && enc != "binary" && enc != "binary_compressed")
+    fail(ErrorCode::kInvalidParameter, dir,
+         "unknown PCD encoding '" + enc + "' (ascii, binary or binary_compressed)");
+  const size_t F = take.frames, N = take.points;
+  if (take.xyz.size() != F * N * 3 || take.valid.size() != F * N)
+    fail(ErrorCode::kInternal, dir, "take arrays do not match frames x points");
+  if (F == 0) fail(ErrorCode::kUsage, dir, "the take has no frames: nothing to write as PCD");
+  if (N > (size_t{1} << 31)) fail(ErrorCode::kUsage, dir, "too many points for a PCD file");
+
+  const std::vector<std::string> names = pcd_output_names(take);
+  for (const PointAttribute& a : take.attributes)
+    if (a.data.size() != F * N * a.bytes_per_point())
+      fail(ErrorCode::kInternal, dir, "point field " + a.name + " does not match frames x points");
+  const PcdFramePlan plan = pcd_frame_plan(take, enc);
+
+  check_replaceable_pcd_dir(dir, opts.overwrite);
   AtomicDir out(dir, opts.overwrite);
-  PcdFrameLayout layout;
-  layout.encoding = enc;
-  if (take.pcd && !take.pcd->version.empty()) layout.version = take.pcd->version;
-  int axis_offset[3] = {0, 0, 0};
-  std::vector<size_t> attr_offset;  // per take.attributes entry
-  size_t step = 0;
-  for (PCDField f : fields) {
-    const int axis = f.name == "x" ? 0 : f.name == "y" ? 1 : f.name == "z" ? 2 : -1;
-    if (axis >= 0) {
-      axis_offset[axis] = static_cast<int>(step);
-      f.type = 'F';
-      f.size = static_cast<int>(size);
-      f.count = 1;
-    } else {
-      attr_offset.push_back(step);
-    }
-    step += static_cast<size_t>(f.size) * static_cast<size_t>(f.count);
-    layout.fields.push_back(f);
-  }
-  const PCDExtra* px = take.pcd.get();
-  const bool organized = px && px->width > 0 && px->height > 1 && px->width * px->height == N;
-  layout.width = organized ? px->width : N;
-  layout.height = organized ? px->height : 1;
-  if (px && px->viewpoint.size() == 7) layout.viewpoint = px->viewpoint;
-  std::vector<uint8_t> points(step * N);
-  const double nan = std::nan("");
+  std::vector<uint8_t> points;
+  std::vector<const uint8_t*> attrs(take.attributes.size());
   for (size_t f = 0; f < F; ++f) {
-    for (size_t p = 0; p < N; ++p) {
-      const bool ok = take.is_valid(f, p);
-      const double* v = take.at(f, p);
-      uint8_t* dst = points.data() + p * step;
-      for (int a = 0; a < 3; ++a) {
-        double x = ok ? v[a] : nan;
-        if (as_float) {
-          float fx = static_cast<float>(x);
-          std::memcpy(dst + axis_offset[a], &fx, 4);
-        } else {
-          std::memcpy(dst + axis_offset[a], &x, 8);
-        }
-      }
-      for (size_t a = 0; a < take.attributes.size(); ++a) {
-        const size_t bpp = take.attributes[a].bytes_per_point();
-        std::memcpy(dst + attr_offset[a], take.attributes[a].data.data() + (f * N + p) * bpp, bpp);
-      }
-    }
+    for (size_t a = 0; a < attrs.size(); ++a)
+      attrs[a] = take.attributes[a].data.data() + f * N * take.attributes[a].bytes_per_point();
+    pcd_frame_points(plan, N, take.xyz.data() + f * N * 3, take.valid.data() + f * N, attrs,
+                     &points);
     const std::string path = (fs::path(out.temp_dir()) / names[f]).string();
-    write_file(path, pcd_frame_bytes(layout, points.data()), true);
+    write_file(path, pcd_frame_bytes(plan.layout, points.data()), true);
   }
   out.commit();
 }

@@ -79,6 +79,17 @@ std::string header(const PcdFrameLayout& l, size_t n) {
   return h;
 }
 
+// The layout as written: without padding fields ("_") unless the body is binary.
+PcdFrameLayout written_layout(const PcdFrameLayout& layout) {
+  PcdFrameLayout l = layout;
+  if (l.encoding != "binary") {
+    l.fields.clear();
+    for (const PCDField& f : layout.fields)
+      if (f.name != "_") l.fields.push_back(f);
+  }
+  return l;
+}
+
 void put_le32(std::vector<uint8_t>* b, uint32_t v) {
   for (int i = 0; i < 4; ++i) b->push_back(static_cast<uint8_t>(v >> (8 * i)));
 }
@@ -92,28 +103,22 @@ std::vector<uint8_t> pcd_frame_bytes(const PcdFrameLayout& layout, const uint8_t
     all_step += static_cast<size_t>(f.size) * static_cast<size_t>(f.count);
   // Padding fields ("_") exist only in binary bodies: PCL's ASCII and compressed readers skip
   // them, so those encodings leave them out, as PCL's writers do.
-  PcdFrameLayout l = layout;
+  const PcdFrameLayout l = written_layout(layout);
   std::vector<uint8_t> packed;
   const uint8_t* points = all_points;
-  if (l.encoding != "binary") {
-    l.fields.clear();
+  if (l.fields.size() != layout.fields.size()) {
     std::vector<std::pair<size_t, size_t>> keep;  // (offset, bytes) of the kept fields
     size_t off = 0;
     for (const PCDField& f : layout.fields) {
       const size_t fs = static_cast<size_t>(f.size) * static_cast<size_t>(f.count);
-      if (f.name != "_") {
-        l.fields.push_back(f);
-        keep.emplace_back(off, fs);
-      }
+      if (f.name != "_") keep.emplace_back(off, fs);
       off += fs;
     }
-    if (l.fields.size() != layout.fields.size()) {
-      for (size_t p = 0; p < n; ++p)
-        for (const auto& k : keep)
-          packed.insert(packed.end(), all_points + p * all_step + k.first,
-                        all_points + p * all_step + k.first + k.second);
-      points = packed.data();
-    }
+    for (size_t p = 0; p < n; ++p)
+      for (const auto& k : keep)
+        packed.insert(packed.end(), all_points + p * all_step + k.first,
+                      all_points + p * all_step + k.first + k.second);
+    points = packed.data();
   }
   size_t step = 0;
   for (const PCDField& f : l.fields)
@@ -159,6 +164,107 @@ std::vector<uint8_t> pcd_frame_bytes(const PcdFrameLayout& layout, const uint8_t
     fail(ErrorCode::kInvalidParameter, "", "unknown PCD encoding '" + l.encoding + "'");
   }
   return out;
+}
+
+std::string pcd_frame_header(const PcdFrameLayout& layout) {
+  return header(written_layout(layout), layout.width * layout.height);
+}
+
+PcdFramePlan pcd_frame_plan(const Take& take, const std::string& enc) {
+  const size_t F = take.frames, N = take.points;
+  // The fields: the source's layout when it matches the take (x y z and its attributes, in
+  // order), else x y z then the attributes.
+  std::vector<PCDField> fields;
+  if (take.pcd && !take.pcd->fields.empty()) {
+    fields = take.pcd->fields;
+    size_t k = 0;
+    bool ok = true;
+    for (const PCDField& fd : fields) {
+      if (fd.name == "x" || fd.name == "y" || fd.name == "z") continue;
+      ok = ok && k < take.attributes.size() && take.attributes[k].name == fd.name &&
+           take.attributes[k].type == fd.type && take.attributes[k].size == fd.size &&
+           take.attributes[k].count == fd.count;
+      ++k;
+    }
+    if (!ok || k != take.attributes.size()) fields.clear();
+  }
+  int xyz_size = 0;  // 4 or 8 when the layout says
+  for (const PCDField& fd : fields)
+    if (fd.name == "x") xyz_size = fd.size;
+  if (fields.empty()) {
+    for (const char* axis : {"x", "y", "z"}) {
+      PCDField fd;
+      fd.name = axis;
+      fields.push_back(fd);
+    }
+    for (const PointAttribute& a : take.attributes)
+      fields.push_back(PCDField{a.name, a.type, a.size, a.count});
+  }
+  PcdFramePlan plan;
+  // Coordinates: float32 when the source's were (or every coordinate is exactly a float), else
+  // float64 so no precision is lost.
+  plan.as_float = xyz_size == 4;
+  if (xyz_size == 0) {
+    plan.as_float = true;
+    const bool arrays = take.valid.size() == F * N && take.xyz.size() == F * N * 3;
+    for (size_t i = 0; arrays && i < F * N && plan.as_float; ++i) {
+      if (!take.valid[i]) continue;
+      for (int a = 0; a < 3; ++a) {
+        const double v = take.xyz[i * 3 + a];
+        if (static_cast<double>(static_cast<float>(v)) != v) plan.as_float = false;
+      }
+    }
+  }
+  PcdFrameLayout& layout = plan.layout;
+  layout.encoding = enc;
+  if (take.pcd && !take.pcd->version.empty()) layout.version = take.pcd->version;
+  for (PCDField f : fields) {
+    const int axis = f.name == "x" ? 0 : f.name == "y" ? 1 : f.name == "z" ? 2 : -1;
+    if (axis >= 0) {
+      plan.axis_offset[axis] = plan.step;
+      f.type = 'F';
+      f.size = plan.as_float ? 4 : 8;
+      f.count = 1;
+    } else {
+      plan.attr_offset.push_back(plan.step);
+    }
+    plan.step += static_cast<size_t>(f.size) * static_cast<size_t>(f.count);
+    layout.fields.push_back(f);
+  }
+  const PCDExtra* px = take.pcd.get();
+  const bool organized = px && px->width > 0 && px->height > 1 && px->width * px->height == N;
+  layout.width = organized ? px->width : N;
+  layout.height = organized ? px->height : 1;
+  if (px && px->viewpoint.size() == 7) layout.viewpoint = px->viewpoint;
+  return plan;
+}
+
+void pcd_frame_points(const PcdFramePlan& plan, size_t n, const double* xyz, const uint8_t* valid,
+                      const std::vector<const uint8_t*>& attrs, std::vector<uint8_t>* out) {
+  const size_t step = plan.step;
+  out->resize(step * n);
+  const double nan = std::nan("");
+  std::vector<size_t> bpp(attrs.size());
+  size_t k = 0;
+  for (const PCDField& f : plan.layout.fields)
+    if (f.name != "x" && f.name != "y" && f.name != "z" && k < bpp.size())
+      bpp[k++] = static_cast<size_t>(f.size) * static_cast<size_t>(f.count);
+  for (size_t p = 0; p < n; ++p) {
+    const bool ok = valid[p] != 0;
+    const double* v = xyz + p * 3;
+    uint8_t* dst = out->data() + p * step;
+    for (int a = 0; a < 3; ++a) {
+      const double x = ok ? v[a] : nan;
+      if (plan.as_float) {
+        const float fx = static_cast<float>(x);
+        std::memcpy(dst + plan.axis_offset[a], &fx, 4);
+      } else {
+        std::memcpy(dst + plan.axis_offset[a], &x, 8);
+      }
+    }
+    for (size_t a = 0; a < attrs.size(); ++a)
+      std::memcpy(dst + plan.attr_offset[a], attrs[a] + p * bpp[a], bpp[a]);
+  }
 }
 
 }  // namespace capz

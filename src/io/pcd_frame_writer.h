@@ -35,4 +35,28 @@ struct PcdFrameLayout {
 // The file's bytes for `points` (width x height points of the layout's point size each).
 std::vector<uint8_t> pcd_frame_bytes(const PcdFrameLayout& layout, const uint8_t* points);
 
+// The header those bytes start with (through the DATA line's line feed).
+std::string pcd_frame_header(const PcdFrameLayout& layout);
+
+// How a take's frames become PCD points: the layout (fields from the take's PCD layout when it
+// matches the take's attributes, else x y z then the attributes), each field's offset in a point.
+struct PcdFramePlan {
+  PcdFrameLayout layout;
+  size_t step = 0;  // bytes per point
+  size_t axis_offset[3] = {0, 0, 0};
+  std::vector<size_t> attr_offset;  // per Take::attributes entry
+  bool as_float = true;             // x y z float32 (else float64)
+};
+
+// The plan for `take` in encoding `enc`. Coordinates: float32 when the layout says so or, without
+// a layout, when every valid coordinate of take.xyz is exactly a float (a take without frame
+// arrays: float32).
+PcdFramePlan pcd_frame_plan(const Take& take, const std::string& enc);
+
+// One frame's points (plan.step x points bytes into *out): xyz (points x 3), valid (points) and
+// per attribute a pointer to the frame's bytes (points x count x size); gaps are NaN points.
+void pcd_frame_points(const PcdFramePlan& plan, size_t points, const double* xyz,
+                      const uint8_t* valid, const std::vector<const uint8_t*>& attrs,
+                      std::vector<uint8_t>* out);
+
 }  // namespace capz

@@ -1,4 +1,5 @@
 // The rule for "the stream keeps its promise" (include/capz/verify.h).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -190,6 +191,8 @@ Promise promise_of(const StreamInfo& info) {
     p.kind = Promise::Kind::kBound;
     p.max_error = info.max_error;
   }
+  p.analog_bounds = info.analog_bounds;
+  p.analog_factors = info.analog_factors;
   for (size_t i = 0; i < info.pcd_fields.size(); ++i) {
     const PCDField& f = info.pcd_fields[i];
     if (f.name == "x" || f.name == "y" || f.name == "z") continue;
@@ -247,11 +250,39 @@ bool PromiseCheck::check(const Frames& a, const Frames& b) {
                   std::to_string(at % a.points));
   if (!positions(a, b)) return false;
   if (!a.same_words(b)) return breach("the C3D residual/camera words differ");
-  if (a.analog_values != b.analog_values || !same_values(a.analog, b.analog, a.analog_values))
-    return breach("the analog values differ");
+  if (a.analog_values != b.analog_values) return breach("the analog values differ");
+  if (!analog(a, b)) return false;
   if (!a.same_rotations(b)) return breach("the rotation samples differ");
   if (!a.same_attributes(b, promise_))
     return breach("the point fields (" + std::to_string(a.attributes.size()) + ") differ");
+  return holds();
+}
+
+// The analog samples: equal, or for a lossy channel (FORMAT.md 5.2) within its bound in
+// physical units, non-finite samples bit for bit.
+bool PromiseCheck::analog(const Frames& a, const Frames& b) {
+  const size_t C = promise_.analog_bounds.size();
+  if (C == 0)
+    return same_values(a.analog, b.analog, a.analog_values) ? holds()
+                                                            : breach("the analog values differ");
+  for (size_t i = 0; i < a.analog_values; ++i) {
+    const size_t c = i % C;
+    const double bound = promise_.analog_bounds[c];
+    const double f = c < promise_.analog_factors.size() ? promise_.analog_factors[c] : 1.0;
+    const double x = a.analog[i], y = b.analog[i];
+    bool ok;
+    if (bound > 0 && std::isfinite(x)) {
+      const double err = std::fabs(y - x) * f;
+      ok = std::isfinite(y) && err <= bound;
+      if (ok) analog_bound_use_ = std::max(analog_bound_use_, err / bound);
+    } else {
+      ok = same_value(x, y);
+    }
+    if (!ok)
+      return breach("analog channel " + std::to_string(c) + " sample " + text(x, 17) +
+                    " comes back as " + text(y, 17) +
+                    (bound > 0 ? " (bound " + text(bound, 6) + ")" : ""));
+  }
   return holds();
 }
 
@@ -292,6 +323,7 @@ PromiseResult check_promise(const Take& original, const Take& decoded, const Pro
   r.holds = c.holds();
   r.why = c.why();
   r.error = c.error();
+  r.analog_bound_use = c.analog_bound_use();
   return r;
 }
 

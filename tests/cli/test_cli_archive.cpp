@@ -1,5 +1,5 @@
 // capz test and capz list (docs/CLI.md): one line per file, exit status 0 / 1, and decompress
-// giving a --lossless C3D back byte for byte (--rm deleting only then).
+// giving a --lossless C3D back byte for byte (--rm deleting only then), and a PCD folder.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "capz/file.h"
+#include "corrupt/chunk_util.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;
@@ -79,4 +80,62 @@ TEST(CliArchive, TestAndListFailOnADamagedFile) {
   Result l = run("list '" + d.file("missing.capz") + "'");
   EXPECT_EQ(l.status, 1) << l.out;
   EXPECT_EQ(lines(l.out), 1u) << l.out;
+}
+
+// A PCD folder whose frames capz's writer does not reproduce (a commented CRLF header, ASCII
+// spellings, trailing bytes): --lossless gives every frame file back, test / list / info say so,
+// and a frame whose rebuilt bytes differ fails decompress (status 5) naming the file.
+TEST(CliArchive, PcdFolderComesBackByteForByte) {
+  capz_test::TempDir d("capz_cli_archive_pcd");
+  const std::string in = d.file("scan"), z = d.file("scan.capz"), out = d.file("back");
+  fs::create_directories(in);
+  const std::string h =
+      "# scanner 7\r\nVERSION 0.7\r\nFIELDS x y z\r\nSIZE 4 4 4\r\nTYPE F F F\r\n"
+      "COUNT 1 1 1\r\nWIDTH 2\r\nHEIGHT 1\r\nVIEWPOINT 0 0 0 1 0 0 0\r\n"
+      "POINTS 2\r\nDATA ascii\r\n";
+  const std::vector<std::string> frames = {h + "1.50 2 3\r\n4 5e+00 6\r\n",
+                                           h + "1 2 3\r\n4 5 6\r\n\r\n  \n"};
+  for (size_t f = 0; f < frames.size(); ++f) {
+    std::ofstream o(in + "/f" + std::to_string(f) + ".pcd", std::ios::binary);
+    o << frames[f];
+  }
+  ASSERT_EQ(run("compress --lossless -q '" + in + "' -o '" + z + "'").status, 0);
+  ASSERT_EQ(run("decompress -q '" + z + "' -o '" + out + "/'").status, 0);
+  for (size_t f = 0; f < frames.size(); ++f) {
+    const std::vector<uint8_t> got = capz::read_file(out + "/f" + std::to_string(f) + ".pcd");
+    EXPECT_EQ(std::string(got.begin(), got.end()), frames[f]);
+  }
+  Result t = run("test '" + z + "'");
+  EXPECT_EQ(t.status, 0) << t.out;
+  const size_t bytes = frames[0].size() + frames[1].size();
+  EXPECT_NE(t.out.find(": OK, 2 frames decoded, original rebuilt (" + std::to_string(bytes) +
+                       " bytes, xxh3-128 "),
+            std::string::npos)
+      << t.out;
+  Result l = run("list '" + z + "'");
+  EXPECT_NE(l.out.find("scan (pcd-folder) frames 2 points 2"), std::string::npos) << l.out;
+  EXPECT_NE(l.out.find("lossless ratio "), std::string::npos) << l.out;
+  EXPECT_EQ(l.out.find("xxh3-128 -"), std::string::npos) << l.out;
+  Result i = run("info '" + z + "'");
+  EXPECT_NE(i.out.find("rebuilt byte for byte (checksum checked)"), std::string::npos) << i.out;
+
+  // A bit of frame f0's recorded hash flipped (the chunk CRC fixed): its rebuilt bytes no longer
+  // match it.
+  std::vector<uint8_t> b = capz::read_file(z);
+  const std::string tag = "PCDP";
+  const auto it = std::search(b.begin(), b.end(), tag.begin(), tag.end());
+  ASSERT_NE(it, b.end());
+  const size_t at = static_cast<size_t>(it - b.begin());
+  // Payload: window index (1 byte), then frame f0's record: varint size, hash.
+  ASSERT_LT(frames[0].size(), 16384u);
+  const size_t varint = frames[0].size() < 128 ? 1 : 2;
+  b[at + 8 + 1 + varint] ^= 0x01;
+  capz_test::fix_crc(&b, at);
+  const std::string bad = d.file("bad.capz");
+  capz::write_file(bad, b, true);
+  Result r = run("decompress -q -f '" + bad + "' -o '" + d.file("bad_out") + "/'");
+  EXPECT_EQ(r.status, 5) << r.out;
+  EXPECT_NE(r.out.find("f0.pcd"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(d.file("bad_out")));
+  EXPECT_EQ(run("test '" + bad + "'").status, 1);
 }

@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -200,3 +201,59 @@ TEST(CliCompress, GivenRmWhenWrittenOutputReadsBackWrongThenInputKeptElseRemoved
 }
 
 }  // namespace
+
+// --analog-max-error (docs/FORMAT.md 5.2): bounds by unit and by label, reported by info and
+// verify, kept through decompress and --rm; bad requests are one-line errors.
+TEST(CliCompress, GivenAnalogMaxErrorThenInfoVerifyAndDecompressKeepTheBounds) {
+  capz_test::TempDir d("capz_cli_analog");
+  const std::string in = d.file("fp.c3d"), out = d.file("fp.c3d.capz");
+  fs::copy_file(kC3d, in);
+  // The force channels of EB015PI say "nt" and "ntmm"; "N" and "Nmm" name them too.
+  Result r = capz_cli("compress '" + in + "' --analog-max-error N=0.5,Nmm=50 --analog-max-error " +
+                          "Parsec=2 -o '" + out + "'",
+                      true);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("--analog-max-error Parsec names no analog channel"), std::string::npos)
+      << r.out;
+  Result i = capz_cli("info '" + out + "'");
+  ASSERT_EQ(i.status, 0);
+  EXPECT_NE(i.out.find("4 lossless; within 0.5 nt: FX1"), std::string::npos) << i.out;
+  EXPECT_NE(i.out.find("within 50 ntmm: MX1"), std::string::npos) << i.out;
+  Result j = capz_cli("info --json '" + out + "'");
+  EXPECT_NE(j.out.find("\"analog_bounds\":[{\"channel\":"), std::string::npos) << j.out;
+  EXPECT_NE(j.out.find("\"unit\":\"nt\",\"bound\":0.5"), std::string::npos) << j.out;
+  Result v = capz_cli("verify '" + out + "' --against '" + in + "'");
+  EXPECT_EQ(v.status, 0) << v.out;
+  EXPECT_NE(v.out.find("the lossy channels within their bounds"), std::string::npos) << v.out;
+  // Written back: the C3D's analog samples are the archive's (lossy) ones, within the bounds.
+  ASSERT_EQ(capz_cli("decompress -q '" + out + "' -o '" + d.file("back.c3d") + "'").status, 0);
+  const capz::Take a = capz::read_take(in), b = capz::read_take(d.file("back.c3d"));
+  const std::vector<capz::AnalogPhysics> phys = capz::analog_physics(a);
+  ASSERT_EQ(a.analog.values.size(), b.analog.values.size());
+  size_t moved = 0;
+  for (size_t k = 0; k < a.analog.values.size(); ++k) {
+    const size_t c = k % phys.size();
+    const double bound = phys[c].unit == "nt" ? 0.5 : phys[c].unit == "ntmm" ? 50 : 0;
+    const double err = std::fabs(a.analog.values[k] - b.analog.values[k]) * phys[c].factor;
+    ASSERT_LE(err, bound) << "channel " << c << " sample " << k / phys.size();
+    moved += err > 0;
+  }
+  EXPECT_GT(moved, 0u);
+  // --rm accepts the archive (the promise includes the bounds) and removes the input.
+  const std::string in2 = d.file("fp2.c3d");
+  fs::copy_file(kC3d, in2);
+  EXPECT_EQ(capz_cli("compress -q --rm '" + in2 + "' --analog-max-error N=0.5").status, 0);
+  EXPECT_FALSE(fs::exists(in2));
+  // Usage errors: bad syntax; --lossless with a bound.
+  Result bad =
+      capz_cli("compress '" + in + "' --analog-max-error N -o '" + d.file("x.capz") + "'", true);
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.out.find("--analog-max-error wants KEY=BOUND"), std::string::npos) << bad.out;
+  Result both = capz_cli(
+      "compress '" + in + "' --lossless --analog-max-error N=1 -o '" + d.file("y.capz") + "'",
+      true);
+  EXPECT_NE(both.status, 0);
+  EXPECT_NE(both.out.find("cannot be given with --analog-max-error"), std::string::npos)
+      << both.out;
+  EXPECT_FALSE(fs::exists(d.file("y.capz")));
+}

@@ -2,7 +2,9 @@
 // --lossless archive gives their frame files back byte for byte.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -12,6 +14,7 @@
 #include "capz/error.h"
 #include "capz/file.h"
 #include "capz/io.h"
+#include "capz/original.h"
 #include "capz/stream.h"
 #include "test_util.h"
 
@@ -70,9 +73,10 @@ TEST(PcdConformance, FrameOrderIsNatural) {
 }
 
 // --lossless archives of the shared sequences (and of the bundled LiDAR sweeps with fields)
-// give back every frame file byte for byte: their headers are in the form capz writes (PCL's)
-// and their gaps are canonical NaNs. (Other headers come back with every value and field
-// exact but capz's own header lines: docs/CLI.md.)
+// give back every frame file byte for byte through the PCD writer too (decompress with
+// --pcd-data binary): their headers are in the form capz writes (PCL's) and their gaps are
+// canonical NaNs. (Any other frame file comes back byte for byte through the residue only:
+// LosslessArchivesRebuild... below, FORMAT.md 5.4.)
 TEST(PcdConformance, LosslessArchivesGiveBackTheSharedFramesByteForByte) {
   const std::string data = capz_test::shared_data_or_skip();
   if (data.empty()) return;
@@ -101,4 +105,73 @@ TEST(PcdConformance, LosslessArchivesGiveBackTheSharedFramesByteForByte) {
     }
     EXPECT_GT(files, 0u);
   }
+}
+
+namespace {
+
+// Bytes of every chunk of `type` in an archive (12 bytes of framing each).
+size_t chunk_bytes(const std::vector<uint8_t>& a, const char* type) {
+  size_t n = 0;
+  for (size_t i = 0; i + 4 <= a.size(); ++i)
+    if (std::equal(type, type + 4, a.begin() + static_cast<long>(i))) {
+      n += 12 + (a[i + 4] | a[i + 5] << 8 | a[i + 6] << 16 | static_cast<uint32_t>(a[i + 7]) << 24);
+    }
+  return n;
+}
+
+// A --lossless archive of `dir` rebuilt through its residue (FORMAT.md 5.4): every frame file
+// byte for byte, each frame's checksum and the folder's checked by capz test's path too. One
+// line of the table per folder: files, bytes, archive, residue (HASH + PCDR + PCDP).
+void rebuild_exactly(const std::string& dir) {
+  SCOPED_TRACE(dir);
+  capz_test::TempDir tmp("capz_pcd_rebuild");
+  const std::string z = tmp.file("a.capz"), out = tmp.file("back");
+  std::unique_ptr<capz::FrameSource> src = capz::open_frames(dir);
+  capz::CompressOptions o;
+  o.lossless = true;
+  capz::compress_stream(*src, o, z, true, nullptr);
+  const capz::OriginalInfo info = capz::original_info(z);
+  ASSERT_TRUE(info.hashed && info.residue && info.exact);
+  capz::test_original(z);
+  capz::rebuild_original(z, out, true);
+  size_t files = 0, bytes = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::vector<uint8_t> orig = capz::read_file(e.path().string());
+    EXPECT_EQ(capz::read_file((fs::path(out) / e.path().filename()).string()), orig)
+        << e.path().filename();
+    ++files;
+    bytes += orig.size();
+  }
+  EXPECT_EQ(info.size, bytes);
+  size_t back = 0;
+  for (const auto& e : fs::directory_iterator(out)) back += e.is_regular_file() ? 1 : 0;
+  EXPECT_EQ(back, files);
+  const std::vector<uint8_t> a = capz::read_file(z);
+  const size_t residue = chunk_bytes(a, "HASH") + chunk_bytes(a, "PCDR") + chunk_bytes(a, "PCDP");
+  std::printf("  %-60s %5zu files %10zu bytes, archive %9zu, residue %6zu (%.3f%%): exact\n",
+              dir.c_str(), files, bytes, a.size(), residue,
+              100.0 * static_cast<double>(residue) / static_cast<double>(a.size()));
+}
+
+}  // namespace
+
+// The bundled LiDAR sweeps, and the same frames written in each DATA encoding.
+TEST(PcdConformance, LosslessArchivesRebuildTheBundledFramesWithTheirChecksums) {
+  const std::string dir = std::string(CAPZ_REPO_DATA) + "/lidar_small";
+  rebuild_exactly(dir);
+  capz_test::TempDir tmp("capz_pcd_rebuild_enc");
+  const capz::Take t = capz::read_pcd_folder(dir);
+  for (const char* enc : {"ascii", "binary_compressed"}) {
+    capz::WriteOptions wo;
+    wo.pcd_encoding = enc;
+    const std::string d = tmp.file(enc);
+    capz::write_pcd_folder(t, d, wo);
+    rebuild_exactly(d);
+  }
+}
+
+TEST(PcdConformance, LosslessArchivesRebuildTheSharedFramesWithTheirChecksums) {
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
+  for (const auto& s : kSeqs) rebuild_exactly(data + "/pcd/" + s.name);
 }

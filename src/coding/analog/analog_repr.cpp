@@ -269,7 +269,45 @@ void sort_unique(std::vector<uint64_t>* keys, std::vector<int32_t>* ranks) {
   }
 }
 
+// Distinct values of v in increasing order of their ordered bits: ord (the ordered patterns)
+// and the values.
+void distinct_sorted(const std::vector<double>& v, std::vector<uint64_t>* ord,
+                     std::vector<double>* sorted) {
+  const size_t n = v.size();
+  ord->resize(n);
+  for (size_t i = 0; i < n; ++i) (*ord)[i] = ordered_bits(bits_of(v[i]));
+  std::vector<int32_t> ranks;
+  sort_unique(ord, &ranks);
+  sorted->resize(ord->size());
+  for (size_t i = 0; i < ord->size(); ++i) (*sorted)[i] = from_bits(from_ordered_bits((*ord)[i]));
+}
+
+bool all_float32(const std::vector<double>& v) {
+  for (double x : v)
+    if (!is_float32(x)) return false;
+  return true;
+}
+
 }  // namespace
+
+bool sample_lattice(const double* col, size_t stride, size_t n, const ChannelHint& hint,
+                    double* step, double* offset) {
+  ChannelRepr r;
+  const std::vector<double> v = fill_gaps(col, stride, n, &r);
+  if (n < 2) return false;
+  if (all_integers(v)) {
+    *step = 1;
+    *offset = 0;
+    return true;
+  }
+  std::vector<uint64_t> ord;
+  std::vector<double> sorted;
+  distinct_sorted(v, &ord, &sorted);
+  if (sorted.size() < 2 || !find_scaled(v, sorted, all_float32(v), hint, &r)) return false;
+  *step = r.step;
+  *offset = r.offset;
+  return true;
+}
 
 std::vector<ChannelRepr> candidate_representations(const double* col, size_t stride, size_t n,
                                                    const ChannelHint& hint) {
@@ -281,6 +319,14 @@ std::vector<ChannelRepr> candidate_representations(const double* col, size_t str
     r.kind = Kind::kConst;
     r.const_bits = n ? bits_of(v[0]) : 0;
     return {r};
+  }
+  if (hint.lattice_step > 0) {  // lossy analog: the encoder put the samples on this lattice
+    ChannelRepr scaled = r;
+    if (fit_scaled(v, hint.lattice_step, hint.lattice_offset, all_float32(v), n_max_exc(n),
+                   &scaled)) {
+      scaled.kind = Kind::kScaled;
+      return {scaled};
+    }
   }
   if (all_integers(v)) {
     r.kind = Kind::kInt;

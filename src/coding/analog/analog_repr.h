@@ -41,6 +41,10 @@ inline bool is_integer_kind(Kind k) {
 struct ChannelHint {
   double scale = 0;   // a candidate step of the stored values (0 = none)
   double offset = 0;  // a candidate offset, in stored units
+  // Lossy analog (FORMAT.md 5.2): the encoder moved the samples onto lattice_offset + k *
+  // lattice_step (0: it did not). That scaled fit is tried first and, when it holds, is the
+  // only candidate.
+  double lattice_step = 0, lattice_offset = 0;
 };
 
 struct ChannelRepr {
@@ -105,6 +109,11 @@ double apply_ordered_delta(double v, int64_t d, bool f32);
 // keeps the smallest).
 std::vector<ChannelRepr> candidate_representations(const double* col, size_t stride, size_t n,
                                                    const ChannelHint& hint);
+// The lattice the lossless coder finds for the samples (gaps skipped): step 1 and offset 0 for
+// integers, else the step and offset of the scaled fit (kScaled) when there is one. False when
+// the samples are on no lattice (or constant).
+bool sample_lattice(const double* col, size_t stride, size_t n, const ChannelHint& hint,
+                    double* step, double* offset);
 // The first of candidate_representations.
 ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
                                   const ChannelHint& hint);

@@ -13,8 +13,6 @@ namespace residue {
 
 namespace {
 
-constexpr int kLevel = 19;
-
 struct CCtxFree {
   void operator()(ZSTD_CCtx* c) const { ZSTD_freeCCtx(c); }
 };
@@ -22,10 +20,11 @@ struct DCtxFree {
   void operator()(ZSTD_DCtx* d) const { ZSTD_freeDCtx(d); }
 };
 
-std::vector<uint8_t> zstd(const std::vector<uint8_t>& data, const std::vector<uint8_t>* dict) {
+std::vector<uint8_t> zstd(const std::vector<uint8_t>& data, const std::vector<uint8_t>* dict,
+                          int level) {
   std::unique_ptr<ZSTD_CCtx, CCtxFree> c(ZSTD_createCCtx());
   if (!c) fail(ErrorCode::kInternal, "", "zstd: cannot create a context");
-  ZSTD_CCtx_setParameter(c.get(), ZSTD_c_compressionLevel, kLevel);
+  ZSTD_CCtx_setParameter(c.get(), ZSTD_c_compressionLevel, level);
   ZSTD_CCtx_setParameter(c.get(), ZSTD_c_checksumFlag, 0);
   ZSTD_CCtx_setParameter(c.get(), ZSTD_c_contentSizeFlag, 0);  // the size is stored beside it
   ZSTD_CCtx_setParameter(c.get(), ZSTD_c_dictIDFlag, 0);
@@ -39,14 +38,15 @@ std::vector<uint8_t> zstd(const std::vector<uint8_t>& data, const std::vector<ui
 
 }  // namespace
 
-void pack(const std::vector<uint8_t>& data, const std::vector<uint8_t>& dict, ByteWriter& out) {
+void pack(const std::vector<uint8_t>& data, const std::vector<uint8_t>& dict, ByteWriter& out,
+          int level) {
   uint8_t method = 0;
   std::vector<uint8_t> best = data;
   if (!data.empty()) {
-    std::vector<uint8_t> z = zstd(data, nullptr);
+    std::vector<uint8_t> z = zstd(data, nullptr, level);
     if (z.size() < best.size()) best = std::move(z), method = 1;
     if (!dict.empty()) {
-      std::vector<uint8_t> zd = zstd(data, &dict);
+      std::vector<uint8_t> zd = zstd(data, &dict, level);
       if (zd.size() < best.size()) best = std::move(zd), method = 2;
     }
   }

@@ -19,8 +19,10 @@ namespace capz {
 namespace residue {
 
 // Appends `data` packed to `out`: the smallest of stored, zstd (level 19, long matches) and,
-// when `dict` is not empty, zstd with `dict` as its prefix.
-void pack(const std::vector<uint8_t>& data, const std::vector<uint8_t>& dict, ByteWriter& out);
+// when `dict` is not empty, zstd with `dict` as its prefix. `level`: zstd's (an encoder's choice:
+// the stored form is the same).
+void pack(const std::vector<uint8_t>& data, const std::vector<uint8_t>& dict, ByteWriter& out,
+          int level = 19);
 
 // Reads one packed string. `dict` must be the bytes the packer was given (only method 2 uses
 // it). Throws Error(kCorrupt) naming `in.what()` when the method is unknown, the zstd frame is

@@ -1,0 +1,233 @@
+// capz — PCD residue (see pcd_residue.h; layout in docs/FORMAT.md 5.4).
+#include "io/residue/pcd_residue.h"
+
+#include <cctype>
+#include <cstring>
+
+#include "capz/error.h"
+#include "io/residue/pack.h"
+#include "io/residue/patch.h"
+
+namespace capz {
+namespace residue {
+
+namespace {
+
+constexpr uint8_t kKind = 3;
+constexpr uint64_t kMaxReference = uint64_t{1} << 21;
+constexpr uint64_t kMaxFrame = uint64_t{1} << 40;
+const char* const kEncodings[3] = {"ascii", "binary", "binary_compressed"};
+
+bool is_space(uint8_t c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+}
+
+// zstd level for a packed string of n bytes: the best below 256 KiB, a fast one above (bodies
+// of their own are rare, and level 19 runs at a few MB/s).
+int level_for(size_t n) {
+  return n <= (size_t{1} << 18) ? 19 : 6;
+}
+
+std::vector<uint8_t> slice(const std::vector<uint8_t>& v, size_t a, size_t b) {
+  return std::vector<uint8_t>(v.begin() + static_cast<long>(a), v.begin() + static_cast<long>(b));
+}
+
+}  // namespace
+
+size_t pcd_header_end(const uint8_t* p, size_t n) {
+  size_t pos = 0;
+  while (pos < n) {
+    const void* nl = std::memchr(p + pos, '\n', n - pos);
+    const size_t e = nl ? static_cast<size_t>(static_cast<const uint8_t*>(nl) - p) : n;
+    size_t w = pos;
+    while (w < e && is_space(p[w])) ++w;
+    if (e - w >= 4 && std::memcmp(p + w, "DATA", 4) == 0 && (e - w == 4 || is_space(p[w + 4])))
+      return e < n ? e + 1 : n;
+    pos = e + 1;
+  }
+  return SIZE_MAX;
+}
+
+int pcd_encoding_code(const std::string& data) {
+  for (int i = 0; i < 3; ++i)
+    if (data == kEncodings[i]) return i;
+  return 1;
+}
+
+PcdRegen::PcdRegen(const Take& header) {
+  for (int i = 0; i < 3; ++i) plans_[i] = pcd_frame_plan(header, kEncodings[i]);
+  take_enc_ = pcd_encoding_code(header.pcd ? header.pcd->encoding : "binary");
+  attrs_.resize(header.attributes.size());
+}
+
+std::string PcdRegen::take_header() const {
+  return pcd_frame_header(plans_[take_enc_].layout);
+}
+
+void PcdRegen::frame(const FrameBlock& b, size_t k, int enc, std::vector<uint8_t>* out,
+                     size_t* header_end) {
+  const size_t N = b.points;
+  if (b.attributes.size() != attrs_.size() || k >= b.frames)
+    fail(ErrorCode::kInternal, "", "PCD residue: a frame block without its point fields");
+  for (size_t a = 0; a < attrs_.size(); ++a) {
+    const size_t per_frame = b.attributes[a].size() / b.frames;
+    if (b.attributes[a].size() != per_frame * b.frames)
+      fail(ErrorCode::kInternal, "", "PCD residue: a frame block without its point fields");
+    attrs_[a] = b.attributes[a].data() + k * per_frame;
+  }
+  const PcdFramePlan& plan = plans_[enc];
+  pcd_frame_points(plan, N, b.xyz.data() + k * N * 3, b.valid.data() + k * N, attrs_, &points_);
+  *out = pcd_frame_bytes(plan.layout, points_.data());
+  *header_end = pcd_header_end(out->data(), out->size());
+  if (*header_end == SIZE_MAX) fail(ErrorCode::kInternal, "", "PCD writer wrote no DATA line");
+}
+
+PCDResidueEncoder::PCDResidueEncoder(const Take& header) : regen_(header), frames_(header.frames) {}
+
+std::vector<uint8_t> PCDResidueEncoder::file_part(const std::vector<uint8_t>& first) {
+  const std::string h = regen_.take_header();
+  const size_t e = pcd_header_end(first.data(), first.size());
+  reference_.clear();
+  if (e != SIZE_MAX && (e != h.size() || std::memcmp(first.data(), h.data(), e) != 0))
+    reference_.assign(first.begin(), first.begin() + static_cast<long>(e));
+  ByteWriter w;
+  w.u8(kKind);
+  w.varint(frames_);
+  pack(reference_, std::vector<uint8_t>(h.begin(), h.end()), w);
+  return std::move(w.buffer());
+}
+
+void PCDResidueEncoder::frame(const FrameBlock& block, size_t k, const std::vector<uint8_t>& orig,
+                              const Digest128& hash, ByteWriter& out) {
+  size_t oh = pcd_header_end(orig.data(), orig.size());
+  int enc = 1;
+  if (oh == SIZE_MAX) {
+    oh = 0;  // no header: the whole file is its body (the reader refuses it; kept all the same)
+  } else {
+    // The DATA line's second word, lowercased (as the reader takes it).
+    size_t end = oh;
+    if (orig[end - 1] == '\n') --end;
+    size_t a = end;
+    while (a > 0 && orig[a - 1] != '\n') --a;
+    const std::string line(orig.begin() + static_cast<long>(a),
+                           orig.begin() + static_cast<long>(end));
+    size_t p = 0;
+    while (p < line.size() && is_space(static_cast<uint8_t>(line[p]))) ++p;
+    p += 4;  // DATA
+    while (p < line.size() && is_space(static_cast<uint8_t>(line[p]))) ++p;
+    size_t q = p;
+    while (q < line.size() && !is_space(static_cast<uint8_t>(line[q]))) ++q;
+    std::string word = line.substr(p, q - p);
+    for (char& c : word) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    enc = pcd_encoding_code(word);
+  }
+  size_t rh = 0;
+  regen_.frame(block, k, enc, &bytes_, &rh);
+  const size_t rb = bytes_.size() - rh, ob = orig.size() - oh;
+  uint8_t flags = static_cast<uint8_t>(enc);
+  ByteWriter rest;
+  if (oh == rh && std::memcmp(orig.data(), bytes_.data(), oh) == 0) {
+    // header 0
+  } else if (!reference_.empty() && oh == reference_.size() &&
+             std::memcmp(orig.data(), reference_.data(), oh) == 0) {
+    flags |= 1 << 2;
+  } else {
+    flags |= 2 << 2;
+    pack(slice(orig, 0, oh), slice(bytes_, 0, rh), rest);
+  }
+  const uint8_t* o = orig.data() + oh;
+  const uint8_t* r = bytes_.data() + rh;
+  if (ob == rb && std::memcmp(o, r, rb) == 0) {
+    // body 0
+  } else {
+    ByteWriter patched;
+    bool have_patch = false;
+    if (ob >= rb) {
+      const std::vector<uint8_t> patch = diff_bytes(r, o, rb);
+      const std::vector<uint8_t> tail(o + rb, o + ob);
+      pack(patch, {}, patched, level_for(patch.size()));
+      pack(tail, {}, patched, level_for(tail.size()));
+      have_patch = true;
+    }
+    // A patch that is small next to the body wins outright; else the body of its own, packed
+    // with the writer's body as dictionary, when that is smaller.
+    ByteWriter own;
+    if (!have_patch || patched.size() > rb / 8 + 64) {
+      const std::vector<uint8_t> body(o, o + ob), dict(r, r + rb);
+      pack(body, dict, own, level_for(ob));
+    }
+    if (have_patch && (own.size() == 0 || patched.size() <= own.size())) {
+      flags |= 1 << 4;
+      rest.bytes(patched.buffer());
+    } else {
+      flags |= 2 << 4;
+      rest.bytes(own.buffer());
+    }
+  }
+  out.varint(orig.size());
+  for (uint8_t x : hash) out.u8(x);
+  out.u8(flags);
+  out.bytes(rest.buffer());
+}
+
+PCDResidueDecoder::PCDResidueDecoder(const uint8_t* file_part, size_t size, const Take& header,
+                                     const std::string& what)
+    : regen_(header), what_(what) {
+  ByteReader in(file_part, size, what + ": PCDR");
+  if (in.u8() != kKind) fail(ErrorCode::kCorrupt, what, "PCDR: not a PCD residue");
+  if (in.varint() != header.frames)
+    fail(ErrorCode::kCorrupt, what, "PCDR: frame count differs from the take's");
+  const std::string h = regen_.take_header();
+  reference_ = unpack(in, std::vector<uint8_t>(h.begin(), h.end()), kMaxReference);
+  if (!in.at_end()) fail(ErrorCode::kCorrupt, what, "PCDR: bytes left over");
+}
+
+void PCDResidueDecoder::frame(const FrameBlock& block, size_t k, ByteReader& in,
+                              const std::string& name, std::vector<uint8_t>* out) {
+  const uint64_t size = in.varint();
+  if (size > kMaxFrame)
+    fail(ErrorCode::kCorrupt, what_, "PCDP: frame file " + name + " of an absurd size");
+  Digest128 hash;
+  for (uint8_t& x : hash) x = in.u8();
+  const uint8_t flags = in.u8();
+  const int enc = flags & 3, hmode = (flags >> 2) & 3, bmode = (flags >> 4) & 3;
+  if (enc == 3 || hmode == 3 || bmode == 3 || (flags >> 6) != 0)
+    fail(ErrorCode::kCorrupt, what_, "PCDP: bad flags for frame file " + name);
+  size_t rh = 0;
+  regen_.frame(block, k, enc, &regen_bytes_, &rh);
+  const std::vector<uint8_t>& g = regen_bytes_;
+  const size_t rb = g.size() - rh;
+  out->clear();
+  if (hmode == 0) {
+    out->assign(g.begin(), g.begin() + static_cast<long>(rh));
+  } else if (hmode == 1) {
+    *out = reference_;
+  } else {
+    *out = unpack(in, slice(g, 0, rh), size);
+  }
+  if (bmode == 0) {
+    out->insert(out->end(), g.begin() + static_cast<long>(rh), g.end());
+  } else if (bmode == 1) {
+    const std::vector<uint8_t> patch = unpack(in, {}, 16 * static_cast<uint64_t>(rb) + 64);
+    const size_t at = out->size();
+    out->insert(out->end(), g.begin() + static_cast<long>(rh), g.end());
+    apply_patch(patch, out->data() + at, rb, (what_ + ": PCDP patch of " + name).c_str());
+    const std::vector<uint8_t> tail = unpack(in, {}, size);
+    out->insert(out->end(), tail.begin(), tail.end());
+  } else {
+    const std::vector<uint8_t> body = unpack(in, slice(g, rh, g.size()), size);
+    out->insert(out->end(), body.begin(), body.end());
+  }
+  if (out->size() != size)
+    fail(ErrorCode::kCorrupt, what_,
+         "frame file " + name + " rebuilds to " + std::to_string(out->size()) +
+             " bytes, the archive records " + std::to_string(size));
+  const Digest128 got = hash128(out->data(), out->size());
+  if (got != hash)
+    fail(ErrorCode::kCorrupt, what_,
+         "frame file " + name + ": the rebuilt bytes' XXH3-128 " + digest_hex(got) +
+             " differs from the recorded " + digest_hex(hash));
+}
+
+}  // namespace residue
+}  // namespace capz
