@@ -1,8 +1,10 @@
 // LPC analysis stage: autocorrelation, Levinson-Durbin, quantisation and order choice.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "coding/analog/analog_cascade.h"
 #include "coding/analog/analog_lpc.h"
@@ -124,6 +126,111 @@ TEST(AnalogCascade, GivenExtremeInputsThenPredictionStaysInSampleRange) {
     EXPECT_LE(p, kMaxSample);
     EXPECT_GE(p, -kMaxSample);
     lms.update(in, in - p);
+  }
+}
+
+// The integer sign-LMS of analog_cascade.h's comment, step by step in int64 (the reference the
+// double-lane SignLms and sign_lms_residuals must match exactly).
+class IntSignLms {
+ public:
+  int64_t predict() const {
+    int64_t s = 0;
+    for (int j = 0; j < SignLms::kTaps; ++j) s += static_cast<int64_t>(w_[j]) * h_[j];
+    s = (s + (int64_t{1} << (SignLms::kShift - 1))) >> SignLms::kShift;
+    return s > kMaxSample ? kMaxSample : s < -kMaxSample ? -kMaxSample : s;
+  }
+  void update(int64_t in, int64_t out) {
+    const int32_t d = out > 0 ? SignLms::kStep : out < 0 ? -SignLms::kStep : 0;
+    for (int j = 0; j < SignLms::kTaps && d != 0; ++j) {
+      const int32_t w = w_[j] + (h_[j] > 0 ? d : h_[j] < 0 ? -d : 0);
+      w_[j] = std::max(-SignLms::kMaxWeight, std::min(SignLms::kMaxWeight, w));
+    }
+    for (int j = SignLms::kTaps - 1; j > 0; --j) h_[j] = h_[j - 1];
+    h_[0] = static_cast<int32_t>(std::max<int64_t>(-kMaxSample, std::min<int64_t>(kMaxSample, in)));
+  }
+
+ private:
+  int32_t w_[SignLms::kTaps] = {};
+  int32_t h_[SignLms::kTaps] = {};
+};
+
+std::vector<std::vector<int32_t>> cascade_inputs() {
+  std::vector<std::vector<int32_t>> seqs;
+  std::mt19937 rng(11);
+  std::normal_distribution<double> e(0, 300);
+  std::vector<int32_t> ar, extreme, flat, steps;
+  double x1 = 0;
+  for (int i = 0; i < 30000; ++i) {
+    x1 = 0.95 * x1 + e(rng);
+    ar.push_back(static_cast<int32_t>(std::lround(x1)));
+    extreme.push_back((i % 3) ? kMaxSample : -kMaxSample);
+    flat.push_back(i < 15000 ? (1 << 30) : -(1 << 30));  // beyond the history clamp
+    steps.push_back(((i / 700) % 2 ? 1 : -1) * (i % 7) * 40000);
+  }
+  seqs = {ar, extreme, flat, steps};
+  return seqs;
+}
+
+TEST(AnalogCascade, GivenInputsWhenRunAsDoublesThenExactlyTheIntegerFilter) {
+  for (const std::vector<int32_t>& in : cascade_inputs()) {
+    IntSignLms ref;
+    SignLms lms;
+    std::vector<int64_t> batch(in.size());
+    sign_lms_residuals(in.data(), in.size(), batch.data());
+    for (size_t i = 0; i < in.size(); ++i) {
+      const int64_t want = in[i] - ref.predict();
+      ref.update(in[i], want);
+      const int64_t got = in[i] - lms.predict();
+      lms.update(in[i], got);
+      ASSERT_EQ(got, want) << "sample " << i;
+      ASSERT_EQ(batch[i], want) << "sample " << i;
+    }
+  }
+}
+
+TEST(AnalogLpc, GivenCoefficientsWhenKernelPredictsThenExactlyLpcPredict) {
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int32_t> q(-(1 << kLpcPrecision) + 1, (1 << kLpcPrecision) - 1);
+  std::uniform_int_distribution<int32_t> x(-kMaxSample, kMaxSample);
+  std::vector<int32_t> xs(200);
+  for (int32_t& v : xs) v = x(rng);
+  std::vector<double> xd(kMaxLpcOrder, 0.0);
+  for (int32_t v : xs) xd.push_back(v);
+  for (int order = 1; order <= kMaxLpcOrder; ++order)
+    for (int shift : {0, 7, kMaxLpcShift}) {
+      LpcParams p;
+      p.order = order;
+      p.shift = shift;
+      for (int j = 0; j < order; ++j) p.q.push_back(q(rng));
+      const LpcKernel k(p);
+      for (size_t i = static_cast<size_t>(order); i < xs.size(); ++i)
+        ASSERT_EQ(k.predict(xd.data() + kMaxLpcOrder + i), lpc_predict(p, xs.data() + i))
+            << "order " << order << " shift " << shift << " sample " << i;
+    }
+}
+
+TEST(AnalogLpc, GivenBlocksWhenAutocorrelatedThenBitForBitThePlainLoop) {
+  std::mt19937 rng(9);
+  std::uniform_int_distribution<int32_t> x(-kMaxSample, kMaxSample);
+  for (size_t n : {1, 7, 33, 100, 4096}) {
+    std::vector<int32_t> xs(n);
+    for (int32_t& v : xs) v = x(rng);
+    const int max_lag = 32;
+    // The plain loop: Tukey(0.5) window, then each lag summed in increasing i.
+    std::vector<double> w(n);
+    const double taper = 0.25 * static_cast<double>(n);
+    for (size_t i = 0; i < n; ++i) {
+      const double d = std::min<double>(static_cast<double>(i), static_cast<double>(n - 1 - i));
+      const double g = d < taper ? 0.5 - 0.5 * std::cos(M_PI * (d + 0.5) / taper) : 1.0;
+      w[i] = g * xs[i];
+    }
+    const std::vector<double> r = autocorrelation(xs.data(), n, max_lag);
+    ASSERT_EQ(r.size(), static_cast<size_t>(max_lag) + 1);
+    for (int k = 0; k <= max_lag; ++k) {
+      double s = 0;
+      for (size_t i = static_cast<size_t>(k); i < n; ++i) s += w[i] * w[i - k];
+      EXPECT_EQ(r[k], s) << "n " << n << " lag " << k;
+    }
   }
 }
 

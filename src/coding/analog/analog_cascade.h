@@ -10,13 +10,19 @@
 // All weights and history start at 0 at the start of each channel of each window.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <cstring>
+#include <vector>
 
 #include "coding/analog/analog_lpc.h"
 
 namespace capz {
 namespace analog {
 
+// The arithmetic runs on doubles: weights (|w| <= 2^17), history (|h| <= 2^28), their products
+// (< 2^45) and every partial sum of 16 products (< 2^49) are integers below 2^53, so each step
+// is exact and the sum is the same integer in any order: two-lane vectors, no int64 multiplies.
 class SignLms {
  public:
   static constexpr int kTaps = 16;
@@ -25,30 +31,122 @@ class SignLms {
   static constexpr int32_t kMaxWeight = 1 << 17;
 
   int64_t predict() const {
-    int64_t s = 0;
-    for (int j = 0; j < kTaps; ++j) s += static_cast<int64_t>(w_[j]) * h_[j];
+    const double* h = h_ + pos_;
+    Lanes a0 = {0, 0}, a1 = {0, 0};
+    for (int j = 0; j < kTaps; j += 4) {
+      a0 += w_[j / 2] * load(h + j);
+      a1 += w_[j / 2 + 1] * load(h + j + 2);
+    }
+    const Lanes a = a0 + a1;
+    int64_t s = static_cast<int64_t>(a[0] + a[1]);
     s = (s + (int64_t{1} << (kShift - 1))) >> kShift;
     return s > kMaxSample ? kMaxSample : s < -kMaxSample ? -kMaxSample : s;
   }
   // After coding: `in` was the stage input, `out` = in - predict().
   void update(int64_t in, int64_t out) {
-    const int32_t d = out > 0 ? kStep : out < 0 ? -kStep : 0;
-    if (d != 0)
-      for (int j = 0; j < kTaps; ++j) {
-        const int32_t g = h_[j] > 0 ? d : h_[j] < 0 ? -d : 0;
-        int32_t w = w_[j] + g;
-        w_[j] = w > kMaxWeight ? kMaxWeight : w < -kMaxWeight ? -kMaxWeight : w;
+    if (out != 0) {
+      const double d = out > 0 ? kStep : -kStep;
+      const double* g = g_ + pos_;
+      if (bound_ + kStep <= kMaxWeight) {
+        // No weight can pass the limit in this step: the clamp is the identity.
+        for (int j = 0; j < kTaps / 2; ++j) w_[j] += d * load(g + 2 * j);
+        bound_ += kStep;
+      } else {
+        const Lanes lim = {kMaxWeight, kMaxWeight}, nlim = -lim;
+        Lanes m = {0, 0};
+        for (int j = 0; j < kTaps / 2; ++j) {
+          Lanes w = w_[j] + d * load(g + 2 * j);
+          w = w > lim ? lim : w;
+          w = w < nlim ? nlim : w;
+          w_[j] = w;
+          const Lanes a = w < 0 ? -w : w;
+          m = a > m ? a : m;
+        }
+        bound_ = m[0] > m[1] ? m[0] : m[1];
       }
-    for (int j = kTaps - 1; j > 0; --j) h_[j] = h_[j - 1];
-    h_[0] = static_cast<int32_t>(in > kMaxSample    ? kMaxSample
-                                 : in < -kMaxSample ? -kMaxSample
-                                                    : in);
+    }
+    if (pos_ == 0) {
+      // Slide the window back to the end of the ring (the newest kTaps - 1 survive).
+      std::memmove(h_ + kRing, h_, sizeof(double) * kTaps);
+      std::memmove(g_ + kRing, g_, sizeof(double) * kTaps);
+      pos_ = kRing;
+    }
+    --pos_;
+    const int64_t c = in > kMaxSample ? kMaxSample : in < -kMaxSample ? -kMaxSample : in;
+    h_[pos_] = static_cast<double>(c);
+    g_[pos_] = c > 0 ? 1.0 : c < 0 ? -1.0 : 0.0;
   }
 
  private:
-  int32_t w_[kTaps] = {};
-  int32_t h_[kTaps] = {};
+  typedef double Lanes __attribute__((vector_size(16)));
+  static Lanes load(const double* p) {
+    Lanes v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+  }
+  static constexpr int kRing = 112;
+  // Weights w[j] in lanes; history h[j] = h_[pos_ + j] and its signs g_[pos_ + j].
+  Lanes w_[kTaps / 2] = {};
+  double h_[kRing + kTaps] = {};
+  double g_[kRing + kTaps] = {};
+  int pos_ = kRing;
+  double bound_ = 0;  // at least max |w[j]|
 };
+
+// The cascade over a whole known input: out[i] = in[i] - p[i] with p[i] exactly SignLms's
+// prediction after in[0..i) (the encoder's pass). The history is read from a precomputed
+// array of clamped inputs and their signs in increasing addresses (weights kept reversed),
+// so the loop stores nothing that a later load of the history must wait for.
+inline void sign_lms_residuals(const int32_t* in, size_t n, int64_t* out) {
+  typedef double Lanes __attribute__((vector_size(16)));
+  constexpr int kTaps = SignLms::kTaps;
+  constexpr double kStep = SignLms::kStep, kMaxWeight = SignLms::kMaxWeight;
+  // c[kTaps + i] = clamp(in[i]), zeros before; sg the signs.
+  std::vector<double> c(n + kTaps, 0.0), sg(n + kTaps, 0.0);
+  for (size_t i = 0; i < n; ++i) {
+    const int64_t v = in[i] > kMaxSample ? kMaxSample : in[i] < -kMaxSample ? -kMaxSample : in[i];
+    c[kTaps + i] = static_cast<double>(v);
+    sg[kTaps + i] = v > 0 ? 1.0 : v < 0 ? -1.0 : 0.0;
+  }
+  auto load = [](const double* p) {
+    Lanes v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+  };
+  // wr[k] = w[kTaps - 1 - k] multiplies c[kTaps + i - kTaps + k] = in[i - kTaps + k].
+  Lanes wr[kTaps / 2] = {};
+  double bound = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const double* h = c.data() + i;
+    Lanes p[kTaps / 2];
+    for (int j = 0; j < kTaps / 2; ++j) p[j] = wr[j] * load(h + 2 * j);
+    const Lanes a = ((p[0] + p[1]) + (p[2] + p[3])) + ((p[4] + p[5]) + (p[6] + p[7]));
+    int64_t s = static_cast<int64_t>(a[0] + a[1]);
+    s = (s + (int64_t{1} << (SignLms::kShift - 1))) >> SignLms::kShift;
+    s = s > kMaxSample ? kMaxSample : s < -kMaxSample ? -kMaxSample : s;
+    const int64_t o = in[i] - s;
+    out[i] = o;
+    if (o == 0) continue;
+    const double d = o > 0 ? kStep : -kStep;
+    const double* g = sg.data() + i;
+    if (bound + kStep <= kMaxWeight) {
+      for (int j = 0; j < kTaps / 2; ++j) wr[j] += d * load(g + 2 * j);
+      bound += kStep;
+    } else {
+      const Lanes lim = {kMaxWeight, kMaxWeight}, nlim = -lim;
+      Lanes m = {0, 0};
+      for (int j = 0; j < kTaps / 2; ++j) {
+        Lanes w = wr[j] + d * load(g + 2 * j);
+        w = w > lim ? lim : w;
+        w = w < nlim ? nlim : w;
+        wr[j] = w;
+        const Lanes aw = w < 0 ? -w : w;
+        m = aw > m ? aw : m;
+      }
+      bound = m[0] > m[1] ? m[0] : m[1];
+    }
+  }
+}
 
 }  // namespace analog
 }  // namespace capz

@@ -47,40 +47,45 @@ analog::LpcParams get_lpc(IntDecoder::Cursor* dec) {
   return p;
 }
 
-// Prediction of sample i of a block whose LPC is p: the first min(order, ...) samples of the
-// window use the previous sample (0 for the first).
-inline int64_t predict(const analog::LpcParams& p, const int32_t* x, size_t i) {
-  if (i >= static_cast<size_t>(p.order)) return analog::lpc_predict(p, x + i);
-  return i ? x[i - 1] : 0;
-}
-
 int bit_length(int64_t e) {
   const uint64_t u = analog::zigzag64(e);
   return u == 0 ? 0 : 64 - __builtin_clzll(u);
 }
 
-// The LPC stage of a whole channel: per-block parameters and the residuals x - p.
+// The samples as doubles after kMaxLpcOrder zeros (analog::LpcKernel reads before the first).
+std::vector<double> padded_doubles(const std::vector<int32_t>& x) {
+  std::vector<double> xd(x.size() + analog::kMaxLpcOrder, 0.0);
+  for (size_t i = 0; i < x.size(); ++i) xd[analog::kMaxLpcOrder + i] = x[i];
+  return xd;
+}
+
+// The LPC stage of a whole channel: per-block parameters and the residuals x - p, where the
+// first min(order, ...) samples of the window are predicted by the previous sample (0 for the
+// first) and the others by the block's LPC.
 void lpc_stage(const std::vector<int32_t>& x, std::vector<analog::LpcParams>* params,
                std::vector<int32_t>* r) {
   r->resize(x.size());
+  const std::vector<double> xd = padded_doubles(x);
+  const double* xs = xd.data() + analog::kMaxLpcOrder;
   for (size_t b0 = 0; b0 < x.size(); b0 += kBlockRows) {
     const size_t b1 = std::min(x.size(), b0 + kBlockRows);
     params->push_back(analog::choose_lpc(x.data() + b0, b1 - b0));
-    for (size_t i = b0; i < b1; ++i)
-      (*r)[i] = static_cast<int32_t>(x[i] - predict(params->back(), x.data(), i));
+    const analog::LpcKernel lpc(params->back());
+    const size_t head = std::min(b1, std::max(b0, static_cast<size_t>(lpc.order())));
+    for (size_t i = b0; i < head; ++i) (*r)[i] = static_cast<int32_t>(x[i] - (i ? x[i - 1] : 0));
+    for (size_t i = head; i < b1; ++i) (*r)[i] = static_cast<int32_t>(x[i] - lpc.predict(xs + i));
   }
 }
 
 // The cascade stage over residuals r, in place; returns the summed bit lengths before and after.
 std::pair<uint64_t, uint64_t> cascade_stage(std::vector<int32_t>* r) {
-  analog::SignLms lms;
+  std::vector<int64_t> out(r->size());
+  analog::sign_lms_residuals(r->data(), r->size(), out.data());
   uint64_t before = 0, after = 0;
-  for (int32_t& v : *r) {
-    const int64_t out = v - lms.predict();
-    lms.update(v, out);
-    before += bit_length(v);
-    after += bit_length(out);
-    v = static_cast<int32_t>(out);
+  for (size_t i = 0; i < r->size(); ++i) {
+    before += bit_length((*r)[i]);
+    after += bit_length(out[i]);
+    (*r)[i] = static_cast<int32_t>(out[i]);
   }
   return {before, after};
 }
@@ -94,41 +99,85 @@ std::vector<const std::vector<int32_t>*> cross_refs(const std::vector<std::vecto
   return refs;
 }
 
-// Integer channel: the cascade flag, the reference distance (and beta), then per block the LPC
-// parameters and residuals. *r1 receives the LPC residuals (a later channel's reference).
-void encode_int_channel(const std::vector<int32_t>& x,
-                        const std::vector<const std::vector<int32_t>*>& refs,
-                        IntEncoder::Cursor* enc, std::vector<int32_t>* r1) {
+// What the encoder decided for an integer channel: computed once, then coded into trial
+// encoders and the window's encoder alike.
+struct IntPlan {
   std::vector<analog::LpcParams> params;
-  lpc_stage(x, &params, r1);
-  // Four pipelines (reference or not, cascade or not), kept by the summed bit lengths.
-  analog::CrossParams cross = analog::choose_cross(*r1, refs);
-  std::vector<int32_t> with_ref = *r1;
-  if (cross.distance)
-    for (size_t i = 0; i < with_ref.size(); ++i)
-      with_ref[i] = static_cast<int32_t>(
-          with_ref[i] - analog::cross_predict(cross.beta, (*refs[cross.distance - 1])[i]));
-  std::vector<int32_t> plain_lms = *r1, ref_lms = with_ref;
+  bool cascade = false;
+  analog::CrossParams cross;
+  std::vector<int32_t> r1;  // LPC residuals (a later channel's reference)
+  std::vector<int32_t> r;   // the residuals coded
+};
+
+// Four pipelines (reference or not, cascade or not), kept by the summed bit lengths.
+void plan_int_channel(const std::vector<int32_t>& x,
+                      const std::vector<const std::vector<int32_t>*>& refs, IntPlan* plan) {
+  lpc_stage(x, &plan->params, &plan->r1);
+  const std::vector<int32_t>& r1 = plan->r1;
+  analog::CrossParams cross = analog::choose_cross(r1, refs);
+  std::vector<int32_t> with_ref;
+  if (cross.distance) {
+    const std::vector<int32_t>& ref = *refs[cross.distance - 1];
+    with_ref.resize(r1.size());
+    for (size_t i = 0; i < r1.size(); ++i)
+      with_ref[i] = static_cast<int32_t>(r1[i] - analog::cross_predict(cross.beta, ref[i]));
+  }
+  std::vector<int32_t> plain_lms = r1, ref_lms = with_ref;
   const auto plain_cost = cascade_stage(&plain_lms);
   const auto ref_cost = cross.distance ? cascade_stage(&ref_lms) : plain_cost;
   const uint64_t costs[4] = {plain_cost.first, plain_cost.second, ref_cost.first, ref_cost.second};
   int best = 0;
   for (int k = 1; k < (cross.distance ? 4 : 2); ++k)
     if (costs[k] < costs[best]) best = k;
-  const bool cascade = best & 1;
+  plan->cascade = best & 1;
   if (best < 2) cross = analog::CrossParams();
-  const std::vector<int32_t>& r = best == 0   ? *r1
-                                  : best == 1 ? plain_lms
-                                  : best == 2 ? with_ref
-                                              : ref_lms;
-  enc->put(cascade ? 1 : 0, analog::kParamContext);
-  enc->put(static_cast<uint32_t>(cross.distance), analog::kParamContext);
-  if (cross.distance) enc->put_signed(cross.beta, analog::kCoefContext);
+  plan->cross = cross;
+  if (best == 0)
+    plan->r = r1;
+  else if (best == 1)
+    plan->r = std::move(plain_lms);
+  else if (best == 2)
+    plan->r = std::move(with_ref);
+  else
+    plan->r = std::move(ref_lms);
+}
+
+// Integer channel: the cascade flag, the reference distance (and beta), then per block the LPC
+// parameters and residuals.
+void emit_int_channel(const IntPlan& plan, IntEncoder::Cursor* enc) {
+  enc->put(plan.cascade ? 1 : 0, analog::kParamContext);
+  enc->put(static_cast<uint32_t>(plan.cross.distance), analog::kParamContext);
+  if (plan.cross.distance) enc->put_signed(plan.cross.beta, analog::kCoefContext);
   analog::Magnitude mag;
-  for (size_t b0 = 0, b = 0; b0 < x.size(); b0 += kBlockRows, ++b) {
-    const size_t b1 = std::min(x.size(), b0 + kBlockRows);
-    put_lpc(params[b], enc);
-    for (size_t i = b0; i < b1; ++i) analog::put_residual(enc, &mag, r[i]);
+  const size_t n = plan.r.size();
+  for (size_t b0 = 0, b = 0; b0 < n; b0 += kBlockRows, ++b) {
+    const size_t b1 = std::min(n, b0 + kBlockRows);
+    put_lpc(plan.params[b], enc);
+    for (size_t i = b0; i < b1; ++i) analog::put_residual(enc, &mag, plan.r[i]);
+  }
+}
+
+// Samples [b0, b1) of an integer channel, the stage flags fixed at compile time.
+template <bool kCascade, bool kRef>
+void decode_int_block(size_t b0, size_t b1, const analog::LpcParams& p, const int32_t* ref,
+                      int32_t beta, IntDecoder::Cursor* dec, analog::Magnitude* mag,
+                      analog::SignLms* lms, int32_t* xs, double* xd, int32_t* r1) {
+  const analog::LpcKernel lpc(p);
+  const size_t order = static_cast<size_t>(p.order);
+  for (size_t i = b0; i < b1; ++i) {
+    int64_t e = analog::get_residual(dec, mag);
+    if (kCascade) {
+      const int64_t out = e;
+      e += lms->predict();
+      lms->update(e, out);
+    }
+    if (kRef) e += analog::cross_predict(beta, ref[i]);
+    const int64_t v = e + (i >= order ? lpc.predict(xd + i) : i ? xs[i - 1] : 0);
+    if (v > analog::kMaxSample || v < -analog::kMaxSample)
+      dec->corrupt("analog sample out of range");
+    xs[i] = static_cast<int32_t>(v);
+    xd[i] = static_cast<double>(v);
+    r1[i] = static_cast<int32_t>(e);
   }
 }
 
@@ -153,34 +202,22 @@ void decode_int_channel(size_t n, const std::vector<const std::vector<int32_t>*>
   const int32_t* ref = cross.distance ? refs[cross.distance - 1]->data() : nullptr;
   analog::Magnitude mag;
   analog::SignLms lms;
+  std::vector<double> xd(n + analog::kMaxLpcOrder, 0.0);
+  double* xs_d = xd.data() + analog::kMaxLpcOrder;
   for (size_t b0 = 0; b0 < n; b0 += kBlockRows) {
     const size_t b1 = std::min(n, b0 + kBlockRows);
     const analog::LpcParams p = get_lpc(dec);
     int32_t* xs = x->data();
-    for (size_t i = b0; i < b1; ++i) {
-      int64_t e = analog::get_residual(dec, &mag);
-      if (cascade) {
-        const int64_t out = e;
-        e += lms.predict();
-        lms.update(e, out);
-      }
-      if (ref) e += analog::cross_predict(cross.beta, ref[i]);
-      const int64_t v = e + predict(p, xs, i);
-      if (v > analog::kMaxSample || v < -analog::kMaxSample)
-        dec->corrupt("analog sample out of range");
-      xs[i] = static_cast<int32_t>(v);
-      (*r1)[i] = static_cast<int32_t>(e);
-    }
+    int32_t* rs = r1->data();
+    if (cascade && ref)
+      decode_int_block<true, true>(b0, b1, p, ref, cross.beta, dec, &mag, &lms, xs, xs_d, rs);
+    else if (cascade)
+      decode_int_block<true, false>(b0, b1, p, ref, cross.beta, dec, &mag, &lms, xs, xs_d, rs);
+    else if (ref)
+      decode_int_block<false, true>(b0, b1, p, ref, cross.beta, dec, &mag, &lms, xs, xs_d, rs);
+    else
+      decode_int_block<false, false>(b0, b1, p, ref, cross.beta, dec, &mag, &lms, xs, xs_d, rs);
   }
-}
-
-// The per-sample numbers of one channel in its representation (nothing for kConst).
-void encode_channel(const ChannelRepr& r, const std::vector<const std::vector<int32_t>*>& refs,
-                    IntEncoder::Cursor* enc, std::vector<int32_t>* r1) {
-  if (analog::is_integer_kind(r.kind))
-    encode_int_channel(r.ints, refs, enc, r1);
-  else if (r.kind == Kind::kFloat32 || r.kind == Kind::kFloat64)
-    analog::encode_float_channel(r.filled, r.kind == Kind::kFloat32, enc);
 }
 
 }  // namespace
@@ -194,11 +231,39 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
   IntEncoder::Cursor cur = ent.cursor();
   std::vector<std::vector<int32_t>> r1s(static_cast<size_t>(channels));
   std::vector<bool> has_r1(static_cast<size_t>(channels), false);
+  // Channel-major copy of the window, read row by row: one channel's samples are then
+  // contiguous (a column of the row-major window is one cache line per sample).
+  const size_t nch = static_cast<size_t>(std::max(channels, 0));
+  std::vector<double> cols(nch * nrows);
+  for (size_t i = 0; i < nrows; ++i)
+    for (size_t c = 0; c < nch; ++c) cols[c * nrows + i] = rows[i * nch + c];
   for (int c = 0; c < channels; ++c) {
     const analog::ChannelHint hint =
         static_cast<size_t>(c) < hints.channel.size() ? hints.channel[c] : analog::ChannelHint();
-    std::vector<ChannelRepr> cands =
-        analog::candidate_representations(rows + c, static_cast<size_t>(channels), nrows, hint);
+    std::vector<ChannelRepr> cands = analog::candidate_representations(
+        cols.data() + static_cast<size_t>(c) * nrows, 1, nrows, hint);
+    const std::vector<const std::vector<int32_t>*> refs = cross_refs(r1s, has_r1, c);
+    // Integer kinds: the pipeline's decisions, made once per candidate; float kinds: the
+    // predictor.
+    std::vector<IntPlan> plans(cands.size());
+    std::vector<int> float_predictor(cands.size(), 0);
+    auto is_float = [&](size_t k) {
+      return cands[k].kind == Kind::kFloat32 || cands[k].kind == Kind::kFloat64;
+    };
+    for (size_t k = 0; k < cands.size(); ++k) {
+      if (analog::is_integer_kind(cands[k].kind))
+        plan_int_channel(cands[k].ints, refs, &plans[k]);
+      else if (is_float(k))
+        float_predictor[k] =
+            analog::choose_float_predictor(cands[k].filled, cands[k].kind == Kind::kFloat32);
+    }
+    auto emit = [&](size_t k, IntEncoder::Cursor* enc) {
+      if (analog::is_integer_kind(cands[k].kind))
+        emit_int_channel(plans[k], enc);
+      else if (is_float(k))
+        analog::encode_float_channel(cands[k].filled, cands[k].kind == Kind::kFloat32,
+                                     float_predictor[k], enc);
+    };
     size_t pick = 0;
     if (cands.size() > 1) {
       // Measured: each candidate coded alone (fresh models), the smallest kept.
@@ -208,9 +273,8 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
         IntEncoder::Cursor tc = trial.cursor();
         ByteWriter th;
         uint64_t tl = last_const;
-        std::vector<int32_t> r1;
         analog::write_repr_header(cands[k], &tl, &th);
-        encode_channel(cands[k], cross_refs(r1s, has_r1, c), &tc, &r1);
+        emit(k, &tc);
         trial.commit(tc);
         const size_t bytes = th.size() + trial.finish().size();
         if (k == 0 || bytes < best) {
@@ -222,8 +286,9 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     const ChannelRepr& r = cands[pick];
     analog::write_repr_header(r, &last_const, &head);
     any_coded |= coded(r.kind);
-    encode_channel(r, cross_refs(r1s, has_r1, c), &cur, &r1s[c]);
+    emit(pick, &cur);
     has_r1[c] = analog::is_integer_kind(r.kind);
+    if (has_r1[c]) r1s[c] = std::move(plans[pick].r1);
   }
   ent.commit(cur);
   ByteWriter out;

@@ -1,14 +1,50 @@
 #include "coding/analog/analog_cross.h"
 
 #include <cmath>
+#include <cstring>
 
 namespace capz {
 namespace analog {
 namespace {
 
+typedef double Lanes __attribute__((vector_size(16)));
+
+// Bit length of the zig-zag of v (0 for 0), without a branch: clz(u | 1) is defined for every
+// u, and u == 0 gives 64 - 63 - 1 = 0.
 int bit_length(int64_t v) {
   const uint64_t u = (static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63);
-  return u == 0 ? 0 : 64 - __builtin_clzll(u);
+  return 64 - __builtin_clzll(u | 1) - (u == 0);
+}
+
+// Sum over i of bit_length(r1[i] - cross_predict(beta, ref[i])), two samples a step on doubles.
+// With |beta| < 2^15 and |ref| <= 2^29 (an LPC residual), beta ref + 1/2 is exact, and
+//   floor((beta ref + 2^11) / 2^12) = nearest((beta ref + 1/2) / 2^12)
+// (never a tie), rounded by adding and subtracting 1.5 2^52. The zig-zag u of the difference
+// (< 2^31) is exact too, and the bit length of u >= 1 is its biased exponent - 1022; u = 0 is
+// raised to 1/2, whose exponent gives 0.
+int64_t residual_bits(const int32_t* r1, const int32_t* ref, size_t n, int32_t beta) {
+  typedef unsigned long long Ints __attribute__((vector_size(16)));  // u > 0: logical shift
+  const double kRound = 6755399441055744.0;                          // 1.5 2^52
+  const Lanes b = {static_cast<double>(beta), static_cast<double>(beta)};
+  const Lanes half = {0.5, 0.5}, scale = {1.0 / 4096, 1.0 / 4096}, big = {kRound, kRound};
+  const Lanes hi = {kMaxSample, kMaxSample}, lo = -hi, zero = {0, 0};
+  Ints acc = {0, 0};
+  size_t i = 0;
+  for (; i + 2 <= n; i += 2) {
+    const Lanes x = {static_cast<double>(ref[i]), static_cast<double>(ref[i + 1])};
+    Lanes p = ((b * x + half) * scale + big) - big;
+    p = p > hi ? hi : p;
+    p = p < lo ? lo : p;
+    const Lanes e = Lanes{static_cast<double>(r1[i]), static_cast<double>(r1[i + 1])} - p;
+    Lanes u = e < zero ? -2 * e - 1 : 2 * e;
+    u = u < half ? half : u;
+    Ints bitsu;
+    std::memcpy(&bitsu, &u, sizeof u);
+    acc += bitsu >> 52;
+  }
+  int64_t after = static_cast<int64_t>(acc[0] + acc[1]) - 1022 * static_cast<int64_t>(i);
+  for (; i < n; ++i) after += bit_length(r1[i] - cross_predict(beta, ref[i]));
+  return after;
 }
 
 }  // namespace
@@ -22,22 +58,53 @@ CrossParams choose_cross(const std::vector<int32_t>& r1,
   for (int32_t v : r1) ecc += static_cast<double>(v) * v;
   if (n == 0 || ecc <= 0) return best;
   double best_bits = min_gain_bits;
-  for (size_t d = 0; d < refs.size(); ++d) {
-    const std::vector<int32_t>* ref = refs[d];
-    if (!ref || ref->size() != n) continue;
-    double ecr = 0, err = 0;
-    for (size_t i = 0; i < n; ++i) {
-      ecr += static_cast<double>(r1[i]) * (*ref)[i];
-      err += static_cast<double>((*ref)[i]) * (*ref)[i];
+  // Bits saved = sum bit_length(r1) - sum bit_length(r1 - prediction), the first sum shared.
+  int64_t base = 0;
+  for (size_t i = 0; i < n; ++i) base += bit_length(r1[i]);
+  // Cross and reference energies, four references a pass in two-lane vectors (each lane the
+  // same sum, in the same order, as one reference alone; a missing reference reads zeros).
+  const size_t nr = refs.size();
+  auto usable = [&](size_t d) { return refs[d] && refs[d]->size() == n; };
+  std::vector<double> ecrs(nr + 3, 0.0), errs(nr + 3, 0.0);
+  std::vector<int32_t> zeros;
+  for (size_t d0 = 0; d0 < nr; d0 += 4) {
+    const int32_t* p[4];
+    for (size_t k = 0; k < 4; ++k) {
+      if (d0 + k < nr && usable(d0 + k)) {
+        p[k] = refs[d0 + k]->data();
+      } else {
+        zeros.resize(n, 0);
+        p[k] = zeros.data();
+      }
     }
+    Lanes e0 = {0, 0}, e1 = {0, 0}, q0 = {0, 0}, q1 = {0, 0};
+    for (size_t i = 0; i < n; ++i) {
+      const double a = r1[i];
+      const Lanes b0 = {static_cast<double>(p[0][i]), static_cast<double>(p[1][i])};
+      const Lanes b1 = {static_cast<double>(p[2][i]), static_cast<double>(p[3][i])};
+      e0 += a * b0;
+      e1 += a * b1;
+      q0 += b0 * b0;
+      q1 += b1 * b1;
+    }
+    for (size_t k = 0; k < 2; ++k) {
+      ecrs[d0 + k] = e0[k];
+      ecrs[d0 + 2 + k] = e1[k];
+      errs[d0 + k] = q0[k];
+      errs[d0 + 2 + k] = q1[k];
+    }
+  }
+  for (size_t d = 0; d < nr; ++d) {
+    if (!usable(d)) continue;
+    const std::vector<int32_t>* ref = refs[d];
+    const double ecr = ecrs[d], err = errs[d];
     if (err <= 0) continue;
     const double beta = std::round(ecr / err * (1 << kCrossShift));
     if (!(std::fabs(beta) < kMaxBeta) || beta == 0) continue;
     // Bits saved, measured as the change of the summed bit lengths of the residuals.
     const int32_t q = static_cast<int32_t>(beta);
-    int64_t saved = 0;
-    for (size_t i = 0; i < n; ++i)
-      saved += bit_length(r1[i]) - bit_length(r1[i] - cross_predict(q, (*ref)[i]));
+    const int64_t after = residual_bits(r1.data(), ref->data(), n, q);
+    const int64_t saved = base - after;
     const double bits = static_cast<double>(saved) - 20;
     if (bits > best_bits) {
       best_bits = bits;

@@ -32,7 +32,7 @@ int bit_length(int64_t d) {
 
 }  // namespace
 
-void encode_float_channel(const std::vector<double>& x, bool f32, IntEncoder::Cursor* enc) {
+int choose_float_predictor(const std::vector<double>& x, bool f32) {
   const size_t n = x.size();
   uint64_t cost[kFloatPredictors] = {0, 0};
   for (size_t i = 0; i < n; ++i) {
@@ -40,13 +40,22 @@ void encode_float_channel(const std::vector<double>& x, bool f32, IntEncoder::Cu
     for (int k = 0; k < kFloatPredictors; ++k)
       cost[k] += bit_length(residual(x[i], predict(k, a, b, f32), f32));
   }
-  const int kind = cost[1] < cost[0] ? 1 : 0;
+  return cost[1] < cost[0] ? 1 : 0;
+}
+
+void encode_float_channel(const std::vector<double>& x, bool f32, int kind,
+                          IntEncoder::Cursor* enc) {
+  const size_t n = x.size();
   enc->put(static_cast<uint32_t>(kind), kParamContext);
   int prev_nb = 0;
   for (size_t i = 0; i < n; ++i) {
     const double a = i > 0 ? x[i - 1] : 0, b = i > 1 ? x[i - 2] : 0;
     put_float_residual(enc, &prev_nb, residual(x[i], predict(kind, a, b, f32), f32));
   }
+}
+
+void encode_float_channel(const std::vector<double>& x, bool f32, IntEncoder::Cursor* enc) {
+  encode_float_channel(x, f32, choose_float_predictor(x, f32), enc);
 }
 
 void decode_float_channel(size_t n, bool f32, IntDecoder::Cursor* dec, std::vector<double>* x) {

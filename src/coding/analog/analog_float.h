@@ -18,6 +18,11 @@ namespace capz {
 namespace analog {
 
 void encode_float_channel(const std::vector<double>& x, bool f32, IntEncoder::Cursor* enc);
+// The two halves of encode_float_channel: the predictor kept (by the summed bit lengths), and
+// the coding with a given predictor (the window codec decides once and codes twice).
+int choose_float_predictor(const std::vector<double>& x, bool f32);
+void encode_float_channel(const std::vector<double>& x, bool f32, int predictor,
+                          IntEncoder::Cursor* enc);
 // Decodes n samples into x (resized to n).
 void decode_float_channel(size_t n, bool f32, IntDecoder::Cursor* dec, std::vector<double>* x);
 

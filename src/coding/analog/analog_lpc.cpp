@@ -2,23 +2,72 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace capz {
 namespace analog {
 
-std::vector<double> autocorrelation(const int32_t* x, size_t n, int max_lag) {
-  std::vector<double> w(n);
-  const double taper = 0.25 * static_cast<double>(n);  // each end tapers over a quarter
-  for (size_t i = 0; i < n; ++i) {
-    const double d = std::min<double>(static_cast<double>(i), static_cast<double>(n - 1 - i));
-    const double g = d < taper ? 0.5 - 0.5 * std::cos(M_PI * (d + 0.5) / taper) : 1.0;
-    w[i] = g * x[i];
+namespace {
+
+typedef double Lanes __attribute__((vector_size(16)));
+Lanes load(const double* p) {
+  Lanes v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+// The Tukey(0.5) window of n samples: each end tapers over a quarter. Blocks mostly share one
+// length, so the last window computed is kept (per thread).
+const std::vector<double>& tukey(size_t n) {
+  thread_local std::vector<double> g;
+  thread_local size_t g_n = 0;
+  if (g_n != n || g.size() != n) {
+    g.resize(n);
+    const double taper = 0.25 * static_cast<double>(n);
+    for (size_t i = 0; i < n; ++i) {
+      const double d = std::min<double>(static_cast<double>(i), static_cast<double>(n - 1 - i));
+      g[i] = d < taper ? 0.5 - 0.5 * std::cos(M_PI * (d + 0.5) / taper) : 1.0;
+    }
+    g_n = n;
   }
+  return g;
+}
+
+}  // namespace
+
+std::vector<double> autocorrelation(const int32_t* x, size_t n, int max_lag) {
+  // w[i] = g[i] x[i], kept reversed (wr[j] = w[n - 1 - j]) and followed by zeros, so that one
+  // two-lane load at wr + n - 1 - i + k is (w[i - k], w[i - k - 1]): lags k and k + 1 side by
+  // side. Each lag's sum still adds w[i] w[i - k] for i = k, k + 1, ... in order (the zeros
+  // before a lag's first term add +-0 to a +0 sum), so every r[k] is bit for bit the plain
+  // loop's; eight lags run at once.
+  constexpr int kGroup = 8;
+  const std::vector<double>& g = tukey(n);
+  std::vector<double> wr(n + kGroup, 0.0);
+  for (size_t i = 0; i < n; ++i) wr[n - 1 - i] = g[i] * x[i];
   std::vector<double> r(static_cast<size_t>(max_lag) + 1, 0.0);
-  for (int k = 0; k <= max_lag; ++k) {
-    double s = 0;
-    for (size_t i = static_cast<size_t>(k); i < n; ++i) s += w[i] * w[i - k];
-    r[k] = s;
+  for (int k0 = 0; k0 <= max_lag; k0 += kGroup) {
+    Lanes a[kGroup / 2] = {};
+    const int lanes = std::min(kGroup, max_lag + 1 - k0);
+    const double* base = wr.data() + n - 1 + k0;
+    if (lanes > 4) {
+      for (size_t i = static_cast<size_t>(k0); i < n; ++i) {
+        const double wi = wr[n - 1 - i];
+        const double* p = base - i;
+        a[0] += wi * load(p);
+        a[1] += wi * load(p + 2);
+        a[2] += wi * load(p + 4);
+        a[3] += wi * load(p + 6);
+      }
+    } else {
+      for (size_t i = static_cast<size_t>(k0); i < n; ++i) {
+        const double wi = wr[n - 1 - i];
+        const double* p = base - i;
+        a[0] += wi * load(p);
+        a[1] += wi * load(p + 2);
+      }
+    }
+    for (int l = 0; l < lanes; ++l) r[k0 + l] = a[l / 2][l % 2];
   }
   return r;
 }

@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 namespace capz {
@@ -50,6 +51,48 @@ inline int64_t lpc_predict(const LpcParams& p, const int32_t* xi) {
   if (s < -kMaxSample) s = -kMaxSample;
   return s;
 }
+
+// lpc_predict for a run of samples, on doubles: |q| < 2^14 and |x| <= 2^28 make every product
+// (< 2^42) and partial sum of up to 32 (< 2^47) an integer below 2^53, so the sum is exact in
+// any order and two-lane vectors compute it. The samples are read from a double copy with
+// kMaxLpcOrder zeros (or earlier samples) before the first.
+class LpcKernel {
+ public:
+  explicit LpcKernel(const LpcParams& p) : order_(p.order), shift_(p.shift) {
+    padded_ = (p.order + 3) & ~3;
+    for (int k = 0; k < padded_; ++k) {
+      // c_[k] multiplies x[i - padded + k]: q[j] with j = padded - 1 - k, zero beyond the order.
+      const int j = padded_ - 1 - k;
+      c_[k] = j < p.order ? static_cast<double>(p.q[j]) : 0.0;
+    }
+  }
+  int order() const { return order_; }
+  // Prediction of the sample at xi (xi[-kMaxLpcOrder .. -1] readable), as lpc_predict.
+  int64_t predict(const double* xi) const {
+    const double* x = xi - padded_;
+    Lanes a0 = {0, 0}, a1 = {0, 0};
+    for (int k = 0; k < padded_; k += 4) {
+      a0 += load(c_ + k) * load(x + k);
+      a1 += load(c_ + k + 2) * load(x + k + 2);
+    }
+    const Lanes a = a0 + a1;
+    int64_t s = static_cast<int64_t>(a[0] + a[1]);
+    s >>= shift_;
+    if (s > kMaxSample) s = kMaxSample;
+    if (s < -kMaxSample) s = -kMaxSample;
+    return s;
+  }
+
+ private:
+  typedef double Lanes __attribute__((vector_size(16)));
+  static Lanes load(const double* p) {
+    Lanes v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+  }
+  int order_, shift_, padded_;
+  double c_[kMaxLpcOrder] = {};
+};
 
 }  // namespace analog
 }  // namespace capz

@@ -11,42 +11,22 @@
 namespace capz {
 namespace analog {
 
-uint64_t bits_of(double v) {
-  uint64_t b;
-  std::memcpy(&b, &v, 8);
-  return b;
-}
-double from_bits(uint64_t b) {
-  double v;
-  std::memcpy(&v, &b, 8);
-  return v;
-}
-uint32_t ordered_f32(double v) {
-  const float f = static_cast<float>(v);
-  uint32_t b;
-  std::memcpy(&b, &f, 4);
-  return (b >> 31) ? ~b : b | 0x80000000u;
-}
-double from_ordered_f32(uint32_t o) {
-  const uint32_t b = (o >> 31) ? o & 0x7FFFFFFFu : ~o;
-  float f;
-  std::memcpy(&f, &b, 4);
-  return f;
-}
 double apply_ordered_delta(double v, int64_t d, bool f32) {
   if (f32) return from_ordered_f32(static_cast<uint32_t>(static_cast<int64_t>(ordered_f32(v)) + d));
   return from_bits(from_ordered_bits(ordered_bits(bits_of(v)) + static_cast<uint64_t>(d)));
-}
-double round_to_float32(double y) {
-  constexpr double kMax = std::numeric_limits<float>::max();
-  if (y > kMax && y <= std::numeric_limits<double>::max()) y = kMax;
-  if (y < -kMax && y >= -std::numeric_limits<double>::max()) y = -kMax;
-  return static_cast<double>(static_cast<float>(y));
 }
 
 namespace {
 
 constexpr uint64_t kNegZero = uint64_t{1} << 63;
+
+// std::round (halves away from zero, sign of zero kept) without the library call; exact.
+inline double round_half_away(double x) {
+  if (!(std::fabs(x) < 4503599627370496.0)) return std::round(x);  // 2^52: integral, NaN, Inf
+  const double t = static_cast<double>(static_cast<int64_t>(x));   // towards zero
+  const double d = x - t;                                          // exact
+  return std::copysign(d >= 0.5 ? t + 1 : d <= -0.5 ? t - 1 : t, x);
+}
 constexpr int64_t kMaxScaledK = int64_t{1} << 24;
 
 // R(k * s + o): the scaled representation's reconstruction (this file is built with
@@ -105,7 +85,7 @@ bool fit_scaled(const std::vector<double>& v, double s, double o, bool f32, size
   r->exc_index.clear();
   r->exc_delta.clear();
   for (size_t i = 0; i < n; ++i) {
-    const double kd = std::round((v[i] - o) / s);
+    const double kd = round_half_away((v[i] - o) / s);
     if (!(std::fabs(kd) <= static_cast<double>(kMaxScaledK))) return false;
     const int64_t k = static_cast<int64_t>(kd);
     r->ints[i] = static_cast<int32_t>(k);
@@ -129,7 +109,7 @@ void refine_fit(const std::vector<double>& v, double* s, double* o) {
   std::vector<double> k(n);
   double kbar = 0, vbar = 0;
   for (size_t i = 0; i < n; ++i) {
-    k[i] = std::round((v[i] - *o) / *s);
+    k[i] = round_half_away((v[i] - *o) / *s);
     kbar += k[i];
     vbar += v[i];
   }
@@ -152,10 +132,12 @@ double common_power_of_two(const std::vector<double>& v) {
   size_t nonzero = 0;
   for (double x : v) {
     if (x == 0) continue;
-    int e;
-    const double m = std::frexp(x, &e);  // x = m 2^e, 0.5 <= |m| < 1, 53-bit mantissa
-    const uint64_t mant = static_cast<uint64_t>(std::fabs(std::ldexp(m, 53)));
-    const int lsb = e - 53 + __builtin_ctzll(mant);
+    // The exponent of x's lowest set bit, from its fields: x = mant 2^(e - 1075) (e the biased
+    // exponent, 1 for subnormals, whose mantissa has no implicit bit). x is finite.
+    const uint64_t b = bits_of(x);
+    const int e = static_cast<int>((b >> 52) & 0x7FF);
+    const uint64_t mant = (b & ((uint64_t{1} << 52) - 1)) | (e ? uint64_t{1} << 52 : 0);
+    const int lsb = (e ? e : 1) - 1075 + __builtin_ctzll(mant);
     ++hist[std::min(2099, std::max(0, lsb + 1100))];
     ++nonzero;
   }
@@ -182,7 +164,7 @@ bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted
   std::vector<std::pair<double, double>> fits;  // (step, offset)
   auto add = [&](double s, bool refine) {
     if (!(s > 0) || !std::isfinite(s)) return;
-    double o = refine ? sorted.front() - std::round(sorted.front() / s) * s : 0.0;
+    double o = refine ? sorted.front() - round_half_away(sorted.front() / s) * s : 0.0;
     fits.push_back({s, o});
     if (!refine) return;
     for (int it = 0; it < 2; ++it) {
@@ -190,7 +172,7 @@ bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted
       if (!(s > 0) || !std::isfinite(s) || !std::isfinite(o)) return;
       fits.push_back({s, o});
       // The sample nearest 0 has the finest rounding: pin the offset there.
-      fits.push_back({s, small - std::round((small - o) / s) * s});
+      fits.push_back({s, small - round_half_away((small - o) / s) * s});
     }
   };
   add(gap, true);
@@ -206,13 +188,17 @@ bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted
     return 24.0 * static_cast<double>(t.exc_index.size()) -
            static_cast<double>(n) * std::log2(t.step);
   };
-  ChannelRepr best;
+  ChannelRepr best, t;  // t's buffers are reused from fit to fit
   bool found = false;
   for (auto it = fits.rbegin(); it != fits.rend(); ++it) {
-    ChannelRepr t;
+    // A fit equal to one already tried has the same cost, which never replaces the best.
+    bool seen = false;
+    for (auto jt = fits.rbegin(); jt != it && !seen; ++jt)
+      seen = bits_of(jt->first) == bits_of(it->first) && bits_of(jt->second) == bits_of(it->second);
+    if (seen) continue;
     if (!fit_scaled(v, it->first, it->second, f32, n_max_exc(n), &t)) continue;
     if (!found || cost(t) < cost(best)) {
-      best = std::move(t);
+      std::swap(best, t);
       found = true;
     }
   }
@@ -251,6 +237,38 @@ bool all_integers(const std::vector<double>& v) {
   return true;
 }
 
+// Sorts *keys and drops repeats (as std::sort and std::unique would); (*ranks)[i] receives the
+// position of the i-th original key in the result. LSD radix sort on bytes, stable, skipping
+// the bytes that are the same in every key (the low bytes of float32 values as doubles).
+void sort_unique(std::vector<uint64_t>* keys, std::vector<int32_t>* ranks) {
+  const size_t n = keys->size();
+  std::vector<uint64_t> a = *keys, b(n);
+  std::vector<uint32_t> ia(n), ib(n);
+  for (size_t i = 0; i < n; ++i) ia[i] = static_cast<uint32_t>(i);
+  uint64_t diff = 0;
+  for (size_t i = 1; i < n; ++i) diff |= a[i] ^ a[0];
+  for (int d = 0; d < 8; ++d) {
+    const int sh = 8 * d;
+    if (((diff >> sh) & 0xFF) == 0) continue;
+    size_t count[257] = {0};
+    for (size_t i = 0; i < n; ++i) ++count[((a[i] >> sh) & 0xFF) + 1];
+    for (int k = 0; k < 256; ++k) count[k + 1] += count[k];
+    for (size_t i = 0; i < n; ++i) {
+      const size_t to = count[(a[i] >> sh) & 0xFF]++;
+      b[to] = a[i];
+      ib[to] = ia[i];
+    }
+    a.swap(b);
+    ia.swap(ib);
+  }
+  ranks->resize(n);
+  keys->clear();
+  for (size_t i = 0; i < n; ++i) {
+    if (keys->empty() || keys->back() != a[i]) keys->push_back(a[i]);
+    (*ranks)[ia[i]] = static_cast<int32_t>(keys->size() - 1);
+  }
+}
+
 // Distinct values of v in increasing order of their ordered bits: ord (the ordered patterns)
 // and the values.
 void distinct_sorted(const std::vector<double>& v, std::vector<uint64_t>* ord,
@@ -258,8 +276,8 @@ void distinct_sorted(const std::vector<double>& v, std::vector<uint64_t>* ord,
   const size_t n = v.size();
   ord->resize(n);
   for (size_t i = 0; i < n; ++i) (*ord)[i] = ordered_bits(bits_of(v[i]));
-  std::sort(ord->begin(), ord->end());
-  ord->erase(std::unique(ord->begin(), ord->end()), ord->end());
+  std::vector<int32_t> ranks;
+  sort_unique(ord, &ranks);
   sorted->resize(ord->size());
   for (size_t i = 0; i < ord->size(); ++i) (*sorted)[i] = from_bits(from_ordered_bits((*ord)[i]));
 }
@@ -320,8 +338,8 @@ std::vector<ChannelRepr> candidate_representations(const double* col, size_t str
   for (size_t i = 0; i < n && f32; ++i) f32 = is_float32(v[i]);
   std::vector<uint64_t> ord(n);
   for (size_t i = 0; i < n; ++i) ord[i] = ordered_bits(bits_of(v[i]));
-  std::sort(ord.begin(), ord.end());
-  ord.erase(std::unique(ord.begin(), ord.end()), ord.end());
+  std::vector<int32_t> ranks;
+  sort_unique(&ord, &ranks);
   std::vector<double> sorted(ord.size());
   for (size_t i = 0; i < ord.size(); ++i) sorted[i] = from_bits(from_ordered_bits(ord[i]));
   std::vector<ChannelRepr> out;
@@ -335,10 +353,7 @@ std::vector<ChannelRepr> candidate_representations(const double* col, size_t str
     ChannelRepr rank = r;
     rank.kind = Kind::kRank;
     rank.table = sorted;
-    rank.ints.resize(n);
-    for (size_t i = 0; i < n; ++i)
-      rank.ints[i] = static_cast<int32_t>(
-          std::lower_bound(ord.begin(), ord.end(), ordered_bits(bits_of(v[i]))) - ord.begin());
+    rank.ints = std::move(ranks);
     out.push_back(std::move(rank));
   }
   r.kind = f32 ? Kind::kFloat32 : Kind::kFloat64;

@@ -15,6 +15,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
+#include <limits>
 #include <vector>
 
 #include "coding/bytes.h"
@@ -67,14 +69,37 @@ inline uint64_t ordered_bits(uint64_t b) {
 inline uint64_t from_ordered_bits(uint64_t o) {
   return (o >> 63) ? o & ~(uint64_t{1} << 63) : ~o;
 }
-uint64_t bits_of(double v);
-double from_bits(uint64_t b);
+inline uint64_t bits_of(double v) {
+  uint64_t b;
+  std::memcpy(&b, &v, 8);
+  return b;
+}
+inline double from_bits(uint64_t b) {
+  double v;
+  std::memcpy(&v, &b, 8);
+  return v;
+}
 // y rounded to float32 (nearest even) and widened; finite values beyond the float range become
 // +-FLT_MAX first, so the conversion is always defined.
-double round_to_float32(double y);
+inline double round_to_float32(double y) {
+  constexpr double kMax = std::numeric_limits<float>::max();
+  if (y > kMax && y <= std::numeric_limits<double>::max()) y = kMax;
+  if (y < -kMax && y >= -std::numeric_limits<double>::max()) y = -kMax;
+  return static_cast<double>(static_cast<float>(y));
+}
 // Ordered 32-bit pattern of a float32 value v (widened to double), and back.
-uint32_t ordered_f32(double v);
-double from_ordered_f32(uint32_t o);
+inline uint32_t ordered_f32(double v) {
+  const float f = static_cast<float>(v);
+  uint32_t b;
+  std::memcpy(&b, &f, 4);
+  return (b >> 31) ? ~b : b | 0x80000000u;
+}
+inline double from_ordered_f32(uint32_t o) {
+  const uint32_t b = (o >> 31) ? o & 0x7FFFFFFFu : ~o;
+  float f;
+  std::memcpy(&f, &b, 4);
+  return f;
+}
 // v moved by d units of its ordered pattern: float32 patterns when f32, else double; wrapping.
 double apply_ordered_delta(double v, int64_t d, bool f32);
 
