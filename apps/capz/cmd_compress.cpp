@@ -236,6 +236,37 @@ void check_take_stream(const std::string& spool) {
              "not a C3D or TRC stream (a PCD sequence is a folder: give the folder)");
 }
 
+// --rm, once OUT has proved it gives IN back: a file is removed; a PCD folder loses the frame
+// files the take was read from, and the folder itself when nothing else is left in it.
+void remove_input(const std::string& in, const capz::Take& take) {
+  std::error_code ec;
+  if (!fs::is_directory(in)) {
+    fs::remove(in, ec);
+    if (ec)
+      capz::fail(capz::ErrorCode::kIo, in, "could not remove after compressing: " + ec.message());
+    return;
+  }
+  if (!take.pcd)
+    capz::fail(capz::ErrorCode::kUsage, in, "--rm: a folder that is not a PCD sequence");
+  for (const std::string& name : take.pcd->frame_names) {
+    const fs::path f = fs::path(in) / name;
+    fs::remove(f, ec);
+    if (ec)
+      capz::fail(capz::ErrorCode::kIo, f.string(),
+                 "could not remove after compressing: " + ec.message());
+  }
+  if (fs::is_empty(in, ec) && !ec) {
+    fs::remove(in, ec);
+    if (ec)
+      capz::fail(capz::ErrorCode::kIo, in, "could not remove after compressing: " + ec.message());
+  } else if (g_verbosity > 0) {
+    std::fprintf(stderr,
+                 "capz compress: note: %s: its %zu frame files removed; the folder is kept, as it "
+                 "holds other files\n",
+                 in.c_str(), take.pcd->frame_names.size());
+  }
+}
+
 FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
   const po::variables_map& vm = s.vm;
   const bool force = s.batch.force;
@@ -256,8 +287,9 @@ FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
     claim_output(r.out, in);
     capz::check_output_free(r.out, force);
   }
-  if (vm.count("rm") && fs::is_directory(in))
-    capz::fail(capz::ErrorCode::kUsage, in, "--rm removes files only, not PCD folders");
+  if (vm.count("rm") && vm.count("drop-fields"))
+    capz::fail(capz::ErrorCode::kUsage, in,
+               "--rm with --drop-fields: the archive would not give the input back");
 
   Input input;
   open_input(in, vm["codec"].as<std::string>() == "auto", s.units, &input);
@@ -277,15 +309,17 @@ FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
                  "capz compress: note: %s: --analog-max-error %s names no analog channel's label "
                  "or unit; those stay lossless\n",
                  in.c_str(), k.c_str());
+  if (st.dropped_coordinates && g_verbosity > 0)
+    std::fprintf(stderr,
+                 "capz compress: note: %s: %zu samples marked absent (negative residual) hold "
+                 "coordinates, which are not kept at a bound (--lossless keeps them)\n",
+                 in.c_str(), st.dropped_coordinates);
   r.in_bytes = path_size(in);
   r.ratio = st.bytes ? static_cast<double>(r.in_bytes) / static_cast<double>(st.bytes) : 0;
   r.mbps = r.t_enc > 0 ? static_cast<double>(st.raw_bytes) / 1e6 / r.t_enc : 0;
   if (vm.count("rm")) {
     check_written(r.out, in, take);  // like zstd: only a verified output lets IN go
-    std::error_code ec;
-    fs::remove(in, ec);
-    if (ec)
-      capz::fail(capz::ErrorCode::kIo, in, "could not remove after compressing: " + ec.message());
+    remove_input(in, take);
   }
   FileRecord rec;
   rec.input = r.in;

@@ -70,6 +70,9 @@ struct CompressStats {
   size_t attribute_bytes = 0;                 // bytes of ATTR chunks (point fields)
   size_t other_bytes = 0;                     // everything else
   std::vector<std::string> analog_unmatched;  // analog_max_error keys that named no channel
+  // At a bound, from a C3D: samples marked absent (4th word negative) whose coordinates the file
+  // holds but the archive does not keep, as for every gap (--lossless keeps them).
+  size_t dropped_coordinates = 0;
 };
 
 // Throws Error(kInvalidParameter) for an impossible target (no target, bound too fine for the

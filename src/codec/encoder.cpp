@@ -606,6 +606,7 @@ class Encoder {
     stats->analog_bytes = analog_bytes_;
     stats->rotation_bytes = rotation_bytes_;
     stats->attribute_bytes = attribute_bytes_;
+    stats->dropped_coordinates = residue_ ? residue_->dropped_coordinates() : 0;
     stats->other_bytes = other_bytes_ + (residue_ ? residue_->bytes() - residue_->file_bytes() : 0);
   }
 

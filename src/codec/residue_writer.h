@@ -45,6 +45,8 @@ class ResidueWriter {
   // Bytes of the chunks written so far: all, and HASH + C3DR/TRCR alone.
   size_t bytes() const { return bytes_; }
   size_t file_bytes() const { return file_bytes_; }
+  // At a bound: samples marked absent whose coordinates were not kept (C3DResidueEncoder).
+  size_t dropped_coordinates() const { return c3d_ ? c3d_->dropped_coordinates() : 0; }
 
  private:
   void check_bytes(size_t w, const std::vector<uint8_t>& rebuilt);

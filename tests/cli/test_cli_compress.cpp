@@ -202,6 +202,82 @@ TEST(CliCompress, GivenRmWhenWrittenOutputReadsBackWrongThenInputKeptElseRemoved
 
 }  // namespace
 
+// --rm on a PCD folder: its frame files go only once the archive gives them back (lossless:
+// byte for byte through the checksum; at a bound: every field and gap, coordinates within it);
+// the folder goes too when nothing else is left in it. With --drop-fields it is refused.
+TEST(CliCompress, GivenRmOnAPcdFolderThenFramesGoOnlyWhenTheArchiveGivesThemBack) {
+  capz_test::TempDir d("capz_cli_rm_pcd");
+  const std::string src = std::string(CAPZ_REPO_DATA) + "/lidar_small";
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(src)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  ASSERT_GE(names.size(), 2u);
+  const auto fresh = [&](const std::string& dir) {
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    for (const std::string& n : names) fs::copy_file(src + "/" + n, dir + "/" + n);
+  };
+
+  // Lossless: the folder is gone, and what comes back is the frames, byte for byte.
+  const std::string a = d.file("a"), az = d.file("a.capz");
+  fresh(a);
+  Result r = capz_cli("compress -q --lossless --rm '" + a + "' -o '" + az + "'", true);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_FALSE(fs::exists(a));
+  ASSERT_EQ(capz_cli("decompress -q '" + az + "' -o '" + a + "/'").status, 0);
+  for (const std::string& n : names)
+    EXPECT_TRUE(file_bytes(a + "/" + n) == file_bytes(src + "/" + n)) << n;
+
+  // At a bound, with another file in the folder: the frames go, the folder and that file stay,
+  // and one line says so.
+  const std::string b = d.file("b"), bz = d.file("b.capz");
+  fresh(b);
+  { std::ofstream(b + "/notes.txt") << "calibration 3\n"; }
+  r = capz_cli("compress --max-error 0.01 --rm '" + b + "' -o '" + bz + "'", true);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("the folder is kept, as it holds other files"), std::string::npos) << r.out;
+  for (const std::string& n : names) EXPECT_FALSE(fs::exists(b + "/" + n)) << n;
+  EXPECT_TRUE(fs::exists(b + "/notes.txt"));
+  fresh(d.file("b_src"));
+  EXPECT_EQ(capz_cli("verify '" + bz + "' --against '" + d.file("b_src") + "'").status, 0);
+
+  // An archive that reads back wrong keeps every frame, and is removed.
+  const std::string c = d.file("c"), cz = d.file("c.capz");
+  fresh(c);
+  ASSERT_EQ(capz_cli("compress -q --lossless '" + c + "' -o '" + cz + "'").status, 0);
+  const size_t size = fs::file_size(cz);
+  r = capz_cli("compress -f --lossless --rm '" + c + "' -o '" + cz + "'", true,
+               "CAPZ_TEST_FLIP_WRITTEN_BYTE=" + std::to_string(size / 2) + " ", CAPZ_CLI_FAULTS);
+  EXPECT_EQ(r.status, 5) << r.out;
+  EXPECT_NE(r.out.find("kept despite --rm"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(cz));
+  for (const std::string& n : names)
+    EXPECT_TRUE(file_bytes(c + "/" + n) == file_bytes(src + "/" + n)) << n;
+
+  // --drop-fields leaves fields out: --rm would lose them, so it is refused before anything.
+  r = capz_cli("compress --drop-fields --rm '" + c + "' -o '" + cz + "'", true);
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("--drop-fields"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(cz));
+  EXPECT_EQ(fs::exists(c + "/" + names[0]), true);
+}
+
+// A C3D whose samples are all marked absent but hold coordinates (SIMI, sample_16): at a bound a
+// note says they are not kept; --lossless keeps them.
+TEST(CliCompress, GivenAbsentSamplesWithCoordinatesThenANoteAtABound) {
+  const std::string giant = capz_test::shared_data_or_skip("c3d/c3dorg/sample_16/giant.c3d");
+  if (giant.empty()) return;
+  capz_test::TempDir d("capz_cli_absent");
+  Result r = capz_cli("compress '" + giant + "' -o '" + d.file("g.capz") + "'", true);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("10295 samples marked absent (negative residual) hold coordinates"),
+            std::string::npos)
+      << r.out;
+  r = capz_cli("compress --lossless '" + giant + "' -o '" + d.file("l.capz") + "'", true);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(r.out.find("marked absent"), std::string::npos) << r.out;
+}
+
 // --analog-max-error (docs/FORMAT.md 5.2): bounds by unit and by label, reported by info and
 // verify, kept through decompress and --rm; bad requests are one-line errors.
 TEST(CliCompress, GivenAnalogMaxErrorThenInfoVerifyAndDecompressKeepTheBounds) {

@@ -162,8 +162,10 @@ std::vector<uint8_t> C3DResidueEncoder::window(const FrameBlock& block, bool exa
     for (size_t f = 0; f < block.frames; ++f)
       for (size_t p = 0; p < lay_.points; ++p) {
         const size_t at = f * lay_.per_frame + p * 4 * elem;
-        if (!block.valid[f * lay_.points + p] && word4_negative(lay_, &orig_[at]))
+        if (!block.valid[f * lay_.points + p] && word4_negative(lay_, &orig_[at])) {
+          if (!std::equal(&regen_[at], &regen_[at] + 3 * elem, &orig_[at])) ++dropped_;
           std::copy_n(&regen_[at], 3 * elem, &orig_[at]);
+        }
       }
   }
   std::vector<uint8_t> patch = diff_bytes(regen_.data(), orig_.data(), n);

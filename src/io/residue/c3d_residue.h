@@ -62,6 +62,10 @@ class C3DResidueEncoder {
   // are gaps in the take and whose 4th word in the file is negative (absent to every reader)
   // are left as regenerated, not patched (docs/FORMAT.md 4.4.3.3).
   std::vector<uint8_t> window(const FrameBlock& block, bool exact = true);
+  // Samples so far whose coordinates the file holds but, at a bound, were not kept: gaps in the
+  // take, 4th word negative, coordinates other than the regenerated ones (SIMI writes real
+  // coordinates with a residual of -1 for every sample).
+  size_t dropped_coordinates() const { return dropped_; }
   // The file-level payload: layout, head and tail. `groups` (the parameter section as the Take
   // holds it) serve as zstd's prefix dictionary; the decoder must be given the same ones.
   std::vector<uint8_t> file_part(const std::vector<C3DGroup>& groups);
@@ -70,6 +74,7 @@ class C3DResidueEncoder {
   InputFile in_;
   C3DFrameLayout lay_;
   std::vector<uint8_t> regen_, orig_;
+  size_t dropped_ = 0;
 };
 
 class C3DResidueDecoder {
