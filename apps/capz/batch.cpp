@@ -317,7 +317,10 @@ int run_batch(const std::string& command, const BatchSettings& s, std::vector<Jo
               const Worker& work, bool failed_lines) {
   if (!s.report.empty()) capz::check_output_free(s.report, s.force);
   const size_t workers = std::min<size_t>(std::max(1u, s.threads), jobs.size());
-  for (Job& j : jobs) j.threads = std::max<unsigned>(1, s.threads / static_cast<unsigned>(workers));
+  for (Job& j : jobs) {
+    j.threads = std::max<unsigned>(1, s.threads / static_cast<unsigned>(workers));
+    j.alone = workers == 1;
+  }
   const bool data_on_stdout =
       std::any_of(jobs.begin(), jobs.end(), [](const Job& j) { return j.to_stdout; });
   std::FILE* text_out = data_on_stdout ? stderr : stdout;

@@ -40,6 +40,7 @@ struct Job {
   // (1 while several files run). This is the one place -T reaches a file; the workers pass
   // it on where the library takes a thread count (see cmd_compress.cpp / cmd_decompress.cpp).
   unsigned threads = 1;
+  bool alone = true;         // no other file is coded at the same time (its CPU is the process's)
   std::string expand_error;  // found while expanding the arguments (kUsage), e.g. a folder
                              // given to decompress without -r
 };

@@ -76,9 +76,9 @@ struct Input {
 // Opens IN; `units` (--units, may be empty) is given to data that has none, or whose units capz
 // cannot read (a POINT:UNITS naming several different units, a name it does not know).
 void open_input(const std::string& in, bool whole, const std::string& units, Input* input) {
-  const double c_read = thread_cpu_seconds();
+  const double c_read = cpu_seconds();
   input->in = capz::open_compress_input(in, whole, units);
-  input->read_cpu_seconds = thread_cpu_seconds() - c_read;
+  input->read_cpu_seconds = cpu_seconds() - c_read;
 }
 
 // --NAME KEY=B[,KEY=B...] (repeatable) into *out.
@@ -131,15 +131,17 @@ void set_target(const po::variables_map& vm, capz::FrameSource& source,
   capz::set_compress_target(source, target, opts);
 }
 
-// Compresses the input into `out`; returns the encoding's thread CPU seconds.
+// Compresses the input into `out`; returns the encoding's CPU seconds: of the process when the
+// file is coded `alone` on window threads, else of the calling thread.
 // `progress`: the per-frame progress line (a single input; a batch shows its own).
 double encode(Input& input, capz::CompressOptions opts, const std::string& out, bool force,
-              bool progress_line, capz::CompressStats* st) {
-  const double c_enc = thread_cpu_seconds();
+              bool progress_line, bool alone, capz::CompressStats* st) {
+  const bool workers = alone && opts.threads > 1;
+  const double c_enc = cpu_seconds(workers);
   Progress progress("compress");
   if (progress_line) opts.progress = [&](size_t d, size_t t) { progress(d, t); };
   capz::compress_input(input.in, opts, out, force, st);
-  return thread_cpu_seconds() - c_enc;
+  return cpu_seconds(workers) - c_enc;
 }
 
 // What the report says besides the take, the options and the stats.
@@ -303,7 +305,7 @@ FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
   set_target(vm, *input.in.source, &opts);
 
   capz::CompressStats st;
-  r.t_enc = encode(input, opts, r.out, force, s.single, &st);
+  r.t_enc = encode(input, opts, r.out, force, s.single, job.alone, &st);
   for (const std::string& k : st.analog_unmatched)
     std::fprintf(stderr,
                  "capz compress: note: %s: --analog-max-error %s names no analog channel's label "

@@ -109,7 +109,8 @@ FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) 
   size_t frames = 0, points = 0;
   std::string fields;  // the archive's point fields (capz::field_names)
   FileRecord rec;
-  const double c0 = thread_cpu_seconds();
+  const bool workers = job.alone && dopts.threads > 1;
+  const double c0 = cpu_seconds(workers);
   if (vm.count("frames")) {  // a range: decoded into memory (only the windows it touches)
     size_t a = 0, n = 0;
     parse_frames(vm["frames"].as<std::string>(), &a, &n);
@@ -147,7 +148,7 @@ FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) 
     if (!fields.empty())
       std::fprintf(stderr, "capz decompress: dropped point fields: %s\n", fields.c_str());
   }
-  const double t_dec = thread_cpu_seconds() - c0;
+  const double t_dec = cpu_seconds(workers) - c0;
   const double raw = static_cast<double>(frames * points * 12);
   const double mbps = t_dec > 0 ? raw / 1e6 / t_dec : 0;
 

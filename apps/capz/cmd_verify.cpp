@@ -29,10 +29,10 @@ int cmd_verify(const Args& args) {
     return 0;
 
   std::vector<uint8_t> bytes = capz::read_file(in);
-  const double c0 = thread_cpu_seconds();
+  const double c0 = cpu_seconds();
   capz::StreamInfo si = capz::describe(bytes.data(), bytes.size(), in);
   capz::Take b = capz::decompress(bytes.data(), bytes.size(), in);
-  const double t_dec = thread_cpu_seconds() - c0;
+  const double t_dec = cpu_seconds() - c0;
   const double bp = capz::bpvf(bytes.size(), b.frames, b.points);
   const std::string u = b.units.empty() ? "" : " " + b.units;
   const std::string bound = si.lossless           ? "lossless"

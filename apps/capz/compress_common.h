@@ -91,10 +91,13 @@ inline void json_error_stats(Json* j, const capz::ErrorStats& e) {
   j->member("mask_mismatches", static_cast<uint64_t>(e.mask_mismatches));
 }
 
-// CPU time of this thread, seconds (speed figures stay meaningful on a loaded machine).
-inline double thread_cpu_seconds() {
+// CPU time of this thread, seconds (speed figures stay meaningful on a loaded machine); with
+// `whole_process`, of every thread of the process: for a file coded alone with window threads
+// (-T above 1), whose workers' time the calling thread's clock would not count. A batch coding
+// several files at once gives each file one thread, so there the thread's clock is the file's.
+inline double cpu_seconds(bool whole_process = false) {
   timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  clock_gettime(whole_process ? CLOCK_PROCESS_CPUTIME_ID : CLOCK_THREAD_CPUTIME_ID, &ts);
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
