@@ -138,6 +138,7 @@ void match(const std::string& orig, size_t frames, size_t points, const std::str
 struct PcdRun {
   size_t bytes = 0, kept = 0, decoded = 0, colour_exact = 0, alpha_differs = 0;
   double pos_max = 0, pos_max_euclid = 0, colour_max = 0, enc_s = 0, dec_s = 0;
+  bool colour_multiset_exact = true;  // every frame's r g b values came back, in some order
 };
 
 template <typename PointT>
@@ -189,22 +190,39 @@ PcdRun pcd_round_trip(const capz::Take& t, const capz::PointAttribute* rgb, doub
       back[i * 3 + 2] = (*d)[i].z;
     }
     capz_tools::CloudGrid grid(back, bound);
+    if constexpr (kColour) {  // the colours of the frame as a multiset (r g b, not alpha)
+      auto sorted = [](const C& c) {
+        std::vector<uint32_t> v;
+        for (const PointT& q : c) v.push_back(q.rgba & 0xffffffu);
+        std::sort(v.begin(), v.end());
+        return v;
+      };
+      if (sorted(*d) != sorted(*originals[f])) run.colour_multiset_exact = false;
+    }
+    std::vector<uint32_t> ties;
     for (const PointT& q : *originals[f]) {
       float xyz[3] = {q.x, q.y, q.z};
       double e = 0;
-      long j = grid.nearest(xyz, &e);
+      long j = grid.nearest(xyz, &e, &ties);
       if (j < 0) capz::fail(capz::ErrorCode::kInternal, t.source, "PCL decoded no points");
-      const PointT& r = (*d)[static_cast<size_t>(j)];
       double s2 = 0;
       for (int a = 0; a < 3; ++a) s2 += (back[j * 3 + a] - xyz[a]) * (back[j * 3 + a] - xyz[a]);
       run.pos_max = std::max(run.pos_max, e);
       run.pos_max_euclid = std::max(run.pos_max_euclid, std::sqrt(s2));
       if constexpr (kColour) {
-        int dr = std::abs(int{q.r} - int{r.r}), dg = std::abs(int{q.g} - int{r.g}),
-            db = std::abs(int{q.b} - int{r.b});
-        run.colour_max = std::max(run.colour_max, static_cast<double>(std::max({dr, dg, db})));
-        run.colour_exact += dr == 0 && dg == 0 && db == 0;
-        run.alpha_differs += q.a != r.a;
+        // The closest colour among the decoded points at that distance (coincident points).
+        int best = 256;
+        bool alpha = true;
+        for (uint32_t k : ties) {
+          const PointT& c = (*d)[k];
+          int dr = std::abs(int{q.r} - int{c.r}), dg = std::abs(int{q.g} - int{c.g}),
+              db = std::abs(int{q.b} - int{c.b});
+          best = std::min(best, std::max({dr, dg, db}));
+          alpha = alpha && q.a != c.a;
+        }
+        run.colour_max = std::max(run.colour_max, static_cast<double>(best));
+        run.colour_exact += best == 0;
+        run.alpha_differs += alpha;
       }
     }
   }
@@ -232,13 +250,14 @@ void pcd(const std::string& dir, double bound, bool colour, unsigned iframe) {
       " \"organized_dropped\": %s, \"bytes\": %zu, \"point_res\": %s, \"bound\": %s,"
       " \"pos_max_abs\": %s, \"pos_max_euclid\": %s, \"colour\": %s,"
       " \"colour_max_abs\": %s, \"colour_exact_points\": %zu,"
-      " \"alpha_differs_points\": %zu, \"encode_s\": %.3f, \"decode_s\": %.3f}\n",
+      " \"colour_multiset_exact\": %s, \"alpha_differs_points\": %zu, \"encode_s\": %.3f,"
+      " \"decode_s\": %.3f}\n",
       t.frames, t.frames * t.points, run.kept, run.decoded,
       t.pcd && t.pcd->height > 1 ? "true" : "false", run.bytes, capz_tools::json_num(res).c_str(),
       capz_tools::json_num(bound).c_str(), capz_tools::json_num(run.pos_max).c_str(),
       capz_tools::json_num(run.pos_max_euclid).c_str(), colour ? "true" : "false",
-      capz_tools::json_num(run.colour_max).c_str(), run.colour_exact, run.alpha_differs, run.enc_s,
-      run.dec_s);
+      capz_tools::json_num(run.colour_max).c_str(), run.colour_exact,
+      run.colour_multiset_exact ? "true" : "false", run.alpha_differs, run.enc_s, run.dec_s);
 }
 
 int usage() {

@@ -25,14 +25,17 @@ class CloudGrid {
   }
 
   // Index of the decoded point nearest to q (per-coordinate distance) and that distance in *d;
-  // -1 when the grid holds no points.
-  long nearest(const float* q, double* d) const {
+  // -1 when the grid holds no points. With `ties`, every decoded point at exactly that distance
+  // (points a coarse grid made coincide: a pairing cannot tell them apart, so attributes are
+  // compared with each of them).
+  long nearest(const float* q, double* d, std::vector<uint32_t>* ties = nullptr) const {
     *d = std::numeric_limits<double>::infinity();
     long best = -1;
+    if (ties) ties->clear();
     if (cells_.empty()) return best;
     Cell c = cell(q);
     // Points in cells at ring r (Chebyshev cell offset r) are at least (r - 1) h away: once the
-    // best distance is within r h, no farther ring can beat it.
+    // best distance is below r h, no farther ring can beat or tie it.
     for (int64_t r = 0;; ++r) {
       for (int64_t dx = -r; dx <= r; ++dx)
         for (int64_t dy = -r; dy <= r; ++dy)
@@ -48,10 +51,12 @@ class CloudGrid {
               if (e < *d) {
                 *d = e;
                 best = i;
+                if (ties) ties->clear();
               }
+              if (ties && e == *d) ties->push_back(i);
             }
           }
-      if (best >= 0 && *d <= static_cast<double>(r) * h_) return best;
+      if (best >= 0 && *d < static_cast<double>(r) * h_) return best;
       // Beyond 64 cells the search stops: the distance is then that of the best point found
       // (an upper bound of the nearest one), or infinite.
       if (r >= 64) return best;

@@ -119,8 +119,12 @@ else:  # capz_octree pcd
     settings = "point res %.3g, octree res 16x" % j["point_res"]
     if j["colour"]:
         kept = j["kept_points"]
-        attr = "rgb max abs diff %g, %.1f%% of points exact (on the pairing)" % (
-            j["colour_max_abs"], 100 * j["colour_exact_points"] / kept)
+        if j["colour_exact_points"] == kept:
+            attr = "rgb exact"
+        else:
+            attr = "rgb %s; on the pairing max abs diff %g, %.1f%% of points exact" % (
+                "exact per frame as a multiset" if j["colour_multiset_exact"] else "not exact",
+                j["colour_max_abs"], 100 * j["colour_exact_points"] / kept)
         drops += "; alpha (differs at %d points); the NaN points' colours" % j["alpha_differs_points"]
     else:
         attr = "-"
