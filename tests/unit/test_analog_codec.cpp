@@ -79,6 +79,23 @@ TEST(AnalogCodec, GivenScaledFloat32CountsWhenCodedThenScaledKind) {
   EXPECT_LT(bytes, v.size());  // a float32 channel in under 8 bits a sample
 }
 
+// Averages of q counts (MotionMonitor writes k / 49 as float32) over a range wide enough that
+// float32 rounding makes adjacent values closer than the step, and with one sum that came out
+// as 1e-12 instead of 0: the step found is exactly 1 / 49, with only the outliers as exceptions.
+TEST(AnalogCodec, GivenAveragedCountsOverAWideRangeThenScaledKindWithTheExactStep) {
+  std::vector<double> v = sine(6000, 1000, 1, 0, 7);
+  for (size_t i = 3000; i < 3300; ++i) v[i] += 60000;  // a burst far out: sparse, large k
+  for (double& x : v) x = static_cast<float>(x / 49.0);
+  v[100] = static_cast<float>(1.3642420526593924e-12);
+  v[200] = static_cast<float>(-2.7e-12);
+  const analog::ChannelRepr r = analog::choose_representation(v.data(), 1, v.size(), {});
+  ASSERT_EQ(r.kind, Kind::kScaled);
+  EXPECT_EQ(r.step, 1.0 / 49.0);
+  EXPECT_LE(r.exc_index.size(), 2u);
+  const size_t bytes = round_trip(v, 1);
+  EXPECT_LT(bytes, v.size() * 2);  // the counts' noise, not the float32 bits
+}
+
 TEST(AnalogCodec, GivenScaleHintWhenDataAloneCannotFindTheStepThenScaledKind) {
   // Only even multiples of the step occur: the data suggest twice the step, which also works;
   // the hint must not make it worse.

@@ -167,6 +167,20 @@ bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted
     double o = refine ? sorted.front() - round_half_away(sorted.front() / s) * s : 0.0;
     fits.push_back({s, o});
     if (!refine) return;
+    // A step that is the reciprocal of an integer (counts averaged over q samples, k / q) is
+    // only approximated by a gap or a fit, which leaves exceptions wherever k * s lands near a
+    // float rounding boundary, or (over a wide range of k) no fit at all: try the exact 1 / q,
+    // with the offset 0 and snapped to a multiple of it.
+    auto snap = [&](double s_est, double o_est) {
+      const double q = std::round(1.0 / s_est);
+      if (q >= 2 && q <= 1e6 && std::fabs(1.0 / s_est - q) <= std::min(1e-3 * q, 0.05)) {
+        const double sq = 1.0 / q;
+        fits.push_back({sq, 0.0});
+        const double oq = round_half_away(o_est / sq) * sq;
+        if (oq != 0) fits.push_back({sq, oq});
+      }
+    };
+    snap(s, 0.0);
     for (int it = 0; it < 2; ++it) {
       refine_fit(v, &s, &o);
       if (!(s > 0) || !std::isfinite(s) || !std::isfinite(o)) return;
@@ -174,8 +188,22 @@ bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted
       // The sample nearest 0 has the finest rounding: pin the offset there.
       fits.push_back({s, small - round_half_away((small - o) / s) * s});
     }
+    snap(s, o);
   };
   add(gap, true);
+  // The smallest gap is wrong when one sample is off the grid by a hair (a sum that should have
+  // been 0 coming out as 1e-12); the lower quartile of the gaps is the step still.
+  {
+    std::vector<double> gaps;
+    gaps.reserve(sorted.size());
+    for (size_t i = 1; i < sorted.size(); ++i)
+      if (sorted[i] > sorted[i - 1]) gaps.push_back(sorted[i] - sorted[i - 1]);
+    if (gaps.size() >= 8) {
+      auto q = gaps.begin() + static_cast<std::ptrdiff_t>(gaps.size() / 4);
+      std::nth_element(gaps.begin(), q, gaps.end());
+      if (*q > gap * (1 + 1e-9)) add(*q, true);
+    }
+  }
   add(common_power_of_two(v), false);
   if (hint.scale != 0) {
     fits.push_back({std::fabs(hint.scale), hint.offset * std::fabs(hint.scale)});
