@@ -110,6 +110,27 @@ static size_t utf8_length(const std::string& s, size_t i) {
   return n;
 }
 
+std::string printable(const std::string& s) {
+  std::string o;
+  o.reserve(s.size());
+  for (size_t i = 0; i < s.size(); ++i) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    if (c >= 0x80) {
+      const size_t n = utf8_length(s, i);
+      if (n > 0) {
+        o.append(s, i, n);
+        i += n - 1;
+      } else {
+        o += static_cast<char>(0xC0 | (c >> 6));
+        o += static_cast<char>(0x80 | (c & 0x3F));
+      }
+    } else {
+      o += c < 0x20 || c == 0x7F ? '?' : static_cast<char>(c);
+    }
+  }
+  return o;
+}
+
 std::string Json::escape(const std::string& s) {
   std::string o = "\"";
   for (size_t i = 0; i < s.size(); ++i) {

@@ -40,6 +40,10 @@ uint64_t path_size(const std::string& path);
 std::string number(double v);
 // "3.2%" style share with one decimal (two below 1%).
 std::string percent(double share);
+// Text from a file (labels, units) made safe for a terminal line: valid UTF-8 passes, any other
+// byte above 0x7F is read as Latin-1 (old C3D files write the degree sign as 0xB0) and written
+// as UTF-8, and control characters become '?'.
+std::string printable(const std::string& s);
 
 // JSON text built incrementally; keys and values are escaped. Usage:
 //   Json j; j.begin_object(); j.key("points"); j.value(44); j.end_object(); j.str();

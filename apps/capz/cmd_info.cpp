@@ -107,7 +107,9 @@ std::string variant_text(const capz::Take& t) {
 }
 
 void print_text(const std::string& path, const capz::Take& t, const Summary& s) {
-  auto line = [](const char* k, const std::string& v) { std::printf("%-10s %s\n", k, v.c_str()); };
+  auto line = [](const char* k, const std::string& v) {
+    std::printf("%-10s %s\n", k, printable(v).c_str());
+  };
   line("file:", path + " (" + human_size(path_size(path)) + ")");
   line("format:", std::string(capz::format_name(t.format)) + ": " + variant_text(t));
   line("points:", std::to_string(t.points));
@@ -165,10 +167,11 @@ void print_text(const std::string& path, const capz::Take& t, const Summary& s) 
     if (g_verbosity >= 2)
       for (size_t c = 0; c < phys.size(); ++c)
         std::printf("  - %s: %s, %s per stored unit\n",
-                    c < t.analog.labels.size() && !t.analog.labels[c].empty()
-                        ? t.analog.labels[c].c_str()
-                        : ("#" + std::to_string(c)).c_str(),
-                    phys[c].unit.empty() ? "no unit" : phys[c].unit.c_str(),
+                    printable(c < t.analog.labels.size() && !t.analog.labels[c].empty()
+                                  ? t.analog.labels[c]
+                                  : "#" + std::to_string(c))
+                        .c_str(),
+                    phys[c].unit.empty() ? "no unit" : printable(phys[c].unit).c_str(),
                     number(phys[c].factor).c_str());
   } else {
     line("analog:", "none");

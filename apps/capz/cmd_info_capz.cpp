@@ -83,7 +83,7 @@ int info_capz(const std::string& path, bool json) {
     return 0;
   }
   auto line = [](const char* k, const std::string& v) {
-    std::printf("  %-12s %s\n", k, v.c_str());
+    std::printf("  %-12s %s\n", k, printable(v).c_str());
   };
   std::printf("%s\n", path.c_str());
   line("format:", "capz " + std::to_string(si.major) + "." + std::to_string(si.minor) + ", " +

@@ -209,6 +209,25 @@ TEST(CliInfo, DescribesAC3dFileWithItsVariantAndAnalogChannels) {
   EXPECT_TRUE(contains(e.err, "Empty.c3d")) << e.err;
 }
 
+// A unit written in Latin-1 (the degree sign as the single byte 0xB0, Mega Electronics) is shown
+// as UTF-8: info's text stays valid UTF-8 for terminals and for scripts that grep it.
+TEST(CliInfo, ShowsLatin1LabelsAndUnitsAsUtf8) {
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
+  const std::string f = quote(
+      data + "/c3d/c3dorg/sample_35/Mega Electronics Isokinetic EMG Angle Torque Sample File.c3d");
+  CliRun r = run_capz("info -v " + f);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "units uV (2), \xC2\xB0 (1), Nm (1)")) << r.out;
+  EXPECT_TRUE(contains(r.out, "- Angle: \xC2\xB0, ")) << r.out;
+  for (size_t i = 0; i < r.out.size(); ++i) {  // no byte of a Latin-1 string left as it was
+    if (static_cast<unsigned char>(r.out[i]) == 0xB0) {
+      ASSERT_GT(i, 0u);
+      ASSERT_EQ(static_cast<unsigned char>(r.out[i - 1]), 0xC2) << "byte " << i;
+    }
+  }
+}
+
 TEST(CliInfo, ReportsAC3dFilesRotations) {
   capz_test::TempDir d("capz_cli_rot");
   capz::Take t;  // rotations only: 2 segments x 3 samples per frame x 4 frames
