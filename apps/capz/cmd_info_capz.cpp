@@ -73,6 +73,18 @@ int info_capz(const std::string& path, bool json) {
         if (si.pcd_field_bounds[i] > 0) j.member(si.pcd_fields[i].name, si.pcd_field_bounds[i]);
       j.end_object();
     }
+    // The original file (HASH, FORMAT.md 4.4.1, 5.4): null when the archive records none.
+    const capz::OriginalInfo orig = capz::original_info(path);
+    j.key("original");
+    if (orig.hashed) {
+      j.begin_object();
+      j.member("bytes", orig.size);
+      j.member("xxh3_128", orig.hash_hex);
+      j.member("byte_exact", orig.exact);
+      j.end_object();
+    } else {
+      j.null();
+    }
     j.member("bpvf", bp);
     j.key("chunk_bytes");
     j.begin_object();

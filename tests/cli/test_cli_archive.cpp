@@ -118,6 +118,14 @@ TEST(CliArchive, PcdFolderComesBackByteForByte) {
   EXPECT_EQ(l.out.find("xxh3-128 -"), std::string::npos) << l.out;
   Result i = run("info '" + z + "'");
   EXPECT_NE(i.out.find("rebuilt byte for byte (checksum checked)"), std::string::npos) << i.out;
+  Result ij = run("info --json '" + z + "'");
+  EXPECT_NE(ij.out.find("\"original\":{\"bytes\":" + std::to_string(bytes) + ",\"xxh3_128\":\""),
+            std::string::npos)
+      << ij.out;
+  EXPECT_NE(ij.out.find("\"byte_exact\":true}"), std::string::npos) << ij.out;
+  const std::string zb = d.file("scan_bound.capz");  // PCD at a bound: no original recorded
+  ASSERT_EQ(run("compress -q --max-error 0.1 '" + in + "' -o '" + zb + "'").status, 0);
+  EXPECT_NE(run("info --json '" + zb + "'").out.find("\"original\":null"), std::string::npos);
 
   // A bit of frame f0's recorded hash flipped (the chunk CRC fixed): its rebuilt bytes no longer
   // match it.
