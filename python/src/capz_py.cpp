@@ -32,6 +32,7 @@
 #include "capz/file.h"
 #include "capz/io.h"
 #include "capz/metrics.h"
+#include "capz/original.h"
 #include "capz/version.h"
 
 namespace py = pybind11;
@@ -177,6 +178,16 @@ py::dict info_dict(const std::string& path, const std::vector<uint8_t>& bytes) {
   rot["samples_per_frame"] = si.rotation_samples_per_frame;
   rot["labels"] = si.rotation_labels;
   d["rotations"] = rot;
+  const capz::OriginalInfo orig = capz::original_info(path);  // HASH: the original file
+  if (orig.hashed) {
+    py::dict o;
+    o["bytes"] = orig.size;
+    o["xxh3_128"] = orig.hash_hex;
+    o["byte_exact"] = orig.exact;
+    d["original"] = o;
+  } else {
+    d["original"] = py::none();
+  }
   d["bpvf"] = capz::bpvf(bytes.size(), si.frames, si.points);
   py::dict chunks;
   for (const auto& kv : si.chunk_bytes) chunks[py::str(kv.first)] = kv.second;

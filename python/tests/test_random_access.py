@@ -36,6 +36,8 @@ def test_info_is_cli_info(archive):
         info = z.info
     assert info == cli_info(archive)
     assert info["windows"] > 1 and info["window_frames"] == 32
+    # The archive records the original C3D it was made from: its size and XXH3-128.
+    assert info["original"]["bytes"] > 0 and len(info["original"]["xxh3_128"]) == 32
 
 
 def test_closed_file_raises(archive):
