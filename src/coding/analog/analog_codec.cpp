@@ -47,11 +47,6 @@ analog::LpcParams get_lpc(IntDecoder::Cursor* dec) {
   return p;
 }
 
-int bit_length(int64_t e) {
-  const uint64_t u = analog::zigzag64(e);
-  return u == 0 ? 0 : 64 - __builtin_clzll(u);
-}
-
 // The samples as doubles after kMaxLpcOrder zeros (analog::LpcKernel reads before the first).
 std::vector<double> padded_doubles(const std::vector<int32_t>& x) {
   std::vector<double> xd(x.size() + analog::kMaxLpcOrder, 0.0);
@@ -77,17 +72,11 @@ void lpc_stage(const std::vector<int32_t>& x, std::vector<analog::LpcParams>* pa
   }
 }
 
-// The cascade stage over residuals r, in place; returns the summed bit lengths before and after.
-std::pair<uint64_t, uint64_t> cascade_stage(std::vector<int32_t>* r) {
-  std::vector<int64_t> out(r->size());
-  analog::sign_lms_residuals(r->data(), r->size(), out.data());
-  uint64_t before = 0, after = 0;
-  for (size_t i = 0; i < r->size(); ++i) {
-    before += bit_length((*r)[i]);
-    after += bit_length(out[i]);
-    (*r)[i] = static_cast<int32_t>(out[i]);
-  }
-  return {before, after};
+// The cascade stage over residuals r into *out; returns the summed bit lengths before and after.
+std::pair<uint64_t, uint64_t> cascade_stage(const std::vector<int32_t>& r,
+                                            std::vector<int32_t>* out) {
+  out->resize(r.size());
+  return analog::sign_lms_run(r.data(), r.size(), out->data());
 }
 
 // The LPC residuals of the channels before c that can serve as references (A.3.2).
@@ -122,9 +111,9 @@ void plan_int_channel(const std::vector<int32_t>& x,
     for (size_t i = 0; i < r1.size(); ++i)
       with_ref[i] = static_cast<int32_t>(r1[i] - analog::cross_predict(cross.beta, ref[i]));
   }
-  std::vector<int32_t> plain_lms = r1, ref_lms = with_ref;
-  const auto plain_cost = cascade_stage(&plain_lms);
-  const auto ref_cost = cross.distance ? cascade_stage(&ref_lms) : plain_cost;
+  std::vector<int32_t> plain_lms, ref_lms;
+  const auto plain_cost = cascade_stage(r1, &plain_lms);
+  const auto ref_cost = cross.distance ? cascade_stage(with_ref, &ref_lms) : plain_cost;
   const uint64_t costs[4] = {plain_cost.first, plain_cost.second, ref_cost.first, ref_cost.second};
   int best = 0;
   for (int k = 1; k < (cross.distance ? 4 : 2); ++k)
