@@ -196,7 +196,18 @@ bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted
     for (auto jt = fits.rbegin(); jt != it && !seen; ++jt)
       seen = bits_of(jt->first) == bits_of(it->first) && bits_of(jt->second) == bits_of(it->second);
     if (seen) continue;
-    if (!fit_scaled(v, it->first, it->second, f32, n_max_exc(n), &t)) continue;
+    // Once a fit is found, one with e exceptions replaces it only when 24 e - n log2(step) is
+    // below its cost (the same expression, increasing in e): more exceptions than that fail
+    // the fit early, as too many do anyway.
+    size_t max_exc = n_max_exc(n);
+    if (found) {
+      const double best_cost = cost(best), spread = static_cast<double>(n) * std::log2(it->first);
+      size_t e = 0;
+      while (e <= max_exc && 24.0 * static_cast<double>(e) - spread < best_cost) ++e;
+      if (e == 0) continue;  // not even an exact fit would be cheaper
+      max_exc = e - 1;
+    }
+    if (!fit_scaled(v, it->first, it->second, f32, max_exc, &t)) continue;
     if (!found || cost(t) < cost(best)) {
       std::swap(best, t);
       found = true;
