@@ -132,8 +132,9 @@ void plan_int_channel(const std::vector<int32_t>& x,
 }
 
 // Integer channel: the cascade flag, the reference distance (and beta), then per block the LPC
-// parameters and residuals.
-void emit_int_channel(const IntPlan& plan, IntEncoder::Cursor* enc) {
+// parameters and residuals. Stops, returning false, once enc->bytes_out() reaches `limit`
+// (checked every 1024 samples).
+bool emit_int_channel(const IntPlan& plan, IntEncoder::Cursor* enc, size_t limit = SIZE_MAX) {
   enc->put(plan.cascade ? 1 : 0, analog::kParamContext);
   enc->put(static_cast<uint32_t>(plan.cross.distance), analog::kParamContext);
   if (plan.cross.distance) enc->put_signed(plan.cross.beta, analog::kCoefContext);
@@ -142,8 +143,13 @@ void emit_int_channel(const IntPlan& plan, IntEncoder::Cursor* enc) {
   for (size_t b0 = 0, b = 0; b0 < n; b0 += kBlockRows, ++b) {
     const size_t b1 = std::min(n, b0 + kBlockRows);
     put_lpc(plan.params[b], enc);
-    for (size_t i = b0; i < b1; ++i) analog::put_residual(enc, &mag, plan.r[i]);
+    for (size_t i0 = b0; i0 < b1; i0 += 1024) {
+      if (enc->bytes_out() >= limit) return false;
+      const size_t i1 = std::min(b1, i0 + 1024);
+      for (size_t i = i0; i < i1; ++i) analog::put_residual(enc, &mag, plan.r[i]);
+    }
   }
+  return true;
 }
 
 // Samples [b0, b1) of an integer channel, the stage flags fixed at compile time.
@@ -246,16 +252,19 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
         float_predictor[k] =
             analog::choose_float_predictor(cands[k].filled, cands[k].kind == Kind::kFloat32);
     }
-    auto emit = [&](size_t k, IntEncoder::Cursor* enc) {
-      if (analog::is_integer_kind(cands[k].kind))
-        emit_int_channel(plans[k], enc);
-      else if (is_float(k))
-        analog::encode_float_channel(cands[k].filled, cands[k].kind == Kind::kFloat32,
-                                     float_predictor[k], enc);
+    // False when the coding stopped at `limit` bytes out (a trial that cannot win).
+    auto emit = [&](size_t k, IntEncoder::Cursor* enc, size_t limit) {
+      if (analog::is_integer_kind(cands[k].kind)) return emit_int_channel(plans[k], enc, limit);
+      if (is_float(k))
+        return analog::encode_float_channel(cands[k].filled, cands[k].kind == Kind::kFloat32,
+                                            float_predictor[k], enc, limit);
+      return true;
     };
     size_t pick = 0;
     if (cands.size() > 1) {
-      // Measured: each candidate coded alone (fresh models), the smallest kept.
+      // Measured: each candidate coded alone (fresh models), the smallest kept (the first of
+      // equals). A later candidate's size is at least its header, one byte of block length
+      // and the bytes its coder has output so far: its trial stops once that reaches `best`.
       size_t best = 0;
       for (size_t k = 0; k < cands.size(); ++k) {
         IntEncoder trial(analog::kAnalogContexts);
@@ -263,7 +272,9 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
         ByteWriter th;
         uint64_t tl = last_const;
         analog::write_repr_header(cands[k], &tl, &th);
-        emit(k, &tc);
+        const size_t fixed = th.size() + 1;
+        const size_t limit = k == 0 ? SIZE_MAX : best > fixed ? best - fixed : 0;
+        if (!emit(k, &tc, limit)) continue;
         trial.commit(tc);
         const size_t bytes = th.size() + trial.finish().size();
         if (k == 0 || bytes < best) {
@@ -275,7 +286,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     const ChannelRepr& r = cands[pick];
     analog::write_repr_header(r, &last_const, &head);
     any_coded |= coded(r.kind);
-    emit(pick, &cur);
+    emit(pick, &cur, SIZE_MAX);
     has_r1[c] = analog::is_integer_kind(r.kind);
     if (has_r1[c]) r1s[c] = std::move(plans[pick].r1);
   }

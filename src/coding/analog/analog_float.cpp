@@ -1,5 +1,6 @@
 #include "coding/analog/analog_float.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "coding/analog/analog_entropy.h"
@@ -43,15 +44,20 @@ int choose_float_predictor(const std::vector<double>& x, bool f32) {
   return cost[1] < cost[0] ? 1 : 0;
 }
 
-void encode_float_channel(const std::vector<double>& x, bool f32, int kind,
-                          IntEncoder::Cursor* enc) {
+bool encode_float_channel(const std::vector<double>& x, bool f32, int kind, IntEncoder::Cursor* enc,
+                          size_t limit) {
   const size_t n = x.size();
   enc->put(static_cast<uint32_t>(kind), kParamContext);
   int prev_nb = 0;
-  for (size_t i = 0; i < n; ++i) {
-    const double a = i > 0 ? x[i - 1] : 0, b = i > 1 ? x[i - 2] : 0;
-    put_float_residual(enc, &prev_nb, residual(x[i], predict(kind, a, b, f32), f32));
+  for (size_t i0 = 0; i0 < n; i0 += 1024) {
+    if (enc->bytes_out() >= limit) return false;
+    const size_t i1 = std::min(n, i0 + 1024);
+    for (size_t i = i0; i < i1; ++i) {
+      const double a = i > 0 ? x[i - 1] : 0, b = i > 1 ? x[i - 2] : 0;
+      put_float_residual(enc, &prev_nb, residual(x[i], predict(kind, a, b, f32), f32));
+    }
   }
+  return true;
 }
 
 void encode_float_channel(const std::vector<double>& x, bool f32, IntEncoder::Cursor* enc) {
