@@ -106,9 +106,10 @@ inline std::pair<uint64_t, uint64_t> sign_lms_run(const int32_t* in, size_t n, T
   typedef double Lanes __attribute__((vector_size(16)));
   constexpr int kTaps = SignLms::kTaps;
   constexpr double kStep = SignLms::kStep, kMaxWeight = SignLms::kMaxWeight;
+  // Bit length of the zig-zag u of v (|v| < 2^62 here): the top set bit of 2 u + 1 (one bsr).
   auto bits = [](int64_t v) {
     const uint64_t u = (static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63);
-    return static_cast<uint64_t>(64 - __builtin_clzll(u | 1) - (u == 0));
+    return static_cast<uint64_t>(63 - __builtin_clzll((u << 1) | 1));
   };
   // c[kTaps + i] = clamp(in[i]), zeros before; up / down its sign times kStep / -kStep.
   const size_t m = n + kTaps;
@@ -119,7 +120,33 @@ inline std::pair<uint64_t, uint64_t> sign_lms_run(const int32_t* in, size_t n, T
   double* down = up + m;
   uint64_t before = 0;
   for (size_t k = 0; k < kTaps; ++k) c[k] = up[k] = down[k] = 0;
-  for (size_t i = 0; i < n; ++i) {
+  // Two samples a step: the clamp on doubles (exact), the signs from compares, and the bit
+  // lengths from the exponent of |2 in + 1/2| (= u + 1/2 for the zig-zag u; 1/2 gives 0).
+  typedef int32_t Pair __attribute__((vector_size(8)));
+  typedef unsigned long long Ints __attribute__((vector_size(16)));
+  const Lanes hi = {kMaxSample, kMaxSample}, lo = -hi, zero = {0, 0};
+  const Lanes step = {kStep, kStep}, half = {0.5, 0.5};
+  const Ints mag = {~(uint64_t{1} << 63), ~(uint64_t{1} << 63)};
+  Ints acc = {0, 0};
+  size_t i0 = 0;
+  for (; i0 + 2 <= n; i0 += 2) {
+    Pair q;
+    std::memcpy(&q, in + i0, sizeof q);
+    const Lanes x = __builtin_convertvector(q, Lanes);
+    Lanes v = x < hi ? x : hi;
+    v = v > lo ? v : lo;
+    const Lanes u = (v > zero ? step : zero) + (v < zero ? -step : zero);
+    const Lanes nu = -u;
+    std::memcpy(c + kTaps + i0, &v, sizeof v);
+    std::memcpy(up + kTaps + i0, &u, sizeof u);
+    std::memcpy(down + kTaps + i0, &nu, sizeof nu);
+    const Lanes e = (x + x) + half;
+    Ints eb;
+    std::memcpy(&eb, &e, sizeof e);
+    acc += (eb & mag) >> 52;
+  }
+  before = acc[0] + acc[1] - 1022 * i0;
+  for (size_t i = i0; i < n; ++i) {
     const int64_t v = in[i] > kMaxSample ? kMaxSample : in[i] < -kMaxSample ? -kMaxSample : in[i];
     const double sg = v > 0 ? 1.0 : v < 0 ? -1.0 : 0.0;
     c[kTaps + i] = static_cast<double>(v);
