@@ -20,12 +20,17 @@ namespace {
 
 constexpr uint64_t kNegZero = uint64_t{1} << 63;
 
-// std::round (halves away from zero, sign of zero kept) without the library call; exact.
+// std::round (halves away from zero, sign of zero kept) without the library call or a branch
+// on the fraction; exact. For 0 <= x < 2^52, x + h (h = 1/2 - 2^-54, the double below 1/2)
+// rounds to a double in [floor(x), floor(x) + 1) when frac(x) < 1/2 (the sum stays at least
+// ulp(x) + 2^-54 below floor(x) + 1, and doubles there are ulp(x) apart), and to one in
+// [floor(x) + 1, floor(x) + 1.5] otherwise (frac = 1/2 gives floor(x) + 1 - 2^-54, nearer
+// floor(x) + 1, or a tie at x = 1/2 that goes to the even 1): truncation gives floor(x + 1/2).
+// Negative x by symmetry.
 inline double round_half_away(double x) {
   if (!(std::fabs(x) < 4503599627370496.0)) return std::round(x);  // 2^52: integral, NaN, Inf
-  const double t = static_cast<double>(static_cast<int64_t>(x));   // towards zero
-  const double d = x - t;                                          // exact
-  return std::copysign(d >= 0.5 ? t + 1 : d <= -0.5 ? t - 1 : t, x);
+  const double s = x + std::copysign(0.49999999999999994, x);
+  return std::copysign(static_cast<double>(static_cast<int64_t>(s)), x);
 }
 constexpr int64_t kMaxScaledK = int64_t{1} << 24;
 
