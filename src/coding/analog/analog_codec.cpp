@@ -133,8 +133,12 @@ void plan_int_channel(const std::vector<int32_t>& x,
 
 // Integer channel: the cascade flag, the reference distance (and beta), then per block the LPC
 // parameters and residuals. Stops, returning false, once enc->bytes_out() reaches `limit`
-// (checked every 1024 samples).
-bool emit_int_channel(const IntPlan& plan, IntEncoder::Cursor* enc, size_t limit = SIZE_MAX) {
+// (checked every 1024 samples). Everything it calls is inlined (flatten) and it codes through
+// a local copy of the cursor, which then stays in registers (entropy.h's Cursor).
+__attribute__((flatten)) bool emit_int_channel(const IntPlan& plan, IntEncoder::Cursor* out,
+                                               size_t limit = SIZE_MAX) {
+  IntEncoder::Cursor c = *out;
+  IntEncoder::Cursor* enc = &c;
   enc->put(plan.cascade ? 1 : 0, analog::kParamContext);
   enc->put(static_cast<uint32_t>(plan.cross.distance), analog::kParamContext);
   if (plan.cross.distance) enc->put_signed(plan.cross.beta, analog::kCoefContext);
@@ -144,11 +148,12 @@ bool emit_int_channel(const IntPlan& plan, IntEncoder::Cursor* enc, size_t limit
     const size_t b1 = std::min(n, b0 + kBlockRows);
     put_lpc(plan.params[b], enc);
     for (size_t i0 = b0; i0 < b1; i0 += 1024) {
-      if (enc->bytes_out() >= limit) return false;
+      if (enc->bytes_out() >= limit) return false;  // a stopped trial: its cursor is dropped
       const size_t i1 = std::min(b1, i0 + 1024);
       for (size_t i = i0; i < i1; ++i) analog::put_residual(enc, &mag, plan.r[i]);
     }
   }
+  *out = c;
   return true;
 }
 
