@@ -108,8 +108,11 @@ int choose_float_predictor(const std::vector<double>& x, bool f32) {
   return cost[1] < cost[0] ? 1 : 0;
 }
 
-bool encode_float_channel(const std::vector<double>& x, bool f32, int kind, IntEncoder::Cursor* enc,
-                          size_t limit) {
+// Flattened over a local copy of the cursor, as the integer channels' coding.
+__attribute__((flatten)) bool encode_float_channel(const std::vector<double>& x, bool f32, int kind,
+                                                   IntEncoder::Cursor* out, size_t limit) {
+  IntEncoder::Cursor c = *out;
+  IntEncoder::Cursor* enc = &c;
   const size_t n = x.size();
   enc->put(static_cast<uint32_t>(kind), kParamContext);
   int prev_nb = 0;
@@ -121,6 +124,7 @@ bool encode_float_channel(const std::vector<double>& x, bool f32, int kind, IntE
       put_float_residual(enc, &prev_nb, residual(x[i], predict(kind, a, b, f32), f32));
     }
   }
+  *out = c;
   return true;
 }
 
