@@ -88,6 +88,15 @@ std::vector<const std::vector<int32_t>*> cross_refs(const std::vector<std::vecto
   return refs;
 }
 
+// Their energies (analog::reference_energy), 0 where there is no reference.
+std::vector<double> cross_energies(const std::vector<double>& energy, const std::vector<bool>& has,
+                                   int c) {
+  std::vector<double> e;
+  for (int d = 1; d <= analog::kMaxCrossDistance && c - d >= 0; ++d)
+    e.push_back(has[c - d] ? energy[c - d] : 0.0);
+  return e;
+}
+
 // What the encoder decided for an integer channel: computed once, then coded into trial
 // encoders and the window's encoder alike.
 struct IntPlan {
@@ -100,10 +109,11 @@ struct IntPlan {
 
 // Four pipelines (reference or not, cascade or not), kept by the summed bit lengths.
 void plan_int_channel(const std::vector<int32_t>& x,
-                      const std::vector<const std::vector<int32_t>*>& refs, IntPlan* plan) {
+                      const std::vector<const std::vector<int32_t>*>& refs,
+                      const std::vector<double>& ref_energy, IntPlan* plan) {
   lpc_stage(x, &plan->params, &plan->r1);
   const std::vector<int32_t>& r1 = plan->r1;
-  analog::CrossParams cross = analog::choose_cross(r1, refs);
+  analog::CrossParams cross = analog::choose_cross(r1, refs, ref_energy);
   std::vector<int32_t> with_ref;
   if (cross.distance) {
     const std::vector<int32_t>& ref = *refs[cross.distance - 1];
@@ -230,6 +240,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
   IntEncoder ent(analog::kAnalogContexts);
   IntEncoder::Cursor cur = ent.cursor();
   std::vector<std::vector<int32_t>> r1s(static_cast<size_t>(channels));
+  std::vector<double> energy(static_cast<size_t>(channels), 0.0);
   std::vector<bool> has_r1(static_cast<size_t>(channels), false);
   // Channel-major copy of the window, read row by row: one channel's samples are then
   // contiguous (a column of the row-major window is one cache line per sample).
@@ -243,6 +254,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     std::vector<ChannelRepr> cands = analog::candidate_representations(
         cols.data() + static_cast<size_t>(c) * nrows, 1, nrows, hint);
     const std::vector<const std::vector<int32_t>*> refs = cross_refs(r1s, has_r1, c);
+    const std::vector<double> ref_energy = cross_energies(energy, has_r1, c);
     // Integer kinds: the pipeline's decisions, made once per candidate; float kinds: the
     // predictor.
     std::vector<IntPlan> plans(cands.size());
@@ -252,7 +264,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     };
     for (size_t k = 0; k < cands.size(); ++k) {
       if (analog::is_integer_kind(cands[k].kind))
-        plan_int_channel(cands[k].ints, refs, &plans[k]);
+        plan_int_channel(cands[k].ints, refs, ref_energy, &plans[k]);
       else if (is_float(k))
         float_predictor[k] =
             analog::choose_float_predictor(cands[k].filled, cands[k].kind == Kind::kFloat32);
@@ -293,7 +305,10 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     any_coded |= coded(r.kind);
     emit(pick, &cur, SIZE_MAX);
     has_r1[c] = analog::is_integer_kind(r.kind);
-    if (has_r1[c]) r1s[c] = std::move(plans[pick].r1);
+    if (has_r1[c]) {
+      r1s[c] = std::move(plans[pick].r1);
+      energy[c] = analog::reference_energy(r1s[c]);
+    }
   }
   ent.commit(cur);
   ByteWriter out;

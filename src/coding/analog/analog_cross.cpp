@@ -79,9 +79,15 @@ int64_t residual_bits(const double* t, const int32_t* r1, const int32_t* ref, si
 
 }  // namespace
 
+double reference_energy(const std::vector<int32_t>& r) {
+  double e = 0;
+  for (int32_t v : r) e += static_cast<double>(v) * static_cast<double>(v);
+  return e;
+}
+
 CrossParams choose_cross(const std::vector<int32_t>& r1,
                          const std::vector<const std::vector<int32_t>*>& refs,
-                         double min_gain_bits) {
+                         const std::vector<double>& ref_energy, double min_gain_bits) {
   CrossParams best;
   const size_t n = r1.size();
   // t = 2 r1 + 1/2 for residual_bits; r1 all zero (no energy) takes no reference.
@@ -113,11 +119,12 @@ CrossParams choose_cross(const std::vector<int32_t>& r1,
   }
   if (!nonzero) return best;
   double best_bits = min_gain_bits;
-  // Cross and reference energies, four references a pass in two-lane vectors (each lane the
-  // same sum, in the same order, as one reference alone; a missing reference reads zeros).
+  // Cross energies, four references a pass in two-lane vectors (each lane the same sum, in
+  // the same order, as one reference alone; a missing reference reads zeros); the references'
+  // own energies were computed once, in the same order.
   const size_t nr = refs.size();
   auto usable = [&](size_t d) { return refs[d] && refs[d]->size() == n; };
-  std::vector<double> ecrs(nr + 3, 0.0), errs(nr + 3, 0.0);
+  std::vector<double> ecrs(nr + 3, 0.0);
   std::vector<int32_t> zeros;
   for (size_t d0 = 0; d0 < nr; d0 += 4) {
     const int32_t* p[4];
@@ -129,27 +136,23 @@ CrossParams choose_cross(const std::vector<int32_t>& r1,
         p[k] = zeros.data();
       }
     }
-    Lanes e0 = {0, 0}, e1 = {0, 0}, q0 = {0, 0}, q1 = {0, 0};
+    Lanes e0 = {0, 0}, e1 = {0, 0};
     for (size_t i = 0; i < n; ++i) {
       const double a = r1[i];
       const Lanes b0 = {static_cast<double>(p[0][i]), static_cast<double>(p[1][i])};
       const Lanes b1 = {static_cast<double>(p[2][i]), static_cast<double>(p[3][i])};
       e0 += a * b0;
       e1 += a * b1;
-      q0 += b0 * b0;
-      q1 += b1 * b1;
     }
     for (size_t k = 0; k < 2; ++k) {
       ecrs[d0 + k] = e0[k];
       ecrs[d0 + 2 + k] = e1[k];
-      errs[d0 + k] = q0[k];
-      errs[d0 + 2 + k] = q1[k];
     }
   }
   for (size_t d = 0; d < nr; ++d) {
     if (!usable(d)) continue;
     const std::vector<int32_t>* ref = refs[d];
-    const double ecr = ecrs[d], err = errs[d];
+    const double ecr = ecrs[d], err = ref_energy[d];
     if (err <= 0) continue;
     const double beta = std::round(ecr / err * (1 << kCrossShift));
     if (!(std::fabs(beta) < kMaxBeta) || beta == 0) continue;
