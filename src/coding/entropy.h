@@ -88,6 +88,8 @@ class IntEncoder {
     void raw_bits(uint32_t v, int n) { bits_.put(v, n, bits_out_); }
     // For SymbolModel::encode.
     void encode(uint32_t start, uint32_t freq) { rc_.encode(start, freq, rc_out_); }
+    // Bytes output so far: finish() only adds to them (a lower bound of the block's size).
+    size_t bytes_out() const { return rc_out_->size() + bits_out_->size(); }
 
    private:
     friend class IntEncoder;

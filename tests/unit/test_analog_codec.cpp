@@ -10,6 +10,8 @@
 #include "capz/error.h"
 #include "capz/io.h"
 #include "coding/analog/analog_codec.h"
+#include "coding/analog/analog_float.h"
+#include "coding/analog/analog_repr.h"
 
 namespace capz {
 namespace {
@@ -259,6 +261,59 @@ TEST(AnalogCodec, GivenSharedTakesWhenCodedThenExactAndSmallerThanRaw) {
     EXPECT_LT(bytes, t.analog.values.size() * 4 / 2) << f;
   }
   if (seen == 0) GTEST_SKIP() << "shared data not found under " << dir;
+}
+
+// The float predictors' costs as analog_float.h defines them, one sample at a time in integers.
+void plain_predictor_costs(const std::vector<double>& x, bool f32, uint64_t cost[2]) {
+  cost[0] = cost[1] = 0;
+  for (size_t i = 0; i < x.size(); ++i) {
+    const double a = i > 0 ? x[i - 1] : 0, b = i > 1 ? x[i - 2] : 0;
+    for (int k = 0; k < 2; ++k) {
+      double p = k == 0 ? a : a + (a - b);
+      if (f32) p = analog::round_to_float32(p);
+      const int64_t d = f32 ? static_cast<int64_t>(analog::ordered_f32(x[i])) -
+                                  static_cast<int64_t>(analog::ordered_f32(p))
+                            : static_cast<int64_t>(analog::ordered_bits(bits(x[i])) -
+                                                   analog::ordered_bits(bits(p)));
+      const uint64_t u = (static_cast<uint64_t>(d) << 1) ^ static_cast<uint64_t>(d >> 63);
+      cost[k] += u == 0 ? 0 : 64 - __builtin_clzll(u);
+    }
+  }
+}
+
+TEST(AnalogFloat, GivenFloat32SamplesWhenPredictorCostsThenThoseOfThePlainLoop) {
+  const float kMax = std::numeric_limits<float>::max();
+  const float kTiny = std::numeric_limits<float>::denorm_min();
+  std::mt19937 rng(17);
+  std::normal_distribution<float> walk(0, 3);
+  std::uniform_int_distribution<uint32_t> any(0, 0xFFFFFFFFu);
+  std::vector<std::vector<double>> seqs;
+  std::vector<double> smooth, wild, edges;
+  float v = 0;
+  for (int i = 0; i < 5001; ++i) {
+    v += walk(rng);
+    smooth.push_back(v);
+    uint32_t b = any(rng);
+    if ((b & 0x7F800000u) == 0x7F800000u) b &= ~0x00800000u;  // finite
+    float f;
+    std::memcpy(&f, &b, 4);
+    wild.push_back(f);
+  }
+  // Near the float range (predictions beyond it are clamped), zeros of both signs, subnormals.
+  for (double e : {0.0, -0.0, 0.0, static_cast<double>(kMax), static_cast<double>(kMax),
+                   static_cast<double>(-kMax), static_cast<double>(kMax), 0.0, -0.0, -0.0,
+                   static_cast<double>(kTiny), static_cast<double>(-kTiny), 1.0, -1.0,
+                   static_cast<double>(-kMax), static_cast<double>(-kMax), 3.0})
+    edges.push_back(e);
+  seqs = {smooth, wild, edges, {}, {1.5}, {1.5, -2.25}, {1.5, -2.25, 7.0}};
+  for (const std::vector<double>& x : seqs)
+    for (bool f32 : {true, false}) {
+      uint64_t want[2], got[2];
+      plain_predictor_costs(x, f32, want);
+      analog::float_predictor_costs(x, f32, got);
+      EXPECT_EQ(got[0], want[0]) << x.size() << " samples, f32 " << f32;
+      EXPECT_EQ(got[1], want[1]) << x.size() << " samples, f32 " << f32;
+    }
 }
 
 }  // namespace

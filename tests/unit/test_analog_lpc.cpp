@@ -167,7 +167,10 @@ std::vector<std::vector<int32_t>> cascade_inputs() {
     flat.push_back(i < 15000 ? (1 << 30) : -(1 << 30));  // beyond the history clamp
     steps.push_back(((i / 700) % 2 ? 1 : -1) * (i % 7) * 40000);
   }
-  seqs = {ar, extreme, flat, steps};
+  std::vector<int32_t> odd(ar.begin(), ar.begin() + 1001);  // an odd count: the scalar tail
+  odd.push_back(-(1 << 30));
+  odd.push_back(1 << 29);
+  seqs = {ar, extreme, flat, steps, odd};
   return seqs;
 }
 
@@ -177,6 +180,15 @@ TEST(AnalogCascade, GivenInputsWhenRunAsDoublesThenExactlyTheIntegerFilter) {
     SignLms lms;
     std::vector<int64_t> batch(in.size());
     sign_lms_residuals(in.data(), in.size(), batch.data());
+    std::vector<int32_t> batch32(in.size());
+    const auto sums = sign_lms_run(in.data(), in.size(), batch32.data());
+    auto bit_length = [](int64_t v) {
+      const uint64_t u = (static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63);
+      int b = 0;
+      while (b < 64 && (u >> b) != 0) ++b;
+      return static_cast<uint64_t>(b);
+    };
+    uint64_t bits_in = 0, bits_out = 0;
     for (size_t i = 0; i < in.size(); ++i) {
       const int64_t want = in[i] - ref.predict();
       ref.update(in[i], want);
@@ -184,7 +196,12 @@ TEST(AnalogCascade, GivenInputsWhenRunAsDoublesThenExactlyTheIntegerFilter) {
       lms.update(in[i], got);
       ASSERT_EQ(got, want) << "sample " << i;
       ASSERT_EQ(batch[i], want) << "sample " << i;
+      ASSERT_EQ(batch32[i], want) << "sample " << i;
+      bits_in += bit_length(in[i]);
+      bits_out += bit_length(want);
     }
+    EXPECT_EQ(sums.first, bits_in);
+    EXPECT_EQ(sums.second, bits_out);
   }
 }
 
@@ -212,26 +229,26 @@ TEST(AnalogLpc, GivenCoefficientsWhenKernelPredictsThenExactlyLpcPredict) {
 TEST(AnalogLpc, GivenBlocksWhenAutocorrelatedThenBitForBitThePlainLoop) {
   std::mt19937 rng(9);
   std::uniform_int_distribution<int32_t> x(-kMaxSample, kMaxSample);
-  for (size_t n : {1, 7, 33, 100, 4096}) {
-    std::vector<int32_t> xs(n);
-    for (int32_t& v : xs) v = x(rng);
-    const int max_lag = 32;
-    // The plain loop: Tukey(0.5) window, then each lag summed in increasing i.
-    std::vector<double> w(n);
-    const double taper = 0.25 * static_cast<double>(n);
-    for (size_t i = 0; i < n; ++i) {
-      const double d = std::min<double>(static_cast<double>(i), static_cast<double>(n - 1 - i));
-      const double g = d < taper ? 0.5 - 0.5 * std::cos(M_PI * (d + 0.5) / taper) : 1.0;
-      w[i] = g * xs[i];
+  for (size_t n : {1, 7, 33, 100, 4096})
+    for (int max_lag : {32, 31, 20, 16, 9, 8, 5, 1, 0}) {
+      std::vector<int32_t> xs(n);
+      for (int32_t& v : xs) v = x(rng);
+      // The plain loop: Tukey(0.5) window, then each lag summed in increasing i.
+      std::vector<double> w(n);
+      const double taper = 0.25 * static_cast<double>(n);
+      for (size_t i = 0; i < n; ++i) {
+        const double d = std::min<double>(static_cast<double>(i), static_cast<double>(n - 1 - i));
+        const double g = d < taper ? 0.5 - 0.5 * std::cos(M_PI * (d + 0.5) / taper) : 1.0;
+        w[i] = g * xs[i];
+      }
+      const std::vector<double> r = autocorrelation(xs.data(), n, max_lag);
+      ASSERT_EQ(r.size(), static_cast<size_t>(max_lag) + 1);
+      for (int k = 0; k <= max_lag; ++k) {
+        double s = 0;
+        for (size_t i = static_cast<size_t>(k); i < n; ++i) s += w[i] * w[i - k];
+        EXPECT_EQ(r[k], s) << "n " << n << " lag " << k << " of " << max_lag;
+      }
     }
-    const std::vector<double> r = autocorrelation(xs.data(), n, max_lag);
-    ASSERT_EQ(r.size(), static_cast<size_t>(max_lag) + 1);
-    for (int k = 0; k <= max_lag; ++k) {
-      double s = 0;
-      for (size_t i = static_cast<size_t>(k); i < n; ++i) s += w[i] * w[i - k];
-      EXPECT_EQ(r[k], s) << "n " << n << " lag " << k;
-    }
-  }
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 #include "coding/analog/analog_lpc.h"
@@ -94,19 +95,64 @@ class SignLms {
 };
 
 // The cascade over a whole known input: out[i] = in[i] - p[i] with p[i] exactly SignLms's
-// prediction after in[0..i) (the encoder's pass). The history is read from a precomputed
-// array of clamped inputs and their signs in increasing addresses (weights kept reversed),
-// so the loop stores nothing that a later load of the history must wait for.
-inline void sign_lms_residuals(const int32_t* in, size_t n, int64_t* out) {
+// prediction after in[0..i) (the encoder's pass); returns the summed bit lengths of the
+// zig-zags of in and of out. The history is read from a precomputed array of clamped inputs
+// and their signs in increasing addresses (weights kept reversed), so the loop stores nothing
+// that a later load of the history must wait for; the signs are stored times +kStep and times
+// -kStep, so a weight update adds one of the two (d sgn(h) of the filter, the same products).
+// The arrays are a reused per-thread buffer.
+template <typename T>
+inline std::pair<uint64_t, uint64_t> sign_lms_run(const int32_t* in, size_t n, T* out) {
   typedef double Lanes __attribute__((vector_size(16)));
   constexpr int kTaps = SignLms::kTaps;
   constexpr double kStep = SignLms::kStep, kMaxWeight = SignLms::kMaxWeight;
-  // c[kTaps + i] = clamp(in[i]), zeros before; sg the signs.
-  std::vector<double> c(n + kTaps, 0.0), sg(n + kTaps, 0.0);
-  for (size_t i = 0; i < n; ++i) {
+  // Bit length of the zig-zag u of v (|v| < 2^62 here): the top set bit of 2 u + 1 (one bsr).
+  auto bits = [](int64_t v) {
+    const uint64_t u = (static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63);
+    return static_cast<uint64_t>(63 - __builtin_clzll((u << 1) | 1));
+  };
+  // c[kTaps + i] = clamp(in[i]), zeros before; up / down its sign times kStep / -kStep.
+  const size_t m = n + kTaps;
+  thread_local std::vector<double> buf;
+  if (buf.size() < 3 * m) buf.resize(3 * m);
+  double* c = buf.data();
+  double* up = c + m;
+  double* down = up + m;
+  uint64_t before = 0;
+  for (size_t k = 0; k < kTaps; ++k) c[k] = up[k] = down[k] = 0;
+  // Two samples a step: the clamp on doubles (exact), the signs from compares, and the bit
+  // lengths from the exponent of |2 in + 1/2| (= u + 1/2 for the zig-zag u; 1/2 gives 0).
+  typedef int32_t Pair __attribute__((vector_size(8)));
+  typedef unsigned long long Ints __attribute__((vector_size(16)));
+  const Lanes hi = {kMaxSample, kMaxSample}, lo = -hi, zero = {0, 0};
+  const Lanes step = {kStep, kStep}, half = {0.5, 0.5};
+  const Ints mag = {~(uint64_t{1} << 63), ~(uint64_t{1} << 63)};
+  Ints acc = {0, 0};
+  size_t i0 = 0;
+  for (; i0 + 2 <= n; i0 += 2) {
+    Pair q;
+    std::memcpy(&q, in + i0, sizeof q);
+    const Lanes x = __builtin_convertvector(q, Lanes);
+    Lanes v = x < hi ? x : hi;
+    v = v > lo ? v : lo;
+    const Lanes u = (v > zero ? step : zero) + (v < zero ? -step : zero);
+    const Lanes nu = -u;
+    std::memcpy(c + kTaps + i0, &v, sizeof v);
+    std::memcpy(up + kTaps + i0, &u, sizeof u);
+    std::memcpy(down + kTaps + i0, &nu, sizeof nu);
+    const Lanes e = (x + x) + half;
+    Ints eb;
+    std::memcpy(&eb, &e, sizeof e);
+    acc += (eb & mag) >> 52;
+  }
+  before = acc[0] + acc[1] - 1022 * i0;
+  for (size_t i = i0; i < n; ++i) {
     const int64_t v = in[i] > kMaxSample ? kMaxSample : in[i] < -kMaxSample ? -kMaxSample : in[i];
+    const double sg = v > 0 ? 1.0 : v < 0 ? -1.0 : 0.0;
     c[kTaps + i] = static_cast<double>(v);
-    sg[kTaps + i] = v > 0 ? 1.0 : v < 0 ? -1.0 : 0.0;
+    up[kTaps + i] = kStep * sg;
+    down[kTaps + i] = -kStep * sg;
+    before += bits(in[i]);
   }
   auto load = [](const double* p) {
     Lanes v;
@@ -116,8 +162,9 @@ inline void sign_lms_residuals(const int32_t* in, size_t n, int64_t* out) {
   // wr[k] = w[kTaps - 1 - k] multiplies c[kTaps + i - kTaps + k] = in[i - kTaps + k].
   Lanes wr[kTaps / 2] = {};
   double bound = 0;
+  uint64_t after = 0;
   for (size_t i = 0; i < n; ++i) {
-    const double* h = c.data() + i;
+    const double* h = c + i;
     Lanes p[kTaps / 2];
     for (int j = 0; j < kTaps / 2; ++j) p[j] = wr[j] * load(h + 2 * j);
     const Lanes a = ((p[0] + p[1]) + (p[2] + p[3])) + ((p[4] + p[5]) + (p[6] + p[7]));
@@ -125,27 +172,32 @@ inline void sign_lms_residuals(const int32_t* in, size_t n, int64_t* out) {
     s = (s + (int64_t{1} << (SignLms::kShift - 1))) >> SignLms::kShift;
     s = s > kMaxSample ? kMaxSample : s < -kMaxSample ? -kMaxSample : s;
     const int64_t o = in[i] - s;
-    out[i] = o;
+    out[i] = static_cast<T>(o);
+    after += bits(o);
     if (o == 0) continue;
-    const double d = o > 0 ? kStep : -kStep;
-    const double* g = sg.data() + i;
+    const double* g = (o > 0 ? up : down) + i;  // d sgn(h), d = +-kStep
     if (bound + kStep <= kMaxWeight) {
-      for (int j = 0; j < kTaps / 2; ++j) wr[j] += d * load(g + 2 * j);
+      for (int j = 0; j < kTaps / 2; ++j) wr[j] += load(g + 2 * j);
       bound += kStep;
     } else {
       const Lanes lim = {kMaxWeight, kMaxWeight}, nlim = -lim;
-      Lanes m = {0, 0};
+      Lanes mx = {0, 0};
       for (int j = 0; j < kTaps / 2; ++j) {
-        Lanes w = wr[j] + d * load(g + 2 * j);
+        Lanes w = wr[j] + load(g + 2 * j);
         w = w > lim ? lim : w;
         w = w < nlim ? nlim : w;
         wr[j] = w;
         const Lanes aw = w < 0 ? -w : w;
-        m = aw > m ? aw : m;
+        mx = aw > mx ? aw : mx;
       }
-      bound = m[0] > m[1] ? m[0] : m[1];
+      bound = mx[0] > mx[1] ? mx[0] : mx[1];
     }
   }
+  return {before, after};
+}
+
+inline void sign_lms_residuals(const int32_t* in, size_t n, int64_t* out) {
+  sign_lms_run(in, n, out);
 }
 
 }  // namespace analog

@@ -47,11 +47,6 @@ analog::LpcParams get_lpc(IntDecoder::Cursor* dec) {
   return p;
 }
 
-int bit_length(int64_t e) {
-  const uint64_t u = analog::zigzag64(e);
-  return u == 0 ? 0 : 64 - __builtin_clzll(u);
-}
-
 // The samples as doubles after kMaxLpcOrder zeros (analog::LpcKernel reads before the first).
 std::vector<double> padded_doubles(const std::vector<int32_t>& x) {
   std::vector<double> xd(x.size() + analog::kMaxLpcOrder, 0.0);
@@ -77,17 +72,11 @@ void lpc_stage(const std::vector<int32_t>& x, std::vector<analog::LpcParams>* pa
   }
 }
 
-// The cascade stage over residuals r, in place; returns the summed bit lengths before and after.
-std::pair<uint64_t, uint64_t> cascade_stage(std::vector<int32_t>* r) {
-  std::vector<int64_t> out(r->size());
-  analog::sign_lms_residuals(r->data(), r->size(), out.data());
-  uint64_t before = 0, after = 0;
-  for (size_t i = 0; i < r->size(); ++i) {
-    before += bit_length((*r)[i]);
-    after += bit_length(out[i]);
-    (*r)[i] = static_cast<int32_t>(out[i]);
-  }
-  return {before, after};
+// The cascade stage over residuals r into *out; returns the summed bit lengths before and after.
+std::pair<uint64_t, uint64_t> cascade_stage(const std::vector<int32_t>& r,
+                                            std::vector<int32_t>* out) {
+  out->resize(r.size());
+  return analog::sign_lms_run(r.data(), r.size(), out->data());
 }
 
 // The LPC residuals of the channels before c that can serve as references (A.3.2).
@@ -97,6 +86,15 @@ std::vector<const std::vector<int32_t>*> cross_refs(const std::vector<std::vecto
   for (int d = 1; d <= analog::kMaxCrossDistance && c - d >= 0; ++d)
     refs.push_back(has[c - d] ? &r1s[c - d] : nullptr);
   return refs;
+}
+
+// Their energies (analog::reference_energy), 0 where there is no reference.
+std::vector<double> cross_energies(const std::vector<double>& energy, const std::vector<bool>& has,
+                                   int c) {
+  std::vector<double> e;
+  for (int d = 1; d <= analog::kMaxCrossDistance && c - d >= 0; ++d)
+    e.push_back(has[c - d] ? energy[c - d] : 0.0);
+  return e;
 }
 
 // What the encoder decided for an integer channel: computed once, then coded into trial
@@ -111,10 +109,11 @@ struct IntPlan {
 
 // Four pipelines (reference or not, cascade or not), kept by the summed bit lengths.
 void plan_int_channel(const std::vector<int32_t>& x,
-                      const std::vector<const std::vector<int32_t>*>& refs, IntPlan* plan) {
+                      const std::vector<const std::vector<int32_t>*>& refs,
+                      const std::vector<double>& ref_energy, IntPlan* plan) {
   lpc_stage(x, &plan->params, &plan->r1);
   const std::vector<int32_t>& r1 = plan->r1;
-  analog::CrossParams cross = analog::choose_cross(r1, refs);
+  analog::CrossParams cross = analog::choose_cross(r1, refs, ref_energy);
   std::vector<int32_t> with_ref;
   if (cross.distance) {
     const std::vector<int32_t>& ref = *refs[cross.distance - 1];
@@ -122,9 +121,9 @@ void plan_int_channel(const std::vector<int32_t>& x,
     for (size_t i = 0; i < r1.size(); ++i)
       with_ref[i] = static_cast<int32_t>(r1[i] - analog::cross_predict(cross.beta, ref[i]));
   }
-  std::vector<int32_t> plain_lms = r1, ref_lms = with_ref;
-  const auto plain_cost = cascade_stage(&plain_lms);
-  const auto ref_cost = cross.distance ? cascade_stage(&ref_lms) : plain_cost;
+  std::vector<int32_t> plain_lms, ref_lms;
+  const auto plain_cost = cascade_stage(r1, &plain_lms);
+  const auto ref_cost = cross.distance ? cascade_stage(with_ref, &ref_lms) : plain_cost;
   const uint64_t costs[4] = {plain_cost.first, plain_cost.second, ref_cost.first, ref_cost.second};
   int best = 0;
   for (int k = 1; k < (cross.distance ? 4 : 2); ++k)
@@ -143,8 +142,13 @@ void plan_int_channel(const std::vector<int32_t>& x,
 }
 
 // Integer channel: the cascade flag, the reference distance (and beta), then per block the LPC
-// parameters and residuals.
-void emit_int_channel(const IntPlan& plan, IntEncoder::Cursor* enc) {
+// parameters and residuals. Stops, returning false, once enc->bytes_out() reaches `limit`
+// (checked every 1024 samples). Everything it calls is inlined (flatten) and it codes through
+// a local copy of the cursor, which then stays in registers (entropy.h's Cursor).
+__attribute__((flatten)) bool emit_int_channel(const IntPlan& plan, IntEncoder::Cursor* out,
+                                               size_t limit = SIZE_MAX) {
+  IntEncoder::Cursor c = *out;
+  IntEncoder::Cursor* enc = &c;
   enc->put(plan.cascade ? 1 : 0, analog::kParamContext);
   enc->put(static_cast<uint32_t>(plan.cross.distance), analog::kParamContext);
   if (plan.cross.distance) enc->put_signed(plan.cross.beta, analog::kCoefContext);
@@ -153,8 +157,14 @@ void emit_int_channel(const IntPlan& plan, IntEncoder::Cursor* enc) {
   for (size_t b0 = 0, b = 0; b0 < n; b0 += kBlockRows, ++b) {
     const size_t b1 = std::min(n, b0 + kBlockRows);
     put_lpc(plan.params[b], enc);
-    for (size_t i = b0; i < b1; ++i) analog::put_residual(enc, &mag, plan.r[i]);
+    for (size_t i0 = b0; i0 < b1; i0 += 1024) {
+      if (enc->bytes_out() >= limit) return false;  // a stopped trial: its cursor is dropped
+      const size_t i1 = std::min(b1, i0 + 1024);
+      for (size_t i = i0; i < i1; ++i) analog::put_residual(enc, &mag, plan.r[i]);
+    }
   }
+  *out = c;
+  return true;
 }
 
 // Samples [b0, b1) of an integer channel, the stage flags fixed at compile time.
@@ -230,6 +240,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
   IntEncoder ent(analog::kAnalogContexts);
   IntEncoder::Cursor cur = ent.cursor();
   std::vector<std::vector<int32_t>> r1s(static_cast<size_t>(channels));
+  std::vector<double> energy(static_cast<size_t>(channels), 0.0);
   std::vector<bool> has_r1(static_cast<size_t>(channels), false);
   // Channel-major copy of the window, read row by row: one channel's samples are then
   // contiguous (a column of the row-major window is one cache line per sample).
@@ -243,6 +254,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     std::vector<ChannelRepr> cands = analog::candidate_representations(
         cols.data() + static_cast<size_t>(c) * nrows, 1, nrows, hint);
     const std::vector<const std::vector<int32_t>*> refs = cross_refs(r1s, has_r1, c);
+    const std::vector<double> ref_energy = cross_energies(energy, has_r1, c);
     // Integer kinds: the pipeline's decisions, made once per candidate; float kinds: the
     // predictor.
     std::vector<IntPlan> plans(cands.size());
@@ -252,21 +264,24 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     };
     for (size_t k = 0; k < cands.size(); ++k) {
       if (analog::is_integer_kind(cands[k].kind))
-        plan_int_channel(cands[k].ints, refs, &plans[k]);
+        plan_int_channel(cands[k].ints, refs, ref_energy, &plans[k]);
       else if (is_float(k))
         float_predictor[k] =
             analog::choose_float_predictor(cands[k].filled, cands[k].kind == Kind::kFloat32);
     }
-    auto emit = [&](size_t k, IntEncoder::Cursor* enc) {
-      if (analog::is_integer_kind(cands[k].kind))
-        emit_int_channel(plans[k], enc);
-      else if (is_float(k))
-        analog::encode_float_channel(cands[k].filled, cands[k].kind == Kind::kFloat32,
-                                     float_predictor[k], enc);
+    // False when the coding stopped at `limit` bytes out (a trial that cannot win).
+    auto emit = [&](size_t k, IntEncoder::Cursor* enc, size_t limit) {
+      if (analog::is_integer_kind(cands[k].kind)) return emit_int_channel(plans[k], enc, limit);
+      if (is_float(k))
+        return analog::encode_float_channel(cands[k].filled, cands[k].kind == Kind::kFloat32,
+                                            float_predictor[k], enc, limit);
+      return true;
     };
     size_t pick = 0;
     if (cands.size() > 1) {
-      // Measured: each candidate coded alone (fresh models), the smallest kept.
+      // Measured: each candidate coded alone (fresh models), the smallest kept (the first of
+      // equals). A later candidate's size is at least its header, one byte of block length
+      // and the bytes its coder has output so far: its trial stops once that reaches `best`.
       size_t best = 0;
       for (size_t k = 0; k < cands.size(); ++k) {
         IntEncoder trial(analog::kAnalogContexts);
@@ -274,7 +289,9 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
         ByteWriter th;
         uint64_t tl = last_const;
         analog::write_repr_header(cands[k], &tl, &th);
-        emit(k, &tc);
+        const size_t fixed = th.size() + 1;
+        const size_t limit = k == 0 ? SIZE_MAX : best > fixed ? best - fixed : 0;
+        if (!emit(k, &tc, limit)) continue;
         trial.commit(tc);
         const size_t bytes = th.size() + trial.finish().size();
         if (k == 0 || bytes < best) {
@@ -286,9 +303,12 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     const ChannelRepr& r = cands[pick];
     analog::write_repr_header(r, &last_const, &head);
     any_coded |= coded(r.kind);
-    emit(pick, &cur);
+    emit(pick, &cur, SIZE_MAX);
     has_r1[c] = analog::is_integer_kind(r.kind);
-    if (has_r1[c]) r1s[c] = std::move(plans[pick].r1);
+    if (has_r1[c]) {
+      r1s[c] = std::move(plans[pick].r1);
+      energy[c] = analog::reference_energy(r1s[c]);
+    }
   }
   ent.commit(cur);
   ByteWriter out;

@@ -16,15 +16,16 @@ int bit_length(int64_t v) {
   return 64 - __builtin_clzll(u | 1) - (u == 0);
 }
 
+typedef unsigned long long Ints __attribute__((vector_size(16)));
+
 // Sum over i of bit_length(r1[i] - cross_predict(beta, ref[i])), two samples a step on doubles.
 // With |beta| < 2^15 and |ref| <= 2^29 (an LPC residual), beta ref + 1/2 is exact, and
 //   floor((beta ref + 2^11) / 2^12) = nearest((beta ref + 1/2) / 2^12)
 // (never a tie), rounded by adding and subtracting 1.5 2^52. The zig-zag u of the difference
 // (< 2^31) is exact too, and the bit length of u >= 1 is its biased exponent - 1022; u = 0 is
 // raised to 1/2, whose exponent gives 0.
-int64_t residual_bits(const int32_t* r1, const int32_t* ref, size_t n, int32_t beta) {
-  typedef unsigned long long Ints __attribute__((vector_size(16)));  // u > 0: logical shift
-  const double kRound = 6755399441055744.0;                          // 1.5 2^52
+int64_t residual_bits_clamped(const int32_t* r1, const int32_t* ref, size_t n, int32_t beta) {
+  const double kRound = 6755399441055744.0;  // 1.5 2^52
   const Lanes b = {static_cast<double>(beta), static_cast<double>(beta)};
   const Lanes half = {0.5, 0.5}, scale = {1.0 / 4096, 1.0 / 4096}, big = {kRound, kRound};
   const Lanes hi = {kMaxSample, kMaxSample}, lo = -hi, zero = {0, 0};
@@ -47,25 +48,83 @@ int64_t residual_bits(const int32_t* r1, const int32_t* ref, size_t n, int32_t b
   return after;
 }
 
+// The same sum when no prediction can reach the clamp (|p| <= kMaxSample for every ref[i]),
+// from t[i] = 2 r1[i] + 1/2. With p as above (beta ref / 2^12 + 2^-13 is exact, as beta ref +
+// 1/2 is) and e = r1[i] - p: 2 p - t[i] = -(2 e + 1/2), whose magnitude is u + 1/2 for the
+// zig-zag u of e (2 e + 1/2 for e >= 0, (-2 e - 1) + 1/2 for e < 0), an exact double. u + 1/2
+// stays below the next power of two above u, so its biased exponent - 1022 is the bit length
+// of u, and 0 for u = 0 (1/2): one subtraction, a mask and a shift a sample.
+int64_t residual_bits(const double* t, const int32_t* r1, const int32_t* ref, size_t n,
+                      int32_t beta) {
+  const double kRound = 6755399441055744.0;  // 1.5 2^52
+  const double bs = static_cast<double>(beta) / 4096;
+  const Lanes b = {bs, bs}, h = {1.0 / 8192, 1.0 / 8192}, big = {kRound, kRound};
+  const Ints mag = {~(uint64_t{1} << 63), ~(uint64_t{1} << 63)};
+  Ints acc = {0, 0};
+  size_t i = 0;
+  for (; i + 2 <= n; i += 2) {
+    const Lanes x = {static_cast<double>(ref[i]), static_cast<double>(ref[i + 1])};
+    const Lanes p = ((b * x + h) + big) - big;
+    Lanes tt;
+    std::memcpy(&tt, t + i, sizeof tt);
+    const Lanes d = (p + p) - tt;
+    Ints bits;
+    std::memcpy(&bits, &d, sizeof d);
+    acc += (bits & mag) >> 52;
+  }
+  int64_t after = static_cast<int64_t>(acc[0] + acc[1]) - 1022 * static_cast<int64_t>(i);
+  for (; i < n; ++i) after += bit_length(r1[i] - cross_predict(beta, ref[i]));
+  return after;
+}
+
 }  // namespace
+
+double reference_energy(const std::vector<int32_t>& r) {
+  double e = 0;
+  for (int32_t v : r) e += static_cast<double>(v) * static_cast<double>(v);
+  return e;
+}
 
 CrossParams choose_cross(const std::vector<int32_t>& r1,
                          const std::vector<const std::vector<int32_t>*>& refs,
-                         double min_gain_bits) {
+                         const std::vector<double>& ref_energy, double min_gain_bits) {
   CrossParams best;
   const size_t n = r1.size();
-  double ecc = 0;
-  for (int32_t v : r1) ecc += static_cast<double>(v) * v;
-  if (n == 0 || ecc <= 0) return best;
+  // t = 2 r1 + 1/2 for residual_bits; r1 all zero (no energy) takes no reference.
+  // Bits saved = sum bit_length(r1) - sum bit_length(r1 - prediction), the first sum shared:
+  // residual_bits's with p = 0, |t| = u + 1/2 (two samples a step).
+  std::vector<double> t(n);
+  typedef int32_t Pair __attribute__((vector_size(8)));
+  const Lanes two = {2.0, 2.0}, half = {0.5, 0.5};
+  const Ints mag = {~(uint64_t{1} << 63), ~(uint64_t{1} << 63)};
+  Ints acc = {0, 0};
+  Pair any = {0, 0};
+  size_t i0 = 0;
+  for (; i0 + 2 <= n; i0 += 2) {
+    Pair q;
+    std::memcpy(&q, r1.data() + i0, sizeof q);
+    any |= q;
+    const Lanes ti = two * __builtin_convertvector(q, Lanes) + half;
+    std::memcpy(t.data() + i0, &ti, sizeof ti);
+    Ints tb;
+    std::memcpy(&tb, &ti, sizeof ti);
+    acc += (tb & mag) >> 52;
+  }
+  int64_t base = static_cast<int64_t>(acc[0] + acc[1]) - 1022 * static_cast<int64_t>(i0);
+  bool nonzero = any[0] != 0 || any[1] != 0;
+  for (size_t i = i0; i < n; ++i) {
+    t[i] = 2.0 * r1[i] + 0.5;
+    nonzero |= r1[i] != 0;
+    base += bit_length(r1[i]);
+  }
+  if (!nonzero) return best;
   double best_bits = min_gain_bits;
-  // Bits saved = sum bit_length(r1) - sum bit_length(r1 - prediction), the first sum shared.
-  int64_t base = 0;
-  for (size_t i = 0; i < n; ++i) base += bit_length(r1[i]);
-  // Cross and reference energies, four references a pass in two-lane vectors (each lane the
-  // same sum, in the same order, as one reference alone; a missing reference reads zeros).
+  // Cross energies, four references a pass in two-lane vectors (each lane the same sum, in
+  // the same order, as one reference alone; a missing reference reads zeros); the references'
+  // own energies were computed once, in the same order.
   const size_t nr = refs.size();
   auto usable = [&](size_t d) { return refs[d] && refs[d]->size() == n; };
-  std::vector<double> ecrs(nr + 3, 0.0), errs(nr + 3, 0.0);
+  std::vector<double> ecrs(nr + 3, 0.0);
   std::vector<int32_t> zeros;
   for (size_t d0 = 0; d0 < nr; d0 += 4) {
     const int32_t* p[4];
@@ -77,33 +136,34 @@ CrossParams choose_cross(const std::vector<int32_t>& r1,
         p[k] = zeros.data();
       }
     }
-    Lanes e0 = {0, 0}, e1 = {0, 0}, q0 = {0, 0}, q1 = {0, 0};
+    Lanes e0 = {0, 0}, e1 = {0, 0};
     for (size_t i = 0; i < n; ++i) {
       const double a = r1[i];
       const Lanes b0 = {static_cast<double>(p[0][i]), static_cast<double>(p[1][i])};
       const Lanes b1 = {static_cast<double>(p[2][i]), static_cast<double>(p[3][i])};
       e0 += a * b0;
       e1 += a * b1;
-      q0 += b0 * b0;
-      q1 += b1 * b1;
     }
     for (size_t k = 0; k < 2; ++k) {
       ecrs[d0 + k] = e0[k];
       ecrs[d0 + 2 + k] = e1[k];
-      errs[d0 + k] = q0[k];
-      errs[d0 + 2 + k] = q1[k];
     }
   }
   for (size_t d = 0; d < nr; ++d) {
     if (!usable(d)) continue;
     const std::vector<int32_t>* ref = refs[d];
-    const double ecr = ecrs[d], err = errs[d];
+    const double ecr = ecrs[d], err = ref_energy[d];
     if (err <= 0) continue;
     const double beta = std::round(ecr / err * (1 << kCrossShift));
     if (!(std::fabs(beta) < kMaxBeta) || beta == 0) continue;
     // Bits saved, measured as the change of the summed bit lengths of the residuals.
     const int32_t q = static_cast<int32_t>(beta);
-    const int64_t after = residual_bits(r1.data(), ref->data(), n, q);
+    // No prediction reaches the clamp when |beta| max|ref| + 2^11 <= 2^40; max|ref| <=
+    // sqrt(err) (err the sum of ref^2, computed within a relative 2^-30 of it here).
+    const bool unclamped =
+        std::fabs(beta) * (std::sqrt(err) * 1.001 + 1) + 4096 <= 1099511627776.0;  // 2^40
+    const int64_t after = unclamped ? residual_bits(t.data(), r1.data(), ref->data(), n, q)
+                                    : residual_bits_clamped(r1.data(), ref->data(), n, q);
     const int64_t saved = base - after;
     const double bits = static_cast<double>(saved) - 20;
     if (bits > best_bits) {

@@ -27,11 +27,16 @@ struct CrossParams {
   int32_t beta = 0;
 };
 
-// refs[d - 1] is the LPC residual of channel c - d, or nullptr when that channel has none.
-// Chooses the reference that lowers the estimated bits of r1 most (by more than `min_gain_bits`).
+// The sum of r[i]^2 over i in increasing order, in double: a reference's energy, computed once
+// per channel for every later channel that may use it.
+double reference_energy(const std::vector<int32_t>& r);
+
+// refs[d - 1] is the LPC residual of channel c - d, or nullptr when that channel has none, and
+// ref_energy[d - 1] its reference_energy (unused for nullptr). Chooses the reference that
+// lowers the estimated bits of r1 most (by more than `min_gain_bits`).
 CrossParams choose_cross(const std::vector<int32_t>& r1,
                          const std::vector<const std::vector<int32_t>*>& refs,
-                         double min_gain_bits = 32);
+                         const std::vector<double>& ref_energy, double min_gain_bits = 32);
 
 inline int64_t cross_predict(int32_t beta, int32_t ref) {
   int64_t p = (static_cast<int64_t>(beta) * ref + (int64_t{1} << (kCrossShift - 1))) >> kCrossShift;

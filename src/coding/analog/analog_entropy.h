@@ -64,7 +64,20 @@ inline int64_t unzigzag64(uint64_t u) {
 // A float residual d (the wrapping difference of two ordered bit patterns, as int64): its bit
 // length nb = 0..64 of zigzag64(d) under context min(prev_nb, 64) / 2, then the nb - 1 bits
 // below the leading one, raw (low 32 first when 32 or more). *prev_nb is updated.
-void put_float_residual(IntEncoder::Cursor* enc, int* prev_nb, int64_t d);
+inline void put_float_residual(IntEncoder::Cursor* enc, int* prev_nb, int64_t d) {
+  const uint64_t u = zigzag64(d);
+  const int nb = u == 0 ? 0 : 64 - __builtin_clzll(u);
+  enc->put(static_cast<uint32_t>(nb), kMagContexts + *prev_nb / 2);
+  *prev_nb = nb;
+  if (nb < 2) return;
+  const int n = nb - 1;
+  if (n < 32) {
+    enc->raw_bits(static_cast<uint32_t>(u) & ((1u << n) - 1), n);
+  } else {
+    enc->raw_bits(static_cast<uint32_t>(u), 32);
+    enc->raw_bits(static_cast<uint32_t>(u >> 32) & ((1u << (n - 32)) - 1), n - 32);
+  }
+}
 int64_t get_float_residual(IntDecoder::Cursor* dec, int* prev_nb);
 
 }  // namespace analog

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "coding/entropy.h"
@@ -21,8 +22,12 @@ void encode_float_channel(const std::vector<double>& x, bool f32, IntEncoder::Cu
 // The two halves of encode_float_channel: the predictor kept (by the summed bit lengths), and
 // the coding with a given predictor (the window codec decides once and codes twice).
 int choose_float_predictor(const std::vector<double>& x, bool f32);
-void encode_float_channel(const std::vector<double>& x, bool f32, int predictor,
-                          IntEncoder::Cursor* enc);
+// The summed bit lengths of the residuals of predictors 0 and 1 that choose_float_predictor
+// compares (f32: every x is a float32 value).
+void float_predictor_costs(const std::vector<double>& x, bool f32, uint64_t cost[2]);
+// Stops, returning false, once enc->bytes_out() reaches `limit` (checked every 1024 samples).
+bool encode_float_channel(const std::vector<double>& x, bool f32, int predictor,
+                          IntEncoder::Cursor* enc, size_t limit = SIZE_MAX);
 // Decodes n samples into x (resized to n).
 void decode_float_channel(size_t n, bool f32, IntDecoder::Cursor* dec, std::vector<double>* x);
 

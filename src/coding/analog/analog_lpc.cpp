@@ -40,31 +40,33 @@ std::vector<double> autocorrelation(const int32_t* x, size_t n, int max_lag) {
   // two-lane load at wr + n - 1 - i + k is (w[i - k], w[i - k - 1]): lags k and k + 1 side by
   // side. Each lag's sum still adds w[i] w[i - k] for i = k, k + 1, ... in order (the zeros
   // before a lag's first term add +-0 to a +0 sum), so every r[k] is bit for bit the plain
-  // loop's; eight lags run at once.
-  constexpr int kGroup = 8;
+  // loop's; sixteen lags run at once (a last single lag alone).
+  constexpr int kGroup = 16;
   const std::vector<double>& g = tukey(n);
   std::vector<double> wr(n + kGroup, 0.0);
   for (size_t i = 0; i < n; ++i) wr[n - 1 - i] = g[i] * x[i];
   std::vector<double> r(static_cast<size_t>(max_lag) + 1, 0.0);
   for (int k0 = 0; k0 <= max_lag; k0 += kGroup) {
-    Lanes a[kGroup / 2] = {};
     const int lanes = std::min(kGroup, max_lag + 1 - k0);
     const double* base = wr.data() + n - 1 + k0;
-    if (lanes > 4) {
+    if (lanes == 1) {
+      double a = 0;
+      for (size_t i = static_cast<size_t>(k0); i < n; ++i) a += wr[n - 1 - i] * base[-i];
+      r[k0] = a;
+      continue;
+    }
+    Lanes a[kGroup / 2] = {};
+    if (lanes > 8) {
       for (size_t i = static_cast<size_t>(k0); i < n; ++i) {
         const double wi = wr[n - 1 - i];
         const double* p = base - i;
-        a[0] += wi * load(p);
-        a[1] += wi * load(p + 2);
-        a[2] += wi * load(p + 4);
-        a[3] += wi * load(p + 6);
+        for (int l = 0; l < kGroup / 2; ++l) a[l] += wi * load(p + 2 * l);
       }
     } else {
       for (size_t i = static_cast<size_t>(k0); i < n; ++i) {
         const double wi = wr[n - 1 - i];
         const double* p = base - i;
-        a[0] += wi * load(p);
-        a[1] += wi * load(p + 2);
+        for (int l = 0; l < 4; ++l) a[l] += wi * load(p + 2 * l);
       }
     }
     for (int l = 0; l < lanes; ++l) r[k0 + l] = a[l / 2][l % 2];

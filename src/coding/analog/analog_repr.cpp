@@ -20,12 +20,17 @@ namespace {
 
 constexpr uint64_t kNegZero = uint64_t{1} << 63;
 
-// std::round (halves away from zero, sign of zero kept) without the library call; exact.
+// std::round (halves away from zero, sign of zero kept) without the library call or a branch
+// on the fraction; exact. For 0 <= x < 2^52, x + h (h = 1/2 - 2^-54, the double below 1/2)
+// rounds to a double in [floor(x), floor(x) + 1) when frac(x) < 1/2 (the sum stays at least
+// ulp(x) + 2^-54 below floor(x) + 1, and doubles there are ulp(x) apart), and to one in
+// [floor(x) + 1, floor(x) + 1.5] otherwise (frac = 1/2 gives floor(x) + 1 - 2^-54, nearer
+// floor(x) + 1, or a tie at x = 1/2 that goes to the even 1): truncation gives floor(x + 1/2).
+// Negative x by symmetry.
 inline double round_half_away(double x) {
   if (!(std::fabs(x) < 4503599627370496.0)) return std::round(x);  // 2^52: integral, NaN, Inf
-  const double t = static_cast<double>(static_cast<int64_t>(x));   // towards zero
-  const double d = x - t;                                          // exact
-  return std::copysign(d >= 0.5 ? t + 1 : d <= -0.5 ? t - 1 : t, x);
+  const double s = x + std::copysign(0.49999999999999994, x);
+  return std::copysign(static_cast<double>(static_cast<int64_t>(s)), x);
 }
 constexpr int64_t kMaxScaledK = int64_t{1} << 24;
 
@@ -224,7 +229,18 @@ bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted
     for (auto jt = fits.rbegin(); jt != it && !seen; ++jt)
       seen = bits_of(jt->first) == bits_of(it->first) && bits_of(jt->second) == bits_of(it->second);
     if (seen) continue;
-    if (!fit_scaled(v, it->first, it->second, f32, n_max_exc(n), &t)) continue;
+    // Once a fit is found, one with e exceptions replaces it only when 24 e - n log2(step) is
+    // below its cost (the same expression, increasing in e): more exceptions than that fail
+    // the fit early, as too many do anyway.
+    size_t max_exc = n_max_exc(n);
+    if (found) {
+      const double best_cost = cost(best), spread = static_cast<double>(n) * std::log2(it->first);
+      size_t e = 0;
+      while (e <= max_exc && 24.0 * static_cast<double>(e) - spread < best_cost) ++e;
+      if (e == 0) continue;  // not even an exact fit would be cheaper
+      max_exc = e - 1;
+    }
+    if (!fit_scaled(v, it->first, it->second, f32, max_exc, &t)) continue;
     if (!found || cost(t) < cost(best)) {
       std::swap(best, t);
       found = true;
