@@ -53,7 +53,8 @@ TEST(CliVersion, GivenVersionThenLibraryAndFormatVersionsArePrinted) {
     return std::to_string(v.major) + "." + std::to_string(v.minor);
   };
   const std::string expected = std::string("capz ") + capz::version_string() +
-                               "\n.capz format: writes " + text(capz::kFormatWritten) + ", reads " +
+                               "\n.capz format: writes " + text(capz::kFormatWritten) + " (" +
+                               text(capz::kFormatNewestWritten) + " with point normals), reads " +
                                text(capz::kFormatOldestRead) + " to " +
                                text(capz::kFormatNewestRead) + "\n";
   for (const char* flag : {"--version", "-V"}) {
