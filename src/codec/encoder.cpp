@@ -263,10 +263,11 @@ class Encoder {
     h.analog_samples_per_frame = static_cast<uint32_t>(plan_.S);
     h.rotation_segments = static_cast<uint32_t>(plan_.G);
     h.rotation_samples_per_frame = static_cast<uint32_t>(plan_.R);
-    // FORMAT.md 6.1: a take with a normal triple is written as 6.0 (ATTR predictor 9 allowed),
-    // every other as 5.0.
+    // FORMAT.md 6: a take with fields and a normal triple (ATTR predictor 9) or an organized
+    // layout (ATTR transforms 4 and 5, for a camera's gaps) is written as 6.0, every other as
+    // 5.0.
     if (!take_.attributes.empty() && take_.pcd &&
-        has_unit_candidate(attribute_specs(take_.pcd->fields)))
+        (take_.pcd->height > 1 || has_unit_candidate(attribute_specs(take_.pcd->fields))))
       version_ = kFormatNewestWritten;
     std::vector<uint8_t> buf;
     write_file_header(&buf, version_);

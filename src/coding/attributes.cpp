@@ -1,7 +1,8 @@
 // ATTR (docs/FORMAT.md 5.3, 6.1): per attribute, lanes of ordered integers with one of nine
 // predictors per lane (ten in a 6.x stream: 9 completes a unit vector's component from two
 // other elements) and residuals through the analog coder's entropy stage (4.2.5), or LZMA2 of
-// its byte planes, whichever is smaller.
+// its byte planes or bytes (in a 6.x stream also of its valid points' values apart from its gap
+// points', 6.2), whichever is smaller.
 #include "coding/attributes.h"
 
 #include <algorithm>
@@ -345,12 +346,34 @@ std::vector<uint8_t> from_planes(const std::vector<uint8_t>& planes, size_t s) {
   return out;
 }
 
+// The elements (bpp bytes a point) of the valid points, then of the gap points, each in frame
+// and point order (FORMAT.md 6.2), and back.
+void split_by_mask(const std::vector<uint8_t>& b, const uint8_t* valid, size_t n, size_t bpp,
+                   std::vector<uint8_t>* at_valid, std::vector<uint8_t>* at_gaps) {
+  at_valid->clear();
+  at_gaps->clear();
+  for (size_t i = 0; i < n; ++i) {
+    std::vector<uint8_t>* to = valid[i] ? at_valid : at_gaps;
+    to->insert(to->end(), b.begin() + static_cast<long>(i * bpp),
+               b.begin() + static_cast<long>((i + 1) * bpp));
+  }
+}
+void merge_by_mask(const std::vector<uint8_t>& at_valid, const std::vector<uint8_t>& at_gaps,
+                   const uint8_t* valid, size_t n, size_t bpp, std::vector<uint8_t>* b) {
+  b->resize(n * bpp);
+  size_t iv = 0, ig = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const uint8_t* from = valid[i] ? at_valid.data() + (iv++) * bpp : at_gaps.data() + (ig++) * bpp;
+    std::memcpy(b->data() + i * bpp, from, bpp);
+  }
+}
+
 // One attribute, predictively (transforms 0 and 1): transform, predictors, size, block.
-// unit: predictor 9 allowed (a 6.x stream).
+// v6: a 6.x stream (predictor 9 allowed).
 std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
                                        const std::vector<std::vector<uint8_t>>& data, size_t a,
                                        const uint8_t* valid, bool gaps, size_t frames,
-                                       size_t points, size_t W, bool unit) {
+                                       size_t points, size_t W, bool v6) {
   const AttrSpec& s = specs[a];
   const std::vector<uint8_t>& bytes = data[a];
   const size_t n = frames * points;
@@ -365,7 +388,7 @@ std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
     uint64_t cost = 0;
     int pred = choose_predictor(l, valid, gaps, frames, points, W, &cost);
     UnitRef refs[2];
-    if (unit && !colour && unit_candidate(specs, a, j, refs) &&
+    if (v6 && !colour && unit_candidate(specs, a, j, refs) &&
         unit_cost(l, specs, data, refs) < cost)
       pred = kUnitPredictor;
     w.u8(static_cast<uint8_t>(pred));
@@ -446,7 +469,7 @@ bool has_unit_candidate(const std::vector<AttrSpec>& specs) {
 std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
                                        const std::vector<std::vector<uint8_t>>& data,
                                        const uint8_t* valid, size_t frames, size_t points,
-                                       size_t width, bool unit) {
+                                       size_t width, bool v6) {
   const size_t n = frames * points;
   const size_t W = width ? width : std::max<size_t>(points, 1);
   const bool gaps = valid && std::find(valid, valid + n, 0) != valid + n;
@@ -458,18 +481,41 @@ std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
       fail(ErrorCode::kInternal, "attributes",
            "field " + s.name + " does not hold frames x points values");
     std::vector<uint8_t> best =
-        encode_predictive(specs, data, a, valid, gaps, frames, points, W, unit);
+        encode_predictive(specs, data, a, valid, gaps, frames, points, W, v6);
     // LZMA of the byte planes (2) and, for elements of several bytes, of the bytes as they are
-    // (3): the smallest of the three wins.
-    for (uint8_t t = 2; bytes > 0 && t <= (s.size > 1 ? 3 : 2); ++t) {
-      const std::vector<uint8_t> z =
-          t == 2 ? lzma2_encode_fast(to_planes(data[a], static_cast<size_t>(s.size)).data(), bytes)
-                 : lzma2_encode_fast(data[a].data(), bytes);
+    // (3); in a 6.x window with gaps and valid points, the same of the valid points' values
+    // with the gap points' values apart (4, 5; FORMAT.md 6.2): the smallest wins.
+    const size_t size = static_cast<size_t>(s.size);
+    std::vector<uint8_t> at_valid, at_gaps;
+    if (v6 && gaps && std::any_of(valid, valid + n, [](uint8_t v) { return v != 0; }))
+      split_by_mask(data[a], valid, n, size * static_cast<size_t>(s.count), &at_valid, &at_gaps);
+    const uint8_t last = !at_valid.empty() ? (size > 1 ? 5 : 4) : (size > 1 ? 3 : 2);
+    for (uint8_t t = 2; bytes > 0 && t <= last; ++t) {
+      if (t == 3 && size == 1) continue;
       ByteWriter alt;
       alt.u8(t);
-      alt.varint(z.size());
-      alt.bytes(z);
-      if (alt.size() < best.size() && bytes <= kMaxSymbolsPerByte * z.size())
+      size_t m = 0;  // the size field
+      if (t <= 3) {
+        const std::vector<uint8_t> z =
+            t == 2 ? lzma2_encode_fast(to_planes(data[a], size).data(), bytes)
+                   : lzma2_encode_fast(data[a].data(), bytes);
+        m = z.size();
+        alt.varint(z.size());
+        alt.bytes(z);
+      } else {
+        const std::vector<uint8_t> za =
+            t == 4 ? lzma2_encode_fast(to_planes(at_valid, size).data(), at_valid.size())
+                   : lzma2_encode_fast(at_valid.data(), at_valid.size());
+        const std::vector<uint8_t> zb = lzma2_encode_fast(at_gaps.data(), at_gaps.size());
+        ByteWriter body;
+        body.varint(za.size());
+        body.bytes(za);
+        body.bytes(zb);
+        m = body.size();
+        alt.varint(body.size());
+        alt.bytes(body.buffer());
+      }
+      if (alt.size() < best.size() && bytes <= kMaxSymbolsPerByte * m)
         best = std::move(alt.buffer());
     }
     w.bytes(best);
@@ -479,7 +525,7 @@ std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
 
 void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrSpec>& specs,
                        const uint8_t* valid, size_t frames, size_t points, size_t width,
-                       std::vector<std::vector<uint8_t>>* out, const std::string& what, bool unit) {
+                       std::vector<std::vector<uint8_t>>* out, const std::string& what, bool v6) {
   ByteReader r(data, size, what);
   const size_t n = frames * points;
   const size_t W = width ? width : std::max<size_t>(points, 1);
@@ -490,7 +536,7 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
     const AttrSpec& s = specs[a];
     const std::string awhat = what + " field " + s.name;
     const uint8_t t = r.u8();
-    if (t > 3 || (t == 1 && (s.size != 4 || s.count != 1)))
+    if (t > (v6 ? 5 : 3) || (t == 1 && (s.size != 4 || s.count != 1)))
       fail(ErrorCode::kCorrupt, awhat, "bad transform " + std::to_string(t));
     const size_t bpp = static_cast<size_t>(s.size) * static_cast<size_t>(s.count);
     std::vector<uint8_t>& bytes = (*out)[a];
@@ -501,8 +547,27 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
       if (m == 0 || (n != 0 && bpp > kMaxSymbolsPerByte * m / n))
         fail(ErrorCode::kCorrupt, awhat, "field larger than its LZMA data can hold");
       const uint8_t* z = r.bytes(static_cast<size_t>(m));
-      bytes = lzma2_decode(z, static_cast<size_t>(m), n * bpp, awhat);
-      if (t == 2) bytes = from_planes(bytes, static_cast<size_t>(s.size));
+      if (t <= 3) {
+        bytes = lzma2_decode(z, static_cast<size_t>(m), n * bpp, awhat);
+        if (t == 2) bytes = from_planes(bytes, static_cast<size_t>(s.size));
+        continue;
+      }
+      // 4, 5 (FORMAT.md 6.2): the valid points' values, then the gap points'.
+      if (!valid)
+        fail(ErrorCode::kCorrupt, awhat, "transform " + std::to_string(t) + " without gaps");
+      const size_t nv =
+          static_cast<size_t>(std::count_if(valid, valid + n, [](uint8_t v) { return v != 0; }));
+      ByteReader zr(z, static_cast<size_t>(m), awhat);
+      const uint64_t na = zr.varint();
+      if (na > zr.remaining() || (na == 0) != (nv == 0) || (zr.remaining() - na == 0) != (nv == n))
+        fail(ErrorCode::kCorrupt, awhat, "bad split of the valid and gap values");
+      const uint8_t* za = zr.bytes(static_cast<size_t>(na));
+      std::vector<uint8_t> at_valid, at_gaps;
+      if (nv) at_valid = lzma2_decode(za, static_cast<size_t>(na), nv * bpp, awhat);
+      if (t == 4) at_valid = from_planes(at_valid, static_cast<size_t>(s.size));
+      const size_t nb = zr.remaining();
+      if (nv < n) at_gaps = lzma2_decode(zr.bytes(nb), nb, (n - nv) * bpp, awhat);
+      merge_by_mask(at_valid, at_gaps, valid, n, bpp, &bytes);
       continue;
     }
     const bool colour = t == 1;
@@ -511,7 +576,7 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
     std::vector<std::array<UnitRef, 2>> refs(lanes);
     for (size_t j = 0; j < lanes; ++j) {
       const uint8_t id = r.u8();
-      if (id >= kPredictors && !(unit && id == kUnitPredictor && !colour))
+      if (id >= kPredictors && !(v6 && id == kUnitPredictor && !colour))
         fail(ErrorCode::kCorrupt, awhat, "unknown predictor " + std::to_string(id));
       pred[j] = id;
       if (id == kUnitPredictor) read_unit_refs(&r, specs, a, j, refs[j].data(), awhat);
