@@ -1,7 +1,7 @@
-// Fuzz target: the ATTR coder of PCD point fields (src/coding/attributes.h, FORMAT.md 5.3, 6.1).
+// Fuzz target: the ATTR coder of PCD point fields (src/coding/attributes.h, FORMAT.md 5.3, 6).
 // Byte 0 picks the mode (bits 0-1), the field set (bits 2-4, and bit 6 for the normal triples)
-// and the stream's major (bit 5: 6.x, predictor 9 allowed), bytes 1-2 the shape (frames 1..16,
-// points 1..256, width a divisor-free 1..points):
+// and the stream's major (bit 5: 6.x, predictor 9 and transforms 4, 5 allowed), bytes 1-2 the shape
+// (frames 1..16, points 1..256, width a divisor-free 1..points):
 //   mode even: the rest is an ATTR body; decoding must return or throw capz::Error, and what
 //     decodes must re-encode to a body that decodes to the same bytes;
 //   mode odd: the rest are field bytes (repeated to fill the window), which must round-trip.

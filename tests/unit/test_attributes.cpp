@@ -418,3 +418,94 @@ TEST(AttrCoder, DamagedUnitReferencesAreCorrupt) {
             ErrorCode::kCorrupt);
   EXPECT_NE(msg.find("predictor 9"), std::string::npos) << msg;
 }
+
+TEST(AttrCoder, ValidAndGapValuesApartIn6x) {
+  // FORMAT.md 6.2: a camera-like window (a moving disc of texture colours and labels on a NaN /
+  // zero background): LZMA of the valid points' values apart from the gap points' (transforms 4
+  // and 5) beats LZMA of them interleaved, and everything comes back bit for bit.
+  const size_t F = 6, W = 40, N = 40 * 30;
+  std::vector<uint8_t> valid(F * N);
+  for (size_t f = 0; f < F; ++f)
+    for (size_t p = 0; p < N; ++p) {
+      const double dx = static_cast<double>(p % W) - 18.0 - 1.5 * static_cast<double>(f);
+      const double dy = static_cast<double>(p / W) - 15.0;
+      valid[f * N + p] = dx * dx + dy * dy < 90;
+    }
+  const std::vector<AttrSpec> specs = {spec("rgb", 'F', 4), spec("label", 'U', 2)};
+  std::vector<std::vector<uint8_t>> data = {std::vector<uint8_t>(F * N * 4),
+                                            std::vector<uint8_t>(F * N * 2)};
+  const uint32_t nan = 0x7FC00000u;
+  for (size_t f = 0; f < F; ++f)
+    for (size_t p = 0; p < N; ++p) {
+      const size_t i = f * N + p;
+      const uint32_t c =
+          valid[i] ? 0xFF000000u | (static_cast<uint32_t>(((p + f) / 3) * 2654435761u) >> 8) : nan;
+      std::memcpy(&data[0][i * 4], &c, 4);
+      const uint16_t l = valid[i] ? static_cast<uint16_t>(1 + (p % W + f) / 4) : 0;
+      std::memcpy(&data[1][i * 2], &l, 2);
+    }
+  size_t v5 = 0, v6 = 0;
+  EXPECT_EQ(round_trip(specs, data, F, N, W, &v5, valid.data(), false), data);
+  EXPECT_EQ(round_trip(specs, data, F, N, W, &v6, valid.data(), true), data);
+  EXPECT_LT(v6, v5) << v5 << " " << v6;
+  const std::vector<uint8_t> enc =
+      capz::encode_attributes(specs, data, valid.data(), F, N, W, true);
+  ASSERT_TRUE(enc[0] == 4 || enc[0] == 5) << int(enc[0]);
+  // Random values at random valid points, with gap values that are not all the same: exact.
+  std::mt19937 rng(21);
+  for (auto& v : valid) v = rng() % 4 != 0;
+  std::vector<std::vector<uint8_t>> noise = {random_bytes(specs[0], F * N, 8),
+                                             random_bytes(specs[1], F * N, 9)};
+  EXPECT_EQ(round_trip(specs, noise, F, N, W, nullptr, valid.data(), true), noise);
+}
+
+TEST(AttrCoder, DamagedValidGapSplitIsCorrupt) {
+  const size_t F = 4, W = 20, N = 20 * 10;
+  std::vector<uint8_t> valid(F * N);
+  for (size_t i = 0; i < valid.size(); ++i) {
+    const size_t col = i % W, f = i / N;
+    valid[i] = col > 3 + f && col < 12 + f;
+  }
+  const std::vector<AttrSpec> one = {spec("rgb", 'U', 4)};
+  std::vector<uint8_t> b(F * N * 4, 0);
+  for (size_t i = 0; i < F * N; ++i)
+    if (valid[i]) {
+      const size_t p = i % N, f = i / N;
+      const uint32_t c = static_cast<uint32_t>(((p - f) / 2) * 2654435761u) >> 8;
+      std::memcpy(&b[i * 4], &c, 4);
+    }
+  const std::vector<uint8_t> enc = capz::encode_attributes(one, {b}, valid.data(), F, N, W, true);
+  ASSERT_TRUE(enc[0] == 4 || enc[0] == 5) << int(enc[0]);
+  std::vector<std::vector<uint8_t>> back;
+  auto decode = [&](const std::vector<uint8_t>& e, const uint8_t* mask, bool v6) {
+    return capz_test::error_of(
+        [&] { capz::decode_attributes(e.data(), e.size(), one, mask, F, N, W, &back, "t", v6); });
+  };
+  ASSERT_NO_THROW(capz::decode_attributes(enc.data(), enc.size(), one, valid.data(), F, N, W, &back,
+                                          "t", true));
+  EXPECT_EQ(back, std::vector<std::vector<uint8_t>>{b});
+  EXPECT_EQ(decode(enc, valid.data(), false), ErrorCode::kCorrupt);  // a 5.x stream
+  EXPECT_EQ(decode(enc, nullptr, true), ErrorCode::kCorrupt);        // no gap mask
+  // Another mask (more valid points): the parts decode to other lengths.
+  std::vector<uint8_t> other(valid.size(), 1);
+  other[0] = 0;
+  EXPECT_EQ(decode(enc, other.data(), true), ErrorCode::kCorrupt);
+  // valid_size (the varint after the size varint) past the end, 0, or one short: rewritten in
+  // the same number of bytes, so only the split is wrong.
+  size_t at = 1;
+  while (enc[at] & 0x80) ++at;
+  ++at;
+  ASSERT_EQ(enc[at] & 0x80, 0x80);  // two bytes here
+  ASSERT_EQ(enc[at + 1] & 0x80, 0);
+  const unsigned vs = (enc[at] & 0x7Fu) | (static_cast<unsigned>(enc[at + 1]) << 7);
+  for (unsigned v : {16383u, 0u, vs - 1, vs + 1}) {
+    std::vector<uint8_t> e = enc;
+    e[at] = static_cast<uint8_t>(0x80 | (v & 0x7F));
+    e[at + 1] = static_cast<uint8_t>(v >> 7);
+    EXPECT_EQ(decode(e, valid.data(), true), ErrorCode::kCorrupt) << v;
+  }
+  std::vector<uint8_t> e = enc;
+  // A transform above 5.
+  e[0] = 6;
+  EXPECT_EQ(decode(e, valid.data(), true), ErrorCode::kCorrupt);
+}
