@@ -249,8 +249,9 @@ struct UnitRef {
 };
 
 float load_f32(const std::vector<uint8_t>& bytes, size_t i, size_t count, size_t k) {
+  const uint32_t u = static_cast<uint32_t>(load_le(bytes.data() + (i * count + k) * 4, 4));
   float v;
-  std::memcpy(&v, bytes.data() + (i * count + k) * 4, 4);  // little-endian hosts (as PCD)
+  std::memcpy(&v, &u, 4);
   return v;
 }
 uint32_t f32_bits(float v) {
@@ -294,8 +295,8 @@ bool unit_candidate(const std::vector<AttrSpec>& specs, size_t a, size_t j, Unit
   return found == 3;
 }
 
-// Walks a predictor-9 lane in coding order: step(&value, x, y, completable, gap_state) per
-// value, x and y the referenced elements (decoded before this lane).
+// Walks a predictor-9 lane in coding order: step(&value, x, y, completable) per value, x and y
+// the referenced elements (decoded before this lane).
 template <typename Step>
 void walk_unit(std::vector<uint64_t>* lane, const std::vector<AttrSpec>& specs,
                const std::vector<std::vector<uint8_t>>& data, const UnitRef refs[2], Step&& step) {
