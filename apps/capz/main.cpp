@@ -66,7 +66,8 @@ int main(int argc, char** argv) {
   }
   if (name == "--version" || name == "-V") {
     std::printf(
-        "capz %s\n.capz format: writes %d.%d (%d.%d with point normals), reads %d.%d to %d.%d\n",
+        "capz %s\n.capz format: writes %d.%d (%d.%d for point normals or organized fields), reads "
+        "%d.%d to %d.%d\n",
         capz::version_string(), capz::kFormatWritten.major, capz::kFormatWritten.minor,
         capz::kFormatNewestWritten.major, capz::kFormatNewestWritten.minor,
         capz::kFormatOldestRead.major, capz::kFormatOldestRead.minor, capz::kFormatNewestRead.major,

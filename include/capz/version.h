@@ -26,8 +26,8 @@ const char* version_string();
 
 // The .capz version streams are written in, but for those of kFormatNewestWritten.
 constexpr FormatVersion kFormatWritten{5, 0};
-// The version of streams whose point fields include a normal triple (FORMAT.md 6.1: ATTR
-// predictor 9 may complete a normal's third component); every other stream is kFormatWritten.
+// The version of streams with point fields that include a normal triple or are organized
+// (FORMAT.md 6: ATTR predictor 9, transforms 4 and 5); every other stream is kFormatWritten.
 constexpr FormatVersion kFormatNewestWritten{6, 0};
 // The versions read: every one from kFormatOldestRead to kFormatNewestRead, and any later
 // minor version of kFormatNewestRead's major (minor versions only add what older decoders skip;
