@@ -65,10 +65,13 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (name == "--version" || name == "-V") {
-    std::printf("capz %s\n.capz format: writes %d.%d, reads %d.%d to %d.%d\n",
-                capz::version_string(), capz::kFormatWritten.major, capz::kFormatWritten.minor,
-                capz::kFormatOldestRead.major, capz::kFormatOldestRead.minor,
-                capz::kFormatNewestRead.major, capz::kFormatNewestRead.minor);
+    std::printf(
+        "capz %s\n.capz format: writes %d.%d (%d.%d for point normals or organized fields), reads "
+        "%d.%d to %d.%d\n",
+        capz::version_string(), capz::kFormatWritten.major, capz::kFormatWritten.minor,
+        capz::kFormatNewestWritten.major, capz::kFormatNewestWritten.minor,
+        capz::kFormatOldestRead.major, capz::kFormatOldestRead.minor, capz::kFormatNewestRead.major,
+        capz::kFormatNewestRead.minor);
     return 0;
   }
   capz_cli::Args args(argv + 2, argv + argc);

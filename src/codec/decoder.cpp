@@ -236,7 +236,7 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
     chunks.open(tc, &tr);
     const PCDExtra* px = ctx.take.pcd.get();
     decode_attributes(tc.payload + tr.offset(), tc.size - tr.offset(), attribute_specs(px->fields),
-                      b.valid.data(), fn, N, px->width, &b.attributes, twhat);
+                      b.valid.data(), fn, N, px->width, &b.attributes, twhat, ctx.major >= 6);
   }
 }
 

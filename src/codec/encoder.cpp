@@ -263,8 +263,14 @@ class Encoder {
     h.analog_samples_per_frame = static_cast<uint32_t>(plan_.S);
     h.rotation_segments = static_cast<uint32_t>(plan_.G);
     h.rotation_samples_per_frame = static_cast<uint32_t>(plan_.R);
+    // FORMAT.md 6: a take with fields and a normal triple (ATTR predictor 9) or an organized
+    // layout (ATTR transforms 4 and 5, for a camera's gaps) is written as 6.0, every other as
+    // 5.0.
+    if (!take_.attributes.empty() && take_.pcd &&
+        (take_.pcd->height > 1 || has_unit_candidate(attribute_specs(take_.pcd->fields))))
+      version_ = kFormatNewestWritten;
     std::vector<uint8_t> buf;
-    write_file_header(&buf);
+    write_file_header(&buf, version_);
     append_chunk(&buf, "HEAD", encode_header(h));
     const size_t meta_at = buf.size();
     append_chunk(&buf, "META", encode_meta(take_, plan_.words));
@@ -280,9 +286,10 @@ class Encoder {
       p.kg_target = plan_.tout ? opts_.kg_error : 0.0;
       promise_ = p;
       const std::string what = take_.source + " (self-check)";
-      const Chunk head = read_chunk(buf.data(), buf.size(), file_header_bytes(kCapzMajor), what);
+      const Chunk head =
+          read_chunk(buf.data(), buf.size(), file_header_bytes(version_.major), what);
       const Chunk meta = read_chunk(buf.data(), buf.size(), meta_at, what);
-      ctx_ = read_context(decode_header(head, what), meta, kCapzMajor, kCapzMinor, what);
+      ctx_ = read_context(decode_header(head, what), meta, version_.major, version_.minor, what);
     }
     other_bytes_ = buf.size();
     out_->flush(&buf);
@@ -477,9 +484,9 @@ class Encoder {
     quantise_bounded_fields(&win->block);
     std::vector<uint8_t>* buf = &win->buf;
     const size_t before = buf->size();
-    const std::vector<uint8_t> at =
-        encode_attributes(attribute_specs(take_.pcd->fields), win->block.attributes,
-                          win->wi.valid.data(), win->block.frames, take_.points, take_.pcd->width);
+    const std::vector<uint8_t> at = encode_attributes(
+        attribute_specs(take_.pcd->fields), win->block.attributes, win->wi.valid.data(),
+        win->block.frames, take_.points, take_.pcd->width, version_.major >= 6);
     append_chunk(buf, "ATTR", with_window_index(win->w, 0xFF, at));
     win->attribute_bytes = buf->size() - before;
   }
@@ -619,6 +626,7 @@ class Encoder {
   TakeScan scan_;
   Grid g_;
   TransformParams tparams_;
+  FormatVersion version_ = kFormatWritten;  // of the stream written (FORMAT.md 2, 6.1)
   StreamContext ctx_;  // what the decoder reads from HEAD and META (with opts.check)
   Promise promise_;    // the stream's promise, checked on what the decoder gives (each window)
   std::unique_ptr<ResidueWriter> residue_;     // HASH and residue chunks (an original file only)

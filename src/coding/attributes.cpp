@@ -1,9 +1,13 @@
-// ATTR (docs/FORMAT.md 5.3): per attribute, lanes of ordered integers with one of nine
-// predictors per lane and residuals through the analog coder's entropy stage (4.2.5), or LZMA2
-// of its byte planes, whichever is smaller.
+// ATTR (docs/FORMAT.md 5.3, 6.1): per attribute, lanes of ordered integers with one of nine
+// predictors per lane (ten in a 6.x stream: 9 completes a unit vector's component from two
+// other elements) and residuals through the analog coder's entropy stage (4.2.5), or LZMA2 of
+// its byte planes or bytes (in a 6.x stream also of its valid points' values apart from its gap
+// points', 6.2), whichever is smaller.
 #include "coding/attributes.h"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstring>
 
 #include "capz/error.h"
@@ -16,7 +20,9 @@ namespace capz {
 
 namespace {
 
-constexpr int kPredictors = 9;
+constexpr int kPredictors = 9;  // ids 0..8 (5.3); 9 (6.1) is handled apart
+constexpr int kUnitPredictor = 9;
+constexpr int kSignContext = analog::kParamContext;  // 81, 82: unused elsewhere in ATTR
 
 // One lane: frames x points ordered values of `bits` bits.
 struct Lane {
@@ -217,7 +223,8 @@ void walk_lane(int id, std::vector<uint64_t>* lane, const uint8_t* valid, size_t
 
 // The predictor whose residuals have the smallest sum of bit lengths (ties: the lowest);
 // 5..8 only with a gap mask that has gaps.
-int choose_predictor(Lane& l, const uint8_t* valid, bool gaps, size_t frames, size_t N, size_t W) {
+int choose_predictor(Lane& l, const uint8_t* valid, bool gaps, size_t frames, size_t N, size_t W,
+                     uint64_t* cost_out) {
   const uint64_t mask = mask_of(l.bits);
   uint64_t best_cost = ~uint64_t{0};
   int best = 0;
@@ -231,7 +238,91 @@ int choose_predictor(Lane& l, const uint8_t* valid, bool gaps, size_t frames, si
       best = id;
     }
   }
+  *cost_out = best_cost;
   return best;
+}
+
+// A float32 element referenced by predictor 9 (FORMAT.md 6.1): element `element` of attribute
+// `attribute`, as its bytes (frames x points x count elements).
+struct UnitRef {
+  size_t attribute = 0, element = 0;
+};
+
+float load_f32(const std::vector<uint8_t>& bytes, size_t i, size_t count, size_t k) {
+  const uint32_t u = static_cast<uint32_t>(load_le(bytes.data() + (i * count + k) * 4, 4));
+  float v;
+  std::memcpy(&v, &u, 4);
+  return v;
+}
+uint32_t f32_bits(float v) {
+  uint32_t u;
+  std::memcpy(&u, &v, 4);
+  return u;
+}
+
+// Predictor 9's prediction of one value from x and y: completable (both finite): the ordered
+// float32 of sqrt(max((1 - x*x) - y*y, 0)) with sign bit `sign`; otherwise the ordered bits of
+// x when x is not finite, else of y. The squares of float32 values are exact in binary64, so a
+// fused multiply-add gives the same t.
+uint64_t unit_prediction(float x, float y, bool completable, uint32_t sign) {
+  if (!completable) return to_ordered(f32_bits(std::isfinite(x) ? y : x), 'F', 32);
+  const double dx = x, dy = y;
+  const double t = (1.0 - dx * dx) - dy * dy;
+  const float m = static_cast<float>(std::sqrt(t > 0 ? t : 0.0));
+  return to_ordered(f32_bits(m) | (sign << 31), 'F', 32);
+}
+
+// The references predictor 9 may use for lane `j` of attribute `a` (FORMAT.md 6.1, how the
+// encoder chooses): float32 normal_z after float32 normal_x and normal_y, or element 2 of a
+// float32 count-3 field named normal*. False when there are none.
+bool unit_candidate(const std::vector<AttrSpec>& specs, size_t a, size_t j, UnitRef refs[2]) {
+  auto f32 = [](const AttrSpec& s) { return s.type == 'F' && s.size == 4; };
+  const AttrSpec& s = specs[a];
+  if (!f32(s) || is_colour_field(s)) return false;
+  if (s.count == 3 && j == 2 && s.name.compare(0, 6, "normal") == 0) {
+    refs[0] = {a, 0};
+    refs[1] = {a, 1};
+    return true;
+  }
+  if (s.count != 1 || s.name != "normal_z") return false;
+  int found = 0;
+  for (size_t b = 0; b < a; ++b)
+    for (int k = 0; k < 2; ++k)
+      if (specs[b].name == (k ? "normal_y" : "normal_x") && f32(specs[b]) && specs[b].count == 1) {
+        refs[k] = {b, 0};
+        found |= 1 << k;
+      }
+  return found == 3;
+}
+
+// Walks a predictor-9 lane in coding order: step(&value, x, y, completable) per value, x and y
+// the referenced elements (decoded before this lane).
+template <typename Step>
+void walk_unit(std::vector<uint64_t>* lane, const std::vector<AttrSpec>& specs,
+               const std::vector<std::vector<uint8_t>>& data, const UnitRef refs[2], Step&& step) {
+  const std::vector<uint8_t>& ba = data[refs[0].attribute];
+  const std::vector<uint8_t>& bb = data[refs[1].attribute];
+  const size_t ca = static_cast<size_t>(specs[refs[0].attribute].count);
+  const size_t cb = static_cast<size_t>(specs[refs[1].attribute].count);
+  for (size_t i = 0; i < lane->size(); ++i) {
+    const float x = load_f32(ba, i, ca, refs[0].element);
+    const float y = load_f32(bb, i, cb, refs[1].element);
+    step(&(*lane)[i], x, y, std::isfinite(x) && std::isfinite(y));
+  }
+}
+
+// Cost of a predictor-9 lane as choose_predictor counts it: residual bit lengths plus one bit
+// per completable value (its sign).
+uint64_t unit_cost(Lane& l, const std::vector<AttrSpec>& specs,
+                   const std::vector<std::vector<uint8_t>>& data, const UnitRef refs[2]) {
+  uint64_t cost = 0;
+  walk_unit(&l.u, specs, data, refs, [&](uint64_t* v, float x, float y, bool completable) {
+    const uint32_t sign = static_cast<uint32_t>(from_ordered(*v, 'F', 32) >> 31);
+    const uint64_t pred = unit_prediction(x, y, completable, sign);
+    cost += bit_length(analog::zigzag64(signed_residual((*v - pred) & 0xFFFFFFFFu, 32))) +
+            (completable ? 1 : 0);
+  });
+  return cost;
 }
 
 // Entropy state of one lane: for valid points and (predictors 5..8) for gap points.
@@ -256,10 +347,36 @@ std::vector<uint8_t> from_planes(const std::vector<uint8_t>& planes, size_t s) {
   return out;
 }
 
+// The elements (bpp bytes a point) of the valid points, then of the gap points, each in frame
+// and point order (FORMAT.md 6.2), and back.
+void split_by_mask(const std::vector<uint8_t>& b, const uint8_t* valid, size_t n, size_t bpp,
+                   std::vector<uint8_t>* at_valid, std::vector<uint8_t>* at_gaps) {
+  at_valid->clear();
+  at_gaps->clear();
+  for (size_t i = 0; i < n; ++i) {
+    std::vector<uint8_t>* to = valid[i] ? at_valid : at_gaps;
+    to->insert(to->end(), b.begin() + static_cast<long>(i * bpp),
+               b.begin() + static_cast<long>((i + 1) * bpp));
+  }
+}
+void merge_by_mask(const std::vector<uint8_t>& at_valid, const std::vector<uint8_t>& at_gaps,
+                   const uint8_t* valid, size_t n, size_t bpp, std::vector<uint8_t>* b) {
+  b->resize(n * bpp);
+  size_t iv = 0, ig = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const uint8_t* from = valid[i] ? at_valid.data() + (iv++) * bpp : at_gaps.data() + (ig++) * bpp;
+    std::memcpy(b->data() + i * bpp, from, bpp);
+  }
+}
+
 // One attribute, predictively (transforms 0 and 1): transform, predictors, size, block.
-std::vector<uint8_t> encode_predictive(const AttrSpec& s, const std::vector<uint8_t>& bytes,
+// v6: a 6.x stream (predictor 9 allowed).
+std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
+                                       const std::vector<std::vector<uint8_t>>& data, size_t a,
                                        const uint8_t* valid, bool gaps, size_t frames,
-                                       size_t points, size_t W) {
+                                       size_t points, size_t W, bool v6) {
+  const AttrSpec& s = specs[a];
+  const std::vector<uint8_t>& bytes = data[a];
   const size_t n = frames * points;
   const bool colour = is_colour_field(s);
   ByteWriter w;
@@ -269,10 +386,33 @@ std::vector<uint8_t> encode_predictive(const AttrSpec& s, const std::vector<uint
   Lane l;
   for (size_t j = 0; j < lane_count(s, colour); ++j) {
     make_lane(s, colour, bytes, n, j, &l);
-    const int pred = choose_predictor(l, valid, gaps, frames, points, W);
+    uint64_t cost = 0;
+    int pred = choose_predictor(l, valid, gaps, frames, points, W, &cost);
+    UnitRef refs[2];
+    if (v6 && !colour && unit_candidate(specs, a, j, refs) &&
+        unit_cost(l, specs, data, refs) < cost)
+      pred = kUnitPredictor;
     w.u8(static_cast<uint8_t>(pred));
-    const uint64_t mask = mask_of(l.bits);
     LaneState st;
+    if (pred == kUnitPredictor) {
+      for (const UnitRef& r : refs) {
+        w.varint(r.attribute);
+        w.varint(r.element);
+      }
+      int q = 0;  // sign bit of the previous completable value
+      walk_unit(&l.u, specs, data, refs, [&](uint64_t* v, float x, float y, bool completable) {
+        const uint32_t sign = static_cast<uint32_t>(from_ordered(*v, 'F', 32) >> 31);
+        if (completable) {
+          c.put(sign, kSignContext + q);
+          q = static_cast<int>(sign);
+        }
+        const uint64_t p = unit_prediction(x, y, completable, sign);
+        analog::put_float_residual(&c, &st.prev_nb[completable ? 0 : 1],
+                                   signed_residual((*v - p) & 0xFFFFFFFFu, 32));
+      });
+      continue;
+    }
+    const uint64_t mask = mask_of(l.bits);
     walk_lane(pred, &l.u, valid, frames, points, W, mask, [&](uint64_t* v, uint64_t p, bool gap) {
       const int64_t r = signed_residual((*v - p) & mask, l.bits);
       if (l.float_residuals)
@@ -286,6 +426,24 @@ std::vector<uint8_t> encode_predictive(const AttrSpec& s, const std::vector<uint
   w.varint(block.size());
   w.bytes(block);
   return std::move(w.buffer());
+}
+
+// Predictor 9's references of lane j of attribute a, read and checked (FORMAT.md 6.1).
+void read_unit_refs(ByteReader* r, const std::vector<AttrSpec>& specs, size_t a, size_t j,
+                    UnitRef refs[2], const std::string& what) {
+  const AttrSpec& s = specs[a];
+  if (s.type != 'F' || s.size != 4)
+    fail(ErrorCode::kCorrupt, what, "predictor 9 on a field that is not float32");
+  for (int k = 0; k < 2; ++k) {
+    const uint64_t b = r->varint();
+    const uint64_t e = r->varint();
+    if (b > a || e >= static_cast<uint64_t>(specs[b].count) || (b == a && e >= j) ||
+        specs[b].type != 'F' || specs[b].size != 4)
+      fail(ErrorCode::kCorrupt, what, "predictor 9 refers to an element it cannot use");
+    refs[k] = {static_cast<size_t>(b), static_cast<size_t>(e)};
+  }
+  if (refs[0].attribute == refs[1].attribute && refs[0].element == refs[1].element)
+    fail(ErrorCode::kCorrupt, what, "predictor 9 refers to one element twice");
 }
 
 }  // namespace
@@ -302,10 +460,17 @@ bool is_colour_field(const AttrSpec& s) {
          (s.name == "rgb" || s.name == "rgba");
 }
 
+bool has_unit_candidate(const std::vector<AttrSpec>& specs) {
+  UnitRef refs[2];
+  for (size_t a = 0; a < specs.size(); ++a)
+    if (unit_candidate(specs, a, specs[a].count == 3 ? 2 : 0, refs)) return true;
+  return false;
+}
+
 std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
                                        const std::vector<std::vector<uint8_t>>& data,
                                        const uint8_t* valid, size_t frames, size_t points,
-                                       size_t width) {
+                                       size_t width, bool v6) {
   const size_t n = frames * points;
   const size_t W = width ? width : std::max<size_t>(points, 1);
   const bool gaps = valid && std::find(valid, valid + n, 0) != valid + n;
@@ -316,18 +481,42 @@ std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
     if (data[a].size() != bytes)
       fail(ErrorCode::kInternal, "attributes",
            "field " + s.name + " does not hold frames x points values");
-    std::vector<uint8_t> best = encode_predictive(s, data[a], valid, gaps, frames, points, W);
+    std::vector<uint8_t> best =
+        encode_predictive(specs, data, a, valid, gaps, frames, points, W, v6);
     // LZMA of the byte planes (2) and, for elements of several bytes, of the bytes as they are
-    // (3): the smallest of the three wins.
-    for (uint8_t t = 2; bytes > 0 && t <= (s.size > 1 ? 3 : 2); ++t) {
-      const std::vector<uint8_t> z =
-          t == 2 ? lzma2_encode_fast(to_planes(data[a], static_cast<size_t>(s.size)).data(), bytes)
-                 : lzma2_encode_fast(data[a].data(), bytes);
+    // (3); in a 6.x window with gaps and valid points, the same of the valid points' values
+    // with the gap points' values apart (4, 5; FORMAT.md 6.2): the smallest wins.
+    const size_t size = static_cast<size_t>(s.size);
+    std::vector<uint8_t> at_valid, at_gaps;
+    if (v6 && gaps && std::any_of(valid, valid + n, [](uint8_t v) { return v != 0; }))
+      split_by_mask(data[a], valid, n, size * static_cast<size_t>(s.count), &at_valid, &at_gaps);
+    const uint8_t last = !at_valid.empty() ? (size > 1 ? 5 : 4) : (size > 1 ? 3 : 2);
+    for (uint8_t t = 2; bytes > 0 && t <= last; ++t) {
+      if (t == 3 && size == 1) continue;
       ByteWriter alt;
       alt.u8(t);
-      alt.varint(z.size());
-      alt.bytes(z);
-      if (alt.size() < best.size() && bytes <= kMaxSymbolsPerByte * z.size())
+      size_t m = 0;  // the size field
+      if (t <= 3) {
+        const std::vector<uint8_t> z =
+            t == 2 ? lzma2_encode_fast(to_planes(data[a], size).data(), bytes)
+                   : lzma2_encode_fast(data[a].data(), bytes);
+        m = z.size();
+        alt.varint(z.size());
+        alt.bytes(z);
+      } else {
+        const std::vector<uint8_t> za =
+            t == 4 ? lzma2_encode_fast(to_planes(at_valid, size).data(), at_valid.size())
+                   : lzma2_encode_fast(at_valid.data(), at_valid.size());
+        const std::vector<uint8_t> zb = lzma2_encode_fast(at_gaps.data(), at_gaps.size());
+        ByteWriter body;
+        body.varint(za.size());
+        body.bytes(za);
+        body.bytes(zb);
+        m = body.size();
+        alt.varint(body.size());
+        alt.bytes(body.buffer());
+      }
+      if (alt.size() < best.size() && bytes <= kMaxSymbolsPerByte * m)
         best = std::move(alt.buffer());
     }
     w.bytes(best);
@@ -337,7 +526,7 @@ std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
 
 void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrSpec>& specs,
                        const uint8_t* valid, size_t frames, size_t points, size_t width,
-                       std::vector<std::vector<uint8_t>>* out, const std::string& what) {
+                       std::vector<std::vector<uint8_t>>* out, const std::string& what, bool v6) {
   ByteReader r(data, size, what);
   const size_t n = frames * points;
   const size_t W = width ? width : std::max<size_t>(points, 1);
@@ -348,7 +537,7 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
     const AttrSpec& s = specs[a];
     const std::string awhat = what + " field " + s.name;
     const uint8_t t = r.u8();
-    if (t > 3 || (t == 1 && (s.size != 4 || s.count != 1)))
+    if (t > (v6 ? 5 : 3) || (t == 1 && (s.size != 4 || s.count != 1)))
       fail(ErrorCode::kCorrupt, awhat, "bad transform " + std::to_string(t));
     const size_t bpp = static_cast<size_t>(s.size) * static_cast<size_t>(s.count);
     std::vector<uint8_t>& bytes = (*out)[a];
@@ -359,24 +548,47 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
       if (m == 0 || (n != 0 && bpp > kMaxSymbolsPerByte * m / n))
         fail(ErrorCode::kCorrupt, awhat, "field larger than its LZMA data can hold");
       const uint8_t* z = r.bytes(static_cast<size_t>(m));
-      bytes = lzma2_decode(z, static_cast<size_t>(m), n * bpp, awhat);
-      if (t == 2) bytes = from_planes(bytes, static_cast<size_t>(s.size));
+      if (t <= 3) {
+        bytes = lzma2_decode(z, static_cast<size_t>(m), n * bpp, awhat);
+        if (t == 2) bytes = from_planes(bytes, static_cast<size_t>(s.size));
+        continue;
+      }
+      // 4, 5 (FORMAT.md 6.2): the valid points' values, then the gap points'.
+      if (!valid)
+        fail(ErrorCode::kCorrupt, awhat, "transform " + std::to_string(t) + " without gaps");
+      const size_t nv =
+          static_cast<size_t>(std::count_if(valid, valid + n, [](uint8_t v) { return v != 0; }));
+      ByteReader zr(z, static_cast<size_t>(m), awhat);
+      const uint64_t na = zr.varint();
+      if (na > zr.remaining() || (na == 0) != (nv == 0) || (zr.remaining() - na == 0) != (nv == n))
+        fail(ErrorCode::kCorrupt, awhat, "bad split of the valid and gap values");
+      const uint8_t* za = zr.bytes(static_cast<size_t>(na));
+      std::vector<uint8_t> at_valid, at_gaps;
+      if (nv) at_valid = lzma2_decode(za, static_cast<size_t>(na), nv * bpp, awhat);
+      if (t == 4) at_valid = from_planes(at_valid, static_cast<size_t>(s.size));
+      const size_t nb = zr.remaining();
+      if (nv < n) at_gaps = lzma2_decode(zr.bytes(nb), nb, (n - nv) * bpp, awhat);
+      merge_by_mask(at_valid, at_gaps, valid, n, bpp, &bytes);
       continue;
     }
     const bool colour = t == 1;
     const size_t lanes = lane_count(s, colour);
     std::vector<int> pred(lanes);
+    std::vector<std::array<UnitRef, 2>> refs(lanes);
     for (size_t j = 0; j < lanes; ++j) {
       const uint8_t id = r.u8();
-      if (id >= kPredictors)
+      if (id >= kPredictors && !(v6 && id == kUnitPredictor && !colour))
         fail(ErrorCode::kCorrupt, awhat, "unknown predictor " + std::to_string(id));
       pred[j] = id;
+      if (id == kUnitPredictor) read_unit_refs(&r, specs, a, j, refs[j].data(), awhat);
     }
     const uint64_t m = r.count(1, "block size");
     if (n != 0 && lanes > kMaxSymbolsPerByte * m / n)
       fail(ErrorCode::kCorrupt, awhat, "field larger than its block can hold");
     const uint8_t* block = r.bytes(static_cast<size_t>(m));
-    if (!valid && *std::max_element(pred.begin(), pred.end()) >= 5 && all_valid.empty())
+    if (!valid &&
+        std::any_of(pred.begin(), pred.end(), [](int id) { return id >= 5 && id <= 8; }) &&
+        all_valid.empty())
       all_valid.assign(n, 1);
     const uint8_t* mask_of_window = valid ? valid : all_valid.data();
     IntDecoder dec(block, static_cast<size_t>(m), analog::kAnalogContexts, awhat);
@@ -389,6 +601,25 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
       cur_lane.u.assign(n, 0);
       const uint64_t mask = mask_of(cur_lane.bits);
       LaneState st;
+      if (pred[j] == kUnitPredictor) {
+        int q = 0;
+        walk_unit(&cur_lane.u, specs, *out, refs[j].data(),
+                  [&](uint64_t* v, float x, float y, bool completable) {
+                    uint32_t sign = 0;
+                    if (completable) {
+                      int tok;
+                      sign = c.get(kSignContext + q, &tok);
+                      if (sign > 1) fail(ErrorCode::kCorrupt, awhat, "bad sign symbol");
+                      q = static_cast<int>(sign);
+                    }
+                    const uint64_t p = unit_prediction(x, y, completable, sign);
+                    const int64_t res =
+                        analog::get_float_residual(&c, &st.prev_nb[completable ? 0 : 1]);
+                    *v = (p + static_cast<uint64_t>(res)) & 0xFFFFFFFFu;
+                  });
+        store_lane(s, cur_lane, n, j, &bytes);
+        continue;
+      }
       walk_lane(pred[j], &cur_lane.u, mask_of_window, frames, points, W, mask,
                 [&](uint64_t* v, uint64_t p, bool gap) {
                   const int64_t res = cur_lane.float_residuals

@@ -45,11 +45,11 @@ int64_t wrap_sub64(int64_t a, int64_t b) {
 
 }  // namespace
 
-void write_file_header(std::vector<uint8_t>* out) {
+void write_file_header(std::vector<uint8_t>* out, FormatVersion v) {
   out->insert(out->end(), kCapzMagic, kCapzMagic + 9);
-  out->push_back(kCapzMajor);
-  out->push_back(kCapzMinor);
-  if (kCapzMajor >= 4) {
+  out->push_back(static_cast<uint8_t>(v.major));
+  out->push_back(static_cast<uint8_t>(v.minor));
+  if (v.major >= 4) {
     ByteWriter w;
     w.u32(crc32c(out->data() + out->size() - kFileHeaderBytes, kFileHeaderBytes));
     out->insert(out->end(), w.buffer().begin(), w.buffer().end());

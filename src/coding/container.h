@@ -24,8 +24,8 @@ inline size_t file_header_bytes(int major) {
 }
 constexpr size_t kChunkOverhead = 12;  // type + length + crc
 
-// Appends magic and version (and from 4.0 on the version's CRC).
-void write_file_header(std::vector<uint8_t>* out);
+// Appends magic and version `v` (and from 4.0 on the version's CRC).
+void write_file_header(std::vector<uint8_t>* out, FormatVersion v = kFormatWritten);
 // Appends one chunk: type (4 ASCII bytes), u32 length, payload, CRC-32C of type + payload.
 void append_chunk(std::vector<uint8_t>* out, const char type[4],
                   const std::vector<uint8_t>& payload);

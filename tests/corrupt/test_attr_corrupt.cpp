@@ -1,4 +1,4 @@
-// Damaged ATTR chunks (docs/FORMAT.md 5.3): every byte of a window's ATTR payload changed, its
+// Damaged ATTR chunks (docs/FORMAT.md 5.3, 6.1): every byte of a window's ATTR payload changed, its
 // chunk CRC recomputed so only the payload's own checks can tell: decoding throws a capz::Error
 // or gives a take (the change hit a value, which only a checksum could catch); never a crash,
 // never unbounded memory. A missing ATTR chunk and one of another window are corrupt.
@@ -11,6 +11,7 @@
 #include "capz/error.h"
 #include "capz/file.h"
 #include "chunk_util.h"
+#include "coding/crc32c.h"
 #include "test_util.h"
 
 using capz::ErrorCode;
@@ -55,6 +56,27 @@ void damage_every_byte(const std::string& stream, uint8_t flip) {
 TEST(AttrCorrupt, DamagedAttrPayloadIsCaughtOrHarmless) {
   damage_every_byte("lidar_small.lossless.v5.0.capz", 0x01);
   damage_every_byte("lidar_small.grid0.01.v5.0.capz", 0x80);
+  // 6.0: normal_z completed from normal_x and normal_y (predictor 9, its references, signs).
+  damage_every_byte("depth_small.lossless.v6.0.capz", 0x01);
+  damage_every_byte("depth_small.grid0.01.v6.0.capz", 0x80);
+}
+
+TEST(AttrCorrupt, A6StreamRelabelledAs5IsCorruptNotMisread) {
+  // The version bytes of a 6.0 stream set to 5.0 (header CRC recomputed): a 5.x stream has no
+  // predictor 9 nor transforms 4 and 5, so its ATTR is refused, naming the chunk and the field.
+  std::vector<uint8_t> b = capz::read_file(kStreams + "depth_small.lossless.v6.0.capz");
+  ASSERT_EQ(b[9], 6);
+  b[9] = 5;
+  const uint32_t crc = capz::crc32c(b.data(), 11);
+  for (int k = 0; k < 4; ++k) b[11 + k] = static_cast<uint8_t>(crc >> (8 * k));
+  std::string msg;
+  EXPECT_EQ(capz_test::error_of([&] { capz::decompress(b.data(), b.size(), "x"); }, &msg),
+            ErrorCode::kCorrupt);
+  EXPECT_NE(msg.find("ATTR"), std::string::npos) << msg;
+  // The first field coded with what 5.x lacks: rgb by transform 4 or 5, normal_z by predictor 9.
+  EXPECT_TRUE(msg.find("bad transform") != std::string::npos ||
+              msg.find("predictor 9") != std::string::npos)
+      << msg;
 }
 
 TEST(AttrCorrupt, MissingOrMisplacedAttrIsCorrupt) {

@@ -1,6 +1,7 @@
-// Fuzz target: the ATTR coder of PCD point fields (src/coding/attributes.h, FORMAT.md 5.3).
-// Byte 0 picks the mode and the field set, bytes 1-2 the shape (frames 1..16, points 1..256,
-// width a divisor-free 1..points):
+// Fuzz target: the ATTR coder of PCD point fields (src/coding/attributes.h, FORMAT.md 5.3, 6).
+// Byte 0 picks the mode (bits 0-1), the field set (bits 2-4, and bit 6 for the normal triples)
+// and the stream's major (bit 5: 6.x, predictor 9 and transforms 4, 5 allowed), bytes 1-2 the shape
+// (frames 1..16, points 1..256, width a divisor-free 1..points):
 //   mode even: the rest is an ATTR body; decoding must return or throw capz::Error, and what
 //     decodes must re-encode to a body that decodes to the same bytes;
 //   mode odd: the rest are field bytes (repeated to fill the window), which must round-trip.
@@ -23,9 +24,14 @@ capz::AttrSpec spec(const char* name, char type, int size, int count) {
   return s;
 }
 
-// Eight field sets covering every lane kind: colour (F and U), integers of each size and
-// signedness, floats, COUNT above 1.
+// Field sets covering every lane kind: colour (F and U), integers of each size and signedness,
+// floats, COUNT above 1, and (8 and above) normal triples that predictor 9 completes.
 std::vector<capz::AttrSpec> field_set(int k) {
+  if (k & 8)
+    return (k & 1) ? std::vector<capz::AttrSpec>{spec("normal", 'F', 4, 3), spec("i", 'U', 1, 1)}
+                   : std::vector<capz::AttrSpec>{
+                         spec("normal_x", 'F', 4, 1), spec("normal_y", 'F', 4, 1),
+                         spec("label", 'U', 2, 1), spec("normal_z", 'F', 4, 1)};
   switch (k & 7) {
     case 0:
       return {spec("rgb", 'F', 4, 1)};
@@ -48,12 +54,12 @@ std::vector<capz::AttrSpec> field_set(int k) {
 
 void round_trip(const std::vector<capz::AttrSpec>& specs,
                 const std::vector<std::vector<uint8_t>>& data, const uint8_t* valid, size_t frames,
-                size_t points, size_t width) {
+                size_t points, size_t width, bool unit) {
   const std::vector<uint8_t> enc =
-      capz::encode_attributes(specs, data, valid, frames, points, width);
+      capz::encode_attributes(specs, data, valid, frames, points, width, unit);
   std::vector<std::vector<uint8_t>> back;
   capz::decode_attributes(enc.data(), enc.size(), specs, valid, frames, points, width, &back,
-                          "re-encoded");
+                          "re-encoded", unit);
   CAPZ_FUZZ_CHECK(back == data);
 }
 
@@ -62,7 +68,8 @@ void round_trip(const std::vector<capz::AttrSpec>& specs,
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 3) return 0;
   const uint8_t mode = data[0];
-  const std::vector<capz::AttrSpec> specs = field_set(mode >> 2);
+  const std::vector<capz::AttrSpec> specs = field_set(((mode >> 2) & 7) | ((mode >> 3) & 8));
+  const bool unit = (mode & 32) != 0;
   const size_t frames = 1 + (data[1] & 15);
   const size_t points = 1 + data[2];
   const size_t width = 1 + (static_cast<size_t>(data[1] >> 4) * 7) % points;
@@ -75,11 +82,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (mode % 2 == 0) {
     std::vector<std::vector<uint8_t>> out;
     try {
-      capz::decode_attributes(data, size, specs, valid, frames, points, width, &out, "fuzz ATTR");
+      capz::decode_attributes(data, size, specs, valid, frames, points, width, &out, "fuzz ATTR",
+                              unit);
     } catch (const capz::Error&) {
       return 0;
     }
-    round_trip(specs, out, valid, frames, points, width);
+    round_trip(specs, out, valid, frames, points, width, unit);
     return 0;
   }
   if (size == 0) return 0;
@@ -90,6 +98,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (auto& x : b) x = data[at++ % size];
     fields.push_back(std::move(b));
   }
-  round_trip(specs, fields, valid, frames, points, width);
+  round_trip(specs, fields, valid, frames, points, width, unit);
   return 0;
 }

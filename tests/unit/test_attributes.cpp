@@ -64,14 +64,43 @@ std::vector<std::vector<uint8_t>> round_trip(const std::vector<AttrSpec>& specs,
                                              const std::vector<std::vector<uint8_t>>& data,
                                              size_t frames, size_t points, size_t width,
                                              size_t* bytes = nullptr,
-                                             const uint8_t* valid = nullptr) {
+                                             const uint8_t* valid = nullptr, bool unit = false) {
   const std::vector<uint8_t> enc =
-      capz::encode_attributes(specs, data, valid, frames, points, width);
+      capz::encode_attributes(specs, data, valid, frames, points, width, unit);
   if (bytes) *bytes = enc.size();
   std::vector<std::vector<uint8_t>> back;
   capz::decode_attributes(enc.data(), enc.size(), specs, valid, frames, points, width, &back,
-                          "test");
+                          "test", unit);
   return back;
+}
+
+void put_f32(std::vector<uint8_t>* b, size_t i, float v) {
+  std::memcpy(b->data() + i * 4, &v, 4);
+}
+
+// Noisy unit normals of an organized W-wide surface over F frames (signs of z mixed, as normals
+// of a noisy depth image have), with NaN normals at a few valid points and at the gaps, and
+// corner cases (+-0, infinities, a NaN payload, |(x, y)| > 1) in the first frame.
+std::vector<std::vector<uint8_t>> noisy_normals(size_t F, size_t N, const uint8_t* valid) {
+  std::vector<std::vector<uint8_t>> d(3, std::vector<uint8_t>(F * N * 4));
+  std::mt19937 rng(11);
+  std::normal_distribution<double> g(0, 0.4);
+  const float nan = std::nanf("");
+  for (size_t i = 0; i < F * N; ++i) {
+    double v[3] = {g(rng), g(rng), -1 + g(rng)};
+    const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (int k = 0; k < 3; ++k) put_f32(&d[k], i, static_cast<float>(v[k] / n));
+    if ((valid && !valid[i]) || i % 17 == 5)
+      for (int k = 0; k < 3; ++k) put_f32(&d[k], i, nan);
+  }
+  const float odd[][3] = {{0.0f, -0.0f, -1.0f}, {-0.0f, 0.0f, 0.0f},     {INFINITY, 0.5f, 0.25f},
+                          {0.9f, 0.9f, -0.0f},  {1.0f, 0.0f, -0.0f},     {0.6f, -INFINITY, nan},
+                          {0.6f, 0.8f, 1e-30f}, {-1e-40f, 2e-45f, -1.0f}};
+  for (size_t j = 0; j < 8 && j < F * N; ++j)
+    for (int k = 0; k < 3; ++k) put_f32(&d[k], j, odd[j][k]);
+  uint32_t payload = 0x7FC0BEEFu;  // a NaN with a payload in z only
+  if (F * N > 9) std::memcpy(d[2].data() + 9 * 4, &payload, 4);
+  return d;
 }
 
 }  // namespace
@@ -274,4 +303,209 @@ TEST(AttrCoder, GapMaskAwarePredictorsAndLzmaRoundTrip) {
   size_t bytes = 0;
   EXPECT_EQ(round_trip(colour, {tex}, F, N, W, &bytes), std::vector<std::vector<uint8_t>>{tex});
   EXPECT_LT(bytes, F * N * 4 / 4) << bytes;
+}
+
+TEST(AttrCoder, UnitCompletionOfNormalZIsExactAndSmallerIn6x) {
+  // FORMAT.md 6.1: normal_z predicted from normal_x and normal_y (predictor 9) in a 6.x stream;
+  // the triple comes back bit for bit (NaN payloads, -0.0, infinities, |(x, y)| > 1), and z
+  // costs far less than without it. A 5.x stream never uses predictor 9.
+  const size_t F = 6, W = 40, N = 40 * 30;
+  std::vector<uint8_t> valid(F * N);
+  for (size_t i = 0; i < valid.size(); ++i) valid[i] = (i / 13) % 4 != 0;
+  const std::vector<AttrSpec> specs = {spec("normal_x", 'F', 4), spec("intensity", 'F', 4),
+                                       spec("normal_y", 'F', 4), spec("normal_z", 'F', 4)};
+  ASSERT_TRUE(capz::has_unit_candidate(specs));
+  ASSERT_FALSE(capz::has_unit_candidate({specs[0], specs[1], specs[3]}));
+  ASSERT_FALSE(capz::has_unit_candidate({spec("normal_x", 'F', 8), specs[2], specs[3]}));
+  const std::vector<std::vector<uint8_t>> n = noisy_normals(F, N, valid.data());
+  const std::vector<std::vector<uint8_t>> data = {n[0], smooth_bytes(specs[1], F, N), n[1], n[2]};
+  size_t v5 = 0, v6 = 0, xy = 0;
+  EXPECT_EQ(round_trip(specs, data, F, N, W, &v5, valid.data(), false), data);
+  EXPECT_EQ(round_trip(specs, data, F, N, W, &v6, valid.data(), true), data);
+  round_trip({specs[0], specs[1], specs[2]}, {data[0], data[1], data[2]}, F, N, W, &xy,
+             valid.data(), true);
+  // z alone cost about as much as x (noise); completed, a few bits a value.
+  EXPECT_LT(v6 - xy, (v5 - xy) / 3) << v5 << " " << v6 << " " << xy;
+  EXPECT_LT(v6 - xy, F * N / 2);
+  // Without the mask too.
+  EXPECT_EQ(round_trip(specs, data, F, N, W, nullptr, nullptr, true), data);
+  // The same payload decoded as a 5.x stream: predictor 9 is unknown there.
+  const std::vector<uint8_t> enc =
+      capz::encode_attributes(specs, data, valid.data(), F, N, W, true);
+  std::vector<std::vector<uint8_t>> back;
+  EXPECT_EQ(capz_test::error_of([&] {
+              capz::decode_attributes(enc.data(), enc.size(), specs, valid.data(), F, N, W, &back,
+                                      "test", false);
+            }),
+            ErrorCode::kCorrupt);
+}
+
+TEST(AttrCoder, UnitCompletionOfACountThreeNormalField) {
+  const size_t F = 4, N = 300;
+  const std::vector<AttrSpec> specs = {spec("normals", 'F', 4, 3), spec("curvature", 'F', 4)};
+  ASSERT_TRUE(capz::has_unit_candidate(specs));
+  ASSERT_FALSE(capz::has_unit_candidate({spec("descriptor", 'F', 4, 3)}));
+  const std::vector<std::vector<uint8_t>> n = noisy_normals(F, N, nullptr);
+  std::vector<uint8_t> packed(F * N * 12);
+  for (size_t i = 0; i < F * N; ++i)
+    for (size_t k = 0; k < 3; ++k) std::memcpy(&packed[(i * 3 + k) * 4], &n[k][i * 4], 4);
+  const std::vector<std::vector<uint8_t>> data = {packed, smooth_bytes(specs[1], F, N)};
+  size_t v5 = 0, v6 = 0;
+  EXPECT_EQ(round_trip(specs, data, F, N, N, &v5, nullptr, false), data);
+  EXPECT_EQ(round_trip(specs, data, F, N, N, &v6, nullptr, true), data);
+  EXPECT_LT(v6 + F * N, v5) << v5 << " " << v6;
+}
+
+TEST(AttrCoder, DamagedUnitReferencesAreCorrupt) {
+  // normal_z (attribute 2) coded with predictor 9: its lane's predictor byte is followed by the
+  // references (0, 0) and (1, 0). Each reference that names something predictor 9 cannot use
+  // is refused, naming the field.
+  const size_t F = 3, N = 200;
+  const std::vector<AttrSpec> specs = {spec("normal_x", 'F', 4), spec("normal_y", 'F', 4),
+                                       spec("normal_z", 'F', 4), spec("label", 'U', 2)};
+  const std::vector<std::vector<uint8_t>> n = noisy_normals(F, N, nullptr);
+  const std::vector<std::vector<uint8_t>> data = {n[0], n[1], n[2], smooth_bytes(specs[3], F, N)};
+  const std::vector<uint8_t> enc = capz::encode_attributes(specs, data, nullptr, F, N, N, true);
+  // Find attribute 2's header: walk attributes 0 and 1 (transform, [predictor], size, data).
+  size_t at = 0;
+  for (int a = 0; a < 2; ++a) {
+    const uint8_t t = enc[at++];
+    if (t < 2) ++at;  // one lane
+    uint64_t m = 0;
+    for (int sh = 0;; sh += 7) {
+      m |= static_cast<uint64_t>(enc[at] & 0x7F) << sh;
+      if (!(enc[at++] & 0x80)) break;
+    }
+    at += static_cast<size_t>(m);
+  }
+  ASSERT_EQ(enc[at], 0);      // plain
+  ASSERT_EQ(enc[at + 1], 9);  // predictor 9
+  ASSERT_EQ(enc[at + 2], 0);
+  ASSERT_EQ(enc[at + 3], 0);
+  ASSERT_EQ(enc[at + 4], 1);
+  ASSERT_EQ(enc[at + 5], 0);
+  std::vector<std::vector<uint8_t>> back;
+  auto decode = [&](const std::vector<uint8_t>& e) {
+    return capz_test::error_of([&] {
+      capz::decode_attributes(e.data(), e.size(), specs, nullptr, F, N, N, &back, "test", true);
+    });
+  };
+  ASSERT_NO_THROW(capz::decode_attributes(enc.data(), enc.size(), specs, nullptr, F, N, N, &back,
+                                          "test", true));
+  EXPECT_EQ(back, data);
+  const std::pair<size_t, uint8_t> bad[] = {
+      {at + 2, 3},  // a later attribute
+      {at + 2, 2},  // itself (count 1: no earlier element)
+      {at + 3, 1},  // element 1 of a count-1 field
+      {at + 4, 0},  // the same element twice
+      {at + 2, 9},  // past the last attribute
+  };
+  for (const auto& b : bad) {
+    std::vector<uint8_t> e = enc;
+    e[b.first] = b.second;
+    EXPECT_EQ(decode(e), ErrorCode::kCorrupt) << b.first << " " << int(b.second);
+  }
+  // Predictor 9 on a field that is not float32.
+  std::vector<AttrSpec> other = specs;
+  other[2] = spec("normal_z", 'I', 4);
+  std::string msg;
+  EXPECT_EQ(capz_test::error_of(
+                [&] {
+                  capz::decode_attributes(enc.data(), enc.size(), other, nullptr, F, N, N, &back,
+                                          "test", true);
+                },
+                &msg),
+            ErrorCode::kCorrupt);
+  EXPECT_NE(msg.find("predictor 9"), std::string::npos) << msg;
+}
+
+TEST(AttrCoder, ValidAndGapValuesApartIn6x) {
+  // FORMAT.md 6.2: a camera-like window (a moving disc of texture colours and labels on a NaN /
+  // zero background): LZMA of the valid points' values apart from the gap points' (transforms 4
+  // and 5) beats LZMA of them interleaved, and everything comes back bit for bit.
+  const size_t F = 6, W = 40, N = 40 * 30;
+  std::vector<uint8_t> valid(F * N);
+  for (size_t f = 0; f < F; ++f)
+    for (size_t p = 0; p < N; ++p) {
+      const double dx = static_cast<double>(p % W) - 18.0 - 1.5 * static_cast<double>(f);
+      const double dy = static_cast<double>(p / W) - 15.0;
+      valid[f * N + p] = dx * dx + dy * dy < 90;
+    }
+  const std::vector<AttrSpec> specs = {spec("rgb", 'F', 4), spec("label", 'U', 2)};
+  std::vector<std::vector<uint8_t>> data = {std::vector<uint8_t>(F * N * 4),
+                                            std::vector<uint8_t>(F * N * 2)};
+  const uint32_t nan = 0x7FC00000u;
+  for (size_t f = 0; f < F; ++f)
+    for (size_t p = 0; p < N; ++p) {
+      const size_t i = f * N + p;
+      const uint32_t c =
+          valid[i] ? 0xFF000000u | (static_cast<uint32_t>(((p + f) / 3) * 2654435761u) >> 8) : nan;
+      std::memcpy(&data[0][i * 4], &c, 4);
+      const uint16_t l = valid[i] ? static_cast<uint16_t>(1 + (p % W + f) / 4) : 0;
+      std::memcpy(&data[1][i * 2], &l, 2);
+    }
+  size_t v5 = 0, v6 = 0;
+  EXPECT_EQ(round_trip(specs, data, F, N, W, &v5, valid.data(), false), data);
+  EXPECT_EQ(round_trip(specs, data, F, N, W, &v6, valid.data(), true), data);
+  EXPECT_LT(v6, v5) << v5 << " " << v6;
+  const std::vector<uint8_t> enc =
+      capz::encode_attributes(specs, data, valid.data(), F, N, W, true);
+  ASSERT_TRUE(enc[0] == 4 || enc[0] == 5) << int(enc[0]);
+  // Random values at random valid points, with gap values that are not all the same: exact.
+  std::mt19937 rng(21);
+  for (auto& v : valid) v = rng() % 4 != 0;
+  std::vector<std::vector<uint8_t>> noise = {random_bytes(specs[0], F * N, 8),
+                                             random_bytes(specs[1], F * N, 9)};
+  EXPECT_EQ(round_trip(specs, noise, F, N, W, nullptr, valid.data(), true), noise);
+}
+
+TEST(AttrCoder, DamagedValidGapSplitIsCorrupt) {
+  const size_t F = 4, W = 20, N = 20 * 10;
+  std::vector<uint8_t> valid(F * N);
+  for (size_t i = 0; i < valid.size(); ++i) {
+    const size_t col = i % W, f = i / N;
+    valid[i] = col > 3 + f && col < 12 + f;
+  }
+  const std::vector<AttrSpec> one = {spec("rgb", 'U', 4)};
+  std::vector<uint8_t> b(F * N * 4, 0);
+  for (size_t i = 0; i < F * N; ++i)
+    if (valid[i]) {
+      const size_t p = i % N, f = i / N;
+      const uint32_t c = static_cast<uint32_t>(((p - f) / 2) * 2654435761u) >> 8;
+      std::memcpy(&b[i * 4], &c, 4);
+    }
+  const std::vector<uint8_t> enc = capz::encode_attributes(one, {b}, valid.data(), F, N, W, true);
+  ASSERT_TRUE(enc[0] == 4 || enc[0] == 5) << int(enc[0]);
+  std::vector<std::vector<uint8_t>> back;
+  auto decode = [&](const std::vector<uint8_t>& e, const uint8_t* mask, bool v6) {
+    return capz_test::error_of(
+        [&] { capz::decode_attributes(e.data(), e.size(), one, mask, F, N, W, &back, "t", v6); });
+  };
+  ASSERT_NO_THROW(capz::decode_attributes(enc.data(), enc.size(), one, valid.data(), F, N, W, &back,
+                                          "t", true));
+  EXPECT_EQ(back, std::vector<std::vector<uint8_t>>{b});
+  EXPECT_EQ(decode(enc, valid.data(), false), ErrorCode::kCorrupt);  // a 5.x stream
+  EXPECT_EQ(decode(enc, nullptr, true), ErrorCode::kCorrupt);        // no gap mask
+  // Another mask (more valid points): the parts decode to other lengths.
+  std::vector<uint8_t> other(valid.size(), 1);
+  other[0] = 0;
+  EXPECT_EQ(decode(enc, other.data(), true), ErrorCode::kCorrupt);
+  // valid_size (the varint after the size varint) past the end, 0, or one short: rewritten in
+  // the same number of bytes, so only the split is wrong.
+  size_t at = 1;
+  while (enc[at] & 0x80) ++at;
+  ++at;
+  ASSERT_EQ(enc[at] & 0x80, 0x80);  // two bytes here
+  ASSERT_EQ(enc[at + 1] & 0x80, 0);
+  const unsigned vs = (enc[at] & 0x7Fu) | (static_cast<unsigned>(enc[at + 1]) << 7);
+  for (unsigned v : {16383u, 0u, vs - 1, vs + 1}) {
+    std::vector<uint8_t> e = enc;
+    e[at] = static_cast<uint8_t>(0x80 | (v & 0x7F));
+    e[at + 1] = static_cast<uint8_t>(v >> 7);
+    EXPECT_EQ(decode(e, valid.data(), true), ErrorCode::kCorrupt) << v;
+  }
+  std::vector<uint8_t> e = enc;
+  // A transform above 5.
+  e[0] = 6;
+  EXPECT_EQ(decode(e, valid.data(), true), ErrorCode::kCorrupt);
 }
