@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -27,20 +28,76 @@ struct PrevState {
   void update(int tok) { ta = static_cast<uint8_t>(tok); }
 };
 
-// token_of(u) for u < 64 (tokens 0-11), by table, and 16 x the estimate's next context
-// (min(token, 3)).
-struct SmallTokenTable {
-  uint8_t t[64], next[64];
-  constexpr SmallTokenTable() : t(), next() {
-    for (uint32_t u = 0; u < 64; ++u) {
-      int e = 0;
-      while ((u >> (e + 1)) != 0) ++e;
-      t[u] = static_cast<uint8_t>(u < 4 ? u : 4 + 2 * (e - 2) + ((u >> (e - 1)) & 1));
-      next[u] = static_cast<uint8_t>(16 * (t[u] < 3 ? t[u] : 3));
-    }
+// tok[k] = token_of(zigzag(r[k])) for k < n; returns the raw bits plus 4 of the tokens >= 15
+// (Hist::raw).
+inline uint32_t tokens_scalar(const int32_t* r, size_t n, uint8_t* tok) {
+  uint32_t raw = 0;
+  for (size_t k = 0; k < n; ++k) {
+    int nbits;
+    const int t = token_of(zigzag(r[k]), &nbits);
+    if (t >= 15) raw += static_cast<uint32_t>(nbits) + 4;
+    tok[k] = static_cast<uint8_t>(t);
   }
-};
-constexpr SmallTokenTable kSmallTokens{};
+  return raw;
+}
+// The same as tokens_scalar. With SSE2, eight values at a time: for 2 <= u < 2^24 the float of
+// u is exact, with exponent e = floor(log2 u) and first mantissa bit that of u below its top
+// bit, so its bits >> 22 are 2 (127 + e) + that bit = 254 + the token; u < 2 is its own token.
+// Blocks of eight with a value of 2^24 or more take the scalar path.
+inline uint32_t tokens_of(const int32_t* r, size_t n, uint8_t* tok) {
+  uint32_t raw = 0;
+  size_t k = 0;
+#if defined(__SSE2__)
+  const __m128i zero = _mm_setzero_si128(), two = _mm_set1_epi32(2), bias = _mm_set1_epi32(254);
+  const __m128i fourteen = _mm_set1_epi32(14), three = _mm_set1_epi32(3);
+  __m128i acc = zero;
+  auto four = [&](__m128i d, __m128i* big) {
+    const __m128i u = _mm_xor_si128(_mm_slli_epi32(d, 1), _mm_srai_epi32(d, 31));  // zigzag
+    *big = _mm_or_si128(*big, _mm_srli_epi32(u, 24));
+    const __m128i fl = _mm_srli_epi32(_mm_castps_si128(_mm_cvtepi32_ps(u)), 22);
+    const __m128i small = _mm_cmplt_epi32(u, two);
+    const __m128i t =
+        _mm_or_si128(_mm_and_si128(small, u), _mm_andnot_si128(small, _mm_sub_epi32(fl, bias)));
+    const __m128i escaped = _mm_cmpgt_epi32(t, fourteen);
+    return std::make_pair(t, _mm_and_si128(escaped, _mm_add_epi32(_mm_srli_epi32(t, 1), three)));
+  };
+  for (; k + 8 <= n; k += 8) {
+    __m128i big = zero;
+    const auto lo = four(_mm_loadu_si128(reinterpret_cast<const __m128i*>(r + k)), &big);
+    const auto hi = four(_mm_loadu_si128(reinterpret_cast<const __m128i*>(r + k + 4)), &big);
+    if (_mm_movemask_epi8(_mm_cmpeq_epi32(big, zero)) != 0xFFFF) {
+      raw += tokens_scalar(r + k, 8, tok + k);
+      continue;
+    }
+    acc = _mm_add_epi32(acc, _mm_add_epi32(lo.second, hi.second));
+    const __m128i w = _mm_packs_epi32(lo.first, hi.first);  // tokens <= 47
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(tok + k), _mm_packus_epi16(w, w));
+  }
+  alignas(16) uint32_t lanes[4];
+  _mm_store_si128(reinterpret_cast<__m128i*>(lanes), acc);
+  raw += lanes[0] + lanes[1] + lanes[2] + lanes[3];
+#endif
+  return raw + tokens_scalar(r + k, n - k, tok + k);
+}
+
+// idx[k] = 16 min(tok[k], 3) + min(tok[k + 1], 15), k < n: the count index of the value of
+// token tok[k + 1] after one of token tok[k] (PrevState's context). tok has room for 16 bytes
+// past n.
+inline void count_indices(uint8_t* tok, size_t n, uint8_t* idx) {
+  size_t k = 0;
+#if defined(__SSE2__)
+  std::memset(tok + n + 1, 0, 15);
+  const __m128i c3 = _mm_set1_epi8(3), c15 = _mm_set1_epi8(15);
+  for (; k < n; k += 16) {
+    const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(tok + k));
+    const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(tok + k + 1));
+    const __m128i i = _mm_or_si128(_mm_slli_epi16(_mm_min_epu8(a, c3), 4), _mm_min_epu8(b, c15));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(idx + k), i);
+  }
+#endif
+  for (; k < n; ++k)
+    idx[k] = static_cast<uint8_t>(16 * std::min<int>(tok[k], 3) + std::min<int>(tok[k + 1], 15));
+}
 
 // Token histogram of one point's residuals under the contexts of State, for estimating its coded
 // size: the conditional order-0 entropy of the tokens (capped at 15) plus their raw bits.
@@ -62,42 +119,53 @@ struct Hist {
     return tok;
   }
   // Adds res[a][f], a = 0..2, for the frames f in [from, to) with valid[f], as add() would for
-  // each axis's sequence from state st[a] (then updated): the hot loop of the estimate. The
-  // states stay in registers, small values' tokens come from a table, and each axis counts
-  // into its own table until the end, so the three increments of a frame are independent
-  // (one shared table makes a chain through memory when a count repeats, as in a zero run).
+  // each axis's sequence from state st[a] (then updated): the hot loop of the estimate. In
+  // chunks of the valid frames (gathered when the chunk has gaps): the tokens of a chunk first
+  // (tokens_of), then each value's count index from its token and the one before (the
+  // context), then the counts. Each axis counts into its own table until the end, so the three
+  // increments of a frame are independent (one shared table makes a chain through memory when
+  // a count repeats, as in a zero run).
   void add_run3(const int32_t* const res[3], const uint8_t* valid, size_t from, size_t to,
                 State st[3]) {
+    static_assert(kContexts == 4, "the count index is 16 x min(previous token, 3) + token");
+    constexpr size_t kChunk = 512;
     uint16_t c[3][kContexts * 16] = {};
-    int s0 = st[0].context() * 16, s1 = st[1].context() * 16, s2 = st[2].context() * 16;
-    auto one = [&](int32_t r, uint16_t* cnt, int* sv) {
-      const uint32_t u = zigzag(r);
-      int idx, next;
-      if (u < 64) {
-        idx = kSmallTokens.t[u];
-        next = kSmallTokens.next[u];
+    alignas(16) int32_t gathered[3][kChunk];
+    alignas(16) uint8_t tok[3][kChunk + 16];  // [0]: the previous token; [1..n]: the chunk's
+    alignas(16) uint8_t idx[3][kChunk + 16];
+    uint8_t prev[3] = {static_cast<uint8_t>(st[0].context()), static_cast<uint8_t>(st[1].context()),
+                       static_cast<uint8_t>(st[2].context())};
+    for (size_t f = from; f < to;) {
+      const int32_t* in[3];
+      size_t n = std::min(kChunk, to - f);
+      if (!std::memchr(valid + f, 0, n)) {
+        for (int a = 0; a < 3; ++a) in[a] = res[a] + f;
+        f += n;
       } else {
-        int nbits;
-        const int tok = token_of(u, &nbits);
-        if (tok >= 15) raw += static_cast<uint32_t>(nbits) + 4;
-        idx = tok < 15 ? tok : 15;
-        next = 3 * 16;
+        n = 0;
+        for (; f < to && n < kChunk; ++f)
+          if (valid[f]) {
+            for (int a = 0; a < 3; ++a) gathered[a][n] = res[a][f];
+            ++n;
+          }
+        for (int a = 0; a < 3; ++a) in[a] = gathered[a];
       }
-      ++cnt[*sv + idx];
-      *sv = next;
-    };
-    for (size_t f = from; f < to; ++f) {
-      if (!valid[f]) continue;
-      one(res[0][f], c[0], &s0);
-      one(res[1][f], c[1], &s1);
-      one(res[2][f], c[2], &s2);
+      for (int a = 0; a < 3; ++a) {
+        tok[a][0] = prev[a];
+        raw += tokens_of(in[a], n, &tok[a][1]);
+        count_indices(tok[a], n, idx[a]);
+        prev[a] = tok[a][n];
+      }
+      for (size_t k = 0; k < n; ++k) {
+        ++c[0][idx[0][k]];
+        ++c[1][idx[1][k]];
+        ++c[2][idx[2][k]];
+      }
     }
     uint16_t* all = &count[0][0];
     for (int k = 0; k < kContexts * 16; ++k)
       all[k] = static_cast<uint16_t>(all[k] + c[0][k] + c[1][k] + c[2][k]);
-    st[0].update(s0 / 16);
-    st[1].update(s1 / 16);
-    st[2].update(s2 / 16);
+    for (int a = 0; a < 3; ++a) st[a].update(std::min<int>(prev[a], 3));
   }
   // Estimated bits, in 1/16 bit units.
   uint64_t bits16() const {
