@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <utility>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -40,41 +39,39 @@ inline uint32_t tokens_scalar(const int32_t* r, size_t n, uint8_t* tok) {
   }
   return raw;
 }
-// The same as tokens_scalar. With SSE2, eight values at a time: for 2 <= u < 2^24 the float of
-// u is exact, with exponent e = floor(log2 u) and first mantissa bit that of u below its top
-// bit, so its bits >> 22 are 2 (127 + e) + that bit = 254 + the token; u < 2 is its own token.
-// Blocks of eight with a value of 2^24 or more take the scalar path.
+// The same as tokens_scalar, for n <= 4096. With SSE2, eight values at a time: for
+// 1 <= u < 2^24 the float of u is exact, with exponent e = floor(log2 u) and first mantissa bit
+// that of u below its top bit, so its bits >> 22 are 2 (127 + e) + that bit = 254 + the token
+// for u >= 2; max(that - 254, min(u, 1)) is the token of every u < 2^24 (u = 0 converts to 0,
+// u = 1 to 254). Blocks of eight with a value of 2^24 or more take the scalar path.
 inline uint32_t tokens_of(const int32_t* r, size_t n, uint8_t* tok) {
   uint32_t raw = 0;
   size_t k = 0;
 #if defined(__SSE2__)
-  const __m128i zero = _mm_setzero_si128(), two = _mm_set1_epi32(2), bias = _mm_set1_epi32(254);
-  const __m128i fourteen = _mm_set1_epi32(14), three = _mm_set1_epi32(3);
-  __m128i acc = zero;
-  auto four = [&](__m128i d, __m128i* big) {
-    const __m128i u = _mm_xor_si128(_mm_slli_epi32(d, 1), _mm_srai_epi32(d, 31));  // zigzag
-    *big = _mm_or_si128(*big, _mm_srli_epi32(u, 24));
-    const __m128i fl = _mm_srli_epi32(_mm_castps_si128(_mm_cvtepi32_ps(u)), 22);
-    const __m128i small = _mm_cmplt_epi32(u, two);
-    const __m128i t =
-        _mm_or_si128(_mm_and_si128(small, u), _mm_andnot_si128(small, _mm_sub_epi32(fl, bias)));
-    const __m128i escaped = _mm_cmpgt_epi32(t, fourteen);
-    return std::make_pair(t, _mm_and_si128(escaped, _mm_add_epi32(_mm_srli_epi32(t, 1), three)));
-  };
+  const __m128i zero = _mm_setzero_si128(), one = _mm_set1_epi16(1);
+  const __m128i bias = _mm_set1_epi16(254), fourteen = _mm_set1_epi16(14);
+  const __m128i three = _mm_set1_epi16(3);
+  __m128i acc = zero;  // 16-bit lanes: each adds at most n / 8 values of at most 26
   for (; k + 8 <= n; k += 8) {
-    __m128i big = zero;
-    const auto lo = four(_mm_loadu_si128(reinterpret_cast<const __m128i*>(r + k)), &big);
-    const auto hi = four(_mm_loadu_si128(reinterpret_cast<const __m128i*>(r + k + 4)), &big);
+    const __m128i d0 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(r + k));
+    const __m128i d1 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(r + k + 4));
+    const __m128i u0 = _mm_xor_si128(_mm_slli_epi32(d0, 1), _mm_srai_epi32(d0, 31));  // zigzag
+    const __m128i u1 = _mm_xor_si128(_mm_slli_epi32(d1, 1), _mm_srai_epi32(d1, 31));
+    const __m128i big = _mm_or_si128(_mm_srli_epi32(u0, 24), _mm_srli_epi32(u1, 24));
     if (_mm_movemask_epi8(_mm_cmpeq_epi32(big, zero)) != 0xFFFF) {
       raw += tokens_scalar(r + k, 8, tok + k);
       continue;
     }
-    acc = _mm_add_epi32(acc, _mm_add_epi32(lo.second, hi.second));
-    const __m128i w = _mm_packs_epi32(lo.first, hi.first);  // tokens <= 47
-    _mm_storel_epi64(reinterpret_cast<__m128i*>(tok + k), _mm_packus_epi16(w, w));
+    const __m128i f0 = _mm_srli_epi32(_mm_castps_si128(_mm_cvtepi32_ps(u0)), 22);
+    const __m128i f1 = _mm_srli_epi32(_mm_castps_si128(_mm_cvtepi32_ps(u1)), 22);
+    const __m128i t = _mm_max_epi16(_mm_sub_epi16(_mm_packs_epi32(f0, f1), bias),
+                                    _mm_min_epi16(_mm_packs_epi32(u0, u1), one));
+    const __m128i escaped = _mm_cmpgt_epi16(t, fourteen);
+    acc = _mm_add_epi16(acc, _mm_and_si128(escaped, _mm_add_epi16(_mm_srli_epi16(t, 1), three)));
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(tok + k), _mm_packus_epi16(t, t));  // t <= 47
   }
   alignas(16) uint32_t lanes[4];
-  _mm_store_si128(reinterpret_cast<__m128i*>(lanes), acc);
+  _mm_store_si128(reinterpret_cast<__m128i*>(lanes), _mm_madd_epi16(acc, one));
   raw += lanes[0] + lanes[1] + lanes[2] + lanes[3];
 #endif
   return raw + tokens_scalar(r + k, n - k, tok + k);
