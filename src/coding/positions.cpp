@@ -261,19 +261,6 @@ std::vector<uint32_t> ref_candidates(const int32_t* q, const uint8_t* valid, siz
   return cand;
 }
 
-// Residuals of every sample under the previous (e[0]) and linear (e[1]) predictors, frames
-// 1.. of the window (q filled, as after a walk); frame 0 entries are 0.
-void base_residuals(const int32_t* q, size_t frames, size_t points, std::vector<int32_t> e[2]) {
-  const size_t stride = points * 3;
-  for (int b = 0; b < 2; ++b) e[b].assign(frames * stride, 0);
-  for (size_t f = 1; f < frames; ++f)
-    for (size_t k = 0; k < stride; ++k) {
-      const size_t i = f * stride + k;
-      e[0][i] = wrap_sub(q[i], predict_one(kPredPrevious, f, &q[i], stride, nullptr));
-      e[1][i] = wrap_sub(q[i], predict_one(kPredLinear, f, &q[i], stride, nullptr));
-    }
-}
-
 // Residuals res[f] = x[f] - prediction, f = 1 .. frames - 1, of a trajectory x (one axis of one
 // point, frames contiguous, gaps filled) under predictor `mode` (0-2, 7-9): predict_one with
 // stride 1, its mode fixed at compile time for the loop.
@@ -284,25 +271,58 @@ void predictor_residuals(int mode, const int32_t* x, size_t frames, size_t perio
   });
 }
 
-// Adds to h the residuals of point p under base residuals e plus reference r's deviation, over
-// frames 1.. of the window (the reference predictors 5/6), through `res` (3 x frames) and `vs`
-// (frames) as scratch.
-template <typename H>
-void ref_cost(const std::vector<int32_t>& e, const uint8_t* valid, size_t frames, size_t points,
-              size_t p, size_t r, H* h, std::vector<int32_t>* res, std::vector<uint8_t>* vs) {
-  const size_t stride = points * 3;
-  int32_t* out[3] = {res->data(), res->data() + frames, res->data() + 2 * frames};
-  for (size_t f = 1; f < frames; ++f) {
-    (*vs)[f] = valid[f * points + p];
-    const bool rv = valid[f * points + r] != 0;
-    for (size_t a = 0; a < 3; ++a) {
-      const int32_t c = e[f * stride + p * 3 + a];
-      out[a][f] = rv ? wrap_sub(c, e[f * stride + r * 3 + a]) : c;
+// The window's integers (gaps filled) and validity point by point, so the estimate reads each
+// point's trajectory as contiguous runs, not one cache line per frame: x[(3 p + a) F + f],
+// v[p F + f]. Transposed in blocks of 64 frames (the block of q stays in cache).
+struct PointMajor {
+  std::vector<int32_t> x;
+  std::vector<uint8_t> v;
+  PointMajor(const int32_t* q, const uint8_t* valid, size_t frames, size_t points)
+      : x(frames * points * 3), v(frames * points) {
+    const size_t F = frames, S = points * 3;
+    for (size_t f0 = 0; f0 < F; f0 += 64) {
+      const size_t f1 = std::min(F, f0 + 64);
+      for (size_t p = 0; p < points; ++p) {
+        for (size_t f = f0; f < f1; ++f) v[p * F + f] = valid[f * points + p];
+        for (size_t a = 0; a < 3; ++a) {
+          int32_t* d = &x[(p * 3 + a) * F];
+          for (size_t f = f0; f < f1; ++f) d[f] = q[f * S + p * 3 + a];
+        }
+      }
     }
   }
-  const int32_t* in[3] = {out[0], out[1], out[2]};
+};
+
+// Residuals of every sample under the previous (e[0]) and linear (e[1]) predictors, frames
+// 1.. of the window, point-major as PointMajor::x; frame 0 entries are 0.
+void base_residuals(const PointMajor& pm, size_t frames, size_t points, std::vector<int32_t> e[2]) {
+  for (int b = 0; b < 2; ++b) {
+    e[b].resize(frames * points * 3);
+    for (size_t k = 0; k < points * 3; ++k) {
+      int32_t* out = &e[b][k * frames];
+      out[0] = 0;
+      predictor_residuals(b == 0 ? kPredPrevious : kPredLinear, &pm.x[k * frames], frames, 0, out);
+    }
+  }
+}
+
+// Adds to h the residuals of point p under base residuals e (point-major) plus reference r's
+// deviation, over frames 1.. of the window (the reference predictors 5/6), through `res`
+// (3 x frames) as scratch.
+template <typename H>
+void ref_cost(const std::vector<int32_t>& e, const PointMajor& pm, size_t frames, size_t p,
+              size_t r, H* h, std::vector<int32_t>* res) {
+  const uint8_t* vr = &pm.v[r * frames];
+  const int32_t* in[3];
+  for (size_t a = 0; a < 3; ++a) {
+    const int32_t* ep = &e[(p * 3 + a) * frames];
+    const int32_t* er = &e[(r * 3 + a) * frames];
+    int32_t* out = res->data() + a * frames;
+    for (size_t f = 1; f < frames; ++f) out[f] = vr[f] ? wrap_sub(ep[f], er[f]) : ep[f];
+    in[a] = out;
+  }
   typename H::StateType st[3];
-  h->add_run3(in, vs->data(), 1, frames, st);
+  h->add_run3(in, &pm.v[p * frames], 1, frames, st);
 }
 
 // Sum of bit_cost(c[k] - cr[k] & m[k]) over k in [0, len): the rank loop of RankSamples. With
@@ -352,7 +372,6 @@ struct RankSamples {
   std::vector<int32_t> mask;  // [point][sample][axis]
   RankSamples(const std::vector<int32_t> base[2], const uint8_t* valid, size_t frames,
               size_t points, size_t step) {
-    const size_t stride = points * 3;
     n = frames > 1 ? (frames - 2) / step + 1 : 0;
     for (int b = 0; b < 2; ++b) e[b].assign(points * n * 3, 0);
     mask.assign(points * n * 3, 0);
@@ -363,7 +382,7 @@ struct RankSamples {
         for (size_t a = 0; a < 3; ++a) mask[(p * n + j) * 3 + a] = -1;
         for (int b = 0; b < 2; ++b)
           for (size_t a = 0; a < 3; ++a)
-            e[b][(p * n + j) * 3 + a] = base[b][f * stride + p * 3 + a];
+            e[b][(p * n + j) * 3 + a] = base[b][(p * 3 + a) * frames + f];
       }
     }
   }
@@ -444,33 +463,30 @@ void frame0_share(const WindowInts& w, const int32_t* t, ResidualContexts& ctx,
 // Predictors 0-2, with scheme 3 also smooth (7) and, when the window repeats with a period, 8
 // and 9: each point's cheapest into best[p] / c->modes[p]. q: the window's integers, gaps
 // filled.
-void choose_temporal(const WindowInts& w, const std::vector<int32_t>& q,
+void choose_temporal(const WindowInts& w, const std::vector<int32_t>& q, const PointMajor& pm,
                      const std::vector<TokenHist>& first, int scheme, std::vector<uint64_t>* best,
                      ModeChoice* c) {
-  const size_t F = w.frames, N = w.points, S = N * 3;
+  const size_t F = w.frames, N = w.points;
   if (scheme >= 3) c->period = find_period(q.data(), w.valid.data(), F, N);
   const size_t period = c->period;
   const int nm = scheme < 3 ? 3 : period ? 6 : 4;
   static constexpr uint8_t kIds[6] = {kPredPrevious, kPredLinear, kPredQuadratic,
                                       kPredSmooth,   kPredPeriod, kPredPeriodPrevious};
-  // Point by point: the point's trajectory is gathered per axis into contiguous arrays, so
+  // Point by point: the point's trajectory per axis is a contiguous array (PointMajor), so
   // each predictor's residuals are one simple loop over frames and the estimate's state
   // stays in registers (the same histograms as a frame-by-frame walk: counts are sums, and
   // the state of each predictor, point and axis sees the same sequence).
-  std::vector<int32_t> xs(3 * F), res(3 * F);
-  std::vector<uint8_t> vs(F);
+  std::vector<int32_t> res(3 * F);
   for (size_t p = 0; p < N; ++p) {
-    for (size_t f = 0; f < F; ++f) {
-      vs[f] = w.valid[f * N + p];
-      for (size_t a = 0; a < 3; ++a) xs[a * F + f] = q[f * S + p * 3 + a];
-    }
+    const int32_t* xs = &pm.x[p * 3 * F];
+    const uint8_t* vs = &pm.v[p * F];
     for (int m = 0; m < nm; ++m) {
       TokenHist h = first[p];
       for (size_t a = 0; a < 3; ++a)
         predictor_residuals(kIds[m], &xs[a * F], F, period, &res[a * F]);
       const int32_t* r3[3] = {&res[0], &res[F], &res[2 * F]};
       PrevState st[3];
-      h.add_run3(r3, vs.data(), 1, F, st);
+      h.add_run3(r3, vs, 1, F, st);
       const uint64_t cost = h.bits16();
       if (cost < (*best)[p]) (*best)[p] = cost, c->modes[p] = kIds[m];
     }
@@ -521,7 +537,7 @@ void rank_references(const RankSamples& samples, const uint32_t* cand, size_t K,
 // Reference predictors 5/6. Candidate pairs (reference, base) are ranked by the summed bit
 // lengths of their residuals on every `step`-th frame (RankSamples); the full estimate of the
 // two best then competes with the point's best predictor so far. e: base_residuals of q.
-void choose_references(const WindowInts& w, const std::vector<int32_t>& q,
+void choose_references(const WindowInts& w, const std::vector<int32_t>& q, const PointMajor& pm,
                        const std::vector<int32_t> e[2], const std::vector<TokenHist>& first,
                        std::vector<uint64_t>* best, ModeChoice* c) {
   const size_t F = w.frames, N = w.points;
@@ -530,14 +546,13 @@ void choose_references(const WindowInts& w, const std::vector<int32_t>& q,
   const size_t step = F >= 512 ? 8 : F >= 256 ? 4 : F >= 64 ? 2 : 1;
   const RankSamples samples(e, w.valid.data(), F, N, step);
   std::vector<int32_t> res(3 * F);  // scratch of the estimates: a point's residuals by axis
-  std::vector<uint8_t> vs(F);       // and the point's validity, by frame
   for (size_t p = 1; p < N; ++p) {
     size_t fin_r[kFinalists];
     int fin_b[kFinalists];
     rank_references(samples, &cand[p * K], K, p, fin_r, fin_b);
     for (int j = 0; j < kFinalists && fin_b[j] >= 0; ++j) {
       TokenHist h = first[p];
-      ref_cost(e[fin_b[j]], w.valid.data(), F, N, p, fin_r[j], &h, &res, &vs);
+      ref_cost(e[fin_b[j]], pm, F, p, fin_r[j], &h, &res);
       const uint64_t cost = h.bits16();
       if (cost < (*best)[p]) {
         (*best)[p] = cost;
@@ -564,11 +579,13 @@ ModeChoice choose_modes(const WindowInts& w, const int32_t* t, int scheme, Resid
   std::vector<uint64_t> best(N, UINT64_MAX);
   std::vector<TokenHist> first(N);
   frame0_share(w, t, ctx, q, &first);
+  const PointMajor pm(q->data(), w.valid.data(), F, N);
   std::vector<int32_t> e[2];
-  base_residuals(q->data(), F, N, e);
-  choose_temporal(w, *q, first, scheme, &best, &c);
+  const bool refs = scheme >= 2 && F > 2 && N > 1;
+  if (refs) base_residuals(pm, F, N, e);
+  choose_temporal(w, *q, pm, first, scheme, &best, &c);
   if (t) choose_transform(w, *q, t, ctx, &best, &c);
-  if (scheme >= 2 && F > 2 && N > 1) choose_references(w, *q, e, first, &best, &c);
+  if (refs) choose_references(w, *q, pm, e, first, &best, &c);
   return c;
 }
 
