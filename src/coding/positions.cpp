@@ -370,15 +370,15 @@ struct RankSamples {
   size_t n = 0;               // sampled frames
   std::vector<int32_t> e[2];  // [point][sample][axis]
   std::vector<int32_t> mask;  // [point][sample][axis]
-  RankSamples(const std::vector<int32_t> base[2], const uint8_t* valid, size_t frames,
+  RankSamples(const std::vector<int32_t> base[2], const PointMajor& pm, size_t frames,
               size_t points, size_t step) {
     n = frames > 1 ? (frames - 2) / step + 1 : 0;
     for (int b = 0; b < 2; ++b) e[b].assign(points * n * 3, 0);
     mask.assign(points * n * 3, 0);
-    for (size_t j = 0; j < n; ++j) {
-      const size_t f = 1 + j * step;
-      for (size_t p = 0; p < points; ++p) {
-        if (!valid[f * points + p]) continue;
+    for (size_t p = 0; p < points; ++p) {
+      for (size_t j = 0; j < n; ++j) {
+        const size_t f = 1 + j * step;
+        if (!pm.v[p * frames + f]) continue;
         for (size_t a = 0; a < 3; ++a) mask[(p * n + j) * 3 + a] = -1;
         for (int b = 0; b < 2; ++b)
           for (size_t a = 0; a < 3; ++a)
@@ -454,10 +454,12 @@ void frame0_share(const WindowInts& w, const int32_t* t, ResidualContexts& ctx,
   CostCoder c0{q->data(), N, first->data(), est.data()};
   walk_window(1, N, w.valid.data(), mm.data(), nullptr, t, q->data(), ctx, c0);
   int32_t* x = q->data();
-  for (size_t f = 1; f < F; ++f)
+  for (size_t f = 1; f < F; ++f) {
+    if (!std::memchr(&w.valid[f * N], 0, N)) continue;  // no gap in the frame
     for (size_t p = 0; p < N; ++p)
       if (!w.valid[f * N + p])
         std::copy(&x[(f - 1) * S + p * 3], &x[(f - 1) * S + p * 3 + 3], &x[f * S + p * 3]);
+  }
 }
 
 // Predictors 0-2, with scheme 3 also smooth (7) and, when the window repeats with a period, 8
@@ -544,7 +546,7 @@ void choose_references(const WindowInts& w, const std::vector<int32_t>& q, const
   size_t K;
   const std::vector<uint32_t> cand = ref_candidates(q.data(), w.valid.data(), F, N, &K);
   const size_t step = F >= 512 ? 8 : F >= 256 ? 4 : F >= 64 ? 2 : 1;
-  const RankSamples samples(e, w.valid.data(), F, N, step);
+  const RankSamples samples(e, pm, F, N, step);
   std::vector<int32_t> res(3 * F);  // scratch of the estimates: a point's residuals by axis
   for (size_t p = 1; p < N; ++p) {
     size_t fin_r[kFinalists];
