@@ -318,7 +318,9 @@ void ref_cost(const std::vector<int32_t>& e, const PointMajor& pm, size_t frames
     const int32_t* ep = &e[(p * 3 + a) * frames];
     const int32_t* er = &e[(r * 3 + a) * frames];
     int32_t* out = res->data() + a * frames;
-    for (size_t f = 1; f < frames; ++f) out[f] = vr[f] ? wrap_sub(ep[f], er[f]) : ep[f];
+    for (size_t f = 1; f < frames; ++f)  // without a branch, so the loop vectorises
+      out[f] = wrap_sub(ep[f], static_cast<int32_t>(static_cast<uint32_t>(er[f]) &
+                                                    (0u - static_cast<uint32_t>(vr[f] != 0))));
     in[a] = out;
   }
   typename H::StateType st[3];
