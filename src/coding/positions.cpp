@@ -264,10 +264,17 @@ std::vector<uint32_t> ref_candidates(const int32_t* q, const uint8_t* valid, siz
 // Residuals res[f] = x[f] - prediction, f = 1 .. frames - 1, of a trajectory x (one axis of one
 // point, frames contiguous, gaps filled) under predictor `mode` (0-2, 7-9): predict_one with
 // stride 1, its mode fixed at compile time for the loop.
+// From frame max(6, period + 1) on, every rule of predict_one takes its full form: that part
+// of the loop passes a constant frame number past it, so it runs without a test per frame (and
+// vectorises).
 void predictor_residuals(int mode, const int32_t* x, size_t frames, size_t period, int32_t* res) {
   with_predictor(mode, [&](auto m) {
-    for (size_t f = 1; f < frames; ++f)
-      res[f] = wrap_sub(x[f], predict_one(m, f, x + f, 1, nullptr, period));
+    const size_t steady = std::min(frames, std::max<size_t>(6, period + 1));
+    size_t f = 1;
+    for (; f < steady; ++f) res[f] = wrap_sub(x[f], predict_one(m, f, x + f, 1, nullptr, period));
+    constexpr size_t kLate = static_cast<size_t>(-1) / 2;  // stands for any frame f >= steady
+    for (; f < frames; ++f)
+      res[f] = wrap_sub(x[f], predict_one(m, kLate, x + f, 1, nullptr, period));
   });
 }
 
