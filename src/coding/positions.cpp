@@ -27,20 +27,74 @@ struct PrevState {
   void update(int tok) { ta = static_cast<uint8_t>(tok); }
 };
 
-// token_of(u) for u < 64 (tokens 0-11), by table, and 16 x the estimate's next context
-// (min(token, 3)).
-struct SmallTokenTable {
-  uint8_t t[64], next[64];
-  constexpr SmallTokenTable() : t(), next() {
-    for (uint32_t u = 0; u < 64; ++u) {
-      int e = 0;
-      while ((u >> (e + 1)) != 0) ++e;
-      t[u] = static_cast<uint8_t>(u < 4 ? u : 4 + 2 * (e - 2) + ((u >> (e - 1)) & 1));
-      next[u] = static_cast<uint8_t>(16 * (t[u] < 3 ? t[u] : 3));
-    }
+// tok[k] = token_of(zigzag(r[k])) for k < n; returns the raw bits plus 4 of the tokens >= 15
+// (Hist::raw).
+inline uint32_t tokens_scalar(const int32_t* r, size_t n, uint8_t* tok) {
+  uint32_t raw = 0;
+  for (size_t k = 0; k < n; ++k) {
+    int nbits;
+    const int t = token_of(zigzag(r[k]), &nbits);
+    if (t >= 15) raw += static_cast<uint32_t>(nbits) + 4;
+    tok[k] = static_cast<uint8_t>(t);
   }
-};
-constexpr SmallTokenTable kSmallTokens{};
+  return raw;
+}
+// The same as tokens_scalar, for n <= 4096. With SSE2, eight values at a time: for
+// 1 <= u < 2^24 the float of u is exact, with exponent e = floor(log2 u) and first mantissa bit
+// that of u below its top bit, so its bits >> 22 are 2 (127 + e) + that bit = 254 + the token
+// for u >= 2; max(that - 254, min(u, 1)) is the token of every u < 2^24 (u = 0 converts to 0,
+// u = 1 to 254). Blocks of eight with a value of 2^24 or more take the scalar path.
+inline uint32_t tokens_of(const int32_t* r, size_t n, uint8_t* tok) {
+  uint32_t raw = 0;
+  size_t k = 0;
+#if defined(__SSE2__)
+  const __m128i zero = _mm_setzero_si128(), one = _mm_set1_epi16(1);
+  const __m128i bias = _mm_set1_epi16(254), fourteen = _mm_set1_epi16(14);
+  const __m128i three = _mm_set1_epi16(3);
+  __m128i acc = zero;  // 16-bit lanes: each adds at most n / 8 values of at most 26
+  for (; k + 8 <= n; k += 8) {
+    const __m128i d0 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(r + k));
+    const __m128i d1 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(r + k + 4));
+    const __m128i u0 = _mm_xor_si128(_mm_slli_epi32(d0, 1), _mm_srai_epi32(d0, 31));  // zigzag
+    const __m128i u1 = _mm_xor_si128(_mm_slli_epi32(d1, 1), _mm_srai_epi32(d1, 31));
+    const __m128i big = _mm_or_si128(_mm_srli_epi32(u0, 24), _mm_srli_epi32(u1, 24));
+    if (_mm_movemask_epi8(_mm_cmpeq_epi32(big, zero)) != 0xFFFF) {
+      raw += tokens_scalar(r + k, 8, tok + k);
+      continue;
+    }
+    const __m128i f0 = _mm_srli_epi32(_mm_castps_si128(_mm_cvtepi32_ps(u0)), 22);
+    const __m128i f1 = _mm_srli_epi32(_mm_castps_si128(_mm_cvtepi32_ps(u1)), 22);
+    const __m128i t = _mm_max_epi16(_mm_sub_epi16(_mm_packs_epi32(f0, f1), bias),
+                                    _mm_min_epi16(_mm_packs_epi32(u0, u1), one));
+    const __m128i escaped = _mm_cmpgt_epi16(t, fourteen);
+    acc = _mm_add_epi16(acc, _mm_and_si128(escaped, _mm_add_epi16(_mm_srli_epi16(t, 1), three)));
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(tok + k), _mm_packus_epi16(t, t));  // t <= 47
+  }
+  alignas(16) uint32_t lanes[4];
+  _mm_store_si128(reinterpret_cast<__m128i*>(lanes), _mm_madd_epi16(acc, one));
+  raw += lanes[0] + lanes[1] + lanes[2] + lanes[3];
+#endif
+  return raw + tokens_scalar(r + k, n - k, tok + k);
+}
+
+// idx[k] = 16 min(tok[k], 3) + min(tok[k + 1], 15), k < n: the count index of the value of
+// token tok[k + 1] after one of token tok[k] (PrevState's context). tok has room for 16 bytes
+// past n.
+inline void count_indices(uint8_t* tok, size_t n, uint8_t* idx) {
+  size_t k = 0;
+#if defined(__SSE2__)
+  std::memset(tok + n + 1, 0, 15);
+  const __m128i c3 = _mm_set1_epi8(3), c15 = _mm_set1_epi8(15);
+  for (; k < n; k += 16) {
+    const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(tok + k));
+    const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(tok + k + 1));
+    const __m128i i = _mm_or_si128(_mm_slli_epi16(_mm_min_epu8(a, c3), 4), _mm_min_epu8(b, c15));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(idx + k), i);
+  }
+#endif
+  for (; k < n; ++k)
+    idx[k] = static_cast<uint8_t>(16 * std::min<int>(tok[k], 3) + std::min<int>(tok[k + 1], 15));
+}
 
 // Token histogram of one point's residuals under the contexts of State, for estimating its coded
 // size: the conditional order-0 entropy of the tokens (capped at 15) plus their raw bits.
@@ -62,42 +116,53 @@ struct Hist {
     return tok;
   }
   // Adds res[a][f], a = 0..2, for the frames f in [from, to) with valid[f], as add() would for
-  // each axis's sequence from state st[a] (then updated): the hot loop of the estimate. The
-  // states stay in registers, small values' tokens come from a table, and each axis counts
-  // into its own table until the end, so the three increments of a frame are independent
-  // (one shared table makes a chain through memory when a count repeats, as in a zero run).
+  // each axis's sequence from state st[a] (then updated): the hot loop of the estimate. In
+  // chunks of the valid frames (gathered when the chunk has gaps): the tokens of a chunk first
+  // (tokens_of), then each value's count index from its token and the one before (the
+  // context), then the counts. Each axis counts into its own table until the end, so the three
+  // increments of a frame are independent (one shared table makes a chain through memory when
+  // a count repeats, as in a zero run).
   void add_run3(const int32_t* const res[3], const uint8_t* valid, size_t from, size_t to,
                 State st[3]) {
+    static_assert(kContexts == 4, "the count index is 16 x min(previous token, 3) + token");
+    constexpr size_t kChunk = 512;
     uint16_t c[3][kContexts * 16] = {};
-    int s0 = st[0].context() * 16, s1 = st[1].context() * 16, s2 = st[2].context() * 16;
-    auto one = [&](int32_t r, uint16_t* cnt, int* sv) {
-      const uint32_t u = zigzag(r);
-      int idx, next;
-      if (u < 64) {
-        idx = kSmallTokens.t[u];
-        next = kSmallTokens.next[u];
+    alignas(16) int32_t gathered[3][kChunk];
+    alignas(16) uint8_t tok[3][kChunk + 16];  // [0]: the previous token; [1..n]: the chunk's
+    alignas(16) uint8_t idx[3][kChunk + 16];
+    uint8_t prev[3] = {static_cast<uint8_t>(st[0].context()), static_cast<uint8_t>(st[1].context()),
+                       static_cast<uint8_t>(st[2].context())};
+    for (size_t f = from; f < to;) {
+      const int32_t* in[3];
+      size_t n = std::min(kChunk, to - f);
+      if (!std::memchr(valid + f, 0, n)) {
+        for (int a = 0; a < 3; ++a) in[a] = res[a] + f;
+        f += n;
       } else {
-        int nbits;
-        const int tok = token_of(u, &nbits);
-        if (tok >= 15) raw += static_cast<uint32_t>(nbits) + 4;
-        idx = tok < 15 ? tok : 15;
-        next = 3 * 16;
+        n = 0;
+        for (; f < to && n < kChunk; ++f)
+          if (valid[f]) {
+            for (int a = 0; a < 3; ++a) gathered[a][n] = res[a][f];
+            ++n;
+          }
+        for (int a = 0; a < 3; ++a) in[a] = gathered[a];
       }
-      ++cnt[*sv + idx];
-      *sv = next;
-    };
-    for (size_t f = from; f < to; ++f) {
-      if (!valid[f]) continue;
-      one(res[0][f], c[0], &s0);
-      one(res[1][f], c[1], &s1);
-      one(res[2][f], c[2], &s2);
+      for (int a = 0; a < 3; ++a) {
+        tok[a][0] = prev[a];
+        raw += tokens_of(in[a], n, &tok[a][1]);
+        count_indices(tok[a], n, idx[a]);
+        prev[a] = tok[a][n];
+      }
+      for (size_t k = 0; k < n; ++k) {
+        ++c[0][idx[0][k]];
+        ++c[1][idx[1][k]];
+        ++c[2][idx[2][k]];
+      }
     }
     uint16_t* all = &count[0][0];
     for (int k = 0; k < kContexts * 16; ++k)
       all[k] = static_cast<uint16_t>(all[k] + c[0][k] + c[1][k] + c[2][k]);
-    st[0].update(s0 / 16);
-    st[1].update(s1 / 16);
-    st[2].update(s2 / 16);
+    for (int a = 0; a < 3; ++a) st[a].update(std::min<int>(prev[a], 3));
   }
   // Estimated bits, in 1/16 bit units.
   uint64_t bits16() const {
@@ -196,48 +261,77 @@ std::vector<uint32_t> ref_candidates(const int32_t* q, const uint8_t* valid, siz
   return cand;
 }
 
-// Residuals of every sample under the previous (e[0]) and linear (e[1]) predictors, frames
-// 1.. of the window (q filled, as after a walk); frame 0 entries are 0.
-void base_residuals(const int32_t* q, size_t frames, size_t points, std::vector<int32_t> e[2]) {
-  const size_t stride = points * 3;
-  for (int b = 0; b < 2; ++b) e[b].assign(frames * stride, 0);
-  for (size_t f = 1; f < frames; ++f)
-    for (size_t k = 0; k < stride; ++k) {
-      const size_t i = f * stride + k;
-      e[0][i] = wrap_sub(q[i], predict_one(kPredPrevious, f, &q[i], stride, nullptr));
-      e[1][i] = wrap_sub(q[i], predict_one(kPredLinear, f, &q[i], stride, nullptr));
-    }
-}
-
 // Residuals res[f] = x[f] - prediction, f = 1 .. frames - 1, of a trajectory x (one axis of one
 // point, frames contiguous, gaps filled) under predictor `mode` (0-2, 7-9): predict_one with
 // stride 1, its mode fixed at compile time for the loop.
+// From frame max(6, period + 1) on, every rule of predict_one takes its full form: that part
+// of the loop passes a constant frame number past it, so it runs without a test per frame (and
+// vectorises).
 void predictor_residuals(int mode, const int32_t* x, size_t frames, size_t period, int32_t* res) {
   with_predictor(mode, [&](auto m) {
-    for (size_t f = 1; f < frames; ++f)
-      res[f] = wrap_sub(x[f], predict_one(m, f, x + f, 1, nullptr, period));
+    const size_t steady = std::min(frames, std::max<size_t>(6, period + 1));
+    size_t f = 1;
+    for (; f < steady; ++f) res[f] = wrap_sub(x[f], predict_one(m, f, x + f, 1, nullptr, period));
+    constexpr size_t kLate = static_cast<size_t>(-1) / 2;  // stands for any frame f >= steady
+    for (; f < frames; ++f)
+      res[f] = wrap_sub(x[f], predict_one(m, kLate, x + f, 1, nullptr, period));
   });
 }
 
-// Adds to h the residuals of point p under base residuals e plus reference r's deviation, over
-// frames 1.. of the window (the reference predictors 5/6), through `res` (3 x frames) and `vs`
-// (frames) as scratch.
-template <typename H>
-void ref_cost(const std::vector<int32_t>& e, const uint8_t* valid, size_t frames, size_t points,
-              size_t p, size_t r, H* h, std::vector<int32_t>* res, std::vector<uint8_t>* vs) {
-  const size_t stride = points * 3;
-  int32_t* out[3] = {res->data(), res->data() + frames, res->data() + 2 * frames};
-  for (size_t f = 1; f < frames; ++f) {
-    (*vs)[f] = valid[f * points + p];
-    const bool rv = valid[f * points + r] != 0;
-    for (size_t a = 0; a < 3; ++a) {
-      const int32_t c = e[f * stride + p * 3 + a];
-      out[a][f] = rv ? wrap_sub(c, e[f * stride + r * 3 + a]) : c;
+// The window's integers (gaps filled) and validity point by point, so the estimate reads each
+// point's trajectory as contiguous runs, not one cache line per frame: x[(3 p + a) F + f],
+// v[p F + f]. Transposed in blocks of 64 frames (the block of q stays in cache).
+struct PointMajor {
+  std::vector<int32_t> x;
+  std::vector<uint8_t> v;
+  PointMajor(const int32_t* q, const uint8_t* valid, size_t frames, size_t points)
+      : x(frames * points * 3), v(frames * points) {
+    const size_t F = frames, S = points * 3;
+    for (size_t f0 = 0; f0 < F; f0 += 64) {
+      const size_t f1 = std::min(F, f0 + 64);
+      for (size_t p = 0; p < points; ++p) {
+        for (size_t f = f0; f < f1; ++f) v[p * F + f] = valid[f * points + p];
+        for (size_t a = 0; a < 3; ++a) {
+          int32_t* d = &x[(p * 3 + a) * F];
+          for (size_t f = f0; f < f1; ++f) d[f] = q[f * S + p * 3 + a];
+        }
+      }
     }
   }
-  const int32_t* in[3] = {out[0], out[1], out[2]};
+};
+
+// Residuals of every sample under the previous (e[0]) and linear (e[1]) predictors, frames
+// 1.. of the window, point-major as PointMajor::x; frame 0 entries are 0.
+void base_residuals(const PointMajor& pm, size_t frames, size_t points, std::vector<int32_t> e[2]) {
+  for (int b = 0; b < 2; ++b) {
+    e[b].resize(frames * points * 3);
+    for (size_t k = 0; k < points * 3; ++k) {
+      int32_t* out = &e[b][k * frames];
+      out[0] = 0;
+      predictor_residuals(b == 0 ? kPredPrevious : kPredLinear, &pm.x[k * frames], frames, 0, out);
+    }
+  }
+}
+
+// Adds to h the residuals of point p under base residuals e (point-major) plus reference r's
+// deviation, over frames 1.. of the window (the reference predictors 5/6), through `res`
+// (3 x frames) as scratch.
+template <typename H>
+void ref_cost(const std::vector<int32_t>& e, const PointMajor& pm, size_t frames, size_t p,
+              size_t r, H* h, std::vector<int32_t>* res) {
+  const uint8_t* vr = &pm.v[r * frames];
+  const int32_t* in[3];
+  for (size_t a = 0; a < 3; ++a) {
+    const int32_t* ep = &e[(p * 3 + a) * frames];
+    const int32_t* er = &e[(r * 3 + a) * frames];
+    int32_t* out = res->data() + a * frames;
+    for (size_t f = 1; f < frames; ++f)  // without a branch, so the loop vectorises
+      out[f] = wrap_sub(ep[f], static_cast<int32_t>(static_cast<uint32_t>(er[f]) &
+                                                    (0u - static_cast<uint32_t>(vr[f] != 0))));
+    in[a] = out;
+  }
   typename H::StateType st[3];
-  h->add_run3(in, vs->data(), 1, frames, st);
+  h->add_run3(in, &pm.v[p * frames], 1, frames, st);
 }
 
 // Sum of bit_cost(c[k] - cr[k] & m[k]) over k in [0, len): the rank loop of RankSamples. With
@@ -285,20 +379,19 @@ struct RankSamples {
   size_t n = 0;               // sampled frames
   std::vector<int32_t> e[2];  // [point][sample][axis]
   std::vector<int32_t> mask;  // [point][sample][axis]
-  RankSamples(const std::vector<int32_t> base[2], const uint8_t* valid, size_t frames,
+  RankSamples(const std::vector<int32_t> base[2], const PointMajor& pm, size_t frames,
               size_t points, size_t step) {
-    const size_t stride = points * 3;
     n = frames > 1 ? (frames - 2) / step + 1 : 0;
     for (int b = 0; b < 2; ++b) e[b].assign(points * n * 3, 0);
     mask.assign(points * n * 3, 0);
-    for (size_t j = 0; j < n; ++j) {
-      const size_t f = 1 + j * step;
-      for (size_t p = 0; p < points; ++p) {
-        if (!valid[f * points + p]) continue;
+    for (size_t p = 0; p < points; ++p) {
+      for (size_t j = 0; j < n; ++j) {
+        const size_t f = 1 + j * step;
+        if (!pm.v[p * frames + f]) continue;
         for (size_t a = 0; a < 3; ++a) mask[(p * n + j) * 3 + a] = -1;
         for (int b = 0; b < 2; ++b)
           for (size_t a = 0; a < 3; ++a)
-            e[b][(p * n + j) * 3 + a] = base[b][f * stride + p * 3 + a];
+            e[b][(p * n + j) * 3 + a] = base[b][(p * 3 + a) * frames + f];
       }
     }
   }
@@ -370,42 +463,41 @@ void frame0_share(const WindowInts& w, const int32_t* t, ResidualContexts& ctx,
   CostCoder c0{q->data(), N, first->data(), est.data()};
   walk_window(1, N, w.valid.data(), mm.data(), nullptr, t, q->data(), ctx, c0);
   int32_t* x = q->data();
-  for (size_t f = 1; f < F; ++f)
+  for (size_t f = 1; f < F; ++f) {
+    if (!std::memchr(&w.valid[f * N], 0, N)) continue;  // no gap in the frame
     for (size_t p = 0; p < N; ++p)
       if (!w.valid[f * N + p])
         std::copy(&x[(f - 1) * S + p * 3], &x[(f - 1) * S + p * 3 + 3], &x[f * S + p * 3]);
+  }
 }
 
 // Predictors 0-2, with scheme 3 also smooth (7) and, when the window repeats with a period, 8
 // and 9: each point's cheapest into best[p] / c->modes[p]. q: the window's integers, gaps
 // filled.
-void choose_temporal(const WindowInts& w, const std::vector<int32_t>& q,
+void choose_temporal(const WindowInts& w, const std::vector<int32_t>& q, const PointMajor& pm,
                      const std::vector<TokenHist>& first, int scheme, std::vector<uint64_t>* best,
                      ModeChoice* c) {
-  const size_t F = w.frames, N = w.points, S = N * 3;
+  const size_t F = w.frames, N = w.points;
   if (scheme >= 3) c->period = find_period(q.data(), w.valid.data(), F, N);
   const size_t period = c->period;
   const int nm = scheme < 3 ? 3 : period ? 6 : 4;
   static constexpr uint8_t kIds[6] = {kPredPrevious, kPredLinear, kPredQuadratic,
                                       kPredSmooth,   kPredPeriod, kPredPeriodPrevious};
-  // Point by point: the point's trajectory is gathered per axis into contiguous arrays, so
+  // Point by point: the point's trajectory per axis is a contiguous array (PointMajor), so
   // each predictor's residuals are one simple loop over frames and the estimate's state
   // stays in registers (the same histograms as a frame-by-frame walk: counts are sums, and
   // the state of each predictor, point and axis sees the same sequence).
-  std::vector<int32_t> xs(3 * F), res(3 * F);
-  std::vector<uint8_t> vs(F);
+  std::vector<int32_t> res(3 * F);
   for (size_t p = 0; p < N; ++p) {
-    for (size_t f = 0; f < F; ++f) {
-      vs[f] = w.valid[f * N + p];
-      for (size_t a = 0; a < 3; ++a) xs[a * F + f] = q[f * S + p * 3 + a];
-    }
+    const int32_t* xs = &pm.x[p * 3 * F];
+    const uint8_t* vs = &pm.v[p * F];
     for (int m = 0; m < nm; ++m) {
       TokenHist h = first[p];
       for (size_t a = 0; a < 3; ++a)
         predictor_residuals(kIds[m], &xs[a * F], F, period, &res[a * F]);
       const int32_t* r3[3] = {&res[0], &res[F], &res[2 * F]};
       PrevState st[3];
-      h.add_run3(r3, vs.data(), 1, F, st);
+      h.add_run3(r3, vs, 1, F, st);
       const uint64_t cost = h.bits16();
       if (cost < (*best)[p]) (*best)[p] = cost, c->modes[p] = kIds[m];
     }
@@ -456,23 +548,22 @@ void rank_references(const RankSamples& samples, const uint32_t* cand, size_t K,
 // Reference predictors 5/6. Candidate pairs (reference, base) are ranked by the summed bit
 // lengths of their residuals on every `step`-th frame (RankSamples); the full estimate of the
 // two best then competes with the point's best predictor so far. e: base_residuals of q.
-void choose_references(const WindowInts& w, const std::vector<int32_t>& q,
+void choose_references(const WindowInts& w, const std::vector<int32_t>& q, const PointMajor& pm,
                        const std::vector<int32_t> e[2], const std::vector<TokenHist>& first,
                        std::vector<uint64_t>* best, ModeChoice* c) {
   const size_t F = w.frames, N = w.points;
   size_t K;
   const std::vector<uint32_t> cand = ref_candidates(q.data(), w.valid.data(), F, N, &K);
   const size_t step = F >= 512 ? 8 : F >= 256 ? 4 : F >= 64 ? 2 : 1;
-  const RankSamples samples(e, w.valid.data(), F, N, step);
+  const RankSamples samples(e, pm, F, N, step);
   std::vector<int32_t> res(3 * F);  // scratch of the estimates: a point's residuals by axis
-  std::vector<uint8_t> vs(F);       // and the point's validity, by frame
   for (size_t p = 1; p < N; ++p) {
     size_t fin_r[kFinalists];
     int fin_b[kFinalists];
     rank_references(samples, &cand[p * K], K, p, fin_r, fin_b);
     for (int j = 0; j < kFinalists && fin_b[j] >= 0; ++j) {
       TokenHist h = first[p];
-      ref_cost(e[fin_b[j]], w.valid.data(), F, N, p, fin_r[j], &h, &res, &vs);
+      ref_cost(e[fin_b[j]], pm, F, p, fin_r[j], &h, &res);
       const uint64_t cost = h.bits16();
       if (cost < (*best)[p]) {
         (*best)[p] = cost;
@@ -499,11 +590,13 @@ ModeChoice choose_modes(const WindowInts& w, const int32_t* t, int scheme, Resid
   std::vector<uint64_t> best(N, UINT64_MAX);
   std::vector<TokenHist> first(N);
   frame0_share(w, t, ctx, q, &first);
+  const PointMajor pm(q->data(), w.valid.data(), F, N);
   std::vector<int32_t> e[2];
-  base_residuals(q->data(), F, N, e);
-  choose_temporal(w, *q, first, scheme, &best, &c);
+  const bool refs = scheme >= 2 && F > 2 && N > 1;
+  if (refs) base_residuals(pm, F, N, e);
+  choose_temporal(w, *q, pm, first, scheme, &best, &c);
   if (t) choose_transform(w, *q, t, ctx, &best, &c);
-  if (scheme >= 2 && F > 2 && N > 1) choose_references(w, *q, e, first, &best, &c);
+  if (refs) choose_references(w, *q, pm, e, first, &best, &c);
   return c;
 }
 
