@@ -462,6 +462,7 @@ void frame0_share(const WindowInts& w, const int32_t* t, ResidualContexts& ctx,
   for (TokenHist& h : *first) h.clear();
   CostCoder c0{q->data(), N, first->data(), est.data()};
   walk_window(1, N, w.valid.data(), mm.data(), nullptr, t, q->data(), ctx, c0);
+  if (N == 0) return;  // a take without points (analog only): nothing to fill
   int32_t* x = q->data();
   for (size_t f = 1; f < F; ++f) {
     if (!std::memchr(&w.valid[f * N], 0, N)) continue;  // no gap in the frame
