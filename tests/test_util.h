@@ -93,6 +93,14 @@ capz::ErrorCode error_of(F&& f, std::string* msg = nullptr) {
   return capz::ErrorCode::kInternal;
 }
 
+// A whole file's bytes as a string ("" when it cannot be read).
+inline std::string file_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
 // A command line run through the shell: its exit status (-1 when it did not exit) and what it
 // printed on stdout and stderr together (collected in `out_file`).
 struct CliResult {
@@ -103,10 +111,7 @@ inline CliResult run_command(const std::string& exe, const std::string& args,
                              const std::string& out_file) {
   const std::string cmd = "'" + exe + "' " + args + " >'" + out_file + "' 2>&1";
   const int rc = std::system(cmd.c_str());
-  std::ifstream in(out_file);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str()};
+  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, file_text(out_file)};
 }
 
 }  // namespace capz_test

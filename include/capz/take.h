@@ -185,6 +185,14 @@ struct PCDField {
   int count = 1;
 };
 
+// A field form the format and the PCD writer hold (docs/FORMAT.md 5.3): TYPE F, U or I; SIZE 1,
+// 2, 4 or 8 (4 or 8 for F); COUNT 1 .. 2^20. The one rule for META's decoder and the encoder.
+inline bool valid_field_form(char type, int size, uint64_t count) {
+  return (type == 'F' || type == 'U' || type == 'I') &&
+         (size == 1 || size == 2 || size == 4 || size == 8) && (type != 'F' || size >= 4) &&
+         count >= 1 && count <= (uint64_t{1} << 20);
+}
+
 // PCD folder specifics.
 struct PCDExtra {
   std::vector<std::string> frame_names;  // file names in natural-sort order, one per frame

@@ -750,10 +750,8 @@ void settle_fields(FrameSource& source, const CompressOptions& opts) {
               specs[i].size == h.attributes[i].size && specs[i].count == h.attributes[i].count;
   }
   for (const PointAttribute& a : h.attributes)
-    if ((a.type != 'F' && a.type != 'U' && a.type != 'I') ||
-        (a.size != 1 && a.size != 2 && a.size != 4 && a.size != 8) ||
-        (a.type == 'F' && a.size < 4) || a.count < 1 || a.count > (1 << 20) || a.name.empty() ||
-        a.name == "x" || a.name == "y" || a.name == "z")
+    if (a.count < 1 || !valid_field_form(a.type, a.size, static_cast<uint64_t>(a.count)) ||
+        a.name.empty() || a.name == "x" || a.name == "y" || a.name == "z")
       fail(ErrorCode::kInvalidParameter, h.source,
            "point field '" + a.name + "' has a bad name, type, size or count");
   if (match) return;

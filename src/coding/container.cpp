@@ -453,9 +453,7 @@ void decode_pcd_layout(ByteReader* r, const std::string& what, Take* t, PCDExtra
     f.type = static_cast<char>(r->u8());
     f.size = r->u8();
     const uint64_t count = r->varint();
-    if ((f.type != 'F' && f.type != 'U' && f.type != 'I') ||
-        (f.size != 1 && f.size != 2 && f.size != 4 && f.size != 8) ||
-        (f.type == 'F' && f.size < 4) || count < 1 || count > (1u << 20))
+    if (!valid_field_form(f.type, f.size, count))
       fail(ErrorCode::kCorrupt, what, "PCD field '" + f.name + "' has a bad type, size or count");
     f.count = static_cast<int>(count);
     step += count * static_cast<uint64_t>(f.size);

@@ -26,12 +26,7 @@ struct Result {
   std::string out, err;
 };
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using capz_test::file_text;
 
 // `command` run by bash in `dir`, stdin from /dev/null unless it says otherwise, stdout and
 // stderr captured apart; `capz` in it is the binary under test (also $CAPZ).
@@ -46,7 +41,7 @@ Result shell(const std::string& dir, const std::string& command) {
                         << command << "\n";
   const std::string cmd = "bash '" + script + "' </dev/null >'" + out + "' 2>'" + err + "'";
   const int rc = std::system(cmd.c_str());
-  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(out), slurp(err)};
+  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, file_text(out), file_text(err)};
 }
 
 size_t count_lines(const std::string& s) {
@@ -332,7 +327,7 @@ TEST(CliBatch, GivenReportThenOneParsableLinePerFileInInputOrder) {
   Result r =
       shell(dir, "capz compress -q -T 2 --max-error 0.05mm a.c3d bad.trc w.trc --report r.jsonl");
   EXPECT_NE(r.status, 0);
-  const std::vector<std::string> lines = split_lines(slurp(d.file("r.jsonl")));
+  const std::vector<std::string> lines = split_lines(file_text(d.file("r.jsonl")));
   ASSERT_EQ(lines.size(), 3u);
   std::vector<std::map<std::string, std::string>> rec;
   for (const std::string& l : lines) {
@@ -372,12 +367,12 @@ TEST(CliBatch, GivenReportThenOneParsableLinePerFileInInputOrder) {
   Result again = shell(dir, "capz compress -q a.c3d --report r.jsonl");
   EXPECT_EQ(again.status, 1);
   EXPECT_FALSE(fs::exists(d.file("a.c3d.capz")));
-  EXPECT_EQ(count_lines(slurp(d.file("r.jsonl"))), 3u);
+  EXPECT_EQ(count_lines(file_text(d.file("r.jsonl"))), 3u);
   // decompress reports too: bytes of the archive in, of the take out.
   ASSERT_EQ(shell(dir, "capz compress -q --lossless a.c3d").status, 0);
   Result dr = shell(dir, "capz decompress -q a.c3d.capz -o b.c3d --report d.jsonl");
   ASSERT_EQ(dr.status, 0) << dr.err;
-  std::map<std::string, std::string> dd = parse_object(slurp(d.file("d.jsonl")));
+  std::map<std::string, std::string> dd = parse_object(file_text(d.file("d.jsonl")));
   EXPECT_EQ(dd["output"], "b.c3d");
   EXPECT_EQ(std::stoull(dd["bytes_out"]), fs::file_size(d.file("a.c3d")));
   EXPECT_EQ(dd["lossless"], "true");
@@ -404,7 +399,7 @@ TEST(CliBatch, GivenManyArchivesThenTestAndListOneLineEachAndRecursive) {
   EXPECT_EQ(count_lines(bad.out), kTreeArchives.size()) << bad.out;
   EXPECT_NE(bad.out.find("t/s1/e.c3d.capz: FAILED"), std::string::npos) << bad.out;
   EXPECT_NE(bad.out.find("t/s1/a.c3d.capz: OK"), std::string::npos) << bad.out;
-  const std::vector<std::string> rep = split_lines(slurp(d.file("t.jsonl")));
+  const std::vector<std::string> rep = split_lines(file_text(d.file("t.jsonl")));
   ASSERT_EQ(rep.size(), kTreeArchives.size());
   EXPECT_EQ(parse_object(rep[1])["ok"], "false");
   EXPECT_EQ(parse_object(rep[0])["ok"], "true");
@@ -414,7 +409,7 @@ TEST(CliBatch, GivenManyArchivesThenTestAndListOneLineEachAndRecursive) {
   EXPECT_EQ(kept.status, 1);
   EXPECT_EQ(kept.out, "");
   EXPECT_EQ(shell(dir, "capz test -f t/s1/a.c3d.capz --report t.jsonl").status, 0);
-  EXPECT_EQ(count_lines(slurp(d.file("t.jsonl"))), 1u);
+  EXPECT_EQ(count_lines(file_text(d.file("t.jsonl"))), 1u);
   // list over many, and a folder without -r is one failure.
   Result l = shell(dir, "capz list t/s1/a.c3d.capz t/s2/w.trc.capz t/s2/frames.capz");
   EXPECT_EQ(l.status, 0);
@@ -492,7 +487,7 @@ TEST(CliRecipes, GivenSlurmArrayScriptThenEveryTakeDoneExactlyOnce) {
                   "'*.pcd' -printf '%h\\n' | sort -u) > takes.txt")
                 .status,
             0);
-  const std::vector<std::string> takes = split_lines(slurp(d.file("takes.txt")));
+  const std::vector<std::string> takes = split_lines(file_text(d.file("takes.txt")));
   ASSERT_EQ(takes.size(), 5u);
   const int K = 3;
   Result split = shell(dir, "'" + script + "' --split takes.txt " + std::to_string(K) + " lists");
@@ -505,7 +500,7 @@ TEST(CliRecipes, GivenSlurmArrayScriptThenEveryTakeDoneExactlyOnce) {
   std::map<std::string, int> done;
   for (int i = 0; i < K; ++i)
     for (const std::string& l :
-         split_lines(slurp(d.file("lists/report." + std::to_string(i) + ".jsonl")))) {
+         split_lines(file_text(d.file("lists/report." + std::to_string(i) + ".jsonl")))) {
       std::map<std::string, std::string> rec = parse_object(l);
       EXPECT_EQ(rec["ok"], "true") << l;
       ++done[rec["input"]];

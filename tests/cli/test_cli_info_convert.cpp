@@ -28,12 +28,7 @@ struct CliRun {
   std::string out, err;
 };
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using capz_test::file_text;
 
 std::string quote(const std::string& s) {
   std::string q = "'";
@@ -49,8 +44,8 @@ CliRun run_capz(const std::string& args) {
   int rc = std::system(cmd.c_str());
   CliRun r;
   r.status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-  r.out = slurp(out);
-  r.err = slurp(err);
+  r.out = file_text(out);
+  r.err = file_text(err);
   return r;
 }
 
@@ -295,7 +290,7 @@ TEST(CliCompress, KeepsAC3dFilesRotations) {
     EXPECT_EQ(v.status, 0) << v.out << v.err;
     CliRun x = run_capz("decompress " + quote(capz) + " -o " + quote(back));
     ASSERT_EQ(x.status, 0) << x.err;
-    EXPECT_EQ(slurp(back), slurp(c3d));
+    EXPECT_EQ(file_text(back), file_text(c3d));
     // verify compares them: the original with one rotation bit changed does not match.
     capz::Take other = capz::read_c3d(c3d);
     other.rotations.reliability[7] = 0.5f;
@@ -444,7 +439,7 @@ TEST(CliConvert, RefusesToOverwriteWithoutForce) {
   EXPECT_EQ(r.status, 1);
   EXPECT_EQ(lines(r.err), 1u) << r.err;
   EXPECT_TRUE(contains(r.err, "output exists (use -f to overwrite)")) << r.err;
-  EXPECT_EQ(slurp(out), "keep me\n");
+  EXPECT_EQ(file_text(out), "keep me\n");
   CliRun f = run_capz("convert -q -f " + quote(src) + " " + quote(out));
   EXPECT_EQ(f.status, 0) << f.err;
   EXPECT_EQ(capz::read_trc(out).frames, 120u);
@@ -539,7 +534,7 @@ TEST(CliFields, InfoListsThemAndNothingIsDroppedWithoutBeingAsked) {
   EXPECT_NE(iz.out.find("rgb U4, intensity F4, desc F4x2"), std::string::npos) << iz.out;
   CliRun x = run_capz("decompress " + quote(z) + " -o " + quote(back + "/"));
   ASSERT_EQ(x.status, 0) << x.err;
-  const std::string src = slurp(dir + "/f1.pcd"), got = slurp(back + "/f1.pcd");
+  const std::string src = file_text(dir + "/f1.pcd"), got = file_text(back + "/f1.pcd");
   EXPECT_NE(got.find("FIELDS x y z rgb intensity desc\n"), std::string::npos) << got;
   EXPECT_NE(got.find("HEIGHT 3\n"), std::string::npos) << got;
   EXPECT_NE(got.find("DATA ascii\n"), std::string::npos) << got;
