@@ -15,6 +15,7 @@
 #include "capz/error.h"
 #include "capz/verify.h"
 #include "codec/decoder.h"
+#include "codec/encode_settings.h"
 #include "codec/grid.h"
 #include "codec/grid_choice.h"
 #include "codec/registry.h"
@@ -638,134 +639,6 @@ class Encoder {
   size_t attribute_bytes_ = 0;
 };
 
-}  // namespace
-
-namespace {
-// A take with point fields needs a PCD layout in META (FORMAT.md 5.3): one read from a PCD
-// folder has it; for any other (built in memory) it is x y z as float64 then the fields, one
-// row. With opts.drop_fields the fields are left out instead.
-// The per-field bounds of opts.attr_error on the header's PCD layout (field_bounds).
-void set_field_bounds(FrameSource& source, const CompressOptions& opts) {
-  Take& e = source.edit_header();
-  if (opts.attr_error.empty()) return;
-  if (e.attributes.empty() || !e.pcd)
-    fail(ErrorCode::kInvalidParameter, e.source,
-         "--attr-error: the take has no point fields to bound");
-  auto x = std::make_shared<PCDExtra>(*e.pcd);
-  x->field_bounds.assign(x->fields.size(), 0.0);
-  for (const auto& kv : opts.attr_error) {
-    if (!(kv.second > 0) || !std::isfinite(kv.second))
-      fail(ErrorCode::kInvalidParameter, e.source,
-           "--attr-error " + kv.first + ": the bound must be a positive number");
-    bool any = false;
-    for (size_t i = 0; i < x->fields.size(); ++i) {
-      const PCDField& f = x->fields[i];
-      const bool named = f.name == kv.first || f.name.rfind(kv.first + "_", 0) == 0;
-      if (!named || f.name == "x" || f.name == "y" || f.name == "z") continue;
-      if (f.type != 'F')
-        fail(ErrorCode::kInvalidParameter, e.source,
-             "--attr-error " + kv.first + ": field " + f.name +
-                 " holds integers, which are always lossless");
-      x->field_bounds[i] = kv.second;
-      any = true;
-    }
-    if (!any)
-      fail(ErrorCode::kInvalidParameter, e.source,
-           "--attr-error names no float field '" + kv.first + "' (fields: " + field_names(e) + ")");
-  }
-  e.pcd = x;
-}
-
-// The per-channel bounds of opts.analog_max_error (FORMAT.md 5.2) on the header's analog
-// channels: a key names a channel's label or its unit; a label's bound wins over its unit's.
-// Returns the keys that name no channel.
-std::vector<std::string> set_analog_bounds(FrameSource& source, const CompressOptions& opts) {
-  std::vector<std::string> unmatched;
-  if (opts.analog_max_error.empty()) return unmatched;
-  Take& e = source.edit_header();
-  for (const auto& kv : opts.analog_max_error)
-    if (!(kv.second > 0) || !std::isfinite(kv.second))
-      fail(ErrorCode::kInvalidParameter, e.source,
-           "--analog-max-error " + kv.first + ": the bound must be a positive number");
-  if (opts.lossless)
-    fail(ErrorCode::kInvalidParameter, e.source,
-         "--lossless keeps every analog sample: it cannot be given with --analog-max-error");
-  const size_t C = static_cast<size_t>(std::max(0, e.analog.channels));
-  const std::vector<AnalogPhysics> phys = analog_physics(e);
-  std::vector<double> bounds(C, 0.0), factors(C, 1.0);
-  std::map<std::string, bool> used;
-  auto trim = [](const std::string& s) {
-    const size_t a = s.find_first_not_of(" \t");
-    return a == std::string::npos ? std::string() : s.substr(a, s.find_last_not_of(" \t") - a + 1);
-  };
-  for (size_t c = 0; c < C; ++c) {
-    const std::string label = c < e.analog.labels.size() ? trim(e.analog.labels[c]) : "";
-    const std::string unit = canonical_analog_unit(phys[c].unit);
-    auto hit = opts.analog_max_error.end();
-    if (!label.empty()) hit = opts.analog_max_error.find(label);
-    for (auto it = opts.analog_max_error.begin();
-         hit == opts.analog_max_error.end() && !unit.empty() && it != opts.analog_max_error.end();
-         ++it)
-      if (canonical_analog_unit(it->first) == unit) hit = it;
-    if (hit == opts.analog_max_error.end()) continue;
-    used[hit->first] = true;
-    if (!(phys[c].factor > 0) || !std::isfinite(phys[c].factor)) continue;  // cannot be bounded
-    bounds[c] = hit->second;
-    factors[c] = phys[c].factor;
-  }
-  for (const auto& kv : opts.analog_max_error)
-    if (!used.count(kv.first)) unmatched.push_back(kv.first);
-  e.analog.bounds.clear();
-  e.analog.factors.clear();
-  for (double b : bounds)
-    if (b > 0) {
-      e.analog.bounds = bounds;
-      e.analog.factors = factors;
-      break;
-    }
-  return unmatched;
-}
-
-void settle_fields(FrameSource& source, const CompressOptions& opts) {
-  const Take& h = source.header();
-  if (h.attributes.empty()) return;
-  Take& e = source.edit_header();
-  if (opts.drop_fields) {
-    e.attributes.clear();
-    if (e.pcd) {
-      auto x = std::make_shared<PCDExtra>(*e.pcd);
-      x->fields = std::vector<PCDField>();
-      for (const PCDField& f : e.pcd->fields)
-        if (f.name == "x" || f.name == "y" || f.name == "z") x->fields.push_back(f);
-      e.pcd = x;
-    }
-    return;
-  }
-  bool match = h.pcd && !h.pcd->fields.empty();
-  if (match) {
-    const std::vector<AttrSpec> specs = attribute_specs(h.pcd->fields);
-    match = specs.size() == h.attributes.size();
-    for (size_t i = 0; match && i < specs.size(); ++i)
-      match = specs[i].name == h.attributes[i].name && specs[i].type == h.attributes[i].type &&
-              specs[i].size == h.attributes[i].size && specs[i].count == h.attributes[i].count;
-  }
-  for (const PointAttribute& a : h.attributes)
-    if (a.count < 1 || !valid_field_form(a.type, a.size, static_cast<uint64_t>(a.count)) ||
-        a.name.empty() || a.name == "x" || a.name == "y" || a.name == "z")
-      fail(ErrorCode::kInvalidParameter, h.source,
-           "point field '" + a.name + "' has a bad name, type, size or count");
-  if (match) return;
-  auto x = h.pcd ? std::make_shared<PCDExtra>(*h.pcd) : std::make_shared<PCDExtra>();
-  x->fields.clear();
-  for (const char* axis : {"x", "y", "z"}) x->fields.push_back(PCDField{axis, 'F', 8, 1});
-  for (const PointAttribute& a : h.attributes)
-    x->fields.push_back(PCDField{a.name, a.type, a.size, a.count});
-  if (x->width * x->height != h.points) {
-    x->width = h.points;
-    x->height = 1;
-  }
-  e.pcd = x;
-}
 }  // namespace
 
 void encode_source(FrameSource& source, const CompressOptions& opts, const EncoderTuning& tuning,

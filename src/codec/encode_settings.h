@@ -1,0 +1,26 @@
+// What CompressOptions settle on a source's header before encoding (docs/FORMAT.md 5.2, 5.3):
+// the PCD layout of its point fields (or their removal), the bounds of float fields and the
+// bounds of analog channels. Each edits the header through FrameSource::edit_header and throws
+// Error(kInvalidParameter) for a request the take cannot meet.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "capz/codec.h"
+#include "capz/stream.h"
+
+namespace capz {
+
+// A take with point fields gets a PCD layout for META (one read from a PCD folder keeps its own;
+// any other: x y z as float64, then the fields, one row); with opts.drop_fields the fields are
+// left out instead.
+void settle_fields(FrameSource& source, const CompressOptions& opts);
+// The per-field bounds of opts.attr_error on the header's PCD layout (field_bounds).
+void set_field_bounds(FrameSource& source, const CompressOptions& opts);
+// The per-channel bounds of opts.analog_max_error on the header's analog channels: a key names
+// a channel's label or its unit; a label's bound wins over its unit's. Returns the keys that
+// name no channel.
+std::vector<std::string> set_analog_bounds(FrameSource& source, const CompressOptions& opts);
+
+}  // namespace capz

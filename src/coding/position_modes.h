@@ -1,0 +1,29 @@
+// The encoder's choice of a predictor per point for one window of positions (docs/FORMAT.md 3.3:
+// predictors, reference points, period), by the estimated coded size of each point's residuals.
+// Built into the decoder library beside positions.cpp, whose encode_positions uses it.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "coding/positions.h"
+#include "coding/predict.h"
+
+namespace capz {
+
+// What the estimate chose for a window: a predictor per point, the reference point of those
+// using predictors 5/6, and the period of predictors 8/9 (0 when none is tried).
+struct ModeChoice {
+  std::vector<uint8_t> modes;
+  std::vector<uint32_t> ref;
+  bool any_ref = false;
+  size_t period = 0;
+};
+
+// Chooses every point's predictor for window w (t: the transform's prediction, or nullptr),
+// with the residual contexts of `scheme`; fills q's gap entries as the walks will.
+ModeChoice choose_modes(const WindowInts& w, const int32_t* t, int scheme, ResidualContexts& ctx,
+                        std::vector<int32_t>* q);
+
+}  // namespace capz
