@@ -569,5 +569,4 @@ ModeChoice choose_modes(const WindowInts& w, const int32_t* t, int scheme, Resid
   return c;
 }
 
-
 }  // namespace capz
