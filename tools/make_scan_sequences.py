@@ -2,6 +2,7 @@
 """Scan-like PCD sequences with point fields, for the tests and benchmarks of issue #15.
 
   make_scan_sequences.py depth MESH_DIR OUT_DIR [--frames N] [--width W --height H] [--seed S]
+                           [--world]
   make_scan_sequences.py lidar OUT_DIR [--frames N] [--rings R] [--steps A] [--seed S]
 
 depth: renders a mesh animation given as a folder of PCD frames (x y z, the same vertices in
@@ -9,7 +10,8 @@ depth: renders a mesh animation given as a folder of PCD frames (x y z, the same
   frame is an organized W x H cloud in camera coordinates (metres-like units of the mesh):
   every vertex is projected (pinhole, 40 degree horizontal field of view, the camera looking at
   the first frame's centre from 1.5 bounding radii away) and splatted on a 2 x 2 pixel block
-  with a z-buffer; pixels no vertex reaches are the NaN background. Fields, binary:
+  with a z-buffer; pixels no vertex reaches are the NaN background (with --world the points are
+  moved back into the mesh's coordinates, as a registered sequence has them). Fields, binary:
     x y z          float32, the pixel's surface point, depth with Gaussian noise (sigma 0.2 %
                    of the depth, as structured-light sensors have);
     rgb            packed float (PCL's spelling): a procedural texture of the vertex's rest
@@ -152,7 +154,9 @@ def depth(args):
         X = (pxs + 0.5 - W / 2) / f_px * d
         Y = -(pys + 0.5 - H / 2) / f_px * d
         Z = -d
-        P = np.stack([X, Y, Z], axis=1).astype(np.float32)
+        # --world: the points in the mesh's coordinates (a registered sequence), so they move
+        # along rays from the camera, not from the origin.
+        P = (np.stack([X, Y, Z], axis=1) + (cam if args.world else 0.0)).astype(np.float32)
         img = P.reshape(H, W, 3).astype(np.float64)
         dxv = np.full_like(img, np.nan)
         dyv = np.full_like(img, np.nan)
@@ -231,6 +235,8 @@ def main():
     d.add_argument("--width", type=int, default=160)
     d.add_argument("--height", type=int, default=120)
     d.add_argument("--seed", type=int, default=1)
+    d.add_argument("--world", action="store_true",
+                   help="points in the mesh's coordinates, not the camera's")
     l = sub.add_parser("lidar")
     l.add_argument("out")
     l.add_argument("--frames", type=int, default=40)

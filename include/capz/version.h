@@ -24,15 +24,21 @@ Version library_version();
 // "0.1.0"
 const char* version_string();
 
-// The .capz version streams are written in, but for those of kFormatNewestWritten.
+// The .capz version streams are written in, but for those of kFormat6 and kFormat7.
 constexpr FormatVersion kFormatWritten{5, 0};
 // The version of streams with point fields that include a normal triple or are organized
-// (FORMAT.md 6: ATTR predictor 9, transforms 4 and 5); every other stream is kFormatWritten.
-constexpr FormatVersion kFormatNewestWritten{6, 0};
+// (FORMAT.md 6: ATTR predictor 9, transforms 4 and 5).
+constexpr FormatVersion kFormat6{6, 0};
+// The version of streams whose scan found what format 7 codes (FORMAT.md 7): PCD points moving
+// along their rays (POSW predictor 10, 7.1), repeated analog frames (7.2). Every other stream
+// is kFormatWritten or kFormat6.
+constexpr FormatVersion kFormat7{7, 0};
+// The newest version the encoder writes.
+constexpr FormatVersion kFormatNewestWritten = kFormat7;
 // The versions read: every one from kFormatOldestRead to kFormatNewestRead, and any later
 // minor version of kFormatNewestRead's major (minor versions only add what older decoders skip;
 // FORMAT.md 2). A later major version is refused (Error kUnsupportedVersion).
 constexpr FormatVersion kFormatOldestRead{1, 0};
-constexpr FormatVersion kFormatNewestRead{6, 0};
+constexpr FormatVersion kFormatNewestRead{7, 0};
 
 }  // namespace capz

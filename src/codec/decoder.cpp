@@ -142,8 +142,8 @@ void decode_window_positions(const StreamContext& ctx, WindowChunks* chunks, siz
   } else {
     const PositionsPayload pp = split_positions(body, body_size, pwhat);
     const std::vector<int32_t> tpred = transform_prediction(ctx, pp, fn, pwhat);
-    decode_positions(pp, tpred, h.mode == PosMode::kFloat64, position_scheme(ctx.major), &wi,
-                     pwhat);
+    decode_positions(pp, tpred, h.mode == PosMode::kFloat64, position_scheme(ctx.major), &wi, pwhat,
+                     ray_kind(ctx.major, h.mode));
   }
   if (h.transform_output) {
     xyz->assign(fn * N * 3, 0.0);

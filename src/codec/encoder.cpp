@@ -269,7 +269,13 @@ class Encoder {
     // 5.0.
     if (!take_.attributes.empty() && take_.pcd &&
         (take_.pcd->height > 1 || has_unit_candidate(attribute_specs(take_.pcd->fields))))
-      version_ = kFormatNewestWritten;
+      version_ = kFormat6;
+    // FORMAT.md 7.1: a PCD take whose points the scan found moving along their rays is written as
+    // 7.0, predictor 10 a candidate.
+    if (on_rays(scan_)) {
+      version_ = kFormat7;
+      ray_ = ray_kind(version_.major, g_.mode);
+    }
     std::vector<uint8_t> buf;
     write_file_header(&buf, version_);
     append_chunk(&buf, "HEAD", encode_header(h));
@@ -432,7 +438,8 @@ class Encoder {
     const bool gaps = std::find(wi.valid.begin(), wi.valid.end(), 0) != wi.valid.end();
     const std::vector<uint8_t> pos =
         plan_.tout ? transform_only_positions(codec_bytes)
-                   : encode_positions(wi, codec_bytes, tpred, g_.mode == PosMode::kFloat64);
+                   : encode_positions(wi, codec_bytes, tpred, g_.mode == PosMode::kFloat64,
+                                      kPositionScheme, ray_);
     append_chunk(&buf, "POSW", with_window_index(w, gaps ? 1 : 0, pos));
     if (gaps)
       append_chunk(&buf, "MASK", with_window_index(w, 0xFF, encode_mask(wi.valid.data(), fn, N)));
@@ -627,7 +634,8 @@ class Encoder {
   TakeScan scan_;
   Grid g_;
   TransformParams tparams_;
-  FormatVersion version_ = kFormatWritten;  // of the stream written (FORMAT.md 2, 6.1)
+  FormatVersion version_ = kFormatWritten;  // of the stream written (FORMAT.md 2, 6.1, 7)
+  RayKind ray_ = RayKind::kNone;            // predictor 10 a candidate (FORMAT.md 7.1)
   StreamContext ctx_;  // what the decoder reads from HEAD and META (with opts.check)
   Promise promise_;    // the stream's promise, checked on what the decoder gives (each window)
   std::unique_ptr<ResidueWriter> residue_;     // HASH and residue chunks (an original file only)

@@ -67,8 +67,44 @@ TakeScan start_scan(const Take& hdr, const CompressOptions& opts) {
   s.words_on_grid = hdr.c3d && hdr.c3d->point_scale > 0;
   s.kg = !opts.lossless && opts.kg_error > 0;
   s.lossless = opts.lossless;
+  s.ray_track = hdr.format == Format::kPCDFolder;
+  if (s.ray_track) {
+    s.ray_last.assign(hdr.points * 3, 0.0);
+    s.ray_seen.assign(hdr.points, 0);
+  }
   return s;
 }
+
+bool on_rays(const TakeScan& s) {
+  return s.ray_moved >= 64 && 2 * s.ray_on >= s.ray_moved;
+}
+
+namespace {
+// Counts, in TakeScan::ray_moved / ray_on, the valid samples of b that moved since their
+// point's last valid position, and those of them that stayed on its ray from the origin: the
+// cross product of the two positions at most 2^-16 of the product of their lengths, the dot
+// product positive (FORMAT.md 7.1, "how the encoder chooses").
+void scan_rays(const FrameBlock& b, TakeScan* s) {
+  if (b.points * 3 != s->ray_last.size()) return;  // a block of another shape: not a sequence
+  for (size_t f = 0; f < b.frames; ++f)
+    for (size_t p = 0; p < b.points; ++p) {
+      if (!b.valid[f * b.points + p]) continue;
+      const double* x = &b.xyz[(f * b.points + p) * 3];
+      double* c = &s->ray_last[p * 3];
+      if (s->ray_seen[p] && (x[0] != c[0] || x[1] != c[1] || x[2] != c[2])) {
+        ++s->ray_moved;
+        const double cx = x[1] * c[2] - x[2] * c[1], cy = x[2] * c[0] - x[0] * c[2],
+                     cz = x[0] * c[1] - x[1] * c[0];
+        const double nx = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+        const double nc = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+        const double dot = x[0] * c[0] + x[1] * c[1] + x[2] * c[2];
+        if (dot > 0 && (cx * cx + cy * cy + cz * cz) <= std::ldexp(nx * nc, -32)) ++s->ray_on;
+      }
+      std::copy(x, x + 3, c);
+      s->ray_seen[p] = 1;
+    }
+}
+}  // namespace
 
 // Keeps the KG search's coordinates during the scan (TakeScan::kg_coords), up to cap_bytes.
 void cache_kg_coordinates(const Take& hdr, size_t cap_bytes, TakeScan* s) {
@@ -110,6 +146,7 @@ void scan_block(const FrameBlock& b, const std::string& src, bool words, double 
             }
     });
   }
+  if (s->ray_track) scan_rays(b, s);
   if (words && s->words_on_grid && !residuals_on_grid(b.residual, b.valid, point_scale))
     s->words_on_grid = false;
   if (s->kg_cached) {

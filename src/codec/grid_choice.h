@@ -33,7 +33,18 @@ struct TakeScan {
   size_t kg_cap = 0;
   bool kg_cached = false;
   std::vector<double> kg_coords;
+  // PCD takes (FORMAT.md 7.1): each point's last valid position (ray_seen: whether it has one),
+  // and of the valid samples that moved since it, how many stayed on their ray from the origin.
+  bool ray_track = false;
+  std::vector<double> ray_last;
+  std::vector<uint8_t> ray_seen;
+  uint64_t ray_moved = 0, ray_on = 0;
 };
+
+// True when the scan found the take's points moving along their rays from the origin, as a
+// sensor's pixels or beams do (FORMAT.md 7.1: the stream is written as 7.0, predictor 10 a
+// candidate).
+bool on_rays(const TakeScan& s);
 
 // True when the take is an int16 C3D (its coordinates are multiples of POINT:SCALE).
 bool c3d_int16(const Take& t);

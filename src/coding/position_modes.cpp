@@ -491,6 +491,32 @@ void choose_transform(const WindowInts& w, const std::vector<int32_t>& q, const 
   }
 }
 
+// Predictor 10 (FORMAT.md 7.1), estimated as choose_temporal estimates 0-9: per point, the
+// residuals of each axis in axis order (the walk codes the lead axis first, which changes only
+// the `tb` of its contexts, which the estimate does not model).
+void choose_ray(const WindowInts& w, const PointMajor& pm, const std::vector<TokenHist>& first,
+                RayKind ray, std::vector<uint64_t>* best, ModeChoice* c) {
+  const size_t F = w.frames, N = w.points;
+  std::vector<int32_t> res(3 * F);
+  for (size_t p = 0; p < N; ++p) {
+    const int32_t* xs = &pm.x[p * 3 * F];
+    const int32_t* ax[3] = {xs, xs + F, xs + 2 * F};
+    for (size_t f = 1; f < F; ++f) {
+      const int32_t cprev[3] = {ax[0][f - 1], ax[1][f - 1], ax[2][f - 1]};
+      const int l = ray_lead(ray, cprev);
+      for (int a = 0; a < 3; ++a)
+        res[a * F + f] =
+            wrap_sub(ax[a][f], a == l ? cprev[l] : ray_predict(ray, cprev[a], cprev[l], ax[l][f]));
+    }
+    TokenHist h = first[p];
+    const int32_t* r3[3] = {&res[0], &res[F], &res[2 * F]};
+    PrevState st[3];
+    h.add_run3(r3, &pm.v[p * F], 1, F, st);
+    const uint64_t cost = h.bits16();
+    if (cost < (*best)[p]) (*best)[p] = cost, c->modes[p] = kPredRay;
+  }
+}
+
 // The two best (reference, base) pairs of point p by RankSamples::rank over its K candidates
 // cand[0..K) (UINT32_MAX ends the list early); fin_b[j] = -1 where fewer were found.
 constexpr int kFinalists = 2;
@@ -547,7 +573,7 @@ void choose_references(const WindowInts& w, const std::vector<int32_t>& q, const
 }  // namespace
 
 ModeChoice choose_modes(const WindowInts& w, const int32_t* t, int scheme, ResidualContexts& ctx,
-                        std::vector<int32_t>* q) {
+                        std::vector<int32_t>* q, RayKind ray) {
   const size_t F = w.frames, N = w.points;
   ModeChoice c;
   c.modes.assign(N, 0);
@@ -566,6 +592,11 @@ ModeChoice choose_modes(const WindowInts& w, const int32_t* t, int scheme, Resid
   choose_temporal(w, *q, pm, first, scheme, &best, &c);
   if (t) choose_transform(w, *q, t, ctx, &best, &c);
   if (refs) choose_references(w, *q, pm, e, first, &best, &c);
+  if (ray != RayKind::kNone) {
+    choose_ray(w, pm, first, ray, &best, &c);
+    // A point whose reference lost to the ray drops out of the reference block (3.3).
+    c.any_ref = std::any_of(c.modes.begin(), c.modes.end(), [](uint8_t m) { return uses_ref(m); });
+  }
   return c;
 }
 

@@ -61,17 +61,19 @@ std::vector<uint8_t> write_positions(const std::vector<uint8_t>& codec_payload, 
 
 std::vector<uint8_t> encode_positions(const WindowInts& w,
                                       const std::vector<uint8_t>& codec_payload,
-                                      const std::vector<int32_t>& tpred, bool float64, int scheme) {
+                                      const std::vector<int32_t>& tpred, bool float64, int scheme,
+                                      RayKind ray) {
   const size_t F = w.frames, N = w.points;
   std::vector<int32_t> q = w.q;  // gap entries get filled by the walks
   ResidualContexts ctx(scheme, N);
   const int32_t* t = tpred.empty() ? nullptr : tpred.data();
-  const ModeChoice c = choose_modes(w, t, scheme, ctx, &q);
+  const ModeChoice c = choose_modes(w, t, scheme, ctx, &q, float64 ? RayKind::kNone : ray);
   ctx.reset();
   IntEncoder enc(ResidualContexts::count(scheme));
   if (scheme >= 2) enc.skew_contexts();
   EncCoder ec{enc.cursor(), ctx.cursor(), q.data(), float64 ? w.lo.data() : nullptr};
-  walk_window(F, N, w.valid.data(), c.modes.data(), c.ref.data(), t, q.data(), ctx, ec, c.period);
+  walk_window(F, N, w.valid.data(), c.modes.data(), c.ref.data(), t, q.data(), ctx, ec, c.period,
+              ray);
   enc.commit(ec.enc);
   return write_positions(codec_payload, c, enc.finish());
 }
@@ -87,11 +89,11 @@ PositionsPayload split_positions(const uint8_t* data, size_t size, const std::st
 }
 
 std::vector<uint8_t> decode_modes(const PositionsPayload& pp, size_t points, int scheme,
-                                  const std::string& what) {
+                                  const std::string& what, RayKind ray) {
   std::vector<int32_t> m = decode_ints(pp.modes, pp.modes_size, points, what + " predictors");
   std::vector<uint8_t> modes(points);
   for (size_t p = 0; p < points; ++p) {
-    if (m[p] < 0 || m[p] >= predictor_count(scheme))
+    if (m[p] < 0 || m[p] >= predictor_count(scheme, ray))
       fail(ErrorCode::kCorrupt, what, "unknown predictor " + std::to_string(m[p]));
     if (p == 0 && uses_ref(m[p]))
       fail(ErrorCode::kCorrupt, what, "point 0 uses a reference predictor");
@@ -101,9 +103,10 @@ std::vector<uint8_t> decode_modes(const PositionsPayload& pp, size_t points, int
 }
 
 void decode_positions(const PositionsPayload& pp, const std::vector<int32_t>& tpred, bool float64,
-                      int scheme, WindowInts* w, const std::string& what) {
+                      int scheme, WindowInts* w, const std::string& what, RayKind ray) {
   const size_t F = w->frames, N = w->points;
-  std::vector<uint8_t> modes = decode_modes(pp, N, scheme, what);
+  if (float64) ray = RayKind::kNone;  // 7.1: not in mode 3
+  std::vector<uint8_t> modes = decode_modes(pp, N, scheme, what, ray);
   size_t nref = 0;
   bool any_period = false;
   for (uint8_t m : modes) {
@@ -145,7 +148,7 @@ void decode_positions(const PositionsPayload& pp, const std::vector<int32_t>& tp
   if (scheme >= 2) dec.skew_contexts();
   DecCoder dc{dec.cursor(), ctx.cursor(), float64 ? w->lo.data() : nullptr};
   walk_window(F, N, w->valid.data(), modes.data(), ref.data(),
-              tpred.empty() ? nullptr : tpred.data(), w->q.data(), ctx, dc, period);
+              tpred.empty() ? nullptr : tpred.data(), w->q.data(), ctx, dc, period, ray);
   dec.commit(dc.dec);
   if (!dec.at_end()) fail(ErrorCode::kCorrupt, what, "residual block has bytes past its end");
 }

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "coding/predict.h"
+
 namespace capz {
 
 // Integers of one window. q: frames x points x 3 (gap samples: anything, filled on coding);
@@ -31,10 +33,12 @@ constexpr int kPositionScheme = 3;
 inline int position_scheme(int major) {
   return major >= 3 ? 3 : major == 2 ? 2 : 1;
 }
+// `ray`: whether (and on what integers) predictor 10 may be chosen (FORMAT.md 7.1; kNone but
+// in a 7.x stream of mode 0, 1, 2 or 4 whose take the scan found on rays).
 std::vector<uint8_t> encode_positions(const WindowInts& w,
                                       const std::vector<uint8_t>& codec_payload,
                                       const std::vector<int32_t>& tpred, bool float64,
-                                      int scheme = kPositionScheme);
+                                      int scheme = kPositionScheme, RayKind ray = RayKind::kNone);
 // Parses what encode_positions wrote from `r`'s current position to the end of the payload.
 // `codec_payload` receives the codec bytes; `make_tpred` is called with them to produce the
 // transform prediction when any point's predictor needs it (it throws if there is no codec).
@@ -48,11 +52,13 @@ struct PositionsPayload {
 };
 PositionsPayload split_positions(const uint8_t* data, size_t size, const std::string& what);
 // Decodes into w (frames, points, valid set by the caller). tpred may be empty if no codec.
-// `scheme`: position_scheme(major) of the stream.
+// `scheme`: position_scheme(major) of the stream; `ray`: ray_kind(major, mode) (predictor 10
+// is corrupt where it is kNone).
 void decode_positions(const PositionsPayload& pp, const std::vector<int32_t>& tpred, bool float64,
-                      int scheme, WindowInts* w, const std::string& what);
+                      int scheme, WindowInts* w, const std::string& what,
+                      RayKind ray = RayKind::kNone);
 // Predictor modes of a payload.
 std::vector<uint8_t> decode_modes(const PositionsPayload& pp, size_t points, int scheme,
-                                  const std::string& what);
+                                  const std::string& what, RayKind ray = RayKind::kNone);
 
 }  // namespace capz

@@ -5,10 +5,13 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
 #include <vector>
+
+#include "coding/quantiser.h"
 
 namespace capz {
 
@@ -23,11 +26,25 @@ enum Predictor : uint8_t {
   kPredSmooth = 7,           // least-squares line through the last min(6, f) frames (format 3)
   kPredPeriod = 8,           // q[f-T], T = the window's period (format 3)
   kPredPeriodPrevious = 9,   // q[f-1] + q[f-T] - q[f-T-1]
-  kPredCount = 10,
+  kPredCount = 10,           // ids of scheme 3
+  kPredRay = 10,             // lead axis q[f-1]; the others along the ray (format 7, 7.1)
 };
 
-// Predictor ids a stream of position-coding scheme `scheme` may use (FORMAT.md 3.3).
-inline int predictor_count(int scheme) {
+// What predictor 10's ray rule reads the integers as (FORMAT.md 7.1): not allowed (a stream of
+// major 6 or lower, or mode 3), the coordinate times a constant (modes 0, 1, 4), or ordered
+// float32 bits (mode 2).
+enum class RayKind : uint8_t { kNone = 0, kLinear = 1, kFloat32 = 2 };
+
+// How predictor 10 reads a stream's integers: by major version and position mode (FORMAT.md 7.1).
+inline RayKind ray_kind(int major, PosMode mode) {
+  if (major < 7 || mode == PosMode::kFloat64) return RayKind::kNone;
+  return mode == PosMode::kFloat32 ? RayKind::kFloat32 : RayKind::kLinear;
+}
+
+// Predictor ids a stream of position-coding scheme `scheme` may use (FORMAT.md 3.3), with
+// predictor 10 where `ray` allows it (7.1).
+inline int predictor_count(int scheme, RayKind ray = RayKind::kNone) {
+  if (ray != RayKind::kNone) return kPredRay + 1;
   return scheme >= 3 ? kPredCount : scheme == 2 ? kPredSmooth : kPredRefPrevious;
 }
 // Predictors extrapolating the last two frames' motion: after a step on the grid their next
@@ -59,6 +76,43 @@ inline int32_t wrap_mul(int32_t a, uint32_t k) {
 // n / d rounded to the nearest integer, halves away from zero (d > 0).
 inline int64_t round_div(int64_t n, int64_t d) {
   return n >= 0 ? (n + d / 2) / d : -((-n + d / 2) / d);
+}
+
+// Predictor 10's lead axis (FORMAT.md 7.1): the axis of the largest |v(c[a])| of the previous
+// frame's integers c, the lowest on ties, an unusable (not finite) value counting as 0.
+inline int ray_lead(RayKind k, const int32_t* c) {
+  double m[3];
+  for (int a = 0; a < 3; ++a) {
+    if (k == RayKind::kLinear) {
+      m[a] = std::fabs(static_cast<double>(c[a]));
+    } else {
+      const float x = ordered_to_float(c[a]);
+      m[a] = std::isfinite(x) ? std::fabs(static_cast<double>(x)) : 0.0;
+    }
+  }
+  int l = 0;
+  if (m[1] > m[l]) l = 1;
+  if (m[2] > m[l]) l = 2;
+  return l;
+}
+
+// Predictor 10's prediction of a non-lead axis (FORMAT.md 7.1): the previous frame's ca scaled
+// by the lead axis's change cl -> ql, in binary64 (product, then quotient, each rounded);
+// ca itself where the ratio is undefined or leaves the integers' range.
+inline int32_t ray_predict(RayKind k, int32_t ca, int32_t cl, int32_t ql) {
+  if (k == RayKind::kLinear) {
+    if (cl == 0) return ca;
+    const double u = (static_cast<double>(ca) * static_cast<double>(ql)) / static_cast<double>(cl);
+    const double r = std::round(u);
+    if (!(std::fabs(r) <= 2147483647.0)) return ca;
+    return static_cast<int32_t>(r);
+  }
+  const float xa = ordered_to_float(ca), xl1 = ordered_to_float(cl), xl = ordered_to_float(ql);
+  if (!std::isfinite(xa) || !std::isfinite(xl1) || !std::isfinite(xl) || xl1 == 0.0f) return ca;
+  const float v = static_cast<float>((static_cast<double>(xa) * static_cast<double>(xl)) /
+                                     static_cast<double>(xl1));
+  if (!std::isfinite(v)) return ca;
+  return float_to_ordered(v);
 }
 
 // Predictor 7: the least-squares line through q[f-1] .. q[f-K], K = min(6, f), at frame f, as
@@ -275,7 +329,7 @@ inline void with_predictor(int m, Fn&& fn) {
 template <int Scheme, typename Coder>
 void walk_window_as(size_t frames, size_t points, const uint8_t* valid, const uint8_t* modes,
                     const uint32_t* ref, const int32_t* t, int32_t* q, ResidualContexts::Cursor ctx,
-                    Coder& coder, size_t period) {
+                    Coder& coder, size_t period, RayKind ray) {
   Coder code = coder;
   const size_t stride = points * 3;
   for (size_t f = 0; f < frames; ++f) {
@@ -293,6 +347,22 @@ void walk_window_as(size_t frames, size_t points, const uint8_t* valid, const ui
       }
       // The three predictions first (none reads this point's frame f): one mode dispatch per
       // point, and the loads stay off the coder's chain from token to next context.
+      if (m == kPredRay && f > 0) {  // 7.1: the lead axis first, the others along the ray
+        const int32_t* c = q + i - stride;
+        const int l = ray_lead(ray, c);
+        int tok;
+        q[i + l] = code(i + l, c[l], ctx.context_as<Scheme>(p * 3 + l, tb, 0), &tok);
+        ctx.update(p * 3 + l, tok);
+        tb = tok;
+        for (int a = 0; a < 3; ++a) {
+          if (a == l) continue;
+          const int32_t pa = ray_predict(ray, c[a], c[l], q[i + l]);
+          q[i + a] = code(i + a, pa, ctx.context_as<Scheme>(p * 3 + a, tb, 0), &tok);
+          ctx.update(p * 3 + a, tok);
+          tb = tok;
+        }
+        continue;
+      }
       int32_t pred[3];
       if (f == 0) {
         for (int a = 0; a < 3; ++a) pred[a] = transform ? t[i + a] : last[a];
@@ -326,7 +396,8 @@ void walk_window_as(size_t frames, size_t points, const uint8_t* valid, const ui
   coder = code;
 }
 
-// Codes (or decodes) one window frame by frame, point by point, x, y, z (FORMAT.md 3.3):
+// Codes (or decodes) one window frame by frame, point by point, x, y, z (FORMAT.md 3.3; a point
+// with predictor 10 from frame 1 on: its lead axis first, 7.1, as `ray` reads the integers):
 // `code(i, pred, ctx, &tok)` returns q[i] and the residual's token. Gap samples are filled so
 // histories stay defined. `period` is the window's period T (only read by predictors 8 and 9).
 // Coder is trivially copyable: the walk codes through a local copy (kept in registers) and
@@ -334,15 +405,15 @@ void walk_window_as(size_t frames, size_t points, const uint8_t* valid, const ui
 template <typename Coder>
 void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8_t* modes,
                  const uint32_t* ref, const int32_t* t, int32_t* q, ResidualContexts& contexts,
-                 Coder& coder, size_t period = 0) {
+                 Coder& coder, size_t period = 0, RayKind ray = RayKind::kNone) {
   const ResidualContexts::Cursor ctx = contexts.cursor();
   switch (ctx.scheme()) {
     case 3:
-      return walk_window_as<3>(frames, points, valid, modes, ref, t, q, ctx, coder, period);
+      return walk_window_as<3>(frames, points, valid, modes, ref, t, q, ctx, coder, period, ray);
     case 2:
-      return walk_window_as<2>(frames, points, valid, modes, ref, t, q, ctx, coder, period);
+      return walk_window_as<2>(frames, points, valid, modes, ref, t, q, ctx, coder, period, ray);
     default:
-      return walk_window_as<1>(frames, points, valid, modes, ref, t, q, ctx, coder, period);
+      return walk_window_as<1>(frames, points, valid, modes, ref, t, q, ctx, coder, period, ray);
   }
 }
 
