@@ -592,7 +592,7 @@ ModeChoice choose_modes(const WindowInts& w, const int32_t* t, int scheme, Resid
   choose_temporal(w, *q, pm, first, scheme, &best, &c);
   if (t) choose_transform(w, *q, t, ctx, &best, &c);
   if (refs) choose_references(w, *q, pm, e, first, &best, &c);
-  if (ray != RayKind::kNone) {
+  if (ray != RayKind::kNone && scheme >= 3) {
     choose_ray(w, pm, first, ray, &best, &c);
     // A point whose reference lost to the ray drops out of the reference block (3.3).
     c.any_ref = std::any_of(c.modes.begin(), c.modes.end(), [](uint8_t m) { return uses_ref(m); });

@@ -7,36 +7,12 @@
 #include "capz/error.h"
 #include "coding/bytes.h"
 #include "coding/entropy.h"
+#include "coding/position_coders.h"
 #include "coding/position_modes.h"
 #include "coding/predict.h"
 
 namespace capz {
 namespace {
-
-// The coders of the final walks hold the entropy coder's cursor by value (entropy.h): walk_window
-// works on a local copy of its Coder, so the coder state stays in registers; commit it after.
-struct EncCoder {
-  IntEncoder::Cursor enc;
-  ResidualContexts::Cursor contexts;
-  const int32_t* q;
-  const uint32_t* lo;
-  int32_t operator()(size_t i, int32_t pred, int ctx, int* tok) {
-    *tok = enc.put_signed(wrap_sub(q[i], pred), ctx, contexts.escape_set(ctx));
-    if (lo) enc.raw_bits(lo[i], 32);
-    return q[i];
-  }
-};
-
-struct DecCoder {
-  IntDecoder::Cursor dec;
-  ResidualContexts::Cursor contexts;
-  uint32_t* lo;
-  int32_t operator()(size_t i, int32_t pred, int ctx, int* tok) {
-    int32_t r = dec.get_signed(ctx, tok, contexts.escape_set(ctx));
-    if (lo) lo[i] = dec.raw_bits(32);
-    return wrap_add(pred, r);
-  }
-};
 
 // The POSW payload after the window index and has_mask byte (3.3): codec block, predictor
 // block, reference block (when a point uses one), period (when a point uses it), residuals.
@@ -67,14 +43,19 @@ std::vector<uint8_t> encode_positions(const WindowInts& w,
   std::vector<int32_t> q = w.q;  // gap entries get filled by the walks
   ResidualContexts ctx(scheme, N);
   const int32_t* t = tpred.empty() ? nullptr : tpred.data();
-  const ModeChoice c = choose_modes(w, t, scheme, ctx, &q, float64 ? RayKind::kNone : ray);
+  if (float64 || scheme < 3) ray = RayKind::kNone;  // 7.1: scheme 3, not in mode 3
+  const ModeChoice c = choose_modes(w, t, scheme, ctx, &q, ray);
   ctx.reset();
   IntEncoder enc(ResidualContexts::count(scheme));
   if (scheme >= 2) enc.skew_contexts();
-  EncCoder ec{enc.cursor(), ctx.cursor(), q.data(), float64 ? w.lo.data() : nullptr};
-  walk_window(F, N, w.valid.data(), c.modes.data(), c.ref.data(), t, q.data(), ctx, ec, c.period,
-              ray);
-  enc.commit(ec.enc);
+  if (ray != RayKind::kNone) {
+    encode_walk_ray(F, N, w.valid.data(), c.modes.data(), c.ref.data(), t, q.data(), ctx, enc,
+                    c.period, ray);
+  } else {
+    EncCoder ec{enc.cursor(), ctx.cursor(), q.data(), float64 ? w.lo.data() : nullptr};
+    walk_window(F, N, w.valid.data(), c.modes.data(), c.ref.data(), t, q.data(), ctx, ec, c.period);
+    enc.commit(ec.enc);
+  }
   return write_positions(codec_payload, c, enc.finish());
 }
 
@@ -105,7 +86,7 @@ std::vector<uint8_t> decode_modes(const PositionsPayload& pp, size_t points, int
 void decode_positions(const PositionsPayload& pp, const std::vector<int32_t>& tpred, bool float64,
                       int scheme, WindowInts* w, const std::string& what, RayKind ray) {
   const size_t F = w->frames, N = w->points;
-  if (float64) ray = RayKind::kNone;  // 7.1: not in mode 3
+  if (float64 || scheme < 3) ray = RayKind::kNone;  // 7.1: scheme 3, not in mode 3
   std::vector<uint8_t> modes = decode_modes(pp, N, scheme, what, ray);
   size_t nref = 0;
   bool any_period = false;
@@ -146,10 +127,15 @@ void decode_positions(const PositionsPayload& pp, const std::vector<int32_t>& tp
   ResidualContexts ctx(scheme, N);
   IntDecoder dec(res, res_size, ResidualContexts::count(scheme), what + " residuals");
   if (scheme >= 2) dec.skew_contexts();
-  DecCoder dc{dec.cursor(), ctx.cursor(), float64 ? w->lo.data() : nullptr};
-  walk_window(F, N, w->valid.data(), modes.data(), ref.data(),
-              tpred.empty() ? nullptr : tpred.data(), w->q.data(), ctx, dc, period, ray);
-  dec.commit(dc.dec);
+  const int32_t* t = tpred.empty() ? nullptr : tpred.data();
+  if (ray != RayKind::kNone) {
+    decode_walk_ray(F, N, w->valid.data(), modes.data(), ref.data(), t, w->q.data(), ctx, dec,
+                    period, ray);
+  } else {
+    DecCoder dc{dec.cursor(), ctx.cursor(), float64 ? w->lo.data() : nullptr};
+    walk_window(F, N, w->valid.data(), modes.data(), ref.data(), t, w->q.data(), ctx, dc, period);
+    dec.commit(dc.dec);
+  }
   if (!dec.at_end()) fail(ErrorCode::kCorrupt, what, "residual block has bytes past its end");
 }
 

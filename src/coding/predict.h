@@ -44,7 +44,7 @@ inline RayKind ray_kind(int major, PosMode mode) {
 // Predictor ids a stream of position-coding scheme `scheme` may use (FORMAT.md 3.3), with
 // predictor 10 where `ray` allows it (7.1).
 inline int predictor_count(int scheme, RayKind ray = RayKind::kNone) {
-  if (ray != RayKind::kNone) return kPredRay + 1;
+  if (ray != RayKind::kNone && scheme >= 3) return kPredRay + 1;
   return scheme >= 3 ? kPredCount : scheme == 2 ? kPredSmooth : kPredRefPrevious;
 }
 // Predictors extrapolating the last two frames' motion: after a step on the grid their next
@@ -325,11 +325,13 @@ inline void with_predictor(int m, Fn&& fn) {
 }
 
 // walk_window with the contexts' scheme fixed at compile time, so the per-value path has no
-// branch on it.
-template <int Scheme, typename Coder>
+// branch on it, and predictor 10 compiled in only where the stream may use it (Ray: its code
+// in the loop would change how the compiler inlines the coder into the walks of other streams;
+// the rule's RayKind is then the coder's `ray`).
+template <int Scheme, bool Ray, typename Coder>
 void walk_window_as(size_t frames, size_t points, const uint8_t* valid, const uint8_t* modes,
                     const uint32_t* ref, const int32_t* t, int32_t* q, ResidualContexts::Cursor ctx,
-                    Coder& coder, size_t period, RayKind ray) {
+                    Coder& coder, size_t period) {
   Coder code = coder;
   const size_t stride = points * 3;
   for (size_t f = 0; f < frames; ++f) {
@@ -345,24 +347,27 @@ void walk_window_as(size_t frames, size_t points, const uint8_t* valid, const ui
           q[i + a] = f == 0 ? (transform ? t[i + a] : last[a]) : q[i + a - stride];
         continue;
       }
+      if constexpr (Ray) {
+        if (m == kPredRay && f > 0) {  // 7.1: the lead axis first, the others along the ray
+          const int32_t* c = q + i - stride;
+          const RayKind ray = code.ray;
+          const int l = ray_lead(ray, c);
+          int tok;
+          q[i + l] = code(i + l, c[l], ctx.context_as<Scheme>(p * 3 + l, tb, 0), &tok);
+          ctx.update(p * 3 + l, tok);
+          tb = tok;
+          for (int a = 0; a < 3; ++a) {
+            if (a == l) continue;
+            const int32_t pa = ray_predict(ray, c[a], c[l], q[i + l]);
+            q[i + a] = code(i + a, pa, ctx.context_as<Scheme>(p * 3 + a, tb, 0), &tok);
+            ctx.update(p * 3 + a, tok);
+            tb = tok;
+          }
+          continue;
+        }
+      }
       // The three predictions first (none reads this point's frame f): one mode dispatch per
       // point, and the loads stay off the coder's chain from token to next context.
-      if (m == kPredRay && f > 0) {  // 7.1: the lead axis first, the others along the ray
-        const int32_t* c = q + i - stride;
-        const int l = ray_lead(ray, c);
-        int tok;
-        q[i + l] = code(i + l, c[l], ctx.context_as<Scheme>(p * 3 + l, tb, 0), &tok);
-        ctx.update(p * 3 + l, tok);
-        tb = tok;
-        for (int a = 0; a < 3; ++a) {
-          if (a == l) continue;
-          const int32_t pa = ray_predict(ray, c[a], c[l], q[i + l]);
-          q[i + a] = code(i + a, pa, ctx.context_as<Scheme>(p * 3 + a, tb, 0), &tok);
-          ctx.update(p * 3 + a, tok);
-          tb = tok;
-        }
-        continue;
-      }
       int32_t pred[3];
       if (f == 0) {
         for (int a = 0; a < 3; ++a) pred[a] = transform ? t[i + a] : last[a];
@@ -402,19 +407,32 @@ void walk_window_as(size_t frames, size_t points, const uint8_t* valid, const ui
 // histories stay defined. `period` is the window's period T (only read by predictors 8 and 9).
 // Coder is trivially copyable: the walk codes through a local copy (kept in registers) and
 // stores it back into `coder` at the end.
+// Predictor 10 is not coded here: walk_window_ray is the walk of a stream that may hold it.
 template <typename Coder>
 void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8_t* modes,
                  const uint32_t* ref, const int32_t* t, int32_t* q, ResidualContexts& contexts,
-                 Coder& coder, size_t period = 0, RayKind ray = RayKind::kNone) {
+                 Coder& coder, size_t period = 0) {
   const ResidualContexts::Cursor ctx = contexts.cursor();
   switch (ctx.scheme()) {
     case 3:
-      return walk_window_as<3>(frames, points, valid, modes, ref, t, q, ctx, coder, period, ray);
+      return walk_window_as<3, false>(frames, points, valid, modes, ref, t, q, ctx, coder, period);
     case 2:
-      return walk_window_as<2>(frames, points, valid, modes, ref, t, q, ctx, coder, period, ray);
+      return walk_window_as<2, false>(frames, points, valid, modes, ref, t, q, ctx, coder, period);
     default:
-      return walk_window_as<1>(frames, points, valid, modes, ref, t, q, ctx, coder, period, ray);
+      return walk_window_as<1, false>(frames, points, valid, modes, ref, t, q, ctx, coder, period);
   }
+}
+
+// walk_window for a scheme-3 stream whose points may use predictor 10, which reads the integers
+// as coder.ray says (FORMAT.md 7.1). Instantiated in its own translation unit
+// (positions_ray.cpp), so that its extra coding sites do not change how the compiler inlines the
+// coder into the walks of every other stream.
+template <typename Coder>
+void walk_window_ray(size_t frames, size_t points, const uint8_t* valid, const uint8_t* modes,
+                     const uint32_t* ref, const int32_t* t, int32_t* q, ResidualContexts& contexts,
+                     Coder& coder, size_t period) {
+  walk_window_as<3, true>(frames, points, valid, modes, ref, t, q, contexts.cursor(), coder,
+                          period);
 }
 
 }  // namespace capz

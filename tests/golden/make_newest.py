@@ -2,7 +2,12 @@
 """Makes the golden streams of a new format version (CONTRIBUTING.md, "Adding a golden stream").
 
 Run from the repository root, after building:
-    python3 tests/golden/make_newest.py build/capz build/tests/capz_golden_tests 5.0
+    python3 tests/golden/make_newest.py build/capz build/tests/capz_golden_tests 5.0 [SOURCE ...]
+
+With SOURCE names (as MANIFEST.txt's second column, e.g. lidar_small), only the streams of those
+sources are remade: a version the encoder writes only for some takes (6.0 for normals or organized
+fields, 7.0 for scans along sensor rays or repeated analog frames) gets streams of those takes
+only, and the check the tool runs fails if the encoder wrote another version than the tag says.
 
 For every MANIFEST.txt line of the newest version already listed that records its options, the
 CLI makes the same stream as `capz compress data/SOURCE -o STREAM OPTIONS` under the new version
@@ -13,6 +18,7 @@ the new version already present are replaced: run it only while that version is 
 import os, re, subprocess, sys
 
 cli, golden_test, version = sys.argv[1], sys.argv[2], sys.argv[3]
+only = set(sys.argv[4:])
 root = os.path.dirname(os.path.abspath(__file__))
 streams = os.path.join(root, 'streams')
 manifest = os.path.join(streams, 'MANIFEST.txt')
@@ -42,12 +48,17 @@ versions = sorted({re.search(r'\.v(\d+)\.(\d+)\.capz$', e[0]).groups() for e in 
 newest = '.v%s.%s.capz' % versions[-1]
 made = []
 for e in entries:
-    if not e[0].endswith(newest):
+    if not e[0].endswith(newest) or (only and e[1] not in only):
         continue
     name = e[0][:-len(newest)] + tag
     out = os.path.join(streams, name)
     subprocess.run([cli, 'compress', os.path.join(data, e[1]), '-o', out, '-f', '-q'] + e[3:],
                    check=True)
+    with open(out, 'rb') as f:
+        head = f.read(11)
+    if '%d.%d' % (head[9], head[10]) != version:
+        os.remove(out)
+        sys.exit('%s: the encoder wrote version %d.%d, not %s' % (name, head[9], head[10], version))
     made.append([name, e[1], '00000000'] + e[3:])
 open(manifest, 'w').write('\n'.join(kept + [' '.join(m) for m in made]) + '\n')
 r = subprocess.run([golden_test, '--gtest_filter=Golden.GivenGoldenStreamsWhenDecoded*'],

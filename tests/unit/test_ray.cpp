@@ -218,6 +218,25 @@ TEST(RayScan, GivenAPcdTakeOnRaysThenFormat7AndExactElseFormat5) {
   }
 }
 
+TEST(RayScan, GivenATransformCodecOnRaysThenBothPredictionsDecodeWithinTheBound) {
+  for (const char* codec : {"pdct", "ts"}) {
+    SCOPED_TRACE(codec);
+    const Take t = scan_take(true);
+    CompressOptions o;
+    o.codec = codec;
+    o.max_error = 0.01;
+    const std::vector<uint8_t> b = compress(t, o);
+    ASSERT_GT(b.size(), 10u);
+    EXPECT_EQ(b[9], 7);
+    const Take back = decompress(b.data(), b.size());
+    ASSERT_EQ(back.valid, t.valid);
+    double worst = 0;
+    for (size_t i = 0; i < t.xyz.size(); ++i)
+      worst = std::max(worst, std::fabs(back.xyz[i] - t.xyz[i]));
+    EXPECT_LE(worst, 0.01);
+  }
+}
+
 TEST(RayScan, GivenAC3DTakeThenNeverScannedForRays) {
   Take t = scan_take(true);
   t.format = Format::kC3D;
