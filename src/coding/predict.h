@@ -401,8 +401,7 @@ void walk_window_as(size_t frames, size_t points, const uint8_t* valid, const ui
   coder = code;
 }
 
-// Codes (or decodes) one window frame by frame, point by point, x, y, z (FORMAT.md 3.3; a point
-// with predictor 10 from frame 1 on: its lead axis first, 7.1, as `ray` reads the integers):
+// Codes (or decodes) one window frame by frame, point by point, x, y, z (FORMAT.md 3.3):
 // `code(i, pred, ctx, &tok)` returns q[i] and the residual's token. Gap samples are filled so
 // histories stay defined. `period` is the window's period T (only read by predictors 8 and 9).
 // Coder is trivially copyable: the walk codes through a local copy (kept in registers) and
@@ -424,7 +423,8 @@ void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8
 }
 
 // walk_window for a scheme-3 stream whose points may use predictor 10, which reads the integers
-// as coder.ray says (FORMAT.md 7.1). Instantiated in its own translation unit
+// as coder.ray says (FORMAT.md 7.1): from frame 1 on, such a point's lead axis is coded first,
+// then the other two along the ray. Instantiated in its own translation unit
 // (positions_ray.cpp), so that its extra coding sites do not change how the compiler inlines the
 // coder into the walks of every other stream.
 template <typename Coder>
