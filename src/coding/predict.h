@@ -109,10 +109,11 @@ inline int32_t ray_predict(RayKind k, int32_t ca, int32_t cl, int32_t ql) {
   }
   const float xa = ordered_to_float(ca), xl1 = ordered_to_float(cl), xl = ordered_to_float(ql);
   if (!std::isfinite(xa) || !std::isfinite(xl1) || !std::isfinite(xl) || xl1 == 0.0f) return ca;
-  const float v = static_cast<float>((static_cast<double>(xa) * static_cast<double>(xl)) /
-                                     static_cast<double>(xl1));
-  if (!std::isfinite(v)) return ca;
-  return float_to_ordered(v);
+  const double u = (static_cast<double>(xa) * static_cast<double>(xl)) / static_cast<double>(xl1);
+  // From FLT_MAX + half its ulp up, u rounds to an infinity (the spec's "not finite"); tested
+  // first, since converting such a double to float is undefined in C++.
+  if (std::fabs(u) >= 0x1.ffffffp+127) return ca;
+  return float_to_ordered(static_cast<float>(u));
 }
 
 // Predictor 7: the least-squares line through q[f-1] .. q[f-K], K = min(6, f), at frame f, as
