@@ -269,7 +269,9 @@ class Encoder {
     // 5.0.
     if (!take_.attributes.empty() && take_.pcd &&
         (take_.pcd->height > 1 || has_unit_candidate(attribute_specs(take_.pcd->fields))))
-      version_ = kFormatNewestWritten;
+      version_ = kFormat6;
+    // FORMAT.md 7.2: analog channels that repeat whole frames (counted by the scan) make 7.0.
+    if (plan_.analog && analog_repeats_worth_7(scan_, take_.frames)) version_ = kFormat7;
     std::vector<uint8_t> buf;
     write_file_header(&buf, version_);
     append_chunk(&buf, "HEAD", encode_header(h));
@@ -455,8 +457,8 @@ class Encoder {
         analog::quantise_window(moved.data(), fn * plan_.S, abounds_, &hints.channel);
         rows = moved.data();
       }
-      const std::vector<uint8_t> an =
-          encode_analog_window(rows, fn * plan_.S, take_.analog.channels, hints);
+      const std::vector<uint8_t> an = encode_analog_window(
+          rows, fn * plan_.S, take_.analog.channels, hints, version_.major >= 7 ? plan_.S : 0);
       append_chunk(&buf, "ANLG", with_window_index(w, 0xFF, an));
       win->analog_bytes = buf.size() - before;
     }

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "capz/error.h"
+#include "coding/analog/analog_repeat.h"
 #include "coding/c3d_words.h"
 
 namespace capz {
@@ -67,7 +68,17 @@ TakeScan start_scan(const Take& hdr, const CompressOptions& opts) {
   s.words_on_grid = hdr.c3d && hdr.c3d->point_scale > 0;
   s.kg = !opts.lossless && opts.kg_error > 0;
   s.lossless = opts.lossless;
+  if (hdr.analog.channels > 0 && hdr.analog.samples_per_frame > 0) {
+    s.analog_S = static_cast<size_t>(hdr.analog.samples_per_frame);
+    s.analog_repeats.assign(static_cast<size_t>(hdr.analog.channels), 0);
+  }
   return s;
+}
+
+bool analog_repeats_worth_7(const TakeScan& s, size_t frames) {
+  for (size_t k : s.analog_repeats)
+    if (k >= 2 && k * 50 >= frames) return true;
+  return false;
 }
 
 // Keeps the KG search's coordinates during the scan (TakeScan::kg_coords), up to cap_bytes.
@@ -112,6 +123,11 @@ void scan_block(const FrameBlock& b, const std::string& src, bool words, double 
   }
   if (words && s->words_on_grid && !residuals_on_grid(b.residual, b.valid, point_scale))
     s->words_on_grid = false;
+  const size_t C = s->analog_repeats.size();
+  if (C && b.analog.size() == b.frames * s->analog_S * C)
+    for (size_t c = 0; c < C; ++c)
+      s->analog_repeats[c] +=
+          analog::count_varying_repeats(b.analog.data() + c, C, b.frames, s->analog_S);
   if (s->kg_cached) {
     for (size_t i = 0; i < b.frames * b.points && s->kg_cached; ++i) {
       if (!b.valid[i]) continue;

@@ -33,6 +33,10 @@ struct TakeScan {
   size_t kg_cap = 0;
   bool kg_cached = false;
   std::vector<double> kg_coords;
+  // FORMAT.md 7.2: per analog channel, the frames f >= 1 of each block (window) whose
+  // analog_S samples repeat frame f - 1's bit for bit and are not all one bit pattern.
+  size_t analog_S = 0;
+  std::vector<size_t> analog_repeats;  // empty without analog
 };
 
 // True when the take is an int16 C3D (its coordinates are multiples of POINT:SCALE).
@@ -51,6 +55,10 @@ void cache_kg_coordinates(const Take& hdr, size_t cap_bytes, TakeScan* s);
 // take's).
 void scan_block(const FrameBlock& b, const std::string& src, bool words, double point_scale,
                 TakeScan* s);
+
+// Whether the scan found analog frames repeated often enough to write a 7.0 stream (FORMAT.md
+// 7.2: some channel with at least 2 and at least 2% of the take's `frames`).
+bool analog_repeats_worth_7(const TakeScan& s, size_t frames);
 
 // The first lossless candidate that reproduces every valid coordinate, else float32 or float64
 // bits.
