@@ -204,7 +204,9 @@ void decode_int_channel(size_t n, const std::vector<const std::vector<int32_t>*>
   cross.distance = static_cast<int>(dec->get(analog::kParamContext, &tok));
   if (cross.distance > static_cast<int>(refs.size()) ||
       (cross.distance && !refs[cross.distance - 1]))
-    dec->corrupt("analog inter-channel reference is not an integer channel");
+    dec->corrupt(
+        "analog inter-channel reference is not an integer channel with the same repeated "
+        "frames");
   if (cross.distance) {
     cross.beta = dec->get_signed(analog::kCoefContext, &tok);
     if (cross.beta >= analog::kMaxBeta || cross.beta <= -analog::kMaxBeta)
