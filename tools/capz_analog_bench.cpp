@@ -6,10 +6,11 @@
 //   (or a scaled integer) that fits int16.
 // Speed is MB/s of raw float32 samples (4 bytes a sample), single thread, best of 3.
 //
-//   capz_analog_bench [--window ROWS] [--no-peers] [--repeats] FILE.c3d...
+//   capz_analog_bench [--window ROWS] [--no-peers] [--whole-frames] [--repeats] FILE.c3d...
 //
-// --repeats codes as a 7.x stream does (FORMAT.md 7.2: channels may name repeated analog frames),
-// each window then ROWS rounded down to whole point frames of the take.
+// --whole-frames rounds each window down to whole point frames of the take (at least one);
+// --repeats does too and codes as a 7.x stream does (FORMAT.md 7.2: channels may name repeated
+// analog frames), so the two compare the repeat lists alone.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -166,7 +167,7 @@ Peers run_peers(const Analog& a, const AnalogHints& h) {
 
 int main(int argc, char** argv) {
   size_t window = 8192;
-  bool peers = true, repeats = false;
+  bool peers = true, repeats = false, whole_frames = false;
   std::vector<std::string> files;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--window") && i + 1 < argc)
@@ -174,7 +175,9 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--no-peers"))
       peers = false;
     else if (!std::strcmp(argv[i], "--repeats"))
-      repeats = true;
+      repeats = whole_frames = true;
+    else if (!std::strcmp(argv[i], "--whole-frames"))
+      whole_frames = true;
     else
       files.push_back(argv[i]);
   }
@@ -195,8 +198,9 @@ int main(int argc, char** argv) {
     }
     if (t.analog.channels == 0 || t.analog.values.empty()) continue;
     const AnalogHints h = analog_hints(t);
-    const size_t S = repeats ? static_cast<size_t>(std::max(t.analog.samples_per_frame, 1)) : 0;
-    const Result r = run_ours(t.analog, h, S ? std::max(S, window / S * S) : window, S);
+    const size_t S = static_cast<size_t>(std::max(t.analog.samples_per_frame, 1));
+    const Result r =
+        run_ours(t.analog, h, whole_frames ? std::max(S, window / S * S) : window, repeats ? S : 0);
     const Peers p = peers ? run_peers(t.analog, h) : Peers();
     long best = -1;
     for (long v : {p.xz, p.zstd, p.fpzip, p.flac, p.wavpack})

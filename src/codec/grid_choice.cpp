@@ -77,7 +77,7 @@ TakeScan start_scan(const Take& hdr, const CompressOptions& opts) {
 
 bool analog_repeats_worth_7(const TakeScan& s, size_t frames) {
   for (size_t k : s.analog_repeats)
-    if (k >= 2 && k * 50 >= frames) return true;
+    if (k >= 2 && k * 10 >= frames) return true;
   return false;
 }
 

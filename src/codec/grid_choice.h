@@ -57,7 +57,7 @@ void scan_block(const FrameBlock& b, const std::string& src, bool words, double 
                 TakeScan* s);
 
 // Whether the scan found analog frames repeated often enough to write a 7.0 stream (FORMAT.md
-// 7.2: some channel with at least 2 and at least 2% of the take's `frames`).
+// 7.2: some channel with at least 2 and at least 10% of the take's `frames`).
 bool analog_repeats_worth_7(const TakeScan& s, size_t frames);
 
 // The first lossless candidate that reproduces every valid coordinate, else float32 or float64
