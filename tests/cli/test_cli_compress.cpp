@@ -52,11 +52,12 @@ TEST(CliVersion, GivenVersionThenLibraryAndFormatVersionsArePrinted) {
   auto text = [](capz::FormatVersion v) {
     return std::to_string(v.major) + "." + std::to_string(v.minor);
   };
-  const std::string expected =
-      std::string("capz ") + capz::version_string() + "\n.capz format: writes " +
-      text(capz::kFormatWritten) + " (" + text(capz::kFormatNewestWritten) +
-      " for point normals or organized fields), reads " + text(capz::kFormatOldestRead) + " to " +
-      text(capz::kFormatNewestRead) + "\n";
+  const std::string expected = std::string("capz ") + capz::version_string() +
+                               "\n.capz format: writes " + text(capz::kFormatWritten) + " (" +
+                               text(capz::kFormat6) + " for point normals or organized fields, " +
+                               text(capz::kFormat7) + " for repeated analog frames), reads " +
+                               text(capz::kFormatOldestRead) + " to " +
+                               text(capz::kFormatNewestRead) + "\n";
   for (const char* flag : {"--version", "-V"}) {
     const Result r = capz_cli(flag);
     EXPECT_EQ(r.status, 0);
