@@ -15,6 +15,7 @@
 #include "coding/analog/analog_repeat.h"
 #include "coding/analog/analog_repr.h"
 #include "coding/bytes.h"
+#include "coding/crc32c.h"
 #include "test_util.h"
 
 namespace capz {
@@ -338,6 +339,27 @@ TEST(AnalogRepeat, GivenFlippedBytesOfARepeatWindowThenKCorruptNeverCrash) {
     corrupt += e == ErrorCode::kCorrupt;
   }
   EXPECT_GT(corrupt, 500);
+}
+
+// The 7.0 golden stream relabelled 6.0 (header CRC made right): its ANLG repeat lists are then
+// corrupt, and the decoder says so rather than misreading them.
+TEST(AnalogRepeat, GivenA7StreamRelabelled6ThenTheRepeatListIsCorrupt) {
+  const std::string path =
+      std::string(CAPZ_TEST_DIR) + "/golden/streams/repeat_analog.c3d.lossless.v7.0.capz";
+  const std::string text = capz_test::file_text(path);
+  ASSERT_GT(text.size(), 15u) << path;
+  std::vector<uint8_t> b(text.begin(), text.end());
+  ASSERT_EQ(b[9], 7);
+  EXPECT_EQ(decompress(b.data(), b.size()).analog.channels, 6);  // as written: decodes
+  b[9] = 6;
+  ByteWriter crc;
+  crc.u32(crc32c(b.data(), 11));
+  std::copy(crc.buffer().begin(), crc.buffer().end(), b.begin() + 11);
+  std::string msg;
+  EXPECT_EQ(capz_test::error_of([&] { decompress(b.data(), b.size()); }, &msg),
+            ErrorCode::kCorrupt);
+  EXPECT_NE(msg.find("before format 7.0"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("ANLG"), std::string::npos) << msg;
 }
 
 TEST(AnalogRepeat, GivenViconZerowireThenCapz7AndTheC3DComesBackByteForByte) {
