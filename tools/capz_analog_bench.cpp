@@ -6,7 +6,11 @@
 //   (or a scaled integer) that fits int16.
 // Speed is MB/s of raw float32 samples (4 bytes a sample), single thread, best of 3.
 //
-//   capz_analog_bench [--window ROWS] [--no-peers] FILE.c3d...
+//   capz_analog_bench [--window ROWS] [--no-peers] [--whole-frames] [--repeats] FILE.c3d...
+//
+// --whole-frames rounds each window down to whole point frames of the take (at least one);
+// --repeats does too and codes as a 7.x stream does (FORMAT.md 7.2: channels may name repeated
+// analog frames), so the two compare the repeat lists alone.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -61,7 +65,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-Result run_ours(const Analog& a, const AnalogHints& h, size_t window) {
+// repeat_S: the samples per point frame when coding as 7.x (window a multiple of it), else 0.
+Result run_ours(const Analog& a, const AnalogHints& h, size_t window, size_t repeat_S) {
   const size_t rows = a.values.size() / a.channels;
   const double mb = 4.0 * static_cast<double>(a.values.size()) / 1e6;
   Result r;
@@ -72,7 +77,8 @@ Result run_ours(const Analog& a, const AnalogHints& h, size_t window) {
     auto t0 = std::chrono::steady_clock::now();
     for (size_t r0 = 0; r0 < rows; r0 += window) {
       const size_t n = std::min(window, rows - r0);
-      payloads.push_back(encode_analog_window(&a.values[r0 * a.channels], n, a.channels, h));
+      payloads.push_back(
+          encode_analog_window(&a.values[r0 * a.channels], n, a.channels, h, repeat_S));
     }
     best_enc = std::min(best_enc, seconds_since(t0));
   }
@@ -83,7 +89,7 @@ Result run_ours(const Analog& a, const AnalogHints& h, size_t window) {
     for (size_t r0 = 0; r0 < rows; r0 += window, ++w) {
       const size_t n = std::min(window, rows - r0);
       decode_analog_window(payloads[w].data(), payloads[w].size(), n, a.channels,
-                           &back[r0 * a.channels], "bench");
+                           &back[r0 * a.channels], "bench", repeat_S);
     }
     best_dec = std::min(best_dec, seconds_since(t0));
   }
@@ -161,13 +167,17 @@ Peers run_peers(const Analog& a, const AnalogHints& h) {
 
 int main(int argc, char** argv) {
   size_t window = 8192;
-  bool peers = true;
+  bool peers = true, repeats = false, whole_frames = false;
   std::vector<std::string> files;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--window") && i + 1 < argc)
       window = std::strtoul(argv[++i], nullptr, 10);
     else if (!std::strcmp(argv[i], "--no-peers"))
       peers = false;
+    else if (!std::strcmp(argv[i], "--repeats"))
+      repeats = whole_frames = true;
+    else if (!std::strcmp(argv[i], "--whole-frames"))
+      whole_frames = true;
     else
       files.push_back(argv[i]);
   }
@@ -188,7 +198,9 @@ int main(int argc, char** argv) {
     }
     if (t.analog.channels == 0 || t.analog.values.empty()) continue;
     const AnalogHints h = analog_hints(t);
-    const Result r = run_ours(t.analog, h, window);
+    const size_t S = static_cast<size_t>(std::max(t.analog.samples_per_frame, 1));
+    const Result r =
+        run_ours(t.analog, h, whole_frames ? std::max(S, window / S * S) : window, repeats ? S : 0);
     const Peers p = peers ? run_peers(t.analog, h) : Peers();
     long best = -1;
     for (long v : {p.xz, p.zstd, p.fpzip, p.flac, p.wavpack})

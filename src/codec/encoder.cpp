@@ -276,6 +276,8 @@ class Encoder {
       version_ = kFormat7;
       ray_ = ray_kind(version_.major, g_.mode);
     }
+    // FORMAT.md 7.2: analog channels that repeat whole frames (counted by the scan) make 7.0.
+    if (plan_.analog && analog_repeats_worth_7(scan_, take_.frames)) version_ = kFormat7;
     std::vector<uint8_t> buf;
     write_file_header(&buf, version_);
     append_chunk(&buf, "HEAD", encode_header(h));
@@ -462,8 +464,8 @@ class Encoder {
         analog::quantise_window(moved.data(), fn * plan_.S, abounds_, &hints.channel);
         rows = moved.data();
       }
-      const std::vector<uint8_t> an =
-          encode_analog_window(rows, fn * plan_.S, take_.analog.channels, hints);
+      const std::vector<uint8_t> an = encode_analog_window(
+          rows, fn * plan_.S, take_.analog.channels, hints, version_.major >= 7 ? plan_.S : 0);
       append_chunk(&buf, "ANLG", with_window_index(w, 0xFF, an));
       win->analog_bytes = buf.size() - before;
     }

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "capz/error.h"
+#include "coding/analog/analog_repeat.h"
 #include "coding/c3d_words.h"
 
 namespace capz {
@@ -72,6 +73,10 @@ TakeScan start_scan(const Take& hdr, const CompressOptions& opts) {
     s.ray_last.assign(hdr.points * 3, 0.0);
     s.ray_seen.assign(hdr.points, 0);
   }
+  if (hdr.analog.channels > 0 && hdr.analog.samples_per_frame > 0) {
+    s.analog_S = static_cast<size_t>(hdr.analog.samples_per_frame);
+    s.analog_repeats.assign(static_cast<size_t>(hdr.analog.channels), 0);
+  }
   return s;
 }
 
@@ -105,6 +110,12 @@ void scan_rays(const FrameBlock& b, TakeScan* s) {
     }
 }
 }  // namespace
+
+bool analog_repeats_worth_7(const TakeScan& s, size_t frames) {
+  for (size_t k : s.analog_repeats)
+    if (k >= 2 && k * 10 >= frames) return true;
+  return false;
+}
 
 // Keeps the KG search's coordinates during the scan (TakeScan::kg_coords), up to cap_bytes.
 void cache_kg_coordinates(const Take& hdr, size_t cap_bytes, TakeScan* s) {
@@ -149,6 +160,11 @@ void scan_block(const FrameBlock& b, const std::string& src, bool words, double 
   if (s->ray_track) scan_rays(b, s);
   if (words && s->words_on_grid && !residuals_on_grid(b.residual, b.valid, point_scale))
     s->words_on_grid = false;
+  const size_t C = s->analog_repeats.size();
+  if (C && b.analog.size() == b.frames * s->analog_S * C)
+    for (size_t c = 0; c < C; ++c)
+      s->analog_repeats[c] +=
+          analog::count_varying_repeats(b.analog.data() + c, C, b.frames, s->analog_S);
   if (s->kg_cached) {
     for (size_t i = 0; i < b.frames * b.points && s->kg_cached; ++i) {
       if (!b.valid[i]) continue;

@@ -39,6 +39,10 @@ struct TakeScan {
   std::vector<double> ray_last;
   std::vector<uint8_t> ray_seen;
   uint64_t ray_moved = 0, ray_on = 0;
+  // FORMAT.md 7.2: per analog channel, the frames f >= 1 of each block (window) whose
+  // analog_S samples repeat frame f - 1's bit for bit and are not all one bit pattern.
+  size_t analog_S = 0;
+  std::vector<size_t> analog_repeats;  // empty without analog
 };
 
 // True when the scan found the take's points moving along their rays from the origin, as a
@@ -62,6 +66,10 @@ void cache_kg_coordinates(const Take& hdr, size_t cap_bytes, TakeScan* s);
 // take's).
 void scan_block(const FrameBlock& b, const std::string& src, bool words, double point_scale,
                 TakeScan* s);
+
+// Whether the scan found analog frames repeated often enough to write a 7.0 stream (FORMAT.md
+// 7.2: some channel with at least 2 and at least 10% of the take's `frames`).
+bool analog_repeats_worth_7(const TakeScan& s, size_t frames);
 
 // The first lossless candidate that reproduces every valid coordinate, else float32 or float64
 // bits.

@@ -1,5 +1,8 @@
-// Fuzz target: the format 4.0 analog window codec (src/coding/analog/, FORMAT.md 4.2).
-// Byte 0 picks the mode, bytes 1-2 the shape (channels 1..16, rows 1..2048):
+// Fuzz target: the format 4.0 analog window codec (src/coding/analog/, FORMAT.md 4.2), and its
+// repeated frames of 7.0 (FORMAT.md 7.2). Byte 0 picks the mode, bytes 1-2 the shape (channels
+// 1..16, rows 1..2048). With bit 7 of the mode the window is a 7.x one: S = 1 + bits 3-6 samples
+// a frame, rows rounded up to whole frames (and in odd modes some frames of some channels made
+// copies of the previous frame, as input bytes say); without it, a window of 4.x-6.x:
 //   mode even: the rest is an ANLG body; decoding must return or throw capz::Error, and a body
 //     that decodes must re-encode to one that decodes to the same bits;
 //   mode odd: the rest are sample bits (as int16 counts, float32 or float64 values, by mode),
@@ -15,11 +18,11 @@
 
 namespace {
 
-void round_trip(const std::vector<double>& rows, size_t nrows, int channels) {
+void round_trip(const std::vector<double>& rows, size_t nrows, int channels, size_t S) {
   const std::vector<uint8_t> enc =
-      capz::encode_analog_window(rows.data(), nrows, channels, capz::AnalogHints());
+      capz::encode_analog_window(rows.data(), nrows, channels, capz::AnalogHints(), S);
   std::vector<double> back(rows.size());
-  capz::decode_analog_window(enc.data(), enc.size(), nrows, channels, back.data(), "re-encoded");
+  capz::decode_analog_window(enc.data(), enc.size(), nrows, channels, back.data(), "re-encoded", S);
   CAPZ_FUZZ_CHECK(std::memcmp(back.data(), rows.data(), rows.size() * 8) == 0);
 }
 
@@ -29,17 +32,19 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 3) return 0;
   const uint8_t mode = data[0];
   const int channels = 1 + (data[1] & 15);
-  const size_t nrows = 1 + ((static_cast<size_t>(data[1] >> 4) | size_t{data[2]} << 4) & 2047);
+  size_t nrows = 1 + ((static_cast<size_t>(data[1] >> 4) | size_t{data[2]} << 4) & 2047);
+  const size_t S = (mode & 0x80) ? 1 + ((mode >> 3) & 15) : 0;
+  if (S) nrows = (nrows + S - 1) / S * S;
   data += 3;
   size -= 3;
   std::vector<double> rows(nrows * static_cast<size_t>(channels));
   if (mode % 2 == 0) {
     try {
-      capz::decode_analog_window(data, size, nrows, channels, rows.data(), "fuzz ANLG");
+      capz::decode_analog_window(data, size, nrows, channels, rows.data(), "fuzz ANLG", S);
     } catch (const capz::Error&) {
       return 0;
     }
-    round_trip(rows, nrows, channels);
+    round_trip(rows, nrows, channels, S);
     return 0;
   }
   // Sample bits from the input, repeated to fill the window; the kind of value by mode.
@@ -60,6 +65,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       std::memcpy(&rows[i], b, 8);
     }
   }
-  round_trip(rows, nrows, channels);
+  const size_t nch = static_cast<size_t>(channels);
+  for (size_t f = 1; S && f < nrows / S; ++f)
+    for (size_t c = 0; c < nch; ++c)
+      if (data[f % size] & (1u << (c % 8)))
+        for (size_t j = 0; j < S; ++j)
+          rows[(f * S + j) * nch + c] = rows[((f - 1) * S + j) * nch + c];
+  round_trip(rows, nrows, channels, S);
   return 0;
 }

@@ -6,6 +6,7 @@
 #include "coding/analog/analog_entropy.h"
 #include "coding/analog/analog_float.h"
 #include "coding/analog/analog_lpc.h"
+#include "coding/analog/analog_repeat.h"
 #include "coding/bytes.h"
 
 namespace capz {
@@ -203,7 +204,9 @@ void decode_int_channel(size_t n, const std::vector<const std::vector<int32_t>*>
   cross.distance = static_cast<int>(dec->get(analog::kParamContext, &tok));
   if (cross.distance > static_cast<int>(refs.size()) ||
       (cross.distance && !refs[cross.distance - 1]))
-    dec->corrupt("analog inter-channel reference is not an integer channel");
+    dec->corrupt(
+        "analog inter-channel reference is not an integer channel with the same repeated "
+        "frames");
   if (cross.distance) {
     cross.beta = dec->get_signed(analog::kCoefContext, &tok);
     if (cross.beta >= analog::kMaxBeta || cross.beta <= -analog::kMaxBeta)
@@ -233,7 +236,7 @@ void decode_int_channel(size_t n, const std::vector<const std::vector<int32_t>*>
 }  // namespace
 
 std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int channels,
-                                          const AnalogHints& hints) {
+                                          const AnalogHints& hints, size_t repeat_S) {
   ByteWriter head;
   uint64_t last_const = 0;
   bool any_coded = false;
@@ -242,6 +245,8 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
   std::vector<std::vector<int32_t>> r1s(static_cast<size_t>(channels));
   std::vector<double> energy(static_cast<size_t>(channels), 0.0);
   std::vector<bool> has_r1(static_cast<size_t>(channels), false);
+  std::vector<std::vector<uint32_t>> reps(static_cast<size_t>(channels));  // FORMAT.md 7.2
+  const size_t frames = repeat_S > 0 && nrows % repeat_S == 0 ? nrows / repeat_S : 0;
   // Channel-major copy of the window, read row by row: one channel's samples are then
   // contiguous (a column of the row-major window is one cache line per sample).
   const size_t nch = static_cast<size_t>(std::max(channels, 0));
@@ -251,10 +256,32 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
   for (int c = 0; c < channels; ++c) {
     const analog::ChannelHint hint =
         static_cast<size_t>(c) < hints.channel.size() ? hints.channel[c] : analog::ChannelHint();
-    std::vector<ChannelRepr> cands = analog::candidate_representations(
-        cols.data() + static_cast<size_t>(c) * nrows, 1, nrows, hint);
-    const std::vector<const std::vector<int32_t>*> refs = cross_refs(r1s, has_r1, c);
-    const std::vector<double> ref_energy = cross_energies(energy, has_r1, c);
+    const double* col = cols.data() + static_cast<size_t>(c) * nrows;
+    std::vector<ChannelRepr> cands = analog::candidate_representations(col, 1, nrows, hint);
+    // FORMAT.md 7.2: the kept samples' candidates after the whole channel's, when frames repeat
+    // and the channel is not constant. cands[k] uses the repeat list when k >= whole.
+    const size_t whole = cands.size();
+    std::vector<uint32_t> rep;
+    if (frames && cands[0].kind != Kind::kConst)
+      rep = analog::repeated_frames(col, 1, frames, repeat_S);
+    if (!rep.empty()) {
+      const std::vector<double> kept = analog::kept_samples(col, 1, frames, repeat_S, rep);
+      std::vector<ChannelRepr> more =
+          analog::candidate_representations(kept.data(), 1, kept.size(), hint);
+      for (ChannelRepr& m : more) cands.push_back(std::move(m));
+    }
+    static const std::vector<uint32_t> kNone;
+    auto list_of = [&](size_t k) -> const std::vector<uint32_t>& {
+      return k < whole ? kNone : rep;
+    };
+    // References: integer channels before c with the same repeated frames (FORMAT.md 7.2).
+    auto usable = [&](const std::vector<uint32_t>& mine) {
+      std::vector<bool> u(has_r1.size());
+      for (size_t j = 0; j < u.size(); ++j) u[j] = has_r1[j] && reps[j] == mine;
+      return u;
+    };
+    const std::vector<bool> use_whole = usable(kNone);
+    const std::vector<bool> use_rep = rep.empty() ? use_whole : usable(rep);
     // Integer kinds: the pipeline's decisions, made once per candidate; float kinds: the
     // predictor.
     std::vector<IntPlan> plans(cands.size());
@@ -263,8 +290,10 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
       return cands[k].kind == Kind::kFloat32 || cands[k].kind == Kind::kFloat64;
     };
     for (size_t k = 0; k < cands.size(); ++k) {
+      const std::vector<bool>& use = k < whole ? use_whole : use_rep;
       if (analog::is_integer_kind(cands[k].kind))
-        plan_int_channel(cands[k].ints, refs, ref_energy, &plans[k]);
+        plan_int_channel(cands[k].ints, cross_refs(r1s, use, c), cross_energies(energy, use, c),
+                         &plans[k]);
       else if (is_float(k))
         float_predictor[k] =
             analog::choose_float_predictor(cands[k].filled, cands[k].kind == Kind::kFloat32);
@@ -288,7 +317,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
         IntEncoder::Cursor tc = trial.cursor();
         ByteWriter th;
         uint64_t tl = last_const;
-        analog::write_repr_header(cands[k], &tl, &th);
+        analog::write_repr_header(cands[k], &tl, &th, &list_of(k));
         const size_t fixed = th.size() + 1;
         const size_t limit = k == 0 ? SIZE_MAX : best > fixed ? best - fixed : 0;
         if (!emit(k, &tc, limit)) continue;
@@ -301,9 +330,10 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
       }
     }
     const ChannelRepr& r = cands[pick];
-    analog::write_repr_header(r, &last_const, &head);
+    analog::write_repr_header(r, &last_const, &head, &list_of(pick));
     any_coded |= coded(r.kind);
     emit(pick, &cur, SIZE_MAX);
+    reps[c] = list_of(pick);
     has_r1[c] = analog::is_integer_kind(r.kind);
     if (has_r1[c]) {
       r1s[c] = std::move(plans[pick].r1);
@@ -320,40 +350,57 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
 }
 
 void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int channels,
-                          double* rows, const std::string& what) {
+                          double* rows, const std::string& what, size_t repeat_S) {
   ByteReader in(data, size, what);
   if (in.u8() != kWindowVersion)
     throw Error(ErrorCode::kCorrupt, what + ": unknown analog window version");
   const uint64_t head_size = in.count(1, "analog header size");
   ByteReader head(in.bytes(static_cast<size_t>(head_size)), static_cast<size_t>(head_size), what);
+  const size_t nch = static_cast<size_t>(std::max(channels, 0));
   std::vector<ChannelRepr> reprs;
+  std::vector<std::vector<uint32_t>> reps(nch);  // FORMAT.md 7.2
+  std::vector<size_t> kept(nch, nrows);          // each channel's coded samples
   uint64_t last_const = 0;
   bool any_coded = false;
-  for (int c = 0; c < channels; ++c) {
-    reprs.push_back(analog::read_repr_header(&head, nrows, &last_const));
+  for (size_t c = 0; c < nch; ++c) {
+    reprs.push_back(analog::read_repr_header(&head, nrows, &last_const, repeat_S, &reps[c]));
+    kept[c] = nrows - repeat_S * reps[c].size();
     any_coded |= coded(reprs.back().kind);
   }
   if (!head.at_end())
     throw Error(ErrorCode::kCorrupt, what + ": analog header has bytes left over");
+  // The channel's samples into its column of rows: directly, or through its kept samples.
+  std::vector<double> tmp;
+  auto put = [&](size_t c) {
+    if (reps[c].empty()) {
+      analog::reconstruct(reprs[c], nrows, rows + c, nch, what);
+      return;
+    }
+    tmp.resize(kept[c]);
+    analog::reconstruct(reprs[c], kept[c], tmp.data(), 1, what);
+    analog::expand_repeats(tmp.data(), nrows / repeat_S, repeat_S, reps[c], rows + c, nch);
+  };
   if (!any_coded) {
     if (!in.at_end())
       throw Error(ErrorCode::kCorrupt, what + ": analog window has bytes left over");
-    for (int c = 0; c < channels; ++c)
-      analog::reconstruct(reprs[c], nrows, rows + c, static_cast<size_t>(channels), what);
+    for (size_t c = 0; c < nch; ++c) put(c);
     return;
   }
   IntDecoder ent(data + in.offset(), in.remaining(), analog::kAnalogContexts, what);
   IntDecoder::Cursor cur = ent.cursor();
-  std::vector<std::vector<int32_t>> r1s(static_cast<size_t>(channels));
-  std::vector<bool> has_r1(static_cast<size_t>(channels), false);
-  for (int c = 0; c < channels; ++c) {
+  std::vector<std::vector<int32_t>> r1s(nch);
+  std::vector<bool> has_r1(nch, false);
+  for (size_t c = 0; c < nch; ++c) {
     ChannelRepr& r = reprs[c];
     if (analog::is_integer_kind(r.kind)) {
-      decode_int_channel(nrows, cross_refs(r1s, has_r1, c), &cur, &r.ints, &r1s[c]);
+      std::vector<bool> use(nch, false);  // same repeated frames (FORMAT.md 7.2)
+      for (size_t j = 0; j < c; ++j) use[j] = has_r1[j] && reps[j] == reps[c];
+      decode_int_channel(kept[c], cross_refs(r1s, use, static_cast<int>(c)), &cur, &r.ints,
+                         &r1s[c]);
       has_r1[c] = true;
     } else if (r.kind == Kind::kFloat32 || r.kind == Kind::kFloat64)
-      analog::decode_float_channel(nrows, r.kind == Kind::kFloat32, &cur, &r.filled);
-    analog::reconstruct(r, nrows, rows + c, static_cast<size_t>(channels), what);
+      analog::decode_float_channel(kept[c], r.kind == Kind::kFloat32, &cur, &r.filled);
+    put(c);
     std::vector<int32_t>().swap(r.ints);
     std::vector<double>().swap(r.filled);
   }

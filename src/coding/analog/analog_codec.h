@@ -27,13 +27,17 @@ struct AnalogHints {
 AnalogHints analog_hints(const Take& t);
 
 // rows: nrows x channels doubles, row-major (capz::Analog::values). Lossless: decoding gives
-// every sample back bit for bit (NaN payloads, -0.0, denormals, Inf included).
+// every sample back bit for bit (NaN payloads, -0.0, denormals, Inf included). repeat_S: in a
+// 7.x stream the analog samples per point frame (nrows a multiple of it), which lets channels
+// name repeated frames (FORMAT.md 7.2, analog_repeat.h) where that codes smaller; 0 in earlier
+// streams.
 std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int channels,
-                                          const AnalogHints& hints);
+                                          const AnalogHints& hints, size_t repeat_S = 0);
 
 // Fills rows[0 .. nrows * channels). Throws Error(kCorrupt) naming `what` when the payload is
-// not a valid window of that shape; memory used is O(nrows * channels + size).
+// not a valid window of that shape; memory used is O(nrows * channels + size). repeat_S: as for
+// encode_analog_window (0: a repeat list is corrupt).
 void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int channels,
-                          double* rows, const std::string& what);
+                          double* rows, const std::string& what, size_t repeat_S = 0);
 
 }  // namespace capz

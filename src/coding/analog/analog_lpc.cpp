@@ -51,7 +51,7 @@ std::vector<double> autocorrelation(const int32_t* x, size_t n, int max_lag) {
     const double* base = wr.data() + n - 1 + k0;
     if (lanes == 1) {
       double a = 0;
-      for (size_t i = static_cast<size_t>(k0); i < n; ++i) a += wr[n - 1 - i] * base[-i];
+      for (size_t i = static_cast<size_t>(k0); i < n; ++i) a += wr[n - 1 - i] * *(base - i);
       r[k0] = a;
       continue;
     }

@@ -7,6 +7,7 @@
 
 #include "capz/error.h"
 #include "coding/analog/analog_lpc.h"
+#include "coding/analog/analog_repeat.h"
 
 namespace capz {
 namespace analog {
@@ -411,27 +412,18 @@ ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
   return std::move(candidate_representations(col, stride, n, hint).front());
 }
 
-void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w) {
+void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w,
+                       const std::vector<uint32_t>* repeats) {
   const bool gaps = !r.gap_index.empty();
   const bool same = r.kind == Kind::kConst && r.const_bits == *last_const;
-  w->u8(static_cast<uint8_t>(static_cast<int>(r.kind) | (gaps ? 8 : 0) | (same ? 16 : 0)));
+  const bool rep = repeats && !repeats->empty();
+  w->u8(static_cast<uint8_t>(static_cast<int>(r.kind) | (gaps ? 8 : 0) | (same ? 16 : 0) |
+                             (rep ? 32 : 0)));
+  if (rep) write_runs(*repeats, w);
   if (gaps) {
-    // Runs of consecutive gap samples: count, then (distance from the previous run's end,
-    // length - 1) each; then the distinct bit patterns and, when several, each sample's index.
-    std::vector<std::pair<uint32_t, uint32_t>> runs;
-    for (uint32_t i : r.gap_index) {
-      if (!runs.empty() && runs.back().first + runs.back().second == i)
-        ++runs.back().second;
-      else
-        runs.push_back({i, 1});
-    }
-    w->varint(runs.size());
-    uint32_t end = 0;
-    for (const auto& run : runs) {
-      w->varint(run.first - end);
-      w->varint(run.second - 1);
-      end = run.first + run.second;
-    }
+    // Runs of consecutive gap samples; then the distinct bit patterns and, when several, each
+    // sample's index.
+    write_runs(r.gap_index, w);
     std::vector<uint64_t> pats;
     for (uint64_t b : r.gap_bits)
       if (std::find(pats.begin(), pats.end(), b) == pats.end()) pats.push_back(b);
@@ -508,12 +500,22 @@ void read_gaps(ByteReader* in, size_t n, ChannelRepr* r) {
 
 }  // namespace
 
-ChannelRepr read_repr_header(ByteReader* in, size_t n, uint64_t* last_const) {
+ChannelRepr read_repr_header(ByteReader* in, size_t n, uint64_t* last_const, size_t S,
+                             std::vector<uint32_t>* repeats) {
   ChannelRepr r;
   const int byte = in->u8();
-  if ((byte & 7) >= kKinds || (byte & ~31) != 0 || ((byte & 16) && (byte & 7) != 0))
+  if ((byte & 7) >= kKinds || (byte & ~63) != 0 || ((byte & 16) && (byte & 7) != 0))
     throw Error(ErrorCode::kCorrupt,
                 in->what() + ": unknown analog channel kind " + std::to_string(byte));
+  if (byte & 32) {  // FORMAT.md 7.2: only in 7.x streams (S > 0)
+    if (S == 0 || !repeats || n % S != 0)
+      throw Error(ErrorCode::kCorrupt,
+                  in->what() + ": analog repeat list in a stream before format 7.0");
+    *repeats = read_repeats(in, n / S);
+    n -= S * repeats->size();
+  } else if (repeats) {
+    repeats->clear();
+  }
   r.kind = static_cast<Kind>(byte & 7);
   if (byte & 8) read_gaps(in, n, &r);
   switch (r.kind) {

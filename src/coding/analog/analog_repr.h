@@ -119,12 +119,18 @@ ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
                                   const ChannelHint& hint);
 
 // The kind byte's low 3 bits are the kind; bit 3 says a gap list follows; bit 4 (kConst only)
-// says the value is *last_const, the previous constant channel's of the window (0 before any).
-// The header carries everything but the per-sample numbers (ints or float samples), which the
-// entropy stage codes. *last_const is updated by kConst channels.
-void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w);
-// Reads a header for a channel of n samples; sizes are bounded by the bytes left in `in`.
-ChannelRepr read_repr_header(ByteReader* in, size_t n, uint64_t* last_const);
+// says the value is *last_const, the previous constant channel's of the window (0 before any);
+// bit 5 (7.x streams, FORMAT.md 7.2) says a repeat list follows, when `repeats` is non-empty:
+// then r describes the channel's kept samples. The header carries everything but the per-sample
+// numbers (ints or float samples), which the entropy stage codes. *last_const is updated by
+// kConst channels.
+void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w,
+                       const std::vector<uint32_t>* repeats = nullptr);
+// Reads a header for a channel of n samples; sizes are bounded by the bytes left in `in`. S: the
+// analog samples per point frame in a 7.x stream, else 0 (bit 5 is then corrupt); *repeats gets
+// the repeat list (empty without one), and r then describes n - S * repeats->size() samples.
+ChannelRepr read_repr_header(ByteReader* in, size_t n, uint64_t* last_const, size_t S = 0,
+                             std::vector<uint32_t>* repeats = nullptr);
 
 // Writes the n samples to col[0], col[stride], ... from the header and `ints` / `filled`.
 // Throws Error(kCorrupt) naming `what` when a rank is outside the table.
