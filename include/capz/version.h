@@ -27,12 +27,17 @@ const char* version_string();
 // The .capz version streams are written in, but for those of kFormatNewestWritten.
 constexpr FormatVersion kFormatWritten{5, 0};
 // The version of streams with point fields that include a normal triple or are organized
-// (FORMAT.md 6: ATTR predictor 9, transforms 4 and 5); every other stream is kFormatWritten.
-constexpr FormatVersion kFormatNewestWritten{6, 0};
+// (FORMAT.md 6: ATTR predictor 9, transforms 4 and 5).
+constexpr FormatVersion kFormat6{6, 0};
+// The version of streams with the point fields of an unorganized cloud whose positions are on
+// the grid (FORMAT.md 7.3: ATTR predictors 10 and 11).
+constexpr FormatVersion kFormat7{7, 0};
+// The newest version the encoder writes; every stream not named above is kFormatWritten.
+constexpr FormatVersion kFormatNewestWritten = kFormat7;
 // The versions read: every one from kFormatOldestRead to kFormatNewestRead, and any later
 // minor version of kFormatNewestRead's major (minor versions only add what older decoders skip;
 // FORMAT.md 2). A later major version is refused (Error kUnsupportedVersion).
 constexpr FormatVersion kFormatOldestRead{1, 0};
-constexpr FormatVersion kFormatNewestRead{6, 0};
+constexpr FormatVersion kFormatNewestRead{7, 0};
 
 }  // namespace capz

@@ -269,7 +269,12 @@ class Encoder {
     // 5.0.
     if (!take_.attributes.empty() && take_.pcd &&
         (take_.pcd->height > 1 || has_unit_candidate(attribute_specs(take_.pcd->fields))))
-      version_ = kFormatNewestWritten;
+      version_ = kFormat6;
+    // FORMAT.md 7.3: an unorganized cloud's fields, with positions on the grid (their integers
+    // give each point's nearest earlier point), are written as 7.0.
+    if (!take_.attributes.empty() && take_.pcd && take_.pcd->height == 1 && take_.points > 1 &&
+        !plan_.tout)
+      version_ = kFormat7;
     std::vector<uint8_t> buf;
     write_file_header(&buf, version_);
     append_chunk(&buf, "HEAD", encode_header(h));
@@ -487,7 +492,8 @@ class Encoder {
     const size_t before = buf->size();
     const std::vector<uint8_t> at = encode_attributes(
         attribute_specs(take_.pcd->fields), win->block.attributes, win->wi.valid.data(),
-        win->block.frames, take_.points, take_.pcd->width, version_.major >= 6);
+        win->block.frames, take_.points, take_.pcd->width, version_.major >= 6, version_.major >= 7,
+        plan_.tout ? nullptr : win->wi.q.data());
     append_chunk(buf, "ATTR", with_window_index(win->w, 0xFF, at));
     win->attribute_bytes = buf->size() - before;
   }
