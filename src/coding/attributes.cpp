@@ -523,7 +523,12 @@ std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
     // with the gap points' values apart (4, 5; FORMAT.md 6.2): the smallest wins.
     const size_t size = static_cast<size_t>(s.size);
     std::vector<uint8_t> at_valid, at_gaps;
-    if (v6 && gaps && std::any_of(valid, valid + n, [](uint8_t v) { return v != 0; }))
+    // An unorganized cloud's window with predictors 10 and 11 (FORMAT.md 7.3) skips transforms
+    // 4 and 5: measured on the LiDAR sequences of docs/BENCHMARKS.md, they then won on one of
+    // five (by 1 % of the fields' bytes) for a third of the encode time.
+    const bool unorganized_near = !near.empty() && W >= points;
+    if (v6 && gaps && !unorganized_near &&
+        std::any_of(valid, valid + n, [](uint8_t v) { return v != 0; }))
       split_by_mask(data[a], valid, n, size * static_cast<size_t>(s.count), &at_valid, &at_gaps);
     const uint8_t last = !at_valid.empty() ? (size > 1 ? 5 : 4) : (size > 1 ? 3 : 2);
     for (uint8_t t = 2; bytes > 0 && t <= last; ++t) {
