@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Point-field sequences (issue #15): capz against xz -9e and zstd -19 of the same binary PCD
 # frames, lossless and at a bound, with encode / decode CPU speed. The sequences are made by
-# tools/make_scan_sequences.py (a depth camera rendering a shared mesh animation, and a spinning
-# LiDAR), so every figure is reproducible from the command below.
+# tools/make_scan_sequences.py (a depth camera rendering a shared mesh animation, a spinning
+# LiDAR, and one driven through the scene), so every figure is reproducible from the command below.
 #
 #   tools/fields_bench.sh build/capz [SHARED_DATA] [WORKDIR]
 #
@@ -19,9 +19,13 @@ gen="$(dirname "$0")/make_scan_sequences.py"
 mkdir -p "$work"
 [ -d "$work/depth" ] || $py "$gen" depth "$shared/pcd/horse-gallop" "$work/depth" --frames 40 --width 160 --height 120
 [ -d "$work/lidar" ] || $py "$gen" lidar "$work/lidar" --frames 40 --rings 16 --steps 720
+# A driven LiDAR (points in sensor order, the scene sliding by) with a reflectivity field: where
+# ATTR's nearest-earlier-point predictors (FORMAT.md 7.3) have something to find.
+[ -d "$work/lidar_drive" ] || $py "$gen" lidar "$work/lidar_drive" --frames 40 --rings 16 --steps 720 \
+  --order azimuth --drive 0.5 --reflectivity
 echo "| sequence | frames x points | fields | frames (bytes) | xz -9e | zstd -19 | capz lossless | x xz | capz 0.001 | x xz | fields share (lossless) | encode s | decode s |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
-for s in depth lidar; do
+for s in depth lidar lidar_drive; do
   d="$work/$s"
   raw=$(cat "$d"/*.pcd | wc -c)
   xz=$(cat "$d"/*.pcd | xz -9e -T1 -c | wc -c)

@@ -4,6 +4,7 @@
   make_scan_sequences.py depth MESH_DIR OUT_DIR [--frames N] [--width W --height H] [--seed S]
                            [--world]
   make_scan_sequences.py lidar OUT_DIR [--frames N] [--rings R] [--steps A] [--seed S]
+                        [--order ring|azimuth] [--drive D] [--reflectivity]
 
 depth: renders a mesh animation given as a folder of PCD frames (x y z, the same vertices in
   every frame, e.g. ../shared/data/pcd/horse-gallop) from a fixed virtual depth camera. Each
@@ -26,7 +27,15 @@ lidar: a spinning-LiDAR-like sequence, unorganized: R rings (elevations -15..+15
     x y z       float32, with 1 cm range noise;
     intensity   float32, by surface (ground 0.2, pillars 0.6, sphere 0.9) over range, noisy;
     ring        uint16, the beam's ring;
-    time        float32, seconds since the sweep began (10 Hz).
+    time        float32, seconds since the sweep began (10 Hz);
+    reflectivity  uint8, with --reflectivity: the surface's reflectivity, textured in world
+                coordinates (ground: asphalt patches of 2 x 2 units and painted stripes across
+                x; each pillar its own; the sphere bright), +-1 noise, 0 where nothing is hit.
+  --order azimuth stores the points column by column (every ring at one azimuth, then the next
+  azimuth, as Velodyne and Ouster packets give them) instead of ring by ring; --drive D moves
+  the sensor D units along x per frame (a vehicle's scan: the points stay in sensor
+  coordinates, the scene slides by), so a beam sees other surface points in every frame.
+  Without these options the output is what it was before they existed.
 Point p is the same pixel (depth) or beam (lidar) in every frame, as capz needs.
 """
 import argparse
@@ -181,15 +190,22 @@ def lidar(args):
     R, A = args.rings, args.steps
     elev = np.radians(np.linspace(-15, 15, R))
     az = np.linspace(0, 2 * math.pi, A, endpoint=False)
-    E, AZ = np.meshgrid(elev, az, indexing="ij")  # ring-major
+    azimuth_major = args.order == "azimuth"
+    E, AZ = np.meshgrid(elev, az, indexing="xy" if azimuth_major else "ij")
     dirs = np.stack([np.cos(E) * np.cos(AZ), np.cos(E) * np.sin(AZ), np.sin(E)], axis=-1).reshape(-1, 3)
-    ring = np.repeat(np.arange(R, dtype=np.uint16), A)
-    t_in_sweep = (np.tile(np.arange(A), R) / A * 0.1).astype(np.float32)
+    if azimuth_major:
+        ring = np.tile(np.arange(R, dtype=np.uint16), A)
+        t_in_sweep = (np.repeat(np.arange(A), R) / A * 0.1).astype(np.float32)
+    else:
+        ring = np.repeat(np.arange(R, dtype=np.uint16), A)
+        t_in_sweep = (np.tile(np.arange(A), R) / A * 0.1).astype(np.float32)
     pillars = [(12 * math.cos(k * 2 * math.pi / 9), 12 * math.sin(k * 2 * math.pi / 9)) for k in range(9)]
     os.makedirs(args.out, exist_ok=True)
     for fi in range(args.frames):
+        ox = args.drive * fi  # the sensor's x in the world
         rng_t = np.full(len(dirs), np.inf)
         kind = np.zeros(len(dirs))
+        which = np.full(len(dirs), -1)  # the pillar hit
         # Ground z = -1.7.
         tz = np.where(dirs[:, 2] < -1e-6, -1.7 / np.where(dirs[:, 2] < -1e-6, dirs[:, 2], -1), np.inf)
         better = tz < rng_t
@@ -197,7 +213,8 @@ def lidar(args):
         # Pillars: vertical cylinders of radius 0.4.
         dx, dy = dirs[:, 0], dirs[:, 1]
         a = dx * dx + dy * dy
-        for (cx, cy) in pillars:
+        for k, (cx, cy) in enumerate(pillars):
+            cx = cx - ox
             b = -2 * (dx * cx + dy * cy)
             c = cx * cx + cy * cy - 0.16
             disc = b * b - 4 * a * c
@@ -205,8 +222,9 @@ def lidar(args):
             t = np.where(t > 0, t, np.inf)
             better = t < rng_t
             rng_t[better], kind[better] = t[better], 0.6
+            which[better] = k
         # A sphere of radius 1 moving along a circle.
-        s = np.array([6 * math.cos(fi * 0.05), 6 * math.sin(fi * 0.05), -0.5])
+        s = np.array([6 * math.cos(fi * 0.05) - ox, 6 * math.sin(fi * 0.05), -0.5])
         b = -2 * dirs @ s
         c = s @ s - 1.0
         disc = b * b - 4 * c
@@ -222,6 +240,16 @@ def lidar(args):
         fields = [("x", "F", 4, 1), ("y", "F", 4, 1), ("z", "F", 4, 1), ("intensity", "F", 4, 1),
                   ("ring", "U", 2, 1), ("time", "F", 4, 1)]
         arrays = [P[:, 0], P[:, 1], P[:, 2], inten, ring, time]
+        if args.reflectivity:
+            wx, wy = P[:, 0].astype(np.float64) + ox, P[:, 1].astype(np.float64)
+            patch = 25 + 3 * ((np.floor(wx / 2) * 7 + np.floor(wy / 2) * 13) % 5)
+            stripe = (np.abs(wy) < 4) & ((wx % 6) < 0.5)
+            refl = np.where(kind == 0.2, np.where(stripe, 180, patch),
+                            np.where(kind == 0.6, 90 + 12 * which, 230))
+            refl = refl + rng.integers(-1, 2, len(dirs))
+            refl = np.where(hit, np.clip(refl, 1, 255), 0).astype(np.uint8)
+            fields.append(("reflectivity", "U", 1, 1))
+            arrays.append(refl)
         write_pcd(os.path.join(args.out, f"sweep_{fi:05d}.pcd"), len(dirs), 1, fields, arrays)
 
 
@@ -243,6 +271,9 @@ def main():
     l.add_argument("--rings", type=int, default=16)
     l.add_argument("--steps", type=int, default=720)
     l.add_argument("--seed", type=int, default=1)
+    l.add_argument("--order", choices=("ring", "azimuth"), default="ring")
+    l.add_argument("--drive", type=float, default=0.0)
+    l.add_argument("--reflectivity", action="store_true")
     a = ap.parse_args()
     np.seterr(invalid="ignore", divide="ignore")
     depth(a) if a.cmd == "depth" else lidar(a)

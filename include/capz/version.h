@@ -30,8 +30,9 @@ constexpr FormatVersion kFormatWritten{5, 0};
 // (FORMAT.md 6: ATTR predictor 9, transforms 4 and 5).
 constexpr FormatVersion kFormat6{6, 0};
 // The version of streams whose scan found what format 7 codes (FORMAT.md 7): PCD points moving
-// along their rays (POSW predictor 10, 7.1), repeated analog frames (7.2). Every other stream
-// is kFormatWritten or kFormat6.
+// along their rays (POSW predictor 10, 7.1), repeated analog frames (7.2), or the point fields
+// of an unorganized cloud whose positions are on the grid (ATTR predictors 10 and 11, 7.3).
+// Every other stream is kFormatWritten or kFormat6.
 constexpr FormatVersion kFormat7{7, 0};
 // The newest version the encoder writes.
 constexpr FormatVersion kFormatNewestWritten = kFormat7;

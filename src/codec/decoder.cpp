@@ -111,10 +111,12 @@ std::vector<int32_t> transform_prediction(const StreamContext& ctx, const Positi
   return grid_prediction(recon, h.step);
 }
 
-// POSW (and MASK) of the window: the gap mask into *valid and the coordinates of its valid
-// samples into *xyz (fn x points x 3, gap samples 0).
+// POSW (and MASK) of the window: the gap mask into *valid, the coordinates of its valid
+// samples into *xyz (fn x points x 3, gap samples 0) and its integers into *q (empty with
+// transform output; ATTR predictors 10 and 11 read them, FORMAT.md 7.3).
 void decode_window_positions(const StreamContext& ctx, WindowChunks* chunks, size_t fn,
-                             std::vector<uint8_t>* valid, std::vector<double>* xyz) {
+                             std::vector<uint8_t>* valid, std::vector<double>* xyz,
+                             std::vector<int32_t>* q) {
   const StreamHeader& h = ctx.h;
   const size_t N = h.points;
   Chunk pc = chunks->next("POSW", true);
@@ -161,6 +163,7 @@ void decode_window_positions(const StreamContext& ctx, WindowChunks* chunks, siz
       std::fill(&(*xyz)[i * 3], &(*xyz)[i * 3 + 3], 0.0);
     }
   valid->assign(wi.valid.begin(), wi.valid.end());
+  q->swap(wi.q);
 }
 
 // ROTW of the window (FORMAT.md 4.3): its fn x R samples of G segments into the block's
@@ -191,7 +194,8 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
   WindowChunks chunks(ctx, w, region, base, end);
   FrameBlock& b = *out;
   // Decoded straight into the caller's arrays (their capacity is reused window after window).
-  decode_window_positions(ctx, &chunks, fn, &b.valid, &b.xyz);
+  std::vector<int32_t> q;  // the window's POSW integers (none with transform output)
+  decode_window_positions(ctx, &chunks, fn, &b.valid, &b.xyz, &q);
   // The analog rows must fit what the chunks can hold before they are allocated.
   const size_t per_byte = analog_values_per_byte(ctx.major);
   if (C > 0 && S > 0 && fn * S * C > per_byte * (end - base))
@@ -236,7 +240,8 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
     chunks.open(tc, &tr);
     const PCDExtra* px = ctx.take.pcd.get();
     decode_attributes(tc.payload + tr.offset(), tc.size - tr.offset(), attribute_specs(px->fields),
-                      b.valid.data(), fn, N, px->width, &b.attributes, twhat, ctx.major >= 6);
+                      b.valid.data(), fn, N, px->width, &b.attributes, twhat, ctx.major >= 6,
+                      ctx.major >= 7, q.size() == fn * N * 3 && !q.empty() ? q.data() : nullptr);
   }
 }
 

@@ -278,6 +278,11 @@ class Encoder {
     }
     // FORMAT.md 7.2: analog channels that repeat whole frames (counted by the scan) make 7.0.
     if (plan_.analog && analog_repeats_worth_7(scan_, take_.frames)) version_ = kFormat7;
+    // FORMAT.md 7.3: an unorganized cloud's fields, with positions on the grid (their integers
+    // give each point's nearest earlier point), are written as 7.0.
+    if (!take_.attributes.empty() && take_.pcd && take_.pcd->height == 1 && take_.points > 1 &&
+        !plan_.tout)
+      version_ = kFormat7;
     std::vector<uint8_t> buf;
     write_file_header(&buf, version_);
     append_chunk(&buf, "HEAD", encode_header(h));
@@ -496,7 +501,10 @@ class Encoder {
     const size_t before = buf->size();
     const std::vector<uint8_t> at = encode_attributes(
         attribute_specs(take_.pcd->fields), win->block.attributes, win->wi.valid.data(),
-        win->block.frames, take_.points, take_.pcd->width, version_.major >= 6);
+        win->block.frames, take_.points, take_.pcd->width, version_.major >= 6,
+        // FORMAT.md 7.3: predictors 10 and 11 are candidates for an unorganized cloud's fields
+        // (an organized one written as 7.0 for its rays, 7.1, has its pixel neighbours).
+        version_.major >= 7 && take_.pcd->height == 1, plan_.tout ? nullptr : win->wi.q.data());
     append_chunk(buf, "ATTR", with_window_index(win->w, 0xFF, at));
     win->attribute_bytes = buf->size() - before;
   }

@@ -1,6 +1,7 @@
-// ATTR (docs/FORMAT.md 5.3, 6.1): per attribute, lanes of ordered integers with one of nine
+// ATTR (docs/FORMAT.md 5.3, 6.1, 7.3): per attribute, lanes of ordered integers with one of nine
 // predictors per lane (ten in a 6.x stream: 9 completes a unit vector's component from two
-// other elements) and residuals through the analog coder's entropy stage (4.2.5), or LZMA2 of
+// other elements; twelve in a 7.x stream: 10 and 11 read the point's nearest earlier point in
+// space) and residuals through the analog coder's entropy stage (4.2.5), or LZMA2 of
 // its byte planes or bytes (in a 6.x stream also of its valid points' values apart from its gap
 // points', 6.2), whichever is smaller.
 #include "coding/attributes.h"
@@ -15,6 +16,7 @@
 #include "coding/bytes.h"
 #include "coding/entropy.h"
 #include "coding/lzma_block.h"
+#include "coding/neighbours.h"
 
 namespace capz {
 
@@ -22,6 +24,8 @@ namespace {
 
 constexpr int kPredictors = 9;  // ids 0..8 (5.3); 9 (6.1) is handled apart
 constexpr int kUnitPredictor = 9;
+constexpr int kNearPredictor = 10;        // 7.3: the nearest earlier point's value
+constexpr int kNearChangePredictor = 11;  // 7.3: its change since the previous frame, carried over
 constexpr int kSignContext = analog::kParamContext;  // 81, 82: unused elsewhere in ATTR
 
 // One lane: frames x points ordered values of `bits` bits.
@@ -169,11 +173,18 @@ void store_lane(const AttrSpec& s, const Lane& l, size_t n, size_t j, std::vecto
     store_le(bytes->data() + (i * count + j) * size, s.size, from_ordered(l.u[i], s.type, l.bits));
 }
 
-// The prediction of a valid point under predictors 5..8 (FORMAT.md 5.3): only valid points
-// count; `last` is the lane's previous valid value.
+// The prediction of a valid point under predictors 5..8 (FORMAT.md 5.3) and 10, 11 (7.3, n the
+// point's nearest earlier point, kNoPoint for none): only valid points count; `last` is the
+// lane's previous valid value.
 uint64_t predict_masked(int id, const uint64_t* cur, const uint64_t* prev, const uint8_t* vcur,
-                        const uint8_t* vprev, size_t p, size_t W, uint64_t mask, uint64_t last) {
+                        const uint8_t* vprev, size_t p, size_t W, uint64_t mask, uint64_t last,
+                        uint32_t n) {
   const bool has_prev = prev && vprev[p];
+  if (id >= kNearPredictor) {
+    if (n == kNoPoint || !vcur[n]) return id == kNearPredictor || !has_prev ? last : prev[p];
+    if (id == kNearPredictor || !has_prev || !vprev[n]) return cur[n];
+    return (cur[n] + prev[p] - prev[n]) & mask;
+  }
   const bool has_left = p % W > 0 && vcur[p - 1];
   switch (id) {
     case 5:
@@ -196,10 +207,11 @@ uint64_t predict_masked(int id, const uint64_t* cur, const uint64_t* prev, const
 
 // Walks lane `u` (frames x N values) in coding order under predictor `id`, calling
 // step(&value, prediction, gap) for each value: the encoder reads the value, the decoder sets
-// it. valid: the window's gap mask (frames x N), used by predictors 5..8 only.
+// it. valid: the window's gap mask (frames x N), used by predictors 5..8, 10 and 11; near: the
+// nearest earlier point of each point (FORMAT.md 7.3), used by 10 and 11.
 template <typename Step>
-void walk_lane(int id, std::vector<uint64_t>* lane, const uint8_t* valid, size_t frames, size_t N,
-               size_t W, uint64_t mask, Step&& step) {
+void walk_lane(int id, std::vector<uint64_t>* lane, const uint8_t* valid, const uint32_t* near,
+               size_t frames, size_t N, size_t W, uint64_t mask, Step&& step) {
   uint64_t last = 0, last_gap = 0;
   const bool masked = id >= 5;
   for (size_t f = 0; f < frames; ++f) {
@@ -214,7 +226,10 @@ void walk_lane(int id, std::vector<uint64_t>* lane, const uint8_t* valid, size_t
         step(&cur[p], last_gap, true);
         last_gap = cur[p];
       } else {
-        step(&cur[p], predict_masked(id, cur, prev, vcur, vprev, p, W, mask, last), false);
+        step(&cur[p],
+             predict_masked(id, cur, prev, vcur, vprev, p, W, mask, last,
+                            id >= kNearPredictor ? near[p] : kNoPoint),
+             false);
         last = cur[p];
       }
     }
@@ -222,15 +237,18 @@ void walk_lane(int id, std::vector<uint64_t>* lane, const uint8_t* valid, size_t
 }
 
 // The predictor whose residuals have the smallest sum of bit lengths (ties: the lowest);
-// 5..8 only with a gap mask that has gaps.
-int choose_predictor(Lane& l, const uint8_t* valid, bool gaps, size_t frames, size_t N, size_t W,
-                     uint64_t* cost_out) {
+// 5..8 only with a gap mask that has gaps, 10 and 11 only with the points' nearest earlier
+// points (near; valid then holds a mask, all set when the window has no gaps).
+int choose_predictor(Lane& l, const uint8_t* valid, bool gaps, const uint32_t* near, size_t frames,
+                     size_t N, size_t W, uint64_t* cost_out) {
   const uint64_t mask = mask_of(l.bits);
   uint64_t best_cost = ~uint64_t{0};
   int best = 0;
-  for (int id = 0; id < (gaps ? kPredictors : 5); ++id) {
+  const int ids[] = {0, 1, 2, 3, 4, 5, 6, 7, 8, kNearPredictor, kNearChangePredictor};
+  for (int id : ids) {
+    if ((id >= 5 && id <= 8 && !gaps) || (id >= kNearPredictor && !near)) continue;
     uint64_t cost = 0;
-    walk_lane(id, &l.u, valid, frames, N, W, mask, [&](uint64_t* v, uint64_t pred, bool) {
+    walk_lane(id, &l.u, valid, near, frames, N, W, mask, [&](uint64_t* v, uint64_t pred, bool) {
       cost += bit_length(analog::zigzag64(signed_residual((*v - pred) & mask, l.bits)));
     });
     if (cost < best_cost) {
@@ -373,8 +391,8 @@ void merge_by_mask(const std::vector<uint8_t>& at_valid, const std::vector<uint8
 // v6: a 6.x stream (predictor 9 allowed).
 std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
                                        const std::vector<std::vector<uint8_t>>& data, size_t a,
-                                       const uint8_t* valid, bool gaps, size_t frames,
-                                       size_t points, size_t W, bool v6) {
+                                       const uint8_t* valid, bool gaps, const uint32_t* near,
+                                       size_t frames, size_t points, size_t W, bool v6) {
   const AttrSpec& s = specs[a];
   const std::vector<uint8_t>& bytes = data[a];
   const size_t n = frames * points;
@@ -387,11 +405,12 @@ std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
   for (size_t j = 0; j < lane_count(s, colour); ++j) {
     make_lane(s, colour, bytes, n, j, &l);
     uint64_t cost = 0;
-    int pred = choose_predictor(l, valid, gaps, frames, points, W, &cost);
+    int pred = choose_predictor(l, valid, gaps, near, frames, points, W, &cost);
     UnitRef refs[2];
-    if (v6 && !colour && unit_candidate(specs, a, j, refs) &&
-        unit_cost(l, specs, data, refs) < cost)
-      pred = kUnitPredictor;
+    if (v6 && !colour && unit_candidate(specs, a, j, refs)) {
+      const uint64_t u = unit_cost(l, specs, data, refs);
+      if (u < cost || (u == cost && pred > kUnitPredictor)) pred = kUnitPredictor;
+    }
     w.u8(static_cast<uint8_t>(pred));
     LaneState st;
     if (pred == kUnitPredictor) {
@@ -413,13 +432,14 @@ std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
       continue;
     }
     const uint64_t mask = mask_of(l.bits);
-    walk_lane(pred, &l.u, valid, frames, points, W, mask, [&](uint64_t* v, uint64_t p, bool gap) {
-      const int64_t r = signed_residual((*v - p) & mask, l.bits);
-      if (l.float_residuals)
-        analog::put_float_residual(&c, &st.prev_nb[gap], r);
-      else
-        analog::put_residual(&c, &st.mag[gap], static_cast<int32_t>(r));
-    });
+    walk_lane(pred, &l.u, valid, near, frames, points, W, mask,
+              [&](uint64_t* v, uint64_t p, bool gap) {
+                const int64_t r = signed_residual((*v - p) & mask, l.bits);
+                if (l.float_residuals)
+                  analog::put_float_residual(&c, &st.prev_nb[gap], r);
+                else
+                  analog::put_residual(&c, &st.mag[gap], static_cast<int32_t>(r));
+              });
   }
   enc.commit(c);
   const std::vector<uint8_t> block = enc.finish();
@@ -446,6 +466,13 @@ void read_unit_refs(ByteReader* r, const std::vector<AttrSpec>& specs, size_t a,
     fail(ErrorCode::kCorrupt, what, "predictor 9 refers to one element twice");
 }
 
+// The nearest earlier point of every point of the window (FORMAT.md 7.3): exact squared
+// distances of the POSW integers q (frames x points x 3) at the point's first valid frame.
+std::vector<uint32_t> nearest_points(const int32_t* q, const uint8_t* valid, size_t frames,
+                                     size_t points) {
+  return nearest_earlier(q, valid, frames, points, 1, exact_distance);
+}
+
 }  // namespace
 
 std::vector<AttrSpec> attribute_specs(const std::vector<PCDField>& fields) {
@@ -470,10 +497,18 @@ bool has_unit_candidate(const std::vector<AttrSpec>& specs) {
 std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
                                        const std::vector<std::vector<uint8_t>>& data,
                                        const uint8_t* valid, size_t frames, size_t points,
-                                       size_t width, bool v6) {
+                                       size_t width, bool v6, bool v7, const int32_t* q) {
   const size_t n = frames * points;
   const size_t W = width ? width : std::max<size_t>(points, 1);
   const bool gaps = valid && std::find(valid, valid + n, 0) != valid + n;
+  // 7.3: the neighbours, found once for every lane (under a mask all set when there is none).
+  std::vector<uint8_t> all_valid;
+  std::vector<uint32_t> near;
+  if (v7 && q && points > 1) {
+    if (!valid) all_valid.assign(n, 1);
+    valid = valid ? valid : all_valid.data();
+    near = nearest_points(q, valid, frames, points);
+  }
   ByteWriter w;
   for (size_t a = 0; a < specs.size(); ++a) {
     const AttrSpec& s = specs[a];
@@ -481,14 +516,19 @@ std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
     if (data[a].size() != bytes)
       fail(ErrorCode::kInternal, "attributes",
            "field " + s.name + " does not hold frames x points values");
-    std::vector<uint8_t> best =
-        encode_predictive(specs, data, a, valid, gaps, frames, points, W, v6);
+    std::vector<uint8_t> best = encode_predictive(
+        specs, data, a, valid, gaps, near.empty() ? nullptr : near.data(), frames, points, W, v6);
     // LZMA of the byte planes (2) and, for elements of several bytes, of the bytes as they are
     // (3); in a 6.x window with gaps and valid points, the same of the valid points' values
     // with the gap points' values apart (4, 5; FORMAT.md 6.2): the smallest wins.
     const size_t size = static_cast<size_t>(s.size);
     std::vector<uint8_t> at_valid, at_gaps;
-    if (v6 && gaps && std::any_of(valid, valid + n, [](uint8_t v) { return v != 0; }))
+    // An unorganized cloud's window with predictors 10 and 11 (FORMAT.md 7.3) skips transforms
+    // 4 and 5: measured on the LiDAR sequences of docs/BENCHMARKS.md, they then won on one of
+    // five (by 1 % of the fields' bytes) for a third of the encode time.
+    const bool unorganized_near = !near.empty() && W >= points;
+    if (v6 && gaps && !unorganized_near &&
+        std::any_of(valid, valid + n, [](uint8_t v) { return v != 0; }))
       split_by_mask(data[a], valid, n, size * static_cast<size_t>(s.count), &at_valid, &at_gaps);
     const uint8_t last = !at_valid.empty() ? (size > 1 ? 5 : 4) : (size > 1 ? 3 : 2);
     for (uint8_t t = 2; bytes > 0 && t <= last; ++t) {
@@ -526,12 +566,14 @@ std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
 
 void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrSpec>& specs,
                        const uint8_t* valid, size_t frames, size_t points, size_t width,
-                       std::vector<std::vector<uint8_t>>* out, const std::string& what, bool v6) {
+                       std::vector<std::vector<uint8_t>>* out, const std::string& what, bool v6,
+                       bool v7, const int32_t* q) {
   ByteReader r(data, size, what);
   const size_t n = frames * points;
   const size_t W = width ? width : std::max<size_t>(points, 1);
   out->assign(specs.size(), std::vector<uint8_t>());
   std::vector<uint8_t> all_valid;  // no mask given: every point valid (made when first needed)
+  std::vector<uint32_t> near;      // 7.3: nearest earlier points (found when first needed)
   Lane l, col[4];
   for (size_t a = 0; a < specs.size(); ++a) {
     const AttrSpec& s = specs[a];
@@ -577,8 +619,12 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
     std::vector<std::array<UnitRef, 2>> refs(lanes);
     for (size_t j = 0; j < lanes; ++j) {
       const uint8_t id = r.u8();
-      if (id >= kPredictors && !(v6 && id == kUnitPredictor && !colour))
+      const bool near_id = id == kNearPredictor || id == kNearChangePredictor;
+      if (id >= kPredictors && !(v6 && id == kUnitPredictor && !colour) && !(v7 && near_id))
         fail(ErrorCode::kCorrupt, awhat, "unknown predictor " + std::to_string(id));
+      if (near_id && !q)
+        fail(ErrorCode::kCorrupt, awhat,
+             "predictor " + std::to_string(id) + " in a window without position integers");
       pred[j] = id;
       if (id == kUnitPredictor) read_unit_refs(&r, specs, a, j, refs[j].data(), awhat);
     }
@@ -586,11 +632,15 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
     if (n != 0 && lanes > kMaxSymbolsPerByte * m / n)
       fail(ErrorCode::kCorrupt, awhat, "field larger than its block can hold");
     const uint8_t* block = r.bytes(static_cast<size_t>(m));
-    if (!valid &&
-        std::any_of(pred.begin(), pred.end(), [](int id) { return id >= 5 && id <= 8; }) &&
-        all_valid.empty())
+    const bool uses_near = std::any_of(pred.begin(), pred.end(), [](int id) {
+      return id == kNearPredictor || id == kNearChangePredictor;
+    });
+    if (!valid && all_valid.empty() &&
+        (uses_near ||
+         std::any_of(pred.begin(), pred.end(), [](int id) { return id >= 5 && id <= 8; })))
       all_valid.assign(n, 1);
     const uint8_t* mask_of_window = valid ? valid : all_valid.data();
+    if (uses_near && near.empty()) near = nearest_points(q, mask_of_window, frames, points);
     IntDecoder dec(block, static_cast<size_t>(m), analog::kAnalogContexts, awhat);
     IntDecoder::Cursor c = dec.cursor();
     bytes.assign(n * bpp, 0);
@@ -602,15 +652,15 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
       const uint64_t mask = mask_of(cur_lane.bits);
       LaneState st;
       if (pred[j] == kUnitPredictor) {
-        int q = 0;
+        int last_sign = 0;
         walk_unit(&cur_lane.u, specs, *out, refs[j].data(),
                   [&](uint64_t* v, float x, float y, bool completable) {
                     uint32_t sign = 0;
                     if (completable) {
                       int tok;
-                      sign = c.get(kSignContext + q, &tok);
+                      sign = c.get(kSignContext + last_sign, &tok);
                       if (sign > 1) fail(ErrorCode::kCorrupt, awhat, "bad sign symbol");
-                      q = static_cast<int>(sign);
+                      last_sign = static_cast<int>(sign);
                     }
                     const uint64_t p = unit_prediction(x, y, completable, sign);
                     const int64_t res =
@@ -620,7 +670,7 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
         store_lane(s, cur_lane, n, j, &bytes);
         continue;
       }
-      walk_lane(pred[j], &cur_lane.u, mask_of_window, frames, points, W, mask,
+      walk_lane(pred[j], &cur_lane.u, mask_of_window, near.data(), frames, points, W, mask,
                 [&](uint64_t* v, uint64_t p, bool gap) {
                   const int64_t res = cur_lane.float_residuals
                                           ? analog::get_float_residual(&c, &st.prev_nb[gap])

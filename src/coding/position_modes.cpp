@@ -12,6 +12,7 @@
 #include "capz/error.h"
 #include "coding/bytes.h"
 #include "coding/entropy.h"
+#include "coding/neighbours.h"
 #include "coding/predict.h"
 
 namespace capz {
@@ -198,42 +199,20 @@ struct CostCoder {
 
 // Candidate reference points of every point p: up to kRefCandidates points r < p nearest to p
 // at p's first valid frame of the window, among those valid there (squared distance of the
-// integers; ties to the larger r). UINT32_MAX marks unused slots.
+// integers, in double; ties to the larger r; neighbours.h). kNoPoint marks unused slots.
 std::vector<uint32_t> ref_candidates(const int32_t* q, const uint8_t* valid, size_t frames,
                                      size_t points, size_t* per_point) {
   constexpr size_t kRefCandidates = 16;
-  constexpr size_t kBruteForce = 4096;  // beyond: search only the 512 preceding indices
   *per_point = kRefCandidates;
-  std::vector<uint32_t> cand(points * kRefCandidates, UINT32_MAX);
-  double d[kRefCandidates];
-  for (size_t p = 1; p < points; ++p) {
-    size_t f = 0;
-    while (f < frames && !valid[f * points + p]) ++f;
-    if (f == frames) continue;
-    const int32_t* qf = q + f * points * 3;
-    const uint8_t* vf = valid + f * points;
-    size_t n = 0;
-    const size_t lo = points <= kBruteForce || p < 512 ? 0 : p - 512;
-    uint32_t* c = &cand[p * kRefCandidates];
-    for (size_t r = p; r-- > lo;) {
-      if (!vf[r]) continue;
-      double dd = 0;
-      for (int a = 0; a < 3; ++a) {
-        const double x = static_cast<double>(qf[p * 3 + a]) - static_cast<double>(qf[r * 3 + a]);
-        dd += x * x;
-      }
-      if (n == kRefCandidates && dd >= d[n - 1]) continue;
-      size_t k = n < kRefCandidates ? n++ : n - 1;
-      while (k > 0 && d[k - 1] > dd) {
-        d[k] = d[k - 1];
-        c[k] = c[k - 1];
-        --k;
-      }
-      d[k] = dd;
-      c[k] = static_cast<uint32_t>(r);
-    }
-  }
-  return cand;
+  return nearest_earlier(q, valid, frames, points, kRefCandidates,
+                         [](const int32_t* a, const int32_t* b) {
+                           double dd = 0;
+                           for (int k = 0; k < 3; ++k) {
+                             const double x = static_cast<double>(a[k]) - static_cast<double>(b[k]);
+                             dd += x * x;
+                           }
+                           return dd;
+                         });
 }
 
 // Residuals res[f] = x[f] - prediction, f = 1 .. frames - 1, of a trajectory x (one axis of one

@@ -1,0 +1,77 @@
+// Nearest earlier points of a window's points, from the window's POSW integers: the search of
+// the encoder's POSW reference candidates (docs/FORMAT.md 3.3, position_modes.cpp) and the
+// normative neighbour of ATTR predictors 10 and 11 (FORMAT.md 7.3), one loop for both.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace capz {
+
+// Marks "no point" in the tables below.
+constexpr uint32_t kNoPoint = UINT32_MAX;
+
+// Above this many points, a point's candidates are only the kNearWindow points before it.
+constexpr size_t kNearBruteForce = 4096;
+constexpr size_t kNearWindow = 512;
+
+// The squared Euclidean distance of two integer positions, exactly: each difference is below
+// 2^32 in magnitude, so each square fits 64 bits; the three are added with their carries
+// counted (the sum is below 3 * 2^64).
+struct ExactDistance {
+  uint64_t hi = 0, lo = 0;
+  bool operator<(const ExactDistance& o) const { return hi < o.hi || (hi == o.hi && lo < o.lo); }
+};
+inline ExactDistance exact_distance(const int32_t* a, const int32_t* b) {
+  ExactDistance d;
+  for (int k = 0; k < 3; ++k) {
+    const int64_t x = static_cast<int64_t>(a[k]) - static_cast<int64_t>(b[k]);
+    const uint64_t m = static_cast<uint64_t>(x < 0 ? -x : x);
+    const uint64_t s = m * m;
+    d.lo += s;
+    d.hi += d.lo < s ? 1 : 0;
+  }
+  return d;
+}
+
+// For every point p of a window (q: frames x points x 3 integers, valid: frames x points), up
+// to k points r < p nearest to p at p's first valid frame of the window, among the points valid
+// there (every r when points <= kNearBruteForce, else r >= p - kNearWindow), nearest first,
+// ties to the larger r: out[p * k + j], kNoPoint in unused slots. dist(a, b) gives the
+// distance of two positions (3 integers each) as any type with operator<.
+template <typename Dist>
+std::vector<uint32_t> nearest_earlier(const int32_t* q, const uint8_t* valid, size_t frames,
+                                      size_t points, size_t k, Dist&& dist) {
+  using D = decltype(dist(q, q));
+  std::vector<uint32_t> out(points * k, kNoPoint);
+  std::vector<D> d(k);
+  for (size_t p = 1; p < points; ++p) {
+    size_t f = 0;
+    while (f < frames && !valid[f * points + p]) ++f;
+    if (f == frames) continue;
+    const int32_t* qf = q + f * points * 3;
+    const uint8_t* vf = valid + f * points;
+    const size_t lo = points <= kNearBruteForce || p < kNearWindow ? 0 : p - kNearWindow;
+    uint32_t* c = &out[p * k];
+    size_t n = 0;
+    // From p - 1 down: a later r is kept on equal distance (only a strictly nearer one moves
+    // ahead of it).
+    for (size_t r = p; r-- > lo;) {
+      if (!vf[r]) continue;
+      const D dd = dist(qf + p * 3, qf + r * 3);
+      if (n == k && !(dd < d[n - 1])) continue;
+      size_t j = n < k ? n++ : n - 1;
+      while (j > 0 && dd < d[j - 1]) {
+        d[j] = d[j - 1];
+        c[j] = c[j - 1];
+        --j;
+      }
+      d[j] = dd;
+      c[j] = static_cast<uint32_t>(r);
+    }
+  }
+  return out;
+}
+
+}  // namespace capz
