@@ -150,13 +150,17 @@ C3DResidueEncoder::C3DResidueEncoder(const std::string& path) : in_(path) {
   lay_.tail_size = size - lay_.head_size - lay_.frames * lay_.per_frame;
 }
 
+const std::vector<uint8_t> C3DResidueEncoder::kNothing;
+
 std::vector<uint8_t> C3DResidueEncoder::window(const FrameBlock& block, bool exact) {
   check_block(lay_, block, in_.path());
   const size_t n = block.frames * lay_.per_frame;
   regen_.resize(n);
   orig_.resize(n);
   regenerate_c3d_frames(lay_, block, regen_.data());
-  in_.read_at(lay_.head_size + block.first * lay_.per_frame, orig_.data(), n);
+  orig_at_ = lay_.head_size + block.first * lay_.per_frame;
+  in_.read_at(orig_at_, orig_.data(), n);
+  exact_orig_ = exact;
   if (!exact) {  // at a bound: absent samples' coordinates are not kept
     const size_t elem = elem_size(lay_);
     for (size_t f = 0; f < block.frames; ++f)
