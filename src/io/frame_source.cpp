@@ -100,12 +100,33 @@ class C3DSource : public FrameSource {
   void read(size_t first, size_t count, FrameBlock* out) override {
     clip(&first, &count);
     const size_t rot_per_frame = header_.rotations.per_frame();
-    out->reset(first, count, lay_.points, lay_.analog_values, true, rot_per_frame);
-    buf_.resize(count * lay_.per_frame);
-    file_.read_at(lay_.data_offset + first * lay_.per_frame, buf_.data(), buf_.size());
+    // Sized, not zeroed: decode_frames and decode_c3d_rotations write every value.
+    const size_t N = lay_.points, A = lay_.analog_values;
+    out->first = first;
+    out->frames = count;
+    out->points = N;
+    out->xyz.resize(count * N * 3);
+    out->valid.resize(count * N);
+    out->residual.resize(count * N);
+    out->camera_mask.resize(count * N);
+    out->analog.resize(count * A);
+    out->rotation_matrices.resize(count * rot_per_frame * 16);
+    out->rotation_reliability.resize(count * rot_per_frame);
+    out->attributes.clear();
+    // Read and decoded in pieces of about 64 KB, each decoded while it is still in the cache
+    // the read wrote it to.
+    const size_t piece =
+        std::max<size_t>(1, (size_t{64} << 10) / std::max<size_t>(1, lay_.per_frame));
+    buf_.resize(std::min(count, piece) * lay_.per_frame);
     size_t wide = 0;
-    c3d::decode_frames(lay_, buf_.data(), count, out->xyz.data(), out->valid.data(),
-                       out->residual.data(), out->camera_mask.data(), out->analog.data(), &wide);
+    for (size_t f = 0; f < count; f += piece) {
+      const size_t n = std::min(piece, count - f);
+      file_.read_at(lay_.data_offset + (first + f) * lay_.per_frame, buf_.data(),
+                    n * lay_.per_frame);
+      c3d::decode_frames(lay_, buf_.data(), n, out->xyz.data() + f * N * 3,
+                         out->valid.data() + f * N, out->residual.data() + f * N,
+                         out->camera_mask.data() + f * N, out->analog.data() + f * A, &wide);
+    }
     if (rot_per_frame > 0) {  // the frames' part of the rotation section (after the frames)
       buf_.resize(count * lay_.rot_per_frame);
       file_.read_at(lay_.rot_offset + first * lay_.rot_per_frame, buf_.data(), buf_.size());
