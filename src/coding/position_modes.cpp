@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <memory>
+#include <new>
+#include <utility>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -16,6 +19,30 @@
 
 namespace capz {
 namespace {
+
+// An allocator whose value-less construct leaves the value uninitialised: the estimate's
+// per-window arrays are written in full before they are read, and zero-filling them first cost
+// about 1% of a compress (several MB per window).
+template <typename T>
+struct UninitAllocator : std::allocator<T> {
+  template <typename U>
+  struct rebind {
+    using other = UninitAllocator<U>;
+  };
+  UninitAllocator() = default;
+  template <typename U>
+  UninitAllocator(const UninitAllocator<U>&) {}
+  template <typename U>
+  void construct(U* p) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <typename U, typename... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+template <typename T>
+using Scratch = std::vector<T, UninitAllocator<T>>;
 
 // What the estimate conditions a residual on, per point, axis and predictor: the previous token
 // of the same axis (capped at 3). (Conditioning on scheme 3's zero-run phase as well changed
@@ -257,8 +284,8 @@ void predictor_residuals(int mode, const int32_t* x, size_t frames, size_t perio
 // point's trajectory as contiguous runs, not one cache line per frame: x[(3 p + a) F + f],
 // v[p F + f]. Transposed in blocks of 64 frames (the block of q stays in cache).
 struct PointMajor {
-  std::vector<int32_t> x;
-  std::vector<uint8_t> v;
+  Scratch<int32_t> x;
+  Scratch<uint8_t> v;
   PointMajor(const int32_t* q, const uint8_t* valid, size_t frames, size_t points)
       : x(frames * points * 3), v(frames * points) {
     const size_t F = frames, S = points * 3;
@@ -277,7 +304,7 @@ struct PointMajor {
 
 // Residuals of every sample under the previous (e[0]) and linear (e[1]) predictors, frames
 // 1.. of the window, point-major as PointMajor::x; frame 0 entries are 0.
-void base_residuals(const PointMajor& pm, size_t frames, size_t points, std::vector<int32_t> e[2]) {
+void base_residuals(const PointMajor& pm, size_t frames, size_t points, Scratch<int32_t> e[2]) {
   for (int b = 0; b < 2; ++b) {
     e[b].resize(frames * points * 3);
     for (size_t k = 0; k < points * 3; ++k) {
@@ -292,8 +319,8 @@ void base_residuals(const PointMajor& pm, size_t frames, size_t points, std::vec
 // deviation, over frames 1.. of the window (the reference predictors 5/6), through `res`
 // (3 x frames) as scratch.
 template <typename H>
-void ref_cost(const std::vector<int32_t>& e, const PointMajor& pm, size_t frames, size_t p,
-              size_t r, H* h, std::vector<int32_t>* res) {
+void ref_cost(const Scratch<int32_t>& e, const PointMajor& pm, size_t frames, size_t p, size_t r,
+              H* h, std::vector<int32_t>* res) {
   const uint8_t* vr = &pm.v[r * frames];
   const int32_t* in[3];
   for (size_t a = 0; a < 3; ++a) {
@@ -351,22 +378,22 @@ uint64_t masked_bit_costs(const int32_t* c, const int32_t* cr, const int32_t* m,
 // one cache line per frame): per point, per sampled frame, the three values of each base, 0
 // for a gap, and a mask of -1 where the point is valid (0 where not), repeated per axis.
 struct RankSamples {
-  size_t n = 0;               // sampled frames
-  std::vector<int32_t> e[2];  // [point][sample][axis]
-  std::vector<int32_t> mask;  // [point][sample][axis]
-  RankSamples(const std::vector<int32_t> base[2], const PointMajor& pm, size_t frames,
-              size_t points, size_t step) {
+  size_t n = 0;           // sampled frames
+  Scratch<int32_t> e[2];  // [point][sample][axis]
+  Scratch<int32_t> mask;  // [point][sample][axis]
+  RankSamples(const Scratch<int32_t> base[2], const PointMajor& pm, size_t frames, size_t points,
+              size_t step) {
     n = frames > 1 ? (frames - 2) / step + 1 : 0;
-    for (int b = 0; b < 2; ++b) e[b].assign(points * n * 3, 0);
-    mask.assign(points * n * 3, 0);
+    for (int b = 0; b < 2; ++b) e[b].resize(points * n * 3);
+    mask.resize(points * n * 3);
     for (size_t p = 0; p < points; ++p) {
       for (size_t j = 0; j < n; ++j) {
         const size_t f = 1 + j * step;
-        if (!pm.v[p * frames + f]) continue;
-        for (size_t a = 0; a < 3; ++a) mask[(p * n + j) * 3 + a] = -1;
+        const bool v = pm.v[p * frames + f] != 0;
+        for (size_t a = 0; a < 3; ++a) mask[(p * n + j) * 3 + a] = v ? -1 : 0;
         for (int b = 0; b < 2; ++b)
           for (size_t a = 0; a < 3; ++a)
-            e[b][(p * n + j) * 3 + a] = base[b][(p * 3 + a) * frames + f];
+            e[b][(p * n + j) * 3 + a] = v ? base[b][(p * 3 + a) * frames + f] : 0;
       }
     }
   }
@@ -516,7 +543,7 @@ void rank_references(const RankSamples& samples, const uint32_t* cand, size_t K,
 // lengths of their residuals on every `step`-th frame (RankSamples); the full estimate of the
 // two best then competes with the point's best predictor so far. e: base_residuals of q.
 void choose_references(const WindowInts& w, const std::vector<int32_t>& q, const PointMajor& pm,
-                       const std::vector<int32_t> e[2], const std::vector<TokenHist>& first,
+                       const Scratch<int32_t> e[2], const std::vector<TokenHist>& first,
                        std::vector<uint64_t>* best, ModeChoice* c) {
   const size_t F = w.frames, N = w.points;
   size_t K;
@@ -560,7 +587,7 @@ ModeChoice choose_modes(const WindowInts& w, const int32_t* t, int scheme, Resid
   std::vector<TokenHist> first(N);
   frame0_share(w, t, ctx, q, &first);
   const PointMajor pm(q->data(), w.valid.data(), F, N);
-  std::vector<int32_t> e[2];
+  Scratch<int32_t> e[2];
   const bool refs = scheme >= 2 && F > 2 && N > 1;
   if (refs) base_residuals(pm, F, N, e);
   choose_temporal(w, *q, pm, first, scheme, &best, &c);
