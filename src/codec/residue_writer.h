@@ -49,9 +49,10 @@ class ResidueWriter {
   size_t dropped_coordinates() const { return c3d_ ? c3d_->dropped_coordinates() : 0; }
 
  private:
-  // known: the original's bytes from offset known_at, when the caller has them (else read).
-  void check_bytes(size_t w, const std::vector<uint8_t>& rebuilt,
-                   const std::vector<uint8_t>* known = nullptr, uint64_t known_at = 0);
+  // known: known_size bytes of the original from offset known_at, when the caller has them
+  // (else read).
+  void check_bytes(size_t w, const std::vector<uint8_t>& rebuilt, const uint8_t* known = nullptr,
+                   size_t known_size = 0, uint64_t known_at = 0);
   void pcd_file_chunks(std::vector<uint8_t>* buf);
   void pcd_window_chunk(size_t w, const FrameBlock& block, const FrameBlock* back,
                         std::vector<uint8_t>* buf);
