@@ -34,6 +34,10 @@ struct FrameBlock {
   std::vector<float> rotation_reliability;  // (frames * R) x segments
   // Per Take::attributes entry, the frames' bytes: frames x points x count x size (take.h).
   std::vector<std::vector<uint8_t>> attributes;
+  // A C3D source's frames as the file stores them, from byte file_bytes_at of the file (the
+  // residue's original, not read a second time); empty from other sources.
+  std::vector<uint8_t> file_bytes;
+  uint64_t file_bytes_at = 0;
 
   // Sizes every array for `frames` x `points` (gaps, zeros); words: with residual/camera arrays;
   // rotations_per_frame: R x segments (0 without rotations).

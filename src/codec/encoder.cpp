@@ -610,6 +610,10 @@ class Encoder {
     PromiseCheck promise(promise_, false);  // emit() measures the same samples (rec)
     if (!promise.frames(win->block, back)) check_failed(w, promise.why());
     const size_t n = win->block.frames * take_.points;
+    // Arrays equal as a whole (the usual case: gaps are 0.0 in both) need no test per sample.
+    if (n > 0 && back.xyz.size() == n * 3 && win->rec.size() == n * 3 &&
+        std::memcmp(back.xyz.data(), win->rec.data(), n * 24) == 0)
+      return;
     for (size_t i = 0; i < n; ++i)
       if (win->wi.valid[i] && std::memcmp(&back.xyz[i * 3], &win->rec[i * 3], 24) != 0)
         check_failed(w, "positions decode differently than the encoder reconstructed them");

@@ -98,16 +98,26 @@ void ResidueWriter::window_chunk(size_t w, const FrameBlock& block, const FrameB
   } catch (const Error& e) {
     failed("window " + std::to_string(w) + ": the residue does not rebuild: " + e.what());
   }
-  check_bytes(w, rebuilt);
+  // The C3D encoder has just read the window's original bytes (exact: unamended).
+  if (c3d_)
+    check_bytes(w, rebuilt, c3d_->original(), c3d_->original_size(), c3d_->original_at());
+  else
+    check_bytes(w, rebuilt);
 }
 
-// The rebuilt bytes continue the original at rebuilt_: compares them and hashes them.
-void ResidueWriter::check_bytes(size_t w, const std::vector<uint8_t>& rebuilt) {
+// The rebuilt bytes continue the original at rebuilt_: compares them and hashes them. The
+// original's bytes are `known` when they are the same range, else read from the file.
+void ResidueWriter::check_bytes(size_t w, const std::vector<uint8_t>& rebuilt, const uint8_t* known,
+                                size_t known_size, uint64_t known_at) {
   if (rebuilt_ + rebuilt.size() > size_)
     failed("window " + std::to_string(w) + " rebuilds past the original's size");
-  std::vector<uint8_t> orig(rebuilt.size());
-  orig_->read_at(rebuilt_, orig.data(), orig.size());
-  if (!rebuilt.empty() && std::memcmp(orig.data(), rebuilt.data(), rebuilt.size()) != 0)
+  const uint8_t* orig = known;
+  if (!known || known_at != rebuilt_ || known_size != rebuilt.size()) {
+    orig_bytes_.resize(rebuilt.size());
+    orig_->read_at(rebuilt_, orig_bytes_.data(), orig_bytes_.size());
+    orig = orig_bytes_.data();
+  }
+  if (!rebuilt.empty() && std::memcmp(orig, rebuilt.data(), rebuilt.size()) != 0)
     failed("window " + std::to_string(w) + " rebuilds bytes other than the original's");
   rebuilt_hash_.update(rebuilt.data(), rebuilt.size());
   rebuilt_ += rebuilt.size();

@@ -49,7 +49,10 @@ class ResidueWriter {
   size_t dropped_coordinates() const { return c3d_ ? c3d_->dropped_coordinates() : 0; }
 
  private:
-  void check_bytes(size_t w, const std::vector<uint8_t>& rebuilt);
+  // known: known_size bytes of the original from offset known_at, when the caller has them
+  // (else read).
+  void check_bytes(size_t w, const std::vector<uint8_t>& rebuilt, const uint8_t* known = nullptr,
+                   size_t known_size = 0, uint64_t known_at = 0);
   void pcd_file_chunks(std::vector<uint8_t>* buf);
   void pcd_window_chunk(size_t w, const FrameBlock& block, const FrameBlock* back,
                         std::vector<uint8_t>* buf);
@@ -74,6 +77,7 @@ class ResidueWriter {
   std::unique_ptr<residue::C3DResidueDecoder> c3d_back_;
   std::unique_ptr<residue::TRCResidueDecoder> trc_back_;
   std::unique_ptr<InputFile> orig_;
+  std::vector<uint8_t> orig_bytes_;  // check_bytes' scratch
   Hasher rebuilt_hash_;
   uint64_t rebuilt_ = 0;
   size_t bytes_ = 0, file_bytes_ = 0;

@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <memory>
+#include <new>
+#include <utility>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -17,6 +20,30 @@
 
 namespace capz {
 namespace {
+
+// An allocator whose value-less construct leaves the value uninitialised: the estimate's
+// per-window arrays are written in full before they are read, and zero-filling them first cost
+// about 1% of a compress (several MB per window).
+template <typename T>
+struct UninitAllocator : std::allocator<T> {
+  template <typename U>
+  struct rebind {
+    using other = UninitAllocator<U>;
+  };
+  UninitAllocator() = default;
+  template <typename U>
+  UninitAllocator(const UninitAllocator<U>&) {}
+  template <typename U>
+  void construct(U* p) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <typename U, typename... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+template <typename T>
+using Scratch = std::vector<T, UninitAllocator<T>>;
 
 // What the estimate conditions a residual on, per point, axis and predictor: the previous token
 // of the same axis (capped at 3). (Conditioning on scheme 3's zero-run phase as well changed
@@ -221,12 +248,60 @@ std::vector<uint32_t> ref_candidates(const int32_t* q, const uint8_t* valid, siz
 // From frame max(6, period + 1) on, every rule of predict_one takes its full form: that part
 // of the loop passes a constant frame number past it, so it runs without a test per frame (and
 // vectorises).
+constexpr size_t kLate = static_cast<size_t>(-1) / 2;  // stands for any frame f >= 6
+
+// res[f] = x[f] - predict_smooth(f, x + f, 1) for f in [from, to), from >= 6 (its full form).
+// With SSE2, four frames at a time where the five differences of each from q[f-1] are within
+// 2^25 in magnitude: the weighted sum n then fits int32 (|n| <= 38 x 2^25), so
+// q1 + sign(n) ((|n| + 15) / 30) is computed in 32-bit lanes, the unsigned division by 30 as
+// (u x 0x88888889) >> 36, exact for every u < 2^32 (what compilers emit for u / 30). Groups with
+// a larger difference take predict_smooth.
+void smooth_residuals(const int32_t* x, size_t from, size_t to, int32_t* res) {
+  size_t f = from;
+#if defined(__SSE2__)
+  const __m128i magic = _mm_set1_epi32(static_cast<int>(0x88888889u));
+  const __m128i fifteen = _mm_set1_epi32(15), zero = _mm_setzero_si128();
+  for (; f + 4 <= to; f += 4) {
+    auto at = [&](size_t j) {
+      return _mm_loadu_si128(reinterpret_cast<const __m128i*>(x + f - j));
+    };
+    const __m128i q1 = at(1);
+    const __m128i d2 = _mm_sub_epi32(at(2), q1), d3 = _mm_sub_epi32(at(3), q1);
+    const __m128i d4 = _mm_sub_epi32(at(4), q1), d5 = _mm_sub_epi32(at(5), q1);
+    const __m128i d6 = _mm_sub_epi32(at(6), q1);
+    auto mag = [](__m128i d) { return _mm_xor_si128(d, _mm_srai_epi32(d, 31)); };  // |d| or |d|-1
+    const __m128i big = _mm_or_si128(_mm_or_si128(mag(d2), mag(d3)),
+                                     _mm_or_si128(_mm_or_si128(mag(d4), mag(d5)), mag(d6)));
+    if (_mm_movemask_epi8(_mm_cmpeq_epi32(_mm_srli_epi32(big, 25), zero)) != 0xFFFF) {
+      for (size_t g = f; g < f + 4; ++g) res[g] = wrap_sub(x[g], predict_smooth(kLate, x + g, 1));
+      continue;
+    }
+    // n = 14 d2 + 8 d3 + 2 d4 - 4 d5 - 10 d6
+    const __m128i n = _mm_sub_epi32(
+        _mm_add_epi32(_mm_add_epi32(_mm_sub_epi32(_mm_slli_epi32(d2, 4), _mm_slli_epi32(d2, 1)),
+                                    _mm_slli_epi32(d3, 3)),
+                      _mm_slli_epi32(d4, 1)),
+        _mm_add_epi32(_mm_add_epi32(_mm_slli_epi32(d5, 2), _mm_slli_epi32(d6, 3)),
+                      _mm_slli_epi32(d6, 1)));
+    const __m128i s = _mm_srai_epi32(n, 31);
+    const __m128i u = _mm_add_epi32(_mm_sub_epi32(_mm_xor_si128(n, s), s), fifteen);
+    const __m128i p02 = _mm_mul_epu32(u, magic);
+    const __m128i p13 = _mm_mul_epu32(_mm_srli_epi64(u, 32), magic);
+    const __m128i q =
+        _mm_or_si128(_mm_srli_epi64(p02, 36), _mm_slli_epi64(_mm_srli_epi64(p13, 36), 32));
+    const __m128i pred = _mm_add_epi32(q1, _mm_sub_epi32(_mm_xor_si128(q, s), s));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(res + f), _mm_sub_epi32(at(0), pred));
+  }
+#endif
+  for (; f < to; ++f) res[f] = wrap_sub(x[f], predict_smooth(kLate, x + f, 1));
+}
+
 void predictor_residuals(int mode, const int32_t* x, size_t frames, size_t period, int32_t* res) {
   with_predictor(mode, [&](auto m) {
     const size_t steady = std::min(frames, std::max<size_t>(6, period + 1));
     size_t f = 1;
     for (; f < steady; ++f) res[f] = wrap_sub(x[f], predict_one(m, f, x + f, 1, nullptr, period));
-    constexpr size_t kLate = static_cast<size_t>(-1) / 2;  // stands for any frame f >= steady
+    if (static_cast<int>(m) == kPredSmooth) return smooth_residuals(x, f, frames, res);
     for (; f < frames; ++f)
       res[f] = wrap_sub(x[f], predict_one(m, kLate, x + f, 1, nullptr, period));
   });
@@ -236,27 +311,49 @@ void predictor_residuals(int mode, const int32_t* x, size_t frames, size_t perio
 // point's trajectory as contiguous runs, not one cache line per frame: x[(3 p + a) F + f],
 // v[p F + f]. Transposed in blocks of 64 frames (the block of q stays in cache).
 struct PointMajor {
-  std::vector<int32_t> x;
-  std::vector<uint8_t> v;
+  Scratch<int32_t> x;
+  Scratch<uint8_t> v;
   PointMajor(const int32_t* q, const uint8_t* valid, size_t frames, size_t points)
       : x(frames * points * 3), v(frames * points) {
     const size_t F = frames, S = points * 3;
     for (size_t f0 = 0; f0 < F; f0 += 64) {
       const size_t f1 = std::min(F, f0 + 64);
-      for (size_t p = 0; p < points; ++p) {
+      for (size_t p = 0; p < points; ++p)
         for (size_t f = f0; f < f1; ++f) v[p * F + f] = valid[f * points + p];
-        for (size_t a = 0; a < 3; ++a) {
-          int32_t* d = &x[(p * 3 + a) * F];
-          for (size_t f = f0; f < f1; ++f) d[f] = q[f * S + p * 3 + a];
+      // x is q transposed (x[k F + f] = q[f S + k], k = 3 p + a): with SSE2 in 4 x 4 tiles
+      // (four frames of four consecutive k), the rest value by value.
+      size_t k4 = 0, f4 = f0;
+#if defined(__SSE2__)
+      k4 = S / 4 * 4;
+      f4 = f0 + (f1 - f0) / 4 * 4;
+      for (size_t k = 0; k < k4; k += 4)
+        for (size_t f = f0; f < f4; f += 4) {
+          auto row = [&](size_t j) {
+            return _mm_loadu_si128(reinterpret_cast<const __m128i*>(q + (f + j) * S + k));
+          };
+          const __m128i r0 = row(0), r1 = row(1), r2 = row(2), r3 = row(3);
+          const __m128i t0 = _mm_unpacklo_epi32(r0, r1), t1 = _mm_unpacklo_epi32(r2, r3);
+          const __m128i t2 = _mm_unpackhi_epi32(r0, r1), t3 = _mm_unpackhi_epi32(r2, r3);
+          auto put = [&](size_t i, __m128i c) {
+            _mm_storeu_si128(reinterpret_cast<__m128i*>(&x[(k + i) * F + f]), c);
+          };
+          put(0, _mm_unpacklo_epi64(t0, t1));
+          put(1, _mm_unpackhi_epi64(t0, t1));
+          put(2, _mm_unpacklo_epi64(t2, t3));
+          put(3, _mm_unpackhi_epi64(t2, t3));
         }
-      }
+      for (size_t k = 0; k < k4; ++k)  // the frames past the last tile
+        for (size_t f = f4; f < f1; ++f) x[k * F + f] = q[f * S + k];
+#endif
+      for (size_t k = k4; k < S; ++k)
+        for (size_t f = f0; f < f1; ++f) x[k * F + f] = q[f * S + k];
     }
   }
 };
 
 // Residuals of every sample under the previous (e[0]) and linear (e[1]) predictors, frames
 // 1.. of the window, point-major as PointMajor::x; frame 0 entries are 0.
-void base_residuals(const PointMajor& pm, size_t frames, size_t points, std::vector<int32_t> e[2]) {
+void base_residuals(const PointMajor& pm, size_t frames, size_t points, Scratch<int32_t> e[2]) {
   for (int b = 0; b < 2; ++b) {
     e[b].resize(frames * points * 3);
     for (size_t k = 0; k < points * 3; ++k) {
@@ -271,8 +368,8 @@ void base_residuals(const PointMajor& pm, size_t frames, size_t points, std::vec
 // deviation, over frames 1.. of the window (the reference predictors 5/6), through `res`
 // (3 x frames) as scratch.
 template <typename H>
-void ref_cost(const std::vector<int32_t>& e, const PointMajor& pm, size_t frames, size_t p,
-              size_t r, H* h, std::vector<int32_t>* res) {
+void ref_cost(const Scratch<int32_t>& e, const PointMajor& pm, size_t frames, size_t p, size_t r,
+              H* h, std::vector<int32_t>* res) {
   const uint8_t* vr = &pm.v[r * frames];
   const int32_t* in[3];
   for (size_t a = 0; a < 3; ++a) {
@@ -330,22 +427,22 @@ uint64_t masked_bit_costs(const int32_t* c, const int32_t* cr, const int32_t* m,
 // one cache line per frame): per point, per sampled frame, the three values of each base, 0
 // for a gap, and a mask of -1 where the point is valid (0 where not), repeated per axis.
 struct RankSamples {
-  size_t n = 0;               // sampled frames
-  std::vector<int32_t> e[2];  // [point][sample][axis]
-  std::vector<int32_t> mask;  // [point][sample][axis]
-  RankSamples(const std::vector<int32_t> base[2], const PointMajor& pm, size_t frames,
-              size_t points, size_t step) {
+  size_t n = 0;           // sampled frames
+  Scratch<int32_t> e[2];  // [point][sample][axis]
+  Scratch<int32_t> mask;  // [point][sample][axis]
+  RankSamples(const Scratch<int32_t> base[2], const PointMajor& pm, size_t frames, size_t points,
+              size_t step) {
     n = frames > 1 ? (frames - 2) / step + 1 : 0;
-    for (int b = 0; b < 2; ++b) e[b].assign(points * n * 3, 0);
-    mask.assign(points * n * 3, 0);
+    for (int b = 0; b < 2; ++b) e[b].resize(points * n * 3);
+    mask.resize(points * n * 3);
     for (size_t p = 0; p < points; ++p) {
       for (size_t j = 0; j < n; ++j) {
         const size_t f = 1 + j * step;
-        if (!pm.v[p * frames + f]) continue;
-        for (size_t a = 0; a < 3; ++a) mask[(p * n + j) * 3 + a] = -1;
+        const bool v = pm.v[p * frames + f] != 0;
+        for (size_t a = 0; a < 3; ++a) mask[(p * n + j) * 3 + a] = v ? -1 : 0;
         for (int b = 0; b < 2; ++b)
           for (size_t a = 0; a < 3; ++a)
-            e[b][(p * n + j) * 3 + a] = base[b][(p * 3 + a) * frames + f];
+            e[b][(p * n + j) * 3 + a] = v ? base[b][(p * 3 + a) * frames + f] : 0;
       }
     }
   }
@@ -521,7 +618,7 @@ void rank_references(const RankSamples& samples, const uint32_t* cand, size_t K,
 // lengths of their residuals on every `step`-th frame (RankSamples); the full estimate of the
 // two best then competes with the point's best predictor so far. e: base_residuals of q.
 void choose_references(const WindowInts& w, const std::vector<int32_t>& q, const PointMajor& pm,
-                       const std::vector<int32_t> e[2], const std::vector<TokenHist>& first,
+                       const Scratch<int32_t> e[2], const std::vector<TokenHist>& first,
                        std::vector<uint64_t>* best, ModeChoice* c) {
   const size_t F = w.frames, N = w.points;
   size_t K;
@@ -565,7 +662,7 @@ ModeChoice choose_modes(const WindowInts& w, const int32_t* t, int scheme, Resid
   std::vector<TokenHist> first(N);
   frame0_share(w, t, ctx, q, &first);
   const PointMajor pm(q->data(), w.valid.data(), F, N);
-  std::vector<int32_t> e[2];
+  Scratch<int32_t> e[2];
   const bool refs = scheme >= 2 && F > 2 && N > 1;
   if (refs) base_residuals(pm, F, N, e);
   choose_temporal(w, *q, pm, first, scheme, &best, &c);

@@ -36,6 +36,25 @@ float dec_to_float(const uint8_t* p);
 // cannot represent, become the largest finite VAX value of the same sign; tiny values become 0.
 void float_to_dec(float v, uint8_t* out);
 
+// Whether the host stores numbers little-endian: then a little-endian number in a file is one
+// memcpy (the frame readers and writers move every coordinate through these), else byte by byte.
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+constexpr bool kHostLittleEndian = true;
+#else
+constexpr bool kHostLittleEndian = false;
+#endif
+
+// The 32-bit word of 4 bytes in little-endian order.
+inline uint32_t get_u32le(const uint8_t* p) {
+  uint32_t u;
+  if (kHostLittleEndian) {
+    std::memcpy(&u, p, 4);
+    return u;
+  }
+  return static_cast<uint32_t>(p[0]) | (static_cast<uint32_t>(p[1]) << 8) |
+         (static_cast<uint32_t>(p[2]) << 16) | (static_cast<uint32_t>(p[3]) << 24);
+}
+
 // Reads numbers stored in one processor's form.
 struct NumberFormat {
   int processor = kIntel;
@@ -51,8 +70,7 @@ struct NumberFormat {
       u = (static_cast<uint32_t>(p[0]) << 24) | (static_cast<uint32_t>(p[1]) << 16) |
           (static_cast<uint32_t>(p[2]) << 8) | p[3];
     else
-      u = static_cast<uint32_t>(p[0]) | (static_cast<uint32_t>(p[1]) << 8) |
-          (static_cast<uint32_t>(p[2]) << 16) | (static_cast<uint32_t>(p[3]) << 24);
+      u = get_u32le(p);
     float f;
     std::memcpy(&f, &u, 4);
     return f;
@@ -66,13 +84,16 @@ inline void put_u16le(uint16_t v, uint8_t* out) {
   out[1] = static_cast<uint8_t>(v >> 8);
 }
 inline void put_f32le(float v, uint8_t* out) {
+  if (kHostLittleEndian) {  // the float's bytes as they are (a NaN keeps its bits either way)
+    std::memcpy(out, &v, 4);
+    return;
+  }
   uint32_t u;
   std::memcpy(&u, &v, 4);
   for (int i = 0; i < 4; ++i) out[i] = static_cast<uint8_t>(u >> (8 * i));
 }
 inline float get_f32le(const uint8_t* p) {
-  uint32_t u = static_cast<uint32_t>(p[0]) | (static_cast<uint32_t>(p[1]) << 8) |
-               (static_cast<uint32_t>(p[2]) << 16) | (static_cast<uint32_t>(p[3]) << 24);
+  const uint32_t u = get_u32le(p);
   float f;
   std::memcpy(&f, &u, 4);
   return f;

@@ -27,6 +27,7 @@ void FrameBlock::reset(size_t first_frame, size_t n, size_t n_points, size_t ana
   rotation_matrices.assign(n * rotations_per_frame * 16, 0.0f);
   rotation_reliability.assign(n * rotations_per_frame, 0.0f);
   attributes.clear();
+  file_bytes.clear();
 }
 
 namespace {
@@ -100,12 +101,35 @@ class C3DSource : public FrameSource {
   void read(size_t first, size_t count, FrameBlock* out) override {
     clip(&first, &count);
     const size_t rot_per_frame = header_.rotations.per_frame();
-    out->reset(first, count, lay_.points, lay_.analog_values, true, rot_per_frame);
-    buf_.resize(count * lay_.per_frame);
-    file_.read_at(lay_.data_offset + first * lay_.per_frame, buf_.data(), buf_.size());
+    // Sized, not zeroed: decode_frames and decode_c3d_rotations write every value.
+    const size_t N = lay_.points, A = lay_.analog_values;
+    out->first = first;
+    out->frames = count;
+    out->points = N;
+    out->xyz.resize(count * N * 3);
+    out->valid.resize(count * N);
+    out->residual.resize(count * N);
+    out->camera_mask.resize(count * N);
+    out->analog.resize(count * A);
+    out->rotation_matrices.resize(count * rot_per_frame * 16);
+    out->rotation_reliability.resize(count * rot_per_frame);
+    out->attributes.clear();
+    // The file's bytes of the frames are kept in the block (FrameBlock::file_bytes, the
+    // residue's original), read and decoded in pieces of about 64 KB, each decoded while it is
+    // still in the cache the read wrote it to.
+    const size_t piece =
+        std::max<size_t>(1, (size_t{64} << 10) / std::max<size_t>(1, lay_.per_frame));
+    out->file_bytes_at = lay_.data_offset + first * lay_.per_frame;
+    out->file_bytes.resize(count * lay_.per_frame);
     size_t wide = 0;
-    c3d::decode_frames(lay_, buf_.data(), count, out->xyz.data(), out->valid.data(),
-                       out->residual.data(), out->camera_mask.data(), out->analog.data(), &wide);
+    for (size_t f = 0; f < count; f += piece) {
+      const size_t n = std::min(piece, count - f);
+      uint8_t* bytes = out->file_bytes.data() + f * lay_.per_frame;
+      file_.read_at(out->file_bytes_at + f * lay_.per_frame, bytes, n * lay_.per_frame);
+      c3d::decode_frames(lay_, bytes, n, out->xyz.data() + f * N * 3, out->valid.data() + f * N,
+                         out->residual.data() + f * N, out->camera_mask.data() + f * N,
+                         out->analog.data() + f * A, &wide);
+    }
     if (rot_per_frame > 0) {  // the frames' part of the rotation section (after the frames)
       buf_.resize(count * lay_.rot_per_frame);
       file_.read_at(lay_.rot_offset + first * lay_.rot_per_frame, buf_.data(), buf_.size());
@@ -180,6 +204,7 @@ class TakeSource : public FrameSource {
     cut(take_.analog.values, analog_, &out->analog);
     cut(take_.rotations.matrices, rotations_ * 16, &out->rotation_matrices);
     cut(take_.rotations.reliability, rotations_, &out->rotation_reliability);
+    out->file_bytes.clear();
     out->attributes.resize(take_.attributes.size());
     for (size_t a = 0; a < take_.attributes.size(); ++a)
       cut(take_.attributes[a].data, N * take_.attributes[a].bytes_per_point(), &out->attributes[a]);

@@ -154,21 +154,38 @@ std::vector<uint8_t> C3DResidueEncoder::window(const FrameBlock& block, bool exa
   check_block(lay_, block, in_.path());
   const size_t n = block.frames * lay_.per_frame;
   regen_.resize(n);
-  orig_.resize(n);
   regenerate_c3d_frames(lay_, block, regen_.data());
-  in_.read_at(lay_.head_size + block.first * lay_.per_frame, orig_.data(), n);
+  orig_at_ = lay_.head_size + block.first * lay_.per_frame;
+  orig_size_ = n;
+  // The block's copy of the file's bytes when it carries them (FrameBlock::file_bytes), else
+  // read here.
+  if (block.file_bytes.size() == n && block.file_bytes_at == orig_at_) {
+    orig_ptr_ = block.file_bytes.data();
+  } else {
+    orig_.resize(n);
+    in_.read_at(orig_at_, orig_.data(), n);
+    orig_ptr_ = orig_.data();
+  }
+  exact_orig_ = exact;
   if (!exact) {  // at a bound: absent samples' coordinates are not kept
+    // Those that differ from the regenerated ones are dropped (the original's bytes copied to
+    // orig_ first, when they are the block's).
     const size_t elem = elem_size(lay_);
     for (size_t f = 0; f < block.frames; ++f)
       for (size_t p = 0; p < lay_.points; ++p) {
         const size_t at = f * lay_.per_frame + p * 4 * elem;
-        if (!block.valid[f * lay_.points + p] && word4_negative(lay_, &orig_[at])) {
-          if (!std::equal(&regen_[at], &regen_[at] + 3 * elem, &orig_[at])) ++dropped_;
+        if (!block.valid[f * lay_.points + p] && word4_negative(lay_, orig_ptr_ + at) &&
+            !std::equal(&regen_[at], &regen_[at] + 3 * elem, orig_ptr_ + at)) {
+          ++dropped_;
+          if (orig_ptr_ != orig_.data()) {
+            orig_.assign(orig_ptr_, orig_ptr_ + n);
+            orig_ptr_ = orig_.data();
+          }
           std::copy_n(&regen_[at], 3 * elem, &orig_[at]);
         }
       }
   }
-  std::vector<uint8_t> patch = diff_bytes(regen_.data(), orig_.data(), n);
+  std::vector<uint8_t> patch = diff_bytes(regen_.data(), orig_ptr_, n);
   if (patch.empty()) return {};
   ByteWriter out;
   pack(patch, {}, out);

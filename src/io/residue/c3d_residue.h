@@ -69,11 +69,23 @@ class C3DResidueEncoder {
   // The file-level payload: layout, head and tail. `groups` (the parameter section as the Take
   // holds it) serve as zstd's prefix dictionary; the decoder must be given the same ones.
   std::vector<uint8_t> file_part(const std::vector<C3DGroup>& groups);
+  // The file's bytes of the frames of the last window() with `exact` (nullptr: none, or the
+  // last window was at a bound, where they are amended), original_size() of them from offset
+  // original_at(): what a check of that window's rebuilt bytes compares against without
+  // reading them again. They may be the block's own (FrameBlock::file_bytes): valid while it
+  // is unchanged.
+  const uint8_t* original() const { return exact_orig_ ? orig_ptr_ : nullptr; }
+  size_t original_size() const { return orig_size_; }
+  uint64_t original_at() const { return orig_at_; }
 
  private:
   InputFile in_;
   C3DFrameLayout lay_;
   std::vector<uint8_t> regen_, orig_;
+  const uint8_t* orig_ptr_ = nullptr;  // orig_ or the block's file_bytes
+  size_t orig_size_ = 0;
+  uint64_t orig_at_ = 0;
+  bool exact_orig_ = false;
   size_t dropped_ = 0;
 };
 
