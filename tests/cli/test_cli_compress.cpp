@@ -56,7 +56,8 @@ TEST(CliVersion, GivenVersionThenLibraryAndFormatVersionsArePrinted) {
       std::string("capz ") + capz::version_string() + "\n.capz format: writes " +
       text(capz::kFormatWritten) + " (" + text(capz::kFormat6) +
       " for point normals or organized fields, " + text(capz::kFormat7) +
-      " for scans along sensor rays or repeated analog frames), reads " +
+      " for scans along sensor rays, unorganized clouds' fields or repeated analog frames), "
+      "reads " +
       text(capz::kFormatOldestRead) + " to " + text(capz::kFormatNewestRead) + "\n";
   for (const char* flag : {"--version", "-V"}) {
     const Result r = capz_cli(flag);
