@@ -23,11 +23,6 @@ struct Grid {
   bool lossless = false;
 };
 
-// True when a and b have the same bits (lossless compares this way: NaN payloads, -0.0).
-inline bool same_bits(double a, double b) {
-  return std::memcmp(&a, &b, 8) == 0;
-}
-
 // "grid", "decimal-grid", "float32-bits", "float64-bits", "float32-grid".
 const char* mode_name(PosMode m);
 

@@ -638,7 +638,6 @@ void choose_references(const WindowInts& w, const std::vector<int32_t>& q, const
         (*best)[p] = cost;
         c->modes[p] = static_cast<uint8_t>(fin_b[j] == 0 ? kPredRefPrevious : kPredRefLinear);
         c->ref[p] = static_cast<uint32_t>(fin_r[j]);
-        c->any_ref = true;
       }
     }
   }
@@ -668,11 +667,7 @@ ModeChoice choose_modes(const WindowInts& w, const int32_t* t, int scheme, Resid
   choose_temporal(w, *q, pm, first, scheme, &best, &c);
   if (t) choose_transform(w, *q, t, ctx, &best, &c);
   if (refs) choose_references(w, *q, pm, e, first, &best, &c);
-  if (ray != RayKind::kNone && scheme >= 3) {
-    choose_ray(w, pm, first, ray, &best, &c);
-    // A point whose reference lost to the ray drops out of the reference block (3.3).
-    c.any_ref = std::any_of(c.modes.begin(), c.modes.end(), [](uint8_t m) { return uses_ref(m); });
-  }
+  if (ray != RayKind::kNone && scheme >= 3) choose_ray(w, pm, first, ray, &best, &c);
   return c;
 }
 

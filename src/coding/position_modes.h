@@ -17,7 +17,6 @@ namespace capz {
 struct ModeChoice {
   std::vector<uint8_t> modes;
   std::vector<uint32_t> ref;
-  bool any_ref = false;
   size_t period = 0;
 };
 

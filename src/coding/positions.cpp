@@ -21,7 +21,9 @@ std::vector<uint8_t> write_positions(const std::vector<uint8_t>& codec_payload, 
   ByteWriter out;
   put_block(&out, codec_payload);
   put_block(&out, encode_ints(std::vector<int32_t>(c.modes.begin(), c.modes.end())));
-  if (c.any_ref) {
+  // Written from the modes (like the period below), so a point whose reference lost to a later
+  // candidate leaves no entry.
+  if (std::any_of(c.modes.begin(), c.modes.end(), [](uint8_t m) { return uses_ref(m); })) {
     std::vector<uint32_t> dist;
     for (size_t p = 0; p < c.modes.size(); ++p)
       if (uses_ref(c.modes[p])) dist.push_back(static_cast<uint32_t>(p - 1 - c.ref[p]));

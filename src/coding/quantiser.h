@@ -88,6 +88,11 @@ inline double ordered_to_double(int64_t q) {
   return d;
 }
 
+// True when a and b have the same bits (lossless compares this way: NaN payloads, -0.0).
+inline bool same_bits(double a, double b) {
+  return std::memcmp(&a, &b, 8) == 0;
+}
+
 // True when x is exactly a float32 value (NaN excluded).
 inline bool is_float32(double x) {
   return static_cast<double>(static_cast<float>(x)) == x;

@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "capz/verify.h"
+#include "coding/quantiser.h"
 #include "io/c3d_params.h"
 
 namespace capz {
@@ -15,9 +16,6 @@ namespace {
 // Equal values, or both NaN (a NaN's payload bits are not part of what a take promises).
 bool same_value(double a, double b) {
   return a == b || (std::isnan(a) && std::isnan(b));
-}
-bool same_bits(double a, double b) {
-  return std::memcmp(&a, &b, sizeof a) == 0;
 }
 bool same_values(const double* a, const double* b, size_t n) {
   for (size_t i = 0; i < n; ++i)

@@ -1,17 +1,13 @@
 #include "coding/analog/analog_repeat.h"
 
-#include <cstring>
 #include <string>
 
 #include "capz/error.h"
+#include "coding/quantiser.h"
 
 namespace capz {
 namespace analog {
 namespace {
-
-bool same_bits(double a, double b) {
-  return std::memcmp(&a, &b, sizeof(double)) == 0;
-}
 
 // Whether frame f's S samples equal frame f - 1's bit for bit.
 bool repeats_previous(const double* col, size_t stride, size_t f, size_t S) {
@@ -64,24 +60,32 @@ void write_runs(const std::vector<uint32_t>& index, ByteWriter* w) {
   }
 }
 
-std::vector<uint32_t> read_repeats(ByteReader* in, size_t frames) {
-  const uint64_t runs = in->count(2, "analog repeat runs");
-  if (runs == 0) throw Error(ErrorCode::kCorrupt, in->what() + ": empty analog repeat list");
+std::vector<uint32_t> read_runs(ByteReader* in, uint64_t n, const char* list) {
+  const std::string runs_name = std::string("analog ") + list + " runs";
+  const uint64_t runs = in->count(2, runs_name.c_str());
   std::vector<uint32_t> out;
-  uint64_t end = 0;  // <= frames
+  uint64_t end = 0;  // <= n
   for (uint64_t k = 0; k < runs; ++k) {
     const uint64_t skip = in->varint();
-    if (skip >= frames - end)
-      throw Error(ErrorCode::kCorrupt, in->what() + ": analog repeat run past the window's end");
+    if (skip >= n - end)
+      throw Error(ErrorCode::kCorrupt,
+                  in->what() + ": analog " + list + " run past the window's end");
     const uint64_t start = end + skip;
-    if (start == 0)
-      throw Error(ErrorCode::kCorrupt, in->what() + ": analog repeat of the window's first frame");
     const uint64_t len_minus_1 = in->varint();
-    if (len_minus_1 >= frames - start)
-      throw Error(ErrorCode::kCorrupt, in->what() + ": analog repeat run past the window's end");
-    for (uint64_t f = start; f <= start + len_minus_1; ++f) out.push_back(static_cast<uint32_t>(f));
+    if (len_minus_1 >= n - start)
+      throw Error(ErrorCode::kCorrupt,
+                  in->what() + ": analog " + list + " run past the window's end");
+    for (uint64_t i = start; i <= start + len_minus_1; ++i) out.push_back(static_cast<uint32_t>(i));
     end = start + len_minus_1 + 1;
   }
+  return out;
+}
+
+std::vector<uint32_t> read_repeats(ByteReader* in, size_t frames) {
+  std::vector<uint32_t> out = read_runs(in, frames, "repeat");
+  if (out.empty()) throw Error(ErrorCode::kCorrupt, in->what() + ": empty analog repeat list");
+  if (out.front() == 0)
+    throw Error(ErrorCode::kCorrupt, in->what() + ": analog repeat of the window's first frame");
   return out;
 }
 

@@ -23,6 +23,10 @@ size_t count_varying_repeats(const double* col, size_t stride, size_t frames, si
 // number of runs, then per run its start minus the previous run's end (0 at first) and its
 // length - 1, varints.
 void write_runs(const std::vector<uint32_t>& index, ByteWriter* w);
+// Reads what write_runs wrote, indices below n; throws Error(kCorrupt) when the count is too
+// large for the bytes left ("analog <list> runs") or a run passes n ("analog <list> run past
+// the window's end"), `list` naming the list ("gap", "repeat").
+std::vector<uint32_t> read_runs(ByteReader* in, uint64_t n, const char* list);
 // Reads a repeat list of a window of `frames` point frames; throws Error(kCorrupt) when it is
 // empty, too long for the bytes left, or names a frame outside [1, frames).
 std::vector<uint32_t> read_repeats(ByteReader* in, size_t frames);

@@ -474,16 +474,7 @@ void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w
 namespace {
 
 void read_gaps(ByteReader* in, size_t n, ChannelRepr* r) {
-  const uint64_t runs = in->count(2, "analog gap runs");
-  uint64_t end = 0;
-  for (uint64_t k = 0; k < runs; ++k) {
-    const uint64_t start = end + in->varint();
-    const uint64_t len = in->varint() + 1;
-    if (start > n || len > n - start)
-      throw Error(ErrorCode::kCorrupt, in->what() + ": analog gap run past the window's end");
-    for (uint64_t i = start; i < start + len; ++i) r->gap_index.push_back(static_cast<uint32_t>(i));
-    end = start + len;
-  }
+  r->gap_index = read_runs(in, n, "gap");
   const uint64_t npat = in->count(8, "analog gap patterns");
   if (npat == 0 || npat > r->gap_index.size())
     throw Error(ErrorCode::kCorrupt, in->what() + ": bad number of analog gap patterns");
