@@ -283,11 +283,15 @@ class Encoder {
     if (!take_.attributes.empty() && take_.pcd && take_.pcd->height == 1 && take_.points > 1 &&
         !plan_.tout)
       version_ = kFormat7;
+    // FORMAT.md 8.1: a C3D take's META coded after dictionary 1, when that is the smallest,
+    // makes the stream 8.0 (everything 7.0 adds is then available too).
+    const std::vector<uint8_t> meta_payload = encode_meta(take_, plan_.words, take_.c3d != nullptr);
+    if (meta_coding(meta_payload) == 3) version_ = kFormat8;
     std::vector<uint8_t> buf;
     write_file_header(&buf, version_);
     append_chunk(&buf, "HEAD", encode_header(h));
     const size_t meta_at = buf.size();
-    append_chunk(&buf, "META", encode_meta(take_, plan_.words));
+    append_chunk(&buf, "META", meta_payload);
     if (residue_) residue_->file_chunks(&buf, h.lossless);
     if (opts_.check) {
       Promise p;

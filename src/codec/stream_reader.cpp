@@ -38,7 +38,7 @@ StreamContext read_context(const StreamHeader& h, const Chunk& meta, int major, 
   c.take.rotations.segments = static_cast<int>(std::min<uint32_t>(c.h.rotation_segments, 1u << 30));
   c.take.rotations.samples_per_frame =
       static_cast<int>(std::min<uint32_t>(c.h.rotation_samples_per_frame, 1u << 30));
-  decode_meta(meta, name, &c.take, &c.words);
+  decode_meta(meta, name, &c.take, &c.words, major);
   return c;
 }
 

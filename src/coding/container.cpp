@@ -407,17 +407,21 @@ std::vector<uint8_t> encode_meta_fields(const Take& t, bool has_sample_words) {
 }
 }  // namespace
 
-std::vector<uint8_t> encode_meta(const Take& t, bool has_sample_words) {
+std::vector<uint8_t> encode_meta(const Take& t, bool has_sample_words, bool dictionary) {
   std::vector<uint8_t> fields = encode_meta_fields(t, has_sample_words);
-  // The smallest of codings 0 (as they are), 1 (byte model) and 2 (LZMA2); ties: the lowest.
+  // The smallest of codings 0 (as they are), 1 (byte model), 2 (LZMA2) and, when offered, 3
+  // (LZMA2 after dictionary 1); ties: the lowest.
   ByteWriter w;
   w.u8(0);
   w.bytes(fields);
-  for (uint8_t coding = 1; coding <= 2; ++coding) {
-    const std::vector<uint8_t> coded = coding == 1 ? encode_bytes(fields.data(), fields.size())
-                                                   : lzma2_encode(fields.data(), fields.size());
+  for (uint8_t coding = 1; coding <= (dictionary ? 3 : 2); ++coding) {
+    const std::vector<uint8_t> coded =
+        coding == 1   ? encode_bytes(fields.data(), fields.size())
+        : coding == 2 ? lzma2_encode(fields.data(), fields.size())
+                      : lzma2_encode(fields.data(), fields.size(), meta_dictionary(1));
     ByteWriter c;
     c.u8(coding);
+    if (coding == 3) c.u8(1);  // dictionary 1
     c.varint(fields.size());
     c.bytes(coded);
     if (c.buffer().size() < w.buffer().size()) w = std::move(c);
@@ -492,7 +496,7 @@ void decode_pcd_layout(ByteReader* r, const std::string& what, Take* t, PCDExtra
 }
 }  // namespace
 
-void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sample_words) {
+std::vector<uint8_t> decode_meta_fields(const Chunk& c, const std::string& name, int major) {
   const std::string what = chunk_what(name, c);
   ByteReader outer(c.payload, c.size, what);
   const uint8_t coding = outer.u8();
@@ -505,15 +509,29 @@ void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sam
         decode_bytes(c.payload + outer.offset(), outer.remaining(), static_cast<size_t>(n), what);
   } else if (coding == 0) {
     fields.assign(c.payload + 1, c.payload + c.size);
-  } else if (coding == 2) {  // FORMAT.md 5.1
+  } else if (coding == 2 || (coding == 3 && major >= 8)) {  // FORMAT.md 5.1, 8.1
+    LzmaPreset preset;
+    if (coding == 3) {
+      const uint8_t number = outer.u8();
+      preset = meta_dictionary(number);
+      if (!preset.size)
+        fail(ErrorCode::kCorrupt, what, "unknown metadata dictionary " + std::to_string(number));
+    }
     const uint64_t n = outer.varint();
     if (n == 0 || n > (uint64_t{1} << 26))
       fail(ErrorCode::kCorrupt, what, "metadata size " + std::to_string(n) + " is implausible");
-    fields =
-        lzma2_decode(c.payload + outer.offset(), outer.remaining(), static_cast<size_t>(n), what);
+    fields = lzma2_decode(c.payload + outer.offset(), outer.remaining(), static_cast<size_t>(n),
+                          what, preset);
   } else {
     fail(ErrorCode::kCorrupt, what, "unknown metadata coding " + std::to_string(coding));
   }
+  return fields;
+}
+
+void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sample_words,
+                 int major) {
+  const std::string what = chunk_what(name, c);
+  const std::vector<uint8_t> fields = decode_meta_fields(c, name, major);
   ByteReader r(fields.data(), fields.size(), what);
   t->source = r.str();
   t->units = r.str();

@@ -38,7 +38,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
           t.frames = static_cast<size_t>(h.frames);
           t.points = h.points;
           bool words = false;
-          capz::decode_meta(c, "fuzz.capz", &t, &words);
+          capz::decode_meta(c, "fuzz.capz", &t, &words, v[9]);
         } else if (c.type == "INDX") {
           capz::decode_index(c, "fuzz.capz");
         }

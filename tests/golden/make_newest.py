@@ -5,7 +5,8 @@ Run from the repository root, after building:
     python3 tests/golden/make_newest.py build/capz build/tests/capz_golden_tests 5.0 [SOURCE ...]
 
 With SOURCE names (as MANIFEST.txt's second column, e.g. lidar_small), only the streams of those
-sources are remade: a version the encoder writes only for some takes (6.0 for normals or organized
+sources are remade, each from its own newest stream's options (8.0 for C3D takes remakes their
+5.0 and 7.0 streams): a version the encoder writes only for some takes (6.0 for normals or organized
 fields, 7.0 for scans along sensor rays, unorganized clouds' fields or repeated analog frames) gets streams of those takes
 only, and the check the tool runs fails if the encoder wrote another version than the tag says.
 
@@ -46,11 +47,23 @@ for l in lines:
 versions = sorted({re.search(r'\.v(\d+)\.(\d+)\.capz$', e[0]).groups() for e in entries},
                   key=lambda v: (int(v[0]), int(v[1])))
 newest = '.v%s.%s.capz' % versions[-1]
+ver_of = lambda e: tuple(int(x) for x in re.search(r'\.v(\d+)\.(\d+)\.capz$', e[0]).groups())
+# Per source and options, its newest stream: with SOURCE names each of theirs is remade (a take
+# whose version rises from 5.0 to 8.0 skips those between); without, the newest version's.
+latest = {}
+for e in entries:
+    key = (e[1], tuple(e[3:]))
+    if key not in latest or ver_of(e) > ver_of(latest[key]):
+        latest[key] = e
 made = []
 for e in entries:
-    if not e[0].endswith(newest) or (only and e[1] not in only):
+    if only:
+        if e[1] not in only or latest[(e[1], tuple(e[3:]))] is not e:
+            continue
+    elif not e[0].endswith(newest):
         continue
-    name = e[0][:-len(newest)] + tag
+    old_tag = re.search(r'\.v\d+\.\d+\.capz$', e[0]).group(0)
+    name = e[0][:-len(old_tag)] + tag
     out = os.path.join(streams, name)
     subprocess.run([cli, 'compress', os.path.join(data, e[1]), '-o', out, '-f', '-q'] + e[3:],
                    check=True)

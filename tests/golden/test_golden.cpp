@@ -165,7 +165,8 @@ TEST(Golden, GivenNewestGoldensWhenRecompressedWithTheirOptionsThenSameBytes) {
   auto number = [](capz::FormatVersion v) { return v.major * 100 + v.minor; };
   const int written = number(capz::kFormatWritten),
             newest_written = number(capz::kFormatNewestWritten);
-  const std::vector<int> writes = {written, number(capz::kFormat6), number(capz::kFormat7)};
+  const std::vector<int> writes = {written, number(capz::kFormat6), number(capz::kFormat7),
+                                   number(capz::kFormat8)};
   // A new format version brings golden streams of its own (CONTRIBUTING.md).
   ASSERT_EQ(newest, newest_written) << "no golden stream of the newest version the encoder writes";
   for (int v : writes)

