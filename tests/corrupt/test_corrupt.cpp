@@ -8,6 +8,8 @@
 
 #include "capz/codec.h"
 #include "capz/error.h"
+#include "chunk_util.h"
+#include "coding/crc32c.h"
 #include "core/atomic_file.h"
 
 namespace capz {
@@ -126,6 +128,55 @@ TEST(Corrupt, GivenEveryTruncationWhenDecodedThenCleanError) {
       FAIL() << "truncated to " << n << " bytes was accepted";
     } catch (const Error& e) {
       ASSERT_TRUE(clean(e)) << n << ": " << e.what();
+    }
+  }
+}
+
+// FORMAT.md 8.1: META coding 3 exists from 8.0 on, with dictionary 1 only; its LZMA2 data,
+// damaged under a valid CRC, gives a clean error or a harmless take.
+TEST(Corrupt, GivenMetaCoding3DamagedOrInAnOlderMajorThenCleanCorruptNamingMeta) {
+  const std::vector<uint8_t> good =
+      read_file(std::string(CAPZ_TEST_DIR) + "/golden/streams/Capture0004.c3d.grid1mm.v8.0.capz");
+  ASSERT_GT(good.size(), 15u);
+  ASSERT_EQ(good[9], 8);
+  const size_t meta = capz_test::find_chunk(good, "META");
+  ASSERT_NE(meta, std::string::npos);
+  ASSERT_EQ(good[meta + 8], 3) << "the golden 8.0 stream's META is coding 3";
+  auto error_of = [](const std::vector<uint8_t>& b) {
+    try {
+      decompress(b.data(), b.size(), "t.capz");
+    } catch (const Error& e) {
+      EXPECT_TRUE(clean(e)) << e.what();
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  // Relabelled 7.0, its header CRC made right: coding 3 is unknown there.
+  std::vector<uint8_t> v7 = good;
+  v7[9] = 7;
+  const uint32_t hc = crc32c(v7.data(), 11);
+  for (int k = 0; k < 4; ++k) v7[11 + k] = static_cast<uint8_t>(hc >> (8 * k));
+  const std::string e7 = error_of(v7);
+  EXPECT_NE(e7.find("META"), std::string::npos) << e7;
+  EXPECT_NE(e7.find("coding 3"), std::string::npos) << e7;
+  // A dictionary number the format does not define.
+  std::vector<uint8_t> d2 = good;
+  d2[meta + 9] = 2;
+  capz_test::fix_crc(&d2, meta);
+  const std::string ed = error_of(d2);
+  EXPECT_NE(ed.find("META"), std::string::npos) << ed;
+  EXPECT_NE(ed.find("dictionary 2"), std::string::npos) << ed;
+  // Every byte of the payload after the dictionary byte flipped in turn, the CRC made right.
+  const size_t len = capz_test::chunk_len(good, meta);
+  std::mt19937 rng(5);
+  for (size_t i = 2; i < len; ++i) {
+    std::vector<uint8_t> b = good;
+    b[meta + 8 + i] ^= static_cast<uint8_t>(1u << (rng() % 8));
+    capz_test::fix_crc(&b, meta);
+    try {
+      decompress(b.data(), b.size(), "t.capz");
+    } catch (const Error& e) {
+      ASSERT_TRUE(clean(e)) << "META byte " << i << ": " << e.what();
     }
   }
 }
