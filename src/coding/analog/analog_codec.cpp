@@ -65,11 +65,11 @@ void lpc_stage(const std::vector<int32_t>& x, std::vector<analog::LpcParams>* pa
   const double* xs = xd.data() + analog::kMaxLpcOrder;
   for (size_t b0 = 0; b0 < x.size(); b0 += kBlockRows) {
     const size_t b1 = std::min(x.size(), b0 + kBlockRows);
-    params->push_back(analog::choose_lpc(x.data() + b0, b1 - b0));
-    const analog::LpcKernel lpc(params->back());
-    const size_t head = std::min(b1, std::max(b0, static_cast<size_t>(lpc.order())));
+    // The block's residuals by its predictor, then the head's by the previous sample.
+    params->push_back(
+        analog::choose_block_predictor(x.data() + b0, xs + b0, b1 - b0, r->data() + b0));
+    const size_t head = std::min(b1, std::max(b0, static_cast<size_t>(params->back().order)));
     for (size_t i = b0; i < head; ++i) (*r)[i] = static_cast<int32_t>(x[i] - (i ? x[i - 1] : 0));
-    for (size_t i = head; i < b1; ++i) (*r)[i] = static_cast<int32_t>(x[i] - lpc.predict(xs + i));
   }
 }
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "coding/entropy.h"
+
 namespace capz {
 namespace analog {
 
@@ -142,6 +144,56 @@ LpcParams choose_lpc(const int32_t* x, size_t n) {
   }
   if (best == 0) return LpcParams();
   return quantise_lpc(a[best].data(), best, kLpcPrecision);
+}
+
+double token_cost_bits(const int32_t* r, size_t n) {
+  uint32_t count[64] = {0};
+  uint64_t raw = 0;
+  for (size_t i = 0; i < n; ++i) {
+    int extra;
+    ++count[token_of(zigzag(r[i]), &extra)];
+    raw += static_cast<uint64_t>(extra);
+  }
+  double bits = static_cast<double>(raw);
+  const double dn = static_cast<double>(n);
+  for (uint32_t c : count)
+    if (c) bits -= c * std::log2(c / dn);
+  return bits;
+}
+
+LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, int32_t* r) {
+  LpcParams cands[4];
+  cands[0] = choose_lpc(x, n);
+  LpcParams& d1 = cands[1];
+  LpcParams& d2 = cands[2];
+  d1.order = 1;  // x[i-1]
+  d1.shift = 13;
+  d1.q = {1 << 13};
+  d2.order = 2;  // 2 x[i-1] - x[i-2]
+  d2.shift = 12;
+  d2.q = {1 << 13, -(1 << 12)};
+  // cands[3]: no prediction
+  thread_local std::vector<int32_t> trial;
+  trial.resize(n);
+  int best = -1;
+  double best_bits = 0;
+  for (size_t k = 0; k < 4; ++k) {
+    const LpcParams& p = cands[k];
+    const LpcKernel lpc(p);
+    int32_t* t = best < 0 ? r : trial.data();
+    for (size_t i = 0; i < n; ++i) t[i] = static_cast<int32_t>(x[i] - lpc.predict(xd + i));
+    // The coefficients' cost as an Elias-gamma-like code of each (their adaptive coding is
+    // close to it): 2 log2 |q| + 2 bits.
+    double qbits = 0;
+    for (int32_t q : p.q) qbits += 2 + 2 * std::log2(1.0 + std::abs(q));
+    const double bits = token_cost_bits(t, n) + qbits;
+    if (best < 0 || bits < best_bits) {
+      if (best >= 0) std::copy(t, t + n, r);
+      best = static_cast<int>(k);
+      best_bits = bits;
+    }
+  }
+  return cands[best];
 }
 
 }  // namespace analog
