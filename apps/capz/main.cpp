@@ -67,11 +67,12 @@ int main(int argc, char** argv) {
   if (name == "--version" || name == "-V") {
     std::printf(
         "capz %s\n.capz format: writes %d.%d (%d.%d for point normals or organized fields, %d.%d "
-        "for scans along sensor rays, unorganized clouds' fields or repeated analog frames), reads "
-        "%d.%d to %d.%d\n",
+        "for scans along sensor rays, unorganized clouds' fields or repeated analog frames, %d.%d "
+        "for analog channels), reads %d.%d to %d.%d\n",
         capz::version_string(), capz::kFormatWritten.major, capz::kFormatWritten.minor,
         capz::kFormat6.major, capz::kFormat6.minor, capz::kFormat7.major, capz::kFormat7.minor,
-        capz::kFormatOldestRead.major, capz::kFormatOldestRead.minor, capz::kFormatNewestRead.major,
+        capz::kFormat8.major, capz::kFormat8.minor, capz::kFormatOldestRead.major,
+        capz::kFormatOldestRead.minor, capz::kFormatNewestRead.major,
         capz::kFormatNewestRead.minor);
     return 0;
   }

@@ -24,7 +24,7 @@ Version library_version();
 // "0.1.0"
 const char* version_string();
 
-// The .capz version streams are written in, but for those of kFormat6 and kFormat7.
+// The .capz version streams are written in, but for those of kFormat6, kFormat7 and kFormat8.
 constexpr FormatVersion kFormatWritten{5, 0};
 // The version of streams with point fields that include a normal triple or are organized
 // (FORMAT.md 6: ATTR predictor 9, transforms 4 and 5).
@@ -34,12 +34,15 @@ constexpr FormatVersion kFormat6{6, 0};
 // of an unorganized cloud whose positions are on the grid (ATTR predictors 10 and 11, 7.3).
 // Every other stream is kFormatWritten or kFormat6.
 constexpr FormatVersion kFormat7{7, 0};
+// The version of streams with analog channels (FORMAT.md 8: value tables against a lattice,
+// 8.2). Every 7.x addition holds in 8.x.
+constexpr FormatVersion kFormat8{8, 0};
 // The newest version the encoder writes.
-constexpr FormatVersion kFormatNewestWritten = kFormat7;
+constexpr FormatVersion kFormatNewestWritten = kFormat8;
 // The versions read: every one from kFormatOldestRead to kFormatNewestRead, and any later
 // minor version of kFormatNewestRead's major (minor versions only add what older decoders skip;
 // FORMAT.md 2). A later major version is refused (Error kUnsupportedVersion).
 constexpr FormatVersion kFormatOldestRead{1, 0};
-constexpr FormatVersion kFormatNewestRead{7, 0};
+constexpr FormatVersion kFormatNewestRead{8, 0};
 
 }  // namespace capz
