@@ -119,8 +119,7 @@ TEST(AnalogLattice, GivenFormat8WindowThenSmallerExactAndRefusedBefore8) {
   std::vector<double> back(rows.size(), 0.0);
   decode_analog_window(p8.data(), p8.size(), n, 2, back.data(), "w", 0, true);
   for (size_t i = 0; i < rows.size(); ++i) ASSERT_EQ(bits(back[i]), bits(rows[i])) << i;
-  EXPECT_THROW(decode_analog_window(p8.data(), p8.size(), n, 2, back.data(), "w", 0, false),
-               Error);
+  EXPECT_THROW(decode_analog_window(p8.data(), p8.size(), n, 2, back.data(), "w", 0, false), Error);
 }
 
 // A lattice table header written field by field (FORMAT.md 8.2), float32 entries 1.0, 2.0, ...
