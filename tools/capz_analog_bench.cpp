@@ -6,23 +6,37 @@
 //   (or a scaled integer) that fits int16.
 // Speed is MB/s of raw float32 samples (4 bytes a sample), single thread, best of 3.
 //
-//   capz_analog_bench [--window ROWS] [--no-peers] [--whole-frames] [--repeats] FILE.c3d...
+//   capz_analog_bench [--window ROWS] [--no-peers] [--whole-frames] [--repeats] [--before8]
+//                     FILE.c3d...
+//   capz_analog_bench --per-channel [--window ROWS] [--no-peers] FILE.c3d...
 //
+// --per-channel prints, per channel, where the bytes go: the kind the codec keeps, the capz
+// bytes of the channel coded alone (one-channel windows: no inter-channel reference), reference
+// figures in bytes (order-0 empirical entropy of the samples, their first and second
+// differences, the LPC residual of choose_lpc per 4096-sample block, and that residual after
+// the sign-LMS cascade), and flac -8, wavpack -hhx6 and xz -9e of the channel alone (int16
+// when it fits, else xz of its float32 samples).
 // --whole-frames rounds each window down to whole point frames of the take (at least one);
 // --repeats does too and codes as a 7.x stream does (FORMAT.md 7.2: channels may name repeated
-// analog frames), so the two compare the repeat lists alone.
+// analog frames), so the two compare the repeat lists alone. Windows are coded as in an 8.x
+// stream (FORMAT.md 8.2), which capz writes for every take with analog channels; --before8 codes
+// them as earlier streams did.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "capz/io.h"
 #include "capz/take.h"
+#include "coding/analog/analog_cascade.h"
 #include "coding/analog/analog_codec.h"
+#include "coding/analog/analog_lpc.h"
+#include "coding/entropy.h"
 
 using namespace capz;
 
@@ -66,6 +80,10 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 // repeat_S: the samples per point frame when coding as 7.x (window a multiple of it), else 0.
+// Code as an 8.x stream does (FORMAT.md 8.2: rank tables against a lattice), as capz writes
+// every take with analog channels; --before8 codes as the streams before 8.0.
+bool g_format8 = true;
+
 Result run_ours(const Analog& a, const AnalogHints& h, size_t window, size_t repeat_S) {
   const size_t rows = a.values.size() / a.channels;
   const double mb = 4.0 * static_cast<double>(a.values.size()) / 1e6;
@@ -78,7 +96,7 @@ Result run_ours(const Analog& a, const AnalogHints& h, size_t window, size_t rep
     for (size_t r0 = 0; r0 < rows; r0 += window) {
       const size_t n = std::min(window, rows - r0);
       payloads.push_back(
-          encode_analog_window(&a.values[r0 * a.channels], n, a.channels, h, repeat_S));
+          encode_analog_window(&a.values[r0 * a.channels], n, a.channels, h, repeat_S, g_format8));
     }
     best_enc = std::min(best_enc, seconds_since(t0));
   }
@@ -86,10 +104,14 @@ Result run_ours(const Analog& a, const AnalogHints& h, size_t window, size_t rep
   for (int rep = 0; rep < 3; ++rep) {
     auto t0 = std::chrono::steady_clock::now();
     size_t w = 0;
-    for (size_t r0 = 0; r0 < rows; r0 += window, ++w) {
-      const size_t n = std::min(window, rows - r0);
-      decode_analog_window(payloads[w].data(), payloads[w].size(), n, a.channels,
-                           &back[r0 * a.channels], "bench", repeat_S);
+    try {
+      for (size_t r0 = 0; r0 < rows; r0 += window, ++w) {
+        const size_t n = std::min(window, rows - r0);
+        decode_analog_window(payloads[w].data(), payloads[w].size(), n, a.channels,
+                             &back[r0 * a.channels], "bench", repeat_S, g_format8);
+      }
+    } catch (const Error&) {
+      std::fill(back.begin(), back.end(), std::nan(""));  // reported as NOT EXACT
     }
     best_dec = std::min(best_dec, seconds_since(t0));
   }
@@ -163,11 +185,136 @@ Peers run_peers(const Analog& a, const AnalogHints& h) {
   return p;
 }
 
+// Order-0 empirical entropy of v, in bytes.
+template <typename T>
+double entropy_bytes(const std::vector<T>& v) {
+  std::map<T, size_t> h;
+  for (T x : v) ++h[x];
+  double bits = 0;
+  const double n = static_cast<double>(v.size());
+  for (const auto& kv : h) bits -= kv.second * std::log2(kv.second / n);
+  return bits / 8;
+}
+
+// The LPC residual of x as the codec's LPC stage computes it (choose_lpc per 4096-sample
+// block; samples before the first are 0).
+std::vector<int32_t> lpc_residual(const std::vector<int32_t>& x) {
+  const size_t n = x.size(), pad = analog::kMaxLpcOrder;
+  std::vector<int32_t> xp(n + pad, 0), r(n);
+  std::copy(x.begin(), x.end(), xp.begin() + pad);
+  for (size_t b0 = 0; b0 < n; b0 += 4096) {
+    const size_t b1 = std::min(n, b0 + 4096);
+    const analog::LpcParams p = analog::choose_lpc(x.data() + b0, b1 - b0);
+    for (size_t i = b0; i < b1; ++i)
+      r[i] = static_cast<int32_t>(x[i] - analog::lpc_predict(p, xp.data() + pad + i));
+  }
+  return r;
+}
+
+// Order-0 empirical entropy, in bytes, of the residuals as the codec splits them: the token
+// (bit length and the bit below the top one, coding/entropy.h) plus the raw bits below. Its
+// alphabet is small, so unlike entropy_bytes it does not drop towards 0 on short channels
+// whose values are mostly distinct.
+template <typename T>
+double token_entropy_bytes(const std::vector<T>& v) {
+  std::vector<int32_t> tok(v.size());
+  double raw = 0;
+  for (size_t i = 0; i < v.size(); ++i) {
+    int extra;
+    tok[i] = token_of(zigzag(static_cast<int32_t>(v[i])), &extra);
+    raw += extra;
+  }
+  return entropy_bytes(tok) + raw / 8;
+}
+
+const char* kind_name(int k) {
+  static const char* names[] = {"const", "int", "scaled", "rank", "f32", "f64", "?", "?"};
+  return names[k & 7];
+}
+
+// One line per channel (see the file comment); returns the summed one-channel capz bytes.
+size_t per_channel(const std::string& name, const Take& t, const AnalogHints& h, size_t window,
+                   bool peers) {
+  const Analog& a = t.analog;
+  const size_t rows = a.values.size() / a.channels;
+  size_t total = 0;
+  for (int c = 0; c < a.channels; ++c) {
+    std::vector<double> col(rows);
+    for (size_t i = 0; i < rows; ++i) col[i] = a.values[i * a.channels + c];
+    AnalogHints h1;
+    if (static_cast<size_t>(c) < h.channel.size()) h1.channel.push_back(h.channel[c]);
+    size_t bytes = 0;
+    int kind = -1;
+    for (size_t r0 = 0; r0 < rows; r0 += window) {
+      const size_t n = std::min(window, rows - r0);
+      const std::vector<uint8_t> w = encode_analog_window(col.data() + r0, n, 1, h1, 0, g_format8);
+      bytes += w.size();
+      if (kind < 0) {
+        size_t k = 1;  // version byte, then the header size (varint), then the kind byte
+        while (w[k] & 0x80) ++k;
+        kind = w[k + 1] & 7;
+      }
+    }
+    total += bytes;
+    const analog::ChannelRepr r = analog::choose_representation(
+        col.data(), 1, rows, h1.channel.empty() ? analog::ChannelHint() : h1.channel[0]);
+    double hx = -1, hd1 = -1, hd2 = -1, hlpc = -1, hlms = -1, htok = -1;
+    bool fits16 = false;
+    if (analog::is_integer_kind(r.kind)) {
+      const std::vector<int32_t>& x = r.ints;
+      std::vector<int32_t> d1(rows), d2(rows);
+      fits16 = true;
+      for (size_t i = 0; i < rows; ++i) {
+        d1[i] = x[i] - (i ? x[i - 1] : 0);
+        d2[i] = d1[i] - (i ? d1[i - 1] : 0);
+        fits16 &= x[i] >= -32768 && x[i] <= 32767;
+      }
+      hx = entropy_bytes(x);
+      hd1 = entropy_bytes(d1);
+      hd2 = entropy_bytes(d2);
+      const std::vector<int32_t> lr = lpc_residual(x);
+      hlpc = entropy_bytes(lr);
+      std::vector<int64_t> lms(rows);
+      analog::sign_lms_run(lr.data(), rows, lms.data());
+      hlms = entropy_bytes(lms);
+      htok = std::min({token_entropy_bytes(x), token_entropy_bytes(d1), token_entropy_bytes(d2),
+                       token_entropy_bytes(lr), token_entropy_bytes(lms)});
+    }
+    long flac = -1, wv = -1, xz = -1;
+    if (peers) {
+      const std::string pcm = g_tmp + "/ch.raw";
+      if (fits16) {
+        std::vector<int16_t> v(r.ints.begin(), r.ints.end());
+        write_file(pcm, v.data(), v.size() * 2);
+        flac = run_peer(
+            "flac -8 -s -f --no-padding --no-seektable --force-raw-format --endian=little "
+            "--sign=signed --channels=1 --bps=16 --sample-rate=1000 -o " +
+                pcm + ".flac " + pcm,
+            pcm + ".flac");
+        wv = run_peer("wavpack -hhx6 -q -y --raw-pcm=1000,16,1,le " + pcm + " -o " + pcm + ".wv",
+                      pcm + ".wv");
+      } else {
+        std::vector<float> v(col.begin(), col.end());
+        write_file(pcm, v.data(), v.size() * 4);
+      }
+      xz = run_peer("xz -9e -T1 -k -c " + pcm + " > " + pcm + ".xz", pcm + ".xz");
+    }
+    std::string label = static_cast<size_t>(c) < a.labels.size() ? a.labels[c] : "";
+    if (label.empty()) label = "-";
+    std::replace(label.begin(), label.end(), ' ', '_');  // one field
+    std::printf(
+        "CH %-40s %3d %-12.12s %-6s %8zu %9.0f %9.0f %9.0f %9.0f %9.0f %9.0f %8ld %8ld %8ld\n",
+        name.c_str(), c, label.c_str(), kind < 0 ? "-" : kind_name(kind), bytes, hx, hd1, hd2, hlpc,
+        hlms, htok, flac, wv, xz);
+  }
+  return total;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   size_t window = 8192;
-  bool peers = true, repeats = false, whole_frames = false;
+  bool peers = true, repeats = false, whole_frames = false, channels = false;
   std::vector<std::string> files;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--window") && i + 1 < argc)
@@ -176,6 +323,10 @@ int main(int argc, char** argv) {
       peers = false;
     else if (!std::strcmp(argv[i], "--repeats"))
       repeats = whole_frames = true;
+    else if (!std::strcmp(argv[i], "--before8"))
+      g_format8 = false;
+    else if (!std::strcmp(argv[i], "--per-channel"))
+      channels = true;
     else if (!std::strcmp(argv[i], "--whole-frames"))
       whole_frames = true;
     else
@@ -198,6 +349,16 @@ int main(int argc, char** argv) {
     }
     if (t.analog.channels == 0 || t.analog.values.empty()) continue;
     const AnalogHints h = analog_hints(t);
+    if (channels) {
+      const std::string name = path.size() > 40 ? path.substr(path.size() - 40) : path;
+      if (n_takes++ == 0)
+        std::printf("CH %-40s %3s %-12s %-6s %8s %9s %9s %9s %9s %9s %9s %8s %8s %8s\n", "take",
+                    "c", "label", "kind", "capz1", "H0(x)", "H0(d1)", "H0(d2)", "H0(lpc)",
+                    "H0(lms)", "Htok", "flac-8", "wavpack", "xz-9e");
+      const size_t alone = per_channel(name, t, h, window, peers);
+      std::printf("TAKE %s channels alone %zu\n", name.c_str(), alone);
+      continue;
+    }
     const size_t S = static_cast<size_t>(std::max(t.analog.samples_per_frame, 1));
     const Result r =
         run_ours(t.analog, h, whole_frames ? std::max(S, window / S * S) : window, repeats ? S : 0);

@@ -35,7 +35,8 @@ constexpr FormatVersion kFormat6{6, 0};
 // Every other stream is kFormatWritten or kFormat6.
 constexpr FormatVersion kFormat7{7, 0};
 // The version of streams whose META is coded after a preset dictionary (FORMAT.md 8.1: C3D
-// takes, when that is the smallest coding); they may use everything kFormat7 adds.
+// takes, when that is the smallest coding) or that have analog channels (8.2: value tables
+// against a lattice). Every 7.x addition holds in 8.x.
 constexpr FormatVersion kFormat8{8, 0};
 // The newest version the encoder writes.
 constexpr FormatVersion kFormatNewestWritten = kFormat8;

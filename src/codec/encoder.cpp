@@ -277,7 +277,8 @@ class Encoder {
       ray_ = ray_kind(version_.major, g_.mode);
     }
     // FORMAT.md 7.2: analog channels that repeat whole frames (counted by the scan) make 7.0.
-    if (plan_.analog && analog_repeats_worth_7(scan_, take_.frames)) version_ = kFormat7;
+    analog_repeats_ = plan_.analog && analog_repeats_worth_7(scan_, take_.frames);
+    if (analog_repeats_) version_ = kFormat7;
     // FORMAT.md 7.3: an unorganized cloud's fields, with positions on the grid (their integers
     // give each point's nearest earlier point), are written as 7.0.
     if (!take_.attributes.empty() && take_.pcd && take_.pcd->height == 1 && take_.points > 1 &&
@@ -287,6 +288,9 @@ class Encoder {
     // makes the stream 8.0 (everything 7.0 adds is then available too).
     const std::vector<uint8_t> meta_payload = encode_meta(take_, plan_.words, take_.c3d != nullptr);
     if (meta_coding(meta_payload) == 3) version_ = kFormat8;
+    // FORMAT.md 8.2: so does a take with analog channels (value tables against a lattice where
+    // that codes smaller).
+    if (plan_.analog) version_ = kFormat8;
     std::vector<uint8_t> buf;
     write_file_header(&buf, version_);
     append_chunk(&buf, "HEAD", encode_header(h));
@@ -473,8 +477,9 @@ class Encoder {
         analog::quantise_window(moved.data(), fn * plan_.S, abounds_, &hints.channel);
         rows = moved.data();
       }
-      const std::vector<uint8_t> an = encode_analog_window(
-          rows, fn * plan_.S, take_.analog.channels, hints, version_.major >= 7 ? plan_.S : 0);
+      const std::vector<uint8_t> an =
+          encode_analog_window(rows, fn * plan_.S, take_.analog.channels, hints,
+                               analog_repeats_ ? plan_.S : 0, version_.major >= 8);
       append_chunk(&buf, "ANLG", with_window_index(w, 0xFF, an));
       win->analog_bytes = buf.size() - before;
     }
@@ -654,6 +659,7 @@ class Encoder {
   TransformParams tparams_;
   FormatVersion version_ = kFormatWritten;  // of the stream written (FORMAT.md 2, 6.1, 7)
   RayKind ray_ = RayKind::kNone;            // predictor 10 a candidate (FORMAT.md 7.1)
+  bool analog_repeats_ = false;             // channels may name repeated frames (FORMAT.md 7.2)
   StreamContext ctx_;  // what the decoder reads from HEAD and META (with opts.check)
   Promise promise_;    // the stream's promise, checked on what the decoder gives (each window)
   std::unique_ptr<ResidueWriter> residue_;     // HASH and residue chunks (an original file only)

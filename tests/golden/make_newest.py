@@ -6,8 +6,10 @@ Run from the repository root, after building:
 
 With SOURCE names (as MANIFEST.txt's second column, e.g. lidar_small), only the streams of those
 sources are remade, each from its own newest stream's options (8.0 for C3D takes remakes their
-5.0 and 7.0 streams): a version the encoder writes only for some takes (6.0 for normals or organized
-fields, 7.0 for scans along sensor rays, unorganized clouds' fields or repeated analog frames) gets streams of those takes
+5.0 and 7.0 streams): a version the encoder writes only for some takes (6.0 for normals or
+organized fields, 7.0 for scans along sensor rays, unorganized clouds' fields or repeated analog
+frames, 8.0 for C3D parameters after the format's dictionary or analog channels) gets streams of
+those takes
 only, and the check the tool runs fails if the encoder wrote another version than the tag says.
 
 For every MANIFEST.txt line of the newest version already listed that records its options, the

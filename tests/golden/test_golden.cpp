@@ -153,7 +153,8 @@ int version_of(const std::string& stream) {
 
 // The encoder still writes the golden streams of the versions it writes byte for byte (5.0; 6.0
 // for takes with a normal triple or an organized layout, FORMAT.md 6; 7.0 for scans along
-// sensor rays or repeated analog frames, FORMAT.md 7), through the CLI with the options
+// sensor rays or unorganized clouds' fields, FORMAT.md 7; 8.0 for analog channels, FORMAT.md 8),
+// through the CLI with the options
 // MANIFEST.txt records: for each source and options, the stream of the highest version (older
 // ones of the same source and options were written by older encoders, and are only decoded).
 // This guards refactors of the encoder: a change that is meant to change the bytes remakes

@@ -52,17 +52,23 @@ TEST(AnalogLpc, GivenCoefficientsWhenQuantisedThenWithinPrecisionAndClose) {
   EXPECT_EQ(quantise_lpc(a, 0, kLpcPrecision).order, 0);
 }
 
-TEST(AnalogLpc, GivenAr2SignalWhenOrderChosenThenResidualNearInnovation) {
-  std::mt19937 rng(1);
+// 4096 samples of y[i] = a1 y[i-1] + a2 y[i-2] + e, e normal with sd 10, rounded.
+std::vector<int32_t> ar2_signal(unsigned seed, double a1, double a2) {
+  std::mt19937 rng(seed);
   std::normal_distribution<double> e(0, 10);
   std::vector<int32_t> x(4096);
   double x1 = 0, x2 = 0;
   for (auto& v : x) {
-    const double y = 1.6 * x1 - 0.8 * x2 + e(rng);
+    const double y = a1 * x1 + a2 * x2 + e(rng);
     v = static_cast<int32_t>(std::lround(y));
     x2 = x1;
     x1 = y;
   }
+  return x;
+}
+
+TEST(AnalogLpc, GivenAr2SignalWhenOrderChosenThenResidualNearInnovation) {
+  const std::vector<int32_t> x = ar2_signal(1, 1.6, -0.8);
   const LpcParams p = choose_lpc(x.data(), x.size());
   EXPECT_GE(p.order, 2);
   EXPECT_LE(p.order, 8);
@@ -72,6 +78,60 @@ TEST(AnalogLpc, GivenAr2SignalWhenOrderChosenThenResidualNearInnovation) {
     ss += r * r;
   }
   EXPECT_LT(std::sqrt(ss / (x.size() - 32)), 12.0);  // innovation sd 10 (+ rounding)
+}
+
+// A held signal (a slow channel repeated up to the analog rate: long runs of one value, then a
+// jump) has mostly-zero first differences, which the autocorrelation's choice does not find:
+// the block's predictor, chosen by estimated coded cost, is the first difference, its
+// residuals are written out, and they cost less than choose_lpc's.
+TEST(AnalogLpc, GivenHeldSignalWhenBlockPredictorChosenThenFirstDifferenceAndSmaller) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> e(0, 300);
+  std::vector<int32_t> x(4096);
+  int32_t v = 0;
+  for (size_t i = 0; i < x.size(); ++i) {
+    if (i % 13 == 0) v = static_cast<int32_t>(std::lround(0.9 * v + e(rng)));
+    x[i] = v;
+  }
+  std::vector<double> xd(kMaxLpcOrder + x.size(), 0.0);
+  std::copy(x.begin(), x.end(), xd.begin() + kMaxLpcOrder);
+  std::vector<int32_t> r(x.size());
+  const LpcParams p =
+      choose_block_predictor(x.data(), xd.data() + kMaxLpcOrder, x.size(), r.data());
+  ASSERT_EQ(p.order, 1);
+  EXPECT_EQ(p.q[0], 1 << p.shift);
+  std::vector<int32_t> xp(kMaxLpcOrder + x.size(), 0);
+  std::copy(x.begin(), x.end(), xp.begin() + kMaxLpcOrder);
+  for (size_t i = 0; i < x.size(); ++i)
+    ASSERT_EQ(r[i], x[i] - lpc_predict(p, xp.data() + kMaxLpcOrder + i)) << i;
+  const LpcParams l = choose_lpc(x.data(), x.size());
+  std::vector<int32_t> rl(x.size());
+  for (size_t i = 0; i < x.size(); ++i)
+    rl[i] = static_cast<int32_t>(x[i] - lpc_predict(l, xp.data() + kMaxLpcOrder + i));
+  EXPECT_LT(token_cost_bits(r.data(), r.size()), 0.8 * token_cost_bits(rl.data(), rl.size()));
+}
+
+// On an AR(2) signal the autocorrelation's choice stays (it beats the fixed differences).
+TEST(AnalogLpc, GivenAr2SignalWhenBlockPredictorChosenThenLevinsonKept) {
+  const std::vector<int32_t> x = ar2_signal(4, 1.2, -0.7);
+  std::vector<double> xd(kMaxLpcOrder + x.size(), 0.0);
+  std::copy(x.begin(), x.end(), xd.begin() + kMaxLpcOrder);
+  std::vector<int32_t> r(x.size());
+  const LpcParams p =
+      choose_block_predictor(x.data(), xd.data() + kMaxLpcOrder, x.size(), r.data());
+  const LpcParams l = choose_lpc(x.data(), x.size());
+  EXPECT_EQ(p.order, l.order);
+  EXPECT_EQ(p.q, l.q);
+}
+
+// token_cost_bits: n equal values cost nothing; two equiprobable small tokens one bit each; a
+// value with raw bits adds them.
+TEST(AnalogLpc, GivenKnownResidualsWhenTokenCostThenOrderZeroEntropyPlusRawBits) {
+  const std::vector<int32_t> same(100, 7);
+  EXPECT_DOUBLE_EQ(token_cost_bits(same.data(), same.size()), 100.0 * 2);  // zigzag 14: 2 raw bits
+  std::vector<int32_t> two(100);
+  for (size_t i = 0; i < two.size(); ++i) two[i] = i % 2 ? 1 : 0;  // zigzag 2 and 0: tokens 2, 0
+  EXPECT_NEAR(token_cost_bits(two.data(), two.size()), 100.0, 1e-9);
 }
 
 TEST(AnalogLpc, GivenWhiteNoiseWhenOrderChosenThenNoPrediction) {

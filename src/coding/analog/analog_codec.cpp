@@ -65,11 +65,11 @@ void lpc_stage(const std::vector<int32_t>& x, std::vector<analog::LpcParams>* pa
   const double* xs = xd.data() + analog::kMaxLpcOrder;
   for (size_t b0 = 0; b0 < x.size(); b0 += kBlockRows) {
     const size_t b1 = std::min(x.size(), b0 + kBlockRows);
-    params->push_back(analog::choose_lpc(x.data() + b0, b1 - b0));
-    const analog::LpcKernel lpc(params->back());
-    const size_t head = std::min(b1, std::max(b0, static_cast<size_t>(lpc.order())));
+    // The block's residuals by its predictor, then the head's by the previous sample.
+    params->push_back(
+        analog::choose_block_predictor(x.data() + b0, xs + b0, b1 - b0, r->data() + b0));
+    const size_t head = std::min(b1, std::max(b0, static_cast<size_t>(params->back().order)));
     for (size_t i = b0; i < head; ++i) (*r)[i] = static_cast<int32_t>(x[i] - (i ? x[i - 1] : 0));
-    for (size_t i = head; i < b1; ++i) (*r)[i] = static_cast<int32_t>(x[i] - lpc.predict(xs + i));
   }
 }
 
@@ -236,7 +236,7 @@ void decode_int_channel(size_t n, const std::vector<const std::vector<int32_t>*>
 }  // namespace
 
 std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int channels,
-                                          const AnalogHints& hints, size_t repeat_S) {
+                                          const AnalogHints& hints, size_t repeat_S, bool format8) {
   ByteWriter head;
   uint64_t last_const = 0;
   bool any_coded = false;
@@ -317,7 +317,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
         IntEncoder::Cursor tc = trial.cursor();
         ByteWriter th;
         uint64_t tl = last_const;
-        analog::write_repr_header(cands[k], &tl, &th, &list_of(k));
+        analog::write_repr_header(cands[k], &tl, &th, &list_of(k), format8);
         const size_t fixed = th.size() + 1;
         const size_t limit = k == 0 ? SIZE_MAX : best > fixed ? best - fixed : 0;
         if (!emit(k, &tc, limit)) continue;
@@ -330,7 +330,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
       }
     }
     const ChannelRepr& r = cands[pick];
-    analog::write_repr_header(r, &last_const, &head, &list_of(pick));
+    analog::write_repr_header(r, &last_const, &head, &list_of(pick), format8);
     any_coded |= coded(r.kind);
     emit(pick, &cur, SIZE_MAX);
     reps[c] = list_of(pick);
@@ -350,7 +350,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
 }
 
 void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int channels,
-                          double* rows, const std::string& what, size_t repeat_S) {
+                          double* rows, const std::string& what, size_t repeat_S, bool format8) {
   ByteReader in(data, size, what);
   if (in.u8() != kWindowVersion)
     throw Error(ErrorCode::kCorrupt, what + ": unknown analog window version");
@@ -363,7 +363,8 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
   uint64_t last_const = 0;
   bool any_coded = false;
   for (size_t c = 0; c < nch; ++c) {
-    reprs.push_back(analog::read_repr_header(&head, nrows, &last_const, repeat_S, &reps[c]));
+    reprs.push_back(
+        analog::read_repr_header(&head, nrows, &last_const, repeat_S, &reps[c], format8));
     kept[c] = nrows - repeat_S * reps[c].size();
     any_coded |= coded(reprs.back().kind);
   }

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "coding/entropy.h"
+
 namespace capz {
 namespace analog {
 
@@ -142,6 +144,86 @@ LpcParams choose_lpc(const int32_t* x, size_t n) {
   }
   if (best == 0) return LpcParams();
   return quantise_lpc(a[best].data(), best, kLpcPrecision);
+}
+
+namespace {
+
+// Order-0 entropy of a token histogram of n values plus their raw bits.
+double histogram_bits(const uint32_t count[64], uint64_t raw, size_t n) {
+  double bits = static_cast<double>(raw);
+  const double dn = static_cast<double>(n);
+  for (int t = 0; t < 64; ++t)
+    if (count[t]) bits -= count[t] * std::log2(count[t] / dn);
+  return bits;
+}
+
+// The coefficients' cost as an Elias-gamma-like code of each (their adaptive coding is close to
+// it): 2 log2 |q| + 2 bits.
+double coefficient_bits(const LpcParams& p) {
+  double bits = 0;
+  for (int32_t q : p.q) bits += 2 + 2 * std::log2(1.0 + std::abs(q));
+  return bits;
+}
+
+}  // namespace
+
+double token_cost_bits(const int32_t* r, size_t n) {
+  uint32_t count[64] = {0};
+  uint64_t raw = 0;
+  for (size_t i = 0; i < n; ++i) {
+    int extra;
+    ++count[token_of(zigzag(r[i]), &extra)];
+    raw += static_cast<uint64_t>(extra);
+  }
+  return histogram_bits(count, raw, n);
+}
+
+LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, int32_t* r) {
+  // choose_lpc's predictor, its residuals into r.
+  LpcParams best = choose_lpc(x, n);
+  {
+    const LpcKernel lpc(best);
+    for (size_t i = 0; i < n; ++i) r[i] = static_cast<int32_t>(x[i] - lpc.predict(xd + i));
+  }
+  double best_bits = token_cost_bits(r, n) + coefficient_bits(best);
+  // The fixed predictors 0, x[i-1] and 2 x[i-1] - x[i-2] (LPC orders 0, 1, 2 with exact
+  // coefficients, so their residuals are these), in one pass.
+  uint32_t count[3][64] = {};
+  uint64_t raw[3] = {0, 0, 0};
+  int64_t x1 = static_cast<int64_t>(xd[-1]), x2 = static_cast<int64_t>(xd[-2]);
+  for (size_t i = 0; i < n; ++i) {
+    const int64_t x0 = x[i];
+    int64_t p2 = 2 * x1 - x2;
+    p2 = p2 > kMaxSample ? kMaxSample : p2 < -kMaxSample ? -kMaxSample : p2;
+    const int32_t e[3] = {static_cast<int32_t>(x0), static_cast<int32_t>(x0 - x1),
+                          static_cast<int32_t>(x0 - p2)};
+    for (int k = 0; k < 3; ++k) {
+      int extra;
+      ++count[k][token_of(zigzag(e[k]), &extra)];
+      raw[k] += static_cast<uint64_t>(extra);
+    }
+    x2 = x1;
+    x1 = x0;
+  }
+  LpcParams fixed[3];
+  fixed[1].order = 1;  // x[i-1]
+  fixed[1].shift = 13;
+  fixed[1].q = {1 << 13};
+  fixed[2].order = 2;  // 2 x[i-1] - x[i-2]
+  fixed[2].shift = 12;
+  fixed[2].q = {1 << 13, -(1 << 12)};
+  int pick = -1;
+  for (int k = 0; k < 3; ++k) {
+    const double bits = histogram_bits(count[k], raw[k], n) + coefficient_bits(fixed[k]);
+    if (bits < best_bits) {
+      best_bits = bits;
+      pick = k;
+    }
+  }
+  if (pick < 0) return best;
+  const LpcKernel lpc(fixed[pick]);
+  for (size_t i = 0; i < n; ++i) r[i] = static_cast<int32_t>(x[i] - lpc.predict(xd + i));
+  return fixed[pick];
 }
 
 }  // namespace analog

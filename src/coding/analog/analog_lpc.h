@@ -42,6 +42,17 @@ LpcParams quantise_lpc(const double* a, int order, int precision);
 // Chooses the order (0 = no prediction) for block x[0..n) by the estimated cost in bits.
 LpcParams choose_lpc(const int32_t* x, size_t n);
 
+// Estimated coded bits of residuals r[0..n): the order-0 entropy of their tokens
+// (coding/entropy.h token_of of the zig-zag) plus the raw bits below the tokens.
+double token_cost_bits(const int32_t* r, size_t n);
+
+// Chooses the block's predictor by the estimated coded cost (token_cost_bits of its residuals,
+// plus about 2 log2 |q| + 2 bits a coefficient) among choose_lpc's, the first and second
+// differences as LPC of order 1 and 2, and none, and writes the chosen one's residuals
+// x[i] - p[i] to r[0..n). x: the block's n samples; xd: the same samples as doubles with
+// kMaxLpcOrder samples (or zeros) readable before xd[0]. Encoder only: any LpcParams decodes.
+LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, int32_t* r);
+
 // Prediction of x[i] from x[i - order .. i) (the caller guarantees i >= order).
 inline int64_t lpc_predict(const LpcParams& p, const int32_t* xi) {
   int64_t s = 0;

@@ -124,13 +124,15 @@ ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
 // then r describes the channel's kept samples. The header carries everything but the per-sample
 // numbers (ints or float samples), which the entropy stage codes. *last_const is updated by
 // kConst channels.
+// lattice_tables (8.x streams, FORMAT.md 8.2): a kRank table may be coded against a lattice
+// (table flag bit 1), which the writer does when that is smaller.
 void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w,
-                       const std::vector<uint32_t>* repeats = nullptr);
+                       const std::vector<uint32_t>* repeats = nullptr, bool lattice_tables = false);
 // Reads a header for a channel of n samples; sizes are bounded by the bytes left in `in`. S: the
 // analog samples per point frame in a 7.x stream, else 0 (bit 5 is then corrupt); *repeats gets
 // the repeat list (empty without one), and r then describes n - S * repeats->size() samples.
 ChannelRepr read_repr_header(ByteReader* in, size_t n, uint64_t* last_const, size_t S = 0,
-                             std::vector<uint32_t>* repeats = nullptr);
+                             std::vector<uint32_t>* repeats = nullptr, bool lattice_tables = false);
 
 // Writes the n samples to col[0], col[stride], ... from the header and `ints` / `filled`.
 // Throws Error(kCorrupt) naming `what` when a rank is outside the table.
