@@ -11,6 +11,7 @@
 #include "capz/io.h"
 #include "coding/analog/analog_codec.h"
 #include "coding/analog/analog_float.h"
+#include "coding/analog/analog_pick.h"
 #include "coding/analog/analog_repr.h"
 
 namespace capz {
@@ -314,6 +315,51 @@ TEST(AnalogFloat, GivenFloat32SamplesWhenPredictorCostsThenThoseOfThePlainLoop) 
       EXPECT_EQ(got[0], want[0]) << x.size() << " samples, f32 " << f32;
       EXPECT_EQ(got[1], want[1]) << x.size() << " samples, f32 " << f32;
     }
+}
+
+// The trials' order follows the estimate, but the pick is always the first of the smallest, and
+// a trial only stops (SIZE_MAX) when its size is at least the bound it was given.
+TEST(AnalogPick, GivenAnyEstimateWhenPickingThenTheFirstSmallestAndTrialsStopOnlyWhenLosing) {
+  std::mt19937 rng(5);
+  for (int round = 0; round < 2000; ++round) {
+    const size_t n = 2 + rng() % 4;
+    std::vector<size_t> size(n);
+    for (size_t& v : size) v = 10 + rng() % 6;  // ties are common
+    std::vector<double> estimate(n);
+    for (size_t k = 0; k < n; ++k)
+      estimate[k] = round % 3 == 0 ? static_cast<double>(size[k]) : static_cast<double>(rng() % 8);
+    size_t want = 0;
+    for (size_t k = 1; k < n; ++k)
+      if (size[k] < size[want]) want = k;
+    std::vector<size_t> order;
+    const size_t got = analog::pick_smallest(estimate, [&](size_t k, size_t bound) {
+      order.push_back(k);
+      // A coder may stop anywhere once its size reaches the bound; here it does when told to.
+      return size[k] >= bound && rng() % 2 ? SIZE_MAX : size[k];
+    });
+    EXPECT_EQ(got, want) << "round " << round;
+    ASSERT_EQ(order.size(), n);
+    for (size_t j = 1; j < n; ++j)
+      EXPECT_LE(estimate[order[j - 1]], estimate[order[j]]) << "round " << round;
+  }
+}
+
+// With the sizes themselves as the estimate, the first trial is the smallest and every later
+// one is bounded by it: none needs to run to its end unless it ties.
+TEST(AnalogPick, GivenExactEstimatesWhenPickingThenLaterTrialsAreBoundedByTheBest) {
+  const std::vector<size_t> size = {40, 25, 31, 25};
+  std::vector<double> estimate(size.begin(), size.end());
+  std::vector<std::pair<size_t, size_t>> calls;
+  const size_t got = analog::pick_smallest(estimate, [&](size_t k, size_t bound) {
+    calls.push_back({k, bound});
+    return size[k] >= bound ? SIZE_MAX : size[k];
+  });
+  EXPECT_EQ(got, 1u);
+  ASSERT_EQ(calls.size(), 4u);
+  EXPECT_EQ(calls[0], std::make_pair(size_t{1}, SIZE_MAX));
+  EXPECT_EQ(calls[1], std::make_pair(size_t{3}, size_t{25}));  // after the pick: must beat it
+  EXPECT_EQ(calls[2], std::make_pair(size_t{2}, size_t{25}));
+  EXPECT_EQ(calls[3], std::make_pair(size_t{0}, size_t{26}));  // before the pick: may tie
 }
 
 }  // namespace
