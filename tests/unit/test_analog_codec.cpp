@@ -13,6 +13,7 @@
 #include "coding/analog/analog_float.h"
 #include "coding/analog/analog_pick.h"
 #include "coding/analog/analog_repr.h"
+#include "coding/analog/analog_round.h"
 
 namespace capz {
 namespace {
@@ -360,6 +361,39 @@ TEST(AnalogPick, GivenExactEstimatesWhenPickingThenLaterTrialsAreBoundedByTheBes
   EXPECT_EQ(calls[1], std::make_pair(size_t{3}, size_t{25}));  // after the pick: must beat it
   EXPECT_EQ(calls[2], std::make_pair(size_t{2}, size_t{25}));
   EXPECT_EQ(calls[3], std::make_pair(size_t{0}, size_t{26}));  // before the pick: may tie
+}
+
+// The quotient rounder is round_half_away of the divided quotient bit for bit (zero signs
+// too), on quotients near half-integers (where the product rounds differently), near integers,
+// random ones, large ones, and steps of every magnitude.
+TEST(AnalogRound, GivenQuotientsWhenRoundedWithoutDividingThenTheDividedResultBitForBit) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  const double steps[] = {1.0 / 3, 1.0 / 7,  0.1,       1e-3, 3.0517578125e-05, 2.5, 1e-300,
+                          1e300,   4.9e-324, 0.0078125, 1e-9, 123456.789};
+  auto check = [&](double s, double d) {
+    const analog::QuotientRounder q(s);
+    const double want = analog::round_half_away(d / s), got = q(d);
+    ASSERT_EQ(bits(got), bits(want)) << "d " << d << " s " << s;
+  };
+  for (double s : steps) {
+    for (int i = 0; i < 20000; ++i) {
+      const double k = std::round(unit(rng) * (i % 2 ? 1e3 : 1e8));
+      const double h = k + 0.5, u = std::ldexp(unit(rng), -static_cast<int>(rng() % 60));
+      check(s, h * s);        // at a half-integer
+      check(s, (h + u) * s);  // a hair either side
+      check(s, std::nextafter(h * s, 0.0));
+      check(s, std::nextafter(h * s, 1e308));
+      check(s, (k + u) * s);          // near an integer
+      check(s, unit(rng) * s * 3);    // small, zero signs
+      check(s, unit(rng) * s * 2e7);  // around 2^23 and 2^24
+    }
+    check(s, 0.0);
+    check(s, -0.0);
+    check(s, 1e308);
+    check(s, std::numeric_limits<double>::infinity());
+    check(s, std::nan(""));
+  }
 }
 
 }  // namespace
