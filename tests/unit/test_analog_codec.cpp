@@ -396,5 +396,23 @@ TEST(AnalogRound, GivenQuotientsWhenRoundedWithoutDividingThenTheDividedResultBi
   }
 }
 
+// With a margin, candidates estimated far above the smallest estimate are never tried, and a
+// lone survivor is picked without a trial; among those tried, the first smallest still wins.
+TEST(AnalogPick, GivenAMarginWhenEstimatesAreFarApartThenOnlyTheCloseOnesAreTried) {
+  const std::vector<size_t> size = {30, 50, 29, 100};
+  std::vector<size_t> tried;
+  auto trial = [&](size_t k, size_t) {
+    tried.push_back(k);
+    return size[k];
+  };
+  EXPECT_EQ(analog::pick_smallest({30, 50, 31, 100}, trial, 1.2), 2u);  // 29 < 30: measured
+  EXPECT_EQ(tried, (std::vector<size_t>{0, 2}));
+  tried.clear();
+  EXPECT_EQ(analog::pick_smallest({30, 50, 40, 100}, trial, 1.2), 0u);  // 2 is out: no trial
+  EXPECT_TRUE(tried.empty());
+  EXPECT_EQ(analog::pick_smallest({30, 50, 40, 100}, trial, 2.0), 2u);
+  EXPECT_EQ(tried, (std::vector<size_t>{0, 2, 1}));
+}
+
 }  // namespace
 }  // namespace capz

@@ -19,13 +19,22 @@ namespace analog {
 // every later one stops as soon as it passes it. The result is the same for any estimate: a
 // candidate after the current pick must be smaller to win (bound = the best size), one before
 // it only as small (bound = best + 1).
+//
+// With a `margin` (> 0), a candidate whose estimate is above margin times the smallest is not
+// tried at all, and when one candidate is left it is the pick without a trial: an estimate
+// decides where it is far from close (the pick may then differ from the measured smallest).
 template <typename Trial>
-size_t pick_smallest(const std::vector<double>& estimate, Trial trial) {
+size_t pick_smallest(const std::vector<double>& estimate, Trial trial, double margin = 0) {
   const size_t n = estimate.size();
   std::vector<size_t> order(n);
   std::iota(order.begin(), order.end(), size_t{0});
   std::stable_sort(order.begin(), order.end(),
                    [&](size_t a, size_t b) { return estimate[a] < estimate[b]; });
+  if (margin > 0 && n > 0) {
+    const double cut = margin * estimate[order[0]];
+    while (order.size() > 1 && estimate[order.back()] > cut) order.pop_back();
+    if (order.size() == 1) return order[0];
+  }
   size_t pick = n, best = SIZE_MAX;
   for (size_t k : order) {
     const size_t bound = pick == n ? SIZE_MAX : k < pick ? best + 1 : best;
