@@ -11,7 +11,9 @@
 #include "capz/io.h"
 #include "coding/analog/analog_codec.h"
 #include "coding/analog/analog_float.h"
+#include "coding/analog/analog_pick.h"
 #include "coding/analog/analog_repr.h"
+#include "coding/analog/analog_round.h"
 
 namespace capz {
 namespace {
@@ -314,6 +316,102 @@ TEST(AnalogFloat, GivenFloat32SamplesWhenPredictorCostsThenThoseOfThePlainLoop) 
       EXPECT_EQ(got[0], want[0]) << x.size() << " samples, f32 " << f32;
       EXPECT_EQ(got[1], want[1]) << x.size() << " samples, f32 " << f32;
     }
+}
+
+// The trials' order follows the estimate, but the pick is always the first of the smallest, and
+// a trial only stops (SIZE_MAX) when its size is at least the bound it was given.
+TEST(AnalogPick, GivenAnyEstimateWhenPickingThenTheFirstSmallestAndTrialsStopOnlyWhenLosing) {
+  std::mt19937 rng(5);
+  for (int round = 0; round < 2000; ++round) {
+    const size_t n = 2 + rng() % 4;
+    std::vector<size_t> size(n);
+    for (size_t& v : size) v = 10 + rng() % 6;  // ties are common
+    std::vector<double> estimate(n);
+    for (size_t k = 0; k < n; ++k)
+      estimate[k] = round % 3 == 0 ? static_cast<double>(size[k]) : static_cast<double>(rng() % 8);
+    size_t want = 0;
+    for (size_t k = 1; k < n; ++k)
+      if (size[k] < size[want]) want = k;
+    std::vector<size_t> order;
+    const size_t got = analog::pick_smallest(estimate, [&](size_t k, size_t bound) {
+      order.push_back(k);
+      // A coder may stop anywhere once its size reaches the bound; here it does when told to.
+      return size[k] >= bound && rng() % 2 ? SIZE_MAX : size[k];
+    });
+    EXPECT_EQ(got, want) << "round " << round;
+    ASSERT_EQ(order.size(), n);
+    for (size_t j = 1; j < n; ++j)
+      EXPECT_LE(estimate[order[j - 1]], estimate[order[j]]) << "round " << round;
+  }
+}
+
+// With the sizes themselves as the estimate, the first trial is the smallest and every later
+// one is bounded by it: none needs to run to its end unless it ties.
+TEST(AnalogPick, GivenExactEstimatesWhenPickingThenLaterTrialsAreBoundedByTheBest) {
+  const std::vector<size_t> size = {40, 25, 31, 25};
+  std::vector<double> estimate(size.begin(), size.end());
+  std::vector<std::pair<size_t, size_t>> calls;
+  const size_t got = analog::pick_smallest(estimate, [&](size_t k, size_t bound) {
+    calls.push_back({k, bound});
+    return size[k] >= bound ? SIZE_MAX : size[k];
+  });
+  EXPECT_EQ(got, 1u);
+  ASSERT_EQ(calls.size(), 4u);
+  EXPECT_EQ(calls[0], std::make_pair(size_t{1}, SIZE_MAX));
+  EXPECT_EQ(calls[1], std::make_pair(size_t{3}, size_t{25}));  // after the pick: must beat it
+  EXPECT_EQ(calls[2], std::make_pair(size_t{2}, size_t{25}));
+  EXPECT_EQ(calls[3], std::make_pair(size_t{0}, size_t{26}));  // before the pick: may tie
+}
+
+// The quotient rounder is round_half_away of the divided quotient bit for bit (zero signs
+// too), on quotients near half-integers (where the product rounds differently), near integers,
+// random ones, large ones, and steps of every magnitude.
+TEST(AnalogRound, GivenQuotientsWhenRoundedWithoutDividingThenTheDividedResultBitForBit) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  const double steps[] = {1.0 / 3, 1.0 / 7,  0.1,       1e-3, 3.0517578125e-05, 2.5, 1e-300,
+                          1e300,   4.9e-324, 0.0078125, 1e-9, 123456.789};
+  auto check = [&](double s, double d) {
+    const analog::QuotientRounder q(s);
+    const double want = analog::round_half_away(d / s), got = q(d);
+    ASSERT_EQ(bits(got), bits(want)) << "d " << d << " s " << s;
+  };
+  for (double s : steps) {
+    for (int i = 0; i < 20000; ++i) {
+      const double k = std::round(unit(rng) * (i % 2 ? 1e3 : 1e8));
+      const double h = k + 0.5, u = std::ldexp(unit(rng), -static_cast<int>(rng() % 60));
+      check(s, h * s);        // at a half-integer
+      check(s, (h + u) * s);  // a hair either side
+      check(s, std::nextafter(h * s, 0.0));
+      check(s, std::nextafter(h * s, 1e308));
+      check(s, (k + u) * s);          // near an integer
+      check(s, unit(rng) * s * 3);    // small, zero signs
+      check(s, unit(rng) * s * 2e7);  // around 2^23 and 2^24
+    }
+    check(s, 0.0);
+    check(s, -0.0);
+    check(s, 1e308);
+    check(s, std::numeric_limits<double>::infinity());
+    check(s, std::nan(""));
+  }
+}
+
+// With a margin, candidates estimated far above the smallest estimate are never tried, and a
+// lone survivor is picked without a trial; among those tried, the first smallest still wins.
+TEST(AnalogPick, GivenAMarginWhenEstimatesAreFarApartThenOnlyTheCloseOnesAreTried) {
+  const std::vector<size_t> size = {30, 50, 29, 100};
+  std::vector<size_t> tried;
+  auto trial = [&](size_t k, size_t) {
+    tried.push_back(k);
+    return size[k];
+  };
+  EXPECT_EQ(analog::pick_smallest({30, 50, 31, 100}, trial, 1.2), 2u);  // 29 < 30: measured
+  EXPECT_EQ(tried, (std::vector<size_t>{0, 2}));
+  tried.clear();
+  EXPECT_EQ(analog::pick_smallest({30, 50, 40, 100}, trial, 1.2), 0u);  // 2 is out: no trial
+  EXPECT_TRUE(tried.empty());
+  EXPECT_EQ(analog::pick_smallest({30, 50, 40, 100}, trial, 2.0), 2u);
+  EXPECT_EQ(tried, (std::vector<size_t>{0, 2, 1}));
 }
 
 }  // namespace

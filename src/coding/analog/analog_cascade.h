@@ -101,6 +101,16 @@ class SignLms {
 // that a later load of the history must wait for; the signs are stored times +kStep and times
 // -kStep, so a weight update adds one of the two (d sgn(h) of the filter, the same products).
 // The arrays are a reused per-thread buffer.
+//
+// The prediction's sum S[i] = W[i] . H[i] (weights at sample i times its history window) is a
+// chain through every sample: S[i] needs the weights updated by sample i - 1's residual. The
+// loop shortens it by the identity, exact as every product and partial sum is an integer below
+// 2^53 (and the clamp not reached),
+//   S[i + 1] = (W[i] + d U[i]) . H[i + 1] = W[i] . H[i + 1] + d (U[i] . H[i + 1])
+// with d = sgn(residual i) and U[i] the +kStep sign window: W[i] . H[i + 1] is computed while
+// sample i's residual is (it needs only W[i]), and B[i] = U[i] . H[i + 1], a sum over the input
+// alone, is precomputed as a sliding sum of up[t] c[t + 1]. A step that clamps a weight
+// computes S[i + 1] directly.
 template <typename T>
 inline std::pair<uint64_t, uint64_t> sign_lms_run(const int32_t* in, size_t n, T* out) {
   typedef double Lanes __attribute__((vector_size(16)));
@@ -114,10 +124,11 @@ inline std::pair<uint64_t, uint64_t> sign_lms_run(const int32_t* in, size_t n, T
   // c[kTaps + i] = clamp(in[i]), zeros before; up / down its sign times kStep / -kStep.
   const size_t m = n + kTaps;
   thread_local std::vector<double> buf;
-  if (buf.size() < 3 * m) buf.resize(3 * m);
+  if (buf.size() < 4 * m) buf.resize(4 * m);
   double* c = buf.data();
   double* up = c + m;
   double* down = up + m;
+  double* b = down + m;
   uint64_t before = 0;
   for (size_t k = 0; k < kTaps; ++k) c[k] = up[k] = down[k] = 0;
   // Two samples a step: the clamp on doubles (exact), the signs from compares, and the bit
@@ -159,26 +170,44 @@ inline std::pair<uint64_t, uint64_t> sign_lms_run(const int32_t* in, size_t n, T
     std::memcpy(&v, p, sizeof v);
     return v;
   };
+  // b[i] = sum of up[t] c[t + 1] for t in [i, i + kTaps): |terms| <= 2^34, exact sums.
+  {
+    double sum = 0;
+    for (size_t t = 0; t < kTaps; ++t) sum += up[t] * c[t + 1];
+    for (size_t i = 0; i + 1 < n; ++i) {
+      b[i] = sum;
+      sum += up[i + kTaps] * c[i + kTaps + 1] - up[i] * c[i + 1];
+    }
+    if (n) b[n - 1] = sum;
+  }
+  auto dot = [&](const Lanes* w, const double* h) {
+    Lanes p[kTaps / 2];
+    for (int j = 0; j < kTaps / 2; ++j) p[j] = w[j] * load(h + 2 * j);
+    const Lanes a = ((p[0] + p[1]) + (p[2] + p[3])) + ((p[4] + p[5]) + (p[6] + p[7]));
+    return a[0] + a[1];
+  };
   // wr[k] = w[kTaps - 1 - k] multiplies c[kTaps + i - kTaps + k] = in[i - kTaps + k].
   Lanes wr[kTaps / 2] = {};
   double bound = 0;
   uint64_t after = 0;
+  double sum = 0;  // S[i]: wr . (c + i)
   for (size_t i = 0; i < n; ++i) {
-    const double* h = c + i;
-    Lanes p[kTaps / 2];
-    for (int j = 0; j < kTaps / 2; ++j) p[j] = wr[j] * load(h + 2 * j);
-    const Lanes a = ((p[0] + p[1]) + (p[2] + p[3])) + ((p[4] + p[5]) + (p[6] + p[7]));
-    int64_t s = static_cast<int64_t>(a[0] + a[1]);
+    const double next = dot(wr, c + i + 1);  // W[i] . H[i + 1]
+    int64_t s = static_cast<int64_t>(sum);
     s = (s + (int64_t{1} << (SignLms::kShift - 1))) >> SignLms::kShift;
     s = s > kMaxSample ? kMaxSample : s < -kMaxSample ? -kMaxSample : s;
     const int64_t o = in[i] - s;
     out[i] = static_cast<T>(o);
     after += bits(o);
-    if (o == 0) continue;
+    if (o == 0) {
+      sum = next;
+      continue;
+    }
     const double* g = (o > 0 ? up : down) + i;  // d sgn(h), d = +-kStep
     if (bound + kStep <= kMaxWeight) {
       for (int j = 0; j < kTaps / 2; ++j) wr[j] += load(g + 2 * j);
       bound += kStep;
+      sum = o > 0 ? next + b[i] : next - b[i];
     } else {
       const Lanes lim = {kMaxWeight, kMaxWeight}, nlim = -lim;
       Lanes mx = {0, 0};
@@ -191,6 +220,7 @@ inline std::pair<uint64_t, uint64_t> sign_lms_run(const int32_t* in, size_t n, T
         mx = aw > mx ? aw : mx;
       }
       bound = mx[0] > mx[1] ? mx[0] : mx[1];
+      sum = dot(wr, c + i + 1);
     }
   }
   return {before, after};

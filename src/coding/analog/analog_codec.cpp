@@ -1,14 +1,16 @@
 #include "coding/analog/analog_codec.h"
 
+#include <cstdio>
+
 #include "capz/error.h"
 #include "coding/analog/analog_cascade.h"
 #include "coding/analog/analog_cross.h"
 #include "coding/analog/analog_entropy.h"
 #include "coding/analog/analog_float.h"
 #include "coding/analog/analog_lpc.h"
+#include "coding/analog/analog_pick.h"
 #include "coding/analog/analog_repeat.h"
 #include "coding/bytes.h"
-
 namespace capz {
 namespace {
 
@@ -16,6 +18,11 @@ using analog::ChannelRepr;
 using analog::Kind;
 
 constexpr size_t kBlockRows = 4096;  // LPC block length (A.3)
+// Candidates whose estimated size is above this times the smallest estimate are not
+// trial-coded (analog::pick_smallest). On the 98 C3D takes of capz_analog_bench, 1.2 codes
+// 5,273,482 bytes for the 5,273,240 of trying every candidate (5,219,447 for 5,219,153 with
+// --repeats), and trial-codes about a fifth of the samples that trying all would.
+constexpr double kTrialMargin = 1.2;
 constexpr uint8_t kWindowVersion = 0;
 
 // Whether a channel of this kind has numbers in the entropy-coded block (a window whose
@@ -106,6 +113,7 @@ struct IntPlan {
   analog::CrossParams cross;
   std::vector<int32_t> r1;  // LPC residuals (a later channel's reference)
   std::vector<int32_t> r;   // the residuals coded
+  uint64_t bits = 0;        // their summed bit lengths (a guess of the coded size)
 };
 
 // Four pipelines (reference or not, cascade or not), kept by the summed bit lengths.
@@ -129,6 +137,7 @@ void plan_int_channel(const std::vector<int32_t>& x,
   int best = 0;
   for (int k = 1; k < (cross.distance ? 4 : 2); ++k)
     if (costs[k] < costs[best]) best = k;
+  plan->bits = costs[best];
   plan->cascade = best & 1;
   if (best < 2) cross = analog::CrossParams();
   plan->cross = cross;
@@ -144,8 +153,8 @@ void plan_int_channel(const std::vector<int32_t>& x,
 
 // Integer channel: the cascade flag, the reference distance (and beta), then per block the LPC
 // parameters and residuals. Stops, returning false, once enc->bytes_out() reaches `limit`
-// (checked every 1024 samples). Everything it calls is inlined (flatten) and it codes through
-// a local copy of the cursor, which then stays in registers (entropy.h's Cursor).
+// (checked every kTrialCheck samples). Everything it calls is inlined (flatten) and it codes
+// through a local copy of the cursor, which then stays in registers (entropy.h's Cursor).
 __attribute__((flatten)) bool emit_int_channel(const IntPlan& plan, IntEncoder::Cursor* out,
                                                size_t limit = SIZE_MAX) {
   IntEncoder::Cursor c = *out;
@@ -158,9 +167,9 @@ __attribute__((flatten)) bool emit_int_channel(const IntPlan& plan, IntEncoder::
   for (size_t b0 = 0, b = 0; b0 < n; b0 += kBlockRows, ++b) {
     const size_t b1 = std::min(n, b0 + kBlockRows);
     put_lpc(plan.params[b], enc);
-    for (size_t i0 = b0; i0 < b1; i0 += 1024) {
+    for (size_t i0 = b0; i0 < b1; i0 += analog::kTrialCheck) {
       if (enc->bytes_out() >= limit) return false;  // a stopped trial: its cursor is dropped
-      const size_t i1 = std::min(b1, i0 + 1024);
+      const size_t i1 = std::min(b1, i0 + analog::kTrialCheck);
       for (size_t i = i0; i < i1; ++i) analog::put_residual(enc, &mag, plan.r[i]);
     }
   }
@@ -286,17 +295,20 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     // predictor.
     std::vector<IntPlan> plans(cands.size());
     std::vector<int> float_predictor(cands.size(), 0);
+    std::vector<uint64_t> bits(cands.size(), 0);  // summed bit lengths of what is coded
     auto is_float = [&](size_t k) {
       return cands[k].kind == Kind::kFloat32 || cands[k].kind == Kind::kFloat64;
     };
     for (size_t k = 0; k < cands.size(); ++k) {
       const std::vector<bool>& use = k < whole ? use_whole : use_rep;
-      if (analog::is_integer_kind(cands[k].kind))
+      if (analog::is_integer_kind(cands[k].kind)) {
         plan_int_channel(cands[k].ints, cross_refs(r1s, use, c), cross_energies(energy, use, c),
                          &plans[k]);
-      else if (is_float(k))
-        float_predictor[k] =
-            analog::choose_float_predictor(cands[k].filled, cands[k].kind == Kind::kFloat32);
+        bits[k] = plans[k].bits;
+      } else if (is_float(k)) {
+        float_predictor[k] = analog::choose_float_predictor(
+            cands[k].filled, cands[k].kind == Kind::kFloat32, &bits[k]);
+      }
     }
     // False when the coding stopped at `limit` bytes out (a trial that cannot win).
     auto emit = [&](size_t k, IntEncoder::Cursor* enc, size_t limit) {
@@ -309,25 +321,29 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     size_t pick = 0;
     if (cands.size() > 1) {
       // Measured: each candidate coded alone (fresh models), the smallest kept (the first of
-      // equals). A later candidate's size is at least its header, one byte of block length
-      // and the bytes its coder has output so far: its trial stops once that reaches `best`.
-      size_t best = 0;
+      // equals), tried in the order of their header bytes plus residual bit lengths; those
+      // estimated above kTrialMargin times the smallest estimate are not tried. A candidate's
+      // size is at least its header, one byte of block length and the bytes its coder has
+      // output so far: its trial stops once that reaches the bound.
+      std::vector<size_t> head_bytes(cands.size());
+      std::vector<double> estimate(cands.size());
       for (size_t k = 0; k < cands.size(); ++k) {
-        IntEncoder trial(analog::kAnalogContexts);
-        IntEncoder::Cursor tc = trial.cursor();
         ByteWriter th;
         uint64_t tl = last_const;
         analog::write_repr_header(cands[k], &tl, &th, &list_of(k), format8);
-        const size_t fixed = th.size() + 1;
-        const size_t limit = k == 0 ? SIZE_MAX : best > fixed ? best - fixed : 0;
-        if (!emit(k, &tc, limit)) continue;
-        trial.commit(tc);
-        const size_t bytes = th.size() + trial.finish().size();
-        if (k == 0 || bytes < best) {
-          best = bytes;
-          pick = k;
-        }
+        head_bytes[k] = th.size();
+        estimate[k] = static_cast<double>(th.size()) + static_cast<double>(bits[k]) / 8;
       }
+      auto trial = [&](size_t k, size_t bound) {
+        IntEncoder coder(analog::kAnalogContexts);
+        IntEncoder::Cursor tc = coder.cursor();
+        const size_t fixed = head_bytes[k] + 1;
+        const size_t limit = bound == SIZE_MAX ? SIZE_MAX : bound > fixed ? bound - fixed : 0;
+        if (!emit(k, &tc, limit)) return SIZE_MAX;
+        coder.commit(tc);
+        return head_bytes[k] + coder.finish().size();
+      };
+      pick = analog::pick_smallest(estimate, trial, kTrialMargin);
     }
     const ChannelRepr& r = cands[pick];
     analog::write_repr_header(r, &last_const, &head, &list_of(pick), format8);

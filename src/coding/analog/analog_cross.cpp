@@ -77,6 +77,18 @@ int64_t residual_bits(const double* t, const int32_t* r1, const int32_t* ref, si
   return after;
 }
 
+// e[k] = sum over i of r1[i] p[k][i] for k < K, each in increasing i, two sums a vector.
+template <size_t K>
+void cross_sums(const int32_t* r1, const int32_t* const* p, size_t n, double* e) {
+  Lanes acc[K / 2] = {};
+  for (size_t i = 0; i < n; ++i) {
+    const double a = r1[i];
+    for (size_t k = 0; k < K / 2; ++k)
+      acc[k] += a * Lanes{static_cast<double>(p[2 * k][i]), static_cast<double>(p[2 * k + 1][i])};
+  }
+  for (size_t k = 0; k < K; ++k) e[k] = acc[k / 2][k % 2];
+}
+
 }  // namespace
 
 double reference_energy(const std::vector<int32_t>& r) {
@@ -119,16 +131,18 @@ CrossParams choose_cross(const std::vector<int32_t>& r1,
   }
   if (!nonzero) return best;
   double best_bits = min_gain_bits;
-  // Cross energies, four references a pass in two-lane vectors (each lane the same sum, in
-  // the same order, as one reference alone; a missing reference reads zeros); the references'
-  // own energies were computed once, in the same order.
+  // Cross energies, up to eight references a pass in two-lane vectors (each lane the same sum,
+  // in the same order, as one reference alone; a missing reference reads zeros): each sum is a
+  // chain of dependent additions, so four chains a pass cost little more than two. The
+  // references' own energies were computed once, in the same order.
+  constexpr size_t kPass = 8;
   const size_t nr = refs.size();
   auto usable = [&](size_t d) { return refs[d] && refs[d]->size() == n; };
-  std::vector<double> ecrs(nr + 3, 0.0);
+  std::vector<double> ecrs(nr + kPass - 1, 0.0);
   std::vector<int32_t> zeros;
-  for (size_t d0 = 0; d0 < nr; d0 += 4) {
-    const int32_t* p[4];
-    for (size_t k = 0; k < 4; ++k) {
+  for (size_t d0 = 0; d0 < nr; d0 += kPass) {
+    const int32_t* p[kPass];
+    for (size_t k = 0; k < kPass; ++k) {
       if (d0 + k < nr && usable(d0 + k)) {
         p[k] = refs[d0 + k]->data();
       } else {
@@ -136,18 +150,10 @@ CrossParams choose_cross(const std::vector<int32_t>& r1,
         p[k] = zeros.data();
       }
     }
-    Lanes e0 = {0, 0}, e1 = {0, 0};
-    for (size_t i = 0; i < n; ++i) {
-      const double a = r1[i];
-      const Lanes b0 = {static_cast<double>(p[0][i]), static_cast<double>(p[1][i])};
-      const Lanes b1 = {static_cast<double>(p[2][i]), static_cast<double>(p[3][i])};
-      e0 += a * b0;
-      e1 += a * b1;
-    }
-    for (size_t k = 0; k < 2; ++k) {
-      ecrs[d0 + k] = e0[k];
-      ecrs[d0 + 2 + k] = e1[k];
-    }
+    if (nr - d0 > kPass / 2)
+      cross_sums<kPass>(r1.data(), p, n, &ecrs[d0]);
+    else
+      cross_sums<kPass / 2>(r1.data(), p, n, &ecrs[d0]);
   }
   for (size_t d = 0; d < nr; ++d) {
     if (!usable(d)) continue;

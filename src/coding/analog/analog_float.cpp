@@ -102,10 +102,12 @@ void float_predictor_costs(const std::vector<double>& x, bool f32, uint64_t cost
 #endif
 }
 
-int choose_float_predictor(const std::vector<double>& x, bool f32) {
+int choose_float_predictor(const std::vector<double>& x, bool f32, uint64_t* bits) {
   uint64_t cost[kFloatPredictors];
   float_predictor_costs(x, f32, cost);
-  return cost[1] < cost[0] ? 1 : 0;
+  const int k = cost[1] < cost[0] ? 1 : 0;
+  if (bits) *bits = cost[k];
+  return k;
 }
 
 // Flattened over a local copy of the cursor, as the integer channels' coding.
@@ -116,9 +118,9 @@ __attribute__((flatten)) bool encode_float_channel(const std::vector<double>& x,
   const size_t n = x.size();
   enc->put(static_cast<uint32_t>(kind), kParamContext);
   int prev_nb = 0;
-  for (size_t i0 = 0; i0 < n; i0 += 1024) {
+  for (size_t i0 = 0; i0 < n; i0 += kTrialCheck) {
     if (enc->bytes_out() >= limit) return false;
-    const size_t i1 = std::min(n, i0 + 1024);
+    const size_t i1 = std::min(n, i0 + kTrialCheck);
     for (size_t i = i0; i < i1; ++i) {
       const double a = i > 0 ? x[i - 1] : 0, b = i > 1 ? x[i - 2] : 0;
       put_float_residual(enc, &prev_nb, residual(x[i], predict(kind, a, b, f32), f32));

@@ -18,14 +18,19 @@
 namespace capz {
 namespace analog {
 
+// How often (in samples) a trial coding checks its output against its limit.
+constexpr size_t kTrialCheck = 256;
+
 void encode_float_channel(const std::vector<double>& x, bool f32, IntEncoder::Cursor* enc);
 // The two halves of encode_float_channel: the predictor kept (by the summed bit lengths), and
 // the coding with a given predictor (the window codec decides once and codes twice).
-int choose_float_predictor(const std::vector<double>& x, bool f32);
+// *bits (when given) receives the kept predictor's sum.
+int choose_float_predictor(const std::vector<double>& x, bool f32, uint64_t* bits = nullptr);
 // The summed bit lengths of the residuals of predictors 0 and 1 that choose_float_predictor
 // compares (f32: every x is a float32 value).
 void float_predictor_costs(const std::vector<double>& x, bool f32, uint64_t cost[2]);
-// Stops, returning false, once enc->bytes_out() reaches `limit` (checked every 1024 samples).
+// Stops, returning false, once enc->bytes_out() reaches `limit` (checked every kTrialCheck
+// samples).
 bool encode_float_channel(const std::vector<double>& x, bool f32, int predictor,
                           IntEncoder::Cursor* enc, size_t limit = SIZE_MAX);
 // Decodes n samples into x (resized to n).

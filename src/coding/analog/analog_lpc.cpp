@@ -18,21 +18,24 @@ Lanes load(const double* p) {
   return v;
 }
 
-// The Tukey(0.5) window of n samples: each end tapers over a quarter. Blocks mostly share one
-// length, so the last window computed is kept (per thread).
+// The Tukey(0.5) window of n samples: each end tapers over a quarter. Blocks mostly share a
+// few lengths (whole blocks, a window's last block), so the last four windows computed are
+// kept (per thread), the oldest replaced first.
 const std::vector<double>& tukey(size_t n) {
-  thread_local std::vector<double> g;
-  thread_local size_t g_n = 0;
-  if (g_n != n || g.size() != n) {
-    g.resize(n);
-    const double taper = 0.25 * static_cast<double>(n);
-    for (size_t i = 0; i < n; ++i) {
-      const double d = std::min<double>(static_cast<double>(i), static_cast<double>(n - 1 - i));
-      g[i] = d < taper ? 0.5 - 0.5 * std::cos(M_PI * (d + 0.5) / taper) : 1.0;
-    }
-    g_n = n;
+  constexpr int kKept = 4;
+  thread_local std::vector<double> g[kKept];
+  thread_local size_t next = 0;
+  for (const std::vector<double>& w : g)
+    if (w.size() == n && n > 0) return w;
+  std::vector<double>& w = g[next];
+  next = (next + 1) % kKept;
+  w.resize(n);
+  const double taper = 0.25 * static_cast<double>(n);
+  for (size_t i = 0; i < n; ++i) {
+    const double d = std::min<double>(static_cast<double>(i), static_cast<double>(n - 1 - i));
+    w[i] = d < taper ? 0.5 - 0.5 * std::cos(M_PI * (d + 0.5) / taper) : 1.0;
   }
-  return g;
+  return w;
 }
 
 }  // namespace
@@ -42,14 +45,17 @@ std::vector<double> autocorrelation(const int32_t* x, size_t n, int max_lag) {
   // two-lane load at wr + n - 1 - i + k is (w[i - k], w[i - k - 1]): lags k and k + 1 side by
   // side. Each lag's sum still adds w[i] w[i - k] for i = k, k + 1, ... in order (the zeros
   // before a lag's first term add +-0 to a +0 sum), so every r[k] is bit for bit the plain
-  // loop's; sixteen lags run at once (a last single lag alone).
+  // loop's. Each lag's sum is one chain of dependent additions, so a pass costs about n
+  // addition latencies however many lags it carries (up to the adder's throughput): sixteen
+  // lags a pass, and a group's one or two leftover lags (order 32 has 33) ride along in the
+  // pass before as a ninth lane pair.
   constexpr int kGroup = 16;
   const std::vector<double>& g = tukey(n);
-  std::vector<double> wr(n + kGroup, 0.0);
+  std::vector<double> wr(n + kGroup + 2, 0.0);
   for (size_t i = 0; i < n; ++i) wr[n - 1 - i] = g[i] * x[i];
   std::vector<double> r(static_cast<size_t>(max_lag) + 1, 0.0);
   for (int k0 = 0; k0 <= max_lag; k0 += kGroup) {
-    const int lanes = std::min(kGroup, max_lag + 1 - k0);
+    int lanes = std::min(kGroup, max_lag + 1 - k0);
     const double* base = wr.data() + n - 1 + k0;
     if (lanes == 1) {
       double a = 0;
@@ -57,7 +63,18 @@ std::vector<double> autocorrelation(const int32_t* x, size_t n, int max_lag) {
       r[k0] = a;
       continue;
     }
-    Lanes a[kGroup / 2] = {};
+    Lanes a[kGroup / 2 + 1] = {};
+    if (lanes == kGroup && max_lag + 1 - k0 <= kGroup + 2 && max_lag + 1 - k0 > kGroup) {
+      // The last one or two lags join this pass: their terms for i < k0 + 16 read zeros.
+      lanes = max_lag + 1 - k0;
+      for (size_t i = static_cast<size_t>(k0); i < n; ++i) {
+        const double wi = wr[n - 1 - i];
+        const double* p = base - i;
+        for (int l = 0; l < kGroup / 2 + 1; ++l) a[l] += wi * load(p + 2 * l);
+      }
+      for (int l = 0; l < lanes; ++l) r[k0 + l] = a[l / 2][l % 2];
+      break;
+    }
     if (lanes > 8) {
       for (size_t i = static_cast<size_t>(k0); i < n; ++i) {
         const double wi = wr[n - 1 - i];

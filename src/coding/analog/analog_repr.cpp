@@ -8,6 +8,7 @@
 #include "capz/error.h"
 #include "coding/analog/analog_lpc.h"
 #include "coding/analog/analog_repeat.h"
+#include "coding/analog/analog_round.h"
 #include "coding/entropy.h"
 
 namespace capz {
@@ -22,18 +23,6 @@ namespace {
 
 constexpr uint64_t kNegZero = uint64_t{1} << 63;
 
-// std::round (halves away from zero, sign of zero kept) without the library call or a branch
-// on the fraction; exact. For 0 <= x < 2^52, x + h (h = 1/2 - 2^-54, the double below 1/2)
-// rounds to a double in [floor(x), floor(x) + 1) when frac(x) < 1/2 (the sum stays at least
-// ulp(x) + 2^-54 below floor(x) + 1, and doubles there are ulp(x) apart), and to one in
-// [floor(x) + 1, floor(x) + 1.5] otherwise (frac = 1/2 gives floor(x) + 1 - 2^-54, nearer
-// floor(x) + 1, or a tie at x = 1/2 that goes to the even 1): truncation gives floor(x + 1/2).
-// Negative x by symmetry.
-inline double round_half_away(double x) {
-  if (!(std::fabs(x) < 4503599627370496.0)) return std::round(x);  // 2^52: integral, NaN, Inf
-  const double s = x + std::copysign(0.49999999999999994, x);
-  return std::copysign(static_cast<double>(static_cast<int64_t>(s)), x);
-}
 constexpr int64_t kMaxScaledK = int64_t{1} << 24;
 
 // R(k * s + o): the scaled representation's reconstruction (this file is built with
@@ -91,8 +80,9 @@ bool fit_scaled(const std::vector<double>& v, double s, double o, bool f32, size
   r->ints.resize(n);
   r->exc_index.clear();
   r->exc_delta.clear();
+  const QuotientRounder round_quotient(s);
   for (size_t i = 0; i < n; ++i) {
-    const double kd = round_half_away((v[i] - o) / s);
+    const double kd = round_quotient(v[i] - o);
     if (!(std::fabs(kd) <= static_cast<double>(kMaxScaledK))) return false;
     const int64_t k = static_cast<int64_t>(kd);
     r->ints[i] = static_cast<int32_t>(k);
@@ -115,8 +105,9 @@ void refine_fit(const std::vector<double>& v, double* s, double* o) {
   const size_t n = v.size();
   std::vector<double> k(n);
   double kbar = 0, vbar = 0;
+  const QuotientRounder round_quotient(*s);
   for (size_t i = 0; i < n; ++i) {
-    k[i] = round_half_away((v[i] - *o) / *s);
+    k[i] = round_quotient(v[i] - *o);
     kbar += k[i];
     vbar += v[i];
   }
@@ -284,14 +275,65 @@ bool all_integers(const std::vector<double>& v) {
 }
 
 // Sorts *keys and drops repeats (as std::sort and std::unique would); (*ranks)[i] receives the
-// position of the i-th original key in the result. LSD radix sort on bytes, stable, skipping
-// the bytes that are the same in every key (the low bytes of float32 values as doubles).
+// position of the i-th original key in the result. LSD radix sort, stable, on the bits that
+// are not the same in every key: when those bits and the index fit one 64-bit word together,
+// each key is packed as (its varying bits, its index) and sorted alone in digits of up to 11
+// bits; else keys and indices move side by side, a byte a pass. Keys equal in their varying
+// bits are equal, so either way equal keys end up adjacent and share a rank.
 void sort_unique(std::vector<uint64_t>* keys, std::vector<int32_t>* ranks) {
   const size_t n = keys->size();
+  uint64_t diff = 0;
+  for (size_t i = 1; i < n; ++i) diff |= (*keys)[i] ^ (*keys)[0];
+  const int ibits = n > 1 ? 64 - __builtin_clzll(static_cast<uint64_t>(n - 1)) : 0;
+  ranks->resize(n);
+  // Keys of float32 values (ordered double patterns, whose low bits are all ones for negative
+  // values) sort as their 32-bit ordered float patterns: the same order, one to one.
+  std::vector<uint64_t> f32_keys;
+  const std::vector<uint64_t>* sk = keys;
+  if (diff && 64 - __builtin_clzll(diff) - __builtin_ctzll(diff) + ibits > 64) {
+    f32_keys.resize(n);
+    bool all = true;
+    for (size_t i = 0; i < n && all; ++i) {
+      const double v = from_bits(from_ordered_bits((*keys)[i]));
+      all = is_float32(v);
+      f32_keys[i] = ordered_f32(v);
+    }
+    if (all) {
+      sk = &f32_keys;
+      diff = 0;
+      for (size_t i = 1; i < n; ++i) diff |= f32_keys[i] ^ f32_keys[0];
+    }
+  }
+  const int lo = diff ? __builtin_ctzll(diff) : 0;
+  const int width = diff ? 64 - __builtin_clzll(diff) - lo : 0;
+  if (width + ibits <= 64) {
+    const uint64_t vmask = width == 64 ? ~uint64_t{0} : (uint64_t{1} << width) - 1;
+    const uint64_t imask = (uint64_t{1} << ibits) - 1;  // ibits < 64 here (n <= 2^32)
+    std::vector<uint64_t> a(n), b(n);
+    for (size_t i = 0; i < n; ++i) a[i] = ((((*sk)[i] >> lo) & vmask) << ibits) | i;
+    const int digit = n >= 2048 ? 11 : 8;
+    std::vector<size_t> count((size_t{1} << digit) + 1);
+    for (int sh = ibits; sh < ibits + width; sh += digit) {
+      const uint64_t dmask = (uint64_t{1} << digit) - 1;
+      std::fill(count.begin(), count.end(), 0);
+      for (size_t i = 0; i < n; ++i) ++count[((a[i] >> sh) & dmask) + 1];
+      for (size_t k = 0; k + 1 < count.size(); ++k) count[k + 1] += count[k];
+      for (size_t i = 0; i < n; ++i) b[count[(a[i] >> sh) & dmask]++] = a[i];
+      a.swap(b);
+    }
+    std::vector<uint64_t> orig;
+    orig.swap(*keys);
+    for (size_t j = 0; j < n; ++j) {
+      const size_t i = static_cast<size_t>(a[j] & imask);
+      if (keys->empty() || keys->back() != orig[i]) keys->push_back(orig[i]);
+      (*ranks)[i] = static_cast<int32_t>(keys->size() - 1);
+    }
+    return;
+  }
   std::vector<uint64_t> a = *keys, b(n);
   std::vector<uint32_t> ia(n), ib(n);
   for (size_t i = 0; i < n; ++i) ia[i] = static_cast<uint32_t>(i);
-  uint64_t diff = 0;
+  diff = 0;
   for (size_t i = 1; i < n; ++i) diff |= a[i] ^ a[0];
   for (int d = 0; d < 8; ++d) {
     const int sh = 8 * d;
@@ -307,7 +349,6 @@ void sort_unique(std::vector<uint64_t>* keys, std::vector<int32_t>* ranks) {
     a.swap(b);
     ia.swap(ib);
   }
-  ranks->resize(n);
   keys->clear();
   for (size_t i = 0; i < n; ++i) {
     if (keys->empty() || keys->back() != a[i]) keys->push_back(a[i]);
