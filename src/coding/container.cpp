@@ -211,11 +211,14 @@ void check_header_fits(const StreamHeader& h, size_t file_size, int major,
   if (windows > file_size / kChunkOverhead)
     fail(ErrorCode::kCorrupt, name,
          "HEAD claims " + std::to_string(windows) + " windows; the file cannot hold them");
-  const double samples = static_cast<double>(h.frames) * h.points;
-  const double analog =
-      static_cast<double>(h.frames) * h.analog_samples_per_frame * h.analog_channels;
+  // No frames or no samples per frame count as one: the points, channels and segments still
+  // size the lists decode_meta fills (labels the C3D parameters give are padded to the counts).
+  auto at_least_1 = [](uint64_t v) { return static_cast<double>(std::max<uint64_t>(v, 1)); };
+  const double frames = at_least_1(h.frames);
+  const double samples = frames * h.points;
+  const double analog = frames * at_least_1(h.analog_samples_per_frame) * h.analog_channels;
   const double rotations =
-      static_cast<double>(h.frames) * h.rotation_samples_per_frame * h.rotation_segments * 17;
+      frames * at_least_1(h.rotation_samples_per_frame) * h.rotation_segments * 17;
   if (samples > static_cast<double>(file_size) * kMaxSymbolsPerByte ||
       analog >
           static_cast<double>(file_size) * static_cast<double>(analog_values_per_byte(major)) ||
