@@ -9,12 +9,11 @@
 // tools/meta_dict_eval.sh). A last line sums each column over the streams.
 #include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
 #include "capz/error.h"
+#include "capz/file.h"
 #include "coding/bytes.h"
 #include "coding/container.h"
 #include "coding/lzma_block.h"
@@ -22,12 +21,6 @@
 using namespace capz;
 
 namespace {
-
-std::vector<uint8_t> read_all(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) fail(ErrorCode::kIo, path, "cannot open");
-  return std::vector<uint8_t>((std::istreambuf_iterator<char>(f)), {});
-}
 
 // Coding 2 or 3's payload size: coding byte, [dictionary byte], varint n, the LZMA2 stream.
 size_t coded_size(const std::vector<uint8_t>& fields, LzmaPreset preset) {
@@ -45,7 +38,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> files;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--dict") && i + 1 < argc)
-      dict = read_all(argv[++i]);
+      dict = read_file(argv[++i]);
     else
       files.push_back(argv[i]);
   }
@@ -56,7 +49,7 @@ int main(int argc, char** argv) {
   uint64_t sum[5] = {};
   for (const std::string& path : files) {
     try {
-      const std::vector<uint8_t> data = read_all(path);
+      const std::vector<uint8_t> data = read_file(path);
       check_file_header(data.data(), data.size(), path);
       const int major = data[9];
       const Chunk head = read_chunk(data.data(), data.size(), file_header_bytes(major), path);

@@ -87,6 +87,10 @@ inline double round_to_float32(double y) {
   if (y < -kMax && y >= -std::numeric_limits<double>::max()) y = -kMax;
   return static_cast<double>(static_cast<float>(y));
 }
+// True when v is a float32 value (widened), bit for bit.
+inline bool is_float32(double v) {
+  return bits_of(round_to_float32(v)) == bits_of(v);
+}
 // Ordered 32-bit pattern of a float32 value v (widened to double), and back.
 inline uint32_t ordered_f32(double v) {
   const float f = static_cast<float>(v);

@@ -1,0 +1,164 @@
+#include "coding/analog/analog_table.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "capz/error.h"
+#include "coding/analog/analog_repr.h"
+#include "coding/entropy.h"
+
+namespace capz {
+namespace analog {
+
+namespace {
+
+// A table's entries in the table's ordered space: 32-bit float patterns when f32, else 64-bit.
+uint64_t table_ordered(double v, bool f32) {
+  return f32 ? ordered_f32(v) : ordered_bits(bits_of(v));
+}
+double from_table_ordered(uint64_t o, bool f32) {
+  return f32 ? from_ordered_f32(static_cast<uint32_t>(o)) : from_bits(from_ordered_bits(o));
+}
+// The lattice prediction of an entry from the previous one (FORMAT.md 8.2): prev + m * step in
+// binary64, two separate operations, rounded to float32 for a float32 table.
+double lattice_next(double prev, uint32_t m, double step, bool f32) {
+  const double d = static_cast<double>(m) * step;
+  const double p = prev + d;
+  return f32 ? round_to_float32(p) : p;
+}
+
+// A value table coded against a lattice (FORMAT.md 8.2): the step, the first entry, then an
+// entropy-coded block of each later entry's (m, d). Empty when some entry does not fit (d or
+// the prediction out of range). The step: a least-squares line through the entries at
+// k = round((v - v0) / smallest gap).
+std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32) {
+  if (t.size() < 2) return {};
+  double gap = 0;
+  for (size_t i = 1; i < t.size(); ++i) {
+    const double g = t[i] - t[i - 1];
+    if (g > 0 && (gap == 0 || g < gap)) gap = g;
+  }
+  if (!(gap > 0) || !std::isfinite(gap)) return {};
+  double kbar = 0, vbar = 0;
+  std::vector<double> k(t.size());
+  for (size_t i = 0; i < t.size(); ++i) {
+    k[i] = std::round((t[i] - t[0]) / gap);
+    kbar += k[i];
+    vbar += t[i];
+  }
+  kbar /= static_cast<double>(t.size());
+  vbar /= static_cast<double>(t.size());
+  double skv = 0, skk = 0;
+  for (size_t i = 0; i < t.size(); ++i) {
+    skv += (k[i] - kbar) * (t[i] - vbar);
+    skk += (k[i] - kbar) * (k[i] - kbar);
+  }
+  const double step = skk > 0 ? skv / skk : gap;
+  if (!(step > 0) || !std::isfinite(step)) return {};
+  IntEncoder enc(2);
+  for (size_t i = 1; i < t.size(); ++i) {
+    const double q = std::round((t[i] - t[i - 1]) / step);
+    const uint32_t m = q > 0 && q < 1e9 ? static_cast<uint32_t>(q) : 0;
+    const double p = lattice_next(t[i - 1], m, step, f32);
+    if (!std::isfinite(p)) return {};
+    const int64_t d = static_cast<int64_t>(table_ordered(t[i], f32) - table_ordered(p, f32));
+    if (d >= (int64_t{1} << 30) || d <= -(int64_t{1} << 30)) return {};
+    enc.put(m, 0);
+    enc.put_signed(static_cast<int32_t>(d), 1);
+  }
+  const std::vector<uint8_t> block = enc.finish();
+  ByteWriter w;
+  w.f64(step);
+  w.u64(table_ordered(t[0], f32));
+  w.varint(block.size());
+  w.bytes(block);
+  return std::move(w.buffer());
+}
+
+// A value table coded against a lattice (FORMAT.md 8.2), m entries (at most n, the channel's
+// samples), each above the previous in the table's ordered space.
+void read_lattice_table(ByteReader* in, uint64_t m, size_t n, bool f32,
+                        std::vector<double>* table) {
+  if (m < 2 || m > n)
+    throw Error(ErrorCode::kCorrupt, in->what() + ": bad analog lattice table size");
+  const double step = in->f64();
+  if (!(step > 0) || !std::isfinite(step))
+    throw Error(ErrorCode::kCorrupt, in->what() + ": bad analog lattice step");
+  uint64_t prev = in->u64();
+  if (f32 && prev > 0xFFFFFFFFu)
+    throw Error(ErrorCode::kCorrupt, in->what() + ": analog float32 table entry out of range");
+  const uint64_t size = in->count(1, "analog lattice table block");
+  const uint8_t* block = in->bytes(static_cast<size_t>(size));
+  IntDecoder dec(block, static_cast<size_t>(size), 2, in->what());
+  table->reserve(static_cast<size_t>(m));
+  table->push_back(from_table_ordered(prev, f32));
+  for (uint64_t i = 1; i < m; ++i) {
+    const uint32_t k = dec.get(0);
+    const int32_t d = dec.get_signed(1);
+    const double p = lattice_next(table->back(), k, step, f32);
+    if (!std::isfinite(p))
+      throw Error(ErrorCode::kCorrupt, in->what() + ": analog lattice prediction not finite");
+    const uint64_t o = table_ordered(p, f32) + static_cast<uint64_t>(static_cast<int64_t>(d));
+    if (f32 ? (o > 0xFFFFFFFFu || o <= prev) : (o <= prev))
+      throw Error(ErrorCode::kCorrupt,
+                  in->what() + ": analog lattice table entries not increasing");
+    table->push_back(from_table_ordered(o, f32));
+    prev = o;
+  }
+  if (!dec.at_end())
+    throw Error(ErrorCode::kCorrupt, in->what() + ": analog lattice table has bytes left over");
+}
+
+}  // namespace
+
+void write_value_table(const std::vector<double>& table, bool lattice_tables, ByteWriter* w) {
+  w->varint(table.size());
+  const bool f32 = std::all_of(table.begin(), table.end(), is_float32);
+  // The entries as gaps of their ordered patterns; in 8.x streams the lattice coding instead
+  // when it is smaller (FORMAT.md 8.2).
+  ByteWriter plain;
+  uint64_t prev = 0;
+  for (size_t i = 0; i < table.size(); ++i) {
+    const uint64_t o = table_ordered(table[i], f32);
+    if (i == 0)
+      plain.u64(o);
+    else
+      plain.varint(o - prev - 1);
+    prev = o;
+  }
+  const std::vector<uint8_t> lat =
+      lattice_tables ? lattice_table(table, f32) : std::vector<uint8_t>();
+  const bool use_lattice = !lat.empty() && lat.size() < plain.size();
+  w->u8(static_cast<uint8_t>((f32 ? 1 : 0) | (use_lattice ? 2 : 0)));
+  w->bytes(use_lattice ? lat : plain.buffer());
+}
+
+std::vector<double> read_value_table(ByteReader* in, size_t n, bool lattice_tables) {
+  const uint64_t m = in->varint();
+  if (m == 0) throw Error(ErrorCode::kCorrupt, in->what() + ": empty analog value table");
+  const int flag = in->u8();
+  if (flag > (lattice_tables ? 3 : 1))
+    throw Error(ErrorCode::kCorrupt, in->what() + ": bad analog table flag");
+  const bool f32 = flag & 1;
+  std::vector<double> table;
+  if (flag & 2) {
+    read_lattice_table(in, m, n, f32, &table);
+    return table;
+  }
+  if (m > in->remaining())
+    throw Error(ErrorCode::kCorrupt,
+                in->what() + ": analog value table cannot fit in the bytes left");
+  uint64_t prev = 0;
+  for (uint64_t i = 0; i < m; ++i) {
+    const uint64_t o = i == 0 ? in->u64() : prev + in->varint() + 1;
+    if (f32 && o > 0xFFFFFFFFu)
+      throw Error(ErrorCode::kCorrupt, in->what() + ": analog float32 table entry out of range");
+    table.push_back(from_table_ordered(o, f32));
+    prev = o;
+  }
+  return table;
+}
+
+}  // namespace analog
+}  // namespace capz
