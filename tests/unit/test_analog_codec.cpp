@@ -74,6 +74,33 @@ TEST(AnalogCodec, GivenUnsignedCountsWhenCodedThenExact) {
   round_trip(v, 1);
 }
 
+// EMG counts stored times 20 (btkdata ADemo1, Codamotion 1997): integers whose distances share
+// a step. They are coded as kScaled with that step and the offset below it, exactly, and in
+// fewer bytes than the same integers with an odd one among them (step 1, kInt).
+TEST(AnalogCodec, GivenIntegersSharingAStepWhenCodedThenScaledByTheStepExactAndSmaller) {
+  std::vector<double> v = sine(4000, 300, 20, -7, 4);  // -7 + 20 k: negative and positive
+  EXPECT_EQ(kind_of(v), Kind::kScaled);
+  const analog::ChannelRepr r = analog::choose_representation(v.data(), 1, v.size(), {});
+  EXPECT_EQ(r.step, 20.0);
+  EXPECT_EQ(r.offset, 13.0);  // -7 mod 20
+  EXPECT_TRUE(r.exc_index.empty());
+  double step = 0, offset = 0;
+  ASSERT_TRUE(analog::sample_lattice(v.data(), 1, v.size(), {}, &step, &offset));
+  EXPECT_EQ(step, 20.0);
+  EXPECT_EQ(offset, 13.0);
+  const size_t scaled = round_trip(v, 1);
+  std::vector<double> odd = v;
+  odd[2000] += 1;  // the common step is now 1
+  EXPECT_EQ(kind_of(odd), Kind::kInt);
+  const size_t plain = round_trip(odd, 1);
+  EXPECT_LT(static_cast<double>(scaled), 0.8 * static_cast<double>(plain));
+  // Large counts (beyond float32's exact integers) with a step, and a step of 2^20.
+  std::vector<double> big = sine(3000, 100, 6, (1 << 26) + 1, 5), wide(500);
+  for (size_t i = 0; i < wide.size(); ++i) wide[i] = static_cast<double>(i % 7) * (1 << 20) - 3;
+  round_trip(big, 1);
+  round_trip(wide, 1);
+}
+
 TEST(AnalogCodec, GivenScaledFloat32CountsWhenCodedThenScaledKind) {
   const double step = 0.0048828125 * 1.1;  // not a power of two
   std::vector<double> v = sine(4000, 200, step, 0.37, 3);

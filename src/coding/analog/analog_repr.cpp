@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <numeric>
 
 #include "capz/error.h"
 #include "coding/analog/analog_lpc.h"
@@ -371,6 +372,23 @@ bool all_float32(const std::vector<double>& v) {
   return true;
 }
 
+// The integers' common step: the greatest common divisor g of their distances from the first
+// (0 when all are equal), and the offset o = v[0] mod g in [0, g), so that every v == o + k g.
+// Stops at g = 1, which most channels reach within a few samples.
+uint64_t integer_step(const std::vector<double>& v, double* offset) {
+  uint64_t g = 0;
+  const int64_t v0 = static_cast<int64_t>(v.empty() ? 0.0 : v[0]);
+  for (size_t i = 1; i < v.size() && g != 1; ++i) {
+    const int64_t d = static_cast<int64_t>(v[i]) - v0;
+    g = std::gcd(g, static_cast<uint64_t>(d < 0 ? -d : d));
+  }
+  if (g > 1) {
+    const int64_t gi = static_cast<int64_t>(g);
+    *offset = static_cast<double>(((v0 % gi) + gi) % gi);
+  }
+  return g;
+}
+
 }  // namespace
 
 bool sample_lattice(const double* col, size_t stride, size_t n, const ChannelHint& hint,
@@ -379,8 +397,10 @@ bool sample_lattice(const double* col, size_t stride, size_t n, const ChannelHin
   const std::vector<double> v = fill_gaps(col, stride, n, &r);
   if (n < 2) return false;
   if (all_integers(v)) {
-    *step = 1;
-    *offset = 0;
+    double o = 0;
+    const uint64_t g = integer_step(v, &o);
+    *step = g > 1 ? static_cast<double>(g) : 1.0;
+    *offset = g > 1 ? o : 0.0;
     return true;
   }
   std::vector<uint64_t> ord;
@@ -412,10 +432,21 @@ std::vector<ChannelRepr> candidate_representations(const double* col, size_t str
     }
   }
   if (all_integers(v)) {
+    // Integers that share a step g > 1 (EMG counts stored times 20, say) are also offered as
+    // kScaled with step g, whose k are g times smaller; the window codec keeps the smaller.
+    std::vector<ChannelRepr> out;
+    double o = 0;
+    const uint64_t g = integer_step(v, &o);
+    ChannelRepr scaled = r;
+    if (g > 1 && fit_scaled(v, static_cast<double>(g), o, all_float32(v), 0, &scaled)) {
+      scaled.kind = Kind::kScaled;
+      out.push_back(std::move(scaled));
+    }
     r.kind = Kind::kInt;
     r.ints.resize(n);
     for (size_t i = 0; i < n; ++i) r.ints[i] = static_cast<int32_t>(v[i]);
-    return {r};
+    out.push_back(std::move(r));
+    return out;
   }
   bool f32 = true;
   for (size_t i = 0; i < n && f32; ++i) f32 = is_float32(v[i]);

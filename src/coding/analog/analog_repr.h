@@ -108,14 +108,16 @@ inline double from_ordered_f32(uint32_t o) {
 double apply_ordered_delta(double v, int64_t d, bool f32);
 
 // The representations worth trying for samples col[0], col[stride], ... (n of them), the
-// preferred one first: a single one for kConst and kInt; else kScaled when a fit exists, kRank
-// when the table is small enough, and always the float kind (the window codec codes each and
-// keeps the smallest).
+// preferred one first: a single one for kConst; for integers kScaled (step the integers'
+// greatest common step, when above 1) and kInt; else kScaled when a fit exists, kRank when the
+// table is small enough, and always the float kind (the window codec codes each and keeps the
+// smallest).
 std::vector<ChannelRepr> candidate_representations(const double* col, size_t stride, size_t n,
                                                    const ChannelHint& hint);
-// The lattice the lossless coder finds for the samples (gaps skipped): step 1 and offset 0 for
-// integers, else the step and offset of the scaled fit (kScaled) when there is one. False when
-// the samples are on no lattice (or constant).
+// The lattice the lossless coder finds for the samples (gaps skipped): for integers their
+// greatest common step and the offset below it (step 1 and offset 0 when that step is 1), else
+// the step and offset of the scaled fit (kScaled) when there is one. False when the samples are
+// on no lattice (or constant).
 bool sample_lattice(const double* col, size_t stride, size_t n, const ChannelHint& hint,
                     double* step, double* offset);
 // The first of candidate_representations.
