@@ -87,6 +87,23 @@ TEST(AnalogLattice, GivenNearLatticeFloat32TableWhenCodedThenFlagBit1SmallerAndE
   expect_same_table(read(plain, x.size(), true), r);  // 8.x reads the gaps too
 }
 
+// PiG's float32 EMG tables: one pair of entries a few float32 units apart, off the lattice, makes
+// the smallest gap thousands of times smaller than the step. The table is still coded against
+// the real step: about as small as without that entry, and exact.
+TEST(AnalogLattice, GivenTwoEntriesAFewUnitsApartThenTheLatticeOfTheMedianGapAndExact) {
+  const std::vector<double> x = float32_volts(2000, 3);
+  std::vector<double> odd = x;
+  float near = static_cast<float>(odd[700]);
+  for (int u = 0; u < 15; ++u) near = std::nextafter(near, 10.0f);
+  odd[1500] = near;  // a new entry 15 units above an existing one
+  const ChannelRepr r = rank_of(x), ro = rank_of(odd);
+  ASSERT_EQ(ro.table.size(), r.table.size() + 1);
+  const std::vector<uint8_t> lat = header(r, true), lat_odd = header(ro, true);
+  EXPECT_EQ(flag_of(lat_odd), 3);
+  EXPECT_LT(lat_odd.size(), lat.size() + 16);
+  expect_same_table(read(lat_odd, odd.size(), true), ro);
+}
+
 TEST(AnalogLattice, GivenDoubleTableWhenCodedThenExact) {
   std::vector<double> x(500);
   for (size_t i = 0; i < x.size(); ++i) x[i] = 0.1 * static_cast<double>(i % 97) + 1e-3;

@@ -31,14 +31,8 @@ double lattice_next(double prev, uint32_t m, double step, bool f32) {
 // A value table coded against a lattice (FORMAT.md 8.2): the step, the first entry, then an
 // entropy-coded block of each later entry's (m, d). Empty when some entry does not fit (d or
 // the prediction out of range). The step: a least-squares line through the entries at
-// k = round((v - v0) / smallest gap).
-std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32) {
-  if (t.size() < 2) return {};
-  double gap = 0;
-  for (size_t i = 1; i < t.size(); ++i) {
-    const double g = t[i] - t[i - 1];
-    if (g > 0 && (gap == 0 || g < gap)) gap = g;
-  }
+// k = round((v - v0) / gap).
+std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32, double gap) {
   if (!(gap > 0) || !std::isfinite(gap)) return {};
   double kbar = 0, vbar = 0;
   std::vector<double> k(t.size());
@@ -74,6 +68,31 @@ std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32) {
   w.varint(block.size());
   w.bytes(block);
   return std::move(w.buffer());
+}
+
+// The smaller of the lattice codings from the smallest gap between entries and from the
+// smallest gap of at least half the median gap (they differ when two entries lie a few units
+// apart off the lattice, as in PiG's float32 EMG tables, whose smallest gap is 1/5000 of the
+// step: a lattice of that gap codes every entry as thousands of steps).
+std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32) {
+  if (t.size() < 2) return {};
+  std::vector<double> gaps;
+  gaps.reserve(t.size() - 1);
+  for (size_t i = 1; i < t.size(); ++i)
+    if (t[i] - t[i - 1] > 0) gaps.push_back(t[i] - t[i - 1]);
+  if (gaps.empty()) return {};
+  const double smallest = *std::min_element(gaps.begin(), gaps.end());
+  std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
+  const double half_median = gaps[gaps.size() / 2] / 2;
+  double robust = 0;
+  for (double g : gaps)
+    if (g >= half_median && (robust == 0 || g < robust)) robust = g;
+  std::vector<uint8_t> best = lattice_table(t, f32, smallest);
+  if (robust > smallest) {
+    std::vector<uint8_t> other = lattice_table(t, f32, robust);
+    if (!other.empty() && (best.empty() || other.size() < best.size())) best = std::move(other);
+  }
+  return best;
 }
 
 // A value table coded against a lattice (FORMAT.md 8.2), m entries (at most n, the channel's
