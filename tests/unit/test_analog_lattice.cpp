@@ -104,6 +104,25 @@ TEST(AnalogLattice, GivenTwoEntriesAFewUnitsApartThenTheLatticeOfTheMedianGapAnd
   expect_same_table(read(lat_odd, odd.size(), true), ro);
 }
 
+// An entry next to zero after one a little off the lattice: the nearest number of steps predicts
+// it on the other side of zero, over 2^30 float32 patterns away, so the coder takes one step
+// more and the table is still coded against the lattice, exactly.
+TEST(AnalogLattice, GivenAnEntryNextToZeroPredictedAcrossZeroThenStillTheLatticeAndExact) {
+  const double s = 20.0 / 65535.0 / 4000.0;
+  std::vector<double> x;
+  for (int j = -200; j <= 200; ++j) x.push_back(static_cast<float>(j * s));
+  x[199] = static_cast<float>(-s - 1e-9);  // j = -1, 1.3% of a step off
+  x[200] = std::ldexp(1.0, -60);           // j = 0, just above zero
+  for (int rep = 0; rep < 3; ++rep)
+    for (size_t i = 0; i < 401; ++i) x.push_back(x[i]);  // every value a few times
+  const ChannelRepr r = rank_of(x);
+  ASSERT_EQ(r.table.size(), 401u);
+  const std::vector<uint8_t> lat = header(r, true);
+  EXPECT_EQ(flag_of(lat), 3);
+  EXPECT_LT(lat.size() * 2, header(r, false).size());
+  expect_same_table(read(lat, x.size(), true), r);
+}
+
 TEST(AnalogLattice, GivenDoubleTableWhenCodedThenExact) {
   std::vector<double> x(500);
   for (size_t i = 0; i < x.size(); ++i) x[i] = 0.1 * static_cast<double>(i % 97) + 1e-3;

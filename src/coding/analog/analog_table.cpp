@@ -53,11 +53,26 @@ std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32, doubl
   IntEncoder enc(2);
   for (size_t i = 1; i < t.size(); ++i) {
     const double q = std::round((t[i] - t[i - 1]) / step);
-    const uint32_t m = q > 0 && q < 1e9 ? static_cast<uint32_t>(q) : 0;
-    const double p = lattice_next(t[i - 1], m, step, f32);
-    if (!std::isfinite(p)) return {};
-    const int64_t d = static_cast<int64_t>(table_ordered(t[i], f32) - table_ordered(p, f32));
-    if (d >= (int64_t{1} << 30) || d <= -(int64_t{1} << 30)) return {};
+    const uint32_t m0 = q > 0 && q < 1e9 ? static_cast<uint32_t>(q) : 0;
+    // The nearest number of steps, or one either side when that leaves a smaller error in the
+    // ordered space: next to zero, where float32 patterns are dense, the nearest can land on the
+    // other side of zero, billions of patterns away.
+    uint32_t m = m0;
+    int64_t d = 0;
+    uint64_t best = UINT64_MAX;
+    for (uint32_t mm : {m0, m0 + 1, m0 - 1}) {
+      if (mm == UINT32_MAX) continue;  // m0 - 1 of m0 = 0
+      const double p = lattice_next(t[i - 1], mm, step, f32);
+      if (!std::isfinite(p)) continue;
+      const int64_t dd = static_cast<int64_t>(table_ordered(t[i], f32) - table_ordered(p, f32));
+      const uint64_t a = dd < 0 ? 0 - static_cast<uint64_t>(dd) : static_cast<uint64_t>(dd);
+      if (a < best) {
+        best = a;
+        m = mm;
+        d = dd;
+      }
+    }
+    if (best >= (uint64_t{1} << 30)) return {};
     enc.put(m, 0);
     enc.put_signed(static_cast<int32_t>(d), 1);
   }
@@ -70,10 +85,11 @@ std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32, doubl
   return std::move(w.buffer());
 }
 
-// The smaller of the lattice codings from the smallest gap between entries and from the
-// smallest gap of at least half the median gap (they differ when two entries lie a few units
-// apart off the lattice, as in PiG's float32 EMG tables, whose smallest gap is 1/5000 of the
-// step: a lattice of that gap codes every entry as thousands of steps).
+// The smallest of the lattice codings from three gaps between entries: the smallest, the median,
+// and the smallest of at least half the median. They differ when entries lie off the lattice:
+// in PiG's float32 EMG tables two entries are 15 float32 units apart (1/5000 of the step) and
+// others a fraction of a step off, so only the median gap is the step; a lattice of the smallest
+// gap codes every entry as thousands of steps, 4-5 times the bytes.
 std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32) {
   if (t.size() < 2) return {};
   std::vector<double> gaps;
@@ -83,14 +99,17 @@ std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32) {
   if (gaps.empty()) return {};
   const double smallest = *std::min_element(gaps.begin(), gaps.end());
   std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
-  const double half_median = gaps[gaps.size() / 2] / 2;
-  double robust = 0;
+  const double median = gaps[gaps.size() / 2];
+  double robust = median;
   for (double g : gaps)
-    if (g >= half_median && (robust == 0 || g < robust)) robust = g;
-  std::vector<uint8_t> best = lattice_table(t, f32, smallest);
-  if (robust > smallest) {
-    std::vector<uint8_t> other = lattice_table(t, f32, robust);
-    if (!other.empty() && (best.empty() || other.size() < best.size())) best = std::move(other);
+    if (g >= median / 2 && g < robust) robust = g;
+  std::vector<double> tries = {smallest};
+  if (median != smallest) tries.push_back(median);
+  if (robust != smallest && robust != median) tries.push_back(robust);
+  std::vector<uint8_t> best;
+  for (double g : tries) {
+    std::vector<uint8_t> c = lattice_table(t, f32, g);
+    if (!c.empty() && (best.empty() || c.size() < best.size())) best = std::move(c);
   }
   return best;
 }
