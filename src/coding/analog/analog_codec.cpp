@@ -116,7 +116,9 @@ struct IntPlan {
   uint64_t bits = 0;        // their summed bit lengths (a guess of the coded size)
 };
 
-// Four pipelines (reference or not, cascade or not), kept by the summed bit lengths.
+// Four pipelines (reference or not, cascade or not); the one kept has the smallest order-0
+// entropy of its tokens (token_cost_bits). The summed bit lengths, a cruder guess that often
+// picked the cascade where it turned exact zeros into +-1, stay the plan's estimate.
 void plan_int_channel(const std::vector<int32_t>& x,
                       const std::vector<const std::vector<int32_t>*>& refs,
                       const std::vector<double>& ref_energy, IntPlan* plan) {
@@ -134,9 +136,13 @@ void plan_int_channel(const std::vector<int32_t>& x,
   const auto plain_cost = cascade_stage(r1, &plain_lms);
   const auto ref_cost = cross.distance ? cascade_stage(with_ref, &ref_lms) : plain_cost;
   const uint64_t costs[4] = {plain_cost.first, plain_cost.second, ref_cost.first, ref_cost.second};
+  const std::vector<int32_t>* res[4] = {&r1, &plain_lms, &with_ref, &ref_lms};
+  double tok[4];
   int best = 0;
-  for (int k = 1; k < (cross.distance ? 4 : 2); ++k)
-    if (costs[k] < costs[best]) best = k;
+  for (int k = 0; k < (cross.distance ? 4 : 2); ++k) {
+    tok[k] = analog::token_cost_bits(res[k]->data(), res[k]->size());
+    if (tok[k] < tok[best]) best = k;
+  }
   plan->bits = costs[best];
   plan->cascade = best & 1;
   if (best < 2) cross = analog::CrossParams();
