@@ -6,7 +6,8 @@
 //   (or a scaled integer) that fits int16.
 // Speed is MB/s of raw float32 samples (4 bytes a sample), single thread, best of 3.
 //
-//   capz_analog_bench [--window ROWS] [--no-peers] [--whole-frames] [--repeats] [--before8]
+//   capz_analog_bench [--window ROWS] [--no-peers] [--whole-frames] [--repeats] [--as-stream]
+//                     [--before8]
 //                     FILE.c3d...
 //   capz_analog_bench --per-channel [--window ROWS] [--no-peers] FILE.c3d...
 //
@@ -16,6 +17,9 @@
 // differences, the LPC residual of choose_lpc per 4096-sample block, and that residual after
 // the sign-LMS cascade), and flac -8, wavpack -hhx6 and xz -9e of the channel alone (int16
 // when it fits, else xz of its float32 samples).
+// --as-stream codes each take as `capz compress` does at the defaults: windows of
+// auto_window_frames(points) point frames (1024 to 8192, codec.h) and repeat lists only when the
+// encoder's scan asks for them; the figures a user of the CLI gets.
 // --whole-frames rounds each window down to whole point frames of the take (at least one);
 // --repeats does too and codes as a 7.x stream does (FORMAT.md 7.2: channels may name repeated
 // analog frames), so the two compare the repeat lists alone. Windows are coded as in an 8.x
@@ -31,11 +35,13 @@
 #include <string>
 #include <vector>
 
+#include "capz/codec.h"
 #include "capz/io.h"
 #include "capz/take.h"
 #include "coding/analog/analog_cascade.h"
 #include "coding/analog/analog_codec.h"
 #include "coding/analog/analog_lpc.h"
+#include "coding/analog/analog_repeat.h"
 #include "coding/entropy.h"
 
 using namespace capz;
@@ -314,7 +320,7 @@ size_t per_channel(const std::string& name, const Take& t, const AnalogHints& h,
 
 int main(int argc, char** argv) {
   size_t window = 8192;
-  bool peers = true, repeats = false, whole_frames = false, channels = false;
+  bool peers = true, repeats = false, whole_frames = false, channels = false, as_stream = false;
   std::vector<std::string> files;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--window") && i + 1 < argc)
@@ -329,6 +335,8 @@ int main(int argc, char** argv) {
       channels = true;
     else if (!std::strcmp(argv[i], "--whole-frames"))
       whole_frames = true;
+    else if (!std::strcmp(argv[i], "--as-stream"))
+      as_stream = true;
     else
       files.push_back(argv[i]);
   }
@@ -360,8 +368,21 @@ int main(int argc, char** argv) {
       continue;
     }
     const size_t S = static_cast<size_t>(std::max(t.analog.samples_per_frame, 1));
-    const Result r =
-        run_ours(t.analog, h, whole_frames ? std::max(S, window / S * S) : window, repeats ? S : 0);
+    size_t rows = whole_frames ? std::max(S, window / S * S) : window, rep_S = repeats ? S : 0;
+    if (as_stream) {
+      // As `capz compress` codes the take: windows of auto_window_frames(points) point frames,
+      // repeat lists when the encoder's scan asks for them (a channel with varying repeated
+      // frames in 10% of the take's frames, grid_choice.cpp analog_repeats_worth_7).
+      rows = auto_window_frames(t.points) * S;
+      const size_t C = static_cast<size_t>(t.analog.channels),
+                   frames = t.analog.values.size() / C / S;
+      rep_S = 0;
+      for (size_t c = 0; c < C && !rep_S; ++c) {
+        const size_t k = analog::count_varying_repeats(t.analog.values.data() + c, C, frames, S);
+        if (k >= 2 && k * 10 >= frames) rep_S = S;
+      }
+    }
+    const Result r = run_ours(t.analog, h, rows, rep_S);
     const Peers p = peers ? run_peers(t.analog, h) : Peers();
     long best = -1;
     for (long v : {p.xz, p.zstd, p.fpzip, p.flac, p.wavpack})
