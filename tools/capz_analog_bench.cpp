@@ -7,7 +7,7 @@
 // Speed is MB/s of raw float32 samples (4 bytes a sample), single thread, best of 3.
 //
 //   capz_analog_bench [--window ROWS] [--no-peers] [--whole-frames] [--repeats] [--as-stream]
-//                     [--before8]
+//                     [--before8] [--before9]
 //                     FILE.c3d...
 //   capz_analog_bench --per-channel [--window ROWS] [--no-peers] FILE.c3d...
 //
@@ -22,9 +22,9 @@
 // encoder's scan asks for them; the figures a user of the CLI gets.
 // --whole-frames rounds each window down to whole point frames of the take (at least one);
 // --repeats does too and codes as a 7.x stream does (FORMAT.md 7.2: channels may name repeated
-// analog frames), so the two compare the repeat lists alone. Windows are coded as in an 8.x
-// stream (FORMAT.md 8.2), which capz writes for every take with analog channels; --before8 codes
-// them as earlier streams did.
+// analog frames), so the two compare the repeat lists alone. Windows are coded as in a 9.x
+// stream (FORMAT.md 8.2 and 9.2), which capz writes for every take with analog channels;
+// --before9 codes them as 8.x streams did, --before8 as earlier streams did.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -86,9 +86,10 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 // repeat_S: the samples per point frame when coding as 7.x (window a multiple of it), else 0.
-// Code as an 8.x stream does (FORMAT.md 8.2: rank tables against a lattice), as capz writes
-// every take with analog channels; --before8 codes as the streams before 8.0.
-bool g_format8 = true;
+// Code as a 9.x stream does (FORMAT.md 8.2: rank tables against a lattice; 9.2: interpolated
+// samples), as capz writes every take with analog channels; --before9 codes as 8.x streams,
+// --before8 as the streams before 8.0.
+bool g_format8 = true, g_format9 = true;
 
 Result run_ours(const Analog& a, const AnalogHints& h, size_t window, size_t repeat_S) {
   const size_t rows = a.values.size() / a.channels;
@@ -101,8 +102,8 @@ Result run_ours(const Analog& a, const AnalogHints& h, size_t window, size_t rep
     auto t0 = std::chrono::steady_clock::now();
     for (size_t r0 = 0; r0 < rows; r0 += window) {
       const size_t n = std::min(window, rows - r0);
-      payloads.push_back(
-          encode_analog_window(&a.values[r0 * a.channels], n, a.channels, h, repeat_S, g_format8));
+      payloads.push_back(encode_analog_window(&a.values[r0 * a.channels], n, a.channels, h,
+                                              repeat_S, g_format8, g_format9));
     }
     best_enc = std::min(best_enc, seconds_since(t0));
   }
@@ -114,7 +115,7 @@ Result run_ours(const Analog& a, const AnalogHints& h, size_t window, size_t rep
       for (size_t r0 = 0; r0 < rows; r0 += window, ++w) {
         const size_t n = std::min(window, rows - r0);
         decode_analog_window(payloads[w].data(), payloads[w].size(), n, a.channels,
-                             &back[r0 * a.channels], "bench", repeat_S, g_format8);
+                             &back[r0 * a.channels], "bench", repeat_S, g_format8, g_format9);
       }
     } catch (const Error&) {
       std::fill(back.begin(), back.end(), std::nan(""));  // reported as NOT EXACT
@@ -253,7 +254,8 @@ size_t per_channel(const std::string& name, const Take& t, const AnalogHints& h,
     int kind = -1;
     for (size_t r0 = 0; r0 < rows; r0 += window) {
       const size_t n = std::min(window, rows - r0);
-      const std::vector<uint8_t> w = encode_analog_window(col.data() + r0, n, 1, h1, 0, g_format8);
+      const std::vector<uint8_t> w =
+          encode_analog_window(col.data() + r0, n, 1, h1, 0, g_format8, g_format9);
       bytes += w.size();
       if (kind < 0) {
         size_t k = 1;  // version byte, then the header size (varint), then the kind byte
@@ -330,7 +332,9 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--repeats"))
       repeats = whole_frames = true;
     else if (!std::strcmp(argv[i], "--before8"))
-      g_format8 = false;
+      g_format8 = g_format9 = false;
+    else if (!std::strcmp(argv[i], "--before9"))
+      g_format9 = false;
     else if (!std::strcmp(argv[i], "--per-channel"))
       channels = true;
     else if (!std::strcmp(argv[i], "--whole-frames"))

@@ -288,9 +288,9 @@ class Encoder {
     // makes the stream 8.0 (everything 7.0 adds is then available too).
     const std::vector<uint8_t> meta_payload = encode_meta(take_, plan_.words, take_.c3d != nullptr);
     if (meta_coding(meta_payload) == 3) version_ = kFormat8;
-    // FORMAT.md 8.2: so does a take with analog channels (value tables against a lattice where
-    // that codes smaller).
-    if (plan_.analog) version_ = kFormat8;
+    // FORMAT.md 8.2 and 9.2: a take with analog channels is written as 9.0 (value tables against
+    // a lattice, interpolated samples, where they code smaller).
+    if (plan_.analog) version_ = kFormat9;
     std::vector<uint8_t> buf;
     write_file_header(&buf, version_);
     append_chunk(&buf, "HEAD", encode_header(h));
@@ -477,9 +477,9 @@ class Encoder {
         analog::quantise_window(moved.data(), fn * plan_.S, abounds_, &hints.channel);
         rows = moved.data();
       }
-      const std::vector<uint8_t> an =
-          encode_analog_window(rows, fn * plan_.S, take_.analog.channels, hints,
-                               analog_repeats_ ? plan_.S : 0, version_.major >= 8);
+      const std::vector<uint8_t> an = encode_analog_window(
+          rows, fn * plan_.S, take_.analog.channels, hints, analog_repeats_ ? plan_.S : 0,
+          version_.major >= 8, version_.major >= 9);
       append_chunk(&buf, "ANLG", with_window_index(w, 0xFF, an));
       win->analog_bytes = buf.size() - before;
     }

@@ -57,9 +57,9 @@ TEST(CliVersion, GivenVersionThenLibraryAndFormatVersionsArePrinted) {
       text(capz::kFormatWritten) + " (" + text(capz::kFormat6) +
       " for point normals or organized fields, " + text(capz::kFormat7) +
       " for scans along sensor rays, unorganized clouds' fields or repeated analog frames, " +
-      text(capz::kFormat8) +
-      " for C3D parameters coded after the format's dictionary or analog channels), reads " +
-      text(capz::kFormatOldestRead) + " to " + text(capz::kFormatNewestRead) + "\n";
+      text(capz::kFormat8) + " for C3D parameters coded after the format's dictionary, " +
+      text(capz::kFormat9) + " for analog channels), reads " + text(capz::kFormatOldestRead) +
+      " to " + text(capz::kFormatNewestRead) + "\n";
   for (const char* flag : {"--version", "-V"}) {
     const Result r = capz_cli(flag);
     EXPECT_EQ(r.status, 0);
@@ -106,8 +106,8 @@ TEST(CliCompress, GivenC3DWhenCompressedWithJsonAndUnitsThenFieldsAndConversion)
   EXPECT_NE(r.out.find("\"encode_mb_per_s\""), std::string::npos);
   Result i = capz_cli("info '" + out + "'");
   EXPECT_EQ(i.status, 0);
-  // EB015PI.c3d: parameters after dictionary 1 and analog channels (FORMAT.md 8.1, 8.2).
-  EXPECT_NE(i.out.find("capz " + std::to_string(capz::kFormat8.major) + "."), std::string::npos)
+  // EB015PI.c3d: analog channels (FORMAT.md 9).
+  EXPECT_NE(i.out.find("capz " + std::to_string(capz::kFormat9.major) + "."), std::string::npos)
       << i.out;
   EXPECT_NE(i.out.find("POSW"), std::string::npos);
   EXPECT_EQ(capz_cli("info --json '" + out + "'").status, 0);

@@ -25,6 +25,24 @@ bool clean(const Error& e) {
           e.code() == ErrorCode::kUnsupportedVersion);
 }
 
+// Every payload byte of the chunk at `at` from `from` on flipped in turn (one random bit, the
+// chunk's CRC made right): each decodes or throws a clean error.
+void expect_clean_under_flips(const std::vector<uint8_t>& good, size_t at, size_t from,
+                              uint32_t seed, const char* chunk) {
+  const size_t len = capz_test::chunk_len(good, at);
+  std::mt19937 rng(seed);
+  for (size_t i = from; i < len; ++i) {
+    std::vector<uint8_t> b = good;
+    b[at + 8 + i] ^= static_cast<uint8_t>(1u << (rng() % 8));
+    capz_test::fix_crc(&b, at);
+    try {
+      decompress(b.data(), b.size(), "t.capz");
+    } catch (const Error& e) {
+      ASSERT_TRUE(clean(e)) << chunk << " byte " << i << ": " << e.what();
+    }
+  }
+}
+
 TEST(Corrupt, GivenEveryCraftedStreamWhenDecodedThenCleanError) {
   size_t n = 0;
   for (const auto& entry : fs::directory_iterator(kDir)) {
@@ -167,18 +185,34 @@ TEST(Corrupt, GivenMetaCoding3DamagedOrInAnOlderMajorThenCleanCorruptNamingMeta)
   EXPECT_NE(ed.find("META"), std::string::npos) << ed;
   EXPECT_NE(ed.find("dictionary 2"), std::string::npos) << ed;
   // Every byte of the payload after the dictionary byte flipped in turn, the CRC made right.
-  const size_t len = capz_test::chunk_len(good, meta);
-  std::mt19937 rng(5);
-  for (size_t i = 2; i < len; ++i) {
-    std::vector<uint8_t> b = good;
-    b[meta + 8 + i] ^= static_cast<uint8_t>(1u << (rng() % 8));
-    capz_test::fix_crc(&b, meta);
-    try {
-      decompress(b.data(), b.size(), "t.capz");
-    } catch (const Error& e) {
-      ASSERT_TRUE(clean(e)) << "META byte " << i << ": " << e.what();
-    }
+  expect_clean_under_flips(good, meta, 2, 5, "META");
+}
+
+// FORMAT.md 9.2 at stream level: the golden 9.0 stream whose force channels are interpolated,
+// relabelled 8.0 (header CRC made right), is refused with one clean error naming ANLG; every
+// ANLG payload byte flipped under a valid CRC gives a clean error or a take.
+TEST(Corrupt, GivenInterpolatedAnalogInAnOlderMajorOrDamagedThenCleanCorruptNamingAnlg) {
+  const std::vector<uint8_t> good =
+      read_file(std::string(CAPZ_TEST_DIR) +
+                "/golden/streams/codamotion_gaitwands_19970212.c3d.lossless.v9.0.capz");
+  ASSERT_GT(good.size(), 15u);
+  ASSERT_EQ(good[9], 9);
+  decompress(good.data(), good.size(), "good.capz");
+  std::vector<uint8_t> v8 = good;
+  v8[9] = 8;
+  const uint32_t hc = crc32c(v8.data(), 11);
+  for (int k = 0; k < 4; ++k) v8[11 + k] = static_cast<uint8_t>(hc >> (8 * k));
+  try {
+    decompress(v8.data(), v8.size(), "t.capz");
+    ADD_FAILURE() << "an interpolation field decoded in an 8.0 stream";
+  } catch (const Error& e) {
+    EXPECT_TRUE(clean(e)) << e.what();
+    EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << e.what();
+    EXPECT_NE(std::string(e.what()).find("ANLG"), std::string::npos) << e.what();
   }
+  const size_t anlg = capz_test::find_chunk(good, "ANLG");
+  ASSERT_NE(anlg, std::string::npos);
+  expect_clean_under_flips(good, anlg, 0, 9, "ANLG");
 }
 
 }  // namespace

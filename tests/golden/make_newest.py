@@ -65,7 +65,8 @@ for e in entries:
     elif not e[0].endswith(newest):
         continue
     old_tag = re.search(r'\.v\d+\.\d+\.capz$', e[0]).group(0)
-    name = e[0][:-len(old_tag)] + tag
+    # A remade stream of a shipped version (NAME.rN.vX.Y, the manifest's header) drops its rN.
+    name = re.sub(r'\.r\d+$', '', e[0][:-len(old_tag)]) + tag
     out = os.path.join(streams, name)
     subprocess.run([cli, 'compress', os.path.join(data, e[1]), '-o', out, '-f', '-q'] + e[3:],
                    check=True)

@@ -7,6 +7,7 @@
 #include "coding/analog/analog_cross.h"
 #include "coding/analog/analog_entropy.h"
 #include "coding/analog/analog_float.h"
+#include "coding/analog/analog_interp.h"
 #include "coding/analog/analog_lpc.h"
 #include "coding/analog/analog_pick.h"
 #include "coding/analog/analog_repeat.h"
@@ -251,7 +252,8 @@ void decode_int_channel(size_t n, const std::vector<const std::vector<int32_t>*>
 }  // namespace
 
 std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int channels,
-                                          const AnalogHints& hints, size_t repeat_S, bool format8) {
+                                          const AnalogHints& hints, size_t repeat_S, bool format8,
+                                          bool format9) {
   ByteWriter head;
   uint64_t last_const = 0;
   bool any_coded = false;
@@ -261,6 +263,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
   std::vector<double> energy(static_cast<size_t>(channels), 0.0);
   std::vector<bool> has_r1(static_cast<size_t>(channels), false);
   std::vector<std::vector<uint32_t>> reps(static_cast<size_t>(channels));  // FORMAT.md 7.2
+  std::vector<analog::Interp> interps(static_cast<size_t>(channels));      // FORMAT.md 9.2
   const size_t frames = repeat_S > 0 && nrows % repeat_S == 0 ? nrows / repeat_S : 0;
   // Channel-major copy of the window, read row by row: one channel's samples are then
   // contiguous (a column of the row-major window is one cache line per sample).
@@ -285,18 +288,38 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
           analog::candidate_representations(kept.data(), 1, kept.size(), hint);
       for (ChannelRepr& m : more) cands.push_back(std::move(m));
     }
+    // FORMAT.md 9.2: then the kept samples' candidates of an interpolation, when the channel
+    // has one and no repeat list. cands[k] uses it when k >= with_rep.
+    const size_t with_rep = cands.size();
+    analog::Interp interp;
+    if (format9 && rep.empty() && cands[0].kind != Kind::kConst &&
+        analog::find_interpolation(col, 1, nrows, &interp)) {
+      const std::vector<double> kept = analog::interp_kept(col, 1, nrows, interp);
+      std::vector<ChannelRepr> more =
+          analog::candidate_representations(kept.data(), 1, kept.size(), hint);
+      for (ChannelRepr& m : more)
+        if (m.kind != Kind::kConst) cands.push_back(std::move(m));
+    }
     static const std::vector<uint32_t> kNone;
+    static const analog::Interp kNoInterp;
     auto list_of = [&](size_t k) -> const std::vector<uint32_t>& {
-      return k < whole ? kNone : rep;
+      return k < whole || k >= with_rep ? kNone : rep;
     };
-    // References: integer channels before c with the same repeated frames (FORMAT.md 7.2).
-    auto usable = [&](const std::vector<uint32_t>& mine) {
+    auto interp_of = [&](size_t k) -> const analog::Interp& {
+      return k < with_rep ? kNoInterp : interp;
+    };
+    // References: integer channels before c with the same kept rows: the same repeated frames
+    // (FORMAT.md 7.2) and the same interpolation (9.2).
+    auto usable = [&](const std::vector<uint32_t>& mine, const analog::Interp& mine_i) {
       std::vector<bool> u(has_r1.size());
-      for (size_t j = 0; j < u.size(); ++j) u[j] = has_r1[j] && reps[j] == mine;
+      for (size_t j = 0; j < u.size(); ++j)
+        u[j] = has_r1[j] && reps[j] == mine && interps[j] == mine_i;
       return u;
     };
-    const std::vector<bool> use_whole = usable(kNone);
-    const std::vector<bool> use_rep = rep.empty() ? use_whole : usable(rep);
+    const std::vector<bool> use_whole = usable(kNone, kNoInterp);
+    const std::vector<bool> use_rep = rep.empty() ? use_whole : usable(rep, kNoInterp);
+    const std::vector<bool> use_interp =
+        with_rep < cands.size() ? usable(kNone, interp) : use_whole;
     // Integer kinds: the pipeline's decisions, made once per candidate; float kinds: the
     // predictor.
     std::vector<IntPlan> plans(cands.size());
@@ -306,7 +329,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
       return cands[k].kind == Kind::kFloat32 || cands[k].kind == Kind::kFloat64;
     };
     for (size_t k = 0; k < cands.size(); ++k) {
-      const std::vector<bool>& use = k < whole ? use_whole : use_rep;
+      const std::vector<bool>& use = k < whole ? use_whole : k < with_rep ? use_rep : use_interp;
       if (analog::is_integer_kind(cands[k].kind)) {
         plan_int_channel(cands[k].ints, cross_refs(r1s, use, c), cross_energies(energy, use, c),
                          &plans[k]);
@@ -336,7 +359,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
       for (size_t k = 0; k < cands.size(); ++k) {
         ByteWriter th;
         uint64_t tl = last_const;
-        analog::write_repr_header(cands[k], &tl, &th, &list_of(k), format8);
+        analog::write_repr_header(cands[k], &tl, &th, &list_of(k), format8, &interp_of(k));
         head_bytes[k] = th.size();
         estimate[k] = static_cast<double>(th.size()) + static_cast<double>(bits[k]) / 8;
       }
@@ -352,10 +375,11 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
       pick = analog::pick_smallest(estimate, trial, kTrialMargin);
     }
     const ChannelRepr& r = cands[pick];
-    analog::write_repr_header(r, &last_const, &head, &list_of(pick), format8);
+    analog::write_repr_header(r, &last_const, &head, &list_of(pick), format8, &interp_of(pick));
     any_coded |= coded(r.kind);
     emit(pick, &cur, SIZE_MAX);
     reps[c] = list_of(pick);
+    interps[c] = interp_of(pick);
     has_r1[c] = analog::is_integer_kind(r.kind);
     if (has_r1[c]) {
       r1s[c] = std::move(plans[pick].r1);
@@ -372,7 +396,8 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
 }
 
 void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int channels,
-                          double* rows, const std::string& what, size_t repeat_S, bool format8) {
+                          double* rows, const std::string& what, size_t repeat_S, bool format8,
+                          bool format9) {
   ByteReader in(data, size, what);
   if (in.u8() != kWindowVersion)
     throw Error(ErrorCode::kCorrupt, what + ": unknown analog window version");
@@ -381,13 +406,15 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
   const size_t nch = static_cast<size_t>(std::max(channels, 0));
   std::vector<ChannelRepr> reprs;
   std::vector<std::vector<uint32_t>> reps(nch);  // FORMAT.md 7.2
+  std::vector<analog::Interp> interps(nch);      // FORMAT.md 9.2
   std::vector<size_t> kept(nch, nrows);          // each channel's coded samples
   uint64_t last_const = 0;
   bool any_coded = false;
   for (size_t c = 0; c < nch; ++c) {
-    reprs.push_back(
-        analog::read_repr_header(&head, nrows, &last_const, repeat_S, &reps[c], format8));
-    kept[c] = nrows - repeat_S * reps[c].size();
+    reprs.push_back(analog::read_repr_header(&head, nrows, &last_const, repeat_S, &reps[c], format8,
+                                             format9 ? &interps[c] : nullptr));
+    kept[c] = interps[c].period ? analog::interp_kept_count(nrows, interps[c])
+                                : nrows - repeat_S * reps[c].size();
     any_coded |= coded(reprs.back().kind);
   }
   if (!head.at_end())
@@ -395,13 +422,16 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
   // The channel's samples into its column of rows: directly, or through its kept samples.
   std::vector<double> tmp;
   auto put = [&](size_t c) {
-    if (reps[c].empty()) {
+    if (reps[c].empty() && !interps[c].period) {
       analog::reconstruct(reprs[c], nrows, rows + c, nch, what);
       return;
     }
     tmp.resize(kept[c]);
     analog::reconstruct(reprs[c], kept[c], tmp.data(), 1, what);
-    analog::expand_repeats(tmp.data(), nrows / repeat_S, repeat_S, reps[c], rows + c, nch);
+    if (interps[c].period)
+      analog::expand_interp(tmp.data(), nrows, interps[c], rows + c, nch, what);
+    else
+      analog::expand_repeats(tmp.data(), nrows / repeat_S, repeat_S, reps[c], rows + c, nch);
   };
   if (!any_coded) {
     if (!in.at_end())
@@ -417,7 +447,8 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
     ChannelRepr& r = reprs[c];
     if (analog::is_integer_kind(r.kind)) {
       std::vector<bool> use(nch, false);  // same repeated frames (FORMAT.md 7.2)
-      for (size_t j = 0; j < c; ++j) use[j] = has_r1[j] && reps[j] == reps[c];
+      for (size_t j = 0; j < c; ++j)
+        use[j] = has_r1[j] && reps[j] == reps[c] && interps[j] == interps[c];
       decode_int_channel(kept[c], cross_refs(r1s, use, static_cast<int>(c)), &cur, &r.ints,
                          &r1s[c]);
       has_r1[c] = true;
