@@ -8,6 +8,7 @@
 
 #include "coding/analog/analog_cascade.h"
 #include "coding/analog/analog_lpc.h"
+#include "coding/entropy.h"
 
 namespace capz {
 namespace analog {
@@ -132,6 +133,91 @@ TEST(AnalogLpc, GivenKnownResidualsWhenTokenCostThenOrderZeroEntropyPlusRawBits)
   std::vector<int32_t> two(100);
   for (size_t i = 0; i < two.size(); ++i) two[i] = i % 2 ? 1 : 0;  // zigzag 2 and 0: tokens 2, 0
   EXPECT_NEAR(token_cost_bits(two.data(), two.size()), 100.0, 1e-9);
+}
+
+// token_cost_bits counts tokens through the exponent of |2 v + 1/2| (analog_lpc.cpp): it
+// equals the entropy of a histogram counted with token_of, over the whole int32 range and odd
+// lengths.
+TEST(AnalogLpc, GivenAnyInt32ResidualsWhenTokenCostThenAsTokenOfHistogram) {
+  std::mt19937 rng(11);
+  std::vector<int32_t> special = {0,
+                                  1,
+                                  -1,
+                                  2,
+                                  -2,
+                                  3,
+                                  -3,
+                                  4,
+                                  -4,
+                                  5,
+                                  INT32_MAX,
+                                  INT32_MIN,
+                                  INT32_MIN + 1,
+                                  1 << 28,
+                                  -(1 << 28),
+                                  (1 << 29) + 1};
+  for (int b = 2; b < 31; ++b)
+    for (int d = -1; d <= 1; ++d) {
+      special.push_back((1 << b) + d);
+      special.push_back(-(1 << b) + d);
+    }
+  for (size_t n : {size_t{1}, size_t{2}, size_t{7}, size_t{1000}, size_t{4097}}) {
+    std::vector<int32_t> r(n);
+    for (size_t i = 0; i < n; ++i) {
+      const int kind = static_cast<int>(rng() % 3);
+      r[i] = kind == 0   ? special[rng() % special.size()]
+             : kind == 1 ? static_cast<int32_t>(rng() % 41) - 20
+                         : static_cast<int32_t>(rng());
+    }
+    uint32_t count[64] = {};
+    uint64_t raw = 0;
+    for (int32_t v : r) {
+      int extra;
+      ++count[token_of(zigzag(v), &extra)];
+      raw += static_cast<uint64_t>(extra);
+    }
+    double want = static_cast<double>(raw);
+    for (int t = 0; t < 64; ++t)
+      if (count[t]) want -= count[t] * std::log2(count[t] / static_cast<double>(n));
+    EXPECT_EQ(token_cost_bits(r.data(), n), want) << n;
+  }
+}
+
+// Whichever predictor a block gets (LPC, none, first or second difference, the latter near the
+// clamp), the residuals written are x - lpc_predict of it, the samples before the block being
+// the channel's earlier ones.
+TEST(AnalogLpc, GivenVariedBlocksWhenBlockPredictorChosenThenResidualsMatchIt) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> e(0, 1);
+  int seen[3] = {0, 0, 0};  // orders 0, 1, 2 chosen
+  for (int kind = 0; kind < 5; ++kind) {
+    const size_t head = 37, n = 1001;  // odd block length
+    std::vector<int32_t> x(head + n);
+    double v = 0, w = 0;
+    for (size_t i = 0; i < x.size(); ++i) {
+      if (kind == 0) v = 1000 * e(rng);                // white: none
+      if (kind == 1 && i % 7 == 0) v += 500 * e(rng);  // held steps: first difference
+      if (kind == 2) v += (w += 3 * e(rng));           // integrated walk: second difference
+      if (kind == 3) v = (1 << 28) - std::fabs(v - (1 << 28) + (w += 50 * e(rng)));  // at the clamp
+      if (kind == 4) v = 0.9 * v + 100 * e(rng);                                     // AR(1): LPC
+      v = std::max<double>(-(1 << 28), std::min<double>(1 << 28, v));
+      x[i] = static_cast<int32_t>(std::lround(v));
+    }
+    std::vector<double> xd(kMaxLpcOrder + x.size(), 0.0);
+    std::copy(x.begin(), x.end(), xd.begin() + kMaxLpcOrder);
+    std::vector<int32_t> r(n);
+    const LpcParams p =
+        choose_block_predictor(x.data() + head, xd.data() + kMaxLpcOrder + head, n, r.data());
+    if (p.order <= 2 && (p.order == 0 || p.q[0] == 1 << p.shift || p.shift == 12)) ++seen[p.order];
+    std::vector<int32_t> xp(kMaxLpcOrder + x.size(), 0);
+    std::copy(x.begin(), x.end(), xp.begin() + kMaxLpcOrder);
+    for (size_t i = 0; i < n; ++i)
+      ASSERT_EQ(r[i], x[head + i] - lpc_predict(p, xp.data() + kMaxLpcOrder + head + i))
+          << kind << " " << i;
+  }
+  EXPECT_GT(seen[0], 0);
+  EXPECT_GT(seen[1], 0);
+  EXPECT_GT(seen[2], 0);
 }
 
 TEST(AnalogLpc, GivenWhiteNoiseWhenOrderChosenThenNoPrediction) {

@@ -165,13 +165,48 @@ LpcParams choose_lpc(const int32_t* x, size_t n) {
 
 namespace {
 
-// Order-0 entropy of a token histogram of n values plus their raw bits.
-double histogram_bits(const uint32_t count[64], uint64_t raw, size_t n) {
-  double bits = static_cast<double>(raw);
-  const double dn = static_cast<double>(n);
-  for (int t = 0; t < 64; ++t)
-    if (count[t]) bits -= count[t] * std::log2(count[t] / dn);
-  return bits;
+// Token histogram of residual streams (token_of of the zig-zag, coding/entropy.h), kept by
+// bin = token + 2 except for the value 0 (token 0), which lands in bin 0: for an integer v with
+// |v| < 2^51 and u its zig-zag, |2 v + 1/2| = u + 1/2 exactly, and for u >= 1 its biased
+// exponent is 1023 + floor(log2 u) with the mantissa's top bit the bit below u's top one, so
+// its top 13 bits (>> 51) are 2046 + token_of(u) (u = 1 gives 1.5: 2047); u = 0 gives 1/2,
+// 2044. The bin is those bits - 2044. Two copies (even and odd samples), so that equal tokens in
+// a row do not wait on each other's counter.
+struct TokenCounts {
+  static constexpr int kBins = 66;
+  uint32_t c[2][kBins] = {};
+  void add(int lane, int64_t bin) { ++c[lane][bin]; }
+  // Order-0 entropy of the tokens of n values plus their raw bits (token / 2 - 1 for tokens
+  // >= 4), the sum over tokens in increasing order.
+  double bits(size_t n) const {
+    uint64_t raw = 0;
+    uint32_t count[64];
+    for (int t = 0; t < 64; ++t) {
+      const int bin = t == 0 ? 0 : t + 2;
+      count[t] = c[0][bin] + c[1][bin];
+      if (t >= 4) raw += static_cast<uint64_t>(count[t]) * static_cast<uint64_t>(t / 2 - 1);
+    }
+    double total = static_cast<double>(raw);
+    const double dn = static_cast<double>(n);
+    for (int t = 0; t < 64; ++t)
+      if (count[t]) total -= count[t] * std::log2(count[t] / dn);
+    return total;
+  }
+};
+
+typedef long long Bins __attribute__((vector_size(16)));
+// The bins of two integer-valued doubles (above), as two-lane vectors.
+inline Bins token_bins(Lanes v) {
+  const Lanes half = {0.5, 0.5};
+  const Lanes t = (v + v) + half;
+  Bins b;
+  std::memcpy(&b, &t, sizeof b);
+  const Bins mag = {0x7FFFFFFFFFFFFFFF, 0x7FFFFFFFFFFFFFFF}, base = {2044, 2044};
+  return ((b & mag) >> 51) - base;
+}
+inline Bins token_bins(int64_t v) {
+  const Lanes x = {static_cast<double>(v), 0.0};
+  return token_bins(x);
 }
 
 // The coefficients' cost as an Elias-gamma-like code of each (their adaptive coding is close to
@@ -182,17 +217,18 @@ double coefficient_bits(const LpcParams& p) {
   return bits;
 }
 
+// 2 x1 - x2 clamped to the sample range: the second difference's prediction.
+inline int64_t second_prediction(int64_t x1, int64_t x2) {
+  const int64_t p2 = 2 * x1 - x2;
+  return p2 > kMaxSample ? kMaxSample : p2 < -kMaxSample ? -kMaxSample : p2;
+}
+
 }  // namespace
 
 double token_cost_bits(const int32_t* r, size_t n) {
-  uint32_t count[64] = {0};
-  uint64_t raw = 0;
-  for (size_t i = 0; i < n; ++i) {
-    int extra;
-    ++count[token_of(zigzag(r[i]), &extra)];
-    raw += static_cast<uint64_t>(extra);
-  }
-  return histogram_bits(count, raw, n);
+  TokenCounts h;
+  for (size_t i = 0; i < n; ++i) h.add(0, token_bins(r[i])[0]);
+  return h.bits(n);
 }
 
 LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, int32_t* r) {
@@ -202,26 +238,35 @@ LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, i
     const LpcKernel lpc(best);
     for (size_t i = 0; i < n; ++i) r[i] = static_cast<int32_t>(x[i] - lpc.predict(xd + i));
   }
-  double best_bits = token_cost_bits(r, n) + coefficient_bits(best);
-  // The fixed predictors 0, x[i-1] and 2 x[i-1] - x[i-2] (LPC orders 0, 1, 2 with exact
-  // coefficients, so their residuals are these), in one pass.
-  uint32_t count[3][64] = {};
-  uint64_t raw[3] = {0, 0, 0};
-  int64_t x1 = static_cast<int64_t>(xd[-1]), x2 = static_cast<int64_t>(xd[-2]);
-  for (size_t i = 0; i < n; ++i) {
-    const int64_t x0 = x[i];
-    int64_t p2 = 2 * x1 - x2;
-    p2 = p2 > kMaxSample ? kMaxSample : p2 < -kMaxSample ? -kMaxSample : p2;
-    const int32_t e[3] = {static_cast<int32_t>(x0), static_cast<int32_t>(x0 - x1),
-                          static_cast<int32_t>(x0 - p2)};
-    for (int k = 0; k < 3; ++k) {
-      int extra;
-      ++count[k][token_of(zigzag(e[k]), &extra)];
-      raw[k] += static_cast<uint64_t>(extra);
+  // The token histograms of those residuals and of the fixed predictors 0, x[i-1] and
+  // 2 x[i-1] - x[i-2] (LPC orders 0, 1, 2 with exact coefficients, so their residuals are
+  // these), in one pass, two samples a step on doubles (all exact integers below 2^31).
+  TokenCounts counts[4];
+  {
+    const Lanes hi = {kMaxSample, kMaxSample}, lo = -hi;
+    size_t i = 0;
+    for (; i + 2 <= n; i += 2) {
+      const Lanes x0 = load(xd + i), x1 = load(xd + i - 1), x2 = load(xd + i - 2);
+      Lanes p2 = (x1 + x1) - x2;
+      p2 = p2 > hi ? hi : p2;
+      p2 = p2 < lo ? lo : p2;
+      const Lanes ri = {static_cast<double>(r[i]), static_cast<double>(r[i + 1])};
+      const Bins b[4] = {token_bins(ri), token_bins(x0), token_bins(x0 - x1), token_bins(x0 - p2)};
+      for (int k = 0; k < 4; ++k) {
+        counts[k].add(0, b[k][0]);
+        counts[k].add(1, b[k][1]);
+      }
     }
-    x2 = x1;
-    x1 = x0;
+    for (; i < n; ++i) {
+      const int64_t x0 = x[i], x1 = static_cast<int64_t>(xd[i - 1]);
+      const int64_t x2 = static_cast<int64_t>(xd[i - 2]);
+      counts[0].add(0, token_bins(r[i])[0]);
+      counts[1].add(0, token_bins(x0)[0]);
+      counts[2].add(0, token_bins(x0 - x1)[0]);
+      counts[3].add(0, token_bins(x0 - second_prediction(x1, x2))[0]);
+    }
   }
+  double best_bits = counts[0].bits(n) + coefficient_bits(best);
   LpcParams fixed[3];
   fixed[1].order = 1;  // x[i-1]
   fixed[1].shift = 13;
@@ -231,15 +276,22 @@ LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, i
   fixed[2].q = {1 << 13, -(1 << 12)};
   int pick = -1;
   for (int k = 0; k < 3; ++k) {
-    const double bits = histogram_bits(count[k], raw[k], n) + coefficient_bits(fixed[k]);
+    const double bits = counts[1 + k].bits(n) + coefficient_bits(fixed[k]);
     if (bits < best_bits) {
       best_bits = bits;
       pick = k;
     }
   }
   if (pick < 0) return best;
-  const LpcKernel lpc(fixed[pick]);
-  for (size_t i = 0; i < n; ++i) r[i] = static_cast<int32_t>(x[i] - lpc.predict(xd + i));
+  // The fixed predictor's residuals (LpcKernel of fixed[pick] predicts exactly these).
+  int64_t x1 = static_cast<int64_t>(xd[-1]), x2 = static_cast<int64_t>(xd[-2]);
+  for (size_t i = 0; i < n; ++i) {
+    const int64_t x0 = x[i];
+    const int64_t p = pick == 0 ? 0 : pick == 1 ? x1 : second_prediction(x1, x2);
+    r[i] = static_cast<int32_t>(x0 - p);
+    x2 = x1;
+    x1 = x0;
+  }
   return fixed[pick];
 }
 
