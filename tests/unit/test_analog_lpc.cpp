@@ -3,11 +3,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <vector>
 
 #include "coding/analog/analog_cascade.h"
 #include "coding/analog/analog_lpc.h"
+#include "coding/analog/analog_simd.h"
 #include "coding/entropy.h"
 
 namespace capz {
@@ -375,7 +377,7 @@ TEST(AnalogLpc, GivenCoefficientsWhenKernelPredictsThenExactlyLpcPredict) {
 TEST(AnalogLpc, GivenBlocksWhenAutocorrelatedThenBitForBitThePlainLoop) {
   std::mt19937 rng(9);
   std::uniform_int_distribution<int32_t> x(-kMaxSample, kMaxSample);
-  for (size_t n : {1, 7, 33, 100, 4096})
+  for (size_t n : {1, 7, 33, 100, 256, 257, 1001, 4096})
     for (int max_lag : {32, 31, 20, 17, 16, 9, 8, 5, 1, 0}) {
       std::vector<int32_t> xs(n);
       for (int32_t& v : xs) v = x(rng);
@@ -395,6 +397,47 @@ TEST(AnalogLpc, GivenBlocksWhenAutocorrelatedThenBitForBitThePlainLoop) {
         EXPECT_EQ(r[k], s) << "n " << n << " lag " << k << " of " << max_lag;
       }
     }
+}
+
+// The AVX2 kernels (analog_simd.h) against the portable path: the same autocorrelation bits
+// (max_lag 32, the AVX2 pass) and the same LPC residuals, on random blocks of edge lengths,
+// full-range and small samples, every order. Where the CPU has no AVX2 both runs take the
+// portable path (the test then checks only that the switch changes nothing).
+TEST(AnalogSimd, GivenRandomBlocksWhenAvx2OnOrOffThenSameBits) {
+  std::mt19937 rng(21);
+  std::uniform_int_distribution<int32_t> full(-kMaxSample, kMaxSample), small(-40, 40);
+  for (size_t n : {1, 3, 4, 5, 8, 255, 256, 257, 259, 1000, 4095, 4096}) {
+    for (int range = 0; range < 2; ++range) {
+      std::vector<int32_t> x(kMaxLpcOrder + n);
+      for (int32_t& v : x) v = range ? full(rng) : small(rng);
+      std::vector<double> xd(x.begin(), x.end());
+      const int32_t* xs = x.data() + kMaxLpcOrder;
+      allow_avx2(false);
+      const std::vector<double> plain = autocorrelation(xs, n, 32);
+      allow_avx2(true);
+      const std::vector<double> fast = autocorrelation(xs, n, 32);
+      ASSERT_EQ(plain.size(), fast.size());
+      for (size_t k = 0; k < plain.size(); ++k)
+        ASSERT_EQ(std::memcmp(&plain[k], &fast[k], sizeof(double)), 0) << n << " lag " << k;
+      for (int order = 0; order <= kMaxLpcOrder; ++order) {
+        LpcParams p;
+        p.order = order;
+        p.shift = static_cast<int>(rng() % (kMaxLpcShift + 1));
+        for (int j = 0; j < order; ++j)
+          p.q.push_back(static_cast<int32_t>(rng() % (2 << kLpcPrecision)) - (1 << kLpcPrecision) +
+                        1);
+        const LpcKernel lpc(p);
+        std::vector<int32_t> r0(n), r1(n);
+        allow_avx2(false);
+        lpc_residuals(lpc, xs, xd.data() + kMaxLpcOrder, n, r0.data());
+        allow_avx2(true);
+        lpc_residuals(lpc, xs, xd.data() + kMaxLpcOrder, n, r1.data());
+        ASSERT_EQ(r0, r1) << n << " order " << order;
+        for (size_t i = 0; i < n; ++i)
+          ASSERT_EQ(r0[i], xs[i] - lpc_predict(p, xs + i)) << n << " order " << order << " " << i;
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "coding/analog/analog_simd.h"
 #include "coding/entropy.h"
 
 namespace capz {
@@ -38,7 +39,64 @@ const std::vector<double>& tukey(size_t n) {
   return w;
 }
 
+#if defined(__x86_64__) || defined(__i386__)
+#define CAPZ_ANALOG_AVX2 1
+typedef double Quad __attribute__((vector_size(32)));
+__attribute__((target("avx2"))) inline Quad load4(const double* p) {
+  Quad v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+// autocorrelation's 33 lags (max_lag 32) in one pass of four-lane vectors, from its reversed
+// window wr (n values, then at least 35 zeros). Each lag's sum adds w[i] w[i - k] for i = 0, 1,
+// ... in order: the terms for i < k read zeros and add +-0 to a +0 sum, so each is the plain
+// loop's, bit for bit (a product, then a sum: no fused multiply-add in this target).
+__attribute__((target("avx2"))) void autocorrelation33_avx2(const double* wr, size_t n, double* r) {
+  Quad a[9] = {};
+  const double* base = wr + n - 1;
+  for (size_t i = 0; i < n; ++i) {
+    const double wi = wr[n - 1 - i];
+    const double* p = base - i;
+    for (int l = 0; l < 9; ++l) a[l] += wi * load4(p + 4 * l);
+  }
+  for (int k = 0; k <= 32; ++k) r[k] = a[k / 4][k % 4];
+}
+
+// lpc_residuals four samples a step: lane j sums c[k] x[i + j - padded + k] over k, exact
+// integers below 2^53 in any order (LpcKernel), so each is predict()'s sum.
+__attribute__((target("avx2"))) size_t lpc_residuals_avx2(const LpcKernel& lpc, const int32_t* x,
+                                                          const double* xd, size_t n, int32_t* r) {
+  const double* c = lpc.coefficients();
+  const int padded = lpc.padded(), shift = lpc.shift();
+  size_t i = 0;
+  for (; i + 4 <= n; i += 4) {
+    const double* xi = xd + i - padded;
+    Quad a0 = {0, 0, 0, 0}, a1 = {0, 0, 0, 0};
+    for (int k = 0; k < padded; k += 2) {
+      a0 += c[k] * load4(xi + k);
+      a1 += c[k + 1] * load4(xi + k + 1);
+    }
+    const Quad a = a0 + a1;
+    for (int j = 0; j < 4; ++j) {
+      int64_t s = static_cast<int64_t>(a[j]) >> shift;
+      s = s > kMaxSample ? kMaxSample : s < -kMaxSample ? -kMaxSample : s;
+      r[i + j] = static_cast<int32_t>(x[i + j] - s);
+    }
+  }
+  return i;
+}
+#endif
+
 }  // namespace
+
+void lpc_residuals(const LpcKernel& lpc, const int32_t* x, const double* xd, size_t n, int32_t* r) {
+  size_t i = 0;
+#ifdef CAPZ_ANALOG_AVX2
+  if (avx2_enabled()) i = lpc_residuals_avx2(lpc, x, xd, n, r);
+#endif
+  for (; i < n; ++i) r[i] = static_cast<int32_t>(x[i] - lpc.predict(xd + i));
+}
 
 std::vector<double> autocorrelation(const int32_t* x, size_t n, int max_lag) {
   // w[i] = g[i] x[i], kept reversed (wr[j] = w[n - 1 - j]) and followed by zeros, so that one
@@ -51,9 +109,15 @@ std::vector<double> autocorrelation(const int32_t* x, size_t n, int max_lag) {
   // pass before as a ninth lane pair.
   constexpr int kGroup = 16;
   const std::vector<double>& g = tukey(n);
-  std::vector<double> wr(n + kGroup + 2, 0.0);
+  std::vector<double> wr(n + 2 * kGroup + 4, 0.0);  // zeros after: kGroup + 2, or 35 (AVX2)
   for (size_t i = 0; i < n; ++i) wr[n - 1 - i] = g[i] * x[i];
   std::vector<double> r(static_cast<size_t>(max_lag) + 1, 0.0);
+#ifdef CAPZ_ANALOG_AVX2
+  if (max_lag == 32 && avx2_enabled()) {
+    autocorrelation33_avx2(wr.data(), n, r.data());
+    return r;
+  }
+#endif
   for (int k0 = 0; k0 <= max_lag; k0 += kGroup) {
     int lanes = std::min(kGroup, max_lag + 1 - k0);
     const double* base = wr.data() + n - 1 + k0;
@@ -234,10 +298,7 @@ double token_cost_bits(const int32_t* r, size_t n) {
 LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, int32_t* r) {
   // choose_lpc's predictor, its residuals into r.
   LpcParams best = choose_lpc(x, n);
-  {
-    const LpcKernel lpc(best);
-    for (size_t i = 0; i < n; ++i) r[i] = static_cast<int32_t>(x[i] - lpc.predict(xd + i));
-  }
+  lpc_residuals(LpcKernel(best), x, xd, n, r);
   // The token histograms of those residuals and of the fixed predictors 0, x[i-1] and
   // 2 x[i-1] - x[i-2] (LPC orders 0, 1, 2 with exact coefficients, so their residuals are
   // these), in one pass, two samples a step on doubles (all exact integers below 2^31).
