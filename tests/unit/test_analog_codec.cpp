@@ -398,10 +398,22 @@ TEST(AnalogRound, GivenQuotientsWhenRoundedWithoutDividingThenTheDividedResultBi
   std::uniform_real_distribution<double> unit(-1, 1);
   const double steps[] = {1.0 / 3, 1.0 / 7,  0.1,       1e-3, 3.0517578125e-05, 2.5, 1e-300,
                           1e300,   4.9e-324, 0.0078125, 1e-9, 123456.789};
+  // pair() on (the previous d, d): when it answers, both lanes bit for bit; it must answer for
+  // a good part of the pairs.
+  double prev = 0;
+  size_t pairs = 0, answered = 0;
   auto check = [&](double s, double d) {
     const analog::QuotientRounder q(s);
     const double want = analog::round_half_away(d / s), got = q(d);
     ASSERT_EQ(bits(got), bits(want)) << "d " << d << " s " << s;
+    analog::QuotientRounder::Lanes k;
+    ++pairs;
+    if (q.pair(analog::QuotientRounder::Lanes{prev, d}, &k)) {
+      ++answered;
+      ASSERT_EQ(bits(k[0]), bits(analog::round_half_away(prev / s))) << "d " << prev << " s " << s;
+      ASSERT_EQ(bits(k[1]), bits(want)) << "d " << d << " s " << s;
+    }
+    prev = d;
   };
   for (double s : steps) {
     for (int i = 0; i < 20000; ++i) {
@@ -421,6 +433,7 @@ TEST(AnalogRound, GivenQuotientsWhenRoundedWithoutDividingThenTheDividedResultBi
     check(s, std::numeric_limits<double>::infinity());
     check(s, std::nan(""));
   }
+  EXPECT_GT(answered, pairs / 10);  // most inputs here sit near half-integers on purpose
 }
 
 // With a margin, candidates estimated far above the smallest estimate are never tried, and a

@@ -3,11 +3,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <vector>
 
 #include "coding/analog/analog_cascade.h"
 #include "coding/analog/analog_lpc.h"
+#include "coding/analog/analog_simd.h"
+#include "coding/entropy.h"
 
 namespace capz {
 namespace analog {
@@ -132,6 +135,91 @@ TEST(AnalogLpc, GivenKnownResidualsWhenTokenCostThenOrderZeroEntropyPlusRawBits)
   std::vector<int32_t> two(100);
   for (size_t i = 0; i < two.size(); ++i) two[i] = i % 2 ? 1 : 0;  // zigzag 2 and 0: tokens 2, 0
   EXPECT_NEAR(token_cost_bits(two.data(), two.size()), 100.0, 1e-9);
+}
+
+// token_cost_bits counts tokens through the exponent of |2 v + 1/2| (analog_lpc.cpp): it
+// equals the entropy of a histogram counted with token_of, over the whole int32 range and odd
+// lengths.
+TEST(AnalogLpc, GivenAnyInt32ResidualsWhenTokenCostThenAsTokenOfHistogram) {
+  std::mt19937 rng(11);
+  std::vector<int32_t> special = {0,
+                                  1,
+                                  -1,
+                                  2,
+                                  -2,
+                                  3,
+                                  -3,
+                                  4,
+                                  -4,
+                                  5,
+                                  INT32_MAX,
+                                  INT32_MIN,
+                                  INT32_MIN + 1,
+                                  1 << 28,
+                                  -(1 << 28),
+                                  (1 << 29) + 1};
+  for (int b = 2; b < 31; ++b)
+    for (int d = -1; d <= 1; ++d) {
+      special.push_back((1 << b) + d);
+      special.push_back(-(1 << b) + d);
+    }
+  for (size_t n : {size_t{1}, size_t{2}, size_t{7}, size_t{1000}, size_t{4097}}) {
+    std::vector<int32_t> r(n);
+    for (size_t i = 0; i < n; ++i) {
+      const int kind = static_cast<int>(rng() % 3);
+      r[i] = kind == 0   ? special[rng() % special.size()]
+             : kind == 1 ? static_cast<int32_t>(rng() % 41) - 20
+                         : static_cast<int32_t>(rng());
+    }
+    uint32_t count[64] = {};
+    uint64_t raw = 0;
+    for (int32_t v : r) {
+      int extra;
+      ++count[token_of(zigzag(v), &extra)];
+      raw += static_cast<uint64_t>(extra);
+    }
+    double want = static_cast<double>(raw);
+    for (int t = 0; t < 64; ++t)
+      if (count[t]) want -= count[t] * std::log2(count[t] / static_cast<double>(n));
+    EXPECT_EQ(token_cost_bits(r.data(), n), want) << n;
+  }
+}
+
+// Whichever predictor a block gets (LPC, none, first or second difference, the latter near the
+// clamp), the residuals written are x - lpc_predict of it, the samples before the block being
+// the channel's earlier ones.
+TEST(AnalogLpc, GivenVariedBlocksWhenBlockPredictorChosenThenResidualsMatchIt) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> e(0, 1);
+  int seen[3] = {0, 0, 0};  // orders 0, 1, 2 chosen
+  for (int kind = 0; kind < 5; ++kind) {
+    const size_t head = 37, n = 1001;  // odd block length
+    std::vector<int32_t> x(head + n);
+    double v = 0, w = 0;
+    for (size_t i = 0; i < x.size(); ++i) {
+      if (kind == 0) v = 1000 * e(rng);                // white: none
+      if (kind == 1 && i % 7 == 0) v += 500 * e(rng);  // held steps: first difference
+      if (kind == 2) v += (w += 3 * e(rng));           // integrated walk: second difference
+      if (kind == 3) v = (1 << 28) - std::fabs(v - (1 << 28) + (w += 50 * e(rng)));  // at the clamp
+      if (kind == 4) v = 0.9 * v + 100 * e(rng);                                     // AR(1): LPC
+      v = std::max<double>(-(1 << 28), std::min<double>(1 << 28, v));
+      x[i] = static_cast<int32_t>(std::lround(v));
+    }
+    std::vector<double> xd(kMaxLpcOrder + x.size(), 0.0);
+    std::copy(x.begin(), x.end(), xd.begin() + kMaxLpcOrder);
+    std::vector<int32_t> r(n);
+    const LpcParams p =
+        choose_block_predictor(x.data() + head, xd.data() + kMaxLpcOrder + head, n, r.data());
+    if (p.order <= 2 && (p.order == 0 || p.q[0] == 1 << p.shift || p.shift == 12)) ++seen[p.order];
+    std::vector<int32_t> xp(kMaxLpcOrder + x.size(), 0);
+    std::copy(x.begin(), x.end(), xp.begin() + kMaxLpcOrder);
+    for (size_t i = 0; i < n; ++i)
+      ASSERT_EQ(r[i], x[head + i] - lpc_predict(p, xp.data() + kMaxLpcOrder + head + i))
+          << kind << " " << i;
+  }
+  EXPECT_GT(seen[0], 0);
+  EXPECT_GT(seen[1], 0);
+  EXPECT_GT(seen[2], 0);
 }
 
 TEST(AnalogLpc, GivenWhiteNoiseWhenOrderChosenThenNoPrediction) {
@@ -289,7 +377,7 @@ TEST(AnalogLpc, GivenCoefficientsWhenKernelPredictsThenExactlyLpcPredict) {
 TEST(AnalogLpc, GivenBlocksWhenAutocorrelatedThenBitForBitThePlainLoop) {
   std::mt19937 rng(9);
   std::uniform_int_distribution<int32_t> x(-kMaxSample, kMaxSample);
-  for (size_t n : {1, 7, 33, 100, 4096})
+  for (size_t n : {1, 7, 33, 100, 256, 257, 1001, 4096})
     for (int max_lag : {32, 31, 20, 17, 16, 9, 8, 5, 1, 0}) {
       std::vector<int32_t> xs(n);
       for (int32_t& v : xs) v = x(rng);
@@ -309,6 +397,47 @@ TEST(AnalogLpc, GivenBlocksWhenAutocorrelatedThenBitForBitThePlainLoop) {
         EXPECT_EQ(r[k], s) << "n " << n << " lag " << k << " of " << max_lag;
       }
     }
+}
+
+// The AVX2 kernels (analog_simd.h) against the portable path: the same autocorrelation bits
+// (max_lag 32, the AVX2 pass) and the same LPC residuals, on random blocks of edge lengths,
+// full-range and small samples, every order. Where the CPU has no AVX2 both runs take the
+// portable path (the test then checks only that the switch changes nothing).
+TEST(AnalogSimd, GivenRandomBlocksWhenAvx2OnOrOffThenSameBits) {
+  std::mt19937 rng(21);
+  std::uniform_int_distribution<int32_t> full(-kMaxSample, kMaxSample), small(-40, 40);
+  for (size_t n : {1, 3, 4, 5, 8, 255, 256, 257, 259, 1000, 4095, 4096}) {
+    for (int range = 0; range < 2; ++range) {
+      std::vector<int32_t> x(kMaxLpcOrder + n);
+      for (int32_t& v : x) v = range ? full(rng) : small(rng);
+      std::vector<double> xd(x.begin(), x.end());
+      const int32_t* xs = x.data() + kMaxLpcOrder;
+      allow_avx2(false);
+      const std::vector<double> plain = autocorrelation(xs, n, 32);
+      allow_avx2(true);
+      const std::vector<double> fast = autocorrelation(xs, n, 32);
+      ASSERT_EQ(plain.size(), fast.size());
+      for (size_t k = 0; k < plain.size(); ++k)
+        ASSERT_EQ(std::memcmp(&plain[k], &fast[k], sizeof(double)), 0) << n << " lag " << k;
+      for (int order = 0; order <= kMaxLpcOrder; ++order) {
+        LpcParams p;
+        p.order = order;
+        p.shift = static_cast<int>(rng() % (kMaxLpcShift + 1));
+        for (int j = 0; j < order; ++j)
+          p.q.push_back(static_cast<int32_t>(rng() % (2 << kLpcPrecision)) - (1 << kLpcPrecision) +
+                        1);
+        const LpcKernel lpc(p);
+        std::vector<int32_t> r0(n), r1(n);
+        allow_avx2(false);
+        lpc_residuals(lpc, xs, xd.data() + kMaxLpcOrder, n, r0.data());
+        allow_avx2(true);
+        lpc_residuals(lpc, xs, xd.data() + kMaxLpcOrder, n, r1.data());
+        ASSERT_EQ(r0, r1) << n << " order " << order;
+        for (size_t i = 0; i < n; ++i)
+          ASSERT_EQ(r0[i], xs[i] - lpc_predict(p, xs + i)) << n << " order " << order << " " << i;
+      }
+    }
+  }
 }
 
 }  // namespace

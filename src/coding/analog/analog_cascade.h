@@ -122,15 +122,17 @@ inline std::pair<uint64_t, uint64_t> sign_lms_run(const int32_t* in, size_t n, T
     return static_cast<uint64_t>(63 - __builtin_clzll((u << 1) | 1));
   };
   // c[kTaps + i] = clamp(in[i]), zeros before; up / down its sign times kStep / -kStep.
-  const size_t m = n + kTaps;
+  const size_t m = n + kTaps + 2;  // two zeros after the inputs (b2 reads c[n + kTaps + 1])
   thread_local std::vector<double> buf;
-  if (buf.size() < 4 * m) buf.resize(4 * m);
+  if (buf.size() < 5 * m) buf.resize(5 * m);
   double* c = buf.data();
   double* up = c + m;
   double* down = up + m;
   double* b = down + m;
+  double* b2 = b + m;
   uint64_t before = 0;
   for (size_t k = 0; k < kTaps; ++k) c[k] = up[k] = down[k] = 0;
+  c[n + kTaps] = c[n + kTaps + 1] = 0;
   // Two samples a step: the clamp on doubles (exact), the signs from compares, and the bit
   // lengths from the exponent of |2 in + 1/2| (= u + 1/2 for the zig-zag u; 1/2 gives 0).
   typedef int32_t Pair __attribute__((vector_size(8)));
@@ -170,16 +172,19 @@ inline std::pair<uint64_t, uint64_t> sign_lms_run(const int32_t* in, size_t n, T
     std::memcpy(&v, p, sizeof v);
     return v;
   };
-  // b[i] = sum of up[t] c[t + 1] for t in [i, i + kTaps): |terms| <= 2^34, exact sums.
-  {
+  // b[i] = U[i] . H[i + 1] and b2[i] = U[i] . H[i + 2]: the sums of up[t] c[t + lag] for t in
+  // [i, i + kTaps), lag 1 and 2, sliding (|terms| <= 2^34, exact sums).
+  auto sliding = [&](size_t lag, double* to) {
     double sum = 0;
-    for (size_t t = 0; t < kTaps; ++t) sum += up[t] * c[t + 1];
+    for (size_t t = 0; t < kTaps; ++t) sum += up[t] * c[t + lag];
     for (size_t i = 0; i + 1 < n; ++i) {
-      b[i] = sum;
-      sum += up[i + kTaps] * c[i + kTaps + 1] - up[i] * c[i + 1];
+      to[i] = sum;
+      sum += up[i + kTaps] * c[i + kTaps + lag] - up[i] * c[i + lag];
     }
-    if (n) b[n - 1] = sum;
-  }
+    if (n) to[n - 1] = sum;
+  };
+  sliding(1, b);
+  sliding(2, b2);
   auto dot = [&](const Lanes* w, const double* h) {
     Lanes p[kTaps / 2];
     for (int j = 0; j < kTaps / 2; ++j) p[j] = w[j] * load(h + 2 * j);
@@ -188,27 +193,42 @@ inline std::pair<uint64_t, uint64_t> sign_lms_run(const int32_t* in, size_t n, T
   };
   // wr[k] = w[kTaps - 1 - k] multiplies c[kTaps + i - kTaps + k] = in[i - kTaps + k].
   Lanes wr[kTaps / 2] = {};
+  // The sums are exact integers, kept as int64 from here, and the weights' dot product runs a
+  // sample ahead: with d[i] = sgn(residual i) (-1, 0 or 1) and no clamp,
+  //   S[i + 1] = W[i + 1] . H[i + 1] = A[i - 1] + d[i - 1] b2[i - 1] + d[i] b[i],
+  // A[i - 1] = W[i - 1] . H[i + 1] (the dot product computed at sample i - 1), b2[i] =
+  // U[i] . H[i + 2]. The chain from one residual to the next prediction is then integer adds,
+  // shifts and selects, and the dot product has two samples' time. A weight update adds d times
+  // the +kStep sign window (d = 0 adds zeros, leaving the weights' values as they were). A step
+  // that clamps a weight computes S[i + 1] and A[i] = W[i + 1] . H[i + 2] directly.
   double bound = 0;
   uint64_t after = 0;
-  double sum = 0;  // S[i]: wr . (c + i)
+  int64_t sum = 0;    // S[i]
+  int64_t ahead = 0;  // A[i - 1] (0 for i = 0: the weights start at 0)
+  int64_t dprev = 0, b2prev = 0;
   for (size_t i = 0; i < n; ++i) {
-    const double next = dot(wr, c + i + 1);  // W[i] . H[i + 1]
-    int64_t s = static_cast<int64_t>(sum);
-    s = (s + (int64_t{1} << (SignLms::kShift - 1))) >> SignLms::kShift;
+    const int64_t next = ahead + dprev * b2prev;                          // W[i] . H[i + 1]
+    const int64_t ahead_next = static_cast<int64_t>(dot(wr, c + i + 2));  // W[i] . H[i + 2]
+    int64_t s = (sum + (int64_t{1} << (SignLms::kShift - 1))) >> SignLms::kShift;
     s = s > kMaxSample ? kMaxSample : s < -kMaxSample ? -kMaxSample : s;
     const int64_t o = in[i] - s;
     out[i] = static_cast<T>(o);
     after += bits(o);
-    if (o == 0) {
-      sum = next;
-      continue;
-    }
-    const double* g = (o > 0 ? up : down) + i;  // d sgn(h), d = +-kStep
+    const int64_t d = (o > 0) - (o < 0);
     if (bound + kStep <= kMaxWeight) {
-      for (int j = 0; j < kTaps / 2; ++j) wr[j] += load(g + 2 * j);
-      bound += kStep;
-      sum = o > 0 ? next + b[i] : next - b[i];
+      const double dd = static_cast<double>(d);
+      for (int j = 0; j < kTaps / 2; ++j) wr[j] += dd * load(up + i + 2 * j);
+      bound += kStep * dd * dd;
+      sum = next + d * static_cast<int64_t>(b[i]);
+      ahead = ahead_next;
+      dprev = d;
+      b2prev = static_cast<int64_t>(b2[i]);
+    } else if (d == 0) {
+      sum = next;
+      ahead = ahead_next;
+      dprev = 0;
     } else {
+      const double* g = (o > 0 ? up : down) + i;  // d sgn(h), d = +-kStep
       const Lanes lim = {kMaxWeight, kMaxWeight}, nlim = -lim;
       Lanes mx = {0, 0};
       for (int j = 0; j < kTaps / 2; ++j) {
@@ -220,7 +240,9 @@ inline std::pair<uint64_t, uint64_t> sign_lms_run(const int32_t* in, size_t n, T
         mx = aw > mx ? aw : mx;
       }
       bound = mx[0] > mx[1] ? mx[0] : mx[1];
-      sum = dot(wr, c + i + 1);
+      sum = static_cast<int64_t>(dot(wr, c + i + 1));
+      ahead = static_cast<int64_t>(dot(wr, c + i + 2));
+      dprev = 0;
     }
   }
   return {before, after};

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "coding/analog/analog_simd.h"
+
 namespace capz {
 namespace analog {
 namespace {
@@ -48,6 +50,69 @@ int64_t residual_bits_clamped(const int32_t* r1, const int32_t* ref, size_t n, i
   return after;
 }
 
+// Vectors of W lanes for residual_bits (a template's vector_size cannot depend on its
+// parameter): doubles, their bit patterns, and the int32 references.
+template <int W>
+struct CrossLanes;
+template <>
+struct CrossLanes<2> {
+  typedef double D __attribute__((vector_size(16)));
+  typedef unsigned long long U __attribute__((vector_size(16)));
+  typedef int32_t I __attribute__((vector_size(8)));
+};
+template <>
+struct CrossLanes<4> {
+  typedef double D __attribute__((vector_size(32)));
+  typedef unsigned long long U __attribute__((vector_size(32)));
+  typedef int32_t I __attribute__((vector_size(16)));
+};
+
+// residual_bits's loop, W samples a step over the first samples: returns how many it took,
+// their summed bit lengths in *bits (a sum of integers: the width changes nothing). Always
+// inlined, so that it is compiled for its caller's target.
+template <int W>
+__attribute__((always_inline)) inline size_t residual_bits_lanes(const double* t,
+                                                                 const int32_t* ref, size_t n,
+                                                                 int32_t beta, int64_t* bits) {
+  typedef typename CrossLanes<W>::D D;
+  typedef typename CrossLanes<W>::U U;
+  typedef typename CrossLanes<W>::I I;
+  const double kRound = 6755399441055744.0;  // 1.5 2^52
+  D b, h, big;
+  U mag, acc;
+  for (int l = 0; l < W; ++l) {
+    b[l] = static_cast<double>(beta) / 4096;
+    h[l] = 1.0 / 8192;
+    big[l] = kRound;
+    mag[l] = ~(uint64_t{1} << 63);
+    acc[l] = 0;
+  }
+  size_t i = 0;
+  for (; i + W <= n; i += W) {
+    I q;
+    std::memcpy(&q, ref + i, sizeof q);
+    const D x = __builtin_convertvector(q, D);
+    const D p = ((b * x + h) + big) - big;
+    D tt;
+    std::memcpy(&tt, t + i, sizeof tt);
+    const D d = (p + p) - tt;
+    U db;
+    std::memcpy(&db, &d, sizeof d);
+    acc += (db & mag) >> 52;
+  }
+  uint64_t sum = 0;
+  for (int l = 0; l < W; ++l) sum += acc[l];
+  *bits = static_cast<int64_t>(sum) - 1022 * static_cast<int64_t>(i);
+  return i;
+}
+
+#if defined(__x86_64__) || defined(__i386__)
+__attribute__((target("avx2"))) size_t residual_bits_avx2(const double* t, const int32_t* ref,
+                                                          size_t n, int32_t beta, int64_t* bits) {
+  return residual_bits_lanes<4>(t, ref, n, beta, bits);
+}
+#endif
+
 // The same sum when no prediction can reach the clamp (|p| <= kMaxSample for every ref[i]),
 // from t[i] = 2 r1[i] + 1/2. With p as above (beta ref / 2^12 + 2^-13 is exact, as beta ref +
 // 1/2 is) and e = r1[i] - p: 2 p - t[i] = -(2 e + 1/2), whose magnitude is u + 1/2 for the
@@ -56,23 +121,13 @@ int64_t residual_bits_clamped(const int32_t* r1, const int32_t* ref, size_t n, i
 // of u, and 0 for u = 0 (1/2): one subtraction, a mask and a shift a sample.
 int64_t residual_bits(const double* t, const int32_t* r1, const int32_t* ref, size_t n,
                       int32_t beta) {
-  const double kRound = 6755399441055744.0;  // 1.5 2^52
-  const double bs = static_cast<double>(beta) / 4096;
-  const Lanes b = {bs, bs}, h = {1.0 / 8192, 1.0 / 8192}, big = {kRound, kRound};
-  const Ints mag = {~(uint64_t{1} << 63), ~(uint64_t{1} << 63)};
-  Ints acc = {0, 0};
   size_t i = 0;
-  for (; i + 2 <= n; i += 2) {
-    const Lanes x = {static_cast<double>(ref[i]), static_cast<double>(ref[i + 1])};
-    const Lanes p = ((b * x + h) + big) - big;
-    Lanes tt;
-    std::memcpy(&tt, t + i, sizeof tt);
-    const Lanes d = (p + p) - tt;
-    Ints bits;
-    std::memcpy(&bits, &d, sizeof d);
-    acc += (bits & mag) >> 52;
-  }
-  int64_t after = static_cast<int64_t>(acc[0] + acc[1]) - 1022 * static_cast<int64_t>(i);
+  int64_t wide = 0, narrow = 0;
+#if defined(__x86_64__) || defined(__i386__)
+  if (avx2_enabled()) i = residual_bits_avx2(t, ref, n, beta, &wide);  // analog_simd.h
+#endif
+  i += residual_bits_lanes<2>(t + i, ref + i, n - i, beta, &narrow);
+  int64_t after = wide + narrow;
   for (; i < n; ++i) after += bit_length(r1[i] - cross_predict(beta, ref[i]));
   return after;
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "coding/analog/analog_simd.h"
 #include "coding/entropy.h"
 
 namespace capz {
@@ -38,7 +39,64 @@ const std::vector<double>& tukey(size_t n) {
   return w;
 }
 
+#if defined(__x86_64__) || defined(__i386__)
+#define CAPZ_ANALOG_AVX2 1
+typedef double Quad __attribute__((vector_size(32)));
+__attribute__((target("avx2"))) inline Quad load4(const double* p) {
+  Quad v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+// autocorrelation's 33 lags (max_lag 32) in one pass of four-lane vectors, from its reversed
+// window wr (n values, then at least 35 zeros). Each lag's sum adds w[i] w[i - k] for i = 0, 1,
+// ... in order: the terms for i < k read zeros and add +-0 to a +0 sum, so each is the plain
+// loop's, bit for bit (a product, then a sum: no fused multiply-add in this target).
+__attribute__((target("avx2"))) void autocorrelation33_avx2(const double* wr, size_t n, double* r) {
+  Quad a[9] = {};
+  const double* base = wr + n - 1;
+  for (size_t i = 0; i < n; ++i) {
+    const double wi = wr[n - 1 - i];
+    const double* p = base - i;
+    for (int l = 0; l < 9; ++l) a[l] += wi * load4(p + 4 * l);
+  }
+  for (int k = 0; k <= 32; ++k) r[k] = a[k / 4][k % 4];
+}
+
+// lpc_residuals four samples a step: lane j sums c[k] x[i + j - padded + k] over k, exact
+// integers below 2^53 in any order (LpcKernel), so each is predict()'s sum.
+__attribute__((target("avx2"))) size_t lpc_residuals_avx2(const LpcKernel& lpc, const int32_t* x,
+                                                          const double* xd, size_t n, int32_t* r) {
+  const double* c = lpc.coefficients();
+  const int padded = lpc.padded(), shift = lpc.shift();
+  size_t i = 0;
+  for (; i + 4 <= n; i += 4) {
+    const double* xi = xd + i - padded;
+    Quad a0 = {0, 0, 0, 0}, a1 = {0, 0, 0, 0};
+    for (int k = 0; k < padded; k += 2) {
+      a0 += c[k] * load4(xi + k);
+      a1 += c[k + 1] * load4(xi + k + 1);
+    }
+    const Quad a = a0 + a1;
+    for (int j = 0; j < 4; ++j) {
+      int64_t s = static_cast<int64_t>(a[j]) >> shift;
+      s = s > kMaxSample ? kMaxSample : s < -kMaxSample ? -kMaxSample : s;
+      r[i + j] = static_cast<int32_t>(x[i + j] - s);
+    }
+  }
+  return i;
+}
+#endif
+
 }  // namespace
+
+void lpc_residuals(const LpcKernel& lpc, const int32_t* x, const double* xd, size_t n, int32_t* r) {
+  size_t i = 0;
+#ifdef CAPZ_ANALOG_AVX2
+  if (avx2_enabled()) i = lpc_residuals_avx2(lpc, x, xd, n, r);
+#endif
+  for (; i < n; ++i) r[i] = static_cast<int32_t>(x[i] - lpc.predict(xd + i));
+}
 
 std::vector<double> autocorrelation(const int32_t* x, size_t n, int max_lag) {
   // w[i] = g[i] x[i], kept reversed (wr[j] = w[n - 1 - j]) and followed by zeros, so that one
@@ -51,9 +109,15 @@ std::vector<double> autocorrelation(const int32_t* x, size_t n, int max_lag) {
   // pass before as a ninth lane pair.
   constexpr int kGroup = 16;
   const std::vector<double>& g = tukey(n);
-  std::vector<double> wr(n + kGroup + 2, 0.0);
+  std::vector<double> wr(n + 2 * kGroup + 4, 0.0);  // zeros after: kGroup + 2, or 35 (AVX2)
   for (size_t i = 0; i < n; ++i) wr[n - 1 - i] = g[i] * x[i];
   std::vector<double> r(static_cast<size_t>(max_lag) + 1, 0.0);
+#ifdef CAPZ_ANALOG_AVX2
+  if (max_lag == 32 && avx2_enabled()) {
+    autocorrelation33_avx2(wr.data(), n, r.data());
+    return r;
+  }
+#endif
   for (int k0 = 0; k0 <= max_lag; k0 += kGroup) {
     int lanes = std::min(kGroup, max_lag + 1 - k0);
     const double* base = wr.data() + n - 1 + k0;
@@ -165,13 +229,48 @@ LpcParams choose_lpc(const int32_t* x, size_t n) {
 
 namespace {
 
-// Order-0 entropy of a token histogram of n values plus their raw bits.
-double histogram_bits(const uint32_t count[64], uint64_t raw, size_t n) {
-  double bits = static_cast<double>(raw);
-  const double dn = static_cast<double>(n);
-  for (int t = 0; t < 64; ++t)
-    if (count[t]) bits -= count[t] * std::log2(count[t] / dn);
-  return bits;
+// Token histogram of residual streams (token_of of the zig-zag, coding/entropy.h), kept by
+// bin = token + 2 except for the value 0 (token 0), which lands in bin 0: for an integer v with
+// |v| < 2^51 and u its zig-zag, |2 v + 1/2| = u + 1/2 exactly, and for u >= 1 its biased
+// exponent is 1023 + floor(log2 u) with the mantissa's top bit the bit below u's top one, so
+// its top 13 bits (>> 51) are 2046 + token_of(u) (u = 1 gives 1.5: 2047); u = 0 gives 1/2,
+// 2044. The bin is those bits - 2044. Two copies (even and odd samples), so that equal tokens in
+// a row do not wait on each other's counter.
+struct TokenCounts {
+  static constexpr int kBins = 66;
+  uint32_t c[2][kBins] = {};
+  void add(int lane, int64_t bin) { ++c[lane][bin]; }
+  // Order-0 entropy of the tokens of n values plus their raw bits (token / 2 - 1 for tokens
+  // >= 4), the sum over tokens in increasing order.
+  double bits(size_t n) const {
+    uint64_t raw = 0;
+    uint32_t count[64];
+    for (int t = 0; t < 64; ++t) {
+      const int bin = t == 0 ? 0 : t + 2;
+      count[t] = c[0][bin] + c[1][bin];
+      if (t >= 4) raw += static_cast<uint64_t>(count[t]) * static_cast<uint64_t>(t / 2 - 1);
+    }
+    double total = static_cast<double>(raw);
+    const double dn = static_cast<double>(n);
+    for (int t = 0; t < 64; ++t)
+      if (count[t]) total -= count[t] * std::log2(count[t] / dn);
+    return total;
+  }
+};
+
+typedef long long Bins __attribute__((vector_size(16)));
+// The bins of two integer-valued doubles (above), as two-lane vectors.
+inline Bins token_bins(Lanes v) {
+  const Lanes half = {0.5, 0.5};
+  const Lanes t = (v + v) + half;
+  Bins b;
+  std::memcpy(&b, &t, sizeof b);
+  const Bins mag = {0x7FFFFFFFFFFFFFFF, 0x7FFFFFFFFFFFFFFF}, base = {2044, 2044};
+  return ((b & mag) >> 51) - base;
+}
+inline Bins token_bins(int64_t v) {
+  const Lanes x = {static_cast<double>(v), 0.0};
+  return token_bins(x);
 }
 
 // The coefficients' cost as an Elias-gamma-like code of each (their adaptive coding is close to
@@ -182,46 +281,53 @@ double coefficient_bits(const LpcParams& p) {
   return bits;
 }
 
+// 2 x1 - x2 clamped to the sample range: the second difference's prediction.
+inline int64_t second_prediction(int64_t x1, int64_t x2) {
+  const int64_t p2 = 2 * x1 - x2;
+  return p2 > kMaxSample ? kMaxSample : p2 < -kMaxSample ? -kMaxSample : p2;
+}
+
 }  // namespace
 
 double token_cost_bits(const int32_t* r, size_t n) {
-  uint32_t count[64] = {0};
-  uint64_t raw = 0;
-  for (size_t i = 0; i < n; ++i) {
-    int extra;
-    ++count[token_of(zigzag(r[i]), &extra)];
-    raw += static_cast<uint64_t>(extra);
-  }
-  return histogram_bits(count, raw, n);
+  TokenCounts h;
+  for (size_t i = 0; i < n; ++i) h.add(0, token_bins(r[i])[0]);
+  return h.bits(n);
 }
 
 LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, int32_t* r) {
   // choose_lpc's predictor, its residuals into r.
   LpcParams best = choose_lpc(x, n);
+  lpc_residuals(LpcKernel(best), x, xd, n, r);
+  // The token histograms of those residuals and of the fixed predictors 0, x[i-1] and
+  // 2 x[i-1] - x[i-2] (LPC orders 0, 1, 2 with exact coefficients, so their residuals are
+  // these), in one pass, two samples a step on doubles (all exact integers below 2^31).
+  TokenCounts counts[4];
   {
-    const LpcKernel lpc(best);
-    for (size_t i = 0; i < n; ++i) r[i] = static_cast<int32_t>(x[i] - lpc.predict(xd + i));
-  }
-  double best_bits = token_cost_bits(r, n) + coefficient_bits(best);
-  // The fixed predictors 0, x[i-1] and 2 x[i-1] - x[i-2] (LPC orders 0, 1, 2 with exact
-  // coefficients, so their residuals are these), in one pass.
-  uint32_t count[3][64] = {};
-  uint64_t raw[3] = {0, 0, 0};
-  int64_t x1 = static_cast<int64_t>(xd[-1]), x2 = static_cast<int64_t>(xd[-2]);
-  for (size_t i = 0; i < n; ++i) {
-    const int64_t x0 = x[i];
-    int64_t p2 = 2 * x1 - x2;
-    p2 = p2 > kMaxSample ? kMaxSample : p2 < -kMaxSample ? -kMaxSample : p2;
-    const int32_t e[3] = {static_cast<int32_t>(x0), static_cast<int32_t>(x0 - x1),
-                          static_cast<int32_t>(x0 - p2)};
-    for (int k = 0; k < 3; ++k) {
-      int extra;
-      ++count[k][token_of(zigzag(e[k]), &extra)];
-      raw[k] += static_cast<uint64_t>(extra);
+    const Lanes hi = {kMaxSample, kMaxSample}, lo = -hi;
+    size_t i = 0;
+    for (; i + 2 <= n; i += 2) {
+      const Lanes x0 = load(xd + i), x1 = load(xd + i - 1), x2 = load(xd + i - 2);
+      Lanes p2 = (x1 + x1) - x2;
+      p2 = p2 > hi ? hi : p2;
+      p2 = p2 < lo ? lo : p2;
+      const Lanes ri = {static_cast<double>(r[i]), static_cast<double>(r[i + 1])};
+      const Bins b[4] = {token_bins(ri), token_bins(x0), token_bins(x0 - x1), token_bins(x0 - p2)};
+      for (int k = 0; k < 4; ++k) {
+        counts[k].add(0, b[k][0]);
+        counts[k].add(1, b[k][1]);
+      }
     }
-    x2 = x1;
-    x1 = x0;
+    for (; i < n; ++i) {
+      const int64_t x0 = x[i], x1 = static_cast<int64_t>(xd[i - 1]);
+      const int64_t x2 = static_cast<int64_t>(xd[i - 2]);
+      counts[0].add(0, token_bins(r[i])[0]);
+      counts[1].add(0, token_bins(x0)[0]);
+      counts[2].add(0, token_bins(x0 - x1)[0]);
+      counts[3].add(0, token_bins(x0 - second_prediction(x1, x2))[0]);
+    }
   }
+  double best_bits = counts[0].bits(n) + coefficient_bits(best);
   LpcParams fixed[3];
   fixed[1].order = 1;  // x[i-1]
   fixed[1].shift = 13;
@@ -231,15 +337,22 @@ LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, i
   fixed[2].q = {1 << 13, -(1 << 12)};
   int pick = -1;
   for (int k = 0; k < 3; ++k) {
-    const double bits = histogram_bits(count[k], raw[k], n) + coefficient_bits(fixed[k]);
+    const double bits = counts[1 + k].bits(n) + coefficient_bits(fixed[k]);
     if (bits < best_bits) {
       best_bits = bits;
       pick = k;
     }
   }
   if (pick < 0) return best;
-  const LpcKernel lpc(fixed[pick]);
-  for (size_t i = 0; i < n; ++i) r[i] = static_cast<int32_t>(x[i] - lpc.predict(xd + i));
+  // The fixed predictor's residuals (LpcKernel of fixed[pick] predicts exactly these).
+  int64_t x1 = static_cast<int64_t>(xd[-1]), x2 = static_cast<int64_t>(xd[-2]);
+  for (size_t i = 0; i < n; ++i) {
+    const int64_t x0 = x[i];
+    const int64_t p = pick == 0 ? 0 : pick == 1 ? x1 : second_prediction(x1, x2);
+    r[i] = static_cast<int32_t>(x0 - p);
+    x2 = x1;
+    x1 = x0;
+  }
   return fixed[pick];
 }
 

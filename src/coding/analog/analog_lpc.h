@@ -78,6 +78,10 @@ class LpcKernel {
     }
   }
   int order() const { return order_; }
+  // c[k] multiplies x[i - padded + k] (k < padded, a multiple of 4; zeros beyond the order).
+  const double* coefficients() const { return c_; }
+  int padded() const { return padded_; }
+  int shift() const { return shift_; }
   // Prediction of the sample at xi (xi[-kMaxLpcOrder .. -1] readable), as lpc_predict.
   int64_t predict(const double* xi) const {
     const double* x = xi - padded_;
@@ -104,6 +108,10 @@ class LpcKernel {
   int order_, shift_, padded_;
   double c_[kMaxLpcOrder] = {};
 };
+
+// Residuals r[i] = x[i] - lpc.predict(xd + i) for i < n (xd as for choose_block_predictor);
+// four samples a step with AVX2 (analog_simd.h), the same integers.
+void lpc_residuals(const LpcKernel& lpc, const int32_t* x, const double* xd, size_t n, int32_t* r);
 
 }  // namespace analog
 }  // namespace capz

@@ -69,8 +69,16 @@ int64_t exception_delta(double want, double got, bool f32) {
   return static_cast<int64_t>(ordered_bits(bits_of(want)) - ordered_bits(bits_of(got)));
 }
 
+typedef double Lanes __attribute__((vector_size(16)));
+Lanes load2(const double* p) {
+  Lanes x;
+  std::memcpy(&x, p, sizeof x);
+  return x;
+}
+
 // The scaled fit for step s and offset o: the k and the exceptions; false when more than
-// max_exc samples would be exceptions or a k is out of range.
+// max_exc samples would be exceptions or a k is out of range. Two samples a step where both
+// quotients round without a division (|k| < 2^23 then); otherwise sample by sample.
 bool fit_scaled(const std::vector<double>& v, double s, double o, bool f32, size_t max_exc,
                 ChannelRepr* r) {
   if (!(s > 0) || !std::isfinite(s) || !std::isfinite(o)) return false;
@@ -79,7 +87,7 @@ bool fit_scaled(const std::vector<double>& v, double s, double o, bool f32, size
   r->exc_index.clear();
   r->exc_delta.clear();
   const QuotientRounder round_quotient(s);
-  for (size_t i = 0; i < n; ++i) {
+  auto one = [&](size_t i) {
     const double kd = round_quotient(v[i] - o);
     if (!(std::fabs(kd) <= static_cast<double>(kMaxScaledK))) return false;
     const int64_t k = static_cast<int64_t>(kd);
@@ -90,7 +98,42 @@ bool fit_scaled(const std::vector<double>& v, double s, double o, bool f32, size
       r->exc_index.push_back(static_cast<uint32_t>(i));
       r->exc_delta.push_back(exception_delta(v[i], from_bits(got), f32));
     }
+    return true;
+  };
+  typedef float Floats __attribute__((vector_size(8)));
+  typedef long long Mask __attribute__((vector_size(16)));
+  const Lanes sv = {s, s}, ov = {o, o};
+  constexpr double kMax = std::numeric_limits<float>::max();
+  const Lanes fmax = {kMax, kMax},
+              dmax = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
+  size_t i = 0;
+  for (; i + 2 <= n; i += 2) {
+    const Lanes x = load2(v.data() + i);
+    Lanes k;
+    if (round_quotient.pair(x - ov, &k)) {
+      // scaled_value of both: the product rounded before the sum, then round_to_float32; k + 0
+      // is k with a zero's sign dropped, as scaled_value's int64 k has none.
+      Lanes y = (k + Lanes{0.0, 0.0}) * sv + ov;
+      if (f32) {
+        y = (y > fmax) & (y <= dmax) ? fmax : y;
+        y = (y < -fmax) & (y >= -dmax) ? -fmax : y;
+        y = __builtin_convertvector(__builtin_convertvector(y, Floats), Lanes);
+      }
+      Mask yb, xb;
+      std::memcpy(&yb, &y, sizeof yb);
+      std::memcpy(&xb, &x, sizeof xb);
+      for (int l = 0; l < 2; ++l) {
+        r->ints[i + l] = static_cast<int32_t>(k[l]);
+        if (yb[l] == xb[l]) continue;
+        if (r->exc_index.size() == max_exc) return false;
+        r->exc_index.push_back(static_cast<uint32_t>(i + l));
+        r->exc_delta.push_back(exception_delta(x[l], y[l], f32));
+      }
+      continue;
+    }
+    if (!one(i) || !one(i + 1)) return false;
   }
+  if (i < n && !one(i)) return false;
   r->round_f32 = f32;
   r->step = s;
   r->offset = o;

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 namespace capz {
 namespace analog {
@@ -37,6 +38,34 @@ class QuotientRounder {
     if (fast_ && std::fabs(y) < 8388608.0 && 0.5 - std::fabs(y - k) > 1.0 / 67108864)
       return std::copysign(k, y);
     return round_half_away(d / s_);
+  }
+  // The same for two values at once (d[0], d[1]), when both take the path without a division:
+  // true and the two results in *k; false (and *k unset) when either needs the division.
+  typedef double Lanes __attribute__((vector_size(16)));
+  bool pair(Lanes d, Lanes* k) const {
+    typedef long long Mask __attribute__((vector_size(16)));
+    constexpr double kRound = 6755399441055744.0;  // 1.5 2^52
+    const Mask sign = {static_cast<long long>(0x8000000000000000ull),
+                       static_cast<long long>(0x8000000000000000ull)};
+    auto magnitude = [&](Lanes x) {
+      Mask b;
+      std::memcpy(&b, &x, sizeof b);
+      b &= ~sign;
+      std::memcpy(&x, &b, sizeof b);
+      return x;
+    };
+    const Lanes y = d * r_;
+    const Lanes near = (y + kRound) - kRound;
+    const Lanes limit = {8388608.0, 8388608.0}, half = {0.5, 0.5};
+    const Lanes margin = {1.0 / 67108864, 1.0 / 67108864};
+    const Mask ok = (magnitude(y) < limit) & (half - magnitude(y - near) > margin);
+    if (!fast_ || !(ok[0] & ok[1])) return false;
+    Mask kb, yb;
+    std::memcpy(&kb, &near, sizeof kb);
+    std::memcpy(&yb, &y, sizeof yb);
+    kb = (kb & ~sign) | (yb & sign);  // copysign(near, y)
+    std::memcpy(k, &kb, sizeof kb);
+    return true;
   }
 
  private:
