@@ -83,6 +83,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 // Code as an 8.x stream does (FORMAT.md 8.2: rank tables against a lattice), as capz writes
 // every take with analog channels; --before8 codes as the streams before 8.0.
 bool g_format8 = true;
+bool g_format9 = true;  // FORMAT.md 9.1 float predictors; --before9 codes as 8.x
 
 Result run_ours(const Analog& a, const AnalogHints& h, size_t window, size_t repeat_S) {
   const size_t rows = a.values.size() / a.channels;
@@ -95,8 +96,8 @@ Result run_ours(const Analog& a, const AnalogHints& h, size_t window, size_t rep
     auto t0 = std::chrono::steady_clock::now();
     for (size_t r0 = 0; r0 < rows; r0 += window) {
       const size_t n = std::min(window, rows - r0);
-      payloads.push_back(
-          encode_analog_window(&a.values[r0 * a.channels], n, a.channels, h, repeat_S, g_format8));
+      payloads.push_back(encode_analog_window(&a.values[r0 * a.channels], n, a.channels, h,
+                                              repeat_S, g_format8, g_format9));
     }
     best_enc = std::min(best_enc, seconds_since(t0));
   }
@@ -108,7 +109,7 @@ Result run_ours(const Analog& a, const AnalogHints& h, size_t window, size_t rep
       for (size_t r0 = 0; r0 < rows; r0 += window, ++w) {
         const size_t n = std::min(window, rows - r0);
         decode_analog_window(payloads[w].data(), payloads[w].size(), n, a.channels,
-                             &back[r0 * a.channels], "bench", repeat_S, g_format8);
+                             &back[r0 * a.channels], "bench", repeat_S, g_format8, g_format9);
       }
     } catch (const Error&) {
       std::fill(back.begin(), back.end(), std::nan(""));  // reported as NOT EXACT
@@ -247,7 +248,8 @@ size_t per_channel(const std::string& name, const Take& t, const AnalogHints& h,
     int kind = -1;
     for (size_t r0 = 0; r0 < rows; r0 += window) {
       const size_t n = std::min(window, rows - r0);
-      const std::vector<uint8_t> w = encode_analog_window(col.data() + r0, n, 1, h1, 0, g_format8);
+      const std::vector<uint8_t> w =
+          encode_analog_window(col.data() + r0, n, 1, h1, 0, g_format8, g_format9);
       bytes += w.size();
       if (kind < 0) {
         size_t k = 1;  // version byte, then the header size (varint), then the kind byte
@@ -324,7 +326,9 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--repeats"))
       repeats = whole_frames = true;
     else if (!std::strcmp(argv[i], "--before8"))
-      g_format8 = false;
+      g_format8 = g_format9 = false;
+    else if (!std::strcmp(argv[i], "--before9"))
+      g_format9 = false;
     else if (!std::strcmp(argv[i], "--per-channel"))
       channels = true;
     else if (!std::strcmp(argv[i], "--whole-frames"))

@@ -24,7 +24,7 @@ Version library_version();
 // "0.1.0"
 const char* version_string();
 
-// The .capz version streams are written in, but for those of kFormat6, kFormat7 and kFormat8.
+// The .capz version streams are written in, but for those of kFormat6 to kFormat9.
 constexpr FormatVersion kFormatWritten{5, 0};
 // The version of streams with point fields that include a normal triple or are organized
 // (FORMAT.md 6: ATTR predictor 9, transforms 4 and 5).
@@ -38,12 +38,15 @@ constexpr FormatVersion kFormat7{7, 0};
 // takes, when that is the smallest coding) or that have analog channels (8.2: value tables
 // against a lattice). Every 7.x addition holds in 8.x.
 constexpr FormatVersion kFormat8{8, 0};
+// The version of streams with analog channels some sample of which is neither an integer nor a
+// gap (FORMAT.md 9.1: the float coder's predictors 2-5). Every 8.x addition holds in 9.x.
+constexpr FormatVersion kFormat9{9, 0};
 // The newest version the encoder writes.
-constexpr FormatVersion kFormatNewestWritten = kFormat8;
+constexpr FormatVersion kFormatNewestWritten = kFormat9;
 // The versions read: every one from kFormatOldestRead to kFormatNewestRead, and any later
 // minor version of kFormatNewestRead's major (minor versions only add what older decoders skip;
 // FORMAT.md 2). A later major version is refused (Error kUnsupportedVersion).
 constexpr FormatVersion kFormatOldestRead{1, 0};
-constexpr FormatVersion kFormatNewestRead{8, 0};
+constexpr FormatVersion kFormatNewestRead{9, 0};
 
 }  // namespace capz

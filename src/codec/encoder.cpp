@@ -291,6 +291,9 @@ class Encoder {
     // FORMAT.md 8.2: so does a take with analog channels (value tables against a lattice where
     // that codes smaller).
     if (plan_.analog) version_ = kFormat8;
+    // FORMAT.md 9.1: so does a take with an analog sample the float coder may code (neither an
+    // integer nor a gap, or -0.0; counted by the scan): its predictors 2-5 are then available.
+    if (plan_.analog && scan_.analog_fractional) version_ = kFormat9;
     std::vector<uint8_t> buf;
     write_file_header(&buf, version_);
     append_chunk(&buf, "HEAD", encode_header(h));
@@ -477,9 +480,9 @@ class Encoder {
         analog::quantise_window(moved.data(), fn * plan_.S, abounds_, &hints.channel);
         rows = moved.data();
       }
-      const std::vector<uint8_t> an =
-          encode_analog_window(rows, fn * plan_.S, take_.analog.channels, hints,
-                               analog_repeats_ ? plan_.S : 0, version_.major >= 8);
+      const std::vector<uint8_t> an = encode_analog_window(
+          rows, fn * plan_.S, take_.analog.channels, hints, analog_repeats_ ? plan_.S : 0,
+          version_.major >= 8, version_.major >= 9);
       append_chunk(&buf, "ANLG", with_window_index(w, 0xFF, an));
       win->analog_bytes = buf.size() - before;
     }

@@ -165,6 +165,10 @@ void scan_block(const FrameBlock& b, const std::string& src, bool words, double 
     for (size_t c = 0; c < C; ++c)
       s->analog_repeats[c] +=
           analog::count_varying_repeats(b.analog.data() + c, C, b.frames, s->analog_S);
+  for (size_t i = 0; C && !s->analog_fractional && i < b.analog.size(); ++i) {
+    const double v = b.analog[i];
+    s->analog_fractional = std::isfinite(v) && (v != std::trunc(v) || (v == 0 && std::signbit(v)));
+  }
   if (s->kg_cached) {
     for (size_t i = 0; i < b.frames * b.points && s->kg_cached; ++i) {
       if (!b.valid[i]) continue;

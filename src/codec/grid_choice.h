@@ -43,6 +43,8 @@ struct TakeScan {
   // analog_S samples repeat frame f - 1's bit for bit and are not all one bit pattern.
   size_t analog_S = 0;
   std::vector<size_t> analog_repeats;  // empty without analog
+  // FORMAT.md 9.1: some analog sample is finite and not an integer, or is -0.0.
+  bool analog_fractional = false;
 };
 
 // True when the scan found the take's points moving along their rays from the origin, as a

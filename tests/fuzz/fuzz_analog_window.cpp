@@ -3,7 +3,8 @@
 // 1..16, rows 1..2048). With bit 7 of the mode the window is a 7.x one: S = 1 + bits 3-6 samples
 // a frame, rows rounded up to whole frames (and in odd modes some frames of some channels made
 // copies of the previous frame, as input bytes say); without it, a window of 4.x-6.x. With bit 7
-// of byte 2 the window is an 8.x one (FORMAT.md 8.2: rank tables against a lattice):
+// of byte 2 the window is an 8.x one (FORMAT.md 8.2: rank tables against a lattice), and with bit
+// 7 of byte 1 too a 9.x one (FORMAT.md 9.1: the float coder's predictors 2-5):
 //   mode even: the rest is an ANLG body; decoding must return or throw capz::Error, and a body
 //     that decodes must re-encode to one that decodes to the same bits;
 //   mode odd: the rest are sample bits (as int16 counts, float32 or float64 values, by mode),
@@ -19,12 +20,13 @@
 
 namespace {
 
-void round_trip(const std::vector<double>& rows, size_t nrows, int channels, size_t S, bool v8) {
+void round_trip(const std::vector<double>& rows, size_t nrows, int channels, size_t S, bool v8,
+                bool v9) {
   const std::vector<uint8_t> enc =
-      capz::encode_analog_window(rows.data(), nrows, channels, capz::AnalogHints(), S, v8);
+      capz::encode_analog_window(rows.data(), nrows, channels, capz::AnalogHints(), S, v8, v9);
   std::vector<double> back(rows.size());
   capz::decode_analog_window(enc.data(), enc.size(), nrows, channels, back.data(), "re-encoded", S,
-                             v8);
+                             v8, v9);
   CAPZ_FUZZ_CHECK(std::memcmp(back.data(), rows.data(), rows.size() * 8) == 0);
 }
 
@@ -37,17 +39,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   size_t nrows = 1 + ((static_cast<size_t>(data[1] >> 4) | size_t{data[2]} << 4) & 2047);
   const size_t S = (mode & 0x80) ? 1 + ((mode >> 3) & 15) : 0;
   const bool v8 = data[2] & 0x80;
+  const bool v9 = v8 && (data[1] & 0x80);
   if (S) nrows = (nrows + S - 1) / S * S;
   data += 3;
   size -= 3;
   std::vector<double> rows(nrows * static_cast<size_t>(channels));
   if (mode % 2 == 0) {
     try {
-      capz::decode_analog_window(data, size, nrows, channels, rows.data(), "fuzz ANLG", S, v8);
+      capz::decode_analog_window(data, size, nrows, channels, rows.data(), "fuzz ANLG", S, v8, v9);
     } catch (const capz::Error&) {
       return 0;
     }
-    round_trip(rows, nrows, channels, S, v8);
+    round_trip(rows, nrows, channels, S, v8, v9);
     return 0;
   }
   // Sample bits from the input, repeated to fill the window; the kind of value by mode.
@@ -74,6 +77,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       if (data[f % size] & (1u << (c % 8)))
         for (size_t j = 0; j < S; ++j)
           rows[(f * S + j) * nch + c] = rows[((f - 1) * S + j) * nch + c];
-  round_trip(rows, nrows, channels, S, v8);
+  round_trip(rows, nrows, channels, S, v8, v9);
   return 0;
 }

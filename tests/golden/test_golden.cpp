@@ -153,7 +153,8 @@ int version_of(const std::string& stream) {
 
 // The encoder still writes the golden streams of the versions it writes byte for byte (5.0; 6.0
 // for takes with a normal triple or an organized layout, FORMAT.md 6; 7.0 for scans along
-// sensor rays or unorganized clouds' fields, FORMAT.md 7; 8.0 for analog channels, FORMAT.md 8),
+// sensor rays or unorganized clouds' fields, FORMAT.md 7; 8.0 for analog channels, FORMAT.md 8;
+// 9.0 for fractional analog samples, FORMAT.md 9),
 // through the CLI with the options
 // MANIFEST.txt records: for each source and options, the stream of the highest version (older
 // ones of the same source and options were written by older encoders, and are only decoded).
@@ -167,7 +168,7 @@ TEST(Golden, GivenNewestGoldensWhenRecompressedWithTheirOptionsThenSameBytes) {
   const int written = number(capz::kFormatWritten),
             newest_written = number(capz::kFormatNewestWritten);
   const std::vector<int> writes = {written, number(capz::kFormat6), number(capz::kFormat7),
-                                   number(capz::kFormat8)};
+                                   number(capz::kFormat8), number(capz::kFormat9)};
   // A new format version brings golden streams of its own (CONTRIBUTING.md).
   ASSERT_EQ(newest, newest_written) << "no golden stream of the newest version the encoder writes";
   for (int v : writes)

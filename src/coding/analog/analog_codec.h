@@ -32,15 +32,16 @@ AnalogHints analog_hints(const Take& t);
 // name repeated frames (FORMAT.md 7.2, analog_repeat.h) where that codes smaller; 0 in earlier
 // streams.
 // format8: an 8.x stream, whose value tables may be coded against a lattice (FORMAT.md 8.2).
+// format9: a 9.x stream (format8 too), whose float channels use 9.1's predictors and coding.
 std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int channels,
                                           const AnalogHints& hints, size_t repeat_S = 0,
-                                          bool format8 = false);
+                                          bool format8 = false, bool format9 = false);
 
 // Fills rows[0 .. nrows * channels). Throws Error(kCorrupt) naming `what` when the payload is
 // not a valid window of that shape; memory used is O(nrows * channels + size). repeat_S and
 // format8: as for encode_analog_window (0: a repeat list is corrupt; false: a lattice table).
 void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int channels,
                           double* rows, const std::string& what, size_t repeat_S = 0,
-                          bool format8 = false);
+                          bool format8 = false, bool format9 = false);
 
 }  // namespace capz
