@@ -24,7 +24,7 @@ int64_t get_float_residual(IntDecoder::Cursor* dec, int* prev_nb) {
 
 int64_t get_float_residual9(IntDecoder::Cursor* dec, int* prev_nb) {
   int tok;
-  const int sym = dec->get_symbol(kMagContexts + *prev_nb / 2);
+  const int sym = dec->get_symbol(kMagContexts + std::min(*prev_nb, 32));
   int64_t nb = *prev_nb + sym - 7;
   if (sym == 0) nb = *prev_nb - 7 - static_cast<int64_t>(dec->get(kFarContext, &tok));
   if (sym == 15) nb = *prev_nb + 8 + static_cast<int64_t>(dec->get(kFarContext, &tok));

@@ -10,6 +10,7 @@
 //   - side information (LPC orders, coefficients, stage flags) under two parameter contexts.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 
 #include "coding/entropy.h"
@@ -99,13 +100,13 @@ inline void put_float_residual9(IntEncoder::Cursor* enc, int* prev_nb, int64_t d
   // 15: above) and how far beyond, as an integer.
   const int delta = nb - *prev_nb;
   if (delta < -6) {
-    enc->put_symbol(0, kMagContexts + *prev_nb / 2);
+    enc->put_symbol(0, kMagContexts + std::min(*prev_nb, 32));
     enc->put(static_cast<uint32_t>(-7 - delta), kFarContext);
   } else if (delta > 7) {
-    enc->put_symbol(15, kMagContexts + *prev_nb / 2);
+    enc->put_symbol(15, kMagContexts + std::min(*prev_nb, 32));
     enc->put(static_cast<uint32_t>(delta - 8), kFarContext);
   } else {
-    enc->put_symbol(delta + 7, kMagContexts + *prev_nb / 2);
+    enc->put_symbol(delta + 7, kMagContexts + std::min(*prev_nb, 32));
   }
   *prev_nb = nb;
   if (nb < 2) return;
