@@ -72,16 +72,18 @@ std::vector<double> through_plan(const std::vector<double>& x, bool f32, const F
   return back;
 }
 
-void expect_same_bits(const std::vector<double>& a, const std::vector<double>& b, const char* what) {
+void expect_same_bits(const std::vector<double>& a, const std::vector<double>& b,
+                      const char* what) {
   ASSERT_EQ(a.size(), b.size()) << what;
-  for (size_t i = 0; i < a.size(); ++i) ASSERT_EQ(bits(a[i]), bits(b[i])) << what << " sample " << i;
+  for (size_t i = 0; i < a.size(); ++i)
+    ASSERT_EQ(bits(a[i]), bits(b[i])) << what << " sample " << i;
 }
 
 TEST(AnalogFloat9, GivenEveryPredictorWhenEdgeValuesAreCodedThenTheSameBits) {
   constexpr double kMax = std::numeric_limits<float>::max();
   const double tiny = static_cast<double>(std::numeric_limits<float>::denorm_min());
-  std::vector<double> f32_edges = {0.0, -0.0, kMax, -kMax, kMax, tiny, -tiny, 3 * tiny, 1.0, -0.0,
-                                   0.0, -kMax, -kMax, 1e-38f, -1e-38f, 7.5, 7.5, 7.5};
+  std::vector<double> f32_edges = {0.0,  -0.0, kMax,  -kMax, kMax,   tiny,    -tiny, 3 * tiny, 1.0,
+                                   -0.0, 0.0,  -kMax, -kMax, 1e-38f, -1e-38f, 7.5,   7.5,      7.5};
   std::vector<double> f64_edges = {0.0,
                                    -0.0,
                                    std::numeric_limits<double>::max(),
@@ -191,8 +193,9 @@ std::string decode_error(void (*make)(IntEncoder::Cursor*), size_t n = 4) {
 
 TEST(AnalogFloat9, GivenEachNewFieldOutOfRangeThenCorrupt) {
   // Predictor 6 and above.
-  EXPECT_NE(decode_error([](IntEncoder::Cursor* c) { c->put(6, kParamContext); })
-                .find("unknown analog float predictor"),
+  EXPECT_NE(decode_error([](IntEncoder::Cursor* c) {
+              c->put(6, kParamContext);
+            }).find("unknown analog float predictor"),
             std::string::npos);
   // LPC order 0 and above the maximum.
   EXPECT_NE(decode_error([](IntEncoder::Cursor* c) {
