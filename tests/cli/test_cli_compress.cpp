@@ -58,7 +58,8 @@ TEST(CliVersion, GivenVersionThenLibraryAndFormatVersionsArePrinted) {
       " for point normals or organized fields, " + text(capz::kFormat7) +
       " for scans along sensor rays, unorganized clouds' fields or repeated analog frames, " +
       text(capz::kFormat8) +
-      " for C3D parameters coded after the format's dictionary or analog channels), reads " +
+      " for C3D parameters coded after the format's dictionary or analog channels, " +
+      text(capz::kFormat9) + " for fractional analog samples), reads " +
       text(capz::kFormatOldestRead) + " to " + text(capz::kFormatNewestRead) + "\n";
   for (const char* flag : {"--version", "-V"}) {
     const Result r = capz_cli(flag);
