@@ -223,27 +223,34 @@ Estimate scaled(const Cost9& c, size_t stride, double side) {
 }
 
 // The estimate for predictors 2-4, one loop each (predict9 without its switch).
-template <int P>
-Estimate cost_simple(const std::vector<double>& x, bool f32, size_t stride) {
-  Cost9 c;
-  const size_t n = x.size();
-  for (size_t i = 0; i < n; i = next_sample(i, stride)) {
-    const double a = i > 0 ? x[i - 1] : 0;
-    double p = 0;
-    if (P == 2) p = a;
-    if (P == 3) {
-      p = a + (a - (i > 1 ? x[i - 2] : 0));
-      if (f32) p = round_to_float32(p);
-    }
-    c.add(residual(x[i], p, f32));
-  }
-  return scaled(c, stride, 0);
+// The ordered pattern of v (ord32 widened, or ord64): residual(v, p) is ord(v) - ord(p), as a
+// signed difference for float32, wrapping for float64.
+inline uint64_t ord_of(double v, bool f32) {
+  return f32 ? ordered_f32(v) : ordered_bits(bits_of(v));
+}
+inline int64_t ord_diff(uint64_t ov, uint64_t op, bool f32) {
+  return f32 ? static_cast<int64_t>(ov) - static_cast<int64_t>(op) : static_cast<int64_t>(ov - op);
 }
 
-Estimate cost9(const std::vector<double>& x, const FloatPlan& plan, bool f32, size_t stride) {
-  if (plan.predictor == 2) return cost_simple<2>(x, f32, stride);
-  if (plan.predictor == 3) return cost_simple<3>(x, f32, stride);
-  if (plan.predictor == 4) return cost_simple<4>(x, f32, stride);
+// The estimates of predictors 2, 3 and 4 in one pass (each sample's pattern computed once).
+void simple_costs(const std::vector<double>& x, bool f32, size_t stride, Estimate out[3]) {
+  Cost9 c[3];
+  const size_t n = x.size();
+  const uint64_t zero = ord_of(0.0, f32);
+  for (size_t i = 0; i < n; i = next_sample(i, stride)) {
+    const double a = i > 0 ? x[i - 1] : 0;
+    double p = a + (a - (i > 1 ? x[i - 2] : 0));
+    if (f32) p = round_to_float32(p);
+    const uint64_t ov = ord_of(x[i], f32);
+    c[0].add(ord_diff(ov, ord_of(a, f32), f32));
+    c[1].add(ord_diff(ov, ord_of(p, f32), f32));
+    c[2].add(ord_diff(ov, zero, f32));
+  }
+  for (int k = 0; k < 3; ++k) out[k] = scaled(c[k], stride, 0);
+}
+
+// Predictor 5's estimate.
+Estimate lpc_cost(const std::vector<double>& x, const FloatPlan& plan, bool f32, size_t stride) {
   Cost9 c;
   const double scale = lpc_scale(plan);
   for (size_t i = 0; i < x.size(); i = next_sample(i, stride))
@@ -254,24 +261,21 @@ Estimate cost9(const std::vector<double>& x, const FloatPlan& plan, bool f32, si
 }  // namespace
 
 FloatPlan choose_float_plan9(const std::vector<double>& x, bool f32, uint64_t* bits) {
-  FloatPlan best;
-  double best_cost = 0;
   FloatPlan plans[4];
-  int m = 0;
-  for (int p = 2; p <= 4; ++p) plans[m++].predictor = p;
-  if (fit_float_lpc(x, &plans[m])) ++m;
-  uint64_t best_lengths = 0;
+  Estimate est[4];
+  int m = 3;
+  for (int p = 2; p <= 4; ++p) plans[p - 2].predictor = p;
   const size_t stride = x.size() >= kCostSubsample ? 2 : 1;
-  for (int k = 0; k < m; ++k) {
-    const Estimate c = cost9(x, plans[k], f32, stride);
-    if (k == 0 || c.bits < best_cost) {
-      best_cost = c.bits;
-      best_lengths = c.lengths;
-      best = plans[k];
-    }
+  simple_costs(x, f32, stride, est);
+  if (fit_float_lpc(x, &plans[m])) {
+    est[m] = lpc_cost(x, plans[m], f32, stride);
+    ++m;
   }
-  if (bits) *bits = best_lengths;
-  return best;
+  int best = 0;
+  for (int k = 1; k < m; ++k)
+    if (est[k].bits < est[best].bits) best = k;
+  if (bits) *bits = est[best].lengths;
+  return plans[best];
 }
 
 __attribute__((flatten)) bool encode_float_channel(const std::vector<double>& x, bool f32,
