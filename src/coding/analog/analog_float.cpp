@@ -159,7 +159,7 @@ bool fit_float_lpc(const std::vector<double>& x, FloatPlan* plan) {
   plan->shift = shift;
   for (int j = 0; j < best; ++j) {
     const double q = std::nearbyint(std::ldexp(best_a[j + 1], shift));
-    if (std::fabs(q) >= (1 << kFloatLpcPrecision)) return false;
+    if (!(std::fabs(q) < (1 << kFloatLpcPrecision))) return false;  // NaN too
     plan->q[j] = static_cast<int32_t>(q);
   }
   return true;
