@@ -38,8 +38,8 @@ constexpr FormatVersion kFormat7{7, 0};
 // takes, when that is the smallest coding), but for those with analog channels (kFormat9).
 // Every 7.x addition holds in 8.x.
 constexpr FormatVersion kFormat8{8, 0};
-// The version of streams with analog channels (FORMAT.md 9.2: interpolated samples). Every 8.x
-// addition holds in 9.x.
+// The version of streams with analog channels (FORMAT.md 9.1: the float coder's predictors 2-5;
+// 9.2: interpolated samples). Every 8.x addition holds in 9.x.
 constexpr FormatVersion kFormat9{9, 0};
 // The newest version the encoder writes.
 constexpr FormatVersion kFormatNewestWritten = kFormat9;

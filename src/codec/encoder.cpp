@@ -288,8 +288,9 @@ class Encoder {
     // makes the stream 8.0 (everything 7.0 adds is then available too).
     const std::vector<uint8_t> meta_payload = encode_meta(take_, plan_.words, take_.c3d != nullptr);
     if (meta_coding(meta_payload) == 3) version_ = kFormat8;
-    // FORMAT.md 8.2 and 9.2: a take with analog channels is written as 9.0 (value tables against
-    // a lattice, interpolated samples, where they code smaller).
+    // FORMAT.md 8.2, 9.1 and 9.2: a take with analog channels is written as 9.0 (value tables
+    // against a lattice, the float coder's predictors 2-5, interpolated samples, each where it
+    // codes smaller).
     if (plan_.analog) version_ = kFormat9;
     std::vector<uint8_t> buf;
     write_file_header(&buf, version_);

@@ -84,6 +84,8 @@ class IntEncoder {
       return tok;
     }
     int put_signed(int32_t v, int ctx, int eset = 0) { return put(zigzag(v), ctx, eset); }
+    // One symbol 0..15 with the context's model itself: no token, no escape (FORMAT.md 9.1).
+    void put_symbol(int s, int ctx) { models_[ctx].encode(this, s); }
     // n raw bits of v (0 <= n <= 32), uncompressed.
     void raw_bits(uint32_t v, int n) { bits_.put(v, n, bits_out_); }
     // For SymbolModel::encode.
@@ -157,6 +159,8 @@ class IntDecoder {
       return v;
     }
     int32_t get_signed(int ctx, int* tok, int eset = 0) { return unzigzag(get(ctx, tok, eset)); }
+    // The symbol put_symbol coded.
+    int get_symbol(int ctx) { return models_[ctx].decode(this); }
     // For SymbolModel::decode.
     uint32_t target() { return rc_.target(*what_); }
     void consume(uint32_t start, uint32_t freq) { rc_.consume(start, freq, *what_); }

@@ -85,6 +85,25 @@ TEST(Corrupt, GivenErrorsThenTheyNameTheProblem) {
   EXPECT_NE(message("indx_missing.capz").find("INDX"), std::string::npos);
 }
 
+// b's text of the error decompressing it gives ("" when it decodes); the error must be clean.
+std::string decode_error_text(const std::vector<uint8_t>& b) {
+  try {
+    decompress(b.data(), b.size(), "t.capz");
+  } catch (const Error& e) {
+    EXPECT_TRUE(clean(e)) << e.what();
+    return std::string(e.what());
+  }
+  return std::string();
+}
+
+// b relabelled as a stream of another major version, its header CRC made right.
+std::vector<uint8_t> relabelled(std::vector<uint8_t> b, int major) {
+  b[9] = static_cast<uint8_t>(major);
+  const uint32_t hc = crc32c(b.data(), 11);
+  for (int k = 0; k < 4; ++k) b[11 + k] = static_cast<uint8_t>(hc >> (8 * k));
+  return b;
+}
+
 // A small stream with everything in it: gaps, analog, C3D words, rotations, several windows.
 std::vector<uint8_t> small_stream() {
   Take t;
@@ -160,28 +179,15 @@ TEST(Corrupt, GivenMetaCoding3DamagedOrInAnOlderMajorThenCleanCorruptNamingMeta)
   const size_t meta = capz_test::find_chunk(good, "META");
   ASSERT_NE(meta, std::string::npos);
   ASSERT_EQ(good[meta + 8], 3) << "the golden 8.0 stream's META is coding 3";
-  auto error_of = [](const std::vector<uint8_t>& b) {
-    try {
-      decompress(b.data(), b.size(), "t.capz");
-    } catch (const Error& e) {
-      EXPECT_TRUE(clean(e)) << e.what();
-      return std::string(e.what());
-    }
-    return std::string();
-  };
   // Relabelled 7.0, its header CRC made right: coding 3 is unknown there.
-  std::vector<uint8_t> v7 = good;
-  v7[9] = 7;
-  const uint32_t hc = crc32c(v7.data(), 11);
-  for (int k = 0; k < 4; ++k) v7[11 + k] = static_cast<uint8_t>(hc >> (8 * k));
-  const std::string e7 = error_of(v7);
+  const std::string e7 = decode_error_text(relabelled(good, 7));
   EXPECT_NE(e7.find("META"), std::string::npos) << e7;
   EXPECT_NE(e7.find("coding 3"), std::string::npos) << e7;
   // A dictionary number the format does not define.
   std::vector<uint8_t> d2 = good;
   d2[meta + 9] = 2;
   capz_test::fix_crc(&d2, meta);
-  const std::string ed = error_of(d2);
+  const std::string ed = decode_error_text(d2);
   EXPECT_NE(ed.find("META"), std::string::npos) << ed;
   EXPECT_NE(ed.find("dictionary 2"), std::string::npos) << ed;
   // Every byte of the payload after the dictionary byte flipped in turn, the CRC made right.
@@ -198,21 +204,43 @@ TEST(Corrupt, GivenInterpolatedAnalogInAnOlderMajorOrDamagedThenCleanCorruptNami
   ASSERT_GT(good.size(), 15u);
   ASSERT_EQ(good[9], 9);
   decompress(good.data(), good.size(), "good.capz");
-  std::vector<uint8_t> v8 = good;
-  v8[9] = 8;
-  const uint32_t hc = crc32c(v8.data(), 11);
-  for (int k = 0; k < 4; ++k) v8[11 + k] = static_cast<uint8_t>(hc >> (8 * k));
-  try {
-    decompress(v8.data(), v8.size(), "t.capz");
-    ADD_FAILURE() << "an interpolation field decoded in an 8.0 stream";
-  } catch (const Error& e) {
-    EXPECT_TRUE(clean(e)) << e.what();
-    EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << e.what();
-    EXPECT_NE(std::string(e.what()).find("ANLG"), std::string::npos) << e.what();
-  }
+  const std::string e8 = decode_error_text(relabelled(good, 8));
+  EXPECT_NE(e8.find("ANLG"), std::string::npos) << e8;
+  EXPECT_NE(e8.find("kind"), std::string::npos) << e8;
   const size_t anlg = capz_test::find_chunk(good, "ANLG");
   ASSERT_NE(anlg, std::string::npos);
   expect_clean_under_flips(good, anlg, 0, 9, "ANLG");
+}
+
+// FORMAT.md 9.1: the float coder's predictors 2-5 exist from 9.0 on; an ANLG payload using them,
+// damaged under a valid CRC, gives a clean error or a harmless take.
+TEST(Corrupt, GivenFloatPredictors9DamagedOrInAnOlderMajorThenCleanCorruptNamingAnlg) {
+  const std::vector<uint8_t> good = read_file(
+      std::string(CAPZ_TEST_DIR) + "/golden/streams/repeat_analog.c3d.lossless.v9.0.capz");
+  ASSERT_GT(good.size(), 15u);
+  ASSERT_EQ(good[9], 9);
+  // Relabelled 8.0, its header CRC made right: predictors above 1 are unknown there.
+  const std::string e8 = decode_error_text(relabelled(good, 8));
+  EXPECT_NE(e8.find("ANLG"), std::string::npos) << e8;
+  EXPECT_NE(e8.find("unknown analog float predictor"), std::string::npos) << e8;
+  // Every byte of the first window's ANLG payload flipped in turn, the CRC made right.
+  const size_t anlg = capz_test::find_chunk(good, "ANLG");
+  ASSERT_NE(anlg, std::string::npos);
+  const size_t len = capz_test::chunk_len(good, anlg);
+  std::mt19937 rng(6);
+  int errors = 0;
+  for (size_t i = 0; i < len; ++i) {
+    std::vector<uint8_t> b = good;
+    b[anlg + 8 + i] ^= static_cast<uint8_t>(1u << (rng() % 8));
+    capz_test::fix_crc(&b, anlg);
+    try {
+      decompress(b.data(), b.size(), "t.capz");
+    } catch (const Error& e) {
+      ASSERT_TRUE(clean(e)) << "ANLG byte " << i << ": " << e.what();
+      ++errors;
+    }
+  }
+  EXPECT_GT(errors, 0);
 }
 
 }  // namespace

@@ -4,8 +4,9 @@
 // a frame, rows rounded up to whole frames (and in odd modes some frames of some channels made
 // copies of the previous frame, as input bytes say); without it, a window of 4.x-6.x. With bit 7
 // of byte 2 the window is an 8.x one (FORMAT.md 8.2: rank tables against a lattice), and with bit
-// 6 of the mode too a 9.x one (FORMAT.md 9.2: interpolated samples; in odd modes every second row
-// is then made the mean of its neighbours, so that the encoder finds them):
+// 6 of the mode or bit 7 of byte 1 too a 9.x one (FORMAT.md 9.1: the float coder's predictors
+// 2-5; 9.2: interpolated samples: with bit 6 of the mode, in odd modes every second row is made
+// the mean of its neighbours, so that the encoder finds them):
 //   mode even: the rest is an ANLG body; decoding must return or throw capz::Error, and a body
 //     that decodes must re-encode to one that decodes to the same bits;
 //   mode odd: the rest are sample bits (as int16 counts, float32 or float64 values, by mode),
@@ -41,7 +42,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   size_t nrows = 1 + ((static_cast<size_t>(data[1] >> 4) | size_t{data[2]} << 4) & 2047);
   const size_t S = (mode & 0x80) ? 1 + ((mode >> 3) & 15) : 0;
   const bool v8 = data[2] & 0x80;
-  const bool v9 = v8 && (mode & 0x40);
+  const bool v9 = v8 && ((mode & 0x40) || (data[1] & 0x80));
   if (S) nrows = (nrows + S - 1) / S * S;
   data += 3;
   size -= 3;
@@ -79,8 +80,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       if (data[f % size] & (1u << (c % 8)))
         for (size_t j = 0; j < S; ++j)
           rows[(f * S + j) * nch + c] = rows[((f - 1) * S + j) * nch + c];
-  if (v9)  // every second row the mean of its neighbours (float32-rounded for float32 modes)
-    for (size_t i = 1; i + 1 < nrows; i += 2)
+  if (v9 && (mode & 0x40))  // every second row the mean of its neighbours (float32-rounded for
+    for (size_t i = 1; i + 1 < nrows; i += 2)  // float32 modes)
       for (size_t c = 0; c < nch; ++c)
         rows[i * nch + c] = capz::analog::interpolate(rows[(i - 1) * nch + c],
                                                       rows[(i + 1) * nch + c], 1, 2, width == 4);

@@ -323,7 +323,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     // Integer kinds: the pipeline's decisions, made once per candidate; float kinds: the
     // predictor.
     std::vector<IntPlan> plans(cands.size());
-    std::vector<int> float_predictor(cands.size(), 0);
+    std::vector<analog::FloatPlan> float_plan(cands.size());
     std::vector<uint64_t> bits(cands.size(), 0);  // summed bit lengths of what is coded
     auto is_float = [&](size_t k) {
       return cands[k].kind == Kind::kFloat32 || cands[k].kind == Kind::kFloat64;
@@ -335,8 +335,11 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
                          &plans[k]);
         bits[k] = plans[k].bits;
       } else if (is_float(k)) {
-        float_predictor[k] = analog::choose_float_predictor(
-            cands[k].filled, cands[k].kind == Kind::kFloat32, &bits[k]);
+        const bool f32 = cands[k].kind == Kind::kFloat32;
+        if (format9)
+          float_plan[k] = analog::choose_float_plan9(cands[k].filled, f32, &bits[k]);
+        else
+          float_plan[k].predictor = analog::choose_float_predictor(cands[k].filled, f32, &bits[k]);
       }
     }
     // False when the coding stopped at `limit` bytes out (a trial that cannot win).
@@ -344,7 +347,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
       if (analog::is_integer_kind(cands[k].kind)) return emit_int_channel(plans[k], enc, limit);
       if (is_float(k))
         return analog::encode_float_channel(cands[k].filled, cands[k].kind == Kind::kFloat32,
-                                            float_predictor[k], enc, limit);
+                                            float_plan[k], enc, limit);
       return true;
     };
     size_t pick = 0;
@@ -453,7 +456,7 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
                          &r1s[c]);
       has_r1[c] = true;
     } else if (r.kind == Kind::kFloat32 || r.kind == Kind::kFloat64)
-      analog::decode_float_channel(kept[c], r.kind == Kind::kFloat32, &cur, &r.filled);
+      analog::decode_float_channel(kept[c], r.kind == Kind::kFloat32, &cur, &r.filled, format9);
     put(c);
     std::vector<int32_t>().swap(r.ints);
     std::vector<double>().swap(r.filled);

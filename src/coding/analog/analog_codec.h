@@ -32,7 +32,8 @@ AnalogHints analog_hints(const Take& t);
 // name repeated frames (FORMAT.md 7.2, analog_repeat.h) where that codes smaller; 0 in earlier
 // streams.
 // format8: an 8.x or later stream, whose value tables may be coded against a lattice (FORMAT.md
-// 8.2). format9: a 9.x stream, whose channels may name interpolated samples (FORMAT.md 9.2).
+// 8.2). format9: a 9.x stream (format8 too), whose float channels use 9.1's predictors and coding
+// and whose channels may name interpolated samples (9.2).
 std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int channels,
                                           const AnalogHints& hints, size_t repeat_S = 0,
                                           bool format8 = false, bool format9 = false);

@@ -10,6 +10,7 @@
 //   - side information (LPC orders, coefficients, stage flags) under two parameter contexts.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 
 #include "coding/entropy.h"
@@ -21,7 +22,12 @@ constexpr int kMagContexts = 48;
 constexpr int kFloatContexts = 33;
 constexpr int kParamContext = kMagContexts + kFloatContexts;
 constexpr int kCoefContext = kParamContext + 1;
-constexpr int kAnalogContexts = kCoefContext + 1;
+// FORMAT.md 9.1: the 4 bits below a float residual's leading bit, by its bit length 2..64.
+constexpr int kTopContext = kCoefContext + 1;
+constexpr int kTopContexts = 63;
+// FORMAT.md 9.1: a bit length far from the previous one.
+constexpr int kFarContext = kTopContext + kTopContexts;
+constexpr int kAnalogContexts = kFarContext + 1;
 
 // Running magnitude of a residual sequence: avg in 1/16 units, updated by an exponential mean
 // with weight 1/8. Encoder and decoder update it identically after every residual.
@@ -61,6 +67,17 @@ inline int64_t unzigzag64(uint64_t u) {
   return static_cast<int64_t>((u >> 1) ^ (0 - (u & 1)));
 }
 
+// The n (1..63) low bits of u, raw: in one field when fewer than 32, else the low 32 bits and
+// then the rest.
+inline void put_raw64(IntEncoder::Cursor* enc, uint64_t u, int n) {
+  if (n < 32) {
+    enc->raw_bits(static_cast<uint32_t>(u) & ((1u << n) - 1), n);
+  } else {
+    enc->raw_bits(static_cast<uint32_t>(u), 32);
+    enc->raw_bits(static_cast<uint32_t>(u >> 32) & ((1u << (n - 32)) - 1), n - 32);
+  }
+}
+
 // A float residual d (the wrapping difference of two ordered bit patterns, as int64): its bit
 // length nb = 0..64 of zigzag64(d) under context min(prev_nb, 64) / 2, then the nb - 1 bits
 // below the leading one, raw (low 32 first when 32 or more). *prev_nb is updated.
@@ -70,15 +87,34 @@ inline void put_float_residual(IntEncoder::Cursor* enc, int* prev_nb, int64_t d)
   enc->put(static_cast<uint32_t>(nb), kMagContexts + *prev_nb / 2);
   *prev_nb = nb;
   if (nb < 2) return;
-  const int n = nb - 1;
-  if (n < 32) {
-    enc->raw_bits(static_cast<uint32_t>(u) & ((1u << n) - 1), n);
-  } else {
-    enc->raw_bits(static_cast<uint32_t>(u), 32);
-    enc->raw_bits(static_cast<uint32_t>(u >> 32) & ((1u << (n - 32)) - 1), n - 32);
-  }
+  put_raw64(enc, u, nb - 1);
 }
 int64_t get_float_residual(IntDecoder::Cursor* dec, int* prev_nb);
+
+// FORMAT.md 9.1: as put_float_residual, but the (up to) 4 bits below the leading one are one
+// symbol under context kTopContext + nb - 2, and only the bits below them are raw.
+inline void put_float_residual9(IntEncoder::Cursor* enc, int* prev_nb, int64_t d) {
+  const uint64_t u = zigzag64(d);
+  const int nb = u == 0 ? 0 : 64 - __builtin_clzll(u);
+  // The bit length as one symbol nb - prev + 7 when that is 1..14, else an escape (0: below,
+  // 15: above) and how far beyond, as an integer.
+  const int delta = nb - *prev_nb;
+  if (delta < -6) {
+    enc->put_symbol(0, kMagContexts + std::min(*prev_nb, 32));
+    enc->put(static_cast<uint32_t>(-7 - delta), kFarContext);
+  } else if (delta > 7) {
+    enc->put_symbol(15, kMagContexts + std::min(*prev_nb, 32));
+    enc->put(static_cast<uint32_t>(delta - 8), kFarContext);
+  } else {
+    enc->put_symbol(delta + 7, kMagContexts + std::min(*prev_nb, 32));
+  }
+  *prev_nb = nb;
+  if (nb < 2) return;
+  const int below = nb - 1, k = below < 4 ? below : 4, n = below - k;
+  enc->put_symbol(static_cast<int>((u >> n) & ((1u << k) - 1)), kTopContext + nb - 2);
+  if (n > 0) put_raw64(enc, u, n);
+}
+int64_t get_float_residual9(IntDecoder::Cursor* dec, int* prev_nb);
 
 }  // namespace analog
 }  // namespace capz

@@ -1,6 +1,7 @@
 #include "coding/analog/analog_float.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <limits>
 #if defined(__SSE2__)
@@ -82,7 +83,226 @@ void float32_costs(const std::vector<double>& x, uint64_t cost[2]) {
 }
 #endif
 
+// FORMAT.md 9.1: the prediction of sample i (x[0 .. i) decoded) by a 9.x predictor.
+inline double predict9(const FloatPlan& plan, double scale, const double* x, size_t i, bool f32) {
+  const double a = i > 0 ? x[i - 1] : 0;
+  double p;
+  switch (plan.predictor) {
+    case 2:
+      return a;  // a float32 value already when f32
+    case 3:
+      p = a + (a - (i > 1 ? x[i - 2] : 0));
+      break;
+    case 4:
+      return 0.0;
+    default: {
+      if (i < static_cast<size_t>(plan.order)) return a;
+      double acc = 0;
+      for (int j = 0; j < plan.order; ++j) acc += static_cast<double>(plan.q[j]) * x[i - 1 - j];
+      p = acc * scale;
+      if (!std::isfinite(p)) return a;
+    }
+  }
+  return f32 ? round_to_float32(p) : p;
+}
+
+double lpc_scale(const FloatPlan& plan) {
+  return std::ldexp(1.0, -plan.shift);
+}
+
+// Predictor 5's coefficients for x: Levinson-Durbin on the autocorrelation, the order by
+// n/2 log2(error) plus 16 bits a coefficient, quantised to |q| < 2^15. False when x gives no
+// usable fit.
+bool fit_float_lpc(const std::vector<double>& x, FloatPlan* plan) {
+  const size_t n = x.size();
+  const int maxo = static_cast<int>(std::min<size_t>(kMaxFloatLpcOrder, n / 8));
+  if (maxo < 1) return false;
+  double r[kMaxFloatLpcOrder + 1];
+  for (int k = 0; k <= maxo; ++k) {
+    double acc = 0;
+    for (size_t i = static_cast<size_t>(k); i < n; ++i) acc += x[i] * x[i - k];
+    r[k] = acc;
+  }
+  if (!(r[0] > 0) || !std::isfinite(r[0])) return false;
+  r[0] *= 1.0 + 1e-9;  // a little white noise: a well-conditioned recursion
+  double a[kMaxFloatLpcOrder + 1] = {}, best_a[kMaxFloatLpcOrder + 1] = {},
+                               tmp[kMaxFloatLpcOrder + 1];
+  double err = r[0], best_cost = 0.5 * static_cast<double>(n) * std::log2(err);
+  int best = 0;
+  for (int m = 1; m <= maxo; ++m) {
+    double acc = r[m];
+    for (int j = 1; j < m; ++j) acc -= a[j] * r[m - j];
+    const double k = acc / err;
+    if (!std::isfinite(k) || std::fabs(k) >= 1) break;
+    std::copy(a, a + m, tmp);
+    a[m] = k;
+    for (int j = 1; j < m; ++j) a[j] = tmp[j] - k * tmp[m - j];
+    err *= 1 - k * k;
+    if (!(err > 0)) break;
+    const double cost = 0.5 * static_cast<double>(n) * std::log2(err) + 16.0 * m;
+    if (cost < best_cost) {
+      best_cost = cost;
+      best = m;
+      std::copy(a, a + m + 1, best_a);
+    }
+  }
+  if (best == 0) return false;
+  double maxabs = 0;
+  for (int j = 1; j <= best; ++j) maxabs = std::max(maxabs, std::fabs(best_a[j]));
+  if (!(maxabs > 0) || !std::isfinite(maxabs)) return false;
+  const int shift =
+      std::min(kMaxFloatLpcShift,
+               static_cast<int>(std::floor(std::log2(((1 << kFloatLpcPrecision) - 1) / maxabs))));
+  if (shift < 0) return false;
+  plan->predictor = 5;
+  plan->order = best;
+  plan->shift = shift;
+  for (int j = 0; j < best; ++j) {
+    const double q = std::nearbyint(std::ldexp(best_a[j + 1], shift));
+    if (!(std::fabs(q) < (1 << kFloatLpcPrecision))) return false;  // NaN too
+    plan->q[j] = static_cast<int32_t>(q);
+  }
+  return true;
+}
+
+// From this many samples on, the predictors' sizes are estimated on every other run of 32
+// samples (runs, not every other sample: a channel holding each value for two samples would
+// look like one that never holds).
+constexpr size_t kCostSubsample = 1024;
+inline size_t next_sample(size_t i, size_t stride) {
+  return stride == 1 || (i + 1) % 32 ? i + 1 : i + 33;
+}
+
+// An estimate of 9.1's coding of residuals, in bits: the raw bits, plus the order-0 entropies of
+// the bit lengths and of the top bits under each bit length (what the models learn).
+class Cost9 {
+ public:
+  void add(int64_t d) {
+    const uint64_t u = zigzag64(d);
+    const int nb = u == 0 ? 0 : 64 - __builtin_clzll(u);
+    ++nb_[nb];
+    lengths_ += static_cast<uint64_t>(nb);
+    if (nb < 2) return;
+    const int below = nb - 1, k = below < 4 ? below : 4;
+    raw_ += static_cast<uint64_t>(below - k);
+    ++top_[nb][(u >> (below - k)) & 15];
+  }
+  double bits() const {
+    double b = static_cast<double>(raw_) + entropy(nb_, 65);
+    for (int nb = 2; nb < 65; ++nb)
+      if (nb_[nb]) b += entropy(top_[nb], 16, nb_[nb]);
+    return b;
+  }
+  // The summed bit lengths (the estimate 4.2.7 compares between kinds).
+  uint64_t lengths() const { return lengths_; }
+
+ private:
+  // sum c log2(total / c) = total log2 total - sum c log2 c.
+  static double entropy(const uint32_t* c, int m, uint32_t total = 0) {
+    if (!total)
+      for (int i = 0; i < m; ++i) total += c[i];
+    if (total == 0) return 0;
+    double s = 0;
+    for (int i = 0; i < m; ++i)
+      if (c[i] > 1) s += c[i] * std::log2(static_cast<double>(c[i]));
+    return total * std::log2(static_cast<double>(total)) - s;
+  }
+  uint32_t nb_[65] = {};
+  uint32_t top_[65][16] = {};
+  uint64_t raw_ = 0, lengths_ = 0;
+};
+
+// A predictor's estimated size in bits, and its residuals' summed bit lengths, both over the
+// samples next_sample visits (each predicted from the samples before it) times stride.
+struct Estimate {
+  double bits;
+  uint64_t lengths;
+};
+Estimate scaled(const Cost9& c, size_t stride, double side) {
+  return {c.bits() * static_cast<double>(stride) + side, c.lengths() * stride};
+}
+
+// The estimate for predictors 2-4, one loop each (predict9 without its switch).
+// The ordered pattern of v (ord32 widened, or ord64): residual(v, p) is ord(v) - ord(p), as a
+// signed difference for float32, wrapping for float64.
+inline uint64_t ord_of(double v, bool f32) {
+  return f32 ? ordered_f32(v) : ordered_bits(bits_of(v));
+}
+inline int64_t ord_diff(uint64_t ov, uint64_t op, bool f32) {
+  return f32 ? static_cast<int64_t>(ov) - static_cast<int64_t>(op) : static_cast<int64_t>(ov - op);
+}
+
+// The estimates of predictors 2, 3 and 4 in one pass (each sample's pattern computed once).
+void simple_costs(const std::vector<double>& x, bool f32, size_t stride, Estimate out[3]) {
+  Cost9 c[3];
+  const size_t n = x.size();
+  const uint64_t zero = ord_of(0.0, f32);
+  for (size_t i = 0; i < n; i = next_sample(i, stride)) {
+    const double a = i > 0 ? x[i - 1] : 0;
+    double p = a + (a - (i > 1 ? x[i - 2] : 0));
+    if (f32) p = round_to_float32(p);
+    const uint64_t ov = ord_of(x[i], f32);
+    c[0].add(ord_diff(ov, ord_of(a, f32), f32));
+    c[1].add(ord_diff(ov, ord_of(p, f32), f32));
+    c[2].add(ord_diff(ov, zero, f32));
+  }
+  for (int k = 0; k < 3; ++k) out[k] = scaled(c[k], stride, 0);
+}
+
+// Predictor 5's estimate.
+Estimate lpc_cost(const std::vector<double>& x, const FloatPlan& plan, bool f32, size_t stride) {
+  Cost9 c;
+  const double scale = lpc_scale(plan);
+  for (size_t i = 0; i < x.size(); i = next_sample(i, stride))
+    c.add(residual(x[i], predict9(plan, scale, x.data(), i, f32), f32));
+  return scaled(c, stride, 16.0 * (plan.order + 1));
+}
+
 }  // namespace
+
+FloatPlan choose_float_plan9(const std::vector<double>& x, bool f32, uint64_t* bits) {
+  FloatPlan plans[4];
+  Estimate est[4];
+  int m = 3;
+  for (int p = 2; p <= 4; ++p) plans[p - 2].predictor = p;
+  const size_t stride = x.size() >= kCostSubsample ? 2 : 1;
+  simple_costs(x, f32, stride, est);
+  if (fit_float_lpc(x, &plans[m])) {
+    est[m] = lpc_cost(x, plans[m], f32, stride);
+    ++m;
+  }
+  int best = 0;
+  for (int k = 1; k < m; ++k)
+    if (est[k].bits < est[best].bits) best = k;
+  if (bits) *bits = est[best].lengths;
+  return plans[best];
+}
+
+__attribute__((flatten)) bool encode_float_channel(const std::vector<double>& x, bool f32,
+                                                   const FloatPlan& plan, IntEncoder::Cursor* out,
+                                                   size_t limit) {
+  if (plan.predictor < 2) return encode_float_channel(x, f32, plan.predictor, out, limit);
+  IntEncoder::Cursor c = *out;
+  IntEncoder::Cursor* enc = &c;
+  const size_t n = x.size();
+  enc->put(static_cast<uint32_t>(plan.predictor), kParamContext);
+  if (plan.predictor == 5) {
+    enc->put(static_cast<uint32_t>(plan.order), kParamContext);
+    enc->put(static_cast<uint32_t>(plan.shift), kParamContext);
+    for (int j = 0; j < plan.order; ++j) enc->put_signed(plan.q[j], kCoefContext);
+  }
+  const double scale = lpc_scale(plan);
+  int prev_nb = 0;
+  for (size_t i0 = 0; i0 < n; i0 += kTrialCheck) {
+    if (enc->bytes_out() >= limit) return false;
+    const size_t i1 = std::min(n, i0 + kTrialCheck);
+    for (size_t i = i0; i < i1; ++i)
+      put_float_residual9(enc, &prev_nb,
+                          residual(x[i], predict9(plan, scale, x.data(), i, f32), f32));
+  }
+  *out = c;
+  return true;
+}
 
 void float_predictor_costs(const std::vector<double>& x, bool f32, uint64_t cost[2]) {
   const size_t n = x.size();
@@ -134,11 +354,36 @@ void encode_float_channel(const std::vector<double>& x, bool f32, IntEncoder::Cu
   encode_float_channel(x, f32, choose_float_predictor(x, f32), enc);
 }
 
-void decode_float_channel(size_t n, bool f32, IntDecoder::Cursor* dec, std::vector<double>* x) {
+void decode_float_channel(size_t n, bool f32, IntDecoder::Cursor* dec, std::vector<double>* x,
+                          bool format9) {
   int tok;
   const uint32_t kind = dec->get(kParamContext, &tok);
-  if (kind >= kFloatPredictors) dec->corrupt("unknown analog float predictor");
+  if (kind >= (format9 ? 6u : static_cast<uint32_t>(kFloatPredictors)))
+    dec->corrupt("unknown analog float predictor");
   x->resize(n);
+  if (kind >= 2) {
+    FloatPlan plan;
+    plan.predictor = static_cast<int>(kind);
+    if (kind == 5) {
+      plan.order = static_cast<int>(dec->get(kParamContext, &tok));
+      if (plan.order < 1 || plan.order > kMaxFloatLpcOrder)
+        dec->corrupt("analog float LPC order outside 1..16");
+      plan.shift = static_cast<int>(dec->get(kParamContext, &tok));
+      if (plan.shift > kMaxFloatLpcShift) dec->corrupt("analog float LPC shift above 40");
+      for (int j = 0; j < plan.order; ++j) {
+        const int32_t q = dec->get_signed(kCoefContext, &tok);
+        if (q >= (1 << kFloatLpcPrecision) || q <= -(1 << kFloatLpcPrecision))
+          dec->corrupt("analog float LPC coefficient out of range");
+        plan.q[j] = q;
+      }
+    }
+    const double scale = lpc_scale(plan);
+    int prev_nb = 0;
+    double* xs = x->data();
+    for (size_t i = 0; i < n; ++i)
+      xs[i] = apply(predict9(plan, scale, xs, i, f32), get_float_residual9(dec, &prev_nb), f32);
+    return;
+  }
   int prev_nb = 0;
   double a = 0, b = 0;
   for (size_t i = 0; i < n; ++i) {

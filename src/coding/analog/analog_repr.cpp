@@ -211,12 +211,16 @@ bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted
     // float rounding boundary, or (over a wide range of k) no fit at all: try the exact 1 / q,
     // with the offset 0 and snapped to a multiple of it.
     auto snap = [&](double s_est, double o_est) {
-      const double q = std::round(1.0 / s_est);
-      if (q >= 2 && q <= 1e6 && std::fabs(1.0 / s_est - q) <= std::min(1e-3 * q, 0.05)) {
-        const double sq = 1.0 / q;
-        fits.push_back({sq, 0.0});
-        const double oq = round_half_away(o_est / sq) * sq;
-        if (oq != 0) fits.push_back({sq, oq});
+      const double q0 = std::round(1.0 / s_est);
+      if (q0 >= 2 && q0 <= 1e6 && std::fabs(1.0 / s_est - q0) <= std::min(1e-3 * q0, 0.05)) {
+        // q0 - 1 too: the gap between two float32 values k / q, rounded, can be a hair below
+        // 1 / q (Dance.c3d's channels are k / 32767, whose smallest gap rounds to 1 / 32768).
+        for (double q = q0; q >= q0 - 1 && q >= 2; --q) {
+          const double sq = 1.0 / q;
+          fits.push_back({sq, 0.0});
+          const double oq = round_half_away(o_est / sq) * sq;
+          if (oq != 0) fits.push_back({sq, oq});
+        }
       }
     };
     snap(s, 0.0);
