@@ -351,6 +351,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
       return true;
     };
     size_t pick = 0;
+    std::vector<std::vector<uint8_t>> heads;  // each candidate's header, when estimated
     if (cands.size() > 1) {
       // Measured: each candidate coded alone (fresh models), the smallest kept (the first of
       // equals), tried in the order of their header bytes plus residual bit lengths; those
@@ -359,12 +360,14 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
       // output so far: its trial stops once that reaches the bound.
       std::vector<size_t> head_bytes(cands.size());
       std::vector<double> estimate(cands.size());
+      heads.resize(cands.size());
       for (size_t k = 0; k < cands.size(); ++k) {
         ByteWriter th;
         uint64_t tl = last_const;
         analog::write_repr_header(cands[k], &tl, &th, &list_of(k), format8, &interp_of(k));
-        head_bytes[k] = th.size();
-        estimate[k] = static_cast<double>(th.size()) + static_cast<double>(bits[k]) / 8;
+        heads[k] = std::move(th.buffer());
+        head_bytes[k] = heads[k].size();
+        estimate[k] = static_cast<double>(head_bytes[k]) + static_cast<double>(bits[k]) / 8;
       }
       auto trial = [&](size_t k, size_t bound) {
         IntEncoder coder(analog::kAnalogContexts);
@@ -378,7 +381,12 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
       pick = analog::pick_smallest(estimate, trial, kTrialMargin);
     }
     const ChannelRepr& r = cands[pick];
-    analog::write_repr_header(r, &last_const, &head, &list_of(pick), format8, &interp_of(pick));
+    if (heads.empty()) {
+      analog::write_repr_header(r, &last_const, &head, &list_of(pick), format8, &interp_of(pick));
+    } else {  // the header written for its estimate, from the same last_const (kConst sets it)
+      head.bytes(heads[pick]);
+      if (r.kind == Kind::kConst) last_const = r.const_bits;
+    }
     any_coded |= coded(r.kind);
     emit(pick, &cur, SIZE_MAX);
     reps[c] = list_of(pick);
