@@ -78,8 +78,8 @@ __attribute__((always_inline)) inline size_t residual_bits_lanes(const double* t
   typedef typename CrossLanes<W>::U U;
   typedef typename CrossLanes<W>::I I;
   const double kRound = 6755399441055744.0;  // 1.5 2^52
-  D b, h, big;
-  U mag, acc;
+  D b = {}, h = {}, big = {};  // every lane set below (initialised for -Wmaybe-uninitialized)
+  U mag = {}, acc = {};
   for (int l = 0; l < W; ++l) {
     b[l] = static_cast<double>(beta) / 4096;
     h[l] = 1.0 / 8192;
