@@ -66,6 +66,28 @@ std::map<std::string, std::string> options_for(const TransformCodec& codec,
 
 namespace {
 
+// Why a stream has the version it has (docs/FORMAT.md 2's version table): what the take may use,
+// found before HEAD is written (the scan, the plan, the META coding). Every stream is written as
+// the lowest version that holds all of it, so a take that needs none of these is written as
+// kFormatWritten (5.0), byte for byte as before they existed.
+struct VersionNeeds {
+  bool fields_6 = false;        // point fields with a normal triple or an organized layout (6.1,
+                                // 6.2: ATTR predictor 9, transforms 4 and 5)
+  bool rays_7 = false;          // PCD points the scan found moving along their rays (7.1)
+  bool repeats_7 = false;       // analog channels repeating whole frames, per the scan (7.2)
+  bool cloud_fields_7 = false;  // an unorganized cloud's fields, positions on the grid (7.3)
+  bool meta_8 = false;          // a C3D take's META smallest after dictionary 1 (8.1)
+  bool analog_9 = false;        // analog channels (8.2, 9.1, 9.2: each where it codes smaller)
+};
+
+FormatVersion stream_version(const VersionNeeds& n) {
+  if (n.analog_9) return kFormat9;
+  if (n.meta_8) return kFormat8;
+  if (n.rays_7 || n.repeats_7 || n.cloud_fields_7) return kFormat7;
+  if (n.fields_6) return kFormat6;
+  return kFormatWritten;
+}
+
 std::vector<uint8_t> with_window_index(size_t w, uint8_t flag, const std::vector<uint8_t>& body) {
   ByteWriter b;
   b.varint(w);
@@ -264,34 +286,21 @@ class Encoder {
     h.analog_samples_per_frame = static_cast<uint32_t>(plan_.S);
     h.rotation_segments = static_cast<uint32_t>(plan_.G);
     h.rotation_samples_per_frame = static_cast<uint32_t>(plan_.R);
-    // FORMAT.md 6: a take with fields and a normal triple (ATTR predictor 9) or an organized
-    // layout (ATTR transforms 4 and 5, for a camera's gaps) is written as 6.0, every other as
-    // 5.0.
-    if (!take_.attributes.empty() && take_.pcd &&
-        (take_.pcd->height > 1 || has_unit_candidate(attribute_specs(take_.pcd->fields))))
-      version_ = kFormat6;
-    // FORMAT.md 7.1: a PCD take whose points the scan found moving along their rays is written as
-    // 7.0, predictor 10 a candidate.
-    if (on_rays(scan_)) {
-      version_ = kFormat7;
-      ray_ = ray_kind(version_.major, g_.mode);
-    }
-    // FORMAT.md 7.2: analog channels that repeat whole frames (counted by the scan) make 7.0.
+    // The version: the highest that what the take may use needs (stream_version).
+    VersionNeeds need;
+    need.fields_6 =
+        !take_.attributes.empty() && take_.pcd &&
+        (take_.pcd->height > 1 || has_unit_candidate(attribute_specs(take_.pcd->fields)));
+    need.rays_7 = on_rays(scan_);
     analog_repeats_ = plan_.analog && analog_repeats_worth_7(scan_, take_.frames);
-    if (analog_repeats_) version_ = kFormat7;
-    // FORMAT.md 7.3: an unorganized cloud's fields, with positions on the grid (their integers
-    // give each point's nearest earlier point), are written as 7.0.
-    if (!take_.attributes.empty() && take_.pcd && take_.pcd->height == 1 && take_.points > 1 &&
-        !plan_.tout)
-      version_ = kFormat7;
-    // FORMAT.md 8.1: a C3D take's META coded after dictionary 1, when that is the smallest,
-    // makes the stream 8.0 (everything 7.0 adds is then available too).
+    need.repeats_7 = analog_repeats_;
+    need.cloud_fields_7 = !take_.attributes.empty() && take_.pcd && take_.pcd->height == 1 &&
+                          take_.points > 1 && !plan_.tout;
     const std::vector<uint8_t> meta_payload = encode_meta(take_, plan_.words, take_.c3d != nullptr);
-    if (meta_coding(meta_payload) == 3) version_ = kFormat8;
-    // FORMAT.md 8.2, 9.1 and 9.2: a take with analog channels is written as 9.0 (value tables
-    // against a lattice, the float coder's predictors 2-5, interpolated samples, each where it
-    // codes smaller).
-    if (plan_.analog) version_ = kFormat9;
+    need.meta_8 = meta_coding(meta_payload) == 3;
+    need.analog_9 = plan_.analog;
+    version_ = stream_version(need);
+    if (need.rays_7) ray_ = ray_kind(version_.major, g_.mode);  // predictor 10 a candidate
     std::vector<uint8_t> buf;
     write_file_header(&buf, version_);
     append_chunk(&buf, "HEAD", encode_header(h));
