@@ -38,6 +38,7 @@
 #include "capz/codec.h"
 #include "capz/io.h"
 #include "capz/take.h"
+#include "codec/grid_choice.h"
 #include "coding/analog/analog_cascade.h"
 #include "coding/analog/analog_codec.h"
 #include "coding/analog/analog_lpc.h"
@@ -380,11 +381,11 @@ int main(int argc, char** argv) {
       rows = auto_window_frames(t.points) * S;
       const size_t C = static_cast<size_t>(t.analog.channels),
                    frames = t.analog.values.size() / C / S;
-      rep_S = 0;
-      for (size_t c = 0; c < C && !rep_S; ++c) {
-        const size_t k = analog::count_varying_repeats(t.analog.values.data() + c, C, frames, S);
-        if (k >= 2 && k * 10 >= frames) rep_S = S;
-      }
+      TakeScan scan;  // its analog counts, as the encoder's scan makes them (over the whole take)
+      for (size_t c = 0; c < C; ++c)
+        scan.analog_repeats.push_back(
+            analog::count_varying_repeats(t.analog.values.data() + c, C, frames, S));
+      rep_S = analog_repeats_worth_7(scan, frames) ? S : 0;
     }
     const Result r = run_ours(t.analog, h, rows, rep_S);
     const Peers p = peers ? run_peers(t.analog, h) : Peers();

@@ -19,17 +19,6 @@ namespace capz {
 namespace analog {
 namespace {
 
-uint64_t bits(double v) {
-  uint64_t b;
-  std::memcpy(&b, &v, 8);
-  return b;
-}
-double from(uint64_t b) {
-  double v;
-  std::memcpy(&v, &b, 8);
-  return v;
-}
-
 // A filtered force: a smooth float32 curve of full mantissas (a resonance driven by noise, which
 // the previous sample or a line through two predict worse than a fit of a few).
 std::vector<double> smooth_f32(size_t n, uint32_t seed) {
@@ -76,7 +65,7 @@ void expect_same_bits(const std::vector<double>& a, const std::vector<double>& b
                       const char* what) {
   ASSERT_EQ(a.size(), b.size()) << what;
   for (size_t i = 0; i < a.size(); ++i)
-    ASSERT_EQ(bits(a[i]), bits(b[i])) << what << " sample " << i;
+    ASSERT_EQ(bits_of(a[i]), bits_of(b[i])) << what << " sample " << i;
 }
 
 TEST(AnalogFloat9, GivenEveryPredictorWhenEdgeValuesAreCodedThenTheSameBits) {
@@ -160,7 +149,7 @@ TEST(AnalogFloat9, GivenWindowsWithGapsAndFloat64ChannelsThenExact) {
       rows[i * C] = s[i];
       rows[i * C + 1] = z[i] * 1.0000001;  // float64
       rows[i * C + 2] = s[i] - z[i];
-      if (rng() % 7 == 0) rows[i * C + rng() % C] = from(0x7FF8000000000123ull + rng() % 5);
+      if (rng() % 7 == 0) rows[i * C + rng() % C] = from_bits(0x7FF8000000000123ull + rng() % 5);
       if (rng() % 11 == 0) rows[i * C + rng() % C] = -std::numeric_limits<double>::infinity();
       if (rng() % 13 == 0) rows[i * C + rng() % C] = -0.0;
     }

@@ -18,12 +18,6 @@ namespace capz {
 namespace analog {
 namespace {
 
-uint64_t bits(double v) {
-  uint64_t b;
-  std::memcpy(&b, &v, 8);
-  return b;
-}
-
 // n samples as a writer converting counts to volts in float32 arithmetic makes them: k a slow
 // random walk, x = float(float(k) * float(s) + float(o)). Nearly, but not exactly, on a lattice.
 std::vector<double> float32_volts(size_t n, uint32_t seed) {
@@ -72,7 +66,7 @@ ChannelRepr read(const std::vector<uint8_t>& h, size_t n, bool lattice) {
 void expect_same_table(const ChannelRepr& a, const ChannelRepr& b) {
   ASSERT_EQ(a.table.size(), b.table.size());
   for (size_t i = 0; i < a.table.size(); ++i)
-    ASSERT_EQ(bits(a.table[i]), bits(b.table[i])) << "entry " << i;
+    ASSERT_EQ(bits_of(a.table[i]), bits_of(b.table[i])) << "entry " << i;
 }
 
 TEST(AnalogLattice, GivenNearLatticeFloat32TableWhenCodedThenFlagBit1SmallerAndExact) {
@@ -154,7 +148,7 @@ TEST(AnalogLattice, GivenFormat8WindowThenSmallerExactAndRefusedBefore8) {
   EXPECT_LT(p8.size(), p7.size());
   std::vector<double> back(rows.size(), 0.0);
   decode_analog_window(p8.data(), p8.size(), n, 2, back.data(), "w", 0, true);
-  for (size_t i = 0; i < rows.size(); ++i) ASSERT_EQ(bits(back[i]), bits(rows[i])) << i;
+  for (size_t i = 0; i < rows.size(); ++i) ASSERT_EQ(bits_of(back[i]), bits_of(rows[i])) << i;
   EXPECT_THROW(decode_analog_window(p8.data(), p8.size(), n, 2, back.data(), "w", 0, false), Error);
 }
 
@@ -241,7 +235,7 @@ TEST(AnalogLattice, GivenDamagedFieldsThenCorruptNeverCrash) {
   f = Fields();
   f.flag = 2;  // a double table whose prediction 1 + 4e9 * 1e300 is not finite
   f.step = 1e300;
-  f.first = ordered_bits(bits(1.0));
+  f.first = ordered_bits(bits_of(1.0));
   f.entries = {{4000000000u, 0}, {1, 0}};
   EXPECT_TRUE(corrupt(f, 10));
   f = Fields();

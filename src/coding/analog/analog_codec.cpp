@@ -1,7 +1,5 @@
 #include "coding/analog/analog_codec.h"
 
-#include <cstdio>
-
 #include "capz/error.h"
 #include "coding/analog/analog_cascade.h"
 #include "coding/analog/analog_cross.h"
@@ -138,11 +136,14 @@ void plan_int_channel(const std::vector<int32_t>& x,
   const auto ref_cost = cross.distance ? cascade_stage(with_ref, &ref_lms) : plain_cost;
   const uint64_t costs[4] = {plain_cost.first, plain_cost.second, ref_cost.first, ref_cost.second};
   const std::vector<int32_t>* res[4] = {&r1, &plain_lms, &with_ref, &ref_lms};
-  double tok[4];
   int best = 0;
+  double best_tok = 0;
   for (int k = 0; k < (cross.distance ? 4 : 2); ++k) {
-    tok[k] = analog::token_cost_bits(res[k]->data(), res[k]->size());
-    if (tok[k] < tok[best]) best = k;
+    const double tok = analog::token_cost_bits(res[k]->data(), res[k]->size());
+    if (k == 0 || tok < best_tok) {
+      best = k;
+      best_tok = tok;
+    }
   }
   plan->bits = costs[best];
   plan->cascade = best & 1;
@@ -358,7 +359,6 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
       // estimated above kTrialMargin times the smallest estimate are not tried. A candidate's
       // size is at least its header, one byte of block length and the bytes its coder has
       // output so far: its trial stops once that reaches the bound.
-      std::vector<size_t> head_bytes(cands.size());
       std::vector<double> estimate(cands.size());
       heads.resize(cands.size());
       for (size_t k = 0; k < cands.size(); ++k) {
@@ -366,17 +366,16 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
         uint64_t tl = last_const;
         analog::write_repr_header(cands[k], &tl, &th, &list_of(k), format8, &interp_of(k));
         heads[k] = std::move(th.buffer());
-        head_bytes[k] = heads[k].size();
-        estimate[k] = static_cast<double>(head_bytes[k]) + static_cast<double>(bits[k]) / 8;
+        estimate[k] = static_cast<double>(heads[k].size()) + static_cast<double>(bits[k]) / 8;
       }
       auto trial = [&](size_t k, size_t bound) {
         IntEncoder coder(analog::kAnalogContexts);
         IntEncoder::Cursor tc = coder.cursor();
-        const size_t fixed = head_bytes[k] + 1;
+        const size_t fixed = heads[k].size() + 1;
         const size_t limit = bound == SIZE_MAX ? SIZE_MAX : bound > fixed ? bound - fixed : 0;
         if (!emit(k, &tc, limit)) return SIZE_MAX;
         coder.commit(tc);
-        return head_bytes[k] + coder.finish().size();
+        return heads[k].size() + coder.finish().size();
       };
       pick = analog::pick_smallest(estimate, trial, kTrialMargin);
     }

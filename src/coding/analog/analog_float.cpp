@@ -9,10 +9,13 @@
 #endif
 
 #include "coding/analog/analog_entropy.h"
+#include "coding/analog/analog_lpc.h"
 #include "coding/analog/analog_repr.h"
 
 namespace capz {
 namespace analog {
+
+static_assert(kMaxFloatLpcOrder == 8, "the decoder's message names the largest order");
 namespace {
 
 constexpr int kFloatPredictors = 2;
@@ -125,30 +128,22 @@ bool fit_float_lpc(const std::vector<double>& x, FloatPlan* plan) {
   }
   if (!(r[0] > 0) || !std::isfinite(r[0])) return false;
   r[0] *= 1.0 + 1e-9;  // a little white noise: a well-conditioned recursion
-  double a[kMaxFloatLpcOrder + 1] = {}, best_a[kMaxFloatLpcOrder + 1] = {},
-                               tmp[kMaxFloatLpcOrder + 1];
-  double err = r[0], best_cost = 0.5 * static_cast<double>(n) * std::log2(err);
+  std::vector<std::vector<double>> a_by_order;
+  std::vector<double> err;
+  const int reached = levinson(std::vector<double>(r, r + maxo + 1), maxo, &a_by_order, &err);
+  double best_cost = 0.5 * static_cast<double>(n) * std::log2(err[0]);
   int best = 0;
-  for (int m = 1; m <= maxo; ++m) {
-    double acc = r[m];
-    for (int j = 1; j < m; ++j) acc -= a[j] * r[m - j];
-    const double k = acc / err;
-    if (!std::isfinite(k) || std::fabs(k) >= 1) break;
-    std::copy(a, a + m, tmp);
-    a[m] = k;
-    for (int j = 1; j < m; ++j) a[j] = tmp[j] - k * tmp[m - j];
-    err *= 1 - k * k;
-    if (!(err > 0)) break;
-    const double cost = 0.5 * static_cast<double>(n) * std::log2(err) + 16.0 * m;
+  for (int m = 1; m <= reached; ++m) {
+    const double cost = 0.5 * static_cast<double>(n) * std::log2(err[m]) + 16.0 * m;
     if (cost < best_cost) {
       best_cost = cost;
       best = m;
-      std::copy(a, a + m + 1, best_a);
     }
   }
   if (best == 0) return false;
+  const std::vector<double>& best_a = a_by_order[best];  // best_a[j] weighs x[i - 1 - j]
   double maxabs = 0;
-  for (int j = 1; j <= best; ++j) maxabs = std::max(maxabs, std::fabs(best_a[j]));
+  for (int j = 0; j < best; ++j) maxabs = std::max(maxabs, std::fabs(best_a[j]));
   if (!(maxabs > 0) || !std::isfinite(maxabs)) return false;
   const int shift =
       std::min(kMaxFloatLpcShift,
@@ -158,7 +153,7 @@ bool fit_float_lpc(const std::vector<double>& x, FloatPlan* plan) {
   plan->order = best;
   plan->shift = shift;
   for (int j = 0; j < best; ++j) {
-    const double q = std::nearbyint(std::ldexp(best_a[j + 1], shift));
+    const double q = std::nearbyint(std::ldexp(best_a[j], shift));
     if (!(std::fabs(q) < (1 << kFloatLpcPrecision))) return false;  // NaN too
     plan->q[j] = static_cast<int32_t>(q);
   }
@@ -367,7 +362,7 @@ void decode_float_channel(size_t n, bool f32, IntDecoder::Cursor* dec, std::vect
     if (kind == 5) {
       plan.order = static_cast<int>(dec->get(kParamContext, &tok));
       if (plan.order < 1 || plan.order > kMaxFloatLpcOrder)
-        dec->corrupt("analog float LPC order outside 1..16");
+        dec->corrupt("analog float LPC order outside 1..8");
       plan.shift = static_cast<int>(dec->get(kParamContext, &tok));
       if (plan.shift > kMaxFloatLpcShift) dec->corrupt("analog float LPC shift above 40");
       for (int j = 0; j < plan.order; ++j) {

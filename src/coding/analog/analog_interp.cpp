@@ -17,6 +17,11 @@ constexpr unsigned kMinPeriod = 2, kMaxPeriod = 15;
 size_t last_anchor(size_t n, unsigned period) {
   return (n - 1) / period * period;
 }
+// Its interpolable samples: those below the last anchor that are not anchors.
+size_t interpolable_count(size_t n, unsigned period) {
+  const size_t L = last_anchor(n, period);
+  return L - L / period;
+}
 
 }  // namespace
 
@@ -26,7 +31,7 @@ double interpolate(double xa, double xb, unsigned j, unsigned period, bool f32) 
   const double wb = xb * static_cast<double>(j);
   const double sum = wa + wb;
   const double p = sum / static_cast<double>(period);
-  return f32 && !std::isnan(p) ? round_to_float32(p) : p;
+  return f32 ? round_to_float32(p) : p;  // a NaN stays NaN (the callers refuse it)
 }
 
 bool find_interpolation(const double* col, size_t stride, size_t n, Interp* out) {
@@ -34,10 +39,9 @@ bool find_interpolation(const double* col, size_t stride, size_t n, Interp* out)
   bool f32 = true;
   for (size_t i = 0; i < n && f32; ++i) f32 = is_float32(col[i * stride]);
   Interp best;
-  size_t best_exc = 0;
   for (unsigned P = 2; P <= 4; ++P) {
     const size_t L = last_anchor(n, P);
-    const size_t interpolable = L - L / P;  // the samples below L that are not anchors
+    const size_t interpolable = interpolable_count(n, P);
     if (interpolable < 8) continue;
     const size_t max_exc = interpolable / 16;
     Interp in;
@@ -57,10 +61,8 @@ bool find_interpolation(const double* col, size_t stride, size_t n, Interp* out)
         }
       }
     }
-    if (ok && (best.period == 0 || in.exceptions.size() < best_exc)) {
-      best_exc = in.exceptions.size();
+    if (ok && (best.period == 0 || in.exceptions.size() < best.exceptions.size()))
       best = std::move(in);
-    }
   }
   if (best.period == 0) return false;
   *out = std::move(best);
@@ -68,9 +70,7 @@ bool find_interpolation(const double* col, size_t stride, size_t n, Interp* out)
 }
 
 size_t interp_kept_count(size_t n, const Interp& in) {
-  if (n == 0) return 0;
-  const size_t L = last_anchor(n, in.period);
-  return n - (L - L / in.period) + in.exceptions.size();
+  return n == 0 ? 0 : n - interpolable_count(n, in.period) + in.exceptions.size();
 }
 
 std::vector<double> interp_kept(const double* col, size_t stride, size_t n, const Interp& in) {

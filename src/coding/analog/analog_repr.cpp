@@ -140,8 +140,8 @@ bool fit_scaled(const std::vector<double>& v, double s, double o, bool f32, size
   return true;
 }
 
-// Least-squares line through (k_i, v_i) with k_i = round((v_i - o) / s): a step and offset
-// accurate to far below one float32 unit when the samples are rounded k * s + o.
+}  // namespace
+
 void refine_fit(const std::vector<double>& v, double* s, double* o) {
   const size_t n = v.size();
   std::vector<double> k(n);
@@ -163,6 +163,8 @@ void refine_fit(const std::vector<double>& v, double* s, double* o) {
   *s = skv / skk;
   *o = vbar - *s * kbar;
 }
+
+namespace {
 
 // The largest power of two that divides (as a multiple) at least 7/8 of the samples: a step
 // when a few off-grid samples hide the grid from the smallest gap.
@@ -445,10 +447,10 @@ bool sample_lattice(const double* col, size_t stride, size_t n, const ChannelHin
   const std::vector<double> v = fill_gaps(col, stride, n, &r);
   if (n < 2) return false;
   if (all_integers(v)) {
-    double o = 0;
+    double o = 0;  // integer_step sets it only for a step above 1
     const uint64_t g = integer_step(v, &o);
     *step = g > 1 ? static_cast<double>(g) : 1.0;
-    *offset = g > 1 ? o : 0.0;
+    *offset = o;
     return true;
   }
   std::vector<uint64_t> ord;
@@ -496,8 +498,7 @@ std::vector<ChannelRepr> candidate_representations(const double* col, size_t str
     out.push_back(std::move(r));
     return out;
   }
-  bool f32 = true;
-  for (size_t i = 0; i < n && f32; ++i) f32 = is_float32(v[i]);
+  const bool f32 = all_float32(v);
   std::vector<uint64_t> ord(n);
   for (size_t i = 0; i < n; ++i) ord[i] = ordered_bits(bits_of(v[i]));
   std::vector<int32_t> ranks;

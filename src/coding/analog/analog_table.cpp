@@ -31,24 +31,11 @@ double lattice_next(double prev, uint32_t m, double step, bool f32) {
 // A value table coded against a lattice (FORMAT.md 8.2): the step, the first entry, then an
 // entropy-coded block of each later entry's (m, d). Empty when some entry does not fit (d or
 // the prediction out of range). The step: a least-squares line through the entries at
-// k = round((v - v0) / gap).
+// k = round((v - v0) / gap) (refine_fit).
 std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32, double gap) {
   if (!(gap > 0) || !std::isfinite(gap)) return {};
-  double kbar = 0, vbar = 0;
-  std::vector<double> k(t.size());
-  for (size_t i = 0; i < t.size(); ++i) {
-    k[i] = std::round((t[i] - t[0]) / gap);
-    kbar += k[i];
-    vbar += t[i];
-  }
-  kbar /= static_cast<double>(t.size());
-  vbar /= static_cast<double>(t.size());
-  double skv = 0, skk = 0;
-  for (size_t i = 0; i < t.size(); ++i) {
-    skv += (k[i] - kbar) * (t[i] - vbar);
-    skk += (k[i] - kbar) * (k[i] - kbar);
-  }
-  const double step = skk > 0 ? skv / skk : gap;
+  double step = gap, offset = t[0];
+  refine_fit(t, &step, &offset);
   if (!(step > 0) || !std::isfinite(step)) return {};
   IntEncoder enc(2);
   for (size_t i = 1; i < t.size(); ++i) {
