@@ -1,11 +1,16 @@
 #include "cli_util.h"
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <stdexcept>
+
+#include "capz/codec.h"
+#include "capz/error.h"
 
 namespace fs = std::filesystem;
 
@@ -43,6 +48,40 @@ bool parse_single_input(const Args& args, const std::string& usage, const std::s
   if (!vm->count("input")) throw po::error("missing " + input_name);
   *input = (*vm)["input"].as<std::string>();
   return true;
+}
+
+void add_memlimit_option(po::options_description* o) {
+  o->add_options()(
+      "memlimit", po::value<std::string>(),
+      "decode with at most SIZE bytes of samples in memory (K, M, G, T suffixes; 0: no "
+      "limit; default 4G); a stream that needs more is refused, exit 8");
+}
+
+uint64_t memlimit(const po::variables_map& vm) {
+  if (!vm.count("memlimit")) return capz::kDefaultMemoryLimit;
+  const std::string v = vm["memlimit"].as<std::string>();
+  size_t used = 0;
+  unsigned long long n = 0;
+  try {
+    if (v.empty() || v[0] < '0' || v[0] > '9') throw std::invalid_argument(v);
+    n = std::stoull(v, &used);
+  } catch (const std::exception&) {
+    used = std::string::npos;
+  }
+  int shift = 0;
+  if (used != std::string::npos && used + 1 == v.size()) {
+    const std::string units = "KMGT";
+    const size_t k =
+        units.find(static_cast<char>(std::toupper(static_cast<unsigned char>(v[used]))));
+    if (k != std::string::npos) {
+      shift = 10 * static_cast<int>(k + 1);
+      ++used;
+    }
+  }
+  if (used != v.size() || (shift && n > (~0ULL >> shift)))
+    capz::fail(capz::ErrorCode::kInvalidParameter, "",
+               "--memlimit wants a size in bytes (e.g. 512M, 8G, 0 for none), not '" + v + "'");
+  return static_cast<uint64_t>(n) << shift;
 }
 
 std::string strprintf(const char* fmt, ...) {

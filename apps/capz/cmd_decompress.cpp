@@ -101,6 +101,7 @@ FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) 
   // -T: job.threads is what this file may use inside the library (windows decoded ahead).
   capz::DecompressOptions dopts;
   dopts.threads = static_cast<int>(job.threads);
+  dopts.memory_limit = memlimit(vm);
   capz::WriteOptions wo;
   wo.overwrite = s.batch.force;
   wo.drop_fields = vm.count("drop-fields") > 0;
@@ -115,7 +116,7 @@ FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) 
     size_t a = 0, n = 0;
     parse_frames(vm["frames"].as<std::string>(), &a, &n);
     std::vector<uint8_t> bytes = capz::read_file(in);
-    capz::Take take = capz::decompress_frames(bytes.data(), bytes.size(), a, n, in);
+    capz::Take take = capz::decompress_frames(bytes.data(), bytes.size(), a, n, in, dopts);
     out = choose_output(job, s, in, take, space);
     capz::write_take(take, out, wo);
     frames = take.frames;
@@ -205,13 +206,14 @@ int cmd_decompress(const Args& args) {
       "write a C3D or TRC from an archive of PCD frames with point fields by leaving the fields "
       "out; without it that is an error naming them")("json",
                                                       "print the report as one JSON object");
+  add_memlimit_option(&o);
   Settings s;
   std::vector<std::string> inputs;
   if (!parse_inputs(
           args,
           "capz decompress X.capz... [-o OUT | -c | --output-dir-mirror DIR | --output-dir-flat "
           "DIR]\n                         [-r] [-T N] [--frames FIRST:COUNT] [--pcd-data E] "
-          "[--drop-fields] [-f]",
+          "[--drop-fields] [--memlimit SIZE] [-f]",
           "Decompresses each X.capz to OUT: a .c3d, a .trc or a folder of PCD frames, chosen\n"
           "by OUT's name. By default the source's format and name: take.c3d.capz -> take.c3d,\n"
           "frames.capz -> frames/ (never overwritten without -f). '-' (or no X.capz while\n"
@@ -230,6 +232,7 @@ int cmd_decompress(const Args& args) {
       capz::fail(capz::ErrorCode::kInvalidParameter, "",
                  "--pcd-data must be ascii, binary or binary_compressed, not '" + e + "'");
   }
+  memlimit(s.vm);  // a bad size: before any file
   s.batch = batch_settings(s.vm, true);
   std::vector<Job> jobs = expand_inputs(inputs, InputKind::kArchives, s.batch);
   return run_batch("decompress", s.batch, std::move(jobs), [&s](const Job& job) {

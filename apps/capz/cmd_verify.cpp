@@ -14,10 +14,11 @@ int cmd_verify(const Args& args) {
   po::options_description o("verify options");
   o.add_options()("against,a", po::value<std::string>(), "the original .c3d, .trc or PCD folder")(
       "json", "print the report as one JSON object");
+  add_memlimit_option(&o);
   po::variables_map vm;
   std::string in;
   if (!parse_single_input(
-          args, "capz verify X.capz [--against ORIGINAL] [--json]",
+          args, "capz verify X.capz [--against ORIGINAL] [--json] [--memlimit SIZE]",
           "Decodes X.capz completely (every CRC, every window). With --against, compares\n"
           "the result with the original and prints the max error (per coordinate and\n"
           "Euclidean), RMSE, KG error and bpvf. Exit status 5 when the stream is damaged\n"
@@ -28,10 +29,12 @@ int cmd_verify(const Args& args) {
           o, "X.capz", &vm, &in))
     return 0;
 
+  capz::DecompressOptions dopts;
+  dopts.memory_limit = memlimit(vm);
   std::vector<uint8_t> bytes = capz::read_file(in);
   const double c0 = cpu_seconds();
   capz::StreamInfo si = capz::describe(bytes.data(), bytes.size(), in);
-  capz::Take b = capz::decompress(bytes.data(), bytes.size(), in);
+  capz::Take b = capz::decompress(bytes.data(), bytes.size(), in, dopts);
   const double t_dec = cpu_seconds() - c0;
   const double bp = capz::bpvf(bytes.size(), b.frames, b.points);
   const std::string u = b.units.empty() ? "" : " " + b.units;

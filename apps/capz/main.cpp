@@ -41,7 +41,8 @@ void usage(std::FILE* out) {
   for (const auto& c : kCommands) std::fprintf(out, "  %-11s %s\n", c.name, c.summary);
   std::fprintf(out,
                "\nexit status: 0 ok, 1 usage, 2 io, 3 not our format, 4 unsupported version,\n"
-               "5 corrupt input, 6 invalid parameter, 7 internal error (see docs/CLI.md)\n");
+               "5 corrupt input, 6 invalid parameter, 7 internal error, 8 memory limit\n"
+               "(see docs/CLI.md)\n");
 }
 
 }  // namespace

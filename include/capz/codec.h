@@ -25,7 +25,8 @@ struct CompressOptions {
                          // "auto": each of them on the whole take, the smallest kept
   int clusters = 0;      // passed to the transform codec (0 = its default)
   std::map<std::string, std::string> codec_options;  // the CLI's --codec-opt key=value
-  // Frames per independently decodable window, 1 .. 8192; 0: auto_window_frames(points).
+  // Frames per independently decodable window, 1 .. 8192; 0: auto_window_frames(points). Fewer
+  // when the take has more than kMaxWindowAnalogValues analog values in that many frames.
   size_t window_frames = 0;
   bool check = true;  // decode every window after writing it and verify the bound / exactness
   // Worker threads coding windows in parallel (0: all cores). The stream's bytes, the stats and
@@ -80,10 +81,24 @@ struct CompressStats {
 std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts,
                               CompressStats* stats = nullptr);
 
+// The most analog values (frames x samples per frame x channels) the encoder puts in one window;
+// a take with more per frame gets windows of fewer frames than asked (at least one).
+constexpr size_t kMaxWindowAnalogValues = size_t{1} << 22;
+
+// The decoder's default memory limit (DecompressOptions::memory_limit): 4 GiB.
+constexpr uint64_t kDefaultMemoryLimit = uint64_t{4} << 30;
+
 struct DecompressOptions {
   // Worker threads decoding windows in parallel (0: all cores); the result and any error thrown
   // are the same for every count. At most threads + 2 windows are decoded ahead in memory.
   int threads = 1;
+  // Bytes of decoded samples the decoder may hold at once: the arrays decompress() returns, or
+  // the windows a frame source keeps (the one read, and those decoded ahead). A stream whose
+  // header asks for more is refused with Error(kMemoryLimit) before anything is allocated. A
+  // valid stream can ask for a lot from few bytes (a constant analog channel of an hour codes
+  // in a few bytes a window), so this bound, not the file's size, is what keeps a damaged or
+  // hostile file from exhausting memory. 0: no limit.
+  uint64_t memory_limit = kDefaultMemoryLimit;
 };
 
 // Throws Error(kNotOurFormat / kUnsupportedVersion / kCorrupt) naming `name` and the chunk.
@@ -91,7 +106,7 @@ Take decompress(const uint8_t* data, size_t size, const std::string& name = "",
                 const DecompressOptions& opts = {});
 // Frames [first, first + count) only (clipped to the take); decodes only the windows they touch.
 Take decompress_frames(const uint8_t* data, size_t size, size_t first, size_t count,
-                       const std::string& name = "");
+                       const std::string& name = "", const DecompressOptions& opts = {});
 
 // What `capz info` prints about a .capz, read from HEAD, META and the chunk table.
 struct StreamInfo {

@@ -15,6 +15,7 @@ enum class ErrorCode {
   kCorrupt = 5,             // the file is ours but inconsistent: truncated, bad CRC, lying counts
   kInvalidParameter = 6,    // an option value out of range (negative error bound, K = 0, ...)
   kInternal = 7,            // a bug in capz: an invariant did not hold
+  kMemoryLimit = 8,         // decoding needs more memory than the caller's limit allows
 };
 
 const char* error_code_name(ErrorCode code);

@@ -31,6 +31,7 @@ __all__ = [
     "compress_file",
     "open",
     "compare",
+    "DEFAULT_MEMORY_LIMIT",
 ]
 __version__: str = _capz.version
 
@@ -274,12 +275,27 @@ def _labels(what: str, labels: Optional[Sequence[str]], n: int) -> List[str]:
 Take.from_arrays = staticmethod(_from_arrays)  # type: ignore[attr-defined]
 
 
-def read(path: PathLike) -> Take:
+DEFAULT_MEMORY_LIMIT: int = _capz.DEFAULT_MEMORY_LIMIT
+"""The decoder's default memory limit in bytes (4 GiB): see read()'s memory_limit."""
+
+
+def _memory_limit(v: Optional[int]) -> int:
+    if v is None:
+        return DEFAULT_MEMORY_LIMIT
+    if isinstance(v, bool) or not isinstance(v, int) or v < 0:
+        raise _invalid(f"memory_limit must be a number of bytes >= 0 (0: none), got {v!r}")
+    return v
+
+
+def read(path: PathLike, *, memory_limit: Optional[int] = None) -> Take:
     """Reads a take: a .c3d, a .trc, a folder of .pcd frames, or a .capz (decompressed).
 
     Gaps read as valid == False and NaN in xyz. Raises capz.Error naming the file and fault.
+    memory_limit: for a .capz, the most bytes of decoded samples it may ask for (None: 4 GiB,
+    DEFAULT_MEMORY_LIMIT; 0: no limit); a stream asking for more raises capz.Error with code
+    "memory-limit" before anything is allocated (the CLI's --memlimit).
     """
-    return _capz.read(_path(path, "path"))
+    return _capz.read(_path(path, "path"), _memory_limit(memory_limit))
 
 
 def write(
@@ -390,14 +406,20 @@ def compress(
     return (data, report) if stats else data
 
 
-def decompress(data: Union[bytes, bytearray, memoryview], name: str = "") -> Take:
+def decompress(
+    data: Union[bytes, bytearray, memoryview],
+    name: str = "",
+    *,
+    memory_limit: Optional[int] = None,
+) -> Take:
     """Decodes .capz bytes back to a Take (`name` is only used in error messages).
 
-    Damaged bytes raise capz.Error (corrupt, not-our-format or unsupported-version).
+    Damaged bytes raise capz.Error (corrupt, not-our-format or unsupported-version); a stream
+    asking for more than memory_limit bytes of samples (as in read()) raises "memory-limit".
     """
     if not isinstance(data, (bytes, bytearray, memoryview)):
         raise _invalid(f"decompress wants bytes, got {type(data).__name__}")
-    return _capz.decompress(data, name)
+    return _capz.decompress(data, name, _memory_limit(memory_limit))
 
 
 def compress_file(
@@ -445,8 +467,10 @@ class CapzFile:
             z.info        # what `capz info --json` prints, as a dict
     """
 
-    def __init__(self, path: PathLike) -> None:
-        self._file: Optional[Any] = _capz.CapzFile(_path(path, "path"))
+    def __init__(self, path: PathLike, *, memory_limit: Optional[int] = None) -> None:
+        self._file: Optional[Any] = _capz.CapzFile(
+            _path(path, "path"), _memory_limit(memory_limit)
+        )
 
     def _open(self) -> Any:
         if self._file is None:
@@ -483,9 +507,12 @@ class CapzFile:
         self.close()
 
 
-def open(path: PathLike) -> CapzFile:  # noqa: A001 (capz.open, like gzip.open)
-    """Opens a .capz for random access (see CapzFile); use it in a with statement."""
-    return CapzFile(path)
+def open(  # noqa: A001 (capz.open, like gzip.open)
+    path: PathLike, *, memory_limit: Optional[int] = None
+) -> CapzFile:
+    """Opens a .capz for random access (see CapzFile); use it in a with statement.
+    memory_limit bounds each read_frames() call as in read()."""
+    return CapzFile(path, memory_limit=memory_limit)
 
 
 def compare(original: Take, reconstruction: Take) -> Dict[str, Any]:

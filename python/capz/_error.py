@@ -6,7 +6,7 @@ class Error(Exception):
     says what is wrong (naming the file), ``exit_status`` is the status ``capz`` would exit with.
 
     Codes: usage (1), io (2), not-our-format (3), unsupported-version (4), corrupt (5),
-    invalid-parameter (6), internal (7); see docs/CLI.md.
+    invalid-parameter (6), internal (7), memory-limit (8); see docs/CLI.md.
     """
 
     def __init__(self, code: str, message: str, exit_status: int = 0) -> None:

@@ -359,7 +359,8 @@ py::tuple compress_take(const capz::Take& take, bool lossless, std::optional<dou
 // A .capz opened for random access: the file's bytes in memory, frames decoded on demand.
 class CapzFile {
  public:
-  explicit CapzFile(const std::string& path) : path_(path) {
+  CapzFile(const std::string& path, uint64_t memory_limit) : path_(path) {
+    opts_.memory_limit = memory_limit;
     py::gil_scoped_release nogil;
     bytes_ = capz::read_file(path);
     info_ = capz::describe(bytes_.data(), bytes_.size(), path);
@@ -369,7 +370,7 @@ class CapzFile {
     capz::Take t;
     {
       py::gil_scoped_release nogil;
-      t = capz::decompress_frames(bytes_.data(), bytes_.size(), first, n, path_);
+      t = capz::decompress_frames(bytes_.data(), bytes_.size(), first, n, path_, opts_);
     }
     return adopt(std::move(t));
   }
@@ -382,6 +383,7 @@ class CapzFile {
   std::string path_;
   std::vector<uint8_t> bytes_;
   capz::StreamInfo info_;
+  capz::DecompressOptions opts_;
 };
 
 void translate_errors(std::exception_ptr p) {  // NOLINT: pybind11 passes it by value
@@ -524,13 +526,17 @@ PYBIND11_MODULE(_capz, m) {
 
   m.def("take_from_arrays", &take_from_arrays);
 
-  m.def("read", [](const std::string& path) {
+  m.attr("DEFAULT_MEMORY_LIMIT") = capz::kDefaultMemoryLimit;
+
+  m.def("read", [](const std::string& path, uint64_t memory_limit) {
     capz::Take t;
     {
       py::gil_scoped_release nogil;
       if (file_is_capz(path)) {
         const std::vector<uint8_t> bytes = capz::read_file(path);
-        t = capz::decompress(bytes.data(), bytes.size(), path);
+        capz::DecompressOptions o;
+        o.memory_limit = memory_limit;
+        t = capz::decompress(bytes.data(), bytes.size(), path, o);
       } else {
         t = capz::read_take(path);
       }
@@ -551,13 +557,16 @@ PYBIND11_MODULE(_capz, m) {
 
   m.def("compress", &compress_take);
 
-  m.def("decompress", [](const py::buffer& data, const std::string& name) {
+  m.def("decompress", [](const py::buffer& data, const std::string& name, uint64_t memory_limit) {
     const py::buffer_info b = data.request();
     if (b.ndim != 1 || b.itemsize != 1) invalid("decompress wants bytes (a 1-D buffer of bytes)");
     capz::Take t;
     {
       py::gil_scoped_release nogil;
-      t = capz::decompress(static_cast<const uint8_t*>(b.ptr), static_cast<size_t>(b.size), name);
+      capz::DecompressOptions o;
+      o.memory_limit = memory_limit;
+      t = capz::decompress(static_cast<const uint8_t*>(b.ptr), static_cast<size_t>(b.size), name,
+                           o);
     }
     return adopt(std::move(t));
   });
@@ -593,7 +602,7 @@ PYBIND11_MODULE(_capz, m) {
   m.def("units_to_metres", &capz::units_to_metres);
 
   py::class_<CapzFile>(m, "CapzFile")
-      .def(py::init<const std::string&>())
+      .def(py::init<const std::string&, uint64_t>())
       .def("read_frames", &CapzFile::read_frames)
       .def_property_readonly("info", &CapzFile::info)
       .def_property_readonly("frames", &CapzFile::frames)

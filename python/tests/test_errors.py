@@ -103,6 +103,27 @@ def test_damaged_bytes(small_take):
     raises(lambda: capz.decompress("text"), "invalid-parameter", "decompress wants bytes")
 
 
+def test_memory_limit(small_take, tmp_path):
+    """A stream needing more decoded memory than memory_limit raises "memory-limit" (exit status
+    8) before decoding; 0 is no limit; the default is DEFAULT_MEMORY_LIMIT."""
+    data = capz.compress(small_take, max_error="0.1mm")
+    e = raises(lambda: capz.decompress(data, "small.capz", memory_limit=64), "memory-limit",
+               "small.capz")
+    assert e.exit_status == 8 and "memory limit" in e.message
+    path = tmp_path / "small.capz"
+    path.write_bytes(data)
+    raises(lambda: capz.read(path, memory_limit=64), "memory-limit", "small.capz")
+    with capz.open(path, memory_limit=64) as z:
+        raises(lambda: z.read_frames(0, 2), "memory-limit", "small.capz")
+    for limit in (None, 0, capz.DEFAULT_MEMORY_LIMIT, 1 << 20):
+        assert capz.decompress(data, memory_limit=limit).frames == small_take.frames
+        assert capz.read(path, memory_limit=limit).frames == small_take.frames
+    assert capz.DEFAULT_MEMORY_LIMIT == 4 << 30
+    for bad in (-1, 1.5, "1G", True):
+        raises(lambda: capz.decompress(data, memory_limit=bad), "invalid-parameter",
+               "memory_limit")
+
+
 def test_files():
     raises(lambda: capz.read("/nonexistent/walk.c3d"), "io", "/nonexistent/walk.c3d")
     with pytest.raises(capz.Error) as e:

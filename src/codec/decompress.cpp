@@ -41,9 +41,9 @@ void slice_frame_metadata(size_t first, size_t count, size_t F, Take* t) {
 
 // Frames [first, first + count) of the stream, clipped, with the per-frame metadata sliced.
 Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
-                  const std::string& name, int threads = 1) {
+                  const std::string& name, const DecompressOptions& opts) {
   std::unique_ptr<StreamBytes> mem(new MemoryBytes(data, size));
-  CapzSource src(std::move(mem), name, false, threads);
+  CapzSource src(std::move(mem), name, false, opts.threads, opts.memory_limit);
   const ParsedStream& ps = src.parsed();
   const size_t F = ps.take.frames;
   first = std::min(first, F);
@@ -73,12 +73,12 @@ Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
 
 Take decompress(const uint8_t* data, size_t size, const std::string& name,
                 const DecompressOptions& opts) {
-  return decode_range(data, size, 0, std::numeric_limits<size_t>::max(), name, opts.threads);
+  return decode_range(data, size, 0, std::numeric_limits<size_t>::max(), name, opts);
 }
 
 Take decompress_frames(const uint8_t* data, size_t size, size_t first, size_t count,
-                       const std::string& name) {
-  return decode_range(data, size, first, count, name);
+                       const std::string& name, const DecompressOptions& opts) {
+  return decode_range(data, size, first, count, name, opts);
 }
 
 bool is_capz(const uint8_t* data, size_t size) {

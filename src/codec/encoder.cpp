@@ -137,6 +137,10 @@ Plan resolve(const FrameSource& source, const CompressOptions& opts, bool allow_
   p.analog = take.analog.channels > 0 && take.analog.samples_per_frame > 0;
   p.S = p.analog ? static_cast<size_t>(take.analog.samples_per_frame) : 0;
   p.C = p.analog ? static_cast<size_t>(take.analog.channels) : 0;
+  // A window holds at most kMaxWindowAnalogValues analog values (32 MiB of doubles): fewer
+  // frames a window when a frame has many, so that coding, and decoding under the default
+  // memory limit, keep a window's memory bounded whatever the take's analog layout.
+  if (p.analog) p.W = std::max<size_t>(1, std::min(p.W, kMaxWindowAnalogValues / (p.S * p.C)));
   if (take.rotations.per_frame() > 0) {
     p.R = static_cast<size_t>(take.rotations.samples_per_frame);
     p.G = static_cast<size_t>(take.rotations.segments);

@@ -116,10 +116,11 @@ void rebuild_pcd(const std::string& path, StreamBytes& raw, CapzSource& src, con
 
 // The rebuild, handed to `write` in order (a PCD folder's: to `frame`, file by file); checks the
 // size, and the hash when lossless.
-void rebuild(const std::string& path, const Write& write, int threads = 1,
+void rebuild(const std::string& path, const Write& write, const DecompressOptions& opts = {},
              const FrameWrite& frame = nullptr) {
   std::unique_ptr<StreamBytes> raw(new FileBytes(path));
-  CapzSource src(std::unique_ptr<StreamBytes>(new FileBytes(path)), path, true, threads);
+  CapzSource src(std::unique_ptr<StreamBytes>(new FileBytes(path)), path, true, opts.threads,
+                 opts.memory_limit);
   const ParsedStream& ps = src.parsed();
   const Record r = read_record(*raw, ps, path);
   if (!can_rebuild(r.info, r.c3d))
@@ -209,7 +210,7 @@ void rebuild_original(const std::string& capz_path, const std::string& out, bool
     check_replaceable_pcd_dir(path, overwrite);
     AtomicDir dir(path, overwrite);
     rebuild(
-        capz_path, [](const uint8_t*, size_t) {}, opts.threads,
+        capz_path, [](const uint8_t*, size_t) {}, opts,
         [&](const std::string& name, const std::vector<uint8_t>& bytes) {
           write_file((std::filesystem::path(dir.temp_dir()) / name).string(), bytes, true);
         });
@@ -218,7 +219,7 @@ void rebuild_original(const std::string& capz_path, const std::string& out, bool
   }
   AtomicFile file(out, overwrite);
   rebuild(
-      capz_path, [&](const uint8_t* p, size_t n) { file.write(p, n); }, opts.threads);
+      capz_path, [&](const uint8_t* p, size_t n) { file.write(p, n); }, opts);
   file.commit();
 }
 

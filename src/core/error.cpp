@@ -19,6 +19,8 @@ const char* error_code_name(ErrorCode code) {
       return "invalid-parameter";
     case ErrorCode::kInternal:
       return "internal";
+    case ErrorCode::kMemoryLimit:
+      return "memory-limit";
   }
   return "unknown";
 }

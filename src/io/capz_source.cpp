@@ -2,21 +2,54 @@
 #include "io/capz_source.h"
 
 #include <algorithm>
+#include <cmath>
+#include <string>
 
+#include "capz/error.h"
 #include "codec/decoder.h"
 
 namespace capz {
 
 CapzSource::CapzSource(std::unique_ptr<StreamBytes> bytes, const std::string& name, bool whole,
-                       int threads)
-    : bytes_(std::move(bytes)), name_(name), ps_(parse_stream(*bytes_, name)) {
+                       int threads, uint64_t memory_limit)
+    : bytes_(std::move(bytes)),
+      name_(name),
+      ps_(parse_stream(*bytes_, name)),
+      memory_limit_(memory_limit) {
   if (whole) check_tiling(ps_, bytes_->size(), name_);
   header_ = ps_.take;
   const size_t T = std::min(resolve_threads(threads), ps_.index.size());
-  if (T > 1 && ps_.index.size() > 1) {
-    ahead_cap_ = T + 1;
-    pool_.reset(new ThreadPool(T));
-  }
+  if (T > 1 && ps_.index.size() > 1) ahead_cap_ = T + 1;
+  // The window kept, and those decoded ahead, each with its buffers.
+  const double window = static_cast<double>(
+      std::min<uint64_t>(ps_.h.window_frames, std::max<uint64_t>(ps_.take.frames, 1)));
+  check_memory(window * static_cast<double>(1 + ahead_cap_),
+               ahead_cap_ ? "its windows decoded ahead" : "a window");
+  if (ahead_cap_) pool_.reset(new ThreadPool(T));
+}
+
+double CapzSource::frame_bytes() const {
+  const double N = static_cast<double>(ps_.take.points);
+  const double S = static_cast<double>(ps_.h.analog_samples_per_frame);
+  const double C = static_cast<double>(ps_.h.analog_channels);
+  const double R = static_cast<double>(ps_.take.rotations.per_frame());
+  double b = N * (3 * sizeof(double) + sizeof(uint8_t));  // xyz, valid
+  if (ps_.words) b += N * (sizeof(float) + sizeof(uint8_t));
+  b += S * C * sizeof(double) + R * 17 * sizeof(float);
+  for (const PointAttribute& a : ps_.take.attributes)
+    b += N * static_cast<double>(a.bytes_per_point());
+  return b;
+}
+
+void CapzSource::check_memory(double frames, const char* what) const {
+  if (memory_limit_ == 0) return;
+  const double need = frames * frame_bytes();
+  if (need <= static_cast<double>(memory_limit_)) return;
+  auto mib = [](double v) { return std::to_string(static_cast<uint64_t>(std::ceil(v / 1048576))); };
+  fail(ErrorCode::kMemoryLimit, name_,
+       "decoding " + std::string(what) + " needs " + mib(need) +
+           " MiB of samples, above the memory limit of " + mib(static_cast<double>(memory_limit_)) +
+           " MiB (--memlimit, or memory_limit in the API, raises it)");
 }
 
 CapzSource::~CapzSource() {
@@ -38,6 +71,10 @@ void CapzSource::read(size_t first, size_t count, FrameBlock* out) {
     have_ = false;
     return;
   }
+  // The block, besides the window(s) kept (checked when the source was opened).
+  check_memory(static_cast<double>(count) + static_cast<double>(std::min<size_t>(W, F)) *
+                                                static_cast<double>(1 + ahead_cap_),
+               "these frames");
   out->reset(first, count, N, A, ps_.words, R);
   const std::vector<PointAttribute>& attrs = ps_.take.attributes;
   out->attributes.resize(attrs.size());
@@ -139,7 +176,8 @@ void CapzSource::drop_ahead() {
 std::unique_ptr<FrameSource> open_capz_frames(const std::string& path,
                                               const DecompressOptions& opts) {
   std::unique_ptr<StreamBytes> file(new FileBytes(path));
-  return std::unique_ptr<FrameSource>(new CapzSource(std::move(file), path, true, opts.threads));
+  return std::unique_ptr<FrameSource>(
+      new CapzSource(std::move(file), path, true, opts.threads, opts.memory_limit));
 }
 
 }  // namespace capz

@@ -21,8 +21,10 @@ class CapzSource : public FrameSource {
   // whole: the stream will be read whole, so check that its windows tile it exactly.
   // threads (0: all cores): above 1, windows after the one asked for are decoded ahead by that
   // many workers (docs/ARCHITECTURE.md "Threads"); what read() gives and throws is the same.
+  // memory_limit (0: none): bytes of decoded samples held at once, the windows kept and the
+  // block read() fills (DecompressOptions::memory_limit); above it Error(kMemoryLimit).
   CapzSource(std::unique_ptr<StreamBytes> bytes, const std::string& name, bool whole,
-             int threads = 1);
+             int threads = 1, uint64_t memory_limit = 0);
   ~CapzSource() override;
   bool has_sample_words() const override { return ps_.words; }
   size_t preferred_block() const override { return ps_.h.window_frames; }
@@ -43,6 +45,10 @@ class CapzSource : public FrameSource {
     std::exception_ptr error;  // rethrown when the window is read
     std::future<void> done;    // invalid when the chunks could not be fetched
   };
+  // Decoded bytes of one frame (every per-frame array of FrameBlock).
+  double frame_bytes() const;
+  // Throws Error(kMemoryLimit) when `frames` frames of decoded samples exceed the limit.
+  void check_memory(double frames, const char* what) const;
   void decode(size_t w);
   void decode_ahead(size_t w);
   void submit(size_t w);
@@ -54,6 +60,7 @@ class CapzSource : public FrameSource {
   FrameBlock win_;
   size_t cached_ = 0;
   bool have_ = false;
+  uint64_t memory_limit_ = 0;
   size_t ahead_cap_ = 0;  // windows decoded ahead at most (threads + 1)
   size_t next_ = 0;       // the window after the last one submitted
   std::deque<std::unique_ptr<Ahead>> ahead_;

@@ -147,6 +147,37 @@ TEST(CliCompress, GivenBadRequestsThenOneLineErrorsAndStatuses) {
   EXPECT_EQ(capz_cli("decompress '" + kC3d + "' -o '" + d.file("z.c3d") + "'").status, 3);
 }
 
+// --memlimit: a take that needs more memory than the limit is refused in one line with status 8
+// and nothing written (decompress, also of a frame range, and verify); the limit's spellings; a
+// bad one is status 6 before any file is read.
+TEST(CliCompress, GivenMemlimitBelowWhatTheArchiveNeedsThenStatus8AndNothingWritten) {
+  capz_test::TempDir d("capz_cli_memlimit");
+  ASSERT_EQ(capz_cli("compress -q '" + kC3d + "' -o '" + d.file("x.capz") + "'").status, 0);
+  const std::string x = "'" + d.file("x.capz") + "'";
+  Result r = capz_cli("decompress " + x + " -o '" + d.file("x.c3d") + "' --memlimit 2K", true);
+  EXPECT_EQ(r.status, 8) << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+  EXPECT_NE(r.out.find("memory limit"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(d.file("x.c3d")));
+  EXPECT_EQ(capz_cli("decompress " + x + " -o '" + d.file("x.c3d") + "' --memlimit 2K --frames 0:5")
+                .status,
+            8);
+  EXPECT_FALSE(fs::exists(d.file("x.c3d")));
+  EXPECT_EQ(capz_cli("verify " + x + " --memlimit 2048").status, 8);
+  for (const char* ok : {"64M", "1g", "0", "1073741824"})
+    EXPECT_EQ(capz_cli("verify " + x + " --memlimit " + ok).status, 0) << ok;
+  EXPECT_EQ(capz_cli("decompress " + x + " -o '" + d.file("x.c3d") + "' --memlimit 8M").status, 0);
+  EXPECT_TRUE(fs::exists(d.file("x.c3d")));
+  for (const char* bad : {"lots", "-1", "5X", "99999999999T", ""}) {
+    EXPECT_EQ(capz_cli("decompress " + x + " -o '" + d.file("y.c3d") + "' --memlimit '" + bad + "'")
+                  .status,
+              6)
+        << bad;
+    EXPECT_EQ(capz_cli("verify " + x + " --memlimit '" + bad + "'").status, 6) << bad;
+  }
+  EXPECT_FALSE(fs::exists(d.file("y.c3d")));
+}
+
 std::vector<char> file_bytes(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   return std::vector<char>(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());

@@ -53,13 +53,13 @@ void read_ranges(const capz_fuzz::TempFile& file, const uint8_t* stream, size_t 
   capz::Take whole;
   bool whole_ok = false;
   try {
-    whole = capz::decompress(stream, size, "fuzz.capz");
+    whole = capz::decompress(stream, size, "fuzz.capz", capz_fuzz::decode_options());
     whole_ok = true;
   } catch (const capz::Error&) {
   }
   std::unique_ptr<capz::FrameSource> src;
   try {
-    src = capz::open_capz_frames(file.path());
+    src = capz::open_capz_frames(file.path(), capz_fuzz::decode_options());
   } catch (const capz::Error&) {
     CAPZ_FUZZ_CHECK(!whole_ok);  // a stream decompress() accepts must open
     return;

@@ -13,11 +13,12 @@ namespace {
 
 void decode(const uint8_t* data, size_t size) {
   try {
-    capz::Take t = capz::decompress(data, size, "fuzz.capz");
+    capz::Take t = capz::decompress(data, size, "fuzz.capz", capz_fuzz::decode_options());
     capz_fuzz::check_take_shape(t);
     if (size > 0 && t.frames > 0) {
       const size_t first = data[size - 1] % t.frames;
-      capz::Take part = capz::decompress_frames(data, size, first, 3, "fuzz.capz");
+      capz::Take part =
+          capz::decompress_frames(data, size, first, 3, "fuzz.capz", capz_fuzz::decode_options());
       capz_fuzz::check_take_shape(part);
       CAPZ_FUZZ_CHECK(part.points == t.points);
       CAPZ_FUZZ_CHECK(part.frames == std::min<size_t>(3, t.frames - first));

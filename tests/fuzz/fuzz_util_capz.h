@@ -5,10 +5,20 @@
 #include <cstdint>
 #include <vector>
 
+#include "capz/codec.h"
 #include "coding/container.h"
 #include "coding/crc32c.h"
 
 namespace capz_fuzz {
+
+// What the .capz targets decode with: a memory limit of 256 MiB of decoded samples, so that a
+// small input whose header asks for a huge take is refused (kMemoryLimit) rather than exhausting
+// libFuzzer's 2 GB (a valid stream may ask 2^18 analog values per byte).
+inline capz::DecompressOptions decode_options() {
+  capz::DecompressOptions o;
+  o.memory_limit = uint64_t{256} << 20;
+  return o;
+}
 
 inline uint32_t le32(const uint8_t* p) {
   return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 |

@@ -295,3 +295,73 @@ TEST(ResourceLimits, CapzHeaderCountsClaimingBillionsAreRefused) {
     EXPECT_TRUE(so.threw_error) << "capz streamed " << c.first << " was accepted";
   }
 }
+
+// A valid stream can ask for much more memory than its size: a constant analog channel codes in
+// a few bytes a window whatever its length. Here 2048 frames of 64 x 64 constant analog values
+// (8 Mi values, 64 MiB of doubles) code into a few KB. The encoder keeps each window within
+// kMaxWindowAnalogValues (so 1024 frames, not the 8192 a take without points would get), and the
+// decoder refuses, before allocating, to hold more than its memory limit: the whole take in
+// memory, a window and those decoded ahead when streaming. A frame range within the limit still
+// decodes.
+TEST(ResourceLimits, CapzStreamAskingMoreThanTheMemoryLimitIsRefusedBeforeAllocating) {
+  capz::Take t;
+  t.format = capz::Format::kC3D;
+  t.resize(2048, 0);
+  t.rate = 100;
+  t.units = "mm";
+  t.analog.channels = 64;
+  t.analog.samples_per_frame = 64;
+  t.analog.rate = 6400;
+  t.analog.labels.assign(64, "A");
+  t.analog.values.assign(size_t{2048} * 64 * 64, 0.25);
+  for (size_t i = 0; i < t.analog.values.size(); i += 64) t.analog.values[i] = 1.0;  // channel 0
+  capz::CompressOptions co;
+  co.lossless = true;
+  const std::vector<uint8_t> s = capz::compress(t, co);
+  t = capz::Take();
+  ASSERT_LT(s.size(), size_t{1} << 16);
+  const capz::StreamInfo si = capz::describe(s.data(), s.size(), "constant.capz");
+  EXPECT_EQ(si.window_frames, capz::kMaxWindowAnalogValues / (64 * 64));  // 1024
+  EXPECT_EQ(si.windows, 2u);
+
+  capz::DecompressOptions small;
+  small.memory_limit = uint64_t{24} << 20;  // below one window's 32 MiB
+  Outcome o = run_bounded([&] { capz::decompress(s.data(), s.size(), "constant.capz", small); });
+  expect_bounded(o, "decompress under 24 MiB");
+  ASSERT_TRUE(o.threw_error);
+  EXPECT_NE(o.message.find("constant.capz"), std::string::npos) << o.message;
+  EXPECT_NE(o.message.find("memory limit of 24 MiB"), std::string::npos) << o.message;
+  try {
+    capz::decompress(s.data(), s.size(), "constant.capz", small);
+  } catch (const capz::Error& e) {
+    EXPECT_EQ(e.code(), capz::ErrorCode::kMemoryLimit);
+  }
+
+  capz_test::TempDir dir("capz_memlimit");
+  const fs::path path = dir.path() / "constant.capz";
+  write_file(path, std::string(s.begin(), s.end()));
+  // Streaming: one window (32 MiB) fits 48 MiB; with 3 threads, 4 windows decoded ahead do not.
+  capz::DecompressOptions stream = small;
+  stream.memory_limit = uint64_t{48} << 20;
+  stream.threads = 3;
+  Outcome so = run_bounded([&] { capz::open_capz_frames(path.string(), stream); });
+  expect_bounded(so, "streamed with 3 threads under 48 MiB");
+  EXPECT_TRUE(so.threw_error);
+  stream.threads = 1;
+  std::unique_ptr<capz::FrameSource> src = capz::open_capz_frames(path.string(), stream);
+  capz::FrameBlock b;
+  src->read(1024, 1024, &b);  // exactly a window: handed over
+  ASSERT_EQ(b.analog.size(), size_t{1024} * 64 * 64);
+  EXPECT_EQ(b.analog[0], 1.0);
+  EXPECT_EQ(b.analog[1], 0.25);
+  // The whole take (64 MiB) is above 48 MiB; 100 frames of it are not.
+  EXPECT_THROW(capz::decompress(s.data(), s.size(), "constant.capz", stream), capz::Error);
+  const capz::Take part = capz::decompress_frames(s.data(), s.size(), 1000, 100, "", stream);
+  EXPECT_EQ(part.frames, 100u);
+  EXPECT_EQ(part.analog.values.size(), size_t{100} * 64 * 64);
+  // No limit, and the default (4 GiB): the whole take.
+  stream.memory_limit = 0;
+  EXPECT_EQ(capz::decompress(s.data(), s.size(), "", stream).analog.values.size(),
+            size_t{2048} * 64 * 64);
+  EXPECT_EQ(capz::decompress(s.data(), s.size()).analog.values.size(), size_t{2048} * 64 * 64);
+}
