@@ -17,15 +17,18 @@ namespace capz_cli {
 namespace {
 
 // Parses a command whose positionals are one or more archives (folders with -r) into jobs.
+// With `limit`, also --memlimit, the decoder's memory limit, into *limit.
 bool parse_archives(const Args& args, const std::string& usage, const std::string& description,
-                    BatchSettings* settings, std::vector<Job>* jobs) {
+                    BatchSettings* settings, std::vector<Job>* jobs, uint64_t* limit = nullptr) {
   po::options_description o("options");
   add_batch_options(&o, false, "");
+  if (limit) add_memlimit_option(&o);
   po::variables_map vm;
   std::vector<std::string> inputs;
   if (!parse_inputs(args, usage, description, o, "FILE.capz", false, &vm, &inputs)) return false;
   if (std::find(inputs.begin(), inputs.end(), "-") != inputs.end())
     throw po::error("archives are read from files, not from stdin ('-')");
+  if (limit) *limit = memlimit(vm);
   *settings = batch_settings(vm, false);
   *jobs = expand_inputs(inputs, InputKind::kArchives, *settings);
   return true;
@@ -50,8 +53,8 @@ void describe_record(const std::string& path, const std::vector<uint8_t>& bytes,
 // Decodes every window (every CRC and chunk checked) and, where the archive is exact, rebuilds
 // the original in memory-bounded passes checking its size and hash (at a bound, where the
 // archive can rebuild a C3D, its size). Returns the line to print.
-std::string test_one(const std::string& path) {
-  std::unique_ptr<capz::FrameSource> src = capz::open_capz_frames(path);
+std::string test_one(const std::string& path, const capz::DecompressOptions& opts) {
+  std::unique_ptr<capz::FrameSource> src = capz::open_capz_frames(path, opts);
   const size_t F = src->header().frames, B = src->preferred_block();
   capz::FrameBlock block;
   for (size_t f0 = 0; f0 < F; f0 += B) src->read(f0, B, &block);
@@ -60,12 +63,12 @@ std::string test_one(const std::string& path) {
   const capz::OriginalInfo info = capz::original_info(path);
   std::string line = path + ": OK, " + std::to_string(F) + " frames decoded";
   if (info.exact) {
-    capz::test_original(path);
+    capz::test_original(path, opts);
     line += ", original rebuilt (" + std::to_string(info.size) + " bytes, xxh3-128 " +
             info.hash_hex + ")";
   } else if (capz::can_rebuild(info, c3d)) {
-    capz::test_original(path);  // at a bound: the original's head and tail around regenerated
-                                // frames, its size checked
+    capz::test_original(path, opts);  // at a bound: the original's head and tail around regenerated
+                                      // frames, its size checked
     line += ", not lossless: original rebuilt at the bound (" + std::to_string(info.size) +
             " bytes, size checked)";
   } else if (info.hashed) {
@@ -79,18 +82,20 @@ std::string test_one(const std::string& path) {
 int cmd_test(const Args& args) {
   BatchSettings settings;
   std::vector<Job> jobs;
-  if (!parse_archives(args, "capz test FILE.capz... [-r] [-T N] [--report FILE.jsonl]",
+  capz::DecompressOptions opts;
+  if (!parse_archives(args,
+                      "capz test FILE.capz... [-r] [-T N] [--report FILE.jsonl] [--memlimit SIZE]",
                       "Decodes every archive (every chunk and CRC checked) and, where it is\n"
                       "lossless with a checksum, rebuilds the original bytes and checks their\n"
                       "size and hash. Writes nothing; one line per file; exit status 1 on any\n"
                       "fault. -r walks folders for .capz files.",
-                      &settings, &jobs))
+                      &settings, &jobs, &opts.memory_limit))
     return 0;
   return run_batch(
       "test", settings, std::move(jobs),
-      [&settings](const Job& job) {
+      [&settings, &opts](const Job& job) {
         FileRecord r;
-        r.text = test_one(job.input) + "\n";
+        r.text = test_one(job.input, opts) + "\n";
         if (!settings.report.empty()) describe_record(job.input, capz::read_file(job.input), &r);
         return r;
       },

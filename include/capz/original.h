@@ -37,7 +37,7 @@ void rebuild_original(const std::string& capz_path, const std::string& out, bool
                       const DecompressOptions& opts = {});
 
 // The same rebuild, written nowhere: checks size and hash (lossless) or size (bound).
-void test_original(const std::string& capz_path);
+void test_original(const std::string& capz_path, const DecompressOptions& opts = {});
 
 // For --rm: "" when `capz_path` is exact and its rebuilt bytes (size and hash checked) hash as
 // the file at `original` does now; else what differs.

@@ -223,8 +223,9 @@ void rebuild_original(const std::string& capz_path, const std::string& out, bool
   file.commit();
 }
 
-void test_original(const std::string& capz_path) {
-  rebuild(capz_path, [](const uint8_t*, size_t) {});
+void test_original(const std::string& capz_path, const DecompressOptions& opts) {
+  rebuild(
+      capz_path, [](const uint8_t*, size_t) {}, opts);
 }
 
 std::string rebuilds_file(const std::string& capz_path, const std::string& original) {

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "capz/error.h"
@@ -45,11 +46,21 @@ void CapzSource::check_memory(double frames, const char* what) const {
   if (memory_limit_ == 0) return;
   const double need = frames * frame_bytes();
   if (need <= static_cast<double>(memory_limit_)) return;
-  auto mib = [](double v) { return std::to_string(static_cast<uint64_t>(std::ceil(v / 1048576))); };
+  // KiB below 1 MiB, else MiB; one decimal below 10 of the unit; what is needed rounded up and
+  // the limit down, so that the two never print the same.
+  auto size = [](double v, bool up) {
+    const bool kib = v < 1048576;
+    const double u = v / (kib ? 1024.0 : 1048576.0), scale = u < 10 ? 10.0 : 1.0;
+    const double r = (up ? std::ceil(u * scale) : std::floor(u * scale)) / scale;
+    char buf[48];
+    std::snprintf(buf, sizeof buf, scale > 1 ? "%.1f %s" : "%.0f %s", r, kib ? "KiB" : "MiB");
+    return std::string(buf);
+  };
   fail(ErrorCode::kMemoryLimit, name_,
-       "decoding " + std::string(what) + " needs " + mib(need) +
-           " MiB of samples, above the memory limit of " + mib(static_cast<double>(memory_limit_)) +
-           " MiB (--memlimit, or memory_limit in the API, raises it)");
+       "decoding " + std::string(what) + " needs " + size(need, true) +
+           " of samples, above the memory limit of " +
+           size(static_cast<double>(memory_limit_), false) +
+           " (--memlimit, or memory_limit in the API, raises it)");
 }
 
 CapzSource::~CapzSource() {

@@ -80,6 +80,14 @@ TEST(CliArchive, TestAndListFailOnADamagedFile) {
   Result l = run("list '" + d.file("missing.capz") + "'");
   EXPECT_EQ(l.status, 1) << l.out;
   EXPECT_EQ(lines(l.out), 1u) << l.out;
+  // An archive needing more memory than --memlimit fails the same way, saying so; a bad size
+  // is refused before any file.
+  Result m = run("test '" + z + "' --memlimit 1K");
+  EXPECT_EQ(m.status, 1) << m.out;
+  EXPECT_NE(m.out.find(z + ": FAILED: "), std::string::npos) << m.out;
+  EXPECT_NE(m.out.find("above the memory limit of 1.0 KiB"), std::string::npos) << m.out;
+  EXPECT_EQ(run("test '" + z + "' --memlimit 64M").status, 0);
+  EXPECT_EQ(run("test '" + z + "' --memlimit many").status, 6);
 }
 
 // A PCD folder whose frames capz's writer does not reproduce (a commented CRLF header, ASCII
