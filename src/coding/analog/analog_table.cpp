@@ -31,8 +31,10 @@ double lattice_next(double prev, uint32_t m, double step, bool f32) {
 // A value table coded against a lattice (FORMAT.md 8.2): the step, the first entry, then an
 // entropy-coded block of each later entry's (m, d). Empty when some entry does not fit (d or
 // the prediction out of range). The step: a least-squares line through the entries at
-// k = round((v - v0) / gap) (refine_fit).
-std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32, double gap) {
+// k = round((v - v0) / gap) (refine_fit). Also empty once the coding is known to take at least
+// `bound` bytes (it cannot be the smallest then).
+std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32, double gap,
+                                   size_t bound) {
   if (!(gap > 0) || !std::isfinite(gap)) return {};
   double step = gap, offset = t[0];
   refine_fit(t, &step, &offset);
@@ -60,6 +62,8 @@ std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32, doubl
       }
     }
     if (best >= (uint64_t{1} << 30)) return {};
+    // The step, the first entry and a byte of block size come before the block's bytes.
+    if (enc.cursor().bytes_out() + 17 >= bound) return {};
     enc.put(m, 0);
     enc.put_signed(static_cast<int32_t>(d), 1);
   }
@@ -76,8 +80,9 @@ std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32, doubl
 // and the smallest of at least half the median. They differ when entries lie off the lattice:
 // in PiG's float32 EMG tables two entries are 15 float32 units apart (1/5000 of the step) and
 // others a fraction of a step off, so only the median gap is the step; a lattice of the smallest
-// gap codes every entry as thousands of steps, 4-5 times the bytes.
-std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32) {
+// gap codes every entry as thousands of steps, 4-5 times the bytes. A coding of `bound` bytes
+// or more is never the smallest: then, or with no lattice, the result is empty.
+std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32, size_t bound) {
   if (t.size() < 2) return {};
   std::vector<double> gaps;
   gaps.reserve(t.size() - 1);
@@ -95,7 +100,7 @@ std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32) {
   if (robust != smallest && robust != median) tries.push_back(robust);
   std::vector<uint8_t> best;
   for (double g : tries) {
-    std::vector<uint8_t> c = lattice_table(t, f32, g);
+    std::vector<uint8_t> c = lattice_table(t, f32, g, best.empty() ? bound : best.size());
     if (!c.empty() && (best.empty() || c.size() < best.size())) best = std::move(c);
   }
   return best;
@@ -153,7 +158,7 @@ void write_value_table(const std::vector<double>& table, bool lattice_tables, By
     prev = o;
   }
   const std::vector<uint8_t> lat =
-      lattice_tables ? lattice_table(table, f32) : std::vector<uint8_t>();
+      lattice_tables ? lattice_table(table, f32, plain.size()) : std::vector<uint8_t>();
   const bool use_lattice = !lat.empty() && lat.size() < plain.size();
   w->u8(static_cast<uint8_t>((f32 ? 1 : 0) | (use_lattice ? 2 : 0)));
   w->bytes(use_lattice ? lat : plain.buffer());
