@@ -511,8 +511,9 @@ std::vector<ChannelRepr> candidate_representations(const double* col, size_t str
     scaled.kind = Kind::kScaled;
     out.push_back(std::move(scaled));
   }
-  const bool rank_better = rank_bits(ord.size(), n, f32) < float_bits(v, f32);
-  if (ord.size() <= kMaxTable && (rank_better || ord.size() <= n / 2)) {
+  // (float_bits, a pass over the samples, only where the choice depends on it)
+  if (ord.size() <= kMaxTable &&
+      (ord.size() <= n / 2 || rank_bits(ord.size(), n, f32) < float_bits(v, f32))) {
     ChannelRepr rank = r;
     rank.kind = Kind::kRank;
     rank.table = sorted;
