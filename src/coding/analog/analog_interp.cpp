@@ -52,7 +52,8 @@ bool no_period_can_fit(const double* col, size_t stride, size_t n) {
       const double xa = col[a * stride], xb = col[(a + P) * stride];
       for (unsigned j = 1; j < P; ++j) {
         const double x = col[(a + j) * stride];
-        const double p = interpolate(xa, xb, j, P, false), p32 = interpolate(xa, xb, j, P, true);
+        // interpolate(..., false) and (..., true): the same quotient, then float32 rounding
+        const double p = interpolate(xa, xb, j, P, false), p32 = round_to_float32(p);
         misses += (std::isnan(p) || !same_bits(p, x)) && (std::isnan(p32) || !same_bits(p32, x));
       }
     }
