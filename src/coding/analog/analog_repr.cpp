@@ -356,7 +356,11 @@ void sort_unique(std::vector<uint64_t>* keys, std::vector<int32_t>* ranks) {
   if (width + ibits <= 64) {
     const uint64_t vmask = width == 64 ? ~uint64_t{0} : (uint64_t{1} << width) - 1;
     const uint64_t imask = (uint64_t{1} << ibits) - 1;  // ibits < 64 here (n <= 2^32)
-    std::vector<uint64_t> a(n), b(n);
+    // The two arrays of the passes: a per-thread buffer (not zeroed: every entry is written).
+    thread_local std::vector<uint64_t> ab;
+    if (ab.size() < 2 * n) ab.resize(2 * n);
+    uint64_t* a = ab.data();
+    uint64_t* b = a + n;
     for (size_t i = 0; i < n; ++i) a[i] = ((((*sk)[i] >> lo) & vmask) << ibits) | i;
     const int digit = n >= 2048 ? 11 : 8;
     std::vector<size_t> count((size_t{1} << digit) + 1);
@@ -366,7 +370,7 @@ void sort_unique(std::vector<uint64_t>* keys, std::vector<int32_t>* ranks) {
       for (size_t i = 0; i < n; ++i) ++count[((a[i] >> sh) & dmask) + 1];
       for (size_t k = 0; k + 1 < count.size(); ++k) count[k + 1] += count[k];
       for (size_t i = 0; i < n; ++i) b[count[(a[i] >> sh) & dmask]++] = a[i];
-      a.swap(b);
+      std::swap(a, b);
     }
     std::vector<uint64_t> orig;
     orig.swap(*keys);
