@@ -6,6 +6,7 @@
 
 #include "capz/error.h"
 #include "coding/analog/analog_repr.h"
+#include "coding/analog/analog_round.h"
 #include "coding/entropy.h"
 
 namespace capz {
@@ -41,7 +42,7 @@ std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32, doubl
   if (!(step > 0) || !std::isfinite(step)) return {};
   IntEncoder enc(2);
   for (size_t i = 1; i < t.size(); ++i) {
-    const double q = std::round((t[i] - t[i - 1]) / step);
+    const double q = round_half_away((t[i] - t[i - 1]) / step);  // std::round's result
     const uint32_t m0 = q > 0 && q < 1e9 ? static_cast<uint32_t>(q) : 0;
     // The nearest number of steps, or one either side when that leaves a smaller error in the
     // ordered space: next to zero, where float32 patterns are dense, the nearest can land on the
@@ -50,6 +51,7 @@ std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32, doubl
     int64_t d = 0;
     uint64_t best = UINT64_MAX;
     for (uint32_t mm : {m0, m0 + 1, m0 - 1}) {
+      if (best == 0) break;            // no other count can have a smaller error
       if (mm == UINT32_MAX) continue;  // m0 - 1 of m0 = 0
       const double p = lattice_next(t[i - 1], mm, step, f32);
       if (!std::isfinite(p)) continue;
