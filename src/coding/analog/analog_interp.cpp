@@ -25,12 +25,21 @@ size_t interpolable_count(size_t n, unsigned period) {
 
 }  // namespace
 
-double interpolate(double xa, double xb, unsigned j, unsigned period, bool f32) {
+namespace {
+
+// interpolate before its float32 rounding (inlined into the encoder's search).
+inline double interpolate_unrounded(double xa, double xb, unsigned j, unsigned period) {
   // Separate statements: each product, the sum and the quotient rounded on their own.
   const double wa = xa * static_cast<double>(period - j);
   const double wb = xb * static_cast<double>(j);
   const double sum = wa + wb;
-  const double p = sum / static_cast<double>(period);
+  return sum / static_cast<double>(period);
+}
+
+}  // namespace
+
+double interpolate(double xa, double xb, unsigned j, unsigned period, bool f32) {
+  const double p = interpolate_unrounded(xa, xb, j, period);
   return f32 ? round_to_float32(p) : p;  // a NaN stays NaN (the callers refuse it)
 }
 
@@ -53,7 +62,7 @@ bool no_period_can_fit(const double* col, size_t stride, size_t n) {
       for (unsigned j = 1; j < P; ++j) {
         const double x = col[(a + j) * stride];
         // interpolate(..., false) and (..., true): the same quotient, then float32 rounding
-        const double p = interpolate(xa, xb, j, P, false), p32 = round_to_float32(p);
+        const double p = interpolate_unrounded(xa, xb, j, P), p32 = round_to_float32(p);
         misses += (std::isnan(p) || !same_bits(p, x)) && (std::isnan(p32) || !same_bits(p32, x));
       }
     }
