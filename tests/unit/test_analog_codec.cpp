@@ -14,6 +14,7 @@
 #include "coding/analog/analog_pick.h"
 #include "coding/analog/analog_repr.h"
 #include "coding/analog/analog_round.h"
+#include "coding/analog/analog_simd.h"
 
 namespace capz {
 namespace {
@@ -434,6 +435,48 @@ TEST(AnalogRound, GivenQuotientsWhenRoundedWithoutDividingThenTheDividedResultBi
     check(s, std::nan(""));
   }
   EXPECT_GT(answered, pairs / 10);  // most inputs here sit near half-integers on purpose
+}
+
+// The scaled fits (find_scaled, fit_scaled) run four samples a step with AVX2 where the CPU has
+// it: the candidates, their steps, offsets, exceptions and k are those of the two-lane path, bit
+// for bit, on float32 and float64 lattices with exceptions, averaged counts, k near 2^23
+// (quotients that need the division) and odd lengths.
+TEST(AnalogSimd, GivenScaledChannelsWhenFittedWithAvx2OnOrOffThenTheSameCandidates) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  std::vector<std::vector<double>> cols;
+  for (size_t n : {size_t{7}, size_t{1001}, size_t{4096}}) {
+    std::vector<double> f32(n), f64(n), avg(n), big(n), walk(n);
+    double w = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const double k = std::round(unit(rng) * 3000);
+      f32[i] = static_cast<float>(k * 0.0030517578125 - 1.25);
+      f64[i] = i % 37 == 5 ? unit(rng) : k * 0.1 + 0.3;  // exceptions every 37th sample
+      avg[i] = static_cast<float>(k / 7.0);
+      big[i] = std::round(unit(rng) * 8388600) * 1e-3;
+      w += std::round(unit(rng) * 4);
+      walk[i] = static_cast<float>(w * (20.0 / 65535.0));
+    }
+    for (auto* c : {&f32, &f64, &avg, &big, &walk}) cols.push_back(*c);
+  }
+  auto same = [](const analog::ChannelRepr& a, const analog::ChannelRepr& b) {
+    return a.kind == b.kind && bits(a.step) == bits(b.step) && bits(a.offset) == bits(b.offset) &&
+           a.round_f32 == b.round_f32 && a.exc_index == b.exc_index && a.exc_delta == b.exc_delta &&
+           a.ints == b.ints;
+  };
+  size_t scaled = 0;
+  for (const std::vector<double>& c : cols) {
+    analog::allow_avx2(false);
+    const auto plain = analog::candidate_representations(c.data(), 1, c.size(), {});
+    analog::allow_avx2(true);
+    const auto fast = analog::candidate_representations(c.data(), 1, c.size(), {});
+    ASSERT_EQ(plain.size(), fast.size());
+    for (size_t k = 0; k < plain.size(); ++k) {
+      EXPECT_TRUE(same(plain[k], fast[k])) << "column of " << c.size() << ", candidate " << k;
+      scaled += plain[k].kind == Kind::kScaled;
+    }
+  }
+  EXPECT_GE(scaled, 6u);  // the lattices were found
 }
 
 // With a margin, candidates estimated far above the smallest estimate are never tried, and a

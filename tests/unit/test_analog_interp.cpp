@@ -90,6 +90,27 @@ TEST(AnalogInterp, GivenPeriodsTwoToFourWhenCodedThenFieldWrittenExactAndSmaller
     }
 }
 
+// The exceptions' budget (1/16 of the interpolable samples) decides from the first sample on:
+// a channel with that many exceptions, all at its start, is still found (with each of them),
+// one more and it is not, for float32 and float64 channels alike.
+TEST(AnalogInterp, GivenExceptionsAtTheStartUpToTheBudgetThenFoundOneMoreThenNot) {
+  for (bool f32 : {false, true}) {
+    const size_t n = 1000;  // period 2: 499 interpolable samples, a budget of 31
+    const std::vector<double> x = interpolated(n, 2, f32, 5);
+    for (size_t extra : {size_t{0}, size_t{1}}) {
+      std::vector<double> y = x;
+      for (size_t e = 0; e < 31 + extra; ++e) y[2 * e + 1] += 0.25;
+      Interp in;
+      const bool found = analog::find_interpolation(y.data(), 1, n, &in);
+      EXPECT_EQ(found, extra == 0) << f32;
+      if (!found) continue;
+      EXPECT_EQ(in.period, 2);
+      EXPECT_EQ(in.f32, f32);
+      EXPECT_EQ(in.exceptions.size(), 31u);
+    }
+  }
+}
+
 TEST(AnalogInterp, GivenExceptionsNaNAnchorsAndATailThenExactWithThoseCoded) {
   std::vector<double> x = interpolated(3003, 2, true, 7);
   x[101] += 1;                                        // an exception

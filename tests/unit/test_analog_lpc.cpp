@@ -315,42 +315,58 @@ std::vector<std::vector<int32_t>> cascade_inputs() {
     flat.push_back(i < 15000 ? (1 << 30) : -(1 << 30));  // beyond the history clamp
     steps.push_back(((i / 700) % 2 ? 1 : -1) * (i % 7) * 40000);
   }
+  // Residuals of every size in one sequence: any value an LPC residual takes (|r| < 2^29, so
+  // that the outputs fit int32), runs at the clamp of either
+  // sign, and stretches of the AR(1) series scaled to large values.
+  std::vector<int32_t> wild;
+  for (int i = 0; i < 30000; ++i) {
+    const int k = static_cast<int>(rng() % 8);
+    const int32_t sign = (i / 50) % 2 ? 1 : -1;
+    wild.push_back(k == 0   ? static_cast<int32_t>(rng() % (1u << 30)) - (1 << 29)
+                   : k == 1 ? sign * (kMaxSample + static_cast<int32_t>(rng() % 3) - 1)
+                            : ar[i] * ((i / 3000) % 3 ? 1 : 20000));
+  }
   std::vector<int32_t> odd(ar.begin(), ar.begin() + 1001);  // an odd count: the scalar tail
   odd.push_back(-(1 << 30));
   odd.push_back(1 << 29);
-  seqs = {ar, extreme, flat, steps, odd};
+  seqs = {ar, extreme, flat, steps, odd, wild, {}, {7}};
   return seqs;
 }
 
+// sign_lms_run on int32 outputs runs its AVX2 kernel where the CPU has AVX2, the portable one
+// otherwise or when switched off; int64 outputs run the portable one: each matches exactly.
 TEST(AnalogCascade, GivenInputsWhenRunAsDoublesThenExactlyTheIntegerFilter) {
-  for (const std::vector<int32_t>& in : cascade_inputs()) {
-    IntSignLms ref;
-    SignLms lms;
-    std::vector<int64_t> batch(in.size());
-    sign_lms_residuals(in.data(), in.size(), batch.data());
-    std::vector<int32_t> batch32(in.size());
-    const auto sums = sign_lms_run(in.data(), in.size(), batch32.data());
-    auto bit_length = [](int64_t v) {
-      const uint64_t u = (static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63);
-      int b = 0;
-      while (b < 64 && (u >> b) != 0) ++b;
-      return static_cast<uint64_t>(b);
-    };
-    uint64_t bits_in = 0, bits_out = 0;
-    for (size_t i = 0; i < in.size(); ++i) {
-      const int64_t want = in[i] - ref.predict();
-      ref.update(in[i], want);
-      const int64_t got = in[i] - lms.predict();
-      lms.update(in[i], got);
-      ASSERT_EQ(got, want) << "sample " << i;
-      ASSERT_EQ(batch[i], want) << "sample " << i;
-      ASSERT_EQ(batch32[i], want) << "sample " << i;
-      bits_in += bit_length(in[i]);
-      bits_out += bit_length(want);
+  for (bool avx2 : {true, false})
+    for (const std::vector<int32_t>& in : cascade_inputs()) {
+      allow_avx2(avx2);
+      IntSignLms ref;
+      SignLms lms;
+      std::vector<int64_t> batch(in.size());
+      sign_lms_residuals(in.data(), in.size(), batch.data());
+      std::vector<int32_t> batch32(in.size());
+      const auto sums = sign_lms_run(in.data(), in.size(), batch32.data());
+      auto bit_length = [](int64_t v) {
+        const uint64_t u = (static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63);
+        int b = 0;
+        while (b < 64 && (u >> b) != 0) ++b;
+        return static_cast<uint64_t>(b);
+      };
+      uint64_t bits_in = 0, bits_out = 0;
+      for (size_t i = 0; i < in.size(); ++i) {
+        const int64_t want = in[i] - ref.predict();
+        ref.update(in[i], want);
+        const int64_t got = in[i] - lms.predict();
+        lms.update(in[i], got);
+        ASSERT_EQ(got, want) << "sample " << i;
+        ASSERT_EQ(batch[i], want) << "sample " << i;
+        ASSERT_EQ(batch32[i], want) << "sample " << i;
+        bits_in += bit_length(in[i]);
+        bits_out += bit_length(want);
+      }
+      EXPECT_EQ(sums.first, bits_in);
+      EXPECT_EQ(sums.second, bits_out);
+      allow_avx2(true);
     }
-    EXPECT_EQ(sums.first, bits_in);
-    EXPECT_EQ(sums.second, bits_out);
-  }
 }
 
 TEST(AnalogLpc, GivenCoefficientsWhenKernelPredictsThenExactlyLpcPredict) {

@@ -13,10 +13,12 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "coding/analog/analog_lpc.h"
+#include "coding/analog/analog_simd.h"
 
 namespace capz {
 namespace analog {
@@ -99,8 +101,9 @@ class SignLms {
 // zig-zags of in and of out. The history is read from a precomputed array of clamped inputs
 // and their signs in increasing addresses (weights kept reversed), so the loop stores nothing
 // that a later load of the history must wait for; the signs are stored times +kStep and times
-// -kStep, so a weight update adds one of the two (d sgn(h) of the filter, the same products).
-// The arrays are a reused per-thread buffer.
+// -kStep, and a weight update adds one of the two windows, or a window of zeros for a zero
+// residual (d sgn(h) of the filter; the same values up to the sign of a zero weight, which no
+// product, sum or comparison here sees). The arrays are a reused per-thread buffer.
 //
 // The prediction's sum S[i] = W[i] . H[i] (weights at sample i times its history window) is a
 // chain through every sample: S[i] needs the weights updated by sample i - 1's residual. The
@@ -109,30 +112,59 @@ class SignLms {
 //   S[i + 1] = (W[i] + d U[i]) . H[i + 1] = W[i] . H[i + 1] + d (U[i] . H[i + 1])
 // with d = sgn(residual i) and U[i] the +kStep sign window: W[i] . H[i + 1] is computed while
 // sample i's residual is (it needs only W[i]), and B[i] = U[i] . H[i + 1], a sum over the input
-// alone, is precomputed as a sliding sum of up[t] c[t + 1]. A step that clamps a weight
-// computes S[i + 1] directly.
-template <typename T>
-inline std::pair<uint64_t, uint64_t> sign_lms_run(const int32_t* in, size_t n, T* out) {
+// alone, is precomputed as a sliding sum of up[t] c[t + 1] (on int64: the same integers). A
+// step that clamps a weight computes S[i + 1] directly.
+//
+// W: the lanes of the weights' vectors (2, or 4 in sign_lms_run_avx2): a dot product is a sum
+// of exact integers, the same in any order. Always inlined, so that it is compiled for its
+// caller's target.
+template <int W>
+struct LmsLanes;
+template <>
+struct LmsLanes<2> {
+  typedef double D __attribute__((vector_size(16)));
+};
+template <>
+struct LmsLanes<4> {
+  typedef double D __attribute__((vector_size(32)));
+};
+template <int W, typename T>
+__attribute__((always_inline)) inline std::pair<uint64_t, uint64_t> sign_lms_kernel(
+    const int32_t* in, size_t n, T* out) {
   typedef double Lanes __attribute__((vector_size(16)));
-  constexpr int kTaps = SignLms::kTaps;
+  typedef typename LmsLanes<W>::D Wide;
+  constexpr int kTaps = SignLms::kTaps, kVecs = kTaps / W;
   constexpr double kStep = SignLms::kStep, kMaxWeight = SignLms::kMaxWeight;
   // Bit length of the zig-zag u of v (|v| < 2^62 here): the top set bit of 2 u + 1 (one bsr).
-  auto bits = [](int64_t v) {
+  auto bits = [](int64_t v) __attribute__((always_inline)) {
     const uint64_t u = (static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63);
     return static_cast<uint64_t>(63 - __builtin_clzll((u << 1) | 1));
   };
-  // c[kTaps + i] = clamp(in[i]), zeros before; up / down its sign times kStep / -kStep.
+  // c[kTaps + i] = clamp(in[i]), zeros before; up / down its sign times kStep / -kStep. down,
+  // zeros and up lie `stride` apart in that order, so that the window of a residual of sign d
+  // starts at down + (d + 1) stride (no branch on d); the zeros are written when the buffer
+  // grows. ci and sg: the clamped inputs and their signs as int32, for the sliding sums.
   const size_t m = n + kTaps + 2;  // two zeros after the inputs (b2 reads c[n + kTaps + 1])
   thread_local std::vector<double> buf;
-  if (buf.size() < 5 * m) buf.resize(5 * m);
-  double* c = buf.data();
-  double* up = c + m;
-  double* down = up + m;
-  double* b = down + m;
-  double* b2 = b + m;
+  thread_local size_t stride = 0;
+  thread_local std::vector<int64_t> bbuf;
+  thread_local std::vector<int32_t> cbuf;
+  if (stride < m) {
+    stride = m + m / 4;
+    buf.assign(4 * stride, 0.0);
+  }
+  if (bbuf.size() < 2 * m) bbuf.resize(2 * m);
+  if (cbuf.size() < 2 * m) cbuf.resize(2 * m);
+  double* down = buf.data();
+  double* up = down + 2 * stride;
+  double* c = down + 3 * stride;
+  int64_t* b = bbuf.data();
+  int64_t* b2 = b + m;
+  int32_t* ci = cbuf.data();
+  int32_t* sg = ci + m;
   uint64_t before = 0;
-  for (size_t k = 0; k < kTaps; ++k) c[k] = up[k] = down[k] = 0;
-  c[n + kTaps] = c[n + kTaps + 1] = 0;
+  for (size_t k = 0; k < kTaps; ++k) c[k] = up[k] = down[k] = 0, ci[k] = sg[k] = 0;
+  for (size_t k = n + kTaps; k < m; ++k) c[k] = 0, ci[k] = 0;
   // Two samples a step: the clamp on doubles (exact), the signs from compares, and the bit
   // lengths from the exponent of |2 in + 1/2| (= u + 1/2 for the zig-zag u; 1/2 gives 0).
   typedef int32_t Pair __attribute__((vector_size(8)));
@@ -161,91 +193,133 @@ inline std::pair<uint64_t, uint64_t> sign_lms_run(const int32_t* in, size_t n, T
   before = acc[0] + acc[1] - 1022 * i0;
   for (size_t i = i0; i < n; ++i) {
     const int64_t v = in[i] > kMaxSample ? kMaxSample : in[i] < -kMaxSample ? -kMaxSample : in[i];
-    const double sg = v > 0 ? 1.0 : v < 0 ? -1.0 : 0.0;
+    const double sgn = v > 0 ? 1.0 : v < 0 ? -1.0 : 0.0;
     c[kTaps + i] = static_cast<double>(v);
-    up[kTaps + i] = kStep * sg;
-    down[kTaps + i] = -kStep * sg;
+    up[kTaps + i] = kStep * sgn;
+    down[kTaps + i] = -kStep * sgn;
     before += bits(in[i]);
   }
-  auto load = [](const double* p) {
-    Lanes v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-  };
-  // b[i] = U[i] . H[i + 1] and b2[i] = U[i] . H[i + 2]: the sums of up[t] c[t + lag] for t in
-  // [i, i + kTaps), lag 1 and 2, sliding (|terms| <= 2^34, exact sums).
-  auto sliding = [&](size_t lag, double* to) {
-    double sum = 0;
-    for (size_t t = 0; t < kTaps; ++t) sum += up[t] * c[t + lag];
-    for (size_t i = 0; i + 1 < n; ++i) {
-      to[i] = sum;
-      sum += up[i + kTaps] * c[i + kTaps + lag] - up[i] * c[i + lag];
+  for (size_t i = 0; i < n; ++i) {
+    const int32_t v = in[i] > kMaxSample ? kMaxSample : in[i] < -kMaxSample ? -kMaxSample : in[i];
+    ci[kTaps + i] = v;
+    sg[kTaps + i] = (v > 0) - (v < 0);
+  }
+  // b[i] = U[i] . H[i + 1] and b2[i] = U[i] . H[i + 2]: kStep times the sums of the products
+  // p1[t] = sg[t] ci[t + 1] and p2[t] = sg[t] ci[t + 2] (|p| <= 2^28) for t in [i, i + kTaps),
+  // sliding (exact, on int64). The products go where ci and sg were read (p1 over sg, p2 over ci:
+  // each slot is read before it is written).
+  {
+    int32_t* p1 = sg;
+    int32_t* p2 = ci;
+    for (size_t t = 0; t < n + kTaps; ++t) {
+      const int32_t g = sg[t];
+      p1[t] = g * ci[t + 1];
+      p2[t] = g * ci[t + 2];
     }
-    if (n) to[n - 1] = sum;
+    int64_t s1 = 0, s2 = 0;
+    for (size_t t = 0; t < kTaps; ++t) {
+      s1 += p1[t];
+      s2 += p2[t];
+    }
+    for (size_t i = 0; i < n; ++i) {
+      b[i] = s1 * SignLms::kStep;
+      b2[i] = s2 * SignLms::kStep;
+      s1 += p1[i + kTaps] - p1[i];
+      s2 += p2[i + kTaps] - p2[i];
+    }
+  }
+  // Adds (or multiplies) W doubles from p into v (an out parameter: a lambda returning a
+  // 32-byte vector would have another ABI outside the AVX2 target).
+  auto add = [](Wide * v, const double* p) __attribute__((always_inline)) {
+    Wide x;
+    std::memcpy(&x, p, sizeof x);
+    *v += x;
   };
-  sliding(1, b);
-  sliding(2, b2);
-  auto dot = [&](const Lanes* w, const double* h) {
-    Lanes p[kTaps / 2];
-    for (int j = 0; j < kTaps / 2; ++j) p[j] = w[j] * load(h + 2 * j);
-    const Lanes a = ((p[0] + p[1]) + (p[2] + p[3])) + ((p[4] + p[5]) + (p[6] + p[7]));
-    return a[0] + a[1];
+  auto mul = [](Wide * v, const double* p) __attribute__((always_inline)) {
+    Wide x;
+    std::memcpy(&x, p, sizeof x);
+    *v *= x;
+  };
+  auto dot = [&](const Wide* w, const double* h) __attribute__((always_inline)) {
+    Wide p[kVecs];
+    for (int j = 0; j < kVecs; ++j) {
+      p[j] = w[j];
+      mul(&p[j], h + W * j);
+    }
+    for (int k = kVecs / 2; k >= 1; k /= 2)
+      for (int j = 0; j < k; ++j) p[j] += p[j + k];
+    double a = 0;
+    for (int l = 0; l < W; ++l) a += p[0][l];
+    return static_cast<int64_t>(a);
   };
   // wr[k] = w[kTaps - 1 - k] multiplies c[kTaps + i - kTaps + k] = in[i - kTaps + k].
-  Lanes wr[kTaps / 2] = {};
+  Wide wr[kVecs] = {};
   // The sums are exact integers, kept as int64 from here, and the weights' dot product runs a
   // sample ahead: with d[i] = sgn(residual i) (-1, 0 or 1) and no clamp,
   //   S[i + 1] = W[i + 1] . H[i + 1] = A[i - 1] + d[i - 1] b2[i - 1] + d[i] b[i],
   // A[i - 1] = W[i - 1] . H[i + 1] (the dot product computed at sample i - 1), b2[i] =
   // U[i] . H[i + 2]. The chain from one residual to the next prediction is then integer adds,
-  // shifts and selects, and the dot product has two samples' time. A weight update adds d times
-  // the +kStep sign window (d = 0 adds zeros, leaving the weights' values as they were). A step
-  // that clamps a weight computes S[i + 1] and A[i] = W[i + 1] . H[i + 2] directly.
-  double bound = 0;
+  // shifts and selects, and the dot product has two samples' time. d = 0 moves no weight, so
+  // only d != 0 near the weights' limit takes the clamping step, which computes S[i + 1] and
+  // A[i] = W[i + 1] . H[i + 2] directly.
+  int64_t bound = 0;  // at least max |w[j]|
   uint64_t after = 0;
   int64_t sum = 0;    // S[i]
   int64_t ahead = 0;  // A[i - 1] (0 for i = 0: the weights start at 0)
-  int64_t dprev = 0, b2prev = 0;
+  int64_t bprev = 0;  // d[i - 1] b2[i - 1]
   for (size_t i = 0; i < n; ++i) {
-    const int64_t next = ahead + dprev * b2prev;                          // W[i] . H[i + 1]
-    const int64_t ahead_next = static_cast<int64_t>(dot(wr, c + i + 2));  // W[i] . H[i + 2]
+    const int64_t next = ahead + bprev;             // W[i] . H[i + 1]
+    const int64_t ahead_next = dot(wr, c + i + 2);  // W[i] . H[i + 2]
     int64_t s = (sum + (int64_t{1} << (SignLms::kShift - 1))) >> SignLms::kShift;
     s = s > kMaxSample ? kMaxSample : s < -kMaxSample ? -kMaxSample : s;
     const int64_t o = in[i] - s;
     out[i] = static_cast<T>(o);
     after += bits(o);
     const int64_t d = (o > 0) - (o < 0);
-    if (bound + kStep <= kMaxWeight) {
-      const double dd = static_cast<double>(d);
-      for (int j = 0; j < kTaps / 2; ++j) wr[j] += dd * load(up + i + 2 * j);
-      bound += kStep * dd * dd;
-      sum = next + d * static_cast<int64_t>(b[i]);
+    if (bound + SignLms::kStep <= SignLms::kMaxWeight || d == 0) {
+      const double* g = down + static_cast<size_t>(d + 1) * stride + i;
+      for (int j = 0; j < kVecs; ++j) add(&wr[j], g + W * j);
+      bound += d * d * SignLms::kStep;
+      sum = next + d * b[i];
       ahead = ahead_next;
-      dprev = d;
-      b2prev = static_cast<int64_t>(b2[i]);
-    } else if (d == 0) {
-      sum = next;
-      ahead = ahead_next;
-      dprev = 0;
+      bprev = d * b2[i];
     } else {
-      const double* g = (o > 0 ? up : down) + i;  // d sgn(h), d = +-kStep
-      const Lanes lim = {kMaxWeight, kMaxWeight}, nlim = -lim;
-      Lanes mx = {0, 0};
-      for (int j = 0; j < kTaps / 2; ++j) {
-        Lanes w = wr[j] + load(g + 2 * j);
+      const double* g = (d > 0 ? up : down) + i;  // d sgn(h), d = +-kStep
+      Wide lim, mx;
+      for (int l = 0; l < W; ++l) lim[l] = kMaxWeight, mx[l] = 0;
+      const Wide nlim = -lim;
+      for (int j = 0; j < kVecs; ++j) {
+        Wide w = wr[j];
+        add(&w, g + W * j);
         w = w > lim ? lim : w;
         w = w < nlim ? nlim : w;
         wr[j] = w;
-        const Lanes aw = w < 0 ? -w : w;
+        const Wide aw = w < 0 ? -w : w;
         mx = aw > mx ? aw : mx;
       }
-      bound = mx[0] > mx[1] ? mx[0] : mx[1];
-      sum = static_cast<int64_t>(dot(wr, c + i + 1));
-      ahead = static_cast<int64_t>(dot(wr, c + i + 2));
-      dprev = 0;
+      double top = 0;
+      for (int l = 0; l < W; ++l) top = mx[l] > top ? mx[l] : top;
+      bound = static_cast<int64_t>(top);
+      sum = dot(wr, c + i + 1);
+      ahead = dot(wr, c + i + 2);
+      bprev = 0;
     }
   }
   return {before, after};
+}
+
+#if defined(__x86_64__) || defined(__i386__)
+// sign_lms_kernel<4> compiled for AVX2 (analog_simd.cpp; called only when avx2_enabled()).
+std::pair<uint64_t, uint64_t> sign_lms_run_avx2(const int32_t* in, size_t n, int32_t* out);
+#endif
+
+template <typename T>
+inline std::pair<uint64_t, uint64_t> sign_lms_run(const int32_t* in, size_t n, T* out) {
+#if defined(__x86_64__) || defined(__i386__)
+  if (std::is_same<T, int32_t>::value && avx2_enabled())
+    return sign_lms_run_avx2(in, n, reinterpret_cast<int32_t*>(out));
+#endif
+  return sign_lms_kernel<2>(in, n, out);
 }
 
 inline void sign_lms_residuals(const int32_t* in, size_t n, int64_t* out) {

@@ -25,17 +25,57 @@ size_t interpolable_count(size_t n, unsigned period) {
 
 }  // namespace
 
-double interpolate(double xa, double xb, unsigned j, unsigned period, bool f32) {
+namespace {
+
+// interpolate before its float32 rounding (inlined into the encoder's search).
+inline double interpolate_unrounded(double xa, double xb, unsigned j, unsigned period) {
   // Separate statements: each product, the sum and the quotient rounded on their own.
   const double wa = xa * static_cast<double>(period - j);
   const double wb = xb * static_cast<double>(j);
   const double sum = wa + wb;
-  const double p = sum / static_cast<double>(period);
+  return sum / static_cast<double>(period);
+}
+
+}  // namespace
+
+double interpolate(double xa, double xb, unsigned j, unsigned period, bool f32) {
+  const double p = interpolate_unrounded(xa, xb, j, period);
   return f32 ? round_to_float32(p) : p;  // a NaN stays NaN (the callers refuse it)
 }
 
+namespace {
+
+// True when no period 2-4 can be found_interpolation's pick, whatever the samples' float32
+// flag: each exceeds its exceptions' budget with samples that neither rounding (float32 or
+// none) interpolates, counted from the start. A channel that is not interpolated (most) fails
+// each period within about its budget's samples, so the flag's pass over every sample is then
+// skipped. False decides nothing.
+bool no_period_can_fit(const double* col, size_t stride, size_t n) {
+  for (unsigned P = 2; P <= 4; ++P) {
+    const size_t L = last_anchor(n, P);
+    const size_t interpolable = interpolable_count(n, P);
+    if (interpolable < 8) continue;
+    const size_t max_exc = interpolable / 16;
+    size_t misses = 0;
+    for (size_t a = 0; a < L && misses <= max_exc; a += P) {
+      const double xa = col[a * stride], xb = col[(a + P) * stride];
+      for (unsigned j = 1; j < P; ++j) {
+        const double x = col[(a + j) * stride];
+        // interpolate(..., false) and (..., true): the same quotient, then float32 rounding
+        const double p = interpolate_unrounded(xa, xb, j, P), p32 = round_to_float32(p);
+        misses += (std::isnan(p) || !same_bits(p, x)) && (std::isnan(p32) || !same_bits(p32, x));
+      }
+    }
+    if (misses <= max_exc) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 bool find_interpolation(const double* col, size_t stride, size_t n, Interp* out) {
   if (n < 3) return false;
+  if (no_period_can_fit(col, stride, n)) return false;
   bool f32 = true;
   for (size_t i = 0; i < n && f32; ++i) f32 = is_float32(col[i * stride]);
   Interp best;

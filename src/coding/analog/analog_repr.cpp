@@ -11,6 +11,7 @@
 #include "coding/analog/analog_lpc.h"
 #include "coding/analog/analog_repeat.h"
 #include "coding/analog/analog_round.h"
+#include "coding/analog/analog_simd.h"
 #include "coding/analog/analog_table.h"
 
 namespace capz {
@@ -69,16 +70,80 @@ int64_t exception_delta(double want, double got, bool f32) {
   return static_cast<int64_t>(ordered_bits(bits_of(want)) - ordered_bits(bits_of(got)));
 }
 
-typedef double Lanes __attribute__((vector_size(16)));
-Lanes load2(const double* p) {
-  Lanes x;
-  std::memcpy(&x, p, sizeof x);
-  return x;
+// fit_scaled's loop W samples a step, from sample i while W are left: returns where it stopped,
+// or SIZE_MAX when the fit fails there. A step whose W quotients all round without a division
+// (|k| < 2^23 then) computes scaled_value lane by lane with the same operations (the product
+// rounded before the sum, then round_to_float32; k + 0 is k with a zero's sign dropped, as
+// scaled_value's int64 k has none); any other step goes sample by sample through `one`.
+// Always inlined, so that it is compiled for its caller's target (AVX2 for W = 4).
+template <int W>
+struct FitLanes;
+template <>
+struct FitLanes<2> {
+  typedef double D __attribute__((vector_size(16)));
+  typedef float F __attribute__((vector_size(8)));
+  typedef long long M __attribute__((vector_size(16)));
+};
+template <>
+struct FitLanes<4> {
+  typedef double D __attribute__((vector_size(32)));
+  typedef float F __attribute__((vector_size(16)));
+  typedef long long M __attribute__((vector_size(32)));
+};
+template <int W, typename One>
+__attribute__((always_inline)) inline size_t fit_scaled_lanes(const std::vector<double>& v,
+                                                              size_t i, double s, double o,
+                                                              bool f32, size_t max_exc,
+                                                              const QuotientRounder& round_quotient,
+                                                              const One& one, ChannelRepr* r) {
+  typedef typename FitLanes<W>::D D;
+  typedef typename FitLanes<W>::F F;
+  typedef typename FitLanes<W>::M M;
+  constexpr double kMax = std::numeric_limits<float>::max();
+  constexpr double kDMax = std::numeric_limits<double>::max();
+  const size_t n = v.size();
+  for (; i + W <= n; i += W) {
+    D x, k;
+    std::memcpy(&x, v.data() + i, sizeof x);
+    const D d = x - o;
+    if (round_quotient.lanes<D, M>(d, &k)) {
+      D y = (k + 0.0) * s + o;
+      if (f32) {
+        y = (y > kMax) & (y <= kDMax) ? kMax : y;
+        y = (y < -kMax) & (y >= -kDMax) ? -kMax : y;
+        y = __builtin_convertvector(__builtin_convertvector(y, F), D);
+      }
+      M yb, xb;
+      std::memcpy(&yb, &y, sizeof yb);
+      std::memcpy(&xb, &x, sizeof xb);
+      for (int l = 0; l < W; ++l) {
+        r->ints[i + l] = static_cast<int32_t>(k[l]);
+        if (yb[l] == xb[l]) continue;
+        if (r->exc_index.size() == max_exc) return SIZE_MAX;
+        r->exc_index.push_back(static_cast<uint32_t>(i + l));
+        r->exc_delta.push_back(exception_delta(x[l], y[l], f32));
+      }
+      continue;
+    }
+    for (int l = 0; l < W; ++l)
+      if (!one(i + l)) return SIZE_MAX;
+  }
+  return i;
 }
 
+#if defined(__x86_64__) || defined(__i386__)
+template <typename One>
+__attribute__((target("avx2"))) size_t fit_scaled_avx2(const std::vector<double>& v, double s,
+                                                       double o, bool f32, size_t max_exc,
+                                                       const QuotientRounder& round_quotient,
+                                                       const One& one, ChannelRepr* r) {
+  return fit_scaled_lanes<4>(v, 0, s, o, f32, max_exc, round_quotient, one, r);
+}
+#endif
+
 // The scaled fit for step s and offset o: the k and the exceptions; false when more than
-// max_exc samples would be exceptions or a k is out of range. Two samples a step where both
-// quotients round without a division (|k| < 2^23 then); otherwise sample by sample.
+// max_exc samples would be exceptions or a k is out of range. Four samples a step (AVX2), or
+// two, where the quotients round without a division (fit_scaled_lanes); else sample by sample.
 bool fit_scaled(const std::vector<double>& v, double s, double o, bool f32, size_t max_exc,
                 ChannelRepr* r) {
   if (!(s > 0) || !std::isfinite(s) || !std::isfinite(o)) return false;
@@ -100,39 +165,12 @@ bool fit_scaled(const std::vector<double>& v, double s, double o, bool f32, size
     }
     return true;
   };
-  typedef float Floats __attribute__((vector_size(8)));
-  typedef long long Mask __attribute__((vector_size(16)));
-  const Lanes sv = {s, s}, ov = {o, o};
-  constexpr double kMax = std::numeric_limits<float>::max();
-  const Lanes fmax = {kMax, kMax},
-              dmax = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
   size_t i = 0;
-  for (; i + 2 <= n; i += 2) {
-    const Lanes x = load2(v.data() + i);
-    Lanes k;
-    if (round_quotient.pair(x - ov, &k)) {
-      // scaled_value of both: the product rounded before the sum, then round_to_float32; k + 0
-      // is k with a zero's sign dropped, as scaled_value's int64 k has none.
-      Lanes y = (k + Lanes{0.0, 0.0}) * sv + ov;
-      if (f32) {
-        y = (y > fmax) & (y <= dmax) ? fmax : y;
-        y = (y < -fmax) & (y >= -dmax) ? -fmax : y;
-        y = __builtin_convertvector(__builtin_convertvector(y, Floats), Lanes);
-      }
-      Mask yb, xb;
-      std::memcpy(&yb, &y, sizeof yb);
-      std::memcpy(&xb, &x, sizeof xb);
-      for (int l = 0; l < 2; ++l) {
-        r->ints[i + l] = static_cast<int32_t>(k[l]);
-        if (yb[l] == xb[l]) continue;
-        if (r->exc_index.size() == max_exc) return false;
-        r->exc_index.push_back(static_cast<uint32_t>(i + l));
-        r->exc_delta.push_back(exception_delta(x[l], y[l], f32));
-      }
-      continue;
-    }
-    if (!one(i) || !one(i + 1)) return false;
-  }
+#if defined(__x86_64__) || defined(__i386__)
+  if (avx2_enabled()) i = fit_scaled_avx2(v, s, o, f32, max_exc, round_quotient, one, r);
+#endif
+  if (i != SIZE_MAX) i = fit_scaled_lanes<2>(v, i, s, o, f32, max_exc, round_quotient, one, r);
+  if (i == SIZE_MAX) return false;
   if (i < n && !one(i)) return false;
   r->round_f32 = f32;
   r->step = s;
@@ -356,7 +394,11 @@ void sort_unique(std::vector<uint64_t>* keys, std::vector<int32_t>* ranks) {
   if (width + ibits <= 64) {
     const uint64_t vmask = width == 64 ? ~uint64_t{0} : (uint64_t{1} << width) - 1;
     const uint64_t imask = (uint64_t{1} << ibits) - 1;  // ibits < 64 here (n <= 2^32)
-    std::vector<uint64_t> a(n), b(n);
+    // The two arrays of the passes: a per-thread buffer (not zeroed: every entry is written).
+    thread_local std::vector<uint64_t> ab;
+    if (ab.size() < 2 * n) ab.resize(2 * n);
+    uint64_t* a = ab.data();
+    uint64_t* b = a + n;
     for (size_t i = 0; i < n; ++i) a[i] = ((((*sk)[i] >> lo) & vmask) << ibits) | i;
     const int digit = n >= 2048 ? 11 : 8;
     std::vector<size_t> count((size_t{1} << digit) + 1);
@@ -366,7 +408,7 @@ void sort_unique(std::vector<uint64_t>* keys, std::vector<int32_t>* ranks) {
       for (size_t i = 0; i < n; ++i) ++count[((a[i] >> sh) & dmask) + 1];
       for (size_t k = 0; k + 1 < count.size(); ++k) count[k + 1] += count[k];
       for (size_t i = 0; i < n; ++i) b[count[(a[i] >> sh) & dmask]++] = a[i];
-      a.swap(b);
+      std::swap(a, b);
     }
     std::vector<uint64_t> orig;
     orig.swap(*keys);
@@ -511,8 +553,9 @@ std::vector<ChannelRepr> candidate_representations(const double* col, size_t str
     scaled.kind = Kind::kScaled;
     out.push_back(std::move(scaled));
   }
-  const bool rank_better = rank_bits(ord.size(), n, f32) < float_bits(v, f32);
-  if (ord.size() <= kMaxTable && (rank_better || ord.size() <= n / 2)) {
+  // (float_bits, a pass over the samples, only where the choice depends on it)
+  if (ord.size() <= kMaxTable &&
+      (ord.size() <= n / 2 || rank_bits(ord.size(), n, f32) < float_bits(v, f32))) {
     ChannelRepr rank = r;
     rank.kind = Kind::kRank;
     rank.table = sorted;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 
@@ -44,26 +45,33 @@ class QuotientRounder {
   typedef double Lanes __attribute__((vector_size(16)));
   bool pair(Lanes d, Lanes* k) const {
     typedef long long Mask __attribute__((vector_size(16)));
+    return lanes<Lanes, Mask>(d, k);
+  }
+  // pair's test and results for any number of lanes: V a vector of doubles, M one of long long
+  // as wide. Always inlined, so that it is compiled for its caller's target (AVX2 for four).
+  template <typename V, typename M>
+  __attribute__((always_inline)) bool lanes(const V& d, V* k) const {
     constexpr double kRound = 6755399441055744.0;  // 1.5 2^52
-    const Mask sign = {static_cast<long long>(0x8000000000000000ull),
-                       static_cast<long long>(0x8000000000000000ull)};
-    auto magnitude = [&](Lanes x) {
-      Mask b;
-      std::memcpy(&b, &x, sizeof b);
-      b &= ~sign;
-      std::memcpy(&x, &b, sizeof b);
-      return x;
+    constexpr long long kSign = static_cast<long long>(0x8000000000000000ull);
+    auto magnitude = [](V * x) __attribute__((always_inline)) {
+      M b;
+      std::memcpy(&b, x, sizeof b);
+      b &= ~kSign;
+      std::memcpy(x, &b, sizeof b);
     };
-    const Lanes y = d * r_;
-    const Lanes near = (y + kRound) - kRound;
-    const Lanes limit = {8388608.0, 8388608.0}, half = {0.5, 0.5};
-    const Lanes margin = {1.0 / 67108864, 1.0 / 67108864};
-    const Mask ok = (magnitude(y) < limit) & (half - magnitude(y - near) > margin);
-    if (!fast_ || !(ok[0] & ok[1])) return false;
-    Mask kb, yb;
+    const V y = d * r_;
+    const V near = (y + kRound) - kRound;
+    V ay = y, off = y - near;
+    magnitude(&ay);
+    magnitude(&off);
+    const M ok = (ay < 8388608.0) & (0.5 - off > 1.0 / 67108864);
+    if (!fast_) return false;
+    for (size_t l = 0; l < sizeof(M) / sizeof(long long); ++l)
+      if (!ok[l]) return false;
+    M kb, yb;
     std::memcpy(&kb, &near, sizeof kb);
     std::memcpy(&yb, &y, sizeof yb);
-    kb = (kb & ~sign) | (yb & sign);  // copysign(near, y)
+    kb = (kb & ~kSign) | (yb & kSign);  // copysign(near, y)
     std::memcpy(k, &kb, sizeof kb);
     return true;
   }

@@ -2,6 +2,8 @@
 
 #include <atomic>
 
+#include "coding/analog/analog_cascade.h"
+
 namespace capz {
 namespace analog {
 namespace {
@@ -29,6 +31,14 @@ bool avx2_enabled() {
 void allow_avx2(bool allowed) {
   g_allowed.store(allowed, std::memory_order_relaxed);
 }
+
+#if defined(__x86_64__) || defined(__i386__)
+__attribute__((target("avx2"))) std::pair<uint64_t, uint64_t> sign_lms_run_avx2(const int32_t* in,
+                                                                                size_t n,
+                                                                                int32_t* out) {
+  return sign_lms_kernel<4>(in, n, out);
+}
+#endif
 
 }  // namespace analog
 }  // namespace capz

@@ -6,6 +6,7 @@
 
 #include "capz/error.h"
 #include "coding/analog/analog_repr.h"
+#include "coding/analog/analog_round.h"
 #include "coding/entropy.h"
 
 namespace capz {
@@ -31,15 +32,17 @@ double lattice_next(double prev, uint32_t m, double step, bool f32) {
 // A value table coded against a lattice (FORMAT.md 8.2): the step, the first entry, then an
 // entropy-coded block of each later entry's (m, d). Empty when some entry does not fit (d or
 // the prediction out of range). The step: a least-squares line through the entries at
-// k = round((v - v0) / gap) (refine_fit).
-std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32, double gap) {
+// k = round((v - v0) / gap) (refine_fit). Also empty once the coding is known to take at least
+// `bound` bytes (it cannot be the smallest then).
+std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32, double gap,
+                                   size_t bound) {
   if (!(gap > 0) || !std::isfinite(gap)) return {};
   double step = gap, offset = t[0];
   refine_fit(t, &step, &offset);
   if (!(step > 0) || !std::isfinite(step)) return {};
   IntEncoder enc(2);
   for (size_t i = 1; i < t.size(); ++i) {
-    const double q = std::round((t[i] - t[i - 1]) / step);
+    const double q = round_half_away((t[i] - t[i - 1]) / step);  // std::round's result
     const uint32_t m0 = q > 0 && q < 1e9 ? static_cast<uint32_t>(q) : 0;
     // The nearest number of steps, or one either side when that leaves a smaller error in the
     // ordered space: next to zero, where float32 patterns are dense, the nearest can land on the
@@ -48,6 +51,7 @@ std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32, doubl
     int64_t d = 0;
     uint64_t best = UINT64_MAX;
     for (uint32_t mm : {m0, m0 + 1, m0 - 1}) {
+      if (best == 0) break;            // no other count can have a smaller error
       if (mm == UINT32_MAX) continue;  // m0 - 1 of m0 = 0
       const double p = lattice_next(t[i - 1], mm, step, f32);
       if (!std::isfinite(p)) continue;
@@ -60,6 +64,8 @@ std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32, doubl
       }
     }
     if (best >= (uint64_t{1} << 30)) return {};
+    // The step, the first entry and a byte of block size come before the block's bytes.
+    if (enc.cursor().bytes_out() + 17 >= bound) return {};
     enc.put(m, 0);
     enc.put_signed(static_cast<int32_t>(d), 1);
   }
@@ -76,8 +82,9 @@ std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32, doubl
 // and the smallest of at least half the median. They differ when entries lie off the lattice:
 // in PiG's float32 EMG tables two entries are 15 float32 units apart (1/5000 of the step) and
 // others a fraction of a step off, so only the median gap is the step; a lattice of the smallest
-// gap codes every entry as thousands of steps, 4-5 times the bytes.
-std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32) {
+// gap codes every entry as thousands of steps, 4-5 times the bytes. A coding of `bound` bytes
+// or more is never the smallest: then, or with no lattice, the result is empty.
+std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32, size_t bound) {
   if (t.size() < 2) return {};
   std::vector<double> gaps;
   gaps.reserve(t.size() - 1);
@@ -95,7 +102,7 @@ std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32) {
   if (robust != smallest && robust != median) tries.push_back(robust);
   std::vector<uint8_t> best;
   for (double g : tries) {
-    std::vector<uint8_t> c = lattice_table(t, f32, g);
+    std::vector<uint8_t> c = lattice_table(t, f32, g, best.empty() ? bound : best.size());
     if (!c.empty() && (best.empty() || c.size() < best.size())) best = std::move(c);
   }
   return best;
@@ -153,7 +160,7 @@ void write_value_table(const std::vector<double>& table, bool lattice_tables, By
     prev = o;
   }
   const std::vector<uint8_t> lat =
-      lattice_tables ? lattice_table(table, f32) : std::vector<uint8_t>();
+      lattice_tables ? lattice_table(table, f32, plain.size()) : std::vector<uint8_t>();
   const bool use_lattice = !lat.empty() && lat.size() < plain.size();
   w->u8(static_cast<uint8_t>((f32 ? 1 : 0) | (use_lattice ? 2 : 0)));
   w->bytes(use_lattice ? lat : plain.buffer());
