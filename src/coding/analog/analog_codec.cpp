@@ -6,6 +6,7 @@
 #include "coding/analog/analog_entropy.h"
 #include "coding/analog/analog_float.h"
 #include "coding/analog/analog_interp.h"
+#include "coding/analog/analog_layout.h"
 #include "coding/analog/analog_lpc.h"
 #include "coding/analog/analog_pick.h"
 #include "coding/analog/analog_repeat.h"
@@ -263,8 +264,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
   std::vector<std::vector<int32_t>> r1s(static_cast<size_t>(channels));
   std::vector<double> energy(static_cast<size_t>(channels), 0.0);
   std::vector<bool> has_r1(static_cast<size_t>(channels), false);
-  std::vector<std::vector<uint32_t>> reps(static_cast<size_t>(channels));  // FORMAT.md 7.2
-  std::vector<analog::Interp> interps(static_cast<size_t>(channels));      // FORMAT.md 9.2
+  std::vector<analog::KeptRows> layouts(static_cast<size_t>(channels));  // each channel's pick
   const size_t frames = repeat_S > 0 && nrows % repeat_S == 0 ? nrows / repeat_S : 0;
   // Channel-major copy of the window, read row by row: one channel's samples are then
   // contiguous (a column of the row-major window is one cache line per sample).
@@ -277,50 +277,30 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
         static_cast<size_t>(c) < hints.channel.size() ? hints.channel[c] : analog::ChannelHint();
     const double* col = cols.data() + static_cast<size_t>(c) * nrows;
     std::vector<ChannelRepr> cands = analog::candidate_representations(col, 1, nrows, hint);
-    // FORMAT.md 7.2: the kept samples' candidates after the whole channel's, when frames repeat
-    // and the channel is not constant. cands[k] uses the repeat list when k >= whole.
-    const size_t whole = cands.size();
-    std::vector<uint32_t> rep;
-    if (frames && cands[0].kind != Kind::kConst)
-      rep = analog::repeated_frames(col, 1, frames, repeat_S);
-    if (!rep.empty()) {
-      const std::vector<double> kept = analog::kept_samples(col, 1, frames, repeat_S, rep);
-      std::vector<ChannelRepr> more =
-          analog::candidate_representations(kept.data(), 1, kept.size(), hint);
-      for (ChannelRepr& m : more) cands.push_back(std::move(m));
+    // The kept rows the candidates describe: layout[0] every row; then, when the channel is not
+    // constant, its repeated frames (FORMAT.md 7.2) or else its interpolation (9.2), whose kept
+    // samples' candidates follow the whole channel's: cands[k] has layout[layout_at[k]].
+    std::vector<analog::KeptRows> layout(1);
+    std::vector<size_t> layout_at(cands.size(), 0);
+    analog::KeptRows more;
+    if (cands[0].kind != Kind::kConst) {
+      if (frames) more.repeats = analog::repeated_frames(col, 1, frames, repeat_S);
+      if (more.repeats.empty() && format9) analog::find_interpolation(col, 1, nrows, &more.interp);
     }
-    // FORMAT.md 9.2: then the kept samples' candidates of an interpolation, when the channel
-    // has one and no repeat list. cands[k] uses it when k >= with_rep.
-    const size_t with_rep = cands.size();
-    analog::Interp interp;
-    if (format9 && rep.empty() && cands[0].kind != Kind::kConst &&
-        analog::find_interpolation(col, 1, nrows, &interp)) {
-      const std::vector<double> kept = analog::interp_kept(col, 1, nrows, interp);
-      std::vector<ChannelRepr> more =
-          analog::candidate_representations(kept.data(), 1, kept.size(), hint);
-      for (ChannelRepr& m : more)
-        if (m.kind != Kind::kConst) cands.push_back(std::move(m));
+    if (!more.all()) {
+      const std::vector<double> kept = more.samples(col, 1, nrows, repeat_S);
+      for (ChannelRepr& m : analog::candidate_representations(kept.data(), 1, kept.size(), hint))
+        if (m.kind != Kind::kConst || more.interp.period == 0) {  // 9.2: kind 0 is corrupt
+          cands.push_back(std::move(m));
+          layout_at.push_back(1);
+        }
+      layout.push_back(std::move(more));
     }
-    static const std::vector<uint32_t> kNone;
-    static const analog::Interp kNoInterp;
-    auto list_of = [&](size_t k) -> const std::vector<uint32_t>& {
-      return k < whole || k >= with_rep ? kNone : rep;
-    };
-    auto interp_of = [&](size_t k) -> const analog::Interp& {
-      return k < with_rep ? kNoInterp : interp;
-    };
-    // References: integer channels before c with the same kept rows: the same repeated frames
-    // (FORMAT.md 7.2) and the same interpolation (9.2).
-    auto usable = [&](const std::vector<uint32_t>& mine, const analog::Interp& mine_i) {
-      std::vector<bool> u(has_r1.size());
-      for (size_t j = 0; j < u.size(); ++j)
-        u[j] = has_r1[j] && reps[j] == mine && interps[j] == mine_i;
-      return u;
-    };
-    const std::vector<bool> use_whole = usable(kNone, kNoInterp);
-    const std::vector<bool> use_rep = rep.empty() ? use_whole : usable(rep, kNoInterp);
-    const std::vector<bool> use_interp =
-        with_rep < cands.size() ? usable(kNone, interp) : use_whole;
+    auto layout_of = [&](size_t k) -> const analog::KeptRows& { return layout[layout_at[k]]; };
+    // References: integer channels before c with the same kept rows.
+    std::vector<std::vector<bool>> use(layout.size(), std::vector<bool>(has_r1.size()));
+    for (size_t l = 0; l < layout.size(); ++l)
+      for (size_t j = 0; j < has_r1.size(); ++j) use[l][j] = has_r1[j] && layouts[j] == layout[l];
     // Integer kinds: the pipeline's decisions, made once per candidate; float kinds: the
     // predictor.
     std::vector<IntPlan> plans(cands.size());
@@ -330,9 +310,9 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
       return cands[k].kind == Kind::kFloat32 || cands[k].kind == Kind::kFloat64;
     };
     for (size_t k = 0; k < cands.size(); ++k) {
-      const std::vector<bool>& use = k < whole ? use_whole : k < with_rep ? use_rep : use_interp;
       if (analog::is_integer_kind(cands[k].kind)) {
-        plan_int_channel(cands[k].ints, cross_refs(r1s, use, c), cross_energies(energy, use, c),
+        const std::vector<bool>& u = use[layout_at[k]];
+        plan_int_channel(cands[k].ints, cross_refs(r1s, u, c), cross_energies(energy, u, c),
                          &plans[k]);
         bits[k] = plans[k].bits;
       } else if (is_float(k)) {
@@ -364,7 +344,8 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
       for (size_t k = 0; k < cands.size(); ++k) {
         ByteWriter th;
         uint64_t tl = last_const;
-        analog::write_repr_header(cands[k], &tl, &th, &list_of(k), format8, &interp_of(k));
+        analog::write_repr_header(cands[k], &tl, &th, &layout_of(k).repeats, format8,
+                                  &layout_of(k).interp);
         heads[k] = std::move(th.buffer());
         estimate[k] = static_cast<double>(heads[k].size()) + static_cast<double>(bits[k]) / 8;
       }
@@ -381,15 +362,15 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     }
     const ChannelRepr& r = cands[pick];
     if (heads.empty()) {
-      analog::write_repr_header(r, &last_const, &head, &list_of(pick), format8, &interp_of(pick));
+      analog::write_repr_header(r, &last_const, &head, &layout_of(pick).repeats, format8,
+                                &layout_of(pick).interp);
     } else {  // the header written for its estimate, from the same last_const (kConst sets it)
       head.bytes(heads[pick]);
       if (r.kind == Kind::kConst) last_const = r.const_bits;
     }
     any_coded |= coded(r.kind);
     emit(pick, &cur, SIZE_MAX);
-    reps[c] = list_of(pick);
-    interps[c] = interp_of(pick);
+    layouts[c] = layout_of(pick);
     has_r1[c] = analog::is_integer_kind(r.kind);
     if (has_r1[c]) {
       r1s[c] = std::move(plans[pick].r1);
@@ -415,16 +396,15 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
   ByteReader head(in.bytes(static_cast<size_t>(head_size)), static_cast<size_t>(head_size), what);
   const size_t nch = static_cast<size_t>(std::max(channels, 0));
   std::vector<ChannelRepr> reprs;
-  std::vector<std::vector<uint32_t>> reps(nch);  // FORMAT.md 7.2
-  std::vector<analog::Interp> interps(nch);      // FORMAT.md 9.2
-  std::vector<size_t> kept(nch, nrows);          // each channel's coded samples
+  std::vector<analog::KeptRows> layouts(nch);  // FORMAT.md 7.2, 9.2
+  std::vector<size_t> kept(nch, nrows);        // each channel's coded samples
   uint64_t last_const = 0;
   bool any_coded = false;
   for (size_t c = 0; c < nch; ++c) {
-    reprs.push_back(analog::read_repr_header(&head, nrows, &last_const, repeat_S, &reps[c], format8,
-                                             format9 ? &interps[c] : nullptr));
-    kept[c] = interps[c].period ? analog::interp_kept_count(nrows, interps[c])
-                                : nrows - repeat_S * reps[c].size();
+    reprs.push_back(analog::read_repr_header(&head, nrows, &last_const, repeat_S,
+                                             &layouts[c].repeats, format8,
+                                             format9 ? &layouts[c].interp : nullptr));
+    kept[c] = layouts[c].count(nrows, repeat_S);
     any_coded |= coded(reprs.back().kind);
   }
   if (!head.at_end())
@@ -432,16 +412,13 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
   // The channel's samples into its column of rows: directly, or through its kept samples.
   std::vector<double> tmp;
   auto put = [&](size_t c) {
-    if (reps[c].empty() && !interps[c].period) {
+    if (layouts[c].all()) {
       analog::reconstruct(reprs[c], nrows, rows + c, nch, what);
       return;
     }
     tmp.resize(kept[c]);
     analog::reconstruct(reprs[c], kept[c], tmp.data(), 1, what);
-    if (interps[c].period)
-      analog::expand_interp(tmp.data(), nrows, interps[c], rows + c, nch, what);
-    else
-      analog::expand_repeats(tmp.data(), nrows / repeat_S, repeat_S, reps[c], rows + c, nch);
+    layouts[c].expand(tmp.data(), nrows, repeat_S, rows + c, nch, what);
   };
   if (!any_coded) {
     if (!in.at_end())
@@ -456,9 +433,8 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
   for (size_t c = 0; c < nch; ++c) {
     ChannelRepr& r = reprs[c];
     if (analog::is_integer_kind(r.kind)) {
-      std::vector<bool> use(nch, false);  // same repeated frames (FORMAT.md 7.2)
-      for (size_t j = 0; j < c; ++j)
-        use[j] = has_r1[j] && reps[j] == reps[c] && interps[j] == interps[c];
+      std::vector<bool> use(nch, false);  // the same kept rows (FORMAT.md 7.2, 9.2)
+      for (size_t j = 0; j < c; ++j) use[j] = has_r1[j] && layouts[j] == layouts[c];
       decode_int_channel(kept[c], cross_refs(r1s, use, static_cast<int>(c)), &cur, &r.ints,
                          &r1s[c]);
       has_r1[c] = true;
