@@ -54,11 +54,12 @@ void add_memlimit_option(po::options_description* o) {
   o->add_options()(
       "memlimit", po::value<std::string>(),
       "decode with at most SIZE bytes of samples in memory (K, M, G, T suffixes; 0: no "
-      "limit; default 4G); a stream that needs more is refused, exit 8");
+      "limit; default 4G, or 1024 bytes per archive byte when more); a stream that needs "
+      "more is refused, exit 8");
 }
 
 uint64_t memlimit(const po::variables_map& vm) {
-  if (!vm.count("memlimit")) return capz::kDefaultMemoryLimit;
+  if (!vm.count("memlimit")) return capz::kAutoMemoryLimit;
   const std::string v = vm["memlimit"].as<std::string>();
   size_t used = 0;
   unsigned long long n = 0;

@@ -32,7 +32,7 @@ bool parse_single_input(const Args& args, const std::string& usage, const std::s
 // --memlimit SIZE: the decoder's memory limit (capz::DecompressOptions::memory_limit).
 void add_memlimit_option(po::options_description* o);
 // The limit in bytes from --memlimit (a count of bytes with an optional K, M, G or T suffix, in
-// powers of 1024; 0: none), else capz::kDefaultMemoryLimit. Throws Error(kInvalidParameter).
+// powers of 1024; 0: none), else capz::kAutoMemoryLimit. Throws Error(kInvalidParameter).
 uint64_t memlimit(const po::variables_map& vm);
 
 // printf into a std::string.

@@ -85,8 +85,15 @@ std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts,
 // a take with more per frame gets windows of fewer frames than asked (at least one).
 constexpr size_t kMaxWindowAnalogValues = size_t{1} << 22;
 
-// The decoder's default memory limit (DecompressOptions::memory_limit): 4 GiB.
+// The decoder's memory limit (DecompressOptions::memory_limit) by default: the larger of 4 GiB
+// and 1024 bytes for each byte of the archive, so that a small damaged or hostile file cannot
+// ask for more than 4 GiB while a large archive (a long sequence of big point clouds) decodes
+// with whatever its windows need.
 constexpr uint64_t kDefaultMemoryLimit = uint64_t{4} << 30;
+constexpr uint64_t kMemoryPerArchiveByte = 1024;
+constexpr uint64_t kAutoMemoryLimit = ~uint64_t{0};
+// The limit in bytes that `memory_limit` stands for with an archive of `archive_bytes` (0: none).
+uint64_t effective_memory_limit(uint64_t memory_limit, uint64_t archive_bytes);
 
 struct DecompressOptions {
   // Worker threads decoding windows in parallel (0: all cores); the result and any error thrown
@@ -97,8 +104,9 @@ struct DecompressOptions {
   // header asks for more is refused with Error(kMemoryLimit) before anything is allocated. A
   // valid stream can ask for a lot from few bytes (a constant analog channel of an hour codes
   // in a few bytes a window), so this bound, not the file's size, is what keeps a damaged or
-  // hostile file from exhausting memory. 0: no limit.
-  uint64_t memory_limit = kDefaultMemoryLimit;
+  // hostile file from exhausting memory. kAutoMemoryLimit (the default): 4 GiB, or 1024 bytes
+  // per archive byte when that is more; 0: no limit.
+  uint64_t memory_limit = kAutoMemoryLimit;
 };
 
 // Throws Error(kNotOurFormat / kUnsupportedVersion / kCorrupt) naming `name` and the chunk.

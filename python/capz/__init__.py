@@ -276,13 +276,14 @@ Take.from_arrays = staticmethod(_from_arrays)  # type: ignore[attr-defined]
 
 
 DEFAULT_MEMORY_LIMIT: int = _capz.DEFAULT_MEMORY_LIMIT
-"""The decoder's default memory limit in bytes (4 GiB): see read()'s memory_limit."""
+"""The decoder's memory limit in bytes by default (4 GiB; more for an archive above 4 MiB, 1024
+bytes per byte of it): see read()'s memory_limit."""
 
 
 def _memory_limit(v: Optional[int]) -> int:
     if v is None:
-        return DEFAULT_MEMORY_LIMIT
-    if isinstance(v, bool) or not isinstance(v, int) or v < 0:
+        return _capz.AUTO_MEMORY_LIMIT
+    if isinstance(v, bool) or not isinstance(v, int) or v < 0 or v >= _capz.AUTO_MEMORY_LIMIT:
         raise _invalid(f"memory_limit must be a number of bytes >= 0 (0: none), got {v!r}")
     return v
 
@@ -292,8 +293,9 @@ def read(path: PathLike, *, memory_limit: Optional[int] = None) -> Take:
 
     Gaps read as valid == False and NaN in xyz. Raises capz.Error naming the file and fault.
     memory_limit: for a .capz, the most bytes of decoded samples it may ask for (None: 4 GiB,
-    DEFAULT_MEMORY_LIMIT; 0: no limit); a stream asking for more raises capz.Error with code
-    "memory-limit" before anything is allocated (the CLI's --memlimit).
+    DEFAULT_MEMORY_LIMIT, or 1024 bytes per byte of the archive when that is more; 0: no limit);
+    a stream asking for more raises capz.Error with code "memory-limit" before anything is
+    allocated (the CLI's --memlimit).
     """
     return _capz.read(_path(path, "path"), _memory_limit(memory_limit))
 

@@ -68,6 +68,7 @@ class Take:
         """A Take from numpy arrays (see capz.Take.from_arrays' docstring)."""
 
 DEFAULT_MEMORY_LIMIT: int
+AUTO_MEMORY_LIMIT: int
 
 class CapzFile:
     def __init__(self, path: str, memory_limit: int) -> None: ...

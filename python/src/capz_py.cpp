@@ -527,6 +527,7 @@ PYBIND11_MODULE(_capz, m) {
   m.def("take_from_arrays", &take_from_arrays);
 
   m.attr("DEFAULT_MEMORY_LIMIT") = capz::kDefaultMemoryLimit;
+  m.attr("AUTO_MEMORY_LIMIT") = capz::kAutoMemoryLimit;
 
   m.def("read", [](const std::string& path, uint64_t memory_limit) {
     capz::Take t;

@@ -119,7 +119,7 @@ def test_memory_limit(small_take, tmp_path):
         assert capz.decompress(data, memory_limit=limit).frames == small_take.frames
         assert capz.read(path, memory_limit=limit).frames == small_take.frames
     assert capz.DEFAULT_MEMORY_LIMIT == 4 << 30
-    for bad in (-1, 1.5, "1G", True):
+    for bad in (-1, 1.5, "1G", True, 1 << 64):
         raises(lambda: capz.decompress(data, memory_limit=bad), "invalid-parameter",
                "memory_limit")
 

@@ -71,6 +71,14 @@ Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
 
 }  // namespace
 
+uint64_t effective_memory_limit(uint64_t memory_limit, uint64_t archive_bytes) {
+  if (memory_limit != kAutoMemoryLimit) return memory_limit;
+  const uint64_t per_byte = archive_bytes > kAutoMemoryLimit / kMemoryPerArchiveByte
+                                ? kAutoMemoryLimit - 1
+                                : archive_bytes * kMemoryPerArchiveByte;
+  return std::max(kDefaultMemoryLimit, per_byte);
+}
+
 Take decompress(const uint8_t* data, size_t size, const std::string& name,
                 const DecompressOptions& opts) {
   return decode_range(data, size, 0, std::numeric_limits<size_t>::max(), name, opts);

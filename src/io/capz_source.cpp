@@ -16,7 +16,7 @@ CapzSource::CapzSource(std::unique_ptr<StreamBytes> bytes, const std::string& na
     : bytes_(std::move(bytes)),
       name_(name),
       ps_(parse_stream(*bytes_, name)),
-      memory_limit_(memory_limit) {
+      memory_limit_(effective_memory_limit(memory_limit, bytes_->size())) {
   if (whole) check_tiling(ps_, bytes_->size(), name_);
   header_ = ps_.take;
   const size_t T = std::min(resolve_threads(threads), ps_.index.size());

@@ -21,8 +21,8 @@ class CapzSource : public FrameSource {
   // whole: the stream will be read whole, so check that its windows tile it exactly.
   // threads (0: all cores): above 1, windows after the one asked for are decoded ahead by that
   // many workers (docs/ARCHITECTURE.md "Threads"); what read() gives and throws is the same.
-  // memory_limit (0: none): bytes of decoded samples held at once, the windows kept and the
-  // block read() fills (DecompressOptions::memory_limit); above it Error(kMemoryLimit).
+  // memory_limit (DecompressOptions::memory_limit; 0: none): bytes of decoded samples held at
+  // once, the windows kept and the block read() fills; above it Error(kMemoryLimit).
   CapzSource(std::unique_ptr<StreamBytes> bytes, const std::string& name, bool whole,
              int threads = 1, uint64_t memory_limit = 0);
   ~CapzSource() override;

@@ -367,3 +367,18 @@ TEST(ResourceLimits, CapzStreamAskingMoreThanTheMemoryLimitIsRefusedBeforeAlloca
             size_t{2048} * 64 * 64);
   EXPECT_EQ(capz::decompress(s.data(), s.size()).analog.values.size(), size_t{2048} * 64 * 64);
 }
+
+// The default limit: 4 GiB, or 1024 bytes per archive byte when more (a large archive of big
+// point clouds needs big windows; a small file gets 4 GiB at most). An explicit limit, and 0 (no
+// limit), are taken as given.
+TEST(ResourceLimits, DefaultMemoryLimitGrowsWithTheArchiveOnlyPast4MiB) {
+  const uint64_t auto_limit = capz::DecompressOptions().memory_limit;
+  EXPECT_EQ(auto_limit, capz::kAutoMemoryLimit);
+  EXPECT_EQ(capz::effective_memory_limit(auto_limit, 0), uint64_t{4} << 30);
+  EXPECT_EQ(capz::effective_memory_limit(auto_limit, 6000), uint64_t{4} << 30);
+  EXPECT_EQ(capz::effective_memory_limit(auto_limit, uint64_t{4} << 20), uint64_t{4} << 30);
+  EXPECT_EQ(capz::effective_memory_limit(auto_limit, uint64_t{10} << 20), uint64_t{10} << 30);
+  EXPECT_EQ(capz::effective_memory_limit(auto_limit, uint64_t{1} << 62), ~uint64_t{0} - 1);
+  EXPECT_EQ(capz::effective_memory_limit(0, uint64_t{10} << 20), 0u);
+  EXPECT_EQ(capz::effective_memory_limit(12345, uint64_t{10} << 20), 12345u);
+}
