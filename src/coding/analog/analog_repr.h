@@ -116,10 +116,6 @@ double apply_ordered_delta(double v, int64_t d, bool f32);
 // smallest).
 std::vector<ChannelRepr> candidate_representations(const double* col, size_t stride, size_t n,
                                                    const ChannelHint& hint);
-// Least-squares line through (k_i, v_i) with k_i = round((v_i - o) / s), for v non-empty: *s
-// and *o become its slope and intercept (unchanged when every k_i is the same), a step and
-// offset accurate to far below one float32 unit when the samples are rounded k * s + o.
-void refine_fit(const std::vector<double>& v, double* s, double* o);
 
 // The lattice the lossless coder finds for the samples (gaps skipped): for integers their
 // greatest common step and the offset below it (step 1 and offset 0 when that step is 1), else

@@ -7,6 +7,7 @@
 #include "capz/error.h"
 #include "coding/analog/analog_repr.h"
 #include "coding/analog/analog_round.h"
+#include "coding/analog/analog_scaled.h"
 #include "coding/entropy.h"
 
 namespace capz {
