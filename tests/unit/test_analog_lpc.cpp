@@ -83,6 +83,53 @@ TEST(AnalogLpc, GivenAr2SignalWhenOrderChosenThenResidualNearInnovation) {
   EXPECT_LT(std::sqrt(ss / (x.size() - 32)), 12.0);  // innovation sd 10 (+ rounding)
 }
 
+// Max |q| of p's coefficients: below 2^precision for the precision they were quantised at.
+int32_t max_coefficient(const LpcParams& p) {
+  int32_t m = 0;
+  for (int32_t q : p.q) m = std::max(m, std::abs(q));
+  return m;
+}
+
+// The residuals' estimated cost plus the coefficients' (choose_block_predictor's measure).
+double estimated_bits(const std::vector<int32_t>& x, const LpcParams& p) {
+  std::vector<int32_t> xp(kMaxLpcOrder + x.size(), 0), r(x.size());
+  std::copy(x.begin(), x.end(), xp.begin() + kMaxLpcOrder);
+  for (size_t i = 0; i < x.size(); ++i)
+    r[i] = static_cast<int32_t>(x[i] - lpc_predict(p, xp.data() + kMaxLpcOrder + i));
+  return token_cost_bits(r.data(), r.size()) + coefficient_bits(p);
+}
+
+// On a noisy AR(2) block the coefficients' precision matters little against the residual, so
+// choose_lpc codes them coarser than kLpcPrecision, and the block is estimated smaller so.
+TEST(AnalogLpc, GivenNoisyAr2WhenOrderChosenThenCoarserCoefficientsAndFewerBits) {
+  const std::vector<int32_t> x = ar2_signal(5, 1.6, -0.8);
+  double full_bits = -1;
+  const LpcParams p = choose_lpc(x.data(), x.size(), &full_bits);
+  ASSERT_GE(p.order, 2);
+  EXPECT_LT(max_coefficient(p), 1 << (kLpcPrecision - 2));
+  // The same order at full precision, from the same analysis.
+  std::vector<std::vector<double>> a;
+  std::vector<double> err;
+  ASSERT_GE(levinson(autocorrelation(x.data(), x.size(), p.order), p.order, &a, &err), p.order);
+  const LpcParams full = quantise_lpc(a[p.order].data(), p.order, kLpcPrecision);
+  EXPECT_GE(max_coefficient(full), 1 << (kLpcPrecision - 1));
+  EXPECT_DOUBLE_EQ(full_bits, coefficient_bits(full));
+  EXPECT_LT(estimated_bits(x, p), estimated_bits(x, full));
+}
+
+// A sinusoid of amplitude 2^14 with little noise is predicted to within a few counts, where a
+// coarse coefficient would add far more error than its bits save: the precision stays fine.
+TEST(AnalogLpc, GivenNearlyExactSignalWhenOrderChosenThenFinePrecisionKept) {
+  std::mt19937 rng(6);
+  std::normal_distribution<double> e(0, 1);
+  std::vector<int32_t> x(4096);
+  for (size_t i = 0; i < x.size(); ++i)
+    x[i] = static_cast<int32_t>(std::lround(16384 * std::sin(0.05 * i) + e(rng)));
+  const LpcParams p = choose_lpc(x.data(), x.size());
+  ASSERT_GE(p.order, 2);
+  EXPECT_GE(max_coefficient(p), 1 << (kLpcPrecision - 2));
+}
+
 // A held signal (a slow channel repeated up to the analog rate: long runs of one value, then a
 // jump) has mostly-zero first differences, which the autocorrelation's choice does not find:
 // the block's predictor, chosen by estimated coded cost, is the first difference, its

@@ -203,7 +203,14 @@ LpcParams quantise_lpc(const double* a, int order, int precision) {
   return p;
 }
 
-LpcParams choose_lpc(const int32_t* x, size_t n) {
+double coefficient_bits(const LpcParams& p) {
+  double bits = 0;
+  for (int32_t q : p.q) bits += 2 + 2 * std::log2(1.0 + std::abs(q));
+  return bits;
+}
+
+LpcParams choose_lpc(const int32_t* x, size_t n, double* full_bits) {
+  if (full_bits) *full_bits = 0;
   const int max_order = static_cast<int>(std::min<size_t>(kMaxLpcOrder, n / 8));
   if (max_order < 1) return LpcParams();
   const std::vector<double> r = autocorrelation(x, n, max_order);
@@ -224,7 +231,35 @@ LpcParams choose_lpc(const int32_t* x, size_t n) {
     }
   }
   if (best == 0) return LpcParams();
-  return quantise_lpc(a[best].data(), best, kLpcPrecision);
+  // The precision: coarser coefficients cost fewer bits and add d' R d to the error.
+  const std::vector<double>& ab = a[best];
+  const double e0 = std::max(err[best], floor_err);
+  auto price = [&](const LpcParams& p) {
+    const double unit = std::ldexp(1.0, -p.shift);
+    double d[kMaxLpcOrder];
+    for (int j = 0; j < best; ++j) d[j] = p.q[j] * unit - ab[j];
+    double added = 0;
+    for (int j = 0; j < best; ++j) {
+      double row = d[j] * r[0];
+      for (int k = 0; k < j; ++k) row += 2 * d[k] * r[j - k];
+      added += d[j] * row;
+    }
+    return 0.5 * static_cast<double>(n) * std::log2((e0 + std::max(0.0, added)) / e0) +
+           coefficient_bits(p);
+  };
+  LpcParams chosen = quantise_lpc(ab.data(), best, kLpcPrecision);
+  if (full_bits) *full_bits = coefficient_bits(chosen);
+  double chosen_bits = price(chosen);
+  for (int precision = kLpcPrecision - 1; precision >= kMinLpcPrecision; --precision) {
+    LpcParams p = quantise_lpc(ab.data(), best, precision);
+    if (p.order == 0) continue;
+    const double bits = price(p);
+    if (bits < chosen_bits) {
+      chosen_bits = bits;
+      chosen = std::move(p);
+    }
+  }
+  return chosen;
 }
 
 namespace {
@@ -273,14 +308,6 @@ inline Bins token_bins(int64_t v) {
   return token_bins(x);
 }
 
-// The coefficients' cost as an Elias-gamma-like code of each (their adaptive coding is close to
-// it): 2 log2 |q| + 2 bits.
-double coefficient_bits(const LpcParams& p) {
-  double bits = 0;
-  for (int32_t q : p.q) bits += 2 + 2 * std::log2(1.0 + std::abs(q));
-  return bits;
-}
-
 // 2 x1 - x2 clamped to the sample range: the second difference's prediction.
 inline int64_t second_prediction(int64_t x1, int64_t x2) {
   const int64_t p2 = 2 * x1 - x2;
@@ -307,8 +334,13 @@ double token_cost_bits(const int32_t* r, size_t n) {
 }
 
 LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, int32_t* r) {
-  // choose_lpc's predictor, its residuals into r.
-  LpcParams best = choose_lpc(x, n);
+  // choose_lpc's predictor, its residuals into r. It is weighed against the fixed predictors
+  // with the cost of its full-precision coefficients: the coarser ones choose_lpc may pick
+  // lower its price but not its advantage over them (priced at their own cost, they took
+  // the LPC where a first difference codes smaller: TYPE-2.C3D's resting force channels,
+  // whose residuals of +-1 the adaptive contexts code well below their order-0 entropy).
+  double full_bits = 0;
+  LpcParams best = choose_lpc(x, n, &full_bits);
   lpc_residuals(LpcKernel(best), x, xd, n, r);
   // The token histograms of those residuals and of the fixed predictors 0, x[i-1] and
   // 2 x[i-1] - x[i-2] (LPC orders 0, 1, 2 with exact coefficients, so their residuals are
@@ -338,7 +370,7 @@ LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, i
       counts[3].add(0, token_bins(x0 - second_prediction(x1, x2))[0]);
     }
   }
-  double best_bits = counts[0].bits(n) + coefficient_bits(best);
+  double best_bits = counts[0].bits(n) + full_bits;
   LpcParams fixed[3];
   fixed[1].order = 1;  // x[i-1]
   fixed[1].shift = 13;

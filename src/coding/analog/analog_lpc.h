@@ -3,7 +3,8 @@
 // Analysis (encoder only, double arithmetic, never stored): autocorrelation of a Tukey-windowed
 // block, Levinson-Durbin recursion up to kMaxLpcOrder, order chosen from the recursion's
 // prediction errors plus the coefficients' cost, coefficients quantised to `precision` bits
-// with a right shift. Synthesis (both sides, integer arithmetic, bit exact everywhere):
+// (kMinLpcPrecision..kLpcPrecision, chosen per block) with a right shift. Synthesis (both sides,
+// integer arithmetic, bit exact everywhere):
 //   p = clamp((sum_j q[j] * x[i-1-j]) >> shift, -kMaxSample, kMaxSample)   (int64, floor shift)
 // where samples before the channel's first are 0.
 #pragma once
@@ -19,6 +20,7 @@ namespace analog {
 constexpr int kMaxLpcOrder = 32;
 constexpr int kMaxLpcShift = 20;
 constexpr int kLpcPrecision = 14;        // coefficient magnitude bits, sign excluded
+constexpr int kMinLpcPrecision = 6;      // the coarsest precision choose_lpc tries
 constexpr int32_t kMaxSample = 1 << 28;  // integer samples satisfy |x| <= kMaxSample
 
 // r[0..max_lag] of x[0..n) after a Tukey(0.5) window.
@@ -39,16 +41,26 @@ struct LpcParams {
 // Quantises a[0..order) with error feedback so that max |q| < 2^precision.
 LpcParams quantise_lpc(const double* a, int order, int precision);
 
-// Chooses the order (0 = no prediction) for block x[0..n) by the estimated cost in bits.
-LpcParams choose_lpc(const int32_t* x, size_t n);
+// Chooses the order (0 = no prediction) for block x[0..n) by the estimated cost in bits, then
+// the coefficients' precision: each of kLpcPrecision down to kMinLpcPrecision is priced as
+// its coefficients' bits plus n/2 log2((E + dE) / E), E the order's prediction error and
+// dE = d' R d the error the quantisation adds (d: quantised minus exact coefficients, R: the
+// block's autocorrelation matrix); the cheapest is kept. When full_bits is given, it receives
+// coefficient_bits of the kLpcPrecision quantisation (choose_block_predictor weighs the
+// fixed predictors against that: see there).
+LpcParams choose_lpc(const int32_t* x, size_t n, double* full_bits = nullptr);
+
+// The coefficients' estimated cost: 2 + 2 log2(1 + |q|) bits each (their adaptive coding is
+// close to an Elias-gamma code of each).
+double coefficient_bits(const LpcParams& p);
 
 // Estimated coded bits of residuals r[0..n): the order-0 entropy of their tokens
 // (coding/entropy.h token_of of the zig-zag) plus the raw bits below the tokens.
 double token_cost_bits(const int32_t* r, size_t n);
 
 // Chooses the block's predictor by the estimated coded cost (token_cost_bits of its residuals,
-// plus about 2 log2 |q| + 2 bits a coefficient) among choose_lpc's, the first and second
-// differences as LPC of order 1 and 2, and none, and writes the chosen one's residuals
+// plus coefficient_bits) among choose_lpc's, the first and second differences as LPC of order
+// 1 and 2, and none, and writes the chosen one's residuals
 // x[i] - p[i] to r[0..n). x: the block's n samples; xd: the same samples as doubles with
 // kMaxLpcOrder samples (or zeros) readable before xd[0]. Encoder only: any LpcParams decodes.
 LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, int32_t* r);
