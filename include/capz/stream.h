@@ -43,6 +43,12 @@ struct FrameBlock {
   // rotations_per_frame: R x segments (0 without rotations).
   void reset(size_t first, size_t frames, size_t points, size_t analog_values_per_frame, bool words,
              size_t rotations_per_frame = 0);
+  // The bytes a frame of the block takes once reset with these arguments and its attribute
+  // arrays sized for `attribute_bytes_per_point` (the sum of PointAttribute::bytes_per_point):
+  // what a decoder's memory limit counts (CapzSource). Counts and result in double: a hostile
+  // header's products may not fit size_t.
+  static double frame_bytes(double points, double analog_values_per_frame, bool words,
+                            double rotations_per_frame, double attribute_bytes_per_point);
 };
 
 class FrameSource {

@@ -30,16 +30,14 @@ CapzSource::CapzSource(std::unique_ptr<StreamBytes> bytes, const std::string& na
 }
 
 double CapzSource::frame_bytes() const {
-  const double N = static_cast<double>(ps_.take.points);
-  const double S = static_cast<double>(ps_.h.analog_samples_per_frame);
-  const double C = static_cast<double>(ps_.h.analog_channels);
-  const double R = static_cast<double>(ps_.take.rotations.per_frame());
-  double b = N * (3 * sizeof(double) + sizeof(uint8_t));  // xyz, valid
-  if (ps_.words) b += N * (sizeof(float) + sizeof(uint8_t));
-  b += S * C * sizeof(double) + R * 17 * sizeof(float);
+  double attribute_bytes = 0;
   for (const PointAttribute& a : ps_.take.attributes)
-    b += N * static_cast<double>(a.bytes_per_point());
-  return b;
+    attribute_bytes += static_cast<double>(a.bytes_per_point());
+  return FrameBlock::frame_bytes(static_cast<double>(ps_.take.points),
+                                 static_cast<double>(ps_.h.analog_samples_per_frame) *
+                                     static_cast<double>(ps_.h.analog_channels),
+                                 ps_.words, static_cast<double>(ps_.take.rotations.per_frame()),
+                                 attribute_bytes);
 }
 
 void CapzSource::check_memory(double frames, const char* what) const {

@@ -30,6 +30,16 @@ void FrameBlock::reset(size_t first_frame, size_t n, size_t n_points, size_t ana
   file_bytes.clear();
 }
 
+double FrameBlock::frame_bytes(double N, double analog_per_frame, bool words, double R,
+                               double attribute_bytes_per_point) {
+  // The arrays reset sizes, in its order, per frame.
+  double b = N * 3 * sizeof(double) + N * sizeof(uint8_t);  // xyz, valid
+  if (words) b += N * sizeof(float) + N * sizeof(uint8_t);  // residual, camera_mask
+  b += analog_per_frame * sizeof(double);
+  b += R * 16 * sizeof(float) + R * sizeof(float);  // rotation matrices, reliability
+  return b + N * attribute_bytes_per_point;         // attributes
+}
+
 namespace {
 
 // Analog values per frame as the coder and the writers see them (0 without channels).

@@ -91,3 +91,25 @@ TEST(StreamTrcSource, GivenABadNumberThenTheSameErrorAsReadTrcAtOpen) {
 }
 
 }  // namespace
+
+// FrameBlock::frame_bytes counts what reset allocates per frame (and the attribute arrays a
+// source sizes): the decoder's memory limit relies on it (CapzSource).
+TEST(FrameBlockBytes, GivenEveryLayoutWhenResetThenFrameBytesCountsItsArrays) {
+  for (const bool words : {false, true})
+    for (const size_t rotations : {size_t{0}, size_t{6}}) {
+      const size_t frames = 5, points = 7, analog = 12, attribute_bytes = 9;
+      FrameBlock b;
+      b.reset(0, frames, points, analog, words, rotations);
+      b.attributes.assign(1, std::vector<uint8_t>(frames * points * attribute_bytes));
+      const size_t held = b.xyz.size() * sizeof(double) + b.valid.size() +
+                          b.residual.size() * sizeof(float) + b.camera_mask.size() +
+                          b.analog.size() * sizeof(double) +
+                          b.rotation_matrices.size() * sizeof(float) +
+                          b.rotation_reliability.size() * sizeof(float) + b.attributes[0].size();
+      EXPECT_EQ(static_cast<double>(held),
+                frames * FrameBlock::frame_bytes(points, analog, words, rotations, attribute_bytes))
+          << "words " << words << ", rotations " << rotations;
+    }
+  // A header's counts whose product overflows size_t still give a large size, not a wrapped one.
+  EXPECT_GT(FrameBlock::frame_bytes(0, 4294967296.0 * 4294967296.0, false, 0, 0), 1e19);
+}
