@@ -109,6 +109,32 @@ size_t check_all(const std::string& root, const std::string& ext, bool trc) {
   return refused;
 }
 
+// Reads the C3D or TRC at `path` into *orig, archives it at 0.1 mm in its units (a bare 0.1,
+// file units, where they are unknown) through its frame source into z, rebuilds the original
+// into `out` (its size checked) and reads that into *back. False when the reader refuses the
+// file (the lossless test lists those) or, with a failure added, when a step throws.
+bool archive_and_rebuild(const std::string& path, const std::string& name, bool c3d,
+                         const std::string& z, const std::string& out, Take* orig, Take* back,
+                         CompressOptions* opts) {
+  try {
+    *orig = read_take(path);
+  } catch (const Error&) {
+    return false;
+  }
+  opts->max_error = units_to_metres(orig->units) > 0 ? parse_length("0.1mm", orig->units) : 0.1;
+  try {
+    auto src = c3d ? open_c3d_frames(path) : open_trc_frames(path);
+    compress_stream(*src, *opts, z, true);
+    EXPECT_TRUE(can_rebuild(original_info(z), c3d)) << name;
+    rebuild_original(z, out, true);
+    *back = read_take(out);
+  } catch (const Error& e) {
+    ADD_FAILURE() << name << ": " << e.what();
+    return false;
+  }
+  return true;
+}
+
 // Issue 14 item 3: a C3D archived at a bound and rebuilt (what `capz decompress` writes) reads
 // back with the same shape, parameters, analog samples, 4th words, gaps and rotations, and its
 // coordinates within the bound (plus the float32 rounding of float files). Returns the number of
@@ -118,27 +144,10 @@ size_t check_bounded_c3d() {
   size_t checked = 0;
   for (const auto& path : files_with(kC3DRoot, ".c3d")) {
     const std::string name = fs::relative(path, kC3DRoot).generic_string();
-    Take orig;
-    try {
-      orig = read_take(path);
-    } catch (const Error&) {
-      continue;  // refused by the reader: listed by the lossless test
-    }
-    CompressOptions opts;
-    // 0.1 mm in the file's units; a bare 0.1 (file units) where they are unknown.
-    opts.max_error = units_to_metres(orig.units) > 0 ? parse_length("0.1mm", orig.units) : 0.1;
     const std::string z = dir.file("b.capz"), out = dir.file("b.c3d");
-    Take back;
-    try {
-      auto src = open_c3d_frames(path);
-      compress_stream(*src, opts, z, true);
-      EXPECT_TRUE(can_rebuild(original_info(z), true)) << name;
-      rebuild_original(z, out, true);  // its size checked
-      back = read_take(out);
-    } catch (const Error& e) {
-      ADD_FAILURE() << name << ": " << e.what();
-      continue;
-    }
+    Take orig, back;
+    CompressOptions opts;
+    if (!archive_and_rebuild(path, name, true, z, out, &orig, &back, &opts)) continue;
     ++checked;
     if (back.frames != orig.frames || back.points != orig.points || !orig.c3d || !back.c3d ||
         back.c3d->groups.size() != orig.c3d->groups.size()) {
@@ -193,26 +202,10 @@ size_t check_bounded_trc() {
   size_t checked = 0;
   for (const auto& path : files_with(kDataRoot, ".trc")) {
     const std::string name = fs::relative(path, kDataRoot).generic_string();
-    Take orig;
-    try {
-      orig = read_take(path);
-    } catch (const Error&) {
-      continue;  // refused by the reader: listed by the lossless test
-    }
-    CompressOptions opts;
-    opts.max_error = units_to_metres(orig.units) > 0 ? parse_length("0.1mm", orig.units) : 0.1;
     const std::string z = dir.file("b.capz"), out = dir.file("b.trc");
-    Take back;
-    try {
-      auto src = open_trc_frames(path);
-      compress_stream(*src, opts, z, true);
-      EXPECT_TRUE(can_rebuild(original_info(z), false)) << name;
-      rebuild_original(z, out, true);
-      back = read_take(out);
-    } catch (const Error& e) {
-      ADD_FAILURE() << name << ": " << e.what();
-      continue;
-    }
+    Take orig, back;
+    CompressOptions opts;
+    if (!archive_and_rebuild(path, name, false, z, out, &orig, &back, &opts)) continue;
     ++checked;
     const std::vector<uint8_t> a = read_file(path), b = read_file(out);
     auto head = [](const std::vector<uint8_t>& t) {  // the five header lines
