@@ -7,7 +7,7 @@
 // Speed is MB/s of raw float32 samples (4 bytes a sample), single thread, best of 3.
 //
 //   capz_analog_bench [--window ROWS] [--no-peers] [--whole-frames] [--repeats] [--as-stream]
-//                     [--before8] [--before9]
+//                     [--before8] [--before9] [--before91]
 //                     FILE.c3d...
 //   capz_analog_bench --per-channel [--window ROWS] [--no-peers] FILE.c3d...
 //
@@ -24,7 +24,8 @@
 // --repeats does too and codes as a 7.x stream does (FORMAT.md 7.2: channels may name repeated
 // analog frames), so the two compare the repeat lists alone. Windows are coded as in a 9.x
 // stream (FORMAT.md 8.2 and 9.2), which capz writes for every take with analog channels;
-// --before9 codes them as 8.x streams did, --before8 as earlier streams did.
+// --before91 codes them as 9.0 streams did, --before9 as 8.x streams did, --before8 as earlier
+// streams did.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -90,7 +91,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 // Code as a 9.x stream does (FORMAT.md 8.2: rank tables against a lattice; 9.1: the float
 // predictors; 9.2: interpolated samples), as capz writes every take with analog channels;
 // --before9 codes as 8.x streams, --before8 as the streams before 8.0.
-bool g_format8 = true, g_format9 = true;
+bool g_format8 = true, g_format9 = true, g_format91 = true;
 
 Result run_ours(const Analog& a, const AnalogHints& h, size_t window, size_t repeat_S) {
   const size_t rows = a.values.size() / a.channels;
@@ -104,7 +105,7 @@ Result run_ours(const Analog& a, const AnalogHints& h, size_t window, size_t rep
     for (size_t r0 = 0; r0 < rows; r0 += window) {
       const size_t n = std::min(window, rows - r0);
       payloads.push_back(encode_analog_window(&a.values[r0 * a.channels], n, a.channels, h,
-                                              repeat_S, g_format8, g_format9));
+                                              repeat_S, g_format8, g_format9, g_format91));
     }
     best_enc = std::min(best_enc, seconds_since(t0));
   }
@@ -116,7 +117,8 @@ Result run_ours(const Analog& a, const AnalogHints& h, size_t window, size_t rep
       for (size_t r0 = 0; r0 < rows; r0 += window, ++w) {
         const size_t n = std::min(window, rows - r0);
         decode_analog_window(payloads[w].data(), payloads[w].size(), n, a.channels,
-                             &back[r0 * a.channels], "bench", repeat_S, g_format8, g_format9);
+                             &back[r0 * a.channels], "bench", repeat_S, g_format8, g_format9,
+                             g_format91);
       }
     } catch (const Error&) {
       std::fill(back.begin(), back.end(), std::nan(""));  // reported as NOT EXACT
@@ -256,7 +258,7 @@ size_t per_channel(const std::string& name, const Take& t, const AnalogHints& h,
     for (size_t r0 = 0; r0 < rows; r0 += window) {
       const size_t n = std::min(window, rows - r0);
       const std::vector<uint8_t> w =
-          encode_analog_window(col.data() + r0, n, 1, h1, 0, g_format8, g_format9);
+          encode_analog_window(col.data() + r0, n, 1, h1, 0, g_format8, g_format9, g_format91);
       bytes += w.size();
       if (kind < 0) {
         size_t k = 1;  // version byte, then the header size (varint), then the kind byte
@@ -333,9 +335,11 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--repeats"))
       repeats = whole_frames = true;
     else if (!std::strcmp(argv[i], "--before8"))
-      g_format8 = g_format9 = false;
+      g_format8 = g_format9 = g_format91 = false;
     else if (!std::strcmp(argv[i], "--before9"))
-      g_format9 = false;
+      g_format9 = g_format91 = false;
+    else if (!std::strcmp(argv[i], "--before91"))
+      g_format91 = false;
     else if (!std::strcmp(argv[i], "--per-channel"))
       channels = true;
     else if (!std::strcmp(argv[i], "--whole-frames"))

@@ -6,7 +6,8 @@
 // of byte 2 the window is an 8.x one (FORMAT.md 8.2: rank tables against a lattice), and with bit
 // 6 of the mode or bit 7 of byte 1 too a 9.x one (FORMAT.md 9.1: the float coder's predictors
 // 2-5; 9.2: interpolated samples: with bit 6 of the mode, in odd modes every second row is made
-// the mean of its neighbours, so that the encoder finds them):
+// the mean of its neighbours, so that the encoder finds them), a 9.1 one when bit 0 of byte 2 is
+// set too (FORMAT.md 9.3: integer blocks predicted by a constant):
 //   mode even: the rest is an ANLG body; decoding must return or throw capz::Error, and a body
 //     that decodes must re-encode to one that decodes to the same bits;
 //   mode odd: the rest are sample bits (as int16 counts, float32 or float64 values, by mode),
@@ -24,12 +25,12 @@
 namespace {
 
 void round_trip(const std::vector<double>& rows, size_t nrows, int channels, size_t S, bool v8,
-                bool v9) {
+                bool v9, bool v91) {
   const std::vector<uint8_t> enc =
-      capz::encode_analog_window(rows.data(), nrows, channels, capz::AnalogHints(), S, v8, v9);
+      capz::encode_analog_window(rows.data(), nrows, channels, capz::AnalogHints(), S, v8, v9, v91);
   std::vector<double> back(rows.size());
   capz::decode_analog_window(enc.data(), enc.size(), nrows, channels, back.data(), "re-encoded", S,
-                             v8, v9);
+                             v8, v9, v91);
   CAPZ_FUZZ_CHECK(std::memcmp(back.data(), rows.data(), rows.size() * 8) == 0);
 }
 
@@ -43,17 +44,19 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const size_t S = (mode & 0x80) ? 1 + ((mode >> 3) & 15) : 0;
   const bool v8 = data[2] & 0x80;
   const bool v9 = v8 && ((mode & 0x40) || (data[1] & 0x80));
+  const bool v91 = v9 && (data[2] & 1);
   if (S) nrows = (nrows + S - 1) / S * S;
   data += 3;
   size -= 3;
   std::vector<double> rows(nrows * static_cast<size_t>(channels));
   if (mode % 2 == 0) {
     try {
-      capz::decode_analog_window(data, size, nrows, channels, rows.data(), "fuzz ANLG", S, v8, v9);
+      capz::decode_analog_window(data, size, nrows, channels, rows.data(), "fuzz ANLG", S, v8, v9,
+                                 v91);
     } catch (const capz::Error&) {
       return 0;
     }
-    round_trip(rows, nrows, channels, S, v8, v9);
+    round_trip(rows, nrows, channels, S, v8, v9, v91);
     return 0;
   }
   // Sample bits from the input, repeated to fill the window; the kind of value by mode.
@@ -85,6 +88,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       for (size_t c = 0; c < nch; ++c)
         rows[i * nch + c] = capz::analog::interpolate(rows[(i - 1) * nch + c],
                                                       rows[(i + 1) * nch + c], 1, 2, width == 4);
-  round_trip(rows, nrows, channels, S, v8, v9);
+  round_trip(rows, nrows, channels, S, v8, v9, v91);
   return 0;
 }

@@ -67,6 +67,36 @@ TEST(AnalogCodec, GivenInt16CountsWhenCodedThenExactIntKindAndSmall) {
   EXPECT_LT(bytes, v.size() * 2 / 2);  // well below 16 bits a sample
 }
 
+// FORMAT.md 9.3: white noise around a level far from 0 (an offset ADC channel, rank indices)
+// is predicted by a constant in a 9.1 window, which decodes exactly and codes smaller than
+// 9.0's order 0 or first difference; a 9.0 decoder refuses the order code (corrupt).
+TEST(AnalogCodec, GivenNoiseAroundALevelWhen91ThenConstantPredictorSmallerAndExact) {
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> noise(-40, 40);
+  const size_t n = 6000;  // two LPC blocks
+  std::vector<double> v(n);
+  for (size_t i = 0; i < n; ++i) v[i] = 9000 + noise(rng);
+  ASSERT_EQ(kind_of(v), Kind::kInt);
+  const std::vector<uint8_t> w90 = encode_analog_window(v.data(), n, 1, {}, 0, true, true, false);
+  const std::vector<uint8_t> w91 = encode_analog_window(v.data(), n, 1, {}, 0, true, true, true);
+  EXPECT_LT(w91.size() * 100, w90.size() * 97) << w91.size() << " against " << w90.size();
+  std::vector<double> back(n);
+  decode_analog_window(w91.data(), w91.size(), n, 1, back.data(), "9.1 window", 0, true, true,
+                       true);
+  for (size_t i = 0; i < n; ++i) ASSERT_EQ(bits(back[i]), bits(v[i])) << i;
+  try {
+    decode_analog_window(w91.data(), w91.size(), n, 1, back.data(), "as 9.0", 0, true, true, false);
+    ADD_FAILURE() << "a 9.1 constant predictor decoded as 9.0";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
+    EXPECT_NE(std::string(e.what()).find("LPC order above 32"), std::string::npos) << e.what();
+  }
+  // A 9.0 window decodes the same in 9.1 (the order code is new, nothing else changes).
+  decode_analog_window(w90.data(), w90.size(), n, 1, back.data(), "9.0 window", 0, true, true,
+                       true);
+  for (size_t i = 0; i < n; ++i) ASSERT_EQ(bits(back[i]), bits(v[i])) << i;
+}
+
 TEST(AnalogCodec, GivenUnsignedCountsWhenCodedThenExact) {
   std::vector<double> v = sine(3000, 30000, 1, 32768, 2);
   v[0] = 0;

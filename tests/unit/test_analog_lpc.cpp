@@ -161,6 +161,34 @@ TEST(AnalogLpc, GivenHeldSignalWhenBlockPredictorChosenThenFirstDifferenceAndSma
   EXPECT_LT(token_cost_bits(r.data(), r.size()), 0.8 * token_cost_bits(rl.data(), rl.size()));
 }
 
+// With allow_constant, uniform noise around 5000 is predicted by its median (FORMAT.md 9.3):
+// the residuals are x - median, cheaper than order 0's or a difference's; without, it is not.
+TEST(AnalogLpc, GivenNoiseAroundALevelWhenConstantAllowedThenMedianPredicts) {
+  std::mt19937 rng(8);
+  std::uniform_int_distribution<int> noise(-100, 100);
+  std::vector<int32_t> x(4096);
+  for (auto& v : x) v = 5000 + noise(rng);
+  std::vector<double> xd(kMaxLpcOrder + x.size(), 0.0);
+  std::copy(x.begin(), x.end(), xd.begin() + kMaxLpcOrder);
+  std::vector<int32_t> r(x.size()), sorted(x);
+  std::sort(sorted.begin(), sorted.end());
+  const LpcParams c =
+      choose_block_predictor(x.data(), xd.data() + kMaxLpcOrder, x.size(), r.data(), true);
+  EXPECT_EQ(c.order, 0);
+  EXPECT_EQ(c.constant, sorted[x.size() / 2]);
+  std::vector<int32_t> xp(kMaxLpcOrder + x.size(), 0);
+  std::copy(x.begin(), x.end(), xp.begin() + kMaxLpcOrder);
+  for (size_t i = 0; i < x.size(); ++i) {
+    ASSERT_EQ(r[i], x[i] - c.constant) << i;
+    ASSERT_EQ(lpc_predict(c, xp.data() + kMaxLpcOrder + i), c.constant) << i;
+  }
+  std::vector<int32_t> r0(x.size());
+  const LpcParams p =
+      choose_block_predictor(x.data(), xd.data() + kMaxLpcOrder, x.size(), r0.data(), false);
+  EXPECT_EQ(p.constant, 0);
+  EXPECT_LT(token_cost_bits(r.data(), r.size()) + 40, token_cost_bits(r0.data(), r0.size()));
+}
+
 // On an AR(2) signal the autocorrelation's choice stays (it beats the fixed differences).
 TEST(AnalogLpc, GivenAr2SignalWhenBlockPredictorChosenThenLevinsonKept) {
   const std::vector<int32_t> x = ar2_signal(4, 1.2, -0.7);

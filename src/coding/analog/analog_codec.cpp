@@ -31,17 +31,31 @@ bool coded(Kind k) {
   return k != Kind::kConst;
 }
 
-// Side information of one LPC block: order, then shift and coefficients.
+// Side information of one LPC block: order, then shift and coefficients; or the constant
+// predictor's order code and its constant (9.1).
 void put_lpc(const analog::LpcParams& p, IntEncoder::Cursor* enc) {
+  if (p.order == 0 && p.constant != 0) {
+    enc->put(static_cast<uint32_t>(analog::kLpcConstantOrder), analog::kParamContext);
+    enc->put_signed(p.constant, analog::kCoefContext);
+    return;
+  }
   enc->put(static_cast<uint32_t>(p.order), analog::kParamContext);
   if (p.order == 0) return;
   enc->put(static_cast<uint32_t>(p.shift), analog::kParamContext);
   for (int32_t q : p.q) enc->put_signed(q, analog::kCoefContext);
 }
-analog::LpcParams get_lpc(IntDecoder::Cursor* dec) {
+// constant: a 9.1 or later stream, where the constant predictor's order code is valid.
+analog::LpcParams get_lpc(IntDecoder::Cursor* dec, bool constant) {
   analog::LpcParams p;
   int tok;
   p.order = static_cast<int>(dec->get(analog::kParamContext, &tok));
+  if (p.order == analog::kLpcConstantOrder && constant) {
+    p.order = 0;
+    p.constant = dec->get_signed(analog::kCoefContext, &tok);
+    if (p.constant > analog::kMaxSample || p.constant < -analog::kMaxSample)
+      dec->corrupt("analog constant prediction out of range");
+    return p;
+  }
   if (p.order > analog::kMaxLpcOrder) dec->corrupt("analog LPC order above 32");
   if (p.order == 0) return p;
   p.shift = static_cast<int>(dec->get(analog::kParamContext, &tok));
@@ -66,7 +80,7 @@ std::vector<double> padded_doubles(const std::vector<int32_t>& x) {
 // first min(order, ...) samples of the window are predicted by the previous sample (0 for the
 // first) and the others by the block's LPC.
 void lpc_stage(const std::vector<int32_t>& x, std::vector<analog::LpcParams>* params,
-               std::vector<int32_t>* r) {
+               std::vector<int32_t>* r, bool constant) {
   r->resize(x.size());
   const std::vector<double> xd = padded_doubles(x);
   const double* xs = xd.data() + analog::kMaxLpcOrder;
@@ -74,7 +88,7 @@ void lpc_stage(const std::vector<int32_t>& x, std::vector<analog::LpcParams>* pa
     const size_t b1 = std::min(x.size(), b0 + kBlockRows);
     // The block's residuals by its predictor, then the head's by the previous sample.
     params->push_back(
-        analog::choose_block_predictor(x.data() + b0, xs + b0, b1 - b0, r->data() + b0));
+        analog::choose_block_predictor(x.data() + b0, xs + b0, b1 - b0, r->data() + b0, constant));
     const size_t head = std::min(b1, std::max(b0, static_cast<size_t>(params->back().order)));
     for (size_t i = b0; i < head; ++i) (*r)[i] = static_cast<int32_t>(x[i] - (i ? x[i - 1] : 0));
   }
@@ -121,8 +135,8 @@ struct IntPlan {
 // picked the cascade where it turned exact zeros into +-1, stay the plan's estimate.
 void plan_int_channel(const std::vector<int32_t>& x,
                       const std::vector<const std::vector<int32_t>*>& refs,
-                      const std::vector<double>& ref_energy, IntPlan* plan) {
-  lpc_stage(x, &plan->params, &plan->r1);
+                      const std::vector<double>& ref_energy, bool constant, IntPlan* plan) {
+  lpc_stage(x, &plan->params, &plan->r1, constant);
   const std::vector<int32_t>& r1 = plan->r1;
   analog::CrossParams cross = analog::choose_cross(r1, refs, ref_energy);
   std::vector<int32_t> with_ref;
@@ -211,7 +225,7 @@ void decode_int_block(size_t b0, size_t b1, const analog::LpcParams& p, const in
 }
 
 void decode_int_channel(size_t n, const std::vector<const std::vector<int32_t>*>& refs,
-                        IntDecoder::Cursor* dec, std::vector<int32_t>* x,
+                        bool constant, IntDecoder::Cursor* dec, std::vector<int32_t>* x,
                         std::vector<int32_t>* r1) {
   x->resize(n);
   r1->resize(n);
@@ -237,7 +251,7 @@ void decode_int_channel(size_t n, const std::vector<const std::vector<int32_t>*>
   double* xs_d = xd.data() + analog::kMaxLpcOrder;
   for (size_t b0 = 0; b0 < n; b0 += kBlockRows) {
     const size_t b1 = std::min(n, b0 + kBlockRows);
-    const analog::LpcParams p = get_lpc(dec);
+    const analog::LpcParams p = get_lpc(dec, constant);
     int32_t* xs = x->data();
     int32_t* rs = r1->data();
     if (cascade && ref)
@@ -255,7 +269,7 @@ void decode_int_channel(size_t n, const std::vector<const std::vector<int32_t>*>
 
 std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int channels,
                                           const AnalogHints& hints, size_t repeat_S, bool format8,
-                                          bool format9) {
+                                          bool format9, bool format91) {
   ByteWriter head;
   uint64_t last_const = 0;
   bool any_coded = false;
@@ -313,7 +327,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
       if (analog::is_integer_kind(cands[k].kind)) {
         const std::vector<bool>& u = use[layout_at[k]];
         plan_int_channel(cands[k].ints, cross_refs(r1s, u, c), cross_energies(energy, u, c),
-                         &plans[k]);
+                         format91, &plans[k]);
         bits[k] = plans[k].bits;
       } else if (is_float(k)) {
         const bool f32 = cands[k].kind == Kind::kFloat32;
@@ -388,7 +402,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
 
 void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int channels,
                           double* rows, const std::string& what, size_t repeat_S, bool format8,
-                          bool format9) {
+                          bool format9, bool format91) {
   ByteReader in(data, size, what);
   if (in.u8() != kWindowVersion)
     throw Error(ErrorCode::kCorrupt, what + ": unknown analog window version");
@@ -435,8 +449,8 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
     if (analog::is_integer_kind(r.kind)) {
       std::vector<bool> use(nch, false);  // the same kept rows (FORMAT.md 7.2, 9.2)
       for (size_t j = 0; j < c; ++j) use[j] = has_r1[j] && layouts[j] == layouts[c];
-      decode_int_channel(kept[c], cross_refs(r1s, use, static_cast<int>(c)), &cur, &r.ints,
-                         &r1s[c]);
+      decode_int_channel(kept[c], cross_refs(r1s, use, static_cast<int>(c)), format91, &cur,
+                         &r.ints, &r1s[c]);
       has_r1[c] = true;
     } else if (r.kind == Kind::kFloat32 || r.kind == Kind::kFloat64)
       analog::decode_float_channel(kept[c], r.kind == Kind::kFloat32, &cur, &r.filled, format9);

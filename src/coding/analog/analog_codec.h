@@ -33,17 +33,19 @@ AnalogHints analog_hints(const Take& t);
 // streams.
 // format8: an 8.x or later stream, whose value tables may be coded against a lattice (FORMAT.md
 // 8.2). format9: a 9.x stream (format8 too), whose float channels use 9.1's predictors and coding
-// and whose channels may name interpolated samples (9.2).
+// and whose channels may name interpolated samples (9.2). format91: a 9.1 or later stream
+// (format9 too), whose integer channels' blocks may be predicted by a constant (FORMAT.md 9.3).
 std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int channels,
                                           const AnalogHints& hints, size_t repeat_S = 0,
-                                          bool format8 = false, bool format9 = false);
+                                          bool format8 = false, bool format9 = false,
+                                          bool format91 = false);
 
 // Fills rows[0 .. nrows * channels). Throws Error(kCorrupt) naming `what` when the payload is
 // not a valid window of that shape; memory used is O(nrows * channels + size). repeat_S and
-// format8, format9: as for encode_analog_window (0: a repeat list is corrupt; false: a lattice
-// table, an interpolation field).
+// format8, format9, format91: as for encode_analog_window (0: a repeat list is corrupt; false: a
+// lattice table, an interpolation field, a constant predictor).
 void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int channels,
                           double* rows, const std::string& what, size_t repeat_S = 0,
-                          bool format8 = false, bool format9 = false);
+                          bool format8 = false, bool format9 = false, bool format91 = false);
 
 }  // namespace capz

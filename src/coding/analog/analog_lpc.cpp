@@ -79,7 +79,7 @@ __attribute__((target("avx2"))) size_t lpc_residuals_avx2(const LpcKernel& lpc, 
     }
     const Quad a = a0 + a1;
     for (int j = 0; j < 4; ++j) {
-      int64_t s = static_cast<int64_t>(a[j]) >> shift;
+      int64_t s = (static_cast<int64_t>(a[j]) >> shift) + lpc.constant();
       s = s > kMaxSample ? kMaxSample : s < -kMaxSample ? -kMaxSample : s;
       r[i + j] = static_cast<int32_t>(x[i + j] - s);
     }
@@ -333,7 +333,8 @@ double token_cost_bits(const int32_t* r, size_t n) {
   return h.bits(n);
 }
 
-LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, int32_t* r) {
+LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, int32_t* r,
+                                 bool allow_constant) {
   // choose_lpc's predictor, its residuals into r. It is weighed against the fixed predictors
   // with the cost of its full-precision coefficients: the coarser ones choose_lpc may pick
   // lower its price but not its advantage over them (priced at their own cost, they took
@@ -384,6 +385,22 @@ LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, i
     if (bits < best_bits) {
       best_bits = bits;
       pick = k;
+    }
+  }
+  if (allow_constant && n > 0) {
+    // The block's median as a constant prediction: residuals of one sign no longer waste the
+    // zig-zag's sign bit on a level far from 0 (noise around an offset, rank indices).
+    thread_local std::vector<int32_t> d;
+    d.assign(x, x + n);
+    std::nth_element(d.begin(), d.begin() + static_cast<long>(n / 2), d.end());
+    LpcParams level;
+    level.constant = d[n / 2];
+    for (size_t i = 0; i < n; ++i) d[i] = x[i] - level.constant;
+    const double bits =
+        token_cost_bits(d.data(), n) + 2 + 2 * std::log2(1.0 + std::abs(level.constant));
+    if (level.constant != 0 && bits < best_bits) {
+      std::copy(d.begin(), d.end(), r);
+      return level;
     }
   }
   if (pick < 0) return best;

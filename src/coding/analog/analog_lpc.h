@@ -6,7 +6,8 @@
 // (kMinLpcPrecision..kLpcPrecision, chosen per block) with a right shift. Synthesis (both sides,
 // integer arithmetic, bit exact everywhere):
 //   p = clamp((sum_j q[j] * x[i-1-j]) >> shift, -kMaxSample, kMaxSample)   (int64, floor shift)
-// where samples before the channel's first are 0.
+// where samples before the channel's first are 0; or, order 0 with a constant (FORMAT.md 9.1's
+// order code 33), p = constant.
 #pragma once
 
 #include <cstddef>
@@ -36,7 +37,12 @@ struct LpcParams {
   int order = 0;
   int shift = 0;
   std::vector<int32_t> q;  // order coefficients, |q| < 2^kLpcPrecision
+  // With order 0: every sample predicted by this constant (|constant| <= kMaxSample; 0 is no
+  // prediction). Coded as order kLpcConstantOrder (format 9.1 on).
+  int32_t constant = 0;
 };
+// The order code of a constant predictor (FORMAT.md 9.1).
+constexpr int kLpcConstantOrder = kMaxLpcOrder + 1;
 
 // Quantises a[0..order) with error feedback so that max |q| < 2^precision.
 LpcParams quantise_lpc(const double* a, int order, int precision);
@@ -63,13 +69,15 @@ double token_cost_bits(const int32_t* r, size_t n);
 // 1 and 2, and none, and writes the chosen one's residuals
 // x[i] - p[i] to r[0..n). x: the block's n samples; xd: the same samples as doubles with
 // kMaxLpcOrder samples (or zeros) readable before xd[0]. Encoder only: any LpcParams decodes.
-LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, int32_t* r);
+// With allow_constant (a 9.1 stream), a constant predictor (the block's median) is a candidate too.
+LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, int32_t* r,
+                                 bool allow_constant = false);
 
 // Prediction of x[i] from x[i - order .. i) (the caller guarantees i >= order).
 inline int64_t lpc_predict(const LpcParams& p, const int32_t* xi) {
   int64_t s = 0;
   for (int j = 0; j < p.order; ++j) s += static_cast<int64_t>(p.q[j]) * xi[-1 - j];
-  s >>= p.shift;
+  s = (s >> p.shift) + p.constant;
   if (s > kMaxSample) s = kMaxSample;
   if (s < -kMaxSample) s = -kMaxSample;
   return s;
@@ -81,7 +89,7 @@ inline int64_t lpc_predict(const LpcParams& p, const int32_t* xi) {
 // kMaxLpcOrder zeros (or earlier samples) before the first.
 class LpcKernel {
  public:
-  explicit LpcKernel(const LpcParams& p) : order_(p.order), shift_(p.shift) {
+  explicit LpcKernel(const LpcParams& p) : order_(p.order), shift_(p.shift), constant_(p.constant) {
     padded_ = (p.order + 3) & ~3;
     for (int k = 0; k < padded_; ++k) {
       // c_[k] multiplies x[i - padded + k]: q[j] with j = padded - 1 - k, zero beyond the order.
@@ -94,6 +102,7 @@ class LpcKernel {
   const double* coefficients() const { return c_; }
   int padded() const { return padded_; }
   int shift() const { return shift_; }
+  int64_t constant() const { return constant_; }
   // Prediction of the sample at xi (xi[-kMaxLpcOrder .. -1] readable), as lpc_predict.
   int64_t predict(const double* xi) const {
     const double* x = xi - padded_;
@@ -104,7 +113,7 @@ class LpcKernel {
     }
     const Lanes a = a0 + a1;
     int64_t s = static_cast<int64_t>(a[0] + a[1]);
-    s >>= shift_;
+    s = (s >> shift_) + constant_;
     if (s > kMaxSample) s = kMaxSample;
     if (s < -kMaxSample) s = -kMaxSample;
     return s;
@@ -118,6 +127,7 @@ class LpcKernel {
     return v;
   }
   int order_, shift_, padded_;
+  int64_t constant_;
   double c_[kMaxLpcOrder] = {};
 };
 
