@@ -31,8 +31,8 @@ void expect_rank_as_sorted(const std::vector<double>& x, const std::string& what
     ASSERT_EQ(ordered_bits(bits_of(rank->table[k])), want[k]) << what << ", entry " << k;
   ASSERT_EQ(rank->ints.size(), x.size()) << what;
   for (size_t i = 0; i < x.size(); ++i) {
-    const size_t k = static_cast<size_t>(std::lower_bound(want.begin(), want.end(), ord[i]) -
-                                         want.begin());
+    const size_t k =
+        static_cast<size_t>(std::lower_bound(want.begin(), want.end(), ord[i]) - want.begin());
     ASSERT_EQ(rank->ints[i], static_cast<int32_t>(k)) << what << ", sample " << i;
   }
 }
@@ -40,16 +40,16 @@ void expect_rank_as_sorted(const std::vector<double>& x, const std::string& what
 TEST(AnalogRank, GivenChannelsOfManyShapesWhenRankedThenAsSortAndUnique) {
   std::mt19937 rng(21);
   int shapes = 0;
-  for (size_t n : {size_t{5}, size_t{600}, size_t{601}, size_t{2047}, size_t{2048},
-                   size_t{9001}, size_t{20000}}) {
+  for (size_t n : {size_t{5}, size_t{600}, size_t{601}, size_t{2047}, size_t{2048}, size_t{9001},
+                   size_t{20000}}) {
     for (int shape = 0; shape < 6; ++shape) {
       // A pool of at most n / 3 distinct non-integer values, drawn by a walk or at random.
       const size_t m = std::max<size_t>(2, n / 3);
       std::vector<double> pool(m);
       std::uniform_real_distribution<double> u(-1.0, 1.0);
       for (size_t k = 0; k < m; ++k) {
-        double v = shape == 0   ? 0.001 * static_cast<double>(k) + 0.5e-3   // one sign, a walk
-                   : shape == 1 ? u(rng)                                     // doubles
+        double v = shape == 0   ? 0.001 * static_cast<double>(k) + 0.5e-3  // one sign, a walk
+                   : shape == 1 ? u(rng)                                   // doubles
                    : shape == 2 ? static_cast<double>(static_cast<float>(u(rng)))  // float32
                    : shape == 3 ? std::ldexp(u(rng), static_cast<int>(k % 40) - 20)
                    : shape == 4 ? 1e6 + 0.25 + static_cast<double>(k)  // high digits shared
