@@ -67,9 +67,9 @@ T* scratch(size_t n) {
 
 // The LPC stage of a whole channel: per-block parameters and the residuals x - p, where the
 // first min(order, ...) samples of the window are predicted by the previous sample (0 for the
-// first) and the others by the block's LPC.
+// first) and the others by the block's LPC. *tally: the residuals' tokens (token_cost_bits).
 void lpc_stage(const std::vector<int32_t>& x, std::vector<analog::LpcParams>* params,
-               std::vector<int32_t>* r) {
+               std::vector<int32_t>* r, analog::TokenTally* tally) {
   r->resize(x.size());
   // The samples as doubles after kMaxLpcOrder zeros (analog::LpcKernel reads before the first).
   double* xd = scratch<double, 0>(x.size() + analog::kMaxLpcOrder);
@@ -80,9 +80,13 @@ void lpc_stage(const std::vector<int32_t>& x, std::vector<analog::LpcParams>* pa
     const size_t b1 = std::min(x.size(), b0 + kBlockRows);
     // The block's residuals by its predictor, then the head's by the previous sample.
     params->push_back(
-        analog::choose_block_predictor(x.data() + b0, xs + b0, b1 - b0, r->data() + b0));
+        analog::choose_block_predictor(x.data() + b0, xs + b0, b1 - b0, r->data() + b0, tally));
     const size_t head = std::min(b1, std::max(b0, static_cast<size_t>(params->back().order)));
-    for (size_t i = b0; i < head; ++i) (*r)[i] = static_cast<int32_t>(x[i] - (i ? x[i - 1] : 0));
+    for (size_t i = b0; i < head; ++i) {
+      tally->remove((*r)[i]);
+      (*r)[i] = static_cast<int32_t>(x[i] - (i ? x[i - 1] : 0));
+      tally->add((*r)[i]);
+    }
   }
 }
 
@@ -121,7 +125,8 @@ struct IntPlan {
 void plan_int_channel(const std::vector<int32_t>& x,
                       const std::vector<const std::vector<int32_t>*>& refs,
                       const std::vector<double>& ref_energy, IntPlan* plan) {
-  lpc_stage(x, &plan->params, &plan->r1);
+  analog::TokenTally r1_tokens;
+  lpc_stage(x, &plan->params, &plan->r1, &r1_tokens);
   const std::vector<int32_t>& r1 = plan->r1;
   const size_t n = r1.size();
   analog::CrossParams cross = analog::choose_cross(r1, refs, ref_energy);
@@ -141,7 +146,8 @@ void plan_int_channel(const std::vector<int32_t>& x,
   int best = 0;
   double best_tok = 0;
   for (int k = 0; k < (cross.distance ? 4 : 2); ++k) {
-    const double tok = analog::token_cost_bits(res[k], n);
+    // The LPC residuals' histogram came with the predictors' choice (the same double).
+    const double tok = k == 0 ? r1_tokens.bits(n) : analog::token_cost_bits(res[k], n);
     if (k == 0 || tok < best_tok) {
       best = k;
       best_tok = tok;

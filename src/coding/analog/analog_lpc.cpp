@@ -240,21 +240,14 @@ struct TokenCounts {
   static constexpr int kBins = 66;
   uint32_t c[2][kBins] = {};
   void add(int lane, int64_t bin) { ++c[lane][bin]; }
-  // Order-0 entropy of the tokens of n values plus their raw bits (token / 2 - 1 for tokens
-  // >= 4), the sum over tokens in increasing order.
+  // Order-0 entropy of the tokens of n values plus their raw bits (TokenTally::bits).
   double bits(size_t n) const {
-    uint64_t raw = 0;
-    uint32_t count[64];
-    for (int t = 0; t < 64; ++t) {
-      const int bin = t == 0 ? 0 : t + 2;
-      count[t] = c[0][bin] + c[1][bin];
-      if (t >= 4) raw += static_cast<uint64_t>(count[t]) * static_cast<uint64_t>(t / 2 - 1);
-    }
-    double total = static_cast<double>(raw);
-    const double dn = static_cast<double>(n);
-    for (int t = 0; t < 64; ++t)
-      if (count[t]) total -= count[t] * std::log2(count[t] / dn);
-    return total;
+    TokenTally t;
+    add_to(&t);
+    return t.bits(n);
+  }
+  void add_to(TokenTally* t) const {
+    for (int b = 0; b < kBins; ++b) t->bins[b] += c[0][b] + c[1][b];
   }
 };
 
@@ -289,6 +282,28 @@ inline int64_t second_prediction(int64_t x1, int64_t x2) {
 
 }  // namespace
 
+// Order-0 entropy of the tokens of n values plus their raw bits (token / 2 - 1 for tokens
+// >= 4), the sum over tokens in increasing order.
+double TokenTally::bits(size_t n) const {
+  uint64_t raw = 0;
+  uint32_t count[64];
+  for (int t = 0; t < 64; ++t) {
+    count[t] = bins[t == 0 ? 0 : t + 2];
+    if (t >= 4) raw += static_cast<uint64_t>(count[t]) * static_cast<uint64_t>(t / 2 - 1);
+  }
+  double total = static_cast<double>(raw);
+  const double dn = static_cast<double>(n);
+  for (int t = 0; t < 64; ++t)
+    if (count[t]) total -= count[t] * std::log2(count[t] / dn);
+  return total;
+}
+void TokenTally::add(int32_t v) {
+  ++bins[token_bins(v)[0]];
+}
+void TokenTally::remove(int32_t v) {
+  --bins[token_bins(v)[0]];
+}
+
 double token_cost_bits(const int32_t* r, size_t n) {
   // Two samples a step, even and odd ones in their own copy of the histogram (bits() adds the
   // copies' counts: the same integers).
@@ -306,7 +321,8 @@ double token_cost_bits(const int32_t* r, size_t n) {
   return h.bits(n);
 }
 
-LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, int32_t* r) {
+LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, int32_t* r,
+                                 TokenTally* tally) {
   // choose_lpc's predictor, its residuals into r.
   LpcParams best = choose_lpc(x, n);
   lpc_residuals(LpcKernel(best), x, xd, n, r);
@@ -354,6 +370,7 @@ LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, i
       pick = k;
     }
   }
+  if (tally) counts[1 + pick].add_to(tally);  // pick = -1: choose_lpc's
   if (pick < 0) return best;
   // The fixed predictor's residuals (LpcKernel of fixed[pick] predicts exactly these).
   int64_t x1 = static_cast<int64_t>(xd[-1]), x2 = static_cast<int64_t>(xd[-2]);
