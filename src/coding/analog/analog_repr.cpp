@@ -124,9 +124,9 @@ void sort_unique(std::vector<uint64_t>* keys, std::vector<int32_t>* ranks) {
     // chains of counter increments, not one through memory whenever neighbouring keys share a
     // digit (as a slowly varying signal's high digits do). In each bucket the first half's keys
     // go before the rest's, each half in its order: the same stable pass as one sweep.
-    std::vector<size_t> count(2 * nd);
-    size_t* c0 = count.data();
-    size_t* c1 = c0 + nd;
+    std::vector<uint32_t> count(2 * nd);  // n is a window channel's length, far below 2^32
+    uint32_t* c0 = count.data();
+    uint32_t* c1 = c0 + nd;
     const size_t h = n / 2;
     for (int sh = ibits; sh < ibits + width; sh += digit) {
       std::fill(count.begin(), count.end(), 0);
@@ -138,9 +138,9 @@ void sort_unique(std::vector<uint64_t>* keys, std::vector<int32_t>* ranks) {
       const size_t d0 = (a[0] >> sh) & dmask;
       if (c0[d0] + c1[d0] == n) continue;  // one digit in every key: the pass moves nothing
       for (size_t d = 0, at = 0; d < nd; ++d) {
-        const size_t k0 = c0[d], k1 = c1[d];
-        c0[d] = at;
-        c1[d] = at + k0;
+        const uint32_t k0 = c0[d], k1 = c1[d];
+        c0[d] = static_cast<uint32_t>(at);
+        c1[d] = static_cast<uint32_t>(at + k0);
         at += k0 + k1;
       }
       for (size_t i = 0; i < h; ++i) {
