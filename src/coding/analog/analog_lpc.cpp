@@ -109,18 +109,23 @@ std::vector<double> autocorrelation(const int32_t* x, size_t n, int max_lag) {
   // pass before as a ninth lane pair.
   constexpr int kGroup = 16;
   const std::vector<double>& g = tukey(n);
-  std::vector<double> wr(n + 2 * kGroup + 4, 0.0);  // zeros after: kGroup + 2, or 35 (AVX2)
+  // A per-thread buffer, not allocated and zeroed per block: every entry read is written here.
+  thread_local std::vector<double> wbuf;
+  const size_t m = n + 2 * kGroup + 4;  // zeros after: kGroup + 2, or 35 (AVX2)
+  if (wbuf.size() < m) wbuf.resize(m + m / 4);
+  double* wr = wbuf.data();
   for (size_t i = 0; i < n; ++i) wr[n - 1 - i] = g[i] * x[i];
+  std::fill(wr + n, wr + m, 0.0);
   std::vector<double> r(static_cast<size_t>(max_lag) + 1, 0.0);
 #ifdef CAPZ_ANALOG_AVX2
   if (max_lag == 32 && avx2_enabled()) {
-    autocorrelation33_avx2(wr.data(), n, r.data());
+    autocorrelation33_avx2(wr, n, r.data());
     return r;
   }
 #endif
   for (int k0 = 0; k0 <= max_lag; k0 += kGroup) {
     int lanes = std::min(kGroup, max_lag + 1 - k0);
-    const double* base = wr.data() + n - 1 + k0;
+    const double* base = wr + n - 1 + k0;
     if (lanes == 1) {
       double a = 0;
       for (size_t i = static_cast<size_t>(k0); i < n; ++i) a += wr[n - 1 - i] * *(base - i);
