@@ -9,9 +9,9 @@ namespace capz {
 
 std::vector<uint8_t> IntEncoder::finish() {
   RangeEncoder::Core& rc = cur_.rc_;
-  for (int i = 0; i < 5; ++i) rc.shift_low(&rc_out_);
+  rc.flush(&rc_out_);
   BitWriter::Core& bits = cur_.bits_;
-  if (bits.bits > 0) bits_out_.push_back(static_cast<uint8_t>(bits.acc));
+  bits.flush(&bits_out_);
   ByteWriter w;
   w.varint(rc_out_.size());
   w.bytes(rc_out_);

@@ -90,8 +90,10 @@ class IntEncoder {
     void raw_bits(uint32_t v, int n) { bits_.put(v, n, bits_out_); }
     // For SymbolModel::encode.
     void encode(uint32_t start, uint32_t freq) { rc_.encode(start, freq, rc_out_); }
-    // Bytes output so far: finish() only adds to them (a lower bound of the block's size).
-    size_t bytes_out() const { return rc_out_->size() + bits_out_->size(); }
+    // The block's size if it were finished now, less its varint: finish() would output this
+    // many bytes after the varint, and coding more never lowers it (a lower bound of the
+    // finished block's size).
+    size_t bytes_out() const { return rc_.n + 4 + bits_.n + (bits_.bits > 0); }
 
    private:
     friend class IntEncoder;

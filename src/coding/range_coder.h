@@ -8,6 +8,7 @@
 // impossible interval throws Error(kCorrupt) naming `what`.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -29,39 +30,76 @@ constexpr uint32_t kTopValue = 1u << 24;
 // to it.
 [[noreturn]] void throw_corrupt(const std::string& what, const char* msg);
 
+namespace detail {
+// Stores the 4 (or 8) bytes of v, most (or least) significant first, at p.
+inline void store_be32(uint8_t* p, uint32_t v) {
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  v = __builtin_bswap32(v);
+  std::memcpy(p, &v, 4);
+#else
+  for (int i = 0; i < 4; ++i) p[i] = static_cast<uint8_t>(v >> (24 - 8 * i));
+#endif
+}
+inline void store_le64(uint8_t* p, uint64_t v) {
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  std::memcpy(p, &v, 8);
+#else
+  for (int i = 0; i < 8; ++i) p[i] = static_cast<uint8_t>(v >> (8 * i));
+#endif
+}
+// Makes out->size() at least n + room (zero bytes added; at least doubling), for the coders'
+// stores of a whole word past their n final bytes. Out of line: the hot paths only branch to it.
+__attribute__((noinline)) inline void grow_output(std::vector<uint8_t>* out, size_t n,
+                                                  size_t room) {
+  out->resize(std::max(n + room, std::max<size_t>(2 * out->size(), 256)));
+}
+}  // namespace detail
+
 class RangeEncoder {
  public:
   // The coder's moving state, trivially copyable and apart from the output bytes (passed in), so
   // a hot loop can work on a copy the compiler keeps in registers (IntEncoder::Cursor): when it
   // lives in memory, every byte or int stored in the loop may alias it and forces reloads.
+  //
+  // The block's bytes are the digits of a base-256 number whose low 4 digits are `low`: the
+  // first n bytes of *out are the digits above them (the first always 0). A carry out of low
+  // is added to those bytes at once (rare), and normalisation writes low's 4 digits past them
+  // and counts k = clz(range) / 8 of them as final: no branch on the data (the decoder's
+  // consume computes its k the same way). The bytes are those of the classic cache-and-pending
+  // coder (LZMA's), which held a carry back instead.
   struct Core {
-    uint64_t low = 0;
+    uint64_t low = 0;  // < 2^32 between calls
     uint32_t range = 0xFFFFFFFFu;
-    uint8_t cache = 0;
-    uint64_t pending = 1;
+    size_t n = 1;  // bytes of *out that are final; out->size() may be larger (n + 4 or more)
 
     // Codes [start, start + freq) of kTotal. Precondition: freq >= 1, start + freq <= kTotal.
     void encode(uint32_t start, uint32_t freq, std::vector<uint8_t>* out) {
-      uint32_t r = range >> kTotalBits;
+      const uint32_t r = range >> kTotalBits;
       low += static_cast<uint64_t>(r) * start;
       range = r * freq;
-      while (range < kTopValue) {
-        range <<= 8;
-        shift_low(out);
-      }
+      if (__builtin_expect(out->size() < n + 4, 0)) detail::grow_output(out, n, 4);
+      if (__builtin_expect(static_cast<int>(low >> 32), 0)) carry(out);
+      // range >= r >= 2^9 here: k is 0, 1 or 2.
+      const int k = __builtin_clz(range) >> 3;
+      detail::store_be32(out->data() + n, static_cast<uint32_t>(low));
+      n += static_cast<size_t>(k);
+      low = static_cast<uint32_t>(low << (8 * k));
+      range <<= 8 * k;
     }
-    void shift_low(std::vector<uint8_t>* out) {
-      if (static_cast<uint32_t>(low) < 0xFF000000u || (low >> 32) != 0) {
-        uint8_t carry = static_cast<uint8_t>(low >> 32);
-        uint8_t temp = cache;
-        do {
-          out->push_back(static_cast<uint8_t>(temp + carry));
-          temp = 0xFF;
-        } while (--pending != 0);
-        cache = static_cast<uint8_t>(static_cast<uint32_t>(low) >> 24);
-      }
-      ++pending;
-      low = static_cast<uint32_t>(static_cast<uint32_t>(low) << 8);
+    // Adds the carry out of low to the final bytes (the first, 0, never overflows: the coded
+    // interval stays below 2^32 at the block's scale).
+    void carry(std::vector<uint8_t>* out) {
+      uint8_t* p = out->data() + n - 1;
+      while (*p == 0xFF) *p-- = 0;
+      ++*p;
+      low = static_cast<uint32_t>(low);
+    }
+    // The block's last 4 bytes: *out is then exactly the block.
+    void flush(std::vector<uint8_t>* out) {
+      if (out->size() < n + 4) detail::grow_output(out, n, 4);
+      detail::store_be32(out->data() + n, static_cast<uint32_t>(low));
+      n += 4;
+      out->resize(n);
     }
   };
 
@@ -69,13 +107,14 @@ class RangeEncoder {
   void encode(uint32_t start, uint32_t freq) { core_.encode(start, freq, &out_); }
   // Flushes and returns the block; the encoder is reset afterwards.
   std::vector<uint8_t> finish() {
-    for (int i = 0; i < 5; ++i) core_.shift_low(&out_);
+    core_.flush(&out_);
     std::vector<uint8_t> out;
     out.swap(out_);
     core_ = Core();
     return out;
   }
-  size_t bytes_so_far() const { return out_.size() + core_.pending + 4; }
+  // The block's size if it were finished now.
+  size_t bytes_so_far() const { return core_.n + 4; }
 
   const Core& core() const { return core_; }
   void set_core(const Core& c) { core_ = c; }
@@ -163,25 +202,37 @@ class BitWriter {
   void put(uint32_t v, int n) { core_.put(v, n, &out_); }
   // Pads the last byte with zero bits and returns the bytes; the writer is reset.
   std::vector<uint8_t> finish() {
-    if (core_.bits > 0) out_.push_back(static_cast<uint8_t>(core_.acc));
+    core_.flush(&out_);
     core_ = Core();
     std::vector<uint8_t> out;
     out.swap(out_);
     return out;
   }
 
-  // The moving state (see RangeEncoder::Core).
+  // The moving state (see RangeEncoder::Core). The first n bytes of *out are final, acc holds
+  // the `bits` (< 8) after them; put stores acc's 8 bytes past them and counts its whole bytes
+  // as final (no loop, no branch on the data).
   struct Core {
     uint64_t acc = 0;
     int bits = 0;
-    void put(uint32_t v, int n, std::vector<uint8_t>* out) {
-      acc |= static_cast<uint64_t>(v) << bits;
-      bits += n;
-      while (bits >= 8) {
-        out->push_back(static_cast<uint8_t>(acc));
-        acc >>= 8;
-        bits -= 8;
-      }
+    size_t n = 0;
+    void put(uint32_t v, int nv, std::vector<uint8_t>* out) {
+      acc |= static_cast<uint64_t>(v) << bits;  // below 2^40
+      bits += nv;
+      if (__builtin_expect(out->size() < n + 8, 0)) detail::grow_output(out, n, 8);
+      detail::store_le64(out->data() + n, acc);
+      const int k = bits >> 3;
+      n += static_cast<size_t>(k);
+      acc >>= 8 * k;
+      bits &= 7;
+    }
+    // The last byte padded with zero bits: *out is then exactly the bytes.
+    void flush(std::vector<uint8_t>* out) {
+      out->resize(n);
+      if (bits > 0) out->push_back(static_cast<uint8_t>(acc));
+      n = out->size();
+      acc = 0;
+      bits = 0;
     }
   };
   const Core& core() const { return core_; }

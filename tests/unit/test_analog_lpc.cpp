@@ -297,6 +297,54 @@ TEST(AnalogLpc, GivenVariedBlocksWhenBlockPredictorChosenThenResidualsMatchIt) {
   EXPECT_GT(seen[2], 0);
 }
 
+// The tally of the chosen residuals' tokens, kept across blocks and corrected where residuals
+// are replaced (the window's head, as the encoder's LPC stage does), gives token_cost_bits of
+// the final residuals, the same double: the encoder uses it in place of a pass. Kind 5 (noise
+// around a level) takes 9.1's constant predictor, whose residuals are tallied too.
+TEST(AnalogLpc, GivenBlocksWithTallyWhenResidualsReplacedThenTokenCostBitsExactly) {
+  std::mt19937 rng(31);
+  std::normal_distribution<double> e(0, 1);
+  int picks[3] = {0, 0, 0}, constants = 0;
+  for (int kind = 0; kind < 6; ++kind) {
+    const size_t n = 4096 * 2 + 777, block = 4096;
+    std::vector<int32_t> x(n);
+    double v = 0, w = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const int k = kind != 4 ? kind : static_cast<int>(i / block);  // kind 4: a mix by block
+      if (k == 0) v = 1000 * e(rng);
+      if (k == 1 && i % 7 == 0) v += 500 * e(rng);
+      if (k == 2) v += (w += 3 * e(rng));
+      if (k == 3) v = 0.9 * v + 100 * e(rng);
+      if (k == 5) v = 5000 + 100 * e(rng);
+      v = std::max<double>(-(1 << 28), std::min<double>(1 << 28, v));
+      x[i] = static_cast<int32_t>(std::lround(v));
+    }
+    std::vector<double> xd(kMaxLpcOrder + n, 0.0);
+    std::copy(x.begin(), x.end(), xd.begin() + kMaxLpcOrder);
+    std::vector<int32_t> r(n);
+    TokenTally tally;
+    for (size_t b0 = 0; b0 < n; b0 += block) {
+      const size_t b1 = std::min(n, b0 + block);
+      const LpcParams p = choose_block_predictor(x.data() + b0, xd.data() + kMaxLpcOrder + b0,
+                                                 b1 - b0, r.data() + b0, true, &tally);
+      ++picks[std::min(p.order, 2)];
+      constants += p.constant != 0;
+      ASSERT_EQ(tally.bits(b1), token_cost_bits(r.data(), b1)) << kind << " block at " << b0;
+    }
+    // The first 32 residuals replaced (by x[i], say), one by one.
+    for (size_t i = 0; i < 32; ++i) {
+      tally.remove(r[i]);
+      r[i] = x[i];
+      tally.add(r[i]);
+    }
+    EXPECT_EQ(tally.bits(n), token_cost_bits(r.data(), n)) << kind;
+  }
+  EXPECT_GT(picks[0], 0);
+  EXPECT_GT(picks[1], 0);
+  EXPECT_GT(picks[2], 0);
+  EXPECT_GT(constants, 0);
+}
+
 TEST(AnalogLpc, GivenWhiteNoiseWhenOrderChosenThenNoPrediction) {
   std::mt19937 rng(2);
   std::vector<int32_t> x(4096);

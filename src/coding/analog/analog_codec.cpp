@@ -69,36 +69,39 @@ analog::LpcParams get_lpc(IntDecoder::Cursor* dec, bool constant) {
   return p;
 }
 
-// The samples as doubles after kMaxLpcOrder zeros (analog::LpcKernel reads before the first).
-std::vector<double> padded_doubles(const std::vector<int32_t>& x) {
-  std::vector<double> xd(x.size() + analog::kMaxLpcOrder, 0.0);
-  for (size_t i = 0; i < x.size(); ++i) xd[analog::kMaxLpcOrder + i] = x[i];
-  return xd;
+// A per-thread buffer of at least n values, not zeroed (the callers write what they read): the
+// encoder's temporaries of a channel, reused from channel to channel and window to window
+// instead of allocated (and zeroed by std::vector) for each candidate.
+template <typename T, int kSlot>
+T* scratch(size_t n) {
+  thread_local std::vector<T> buf;
+  if (buf.size() < n) buf.resize(n + n / 4);
+  return buf.data();
 }
 
 // The LPC stage of a whole channel: per-block parameters and the residuals x - p, where the
 // first min(order, ...) samples of the window are predicted by the previous sample (0 for the
-// first) and the others by the block's LPC.
+// first) and the others by the block's LPC. *tally: the residuals' tokens (token_cost_bits).
 void lpc_stage(const std::vector<int32_t>& x, std::vector<analog::LpcParams>* params,
-               std::vector<int32_t>* r, bool constant) {
+               std::vector<int32_t>* r, bool constant, analog::TokenTally* tally) {
   r->resize(x.size());
-  const std::vector<double> xd = padded_doubles(x);
-  const double* xs = xd.data() + analog::kMaxLpcOrder;
+  // The samples as doubles after kMaxLpcOrder zeros (analog::LpcKernel reads before the first).
+  double* xd = scratch<double, 0>(x.size() + analog::kMaxLpcOrder);
+  std::fill(xd, xd + analog::kMaxLpcOrder, 0.0);
+  double* xs = xd + analog::kMaxLpcOrder;
+  for (size_t i = 0; i < x.size(); ++i) xs[i] = x[i];
   for (size_t b0 = 0; b0 < x.size(); b0 += kBlockRows) {
     const size_t b1 = std::min(x.size(), b0 + kBlockRows);
     // The block's residuals by its predictor, then the head's by the previous sample.
-    params->push_back(
-        analog::choose_block_predictor(x.data() + b0, xs + b0, b1 - b0, r->data() + b0, constant));
+    params->push_back(analog::choose_block_predictor(x.data() + b0, xs + b0, b1 - b0,
+                                                     r->data() + b0, constant, tally));
     const size_t head = std::min(b1, std::max(b0, static_cast<size_t>(params->back().order)));
-    for (size_t i = b0; i < head; ++i) (*r)[i] = static_cast<int32_t>(x[i] - (i ? x[i - 1] : 0));
+    for (size_t i = b0; i < head; ++i) {
+      tally->remove((*r)[i]);
+      (*r)[i] = static_cast<int32_t>(x[i] - (i ? x[i - 1] : 0));
+      tally->add((*r)[i]);
+    }
   }
-}
-
-// The cascade stage over residuals r into *out; returns the summed bit lengths before and after.
-std::pair<uint64_t, uint64_t> cascade_stage(const std::vector<int32_t>& r,
-                                            std::vector<int32_t>* out) {
-  out->resize(r.size());
-  return analog::sign_lms_run(r.data(), r.size(), out->data());
 }
 
 // The LPC residuals of the channels before c that can serve as references (A.3.2).
@@ -136,25 +139,29 @@ struct IntPlan {
 void plan_int_channel(const std::vector<int32_t>& x,
                       const std::vector<const std::vector<int32_t>*>& refs,
                       const std::vector<double>& ref_energy, bool constant, IntPlan* plan) {
-  lpc_stage(x, &plan->params, &plan->r1, constant);
+  analog::TokenTally r1_tokens;
+  lpc_stage(x, &plan->params, &plan->r1, constant, &r1_tokens);
   const std::vector<int32_t>& r1 = plan->r1;
+  const size_t n = r1.size();
   analog::CrossParams cross = analog::choose_cross(r1, refs, ref_energy);
-  std::vector<int32_t> with_ref;
+  // The other three pipelines' residuals in per-thread buffers; the one kept is copied out.
+  int32_t* with_ref = scratch<int32_t, 1>(n);
+  int32_t* plain_lms = scratch<int32_t, 2>(n);
+  int32_t* ref_lms = scratch<int32_t, 3>(n);
   if (cross.distance) {
     const std::vector<int32_t>& ref = *refs[cross.distance - 1];
-    with_ref.resize(r1.size());
-    for (size_t i = 0; i < r1.size(); ++i)
+    for (size_t i = 0; i < n; ++i)
       with_ref[i] = static_cast<int32_t>(r1[i] - analog::cross_predict(cross.beta, ref[i]));
   }
-  std::vector<int32_t> plain_lms, ref_lms;
-  const auto plain_cost = cascade_stage(r1, &plain_lms);
-  const auto ref_cost = cross.distance ? cascade_stage(with_ref, &ref_lms) : plain_cost;
+  const auto plain_cost = analog::sign_lms_run(r1.data(), n, plain_lms);
+  const auto ref_cost = cross.distance ? analog::sign_lms_run(with_ref, n, ref_lms) : plain_cost;
   const uint64_t costs[4] = {plain_cost.first, plain_cost.second, ref_cost.first, ref_cost.second};
-  const std::vector<int32_t>* res[4] = {&r1, &plain_lms, &with_ref, &ref_lms};
+  const int32_t* res[4] = {r1.data(), plain_lms, with_ref, ref_lms};
   int best = 0;
   double best_tok = 0;
   for (int k = 0; k < (cross.distance ? 4 : 2); ++k) {
-    const double tok = analog::token_cost_bits(res[k]->data(), res[k]->size());
+    // The LPC residuals' histogram came with the predictors' choice (the same double).
+    const double tok = k == 0 ? r1_tokens.bits(n) : analog::token_cost_bits(res[k], n);
     if (k == 0 || tok < best_tok) {
       best = k;
       best_tok = tok;
@@ -164,14 +171,7 @@ void plan_int_channel(const std::vector<int32_t>& x,
   plan->cascade = best & 1;
   if (best < 2) cross = analog::CrossParams();
   plan->cross = cross;
-  if (best == 0)
-    plan->r = r1;
-  else if (best == 1)
-    plan->r = std::move(plain_lms);
-  else if (best == 2)
-    plan->r = std::move(with_ref);
-  else
-    plan->r = std::move(ref_lms);
+  plan->r.assign(res[best], res[best] + n);
 }
 
 // Integer channel: the cascade flag, the reference distance (and beta), then per block the LPC

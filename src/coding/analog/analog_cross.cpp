@@ -160,7 +160,10 @@ CrossParams choose_cross(const std::vector<int32_t>& r1,
   // t = 2 r1 + 1/2 for residual_bits; r1 all zero (no energy) takes no reference.
   // Bits saved = sum bit_length(r1) - sum bit_length(r1 - prediction), the first sum shared:
   // residual_bits's with p = 0, |t| = u + 1/2 (two samples a step).
-  std::vector<double> t(n);
+  // t in a per-thread buffer (every entry is written below), not a vector zeroed per channel.
+  thread_local std::vector<double> tbuf;
+  if (tbuf.size() < n) tbuf.resize(n + n / 4);
+  double* t = tbuf.data();
   typedef int32_t Pair __attribute__((vector_size(8)));
   const Lanes two = {2.0, 2.0}, half = {0.5, 0.5};
   const Ints mag = {~(uint64_t{1} << 63), ~(uint64_t{1} << 63)};
@@ -172,7 +175,7 @@ CrossParams choose_cross(const std::vector<int32_t>& r1,
     std::memcpy(&q, r1.data() + i0, sizeof q);
     any |= q;
     const Lanes ti = two * __builtin_convertvector(q, Lanes) + half;
-    std::memcpy(t.data() + i0, &ti, sizeof ti);
+    std::memcpy(t + i0, &ti, sizeof ti);
     Ints tb;
     std::memcpy(&tb, &ti, sizeof ti);
     acc += (tb & mag) >> 52;
@@ -223,7 +226,7 @@ CrossParams choose_cross(const std::vector<int32_t>& r1,
     // sqrt(err) (err the sum of ref^2, computed within a relative 2^-30 of it here).
     const bool unclamped =
         std::fabs(beta) * (std::sqrt(err) * 1.001 + 1) + 4096 <= 1099511627776.0;  // 2^40
-    const int64_t after = unclamped ? residual_bits(t.data(), r1.data(), ref->data(), n, q)
+    const int64_t after = unclamped ? residual_bits(t, r1.data(), ref->data(), n, q)
                                     : residual_bits_clamped(r1.data(), ref->data(), n, q);
     const int64_t saved = base - after;
     const double bits = static_cast<double>(saved) - 20;

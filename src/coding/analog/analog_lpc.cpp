@@ -109,18 +109,23 @@ std::vector<double> autocorrelation(const int32_t* x, size_t n, int max_lag) {
   // pass before as a ninth lane pair.
   constexpr int kGroup = 16;
   const std::vector<double>& g = tukey(n);
-  std::vector<double> wr(n + 2 * kGroup + 4, 0.0);  // zeros after: kGroup + 2, or 35 (AVX2)
+  // A per-thread buffer, not allocated and zeroed per block: every entry read is written here.
+  thread_local std::vector<double> wbuf;
+  const size_t m = n + 2 * kGroup + 4;  // zeros after: kGroup + 2, or 35 (AVX2)
+  if (wbuf.size() < m) wbuf.resize(m + m / 4);
+  double* wr = wbuf.data();
   for (size_t i = 0; i < n; ++i) wr[n - 1 - i] = g[i] * x[i];
+  std::fill(wr + n, wr + m, 0.0);
   std::vector<double> r(static_cast<size_t>(max_lag) + 1, 0.0);
 #ifdef CAPZ_ANALOG_AVX2
   if (max_lag == 32 && avx2_enabled()) {
-    autocorrelation33_avx2(wr.data(), n, r.data());
+    autocorrelation33_avx2(wr, n, r.data());
     return r;
   }
 #endif
   for (int k0 = 0; k0 <= max_lag; k0 += kGroup) {
     int lanes = std::min(kGroup, max_lag + 1 - k0);
-    const double* base = wr.data() + n - 1 + k0;
+    const double* base = wr + n - 1 + k0;
     if (lanes == 1) {
       double a = 0;
       for (size_t i = static_cast<size_t>(k0); i < n; ++i) a += wr[n - 1 - i] * *(base - i);
@@ -275,21 +280,14 @@ struct TokenCounts {
   static constexpr int kBins = 66;
   uint32_t c[2][kBins] = {};
   void add(int lane, int64_t bin) { ++c[lane][bin]; }
-  // Order-0 entropy of the tokens of n values plus their raw bits (token / 2 - 1 for tokens
-  // >= 4), the sum over tokens in increasing order.
+  // Order-0 entropy of the tokens of n values plus their raw bits (TokenTally::bits).
   double bits(size_t n) const {
-    uint64_t raw = 0;
-    uint32_t count[64];
-    for (int t = 0; t < 64; ++t) {
-      const int bin = t == 0 ? 0 : t + 2;
-      count[t] = c[0][bin] + c[1][bin];
-      if (t >= 4) raw += static_cast<uint64_t>(count[t]) * static_cast<uint64_t>(t / 2 - 1);
-    }
-    double total = static_cast<double>(raw);
-    const double dn = static_cast<double>(n);
-    for (int t = 0; t < 64; ++t)
-      if (count[t]) total -= count[t] * std::log2(count[t] / dn);
-    return total;
+    TokenTally t;
+    add_to(&t);
+    return t.bits(n);
+  }
+  void add_to(TokenTally* t) const {
+    for (int b = 0; b < kBins; ++b) t->bins[b] += c[0][b] + c[1][b];
   }
 };
 
@@ -316,6 +314,28 @@ inline int64_t second_prediction(int64_t x1, int64_t x2) {
 
 }  // namespace
 
+// Order-0 entropy of the tokens of n values plus their raw bits (token / 2 - 1 for tokens
+// >= 4), the sum over tokens in increasing order.
+double TokenTally::bits(size_t n) const {
+  uint64_t raw = 0;
+  uint32_t count[64];
+  for (int t = 0; t < 64; ++t) {
+    count[t] = bins[t == 0 ? 0 : t + 2];
+    if (t >= 4) raw += static_cast<uint64_t>(count[t]) * static_cast<uint64_t>(t / 2 - 1);
+  }
+  double total = static_cast<double>(raw);
+  const double dn = static_cast<double>(n);
+  for (int t = 0; t < 64; ++t)
+    if (count[t]) total -= count[t] * std::log2(count[t] / dn);
+  return total;
+}
+void TokenTally::add(int32_t v) {
+  ++bins[token_bins(v)[0]];
+}
+void TokenTally::remove(int32_t v) {
+  --bins[token_bins(v)[0]];
+}
+
 double token_cost_bits(const int32_t* r, size_t n) {
   // Two samples a step, even and odd ones in their own copy of the histogram (bits() adds the
   // copies' counts: the same integers).
@@ -334,7 +354,7 @@ double token_cost_bits(const int32_t* r, size_t n) {
 }
 
 LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, int32_t* r,
-                                 bool allow_constant) {
+                                 bool allow_constant, TokenTally* tally) {
   // choose_lpc's predictor, its residuals into r. It is weighed against the fixed predictors
   // with the cost of its full-precision coefficients: the coarser ones choose_lpc may pick
   // lower its price but not its advantage over them (priced at their own cost, they took
@@ -400,9 +420,12 @@ LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, i
         token_cost_bits(d.data(), n) + 2 + 2 * std::log2(1.0 + std::abs(level.constant));
     if (level.constant != 0 && bits < best_bits) {
       std::copy(d.begin(), d.end(), r);
+      if (tally)
+        for (size_t i = 0; i < n; ++i) tally->add(d[i]);
       return level;
     }
   }
+  if (tally) counts[1 + pick].add_to(tally);  // pick = -1: choose_lpc's
   if (pick < 0) return best;
   // The fixed predictor's residuals (LpcKernel of fixed[pick] predicts exactly these).
   int64_t x1 = static_cast<int64_t>(xd[-1]), x2 = static_cast<int64_t>(xd[-2]);

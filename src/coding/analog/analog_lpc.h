@@ -64,14 +64,26 @@ double coefficient_bits(const LpcParams& p);
 // (coding/entropy.h token_of of the zig-zag) plus the raw bits below the tokens.
 double token_cost_bits(const int32_t* r, size_t n);
 
+// The token histogram token_cost_bits counts (bins[token + 2]; the value 0 in bins[0]), kept
+// across blocks: bits(n) is token_cost_bits of the n residuals counted, the same double.
+struct TokenTally {
+  static constexpr int kBins = 66;
+  uint32_t bins[kBins] = {};
+  // One residual in or out (|v| < 2^31).
+  void add(int32_t v);
+  void remove(int32_t v);
+  double bits(size_t n) const;
+};
+
 // Chooses the block's predictor by the estimated coded cost (token_cost_bits of its residuals,
 // plus coefficient_bits) among choose_lpc's, the first and second differences as LPC of order
 // 1 and 2, and none, and writes the chosen one's residuals
 // x[i] - p[i] to r[0..n). x: the block's n samples; xd: the same samples as doubles with
 // kMaxLpcOrder samples (or zeros) readable before xd[0]. Encoder only: any LpcParams decodes.
 // With allow_constant (a 9.1 stream), a constant predictor (the block's median) is a candidate too.
+// With a tally, the chosen residuals' tokens are added to it (counted already for the choice).
 LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, int32_t* r,
-                                 bool allow_constant = false);
+                                 bool allow_constant = false, TokenTally* tally = nullptr);
 
 // Prediction of x[i] from x[i - order .. i) (the caller guarantees i >= order).
 inline int64_t lpc_predict(const LpcParams& p, const int32_t* xi) {

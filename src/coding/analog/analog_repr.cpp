@@ -118,22 +118,51 @@ void sort_unique(std::vector<uint64_t>* keys, std::vector<int32_t>* ranks) {
     uint64_t* b = a + n;
     for (size_t i = 0; i < n; ++i) a[i] = ((((*sk)[i] >> lo) & vmask) << ibits) | i;
     const int digit = n >= 2048 ? 11 : 8;
-    std::vector<size_t> count((size_t{1} << digit) + 1);
+    const size_t nd = size_t{1} << digit;
+    const uint64_t dmask = nd - 1;
+    // Each pass counts and moves the first half of a (c0) and the rest (c1) side by side: two
+    // chains of counter increments, not one through memory whenever neighbouring keys share a
+    // digit (as a slowly varying signal's high digits do). In each bucket the first half's keys
+    // go before the rest's, each half in its order: the same stable pass as one sweep.
+    std::vector<uint32_t> count(2 * nd);  // n is a window channel's length, far below 2^32
+    uint32_t* c0 = count.data();
+    uint32_t* c1 = c0 + nd;
+    const size_t h = n / 2;
     for (int sh = ibits; sh < ibits + width; sh += digit) {
-      const uint64_t dmask = (uint64_t{1} << digit) - 1;
       std::fill(count.begin(), count.end(), 0);
-      for (size_t i = 0; i < n; ++i) ++count[((a[i] >> sh) & dmask) + 1];
-      for (size_t k = 0; k + 1 < count.size(); ++k) count[k + 1] += count[k];
-      for (size_t i = 0; i < n; ++i) b[count[(a[i] >> sh) & dmask]++] = a[i];
+      for (size_t i = 0; i < h; ++i) {
+        ++c0[(a[i] >> sh) & dmask];
+        ++c1[(a[h + i] >> sh) & dmask];
+      }
+      if (n & 1) ++c1[(a[n - 1] >> sh) & dmask];
+      const size_t d0 = (a[0] >> sh) & dmask;
+      if (c0[d0] + c1[d0] == n) continue;  // one digit in every key: the pass moves nothing
+      for (size_t d = 0, at = 0; d < nd; ++d) {
+        const uint32_t k0 = c0[d], k1 = c1[d];
+        c0[d] = static_cast<uint32_t>(at);
+        c1[d] = static_cast<uint32_t>(at + k0);
+        at += k0 + k1;
+      }
+      for (size_t i = 0; i < h; ++i) {
+        const uint64_t x = a[i], y = a[h + i];
+        b[c0[(x >> sh) & dmask]++] = x;
+        b[c1[(y >> sh) & dmask]++] = y;
+      }
+      if (n & 1) b[c1[(a[n - 1] >> sh) & dmask]++] = a[n - 1];
       std::swap(a, b);
     }
-    std::vector<uint64_t> orig;
-    orig.swap(*keys);
+    // The distinct keys into b (free now) in order, a new one where the varying bits change.
+    size_t m = 0;
+    uint64_t prev = n ? ~(a[0] >> ibits) : 0;
     for (size_t j = 0; j < n; ++j) {
+      const uint64_t v = a[j] >> ibits;
+      m += v != prev;
+      prev = v;
       const size_t i = static_cast<size_t>(a[j] & imask);
-      if (keys->empty() || keys->back() != orig[i]) keys->push_back(orig[i]);
-      (*ranks)[i] = static_cast<int32_t>(keys->size() - 1);
+      b[m - 1] = (*keys)[i];
+      (*ranks)[i] = static_cast<int32_t>(m - 1);
     }
+    keys->assign(b, b + m);
     return;
   }
   std::vector<uint64_t> a = *keys, b(n);

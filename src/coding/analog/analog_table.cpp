@@ -42,8 +42,10 @@ std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32, doubl
   refine_fit(t, &step, &offset);
   if (!(step > 0) || !std::isfinite(step)) return {};
   IntEncoder enc(2);
+  // round_half_away of each quotient, mostly without a division (the same results).
+  const QuotientRounder round_quotient(step);
   for (size_t i = 1; i < t.size(); ++i) {
-    const double q = round_half_away((t[i] - t[i - 1]) / step);  // std::round's result
+    const double q = round_quotient(t[i] - t[i - 1]);  // std::round's result
     const uint32_t m0 = q > 0 && q < 1e9 ? static_cast<uint32_t>(q) : 0;
     // The nearest number of steps, or one either side when that leaves a smaller error in the
     // ordered space: next to zero, where float32 patterns are dense, the nearest can land on the
