@@ -408,13 +408,16 @@ LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, i
     }
   }
   if (allow_constant && n > 0) {
-    // The block's median as a constant prediction: residuals of one sign no longer waste the
+    // The block's mean, rounded, as a constant prediction (the median codes 0.006% smaller on the
+    // shared takes and costs a selection a block): residuals of one sign no longer waste the
     // zig-zag's sign bit on a level far from 0 (noise around an offset, rank indices).
     thread_local std::vector<int32_t> d;
-    d.assign(x, x + n);
-    std::nth_element(d.begin(), d.begin() + static_cast<long>(n / 2), d.end());
+    d.resize(n);
+    int64_t sum = 0;
+    for (size_t i = 0; i < n; ++i) sum += x[i];
     LpcParams level;
-    level.constant = d[n / 2];
+    level.constant =
+        static_cast<int32_t>(std::llround(static_cast<double>(sum) / static_cast<double>(n)));
     for (size_t i = 0; i < n; ++i) d[i] = x[i] - level.constant;
     const double bits =
         token_cost_bits(d.data(), n) + 2 + 2 * std::log2(1.0 + std::abs(level.constant));

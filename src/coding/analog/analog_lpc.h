@@ -80,8 +80,9 @@ struct TokenTally {
 // 1 and 2, and none, and writes the chosen one's residuals
 // x[i] - p[i] to r[0..n). x: the block's n samples; xd: the same samples as doubles with
 // kMaxLpcOrder samples (or zeros) readable before xd[0]. Encoder only: any LpcParams decodes.
-// With allow_constant (a 9.1 stream), a constant predictor (the block's median) is a candidate too.
-// With a tally, the chosen residuals' tokens are added to it (counted already for the choice).
+// With allow_constant (a 9.1 stream), a constant predictor (the block's mean, rounded) is a
+// candidate too. With a tally, the chosen residuals' tokens are added to it (counted already for
+// the choice).
 LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, int32_t* r,
                                  bool allow_constant = false, TokenTally* tally = nullptr);
 
