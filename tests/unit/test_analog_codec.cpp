@@ -10,7 +10,9 @@
 #include "capz/error.h"
 #include "capz/io.h"
 #include "coding/analog/analog_codec.h"
+#include "coding/analog/analog_entropy.h"
 #include "coding/analog/analog_float.h"
+#include "coding/analog/analog_lpc.h"
 #include "coding/analog/analog_pick.h"
 #include "coding/analog/analog_repr.h"
 #include "coding/analog/analog_round.h"
@@ -95,6 +97,53 @@ TEST(AnalogCodec, GivenNoiseAroundALevelWhen91ThenConstantPredictorSmallerAndExa
   decode_analog_window(w90.data(), w90.size(), n, 1, back.data(), "9.0 window", 0, true, true,
                        true);
   for (size_t i = 0; i < n; ++i) ASSERT_EQ(bits(back[i]), bits(v[i])) << i;
+}
+
+// A 9.1 window of one integer channel of n rows whose entropy block is replaced by one that
+// codes no cascade, no reference and a constant predictor c, then n zero residuals: decoded.
+void decode_with_constant(int64_t c, size_t n, std::vector<double>* back) {
+  std::vector<double> v(n, 1.0);
+  for (size_t i = 0; i < n; ++i) v[i] = 9000 + static_cast<double>(i % 7);
+  const std::vector<uint8_t> w = encode_analog_window(v.data(), n, 1, {}, 0, true, true, true);
+  size_t at = 1, head = 0;
+  for (int shift = 0;; shift += 7) {  // the header's size, a varint
+    head |= static_cast<size_t>(w[at] & 0x7F) << shift;
+    if (!(w[at++] & 0x80)) break;
+  }
+  std::vector<uint8_t> crafted(w.begin(), w.begin() + static_cast<long>(at + head));
+  IntEncoder enc(analog::kAnalogContexts);
+  IntEncoder::Cursor cur = enc.cursor();
+  cur.put(0, analog::kParamContext);  // no cascade
+  cur.put(0, analog::kParamContext);  // no reference
+  cur.put(analog::kLpcConstantOrder, analog::kParamContext);
+  cur.put_signed(static_cast<int32_t>(c), analog::kCoefContext);
+  analog::Magnitude mag;
+  for (size_t i = 0; i < n; ++i) analog::put_residual(&cur, &mag, 0);
+  enc.commit(cur);
+  const std::vector<uint8_t> block = enc.finish();
+  crafted.insert(crafted.end(), block.begin(), block.end());
+  back->assign(n, 0.0);
+  decode_analog_window(crafted.data(), crafted.size(), n, 1, back->data(), "crafted window", 0,
+                       true, true, true);
+}
+
+TEST(AnalogCodec, GivenConstantPredictorsWhenDecodedThenTheConstantOrCorruptBeyond2To28) {
+  std::vector<double> back;
+  decode_with_constant(-(int64_t{1} << 28), 100, &back);
+  for (double x : back) ASSERT_EQ(x, -268435456.0);
+  decode_with_constant(123, 100, &back);
+  for (double x : back) ASSERT_EQ(x, 123.0);
+  for (const int64_t c : {(int64_t{1} << 28) + 1, -(int64_t{1} << 28) - 1}) {
+    try {
+      decode_with_constant(c, 100, &back);
+      ADD_FAILURE() << "constant " << c << " decoded";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
+      EXPECT_NE(std::string(e.what()).find("constant prediction out of range"), std::string::npos)
+          << e.what();
+      EXPECT_NE(std::string(e.what()).find("crafted window"), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(AnalogCodec, GivenUnsignedCountsWhenCodedThenExact) {
