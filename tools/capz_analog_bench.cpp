@@ -88,9 +88,10 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 // repeat_S: the samples per point frame when coding as 7.x (window a multiple of it), else 0.
-// Code as a 9.x stream does (FORMAT.md 8.2: rank tables against a lattice; 9.1: the float
-// predictors; 9.2: interpolated samples), as capz writes every take with analog channels;
-// --before9 codes as 8.x streams, --before8 as the streams before 8.0.
+// Code as a 9.1 stream does (FORMAT.md 8.2: rank tables against a lattice; 9.1: the float
+// predictors; 9.2: interpolated samples; 9.3: constant predictors), as capz writes every take
+// with analog channels; --before91 codes as 9.0 streams, --before9 as 8.x streams, --before8 as
+// the streams before 8.0.
 bool g_format8 = true, g_format9 = true, g_format91 = true;
 
 Result run_ours(const Analog& a, const AnalogHints& h, size_t window, size_t repeat_S) {

@@ -15,6 +15,10 @@ struct Version {
 struct FormatVersion {
   int major = 0, minor = 0;
 };
+// True when a is b or a later version.
+constexpr bool operator>=(FormatVersion a, FormatVersion b) {
+  return a.major != b.major ? a.major > b.major : a.minor >= b.minor;
+}
 
 // The version of the headers in use.
 constexpr Version kVersion{CAPZ_VERSION_MAJOR, CAPZ_VERSION_MINOR, CAPZ_VERSION_PATCH};

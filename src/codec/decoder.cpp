@@ -226,7 +226,7 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
       decode_analog_window(ac.payload + ar.offset(), ac.size - ar.offset(), fn * S,
                            static_cast<int>(C), b.analog.data(), awhat, ctx.major >= 7 ? S : 0,
                            ctx.major >= 8, ctx.major >= 9,
-                           ctx.major > 9 || (ctx.major == 9 && ctx.minor >= 1));
+                           FormatVersion{ctx.major, ctx.minor} >= kAnalogConstantSince);
     else
       decode_analog(ac.payload + ar.offset(), ac.size - ar.offset(), fn * S, static_cast<int>(C),
                     b.analog.data(), awhat);

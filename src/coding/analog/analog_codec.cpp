@@ -10,6 +10,7 @@
 #include "coding/analog/analog_lpc.h"
 #include "coding/analog/analog_pick.h"
 #include "coding/analog/analog_repeat.h"
+#include "coding/analog/analog_scratch.h"
 #include "coding/bytes.h"
 namespace capz {
 namespace {
@@ -69,16 +70,6 @@ analog::LpcParams get_lpc(IntDecoder::Cursor* dec, bool constant) {
   return p;
 }
 
-// A per-thread buffer of at least n values, not zeroed (the callers write what they read): the
-// encoder's temporaries of a channel, reused from channel to channel and window to window
-// instead of allocated (and zeroed by std::vector) for each candidate.
-template <typename T, int kSlot>
-T* scratch(size_t n) {
-  thread_local std::vector<T> buf;
-  if (buf.size() < n) buf.resize(n + n / 4);
-  return buf.data();
-}
-
 // The LPC stage of a whole channel: per-block parameters and the residuals x - p, where the
 // first min(order, ...) samples of the window are predicted by the previous sample (0 for the
 // first) and the others by the block's LPC. *tally: the residuals' tokens (token_cost_bits).
@@ -86,7 +77,8 @@ void lpc_stage(const std::vector<int32_t>& x, std::vector<analog::LpcParams>* pa
                std::vector<int32_t>* r, bool constant, analog::TokenTally* tally) {
   r->resize(x.size());
   // The samples as doubles after kMaxLpcOrder zeros (analog::LpcKernel reads before the first).
-  double* xd = scratch<double, 0>(x.size() + analog::kMaxLpcOrder);
+  double* xd =
+      analog::scratch<double, analog::Scratch::kLpcSamples>(x.size() + analog::kMaxLpcOrder);
   std::fill(xd, xd + analog::kMaxLpcOrder, 0.0);
   double* xs = xd + analog::kMaxLpcOrder;
   for (size_t i = 0; i < x.size(); ++i) xs[i] = x[i];
@@ -145,9 +137,9 @@ void plan_int_channel(const std::vector<int32_t>& x,
   const size_t n = r1.size();
   analog::CrossParams cross = analog::choose_cross(r1, refs, ref_energy);
   // The other three pipelines' residuals in per-thread buffers; the one kept is copied out.
-  int32_t* with_ref = scratch<int32_t, 1>(n);
-  int32_t* plain_lms = scratch<int32_t, 2>(n);
-  int32_t* ref_lms = scratch<int32_t, 3>(n);
+  int32_t* with_ref = analog::scratch<int32_t, analog::Scratch::kWithReference>(n);
+  int32_t* plain_lms = analog::scratch<int32_t, analog::Scratch::kPlainCascade>(n);
+  int32_t* ref_lms = analog::scratch<int32_t, analog::Scratch::kRefCascade>(n);
   if (cross.distance) {
     const std::vector<int32_t>& ref = *refs[cross.distance - 1];
     for (size_t i = 0; i < n; ++i)

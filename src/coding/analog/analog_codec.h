@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "capz/take.h"
+#include "capz/version.h"
 #include "coding/analog/analog_repr.h"
 
 namespace capz {
@@ -35,6 +36,9 @@ AnalogHints analog_hints(const Take& t);
 // 8.2). format9: a 9.x stream (format8 too), whose float channels use 9.1's predictors and coding
 // and whose channels may name interpolated samples (9.2). format91: a 9.1 or later stream
 // (format9 too), whose integer channels' blocks may be predicted by a constant (FORMAT.md 9.3).
+// The first version whose integer blocks may be predicted by a constant (format91 below).
+constexpr FormatVersion kAnalogConstantSince{9, 1};
+
 std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int channels,
                                           const AnalogHints& hints, size_t repeat_S = 0,
                                           bool format8 = false, bool format9 = false,

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "coding/analog/analog_scratch.h"
 #include "coding/analog/analog_simd.h"
 
 namespace capz {
@@ -161,9 +162,7 @@ CrossParams choose_cross(const std::vector<int32_t>& r1,
   // Bits saved = sum bit_length(r1) - sum bit_length(r1 - prediction), the first sum shared:
   // residual_bits's with p = 0, |t| = u + 1/2 (two samples a step).
   // t in a per-thread buffer (every entry is written below), not a vector zeroed per channel.
-  thread_local std::vector<double> tbuf;
-  if (tbuf.size() < n) tbuf.resize(n + n / 4);
-  double* t = tbuf.data();
+  double* t = scratch<double, Scratch::kCrossTerms>(n);
   typedef int32_t Pair __attribute__((vector_size(8)));
   const Lanes two = {2.0, 2.0}, half = {0.5, 0.5};
   const Ints mag = {~(uint64_t{1} << 63), ~(uint64_t{1} << 63)};

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "coding/analog/analog_scratch.h"
 #include "coding/analog/analog_simd.h"
 #include "coding/entropy.h"
 
@@ -110,10 +111,8 @@ std::vector<double> autocorrelation(const int32_t* x, size_t n, int max_lag) {
   constexpr int kGroup = 16;
   const std::vector<double>& g = tukey(n);
   // A per-thread buffer, not allocated and zeroed per block: every entry read is written here.
-  thread_local std::vector<double> wbuf;
   const size_t m = n + 2 * kGroup + 4;  // zeros after: kGroup + 2, or 35 (AVX2)
-  if (wbuf.size() < m) wbuf.resize(m + m / 4);
-  double* wr = wbuf.data();
+  double* wr = scratch<double, Scratch::kAutocorrelation>(m);
   for (size_t i = 0; i < n; ++i) wr[n - 1 - i] = g[i] * x[i];
   std::fill(wr + n, wr + m, 0.0);
   std::vector<double> r(static_cast<size_t>(max_lag) + 1, 0.0);
@@ -208,9 +207,12 @@ LpcParams quantise_lpc(const double* a, int order, int precision) {
   return p;
 }
 
+double coefficient_bits(int64_t q) {
+  return 2 + 2 * std::log2(1.0 + static_cast<double>(q < 0 ? -q : q));
+}
 double coefficient_bits(const LpcParams& p) {
   double bits = 0;
-  for (int32_t q : p.q) bits += 2 + 2 * std::log2(1.0 + std::abs(q));
+  for (int32_t q : p.q) bits += coefficient_bits(q);
   return bits;
 }
 
@@ -363,12 +365,24 @@ LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, i
   double full_bits = 0;
   LpcParams best = choose_lpc(x, n, &full_bits);
   lpc_residuals(LpcKernel(best), x, xd, n, r);
-  // The token histograms of those residuals and of the fixed predictors 0, x[i-1] and
+  // With allow_constant, the block's mean, rounded, as a constant prediction: residuals of one
+  // sign no longer waste the zig-zag's sign bit on a level far from 0 (noise around an offset,
+  // rank indices). The median codes 0.006% smaller on the shared takes and costs a selection.
+  LpcParams level;
+  if (allow_constant && n > 0) {
+    int64_t sum = 0;
+    for (size_t i = 0; i < n; ++i) sum += x[i];
+    level.constant =
+        static_cast<int32_t>(std::llround(static_cast<double>(sum) / static_cast<double>(n)));
+  }
+  // The token histograms of those residuals, of the fixed predictors 0, x[i-1] and
   // 2 x[i-1] - x[i-2] (LPC orders 0, 1, 2 with exact coefficients, so their residuals are
-  // these), in one pass, two samples a step on doubles (all exact integers below 2^31).
-  TokenCounts counts[4];
+  // these) and of the constant, in one pass, two samples a step on doubles (all exact integers
+  // below 2^31).
+  TokenCounts counts[5];
   {
     const Lanes hi = {kMaxSample, kMaxSample}, lo = -hi;
+    const Lanes c = {static_cast<double>(level.constant), static_cast<double>(level.constant)};
     size_t i = 0;
     for (; i + 2 <= n; i += 2) {
       const Lanes x0 = load(xd + i), x1 = load(xd + i - 1), x2 = load(xd + i - 2);
@@ -376,8 +390,9 @@ LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, i
       p2 = p2 > hi ? hi : p2;
       p2 = p2 < lo ? lo : p2;
       const Lanes ri = {static_cast<double>(r[i]), static_cast<double>(r[i + 1])};
-      const Bins b[4] = {token_bins(ri), token_bins(x0), token_bins(x0 - x1), token_bins(x0 - p2)};
-      for (int k = 0; k < 4; ++k) {
+      const Bins b[5] = {token_bins(ri), token_bins(x0), token_bins(x0 - x1), token_bins(x0 - p2),
+                         token_bins(x0 - c)};
+      for (int k = 0; k < 5; ++k) {
         counts[k].add(0, b[k][0]);
         counts[k].add(1, b[k][1]);
       }
@@ -389,6 +404,7 @@ LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, i
       counts[1].add(0, token_bins(x0)[0]);
       counts[2].add(0, token_bins(x0 - x1)[0]);
       counts[3].add(0, token_bins(x0 - second_prediction(x1, x2))[0]);
+      counts[4].add(0, token_bins(x0 - level.constant)[0]);
     }
   }
   double best_bits = counts[0].bits(n) + full_bits;
@@ -407,26 +423,10 @@ LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, i
       pick = k;
     }
   }
-  if (allow_constant && n > 0) {
-    // The block's mean, rounded, as a constant prediction (the median codes 0.006% smaller on the
-    // shared takes and costs a selection a block): residuals of one sign no longer waste the
-    // zig-zag's sign bit on a level far from 0 (noise around an offset, rank indices).
-    thread_local std::vector<int32_t> d;
-    d.resize(n);
-    int64_t sum = 0;
-    for (size_t i = 0; i < n; ++i) sum += x[i];
-    LpcParams level;
-    level.constant =
-        static_cast<int32_t>(std::llround(static_cast<double>(sum) / static_cast<double>(n)));
-    for (size_t i = 0; i < n; ++i) d[i] = x[i] - level.constant;
-    const double bits =
-        token_cost_bits(d.data(), n) + 2 + 2 * std::log2(1.0 + std::abs(level.constant));
-    if (level.constant != 0 && bits < best_bits) {
-      std::copy(d.begin(), d.end(), r);
-      if (tally)
-        for (size_t i = 0; i < n; ++i) tally->add(d[i]);
-      return level;
-    }
+  if (level.constant != 0 && counts[4].bits(n) + coefficient_bits(level.constant) < best_bits) {
+    for (size_t i = 0; i < n; ++i) r[i] = x[i] - level.constant;
+    if (tally) counts[4].add_to(tally);
+    return level;
   }
   if (tally) counts[1 + pick].add_to(tally);  // pick = -1: choose_lpc's
   if (pick < 0) return best;

@@ -12,6 +12,7 @@
 #include "coding/analog/analog_repeat.h"
 #include "coding/analog/analog_round.h"
 #include "coding/analog/analog_scaled.h"
+#include "coding/analog/analog_scratch.h"
 #include "coding/analog/analog_simd.h"
 #include "coding/analog/analog_table.h"
 
@@ -112,9 +113,7 @@ void sort_unique(std::vector<uint64_t>* keys, std::vector<int32_t>* ranks) {
     const uint64_t vmask = width == 64 ? ~uint64_t{0} : (uint64_t{1} << width) - 1;
     const uint64_t imask = (uint64_t{1} << ibits) - 1;  // ibits < 64 here (n <= 2^32)
     // The two arrays of the passes: a per-thread buffer (not zeroed: every entry is written).
-    thread_local std::vector<uint64_t> ab;
-    if (ab.size() < 2 * n) ab.resize(2 * n);
-    uint64_t* a = ab.data();
+    uint64_t* a = scratch<uint64_t, Scratch::kRankKeys>(2 * n);
     uint64_t* b = a + n;
     for (size_t i = 0; i < n; ++i) a[i] = ((((*sk)[i] >> lo) & vmask) << ibits) | i;
     const int digit = n >= 2048 ? 11 : 8;

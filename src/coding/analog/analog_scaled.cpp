@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "coding/analog/analog_round.h"
+#include "coding/analog/analog_scratch.h"
 #include "coding/analog/analog_simd.h"
 
 namespace capz {
@@ -133,9 +134,7 @@ void refine_fit(const std::vector<double>& v, double* s, double* o) {
   const size_t n = v.size();
   // The k in a per-thread buffer, not zeroed (every entry is written before it is read): a
   // vector of n doubles allocated and zeroed per refit was a tenth of the refit's time.
-  thread_local std::vector<double> kbuf;
-  if (kbuf.size() < n) kbuf.resize(n + n / 4);
-  double* k = kbuf.data();
+  double* k = scratch<double, Scratch::kRefitSteps>(n);
   double kbar = 0, vbar = 0;
   const QuotientRounder round_quotient(*s);
   for (size_t i = 0; i < n; ++i) {
