@@ -92,7 +92,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 // predictors; 9.2: interpolated samples; 9.3: constant predictors), as capz writes every take
 // with analog channels; --before91 codes as 9.0 streams, --before9 as 8.x streams, --before8 as
 // the streams before 8.0.
-bool g_format8 = true, g_format9 = true, g_format91 = true;
+capz::FormatVersion g_format = capz::kFormatNewestWritten;
 
 Result run_ours(const Analog& a, const AnalogHints& h, size_t window, size_t repeat_S) {
   const size_t rows = a.values.size() / a.channels;
@@ -105,8 +105,8 @@ Result run_ours(const Analog& a, const AnalogHints& h, size_t window, size_t rep
     auto t0 = std::chrono::steady_clock::now();
     for (size_t r0 = 0; r0 < rows; r0 += window) {
       const size_t n = std::min(window, rows - r0);
-      payloads.push_back(encode_analog_window(&a.values[r0 * a.channels], n, a.channels, h,
-                                              repeat_S, g_format8, g_format9, g_format91));
+      payloads.push_back(
+          encode_analog_window(&a.values[r0 * a.channels], n, a.channels, h, repeat_S, g_format));
     }
     best_enc = std::min(best_enc, seconds_since(t0));
   }
@@ -118,8 +118,7 @@ Result run_ours(const Analog& a, const AnalogHints& h, size_t window, size_t rep
       for (size_t r0 = 0; r0 < rows; r0 += window, ++w) {
         const size_t n = std::min(window, rows - r0);
         decode_analog_window(payloads[w].data(), payloads[w].size(), n, a.channels,
-                             &back[r0 * a.channels], "bench", repeat_S, g_format8, g_format9,
-                             g_format91);
+                             &back[r0 * a.channels], "bench", repeat_S, g_format);
       }
     } catch (const Error&) {
       std::fill(back.begin(), back.end(), std::nan(""));  // reported as NOT EXACT
@@ -258,8 +257,7 @@ size_t per_channel(const std::string& name, const Take& t, const AnalogHints& h,
     int kind = -1;
     for (size_t r0 = 0; r0 < rows; r0 += window) {
       const size_t n = std::min(window, rows - r0);
-      const std::vector<uint8_t> w =
-          encode_analog_window(col.data() + r0, n, 1, h1, 0, g_format8, g_format9, g_format91);
+      const std::vector<uint8_t> w = encode_analog_window(col.data() + r0, n, 1, h1, 0, g_format);
       bytes += w.size();
       if (kind < 0) {
         size_t k = 1;  // version byte, then the header size (varint), then the kind byte
@@ -336,11 +334,11 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--repeats"))
       repeats = whole_frames = true;
     else if (!std::strcmp(argv[i], "--before8"))
-      g_format8 = g_format9 = g_format91 = false;
+      g_format = kAnalogWindowsSince;
     else if (!std::strcmp(argv[i], "--before9"))
-      g_format9 = g_format91 = false;
+      g_format = kAnalogLatticeSince;
     else if (!std::strcmp(argv[i], "--before91"))
-      g_format91 = false;
+      g_format = kAnalogFloat9Since;
     else if (!std::strcmp(argv[i], "--per-channel"))
       channels = true;
     else if (!std::strcmp(argv[i], "--whole-frames"))

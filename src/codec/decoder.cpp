@@ -225,8 +225,7 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
     if (ctx.major >= 4)
       decode_analog_window(ac.payload + ar.offset(), ac.size - ar.offset(), fn * S,
                            static_cast<int>(C), b.analog.data(), awhat, ctx.major >= 7 ? S : 0,
-                           ctx.major >= 8, ctx.major >= 9,
-                           FormatVersion{ctx.major, ctx.minor} >= kAnalogConstantSince);
+                           FormatVersion{ctx.major, ctx.minor});
     else
       decode_analog(ac.payload + ar.offset(), ac.size - ar.offset(), fn * S, static_cast<int>(C),
                     b.analog.data(), awhat);

@@ -491,9 +491,9 @@ class Encoder {
         analog::quantise_window(moved.data(), fn * plan_.S, abounds_, &hints.channel);
         rows = moved.data();
       }
-      const std::vector<uint8_t> an = encode_analog_window(
-          rows, fn * plan_.S, take_.analog.channels, hints, analog_repeats_ ? plan_.S : 0,
-          version_.major >= 8, version_.major >= 9, version_ >= kAnalogConstantSince);
+      const std::vector<uint8_t> an =
+          encode_analog_window(rows, fn * plan_.S, take_.analog.channels, hints,
+                               analog_repeats_ ? plan_.S : 0, version_);
       append_chunk(&buf, "ANLG", with_window_index(w, 0xFF, an));
       win->analog_bytes = buf.size() - before;
     }

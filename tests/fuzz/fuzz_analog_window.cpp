@@ -24,13 +24,13 @@
 
 namespace {
 
-void round_trip(const std::vector<double>& rows, size_t nrows, int channels, size_t S, bool v8,
-                bool v9, bool v91) {
+void round_trip(const std::vector<double>& rows, size_t nrows, int channels, size_t S,
+                capz::FormatVersion v) {
   const std::vector<uint8_t> enc =
-      capz::encode_analog_window(rows.data(), nrows, channels, capz::AnalogHints(), S, v8, v9, v91);
+      capz::encode_analog_window(rows.data(), nrows, channels, capz::AnalogHints(), S, v);
   std::vector<double> back(rows.size());
   capz::decode_analog_window(enc.data(), enc.size(), nrows, channels, back.data(), "re-encoded", S,
-                             v8, v9, v91);
+                             v);
   CAPZ_FUZZ_CHECK(std::memcmp(back.data(), rows.data(), rows.size() * 8) == 0);
 }
 
@@ -45,18 +45,21 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const bool v8 = data[2] & 0x80;
   const bool v9 = v8 && ((mode & 0x40) || (data[1] & 0x80));
   const bool v91 = v9 && (data[2] & 1);
+  const capz::FormatVersion v = v91  ? capz::kAnalogConstantSince
+                                : v9 ? capz::kAnalogFloat9Since
+                                : v8 ? capz::kAnalogLatticeSince
+                                     : capz::kAnalogWindowsSince;
   if (S) nrows = (nrows + S - 1) / S * S;
   data += 3;
   size -= 3;
   std::vector<double> rows(nrows * static_cast<size_t>(channels));
   if (mode % 2 == 0) {
     try {
-      capz::decode_analog_window(data, size, nrows, channels, rows.data(), "fuzz ANLG", S, v8, v9,
-                                 v91);
+      capz::decode_analog_window(data, size, nrows, channels, rows.data(), "fuzz ANLG", S, v);
     } catch (const capz::Error&) {
       return 0;
     }
-    round_trip(rows, nrows, channels, S, v8, v9, v91);
+    round_trip(rows, nrows, channels, S, v);
     return 0;
   }
   // Sample bits from the input, repeated to fill the window; the kind of value by mode.
@@ -88,6 +91,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       for (size_t c = 0; c < nch; ++c)
         rows[i * nch + c] = capz::analog::interpolate(rows[(i - 1) * nch + c],
                                                       rows[(i + 1) * nch + c], 1, 2, width == 4);
-  round_trip(rows, nrows, channels, S, v8, v9, v91);
+  round_trip(rows, nrows, channels, S, v);
   return 0;
 }

@@ -79,23 +79,25 @@ TEST(AnalogCodec, GivenNoiseAroundALevelWhen91ThenConstantPredictorSmallerAndExa
   std::vector<double> v(n);
   for (size_t i = 0; i < n; ++i) v[i] = 9000 + noise(rng);
   ASSERT_EQ(kind_of(v), Kind::kInt);
-  const std::vector<uint8_t> w90 = encode_analog_window(v.data(), n, 1, {}, 0, true, true, false);
-  const std::vector<uint8_t> w91 = encode_analog_window(v.data(), n, 1, {}, 0, true, true, true);
+  const std::vector<uint8_t> w90 = encode_analog_window(v.data(), n, 1, {}, 0, kAnalogFloat9Since);
+  const std::vector<uint8_t> w91 =
+      encode_analog_window(v.data(), n, 1, {}, 0, kAnalogConstantSince);
   EXPECT_LT(w91.size() * 100, w90.size() * 97) << w91.size() << " against " << w90.size();
   std::vector<double> back(n);
-  decode_analog_window(w91.data(), w91.size(), n, 1, back.data(), "9.1 window", 0, true, true,
-                       true);
+  decode_analog_window(w91.data(), w91.size(), n, 1, back.data(), "9.1 window", 0,
+                       kAnalogConstantSince);
   for (size_t i = 0; i < n; ++i) ASSERT_EQ(bits(back[i]), bits(v[i])) << i;
   try {
-    decode_analog_window(w91.data(), w91.size(), n, 1, back.data(), "as 9.0", 0, true, true, false);
+    decode_analog_window(w91.data(), w91.size(), n, 1, back.data(), "as 9.0", 0,
+                         kAnalogFloat9Since);
     ADD_FAILURE() << "a 9.1 constant predictor decoded as 9.0";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
     EXPECT_NE(std::string(e.what()).find("LPC order above 32"), std::string::npos) << e.what();
   }
   // A 9.0 window decodes the same in 9.1 (the order code is new, nothing else changes).
-  decode_analog_window(w90.data(), w90.size(), n, 1, back.data(), "9.0 window", 0, true, true,
-                       true);
+  decode_analog_window(w90.data(), w90.size(), n, 1, back.data(), "9.0 window", 0,
+                       kAnalogConstantSince);
   for (size_t i = 0; i < n; ++i) ASSERT_EQ(bits(back[i]), bits(v[i])) << i;
 }
 
@@ -104,7 +106,7 @@ TEST(AnalogCodec, GivenNoiseAroundALevelWhen91ThenConstantPredictorSmallerAndExa
 void decode_with_constant(int64_t c, size_t n, std::vector<double>* back) {
   std::vector<double> v(n, 1.0);
   for (size_t i = 0; i < n; ++i) v[i] = 9000 + static_cast<double>(i % 7);
-  const std::vector<uint8_t> w = encode_analog_window(v.data(), n, 1, {}, 0, true, true, true);
+  const std::vector<uint8_t> w = encode_analog_window(v.data(), n, 1, {}, 0, kAnalogConstantSince);
   size_t at = 1, head = 0;
   for (int shift = 0;; shift += 7) {  // the header's size, a varint
     head |= static_cast<size_t>(w[at] & 0x7F) << shift;
@@ -124,7 +126,7 @@ void decode_with_constant(int64_t c, size_t n, std::vector<double>* back) {
   crafted.insert(crafted.end(), block.begin(), block.end());
   back->assign(n, 0.0);
   decode_analog_window(crafted.data(), crafted.size(), n, 1, back->data(), "crafted window", 0,
-                       true, true, true);
+                       kAnalogConstantSince);
 }
 
 TEST(AnalogCodec, GivenConstantPredictorsWhenDecodedThenTheConstantOrCorruptBeyond2To28) {

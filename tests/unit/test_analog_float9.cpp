@@ -119,16 +119,19 @@ TEST(AnalogFloat9, GivenSmoothAndNoisyChannelsThenLpcAndZeroAreKeptAndSmallerTha
   EXPECT_GE(ps.order, 2);
   EXPECT_EQ(choose_float_plan9(noise, true, &est).predictor, 4);
   for (const std::vector<double>* x : {&smooth, &noise}) {
-    const std::vector<uint8_t> p8 = encode_analog_window(x->data(), x->size(), 1, {}, 0, true);
+    const std::vector<uint8_t> p8 =
+        encode_analog_window(x->data(), x->size(), 1, {}, 0, kAnalogLatticeSince);
     const std::vector<uint8_t> p9 =
-        encode_analog_window(x->data(), x->size(), 1, {}, 0, true, true);
+        encode_analog_window(x->data(), x->size(), 1, {}, 0, kAnalogFloat9Since);
     EXPECT_LT(p9.size() * 100, p8.size() * 95) << p8.size() << " -> " << p9.size();
     std::vector<double> back(x->size());
-    decode_analog_window(p9.data(), p9.size(), x->size(), 1, back.data(), "w", 0, true, true);
+    decode_analog_window(p9.data(), p9.size(), x->size(), 1, back.data(), "w", 0,
+                         kAnalogFloat9Since);
     expect_same_bits(*x, back, "9.x window");
     // Before 9.0 the new predictors are unknown.
     try {
-      decode_analog_window(p9.data(), p9.size(), x->size(), 1, back.data(), "w8", 0, true, false);
+      decode_analog_window(p9.data(), p9.size(), x->size(), 1, back.data(), "w8", 0,
+                           kAnalogLatticeSince);
       ADD_FAILURE() << "a 9.x float channel decoded as 8.x";
     } catch (const Error& e) {
       EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
@@ -153,9 +156,10 @@ TEST(AnalogFloat9, GivenWindowsWithGapsAndFloat64ChannelsThenExact) {
       if (rng() % 11 == 0) rows[i * C + rng() % C] = -std::numeric_limits<double>::infinity();
       if (rng() % 13 == 0) rows[i * C + rng() % C] = -0.0;
     }
-    const std::vector<uint8_t> p = encode_analog_window(rows.data(), n, 3, {}, 0, true, true);
+    const std::vector<uint8_t> p =
+        encode_analog_window(rows.data(), n, 3, {}, 0, kAnalogFloat9Since);
     std::vector<double> back(rows.size());
-    decode_analog_window(p.data(), p.size(), n, 3, back.data(), "w", 0, true, true);
+    decode_analog_window(p.data(), p.size(), n, 3, back.data(), "w", 0, kAnalogFloat9Since);
     expect_same_bits(rows, back, "window");
   }
 }

@@ -52,11 +52,11 @@ std::vector<uint8_t> round_trip(const std::vector<std::vector<double>>& cols, bo
   std::vector<double> rows(n * C);
   for (size_t i = 0; i < n; ++i)
     for (size_t c = 0; c < C; ++c) rows[i * C + c] = cols[c][i];
-  const std::vector<uint8_t> p =
-      encode_analog_window(rows.data(), n, static_cast<int>(C), {}, 0, true, v9);
+  const std::vector<uint8_t> p = encode_analog_window(
+      rows.data(), n, static_cast<int>(C), {}, 0, v9 ? kAnalogFloat9Since : kAnalogLatticeSince);
   std::vector<double> back(rows.size(), -1.0);
-  decode_analog_window(p.data(), p.size(), n, static_cast<int>(C), back.data(), "interp", 0, true,
-                       v9);
+  decode_analog_window(p.data(), p.size(), n, static_cast<int>(C), back.data(), "interp", 0,
+                       v9 ? kAnalogFloat9Since : kAnalogLatticeSince);
   for (size_t i = 0; i < rows.size(); ++i)
     EXPECT_EQ(bits_of(back[i]), bits_of(rows[i])) << "sample " << i;
   return p;
@@ -167,7 +167,8 @@ struct Coded {
 void expect_corrupt(const std::vector<uint8_t>& p, size_t n, bool v9, const std::string& why) {
   std::vector<double> out(n);
   try {
-    decode_analog_window(p.data(), p.size(), n, 1, out.data(), "damaged", 0, true, v9);
+    decode_analog_window(p.data(), p.size(), n, 1, out.data(), "damaged", 0,
+                         v9 ? kAnalogFloat9Since : kAnalogLatticeSince);
     ADD_FAILURE() << why << ": decoded";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << why;
@@ -204,7 +205,7 @@ TEST(AnalogInterp, GivenDamagedFieldsThenCorruptNeverCrash) {
     q[i] ^= 0x5A;
     std::vector<double> out(n);
     try {
-      decode_analog_window(q.data(), q.size(), n, 1, out.data(), "flip", 0, true, true);
+      decode_analog_window(q.data(), q.size(), n, 1, out.data(), "flip", 0, kAnalogFloat9Since);
     } catch (const Error& e) {
       EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
     }
@@ -236,12 +237,12 @@ TEST(AnalogInterp, GivenCodamotionTakeWhenRoundTrippedThen9AndExactAndSmaller) {
   const Take t = read_take(path);
   const size_t n = t.analog.values.size() / static_cast<size_t>(t.analog.channels);
   const std::vector<uint8_t> p9 = encode_analog_window(t.analog.values.data(), n, t.analog.channels,
-                                                       analog_hints(t), 0, true, true),
+                                                       analog_hints(t), 0, kAnalogFloat9Since),
                              p8 = encode_analog_window(t.analog.values.data(), n, t.analog.channels,
-                                                       analog_hints(t), 0, true, false);
+                                                       analog_hints(t), 0, kAnalogLatticeSince);
   std::vector<double> back(t.analog.values.size());
-  decode_analog_window(p9.data(), p9.size(), n, t.analog.channels, back.data(), "coda", 0, true,
-                       true);
+  decode_analog_window(p9.data(), p9.size(), n, t.analog.channels, back.data(), "coda", 0,
+                       kAnalogFloat9Since);
   EXPECT_EQ(std::memcmp(back.data(), t.analog.values.data(), back.size() * 8), 0);
   EXPECT_LT(static_cast<double>(p9.size()), 0.75 * static_cast<double>(p8.size()));
   // And through the whole codec: the stream is 9.0 and gives every analog sample back.

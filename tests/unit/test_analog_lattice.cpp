@@ -171,13 +171,17 @@ TEST(AnalogLattice, GivenFormat8WindowThenSmallerExactAndRefusedBefore8) {
     rows[2 * i] = a[i];
     rows[2 * i + 1] = b[i];
   }
-  const std::vector<uint8_t> p7 = encode_analog_window(rows.data(), n, 2, AnalogHints(), 0, false);
-  const std::vector<uint8_t> p8 = encode_analog_window(rows.data(), n, 2, AnalogHints(), 0, true);
+  const std::vector<uint8_t> p7 =
+      encode_analog_window(rows.data(), n, 2, AnalogHints(), 0, kAnalogWindowsSince);
+  const std::vector<uint8_t> p8 =
+      encode_analog_window(rows.data(), n, 2, AnalogHints(), 0, kAnalogLatticeSince);
   EXPECT_LT(p8.size(), p7.size());
   std::vector<double> back(rows.size(), 0.0);
-  decode_analog_window(p8.data(), p8.size(), n, 2, back.data(), "w", 0, true);
+  decode_analog_window(p8.data(), p8.size(), n, 2, back.data(), "w", 0, kAnalogLatticeSince);
   for (size_t i = 0; i < rows.size(); ++i) ASSERT_EQ(bits_of(back[i]), bits_of(rows[i])) << i;
-  EXPECT_THROW(decode_analog_window(p8.data(), p8.size(), n, 2, back.data(), "w", 0, false), Error);
+  EXPECT_THROW(
+      decode_analog_window(p8.data(), p8.size(), n, 2, back.data(), "w", 0, kAnalogWindowsSince),
+      Error);
 }
 
 // A lattice table header written field by field (FORMAT.md 8.2), float32 entries 1.0, 2.0, ...

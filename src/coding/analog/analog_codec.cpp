@@ -260,8 +260,10 @@ void decode_int_channel(size_t n, const std::vector<const std::vector<int32_t>*>
 }  // namespace
 
 std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int channels,
-                                          const AnalogHints& hints, size_t repeat_S, bool format8,
-                                          bool format9, bool format91) {
+                                          const AnalogHints& hints, size_t repeat_S,
+                                          FormatVersion format) {
+  const bool format8 = format >= kAnalogLatticeSince, format9 = format >= kAnalogFloat9Since,
+             format91 = format >= kAnalogConstantSince;
   ByteWriter head;
   uint64_t last_const = 0;
   bool any_coded = false;
@@ -393,8 +395,10 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
 }
 
 void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int channels,
-                          double* rows, const std::string& what, size_t repeat_S, bool format8,
-                          bool format9, bool format91) {
+                          double* rows, const std::string& what, size_t repeat_S,
+                          FormatVersion format) {
+  const bool format8 = format >= kAnalogLatticeSince, format9 = format >= kAnalogFloat9Since,
+             format91 = format >= kAnalogConstantSince;
   ByteReader in(data, size, what);
   if (in.u8() != kWindowVersion)
     throw Error(ErrorCode::kCorrupt, what + ": unknown analog window version");

@@ -32,24 +32,29 @@ AnalogHints analog_hints(const Take& t);
 // 7.x stream the analog samples per point frame (nrows a multiple of it), which lets channels
 // name repeated frames (FORMAT.md 7.2, analog_repeat.h) where that codes smaller; 0 in earlier
 // streams.
-// format8: an 8.x or later stream, whose value tables may be coded against a lattice (FORMAT.md
-// 8.2). format9: a 9.x stream (format8 too), whose float channels use 9.1's predictors and coding
-// and whose channels may name interpolated samples (9.2). format91: a 9.1 or later stream
-// (format9 too), whose integer channels' blocks may be predicted by a constant (FORMAT.md 9.3).
-// The first version whose integer blocks may be predicted by a constant (format91 below).
+// format: the version of the stream the window is in; what the codec does depends on it only
+// through the versions below (any version from 4.0 to 7.x codes as 4.0's windows).
+// The first version with analog windows in this codec (FORMAT.md 4.2).
+constexpr FormatVersion kAnalogWindowsSince{4, 0};
+// Value tables may be coded against a lattice (FORMAT.md 8.2).
+constexpr FormatVersion kAnalogLatticeSince{8, 0};
+// Float channels use 9.1's predictors and coding, and channels may name interpolated samples
+// (FORMAT.md 9.1, 9.2).
+constexpr FormatVersion kAnalogFloat9Since{9, 0};
+// Integer channels' blocks may be predicted by a constant (FORMAT.md 9.3).
 constexpr FormatVersion kAnalogConstantSince{9, 1};
 
 std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int channels,
                                           const AnalogHints& hints, size_t repeat_S = 0,
-                                          bool format8 = false, bool format9 = false,
-                                          bool format91 = false);
+                                          FormatVersion format = kAnalogWindowsSince);
 
 // Fills rows[0 .. nrows * channels). Throws Error(kCorrupt) naming `what` when the payload is
 // not a valid window of that shape; memory used is O(nrows * channels + size). repeat_S and
-// format8, format9, format91: as for encode_analog_window (0: a repeat list is corrupt; false: a
-// lattice table, an interpolation field, a constant predictor).
+// format: as for encode_analog_window (repeat_S 0: a repeat list is corrupt; a format before
+// kAnalogLatticeSince, kAnalogFloat9Since or kAnalogConstantSince: a lattice table, an
+// interpolation field or a constant predictor is corrupt).
 void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int channels,
                           double* rows, const std::string& what, size_t repeat_S = 0,
-                          bool format8 = false, bool format9 = false, bool format91 = false);
+                          FormatVersion format = kAnalogWindowsSince);
 
 }  // namespace capz
