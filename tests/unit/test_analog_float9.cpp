@@ -185,57 +185,67 @@ std::string decode_error(void (*make)(IntEncoder::Cursor*), size_t n = 4) {
 }
 
 TEST(AnalogFloat9, GivenEachNewFieldOutOfRangeThenCorrupt) {
-  // Predictor 6 and above.
-  EXPECT_NE(decode_error([](IntEncoder::Cursor* c) {
-              c->put(6, kParamContext);
-            }).find("unknown analog float predictor"),
-            std::string::npos);
-  // LPC order 0 and above the maximum.
-  EXPECT_NE(decode_error([](IntEncoder::Cursor* c) {
-              c->put(5, kParamContext);
-              c->put(0, kParamContext);
-            }).find("LPC order"),
-            std::string::npos);
-  EXPECT_NE(decode_error([](IntEncoder::Cursor* c) {
-              c->put(5, kParamContext);
-              c->put(kMaxFloatLpcOrder + 1, kParamContext);
-            }).find("LPC order"),
-            std::string::npos);
-  // Shift above 40.
-  EXPECT_NE(decode_error([](IntEncoder::Cursor* c) {
-              c->put(5, kParamContext);
-              c->put(1, kParamContext);
-              c->put(kMaxFloatLpcShift + 1, kParamContext);
-            }).find("shift"),
-            std::string::npos);
-  // A coefficient of 2^15.
-  EXPECT_NE(decode_error([](IntEncoder::Cursor* c) {
-              c->put(5, kParamContext);
-              c->put(1, kParamContext);
-              c->put(10, kParamContext);
-              c->put_signed(1 << 15, kCoefContext);
-            }).find("coefficient"),
-            std::string::npos);
-  // A bit length beyond 64 through the escape above, and below 0 through the escape below.
-  EXPECT_NE(decode_error([](IntEncoder::Cursor* c) {
-              c->put(2, kParamContext);
-              c->put_symbol(15, kMagContexts);
-              c->put(57, kFarContext);  // 0 + 8 + 57 = 65
-            }).find("bit length"),
-            std::string::npos);
-  EXPECT_NE(decode_error([](IntEncoder::Cursor* c) {
-              c->put(2, kParamContext);
-              c->put_symbol(0, kMagContexts);
-              c->put(0, kFarContext);  // 0 - 7 - 0 < 0
-            }).find("bit length"),
-            std::string::npos);
-  // Top bits wider than the bit length leaves (nb 3: 2 bits below the leading one).
-  EXPECT_NE(decode_error([](IntEncoder::Cursor* c) {
-              c->put(2, kParamContext);
-              c->put_symbol(7 + 3, kMagContexts);
-              c->put_symbol(4, kTopContext + 1);
-            }).find("top bits"),
-            std::string::npos);
+  struct Case {
+    const char* field;
+    void (*make)(IntEncoder::Cursor*);
+    const char* message;  // what the error must say
+  };
+  const Case cases[] = {
+      {"predictor 6", [](IntEncoder::Cursor* c) { c->put(6, kParamContext); },
+       "unknown analog float predictor"},
+      {"LPC order 0",
+       [](IntEncoder::Cursor* c) {
+         c->put(5, kParamContext);
+         c->put(0, kParamContext);
+       },
+       "LPC order"},
+      {"LPC order above the maximum",
+       [](IntEncoder::Cursor* c) {
+         c->put(5, kParamContext);
+         c->put(kMaxFloatLpcOrder + 1, kParamContext);
+       },
+       "LPC order"},
+      {"shift above 40",
+       [](IntEncoder::Cursor* c) {
+         c->put(5, kParamContext);
+         c->put(1, kParamContext);
+         c->put(kMaxFloatLpcShift + 1, kParamContext);
+       },
+       "shift"},
+      {"a coefficient of 2^15",
+       [](IntEncoder::Cursor* c) {
+         c->put(5, kParamContext);
+         c->put(1, kParamContext);
+         c->put(10, kParamContext);
+         c->put_signed(1 << 15, kCoefContext);
+       },
+       "coefficient"},
+      {"a bit length beyond 64, through the escape above",
+       [](IntEncoder::Cursor* c) {
+         c->put(2, kParamContext);
+         c->put_symbol(15, kMagContexts);
+         c->put(57, kFarContext);  // 0 + 8 + 57 = 65
+       },
+       "bit length"},
+      {"a bit length below 0, through the escape below",
+       [](IntEncoder::Cursor* c) {
+         c->put(2, kParamContext);
+         c->put_symbol(0, kMagContexts);
+         c->put(0, kFarContext);  // 0 - 7 - 0 < 0
+       },
+       "bit length"},
+      {"top bits wider than the bit length leaves (nb 3: 2 bits below the leading one)",
+       [](IntEncoder::Cursor* c) {
+         c->put(2, kParamContext);
+         c->put_symbol(7 + 3, kMagContexts);
+         c->put_symbol(4, kTopContext + 1);
+       },
+       "top bits"},
+  };
+  for (const Case& k : cases) {
+    const std::string error = decode_error(k.make);
+    EXPECT_NE(error.find(k.message), std::string::npos) << k.field << ": \"" << error << "\"";
+  }
   // A valid block decodes (the cases above fail on their field, not on the block).
   EXPECT_EQ(decode_error(
                 [](IntEncoder::Cursor* c) {

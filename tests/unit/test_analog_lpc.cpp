@@ -83,6 +83,24 @@ TEST(AnalogLpc, GivenAr2SignalWhenOrderChosenThenResidualNearInnovation) {
   EXPECT_LT(std::sqrt(ss / (x.size() - 32)), 12.0);  // innovation sd 10 (+ rounding)
 }
 
+// x after kMaxLpcOrder zeros, as T (lpc_predict and LpcKernel read before the first sample).
+template <typename T>
+std::vector<T> padded(const std::vector<int32_t>& x) {
+  std::vector<T> xp(kMaxLpcOrder + x.size(), T(0));
+  std::copy(x.begin(), x.end(), xp.begin() + kMaxLpcOrder);
+  return xp;
+}
+
+// x[i] - lpc_predict(p) for i in [from, x.size()), the samples before x[0] being 0.
+std::vector<int32_t> residuals_of(const std::vector<int32_t>& x, const LpcParams& p,
+                                  size_t from = 0) {
+  const std::vector<int32_t> xp = padded<int32_t>(x);
+  std::vector<int32_t> r;
+  for (size_t i = from; i < x.size(); ++i)
+    r.push_back(static_cast<int32_t>(x[i] - lpc_predict(p, xp.data() + kMaxLpcOrder + i)));
+  return r;
+}
+
 // Max |q| of p's coefficients: below 2^precision for the precision they were quantised at.
 int32_t max_coefficient(const LpcParams& p) {
   int32_t m = 0;
@@ -92,10 +110,7 @@ int32_t max_coefficient(const LpcParams& p) {
 
 // The residuals' estimated cost plus the coefficients' (choose_block_predictor's measure).
 double estimated_bits(const std::vector<int32_t>& x, const LpcParams& p) {
-  std::vector<int32_t> xp(kMaxLpcOrder + x.size(), 0), r(x.size());
-  std::copy(x.begin(), x.end(), xp.begin() + kMaxLpcOrder);
-  for (size_t i = 0; i < x.size(); ++i)
-    r[i] = static_cast<int32_t>(x[i] - lpc_predict(p, xp.data() + kMaxLpcOrder + i));
+  const std::vector<int32_t> r = residuals_of(x, p);
   return token_cost_bits(r.data(), r.size()) + coefficient_bits(p);
 }
 
@@ -143,21 +158,14 @@ TEST(AnalogLpc, GivenHeldSignalWhenBlockPredictorChosenThenFirstDifferenceAndSma
     if (i % 13 == 0) v = static_cast<int32_t>(std::lround(0.9 * v + e(rng)));
     x[i] = v;
   }
-  std::vector<double> xd(kMaxLpcOrder + x.size(), 0.0);
-  std::copy(x.begin(), x.end(), xd.begin() + kMaxLpcOrder);
+  const std::vector<double> xd = padded<double>(x);
   std::vector<int32_t> r(x.size());
   const LpcParams p =
       choose_block_predictor(x.data(), xd.data() + kMaxLpcOrder, x.size(), r.data());
   ASSERT_EQ(p.order, 1);
   EXPECT_EQ(p.q[0], 1 << p.shift);
-  std::vector<int32_t> xp(kMaxLpcOrder + x.size(), 0);
-  std::copy(x.begin(), x.end(), xp.begin() + kMaxLpcOrder);
-  for (size_t i = 0; i < x.size(); ++i)
-    ASSERT_EQ(r[i], x[i] - lpc_predict(p, xp.data() + kMaxLpcOrder + i)) << i;
-  const LpcParams l = choose_lpc(x.data(), x.size());
-  std::vector<int32_t> rl(x.size());
-  for (size_t i = 0; i < x.size(); ++i)
-    rl[i] = static_cast<int32_t>(x[i] - lpc_predict(l, xp.data() + kMaxLpcOrder + i));
+  EXPECT_EQ(r, residuals_of(x, p));
+  const std::vector<int32_t> rl = residuals_of(x, choose_lpc(x.data(), x.size()));
   EXPECT_LT(token_cost_bits(r.data(), r.size()), 0.8 * token_cost_bits(rl.data(), rl.size()));
 }
 
@@ -168,8 +176,7 @@ TEST(AnalogLpc, GivenNoiseAroundALevelWhenConstantAllowedThenMeanPredicts) {
   std::uniform_int_distribution<int> noise(-100, 100);
   std::vector<int32_t> x(4096);
   for (auto& v : x) v = 5000 + noise(rng);
-  std::vector<double> xd(kMaxLpcOrder + x.size(), 0.0);
-  std::copy(x.begin(), x.end(), xd.begin() + kMaxLpcOrder);
+  const std::vector<double> xd = padded<double>(x);
   std::vector<int32_t> r(x.size());
   int64_t sum = 0;
   for (int32_t v : x) sum += v;
@@ -177,8 +184,7 @@ TEST(AnalogLpc, GivenNoiseAroundALevelWhenConstantAllowedThenMeanPredicts) {
       choose_block_predictor(x.data(), xd.data() + kMaxLpcOrder, x.size(), r.data(), true);
   EXPECT_EQ(c.order, 0);
   EXPECT_EQ(c.constant, std::llround(static_cast<double>(sum) / static_cast<double>(x.size())));
-  std::vector<int32_t> xp(kMaxLpcOrder + x.size(), 0);
-  std::copy(x.begin(), x.end(), xp.begin() + kMaxLpcOrder);
+  const std::vector<int32_t> xp = padded<int32_t>(x);
   for (size_t i = 0; i < x.size(); ++i) {
     ASSERT_EQ(r[i], x[i] - c.constant) << i;
     ASSERT_EQ(lpc_predict(c, xp.data() + kMaxLpcOrder + i), c.constant) << i;
@@ -193,8 +199,7 @@ TEST(AnalogLpc, GivenNoiseAroundALevelWhenConstantAllowedThenMeanPredicts) {
 // On an AR(2) signal the autocorrelation's choice stays (it beats the fixed differences).
 TEST(AnalogLpc, GivenAr2SignalWhenBlockPredictorChosenThenLevinsonKept) {
   const std::vector<int32_t> x = ar2_signal(4, 1.2, -0.7);
-  std::vector<double> xd(kMaxLpcOrder + x.size(), 0.0);
-  std::copy(x.begin(), x.end(), xd.begin() + kMaxLpcOrder);
+  const std::vector<double> xd = padded<double>(x);
   std::vector<int32_t> r(x.size());
   const LpcParams p =
       choose_block_predictor(x.data(), xd.data() + kMaxLpcOrder, x.size(), r.data());
@@ -281,17 +286,12 @@ TEST(AnalogLpc, GivenVariedBlocksWhenBlockPredictorChosenThenResidualsMatchIt) {
       v = std::max<double>(-(1 << 28), std::min<double>(1 << 28, v));
       x[i] = static_cast<int32_t>(std::lround(v));
     }
-    std::vector<double> xd(kMaxLpcOrder + x.size(), 0.0);
-    std::copy(x.begin(), x.end(), xd.begin() + kMaxLpcOrder);
+    const std::vector<double> xd = padded<double>(x);
     std::vector<int32_t> r(n);
     const LpcParams p =
         choose_block_predictor(x.data() + head, xd.data() + kMaxLpcOrder + head, n, r.data());
     if (p.order <= 2 && (p.order == 0 || p.q[0] == 1 << p.shift || p.shift == 12)) ++seen[p.order];
-    std::vector<int32_t> xp(kMaxLpcOrder + x.size(), 0);
-    std::copy(x.begin(), x.end(), xp.begin() + kMaxLpcOrder);
-    for (size_t i = 0; i < n; ++i)
-      ASSERT_EQ(r[i], x[head + i] - lpc_predict(p, xp.data() + kMaxLpcOrder + head + i))
-          << kind << " " << i;
+    EXPECT_EQ(r, residuals_of(x, p, head)) << kind;
   }
   EXPECT_GT(seen[0], 0);
   EXPECT_GT(seen[1], 0);
