@@ -211,7 +211,7 @@ double coefficient_bits(int64_t q) {
   return 2 + 2 * std::log2(1.0 + static_cast<double>(q < 0 ? -q : q));
 }
 double coefficient_bits(const LpcParams& p) {
-  double bits = 0;
+  double bits = p.constant != 0 ? coefficient_bits(p.constant) : 0;
   for (int32_t q : p.q) bits += coefficient_bits(q);
   return bits;
 }
@@ -408,33 +408,31 @@ LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, i
     }
   }
   double best_bits = counts[0].bits(n) + full_bits;
-  LpcParams fixed[3];
+  // The fixed predictors and the constant, in the order of counts[1..4]; with a constant of 0
+  // (none allowed) the last is the first with the same histogram and cost, never picked.
+  LpcParams fixed[4];
   fixed[1].order = 1;  // x[i-1]
   fixed[1].shift = 13;
   fixed[1].q = {1 << 13};
   fixed[2].order = 2;  // 2 x[i-1] - x[i-2]
   fixed[2].shift = 12;
   fixed[2].q = {1 << 13, -(1 << 12)};
+  fixed[3] = level;
   int pick = -1;
-  for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < 4; ++k) {
     const double bits = counts[1 + k].bits(n) + coefficient_bits(fixed[k]);
     if (bits < best_bits) {
       best_bits = bits;
       pick = k;
     }
   }
-  if (level.constant != 0 && counts[4].bits(n) + coefficient_bits(level.constant) < best_bits) {
-    for (size_t i = 0; i < n; ++i) r[i] = x[i] - level.constant;
-    if (tally) counts[4].add_to(tally);
-    return level;
-  }
   if (tally) counts[1 + pick].add_to(tally);  // pick = -1: choose_lpc's
   if (pick < 0) return best;
-  // The fixed predictor's residuals (LpcKernel of fixed[pick] predicts exactly these).
+  // The chosen predictor's residuals (LpcKernel of fixed[pick] predicts exactly these).
   int64_t x1 = static_cast<int64_t>(xd[-1]), x2 = static_cast<int64_t>(xd[-2]);
   for (size_t i = 0; i < n; ++i) {
     const int64_t x0 = x[i];
-    const int64_t p = pick == 0 ? 0 : pick == 1 ? x1 : second_prediction(x1, x2);
+    const int64_t p = pick == 1 ? x1 : pick == 2 ? second_prediction(x1, x2) : fixed[pick].constant;
     r[i] = static_cast<int32_t>(x0 - p);
     x2 = x1;
     x1 = x0;

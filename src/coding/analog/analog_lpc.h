@@ -57,7 +57,8 @@ LpcParams quantise_lpc(const double* a, int order, int precision);
 LpcParams choose_lpc(const int32_t* x, size_t n, double* full_bits = nullptr);
 
 // The coefficients' estimated cost: 2 + 2 log2(1 + |q|) bits each (their adaptive coding is
-// close to an Elias-gamma code of each); the first, of one value (a constant predictor's too).
+// close to an Elias-gamma code of each); the first, of one value. A constant predictor's
+// constant counts as one more such value.
 double coefficient_bits(int64_t q);
 double coefficient_bits(const LpcParams& p);
 
