@@ -7,7 +7,7 @@
 // Speed is MB/s of raw float32 samples (4 bytes a sample), single thread, best of 3.
 //
 //   capz_analog_bench [--window ROWS] [--no-peers] [--whole-frames] [--repeats] [--as-stream]
-//                     [--before8] [--before9] [--before91]
+//                     [--before8] [--before9] [--before91] [--before92]
 //                     FILE.c3d...
 //   capz_analog_bench --per-channel [--window ROWS] [--no-peers] FILE.c3d...
 //
@@ -24,8 +24,8 @@
 // --repeats does too and codes as a 7.x stream does (FORMAT.md 7.2: channels may name repeated
 // analog frames), so the two compare the repeat lists alone. Windows are coded as in a 9.x
 // stream (FORMAT.md 8.2 and 9.2), which capz writes for every take with analog channels;
-// --before91 codes them as 9.0 streams did, --before9 as 8.x streams did, --before8 as earlier
-// streams did.
+// --before92 codes them as 9.1 streams did, --before91 as 9.0 streams did, --before9 as 8.x
+// streams did, --before8 as earlier streams did.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -88,10 +88,10 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 // repeat_S: the samples per point frame when coding as 7.x (window a multiple of it), else 0.
-// Code as a 9.1 stream does (FORMAT.md 8.2: rank tables against a lattice; 9.1: the float
-// predictors; 9.2: interpolated samples; 9.3: constant predictors), as capz writes every take
-// with analog channels; --before91 codes as 9.0 streams, --before9 as 8.x streams, --before8 as
-// the streams before 8.0.
+// Code as a 9.2 stream does (FORMAT.md 8.2: rank tables against a lattice; 9.1: the float
+// predictors; 9.2: interpolated samples; 9.3: constant predictors; 9.4: held samples), as capz
+// writes every take with analog channels; --before92 codes as 9.1 streams, --before91 as 9.0
+// streams, --before9 as 8.x streams, --before8 as the streams before 8.0.
 capz::FormatVersion g_format = capz::kFormatNewestWritten;
 
 Result run_ours(const Analog& a, const AnalogHints& h, size_t window, size_t repeat_S) {
@@ -339,6 +339,8 @@ int main(int argc, char** argv) {
       g_format = kAnalogLatticeSince;
     else if (!std::strcmp(argv[i], "--before91"))
       g_format = kAnalogFloat9Since;
+    else if (!std::strcmp(argv[i], "--before92"))
+      g_format = kAnalogConstantSince;
     else if (!std::strcmp(argv[i], "--per-channel"))
       channels = true;
     else if (!std::strcmp(argv[i], "--whole-frames"))

@@ -7,7 +7,10 @@
 // 6 of the mode or bit 7 of byte 1 too a 9.x one (FORMAT.md 9.1: the float coder's predictors
 // 2-5; 9.2: interpolated samples: with bit 6 of the mode, in odd modes every second row is made
 // the mean of its neighbours, so that the encoder finds them), a 9.1 one when bit 0 of byte 2 is
-// set too (FORMAT.md 9.3: integer blocks predicted by a constant):
+// set too (FORMAT.md 9.3: integer blocks predicted by a constant), and a 9.2 one when bit 1 of
+// byte 2 is set as well (FORMAT.md 9.4: held samples: without bit 6 of the mode, in odd modes the
+// even channels are made to change only at the rows i = 0 and i mod P = 1, P = 2 + bits 4-6 of
+// byte 1, and held in between):
 //   mode even: the rest is an ANLG body; decoding must return or throw capz::Error, and a body
 //     that decodes must re-encode to one that decodes to the same bits;
 //   mode odd: the rest are sample bits (as int16 counts, float32 or float64 values, by mode),
@@ -45,10 +48,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const bool v8 = data[2] & 0x80;
   const bool v9 = v8 && ((mode & 0x40) || (data[1] & 0x80));
   const bool v91 = v9 && (data[2] & 1);
-  const capz::FormatVersion v = v91  ? capz::kAnalogConstantSince
-                                : v9 ? capz::kAnalogFloat9Since
-                                : v8 ? capz::kAnalogLatticeSince
-                                     : capz::kAnalogWindowsSince;
+  const bool v92 = v91 && (data[2] & 2);
+  const capz::FormatVersion v = v92   ? capz::kAnalogHoldSince
+                                : v91 ? capz::kAnalogConstantSince
+                                : v9  ? capz::kAnalogFloat9Since
+                                : v8  ? capz::kAnalogLatticeSince
+                                      : capz::kAnalogWindowsSince;
+  const size_t hold_P = 2 + ((data[1] >> 4) & 7);
   if (S) nrows = (nrows + S - 1) / S * S;
   data += 3;
   size -= 3;
@@ -91,6 +97,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       for (size_t c = 0; c < nch; ++c)
         rows[i * nch + c] = capz::analog::interpolate(rows[(i - 1) * nch + c],
                                                       rows[(i + 1) * nch + c], 1, 2, width == 4);
+  if (v92 && !(mode & 0x40)) {  // sample and hold at period P, phase 1, on the even channels
+    for (size_t i = 1; i < nrows; ++i)
+      if (i % hold_P != 1)
+        for (size_t c = 0; c < nch; c += 2) rows[i * nch + c] = rows[(i - 1) * nch + c];
+  }
   round_trip(rows, nrows, channels, S, v);
   return 0;
 }

@@ -24,6 +24,11 @@ constexpr size_t kBlockRows = 4096;  // LPC block length (A.3)
 // 5,273,482 bytes for the 5,273,240 of trying every candidate (5,219,447 for 5,219,153 with
 // --repeats), and trial-codes about a fifth of the samples that trying all would.
 constexpr double kTrialMargin = 1.2;
+// What a coded sample costs beyond its residual's bit length, in the candidates' estimates (9.2
+// streams on): a zero residual has no bits of length, yet a candidate that leaves out held or
+// repeated samples saves their tokens (FORMAT.md 9.4). 1 bit: 124 bytes less on the 98 shared
+// takes than 0, the same as 2, at the same speed.
+constexpr uint64_t kEstimateBitsPerSample = 1;
 constexpr uint8_t kWindowVersion = 0;
 
 // Whether a channel of this kind has numbers in the entropy-coded block (a window whose
@@ -263,7 +268,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
                                           const AnalogHints& hints, size_t repeat_S,
                                           FormatVersion format) {
   const bool format8 = format >= kAnalogLatticeSince, format9 = format >= kAnalogFloat9Since,
-             format91 = format >= kAnalogConstantSince;
+             format91 = format >= kAnalogConstantSince, format92 = format >= kAnalogHoldSince;
   ByteWriter head;
   uint64_t last_const = 0;
   bool any_coded = false;
@@ -286,25 +291,41 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     const double* col = cols.data() + static_cast<size_t>(c) * nrows;
     std::vector<ChannelRepr> cands = analog::candidate_representations(col, 1, nrows, hint);
     // The kept rows the candidates describe: layout[0] every row; then, when the channel is not
-    // constant, its repeated frames (FORMAT.md 7.2) or else its interpolation (9.2), whose kept
-    // samples' candidates follow the whole channel's: cands[k] has layout[layout_at[k]].
+    // constant, its repeated frames (FORMAT.md 7.2) or else its interpolation (9.2) or its hold
+    // (9.4), whose kept samples' candidates follow the whole channel's: cands[k] has
+    // layout[layout_at[k]].
     std::vector<analog::KeptRows> layout(1);
     std::vector<size_t> layout_at(cands.size(), 0);
     analog::KeptRows more;
     if (cands[0].kind != Kind::kConst) {
       if (frames) more.repeats = analog::repeated_frames(col, 1, frames, repeat_S);
       if (more.repeats.empty() && format9) analog::find_interpolation(col, 1, nrows, &more.interp);
+      // A channel held for P > 2 rows also interpolates at period 2 with exceptions around its
+      // changes: the layout with fewer kept samples is offered.
+      analog::Hold hold;
+      if (more.repeats.empty() && format92 && analog::find_hold(col, 1, nrows, &hold) &&
+          (more.interp.period == 0 ||
+           analog::hold_kept_count(nrows, hold) < analog::interp_kept_count(nrows, more.interp))) {
+        more.interp = analog::Interp();
+        more.hold = std::move(hold);
+      }
     }
     if (!more.all()) {
       const std::vector<double> kept = more.samples(col, 1, nrows, repeat_S);
       for (ChannelRepr& m : analog::candidate_representations(kept.data(), 1, kept.size(), hint))
-        if (m.kind != Kind::kConst || more.interp.period == 0) {  // 9.2: kind 0 is corrupt
+        if (m.kind != Kind::kConst || (more.interp.period == 0 && more.hold.period == 0)) {
+          // 9.2, 9.4: kind 0 is corrupt with an interpolation or hold field
           cands.push_back(std::move(m));
           layout_at.push_back(1);
         }
       layout.push_back(std::move(more));
     }
     auto layout_of = [&](size_t k) -> const analog::KeptRows& { return layout[layout_at[k]]; };
+    // From 9.2 on the estimates count kEstimateBitsPerSample a coded sample (earlier versions
+    // code as they did).
+    auto samples_of = [&](size_t k) -> uint64_t {
+      return format92 ? layout_of(k).count(nrows, repeat_S) : 0;
+    };
     // References: integer channels before c with the same kept rows.
     std::vector<std::vector<bool>> use(layout.size(), std::vector<bool>(has_r1.size()));
     for (size_t l = 0; l < layout.size(); ++l)
@@ -353,9 +374,10 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
         ByteWriter th;
         uint64_t tl = last_const;
         analog::write_repr_header(cands[k], &tl, &th, &layout_of(k).repeats, format8,
-                                  &layout_of(k).interp);
+                                  &layout_of(k).interp, &layout_of(k).hold);
         heads[k] = std::move(th.buffer());
-        estimate[k] = static_cast<double>(heads[k].size()) + static_cast<double>(bits[k]) / 8;
+        estimate[k] = static_cast<double>(heads[k].size()) +
+                      static_cast<double>(bits[k] + kEstimateBitsPerSample * samples_of(k)) / 8;
       }
       auto trial = [&](size_t k, size_t bound) {
         IntEncoder coder(analog::kAnalogContexts);
@@ -371,7 +393,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     const ChannelRepr& r = cands[pick];
     if (heads.empty()) {
       analog::write_repr_header(r, &last_const, &head, &layout_of(pick).repeats, format8,
-                                &layout_of(pick).interp);
+                                &layout_of(pick).interp, &layout_of(pick).hold);
     } else {  // the header written for its estimate, from the same last_const (kConst sets it)
       head.bytes(heads[pick]);
       if (r.kind == Kind::kConst) last_const = r.const_bits;
@@ -398,7 +420,7 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
                           double* rows, const std::string& what, size_t repeat_S,
                           FormatVersion format) {
   const bool format8 = format >= kAnalogLatticeSince, format9 = format >= kAnalogFloat9Since,
-             format91 = format >= kAnalogConstantSince;
+             format91 = format >= kAnalogConstantSince, format92 = format >= kAnalogHoldSince;
   ByteReader in(data, size, what);
   if (in.u8() != kWindowVersion)
     throw Error(ErrorCode::kCorrupt, what + ": unknown analog window version");
@@ -406,14 +428,14 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
   ByteReader head(in.bytes(static_cast<size_t>(head_size)), static_cast<size_t>(head_size), what);
   const size_t nch = static_cast<size_t>(std::max(channels, 0));
   std::vector<ChannelRepr> reprs;
-  std::vector<analog::KeptRows> layouts(nch);  // FORMAT.md 7.2, 9.2
+  std::vector<analog::KeptRows> layouts(nch);  // FORMAT.md 7.2, 9.2, 9.4
   std::vector<size_t> kept(nch, nrows);        // each channel's coded samples
   uint64_t last_const = 0;
   bool any_coded = false;
   for (size_t c = 0; c < nch; ++c) {
-    reprs.push_back(analog::read_repr_header(&head, nrows, &last_const, repeat_S,
-                                             &layouts[c].repeats, format8,
-                                             format9 ? &layouts[c].interp : nullptr));
+    reprs.push_back(analog::read_repr_header(
+        &head, nrows, &last_const, repeat_S, &layouts[c].repeats, format8,
+        format9 ? &layouts[c].interp : nullptr, format92 ? &layouts[c].hold : nullptr));
     kept[c] = layouts[c].count(nrows, repeat_S);
     any_coded |= coded(reprs.back().kind);
   }
@@ -443,7 +465,7 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
   for (size_t c = 0; c < nch; ++c) {
     ChannelRepr& r = reprs[c];
     if (analog::is_integer_kind(r.kind)) {
-      std::vector<bool> use(nch, false);  // the same kept rows (FORMAT.md 7.2, 9.2)
+      std::vector<bool> use(nch, false);  // the same kept rows (FORMAT.md 7.2, 9.2, 9.4)
       for (size_t j = 0; j < c; ++j) use[j] = has_r1[j] && layouts[j] == layouts[c];
       decode_int_channel(kept[c], cross_refs(r1s, use, static_cast<int>(c)), format91, &cur,
                          &r.ints, &r1s[c]);

@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "capz/error.h"
+#include "coding/analog/analog_hold.h"
 #include "coding/analog/analog_interp.h"
 #include "coding/analog/analog_lpc.h"
 #include "coding/analog/analog_repeat.h"
@@ -320,15 +321,17 @@ ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
 
 void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w,
                        const std::vector<uint32_t>* repeats, bool lattice_tables,
-                       const Interp* interp) {
+                       const Interp* interp, const Hold* hold) {
   const bool gaps = !r.gap_index.empty();
   const bool same = r.kind == Kind::kConst && r.const_bits == *last_const;
   const bool rep = repeats && !repeats->empty();
   const bool inter = interp && interp->period != 0;
+  const bool held = hold && hold->period != 0;
   w->u8(static_cast<uint8_t>(static_cast<int>(r.kind) | (gaps ? 8 : 0) | (same ? 16 : 0) |
-                             (rep ? 32 : 0) | (inter ? 64 : 0)));
+                             (rep ? 32 : 0) | (inter ? 64 : 0) | (held ? 128 : 0)));
   if (rep) write_runs(*repeats, w);
   if (inter) write_interp(*interp, w);
+  if (held) write_hold(*hold, w);
   if (gaps) {
     // Runs of consecutive gap samples; then the distinct bit patterns and, when several, each
     // sample's index.
@@ -389,19 +392,27 @@ void read_gaps(ByteReader* in, size_t n, ChannelRepr* r) {
 }  // namespace
 
 ChannelRepr read_repr_header(ByteReader* in, size_t n, uint64_t* last_const, size_t S,
-                             std::vector<uint32_t>* repeats, bool lattice_tables, Interp* interp) {
+                             std::vector<uint32_t>* repeats, bool lattice_tables, Interp* interp,
+                             Hold* hold) {
   ChannelRepr r;
   const int byte = in->u8();
-  // Bit 6 (FORMAT.md 9.2) only in 9.x streams (interp given), never with bit 5 or kind 0.
-  const int unknown = interp ? ~127 : ~63;
+  // Bit 6 (FORMAT.md 9.2) only in 9.x streams (interp given), bit 7 (9.4) only from 9.2 on (hold
+  // given, interp too); at most one of bits 5-7, and neither 6 nor 7 with kind 0.
+  const int unknown = hold && interp ? ~255 : interp ? ~127 : ~63;
+  const int layouts = ((byte >> 5) & 1) + ((byte >> 6) & 1) + ((byte >> 7) & 1);
   if ((byte & 7) >= kKinds || (byte & unknown) != 0 || ((byte & 16) && (byte & 7) != 0) ||
-      ((byte & 64) && ((byte & 32) || (byte & 7) == 0)))
+      layouts > 1 || ((byte & 192) && (byte & 7) == 0))
     throw Error(ErrorCode::kCorrupt,
                 in->what() + ": unknown analog channel kind " + std::to_string(byte));
   if (interp) *interp = Interp();
+  if (hold) *hold = Hold();
   if (byte & 64) {
     *interp = read_interp(in, n);
     n = interp_kept_count(n, *interp);
+  }
+  if (byte & 128) {
+    *hold = read_hold(in, n);
+    n = hold_kept_count(n, *hold);
   }
   if (byte & 32) {  // FORMAT.md 7.2: only in 7.x streams (S > 0)
     if (S == 0 || !repeats || n % S != 0)

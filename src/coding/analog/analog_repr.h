@@ -25,6 +25,7 @@ namespace capz {
 namespace analog {
 
 struct Interp;  // analog_interp.h
+struct Hold;    // analog_hold.h
 
 enum class Kind : uint8_t {
   kConst = 0,
@@ -136,18 +137,21 @@ ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
 // lattice_tables (8.x streams, FORMAT.md 8.2): a kRank table may be coded against a lattice
 // (table flag bit 1), which the writer does when that is smaller.
 // interp (9.x streams, FORMAT.md 9.2): an interpolation field (bit 6) when its period is not 0;
-// then r describes the channel's kept samples.
+// hold (9.2 streams on, FORMAT.md 9.4): a hold field (bit 7) when its period is not 0; with
+// either, r describes the channel's kept samples. At most one of repeats, interp and hold is set.
 void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w,
                        const std::vector<uint32_t>* repeats = nullptr, bool lattice_tables = false,
-                       const Interp* interp = nullptr);
+                       const Interp* interp = nullptr, const Hold* hold = nullptr);
 // Reads a header for a channel of n samples; sizes are bounded by the bytes left in `in`. S: the
 // analog samples per point frame in a 7.x stream, else 0 (bit 5 is then corrupt); *repeats gets
 // the repeat list (empty without one), and r then describes n - S * repeats->size() samples.
 // interp: given in a 9.x stream (else bit 6 is corrupt), it gets the interpolation field (period
-// 0 without one), and r then describes interp_kept_count(n, *interp) samples.
+// 0 without one), and r then describes interp_kept_count(n, *interp) samples. hold: given (with
+// interp) in a 9.2 or later stream (else bit 7 is corrupt), it gets the hold field (period 0
+// without one), and r then describes hold_kept_count(n, *hold) samples.
 ChannelRepr read_repr_header(ByteReader* in, size_t n, uint64_t* last_const, size_t S = 0,
                              std::vector<uint32_t>* repeats = nullptr, bool lattice_tables = false,
-                             Interp* interp = nullptr);
+                             Interp* interp = nullptr, Hold* hold = nullptr);
 
 // Writes the n samples to col[0], col[stride], ... from the header and `ints` / `filled`.
 // Throws Error(kCorrupt) naming `what` when a rank is outside the table.
