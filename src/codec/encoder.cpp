@@ -77,7 +77,7 @@ struct VersionNeeds {
   bool repeats_7 = false;       // analog channels repeating whole frames, per the scan (7.2)
   bool cloud_fields_7 = false;  // an unorganized cloud's fields, positions on the grid (7.3)
   bool meta_8 = false;          // a C3D take's META smallest after dictionary 1 (8.1)
-  bool analog_9 = false;        // analog channels (8.2, 9.1, 9.2: each where it codes smaller)
+  bool analog_9 = false;        // analog channels (8.2, 9.1-9.4: each where it codes smaller)
 };
 
 FormatVersion stream_version(const VersionNeeds& n) {
