@@ -66,7 +66,13 @@ class IntEncoder {
     // `eset` picks the set of escape models (0 <= eset < kEscapeSets).
     int put(uint32_t u, int ctx, int eset = 0) {
       int nbits;
-      const int tok = token_of(u, &nbits);
+      const int tok = put_token(u, ctx, &nbits, eset);
+      if (nbits) bits_.put(u & ((1u << nbits) - 1), nbits, bits_out_);
+      return tok;
+    }
+    // As put, but only u's token: the *nbits bits below it are the caller's to code.
+    int put_token(uint32_t u, int ctx, int* nbits, int eset = 0) {
+      const int tok = token_of(u, nbits);
       if (tok < 15) {
         models_[ctx].encode(this, tok);
       } else {
@@ -80,7 +86,6 @@ class IntEncoder {
           rest -= 15;
         }
       }
-      if (nbits) bits_.put(u & ((1u << nbits) - 1), nbits, bits_out_);
       return tok;
     }
     int put_signed(int32_t v, int ctx, int eset = 0) { return put(zigzag(v), ctx, eset); }
@@ -138,6 +143,15 @@ class IntDecoder {
    public:
     // Decodes one value under ctx and stores its token in *tok.
     uint32_t get(int ctx, int* tok_out, int eset = 0) {
+      const int tok = get_token(ctx, eset);
+      *tok_out = tok;
+      if (tok < 4) return static_cast<uint32_t>(tok);
+      const int e = (tok - 4) / 2 + 2;
+      const uint32_t top = (2u | static_cast<uint32_t>(tok & 1)) << (e - 1);
+      return top | raw_bits(e - 1);
+    }
+    // The token put_token coded (0..63).
+    int get_token(int ctx, int eset = 0) {
       int tok = models_[ctx].decode(this);
       if (tok == 15) {
         SymbolModel* escape = escape_ + kEscapeLevels * eset;
@@ -149,11 +163,7 @@ class IntDecoder {
         }
         if (tok > 63) corrupt("entropy-coded token out of range");
       }
-      *tok_out = tok;
-      if (tok < 4) return static_cast<uint32_t>(tok);
-      const int e = (tok - 4) / 2 + 2;
-      const uint32_t top = (2u | static_cast<uint32_t>(tok & 1)) << (e - 1);
-      return top | raw_bits(e - 1);
+      return tok;
     }
     uint32_t raw_bits(int n) {
       uint32_t v;

@@ -29,7 +29,9 @@ constexpr double kTrialMargin = 1.2;
 // repeated samples saves their tokens (FORMAT.md 9.4). 1 bit: 124 bytes less on the 98 shared
 // takes than 0, the same as 2, at the same speed.
 constexpr uint64_t kEstimateBitsPerSample = 1;
-constexpr uint8_t kWindowVersion = 0;
+// The window's version byte (FORMAT.md 4.2.1): 0, or from 9.2 on 1, whose integer residuals code
+// the two bits below their token through a model (9.5).
+constexpr uint8_t kWindowVersion = 0, kWindowVersionLowBits = 1;
 
 // Whether a channel of this kind has numbers in the entropy-coded block (a window whose
 // channels have none omits the block).
@@ -172,11 +174,12 @@ void plan_int_channel(const std::vector<int32_t>& x,
 }
 
 // Integer channel: the cascade flag, the reference distance (and beta), then per block the LPC
-// parameters and residuals. Stops, returning false, once enc->bytes_out() reaches `limit`
-// (checked every kTrialCheck samples). Everything it calls is inlined (flatten) and it codes
-// through a local copy of the cursor, which then stays in registers (entropy.h's Cursor).
-__attribute__((flatten)) bool emit_int_channel(const IntPlan& plan, IntEncoder::Cursor* out,
-                                               size_t limit = SIZE_MAX) {
+// parameters and residuals (with low_bits, as a version 1 window codes them: FORMAT.md 9.5).
+// Stops, returning false, once enc->bytes_out() reaches `limit` (checked every kTrialCheck
+// samples). Everything it calls is inlined (flatten) and it codes through a local copy of the
+// cursor, which then stays in registers (entropy.h's Cursor).
+__attribute__((flatten)) bool emit_int_channel(const IntPlan& plan, bool low_bits,
+                                               IntEncoder::Cursor* out, size_t limit = SIZE_MAX) {
   IntEncoder::Cursor c = *out;
   IntEncoder::Cursor* enc = &c;
   enc->put(plan.cascade ? 1 : 0, analog::kParamContext);
@@ -190,22 +193,26 @@ __attribute__((flatten)) bool emit_int_channel(const IntPlan& plan, IntEncoder::
     for (size_t i0 = b0; i0 < b1; i0 += analog::kTrialCheck) {
       if (enc->bytes_out() >= limit) return false;  // a stopped trial: its cursor is dropped
       const size_t i1 = std::min(b1, i0 + analog::kTrialCheck);
-      for (size_t i = i0; i < i1; ++i) analog::put_residual(enc, &mag, plan.r[i]);
+      if (low_bits)
+        for (size_t i = i0; i < i1; ++i) analog::put_residual_v1(enc, &mag, plan.r[i]);
+      else
+        for (size_t i = i0; i < i1; ++i) analog::put_residual(enc, &mag, plan.r[i]);
     }
   }
   *out = c;
   return true;
 }
 
-// Samples [b0, b1) of an integer channel, the stage flags fixed at compile time.
-template <bool kCascade, bool kRef>
+// Samples [b0, b1) of an integer channel, the stage flags and the window version (kLowBits:
+// FORMAT.md 9.5) fixed at compile time.
+template <bool kCascade, bool kRef, bool kLowBits>
 void decode_int_block(size_t b0, size_t b1, const analog::LpcParams& p, const int32_t* ref,
                       int32_t beta, IntDecoder::Cursor* dec, analog::Magnitude* mag,
                       analog::SignLms* lms, int32_t* xs, double* xd, int32_t* r1) {
   const analog::LpcKernel lpc(p);
   const size_t order = static_cast<size_t>(p.order);
   for (size_t i = b0; i < b1; ++i) {
-    int64_t e = analog::get_residual(dec, mag);
+    int64_t e = kLowBits ? analog::get_residual_v1(dec, mag) : analog::get_residual(dec, mag);
     if (kCascade) {
       const int64_t out = e;
       e += lms->predict();
@@ -221,9 +228,24 @@ void decode_int_block(size_t b0, size_t b1, const analog::LpcParams& p, const in
   }
 }
 
+template <bool kLowBits>
+void decode_int_blocks(size_t b0, size_t b1, bool cascade, const analog::LpcParams& p,
+                       const int32_t* ref, int32_t beta, IntDecoder::Cursor* dec,
+                       analog::Magnitude* mag, analog::SignLms* lms, int32_t* xs, double* xd,
+                       int32_t* r1) {
+  if (cascade && ref)
+    decode_int_block<true, true, kLowBits>(b0, b1, p, ref, beta, dec, mag, lms, xs, xd, r1);
+  else if (cascade)
+    decode_int_block<true, false, kLowBits>(b0, b1, p, ref, beta, dec, mag, lms, xs, xd, r1);
+  else if (ref)
+    decode_int_block<false, true, kLowBits>(b0, b1, p, ref, beta, dec, mag, lms, xs, xd, r1);
+  else
+    decode_int_block<false, false, kLowBits>(b0, b1, p, ref, beta, dec, mag, lms, xs, xd, r1);
+}
+
 void decode_int_channel(size_t n, const std::vector<const std::vector<int32_t>*>& refs,
-                        bool constant, IntDecoder::Cursor* dec, std::vector<int32_t>* x,
-                        std::vector<int32_t>* r1) {
+                        bool constant, bool low_bits, IntDecoder::Cursor* dec,
+                        std::vector<int32_t>* x, std::vector<int32_t>* r1) {
   x->resize(n);
   r1->resize(n);
   int tok;
@@ -251,14 +273,10 @@ void decode_int_channel(size_t n, const std::vector<const std::vector<int32_t>*>
     const analog::LpcParams p = get_lpc(dec, constant);
     int32_t* xs = x->data();
     int32_t* rs = r1->data();
-    if (cascade && ref)
-      decode_int_block<true, true>(b0, b1, p, ref, cross.beta, dec, &mag, &lms, xs, xs_d, rs);
-    else if (cascade)
-      decode_int_block<true, false>(b0, b1, p, ref, cross.beta, dec, &mag, &lms, xs, xs_d, rs);
-    else if (ref)
-      decode_int_block<false, true>(b0, b1, p, ref, cross.beta, dec, &mag, &lms, xs, xs_d, rs);
+    if (low_bits)
+      decode_int_blocks<true>(b0, b1, cascade, p, ref, cross.beta, dec, &mag, &lms, xs, xs_d, rs);
     else
-      decode_int_block<false, false>(b0, b1, p, ref, cross.beta, dec, &mag, &lms, xs, xs_d, rs);
+      decode_int_blocks<false>(b0, b1, cascade, p, ref, cross.beta, dec, &mag, &lms, xs, xs_d, rs);
   }
 }
 
@@ -268,7 +286,8 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
                                           const AnalogHints& hints, size_t repeat_S,
                                           FormatVersion format) {
   const bool format8 = format >= kAnalogLatticeSince, format9 = format >= kAnalogFloat9Since,
-             format91 = format >= kAnalogConstantSince, format92 = format >= kAnalogHoldSince;
+             format91 = format >= kAnalogConstantSince, format92 = format >= kAnalogHoldSince,
+             low_bits = format >= kAnalogLowBitsSince;
   ByteWriter head;
   uint64_t last_const = 0;
   bool any_coded = false;
@@ -354,7 +373,8 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     }
     // False when the coding stopped at `limit` bytes out (a trial that cannot win).
     auto emit = [&](size_t k, IntEncoder::Cursor* enc, size_t limit) {
-      if (analog::is_integer_kind(cands[k].kind)) return emit_int_channel(plans[k], enc, limit);
+      if (analog::is_integer_kind(cands[k].kind))
+        return emit_int_channel(plans[k], low_bits, enc, limit);
       if (is_float(k))
         return analog::encode_float_channel(cands[k].filled, cands[k].kind == Kind::kFloat32,
                                             float_plan[k], enc, limit);
@@ -409,7 +429,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
   }
   ent.commit(cur);
   ByteWriter out;
-  out.u8(kWindowVersion);
+  out.u8(low_bits ? kWindowVersionLowBits : kWindowVersion);
   out.varint(head.size());
   out.bytes(head.buffer());
   if (any_coded) out.bytes(ent.finish());
@@ -422,8 +442,11 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
   const bool format8 = format >= kAnalogLatticeSince, format9 = format >= kAnalogFloat9Since,
              format91 = format >= kAnalogConstantSince, format92 = format >= kAnalogHoldSince;
   ByteReader in(data, size, what);
-  if (in.u8() != kWindowVersion)
+  const uint8_t version = in.u8();
+  if (version != kWindowVersion &&
+      !(format >= kAnalogLowBitsSince && version == kWindowVersionLowBits))
     throw Error(ErrorCode::kCorrupt, what + ": unknown analog window version");
+  const bool low_bits = version == kWindowVersionLowBits;
   const uint64_t head_size = in.count(1, "analog header size");
   ByteReader head(in.bytes(static_cast<size_t>(head_size)), static_cast<size_t>(head_size), what);
   const size_t nch = static_cast<size_t>(std::max(channels, 0));
@@ -467,8 +490,8 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
     if (analog::is_integer_kind(r.kind)) {
       std::vector<bool> use(nch, false);  // the same kept rows (FORMAT.md 7.2, 9.2, 9.4)
       for (size_t j = 0; j < c; ++j) use[j] = has_r1[j] && layouts[j] == layouts[c];
-      decode_int_channel(kept[c], cross_refs(r1s, use, static_cast<int>(c)), format91, &cur,
-                         &r.ints, &r1s[c]);
+      decode_int_channel(kept[c], cross_refs(r1s, use, static_cast<int>(c)), format91, low_bits,
+                         &cur, &r.ints, &r1s[c]);
       has_r1[c] = true;
     } else if (r.kind == Kind::kFloat32 || r.kind == Kind::kFloat64)
       analog::decode_float_channel(kept[c], r.kind == Kind::kFloat32, &cur, &r.filled, format9);

@@ -27,7 +27,10 @@ constexpr int kTopContext = kCoefContext + 1;
 constexpr int kTopContexts = 63;
 // FORMAT.md 9.1: a bit length far from the previous one.
 constexpr int kFarContext = kTopContext + kTopContexts;
-constexpr int kAnalogContexts = kFarContext + 1;
+// FORMAT.md 9.5: the two bits below an integer residual's token t (4..63), by t.
+constexpr int kLowContext = kFarContext + 1;
+constexpr int kLowContexts = 60;
+constexpr int kAnalogContexts = kLowContext + kLowContexts;
 
 // Running magnitude of a residual sequence: avg in 1/16 units, updated by an exponential mean
 // with weight 1/8. Encoder and decoder update it identically after every residual.
@@ -56,6 +59,34 @@ inline void put_residual(IntEncoder::Cursor* enc, Magnitude* m, int32_t v) {
 inline int32_t get_residual(IntDecoder::Cursor* dec, Magnitude* m) {
   int tok;
   const uint32_t u = dec->get(m->context(), &tok);
+  m->update(u);
+  return unzigzag(u);
+}
+// FORMAT.md 9.5 (a version 1 analog window): as put_residual, but the (up to) two bits below the
+// token are one symbol under context kLowContext + token - 4, and only the bits below them are
+// raw.
+inline void put_residual_v1(IntEncoder::Cursor* enc, Magnitude* m, int32_t v) {
+  const uint32_t u = zigzag(v);
+  int nbits;
+  const int tok = enc->put_token(u, m->context(), &nbits);
+  if (nbits) {
+    const int k = nbits < 2 ? nbits : 2, r = nbits - k;
+    enc->put_symbol(static_cast<int>((u >> r) & ((1u << k) - 1)), kLowContext + tok - 4);
+    if (r) enc->raw_bits(u & ((1u << r) - 1), r);
+  }
+  m->update(u);
+}
+inline int32_t get_residual_v1(IntDecoder::Cursor* dec, Magnitude* m) {
+  const int tok = dec->get_token(m->context());
+  uint32_t u = static_cast<uint32_t>(tok);
+  if (tok >= 4) {
+    const int e = (tok - 4) / 2 + 2, nbits = e - 1;  // u has e + 1 bits
+    const int k = nbits < 2 ? nbits : 2, r = nbits - k;
+    const int s = dec->get_symbol(kLowContext + tok - 4);
+    if (s >= (1 << k)) dec->corrupt("analog residual's low-bit symbol out of range");
+    u = ((2u | static_cast<uint32_t>(tok & 1)) << (e - 1)) | (static_cast<uint32_t>(s) << r);
+    if (r) u |= dec->raw_bits(r);
+  }
   m->update(u);
   return unzigzag(u);
 }

@@ -1,0 +1,167 @@
+// Analog window version 1 (docs/FORMAT.md 9.5, format 9.2): the two bits below an integer
+// residual's token go through a model per token. Residuals round-trip through the stage for
+// every token; a channel whose differences keep a pattern in their low bits codes smaller than
+// in 9.1, noise about the same; a version 1 window is corrupt in a 9.1 stream, a version 0 one
+// decodes the same in 9.2, and a low-bit symbol out of its range is corrupt.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+
+#include "capz/error.h"
+#include "capz/version.h"
+#include "coding/analog/analog_codec.h"
+#include "coding/analog/analog_entropy.h"
+#include "coding/entropy.h"
+
+namespace capz {
+namespace {
+
+uint64_t bits(double x) {
+  uint64_t b;
+  std::memcpy(&b, &x, 8);
+  return b;
+}
+
+TEST(AnalogLowBits, GivenResidualsOfEveryTokenThenTheStageRoundTrips) {
+  std::vector<int32_t> v = {0, 1, -1, 2, -2, 3, 4, 5, 7, 8, -9, 15, 16, 100, -1000, 123456};
+  for (int e = 2; e <= 28; ++e) {
+    v.push_back((1 << e) - 1);
+    v.push_back(-(1 << e));
+    v.push_back((1 << e) + 3);
+  }
+  v.push_back(1 << 28);
+  v.push_back(-(1 << 28));
+  IntEncoder enc(analog::kAnalogContexts);
+  IntEncoder::Cursor c = enc.cursor();
+  analog::Magnitude m;
+  for (int32_t x : v) analog::put_residual_v1(&c, &m, x);
+  enc.commit(c);
+  const std::vector<uint8_t> block = enc.finish();
+  IntDecoder dec(block.data(), block.size(), analog::kAnalogContexts, "low bits");
+  IntDecoder::Cursor d = dec.cursor();
+  analog::Magnitude md;
+  for (int32_t x : v) ASSERT_EQ(analog::get_residual_v1(&d, &md), x);
+  dec.commit(d);
+  EXPECT_TRUE(dec.at_end());
+}
+
+// Encodes one channel as `format`, decodes it and compares bits; returns the window.
+std::vector<uint8_t> round_trip(const std::vector<double>& v, FormatVersion format) {
+  const std::vector<uint8_t> w = encode_analog_window(v.data(), v.size(), 1, {}, 0, format);
+  std::vector<double> back(v.size(), -1.0);
+  decode_analog_window(w.data(), w.size(), v.size(), 1, back.data(), "low bits", 0, format);
+  for (size_t i = 0; i < v.size(); ++i) EXPECT_EQ(bits(back[i]), bits(v[i])) << i;
+  return w;
+}
+
+// As emgwl.c3d's channel MG-4: a walk whose steps are all 4m + 2, so that the zig-zag of each
+// first difference is 3 or 4 mod 8 and its two bits below the token are predictable.
+TEST(AnalogLowBits, GivenStepsOf4mPlus2Then92SmallerThan91AndExact) {
+  std::mt19937 rng(5);
+  std::geometric_distribution<int> mag(0.3);
+  std::vector<double> v(8000);
+  double x = 0;
+  for (double& s : v) {
+    const int m = mag(rng);
+    x += (rng() & 1) ? 4 * m + 2 : -(4 * m + 2);
+    s = x;
+  }
+  const std::vector<uint8_t> w92 = round_trip(v, kAnalogLowBitsSince),
+                             w91 = round_trip(v, kAnalogConstantSince);
+  EXPECT_EQ(w92[0], 1);  // the window version
+  EXPECT_EQ(w91[0], 0);
+  EXPECT_LT(w92.size() * 100, w91.size() * 94) << w92.size() << " against " << w91.size();
+}
+
+// White noise has no pattern below its tokens: the models cost at most 1%.
+TEST(AnalogLowBits, GivenNoiseThen92AboutAs91) {
+  std::mt19937 rng(9);
+  std::normal_distribution<double> noise(0, 300);
+  std::vector<double> v(8000);
+  for (double& s : v) s = std::round(noise(rng));
+  const std::vector<uint8_t> w92 = round_trip(v, kAnalogLowBitsSince),
+                             w91 = round_trip(v, kAnalogConstantSince);
+  EXPECT_LT(w92.size() * 100, w91.size() * 101) << w92.size() << " against " << w91.size();
+}
+
+void expect_corrupt(const std::vector<uint8_t>& w, size_t n, FormatVersion format,
+                    const std::string& message) {
+  std::vector<double> out(n);
+  try {
+    decode_analog_window(w.data(), w.size(), n, 1, out.data(), "damaged window", 0, format);
+    ADD_FAILURE() << message << ": decoded";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << e.what();
+    EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("damaged window"), std::string::npos) << e.what();
+  }
+}
+
+TEST(AnalogLowBits, GivenWindowVersionsThenEachDecodesOnlyWhereValid) {
+  std::vector<double> v(3000);
+  for (size_t i = 0; i < v.size(); ++i) v[i] = static_cast<double>((i * 37) % 101);
+  const std::vector<uint8_t> w92 = round_trip(v, kAnalogLowBitsSince),
+                             w91 = round_trip(v, kAnalogConstantSince);
+  expect_corrupt(w92, v.size(), kAnalogConstantSince, "unknown analog window version");
+  std::vector<uint8_t> w = w92;
+  w[0] = 2;
+  expect_corrupt(w, v.size(), kAnalogLowBitsSince, "unknown analog window version");
+  // A version 0 window decodes the same in a 9.2 stream.
+  std::vector<double> back(v.size());
+  decode_analog_window(w91.data(), w91.size(), v.size(), 1, back.data(), "9.1 window", 0,
+                       kAnalogLowBitsSince);
+  for (size_t i = 0; i < v.size(); ++i) ASSERT_EQ(bits(back[i]), bits(v[i])) << i;
+}
+
+// A version 1 window of one integer channel whose block is made by hand: no cascade, no
+// reference, order 0, then residual 0s and one residual of token `tok` whose low-bit symbol is
+// `sym`.
+std::vector<uint8_t> crafted(int tok, int sym, size_t n) {
+  std::vector<double> v(n);
+  for (size_t i = 0; i < n; ++i) v[i] = static_cast<double>((i * i * 7919) % 30011) - 15000;
+  const std::vector<uint8_t> w = encode_analog_window(v.data(), n, 1, {}, 0, kAnalogLowBitsSince);
+  size_t at = 1, head = 0;
+  for (int shift = 0;; shift += 7) {  // the header's size, a varint
+    head |= static_cast<size_t>(w[at] & 0x7F) << shift;
+    if (!(w[at++] & 0x80)) break;
+  }
+  EXPECT_EQ(w[at], 1);  // kind 1 (integers), nothing else in the header: y = k
+  std::vector<uint8_t> out(w.begin(), w.begin() + static_cast<long>(at + head));
+  IntEncoder enc(analog::kAnalogContexts);
+  IntEncoder::Cursor c = enc.cursor();
+  c.put(0, analog::kParamContext);  // no cascade
+  c.put(0, analog::kParamContext);  // no reference
+  c.put(0, analog::kParamContext);  // LPC order 0
+  analog::Magnitude m;
+  for (size_t i = 0; i + 1 < n; ++i) analog::put_residual_v1(&c, &m, 0);
+  // The last residual by hand: its token (u = the token's least value), its symbol, no raw bits
+  // beyond it for tokens 4..7.
+  int nbits;
+  const uint32_t u = tok < 4 ? static_cast<uint32_t>(tok)
+                             : (2u | static_cast<uint32_t>(tok & 1)) << ((tok - 4) / 2 + 1);
+  c.put_token(u, m.context(), &nbits);
+  c.put_symbol(sym, analog::kLowContext + tok - 4);
+  enc.commit(c);
+  const std::vector<uint8_t> block = enc.finish();
+  out.insert(out.end(), block.begin(), block.end());
+  return out;
+}
+
+TEST(AnalogLowBits, GivenALowBitSymbolOutOfItsRangeThenCorrupt) {
+  const size_t n = 50;
+  std::vector<double> out(n);
+  // Token 6 (u = 8 .. 11): two bits below it, symbols 0-3; token 4 (u = 4, 5): one bit, 0-1.
+  for (int sym = 0; sym < 4; ++sym) {
+    const std::vector<uint8_t> w = crafted(6, sym, n);
+    decode_analog_window(w.data(), w.size(), n, 1, out.data(), "crafted", 0, kAnalogLowBitsSince);
+    const int32_t u = 8 + sym, e = (u >> 1) ^ -(u & 1);
+    EXPECT_EQ(out[n - 1], static_cast<double>(e)) << sym;
+  }
+  expect_corrupt(crafted(6, 4, n), n, kAnalogLowBitsSince, "low-bit symbol out of range");
+  expect_corrupt(crafted(4, 2, n), n, kAnalogLowBitsSince, "low-bit symbol out of range");
+  expect_corrupt(crafted(6, 15, n), n, kAnalogLowBitsSince, "low-bit symbol out of range");
+}
+
+}  // namespace
+}  // namespace capz
