@@ -1,22 +1,16 @@
 #include "coding/analog/analog_hold.h"
 
-#include <cstring>
 #include <string>
 
 #include "capz/error.h"
 #include "coding/analog/analog_repeat.h"
+#include "coding/analog/analog_repr.h"
 
 namespace capz {
 namespace analog {
 namespace {
 
 constexpr uint32_t kMinPeriod = 2, kMaxPeriod = 65535;
-
-inline uint64_t bits_of(double v) {
-  uint64_t b;
-  std::memcpy(&b, &v, 8);
-  return b;
-}
 
 // The anchors of a channel of n >= 1 samples: sample 0 and the i in [1, n) with i mod P = phase.
 size_t anchor_count(size_t n, uint32_t period, uint32_t phase) {
