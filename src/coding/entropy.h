@@ -122,6 +122,8 @@ class IntEncoder {
   void skew_contexts() {
     for (SymbolModel& m : models_) m.skew();
   }
+  // Starts context ctx's model on its first m symbols (SymbolModel::restrict).
+  void restrict_context(int ctx, int m) { models_[static_cast<size_t>(ctx)].restrict(m); }
   int put(uint32_t u, int ctx, int eset = 0) { return cur_.put(u, ctx, eset); }
   int put_signed(int32_t v, int ctx, int eset = 0) { return cur_.put_signed(v, ctx, eset); }
   void raw_bits(uint32_t v, int n) { cur_.raw_bits(v, n); }
@@ -204,6 +206,7 @@ class IntDecoder {
   void skew_contexts() {
     for (SymbolModel& m : models_) m.skew();
   }
+  void restrict_context(int ctx, int m) { models_[static_cast<size_t>(ctx)].restrict(m); }
   Cursor cursor() const { return cur_; }
   void commit(const Cursor& c) { cur_ = c; }
 

@@ -307,6 +307,12 @@ class SymbolModel {
   SymbolModel() {
     for (int i = 0; i <= kSymbols; ++i) cum_[i] = static_cast<uint16_t>(i * kT / kSymbols + i);
   }
+  // Start on the first m symbols (FORMAT.md 9.5): c[i] = floor(i * T / m) for i <= m, T above,
+  // so symbols m..15 keep their least frequency, 1.
+  void restrict(int m) {
+    for (int i = 0; i <= kSymbols; ++i)
+      cum_[i] = static_cast<uint16_t>((i <= m ? i * kT / m : kT) + i);
+  }
   // Skewed start (FORMAT.md 1.2): c[i] = T - floor(T / 2^i), symbol i has about 2^-(i+1).
   void skew() {
     for (int i = 1; i < kSymbols; ++i) cum_[i] = static_cast<uint16_t>(kT - (kT >> i) + i);

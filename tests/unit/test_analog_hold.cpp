@@ -68,9 +68,10 @@ std::vector<Hold> fields(const std::vector<uint8_t>& p, size_t n, size_t C) {
   ByteReader head(in.bytes(h), h, "fields");
   std::vector<Hold> out(C);
   uint64_t last = 0;
+  analog::ScaledShare share;
   for (Hold& f : out) {
     analog::Interp interp;
-    analog::read_repr_header(&head, n, &last, 0, nullptr, true, &interp, &f);
+    analog::read_repr_header(&head, n, &last, 0, nullptr, true, &interp, &f, &share);
   }
   return out;
 }

@@ -33,12 +33,14 @@ TEST(AnalogLowBits, GivenResidualsOfEveryTokenThenTheStageRoundTrips) {
   v.push_back(1 << 28);
   v.push_back(-(1 << 28));
   IntEncoder enc(analog::kAnalogContexts);
+  analog::start_low_bit_models(&enc);
   IntEncoder::Cursor c = enc.cursor();
   analog::Magnitude m;
   for (int32_t x : v) analog::put_residual_v1(&c, &m, x);
   enc.commit(c);
   const std::vector<uint8_t> block = enc.finish();
   IntDecoder dec(block.data(), block.size(), analog::kAnalogContexts, "low bits");
+  analog::start_low_bit_models(&dec);
   IntDecoder::Cursor d = dec.cursor();
   analog::Magnitude md;
   for (int32_t x : v) ASSERT_EQ(analog::get_residual_v1(&d, &md), x);
@@ -129,6 +131,7 @@ std::vector<uint8_t> crafted(int tok, int sym, size_t n) {
   EXPECT_EQ(w[at], 1);  // kind 1 (integers), nothing else in the header: y = k
   std::vector<uint8_t> out(w.begin(), w.begin() + static_cast<long>(at + head));
   IntEncoder enc(analog::kAnalogContexts);
+  analog::start_low_bit_models(&enc);  // as a version 1 window's coder starts
   IntEncoder::Cursor c = enc.cursor();
   c.put(0, analog::kParamContext);  // no cascade
   c.put(0, analog::kParamContext);  // no reference

@@ -290,8 +290,11 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
              low_bits = format >= kAnalogLowBitsSince;
   ByteWriter head;
   uint64_t last_const = 0;
+  analog::ScaledShare share;  // FORMAT.md 9.6, from 9.2 on
+  analog::ScaledShare* const share_of = format92 ? &share : nullptr;
   bool any_coded = false;
   IntEncoder ent(analog::kAnalogContexts);
+  if (low_bits) analog::start_low_bit_models(&ent);
   IntEncoder::Cursor cur = ent.cursor();
   std::vector<std::vector<int32_t>> r1s(static_cast<size_t>(channels));
   std::vector<double> energy(static_cast<size_t>(channels), 0.0);
@@ -305,8 +308,9 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
   for (size_t i = 0; i < nrows; ++i)
     for (size_t c = 0; c < nch; ++c) cols[c * nrows + i] = rows[i * nch + c];
   for (int c = 0; c < channels; ++c) {
-    const analog::ChannelHint hint =
+    analog::ChannelHint hint =
         static_cast<size_t>(c) < hints.channel.size() ? hints.channel[c] : analog::ChannelHint();
+    hint.share = share;  // empty before 9.2 (never set)
     const double* col = cols.data() + static_cast<size_t>(c) * nrows;
     std::vector<ChannelRepr> cands = analog::candidate_representations(col, 1, nrows, hint);
     // The kept rows the candidates describe: layout[0] every row; then, when the channel is not
@@ -393,14 +397,17 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
       for (size_t k = 0; k < cands.size(); ++k) {
         ByteWriter th;
         uint64_t tl = last_const;
+        analog::ScaledShare ts = share;
         analog::write_repr_header(cands[k], &tl, &th, &layout_of(k).repeats, format8,
-                                  &layout_of(k).interp, &layout_of(k).hold);
+                                  &layout_of(k).interp, &layout_of(k).hold,
+                                  share_of ? &ts : nullptr);
         heads[k] = std::move(th.buffer());
         estimate[k] = static_cast<double>(heads[k].size()) +
                       static_cast<double>(bits[k] + kEstimateBitsPerSample * samples_of(k)) / 8;
       }
       auto trial = [&](size_t k, size_t bound) {
         IntEncoder coder(analog::kAnalogContexts);
+        if (low_bits) analog::start_low_bit_models(&coder);
         IntEncoder::Cursor tc = coder.cursor();
         const size_t fixed = heads[k].size() + 1;
         const size_t limit = bound == SIZE_MAX ? SIZE_MAX : bound > fixed ? bound - fixed : 0;
@@ -413,10 +420,13 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     const ChannelRepr& r = cands[pick];
     if (heads.empty()) {
       analog::write_repr_header(r, &last_const, &head, &layout_of(pick).repeats, format8,
-                                &layout_of(pick).interp, &layout_of(pick).hold);
-    } else {  // the header written for its estimate, from the same last_const (kConst sets it)
+                                &layout_of(pick).interp, &layout_of(pick).hold, share_of);
+    } else {  // the header written for its estimate, from the same last_const and share (kConst
+              // and kScaled set them)
       head.bytes(heads[pick]);
       if (r.kind == Kind::kConst) last_const = r.const_bits;
+      if (r.kind == Kind::kScaled && share_of)
+        share = analog::ScaledShare{true, r.round_f32, r.step, r.offset};
     }
     any_coded |= coded(r.kind);
     emit(pick, &cur, SIZE_MAX);
@@ -454,11 +464,13 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
   std::vector<analog::KeptRows> layouts(nch);  // FORMAT.md 7.2, 9.2, 9.4
   std::vector<size_t> kept(nch, nrows);        // each channel's coded samples
   uint64_t last_const = 0;
+  analog::ScaledShare share;  // FORMAT.md 9.6
   bool any_coded = false;
   for (size_t c = 0; c < nch; ++c) {
     reprs.push_back(analog::read_repr_header(
         &head, nrows, &last_const, repeat_S, &layouts[c].repeats, format8,
-        format9 ? &layouts[c].interp : nullptr, format92 ? &layouts[c].hold : nullptr));
+        format9 ? &layouts[c].interp : nullptr, format92 ? &layouts[c].hold : nullptr,
+        format92 ? &share : nullptr));
     kept[c] = layouts[c].count(nrows, repeat_S);
     any_coded |= coded(reprs.back().kind);
   }
@@ -482,6 +494,7 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
     return;
   }
   IntDecoder ent(data + in.offset(), in.remaining(), analog::kAnalogContexts, what);
+  if (low_bits) analog::start_low_bit_models(&ent);
   IntDecoder::Cursor cur = ent.cursor();
   std::vector<std::vector<int32_t>> r1s(nch);
   std::vector<bool> has_r1(nch, false);

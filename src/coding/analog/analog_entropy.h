@@ -62,6 +62,12 @@ inline int32_t get_residual(IntDecoder::Cursor* dec, Magnitude* m) {
   m->update(u);
   return unzigzag(u);
 }
+// FORMAT.md 9.5: a version 1 window's coder starts each low-bit model on the symbols it can code
+// (2 after tokens 4 and 5, whose values have one bit below the token; 4 after the others).
+template <typename Coder>
+void start_low_bit_models(Coder* c) {
+  for (int t = 4; t < 64; ++t) c->restrict_context(kLowContext + t - 4, t < 6 ? 2 : 4);
+}
 // FORMAT.md 9.5 (a version 1 analog window): as put_residual, but the (up to) two bits below the
 // token are one symbol under context kLowContext + token - 4, and only the bits below them are
 // raw.

@@ -321,9 +321,12 @@ ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
 
 void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w,
                        const std::vector<uint32_t>* repeats, bool lattice_tables,
-                       const Interp* interp, const Hold* hold) {
+                       const Interp* interp, const Hold* hold, ScaledShare* share) {
   const bool gaps = !r.gap_index.empty();
-  const bool same = r.kind == Kind::kConst && r.const_bits == *last_const;
+  const bool same_scaling =
+      share && share->have && r.kind == Kind::kScaled && share->round_f32 == r.round_f32 &&
+      bits_of(share->step) == bits_of(r.step) && bits_of(share->offset) == bits_of(r.offset);
+  const bool same = (r.kind == Kind::kConst && r.const_bits == *last_const) || same_scaling;
   const bool rep = repeats && !repeats->empty();
   const bool inter = interp && interp->period != 0;
   const bool held = hold && hold->period != 0;
@@ -351,9 +354,12 @@ void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w
       *last_const = r.const_bits;
       break;
     case Kind::kScaled: {
-      w->u8(r.round_f32 ? 1 : 0);
-      w->f64(r.step);
-      w->f64(r.offset);
+      if (!same_scaling) {
+        w->u8(r.round_f32 ? 1 : 0);
+        w->f64(r.step);
+        w->f64(r.offset);
+      }
+      if (share) *share = ScaledShare{true, r.round_f32, r.step, r.offset};
       w->varint(r.exc_index.size());
       uint32_t prev = 0;
       for (size_t e = 0; e < r.exc_index.size(); ++e) {
@@ -393,15 +399,17 @@ void read_gaps(ByteReader* in, size_t n, ChannelRepr* r) {
 
 ChannelRepr read_repr_header(ByteReader* in, size_t n, uint64_t* last_const, size_t S,
                              std::vector<uint32_t>* repeats, bool lattice_tables, Interp* interp,
-                             Hold* hold) {
+                             Hold* hold, ScaledShare* share) {
   ChannelRepr r;
   const int byte = in->u8();
   // Bit 6 (FORMAT.md 9.2) only in 9.x streams (interp given), bit 7 (9.4) only from 9.2 on (hold
   // given, interp too); at most one of bits 5-7, and neither 6 nor 7 with kind 0.
   const int unknown = hold && interp ? ~255 : interp ? ~127 : ~63;
   const int layouts = ((byte >> 5) & 1) + ((byte >> 6) & 1) + ((byte >> 7) & 1);
-  if ((byte & 7) >= kKinds || (byte & unknown) != 0 || ((byte & 16) && (byte & 7) != 0) ||
-      layouts > 1 || ((byte & 192) && (byte & 7) == 0))
+  // Bit 4 names kind 0's previous constant; from 9.2 on (share given) kind 2's previous scaling.
+  const bool same_ok = (byte & 7) == 0 || (share && (byte & 7) == static_cast<int>(Kind::kScaled));
+  if ((byte & 7) >= kKinds || (byte & unknown) != 0 || ((byte & 16) && !same_ok) || layouts > 1 ||
+      ((byte & 192) && (byte & 7) == 0))
     throw Error(ErrorCode::kCorrupt,
                 in->what() + ": unknown analog channel kind " + std::to_string(byte));
   if (interp) *interp = Interp();
@@ -431,11 +439,21 @@ ChannelRepr read_repr_header(ByteReader* in, size_t n, uint64_t* last_const, siz
       *last_const = r.const_bits;
       break;
     case Kind::kScaled: {
-      const int f = in->u8();
-      if (f > 1) throw Error(ErrorCode::kCorrupt, in->what() + ": bad analog rounding flag");
-      r.round_f32 = f == 1;
-      r.step = in->f64();
-      r.offset = in->f64();
+      if (byte & 16) {  // FORMAT.md 9.6
+        if (!share->have)
+          throw Error(ErrorCode::kCorrupt,
+                      in->what() + ": analog scaling shared with no earlier channel");
+        r.round_f32 = share->round_f32;
+        r.step = share->step;
+        r.offset = share->offset;
+      } else {
+        const int f = in->u8();
+        if (f > 1) throw Error(ErrorCode::kCorrupt, in->what() + ": bad analog rounding flag");
+        r.round_f32 = f == 1;
+        r.step = in->f64();
+        r.offset = in->f64();
+      }
+      if (share) *share = ScaledShare{true, r.round_f32, r.step, r.offset};
       const uint64_t ne = in->count(2, "analog exceptions");
       uint64_t prev = 0;
       for (uint64_t e = 0; e < ne; ++e) {

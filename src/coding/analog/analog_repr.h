@@ -41,6 +41,14 @@ inline bool is_integer_kind(Kind k) {
 }
 
 // What the file says about a channel; only ever a hint (the encoder verifies everything).
+// The scaling of the previous kind 2 channel of a window (FORMAT.md 9.6): from 9.2 on a kind 2
+// header may say "the same" instead of repeating round, s and o.
+struct ScaledShare {
+  bool have = false;  // an earlier channel of the window has kind 2
+  bool round_f32 = false;
+  double step = 0, offset = 0;
+};
+
 struct ChannelHint {
   double scale = 0;   // a candidate step of the stored values (0 = none)
   double offset = 0;  // a candidate offset, in stored units
@@ -48,6 +56,9 @@ struct ChannelHint {
   // lattice_step (0: it did not). That scaled fit is tried first and, when it holds, is the
   // only candidate.
   double lattice_step = 0, lattice_offset = 0;
+  // The window's previous kind 2 channel's scaling (FORMAT.md 9.6): a fit whose step is within
+  // 1e-6 of its step tries it too, and takes it when it leaves no more exceptions.
+  ScaledShare share;
 };
 
 struct ChannelRepr {
@@ -139,9 +150,13 @@ ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
 // interp (9.x streams, FORMAT.md 9.2): an interpolation field (bit 6) when its period is not 0;
 // hold (9.2 streams on, FORMAT.md 9.4): a hold field (bit 7) when its period is not 0; with
 // either, r describes the channel's kept samples. At most one of repeats, interp and hold is set.
+// share (9.2 streams on, FORMAT.md 9.6): the window's previous kind 2 scaling, which a kind 2
+// channel with the same round, s and o names by bit 4 instead of repeating; a kind 2 channel
+// updates it.
 void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w,
                        const std::vector<uint32_t>* repeats = nullptr, bool lattice_tables = false,
-                       const Interp* interp = nullptr, const Hold* hold = nullptr);
+                       const Interp* interp = nullptr, const Hold* hold = nullptr,
+                       ScaledShare* share = nullptr);
 // Reads a header for a channel of n samples; sizes are bounded by the bytes left in `in`. S: the
 // analog samples per point frame in a 7.x stream, else 0 (bit 5 is then corrupt); *repeats gets
 // the repeat list (empty without one), and r then describes n - S * repeats->size() samples.
@@ -149,9 +164,11 @@ void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w
 // 0 without one), and r then describes interp_kept_count(n, *interp) samples. hold: given (with
 // interp) in a 9.2 or later stream (else bit 7 is corrupt), it gets the hold field (period 0
 // without one), and r then describes hold_kept_count(n, *hold) samples.
+// share: given in a 9.2 or later stream (else bit 4 with kind 2 is corrupt), as for the writer.
 ChannelRepr read_repr_header(ByteReader* in, size_t n, uint64_t* last_const, size_t S = 0,
                              std::vector<uint32_t>* repeats = nullptr, bool lattice_tables = false,
-                             Interp* interp = nullptr, Hold* hold = nullptr);
+                             Interp* interp = nullptr, Hold* hold = nullptr,
+                             ScaledShare* share = nullptr);
 
 // Writes the n samples to col[0], col[stride], ... from the header and `ints` / `filled`.
 // Throws Error(kCorrupt) naming `what` when a rank is outside the table.

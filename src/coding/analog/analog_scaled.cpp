@@ -295,6 +295,14 @@ bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted
     }
   }
   if (!found) return false;
+  // FORMAT.md 9.6: the window's previous scaled channel's step and offset, when they are this
+  // fit's up to its last bits and leave no more exceptions, so that the header can name them.
+  const ScaledShare& sh = hint.share;
+  if (sh.have && sh.round_f32 == best.round_f32 &&
+      (bits_of(sh.step) != bits_of(best.step) || bits_of(sh.offset) != bits_of(best.offset)) &&
+      std::fabs(sh.step / best.step - 1) < 1e-6 &&
+      fit_scaled(v, sh.step, sh.offset, f32, best.exc_index.size(), &t))
+    std::swap(best, t);
   r->round_f32 = best.round_f32;
   r->step = best.step;
   r->offset = best.offset;

@@ -1,0 +1,133 @@
+// A scaled channel's scaling shared with the previous scaled channel of its window
+// (docs/FORMAT.md 9.6, format 9.2): channels stored with one step and offset write them once,
+// the others name them by the kind byte's bit 4; a channel with another scaling writes its own
+// and is named after; below 9.2, and with no earlier scaled channel, the bit is corrupt; Walk1's
+// force channels, whose least-squares steps differ in their last bits, share one but for one.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+
+#include "capz/error.h"
+#include "capz/io.h"
+#include "coding/analog/analog_codec.h"
+#include "coding/analog/analog_hold.h"
+#include "coding/analog/analog_interp.h"
+#include "coding/analog/analog_repr.h"
+#include "coding/bytes.h"
+#include "test_util.h"
+
+namespace capz {
+namespace {
+
+using analog::Kind;
+
+// Each channel's kind byte, as a 9.2 payload's header gives them.
+std::vector<uint8_t> kind_bytes(const std::vector<uint8_t>& p, size_t n, size_t C) {
+  ByteReader in(p.data(), p.size(), "kinds");
+  in.u8();
+  const size_t h = static_cast<size_t>(in.varint());
+  const uint8_t* start = in.bytes(h);
+  ByteReader head(start, h, "kinds");
+  std::vector<uint8_t> out;
+  uint64_t last = 0;
+  analog::ScaledShare share;
+  for (size_t c = 0; c < C; ++c) {
+    out.push_back(start[head.offset()]);
+    analog::Interp interp;
+    analog::Hold hold;
+    analog::read_repr_header(&head, n, &last, 0, nullptr, true, &interp, &hold, &share);
+  }
+  return out;
+}
+
+// C channels of float32(k * step) (k a seeded walk), channel-major, as rows.
+std::vector<double> scaled_rows(size_t n, const std::vector<double>& steps, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> d(0, 40);
+  const size_t C = steps.size();
+  std::vector<double> rows(n * C);
+  for (size_t c = 0; c < C; ++c) {
+    double k = 1000;
+    for (size_t i = 0; i < n; ++i) {
+      k += std::round(d(rng));
+      rows[i * C + c] = static_cast<double>(static_cast<float>(k * steps[c]));
+    }
+  }
+  return rows;
+}
+
+std::vector<uint8_t> round_trip(const std::vector<double>& rows, size_t C, FormatVersion f) {
+  const size_t n = rows.size() / C;
+  const std::vector<uint8_t> p =
+      encode_analog_window(rows.data(), n, static_cast<int>(C), {}, 0, f);
+  std::vector<double> back(rows.size(), -1);
+  decode_analog_window(p.data(), p.size(), n, static_cast<int>(C), back.data(), "share", 0, f);
+  EXPECT_EQ(std::memcmp(back.data(), rows.data(), rows.size() * 8), 0);
+  return p;
+}
+
+TEST(AnalogShare, GivenChannelsOfOneScalingThenWrittenOnceAndNamedAfter) {
+  const double s = 10.0 / 32768, other = 0.01;
+  const std::vector<double> rows = scaled_rows(3000, {s, s, other, other, s}, 3);
+  const std::vector<uint8_t> p = round_trip(rows, 5, kAnalogHoldSince);
+  const std::vector<uint8_t> kinds = kind_bytes(p, 3000, 5);
+  for (uint8_t k : kinds) ASSERT_EQ(k & 7, static_cast<int>(Kind::kScaled));
+  EXPECT_EQ(kinds[0] & 16, 0);  // the first writes its scaling
+  EXPECT_NE(kinds[1] & 16, 0);  // the same: named
+  EXPECT_EQ(kinds[2] & 16, 0);  // another scaling: written
+  EXPECT_NE(kinds[3] & 16, 0);  // the same as channel 2
+  EXPECT_EQ(kinds[4] & 16, 0);  // channel 0's again, but the previous scaled channel is 3's
+  // 9.1 writes every scaling: three more headers of 17 bytes.
+  const std::vector<uint8_t> p91 = round_trip(rows, 5, kAnalogConstantSince);
+  EXPECT_EQ(kind_bytes(p91, 3000, 5)[1] & 16, 0);
+}
+
+void expect_corrupt(const std::vector<uint8_t>& p, size_t n, size_t C, FormatVersion f,
+                    const std::string& message) {
+  std::vector<double> out(n * C);
+  try {
+    decode_analog_window(p.data(), p.size(), n, static_cast<int>(C), out.data(), "damaged", 0, f);
+    ADD_FAILURE() << message << ": decoded";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << e.what();
+    EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+  }
+}
+
+TEST(AnalogShare, GivenBit4WithKind2WhereItCannotBeThenCorrupt) {
+  const std::vector<double> rows = scaled_rows(500, {0.01}, 5);
+  std::vector<uint8_t> p = round_trip(rows, 1, kAnalogHoldSince);
+  size_t k = 1;  // the kind byte: after the window version and the header size
+  while (p[k] & 0x80) ++k;
+  ++k;
+  ASSERT_EQ(p[k], static_cast<int>(Kind::kScaled));
+  p[k] |= 16;  // "the previous scaling", with none before: the 17 bytes then read as more fields
+  expect_corrupt(p, 500, 1, kAnalogHoldSince, "analog scaling shared with no earlier channel");
+  p[0] = 0;  // as a 9.1 window (version 0): bit 4 with kind 2 is unknown there
+  expect_corrupt(p, 500, 1, kAnalogConstantSince, "unknown analog channel kind");
+}
+
+TEST(AnalogShare, GivenWalk1ThenItsForceChannelsShareOneScaling) {
+  const std::string path =
+      capz_test::shared_data_or_skip("c3d/c3dorg/sample_00/Motion Analysis Corporation/Walk1.c3d");
+  if (path.empty()) return;
+  const Take t = read_take(path);
+  const size_t C = static_cast<size_t>(t.analog.channels), n = t.analog.values.size() / C;
+  const std::vector<uint8_t> p92 = encode_analog_window(
+      t.analog.values.data(), n, t.analog.channels, analog_hints(t), 0, kAnalogHoldSince);
+  std::vector<double> back(t.analog.values.size());
+  decode_analog_window(p92.data(), p92.size(), n, t.analog.channels, back.data(), "walk1", 0,
+                       kAnalogHoldSince);
+  EXPECT_EQ(std::memcmp(back.data(), t.analog.values.data(), back.size() * 8), 0);
+  const std::vector<uint8_t> kinds = kind_bytes(p92, n, C);
+  ASSERT_EQ(C, 18u);
+  size_t named = 0;
+  for (uint8_t k : kinds) named += (k & 7) == static_cast<int>(Kind::kScaled) && (k & 16);
+  // Of the 17 channels after the first, 16 name the previous scaling (measured at ee15fa0; before
+  // 9.6 each wrote its own, and 7 of the fits differed in their last bits).
+  EXPECT_GE(named, 16u);
+}
+
+}  // namespace
+}  // namespace capz
