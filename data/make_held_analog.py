@@ -21,6 +21,7 @@ import sys
 import numpy as np
 
 import capz
+from make_repeat_analog import ring  # the same markers (data/make_repeat_analog.py)
 
 FRAMES, POINTS, S, P, PHASE = 60, 12, 20, 14, 9
 
@@ -29,11 +30,7 @@ def main():
     here = os.path.dirname(os.path.abspath(__file__))
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(here, "held_analog.c3d")
     rng = np.random.default_rng(17)
-    t = np.arange(FRAMES)[:, None] / 100.0
-    ang = 2 * np.pi * (np.arange(POINTS)[None, :] / POINTS + 0.3 * t)
-    height = np.broadcast_to(900 + 40 * np.sin(7 * t), ang.shape)
-    xyz = np.stack([300 * np.cos(ang), 300 * np.sin(ang), height], 2)
-    xyz = xyz.astype(np.float32).astype(np.float64)
+    xyz = ring(FRAMES, POINTS)
 
     n = FRAMES * S
     ts = np.arange(n) / 2000.0

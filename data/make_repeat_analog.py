@@ -24,15 +24,20 @@ import capz
 FRAMES, POINTS, S = 80, 12, 10
 
 
+def ring(frames, points):
+    """frames x points x 3 markers at 100 Hz: a ring turning and bobbing, mm, float32 values."""
+    t = np.arange(frames)[:, None] / 100.0
+    ang = 2 * np.pi * (np.arange(points)[None, :] / points + 0.3 * t)
+    height = np.broadcast_to(900 + 40 * np.sin(7 * t), ang.shape)
+    xyz = np.stack([300 * np.cos(ang), 300 * np.sin(ang), height], 2)
+    return xyz.astype(np.float32).astype(np.float64)
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(here, "repeat_analog.c3d")
     rng = np.random.default_rng(13)
-    t = np.arange(FRAMES)[:, None] / 100.0
-    ang = 2 * np.pi * (np.arange(POINTS)[None, :] / POINTS + 0.3 * t)
-    height = np.broadcast_to(900 + 40 * np.sin(7 * t), ang.shape)
-    xyz = np.stack([300 * np.cos(ang), 300 * np.sin(ang), height], 2)
-    xyz = xyz.astype(np.float32).astype(np.float64)
+    xyz = ring(FRAMES, POINTS)
 
     n = FRAMES * S
     ts = np.arange(n) / 1000.0

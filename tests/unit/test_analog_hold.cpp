@@ -11,6 +11,7 @@
 #include <limits>
 #include <random>
 
+#include "analog_headers.h"
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/io.h"
@@ -62,17 +63,9 @@ std::vector<uint8_t> round_trip(const std::vector<std::vector<double>>& cols,
 
 // Each channel's hold field as a 9.2 payload's header gives it.
 std::vector<Hold> fields(const std::vector<uint8_t>& p, size_t n, size_t C) {
-  ByteReader in(p.data(), p.size(), "fields");
-  in.u8();
-  const size_t h = static_cast<size_t>(in.varint());
-  ByteReader head(in.bytes(h), h, "fields");
-  std::vector<Hold> out(C);
-  uint64_t last = 0;
-  analog::ScaledShare share;
-  for (Hold& f : out) {
-    analog::Interp interp;
-    analog::read_repr_header(&head, n, &last, 0, nullptr, true, &interp, &f, &share);
-  }
+  std::vector<Hold> out;
+  for (const capz_test::ChannelHeader& h : capz_test::channel_headers(p, n, C))
+    out.push_back(h.hold);
   return out;
 }
 

@@ -12,6 +12,7 @@
 #include <limits>
 #include <random>
 
+#include "analog_headers.h"
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/io.h"
@@ -64,13 +65,9 @@ std::vector<uint8_t> round_trip(const std::vector<std::vector<double>>& cols, bo
 
 // Each channel's interpolation field as the payload's header gives it.
 std::vector<Interp> fields(const std::vector<uint8_t>& p, size_t n, size_t C) {
-  ByteReader in(p.data(), p.size(), "fields");
-  in.u8();
-  const size_t h = static_cast<size_t>(in.varint());
-  ByteReader head(in.bytes(h), h, "fields");
-  std::vector<Interp> out(C);
-  uint64_t last = 0;
-  for (Interp& f : out) analog::read_repr_header(&head, n, &last, 0, nullptr, true, &f);
+  std::vector<Interp> out;
+  for (const capz_test::ChannelHeader& h : capz_test::channel_headers(p, n, C))
+    out.push_back(h.interp);
   return out;
 }
 

@@ -12,6 +12,7 @@
 #include "capz/version.h"
 #include "coding/analog/analog_codec.h"
 #include "coding/analog/analog_entropy.h"
+#include "coding/bytes.h"
 #include "coding/entropy.h"
 
 namespace capz {
@@ -123,11 +124,9 @@ std::vector<uint8_t> crafted(int tok, int sym, size_t n) {
   std::vector<double> v(n);
   for (size_t i = 0; i < n; ++i) v[i] = static_cast<double>((i * i * 7919) % 30011) - 15000;
   const std::vector<uint8_t> w = encode_analog_window(v.data(), n, 1, {}, 0, kAnalogLowBitsSince);
-  size_t at = 1, head = 0;
-  for (int shift = 0;; shift += 7) {  // the header's size, a varint
-    head |= static_cast<size_t>(w[at] & 0x7F) << shift;
-    if (!(w[at++] & 0x80)) break;
-  }
+  ByteReader in(w.data(), w.size(), "crafted");
+  in.u8();  // the window's version
+  const size_t head = static_cast<size_t>(in.varint()), at = in.offset();
   EXPECT_EQ(w[at], 1);  // kind 1 (integers), nothing else in the header: y = k
   std::vector<uint8_t> out(w.begin(), w.begin() + static_cast<long>(at + head));
   IntEncoder enc(analog::kAnalogContexts);
