@@ -29,11 +29,15 @@ inline std::vector<ChannelHeader> channel_headers(const std::vector<uint8_t>& p,
   const uint8_t* start = in.bytes(h);
   capz::ByteReader head(start, h, "headers");
   std::vector<ChannelHeader> out(C);
-  uint64_t last = 0;
-  capz::analog::ScaledShare share;
+  capz::analog::HeaderRules rules;  // a 9.2 window's, without repeat lists
+  rules.lattice = rules.interp = rules.hold = rules.share = true;
+  capz::analog::HeaderState state;
   for (ChannelHeader& c : out) {
     c.kind_byte = start[head.offset()];
-    capz::analog::read_repr_header(&head, n, &last, 0, nullptr, true, &c.interp, &c.hold, &share);
+    capz::analog::KeptRows kept;
+    capz::analog::read_repr_header(&head, n, rules, &state, &kept);
+    c.interp = kept.interp;
+    c.hold = kept.hold;
   }
   return out;
 }

@@ -278,6 +278,44 @@ TEST(AnalogHold, GivenDamagedFieldsThenCorruptNeverCrash) {
   }
 }
 
+// The header writer refuses a layout its rules do not allow (an encoder bug, not bad input): a
+// hold before 9.2, an interpolation before 9.0, a repeat list outside 7.x windows, two layouts.
+TEST(AnalogHold, GivenLayoutsTheRulesDoNotAllowThenTheWriterRefuses) {
+  analog::ChannelRepr r;
+  r.kind = analog::Kind::kInt;
+  analog::KeptRows held, interp, repeats, both;
+  held.hold.period = 14;
+  interp.interp.period = 2;
+  repeats.repeats = {3};
+  both = held;
+  both.repeats = {3};
+  analog::HeaderRules all;
+  all.S = 4;
+  all.lattice = all.interp = all.hold = all.share = true;
+  auto refused = [&](const analog::KeptRows& kept, const analog::HeaderRules& rules) {
+    analog::HeaderState state;
+    ByteWriter w;
+    try {
+      analog::write_repr_header(r, kept, rules, &state, &w);
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::kInternal);
+      return true;
+    }
+    return false;
+  };
+  for (const analog::KeptRows* kept : {&held, &interp, &repeats}) EXPECT_FALSE(refused(*kept, all));
+  analog::HeaderRules rules = all;
+  rules.hold = false;
+  EXPECT_TRUE(refused(held, rules));
+  rules = all;
+  rules.interp = false;
+  EXPECT_TRUE(refused(interp, rules));
+  rules = all;
+  rules.S = 0;
+  EXPECT_TRUE(refused(repeats, rules));
+  EXPECT_TRUE(refused(both, all));
+}
+
 // The bundled sample (data/make_held_analog.py): its three accelerometer channels get hold fields
 // of period 14 and phase 9, ACCY with the two changes it makes off the phase as exceptions; its
 // two EMG channels none.

@@ -43,8 +43,10 @@ ChannelRepr rank_of(const std::vector<double>& x) {
 
 std::vector<uint8_t> header(const ChannelRepr& r, bool lattice) {
   ByteWriter w;
-  uint64_t last = 0;
-  write_repr_header(r, &last, &w, nullptr, lattice);
+  HeaderRules rules;
+  rules.lattice = lattice;
+  HeaderState state;
+  write_repr_header(r, KeptRows(), rules, &state, &w);
   return w.buffer();
 }
 
@@ -57,8 +59,11 @@ uint8_t flag_of(const std::vector<uint8_t>& h) {
 
 ChannelRepr read(const std::vector<uint8_t>& h, size_t n, bool lattice) {
   ByteReader in(h.data(), h.size(), "test header");
-  uint64_t last = 0;
-  ChannelRepr r = read_repr_header(&in, n, &last, 0, nullptr, lattice);
+  HeaderRules rules;
+  rules.lattice = lattice;
+  HeaderState state;
+  KeptRows kept;
+  ChannelRepr r = read_repr_header(&in, n, rules, &state, &kept);
   EXPECT_TRUE(in.at_end());
   return r;
 }
@@ -231,9 +236,12 @@ TEST(AnalogLattice, GivenDamagedFieldsThenCorruptNeverCrash) {
   auto corrupt = [](const Fields& f, size_t n) {
     const std::vector<uint8_t> h = build(f);
     ByteReader in(h.data(), h.size(), "test header");
-    uint64_t last = 0;
+    HeaderRules rules;
+    rules.lattice = true;
+    HeaderState state;
+    KeptRows kept;
     try {
-      read_repr_header(&in, n, &last, 0, nullptr, true);
+      read_repr_header(&in, n, rules, &state, &kept);
     } catch (const Error& e) {
       EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
       return true;

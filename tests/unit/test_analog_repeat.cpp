@@ -73,8 +73,14 @@ std::vector<std::vector<uint32_t>> repeat_lists(const std::vector<uint8_t>& p, c
   const size_t h = static_cast<size_t>(in.varint());
   ByteReader head(in.bytes(h), h, "lists");
   std::vector<std::vector<uint32_t>> lists(static_cast<size_t>(w.C));
-  uint64_t last = 0;
-  for (auto& l : lists) analog::read_repr_header(&head, w.n(), &last, w.S, &l);
+  analog::HeaderRules rules;
+  rules.S = w.S;
+  analog::HeaderState state;
+  for (auto& l : lists) {
+    analog::KeptRows kept;
+    analog::read_repr_header(&head, w.n(), rules, &state, &kept);
+    l = kept.repeats;
+  }
   return lists;
 }
 
@@ -216,11 +222,14 @@ std::vector<uint8_t> with_list(const std::vector<uint8_t>& p, const Window& w, i
   const size_t h = static_cast<size_t>(in.varint());
   ByteReader head(in.bytes(h), h, "edit");
   ByteWriter nh;
-  uint64_t last_in = 0, last_out = 0;
+  analog::HeaderRules rules;
+  rules.S = w.S;
+  analog::HeaderState in_state, out_state;
   for (int k = 0; k < w.C; ++k) {
-    std::vector<uint32_t> l;
-    const analog::ChannelRepr r = analog::read_repr_header(&head, w.n(), &last_in, w.S, &l);
-    analog::write_repr_header(r, &last_out, &nh, k == c ? &list : &l);
+    analog::KeptRows kept;
+    const analog::ChannelRepr r = analog::read_repr_header(&head, w.n(), rules, &in_state, &kept);
+    if (k == c) kept.repeats = list;
+    analog::write_repr_header(r, kept, rules, &out_state, &nh);
   }
   ByteWriter out;
   out.u8(0);

@@ -280,18 +280,27 @@ void decode_int_channel(size_t n, const std::vector<const std::vector<int32_t>*>
   }
 }
 
+// What the window's channel headers may carry in a stream of this version.
+analog::HeaderRules header_rules(FormatVersion format, size_t repeat_S) {
+  analog::HeaderRules rules;
+  rules.S = repeat_S;
+  rules.lattice = format >= kAnalogLatticeSince;
+  rules.interp = format >= kAnalogFloat9Since;
+  rules.hold = format >= kAnalogHoldSince;
+  rules.share = format >= kAnalogShareSince;
+  return rules;
+}
+
 }  // namespace
 
 std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int channels,
                                           const AnalogHints& hints, size_t repeat_S,
                                           FormatVersion format) {
-  const bool format8 = format >= kAnalogLatticeSince, format9 = format >= kAnalogFloat9Since,
-             format91 = format >= kAnalogConstantSince, format92 = format >= kAnalogHoldSince,
-             low_bits = format >= kAnalogLowBitsSince;
+  const bool format9 = format >= kAnalogFloat9Since, format91 = format >= kAnalogConstantSince,
+             holds = format >= kAnalogHoldSince, low_bits = format >= kAnalogLowBitsSince;
+  const analog::HeaderRules rules = header_rules(format, repeat_S);
   ByteWriter head;
-  uint64_t last_const = 0;
-  analog::ScaledShare share;  // FORMAT.md 9.6, from 9.2 on
-  analog::ScaledShare* const share_of = format92 ? &share : nullptr;
+  analog::HeaderState state;  // the last constant; from 9.2 on the last scaling (FORMAT.md 9.6)
   bool any_coded = false;
   IntEncoder ent(analog::kAnalogContexts);
   if (low_bits) analog::start_low_bit_models(&ent);
@@ -310,7 +319,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
   for (int c = 0; c < channels; ++c) {
     analog::ChannelHint hint =
         static_cast<size_t>(c) < hints.channel.size() ? hints.channel[c] : analog::ChannelHint();
-    hint.share = share;  // empty before 9.2 (never set)
+    hint.share = state.share;  // empty before 9.2 (never set)
     const double* col = cols.data() + static_cast<size_t>(c) * nrows;
     std::vector<ChannelRepr> cands = analog::candidate_representations(col, 1, nrows, hint);
     // The kept rows the candidates describe: layout[0] every row; then, when the channel is not
@@ -326,7 +335,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
       // A channel held for P > 2 rows also interpolates at period 2 with exceptions around its
       // changes: the layout with fewer kept samples is offered.
       analog::Hold hold;
-      if (more.repeats.empty() && format92 && analog::find_hold(col, 1, nrows, &hold) &&
+      if (more.repeats.empty() && holds && analog::find_hold(col, 1, nrows, &hold) &&
           (more.interp.period == 0 ||
            analog::hold_kept_count(nrows, hold) < analog::interp_kept_count(nrows, more.interp))) {
         more.interp = analog::Interp();
@@ -347,7 +356,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     // From 9.2 on the estimates count kEstimateBitsPerSample a coded sample (earlier versions
     // code as they did).
     auto samples_of = [&](size_t k) -> uint64_t {
-      return format92 ? layout_of(k).count(nrows, repeat_S) : 0;
+      return holds ? layout_of(k).count(nrows, repeat_S) : 0;
     };
     // References: integer channels before c with the same kept rows.
     std::vector<std::vector<bool>> use(layout.size(), std::vector<bool>(has_r1.size()));
@@ -386,6 +395,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     };
     size_t pick = 0;
     std::vector<std::vector<uint8_t>> heads;  // each candidate's header, when estimated
+    std::vector<analog::HeaderState> states;  // the state after it
     if (cands.size() > 1) {
       // Measured: each candidate coded alone (fresh models), the smallest kept (the first of
       // equals), tried in the order of their header bytes plus residual bit lengths; those
@@ -394,13 +404,10 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
       // output so far: its trial stops once that reaches the bound.
       std::vector<double> estimate(cands.size());
       heads.resize(cands.size());
+      states.assign(cands.size(), state);
       for (size_t k = 0; k < cands.size(); ++k) {
         ByteWriter th;
-        uint64_t tl = last_const;
-        analog::ScaledShare ts = share;
-        analog::write_repr_header(cands[k], &tl, &th, &layout_of(k).repeats, format8,
-                                  &layout_of(k).interp, &layout_of(k).hold,
-                                  share_of ? &ts : nullptr);
+        analog::write_repr_header(cands[k], layout_of(k), rules, &states[k], &th);
         heads[k] = std::move(th.buffer());
         estimate[k] = static_cast<double>(heads[k].size()) +
                       static_cast<double>(bits[k] + kEstimateBitsPerSample * samples_of(k)) / 8;
@@ -419,14 +426,10 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     }
     const ChannelRepr& r = cands[pick];
     if (heads.empty()) {
-      analog::write_repr_header(r, &last_const, &head, &layout_of(pick).repeats, format8,
-                                &layout_of(pick).interp, &layout_of(pick).hold, share_of);
-    } else {  // the header written for its estimate, from the same last_const and share (kConst
-              // and kScaled set them)
+      analog::write_repr_header(r, layout_of(pick), rules, &state, &head);
+    } else {  // the header written for its estimate, from the same state
       head.bytes(heads[pick]);
-      if (r.kind == Kind::kConst) last_const = r.const_bits;
-      if (r.kind == Kind::kScaled && share_of)
-        share = analog::ScaledShare{true, r.round_f32, r.step, r.offset};
+      state = states[pick];
     }
     any_coded |= coded(r.kind);
     emit(pick, &cur, SIZE_MAX);
@@ -449,8 +452,8 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
 void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int channels,
                           double* rows, const std::string& what, size_t repeat_S,
                           FormatVersion format) {
-  const bool format8 = format >= kAnalogLatticeSince, format9 = format >= kAnalogFloat9Since,
-             format91 = format >= kAnalogConstantSince, format92 = format >= kAnalogHoldSince;
+  const bool format9 = format >= kAnalogFloat9Since, format91 = format >= kAnalogConstantSince;
+  const analog::HeaderRules rules = header_rules(format, repeat_S);
   ByteReader in(data, size, what);
   const uint8_t version = in.u8();
   if (version != kWindowVersion &&
@@ -463,14 +466,10 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
   std::vector<ChannelRepr> reprs;
   std::vector<analog::KeptRows> layouts(nch);  // FORMAT.md 7.2, 9.2, 9.4
   std::vector<size_t> kept(nch, nrows);        // each channel's coded samples
-  uint64_t last_const = 0;
-  analog::ScaledShare share;  // FORMAT.md 9.6
+  analog::HeaderState state;
   bool any_coded = false;
   for (size_t c = 0; c < nch; ++c) {
-    reprs.push_back(analog::read_repr_header(
-        &head, nrows, &last_const, repeat_S, &layouts[c].repeats, format8,
-        format9 ? &layouts[c].interp : nullptr, format92 ? &layouts[c].hold : nullptr,
-        format92 ? &share : nullptr));
+    reprs.push_back(analog::read_repr_header(&head, nrows, rules, &state, &layouts[c]));
     kept[c] = layouts[c].count(nrows, repeat_S);
     any_coded |= coded(reprs.back().kind);
   }

@@ -47,6 +47,8 @@ constexpr FormatVersion kAnalogConstantSince{9, 1};
 constexpr FormatVersion kAnalogHoldSince{9, 2};
 // Windows may be of version 1: the bits below integer residuals' tokens through models (9.5).
 constexpr FormatVersion kAnalogLowBitsSince{9, 2};
+// A kind 2 channel may name the previous kind 2 channel's scaling (9.6).
+constexpr FormatVersion kAnalogShareSince{9, 2};
 
 std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int channels,
                                           const AnalogHints& hints, size_t repeat_S = 0,
@@ -55,9 +57,9 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
 // Fills rows[0 .. nrows * channels). Throws Error(kCorrupt) naming `what` when the payload is
 // not a valid window of that shape; memory used is O(nrows * channels + size). repeat_S and
 // format: as for encode_analog_window (repeat_S 0: a repeat list is corrupt; a format before
-// kAnalogLatticeSince, kAnalogFloat9Since, kAnalogConstantSince, kAnalogHoldSince or
-// kAnalogLowBitsSince: a lattice table, an interpolation field, a constant predictor, a hold
-// field or a version 1 window is corrupt).
+// kAnalogLatticeSince, kAnalogFloat9Since, kAnalogConstantSince, kAnalogHoldSince,
+// kAnalogLowBitsSince or kAnalogShareSince: a lattice table, an interpolation field, a constant
+// predictor, a hold field, a version 1 window or a shared scaling is corrupt).
 void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int channels,
                           double* rows, const std::string& what, size_t repeat_S = 0,
                           FormatVersion format = kAnalogWindowsSince);

@@ -319,22 +319,24 @@ ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
   return std::move(candidate_representations(col, stride, n, hint).front());
 }
 
-void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w,
-                       const std::vector<uint32_t>* repeats, bool lattice_tables,
-                       const Interp* interp, const Hold* hold, ScaledShare* share) {
+void write_repr_header(const ChannelRepr& r, const KeptRows& kept, const HeaderRules& rules,
+                       HeaderState* state, ByteWriter* w) {
+  const bool rep = !kept.repeats.empty(), inter = kept.interp.period != 0,
+             held = kept.hold.period != 0;
+  if ((rep && rules.S == 0) || (inter && !rules.interp) || (held && !rules.hold) ||
+      rep + inter + held > 1)
+    throw Error(ErrorCode::kInternal, "analog channel layout not allowed in this format version");
   const bool gaps = !r.gap_index.empty();
+  const ScaledShare& share = state->share;
   const bool same_scaling =
-      share && share->have && r.kind == Kind::kScaled && share->round_f32 == r.round_f32 &&
-      bits_of(share->step) == bits_of(r.step) && bits_of(share->offset) == bits_of(r.offset);
-  const bool same = (r.kind == Kind::kConst && r.const_bits == *last_const) || same_scaling;
-  const bool rep = repeats && !repeats->empty();
-  const bool inter = interp && interp->period != 0;
-  const bool held = hold && hold->period != 0;
+      rules.share && share.have && r.kind == Kind::kScaled && share.round_f32 == r.round_f32 &&
+      bits_of(share.step) == bits_of(r.step) && bits_of(share.offset) == bits_of(r.offset);
+  const bool same = (r.kind == Kind::kConst && r.const_bits == state->last_const) || same_scaling;
   w->u8(static_cast<uint8_t>(static_cast<int>(r.kind) | (gaps ? 8 : 0) | (same ? 16 : 0) |
                              (rep ? 32 : 0) | (inter ? 64 : 0) | (held ? 128 : 0)));
-  if (rep) write_runs(*repeats, w);
-  if (inter) write_interp(*interp, w);
-  if (held) write_hold(*hold, w);
+  if (rep) write_runs(kept.repeats, w);
+  if (inter) write_interp(kept.interp, w);
+  if (held) write_hold(kept.hold, w);
   if (gaps) {
     // Runs of consecutive gap samples; then the distinct bit patterns and, when several, each
     // sample's index.
@@ -351,7 +353,7 @@ void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w
   switch (r.kind) {
     case Kind::kConst:
       if (!same) w->varint(__builtin_bswap64(r.const_bits));
-      *last_const = r.const_bits;
+      state->last_const = r.const_bits;
       break;
     case Kind::kScaled: {
       if (!same_scaling) {
@@ -359,7 +361,7 @@ void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w
         w->f64(r.step);
         w->f64(r.offset);
       }
-      if (share) *share = ScaledShare{true, r.round_f32, r.step, r.offset};
+      if (rules.share) state->share = ScaledShare{true, r.round_f32, r.step, r.offset};
       w->varint(r.exc_index.size());
       uint32_t prev = 0;
       for (size_t e = 0; e < r.exc_index.size(); ++e) {
@@ -370,7 +372,7 @@ void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w
       break;
     }
     case Kind::kRank:
-      write_value_table(r.table, lattice_tables, w);
+      write_value_table(r.table, rules.lattice, w);
       break;
     default:
       break;
@@ -397,55 +399,54 @@ void read_gaps(ByteReader* in, size_t n, ChannelRepr* r) {
 
 }  // namespace
 
-ChannelRepr read_repr_header(ByteReader* in, size_t n, uint64_t* last_const, size_t S,
-                             std::vector<uint32_t>* repeats, bool lattice_tables, Interp* interp,
-                             Hold* hold, ScaledShare* share) {
+ChannelRepr read_repr_header(ByteReader* in, size_t n, const HeaderRules& rules, HeaderState* state,
+                             KeptRows* kept) {
   ChannelRepr r;
   const int byte = in->u8();
-  // Bit 6 (FORMAT.md 9.2) only in 9.x streams (interp given), bit 7 (9.4) only from 9.2 on (hold
-  // given, interp too); at most one of bits 5-7, and neither 6 nor 7 with kind 0.
-  const int unknown = hold && interp ? ~255 : interp ? ~127 : ~63;
+  // Bit 6 (FORMAT.md 9.2) and bit 7 (9.4) only where the rules allow them; at most one of bits
+  // 5-7, and neither 6 nor 7 with kind 0.
+  const int unknown = ~(63 | (rules.interp ? 64 : 0) | (rules.hold ? 128 : 0));
   const int layouts = ((byte >> 5) & 1) + ((byte >> 6) & 1) + ((byte >> 7) & 1);
-  // Bit 4 names kind 0's previous constant; from 9.2 on (share given) kind 2's previous scaling.
-  const bool same_ok = (byte & 7) == 0 || (share && (byte & 7) == static_cast<int>(Kind::kScaled));
+  // Bit 4 names kind 0's previous constant; with rules.share (9.2 on) kind 2's previous scaling.
+  const bool same_ok =
+      (byte & 7) == 0 || (rules.share && (byte & 7) == static_cast<int>(Kind::kScaled));
   if ((byte & 7) >= kKinds || (byte & unknown) != 0 || ((byte & 16) && !same_ok) || layouts > 1 ||
       ((byte & 192) && (byte & 7) == 0))
     throw Error(ErrorCode::kCorrupt,
                 in->what() + ": unknown analog channel kind " + std::to_string(byte));
-  if (interp) *interp = Interp();
-  if (hold) *hold = Hold();
+  *kept = KeptRows();
   if (byte & 64) {
-    *interp = read_interp(in, n);
-    n = interp_kept_count(n, *interp);
+    kept->interp = read_interp(in, n);
+    n = interp_kept_count(n, kept->interp);
   }
   if (byte & 128) {
-    *hold = read_hold(in, n);
-    n = hold_kept_count(n, *hold);
+    kept->hold = read_hold(in, n);
+    n = hold_kept_count(n, kept->hold);
   }
   if (byte & 32) {  // FORMAT.md 7.2: only in 7.x streams (S > 0)
-    if (S == 0 || !repeats || n % S != 0)
+    const size_t S = rules.S;
+    if (S == 0 || n % S != 0)
       throw Error(ErrorCode::kCorrupt,
                   in->what() + ": analog repeat list in a stream before format 7.0");
-    *repeats = read_repeats(in, n / S);
-    n -= S * repeats->size();
-  } else if (repeats) {
-    repeats->clear();
+    kept->repeats = read_repeats(in, n / S);
+    n -= S * kept->repeats.size();
   }
   r.kind = static_cast<Kind>(byte & 7);
   if (byte & 8) read_gaps(in, n, &r);
   switch (r.kind) {
     case Kind::kConst:
-      r.const_bits = (byte & 16) ? *last_const : __builtin_bswap64(in->varint());
-      *last_const = r.const_bits;
+      r.const_bits = (byte & 16) ? state->last_const : __builtin_bswap64(in->varint());
+      state->last_const = r.const_bits;
       break;
     case Kind::kScaled: {
       if (byte & 16) {  // FORMAT.md 9.6
-        if (!share->have)
+        const ScaledShare& share = state->share;
+        if (!share.have)
           throw Error(ErrorCode::kCorrupt,
                       in->what() + ": analog scaling shared with no earlier channel");
-        r.round_f32 = share->round_f32;
-        r.step = share->step;
-        r.offset = share->offset;
+        r.round_f32 = share.round_f32;
+        r.step = share.step;
+        r.offset = share.offset;
       } else {
         const int f = in->u8();
         if (f > 1) throw Error(ErrorCode::kCorrupt, in->what() + ": bad analog rounding flag");
@@ -453,7 +454,7 @@ ChannelRepr read_repr_header(ByteReader* in, size_t n, uint64_t* last_const, siz
         r.step = in->f64();
         r.offset = in->f64();
       }
-      if (share) *share = ScaledShare{true, r.round_f32, r.step, r.offset};
+      if (rules.share) state->share = ScaledShare{true, r.round_f32, r.step, r.offset};
       const uint64_t ne = in->count(2, "analog exceptions");
       uint64_t prev = 0;
       for (uint64_t e = 0; e < ne; ++e) {
@@ -467,7 +468,7 @@ ChannelRepr read_repr_header(ByteReader* in, size_t n, uint64_t* last_const, siz
       break;
     }
     case Kind::kRank:
-      r.table = read_value_table(in, n, lattice_tables);
+      r.table = read_value_table(in, n, rules.lattice);
       break;
     default:
       break;

@@ -19,6 +19,7 @@
 #include <limits>
 #include <vector>
 
+#include "coding/analog/analog_layout.h"
 #include "coding/bytes.h"
 
 namespace capz {
@@ -139,36 +140,37 @@ bool sample_lattice(const double* col, size_t stride, size_t n, const ChannelHin
 ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
                                   const ChannelHint& hint);
 
-// The kind byte's low 3 bits are the kind; bit 3 says a gap list follows; bit 4 (kConst only)
-// says the value is *last_const, the previous constant channel's of the window (0 before any);
-// bit 5 (7.x streams, FORMAT.md 7.2) says a repeat list follows, when `repeats` is non-empty:
-// then r describes the channel's kept samples. The header carries everything but the per-sample
-// numbers (ints or float samples), which the entropy stage codes. *last_const is updated by
-// kConst channels.
-// lattice_tables (8.x streams, FORMAT.md 8.2): a kRank table may be coded against a lattice
-// (table flag bit 1), which the writer does when that is smaller.
-// interp (9.x streams, FORMAT.md 9.2): an interpolation field (bit 6) when its period is not 0;
-// hold (9.2 streams on, FORMAT.md 9.4): a hold field (bit 7) when its period is not 0; with
-// either, r describes the channel's kept samples. At most one of repeats, interp and hold is set.
-// share (9.2 streams on, FORMAT.md 9.6): the window's previous kind 2 scaling, which a kind 2
-// channel with the same round, s and o names by bit 4 instead of repeating; a kind 2 channel
-// updates it.
-void write_repr_header(const ChannelRepr& r, uint64_t* last_const, ByteWriter* w,
-                       const std::vector<uint32_t>* repeats = nullptr, bool lattice_tables = false,
-                       const Interp* interp = nullptr, const Hold* hold = nullptr,
-                       ScaledShare* share = nullptr);
-// Reads a header for a channel of n samples; sizes are bounded by the bytes left in `in`. S: the
-// analog samples per point frame in a 7.x stream, else 0 (bit 5 is then corrupt); *repeats gets
-// the repeat list (empty without one), and r then describes n - S * repeats->size() samples.
-// interp: given in a 9.x stream (else bit 6 is corrupt), it gets the interpolation field (period
-// 0 without one), and r then describes interp_kept_count(n, *interp) samples. hold: given (with
-// interp) in a 9.2 or later stream (else bit 7 is corrupt), it gets the hold field (period 0
-// without one), and r then describes hold_kept_count(n, *hold) samples.
-// share: given in a 9.2 or later stream (else bit 4 with kind 2 is corrupt), as for the writer.
-ChannelRepr read_repr_header(ByteReader* in, size_t n, uint64_t* last_const, size_t S = 0,
-                             std::vector<uint32_t>* repeats = nullptr, bool lattice_tables = false,
-                             Interp* interp = nullptr, Hold* hold = nullptr,
-                             ScaledShare* share = nullptr);
+// What a stream's version lets a channel header carry (FORMAT.md 7.2, 8.2, 9.2, 9.4, 9.6): the
+// writer asserts it (an encoder that asks for more is a bug), the reader rejects the rest as
+// corrupt.
+struct HeaderRules {
+  size_t S = 0;  // 7.x streams on: analog samples a point frame, repeat lists (bit 5); 0: none
+  bool lattice = false;  // 8.0 on: a kRank table may be coded against a lattice (table flag bit 1)
+  bool interp = false;   // 9.0 on: an interpolation field (bit 6)
+  bool hold = false;     // 9.2 on: a hold field (bit 7)
+  bool share = false;    // 9.2 on: bit 4 with kind 2 names the previous kind 2 scaling
+};
+// What one channel's header leaves for the next ones of the window: the last constant (bit 4
+// with kind 0; 0 before any) and the last kind 2 scaling (9.6; none before any).
+struct HeaderState {
+  uint64_t last_const = 0;
+  ScaledShare share;
+};
+
+// The kind byte's low 3 bits are the kind; bit 3 says a gap list follows; bit 4 says the value
+// is the state's last constant (kind 0) or its scaling the state's (kind 2, rules.share); bits
+// 5, 6 and 7 say a repeat list, an interpolation or a hold field follows (at most one, as
+// `kept` has), and r then describes the channel's kept samples. The header carries everything
+// but the per-sample numbers (ints or float samples), which the entropy stage codes. kConst and
+// kScaled channels update *state. Throws Error(kInternal) when `kept` has a field the rules do
+// not allow.
+void write_repr_header(const ChannelRepr& r, const KeptRows& kept, const HeaderRules& rules,
+                       HeaderState* state, ByteWriter* w);
+// Reads a header for a channel of n samples; sizes are bounded by the bytes left in `in`. *kept
+// gets the channel's layout (all() without a field), and r then describes kept->count(n, S)
+// samples. Fields the rules do not allow are corrupt.
+ChannelRepr read_repr_header(ByteReader* in, size_t n, const HeaderRules& rules, HeaderState* state,
+                             KeptRows* kept);
 
 // Writes the n samples to col[0], col[stride], ... from the header and `ints` / `filled`.
 // Throws Error(kCorrupt) naming `what` when a rank is outside the table.
