@@ -59,8 +59,8 @@ __attribute__((always_inline)) inline size_t fit_scaled_lanes(const std::vector<
     if (round_quotient.lanes<D, M>(d, &k)) {
       D y = (k + 0.0) * s + o;
       if (f32) {
-        y = (y > kMax) & (y <= kDMax) ? kMax : y;
-        y = (y < -kMax) & (y >= -kDMax) ? -kMax : y;
+        y = ((y > kMax) & (y <= kDMax)) ? kMax : y;
+        y = ((y < -kMax) & (y >= -kDMax)) ? -kMax : y;
         y = __builtin_convertvector(__builtin_convertvector(y, F), D);
       }
       M yb, xb;
