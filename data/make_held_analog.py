@@ -20,8 +20,7 @@ import sys
 
 import numpy as np
 
-import capz
-from make_repeat_analog import ring  # the same markers (data/make_repeat_analog.py)
+from make_repeat_analog import emg_burst, ring, write_take  # data/make_repeat_analog.py
 
 FRAMES, POINTS, S, P, PHASE = 60, 12, 20, 14, 9
 
@@ -35,9 +34,8 @@ def main():
     n = FRAMES * S
     ts = np.arange(n) / 2000.0
     analog = np.zeros((n, 5))
-    burst = 0.5 + 0.5 * np.sin(9 * ts)
     for c in (0, 1):
-        analog[:, c] = (burst * rng.normal(0, 0.2, n)).astype(np.float32)
+        analog[:, c] = emg_burst(rng, ts)
     rows = np.arange(n)
     anchor = np.maximum.accumulate(np.where((rows % P == PHASE) | (rows == 0), rows, 0))
     for c in (2, 3, 4):
@@ -45,11 +43,7 @@ def main():
         lattice = np.round(slow * 32) / 32
         analog[:, c] = lattice[anchor]
     analog[500:500 + 3, 3] += 1 / 32  # changes at rows 500 and 503, off the phase (mod 14: 10, 13)
-    take = capz.Take.from_arrays(
-        xyz, rate=100.0, units="mm", labels=["M%02d" % i for i in range(POINTS)],
-        analog=analog, analog_rate=2000.0,
-        analog_labels=["EMG1", "EMG2", "ACCX", "ACCY", "ACCZ"])
-    capz.write(take, out, overwrite=True)
+    write_take(out, xyz, analog, 2000.0, ["EMG1", "EMG2", "ACCX", "ACCY", "ACCZ"])
 
 
 if __name__ == "__main__":

@@ -33,6 +33,20 @@ def ring(frames, points):
     return xyz.astype(np.float32).astype(np.float64)
 
 
+def emg_burst(rng, ts):
+    """One EMG-like channel at the times ts: seeded noise in bursts, float32 values."""
+    burst = 0.5 + 0.5 * np.sin(9 * ts)
+    return (burst * rng.normal(0, 0.2, len(ts))).astype(np.float32)
+
+
+def write_take(out, xyz, analog, analog_rate, analog_labels):
+    """Writes the markers (100 Hz, mm, labels M00 ..) and the analog channels to out as a C3D."""
+    take = capz.Take.from_arrays(
+        xyz, rate=100.0, units="mm", labels=["M%02d" % i for i in range(xyz.shape[1])],
+        analog=analog, analog_rate=analog_rate, analog_labels=analog_labels)
+    capz.write(take, out, overwrite=True)
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(here, "repeat_analog.c3d")
@@ -44,9 +58,8 @@ def main():
     analog = np.zeros((n, 6))
     for c in range(3):
         analog[:, c] = np.round(800 * (c + 1) * np.sin(2.1 * ts + c) + rng.normal(0, 6, n))
-    burst = 0.5 + 0.5 * np.sin(9 * ts)
     for c in (3, 4):
-        analog[:, c] = (burst * rng.normal(0, 0.2, n)).astype(np.float32)
+        analog[:, c] = emg_burst(rng, ts)
     analog[:, 5] = (ts + rng.normal(0, 1e-3, n)).astype(np.float32)
 
     def repeat(channels, p):
@@ -56,11 +69,7 @@ def main():
 
     repeat([0, 1, 2], 0.6)
     repeat([3, 4], 0.4)
-    take = capz.Take.from_arrays(
-        xyz, rate=100.0, units="mm", labels=["M%02d" % i for i in range(POINTS)],
-        analog=analog, analog_rate=1000.0,
-        analog_labels=["FX", "FY", "FZ", "EMG1", "EMG2", "SYNC"])
-    capz.write(take, out, overwrite=True)
+    write_take(out, xyz, analog, 1000.0, ["FX", "FY", "FZ", "EMG1", "EMG2", "SYNC"])
 
 
 if __name__ == "__main__":

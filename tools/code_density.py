@@ -17,7 +17,7 @@ import sys
 
 import numpy as np
 
-import capz
+from analog_takes import analog_takes
 
 
 def lattice_ints(x):
@@ -47,16 +47,7 @@ def saving_bytes(k, m):
 
 def main(paths):
     mods = (2, 4, 8, 16, 32, 64)
-    for path in paths:
-        try:
-            take = capz.read(path)
-        except Exception as e:  # a take capz does not read: say so, go on
-            print(f"{path}: not read ({e})")
-            continue
-        a = np.asarray(take.analog, dtype=np.float64)
-        if a.size == 0:
-            print(f"{path}: no analog samples")
-            continue
+    for path, a in analog_takes(paths):
         total = dict.fromkeys(mods, 0.0)
         for c in range(a.shape[1]):
             x = a[:, c]

@@ -16,7 +16,7 @@ import sys
 
 import numpy as np
 
-import capz
+from analog_takes import analog_takes
 
 GENERATORS = {"msvc": (214013, 2531011), "ansi": (1103515245, 12345)}
 MASK = (1 << 32) - 1
@@ -50,16 +50,8 @@ def outputs(state, a, c, n):
 
 
 def main(paths):
-    for path in paths:
-        try:
-            take = capz.read(path)
-        except Exception as e:  # a take capz does not read: say so, go on
-            print(f"{path}: not read ({e})")
-            continue
-        x = np.asarray(take.analog, dtype=np.float64).reshape(-1)
-        if x.size == 0:
-            print(f"{path}: no analog samples")
-            continue
+    for path, analog in analog_takes(paths):
+        x = analog.reshape(-1)
         k = np.round(np.abs(x) * 32767).astype(np.int64)
         for name, (a, c) in GENERATORS.items():
             s = first_state(k, a, c)

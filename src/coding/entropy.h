@@ -29,6 +29,16 @@ inline int token_of(uint32_t u, int* extra_bits) {
   *extra_bits = e - 1;
   return 4 + 2 * (e - 2) + static_cast<int>((u >> (e - 1)) & 1);
 }
+// The least value of token tok (0..63), and in *extra_bits the bits below it: token_of's inverse.
+inline uint32_t token_floor(int tok, int* extra_bits) {
+  if (tok < 4) {
+    *extra_bits = 0;
+    return static_cast<uint32_t>(tok);
+  }
+  const int e = (tok - 4) / 2 + 2;
+  *extra_bits = e - 1;
+  return (2u | static_cast<uint32_t>(tok & 1)) << (e - 1);
+}
 inline uint32_t zigzag(int32_t v) {
   return (static_cast<uint32_t>(v) << 1) ^ static_cast<uint32_t>(v >> 31);
 }
@@ -147,10 +157,9 @@ class IntDecoder {
     uint32_t get(int ctx, int* tok_out, int eset = 0) {
       const int tok = get_token(ctx, eset);
       *tok_out = tok;
-      if (tok < 4) return static_cast<uint32_t>(tok);
-      const int e = (tok - 4) / 2 + 2;
-      const uint32_t top = (2u | static_cast<uint32_t>(tok & 1)) << (e - 1);
-      return top | raw_bits(e - 1);
+      int nbits;
+      const uint32_t top = token_floor(tok, &nbits);
+      return nbits ? top | raw_bits(nbits) : top;
     }
     // The token put_token coded (0..63).
     int get_token(int ctx, int eset = 0) {

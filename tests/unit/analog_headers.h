@@ -1,18 +1,92 @@
-// The channel headers of an analog window (unit tests): each channel's kind byte and layout
-// fields, read as a 9.2 window reads them (docs/FORMAT.md 4.2.2, 9.2, 9.4, 9.6; earlier windows'
+// Analog windows in unit tests (docs/FORMAT.md 4.2): round trips that compare every sample's bits,
+// damaged payloads that must decode as corrupt, and the channel headers (each channel's kind byte
+// and layout fields, read as a 9.2 window reads them: 4.2.2, 9.2, 9.4, 9.6; earlier windows'
 // headers read the same).
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
+#include "capz/error.h"
+#include "capz/version.h"
+#include "coding/analog/analog_codec.h"
 #include "coding/analog/analog_hold.h"
 #include "coding/analog/analog_interp.h"
 #include "coding/analog/analog_repr.h"
 #include "coding/bytes.h"
 
 namespace capz_test {
+
+// Row-major rows of equal-length columns.
+inline std::vector<double> rows_of(const std::vector<std::vector<double>>& cols) {
+  const size_t n = cols[0].size(), C = cols.size();
+  std::vector<double> rows(n * C);
+  for (size_t i = 0; i < n; ++i)
+    for (size_t c = 0; c < C; ++c) rows[i * C + c] = cols[c][i];
+  return rows;
+}
+
+// Encodes C channels of row-major rows as one window of `format` (no repeat lists), decodes it
+// and expects every sample's bits back (NaN payloads, -0.0); returns the payload.
+inline std::vector<uint8_t> window_round_trip(const std::vector<double>& rows, size_t C,
+                                              capz::FormatVersion format) {
+  const size_t n = rows.size() / C;
+  const std::vector<uint8_t> p =
+      capz::encode_analog_window(rows.data(), n, static_cast<int>(C), {}, 0, format);
+  std::vector<double> back(rows.size(), -1.0);
+  capz::decode_analog_window(p.data(), p.size(), n, static_cast<int>(C), back.data(), "window", 0,
+                             format);
+  for (size_t i = 0; i < rows.size(); ++i)
+    EXPECT_EQ(capz::analog::bits_of(back[i]), capz::analog::bits_of(rows[i])) << "sample " << i;
+  return p;
+}
+
+// The offset of the first channel's kind byte: after the window version and the header size.
+inline size_t first_kind_at(const std::vector<uint8_t>& p) {
+  size_t k = 1;
+  while (p.at(k) & 0x80) ++k;
+  return k + 1;
+}
+
+// Decoding p (n rows, C channels, `format`) as the chunk "damaged" throws kCorrupt, its message
+// naming the chunk and holding `message` (when not empty); `why` labels the case.
+inline void expect_window_corrupt(const std::vector<uint8_t>& p, size_t n, size_t C,
+                                  capz::FormatVersion format, const std::string& why,
+                                  const std::string& message = "") {
+  std::vector<double> out(n * C);
+  try {
+    capz::decode_analog_window(p.data(), p.size(), n, static_cast<int>(C), out.data(), "damaged", 0,
+                               format);
+    ADD_FAILURE() << why << ": decoded";
+  } catch (const capz::Error& e) {
+    EXPECT_EQ(e.code(), capz::ErrorCode::kCorrupt) << why << ": " << e.what();
+    EXPECT_NE(std::string(e.what()).find("damaged"), std::string::npos) << e.what();
+    if (!message.empty()) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << why << ": " << e.what();
+    }
+  }
+}
+
+// Every byte of p flipped in turn (XOR 0x5A): each decodes to samples or throws kCorrupt, never
+// anything else, and never crashes.
+inline void expect_flips_corrupt_or_decoded(const std::vector<uint8_t>& p, size_t n, size_t C,
+                                            capz::FormatVersion format) {
+  for (size_t i = 0; i < p.size(); ++i) {
+    std::vector<uint8_t> q = p;
+    q[i] ^= 0x5A;
+    std::vector<double> out(n * C);
+    try {
+      capz::decode_analog_window(q.data(), q.size(), n, static_cast<int>(C), out.data(), "flip", 0,
+                                 format);
+    } catch (const capz::Error& e) {
+      EXPECT_EQ(e.code(), capz::ErrorCode::kCorrupt) << "byte " << i;
+    }
+  }
+}
 
 struct ChannelHeader {
   uint8_t kind_byte = 0;

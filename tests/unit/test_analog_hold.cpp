@@ -44,21 +44,10 @@ std::vector<double> held(size_t n, uint32_t P, uint32_t phase, uint32_t seed) {
   return x;
 }
 
-// Encodes a window (columns given, rows made from them) as `format`, decodes it and compares
-// bits.
+// Encodes a window of these columns as `format`, decodes it and compares bits.
 std::vector<uint8_t> round_trip(const std::vector<std::vector<double>>& cols,
                                 FormatVersion format = kAnalogHoldSince) {
-  const size_t n = cols[0].size(), C = cols.size();
-  std::vector<double> rows(n * C);
-  for (size_t i = 0; i < n; ++i)
-    for (size_t c = 0; c < C; ++c) rows[i * C + c] = cols[c][i];
-  const std::vector<uint8_t> p =
-      encode_analog_window(rows.data(), n, static_cast<int>(C), {}, 0, format);
-  std::vector<double> back(rows.size(), -1.0);
-  decode_analog_window(p.data(), p.size(), n, static_cast<int>(C), back.data(), "hold", 0, format);
-  for (size_t i = 0; i < rows.size(); ++i)
-    EXPECT_EQ(bits_of(back[i]), bits_of(rows[i])) << "sample " << i;
-  return p;
+  return capz_test::window_round_trip(capz_test::rows_of(cols), cols.size(), format);
 }
 
 // Each channel's hold field as a 9.2 payload's header gives it.
@@ -198,29 +187,16 @@ TEST(AnalogHold, GivenKeptSamplesThenExpandGivesTheChannelBack) {
 struct Coded {
   std::vector<double> x = held(2001, 14, 9, 5);
   std::vector<uint8_t> p = round_trip({x});
-  size_t kind_at() const {  // the kind byte: after the window version and the header size
-    size_t k = 1;
-    while (p[k] & 0x80) ++k;
-    return k + 1;
-  }
 };
 
 void expect_corrupt(const std::vector<uint8_t>& p, size_t n, FormatVersion format,
                     const std::string& why, const std::string& message) {
-  std::vector<double> out(n);
-  try {
-    decode_analog_window(p.data(), p.size(), n, 1, out.data(), "damaged", 0, format);
-    ADD_FAILURE() << why << ": decoded";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << why;
-    EXPECT_NE(std::string(e.what()).find("damaged"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << why << ": " << e.what();
-  }
+  capz_test::expect_window_corrupt(p, n, 1, format, why, message);
 }
 
 TEST(AnalogHold, GivenDamagedFieldsThenCorruptNeverCrash) {
   const Coded c;
-  const size_t k = c.kind_at(), n = c.x.size();
+  const size_t k = capz_test::first_kind_at(c.p), n = c.x.size();
   ASSERT_TRUE(c.p[k] & 128);
   ASSERT_EQ(c.p[k + 1], 14);  // P
   ASSERT_EQ(c.p[k + 2], 9);   // phase
@@ -266,16 +242,7 @@ TEST(AnalogHold, GivenDamagedFieldsThenCorruptNeverCrash) {
   q.insert(q.begin() + static_cast<long>(k) + 4, {1, 0x90, 0x10});
   expect_corrupt(q, n, kAnalogHoldSince, "run past n", "run past the window's end");
   // Every payload byte flipped: kCorrupt or samples, never a crash.
-  for (size_t i = 0; i < c.p.size(); ++i) {
-    q = c.p;
-    q[i] ^= 0x5A;
-    std::vector<double> out(n);
-    try {
-      decode_analog_window(q.data(), q.size(), n, 1, out.data(), "flip", 0, kAnalogHoldSince);
-    } catch (const Error& e) {
-      EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
-    }
-  }
+  capz_test::expect_flips_corrupt_or_decoded(c.p, n, 1, kAnalogHoldSince);
 }
 
 // The header writer refuses a layout its rules do not allow (an encoder bug, not bad input): a

@@ -47,20 +47,10 @@ std::vector<double> interpolated(size_t n, unsigned P, bool f32, uint32_t seed) 
   return x;
 }
 
-// Encodes a window (columns given, rows made from them), decodes it and compares bits.
+// Encodes a window of these columns (9.0, or 8.0 when !v9), decodes it and compares bits.
 std::vector<uint8_t> round_trip(const std::vector<std::vector<double>>& cols, bool v9 = true) {
-  const size_t n = cols[0].size(), C = cols.size();
-  std::vector<double> rows(n * C);
-  for (size_t i = 0; i < n; ++i)
-    for (size_t c = 0; c < C; ++c) rows[i * C + c] = cols[c][i];
-  const std::vector<uint8_t> p = encode_analog_window(
-      rows.data(), n, static_cast<int>(C), {}, 0, v9 ? kAnalogFloat9Since : kAnalogLatticeSince);
-  std::vector<double> back(rows.size(), -1.0);
-  decode_analog_window(p.data(), p.size(), n, static_cast<int>(C), back.data(), "interp", 0,
-                       v9 ? kAnalogFloat9Since : kAnalogLatticeSince);
-  for (size_t i = 0; i < rows.size(); ++i)
-    EXPECT_EQ(bits_of(back[i]), bits_of(rows[i])) << "sample " << i;
-  return p;
+  return capz_test::window_round_trip(capz_test::rows_of(cols), cols.size(),
+                                      v9 ? kAnalogFloat9Since : kAnalogLatticeSince);
 }
 
 // Each channel's interpolation field as the payload's header gives it.
@@ -154,28 +144,15 @@ TEST(AnalogInterp, GivenTinyWindowsThenExact) {
 struct Coded {
   std::vector<double> x = interpolated(2001, 2, true, 5);
   std::vector<uint8_t> p = round_trip({x});
-  size_t kind_at() const {  // the kind byte: after the window version and the header size
-    size_t k = 1;
-    while (p[k] & 0x80) ++k;
-    return k + 1;
-  }
 };
 
 void expect_corrupt(const std::vector<uint8_t>& p, size_t n, bool v9, const std::string& why) {
-  std::vector<double> out(n);
-  try {
-    decode_analog_window(p.data(), p.size(), n, 1, out.data(), "damaged", 0,
-                         v9 ? kAnalogFloat9Since : kAnalogLatticeSince);
-    ADD_FAILURE() << why << ": decoded";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << why;
-    EXPECT_NE(std::string(e.what()).find("damaged"), std::string::npos) << e.what();
-  }
+  capz_test::expect_window_corrupt(p, n, 1, v9 ? kAnalogFloat9Since : kAnalogLatticeSince, why);
 }
 
 TEST(AnalogInterp, GivenDamagedFieldsThenCorruptNeverCrash) {
   const Coded c;
-  const size_t k = c.kind_at(), n = c.x.size();
+  const size_t k = capz_test::first_kind_at(c.p), n = c.x.size();
   ASSERT_TRUE(c.p[k] & 64);
   ASSERT_EQ(c.p[k + 1], 0x82);  // P = 2, float32
   expect_corrupt(c.p, n, false, "bit 6 before 9.0");
@@ -197,16 +174,7 @@ TEST(AnalogInterp, GivenDamagedFieldsThenCorruptNeverCrash) {
   q.insert(q.begin() + static_cast<long>(k) + 3, {0, 0});
   expect_corrupt(q, n, true, "exception at an anchor");
   // Every payload byte flipped: kCorrupt or the same length of samples, never a crash.
-  for (size_t i = 0; i < c.p.size(); ++i) {
-    q = c.p;
-    q[i] ^= 0x5A;
-    std::vector<double> out(n);
-    try {
-      decode_analog_window(q.data(), q.size(), n, 1, out.data(), "flip", 0, kAnalogFloat9Since);
-    } catch (const Error& e) {
-      EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
-    }
-  }
+  capz_test::expect_flips_corrupt_or_decoded(c.p, n, 1, kAnalogFloat9Since);
 }
 
 TEST(AnalogInterp, GivenANaNInterpolationNotListedThenCorrupt) {

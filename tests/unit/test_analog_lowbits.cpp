@@ -8,6 +8,7 @@
 #include <cstring>
 #include <random>
 
+#include "analog_headers.h"
 #include "capz/error.h"
 #include "capz/version.h"
 #include "coding/analog/analog_codec.h"
@@ -18,11 +19,7 @@
 namespace capz {
 namespace {
 
-uint64_t bits(double x) {
-  uint64_t b;
-  std::memcpy(&b, &x, 8);
-  return b;
-}
+using analog::bits_of;
 
 TEST(AnalogLowBits, GivenResidualsOfEveryTokenThenTheStageRoundTrips) {
   std::vector<int32_t> v = {0, 1, -1, 2, -2, 3, 4, 5, 7, 8, -9, 15, 16, 100, -1000, 123456};
@@ -51,11 +48,7 @@ TEST(AnalogLowBits, GivenResidualsOfEveryTokenThenTheStageRoundTrips) {
 
 // Encodes one channel as `format`, decodes it and compares bits; returns the window.
 std::vector<uint8_t> round_trip(const std::vector<double>& v, FormatVersion format) {
-  const std::vector<uint8_t> w = encode_analog_window(v.data(), v.size(), 1, {}, 0, format);
-  std::vector<double> back(v.size(), -1.0);
-  decode_analog_window(w.data(), w.size(), v.size(), 1, back.data(), "low bits", 0, format);
-  for (size_t i = 0; i < v.size(); ++i) EXPECT_EQ(bits(back[i]), bits(v[i])) << i;
-  return w;
+  return capz_test::window_round_trip(v, 1, format);
 }
 
 // As emgwl.c3d's channel MG-4: a walk whose steps are all 4m + 2, so that the zig-zag of each
@@ -90,15 +83,7 @@ TEST(AnalogLowBits, GivenNoiseThen92AboutAs91) {
 
 void expect_corrupt(const std::vector<uint8_t>& w, size_t n, FormatVersion format,
                     const std::string& message) {
-  std::vector<double> out(n);
-  try {
-    decode_analog_window(w.data(), w.size(), n, 1, out.data(), "damaged window", 0, format);
-    ADD_FAILURE() << message << ": decoded";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << e.what();
-    EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("damaged window"), std::string::npos) << e.what();
-  }
+  capz_test::expect_window_corrupt(w, n, 1, format, message, message);
 }
 
 TEST(AnalogLowBits, GivenWindowVersionsThenEachDecodesOnlyWhereValid) {
@@ -114,7 +99,7 @@ TEST(AnalogLowBits, GivenWindowVersionsThenEachDecodesOnlyWhereValid) {
   std::vector<double> back(v.size());
   decode_analog_window(w91.data(), w91.size(), v.size(), 1, back.data(), "9.1 window", 0,
                        kAnalogLowBitsSince);
-  for (size_t i = 0; i < v.size(); ++i) ASSERT_EQ(bits(back[i]), bits(v[i])) << i;
+  for (size_t i = 0; i < v.size(); ++i) ASSERT_EQ(bits_of(back[i]), bits_of(v[i])) << i;
 }
 
 // A version 1 window of one integer channel whose block is made by hand: no cascade, no
@@ -140,8 +125,7 @@ std::vector<uint8_t> crafted(int tok, int sym, size_t n) {
   // The last residual by hand: its token (u = the token's least value), its symbol, no raw bits
   // beyond it for tokens 4..7.
   int nbits;
-  const uint32_t u = tok < 4 ? static_cast<uint32_t>(tok)
-                             : (2u | static_cast<uint32_t>(tok & 1)) << ((tok - 4) / 2 + 1);
+  const uint32_t u = token_floor(tok, &nbits);
   c.put_token(u, m.context(), &nbits);
   c.put_symbol(sym, analog::kLowContext + tok - 4);
   enc.commit(c);

@@ -46,13 +46,7 @@ std::vector<double> scaled_rows(size_t n, const std::vector<double>& steps, uint
 }
 
 std::vector<uint8_t> round_trip(const std::vector<double>& rows, size_t C, FormatVersion f) {
-  const size_t n = rows.size() / C;
-  const std::vector<uint8_t> p =
-      encode_analog_window(rows.data(), n, static_cast<int>(C), {}, 0, f);
-  std::vector<double> back(rows.size(), -1);
-  decode_analog_window(p.data(), p.size(), n, static_cast<int>(C), back.data(), "share", 0, f);
-  EXPECT_EQ(std::memcmp(back.data(), rows.data(), rows.size() * 8), 0);
-  return p;
+  return capz_test::window_round_trip(rows, C, f);
 }
 
 TEST(AnalogShare, GivenChannelsOfOneScalingThenWrittenOnceAndNamedAfter) {
@@ -73,22 +67,13 @@ TEST(AnalogShare, GivenChannelsOfOneScalingThenWrittenOnceAndNamedAfter) {
 
 void expect_corrupt(const std::vector<uint8_t>& p, size_t n, size_t C, FormatVersion f,
                     const std::string& message) {
-  std::vector<double> out(n * C);
-  try {
-    decode_analog_window(p.data(), p.size(), n, static_cast<int>(C), out.data(), "damaged", 0, f);
-    ADD_FAILURE() << message << ": decoded";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << e.what();
-    EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
-  }
+  capz_test::expect_window_corrupt(p, n, C, f, message, message);
 }
 
 TEST(AnalogShare, GivenBit4WithKind2WhereItCannotBeThenCorrupt) {
   const std::vector<double> rows = scaled_rows(500, {0.01}, 5);
   std::vector<uint8_t> p = round_trip(rows, 1, kAnalogHoldSince);
-  size_t k = 1;  // the kind byte: after the window version and the header size
-  while (p[k] & 0x80) ++k;
-  ++k;
+  const size_t k = capz_test::first_kind_at(p);
   ASSERT_EQ(p[k], static_cast<int>(Kind::kScaled));
   p[k] |= 16;  // "the previous scaling", with none before: the 17 bytes then read as more fields
   expect_corrupt(p, 500, 1, kAnalogHoldSince, "analog scaling shared with no earlier channel");

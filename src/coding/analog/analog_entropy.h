@@ -84,13 +84,13 @@ inline void put_residual_v1(IntEncoder::Cursor* enc, Magnitude* m, int32_t v) {
 }
 inline int32_t get_residual_v1(IntDecoder::Cursor* dec, Magnitude* m) {
   const int tok = dec->get_token(m->context());
-  uint32_t u = static_cast<uint32_t>(tok);
-  if (tok >= 4) {
-    const int e = (tok - 4) / 2 + 2, nbits = e - 1;  // u has e + 1 bits
+  int nbits;
+  uint32_t u = token_floor(tok, &nbits);
+  if (nbits) {
     const int k = nbits < 2 ? nbits : 2, r = nbits - k;
     const int s = dec->get_symbol(kLowContext + tok - 4);
     if (s >= (1 << k)) dec->corrupt("analog residual's low-bit symbol out of range");
-    u = ((2u | static_cast<uint32_t>(tok & 1)) << (e - 1)) | (static_cast<uint32_t>(s) << r);
+    u |= static_cast<uint32_t>(s) << r;
     if (r) u |= dec->raw_bits(r);
   }
   m->update(u);

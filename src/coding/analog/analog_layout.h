@@ -30,8 +30,8 @@ struct KeptRows {
 
   // The kept samples of a channel of n rows, S analog samples a point frame.
   size_t count(size_t n, size_t S) const {
-    if (hold.period) return hold_kept_count(n, hold);
-    return interp.period ? interp_kept_count(n, interp) : n - S * repeats.size();
+    if (interp.period) return interp_kept_count(n, interp);
+    return hold.period ? hold_kept_count(n, hold) : n - S * repeats.size();
   }
   // Those samples of col[0], col[stride], ... (n rows).
   std::vector<double> samples(const double* col, size_t stride, size_t n, size_t S) const {
