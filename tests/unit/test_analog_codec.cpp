@@ -7,6 +7,7 @@
 #include <limits>
 #include <random>
 
+#include "analog_window.h"
 #include "capz/error.h"
 #include "capz/io.h"
 #include "coding/analog/analog_codec.h"
@@ -37,13 +38,9 @@ double nan_with_payload(uint64_t payload, bool negative = false) {
 
 // Encodes, decodes and compares bit patterns; returns the payload size.
 size_t round_trip(const std::vector<double>& rows, int channels, const AnalogHints& hints = {}) {
-  const size_t nrows = rows.size() / channels;
-  const std::vector<uint8_t> p = encode_analog_window(rows.data(), nrows, channels, hints);
-  std::vector<double> back(rows.size(), 12345.0);
-  decode_analog_window(p.data(), p.size(), nrows, channels, back.data(), "test window");
-  for (size_t i = 0; i < rows.size(); ++i)
-    EXPECT_EQ(bits(back[i]), bits(rows[i])) << "sample " << i << " of " << rows.size();
-  return p.size();
+  return capz_test::window_round_trip(rows, static_cast<size_t>(channels), kAnalogWindowsSince,
+                                      hints)
+      .size();
 }
 
 Kind kind_of(const std::vector<double>& col, const analog::ChannelHint& hint = {}) {

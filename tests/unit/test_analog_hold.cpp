@@ -11,7 +11,7 @@
 #include <limits>
 #include <random>
 
-#include "analog_headers.h"
+#include "analog_window.h"
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/io.h"
@@ -54,7 +54,7 @@ std::vector<uint8_t> round_trip(const std::vector<std::vector<double>>& cols,
 std::vector<Hold> fields(const std::vector<uint8_t>& p, size_t n, size_t C) {
   std::vector<Hold> out;
   for (const capz_test::ChannelHeader& h : capz_test::channel_headers(p, n, C))
-    out.push_back(h.hold);
+    out.push_back(h.kept.hold);
   return out;
 }
 

@@ -12,7 +12,7 @@
 #include <limits>
 #include <random>
 
-#include "analog_headers.h"
+#include "analog_window.h"
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/io.h"
@@ -57,7 +57,7 @@ std::vector<uint8_t> round_trip(const std::vector<std::vector<double>>& cols, bo
 std::vector<Interp> fields(const std::vector<uint8_t>& p, size_t n, size_t C) {
   std::vector<Interp> out;
   for (const capz_test::ChannelHeader& h : capz_test::channel_headers(p, n, C))
-    out.push_back(h.interp);
+    out.push_back(h.kept.interp);
   return out;
 }
 

@@ -8,7 +8,7 @@
 #include <cstring>
 #include <random>
 
-#include "analog_headers.h"
+#include "analog_window.h"
 #include "capz/error.h"
 #include "capz/version.h"
 #include "coding/analog/analog_codec.h"

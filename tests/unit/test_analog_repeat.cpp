@@ -8,6 +8,7 @@
 #include <cstring>
 #include <random>
 
+#include "analog_window.h"
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/io.h"
@@ -68,32 +69,19 @@ std::vector<uint32_t> some_frames(size_t frames, double p, uint32_t seed) {
 
 // Each channel's repeat list as the payload's headers give it.
 std::vector<std::vector<uint32_t>> repeat_lists(const std::vector<uint8_t>& p, const Window& w) {
-  ByteReader in(p.data(), p.size(), "lists");
-  in.u8();
-  const size_t h = static_cast<size_t>(in.varint());
-  ByteReader head(in.bytes(h), h, "lists");
-  std::vector<std::vector<uint32_t>> lists(static_cast<size_t>(w.C));
-  analog::HeaderRules rules;
+  analog::HeaderRules rules;  // a 7.x window's: repeat lists only
   rules.S = w.S;
-  analog::HeaderState state;
-  for (auto& l : lists) {
-    analog::KeptRows kept;
-    analog::read_repr_header(&head, w.n(), rules, &state, &kept);
-    l = kept.repeats;
-  }
+  std::vector<std::vector<uint32_t>> lists;
+  for (const capz_test::ChannelHeader& h :
+       capz_test::channel_headers(p, w.n(), static_cast<size_t>(w.C), rules))
+    lists.push_back(h.kept.repeats);
   return lists;
 }
 
-// Encodes as a 7.x window (repeat lists allowed), decodes, compares bit patterns; returns the
-// payload.
+// Encodes with repeat lists allowed, decodes, compares bit patterns; returns the payload.
 std::vector<uint8_t> round_trip(const Window& w) {
-  const std::vector<uint8_t> p = encode_analog_window(w.rows.data(), w.n(), w.C, {}, w.S);
-  std::vector<double> back(w.rows.size(), 12345.0);
-  decode_analog_window(p.data(), p.size(), w.n(), w.C, back.data(), "repeat window", w.S);
-  size_t differ = 0;
-  for (size_t i = 0; i < w.rows.size(); ++i) differ += bits_of(back[i]) != bits_of(w.rows[i]);
-  EXPECT_EQ(differ, 0u);
-  return p;
+  return capz_test::window_round_trip(w.rows, static_cast<size_t>(w.C), kAnalogWindowsSince, {},
+                                      w.S);
 }
 
 size_t size_without_lists(const Window& w) {

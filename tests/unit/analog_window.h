@@ -1,7 +1,7 @@
 // Analog windows in unit tests (docs/FORMAT.md 4.2): round trips that compare every sample's bits,
 // damaged payloads that must decode as corrupt, and the channel headers (each channel's kind byte
-// and layout fields, read as a 9.2 window reads them: 4.2.2, 9.2, 9.4, 9.6; earlier windows'
-// headers read the same).
+// and layout fields: 4.2.2, 7.2, 9.2, 9.4, 9.6; read as a 9.2 window reads them unless the caller
+// gives other rules).
 #pragma once
 
 #include <gtest/gtest.h>
@@ -30,18 +30,25 @@ inline std::vector<double> rows_of(const std::vector<std::vector<double>>& cols)
   return rows;
 }
 
-// Encodes C channels of row-major rows as one window of `format` (no repeat lists), decodes it
-// and expects every sample's bits back (NaN payloads, -0.0); returns the payload.
+// Encodes C channels of row-major rows as one window of `format` (with `hints`; repeat lists
+// when S > 0, as a stream of S rows a frame codes them), decodes it and expects every sample's
+// bits back (NaN payloads, -0.0); returns the payload. A failure names how many samples differ
+// and the first.
 inline std::vector<uint8_t> window_round_trip(const std::vector<double>& rows, size_t C,
-                                              capz::FormatVersion format) {
+                                              capz::FormatVersion format,
+                                              const capz::AnalogHints& hints = {}, size_t S = 0) {
   const size_t n = rows.size() / C;
   const std::vector<uint8_t> p =
-      capz::encode_analog_window(rows.data(), n, static_cast<int>(C), {}, 0, format);
-  std::vector<double> back(rows.size(), -1.0);
-  capz::decode_analog_window(p.data(), p.size(), n, static_cast<int>(C), back.data(), "window", 0,
+      capz::encode_analog_window(rows.data(), n, static_cast<int>(C), hints, S, format);
+  std::vector<double> back(rows.size(), 12345.0);
+  capz::decode_analog_window(p.data(), p.size(), n, static_cast<int>(C), back.data(), "window", S,
                              format);
+  size_t differ = 0, first = 0;
   for (size_t i = 0; i < rows.size(); ++i)
-    EXPECT_EQ(capz::analog::bits_of(back[i]), capz::analog::bits_of(rows[i])) << "sample " << i;
+    if (capz::analog::bits_of(back[i]) != capz::analog::bits_of(rows[i]) && differ++ == 0)
+      first = i;
+  EXPECT_EQ(differ, 0u) << "of " << rows.size() << " samples; the first is sample " << first
+                        << " (row " << first / C << ", channel " << first % C << ")";
   return p;
 }
 
@@ -88,30 +95,34 @@ inline void expect_flips_corrupt_or_decoded(const std::vector<uint8_t>& p, size_
   }
 }
 
+// What a 9.2 window's channel headers may hold, without repeat lists (S > 0: with them, for
+// frames of S rows).
+inline capz::analog::HeaderRules rules_9_2(size_t S = 0) {
+  capz::analog::HeaderRules rules;
+  rules.S = S;
+  rules.lattice = rules.interp = rules.hold = rules.share = true;
+  return rules;
+}
+
 struct ChannelHeader {
   uint8_t kind_byte = 0;
-  capz::analog::Interp interp;  // period 0: none
-  capz::analog::Hold hold;      // period 0: none
+  capz::analog::KeptRows kept;  // the repeat list, interpolation or hold it names, if any
 };
 
-// The C channel headers of window payload p of n rows.
-inline std::vector<ChannelHeader> channel_headers(const std::vector<uint8_t>& p, size_t n,
-                                                  size_t C) {
+// The C channel headers of window payload p of n rows, read under `rules`.
+inline std::vector<ChannelHeader> channel_headers(
+    const std::vector<uint8_t>& p, size_t n, size_t C,
+    const capz::analog::HeaderRules& rules = rules_9_2()) {
   capz::ByteReader in(p.data(), p.size(), "headers");
   in.u8();  // the window's version
   const size_t h = static_cast<size_t>(in.varint());
   const uint8_t* start = in.bytes(h);
   capz::ByteReader head(start, h, "headers");
   std::vector<ChannelHeader> out(C);
-  capz::analog::HeaderRules rules;  // a 9.2 window's, without repeat lists
-  rules.lattice = rules.interp = rules.hold = rules.share = true;
   capz::analog::HeaderState state;
   for (ChannelHeader& c : out) {
     c.kind_byte = start[head.offset()];
-    capz::analog::KeptRows kept;
-    capz::analog::read_repr_header(&head, n, rules, &state, &kept);
-    c.interp = kept.interp;
-    c.hold = kept.hold;
+    capz::analog::read_repr_header(&head, n, rules, &state, &c.kept);
   }
   return out;
 }
