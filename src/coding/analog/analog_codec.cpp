@@ -291,13 +291,160 @@ analog::HeaderRules header_rules(FormatVersion format, size_t repeat_S) {
   return rules;
 }
 
+// One channel's candidates: representations of all its rows, then, when it is not constant
+// and a layout keeps fewer rows (its repeated frames, FORMAT.md 7.2; else its interpolation, 9.2,
+// or its hold, 9.4), representations of the kept samples.
+struct ChannelCandidates {
+  std::vector<ChannelRepr> reprs;
+  std::vector<analog::KeptRows> layouts;  // [0]: every row
+  std::vector<size_t> layout_at;          // reprs[k] keeps the rows of layouts[layout_at[k]]
+  const analog::KeptRows& layout(size_t k) const { return layouts[layout_at[k]]; }
+};
+
+ChannelCandidates channel_candidates(const double* col, size_t nrows, size_t repeat_S,
+                                     const analog::ChannelHint& hint, FormatVersion format) {
+  ChannelCandidates cc;
+  cc.reprs = analog::candidate_representations(col, 1, nrows, hint);
+  cc.layouts.resize(1);
+  cc.layout_at.assign(cc.reprs.size(), 0);
+  if (cc.reprs[0].kind == Kind::kConst) return cc;
+  const size_t frames = repeat_S > 0 && nrows % repeat_S == 0 ? nrows / repeat_S : 0;
+  analog::KeptRows more;
+  if (frames) more.repeats = analog::repeated_frames(col, 1, frames, repeat_S);
+  if (more.repeats.empty() && format >= kAnalogFloat9Since)
+    analog::find_interpolation(col, 1, nrows, &more.interp);
+  // A channel held for P > 2 rows also interpolates at period 2 with exceptions around its
+  // changes: the layout with fewer kept samples is offered.
+  analog::Hold hold;
+  if (more.repeats.empty() && format >= kAnalogHoldSince &&
+      analog::find_hold(col, 1, nrows, &hold) &&
+      (more.interp.period == 0 ||
+       analog::hold_kept_count(nrows, hold) < analog::interp_kept_count(nrows, more.interp))) {
+    more.interp = analog::Interp();
+    more.hold = std::move(hold);
+  }
+  if (more.all()) return cc;
+  const std::vector<double> kept = more.samples(col, 1, nrows, repeat_S);
+  for (ChannelRepr& m : analog::candidate_representations(kept.data(), 1, kept.size(), hint))
+    if (m.kind != Kind::kConst || (more.interp.period == 0 && more.hold.period == 0)) {
+      // 9.2, 9.4: kind 0 is corrupt with an interpolation or hold field
+      cc.reprs.push_back(std::move(m));
+      cc.layout_at.push_back(1);
+    }
+  cc.layouts.push_back(std::move(more));
+  return cc;
+}
+
+// What a channel takes from the window's earlier channels: each integer channel's LPC residuals
+// with their energy (references, A.3.2), and the rows each channel kept.
+struct EarlierChannels {
+  std::vector<std::vector<int32_t>> r1s;
+  std::vector<double> energy;
+  std::vector<bool> has_r1;
+  std::vector<analog::KeptRows> layouts;
+  explicit EarlierChannels(size_t channels)
+      : r1s(channels), energy(channels, 0.0), has_r1(channels, false), layouts(channels) {}
+};
+
+// Each candidate's coding, decided once and then coded into trial encoders and the window's
+// encoder alike: integer kinds the pipeline, float kinds the predictor.
+struct CandidatePlans {
+  std::vector<IntPlan> ints;
+  std::vector<analog::FloatPlan> floats;
+  std::vector<uint64_t> bits;  // summed bit lengths of what each codes
+};
+
+bool is_float_kind(Kind k) {
+  return k == Kind::kFloat32 || k == Kind::kFloat64;
+}
+
+// A candidate's references are the earlier integer channels that keep the same rows.
+CandidatePlans plan_candidates(const ChannelCandidates& cc, const EarlierChannels& earlier, int c,
+                               FormatVersion format) {
+  const size_t C = earlier.has_r1.size();
+  std::vector<std::vector<bool>> use(cc.layouts.size(), std::vector<bool>(C));
+  for (size_t l = 0; l < cc.layouts.size(); ++l)
+    for (size_t j = 0; j < C; ++j)
+      use[l][j] = earlier.has_r1[j] && earlier.layouts[j] == cc.layouts[l];
+  const size_t K = cc.reprs.size();
+  CandidatePlans p;
+  p.ints.resize(K);
+  p.floats.resize(K);
+  p.bits.assign(K, 0);
+  for (size_t k = 0; k < K; ++k) {
+    const ChannelRepr& r = cc.reprs[k];
+    if (analog::is_integer_kind(r.kind)) {
+      const std::vector<bool>& u = use[cc.layout_at[k]];
+      plan_int_channel(r.ints, cross_refs(earlier.r1s, u, c), cross_energies(earlier.energy, u, c),
+                       format >= kAnalogConstantSince, &p.ints[k]);
+      p.bits[k] = p.ints[k].bits;
+    } else if (is_float_kind(r.kind)) {
+      const bool f32 = r.kind == Kind::kFloat32;
+      if (format >= kAnalogFloat9Since)
+        p.floats[k] = analog::choose_float_plan9(r.filled, f32, &p.bits[k]);
+      else
+        p.floats[k].predictor = analog::choose_float_predictor(r.filled, f32, &p.bits[k]);
+    }
+  }
+  return p;
+}
+
+// Codes candidate k's samples; false when the coding stopped at `limit` bytes out (a trial that
+// cannot win).
+bool emit_candidate(const ChannelCandidates& cc, const CandidatePlans& p, size_t k, bool low_bits,
+                    IntEncoder::Cursor* enc, size_t limit) {
+  const ChannelRepr& r = cc.reprs[k];
+  if (analog::is_integer_kind(r.kind)) return emit_int_channel(p.ints[k], low_bits, enc, limit);
+  if (is_float_kind(r.kind))
+    return analog::encode_float_channel(r.filled, r.kind == Kind::kFloat32, p.floats[k], enc,
+                                        limit);
+  return true;
+}
+
+// The candidate a channel keeps, measured: each candidate coded alone (fresh models), the
+// smallest kept (the first of equals), tried in the order of their header bytes plus residual
+// bit lengths; those estimated above kTrialMargin times the smallest estimate are not tried. A
+// candidate's size is at least its header, one byte of block length and the bytes its coder has
+// output so far: its trial stops once that reaches the bound. heads and states get each
+// candidate's header, written from `state`, and the state after it.
+size_t pick_candidate(const ChannelCandidates& cc, const CandidatePlans& p,
+                      const analog::HeaderRules& rules, const analog::HeaderState& state,
+                      size_t nrows, FormatVersion format, std::vector<std::vector<uint8_t>>* heads,
+                      std::vector<analog::HeaderState>* states) {
+  const size_t K = cc.reprs.size();
+  const bool low_bits = format >= kAnalogLowBitsSince;
+  std::vector<double> estimate(K);
+  heads->resize(K);
+  states->assign(K, state);
+  for (size_t k = 0; k < K; ++k) {
+    ByteWriter th;
+    analog::write_repr_header(cc.reprs[k], cc.layout(k), rules, &(*states)[k], &th);
+    (*heads)[k] = std::move(th.buffer());
+    // From 9.2 on the estimates count kEstimateBitsPerSample a coded sample (earlier versions
+    // code as they did).
+    const uint64_t samples = format >= kAnalogHoldSince ? cc.layout(k).count(nrows, rules.S) : 0;
+    estimate[k] = static_cast<double>((*heads)[k].size()) +
+                  static_cast<double>(p.bits[k] + kEstimateBitsPerSample * samples) / 8;
+  }
+  auto trial = [&](size_t k, size_t bound) {
+    IntEncoder coder(analog::kAnalogContexts);
+    if (low_bits) analog::start_low_bit_models(&coder);
+    IntEncoder::Cursor tc = coder.cursor();
+    const size_t fixed = (*heads)[k].size() + 1;
+    const size_t limit = bound == SIZE_MAX ? SIZE_MAX : bound > fixed ? bound - fixed : 0;
+    if (!emit_candidate(cc, p, k, low_bits, &tc, limit)) return SIZE_MAX;
+    coder.commit(tc);
+    return (*heads)[k].size() + coder.finish().size();
+  };
+  return analog::pick_smallest(estimate, trial, kTrialMargin);
+}
+
 }  // namespace
 
 std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int channels,
                                           const AnalogHints& hints, size_t repeat_S,
                                           FormatVersion format) {
-  const bool format9 = format >= kAnalogFloat9Since, format91 = format >= kAnalogConstantSince,
-             holds = format >= kAnalogHoldSince, low_bits = format >= kAnalogLowBitsSince;
+  const bool low_bits = format >= kAnalogLowBitsSince;
   const analog::HeaderRules rules = header_rules(format, repeat_S);
   ByteWriter head;
   analog::HeaderState state;  // the last constant; from 9.2 on the last scaling (FORMAT.md 9.6)
@@ -305,14 +452,10 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
   IntEncoder ent(analog::kAnalogContexts);
   if (low_bits) analog::start_low_bit_models(&ent);
   IntEncoder::Cursor cur = ent.cursor();
-  std::vector<std::vector<int32_t>> r1s(static_cast<size_t>(channels));
-  std::vector<double> energy(static_cast<size_t>(channels), 0.0);
-  std::vector<bool> has_r1(static_cast<size_t>(channels), false);
-  std::vector<analog::KeptRows> layouts(static_cast<size_t>(channels));  // each channel's pick
-  const size_t frames = repeat_S > 0 && nrows % repeat_S == 0 ? nrows / repeat_S : 0;
+  const size_t nch = static_cast<size_t>(std::max(channels, 0));
+  EarlierChannels earlier(nch);
   // Channel-major copy of the window, read row by row: one channel's samples are then
   // contiguous (a column of the row-major window is one cache line per sample).
-  const size_t nch = static_cast<size_t>(std::max(channels, 0));
   std::vector<double> cols(nch * nrows);
   for (size_t i = 0; i < nrows; ++i)
     for (size_t c = 0; c < nch; ++c) cols[c * nrows + i] = rows[i * nch + c];
@@ -320,124 +463,27 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     analog::ChannelHint hint =
         static_cast<size_t>(c) < hints.channel.size() ? hints.channel[c] : analog::ChannelHint();
     hint.share = state.share;  // empty before 9.2 (never set)
-    const double* col = cols.data() + static_cast<size_t>(c) * nrows;
-    std::vector<ChannelRepr> cands = analog::candidate_representations(col, 1, nrows, hint);
-    // The kept rows the candidates describe: layout[0] every row; then, when the channel is not
-    // constant, its repeated frames (FORMAT.md 7.2) or else its interpolation (9.2) or its hold
-    // (9.4), whose kept samples' candidates follow the whole channel's: cands[k] has
-    // layout[layout_at[k]].
-    std::vector<analog::KeptRows> layout(1);
-    std::vector<size_t> layout_at(cands.size(), 0);
-    analog::KeptRows more;
-    if (cands[0].kind != Kind::kConst) {
-      if (frames) more.repeats = analog::repeated_frames(col, 1, frames, repeat_S);
-      if (more.repeats.empty() && format9) analog::find_interpolation(col, 1, nrows, &more.interp);
-      // A channel held for P > 2 rows also interpolates at period 2 with exceptions around its
-      // changes: the layout with fewer kept samples is offered.
-      analog::Hold hold;
-      if (more.repeats.empty() && holds && analog::find_hold(col, 1, nrows, &hold) &&
-          (more.interp.period == 0 ||
-           analog::hold_kept_count(nrows, hold) < analog::interp_kept_count(nrows, more.interp))) {
-        more.interp = analog::Interp();
-        more.hold = std::move(hold);
-      }
-    }
-    if (!more.all()) {
-      const std::vector<double> kept = more.samples(col, 1, nrows, repeat_S);
-      for (ChannelRepr& m : analog::candidate_representations(kept.data(), 1, kept.size(), hint))
-        if (m.kind != Kind::kConst || (more.interp.period == 0 && more.hold.period == 0)) {
-          // 9.2, 9.4: kind 0 is corrupt with an interpolation or hold field
-          cands.push_back(std::move(m));
-          layout_at.push_back(1);
-        }
-      layout.push_back(std::move(more));
-    }
-    auto layout_of = [&](size_t k) -> const analog::KeptRows& { return layout[layout_at[k]]; };
-    // From 9.2 on the estimates count kEstimateBitsPerSample a coded sample (earlier versions
-    // code as they did).
-    auto samples_of = [&](size_t k) -> uint64_t {
-      return holds ? layout_of(k).count(nrows, repeat_S) : 0;
-    };
-    // References: integer channels before c with the same kept rows.
-    std::vector<std::vector<bool>> use(layout.size(), std::vector<bool>(has_r1.size()));
-    for (size_t l = 0; l < layout.size(); ++l)
-      for (size_t j = 0; j < has_r1.size(); ++j) use[l][j] = has_r1[j] && layouts[j] == layout[l];
-    // Integer kinds: the pipeline's decisions, made once per candidate; float kinds: the
-    // predictor.
-    std::vector<IntPlan> plans(cands.size());
-    std::vector<analog::FloatPlan> float_plan(cands.size());
-    std::vector<uint64_t> bits(cands.size(), 0);  // summed bit lengths of what is coded
-    auto is_float = [&](size_t k) {
-      return cands[k].kind == Kind::kFloat32 || cands[k].kind == Kind::kFloat64;
-    };
-    for (size_t k = 0; k < cands.size(); ++k) {
-      if (analog::is_integer_kind(cands[k].kind)) {
-        const std::vector<bool>& u = use[layout_at[k]];
-        plan_int_channel(cands[k].ints, cross_refs(r1s, u, c), cross_energies(energy, u, c),
-                         format91, &plans[k]);
-        bits[k] = plans[k].bits;
-      } else if (is_float(k)) {
-        const bool f32 = cands[k].kind == Kind::kFloat32;
-        if (format9)
-          float_plan[k] = analog::choose_float_plan9(cands[k].filled, f32, &bits[k]);
-        else
-          float_plan[k].predictor = analog::choose_float_predictor(cands[k].filled, f32, &bits[k]);
-      }
-    }
-    // False when the coding stopped at `limit` bytes out (a trial that cannot win).
-    auto emit = [&](size_t k, IntEncoder::Cursor* enc, size_t limit) {
-      if (analog::is_integer_kind(cands[k].kind))
-        return emit_int_channel(plans[k], low_bits, enc, limit);
-      if (is_float(k))
-        return analog::encode_float_channel(cands[k].filled, cands[k].kind == Kind::kFloat32,
-                                            float_plan[k], enc, limit);
-      return true;
-    };
+    const ChannelCandidates cc = channel_candidates(cols.data() + static_cast<size_t>(c) * nrows,
+                                                    nrows, repeat_S, hint, format);
+    CandidatePlans plans = plan_candidates(cc, earlier, c, format);
     size_t pick = 0;
-    std::vector<std::vector<uint8_t>> heads;  // each candidate's header, when estimated
-    std::vector<analog::HeaderState> states;  // the state after it
-    if (cands.size() > 1) {
-      // Measured: each candidate coded alone (fresh models), the smallest kept (the first of
-      // equals), tried in the order of their header bytes plus residual bit lengths; those
-      // estimated above kTrialMargin times the smallest estimate are not tried. A candidate's
-      // size is at least its header, one byte of block length and the bytes its coder has
-      // output so far: its trial stops once that reaches the bound.
-      std::vector<double> estimate(cands.size());
-      heads.resize(cands.size());
-      states.assign(cands.size(), state);
-      for (size_t k = 0; k < cands.size(); ++k) {
-        ByteWriter th;
-        analog::write_repr_header(cands[k], layout_of(k), rules, &states[k], &th);
-        heads[k] = std::move(th.buffer());
-        estimate[k] = static_cast<double>(heads[k].size()) +
-                      static_cast<double>(bits[k] + kEstimateBitsPerSample * samples_of(k)) / 8;
-      }
-      auto trial = [&](size_t k, size_t bound) {
-        IntEncoder coder(analog::kAnalogContexts);
-        if (low_bits) analog::start_low_bit_models(&coder);
-        IntEncoder::Cursor tc = coder.cursor();
-        const size_t fixed = heads[k].size() + 1;
-        const size_t limit = bound == SIZE_MAX ? SIZE_MAX : bound > fixed ? bound - fixed : 0;
-        if (!emit(k, &tc, limit)) return SIZE_MAX;
-        coder.commit(tc);
-        return heads[k].size() + coder.finish().size();
-      };
-      pick = analog::pick_smallest(estimate, trial, kTrialMargin);
-    }
-    const ChannelRepr& r = cands[pick];
-    if (heads.empty()) {
-      analog::write_repr_header(r, layout_of(pick), rules, &state, &head);
-    } else {  // the header written for its estimate, from the same state
-      head.bytes(heads[pick]);
+    if (cc.reprs.size() > 1) {
+      std::vector<std::vector<uint8_t>> heads;
+      std::vector<analog::HeaderState> states;
+      pick = pick_candidate(cc, plans, rules, state, nrows, format, &heads, &states);
+      head.bytes(heads[pick]);  // the header written for its estimate, from the same state
       state = states[pick];
+    } else {
+      analog::write_repr_header(cc.reprs[0], cc.layout(0), rules, &state, &head);
     }
-    any_coded |= coded(r.kind);
-    emit(pick, &cur, SIZE_MAX);
-    layouts[c] = layout_of(pick);
-    has_r1[c] = analog::is_integer_kind(r.kind);
-    if (has_r1[c]) {
-      r1s[c] = std::move(plans[pick].r1);
-      energy[c] = analog::reference_energy(r1s[c]);
+    const Kind kind = cc.reprs[pick].kind;
+    any_coded |= coded(kind);
+    emit_candidate(cc, plans, pick, low_bits, &cur, SIZE_MAX);
+    earlier.layouts[c] = cc.layout(pick);
+    earlier.has_r1[c] = analog::is_integer_kind(kind);
+    if (earlier.has_r1[c]) {
+      earlier.r1s[c] = std::move(plans.ints[pick].r1);
+      earlier.energy[c] = analog::reference_energy(earlier.r1s[c]);
     }
   }
   ent.commit(cur);
