@@ -13,93 +13,122 @@ namespace {
 size_t rotations_per_frame(const capz::StreamInfo& si) {
   return si.rotation_segments > 0 ? static_cast<size_t>(si.rotation_samples_per_frame) : 0;
 }
-}  // namespace
 
-int info_capz(const std::string& path, bool json) {
-  std::vector<uint8_t> bytes = capz::read_file(path);
-  capz::StreamInfo si = capz::describe(bytes.data(), bytes.size(), path);
-  const double bp = capz::bpvf(bytes.size(), si.frames, si.points);
-  const std::string u = si.units.empty() ? "" : " " + si.units;
-  if (json) {
-    Json j;
-    j.begin_object();
-    j.member("file", path);
-    j.member("format", "capz");
-    j.member("version", std::to_string(si.major) + "." + std::to_string(si.minor));
-    j.member("bytes", static_cast<uint64_t>(bytes.size()));
-    j.member("source_format", capz::format_name(si.source_format));
-    j.member("source_name", si.source_name);
-    j.member("frames", static_cast<uint64_t>(si.frames));
-    j.member("points", static_cast<uint64_t>(si.points));
-    j.member("rate", si.rate);
-    j.member("units", si.units);
-    j.member("mode", si.mode);
-    j.member("codec", si.codec);
-    j.member("lossless", si.lossless);
-    j.member("grid_step", si.step);
-    j.member("max_error", si.max_error);
-    if (si.transform_output) j.member("kg_target", si.kg_target);
-    j.member("window_frames", static_cast<uint64_t>(si.window_frames));
-    j.member("windows", static_cast<uint64_t>(si.windows));
-    j.member("analog_channels", si.analog_channels);
-    j.member("analog_samples_per_frame", si.analog_samples_per_frame);
-    j.key("analog_bounds");  // the lossy channels (FORMAT.md 5.2); the others are lossless
-    j.begin_array();
-    for (size_t c = 0; c < si.analog_bounds.size(); ++c)
-      if (si.analog_bounds[c] > 0) {
-        j.begin_object();
-        j.member("channel", static_cast<uint64_t>(c));
-        j.member("label", c < si.analog_labels.size() ? si.analog_labels[c] : std::string());
-        j.member("unit", c < si.analog_units.size() ? si.analog_units[c] : std::string());
-        j.member("bound", si.analog_bounds[c]);
-        j.end_object();
-      }
-    j.end_array();
-    j.key("rotations");
-    j.begin_object();
-    j.member("segments", si.rotation_segments);
-    j.member("samples", static_cast<uint64_t>(si.frames * rotations_per_frame(si)));
-    j.member("rate", si.rotation_rate);
-    j.member("samples_per_frame", si.rotation_samples_per_frame);
-    j.member_strings("labels", si.rotation_labels);
-    j.end_object();
-    if (!si.pcd_fields.empty()) {
-      j.member("width", static_cast<uint64_t>(si.pcd_width));
-      j.member("height", static_cast<uint64_t>(si.pcd_height));
-      pcd_fields_json(&j, si.pcd_fields);
-      j.key("field_bounds");
-      j.begin_object();
-      for (size_t i = 0; i < si.pcd_field_bounds.size() && i < si.pcd_fields.size(); ++i)
-        if (si.pcd_field_bounds[i] > 0) j.member(si.pcd_fields[i].name, si.pcd_field_bounds[i]);
-      j.end_object();
-    }
-    // The original file (HASH, FORMAT.md 4.4.1, 5.4): null when the archive records none.
-    const capz::OriginalInfo orig = capz::original_info(path);
-    j.key("original");
-    if (orig.hashed) {
-      j.begin_object();
-      j.member("bytes", orig.size);
-      j.member("xxh3_128", orig.hash_hex);
-      j.member("byte_exact", orig.exact);
-      j.end_object();
-    } else {
-      j.null();
-    }
-    j.member("bpvf", bp);
-    j.key("chunk_bytes");
-    j.begin_object();
-    for (const auto& kv : si.chunk_bytes) j.member(kv.first, static_cast<uint64_t>(kv.second));
-    j.end_object();
-    j.end_object();
-    std::printf("%s\n", j.str().c_str());
-    return 0;
+// The analog line: channels, samples per frame, and the lossy ones grouped by bound and unit, in
+// channel order (FORMAT.md 5.2).
+std::string analog_text(const capz::StreamInfo& si) {
+  std::vector<std::pair<std::string, std::vector<std::string>>> groups;
+  size_t lossy = 0;
+  for (size_t c = 0; c < si.analog_bounds.size(); ++c) {
+    if (!(si.analog_bounds[c] > 0)) continue;
+    ++lossy;
+    const std::string unit = c < si.analog_units.size() ? si.analog_units[c] : "";
+    const std::string key = num(si.analog_bounds[c]) + (unit.empty() ? "" : " " + unit);
+    const std::string label = c < si.analog_labels.size() && !si.analog_labels[c].empty()
+                                  ? si.analog_labels[c]
+                                  : "#" + std::to_string(c);
+    auto g =
+        std::find_if(groups.begin(), groups.end(), [&](const auto& x) { return x.first == key; });
+    if (g == groups.end()) groups.push_back({key, {}}), g = groups.end() - 1;
+    g->second.push_back(label);
   }
+  std::string v = std::to_string(si.analog_channels) + " channels x " +
+                  std::to_string(si.analog_samples_per_frame) + " samples per frame";
+  if (lossy == 0) {
+    v += ", lossless";
+  } else {
+    v += ", " + std::to_string(si.analog_channels - static_cast<int>(lossy)) + " lossless";
+    for (const auto& g : groups) {
+      std::string names;
+      for (const std::string& n : g.second) names += (names.empty() ? "" : ", ") + n;
+      v += "; within " + g.first + ": " + names;
+    }
+  }
+  return v;
+}
+
+void print_json(const std::string& path, size_t size, const capz::StreamInfo& si, double bp) {
+  Json j;
+  j.begin_object();
+  j.member("file", path);
+  j.member("format", "capz");
+  j.member("version", std::to_string(si.major) + "." + std::to_string(si.minor));
+  j.member("bytes", static_cast<uint64_t>(size));
+  j.member("source_format", capz::format_name(si.source_format));
+  j.member("source_name", si.source_name);
+  j.member("frames", static_cast<uint64_t>(si.frames));
+  j.member("points", static_cast<uint64_t>(si.points));
+  j.member("rate", si.rate);
+  j.member("units", si.units);
+  j.member("mode", si.mode);
+  j.member("codec", si.codec);
+  j.member("lossless", si.lossless);
+  j.member("grid_step", si.step);
+  j.member("max_error", si.max_error);
+  if (si.transform_output) j.member("kg_target", si.kg_target);
+  j.member("window_frames", static_cast<uint64_t>(si.window_frames));
+  j.member("windows", static_cast<uint64_t>(si.windows));
+  j.member("analog_channels", si.analog_channels);
+  j.member("analog_samples_per_frame", si.analog_samples_per_frame);
+  j.key("analog_bounds");  // the lossy channels (FORMAT.md 5.2); the others are lossless
+  j.begin_array();
+  for (size_t c = 0; c < si.analog_bounds.size(); ++c)
+    if (si.analog_bounds[c] > 0) {
+      j.begin_object();
+      j.member("channel", static_cast<uint64_t>(c));
+      j.member("label", c < si.analog_labels.size() ? si.analog_labels[c] : std::string());
+      j.member("unit", c < si.analog_units.size() ? si.analog_units[c] : std::string());
+      j.member("bound", si.analog_bounds[c]);
+      j.end_object();
+    }
+  j.end_array();
+  j.key("rotations");
+  j.begin_object();
+  j.member("segments", si.rotation_segments);
+  j.member("samples", static_cast<uint64_t>(si.frames * rotations_per_frame(si)));
+  j.member("rate", si.rotation_rate);
+  j.member("samples_per_frame", si.rotation_samples_per_frame);
+  j.member_strings("labels", si.rotation_labels);
+  j.end_object();
+  if (!si.pcd_fields.empty()) {
+    j.member("width", static_cast<uint64_t>(si.pcd_width));
+    j.member("height", static_cast<uint64_t>(si.pcd_height));
+    pcd_fields_json(&j, si.pcd_fields);
+    j.key("field_bounds");
+    j.begin_object();
+    for (size_t i = 0; i < si.pcd_field_bounds.size() && i < si.pcd_fields.size(); ++i)
+      if (si.pcd_field_bounds[i] > 0) j.member(si.pcd_fields[i].name, si.pcd_field_bounds[i]);
+    j.end_object();
+  }
+  // The original file (HASH, FORMAT.md 4.4.1, 5.4): null when the archive records none.
+  const capz::OriginalInfo orig = capz::original_info(path);
+  j.key("original");
+  if (orig.hashed) {
+    j.begin_object();
+    j.member("bytes", orig.size);
+    j.member("xxh3_128", orig.hash_hex);
+    j.member("byte_exact", orig.exact);
+    j.end_object();
+  } else {
+    j.null();
+  }
+  j.member("bpvf", bp);
+  j.key("chunk_bytes");
+  j.begin_object();
+  for (const auto& kv : si.chunk_bytes) j.member(kv.first, static_cast<uint64_t>(kv.second));
+  j.end_object();
+  j.end_object();
+  std::printf("%s\n", j.str().c_str());
+}
+
+void print_text(const std::string& path, size_t size, const capz::StreamInfo& si, double bp) {
+  const std::string u = si.units.empty() ? "" : " " + si.units;
   auto line = [](const char* k, const std::string& v) {
     std::printf("  %-12s %s\n", k, printable(v).c_str());
   };
   std::printf("%s\n", path.c_str());
   line("format:", "capz " + std::to_string(si.major) + "." + std::to_string(si.minor) + ", " +
-                      human_size(bytes.size()) + ", " + num(bp) + " bpvf");
+                      human_size(size) + ", " + num(bp) + " bpvf");
   line("source:", std::string(capz::format_name(si.source_format)) +
                       (si.source_name.empty() ? "" : " " + si.source_name));
   line("take:", std::to_string(si.frames) + " frames x " + std::to_string(si.points) + " points" +
@@ -118,37 +147,7 @@ int info_capz(const std::string& path, bool json) {
     line("original:", std::to_string(orig.size) + " bytes, xxh3-128 " + orig.hash_hex +
                           (orig.exact ? ", rebuilt byte for byte (checksum checked)"
                                       : ", not rebuilt byte for byte"));
-  if (si.analog_channels > 0) {
-    // Lossy channels grouped by bound and unit, in channel order (FORMAT.md 5.2).
-    std::vector<std::pair<std::string, std::vector<std::string>>> groups;
-    size_t lossy = 0;
-    for (size_t c = 0; c < si.analog_bounds.size(); ++c) {
-      if (!(si.analog_bounds[c] > 0)) continue;
-      ++lossy;
-      const std::string unit = c < si.analog_units.size() ? si.analog_units[c] : "";
-      const std::string key = num(si.analog_bounds[c]) + (unit.empty() ? "" : " " + unit);
-      const std::string label = c < si.analog_labels.size() && !si.analog_labels[c].empty()
-                                    ? si.analog_labels[c]
-                                    : "#" + std::to_string(c);
-      auto g =
-          std::find_if(groups.begin(), groups.end(), [&](const auto& x) { return x.first == key; });
-      if (g == groups.end()) groups.push_back({key, {}}), g = groups.end() - 1;
-      g->second.push_back(label);
-    }
-    std::string v = std::to_string(si.analog_channels) + " channels x " +
-                    std::to_string(si.analog_samples_per_frame) + " samples per frame";
-    if (lossy == 0) {
-      v += ", lossless";
-    } else {
-      v += ", " + std::to_string(si.analog_channels - static_cast<int>(lossy)) + " lossless";
-      for (const auto& g : groups) {
-        std::string names;
-        for (const std::string& n : g.second) names += (names.empty() ? "" : ", ") + n;
-        v += "; within " + g.first + ": " + names;
-      }
-    }
-    line("analog:", v);
-  }
+  if (si.analog_channels > 0) line("analog:", analog_text(si));
   if (si.rotation_segments > 0)
     line("rotations:", std::to_string(si.rotation_segments) + " segments x " +
                            std::to_string(si.frames * rotations_per_frame(si)) + " samples at " +
@@ -172,6 +171,17 @@ int info_capz(const std::string& path, bool json) {
   for (const auto& kv : si.chunk_bytes)
     chunks += (chunks.empty() ? "" : ", ") + kv.first + " " + human_size(kv.second);
   line("chunks:", chunks);
+}
+}  // namespace
+
+int info_capz(const std::string& path, bool json) {
+  std::vector<uint8_t> bytes = capz::read_file(path);
+  capz::StreamInfo si = capz::describe(bytes.data(), bytes.size(), path);
+  const double bp = capz::bpvf(bytes.size(), si.frames, si.points);
+  if (json)
+    print_json(path, bytes.size(), si, bp);
+  else
+    print_text(path, bytes.size(), si, bp);
   return 0;
 }
 
