@@ -180,96 +180,120 @@ double common_power_of_two(const std::vector<double>& v) {
   return 0;
 }
 
-}  // namespace
-
-// Tries the steps suggested by the data (the smallest gap between distinct values, refined by a
-// least-squares fit) and by the hint; keeps the fit with the fewest exceptions.
-bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted, bool f32,
-                 const ChannelHint& hint, ChannelRepr* r) {
-  double gap = 0;
-  for (size_t i = 1; i < sorted.size(); ++i) {
-    const double d = sorted[i] - sorted[i - 1];
-    if (d > 0 && (gap == 0 || d < gap)) gap = d;
+// The (step, offset) pairs find_scaled tries, listed from the data and the hint (it tries the
+// last listed first).
+class FitList {
+ public:
+  FitList(const std::vector<double>& v, const std::vector<double>& sorted)
+      : v_(v), sorted_(sorted) {
+    small_ = sorted.front();
+    for (double x : sorted)
+      if (std::fabs(x) < std::fabs(small_)) small_ = x;
   }
-  double small = sorted.front();
-  for (double x : sorted)
-    if (std::fabs(x) < std::fabs(small)) small = x;
-  std::vector<std::pair<double, double>> fits;  // (step, offset)
-  // refine_fit's result depends on v and (s, o) alone: a pair refined before in this call is
+  const std::vector<std::pair<double, double>>& fits() const { return fits_; }
+  void push(double s, double o) { fits_.push_back({s, o}); }
+
+  // Step s with offset 0; with `refine`, also s with the offset of the least sample, two rounds
+  // of refine_fit from there (each with the offset pinned at the sample nearest 0 too), and the
+  // reciprocals of integers near s and near the refined step.
+  void add(double s, bool refine) {
+    if (!(s > 0) || !std::isfinite(s)) return;
+    double o = refine ? sorted_.front() - round_half_away(sorted_.front() / s) * s : 0.0;
+    push(s, o);
+    if (!refine) return;
+    snap(s, 0.0);
+    for (int it = 0; it < 2; ++it) {
+      refine_once(&s, &o);
+      if (!(s > 0) || !std::isfinite(s) || !std::isfinite(o)) return;
+      push(s, o);
+      // The sample nearest 0 has the finest rounding: pin the offset there.
+      push(s, small_ - round_half_away((small_ - o) / s) * s);
+    }
+    snap(s, o);
+  }
+
+ private:
+  // refine_fit's result depends on v and (s, o) alone: a pair refined before in this list is
   // looked up, not refit (bit for bit the same result). That happens in about one refit of
   // seven on the bench's takes: a fixed point of the first round is the second round's input,
   // and different steps' fits can meet.
-  std::vector<std::array<double, 4>> refits;  // (s, o) in, (s, o) out
-  auto refine_once = [&](double* s, double* o) {
-    for (const std::array<double, 4>& f : refits)
+  void refine_once(double* s, double* o) {
+    for (const std::array<double, 4>& f : refits_)
       if (bits_of(f[0]) == bits_of(*s) && bits_of(f[1]) == bits_of(*o)) {
         *s = f[2];
         *o = f[3];
         return;
       }
     const double s0 = *s, o0 = *o;
-    refine_fit(v, s, o);
-    refits.push_back({s0, o0, *s, *o});
-  };
-  auto add = [&](double s, bool refine) {
-    if (!(s > 0) || !std::isfinite(s)) return;
-    double o = refine ? sorted.front() - round_half_away(sorted.front() / s) * s : 0.0;
-    fits.push_back({s, o});
-    if (!refine) return;
-    // A step that is the reciprocal of an integer (counts averaged over q samples, k / q) is
-    // only approximated by a gap or a fit, which leaves exceptions wherever k * s lands near a
-    // float rounding boundary, or (over a wide range of k) no fit at all: try the exact 1 / q,
-    // with the offset 0 and snapped to a multiple of it.
-    auto snap = [&](double s_est, double o_est) {
-      const double q0 = std::round(1.0 / s_est);
-      if (q0 >= 2 && q0 <= 1e6 && std::fabs(1.0 / s_est - q0) <= std::min(1e-3 * q0, 0.05)) {
-        // q0 - 1 too: the gap between two float32 values k / q, rounded, can be a hair below
-        // 1 / q (Dance.c3d's channels are k / 32767, whose smallest gap rounds to 1 / 32768).
-        for (double q = q0; q >= q0 - 1 && q >= 2; --q) {
-          const double sq = 1.0 / q;
-          fits.push_back({sq, 0.0});
-          const double oq = round_half_away(o_est / sq) * sq;
-          if (oq != 0) fits.push_back({sq, oq});
-        }
-      }
-    };
-    snap(s, 0.0);
-    for (int it = 0; it < 2; ++it) {
-      refine_once(&s, &o);
-      if (!(s > 0) || !std::isfinite(s) || !std::isfinite(o)) return;
-      fits.push_back({s, o});
-      // The sample nearest 0 has the finest rounding: pin the offset there.
-      fits.push_back({s, small - round_half_away((small - o) / s) * s});
-    }
-    snap(s, o);
-  };
-  add(gap, true);
-  // The smallest gap is wrong when one sample is off the grid by a hair (a sum that should have
-  // been 0 coming out as 1e-12); the lower quartile of the gaps is the step still.
-  {
-    std::vector<double> gaps;
-    gaps.reserve(sorted.size());
-    for (size_t i = 1; i < sorted.size(); ++i)
-      if (sorted[i] > sorted[i - 1]) gaps.push_back(sorted[i] - sorted[i - 1]);
-    if (gaps.size() >= 8) {
-      auto q = gaps.begin() + static_cast<std::ptrdiff_t>(gaps.size() / 4);
-      std::nth_element(gaps.begin(), q, gaps.end());
-      if (*q > gap * (1 + 1e-9)) add(*q, true);
+    refine_fit(v_, s, o);
+    refits_.push_back({s0, o0, *s, *o});
+  }
+  // A step that is the reciprocal of an integer (counts averaged over q samples, k / q) is only
+  // approximated by a gap or a fit, which leaves exceptions wherever k * s lands near a float
+  // rounding boundary, or (over a wide range of k) no fit at all: try the exact 1 / q, with the
+  // offset 0 and snapped to a multiple of it.
+  void snap(double s_est, double o_est) {
+    const double q0 = std::round(1.0 / s_est);
+    if (!(q0 >= 2 && q0 <= 1e6 && std::fabs(1.0 / s_est - q0) <= std::min(1e-3 * q0, 0.05))) return;
+    // q0 - 1 too: the gap between two float32 values k / q, rounded, can be a hair below 1 / q
+    // (Dance.c3d's channels are k / 32767, whose smallest gap rounds to 1 / 32768).
+    for (double q = q0; q >= q0 - 1 && q >= 2; --q) {
+      const double sq = 1.0 / q;
+      push(sq, 0.0);
+      const double oq = round_half_away(o_est / sq) * sq;
+      if (oq != 0) push(sq, oq);
     }
   }
-  add(common_power_of_two(v), false);
+
+  const std::vector<double>& v_;
+  const std::vector<double>& sorted_;
+  double small_;                                 // the sample nearest 0
+  std::vector<std::pair<double, double>> fits_;  // (step, offset)
+  std::vector<std::array<double, 4>> refits_;    // (s, o) in, (s, o) out
+};
+
+// The fits find_scaled tries: the smallest gap between distinct values and, when it is wrong
+// because one sample is off the grid by a hair (a sum that should have been 0 coming out as
+// 1e-12), the lower quartile of the gaps, both refined; the largest power of two dividing every
+// sample; the hint's scale and offset, and its scale refined.
+std::vector<std::pair<double, double>> scaled_fits(const std::vector<double>& v,
+                                                   const std::vector<double>& sorted,
+                                                   const ChannelHint& hint) {
+  double gap = 0;
+  for (size_t i = 1; i < sorted.size(); ++i) {
+    const double d = sorted[i] - sorted[i - 1];
+    if (d > 0 && (gap == 0 || d < gap)) gap = d;
+  }
+  FitList list(v, sorted);
+  list.add(gap, true);
+  std::vector<double> gaps;
+  gaps.reserve(sorted.size());
+  for (size_t i = 1; i < sorted.size(); ++i)
+    if (sorted[i] > sorted[i - 1]) gaps.push_back(sorted[i] - sorted[i - 1]);
+  if (gaps.size() >= 8) {
+    auto q = gaps.begin() + static_cast<std::ptrdiff_t>(gaps.size() / 4);
+    std::nth_element(gaps.begin(), q, gaps.end());
+    if (*q > gap * (1 + 1e-9)) list.add(*q, true);
+  }
+  list.add(common_power_of_two(v), false);
   if (hint.scale != 0) {
-    fits.push_back({std::fabs(hint.scale), hint.offset * std::fabs(hint.scale)});
-    add(std::fabs(hint.scale), true);
+    list.push(std::fabs(hint.scale), hint.offset * std::fabs(hint.scale));
+    list.add(std::fabs(hint.scale), true);
   }
-  // Cost of a fit in bits, up to a constant: exceptions (about 3 bytes each) and log2 of the
-  // k's spread, which grows as the step shrinks.
+  return list.fits();
+}
+
+// The cheapest of the fits, tried from the last listed: cost in bits, up to a constant, is the
+// exceptions (about 3 bytes each) and log2 of the k's spread, which grows as the step shrinks.
+// False when none fits.
+bool cheapest_fit(const std::vector<double>& v, const std::vector<std::pair<double, double>>& fits,
+                  bool f32, ChannelRepr* best) {
   const size_t n = v.size();
   auto cost = [&](const ChannelRepr& t) {
     return 24.0 * static_cast<double>(t.exc_index.size()) -
            static_cast<double>(n) * std::log2(t.step);
   };
-  ChannelRepr best, t;  // t's buffers are reused from fit to fit
+  ChannelRepr t;  // its buffers are reused from fit to fit
   bool found = false;
   for (auto it = fits.rbegin(); it != fits.rend(); ++it) {
     // A fit equal to one already tried has the same cost, which never replaces the best.
@@ -282,22 +306,33 @@ bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted
     // the fit early, as too many do anyway.
     size_t max_exc = n_max_exc(n);
     if (found) {
-      const double best_cost = cost(best), spread = static_cast<double>(n) * std::log2(it->first);
+      const double best_cost = cost(*best), spread = static_cast<double>(n) * std::log2(it->first);
       size_t e = 0;
       while (e <= max_exc && 24.0 * static_cast<double>(e) - spread < best_cost) ++e;
       if (e == 0) continue;  // not even an exact fit would be cheaper
       max_exc = e - 1;
     }
     if (!fit_scaled(v, it->first, it->second, f32, max_exc, &t)) continue;
-    if (!found || cost(t) < cost(best)) {
-      std::swap(best, t);
+    if (!found || cost(t) < cost(*best)) {
+      std::swap(*best, t);
       found = true;
     }
   }
-  if (!found) return false;
+  return found;
+}
+
+}  // namespace
+
+// Tries the steps suggested by the data (the smallest gap between distinct values, refined by a
+// least-squares fit) and by the hint; keeps the fit with the fewest exceptions.
+bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted, bool f32,
+                 const ChannelHint& hint, ChannelRepr* r) {
+  ChannelRepr best;
+  if (!cheapest_fit(v, scaled_fits(v, sorted, hint), f32, &best)) return false;
   // FORMAT.md 9.6: the window's previous scaled channel's step and offset, when they are this
   // fit's up to its last bits and leave no more exceptions, so that the header can name them.
   const ScaledShare& sh = hint.share;
+  ChannelRepr t;
   if (sh.have && sh.round_f32 == best.round_f32 &&
       (bits_of(sh.step) != bits_of(best.step) || bits_of(sh.offset) != bits_of(best.offset)) &&
       std::fabs(sh.step / best.step - 1) < 1e-6 &&
