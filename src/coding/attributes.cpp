@@ -564,6 +564,58 @@ std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
   return std::move(w.buffer());
 }
 
+// A field coded by LZMA2 (transforms 2-5, FORMAT.md 5.3, 6.2): its n points' bytes into *out.
+void decode_lzma_field(ByteReader* in, uint8_t t, const AttrSpec& s, size_t n, const uint8_t* valid,
+                       const std::string& awhat, std::vector<uint8_t>* out) {
+  ByteReader& r = *in;
+  std::vector<uint8_t>& bytes = *out;
+  const size_t bpp = static_cast<size_t>(s.size) * static_cast<size_t>(s.count);
+  const uint64_t m = r.count(1, "LZMA size");
+  // Every byte of the field costs at least 1/2900 byte of its data: checked before
+  // allocating.
+  if (m == 0 || (n != 0 && bpp > kMaxSymbolsPerByte * m / n))
+    fail(ErrorCode::kCorrupt, awhat, "field larger than its LZMA data can hold");
+  const uint8_t* z = r.bytes(static_cast<size_t>(m));
+  if (t <= 3) {
+    bytes = lzma2_decode(z, static_cast<size_t>(m), n * bpp, awhat);
+    if (t == 2) bytes = from_planes(bytes, static_cast<size_t>(s.size));
+    return;
+  }
+  // 4, 5 (FORMAT.md 6.2): the valid points' values, then the gap points'.
+  if (!valid) fail(ErrorCode::kCorrupt, awhat, "transform " + std::to_string(t) + " without gaps");
+  const size_t nv =
+      static_cast<size_t>(std::count_if(valid, valid + n, [](uint8_t v) { return v != 0; }));
+  ByteReader zr(z, static_cast<size_t>(m), awhat);
+  const uint64_t na = zr.varint();
+  if (na > zr.remaining() || (na == 0) != (nv == 0) || (zr.remaining() - na == 0) != (nv == n))
+    fail(ErrorCode::kCorrupt, awhat, "bad split of the valid and gap values");
+  const uint8_t* za = zr.bytes(static_cast<size_t>(na));
+  std::vector<uint8_t> at_valid, at_gaps;
+  if (nv) at_valid = lzma2_decode(za, static_cast<size_t>(na), nv * bpp, awhat);
+  if (t == 4) at_valid = from_planes(at_valid, static_cast<size_t>(s.size));
+  const size_t nb = zr.remaining();
+  if (nv < n) at_gaps = lzma2_decode(zr.bytes(nb), nb, (n - nv) * bpp, awhat);
+  merge_by_mask(at_valid, at_gaps, valid, n, bpp, &bytes);
+}
+
+// The predictor of each of a field's lanes (and a unit vector's references to the fields that
+// complete it).
+void read_lane_predictors(ByteReader* in, const std::vector<AttrSpec>& specs, size_t a, bool colour,
+                          bool v6, bool v7, bool have_q, const std::string& awhat,
+                          std::vector<int>* pred, std::vector<std::array<UnitRef, 2>>* refs) {
+  for (size_t j = 0; j < pred->size(); ++j) {
+    const uint8_t id = in->u8();
+    const bool near_id = id == kNearPredictor || id == kNearChangePredictor;
+    if (id >= kPredictors && !(v6 && id == kUnitPredictor && !colour) && !(v7 && near_id))
+      fail(ErrorCode::kCorrupt, awhat, "unknown predictor " + std::to_string(id));
+    if (near_id && !have_q)
+      fail(ErrorCode::kCorrupt, awhat,
+           "predictor " + std::to_string(id) + " in a window without position integers");
+    (*pred)[j] = id;
+    if (id == kUnitPredictor) read_unit_refs(in, specs, a, j, (*refs)[j].data(), awhat);
+  }
+}
+
 void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrSpec>& specs,
                        const uint8_t* valid, size_t frames, size_t points, size_t width,
                        std::vector<std::vector<uint8_t>>* out, const std::string& what, bool v6,
@@ -584,50 +636,14 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
     const size_t bpp = static_cast<size_t>(s.size) * static_cast<size_t>(s.count);
     std::vector<uint8_t>& bytes = (*out)[a];
     if (t >= 2) {
-      const uint64_t m = r.count(1, "LZMA size");
-      // Every byte of the field costs at least 1/2900 byte of its data: checked before
-      // allocating.
-      if (m == 0 || (n != 0 && bpp > kMaxSymbolsPerByte * m / n))
-        fail(ErrorCode::kCorrupt, awhat, "field larger than its LZMA data can hold");
-      const uint8_t* z = r.bytes(static_cast<size_t>(m));
-      if (t <= 3) {
-        bytes = lzma2_decode(z, static_cast<size_t>(m), n * bpp, awhat);
-        if (t == 2) bytes = from_planes(bytes, static_cast<size_t>(s.size));
-        continue;
-      }
-      // 4, 5 (FORMAT.md 6.2): the valid points' values, then the gap points'.
-      if (!valid)
-        fail(ErrorCode::kCorrupt, awhat, "transform " + std::to_string(t) + " without gaps");
-      const size_t nv =
-          static_cast<size_t>(std::count_if(valid, valid + n, [](uint8_t v) { return v != 0; }));
-      ByteReader zr(z, static_cast<size_t>(m), awhat);
-      const uint64_t na = zr.varint();
-      if (na > zr.remaining() || (na == 0) != (nv == 0) || (zr.remaining() - na == 0) != (nv == n))
-        fail(ErrorCode::kCorrupt, awhat, "bad split of the valid and gap values");
-      const uint8_t* za = zr.bytes(static_cast<size_t>(na));
-      std::vector<uint8_t> at_valid, at_gaps;
-      if (nv) at_valid = lzma2_decode(za, static_cast<size_t>(na), nv * bpp, awhat);
-      if (t == 4) at_valid = from_planes(at_valid, static_cast<size_t>(s.size));
-      const size_t nb = zr.remaining();
-      if (nv < n) at_gaps = lzma2_decode(zr.bytes(nb), nb, (n - nv) * bpp, awhat);
-      merge_by_mask(at_valid, at_gaps, valid, n, bpp, &bytes);
+      decode_lzma_field(&r, t, s, n, valid, awhat, &bytes);
       continue;
     }
     const bool colour = t == 1;
     const size_t lanes = lane_count(s, colour);
     std::vector<int> pred(lanes);
     std::vector<std::array<UnitRef, 2>> refs(lanes);
-    for (size_t j = 0; j < lanes; ++j) {
-      const uint8_t id = r.u8();
-      const bool near_id = id == kNearPredictor || id == kNearChangePredictor;
-      if (id >= kPredictors && !(v6 && id == kUnitPredictor && !colour) && !(v7 && near_id))
-        fail(ErrorCode::kCorrupt, awhat, "unknown predictor " + std::to_string(id));
-      if (near_id && !q)
-        fail(ErrorCode::kCorrupt, awhat,
-             "predictor " + std::to_string(id) + " in a window without position integers");
-      pred[j] = id;
-      if (id == kUnitPredictor) read_unit_refs(&r, specs, a, j, refs[j].data(), awhat);
-    }
+    read_lane_predictors(&r, specs, a, colour, v6, v7, q != nullptr, awhat, &pred, &refs);
     const uint64_t m = r.count(1, "block size");
     if (n != 0 && lanes > kMaxSymbolsPerByte * m / n)
       fail(ErrorCode::kCorrupt, awhat, "field larger than its block can hold");
