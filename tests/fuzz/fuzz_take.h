@@ -3,6 +3,10 @@
 //
 // Bytes: [0] frames-1 (1..32), [1] bits 0-2 points-1 (1..8), bit 7 rotations (bits 3-4
 // segments-1, bit 5 samples per frame-1, values as raw float32 bits after the coordinates),
+// bit 6 analog channels (after the coordinates and rotations: one byte, bits 0-1 channels-1,
+// bits 2-3 samples per frame-1, bits 4-5 the values' kind: int16 counts, float32 bits (NaN
+// payloads, Inf, -0.0), float32(k x step) for a step from the next byte, or small integers held
+// for runs; bit 6 a bound on channel A0 when not lossless, 2^-(next byte % 20); then the values),
 // [2] options: bit 0 lossless, bits 1-2 value
 // kind (int16 x 0.01, int16 x 1, float32 bits, small ints), bits 3-5 window frames (1..8),
 // bit 6 codec ts, bit 7 a KG target (0.05 .. 3.2 %) instead of a bound, with ts (bit 6) or pdct;
@@ -30,10 +34,62 @@ namespace capz_fuzz {
 struct RoundTripCase {
   capz::Take take;
   capz::CompressOptions opts;
-  bool kg = false;       // a KG target (opts.kg_error) instead of a bound
-  double kg_target = 0;  // percent
-  double bound = 0;      // the bound asked for (when neither lossless nor kg)
+  bool kg = false;          // a KG target (opts.kg_error) instead of a bound
+  double kg_target = 0;     // percent
+  double bound = 0;         // the bound asked for (when neither lossless nor kg)
+  double analog_bound = 0;  // channel A0's bound (0: every analog channel lossless)
 };
+
+// A float32 from the next four bytes (little-endian bits: NaN payloads, Inf, -0.0 included).
+template <typename Next>
+float next_float32(Next& next) {
+  uint32_t u = 0;
+  for (int b = 0; b < 4; ++b) u |= static_cast<uint32_t>(next()) << (8 * b);
+  float f;
+  std::memcpy(&f, &u, 4);
+  return f;
+}
+
+// Analog channels from the bytes `next` gives (the layout above); a bound on A0 (when
+// `may_bound`) goes into opts.analog_max_error and *bound.
+template <typename Next>
+void fuzz_analog(Next& next, size_t frames, bool may_bound, capz::Take* t,
+                 capz::CompressOptions* opts, double* bound) {
+  const uint8_t a = next();
+  capz::Analog& an = t->analog;
+  an.channels = 1 + (a & 3);
+  an.samples_per_frame = 1 + ((a >> 2) & 3);
+  an.rate = t->rate * an.samples_per_frame;
+  for (int ch = 0; ch < an.channels; ++ch) an.labels.push_back("A" + std::to_string(ch));
+  const int kind = (a >> 4) & 3;
+  const uint8_t sb = kind == 2 ? next() : 0;
+  // 2^-(0..15), or 1/q for q = 3..130 (a step no float is a multiple of)
+  const double step = sb & 0x80 ? 1.0 / (3 + (sb & 0x7F)) : std::ldexp(1.0, -(sb & 15));
+  const size_t n =
+      frames * static_cast<size_t>(an.samples_per_frame) * static_cast<size_t>(an.channels);
+  an.values.resize(n);
+  std::vector<int32_t> held(static_cast<size_t>(an.channels), 0);
+  for (size_t i = 0; i < n; ++i) {
+    double v = 0;
+    if (kind == 0) {
+      v = static_cast<int16_t>(next() | next() << 8);
+    } else if (kind == 1) {
+      v = next_float32(next);
+    } else if (kind == 2) {
+      v = static_cast<float>(static_cast<int16_t>(next() | next() << 8) * step);
+    } else {
+      int32_t& h = held[i % held.size()];
+      const uint8_t b = next();
+      if (b < 64) h += static_cast<int8_t>(b << 2) >> 2;  // changes a quarter of the time
+      v = h;
+    }
+    an.values[i] = v;
+  }
+  if ((a & 0x40) && may_bound) {
+    *bound = std::ldexp(1.0, -(next() % 20));
+    opts->analog_max_error["A0"] = *bound;
+  }
+}
 
 // Builds the case from `data` (layout above); false when there are fewer than 5 bytes.
 inline bool round_trip_case(const uint8_t* data, size_t size, RoundTripCase* c) {
@@ -73,11 +129,7 @@ inline bool round_trip_case(const uint8_t* data, size_t size, RoundTripCase* c) 
         const int16_t q = static_cast<int16_t>(next() | next() << 8);
         v = kind == 0 ? q * 0.01 : q;
       } else if (kind == 2) {
-        uint32_t u = 0;
-        for (int b = 0; b < 4; ++b) u |= static_cast<uint32_t>(next()) << (8 * b);
-        float f;
-        std::memcpy(&f, &u, 4);
-        v = f;
+        v = next_float32(next);
       } else {
         v = static_cast<int8_t>(next());
       }
@@ -95,25 +147,42 @@ inline bool round_trip_case(const uint8_t* data, size_t size, RoundTripCase* c) 
     const size_t n = frames * r.per_frame();
     r.matrices.resize(n * 16);
     r.reliability.resize(n);
-    auto bits = [&]() {
-      uint32_t u = 0;
-      for (int b = 0; b < 4; ++b) u |= static_cast<uint32_t>(next()) << (8 * b);
-      float f;
-      std::memcpy(&f, &u, 4);
-      return f;
-    };
-    for (float& v : r.matrices) v = bits();
-    for (float& v : r.reliability) v = bits();
+    for (float& v : r.matrices) v = next_float32(next);
+    for (float& v : r.reliability) v = next_float32(next);
   }
 
   capz::CompressOptions& o = c->opts;
   o = capz::CompressOptions();
+  c->analog_bound = 0;
+  if (data[1] & 0x40) fuzz_analog(next, frames, !lossless, &t, &o, &c->analog_bound);
   o.lossless = lossless;
   o.max_error = lossless || c->kg ? 0 : c->bound;
   o.kg_error = c->kg ? c->kg_target : 0;
   o.window_frames = window;
   o.codec = ts ? "ts" : c->kg ? "pdct" : "none";
   return true;
+}
+
+// The analog channels come back with their layout and labels, every sample bit for bit, but
+// channel A0's finite samples within its bound when it has one (a take without C3D parameters:
+// the stored values are the physical ones).
+inline void check_analog(const RoundTripCase& c, const capz::Take& b) {
+  const capz::Analog &x = c.take.analog, &y = b.analog;
+  CAPZ_FUZZ_CHECK(y.channels == x.channels && y.samples_per_frame == x.samples_per_frame &&
+                  y.rate == x.rate && y.labels == x.labels && y.values.size() == x.values.size());
+  for (size_t i = 0; i < x.values.size(); ++i) {
+    const double u = x.values[i], v = y.values[i];
+    if (c.analog_bound > 0 && i % static_cast<size_t>(x.channels) == 0 && std::isfinite(u)) {
+      if (!(std::isfinite(v) && std::fabs(v - u) <= c.analog_bound)) {
+        std::fprintf(stderr, "analog sample %zu: %.17g -> %.17g, bound %.17g\n", i, u, v,
+                     c.analog_bound);
+        std::abort();
+      }
+    } else if (std::memcmp(&u, &v, sizeof u) != 0) {
+      std::fprintf(stderr, "analog sample %zu: %.17g -> %.17g\n", i, u, v);
+      std::abort();
+    }
+  }
 }
 
 // Decodes a stream just made from the case and aborts unless it comes back with the same shape
@@ -143,6 +212,7 @@ inline void check_round_trip(const RoundTripCase& c, const std::vector<uint8_t>&
                                 t.rotations.matrices.size() * 4) == 0 &&
                     std::memcmp(b.rotations.reliability.data(), t.rotations.reliability.data(),
                                 t.rotations.reliability.size() * 4) == 0);
+  check_analog(c, b);
   const size_t samples = t.frames * t.points;
   if (si.transform_output) {
     CAPZ_FUZZ_CHECK(c.kg);
