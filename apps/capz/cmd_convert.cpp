@@ -15,6 +15,51 @@ namespace capz_cli {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// The write options the flags give (*enc_opt: the PCD encoding flag used, if any).
+capz::WriteOptions write_options(const po::variables_map& vm, const char** enc_opt) {
+  capz::WriteOptions wo;
+  wo.overwrite = vm.count("force") > 0;
+  wo.c3d_float = vm.count("c3d-float") > 0;
+  wo.drop_fields = vm.count("drop-fields") > 0;
+  if (vm.count("pcd-encoding") && vm.count("pcd-data"))
+    throw po::error("give --pcd-encoding or --pcd-data, not both");
+  *enc_opt = vm.count("pcd-data") ? "pcd-data" : "pcd-encoding";
+  if (vm.count(*enc_opt)) {
+    const std::string e = vm[*enc_opt].as<std::string>();
+    if (e != "ascii" && e != "binary" && e != "binary_compressed")
+      capz::fail(capz::ErrorCode::kInvalidParameter, "",
+                 "--pcd-encoding must be ascii, binary or binary_compressed, not '" + e + "'");
+    wo.pcd_encoding = e;
+  }
+  return wo;
+}
+
+// The reader's warnings, and what the output format does not keep (at the default verbosity).
+void print_notes(const capz::Take& take, const std::string& in, capz::Format out_format) {
+  for (const auto& w : take.warnings)
+    std::fprintf(stderr, "capz convert: %s: %s\n", in.c_str(), w.c_str());
+  if (out_format != capz::Format::kC3D) {
+    if (take.analog.channels > 0)
+      std::fprintf(stderr, "capz convert: note: %s does not keep the %d analog channels\n",
+                   capz::format_name(out_format), take.analog.channels);
+    if (take.c3d)
+      std::fprintf(stderr, "capz convert: note: %s does not keep the C3D parameter section\n",
+                   capz::format_name(out_format));
+    if (take.rotations.segments > 0)
+      std::fprintf(stderr, "capz convert: note: %s does not keep the %d rotation segments\n",
+                   capz::format_name(out_format), take.rotations.segments);
+  }
+  if (out_format == capz::Format::kPCDFolder && take.rate > 0)
+    std::fprintf(stderr, "capz convert: note: PCD frames do not store the frame rate (%s Hz)\n",
+                 number(take.rate).c_str());
+  if (out_format != capz::Format::kPCDFolder && take.rate <= 0)
+    std::fprintf(stderr, "capz convert: note: the source has no frame rate; give --rate\n");
+}
+
+}  // namespace
+
 int cmd_convert(const Args& args) {
   po::options_description opts("convert options");
   opts.add_options()("force,f", "overwrite OUT if it exists")(
@@ -47,20 +92,8 @@ int cmd_convert(const Args& args) {
   const std::string in = vm["input"].as<std::string>();
   const std::string out = vm["output"].as<std::string>();
 
-  capz::WriteOptions wo;
-  wo.overwrite = vm.count("force") > 0;
-  wo.c3d_float = vm.count("c3d-float") > 0;
-  wo.drop_fields = vm.count("drop-fields") > 0;
-  if (vm.count("pcd-encoding") && vm.count("pcd-data"))
-    throw po::error("give --pcd-encoding or --pcd-data, not both");
-  const char* enc_opt = vm.count("pcd-data") ? "pcd-data" : "pcd-encoding";
-  if (vm.count(enc_opt)) {
-    const std::string e = vm[enc_opt].as<std::string>();
-    if (e != "ascii" && e != "binary" && e != "binary_compressed")
-      capz::fail(capz::ErrorCode::kInvalidParameter, "",
-                 "--pcd-encoding must be ascii, binary or binary_compressed, not '" + e + "'");
-    wo.pcd_encoding = e;
-  }
+  const char* enc_opt = nullptr;
+  capz::WriteOptions wo = write_options(vm, &enc_opt);
   if (vm.count("rate")) {
     double r = vm["rate"].as<double>();
     if (!(r > 0) || !std::isfinite(r))
@@ -88,26 +121,7 @@ int cmd_convert(const Args& args) {
   // --drop-fields says to leave it out.
   capz::check_fields_fit(take, out_format, target, wo);
 
-  if (g_verbosity >= 1) {
-    for (const auto& w : take.warnings)
-      std::fprintf(stderr, "capz convert: %s: %s\n", in.c_str(), w.c_str());
-    if (out_format != capz::Format::kC3D) {
-      if (take.analog.channels > 0)
-        std::fprintf(stderr, "capz convert: note: %s does not keep the %d analog channels\n",
-                     capz::format_name(out_format), take.analog.channels);
-      if (take.c3d)
-        std::fprintf(stderr, "capz convert: note: %s does not keep the C3D parameter section\n",
-                     capz::format_name(out_format));
-      if (take.rotations.segments > 0)
-        std::fprintf(stderr, "capz convert: note: %s does not keep the %d rotation segments\n",
-                     capz::format_name(out_format), take.rotations.segments);
-    }
-    if (out_format == capz::Format::kPCDFolder && take.rate > 0)
-      std::fprintf(stderr, "capz convert: note: PCD frames do not store the frame rate (%s Hz)\n",
-                   number(take.rate).c_str());
-    if (out_format != capz::Format::kPCDFolder && take.rate <= 0)
-      std::fprintf(stderr, "capz convert: note: the source has no frame rate; give --rate\n");
-  }
+  if (g_verbosity >= 1) print_notes(take, in, out_format);
 
   capz::write_take(take, out, wo);
   if (out_format != capz::Format::kPCDFolder && !take.attributes.empty() && g_verbosity >= 1)
