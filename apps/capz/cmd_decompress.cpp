@@ -89,6 +89,82 @@ std::string choose_output(const Job& job, const Settings& s, const std::string& 
   return out;
 }
 
+// What a decode wrote: the output's path and the take's shape, units and point fields.
+struct Written {
+  std::string out;
+  size_t frames = 0, points = 0;
+  std::string units, fields;  // fields: capz::field_names
+  void take_shape(const capz::Take& t) {
+    frames = t.frames;
+    points = t.points;
+    units = t.units;
+    fields = capz::field_names(t);
+  }
+};
+
+// --frames: the range decoded into memory (only the windows it touches), then written.
+Written decode_range(const Job& job, const Settings& s, const std::string& in,
+                     const capz::DecompressOptions& dopts, const capz::WriteOptions& wo,
+                     PipeSpace* space) {
+  size_t a = 0, n = 0;
+  parse_frames(s.vm["frames"].as<std::string>(), &a, &n);
+  std::vector<uint8_t> bytes = capz::read_file(in);
+  capz::Take take = capz::decompress_frames(bytes.data(), bytes.size(), a, n, in, dopts);
+  Written w;
+  w.out = choose_output(job, s, in, take, space);
+  capz::write_take(take, w.out, wo);
+  w.take_shape(take);
+  return w;
+}
+
+// The whole take, decoded and written window by window. The original's own format from an
+// archive with its residue: the original file rebuilt (byte for byte when lossless, FORMAT.md
+// 4.4, 5.4); any other output, and PCD frames asked in another encoding or without their fields,
+// through the writer.
+Written decode_whole(const Job& job, const Settings& s, const std::string& in,
+                     const capz::DecompressOptions& dopts, const capz::WriteOptions& wo,
+                     PipeSpace* space) {
+  std::unique_ptr<capz::FrameSource> src = capz::open_capz_frames(in, dopts);
+  const capz::Take& take = src->header();
+  Written w;
+  w.out = choose_output(job, s, in, take, space);
+  w.take_shape(take);
+  if (same_format(w.out, take.format) && wo.pcd_encoding.empty() && !wo.drop_fields &&
+      capz::can_rebuild(capz::original_info(in), take.format == capz::Format::kC3D)) {
+    src.reset();
+    capz::rebuild_original(in, w.out, s.batch.force, dopts);
+  } else {
+    std::unique_ptr<capz::FrameSink> sink =
+        capz::create_frame_sink(take, src->has_sample_words(), w.out, wo);
+    capz::copy_frames(*src, *sink, src->preferred_block());
+  }
+  return w;
+}
+
+// The file's line (or JSON object with --json) for the record.
+std::string record_text(const Settings& s, const FileRecord& rec, const Written& w, double t_dec,
+                        double mbps) {
+  if (s.vm.count("json")) {
+    Json j;
+    j.begin_object();
+    j.member("input", rec.input);
+    j.member("output", rec.output);
+    j.member("frames", static_cast<uint64_t>(w.frames));
+    j.member("points", static_cast<uint64_t>(w.points));
+    j.member("decode_cpu_seconds", t_dec);
+    j.member("decode_mb_per_s", mbps);
+    j.end_object();
+    return j.str() + "\n";
+  }
+  if (g_verbosity < 1) return "";
+  std::string text = strprintf("%s -> %s: %zu frames x %zu points\n", rec.input.c_str(),
+                               rec.output.c_str(), w.frames, w.points);
+  if (g_verbosity >= 2)
+    text += strprintf("  cpu: decode %.3f s (%s MB/s of raw float32 positions)\n", t_dec,
+                      num(mbps).c_str());
+  return text;
+}
+
 FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) {
   const po::variables_map& vm = s.vm;
   std::string in = job.input;
@@ -106,56 +182,22 @@ FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) 
   wo.overwrite = s.batch.force;
   wo.drop_fields = vm.count("drop-fields") > 0;
   if (vm.count("pcd-data")) wo.pcd_encoding = vm["pcd-data"].as<std::string>();
-  std::string out;
-  size_t frames = 0, points = 0;
-  std::string fields;  // the archive's point fields (capz::field_names)
-  FileRecord rec;
   const bool workers = job.alone && dopts.threads > 1;
   const double c0 = cpu_seconds(workers);
-  if (vm.count("frames")) {  // a range: decoded into memory (only the windows it touches)
-    size_t a = 0, n = 0;
-    parse_frames(vm["frames"].as<std::string>(), &a, &n);
-    std::vector<uint8_t> bytes = capz::read_file(in);
-    capz::Take take = capz::decompress_frames(bytes.data(), bytes.size(), a, n, in, dopts);
-    out = choose_output(job, s, in, take, space);
-    capz::write_take(take, out, wo);
-    frames = take.frames;
-    points = take.points;
-    rec.units = take.units;
-    fields = capz::field_names(take);
-  } else {  // the whole take: decoded and written window by window
-    std::unique_ptr<capz::FrameSource> src = capz::open_capz_frames(in, dopts);
-    const capz::Take& take = src->header();
-    out = choose_output(job, s, in, take, space);
-    frames = take.frames;
-    points = take.points;
-    rec.units = take.units;
-    fields = capz::field_names(take);
-    // The original's own format from an archive with its residue: the original file rebuilt
-    // (byte for byte when lossless, FORMAT.md 4.4, 5.4); any other output, and PCD frames asked
-    // in another encoding or without their fields, through the writer.
-    if (same_format(out, take.format) && wo.pcd_encoding.empty() && !wo.drop_fields &&
-        capz::can_rebuild(capz::original_info(in), take.format == capz::Format::kC3D)) {
-      src.reset();
-      capz::rebuild_original(in, out, s.batch.force, dopts);
-    } else {
-      std::unique_ptr<capz::FrameSink> sink =
-          capz::create_frame_sink(take, src->has_sample_words(), out, wo);
-      capz::copy_frames(*src, *sink, src->preferred_block());
-    }
-  }
-  if (wo.drop_fields && capz::format_for_output(out) != capz::Format::kPCDFolder &&
-      g_verbosity >= 1) {
-    if (!fields.empty())
-      std::fprintf(stderr, "capz decompress: dropped point fields: %s\n", fields.c_str());
-  }
+  Written w = vm.count("frames") ? decode_range(job, s, in, dopts, wo, space)
+                                 : decode_whole(job, s, in, dopts, wo, space);
+  if (wo.drop_fields && capz::format_for_output(w.out) != capz::Format::kPCDFolder &&
+      g_verbosity >= 1 && !w.fields.empty())
+    std::fprintf(stderr, "capz decompress: dropped point fields: %s\n", w.fields.c_str());
   const double t_dec = cpu_seconds(workers) - c0;
-  const double raw = static_cast<double>(frames * points * 12);
+  const double raw = static_cast<double>(w.frames * w.points * 12);
   const double mbps = t_dec > 0 ? raw / 1e6 / t_dec : 0;
 
+  FileRecord rec;
+  rec.units = w.units;
   rec.input = job.from_stdin ? "stdin" : in;
   rec.bytes_in = path_size(in);
-  rec.bytes_out = path_size(strip_slashes(out));
+  rec.bytes_out = path_size(strip_slashes(w.out));
   rec.ratio = rec.bytes_in ? static_cast<double>(rec.bytes_out) / static_cast<double>(rec.bytes_in)
                            : FileRecord::kNone;
   if (!s.batch.report.empty()) {  // the bound, for --report (the archive read whole once more)
@@ -166,29 +208,12 @@ FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) 
   }
   const capz::OriginalInfo original = capz::original_info(in);
   if (original.hashed) rec.checksum = original.hash_hex;
+  rec.output = w.out;
   if (job.to_stdout) {
-    copy_to_stdout(out);
-    out = "stdout";
+    copy_to_stdout(w.out);
+    rec.output = "stdout";
   }
-  rec.output = out;
-  if (vm.count("json")) {
-    Json j;
-    j.begin_object();
-    j.member("input", rec.input);
-    j.member("output", out);
-    j.member("frames", static_cast<uint64_t>(frames));
-    j.member("points", static_cast<uint64_t>(points));
-    j.member("decode_cpu_seconds", t_dec);
-    j.member("decode_mb_per_s", mbps);
-    j.end_object();
-    rec.text = j.str() + "\n";
-  } else if (g_verbosity >= 1) {
-    rec.text = strprintf("%s -> %s: %zu frames x %zu points\n", rec.input.c_str(), out.c_str(),
-                         frames, points);
-    if (g_verbosity >= 2)
-      rec.text += strprintf("  cpu: decode %.3f s (%s MB/s of raw float32 positions)\n", t_dec,
-                            num(mbps).c_str());
-  }
+  rec.text = record_text(s, rec, w, t_dec, mbps);
   return rec;
 }
 
