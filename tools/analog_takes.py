@@ -19,3 +19,18 @@ def analog_takes(paths):
             print(f"{path}: no analog samples")
             continue
         yield path, analog
+
+
+def lattice_ints(x):
+    """x's samples as integers k, when they are: x itself when every value is a whole number,
+    else k = round(x / s) for s the smallest gap between distinct values, when k s is within
+    s / 1000 of every sample; None otherwise."""
+    vals = np.unique(x)
+    if np.all(vals == np.round(vals)):
+        return x.astype(np.int64)
+    gaps = np.diff(vals)
+    step = gaps[gaps > 0].min()
+    k = np.round(x / step)
+    if np.abs(k * step - x).max() > step * 1e-3:
+        return None
+    return k.astype(np.int64)

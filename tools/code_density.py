@@ -17,19 +17,7 @@ import sys
 
 import numpy as np
 
-from analog_takes import analog_takes
-
-
-def lattice_ints(x):
-    vals = np.unique(x)
-    if np.all(vals == np.round(vals)):
-        return x.astype(np.int64)
-    gaps = np.diff(vals)
-    step = gaps[gaps > 0].min()
-    k = np.round(x / step)
-    if np.abs(k * step - x).max() > step * 1e-3:
-        return None
-    return k.astype(np.int64)
+from analog_takes import analog_takes, lattice_ints
 
 
 def saving_bytes(k, m):
