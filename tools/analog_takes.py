@@ -34,3 +34,15 @@ def lattice_ints(x):
     if np.abs(k * step - x).max() > step * 1e-3:
         return None
     return k.astype(np.int64)
+
+
+def lattice_channels(a, min_distinct):
+    """Yields (c, k) for each channel c of a whose samples are finite, take at least
+    min_distinct values and are integers k (lattice_ints)."""
+    for c in range(a.shape[1]):
+        x = a[:, c]
+        if not np.all(np.isfinite(x)) or len(np.unique(x)) < min_distinct:
+            continue
+        k = lattice_ints(x)
+        if k is not None:
+            yield c, k

@@ -17,7 +17,7 @@ import sys
 
 import numpy as np
 
-from analog_takes import analog_takes, lattice_ints
+from analog_takes import analog_takes, lattice_channels
 
 
 def saving_bytes(k, m):
@@ -37,13 +37,7 @@ def main(paths):
     mods = (2, 4, 8, 16, 32, 64)
     for path, a in analog_takes(paths):
         total = dict.fromkeys(mods, 0.0)
-        for c in range(a.shape[1]):
-            x = a[:, c]
-            if not np.all(np.isfinite(x)) or len(np.unique(x)) < 64:
-                continue
-            k = lattice_ints(x)
-            if k is None:
-                continue
+        for _, k in lattice_channels(a, 64):
             for m in mods:
                 total[m] += saving_bytes(k, m)
         print(f"{path}\t" + "\t".join(f"m={m}:{math.floor(v)}" for m, v in total.items()))

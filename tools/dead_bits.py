@@ -21,7 +21,7 @@ import sys
 import numpy as np
 
 import capz
-from analog_takes import analog_takes, lattice_ints
+from analog_takes import analog_takes, lattice_channels
 
 
 def dead_bits(k):
@@ -52,13 +52,8 @@ def main(argv):
     for path, a in analog_takes(paths):
         b = a.copy()
         found = []
-        for c in range(a.shape[1]):
+        for c, k in lattice_channels(a, 8):
             x = a[:, c]
-            if not np.all(np.isfinite(x)) or len(np.unique(x)) < 8:
-                continue
-            k = lattice_ints(x)
-            if k is None:
-                continue
             dead, m = dead_bits(k)
             if not dead:
                 continue
