@@ -10,6 +10,102 @@
 
 namespace capz_cli {
 
+namespace {
+
+// What the decoded take gave against the original (--against): the errors, the largest share of
+// a lossy analog channel's bound used, and whether the promise holds (why not).
+struct Verdict {
+  capz::ErrorStats e;
+  double analog_use = 0;
+  bool ok = true;
+  std::string why;
+};
+
+Verdict check_against(const std::string& in, const std::string& orig, const capz::Take& b,
+                      const capz::StreamInfo& si) {
+  capz::Take a = capz::read_take(orig);
+  // Data without units (a PCD folder) took them from compress --units: not a difference.
+  if (a.units.empty()) a.units = b.units;
+  if (a.frames != b.frames || a.points != b.points)
+    capz::fail(capz::ErrorCode::kCorrupt, in,
+               "decodes to " + std::to_string(b.frames) + " frames x " + std::to_string(b.points) +
+                   " points, " + orig + " has " + std::to_string(a.frames) + " x " +
+                   std::to_string(a.points));
+  const capz::PromiseResult r = capz::check_promise(a, b, capz::promise_of(si));
+  Verdict v;
+  v.e = r.error;
+  v.analog_use = r.analog_bound_use;
+  v.ok = r.holds;
+  v.why = r.why;
+  return v;
+}
+
+// What the command prints: one JSON object, or a line (and more with -v).
+struct Report {
+  std::string in;
+  bool has_against = false;  // --against ORIGINAL given
+  std::string against;
+  const capz::StreamInfo* si = nullptr;
+  const capz::Take* b = nullptr;
+  size_t bytes = 0;
+  double bpvf = 0, t_dec = 0;
+  Verdict v;
+};
+
+void print_json(const Report& r) {
+  const capz::StreamInfo& si = *r.si;
+  Json j;
+  j.begin_object();
+  j.member("input", r.in);
+  j.member("ok", r.v.ok);
+  j.member("frames", static_cast<uint64_t>(r.b->frames));
+  j.member("points", static_cast<uint64_t>(r.b->points));
+  j.member("bytes", static_cast<uint64_t>(r.bytes));
+  j.member("bpvf", r.bpvf);
+  j.member("lossless", si.lossless);
+  j.member("bound", si.max_error);
+  if (si.transform_output) j.member("kg_target", si.kg_target);
+  if (r.has_against) {
+    j.member("against", r.against);
+    json_error_stats(&j, r.v.e);
+    if (!si.analog_bounds.empty()) j.member("analog_bound_use", r.v.analog_use);
+    if (!r.v.ok) j.member("breach", r.v.why);
+  }
+  j.member("decode_cpu_seconds", r.t_dec);
+  j.end_object();
+  std::printf("%s\n", j.str().c_str());
+}
+
+void print_text(const Report& r) {
+  const capz::StreamInfo& si = *r.si;
+  const capz::Take& b = *r.b;
+  const capz::ErrorStats& e = r.v.e;
+  const std::string u = b.units.empty() ? "" : " " + b.units;
+  const std::string bound = si.lossless           ? "lossless"
+                            : si.transform_output ? "KG target " + num(si.kg_target) + "%"
+                                                  : "bound " + num(si.max_error) + u;
+  if (!r.has_against) {
+    std::printf("%s: ok, %zu frames x %zu points, %s bpvf, %s\n", r.in.c_str(), b.frames, b.points,
+                num(r.bpvf).c_str(), bound.c_str());
+  } else {
+    std::printf(
+        "%s: max error %s%s per coordinate (%s%s Euclidean), RMSE %s%s, KG %s%%, %s bpvf, "
+        "gaps %s; %s %s\n",
+        r.in.c_str(), num(e.max_abs).c_str(), u.c_str(), num(e.max_error).c_str(), u.c_str(),
+        num(e.rmse).c_str(), u.c_str(), num(e.kg_error).c_str(), num(r.bpvf).c_str(),
+        e.mask_mismatches ? (std::to_string(e.mask_mismatches) + " differ").c_str() : "identical",
+        bound.c_str(), r.v.ok ? "holds" : ("DOES NOT HOLD: " + r.v.why).c_str());
+    if (!si.analog_bounds.empty() && r.v.ok)
+      std::printf(
+          "  analog: the lossy channels within their bounds (largest error %s of its "
+          "bound)\n",
+          num(r.v.analog_use, 3).c_str());
+  }
+  if (g_verbosity >= 2) std::printf("  cpu: decode %.3f s\n", r.t_dec);
+}
+
+}  // namespace
+
 int cmd_verify(const Args& args) {
   po::options_description o("verify options");
   o.add_options()("against,a", po::value<std::string>(), "the original .c3d, .trc or PCD folder")(
@@ -35,76 +131,23 @@ int cmd_verify(const Args& args) {
   const double c0 = cpu_seconds();
   capz::StreamInfo si = capz::describe(bytes.data(), bytes.size(), in);
   capz::Take b = capz::decompress(bytes.data(), bytes.size(), in, dopts);
-  const double t_dec = cpu_seconds() - c0;
-  const double bp = capz::bpvf(bytes.size(), b.frames, b.points);
-  const std::string u = b.units.empty() ? "" : " " + b.units;
-  const std::string bound = si.lossless           ? "lossless"
-                            : si.transform_output ? "KG target " + num(si.kg_target) + "%"
-                                                  : "bound " + num(si.max_error) + u;
-
-  capz::ErrorStats e;
-  double analog_use = 0;
-  bool ok = true;
-  std::string why;
-  const bool against = vm.count("against") != 0;
-  if (against) {
-    const std::string orig = vm["against"].as<std::string>();
-    capz::Take a = capz::read_take(orig);
-    // Data without units (a PCD folder) took them from compress --units: not a difference.
-    if (a.units.empty()) a.units = b.units;
-    if (a.frames != b.frames || a.points != b.points)
-      capz::fail(capz::ErrorCode::kCorrupt, in,
-                 "decodes to " + std::to_string(b.frames) + " frames x " +
-                     std::to_string(b.points) + " points, " + orig + " has " +
-                     std::to_string(a.frames) + " x " + std::to_string(a.points));
-    const capz::PromiseResult r = capz::check_promise(a, b, capz::promise_of(si));
-    e = r.error;
-    analog_use = r.analog_bound_use;
-    ok = r.holds;
-    why = r.why;
+  Report r;
+  r.t_dec = cpu_seconds() - c0;
+  r.in = in;
+  r.si = &si;
+  r.b = &b;
+  r.bytes = bytes.size();
+  r.bpvf = capz::bpvf(bytes.size(), b.frames, b.points);
+  if (vm.count("against")) {
+    r.has_against = true;
+    r.against = vm["against"].as<std::string>();
+    r.v = check_against(in, r.against, b, si);
   }
-  if (vm.count("json")) {
-    Json j;
-    j.begin_object();
-    j.member("input", in);
-    j.member("ok", ok);
-    j.member("frames", static_cast<uint64_t>(b.frames));
-    j.member("points", static_cast<uint64_t>(b.points));
-    j.member("bytes", static_cast<uint64_t>(bytes.size()));
-    j.member("bpvf", bp);
-    j.member("lossless", si.lossless);
-    j.member("bound", si.max_error);
-    if (si.transform_output) j.member("kg_target", si.kg_target);
-    if (against) {
-      j.member("against", vm["against"].as<std::string>());
-      json_error_stats(&j, e);
-      if (!si.analog_bounds.empty()) j.member("analog_bound_use", analog_use);
-      if (!ok) j.member("breach", why);
-    }
-    j.member("decode_cpu_seconds", t_dec);
-    j.end_object();
-    std::printf("%s\n", j.str().c_str());
-  } else if (g_verbosity >= 1) {
-    if (!against) {
-      std::printf("%s: ok, %zu frames x %zu points, %s bpvf, %s\n", in.c_str(), b.frames, b.points,
-                  num(bp).c_str(), bound.c_str());
-    } else {
-      std::printf(
-          "%s: max error %s%s per coordinate (%s%s Euclidean), RMSE %s%s, KG %s%%, %s bpvf, "
-          "gaps %s; %s %s\n",
-          in.c_str(), num(e.max_abs).c_str(), u.c_str(), num(e.max_error).c_str(), u.c_str(),
-          num(e.rmse).c_str(), u.c_str(), num(e.kg_error).c_str(), num(bp).c_str(),
-          e.mask_mismatches ? (std::to_string(e.mask_mismatches) + " differ").c_str() : "identical",
-          bound.c_str(), ok ? "holds" : ("DOES NOT HOLD: " + why).c_str());
-      if (!si.analog_bounds.empty() && ok)
-        std::printf(
-            "  analog: the lossy channels within their bounds (largest error %s of its "
-            "bound)\n",
-            num(analog_use, 3).c_str());
-    }
-    if (g_verbosity >= 2) std::printf("  cpu: decode %.3f s\n", t_dec);
-  }
-  return ok ? 0 : 5;
+  if (vm.count("json"))
+    print_json(r);
+  else if (g_verbosity >= 1)
+    print_text(r);
+  return r.v.ok ? 0 : 5;
 }
 
 }  // namespace capz_cli
