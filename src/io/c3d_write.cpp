@@ -295,32 +295,11 @@ std::vector<uint8_t> header_block(const Take& take, const C3DFilePlan& plan, siz
   return header;
 }
 
-}  // namespace
-
-C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& opts,
-                          const C3DWriteScan& scan, const std::string& name) {
-  check_c3d_limits(take, name);
+// The POINT group: counts, scale (negative for float storage), rate, units, labels and
+// descriptions, each kept as the source stored it when it already says the same.
+void set_point_params(const Take& take, const C3DExtra& x, bool float_storage, double scale,
+                      std::vector<C3DGroup>& groups) {
   const size_t F = take.frames, N = take.points;
-  const Analog& an = take.analog;
-  const size_t channels = static_cast<size_t>(an.channels);
-  const size_t spf = channels ? static_cast<size_t>(an.samples_per_frame) : 0;
-  const size_t analog_total = channels * spf;
-  const C3DExtra* src = take.c3d.get();
-
-  // ---- storage and scale ----
-  bool float_storage = opts.c3d_float || !src || src->float_storage;
-  double scale = c3d_known_scale(take);
-  if (scale == 0) scale = c3d_scale_from_data(scan.max_abs);
-  // The int16 fit is known only when the scan used this scale.
-  if (!float_storage && !(scan.scale == scale && scan.fits)) float_storage = true;
-
-  // ---- parameters ----
-  std::vector<C3DGroup> groups;
-  C3DExtra x;
-  if (src) groups = src->groups;
-  x.groups = groups;  // for lookups of what was read
-  const long first = take.first_frame;
-
   C3DGroup& point = ensure_group(groups, "POINT", "3-D point parameters");
   set_int16(ensure_param(point, "USED", "Number of 3-D points"), static_cast<int>(N));
   {
@@ -356,7 +335,35 @@ C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& o
   if (!take.descriptions.empty() &&
       (points_changed || !same_list(x, "POINT", "DESCRIPTIONS", take.descriptions, N)))
     set_string_list(point, "DESCRIPTIONS", padded(take.descriptions, N), "3-D point descriptions");
+}
 
+}  // namespace
+
+C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& opts,
+                          const C3DWriteScan& scan, const std::string& name) {
+  check_c3d_limits(take, name);
+  const size_t F = take.frames, N = take.points;
+  const Analog& an = take.analog;
+  const size_t channels = static_cast<size_t>(an.channels);
+  const size_t spf = channels ? static_cast<size_t>(an.samples_per_frame) : 0;
+  const size_t analog_total = channels * spf;
+  const C3DExtra* src = take.c3d.get();
+
+  // ---- storage and scale ----
+  bool float_storage = opts.c3d_float || !src || src->float_storage;
+  double scale = c3d_known_scale(take);
+  if (scale == 0) scale = c3d_scale_from_data(scan.max_abs);
+  // The int16 fit is known only when the scan used this scale.
+  if (!float_storage && !(scan.scale == scale && scan.fits)) float_storage = true;
+
+  // ---- parameters ----
+  std::vector<C3DGroup> groups;
+  C3DExtra x;
+  if (src) groups = src->groups;
+  x.groups = groups;  // for lookups of what was read
+  const long first = take.first_frame;
+
+  set_point_params(take, x, float_storage, scale, groups);
   set_analog_params(take, x, !src, groups);
   set_trial_params(x, !src, first, F, groups);
   set_rotation_params(take, x, groups);
