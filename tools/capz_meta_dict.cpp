@@ -17,6 +17,7 @@
 #include "coding/bytes.h"
 #include "coding/container.h"
 #include "coding/lzma_block.h"
+#include "coding/meta.h"
 
 using namespace capz;
 

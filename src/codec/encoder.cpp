@@ -30,6 +30,7 @@
 #include "coding/c3d_words.h"
 #include "coding/container.h"
 #include "coding/mask.h"
+#include "coding/meta.h"
 #include "coding/positions.h"
 #include "coding/rotations.h"
 #include "core/thread_pool.h"

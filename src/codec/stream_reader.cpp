@@ -5,6 +5,7 @@
 
 #include "capz/error.h"
 #include "coding/bytes.h"
+#include "coding/meta.h"
 
 namespace capz {
 

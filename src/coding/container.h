@@ -1,5 +1,5 @@
 // The .capz framing (docs/FORMAT.md sections 2, 3.1, 3.2, 3.7): magic, version, CRC-checked
-// chunks, and the HEAD / META / INDX payloads.
+// chunks, and the HEAD and INDX payloads (META: coding/meta.h).
 #pragma once
 
 #include <cstddef>
@@ -37,6 +37,8 @@ struct Chunk {
   size_t offset = 0;  // file offset of the chunk's first byte
   size_t end = 0;     // file offset just past its CRC
 };
+// "NAME: chunk TYPE at byte OFFSET", the start of an error message about chunk c of stream NAME.
+std::string chunk_what(const std::string& name, const Chunk& c);
 
 // Checks magic (kNotOurFormat), from 4.0 on the header's CRC (kCorrupt), and version
 // (kUnsupportedVersion); returns the minor version. The header is file_header_bytes(data[9])
@@ -88,23 +90,6 @@ StreamHeader decode_header(const Chunk& c, const std::string& name);
 // kMaxWindowFrames, so everything sized per frame (decode_meta's TRC/PCD lists) is bounded by
 // the file. Call it before decode_meta.
 void check_header_fits(const StreamHeader& h, size_t file_size, int major, const std::string& name);
-
-// META: everything of the Take except positions, mask, analog values, rotation samples and the
-// C3D per-sample words. decode_meta fills those fields of *take (frames/points, the analog
-// layout and take->rotations' segments and samples per frame from the header must already be
-// set and checked with check_header_fits; per-frame TRC/PCD lists are checked against them).
-// With rotations (segments > 0) META ends with their rate and labels (FORMAT.md 4.3).
-// has_sample_words tells whether C3DW chunks follow. With `dictionary` coding 3 (FORMAT.md 8.1,
-// a stream of major 8 or above) is offered too; meta_coding(payload) tells the one chosen.
-// decode_meta reads coding 3 only when the stream's `major` is 8 or above.
-std::vector<uint8_t> encode_meta(const Take& take, bool has_sample_words, bool dictionary = false);
-void decode_meta(const Chunk& c, const std::string& name, Take* take, bool* has_sample_words,
-                 int major);
-// META's fields (the bytes its coding codes), decoded from any coding.
-std::vector<uint8_t> decode_meta_fields(const Chunk& c, const std::string& name, int major);
-inline int meta_coding(const std::vector<uint8_t>& payload) {
-  return payload.empty() ? -1 : payload[0];
-}
 
 struct IndexEntry {
   uint64_t offset = 0;

@@ -7,6 +7,7 @@
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "coding/container.h"
+#include "coding/meta.h"
 #include "fuzz_common.h"
 #include "fuzz_util_capz.h"
 

@@ -25,6 +25,7 @@
 #include "coding/container.h"
 #include "coding/entropy.h"
 #include "coding/lzma_block.h"
+#include "coding/meta.h"
 #include "test_util.h"
 
 using namespace capz;

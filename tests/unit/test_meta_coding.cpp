@@ -16,6 +16,7 @@
 #include "coding/bytes.h"
 #include "coding/container.h"
 #include "coding/lzma_block.h"
+#include "coding/meta.h"
 #include "core/hash.h"
 #include "io/c3d_params.h"
 

@@ -8,6 +8,7 @@
 #include "capz/error.h"
 #include "capz/verify.h"
 #include "coding/container.h"
+#include "coding/meta.h"
 #include "coding/quantiser.h"
 
 namespace capz {

@@ -1,0 +1,192 @@
+// ATTR's decoder (docs/FORMAT.md 5.3, 6.1, 6.2, 7.3): the mirror of attributes_encode.cpp, which
+// says what the payload holds; the lanes, predictors and walks are attributes_lanes.h's.
+#include <algorithm>
+#include <array>
+#include <string>
+
+#include "capz/error.h"
+#include "coding/analog/analog_entropy.h"
+#include "coding/attributes.h"
+#include "coding/attributes_lanes.h"
+#include "coding/bytes.h"
+#include "coding/entropy.h"
+#include "coding/lzma_block.h"
+
+namespace capz {
+
+namespace {
+
+using namespace attr;
+
+// Lane j of a plain attribute into its bytes (sized n x count x size).
+void store_lane(const AttrSpec& s, const Lane& l, size_t n, size_t j, std::vector<uint8_t>* bytes) {
+  const size_t count = static_cast<size_t>(s.count), size = static_cast<size_t>(s.size);
+  for (size_t i = 0; i < n; ++i)
+    store_le(bytes->data() + (i * count + j) * size, s.size, from_ordered(l.u[i], s.type, l.bits));
+}
+
+// Predictor 9's references of lane j of attribute a, read and checked (FORMAT.md 6.1).
+void read_unit_refs(ByteReader* r, const std::vector<AttrSpec>& specs, size_t a, size_t j,
+                    UnitRef refs[2], const std::string& what) {
+  const AttrSpec& s = specs[a];
+  if (s.type != 'F' || s.size != 4)
+    fail(ErrorCode::kCorrupt, what, "predictor 9 on a field that is not float32");
+  for (int k = 0; k < 2; ++k) {
+    const uint64_t b = r->varint();
+    const uint64_t e = r->varint();
+    if (b > a || e >= static_cast<uint64_t>(specs[b].count) || (b == a && e >= j) ||
+        specs[b].type != 'F' || specs[b].size != 4)
+      fail(ErrorCode::kCorrupt, what, "predictor 9 refers to an element it cannot use");
+    refs[k] = {static_cast<size_t>(b), static_cast<size_t>(e)};
+  }
+  if (refs[0].attribute == refs[1].attribute && refs[0].element == refs[1].element)
+    fail(ErrorCode::kCorrupt, what, "predictor 9 refers to one element twice");
+}
+
+// A field coded by LZMA2 (transforms 2-5, FORMAT.md 5.3, 6.2): its n points' bytes into *out.
+void decode_lzma_field(ByteReader* in, uint8_t t, const AttrSpec& s, size_t n, const uint8_t* valid,
+                       const std::string& awhat, std::vector<uint8_t>* out) {
+  ByteReader& r = *in;
+  std::vector<uint8_t>& bytes = *out;
+  const size_t bpp = static_cast<size_t>(s.size) * static_cast<size_t>(s.count);
+  const uint64_t m = r.count(1, "LZMA size");
+  // Every byte of the field costs at least 1/2900 byte of its data: checked before
+  // allocating.
+  if (m == 0 || (n != 0 && bpp > kMaxSymbolsPerByte * m / n))
+    fail(ErrorCode::kCorrupt, awhat, "field larger than its LZMA data can hold");
+  const uint8_t* z = r.bytes(static_cast<size_t>(m));
+  if (t <= 3) {
+    bytes = lzma2_decode(z, static_cast<size_t>(m), n * bpp, awhat);
+    if (t == 2) bytes = from_planes(bytes, static_cast<size_t>(s.size));
+    return;
+  }
+  // 4, 5 (FORMAT.md 6.2): the valid points' values, then the gap points'.
+  if (!valid) fail(ErrorCode::kCorrupt, awhat, "transform " + std::to_string(t) + " without gaps");
+  const size_t nv =
+      static_cast<size_t>(std::count_if(valid, valid + n, [](uint8_t v) { return v != 0; }));
+  ByteReader zr(z, static_cast<size_t>(m), awhat);
+  const uint64_t na = zr.varint();
+  if (na > zr.remaining() || (na == 0) != (nv == 0) || (zr.remaining() - na == 0) != (nv == n))
+    fail(ErrorCode::kCorrupt, awhat, "bad split of the valid and gap values");
+  const uint8_t* za = zr.bytes(static_cast<size_t>(na));
+  std::vector<uint8_t> at_valid, at_gaps;
+  if (nv) at_valid = lzma2_decode(za, static_cast<size_t>(na), nv * bpp, awhat);
+  if (t == 4) at_valid = from_planes(at_valid, static_cast<size_t>(s.size));
+  const size_t nb = zr.remaining();
+  if (nv < n) at_gaps = lzma2_decode(zr.bytes(nb), nb, (n - nv) * bpp, awhat);
+  merge_by_mask(at_valid, at_gaps, valid, n, bpp, &bytes);
+}
+
+// The predictor of each of a field's lanes (and a unit vector's references to the fields that
+// complete it).
+void read_lane_predictors(ByteReader* in, const std::vector<AttrSpec>& specs, size_t a, bool colour,
+                          bool v6, bool v7, bool have_q, const std::string& awhat,
+                          std::vector<int>* pred, std::vector<std::array<UnitRef, 2>>* refs) {
+  for (size_t j = 0; j < pred->size(); ++j) {
+    const uint8_t id = in->u8();
+    const bool near_id = id == kNearPredictor || id == kNearChangePredictor;
+    if (id >= kPredictors && !(v6 && id == kUnitPredictor && !colour) && !(v7 && near_id))
+      fail(ErrorCode::kCorrupt, awhat, "unknown predictor " + std::to_string(id));
+    if (near_id && !have_q)
+      fail(ErrorCode::kCorrupt, awhat,
+           "predictor " + std::to_string(id) + " in a window without position integers");
+    (*pred)[j] = id;
+    if (id == kUnitPredictor) read_unit_refs(in, specs, a, j, (*refs)[j].data(), awhat);
+  }
+}
+
+}  // namespace
+
+void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrSpec>& specs,
+                       const uint8_t* valid, size_t frames, size_t points, size_t width,
+                       std::vector<std::vector<uint8_t>>* out, const std::string& what, bool v6,
+                       bool v7, const int32_t* q) {
+  ByteReader r(data, size, what);
+  const size_t n = frames * points;
+  const size_t W = width ? width : std::max<size_t>(points, 1);
+  out->assign(specs.size(), std::vector<uint8_t>());
+  std::vector<uint8_t> all_valid;  // no mask given: every point valid (made when first needed)
+  std::vector<uint32_t> near;      // 7.3: nearest earlier points (found when first needed)
+  Lane l, col[4];
+  for (size_t a = 0; a < specs.size(); ++a) {
+    const AttrSpec& s = specs[a];
+    const std::string awhat = what + " field " + s.name;
+    const uint8_t t = r.u8();
+    if (t > (v6 ? 5 : 3) || (t == 1 && (s.size != 4 || s.count != 1)))
+      fail(ErrorCode::kCorrupt, awhat, "bad transform " + std::to_string(t));
+    const size_t bpp = static_cast<size_t>(s.size) * static_cast<size_t>(s.count);
+    std::vector<uint8_t>& bytes = (*out)[a];
+    if (t >= 2) {
+      decode_lzma_field(&r, t, s, n, valid, awhat, &bytes);
+      continue;
+    }
+    const bool colour = t == 1;
+    const size_t lanes = lane_count(s, colour);
+    std::vector<int> pred(lanes);
+    std::vector<std::array<UnitRef, 2>> refs(lanes);
+    read_lane_predictors(&r, specs, a, colour, v6, v7, q != nullptr, awhat, &pred, &refs);
+    const uint64_t m = r.count(1, "block size");
+    if (n != 0 && lanes > kMaxSymbolsPerByte * m / n)
+      fail(ErrorCode::kCorrupt, awhat, "field larger than its block can hold");
+    const uint8_t* block = r.bytes(static_cast<size_t>(m));
+    const bool uses_near = std::any_of(pred.begin(), pred.end(), [](int id) {
+      return id == kNearPredictor || id == kNearChangePredictor;
+    });
+    if (!valid && all_valid.empty() &&
+        (uses_near ||
+         std::any_of(pred.begin(), pred.end(), [](int id) { return id >= 5 && id <= 8; })))
+      all_valid.assign(n, 1);
+    const uint8_t* mask_of_window = valid ? valid : all_valid.data();
+    if (uses_near && near.empty()) near = nearest_points(q, mask_of_window, frames, points);
+    IntDecoder dec(block, static_cast<size_t>(m), analog::kAnalogContexts, awhat);
+    IntDecoder::Cursor c = dec.cursor();
+    bytes.assign(n * bpp, 0);
+    for (size_t j = 0; j < lanes; ++j) {
+      Lane& cur_lane = colour ? col[j] : l;
+      cur_lane.bits = lane_bits(s, colour, j);
+      cur_lane.float_residuals = !colour && (s.type == 'F' || cur_lane.bits == 64);
+      cur_lane.u.assign(n, 0);
+      const uint64_t mask = mask_of(cur_lane.bits);
+      LaneState st;
+      if (pred[j] == kUnitPredictor) {
+        int last_sign = 0;
+        walk_unit(&cur_lane.u, specs, *out, refs[j].data(),
+                  [&](uint64_t* v, float x, float y, bool completable) {
+                    uint32_t sign = 0;
+                    if (completable) {
+                      int tok;
+                      sign = c.get(kSignContext + last_sign, &tok);
+                      if (sign > 1) fail(ErrorCode::kCorrupt, awhat, "bad sign symbol");
+                      last_sign = static_cast<int>(sign);
+                    }
+                    const uint64_t p = unit_prediction(x, y, completable, sign);
+                    const int64_t res =
+                        analog::get_float_residual(&c, &st.prev_nb[completable ? 0 : 1]);
+                    *v = (p + static_cast<uint64_t>(res)) & 0xFFFFFFFFu;
+                  });
+        store_lane(s, cur_lane, n, j, &bytes);
+        continue;
+      }
+      walk_lane(pred[j], &cur_lane.u, mask_of_window, near.data(), frames, points, W, mask,
+                [&](uint64_t* v, uint64_t p, bool gap) {
+                  const int64_t res = cur_lane.float_residuals
+                                          ? analog::get_float_residual(&c, &st.prev_nb[gap])
+                                          : analog::get_residual(&c, &st.mag[gap]);
+                  *v = (p + static_cast<uint64_t>(res)) & mask;
+                });
+      if (!colour) store_lane(s, cur_lane, n, j, &bytes);
+    }
+    dec.commit(c);
+    if (!dec.at_end()) fail(ErrorCode::kCorrupt, awhat, "attribute block has bytes left over");
+    if (colour) {
+      uint64_t v[4];
+      for (size_t i = 0; i < n; ++i) {
+        for (int j = 0; j < 4; ++j) v[j] = col[j].u[i];
+        colour_inverse(v, bytes.data() + i * 4);
+      }
+    }
+  }
+  if (!r.at_end()) fail(ErrorCode::kCorrupt, what, "bytes after the last attribute");
+}
+
+}  // namespace capz

@@ -1,0 +1,270 @@
+// ATTR's encoder (docs/FORMAT.md 5.3, 6.1, 7.3): per attribute, lanes of ordered integers with one
+// of nine predictors per lane (ten in a 6.x stream: 9 completes a unit vector's component from two
+// other elements; twelve in a 7.x stream: 10 and 11 read the point's nearest earlier point in
+// space) and residuals through the analog coder's entropy stage (4.2.5), or LZMA2 of
+// its byte planes or bytes (in a 6.x stream also of its valid points' values apart from its gap
+// points', 6.2), whichever is smaller.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+
+#include "capz/error.h"
+#include "coding/analog/analog_entropy.h"
+#include "coding/attributes.h"
+#include "coding/attributes_lanes.h"
+#include "coding/bytes.h"
+#include "coding/entropy.h"
+#include "coding/lzma_block.h"
+
+namespace capz {
+
+namespace {
+
+using namespace attr;
+
+int64_t signed_residual(uint64_t r, int bits) {
+  if (bits >= 64) return static_cast<int64_t>(r);
+  const uint64_t top = uint64_t{1} << (bits - 1);
+  return (r & top) ? static_cast<int64_t>(r) - static_cast<int64_t>(uint64_t{1} << bits)
+                   : static_cast<int64_t>(r);
+}
+
+uint32_t bit_length(uint64_t u) {
+  return u == 0 ? 0 : 64u - static_cast<uint32_t>(__builtin_clzll(u));
+}
+
+// Lane j of one attribute (frames x points x count elements of size bytes in `bytes`), one lane
+// at a time so a window holds one lane of 64-bit values, not every field's.
+void make_lane(const AttrSpec& s, bool colour, const std::vector<uint8_t>& bytes, size_t n,
+               size_t j, Lane* l) {
+  l->bits = lane_bits(s, colour, j);
+  l->float_residuals = !colour && (s.type == 'F' || l->bits == 64);
+  l->u.resize(n);
+  if (colour) {
+    uint16_t v[4];
+    for (size_t i = 0; i < n; ++i) {
+      colour_forward(bytes.data() + i * 4, v);
+      l->u[i] = v[j];
+    }
+    return;
+  }
+  const size_t count = static_cast<size_t>(s.count), size = static_cast<size_t>(s.size);
+  for (size_t i = 0; i < n; ++i)
+    l->u[i] = to_ordered(load_le(bytes.data() + (i * count + j) * size, s.size), s.type, l->bits);
+}
+
+// The predictor whose residuals have the smallest sum of bit lengths (ties: the lowest);
+// 5..8 only with a gap mask that has gaps, 10 and 11 only with the points' nearest earlier
+// points (near; valid then holds a mask, all set when the window has no gaps).
+int choose_predictor(Lane& l, const uint8_t* valid, bool gaps, const uint32_t* near, size_t frames,
+                     size_t N, size_t W, uint64_t* cost_out) {
+  const uint64_t mask = mask_of(l.bits);
+  uint64_t best_cost = ~uint64_t{0};
+  int best = 0;
+  const int ids[] = {0, 1, 2, 3, 4, 5, 6, 7, 8, kNearPredictor, kNearChangePredictor};
+  for (int id : ids) {
+    if ((id >= 5 && id <= 8 && !gaps) || (id >= kNearPredictor && !near)) continue;
+    uint64_t cost = 0;
+    walk_lane(id, &l.u, valid, near, frames, N, W, mask, [&](uint64_t* v, uint64_t pred, bool) {
+      cost += bit_length(analog::zigzag64(signed_residual((*v - pred) & mask, l.bits)));
+    });
+    if (cost < best_cost) {
+      best_cost = cost;
+      best = id;
+    }
+  }
+  *cost_out = best_cost;
+  return best;
+}
+
+// The references predictor 9 may use for lane `j` of attribute `a` (FORMAT.md 6.1, how the
+// encoder chooses): float32 normal_z after float32 normal_x and normal_y, or element 2 of a
+// float32 count-3 field named normal*. False when there are none.
+bool unit_candidate(const std::vector<AttrSpec>& specs, size_t a, size_t j, UnitRef refs[2]) {
+  auto f32 = [](const AttrSpec& s) { return s.type == 'F' && s.size == 4; };
+  const AttrSpec& s = specs[a];
+  if (!f32(s) || is_colour_field(s)) return false;
+  if (s.count == 3 && j == 2 && s.name.compare(0, 6, "normal") == 0) {
+    refs[0] = {a, 0};
+    refs[1] = {a, 1};
+    return true;
+  }
+  if (s.count != 1 || s.name != "normal_z") return false;
+  int found = 0;
+  for (size_t b = 0; b < a; ++b)
+    for (int k = 0; k < 2; ++k)
+      if (specs[b].name == (k ? "normal_y" : "normal_x") && f32(specs[b]) && specs[b].count == 1) {
+        refs[k] = {b, 0};
+        found |= 1 << k;
+      }
+  return found == 3;
+}
+
+// Cost of a predictor-9 lane as choose_predictor counts it: residual bit lengths plus one bit
+// per completable value (its sign).
+uint64_t unit_cost(Lane& l, const std::vector<AttrSpec>& specs,
+                   const std::vector<std::vector<uint8_t>>& data, const UnitRef refs[2]) {
+  uint64_t cost = 0;
+  walk_unit(&l.u, specs, data, refs, [&](uint64_t* v, float x, float y, bool completable) {
+    const uint32_t sign = static_cast<uint32_t>(from_ordered(*v, 'F', 32) >> 31);
+    const uint64_t pred = unit_prediction(x, y, completable, sign);
+    cost += bit_length(analog::zigzag64(signed_residual((*v - pred) & 0xFFFFFFFFu, 32))) +
+            (completable ? 1 : 0);
+  });
+  return cost;
+}
+
+// One attribute, predictively (transforms 0 and 1): transform, predictors, size, block.
+// v6: a 6.x stream (predictor 9 allowed).
+std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
+                                       const std::vector<std::vector<uint8_t>>& data, size_t a,
+                                       const uint8_t* valid, bool gaps, const uint32_t* near,
+                                       size_t frames, size_t points, size_t W, bool v6) {
+  const AttrSpec& s = specs[a];
+  const std::vector<uint8_t>& bytes = data[a];
+  const size_t n = frames * points;
+  const bool colour = is_colour_field(s);
+  ByteWriter w;
+  w.u8(colour ? 1 : 0);
+  IntEncoder enc(analog::kAnalogContexts);
+  IntEncoder::Cursor c = enc.cursor();
+  Lane l;
+  for (size_t j = 0; j < lane_count(s, colour); ++j) {
+    make_lane(s, colour, bytes, n, j, &l);
+    uint64_t cost = 0;
+    int pred = choose_predictor(l, valid, gaps, near, frames, points, W, &cost);
+    UnitRef refs[2];
+    if (v6 && !colour && unit_candidate(specs, a, j, refs)) {
+      const uint64_t u = unit_cost(l, specs, data, refs);
+      if (u < cost || (u == cost && pred > kUnitPredictor)) pred = kUnitPredictor;
+    }
+    w.u8(static_cast<uint8_t>(pred));
+    LaneState st;
+    if (pred == kUnitPredictor) {
+      for (const UnitRef& r : refs) {
+        w.varint(r.attribute);
+        w.varint(r.element);
+      }
+      int q = 0;  // sign bit of the previous completable value
+      walk_unit(&l.u, specs, data, refs, [&](uint64_t* v, float x, float y, bool completable) {
+        const uint32_t sign = static_cast<uint32_t>(from_ordered(*v, 'F', 32) >> 31);
+        if (completable) {
+          c.put(sign, kSignContext + q);
+          q = static_cast<int>(sign);
+        }
+        const uint64_t p = unit_prediction(x, y, completable, sign);
+        analog::put_float_residual(&c, &st.prev_nb[completable ? 0 : 1],
+                                   signed_residual((*v - p) & 0xFFFFFFFFu, 32));
+      });
+      continue;
+    }
+    const uint64_t mask = mask_of(l.bits);
+    walk_lane(pred, &l.u, valid, near, frames, points, W, mask,
+              [&](uint64_t* v, uint64_t p, bool gap) {
+                const int64_t r = signed_residual((*v - p) & mask, l.bits);
+                if (l.float_residuals)
+                  analog::put_float_residual(&c, &st.prev_nb[gap], r);
+                else
+                  analog::put_residual(&c, &st.mag[gap], static_cast<int32_t>(r));
+              });
+  }
+  enc.commit(c);
+  const std::vector<uint8_t> block = enc.finish();
+  w.varint(block.size());
+  w.bytes(block);
+  return std::move(w.buffer());
+}
+
+}  // namespace
+
+std::vector<AttrSpec> attribute_specs(const std::vector<PCDField>& fields) {
+  std::vector<AttrSpec> out;
+  for (const PCDField& f : fields)
+    if (f.name != "x" && f.name != "y" && f.name != "z") out.push_back(f);
+  return out;
+}
+
+bool is_colour_field(const AttrSpec& s) {
+  return s.size == 4 && s.count == 1 && (s.type == 'F' || s.type == 'U') &&
+         (s.name == "rgb" || s.name == "rgba");
+}
+
+bool has_unit_candidate(const std::vector<AttrSpec>& specs) {
+  UnitRef refs[2];
+  for (size_t a = 0; a < specs.size(); ++a)
+    if (unit_candidate(specs, a, specs[a].count == 3 ? 2 : 0, refs)) return true;
+  return false;
+}
+
+std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
+                                       const std::vector<std::vector<uint8_t>>& data,
+                                       const uint8_t* valid, size_t frames, size_t points,
+                                       size_t width, bool v6, bool v7, const int32_t* q) {
+  const size_t n = frames * points;
+  const size_t W = width ? width : std::max<size_t>(points, 1);
+  const bool gaps = valid && std::find(valid, valid + n, 0) != valid + n;
+  // 7.3: the neighbours, found once for every lane (under a mask all set when there is none).
+  std::vector<uint8_t> all_valid;
+  std::vector<uint32_t> near;
+  if (v7 && q && points > 1) {
+    if (!valid) all_valid.assign(n, 1);
+    valid = valid ? valid : all_valid.data();
+    near = nearest_points(q, valid, frames, points);
+  }
+  ByteWriter w;
+  for (size_t a = 0; a < specs.size(); ++a) {
+    const AttrSpec& s = specs[a];
+    const size_t bytes = n * static_cast<size_t>(s.size) * static_cast<size_t>(s.count);
+    if (data[a].size() != bytes)
+      fail(ErrorCode::kInternal, "attributes",
+           "field " + s.name + " does not hold frames x points values");
+    std::vector<uint8_t> best = encode_predictive(
+        specs, data, a, valid, gaps, near.empty() ? nullptr : near.data(), frames, points, W, v6);
+    // LZMA of the byte planes (2) and, for elements of several bytes, of the bytes as they are
+    // (3); in a 6.x window with gaps and valid points, the same of the valid points' values
+    // with the gap points' values apart (4, 5; FORMAT.md 6.2): the smallest wins.
+    const size_t size = static_cast<size_t>(s.size);
+    std::vector<uint8_t> at_valid, at_gaps;
+    // An unorganized cloud's window with predictors 10 and 11 (FORMAT.md 7.3) skips transforms
+    // 4 and 5: measured on the LiDAR sequences of docs/BENCHMARKS.md, they then won on one of
+    // five (by 1 % of the fields' bytes) for a third of the encode time.
+    const bool unorganized_near = !near.empty() && W >= points;
+    if (v6 && gaps && !unorganized_near &&
+        std::any_of(valid, valid + n, [](uint8_t v) { return v != 0; }))
+      split_by_mask(data[a], valid, n, size * static_cast<size_t>(s.count), &at_valid, &at_gaps);
+    const uint8_t last = !at_valid.empty() ? (size > 1 ? 5 : 4) : (size > 1 ? 3 : 2);
+    for (uint8_t t = 2; bytes > 0 && t <= last; ++t) {
+      if (t == 3 && size == 1) continue;
+      ByteWriter alt;
+      alt.u8(t);
+      size_t m = 0;  // the size field
+      if (t <= 3) {
+        const std::vector<uint8_t> z =
+            t == 2 ? lzma2_encode_fast(to_planes(data[a], size).data(), bytes)
+                   : lzma2_encode_fast(data[a].data(), bytes);
+        m = z.size();
+        alt.varint(z.size());
+        alt.bytes(z);
+      } else {
+        const std::vector<uint8_t> za =
+            t == 4 ? lzma2_encode_fast(to_planes(at_valid, size).data(), at_valid.size())
+                   : lzma2_encode_fast(at_valid.data(), at_valid.size());
+        const std::vector<uint8_t> zb = lzma2_encode_fast(at_gaps.data(), at_gaps.size());
+        ByteWriter body;
+        body.varint(za.size());
+        body.bytes(za);
+        body.bytes(zb);
+        m = body.size();
+        alt.varint(body.size());
+        alt.bytes(body.buffer());
+      }
+      if (alt.size() < best.size() && bytes <= kMaxSymbolsPerByte * m)
+        best = std::move(alt.buffer());
+    }
+    w.bytes(best);
+  }
+  return std::move(w.buffer());
+}
+
+}  // namespace capz
