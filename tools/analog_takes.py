@@ -22,27 +22,27 @@ def analog_takes(paths):
 
 
 def lattice_ints(x):
-    """x's samples as integers k, when they are: x itself when every value is a whole number,
-    else k = round(x / s) for s the smallest gap between distinct values, when k s is within
-    s / 1000 of every sample; None otherwise."""
+    """x's samples as integers k on a step s, as (k, s): (x, 1) when every value is a whole
+    number, else k = round(x / s) for s the smallest gap between distinct values, when k s is
+    within s / 1000 of every sample; None otherwise."""
     vals = np.unique(x)
     if np.all(vals == np.round(vals)):
-        return x.astype(np.int64)
+        return x.astype(np.int64), 1.0
     gaps = np.diff(vals)
     step = gaps[gaps > 0].min()
     k = np.round(x / step)
     if np.abs(k * step - x).max() > step * 1e-3:
         return None
-    return k.astype(np.int64)
+    return k.astype(np.int64), step
 
 
 def lattice_channels(a, min_distinct):
-    """Yields (c, k) for each channel c of a whose samples are finite, take at least
-    min_distinct values and are integers k (lattice_ints)."""
+    """Yields (c, k, s) for each channel c of a whose samples are finite, take at least
+    min_distinct values and are integers k on a step s (lattice_ints)."""
     for c in range(a.shape[1]):
         x = a[:, c]
         if not np.all(np.isfinite(x)) or len(np.unique(x)) < min_distinct:
             continue
-        k = lattice_ints(x)
-        if k is not None:
-            yield c, k
+        fit = lattice_ints(x)
+        if fit is not None:
+            yield (c, *fit)

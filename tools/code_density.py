@@ -37,7 +37,7 @@ def main(paths):
     mods = (2, 4, 8, 16, 32, 64)
     for path, a in analog_takes(paths):
         total = dict.fromkeys(mods, 0.0)
-        for _, k in lattice_channels(a, 64):
+        for _, k, _ in lattice_channels(a, 64):
             for m in mods:
                 total[m] += saving_bytes(k, m)
         print(f"{path}\t" + "\t".join(f"m={m}:{math.floor(v)}" for m, v in total.items()))

@@ -52,13 +52,11 @@ def main(argv):
     for path, a in analog_takes(paths):
         b = a.copy()
         found = []
-        for c, k in lattice_channels(a, 8):
-            x = a[:, c]
+        for c, k, step in lattice_channels(a, 8):
             dead, m = dead_bits(k)
             if not dead:
                 continue
             found.append((c, dead))
-            step = x[k != 0][0] / k[k != 0][0]
             b[:, c] = (squeezed(k, m, dead) * step).astype(np.float32)
         if not found:
             continue
