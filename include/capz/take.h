@@ -110,6 +110,7 @@ struct Analog {
 // UNSIGNED; else floats). Physical value = (stored - offset) * factor, up to SCALE's sign.
 struct AnalogPhysics {
   double factor = 1, offset = 0;
+  double scale = 1;  // ANALOG:SCALE x GEN_SCALE with its sign: physical = (stored - offset) x scale
   std::string unit;
   bool integers = false;  // int16 / uint16 storage
   double lo = 0, hi = 0;  // the storage's range

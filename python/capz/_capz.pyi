@@ -49,6 +49,25 @@ class Take:
     def attributes(self) -> Dict[str, np.ndarray]:
         """name -> (frames, points) or (frames, points, count) of the field's type."""
     @property
+    def parameters(self) -> Dict[str, Dict[str, Any]]:
+        """C3D parameter section: group -> parameter -> str, list of str, number or array."""
+    def parameter(self, group: str, name: str) -> Optional[Dict[str, Any]]:
+        """value, description, type, dims, locked, group_description; None when absent."""
+    @property
+    def residuals(self) -> Optional[npt.NDArray[np.float32]]:
+        """C3D residuals (frames, points), -1 at gaps; None without C3D; a view of the take."""
+    @property
+    def camera_masks(self) -> Optional[npt.NDArray[np.uint8]]:
+        """C3D camera masks (frames, points), 0 at gaps; None without C3D; a view."""
+    @property
+    def events(self) -> List[Dict[str, Any]]:
+        """The C3D header's events: label, time (s), display."""
+    @property
+    def analog_units(self) -> List[str]: ...
+    @property
+    def analog_physical(self) -> npt.NDArray[np.float64]:
+        """(stored - ANALOG:OFFSET) x ANALOG:SCALE x ANALOG:GEN_SCALE, (samples, channels)."""
+    @property
     def gap_samples(self) -> int: ...
     def copy(self) -> "Take": ...
     @staticmethod

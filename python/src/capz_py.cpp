@@ -14,6 +14,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -75,6 +77,24 @@ py::ssize_t ss(size_t v) {
   return static_cast<py::ssize_t>(v);
 }
 
+// Text from a C3D file as a Python str: UTF-8 when it is valid UTF-8, else Latin-1 (older
+// files), so that no label or parameter fails to read.
+py::str text(const std::string& s) {
+  PyObject* o = PyUnicode_DecodeUTF8(s.data(), ss(s.size()), nullptr);
+  if (!o) {
+    PyErr_Clear();
+    o = PyUnicode_DecodeLatin1(s.data(), ss(s.size()), nullptr);
+  }
+  if (!o) throw py::error_already_set();
+  return py::reinterpret_steal<py::str>(o);
+}
+
+py::list texts(const std::vector<std::string>& v) {
+  py::list out;
+  for (const std::string& x : v) out.append(text(x));
+  return out;
+}
+
 // numpy's name of a PCD field type: 'F' 4 -> "<f4", 'U' 2 -> "<u2", 'I' 8 -> "<i8".
 std::string attribute_dtype(char type, int size) {
   const char kind = type == 'F' ? 'f' : type == 'U' ? 'u' : type == 'I' ? 'i' : '?';
@@ -103,6 +123,108 @@ py::dict attributes_of(py::handle self, const capz::Take& t) {
     d[py::str(key)] = view(self, py::dtype(attribute_dtype(a.type, a.size)), shape, a.data.data());
   }
   return d;
+}
+
+// A char array's strings: each `width` characters, trailing blanks and NULs removed.
+std::string trim_text(const char* p, size_t n) {
+  while (n > 0 && (p[n - 1] == ' ' || p[n - 1] == '\0')) --n;
+  return std::string(p, n);
+}
+
+// A C3D parameter's value: a char array of at most one dimension as a str, of more as a list
+// of str (dims[0] characters each, the other dimensions flattened in file order); numbers as a
+// numpy array of the stored type (uint8, int16, float32), its shape the C3D dimensions reversed
+// (C order, so the last index varies fastest, as C3D's first dimension does); a number without
+// dimensions as a Python number.
+py::object parameter_value(const capz::C3DParameter& p) {
+  const size_t count = p.element_count(), size = static_cast<size_t>(std::abs(p.type));
+  if (size == 0 || p.data.size() != count * size)
+    capz::fail(capz::ErrorCode::kInternal, "",
+               "parameter " + p.name + " holds " + std::to_string(p.data.size()) + " bytes");
+  const char* bytes = reinterpret_cast<const char*>(p.data.data());
+  if (p.type == -1) {
+    if (p.dims.size() <= 1) return text(trim_text(bytes, p.data.size()));
+    const size_t width = static_cast<size_t>(std::max(0, p.dims[0]));
+    py::list out;
+    if (width > 0)
+      for (size_t i = 0; i + width <= p.data.size(); i += width)
+        out.append(text(trim_text(bytes + i, width)));
+    return std::move(out);
+  }
+  const char* dt = p.type == 1 ? "u1" : p.type == 2 ? "<i2" : "<f4";
+  if (p.dims.empty()) {
+    if (p.type == 4) {
+      float f;
+      std::memcpy(&f, bytes, 4);
+      return py::float_(static_cast<double>(f));
+    }
+    if (p.type == 2) {
+      int16_t v;
+      std::memcpy(&v, bytes, 2);
+      return py::int_(static_cast<int>(v));
+    }
+    return py::int_(static_cast<int>(p.data[0]));
+  }
+  std::vector<py::ssize_t> shape;
+  for (size_t i = p.dims.size(); i-- > 0;) shape.push_back(std::max(0, p.dims[i]));
+  py::array a(py::dtype(dt), shape);
+  if (!p.data.empty()) std::memcpy(a.mutable_data(), bytes, p.data.size());
+  return std::move(a);
+}
+
+const char* parameter_type(int8_t type) {
+  return type == -1 ? "char" : type == 1 ? "byte" : type == 2 ? "int16" : "float";
+}
+
+// A group's key in Take.parameters: its name, or "#<id>" for parameters whose group has no
+// entry in the file.
+std::string group_key(const capz::C3DGroup& g) {
+  return g.name.empty() ? "#" + std::to_string(g.id) : g.name;
+}
+
+// A view (frames, points) of one of the C3D sample words (residual, camera_mask), or None when
+// the take has none.
+template <typename T>
+py::object sample_words(const py::object& self, std::vector<T> capz::C3DExtra::*words) {
+  const auto& t = self.cast<const capz::Take&>();
+  if (!t.c3d || ((*t.c3d).*words).size() != t.frames * t.points) return py::none();
+  return view(self, py::dtype::of<T>(), {ss(t.frames), ss(t.points)}, ((*t.c3d).*words).data());
+}
+
+py::dict parameters_of(const capz::Take& t) {
+  py::dict d;
+  if (!t.c3d) return d;
+  for (const capz::C3DGroup& g : t.c3d->groups) {
+    const py::str key = text(group_key(g));
+    py::dict params = d.contains(key) ? py::dict(d[key]) : py::dict();
+    for (const capz::C3DParameter& p : g.params) params[text(p.name)] = parameter_value(p);
+    d[key] = params;
+  }
+  return d;
+}
+
+py::object parameter_of(const capz::Take& t, const std::string& group, const std::string& name) {
+  if (!t.c3d) return py::none();
+  for (const capz::C3DGroup& g : t.c3d->groups) {
+    std::string key = group_key(g);
+    if (key.size() != group.size() ||
+        !std::equal(key.begin(), key.end(), group.begin(), [](char a, char b) {
+          return std::toupper(static_cast<unsigned char>(a)) ==
+                 std::toupper(static_cast<unsigned char>(b));
+        }))
+      continue;
+    const capz::C3DParameter* p = g.find(name);
+    if (!p) continue;
+    py::dict d;
+    d["value"] = parameter_value(*p);
+    d["description"] = text(p->description);
+    d["type"] = parameter_type(p->type);
+    d["dims"] = p->dims;
+    d["locked"] = p->locked;
+    d["group_description"] = text(g.description);
+    return std::move(d);
+  }
+  return py::none();
 }
 
 py::dict error_stats(const capz::ErrorStats& e) {
@@ -143,11 +265,11 @@ py::dict info_dict(const std::string& path, const std::vector<uint8_t>& bytes) {
   d["version"] = std::to_string(si.major) + "." + std::to_string(si.minor);
   d["bytes"] = bytes.size();
   d["source_format"] = capz::format_name(si.source_format);
-  d["source_name"] = si.source_name;
+  d["source_name"] = text(si.source_name);
   d["frames"] = si.frames;
   d["points"] = si.points;
   d["rate"] = si.rate;
-  d["units"] = si.units;
+  d["units"] = text(si.units);
   d["mode"] = si.mode;
   d["codec"] = si.codec;
   d["lossless"] = si.lossless;
@@ -163,8 +285,8 @@ py::dict info_dict(const std::string& path, const std::vector<uint8_t>& bytes) {
     if (si.analog_bounds[c] > 0) {
       py::dict b;
       b["channel"] = c;
-      b["label"] = c < si.analog_labels.size() ? si.analog_labels[c] : std::string();
-      b["unit"] = c < si.analog_units.size() ? si.analog_units[c] : std::string();
+      b["label"] = text(c < si.analog_labels.size() ? si.analog_labels[c] : std::string());
+      b["unit"] = text(c < si.analog_units.size() ? si.analog_units[c] : std::string());
       b["bound"] = si.analog_bounds[c];
       bounds.append(b);
     }
@@ -176,7 +298,7 @@ py::dict info_dict(const std::string& path, const std::vector<uint8_t>& bytes) {
                        : size_t{0};
   rot["rate"] = si.rotation_rate;
   rot["samples_per_frame"] = si.rotation_samples_per_frame;
-  rot["labels"] = si.rotation_labels;
+  rot["labels"] = texts(si.rotation_labels);
   d["rotations"] = rot;
   const capz::OriginalInfo orig = capz::original_info(path);  // HASH: the original file
   if (orig.hashed) {
@@ -426,13 +548,14 @@ PYBIND11_MODULE(_capz, m) {
       .def_property_readonly("frames", [](const capz::Take& t) { return t.frames; })
       .def_property_readonly("points", [](const capz::Take& t) { return t.points; })
       .def_property(
-          "labels", [](const capz::Take& t) { return t.labels; },
+          "labels", [](const capz::Take& t) { return texts(t.labels); },
           [](capz::Take& t, const std::vector<std::string>& v) {
             if (v.size() != t.points) invalid("labels: one per point expected");
             t.labels = v;
           },
           "one label per point (may be empty strings)")
-      .def_property_readonly("descriptions", [](const capz::Take& t) { return t.descriptions; })
+      .def_property_readonly("descriptions",
+                             [](const capz::Take& t) { return texts(t.descriptions); })
       .def_property(
           "rate", [](const capz::Take& t) { return t.rate; },
           [](capz::Take& t, double r) {
@@ -455,7 +578,7 @@ PYBIND11_MODULE(_capz, m) {
       .def_property_readonly("source", [](const capz::Take& t) { return t.source; })
       .def_property_readonly("format",
                              [](const capz::Take& t) { return capz::format_name(t.format); })
-      .def_property_readonly("warnings", [](const capz::Take& t) { return t.warnings; })
+      .def_property_readonly("warnings", [](const capz::Take& t) { return texts(t.warnings); })
       .def_property_readonly(
           "analog",
           [](const py::object& self) {
@@ -467,7 +590,8 @@ PYBIND11_MODULE(_capz, m) {
           "analog channels, float64 (samples, channels), samples = frames x "
           "analog_samples_per_frame, the numbers the file stores (apply "
           "ANALOG:SCALE/OFFSET for volts); shape (0, 0) without analog")
-      .def_property_readonly("analog_labels", [](const capz::Take& t) { return t.analog.labels; })
+      .def_property_readonly("analog_labels",
+                             [](const capz::Take& t) { return texts(t.analog.labels); })
       .def_property_readonly("analog_rate", [](const capz::Take& t) { return t.analog.rate; })
       .def_property_readonly("analog_samples_per_frame",
                              [](const capz::Take& t) { return t.analog.samples_per_frame; })
@@ -488,7 +612,7 @@ PYBIND11_MODULE(_capz, m) {
                                  r.matrices.data(), {ss(G) * 16 * f, 16 * f, f, 4 * f});
             d["reliability"] =
                 view(self, py::dtype::of<float>(), {ss(S), ss(G)}, r.reliability.data());
-            d["labels"] = r.labels;
+            d["labels"] = texts(r.labels);
             d["rate"] = r.rate;
             d["samples_per_frame"] = r.samples_per_frame;
             return d;
@@ -504,6 +628,73 @@ PYBIND11_MODULE(_capz, m) {
           "per-point fields of the source besides x y z (PCD: rgb, "
           "intensity, normals, ...): dict name -> array (frames, points) or "
           "(frames, points, count) of the field's type (float32, uint8, ...)")
+      .def_property_readonly(
+          "parameters", [](const capz::Take& t) { return parameters_of(t); },
+          "the C3D parameter section: dict group -> dict parameter -> value (str for a char "
+          "array, list of str for a 2-D one, numpy uint8/int16/float32 array with the C3D "
+          "dimensions reversed, a number when it has no dimensions); {} when the take did not "
+          "come from C3D. A copy: changing it does not change the take")
+      .def(
+          "parameter",
+          [](const capz::Take& t, const std::string& group, const std::string& name) {
+            return parameter_of(t, group, name);
+          },
+          py::arg("group"), py::arg("name"),
+          "one C3D parameter, names matched without regard to case: dict with value (as in "
+          "parameters), description, type (\"char\", \"byte\", \"int16\", \"float\"), dims (as "
+          "the file gives them, first varying fastest), locked and group_description; None when "
+          "absent")
+      .def_property_readonly(
+          "residuals",
+          [](const py::object& self) { return sample_words(self, &capz::C3DExtra::residual); },
+          "C3D point residuals, float32 (frames, points) in the take's units as the file "
+          "stores them (-1 at a gap); None when the take did not come from C3D (a view, like "
+          "xyz)")
+      .def_property_readonly(
+          "camera_masks",
+          [](const py::object& self) { return sample_words(self, &capz::C3DExtra::camera_mask); },
+          "C3D camera masks, uint8 (frames, points): bit k set when camera k + 1 saw the "
+          "point (0 at a gap); None when the take did not come from C3D (a view, like xyz)")
+      .def_property_readonly(
+          "events",
+          [](const capz::Take& t) {
+            py::list out;
+            if (t.c3d)
+              for (const capz::C3DHeaderEvent& e : t.c3d->header_events) {
+                py::dict d;
+                d["label"] = text(e.label);
+                d["time"] = static_cast<double>(e.time);
+                d["display"] = e.display;
+                out.append(d);
+              }
+            return out;
+          },
+          "the C3D header's events: list of dict label, time (s), display. The EVENT group's "
+          "events are in parameters[\"EVENT\"]")
+      .def_property_readonly(
+          "analog_units",
+          [](const capz::Take& t) {
+            py::list u;
+            for (const capz::AnalogPhysics& p : capz::analog_physics(t)) u.append(text(p.unit));
+            return u;
+          },
+          "each analog channel's unit (C3D ANALOG:UNITS, trimmed; \"\" when not given)")
+      .def_property_readonly(
+          "analog_physical",
+          [](const capz::Take& t) {
+            const std::vector<capz::AnalogPhysics> phys = capz::analog_physics(t);
+            const size_t C = phys.size(), S = C ? t.analog.values.size() / C : 0;
+            py::array_t<double> a({ss(S), ss(C)});
+            double* out = a.mutable_data();
+            for (size_t i = 0; i < S; ++i)
+              for (size_t c = 0; c < C; ++c)
+                out[i * C + c] = (t.analog.values[i * C + c] - phys[c].offset) * phys[c].scale;
+            return a;
+          },
+          "analog channels in their units, float64 (samples, channels): (stored - "
+          "ANALOG:OFFSET) x ANALOG:SCALE x ANALOG:GEN_SCALE per channel, as the C3D "
+          "specification gives it (the stored numbers when the take has no C3D parameters). "
+          "A new array")
       .def_property_readonly("gap_samples", &capz::Take::gap_samples)
       .def(
           "copy", [](const capz::Take& t) { return std::make_shared<capz::Take>(t); },

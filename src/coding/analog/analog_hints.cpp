@@ -106,7 +106,10 @@ std::vector<AnalogPhysics> analog_physics(const Take& t) {
   }
   for (size_t c = 0; c < C; ++c) {
     AnalogPhysics& p = out[c];
-    if (c < s.size()) p.factor = std::fabs(static_cast<double>(s[c]) * static_cast<double>(g));
+    if (c < s.size()) {
+      p.scale = static_cast<double>(s[c]) * static_cast<double>(g);
+      p.factor = std::fabs(p.scale);
+    }
     if (c < o.size()) p.offset = static_cast<double>(o[c]);
     if (c < units.size()) p.unit = trimmed(units[c]);
     p.integers = integers;

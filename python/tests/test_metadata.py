@@ -1,0 +1,195 @@
+"""A take's C3D metadata from Python: the parameter section, residuals, camera masks, header
+events and analog channels in their units, checked against a parameter reader written here from
+the C3D specification (not the library's)."""
+import glob
+import os
+import struct
+
+import numpy as np
+import pytest
+
+import capz
+from conftest import REPO, SHARED, shared
+
+
+def _text(b):
+    try:
+        return b.decode("utf-8")
+    except UnicodeDecodeError:
+        return b.decode("latin-1")
+
+
+def _strip(b):
+    return _text(b.rstrip(b" \0"))
+
+
+def _float(raw, proc):
+    if proc == 85:  # DEC: the two 16-bit halves swapped, then a quarter of the IEEE value
+        return struct.unpack("<f", raw[2:4] + raw[0:2])[0] / 4
+    return struct.unpack(">f" if proc == 86 else "<f", raw)[0]
+
+
+def parameters_of_file(path):
+    """{group: {parameter: value}} of a C3D file, valued as Take.parameters documents."""
+    with open(path, "rb") as f:
+        data = f.read()
+    start = (data[0] - 1) * 512
+    proc = data[start + 3]
+    end = ">" if proc == 86 else "<"
+    # The section's own block count, or up to the data when it says less (files that overflow
+    # it, such as btkdata's parameterOverflow.c3d).
+    (data_start,) = struct.unpack(end + "H", data[16:18])
+    sec = data[start:max(start + 512 * max(data[start + 2], 1), (data_start - 1) * 512)]
+    groups, params = {}, []
+    i = 4
+    while i + 2 <= len(sec):
+        nlen = struct.unpack("b", sec[i:i + 1])[0]
+        gid = struct.unpack("b", sec[i + 1:i + 2])[0]
+        if nlen == 0:
+            break
+        nlen = abs(nlen)
+        name = _text(sec[i + 2:i + 2 + nlen])
+        j = i + 2 + nlen
+        (offset,) = struct.unpack(end + "H", sec[j:j + 2])
+        body = j + 2
+        if gid < 0:
+            dl = sec[body]
+            groups[-gid] = name
+        else:
+            ptype = struct.unpack("b", sec[body:body + 1])[0]
+            nd = sec[body + 1]
+            dims = list(sec[body + 2:body + 2 + nd])
+            size = abs(ptype) * int(np.prod(dims)) if nd else abs(ptype)
+            raw = sec[body + 2 + nd:body + 2 + nd + size]
+            params.append((gid, name, ptype, dims, raw))
+        if offset == 0:
+            break
+        i = j + offset
+    out = {}
+    for gid, name, ptype, dims, raw in params:
+        key = groups.get(gid, f"#{gid}")
+        if ptype == -1:
+            if len(dims) <= 1:
+                v = _strip(raw)
+            else:
+                w = dims[0]
+                v = [_strip(raw[k:k + w]) for k in range(0, len(raw), w)] if w else []
+        else:
+            n = len(raw) // abs(ptype)
+            if ptype == 4:
+                vals = np.array([_float(raw[4 * k:4 * k + 4], proc) for k in range(n)], np.float32)
+            elif ptype == 2:
+                vals = np.frombuffer(raw, end + "i2").astype(np.int16)
+            else:
+                vals = np.frombuffer(raw, "u1")
+            v = vals.reshape(dims[::-1]) if dims else vals[0].item()
+        out.setdefault(key, {})[name] = v
+    for gid, g in groups.items():
+        out.setdefault(g, {})
+    return out
+
+
+def _same(a, b):
+    if isinstance(b, np.ndarray):
+        return isinstance(a, np.ndarray) and a.dtype == b.dtype and a.shape == b.shape and (
+            a.tobytes() == b.tobytes())
+    if isinstance(b, float):
+        return isinstance(a, float) and np.float32(a).tobytes() == np.float32(b).tobytes()
+    return type(a) is type(b) and a == b
+
+
+def _c3d_files():
+    files = sorted(glob.glob(os.path.join(SHARED, "c3d", "**", "*.[cC]3[dD]"), recursive=True))
+    if not files:
+        pytest.skip(f"shared C3D files not found under {SHARED}")
+    return files
+
+
+def _check_parameters(path):
+    try:
+        take = capz.read(path)
+    except capz.Error:
+        return False  # a file the reader refuses (the corrupt samples)
+    if any("parameter" in w for w in take.warnings):
+        return False  # sections the reader repairs (bad_parameter_section.c3d): not this oracle's
+    want, got = parameters_of_file(path), take.parameters
+    assert sorted(got) == sorted(want), path
+    for g in want:
+        assert sorted(got[g]) == sorted(want[g]), (path, g)
+        for p in want[g]:
+            assert _same(got[g][p], want[g][p]), (path, g, p, got[g][p], want[g][p])
+    return True
+
+
+def test_parameters_of_the_bundled_samples():
+    for name in ("EB015PI.c3d", "Capture0004.c3d", "admarche2.c3d", "held_analog.c3d"):
+        assert _check_parameters(os.path.join(REPO, "data", name))
+
+
+def test_parameters_of_every_shared_c3d():
+    read = sum(_check_parameters(f) for f in _c3d_files())
+    assert read >= 100
+
+
+def test_parameter_lookup():
+    take = capz.read(os.path.join(REPO, "data", "EB015PI.c3d"))
+    p = take.parameter("point", "rate")
+    assert p["type"] == "float" and p["dims"] == [] and p["value"] == take.rate
+    labels = take.parameter("POINT", "LABELS")
+    assert labels["type"] == "char" and labels["value"][: take.points] == take.labels
+    assert take.parameter("POINT", "NO_SUCH") is None
+    assert take.parameter("NO_SUCH", "RATE") is None
+    corners = take.parameter("FORCE_PLATFORM", "CORNERS")
+    if corners is not None:  # dims (3, 4, plates): numpy (plates, 4, 3)
+        assert corners["value"].shape == tuple(corners["dims"][::-1])
+
+
+def test_text_that_is_not_utf8_reads_as_latin1():
+    take = capz.read(shared("c3d/c3dorg/sample_16/basketball.c3d"))
+    assert take.descriptions[0] == "Kopf"
+    golf = capz.read(shared("c3d/c3dorg/sample_16/golf.c3d"))
+    assert "Fußspitze re" in golf.descriptions
+
+
+def test_residuals_and_camera_masks():
+    take = capz.read(os.path.join(REPO, "data", "Capture0004.c3d"))
+    r, m = take.residuals, take.camera_masks
+    assert r.dtype == np.float32 and r.shape == (take.frames, take.points)
+    assert m.dtype == np.uint8 and m.shape == (take.frames, take.points)
+    gaps = ~take.valid
+    assert gaps.any() and (r[gaps] == -1).all() and (m[gaps] == 0).all()
+    assert (r[take.valid] >= 0).all()
+    arrays = capz.Take.from_arrays(np.zeros((2, 1, 3)), rate=100.0)
+    assert arrays.residuals is None and arrays.camera_masks is None
+    assert arrays.parameters == {} and arrays.events == []
+
+
+@pytest.mark.parametrize("coding", [{"lossless": True}, {"max_error": "1mm"}])
+def test_metadata_survives_compression(coding):
+    take = capz.read(os.path.join(REPO, "data", "Capture0004.c3d"))
+    back = capz.decompress(capz.compress(take, **coding))
+    assert np.array_equal(back.residuals, take.residuals)
+    assert np.array_equal(back.camera_masks, take.camera_masks)
+    assert back.events == take.events
+    want = take.parameters
+    got = back.parameters
+    assert sorted(got) == sorted(want)
+    for g in want:
+        for p in want[g]:
+            assert _same(got[g][p], want[g][p]), (g, p)
+
+
+def test_analog_in_physical_units():
+    path = os.path.join(REPO, "data", "EB015PI.c3d")
+    take = capz.read(path)
+    par = parameters_of_file(path)["ANALOG"]
+    C = take.analog.shape[1]
+    scale = np.asarray(par["SCALE"], np.float64).reshape(-1)[:C]
+    offset = np.asarray(par["OFFSET"], np.float64).reshape(-1)[:C]
+    gen = float(np.asarray(par["GEN_SCALE"]).reshape(-1)[0])
+    want = (take.analog - offset) * (scale * gen)
+    assert np.array_equal(take.analog_physical, want)
+    assert take.analog_units == [u.strip() for u in par["UNITS"]][:C]
+    arrays = capz.Take.from_arrays(np.zeros((3, 1, 3)), rate=100.0, analog=np.ones((3, 2)),
+                                   analog_rate=100.0)
+    assert np.array_equal(arrays.analog_physical, np.ones((3, 2)))
