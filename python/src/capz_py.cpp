@@ -518,16 +518,11 @@ void translate_errors(std::exception_ptr p) {  // NOLINT: pybind11 passes it by 
   }
 }
 
-}  // namespace
+using TakeClass = py::class_<capz::Take, TakePtr>;
 
-PYBIND11_MODULE(_capz, m) {
-  m.doc() = "capz's C++ library (use the package capz, which wraps this module)";
-  py::register_exception_translator(&translate_errors);
-  m.attr("version") = capz::version_string();
-
-  py::class_<capz::Take, TakePtr> take_class(
-      m, "Take", "A motion-capture take: positions, gaps, analog, metadata");
-  take_class
+// Take: positions, gaps and what names them.
+void bind_take_positions(TakeClass* cls) {
+  (*cls)
       .def_property_readonly(
           "xyz",
           [](const py::object& self) {
@@ -578,7 +573,12 @@ PYBIND11_MODULE(_capz, m) {
       .def_property_readonly("source", [](const capz::Take& t) { return t.source; })
       .def_property_readonly("format",
                              [](const capz::Take& t) { return capz::format_name(t.format); })
-      .def_property_readonly("warnings", [](const capz::Take& t) { return texts(t.warnings); })
+      .def_property_readonly("warnings", [](const capz::Take& t) { return texts(t.warnings); });
+}
+
+// Take: analog channels, rotations and point fields.
+void bind_take_channels(TakeClass* cls) {
+  (*cls)
       .def_property_readonly(
           "analog",
           [](const py::object& self) {
@@ -629,6 +629,35 @@ PYBIND11_MODULE(_capz, m) {
           "intensity, normals, ...): dict name -> array (frames, points) or "
           "(frames, points, count) of the field's type (float32, uint8, ...)")
       .def_property_readonly(
+          "analog_units",
+          [](const capz::Take& t) {
+            py::list u;
+            for (const capz::AnalogPhysics& p : capz::analog_physics(t)) u.append(text(p.unit));
+            return u;
+          },
+          "each analog channel's unit (C3D ANALOG:UNITS, trimmed; \"\" when not given)")
+      .def_property_readonly(
+          "analog_physical",
+          [](const capz::Take& t) {
+            const std::vector<capz::AnalogPhysics> phys = capz::analog_physics(t);
+            const size_t C = phys.size(), S = C ? t.analog.values.size() / C : 0;
+            py::array_t<double> a({ss(S), ss(C)});
+            double* out = a.mutable_data();
+            for (size_t i = 0; i < S; ++i)
+              for (size_t c = 0; c < C; ++c)
+                out[i * C + c] = (t.analog.values[i * C + c] - phys[c].offset) * phys[c].scale;
+            return a;
+          },
+          "analog channels in their units, float64 (samples, channels): (stored - "
+          "ANALOG:OFFSET) x ANALOG:SCALE x ANALOG:GEN_SCALE per channel, as the C3D "
+          "specification gives it (the stored numbers when the take has no C3D parameters). "
+          "A new array");
+}
+
+// Take: the C3D parameter section, sample words and header events.
+void bind_take_c3d(TakeClass* cls) {
+  (*cls)
+      .def_property_readonly(
           "parameters", [](const capz::Take& t) { return parameters_of(t); },
           "the C3D parameter section: dict group -> dict parameter -> value (str for a char "
           "array, list of str for a 2-D one, numpy uint8/int16/float32 array with the C3D "
@@ -670,31 +699,12 @@ PYBIND11_MODULE(_capz, m) {
             return out;
           },
           "the C3D header's events: list of dict label, time (s), display. The EVENT group's "
-          "events are in parameters[\"EVENT\"]")
-      .def_property_readonly(
-          "analog_units",
-          [](const capz::Take& t) {
-            py::list u;
-            for (const capz::AnalogPhysics& p : capz::analog_physics(t)) u.append(text(p.unit));
-            return u;
-          },
-          "each analog channel's unit (C3D ANALOG:UNITS, trimmed; \"\" when not given)")
-      .def_property_readonly(
-          "analog_physical",
-          [](const capz::Take& t) {
-            const std::vector<capz::AnalogPhysics> phys = capz::analog_physics(t);
-            const size_t C = phys.size(), S = C ? t.analog.values.size() / C : 0;
-            py::array_t<double> a({ss(S), ss(C)});
-            double* out = a.mutable_data();
-            for (size_t i = 0; i < S; ++i)
-              for (size_t c = 0; c < C; ++c)
-                out[i * C + c] = (t.analog.values[i * C + c] - phys[c].offset) * phys[c].scale;
-            return a;
-          },
-          "analog channels in their units, float64 (samples, channels): (stored - "
-          "ANALOG:OFFSET) x ANALOG:SCALE x ANALOG:GEN_SCALE per channel, as the C3D "
-          "specification gives it (the stored numbers when the take has no C3D parameters). "
-          "A new array")
+          "events are in parameters[\"EVENT\"]");
+}
+
+// Take: counts, copy and repr.
+void bind_take_rest(TakeClass* cls) {
+  (*cls)
       .def_property_readonly("gap_samples", &capz::Take::gap_samples)
       .def(
           "copy", [](const capz::Take& t) { return std::make_shared<capz::Take>(t); },
@@ -714,7 +724,10 @@ PYBIND11_MODULE(_capz, m) {
           s += ", from " + std::string(capz::format_name(t.format));
         return s + ">";
       });
+}
 
+// The module's functions: reading, writing, coding, comparing.
+void bind_functions(py::module_& m) {
   m.def("take_from_arrays", &take_from_arrays);
 
   m.attr("DEFAULT_MEMORY_LIMIT") = capz::kDefaultMemoryLimit;
@@ -792,7 +805,10 @@ PYBIND11_MODULE(_capz, m) {
 
   m.def("parse_length", &capz::parse_length);
   m.def("units_to_metres", &capz::units_to_metres);
+}
 
+// capz.open's file: random access to a .capz.
+void bind_capz_file(py::module_& m) {
   py::class_<CapzFile>(m, "CapzFile")
       .def(py::init<const std::string&, uint64_t>())
       .def("read_frames", &CapzFile::read_frames)
@@ -800,4 +816,21 @@ PYBIND11_MODULE(_capz, m) {
       .def_property_readonly("frames", &CapzFile::frames)
       .def_property_readonly("points", &CapzFile::points)
       .def_property_readonly("path", &CapzFile::path);
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_capz, m) {
+  m.doc() = "capz's C++ library (use the package capz, which wraps this module)";
+  py::register_exception_translator(&translate_errors);
+  m.attr("version") = capz::version_string();
+
+  TakeClass take_class(m, "Take", "A motion-capture take: positions, gaps, analog, metadata");
+  bind_take_positions(&take_class);
+  bind_take_channels(&take_class);
+  bind_take_c3d(&take_class);
+  bind_take_rest(&take_class);
+
+  bind_functions(m);
+  bind_capz_file(m);
 }
