@@ -186,6 +186,16 @@ struct PCDField {
   int count = 1;
 };
 
+// The point attribute a PCD field other than x, y and z becomes (its samples not yet read).
+inline PointAttribute attribute_of(const PCDField& f) {
+  PointAttribute a;
+  a.name = f.name;
+  a.type = f.type;
+  a.size = f.size;
+  a.count = f.count;
+  return a;
+}
+
 // A field form the format and the PCD writer hold (docs/FORMAT.md 5.3): TYPE F, U or I; SIZE 1,
 // 2, 4 or 8 (4 or 8 for F); COUNT 1 .. 2^20. The one rule for META's decoder and the encoder.
 inline bool valid_field_form(char type, int size, uint64_t count) {

@@ -309,12 +309,7 @@ void get_pcd_layout(ByteReader* r, const std::string& what, Take* t, PCDExtra* p
       if (++xyz[axis] > 1 || f.type != 'F' || f.count != 1)
         fail(ErrorCode::kCorrupt, what, "PCD field " + f.name + " twice or not one float");
     } else {
-      PointAttribute a;
-      a.name = f.name;
-      a.type = f.type;
-      a.size = f.size;
-      a.count = f.count;
-      t->attributes.push_back(std::move(a));
+      t->attributes.push_back(attribute_of(f));
     }
     p->fields.push_back(std::move(f));
   }

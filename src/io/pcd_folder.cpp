@@ -289,12 +289,7 @@ void set_layout(const FrameLayout& l, const std::vector<std::string>& names, Tak
   t->attributes.clear();
   for (const PCDField& fd : l.fields) {
     if (fd.name == "x" || fd.name == "y" || fd.name == "z") continue;
-    PointAttribute a;
-    a.name = fd.name;
-    a.type = fd.type;
-    a.size = fd.size;
-    a.count = fd.count;
-    t->attributes.push_back(std::move(a));
+    t->attributes.push_back(attribute_of(fd));
   }
 }
 
