@@ -68,6 +68,9 @@ class Take:
     def analog_physical(self) -> npt.NDArray[np.float64]:
         """(stored - ANALOG:OFFSET) x ANALOG:SCALE x ANALOG:GEN_SCALE, (samples, channels)."""
     @property
+    def trc(self) -> Optional[Dict[str, Any]]:
+        """TRC: times, frame_numbers, camera_rate, orig_data_rate, ...; None otherwise."""
+    @property
     def gap_samples(self) -> int: ...
     def copy(self) -> "Take": ...
     @staticmethod

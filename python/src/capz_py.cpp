@@ -702,6 +702,28 @@ void bind_take_c3d(TakeClass* cls) {
           "events are in parameters[\"EVENT\"]");
 }
 
+// Take: a TRC file's Time and Frame# columns and its header's rates.
+void bind_take_trc(TakeClass* cls) {
+  (*cls).def_property_readonly(
+      "trc",
+      [](const capz::Take& t) -> py::object {
+        if (!t.trc) return py::none();
+        const capz::TRCExtra& x = *t.trc;
+        py::dict d;
+        d["times"] = py::array_t<double>(ss(x.times.size()), x.times.data());
+        d["frame_numbers"] =
+            py::array_t<int64_t>(ss(x.frame_numbers.size()), x.frame_numbers.data());
+        d["camera_rate"] = x.camera_rate;
+        d["orig_data_rate"] = x.orig_data_rate;
+        d["orig_data_start_frame"] = x.orig_data_start_frame;
+        d["orig_num_frames"] = x.orig_num_frames;
+        return std::move(d);
+      },
+      "a TRC file's Time column (float64 seconds, one per frame), Frame# column (int64) and "
+      "its header's CameraRate, OrigDataRate, OrigDataStartFrame and OrigNumFrames, as a dict "
+      "of copies; None when the take did not come from TRC");
+}
+
 // Take: counts, copy and repr.
 void bind_take_rest(TakeClass* cls) {
   (*cls)
@@ -829,6 +851,7 @@ PYBIND11_MODULE(_capz, m) {
   bind_take_positions(&take_class);
   bind_take_channels(&take_class);
   bind_take_c3d(&take_class);
+  bind_take_trc(&take_class);
   bind_take_rest(&take_class);
 
   bind_functions(m);

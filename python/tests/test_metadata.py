@@ -193,3 +193,31 @@ def test_analog_in_physical_units():
     arrays = capz.Take.from_arrays(np.zeros((3, 1, 3)), rate=100.0, analog=np.ones((3, 2)),
                                    analog_rate=100.0)
     assert np.array_equal(arrays.analog_physical, np.ones((3, 2)))
+
+
+def _trc_columns(path):
+    """The Time and Frame# columns of a TRC file, read here line by line."""
+    times, frames = [], []
+    with open(path, encoding="latin-1") as f:
+        lines = f.read().splitlines()
+    for line in lines[5:]:
+        cols = line.split("\t")
+        if len(cols) < 2 or not cols[0].strip():
+            continue
+        frames.append(int(cols[0]))
+        times.append(float(cols[1]))
+    return np.array(times), np.array(frames)
+
+
+def test_trc_columns():
+    path = os.path.join(REPO, "data", "std_walking5_markers.trc")
+    take = capz.read(path)
+    times, frames = _trc_columns(path)
+    trc = take.trc
+    assert trc["times"].dtype == np.float64 and trc["frame_numbers"].dtype == np.int64
+    assert np.array_equal(trc["frame_numbers"], frames)
+    assert np.array_equal(trc["times"], times)
+    assert trc["orig_data_rate"] == take.rate
+    back = capz.decompress(capz.compress(take, max_error="0.5mm"))
+    assert np.array_equal(back.trc["times"], times)
+    assert capz.read(os.path.join(REPO, "data", "EB015PI.c3d")).trc is None
