@@ -221,3 +221,17 @@ def test_trc_columns():
     back = capz.decompress(capz.compress(take, max_error="0.5mm"))
     assert np.array_equal(back.trc["times"], times)
     assert capz.read(os.path.join(REPO, "data", "EB015PI.c3d")).trc is None
+
+
+def test_random_access_gives_the_frames_words(tmp_path):
+    src = os.path.join(REPO, "data", "Capture0004.c3d")
+    full = capz.read(src)
+    out = str(tmp_path / "c.capz")
+    capz.compress_file(src, out)
+    with capz.open(out) as z:
+        part = z.read_frames(first=10, count=20)
+    first = part.first_frame - full.first_frame
+    assert part.residuals.shape == (20, full.points)
+    assert np.array_equal(part.residuals, full.residuals[first:first + 20])
+    assert np.array_equal(part.camera_masks, full.camera_masks[first:first + 20])
+    assert sorted(part.parameters) == sorted(full.parameters)
