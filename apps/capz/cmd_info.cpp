@@ -267,17 +267,22 @@ void print_json(const std::string& path, const capz::Take& t, const Summary& s) 
 
 int cmd_info(const Args& args) {
   po::options_description opts("info options");
-  opts.add_options()("json", "print one JSON object instead of text (all labels included)");
+  opts.add_options()("json", "print one JSON object instead of text (all labels included)")(
+      "parameters",
+      "print the C3D parameter section and header events instead (of a .c3d, or of the C3D "
+      "a .capz holds; the first 8 values of each, all with -v or --json)");
   po::variables_map vm;
   std::string path;
   if (!parse_single_input(
-          args, "capz info FILE [--json] [-v]",
+          args, "capz info FILE [--json] [--parameters] [-v]",
           "Describes FILE (a .c3d, a .trc or a folder of .pcd frames): format and variant,\n"
           "points, frames, rate, duration, units, gaps, labels (the first 8; all with -v),\n"
           "analog channels and every inconsistency the reader found.",
           opts, "FILE", &vm, &path))
     return 0;
 
+  if (vm.count("parameters"))
+    return info_parameters(path, vm.count("json") > 0, looks_like_capz(path));
   if (looks_like_capz(path)) return info_capz(path, vm.count("json") > 0);
 
   std::unique_ptr<capz::FrameSource> src = capz::open_frames(path);

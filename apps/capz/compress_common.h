@@ -79,6 +79,9 @@ void before_reading_back(const std::string& out);
 
 // `capz info` on a .capz (cmd_info_capz.cpp).
 int info_capz(const std::string& path, bool json);
+// capz info FILE --parameters (cmd_info_params.cpp): the C3D parameter section and header events
+// of a .c3d, or of the C3D an archive holds (archive: FILE is a .capz).
+int info_parameters(const std::string& path, bool json, bool archive);
 
 // The error measures as JSON members.
 inline void json_error_stats(Json* j, const capz::ErrorStats& e) {

@@ -235,3 +235,50 @@ def test_random_access_gives_the_frames_words(tmp_path):
     assert np.array_equal(part.residuals, full.residuals[first:first + 20])
     assert np.array_equal(part.camera_masks, full.camera_masks[first:first + 20])
     assert sorted(part.parameters) == sorted(full.parameters)
+
+
+def _check_cli_parameters(path, archive=None):
+    """`capz info --parameters --json` on a C3D (and on its archive) against the reader here."""
+    import json
+    from conftest import cli
+    want = parameters_of_file(path)
+    for target in [path] + ([archive] if archive else []):
+        got = json.loads(cli("info", "--parameters", "--json", target))["parameters"]
+        assert sorted(got) == sorted(want), target
+        for g in want:
+            assert sorted(got[g]) == sorted(want[g]), (target, g)
+            for p, w in want[g].items():
+                v = got[g][p]["value"]
+                if isinstance(w, np.ndarray):
+                    flat = w.ravel()  # C order of the reversed dims: the file's order
+                    if w.dtype == np.float32:
+                        assert np.array_equal(np.asarray(v, np.float64).astype(np.float32), flat)
+                    else:
+                        assert list(map(int, v)) == flat.tolist(), (g, p)
+                    assert got[g][p]["dims"] == list(w.shape[::-1]), (g, p)
+                elif isinstance(w, float):
+                    assert np.float32(v) == np.float32(w), (g, p)
+                else:
+                    assert v == w, (target, g, p)
+
+
+def test_cli_parameters_match_the_file(tmp_path):
+    for name in ("EB015PI.c3d", "Capture0004.c3d", "admarche2.c3d"):
+        src = os.path.join(REPO, "data", name)
+        out = str(tmp_path / (name + ".capz"))
+        capz.compress_file(src, out, max_error="1mm")
+        _check_cli_parameters(src, out)
+
+
+def test_cli_parameters_of_every_shared_c3d():
+    checked = 0
+    for f in _c3d_files():
+        try:
+            take = capz.read(f)
+        except capz.Error:
+            continue
+        if any("parameter" in w for w in take.warnings):
+            continue
+        _check_cli_parameters(f)
+        checked += 1
+    assert checked >= 100

@@ -1,0 +1,198 @@
+// capz info FILE --parameters: the C3D parameter section and header events of a .c3d, or of the
+// C3D a .capz archive holds (read from its META, no window decoded).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "capz/error.h"
+#include "capz/stream.h"
+#include "cli_util.h"
+#include "commands.h"
+#include "compress_common.h"
+
+namespace capz_cli {
+
+namespace {
+
+const size_t kValuesShown = 8;  // elements listed without -v
+
+const char* type_name(int8_t type) {
+  return type == -1 ? "char" : type == 1 ? "byte" : type == 2 ? "int16" : "float";
+}
+
+std::string trimmed_chars(const std::vector<uint8_t>& data, size_t at, size_t n) {
+  while (n > 0 && (data[at + n - 1] == ' ' || data[at + n - 1] == 0)) --n;
+  return std::string(reinterpret_cast<const char*>(data.data()) + at, n);
+}
+
+// A char parameter's strings: one for at most one dimension, else dims[0] characters each.
+std::vector<std::string> char_values(const capz::C3DParameter& p) {
+  if (p.dims.size() <= 1) return {trimmed_chars(p.data, 0, p.data.size())};
+  const size_t w = static_cast<size_t>(std::max(0, p.dims[0]));
+  std::vector<std::string> v;
+  if (w > 0)
+    for (size_t i = 0; i + w <= p.data.size(); i += w) v.push_back(trimmed_chars(p.data, i, w));
+  return v;
+}
+
+// The double nearest the shortest decimal that reads back as float32 f: 0.86f gives 0.86, not
+// 0.8600000143051147, and parsing either as float32 gives f.
+double shortest_float32(float f) {
+  char buf[32];
+  for (int digits = 6; digits <= 9; ++digits) {
+    std::snprintf(buf, sizeof buf, "%.*g", digits, static_cast<double>(f));
+    if (std::strtof(buf, nullptr) == f) break;
+  }
+  return std::strtod(buf, nullptr);
+}
+
+// A numeric parameter's elements in file order (byte unsigned, int16, float).
+std::vector<double> numbers(const capz::C3DParameter& p) {
+  std::vector<double> v;
+  if (p.type == 4)
+    for (float f : p.as_floats()) v.push_back(std::isfinite(f) ? shortest_float32(f) : f);
+  else
+    for (int i : p.as_ints()) v.push_back(static_cast<double>(i));
+  return v;
+}
+
+std::string dims_text(const std::vector<int>& dims) {
+  std::string s;
+  for (size_t i = 0; i < dims.size(); ++i) s += (i ? "x" : "[") + std::to_string(dims[i]);
+  return dims.empty() ? s : s + "]";
+}
+
+std::string group_name(const capz::C3DGroup& g) {
+  return g.name.empty() ? "#" + std::to_string(g.id) : g.name;
+}
+
+// The groups by name, in the order names first appear: a file may hold one name twice (some
+// Vicon files write PROCESSING twice), and the parameters of both are listed under it.
+struct NamedGroup {
+  std::string name, description;
+  std::vector<const capz::C3DParameter*> params;
+};
+std::vector<NamedGroup> named_groups(const capz::C3DExtra& c) {
+  std::vector<NamedGroup> out;
+  for (const capz::C3DGroup& g : c.groups) {
+    const std::string name = group_name(g);
+    auto it =
+        std::find_if(out.begin(), out.end(), [&](const NamedGroup& n) { return n.name == name; });
+    if (it == out.end()) it = out.insert(out.end(), NamedGroup{name, g.description, {}});
+    if (it->description.empty()) it->description = g.description;
+    for (const capz::C3DParameter& p : g.params) it->params.push_back(&p);
+  }
+  return out;
+}
+
+void print_text(const capz::C3DExtra& c) {
+  const bool all = g_verbosity >= 2;
+  for (const NamedGroup& g : named_groups(c)) {
+    std::printf("%s%s\n", printable(g.name).c_str(),
+                g.description.empty() ? "" : ("  (" + printable(g.description) + ")").c_str());
+    for (const capz::C3DParameter* pp : g.params) {
+      const capz::C3DParameter& p = *pp;
+      std::string v;
+      size_t count = 0;
+      if (p.type == -1) {
+        const std::vector<std::string> s = char_values(p);
+        count = s.size();
+        for (size_t i = 0; i < s.size() && (all || i < kValuesShown); ++i)
+          v += (i ? ", \"" : "\"") + printable(s[i]) + "\"";
+      } else {
+        const std::vector<double> n = numbers(p);
+        count = n.size();
+        for (size_t i = 0; i < n.size() && (all || i < kValuesShown); ++i)
+          v += (i ? " " : "") + number(n[i]);
+      }
+      if (!all && count > kValuesShown)
+        v += " ... (" + std::to_string(count - kValuesShown) + " more; -v lists all)";
+      std::printf("  %s:%s %s%s = %s\n", printable(g.name).c_str(), printable(p.name).c_str(),
+                  type_name(p.type), dims_text(p.dims).c_str(), v.c_str());
+    }
+  }
+  for (const capz::C3DHeaderEvent& e : c.header_events)
+    std::printf("header event: %s at %s s%s\n", printable(e.label).c_str(),
+                number(static_cast<double>(e.time)).c_str(), e.display ? "" : " (hidden)");
+}
+
+void print_json(const std::string& path, const capz::C3DExtra& c) {
+  Json j;
+  j.begin_object();
+  j.member("file", path);
+  j.key("parameters");
+  j.begin_object();
+  for (const NamedGroup& g : named_groups(c)) {
+    j.key(g.name);
+    j.begin_object();
+    for (const capz::C3DParameter* pp : g.params) {
+      const capz::C3DParameter& p = *pp;
+      j.key(p.name);
+      j.begin_object();
+      j.member("type", type_name(p.type));
+      j.key("dims");
+      j.begin_array();
+      for (int d : p.dims) j.value(d);
+      j.end_array();
+      j.key("value");
+      if (p.type == -1) {
+        const std::vector<std::string> s = char_values(p);
+        if (p.dims.size() <= 1) {
+          j.value(s[0]);
+        } else {
+          j.begin_array();
+          for (const std::string& x : s) j.value(x);
+          j.end_array();
+        }
+      } else {
+        const std::vector<double> n = numbers(p);
+        if (p.dims.empty() && n.size() == 1) {
+          j.value(n[0]);
+        } else {
+          j.begin_array();
+          for (double x : n) j.value(x);
+          j.end_array();
+        }
+      }
+      j.member("description", p.description);
+      j.member("locked", p.locked);
+      j.end_object();
+    }
+    j.end_object();
+  }
+  j.end_object();
+  j.key("header_events");
+  j.begin_array();
+  for (const capz::C3DHeaderEvent& e : c.header_events) {
+    j.begin_object();
+    j.member("label", e.label);
+    j.member("time", static_cast<double>(e.time));
+    j.member("display", e.display);
+    j.end_object();
+  }
+  j.end_array();
+  j.end_object();
+  std::printf("%s\n", j.str().c_str());
+}
+
+}  // namespace
+
+int info_parameters(const std::string& path, bool json, bool archive) {
+  std::unique_ptr<capz::FrameSource> src =
+      archive ? capz::open_capz_frames(path) : capz::open_frames(path);
+  const capz::Take& t = src->header();
+  if (!t.c3d)
+    capz::fail(capz::ErrorCode::kInvalidParameter, path,
+               "--parameters: not a C3D take (the parameter section is C3D's)");
+  if (json)
+    print_json(path, *t.c3d);
+  else
+    print_text(*t.c3d);
+  return 0;
+}
+
+}  // namespace capz_cli
