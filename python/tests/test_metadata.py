@@ -282,3 +282,18 @@ def test_cli_parameters_of_every_shared_c3d():
         _check_cli_parameters(f)
         checked += 1
     assert checked >= 100
+
+
+def test_cli_parameters_text_and_refusal():
+    import subprocess
+    from conftest import CLI, cli
+    out = cli("info", "--parameters", os.path.join(REPO, "data", "EB015PI.c3d"))
+    assert "  POINT:RATE float = 50\n" in out
+    assert "  ANALOG:SCALE float[32] = -0.86 -0.884 -1.488 " in out
+    assert "(24 more; -v lists all)" in out
+    assert "(24 more" not in cli("info", "--parameters", "-v",
+                                 os.path.join(REPO, "data", "EB015PI.c3d"))
+    r = subprocess.run([CLI, "info", "--parameters",
+                        os.path.join(REPO, "data", "std_walking5_markers.trc")],
+                       capture_output=True, text=True)
+    assert r.returncode == 6 and "not a C3D take" in r.stderr
