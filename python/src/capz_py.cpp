@@ -588,8 +588,8 @@ void bind_take_channels(TakeClass* cls) {
             return view(self, py::dtype::of<double>(), {ss(S), ss(C)}, t.analog.values.data());
           },
           "analog channels, float64 (samples, channels), samples = frames x "
-          "analog_samples_per_frame, the numbers the file stores (apply "
-          "ANALOG:SCALE/OFFSET for volts); shape (0, 0) without analog")
+          "analog_samples_per_frame, the numbers the file stores (analog_physical gives "
+          "them in the channels' units); shape (0, 0) without analog")
       .def_property_readonly("analog_labels",
                              [](const capz::Take& t) { return texts(t.analog.labels); })
       .def_property_readonly("analog_rate", [](const capz::Take& t) { return t.analog.rate; })
