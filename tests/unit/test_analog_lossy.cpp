@@ -377,6 +377,60 @@ TEST(AnalogLossyCodec, GivenALabelAndItsUnitThenTheLabelWinsAndUnknownKeysAreRep
   EXPECT_EQ(st.analog_unmatched, std::vector<std::string>{"Parsec"});
 }
 
+// More than 255 analog channels continue ANALOG:SCALE, OFFSET and UNITS in SCALE2, OFFSET2,
+// UNITS2 (a parameter holds at most 255 entries): the channels past 255 take their physics from
+// the continuations, not a factor of 1 and no unit.
+TEST(AnalogLossyCodec, GivenMoreThan255ChannelsThenPhysicsFromTheNumberedContinuations) {
+  auto floats = [](const std::string& name, size_t n, float v) {
+    C3DParameter p;
+    p.name = name;
+    p.type = 4;
+    p.dims = {static_cast<int>(n)};
+    p.data.resize(4 * n);
+    for (size_t i = 0; i < n; ++i) std::memcpy(p.data.data() + 4 * i, &v, 4);
+    return p;
+  };
+  auto units = [](const std::string& name, size_t n, const std::string& u) {
+    C3DParameter p;
+    p.name = name;
+    p.type = -1;
+    p.dims = {4, static_cast<int>(n)};
+    for (size_t i = 0; i < n; ++i) {
+      std::string e = u;
+      e.resize(4, ' ');
+      p.data.insert(p.data.end(), e.begin(), e.end());
+    }
+    return p;
+  };
+  Take t;
+  t.analog.channels = 300;
+  t.analog.samples_per_frame = 1;
+  t.c3d = std::make_shared<C3DExtra>();
+  C3DGroup g;
+  g.id = 2;
+  g.name = "ANALOG";
+  g.params = {floats("SCALE", 255, -0.5f),  floats("SCALE2", 45, 0.25f),
+              floats("GEN_SCALE", 1, 2.0f), floats("OFFSET", 255, 10.0f),
+              floats("OFFSET2", 45, 20.0f), units("UNITS", 255, "V"),
+              units("UNITS2", 45, "N")};
+  g.params[2].dims.clear();  // GEN_SCALE: one value
+  t.c3d->groups.push_back(g);
+  const std::vector<AnalogPhysics> phys = analog_physics(t);
+  ASSERT_EQ(phys.size(), 300u);
+  EXPECT_EQ(phys[0].scale, -1.0);
+  EXPECT_EQ(phys[0].factor, 1.0);
+  EXPECT_EQ(phys[0].offset, 10.0);
+  EXPECT_EQ(phys[0].unit, "V");
+  EXPECT_EQ(phys[254].unit, "V");
+  EXPECT_EQ(phys[255].scale, 0.5);
+  EXPECT_EQ(phys[299].factor, 0.5);
+  EXPECT_EQ(phys[299].offset, 20.0);
+  EXPECT_EQ(phys[299].unit, "N");
+  const AnalogHints h = analog_hints(t);
+  ASSERT_EQ(h.channel.size(), 300u);
+  EXPECT_EQ(h.channel[299].scale, 0.5);
+}
+
 TEST(AnalogLossyCodec, GivenUnitsSpelledSeveralWaysThenOneSpelling) {
   for (const char* v : {"V", "Volt", " volts ", "VOLT"}) EXPECT_EQ(canonical_analog_unit(v), "V");
   for (const char* n : {"N", "nt", "Newtons", "newton"}) EXPECT_EQ(canonical_analog_unit(n), "N");
