@@ -235,6 +235,9 @@ def test_random_access_gives_the_frames_words(tmp_path):
     assert np.array_equal(part.residuals, full.residuals[first:first + 20])
     assert np.array_equal(part.camera_masks, full.camera_masks[first:first + 20])
     assert sorted(part.parameters) == sorted(full.parameters)
+    with capz.open(out) as z:
+        head = z.read_frames(first=0, count=0)
+    assert head.frames == 0 and sorted(head.parameters) == sorted(full.parameters)
 
 
 def _check_cli_parameters(path, archive=None):
