@@ -78,97 +78,92 @@ bool all_integers(const std::vector<double>& v) {
   return true;
 }
 
-// Sorts *keys and drops repeats (as std::sort and std::unique would); (*ranks)[i] receives the
-// position of the i-th original key in the result. LSD radix sort, stable, on the bits that
-// are not the same in every key: when those bits and the index fit one 64-bit word together,
-// each key is packed as (its varying bits, its index) and sorted alone in digits of up to 11
-// bits; else keys and indices move side by side, a byte a pass. Keys equal in their varying
-// bits are equal, so either way equal keys end up adjacent and share a rank.
-void sort_unique(std::vector<uint64_t>* keys, std::vector<int32_t>* ranks) {
+// Keys of float32 values (ordered double patterns, whose low bits are all ones for negative
+// values) sort as their 32-bit ordered float patterns: the same order, one to one. When the
+// keys' varying bits and an index of ibits bits do not fit one word and every key is a float32,
+// *f32_keys receives those patterns and is returned with *diff updated; else keys.
+const std::vector<uint64_t>* narrowed_keys(const std::vector<uint64_t>& keys, int ibits,
+                                           std::vector<uint64_t>* f32_keys, uint64_t* diff) {
+  const size_t n = keys.size();
+  if (!*diff || 64 - __builtin_clzll(*diff) - __builtin_ctzll(*diff) + ibits <= 64) return &keys;
+  f32_keys->resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const double v = from_bits(from_ordered_bits(keys[i]));
+    if (!is_float32(v)) return &keys;
+    (*f32_keys)[i] = ordered_f32(v);
+  }
+  *diff = 0;
+  for (size_t i = 1; i < n; ++i) *diff |= (*f32_keys)[i] ^ (*f32_keys)[0];
+  return f32_keys;
+}
+
+// sort_unique when the varying bits (width of them from bit lo of sk's keys) and the index fit
+// one 64-bit word: each key packed as (its varying bits, its index), sorted alone in digits of
+// up to 11 bits.
+void sort_unique_packed(const std::vector<uint64_t>& sk, int lo, int width, int ibits,
+                        std::vector<uint64_t>* keys, std::vector<int32_t>* ranks) {
   const size_t n = keys->size();
-  uint64_t diff = 0;
-  for (size_t i = 1; i < n; ++i) diff |= (*keys)[i] ^ (*keys)[0];
-  const int ibits = n > 1 ? 64 - __builtin_clzll(static_cast<uint64_t>(n - 1)) : 0;
-  ranks->resize(n);
-  // Keys of float32 values (ordered double patterns, whose low bits are all ones for negative
-  // values) sort as their 32-bit ordered float patterns: the same order, one to one.
-  std::vector<uint64_t> f32_keys;
-  const std::vector<uint64_t>* sk = keys;
-  if (diff && 64 - __builtin_clzll(diff) - __builtin_ctzll(diff) + ibits > 64) {
-    f32_keys.resize(n);
-    bool all = true;
-    for (size_t i = 0; i < n && all; ++i) {
-      const double v = from_bits(from_ordered_bits((*keys)[i]));
-      all = is_float32(v);
-      f32_keys[i] = ordered_f32(v);
+  const uint64_t vmask = width == 64 ? ~uint64_t{0} : (uint64_t{1} << width) - 1;
+  const uint64_t imask = (uint64_t{1} << ibits) - 1;  // ibits < 64 here (n <= 2^32)
+  // The two arrays of the passes: a per-thread buffer (not zeroed: every entry is written).
+  uint64_t* a = scratch<uint64_t, Scratch::kRankKeys>(2 * n);
+  uint64_t* b = a + n;
+  for (size_t i = 0; i < n; ++i) a[i] = (((sk[i] >> lo) & vmask) << ibits) | i;
+  const int digit = n >= 2048 ? 11 : 8;
+  const size_t nd = size_t{1} << digit;
+  const uint64_t dmask = nd - 1;
+  // Each pass counts and moves the first half of a (c0) and the rest (c1) side by side: two
+  // chains of counter increments, not one through memory whenever neighbouring keys share a
+  // digit (as a slowly varying signal's high digits do). In each bucket the first half's keys
+  // go before the rest's, each half in its order: the same stable pass as one sweep.
+  std::vector<uint32_t> count(2 * nd);  // n is a window channel's length, far below 2^32
+  uint32_t* c0 = count.data();
+  uint32_t* c1 = c0 + nd;
+  const size_t h = n / 2;
+  for (int sh = ibits; sh < ibits + width; sh += digit) {
+    std::fill(count.begin(), count.end(), 0);
+    for (size_t i = 0; i < h; ++i) {
+      ++c0[(a[i] >> sh) & dmask];
+      ++c1[(a[h + i] >> sh) & dmask];
     }
-    if (all) {
-      sk = &f32_keys;
-      diff = 0;
-      for (size_t i = 1; i < n; ++i) diff |= f32_keys[i] ^ f32_keys[0];
+    if (n & 1) ++c1[(a[n - 1] >> sh) & dmask];
+    const size_t d0 = (a[0] >> sh) & dmask;
+    if (c0[d0] + c1[d0] == n) continue;  // one digit in every key: the pass moves nothing
+    for (size_t d = 0, at = 0; d < nd; ++d) {
+      const uint32_t k0 = c0[d], k1 = c1[d];
+      c0[d] = static_cast<uint32_t>(at);
+      c1[d] = static_cast<uint32_t>(at + k0);
+      at += k0 + k1;
     }
+    for (size_t i = 0; i < h; ++i) {
+      const uint64_t x = a[i], y = a[h + i];
+      b[c0[(x >> sh) & dmask]++] = x;
+      b[c1[(y >> sh) & dmask]++] = y;
+    }
+    if (n & 1) b[c1[(a[n - 1] >> sh) & dmask]++] = a[n - 1];
+    std::swap(a, b);
   }
-  const int lo = diff ? __builtin_ctzll(diff) : 0;
-  const int width = diff ? 64 - __builtin_clzll(diff) - lo : 0;
-  if (width + ibits <= 64) {
-    const uint64_t vmask = width == 64 ? ~uint64_t{0} : (uint64_t{1} << width) - 1;
-    const uint64_t imask = (uint64_t{1} << ibits) - 1;  // ibits < 64 here (n <= 2^32)
-    // The two arrays of the passes: a per-thread buffer (not zeroed: every entry is written).
-    uint64_t* a = scratch<uint64_t, Scratch::kRankKeys>(2 * n);
-    uint64_t* b = a + n;
-    for (size_t i = 0; i < n; ++i) a[i] = ((((*sk)[i] >> lo) & vmask) << ibits) | i;
-    const int digit = n >= 2048 ? 11 : 8;
-    const size_t nd = size_t{1} << digit;
-    const uint64_t dmask = nd - 1;
-    // Each pass counts and moves the first half of a (c0) and the rest (c1) side by side: two
-    // chains of counter increments, not one through memory whenever neighbouring keys share a
-    // digit (as a slowly varying signal's high digits do). In each bucket the first half's keys
-    // go before the rest's, each half in its order: the same stable pass as one sweep.
-    std::vector<uint32_t> count(2 * nd);  // n is a window channel's length, far below 2^32
-    uint32_t* c0 = count.data();
-    uint32_t* c1 = c0 + nd;
-    const size_t h = n / 2;
-    for (int sh = ibits; sh < ibits + width; sh += digit) {
-      std::fill(count.begin(), count.end(), 0);
-      for (size_t i = 0; i < h; ++i) {
-        ++c0[(a[i] >> sh) & dmask];
-        ++c1[(a[h + i] >> sh) & dmask];
-      }
-      if (n & 1) ++c1[(a[n - 1] >> sh) & dmask];
-      const size_t d0 = (a[0] >> sh) & dmask;
-      if (c0[d0] + c1[d0] == n) continue;  // one digit in every key: the pass moves nothing
-      for (size_t d = 0, at = 0; d < nd; ++d) {
-        const uint32_t k0 = c0[d], k1 = c1[d];
-        c0[d] = static_cast<uint32_t>(at);
-        c1[d] = static_cast<uint32_t>(at + k0);
-        at += k0 + k1;
-      }
-      for (size_t i = 0; i < h; ++i) {
-        const uint64_t x = a[i], y = a[h + i];
-        b[c0[(x >> sh) & dmask]++] = x;
-        b[c1[(y >> sh) & dmask]++] = y;
-      }
-      if (n & 1) b[c1[(a[n - 1] >> sh) & dmask]++] = a[n - 1];
-      std::swap(a, b);
-    }
-    // The distinct keys into b (free now) in order, a new one where the varying bits change.
-    size_t m = 0;
-    uint64_t prev = n ? ~(a[0] >> ibits) : 0;
-    for (size_t j = 0; j < n; ++j) {
-      const uint64_t v = a[j] >> ibits;
-      m += v != prev;
-      prev = v;
-      const size_t i = static_cast<size_t>(a[j] & imask);
-      b[m - 1] = (*keys)[i];
-      (*ranks)[i] = static_cast<int32_t>(m - 1);
-    }
-    keys->assign(b, b + m);
-    return;
+  // The distinct keys into b (free now) in order, a new one where the varying bits change.
+  size_t m = 0;
+  uint64_t prev = n ? ~(a[0] >> ibits) : 0;
+  for (size_t j = 0; j < n; ++j) {
+    const uint64_t v = a[j] >> ibits;
+    m += v != prev;
+    prev = v;
+    const size_t i = static_cast<size_t>(a[j] & imask);
+    b[m - 1] = (*keys)[i];
+    (*ranks)[i] = static_cast<int32_t>(m - 1);
   }
+  keys->assign(b, b + m);
+}
+
+// sort_unique otherwise: keys and indices move side by side, a byte a pass.
+void sort_unique_wide(std::vector<uint64_t>* keys, std::vector<int32_t>* ranks) {
+  const size_t n = keys->size();
   std::vector<uint64_t> a = *keys, b(n);
   std::vector<uint32_t> ia(n), ib(n);
   for (size_t i = 0; i < n; ++i) ia[i] = static_cast<uint32_t>(i);
-  diff = 0;
+  uint64_t diff = 0;
   for (size_t i = 1; i < n; ++i) diff |= a[i] ^ a[0];
   for (int d = 0; d < 8; ++d) {
     const int sh = 8 * d;
@@ -189,6 +184,28 @@ void sort_unique(std::vector<uint64_t>* keys, std::vector<int32_t>* ranks) {
     if (keys->empty() || keys->back() != a[i]) keys->push_back(a[i]);
     (*ranks)[ia[i]] = static_cast<int32_t>(keys->size() - 1);
   }
+}
+
+// Sorts *keys and drops repeats (as std::sort and std::unique would); (*ranks)[i] receives the
+// position of the i-th original key in the result. LSD radix sort, stable, on the bits that
+// are not the same in every key: when those bits and the index fit one 64-bit word together,
+// each key is packed as (its varying bits, its index) and sorted alone; else keys and indices
+// move side by side. Keys equal in their varying bits are equal, so either way equal keys end
+// up adjacent and share a rank.
+void sort_unique(std::vector<uint64_t>* keys, std::vector<int32_t>* ranks) {
+  const size_t n = keys->size();
+  uint64_t diff = 0;
+  for (size_t i = 1; i < n; ++i) diff |= (*keys)[i] ^ (*keys)[0];
+  const int ibits = n > 1 ? 64 - __builtin_clzll(static_cast<uint64_t>(n - 1)) : 0;
+  ranks->resize(n);
+  std::vector<uint64_t> f32_keys;
+  const std::vector<uint64_t>* sk = narrowed_keys(*keys, ibits, &f32_keys, &diff);
+  const int lo = diff ? __builtin_ctzll(diff) : 0;
+  const int width = diff ? 64 - __builtin_clzll(diff) - lo : 0;
+  if (width + ibits <= 64)
+    sort_unique_packed(*sk, lo, width, ibits, keys, ranks);
+  else
+    sort_unique_wide(keys, ranks);
 }
 
 // Distinct values of v in increasing order of their ordered bits: ord (the ordered patterns)
