@@ -74,6 +74,50 @@ void check_body_size(const std::vector<uint8_t>& bytes, const PcdHeader& h,
   }
 }
 
+// The values of a SIZE line (1, 2, 4 or 8 each), a TYPE line (F, I or U), a COUNT line (up to
+// 2^20) and a VIEWPOINT line (7 numbers); w[0] is the key.
+std::vector<int> sizes_of(const std::vector<std::string>& w, const std::string& name) {
+  std::vector<int> v;
+  for (size_t i = 1; i < w.size(); ++i) {
+    uint64_t s;
+    if (!parse_u64(w[i], &s) || (s != 1 && s != 2 && s != 4 && s != 8))
+      fail(ErrorCode::kCorrupt, name, "PCD header: bad SIZE '" + w[i] + "'");
+    v.push_back(static_cast<int>(s));
+  }
+  return v;
+}
+std::vector<char> types_of(const std::vector<std::string>& w, const std::string& name) {
+  std::vector<char> v;
+  for (size_t i = 1; i < w.size(); ++i) {
+    if (w[i].size() != 1 || std::strchr("FIU", w[i][0]) == nullptr)
+      fail(ErrorCode::kCorrupt, name, "PCD header: bad TYPE '" + w[i] + "'");
+    v.push_back(w[i][0]);
+  }
+  return v;
+}
+std::vector<uint64_t> counts_of(const std::vector<std::string>& w, const std::string& name) {
+  std::vector<uint64_t> v;
+  for (size_t i = 1; i < w.size(); ++i) {
+    uint64_t c;
+    if (!parse_u64(w[i], &c) || c > (1u << 20))
+      fail(ErrorCode::kCorrupt, name, "PCD header: bad COUNT '" + w[i] + "'");
+    v.push_back(c);
+  }
+  return v;
+}
+std::vector<double> viewpoint_of(const std::vector<std::string>& w, const std::string& name) {
+  std::vector<double> v;
+  for (size_t i = 1; i < w.size(); ++i) {
+    double x;
+    if (!parse_double(w[i], &x)) fail(ErrorCode::kCorrupt, name, "PCD header: bad VIEWPOINT");
+    v.push_back(x);
+  }
+  if (v.size() != 7) fail(ErrorCode::kCorrupt, name, "PCD header: VIEWPOINT needs 7 values");
+  return v;
+}
+
+void complete_header(PcdHeader* hp, bool have_width, bool have_points, const std::string& name);
+
 }  // namespace
 
 PcdHeader parse_header(const std::vector<uint8_t>& bytes, const std::string& name) {
@@ -99,39 +143,15 @@ PcdHeader parse_header(const std::vector<uint8_t>& bytes, const std::string& nam
     if (k == "VERSION") {
       if (w.size() >= 2) h.version = w[1];
     } else if (k == "VIEWPOINT") {
-      h.viewpoint.clear();
-      for (size_t i = 1; i < w.size(); ++i) {
-        double v;
-        if (!parse_double(w[i], &v)) fail(ErrorCode::kCorrupt, name, "PCD header: bad VIEWPOINT");
-        h.viewpoint.push_back(v);
-      }
-      if (h.viewpoint.size() != 7)
-        fail(ErrorCode::kCorrupt, name, "PCD header: VIEWPOINT needs 7 values");
+      h.viewpoint = viewpoint_of(w, name);
     } else if (k == "FIELDS" || k == "COLUMNS") {
       h.fields.assign(w.begin() + 1, w.end());
     } else if (k == "SIZE") {
-      h.sizes.clear();
-      for (size_t i = 1; i < w.size(); ++i) {
-        uint64_t s;
-        if (!parse_u64(w[i], &s) || (s != 1 && s != 2 && s != 4 && s != 8))
-          fail(ErrorCode::kCorrupt, name, "PCD header: bad SIZE '" + w[i] + "'");
-        h.sizes.push_back(static_cast<int>(s));
-      }
+      h.sizes = sizes_of(w, name);
     } else if (k == "TYPE") {
-      h.types.clear();
-      for (size_t i = 1; i < w.size(); ++i) {
-        if (w[i].size() != 1 || std::strchr("FIU", w[i][0]) == nullptr)
-          fail(ErrorCode::kCorrupt, name, "PCD header: bad TYPE '" + w[i] + "'");
-        h.types.push_back(w[i][0]);
-      }
+      h.types = types_of(w, name);
     } else if (k == "COUNT") {
-      h.counts.clear();
-      for (size_t i = 1; i < w.size(); ++i) {
-        uint64_t c;
-        if (!parse_u64(w[i], &c) || c > (1u << 20))
-          fail(ErrorCode::kCorrupt, name, "PCD header: bad COUNT '" + w[i] + "'");
-        h.counts.push_back(c);
-      }
+      h.counts = counts_of(w, name);
     } else if (k == "WIDTH") {
       one(&h.width);
       have_width = true;
@@ -150,6 +170,19 @@ PcdHeader parse_header(const std::vector<uint8_t>& bytes, const std::string& nam
       fail(ErrorCode::kNotOurFormat, name, "not a PCD file (unknown header line '" + k + "')");
     }
   }
+  complete_header(&h, have_width, have_points, name);
+  // The body must be able to hold what the header announces.
+  check_body_size(bytes, h, name);
+  return h;
+}
+
+namespace {
+
+// The checks and sums once every header line is read: FIELDS, SIZE, TYPE and COUNT of one
+// length (COUNT defaults to 1s), WIDTH present and sane, POINTS = WIDTH x HEIGHT (its default),
+// then the point step and the values per point.
+void complete_header(PcdHeader* hp, bool have_width, bool have_points, const std::string& name) {
+  PcdHeader& h = *hp;
   if (h.fields.empty()) fail(ErrorCode::kCorrupt, name, "PCD header has no FIELDS");
   if (h.counts.empty()) h.counts.assign(h.fields.size(), 1);
   if (h.sizes.size() != h.fields.size() || h.types.size() != h.fields.size() ||
@@ -167,10 +200,9 @@ PcdHeader parse_header(const std::vector<uint8_t>& bytes, const std::string& nam
     h.point_step += static_cast<uint64_t>(h.sizes[i]) * h.counts[i];
     h.values_per_point += h.counts[i];
   }
-  // The body must be able to hold what the header announces.
-  check_body_size(bytes, h, name);
-  return h;
 }
+
+}  // namespace
 
 // PCL's ASCII body reader turns a bad token or a short line into zeros without a word, so the
 // body is checked here first: after the header, every non-blank line holds exactly
