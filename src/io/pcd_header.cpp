@@ -189,7 +189,9 @@ void complete_header(PcdHeader* hp, bool have_width, bool have_points, const std
       h.counts.size() != h.fields.size())
     fail(ErrorCode::kCorrupt, name, "PCD header: FIELDS, SIZE, TYPE and COUNT disagree in length");
   if (!have_width) fail(ErrorCode::kCorrupt, name, "PCD header has no WIDTH");
-  if (h.width > (uint64_t{1} << 40) || h.height > (uint64_t{1} << 40))
+  // Each below 2^40 and so their product (which then cannot wrap around 2^64 either).
+  if (h.width > (uint64_t{1} << 40) || h.height > (uint64_t{1} << 40) ||
+      (h.height != 0 && h.width > (uint64_t{1} << 40) / h.height))
     fail(ErrorCode::kCorrupt, name, "PCD header: WIDTH x HEIGHT is absurd");
   if (!have_points) h.points = h.width * h.height;
   if (h.points != h.width * h.height)

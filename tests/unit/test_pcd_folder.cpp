@@ -136,6 +136,12 @@ TEST(PcdFolder, LyingHeadersAreRejectedBeforeAllocating) {
     o.write("\0\0\0\0", 4);
   }
   EXPECT_EQ(read_error(d.path().string(), &msg), ErrorCode::kCorrupt);
+  // WIDTH x HEIGHT past 2^64 (2^40 x 2^24 wraps to 0 points): refused by capz's own check.
+  std::ofstream(d.path() / "a.pcd", std::ios::trunc)
+      << "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1099511627776\n"
+         "HEIGHT 16777216\nDATA binary\n";
+  EXPECT_EQ(read_error(d.path().string(), &msg), ErrorCode::kCorrupt);
+  EXPECT_NE(msg.find("WIDTH x HEIGHT is absurd"), std::string::npos) << msg;
   // Not a PCD at all.
   std::ofstream(d.path() / "a.pcd", std::ios::trunc) << "hello\n";
   EXPECT_EQ(read_error(d.path().string(), &msg), ErrorCode::kNotOurFormat);
