@@ -342,9 +342,9 @@ int run_batch(const std::string& command, const BatchSettings& s, std::vector<Jo
       if (!r.text.empty() && (!data_on_stdout || g_verbosity >= 2))
         std::fputs(r.text.c_str(), text_out);
       if (!r.ok && failed_lines)
-        std::fprintf(stdout, "%s: FAILED: %s\n", r.input.c_str(), r.error.c_str());
+        std::fprintf(stdout, "%s: FAILED: %s\n", r.input.c_str(), printable(r.error).c_str());
       else if (!r.ok)
-        std::fprintf(stderr, "capz %s: error: %s\n", command.c_str(), r.error.c_str());
+        std::fprintf(stderr, "capz %s: error: %s\n", command.c_str(), printable(r.error).c_str());
     }
     std::fflush(text_out);
     progress.update(done, bytes_done);
@@ -388,7 +388,7 @@ int run_batch(const std::string& command, const BatchSettings& s, std::vector<Jo
     try {
       capz::write_file(s.report, std::vector<uint8_t>(text.begin(), text.end()), s.force);
     } catch (const capz::Error& e) {
-      std::fprintf(stderr, "capz %s: error: %s\n", command.c_str(), e.what());
+      std::fprintf(stderr, "capz %s: error: %s\n", command.c_str(), printable(e.what()).c_str());
       if (status == 0) status = static_cast<int>(e.code());
     }
   }

@@ -9,6 +9,7 @@
 
 #include "capz/error.h"
 #include "capz/version.h"
+#include "cli_util.h"
 #include "commands.h"
 
 namespace capz_cli {
@@ -84,7 +85,7 @@ int main(int argc, char** argv) {
     try {
       return c.run(args);
     } catch (const capz::Error& e) {
-      std::fprintf(stderr, "capz %s: error: %s\n", c.name, e.what());
+      std::fprintf(stderr, "capz %s: error: %s\n", c.name, capz_cli::printable(e.what()).c_str());
       return static_cast<int>(e.code());
     } catch (const boost::program_options::error& e) {
       std::fprintf(stderr, "capz %s: error: %s (see capz %s --help)\n", c.name, e.what(), c.name);
@@ -93,7 +94,8 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "capz %s: error: out of memory\n", c.name);
       return 7;
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "capz %s: internal error: %s\n", c.name, e.what());
+      std::fprintf(stderr, "capz %s: internal error: %s\n", c.name,
+                   capz_cli::printable(e.what()).c_str());
       return 7;
     }
   }

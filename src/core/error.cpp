@@ -26,7 +26,11 @@ const char* error_code_name(ErrorCode code) {
 }
 
 void fail(ErrorCode code, const std::string& file, const std::string& what) {
-  throw Error(code, file.empty() ? what : file + ": " + what);
+  std::string m = file.empty() ? what : file + ": " + what;
+  // A NUL from a file's bytes (a PCD TYPE, a label) would end what() there: written as \0.
+  for (size_t i = m.find('\0'); i != std::string::npos; i = m.find('\0', i + 2))
+    m.replace(i, 1, "\\0");
+  throw Error(code, m);
 }
 
 }  // namespace capz

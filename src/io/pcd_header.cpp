@@ -89,7 +89,8 @@ std::vector<int> sizes_of(const std::vector<std::string>& w, const std::string& 
 std::vector<char> types_of(const std::vector<std::string>& w, const std::string& name) {
   std::vector<char> v;
   for (size_t i = 1; i < w.size(); ++i) {
-    if (w[i].size() != 1 || std::strchr("FIU", w[i][0]) == nullptr)
+    // Not strchr("FIU", c): it finds the terminator when c is NUL.
+    if (w[i].size() != 1 || (w[i][0] != 'F' && w[i][0] != 'I' && w[i][0] != 'U'))
       fail(ErrorCode::kCorrupt, name, "PCD header: bad TYPE '" + w[i] + "'");
     v.push_back(w[i][0]);
   }

@@ -142,6 +142,17 @@ TEST(PcdFolder, LyingHeadersAreRejectedBeforeAllocating) {
          "HEIGHT 16777216\nDATA binary\n";
   EXPECT_EQ(read_error(d.path().string(), &msg), ErrorCode::kCorrupt);
   EXPECT_NE(msg.find("WIDTH x HEIGHT is absurd"), std::string::npos) << msg;
+  // A NUL as a TYPE (found by the pcd_header fuzz target: strchr("FIU", 0) matched the
+  // terminator), named in full in the message.
+  {
+    std::ofstream o(d.path() / "a.pcd", std::ios::binary | std::ios::trunc);
+    o << "VERSION 0.7\nFIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F ";
+    o.put('\0');
+    o << "\nWIDTH 1\nHEIGHT 1\nDATA binary\n";
+    o.write("\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0", 16);
+  }
+  EXPECT_EQ(read_error(d.path().string(), &msg), ErrorCode::kCorrupt);
+  EXPECT_NE(msg.find("bad TYPE '\\0'"), std::string::npos) << msg;
   // Not a PCD at all.
   std::ofstream(d.path() / "a.pcd", std::ios::trunc) << "hello\n";
   EXPECT_EQ(read_error(d.path().string(), &msg), ErrorCode::kNotOurFormat);
