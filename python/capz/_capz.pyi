@@ -53,6 +53,10 @@ class Take:
         """C3D parameter section: group -> parameter -> str, list of str, number or array."""
     def parameter(self, group: str, name: str) -> Optional[Dict[str, Any]]:
         """value, description, type, dims, locked, group_description; None when absent."""
+    def set_parameter(
+        self, group: str, name: str, value: Any, description: Optional[str] = None
+    ) -> None:
+        """Sets or adds GROUP:NAME of a take read from C3D (str, list of str, int, float, array)."""
     @property
     def residuals(self) -> Optional[npt.NDArray[np.float32]]:
         """C3D residuals (frames, points), -1 at gaps; None without C3D; a view of the take."""

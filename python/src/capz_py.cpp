@@ -182,6 +182,134 @@ std::string group_key(const capz::C3DGroup& g) {
   return g.name.empty() ? "#" + std::to_string(g.id) : g.name;
 }
 
+// Take.set_parameter's value as a C3D parameter's type, dimensions and bytes: a str is a char
+// array of one dimension, a list or tuple of str a 2-D one (blank padded to the longest); an int
+// an int16, a float a float32; a numpy array uint8 (byte), any other integer type (int16, each
+// value in -32768 .. 65535) or float (float32), its dimensions the array's shape reversed.
+void parameter_from_python(const py::handle& v, capz::C3DParameter* p) {
+  auto put16 = [&](long long x) {
+    if (x < -32768 || x > 65535) invalid("set_parameter: " + std::to_string(x) + " is not int16");
+    const uint16_t u = static_cast<uint16_t>(x);
+    p->data.push_back(static_cast<uint8_t>(u & 0xFF));
+    p->data.push_back(static_cast<uint8_t>(u >> 8));
+  };
+  auto put32 = [&](double x) {
+    const float f = static_cast<float>(x);
+    uint8_t b[4];
+    std::memcpy(b, &f, 4);
+    p->data.insert(p->data.end(), b, b + 4);
+  };
+  p->data.clear();
+  p->dims.clear();
+  if (py::isinstance<py::str>(v)) {
+    const std::string s = v.cast<std::string>();
+    p->type = -1;
+    p->dims = {static_cast<int>(s.size())};
+    p->data.assign(s.begin(), s.end());
+  } else if (py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v)) {
+    std::vector<std::string> strings;
+    for (const py::handle& e : v) {
+      if (!py::isinstance<py::str>(e)) invalid("set_parameter: a list value must hold str only");
+      strings.push_back(e.cast<std::string>());
+    }
+    size_t width = 0;
+    for (const std::string& x : strings) width = std::max(width, x.size());
+    p->type = -1;
+    p->dims = {static_cast<int>(width), static_cast<int>(strings.size())};
+    for (std::string x : strings) {
+      x.resize(width, ' ');
+      p->data.insert(p->data.end(), x.begin(), x.end());
+    }
+  } else if (py::isinstance<py::bool_>(v)) {
+    invalid("set_parameter: a bool has no C3D type (give 0 or 1)");
+  } else if (py::isinstance<py::int_>(v)) {
+    p->type = 2;
+    put16(v.cast<long long>());
+  } else if (py::isinstance<py::float_>(v)) {
+    p->type = 4;
+    put32(v.cast<double>());
+  } else if (py::isinstance<py::array>(v)) {
+    const py::array a = py::reinterpret_borrow<py::array>(v);
+    const char kind = a.dtype().kind();
+    if (a.ndim() > 7) invalid("set_parameter: a C3D parameter has at most 7 dimensions");
+    for (py::ssize_t k = a.ndim(); k-- > 0;) p->dims.push_back(static_cast<int>(a.shape(k)));
+    if (kind == 'u' && a.itemsize() == 1) {
+      p->type = 1;
+      const py::array_t<uint8_t, py::array::c_style | py::array::forcecast> b(a);
+      p->data.assign(b.data(), b.data() + b.size());
+    } else if (kind == 'i' || kind == 'u') {
+      p->type = 2;
+      const py::array_t<long long, py::array::c_style | py::array::forcecast> b(a);
+      for (py::ssize_t i = 0; i < b.size(); ++i) put16(b.data()[i]);
+    } else if (kind == 'f') {
+      p->type = 4;
+      const py::array_t<double, py::array::c_style | py::array::forcecast> b(a);
+      for (py::ssize_t i = 0; i < b.size(); ++i) put32(b.data()[i]);
+    } else {
+      invalid("set_parameter: numpy dtype " + py::str(a.dtype()).cast<std::string>() +
+              " has no C3D type (uint8, integers, floats)");
+    }
+  } else {
+    invalid(
+        "set_parameter: the value must be a str, a list of str, an int, a float or a numpy "
+        "array");
+  }
+  for (int d : p->dims)
+    if (d > 255)
+      invalid("set_parameter: a C3D dimension holds at most 255, not " + std::to_string(d));
+}
+
+bool same_name(const std::string& a, const std::string& b) {
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
+           return std::toupper(static_cast<unsigned char>(x)) ==
+                  std::toupper(static_cast<unsigned char>(y));
+         });
+}
+
+// Sets (or adds) parameter GROUP:NAME of a take read from C3D; a new group gets the next free
+// group number. A take without a parameter section is refused: its C3D is written from the
+// take alone, and a section of one parameter would change how (docs/PYTHON.md).
+void set_parameter(capz::Take& t, const std::string& group, const std::string& name,
+                   const py::handle& value, const std::optional<std::string>& description) {
+  if (!t.c3d)
+    invalid(
+        "set_parameter: the take has no C3D parameter section (a take read from a C3D or "
+        "its archive has one)");
+  for (const std::string* n : {&group, &name})
+    if (n->empty() || n->size() > 127 || n->find('\0') != std::string::npos ||
+        n->find(' ') != std::string::npos)
+      invalid("set_parameter: '" + *n + "' is not a C3D name (1 to 127 characters, no blanks)");
+  if (description && description->size() > 255)
+    invalid("set_parameter: a description holds at most 255 characters");
+  capz::C3DParameter p;
+  parameter_from_python(value, &p);
+  capz::C3DGroup* g = nullptr;
+  int top = 0;
+  for (capz::C3DGroup& x : t.c3d->groups) {
+    top = std::max(top, std::abs(x.id));
+    if (!g && same_name(x.name, group)) g = &x;
+  }
+  if (!g) {
+    if (top >= 127) invalid("set_parameter: no free C3D group number for " + group);
+    capz::C3DGroup ng;
+    ng.id = top + 1;
+    ng.name = group;
+    t.c3d->groups.push_back(std::move(ng));
+    g = &t.c3d->groups.back();
+  }
+  for (capz::C3DParameter& q : g->params)
+    if (same_name(q.name, name)) {
+      q.type = p.type;
+      q.dims = std::move(p.dims);
+      q.data = std::move(p.data);
+      if (description) q.description = *description;
+      return;
+    }
+  p.name = name;
+  if (description) p.description = *description;
+  g->params.push_back(std::move(p));
+}
+
 // A view (frames, points) of one of the C3D sample words (residual, camera_mask), or None when
 // the take has none.
 template <typename T>
@@ -657,6 +785,14 @@ void bind_take_channels(TakeClass* cls) {
 // Take: the C3D parameter section, sample words and header events.
 void bind_take_c3d(TakeClass* cls) {
   (*cls)
+      .def("set_parameter", &set_parameter, py::arg("group"), py::arg("name"), py::arg("value"),
+           py::arg("description") = py::none(),
+           "sets C3D parameter GROUP:NAME (added when absent; names matched without regard to "
+           "case) of a take read from C3D: value a str, a list of str, an int (int16), a float "
+           "(float32) or a numpy array (uint8 -> byte, integers -> int16, floats -> float32; "
+           "its shape reversed as the C3D dimensions, each at most 255). write() and compress() "
+           "keep it; write() rewrites the POINT, ANALOG, TRIAL and ROTATION fields that "
+           "describe the data from the take")
       .def_property_readonly(
           "parameters", [](const capz::Take& t) { return parameters_of(t); },
           "the C3D parameter section: dict group -> dict parameter -> value (str for a char "

@@ -300,3 +300,53 @@ def test_cli_parameters_text_and_refusal():
                         os.path.join(REPO, "data", "std_walking5_markers.trc")],
                        capture_output=True, text=True)
     assert r.returncode == 6 and "not a C3D take" in r.stderr
+
+
+def test_set_parameter_is_written_and_compressed(tmp_path):
+    take = capz.read(os.path.join(REPO, "data", "EB015PI.c3d"))
+    corners = take.parameters["FORCE_PLATFORM"]["CORNERS"].copy()
+    corners[1, 2, 0] = 12.25
+    take.set_parameter("force_platform", "corners", corners)  # an existing one, any case
+    take.set_parameter("SUBJECTS", "NAMES", ["Alice", "Bob"], description="who")
+    take.set_parameter("SUBJECTS", "MASS", 71.5)
+    take.set_parameter("SUBJECTS", "IDS", np.array([[3, 4, 5], [6, 7, 65535]]))
+    take.set_parameter("SUBJECTS", "FLAGS", np.array([1, 2], np.uint8))
+    out = str(tmp_path / "x.c3d")
+    capz.write(take, out)
+    want = parameters_of_file(out)  # the specification reader, on the file written
+    assert want["FORCE_PLATFORM"]["CORNERS"][1, 2, 0] == np.float32(12.25)
+    assert want["SUBJECTS"]["NAMES"] == ["Alice", "Bob"]
+    assert want["SUBJECTS"]["MASS"] == 71.5
+    assert want["SUBJECTS"]["IDS"].tolist() == [[3, 4, 5], [6, 7, -1]]  # 65535 as int16 bits
+    assert want["SUBJECTS"]["FLAGS"].dtype == np.uint8
+    assert capz.read(out).parameter("SUBJECTS", "NAMES")["description"] == "who"
+    back = capz.decompress(capz.compress(take, max_error="1mm"))
+    for g in ("FORCE_PLATFORM", "SUBJECTS"):
+        for p, v in take.parameters[g].items():
+            assert _same(back.parameters[g][p], v), (g, p)
+
+
+def test_set_parameter_refusals():
+    take = capz.read(os.path.join(REPO, "data", "EB015PI.c3d"))
+    bad = [("G", "N", True), ("G", "N", {"a": 1}), ("G", "N", 70000), ("G", "N", [1, 2]),
+           ("G", "N", np.zeros(300)), ("G", "N", np.zeros((1,) * 8)),
+           ("G", "N", np.array(["a"])), ("", "N", 1), ("G", "A NAME", 1), ("G", "N" * 128, 1)]
+    for g, n, v in bad:
+        with pytest.raises(capz.Error) as e:
+            take.set_parameter(g, n, v)
+        assert e.value.code == "invalid-parameter", (g, n, v)
+    assert take.parameter("G", "N") is None  # nothing half-set
+    arrays = capz.Take.from_arrays(np.zeros((2, 1, 3)), rate=100.0)
+    with pytest.raises(capz.Error):
+        arrays.set_parameter("SUBJECTS", "MASS", 70.0)
+
+
+def test_set_parameter_does_not_override_what_describes_the_data(tmp_path):
+    take = capz.read(os.path.join(REPO, "data", "EB015PI.c3d"))
+    take.set_parameter("POINT", "RATE", 999.0)
+    take.set_parameter("POINT", "USED", 3)
+    out = str(tmp_path / "x.c3d")
+    capz.write(take, out)
+    back = capz.read(out)
+    assert back.rate == 50.0 and back.points == 26
+    assert parameters_of_file(out)["POINT"]["USED"] == 26
