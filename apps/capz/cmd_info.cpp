@@ -106,48 +106,32 @@ std::string variant_text(const capz::Take& t) {
   return "";
 }
 
-void print_text(const std::string& path, const capz::Take& t, const Summary& s) {
-  auto line = [](const char* k, const std::string& v) {
-    std::printf("%-10s %s\n", k, printable(v).c_str());
-  };
-  line("file:", path + " (" + human_size(path_size(path)) + ")");
-  line("format:", std::string(capz::format_name(t.format)) + ": " + variant_text(t));
-  line("points:", std::to_string(t.points));
-  line("frames:",
-       std::to_string(t.frames) + " (first frame " + std::to_string(t.first_frame) + ")");
-  line("rate:", t.rate > 0 ? number(t.rate) + " Hz" : std::string("unknown"));
-  line("duration:",
-       t.rate > 0 ? number(std::round(s.duration * 1000) / 1000) + " s" : std::string("unknown"));
-  line("units:", t.units.empty() ? std::string("unknown") : t.units);
-  line("gaps:", s.samples == 0
-                    ? std::string("none (no samples)")
-                    : percent(static_cast<double>(s.gaps) / static_cast<double>(s.samples)) +
-                          " of samples (" + std::to_string(s.gaps) + " of " +
-                          std::to_string(s.samples) + "), " + std::to_string(s.points_with_gaps) +
-                          " of " + std::to_string(t.points) + " points have gaps");
+// One "key: value" line of the text description, the value made printable.
+void line(const char* k, const std::string& v) {
+  std::printf("%-10s %s\n", k, printable(v).c_str());
+}
+
+// The labels line: the first kLabelsShown labels (all with -v), or none.
+std::string labels_text(const capz::Take& t) {
   size_t named = 0;
   for (const auto& l : t.labels) named += !l.empty();
-  if (named == 0) {
-    line("labels:", "none");
-  } else {
-    const size_t shown =
-        g_verbosity >= 2 ? t.labels.size() : std::min(kLabelsShown, t.labels.size());
-    std::string v;
-    for (size_t i = 0; i < shown; ++i) {
-      if (i) v += ", ";
-      v += t.labels[i].empty() ? "(unnamed)" : t.labels[i];
-    }
-    if (shown < t.labels.size())
-      v += ", ... (" + std::to_string(t.labels.size() - shown) + " more; -v lists all)";
-    line("labels:", v);
+  if (named == 0) return "none";
+  const size_t shown = g_verbosity >= 2 ? t.labels.size() : std::min(kLabelsShown, t.labels.size());
+  std::string v;
+  for (size_t i = 0; i < shown; ++i) {
+    if (i) v += ", ";
+    v += t.labels[i].empty() ? "(unnamed)" : t.labels[i];
   }
-  if (t.pcd && !t.pcd->fields.empty()) {
-    // Every field of the frames, x y z included: NAME TYPE SIZE[xCOUNT].
-    line("fields:", pcd_fields_text(t.pcd->fields));
-  }
+  if (shown < t.labels.size())
+    v += ", ... (" + std::to_string(t.labels.size() - shown) + " more; -v lists all)";
+  return v;
+}
+
+// The analog line: channels, rate, samples per frame and units counted (what
+// --analog-max-error's keys name besides labels), or none; with -v a line per channel: its label,
+// unit and physical value per stored unit.
+void print_analog(const capz::Take& t) {
   if (t.analog.channels > 0) {
-    // The units are what --analog-max-error's keys name (besides labels): counted here, and
-    // with -v each channel's label, unit and physical value per stored unit.
     const std::vector<capz::AnalogPhysics> phys = capz::analog_physics(t);
     std::vector<std::pair<std::string, int>> units;
     for (const capz::AnalogPhysics& p : phys) {
@@ -176,6 +160,30 @@ void print_text(const std::string& path, const capz::Take& t, const Summary& s) 
   } else {
     line("analog:", "none");
   }
+}
+
+void print_text(const std::string& path, const capz::Take& t, const Summary& s) {
+  line("file:", path + " (" + human_size(path_size(path)) + ")");
+  line("format:", std::string(capz::format_name(t.format)) + ": " + variant_text(t));
+  line("points:", std::to_string(t.points));
+  line("frames:",
+       std::to_string(t.frames) + " (first frame " + std::to_string(t.first_frame) + ")");
+  line("rate:", t.rate > 0 ? number(t.rate) + " Hz" : std::string("unknown"));
+  line("duration:",
+       t.rate > 0 ? number(std::round(s.duration * 1000) / 1000) + " s" : std::string("unknown"));
+  line("units:", t.units.empty() ? std::string("unknown") : t.units);
+  line("gaps:", s.samples == 0
+                    ? std::string("none (no samples)")
+                    : percent(static_cast<double>(s.gaps) / static_cast<double>(s.samples)) +
+                          " of samples (" + std::to_string(s.gaps) + " of " +
+                          std::to_string(s.samples) + "), " + std::to_string(s.points_with_gaps) +
+                          " of " + std::to_string(t.points) + " points have gaps");
+  line("labels:", labels_text(t));
+  if (t.pcd && !t.pcd->fields.empty()) {
+    // Every field of the frames, x y z included: NAME TYPE SIZE[xCOUNT].
+    line("fields:", pcd_fields_text(t.pcd->fields));
+  }
+  print_analog(t);
   const capz::Rotations& r = t.rotations;
   if (r.segments > 0)
     line("rotations:", std::to_string(r.segments) + " segments x " +
