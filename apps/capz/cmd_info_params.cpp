@@ -24,19 +24,10 @@ const char* type_name(int8_t type) {
   return type == -1 ? "char" : type == 1 ? "byte" : type == 2 ? "int16" : "float";
 }
 
-std::string trimmed_chars(const std::vector<uint8_t>& data, size_t at, size_t n) {
-  while (n > 0 && (data[at + n - 1] == ' ' || data[at + n - 1] == 0)) --n;
-  return std::string(reinterpret_cast<const char*>(data.data()) + at, n);
-}
-
-// A char parameter's strings: one for at most one dimension, else dims[0] characters each.
+// A char parameter's strings (trailing blanks and NULs removed): one for at most one dimension,
+// else dims[0] characters each.
 std::vector<std::string> char_values(const capz::C3DParameter& p) {
-  if (p.dims.size() <= 1) return {trimmed_chars(p.data, 0, p.data.size())};
-  const size_t w = static_cast<size_t>(std::max(0, p.dims[0]));
-  std::vector<std::string> v;
-  if (w > 0)
-    for (size_t i = 0; i + w <= p.data.size(); i += w) v.push_back(trimmed_chars(p.data, i, w));
-  return v;
+  return p.dims.size() <= 1 ? std::vector<std::string>{p.as_string()} : p.as_strings();
 }
 
 // The double nearest the shortest decimal that reads back as float32 f: 0.86f gives 0.86, not

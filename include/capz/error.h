@@ -20,11 +20,16 @@ enum class ErrorCode {
 
 const char* error_code_name(ErrorCode code);
 
+// The message as what() can carry it: a NUL (from a file's bytes: a PCD TYPE, a label), which
+// would end the C string there, written as \0.
+std::string error_message(const std::string& message);
+
 // Message convention: "<file>: <what is wrong>", e.g.
 //   "walk.c3d: parameter section ends at byte 4096 but POINT:USED needs 5120".
 class Error : public std::runtime_error {
  public:
-  Error(ErrorCode code, const std::string& message) : std::runtime_error(message), code_(code) {}
+  Error(ErrorCode code, const std::string& message)
+      : std::runtime_error(error_message(message)), code_(code) {}
   ErrorCode code() const { return code_; }
 
  private:

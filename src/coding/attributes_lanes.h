@@ -14,6 +14,7 @@
 #include "coding/analog/analog_entropy.h"
 #include "coding/attributes.h"
 #include "coding/neighbours.h"
+#include "coding/quantiser.h"
 
 namespace capz {
 namespace attr {
@@ -203,15 +204,7 @@ struct UnitRef {
 };
 
 inline float load_f32(const std::vector<uint8_t>& bytes, size_t i, size_t count, size_t k) {
-  const uint32_t u = static_cast<uint32_t>(load_le(bytes.data() + (i * count + k) * 4, 4));
-  float v;
-  std::memcpy(&v, &u, 4);
-  return v;
-}
-inline uint32_t f32_bits(float v) {
-  uint32_t u;
-  std::memcpy(&u, &v, 4);
-  return u;
+  return bits_float(static_cast<uint32_t>(load_le(bytes.data() + (i * count + k) * 4, 4)));
 }
 
 // Predictor 9's prediction of one value from x and y: completable (both finite): the ordered
@@ -219,11 +212,11 @@ inline uint32_t f32_bits(float v) {
 // x when x is not finite, else of y. The squares of float32 values are exact in binary64, so a
 // fused multiply-add gives the same t.
 inline uint64_t unit_prediction(float x, float y, bool completable, uint32_t sign) {
-  if (!completable) return to_ordered(f32_bits(std::isfinite(x) ? y : x), 'F', 32);
+  if (!completable) return to_ordered(float_bits(std::isfinite(x) ? y : x), 'F', 32);
   const double dx = x, dy = y;
   const double t = (1.0 - dx * dx) - dy * dy;
   const float m = static_cast<float>(std::sqrt(t > 0 ? t : 0.0));
-  return to_ordered(f32_bits(m) | (sign << 31), 'F', 32);
+  return to_ordered(float_bits(m) | (sign << 31), 'F', 32);
 }
 
 // Walks a predictor-9 lane in coding order: step(&value, x, y, completable) per value, x and y

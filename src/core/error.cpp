@@ -25,12 +25,15 @@ const char* error_code_name(ErrorCode code) {
   return "unknown";
 }
 
-void fail(ErrorCode code, const std::string& file, const std::string& what) {
-  std::string m = file.empty() ? what : file + ": " + what;
-  // A NUL from a file's bytes (a PCD TYPE, a label) would end what() there: written as \0.
+std::string error_message(const std::string& message) {
+  std::string m = message;
   for (size_t i = m.find('\0'); i != std::string::npos; i = m.find('\0', i + 2))
     m.replace(i, 1, "\\0");
-  throw Error(code, m);
+  return m;
+}
+
+void fail(ErrorCode code, const std::string& file, const std::string& what) {
+  throw Error(code, file.empty() ? what : file + ": " + what);
 }
 
 }  // namespace capz

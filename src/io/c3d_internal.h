@@ -129,6 +129,11 @@ std::vector<uint8_t> encode_parameter_section(const std::vector<C3DGroup>& group
 // (e.g. LABELS, LABELS2). Empty when the base parameter is absent or not a char array.
 std::vector<std::string> string_list(const C3DExtra& extra, const std::string& group,
                                      const std::string& base);
+// The same for a numeric parameter (e.g. ANALOG:SCALE, SCALE2: a parameter holds at most 255
+// entries, so files with more analog channels continue it), as floats; it stops at the first
+// continuation absent or not numeric. Empty when the base parameter is absent or a char array.
+std::vector<float> float_list(const C3DExtra& extra, const std::string& group,
+                              const std::string& base);
 // POINT:UNITS as one unit name: the first of its entries (a 2-D char array's strings, or a 1-D
 // one's blank-separated words; trimmed; empty ones skipped) when every entry names the same unit
 // (the same units_to_metres factor, or the same letters ignoring case for names capz does not

@@ -401,17 +401,43 @@ static std::string trimmed(const std::string& s) {
   return s.substr(b, e - b);
 }
 
+namespace {
+
+// base, base2, base3, ... of a group while `take` accepts the parameter (and appends its values).
+template <typename Take>
+void continued(const C3DExtra& extra, const std::string& group, const std::string& base,
+               Take&& take) {
+  const C3DGroup* g = extra.group(group);
+  if (!g) return;
+  for (int k = 1;; ++k) {
+    const C3DParameter* p = g->find(k == 1 ? base : base + std::to_string(k));
+    if (!p || !take(*p)) break;
+  }
+}
+
+}  // namespace
+
 std::vector<std::string> string_list(const C3DExtra& extra, const std::string& group,
                                      const std::string& base) {
   std::vector<std::string> out;
-  const C3DGroup* g = extra.group(group);
-  if (!g) return out;
-  for (int k = 1;; ++k) {
-    const C3DParameter* p = g->find(k == 1 ? base : base + std::to_string(k));
-    if (!p || p->type != -1) break;
-    auto v = p->as_strings();
+  continued(extra, group, base, [&](const C3DParameter& p) {
+    if (p.type != -1) return false;
+    const std::vector<std::string> v = p.as_strings();
     out.insert(out.end(), v.begin(), v.end());
-  }
+    return true;
+  });
+  return out;
+}
+
+std::vector<float> float_list(const C3DExtra& extra, const std::string& group,
+                              const std::string& base) {
+  std::vector<float> out;
+  continued(extra, group, base, [&](const C3DParameter& p) {
+    if (p.type == -1) return false;
+    const std::vector<float> v = p.as_floats();
+    out.insert(out.end(), v.begin(), v.end());
+    return true;
+  });
   return out;
 }
 

@@ -117,7 +117,31 @@ std::vector<double> viewpoint_of(const std::vector<std::string>& w, const std::s
   return v;
 }
 
-void complete_header(PcdHeader* hp, bool have_width, bool have_points, const std::string& name);
+// The checks and sums once every header line is read: FIELDS, SIZE, TYPE and COUNT of one
+// length (COUNT defaults to 1s), WIDTH present and sane, POINTS = WIDTH x HEIGHT (its default),
+// then the point step and the values per point.
+void complete_header(PcdHeader* hp, bool have_width, bool have_points, const std::string& name) {
+  PcdHeader& h = *hp;
+  if (h.fields.empty()) fail(ErrorCode::kCorrupt, name, "PCD header has no FIELDS");
+  if (h.counts.empty()) h.counts.assign(h.fields.size(), 1);
+  if (h.sizes.size() != h.fields.size() || h.types.size() != h.fields.size() ||
+      h.counts.size() != h.fields.size())
+    fail(ErrorCode::kCorrupt, name, "PCD header: FIELDS, SIZE, TYPE and COUNT disagree in length");
+  if (!have_width) fail(ErrorCode::kCorrupt, name, "PCD header has no WIDTH");
+  // Each below 2^40 and so their product (which then cannot wrap around 2^64 either).
+  if (h.width > (uint64_t{1} << 40) || h.height > (uint64_t{1} << 40) ||
+      (h.height != 0 && h.width > (uint64_t{1} << 40) / h.height))
+    fail(ErrorCode::kCorrupt, name, "PCD header: WIDTH x HEIGHT is absurd");
+  if (!have_points) h.points = h.width * h.height;
+  if (h.points != h.width * h.height)
+    fail(ErrorCode::kCorrupt, name,
+         "PCD header: POINTS " + std::to_string(h.points) + " is not WIDTH x HEIGHT " +
+             std::to_string(h.width * h.height));
+  for (size_t i = 0; i < h.fields.size(); ++i) {
+    h.point_step += static_cast<uint64_t>(h.sizes[i]) * h.counts[i];
+    h.values_per_point += h.counts[i];
+  }
+}
 
 }  // namespace
 
@@ -176,36 +200,6 @@ PcdHeader parse_header(const std::vector<uint8_t>& bytes, const std::string& nam
   check_body_size(bytes, h, name);
   return h;
 }
-
-namespace {
-
-// The checks and sums once every header line is read: FIELDS, SIZE, TYPE and COUNT of one
-// length (COUNT defaults to 1s), WIDTH present and sane, POINTS = WIDTH x HEIGHT (its default),
-// then the point step and the values per point.
-void complete_header(PcdHeader* hp, bool have_width, bool have_points, const std::string& name) {
-  PcdHeader& h = *hp;
-  if (h.fields.empty()) fail(ErrorCode::kCorrupt, name, "PCD header has no FIELDS");
-  if (h.counts.empty()) h.counts.assign(h.fields.size(), 1);
-  if (h.sizes.size() != h.fields.size() || h.types.size() != h.fields.size() ||
-      h.counts.size() != h.fields.size())
-    fail(ErrorCode::kCorrupt, name, "PCD header: FIELDS, SIZE, TYPE and COUNT disagree in length");
-  if (!have_width) fail(ErrorCode::kCorrupt, name, "PCD header has no WIDTH");
-  // Each below 2^40 and so their product (which then cannot wrap around 2^64 either).
-  if (h.width > (uint64_t{1} << 40) || h.height > (uint64_t{1} << 40) ||
-      (h.height != 0 && h.width > (uint64_t{1} << 40) / h.height))
-    fail(ErrorCode::kCorrupt, name, "PCD header: WIDTH x HEIGHT is absurd");
-  if (!have_points) h.points = h.width * h.height;
-  if (h.points != h.width * h.height)
-    fail(ErrorCode::kCorrupt, name,
-         "PCD header: POINTS " + std::to_string(h.points) + " is not WIDTH x HEIGHT " +
-             std::to_string(h.width * h.height));
-  for (size_t i = 0; i < h.fields.size(); ++i) {
-    h.point_step += static_cast<uint64_t>(h.sizes[i]) * h.counts[i];
-    h.values_per_point += h.counts[i];
-  }
-}
-
-}  // namespace
 
 // PCL's ASCII body reader turns a bad token or a short line into zeros without a word, so the
 // body is checked here first: after the header, every non-blank line holds exactly

@@ -13,30 +13,15 @@
 #include "capz/error.h"
 #include "capz/io.h"
 #include "fuzz_common.h"
-#include "fuzz_temp_file.h"
+#include "fuzz_rewrite.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const capz_fuzz::TempFile out("c3d_rewrite");
-  capz::Take t;
-  try {
-    t = capz::read_c3d_bytes(data, size, "fuzz.c3d");
-  } catch (const capz::Error&) {
+  capz::Take t, b;
+  if (!capz_fuzz::rewrite(
+          out, [&] { return capz::read_c3d_bytes(data, size, "fuzz.c3d"); }, capz::write_c3d,
+          capz::read_c3d, &t, &b))
     return 0;
-  }
-  try {
-    capz::WriteOptions o;
-    o.overwrite = true;
-    capz::write_c3d(t, out.path(), o);
-  } catch (const capz::Error&) {
-    return 0;  // a refusal is allowed (it names what it cannot write)
-  }
-  capz::Take b;
-  try {
-    b = capz::read_c3d(out.path());
-  } catch (const capz::Error& e) {
-    std::fprintf(stderr, "a C3D capz wrote does not read back: %s\n", e.what());
-    std::abort();
-  }
   CAPZ_FUZZ_CHECK(b.points == t.points);
   // Frames that hold nothing (no points, analog or rotations) are read as none: the reader does
   // not trust a count of frames of no bytes (c3d_read.cpp, frames_present).

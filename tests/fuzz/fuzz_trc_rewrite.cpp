@@ -11,7 +11,7 @@
 #include "capz/error.h"
 #include "capz/io.h"
 #include "fuzz_common.h"
-#include "fuzz_temp_file.h"
+#include "fuzz_rewrite.h"
 
 namespace {
 
@@ -25,26 +25,11 @@ double half_unit(int d, double x) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const capz_fuzz::TempFile out("trc_rewrite");
-  capz::Take t;
-  try {
-    t = capz::read_trc_bytes(data, size, "fuzz.trc");
-  } catch (const capz::Error&) {
+  capz::Take t, b;
+  if (!capz_fuzz::rewrite(
+          out, [&] { return capz::read_trc_bytes(data, size, "fuzz.trc"); }, capz::write_trc,
+          capz::read_trc, &t, &b))
     return 0;
-  }
-  try {
-    capz::WriteOptions o;
-    o.overwrite = true;
-    capz::write_trc(t, out.path(), o);
-  } catch (const capz::Error&) {
-    return 0;  // a refusal is allowed (it names what it cannot write)
-  }
-  capz::Take b;
-  try {
-    b = capz::read_trc(out.path());
-  } catch (const capz::Error& e) {
-    std::fprintf(stderr, "a TRC capz wrote does not read back: %s\n", e.what());
-    std::abort();
-  }
   CAPZ_FUZZ_CHECK(b.frames == t.frames && b.points == t.points);
   CAPZ_FUZZ_CHECK(b.valid == t.valid);
   CAPZ_FUZZ_CHECK(b.labels.size() == t.labels.size());

@@ -8,38 +8,9 @@
 #include "capz/error.h"
 #include "capz/take.h"
 #include "coding/analog/analog_codec.h"
+#include "io/c3d_internal.h"
 
 namespace capz {
-
-namespace {
-
-// An ANALOG parameter followed by its numbered continuations (SCALE, SCALE2, SCALE3, ...: a
-// parameter holds at most 255 entries, so files with more channels continue it, as ezc3d and
-// the C3D writers of Vicon do), as floats; it stops at the first one absent or not numeric.
-std::vector<float> continued_floats(const C3DExtra& c, const std::string& base) {
-  std::vector<float> v;
-  for (int k = 1;; ++k) {
-    const C3DParameter* p = c.param("ANALOG", k == 1 ? base : base + std::to_string(k));
-    if (!p || p->type == -1) break;
-    const std::vector<float> f = p->as_floats();
-    v.insert(v.end(), f.begin(), f.end());
-  }
-  return v;
-}
-// The same for a char parameter (UNITS, UNITS2, ...): a 2-D array's strings, a 1-D one as one.
-std::vector<std::string> continued_strings(const C3DExtra& c, const std::string& base) {
-  std::vector<std::string> v;
-  for (int k = 1;; ++k) {
-    const C3DParameter* p = c.param("ANALOG", k == 1 ? base : base + std::to_string(k));
-    if (!p || p->type != -1) break;
-    const std::vector<std::string> s =
-        p->dims.size() >= 2 ? p->as_strings() : std::vector<std::string>{p->as_string()};
-    v.insert(v.end(), s.begin(), s.end());
-  }
-  return v;
-}
-
-}  // namespace
 
 AnalogHints analog_hints(const Take& t) {
   AnalogHints h;
@@ -48,8 +19,8 @@ AnalogHints analog_hints(const Take& t) {
   std::vector<float> s, o;
   float g = 1;
   try {
-    s = continued_floats(*t.c3d, "SCALE");
-    o = continued_floats(*t.c3d, "OFFSET");
+    s = c3d::float_list(*t.c3d, "ANALOG", "SCALE");
+    o = c3d::float_list(*t.c3d, "ANALOG", "OFFSET");
     if (gen && !gen->as_floats().empty()) g = gen->as_floats()[0];
   } catch (const Error&) {
   }
@@ -115,10 +86,10 @@ std::vector<AnalogPhysics> analog_physics(const Take& t) {
     const C3DParameter* gen = t.c3d->param("ANALOG", "GEN_SCALE");
     const C3DParameter* format = t.c3d->param("ANALOG", "FORMAT");
     try {
-      s = continued_floats(*t.c3d, "SCALE");
-      o = continued_floats(*t.c3d, "OFFSET");
+      s = c3d::float_list(*t.c3d, "ANALOG", "SCALE");
+      o = c3d::float_list(*t.c3d, "ANALOG", "OFFSET");
       if (gen && !gen->as_floats().empty()) g = gen->as_floats()[0];
-      units = continued_strings(*t.c3d, "UNITS");
+      units = c3d::string_list(*t.c3d, "ANALOG", "UNITS");
       if (format && format->type == -1) {
         std::string f = trimmed(format->as_string());
         for (char& ch : f) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));

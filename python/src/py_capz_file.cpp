@@ -1,0 +1,123 @@
+// capz._capz: capz.open's file, a .capz read for random access (py_common.h).
+#include <pybind11/stl.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "capz/codec.h"
+#include "capz/file.h"
+#include "capz/metrics.h"
+#include "capz/original.h"
+#include "py_common.h"
+
+namespace capz_py {
+
+namespace {
+
+// The same members as `capz info --json` on a .capz (apps/capz/cmd_info_capz.cpp).
+py::dict info_dict(const std::string& path, const std::vector<uint8_t>& bytes) {
+  const capz::StreamInfo si = capz::describe(bytes.data(), bytes.size(), path);
+  py::dict d;
+  d["file"] = path;
+  d["format"] = "capz";
+  d["version"] = std::to_string(si.major) + "." + std::to_string(si.minor);
+  d["bytes"] = bytes.size();
+  d["source_format"] = capz::format_name(si.source_format);
+  d["source_name"] = text(si.source_name);
+  d["frames"] = si.frames;
+  d["points"] = si.points;
+  d["rate"] = si.rate;
+  d["units"] = text(si.units);
+  d["mode"] = si.mode;
+  d["codec"] = si.codec;
+  d["lossless"] = si.lossless;
+  d["grid_step"] = si.step;
+  d["max_error"] = si.max_error;
+  if (si.transform_output) d["kg_target"] = si.kg_target;
+  d["window_frames"] = si.window_frames;
+  d["windows"] = si.windows;
+  d["analog_channels"] = si.analog_channels;
+  d["analog_samples_per_frame"] = si.analog_samples_per_frame;
+  py::list bounds;  // the lossy analog channels (FORMAT.md 5.2), as `capz info --json`
+  for (size_t c = 0; c < si.analog_bounds.size(); ++c)
+    if (si.analog_bounds[c] > 0) {
+      py::dict b;
+      b["channel"] = c;
+      b["label"] = text(c < si.analog_labels.size() ? si.analog_labels[c] : std::string());
+      b["unit"] = text(c < si.analog_units.size() ? si.analog_units[c] : std::string());
+      b["bound"] = si.analog_bounds[c];
+      bounds.append(b);
+    }
+  d["analog_bounds"] = bounds;
+  py::dict rot;
+  rot["segments"] = si.rotation_segments;
+  rot["samples"] = si.rotation_segments > 0
+                       ? si.frames * static_cast<size_t>(si.rotation_samples_per_frame)
+                       : size_t{0};
+  rot["rate"] = si.rotation_rate;
+  rot["samples_per_frame"] = si.rotation_samples_per_frame;
+  rot["labels"] = texts(si.rotation_labels);
+  d["rotations"] = rot;
+  const capz::OriginalInfo orig = capz::original_info(path);  // HASH: the original file
+  if (orig.hashed) {
+    py::dict o;
+    o["bytes"] = orig.size;
+    o["xxh3_128"] = orig.hash_hex;
+    o["byte_exact"] = orig.exact;
+    d["original"] = o;
+  } else {
+    d["original"] = py::none();
+  }
+  d["bpvf"] = capz::bpvf(bytes.size(), si.frames, si.points);
+  py::dict chunks;
+  for (const auto& kv : si.chunk_bytes) chunks[py::str(kv.first)] = kv.second;
+  d["chunk_bytes"] = chunks;
+  return d;
+}
+
+// A .capz opened for random access: the file's bytes in memory, frames decoded on demand.
+class CapzFile {
+ public:
+  CapzFile(const std::string& path, uint64_t memory_limit) : path_(path) {
+    opts_.memory_limit = memory_limit;
+    py::gil_scoped_release nogil;
+    bytes_ = capz::read_file(path);
+    info_ = capz::describe(bytes_.data(), bytes_.size(), path);
+  }
+  TakePtr read_frames(size_t first, std::optional<size_t> count) const {
+    const size_t n = count ? *count : info_.frames;
+    capz::Take t;
+    {
+      py::gil_scoped_release nogil;
+      t = capz::decompress_frames(bytes_.data(), bytes_.size(), first, n, path_, opts_);
+    }
+    return adopt(std::move(t));
+  }
+  py::dict info() const { return info_dict(path_, bytes_); }
+  size_t frames() const { return info_.frames; }
+  size_t points() const { return info_.points; }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  std::vector<uint8_t> bytes_;
+  capz::StreamInfo info_;
+  capz::DecompressOptions opts_;
+};
+
+}  // namespace
+
+// capz.open's file: random access to a .capz.
+void bind_capz_file(py::module_& m) {
+  py::class_<CapzFile>(m, "CapzFile")
+      .def(py::init<const std::string&, uint64_t>())
+      .def("read_frames", &CapzFile::read_frames)
+      .def_property_readonly("info", &CapzFile::info)
+      .def_property_readonly("frames", &CapzFile::frames)
+      .def_property_readonly("points", &CapzFile::points)
+      .def_property_readonly("path", &CapzFile::path);
+}
+
+}  // namespace capz_py

@@ -1,0 +1,85 @@
+// What the files of capz._capz share (capz_py.cpp has the module, py_c3d.cpp a take's C3D and TRC
+// metadata, py_capz_file.cpp random access to a .capz): the Take's holder and class, argument
+// errors, numpy views of a Take's storage, and text from files as Python str.
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <cstddef>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "capz/error.h"
+#include "capz/take.h"
+
+namespace capz_py {
+
+namespace py = pybind11;
+
+using TakePtr = std::shared_ptr<capz::Take>;
+
+[[noreturn]] inline void invalid(const std::string& what) {
+  capz::fail(capz::ErrorCode::kInvalidParameter, "", what);
+}
+
+// A Take for Python: its arrays checked against its counts (the views rely on them), validity
+// as 0 or 1 (numpy's bool), gaps set to NaN (their values are unspecified by contract).
+inline TakePtr adopt(capz::Take&& t) {
+  auto p = std::make_shared<capz::Take>(std::move(t));
+  const size_t n = p->frames * p->points;
+  if (p->xyz.size() != n * 3 || p->valid.size() != n)
+    capz::fail(capz::ErrorCode::kInternal, p->source,
+               "take arrays do not match its frame and point counts");
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (size_t i = 0; i < n; ++i) {
+    p->valid[i] = p->valid[i] ? 1 : 0;
+    if (!p->valid[i]) p->xyz[3 * i] = p->xyz[3 * i + 1] = p->xyz[3 * i + 2] = nan;
+  }
+  return p;
+}
+
+// A numpy array over `data` (C order unless `strides` are given) that keeps `owner` alive.
+inline py::array view(py::handle owner, const py::dtype& dt, const std::vector<py::ssize_t>& shape,
+                      const void* data, std::vector<py::ssize_t> strides = {}) {
+  if (strides.empty()) {
+    strides.assign(shape.size(), dt.itemsize());
+    for (size_t i = shape.size(); i-- > 1;) strides[i - 1] = strides[i] * shape[i];
+  }
+  return py::array(dt, shape, strides, data, owner);
+}
+
+inline py::ssize_t ss(size_t v) {
+  return static_cast<py::ssize_t>(v);
+}
+
+// Text from a C3D file as a Python str: UTF-8 when it is valid UTF-8, else Latin-1 (older
+// files), so that no label or parameter fails to read.
+inline py::str text(const std::string& s) {
+  PyObject* o = PyUnicode_DecodeUTF8(s.data(), ss(s.size()), nullptr);
+  if (!o) {
+    PyErr_Clear();
+    o = PyUnicode_DecodeLatin1(s.data(), ss(s.size()), nullptr);
+  }
+  if (!o) throw py::error_already_set();
+  return py::reinterpret_steal<py::str>(o);
+}
+
+inline py::list texts(const std::vector<std::string>& v) {
+  py::list out;
+  for (const std::string& x : v) out.append(text(x));
+  return out;
+}
+
+using TakeClass = py::class_<capz::Take, TakePtr>;
+
+// Take: the C3D parameter section, sample words and header events (py_c3d.cpp).
+void bind_take_c3d(TakeClass* cls);
+// Take: a TRC file's Time and Frame# columns and its header's rates (py_c3d.cpp).
+void bind_take_trc(TakeClass* cls);
+// capz.open's file: random access to a .capz (py_capz_file.cpp).
+void bind_capz_file(py::module_& m);
+
+}  // namespace capz_py
