@@ -40,6 +40,12 @@ Format format_for_output(const std::string& path);
 Take read_c3d(const std::string& path);
 Take read_c3d_bytes(const uint8_t* data, size_t size, const std::string& name);
 void write_c3d(const Take& take, const std::string& path, const WriteOptions& opts = {});
+// The parameter section write_c3d gives a take not read from C3D (POINT, ANALOG with unit
+// SCALE, zero OFFSET and GEN_SCALE 1, TRIAL; ROTATION when it has rotations), as a C3DExtra to
+// set as take.c3d before adding groups of one's own: float storage, point_scale 0 (the writer
+// takes the scale from the data, as without a section), no sample words. `name` is for messages
+// (kUsage when the take does not fit C3D's counts). take.c3d itself is not read.
+std::shared_ptr<C3DExtra> new_c3d_parameters(const Take& take, const std::string& name);
 
 Take read_trc(const std::string& path);
 Take read_trc_bytes(const uint8_t* data, size_t size, const std::string& name);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "capz/error.h"
+#include "capz/io.h"
 #include "capz/take.h"
 #include "py_common.h"
 
@@ -149,15 +150,11 @@ bool same_name(const std::string& a, const std::string& b) {
          });
 }
 
-// Sets (or adds) parameter GROUP:NAME of a take read from C3D; a new group gets the next free
-// group number. A take without a parameter section is refused: its C3D is written from the
-// take alone, and a section of one parameter would change how (docs/PYTHON.md).
+// Sets (or adds) parameter GROUP:NAME; a new group gets the next free group number. A take
+// without a parameter section (from_arrays, TRC, PCD) first gets the one write_c3d would give it
+// (docs/PYTHON.md), so that the section holds what a C3D reader needs besides what is set.
 void set_parameter(capz::Take& t, const std::string& group, const std::string& name,
                    const py::handle& value, const std::optional<std::string>& description) {
-  if (!t.c3d)
-    invalid(
-        "set_parameter: the take has no C3D parameter section (a take read from a C3D or "
-        "its archive has one)");
   for (const std::string* n : {&group, &name})
     if (n->empty() || n->size() > 127 || n->find('\0') != std::string::npos ||
         n->find(' ') != std::string::npos)
@@ -166,6 +163,7 @@ void set_parameter(capz::Take& t, const std::string& group, const std::string& n
     invalid("set_parameter: a description holds at most 255 characters");
   capz::C3DParameter p;
   parameter_from_python(value, &p);
+  if (!t.c3d) t.c3d = capz::new_c3d_parameters(t, "set_parameter");
   capz::C3DGroup* g = nullptr;
   int top = 0;
   for (capz::C3DGroup& x : t.c3d->groups) {
@@ -246,7 +244,8 @@ void bind_take_c3d(TakeClass* cls) {
       .def("set_parameter", &set_parameter, py::arg("group"), py::arg("name"), py::arg("value"),
            py::arg("description") = py::none(),
            "sets C3D parameter GROUP:NAME (added when absent; names matched without regard to "
-           "case) of a take read from C3D: value a str, a list of str, an int (int16), a float "
+           "case); a take without a section (from_arrays, TRC, PCD) first gets the one write() "
+           "would give it alone. value a str, a list of str, an int (int16), a float "
            "(float32) or a numpy array (uint8 -> byte, integers -> int16, floats -> float32; "
            "its shape reversed as the C3D dimensions, each at most 255). write() and compress() "
            "keep it; write() rewrites the POINT, ANALOG, TRIAL and ROTATION fields that "
@@ -255,8 +254,9 @@ void bind_take_c3d(TakeClass* cls) {
           "parameters", [](const capz::Take& t) { return parameters_of(t); },
           "the C3D parameter section: dict group -> dict parameter -> value (str for a char "
           "array, list of str for a 2-D one, numpy uint8/int16/float32 array with the C3D "
-          "dimensions reversed, a number when it has no dimensions); {} when the take did not "
-          "come from C3D. A copy: changing it does not change the take")
+          "dimensions reversed, a number when it has no dimensions); {} when the take has no "
+          "section (not read from C3D, nothing set). A copy: changing it does not change the "
+          "take")
       .def(
           "parameter",
           [](const capz::Take& t, const std::string& group, const std::string& name) {

@@ -338,7 +338,42 @@ def test_set_parameter_refusals():
     assert take.parameter("G", "N") is None  # nothing half-set
     arrays = capz.Take.from_arrays(np.zeros((2, 1, 3)), rate=100.0)
     with pytest.raises(capz.Error):
-        arrays.set_parameter("SUBJECTS", "MASS", 70.0)
+        arrays.set_parameter("SUBJECTS", "MASS", True)
+    assert arrays.parameters == {}  # no section made for a refused value
+
+
+@pytest.mark.parametrize("source", ["arrays", "trc"])
+def test_set_parameter_on_a_take_without_a_section(tmp_path, source):
+    """The take gets the section writing it alone would give, and the parameter beside it."""
+    def make():
+        if source == "trc":
+            return capz.read(os.path.join(REPO, "data", "std_walking5_markers.trc"))
+        rng = np.random.default_rng(7)
+        xyz = rng.normal(size=(40, 3, 3)) * 100
+        xyz[5, 1] = np.nan
+        return capz.Take.from_arrays(xyz, rate=100.0, units="mm", labels=["A", "B", "C"],
+                                     analog=rng.normal(size=(160, 2)), analog_rate=400.0,
+                                     analog_labels=["Fz", "EMG"])
+    alone, take = make(), make()
+    take.set_parameter("SUBJECTS", "MASS", 70.5, "kg")
+    take.set_parameter("SUBJECTS", "NAMES", ["Ann"])
+    a, b = str(tmp_path / "alone.c3d"), str(tmp_path / "with.c3d")
+    capz.write(alone, a)
+    capz.write(take, b)
+    want, got = parameters_of_file(a), parameters_of_file(b)
+    assert sorted(got) == sorted(list(want) + ["SUBJECTS"])
+    for g in want:
+        assert got[g].keys() == want[g].keys(), g
+        for p in want[g]:
+            assert _same(got[g][p], want[g][p]), (g, p)
+    assert got["SUBJECTS"]["MASS"] == pytest.approx(70.5)
+    assert list(got["SUBJECTS"]["NAMES"]) == ["Ann"]
+    x, y = capz.read(a), capz.read(b)
+    assert np.array_equal(x.xyz, y.xyz, equal_nan=True) and np.array_equal(x.analog, y.analog)
+    for coding in ({"lossless": True}, {"max_error": "0.5mm"}):
+        back = capz.decompress(capz.compress(take, **coding))
+        assert back.parameter("SUBJECTS", "NAMES")["value"] == ["Ann"]
+        assert back.parameter("SUBJECTS", "MASS")["description"] == "kg"
 
 
 def test_set_parameter_does_not_override_what_describes_the_data(tmp_path):

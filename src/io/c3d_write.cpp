@@ -337,6 +337,21 @@ void set_point_params(const Take& take, const C3DExtra& x, bool float_storage, d
     set_string_list(point, "DESCRIPTIONS", padded(take.descriptions, N), "3-D point descriptions");
 }
 
+// The parameter groups for `take` (the source's `src`, updated where the take says otherwise; a
+// fresh POINT / ANALOG / TRIAL section when src is null), the DATA_STARTs still 0.
+std::vector<C3DGroup> parameter_groups(const Take& take, const C3DExtra* src, bool float_storage,
+                                       double scale) {
+  std::vector<C3DGroup> groups;
+  C3DExtra x;
+  if (src) groups = src->groups;
+  x.groups = groups;  // for lookups of what was read
+  set_point_params(take, x, float_storage, scale, groups);
+  set_analog_params(take, x, !src, groups);
+  set_trial_params(x, !src, take.first_frame, take.frames, groups);
+  set_rotation_params(take, x, groups);
+  return groups;
+}
+
 }  // namespace
 
 C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& opts,
@@ -357,16 +372,7 @@ C3DFilePlan plan_c3d_file(const Take& take, bool have_res, const WriteOptions& o
   if (!float_storage && !(scan.scale == scale && scan.fits)) float_storage = true;
 
   // ---- parameters ----
-  std::vector<C3DGroup> groups;
-  C3DExtra x;
-  if (src) groups = src->groups;
-  x.groups = groups;  // for lookups of what was read
-  const long first = take.first_frame;
-
-  set_point_params(take, x, float_storage, scale, groups);
-  set_analog_params(take, x, !src, groups);
-  set_trial_params(x, !src, first, F, groups);
-  set_rotation_params(take, x, groups);
+  std::vector<C3DGroup> groups = parameter_groups(take, src, float_storage, scale);
 
   // The DATA_STARTs' values do not change the section's size: encode, then fill them in. The
   // rotations start at the block after the frames.
@@ -508,6 +514,18 @@ std::vector<uint8_t> encode_c3d_file(const Take& take, const WriteOptions& opts,
 }
 
 }  // namespace c3d
+
+std::shared_ptr<C3DExtra> new_c3d_parameters(const Take& take, const std::string& name) {
+  c3d::check_c3d_limits(take, name);
+  c3d::C3DWriteScan scan;
+  scan.add(take.frames * take.points, take.xyz.data(), take.valid.data(), 0, nullptr);
+  auto x = std::make_shared<C3DExtra>();
+  x->float_storage = true;
+  x->point_scale = 0;  // not known: the writer takes it from the data, as for the take alone
+  x->header_events_label_range = true;
+  x->groups = c3d::parameter_groups(take, nullptr, true, c3d::c3d_scale_from_data(scan.max_abs));
+  return x;
+}
 
 void write_c3d(const Take& take, const std::string& path, const WriteOptions& opts) {
   check_output_free(path, opts.overwrite);

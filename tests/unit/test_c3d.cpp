@@ -680,6 +680,60 @@ TEST(C3DWrite, TakeFromElsewhereGetsAFreshParameterSection) {
   EXPECT_LT(back.c3d->param("POINT", "SCALE")->as_floats()[0], 0);
 }
 
+// new_c3d_parameters gives the section write_c3d writes for a take alone: setting it as the
+// take's section changes no byte, and a group added to it is written beside it.
+TEST(C3DWrite, NewParameterSectionIsWhatTheWriterGivesATakeAlone) {
+  for (int with_analog = 0; with_analog < 2; ++with_analog) {
+    Take t;
+    t.resize(7, 3);
+    t.rate = 120;
+    t.units = "mm";
+    t.first_frame = 4;
+    t.labels = {"A", "B", "C"};
+    for (size_t i = 0; i < t.valid.size(); ++i) {
+      t.valid[i] = i % 5 != 2;
+      for (int a = 0; a < 3; ++a)
+        t.xyz[3 * i + a] = t.valid[i] ? 1000.5 - 37.25 * static_cast<double>(i + a) : 0;
+    }
+    if (with_analog) {
+      t.analog.channels = 2;
+      t.analog.samples_per_frame = 4;
+      t.analog.rate = 480;
+      t.analog.labels = {"Fz", "EMG"};
+      t.analog.values.resize(7 * 4 * 2);
+      for (size_t i = 0; i < t.analog.values.size(); ++i)
+        t.analog.values[i] = 0.5 * static_cast<double>(i) - 3;
+    }
+    const auto alone = c3d::encode_c3d_file(t, {}, "alone.c3d");
+    Take s = t;
+    s.c3d = new_c3d_parameters(t, "s.c3d");
+    EXPECT_TRUE(s.c3d->float_storage);
+    EXPECT_EQ(s.c3d->point_scale, 0);
+    EXPECT_EQ(c3d::encode_c3d_file(s, {}, "s.c3d"), alone) << with_analog;
+
+    C3DGroup g;
+    g.id = 9;
+    g.name = "SUBJECTS";
+    C3DParameter w;
+    w.name = "WEIGHT";
+    w.description = "kg";
+    w.type = 4;
+    w.data = {0, 0, 0x8c, 0x42};  // 70.0f
+    g.params.push_back(w);
+    s.c3d->groups.push_back(g);
+    const auto with = c3d::encode_c3d_file(s, {}, "s.c3d");
+    Take back = read_c3d_bytes(with.data(), with.size(), "s.c3d");
+    ASSERT_NE(back.c3d->param("SUBJECTS", "WEIGHT"), nullptr);
+    EXPECT_EQ(back.c3d->param("SUBJECTS", "WEIGHT")->as_floats(), std::vector<float>{70.0f});
+    EXPECT_EQ(back.xyz, read_c3d_bytes(alone.data(), alone.size(), "a").xyz);
+    EXPECT_EQ(back.analog.values, t.analog.values);
+    EXPECT_EQ(back.first_frame, 4);
+  }
+  Take big;
+  big.resize(1, 70000);
+  EXPECT_THROW(new_c3d_parameters(big, "big"), Error);
+}
+
 TEST(C3DWrite, WritesAtomicallyAndRefusesToOverwrite) {
   capz_test::TempDir tmp("capz_c3d_unit");
   const std::string dir = tmp.path().string();
