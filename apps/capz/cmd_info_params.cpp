@@ -1,5 +1,5 @@
 // capz info FILE --parameters: the C3D parameter section and header events of a .c3d, or of the
-// C3D a .capz archive holds (read from its META, no window decoded).
+// C3D a .capz archive holds (read from its META, no window decoded); a TRC's header lines.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -170,15 +170,68 @@ void print_json(const std::string& path, const capz::C3DExtra& c) {
   std::printf("%s\n", j.str().c_str());
 }
 
+// A TRC's header lines as the take holds them: the PathFileType line's fields after its key, then
+// the eight fields of lines 2 and 3; a field the file did not give (a rate of 0) is "".
+std::vector<std::pair<std::string, std::string>> trc_header(const capz::Take& t) {
+  const capz::TRCExtra& x = *t.trc;
+  auto given = [](double v) { return v > 0 ? number(v) : std::string(); };
+  std::string type = x.path_file_type_line;
+  const size_t tab = type.find('\t');
+  type = tab == std::string::npos ? std::string() : type.substr(tab + 1);
+  type.erase(type.find_last_not_of(" \t\r") + 1);  // writers pad the line with tabs
+  std::replace(type.begin(), type.end(), '\t', ' ');
+  return {{"PathFileType", type},
+          {"DataRate", given(t.rate)},
+          {"CameraRate", given(x.camera_rate)},
+          {"NumFrames", std::to_string(t.frames)},
+          {"NumMarkers", std::to_string(t.points)},
+          {"Units", t.units},
+          {"OrigDataRate", given(x.orig_data_rate)},
+          {"OrigDataStartFrame", std::to_string(x.orig_data_start_frame)},
+          {"OrigNumFrames", x.orig_num_frames > 0 ? std::to_string(x.orig_num_frames) : ""}};
+}
+
+void print_trc(const std::string& path, const capz::Take& t, bool json) {
+  const auto fields = trc_header(t);
+  if (!json) {
+    std::printf("TRC header\n");
+    for (const auto& f : fields)
+      std::printf("  %-19s %s\n", f.first.c_str(),
+                  f.second.empty() ? "(not given)" : printable(f.second).c_str());
+    return;
+  }
+  Json j;
+  j.begin_object();
+  j.member("file", path);
+  j.key("trc_header");
+  j.begin_object();
+  for (const auto& f : fields) {  // numbers as numbers, a field not given as null
+    j.key(f.first);
+    if (f.first == "PathFileType" || f.first == "Units")
+      j.value(f.second);
+    else if (f.second.empty())
+      j.null();
+    else
+      j.value(std::strtod(f.second.c_str(), nullptr));
+  }
+  j.end_object();
+  j.end_object();
+  std::printf("%s\n", j.str().c_str());
+}
+
 }  // namespace
 
 int info_parameters(const std::string& path, bool json, bool archive) {
   std::unique_ptr<capz::FrameSource> src =
       archive ? capz::open_capz_frames(path) : capz::open_frames(path);
   const capz::Take& t = src->header();
+  if (!t.c3d && t.trc) {
+    print_trc(path, t, json);
+    return 0;
+  }
   if (!t.c3d)
     capz::fail(capz::ErrorCode::kInvalidParameter, path,
-               "--parameters: not a C3D take (the parameter section is C3D's)");
+               "--parameters: a PCD take has no parameter section (C3D's) or header (TRC's)");
   if (json)
     print_json(path, *t.c3d);
   else

@@ -296,10 +296,43 @@ def test_cli_parameters_text_and_refusal():
     assert "(24 more; -v lists all)" in out
     assert "(24 more" not in cli("info", "--parameters", "-v",
                                  os.path.join(REPO, "data", "EB015PI.c3d"))
-    r = subprocess.run([CLI, "info", "--parameters",
-                        os.path.join(REPO, "data", "std_walking5_markers.trc")],
+    r = subprocess.run([CLI, "info", "--parameters", os.path.join(REPO, "data", "depth_small")],
                        capture_output=True, text=True)
-    assert r.returncode == 6 and "not a C3D take" in r.stderr
+    assert r.returncode == 6 and "a PCD take has no parameter section" in r.stderr
+
+
+def _trc_header_of_file(path):
+    """Lines 1-3 of a TRC file, read here: the PathFileType line's fields, then the keys of line 2
+    with the values of line 3 (numbers as float, Units as written)."""
+    with open(path, encoding="latin-1") as f:
+        lines = [next(f).rstrip("\r\n") for _ in range(3)]
+    head = {"PathFileType": " ".join(lines[0].rstrip(" \t").split("\t")[1:])}
+    for k, v in zip(lines[1].split("\t"), lines[2].split("\t")):
+        if k.strip():  # writers pad the lines with tabs
+            head[k.strip()] = v.strip() if k.strip() == "Units" else float(v)
+    return head
+
+
+def test_cli_trc_header(tmp_path):
+    """`capz info --parameters` on a TRC (and its archive) gives the file's header lines."""
+    import json
+    from conftest import cli
+    files = [os.path.join(REPO, "data", "std_walking5_markers.trc")]
+    if os.path.isdir(os.path.join(SHARED, "trc")):
+        for root, _, names in os.walk(os.path.join(SHARED, "trc")):
+            files += [os.path.join(root, n) for n in sorted(names) if n.lower().endswith(".trc")]
+    for path in files:
+        want = _trc_header_of_file(path)
+        take = capz.read(path)  # the counts are what was read (a header may say otherwise)
+        want["NumFrames"], want["NumMarkers"] = take.frames, take.points
+        archive = str(tmp_path / "x.capz")
+        capz.compress_file(path, archive, max_error="1mm", overwrite=True)
+        for target in (path, archive):
+            got = json.loads(cli("info", "--parameters", "--json", target))["trc_header"]
+            assert got == want, (path, target)
+        text = cli("info", "--parameters", path)
+        assert text.startswith("TRC header\n  PathFileType ")
+        assert "  NumFrames           %d\n" % want["NumFrames"] in text
 
 
 def test_set_parameter_is_written_and_compressed(tmp_path):
