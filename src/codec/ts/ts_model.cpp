@@ -285,6 +285,48 @@ RigidParams rigid_at(const Eigen::MatrixXd& decoded, size_t f) {
   return rp;
 }
 
+// One unit's header (PC count, LPC header of its first fragment, LCPS weight bits, basis bits
+// and scales): what read_unit_header reads.
+static void write_unit_header(const TsCluster& c, bool f32_scales, ByteWriter* out) {
+  out->varint(c.basis.size());
+  write_lpc_header(c.first, out);
+  out->u8(static_cast<uint8_t>(c.lcps_weight_bits));
+  for (const QuantisedVector& q : c.basis) {
+    out->u8(static_cast<uint8_t>(q.bits));
+    if (f32_scales) {
+      if (static_cast<double>(static_cast<float>(q.scale)) != q.scale)
+        fail(ErrorCode::kInternal, kWhat, "basis scale is not a float32 value");
+      out->f32(static_cast<float>(q.scale));
+    } else {
+      out->f64(q.scale);
+    }
+  }
+}
+
+// One unit's body values (np points, a first fragment of first_len frames): what read_unit_body
+// reads.
+static void write_unit_body(const TsCluster& tc, bool basis_predict, size_t np, size_t first_len,
+                            Out* e) {
+  std::vector<uint32_t> parents;
+  for (size_t j = 0; j < tc.basis.size(); ++j) {
+    const QuantisedVector& q = tc.basis[j];
+    for (size_t i = 0; i < np; ++i)
+      for (int a = 0; a < 3; ++a)
+        e->put(q.q[3 * i + static_cast<size_t>(a)] -
+                   (basis_predict ? basis_prediction(q.q.data(), parents, i, a) : 0),
+               kBasis);
+    if (j == 0 && basis_predict) parents = spatial_parents(q.q, np);
+  }
+  write_lpc_body(tc.first, kLpcValue, e);
+  const int ib = index_bits(first_len);
+  for (const LcpsFrame& f : tc.later) {
+    e->put_unsigned(static_cast<uint32_t>(f.index.size()), kLcpsCount);
+    for (uint32_t i : f.index) e->raw(i, ib);
+    for (int32_t w : f.weight) e->put(w, kLcpsWeight);
+    for (int64_t v : f.resid) e->put(v, kLcpsResid);
+  }
+}
+
 void write_model(const TsModel& m, ByteWriter* out) {
   const bool segmented = m.segments > 1;
   out->u8(segmented ? kVersionSegments : kVersionOneSegment);
@@ -311,21 +353,7 @@ void write_model(const TsModel& m, ByteWriter* out) {
       for (double c : sm.center) out->f64(c);
       write_lpc_header(sm.code, out);
     }
-  for (const TsCluster& c : m.cluster) {
-    out->varint(c.basis.size());
-    write_lpc_header(c.first, out);
-    out->u8(static_cast<uint8_t>(c.lcps_weight_bits));
-    for (const QuantisedVector& q : c.basis) {
-      out->u8(static_cast<uint8_t>(q.bits));
-      if (m.f32_scales) {
-        if (static_cast<double>(static_cast<float>(q.scale)) != q.scale)
-          fail(ErrorCode::kInternal, kWhat, "basis scale is not a float32 value");
-        out->f32(static_cast<float>(q.scale));
-      } else {
-        out->f64(q.scale);
-      }
-    }
-  }
+  for (const TsCluster& c : m.cluster) write_unit_header(c, m.f32_scales, out);
   Out e;
   if (m.clusters > 1)
     for (uint8_t l : m.label) e.label(l);
@@ -352,26 +380,8 @@ void write_model(const TsModel& m, ByteWriter* out) {
   const auto layout = cluster_layout(m.label, m.clusters);
   const auto members = segment_points_of(m);
   for (size_t u = 0; u < m.cluster.size(); ++u) {
-    const TsCluster& tc = m.cluster[u];
     const size_t c = u % layout.size(), np = members[u / layout.size()].size();
-    std::vector<uint32_t> parents;
-    for (size_t j = 0; j < tc.basis.size(); ++j) {
-      const QuantisedVector& q = tc.basis[j];
-      for (size_t i = 0; i < np; ++i)
-        for (int a = 0; a < 3; ++a)
-          e.put(q.q[3 * i + static_cast<size_t>(a)] -
-                    (m.basis_predict ? basis_prediction(q.q.data(), parents, i, a) : 0),
-                kBasis);
-      if (j == 0 && m.basis_predict) parents = spatial_parents(q.q, np);
-    }
-    write_lpc_body(tc.first, kLpcValue, &e);
-    const int ib = index_bits(layout[c].first_len);
-    for (const LcpsFrame& f : tc.later) {
-      e.put_unsigned(static_cast<uint32_t>(f.index.size()), kLcpsCount);
-      for (uint32_t i : f.index) e.raw(i, ib);
-      for (int32_t w : f.weight) e.put(w, kLcpsWeight);
-      for (int64_t v : f.resid) e.put(v, kLcpsResid);
-    }
+    write_unit_body(m.cluster[u], m.basis_predict, np, layout[c].first_len, &e);
   }
   out->bytes(e.finish());
 }
