@@ -134,6 +134,15 @@ std::string number(double v) {
   return std::string(buf, std::to_chars(buf, buf + sizeof buf, v, fmt).ptr);
 }
 
+double shortest_float32(float f) {
+  char buf[32];
+  for (int digits = 6; digits <= 9; ++digits) {
+    std::snprintf(buf, sizeof buf, "%.*g", digits, static_cast<double>(f));
+    if (std::strtof(buf, nullptr) == f) break;
+  }
+  return std::strtod(buf, nullptr);
+}
+
 std::string percent(double share) {
   char buf[32];
   std::snprintf(buf, sizeof buf, share > 0 && share < 0.01 ? "%.2f%%" : "%.1f%%", share * 100);

@@ -44,6 +44,9 @@ std::string human_size(uint64_t bytes);
 uint64_t path_size(const std::string& path);
 // Shortest decimal text that reads back exactly (no exponent for magnitudes in [1e-12, 1e21)).
 std::string number(double v);
+// The double nearest the shortest decimal that reads back as float32 f: 0.86f gives 0.86, not
+// 0.8600000143051147, and parsing either as float32 gives f.
+double shortest_float32(float f);
 // "3.2%" style share with one decimal (two below 1%).
 std::string percent(double share);
 // Text from a file (labels, units) made safe for a terminal line: valid UTF-8 passes, any other

@@ -30,17 +30,6 @@ std::vector<std::string> char_values(const capz::C3DParameter& p) {
   return p.dims.size() <= 1 ? std::vector<std::string>{p.as_string()} : p.as_strings();
 }
 
-// The double nearest the shortest decimal that reads back as float32 f: 0.86f gives 0.86, not
-// 0.8600000143051147, and parsing either as float32 gives f.
-double shortest_float32(float f) {
-  char buf[32];
-  for (int digits = 6; digits <= 9; ++digits) {
-    std::snprintf(buf, sizeof buf, "%.*g", digits, static_cast<double>(f));
-    if (std::strtof(buf, nullptr) == f) break;
-  }
-  return std::strtod(buf, nullptr);
-}
-
 // A numeric parameter's elements in file order (byte unsigned, int16, float).
 std::vector<double> numbers(const capz::C3DParameter& p) {
   std::vector<double> v;

@@ -103,6 +103,20 @@ struct Analog {
   }
 };
 
+// One event of the C3D EVENT group, where C3D writers keep a take's events (foot strikes, foot
+// offs, ...): its label, context ("Left", "Right", "General"), description and subject, its time
+// in seconds (EVENT:TIMES' minutes x 60 + seconds), icon id and generic flag.
+struct C3DEvent {
+  std::string label, context, description, subject;
+  double time = 0;
+  int icon_id = 0, generic_flag = 0;
+};
+// The EVENT group's events in stored order: EVENT:USED of them (read unsigned; as many as TIMES
+// holds when USED is absent), never more than TIMES holds (minute, second) pairs for; a text or
+// number whose parameter is absent or shorter is "" or 0. Empty without an EVENT group. The
+// header's 18-slot event table is C3DExtra::header_events.
+std::vector<C3DEvent> c3d_events(const C3DExtra& c3d);
+
 // Per analog channel, what gives the stored values physical units (docs/FORMAT.md 5.2): the
 // factor |ANALOG:SCALE x GEN_SCALE| (1 when the take has no C3D parameters or they are
 // unreadable), the stored value of physical zero (ANALOG:OFFSET, 0 without), the unit

@@ -283,6 +283,28 @@ void bind_take_c3d(TakeClass* cls) {
           [](const capz::Take& t) {
             py::list out;
             if (t.c3d)
+              for (const capz::C3DEvent& e : capz::c3d_events(*t.c3d)) {
+                py::dict d;
+                d["label"] = text(e.label);
+                d["context"] = text(e.context);
+                d["time"] = e.time;
+                d["description"] = text(e.description);
+                d["subject"] = text(e.subject);
+                d["icon_id"] = e.icon_id;
+                d["generic_flag"] = e.generic_flag;
+                out.append(d);
+              }
+            return out;
+          },
+          "the C3D EVENT group's events (foot strikes, foot offs, ...) in stored order: list of "
+          "dict label, context (\"Left\", \"Right\", \"General\"), time (s: TIMES' minutes x "
+          "60 + seconds), description, subject, icon_id, generic_flag; [] without an EVENT group. "
+          "The header's event table is header_events")
+      .def_property_readonly(
+          "header_events",
+          [](const capz::Take& t) {
+            py::list out;
+            if (t.c3d)
               for (const capz::C3DHeaderEvent& e : t.c3d->header_events) {
                 py::dict d;
                 d["label"] = text(e.label);
@@ -292,8 +314,9 @@ void bind_take_c3d(TakeClass* cls) {
               }
             return out;
           },
-          "the C3D header's events: list of dict label, time (s), display. The EVENT group's "
-          "events are in parameters[\"EVENT\"]");
+          "the C3D header's event table (at most 18, labels of 4 characters, older writers): "
+          "list of dict label, time (s), display. Most files keep their events in the EVENT "
+          "group: events");
 }
 
 // Take: a TRC file's Time and Frame# columns and its header's rates.

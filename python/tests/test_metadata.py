@@ -105,6 +105,18 @@ def _c3d_files():
     return files
 
 
+def _shared_takes(repaired=False):
+    """(path, take) of each shared C3D file the reader reads; without repaired, not those whose
+    parameter section it had to repair (bad_parameter_section.c3d: not this oracle's)."""
+    for path in _c3d_files():
+        try:
+            take = capz.read(path)
+        except capz.Error:
+            continue  # a file the reader refuses (the corrupt samples)
+        if repaired or not any("parameter" in w for w in take.warnings):
+            yield path, take
+
+
 def _check_parameters(path):
     try:
         take = capz.read(path)
@@ -129,6 +141,75 @@ def test_parameters_of_the_bundled_samples():
 def test_parameters_of_every_shared_c3d():
     read = sum(_check_parameters(f) for f in _c3d_files())
     assert read >= 100
+
+
+def _events_of_file(path):
+    """The EVENT group's events of a C3D file, from the reader here (C3D's EVENT conventions:
+    TIMES (minutes, seconds) pairs in file order, USED of them)."""
+    ev = parameters_of_file(path).get("EVENT")
+    if ev is None:
+        return []
+    def strs(k):
+        v = ev.get(k)
+        return [] if v is None else [v] if isinstance(v, str) else list(v)
+    def ints(k):
+        v = ev.get(k)
+        return [] if v is None or isinstance(v, (str, list)) else \
+            [int(x) for x in np.asarray(v).reshape(-1)]
+    times = [] if "TIMES" not in ev else np.asarray(ev["TIMES"], np.float32).reshape(-1)
+    n = len(times) // 2
+    if "USED" in ev:
+        n = min(n, int(np.asarray(ev["USED"]).reshape(-1)[0]) & 0xFFFF)
+    out = []
+    for i in range(n):
+        def at(v, d):
+            return v[i] if i < len(v) else d
+        out.append({"label": at(strs("LABELS"), ""), "context": at(strs("CONTEXTS"), ""),
+                    "time": 60.0 * float(times[2 * i]) + float(times[2 * i + 1]),
+                    "description": at(strs("DESCRIPTIONS"), ""),
+                    "subject": at(strs("SUBJECTS"), ""),
+                    "icon_id": at(ints("ICON_IDS"), 0),
+                    "generic_flag": at(ints("GENERIC_FLAGS"), 0)})
+    return out
+
+
+def test_events_of_every_shared_c3d():
+    """Take.events against the EVENT group read here; capz info's JSON lists the same."""
+    import json
+    from conftest import cli
+    with_events = 0
+    for path, take in _shared_takes():
+        want = _events_of_file(path)
+        assert take.events == want, path
+        with_events += bool(want)
+        if want:
+            got = json.loads(cli("info", "--json", path))["events"]
+            assert [np.float32(e.pop("time")) for e in got] == \
+                [np.float32(e["time"]) for e in want], path
+            assert got == [{k: v for k, v in e.items() if k != "time"} for e in want], path
+    assert with_events >= 20
+
+
+def _header_events_of_file(path):
+    """The header's event table (words 150-198 of the first block) read here."""
+    with open(path, "rb") as f:
+        head = f.read(512)
+        f.seek((head[0] - 1) * 512 + 3)
+        proc = f.read(1)[0]
+    end = ">" if proc == 86 else "<"
+    (n,) = struct.unpack(end + "H", head[300:302])
+    return [{"label": _text(head[396 + 4 * i:400 + 4 * i]).strip(" \x00"),
+             "time": float(np.float32(_float(head[304 + 4 * i:308 + 4 * i], proc))),
+             "display": head[376 + i] == 1} for i in range(min(n, 18))]
+
+
+def test_header_events_of_every_shared_c3d():
+    with_events = 0
+    for path, take in _shared_takes(repaired=True):
+        want = _header_events_of_file(path)
+        assert take.header_events == want, path
+        with_events += bool(want)
+    assert with_events >= 20
 
 
 def test_parameter_lookup():
@@ -161,7 +242,7 @@ def test_residuals_and_camera_masks():
     assert (r[take.valid] >= 0).all()
     arrays = capz.Take.from_arrays(np.zeros((2, 1, 3)), rate=100.0)
     assert arrays.residuals is None and arrays.camera_masks is None
-    assert arrays.parameters == {} and arrays.events == []
+    assert arrays.parameters == {} and arrays.events == [] and arrays.header_events == []
 
 
 @pytest.mark.parametrize("coding", [{"lossless": True}, {"max_error": "1mm"}])
@@ -171,6 +252,7 @@ def test_metadata_survives_compression(coding):
     assert np.array_equal(back.residuals, take.residuals)
     assert np.array_equal(back.camera_masks, take.camera_masks)
     assert back.events == take.events
+    assert back.header_events == take.header_events
     want = take.parameters
     got = back.parameters
     assert sorted(got) == sorted(want)
@@ -275,13 +357,7 @@ def test_cli_parameters_match_the_file(tmp_path):
 
 def test_cli_parameters_of_every_shared_c3d():
     checked = 0
-    for f in _c3d_files():
-        try:
-            take = capz.read(f)
-        except capz.Error:
-            continue
-        if any("parameter" in w for w in take.warnings):
-            continue
+    for f, _ in _shared_takes():
         _check_cli_parameters(f)
         checked += 1
     assert checked >= 100

@@ -653,4 +653,38 @@ void decode_c3d_parameters(const uint8_t* data, size_t size, const std::string& 
   extra->groups = std::move(s.groups);
 }
 
+std::vector<C3DEvent> c3d_events(const C3DExtra& x) {
+  std::vector<C3DEvent> out;
+  if (!x.group("EVENT")) return out;
+  const std::vector<float> times = c3d::float_list(x, "EVENT", "TIMES");
+  size_t n = times.size() / 2;
+  const C3DParameter* used = x.param("EVENT", "USED");
+  if (used && used->type == 2 && used->data.size() >= 2)
+    n = std::min<size_t>(n, static_cast<uint16_t>(used->as_ints()[0]));
+  const auto labels = c3d::string_list(x, "EVENT", "LABELS");
+  const auto contexts = c3d::string_list(x, "EVENT", "CONTEXTS");
+  const auto descriptions = c3d::string_list(x, "EVENT", "DESCRIPTIONS");
+  const auto subjects = c3d::string_list(x, "EVENT", "SUBJECTS");
+  const auto icons = c3d::float_list(x, "EVENT", "ICON_IDS");
+  const auto flags = c3d::float_list(x, "EVENT", "GENERIC_FLAGS");
+  auto text = [](const std::vector<std::string>& v, size_t i) {
+    return i < v.size() ? v[i] : std::string();
+  };
+  auto integer = [](const std::vector<float>& v, size_t i) {
+    return i < v.size() && std::fabs(v[i]) < 1e9f ? static_cast<int>(v[i]) : 0;
+  };
+  out.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    C3DEvent& e = out[i];
+    e.label = text(labels, i);
+    e.context = text(contexts, i);
+    e.description = text(descriptions, i);
+    e.subject = text(subjects, i);
+    e.time = 60.0 * static_cast<double>(times[2 * i]) + static_cast<double>(times[2 * i + 1]);
+    e.icon_id = integer(icons, i);
+    e.generic_flag = integer(flags, i);
+  }
+  return out;
+}
+
 }  // namespace capz

@@ -813,3 +813,51 @@ TEST(C3DParams, EncoderRejectsWhatC3DCannotHold) {
   x.groups[0].name = std::string(200, 'A');
   EXPECT_THROW(encode_c3d_parameters(x), Error);
 }
+
+// ---- EVENT group ------------------------------------------------------------------------------
+
+namespace {
+C3DParameter float_array(const std::string& name, std::vector<int> dims, std::vector<float> v) {
+  C3DParameter p;
+  p.name = name;
+  p.type = 4;
+  p.dims = std::move(dims);
+  p.data.resize(4 * v.size());
+  for (size_t i = 0; i < v.size(); ++i) std::memcpy(&p.data[4 * i], &v[i], 4);
+  return p;
+}
+}  // namespace
+
+TEST(C3DEvents, FieldsFromTheEventGroupWhereGiven) {
+  C3DExtra x;
+  EXPECT_TRUE(c3d_events(x).empty());
+  C3DGroup& g = c3d::ensure_group(x.groups, "EVENT", "");
+  EXPECT_TRUE(c3d_events(x).empty());  // no TIMES: no event
+  c3d::set_int16(c3d::ensure_param(g, "USED", ""), 3);
+  g.params.push_back(float_array("TIMES", {2, 3}, {0, 1.5f, 2, 0.25f, 0, 7}));
+  c3d::set_strings(c3d::ensure_param(g, "LABELS", ""), {"Foot Strike", "Foot Off", "Event"});
+  c3d::set_strings(c3d::ensure_param(g, "CONTEXTS", ""), {"Left", "Right"});  // one short
+  c3d::set_int16_array(c3d::ensure_param(g, "ICON_IDS", ""), {1, 2, 0});
+  std::vector<C3DEvent> e = c3d_events(x);
+  ASSERT_EQ(e.size(), 3u);
+  EXPECT_EQ(e[0].label, "Foot Strike");
+  EXPECT_EQ(e[0].context, "Left");
+  EXPECT_DOUBLE_EQ(e[0].time, 1.5);
+  EXPECT_DOUBLE_EQ(e[1].time, 120.25);  // 2 minutes and 0.25 s
+  EXPECT_EQ(e[1].icon_id, 2);
+  EXPECT_EQ(e[2].context, "");
+  EXPECT_EQ(e[2].generic_flag, 0);  // GENERIC_FLAGS absent
+  EXPECT_EQ(e[2].description, "");
+  EXPECT_DOUBLE_EQ(e[2].time, 7);
+
+  c3d::set_int16(*c3d::find_param(g, "USED"), 2);  // USED counts
+  EXPECT_EQ(c3d_events(x).size(), 2u);
+  c3d::set_int16(*c3d::find_param(g, "USED"), 9);  // never more than TIMES holds
+  EXPECT_EQ(c3d_events(x).size(), 3u);
+  g.params.erase(g.params.begin());  // without USED, as many as TIMES holds
+  EXPECT_EQ(c3d_events(x).size(), 3u);
+  *c3d::find_param(g, "TIMES") = float_array("TIMES", {5}, {0, 1, 0, 2, 9});  // 1-D, odd
+  e = c3d_events(x);
+  ASSERT_EQ(e.size(), 2u);
+  EXPECT_DOUBLE_EQ(e[1].time, 2);
+}
