@@ -116,6 +116,12 @@ struct C3DEvent {
 // number whose parameter is absent or shorter is "" or 0. Empty without an EVENT group. The
 // header's 18-slot event table is C3DExtra::header_events.
 std::vector<C3DEvent> c3d_events(const C3DExtra& c3d);
+// Replaces the EVENT group's events (the group added when absent): USED, TIMES (minutes and the
+// seconds left, so long takes keep float32's precision), LABELS, CONTEXTS, DESCRIPTIONS,
+// SUBJECTS, ICON_IDS and GENERIC_FLAGS; the group's other parameters are kept. Throws
+// kInvalidParameter, changing nothing, for more than 255 events (a C3D dimension's limit), a
+// time that is negative or not finite, or an icon id or flag outside int16.
+void set_c3d_events(C3DExtra* c3d, const std::vector<C3DEvent>& events);
 
 // Per analog channel, what gives the stored values physical units (docs/FORMAT.md 5.2): the
 // factor |ANALOG:SCALE x GEN_SCALE| (1 when the take has no C3D parameters or they are

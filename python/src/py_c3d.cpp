@@ -191,6 +191,56 @@ void set_parameter(capz::Take& t, const std::string& group, const std::string& n
   g->params.push_back(std::move(p));
 }
 
+// Take.set_events: a list of dicts with the keys Take.events gives (time required, the others
+// "" or 0 when left out) as the EVENT group's events. Checked on a scratch section first, so a
+// refusal changes nothing, and a take without a section gets set_parameter's.
+void set_events(capz::Take& t, const py::list& events) {
+  std::vector<capz::C3DEvent> v;
+  for (size_t i = 0; i < events.size(); ++i) {
+    const std::string at = "set_events: event " + std::to_string(i);
+    if (!py::isinstance<py::dict>(events[i])) invalid(at + " is not a dict");
+    capz::C3DEvent e;
+    bool timed = false;
+    for (const auto& kv : py::cast<py::dict>(events[i])) {
+      const std::string key = py::str(kv.first);
+      const py::handle val = kv.second;
+      std::string* text = key == "label"         ? &e.label
+                          : key == "context"     ? &e.context
+                          : key == "description" ? &e.description
+                          : key == "subject"     ? &e.subject
+                                                 : nullptr;
+      int* number = key == "icon_id"        ? &e.icon_id
+                    : key == "generic_flag" ? &e.generic_flag
+                                            : nullptr;
+      if (text) {
+        if (!py::isinstance<py::str>(val)) invalid(at + ": " + key + " is not a str");
+        *text = val.cast<std::string>();
+      } else if (number) {
+        if (!py::isinstance<py::int_>(val) || py::isinstance<py::bool_>(val))
+          invalid(at + ": " + key + " is not an int");
+        const long long x = val.cast<long long>();
+        if (x < -32768 || x > 32767) invalid(at + ": " + key + " is not int16");
+        *number = static_cast<int>(x);
+      } else if (key == "time") {
+        if (!(py::isinstance<py::float_>(val) || py::isinstance<py::int_>(val)) ||
+            py::isinstance<py::bool_>(val))
+          invalid(at + ": time is not a number of seconds");
+        e.time = val.cast<double>();
+        timed = true;
+      } else {
+        invalid(at + ": unknown key '" + key +
+                "' (label, context, time, description, subject, icon_id, generic_flag)");
+      }
+    }
+    if (!timed) invalid(at + " has no time");
+    v.push_back(std::move(e));
+  }
+  capz::C3DExtra scratch;
+  capz::set_c3d_events(&scratch, v);  // throws for what the section cannot hold
+  if (!t.c3d) t.c3d = capz::new_c3d_parameters(t, "set_events");
+  capz::set_c3d_events(t.c3d.get(), v);
+}
+
 // A view (frames, points) of one of the C3D sample words (residual, camera_mask), or None when
 // the take has none.
 template <typename T>
@@ -300,6 +350,12 @@ void bind_take_c3d(TakeClass* cls) {
           "dict label, context (\"Left\", \"Right\", \"General\"), time (s: TIMES' minutes x "
           "60 + seconds), description, subject, icon_id, generic_flag; [] without an EVENT group. "
           "The header's event table is header_events")
+      .def("set_events", &set_events, py::arg("events"),
+           "replaces the C3D EVENT group's events with a list of dicts of the keys events gives "
+           "(time in seconds required; label, context, description, subject \"\" and "
+           "icon_id, generic_flag 0 when left out), at most 255; a take without a parameter "
+           "section first gets the one write() would give it alone. write() and compress() "
+           "keep them; a refusal changes nothing")
       .def_property_readonly(
           "header_events",
           [](const capz::Take& t) {

@@ -190,6 +190,52 @@ def test_events_of_every_shared_c3d():
     assert with_events >= 20
 
 
+def test_set_events(tmp_path):
+    """set_events writes the EVENT group a C3D reader reads back; the events a file gives, set
+    again, leave its EVENT group as it was; refusals change nothing."""
+    path = shared("c3d/btkdata/PiG/PiG_Motion-FlatFoot-Full.c3d")
+    take = capz.read(path)
+    before = take.parameters["EVENT"]
+    take.set_events(take.events)
+    after = take.parameters["EVENT"]
+    assert sorted(after) == sorted(before)
+    for k in before:
+        if k == "TIMES":  # this file's is 1-D (24); written as C3D's (2, 12)
+            assert before[k].shape == (24,) and after[k].shape == (12, 2)
+            assert after[k].tobytes() == before[k].tobytes()
+        else:
+            assert _same(after[k], before[k]), k
+
+    arrays = capz.Take.from_arrays(np.zeros((300, 1, 3)), rate=100.0, units="mm")
+    want = [{"label": "Foot Strike", "context": "Left", "time": 0.5},
+            {"label": "Foot Off", "context": "Right", "time": 150.25, "icon_id": 2,
+             "description": "toe off", "subject": "S1", "generic_flag": -1},
+            {"time": 2}]
+    arrays.set_events(want)
+    out = str(tmp_path / "ev.c3d")
+    capz.write(arrays, out)
+    full = [dict({"label": "", "context": "", "description": "", "subject": "", "icon_id": 0,
+                  "generic_flag": 0}, **e) for e in want]
+    for got in (_events_of_file(out), capz.read(out).events,
+                capz.decompress(capz.compress(arrays)).events):
+        assert [dict(e, time=float(e["time"])) for e in full] == got
+    minutes = parameters_of_file(out)["EVENT"]["TIMES"]
+    assert minutes.shape == (3, 2) and list(minutes[1]) == [2.0, 30.25]  # 150.25 s
+
+    events = arrays.events
+    for bad in ([{"time": -1.0}], [{"label": "x"}], [{"time": 1.0, "lable": "x"}],
+                [{"time": 1.0, "icon_id": 40000}], [{"time": "1"}], [{"time": 1.0}] * 256,
+                [{"time": 1.0, "label": 3}], ["x"]):
+        with pytest.raises(capz.Error) as e:
+            arrays.set_events(bad)
+        assert e.value.code == "invalid-parameter", bad
+        assert arrays.events == events
+    fresh = capz.Take.from_arrays(np.zeros((2, 1, 3)), rate=100.0)
+    with pytest.raises(capz.Error):
+        fresh.set_events([{"time": float("nan")}])
+    assert fresh.parameters == {}
+
+
 def _header_events_of_file(path):
     """The header's event table (words 150-198 of the first block) read here."""
     with open(path, "rb") as f:

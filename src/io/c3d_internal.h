@@ -157,6 +157,7 @@ C3DParameter* find_param(C3DGroup& group, const std::string& name);
 // parameter that already holds the value keeps its exact bytes and shape.
 // value in -32768..65535 (stored as its 16 bits); a one-byte parameter stays one byte for 0..255.
 void set_int16(C3DParameter& p, int value);
+// A byte array stays bytes while every value is 0..255.
 void set_int16_array(C3DParameter& p, const std::vector<int>& values);
 void set_float(C3DParameter& p, float value);
 void set_string(C3DParameter& p, const std::string& s);

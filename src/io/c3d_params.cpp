@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <map>
 
@@ -567,6 +568,14 @@ void set_int16(C3DParameter& p, int value) {
 }
 
 void set_int16_array(C3DParameter& p, const std::vector<int>& values) {
+  // A byte array stays bytes while every value fits one (as set_int16 keeps a byte).
+  if (p.type == 1 &&
+      std::all_of(values.begin(), values.end(), [](int v) { return v >= 0 && v <= 255; })) {
+    if (!(p.dims.size() == 1 && static_cast<size_t>(p.dims[0]) == values.size()))
+      p.dims = {static_cast<int>(values.size())};
+    p.data.assign(values.begin(), values.end());
+    return;
+  }
   std::vector<uint8_t> d(values.size() * 2);
   for (size_t i = 0; i < values.size(); ++i) put_u16le(static_cast<uint16_t>(values[i]), &d[2 * i]);
   if (p.type == 2 && p.data == d) return;
@@ -685,6 +694,52 @@ std::vector<C3DEvent> c3d_events(const C3DExtra& x) {
     e.generic_flag = integer(flags, i);
   }
   return out;
+}
+
+void set_c3d_events(C3DExtra* x, const std::vector<C3DEvent>& events) {
+  const size_t n = events.size();
+  if (n > 255)
+    fail(ErrorCode::kInvalidParameter, "",
+         std::to_string(n) + " events: the C3D EVENT group holds at most 255");
+  std::vector<uint8_t> times(8 * n);
+  std::vector<std::string> labels, contexts, descriptions, subjects;
+  std::vector<int> icons, flags;
+  for (size_t i = 0; i < n; ++i) {
+    const C3DEvent& e = events[i];
+    if (!(std::isfinite(e.time) && e.time >= 0 && e.time < 1e9)) {
+      char t[32];
+      std::snprintf(t, sizeof t, "%.9g", e.time);
+      fail(ErrorCode::kInvalidParameter, "",
+           "event " + std::to_string(i) + ": time " + t +
+               " is not a time in seconds (finite, 0 to 1e9)");
+    }
+    for (int v : {e.icon_id, e.generic_flag})
+      if (v < -32768 || v > 32767)
+        fail(ErrorCode::kInvalidParameter, "",
+             "event " + std::to_string(i) + ": icon id or flag " + std::to_string(v) +
+                 " is not int16");
+    const double minutes = std::floor(e.time / 60);
+    c3d::put_f32le(static_cast<float>(minutes), &times[8 * i]);
+    c3d::put_f32le(static_cast<float>(e.time - 60 * minutes), &times[8 * i + 4]);
+    labels.push_back(e.label);
+    contexts.push_back(e.context);
+    descriptions.push_back(e.description);
+    subjects.push_back(e.subject);
+    icons.push_back(e.icon_id);
+    flags.push_back(e.generic_flag);
+  }
+  C3DGroup& g = c3d::ensure_group(x->groups, "EVENT", "Event group");
+  c3d::set_int16(c3d::ensure_param(g, "USED", "Number of events"), static_cast<int>(n));
+  C3DParameter& t = c3d::ensure_param(g, "TIMES", "Event times (minutes, seconds)");
+  t.type = 4;
+  t.dims = {2, static_cast<int>(n)};
+  t.data = std::move(times);
+  c3d::set_string_list(g, "LABELS", labels, "Event labels");
+  c3d::set_string_list(g, "CONTEXTS", contexts, "Event contexts");
+  c3d::set_string_list(g, "DESCRIPTIONS", descriptions, "Event descriptions");
+  c3d::set_string_list(g, "SUBJECTS", subjects, "Event subjects");
+  c3d::set_int16_array(c3d::ensure_param(g, "ICON_IDS", "Event icon ids"), icons);
+  c3d::set_int16_array(c3d::ensure_param(g, "GENERIC_FLAGS", "Event flags"), flags);
 }
 
 }  // namespace capz

@@ -861,3 +861,62 @@ TEST(C3DEvents, FieldsFromTheEventGroupWhereGiven) {
   ASSERT_EQ(e.size(), 2u);
   EXPECT_DOUBLE_EQ(e[1].time, 2);
 }
+
+TEST(C3DEvents, SetThenReadGivesThemBackAndSurvivesTheWriter) {
+  std::vector<C3DEvent> ev(3);
+  ev[0].label = "Foot Strike";
+  ev[0].context = "Left";
+  ev[0].time = 1.25;
+  ev[0].icon_id = 1;
+  ev[1].label = "Foot Off";
+  ev[1].context = "Right";
+  ev[1].description = "toe off";
+  ev[1].subject = "S1";
+  ev[1].time = 125.5;  // written as 2 minutes and 5.5 s
+  ev[1].generic_flag = -3;
+  ev[2].time = 0;
+
+  Take t;
+  t.resize(4, 1);
+  t.rate = 100;
+  t.units = "mm";
+  for (size_t i = 0; i < 3; ++i) t.xyz[i] = 10.0 + static_cast<double>(i);
+  t.valid[0] = 1;
+  t.c3d = new_c3d_parameters(t, "ev.c3d");
+  set_c3d_events(t.c3d.get(), ev);
+  const C3DParameter* times = t.c3d->param("EVENT", "TIMES");
+  ASSERT_NE(times, nullptr);
+  EXPECT_EQ(times->dims, (std::vector<int>{2, 3}));
+  EXPECT_EQ(times->as_floats()[2], 2.0f);
+  EXPECT_EQ(times->as_floats()[3], 5.5f);
+  auto same = [&](const std::vector<C3DEvent>& got) {
+    ASSERT_EQ(got.size(), ev.size());
+    for (size_t i = 0; i < ev.size(); ++i) {
+      EXPECT_EQ(got[i].label, ev[i].label) << i;
+      EXPECT_EQ(got[i].context, ev[i].context) << i;
+      EXPECT_EQ(got[i].description, ev[i].description) << i;
+      EXPECT_EQ(got[i].subject, ev[i].subject) << i;
+      EXPECT_DOUBLE_EQ(got[i].time, ev[i].time) << i;
+      EXPECT_EQ(got[i].icon_id, ev[i].icon_id) << i;
+      EXPECT_EQ(got[i].generic_flag, ev[i].generic_flag) << i;
+    }
+  };
+  same(c3d_events(*t.c3d));
+  const auto bytes = c3d::encode_c3d_file(t, {}, "ev.c3d");
+  same(c3d_events(*read_c3d_bytes(bytes.data(), bytes.size(), "ev.c3d").c3d));
+
+  // Replacing: one event left in every list; refusals change nothing.
+  ev.resize(1);
+  set_c3d_events(t.c3d.get(), ev);
+  same(c3d_events(*t.c3d));
+  EXPECT_EQ(t.c3d->param("EVENT", "LABELS")->as_strings().size(), 1u);
+  const std::vector<C3DGroup> before = t.c3d->groups;
+  std::vector<C3DEvent> bad = ev;
+  bad[0].time = -1;
+  EXPECT_THROW(set_c3d_events(t.c3d.get(), bad), Error);
+  bad[0].time = 1;
+  bad[0].icon_id = 40000;
+  EXPECT_THROW(set_c3d_events(t.c3d.get(), bad), Error);
+  EXPECT_THROW(set_c3d_events(t.c3d.get(), std::vector<C3DEvent>(256)), Error);
+  expect_same_groups(t.c3d->groups, before);
+}
