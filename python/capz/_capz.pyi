@@ -56,7 +56,8 @@ class Take:
     def set_parameter(
         self, group: str, name: str, value: Any, description: Optional[str] = None
     ) -> None:
-        """Sets or adds GROUP:NAME of a take read from C3D (str, list of str, int, float, array)."""
+        """Sets or adds GROUP:NAME (str, list of str, int, float, array); a take without a
+        parameter section first gets the one write() would give it."""
     @property
     def residuals(self) -> Optional[npt.NDArray[np.float32]]:
         """C3D residuals (frames, points), -1 at gaps; None without C3D; a view of the take."""
@@ -65,7 +66,13 @@ class Take:
         """C3D camera masks (frames, points), 0 at gaps; None without C3D; a view."""
     @property
     def events(self) -> List[Dict[str, Any]]:
-        """The C3D header's events: label, time (s), display."""
+        """The C3D EVENT group's events: label, context, time (s), description, subject,
+        icon_id, generic_flag."""
+    def set_events(self, events: List[Dict[str, Any]]) -> None:
+        """Replaces the EVENT group's events (dicts as events gives; time required)."""
+    @property
+    def header_events(self) -> List[Dict[str, Any]]:
+        """The C3D header's event table: label, time (s), display."""
     @property
     def analog_units(self) -> List[str]: ...
     @property
@@ -76,7 +83,10 @@ class Take:
         """TRC: times, frame_numbers, camera_rate, orig_data_rate, ...; None otherwise."""
     @property
     def gap_samples(self) -> int: ...
-    def copy(self) -> "Take": ...
+    def copy(self) -> "Take":
+        """A deep copy (nothing shared); copy.copy, copy.deepcopy and pickle work too."""
+    def __copy__(self) -> "Take": ...
+    def __deepcopy__(self, memo: Dict[int, Any]) -> "Take": ...
     @staticmethod
     def from_arrays(
         xyz: npt.ArrayLike,

@@ -405,13 +405,60 @@ void bind_take_channels(TakeClass* cls) {
           "A new array");
 }
 
-// Take: counts, copy and repr.
+// A copy that shares nothing with t: a Take's copy shares its C3D, TRC and PCD metadata, which
+// set_parameter and set_events change in place.
+TakePtr deep_copy(const capz::Take& t) {
+  auto p = std::make_shared<capz::Take>(t);
+  if (t.c3d) p->c3d = std::make_shared<capz::C3DExtra>(*t.c3d);
+  if (t.trc) p->trc = std::make_shared<capz::TRCExtra>(*t.trc);
+  if (t.pcd) p->pcd = std::make_shared<capz::PCDExtra>(*t.pcd);
+  return p;
+}
+
+// Pickled as (1, the take's lossless .capz bytes, source, warnings): the archive holds
+// everything else a take has, bit for bit, and is what capz keeps best tested.
+py::tuple take_state(const capz::Take& t) {
+  std::vector<uint8_t> bytes;
+  {
+    py::gil_scoped_release nogil;
+    capz::CompressOptions opts;
+    std::unique_ptr<capz::FrameSource> src = capz::take_frames(t);
+    capz::CompressTarget lossless;
+    lossless.lossless = true;
+    capz::set_compress_target(*src, lossless, &opts);
+    bytes = capz::compress(t, opts);
+  }
+  return py::make_tuple(1, py::bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
+                        t.source, t.warnings);
+}
+
+TakePtr take_from_state(const py::tuple& s) {
+  if (s.size() != 4 || s[0].cast<int>() != 1)
+    invalid("unpickling a capz.Take: not a state this version wrote");
+  const std::string bytes = s[1].cast<std::string>();
+  capz::Take t;
+  {
+    py::gil_scoped_release nogil;
+    capz::DecompressOptions o;
+    o.memory_limit = 0;  // the take was in memory where it was pickled
+    t = capz::decompress(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(),
+                         "pickled take", o);
+  }
+  t.source = s[2].cast<std::string>();
+  t.warnings = s[3].cast<std::vector<std::string>>();
+  return adopt(std::move(t));
+}
+
+// Take: counts, copies, pickling and repr.
 void bind_take_rest(TakeClass* cls) {
   (*cls)
       .def_property_readonly("gap_samples", &capz::Take::gap_samples)
+      .def("copy", &deep_copy, "a deep copy of the take (nothing shared with it)")
+      .def("__copy__", &deep_copy)
       .def(
-          "copy", [](const capz::Take& t) { return std::make_shared<capz::Take>(t); },
-          "a deep copy of the take")
+          "__deepcopy__", [](const capz::Take& t, const py::dict&) { return deep_copy(t); },
+          py::arg("memo"))
+      .def(py::pickle(&take_state, &take_from_state))
       .def("__repr__", [](const capz::Take& t) {
         std::string s = "<capz.Take " + std::to_string(t.frames) + " frames x " +
                         std::to_string(t.points) + " points";
