@@ -341,8 +341,14 @@ void bind_take_channels(TakeClass* cls) {
           "analog channels, float64 (samples, channels), samples = frames x "
           "analog_samples_per_frame, the numbers the file stores (analog_physical gives "
           "them in the channels' units); shape (0, 0) without analog")
-      .def_property_readonly("analog_labels",
-                             [](const capz::Take& t) { return texts(t.analog.labels); })
+      .def_property(
+          "analog_labels", [](const capz::Take& t) { return texts(t.analog.labels); },
+          [](capz::Take& t, const std::vector<std::string>& v) {
+            if (v.size() != static_cast<size_t>(t.analog.channels))
+              invalid("analog_labels: one per analog channel expected");
+            t.analog.labels = v;
+          },
+          "one label per analog channel (write() and compress() keep them)")
       .def_property_readonly("analog_rate", [](const capz::Take& t) { return t.analog.rate; })
       .def_property_readonly("analog_samples_per_frame",
                              [](const capz::Take& t) { return t.analog.samples_per_frame; })

@@ -540,3 +540,17 @@ def test_set_parameter_does_not_override_what_describes_the_data(tmp_path):
     back = capz.read(out)
     assert back.rate == 50.0 and back.points == 26
     assert parameters_of_file(out)["POINT"]["USED"] == 26
+
+
+def test_analog_labels_can_be_set(tmp_path):
+    take = capz.read(os.path.join(REPO, "data", "EB015PI.c3d"))
+    names = [f"CH{i}" for i in range(take.analog.shape[1])]
+    take.analog_labels = names
+    out = str(tmp_path / "x.c3d")
+    capz.write(take, out)
+    assert capz.read(out).analog_labels == names
+    assert parameters_of_file(out)["ANALOG"]["LABELS"] == names
+    assert capz.decompress(capz.compress(take)).analog_labels == names
+    with pytest.raises(capz.Error):
+        take.analog_labels = names[:-1]
+    assert take.analog_labels == names
