@@ -626,7 +626,10 @@ void set_string_list(C3DGroup& group, const std::string& base, const std::vector
     C3DParameter& p = ensure_param(group, pname, description);
     size_t min_len = (p.type == -1 && !p.dims.empty()) ? static_cast<size_t>(p.dims[0]) : 1;
     size_t b = k * per_param, e = std::min(v.size(), b + per_param);
-    set_strings(p, std::vector<std::string>(v.begin() + b, v.begin() + e), min_len);
+    set_strings(p,
+                std::vector<std::string>(v.begin() + static_cast<std::ptrdiff_t>(b),
+                                         v.begin() + static_cast<std::ptrdiff_t>(e)),
+                min_len);
   }
   // Drop continuations beyond what is needed (base{chunks+1}, ...).
   std::string key_base = lower(base);
