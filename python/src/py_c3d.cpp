@@ -192,8 +192,8 @@ void set_parameter(capz::Take& t, const std::string& group, const std::string& n
 }
 
 // Take.set_events: a list of dicts with the keys Take.events gives (time required, the others
-// "" or 0 when left out) as the EVENT group's events. Checked on a scratch section first, so a
-// refusal changes nothing, and a take without a section gets set_parameter's.
+// "" or 0 when left out) as the EVENT group's events; a take without a section gets
+// set_parameter's. A refusal changes nothing.
 void set_events(capz::Take& t, const py::list& events) {
   std::vector<capz::C3DEvent> v;
   for (size_t i = 0; i < events.size(); ++i) {
@@ -235,10 +235,10 @@ void set_events(capz::Take& t, const py::list& events) {
     if (!timed) invalid(at + " has no time");
     v.push_back(std::move(e));
   }
-  capz::C3DExtra scratch;
-  capz::set_c3d_events(&scratch, v);  // throws for what the section cannot hold
-  if (!t.c3d) t.c3d = capz::new_c3d_parameters(t, "set_events");
-  capz::set_c3d_events(t.c3d.get(), v);
+  // set_c3d_events changes nothing when it refuses, and a section made here is kept only then.
+  std::shared_ptr<capz::C3DExtra> x = t.c3d ? t.c3d : capz::new_c3d_parameters(t, "set_events");
+  capz::set_c3d_events(x.get(), v);
+  t.c3d = std::move(x);
 }
 
 // A view (frames, points) of one of the C3D sample words (residual, camera_mask), or None when
