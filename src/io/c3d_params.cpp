@@ -671,8 +671,10 @@ std::vector<C3DEvent> c3d_events(const C3DExtra& x) {
   const std::vector<float> times = c3d::float_list(x, "EVENT", "TIMES");
   size_t n = times.size() / 2;
   const C3DParameter* used = x.param("EVENT", "USED");
-  if (used && used->type == 2 && used->data.size() >= 2)
-    n = std::min<size_t>(n, static_cast<uint16_t>(used->as_ints()[0]));
+  if (used && (used->type == 1 || used->type == 2)) {  // read unsigned, as every count is
+    const std::vector<int> v = used->as_ints();
+    if (!v.empty()) n = std::min<size_t>(n, static_cast<uint16_t>(v[0]));
+  }
   const auto labels = c3d::string_list(x, "EVENT", "LABELS");
   const auto contexts = c3d::string_list(x, "EVENT", "CONTEXTS");
   const auto descriptions = c3d::string_list(x, "EVENT", "DESCRIPTIONS");

@@ -854,6 +854,11 @@ TEST(C3DEvents, FieldsFromTheEventGroupWhereGiven) {
   EXPECT_EQ(c3d_events(x).size(), 2u);
   c3d::set_int16(*c3d::find_param(g, "USED"), 9);  // never more than TIMES holds
   EXPECT_EQ(c3d_events(x).size(), 3u);
+  C3DParameter& used = *c3d::find_param(g, "USED");  // a byte USED counts too
+  used.type = 1;
+  used.dims.clear();
+  used.data = {1};
+  EXPECT_EQ(c3d_events(x).size(), 1u);
   g.params.erase(g.params.begin());  // without USED, as many as TIMES holds
   EXPECT_EQ(c3d_events(x).size(), 3u);
   *c3d::find_param(g, "TIMES") = float_array("TIMES", {5}, {0, 1, 0, 2, 9});  // 1-D, odd
