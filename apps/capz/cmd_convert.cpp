@@ -44,9 +44,12 @@ void print_notes(const capz::Take& take, const std::string& in, capz::Format out
     if (take.analog.channels > 0)
       std::fprintf(stderr, "capz convert: note: %s does not keep the %d analog channels\n",
                    capz::format_name(out_format), take.analog.channels);
-    if (take.c3d)
-      std::fprintf(stderr, "capz convert: note: %s does not keep the C3D parameter section\n",
-                   capz::format_name(out_format));
+    if (take.c3d) {
+      const size_t events = capz::c3d_events(*take.c3d).size();
+      std::fprintf(stderr, "capz convert: note: %s does not keep the C3D parameter section%s\n",
+                   capz::format_name(out_format),
+                   events ? (" (nor its " + std::to_string(events) + " events)").c_str() : "");
+    }
     if (take.rotations.segments > 0)
       std::fprintf(stderr, "capz convert: note: %s does not keep the %d rotation segments\n",
                    capz::format_name(out_format), take.rotations.segments);

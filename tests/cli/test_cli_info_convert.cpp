@@ -414,6 +414,24 @@ TEST(CliConvert, C3dToTrcAndPcdAndBack) {
   EXPECT_LT(worst, 1e-6);
 }
 
+// What TRC cannot hold is named on stderr, with the events the parameter section holds.
+TEST(CliConvert, C3dToTrcNamesWhatTrcDoesNotKeep) {
+  const std::string data = capz_test::shared_data_or_skip();
+  if (data.empty()) return;
+  capz_test::TempDir d("capz_cli_conv_notes");
+  const std::string src = data + "/c3d/btkdata/PiG/PiG_Motion-FlatFoot-One.c3d";
+  CliRun a = run_capz("convert " + quote(src) + " " + quote(d.file("p.trc")));
+  ASSERT_EQ(a.status, 0) << a.err;
+  EXPECT_NE(a.err.find("note: trc does not keep the 38 analog channels"), std::string::npos)
+      << a.err;
+  EXPECT_NE(a.err.find("note: trc does not keep the C3D parameter section (nor its 8 events)"),
+            std::string::npos)
+      << a.err;
+  CliRun b = run_capz("convert " + quote(src) + " " + quote(d.file("p.c3d")));
+  ASSERT_EQ(b.status, 0) << b.err;
+  EXPECT_EQ(b.err.find("does not keep"), std::string::npos) << b.err;
+}
+
 TEST(CliConvert, PcdFolderToPcdFolderKeepsNamesAndEncoding) {
   const std::string data = capz_test::shared_data_or_skip();
   if (data.empty()) return;
