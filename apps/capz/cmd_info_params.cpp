@@ -20,10 +20,6 @@ namespace {
 
 const size_t kValuesShown = 8;  // elements listed without -v
 
-const char* type_name(int8_t type) {
-  return type == -1 ? "char" : type == 1 ? "byte" : type == 2 ? "int16" : "float";
-}
-
 // A char parameter's strings (trailing blanks and NULs removed): one for at most one dimension,
 // else dims[0] characters each.
 std::vector<std::string> char_values(const capz::C3DParameter& p) {
@@ -46,10 +42,6 @@ std::string dims_text(const std::vector<int>& dims) {
   return dims.empty() ? s : s + "]";
 }
 
-std::string group_name(const capz::C3DGroup& g) {
-  return g.name.empty() ? "#" + std::to_string(g.id) : g.name;
-}
-
 // The groups by name, in the order names first appear: a file may hold one name twice (some
 // Vicon files write PROCESSING twice), and the parameters of both are listed under it.
 struct NamedGroup {
@@ -59,7 +51,7 @@ struct NamedGroup {
 std::vector<NamedGroup> named_groups(const capz::C3DExtra& c) {
   std::vector<NamedGroup> out;
   for (const capz::C3DGroup& g : c.groups) {
-    const std::string name = group_name(g);
+    const std::string name = g.key();
     auto it =
         std::find_if(out.begin(), out.end(), [&](const NamedGroup& n) { return n.name == name; });
     if (it == out.end()) it = out.insert(out.end(), NamedGroup{name, g.description, {}});
@@ -92,7 +84,7 @@ void print_text(const capz::C3DExtra& c) {
       if (!all && count > kValuesShown)
         v += " ... (" + std::to_string(count - kValuesShown) + " more; -v lists all)";
       std::printf("  %s:%s %s%s = %s\n", printable(g.name).c_str(), printable(p.name).c_str(),
-                  type_name(p.type), dims_text(p.dims).c_str(), v.c_str());
+                  p.type_name(), dims_text(p.dims).c_str(), v.c_str());
     }
   }
   for (const capz::C3DHeaderEvent& e : c.header_events)
@@ -113,7 +105,7 @@ void print_json(const std::string& path, const capz::C3DExtra& c) {
       const capz::C3DParameter& p = *pp;
       j.key(p.name);
       j.begin_object();
-      j.member("type", type_name(p.type));
+      j.member("type", p.type_name());
       j.key("dims");
       j.begin_array();
       for (int d : p.dims) j.value(d);

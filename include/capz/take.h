@@ -35,6 +35,7 @@ struct C3DParameter {
   std::vector<uint8_t> data;
 
   size_t element_count() const;
+  const char* type_name() const;  // "char", "byte", "int16" or "float"
   // Typed views; they throw Error(kCorrupt) on a type mismatch.
   std::string as_string() const;                // the whole char array, trailing blanks removed
   std::vector<std::string> as_strings() const;  // 2-D char array: dims[1] strings of dims[0]
@@ -53,6 +54,9 @@ struct C3DGroup {
   std::vector<C3DParameter> params;
 
   const C3DParameter* find(const std::string& name) const;  // case-insensitive, nullptr if absent
+  // Its name, or "#<id>" for a group without one (an implicit group): how the CLI and Python
+  // name it.
+  std::string key() const;
 };
 
 struct C3DHeaderEvent {

@@ -56,16 +56,6 @@ py::object parameter_value(const capz::C3DParameter& p) {
   return std::move(a);
 }
 
-const char* parameter_type(int8_t type) {
-  return type == -1 ? "char" : type == 1 ? "byte" : type == 2 ? "int16" : "float";
-}
-
-// A group's key in Take.parameters: its name, or "#<id>" for parameters whose group has no
-// entry in the file.
-std::string group_key(const capz::C3DGroup& g) {
-  return g.name.empty() ? "#" + std::to_string(g.id) : g.name;
-}
-
 // Take.set_parameter's value as a C3D parameter's type, dimensions and bytes: a str is a char
 // array of one dimension, a list or tuple of str a 2-D one (blank padded to the longest); an int
 // an int16, a float a float32; a numpy array uint8 (byte), any other integer type (int16, each
@@ -254,7 +244,7 @@ py::dict parameters_of(const capz::Take& t) {
   py::dict d;
   if (!t.c3d) return d;
   for (const capz::C3DGroup& g : t.c3d->groups) {
-    const py::str key = text(group_key(g));
+    const py::str key = text(g.key());
     py::dict params = d.contains(key) ? py::dict(d[key]) : py::dict();
     for (const capz::C3DParameter& p : g.params) params[text(p.name)] = parameter_value(p);
     d[key] = params;
@@ -265,19 +255,13 @@ py::dict parameters_of(const capz::Take& t) {
 py::object parameter_of(const capz::Take& t, const std::string& group, const std::string& name) {
   if (!t.c3d) return py::none();
   for (const capz::C3DGroup& g : t.c3d->groups) {
-    std::string key = group_key(g);
-    if (key.size() != group.size() ||
-        !std::equal(key.begin(), key.end(), group.begin(), [](char a, char b) {
-          return std::toupper(static_cast<unsigned char>(a)) ==
-                 std::toupper(static_cast<unsigned char>(b));
-        }))
-      continue;
+    if (!same_name(g.key(), group)) continue;
     const capz::C3DParameter* p = g.find(name);
     if (!p) continue;
     py::dict d;
     d["value"] = parameter_value(*p);
     d["description"] = text(p->description);
-    d["type"] = parameter_type(p->type);
+    d["type"] = p->type_name();
     d["dims"] = p->dims;
     d["locked"] = p->locked;
     d["group_description"] = text(g.description);

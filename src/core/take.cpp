@@ -49,6 +49,14 @@ std::string C3DParameter::as_string() const {
   return s.substr(0, e);
 }
 
+const char* C3DParameter::type_name() const {
+  return type == -1 ? "char" : type == 1 ? "byte" : type == 2 ? "int16" : "float";
+}
+
+std::string C3DGroup::key() const {
+  return name.empty() ? "#" + std::to_string(id) : name;
+}
+
 std::vector<std::string> C3DParameter::as_strings() const {
   if (type != -1) fail(ErrorCode::kCorrupt, "", "parameter " + name + " is not a char array");
   std::vector<std::string> out;
