@@ -40,23 +40,9 @@ capz::WriteOptions write_options(const po::variables_map& vm, const char** enc_o
 void print_notes(const capz::Take& take, const std::string& in, capz::Format out_format) {
   for (const auto& w : take.warnings)
     std::fprintf(stderr, "capz convert: %s: %s\n", in.c_str(), w.c_str());
-  if (out_format != capz::Format::kC3D) {
-    if (take.analog.channels > 0)
-      std::fprintf(stderr, "capz convert: note: %s does not keep the %d analog channels\n",
-                   capz::format_name(out_format), take.analog.channels);
-    if (take.c3d) {
-      const size_t events = capz::c3d_events(*take.c3d).size();
-      std::fprintf(stderr, "capz convert: note: %s does not keep the C3D parameter section%s\n",
-                   capz::format_name(out_format),
-                   events ? (" (nor its " + std::to_string(events) + " events)").c_str() : "");
-    }
-    if (take.rotations.segments > 0)
-      std::fprintf(stderr, "capz convert: note: %s does not keep the %d rotation segments\n",
-                   capz::format_name(out_format), take.rotations.segments);
-  }
-  if (out_format == capz::Format::kPCDFolder && take.rate > 0)
-    std::fprintf(stderr, "capz convert: note: PCD frames do not store the frame rate (%s Hz)\n",
-                 number(take.rate).c_str());
+  for (const std::string& d : capz::dropped_by(take, out_format))
+    std::fprintf(stderr, "capz convert: note: %s does not keep %s\n", capz::format_name(out_format),
+                 d.c_str());
   if (out_format != capz::Format::kPCDFolder && take.rate <= 0)
     std::fprintf(stderr, "capz convert: note: the source has no frame rate; give --rate\n");
 }

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "capz/take.h"
 
@@ -35,6 +36,11 @@ void check_fields_fit(const Take& take, Format f, const std::string& path,
 // '/') a PCD folder. Throws kUsage if the output exists and !opts.overwrite.
 void write_take(const Take& take, const std::string& path, const WriteOptions& opts = {});
 Format format_for_output(const std::string& path);
+// What writing `take` as `out` leaves out, each as a phrase: "the 16 analog channels", "the C3D
+// parameter section (with its 8 events)", "the 2 rotation segments", "the frame rate (100 Hz)"
+// (PCD frames store none); empty when `out` keeps it all. Point fields are not listed: the
+// writers refuse them without WriteOptions::drop_fields.
+std::vector<std::string> dropped_by(const Take& take, Format out);
 
 // Per format. `name` in the *_bytes readers is only used in messages.
 Take read_c3d(const std::string& path);

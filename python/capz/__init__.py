@@ -12,6 +12,7 @@ function raises capz.Error on failure. See docs/PYTHON.md.
 from __future__ import annotations
 
 import os
+import warnings
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -315,14 +316,19 @@ def write(
     -f). pcd_encoding: "ascii", "binary" or "binary_compressed" ("": the source folder's, else
     binary). c3d_float: write a C3D as float even when the source was int16. drop_fields: a take
     with PCD fields (attributes) written to C3D or TRC, which cannot hold them, leaves them out;
-    without it that is an Error naming them. Use compress()/compress_file() for .capz.
+    without it that is an Error naming them. What else the format cannot hold (analog
+    channels, the C3D parameter section and its events, rotations in TRC or PCD; the frame rate
+    in PCD) is left out with a UserWarning naming it. Use compress()/compress_file() for .capz.
     """
     p = _path(path, "path")
     if p.lower().endswith(".capz"):
         raise Error("usage", f"{p}: write() writes C3D, TRC and PCD; use compress_file() or "
                     "compress() for .capz", 1)
     _check_take(take)
+    dropped = _capz.dropped_by(take, p)
     _capz.write(take, p, bool(overwrite), pcd_encoding, bool(c3d_float), bool(drop_fields))
+    if dropped:
+        warnings.warn(f"{p} does not keep {', '.join(dropped)}", UserWarning, stacklevel=2)
 
 
 def _check_take(take: Any) -> None:

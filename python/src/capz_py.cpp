@@ -518,6 +518,10 @@ void bind_functions(py::module_& m) {
 
   m.def("compress", &compress_take);
 
+  m.def("dropped_by", [](const capz::Take& take, const std::string& path) {
+    return capz::dropped_by(take, capz::format_for_output(path));
+  });
+
   m.def("decompress", [](const py::buffer& data, const std::string& name, uint64_t memory_limit) {
     const py::buffer_info b = data.request();
     if (b.ndim != 1 || b.itemsize != 1) invalid("decompress wants bytes (a 1-D buffer of bytes)");

@@ -554,3 +554,21 @@ def test_analog_labels_can_be_set(tmp_path):
     with pytest.raises(capz.Error):
         take.analog_labels = names[:-1]
     assert take.analog_labels == names
+
+
+def test_write_warns_what_the_format_drops(tmp_path):
+    import warnings
+    pig = shared("c3d/btkdata/PiG/PiG_Motion-FlatFoot-One.c3d")
+    take = capz.read(pig)
+    with pytest.warns(UserWarning) as w:
+        capz.write(take, str(tmp_path / "p.trc"))
+    assert len(w) == 1
+    assert str(w[0].message).endswith(
+        "p.trc does not keep the 38 analog channels, the C3D parameter section (with its 8 "
+        "events)")
+    with pytest.warns(UserWarning, match=r"the frame rate \(100 Hz\)"):
+        capz.write(take, str(tmp_path / "frames") + "/")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # C3D keeps it all; a TRC take into TRC too
+        capz.write(take, str(tmp_path / "p.c3d"))
+        capz.write(capz.read(str(tmp_path / "p.trc")), str(tmp_path / "q.trc"))

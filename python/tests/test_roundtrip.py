@@ -86,7 +86,11 @@ def test_codec_auto_and_options(small_take):
 def test_write_and_read_back(small_take, tmp_path):
     for name in ("t.c3d", "t.trc", "frames/"):
         out = str(tmp_path / name)
-        capz.write(small_take, out)
+        if name.endswith("/"):
+            with pytest.warns(UserWarning, match="frame rate"):  # PCD frames store none
+                capz.write(small_take, out)
+        else:
+            capz.write(small_take, out)
         back = capz.read(out)
         np.testing.assert_array_equal(back.valid, small_take.valid)
         # C3D stores float32 here, TRC and PCD decimals or float32: close, not exact

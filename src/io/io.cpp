@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -117,6 +118,26 @@ Format format_for_output(const std::string& path) {
   if (ext == ".trc") return Format::kTRC;
   if (ext.empty()) return Format::kPCDFolder;
   return Format::kUnknown;
+}
+
+std::vector<std::string> dropped_by(const Take& take, Format out) {
+  std::vector<std::string> d;
+  if (out == Format::kC3D) return d;
+  if (take.analog.channels > 0)
+    d.push_back("the " + std::to_string(take.analog.channels) + " analog channels");
+  if (take.c3d) {
+    const size_t events = c3d_events(*take.c3d).size();
+    d.push_back("the C3D parameter section" +
+                (events ? " (with its " + std::to_string(events) + " events)" : std::string()));
+  }
+  if (take.rotations.segments > 0)
+    d.push_back("the " + std::to_string(take.rotations.segments) + " rotation segments");
+  if (out == Format::kPCDFolder && take.rate > 0) {
+    char rate[64];
+    const std::to_chars_result r = std::to_chars(rate, rate + sizeof rate, take.rate);
+    d.push_back("the frame rate (" + std::string(rate, r.ptr) + " Hz)");
+  }
+  return d;
 }
 
 void check_fields_fit(const Take& take, Format f, const std::string& path,

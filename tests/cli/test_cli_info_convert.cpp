@@ -424,7 +424,7 @@ TEST(CliConvert, C3dToTrcNamesWhatTrcDoesNotKeep) {
   ASSERT_EQ(a.status, 0) << a.err;
   EXPECT_NE(a.err.find("note: trc does not keep the 38 analog channels"), std::string::npos)
       << a.err;
-  EXPECT_NE(a.err.find("note: trc does not keep the C3D parameter section (nor its 8 events)"),
+  EXPECT_NE(a.err.find("note: trc does not keep the C3D parameter section (with its 8 events)"),
             std::string::npos)
       << a.err;
   CliRun b = run_capz("convert " + quote(src) + " " + quote(d.file("p.c3d")));
