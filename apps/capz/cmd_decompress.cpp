@@ -93,12 +93,15 @@ std::string choose_output(const Job& job, const Settings& s, const std::string& 
 struct Written {
   std::string out;
   size_t frames = 0, points = 0;
-  std::string units, fields;  // fields: capz::field_names
-  void take_shape(const capz::Take& t) {
+  std::string units, fields;              // fields: capz::field_names
+  std::vector<std::string> dropped;       // what out's format does not keep (capz::dropped_by)
+  void take_shape(const capz::Take& t) {  // once out is chosen
     frames = t.frames;
     points = t.points;
     units = t.units;
     fields = capz::field_names(t);
+    const capz::Format f = capz::format_for_output(out);
+    if (f != capz::Format::kUnknown) dropped = capz::dropped_by(t, f);
   }
 };
 
@@ -189,6 +192,10 @@ FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) 
   if (wo.drop_fields && capz::format_for_output(w.out) != capz::Format::kPCDFolder &&
       g_verbosity >= 1 && !w.fields.empty())
     std::fprintf(stderr, "capz decompress: dropped point fields: %s\n", w.fields.c_str());
+  if (g_verbosity >= 1)
+    for (const std::string& d : w.dropped)
+      std::fprintf(stderr, "capz decompress: note: %s does not keep %s\n",
+                   capz::format_name(capz::format_for_output(w.out)), d.c_str());
   const double t_dec = cpu_seconds(workers) - c0;
   const double raw = static_cast<double>(w.frames * w.points * 12);
   const double mbps = t_dec > 0 ? raw / 1e6 / t_dec : 0;

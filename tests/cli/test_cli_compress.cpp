@@ -314,6 +314,28 @@ TEST(CliCompress, GivenAbsentSamplesWithCoordinatesThenANoteAtABound) {
   EXPECT_EQ(r.out.find("marked absent"), std::string::npos) << r.out;
 }
 
+// Decompressing to a format that cannot hold the analog channels or the parameter section says
+// so, once a thing, unless -q; to the source's format nothing is said.
+TEST(CliCompress, GivenDecompressToTrcThenNotesNameWhatTrcDoesNotKeep) {
+  capz_test::TempDir d("capz_cli_dropped");
+  Result r = capz_cli("compress -q '" + kC3d + "' -o '" + d.file("e.capz") + "'", true);
+  ASSERT_EQ(r.status, 0) << r.out;
+  r = capz_cli("decompress '" + d.file("e.capz") + "' -o '" + d.file("e.trc") + "'", true);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("capz decompress: note: trc does not keep the 16 analog channels\n"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("capz decompress: note: trc does not keep the C3D parameter section\n"),
+            std::string::npos)
+      << r.out;
+  r = capz_cli("decompress '" + d.file("e.capz") + "' -o '" + d.file("e.c3d") + "'", true);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(r.out.find("does not keep"), std::string::npos) << r.out;
+  r = capz_cli("decompress -q -f '" + d.file("e.capz") + "' -o '" + d.file("e.trc") + "'", true);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(r.out.find("does not keep"), std::string::npos) << r.out;
+}
+
 // --analog-max-error (docs/FORMAT.md 5.2): bounds by unit and by label, reported by info and
 // verify, kept through decompress and --rm; bad requests are one-line errors.
 TEST(CliCompress, GivenAnalogMaxErrorThenInfoVerifyAndDecompressKeepTheBounds) {
