@@ -295,9 +295,10 @@ void bind_take_positions(TakeClass* cls) {
       .def_property_readonly("points", [](const capz::Take& t) { return t.points; })
       .def_property(
           "labels", [](const capz::Take& t) { return texts(t.labels); },
-          [](capz::Take& t, const std::vector<std::string>& v) {
-            if (v.size() != t.points) invalid("labels: one per point expected");
-            t.labels = v;
+          [](capz::Take& t, const py::sequence& v) {
+            if (static_cast<size_t>(py::len(v)) != t.points)
+              invalid("labels: one per point expected");
+            t.labels = file_texts(v, latin1_text(t), "labels");
           },
           "one label per point (may be empty strings)")
       .def_property_readonly("descriptions",
@@ -343,10 +344,10 @@ void bind_take_channels(TakeClass* cls) {
           "them in the channels' units); shape (0, 0) without analog")
       .def_property(
           "analog_labels", [](const capz::Take& t) { return texts(t.analog.labels); },
-          [](capz::Take& t, const std::vector<std::string>& v) {
-            if (v.size() != static_cast<size_t>(t.analog.channels))
+          [](capz::Take& t, const py::sequence& v) {
+            if (static_cast<size_t>(py::len(v)) != static_cast<size_t>(t.analog.channels))
               invalid("analog_labels: one per analog channel expected");
-            t.analog.labels = v;
+            t.analog.labels = file_texts(v, latin1_text(t), "analog_labels");
           },
           "one label per analog channel (write() and compress() keep them)")
       .def_property_readonly("analog_rate", [](const capz::Take& t) { return t.analog.rate; })

@@ -20,6 +20,49 @@ namespace capz_py {
 
 namespace {
 
+bool valid_utf8(const std::string& s) {
+  size_t i = 0;
+  while (i < s.size()) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    const size_t n = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
+    if (n == 0 || i + n > s.size()) return false;
+    for (size_t k = 1; k < n; ++k)
+      if ((static_cast<unsigned char>(s[i + k]) >> 6) != 2) return false;
+    i += n;
+  }
+  return true;
+}
+
+bool all_utf8(const std::vector<std::string>& v) {
+  return std::all_of(v.begin(), v.end(), valid_utf8);
+}
+
+}  // namespace
+
+bool latin1_text(const capz::Take& t) {
+  if (!all_utf8(t.labels) || !all_utf8(t.descriptions) || !all_utf8(t.analog.labels)) return true;
+  if (t.c3d)
+    for (const capz::C3DGroup& g : t.c3d->groups) {
+      if (!valid_utf8(g.name) || !valid_utf8(g.description)) return true;
+      for (const capz::C3DParameter& p : g.params)
+        if (!valid_utf8(p.name) || !valid_utf8(p.description) ||
+            (p.type == -1 && !valid_utf8(std::string(p.data.begin(), p.data.end()))))
+          return true;
+    }
+  return false;
+}
+
+std::string file_text(const py::handle& s, bool latin1) {
+  if (latin1) {
+    PyObject* b = PyUnicode_AsLatin1String(s.ptr());
+    if (b) return py::reinterpret_steal<py::bytes>(b).cast<std::string>();
+    PyErr_Clear();  // a character Latin-1 has no byte for: UTF-8
+  }
+  return s.cast<std::string>();
+}
+
+namespace {
+
 // A C3D parameter's value: a char array of at most one dimension as a str, of more as a list
 // of str (dims[0] characters each, the other dimensions flattened in file order); numbers as a
 // numpy array of the stored type (uint8, int16, float32), its shape the C3D dimensions reversed
@@ -60,7 +103,7 @@ py::object parameter_value(const capz::C3DParameter& p) {
 // array of one dimension, a list or tuple of str a 2-D one (blank padded to the longest); an int
 // an int16, a float a float32; a numpy array uint8 (byte), any other integer type (int16, each
 // value in -32768 .. 65535) or float (float32), its dimensions the array's shape reversed.
-void parameter_from_python(const py::handle& v, capz::C3DParameter* p) {
+void parameter_from_python(const py::handle& v, bool latin1, capz::C3DParameter* p) {
   auto put16 = [&](long long x) {
     if (x < -32768 || x > 65535) invalid("set_parameter: " + std::to_string(x) + " is not int16");
     const uint16_t u = static_cast<uint16_t>(x);
@@ -76,7 +119,7 @@ void parameter_from_python(const py::handle& v, capz::C3DParameter* p) {
   p->data.clear();
   p->dims.clear();
   if (py::isinstance<py::str>(v)) {
-    const std::string s = v.cast<std::string>();
+    const std::string s = file_text(v, latin1);
     p->type = -1;
     p->dims = {static_cast<int>(s.size())};
     p->data.assign(s.begin(), s.end());
@@ -84,7 +127,7 @@ void parameter_from_python(const py::handle& v, capz::C3DParameter* p) {
     std::vector<std::string> strings;
     for (const py::handle& e : v) {
       if (!py::isinstance<py::str>(e)) invalid("set_parameter: a list value must hold str only");
-      strings.push_back(e.cast<std::string>());
+      strings.push_back(file_text(e, latin1));
     }
     size_t width = 0;
     for (const std::string& x : strings) width = std::max(width, x.size());
@@ -144,7 +187,13 @@ bool same_name(const std::string& a, const std::string& b) {
 // without a parameter section (from_arrays, TRC, PCD) first gets the one write_c3d would give it
 // (docs/PYTHON.md), so that the section holds what a C3D reader needs besides what is set.
 void set_parameter(capz::Take& t, const std::string& group, const std::string& name,
-                   const py::handle& value, const std::optional<std::string>& description) {
+                   const py::handle& value, const py::object& described) {
+  const bool latin1 = latin1_text(t);
+  std::optional<std::string> description;
+  if (!described.is_none()) {
+    if (!py::isinstance<py::str>(described)) invalid("set_parameter: a description is a str");
+    description = file_text(described, latin1);
+  }
   for (const std::string* n : {&group, &name})
     if (n->empty() || n->size() > 127 || n->find('\0') != std::string::npos ||
         n->find(' ') != std::string::npos)
@@ -152,7 +201,7 @@ void set_parameter(capz::Take& t, const std::string& group, const std::string& n
   if (description && description->size() > 255)
     invalid("set_parameter: a description holds at most 255 characters");
   capz::C3DParameter p;
-  parameter_from_python(value, &p);
+  parameter_from_python(value, latin1, &p);
   if (!t.c3d) t.c3d = capz::new_c3d_parameters(t, "set_parameter");
   capz::C3DGroup* g = nullptr;
   int top = 0;
@@ -185,6 +234,7 @@ void set_parameter(capz::Take& t, const std::string& group, const std::string& n
 // "" or 0 when left out) as the EVENT group's events; a take without a section gets
 // set_parameter's. A refusal changes nothing.
 void set_events(capz::Take& t, const py::list& events) {
+  const bool latin1 = latin1_text(t);
   std::vector<capz::C3DEvent> v;
   for (size_t i = 0; i < events.size(); ++i) {
     const std::string at = "set_events: event " + std::to_string(i);
@@ -204,7 +254,7 @@ void set_events(capz::Take& t, const py::list& events) {
                                             : nullptr;
       if (text) {
         if (!py::isinstance<py::str>(val)) invalid(at + ": " + key + " is not a str");
-        *text = val.cast<std::string>();
+        *text = file_text(val, latin1);
       } else if (number) {
         if (!py::isinstance<py::int_>(val) || py::isinstance<py::bool_>(val))
           invalid(at + ": " + key + " is not an int");

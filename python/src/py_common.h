@@ -67,6 +67,25 @@ inline py::str text(const std::string& s) {
   return py::reinterpret_steal<py::str>(o);
 }
 
+// Whether a take's text reads as Latin-1: some label, description, group or parameter name or
+// char parameter of it is not valid UTF-8, so text() gave it as Latin-1 (py_c3d.cpp).
+bool latin1_text(const capz::Take& t);
+
+// A Python str as a file's bytes: Latin-1 when `latin1` (the take's text is) and every character
+// has a Latin-1 byte, so that a label read and set again keeps its bytes; else UTF-8.
+std::string file_text(const py::handle& s, bool latin1);
+
+// A sequence of str as file_text each; `what` names it in the error for anything else.
+inline std::vector<std::string> file_texts(const py::sequence& v, bool latin1, const char* what) {
+  if (py::isinstance<py::str>(v)) invalid(std::string(what) + ": a list of str, not a str");
+  std::vector<std::string> out;
+  for (const py::handle& e : v) {
+    if (!py::isinstance<py::str>(e)) invalid(std::string(what) + ": str expected");
+    out.push_back(file_text(e, latin1));
+  }
+  return out;
+}
+
 inline py::list texts(const std::vector<std::string>& v) {
   py::list out;
   for (const std::string& x : v) out.append(text(x));

@@ -572,3 +572,32 @@ def test_write_warns_what_the_format_drops(tmp_path):
         warnings.simplefilter("error")  # C3D keeps it all; a TRC take into TRC too
         capz.write(take, str(tmp_path / "p.c3d"))
         capz.write(capz.read(str(tmp_path / "p.trc")), str(tmp_path / "q.trc"))
+
+
+def test_text_of_a_latin1_file_is_set_back_as_latin1(tmp_path):
+    """golf.c3d's descriptions are Latin-1: what is read and set again keeps its bytes, and new
+    text in such a take is Latin-1 where it can be; a UTF-8 (here ASCII) take gets UTF-8."""
+    path = shared("c3d/c3dorg/sample_16/golf.c3d")
+    take = capz.read(path)
+    want = parameters_of_file(path)["POINT"]["DESCRIPTIONS"]
+    take.set_parameter("POINT", "DESCRIPTIONS", take.parameters["POINT"]["DESCRIPTIONS"])
+    take.labels = take.labels
+    take.set_parameter("SUBJECTS", "NAMES", ["Jürgen"], description="Größe")
+    take.set_events([{"label": "Ölwechsel", "time": 1.0}])
+    out = str(tmp_path / "golf.c3d")
+    capz.write(take, out)
+    assert parameters_of_file(out)["POINT"]["DESCRIPTIONS"] == want
+    raw = open(out, "rb").read()
+    for text in ("Fußspitze re", "Jürgen", "Größe", "Ölwechsel"):
+        assert text.encode("latin-1") in raw and text.encode() not in raw, text
+    assert capz.read(out).events[0]["label"] == "Ölwechsel"
+    take.set_parameter("SUBJECTS", "SIGN", ["€"])  # no Latin-1 byte: UTF-8
+    capz.write(take, out, overwrite=True)
+    assert "€".encode() in open(out, "rb").read()
+
+    ascii_take = capz.read(os.path.join(REPO, "data", "EB015PI.c3d"))
+    ascii_take.set_parameter("SUBJECTS", "NAMES", ["Jürgen"])
+    capz.write(ascii_take, out, overwrite=True)
+    assert "Jürgen".encode() in open(out, "rb").read()
+    with pytest.raises(capz.Error):
+        ascii_take.labels = "x" * ascii_take.points
