@@ -1,5 +1,6 @@
 #include "cli_util.h"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -141,6 +142,41 @@ double shortest_float32(float f) {
     if (std::strtof(buf, nullptr) == f) break;
   }
   return std::strtod(buf, nullptr);
+}
+
+std::string events_text(const std::vector<capz::C3DEvent>& events) {
+  if (events.empty()) return "none";
+  const size_t kShown = 8;
+  const size_t shown = g_verbosity >= 2 ? events.size() : std::min(kShown, events.size());
+  std::string v = std::to_string(events.size()) + ": ";
+  for (size_t i = 0; i < shown; ++i) {
+    const capz::C3DEvent& e = events[i];
+    // The seconds as the file's float32 gives them (3.05, not 3.049999952316284).
+    const float f = static_cast<float>(e.time);
+    const double t = static_cast<double>(f) == e.time ? shortest_float32(f) : e.time;
+    v += (i ? ", " : "") + (e.context.empty() ? "" : e.context + " ") +
+         (e.label.empty() ? "(unnamed)" : e.label) + " " + number(t) + " s";
+  }
+  if (shown < events.size())
+    v += ", ... (" + std::to_string(events.size() - shown) + " more; -v lists all)";
+  return v;
+}
+
+void events_json(Json* j, const std::vector<capz::C3DEvent>& events) {
+  j->key("events");
+  j->begin_array();
+  for (const capz::C3DEvent& e : events) {
+    j->begin_object();
+    j->member("label", e.label);
+    j->member("context", e.context);
+    j->member("time", e.time);
+    j->member("description", e.description);
+    j->member("subject", e.subject);
+    j->member("icon_id", e.icon_id);
+    j->member("generic_flag", e.generic_flag);
+    j->end_object();
+  }
+  j->end_array();
 }
 
 std::string percent(double share) {

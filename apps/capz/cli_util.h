@@ -88,6 +88,13 @@ class Json {
   bool after_key_ = false;
 };
 
+// capz info's view of a C3D take's EVENT group events (on a .c3d and on its archive): the line's
+// text (the count and the first 8 as "Left Foot Strike 3.05 s", all with -v; "none") and the
+// --json array "events" (objects label, context, time in seconds as stored, description,
+// subject, icon_id, generic_flag).
+std::string events_text(const std::vector<capz::C3DEvent>& events);
+void events_json(Json* j, const std::vector<capz::C3DEvent>& events);
+
 // PCD fields as `capz info` shows them: "x F4, y F4, ..., fpfh F4x33"; and as a JSON array of
 // objects name / type / size / count under key "fields".
 std::string pcd_fields_text(const std::vector<capz::PCDField>& fields);

@@ -127,29 +127,6 @@ std::string labels_text(const capz::Take& t) {
   return v;
 }
 
-// An event time as the file gives it: the shortest decimal of its float32 seconds when it is one
-// (3.05, not 3.049999952316284), else the time itself.
-double event_time(double t) {
-  const float f = static_cast<float>(t);
-  return static_cast<double>(f) == t ? shortest_float32(f) : t;
-}
-
-// The EVENT group's events of a C3D take: their count and the first few as "Left Foot Strike
-// 3.05 s" (all with -v).
-std::string events_text(const std::vector<capz::C3DEvent>& events) {
-  if (events.empty()) return "none";
-  const size_t shown = g_verbosity >= 2 ? events.size() : std::min(kLabelsShown, events.size());
-  std::string v = std::to_string(events.size()) + ": ";
-  for (size_t i = 0; i < shown; ++i) {
-    const capz::C3DEvent& e = events[i];
-    v += (i ? ", " : "") + (e.context.empty() ? "" : e.context + " ") +
-         (e.label.empty() ? "(unnamed)" : e.label) + " " + number(event_time(e.time)) + " s";
-  }
-  if (shown < events.size())
-    v += ", ... (" + std::to_string(events.size() - shown) + " more; -v lists all)";
-  return v;
-}
-
 // The analog line: channels, rate, samples per frame and units counted (what
 // --analog-max-error's keys name besides labels), or none; with -v a line per channel: its label,
 // unit and physical value per stored unit.
@@ -290,22 +267,7 @@ void print_json(const std::string& path, const capz::Take& t, const Summary& s) 
   j.member("samples_per_frame", t.rotations.samples_per_frame);
   j.member_strings("labels", t.rotations.labels);
   j.end_object();
-  if (t.c3d) {
-    j.key("events");
-    j.begin_array();
-    for (const capz::C3DEvent& e : capz::c3d_events(*t.c3d)) {
-      j.begin_object();
-      j.member("label", e.label);
-      j.member("context", e.context);
-      j.member("time", event_time(e.time));
-      j.member("description", e.description);
-      j.member("subject", e.subject);
-      j.member("icon_id", e.icon_id);
-      j.member("generic_flag", e.generic_flag);
-      j.end_object();
-    }
-    j.end_array();
-  }
+  if (t.c3d) events_json(&j, capz::c3d_events(*t.c3d));
   j.member_strings("warnings", t.warnings);
   j.end_object();
   std::printf("%s\n", j.str().c_str());

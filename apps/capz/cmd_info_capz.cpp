@@ -47,7 +47,8 @@ std::string analog_text(const capz::StreamInfo& si) {
   return v;
 }
 
-void print_json(const std::string& path, size_t size, const capz::StreamInfo& si, double bp) {
+void print_json(const std::string& path, size_t size, const capz::StreamInfo& si, double bp,
+                const std::vector<capz::C3DEvent>* events) {
   Json j;
   j.begin_object();
   j.member("file", path);
@@ -90,6 +91,7 @@ void print_json(const std::string& path, size_t size, const capz::StreamInfo& si
   j.member("samples_per_frame", si.rotation_samples_per_frame);
   j.member_strings("labels", si.rotation_labels);
   j.end_object();
+  if (events) events_json(&j, *events);
   if (!si.pcd_fields.empty()) {
     j.member("width", static_cast<uint64_t>(si.pcd_width));
     j.member("height", static_cast<uint64_t>(si.pcd_height));
@@ -121,7 +123,8 @@ void print_json(const std::string& path, size_t size, const capz::StreamInfo& si
   std::printf("%s\n", j.str().c_str());
 }
 
-void print_text(const std::string& path, size_t size, const capz::StreamInfo& si, double bp) {
+void print_text(const std::string& path, size_t size, const capz::StreamInfo& si, double bp,
+                const std::vector<capz::C3DEvent>* events) {
   const std::string u = si.units.empty() ? "" : " " + si.units;
   auto line = [](const char* k, const std::string& v) {
     std::printf("  %-12s %s\n", k, printable(v).c_str());
@@ -153,6 +156,7 @@ void print_text(const std::string& path, size_t size, const capz::StreamInfo& si
                            std::to_string(si.frames * rotations_per_frame(si)) + " samples at " +
                            num(si.rotation_rate) + " Hz (" +
                            std::to_string(si.rotation_samples_per_frame) + " per frame), lossless");
+  if (events) line("events:", events_text(*events));
   if (!si.pcd_fields.empty()) {
     std::string v = pcd_fields_text(si.pcd_fields);
     std::string bounded;
@@ -178,10 +182,17 @@ int info_capz(const std::string& path, bool json) {
   std::vector<uint8_t> bytes = capz::read_file(path);
   capz::StreamInfo si = capz::describe(bytes.data(), bytes.size(), path);
   const double bp = capz::bpvf(bytes.size(), si.frames, si.points);
+  // A C3D take's EVENT group, from META (no frame decoded).
+  std::vector<capz::C3DEvent> events;
+  const bool c3d = si.source_format == capz::Format::kC3D;
+  if (c3d) {
+    const capz::Take h = capz::decompress_frames(bytes.data(), bytes.size(), 0, 0, path);
+    if (h.c3d) events = capz::c3d_events(*h.c3d);
+  }
   if (json)
-    print_json(path, bytes.size(), si, bp);
+    print_json(path, bytes.size(), si, bp, c3d ? &events : nullptr);
   else
-    print_text(path, bytes.size(), si, bp);
+    print_text(path, bytes.size(), si, bp, c3d ? &events : nullptr);
   return 0;
 }
 

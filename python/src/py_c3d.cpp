@@ -39,6 +39,22 @@ bool all_utf8(const std::vector<std::string>& v) {
 
 }  // namespace
 
+py::list events_list(const std::vector<capz::C3DEvent>& events) {
+  py::list out;
+  for (const capz::C3DEvent& e : events) {
+    py::dict d;
+    d["label"] = text(e.label);
+    d["context"] = text(e.context);
+    d["time"] = e.time;
+    d["description"] = text(e.description);
+    d["subject"] = text(e.subject);
+    d["icon_id"] = e.icon_id;
+    d["generic_flag"] = e.generic_flag;
+    out.append(d);
+  }
+  return out;
+}
+
 bool latin1_text(const capz::Take& t) {
   if (!all_utf8(t.labels) || !all_utf8(t.descriptions) || !all_utf8(t.analog.labels)) return true;
   if (t.c3d)
@@ -365,20 +381,7 @@ void bind_take_c3d(TakeClass* cls) {
       .def_property_readonly(
           "events",
           [](const capz::Take& t) {
-            py::list out;
-            if (t.c3d)
-              for (const capz::C3DEvent& e : capz::c3d_events(*t.c3d)) {
-                py::dict d;
-                d["label"] = text(e.label);
-                d["context"] = text(e.context);
-                d["time"] = e.time;
-                d["description"] = text(e.description);
-                d["subject"] = text(e.subject);
-                d["icon_id"] = e.icon_id;
-                d["generic_flag"] = e.generic_flag;
-                out.append(d);
-              }
-            return out;
+            return t.c3d ? events_list(capz::c3d_events(*t.c3d)) : py::list();
           },
           "the C3D EVENT group's events (foot strikes, foot offs, ...) in stored order: list of "
           "dict label, context (\"Left\", \"Right\", \"General\"), time (s: TIMES' minutes x "

@@ -60,6 +60,10 @@ py::dict info_dict(const std::string& path, const std::vector<uint8_t>& bytes) {
   rot["samples_per_frame"] = si.rotation_samples_per_frame;
   rot["labels"] = texts(si.rotation_labels);
   d["rotations"] = rot;
+  if (si.source_format == capz::Format::kC3D) {  // the EVENT group, from META
+    const capz::Take h = capz::decompress_frames(bytes.data(), bytes.size(), 0, 0, path);
+    d["events"] = h.c3d ? events_list(capz::c3d_events(*h.c3d)) : py::list();
+  }
   const capz::OriginalInfo orig = capz::original_info(path);  // HASH: the original file
   if (orig.hashed) {
     py::dict o;

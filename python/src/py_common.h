@@ -67,6 +67,9 @@ inline py::str text(const std::string& s) {
   return py::reinterpret_steal<py::str>(o);
 }
 
+// Take.events, and the "events" of capz.open(...).info: one dict an event (py_c3d.cpp).
+py::list events_list(const std::vector<capz::C3DEvent>& events);
+
 // Whether a take's text reads as Latin-1: some label, description, group or parameter name or
 // char parameter of it is not valid UTF-8, so text() gave it as Latin-1 (py_c3d.cpp).
 bool latin1_text(const capz::Take& t);
