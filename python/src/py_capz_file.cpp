@@ -60,6 +60,25 @@ py::dict info_dict(const std::string& path, const std::vector<uint8_t>& bytes) {
   rot["samples_per_frame"] = si.rotation_samples_per_frame;
   rot["labels"] = texts(si.rotation_labels);
   d["rotations"] = rot;
+  if (!si.pcd_fields.empty()) {  // a PCD sequence's layout, fields and their bounds
+    d["width"] = si.pcd_width;
+    d["height"] = si.pcd_height;
+    py::list fields;
+    for (const capz::PCDField& f : si.pcd_fields) {
+      py::dict x;
+      x["name"] = text(f.name);
+      x["type"] = std::string(1, f.type);
+      x["size"] = f.size;
+      x["count"] = f.count;
+      fields.append(x);
+    }
+    d["fields"] = fields;
+    py::dict bounds_of;
+    for (size_t i = 0; i < si.pcd_field_bounds.size() && i < si.pcd_fields.size(); ++i)
+      if (si.pcd_field_bounds[i] > 0)
+        bounds_of[text(si.pcd_fields[i].name)] = si.pcd_field_bounds[i];
+    d["field_bounds"] = bounds_of;
+  }
   if (si.source_format == capz::Format::kC3D) {  // the EVENT group, from META
     const capz::Take h = capz::decompress_frames(bytes.data(), bytes.size(), 0, 0, path);
     d["events"] = h.c3d ? events_list(capz::c3d_events(*h.c3d)) : py::list();

@@ -31,6 +31,24 @@ def test_read_frames_equals_slice_of_whole(archive):
         assert z.read_frames(first=whole.frames + 5, count=3).frames == 0
 
 
+def test_info_is_cli_info_for_every_golden_stream():
+    """Every format version and source kind (C3D with events and analog, TRC, PCD with fields
+    and bounds, rotations): capz.open().info is `capz info --json`, key for key."""
+    import glob
+    import os
+    from conftest import REPO
+    streams = sorted(glob.glob(os.path.join(REPO, "tests", "golden", "streams", "*.capz")))
+    assert len(streams) > 50
+    kinds = set()
+    for path in streams:
+        with capz.open(path) as z:
+            info = z.info
+        assert info == cli_info(path), path
+        kinds.add(info["source_format"])
+        kinds |= {k for k in ("fields", "events") if k in info}
+    assert {"c3d", "trc", "pcd-folder", "fields", "events"} <= kinds
+
+
 def test_info_is_cli_info(archive):
     with capz.open(archive) as z:
         info = z.info
