@@ -44,14 +44,15 @@ constexpr FormatVersion kFormat7{7, 0};
 constexpr FormatVersion kFormat8{8, 0};
 // The version of streams with analog channels (FORMAT.md 9.1: the float coder's predictors 2-5;
 // 9.2: interpolated samples; 9.3, from 9.1 on: constant predictors of integer channels' blocks;
-// 9.4, from 9.2 on: held samples). Every 8.x addition holds in 9.x.
-constexpr FormatVersion kFormat9{9, 2};
+// 9.4, from 9.2 on: held samples; 9.7, from 9.3 on: tokens relative to the magnitude context).
+// Every 8.x addition holds in 9.x.
+constexpr FormatVersion kFormat9{9, 3};
 // The newest version the encoder writes.
 constexpr FormatVersion kFormatNewestWritten = kFormat9;
 // The versions read: every one from kFormatOldestRead to kFormatNewestRead, and any later
 // minor version of kFormatNewestRead's major (minor versions only add what older decoders skip;
 // FORMAT.md 2). A later major version is refused (Error kUnsupportedVersion).
 constexpr FormatVersion kFormatOldestRead{1, 0};
-constexpr FormatVersion kFormatNewestRead{9, 2};
+constexpr FormatVersion kFormatNewestRead{9, 3};
 
 }  // namespace capz

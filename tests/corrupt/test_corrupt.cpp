@@ -97,9 +97,11 @@ std::string decode_error_text(const std::vector<uint8_t>& b) {
   return std::string();
 }
 
-// b relabelled as a stream of another major version, its header CRC made right.
-std::vector<uint8_t> relabelled(std::vector<uint8_t> b, int major) {
+// b relabelled as a stream of another major version (and minor, when given), its header CRC
+// made right.
+std::vector<uint8_t> relabelled(std::vector<uint8_t> b, int major, int minor = -1) {
   b[9] = static_cast<uint8_t>(major);
+  if (minor >= 0) b[10] = static_cast<uint8_t>(minor);
   const uint32_t hc = crc32c(b.data(), 11);
   for (int k = 0; k < 4; ++k) b[11 + k] = static_cast<uint8_t>(hc >> (8 * k));
   return b;
@@ -229,6 +231,27 @@ TEST(Corrupt, GivenFloatPredictors9DamagedOrInAnOlderMajorThenCleanCorruptNaming
   ASSERT_NE(anlg, std::string::npos);
   int errors = 0;
   expect_clean_under_flips(good, anlg, 0, 6, "ANLG", &errors);
+  EXPECT_GT(errors, 0);
+}
+
+// FORMAT.md 9.7: window version 2 exists from 9.3 on. The golden 9.3 stream of a take with force
+// and EMG channels, relabelled 9.2 (header CRC made right), is refused with one clean error naming
+// ANLG; every byte of its first ANLG payload flipped under a valid CRC gives a clean error or a
+// take.
+TEST(Corrupt, GivenRelativeTokenWindowsInAnOlderMinorOrDamagedThenCleanCorruptNamingAnlg) {
+  const std::vector<uint8_t> good =
+      read_file(std::string(CAPZ_TEST_DIR) + "/golden/streams/EB015PI.c3d.lossless.v9.3.capz");
+  ASSERT_GT(good.size(), 15u);
+  ASSERT_EQ(good[9], 9);
+  ASSERT_EQ(good[10], 3);
+  decompress(good.data(), good.size(), "good.capz");
+  const std::string e92 = decode_error_text(relabelled(good, 9, 2));
+  EXPECT_NE(e92.find("ANLG"), std::string::npos) << e92;
+  EXPECT_NE(e92.find("unknown analog window version"), std::string::npos) << e92;
+  const size_t anlg = capz_test::find_chunk(good, "ANLG");
+  ASSERT_NE(anlg, std::string::npos);
+  int errors = 0;
+  expect_clean_under_flips(good, anlg, 0, 13, "ANLG", &errors);
   EXPECT_GT(errors, 0);
 }
 

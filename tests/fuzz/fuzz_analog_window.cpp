@@ -11,7 +11,8 @@
 // byte 2 is set as well (FORMAT.md 9.5: windows of version 1, whose integer residuals code the bits
 // below their tokens through models; 9.4: held samples: without bit 6 of the mode, in odd modes the
 // even channels are made to change only at the rows i = 0 and i mod P = 1, P = 2 + bits 4-6 of
-// byte 1, and held in between):
+// byte 1, and held in between), and a 9.3 one when bit 2 of byte 2 is set as well (FORMAT.md 9.7:
+// windows of version 2, whose integer residuals' tokens are coded relative to their context):
 //   mode even: the rest is an ANLG body; decoding must return or throw capz::Error, and a body
 //     that decodes must re-encode to one that decodes to the same bits;
 //   mode odd: the rest are sample bits (as int16 counts, float32 or float64 values, by mode),
@@ -50,7 +51,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const bool v9 = v8 && ((mode & 0x40) || (data[1] & 0x80));
   const bool v91 = v9 && (data[2] & 1);
   const bool v92 = v91 && (data[2] & 2);
-  const capz::FormatVersion v = v92   ? capz::kAnalogHoldSince
+  const bool v93 = v92 && (data[2] & 4);
+  const capz::FormatVersion v = v93   ? capz::kAnalogRelativeSince
+                                : v92 ? capz::kAnalogHoldSince
                                 : v91 ? capz::kAnalogConstantSince
                                 : v9  ? capz::kAnalogFloat9Since
                                 : v8  ? capz::kAnalogLatticeSince

@@ -9,15 +9,18 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "capz/error.h"
 #include "capz/version.h"
 #include "coding/analog/analog_codec.h"
+#include "coding/analog/analog_entropy.h"
 #include "coding/analog/analog_hold.h"
 #include "coding/analog/analog_interp.h"
 #include "coding/analog/analog_repr.h"
 #include "coding/bytes.h"
+#include "coding/entropy.h"
 
 namespace capz_test {
 
@@ -50,6 +53,41 @@ inline std::vector<uint8_t> window_round_trip(const std::vector<double>& rows, s
   EXPECT_EQ(differ, 0u) << "of " << rows.size() << " samples; the first is sample " << first
                         << " (row " << first / C << ", channel " << first % C << ")";
   return p;
+}
+
+// One channel of n rows encoded as a window of `newer` and of `older` (each round-tripped, bits
+// compared): {newer's payload size, older's}.
+inline std::pair<size_t, size_t> window_sizes(const std::vector<double>& v,
+                                              capz::FormatVersion newer,
+                                              capz::FormatVersion older) {
+  return {window_round_trip(v, 1, newer).size(), window_round_trip(v, 1, older).size()};
+}
+
+// A window of one integer channel of n rows made by hand, in `format` (from 9.2 on): the version
+// byte and the channel header as the encoder writes them (kind 1, y = k), then a block whose
+// coder `code` gets with the low-bit models started and the channel's flags coded (no cascade,
+// no reference, LPC order 0); `code` codes the residuals.
+template <typename Code>
+std::vector<uint8_t> int_window_by_hand(size_t n, capz::FormatVersion format, Code code) {
+  std::vector<double> v(n);
+  for (size_t i = 0; i < n; ++i) v[i] = static_cast<double>((i * i * 7919) % 30011) - 15000;
+  const std::vector<uint8_t> w = capz::encode_analog_window(v.data(), n, 1, {}, 0, format);
+  capz::ByteReader in(w.data(), w.size(), "by hand");
+  in.u8();  // the window's version
+  const size_t head = static_cast<size_t>(in.varint()), at = in.offset();
+  EXPECT_EQ(w[at], 1);  // kind 1 (integers), nothing else in the header
+  std::vector<uint8_t> out(w.begin(), w.begin() + static_cast<long>(at + head));
+  capz::IntEncoder enc(capz::analog::kAnalogContexts);
+  capz::analog::start_low_bit_models(&enc);  // as a version 1 or 2 window's coder starts
+  capz::IntEncoder::Cursor c = enc.cursor();
+  c.put(0, capz::analog::kParamContext);  // no cascade
+  c.put(0, capz::analog::kParamContext);  // no reference
+  c.put(0, capz::analog::kParamContext);  // LPC order 0
+  code(&c);
+  enc.commit(c);
+  const std::vector<uint8_t> block = enc.finish();
+  out.insert(out.end(), block.begin(), block.end());
+  return out;
 }
 
 // The offset of the first channel's kind byte: after the window version and the header size.

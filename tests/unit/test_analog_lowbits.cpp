@@ -63,11 +63,10 @@ TEST(AnalogLowBits, GivenStepsOf4mPlus2Then92SmallerThan91AndExact) {
     x += (rng() & 1) ? 4 * m + 2 : -(4 * m + 2);
     s = x;
   }
-  const std::vector<uint8_t> w92 = round_trip(v, kAnalogLowBitsSince),
-                             w91 = round_trip(v, kAnalogConstantSince);
-  EXPECT_EQ(w92[0], 1);  // the window version
-  EXPECT_EQ(w91[0], 0);
-  EXPECT_LT(w92.size() * 100, w91.size() * 94) << w92.size() << " against " << w91.size();
+  EXPECT_EQ(round_trip(v, kAnalogLowBitsSince)[0], 1);  // the window version
+  EXPECT_EQ(round_trip(v, kAnalogConstantSince)[0], 0);
+  const auto [w92, w91] = capz_test::window_sizes(v, kAnalogLowBitsSince, kAnalogConstantSince);
+  EXPECT_LT(w92 * 100, w91 * 94) << w92 << " against " << w91;
 }
 
 // White noise has no pattern below its tokens: the models cost at most 1%.
@@ -76,9 +75,8 @@ TEST(AnalogLowBits, GivenNoiseThen92AboutAs91) {
   std::normal_distribution<double> noise(0, 300);
   std::vector<double> v(8000);
   for (double& s : v) s = std::round(noise(rng));
-  const std::vector<uint8_t> w92 = round_trip(v, kAnalogLowBitsSince),
-                             w91 = round_trip(v, kAnalogConstantSince);
-  EXPECT_LT(w92.size() * 100, w91.size() * 101) << w92.size() << " against " << w91.size();
+  const auto [w92, w91] = capz_test::window_sizes(v, kAnalogLowBitsSince, kAnalogConstantSince);
+  EXPECT_LT(w92 * 100, w91 * 101) << w92 << " against " << w91;
 }
 
 void expect_corrupt(const std::vector<uint8_t>& w, size_t n, FormatVersion format,
@@ -106,32 +104,16 @@ TEST(AnalogLowBits, GivenWindowVersionsThenEachDecodesOnlyWhereValid) {
 // reference, order 0, then residual 0s and one residual of token `tok` whose low-bit symbol is
 // `sym`.
 std::vector<uint8_t> crafted(int tok, int sym, size_t n) {
-  std::vector<double> v(n);
-  for (size_t i = 0; i < n; ++i) v[i] = static_cast<double>((i * i * 7919) % 30011) - 15000;
-  const std::vector<uint8_t> w = encode_analog_window(v.data(), n, 1, {}, 0, kAnalogLowBitsSince);
-  ByteReader in(w.data(), w.size(), "crafted");
-  in.u8();  // the window's version
-  const size_t head = static_cast<size_t>(in.varint()), at = in.offset();
-  EXPECT_EQ(w[at], 1);  // kind 1 (integers), nothing else in the header: y = k
-  std::vector<uint8_t> out(w.begin(), w.begin() + static_cast<long>(at + head));
-  IntEncoder enc(analog::kAnalogContexts);
-  analog::start_low_bit_models(&enc);  // as a version 1 window's coder starts
-  IntEncoder::Cursor c = enc.cursor();
-  c.put(0, analog::kParamContext);  // no cascade
-  c.put(0, analog::kParamContext);  // no reference
-  c.put(0, analog::kParamContext);  // LPC order 0
-  analog::Magnitude m;
-  for (size_t i = 0; i + 1 < n; ++i) analog::put_residual_v1(&c, &m, 0);
-  // The last residual by hand: its token (u = the token's least value), its symbol, no raw bits
-  // beyond it for tokens 4..7.
-  int nbits;
-  const uint32_t u = token_floor(tok, &nbits);
-  c.put_token(u, m.context(), &nbits);
-  c.put_symbol(sym, analog::kLowContext + tok - 4);
-  enc.commit(c);
-  const std::vector<uint8_t> block = enc.finish();
-  out.insert(out.end(), block.begin(), block.end());
-  return out;
+  return capz_test::int_window_by_hand(n, kAnalogLowBitsSince, [&](IntEncoder::Cursor* c) {
+    analog::Magnitude m;
+    for (size_t i = 0; i + 1 < n; ++i) analog::put_residual_v1(c, &m, 0);
+    // The last residual by hand: its token (u = the token's least value), its symbol, no raw
+    // bits beyond it for tokens 4..7.
+    int nbits;
+    const uint32_t u = token_floor(tok, &nbits);
+    c->put_token(u, m.context(), &nbits);
+    c->put_symbol(sym, analog::kLowContext + tok - 4);
+  });
 }
 
 TEST(AnalogLowBits, GivenALowBitSymbolOutOfItsRangeThenCorrupt) {

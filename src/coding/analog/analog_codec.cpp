@@ -29,9 +29,21 @@ constexpr double kTrialMargin = 1.2;
 // repeated samples saves their tokens (FORMAT.md 9.4). 1 bit: 124 bytes less on the 98 shared
 // takes than 0, the same as 2, at the same speed.
 constexpr uint64_t kEstimateBitsPerSample = 1;
-// The window's version byte (FORMAT.md 4.2.1): 0, or from 9.2 on 1, whose integer residuals code
-// the two bits below their token through a model (9.5).
-constexpr uint8_t kWindowVersion = 0, kWindowVersionLowBits = 1;
+// The window's version byte (FORMAT.md 4.2.1): 0; from 9.2 on 1, whose integer residuals code
+// the two bits below their token through a model (9.5); from 9.3 on 2, which codes their tokens
+// relative to the magnitude context as well (9.7). It says how integer residuals are coded.
+constexpr int kWindowVersion = 0, kWindowVersionLowBits = 1, kWindowVersionRelative = 2;
+// The version of the windows capz writes into a stream of this version.
+int window_version(FormatVersion format) {
+  return format >= kAnalogRelativeSince  ? kWindowVersionRelative
+         : format >= kAnalogLowBitsSince ? kWindowVersionLowBits
+                                         : kWindowVersion;
+}
+// Whether a window of this version starts the low-bit models on their symbols (FORMAT.md 9.5).
+template <typename Coder>
+void start_models(int version, Coder* coder) {
+  if (version >= kWindowVersionLowBits) analog::start_low_bit_models(coder);
+}
 
 // Whether a channel of this kind has numbers in the entropy-coded block (a window whose
 // channels have none omits the block).
@@ -174,11 +186,11 @@ void plan_int_channel(const std::vector<int32_t>& x,
 }
 
 // Integer channel: the cascade flag, the reference distance (and beta), then per block the LPC
-// parameters and residuals (with low_bits, as a version 1 window codes them: FORMAT.md 9.5).
+// parameters and residuals (as a window of `version` codes them: FORMAT.md 4.2.5, 9.5, 9.7).
 // Stops, returning false, once enc->bytes_out() reaches `limit` (checked every kTrialCheck
 // samples). Everything it calls is inlined (flatten) and it codes through a local copy of the
 // cursor, which then stays in registers (entropy.h's Cursor).
-__attribute__((flatten)) bool emit_int_channel(const IntPlan& plan, bool low_bits,
+__attribute__((flatten)) bool emit_int_channel(const IntPlan& plan, int version,
                                                IntEncoder::Cursor* out, size_t limit = SIZE_MAX) {
   IntEncoder::Cursor c = *out;
   IntEncoder::Cursor* enc = &c;
@@ -193,7 +205,9 @@ __attribute__((flatten)) bool emit_int_channel(const IntPlan& plan, bool low_bit
     for (size_t i0 = b0; i0 < b1; i0 += analog::kTrialCheck) {
       if (enc->bytes_out() >= limit) return false;  // a stopped trial: its cursor is dropped
       const size_t i1 = std::min(b1, i0 + analog::kTrialCheck);
-      if (low_bits)
+      if (version == kWindowVersionRelative)
+        for (size_t i = i0; i < i1; ++i) analog::put_residual_v2(enc, &mag, plan.r[i]);
+      else if (version == kWindowVersionLowBits)
         for (size_t i = i0; i < i1; ++i) analog::put_residual_v1(enc, &mag, plan.r[i]);
       else
         for (size_t i = i0; i < i1; ++i) analog::put_residual(enc, &mag, plan.r[i]);
@@ -203,16 +217,18 @@ __attribute__((flatten)) bool emit_int_channel(const IntPlan& plan, bool low_bit
   return true;
 }
 
-// Samples [b0, b1) of an integer channel, the stage flags and the window version (kLowBits:
-// FORMAT.md 9.5) fixed at compile time.
-template <bool kCascade, bool kRef, bool kLowBits>
+// Samples [b0, b1) of an integer channel, the stage flags and the window version (FORMAT.md
+// 4.2.5, 9.5, 9.7) fixed at compile time.
+template <bool kCascade, bool kRef, int kVersion>
 void decode_int_block(size_t b0, size_t b1, const analog::LpcParams& p, const int32_t* ref,
                       int32_t beta, IntDecoder::Cursor* dec, analog::Magnitude* mag,
                       analog::SignLms* lms, int32_t* xs, double* xd, int32_t* r1) {
   const analog::LpcKernel lpc(p);
   const size_t order = static_cast<size_t>(p.order);
   for (size_t i = b0; i < b1; ++i) {
-    int64_t e = kLowBits ? analog::get_residual_v1(dec, mag) : analog::get_residual(dec, mag);
+    int64_t e = kVersion == kWindowVersionRelative  ? analog::get_residual_v2(dec, mag)
+                : kVersion == kWindowVersionLowBits ? analog::get_residual_v1(dec, mag)
+                                                    : analog::get_residual(dec, mag);
     if (kCascade) {
       const int64_t out = e;
       e += lms->predict();
@@ -228,23 +244,23 @@ void decode_int_block(size_t b0, size_t b1, const analog::LpcParams& p, const in
   }
 }
 
-template <bool kLowBits>
+template <int kVersion>
 void decode_int_blocks(size_t b0, size_t b1, bool cascade, const analog::LpcParams& p,
                        const int32_t* ref, int32_t beta, IntDecoder::Cursor* dec,
                        analog::Magnitude* mag, analog::SignLms* lms, int32_t* xs, double* xd,
                        int32_t* r1) {
   if (cascade && ref)
-    decode_int_block<true, true, kLowBits>(b0, b1, p, ref, beta, dec, mag, lms, xs, xd, r1);
+    decode_int_block<true, true, kVersion>(b0, b1, p, ref, beta, dec, mag, lms, xs, xd, r1);
   else if (cascade)
-    decode_int_block<true, false, kLowBits>(b0, b1, p, ref, beta, dec, mag, lms, xs, xd, r1);
+    decode_int_block<true, false, kVersion>(b0, b1, p, ref, beta, dec, mag, lms, xs, xd, r1);
   else if (ref)
-    decode_int_block<false, true, kLowBits>(b0, b1, p, ref, beta, dec, mag, lms, xs, xd, r1);
+    decode_int_block<false, true, kVersion>(b0, b1, p, ref, beta, dec, mag, lms, xs, xd, r1);
   else
-    decode_int_block<false, false, kLowBits>(b0, b1, p, ref, beta, dec, mag, lms, xs, xd, r1);
+    decode_int_block<false, false, kVersion>(b0, b1, p, ref, beta, dec, mag, lms, xs, xd, r1);
 }
 
 void decode_int_channel(size_t n, const std::vector<const std::vector<int32_t>*>& refs,
-                        bool constant, bool low_bits, IntDecoder::Cursor* dec,
+                        bool constant, int version, IntDecoder::Cursor* dec,
                         std::vector<int32_t>* x, std::vector<int32_t>* r1) {
   x->resize(n);
   r1->resize(n);
@@ -273,10 +289,15 @@ void decode_int_channel(size_t n, const std::vector<const std::vector<int32_t>*>
     const analog::LpcParams p = get_lpc(dec, constant);
     int32_t* xs = x->data();
     int32_t* rs = r1->data();
-    if (low_bits)
-      decode_int_blocks<true>(b0, b1, cascade, p, ref, cross.beta, dec, &mag, &lms, xs, xs_d, rs);
+    if (version == kWindowVersionRelative)
+      decode_int_blocks<kWindowVersionRelative>(b0, b1, cascade, p, ref, cross.beta, dec, &mag,
+                                                &lms, xs, xs_d, rs);
+    else if (version == kWindowVersionLowBits)
+      decode_int_blocks<kWindowVersionLowBits>(b0, b1, cascade, p, ref, cross.beta, dec, &mag, &lms,
+                                               xs, xs_d, rs);
     else
-      decode_int_blocks<false>(b0, b1, cascade, p, ref, cross.beta, dec, &mag, &lms, xs, xs_d, rs);
+      decode_int_blocks<kWindowVersion>(b0, b1, cascade, p, ref, cross.beta, dec, &mag, &lms, xs,
+                                        xs_d, rs);
   }
 }
 
@@ -391,10 +412,10 @@ CandidatePlans plan_candidates(const ChannelCandidates& cc, const EarlierChannel
 
 // Codes candidate k's samples; false when the coding stopped at `limit` bytes out (a trial that
 // cannot win).
-bool emit_candidate(const ChannelCandidates& cc, const CandidatePlans& p, size_t k, bool low_bits,
+bool emit_candidate(const ChannelCandidates& cc, const CandidatePlans& p, size_t k, int version,
                     IntEncoder::Cursor* enc, size_t limit) {
   const ChannelRepr& r = cc.reprs[k];
-  if (analog::is_integer_kind(r.kind)) return emit_int_channel(p.ints[k], low_bits, enc, limit);
+  if (analog::is_integer_kind(r.kind)) return emit_int_channel(p.ints[k], version, enc, limit);
   if (is_float_kind(r.kind))
     return analog::encode_float_channel(r.filled, r.kind == Kind::kFloat32, p.floats[k], enc,
                                         limit);
@@ -412,7 +433,7 @@ size_t pick_candidate(const ChannelCandidates& cc, const CandidatePlans& p,
                       size_t nrows, FormatVersion format, std::vector<std::vector<uint8_t>>* heads,
                       std::vector<analog::HeaderState>* states) {
   const size_t K = cc.reprs.size();
-  const bool low_bits = format >= kAnalogLowBitsSince;
+  const int version = window_version(format);
   std::vector<double> estimate(K);
   heads->resize(K);
   states->assign(K, state);
@@ -428,11 +449,11 @@ size_t pick_candidate(const ChannelCandidates& cc, const CandidatePlans& p,
   }
   auto trial = [&](size_t k, size_t bound) {
     IntEncoder coder(analog::kAnalogContexts);
-    if (low_bits) analog::start_low_bit_models(&coder);
+    start_models(version, &coder);
     IntEncoder::Cursor tc = coder.cursor();
     const size_t fixed = (*heads)[k].size() + 1;
     const size_t limit = bound == SIZE_MAX ? SIZE_MAX : bound > fixed ? bound - fixed : 0;
-    if (!emit_candidate(cc, p, k, low_bits, &tc, limit)) return SIZE_MAX;
+    if (!emit_candidate(cc, p, k, version, &tc, limit)) return SIZE_MAX;
     coder.commit(tc);
     return (*heads)[k].size() + coder.finish().size();
   };
@@ -444,13 +465,13 @@ size_t pick_candidate(const ChannelCandidates& cc, const CandidatePlans& p,
 std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int channels,
                                           const AnalogHints& hints, size_t repeat_S,
                                           FormatVersion format) {
-  const bool low_bits = format >= kAnalogLowBitsSince;
+  const int version = window_version(format);
   const analog::HeaderRules rules = header_rules(format, repeat_S);
   ByteWriter head;
   analog::HeaderState state;  // the last constant; from 9.2 on the last scaling (FORMAT.md 9.6)
   bool any_coded = false;
   IntEncoder ent(analog::kAnalogContexts);
-  if (low_bits) analog::start_low_bit_models(&ent);
+  start_models(version, &ent);
   IntEncoder::Cursor cur = ent.cursor();
   const size_t nch = static_cast<size_t>(std::max(channels, 0));
   EarlierChannels earlier(nch);
@@ -478,7 +499,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     }
     const Kind kind = cc.reprs[pick].kind;
     any_coded |= coded(kind);
-    emit_candidate(cc, plans, pick, low_bits, &cur, SIZE_MAX);
+    emit_candidate(cc, plans, pick, version, &cur, SIZE_MAX);
     earlier.layouts[c] = cc.layout(pick);
     earlier.has_r1[c] = analog::is_integer_kind(kind);
     if (earlier.has_r1[c]) {
@@ -488,7 +509,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
   }
   ent.commit(cur);
   ByteWriter out;
-  out.u8(low_bits ? kWindowVersionLowBits : kWindowVersion);
+  out.u8(static_cast<uint8_t>(version));
   out.varint(head.size());
   out.bytes(head.buffer());
   if (any_coded) out.bytes(ent.finish());
@@ -501,11 +522,9 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
   const bool format9 = format >= kAnalogFloat9Since, format91 = format >= kAnalogConstantSince;
   const analog::HeaderRules rules = header_rules(format, repeat_S);
   ByteReader in(data, size, what);
-  const uint8_t version = in.u8();
-  if (version != kWindowVersion &&
-      !(format >= kAnalogLowBitsSince && version == kWindowVersionLowBits))
+  const int version = in.u8();
+  if (version > window_version(format))
     throw Error(ErrorCode::kCorrupt, what + ": unknown analog window version");
-  const bool low_bits = version == kWindowVersionLowBits;
   const uint64_t head_size = in.count(1, "analog header size");
   ByteReader head(in.bytes(static_cast<size_t>(head_size)), static_cast<size_t>(head_size), what);
   const size_t nch = static_cast<size_t>(std::max(channels, 0));
@@ -539,7 +558,7 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
     return;
   }
   IntDecoder ent(data + in.offset(), in.remaining(), analog::kAnalogContexts, what);
-  if (low_bits) analog::start_low_bit_models(&ent);
+  start_models(version, &ent);
   IntDecoder::Cursor cur = ent.cursor();
   std::vector<std::vector<int32_t>> r1s(nch);
   std::vector<bool> has_r1(nch, false);
@@ -548,7 +567,7 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
     if (analog::is_integer_kind(r.kind)) {
       std::vector<bool> use(nch, false);  // the same kept rows (FORMAT.md 7.2, 9.2, 9.4)
       for (size_t j = 0; j < c; ++j) use[j] = has_r1[j] && layouts[j] == layouts[c];
-      decode_int_channel(kept[c], cross_refs(r1s, use, static_cast<int>(c)), format91, low_bits,
+      decode_int_channel(kept[c], cross_refs(r1s, use, static_cast<int>(c)), format91, version,
                          &cur, &r.ints, &r1s[c]);
       has_r1[c] = true;
     } else if (r.kind == Kind::kFloat32 || r.kind == Kind::kFloat64)

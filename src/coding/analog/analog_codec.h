@@ -49,6 +49,9 @@ constexpr FormatVersion kAnalogHoldSince{9, 2};
 constexpr FormatVersion kAnalogLowBitsSince{9, 2};
 // A kind 2 channel may name the previous kind 2 channel's scaling (9.6).
 constexpr FormatVersion kAnalogShareSince{9, 2};
+// Windows may be of version 2: integer residuals' tokens relative to their magnitude context
+// (9.7).
+constexpr FormatVersion kAnalogRelativeSince{9, 3};
 
 std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int channels,
                                           const AnalogHints& hints, size_t repeat_S = 0,
@@ -58,8 +61,9 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
 // not a valid window of that shape; memory used is O(nrows * channels + size). repeat_S and
 // format: as for encode_analog_window (repeat_S 0: a repeat list is corrupt; a format before
 // kAnalogLatticeSince, kAnalogFloat9Since, kAnalogConstantSince, kAnalogHoldSince,
-// kAnalogLowBitsSince or kAnalogShareSince: a lattice table, an interpolation field, a constant
-// predictor, a hold field, a version 1 window or a shared scaling is corrupt).
+// kAnalogLowBitsSince, kAnalogShareSince or kAnalogRelativeSince: a lattice table, an
+// interpolation field, a constant predictor, a hold field, a version 1 window, a shared scaling
+// or a version 2 window is corrupt).
 void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int channels,
                           double* rows, const std::string& what, size_t repeat_S = 0,
                           FormatVersion format = kAnalogWindowsSince);

@@ -30,7 +30,14 @@ constexpr int kFarContext = kTopContext + kTopContexts;
 // FORMAT.md 9.5: the two bits below an integer residual's token t (4..63), by t.
 constexpr int kLowContext = kFarContext + 1;
 constexpr int kLowContexts = 60;
-constexpr int kAnalogContexts = kLowContext + kLowContexts;
+// FORMAT.md 9.7 (a version 2 window): a token far below its magnitude context c, by c; one far
+// above it, for every context.
+constexpr int kBelowContext = kLowContext + kLowContexts;
+constexpr int kAboveContext = kBelowContext + kMagContexts;
+constexpr int kAnalogContexts = kAboveContext + 1;
+// FORMAT.md 9.7: a version 2 window's token t under magnitude context c is d = t - c + kRelShift;
+// its context's model codes d in 1 .. 14 itself.
+constexpr int kRelShift = 14;
 
 // Running magnitude of a residual sequence: avg in 1/16 units, updated by an exponential mean
 // with weight 1/8. Encoder and decoder update it identically after every residual.
@@ -68,22 +75,16 @@ template <typename Coder>
 void start_low_bit_models(Coder* c) {
   for (int t = 4; t < 64; ++t) c->restrict_context(kLowContext + t - 4, t < 6 ? 2 : 4);
 }
-// FORMAT.md 9.5 (a version 1 analog window): as put_residual, but the (up to) two bits below the
-// token are one symbol under context kLowContext + token - 4, and only the bits below them are
-// raw.
-inline void put_residual_v1(IntEncoder::Cursor* enc, Magnitude* m, int32_t v) {
-  const uint32_t u = zigzag(v);
-  int nbits;
-  const int tok = enc->put_token(u, m->context(), &nbits);
+// FORMAT.md 9.5 (a version 1 or 2 window): the (up to) two bits below token tok of u as one
+// symbol under context kLowContext + tok - 4, then only the bits below them raw.
+inline void put_low_bits(IntEncoder::Cursor* enc, uint32_t u, int tok, int nbits) {
   if (nbits) {
     const int k = nbits < 2 ? nbits : 2, r = nbits - k;
     enc->put_symbol(static_cast<int>((u >> r) & ((1u << k) - 1)), kLowContext + tok - 4);
     if (r) enc->raw_bits(u & ((1u << r) - 1), r);
   }
-  m->update(u);
 }
-inline int32_t get_residual_v1(IntDecoder::Cursor* dec, Magnitude* m) {
-  const int tok = dec->get_token(m->context());
+inline uint32_t get_low_bits(IntDecoder::Cursor* dec, int tok) {
   int nbits;
   uint32_t u = token_floor(tok, &nbits);
   if (nbits) {
@@ -93,6 +94,55 @@ inline int32_t get_residual_v1(IntDecoder::Cursor* dec, Magnitude* m) {
     u |= static_cast<uint32_t>(s) << r;
     if (r) u |= dec->raw_bits(r);
   }
+  return u;
+}
+// FORMAT.md 9.5 (a version 1 analog window): as put_residual, but with the bits below the token
+// as put_low_bits codes them.
+inline void put_residual_v1(IntEncoder::Cursor* enc, Magnitude* m, int32_t v) {
+  const uint32_t u = zigzag(v);
+  int nbits;
+  const int tok = enc->put_token(u, m->context(), &nbits);
+  put_low_bits(enc, u, tok, nbits);
+  m->update(u);
+}
+inline int32_t get_residual_v1(IntDecoder::Cursor* dec, Magnitude* m) {
+  const uint32_t u = get_low_bits(dec, dec->get_token(m->context()));
+  m->update(u);
+  return unzigzag(u);
+}
+// FORMAT.md 9.7 (a version 2 analog window): as put_residual_v1, but the token relative to the
+// magnitude context: d = t - c + kRelShift, symbol d (1 .. 14) under context c itself, or symbol
+// 0 and -d under kBelowContext + c, or symbol 15 and d - 15 under kAboveContext.
+inline void put_residual_v2(IntEncoder::Cursor* enc, Magnitude* m, int32_t v) {
+  const uint32_t u = zigzag(v);
+  const int c = m->context();
+  int nbits;
+  const int tok = token_of(u, &nbits);
+  const int d = tok - c + kRelShift;
+  if (d <= 0) {
+    enc->put_symbol(0, c);
+    enc->put(static_cast<uint32_t>(-d), kBelowContext + c);
+  } else if (d < 15) {
+    enc->put_symbol(d, c);
+  } else {
+    enc->put_symbol(15, c);
+    enc->put(static_cast<uint32_t>(d - 15), kAboveContext);
+  }
+  put_low_bits(enc, u, tok, nbits);
+  m->update(u);
+}
+inline int32_t get_residual_v2(IntDecoder::Cursor* dec, Magnitude* m) {
+  const int c = m->context();
+  const int s = dec->get_symbol(c);
+  int tok_unused;
+  int64_t d = s;
+  if (s == 0)
+    d = -static_cast<int64_t>(dec->get(kBelowContext + c, &tok_unused));
+  else if (s == 15)
+    d = 15 + static_cast<int64_t>(dec->get(kAboveContext, &tok_unused));
+  const int64_t tok = d + c - kRelShift;
+  if (tok < 0 || tok > 63) dec->corrupt("analog residual token out of range");
+  const uint32_t u = get_low_bits(dec, static_cast<int>(tok));
   m->update(u);
   return unzigzag(u);
 }
