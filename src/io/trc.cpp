@@ -160,6 +160,51 @@ struct Prelude {
   size_t data_line0 = 0;   // its 1-based line number
 };
 
+// Lines 2 and 3 of a TRC file: the header keys and their values, into pre->h (the keys capz
+// knows; it skips the others) and pre->warnings (a key without a value). Throws as read_trc.
+void read_header_values(const std::vector<Field>& keys, const std::vector<Field>& vals,
+                        const std::string& name, Prelude* pre) {
+  Header& h = pre->h;
+  for (size_t i = 0; i < keys.size(); ++i) {
+    std::string k = keys[i].str();
+    if (k.empty()) continue;
+    std::string v = i < vals.size() ? vals[i].str() : std::string();
+    auto num = [&](double* out) {
+      double x;
+      if (!parse_double(v, &x) || !std::isfinite(x))
+        fail(ErrorCode::kCorrupt, name, "line 3: " + k + " '" + v + "' is not a number");
+      *out = x;
+    };
+    auto integer = [&](int64_t* out) {
+      double x;
+      num(&x);
+      if (x != std::floor(x) || std::fabs(x) > 1e15)
+        fail(ErrorCode::kCorrupt, name, "line 3: " + k + " '" + v + "' is not an integer");
+      *out = static_cast<int64_t>(x);
+    };
+    if (v.empty()) {
+      pre->warnings.push_back("header value of " + k + " is missing");
+      continue;
+    }
+    if (iequals(k, "DataRate"))
+      num(&h.data_rate);
+    else if (iequals(k, "CameraRate"))
+      num(&h.camera_rate);
+    else if (iequals(k, "NumFrames"))
+      integer(&h.num_frames);
+    else if (iequals(k, "NumMarkers"))
+      integer(&h.num_markers);
+    else if (iequals(k, "Units"))
+      h.units = v;
+    else if (iequals(k, "OrigDataRate"))
+      num(&h.orig_data_rate);
+    else if (iequals(k, "OrigDataStartFrame"))
+      integer(&h.orig_start);
+    else if (iequals(k, "OrigNumFrames"))
+      integer(&h.orig_num_frames);
+  }
+}
+
 // Parses lines 1..5 of `text` (the file after any byte-order mark). Throws as read_trc.
 Prelude parse_prelude(const char* text, size_t size, const std::string& name) {
   LineReader lines(text, size);
@@ -188,45 +233,7 @@ Prelude parse_prelude(const char* text, size_t size, const std::string& name) {
          "file ends after line 2: the header values (line 3) are missing");
   std::vector<Field> vals;
   split_fields(b, e, &vals);
-  Header& h = pre.h;
-  for (size_t i = 0; i < keys.size(); ++i) {
-    std::string k = keys[i].str();
-    if (k.empty()) continue;
-    std::string v = i < vals.size() ? vals[i].str() : std::string();
-    auto num = [&](double* out) {
-      double x;
-      if (!parse_double(v, &x) || !std::isfinite(x))
-        fail(ErrorCode::kCorrupt, name, "line 3: " + k + " '" + v + "' is not a number");
-      *out = x;
-    };
-    auto integer = [&](int64_t* out) {
-      double x;
-      num(&x);
-      if (x != std::floor(x) || std::fabs(x) > 1e15)
-        fail(ErrorCode::kCorrupt, name, "line 3: " + k + " '" + v + "' is not an integer");
-      *out = static_cast<int64_t>(x);
-    };
-    if (v.empty()) {
-      pre.warnings.push_back("header value of " + k + " is missing");
-      continue;
-    }
-    if (iequals(k, "DataRate"))
-      num(&h.data_rate);
-    else if (iequals(k, "CameraRate"))
-      num(&h.camera_rate);
-    else if (iequals(k, "NumFrames"))
-      integer(&h.num_frames);
-    else if (iequals(k, "NumMarkers"))
-      integer(&h.num_markers);
-    else if (iequals(k, "Units"))
-      h.units = v;
-    else if (iequals(k, "OrigDataRate"))
-      num(&h.orig_data_rate);
-    else if (iequals(k, "OrigDataStartFrame"))
-      integer(&h.orig_start);
-    else if (iequals(k, "OrigNumFrames"))
-      integer(&h.orig_num_frames);
-  }
+  read_header_values(keys, vals, name, &pre);
 
   // Line 4: Frame# Time names...
   if (!lines.next(&b, &e))

@@ -451,6 +451,43 @@ static void read_unit_body(In* e, bool basis_predict, size_t c, size_t np, size_
   }
 }
 
+// The segments' motion headers (version 2 with flag 4): each segment's steps, centre and LPC
+// header, into m->segment_motion.
+void read_segment_motion_headers(ByteReader* in, size_t frames, TsModel* m) {
+  if (static_cast<size_t>(m->segments) * 42 > in->remaining())
+    corrupt("segment motion headers larger than the payload");
+  m->segment_motion.resize(static_cast<size_t>(m->segments));
+  for (TsModel::SegmentMotion& sm : m->segment_motion) {
+    sm.rot_step = read_step(in, "segment rotation step");
+    sm.trans_step = read_step(in, "segment translation step");
+    for (double& c : sm.center) {
+      c = in->f64();
+      if (!std::isfinite(c)) corrupt("segment centre is not a finite number");
+    }
+    read_lpc_header(in, &sm.code, 6, frames);
+  }
+}
+
+// Each frame's cluster label and, with segments, each point's segment (move-to-front ranks), from
+// the entropy-coded part.
+void read_labels(In* e, size_t frames, size_t points, TsModel* m) {
+  e->budget(frames);
+  m->label.assign(frames, 0);
+  if (m->clusters > 1)
+    for (auto& l : m->label) l = static_cast<uint8_t>(e->label(m->clusters));
+  if (m->segments <= 1) return;
+  e->budget(points);
+  m->segment.resize(points);
+  SegmentMtf mtf(m->segments);
+  int prev = 0;
+  for (auto& sg : m->segment) {
+    const uint32_t rank = e->segment_rank(prev);
+    if (rank >= mtf.size()) corrupt("segment rank out of range");
+    sg = mtf.take(rank);
+    prev = sg;
+  }
+}
+
 TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t points) {
   ByteReader in(data, size, kWhat);
   TsModel m;
@@ -483,41 +520,13 @@ TsModel read_model(const uint8_t* data, size_t size, size_t frames, size_t point
     if (m.segments < 2 || m.segments > kMaxSegments || static_cast<size_t>(m.segments) > points)
       corrupt("segment count out of range");
   }
-  if (m.segment_rigid) {
-    if (static_cast<size_t>(m.segments) * 42 > in.remaining())
-      corrupt("segment motion headers larger than the payload");
-    m.segment_motion.resize(static_cast<size_t>(m.segments));
-    for (TsModel::SegmentMotion& sm : m.segment_motion) {
-      sm.rot_step = read_step(&in, "segment rotation step");
-      sm.trans_step = read_step(&in, "segment translation step");
-      for (double& c : sm.center) {
-        c = in.f64();
-        if (!std::isfinite(c)) corrupt("segment centre is not a finite number");
-      }
-      read_lpc_header(&in, &sm.code, 6, frames);
-    }
-  }
+  if (m.segment_rigid) read_segment_motion_headers(&in, frames, &m);
   const size_t units = static_cast<size_t>(m.clusters) * static_cast<size_t>(m.segments);
   if (units > in.remaining()) corrupt("cluster headers larger than the payload");
   m.cluster.resize(units);
   for (TsCluster& tc : m.cluster) read_unit_header(&in, dim, frames, m.f32_scales, &tc);
   In e(data + in.offset(), in.remaining());
-  e.budget(frames);
-  m.label.assign(frames, 0);
-  if (m.clusters > 1)
-    for (auto& l : m.label) l = static_cast<uint8_t>(e.label(m.clusters));
-  if (m.segments > 1) {
-    e.budget(points);
-    m.segment.resize(points);
-    SegmentMtf mtf(m.segments);
-    int prev = 0;
-    for (auto& sg : m.segment) {
-      const uint32_t rank = e.segment_rank(prev);
-      if (rank >= mtf.size()) corrupt("segment rank out of range");
-      sg = mtf.take(rank);
-      prev = sg;
-    }
-  }
+  read_labels(&e, frames, points, &m);
   if (m.rigid) read_lpc_body(&m.rigid_code, kRigid, &e);
   for (TsModel::SegmentMotion& sm : m.segment_motion) read_lpc_body(&sm.code, kRigid, &e);
   if (frames > 0) {
