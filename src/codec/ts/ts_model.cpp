@@ -453,7 +453,7 @@ static void read_unit_body(In* e, bool basis_predict, size_t c, size_t np, size_
 
 // The segments' motion headers (version 2 with flag 4): each segment's steps, centre and LPC
 // header, into m->segment_motion.
-void read_segment_motion_headers(ByteReader* in, size_t frames, TsModel* m) {
+static void read_segment_motion_headers(ByteReader* in, size_t frames, TsModel* m) {
   if (static_cast<size_t>(m->segments) * 42 > in->remaining())
     corrupt("segment motion headers larger than the payload");
   m->segment_motion.resize(static_cast<size_t>(m->segments));
@@ -470,7 +470,7 @@ void read_segment_motion_headers(ByteReader* in, size_t frames, TsModel* m) {
 
 // Each frame's cluster label and, with segments, each point's segment (move-to-front ranks), from
 // the entropy-coded part.
-void read_labels(In* e, size_t frames, size_t points, TsModel* m) {
+static void read_labels(In* e, size_t frames, size_t points, TsModel* m) {
   e->budget(frames);
   m->label.assign(frames, 0);
   if (m->clusters > 1)
