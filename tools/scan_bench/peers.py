@@ -95,6 +95,9 @@ def tmc13(seq, qframes, step, tmc3, ply_dir, work, options, config):
 
 def gpcc_configs(seq, step):
     """(peer name, config text, TMC13 options) of the G-PCC configurations measured."""
+    # randomAccessPeriod defaults to 1 (every frame intra): one random access point per
+    # sequence lets every later frame be predicted from the one before.
+    inter = ['--interPredictionEnabled=1', '--randomAccessPeriod=%d' % len(seq.frames)]
     out = [('gpcc-octree', 'octree, CTC options, each frame intra', CTC_OCTREE + ['--geomTreeType=0'])]
     table = laser_table.infer(seq.frames, seq.rings)
     ang = laser_table.tmc13_options(table, step) + ['--predGeomAzimuthSortPrecision=1024']
@@ -105,7 +108,17 @@ def gpcc_configs(seq, step):
                 % (len(table), src), ang + ['--predGeomSort=2']))
     if len(seq.frames) > 1:
         out.append(('gpcc-octree-inter', 'octree, CTC options, inter over the sequence',
-                    CTC_OCTREE + ['--geomTreeType=0', '--interPredictionEnabled=1']))
+                    CTC_OCTREE + ['--geomTreeType=0'] + inter))
+    # The octree with the same laser table (angular contexts), as MPEG's test conditions run
+    # it on LiDAR sequences.
+    keep = ('--angularEnabled', '--numLasers', '--lasersTheta', '--lasersZ',
+            '--lasersNumPhiPerTurn', '--lidarHeadPosition')
+    oct_ang = CTC_OCTREE + ['--geomTreeType=0', '--planarBufferDisabled=1'] + [
+        o for o in laser_table.tmc13_options(table, step) if o.split('=')[0] in keep]
+    out.append(('gpcc-octree-angular', 'octree, CTC options, angular, %d lasers (%s), each '
+                'frame intra' % (len(table), src), oct_ang))
+    # Angular octree with inter is left out: this TMC13's decoder crashed on its streams
+    # (pandar64-factory20 and robosense-helios16p, 1 mm and 1 cm; docs/bench/SCANS.md).
     return out
 
 

@@ -7,7 +7,8 @@ import argparse
 import csv
 import sys
 
-GPCC = ('gpcc-octree', 'gpcc-angular', 'gpcc-angular-az', 'gpcc-octree-inter')
+GPCC = ('gpcc-octree', 'gpcc-angular', 'gpcc-angular-az', 'gpcc-octree-inter',
+        'gpcc-octree-angular', 'gpcc-octree-angular-inter')
 ORDER = GPCC + ('cloudini', 'draco', 'pcl-octree', 'capz', 'xz-9e', 'zstd-19', 'xz-9e-xyz')
 MULTI = ('pandar64-factory20', 'robosense-e1', 'robosense-helios16p')
 
@@ -147,6 +148,7 @@ def plot(rows, path):
     fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 4.2), squeeze=False)
     style = {'gpcc-octree': ('C0', 'o-'), 'gpcc-angular': ('C1', 's-'),
              'gpcc-angular-az': ('C1', 's--'), 'gpcc-octree-inter': ('C2', '^-'),
+             'gpcc-octree-angular': ('C6', 'p-'), 'gpcc-octree-angular-inter': ('C6', 'p--'),
              'cloudini': ('C3', 'v-'), 'draco': ('C4', 'D-'), 'pcl-octree': ('C5', 'x-'),
              'capz': ('k', '*-')}
     for ax, s in zip(axes[0], panels):
