@@ -20,6 +20,11 @@ def _f(r, k):
         return None
 
 
+def bound_label(b):
+    b = float(b)
+    return '%g cm' % (b * 100) if b >= 0.01 else '%g mm' % (b * 1000)
+
+
 def best_gpcc(rows):
     """(sequence, bound) -> the G-PCC row with the fewest bytes among those whose decoded grid
     matched the input."""
@@ -78,9 +83,9 @@ def markdown(rows):
     best = best_gpcc(allrows)
     for bound in sorted(set(r['bound_m'] for r in rows if r['bound_m'] != 'lossless'),
                         key=float):
-        lines.append('\n**Bits per point at %g mm** (geometry; `x` = this peer / the strongest '
+        lines.append('\n**Bits per point at %s** (geometry; `x` = this peer / the strongest '
                      'G-PCC; max error in mm in brackets; NO = bound missed)\n'
-                     % (float(bound) * 1000))
+                     % bound_label(bound))
         peers = [p for p in ORDER if any(r['peer'] == p and r['bound_m'] == bound
                                           for r in allrows)]
         lines.append('| sequence | points | ' + ' | '.join(peers) + ' | strongest G-PCC |')
@@ -108,6 +113,22 @@ def markdown(rows):
                 cells.append(c)
             lines.append('| %s | %s | %s | %s |' % (s, npts, ' | '.join(cells),
                                                    g['peer'] if g else ''))
+    lines.append('\n**What issue #37\'s targets ask of capz** (bits per point: the strongest G-PCC, '
+                 '0.8x of it for `--point-order any`, 1.1x for order kept, and Cloudini, which '
+                 'order kept must also beat)\n')
+    lines.append('| sequence | bound | strongest G-PCC | its bpp | 0.8x | 1.1x | cloudini |')
+    lines.append('|---|---|---|---:|---:|---:|---:|')
+    for s in seqs:
+        for bound in sorted(set(r['bound_m'] for r in rows if r['bound_m'] != 'lossless'),
+                            key=float):
+            g = best.get((s, bound))
+            c = next((r for r in allrows if r['sequence'] == s and r['peer'] == 'cloudini'
+                      and r['bound_m'] == bound and _f(r, 'bytes') is not None), None)
+            if g:
+                b = _f(g, 'bits_per_point')
+                lines.append('| %s | %s | %s | %.2f | %.2f | %.2f | %s |' % (
+                    s, bound_label(bound), g['peer'], b, 0.8 * b, 1.1 * b,
+                    '%.2f' % _f(c, 'bits_per_point') if c else ''))
     lines.append('\n**Lossless references** (bits per point over all frames; xz-9e and zstd-19 '
                  'of the frame files with all their fields, xz-9e-xyz of x y z float32 only)\n')
     lossless = [p for p in ('xz-9e', 'zstd-19', 'xz-9e-xyz') if any(r['peer'] == p for r in rows)]
@@ -123,8 +144,7 @@ def markdown(rows):
     peers = [p for p in ORDER if any(r['peer'] == p for r in allrows)]
     for bound in sorted(set(r['bound_m'] for r in rows), key=lambda b: (b == 'lossless', b)):
         ps = [p for p in peers if any(r['peer'] == p and r['bound_m'] == bound for r in allrows)]
-        lines.append('\n%s:\n' % ('lossless' if bound == 'lossless' else '%g mm'
-                                   % (float(bound) * 1000)))
+        lines.append('\n%s:\n' % ('lossless' if bound == 'lossless' else bound_label(bound)))
         lines.append('| sequence | ' + ' | '.join(ps) + ' |')
         lines.append('|---|' + '---:|' * len(ps))
         for s in seqs:
