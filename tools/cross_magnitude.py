@@ -7,7 +7,7 @@ eleventh session): analysis only, not part of capz.
 For each integer channel (or float channel on a lattice, analog_takes.lattice_channels) of a
 take: residuals of a whole-channel least-squares predictor of order 8, less, where it lowers
 their sum of magnitudes, a weight (1/64 steps) times an earlier channel's residuals (capz's
-inter-channel stage, FORMAT.md 4.2.3.2, in spirit). Each residual is priced as an adaptive
+inter-channel stage, FORMAT.md 11.8, in spirit). Each residual is priced as an adaptive
 model codes it: a token (its bit length) under a context, plus its raw bits and sign. Two
 contexts: (A) the channel's running mean magnitude in 48 classes, as capz's; (B) the same times
 3 classes of an earlier channel's residual magnitude at the same row against that channel's own

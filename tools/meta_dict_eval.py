@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""What META coding 3 (docs/FORMAT.md 8.1) gives takes whose software the dictionary has not seen.
+"""What META coding 3 (docs/FORMAT.md 5.8) gives takes whose software the dictionary has not seen.
 
   meta_dict_eval.py BUILD_DIR OUT.tsv FILE.c3d ...
 

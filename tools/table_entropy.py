@@ -6,7 +6,7 @@ ninth session): analysis only, not part of capz.
 
 For each channel with 16 or more distinct finite values, and at most one per two samples (a
 rank channel's kind of table): the sorted values t on a lattice of step s and offset o (s the
-smallest gap, refined by least squares), each entry after the first coded as FORMAT.md 8.2's
+smallest gap, refined by least squares), each entry after the first coded as FORMAT.md 11.7's
 lattice tables code it, a gap m = round((t[i] - t[i-1]) / s) in steps and a correction d from
 float32(t[i-1] + m s) in float32 units. Prints the empirical entropies of m and d at order 0,
 and of m under the previous gap (capped at 4) and d under m (capped at 3), in bytes, with no
