@@ -85,8 +85,8 @@ std::vector<uint8_t> window_payload(StreamBytes& b, const ParsedStream& ps, size
   return {};
 }
 
-// A PCD folder's frame files rebuilt (FORMAT.md 7.3, 14.3), each handed to `frame` after its size and
-// hash are checked; `out` sees every byte, in order.
+// A PCD folder's frame files rebuilt (FORMAT.md 7.3, 14.3), each handed to `frame` after its size
+// and hash are checked; `out` sees every byte, in order.
 void rebuild_pcd(const std::string& path, StreamBytes& raw, CapzSource& src, const Record& r,
                  const Write& out, const FrameWrite& frame) {
   const ParsedStream& ps = src.parsed();

@@ -8,11 +8,12 @@
 // 2-5; 9.2: interpolated samples: with bit 6 of the mode, in odd modes every second row is made
 // the mean of its neighbours, so that the encoder finds them), a 9.1 one when bit 0 of byte 2 is
 // set too (FORMAT.md 11.8: integer blocks predicted by a constant), and a 9.2 one when bit 1 of
-// byte 2 is set as well (FORMAT.md 11.10: windows of version 1, whose integer residuals code the bits
-// below their tokens through models; 9.4: held samples: without bit 6 of the mode, in odd modes the
-// even channels are made to change only at the rows i = 0 and i mod P = 1, P = 2 + bits 4-6 of
-// byte 1, and held in between), and a 9.3 one when bit 2 of byte 2 is set as well (FORMAT.md 11.10:
-// windows of version 2, whose integer residuals' tokens are coded relative to their context):
+// byte 2 is set as well (FORMAT.md 11.10: windows of version 1, whose integer residuals code the
+// bits below their tokens through models; 9.4: held samples: without bit 6 of the mode, in odd
+// modes the even channels are made to change only at the rows i = 0 and i mod P = 1, P = 2 + bits
+// 4-6 of byte 1, and held in between), and a 9.3 one when bit 2 of byte 2 is set as well
+// (FORMAT.md 11.10: windows of version 2, whose integer residuals' tokens are coded relative to
+// their context):
 //   mode even: the rest is an ANLG body; decoding must return or throw capz::Error, and a body
 //     that decodes must re-encode to one that decodes to the same bits;
 //   mode odd: the rest are sample bits (as int16 counts, float32 or float64 values, by mode),
