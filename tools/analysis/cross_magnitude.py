@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
-"""Would another channel's burst sharpen a channel's magnitude context? (docs/BENCHMARKS.md,
-eleventh session): analysis only, not part of capz.
+"""Would another channel's burst sharpen a channel's magnitude context?
+(analysis only, not part of capz; the findings are in docs/lab/2026-11-27-analog-misses.md)
 
-    PYTHONPATH=build/python:tools /usr/bin/python3 tools/cross_magnitude.py FILE.c3d ...
+    PYTHONPATH=build/python /usr/bin/python3 tools/analysis/cross_magnitude.py FILE.c3d ...
 
 For each integer channel (or float channel on a lattice, analog_takes.lattice_channels) of a
 take: residuals of a whole-channel least-squares predictor of order 8, less, where it lowers

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
-"""What contexts could save on the value tables of a take's rank channels (docs/BENCHMARKS.md,
-ninth session): analysis only, not part of capz.
+"""What could contexts save on the value tables of a take's rank channels?
+(analysis only, not part of capz; the findings are in docs/lab/2026-11-27-analog-misses.md)
 
-    PYTHONPATH=build/python /usr/bin/python3 tools/table_entropy.py FILE.c3d ...
+    PYTHONPATH=build/python /usr/bin/python3 tools/analysis/table_entropy.py FILE.c3d ...
 
 For each channel with 16 or more distinct finite values, and at most one per two samples (a
 rank channel's kind of table): the sorted values t on a lattice of step s and offset o (s the
