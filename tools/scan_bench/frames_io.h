@@ -49,6 +49,15 @@ inline void write_frames(const std::string& path, const std::vector<Frame>& fram
   if (std::fclose(f) != 0) throw std::runtime_error(path + ": write failed");
 }
 
+// Writes a probe's decoded frames to `path` and prints its JSON line: the coded bytes and the
+// CPU seconds of its encode and decode loops.
+inline void finish(const std::string& path, const std::vector<Frame>& decoded, size_t bytes,
+                   double encode_s, double decode_s) {
+  write_frames(path, decoded);
+  std::printf("{\"bytes\": %zu, \"encode_s\": %.6f, \"decode_s\": %.6f}\n", bytes, encode_s,
+              decode_s);
+}
+
 // Process CPU seconds (user + system), the figure the probes report for one thread.
 inline double cpu_seconds() {
   return static_cast<double>(std::clock()) / CLOCKS_PER_SEC;

@@ -57,9 +57,7 @@ int main(int argc, char** argv) {
       std::memcpy(out[f].data(), raw.data(), raw.size());
     }
     const double t2 = scan_bench::cpu_seconds();
-    scan_bench::write_frames(argv[3], out);
-    std::printf("{\"bytes\": %zu, \"encode_s\": %.6f, \"decode_s\": %.6f}\n", bytes, t1 - t0,
-                t2 - t1);
+    scan_bench::finish(argv[3], out, bytes, t1 - t0, t2 - t1);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "scan_cloudini: %s\n", e.what());
     return 1;

@@ -66,9 +66,7 @@ int main(int argc, char** argv) {
       for (const auto& p : *c) fr.insert(fr.end(), {p.x, p.y, p.z});
     }
     const double t2 = scan_bench::cpu_seconds();
-    scan_bench::write_frames(argv[4], out);
-    std::printf("{\"bytes\": %zu, \"encode_s\": %.6f, \"decode_s\": %.6f}\n", bytes, t1 - t0,
-                t2 - t1);
+    scan_bench::finish(argv[4], out, bytes, t1 - t0, t2 - t1);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "scan_pcl_octree: %s\n", e.what());
     return 1;
