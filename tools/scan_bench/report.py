@@ -132,13 +132,16 @@ def markdown(rows):
     lines.append('\n**Lossless references** (bits per point over all frames; xz-9e and zstd-19 '
                  'of the frame files with all their fields, xz-9e-xyz of x y z float32 only)\n')
     lossless = [p for p in ('xz-9e', 'zstd-19', 'xz-9e-xyz') if any(r['peer'] == p for r in rows)]
-    lines.append('| sequence | ' + ' | '.join(lossless) + ' |')
-    lines.append('|---|' + '---:|' * len(lossless))
+    lines.append('| sequence | ' + ' | '.join(lossless) + ' | 0.75x xz-9e (the `--lossless` '
+                 'target) |')
+    lines.append('|---|' + '---:|' * (len(lossless) + 1))
     for s in seqs:
         cells = []
         for p in lossless:
             r = next((r for r in allrows if r['sequence'] == s and r['peer'] == p), None)
             cells.append('%.2f' % _f(r, 'bits_per_point') if r else '')
+        xz = next((r for r in allrows if r['sequence'] == s and r['peer'] == 'xz-9e'), None)
+        cells.append('%.2f' % (0.75 * _f(xz, 'bits_per_point')) if xz else '')
         lines.append('| %s | %s |' % (s, ' | '.join(cells)))
     lines.append('\n**Speed** (million points per CPU second, encode / decode, one thread)\n')
     peers = [p for p in ORDER if any(r['peer'] == p for r in allrows)]
