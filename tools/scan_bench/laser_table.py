@@ -8,10 +8,11 @@ Model: a laser l fires on the cone z = z_l + r tan(theta_l), r = sqrt(x^2 + y^2)
 the origin; RoboSense's z_l grow with the elevation). The lasers are found
   - from a ring / channel field where the file has one with at least two values: the points of
     each value are one laser;
-  - else by clustering elevations: a histogram of atan2(z, r) over the points beyond 0.5 m, peaks
-    of at least 0.1% of them (drivers' points often sit exactly on the cones) at 0.02 degrees (smoothed over
-    0.1 degree), its peaks one laser each; then every point goes to
-    the laser whose cone is nearest in z and the cones are refitted, three times.
+  - else by clustering elevations: a histogram of atan2(z, r) over the points beyond 0.5 m at
+    0.02 degrees (smoothed over three bins), each peak holding at least 0.02% of those points
+    one laser (drivers' points often sit exactly on the cones; peaks closer than 0.05 degree
+    merge); then every point goes to the laser whose cone is nearest in z and the cones are
+    refitted, three times.
 Each laser's (tan theta, z) is a least-squares line z = z + r t over its points (trimmed of
 outliers at 4 median deviations, twice). Points per turn: 2 pi over the median azimuth step
 between a laser's consecutive distinct azimuths in each frame (the step is the sensor's firing
@@ -64,7 +65,7 @@ def _cluster_elevations(r, z):
     lo, hi = elev.min() - 0.1, elev.max() + 0.1
     hist, edges = np.histogram(elev, bins=max(int((hi - lo) / 0.02), 1), range=(lo, hi))
     sm = np.convolve(hist, np.ones(3) / 3, mode="same")
-    floor = max(5.0, 0.001 * far.sum())
+    floor = max(5.0, 0.0002 * far.sum())
     peaks = [i for i in range(1, len(sm) - 1)
              if sm[i] >= sm[i - 1] and sm[i] > sm[i + 1] and sm[i] >= floor]
     # merge peaks closer than 0.1 degree, keeping the higher
