@@ -192,7 +192,7 @@ def plot(rows, path):
         ax.set_ylabel('bits per point (geometry)')
         ax.set_title(s, fontsize=10)
         ax.grid(True, which='both', alpha=0.3)
-    axes[0][0].legend(fontsize=7)
+    axes[0][-1].legend(fontsize=7)  # the panel with every peer (capz too)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
 
