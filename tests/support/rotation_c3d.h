@@ -232,10 +232,20 @@ inline std::vector<uint8_t> make_rotation_c3d(const RotationTakeSpec& s) {
   p.i16(kAnalog, "USED", static_cast<int>(s.channels), "Number of analog channels");
   p.f32(kAnalog, "RATE", static_cast<float>(s.rate * static_cast<double>(s.analog_per_frame)),
         "Analog data rate");
+  p.f32(kAnalog, "GEN_SCALE", 1.0f, "General scale factor");
   if (s.channels > 0) {
     std::vector<std::string> labels;
-    for (size_t i = 0; i < s.channels; ++i) labels.push_back("FZ" + std::to_string(i));
+    std::vector<uint8_t> scales, offsets;
+    for (size_t i = 0; i < s.channels; ++i) {
+      labels.push_back("FZ" + std::to_string(i));
+      putf(scales, 1.0f);
+      put16(offsets, 0);
+    }
+    const int n = static_cast<int>(s.channels);
     p.strings(kAnalog, "LABELS", labels, 4, "Channel labels");
+    p.param(kAnalog, "SCALE", 4, {n}, scales, "Channel scale factors");
+    p.param(kAnalog, "OFFSET", 2, {n}, offsets, "Channel zero offsets");
+    p.strings(kAnalog, "UNITS", std::vector<std::string>(s.channels, "N"), 1, "Channel units");
   }
   p.group(kTrial, "TRIAL", "Trial parameters");
   p.i16(kTrial, "ACTUAL_START_FIELD", 1);
