@@ -1,4 +1,4 @@
-// Lossless rotation-window coder (docs/format/rotw.md, "ROTW coding"): per segment and sample,
+// Lossless rotation-window coder (docs/FORMAT.md 12 as docs/format/rotw.md replaces it): per segment and sample,
 // the bottom row and the reliability predicted by the previous sample, the translation by a
 // temporal predictor, and the rotation part by what a rotation is: two elements of column 0 in
 // time and the third from its unit norm, one element of column 1 in time and the other two from
