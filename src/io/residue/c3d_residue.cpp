@@ -385,21 +385,22 @@ void rebuild_c3d(const FileResidue& residue, FrameSource& frames, size_t block,
     fail(ErrorCode::kCorrupt, name,
          "C3D residue for " + std::to_string(dec.layout().frames) + " frames, the take has " +
              std::to_string(frames.header().frames));
-  write(dec.head().data(), dec.head().size());
-  rebuild_windows(
-      residue, frames, block,
-      [&](const FrameBlock& b, const std::vector<uint8_t>& w, std::vector<uint8_t>* out) {
-        dec.window(b, w.data(), w.size(), out);
-      },
-      write, name);
-  if (dec.layout().rotations) {  // a second pass for the rotation section
-    write(dec.gap().data(), dec.gap().size());
+  // One pass over the windows giving each one's frames (window) or rotations (rotation_window).
+  using Part =
+      void (C3DResidueDecoder::*)(const FrameBlock&, const uint8_t*, size_t, std::vector<uint8_t>*);
+  auto pass = [&](Part part) {
     rebuild_windows(
         residue, frames, block,
         [&](const FrameBlock& b, const std::vector<uint8_t>& w, std::vector<uint8_t>* out) {
-          dec.rotation_window(b, w.data(), w.size(), out);
+          (dec.*part)(b, w.data(), w.size(), out);
         },
         write, name);
+  };
+  write(dec.head().data(), dec.head().size());
+  pass(&C3DResidueDecoder::window);
+  if (dec.layout().rotations) {  // a second pass for the rotation section
+    write(dec.gap().data(), dec.gap().size());
+    pass(&C3DResidueDecoder::rotation_window);
   }
   write(dec.tail().data(), dec.tail().size());
 }
