@@ -1,8 +1,8 @@
-// Lossless rotation-window coder (docs/FORMAT.md 12 as docs/format/rotw.md replaces it): per segment and sample,
-// the bottom row and the reliability predicted by the previous sample, the translation by a
-// temporal predictor, and the rotation part by what a rotation is: two elements of column 0 in
-// time and the third from its unit norm, one element of column 1 in time and the other two from
-// orthogonality and unit norm, column 2 as the cross product of the first two. Values and
+// Lossless rotation-window coder (docs/FORMAT.md 12 as docs/format/rotw.md replaces it): per
+// segment and sample, the bottom row and the reliability predicted by the previous sample, the
+// translation by a temporal predictor, and the rotation part by what a rotation is: two elements of
+// column 0 in time and the third from its unit norm, one element of column 1 in time and the other
+// two from orthogonality and unit norm, column 2 as the cross product of the first two. Values and
 // predictions are float32 bit patterns, mapped to ordered integers; their difference is coded
 // with the hybrid-token integer coder. One traversal (code_sample) drives estimate, encode and
 // decode.
