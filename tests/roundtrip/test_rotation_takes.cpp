@@ -5,6 +5,7 @@
 // docs/format/rotw.md) stays under 1% of the archive.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <functional>
@@ -85,9 +86,10 @@ TEST_P(RotationTakes, RotationsExactResidueUnderOnePercentLosslessByteForByte) {
 INSTANTIATE_TEST_SUITE_P(Built, RotationTakes,
                          ::testing::Range(size_t{0}, capz_test::rotation_takes().size()));
 
-// The rotation fields of C3DR and the C3DP patches over the rotations, damaged one at a time
-// (CRCs and INDX made valid again): the rebuild fails with capz::Error (kCorrupt), never writes.
-TEST(RotationTakes, DamagedRotationResidueIsCorrupt) {
+// NaN payloads in the rotation section come back bit for bit; then the rotation fields of C3DR
+// and the C3DP patches over the rotations, damaged one at a time (CRCs and INDX made valid
+// again): the rebuild fails with capz::Error (kCorrupt).
+TEST(RotationTakes, NanPayloadsComeBackAndDamagedRotationResidueIsCorrupt) {
   capz_test::RotationTakeSpec spec;
   spec.frames = 60;
   spec.segments = 5;
@@ -97,7 +99,22 @@ TEST(RotationTakes, DamagedRotationResidueIsCorrupt) {
                     out = tmp.file("out.c3d");
   std::vector<uint8_t> original = capz_test::make_rotation_c3d(spec);
   original[original.size() - 1] = 7;  // the tail: a byte after the rotations
+  // NaN payloads: a signalling NaN in a rotation element and a quiet one with a payload in the
+  // reliability of sample 7, segment 2 (found by its bytes: Intel float32s).
   capz::write_file(in, original, true);
+  {
+    const capz::Take t = capz::read_c3d(in);
+    const size_t i = 7 * spec.segments + 2;
+    std::vector<uint8_t> pattern(68);
+    std::memcpy(pattern.data(), &t.rotations.matrices[16 * i], 64);
+    std::memcpy(pattern.data() + 64, &t.rotations.reliability[i], 4);
+    const auto at = std::search(original.begin(), original.end(), pattern.begin(), pattern.end());
+    ASSERT_NE(at, original.end());
+    const uint8_t snan[4] = {0x01, 0x00, 0x80, 0x7f}, payload[4] = {0x23, 0x01, 0xc0, 0x7f};
+    std::copy(snan, snan + 4, at);
+    std::copy(payload, payload + 4, at + 64);
+    capz::write_file(in, original, true);
+  }
   capz::CompressTarget target;
   target.lossless = true;
   capz::CompressOptions opts;
@@ -106,6 +123,12 @@ TEST(RotationTakes, DamagedRotationResidueIsCorrupt) {
   capz::rebuild_original(z, out, true);
   ASSERT_TRUE(capz::read_file(out) == original);
   const std::vector<uint8_t> good = capz::read_file(z);
+  const capz::Take back = capz::decompress(good.data(), good.size());
+  uint32_t bits[2];
+  std::memcpy(&bits[0], &back.rotations.matrices[16 * (7 * spec.segments + 2)], 4);
+  std::memcpy(&bits[1], &back.rotations.reliability[7 * spec.segments + 2], 4);
+  EXPECT_EQ(bits[0], 0x7f800001u);
+  EXPECT_EQ(bits[1], 0x7fc00123u);
   auto rebuild_error = [&](const std::function<void(std::vector<capz_test::Piece>*)>& change) {
     std::vector<capz_test::Piece> ps = capz_test::pieces(good);
     change(&ps);
