@@ -1,11 +1,10 @@
-// Lossless rotation-window coder (docs/FORMAT.md 12 as docs/format/rotw.md replaces it): per
-// segment and sample, the bottom row and the reliability predicted by the previous sample, the
-// translation by a temporal predictor, and the rotation part by what a rotation is: two elements of
-// column 0 in time and the third from its unit norm, one element of column 1 in time and the other
-// two from orthogonality and unit norm, column 2 as the cross product of the first two. Values and
-// predictions are float32 bit patterns, mapped to ordered integers; their difference is coded
-// with the hybrid-token integer coder. One traversal (code_sample) drives estimate, encode and
-// decode.
+// Lossless rotation-window coder (docs/FORMAT.md 12): per segment and sample, the bottom row and
+// the reliability predicted by the previous sample, the translation by a temporal predictor, and
+// the rotation part by what a rotation is: two elements of column 0 in time and the third from its
+// unit norm, one element of column 1 in time and the other two from orthogonality and unit norm,
+// column 2 as the cross product of the first two. Values and predictions are float32 bit patterns,
+// mapped to ordered integers; their difference is coded with the hybrid-token integer coder. One
+// traversal (code_sample) drives estimate, encode and decode.
 #include "coding/rotations.h"
 
 #include <algorithm>
@@ -89,7 +88,7 @@ uint32_t temporal(int p, const WindowBits& w, size_t s, size_t g, int k) {
 }
 
 // Column 1's circle for row i with the value t: rows p < q solve A p + B q = C on the circle of
-// squared radius r2 (docs/format/rotw.md).
+// squared radius r2 (docs/FORMAT.md 12).
 struct Circle {
   int p, q;
   double A, B, C, n2, r2, h2;
@@ -173,7 +172,7 @@ void code_structured(const uint32_t T[16], Code& code) {
   }
 }
 
-// Codes the 17 values of segment g at sample s in the order of docs/format/rotw.md:
+// Codes the 17 values of segment g at sample s in the order of docs/FORMAT.md 12:
 // code(pred, role, k) codes element k with that prediction and returns its bits (written to the
 // window before it returns, so later predictions see it).
 template <typename Code>

@@ -1,7 +1,6 @@
 // Lossless coding of one window of rotation samples (Rotations in take.h): the byte layout is
-// docs/format/rotw.md ("ROTW coding", replacing FORMAT.md 12; 4.4 and 5.6 for the HEAD and META
-// fields). Every float32 comes back bit for bit (NaN payloads, -0.0, denormals, infinities
-// included).
+// docs/FORMAT.md 12 (4.4 and 5.6 for the HEAD and META fields). Every float32 comes back bit for
+// bit (NaN payloads, -0.0, denormals, infinities included).
 //
 // Input shapes (one window of `samples` samples, sample-major as in take.h):
 //   matrices    : samples x segments x 16 float32 (column-major 4x4 per segment)

@@ -2,7 +2,7 @@
 // tests/support/rotation_c3d.h's own C3D writer: through `capz compress` (compress_file) at the
 // default bound and with --lossless, every rotation comes back bit for bit, --lossless rebuilds
 // the file byte for byte, and the residue (HASH, C3DR, C3DP: the rotation section regenerated,
-// docs/format/rotw.md) stays under 1% of the archive.
+// docs/FORMAT.md 7.1, 14) stays under 1% of the archive.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -147,7 +147,7 @@ TEST(RotationTakes, NanPayloadsComeBackAndDamagedRotationResidueIsCorrupt) {
     throw std::runtime_error("no C3DR");
   };
   // C3DR: kind, processor, flags, scale, frames, points, analog values, per_frame, head_size,
-  // then rot_gap and rot_per_frame (docs/format/rotw.md).
+  // then rot_gap and rot_per_frame (docs/FORMAT.md 7.1).
   std::vector<capz_test::Piece> ps0 = capz_test::pieces(good);
   const std::vector<uint8_t>& r0 = c3dr(&ps0);
   capz::ByteReader rd(r0.data(), r0.size(), "C3DR");

@@ -226,7 +226,7 @@ TEST(RotationsCorrupt, DamagedRotwChunksAreCorrupt) {
       }
     return capz_test::assemble(good, ps);
   };
-  // Payload: window varint (1), 2 predictor bytes, then the block (docs/format/rotw.md).
+  // Payload: window varint (1), 2 predictor bytes, then the block (docs/FORMAT.md 12).
   EXPECT_NE(decode_error(with_rotw([](std::vector<uint8_t>*) {
               return false;
             })).find("missing chunk ROTW"),

@@ -387,7 +387,7 @@ TEST(ResidueC3D, RegeneratedDecAndMipsFramesDecodeToTheirValues) {
     }
 }
 
-// The rotation section regenerated in each processor's form (docs/format/rotw.md) reads back
+// The rotation section regenerated in each processor's form (docs/FORMAT.md 14.1) reads back
 // as the C3D reader reads it: the same float32s (a NaN's bits too, except through VAX F, which
 // has no NaN).
 TEST(ResidueC3D, RegeneratedRotationsDecodeToTheirValuesInEveryProcessorForm) {

@@ -41,7 +41,7 @@ struct C3DFrameLayout {
   uint64_t per_frame = 0;      // bytes per frame in the file (may hold undecoded analog values)
   uint64_t head_size = 0;      // bytes before frame 0
   uint64_t tail_size = 0;      // bytes after the last decoded frame (after the rotations)
-  // The rotation section regenerated (docs/format/rotw.md, C3DR flags bit 2): rot_gap bytes
+  // The rotation section regenerated (docs/FORMAT.md 7.1, C3DR flags bit 2): rot_gap bytes
   // after the frames, then frames x rot_per_frame bytes of rotations, then the tail.
   bool rotations = false;
   uint64_t rot_gap = 0, rot_per_frame = 0;
