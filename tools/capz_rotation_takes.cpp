@@ -1,7 +1,7 @@
 // capz_rotation_takes OUTDIR
 // Writes the rotation takes of issue #38 (item 2) to OUTDIR, deterministically, with the C3D
 // writer of tests/support/rotation_c3d.h (not capz's): the benchmark's inputs
-// (docs/bench/rotations.md) and the same files tests/roundtrip/test_rotation_takes.cpp builds.
+// (docs/BENCHMARKS.md) and the same files tests/roundtrip/test_rotation_takes.cpp builds.
 #include <cstdio>
 #include <string>
 

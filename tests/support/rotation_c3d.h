@@ -317,7 +317,7 @@ inline std::vector<uint8_t> make_rotation_c3d(const RotationTakeSpec& s) {
   return file;
 }
 
-// The takes of the tests and the benchmark (docs/bench/rotations.md), by name.
+// The takes of the tests and the benchmark (docs/BENCHMARKS.md), by name.
 struct NamedRotationTake {
   std::string name;
   RotationTakeSpec spec;
