@@ -44,7 +44,7 @@ class WindowChunks {
       if (c.type == "POSW" || c.type == "MASK" || c.type == "C3DW" || c.type == "ANLG" ||
           c.type == "ROTW" || c.type == "ATTR")
         break;
-      check_chunk_known(c.type, ctx_.features, chunk_what(ctx_.name, c));
+      check_chunk_known(c, ctx_.features, ctx_.name);
       off_ = c.end;  // a residue or ancillary chunk: skipped
     }
     if (required)
@@ -56,7 +56,7 @@ class WindowChunks {
   void check_rest() {
     while (off_ < end_) {
       const Chunk c = at_offset();
-      check_chunk_known(c.type, ctx_.features, chunk_what(ctx_.name, c));
+      check_chunk_known(c, ctx_.features, ctx_.name);
       off_ = c.end;
     }
   }

@@ -73,7 +73,7 @@ size_t file_level_chunks(StreamBytes& b, size_t off, const std::string& name, Pa
     const std::string type(reinterpret_cast<const char*>(t), 4);
     if (type == "POSW" || type == "INDX") break;
     const Chunk x = chunk_at(b, off, name);
-    check_chunk_known(x.type, ps->features, chunk_what(name, x));
+    check_chunk_known(x, ps->features, name);
     if (ps->file_chunks.count(x.type)) fail(ErrorCode::kCorrupt, name, "two " + x.type + " chunks");
     ps->file_chunks[x.type] = {x.offset, x.end};
     ps->chunk_bytes[x.type] += x.end - x.offset;

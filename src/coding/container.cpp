@@ -93,12 +93,12 @@ bool known_chunk(const std::string& type) {
   return false;
 }
 
-void check_chunk_known(const std::string& type, const StreamFeatures& f, const std::string& what) {
-  if (known_chunk(type) || (!type.empty() && type[0] >= 'a' && type[0] <= 'z')) return;
-  fail(ErrorCode::kUnsupportedVersion, what,
-       "chunk " + type + " of format " + f.version() + " is not known to this decoder (reads " +
+void check_chunk_known(const Chunk& c, const StreamFeatures& f, const std::string& name) {
+  if (known_chunk(c.type) || (!c.type.empty() && c.type[0] >= 'a' && c.type[0] <= 'z')) return;
+  fail(ErrorCode::kUnsupportedVersion, name,
+       "chunk " + c.type + " of format " + f.version() + " is not known to this decoder (reads " +
            std::to_string(kFormatNewestRead.major) + "." + std::to_string(kFormatNewestRead.minor) +
-           ")");
+           "), at byte " + std::to_string(c.offset));
 }
 
 Chunk read_chunk(const uint8_t* data, size_t size, size_t offset, const std::string& name,

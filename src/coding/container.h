@@ -43,10 +43,10 @@ std::string chunk_what(const std::string& name, const Chunk& c);
 // the header's CRC (kCorrupt) and version (kUnsupportedVersion for a major other than 1); returns
 // the stream's features. `size` bytes are at `data` (kFileHeaderBytes make the header).
 StreamFeatures check_file_header(const uint8_t* data, size_t size, const std::string& name);
-// Throws kUnsupportedVersion unless a decoder of this format knows chunk type `type` or may skip
-// it (FORMAT.md 2: a type whose first letter is lower case is ancillary); `what` starts the
-// message, e.g. "NAME: chunk TYPE at byte N".
-void check_chunk_known(const std::string& type, const StreamFeatures& f, const std::string& what);
+// Throws kUnsupportedVersion unless a decoder of this format knows chunk c's type or may skip it
+// (FORMAT.md 2: a type whose first letter is lower case is ancillary), naming stream `name`, the
+// chunk, the stream's version and its offset.
+void check_chunk_known(const Chunk& c, const StreamFeatures& f, const std::string& name);
 // Whether `type` is a chunk type of format 1.0.
 bool known_chunk(const std::string& type);
 // Reads the chunk at `offset`: framing and CRC checked (kCorrupt naming the chunk and offset).
