@@ -1,4 +1,4 @@
-// capz — versions: of the library, and of the .capz format it writes and reads (docs/FORMAT.md 2).
+// capz — versions: of the library, and of the .capz format it writes and reads (docs/FORMAT.md 17).
 // The CAPZ_VERSION_* numbers are the one place the library version is kept: CMakeLists.txt
 // reads them for project(VERSION).
 #pragma once

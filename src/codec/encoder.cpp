@@ -82,7 +82,7 @@ struct Plan {
   double point_scale = 0;                 // the take's POINT:SCALE (0 without C3D)
   const TransformCodec* codec = nullptr;  // the transform stage, nullptr for none
   // Only a KG target and a transform: the transform's reconstruction is the output, no grid and
-  // no bound layer (FORMAT.md 3.1 "transform output"); the transform meets the KG target itself.
+  // no bound layer (FORMAT.md 4.3 "transform output"); the transform meets the KG target itself.
   bool tout = false;
   double written_scale = 0;  // with tout: the int16 scale `capz decompress` writes at, or 0
   bool analog = false;
@@ -94,7 +94,7 @@ Plan resolve(const FrameSource& source, const CompressOptions& opts, bool allow_
   const Take& take = source.header();
   const std::string& src = take.source;
   // Up to 8192 frames a window keeps even an all-gap window above the decoder's plausibility
-  // floor of one byte per 2900 samples (docs/FORMAT.md 2).
+  // floor of one byte per 2900 samples (docs/FORMAT.md 3.6).
   if (opts.window_frames > 8192)
     fail(ErrorCode::kInvalidParameter, src, "window size must be 1 .. 8192 frames");
   Plan p;
@@ -150,7 +150,7 @@ double trc_print_room(const Take& t) {
   return 0.5 * std::pow(10.0, -t.trc->decimals) * (1.0 + 0x1p-20);
 }
 
-// The quantiser's view of each channel of a take with lossy analog channels (FORMAT.md 5.2);
+// The quantiser's view of each channel of a take with lossy analog channels (FORMAT.md 16.3);
 // empty when every channel is lossless.
 std::vector<analog::ChannelBound> analog_channel_bounds(const Take& t) {
   std::vector<analog::ChannelBound> out;
@@ -258,7 +258,7 @@ class Encoder {
     h.source_format = take_.format;
     h.mode = g_.mode;
     h.codec = plan_.codec ? plan_.codec->id() : 0;
-    // FORMAT.md 5.2: with a lossy analog channel the stream is not lossless, whatever its
+    // FORMAT.md 5.7: with a lossy analog channel the stream is not lossless, whatever its
     // positions are.
     h.lossless = g_.lossless && abounds_.empty();
     h.transform_output = plan_.tout;
@@ -453,7 +453,7 @@ class Encoder {
     if (plan_.analog) {
       const size_t before = buf.size();
       const double* rows = block.analog.data();
-      std::vector<double> moved;  // FORMAT.md 5.2: the bounded channels quantised
+      std::vector<double> moved;  // FORMAT.md 16.3: the bounded channels quantised
       AnalogHints hints = hints_;
       if (!abounds_.empty()) {
         moved = block.analog;
@@ -470,7 +470,7 @@ class Encoder {
     reconstruct(block.frames, wi, recon, &win->rec);
   }
 
-  // ROTW (FORMAT.md 4.3): the window's rotation samples, lossless whatever the bound.
+  // ROTW (FORMAT.md 12): the window's rotation samples, lossless whatever the bound.
   void append_rotations(Window* win) const {
     const FrameBlock& block = win->block;
     std::vector<uint8_t>* buf = &win->buf;
@@ -484,7 +484,7 @@ class Encoder {
     win->rotation_bytes = buf->size() - before;
   }
 
-  // ATTR (FORMAT.md 5.3): the window's point fields, lossless whatever the bound but for the
+  // ATTR (FORMAT.md 13): the window's point fields, lossless whatever the bound but for the
   // float fields given a bound of their own (--attr-error), which are quantised first.
   void append_attributes(Window* win) const {
     quantise_bounded_fields(&win->block);
@@ -500,7 +500,7 @@ class Encoder {
     win->attribute_bytes = buf->size() - before;
   }
 
-  // FORMAT.md 5.3 "fields within a bound": each finite value of a bounded float field replaced
+  // FORMAT.md 16.4 "fields within a bound": each finite value of a bounded float field replaced
   // by the multiple of 2B nearest it, in the field's float type, when that is within B.
   void quantise_bounded_fields(FrameBlock* block) const {
     const std::vector<double>& bounds = take_.pcd->field_bounds;
@@ -578,7 +578,7 @@ class Encoder {
                               std::to_string(rec[k]));
       }
     }
-    if (plan_.tout) {  // each window within the KG target makes the take meet it (FORMAT.md 3.1)
+    if (plan_.tout) {  // each window within the KG target makes the take meet it (FORMAT.md 4.3)
       if (window_sq_error(fn, N, orig, rec.data(), valid) > win.kg_budget ||
           (plan_.written_scale > 0 &&
            window_sq_error(fn, N, orig, rec.data(), valid, plan_.written_scale) > win.kg_budget))
@@ -645,7 +645,7 @@ class Encoder {
   Promise promise_;  // the stream's promise, checked on what the decoder gives (each window)
   std::unique_ptr<ResidueWriter> residue_;     // HASH and residue chunks (an original file only)
   AnalogHints hints_;                          // what the C3D parameters say of the analog channels
-  std::vector<analog::ChannelBound> abounds_;  // per channel with a lossy one (FORMAT.md 5.2)
+  std::vector<analog::ChannelBound> abounds_;  // per channel with a lossy one (FORMAT.md 5.7)
   ErrorAccumulator acc_;
   std::vector<IndexEntry> index_;
   size_t position_bytes_ = 0, analog_bytes_ = 0, rotation_bytes_ = 0, other_bytes_ = 0;

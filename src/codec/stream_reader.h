@@ -1,4 +1,4 @@
-// Decoder stage: reading a .capz's frame of chunks (docs/FORMAT.md 2): the file header, HEAD and
+// Decoder stage: reading a .capz's frame of chunks (docs/FORMAT.md 3): the file header, HEAD and
 // META up front, INDX from the end, and each window's chunks on demand. Part of the decoder
 // library.
 #pragma once

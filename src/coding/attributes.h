@@ -1,5 +1,5 @@
 // Lossless coding of one window of per-point attribute channels (PCD fields other than x y z:
-// colour, intensity, normals, labels, ...); the byte layout is docs/FORMAT.md 5.3 (`ATTR`).
+// colour, intensity, normals, labels, ...); the byte layout is docs/FORMAT.md 13 (`ATTR`).
 // Every element comes back bit for bit (NaN payloads, -0.0, padding bytes included).
 //
 // Input: per attribute (take.h PointAttribute: type F/U/I, size, count), the window's bytes,

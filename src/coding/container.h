@@ -1,4 +1,4 @@
-// The .capz framing (docs/FORMAT.md sections 2, 3.1, 3.2, 3.7): magic, version, CRC-checked
+// The .capz framing (docs/FORMAT.md sections 3, 4, 15): magic, version, CRC-checked
 // chunks, and the HEAD and INDX payloads (META: coding/meta.h).
 #pragma once
 
@@ -65,14 +65,14 @@ struct StreamHeader {
   uint8_t codec = 0;
   bool lossless = false;
   // HEAD flags bit 1: positions are the transform's reconstruction, no grid and no bound layer
-  // (docs/FORMAT.md 3.1); kg_target (percent) is then stored after the analog fields.
+  // (docs/FORMAT.md 4.3); kg_target (percent) is then stored after the analog fields.
   bool transform_output = false;
   double kg_target = 0;
   double step = 0;
   double max_error = 0;
   uint32_t analog_channels = 0;
   uint32_t analog_samples_per_frame = 0;
-  // HEAD flags bit 2 (docs/FORMAT.md 4.3): the take has rotations, G segments sampled R times
+  // HEAD flags bit 2 (docs/FORMAT.md 4.4): the take has rotations, G segments sampled R times
   // per point frame; both 0 without (both at least 1 with), and each window has a ROTW chunk.
   uint32_t rotation_segments = 0;
   uint32_t rotation_samples_per_frame = 0;

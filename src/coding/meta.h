@@ -1,4 +1,4 @@
-// META, the stream's metadata chunk (docs/FORMAT.md 3.2, 4.3, 5.1-5.3, 8.1).
+// META, the stream's metadata chunk (docs/FORMAT.md 5).
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-// Positions of one window as integers (docs/FORMAT.md 3.3): a predictor per point chosen by an
+// Positions of one window as integers (docs/FORMAT.md 8): a predictor per point chosen by an
 // estimate of its coded size, then every sample's residual entropy-coded. encode_positions
 // returns a POSW payload (after the window index and has_mask byte); split_positions and
 // decode_positions parse one, throwing Error(kCorrupt) naming `what` on any inconsistency.

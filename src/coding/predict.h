@@ -1,5 +1,5 @@
 // Position predictors and the window coding loop, shared by encoder and decoder so both compute
-// identical predictions (docs/FORMAT.md 3.3). All integer arithmetic wraps modulo 2^32.
+// identical predictions (docs/FORMAT.md 8). All integer arithmetic wraps modulo 2^32.
 //
 // Shapes: q, t are frames x points x 3 int32 (frame-major); valid is frames x points.
 #pragma once
@@ -55,7 +55,7 @@ inline bool uses_period(int mode) {
   return mode == kPredPeriod || mode == kPredPeriodPrevious;
 }
 
-// Predictors that add a reference point's motion (docs/FORMAT.md 3.3); ref[p] = r < p.
+// Predictors that add a reference point's motion (docs/FORMAT.md 8); ref[p] = r < p.
 inline bool uses_ref(int mode) {
   return mode == kPredRefPrevious || mode == kPredRefLinear;
 }
@@ -75,7 +75,7 @@ inline int64_t round_div(int64_t n, int64_t d) {
   return n >= 0 ? (n + d / 2) / d : -((-n + d / 2) / d);
 }
 
-// Predictor 10's lead axis (FORMAT.md 7.1): the axis of the largest |v(c[a])| of the previous
+// Predictor 10's lead axis (FORMAT.md 8.3): the axis of the largest |v(c[a])| of the previous
 // frame's integers c, the lowest on ties, an unusable (not finite) value counting as 0.
 inline int ray_lead(RayKind k, const int32_t* c) {
   double m[3];
@@ -93,7 +93,7 @@ inline int ray_lead(RayKind k, const int32_t* c) {
   return l;
 }
 
-// Predictor 10's prediction of a non-lead axis (FORMAT.md 7.1): the previous frame's ca scaled
+// Predictor 10's prediction of a non-lead axis (FORMAT.md 8.3): the previous frame's ca scaled
 // by the lead axis's change cl -> ql, in binary64 (product, then quotient, each rounded);
 // ca itself where the ratio is undefined or leaves the integers' range.
 inline int32_t ray_predict(RayKind k, int32_t ca, int32_t cl, int32_t ql) {
@@ -114,7 +114,7 @@ inline int32_t ray_predict(RayKind k, int32_t ca, int32_t cl, int32_t ql) {
 }
 
 // Predictor 7: the least-squares line through q[f-1] .. q[f-K], K = min(6, f), at frame f, as
-// q[f-1] + rdiv(sum_{j=2..K} (4K + 2 - 6j) (q[f-j] - q[f-1]), K (K - 1)) (FORMAT.md 3.3).
+// q[f-1] + rdiv(sum_{j=2..K} (4K + 2 - 6j) (q[f-j] - q[f-1]), K (K - 1)) (FORMAT.md 8).
 // Differences wrap to int32; the sum (|.| < 5 * 26 * 2^31) cannot overflow int64.
 // Always inlined: the walks call it per coordinate, where a call costs about as much as its body.
 __attribute__((always_inline)) inline int32_t predict_smooth(size_t f, const int32_t* c,
@@ -202,7 +202,7 @@ constexpr EscapeSetTable escape_set_table() {
 }
 constexpr EscapeSetTable kEscapeSetOfContext = escape_set_table();
 
-// Residual contexts of a window (docs/FORMAT.md 3.3.1). Per point and axis: `ta`, the token of
+// Residual contexts of a window (docs/FORMAT.md 8.4). Per point and axis: `ta`, the token of
 // the last residual coded for it in this window, and `z`, the number of zero tokens ending there
 // (capped at 12). 448 contexts: a state u (0..55) per point and axis (ta's bucket, or the zero
 // run refined by its phase against the previous run length L and that run's sign g), tb (the
@@ -379,7 +379,7 @@ void walk_window_as(size_t frames, size_t points, const uint8_t* valid, const ui
   coder = code;
 }
 
-// Codes (or decodes) one window frame by frame, point by point, x, y, z (FORMAT.md 3.3):
+// Codes (or decodes) one window frame by frame, point by point, x, y, z (FORMAT.md 8):
 // `code(i, pred, ctx, &tok)` returns q[i] and the residual's token. Gap samples are filled so
 // histories stay defined. `period` is the window's period T (only read by predictors 8 and 9).
 // Coder is trivially copyable: the walk codes through a local copy (kept in registers) and

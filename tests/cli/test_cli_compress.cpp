@@ -331,7 +331,7 @@ TEST(CliCompress, GivenDecompressToTrcThenNotesNameWhatTrcDoesNotKeep) {
   EXPECT_EQ(r.out.find("does not keep"), std::string::npos) << r.out;
 }
 
-// --analog-max-error (docs/FORMAT.md 5.2): bounds by unit and by label, reported by info and
+// --analog-max-error (docs/FORMAT.md 5.7): bounds by unit and by label, reported by info and
 // verify, kept through decompress and --rm; bad requests are one-line errors.
 TEST(CliCompress, GivenAnalogMaxErrorThenInfoVerifyAndDecompressKeepTheBounds) {
   capz_test::TempDir d("capz_cli_analog");

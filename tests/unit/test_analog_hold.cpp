@@ -1,4 +1,4 @@
-// Held analog samples (docs/FORMAT.md 9.4): channels written by sample and hold from a slower
+// Held analog samples (docs/FORMAT.md 11.5): channels written by sample and hold from a slower
 // sensor (every sample but those at one phase of a period a copy of the one before) round-trip
 // bit for bit with a hold field, written where it codes smaller; exceptions, NaN and -0.0
 // samples, long periods and references between channels follow the format; damaged fields throw

@@ -169,7 +169,7 @@ TEST(AnalogLattice, GivenAWindowOfNearLatticeChannelsThenExact) {
   for (size_t i = 0; i < rows.size(); ++i) ASSERT_EQ(bits_of(back[i]), bits_of(rows[i])) << i;
 }
 
-// A lattice table header written field by field (FORMAT.md 8.2), float32 entries 1.0, 2.0, ...
+// A lattice table header written field by field (FORMAT.md 11.7), float32 entries 1.0, 2.0, ...
 // with the given fields.
 struct Fields {
   uint64_t m = 3;

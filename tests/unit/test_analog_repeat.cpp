@@ -1,4 +1,4 @@
-// Repeated analog frames (docs/FORMAT.md 7.2): windows whose channels repeat whole point frames
+// Repeated analog frames (docs/FORMAT.md 11.3): windows whose channels repeat whole point frames
 // round-trip bit for bit with repeat lists, the lists are written where frames repeat (and only
 // in 7.x windows), references follow the same-set rule, corrupt lists throw kCorrupt, and
 // vicon_zerowire.c3d (the shared take with repeated frames) goes C3D -> capz 7.0 -> C3D exactly.

@@ -1,4 +1,4 @@
-// ATTR predictors 10 and 11 (FORMAT.md 7.3): the nearest earlier point of each point (the rule
+// ATTR predictors 10 and 11 (FORMAT.md 13.5): the nearest earlier point of each point (the rule
 // of coding/neighbours.h: first valid frame, exact distances, ties to the larger index, the
 // 512-point window above 4096 points), round trips of integer, float and colour lanes that use
 // them, and what a decoder refuses (a 6.x stream, no position integers).

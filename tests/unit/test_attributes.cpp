@@ -1,4 +1,4 @@
-// The ATTR coder (coding/attributes.h, FORMAT.md 5.3): every field type and size, COUNT above 1,
+// The ATTR coder (coding/attributes.h, FORMAT.md 13): every field type and size, COUNT above 1,
 // packed colour in both spellings, NaN payloads and -0.0, organized layouts; the predictors
 // actually help on smooth data; damaged payloads are refused.
 #include <gtest/gtest.h>

@@ -280,8 +280,8 @@ analog::HeaderRules header_rules(size_t repeat_S) {
 }
 
 // One channel's candidates: representations of all its rows, then, when it is not constant
-// and a layout keeps fewer rows (its repeated frames, FORMAT.md 7.2; else its interpolation, 9.2,
-// or its hold, 9.4), representations of the kept samples.
+// and a layout keeps fewer rows (its repeated frames, FORMAT.md 11.3; else its interpolation, 11.4,
+// or its hold, 11.5), representations of the kept samples.
 struct ChannelCandidates {
   std::vector<ChannelRepr> reprs;
   std::vector<analog::KeptRows> layouts;  // [0]: every row
@@ -484,7 +484,7 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
   ByteReader head(in.bytes(static_cast<size_t>(head_size)), static_cast<size_t>(head_size), what);
   const size_t nch = static_cast<size_t>(std::max(channels, 0));
   std::vector<ChannelRepr> reprs;
-  std::vector<analog::KeptRows> layouts(nch);  // FORMAT.md 7.2, 9.2, 9.4
+  std::vector<analog::KeptRows> layouts(nch);  // FORMAT.md 11.3, 11.4, 11.5
   std::vector<size_t> kept(nch, nrows);        // each channel's coded samples
   analog::HeaderState state;
   bool any_coded = false;
@@ -520,7 +520,7 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
   for (size_t c = 0; c < nch; ++c) {
     ChannelRepr& r = reprs[c];
     if (analog::is_integer_kind(r.kind)) {
-      std::vector<bool> use(nch, false);  // the same kept rows (FORMAT.md 7.2, 9.2, 9.4)
+      std::vector<bool> use(nch, false);  // the same kept rows (FORMAT.md 11.3, 11.4, 11.5)
       for (size_t j = 0; j < c; ++j) use[j] = has_r1[j] && layouts[j] == layouts[c];
       decode_int_channel(kept[c], cross_refs(r1s, use, static_cast<int>(c)), &cur, &r.ints,
                          &r1s[c]);

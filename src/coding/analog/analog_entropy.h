@@ -22,20 +22,20 @@ constexpr int kMagContexts = 48;
 constexpr int kFloatContexts = 33;
 constexpr int kParamContext = kMagContexts + kFloatContexts;
 constexpr int kCoefContext = kParamContext + 1;
-// FORMAT.md 9.1: the 4 bits below a float residual's leading bit, by its bit length 2..64.
+// FORMAT.md 11.10: the 4 bits below a float residual's leading bit, by its bit length 2..64.
 constexpr int kTopContext = kCoefContext + 1;
 constexpr int kTopContexts = 63;
-// FORMAT.md 9.1: a bit length far from the previous one.
+// FORMAT.md 11.10: a bit length far from the previous one.
 constexpr int kFarContext = kTopContext + kTopContexts;
-// FORMAT.md 9.5: the two bits below an integer residual's token t (4..63), by t.
+// FORMAT.md 11.10: the two bits below an integer residual's token t (4..63), by t.
 constexpr int kLowContext = kFarContext + 1;
 constexpr int kLowContexts = 60;
-// FORMAT.md 9.7 (a version 2 window): a token far below its magnitude context c, by c; one far
+// FORMAT.md 11.10 (a version 2 window): a token far below its magnitude context c, by c; one far
 // above it, for every context.
 constexpr int kBelowContext = kLowContext + kLowContexts;
 constexpr int kAboveContext = kBelowContext + kMagContexts;
 constexpr int kAnalogContexts = kAboveContext + 1;
-// FORMAT.md 9.7: a version 2 window's token t under magnitude context c is d = t - c + kRelShift;
+// FORMAT.md 11.10: a version 2 window's token t under magnitude context c is d = t - c + kRelShift;
 // its context's model codes d in 1 .. 14 itself.
 constexpr int kRelShift = 14;
 
@@ -166,7 +166,7 @@ inline void put_float_residual(IntEncoder::Cursor* enc, int* prev_nb, int64_t d)
 }
 int64_t get_float_residual(IntDecoder::Cursor* dec, int* prev_nb);
 
-// FORMAT.md 9.1: as put_float_residual, but the (up to) 4 bits below the leading one are one
+// FORMAT.md 11.10: as put_float_residual, but the (up to) 4 bits below the leading one are one
 // symbol under context kTopContext + nb - 2, and only the bits below them are raw.
 inline void put_float_residual9(IntEncoder::Cursor* enc, int* prev_nb, int64_t d) {
   const uint64_t u = zigzag64(d);

@@ -436,7 +436,7 @@ ChannelRepr read_repr_header(ByteReader* in, size_t n, const HeaderRules& rules,
     kept->hold = read_hold(in, n);
     n = hold_kept_count(n, kept->hold);
   }
-  if (byte & 32) {  // FORMAT.md 7.2: only in 7.x streams (S > 0)
+  if (byte & 32) {  // FORMAT.md 11.3: only in 7.x streams (S > 0)
     const size_t S = rules.S;
     if (S == 0 || n % S != 0)
       throw Error(
@@ -453,7 +453,7 @@ ChannelRepr read_repr_header(ByteReader* in, size_t n, const HeaderRules& rules,
       state->last_const = r.const_bits;
       break;
     case Kind::kScaled: {
-      if (byte & 16) {  // FORMAT.md 9.6
+      if (byte & 16) {  // FORMAT.md 11.7
         const ScaledShare& share = state->share;
         if (!share.have)
           throw Error(ErrorCode::kCorrupt,
