@@ -53,8 +53,9 @@ Format sniff(const std::string& path, bool* is_capz) {
   in.read(head, sizeof head);
   const size_t n = static_cast<size_t>(in.gcount());
   const std::string ext = lower_extension(path);
+  // "\x89CAPZ" (format 1.x) or "\x89capz" (pre-release, which the decoder refuses).
   if (n >= 5 && static_cast<unsigned char>(head[0]) == 0x89 &&
-      std::memcmp(head + 1, "capz", 4) == 0) {
+      (std::memcmp(head + 1, "CAPZ", 4) == 0 || std::memcmp(head + 1, "capz", 4) == 0)) {
     *is_capz = true;
     return Format::kUnknown;
   }
