@@ -148,7 +148,8 @@ double encode(Input& input, capz::CompressOptions opts, const std::string& out, 
 // What the report says besides the take, the options and the stats.
 struct Report {
   std::string in, out;
-  std::string units;  // the take's units as read (assumed ones included), before coding
+  std::string units;       // the take's units as read (assumed ones included), before coding
+  std::string units_note;  // "units m (assumed: ...)" when the reader assumed them, else empty
   uint64_t in_bytes = 0;
   double t_read = 0, t_enc = 0;  // thread CPU seconds
   double ratio = 0;              // IN's bytes / OUT's
@@ -167,6 +168,7 @@ std::string report_json(const Report& r, const capz::Take& take, const capz::Com
   j.member("frames", static_cast<uint64_t>(take.frames));
   j.member("points", static_cast<uint64_t>(take.points));
   j.member("units", r.units);
+  j.member("units_assumed", !r.units_note.empty());
   j.member("bpvf", st.bpvf);
   j.member("mode", st.mode);
   j.member("codec", st.codec);
@@ -199,6 +201,7 @@ std::string report_text(const Report& r, const capz::Take& take, const capz::Com
                                         num(st.error.max_error) + u + " Euclidean), KG " +
                                         num(st.error.kg_error) + "%";
     if (opts.codec == "auto") err += ", codec " + st.codec;
+    if (!r.units_note.empty()) err += "; " + r.units_note;
     text += strprintf("%s -> %s: %s -> %s (ratio %s), %s bpvf, %s\n", r.in.c_str(), r.out.c_str(),
                       human_size(r.in_bytes).c_str(), human_size(st.bytes).c_str(),
                       num(r.ratio).c_str(), num(st.bpvf).c_str(), err.c_str());
@@ -307,9 +310,7 @@ FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
   const capz::Take& take = input.in.source->header();
   set_target(vm, *input.in.source, &opts);
   r.units = take.units;
-  if (take.units_assumed && g_verbosity >= 1)
-    std::fprintf(stderr, "capz compress: note: %s: units %s\n", in.c_str(),
-                 capz::units_text(take).c_str());
+  if (take.units_assumed) r.units_note = "units " + capz::units_text(take);
 
   capz::CompressStats st;
   r.t_enc = encode(input, opts, r.out, force, s.single, job.alone, &st);

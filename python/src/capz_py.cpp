@@ -514,12 +514,13 @@ py::tuple take_state(const capz::Take& t) {
     capz::set_compress_target(*src, lossless, &opts);
     bytes = capz::compress(t, opts);
   }
+  // A fifth element says the units were assumed (states of 4 elements, from before, did not).
   return py::make_tuple(1, py::bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
-                        t.source, t.warnings);
+                        t.source, t.warnings, t.units_assumed);
 }
 
 TakePtr take_from_state(const py::tuple& s) {
-  if (s.size() != 4 || s[0].cast<int>() != 1)
+  if ((s.size() != 4 && s.size() != 5) || s[0].cast<int>() != 1)
     invalid("unpickling a capz.Take: not a state this version wrote");
   const std::string bytes = s[1].cast<std::string>();
   capz::Take t;
@@ -532,6 +533,7 @@ TakePtr take_from_state(const py::tuple& s) {
   }
   t.source = s[2].cast<std::string>();
   t.warnings = s[3].cast<std::vector<std::string>>();
+  t.units_assumed = s.size() == 5 && s[4].cast<bool>();
   return adopt(std::move(t));
 }
 
