@@ -87,7 +87,7 @@ class FileFrameSource : public FrameSource {
   explicit FileFrameSource(FrameFiles files) : files_(std::move(files)) {}
   bool has_sample_words() const override { return false; }
   // The folder (a single file's folder): the encoder stores each frame file's checksum and
-  // residue where the format has a residue (FORMAT.md 5.4).
+  // residue where the format has a residue (FORMAT.md 7.3, 14.3).
   std::string original_file() const override { return files_.dir; }
   void read(size_t first, size_t count, FrameBlock* out) override;
   size_t preferred_block() const override { return 16; }

@@ -325,7 +325,8 @@ class PCDSource : public FileFrameSource {
     header_.format = Format::kPCDFolder;
     header_.units = "m";
     header_.units_assumed = true;
-    read_pcd_frame(files_.path(0), &layout_, &first_);
+    FrameData first;  // read whole once: its layout as PCL reads it
+    read_pcd_frame(files_.path(0), &layout_, &first);
     set_layout(layout_, files_.names, &header_);
   }
 
@@ -343,7 +344,6 @@ class PCDSource : public FileFrameSource {
 
  private:
   FrameLayout layout_;
-  FrameData first_;
   std::string organized_;  // a frame file with HEIGHT above 1, if any
 };
 
