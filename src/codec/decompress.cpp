@@ -7,10 +7,10 @@
 
 #include "capz/codec.h"
 #include "capz/error.h"
+#include "codec/capz_source.h"
 #include "codec/decoder_registry.h"
 #include "codec/grid.h"
 #include "coding/analog/analog_codec.h"
-#include "io/capz_source.h"
 
 namespace capz {
 namespace {

@@ -8,10 +8,9 @@
 
 #include "capz/error.h"
 #include "coding/bytes.h"
+#include "coding/c3d_params.h"
 #include "coding/entropy.h"
 #include "coding/lzma_block.h"
-#include "io/c3d_internal.h"
-#include "io/c3d_params.h"
 
 namespace capz {
 namespace {

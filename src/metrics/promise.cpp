@@ -6,8 +6,8 @@
 #include <type_traits>
 
 #include "capz/verify.h"
+#include "coding/c3d_params.h"
 #include "coding/quantiser.h"
-#include "io/c3d_params.h"
 
 namespace capz {
 

@@ -14,11 +14,11 @@
 #include "capz/io.h"
 #include "capz/take.h"
 #include "coding/bytes.h"
+#include "coding/c3d_params.h"
 #include "coding/container.h"
 #include "coding/lzma_block.h"
 #include "coding/meta.h"
 #include "core/hash.h"
-#include "io/c3d_params.h"
 
 using namespace capz;
 
