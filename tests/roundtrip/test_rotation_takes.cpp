@@ -28,7 +28,7 @@ namespace {
 
 // Bytes of the residue chunks (HASH, C3DR, C3DP with their framing) of the archive `z`.
 size_t residue_bytes(const std::vector<uint8_t>& z) {
-  size_t off = capz::file_header_bytes(z[9]), total = 0;
+  size_t off = capz::kFileHeaderBytes, total = 0;
   while (off < z.size()) {
     const capz::Chunk c = capz::read_chunk(z.data(), z.size(), off, "archive");
     if (c.type == "HASH" || c.type == "C3DR" || c.type == "C3DP") total += c.end - c.offset;
