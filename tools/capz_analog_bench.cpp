@@ -7,7 +7,6 @@
 // Speed is MB/s of raw float32 samples (4 bytes a sample), single thread, best of 3.
 //
 //   capz_analog_bench [--window ROWS] [--no-peers] [--whole-frames] [--repeats] [--as-stream]
-//                     [--before8] [--before9] [--before91] [--before92]
 //                     FILE.c3d...
 //   capz_analog_bench --per-channel [--window ROWS] [--no-peers] FILE.c3d...
 //
@@ -21,11 +20,8 @@
 // auto_window_frames(points) point frames (1024 to 8192, codec.h) and repeat lists only when the
 // encoder's scan asks for them; the figures a user of the CLI gets.
 // --whole-frames rounds each window down to whole point frames of the take (at least one);
-// --repeats does too and codes as a 7.x stream does (FORMAT.md 11.3: channels may name repeated
-// analog frames), so the two compare the repeat lists alone. Windows are coded as in a 9.x
-// stream (FORMAT.md 11.7 and 11.4), which capz writes for every take with analog channels;
-// --before92 codes them as 9.1 streams did, --before91 as 9.0 streams did, --before9 as 8.x
-// streams did, --before8 as earlier streams did.
+// --repeats does too and offers repeat lists (FORMAT.md 11.3: channels may name repeated analog
+// frames), so the two compare the repeat lists alone. Windows are coded as format 1.0 codes them.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -87,13 +83,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// repeat_S: the samples per point frame when coding as 7.x (window a multiple of it), else 0.
-// Code as a 9.2 stream does (FORMAT.md 11.7: rank tables against a lattice; 11.9: the float
-// predictors; 11.4: interpolated samples; 11.8: constant predictors; 11.5: held samples), as capz
-// writes every take with analog channels; --before92 codes as 9.1 streams, --before91 as 9.0
-// streams, --before9 as 8.x streams, --before8 as the streams before 8.0.
-capz::FormatVersion g_format = capz::kFormatNewestWritten;
-
+// repeat_S: the samples per point frame when repeat lists are offered (window a multiple of
+// it), else 0.
 Result run_ours(const Analog& a, const AnalogHints& h, size_t window, size_t repeat_S) {
   const size_t rows = a.values.size() / a.channels;
   const double mb = 4.0 * static_cast<double>(a.values.size()) / 1e6;
@@ -106,7 +97,7 @@ Result run_ours(const Analog& a, const AnalogHints& h, size_t window, size_t rep
     for (size_t r0 = 0; r0 < rows; r0 += window) {
       const size_t n = std::min(window, rows - r0);
       payloads.push_back(
-          encode_analog_window(&a.values[r0 * a.channels], n, a.channels, h, repeat_S, g_format));
+          encode_analog_window(&a.values[r0 * a.channels], n, a.channels, h, repeat_S));
     }
     best_enc = std::min(best_enc, seconds_since(t0));
   }
@@ -118,7 +109,7 @@ Result run_ours(const Analog& a, const AnalogHints& h, size_t window, size_t rep
       for (size_t r0 = 0; r0 < rows; r0 += window, ++w) {
         const size_t n = std::min(window, rows - r0);
         decode_analog_window(payloads[w].data(), payloads[w].size(), n, a.channels,
-                             &back[r0 * a.channels], "bench", repeat_S, g_format);
+                             &back[r0 * a.channels], "bench", repeat_S);
       }
     } catch (const Error&) {
       std::fill(back.begin(), back.end(), std::nan(""));  // reported as NOT EXACT
@@ -257,7 +248,7 @@ size_t per_channel(const std::string& name, const Take& t, const AnalogHints& h,
     int kind = -1;
     for (size_t r0 = 0; r0 < rows; r0 += window) {
       const size_t n = std::min(window, rows - r0);
-      const std::vector<uint8_t> w = encode_analog_window(col.data() + r0, n, 1, h1, 0, g_format);
+      const std::vector<uint8_t> w = encode_analog_window(col.data() + r0, n, 1, h1, 0);
       bytes += w.size();
       if (kind < 0) {
         size_t k = 1;  // version byte, then the header size (varint), then the kind byte
@@ -333,14 +324,6 @@ int main(int argc, char** argv) {
       peers = false;
     else if (!std::strcmp(argv[i], "--repeats"))
       repeats = whole_frames = true;
-    else if (!std::strcmp(argv[i], "--before8"))
-      g_format = kAnalogWindowsSince;
-    else if (!std::strcmp(argv[i], "--before9"))
-      g_format = kAnalogLatticeSince;
-    else if (!std::strcmp(argv[i], "--before91"))
-      g_format = kAnalogFloat9Since;
-    else if (!std::strcmp(argv[i], "--before92"))
-      g_format = kAnalogConstantSince;
     else if (!std::strcmp(argv[i], "--per-channel"))
       channels = true;
     else if (!std::strcmp(argv[i], "--whole-frames"))
@@ -390,7 +373,7 @@ int main(int argc, char** argv) {
       for (size_t c = 0; c < C; ++c)
         scan.analog_repeats.push_back(
             analog::count_varying_repeats(t.analog.values.data() + c, C, frames, S));
-      rep_S = analog_repeats_worth_7(scan, frames) ? S : 0;
+      rep_S = analog_repeats_worth(scan, frames) ? S : 0;
     }
     const Result r = run_ours(t.analog, h, rows, rep_S);
     const Peers p = peers ? run_peers(t.analog, h) : Peers();

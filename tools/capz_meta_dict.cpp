@@ -52,11 +52,10 @@ int main(int argc, char** argv) {
     try {
       const std::vector<uint8_t> data = read_file(path);
       check_file_header(data.data(), data.size(), path);
-      const int major = data[9];
-      const Chunk head = read_chunk(data.data(), data.size(), file_header_bytes(major), path);
+      const Chunk head = read_chunk(data.data(), data.size(), kFileHeaderBytes, path);
       const Chunk meta = read_chunk(data.data(), data.size(), head.end, path);
       if (meta.type != "META") fail(ErrorCode::kCorrupt, path, "no META after HEAD");
-      const std::vector<uint8_t> fields = decode_meta_fields(meta, path, major);
+      const std::vector<uint8_t> fields = decode_meta_fields(meta, path);
       LzmaPreset own;
       own.data = dict.data();
       own.size = dict.size();
