@@ -39,7 +39,6 @@ set(CAPZ_DECODE_SOURCES
   src/coding/analog/analog_scaled.cpp
   src/coding/analog/analog_simd.cpp
   src/coding/analog/analog_table.cpp
-  src/coding/analog_v3.cpp
   src/coding/attributes_decode.cpp
   src/coding/attributes_encode.cpp
   src/coding/c3d_params.cpp
@@ -63,15 +62,19 @@ set(CAPZ_DECODE_SOURCES
   src/core/thread_pool.cpp
   src/core/units.cpp
   src/core/version.cpp
+  src/io/bin_folder.cpp
   src/io/c3d_events.cpp
   src/io/c3d_read.cpp
   src/io/c3d_write.cpp
+  src/io/frame_files.cpp
   src/io/frame_source.cpp
   src/io/io.cpp
   src/io/pcd_backend.cpp
   src/io/pcd_folder.cpp
   src/io/pcd_frame_writer.cpp
   src/io/pcd_header.cpp
+  src/io/ply.cpp
+  src/io/ply_folder.cpp
   src/io/residue/c3d_residue.cpp
   src/io/residue/pack.cpp
   src/io/residue/patch.cpp

@@ -57,7 +57,7 @@ Record read_record(StreamBytes& b, const ParsedStream& ps, const std::string& na
     r.file_part = chunk_payload(b, ps, type, name);
     r.info.residue = true;
     r.info.exact = ps.h.lossless;
-    r.info.windows_at_bound = ps.major >= 5 && !r.pcd;  // PCDP: lossless archives only
+    r.info.windows_at_bound = !r.pcd;  // PCDP: lossless archives only
     if (r.pcd && !r.info.exact)
       fail(ErrorCode::kCorrupt, name, "PCDR in an archive that is not lossless");
   }
