@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "capz/error.h"
-#include "capz/file.h"
+#include "capz/tool/file.h"
 #include "coding/bytes.h"
 #include "coding/container.h"
 #include "coding/lzma_block.h"

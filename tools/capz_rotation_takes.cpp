@@ -6,7 +6,7 @@
 #include <string>
 
 #include "capz/error.h"
-#include "capz/file.h"
+#include "capz/tool/file.h"
 #include "support/rotation_c3d.h"
 
 int main(int argc, char** argv) {

@@ -15,7 +15,7 @@
 #include <thread>
 
 #include "capz/error.h"
-#include "capz/file.h"
+#include "capz/tool/file.h"
 
 namespace fs = std::filesystem;
 

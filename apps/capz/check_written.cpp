@@ -7,10 +7,10 @@
 #include <vector>
 
 #include "capz/codec.h"
-#include "capz/file.h"
-#include "capz/original.h"
 #include "capz/stream.h"
-#include "capz/verify.h"
+#include "capz/tool/file.h"
+#include "capz/tool/original.h"
+#include "capz/tool/verify.h"
 #include "compress_common.h"
 
 namespace capz_cli {

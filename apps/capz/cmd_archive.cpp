@@ -8,8 +8,8 @@
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/io.h"
-#include "capz/original.h"
 #include "capz/stream.h"
+#include "capz/tool/original.h"
 #include "compress_common.h"
 
 namespace capz_cli {

@@ -8,11 +8,11 @@
 
 #include "batch.h"
 #include "capz/codec.h"
-#include "capz/compress_file.h"
-#include "capz/file.h"
 #include "capz/io.h"
-#include "capz/original.h"
 #include "capz/stream.h"
+#include "capz/tool/compress_file.h"
+#include "capz/tool/file.h"
+#include "capz/tool/original.h"
 #include "compress_common.h"
 #include "pipe.h"
 

@@ -8,8 +8,8 @@
 #include <string>
 
 #include "capz/error.h"
-#include "capz/file.h"
 #include "capz/io.h"
+#include "capz/tool/file.h"
 #include "cli_util.h"
 #include "commands.h"
 

@@ -7,8 +7,8 @@
 #include "batch.h"
 #include "capz/codec.h"
 #include "capz/io.h"
-#include "capz/original.h"
 #include "capz/stream.h"
+#include "capz/tool/original.h"
 #include "compress_common.h"
 #include "pipe.h"
 

@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "capz/codec.h"
-#include "capz/original.h"
+#include "capz/tool/original.h"
 #include "compress_common.h"
 
 namespace capz_cli {

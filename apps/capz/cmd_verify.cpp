@@ -2,10 +2,10 @@
 #include <cstdio>
 
 #include "capz/codec.h"
-#include "capz/file.h"
 #include "capz/io.h"
 #include "capz/metrics.h"
-#include "capz/verify.h"
+#include "capz/tool/file.h"
+#include "capz/tool/verify.h"
 #include "compress_common.h"
 
 namespace capz_cli {

@@ -12,8 +12,8 @@
 
 #include "capz/codec.h"
 #include "capz/error.h"
-#include "capz/file.h"
 #include "capz/metrics.h"
+#include "capz/tool/file.h"
 #include "cli_util.h"
 #include "commands.h"
 

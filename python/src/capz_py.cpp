@@ -29,12 +29,12 @@
 #include <vector>
 
 #include "capz/codec.h"
-#include "capz/compress_file.h"
 #include "capz/error.h"
-#include "capz/file.h"
 #include "capz/io.h"
 #include "capz/metrics.h"
-#include "capz/original.h"
+#include "capz/tool/compress_file.h"
+#include "capz/tool/file.h"
+#include "capz/tool/original.h"
 #include "capz/version.h"
 #include "py_common.h"
 

@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "capz/codec.h"
-#include "capz/file.h"
 #include "capz/metrics.h"
-#include "capz/original.h"
+#include "capz/tool/file.h"
+#include "capz/tool/original.h"
 #include "py_common.h"
 
 namespace capz_py {

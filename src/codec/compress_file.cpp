@@ -1,13 +1,13 @@
 // capz/compress_file.h: what `capz compress` does between its options and its report.
-#include "capz/compress_file.h"
+#include "capz/tool/compress_file.h"
 
 #include <algorithm>
 #include <cmath>
 #include <memory>
 
 #include "capz/error.h"
-#include "capz/file.h"
 #include "capz/io.h"
+#include "capz/tool/file.h"
 
 namespace capz {
 

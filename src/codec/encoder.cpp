@@ -13,7 +13,7 @@
 #include <string>
 
 #include "capz/error.h"
-#include "capz/verify.h"
+#include "capz/tool/verify.h"
 #include "codec/decoder.h"
 #include "codec/encode_settings.h"
 #include "codec/grid.h"

@@ -6,8 +6,8 @@
 #include <memory>
 
 #include "capz/error.h"
-#include "capz/file.h"
-#include "capz/original.h"
+#include "capz/tool/file.h"
+#include "capz/tool/original.h"
 #include "codec/capz_source.h"
 #include "coding/bytes.h"
 #include "core/atomic_file.h"

@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include "capz/error.h"
-#include "capz/file.h"
+#include "capz/tool/file.h"
 #include "coding/bytes.h"
 #include "coding/container.h"
 #include "io/pcd_folder.h"

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "capz/file.h"  // check_output_free, read_file, write_file
+#include "capz/tool/file.h"  // check_output_free, read_file, write_file
 
 namespace capz {
 

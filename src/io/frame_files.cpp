@@ -10,7 +10,7 @@
 #include <set>
 
 #include "capz/error.h"
-#include "capz/file.h"
+#include "capz/tool/file.h"
 #include "core/atomic_file.h"
 #include "core/input_file.h"
 #include "io/natural_sort.h"

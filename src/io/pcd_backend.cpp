@@ -5,6 +5,8 @@
 #include <dlfcn.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -13,6 +15,12 @@
 
 #ifndef CAPZ_MODULE_DIR
 #define CAPZ_MODULE_DIR ""
+#endif
+#ifndef CAPZ_MODULE_REL_DIR
+#define CAPZ_MODULE_REL_DIR ""
+#endif
+#ifndef CAPZ_MODULE_INSTALL_DIR
+#define CAPZ_MODULE_INSTALL_DIR ""
 #endif
 
 namespace capz {
@@ -39,15 +47,29 @@ struct Loaded {
   std::string error;  // why it could not be loaded
 };
 
-// Looks beside the executable first (an installed or copied capz carries its module along),
-// then in the build tree the library was compiled for (tests and tools run from there).
+// The folders to look in, in order: $CAPZ_MODULE_DIR (a program linked against a relocated
+// install), beside the executable (a copied capz carries its module along), the install's module
+// folder relative to the executable (<prefix>/bin/capz finds <prefix>/<libdir>/capz) and where
+// the library was configured to be installed, then the build tree the library was compiled in
+// (tests and tools run from there).
+std::vector<std::string> module_dirs() {
+  std::vector<std::string> dirs;
+  auto add = [&dirs](const std::string& d) {
+    if (!d.empty() && std::find(dirs.begin(), dirs.end(), d) == dirs.end()) dirs.push_back(d);
+  };
+  if (const char* env = std::getenv("CAPZ_MODULE_DIR")) add(env);
+  const std::string own = exe_dir();
+  add(own);
+  const std::string rel = CAPZ_MODULE_REL_DIR;
+  if (!own.empty() && !rel.empty()) add(own + "/" + rel);
+  add(CAPZ_MODULE_INSTALL_DIR);
+  add(CAPZ_MODULE_DIR);
+  return dirs;
+}
+
 Loaded load() {
   Loaded l;
-  std::vector<std::string> dirs;
-  const std::string own = exe_dir();
-  if (!own.empty()) dirs.push_back(own);
-  const std::string built = CAPZ_MODULE_DIR;
-  if (!built.empty() && built != own) dirs.push_back(built);
+  const std::vector<std::string> dirs = module_dirs();
   for (const std::string& d : dirs) {
     const std::string path = d + "/" + kModuleName;
     if (access(path.c_str(), F_OK) != 0) {

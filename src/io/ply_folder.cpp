@@ -4,9 +4,9 @@
 #include <memory>
 
 #include "capz/error.h"
-#include "capz/file.h"
 #include "capz/io.h"
 #include "capz/stream.h"
+#include "capz/tool/file.h"
 #include "io/frame_files.h"
 #include "io/ply.h"
 

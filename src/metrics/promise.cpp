@@ -5,7 +5,7 @@
 #include <cstring>
 #include <type_traits>
 
-#include "capz/verify.h"
+#include "capz/tool/verify.h"
 #include "coding/c3d_params.h"
 #include "coding/quantiser.h"
 

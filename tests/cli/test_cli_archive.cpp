@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "capz/file.h"
+#include "capz/tool/file.h"
 #include "corrupt/chunk_util.h"
 #include "test_util.h"
 

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "capz/file.h"
+#include "capz/tool/file.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;

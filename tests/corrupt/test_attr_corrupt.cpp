@@ -9,7 +9,7 @@
 
 #include "capz/codec.h"
 #include "capz/error.h"
-#include "capz/file.h"
+#include "capz/tool/file.h"
 #include "chunk_util.h"
 #include "test_util.h"
 

@@ -11,9 +11,9 @@
 
 #include "capz/codec.h"
 #include "capz/error.h"
-#include "capz/file.h"
-#include "capz/original.h"
 #include "capz/stream.h"
+#include "capz/tool/file.h"
+#include "capz/tool/original.h"
 #include "chunk_util.h"
 #include "test_util.h"
 

@@ -10,9 +10,9 @@
 
 #include "capz/codec.h"
 #include "capz/error.h"
-#include "capz/file.h"
-#include "capz/original.h"
 #include "capz/stream.h"
+#include "capz/tool/file.h"
+#include "capz/tool/original.h"
 #include "chunk_util.h"
 
 namespace fs = std::filesystem;

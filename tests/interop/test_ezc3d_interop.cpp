@@ -20,10 +20,10 @@
 
 #include "capz/codec.h"
 #include "capz/error.h"
-#include "capz/file.h"
 #include "capz/io.h"
-#include "capz/original.h"
 #include "capz/stream.h"
+#include "capz/tool/file.h"
+#include "capz/tool/original.h"
 #include "interop/ezc3d_compare.h"
 #include "interop/ezc3d_snapshot.h"
 #include "test_util.h"

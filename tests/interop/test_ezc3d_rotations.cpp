@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "capz/codec.h"
-#include "capz/file.h"
 #include "capz/io.h"
+#include "capz/tool/file.h"
 #include "interop/ezc3d_compare.h"
 #include "interop/ezc3d_snapshot.h"
 #include "support/rotation_c3d.h"

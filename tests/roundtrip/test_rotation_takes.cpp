@@ -14,10 +14,10 @@
 #include <vector>
 
 #include "capz/codec.h"
-#include "capz/compress_file.h"
-#include "capz/file.h"
 #include "capz/io.h"
-#include "capz/original.h"
+#include "capz/tool/compress_file.h"
+#include "capz/tool/file.h"
+#include "capz/tool/original.h"
 #include "coding/bytes.h"
 #include "coding/container.h"
 #include "support/rotation_c3d.h"

@@ -12,10 +12,10 @@
 
 #include "capz/codec.h"
 #include "capz/error.h"
-#include "capz/file.h"
 #include "capz/io.h"
 #include "capz/stream.h"
-#include "capz/verify.h"
+#include "capz/tool/file.h"
+#include "capz/tool/verify.h"
 #include "coding/quantiser.h"
 #include "support/stream_pieces.h"
 #include "support/without_original.h"

@@ -13,10 +13,10 @@
 
 #include "capz/codec.h"
 #include "capz/error.h"
-#include "capz/file.h"
 #include "capz/io.h"
-#include "capz/original.h"
 #include "capz/stream.h"
+#include "capz/tool/file.h"
+#include "capz/tool/original.h"
 #include "codec/transform.h"
 #include "coding/container.h"
 #include "coding/crc32c.h"

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "capz/file.h"
+#include "capz/tool/file.h"
 #include "coding/container.h"
 #include "test_util.h"
 

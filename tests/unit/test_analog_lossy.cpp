@@ -18,7 +18,7 @@
 #include "capz/error.h"
 #include "capz/io.h"
 #include "capz/take.h"
-#include "capz/verify.h"
+#include "capz/tool/verify.h"
 #include "coding/analog/analog_codec.h"
 #include "coding/analog/analog_quant.h"
 #include "coding/bytes.h"

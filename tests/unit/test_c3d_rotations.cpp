@@ -9,9 +9,9 @@
 #include <memory>
 
 #include "capz/error.h"
-#include "capz/file.h"
 #include "capz/io.h"
 #include "capz/stream.h"
+#include "capz/tool/file.h"
 #include "coding/quantiser.h"
 #include "io/c3d_internal.h"
 #include "test_util.h"

@@ -4,9 +4,9 @@
 
 #include <cmath>
 
-#include "capz/compress_file.h"
-#include "capz/file.h"
 #include "capz/io.h"
+#include "capz/tool/compress_file.h"
+#include "capz/tool/file.h"
 #include "test_util.h"
 
 using namespace capz;

@@ -14,11 +14,11 @@
 
 #include "capz/codec.h"
 #include "capz/error.h"
-#include "capz/file.h"
 #include "capz/io.h"
-#include "capz/original.h"
 #include "capz/stream.h"
-#include "capz/verify.h"
+#include "capz/tool/file.h"
+#include "capz/tool/original.h"
+#include "capz/tool/verify.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;

@@ -12,9 +12,9 @@
 
 #include "capz/codec.h"
 #include "capz/error.h"
-#include "capz/file.h"
-#include "capz/original.h"
 #include "capz/stream.h"
+#include "capz/tool/file.h"
+#include "capz/tool/original.h"
 #include "coding/lzf.h"
 #include "corrupt/chunk_util.h"
 #include "io/residue/pcd_residue.h"

@@ -10,10 +10,10 @@
 
 #include "capz/codec.h"
 #include "capz/error.h"
-#include "capz/file.h"
 #include "capz/io.h"
-#include "capz/original.h"
 #include "capz/stream.h"
+#include "capz/tool/file.h"
+#include "capz/tool/original.h"
 #include "coding/crc32c.h"
 
 namespace fs = std::filesystem;

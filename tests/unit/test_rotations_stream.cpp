@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "capz/error.h"
-#include "capz/verify.h"
+#include "capz/tool/verify.h"
 #include "coding/container.h"
 #include "coding/meta.h"
 #include "coding/quantiser.h"

@@ -11,7 +11,7 @@
 #include "capz/io.h"
 #include "capz/metrics.h"
 #include "capz/stream.h"
-#include "capz/verify.h"
+#include "capz/tool/verify.h"
 #include "test_util.h"
 
 using capz::ErrorCode;

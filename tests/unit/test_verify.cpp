@@ -11,7 +11,7 @@
 #include "capz/codec.h"
 #include "capz/metrics.h"
 #include "capz/stream.h"
-#include "capz/verify.h"
+#include "capz/tool/verify.h"
 
 using namespace capz;
 

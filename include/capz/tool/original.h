@@ -1,3 +1,6 @@
+// NOT PART OF THE STABLE API (include/capz/tool/): what the capz CLI and the Python module share
+// so that they behave alike. Installed for programs that want the CLI's exact behaviour, but it
+// may change in any release; the stable API is the headers of include/capz/ itself.
 // capz — the original file a .capz records (docs/FORMAT.md 7, 14): its size and XXH3-128 hash
 // (chunk HASH) and the residue that rebuilds it from the decoded take (C3DR/C3DP, TRCR/TRCP).
 #pragma once

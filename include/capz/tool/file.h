@@ -1,3 +1,6 @@
+// NOT PART OF THE STABLE API (include/capz/tool/): what the capz CLI and the Python module share
+// so that they behave alike. Installed for programs that want the CLI's exact behaviour, but it
+// may change in any release; the stable API is the headers of include/capz/ itself.
 // capz — whole files: what a program using the library needs around compress() / decompress().
 // Outputs appear whole or not at all, as every writer of the library's (io.h) does.
 #pragma once

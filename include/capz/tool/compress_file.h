@@ -1,3 +1,6 @@
+// NOT PART OF THE STABLE API (include/capz/tool/): what the capz CLI and the Python module share
+// so that they behave alike. Installed for programs that want the CLI's exact behaviour, but it
+// may change in any release; the stable API is the headers of include/capz/ itself.
 // capz — `capz compress IN -o OUT` as library calls: the input opened, the error target chosen
 // and the output written exactly as the command does, so any caller (the CLI, the Python
 // package) gets the same bytes for the same options.

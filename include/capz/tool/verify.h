@@ -1,3 +1,6 @@
+// NOT PART OF THE STABLE API (include/capz/tool/): what the capz CLI and the Python module share
+// so that they behave alike. Installed for programs that want the CLI's exact behaviour, but it
+// may change in any release; the stable API is the headers of include/capz/ itself.
 // capz — does a decoded .capz keep its promise? The one rule used by `capz verify --against`,
 // the check after writing (`capz compress --rm`) and the tests.
 //
