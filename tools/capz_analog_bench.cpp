@@ -365,7 +365,7 @@ int main(int argc, char** argv) {
     if (as_stream) {
       // As `capz compress` codes the take: windows of auto_window_frames(points) point frames,
       // repeat lists when the encoder's scan asks for them (a channel with varying repeated
-      // frames in 10% of the take's frames, grid_choice.cpp analog_repeats_worth_7).
+      // frames in 10% of the take's frames, grid_choice.cpp analog_repeats_worth).
       rows = auto_window_frames(t.points) * S;
       const size_t C = static_cast<size_t>(t.analog.channels),
                    frames = t.analog.values.size() / C / S;
