@@ -23,6 +23,7 @@ capz::WriteOptions write_options(const po::variables_map& vm, const char** enc_o
   wo.overwrite = vm.count("force") > 0;
   wo.c3d_float = vm.count("c3d-float") > 0;
   wo.drop_fields = vm.count("drop-fields") > 0;
+  wo.trc_delimiter = trc_delimiter(vm, '\t');
   if (vm.count("pcd-encoding") && vm.count("pcd-data"))
     throw po::error("give --pcd-encoding or --pcd-data, not both");
   *enc_opt = vm.count("pcd-data") ? "pcd-data" : "pcd-encoding";
@@ -62,6 +63,7 @@ int cmd_convert(const Args& args) {
       "c3d-float", "C3D output: store coordinates as float even if the source was int16")(
       "rate", po::value<double>(), "set the frame rate in Hz (for sources without one, e.g. PCD)")(
       "units", po::value<std::string>(), "set the units (mm, cm, m, ...) when the source has none");
+  add_trc_delimiter_option(&opts, "tab");
   po::options_description positionals;
   positionals.add_options()("input", po::value<std::string>(), "IN")(
       "output", po::value<std::string>(), "OUT");
@@ -69,7 +71,9 @@ int cmd_convert(const Args& args) {
   pos.add("input", 1).add("output", 1);
   po::variables_map vm;
   if (!parse_args(
-          args, "capz convert IN OUT [-f] [--pcd-encoding E] [--c3d-float] [--drop-fields]",
+          args,
+          "capz convert IN OUT [-f] [--pcd-encoding E] [--c3d-float] [--drop-fields]\n"
+          "                    [--trc-delimiter tab|comma]",
           "Converts IN to OUT, each a .c3d, a .trc or a folder of .pcd frames (OUT: a path\n"
           "without extension or ending in '/'), keeping point order,\n"
           "labels, rate, units and gaps (a gap is an empty field in TRC, a NaN point in\n"
