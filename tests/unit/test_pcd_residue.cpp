@@ -18,6 +18,7 @@
 #include "coding/lzf.h"
 #include "corrupt/chunk_util.h"
 #include "io/residue/pcd_residue.h"
+#include "io/text_number.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;
@@ -262,15 +263,16 @@ TEST(PcdResidue, BoundedArchivesCarryNoResidue) {
   EXPECT_FALSE(capz::original_info(z).hashed);
 }
 
-// The spellings other writers give, pinned against Python 3.11 and numpy 1.24 (repr, str of a
-// numpy.float32, "%.8g", "%.18e", "%.6f", "%.10g" of each float32 widened to a double).
+// The spellings other writers give, pinned against Python 3 (repr, "%.8g", "%.18e", "%.6f",
+// "%.10g" of each float32 widened to a double; the shortest float32 text in repr's layout as
+// data/make_ascii_pcd.py's shortest_f32 finds it).
 TEST(TextNumber, StylesSpellNumbersAsTheirWriters) {
   struct Case {
     float v;
     const char *repr, *f32, *g8, *e18, *f6, *g10;
   };
   const Case cases[] = {
-      {-0.059286266565322876f, "-0.059286266565322876", "-0.05928627", "-0.059286267",
+      {-0.059286266565322876f, "-0.059286266565322876", "-0.059286267", "-0.059286267",
        "-5.928626656532287598e-02", "-0.059286", "-0.05928626657"},
       {1e-5f, "9.999999747378752e-06", "1e-05", "9.9999997e-06", "9.999999747378751636e-06",
        "0.000010", "9.999999747e-06"},
@@ -374,7 +376,7 @@ TEST(PcdResidue, AsciiStyleExceptionsComeBack) {
   s.insert(s.find(' ', line(10)), "0");          // x spelt with one more zero
   s.replace(s.find('\n', line(20)), 1, "\r\n");  // one CRLF
   std::string t = s;
-  t.pop_back();  // no line end after the last line
+  t.pop_back();                       // no line end after the last line
   const std::string u = s + "\n \n";  // blank lines after the last point
   round_trip({bytes_of(s), bytes_of(t), bytes_of(u)});
 }

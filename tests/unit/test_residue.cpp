@@ -501,7 +501,7 @@ TEST(ResidueTRC, CommaSeparatedFilesRoundTripAtTheCostOfTheirTabForm) {
     std::string c = row;
     std::replace(c.begin(), c.end(), '\t', ',');
     c.replace(c.size() - 1, 1, "\r\n");
-    if (r == 7) c.replace(c.find(",700"), 0, ",");  // one row a field too wide: an exception
+    if (r == 7) c.insert(c.size() - 2, ",");  // one row a field wider: an exception
     comma_rows += c;
   }
   const size_t tabs = trc_round_trip(kTrcHead + tab_rows, "tabs");
@@ -513,7 +513,9 @@ TEST(ResidueTRC, CommaSeparatedFilesRoundTripAtTheCostOfTheirTabForm) {
       ",,X1,Y1,Z1,X2,Y2,Z2,\r\n"
       ",,,,,,,,\r\n";
   const size_t commas = trc_round_trip(head + comma_rows, "commas");
-  EXPECT_LT(commas, tabs + 24) << "tabs " << tabs << ", commas " << commas;
+  // The same rows cost the same: what the commas add is one byte a window (20 here) for the CRLF
+  // line end, the wider row's exception and the padded head lines.
+  EXPECT_LT(commas, tabs + 48) << "tabs " << tabs << ", commas " << commas;
   // pyomeca's rows: no closing delimiter, a line of commas between two rows, no final line end.
   trc_round_trip(head +
                      "1,0,1.5,2.5,3.5,,,\n"
