@@ -27,7 +27,7 @@ for src in "$DATA"/*.trc; do
     f="$WORK/trc/$stem.$form.trc"
     [ "$form" = tab ] && f="$src"
     "$CAPZ" compress -q -f --lossless "$f" -o "$WORK/trc/$stem.$form.capz"
-    "$CAPZ" test -q "$WORK/trc/$stem.$form.capz"
+    "$CAPZ" test -q "$WORK/trc/$stem.$form.capz" > /dev/null
     c=$(size "$WORK/trc/$stem.$form.capz")
     x=$(xz_size "$f")
     echo "| $stem | $form | $(size "$f") | $x | $c | $(ratio "$c" "$x") | $(ratio "$c" "$tab") |"
@@ -43,7 +43,7 @@ for conv in pcl repr f32 savetxt fixed open3d; do
   bytes=$(cat "$d"/*.pcd | wc -c | tr -d ' ')
   x=$(cat "$d"/*.pcd | xz -9e -T1 | wc -c | tr -d ' ')
   "$CAPZ" compress -q -f --lossless "$d" -o "$WORK/pcd/$conv.capz"
-  "$CAPZ" test -q "$WORK/pcd/$conv.capz"
+  "$CAPZ" test -q "$WORK/pcd/$conv.capz" > /dev/null
   c=$(size "$WORK/pcd/$conv.capz")
   echo "| $conv | $bytes | $x | $c | $(ratio "$c" "$x") |"
 done
