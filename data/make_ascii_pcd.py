@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Writes one organized ascii PCD sequence in the number spellings of several writers (issue #38,
-item 3; docs/FORMAT.md 5.4.3), one folder per convention:
+item 3; docs/FORMAT.md 14.6), one folder per convention:
 
   pcl/       floats "%.8g" (PCL's writer), integers "%d", NaN "nan"
   repr/      Python's repr of each float32 widened to a double ("-0.059286266565322876"), "nan"

@@ -22,7 +22,7 @@ std::string format_decimal(double v, int min_decimals);
 // own. decimals < 0: format_decimal(v, 0).
 std::string format_decimal_rounded(double v, int decimals);
 
-// Number spellings of text other tools write (ascii PCD bodies, docs/FORMAT.md 5.4.3), for a
+// Number spellings of text other tools write (ascii PCD bodies, docs/FORMAT.md 14.6), for a
 // finite value. `precision` is used by kStyleG/E/F only.
 enum NumberStyle : uint8_t {
   kStyleShortest = 0,        // shortest text reading back to the value in its own type (float32

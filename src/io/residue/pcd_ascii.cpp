@@ -1,4 +1,4 @@
-// capz — ascii PCD bodies by number style (see pcd_ascii.h; layout in docs/FORMAT.md 5.4.3).
+// capz — ascii PCD bodies by number style (see pcd_ascii.h; layout in docs/FORMAT.md 14.6).
 #include "io/residue/pcd_ascii.h"
 
 #include <algorithm>
