@@ -157,8 +157,12 @@ std::vector<std::pair<std::string, std::string>> trc_header(const capz::Take& t)
   const capz::TRCExtra& x = *t.trc;
   auto given = [](double v) { return v > 0 ? number(v) : std::string(); };
   std::string type = x.path_file_type_line;
-  // Tab-separated, or comma-separated when a comma follows the key (pyomeca, spreadsheets).
-  const char sep = type.size() > 12 && type[12] == ',' ? ',' : '\t';
+  // Tab-separated, or comma-separated (pyomeca, spreadsheets: no tab, and a comma right after
+  // the key or at the end of the line; docs/FORMAT.md 14.5).
+  const bool comma =
+      type.find('\t') == std::string::npos &&
+      ((type.size() > 12 && type[12] == ',') || (!type.empty() && type.back() == ','));
+  const char sep = comma ? ',' : '\t';
   const size_t at = type.find(sep);
   type = at == std::string::npos ? std::string() : type.substr(at + 1);
   type.erase(type.find_last_not_of(" \t\r,") + 1);  // writers pad the line with tabs or commas

@@ -9,7 +9,7 @@
 //   line 5  X1 Y1 Z1 X2 ...                        (column titles, ignored)
 //   then    one row per frame: Frame# Time x1 y1 z1 x2 ...; blank lines are skipped.
 // A line holding a tab is split at tabs (fields trimmed of blanks), otherwise at runs of blanks;
-// in a comma-separated file (line 1 starts "PathFileType,": pyomeca's, a spreadsheet's) every line
+// in a comma-separated file (trc::delimiter_of line 1: pyomeca's, a spreadsheet's) every line
 // is split at commas (fields trimmed of blanks) and a line of only commas and blanks is blank.
 // A sample is valid when its three fields are numbers and finite; an empty field, NaN or a row
 // that ends early makes a gap. Points = max(names on line 4, widest row); disagreement with

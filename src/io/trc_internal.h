@@ -11,9 +11,10 @@
 namespace capz {
 namespace trc {
 
-// The delimiter of a TRC whose line 1 is `path_file_type_line`: ',' when a comma follows
-// "PathFileType" directly (the comma form of pyomeca and of spreadsheets), else '\t' (tab- or
-// blank-separated, OpenSim's forms).
+// The delimiter of a TRC whose line 1 is `path_file_type_line`: ',' when the line holds no tab
+// and either a comma follows "PathFileType" directly or the line ends in a comma (the comma form
+// of pyomeca and of spreadsheets, which pad line 1 with commas; a spreadsheet keeps a
+// blank-separated line 1 as one cell), else '\t' (tab- or blank-separated, OpenSim's forms).
 char delimiter_of(const std::string& path_file_type_line);
 // The take's own delimiter: delimiter_of its TRC line 1; '\t' for a take not read from a TRC.
 char take_delimiter(const Take& take);

@@ -72,7 +72,9 @@ size_t fields_of(const std::string& line, char delim) {
 }  // namespace
 
 char delimiter_of(const std::string& path_file_type_line) {
-  return path_file_type_line.size() > 12 && path_file_type_line[12] == ',' ? ',' : '\t';
+  const std::string& l = path_file_type_line;
+  if (l.find('\t') != std::string::npos) return '\t';
+  return (l.size() > 12 && l[12] == ',') || (!l.empty() && l.back() == ',') ? ',' : '\t';
 }
 
 char take_delimiter(const Take& take) {

@@ -290,6 +290,16 @@ TEST(Trc, ReadsACommaSeparatedFileAsPyomecaWritesIt) {
   EXPECT_EQ(t.trc->path_file_type_line, "PathFileType,4,(X/Y/Z),/home/u/walk.trc,,,,");
 }
 
+TEST(Trc, ABlankSeparatedLineOnePaddedWithCommasMakesACommaFile) {
+  // OpenSim's constraintTest.trc starts "PathFileType  4\t(X/Y/Z) ..."; a spreadsheet without
+  // tabs keeps such a line whole and pads it with commas.
+  std::string text = kCommaFile;
+  text.replace(0, text.find('\n'), "PathFileType  4 (X/Y/Z) walk.trc,,,,,,,");
+  capz::Take t = parse(text);
+  EXPECT_EQ(t.points, 2u);
+  EXPECT_EQ(t.at(2, 1)[2], 179.0038);
+}
+
 TEST(Trc, ACommaInAFieldOfATabFileIsText) {
   // Only a comma right after PathFileType makes a comma-separated file.
   std::string text = kTabFile;

@@ -1,5 +1,5 @@
 // capz — an ascii PCD body as other writers spell it (issue 38; byte layout: docs/FORMAT.md
-// 5.4.3). The body is regenerated from the frame's values: one line a point, the columns (each
+// 14.6). The body is regenerated from the frame's values: one line a point, the columns (each
 // element of each field but padding "_") joined by the frame's separator, each column's numbers
 // in a style of its own (text_number.h NumberStyle: capz's, Python's repr, numpy's float32 str,
 // %.Ng as PCL and Open3D, %.Ne as numpy savetxt, %.Nf), NaN as the frame's NaN spelling, the
