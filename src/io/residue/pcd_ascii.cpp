@@ -9,6 +9,7 @@
 #include <string>
 
 #include "capz/error.h"
+#include "io/residue/mode.h"
 #include "io/residue/pack.h"
 #include "io/text_number.h"
 
@@ -142,14 +143,6 @@ void split_tokens(const Span& line, char sep, std::vector<Span>* out) {
   }
 }
 
-template <typename K>
-K mode_of(const std::map<K, size_t>& m, K fallback) {
-  size_t best = 0;
-  for (const auto& kv : m)
-    if (kv.second > best) best = kv.second, fallback = kv.first;
-  return fallback;
-}
-
 // Decimals of a token's mantissa (after '.', before any exponent); 0 without a point.
 uint8_t decimals_of(const Span& t) {
   const uint8_t* dot = nullptr;
@@ -230,9 +223,9 @@ bool encode_ascii_body(const PcdFramePlan& plan, const uint8_t* points, size_t n
       }
     }
   }
-  std::string eol = mode_of<std::string>(endings, "\n");
+  std::string eol = mode<std::string>(endings, "\n");
   if (eol.size() > kMaxEnding) eol = "\n";
-  std::string nan = mode_of<std::string>(nans, "nan");
+  std::string nan = mode<std::string>(nans, "nan");
   if (nan.size() > kMaxNan) nan = "nan";
   std::vector<std::pair<uint8_t, uint8_t>> styles(C);
   for (size_t c = 0; c < C; ++c) styles[c] = choose_style(cols[c], samples[c], nan);

@@ -7,6 +7,7 @@
 
 #include "capz/error.h"
 #include "coding/bytes.h"
+#include "io/residue/mode.h"
 #include "io/residue/pack.h"
 #include "io/residue/windows.h"
 #include "io/text_number.h"
@@ -70,14 +71,6 @@ uint64_t decimals_of(const std::string& s) {
   if (s.find_first_of("eE") != std::string::npos) return 0;
   const size_t dot = s.find('.');
   return dot == std::string::npos ? 0 : s.size() - dot - 1;
-}
-
-template <typename K>
-K mode(const std::map<K, size_t>& counts, K fallback) {
-  size_t best = 0;
-  for (const auto& kv : counts)
-    if (kv.second > best) best = kv.second, fallback = kv.first;
-  return fallback;
 }
 
 // The fields the model predicts for row k of `b` (frame b.first + k of `t`). `exact` false (an
