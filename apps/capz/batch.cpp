@@ -29,16 +29,19 @@ std::string lower_extension(const fs::path& p) {
   return e;
 }
 
-bool holds_pcd(const fs::path& dir) {
+// True for a folder of frame files (.pcd, .ply or .bin).
+bool holds_frames(const fs::path& dir) {
   std::error_code ec;
-  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
-    if (lower_extension(it->path()) == ".pcd" && it->is_regular_file(ec)) return true;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string e = lower_extension(it->path());
+    if ((e == ".pcd" || e == ".ply" || e == ".bin") && it->is_regular_file(ec)) return true;
+  }
   return false;
 }
 
-// The inputs below `dir` (itself included, for a PCD folder), sorted.
+// The inputs below `dir` (itself included, for a folder of PCD, PLY or .bin frames), sorted.
 void walk(const fs::path& dir, InputKind kind, std::vector<fs::path>* found) {
-  if (kind == InputKind::kTakes && holds_pcd(dir)) found->push_back(dir);
+  if (kind == InputKind::kTakes && holds_frames(dir)) found->push_back(dir);
   std::vector<fs::path> entries;
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
@@ -52,6 +55,7 @@ void walk(const fs::path& dir, InputKind kind, std::vector<fs::path>* found) {
       continue;
     }
     const std::string ext = lower_extension(p);
+    // Frame files inside a folder of frames belong to that folder's take.
     const bool wanted = kind == InputKind::kTakes ? ext == ".c3d" || ext == ".trc" : ext == ".capz";
     if (wanted && fs::is_regular_file(p, e2)) found->push_back(p);
   }
@@ -190,7 +194,7 @@ std::vector<Job> expand_inputs(const std::vector<std::string>& args, InputKind k
   }
   if (jobs.empty())
     capz::fail(capz::ErrorCode::kUsage, "",
-               kind == InputKind::kTakes ? "no .c3d, .trc or PCD folder found in the inputs"
+               kind == InputKind::kTakes ? "no .c3d, .trc or folder of frames found in the inputs"
                                          : "no .capz found in the inputs");
   check_settings(jobs, s);
   return jobs;

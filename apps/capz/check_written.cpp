@@ -31,7 +31,8 @@ std::string written_difference(const std::string& out, const std::string& in,
   std::unique_ptr<capz::FrameSource> dec = capz::open_capz_frames(out);
   if (!check.header(in_header, dec->header())) return check.why();
   std::unique_ptr<capz::FrameSource> src = capz::open_frames(in);  // IN again, from disk
-  if (src->header().frames != in_header.frames || src->header().points != in_header.points)
+  if (src->header().frames != in_header.frames || src->header().points != in_header.points ||
+      src->header().frame_offsets != in_header.frame_offsets)
     return "IN changed while it was compressed";
   const size_t block = std::max<size_t>(1, dec->preferred_block());
   capz::FrameBlock a, b;

@@ -27,9 +27,9 @@ po::options_description compress_options() {
   o.add_options()(
       "max-error,e", po::value<std::string>(),
       "per-coordinate bound: a length with a unit (0.1mm, 0.05cm, 0.0001m, 0.01in) or a bare "
-      "number in the data's own units. Default 0.1mm. For data without units (PCD folders, "
-      "unless --units is given) the default is 1e-4 x the bounding-box diagonal of the data, "
-      "and a bound with a unit needs --units")(
+      "number in the data's own units. Default 0.1mm. PCD, PLY and .bin frames carry no units: "
+      "metres are assumed (--units overrides), and without --max-error the default is 1e-4 x "
+      "the bounding-box diagonal of the data, as for data without units")(
       "kg-error", po::value<double>(),
       "instead of a bound: KG error target in percent; the "
       "grid is chosen so the achieved KG error is at or just under it")(
@@ -44,7 +44,8 @@ po::options_description compress_options() {
       "clusters", po::value<int>()->default_value(0),
       "clusters for the transform codec (0 = its default, -1 = search)")(
       "units", po::value<std::string>(),
-      "units of data that has none (PCD folders) or whose units capz cannot read: mm, cm or m")(
+      "units of data that has none or assumed ones (PCD, PLY, .bin frames: metres assumed) or "
+      "whose units capz cannot read: mm, cm or m")(
       "window", po::value<size_t>()->default_value(0),
       "frames per independently decodable window, 1..8192; 0 (default): 1024, or with codec "
       "none up to 8192 for takes of fewer than 64 points (about 2^16 samples a window)")(
@@ -147,6 +148,8 @@ double encode(Input& input, capz::CompressOptions opts, const std::string& out, 
 // What the report says besides the take, the options and the stats.
 struct Report {
   std::string in, out;
+  std::string units;       // the take's units as read (assumed ones included), before coding
+  std::string units_note;  // "units m (assumed: ...)" when the reader assumed them, else empty
   uint64_t in_bytes = 0;
   double t_read = 0, t_enc = 0;  // thread CPU seconds
   double ratio = 0;              // IN's bytes / OUT's
@@ -164,7 +167,8 @@ std::string report_json(const Report& r, const capz::Take& take, const capz::Com
   j.member("ratio", r.ratio);
   j.member("frames", static_cast<uint64_t>(take.frames));
   j.member("points", static_cast<uint64_t>(take.points));
-  j.member("units", take.units);
+  j.member("units", r.units);
+  j.member("units_assumed", !r.units_note.empty());
   j.member("bpvf", st.bpvf);
   j.member("mode", st.mode);
   j.member("codec", st.codec);
@@ -191,22 +195,24 @@ std::string report_text(const Report& r, const capz::Take& take, const capz::Com
                         const capz::CompressStats& st) {
   std::string text;
   if (g_verbosity >= 1) {
-    const std::string u = take.units.empty() ? "" : " " + take.units;
+    const std::string u = r.units.empty() ? "" : " " + r.units;
     std::string err = st.lossless ? "lossless (" + st.mode + ")"
                                   : "max error " + num(st.error.max_abs) + u + " per coordinate (" +
                                         num(st.error.max_error) + u + " Euclidean), KG " +
                                         num(st.error.kg_error) + "%";
     if (opts.codec == "auto") err += ", codec " + st.codec;
+    if (!r.units_note.empty()) err += "; " + r.units_note;
     text += strprintf("%s -> %s: %s -> %s (ratio %s), %s bpvf, %s\n", r.in.c_str(), r.out.c_str(),
                       human_size(r.in_bytes).c_str(), human_size(st.bytes).c_str(),
                       num(r.ratio).c_str(), num(st.bpvf).c_str(), err.c_str());
   }
   if (g_verbosity >= 2) {
     text += strprintf(
-        "  %zu frames x %zu points, %s coding, grid step %s%s; positions %zu B (x%s vs "
+        "  %zu frames x %zu points%s, %s coding, grid step %s%s; positions %zu B (x%s vs "
         "raw float32), analog %zu B, rotations %zu B, point fields %zu B, other %zu B\n",
-        take.frames, take.points, st.mode.c_str(), num(st.step, 6).c_str(),
-        take.units.empty() ? "" : (" " + take.units).c_str(), st.position_bytes,
+        take.frames, take.ragged() ? take.total_points() : take.points,
+        take.ragged() ? " in all" : "", st.mode.c_str(), num(st.step, 6).c_str(),
+        r.units.empty() ? "" : (" " + r.units).c_str(), st.position_bytes,
         num(st.position_bytes
                 ? static_cast<double>(st.raw_bytes) / static_cast<double>(st.position_bytes)
                 : 0)
@@ -303,6 +309,8 @@ FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
   opts.threads = static_cast<int>(job.threads);
   const capz::Take& take = input.in.source->header();
   set_target(vm, *input.in.source, &opts);
+  r.units = take.units;
+  if (take.units_assumed) r.units_note = "units " + capz::units_text(take);
 
   capz::CompressStats st;
   r.t_enc = encode(input, opts, r.out, force, s.single, job.alone, &st);
@@ -337,7 +345,7 @@ FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
   rec.ratio = r.ratio;
   rec.lossless = st.lossless;
   rec.bound = st.lossless ? 0 : opts.kg_error > 0 ? FileRecord::kNone : opts.max_error;
-  rec.units = take.units;
+  rec.units = r.units;
   rec.max_error = st.error.max_abs;
   rec.text = vm.count("json") ? report_json(r, take, opts, st) : report_text(r, take, opts, st);
   return rec;

@@ -1,5 +1,7 @@
-// capz convert IN OUT: between .c3d, .trc and PCD folders, keeping point order, labels, rate,
-// units and gaps. The output format follows OUT's name (see format_for_output in capz/io.h).
+// capz convert IN OUT: between .c3d, .trc and PCD, PLY and .bin frames (folders or single frame
+// files), keeping point order, labels, rate, units and gaps. The output format follows OUT's name
+// (see output_format in capz/io.h); a folder's format is --to's, else the input's when it is
+// frames, else PCD.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -34,7 +36,30 @@ capz::WriteOptions write_options(const po::variables_map& vm, const char** enc_o
                  "--pcd-encoding must be ascii, binary or binary_compressed, not '" + e + "'");
     wo.pcd_encoding = e;
   }
+  if (vm.count("ply-encoding")) {
+    const std::string e = vm["ply-encoding"].as<std::string>();
+    if (e != "ascii" && e != "binary_little_endian" && e != "binary_big_endian")
+      capz::fail(capz::ErrorCode::kInvalidParameter, "",
+                 "--ply-encoding must be ascii, binary_little_endian or binary_big_endian, not '" +
+                     e + "'");
+    wo.ply_encoding = e;
+  }
+  if (vm.count("to")) {
+    const std::string t = vm["to"].as<std::string>();
+    wo.folder_format = t == "pcd"   ? capz::Format::kPCDFolder
+                       : t == "ply" ? capz::Format::kPLYFolder
+                       : t == "bin" ? capz::Format::kBinFolder
+                                    : capz::Format::kUnknown;
+    if (wo.folder_format == capz::Format::kUnknown)
+      capz::fail(capz::ErrorCode::kInvalidParameter, "",
+                 "--to must be pcd, ply or bin, not '" + t + "'");
+  }
   return wo;
+}
+
+bool is_frames(capz::Format f) {
+  return f == capz::Format::kPCDFolder || f == capz::Format::kPLYFolder ||
+         f == capz::Format::kBinFolder;
 }
 
 // The reader's warnings, and what the output format does not keep (at the default verbosity).
@@ -44,7 +69,7 @@ void print_notes(const capz::Take& take, const std::string& in, capz::Format out
   for (const std::string& d : capz::dropped_by(take, out_format))
     std::fprintf(stderr, "capz convert: note: %s does not keep %s\n", capz::format_name(out_format),
                  d.c_str());
-  if (out_format != capz::Format::kPCDFolder && take.rate <= 0)
+  if (!is_frames(out_format) && take.rate <= 0)
     std::fprintf(stderr, "capz convert: note: the source has no frame rate; give --rate\n");
 }
 
@@ -61,6 +86,11 @@ int cmd_convert(const Args& args) {
       "write a C3D or TRC from PCD frames with point fields (rgb, intensity, normals, ...) by "
       "leaving the fields out; without it that is an error naming them")(
       "c3d-float", "C3D output: store coordinates as float even if the source was int16")(
+      "to", po::value<std::string>(),
+      "the format of a folder OUT: pcd, ply or bin (default: IN's when it is PCD, PLY or .bin "
+      "frames, else pcd)")("ply-encoding", po::value<std::string>(),
+                           "PLY output: ascii, binary_little_endian or binary_big_endian "
+                           "(default: the source's when it is PLY, else binary_little_endian)")(
       "rate", po::value<double>(), "set the frame rate in Hz (for sources without one, e.g. PCD)")(
       "units", po::value<std::string>(), "set the units (mm, cm, m, ...) when the source has none");
   add_trc_delimiter_option(&opts, "tab");
@@ -72,12 +102,14 @@ int cmd_convert(const Args& args) {
   po::variables_map vm;
   if (!parse_args(
           args,
-          "capz convert IN OUT [-f] [--pcd-encoding E] [--c3d-float] [--drop-fields]\n"
+          "capz convert IN OUT [-f] [--to pcd|ply|bin] [--pcd-encoding E] [--ply-encoding E] "
+          "[--c3d-float] [--drop-fields]\n"
           "                    [--trc-delimiter tab|comma]",
-          "Converts IN to OUT, each a .c3d, a .trc or a folder of .pcd frames (OUT: a path\n"
-          "without extension or ending in '/'), keeping point order,\n"
-          "labels, rate, units and gaps (a gap is an empty field in TRC, a NaN point in\n"
-          "PCD). The output is written to a temporary name and renamed into place; an\n"
+          "Converts IN to OUT, each a .c3d, a .trc, a .pcd, .ply or .bin frame, or a folder\n"
+          "of such frames (OUT: a path without extension or ending in '/'; its format is\n"
+          "--to's, else IN's when IN is frames, else PCD), keeping point order, labels,\n"
+          "rate, units and gaps (a gap is an empty field in TRC, a NaN point in PCD, PLY\n"
+          "and .bin). The output is written to a temporary name and renamed into place; an\n"
           "existing OUT is never replaced without -f.",
           opts, positionals, pos, &vm))
     return 0;
@@ -94,11 +126,10 @@ int cmd_convert(const Args& args) {
   }
 
   // Cheap checks first: a bad output name or an existing output fails before reading anything.
-  const capz::Format out_format = capz::format_for_output(out);
-  if (out_format == capz::Format::kUnknown)
+  if (capz::format_for_output(out) == capz::Format::kUnknown)
     capz::fail(capz::ErrorCode::kUsage, out,
-               "cannot tell the output format from the name: use .c3d, .trc, or a folder path "
-               "(no extension or ending in '/') for PCD frames");
+               "cannot tell the output format from the name: use .c3d, .trc, .pcd, .ply, .bin, "
+               "or a folder path (no extension or ending in '/') for frame files");
   std::string target = out;
   while (target.size() > 1 && target.back() == '/') target.pop_back();
   capz::check_output_free(target, wo.overwrite);
@@ -107,8 +138,12 @@ int cmd_convert(const Args& args) {
     capz::fail(capz::ErrorCode::kUsage, out, "output is the input");
 
   capz::Take take = capz::read_take(in);
+  const capz::Format out_format = capz::output_format(take, out, wo);
   if (vm.count("rate")) take.rate = vm["rate"].as<double>();
-  if (vm.count("units") && take.units.empty()) take.units = vm["units"].as<std::string>();
+  if (vm.count("units") && (take.units.empty() || take.units_assumed)) {
+    take.units = vm["units"].as<std::string>();
+    take.units_assumed = false;
+  }
   if (!vm.count(enc_opt) && take.pcd) wo.pcd_encoding = take.pcd->encoding;
   // What the output cannot hold is an error naming it (before anything is written), unless
   // --drop-fields says to leave it out.
@@ -117,13 +152,14 @@ int cmd_convert(const Args& args) {
   if (g_verbosity >= 1) print_notes(take, in, out_format);
 
   capz::write_take(take, out, wo);
-  if (out_format != capz::Format::kPCDFolder && !take.attributes.empty() && g_verbosity >= 1)
+  if (!is_frames(out_format) && !take.attributes.empty() && g_verbosity >= 1)
     std::fprintf(stderr, "capz convert: dropped point fields: %s\n",
                  capz::field_names(take).c_str());
   if (g_verbosity >= 1)
-    std::fprintf(stderr, "capz convert: %s (%s) -> %s (%s): %zu points x %zu frames, %s\n",
+    std::fprintf(stderr, "capz convert: %s (%s) -> %s (%s): %zu points%s x %zu frames, %s\n",
                  in.c_str(), capz::format_name(take.format), target.c_str(),
-                 capz::format_name(out_format), take.points, take.frames,
+                 capz::format_name(out_format), take.ragged() ? take.total_points() : take.points,
+                 take.ragged() ? " in all" : "", take.frames,
                  human_size(path_size(target)).c_str());
   return 0;
 }

@@ -22,31 +22,38 @@ bool ends_with(const std::string& s, const std::string& e) {
 
 // Default output: X.capz -> X when X names the source's format (take.c3d.capz -> take.c3d,
 // frames.capz -> frames/ for a PCD folder); else the source's own name beside X.capz.
+// A one-frame take from a single frame file comes back as that file (scan.pcd.capz ->
+// scan.pcd).
 std::string default_output(const std::string& in, const capz::Take& take) {
   std::string stem = ends_with(in, ".capz") ? in.substr(0, in.size() - 5) : in;
   const capz::Format f = take.format;
+  const char* frame_ext = f == capz::Format::kPCDFolder   ? ".pcd"
+                          : f == capz::Format::kPLYFolder ? ".ply"
+                          : f == capz::Format::kBinFolder ? ".bin"
+                                                          : nullptr;
   if ((f == capz::Format::kC3D && ends_with(stem, ".c3d")) ||
-      (f == capz::Format::kTRC && ends_with(stem, ".trc")))
+      (f == capz::Format::kTRC && ends_with(stem, ".trc")) ||
+      (frame_ext && take.frames == 1 && ends_with(stem, frame_ext)))
     return stem;
-  if (f == capz::Format::kPCDFolder && stem != in && !ends_with(stem, ".c3d") &&
-      !ends_with(stem, ".trc"))
+  if (frame_ext && stem != in && !ends_with(stem, ".c3d") && !ends_with(stem, ".trc"))
     return stem + "/";
   const std::string dir = fs::path(in).parent_path().string();
   std::string name = take.source.empty() ? fs::path(stem).filename().string() : take.source;
   if (f == capz::Format::kC3D && !ends_with(name, ".c3d")) name += ".c3d";
   if ((f == capz::Format::kTRC || f == capz::Format::kUnknown) && !ends_with(name, ".trc"))
     name += ".trc";
-  if (f == capz::Format::kPCDFolder) name += "/";
+  if (frame_ext && !(take.frames == 1 && ends_with(name, frame_ext))) name += "/";
   return dir.empty() ? name : dir + "/" + name;
 }
 
-// True when OUT names the source's own format (.c3d / .trc, any case).
+// True when OUT names the source's own format (.c3d / .trc, any case; a PCD folder, not a
+// single .pcd file, which the rebuild of the original does not write).
 bool same_format(const std::string& out, capz::Format f) {
   std::string lower = out;
   for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return (f == capz::Format::kC3D && ends_with(lower, ".c3d")) ||
          (f == capz::Format::kTRC && ends_with(lower, ".trc")) ||
-         (f == capz::Format::kPCDFolder &&
+         (f == capz::Format::kPCDFolder && !ends_with(lower, ".pcd") &&
           capz::format_for_output(out) == capz::Format::kPCDFolder);
 }
 

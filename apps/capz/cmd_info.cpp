@@ -53,7 +53,8 @@ const char* processor_name(int p) {
 
 struct Summary {
   size_t samples = 0, gaps = 0, points_with_gaps = 0;
-  double duration = 0;  // seconds, 0 when the rate is unknown
+  double duration = 0;                                       // seconds, 0 when the rate is unknown
+  size_t min_points = 0, median_points = 0, max_points = 0;  // per frame (ragged takes)
 };
 
 // One pass over the frames, a block at a time (a C3D is read by frame ranges, so memory stays
@@ -61,16 +62,23 @@ struct Summary {
 Summary summarise(capz::FrameSource& src) {
   const capz::Take& t = src.header();
   Summary s;
-  s.samples = t.frames * t.points;
+  s.samples = t.total_points();
+  if (t.ragged() && t.frames > 0) {
+    std::vector<size_t> c = capz::frame_point_counts(t);
+    std::sort(c.begin(), c.end());
+    s.min_points = c.front();
+    s.median_points = c[c.size() / 2];
+    s.max_points = c.back();
+  }
   std::vector<uint8_t> has_gap(t.points, 0);
   capz::FrameBlock b;
   const size_t B = src.preferred_block();
   for (size_t f0 = 0; f0 < t.frames; f0 += B) {
     src.read(f0, std::min(B, t.frames - f0), &b);
-    for (size_t i = 0; i < b.frames * b.points; ++i)
+    for (size_t i = 0; i < b.total_points(); ++i)
       if (!b.valid[i]) {
         ++s.gaps;
-        has_gap[i % t.points] = 1;
+        if (!b.ragged()) has_gap[i % t.points] = 1;
       }
   }
   for (uint8_t g : has_gap) s.points_with_gaps += g;
@@ -91,6 +99,18 @@ std::string variant_text(const capz::Take& t) {
   if (t.trc) {
     std::string s = "OpenSim/Motion Analysis TRC";
     if (t.trc->decimals >= 0) s += ", " + std::to_string(t.trc->decimals) + " decimals";
+    return s;
+  }
+  if (t.ply) {
+    std::string s = t.ply->encoding + " PLY frames";
+    if (!t.ply->frame_names.empty())
+      s += " " + t.ply->frame_names.front() + " .. " + t.ply->frame_names.back();
+    return s;
+  }
+  if (t.bin) {
+    std::string s = "KITTI .bin frames (float32 x y z intensity)";
+    if (!t.bin->frame_names.empty())
+      s += " " + t.bin->frame_names.front() + " .. " + t.bin->frame_names.back();
     return s;
   }
   if (t.pcd) {
@@ -165,23 +185,34 @@ void print_analog(const capz::Take& t) {
 void print_text(const std::string& path, const capz::Take& t, const Summary& s) {
   line("file:", path + " (" + human_size(path_size(path)) + ")");
   line("format:", std::string(capz::format_name(t.format)) + ": " + variant_text(t));
-  line("points:", std::to_string(t.points));
+  if (t.ragged())
+    line("points:", std::to_string(t.total_points()) + " in all, " + std::to_string(s.min_points) +
+                        " .. " + std::to_string(s.max_points) + " a frame (median " +
+                        std::to_string(s.median_points) + ")");
+  else
+    line("points:", std::to_string(t.points));
   line("frames:",
        std::to_string(t.frames) + " (first frame " + std::to_string(t.first_frame) + ")");
   line("rate:", t.rate > 0 ? number(t.rate) + " Hz" : std::string("unknown"));
   line("duration:",
        t.rate > 0 ? number(std::round(s.duration * 1000) / 1000) + " s" : std::string("unknown"));
-  line("units:", t.units.empty() ? std::string("unknown") : t.units);
+  line("units:", t.units.empty() ? std::string("unknown") : capz::units_text(t));
   line("gaps:", s.samples == 0
                     ? std::string("none (no samples)")
                     : percent(static_cast<double>(s.gaps) / static_cast<double>(s.samples)) +
                           " of samples (" + std::to_string(s.gaps) + " of " +
-                          std::to_string(s.samples) + "), " + std::to_string(s.points_with_gaps) +
-                          " of " + std::to_string(t.points) + " points have gaps");
+                          std::to_string(s.samples) + ")" +
+                          (t.ragged() ? std::string()
+                                      : ", " + std::to_string(s.points_with_gaps) + " of " +
+                                            std::to_string(t.points) + " points have gaps"));
   line("labels:", labels_text(t));
   if (t.pcd && !t.pcd->fields.empty()) {
     // Every field of the frames, x y z included: NAME TYPE SIZE[xCOUNT].
     line("fields:", pcd_fields_text(t.pcd->fields));
+  } else if (t.ply && !t.ply->fields.empty()) {
+    line("fields:", pcd_fields_text(t.ply->fields));
+  } else if (t.bin) {
+    line("fields:", "x F4, y F4, z F4, intensity F4");
   }
   print_analog(t);
   const capz::Rotations& r = t.rotations;
@@ -230,9 +261,25 @@ void print_json(const std::string& path, const capz::Take& t, const Summary& s) 
     j.member("width", static_cast<uint64_t>(t.pcd->width ? t.pcd->width : t.points));
     j.member("height", static_cast<uint64_t>(t.pcd->width ? t.pcd->height : 1));
     pcd_fields_json(&j, t.pcd->fields);
+  } else if (t.ply) {
+    j.member("encoding", t.ply->encoding);
+    j.member_strings("frame_files", t.ply->frame_names);
+    pcd_fields_json(&j, t.ply->fields);
+  } else if (t.bin) {
+    j.member_strings("frame_files", t.bin->frame_names);
   }
   j.end_object();
   j.member("points", static_cast<uint64_t>(t.points));
+  j.member("ragged", t.ragged());
+  j.member("total_points", static_cast<uint64_t>(t.total_points()));
+  if (t.ragged()) {
+    j.key("points_per_frame");
+    j.begin_object();
+    j.member("min", static_cast<uint64_t>(s.min_points));
+    j.member("median", static_cast<uint64_t>(s.median_points));
+    j.member("max", static_cast<uint64_t>(s.max_points));
+    j.end_object();
+  }
   j.member("frames", static_cast<uint64_t>(t.frames));
   j.member("first_frame", t.first_frame);
   j.key("rate");
@@ -246,6 +293,7 @@ void print_json(const std::string& path, const capz::Take& t, const Summary& s) 
   else
     j.null();
   j.member("units", t.units);
+  j.member("units_assumed", t.units_assumed);
   j.member("samples", static_cast<uint64_t>(s.samples));
   j.member("gap_samples", static_cast<uint64_t>(s.gaps));
   j.member("gap_share",
@@ -285,8 +333,9 @@ int cmd_info(const Args& args) {
   std::string path;
   if (!parse_single_input(
           args, "capz info FILE [--json] [--parameters] [-v]",
-          "Describes FILE (a .c3d, a .trc or a folder of .pcd frames): format and variant,\n"
-          "points, frames, rate, duration, units, gaps, labels (the first 8; all with -v),\n"
+          "Describes FILE (a .c3d, a .trc, a .pcd / .ply / .bin frame or a folder of them):\n"
+          "format and variant, points (a ragged take: in all and per frame), frames, rate,\n"
+          "duration, units, gaps, fields, labels (the first 8; all with -v),\n"
           "analog channels and every inconsistency the reader found.",
           opts, "FILE", &vm, &path))
     return 0;

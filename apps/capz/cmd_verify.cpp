@@ -24,8 +24,9 @@ struct Verdict {
 Verdict check_against(const std::string& in, const std::string& orig, const capz::Take& b,
                       const capz::StreamInfo& si) {
   capz::Take a = capz::read_take(orig);
-  // Data without units (a PCD folder) took them from compress --units: not a difference.
-  if (a.units.empty()) a.units = b.units;
+  // Data without units, or with assumed ones (PCD, PLY, .bin), took them from compress --units
+  // (or stored none): not a difference.
+  if (a.units.empty() || a.units_assumed) a.units = b.units, a.units_assumed = false;
   if (a.frames != b.frames || a.points != b.points)
     capz::fail(capz::ErrorCode::kCorrupt, in,
                "decodes to " + std::to_string(b.frames) + " frames x " + std::to_string(b.points) +

@@ -67,16 +67,9 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (name == "--version" || name == "-V") {
-    std::printf(
-        "capz %s\n.capz format: writes %d.%d (%d.%d for point normals or organized fields, %d.%d "
-        "for scans along sensor rays, unorganized clouds' fields or repeated analog frames, %d.%d "
-        "for C3D parameters coded after the format's dictionary, %d.%d for analog channels), "
-        "reads %d.%d to %d.%d\n",
-        capz::version_string(), capz::kFormatWritten.major, capz::kFormatWritten.minor,
-        capz::kFormat6.major, capz::kFormat6.minor, capz::kFormat7.major, capz::kFormat7.minor,
-        capz::kFormat8.major, capz::kFormat8.minor, capz::kFormat9.major, capz::kFormat9.minor,
-        capz::kFormatOldestRead.major, capz::kFormatOldestRead.minor, capz::kFormatNewestRead.major,
-        capz::kFormatNewestRead.minor);
+    std::printf("capz %s, writes format %d.%d, reads %d.%d\n", capz::version_string(),
+                capz::kFormatWritten.major, capz::kFormatWritten.minor,
+                capz::kFormatNewestRead.major, capz::kFormatNewestRead.minor);
     return 0;
   }
   capz_cli::Args args(argv + 2, argv + argc);

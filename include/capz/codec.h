@@ -152,7 +152,8 @@ struct StreamInfo {
 };
 StreamInfo describe(const uint8_t* data, size_t size, const std::string& name = "");
 
-// True when the bytes start with the .capz magic.
+// True when the bytes start with the .capz magic: of format 1.x, or of the pre-release formats
+// (capz 0.1.0 and earlier), which decoding refuses (kUnsupportedVersion) with how to upgrade.
 bool is_capz(const uint8_t* data, size_t size);
 
 // A length typed by the user: "0.1mm", "2 cm", "0.001m", "0.5in" or a bare number (the take's

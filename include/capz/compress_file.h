@@ -29,20 +29,25 @@ struct CompressInput {
   std::unique_ptr<FrameSource> source;
 };
 
-// Opens `path` (C3D, TRC, a folder of PCD frames) for compression. `units` (may be empty) is
-// given to data that has none, or whose units capz cannot read.
+// Opens `path` (C3D, TRC, PCD / PLY / .bin frames) for compression. `units` (may be empty) is
+// given to data that has none, whose units capz cannot read, or whose units the reader assumed
+// (Take::units_assumed: metres for PCD, PLY and .bin).
 CompressInput open_compress_input(const std::string& path, bool whole, const std::string& units);
 
 // Sets opts->lossless, kg_error and max_error from `target` as `capz compress` does. The default
-// bound is 0.1 mm; for data without units it is 1e-4 of the bounding-box diagonal of the valid
-// samples (the source is read once for it), and any bound when no sample is valid. Throws
+// bound is 0.1 mm; for data without units, or with assumed ones, it is 1e-4 of the bounding-box
+// diagonal of the valid samples (the source is read once for it), and any bound when no sample
+// is valid. A bound with a unit on assumed units is read in them (--max-error 1mm on PCD
+// frames: 0.001 m). Throws
 // Error(kUsage) for more than one target, kInvalidParameter for a KG target or a bound that is
 // not > 0, or a bound with a unit on data without units.
 void set_compress_target(FrameSource& source, const CompressTarget& target, CompressOptions* opts);
 
 // Compresses the input into `out`, written atomically: compress_stream() (for a C3D or TRC
 // source with the original file's checksum and residue), or under codec auto compress() of the
-// whole take. Throws kUsage if `out` exists and !overwrite.
+// whole take. Assumed units are not stored (they are cleared from the input's header first):
+// the archive keeps what the file said, so such takes keep the bytes capz gave them before it
+// assumed metres. Throws kUsage if `out` exists and !overwrite.
 void compress_input(CompressInput& input, const CompressOptions& opts, const std::string& out,
                     bool overwrite, CompressStats* stats = nullptr);
 

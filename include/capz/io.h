@@ -10,10 +10,14 @@
 
 namespace capz {
 
-// Format from the path: a directory -> PCD folder; else by the file's magic/extension.
+// Format from the path: a directory -> the folder format of its frame files (.pcd, else .ply,
+// else .bin files; PCD when it holds none); a file by its magic, then its extension (.c3d, .trc,
+// .pcd, .ply, .bin; a single frame file is the one-frame take of its folder format).
 Format detect_format(const std::string& path);
 
-// Reads any supported input (.c3d, .trc, a folder of .pcd frames).
+// Reads any supported input (.c3d, .trc, a folder of .pcd, .ply or .bin frames, or a single
+// .pcd, .ply or .bin frame file as a one-frame take). Folders whose frames' point counts differ
+// give a ragged take (take.h).
 Take read_take(const std::string& path);
 
 struct WriteOptions {
@@ -21,6 +25,13 @@ struct WriteOptions {
   // PCD DATA: "ascii", "binary" or "binary_compressed"; empty: the source's (Take::pcd), else
   // binary.
   std::string pcd_encoding;
+  // PLY: "ascii", "binary_little_endian" or "binary_big_endian"; empty: the source's (Take::ply),
+  // else binary_little_endian.
+  std::string ply_encoding;
+  // The format of a folder output (kPCDFolder, kPLYFolder or kBinFolder); kUnknown: the take's
+  // own when it is one of those, else PCD. A path ending in .pcd, .ply or .bin (not an existing
+  // directory) is a single frame file of that format whatever this says.
+  Format folder_format = Format::kUnknown;
   bool c3d_float = false;  // C3D written as float even if the source was int16 (default: source's)
   // Writing a take with point fields (Take::attributes) to C3D or TRC, which cannot hold them,
   // is an error naming them unless this is set; then they are left out.
@@ -31,14 +42,22 @@ struct WriteOptions {
 };
 
 // Throws kUsage naming the take's point fields when a file of format f cannot hold them and
-// !opts.drop_fields (C3D and TRC hold none; a PCD folder holds every one).
+// !opts.drop_fields (C3D and TRC hold none; a PCD folder holds every one; PLY every one of COUNT
+// 1; .bin only "intensity"; padding fields "_" go without a word), and for a ragged take when f
+// is C3D or TRC (a fixed number of points a frame).
 void check_fields_fit(const Take& take, Format f, const std::string& path,
                       const WriteOptions& opts);
 
-// Writes by the output path: ".c3d", ".trc", otherwise (a directory path, existing or ending in
-// '/') a PCD folder. Throws kUsage if the output exists and !opts.overwrite.
+// Writes by the output path: ".c3d", ".trc", ".pcd", ".ply", ".bin" (a one-frame file),
+// otherwise (a directory path, existing or ending in '/', or a name without extension) a folder
+// of frames in output_format's format. Throws kUsage if the output exists and !opts.overwrite.
 void write_take(const Take& take, const std::string& path, const WriteOptions& opts = {});
+// The format a path names: kC3D, kTRC, kPCDFolder (.pcd files and folders), kPLYFolder (.ply),
+// kBinFolder (.bin); kUnknown for other extensions.
 Format format_for_output(const std::string& path);
+// The format `take` is written in at `path` with `opts`: format_for_output, a folder made
+// PLY or .bin by opts.folder_format or, without it, by the take's own format.
+Format output_format(const Take& take, const std::string& path, const WriteOptions& opts);
 // What writing `take` as `out` leaves out, each as a phrase: "the 16 analog channels", "the C3D
 // parameter section (with its 8 events)", "the 2 rotation segments", "the frame rate (100 Hz)"
 // (PCD frames store none); empty when `out` keeps it all. Point fields are not listed: the
@@ -60,7 +79,13 @@ Take read_trc(const std::string& path);
 Take read_trc_bytes(const uint8_t* data, size_t size, const std::string& name);
 void write_trc(const Take& take, const std::string& path, const WriteOptions& opts = {});
 
-Take read_pcd_folder(const std::string& dir);
-void write_pcd_folder(const Take& take, const std::string& dir, const WriteOptions& opts = {});
+// PCD, PLY and .bin frames: `path` is a folder of frame files or one frame file; writing to a
+// path ending in the format's extension writes one frame file (a take of one frame).
+Take read_pcd_folder(const std::string& path);
+void write_pcd_folder(const Take& take, const std::string& path, const WriteOptions& opts = {});
+Take read_ply_folder(const std::string& path);
+void write_ply_folder(const Take& take, const std::string& path, const WriteOptions& opts = {});
+Take read_bin_folder(const std::string& path);
+void write_bin_folder(const Take& take, const std::string& path, const WriteOptions& opts = {});
 
 }  // namespace capz

@@ -26,6 +26,10 @@ struct ErrorStats {
 class ErrorAccumulator {
  public:
   void add(size_t frames, size_t points, const double* a, const double* b, const uint8_t* valid);
+  // The same for frames of their own point counts (a ragged take or block): frame f holds the
+  // points [offsets[f], offsets[f + 1]) counted from offsets[0], which a, b and valid start at.
+  void add_ragged(size_t frames, const size_t* offsets, const double* a, const double* b,
+                  const uint8_t* valid);
   ErrorStats finish() const;
 
  private:
@@ -34,8 +38,8 @@ class ErrorAccumulator {
   double lo_[3] = {1e308, 1e308, 1e308}, hi_[3] = {-1e308, -1e308, -1e308};
 };
 
-// `a` is the original, `b` the reconstruction; both frames x points x 3 with a's mask.
-// Throws kInvalidParameter when the shapes differ.
+// `a` is the original, `b` the reconstruction; both frames x points x 3 with a's mask (or
+// ragged with the same frame offsets). Throws kInvalidParameter when the shapes differ.
 ErrorStats compare(const Take& a, const Take& b);
 ErrorStats compare(size_t frames, size_t points, const double* a, const double* b,
                    const uint8_t* valid);

@@ -21,11 +21,15 @@
 namespace capz {
 
 // Frames [first, first + frames) of a take: the per-frame arrays of Take (take.h) cut to them,
-// in the same layouts.
+// in the same layouts. A block of a ragged take has frame_offsets: frames + 1 offsets from 0,
+// relative to the block (frame first + k holds the block's points [frame_offsets[k],
+// frame_offsets[k + 1])), points 0, and xyz / valid / attributes sized for total_points(); its
+// C3D words, analog and rotation arrays are empty.
 struct FrameBlock {
   size_t first = 0, frames = 0, points = 0;
-  std::vector<double> xyz;           // frames x points x 3
-  std::vector<uint8_t> valid;        // frames x points
+  std::vector<size_t> frame_offsets;  // empty: every frame has `points` points
+  std::vector<double> xyz;            // total_points() x 3
+  std::vector<uint8_t> valid;         // total_points()
   std::vector<float> residual;       // frames x points (C3D 4th word), empty when the take has none
   std::vector<uint8_t> camera_mask;  // frames x points, empty when the take has none
   std::vector<double> analog;        // (frames * samples_per_frame) x channels
@@ -43,6 +47,15 @@ struct FrameBlock {
   // rotations_per_frame: R x segments (0 without rotations).
   void reset(size_t first, size_t frames, size_t points, size_t analog_values_per_frame, bool words,
              size_t rotations_per_frame = 0);
+  // A ragged block of counts.size() frames from `first`, frame k holding counts[k] points:
+  // frame_offsets set, xyz and valid sized (gaps, zeros), every other array empty.
+  void reset_ragged(size_t first, const std::vector<size_t>& counts);
+  bool ragged() const { return !frame_offsets.empty(); }
+  size_t frame_begin(size_t k) const { return ragged() ? frame_offsets[k] : k * points; }
+  size_t frame_points(size_t k) const {
+    return ragged() ? frame_offsets[k + 1] - frame_offsets[k] : points;
+  }
+  size_t total_points() const { return ragged() ? frame_offsets.back() : frames * points; }
   // The bytes a frame of the block takes once reset with these arguments and its attribute
   // arrays sized for `attribute_bytes_per_point` (the sum of PointAttribute::bytes_per_point):
   // what a decoder's memory limit counts (CapzSource). Counts and result in double: a hostile
@@ -54,7 +67,8 @@ struct FrameBlock {
 class FrameSource {
  public:
   virtual ~FrameSource() = default;
-  // The take without its per-frame arrays: frames and points set; xyz, valid, analog.values,
+  // The take without its per-frame arrays: frames and points set (a ragged take: points 0 and
+  // frame_offsets for every frame, known when the source is opened); xyz, valid, analog.values,
   // rotations.matrices / reliability and c3d->residual / camera_mask empty (the rotation layout,
   // rate and labels are set). Per-frame metadata that is small (TRC times and frame numbers, PCD
   // frame names) is kept.
@@ -96,8 +110,11 @@ std::unique_ptr<FrameSource> open_c3d_frames(const std::string& path);
 // the Time column depend on all of them), keeping the per-row metadata (times, frame numbers) and
 // each row's file offset, about 32 bytes a frame; a range reads and parses only its rows.
 std::unique_ptr<FrameSource> open_trc_frames(const std::string& path);
-// A folder of PCD frames read file by file (opening lists the files and reads the first).
-std::unique_ptr<FrameSource> open_pcd_frames(const std::string& dir);
+// A folder of PCD, PLY or .bin frames (or one such file) read file by file: opening lists the
+// files and reads each one's header (its point count: a ragged take when they differ) or size.
+std::unique_ptr<FrameSource> open_pcd_frames(const std::string& path);
+std::unique_ptr<FrameSource> open_ply_frames(const std::string& path);
+std::unique_ptr<FrameSource> open_bin_frames(const std::string& path);
 // A .capz read window by window (HEAD, META and INDX up front; a range decodes the windows it
 // touches). The header is what decompress() returns without its frame arrays. With
 // opts.threads above 1, windows are decoded ahead in parallel when read in order.
@@ -105,7 +122,7 @@ std::unique_ptr<FrameSource> open_capz_frames(const std::string& path,
                                               const DecompressOptions& opts = {});
 // An in-memory take as a source (the take must outlive the source).
 std::unique_ptr<FrameSource> take_frames(const Take& take);
-// Any input read_take() accepts (C3D, TRC, a PCD folder), read by frame ranges.
+// Any input read_take() accepts (C3D, TRC, PCD / PLY / .bin frames), read by frame ranges.
 std::unique_ptr<FrameSource> open_frames(const std::string& path);
 
 class FrameSink {
@@ -128,8 +145,9 @@ class FrameSink {
   virtual void commit() = 0;
 };
 
-// A writer for `path` by its extension (.c3d, .trc; other paths: a PCD folder, written whole
-// from memory). `header` as FrameSource::header(); `words`: blocks carry C3D 4th words.
+// A writer for `path` by its extension (.c3d, .trc; other paths: frame files as write_take
+// writes them, written whole from memory). `header` as FrameSource::header(); `words`: blocks carry
+// C3D 4th words.
 std::unique_ptr<FrameSink> create_frame_sink(const Take& header, bool words,
                                              const std::string& path,
                                              const WriteOptions& opts = {});

@@ -1,8 +1,13 @@
 // capz — the Take: the one data model every reader fills, every writer reads and every codec sees.
 //
-// Shapes (frame-major, row-major):
+// Shapes (frame-major, row-major), for a fixed take (every frame has `points` points):
 //   xyz   : frames x points x 3 doubles, xyz[(f * points + p) * 3 + axis], in the file's own units
 //   valid : frames x points bytes, 1 = the sample holds a measured position, 0 = a gap
+// A ragged take (frames of their own point count: LiDAR sweeps, clouds without their NaN pixels)
+// has frame_offsets: frames + 1 non-decreasing offsets, frame_offsets[0] == 0; frame f holds
+// points [frame_offsets[f], frame_offsets[f + 1]) of the flattened arrays, so xyz is total x 3,
+// valid is total, every PointAttribute::data total x count x size, in one point order; `points`
+// is 0 and `labels` empty. frame_begin / frame_points / total_points / at serve both cases.
 // A gap sample's xyz is unspecified by contract (readers store 0); codecs fill gaps for coding
 // only and must never rely on the value. Every source format is converted exactly into double:
 // float32 values are widened, C3D int16 values are stored as int16 * POINT:SCALE (so the stored
@@ -17,8 +22,18 @@
 
 namespace capz {
 
-enum class Format { kUnknown = 0, kC3D = 1, kTRC = 2, kPCDFolder = 3 };
-const char* format_name(Format f);  // "c3d", "trc", "pcd-folder", "unknown"
+// A folder format (kPCDFolder, kPLYFolder, kBinFolder) also stands for a single frame file of
+// that format read as a one-frame take (its extras name the one file).
+enum class Format {
+  kUnknown = 0,
+  kC3D = 1,
+  kTRC = 2,
+  kPCDFolder = 3,
+  kBinFolder = 4,  // KITTI-style .bin frames: float32 x y z intensity, no header
+  kPLYFolder = 5,  // PLY frames: element vertex with x y z and any scalar properties
+};
+// "c3d", "trc", "pcd-folder", "bin-folder", "ply-folder", "unknown"
+const char* format_name(Format f);
 
 // ---------------------------------------------------------------------------------------------
 // C3D specifics: what a C3D carries beyond positions, kept so a C3D written back is faithful.
@@ -243,20 +258,46 @@ struct PCDExtra {
   std::vector<double> field_bounds;
 };
 
+// KITTI-style .bin folder specifics (a .bin frame is float32 x y z intensity per point, no
+// header; intensity is the take's one point attribute).
+struct BinExtra {
+  std::vector<std::string> frame_names;  // file names in natural-sort order, one per frame
+};
+
+// PLY folder specifics: the vertex element's layout and the header's text, so a PLY written
+// back looks like the source.
+struct PLYExtra {
+  std::vector<std::string> frame_names;           // file names in natural-sort order
+  std::string encoding = "binary_little_endian";  // or "ascii", "binary_big_endian" (first file)
+  std::string version = "1.0";                    // the format line's version
+  // Every vertex property in the file's order, x y z included (x y z: F 4 or F 8); COUNT 1.
+  std::vector<PCDField> fields;
+  // Per entry of `fields`, the type as the file spells it ("float", "float32", "uchar"); empty:
+  // the canonical names (char uchar short ushort int uint float double).
+  std::vector<std::string> type_names;
+  std::vector<std::string> comments;  // the first file's comment lines, without "comment "
+  std::vector<std::string> obj_info;  // its obj_info lines, without "obj_info "
+};
+
 // ---------------------------------------------------------------------------------------------
 struct Take {
   std::string source;  // path it was read from (for messages), may be empty
   Format format = Format::kUnknown;
 
   size_t frames = 0;
-  size_t points = 0;
-  std::vector<double> xyz;     // frames x points x 3 (see top of file)
-  std::vector<uint8_t> valid;  // frames x points
+  size_t points = 0;  // per frame in a fixed take; 0 in a ragged take
+  // Empty: a fixed take. Else a ragged take: frames + 1 offsets (see top of file).
+  std::vector<size_t> frame_offsets;
+  std::vector<double> xyz;     // total_points() x 3 (see top of file)
+  std::vector<uint8_t> valid;  // total_points()
 
-  double rate = 0;                  // frames per second; 0 = unknown
-  std::string units;                // "mm", "cm", "m", ... as the file says; empty = unknown (PCD)
-  int64_t first_frame = 1;          // number of the first frame as the source counts them
-  std::vector<std::string> labels;  // one per point (may be empty strings)
+  double rate = 0;    // frames per second; 0 = unknown
+  std::string units;  // "mm", "cm", "m", ... as the file says; empty = unknown
+  // True when the file holds no units and the reader assumed `units` (PCD, PLY and .bin frames:
+  // metres, as ROS REP 103 and LiDAR drivers write them); --units overrides.
+  bool units_assumed = false;
+  int64_t first_frame = 1;                // number of the first frame as the source counts them
+  std::vector<std::string> labels;        // one per point (may be empty strings)
   std::vector<std::string> descriptions;  // one per point or empty
 
   Analog analog;        // channels == 0 when none
@@ -265,20 +306,55 @@ struct Take {
   std::vector<PointAttribute> attributes;
   std::shared_ptr<C3DExtra> c3d;  // set when read from C3D
   std::shared_ptr<TRCExtra> trc;  // set when read from TRC
-  std::shared_ptr<PCDExtra> pcd;  // set when read from a PCD folder
+  std::shared_ptr<PCDExtra> pcd;  // set when read from a PCD folder (or a single .pcd file)
+  std::shared_ptr<BinExtra> bin;  // set when read from a .bin folder (or a single .bin file)
+  std::shared_ptr<PLYExtra> ply;  // set when read from a PLY folder (or a single .ply file)
 
   // Inconsistencies found while reading that did not stop it ("header says 1149 frames, file
   // holds 29"). `capz info` prints them.
   std::vector<std::string> warnings;
 
-  double* at(size_t f, size_t p) { return &xyz[(f * points + p) * 3]; }
-  const double* at(size_t f, size_t p) const { return &xyz[(f * points + p) * 3]; }
-  bool is_valid(size_t f, size_t p) const { return valid[f * points + p] != 0; }
+  bool ragged() const { return !frame_offsets.empty(); }
+  // Index of frame f's first point in the flattened arrays (xyz / 3, valid, attribute points).
+  size_t frame_begin(size_t f) const { return ragged() ? frame_offsets[f] : f * points; }
+  // Points of frame f.
+  size_t frame_points(size_t f) const {
+    return ragged() ? frame_offsets[f + 1] - frame_offsets[f] : points;
+  }
+  // Points of all frames: the length of valid (frames x points for a fixed take).
+  size_t total_points() const { return ragged() ? frame_offsets.back() : frames * points; }
 
-  // Allocates xyz and valid for frames x points (all gaps, zero positions).
+  double* at(size_t f, size_t p) { return &xyz[(frame_begin(f) + p) * 3]; }
+  const double* at(size_t f, size_t p) const { return &xyz[(frame_begin(f) + p) * 3]; }
+  bool is_valid(size_t f, size_t p) const { return valid[frame_begin(f) + p] != 0; }
+
+  // Allocates xyz and valid for frames x points (all gaps, zero positions): a fixed take
+  // (frame_offsets cleared).
   void resize(size_t frames, size_t points);
+  // A ragged take of counts.size() frames, frame f holding counts[f] points: frame_offsets set,
+  // points 0, labels cleared, xyz and valid allocated (all gaps, zero positions). Attribute
+  // arrays are not touched.
+  void resize_ragged(const std::vector<size_t>& counts);
   size_t gap_samples() const;  // number of (frame, point) samples that are gaps
+  // What is wrong with the shape of the arrays (offsets that are not frames + 1 non-decreasing
+  // from 0, xyz / valid / a point attribute not sized for total_points(), points or labels in a
+  // ragged take), as a phrase; empty when the shape is right.
+  std::string shape_fault() const;
 };
+
+// Throws Error(kInvalidParameter) naming `file` (take.source when empty): "ragged takes (frames
+// of different point counts) are not supported by <consumer> yet", when take.ragged(); returns
+// otherwise.
+void refuse_ragged(const Take& take, const std::string& consumer, const std::string& file = "");
+
+// The take's units for people: "mm"; "m (assumed: PCD frames carry no units; --units
+// overrides)" when the reader assumed them; "" when unknown.
+std::string units_text(const Take& take);
+
+// Per-frame point counts (frames entries) of a fixed or ragged take.
+std::vector<size_t> frame_point_counts(const Take& take);
+// Offsets (counts.size() + 1, from 0) of frames with these point counts.
+std::vector<size_t> offsets_of_counts(const std::vector<size_t>& counts);
 
 // The names of the take's point fields (Take::attributes), separated by ", "; empty when none.
 std::string field_names(const Take& take);

@@ -1,6 +1,6 @@
-"""capz: compression of motion-capture takes (C3D, TRC, folders of PCD frames), numpy in and out.
+"""capz: compression of capture takes (C3D, TRC, PCD / PLY / .bin frames), numpy in and out.
 
-    take = capz.read("walk.c3d")                  # also .trc, a folder of .pcd frames, a .capz
+    take = capz.read("walk.c3d")                  # also .trc, PCD / PLY / .bin frames, a .capz
     data = capz.compress(take, max_error="0.1mm")  # bytes
     back = capz.decompress(data)                   # a Take
     capz.compress_file("walk.c3d", "walk.capz")    # the same bytes as `capz compress`
@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import os
 import warnings
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Iterator, List, Mapping, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -24,6 +24,7 @@ from ._error import Error
 __all__ = [
     "Error",
     "Take",
+    "Frame",
     "CapzFile",
     "read",
     "write",
@@ -156,6 +157,9 @@ def _from_arrays(
     xyz, valid, analog and attributes are copied once into the take (no copy before that when
     they are C-contiguous).
     """
+    if isinstance(xyz, (list, tuple)):
+        return _from_frames(xyz, valid, rate, units, labels, first_frame, analog, attributes,
+                            rotations)
     a = _array("xyz", xyz, np.dtype(np.float64))
     if a.ndim != 3 or a.shape[2] != 3:
         raise _invalid(f"xyz must have shape (frames, points, 3), got {a.shape}")
@@ -174,14 +178,7 @@ def _from_arrays(
         if bad.any():
             f, p = _first_bad(bad)
             raise _invalid(f"xyz[{f}, {p}] is marked valid but is not a finite number")
-    if isinstance(rate, bool) or not isinstance(rate, (int, float, np.integer, np.floating)):
-        raise _invalid(f"rate must be a number, got {rate!r}")
-    if not (np.isfinite(rate) and rate >= 0):
-        raise _invalid(f"rate must be a finite number >= 0, got {rate!r}")
-    if not isinstance(units, str):
-        raise _invalid(f"units must be a string, got {units!r}")
-    if units and _capz.units_to_metres(units) == 0:
-        raise _invalid(f"units: unknown unit '{units}' (mm, cm, m, in, ...)")
+    _check_rate_units(rate, units)
     label_list = _labels("labels", labels, points)
     an = None
     if analog is not None:
@@ -237,6 +234,101 @@ def _from_arrays(
     )
 
 
+def _check_rate_units(rate: Any, units: Any) -> None:
+    if isinstance(rate, bool) or not isinstance(rate, (int, float, np.integer, np.floating)):
+        raise _invalid(f"rate must be a number, got {rate!r}")
+    if not (np.isfinite(rate) and rate >= 0):
+        raise _invalid(f"rate must be a finite number >= 0, got {rate!r}")
+    if not isinstance(units, str):
+        raise _invalid(f"units must be a string, got {units!r}")
+    if units and _capz.units_to_metres(units) == 0:
+        raise _invalid(f"units: unknown unit '{units}' (mm, cm, m, in, ...)")
+
+
+def _from_frames(xyz: Sequence[Any], valid: Any, rate: float, units: str,
+                 labels: Optional[Sequence[str]], first_frame: int, analog: Any,
+                 attributes: Optional[Mapping[str, Any]], rotations: Any) -> Take:
+    """Take.from_arrays for a list of frames, each (points_f, 3): a ragged take."""
+    if labels is not None or analog is not None or rotations is not None:
+        raise _invalid("a take from a list of frames has no labels, analog or rotations")
+    frames = [_array(f"xyz[{i}]", f, np.dtype(np.float64)) for i, f in enumerate(xyz)]
+    for i, f in enumerate(frames):
+        if f.ndim != 2 or f.shape[1] != 3:
+            raise _invalid(f"xyz[{i}] must have shape (points, 3), got {f.shape}")
+    counts = [f.shape[0] for f in frames]
+    offsets = np.zeros(len(frames) + 1, np.int64)
+    offsets[1:] = np.cumsum(counts, dtype=np.int64)
+    flat = np.concatenate(frames) if frames else np.zeros((0, 3))
+    if valid is None:
+        if np.isinf(flat).any():
+            i = int(np.argwhere(np.isinf(flat))[0][0])
+            raise _invalid(f"point {i} of the flattened frames is infinite (mark gaps with NaN "
+                           "or pass valid=)")
+        v = ~np.isnan(flat).any(axis=1)
+    else:
+        if not isinstance(valid, (list, tuple)) or len(valid) != len(frames):
+            raise _invalid("valid: one bool array per frame expected")
+        parts = [_array(f"valid[{i}]", x, np.dtype(np.bool_)) for i, x in enumerate(valid)]
+        for i, x in enumerate(parts):
+            if x.shape != (counts[i],):
+                raise _invalid(f"valid[{i}] must have shape ({counts[i]},), got {x.shape}")
+        v = np.concatenate(parts) if parts else np.zeros(0, np.bool_)
+        bad = v & ~np.isfinite(flat).all(axis=1)
+        if bad.any():
+            raise _invalid(f"point {int(np.argwhere(bad)[0][0])} of the flattened frames is "
+                           "marked valid but is not a finite number")
+    _check_rate_units(rate, units)
+    attrs: List[tuple] = []
+    for name, value in (attributes or {}).items():
+        if not isinstance(name, str) or not name:
+            raise _invalid(f"attribute names must be non-empty strings, got {name!r}")
+        if not isinstance(value, (list, tuple)) or len(value) != len(frames):
+            raise _invalid(f"attribute '{name}': one array per frame expected")
+        parts = [np.asarray(x) for x in value]
+        arr = np.concatenate(parts) if parts else np.zeros(0, np.float32)
+        kind = _ATTRIBUTE_KINDS.get(arr.dtype.kind)
+        if kind is None or arr.dtype.itemsize not in (1, 2, 4, 8) or arr.dtype == np.float16:
+            raise _invalid(f"attribute '{name}': dtype {arr.dtype} is not a PCD field type")
+        for i, x in enumerate(parts):
+            if x.ndim not in (1, 2) or x.shape[0] != counts[i] or x.dtype != arr.dtype:
+                raise _invalid(f"attribute '{name}'[{i}] must have shape ({counts[i]},) or "
+                               f"({counts[i]}, count) and one dtype, got {x.shape} {x.dtype}")
+        count = arr.shape[1] if arr.ndim == 2 else 1
+        if count < 1:
+            raise _invalid(f"attribute '{name}': count must be >= 1")
+        arr = np.ascontiguousarray(arr, dtype=arr.dtype.newbyteorder("<"))
+        attrs.append((name, kind, arr.dtype.itemsize, count, arr))
+    return _capz.take_from_frames(np.ascontiguousarray(flat), np.ascontiguousarray(v).view(np.uint8),
+                                  offsets, float(rate), units, int(first_frame), attrs)
+
+
+class Frame(NamedTuple):
+    """One frame of a take: views of its storage (writing to them changes the take)."""
+
+    xyz: np.ndarray  # float64 (points, 3)
+    valid: np.ndarray  # bool (points,)
+    attributes: Dict[str, np.ndarray]  # name -> (points,) or (points, count)
+
+
+def _frame(self: Take, i: int) -> Frame:
+    """Frame i (negative counts from the end) as views: the same for fixed and ragged takes."""
+    n = self.frames
+    if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not -n <= i < n:
+        raise IndexError(f"frame {i!r} of a take of {n} frames")
+    i = int(i) % n
+    if not self.ragged:
+        return Frame(self.xyz[i], self.valid[i], {k: v[i] for k, v in self.attributes.items()})
+    o = self.frame_offsets
+    b, e = int(o[i]), int(o[i + 1])
+    return Frame(self.xyz[b:e], self.valid[b:e], {k: v[b:e] for k, v in self.attributes.items()})
+
+
+def _iter_frames(self: Take) -> Iterator[Frame]:
+    """Every frame in order, as Take.frame(i) gives it."""
+    for i in range(self.frames):
+        yield _frame(self, i)
+
+
 def _rotations(rotations: Optional[Mapping[str, Any]], frames: int) -> Optional[tuple]:
     """Take.rotations' dict checked, matrices laid out column-major as the library keeps them."""
     if rotations is None:
@@ -274,6 +366,8 @@ def _labels(what: str, labels: Optional[Sequence[str]], n: int) -> List[str]:
 
 
 Take.from_arrays = staticmethod(_from_arrays)  # type: ignore[attr-defined]
+Take.frame = _frame  # type: ignore[attr-defined]
+Take.iter_frames = _iter_frames  # type: ignore[attr-defined]
 
 
 DEFAULT_MEMORY_LIMIT: int = _capz.DEFAULT_MEMORY_LIMIT
@@ -290,7 +384,9 @@ def _memory_limit(v: Optional[int]) -> int:
 
 
 def read(path: PathLike, *, memory_limit: Optional[int] = None) -> Take:
-    """Reads a take: a .c3d, a .trc, a folder of .pcd frames, or a .capz (decompressed).
+    """Reads a take: a .c3d, a .trc, a .pcd / .ply / .bin frame or a folder of them, or a .capz
+    (decompressed). A folder whose frames have different point counts (LiDAR sweeps) gives a
+    ragged take: xyz (total points, 3) with frame_offsets, and frame(i) / iter_frames() views.
 
     Gaps read as valid == False and NaN in xyz. Raises capz.Error naming the file and fault.
     memory_limit: for a .capz, the most bytes of decoded samples it may ask for (None: 4 GiB,
@@ -309,8 +405,13 @@ def write(
     pcd_encoding: str = "",
     c3d_float: bool = False,
     drop_fields: bool = False,
+    to: str = "",
+    ply_encoding: str = "",
 ) -> None:
-    """Writes a take by the output path: ".c3d", ".trc", otherwise a folder of PCD frames.
+    """Writes a take by the output path: ".c3d", ".trc", ".pcd", ".ply", ".bin" (one frame
+    file), otherwise a folder of frames: of format `to` ("pcd", "ply", "bin"; "": the take's own
+    when it came from PCD, PLY or .bin frames, else PCD). ply_encoding: "ascii",
+    "binary_little_endian" or "binary_big_endian" ("": the source's, else little-endian).
 
     The output appears whole or not at all. overwrite: replace an existing output (the CLI's
     -f). pcd_encoding: "ascii", "binary" or "binary_compressed" ("": the source folder's, else
@@ -326,7 +427,8 @@ def write(
                     "compress() for .capz", 1)
     _check_take(take)
     dropped = _capz.dropped_by(take, p)
-    _capz.write(take, p, bool(overwrite), pcd_encoding, bool(c3d_float), bool(drop_fields))
+    _capz.write(take, p, bool(overwrite), pcd_encoding, bool(c3d_float), bool(drop_fields),
+                str(to), str(ply_encoding))
     if dropped:
         warnings.warn(f"{p} does not keep {', '.join(dropped)}", UserWarning, stacklevel=2)
 
@@ -338,7 +440,7 @@ def _check_take(take: Any) -> None:
 
 def _check_positions(take: Take) -> None:
     """A valid sample must hold finite coordinates (the arrays are writeable views)."""
-    bad = take.valid & ~np.isfinite(take.xyz).all(axis=2)
+    bad = take.valid & ~np.isfinite(take.xyz).all(axis=-1)
     if bad.any():
         f, p = _first_bad(bad)
         raise _invalid(f"xyz[{f}, {p}] is marked valid but is not a finite number")

@@ -57,11 +57,14 @@ py::dict attributes_of(py::handle self, const capz::Take& t) {
   std::map<std::string, int> seen;
   for (const capz::PointAttribute& a : t.attributes) {
     const size_t count = static_cast<size_t>(a.count);
-    if (a.count < 1 || a.data.size() != t.frames * t.points * a.bytes_per_point())
+    if (a.count < 1 || a.data.size() != t.total_points() * a.bytes_per_point())
       capz::fail(capz::ErrorCode::kInternal, t.source,
                  "attribute '" + a.name + "' holds " + std::to_string(a.data.size()) +
                      " bytes, not frames x points x count x size");
-    std::vector<py::ssize_t> shape = {ss(t.frames), ss(t.points)};
+    // A ragged take's fields are flattened like its xyz: (total points[, count]).
+    std::vector<py::ssize_t> shape = t.ragged()
+                                         ? std::vector<py::ssize_t>{ss(t.total_points())}
+                                         : std::vector<py::ssize_t>{ss(t.frames), ss(t.points)};
     if (count > 1) shape.push_back(ss(count));
     // A name repeated in the source (PCD padding "_") gets "#2", "#3", ...
     const int n = ++seen[a.name];
@@ -114,6 +117,24 @@ const uint8_t* array_bytes(const py::array& a, size_t expect_bytes, const char* 
     invalid(std::string(what) + ": expected a C-contiguous array of " +
             std::to_string(expect_bytes) + " bytes");
   return static_cast<const uint8_t*>(a.data());
+}
+
+// The attributes [(name, type, size, count, array)] of `points` points each, added to *t.
+void add_attributes(const std::vector<py::tuple>& attributes, size_t points, capz::Take* t) {
+  for (const py::tuple& at : attributes) {
+    capz::PointAttribute a;
+    a.name = at[0].cast<std::string>();
+    a.type = at[1].cast<std::string>().at(0);
+    a.size = at[2].cast<int>();
+    a.count = at[3].cast<int>();
+    attribute_dtype(a.type, a.size);
+    if (a.count < 1) invalid("attribute '" + a.name + "': count must be >= 1");
+    const py::array arr = at[4].cast<py::array>();
+    a.data.resize(points * a.bytes_per_point());
+    if (!a.data.empty())
+      std::memcpy(a.data.data(), array_bytes(arr, a.data.size(), a.name.c_str()), a.data.size());
+    t->attributes.push_back(std::move(a));
+  }
 }
 
 // Take.from_arrays after the Python layer's checks: xyz float64 (F, N, 3), valid uint8 (F, N),
@@ -186,20 +207,43 @@ TakePtr take_from_arrays(const py::array& xyz, const py::array& valid, double ra
                   S * G * 4);
     }
   }
-  for (const py::tuple& at : attributes) {
-    capz::PointAttribute a;
-    a.name = at[0].cast<std::string>();
-    a.type = at[1].cast<std::string>().at(0);
-    a.size = at[2].cast<int>();
-    a.count = at[3].cast<int>();
-    attribute_dtype(a.type, a.size);
-    if (a.count < 1) invalid("attribute '" + a.name + "': count must be >= 1");
-    const py::array arr = at[4].cast<py::array>();
-    a.data.resize(F * N * a.bytes_per_point());
-    if (!a.data.empty())
-      std::memcpy(a.data.data(), array_bytes(arr, a.data.size(), a.name.c_str()), a.data.size());
-    t.attributes.push_back(std::move(a));
+  add_attributes(attributes, F * N, &t);
+  return adopt(std::move(t));
+}
+
+// Take.from_arrays with a list of frames, after the Python layer's checks and concatenation:
+// xyz float64 (T, 3), valid uint8 (T), offsets int64 (F + 1, from 0, non-decreasing, ending at
+// T), attributes [(name, type, size, count, array (T[, count]))].
+TakePtr take_from_frames(const py::array& xyz, const py::array& valid, const py::array& offsets,
+                         double rate, const std::string& units, int64_t first_frame,
+                         const std::vector<py::tuple>& attributes) {
+  if (xyz.ndim() != 2 || xyz.shape(1) != 3) invalid("xyz must have shape (points, 3)");
+  if (offsets.ndim() != 1 || offsets.shape(0) < 1) invalid("frame offsets: F + 1 expected");
+  const size_t T = static_cast<size_t>(xyz.shape(0)), F = static_cast<size_t>(offsets.shape(0)) - 1;
+  const int64_t* o = reinterpret_cast<const int64_t*>(array_bytes(offsets, (F + 1) * 8, "offsets"));
+  std::vector<size_t> counts(F);
+  for (size_t f = 0; f < F; ++f) {
+    if (o[f + 1] < o[f] || o[0] != 0) invalid("frame offsets must grow from 0");
+    counts[f] = static_cast<size_t>(o[f + 1] - o[f]);
   }
+  if (static_cast<size_t>(o[F]) != T) invalid("frame offsets do not end at the point count");
+  capz::Take t;
+  t.resize_ragged(counts);
+  if (T > 0) {
+    std::memcpy(t.xyz.data(), array_bytes(xyz, T * 3 * sizeof(double), "xyz"),
+                T * 3 * sizeof(double));
+    std::memcpy(t.valid.data(), array_bytes(valid, T, "valid"), T);
+  }
+  for (size_t i = 0; i < T; ++i) {
+    t.valid[i] = t.valid[i] ? 1 : 0;
+    for (int a = 0; t.valid[i] && a < 3; ++a)
+      if (!std::isfinite(t.xyz[3 * i + static_cast<size_t>(a)]))
+        invalid("xyz[" + std::to_string(i) + "] is marked valid but is not a finite number");
+  }
+  t.rate = rate;
+  t.units = units;
+  t.first_frame = first_frame;
+  add_attributes(attributes, T, &t);
   return adopt(std::move(t));
 }
 
@@ -244,17 +288,22 @@ py::tuple compress_take(const capz::Take& take, bool lossless, std::optional<dou
     py::gil_scoped_release nogil;
     if (!units.empty() && capz::units_to_metres(units) == 0)
       invalid("units: unknown unit '" + units + "'");
-    const bool give_units = !units.empty() && capz::units_to_metres(take.units) == 0;
+    const bool give_units =
+        !units.empty() && (capz::units_to_metres(take.units) == 0 || take.units_assumed);
     std::unique_ptr<capz::Take> with_units;
-    if (give_units) {  // a copy: the caller's take is left as it is
+    if (give_units || take.units_assumed) {  // a copy: the caller's take is left as it is
       with_units = std::make_unique<capz::Take>(take);
-      with_units->units = units;
+      if (give_units) with_units->units = units, with_units->units_assumed = false;
     }
-    const capz::Take& t = give_units ? *with_units : take;
+    const capz::Take& t = with_units ? *with_units : take;
     capz::CompressOptions opts = coding_options(codec, clusters, window, check, codec_options,
                                                 threads, attr_error, drop_fields, analog_max_error);
     std::unique_ptr<capz::FrameSource> src = capz::take_frames(t);
     capz::set_compress_target(*src, target_of(lossless, kg_error, std::move(max_error)), &opts);
+    if (t.units_assumed) {  // as the CLI: the archive stores no assumed units
+      with_units->units.clear();
+      with_units->units_assumed = false;
+    }
     bytes = capz::compress(t, opts, &st);
   }
   return py::make_tuple(py::bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
@@ -278,24 +327,52 @@ void bind_take_positions(TakeClass* cls) {
           "xyz",
           [](const py::object& self) {
             const auto& t = self.cast<const capz::Take&>();
+            if (t.ragged())
+              return view(self, py::dtype::of<double>(), {ss(t.total_points()), 3}, t.xyz.data());
             return view(self, py::dtype::of<double>(), {ss(t.frames), ss(t.points), 3},
                         t.xyz.data());
           },
-          "positions, float64 (frames, points, 3) in the take's units; NaN at gaps. A view of "
-          "the take's storage (no copy): writing to it changes the take")
+          "positions, float64 (frames, points, 3) in the take's units; NaN at gaps. A ragged "
+          "take (frames of their own point count): (total points, 3), frame f being rows "
+          "frame_offsets[f] to frame_offsets[f + 1]. A view of the take's storage (no copy): "
+          "writing to it changes the take")
       .def_property_readonly(
           "valid",
           [](const py::object& self) {
             const auto& t = self.cast<const capz::Take&>();
+            if (t.ragged())
+              return view(self, py::dtype("bool"), {ss(t.total_points())}, t.valid.data());
             return view(self, py::dtype("bool"), {ss(t.frames), ss(t.points)}, t.valid.data());
           },
-          "bool (frames, points): True where a sample holds a measured "
-          "position, False at a gap (a view, like xyz)")
+          "bool (frames, points), (total points,) for a ragged take: True where a sample holds "
+          "a measured position, False at a gap (a view, like xyz)")
       .def_property_readonly("frames", [](const capz::Take& t) { return t.frames; })
-      .def_property_readonly("points", [](const capz::Take& t) { return t.points; })
+      .def_property_readonly(
+          "points", [](const capz::Take& t) { return t.points; },
+          "points per frame; 0 for a ragged take (see frame_offsets)")
+      .def_property_readonly("ragged", &capz::Take::ragged,
+                             "True when the frames have their own point counts")
+      .def_property_readonly("total_points", &capz::Take::total_points,
+                             "points of all frames together")
+      .def_property_readonly(
+          "frame_offsets",
+          [](const capz::Take& t) {
+            py::array_t<int64_t> a(ss(t.frames + 1));
+            int64_t* o = a.mutable_data();
+            for (size_t f = 0; f <= t.frames; ++f)
+              o[f] = static_cast<int64_t>(f < t.frames ? t.frame_begin(f) : t.total_points());
+            return a;
+          },
+          "int64 (frames + 1,): frame f holds points frame_offsets[f] to frame_offsets[f + 1] "
+          "of the flattened arrays (for a fixed take too: multiples of points). A new array")
+      .def_property_readonly(
+          "units_assumed", [](const capz::Take& t) { return t.units_assumed; },
+          "True when the file holds no units and the reader assumed them "
+          "(metres for PCD, PLY and .bin frames)")
       .def_property(
           "labels", [](const capz::Take& t) { return texts(t.labels); },
           [](capz::Take& t, const py::sequence& v) {
+            if (t.ragged()) invalid("labels: a ragged take has no point labels");
             if (static_cast<size_t>(py::len(v)) != t.points)
               invalid("labels: one per point expected");
             t.labels = file_texts(v, latin1_text(t), "labels");
@@ -316,6 +393,7 @@ void bind_take_positions(TakeClass* cls) {
             if (!u.empty() && capz::units_to_metres(u) == 0)
               invalid("units: unknown unit '" + u + "'");
             t.units = u;
+            t.units_assumed = false;
           },
           "length units of xyz as the source says (\"mm\", \"cm\", \"m\"); \"\" when unknown")
       .def_property(
@@ -385,7 +463,8 @@ void bind_take_channels(TakeClass* cls) {
           },
           "per-point fields of the source besides x y z (PCD: rgb, "
           "intensity, normals, ...): dict name -> array (frames, points) or "
-          "(frames, points, count) of the field's type (float32, uint8, ...)")
+          "(frames, points, count) of the field's type (float32, uint8, ...); a ragged take's: "
+          "(total points) or (total points, count), flattened like xyz")
       .def_property_readonly(
           "analog_units",
           [](const capz::Take& t) {
@@ -435,12 +514,13 @@ py::tuple take_state(const capz::Take& t) {
     capz::set_compress_target(*src, lossless, &opts);
     bytes = capz::compress(t, opts);
   }
+  // A fifth element says the units were assumed (states of 4 elements, from before, did not).
   return py::make_tuple(1, py::bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
-                        t.source, t.warnings);
+                        t.source, t.warnings, t.units_assumed);
 }
 
 TakePtr take_from_state(const py::tuple& s) {
-  if (s.size() != 4 || s[0].cast<int>() != 1)
+  if ((s.size() != 4 && s.size() != 5) || s[0].cast<int>() != 1)
     invalid("unpickling a capz.Take: not a state this version wrote");
   const std::string bytes = s[1].cast<std::string>();
   capz::Take t;
@@ -453,6 +533,7 @@ TakePtr take_from_state(const py::tuple& s) {
   }
   t.source = s[2].cast<std::string>();
   t.warnings = s[3].cast<std::vector<std::string>>();
+  t.units_assumed = s.size() == 5 && s[4].cast<bool>();
   return adopt(std::move(t));
 }
 
@@ -468,7 +549,8 @@ void bind_take_rest(TakeClass* cls) {
       .def(py::pickle(&take_state, &take_from_state))
       .def("__repr__", [](const capz::Take& t) {
         std::string s = "<capz.Take " + std::to_string(t.frames) + " frames x " +
-                        std::to_string(t.points) + " points";
+                        (t.ragged() ? std::to_string(t.total_points()) + " points in all (ragged)"
+                                    : std::to_string(t.points) + " points");
         if (t.rate > 0) {
           char rate[32];
           std::snprintf(rate, sizeof rate, ", %g Hz", t.rate);
@@ -486,6 +568,7 @@ void bind_take_rest(TakeClass* cls) {
 // The module's functions: reading, writing, coding, comparing.
 void bind_functions(py::module_& m) {
   m.def("take_from_arrays", &take_from_arrays);
+  m.def("take_from_frames", &take_from_frames);
 
   m.attr("DEFAULT_MEMORY_LIMIT") = capz::kDefaultMemoryLimit;
   m.attr("AUTO_MEMORY_LIMIT") = capz::kAutoMemoryLimit;
@@ -507,10 +590,18 @@ void bind_functions(py::module_& m) {
   });
 
   m.def("write", [](const capz::Take& take, const std::string& path, bool overwrite,
-                    const std::string& pcd_encoding, bool c3d_float, bool drop_fields) {
+                    const std::string& pcd_encoding, bool c3d_float, bool drop_fields,
+                    const std::string& to, const std::string& ply_encoding) {
     capz::WriteOptions o;
     o.overwrite = overwrite;
     o.pcd_encoding = pcd_encoding;
+    o.ply_encoding = ply_encoding;
+    o.folder_format = to == "pcd"   ? capz::Format::kPCDFolder
+                      : to == "ply" ? capz::Format::kPLYFolder
+                      : to == "bin" ? capz::Format::kBinFolder
+                                    : capz::Format::kUnknown;
+    if (!to.empty() && o.folder_format == capz::Format::kUnknown)
+      invalid("to: pcd, ply or bin, not '" + to + "'");
     o.c3d_float = c3d_float;
     o.drop_fields = drop_fields;
     py::gil_scoped_release nogil;

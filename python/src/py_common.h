@@ -29,10 +29,9 @@ using TakePtr = std::shared_ptr<capz::Take>;
 // as 0 or 1 (numpy's bool), gaps set to NaN (their values are unspecified by contract).
 inline TakePtr adopt(capz::Take&& t) {
   auto p = std::make_shared<capz::Take>(std::move(t));
-  const size_t n = p->frames * p->points;
-  if (p->xyz.size() != n * 3 || p->valid.size() != n)
-    capz::fail(capz::ErrorCode::kInternal, p->source,
-               "take arrays do not match its frame and point counts");
+  const size_t n = p->total_points();
+  const std::string fault = p->shape_fault();
+  if (!fault.empty()) capz::fail(capz::ErrorCode::kInternal, p->source, "take arrays: " + fault);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (size_t i = 0; i < n; ++i) {
     p->valid[i] = p->valid[i] ? 1 : 0;

@@ -64,7 +64,7 @@ def test_read_pcd_folder_matches_files(tmp_path):
     np.testing.assert_array_equal(take.xyz[take.valid], ref[~np.isnan(ref).any(axis=2)])
     info = cli_info(folder)
     assert take.frames == info["frames"] and take.points == info["points"]
-    assert take.units == info["units"] == ""
+    assert take.units == info["units"] == "m" and take.units_assumed and info["units_assumed"]
 
 
 def test_read_capz_is_decompress(tmp_path):

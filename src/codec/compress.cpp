@@ -19,9 +19,21 @@ size_t auto_window_frames(size_t points) {
 
 namespace {
 
+// What the encoder does not code yet (issue 37, format 1.1): frames of their own point count,
+// and PLY and .bin frames (their layouts have no META block). Throws kInvalidParameter.
+void refuse_scans(const Take& t) {
+  refuse_ragged(t, "the encoder");
+  if (t.format == Format::kPLYFolder || t.format == Format::kBinFolder)
+    fail(ErrorCode::kInvalidParameter, t.source,
+         std::string(t.format == Format::kPLYFolder ? "PLY" : ".bin") +
+             " frames are not supported by the encoder yet: convert them to PCD first "
+             "(capz convert IN OUT/ --to pcd)");
+}
+
 std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions& opts,
                                          const EncoderTuning& tuning, CompressStats* stats,
                                          bool allow_tout = true) {
+  refuse_scans(take);
   if (take.xyz.size() != take.frames * take.points * 3 ||
       take.valid.size() != take.frames * take.points)
     fail(ErrorCode::kInvalidParameter, take.source,
@@ -102,6 +114,7 @@ std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, Com
 
 void compress_stream(FrameSource& source, const CompressOptions& opts, const std::string& path,
                      bool overwrite, CompressStats* stats) {
+  refuse_scans(source.header());
   if (opts.codec == "auto")
     fail(ErrorCode::kInvalidParameter, source.header().source,
          "codec auto compares whole-take encodings and is not streamed");

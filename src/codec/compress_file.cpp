@@ -25,7 +25,7 @@ ValidExtent valid_extent(FrameSource& src) {
   const size_t F = src.header().frames, B = src.preferred_block();
   for (size_t f = 0; f < F; f += B) {
     src.read(f, std::min(B, F - f), &b);
-    for (size_t i = 0; i < b.frames * b.points; ++i)
+    for (size_t i = 0; i < b.total_points(); ++i)
       if (b.valid[i]) {
         ++e.valid;
         for (int a = 0; a < 3; ++a) {
@@ -55,9 +55,15 @@ CompressInput open_compress_input(const std::string& path, bool whole, const std
   } else {
     input.source = open_frames(path);
   }
-  if (!units.empty() && units_to_metres(input.source->header().units) == 0)
-    input.source->edit_header().units = units;
-  if (whole) input.take->units = input.source->header().units;
+  Take& h = input.source->edit_header();
+  if (!units.empty() && (units_to_metres(h.units) == 0 || h.units_assumed)) {
+    h.units = units;
+    h.units_assumed = false;
+  }
+  if (whole) {
+    input.take->units = h.units;
+    input.take->units_assumed = h.units_assumed;
+  }
   return input;
 }
 
@@ -70,15 +76,18 @@ void set_compress_target(FrameSource& source, const CompressTarget& target, Comp
   opts->kg_error = 0;
   opts->max_error = 0;
   const Take& take = source.header();
+  // Assumed units (PCD, PLY, .bin) keep the default of data without units when no bound is
+  // given: the bytes of every such take capz coded before it assumed metres.
+  const bool unitless = take.units.empty() || (take.units_assumed && !target.max_error);
   ValidExtent extent;
   if (target.lossless) {
     opts->lossless = true;
   } else if (target.kg_error) {
     opts->kg_error = *target.kg_error;
     if (!(opts->kg_error > 0)) fail(ErrorCode::kInvalidParameter, "", "--kg-error must be > 0");
-  } else if (take.units.empty() && (extent = valid_extent(source)).valid == 0) {
+  } else if (unitless && (extent = valid_extent(source)).valid == 0) {
     opts->max_error = 1;  // no positions to bound (analog-only take): any bound will do
-  } else if (!target.max_error && take.units.empty()) {
+  } else if (!target.max_error && unitless) {
     opts->max_error = unitless_default_bound(extent);
   } else {
     opts->max_error = parse_length(target.max_error ? *target.max_error : "0.1mm", take.units);
@@ -89,6 +98,11 @@ void set_compress_target(FrameSource& source, const CompressTarget& target, Comp
 
 void compress_input(CompressInput& input, const CompressOptions& opts, const std::string& out,
                     bool overwrite, CompressStats* stats) {
+  if (input.source->header().units_assumed) {  // the archive keeps what the file said: none
+    input.source->edit_header().units.clear();
+    input.source->edit_header().units_assumed = false;
+    if (input.take) input.take->units.clear(), input.take->units_assumed = false;
+  }
   if (opts.codec == "auto")
     write_file(out, compress(*input.take, opts, stats), overwrite);
   else

@@ -9,7 +9,6 @@
 #include "codec/grid.h"
 #include "codec/transform_output.h"
 #include "coding/analog/analog_codec.h"
-#include "coding/analog_v3.h"
 #include "coding/attributes.h"
 #include "coding/bytes.h"
 #include "coding/c3d_words.h"
@@ -21,8 +20,9 @@
 namespace capz {
 namespace {
 
-// The chunks of one window, in order: next() returns the next chunk of a type, skipping unknown
-// ones; a known chunk of another type ends the search.
+// The chunks of one window, in order: next() returns the next chunk of a type, skipping the
+// residue's and ancillary ones (an unknown critical type is refused, FORMAT.md 2); a window
+// chunk of another type ends the search.
 class WindowChunks {
  public:
   WindowChunks(const StreamContext& ctx, size_t w, const uint8_t* region, size_t base, size_t end)
@@ -36,11 +36,7 @@ class WindowChunks {
 
   Chunk next(const char* type, bool required) {
     while (off_ < end_) {
-      const uint8_t* p = region_ + (off_ - base_);
-      if (end_ - off_ < kChunkOverhead || load_le32(p + 4) > end_ - off_ - kChunkOverhead)
-        fail(ErrorCode::kCorrupt, ctx_.name,
-             "chunk at byte " + std::to_string(off_) + wname_ + " runs past its INDX extent");
-      Chunk c = read_chunk(region_, end_, off_, ctx_.name, base_);
+      const Chunk c = at_offset();
       if (c.type == type) {
         off_ = c.end;
         return c;
@@ -48,11 +44,21 @@ class WindowChunks {
       if (c.type == "POSW" || c.type == "MASK" || c.type == "C3DW" || c.type == "ANLG" ||
           c.type == "ROTW" || c.type == "ATTR")
         break;
-      off_ = c.end;  // unknown chunk: skipped
+      check_chunk_known(c, ctx_.features, ctx_.name);
+      off_ = c.end;  // a residue or ancillary chunk: skipped
     }
     if (required)
       fail(ErrorCode::kCorrupt, ctx_.name, std::string("missing chunk ") + type + wname_);
     return Chunk();
+  }
+  // The chunks after the last one read: each checked (CRC, and an unknown critical type refused,
+  // FORMAT.md 2), none decoded (the residue's are read by the rebuild).
+  void check_rest() {
+    while (off_ < end_) {
+      const Chunk c = at_offset();
+      check_chunk_known(c, ctx_.features, ctx_.name);
+      off_ = c.end;
+    }
   }
   // Reads the window index that starts every window chunk's payload; it must be w.
   void open(const Chunk& c, ByteReader* r) const {
@@ -69,6 +75,15 @@ class WindowChunks {
   const std::string& wname() const { return wname_; }
 
  private:
+  // The chunk at off_ (< end_), framing and CRC checked within the window's extent.
+  Chunk at_offset() const {
+    const uint8_t* p = region_ + (off_ - base_);
+    if (end_ - off_ < kChunkOverhead || load_le32(p + 4) > end_ - off_ - kChunkOverhead)
+      fail(ErrorCode::kCorrupt, ctx_.name,
+           "chunk at byte " + std::to_string(off_) + wname_ + " runs past its INDX extent");
+    return read_chunk(region_, end_, off_, ctx_.name, base_);
+  }
+
   const StreamContext& ctx_;
   size_t w_;
   const uint8_t* region_;
@@ -144,8 +159,7 @@ void decode_window_positions(const StreamContext& ctx, WindowChunks* chunks, siz
   } else {
     const PositionsPayload pp = split_positions(body, body_size, pwhat);
     const std::vector<int32_t> tpred = transform_prediction(ctx, pp, fn, pwhat);
-    decode_positions(pp, tpred, h.mode == PosMode::kFloat64, position_scheme(ctx.major), &wi, pwhat,
-                     ray_kind(ctx.major, h.mode));
+    decode_positions(pp, tpred, h.mode == PosMode::kFloat64, &wi, pwhat, ray_kind(h.mode));
   }
   if (h.transform_output) {
     xyz->assign(fn * N * 3, 0.0);
@@ -197,7 +211,7 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
   std::vector<int32_t> q;  // the window's POSW integers (none with transform output)
   decode_window_positions(ctx, &chunks, fn, &b.valid, &b.xyz, &q);
   // The analog rows must fit what the chunks can hold before they are allocated.
-  const size_t per_byte = analog_values_per_byte(ctx.major);
+  const size_t per_byte = kMaxAnalogValuesPerByte;
   if (C > 0 && S > 0 && fn * S * C > per_byte * (end - base))
     fail(ErrorCode::kCorrupt, ctx.name,
          "analog window" + chunks.wname() + " larger than its chunks can hold");
@@ -222,13 +236,8 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
     chunks.open(ac, &ar);
     if (fn * S * C > per_byte * ac.size)
       fail(ErrorCode::kCorrupt, awhat, "analog window larger than its chunk can hold");
-    if (ctx.major >= 4)
-      decode_analog_window(ac.payload + ar.offset(), ac.size - ar.offset(), fn * S,
-                           static_cast<int>(C), b.analog.data(), awhat, ctx.major >= 7 ? S : 0,
-                           FormatVersion{ctx.major, ctx.minor});
-    else
-      decode_analog(ac.payload + ar.offset(), ac.size - ar.offset(), fn * S, static_cast<int>(C),
-                    b.analog.data(), awhat);
+    decode_analog_window(ac.payload + ar.offset(), ac.size - ar.offset(), fn * S,
+                         static_cast<int>(C), b.analog.data(), awhat, S);
   }
   b.rotation_matrices.clear();
   b.rotation_reliability.clear();
@@ -241,9 +250,10 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
     chunks.open(tc, &tr);
     const PCDExtra* px = ctx.take.pcd.get();
     decode_attributes(tc.payload + tr.offset(), tc.size - tr.offset(), attribute_specs(px->fields),
-                      b.valid.data(), fn, N, px->width, &b.attributes, twhat, ctx.major >= 6,
-                      ctx.major >= 7, q.size() == fn * N * 3 && !q.empty() ? q.data() : nullptr);
+                      b.valid.data(), fn, N, px->width, &b.attributes, twhat,
+                      q.size() == fn * N * 3 && !q.empty() ? q.data() : nullptr);
   }
+  chunks.check_rest();
 }
 
 void window_extent(const ParsedStream& ps, size_t size, size_t w, size_t* base, size_t* end) {

@@ -90,15 +90,16 @@ Take decompress_frames(const uint8_t* data, size_t size, size_t first, size_t co
 }
 
 bool is_capz(const uint8_t* data, size_t size) {
-  return size >= 9 && std::memcmp(data, kCapzMagic, 9) == 0;
+  return size >= 9 &&
+         (std::memcmp(data, kCapzMagic, 9) == 0 || std::memcmp(data, kPrereleaseMagic, 9) == 0);
 }
 
 StreamInfo describe(const uint8_t* data, size_t size, const std::string& name) {
   MemoryBytes bytes(data, size);
   ParsedStream ps = parse_stream(bytes, name);
   StreamInfo si;
-  si.major = data[9];
-  si.minor = ps.minor;
+  si.major = kCapzMajor;
+  si.minor = ps.features.minor;
   si.source_format = ps.h.source_format;
   si.source_name = ps.take.source;
   si.frames = ps.take.frames;

@@ -67,28 +67,6 @@ std::map<std::string, std::string> options_for(const TransformCodec& codec,
 
 namespace {
 
-// Why a stream has the version it has (docs/FORMAT.md 17's version table): what the take may use,
-// found before HEAD is written (the scan, the plan, the META coding). Every stream is written as
-// the lowest version that holds all of it, so a take that needs none of these is written as
-// kFormatWritten (5.0), byte for byte as before they existed.
-struct VersionNeeds {
-  bool fields_6 = false;        // point fields with a normal triple or an organized layout (6.1,
-                                // 6.2: ATTR predictor 9, transforms 4 and 5)
-  bool rays_7 = false;          // PCD points the scan found moving along their rays (7.1)
-  bool repeats_7 = false;       // analog channels repeating whole frames, per the scan (7.2)
-  bool cloud_fields_7 = false;  // an unorganized cloud's fields, positions on the grid (7.3)
-  bool meta_8 = false;          // a C3D take's META smallest after dictionary 1 (8.1)
-  bool analog_9 = false;        // analog channels (8.2, 9.1-9.4: each where it codes smaller)
-};
-
-FormatVersion stream_version(const VersionNeeds& n) {
-  if (n.analog_9) return kFormat9;
-  if (n.meta_8) return kFormat8;
-  if (n.rays_7 || n.repeats_7 || n.cloud_fields_7) return kFormat7;
-  if (n.fields_6) return kFormat6;
-  return kFormatWritten;
-}
-
 std::vector<uint8_t> with_window_index(size_t w, uint8_t flag, const std::vector<uint8_t>& body) {
   ByteWriter b;
   b.varint(w);
@@ -291,23 +269,14 @@ class Encoder {
     h.analog_samples_per_frame = static_cast<uint32_t>(plan_.S);
     h.rotation_segments = static_cast<uint32_t>(plan_.G);
     h.rotation_samples_per_frame = static_cast<uint32_t>(plan_.R);
-    // The version: the highest that what the take may use needs (stream_version).
-    VersionNeeds need;
-    need.fields_6 =
-        !take_.attributes.empty() && take_.pcd &&
-        (take_.pcd->height > 1 || has_unit_candidate(attribute_specs(take_.pcd->fields)));
-    need.rays_7 = on_rays(scan_);
-    analog_repeats_ = plan_.analog && analog_repeats_worth_7(scan_, take_.frames);
-    need.repeats_7 = analog_repeats_;
-    need.cloud_fields_7 = !take_.attributes.empty() && take_.pcd && take_.pcd->height == 1 &&
-                          take_.points > 1 && !plan_.tout;
+    // Candidates the scan makes worth trying (every coding is allowed in every stream):
+    // predictor 10 for points the scan found on their rays (FORMAT.md 7.1), repeat lists for
+    // analog channels repeating whole frames (7.2), META's dictionary for C3D takes (8.1).
+    if (on_rays(scan_)) ray_ = ray_kind(g_.mode);
+    analog_repeats_ = plan_.analog && analog_repeats_worth(scan_, take_.frames);
     const std::vector<uint8_t> meta_payload = encode_meta(take_, plan_.words, take_.c3d != nullptr);
-    need.meta_8 = meta_coding(meta_payload) == 3;
-    need.analog_9 = plan_.analog;
-    version_ = stream_version(need);
-    if (need.rays_7) ray_ = ray_kind(version_.major, g_.mode);  // predictor 10 a candidate
     std::vector<uint8_t> buf;
-    write_file_header(&buf, version_);
+    write_file_header(&buf);
     append_chunk(&buf, "HEAD", encode_header(h));
     const size_t meta_at = buf.size();
     append_chunk(&buf, "META", meta_payload);
@@ -323,10 +292,10 @@ class Encoder {
       p.kg_target = plan_.tout ? opts_.kg_error : 0.0;
       promise_ = p;
       const std::string what = take_.source + " (self-check)";
-      const Chunk head =
-          read_chunk(buf.data(), buf.size(), file_header_bytes(version_.major), what);
+      const Chunk head = read_chunk(buf.data(), buf.size(), kFileHeaderBytes, what);
       const Chunk meta = read_chunk(buf.data(), buf.size(), meta_at, what);
-      ctx_ = read_context(decode_header(head, what), meta, version_.major, version_.minor, what);
+      const StreamFeatures f = check_file_header(buf.data(), buf.size(), what);
+      ctx_ = read_context(decode_header(head, what, f), meta, f, what);
     }
     other_bytes_ = buf.size();
     out_->flush(&buf);
@@ -468,8 +437,7 @@ class Encoder {
     const bool gaps = std::find(wi.valid.begin(), wi.valid.end(), 0) != wi.valid.end();
     const std::vector<uint8_t> pos =
         plan_.tout ? transform_only_positions(codec_bytes)
-                   : encode_positions(wi, codec_bytes, tpred, g_.mode == PosMode::kFloat64,
-                                      kPositionScheme, ray_);
+                   : encode_positions(wi, codec_bytes, tpred, g_.mode == PosMode::kFloat64, ray_);
     append_chunk(&buf, "POSW", with_window_index(w, gaps ? 1 : 0, pos));
     if (gaps)
       append_chunk(&buf, "MASK", with_window_index(w, 0xFF, encode_mask(wi.valid.data(), fn, N)));
@@ -492,9 +460,8 @@ class Encoder {
         analog::quantise_window(moved.data(), fn * plan_.S, abounds_, &hints.channel);
         rows = moved.data();
       }
-      const std::vector<uint8_t> an =
-          encode_analog_window(rows, fn * plan_.S, take_.analog.channels, hints,
-                               analog_repeats_ ? plan_.S : 0, version_);
+      const std::vector<uint8_t> an = encode_analog_window(
+          rows, fn * plan_.S, take_.analog.channels, hints, analog_repeats_ ? plan_.S : 0);
       append_chunk(&buf, "ANLG", with_window_index(w, 0xFF, an));
       win->analog_bytes = buf.size() - before;
     }
@@ -523,12 +490,12 @@ class Encoder {
     quantise_bounded_fields(&win->block);
     std::vector<uint8_t>* buf = &win->buf;
     const size_t before = buf->size();
-    const std::vector<uint8_t> at = encode_attributes(
-        attribute_specs(take_.pcd->fields), win->block.attributes, win->wi.valid.data(),
-        win->block.frames, take_.points, take_.pcd->width, version_.major >= 6,
-        // FORMAT.md 13.5: predictors 10 and 11 are candidates for an unorganized cloud's fields
-        // (an organized one written as 7.0 for its rays, 7.1, has its pixel neighbours).
-        version_.major >= 7 && take_.pcd->height == 1, plan_.tout ? nullptr : win->wi.q.data());
+    const std::vector<uint8_t> at =
+        encode_attributes(attribute_specs(take_.pcd->fields), win->block.attributes,
+                          win->wi.valid.data(), win->block.frames, take_.points, take_.pcd->width,
+                          // FORMAT.md 7.3: predictors 10 and 11 are candidates for an unorganized
+                          // cloud's fields (an organized one has its pixel neighbours).
+                          take_.pcd->height == 1 && !plan_.tout ? win->wi.q.data() : nullptr);
     append_chunk(buf, "ATTR", with_window_index(win->w, 0xFF, at));
     win->attribute_bytes = buf->size() - before;
   }
@@ -672,11 +639,10 @@ class Encoder {
   TakeScan scan_;
   Grid g_;
   TransformParams tparams_;
-  FormatVersion version_ = kFormatWritten;  // of the stream written (FORMAT.md 2, 6.1, 7)
-  RayKind ray_ = RayKind::kNone;            // predictor 10 a candidate (FORMAT.md 8.3)
-  bool analog_repeats_ = false;             // channels may name repeated frames (FORMAT.md 11.3)
-  StreamContext ctx_;  // what the decoder reads from HEAD and META (with opts.check)
-  Promise promise_;    // the stream's promise, checked on what the decoder gives (each window)
+  RayKind ray_ = RayKind::kNone;  // predictor 10 a candidate (FORMAT.md 7.1)
+  bool analog_repeats_ = false;   // channels may name repeated frames (FORMAT.md 7.2)
+  StreamContext ctx_;             // what the decoder reads from HEAD and META (with opts.check)
+  Promise promise_;  // the stream's promise, checked on what the decoder gives (each window)
   std::unique_ptr<ResidueWriter> residue_;     // HASH and residue chunks (an original file only)
   AnalogHints hints_;                          // what the C3D parameters say of the analog channels
   std::vector<analog::ChannelBound> abounds_;  // per channel with a lossy one (FORMAT.md 5.7)

@@ -1,6 +1,6 @@
 // The encoder driver: a frame source to .capz bytes under CompressOptions (docs/FORMAT.md).
 // Two passes over the source: a scan that chooses the grid (grid_choice.h), then each window is
-// quantised, predicted and coded (coding/positions.h, mask.h, c3d_words.h, analog_v3.h), checked by
+// quantised, predicted and coded (coding/positions.h, mask.h, c3d_words.h, analog/), checked by
 // running THE decoder (decoder.h) on the chunks it wrote, and handed to a StreamOut.
 #pragma once
 

@@ -111,7 +111,7 @@ void scan_rays(const FrameBlock& b, TakeScan* s) {
 }
 }  // namespace
 
-bool analog_repeats_worth_7(const TakeScan& s, size_t frames) {
+bool analog_repeats_worth(const TakeScan& s, size_t frames) {
   for (size_t k : s.analog_repeats)
     if (k >= 2 && k * 10 >= frames) return true;
   return false;

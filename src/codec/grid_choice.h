@@ -46,8 +46,7 @@ struct TakeScan {
 };
 
 // True when the scan found the take's points moving along their rays from the origin, as a
-// sensor's pixels or beams do (FORMAT.md 8.3: the stream is written as 7.0, predictor 10 a
-// candidate).
+// sensor's pixels or beams do (FORMAT.md 7.1: predictor 10 is then a candidate).
 bool on_rays(const TakeScan& s);
 
 // True when the take is an int16 C3D (its coordinates are multiples of POINT:SCALE).
@@ -67,9 +66,9 @@ void cache_kg_coordinates(const Take& hdr, size_t cap_bytes, TakeScan* s);
 void scan_block(const FrameBlock& b, const std::string& src, bool words, double point_scale,
                 TakeScan* s);
 
-// Whether the scan found analog frames repeated often enough to write a 7.0 stream (FORMAT.md
+// Whether the scan found analog frames repeated often enough to offer repeat lists (FORMAT.md
 // 7.2: some channel with at least 2 and at least 10% of the take's `frames`).
-bool analog_repeats_worth_7(const TakeScan& s, size_t frames);
+bool analog_repeats_worth(const TakeScan& s, size_t frames);
 
 // The first lossless candidate that reproduces every valid coordinate, else float32 or float64
 // bits.

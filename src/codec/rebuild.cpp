@@ -57,7 +57,7 @@ Record read_record(StreamBytes& b, const ParsedStream& ps, const std::string& na
     r.file_part = chunk_payload(b, ps, type, name);
     r.info.residue = true;
     r.info.exact = ps.h.lossless;
-    r.info.windows_at_bound = ps.major >= 5 && !r.pcd;  // PCDP: lossless archives only
+    r.info.windows_at_bound = !r.pcd;  // PCDP: lossless archives only
     if (r.pcd && !r.info.exact)
       fail(ErrorCode::kCorrupt, name, "PCDR in an archive that is not lossless");
   }
@@ -159,7 +159,11 @@ void rebuild(const std::string& path, const Write& write, const DecompressOption
   const size_t W = ps.h.window_frames;
   FrameBlock block;
   std::vector<uint8_t> bytes;
-  for (size_t w = 0, f0 = 0; f0 < t.frames; ++w, f0 += W) {
+  // A regenerated rotation section follows every frame: its windows are read again, after the
+  // frames' (whose pass is left out when they have no bytes).
+  const bool rotations = c3d && c3d->layout().rotations;
+  const bool frames_pass = !rotations || c3d->layout().per_frame > 0;
+  for (size_t w = 0, f0 = 0; frames_pass && f0 < t.frames; ++w, f0 += W) {
     src.read(f0, W, &block);
     // At every target from 5.0 on (a 4.0 stream has them when lossless only).
     const std::vector<uint8_t> p = window_payload(*raw, ps, w, r.c3d ? "C3DP" : "TRCP", path);
@@ -169,6 +173,16 @@ void rebuild(const std::string& path, const Write& write, const DecompressOption
     else
       trc->window(block, p.data(), p.size(), &bytes, ps.h.lossless);
     out(bytes.data(), bytes.size());
+  }
+  if (rotations) {
+    out(c3d->gap().data(), c3d->gap().size());
+    for (size_t w = 0, f0 = 0; f0 < t.frames; ++w, f0 += W) {
+      src.read(f0, W, &block);
+      const std::vector<uint8_t> p = window_payload(*raw, ps, w, "C3DP", path);
+      bytes.clear();
+      c3d->rotation_window(block, p.data(), p.size(), &bytes);
+      out(bytes.data(), bytes.size());
+    }
   }
   if (c3d)
     out(c3d->tail().data(), c3d->tail().size());

@@ -103,6 +103,24 @@ void ResidueWriter::window_chunk(size_t w, const FrameBlock& block, const FrameB
     check_bytes(w, rebuilt, c3d_->original(), c3d_->original_size(), c3d_->original_at());
   else
     check_bytes(w, rebuilt);
+  if (c3d_ && c3d_->layout().rotations) check_rotations(w, *back, payload);
+}
+
+// The window's rotation bytes rebuilt from what the archive gives back, against the file's (the
+// encoder's copy): the rotation section follows every frame, so it is compared here, out of the
+// file's order, and counted, not hashed (every byte of the file is compared).
+void ResidueWriter::check_rotations(size_t w, const FrameBlock& back,
+                                    const std::vector<uint8_t>& payload) {
+  std::vector<uint8_t> rebuilt;
+  try {
+    c3d_back_->rotation_window(back, payload.data(), payload.size(), &rebuilt);
+  } catch (const Error& e) {
+    failed("window " + std::to_string(w) + ": the rotations do not rebuild: " + e.what());
+  }
+  if (!rebuilt.empty() &&
+      std::memcmp(rebuilt.data(), c3d_->original_rotations(), rebuilt.size()) != 0)
+    failed("window " + std::to_string(w) + " rebuilds rotation bytes other than the original's");
+  rotations_checked_ += rebuilt.size();
 }
 
 // The rebuilt bytes continue the original at rebuilt_: compares them and hashes them. The
@@ -132,6 +150,13 @@ void ResidueWriter::finish() {
   }
   try {
     if (c3d_) {
+      const residue::C3DFrameLayout& lay = c3d_back_->layout();
+      if (lay.rotations) {
+        check_bytes(0, c3d_back_->gap());
+        if (rotations_checked_ != lay.rotation_bytes())
+          failed("the rotation section was not rebuilt whole");
+        rebuilt_ += rotations_checked_;
+      }
       const std::vector<uint8_t> tail = c3d_back_->tail();
       check_bytes(0, tail);
     } else {
@@ -140,7 +165,9 @@ void ResidueWriter::finish() {
   } catch (const Error& e) {
     failed(std::string("the residue does not rebuild: ") + e.what());
   }
-  if (rebuilt_ != size_ || rebuilt_hash_.digest() != hash_)
+  // With a rotation section every byte was compared, the rotations out of order (not hashed).
+  const bool hashed = !c3d_ || !c3d_back_->layout().rotations;
+  if (rebuilt_ != size_ || (hashed && rebuilt_hash_.digest() != hash_))
     failed("the rebuilt file's size or hash differs from the original's");
 }
 

@@ -53,6 +53,7 @@ class ResidueWriter {
   // (else read).
   void check_bytes(size_t w, const std::vector<uint8_t>& rebuilt, const uint8_t* known = nullptr,
                    size_t known_size = 0, uint64_t known_at = 0);
+  void check_rotations(size_t w, const FrameBlock& back, const std::vector<uint8_t>& payload);
   void pcd_file_chunks(std::vector<uint8_t>* buf);
   void pcd_window_chunk(size_t w, const FrameBlock& block, const FrameBlock* back,
                         std::vector<uint8_t>* buf);
@@ -79,7 +80,7 @@ class ResidueWriter {
   std::unique_ptr<InputFile> orig_;
   std::vector<uint8_t> orig_bytes_;  // check_bytes' scratch
   Hasher rebuilt_hash_;
-  uint64_t rebuilt_ = 0;
+  uint64_t rebuilt_ = 0, rotations_checked_ = 0;
   size_t bytes_ = 0, file_bytes_ = 0;
 };
 

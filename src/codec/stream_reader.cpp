@@ -23,12 +23,11 @@ Chunk chunk_at(StreamBytes& b, size_t off, const std::string& name) {
   return read_chunk(b.get(off, n), size, off, name, off);
 }
 
-StreamContext read_context(const StreamHeader& h, const Chunk& meta, int major, int minor,
+StreamContext read_context(const StreamHeader& h, const Chunk& meta, const StreamFeatures& f,
                            const std::string& name) {
   StreamContext c;
   c.name = name;
-  c.major = major;
-  c.minor = minor;
+  c.features = f;
   c.h = h;
   c.take.frames = static_cast<size_t>(c.h.frames);
   c.take.points = c.h.points;
@@ -39,7 +38,7 @@ StreamContext read_context(const StreamHeader& h, const Chunk& meta, int major, 
   c.take.rotations.segments = static_cast<int>(std::min<uint32_t>(c.h.rotation_segments, 1u << 30));
   c.take.rotations.samples_per_frame =
       static_cast<int>(std::min<uint32_t>(c.h.rotation_samples_per_frame, 1u << 30));
-  decode_meta(meta, name, &c.take, &c.words, major);
+  decode_meta(meta, name, &c.take, &c.words);
   return c;
 }
 
@@ -64,8 +63,9 @@ Chunk index_chunk(StreamBytes& b, size_t meta_end, const std::string& name) {
 
 namespace {
 
-// The file-level chunks after META (4.0: HASH, C3DR, TRCR; any other type but a window's POSW or
-// INDX), each checked, recorded in ps->file_chunks; returns the offset of the first window.
+// The file-level chunks after META (HASH, C3DR, TRCR, PCDR, or an ancillary type; an unknown
+// critical type is refused), each checked, recorded in ps->file_chunks; returns the offset of
+// the first window.
 size_t file_level_chunks(StreamBytes& b, size_t off, const std::string& name, ParsedStream* ps) {
   const size_t size = b.size();
   while (off + 4 <= size) {
@@ -73,6 +73,7 @@ size_t file_level_chunks(StreamBytes& b, size_t off, const std::string& name, Pa
     const std::string type(reinterpret_cast<const char*>(t), 4);
     if (type == "POSW" || type == "INDX") break;
     const Chunk x = chunk_at(b, off, name);
+    check_chunk_known(x, ps->features, name);
     if (ps->file_chunks.count(x.type)) fail(ErrorCode::kCorrupt, name, "two " + x.type + " chunks");
     ps->file_chunks[x.type] = {x.offset, x.end};
     ps->chunk_bytes[x.type] += x.end - x.offset;
@@ -85,20 +86,18 @@ size_t file_level_chunks(StreamBytes& b, size_t off, const std::string& name, Pa
 
 ParsedStream parse_stream(StreamBytes& b, const std::string& name) {
   const size_t size = b.size();
-  const size_t longest = file_header_bytes(255);
-  const uint8_t* fh = b.get(0, std::min(size, longest));
-  const int minor = check_file_header(fh, std::min(size, longest), name);
-  const int major = fh[9];
-  Chunk c = chunk_at(b, file_header_bytes(major), name);
+  const uint8_t* fh = b.get(0, std::min(size, kFileHeaderBytes));
+  const StreamFeatures f = check_file_header(fh, std::min(size, kFileHeaderBytes), name);
+  Chunk c = chunk_at(b, kFileHeaderBytes, name);
   if (c.type != "HEAD") fail(ErrorCode::kCorrupt, name, "first chunk is " + c.type + ", not HEAD");
   // HEAD's payload pointer is invalidated by the next get(): decode it before reading META.
-  const StreamHeader h = decode_header(c, name);
+  const StreamHeader h = decode_header(c, name, f);
   const size_t head_bytes = c.end - c.offset;
   Chunk m = chunk_at(b, c.end, name);
   if (m.type != "META") fail(ErrorCode::kCorrupt, name, "second chunk is " + m.type + ", not META");
-  check_header_fits(h, size, major, name);
+  check_header_fits(h, size, name);
   ParsedStream ps;
-  static_cast<StreamContext&>(ps) = read_context(h, m, major, minor, name);
+  static_cast<StreamContext&>(ps) = read_context(h, m, f, name);
   ps.chunk_bytes["HEAD"] += head_bytes;
   ps.chunk_bytes["META"] += m.end - m.offset;
   ps.first_window_offset = file_level_chunks(b, m.end, name, &ps);

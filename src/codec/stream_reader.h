@@ -53,14 +53,14 @@ class FileBytes : public StreamBytes {
 // What the decoder knows of a stream before its windows: HEAD, META and the version. The
 // encoder builds the same from the chunks it wrote (its self-check decodes with it).
 struct StreamContext {
-  std::string name;  // for messages
-  int major = 1, minor = 0;
+  std::string name;         // for messages
+  StreamFeatures features;  // what the stream's version lets its chunks use
   StreamHeader h;
   Take take;           // metadata only: frames, points, analog layout, META's fields
   bool words = false;  // windows carry C3DW chunks
 };
-// The context of a stream of version major.minor from its decoded HEAD and its META chunk.
-StreamContext read_context(const StreamHeader& h, const Chunk& meta, int major, int minor,
+// The context of a stream with features f from its decoded HEAD and its META chunk.
+StreamContext read_context(const StreamHeader& h, const Chunk& meta, const StreamFeatures& f,
                            const std::string& name);
 
 // A stream's context plus where its windows are.
@@ -69,8 +69,8 @@ struct ParsedStream : StreamContext {
   size_t first_window_offset = 0;
   size_t index_offset = 0;
   std::map<std::string, size_t> chunk_bytes;  // HEAD, META, INDX sizes with framing
-  // File-level chunks between META and the first window (HASH, C3DR, TRCR: FORMAT.md 7),
-  // each checked: type -> [offset, end).
+  // File-level chunks between META and the first window (HASH, C3DR, TRCR, PCDR; ancillary
+  // ones), each checked: type -> [offset, end).
   std::map<std::string, std::pair<size_t, size_t>> file_chunks;
 };
 

@@ -80,12 +80,12 @@ void decode_lzma_field(ByteReader* in, uint8_t t, const AttrSpec& s, size_t n, c
 // The predictor of each of a field's lanes (and a unit vector's references to the fields that
 // complete it).
 void read_lane_predictors(ByteReader* in, const std::vector<AttrSpec>& specs, size_t a, bool colour,
-                          bool v6, bool v7, bool have_q, const std::string& awhat,
-                          std::vector<int>* pred, std::vector<std::array<UnitRef, 2>>* refs) {
+                          bool have_q, const std::string& awhat, std::vector<int>* pred,
+                          std::vector<std::array<UnitRef, 2>>* refs) {
   for (size_t j = 0; j < pred->size(); ++j) {
     const uint8_t id = in->u8();
     const bool near_id = id == kNearPredictor || id == kNearChangePredictor;
-    if (id >= kPredictors && !(v6 && id == kUnitPredictor && !colour) && !(v7 && near_id))
+    if (id >= kPredictors && !(id == kUnitPredictor && !colour) && !near_id)
       fail(ErrorCode::kCorrupt, awhat, "unknown predictor " + std::to_string(id));
     if (near_id && !have_q)
       fail(ErrorCode::kCorrupt, awhat,
@@ -99,8 +99,8 @@ void read_lane_predictors(ByteReader* in, const std::vector<AttrSpec>& specs, si
 
 void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrSpec>& specs,
                        const uint8_t* valid, size_t frames, size_t points, size_t width,
-                       std::vector<std::vector<uint8_t>>* out, const std::string& what, bool v6,
-                       bool v7, const int32_t* q) {
+                       std::vector<std::vector<uint8_t>>* out, const std::string& what,
+                       const int32_t* q) {
   ByteReader r(data, size, what);
   const size_t n = frames * points;
   const size_t W = width ? width : std::max<size_t>(points, 1);
@@ -112,7 +112,7 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
     const AttrSpec& s = specs[a];
     const std::string awhat = what + " field " + s.name;
     const uint8_t t = r.u8();
-    if (t > (v6 ? 5 : 3) || (t == 1 && (s.size != 4 || s.count != 1)))
+    if (t > 5 || (t == 1 && (s.size != 4 || s.count != 1)))
       fail(ErrorCode::kCorrupt, awhat, "bad transform " + std::to_string(t));
     const size_t bpp = static_cast<size_t>(s.size) * static_cast<size_t>(s.count);
     std::vector<uint8_t>& bytes = (*out)[a];
@@ -124,7 +124,7 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
     const size_t lanes = lane_count(s, colour);
     std::vector<int> pred(lanes);
     std::vector<std::array<UnitRef, 2>> refs(lanes);
-    read_lane_predictors(&r, specs, a, colour, v6, v7, q != nullptr, awhat, &pred, &refs);
+    read_lane_predictors(&r, specs, a, colour, q != nullptr, awhat, &pred, &refs);
     const uint64_t m = r.count(1, "block size");
     if (n != 0 && lanes > kMaxSymbolsPerByte * m / n)
       fail(ErrorCode::kCorrupt, awhat, "field larger than its block can hold");

@@ -116,11 +116,10 @@ uint64_t unit_cost(Lane& l, const std::vector<AttrSpec>& specs,
 }
 
 // One attribute, predictively (transforms 0 and 1): transform, predictors, size, block.
-// v6: a 6.x stream (predictor 9 allowed).
 std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
                                        const std::vector<std::vector<uint8_t>>& data, size_t a,
                                        const uint8_t* valid, bool gaps, const uint32_t* near,
-                                       size_t frames, size_t points, size_t W, bool v6) {
+                                       size_t frames, size_t points, size_t W) {
   const AttrSpec& s = specs[a];
   const std::vector<uint8_t>& bytes = data[a];
   const size_t n = frames * points;
@@ -135,7 +134,7 @@ std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
     uint64_t cost = 0;
     int pred = choose_predictor(l, valid, gaps, near, frames, points, W, &cost);
     UnitRef refs[2];
-    if (v6 && !colour && unit_candidate(specs, a, j, refs)) {
+    if (!colour && unit_candidate(specs, a, j, refs)) {
       const uint64_t u = unit_cost(l, specs, data, refs);
       if (u < cost || (u == cost && pred > kUnitPredictor)) pred = kUnitPredictor;
     }
@@ -200,14 +199,14 @@ bool has_unit_candidate(const std::vector<AttrSpec>& specs) {
 std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
                                        const std::vector<std::vector<uint8_t>>& data,
                                        const uint8_t* valid, size_t frames, size_t points,
-                                       size_t width, bool v6, bool v7, const int32_t* q) {
+                                       size_t width, const int32_t* q) {
   const size_t n = frames * points;
   const size_t W = width ? width : std::max<size_t>(points, 1);
   const bool gaps = valid && std::find(valid, valid + n, 0) != valid + n;
   // 7.3: the neighbours, found once for every lane (under a mask all set when there is none).
   std::vector<uint8_t> all_valid;
   std::vector<uint32_t> near;
-  if (v7 && q && points > 1) {
+  if (q && points > 1) {
     if (!valid) all_valid.assign(n, 1);
     valid = valid ? valid : all_valid.data();
     near = nearest_points(q, valid, frames, points);
@@ -220,17 +219,17 @@ std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
       fail(ErrorCode::kInternal, "attributes",
            "field " + s.name + " does not hold frames x points values");
     std::vector<uint8_t> best = encode_predictive(
-        specs, data, a, valid, gaps, near.empty() ? nullptr : near.data(), frames, points, W, v6);
+        specs, data, a, valid, gaps, near.empty() ? nullptr : near.data(), frames, points, W);
     // LZMA of the byte planes (2) and, for elements of several bytes, of the bytes as they are
-    // (3); in a 6.x window with gaps and valid points, the same of the valid points' values
-    // with the gap points' values apart (4, 5; FORMAT.md 13.7): the smallest wins.
+    // (3); in a window with gaps and valid points, the same of the valid points' values with
+    // the gap points' values apart (4, 5; FORMAT.md 6.2): the smallest wins.
     const size_t size = static_cast<size_t>(s.size);
     std::vector<uint8_t> at_valid, at_gaps;
     // An unorganized cloud's window with predictors 10 and 11 (FORMAT.md 13.5) skips transforms
     // 4 and 5: measured on the LiDAR sequences of docs/BENCHMARKS.md, they then won on one of
     // five (by 1 % of the fields' bytes) for a third of the encode time.
     const bool unorganized_near = !near.empty() && W >= points;
-    if (v6 && gaps && !unorganized_near &&
+    if (gaps && !unorganized_near &&
         std::any_of(valid, valid + n, [](uint8_t v) { return v != 0; }))
       split_by_mask(data[a], valid, n, size * static_cast<size_t>(s.count), &at_valid, &at_gaps);
     const uint8_t last = !at_valid.empty() ? (size > 1 ? 5 : 4) : (size > 1 ? 3 : 2);

@@ -37,8 +37,8 @@ bool residuals_on_grid(const std::vector<float>& residual, const std::vector<uin
 
 std::vector<uint8_t> encode_c3d_words(const float* residual, const uint8_t* camera,
                                       const uint8_t* valid, size_t count, size_t points,
-                                      double point_scale, bool on_grid, bool frame_flags) {
-  IntEncoder enc(frame_flags ? 4 : 3);
+                                      double point_scale, bool on_grid) {
+  IntEncoder enc(4);
   IntEncoder::Cursor c = enc.cursor();  // in registers for the loop (entropy.h)
   std::vector<int32_t> prev(points, 0), prev_d(points, 0), v(points);
   std::vector<uint8_t> prev_cam(points, 0);
@@ -52,12 +52,10 @@ std::vector<uint8_t> encode_c3d_words(const float* residual, const uint8_t* came
                         : prev[p];
       repeat = repeat && v[p] == prev[p] && camera[i] == prev_cam[p];
     }
-    if (frame_flags) {
-      c.put(repeat ? 1 : 0, 3);
-      if (repeat) {
-        std::fill(prev_d.begin(), prev_d.begin() + static_cast<std::ptrdiff_t>(n), 0);
-        continue;
-      }
+    c.put(repeat ? 1 : 0, 3);
+    if (repeat) {
+      std::fill(prev_d.begin(), prev_d.begin() + static_cast<std::ptrdiff_t>(n), 0);
+      continue;
     }
     for (size_t p = 0, i = i0; p < n; ++p, ++i) {
       const int32_t d = wrap_sub(v[p], prev[p]);
@@ -70,7 +68,7 @@ std::vector<uint8_t> encode_c3d_words(const float* residual, const uint8_t* came
   }
   enc.commit(c);
   ByteWriter w;
-  w.u8(static_cast<uint8_t>((on_grid ? 0 : 1) | (frame_flags ? 2 : 0)));
+  w.u8(static_cast<uint8_t>(on_grid ? 2 : 3));
   w.bytes(enc.finish());
   return std::move(w.buffer());
 }
@@ -80,34 +78,33 @@ void decode_c3d_words(const uint8_t* data, size_t size, const uint8_t* valid, si
                       const std::string& what) {
   ByteReader r(data, size, what);
   const uint8_t mode = r.u8();
-  if (mode > 3)
-    fail(ErrorCode::kCorrupt, what,
-         "unknown residual mode " + std::to_string(mode) + " (written by a newer capz?)");
-  const bool bits = (mode & 1) != 0, frame_flags = mode >= 2;
-  // A frame flag codes a whole frame; without flags every sample costs at least one symbol.
-  const size_t symbols = frame_flags && points > 0 ? (count + points - 1) / points : count;
+  // Format 1.0 has modes 2 (residuals on the grid) and 3 (their float bits), each with a repeat
+  // flag per frame.
+  if (mode < 2 || mode > 3)
+    fail(ErrorCode::kCorrupt, what, "unknown residual mode " + std::to_string(mode));
+  const bool bits = mode == 3;
+  // A frame flag codes a whole frame.
+  const size_t symbols = points > 0 ? (count + points - 1) / points : count;
   if (symbols > kMaxSymbolsPerByte * r.remaining())
     fail(ErrorCode::kCorrupt, what, "sample words cannot fit in the chunk");
-  IntDecoder dec(data + 1, size - 1, frame_flags ? 4 : 3, what);
+  IntDecoder dec(data + 1, size - 1, 4, what);
   IntDecoder::Cursor c = dec.cursor();  // in registers for the loop (entropy.h)
   std::vector<int32_t> prev(points, 0), prev_d(points, 0);
   std::vector<uint8_t> prev_cam(points, 0);
   for (size_t i0 = 0; i0 < count; i0 += points) {  // frame by frame: p = i % points
     const size_t n = std::min(points, count - i0);
     int tok;
-    if (frame_flags) {
-      const uint32_t flag = c.get(3, &tok);
-      if (flag > 1) fail(ErrorCode::kCorrupt, what, "frame repeat flag out of range");
-      if (flag == 1) {
-        for (size_t p = 0, i = i0; p < n; ++p, ++i) {
-          prev_d[p] = 0;
-          residual[i] = bits       ? ordered_to_float(prev[p])
-                        : valid[i] ? residual_from_grid(prev[p], point_scale)
-                                   : -1.0f;
-          camera[i] = prev_cam[p];
-        }
-        continue;
+    const uint32_t flag = c.get(3, &tok);
+    if (flag > 1) fail(ErrorCode::kCorrupt, what, "frame repeat flag out of range");
+    if (flag == 1) {
+      for (size_t p = 0, i = i0; p < n; ++p, ++i) {
+        prev_d[p] = 0;
+        residual[i] = bits       ? ordered_to_float(prev[p])
+                      : valid[i] ? residual_from_grid(prev[p], point_scale)
+                                 : -1.0f;
+        camera[i] = prev_cam[p];
       }
+      continue;
     }
     for (size_t p = 0, i = i0; p < n; ++p, ++i) {
       int32_t d = c.get_signed(prev_d[p] == 0 ? 1 : 0, &tok);

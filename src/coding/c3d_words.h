@@ -11,12 +11,11 @@ namespace capz {
 
 // C3D residual (file units) and camera bytes of a window, frames x points each (3.5), with the
 // window's gap mask `valid` (1 = valid). residual_on_grid (from residuals_on_grid()): every valid
-// sample's residual is float32(k * point_scale) exactly and every gap's is -1 (mode 0).
-// frame_flags: a repeat flag per frame (modes 2 and 3, since 3.1); false writes the 3.0 modes.
+// sample's residual is float32(k * point_scale) exactly and every gap's is -1 (mode 2, else
+// mode 3). Each frame has a repeat flag.
 std::vector<uint8_t> encode_c3d_words(const float* residual, const uint8_t* camera,
                                       const uint8_t* valid, size_t count, size_t points,
-                                      double point_scale, bool residual_on_grid,
-                                      bool frame_flags = true);
+                                      double point_scale, bool residual_on_grid);
 void decode_c3d_words(const uint8_t* data, size_t size, const uint8_t* valid, size_t count,
                       size_t points, double point_scale, float* residual, uint8_t* camera,
                       const std::string& what);

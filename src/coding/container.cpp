@@ -15,15 +15,13 @@ std::string chunk_what(const std::string& name, const Chunk& c) {
          std::to_string(c.offset);
 }
 
-void write_file_header(std::vector<uint8_t>* out, FormatVersion v) {
+void write_file_header(std::vector<uint8_t>* out) {
   out->insert(out->end(), kCapzMagic, kCapzMagic + 9);
-  out->push_back(static_cast<uint8_t>(v.major));
-  out->push_back(static_cast<uint8_t>(v.minor));
-  if (v.major >= 4) {
-    ByteWriter w;
-    w.u32(crc32c(out->data() + out->size() - kFileHeaderBytes, kFileHeaderBytes));
-    out->insert(out->end(), w.buffer().begin(), w.buffer().end());
-  }
+  out->push_back(kCapzMajor);
+  out->push_back(kCapzMinor);
+  ByteWriter w;
+  w.u32(crc32c(out->data() + out->size() - 11, 11));
+  out->insert(out->end(), w.buffer().begin(), w.buffer().end());
 }
 
 void append_chunk(std::vector<uint8_t>* out, const char type[4],
@@ -43,30 +41,64 @@ void append_chunk(std::vector<uint8_t>* out, const char type[4],
   out->insert(out->end(), t.buffer().begin(), t.buffer().end());
 }
 
-int check_file_header(const uint8_t* data, size_t size, const std::string& name) {
+namespace {
+
+// A stream of capz 0.1.0 or earlier (FORMAT.md 2): refused, with how to upgrade it.
+[[noreturn]] void refuse_prerelease(const uint8_t* data, size_t size, const std::string& name) {
+  const std::string version =
+      size >= 11 ? " (format " + std::to_string(data[9]) + "." + std::to_string(data[10]) + ")"
+                 : "";
+  fail(ErrorCode::kUnsupportedVersion, name,
+       "a pre-release capz stream" + version + "; this capz reads format " +
+           std::to_string(kFormatNewestRead.major) +
+           ".x: decompress it with capz 0.1.0 (git tag v0.1.0) and compress it again (see "
+           "CHANGELOG.md)");
+}
+
+}  // namespace
+
+StreamFeatures check_file_header(const uint8_t* data, size_t size, const std::string& name) {
+  if (size >= 9 && std::memcmp(data, kPrereleaseMagic, 9) == 0) refuse_prerelease(data, size, name);
   if (size < 9 || std::memcmp(data, kCapzMagic, 9) != 0) {
-    if (size >= 5 && std::memcmp(data + 1, "capz", 4) == 0)
+    if (size >= 5 &&
+        (std::memcmp(data + 1, "CAPZ", 4) == 0 || std::memcmp(data + 1, "capz", 4) == 0))
       fail(ErrorCode::kCorrupt, name, "damaged .capz magic (a text-mode transfer?)");
     fail(ErrorCode::kNotOurFormat, name, "not a .capz file (wrong magic)");
   }
-  if (size < kFileHeaderBytes) fail(ErrorCode::kCorrupt, name, "truncated before the version");
-  // From 4.0 on the version bytes carry a CRC of their own, so a flipped major or minor byte is
-  // caught here, not later by chunks that fail to decode. A major above every one known is
-  // checked the same way: later versions keep this header.
-  if (data[9] >= 4) {
-    if (size < file_header_bytes(data[9]))
-      fail(ErrorCode::kCorrupt, name, "truncated in the file header");
-    if (crc32c(data, kFileHeaderBytes) != load_le32(data + kFileHeaderBytes))
-      fail(ErrorCode::kCorrupt, name,
-           "damaged file header: the version bytes (" + std::to_string(data[9]) + "." +
-               std::to_string(data[10]) + ") fail their CRC");
-  }
+  // The version bytes carry a CRC of their own, so a flipped major or minor byte is caught here,
+  // not later by chunks that fail to decode. Every later version keeps this header.
+  if (size < kFileHeaderBytes) fail(ErrorCode::kCorrupt, name, "truncated in the file header");
+  if (crc32c(data, 11) != load_le32(data + 11))
+    fail(ErrorCode::kCorrupt, name,
+         "damaged file header: the version bytes (" + std::to_string(data[9]) + "." +
+             std::to_string(data[10]) + ") fail their CRC");
   if (data[9] > kFormatNewestRead.major)
     fail(ErrorCode::kUnsupportedVersion, name,
          "format version " + std::to_string(data[9]) + "." + std::to_string(data[10]) +
              " is newer than this capz reads (" + std::to_string(kFormatNewestRead.major) + ".x)");
-  if (data[9] < 1) fail(ErrorCode::kCorrupt, name, "format major version 0 does not exist");
-  return data[10];
+  if (data[9] < kFormatNewestRead.major)
+    fail(ErrorCode::kCorrupt, name,
+         "format major version " + std::to_string(data[9]) + " does not exist");
+  StreamFeatures f;
+  f.minor = data[10];
+  return f;
+}
+
+bool known_chunk(const std::string& type) {
+  static const char* const kTypes[] = {"HEAD", "META", "INDX", "POSW", "MASK", "C3DW",
+                                       "ANLG", "ROTW", "ATTR", "HASH", "C3DR", "TRCR",
+                                       "PCDR", "C3DP", "TRCP", "PCDP"};
+  for (const char* t : kTypes)
+    if (type == t) return true;
+  return false;
+}
+
+void check_chunk_known(const Chunk& c, const StreamFeatures& f, const std::string& name) {
+  if (known_chunk(c.type) || (!c.type.empty() && c.type[0] >= 'a' && c.type[0] <= 'z')) return;
+  fail(ErrorCode::kUnsupportedVersion, name,
+       "chunk " + c.type + " of format " + f.version() + " is not known to this decoder (reads " +
+           std::to_string(kFormatNewestRead.major) + "." + std::to_string(kFormatNewestRead.minor) +
+           "), at byte " + std::to_string(c.offset));
 }
 
 Chunk read_chunk(const uint8_t* data, size_t size, size_t offset, const std::string& name,
@@ -123,7 +155,7 @@ std::vector<uint8_t> encode_header(const StreamHeader& h) {
   return std::move(w.buffer());
 }
 
-StreamHeader decode_header(const Chunk& c, const std::string& name) {
+StreamHeader decode_header(const Chunk& c, const std::string& name, const StreamFeatures& f) {
   const std::string what = chunk_what(name, c);
   ByteReader r(c.payload, c.size, what);
   StreamHeader h;
@@ -143,7 +175,11 @@ StreamHeader decode_header(const Chunk& c, const std::string& name) {
     fail(ErrorCode::kCorrupt, what,
          "window of " + std::to_string(h.window_frames) + " frames (1.." +
              std::to_string(kMaxWindowFrames) + ")");
-  if (flags > 7) fail(ErrorCode::kCorrupt, what, "unknown flag bits " + std::to_string(flags));
+  for (int bit = 3; bit < 8; ++bit)  // FORMAT.md 2: a flag a later minor version adds
+    if (flags >> bit & 1)
+      fail(ErrorCode::kUnsupportedVersion, what,
+           "feature bit " + std::to_string(bit) + " of format " + f.version() +
+               " is not known to this decoder");
   h.transform_output = (flags & 2) != 0;
   if (h.transform_output) {  // FORMAT.md 4.3: the transform's reconstruction is the output
     h.kg_target = r.f64();
@@ -171,12 +207,7 @@ StreamHeader decode_header(const Chunk& c, const std::string& name) {
   return h;
 }
 
-size_t analog_values_per_byte(int major) {
-  return major >= 4 ? size_t{1} << 18 : kMaxSymbolsPerByte;
-}
-
-void check_header_fits(const StreamHeader& h, size_t file_size, int major,
-                       const std::string& name) {
+void check_header_fits(const StreamHeader& h, size_t file_size, const std::string& name) {
   const size_t windows = h.windows();
   if (windows > file_size / kChunkOverhead)
     fail(ErrorCode::kCorrupt, name,
@@ -190,8 +221,7 @@ void check_header_fits(const StreamHeader& h, size_t file_size, int major,
   const double rotations =
       frames * at_least_1(h.rotation_samples_per_frame) * h.rotation_segments * 17;
   if (samples > static_cast<double>(file_size) * kMaxSymbolsPerByte ||
-      analog >
-          static_cast<double>(file_size) * static_cast<double>(analog_values_per_byte(major)) ||
+      analog > static_cast<double>(file_size) * static_cast<double>(kMaxAnalogValuesPerByte) ||
       rotations > static_cast<double>(file_size) * kMaxSymbolsPerByte)
     fail(ErrorCode::kCorrupt, name, "HEAD claims more samples than the file can hold");
 }

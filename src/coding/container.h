@@ -10,22 +10,21 @@
 #include "capz/take.h"
 #include "capz/version.h"
 #include "coding/quantiser.h"
+#include "coding/stream_features.h"
 
 namespace capz {
 
-constexpr uint8_t kCapzMagic[9] = {0x89, 'c', 'a', 'p', 'z', 0x0D, 0x0A, 0x1A, 0x0A};
-constexpr uint8_t kCapzMajor = kFormatWritten.major;  // capz/version.h; docs/FORMAT.md 17:
-constexpr uint8_t kCapzMinor = kFormatWritten.minor;  // what each version added
-constexpr size_t kFileHeaderBytes = 11;               // magic + major + minor (1.x - 3.x)
-// Bytes of the file header of a stream of major version `major` (FORMAT.md 3): magic, major,
-// minor, and from 4.0 on a u32 CRC-32C of those 11 bytes.
-inline size_t file_header_bytes(int major) {
-  return major >= 4 ? kFileHeaderBytes + 4 : kFileHeaderBytes;
-}
-constexpr size_t kChunkOverhead = 12;  // type + length + crc
+// Format 1.x (FORMAT.md 2): "\x89CAPZ\r\n\x1a\n". The pre-release formats 1.0-9.3 (capz 0.1.0
+// and earlier) began with "\x89capz\r\n\x1a\n"; such a stream is refused (kUnsupportedVersion).
+constexpr uint8_t kCapzMagic[9] = {0x89, 'C', 'A', 'P', 'Z', 0x0D, 0x0A, 0x1A, 0x0A};
+constexpr uint8_t kPrereleaseMagic[9] = {0x89, 'c', 'a', 'p', 'z', 0x0D, 0x0A, 0x1A, 0x0A};
+constexpr uint8_t kCapzMajor = kFormatWritten.major;  // capz/version.h
+constexpr uint8_t kCapzMinor = kFormatWritten.minor;
+constexpr size_t kFileHeaderBytes = 15;  // magic, major, minor, CRC-32C of those 11 bytes
+constexpr size_t kChunkOverhead = 12;    // type + length + crc
 
-// Appends magic and version `v` (and from 4.0 on the version's CRC).
-void write_file_header(std::vector<uint8_t>* out, FormatVersion v = kFormatWritten);
+// Appends the file header of a stream of the written format (kCapzMajor.kCapzMinor).
+void write_file_header(std::vector<uint8_t>* out);
 // Appends one chunk: type (4 ASCII bytes), u32 length, payload, CRC-32C of type + payload.
 void append_chunk(std::vector<uint8_t>* out, const char type[4],
                   const std::vector<uint8_t>& payload);
@@ -40,10 +39,16 @@ struct Chunk {
 // "NAME: chunk TYPE at byte OFFSET", the start of an error message about chunk c of stream NAME.
 std::string chunk_what(const std::string& name, const Chunk& c);
 
-// Checks magic (kNotOurFormat), from 4.0 on the header's CRC (kCorrupt), and version
-// (kUnsupportedVersion); returns the minor version. The header is file_header_bytes(data[9])
-// long.
-int check_file_header(const uint8_t* data, size_t size, const std::string& name);
+// Checks magic (kNotOurFormat; a pre-release stream kUnsupportedVersion with how to upgrade it),
+// the header's CRC (kCorrupt) and version (kUnsupportedVersion for a major other than 1); returns
+// the stream's features. `size` bytes are at `data` (kFileHeaderBytes make the header).
+StreamFeatures check_file_header(const uint8_t* data, size_t size, const std::string& name);
+// Throws kUnsupportedVersion unless a decoder of this format knows chunk c's type or may skip it
+// (FORMAT.md 2: a type whose first letter is lower case is ancillary), naming stream `name`, the
+// chunk, the stream's version and its offset.
+void check_chunk_known(const Chunk& c, const StreamFeatures& f, const std::string& name);
+// Whether `type` is a chunk type of format 1.0.
+bool known_chunk(const std::string& type);
 // Reads the chunk at `offset`: framing and CRC checked (kCorrupt naming the chunk and offset).
 // `data` holds the stream's bytes from offset `base` on (base <= offset), `size` is where they
 // end: the bytes of the chunk at `offset` must be there (its first 8 suffice when its length
@@ -78,18 +83,18 @@ struct StreamHeader {
   }
 };
 constexpr uint32_t kMaxWindowFrames = 8192;
-// Most analog values a coded byte may stand for, in a stream of major version `major`: the
-// format 1-3 coder spends at least a token per value (kMaxSymbolsPerByte); the 4.x coder codes a
-// constant channel of a whole window in a few bytes (FORMAT.md 3.6), so its cap is 2^18.
-size_t analog_values_per_byte(int major);  // HEAD window_frames is 1..this (FORMAT.md 4.1)
+// Most analog values a coded byte may stand for: the analog coder codes a constant channel of a
+// whole window in a few bytes (FORMAT.md ANLG), so the cap is 2^18.
+constexpr size_t kMaxAnalogValuesPerByte = size_t{1} << 18;
 std::vector<uint8_t> encode_header(const StreamHeader& h);
-StreamHeader decode_header(const Chunk& c, const std::string& name);
+// f: the stream's features (a HEAD flag bit that 1.0 does not define is kUnsupportedVersion).
+StreamHeader decode_header(const Chunk& c, const std::string& name, const StreamFeatures& f = {});
 // Throws kCorrupt unless a file of `file_size` bytes can hold what `h` claims: one chunk per
 // window at least, and no more coded values (samples, analog values) than
 // kMaxSymbolsPerByte per byte. Frames are then at most file_size / kChunkOverhead *
 // kMaxWindowFrames, so everything sized per frame (decode_meta's TRC/PCD lists) is bounded by
 // the file. Call it before decode_meta.
-void check_header_fits(const StreamHeader& h, size_t file_size, int major, const std::string& name);
+void check_header_fits(const StreamHeader& h, size_t file_size, const std::string& name);
 
 struct IndexEntry {
   uint64_t offset = 0;

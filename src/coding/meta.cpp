@@ -332,7 +332,7 @@ void get_pcd_layout(ByteReader* r, const std::string& what, Take* t, PCDExtra* p
 }
 }  // namespace
 
-std::vector<uint8_t> decode_meta_fields(const Chunk& c, const std::string& name, int major) {
+std::vector<uint8_t> decode_meta_fields(const Chunk& c, const std::string& name) {
   const std::string what = chunk_what(name, c);
   ByteReader outer(c.payload, c.size, what);
   const uint8_t coding = outer.u8();
@@ -345,7 +345,7 @@ std::vector<uint8_t> decode_meta_fields(const Chunk& c, const std::string& name,
         decode_bytes(c.payload + outer.offset(), outer.remaining(), static_cast<size_t>(n), what);
   } else if (coding == 0) {
     fields.assign(c.payload + 1, c.payload + c.size);
-  } else if (coding == 2 || (coding == 3 && major >= 8)) {  // FORMAT.md 5.1
+  } else if (coding == 2 || coding == 3) {  // FORMAT.md 5.1, 8.1
     LzmaPreset preset;
     if (coding == 3) {
       const uint8_t number = outer.u8();
@@ -485,10 +485,9 @@ void get_analog_bounds(ByteReader* in, const std::string& what, Analog* a) {
 }
 }  // namespace
 
-void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sample_words,
-                 int major) {
+void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sample_words) {
   const std::string what = chunk_what(name, c);
-  const std::vector<uint8_t> fields = decode_meta_fields(c, name, major);
+  const std::vector<uint8_t> fields = decode_meta_fields(c, name);
   ByteReader r(fields.data(), fields.size(), what);
   t->source = r.str();
   t->units = r.str();

@@ -46,7 +46,7 @@ template <typename T>
 using Scratch = std::vector<T, UninitAllocator<T>>;
 
 // What the estimate conditions a residual on, per point, axis and predictor: the previous token
-// of the same axis (capped at 3). (Conditioning on scheme 3's zero-run phase as well changed
+// of the same axis (capped at 3). (Conditioning on the contexts' zero-run phase as well changed
 // the chosen predictors' coded sizes by under 0.5% and cost about a fifth of the encode time.)
 struct PrevState {
   static constexpr int kContexts = 4;
@@ -514,16 +514,15 @@ void frame0_share(const WindowInts& w, const int32_t* t, ResidualContexts& ctx,
   }
 }
 
-// Predictors 0-2, with scheme 3 also smooth (7) and, when the window repeats with a period, 8
-// and 9: each point's cheapest into best[p] / c->modes[p]. q: the window's integers, gaps
-// filled.
+// Predictors 0-2, smooth (7) and, when the window repeats with a period, 8 and 9: each point's
+// cheapest into best[p] / c->modes[p]. q: the window's integers, gaps filled.
 void choose_temporal(const WindowInts& w, const std::vector<int32_t>& q, const PointMajor& pm,
-                     const std::vector<TokenHist>& first, int scheme, std::vector<uint64_t>* best,
+                     const std::vector<TokenHist>& first, std::vector<uint64_t>* best,
                      ModeChoice* c) {
   const size_t F = w.frames, N = w.points;
-  if (scheme >= 3) c->period = find_period(q.data(), w.valid.data(), F, N);
+  c->period = find_period(q.data(), w.valid.data(), F, N);
   const size_t period = c->period;
-  const int nm = scheme < 3 ? 3 : period ? 6 : 4;
+  const int nm = period ? 6 : 4;
   static constexpr uint8_t kIds[6] = {kPredPrevious, kPredLinear, kPredQuadratic,
                                       kPredSmooth,   kPredPeriod, kPredPeriodPrevious};
   // Point by point: the point's trajectory per axis is a contiguous array (PointMajor), so
@@ -647,7 +646,7 @@ void choose_references(const WindowInts& w, const std::vector<int32_t>& q, const
 // gaps (windows of 2 frames or more). t: the transform prediction, or nullptr.
 }  // namespace
 
-ModeChoice choose_modes(const WindowInts& w, const int32_t* t, int scheme, ResidualContexts& ctx,
+ModeChoice choose_modes(const WindowInts& w, const int32_t* t, ResidualContexts& ctx,
                         std::vector<int32_t>* q, RayKind ray) {
   const size_t F = w.frames, N = w.points;
   ModeChoice c;
@@ -662,12 +661,12 @@ ModeChoice choose_modes(const WindowInts& w, const int32_t* t, int scheme, Resid
   frame0_share(w, t, ctx, q, &first);
   const PointMajor pm(q->data(), w.valid.data(), F, N);
   Scratch<int32_t> e[2];
-  const bool refs = scheme >= 2 && F > 2 && N > 1;
+  const bool refs = F > 2 && N > 1;
   if (refs) base_residuals(pm, F, N, e);
-  choose_temporal(w, *q, pm, first, scheme, &best, &c);
+  choose_temporal(w, *q, pm, first, &best, &c);
   if (t) choose_transform(w, *q, t, ctx, &best, &c);
   if (refs) choose_references(w, *q, pm, e, first, &best, &c);
-  if (ray != RayKind::kNone && scheme >= 3) choose_ray(w, pm, first, ray, &best, &c);
+  if (ray != RayKind::kNone) choose_ray(w, pm, first, ray, &best, &c);
   return c;
 }
 

@@ -21,9 +21,8 @@ struct ModeChoice {
 };
 
 // Chooses every point's predictor for window w (t: the transform's prediction, or nullptr),
-// with the residual contexts of `scheme`, predictor 10 a candidate unless `ray` is kNone;
-// fills q's gap entries as the walks will.
-ModeChoice choose_modes(const WindowInts& w, const int32_t* t, int scheme, ResidualContexts& ctx,
+// predictor 10 a candidate unless `ray` is kNone; fills q's gap entries as the walks will.
+ModeChoice choose_modes(const WindowInts& w, const int32_t* t, ResidualContexts& ctx,
                         std::vector<int32_t>* q, RayKind ray = RayKind::kNone);
 
 }  // namespace capz

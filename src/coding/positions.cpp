@@ -39,17 +39,17 @@ std::vector<uint8_t> write_positions(const std::vector<uint8_t>& codec_payload, 
 
 std::vector<uint8_t> encode_positions(const WindowInts& w,
                                       const std::vector<uint8_t>& codec_payload,
-                                      const std::vector<int32_t>& tpred, bool float64, int scheme,
+                                      const std::vector<int32_t>& tpred, bool float64,
                                       RayKind ray) {
   const size_t F = w.frames, N = w.points;
   std::vector<int32_t> q = w.q;  // gap entries get filled by the walks
-  ResidualContexts ctx(scheme, N);
+  ResidualContexts ctx(N);
   const int32_t* t = tpred.empty() ? nullptr : tpred.data();
-  if (float64 || scheme < 3) ray = RayKind::kNone;  // 7.1: scheme 3, not in mode 3
-  const ModeChoice c = choose_modes(w, t, scheme, ctx, &q, ray);
+  if (float64) ray = RayKind::kNone;  // 7.1: not in mode 3
+  const ModeChoice c = choose_modes(w, t, ctx, &q, ray);
   ctx.reset();
-  IntEncoder enc(ResidualContexts::count(scheme));
-  if (scheme >= 2) enc.skew_contexts();
+  IntEncoder enc(ResidualContexts::kCount);
+  enc.skew_contexts();
   if (ray != RayKind::kNone) {
     encode_walk_ray(F, N, w.valid.data(), c.modes.data(), c.ref.data(), t, q.data(), ctx, enc,
                     c.period, ray);
@@ -71,12 +71,12 @@ PositionsPayload split_positions(const uint8_t* data, size_t size, const std::st
   return pp;
 }
 
-std::vector<uint8_t> decode_modes(const PositionsPayload& pp, size_t points, int scheme,
+std::vector<uint8_t> decode_modes(const PositionsPayload& pp, size_t points,
                                   const std::string& what, RayKind ray) {
   std::vector<int32_t> m = decode_ints(pp.modes, pp.modes_size, points, what + " predictors");
   std::vector<uint8_t> modes(points);
   for (size_t p = 0; p < points; ++p) {
-    if (m[p] < 0 || m[p] >= predictor_count(scheme, ray))
+    if (m[p] < 0 || m[p] >= predictor_count(ray))
       fail(ErrorCode::kCorrupt, what, "unknown predictor " + std::to_string(m[p]));
     if (p == 0 && uses_ref(m[p]))
       fail(ErrorCode::kCorrupt, what, "point 0 uses a reference predictor");
@@ -86,10 +86,10 @@ std::vector<uint8_t> decode_modes(const PositionsPayload& pp, size_t points, int
 }
 
 void decode_positions(const PositionsPayload& pp, const std::vector<int32_t>& tpred, bool float64,
-                      int scheme, WindowInts* w, const std::string& what, RayKind ray) {
+                      WindowInts* w, const std::string& what, RayKind ray) {
   const size_t F = w->frames, N = w->points;
-  if (float64 || scheme < 3) ray = RayKind::kNone;  // 7.1: scheme 3, not in mode 3
-  std::vector<uint8_t> modes = decode_modes(pp, N, scheme, what, ray);
+  if (float64) ray = RayKind::kNone;  // 7.1: not in mode 3
+  std::vector<uint8_t> modes = decode_modes(pp, N, what, ray);
   size_t nref = 0;
   bool any_period = false;
   for (uint8_t m : modes) {
@@ -126,9 +126,9 @@ void decode_positions(const PositionsPayload& pp, const std::vector<int32_t>& tp
   const uint8_t* res = r.bytes(res_size);
   w->q.assign(F * N * 3, 0);
   if (float64) w->lo.assign(F * N * 3, 0);
-  ResidualContexts ctx(scheme, N);
-  IntDecoder dec(res, res_size, ResidualContexts::count(scheme), what + " residuals");
-  if (scheme >= 2) dec.skew_contexts();
+  ResidualContexts ctx(N);
+  IntDecoder dec(res, res_size, ResidualContexts::kCount, what + " residuals");
+  dec.skew_contexts();
   const int32_t* t = tpred.empty() ? nullptr : tpred.data();
   if (ray != RayKind::kNone) {
     decode_walk_ray(F, N, w->valid.data(), modes.data(), ref.data(), t, w->q.data(), ctx, dec,

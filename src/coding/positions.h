@@ -25,20 +25,12 @@ struct WindowInts {
 // POSW payload after the window index and has_mask byte: codec bytes, modes, residuals.
 // `codec_payload` is what the transform codec wrote (empty if none), `tpred` its prediction on
 // the grid (frames x points x 3, empty if none).
-// `scheme` is the coding generation (FORMAT.md 8): 3 (format 3.x: smooth and period
-// predictors, 448 residual contexts), what capz writes; 2 (format 2.x: reference predictors, 84
-// contexts) and 1 (format 1.x) for reading old streams and for their tests.
-constexpr int kPositionScheme = 3;
-// The scheme of a stream of format major version `major`.
-inline int position_scheme(int major) {
-  return major >= 3 ? 3 : major == 2 ? 2 : 1;
-}
-// `ray`: whether (and on what integers) predictor 10 may be chosen (FORMAT.md 8.3; kNone but
-// in a 7.x stream of mode 0, 1, 2 or 4 whose take the scan found on rays).
+// `ray`: whether (and on what integers) predictor 10 may be chosen (FORMAT.md 7.1; kNone but
+// in a stream of mode 0, 1, 2 or 4 whose take the encoder's scan found on rays).
 std::vector<uint8_t> encode_positions(const WindowInts& w,
                                       const std::vector<uint8_t>& codec_payload,
                                       const std::vector<int32_t>& tpred, bool float64,
-                                      int scheme = kPositionScheme, RayKind ray = RayKind::kNone);
+                                      RayKind ray = RayKind::kNone);
 // Parses what encode_positions wrote from `r`'s current position to the end of the payload.
 // `codec_payload` receives the codec bytes; `make_tpred` is called with them to produce the
 // transform prediction when any point's predictor needs it (it throws if there is no codec).
@@ -52,13 +44,11 @@ struct PositionsPayload {
 };
 PositionsPayload split_positions(const uint8_t* data, size_t size, const std::string& what);
 // Decodes into w (frames, points, valid set by the caller). tpred may be empty if no codec.
-// `scheme`: position_scheme(major) of the stream; `ray`: ray_kind(major, mode) (predictor 10
-// is corrupt where it is kNone).
+// `ray`: ray_kind(mode) of the stream (predictor 10 is corrupt where it is kNone).
 void decode_positions(const PositionsPayload& pp, const std::vector<int32_t>& tpred, bool float64,
-                      int scheme, WindowInts* w, const std::string& what,
-                      RayKind ray = RayKind::kNone);
+                      WindowInts* w, const std::string& what, RayKind ray = RayKind::kNone);
 // Predictor modes of a payload.
-std::vector<uint8_t> decode_modes(const PositionsPayload& pp, size_t points, int scheme,
+std::vector<uint8_t> decode_modes(const PositionsPayload& pp, size_t points,
                                   const std::string& what, RayKind ray = RayKind::kNone);
 
 }  // namespace capz

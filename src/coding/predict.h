@@ -23,32 +23,29 @@ enum Predictor : uint8_t {
   kPredTransformLinear = 4,  // t[f] + linear extrapolation of (q - t)
   kPredRefPrevious = 5,      // q[f-1] + (q[f][r] - q[f-1][r]): reference point r < p's motion
   kPredRefLinear = 6,        // linear(p) + (q[f][r] - linear(r)): r's deviation from linear
-  kPredSmooth = 7,           // least-squares line through the last min(6, f) frames (format 3)
-  kPredPeriod = 8,           // q[f-T], T = the window's period (format 3)
+  kPredSmooth = 7,           // least-squares line through the last min(6, f) frames
+  kPredPeriod = 8,           // q[f-T], T = the window's period
   kPredPeriodPrevious = 9,   // q[f-1] + q[f-T] - q[f-T-1]
-  kPredCount = 10,           // ids of scheme 3
-  kPredRay = 10,             // lead axis q[f-1]; the others along the ray (format 7, 7.1)
+  kPredCount = 10,           // ids without predictor 10
+  kPredRay = 10,             // lead axis q[f-1]; the others along the ray (FORMAT.md 7.1)
 };
 
-// What predictor 10's ray rule reads the integers as (FORMAT.md 8.3): not allowed (a stream of
-// major 6 or lower, or mode 3), the coordinate times a constant (modes 0, 1, 4), or ordered
-// float32 bits (mode 2).
+// What predictor 10's ray rule reads the integers as (FORMAT.md 7.1): not allowed (mode 3), the
+// coordinate times a constant (modes 0, 1, 4), or ordered float32 bits (mode 2).
 enum class RayKind : uint8_t { kNone = 0, kLinear = 1, kFloat32 = 2 };
 
-// How predictor 10 reads a stream's integers: by major version and position mode (FORMAT.md 8.3).
-inline RayKind ray_kind(int major, PosMode mode) {
-  if (major < 7 || mode == PosMode::kFloat64) return RayKind::kNone;
+// How predictor 10 reads a stream's integers, by its position mode.
+inline RayKind ray_kind(PosMode mode) {
+  if (mode == PosMode::kFloat64) return RayKind::kNone;
   return mode == PosMode::kFloat32 ? RayKind::kFloat32 : RayKind::kLinear;
 }
 
-// Predictor ids a stream of position-coding scheme `scheme` may use (FORMAT.md 8), with
-// predictor 10 where `ray` allows it (8.3).
-inline int predictor_count(int scheme, RayKind ray = RayKind::kNone) {
-  if (ray != RayKind::kNone && scheme >= 3) return kPredRay + 1;
-  return scheme >= 3 ? kPredCount : scheme == 2 ? kPredSmooth : kPredRefPrevious;
+// Predictor ids a POSW may use, with predictor 10 where `ray` allows it.
+inline int predictor_count(RayKind ray = RayKind::kNone) {
+  return ray != RayKind::kNone ? kPredRay + 1 : kPredCount;
 }
 // Predictors extrapolating the last two frames' motion: after a step on the grid their next
-// residual tends to undo it, so scheme 3 gives them their own contexts.
+// residual tends to undo it, so they have contexts of their own.
 inline bool extrapolates(int mode) {
   return mode == kPredLinear || mode == kPredQuadratic || mode == kPredTransformLinear ||
          mode == kPredRefLinear;
@@ -173,7 +170,7 @@ __attribute__((always_inline)) inline int32_t predict_one(int mode, size_t f, co
   }
 }
 
-// Scheme 3's refinement of a zero run (FORMAT.md 8.4): 2 h + g by the run z (0..12) and
+// The refinement of a zero run (FORMAT.md 3.3.1): 2 h + g by the run z (0..12) and
 // run = L << 1 | g (L = 0..16), h the phase of z against the previous run length L.
 struct ZeroPhaseTable {
   uint8_t v[13][34];
@@ -190,18 +187,16 @@ constexpr ZeroPhaseTable zero_phase_table() {
 }
 constexpr ZeroPhaseTable kZeroPhase = zero_phase_table();
 
-// Escape sets by context for schemes 1, 2, 3 (FORMAT.md 2.4; see escape_set()): a table, as
-// scheme 3's rule takes a modulo per coded value.
+// Escape sets by context (FORMAT.md 1.3): states u = 54, 55 use sets 1, 2 (large previous
+// tokens: float-bit data), the others set 0; a table, as the rule takes a modulo per coded value.
 struct EscapeSetTable {
-  uint8_t by_scheme[3][448];
+  uint8_t set[448];
 };
 constexpr EscapeSetTable escape_set_table() {
   EscapeSetTable t{};
   for (int c = 0; c < 448; ++c) {
-    t.by_scheme[0][c] = 0;
-    t.by_scheme[1][c] = static_cast<uint8_t>(c < 76 ? 0 : c < 80 ? 1 : 2);
     const int u = c % 56;
-    t.by_scheme[2][c] = static_cast<uint8_t>(u < 54 ? 0 : u - 53);
+    t.set[c] = static_cast<uint8_t>(u < 54 ? 0 : u - 53);
   }
   return t;
 }
@@ -209,17 +204,16 @@ constexpr EscapeSetTable kEscapeSetOfContext = escape_set_table();
 
 // Residual contexts of a window (docs/FORMAT.md 8.4). Per point and axis: `ta`, the token of
 // the last residual coded for it in this window, and `z`, the number of zero tokens ending there
-// (capped at 12). Scheme 1 (format 1.x): 32 contexts from ta and tb (the token coded just before
-// in the same frame). Scheme 2 (format 2.x): 84 contexts from ta or the zero run, and tb.
-// Scheme 3 (format 3.x): 448 contexts: a state u (0..55) per point and axis (ta's bucket, or
-// the zero run refined by its phase against the previous run length L and that run's sign g),
-// tb, and whether the point's predictor extrapolates; u is updated once per coded token.
+// (capped at 12). 448 contexts: a state u (0..55) per point and axis (ta's bucket, or the zero
+// run refined by its phase against the previous run length L and that run's sign g), tb (the
+// token coded just before in the same frame), and whether the point's predictor extrapolates; u
+// is updated once per coded token.
 class ResidualContexts {
  public:
-  ResidualContexts(int scheme, size_t points) : scheme_(scheme), st_(points * 3) {}
-  static int count(int scheme) { return scheme == 1 ? 32 : scheme == 2 ? 84 : 448; }
+  explicit ResidualContexts(size_t points) : st_(points * 3) {}
+  static constexpr int kCount = 448;
   struct State {
-    uint8_t ta = 0, z = 0, run = 0, u = 0;  // u: scheme 3's state, from the other three
+    uint8_t ta = 0, z = 0, run = 0, u = 0;  // u: the state, from the other three
   };
 
   // The contexts by raw pointer, trivially copyable (mechanics, not format): the walk works on
@@ -227,27 +221,16 @@ class ResidualContexts {
   // stores might alias its members and force reloads.
   class Cursor {
    public:
-    // Escape model set of a context (1.3): scheme 2 states 18, 19, 20 use sets 0, 1, 2 (large
-    // previous tokens: float-bit data), scheme 3 the same states (u = 53, 54, 55); scheme 1
-    // set 0.
-    int escape_set(int ctx) const { return eset_[ctx]; }
-    // The offset of scheme 3's contexts for a point whose predictor is `mode` (0 otherwise).
-    template <int Scheme>
-    int family_as(int mode) const {
-      return Scheme == 3 && extrapolates(mode) ? 224 : 0;
-    }
+    // Escape model set of a context (1.3).
+    int escape_set(int ctx) const { return kEscapeSetOfContext.set[ctx]; }
+    // The offset of the contexts for a point whose predictor is `mode`.
+    int family(int mode) const { return extrapolates(mode) ? 224 : 0; }
     // Context of axis a of point p (k = 3 p + a, a = k % 3) when tb was coded last in the
-    // frame, `fam` = family_as(the point's predictor); the scheme is fixed at compile time
-    // (walk_window dispatches on scheme() once).
-    template <int Scheme>
-    int context_as(size_t k, int tb, int fam) const {
+    // frame, `fam` = family(the point's predictor).
+    int context(size_t k, int tb, int fam) const {
       const int t = tb < 3 ? tb : 3;
-      const State& s = st_[k];
-      if (Scheme == 3) return fam + 56 * t + s.u;
-      if (Scheme == 1) return std::min<int>(s.ta, 7) * 4 + t;
-      return (s.ta ? kTokBucket[s.ta] : kRunBucket[s.z]) * 4 + t;
+      return fam + 56 * t + st_[k].u;
     }
-    int scheme() const { return scheme_; }
     void update(size_t k, int tok) {
       State& s = st_[k];
       if (tok) {
@@ -265,15 +248,11 @@ class ResidualContexts {
 
    private:
     friend class ResidualContexts;
-    int scheme_ = 0;
     State* st_ = nullptr;
-    const uint8_t* eset_ = nullptr;  // escape set by context (kEscapeSetOfContext)
   };
   Cursor cursor() {
     Cursor c;
-    c.scheme_ = scheme_;
     c.st_ = st_.data();
-    c.eset_ = kEscapeSetOfContext.by_scheme[scheme_ == 1 ? 0 : scheme_ == 2 ? 1 : 2];
     return c;
   }
 
@@ -286,7 +265,6 @@ class ResidualContexts {
       17, 17, 17, 17, 18, 18, 18, 18, 18, 18, 18, 18, 19, 19, 19, 19,  // 16-31
       19, 19, 19, 19, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20,  // 32-47
       20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 20};
-  int scheme_;
   std::vector<State> st_;
 };
 
@@ -325,11 +303,10 @@ inline void with_predictor(int m, Fn&& fn) {
   }
 }
 
-// walk_window with the contexts' scheme fixed at compile time, so the per-value path has no
-// branch on it, and predictor 10 compiled in only where the stream may use it (Ray: its code
-// in the loop would change how the compiler inlines the coder into the walks of other streams;
-// the rule's RayKind is then the coder's `ray`).
-template <int Scheme, bool Ray, typename Coder>
+// walk_window with predictor 10 compiled in only where the stream may use it (Ray: its code in
+// the loop would change how the compiler inlines the coder into the walks of other streams; the
+// rule's RayKind is then the coder's `ray`).
+template <bool Ray, typename Coder>
 void walk_window_as(size_t frames, size_t points, const uint8_t* valid, const uint8_t* modes,
                     const uint32_t* ref, const int32_t* t, int32_t* q, ResidualContexts::Cursor ctx,
                     Coder& coder, size_t period) {
@@ -341,7 +318,7 @@ void walk_window_as(size_t frames, size_t points, const uint8_t* valid, const ui
     for (size_t p = 0; p < points; ++p) {
       const size_t i = f * stride + p * 3;
       const int m = modes[p];
-      const int fam = ctx.family_as<Scheme>(m);
+      const int fam = ctx.family(m);
       const bool transform = m == kPredTransform || m == kPredTransformLinear;
       if (!valid[f * points + p]) {
         for (int a = 0; a < 3; ++a)
@@ -354,13 +331,13 @@ void walk_window_as(size_t frames, size_t points, const uint8_t* valid, const ui
           const RayKind ray = code.ray;
           const int l = ray_lead(ray, c);
           int tok;
-          q[i + l] = code(i + l, c[l], ctx.context_as<Scheme>(p * 3 + l, tb, 0), &tok);
+          q[i + l] = code(i + l, c[l], ctx.context(p * 3 + l, tb, 0), &tok);
           ctx.update(p * 3 + l, tok);
           tb = tok;
           for (int a = 0; a < 3; ++a) {
             if (a == l) continue;
             const int32_t pa = ray_predict(ray, c[a], c[l], q[i + l]);
-            q[i + a] = code(i + a, pa, ctx.context_as<Scheme>(p * 3 + a, tb, 0), &tok);
+            q[i + a] = code(i + a, pa, ctx.context(p * 3 + a, tb, 0), &tok);
             ctx.update(p * 3 + a, tok);
             tb = tok;
           }
@@ -392,7 +369,7 @@ void walk_window_as(size_t frames, size_t points, const uint8_t* valid, const ui
       }
       for (int a = 0; a < 3; ++a) {
         int tok;
-        q[i + a] = code(i + a, pred[a], ctx.context_as<Scheme>(p * 3 + a, tb, fam), &tok);
+        q[i + a] = code(i + a, pred[a], ctx.context(p * 3 + a, tb, fam), &tok);
         ctx.update(p * 3 + a, tok);
         tb = tok;
       }
@@ -412,19 +389,11 @@ template <typename Coder>
 void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8_t* modes,
                  const uint32_t* ref, const int32_t* t, int32_t* q, ResidualContexts& contexts,
                  Coder& coder, size_t period = 0) {
-  const ResidualContexts::Cursor ctx = contexts.cursor();
-  switch (ctx.scheme()) {
-    case 3:
-      return walk_window_as<3, false>(frames, points, valid, modes, ref, t, q, ctx, coder, period);
-    case 2:
-      return walk_window_as<2, false>(frames, points, valid, modes, ref, t, q, ctx, coder, period);
-    default:
-      return walk_window_as<1, false>(frames, points, valid, modes, ref, t, q, ctx, coder, period);
-  }
+  walk_window_as<false>(frames, points, valid, modes, ref, t, q, contexts.cursor(), coder, period);
 }
 
-// walk_window for a scheme-3 stream whose points may use predictor 10, which reads the integers
-// as coder.ray says (FORMAT.md 8.3): from frame 1 on, such a point's lead axis is coded first,
+// walk_window for a stream whose points may use predictor 10, which reads the integers
+// as coder.ray says (FORMAT.md 7.1): from frame 1 on, such a point's lead axis is coded first,
 // then the other two along the ray. Instantiated in its own translation unit
 // (positions_ray.cpp), so that its extra coding sites do not change how the compiler inlines the
 // coder into the walks of every other stream.
@@ -432,8 +401,7 @@ template <typename Coder>
 void walk_window_ray(size_t frames, size_t points, const uint8_t* valid, const uint8_t* modes,
                      const uint32_t* ref, const int32_t* t, int32_t* q, ResidualContexts& contexts,
                      Coder& coder, size_t period) {
-  walk_window_as<3, true>(frames, points, valid, modes, ref, t, q, contexts.cursor(), coder,
-                          period);
+  walk_window_as<true>(frames, points, valid, modes, ref, t, q, contexts.cursor(), coder, period);
 }
 
 }  // namespace capz

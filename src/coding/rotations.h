@@ -1,6 +1,6 @@
 // Lossless coding of one window of rotation samples (Rotations in take.h): the byte layout is
-// docs/FORMAT.md 12. Every float32 comes back bit for bit (NaN payloads, -0.0,
-// denormals, infinities included).
+// docs/FORMAT.md 12 (4.4 and 5.6 for the HEAD and META fields). Every float32 comes back bit for
+// bit (NaN payloads, -0.0, denormals, infinities included).
 //
 // Input shapes (one window of `samples` samples, sample-major as in take.h):
 //   matrices    : samples x segments x 16 float32 (column-major 4x4 per segment)
@@ -14,15 +14,13 @@
 
 namespace capz {
 
-// Element classes: each has its own predictor, contexts and escape models.
+// Element classes of a sample: the rotation part, the translation, the bottom row and the
+// reliability (what the coder's roles refine).
 enum class RotationClass { kRotation = 0, kTranslation = 1, kBottomRow = 2, kReliability = 3 };
 constexpr int kRotationClasses = 4;
 // Class of element k of a sample of one segment: k = 0..15 the matrix (column-major), 16 the
 // reliability.
 RotationClass rotation_class(int k);
-
-// Temporal predictors of one series (an element of one segment over the window's samples).
-enum class RotationPredictor : uint8_t { kNone = 0, kPrevious = 1, kLinear = 2 };
 
 std::vector<uint8_t> encode_rotations(const float* matrices, const float* reliability,
                                       size_t samples, size_t segments);

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
 #include <cstring>
 
 #include "capz/error.h"
@@ -17,6 +18,10 @@ const char* format_name(Format f) {
       return "trc";
     case Format::kPCDFolder:
       return "pcd-folder";
+    case Format::kBinFolder:
+      return "bin-folder";
+    case Format::kPLYFolder:
+      return "ply-folder";
     case Format::kUnknown:
       break;
   }
@@ -129,8 +134,70 @@ const C3DParameter* C3DExtra::param(const std::string& g, const std::string& n) 
 void Take::resize(size_t f, size_t p) {
   frames = f;
   points = p;
+  frame_offsets.clear();
   xyz.assign(f * p * 3, 0.0);
   valid.assign(f * p, 0);
+}
+
+void Take::resize_ragged(const std::vector<size_t>& counts) {
+  frames = counts.size();
+  points = 0;
+  labels.clear();
+  descriptions.clear();
+  frame_offsets = offsets_of_counts(counts);
+  xyz.assign(frame_offsets.back() * 3, 0.0);
+  valid.assign(frame_offsets.back(), 0);
+}
+
+std::string Take::shape_fault() const {
+  if (ragged()) {
+    if (frame_offsets.size() != frames + 1)
+      return "frame offsets (" + std::to_string(frame_offsets.size()) + ") are not frames + 1 (" +
+             std::to_string(frames + 1) + ")";
+    if (frame_offsets[0] != 0) return "the first frame offset is not 0";
+    for (size_t f = 0; f < frames; ++f)
+      if (frame_offsets[f + 1] < frame_offsets[f])
+        return "frame offsets decrease at frame " + std::to_string(f);
+    if (points != 0) return "a ragged take with a point count per frame";
+    if (!labels.empty()) return "a ragged take with point labels";
+  } else if (points != 0 && frames > SIZE_MAX / 3 / points) {
+    return "frames x points overflows";
+  }
+  const size_t n = total_points();
+  if (xyz.size() / 3 != n || xyz.size() % 3 != 0 || valid.size() != n)
+    return "positions or validity do not hold " + std::to_string(n) + " points";
+  for (const PointAttribute& a : attributes)
+    if (a.size < 1 || a.count < 1 || a.data.size() / a.bytes_per_point() != n ||
+        a.data.size() % a.bytes_per_point() != 0)
+      return "point field '" + a.name + "' does not hold " + std::to_string(n) + " points";
+  return std::string();
+}
+
+void refuse_ragged(const Take& take, const std::string& consumer, const std::string& file) {
+  if (take.ragged())
+    fail(ErrorCode::kInvalidParameter, file.empty() ? take.source : file,
+         "ragged takes (frames of different point counts) are not supported by " + consumer +
+             " yet");
+}
+
+std::string units_text(const Take& take) {
+  if (!take.units_assumed || take.units.empty()) return take.units;
+  const char* what = take.format == Format::kPLYFolder   ? "PLY"
+                     : take.format == Format::kBinFolder ? ".bin"
+                                                         : "PCD";
+  return take.units + " (assumed: " + what + " frames carry no units; --units overrides)";
+}
+
+std::vector<size_t> frame_point_counts(const Take& take) {
+  std::vector<size_t> c(take.frames);
+  for (size_t f = 0; f < take.frames; ++f) c[f] = take.frame_points(f);
+  return c;
+}
+
+std::vector<size_t> offsets_of_counts(const std::vector<size_t>& counts) {
+  std::vector<size_t> o(counts.size() + 1, 0);
+  for (size_t f = 0; f < counts.size(); ++f) o[f + 1] = o[f] + counts[f];
+  return o;
 }
 
 size_t Take::gap_samples() const {

@@ -528,6 +528,7 @@ std::shared_ptr<C3DExtra> new_c3d_parameters(const Take& take, const std::string
 }
 
 void write_c3d(const Take& take, const std::string& path, const WriteOptions& opts) {
+  refuse_ragged(take, "the C3D writer (a C3D frame holds a fixed number of points)", path);
   check_output_free(path, opts.overwrite);
   std::vector<uint8_t> bytes = c3d::encode_c3d_file(take, opts, path);
   AtomicFile out(path, opts.overwrite);

@@ -28,6 +28,14 @@ void FrameBlock::reset(size_t first_frame, size_t n, size_t n_points, size_t ana
   rotation_reliability.assign(n * rotations_per_frame, 0.0f);
   attributes.clear();
   file_bytes.clear();
+  frame_offsets.clear();
+}
+
+void FrameBlock::reset_ragged(size_t first_frame, const std::vector<size_t>& counts) {
+  reset(first_frame, counts.size(), 0, 0, false, 0);
+  frame_offsets = offsets_of_counts(counts);
+  xyz.assign(frame_offsets.back() * 3, 0.0);
+  valid.assign(frame_offsets.back(), 0);
 }
 
 double FrameBlock::frame_bytes(double N, double analog_per_frame, bool words, double R,
@@ -57,6 +65,8 @@ Take header_of(const Take& t) {
   h.format = t.format;
   h.frames = t.frames;
   h.points = t.points;
+  h.frame_offsets = t.frame_offsets;
+  h.units_assumed = t.units_assumed;
   h.rate = t.rate;
   h.units = t.units;
   h.first_frame = t.first_frame;
@@ -88,6 +98,8 @@ Take header_of(const Take& t) {
   }
   h.trc = t.trc;
   h.pcd = t.pcd;
+  h.ply = t.ply;
+  h.bin = t.bin;
   h.warnings = t.warnings;
   return h;
 }
@@ -116,6 +128,7 @@ class C3DSource : public FrameSource {
     out->first = first;
     out->frames = count;
     out->points = N;
+    out->frame_offsets.clear();
     out->xyz.resize(count * N * 3);
     out->valid.resize(count * N);
     out->residual.resize(count * N);
@@ -171,11 +184,14 @@ class TakeSource : public FrameSource {
   TakeSource(const Take& take, std::unique_ptr<Take> owned)
       : owned_(std::move(owned)), take_(take) {
     header_ = header_of(take);
-    const size_t n = take.frames * take.points;
-    words_ = take.c3d && take.c3d->residual.size() == n && take.c3d->camera_mask.size() == n;
+    const std::string fault = take.shape_fault();
+    if (!fault.empty()) fail(ErrorCode::kInvalidParameter, take.source, "take arrays: " + fault);
+    const size_t n = take.total_points();
+    words_ = !take.ragged() && take.c3d && take.c3d->residual.size() == n &&
+             take.c3d->camera_mask.size() == n;
     analog_ = analog_per_frame(take);
     rotations_ = take.rotations.per_frame();
-    if (take.xyz.size() != n * 3 || take.valid.size() != n ||
+    if ((take.ragged() && (analog_ > 0 || rotations_ > 0)) ||
         take.analog.values.size() < take.frames * analog_)
       fail(ErrorCode::kInvalidParameter, take.source,
            "take arrays do not match its frame and point counts");
@@ -193,8 +209,10 @@ class TakeSource : public FrameSource {
   }
   bool has_sample_words() const override { return words_; }
   void read(size_t first, size_t count, FrameBlock* out) override {
-    const size_t N = take_.points;
     clip(&first, &count);
+    if (take_.ragged()) return read_ragged(first, count, out);
+    const size_t N = take_.points;
+    out->frame_offsets.clear();
     out->first = first;
     out->frames = count;
     out->points = N;
@@ -221,6 +239,24 @@ class TakeSource : public FrameSource {
   }
 
  private:
+  // Frames of a ragged take: the points between their offsets (no words, analog or rotations).
+  void read_ragged(size_t first, size_t count, FrameBlock* out) {
+    const std::vector<size_t>& o = take_.frame_offsets;
+    out->reset(first, count, 0, 0, false, 0);
+    out->frame_offsets.assign(o.begin() + static_cast<long>(first),
+                              o.begin() + static_cast<long>(first + count + 1));
+    for (size_t& v : out->frame_offsets) v -= o[first];
+    const size_t b = o[first], e = o[first + count];
+    const auto cut = [&](const auto& v, size_t per, auto* dst) {
+      dst->assign(v.begin() + static_cast<long>(b * per), v.begin() + static_cast<long>(e * per));
+    };
+    cut(take_.xyz, 3, &out->xyz);
+    cut(take_.valid, 1, &out->valid);
+    out->attributes.resize(take_.attributes.size());
+    for (size_t a = 0; a < take_.attributes.size(); ++a)
+      cut(take_.attributes[a].data, take_.attributes[a].bytes_per_point(), &out->attributes[a]);
+  }
+
   std::unique_ptr<Take> owned_;
   const Take& take_;
   bool words_ = false;
@@ -234,6 +270,7 @@ class WholeTakeSink : public FrameSink {
  public:
   WholeTakeSink(const Take& header, bool words, const std::string& path, const WriteOptions& opts)
       : take_(header), words_(words), path_(path), opts_(opts) {
+    if (take_.ragged()) take_.frame_offsets.assign(1, 0);  // grows block by block
     take_.xyz.clear();
     take_.valid.clear();
     take_.analog.values.clear();
@@ -247,6 +284,10 @@ class WholeTakeSink : public FrameSink {
     }
   }
   void write(const FrameBlock& b) override {
+    if (b.ragged() != take_.ragged())
+      fail(ErrorCode::kInternal, path_, "a block of another shape than the take's");
+    for (size_t k = 0; k < b.frames && b.ragged(); ++k)
+      take_.frame_offsets.push_back(take_.frame_offsets.back() + b.frame_points(k));
     take_.xyz.insert(take_.xyz.end(), b.xyz.begin(), b.xyz.end());
     take_.valid.insert(take_.valid.end(), b.valid.begin(), b.valid.end());
     take_.analog.values.insert(take_.analog.values.end(), b.analog.begin(), b.analog.end());
@@ -440,6 +481,8 @@ std::unique_ptr<FrameSource> open_frames(const std::string& path) {
   if (f == Format::kC3D) return open_c3d_frames(path);
   if (f == Format::kTRC) return open_trc_frames(path);
   if (f == Format::kPCDFolder) return open_pcd_frames(path);
+  if (f == Format::kPLYFolder) return open_ply_frames(path);
+  if (f == Format::kBinFolder) return open_bin_frames(path);
   std::unique_ptr<Take> t(new Take(read_take(path)));
   const Take& ref = *t;
   return std::unique_ptr<FrameSource>(new TakeSource(ref, std::move(t)));
@@ -451,7 +494,7 @@ std::unique_ptr<FrameSink> create_frame_sink(const Take& header, bool words,
   while (target.size() > 1 && target.back() == '/') target.pop_back();
   const bool int16_from_data = c3d::c3d_known_scale(header) == 0 && header.c3d &&
                                !header.c3d->float_storage && !opts.c3d_float;
-  const Format f = path.empty() ? Format::kUnknown : format_for_output(path);
+  const Format f = path.empty() ? Format::kUnknown : output_format(header, path, opts);
   if (f != Format::kUnknown) check_fields_fit(header, f, target, opts);
   if (f == Format::kC3D && !int16_from_data)
     return std::unique_ptr<FrameSink>(new C3DSink(header, words, target, opts));

@@ -1,12 +1,16 @@
 // Decoder library (capz_decode): builds without PCL and without the transform encoders.
 // Format detection and dispatch to the per-format readers and writers.
 //
-// Input: a directory is a PCD folder; a file is recognised by its first bytes (C3D: byte 2 is
+// Input: a directory is a folder of frame files (PCD, PLY or .bin by the files it holds); a
+// .pcd or .bin file is a one-frame take; other files are recognised by their first bytes (PLY:
+// "ply"; C3D: byte 2 is
 // 0x50, the parameter-section key; TRC: "PathFileType"; .capz: 0x89 "capz", see docs/FORMAT.md)
 // and, when the bytes say nothing (empty or damaged files), by its extension, so that the format's
 // own reader can name the fault. A .capz archive is not a take: read_take refuses it
 // (kNotOurFormat) and points to `capz decompress`. Output: ".c3d" and ".trc" by extension; a path
-// ending in '/', an existing directory or a name without extension is a PCD folder.
+// ending in '/', an existing directory or a name without extension is a folder of frames (PCD
+// unless WriteOptions or the take's own format say PLY or .bin); ".pcd", ".ply" and ".bin" one
+// frame file.
 #include "capz/io.h"
 
 #include <algorithm>
@@ -25,6 +29,13 @@ namespace fs = std::filesystem;
 namespace capz {
 
 namespace {
+
+Format frame_file_format(const std::string& ext) {
+  if (ext == ".pcd") return Format::kPCDFolder;
+  if (ext == ".ply") return Format::kPLYFolder;
+  if (ext == ".bin") return Format::kBinFolder;
+  return Format::kUnknown;
+}
 
 std::string lower_extension(const std::string& path) {
   std::string p = path;
@@ -53,8 +64,9 @@ Format sniff(const std::string& path, bool* is_capz) {
   in.read(head, sizeof head);
   const size_t n = static_cast<size_t>(in.gcount());
   const std::string ext = lower_extension(path);
+  // "\x89CAPZ" (format 1.x) or "\x89capz" (pre-release, which the decoder refuses).
   if (n >= 5 && static_cast<unsigned char>(head[0]) == 0x89 &&
-      std::memcmp(head + 1, "capz", 4) == 0) {
+      (std::memcmp(head + 1, "CAPZ", 4) == 0 || std::memcmp(head + 1, "capz", 4) == 0)) {
     *is_capz = true;
     return Format::kUnknown;
   }
@@ -62,6 +74,10 @@ Format sniff(const std::string& path, bool* is_capz) {
       (n >= 3 && std::memcmp(head, "\xEF\xBB\xBF", 3) == 0 &&
        starts_with_nocase(head + 3, n - 3, "PathFileType")))
     return Format::kTRC;
+  // Frame files without a magic of their own (a .bin frame is raw floats) go by the extension.
+  if (ext == ".bin" || ext == ".pcd") return frame_file_format(ext);
+  if (n >= 4 && std::memcmp(head, "ply", 3) == 0 && (head[3] == '\n' || head[3] == '\r'))
+    return Format::kPLYFolder;
   // C3D header word 1: byte 1 is 0x50 (the parameter-section key), byte 0 the parameter block.
   if (n >= 2 && static_cast<unsigned char>(head[1]) == 0x50 && head[0] != 0) return Format::kC3D;
   if (ext == ".capz") {
@@ -70,7 +86,25 @@ Format sniff(const std::string& path, bool* is_capz) {
   }
   if (ext == ".c3d") return Format::kC3D;
   if (ext == ".trc") return Format::kTRC;
-  return Format::kUnknown;
+  return frame_file_format(ext);
+}
+
+// The folder format of a directory: that of its frame files (.pcd first, then .ply, then .bin);
+// PCD when it holds none (the PCD reader then names the fault).
+Format folder_format(const std::string& dir) {
+  bool ply = false, bin = false;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const Format f = frame_file_format(lower_extension(it->path().string()));
+    if (f == Format::kPCDFolder) return f;
+    ply = ply || f == Format::kPLYFolder;
+    bin = bin || f == Format::kBinFolder;
+  }
+  return ply ? Format::kPLYFolder : bin ? Format::kBinFolder : Format::kPCDFolder;
+}
+
+bool is_frames_format(Format f) {
+  return f == Format::kPCDFolder || f == Format::kPLYFolder || f == Format::kBinFolder;
 }
 
 }  // namespace
@@ -79,7 +113,7 @@ Format detect_format(const std::string& path) {
   std::error_code ec;
   auto st = fs::status(path, ec);
   if (ec || !fs::exists(st)) fail(ErrorCode::kIo, path, "no such file or directory");
-  if (fs::is_directory(st)) return Format::kPCDFolder;
+  if (fs::is_directory(st)) return folder_format(path);
   bool capz = false;
   return sniff(path, &capz);
 }
@@ -88,25 +122,26 @@ Take read_take(const std::string& path) {
   std::error_code ec;
   auto st = fs::status(path, ec);
   if (ec || !fs::exists(st)) fail(ErrorCode::kIo, path, "no such file or directory");
-  if (fs::is_directory(st)) return read_pcd_folder(path);
   bool capz = false;
-  switch (sniff(path, &capz)) {
+  switch (fs::is_directory(st) ? folder_format(path) : sniff(path, &capz)) {
     case Format::kC3D:
       return read_c3d(path);
     case Format::kTRC:
       return read_trc(path);
     case Format::kPCDFolder:
-      break;
+      return read_pcd_folder(path);
+    case Format::kPLYFolder:
+      return read_ply_folder(path);
+    case Format::kBinFolder:
+      return read_bin_folder(path);
     case Format::kUnknown:
       if (capz)
         fail(ErrorCode::kNotOurFormat, path,
              "is a .capz archive, not a take (use capz decompress or capz info)");
       break;
   }
-  if (lower_extension(path) == ".pcd")
-    fail(ErrorCode::kNotOurFormat, path,
-         "a single PCD file is not a take: give the folder holding the frames");
-  fail(ErrorCode::kNotOurFormat, path, "not a C3D or TRC file, nor a folder of PCD frames");
+  fail(ErrorCode::kNotOurFormat, path,
+       "not a C3D or TRC file, a PCD, PLY or .bin frame, nor a folder of them");
 }
 
 Format format_for_output(const std::string& path) {
@@ -117,7 +152,18 @@ Format format_for_output(const std::string& path) {
   if (ext == ".c3d") return Format::kC3D;
   if (ext == ".trc") return Format::kTRC;
   if (ext.empty()) return Format::kPCDFolder;
-  return Format::kUnknown;
+  return frame_file_format(ext);
+}
+
+Format output_format(const Take& take, const std::string& path, const WriteOptions& opts) {
+  const Format f = format_for_output(path);
+  if (f != Format::kPCDFolder) return f;
+  std::string p = path;
+  while (p.size() > 1 && p.back() == '/') p.pop_back();
+  std::error_code ec;
+  if (lower_extension(p) == ".pcd" && path.back() != '/' && !fs::is_directory(p, ec)) return f;
+  if (is_frames_format(opts.folder_format)) return opts.folder_format;
+  return is_frames_format(take.format) ? take.format : Format::kPCDFolder;
 }
 
 std::vector<std::string> dropped_by(const Take& take, Format out) {
@@ -132,7 +178,7 @@ std::vector<std::string> dropped_by(const Take& take, Format out) {
   }
   if (take.rotations.segments > 0)
     d.push_back("the " + std::to_string(take.rotations.segments) + " rotation segments");
-  if (out == Format::kPCDFolder && take.rate > 0) {
+  if (is_frames_format(out) && take.rate > 0) {
     char rate[64];
     const std::to_chars_result r = std::to_chars(rate, rate + sizeof rate, take.rate);
     d.push_back("the frame rate (" + std::string(rate, r.ptr) + " Hz)");
@@ -142,16 +188,31 @@ std::vector<std::string> dropped_by(const Take& take, Format out) {
 
 void check_fields_fit(const Take& take, Format f, const std::string& path,
                       const WriteOptions& opts) {
-  if (take.attributes.empty() || opts.drop_fields || f == Format::kPCDFolder) return;
+  if (take.ragged() && (f == Format::kC3D || f == Format::kTRC))
+    fail(ErrorCode::kUsage, path,
+         std::string("a ") + (f == Format::kTRC ? "TRC" : "C3D") +
+             " file cannot hold frames of different point counts: write a PCD, PLY or .bin "
+             "folder");
+  if (opts.drop_fields || f == Format::kPCDFolder || f == Format::kUnknown) return;
+  std::string unfit;  // the fields f cannot hold
+  for (const PointAttribute& a : take.attributes) {
+    const bool fits = a.name == "_" || (f == Format::kPLYFolder && a.count == 1) ||
+                      (f == Format::kBinFolder && a.name == "intensity" && a.count == 1);
+    if (!fits) unfit += (unfit.empty() ? "" : ", ") + a.name;
+  }
+  if (unfit.empty()) return;
+  const char* what = f == Format::kTRC         ? "TRC file"
+                     : f == Format::kC3D       ? "C3D file"
+                     : f == Format::kPLYFolder ? "PLY frame (one value a property)"
+                                               : ".bin frame (x y z intensity)";
   fail(ErrorCode::kUsage, path,
-       std::string("a ") + (f == Format::kTRC ? "TRC" : "C3D") +
-           " file cannot hold the point fields " + field_names(take) +
+       std::string("a ") + what + " cannot hold the point fields " + unfit +
            ": write a PCD folder, or give --drop-fields to leave them out");
 }
 
 void write_take(const Take& take, const std::string& path, const WriteOptions& opts) {
   if (path.empty()) fail(ErrorCode::kUsage, path, "empty output path");
-  const Format f = format_for_output(path);
+  const Format f = output_format(take, path, opts);
   std::string target = path;
   while (target.size() > 1 && target.back() == '/') target.pop_back();
   check_fields_fit(take, f, target, opts);
@@ -166,12 +227,18 @@ void write_take(const Take& take, const std::string& path, const WriteOptions& o
     case Format::kPCDFolder:
       write_pcd_folder(take, target, opts);
       return;
+    case Format::kPLYFolder:
+      write_ply_folder(take, target, opts);
+      return;
+    case Format::kBinFolder:
+      write_bin_folder(take, target, opts);
+      return;
     case Format::kUnknown:
       break;
   }
   fail(ErrorCode::kUsage, path,
-       "cannot tell the output format from the name: use .c3d, .trc, or a folder path "
-       "(no extension or ending in '/') for PCD frames");
+       "cannot tell the output format from the name: use .c3d, .trc, .pcd, .ply, .bin, or a "
+       "folder path (no extension or ending in '/') for frame files");
 }
 
 }  // namespace capz

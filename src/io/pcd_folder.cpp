@@ -26,7 +26,6 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
-#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -35,7 +34,7 @@
 #include "capz/io.h"
 #include "capz/stream.h"
 #include "core/atomic_file.h"
-#include "io/natural_sort.h"
+#include "io/frame_files.h"
 #include "io/pcd_backend.h"
 #include "io/pcd_frame_writer.h"
 #include "io/pcd_header.h"
@@ -118,6 +117,23 @@ PcdHeader read_one(const std::string& path, pcd::Cloud* cloud) {
       fail(ErrorCode::kCorrupt, path, std::string("PCD file has no '") + axis + "' field");
 
   if (h.data == "ascii") check_ascii_body(bytes, h, path);
+  if (h.points == 0) {  // an empty frame: nothing for PCL to read, the fields from the header
+    cloud->width = 0;
+    cloud->height = static_cast<uint32_t>(std::min<uint64_t>(h.height, 1));
+    cloud->point_step = static_cast<uint32_t>(h.point_step);
+    cloud->fields.clear();
+    uint64_t offset = 0;
+    for (size_t i = 0; i < h.fields.size(); ++i) {
+      pcd::Field fd;
+      fd.name = h.fields[i];
+      fd.offset = static_cast<uint32_t>(offset);
+      fd.count = static_cast<uint32_t>(h.counts[i]);
+      cloud->fields.push_back(fd);
+      offset += static_cast<uint64_t>(h.sizes[i]) * h.counts[i];
+    }
+    cloud->data.clear();
+    return h;
+  }
 
   std::string msg;
   switch (pcd::backend(path).read(bytes.data(), bytes.size(), h.data_idx, h.points, h.point_step,
@@ -140,31 +156,9 @@ PcdHeader read_one(const std::string& path, pcd::Cloud* cloud) {
   return h;
 }
 
-bool has_pcd_extension(const fs::path& p) {
-  std::string ext = p.extension().string();
-  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".pcd";
-}
-
 }  // namespace
 
 namespace {
-
-// The .pcd files of a folder in natural-sort order (the frames).
-std::vector<std::string> list_frames(const std::string& dir) {
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) fail(ErrorCode::kUsage, dir, "not a directory");
-  std::vector<std::string> names;
-  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    std::error_code ec2;
-    if (has_pcd_extension(it->path()) && fs::is_regular_file(it->path(), ec2))
-      names.push_back(it->path().filename().string());
-  }
-  if (ec) fail(ErrorCode::kIo, dir, "cannot list directory: " + ec.message());
-  if (names.empty()) fail(ErrorCode::kNotOurFormat, dir, "no .pcd files in directory");
-  std::sort(names.begin(), names.end(), natural_less);
-  return names;
-}
 
 // The layout of one frame: what every frame of a folder must share.
 struct FrameLayout {
@@ -184,18 +178,10 @@ bool same_fields(const std::vector<PCDField>& a, const std::vector<PCDField>& b)
   return true;
 }
 
-FrameLayout layout_of(const PcdHeader& h, const pcd::Cloud& cloud, const std::string& path) {
-  FrameLayout l;
-  l.points = static_cast<size_t>(cloud.width) * cloud.height;
-  l.width = cloud.width;
-  l.height = cloud.height;
-  l.encoding = h.data;
-  l.version = h.version.empty() ? "0.7" : h.version;
-  static const double kDefault[7] = {0, 0, 0, 1, 0, 0, 0};
-  if (h.viewpoint.size() == 7 && !std::equal(h.viewpoint.begin(), h.viewpoint.end(), kDefault))
-    l.viewpoint = h.viewpoint;
-  if (cloud.fields.size() != h.fields.size())
-    fail(ErrorCode::kCorrupt, path, "PCD fields read differently by PCL and capz");
+// The fields of a header as the take keeps them: x y z as float (size 4 when the file's are
+// float32, else 8), each once and with COUNT 1.
+std::vector<PCDField> fields_of(const PcdHeader& h, const std::string& path) {
+  std::vector<PCDField> out;
   int seen[3] = {0, 0, 0};
   for (size_t i = 0; i < h.fields.size(); ++i) {
     PCDField f;
@@ -211,36 +197,53 @@ FrameLayout layout_of(const PcdHeader& h, const pcd::Cloud& cloud, const std::st
       f.size = f.type == 'F' && f.size == 4 ? 4 : 8;
       f.type = 'F';
     }
-    l.fields.push_back(f);
-    l.offsets.push_back(cloud.fields[i].offset);
+    out.push_back(f);
   }
-  if (l.fields.size() > 1024)
-    fail(ErrorCode::kCorrupt, path, "PCD frames with more than 1024 fields");
+  for (int a = 0; a < 3; ++a)
+    if (!seen[a])
+      fail(ErrorCode::kCorrupt, path, std::string("PCD file has no '") + "xyz"[a] + "' field");
+  if (out.size() > 1024) fail(ErrorCode::kCorrupt, path, "PCD frames with more than 1024 fields");
+  return out;
+}
+
+FrameLayout layout_of(const PcdHeader& h, const pcd::Cloud& cloud, const std::string& path) {
+  FrameLayout l;
+  l.points = static_cast<size_t>(cloud.width) * cloud.height;
+  l.width = cloud.width;
+  l.height = cloud.height;
+  l.encoding = h.data;
+  l.version = h.version.empty() ? "0.7" : h.version;
+  static const double kDefault[7] = {0, 0, 0, 1, 0, 0, 0};
+  if (h.viewpoint.size() == 7 && !std::equal(h.viewpoint.begin(), h.viewpoint.end(), kDefault))
+    l.viewpoint = h.viewpoint;
+  if (cloud.fields.size() != h.fields.size())
+    fail(ErrorCode::kCorrupt, path, "PCD fields read differently by PCL and capz");
+  l.fields = fields_of(h, path);
+  for (size_t i = 0; i < h.fields.size(); ++i) l.offsets.push_back(cloud.fields[i].offset);
   return l;
 }
 
-// Reads frame `f` (file `names[f]`) into xyz (n x 3), valid (n) and one byte array per field
-// other than x y z (n x count x size, as the file holds them). The first frame sets *layout;
-// every other frame must have the same points, fields and organization.
-void read_frame(const std::string& dir, const std::vector<std::string>& names, size_t f,
-                FrameLayout* layout, std::vector<double>* xyz, std::vector<uint8_t>* valid,
-                std::vector<std::vector<uint8_t>>* attrs) {
-  const std::string path = (fs::path(dir) / names[f]).string();
+// A frame file's header, checked against the file's size (the points it announces fit).
+PcdHeader head_of(const std::string& path) {
+  std::vector<uint8_t> head = read_header_bytes(path, "\nDATA");
+  if (head.empty()) fail(ErrorCode::kCorrupt, path, "empty PCD file (0 bytes)");
+  const PcdHeader h = parse_header_text(head, path);
+  std::error_code ec;
+  const uint64_t size = fs::file_size(path, ec);
+  if (ec) fail(ErrorCode::kIo, path, "cannot read: " + ec.message());
+  if (head.size() < h.data_idx + 8 && size > head.size())  // a compressed body's sizes
+    head = read_file_head(path, h.data_idx + 8);
+  check_body_fits(head, size, h, path);
+  return h;
+}
+
+// Reads frame file `path` into *data (xyz n x 3, valid n, one byte array per field other than
+// x y z: n x count x size, as the file holds them) and *l.
+void read_pcd_frame(const std::string& path, FrameLayout* l, FrameData* data) {
   pcd::Cloud cloud;
   const PcdHeader h = read_one(path, &cloud);
-  FrameLayout l = layout_of(h, cloud, path);
-  const size_t n = l.points;
-  if (f == 0) {
-    *layout = l;
-  } else if (n != layout->points) {
-    fail(ErrorCode::kCorrupt, path,
-         "frame has " + std::to_string(n) + " points, the first frame (" + names[0] + ") has " +
-             std::to_string(layout->points));
-  } else if (!same_fields(l.fields, layout->fields) || l.width != layout->width) {
-    fail(
-        ErrorCode::kCorrupt, path,
-        "frame has other fields or another WIDTH x HEIGHT than the first frame (" + names[0] + ")");
-  }
+  *l = layout_of(h, cloud, path);
+  const size_t n = l->points;
   FieldRef ref[3];
   const char* axes[3] = {"x", "y", "z"};
   for (int a = 0; a < 3; ++a) {
@@ -249,29 +252,30 @@ void read_frame(const std::string& dir, const std::vector<std::string>& names, s
     ref[a].offset = it->offset;
     ref[a].type = it->type;
   }
-  xyz->assign(n * 3, 0.0);
-  valid->assign(n, 0);
+  data->points = n;
+  data->xyz.assign(n * 3, 0.0);
+  data->valid.assign(n, 0);
   for (size_t p = 0; p < n; ++p) {
     const uint8_t* base = cloud.data.data() + p * cloud.point_step;
     double v[3];
     for (int a = 0; a < 3; ++a) v[a] = read_value(base + ref[a].offset, ref[a].type);
     if (std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2])) {
-      std::copy(v, v + 3, xyz->data() + 3 * p);
-      (*valid)[p] = 1;
+      std::copy(v, v + 3, data->xyz.data() + 3 * p);
+      data->valid[p] = 1;
     }
   }
-  attrs->clear();
-  for (size_t i = 0; i < l.fields.size(); ++i) {
-    const PCDField& fd = l.fields[i];
+  data->attrs.clear();
+  for (size_t i = 0; i < l->fields.size(); ++i) {
+    const PCDField& fd = l->fields[i];
     if (fd.name == "x" || fd.name == "y" || fd.name == "z") continue;
     const size_t bpp = static_cast<size_t>(fd.size) * static_cast<size_t>(fd.count);
-    if (static_cast<uint64_t>(l.offsets[i]) + bpp > cloud.point_step)
+    if (static_cast<uint64_t>(l->offsets[i]) + bpp > cloud.point_step)
       fail(ErrorCode::kCorrupt, path, "PCD field " + fd.name + " lies outside its point");
     std::vector<uint8_t> bytes(n * bpp);
     for (size_t p = 0; p < n; ++p)
-      std::memcpy(bytes.data() + p * bpp, cloud.data.data() + p * cloud.point_step + l.offsets[i],
+      std::memcpy(bytes.data() + p * bpp, cloud.data.data() + p * cloud.point_step + l->offsets[i],
                   bpp);
-    attrs->push_back(std::move(bytes));
+    data->attrs.push_back(std::move(bytes));
   }
 }
 
@@ -282,8 +286,8 @@ void set_layout(const FrameLayout& l, const std::vector<std::string>& names, Tak
   extra->encoding = l.encoding;
   extra->version = l.version;
   extra->fields = l.fields;
-  extra->width = l.width;
-  extra->height = l.height;
+  extra->width = t->ragged() ? 0 : l.width;
+  extra->height = t->ragged() ? 1 : l.height;
   extra->viewpoint = l.viewpoint;
   t->pcd = std::move(extra);
   t->attributes.clear();
@@ -293,76 +297,61 @@ void set_layout(const FrameLayout& l, const std::vector<std::string>& names, Tak
   }
 }
 
-// A PCD folder read frame file by frame file: opening lists the files and reads the first one
-// (the point count and encoding); a range reads its files only.
-class PCDSource : public FrameSource {
+// A PCD folder (or one .pcd file) read frame file by frame file. Opening reads every file's
+// header (its first bytes): the point counts, which make the take fixed or ragged, and the
+// fields, which every frame must share; then the first frame whole (the layout PCL reads). A
+// range reads its files only.
+class PCDSource : public FileFrameSource {
  public:
-  explicit PCDSource(const std::string& dir) : dir_(dir), names_(list_frames(dir)) {
-    read_frame(dir_, names_, 0, &layout_, &xyz_, &valid_, &attrs_);
-    header_.source = dir;
-    header_.format = Format::kPCDFolder;
-    header_.frames = names_.size();
-    header_.points = layout_.points;
-    header_.labels.assign(layout_.points, std::string());
-    set_layout(layout_, names_, &header_);
-  }
-  bool has_sample_words() const override { return false; }
-  // The folder: the encoder stores each frame file's checksum and residue (FORMAT.md 7.3, 14.3).
-  std::string original_file() const override { return dir_; }
-  void read(size_t first, size_t count, FrameBlock* out) override {
-    const size_t N = header_.points;
-    clip(&first, &count);
-    out->reset(first, count, N, 0, false);
-    out->attributes.assign(header_.attributes.size(), std::vector<uint8_t>());
-    for (size_t a = 0; a < header_.attributes.size(); ++a)
-      out->attributes[a].reserve(count * N * header_.attributes[a].bytes_per_point());
-    FrameLayout l = layout_;
-    for (size_t k = 0; k < count; ++k) {
-      read_frame(dir_, names_, first + k, &l, &xyz_, &valid_, &attrs_);
-      std::copy(xyz_.begin(), xyz_.end(), out->xyz.begin() + static_cast<long>(k * N * 3));
-      std::copy(valid_.begin(), valid_.end(), out->valid.begin() + static_cast<long>(k * N));
-      if (attrs_.size() != out->attributes.size()) continue;  // fields left out (drop_fields)
-      for (size_t a = 0; a < attrs_.size(); ++a)
-        out->attributes[a].insert(out->attributes[a].end(), attrs_[a].begin(), attrs_[a].end());
+  explicit PCDSource(const std::string& path) : FileFrameSource(list_frame_files(path, ".pcd")) {
+    std::vector<size_t> counts;
+    std::vector<PCDField> fields0;
+    for (size_t f = 0; f < files_.names.size(); ++f) {
+      const std::string p = files_.path(f);
+      const PcdHeader h = head_of(p);
+      const std::vector<PCDField> fields = fields_of(h, p);
+      if (f == 0) fields0 = fields;
+      if (!same_fields(fields, fields0))
+        fail(ErrorCode::kCorrupt, p,
+             "frame has other fields than the first frame (" + files_.names[0] + ")");
+      if (h.height > 1) organized_ = p;
+      counts.push_back(static_cast<size_t>(h.points));
     }
+    set_counts(counts);
+    if (header_.ragged() && !organized_.empty())
+      fail(ErrorCode::kCorrupt, organized_,
+           "an organized frame (HEIGHT above 1) in a folder whose frames' point counts differ");
+    header_.source = path;
+    header_.format = Format::kPCDFolder;
+    header_.units = "m";
+    header_.units_assumed = true;
+    FrameData first;  // read whole once: its layout as PCL reads it
+    read_pcd_frame(files_.path(0), &layout_, &first);
+    set_layout(layout_, files_.names, &header_);
+  }
+
+ protected:
+  void read_frame(size_t f, FrameData* out) override {
+    const std::string p = files_.path(f);
+    FrameLayout l;
+    read_pcd_frame(p, &l, out);
+    if (!same_fields(l.fields, layout_.fields) ||
+        (!header_.ragged() && (l.width != layout_.width || l.height != layout_.height)))
+      fail(ErrorCode::kCorrupt, p,
+           "frame has other fields or another WIDTH x HEIGHT than the first frame (" +
+               files_.names[0] + ")");
   }
 
  private:
-  std::string dir_;
-  std::vector<std::string> names_;
   FrameLayout layout_;
-  std::vector<double> xyz_;
-  std::vector<uint8_t> valid_;
-  std::vector<std::vector<uint8_t>> attrs_;
+  std::string organized_;  // a frame file with HEIGHT above 1, if any
 };
 
 }  // namespace
 
 Take read_pcd_folder(const std::string& dir) {
-  const std::vector<std::string> names = list_frames(dir);
-  Take t;
-  t.source = dir;
-  t.format = Format::kPCDFolder;
-  FrameLayout layout;
-  std::vector<double> xyz;
-  std::vector<uint8_t> valid;
-  std::vector<std::vector<uint8_t>> attrs;
-  for (size_t f = 0; f < names.size(); ++f) {
-    read_frame(dir, names, f, &layout, &xyz, &valid, &attrs);
-    if (f == 0) {
-      t.points = layout.points;
-      t.labels.assign(t.points, std::string());
-      set_layout(layout, names, &t);
-    }
-    // The take grows frame by frame (not resized for every file up front), so memory follows
-    // what has actually been read and checked, not the first frame's count times the file count.
-    t.frames = f + 1;
-    t.xyz.insert(t.xyz.end(), xyz.begin(), xyz.end());
-    t.valid.insert(t.valid.end(), valid.begin(), valid.end());
-    for (size_t a = 0; a < attrs.size(); ++a)
-      t.attributes[a].data.insert(t.attributes[a].data.end(), attrs[a].begin(), attrs[a].end());
-  }
-  return t;
+  PCDSource source(dir);
+  return read_all_frames(source);
 }
 
 std::unique_ptr<FrameSource> open_pcd_frames(const std::string& dir) {
@@ -370,46 +359,15 @@ std::unique_ptr<FrameSource> open_pcd_frames(const std::string& dir) {
 }
 
 std::vector<std::string> list_pcd_frames(const std::string& dir) {
-  return list_frames(dir);
+  return list_frame_files(dir, ".pcd").names;
 }
 
 std::vector<std::string> pcd_output_names(const Take& take) {
-  const size_t F = take.frames;
-  std::vector<std::string> names;
-  if (take.pcd && take.pcd->frame_names.size() == F) {
-    std::set<std::string> seen;
-    bool ok = true;
-    for (const auto& n : take.pcd->frame_names) {
-      if (n.empty() || n.find('/') != std::string::npos || n == "." || n == ".." ||
-          !has_pcd_extension(n) || !seen.insert(n).second) {
-        ok = false;
-        break;
-      }
-    }
-    if (ok) names = take.pcd->frame_names;
-  }
-  if (names.empty()) {
-    for (size_t f = 0; f < F; ++f) {
-      char buf[32];
-      std::snprintf(buf, sizeof buf, "frame_%06zu.pcd", f + 1);
-      names.push_back(buf);
-    }
-  }
-  return names;
+  return frame_output_names(take, ".pcd");
 }
 
 void check_replaceable_pcd_dir(const std::string& dir, bool overwrite) {
-  // Replacing an existing directory deletes it: only allow that for a folder of PCD frames.
-  std::error_code ec;
-  if (overwrite && fs::is_directory(dir, ec)) {
-    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-      std::error_code ec2;
-      if (!has_pcd_extension(it->path()) || !fs::is_regular_file(it->symlink_status(ec2)))
-        fail(ErrorCode::kUsage, dir,
-             "refusing to replace this directory: it holds " + it->path().filename().string() +
-                 ", which is not a PCD frame");
-    }
-  }
+  check_replaceable_frame_dir(dir, ".pcd", overwrite);
 }
 
 void write_pcd_folder(const Take& take, const std::string& dir, const WriteOptions& opts) {
@@ -419,31 +377,43 @@ void write_pcd_folder(const Take& take, const std::string& dir, const WriteOptio
   if (enc != "ascii" && enc != "binary" && enc != "binary_compressed")
     fail(ErrorCode::kInvalidParameter, dir,
          "unknown PCD encoding '" + enc + "' (ascii, binary or binary_compressed)");
-  const size_t F = take.frames, N = take.points;
-  if (take.xyz.size() != F * N * 3 || take.valid.size() != F * N)
-    fail(ErrorCode::kInternal, dir, "take arrays do not match frames x points");
+  const size_t F = take.frames;
+  const std::string fault = take.shape_fault();
+  if (!fault.empty()) fail(ErrorCode::kInternal, dir, "take arrays: " + fault);
   if (F == 0) fail(ErrorCode::kUsage, dir, "the take has no frames: nothing to write as PCD");
-  if (N > (size_t{1} << 31)) fail(ErrorCode::kUsage, dir, "too many points for a PCD file");
+  for (size_t f = 0; f < F; ++f)
+    if (take.frame_points(f) > (size_t{1} << 31))
+      fail(ErrorCode::kUsage, dir, "too many points for a PCD file");
 
   const std::vector<std::string> names = pcd_output_names(take);
-  for (const PointAttribute& a : take.attributes)
-    if (a.data.size() != F * N * a.bytes_per_point())
-      fail(ErrorCode::kInternal, dir, "point field " + a.name + " does not match frames x points");
-  const PcdFramePlan plan = pcd_frame_plan(take, enc);
+  PcdFramePlan plan = pcd_frame_plan(take, enc);
 
-  check_replaceable_pcd_dir(dir, opts.overwrite);
-  AtomicDir out(dir, opts.overwrite);
+  const bool single = single_frame_output(dir, ".pcd");
+  if (single && F != 1)
+    fail(ErrorCode::kUsage, dir,
+         "a .pcd file holds one frame and the take has " + std::to_string(F) +
+             ": give a folder path");
+  std::unique_ptr<AtomicDir> out;
+  if (!single) {
+    check_replaceable_pcd_dir(dir, opts.overwrite);
+    out.reset(new AtomicDir(dir, opts.overwrite));
+  }
   std::vector<uint8_t> points;
   std::vector<const uint8_t*> attrs(take.attributes.size());
   for (size_t f = 0; f < F; ++f) {
+    const size_t b = take.frame_begin(f), n = take.frame_points(f);
     for (size_t a = 0; a < attrs.size(); ++a)
-      attrs[a] = take.attributes[a].data.data() + f * N * take.attributes[a].bytes_per_point();
-    pcd_frame_points(plan, N, take.xyz.data() + f * N * 3, take.valid.data() + f * N, attrs,
-                     &points);
-    const std::string path = (fs::path(out.temp_dir()) / names[f]).string();
+      attrs[a] = take.attributes[a].data.data() + b * take.attributes[a].bytes_per_point();
+    if (take.ragged()) plan.layout.width = n, plan.layout.height = 1;
+    pcd_frame_points(plan, n, take.xyz.data() + b * 3, take.valid.data() + b, attrs, &points);
+    if (single) {
+      write_file(dir, pcd_frame_bytes(plan.layout, points.data()), opts.overwrite);
+      return;
+    }
+    const std::string path = (fs::path(out->temp_dir()) / names[f]).string();
     write_file(path, pcd_frame_bytes(plan.layout, points.data()), true);
   }
-  out.commit();
+  out->commit();
 }
 
 }  // namespace capz

@@ -56,6 +56,14 @@ void append_value(const PCDField& f, bool colour, const uint8_t* p, std::string*
   s->append(buf, r.ptr);
 }
 
+}  // namespace
+
+void append_value_text(const PCDField& f, const uint8_t* p, std::string* s) {
+  append_value(f, false, p, s);
+}
+
+namespace {
+
 std::string header(const PcdFrameLayout& l, size_t n) {
   std::string h = "# .PCD v" + l.version + " - Point Cloud Data file format\nVERSION " + l.version;
   std::string fields = "\nFIELDS", sizes = "\nSIZE", types = "\nTYPE", counts = "\nCOUNT";
@@ -171,7 +179,7 @@ std::string pcd_frame_header(const PcdFrameLayout& layout) {
 }
 
 PcdFramePlan pcd_frame_plan(const Take& take, const std::string& enc) {
-  const size_t F = take.frames, N = take.points;
+  const size_t N = take.points, total = take.total_points();
   // The fields: the source's layout when it matches the take (x y z and its attributes, in
   // order), else x y z then the attributes.
   std::vector<PCDField> fields;
@@ -206,8 +214,8 @@ PcdFramePlan pcd_frame_plan(const Take& take, const std::string& enc) {
   plan.as_float = xyz_size == 4;
   if (xyz_size == 0) {
     plan.as_float = true;
-    const bool arrays = take.valid.size() == F * N && take.xyz.size() == F * N * 3;
-    for (size_t i = 0; arrays && i < F * N && plan.as_float; ++i) {
+    const bool arrays = take.valid.size() == total && take.xyz.size() == total * 3;
+    for (size_t i = 0; arrays && i < total && plan.as_float; ++i) {
       if (!take.valid[i]) continue;
       for (int a = 0; a < 3; ++a) {
         const double v = take.xyz[i * 3 + a];

@@ -50,8 +50,13 @@ struct PcdFramePlan {
 
 // The plan for `take` in encoding `enc`. Coordinates: float32 when the layout says so or, without
 // a layout, when every valid coordinate of take.xyz is exactly a float (a take without frame
-// arrays: float32).
+// arrays: float32). A ragged take's plan has width 0: set layout.width to each frame's count.
 PcdFramePlan pcd_frame_plan(const Take& take, const std::string& enc);
+
+// One value of field f (little-endian bytes at p, f.size of them) as ASCII PCD writes it:
+// integers in decimal, floats as the shortest text that reads back to the same value ("nan",
+// "inf", "-inf"). Appended to *s. Shared with the PLY writer.
+void append_value_text(const PCDField& f, const uint8_t* p, std::string* s);
 
 // One frame's points (plan.step x points bytes into *out): xyz (points x 3), valid (points) and
 // per attribute a pointer to the frame's bytes (points x count x size); gaps are NaN points.

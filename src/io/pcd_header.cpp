@@ -35,8 +35,14 @@ bool parse_u64(const std::string& s, uint64_t* out) {
 // its DATA type (binary, binary_compressed or ascii); fails on an unknown type.
 void check_body_size(const std::vector<uint8_t>& bytes, const PcdHeader& h,
                      const std::string& name) {
-  const size_t n = bytes.size();
-  const uint64_t body = n - h.data_idx;
+  check_body_fits(bytes, bytes.size(), h, name);
+}
+
+}  // namespace
+
+void check_body_fits(const std::vector<uint8_t>& bytes, uint64_t file_size, const PcdHeader& h,
+                     const std::string& name) {
+  const uint64_t body = file_size - h.data_idx;
   if (h.data == "binary") {
     if (h.point_step != 0 && h.points > body / h.point_step)
       fail(ErrorCode::kCorrupt, name,
@@ -44,7 +50,8 @@ void check_body_size(const std::vector<uint8_t>& bytes, const PcdHeader& h,
                std::to_string(h.points * h.point_step) + " bytes) but the body holds " +
                std::to_string(body) + " bytes");
   } else if (h.data == "binary_compressed") {
-    if (body < 8) fail(ErrorCode::kCorrupt, name, "compressed PCD body is shorter than 8 bytes");
+    if (body < 8 || bytes.size() < h.data_idx + 8)
+      fail(ErrorCode::kCorrupt, name, "compressed PCD body is shorter than 8 bytes");
     const uint8_t* p = bytes.data() + h.data_idx;
     uint64_t csize = static_cast<uint64_t>(p[0]) | static_cast<uint64_t>(p[1]) << 8 |
                      static_cast<uint64_t>(p[2]) << 16 | static_cast<uint64_t>(p[3]) << 24;
@@ -73,6 +80,8 @@ void check_body_size(const std::vector<uint8_t>& bytes, const PcdHeader& h,
     fail(ErrorCode::kCorrupt, name, "unknown PCD DATA type '" + h.data + "'");
   }
 }
+
+namespace {
 
 // The values of a SIZE line (1, 2, 4 or 8 each), a TYPE line (F, I or U), a COUNT line (up to
 // 2^20) and a VIEWPOINT line (7 numbers); w[0] is the key.
@@ -146,6 +155,13 @@ void complete_header(PcdHeader* hp, bool have_width, bool have_points, const std
 }  // namespace
 
 PcdHeader parse_header(const std::vector<uint8_t>& bytes, const std::string& name) {
+  PcdHeader h = parse_header_text(bytes, name);
+  // The body must be able to hold what the header announces.
+  check_body_size(bytes, h, name);
+  return h;
+}
+
+PcdHeader parse_header_text(const std::vector<uint8_t>& bytes, const std::string& name) {
   PcdHeader h;
   size_t pos = 0;
   const size_t n = bytes.size();
@@ -196,8 +212,6 @@ PcdHeader parse_header(const std::vector<uint8_t>& bytes, const std::string& nam
     }
   }
   complete_header(&h, have_width, have_points, name);
-  // The body must be able to hold what the header announces.
-  check_body_size(bytes, h, name);
   return h;
 }
 

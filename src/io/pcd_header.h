@@ -29,6 +29,16 @@ struct PcdHeader {
 // Parses the header of the PCD file `bytes` (`name` for messages) and checks that the body can
 // hold the points it announces. Throws Error(kCorrupt), or kNotOurFormat for an unknown line.
 PcdHeader parse_header(const std::vector<uint8_t>& bytes, const std::string& name);
+// The same without the body check: `bytes` may be the file's first bytes only (at least through
+// the DATA line). What a folder's frame counts are read from when it is opened.
+PcdHeader parse_header_text(const std::vector<uint8_t>& bytes, const std::string& name);
+
+// The body-size check parse_header makes, for a file of `file_size` bytes of which `bytes` are
+// the first (through the DATA line and, for binary_compressed, the 8 bytes of sizes after it):
+// what a folder's frames are checked with when it is opened, before anything is allocated for
+// the points their headers announce. Throws Error(kCorrupt).
+void check_body_fits(const std::vector<uint8_t>& bytes, uint64_t file_size, const PcdHeader& h,
+                     const std::string& name);
 
 // PCL's ASCII body reader turns a bad token or a short line into zeros without a word: checks
 // that every non-blank line after the header holds exactly values_per_point numbers and that

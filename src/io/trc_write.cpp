@@ -179,6 +179,7 @@ void append_rows(const Take& take, size_t first, size_t count, const double* xyz
 }  // namespace trc
 
 void write_trc(const Take& take, const std::string& path, const WriteOptions& opts) {
+  refuse_ragged(take, "the TRC writer (a TRC row holds a fixed number of markers)", path);
   const size_t F = take.frames, N = take.points;
   if (take.xyz.size() != F * N * 3 || take.valid.size() != F * N)
     fail(ErrorCode::kInternal, path, "take arrays do not match frames x points");

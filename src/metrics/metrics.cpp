@@ -75,13 +75,34 @@ ErrorStats compare(size_t frames, size_t points, const double* a, const double* 
   return acc.finish();
 }
 
+void ErrorAccumulator::add_ragged(size_t frames, const size_t* offsets, const double* a,
+                                  const double* b, const uint8_t* valid) {
+  for (size_t f = 0; f < frames; ++f) {
+    const size_t o = offsets[f] - offsets[0];
+    add(1, offsets[f + 1] - offsets[f], a + o * 3, b + o * 3, valid + o);
+  }
+}
+
 ErrorStats compare(const Take& a, const Take& b) {
-  if (a.frames != b.frames || a.points != b.points || b.xyz.size() != a.xyz.size())
+  if (a.frames != b.frames || a.points != b.points || b.xyz.size() != a.xyz.size() ||
+      a.frame_offsets != b.frame_offsets || a.xyz.size() != a.total_points() * 3 ||
+      a.valid.size() != a.total_points())
     fail(ErrorCode::kInvalidParameter, a.source,
          "cannot compare takes of different shapes (" + std::to_string(a.frames) + "x" +
-             std::to_string(a.points) + " vs " + std::to_string(b.frames) + "x" +
-             std::to_string(b.points) + ")");
-  ErrorStats s = compare(a.frames, a.points, a.xyz.data(), b.xyz.data(), a.valid.data());
+             (a.ragged() ? std::to_string(a.total_points()) + " points in all"
+                         : std::to_string(a.points)) +
+             " vs " + std::to_string(b.frames) + "x" +
+             (b.ragged() ? std::to_string(b.total_points()) + " points in all"
+                         : std::to_string(b.points)) +
+             ")");
+  ErrorStats s;
+  if (a.ragged()) {
+    ErrorAccumulator acc;
+    acc.add_ragged(a.frames, a.frame_offsets.data(), a.xyz.data(), b.xyz.data(), a.valid.data());
+    s = acc.finish();
+  } else {
+    s = compare(a.frames, a.points, a.xyz.data(), b.xyz.data(), a.valid.data());
+  }
   if (b.valid.size() == a.valid.size())
     for (size_t i = 0; i < a.valid.size(); ++i)
       s.mask_mismatches += (a.valid[i] != 0) != (b.valid[i] != 0);

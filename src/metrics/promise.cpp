@@ -64,14 +64,25 @@ std::string extras_difference(const Take& a, const Take& b) {
     if (!b.pcd) return "the PCD extras are missing";
     if (a.pcd->frame_names != b.pcd->frame_names) return "the PCD frame names differ";
   }
+  if (a.ply && (!b.ply || a.ply->frame_names != b.ply->frame_names))
+    return "the PLY frame names differ";
+  if (a.bin && (!b.bin || a.bin->frame_names != b.bin->frame_names))
+    return "the .bin frame names differ";
   return "";
 }
 
 std::string header_difference(const Take& a, const Take& b) {
+  if (a.ragged() != b.ragged() || a.frame_offsets != b.frame_offsets)
+    return a.frames != b.frames ? "decodes to " + std::to_string(b.frames) + " frames instead of " +
+                                      std::to_string(a.frames)
+                                : "the frames' point counts differ";
   if (a.frames != b.frames || a.points != b.points)
     return "decodes to " + std::to_string(b.frames) + " frames x " + std::to_string(b.points) +
            " points instead of " + std::to_string(a.frames) + " x " + std::to_string(a.points);
-  if (!same_value(a.rate, b.rate) || a.units != b.units || a.first_frame != b.first_frame)
+  // Units a reader assumed (PCD, PLY, .bin: metres) are not stored: they match none.
+  const bool same_units = a.units == b.units || (a.units_assumed && b.units.empty()) ||
+                          (b.units_assumed && a.units.empty());
+  if (!same_value(a.rate, b.rate) || !same_units || a.first_frame != b.first_frame)
     return "the rate, units or first frame differ";
   if (a.labels != b.labels || a.descriptions != b.descriptions)
     return "the point labels or descriptions differ";
@@ -91,6 +102,7 @@ std::string header_difference(const Take& a, const Take& b) {
 // The per-frame arrays of frames [first, first + frames): a block, or a whole take.
 struct PromiseCheck::Frames {
   size_t first = 0, frames = 0, points = 0;
+  const std::vector<size_t>* offsets = nullptr;  // a ragged block or take: its frame offsets
   const double* xyz = nullptr;
   const uint8_t* valid = nullptr;
   const std::vector<float>* residual = nullptr;  // null: none
@@ -105,6 +117,7 @@ struct PromiseCheck::Frames {
       : first(b.first),
         frames(b.frames),
         points(b.points),
+        offsets(b.ragged() ? &b.frame_offsets : nullptr),
         xyz(b.xyz.data()),
         valid(b.valid.data()),
         residual(&b.residual),
@@ -118,6 +131,7 @@ struct PromiseCheck::Frames {
   explicit Frames(const Take& t)
       : frames(t.frames),
         points(t.points),
+        offsets(t.ragged() ? &t.frame_offsets : nullptr),
         xyz(t.xyz.data()),
         valid(t.valid.data()),
         analog(t.analog.values.data()),
@@ -126,6 +140,25 @@ struct PromiseCheck::Frames {
         rotation_reliability(&t.rotations.reliability) {
     if (t.c3d) residual = &t.c3d->residual, camera_mask = &t.c3d->camera_mask;
     for (const auto& a : t.attributes) attributes.push_back(&a.data);
+  }
+  size_t total() const { return offsets ? offsets->back() : frames * points; }
+  bool same_shape(const Frames& o) const {
+    if (frames != o.frames || points != o.points || (offsets == nullptr) != (o.offsets == nullptr))
+      return false;
+    return !offsets || *offsets == *o.offsets;
+  }
+  // "frame F, point P" of sample i.
+  std::string where(size_t i) const {
+    size_t f = 0, p = i;
+    if (offsets) {
+      f = static_cast<size_t>(std::upper_bound(offsets->begin(), offsets->end(), i) -
+                              offsets->begin()) -
+          1;
+      p = i - (*offsets)[f];
+    } else if (points > 0) {
+      f = i / points, p = i % points;
+    }
+    return "frame " + std::to_string(first + f) + ", point " + std::to_string(p);
   }
   // The point fields of both agree byte for byte, or, for a field with a bound (Promise), its
   // float values within the bound and its non-finite values bit for bit.
@@ -218,7 +251,7 @@ bool PromiseCheck::positions(const Frames& a, const Frames& b) {
   using K = Promise::Kind;
   const K kind = promise_.kind;
   const double bound = promise_.max_error;
-  const size_t n = a.frames * a.points;
+  const size_t n = a.total();
   size_t bad = n, axis = 0;  // the first sample that breaks the promise, and its coordinate
   auto find = [&](auto kind_c) {
     constexpr K k = decltype(kind_c)::value;
@@ -244,9 +277,8 @@ bool PromiseCheck::positions(const Frames& a, const Frames& b) {
     find(std::integral_constant<K, K::kBound>());
   if (bad == n) return true;
   const double x = a.xyz[bad * 3 + axis], y = b.xyz[bad * 3 + axis];
-  return breach("coordinate " + text(x, 17) + " at frame " +
-                std::to_string(a.first + bad / a.points) + ", point " +
-                std::to_string(bad % a.points) + " comes back as " + text(y, 17) +
+  return breach("coordinate " + text(x, 17) + " at " + a.where(bad) + " comes back as " +
+                text(y, 17) +
                 (kind == K::kLossless   ? " (lossless)"
                  : kind == K::kKgTarget ? " (not finite)"
                                         : " (bound " + text(promise_.max_error, 6) + ")"));
@@ -254,17 +286,20 @@ bool PromiseCheck::positions(const Frames& a, const Frames& b) {
 
 // Mask, positions, 4th words and analog values of one stretch of frames.
 bool PromiseCheck::check(const Frames& a, const Frames& b) {
-  if (a.frames != b.frames || a.points != b.points)
-    return breach("frame count differs at frame " + std::to_string(a.first));
-  if (measure_) acc_.add(a.frames, a.points, a.xyz, b.xyz, a.valid);
+  if (!a.same_shape(b))
+    return breach((a.offsets ? "frame or point count" : "frame count") +
+                  std::string(" differs at frame ") + std::to_string(a.first));
+  if (measure_) {
+    if (a.offsets)
+      acc_.add_ragged(a.frames, a.offsets->data(), a.xyz, b.xyz, a.valid);
+    else
+      acc_.add(a.frames, a.points, a.xyz, b.xyz, a.valid);
+  }
   size_t n = 0, at = 0;
-  for (size_t i = 0; i < a.frames * a.points; ++i)
+  for (size_t i = 0; i < a.total(); ++i)
     if ((a.valid[i] != 0) != (b.valid[i] != 0) && n++ == 0) at = i;
   mask_mismatches_ += n;
-  if (n)
-    return breach(std::to_string(n) + " samples' gap mask differs, first at frame " +
-                  std::to_string(a.first + at / a.points) + ", point " +
-                  std::to_string(at % a.points));
+  if (n) return breach(std::to_string(n) + " samples' gap mask differs, first at " + a.where(at));
   if (!positions(a, b)) return false;
   if (!a.same_words(b)) return breach("the C3D residual/camera words differ");
   if (a.analog_values != b.analog_values) return breach("the analog values differ");
@@ -328,11 +363,12 @@ PromiseResult check_promise(const Take& original, const Take& decoded, const Pro
   PromiseResult r;
   c.header(original, decoded);
   // The frames are measured even when the metadata differs, so the caller can report both.
-  const bool whole = original.xyz.size() == original.frames * original.points * 3 &&
-                     original.valid.size() == original.frames * original.points &&
+  const bool whole = original.xyz.size() == original.total_points() * 3 &&
+                     original.valid.size() == original.total_points() &&
                      decoded.xyz.size() == original.xyz.size() &&
                      decoded.valid.size() == original.valid.size();
-  if (original.frames == decoded.frames && original.points == decoded.points) {
+  if (original.frames == decoded.frames && original.points == decoded.points &&
+      original.frame_offsets == decoded.frame_offsets) {
     if (!whole) return {false, "the takes' frame arrays do not match their shapes", c.error()};
     c.check(PromiseCheck::Frames(original), PromiseCheck::Frames(decoded));
     c.finish();

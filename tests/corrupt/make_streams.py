@@ -1,8 +1,7 @@
 #!/usr/bin/env python3
 """Hand-crafts the corrupt .capz streams in streams/ from a valid one (docs/FORMAT.md).
-Run: python3 make_streams.py VALID.capz [VALID_2.0.capz [VALID_3.0.capz]]   (committed outputs;
-rerun only when the format changes; VALID.capz was tests/golden/streams/Capture0004.c3d.grid1mm.v1.0.capz,
-the second and third streams, its v2.0 and v3.0 siblings, give the version-downgrade cases)
+Run from tests/corrupt: python3 make_streams.py VALID.capz   (committed outputs; rerun only when
+the format changes; VALID.capz is ../golden/streams/Capture0004.c3d.grid1mm.v1.0.capz, format 1.0)
 Each file's name says what is wrong; test_corrupt.cpp expects every one to be rejected cleanly."""
 import struct, sys, zlib, os
 
@@ -15,7 +14,7 @@ def crc32c(data):
     return crc ^ 0xFFFFFFFF
 
 def chunks(b):
-    off = 11
+    off = 15
     out = []
     while off < len(b):
         t = b[off:off+4]; n = struct.unpack('<I', b[off+4:off+8])[0]
@@ -26,15 +25,24 @@ def chunks(b):
 def rechunk(t, payload):
     return t + struct.pack('<I', len(payload)) + payload + struct.pack('<I', crc32c(t + payload))
 
+def with_version(b, major, minor):
+    """b with version major.minor in its file header, the header's CRC made right."""
+    h = b[:9] + bytes([major, minor])
+    return h + struct.pack('<I', crc32c(h)) + b[15:]
+
 src = open(sys.argv[1], 'rb').read()
+assert src[9:11] == bytes([1, 0]), 'a format 1.0 stream is needed'
 cs = chunks(src)
 out = {}
 out['empty.capz'] = b''
 out['text_file.capz'] = b'hello, this is not a capz file\n'
 out['magic_only.capz'] = src[:9]
 out['crlf_converted_magic.capz'] = src[:5] + b'\r\r\n' + src[7:]
-out['future_major_version.capz'] = src[:9] + bytes([4, 0]) + src[11:]  # capz reads 1.x to 3.x
-out['major_version_zero.capz'] = src[:9] + bytes([0, 0]) + src[11:]
+out['future_major_version.capz'] = with_version(src, 2, 0)  # capz reads 1.x
+out['major_version_zero.capz'] = with_version(src, 0, 0)
+out['version_bytes_bad_crc.capz'] = src[:9] + bytes([1, 1]) + src[11:]
+# The pre-release magic (capz 0.1.0 and earlier, formats 1.0-9.3): refused as unsupported.
+out['prerelease_magic.capz'] = src[:1] + b'capz' + src[5:9] + bytes([9, 3]) + src[11:]
 out['truncated_half.capz'] = src[:len(src)//2]
 out['truncated_last_byte.capz'] = src[:-1]
 out['truncated_after_meta.capz'] = src[:cs[2][0]]
@@ -49,7 +57,7 @@ b = bytearray(src); b[posw[0]+4:posw[0]+8] = struct.pack('<I', 0x7FFFFFF0); out[
 # HEAD with valid CRC but lying counts
 head = bytearray(src[cs[0][0]+8:cs[0][0]+8+cs[0][2]])
 def with_head(h):
-    return src[:11] + rechunk(b'HEAD', bytes(h)) + src[cs[0][0] + 12 + cs[0][2]:]
+    return src[:15] + rechunk(b'HEAD', bytes(h)) + src[cs[0][0] + 12 + cs[0][2]:]
 h = bytearray(head); h[0:8] = struct.pack('<Q', 1 << 39); out['head_huge_frame_count.capz'] = with_head(h)
 h = bytearray(head); h[8:12] = struct.pack('<I', 0xFFFFFFFF); out['head_huge_point_count.capz'] = with_head(h)
 h = bytearray(head); h[12:16] = struct.pack('<I', 0); out['head_zero_window.capz'] = with_head(h)
@@ -61,7 +69,7 @@ h = bytearray(head); h[0:8] = struct.pack('<Q', struct.unpack('<Q', head[0:8])[0
 m = cs[1]
 out['meta_garbage.capz'] = src[:m[0]] + rechunk(b'META', b'\xff' * 40) + src[m[0] + 12 + m[2]:]
 # chunks swapped: META first
-out['meta_before_head.capz'] = src[:11] + src[m[0]:m[0]+12+m[2]] + src[cs[0][0]:cs[0][0]+12+cs[0][2]] + src[m[0]+12+m[2]:]
+out['meta_before_head.capz'] = src[:15] + src[m[0]:m[0]+12+m[2]] + src[cs[0][0]:cs[0][0]+12+cs[0][2]] + src[m[0]+12+m[2]:]
 # POSW payload: residual block replaced by zeros (valid CRC)
 pp = bytearray(src[posw[0]+8:posw[0]+8+posw[2]])
 tail = len(pp) // 2
@@ -77,14 +85,22 @@ ip[1:9] = struct.pack('<Q', struct.unpack('<Q', ip[1:9])[0] + 3)
 out['indx_bad_offset.capz'] = src[:ix[0]] + rechunk(b'INDX', bytes(ip))
 # INDX removed
 out['indx_missing.capz'] = src[:ix[0]]
-# A 2.0 stream relabelled 1.1: its POSW is then read with the 1.x coding and must fail cleanly.
-if len(sys.argv) > 2:
-    v2 = open(sys.argv[2], 'rb').read()
-    out['v2_stream_labelled_major_1.capz'] = v2[:9] + bytes([1, 1]) + v2[11:]
-# A 3.0 stream relabelled 2.0: its POSW is then read with the 2.x coding and must fail cleanly.
-if len(sys.argv) > 3:
-    v3 = open(sys.argv[3], 'rb').read()
-    out['v3_stream_labelled_major_2.capz'] = v3[:9] + bytes([2, 0]) + v3[11:]
+# A 1.1 stream with a critical chunk type 1.0 does not know, after META (FORMAT.md 2): refused
+# as unsupported, naming the chunk (the INDX offsets moved with it).
+extra = rechunk(b'SCAN', b'\x01\x02\x03')
+at = m[0] + 12 + m[2]
+ip = bytearray(src[ix[0]+8:ix[0]+8+ix[2]])
+count, pos = 0, 0
+while True:  # the window count, a varint
+    count |= (ip[pos] & 0x7F) << (7 * pos)
+    pos += 1
+    if not ip[pos - 1] & 0x80:
+        break
+for w in range(count):
+    o = pos + 16 * w
+    ip[o:o+8] = struct.pack('<Q', struct.unpack('<Q', ip[o:o+8])[0] + len(extra))
+body = src[:at] + extra + src[at:ix[0]] + rechunk(b'INDX', bytes(ip))
+out['unknown_critical_chunk.capz'] = with_version(body, 1, 1)
 os.makedirs('streams', exist_ok=True)
 for k, v in out.items():
     open(os.path.join('streams', k), 'wb').write(v)

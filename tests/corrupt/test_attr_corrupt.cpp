@@ -11,7 +11,6 @@
 #include "capz/error.h"
 #include "capz/file.h"
 #include "chunk_util.h"
-#include "coding/crc32c.h"
 #include "test_util.h"
 
 using capz::ErrorCode;
@@ -54,43 +53,31 @@ void damage_every_byte(const std::string& stream, uint8_t flip) {
 }  // namespace
 
 TEST(AttrCorrupt, DamagedAttrPayloadIsCaughtOrHarmless) {
-  damage_every_byte("lidar_small.lossless.v5.0.capz", 0x01);
-  damage_every_byte("lidar_small.grid0.01.v5.0.capz", 0x80);
-  // 6.0: normal_z completed from normal_x and normal_y (predictor 9, its references, signs).
-  damage_every_byte("depth_small.lossless.v6.0.capz", 0x01);
-  damage_every_byte("depth_small.grid0.01.v6.0.capz", 0x80);
-}
-
-TEST(AttrCorrupt, A6StreamRelabelledAs5IsCorruptNotMisread) {
-  // The version bytes of a 6.0 stream set to 5.0 (header CRC recomputed): a 5.x stream has no
-  // predictor 9 nor transforms 4 and 5, so its ATTR is refused, naming the chunk and the field.
-  std::vector<uint8_t> b = capz::read_file(kStreams + "depth_small.lossless.v6.0.capz");
-  ASSERT_EQ(b[9], 6);
-  b[9] = 5;
-  const uint32_t crc = capz::crc32c(b.data(), 11);
-  for (int k = 0; k < 4; ++k) b[11 + k] = static_cast<uint8_t>(crc >> (8 * k));
-  std::string msg;
-  EXPECT_EQ(capz_test::error_of([&] { capz::decompress(b.data(), b.size(), "x"); }, &msg),
-            ErrorCode::kCorrupt);
-  EXPECT_NE(msg.find("ATTR"), std::string::npos) << msg;
-  // The first field coded with what 5.x lacks: rgb by transform 4 or 5, normal_z by predictor 9.
-  EXPECT_TRUE(msg.find("bad transform") != std::string::npos ||
-              msg.find("predictor 9") != std::string::npos)
-      << msg;
+  damage_every_byte("lidar_small.lossless.v1.0.capz", 0x01);
+  damage_every_byte("lidar_small.grid0.01.v1.0.capz", 0x80);
+  // normal_z completed from normal_x and normal_y (predictor 9, its references, signs).
+  damage_every_byte("depth_small.lossless.v1.0.capz", 0x01);
+  damage_every_byte("depth_small.grid0.01.v1.0.capz", 0x80);
 }
 
 TEST(AttrCorrupt, MissingOrMisplacedAttrIsCorrupt) {
-  const std::vector<uint8_t> good = capz::read_file(kStreams + "lidar_small.lossless.v5.0.capz");
+  const std::vector<uint8_t> good = capz::read_file(kStreams + "lidar_small.lossless.v1.0.capz");
   const size_t at = find_chunk(good, "ATTR");
   ASSERT_NE(at, std::string::npos);
-  // Renamed to a type no decoder knows (skipped as unknown): the window then lacks ATTR.
+  // Renamed to an ancillary type no decoder knows (skipped): the window then lacks ATTR.
   std::vector<uint8_t> b = good;
-  b[at] = 'Q';
+  b[at] = 'q';
   fix_crc(&b, at);
   std::string msg;
   EXPECT_EQ(capz_test::error_of([&] { capz::decompress(b.data(), b.size(), "x"); }, &msg),
             ErrorCode::kCorrupt);
   EXPECT_NE(msg.find("ATTR"), std::string::npos) << msg;
+  // Renamed to a critical type no decoder knows: refused as a later version's (FORMAT.md 2).
+  b[at] = 'Q';
+  fix_crc(&b, at);
+  EXPECT_EQ(capz_test::error_of([&] { capz::decompress(b.data(), b.size(), "x"); }, &msg),
+            ErrorCode::kUnsupportedVersion);
+  EXPECT_NE(msg.find("chunk QTTR of format 1.0"), std::string::npos) << msg;
   // Its window index changed.
   b = good;
   b[at + 8] ^= 1;

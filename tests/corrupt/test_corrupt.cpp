@@ -84,6 +84,11 @@ TEST(Corrupt, GivenErrorsThenTheyNameTheProblem) {
   EXPECT_NE(message("text_file.capz").find("not a .capz"), std::string::npos);
   EXPECT_NE(message("crlf_converted_magic.capz").find("text-mode"), std::string::npos);
   EXPECT_NE(message("indx_missing.capz").find("INDX"), std::string::npos);
+  EXPECT_NE(message("prerelease_magic.capz").find("pre-release capz stream (format 9.3)"),
+            std::string::npos);
+  EXPECT_NE(message("unknown_critical_chunk.capz").find("chunk SCAN of format 1.1"),
+            std::string::npos);
+  EXPECT_NE(message("version_bytes_bad_crc.capz").find("damaged file header"), std::string::npos);
 }
 
 // b's text of the error decompressing it gives ("" when it decodes); the error must be clean.
@@ -95,16 +100,6 @@ std::string decode_error_text(const std::vector<uint8_t>& b) {
     return std::string(e.what());
   }
   return std::string();
-}
-
-// b relabelled as a stream of another major version (and minor, when given), its header CRC
-// made right.
-std::vector<uint8_t> relabelled(std::vector<uint8_t> b, int major, int minor = -1) {
-  b[9] = static_cast<uint8_t>(major);
-  if (minor >= 0) b[10] = static_cast<uint8_t>(minor);
-  const uint32_t hc = crc32c(b.data(), 11);
-  for (int k = 0; k < 4; ++k) b[11 + k] = static_cast<uint8_t>(hc >> (8 * k));
-  return b;
 }
 
 // A small stream with everything in it: gaps, analog, C3D words, rotations, several windows.
@@ -172,20 +167,21 @@ TEST(Corrupt, GivenEveryTruncationWhenDecodedThenCleanError) {
   }
 }
 
-// FORMAT.md 5.1: META coding 3 exists from 8.0 on, with dictionary 1 only; its LZMA2 data,
-// damaged under a valid CRC, gives a clean error or a harmless take.
-TEST(Corrupt, GivenMetaCoding3DamagedOrInAnOlderMajorThenCleanCorruptNamingMeta) {
-  const std::vector<uint8_t> good =
-      read_file(std::string(CAPZ_TEST_DIR) + "/golden/streams/Capture0004.c3d.grid1mm.v8.0.capz");
-  ASSERT_GT(good.size(), 15u);
-  ASSERT_EQ(good[9], 8);
+// A golden stream of the format written (tests/golden/streams).
+std::vector<uint8_t> golden(const std::string& name) {
+  const std::vector<uint8_t> b = read_file(std::string(CAPZ_TEST_DIR) + "/golden/streams/" + name);
+  EXPECT_GT(b.size(), 15u);
+  EXPECT_EQ(b.at(9), 1);
+  return b;
+}
+
+// FORMAT.md 8.1: META coding 3, with dictionary 1 only; its LZMA2 data, damaged under a valid
+// CRC, gives a clean error or a harmless take.
+TEST(Corrupt, GivenMetaCoding3DamagedThenCleanCorruptNamingMeta) {
+  const std::vector<uint8_t> good = golden("Capture0004.c3d.grid1mm.v1.0.capz");
   const size_t meta = capz_test::find_chunk(good, "META");
   ASSERT_NE(meta, std::string::npos);
-  ASSERT_EQ(good[meta + 8], 3) << "the golden 8.0 stream's META is coding 3";
-  // Relabelled 7.0, its header CRC made right: coding 3 is unknown there.
-  const std::string e7 = decode_error_text(relabelled(good, 7));
-  EXPECT_NE(e7.find("META"), std::string::npos) << e7;
-  EXPECT_NE(e7.find("coding 3"), std::string::npos) << e7;
+  ASSERT_EQ(good[meta + 8], 3) << "the golden stream's META is coding 3";
   // A dictionary number the format does not define.
   std::vector<uint8_t> d2 = good;
   d2[meta + 9] = 2;
@@ -197,35 +193,20 @@ TEST(Corrupt, GivenMetaCoding3DamagedOrInAnOlderMajorThenCleanCorruptNamingMeta)
   expect_clean_under_flips(good, meta, 2, 5, "META");
 }
 
-// FORMAT.md 11.4 at stream level: the golden 9.0 stream whose force channels are interpolated,
-// relabelled 8.0 (header CRC made right), is refused with one clean error naming ANLG; every
-// ANLG payload byte flipped under a valid CRC gives a clean error or a take.
-TEST(Corrupt, GivenInterpolatedAnalogInAnOlderMajorOrDamagedThenCleanCorruptNamingAnlg) {
-  const std::vector<uint8_t> good =
-      read_file(std::string(CAPZ_TEST_DIR) +
-                "/golden/streams/codamotion_gaitwands_19970212.c3d.lossless.v9.0.capz");
-  ASSERT_GT(good.size(), 15u);
-  ASSERT_EQ(good[9], 9);
+// FORMAT.md 9.2 at stream level: every ANLG payload byte of the golden stream whose force
+// channels are interpolated, flipped under a valid CRC, gives a clean error or a take.
+TEST(Corrupt, GivenInterpolatedAnalogDamagedThenCleanCorruptNamingAnlg) {
+  const std::vector<uint8_t> good = golden("codamotion_gaitwands_19970212.c3d.lossless.v1.0.capz");
   decompress(good.data(), good.size(), "good.capz");
-  const std::string e8 = decode_error_text(relabelled(good, 8));
-  EXPECT_NE(e8.find("ANLG"), std::string::npos) << e8;
-  EXPECT_NE(e8.find("kind"), std::string::npos) << e8;
   const size_t anlg = capz_test::find_chunk(good, "ANLG");
   ASSERT_NE(anlg, std::string::npos);
   expect_clean_under_flips(good, anlg, 0, 9, "ANLG");
 }
 
-// FORMAT.md 11.9: the float coder's predictors 2-5 exist from 9.0 on; an ANLG payload using them,
-// damaged under a valid CRC, gives a clean error or a harmless take.
-TEST(Corrupt, GivenFloatPredictors9DamagedOrInAnOlderMajorThenCleanCorruptNamingAnlg) {
-  const std::vector<uint8_t> good = read_file(
-      std::string(CAPZ_TEST_DIR) + "/golden/streams/repeat_analog.c3d.lossless.v9.0.capz");
-  ASSERT_GT(good.size(), 15u);
-  ASSERT_EQ(good[9], 9);
-  // Relabelled 8.0, its header CRC made right: predictors above 1 are unknown there.
-  const std::string e8 = decode_error_text(relabelled(good, 8));
-  EXPECT_NE(e8.find("ANLG"), std::string::npos) << e8;
-  EXPECT_NE(e8.find("unknown analog float predictor"), std::string::npos) << e8;
+// FORMAT.md 9.1: an ANLG payload using the float coder's predictors 2-5, damaged under a valid
+// CRC, gives a clean error or a harmless take.
+TEST(Corrupt, GivenFloatPredictorsDamagedThenCleanCorruptNamingAnlg) {
+  const std::vector<uint8_t> good = golden("repeat_analog.c3d.lossless.v1.0.capz");
   // Every byte of the first window's ANLG payload flipped in turn, the CRC made right.
   const size_t anlg = capz_test::find_chunk(good, "ANLG");
   ASSERT_NE(anlg, std::string::npos);
@@ -234,22 +215,24 @@ TEST(Corrupt, GivenFloatPredictors9DamagedOrInAnOlderMajorThenCleanCorruptNaming
   EXPECT_GT(errors, 0);
 }
 
-// FORMAT.md 11.10: window version 2 exists from 9.3 on. The golden 9.3 stream of a take with force
-// and EMG channels, relabelled 9.2 (header CRC made right), is refused with one clean error naming
-// ANLG; every byte of its first ANLG payload flipped under a valid CRC gives a clean error or a
-// take.
-TEST(Corrupt, GivenRelativeTokenWindowsInAnOlderMinorOrDamagedThenCleanCorruptNamingAnlg) {
-  const std::vector<uint8_t> good =
-      read_file(std::string(CAPZ_TEST_DIR) + "/golden/streams/EB015PI.c3d.lossless.v9.3.capz");
-  ASSERT_GT(good.size(), 15u);
-  ASSERT_EQ(good[9], 9);
-  ASSERT_EQ(good[10], 3);
+// FORMAT.md 9.7: an ANLG window's version byte has one value in format 1.0, 2. The golden stream
+// of a take with force and EMG channels with its first window's version byte set to 0 or 1 (the
+// pre-release versions) is refused with one clean error naming ANLG; every byte of that payload
+// flipped under a valid CRC gives a clean error or a take.
+TEST(Corrupt, GivenOtherAnalogWindowVersionsOrDamageThenCleanCorruptNamingAnlg) {
+  const std::vector<uint8_t> good = golden("EB015PI.c3d.lossless.v1.0.capz");
   decompress(good.data(), good.size(), "good.capz");
-  const std::string e92 = decode_error_text(relabelled(good, 9, 2));
-  EXPECT_NE(e92.find("ANLG"), std::string::npos) << e92;
-  EXPECT_NE(e92.find("unknown analog window version"), std::string::npos) << e92;
   const size_t anlg = capz_test::find_chunk(good, "ANLG");
   ASSERT_NE(anlg, std::string::npos);
+  ASSERT_EQ(good[anlg + 9], 2);  // after the window index 0
+  for (const uint8_t v : {0, 1, 3}) {
+    std::vector<uint8_t> b = good;
+    b[anlg + 9] = v;
+    capz_test::fix_crc(&b, anlg);
+    const std::string e = decode_error_text(b);
+    EXPECT_NE(e.find("ANLG"), std::string::npos) << e;
+    EXPECT_NE(e.find("unknown analog window version"), std::string::npos) << e;
+  }
   int errors = 0;
   expect_clean_under_flips(good, anlg, 0, 13, "ANLG", &errors);
   EXPECT_GT(errors, 0);

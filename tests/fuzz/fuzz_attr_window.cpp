@@ -1,8 +1,8 @@
-// Fuzz target: the ATTR coder of PCD point fields (src/coding/attributes.h, FORMAT.md 13,
-// 13.5). Byte 0 picks the mode (bits 0-1), the field set (bits 2-4, and bit 6 for the normal
-// triples) and the stream's major (bit 5: 6.x, predictor 9 and transforms 4, 5 allowed; bit 7:
-// 7.x, predictors 10 and 11 too, with position integers made from the shape), bytes 1-2 the
-// shape (frames 1..16, points 1..256, width a divisor-free 1..points):
+// Fuzz target: the ATTR coder of PCD point fields (src/coding/attributes.h, FORMAT.md 5.3, 6,
+// 7.3). Byte 0 picks the mode (bits 0-1), the field set (bits 2-4, and bit 6 for the normal
+// triples) and whether the window has position integers (bit 7: predictors 10 and 11 allowed,
+// the integers made from the shape; bit 5 once chose format 6.x and is now unused), bytes 1-2
+// the shape (frames 1..16, points 1..256, width a divisor-free 1..points):
 //   mode even: the rest is an ATTR body; decoding must return or throw capz::Error, and what
 //     decodes must re-encode to a body that decodes to the same bytes;
 //   mode odd: the rest are field bytes (repeated to fill the window), which must round-trip.
@@ -53,9 +53,8 @@ std::vector<capz::AttrSpec> field_set(int k) {
   }
 }
 
-// The stream's version and the window's position integers (7.x only).
+// The window's position integers (nullptr: none).
 struct Stream {
-  bool v6 = false, v7 = false;
   const int32_t* q = nullptr;
 };
 
@@ -63,10 +62,10 @@ void round_trip(const std::vector<capz::AttrSpec>& specs,
                 const std::vector<std::vector<uint8_t>>& data, const uint8_t* valid, size_t frames,
                 size_t points, size_t width, const Stream& st) {
   const std::vector<uint8_t> enc =
-      capz::encode_attributes(specs, data, valid, frames, points, width, st.v6, st.v7, st.q);
+      capz::encode_attributes(specs, data, valid, frames, points, width, st.q);
   std::vector<std::vector<uint8_t>> back;
   capz::decode_attributes(enc.data(), enc.size(), specs, valid, frames, points, width, &back,
-                          "re-encoded", st.v6, st.v7, st.q);
+                          "re-encoded", st.q);
   CAPZ_FUZZ_CHECK(back == data);
 }
 
@@ -77,17 +76,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const uint8_t mode = data[0];
   const std::vector<capz::AttrSpec> specs = field_set(((mode >> 2) & 7) | ((mode >> 3) & 8));
   Stream st;
-  st.v7 = (mode & 128) != 0;
-  st.v6 = (mode & 32) != 0 || st.v7;
+  const bool near = (mode & 128) != 0;
   const size_t frames = 1 + (data[1] & 15);
   const size_t points = 1 + data[2];
-  // 7.x: scattered integer positions drifting by frame (nearest points are not index order).
-  std::vector<int32_t> q(st.v7 ? frames * points * 3 : 0);
+  // Scattered integer positions drifting by frame (nearest points are not index order).
+  std::vector<int32_t> q(near ? frames * points * 3 : 0);
   for (size_t i = 0; i < q.size(); ++i)
     q[i] = static_cast<int32_t>(
                static_cast<uint32_t>(((i / 3) % points) * 2654435761u + (i % 3) * 40503u) >> 24) +
            static_cast<int32_t>(i / (3 * points));
-  st.q = st.v7 ? q.data() : nullptr;
+  st.q = near ? q.data() : nullptr;
   const size_t width = 1 + (static_cast<size_t>(data[1] >> 4) * 7) % points;
   // Modes 4k+2 and 4k+3 decode / code under a gap mask (every third point a gap, and a run).
   std::vector<uint8_t> mask(frames * points);
@@ -99,7 +97,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::vector<std::vector<uint8_t>> out;
     try {
       capz::decode_attributes(data, size, specs, valid, frames, points, width, &out, "fuzz ATTR",
-                              st.v6, st.v7, st.q);
+                              st.q);
     } catch (const capz::Error&) {
       return 0;
     }

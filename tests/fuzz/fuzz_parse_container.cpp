@@ -21,7 +21,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     capz::check_file_header(v.data(), v.size(), "fuzz.capz");
     capz::StreamHeader h;
     bool have_head = false;
-    size_t off = capz::file_header_bytes(v[9]);
+    size_t off = capz::kFileHeaderBytes;
     while (off < v.size()) {
       capz::Chunk c = capz::read_chunk(v.data(), v.size(), off, "fuzz.capz");
       CAPZ_FUZZ_CHECK(c.end > off && c.end <= v.size());
@@ -31,7 +31,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
           // decode_meta's precondition, as in the decoder; a later HEAD that fails it must not
           // replace the one META is read with.
           capz::StreamHeader next = capz::decode_header(c, "fuzz.capz");
-          capz::check_header_fits(next, v.size(), v[9], "fuzz.capz");
+          capz::check_header_fits(next, v.size(), "fuzz.capz");
           h = next;
           have_head = true;
         } else if (c.type == "META" && have_head) {
@@ -39,7 +39,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
           t.frames = static_cast<size_t>(h.frames);
           t.points = h.points;
           bool words = false;
-          capz::decode_meta(c, "fuzz.capz", &t, &words, v[9]);
+          capz::decode_meta(c, "fuzz.capz", &t, &words);
         } else if (c.type == "INDX") {
           capz::decode_index(c, "fuzz.capz");
         }

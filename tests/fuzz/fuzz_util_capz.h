@@ -29,7 +29,7 @@ inline uint32_t le32(const uint8_t* p) {
 // each CRC; stops at the first chunk that runs past the end.
 inline std::vector<uint8_t> with_fixed_crcs(const uint8_t* data, size_t size) {
   std::vector<uint8_t> v(data, data + size);
-  size_t off = size > 9 ? capz::file_header_bytes(data[9]) : capz::kFileHeaderBytes;
+  size_t off = capz::kFileHeaderBytes;
   while (off <= v.size() && v.size() - off >= capz::kChunkOverhead) {
     const uint32_t len = le32(&v[off + 4]);
     if (len > v.size() - off - capz::kChunkOverhead) break;

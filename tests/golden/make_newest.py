@@ -1,24 +1,17 @@
 #!/usr/bin/env python3
-"""Makes the golden streams of a new format version (CONTRIBUTING.md, "Adding a golden stream").
+"""Makes the golden streams of the format version being written (CONTRIBUTING.md, "Adding a
+golden stream").
 
 Run from the repository root, after building:
-    python3 tests/golden/make_newest.py build/capz build/tests/capz_golden_tests 5.0 [SOURCE ...]
+    python3 tests/golden/make_newest.py build/capz build/tests/capz_golden_tests 1.0 [SOURCE ...]
 
-With SOURCE names (as MANIFEST.txt's second column, e.g. lidar_small), only the streams of those
-sources are remade, each from its own newest stream's options (8.0 for C3D takes remakes their
-5.0 and 7.0 streams): a version the encoder writes only for some takes (6.0 for normals or
-organized fields, 7.0 for scans along sensor rays, unorganized clouds' fields or repeated analog
-frames, 8.0 for C3D parameters after the format's dictionary or analog channels) gets streams of
-those takes
-only, and the check the tool runs fails if the encoder wrote another version than the tag says.
-
-For every MANIFEST.txt line of the newest version already listed that records its options, the
-CLI makes the same stream as `capz compress data/SOURCE -o STREAM OPTIONS` under the new version
-tag, and the line is appended with the CRC-32C of the decoded take, which capz_golden_tests
-reports ("decoded content changed: now XXXXXXXX") for a line appended with a placeholder. Lines of
-the new version already present are replaced: run it only while that version is being written
-(never on a version that has shipped). Existing streams of older versions are never touched."""
-import os, re, subprocess, sys
+Every MANIFEST.txt line of that version that records options is remade: the CLI makes the same
+stream as `capz compress data/SOURCE -o STREAM OPTIONS`, its `check` column is set from what the
+stream holds (`bytes` without a transform codec, else `content`: see the manifest's header), and its CRC-32C of the decoded take is filled in from what capz_golden_tests reports
+("decoded content changed: now XXXXXXXX"). With SOURCE names (the second column), only those
+sources' lines are remade. Run it only while the version is being written, never on a version
+that has shipped; lines of other versions are never touched."""
+import os, re, struct, subprocess, sys
 
 cli, golden_test, version = sys.argv[1], sys.argv[2], sys.argv[3]
 only = set(sys.argv[4:])
@@ -26,57 +19,44 @@ root = os.path.dirname(os.path.abspath(__file__))
 streams = os.path.join(root, 'streams')
 manifest = os.path.join(streams, 'MANIFEST.txt')
 data = os.path.join(os.path.dirname(os.path.dirname(root)), 'data')
+major, minor = (int(x) for x in version.split('.'))
+tag = '.v' + version + '.capz'
+
+
+def chunks(b):
+    """(type, payload) of every chunk after the 15-byte file header."""
+    out, off = [], 15
+    while off + 12 <= len(b):
+        n = struct.unpack('<I', b[off + 4:off + 8])[0]
+        out.append((b[off:off + 4].decode('ascii', 'replace'), b[off + 8:off + 8 + n]))
+        off += 12 + n
+    return out
+
+
+def check_of(b):
+    """'bytes' for a stream whose positions come from integer paths only (no transform codec:
+    the manifest's header), else 'content'."""
+    head = dict((t, p) for t, p in reversed(chunks(b)))['HEAD']
+    return 'bytes' if head[18] == 0 else 'content'
+
 
 lines = open(manifest).read().splitlines()
-tag = '.v' + version + '.capz'
-# Streams of the new version with no older counterpart (made by hand for what only the new
-# version carries, e.g. PCD fields in 5.0) are kept as they are; the others are remade.
-older = set()
-for l in lines:
-    w = l.split()
-    if l.startswith('#') or len(w) < 4 or w[0].endswith(tag):
-        continue
-    older.add(re.sub(r'\.v\d+\.\d+\.capz$', '', w[0]))
-kept, entries = [], []
-for l in lines:
-    w = l.split()
-    if not l.startswith('#') and w and w[0].endswith(tag) and w[0][:-len(tag)] in older:
-        continue  # remade below
-    kept.append(l)
-    if l.startswith('#') or len(w) < 4 or w[0].endswith(tag):
-        continue
-    entries.append(w)
-versions = sorted({re.search(r'\.v(\d+)\.(\d+)\.capz$', e[0]).groups() for e in entries},
-                  key=lambda v: (int(v[0]), int(v[1])))
-newest = '.v%s.%s.capz' % versions[-1]
-ver_of = lambda e: tuple(int(x) for x in re.search(r'\.v(\d+)\.(\d+)\.capz$', e[0]).groups())
-# Per source and options, its newest stream: with SOURCE names each of theirs is remade (a take
-# whose version rises from 5.0 to 8.0 skips those between); without, the newest version's.
-latest = {}
-for e in entries:
-    key = (e[1], tuple(e[3:]))
-    if key not in latest or ver_of(e) > ver_of(latest[key]):
-        latest[key] = e
 made = []
-for e in entries:
-    if only:
-        if e[1] not in only or latest[(e[1], tuple(e[3:]))] is not e:
-            continue
-    elif not e[0].endswith(newest):
+for i, l in enumerate(lines):
+    w = l.split()
+    if l.startswith('#') or len(w) < 5 or not w[0].endswith(tag) or (only and w[1] not in only):
         continue
-    old_tag = re.search(r'\.v\d+\.\d+\.capz$', e[0]).group(0)
-    # A remade stream of a shipped version (NAME.rN.vX.Y, the manifest's header) drops its rN.
-    name = re.sub(r'\.r\d+$', '', e[0][:-len(old_tag)]) + tag
-    out = os.path.join(streams, name)
-    subprocess.run([cli, 'compress', os.path.join(data, e[1]), '-o', out, '-f', '-q'] + e[3:],
+    out = os.path.join(streams, w[0])
+    subprocess.run([cli, 'compress', os.path.join(data, w[1]), '-o', out, '-f', '-q'] + w[4:],
                    check=True)
-    with open(out, 'rb') as f:
-        head = f.read(11)
-    if '%d.%d' % (head[9], head[10]) != version:
+    b = open(out, 'rb').read()
+    if (b[9], b[10]) != (major, minor):
         os.remove(out)
-        sys.exit('%s: the encoder wrote version %d.%d, not %s' % (name, head[9], head[10], version))
-    made.append([name, e[1], '00000000'] + e[3:])
-open(manifest, 'w').write('\n'.join(kept + [' '.join(m) for m in made]) + '\n')
+        sys.exit('%s: the encoder wrote version %d.%d, not %s' % (w[0], b[9], b[10], version))
+    w[2], w[3] = '00000000', check_of(b)
+    lines[i] = ' '.join(w)
+    made.append(i)
+open(manifest, 'w').write('\n'.join(lines) + '\n')
 r = subprocess.run([golden_test, '--gtest_filter=Golden.GivenGoldenStreamsWhenDecoded*'],
                    capture_output=True, text=True)
 crc = {}
@@ -89,9 +69,11 @@ for l in r.stdout.splitlines():
     if s and pending:
         crc[s.group(1)] = pending
         pending = None
-for m in made:
-    if m[0] not in crc:
-        sys.exit('no CRC reported for ' + m[0] + ':\n' + r.stdout[-3000:])
-    m[2] = crc[m[0]]
-open(manifest, 'w').write('\n'.join(kept + [' '.join(m) for m in made]) + '\n')
+for i in made:
+    w = lines[i].split()
+    if w[0] not in crc:
+        sys.exit('no CRC reported for ' + w[0] + ':\n' + r.stdout[-3000:])
+    w[2] = crc[w[0]]
+    lines[i] = ' '.join(w)
+open(manifest, 'w').write('\n'.join(lines) + '\n')
 print('made %d streams of version %s' % (len(made), version))

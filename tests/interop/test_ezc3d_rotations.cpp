@@ -9,9 +9,11 @@
 #include <vector>
 
 #include "capz/codec.h"
+#include "capz/file.h"
 #include "capz/io.h"
 #include "interop/ezc3d_compare.h"
 #include "interop/ezc3d_snapshot.h"
+#include "support/rotation_c3d.h"
 #include "test_util.h"
 
 namespace {
@@ -69,6 +71,32 @@ TEST(Ezc3dInterop, RotationsComeBackFromCapzAsEzc3dReadsTheOriginal) {
       const Diffs d = compare(want, got, lossless ? 0 : 0.1);
       EXPECT_EQ(d.found, 0u) << d.describe();
     }
+  }
+}
+
+// The rotation takes of tests/support/rotation_c3d.h (issue #38) are C3D files as ezc3d reads
+// them: the same frames, and every rotation value (NaN where capz reads a NaN).
+TEST(Ezc3dInterop, BuiltRotationTakesReadTheSameInEzc3d) {
+  capz_test::TempDir tmp("capz_ezc3d_takes");
+  for (const capz_test::NamedRotationTake& take : capz_test::rotation_takes()) {
+    SCOPED_TRACE(take.name);
+    const std::string path = tmp.file(take.name + ".c3d");
+    capz::write_file(path, capz_test::make_rotation_c3d(take.spec), true);
+    const capz::Take t = capz::read_c3d(path);
+    const EzTake ez = read_with_ezc3d(path);
+    ASSERT_EQ(ez.frames, t.frames);
+    ASSERT_EQ(ez.points, t.points);
+    const size_t per_frame = t.rotations.per_frame();
+    ASSERT_EQ(ez.rotations_per_frame, per_frame * 17);
+    size_t differ = 0;
+    for (size_t r = 0; r < t.frames * per_frame; ++r)
+      for (size_t k = 0; k < 17; ++k) {
+        const double want = k < 16 ? t.rotations.matrices[r * 16 + (k % 4) * 4 + k / 4]
+                                   : t.rotations.reliability[r];
+        const double got = ez.rotations[r * 17 + k];
+        if (!(got == want || (std::isnan(got) && std::isnan(want)))) ++differ;
+      }
+    EXPECT_EQ(differ, 0u);
   }
 }
 

@@ -67,7 +67,7 @@ void check_every_flip(const std::vector<uint8_t>& stream, const capz::Take& ref)
         const std::string m = e.what();
         // The file header (magic, version, and from 4.0 its CRC) names what it is; a flipped
         // major byte that lands below 4 drops the header CRC, so the next chunk fails to parse.
-        const size_t header = capz::file_header_bytes(stream[9]);
+        const size_t header = capz::kFileHeaderBytes;
         const bool names_it =
             (byte < header &&
              (m.find("magic") != std::string::npos || m.find("version") != std::string::npos ||

@@ -30,7 +30,7 @@ WindowInts ints_of(const Take& t, size_t frames, double step) {
 }
 
 size_t refs_and_check(const WindowInts& w) {
-  return count_refs(positions_round_trip(w, kPositionScheme));
+  return count_refs(positions_round_trip(w));
 }
 
 TEST(PositionsReal, GivenMeshSequenceThenReferencesUsedAndExact) {

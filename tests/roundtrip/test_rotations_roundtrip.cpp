@@ -226,7 +226,7 @@ TEST(RotationsCorrupt, DamagedRotwChunksAreCorrupt) {
       }
     return capz_test::assemble(good, ps);
   };
-  // Payload: window varint (1), 4 predictor bytes, then the block.
+  // Payload: window varint (1), 2 predictor bytes, then the block (docs/FORMAT.md 12).
   EXPECT_NE(decode_error(with_rotw([](std::vector<uint8_t>*) {
               return false;
             })).find("missing chunk ROTW"),
@@ -236,17 +236,19 @@ TEST(RotationsCorrupt, DamagedRotwChunksAreCorrupt) {
               return true;
             })).find("window"),
             std::string::npos);
-  EXPECT_NE(decode_error(with_rotw([](std::vector<uint8_t>* p) {
-              (*p)[2] = 3;
-              return true;
-            })).find("predictor"),
-            std::string::npos);
+  for (size_t at : {1, 2})
+    EXPECT_NE(decode_error(with_rotw([at](std::vector<uint8_t>* p) {
+                (*p)[at] = 4;
+                return true;
+              })).find("predictor"),
+              std::string::npos)
+        << "predictor byte " << at;
   EXPECT_FALSE(decode_error(with_rotw([](std::vector<uint8_t>* p) {
                  p->resize(p->size() - 3);
                  return true;
                })).empty());
   EXPECT_FALSE(decode_error(with_rotw([](std::vector<uint8_t>* p) {
-                 p->resize(5);
+                 p->resize(3);
                  return true;
                })).empty());
   EXPECT_FALSE(decode_error(with_rotw([](std::vector<uint8_t>* p) {
@@ -260,7 +262,7 @@ TEST(RotationsCorrupt, DamagedRotwChunksAreCorrupt) {
   size_t at = 0;
   while (ps[at].type != "ROTW") ++at;
   size_t caught = 0, tried = 0;
-  for (size_t i = 5; i < ps[at].payload.size(); ++i, ++tried) {
+  for (size_t i = 3; i < ps[at].payload.size(); ++i, ++tried) {
     std::vector<Piece> q = ps;
     q[at].payload[i] ^= 0x5a;
     const std::vector<uint8_t> b = capz_test::assemble(good, q);

@@ -24,7 +24,7 @@ struct Piece {
 // Splits a stream into its chunks (no checks: the input is one this test just wrote).
 inline std::vector<Piece> pieces(const std::vector<uint8_t>& b) {
   std::vector<Piece> out;
-  for (size_t off = capz::file_header_bytes(b[9]); off + 12 <= b.size();) {
+  for (size_t off = capz::kFileHeaderBytes; off + 12 <= b.size();) {
     const uint32_t n = static_cast<uint32_t>(b[off + 4]) | static_cast<uint32_t>(b[off + 5]) << 8 |
                        static_cast<uint32_t>(b[off + 6]) << 16 |
                        static_cast<uint32_t>(b[off + 7]) << 24;
@@ -40,8 +40,8 @@ inline std::vector<Piece> pieces(const std::vector<uint8_t>& b) {
 // Reassembles chunks with valid CRCs and a recomputed INDX (one window per POSW; a window's
 // extent runs to the next POSW or to INDX), so only the deliberate change is wrong.
 inline std::vector<uint8_t> assemble(const std::vector<uint8_t>& original, std::vector<Piece> ps) {
-  std::vector<uint8_t> out(
-      original.begin(), original.begin() + static_cast<long>(capz::file_header_bytes(original[9])));
+  std::vector<uint8_t> out(original.begin(),
+                           original.begin() + static_cast<long>(capz::kFileHeaderBytes));
   auto put = [&](const Piece& p) {
     capz::ByteWriter w;
     for (char c : p.type) w.u8(static_cast<uint8_t>(c));

@@ -316,7 +316,7 @@ TEST(ThreadsSynthetic, CorruptWindowDecodedInParallelThrowsTheSerialError) {
   const capz::StreamInfo info = capz::describe(bytes.data(), bytes.size());
   ASSERT_EQ(info.windows, 11u);
   // The POSW chunk of window 6: found by walking the chunks after the file header.
-  size_t off = capz::file_header_bytes(capz::kCapzMajor), posw = 0, n = 0;
+  size_t off = capz::kFileHeaderBytes, posw = 0, n = 0;
   while (off < bytes.size()) {
     const capz::Chunk c = capz::read_chunk(bytes.data(), bytes.size(), off, "x");
     if (c.type == "POSW" && n++ == 6) {

@@ -38,9 +38,7 @@ double nan_with_payload(uint64_t payload, bool negative = false) {
 
 // Encodes, decodes and compares bit patterns; returns the payload size.
 size_t round_trip(const std::vector<double>& rows, int channels, const AnalogHints& hints = {}) {
-  return capz_test::window_round_trip(rows, static_cast<size_t>(channels), kAnalogWindowsSince,
-                                      hints)
-      .size();
+  return capz_test::window_round_trip(rows, static_cast<size_t>(channels), hints).size();
 }
 
 Kind kind_of(const std::vector<double>& col, const analog::ChannelHint& hint = {}) {
@@ -66,44 +64,25 @@ TEST(AnalogCodec, GivenInt16CountsWhenCodedThenExactIntKindAndSmall) {
   EXPECT_LT(bytes, v.size() * 2 / 2);  // well below 16 bits a sample
 }
 
-// FORMAT.md 11.8: white noise around a level far from 0 (an offset ADC channel, rank indices)
-// is predicted by a constant in a 9.1 window, which decodes exactly and codes smaller than
-// 9.0's order 0 or first difference; a 9.0 decoder refuses the order code (corrupt).
-TEST(AnalogCodec, GivenNoiseAroundALevelWhen91ThenConstantPredictorSmallerAndExact) {
+// FORMAT.md 9.3: white noise around a level far from 0 (an offset ADC channel, rank indices)
+// is predicted by a constant (order code 33), and decodes exactly.
+TEST(AnalogCodec, GivenNoiseAroundALevelThenExact) {
   std::mt19937 rng(7);
   std::uniform_int_distribution<int> noise(-40, 40);
   const size_t n = 6000;  // two LPC blocks
   std::vector<double> v(n);
   for (size_t i = 0; i < n; ++i) v[i] = 9000 + noise(rng);
   ASSERT_EQ(kind_of(v), Kind::kInt);
-  const std::vector<uint8_t> w90 = encode_analog_window(v.data(), n, 1, {}, 0, kAnalogFloat9Since);
-  const std::vector<uint8_t> w91 =
-      encode_analog_window(v.data(), n, 1, {}, 0, kAnalogConstantSince);
-  EXPECT_LT(w91.size() * 100, w90.size() * 97) << w91.size() << " against " << w90.size();
-  std::vector<double> back(n);
-  decode_analog_window(w91.data(), w91.size(), n, 1, back.data(), "9.1 window", 0,
-                       kAnalogConstantSince);
-  for (size_t i = 0; i < n; ++i) ASSERT_EQ(bits(back[i]), bits(v[i])) << i;
-  try {
-    decode_analog_window(w91.data(), w91.size(), n, 1, back.data(), "as 9.0", 0,
-                         kAnalogFloat9Since);
-    ADD_FAILURE() << "a 9.1 constant predictor decoded as 9.0";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
-    EXPECT_NE(std::string(e.what()).find("LPC order above 32"), std::string::npos) << e.what();
-  }
-  // A 9.0 window decodes the same in 9.1 (the order code is new, nothing else changes).
-  decode_analog_window(w90.data(), w90.size(), n, 1, back.data(), "9.0 window", 0,
-                       kAnalogConstantSince);
-  for (size_t i = 0; i < n; ++i) ASSERT_EQ(bits(back[i]), bits(v[i])) << i;
+  // Below 8 bits a sample: the 81 levels cost about 6.3 bits each, the level itself nothing.
+  EXPECT_LT(round_trip(v, 1), n);
 }
 
-// A 9.1 window of one integer channel of n rows whose entropy block is replaced by one that
+// A window of one integer channel of n rows whose entropy block is replaced by one that
 // codes no cascade, no reference and a constant predictor c, then n zero residuals: decoded.
 void decode_with_constant(int64_t c, size_t n, std::vector<double>* back) {
   std::vector<double> v(n, 1.0);
   for (size_t i = 0; i < n; ++i) v[i] = 9000 + static_cast<double>(i % 7);
-  const std::vector<uint8_t> w = encode_analog_window(v.data(), n, 1, {}, 0, kAnalogConstantSince);
+  const std::vector<uint8_t> w = encode_analog_window(v.data(), n, 1, {}, 0);
   size_t at = 1, head = 0;
   for (int shift = 0;; shift += 7) {  // the header's size, a varint
     head |= static_cast<size_t>(w[at] & 0x7F) << shift;
@@ -111,19 +90,19 @@ void decode_with_constant(int64_t c, size_t n, std::vector<double>* back) {
   }
   std::vector<uint8_t> crafted(w.begin(), w.begin() + static_cast<long>(at + head));
   IntEncoder enc(analog::kAnalogContexts);
+  analog::start_low_bit_models(&enc);
   IntEncoder::Cursor cur = enc.cursor();
   cur.put(0, analog::kParamContext);  // no cascade
   cur.put(0, analog::kParamContext);  // no reference
   cur.put(analog::kLpcConstantOrder, analog::kParamContext);
   cur.put_signed(static_cast<int32_t>(c), analog::kCoefContext);
   analog::Magnitude mag;
-  for (size_t i = 0; i < n; ++i) analog::put_residual(&cur, &mag, 0);
+  for (size_t i = 0; i < n; ++i) analog::put_residual_v2(&cur, &mag, 0);
   enc.commit(cur);
   const std::vector<uint8_t> block = enc.finish();
   crafted.insert(crafted.end(), block.begin(), block.end());
   back->assign(n, 0.0);
-  decode_analog_window(crafted.data(), crafted.size(), n, 1, back->data(), "crafted window", 0,
-                       kAnalogConstantSince);
+  decode_analog_window(crafted.data(), crafted.size(), n, 1, back->data(), "crafted window");
 }
 
 TEST(AnalogCodec, GivenConstantPredictorsWhenDecodedThenTheConstantOrCorruptBeyond2To28) {
@@ -369,59 +348,6 @@ TEST(AnalogCodec, GivenSharedTakesWhenCodedThenExactAndSmallerThanRaw) {
     EXPECT_LT(bytes, t.analog.values.size() * 4 / 2) << f;
   }
   if (seen == 0) GTEST_SKIP() << "shared data not found under " << dir;
-}
-
-// The float predictors' costs as analog_float.h defines them, one sample at a time in integers.
-void plain_predictor_costs(const std::vector<double>& x, bool f32, uint64_t cost[2]) {
-  cost[0] = cost[1] = 0;
-  for (size_t i = 0; i < x.size(); ++i) {
-    const double a = i > 0 ? x[i - 1] : 0, b = i > 1 ? x[i - 2] : 0;
-    for (int k = 0; k < 2; ++k) {
-      double p = k == 0 ? a : a + (a - b);
-      if (f32) p = analog::round_to_float32(p);
-      const int64_t d = f32 ? static_cast<int64_t>(analog::ordered_f32(x[i])) -
-                                  static_cast<int64_t>(analog::ordered_f32(p))
-                            : static_cast<int64_t>(analog::ordered_bits(bits(x[i])) -
-                                                   analog::ordered_bits(bits(p)));
-      const uint64_t u = (static_cast<uint64_t>(d) << 1) ^ static_cast<uint64_t>(d >> 63);
-      cost[k] += u == 0 ? 0 : 64 - __builtin_clzll(u);
-    }
-  }
-}
-
-TEST(AnalogFloat, GivenFloat32SamplesWhenPredictorCostsThenThoseOfThePlainLoop) {
-  const float kMax = std::numeric_limits<float>::max();
-  const float kTiny = std::numeric_limits<float>::denorm_min();
-  std::mt19937 rng(17);
-  std::normal_distribution<float> walk(0, 3);
-  std::uniform_int_distribution<uint32_t> any(0, 0xFFFFFFFFu);
-  std::vector<std::vector<double>> seqs;
-  std::vector<double> smooth, wild, edges;
-  float v = 0;
-  for (int i = 0; i < 5001; ++i) {
-    v += walk(rng);
-    smooth.push_back(v);
-    uint32_t b = any(rng);
-    if ((b & 0x7F800000u) == 0x7F800000u) b &= ~0x00800000u;  // finite
-    float f;
-    std::memcpy(&f, &b, 4);
-    wild.push_back(f);
-  }
-  // Near the float range (predictions beyond it are clamped), zeros of both signs, subnormals.
-  for (double e : {0.0, -0.0, 0.0, static_cast<double>(kMax), static_cast<double>(kMax),
-                   static_cast<double>(-kMax), static_cast<double>(kMax), 0.0, -0.0, -0.0,
-                   static_cast<double>(kTiny), static_cast<double>(-kTiny), 1.0, -1.0,
-                   static_cast<double>(-kMax), static_cast<double>(-kMax), 3.0})
-    edges.push_back(e);
-  seqs = {smooth, wild, edges, {}, {1.5}, {1.5, -2.25}, {1.5, -2.25, 7.0}};
-  for (const std::vector<double>& x : seqs)
-    for (bool f32 : {true, false}) {
-      uint64_t want[2], got[2];
-      plain_predictor_costs(x, f32, want);
-      analog::float_predictor_costs(x, f32, got);
-      EXPECT_EQ(got[0], want[0]) << x.size() << " samples, f32 " << f32;
-      EXPECT_EQ(got[1], want[1]) << x.size() << " samples, f32 " << f32;
-    }
 }
 
 // The trials' order follows the estimate, but the pick is always the first of the smallest, and

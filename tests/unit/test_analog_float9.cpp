@@ -1,7 +1,7 @@
-// The float coder's predictors of format 9.0 (FORMAT.md 11.9): round trips of every predictor on
-// edge cases (NaN payloads, -0.0, subnormals, infinities, float64 channels, 1-3 samples), the
-// predictor the encoder keeps for smooth and for noisy channels, the decoder refusing them in a
-// window before 9.0, and every new field damaged.
+// The float coder's predictors (FORMAT.md 9.1): round trips of every predictor on edge cases
+// (NaN payloads, -0.0, subnormals, infinities, float64 channels, 1-3 samples), the predictor the
+// encoder keeps for smooth and for noisy channels, and every field damaged (predictors 0 and 1,
+// pre-release ones, included).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -45,7 +45,7 @@ std::vector<double> noise_f32(size_t n, uint32_t seed) {
   return x;
 }
 
-// Codes x with the given plan and decodes it back (format9 decoding).
+// Codes x with the given plan and decodes it back.
 std::vector<double> through_plan(const std::vector<double>& x, bool f32, const FloatPlan& plan) {
   IntEncoder enc(kAnalogContexts);
   IntEncoder::Cursor c = enc.cursor();
@@ -55,7 +55,7 @@ std::vector<double> through_plan(const std::vector<double>& x, bool f32, const F
   IntDecoder dec(block.data(), block.size(), kAnalogContexts, "float block");
   IntDecoder::Cursor d = dec.cursor();
   std::vector<double> back;
-  decode_float_channel(x.size(), f32, &d, &back, true);
+  decode_float_channel(x.size(), f32, &d, &back);
   dec.commit(d);
   EXPECT_TRUE(dec.at_end());
   return back;
@@ -111,7 +111,7 @@ TEST(AnalogFloat9, GivenEveryPredictorWhenEdgeValuesAreCodedThenTheSameBits) {
     }
 }
 
-TEST(AnalogFloat9, GivenSmoothAndNoisyChannelsThenLpcAndZeroAreKeptAndSmallerThan8x) {
+TEST(AnalogFloat9, GivenSmoothAndNoisyChannelsThenLpcAndZeroAreKeptAndExact) {
   const std::vector<double> smooth = smooth_f32(4000, 3), noise = noise_f32(4000, 4);
   uint64_t est;
   const FloatPlan ps = choose_float_plan9(smooth, true, &est);
@@ -119,25 +119,10 @@ TEST(AnalogFloat9, GivenSmoothAndNoisyChannelsThenLpcAndZeroAreKeptAndSmallerTha
   EXPECT_GE(ps.order, 2);
   EXPECT_EQ(choose_float_plan9(noise, true, &est).predictor, 4);
   for (const std::vector<double>* x : {&smooth, &noise}) {
-    const std::vector<uint8_t> p8 =
-        encode_analog_window(x->data(), x->size(), 1, {}, 0, kAnalogLatticeSince);
-    const std::vector<uint8_t> p9 =
-        encode_analog_window(x->data(), x->size(), 1, {}, 0, kAnalogFloat9Since);
-    EXPECT_LT(p9.size() * 100, p8.size() * 95) << p8.size() << " -> " << p9.size();
+    const std::vector<uint8_t> p9 = encode_analog_window(x->data(), x->size(), 1, {}, 0);
     std::vector<double> back(x->size());
-    decode_analog_window(p9.data(), p9.size(), x->size(), 1, back.data(), "w", 0,
-                         kAnalogFloat9Since);
-    expect_same_bits(*x, back, "9.x window");
-    // Before 9.0 the new predictors are unknown.
-    try {
-      decode_analog_window(p9.data(), p9.size(), x->size(), 1, back.data(), "w8", 0,
-                           kAnalogLatticeSince);
-      ADD_FAILURE() << "a 9.x float channel decoded as 8.x";
-    } catch (const Error& e) {
-      EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
-      EXPECT_NE(std::string(e.what()).find("unknown analog float predictor"), std::string::npos)
-          << e.what();
-    }
+    decode_analog_window(p9.data(), p9.size(), x->size(), 1, back.data(), "w");
+    expect_same_bits(*x, back, "window");
   }
 }
 
@@ -156,15 +141,14 @@ TEST(AnalogFloat9, GivenWindowsWithGapsAndFloat64ChannelsThenExact) {
       if (rng() % 11 == 0) rows[i * C + rng() % C] = -std::numeric_limits<double>::infinity();
       if (rng() % 13 == 0) rows[i * C + rng() % C] = -0.0;
     }
-    const std::vector<uint8_t> p =
-        encode_analog_window(rows.data(), n, 3, {}, 0, kAnalogFloat9Since);
+    const std::vector<uint8_t> p = encode_analog_window(rows.data(), n, 3, {}, 0);
     std::vector<double> back(rows.size());
-    decode_analog_window(p.data(), p.size(), n, 3, back.data(), "w", 0, kAnalogFloat9Since);
+    decode_analog_window(p.data(), p.size(), n, 3, back.data(), "w");
     expect_same_bits(rows, back, "window");
   }
 }
 
-// A block holding one float channel's numbers, made by `make`, decoded with format9.
+// A block holding one float channel's numbers, made by `make`, decoded.
 std::string decode_error(void (*make)(IntEncoder::Cursor*), size_t n = 4) {
   IntEncoder enc(kAnalogContexts);
   IntEncoder::Cursor c = enc.cursor();
@@ -175,7 +159,7 @@ std::string decode_error(void (*make)(IntEncoder::Cursor*), size_t n = 4) {
     IntDecoder dec(block.data(), block.size(), kAnalogContexts, "damaged block");
     IntDecoder::Cursor d = dec.cursor();
     std::vector<double> x;
-    decode_float_channel(n, true, &d, &x, true);
+    decode_float_channel(n, true, &d, &x);
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
     EXPECT_NE(std::string(e.what()).find("damaged block"), std::string::npos) << e.what();
@@ -192,6 +176,10 @@ TEST(AnalogFloat9, GivenEachNewFieldOutOfRangeThenCorrupt) {
   };
   const Case cases[] = {
       {"predictor 6", [](IntEncoder::Cursor* c) { c->put(6, kParamContext); },
+       "unknown analog float predictor"},
+      {"predictor 0", [](IntEncoder::Cursor* c) { c->put(0, kParamContext); },
+       "unknown analog float predictor"},
+      {"predictor 1", [](IntEncoder::Cursor* c) { c->put(1, kParamContext); },
        "unknown analog float predictor"},
       {"LPC order 0",
        [](IntEncoder::Cursor* c) {

@@ -1,9 +1,9 @@
 // Held analog samples (docs/FORMAT.md 11.5): channels written by sample and hold from a slower
 // sensor (every sample but those at one phase of a period a copy of the one before) round-trip
-// bit for bit with a hold field, which is written only in 9.2 windows and only where it codes
-// smaller; exceptions, NaN and -0.0 samples, long periods and references between channels follow
-// the format; damaged fields throw kCorrupt; the Cometa take's accelerometers (changing every
-// 14th row) go C3D -> capz 9.2 -> C3D exactly and smaller.
+// bit for bit with a hold field, written where it codes smaller; exceptions, NaN and -0.0
+// samples, long periods and references between channels follow the format; damaged fields throw
+// kCorrupt; the Cometa take's accelerometers (changing every 14th row) go C3D -> capz -> C3D
+// exactly.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,13 +15,11 @@
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/io.h"
-#include "capz/version.h"
 #include "coding/analog/analog_codec.h"
 #include "coding/analog/analog_hold.h"
 #include "coding/analog/analog_interp.h"
 #include "coding/analog/analog_repr.h"
 #include "coding/bytes.h"
-#include "relabel.h"
 #include "test_util.h"
 
 namespace capz {
@@ -44,13 +42,12 @@ std::vector<double> held(size_t n, uint32_t P, uint32_t phase, uint32_t seed) {
   return x;
 }
 
-// Encodes a window of these columns as `format`, decodes it and compares bits.
-std::vector<uint8_t> round_trip(const std::vector<std::vector<double>>& cols,
-                                FormatVersion format = kAnalogHoldSince) {
-  return capz_test::window_round_trip(capz_test::rows_of(cols), cols.size(), format);
+// Encodes a window of these columns, decodes it and compares bits.
+std::vector<uint8_t> round_trip(const std::vector<std::vector<double>>& cols) {
+  return capz_test::window_round_trip(capz_test::rows_of(cols), cols.size());
 }
 
-// Each channel's hold field as a 9.2 payload's header gives it.
+// Each channel's hold field as a payload's header gives it.
 std::vector<Hold> fields(const std::vector<uint8_t>& p, size_t n, size_t C) {
   std::vector<Hold> out;
   for (const capz_test::ChannelHeader& h : capz_test::channel_headers(p, n, C))
@@ -58,7 +55,7 @@ std::vector<Hold> fields(const std::vector<uint8_t>& p, size_t n, size_t C) {
   return out;
 }
 
-TEST(AnalogHold, GivenHeldChannelsWhenCodedThenFieldWrittenExactAndSmallerThan91) {
+TEST(AnalogHold, GivenHeldChannelsWhenCodedThenFieldWrittenAndExact) {
   struct Case {
     uint32_t P, phase;
     size_t n;
@@ -72,14 +69,10 @@ TEST(AnalogHold, GivenHeldChannelsWhenCodedThenFieldWrittenExactAndSmallerThan91
     EXPECT_EQ(found.period, k.P);
     EXPECT_EQ(found.phase, k.phase);
     EXPECT_TRUE(found.exceptions.empty());
-    const std::vector<uint8_t> p92 = round_trip({x}), p91 = round_trip({x}, kAnalogConstantSince);
-    const Hold f = fields(p92, x.size(), 1)[0];
+    const std::vector<uint8_t> p = round_trip({x});
+    const Hold f = fields(p, x.size(), 1)[0];
     EXPECT_EQ(f.period, k.P);
     EXPECT_EQ(f.phase, k.phase);
-    EXPECT_LT(p92.size(), p91.size());
-    if (k.P >= 14) {  // a 2:1 hold already codes cheaply as zero residuals
-      EXPECT_LT(static_cast<double>(p92.size()), 0.65 * static_cast<double>(p91.size()));
-    }
   }
 }
 
@@ -132,7 +125,7 @@ std::vector<uint8_t> headers(const std::vector<uint8_t>& p) {
   return std::vector<uint8_t>(b, b + h);
 }
 
-TEST(AnalogHold, GivenChannelsNotHeldThenNoFieldAndTheHeadersOf91) {
+TEST(AnalogHold, GivenChannelsNotHeldThenNoField) {
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0, 100);
   std::vector<double> x(3000), steps(3000);
@@ -147,7 +140,9 @@ TEST(AnalogHold, GivenChannelsNotHeldThenNoFieldAndTheHeadersOf91) {
   for (const std::vector<double>* c : {&x, &steps}) {
     Hold f;
     EXPECT_FALSE(analog::find_hold(c->data(), 1, c->size(), &f));
-    EXPECT_EQ(headers(round_trip({*c})), headers(round_trip({*c}, kAnalogConstantSince)));
+    const std::vector<uint8_t> h = headers(round_trip({*c}));
+    ASSERT_FALSE(h.empty());
+    EXPECT_EQ(h[0] & 0x80, 0) << "a hold field";
   }
 }
 
@@ -189,9 +184,9 @@ struct Coded {
   std::vector<uint8_t> p = round_trip({x});
 };
 
-void expect_corrupt(const std::vector<uint8_t>& p, size_t n, FormatVersion format,
-                    const std::string& why, const std::string& message) {
-  capz_test::expect_window_corrupt(p, n, 1, format, why, message);
+void expect_corrupt(const std::vector<uint8_t>& p, size_t n, const std::string& why,
+                    const std::string& message) {
+  capz_test::expect_window_corrupt(p, n, 1, why, message);
 }
 
 TEST(AnalogHold, GivenDamagedFieldsThenCorruptNeverCrash) {
@@ -202,51 +197,44 @@ TEST(AnalogHold, GivenDamagedFieldsThenCorruptNeverCrash) {
   ASSERT_EQ(c.p[k + 2], 9);   // phase
   ASSERT_EQ(c.p[k + 3], 0);   // no exceptions
   const char* kind = "unknown analog channel kind";
-  // Before 9.2 the window's version 1 (FORMAT.md 11.10) is corrupt first; as version 0, bit 7.
-  expect_corrupt(c.p, n, kAnalogConstantSince, "version 1 before 9.2",
-                 "unknown analog window version");
-  std::vector<uint8_t> q = c.p;
-  q[0] = 0;
-  expect_corrupt(q, n, kAnalogConstantSince, "bit 7 before 9.2", kind);
-  expect_corrupt(q, n, kAnalogLatticeSince, "bit 7 before 9.0", kind);
+  std::vector<uint8_t> q;
   for (uint8_t other : {32, 64}) {
     q = c.p;
     q[k] |= other;
-    expect_corrupt(q, n, kAnalogHoldSince, "bit 7 with bit " + std::to_string(other), kind);
+    expect_corrupt(q, n, "bit 7 with bit " + std::to_string(other), kind);
   }
   q = c.p;
   q[k] = static_cast<uint8_t>(q[k] & ~7);
-  expect_corrupt(q, n, kAnalogHoldSince, "bit 7 with kind 0", kind);
+  expect_corrupt(q, n, "bit 7 with kind 0", kind);
   for (uint8_t P : {0, 1}) {
     q = c.p;
     q[k + 1] = P;
-    expect_corrupt(q, n, kAnalogHoldSince, "P " + std::to_string(P), "analog hold period");
+    expect_corrupt(q, n, "P " + std::to_string(P), "analog hold period");
   }
   q = c.p;  // P = 65536, a three-byte varint
   q[k + 1] = 0x80;
   q.insert(q.begin() + static_cast<long>(k) + 2, {0x80, 0x04});
-  expect_corrupt(q, n, kAnalogHoldSince, "P 65536", "analog hold period");
+  expect_corrupt(q, n, "P 65536", "analog hold period");
   q = c.p;
   q[k + 2] = 14;
-  expect_corrupt(q, n, kAnalogHoldSince, "phase P", "analog hold phase");
+  expect_corrupt(q, n, "phase P", "analog hold phase");
   // An exception at sample 0 and one at the phase (runs 1, skip, length 1), where none was.
   for (uint8_t at : {0, 23}) {
     q = c.p;
     q[k + 3] = 1;
     q.insert(q.begin() + static_cast<long>(k) + 4, {at, 0});
-    expect_corrupt(q, n, kAnalogHoldSince, "exception at " + std::to_string(at),
-                   "is not a held sample");
+    expect_corrupt(q, n, "exception at " + std::to_string(at), "is not a held sample");
   }
   q = c.p;  // a run of exceptions past the window's end
   q[k + 3] = 1;
   q.insert(q.begin() + static_cast<long>(k) + 4, {1, 0x90, 0x10});
-  expect_corrupt(q, n, kAnalogHoldSince, "run past n", "run past the window's end");
+  expect_corrupt(q, n, "run past n", "run past the window's end");
   // Every payload byte flipped: kCorrupt or samples, never a crash.
-  capz_test::expect_flips_corrupt_or_decoded(c.p, n, 1, kAnalogHoldSince);
+  capz_test::expect_flips_corrupt_or_decoded(c.p, n, 1);
 }
 
 // The header writer refuses a layout its rules do not allow (an encoder bug, not bad input): a
-// hold before 9.2, an interpolation before 9.0, a repeat list outside 7.x windows, two layouts.
+// repeat list without frames (S 0), two layouts.
 TEST(AnalogHold, GivenLayoutsTheRulesDoNotAllowThenTheWriterRefuses) {
   analog::ChannelRepr r;
   r.kind = analog::Kind::kInt;
@@ -258,7 +246,6 @@ TEST(AnalogHold, GivenLayoutsTheRulesDoNotAllowThenTheWriterRefuses) {
   both.repeats = {3};
   analog::HeaderRules all;
   all.S = 4;
-  all.lattice = all.interp = all.hold = all.share = true;
   auto refused = [&](const analog::KeptRows& kept, const analog::HeaderRules& rules) {
     analog::HeaderState state;
     ByteWriter w;
@@ -272,12 +259,6 @@ TEST(AnalogHold, GivenLayoutsTheRulesDoNotAllowThenTheWriterRefuses) {
   };
   for (const analog::KeptRows* kept : {&held, &interp, &repeats}) EXPECT_FALSE(refused(*kept, all));
   analog::HeaderRules rules = all;
-  rules.hold = false;
-  EXPECT_TRUE(refused(held, rules));
-  rules = all;
-  rules.interp = false;
-  EXPECT_TRUE(refused(interp, rules));
-  rules = all;
   rules.S = 0;
   EXPECT_TRUE(refused(repeats, rules));
   EXPECT_TRUE(refused(both, all));
@@ -291,7 +272,7 @@ TEST(AnalogHold, GivenTheBundledHeldSampleThenItsAccelerometersAreHeld) {
   ASSERT_EQ(t.analog.channels, 5);
   const size_t n = t.analog.values.size() / 5;
   const std::vector<uint8_t> p =
-      encode_analog_window(t.analog.values.data(), n, 5, analog_hints(t), 0, kAnalogHoldSince);
+      encode_analog_window(t.analog.values.data(), n, 5, analog_hints(t), 0);
   const std::vector<Hold> f = fields(p, n, 5);
   EXPECT_EQ(f[0].period, 0u);
   EXPECT_EQ(f[1].period, 0u);
@@ -303,43 +284,25 @@ TEST(AnalogHold, GivenTheBundledHeldSampleThenItsAccelerometersAreHeld) {
   EXPECT_EQ(f[3].exceptions, (std::vector<uint32_t>{500, 503}));
 }
 
-// The 9.2 golden stream relabelled 9.1 (header CRC made right): its analog windows (of version
-// 1, FORMAT.md 11.10, with hold fields) are then corrupt, and the decoder says so, naming the
-// chunk, rather than misreading them.
-TEST(AnalogHold, GivenA92StreamRelabelled91ThenTheHoldFieldIsCorrupt) {
-  const std::vector<uint8_t> b = capz_test::golden_bytes("held_analog.c3d.lossless.v9.2.capz");
-  ASSERT_EQ(b[9], 9);
-  ASSERT_EQ(b[10], 2);
-  EXPECT_EQ(decompress(b.data(), b.size()).analog.channels, 5);  // as written: decodes
-  capz_test::expect_corrupt_naming(capz_test::relabelled(b, 9, 1),
-                                   {"unknown analog window version", "ANLG"});
-}
-
-TEST(AnalogHold, GivenCometaTakeWhenRoundTrippedThen92AndExactAndSmaller) {
+TEST(AnalogHold, GivenCometaTakeWhenRoundTrippedThenHeldAndExact) {
   const std::string path =
       capz_test::shared_data_or_skip("c3d/c3dorg/sample_00/Cometa Systems/EMG Data Cometa.c3d");
   if (path.empty()) return;
   const Take t = read_take(path);
   const int C = t.analog.channels;
   const size_t n = t.analog.values.size() / static_cast<size_t>(C);
-  const std::vector<uint8_t> p92 = encode_analog_window(t.analog.values.data(), n, C,
-                                                        analog_hints(t), 0, kAnalogHoldSince),
-                             p91 = encode_analog_window(t.analog.values.data(), n, C,
-                                                        analog_hints(t), 0, kAnalogConstantSince);
+  const std::vector<uint8_t> p92 =
+      encode_analog_window(t.analog.values.data(), n, C, analog_hints(t), 0);
   std::vector<double> back(t.analog.values.size());
-  decode_analog_window(p92.data(), p92.size(), n, C, back.data(), "cometa", 0, kAnalogHoldSince);
+  decode_analog_window(p92.data(), p92.size(), n, C, back.data(), "cometa");
   EXPECT_EQ(std::memcmp(back.data(), t.analog.values.data(), back.size() * 8), 0);
   // Its 18 accelerometer channels (every fourth channel is EMG) hold for 14 rows.
   const std::vector<Hold> f = fields(p92, n, static_cast<size_t>(C));
   for (int c = 0; c < C; ++c) EXPECT_EQ(f[c].period, c % 4 ? 14u : 0u) << "channel " << c;
-  EXPECT_LT(static_cast<double>(p92.size()), 0.95 * static_cast<double>(p91.size()));
-  // And through the whole codec: the stream is 9.2 and gives every analog sample back.
+  // And through the whole codec: every analog sample back.
   CompressOptions o;
   o.lossless = true;
   const std::vector<uint8_t> s = compress(t, o);
-  EXPECT_EQ(s[9], kFormat9.major);
-  EXPECT_EQ(s[10], kFormat9.minor);
-  EXPECT_TRUE(kFormat9 >= kAnalogHoldSince);
   const Take back_take = decompress(s.data(), s.size(), "cometa");
   EXPECT_EQ(std::memcmp(back_take.analog.values.data(), t.analog.values.data(),
                         t.analog.values.size() * 8),

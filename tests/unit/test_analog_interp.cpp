@@ -1,9 +1,8 @@
-// Interpolated analog samples (docs/FORMAT.md 11.4): channels whose samples between anchors are
-// the linear interpolation of them round-trip bit for bit with an interpolation field, which is
-// written only in 9.x windows and only where it codes smaller; exceptions, the tail, NaN
-// anchors, float32 and float64 channels and references between channels follow the format;
-// damaged fields throw kCorrupt; Codamotion's take (every second sample the mean of its
-// neighbours) goes C3D -> capz 9.0 -> C3D exactly and smaller.
+// Interpolated analog samples (docs/FORMAT.md 9.2): channels whose samples between anchors are
+// the linear interpolation of them round-trip bit for bit with an interpolation field, written
+// where it codes smaller; exceptions, the tail, NaN anchors, float32 and float64 channels and
+// references between channels follow the format; damaged fields throw kCorrupt; Codamotion's
+// take (every second sample the mean of its neighbours) goes C3D -> capz -> C3D exactly.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,7 +15,6 @@
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/io.h"
-#include "capz/version.h"
 #include "coding/analog/analog_codec.h"
 #include "coding/analog/analog_interp.h"
 #include "coding/analog/analog_repr.h"
@@ -47,10 +45,9 @@ std::vector<double> interpolated(size_t n, unsigned P, bool f32, uint32_t seed) 
   return x;
 }
 
-// Encodes a window of these columns (9.0, or 8.0 when !v9), decodes it and compares bits.
-std::vector<uint8_t> round_trip(const std::vector<std::vector<double>>& cols, bool v9 = true) {
-  return capz_test::window_round_trip(capz_test::rows_of(cols), cols.size(),
-                                      v9 ? kAnalogFloat9Since : kAnalogLatticeSince);
+// Encodes a window of these columns, decodes it and compares bits.
+std::vector<uint8_t> round_trip(const std::vector<std::vector<double>>& cols) {
+  return capz_test::window_round_trip(capz_test::rows_of(cols), cols.size());
 }
 
 // Each channel's interpolation field as the payload's header gives it.
@@ -61,7 +58,7 @@ std::vector<Interp> fields(const std::vector<uint8_t>& p, size_t n, size_t C) {
   return out;
 }
 
-TEST(AnalogInterp, GivenPeriodsTwoToFourWhenCodedThenFieldWrittenExactAndSmaller) {
+TEST(AnalogInterp, GivenPeriodsTwoToFourWhenCodedThenFieldWrittenAndExact) {
   for (unsigned P = 2; P <= 4; ++P)
     for (bool f32 : {true, false}) {
       SCOPED_TRACE("P " + std::to_string(P) + (f32 ? " float32" : " float64"));
@@ -71,9 +68,8 @@ TEST(AnalogInterp, GivenPeriodsTwoToFourWhenCodedThenFieldWrittenExactAndSmaller
       EXPECT_EQ(found.period, P);
       EXPECT_EQ(found.f32, f32);
       EXPECT_TRUE(found.exceptions.empty());
-      const std::vector<uint8_t> p9 = round_trip({x}, true), p8 = round_trip({x}, false);
+      const std::vector<uint8_t> p9 = round_trip({x});
       EXPECT_EQ(fields(p9, x.size(), 1)[0].period, P);
-      EXPECT_LT(static_cast<double>(p9.size()), 0.85 * static_cast<double>(p8.size()));
     }
 }
 
@@ -111,14 +107,14 @@ TEST(AnalogInterp, GivenExceptionsNaNAnchorsAndATailThenExactWithThoseCoded) {
   EXPECT_EQ(analog::interp_kept_count(x.size(), f), 1502 + f.exceptions.size());
 }
 
-TEST(AnalogInterp, GivenChannelsNotInterpolatedThenNoFieldAndSameBytesAsBefore9) {
+TEST(AnalogInterp, GivenChannelsNotInterpolatedThenNoField) {
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0, 100);
   std::vector<double> x(3000);
   for (double& v : x) v = std::round(noise(rng));
   Interp f;
   EXPECT_FALSE(analog::find_interpolation(x.data(), 1, x.size(), &f));
-  EXPECT_EQ(round_trip({x}, true), round_trip({x}, false));
+  EXPECT_EQ(fields(round_trip({x}), x.size(), 1)[0].period, 0u);
 }
 
 TEST(AnalogInterp, GivenCorrelatedInterpolatedChannelsThenReferencesKeptAndExact) {
@@ -146,8 +142,8 @@ struct Coded {
   std::vector<uint8_t> p = round_trip({x});
 };
 
-void expect_corrupt(const std::vector<uint8_t>& p, size_t n, bool v9, const std::string& why) {
-  capz_test::expect_window_corrupt(p, n, 1, v9 ? kAnalogFloat9Since : kAnalogLatticeSince, why);
+void expect_corrupt(const std::vector<uint8_t>& p, size_t n, const std::string& why) {
+  capz_test::expect_window_corrupt(p, n, 1, why);
 }
 
 TEST(AnalogInterp, GivenDamagedFieldsThenCorruptNeverCrash) {
@@ -155,26 +151,25 @@ TEST(AnalogInterp, GivenDamagedFieldsThenCorruptNeverCrash) {
   const size_t k = capz_test::first_kind_at(c.p), n = c.x.size();
   ASSERT_TRUE(c.p[k] & 64);
   ASSERT_EQ(c.p[k + 1], 0x82);  // P = 2, float32
-  expect_corrupt(c.p, n, false, "bit 6 before 9.0");
   std::vector<uint8_t> q = c.p;
   q[k] |= 32;
-  expect_corrupt(q, n, true, "bits 5 and 6");
+  expect_corrupt(q, n, "bits 5 and 6");
   q = c.p;
   q[k] = static_cast<uint8_t>((q[k] & ~7) | 0);
-  expect_corrupt(q, n, true, "bit 6 with kind 0");
+  expect_corrupt(q, n, "bit 6 with kind 0");
   for (uint8_t bad : {0x80, 0x81, 0x92, 0xC2}) {
     q = c.p;
     q[k + 1] = bad;
-    expect_corrupt(q, n, true, "q " + std::to_string(bad));
+    expect_corrupt(q, n, "q " + std::to_string(bad));
   }
   // An exception at an anchor (index 0: runs 1, skip 0, length 1), where none was.
   ASSERT_EQ(c.p[k + 2], 0);  // no exceptions
   q = c.p;
   q[k + 2] = 1;
   q.insert(q.begin() + static_cast<long>(k) + 3, {0, 0});
-  expect_corrupt(q, n, true, "exception at an anchor");
+  expect_corrupt(q, n, "exception at an anchor");
   // Every payload byte flipped: kCorrupt or the same length of samples, never a crash.
-  capz_test::expect_flips_corrupt_or_decoded(c.p, n, 1, kAnalogFloat9Since);
+  capz_test::expect_flips_corrupt_or_decoded(c.p, n, 1);
 }
 
 TEST(AnalogInterp, GivenANaNInterpolationNotListedThenCorrupt) {
@@ -195,26 +190,21 @@ TEST(AnalogInterp, GivenANaNInterpolationNotListedThenCorrupt) {
   EXPECT_TRUE(std::isnan(col[2]));
 }
 
-TEST(AnalogInterp, GivenCodamotionTakeWhenRoundTrippedThen9AndExactAndSmaller) {
+TEST(AnalogInterp, GivenCodamotionTakeWhenRoundTrippedThenExact) {
   const std::string path = capz_test::shared_data_or_skip(
       "c3d/c3dorg/sample_00/Codamotion/codamotion_gaitwands_20150204.c3d");
   if (path.empty()) return;
   const Take t = read_take(path);
   const size_t n = t.analog.values.size() / static_cast<size_t>(t.analog.channels);
-  const std::vector<uint8_t> p9 = encode_analog_window(t.analog.values.data(), n, t.analog.channels,
-                                                       analog_hints(t), 0, kAnalogFloat9Since),
-                             p8 = encode_analog_window(t.analog.values.data(), n, t.analog.channels,
-                                                       analog_hints(t), 0, kAnalogLatticeSince);
+  const std::vector<uint8_t> p9 =
+      encode_analog_window(t.analog.values.data(), n, t.analog.channels, analog_hints(t), 0);
   std::vector<double> back(t.analog.values.size());
-  decode_analog_window(p9.data(), p9.size(), n, t.analog.channels, back.data(), "coda", 0,
-                       kAnalogFloat9Since);
+  decode_analog_window(p9.data(), p9.size(), n, t.analog.channels, back.data(), "coda");
   EXPECT_EQ(std::memcmp(back.data(), t.analog.values.data(), back.size() * 8), 0);
-  EXPECT_LT(static_cast<double>(p9.size()), 0.75 * static_cast<double>(p8.size()));
-  // And through the whole codec: the stream is 9.0 and gives every analog sample back.
+  // And through the whole codec: every analog sample back.
   CompressOptions o;
   o.lossless = true;
   const std::vector<uint8_t> s = compress(t, o);
-  EXPECT_EQ(s[9], kFormat9.major);
   const Take back_take = decompress(s.data(), s.size(), "coda");
   EXPECT_EQ(std::memcmp(back_take.analog.values.data(), t.analog.values.data(),
                         t.analog.values.size() * 8),

@@ -1,6 +1,6 @@
-// Rank tables coded against a lattice (FORMAT.md 11.7): round trips of float32 and double tables,
-// the window codec choosing them only in 8.x windows, and the decoder refusing a lattice table
-// in a stream before 8.0 and every damaged field.
+// Rank tables coded against a lattice (FORMAT.md 8.2): round trips of float32 and double tables,
+// the window codec choosing them where they code smaller, and the decoder refusing every damaged
+// field.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -41,10 +41,9 @@ ChannelRepr rank_of(const std::vector<double>& x) {
   return ChannelRepr();
 }
 
-std::vector<uint8_t> header(const ChannelRepr& r, bool lattice) {
+std::vector<uint8_t> header(const ChannelRepr& r) {
   ByteWriter w;
   HeaderRules rules;
-  rules.lattice = lattice;
   HeaderState state;
   write_repr_header(r, KeptRows(), rules, &state, &w);
   return w.buffer();
@@ -57,10 +56,9 @@ uint8_t flag_of(const std::vector<uint8_t>& h) {
   return h.at(k + 1);
 }
 
-ChannelRepr read(const std::vector<uint8_t>& h, size_t n, bool lattice) {
+ChannelRepr read(const std::vector<uint8_t>& h, size_t n) {
   ByteReader in(h.data(), h.size(), "test header");
   HeaderRules rules;
-  rules.lattice = lattice;
   HeaderState state;
   KeptRows kept;
   ChannelRepr r = read_repr_header(&in, n, rules, &state, &kept);
@@ -78,12 +76,11 @@ TEST(AnalogLattice, GivenNearLatticeFloat32TableWhenCodedThenFlagBit1SmallerAndE
   const std::vector<double> x = float32_volts(2000, 1);
   const ChannelRepr r = rank_of(x);
   ASSERT_GT(r.table.size(), 50u);
-  const std::vector<uint8_t> plain = header(r, false), lat = header(r, true);
-  EXPECT_EQ(flag_of(plain), 1);  // float32
-  EXPECT_EQ(flag_of(lat), 3);    // float32, lattice
-  EXPECT_LT(lat.size() * 2, plain.size());
-  expect_same_table(read(lat, x.size(), true), r);
-  expect_same_table(read(plain, x.size(), true), r);  // 8.x reads the gaps too
+  const std::vector<uint8_t> lat = header(r);
+  EXPECT_EQ(flag_of(lat), 3);  // float32, lattice
+  // Below a byte an entry (the gaps of ordered float32 patterns between them take two or more).
+  EXPECT_LT(lat.size(), r.table.size());
+  expect_same_table(read(lat, x.size()), r);
 }
 
 // PiG's float32 EMG tables: one pair of entries a few float32 units apart, off the lattice, makes
@@ -97,10 +94,10 @@ TEST(AnalogLattice, GivenTwoEntriesAFewUnitsApartThenTheLatticeOfTheMedianGapAnd
   odd[1500] = near;  // a new entry 15 units above an existing one
   const ChannelRepr r = rank_of(x), ro = rank_of(odd);
   ASSERT_EQ(ro.table.size(), r.table.size() + 1);
-  const std::vector<uint8_t> lat = header(r, true), lat_odd = header(ro, true);
+  const std::vector<uint8_t> lat = header(r), lat_odd = header(ro);
   EXPECT_EQ(flag_of(lat_odd), 3);
   EXPECT_LT(lat_odd.size(), lat.size() + 16);
-  expect_same_table(read(lat_odd, odd.size(), true), ro);
+  expect_same_table(read(lat_odd, odd.size()), ro);
 }
 
 // An entry next to zero after one a little off the lattice: the nearest number of steps predicts
@@ -116,16 +113,16 @@ TEST(AnalogLattice, GivenAnEntryNextToZeroPredictedAcrossZeroThenStillTheLattice
     for (size_t i = 0; i < 401; ++i) x.push_back(x[i]);  // every value a few times
   const ChannelRepr r = rank_of(x);
   ASSERT_EQ(r.table.size(), 401u);
-  const std::vector<uint8_t> lat = header(r, true);
+  const std::vector<uint8_t> lat = header(r);
   EXPECT_EQ(flag_of(lat), 3);
-  EXPECT_LT(lat.size() * 2, header(r, false).size());
-  expect_same_table(read(lat, x.size(), true), r);
+  EXPECT_LT(lat.size(), r.table.size());
+  expect_same_table(read(lat, x.size()), r);
 }
 
 // Tables on no lattice, nearly one, or one with outliers: whichever coding wins (write_value_table
-// stops each lattice try once it reaches the smallest size so far), the header is never larger
-// than the gaps' and reads back bit for bit.
-TEST(AnalogLattice, GivenTablesOfEveryShapeThenNeverLargerThanTheGapsAndExact) {
+// stops each lattice try once it reaches the smallest size so far), the header reads back bit
+// for bit.
+TEST(AnalogLattice, GivenTablesOfEveryShapeThenExact) {
   std::mt19937 rng(9);
   int tried = 0;
   for (int shape = 0; shape < 6; ++shape) {
@@ -143,9 +140,7 @@ TEST(AnalogLattice, GivenTablesOfEveryShapeThenNeverLargerThanTheGapsAndExact) {
       if (c.kind == Kind::kRank) r = std::move(c);
     if (r.kind != Kind::kRank) continue;  // a scaled fit alone (an exact lattice)
     ++tried;
-    const std::vector<uint8_t> plain = header(r, false), lat = header(r, true);
-    EXPECT_LE(lat.size(), plain.size()) << shape;
-    expect_same_table(read(lat, x.size(), true), r);
+    expect_same_table(read(header(r), x.size()), r);
   }
   EXPECT_GE(tried, 4);
 }
@@ -154,21 +149,13 @@ TEST(AnalogLattice, GivenDoubleTableWhenCodedThenExact) {
   std::vector<double> x(500);
   for (size_t i = 0; i < x.size(); ++i) x[i] = 0.1 * static_cast<double>(i % 97) + 1e-3;
   const ChannelRepr r = rank_of(x);
-  const std::vector<uint8_t> lat = header(r, true);
+  const std::vector<uint8_t> lat = header(r);
   EXPECT_EQ(flag_of(lat), 2);
-  expect_same_table(read(lat, x.size(), true), r);
+  expect_same_table(read(lat, x.size()), r);
 }
 
-TEST(AnalogLattice, GivenLatticeTableInAStreamBefore8ThenCorrupt) {
-  const std::vector<double> x = float32_volts(1000, 2);
-  const std::vector<uint8_t> lat = header(rank_of(x), true);
-  ASSERT_EQ(flag_of(lat), 3);
-  EXPECT_THROW(read(lat, x.size(), false), Error);
-}
-
-// The window codec: an 8.x window is smaller on such channels and decodes exactly; decoded as
-// a window before 8.0 it is corrupt.
-TEST(AnalogLattice, GivenFormat8WindowThenSmallerExactAndRefusedBefore8) {
+// The window codec: such channels decode exactly.
+TEST(AnalogLattice, GivenAWindowOfNearLatticeChannelsThenExact) {
   const size_t n = 1500;
   std::vector<double> rows(2 * n);
   const std::vector<double> a = float32_volts(n, 3), b = float32_volts(n, 4);
@@ -176,17 +163,10 @@ TEST(AnalogLattice, GivenFormat8WindowThenSmallerExactAndRefusedBefore8) {
     rows[2 * i] = a[i];
     rows[2 * i + 1] = b[i];
   }
-  const std::vector<uint8_t> p7 =
-      encode_analog_window(rows.data(), n, 2, AnalogHints(), 0, kAnalogWindowsSince);
-  const std::vector<uint8_t> p8 =
-      encode_analog_window(rows.data(), n, 2, AnalogHints(), 0, kAnalogLatticeSince);
-  EXPECT_LT(p8.size(), p7.size());
+  const std::vector<uint8_t> p = encode_analog_window(rows.data(), n, 2, AnalogHints(), 0);
   std::vector<double> back(rows.size(), 0.0);
-  decode_analog_window(p8.data(), p8.size(), n, 2, back.data(), "w", 0, kAnalogLatticeSince);
+  decode_analog_window(p.data(), p.size(), n, 2, back.data(), "w");
   for (size_t i = 0; i < rows.size(); ++i) ASSERT_EQ(bits_of(back[i]), bits_of(rows[i])) << i;
-  EXPECT_THROW(
-      decode_analog_window(p8.data(), p8.size(), n, 2, back.data(), "w", 0, kAnalogWindowsSince),
-      Error);
 }
 
 // A lattice table header written field by field (FORMAT.md 11.7), float32 entries 1.0, 2.0, ...
@@ -219,14 +199,14 @@ std::vector<uint8_t> build(const Fields& f) {
 }
 
 TEST(AnalogLattice, GivenHandWrittenTableThenEntriesFollowTheLattice) {
-  const ChannelRepr r = read(build(Fields()), 10, true);
+  const ChannelRepr r = read(build(Fields()), 10);
   ASSERT_EQ(r.table.size(), 3u);
   EXPECT_EQ(r.table[0], 1.0);
   EXPECT_EQ(r.table[1], 2.0);
   EXPECT_EQ(r.table[2], 3.0);
   Fields moved;
   moved.entries = {{1, 1}, {2, -1}};  // 2.0 one float32 unit up, then + 2 steps one unit down
-  const ChannelRepr q = read(build(moved), 10, true);
+  const ChannelRepr q = read(build(moved), 10);
   EXPECT_EQ(q.table[1], static_cast<double>(std::nextafter(2.0f, 3.0f)));
   EXPECT_EQ(q.table[2], static_cast<double>(std::nextafter(
                             static_cast<float>(static_cast<double>(q.table[1]) + 2.0), 0.0f)));
@@ -237,7 +217,6 @@ TEST(AnalogLattice, GivenDamagedFieldsThenCorruptNeverCrash) {
     const std::vector<uint8_t> h = build(f);
     ByteReader in(h.data(), h.size(), "test header");
     HeaderRules rules;
-    rules.lattice = true;
     HeaderState state;
     KeptRows kept;
     try {

@@ -216,7 +216,7 @@ Take meta_round_trip(const std::vector<uint8_t>& payload, int channels) {
   t.frames = 4;
   t.analog.channels = channels;
   bool words = false;
-  decode_meta(c, "t", &t, &words, 8);
+  decode_meta(c, "t", &t, &words);
   return t;
 }
 

@@ -1,9 +1,8 @@
-// Analog window version 2 (docs/FORMAT.md 11.10, format 9.3): an integer residual's token is coded
-// relative to its magnitude context, with contexts for tokens far below and one for tokens far
-// above. Residuals round-trip through the stage on all three paths; noise of large and changing
-// magnitude codes smaller than in a 9.2 window, small residuals about the same; a version 2
-// window is corrupt in a 9.2 stream, version 0 and 1 windows decode the same in 9.3, and a token
-// out of 0 .. 63 is corrupt.
+// An analog window's integer residuals (docs/FORMAT.md 9.5, 9.7; window version 2, the one
+// value format 1.0 defines): a token is coded relative to its magnitude context, with contexts
+// for tokens far below and one for tokens far above, and the two bits below it through a model
+// per token. Residuals round-trip through the stage on all three paths; any other window version
+// is corrupt, and so are a token out of 0 .. 63 and a low-bit symbol out of its range.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,7 +10,6 @@
 
 #include "analog_window.h"
 #include "capz/error.h"
-#include "capz/version.h"
 #include "coding/analog/analog_codec.h"
 #include "coding/analog/analog_entropy.h"
 #include "coding/bytes.h"
@@ -68,12 +66,8 @@ TEST(AnalogRelative, GivenResidualsOnEveryPathThenTheStageRoundTrips) {
   EXPECT_TRUE(dec.at_end());
 }
 
-std::vector<uint8_t> round_trip(const std::vector<double>& v, FormatVersion format) {
-  return capz_test::window_round_trip(v, 1, format);
-}
-
 // EMG-like: Laplacian noise whose scale changes every 400 samples between 40 and 4000 (bursts),
-// so that most residuals' tokens are 15 or more, which a 9.2 window codes through the escapes.
+// so that most residuals' tokens are 15 or more.
 std::vector<double> bursts(uint32_t seed) {
   std::mt19937 rng(seed);
   std::exponential_distribution<double> ex(1.0);
@@ -85,61 +79,37 @@ std::vector<double> bursts(uint32_t seed) {
   return v;
 }
 
-TEST(AnalogRelative, GivenNoiseInBurstsThen93SmallerThan92AndExact) {
-  const std::vector<double> v = bursts(3);
-  EXPECT_EQ(round_trip(v, kAnalogRelativeSince)[0], 2);  // the window version
-  const auto [w93, w92] = capz_test::window_sizes(v, kAnalogRelativeSince, kAnalogLowBitsSince);
-  EXPECT_LT(w93 * 1000, w92 * 985) << w93 << " against " << w92;
+void expect_corrupt(const std::vector<uint8_t>& w, size_t n, const std::string& message) {
+  capz_test::expect_window_corrupt(w, n, 1, message, message);
 }
 
-// Residuals mostly below 96 (tokens below 15) never escaped in 9.2: at most 1% larger.
-TEST(AnalogRelative, GivenSmallNoiseThen93AboutAs92) {
-  std::mt19937 rng(11);
-  std::normal_distribution<double> noise(0, 12);
-  std::vector<double> v(8000);
-  for (double& s : v) s = std::round(noise(rng));
-  const auto [w93, w92] = capz_test::window_sizes(v, kAnalogRelativeSince, kAnalogLowBitsSince);
-  EXPECT_LT(w93 * 100, w92 * 101) << w93 << " against " << w92;
-}
-
-void expect_corrupt(const std::vector<uint8_t>& w, size_t n, FormatVersion format,
-                    const std::string& message) {
-  capz_test::expect_window_corrupt(w, n, 1, format, message, message);
-}
-
-TEST(AnalogRelative, GivenWindowVersionsThenEachDecodesOnlyWhereValid) {
+TEST(AnalogRelative, GivenWindowVersionsThenOnly2Decodes) {
   const std::vector<double> v = bursts(7);
-  const std::vector<uint8_t> w93 = round_trip(v, kAnalogRelativeSince),
-                             w92 = round_trip(v, kAnalogLowBitsSince),
-                             w91 = round_trip(v, kAnalogConstantSince);
-  expect_corrupt(w93, v.size(), kAnalogLowBitsSince, "unknown analog window version");
-  std::vector<uint8_t> w = w93;
-  w[0] = 3;
-  expect_corrupt(w, v.size(), kAnalogRelativeSince, "unknown analog window version");
-  // Version 1 and version 0 windows decode the same in a 9.3 stream.
-  for (const std::vector<uint8_t>* old : {&w92, &w91}) {
-    std::vector<double> back(v.size());
-    decode_analog_window(old->data(), old->size(), v.size(), 1, back.data(), "older window", 0,
-                         kAnalogRelativeSince);
-    for (size_t i = 0; i < v.size(); ++i) ASSERT_EQ(bits_of(back[i]), bits_of(v[i])) << i;
+  const std::vector<uint8_t> w2 = capz_test::window_round_trip(v, 1);
+  ASSERT_EQ(w2[0], 2);  // the window version
+  for (const uint8_t other : {0, 1, 3, 255}) {
+    std::vector<uint8_t> w = w2;
+    w[0] = other;
+    expect_corrupt(w, v.size(), "unknown analog window version");
   }
   // Damaged anywhere: samples or a clean corrupt error.
-  capz_test::expect_flips_corrupt_or_decoded(std::vector<uint8_t>(w93.begin(), w93.begin() + 400),
-                                             v.size(), 1, kAnalogRelativeSince);
+  capz_test::expect_flips_corrupt_or_decoded(std::vector<uint8_t>(w2.begin(), w2.begin() + 400),
+                                             v.size(), 1);
 }
 
-// A version 2 window of one integer channel whose block is made by hand: no cascade, no
-// reference, order 0, n - 1 zero residuals (magnitude context 0), then the symbol `sym` under
-// context 0 and, for 0 and 15, `value` under the below or above context; a token below 4 has no
-// bits below it.
-std::vector<uint8_t> crafted(int sym, uint32_t value, size_t n) {
-  return capz_test::int_window_by_hand(n, kAnalogRelativeSince, [&](IntEncoder::Cursor* c) {
+// A window of one integer channel whose block is made by hand: no cascade, no reference, order
+// 0, n - 1 zero residuals (magnitude context 0), then the symbol `sym` under context 0 and, for
+// 0 and 15, `value` under the below or above context; a token below 4 has no bits below it, one
+// above has the low-bit symbol `low` (when not negative) and no raw bits (tokens 4 .. 7).
+std::vector<uint8_t> crafted(int sym, uint32_t value, size_t n, int tok = 0, int low = -1) {
+  return capz_test::int_window_by_hand(n, [&](IntEncoder::Cursor* c) {
     analog::Magnitude m;
     for (size_t i = 0; i + 1 < n; ++i) analog::put_residual_v2(c, &m, 0);
     EXPECT_EQ(m.context(), 0);
     c->put_symbol(sym, 0);
     if (sym == 0) c->put(value, analog::kBelowContext);
     if (sym == 15) c->put(value, analog::kAboveContext);
+    if (low >= 0) c->put_symbol(low, analog::kLowContext + tok - 4);
   });
 }
 
@@ -152,15 +122,30 @@ TEST(AnalogRelative, GivenATokenOutOfRangeThenCorrupt) {
   const double want[] = {0, -1, -2};
   for (int k = 0; k < 3; ++k) {
     const std::vector<uint8_t> w = crafted(valid[k].first, valid[k].second, n);
-    decode_analog_window(w.data(), w.size(), n, 1, out.data(), "crafted", 0, kAnalogRelativeSince);
+    decode_analog_window(w.data(), w.size(), n, 1, out.data(), "crafted");
     EXPECT_EQ(out[n - 1], want[k]) << k;
   }
   // Below context 0 every token is negative; symbol 13 is token -1; 15 with 64 - 1 above is 64.
-  expect_corrupt(crafted(0, 0, n), n, kAnalogRelativeSince, "analog residual token out of range");
-  expect_corrupt(crafted(13, 0, n), n, kAnalogRelativeSince, "analog residual token out of range");
-  expect_corrupt(crafted(15, 63, n), n, kAnalogRelativeSince, "analog residual token out of range");
-  expect_corrupt(crafted(15, 0xFFFFFFFFu, n), n, kAnalogRelativeSince,
-                 "analog residual token out of range");
+  expect_corrupt(crafted(0, 0, n), n, "analog residual token out of range");
+  expect_corrupt(crafted(13, 0, n), n, "analog residual token out of range");
+  expect_corrupt(crafted(15, 63, n), n, "analog residual token out of range");
+  expect_corrupt(crafted(15, 0xFFFFFFFFu, n), n, "analog residual token out of range");
+}
+
+TEST(AnalogRelative, GivenALowBitSymbolOutOfItsRangeThenCorrupt) {
+  const size_t n = 50;
+  std::vector<double> out(n);
+  // Token 6 (u = 8 .. 11) under context 0 is symbol 15 and 6 + 14 - 15 = 5 above; two bits below
+  // it, symbols 0-3. Token 4 (u = 4, 5) is 3 above, one bit, symbols 0-1.
+  for (int low = 0; low < 4; ++low) {
+    const std::vector<uint8_t> w = crafted(15, 5, n, 6, low);
+    decode_analog_window(w.data(), w.size(), n, 1, out.data(), "crafted");
+    const int32_t u = 8 + low, e = (u >> 1) ^ -(u & 1);
+    EXPECT_EQ(out[n - 1], static_cast<double>(e)) << low;
+  }
+  expect_corrupt(crafted(15, 5, n, 6, 4), n, "low-bit symbol out of range");
+  expect_corrupt(crafted(15, 3, n, 4, 2), n, "low-bit symbol out of range");
+  expect_corrupt(crafted(15, 5, n, 6, 15), n, "low-bit symbol out of range");
 }
 
 }  // namespace

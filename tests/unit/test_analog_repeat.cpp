@@ -12,12 +12,10 @@
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/io.h"
-#include "capz/version.h"
 #include "coding/analog/analog_codec.h"
 #include "coding/analog/analog_repeat.h"
 #include "coding/analog/analog_repr.h"
 #include "coding/bytes.h"
-#include "relabel.h"
 #include "test_util.h"
 
 namespace capz {
@@ -69,7 +67,7 @@ std::vector<uint32_t> some_frames(size_t frames, double p, uint32_t seed) {
 
 // Each channel's repeat list as the payload's headers give it.
 std::vector<std::vector<uint32_t>> repeat_lists(const std::vector<uint8_t>& p, const Window& w) {
-  analog::HeaderRules rules;  // a 7.x window's: repeat lists only
+  analog::HeaderRules rules;  // with repeat lists
   rules.S = w.S;
   std::vector<std::vector<uint32_t>> lists;
   for (const capz_test::ChannelHeader& h :
@@ -80,8 +78,7 @@ std::vector<std::vector<uint32_t>> repeat_lists(const std::vector<uint8_t>& p, c
 
 // Encodes with repeat lists allowed, decodes, compares bit patterns; returns the payload.
 std::vector<uint8_t> round_trip(const Window& w) {
-  return capz_test::window_round_trip(w.rows, static_cast<size_t>(w.C), kAnalogWindowsSince, {},
-                                      w.S);
+  return capz_test::window_round_trip(w.rows, static_cast<size_t>(w.C), {}, w.S);
 }
 
 size_t size_without_lists(const Window& w) {
@@ -159,9 +156,9 @@ TEST(AnalogRepeat, GivenAChannelRepeatingEveryFrameThenOnlyItsFirstFrameIsCoded)
   EXPECT_LT(p.size(), round_trip(only1).size() + 80);
 }
 
-TEST(AnalogRepeat, GivenConstantFramesOrNoRepeatsThenTheWindowIsTheOneBefore7) {
-  // Without repeated frames (and for constant channels, which repeat trivially) a 7.x window is
-  // byte for byte the window of earlier versions.
+TEST(AnalogRepeat, GivenConstantFramesOrNoRepeatsThenTheWindowIsTheOneWithoutLists) {
+  // Without repeated frames (and for constant channels, which repeat trivially) a window with
+  // frames is byte for byte the window coded without repeat lists.
   Window w(50, 10, 3);
   fill_counts(&w, 0, 900, 8);
   fill_floats(&w, 1, 9);
@@ -220,7 +217,7 @@ std::vector<uint8_t> with_list(const std::vector<uint8_t>& p, const Window& w, i
     analog::write_repr_header(r, kept, rules, &out_state, &nh);
   }
   ByteWriter out;
-  out.u8(0);
+  out.u8(2);  // the window version
   out.varint(nh.size());
   out.bytes(nh.buffer());
   out.bytes(std::vector<uint8_t>(p.begin() + static_cast<long>(in.offset()), p.end()));
@@ -254,7 +251,7 @@ TEST(AnalogRepeat, GivenAReferenceToAChannelWithAnotherRepeatSetThenCorrupt) {
   EXPECT_EQ(same, p);
 }
 
-TEST(AnalogRepeat, GivenARepeatListInAWindowBefore7ThenCorrupt) {
+TEST(AnalogRepeat, GivenARepeatListInAWindowWithoutFramesThenCorrupt) {
   Window w(100, 10, 2);
   fill_counts(&w, 0, 1000, 50);
   fill_counts(&w, 1, 1000, 51);
@@ -263,12 +260,13 @@ TEST(AnalogRepeat, GivenARepeatListInAWindowBefore7ThenCorrupt) {
   ASSERT_FALSE(repeat_lists(p, w)[0].empty());
   std::vector<double> out(w.rows.size());
   std::string msg;
-  // A 4.x-6.x stream decodes ANLG with no samples per frame for repeats (decoder.cpp).
+  // Decoded with no samples per frame (repeat_S 0).
   EXPECT_EQ(
       capz_test::error_of(
-          [&] { decode_analog_window(p.data(), p.size(), w.n(), w.C, out.data(), "v6"); }, &msg),
+          [&] { decode_analog_window(p.data(), p.size(), w.n(), w.C, out.data(), "no frames"); },
+          &msg),
       ErrorCode::kCorrupt);
-  EXPECT_NE(msg.find("before format 7.0"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("analog repeat list in a window without frames"), std::string::npos) << msg;
 }
 
 // A one-channel kConst window whose kind byte has bit 5 and the given list bytes.
@@ -278,7 +276,7 @@ std::vector<uint8_t> const_window(const std::vector<uint8_t>& list_bytes) {
   h.bytes(list_bytes);
   h.varint(__builtin_bswap64(bits_of(1.5)));
   ByteWriter out;
-  out.u8(0);
+  out.u8(2);  // the window version
   out.varint(h.size());
   out.bytes(h.buffer());
   return std::move(out.buffer());
@@ -339,16 +337,7 @@ TEST(AnalogRepeat, GivenFlippedBytesOfARepeatWindowThenKCorruptNeverCrash) {
   EXPECT_GT(corrupt, 500);
 }
 
-// The 7.0 golden stream relabelled 6.0 (header CRC made right): its ANLG repeat lists are then
-// corrupt, and the decoder says so rather than misreading them.
-TEST(AnalogRepeat, GivenA7StreamRelabelled6ThenTheRepeatListIsCorrupt) {
-  const std::vector<uint8_t> b = capz_test::golden_bytes("repeat_analog.c3d.lossless.v7.0.capz");
-  ASSERT_EQ(b[9], 7);
-  EXPECT_EQ(decompress(b.data(), b.size()).analog.channels, 6);  // as written: decodes
-  capz_test::expect_corrupt_naming(capz_test::relabelled(b, 6, 0), {"before format 7.0", "ANLG"});
-}
-
-TEST(AnalogRepeat, GivenViconZerowireThenCapz7AndTheC3DComesBackByteForByte) {
+TEST(AnalogRepeat, GivenViconZerowireThenTheC3DComesBackByteForByte) {
   const std::string src = capz_test::shared_data_or_skip("c3d/c3dorg/sample_32/vicon_zerowire.c3d");
   if (src.empty()) return;
   capz_test::TempDir dir("capz_analog_repeat");
@@ -356,10 +345,6 @@ TEST(AnalogRepeat, GivenViconZerowireThenCapz7AndTheC3DComesBackByteForByte) {
   const auto c = capz_test::run_command(
       CAPZ_CLI, "compress -q --lossless '" + src + "' -o '" + capz + "'", dir.file("c.txt"));
   ASSERT_EQ(c.status, 0) << c.out;
-  const std::string stream = capz_test::file_text(capz);
-  ASSERT_GT(stream.size(), 11u);
-  // FORMAT.md 11.3, in the 9.0 every take with analog channels is written as (9.1, 9.2).
-  EXPECT_EQ(static_cast<int>(static_cast<uint8_t>(stream[9])), kFormat9.major);
   const auto d = capz_test::run_command(CAPZ_CLI, "decompress -q '" + capz + "' -o '" + back + "'",
                                         dir.file("d.txt"));
   ASSERT_EQ(d.status, 0) << d.out;

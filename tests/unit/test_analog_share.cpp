@@ -1,7 +1,7 @@
 // A scaled channel's scaling shared with the previous scaled channel of its window
-// (docs/FORMAT.md 11.7, format 9.2): channels stored with one step and offset write them once,
-// the others name them by the kind byte's bit 4; a channel with another scaling writes its own
-// and is named after; below 9.2, and with no earlier scaled channel, the bit is corrupt; Walk1's
+// (docs/FORMAT.md 9.6): channels stored with one step and offset write them once, the others
+// name them by the kind byte's bit 4; a channel with another scaling writes its own and is named
+// after; with no earlier scaled channel the bit is corrupt; Walk1's
 // force channels, whose least-squares steps differ in their last bits, share one but for one.
 #include <gtest/gtest.h>
 
@@ -21,7 +21,7 @@ namespace {
 
 using analog::Kind;
 
-// Each channel's kind byte, as a 9.2 payload's header gives them.
+// Each channel's kind byte, as a payload's header gives them.
 std::vector<uint8_t> kind_bytes(const std::vector<uint8_t>& p, size_t n, size_t C) {
   std::vector<uint8_t> out;
   for (const capz_test::ChannelHeader& h : capz_test::channel_headers(p, n, C))
@@ -45,14 +45,14 @@ std::vector<double> scaled_rows(size_t n, const std::vector<double>& steps, uint
   return rows;
 }
 
-std::vector<uint8_t> round_trip(const std::vector<double>& rows, size_t C, FormatVersion f) {
-  return capz_test::window_round_trip(rows, C, f);
+std::vector<uint8_t> round_trip(const std::vector<double>& rows, size_t C) {
+  return capz_test::window_round_trip(rows, C);
 }
 
 TEST(AnalogShare, GivenChannelsOfOneScalingThenWrittenOnceAndNamedAfter) {
   const double s = 10.0 / 32768, other = 0.01;
   const std::vector<double> rows = scaled_rows(3000, {s, s, other, other, s}, 3);
-  const std::vector<uint8_t> p = round_trip(rows, 5, kAnalogHoldSince);
+  const std::vector<uint8_t> p = round_trip(rows, 5);
   const std::vector<uint8_t> kinds = kind_bytes(p, 3000, 5);
   for (uint8_t k : kinds) ASSERT_EQ(k & 7, static_cast<int>(Kind::kScaled));
   EXPECT_EQ(kinds[0] & 16, 0);  // the first writes its scaling
@@ -60,25 +60,19 @@ TEST(AnalogShare, GivenChannelsOfOneScalingThenWrittenOnceAndNamedAfter) {
   EXPECT_EQ(kinds[2] & 16, 0);  // another scaling: written
   EXPECT_NE(kinds[3] & 16, 0);  // the same as channel 2
   EXPECT_EQ(kinds[4] & 16, 0);  // channel 0's again, but the previous scaled channel is 3's
-  // 9.1 writes every scaling: three more headers of 17 bytes.
-  const std::vector<uint8_t> p91 = round_trip(rows, 5, kAnalogConstantSince);
-  EXPECT_EQ(kind_bytes(p91, 3000, 5)[1] & 16, 0);
 }
 
-void expect_corrupt(const std::vector<uint8_t>& p, size_t n, size_t C, FormatVersion f,
-                    const std::string& message) {
-  capz_test::expect_window_corrupt(p, n, C, f, message, message);
+void expect_corrupt(const std::vector<uint8_t>& p, size_t n, size_t C, const std::string& message) {
+  capz_test::expect_window_corrupt(p, n, C, message, message);
 }
 
 TEST(AnalogShare, GivenBit4WithKind2WhereItCannotBeThenCorrupt) {
   const std::vector<double> rows = scaled_rows(500, {0.01}, 5);
-  std::vector<uint8_t> p = round_trip(rows, 1, kAnalogHoldSince);
+  std::vector<uint8_t> p = round_trip(rows, 1);
   const size_t k = capz_test::first_kind_at(p);
   ASSERT_EQ(p[k], static_cast<int>(Kind::kScaled));
   p[k] |= 16;  // "the previous scaling", with none before: the 17 bytes then read as more fields
-  expect_corrupt(p, 500, 1, kAnalogHoldSince, "analog scaling shared with no earlier channel");
-  p[0] = 0;  // as a 9.1 window (version 0): bit 4 with kind 2 is unknown there
-  expect_corrupt(p, 500, 1, kAnalogConstantSince, "unknown analog channel kind");
+  expect_corrupt(p, 500, 1, "analog scaling shared with no earlier channel");
 }
 
 TEST(AnalogShare, GivenWalk1ThenItsForceChannelsShareOneScaling) {
@@ -87,11 +81,10 @@ TEST(AnalogShare, GivenWalk1ThenItsForceChannelsShareOneScaling) {
   if (path.empty()) return;
   const Take t = read_take(path);
   const size_t C = static_cast<size_t>(t.analog.channels), n = t.analog.values.size() / C;
-  const std::vector<uint8_t> p92 = encode_analog_window(
-      t.analog.values.data(), n, t.analog.channels, analog_hints(t), 0, kAnalogHoldSince);
+  const std::vector<uint8_t> p92 =
+      encode_analog_window(t.analog.values.data(), n, t.analog.channels, analog_hints(t), 0);
   std::vector<double> back(t.analog.values.size());
-  decode_analog_window(p92.data(), p92.size(), n, t.analog.channels, back.data(), "walk1", 0,
-                       kAnalogHoldSince);
+  decode_analog_window(p92.data(), p92.size(), n, t.analog.channels, back.data(), "walk1");
   EXPECT_EQ(std::memcmp(back.data(), t.analog.values.data(), back.size() * 8), 0);
   const std::vector<uint8_t> kinds = kind_bytes(p92, n, C);
   ASSERT_EQ(C, 18u);

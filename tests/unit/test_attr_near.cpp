@@ -15,7 +15,9 @@
 #include "capz/error.h"
 #include "capz/take.h"
 #include "coding/attributes.h"
+#include "coding/bytes.h"
 #include "coding/neighbours.h"
+#include "support/stream_pieces.h"
 #include "test_util.h"
 
 using capz::AttrSpec;
@@ -145,18 +147,32 @@ uint32_t colour(const Cloud& c, size_t f, size_t p) {
   return 0xFF000000u | (r << 16) | (g << 8) | b;
 }
 
+// The predictor of the first lane of the first field of the first window's ATTR chunk of stream
+// z (-1 when that field is not coded predictively).
+int attr_predictor(const std::vector<uint8_t>& z) {
+  for (const capz_test::Piece& p : capz_test::pieces(z)) {
+    if (p.type != "ATTR") continue;
+    capz::ByteReader r(p.payload.data(), p.payload.size(), "ATTR");
+    r.varint();  // window index
+    const uint8_t t = r.u8();
+    return t < 2 ? r.u8() : -1;
+  }
+  return -2;
+}
+
 struct Coded {
   std::vector<uint8_t> bytes;
   std::vector<std::vector<uint8_t>> back;
 };
 Coded code(const std::vector<AttrSpec>& specs, const std::vector<std::vector<uint8_t>>& data,
-           const Cloud& c, bool v7) {
+           const Cloud& c, bool near) {
   const uint8_t* valid = std::count(c.valid.begin(), c.valid.end(), 0) ? c.valid.data() : nullptr;
   Coded out;
-  out.bytes = capz::encode_attributes(specs, data, valid, c.F, c.N, c.N, true, v7,
-                                      v7 ? c.q.data() : nullptr);
+  // With the positions' integers predictors 10 and 11 are candidates; without, they are not.
+  out.bytes =
+      capz::encode_attributes(specs, data, valid, c.F, c.N, c.N, near ? c.q.data() : nullptr);
   capz::decode_attributes(out.bytes.data(), out.bytes.size(), specs, valid, c.F, c.N, c.N,
-                          &out.back, "test", true, v7, v7 ? c.q.data() : nullptr);
+                          &out.back, "test", near ? c.q.data() : nullptr);
   return out;
 }
 
@@ -237,49 +253,48 @@ TEST(AttrNear, RandomValuesComeBackUnderEveryPredictor) {
   EXPECT_EQ(code({AttrSpec{"r", 'U', 1, 1}}, d1, one, true).back, d1);
 }
 
-TEST(AttrNear, PredictorsTenAndElevenAreCorruptWithoutA7xStreamOrPositions) {
+TEST(AttrNear, PredictorsTenAndElevenAreCorruptWithoutPositions) {
   const Cloud c(5);
   const std::vector<AttrSpec> specs = {AttrSpec{"reflectivity", 'U', 1, 1}};
   const std::vector<std::vector<uint8_t>> data = {field_of(c, reflectivity)};
   const std::vector<uint8_t> enc =
-      capz::encode_attributes(specs, data, nullptr, c.F, c.N, c.N, true, true, c.q.data());
+      capz::encode_attributes(specs, data, nullptr, c.F, c.N, c.N, c.q.data());
   ASSERT_EQ(enc[0], 0);
   ASSERT_EQ(enc[1], 10);
   std::vector<std::vector<uint8_t>> back;
-  auto decode = [&](const std::vector<uint8_t>& e, bool v6, bool v7, const int32_t* q) {
+  auto decode = [&](const std::vector<uint8_t>& e, const int32_t* q) {
     std::string msg;
     const ErrorCode code = capz_test::error_of(
         [&] {
           capz::decode_attributes(e.data(), e.size(), specs, nullptr, c.F, c.N, c.N, &back, "test",
-                                  v6, v7, q);
+                                  q);
         },
         &msg);
     return std::make_pair(code, msg);
   };
-  ASSERT_NO_THROW(decode(enc, true, true, c.q.data()));
+  ASSERT_NO_THROW(decode(enc, c.q.data()));
   for (const uint8_t id : {uint8_t{10}, uint8_t{11}}) {
     std::vector<uint8_t> e = enc;
     e[1] = id;
-    EXPECT_EQ(decode(e, true, false, c.q.data()).first, ErrorCode::kCorrupt);   // a 6.x stream
-    EXPECT_EQ(decode(e, false, false, c.q.data()).first, ErrorCode::kCorrupt);  // a 5.x stream
-    const auto none = decode(e, true, true, nullptr);  // positions as transform output
+    const auto none = decode(e, nullptr);  // positions as transform output
     EXPECT_EQ(none.first, ErrorCode::kCorrupt);
     EXPECT_NE(none.second.find("position integers"), std::string::npos) << none.second;
   }
   std::vector<uint8_t> e = enc;
-  e[1] = 12;  // the next id is unknown in 7.x too
-  EXPECT_EQ(decode(e, true, true, c.q.data()).first, ErrorCode::kCorrupt);
+  e[1] = 12;  // the next id is unknown
+  EXPECT_EQ(decode(e, c.q.data()).first, ErrorCode::kCorrupt);
   // Other positions decode to other values (the prediction reads them), never out of bounds.
   std::vector<int32_t> moved = c.q;
   std::reverse(moved.begin(), moved.end());
-  ASSERT_NO_THROW(decode(enc, true, true, moved.data()));
+  ASSERT_NO_THROW(decode(enc, moved.data()));
   EXPECT_NE(back, data);
 }
 
-// A take of an unorganized cloud with a field: written as 7.0 (FORMAT.md 13.5), the field exact
-// lossless and at a bound (the encoder's self-check decodes every window, so the decoder found
-// the same neighbours from the POSW integers it decoded); organized, the same take is 6.0.
-TEST(AttrNear, UnorganizedTakesWithFieldsAreWrittenAs70) {
+// A take of an unorganized cloud with a field: its field coded with predictor 10 (FORMAT.md 7.3),
+// exact lossless and at a bound (the encoder's self-check decodes every window, so the decoder
+// found the same neighbours from the POSW integers it decoded); organized, the same take keeps
+// its pixel neighbours (predictors 10 and 11 are not tried).
+TEST(AttrNear, UnorganizedTakesWithFieldsUseTheNearestPoint) {
   const Cloud c(13);
   capz::Take t;
   t.resize(c.F, c.N);
@@ -295,6 +310,7 @@ TEST(AttrNear, UnorganizedTakesWithFieldsAreWrittenAs70) {
   refl.data = field_of(c, reflectivity);
   t.attributes.push_back(refl);
   for (const bool organized : {false, true}) {
+    int near = 0;  // targets whose field is coded with predictor 10 or 11 (the bound's, here)
     if (organized) {
       t.pcd = std::make_shared<capz::PCDExtra>();
       t.pcd->width = c.N / 2;
@@ -307,11 +323,13 @@ TEST(AttrNear, UnorganizedTakesWithFieldsAreWrittenAs70) {
       o.check = true;
       const std::vector<uint8_t> z = capz::compress(t, o);
       ASSERT_GT(z.size(), 10u);
-      EXPECT_EQ(z[9], organized ? 6 : 7) << "organized " << organized << " target " << target;
+      const int pred = attr_predictor(z);
+      near += pred == 10 || pred == 11;
       const capz::Take back = capz::decompress(z.data(), z.size(), "test");
       ASSERT_EQ(back.attributes.size(), 1u);
       EXPECT_EQ(back.attributes[0].data, refl.data);
     }
+    EXPECT_EQ(near > 0, !organized) << "organized " << organized;
   }
 }
 

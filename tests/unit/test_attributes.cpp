@@ -64,13 +64,13 @@ std::vector<std::vector<uint8_t>> round_trip(const std::vector<AttrSpec>& specs,
                                              const std::vector<std::vector<uint8_t>>& data,
                                              size_t frames, size_t points, size_t width,
                                              size_t* bytes = nullptr,
-                                             const uint8_t* valid = nullptr, bool unit = false) {
+                                             const uint8_t* valid = nullptr) {
   const std::vector<uint8_t> enc =
-      capz::encode_attributes(specs, data, valid, frames, points, width, unit);
+      capz::encode_attributes(specs, data, valid, frames, points, width);
   if (bytes) *bytes = enc.size();
   std::vector<std::vector<uint8_t>> back;
   capz::decode_attributes(enc.data(), enc.size(), specs, valid, frames, points, width, &back,
-                          "test", unit);
+                          "test");
   return back;
 }
 
@@ -305,10 +305,16 @@ TEST(AttrCoder, GapMaskAwarePredictorsAndLzmaRoundTrip) {
   EXPECT_LT(bytes, F * N * 4 / 4) << bytes;
 }
 
-TEST(AttrCoder, UnitCompletionOfNormalZIsExactAndSmallerIn6x) {
-  // FORMAT.md 13.4: normal_z predicted from normal_x and normal_y (predictor 9) in a 6.x stream;
-  // the triple comes back bit for bit (NaN payloads, -0.0, infinities, |(x, y)| > 1), and z
-  // costs far less than without it. A 5.x stream never uses predictor 9.
+// The same fields under names no unit vector completes (predictor 9 is then no candidate).
+std::vector<AttrSpec> renamed(std::vector<AttrSpec> specs) {
+  for (AttrSpec& s : specs) s.name = "f_" + s.name;
+  return specs;
+}
+
+TEST(AttrCoder, UnitCompletionOfNormalZIsExactAndSmaller) {
+  // FORMAT.md 6.1: normal_z predicted from normal_x and normal_y (predictor 9); the triple comes
+  // back bit for bit (NaN payloads, -0.0, infinities, |(x, y)| > 1), and z costs far less than
+  // under names predictor 9 does not complete.
   const size_t F = 6, W = 40, N = 40 * 30;
   std::vector<uint8_t> valid(F * N);
   for (size_t i = 0; i < valid.size(); ++i) valid[i] = (i / 13) % 4 != 0;
@@ -320,24 +326,15 @@ TEST(AttrCoder, UnitCompletionOfNormalZIsExactAndSmallerIn6x) {
   const std::vector<std::vector<uint8_t>> n = noisy_normals(F, N, valid.data());
   const std::vector<std::vector<uint8_t>> data = {n[0], smooth_bytes(specs[1], F, N), n[1], n[2]};
   size_t v5 = 0, v6 = 0, xy = 0;
-  EXPECT_EQ(round_trip(specs, data, F, N, W, &v5, valid.data(), false), data);
-  EXPECT_EQ(round_trip(specs, data, F, N, W, &v6, valid.data(), true), data);
+  EXPECT_EQ(round_trip(renamed(specs), data, F, N, W, &v5, valid.data()), data);
+  EXPECT_EQ(round_trip(specs, data, F, N, W, &v6, valid.data()), data);
   round_trip({specs[0], specs[1], specs[2]}, {data[0], data[1], data[2]}, F, N, W, &xy,
-             valid.data(), true);
+             valid.data());
   // z alone cost about as much as x (noise); completed, a few bits a value.
   EXPECT_LT(v6 - xy, (v5 - xy) / 3) << v5 << " " << v6 << " " << xy;
   EXPECT_LT(v6 - xy, F * N / 2);
   // Without the mask too.
-  EXPECT_EQ(round_trip(specs, data, F, N, W, nullptr, nullptr, true), data);
-  // The same payload decoded as a 5.x stream: predictor 9 is unknown there.
-  const std::vector<uint8_t> enc =
-      capz::encode_attributes(specs, data, valid.data(), F, N, W, true);
-  std::vector<std::vector<uint8_t>> back;
-  EXPECT_EQ(capz_test::error_of([&] {
-              capz::decode_attributes(enc.data(), enc.size(), specs, valid.data(), F, N, W, &back,
-                                      "test", false);
-            }),
-            ErrorCode::kCorrupt);
+  EXPECT_EQ(round_trip(specs, data, F, N, W, nullptr, nullptr), data);
 }
 
 TEST(AttrCoder, UnitCompletionOfACountThreeNormalField) {
@@ -351,8 +348,8 @@ TEST(AttrCoder, UnitCompletionOfACountThreeNormalField) {
     for (size_t k = 0; k < 3; ++k) std::memcpy(&packed[(i * 3 + k) * 4], &n[k][i * 4], 4);
   const std::vector<std::vector<uint8_t>> data = {packed, smooth_bytes(specs[1], F, N)};
   size_t v5 = 0, v6 = 0;
-  EXPECT_EQ(round_trip(specs, data, F, N, N, &v5, nullptr, false), data);
-  EXPECT_EQ(round_trip(specs, data, F, N, N, &v6, nullptr, true), data);
+  EXPECT_EQ(round_trip(renamed(specs), data, F, N, N, &v5, nullptr), data);
+  EXPECT_EQ(round_trip(specs, data, F, N, N, &v6, nullptr), data);
   EXPECT_LT(v6 + F * N, v5) << v5 << " " << v6;
 }
 
@@ -365,7 +362,7 @@ TEST(AttrCoder, DamagedUnitReferencesAreCorrupt) {
                                        spec("normal_z", 'F', 4), spec("label", 'U', 2)};
   const std::vector<std::vector<uint8_t>> n = noisy_normals(F, N, nullptr);
   const std::vector<std::vector<uint8_t>> data = {n[0], n[1], n[2], smooth_bytes(specs[3], F, N)};
-  const std::vector<uint8_t> enc = capz::encode_attributes(specs, data, nullptr, F, N, N, true);
+  const std::vector<uint8_t> enc = capz::encode_attributes(specs, data, nullptr, F, N, N);
   // Find attribute 2's header: walk attributes 0 and 1 (transform, [predictor], size, data).
   size_t at = 0;
   for (int a = 0; a < 2; ++a) {
@@ -387,11 +384,11 @@ TEST(AttrCoder, DamagedUnitReferencesAreCorrupt) {
   std::vector<std::vector<uint8_t>> back;
   auto decode = [&](const std::vector<uint8_t>& e) {
     return capz_test::error_of([&] {
-      capz::decode_attributes(e.data(), e.size(), specs, nullptr, F, N, N, &back, "test", true);
+      capz::decode_attributes(e.data(), e.size(), specs, nullptr, F, N, N, &back, "test");
     });
   };
-  ASSERT_NO_THROW(capz::decode_attributes(enc.data(), enc.size(), specs, nullptr, F, N, N, &back,
-                                          "test", true));
+  ASSERT_NO_THROW(
+      capz::decode_attributes(enc.data(), enc.size(), specs, nullptr, F, N, N, &back, "test"));
   EXPECT_EQ(back, data);
   const std::pair<size_t, uint8_t> bad[] = {
       {at + 2, 3},  // a later attribute
@@ -412,17 +409,17 @@ TEST(AttrCoder, DamagedUnitReferencesAreCorrupt) {
   EXPECT_EQ(capz_test::error_of(
                 [&] {
                   capz::decode_attributes(enc.data(), enc.size(), other, nullptr, F, N, N, &back,
-                                          "test", true);
+                                          "test");
                 },
                 &msg),
             ErrorCode::kCorrupt);
   EXPECT_NE(msg.find("predictor 9"), std::string::npos) << msg;
 }
 
-TEST(AttrCoder, ValidAndGapValuesApartIn6x) {
-  // FORMAT.md 13.7: a camera-like window (a moving disc of texture colours and labels on a NaN /
+TEST(AttrCoder, ValidAndGapValuesApart) {
+  // FORMAT.md 6.2: a camera-like window (a moving disc of texture colours and labels on a NaN /
   // zero background): LZMA of the valid points' values apart from the gap points' (transforms 4
-  // and 5) beats LZMA of them interleaved, and everything comes back bit for bit.
+  // and 5) is chosen, and everything comes back bit for bit.
   const size_t F = 6, W = 40, N = 40 * 30;
   std::vector<uint8_t> valid(F * N);
   for (size_t f = 0; f < F; ++f)
@@ -444,19 +441,15 @@ TEST(AttrCoder, ValidAndGapValuesApartIn6x) {
       const uint16_t l = valid[i] ? static_cast<uint16_t>(1 + (p % W + f) / 4) : 0;
       std::memcpy(&data[1][i * 2], &l, 2);
     }
-  size_t v5 = 0, v6 = 0;
-  EXPECT_EQ(round_trip(specs, data, F, N, W, &v5, valid.data(), false), data);
-  EXPECT_EQ(round_trip(specs, data, F, N, W, &v6, valid.data(), true), data);
-  EXPECT_LT(v6, v5) << v5 << " " << v6;
-  const std::vector<uint8_t> enc =
-      capz::encode_attributes(specs, data, valid.data(), F, N, W, true);
+  EXPECT_EQ(round_trip(specs, data, F, N, W, nullptr, valid.data()), data);
+  const std::vector<uint8_t> enc = capz::encode_attributes(specs, data, valid.data(), F, N, W);
   ASSERT_TRUE(enc[0] == 4 || enc[0] == 5) << int(enc[0]);
   // Random values at random valid points, with gap values that are not all the same: exact.
   std::mt19937 rng(21);
   for (auto& v : valid) v = rng() % 4 != 0;
   std::vector<std::vector<uint8_t>> noise = {random_bytes(specs[0], F * N, 8),
                                              random_bytes(specs[1], F * N, 9)};
-  EXPECT_EQ(round_trip(specs, noise, F, N, W, nullptr, valid.data(), true), noise);
+  EXPECT_EQ(round_trip(specs, noise, F, N, W, nullptr, valid.data()), noise);
 }
 
 TEST(AttrCoder, DamagedValidGapSplitIsCorrupt) {
@@ -474,22 +467,21 @@ TEST(AttrCoder, DamagedValidGapSplitIsCorrupt) {
       const uint32_t c = static_cast<uint32_t>(((p - f) / 2) * 2654435761u) >> 8;
       std::memcpy(&b[i * 4], &c, 4);
     }
-  const std::vector<uint8_t> enc = capz::encode_attributes(one, {b}, valid.data(), F, N, W, true);
+  const std::vector<uint8_t> enc = capz::encode_attributes(one, {b}, valid.data(), F, N, W);
   ASSERT_TRUE(enc[0] == 4 || enc[0] == 5) << int(enc[0]);
   std::vector<std::vector<uint8_t>> back;
-  auto decode = [&](const std::vector<uint8_t>& e, const uint8_t* mask, bool v6) {
+  auto decode = [&](const std::vector<uint8_t>& e, const uint8_t* mask) {
     return capz_test::error_of(
-        [&] { capz::decode_attributes(e.data(), e.size(), one, mask, F, N, W, &back, "t", v6); });
+        [&] { capz::decode_attributes(e.data(), e.size(), one, mask, F, N, W, &back, "t"); });
   };
-  ASSERT_NO_THROW(capz::decode_attributes(enc.data(), enc.size(), one, valid.data(), F, N, W, &back,
-                                          "t", true));
+  ASSERT_NO_THROW(
+      capz::decode_attributes(enc.data(), enc.size(), one, valid.data(), F, N, W, &back, "t"));
   EXPECT_EQ(back, std::vector<std::vector<uint8_t>>{b});
-  EXPECT_EQ(decode(enc, valid.data(), false), ErrorCode::kCorrupt);  // a 5.x stream
-  EXPECT_EQ(decode(enc, nullptr, true), ErrorCode::kCorrupt);        // no gap mask
+  EXPECT_EQ(decode(enc, nullptr), ErrorCode::kCorrupt);  // no gap mask
   // Another mask (more valid points): the parts decode to other lengths.
   std::vector<uint8_t> other(valid.size(), 1);
   other[0] = 0;
-  EXPECT_EQ(decode(enc, other.data(), true), ErrorCode::kCorrupt);
+  EXPECT_EQ(decode(enc, other.data()), ErrorCode::kCorrupt);
   // valid_size (the varint after the size varint) past the end, 0, or one short: rewritten in
   // the same number of bytes, so only the split is wrong.
   size_t at = 1;
@@ -502,10 +494,10 @@ TEST(AttrCoder, DamagedValidGapSplitIsCorrupt) {
     std::vector<uint8_t> e = enc;
     e[at] = static_cast<uint8_t>(0x80 | (v & 0x7F));
     e[at + 1] = static_cast<uint8_t>(v >> 7);
-    EXPECT_EQ(decode(e, valid.data(), true), ErrorCode::kCorrupt) << v;
+    EXPECT_EQ(decode(e, valid.data()), ErrorCode::kCorrupt) << v;
   }
   std::vector<uint8_t> e = enc;
   // A transform above 5.
   e[0] = 6;
-  EXPECT_EQ(decode(e, valid.data(), true), ErrorCode::kCorrupt);
+  EXPECT_EQ(decode(e, valid.data()), ErrorCode::kCorrupt);
 }

@@ -11,7 +11,6 @@
 #include "capz/error.h"
 #include "capz/metrics.h"
 #include "codec/encoder.h"
-#include "coding/analog_v3.h"
 #include "coding/c3d_words.h"
 #include "coding/container.h"
 #include "coding/crc32c.h"
@@ -113,28 +112,8 @@ TEST(MaskCoding, GivenRandomMasksThenRoundTripExactly) {
   }
 }
 
-TEST(AnalogCoding, GivenIntFloatAndNaNChannelsThenExact) {
-  std::mt19937 rng(10);
-  const size_t rows = 500;
-  const int C = 3;
-  std::vector<double> v(rows * C);
-  for (size_t k = 0; k < rows; ++k) {
-    v[k * C + 0] = std::round(1000 * std::sin(k * 0.05)) + static_cast<int>(rng() % 3);
-    v[k * C + 1] = static_cast<float>(std::cos(k * 0.01) * 3.3);
-    v[k * C + 2] = k == 7 ? std::nan("") : 0.1 * static_cast<double>(k);
-  }
-  auto kinds = analog_kinds(v, C);
-  EXPECT_EQ(kinds[0], 0);
-  EXPECT_EQ(kinds[1], 1);
-  EXPECT_EQ(kinds[2], 2);
-  auto block = encode_analog(v.data(), rows, C, kinds);
-  std::vector<double> back(rows * C);
-  decode_analog(block.data(), block.size(), rows, C, back.data(), "analog");
-  EXPECT_EQ(std::memcmp(back.data(), v.data(), v.size() * 8), 0);
-}
-
 // C3D 4th words of a float file: residual = byte x scale for valid samples, -1 for gaps. With a
-// scale that does not divide 1 (Capture0004's 0.0581 mm) the gaps' -1 is off the grid; mode 0
+// scale that does not divide 1 (Capture0004's 0.0581 mm) the gaps' -1 is off the grid; mode 2
 // must still apply (gaps decode to -1) and round-trip every word exactly.
 TEST(C3dWordCoding, GivenGapsAndScaleNotDividingOneThenGridModeAndExact) {
   const double scale = 0.05810098350048065;
@@ -151,7 +130,7 @@ TEST(C3dWordCoding, GivenGapsAndScaleNotDividingOneThenGridModeAndExact) {
   ASSERT_TRUE(residuals_on_grid(residual, valid, scale));
   std::vector<uint8_t> c =
       encode_c3d_words(residual.data(), camera.data(), valid.data(), n, points, scale, true);
-  EXPECT_EQ(c[0], 2);  // mode 0 with frame flags (3.1)
+  EXPECT_EQ(c[0], 2);  // on the grid
   std::vector<float> r(n);
   std::vector<uint8_t> cam(n);
   decode_c3d_words(c.data(), c.size(), valid.data(), n, points, scale, r.data(), cam.data(), "t");
@@ -160,7 +139,8 @@ TEST(C3dWordCoding, GivenGapsAndScaleNotDividingOneThenGridModeAndExact) {
   std::vector<uint8_t> bits =
       encode_c3d_words(residual.data(), camera.data(), valid.data(), n, points, scale, false);
   EXPECT_LT(c.size(), bits.size());
-  // A gap whose residual is not -1 cannot use mode 0.
+  EXPECT_EQ(bits[0], 3);  // the float bits
+  // A gap whose residual is not -1 cannot use mode 2.
   for (size_t i = 0; i < n; ++i)
     if (!valid[i]) {
       residual[i] = 0.0f;
@@ -169,10 +149,11 @@ TEST(C3dWordCoding, GivenGapsAndScaleNotDividingOneThenGridModeAndExact) {
   EXPECT_FALSE(residuals_on_grid(residual, valid, scale));
 }
 
-// Words that repeat for runs of frames (as most takes write them), with gaps: all four residual
-// modes (0/1 of 3.0, 2/3 with frame repeat flags of 3.1) decode every word exactly, the flags
-// make runs of repeated frames cheaper (and far faster to code), and a flag above 1 is rejected.
-TEST(C3dWordCoding, GivenRepeatedFramesWhenCodedInEveryModeThenExactAndFlagsCheaper) {
+// Words that repeat for runs of frames (as most takes write them), with gaps: both residual
+// modes (2 on the grid, 3 the float bits, each with a frame repeat flag) decode every word
+// exactly; modes 0 and 1 (pre-release formats without the flags) and 4 are corrupt, and so is a
+// flag above 1.
+TEST(C3dWordCoding, GivenRepeatedFramesWhenCodedInEveryModeThenExactAndOtherModesCorrupt) {
   const double scale = 0.25;
   const size_t frames = 300, points = 9, n = frames * points;
   std::mt19937 rng(11);
@@ -190,31 +171,25 @@ TEST(C3dWordCoding, GivenRepeatedFramesWhenCodedInEveryModeThenExactAndFlagsChea
     }
   }
   ASSERT_TRUE(residuals_on_grid(residual, valid, scale));
-  size_t sizes[4];
-  for (int mode = 0; mode < 4; ++mode) {
-    const bool on_grid = (mode & 1) == 0, flags = mode >= 2;
-    std::vector<uint8_t> c = encode_c3d_words(residual.data(), camera.data(), valid.data(), n,
-                                              points, scale, on_grid, flags);
+  std::vector<float> back(n);
+  std::vector<uint8_t> cb(n);
+  for (int mode = 2; mode < 4; ++mode) {
+    std::vector<uint8_t> c =
+        encode_c3d_words(residual.data(), camera.data(), valid.data(), n, points, scale, mode == 2);
     ASSERT_EQ(c[0], mode);
-    sizes[mode] = c.size();
-    std::vector<float> back(n);
-    std::vector<uint8_t> cb(n);
     decode_c3d_words(c.data(), c.size(), valid.data(), n, points, scale, back.data(), cb.data(),
                      "t");
     EXPECT_EQ(std::memcmp(back.data(), residual.data(), n * 4), 0) << "mode " << mode;
     EXPECT_EQ(cb, camera) << "mode " << mode;
+    for (const uint8_t other : {0, 1, 4}) {
+      c[0] = other;
+      EXPECT_THROW(decode_c3d_words(c.data(), c.size(), valid.data(), n, points, scale, back.data(),
+                                    cb.data(), "t"),
+                   Error)
+          << "mode " << int{other};
+    }
   }
-  EXPECT_LT(sizes[2], sizes[0]);
-  EXPECT_LT(sizes[3], sizes[1]);
-  // Mode 4 does not exist, and a frame flag of 2 is corrupt (flag context 3 seeded with a 2).
-  std::vector<uint8_t> c =
-      encode_c3d_words(residual.data(), camera.data(), valid.data(), n, points, scale, true, true);
-  std::vector<float> back(n);
-  std::vector<uint8_t> cb(n);
-  c[0] = 4;
-  EXPECT_THROW(decode_c3d_words(c.data(), c.size(), valid.data(), n, points, scale, back.data(),
-                                cb.data(), "t"),
-               Error);
+  // A frame flag of 2 is corrupt (flag context 3 seeded with a 2).
   IntEncoder bad(4);
   bad.put(2, 3);
   std::vector<uint8_t> b = bad.finish();

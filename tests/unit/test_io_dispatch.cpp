@@ -25,15 +25,18 @@ TEST(IoDispatch, DetectsByContentThenExtension) {
   std::ofstream(d.file("b.dat"), std::ios::binary) << std::string("\x02\x50\x00\x00", 4);
   std::ofstream(d.file("empty.trc"));
   std::ofstream(d.file("empty.c3d"));
+  std::ofstream(d.file("x.xyz")) << "hello";
+  EXPECT_EQ(capz::detect_format(d.path().string()), Format::kPCDFolder);  // no frame files
   std::ofstream(d.file("x.bin")) << "hello";
-  EXPECT_EQ(capz::detect_format(d.path().string()), Format::kPCDFolder);
+  EXPECT_EQ(capz::detect_format(d.path().string()), Format::kBinFolder);  // by its frame files
   EXPECT_EQ(capz::detect_format(d.file("a.txt")), Format::kTRC);
   std::ofstream(d.file("bom.txt")) << "\xEF\xBB\xBFPathFileType\t4\n";
   EXPECT_EQ(capz::detect_format(d.file("bom.txt")), Format::kTRC);
   EXPECT_EQ(capz::detect_format(d.file("b.dat")), Format::kC3D);
   EXPECT_EQ(capz::detect_format(d.file("empty.trc")), Format::kTRC);
   EXPECT_EQ(capz::detect_format(d.file("empty.c3d")), Format::kC3D);
-  EXPECT_EQ(capz::detect_format(d.file("x.bin")), Format::kUnknown);
+  EXPECT_EQ(capz::detect_format(d.file("x.xyz")), Format::kUnknown);
+  EXPECT_EQ(capz::detect_format(d.file("x.bin")), Format::kBinFolder);  // one .bin frame
   try {
     capz::detect_format(d.file("missing"));
     FAIL();
@@ -61,9 +64,13 @@ TEST(IoDispatch, ReadTakeRoutesAndRefusesWhatIsNotATake) {
   EXPECT_NE(msg.find(".capz archive, not a take"), std::string::npos) << msg;
   EXPECT_EQ(read_error(d.file("renamed.dat"), &msg), ErrorCode::kNotOurFormat);
   EXPECT_NE(msg.find(".capz archive, not a take"), std::string::npos) << msg;
-  EXPECT_EQ(read_error(d.file("frame.pcd"), &msg), ErrorCode::kNotOurFormat);
-  EXPECT_NE(msg.find("give the folder"), std::string::npos) << msg;
-  EXPECT_EQ(read_error(d.file("x.bin"), &msg), ErrorCode::kNotOurFormat);
+  // A single frame file is a one-frame take: these two are damaged ones.
+  EXPECT_EQ(read_error(d.file("frame.pcd"), &msg), ErrorCode::kCorrupt);
+  EXPECT_NE(msg.find("frame.pcd: PCD header has no DATA line"), std::string::npos) << msg;
+  EXPECT_EQ(read_error(d.file("x.bin"), &msg), ErrorCode::kCorrupt);
+  EXPECT_NE(msg.find("x.bin: .bin frame truncated mid-point"), std::string::npos) << msg;
+  std::ofstream(d.file("x.dat")) << "hello";
+  EXPECT_EQ(read_error(d.file("x.dat"), &msg), ErrorCode::kNotOurFormat);
   EXPECT_EQ(read_error(d.file("nope.trc"), &msg), ErrorCode::kIo);
 }
 
@@ -75,7 +82,10 @@ TEST(IoDispatch, OutputFormatFollowsTheName) {
   EXPECT_EQ(capz::format_for_output("x/frames"), Format::kPCDFolder);
   EXPECT_EQ(capz::format_for_output(d.path().string()), Format::kPCDFolder);
   EXPECT_EQ(capz::format_for_output("x/walk.capz"), Format::kUnknown);
-  EXPECT_EQ(capz::format_for_output("x/walk.pcd"), Format::kUnknown);
+  EXPECT_EQ(capz::format_for_output("x/walk.pcd"), Format::kPCDFolder);  // one frame file
+  EXPECT_EQ(capz::format_for_output("x/walk.PLY"), Format::kPLYFolder);
+  EXPECT_EQ(capz::format_for_output("x/000001.bin"), Format::kBinFolder);
+  EXPECT_EQ(capz::format_for_output("x/walk.xyz"), Format::kUnknown);
   capz::Take t;
   t.resize(1, 1);
   try {

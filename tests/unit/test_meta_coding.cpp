@@ -58,7 +58,7 @@ Take decode_meta_payload(const std::vector<uint8_t>& payload, size_t points = 2,
   t.points = points;
   t.analog.channels = channels;
   bool words = false;
-  decode_meta(c, "t", &t, &words, 8);
+  decode_meta(c, "t", &t, &words);
   return t;
 }
 
@@ -150,7 +150,7 @@ TEST(MetaCoding, GivenALargeParameterSectionThenCoding2IsChosenAndFieldsComeBack
   append_chunk(&buf, "META", meta);
   const Chunk c = read_chunk(buf.data(), buf.size(), 0, "t");
   bool words = true;
-  decode_meta(c, "t", &back, &words, 8);
+  decode_meta(c, "t", &back, &words);
   EXPECT_EQ(back.labels, t.labels);
   EXPECT_EQ(back.units, "mm");
   ASSERT_TRUE(back.c3d);
@@ -281,20 +281,17 @@ TEST(MetaCoding, GivenARealC3DThenCoding3IsSmallestAndReadOnlyFromMajor8) {
   append_chunk(&b, "META", dict);
   const Chunk ca = read_chunk(a.data(), a.size(), 0, "t");
   const Chunk cb = read_chunk(b.data(), b.size(), 0, "t");
-  EXPECT_EQ(decode_meta_fields(cb, "t", 8), decode_meta_fields(ca, "t", 8));
+  EXPECT_EQ(decode_meta_fields(cb, "t"), decode_meta_fields(ca, "t"));
   Take back;
   back.points = t.points;
   back.analog.channels = t.analog.channels;
   bool words = true;
-  decode_meta(cb, "t", &back, &words, 8);
+  decode_meta(cb, "t", &back, &words);
   EXPECT_FALSE(words);
   EXPECT_EQ(back.labels, t.labels);
   EXPECT_EQ(back.analog.labels, t.analog.labels);
   ASSERT_TRUE(back.c3d);
   EXPECT_EQ(encode_c3d_parameters(*back.c3d), encode_c3d_parameters(*t.c3d));
-  // A stream of major 7 or lower has no coding 3.
-  for (int major : {5, 7})
-    EXPECT_EQ(code_of([&] { decode_meta_fields(cb, "t", major); }), kCorrupt) << major;
 }
 
 TEST(MetaCoding, GivenCoding3WithUnknownDictionaryOrBadStreamThenCorrupt) {
@@ -312,7 +309,7 @@ TEST(MetaCoding, GivenCoding3WithUnknownDictionaryOrBadStreamThenCorrupt) {
     std::vector<uint8_t> buf;
     append_chunk(&buf, "META", p);
     const Chunk c = read_chunk(buf.data(), buf.size(), 0, "t");
-    return decode_meta_fields(c, "t", 8);
+    return decode_meta_fields(c, "t");
   };
   EXPECT_EQ(fields_back(payload(1, fields.size(), z)), fields);
   for (int number : {0, 2, 255})

@@ -93,17 +93,18 @@ TEST(PcdFolder, ReadsFramesInNaturalOrderWithNanGaps) {
   EXPECT_EQ(t.labels.size(), 2u);
 }
 
-TEST(PcdFolder, PointCountMismatchNamesTheFirstOffendingFile) {
+TEST(PcdFolder, PointCountsThatDifferGiveARaggedTake) {
   TempDir d;
   write_ascii_pcd(d.path() / "f1.pcd", {{{1, 0, 0}}, {{1, 2, 3}}});
   write_ascii_pcd(d.path() / "f2.pcd", {{{1, 0, 0}}, {{1, 2, 3}}});
   write_ascii_pcd(d.path() / "f3.pcd", {{{1, 0, 0}}});
-  write_ascii_pcd(d.path() / "f4.pcd", {{{1, 0, 0}}});
-  std::string msg;
-  EXPECT_EQ(read_error(d.path().string(), &msg), ErrorCode::kCorrupt);
-  EXPECT_NE(msg.find("f3.pcd: frame has 1 points, the first frame (f1.pcd) has 2"),
-            std::string::npos)
-      << msg;
+  write_ascii_pcd(d.path() / "f4.pcd", {{{4, 5, 6}}});
+  const capz::Take t = capz::read_pcd_folder(d.path().string());
+  ASSERT_TRUE(t.ragged());
+  EXPECT_EQ(t.frame_offsets, (std::vector<size_t>{0, 2, 4, 5, 6}));
+  EXPECT_EQ(t.points, 0u);
+  EXPECT_TRUE(t.labels.empty());
+  EXPECT_EQ(t.at(3, 0)[2], 6.0);
 }
 
 TEST(PcdFolder, EmptyDirectoryAndMissingPathAreClearErrors) {

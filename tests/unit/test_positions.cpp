@@ -1,5 +1,5 @@
-// The POSW position coder alone (docs/FORMAT.md 8): every predictor, the reference predictors
-// 5/6, the smooth and period predictors 7-9 and all three residual context schemes round-trip
+// The POSW position coder alone (docs/FORMAT.md 3.3): every predictor, the reference predictors
+// 5/6 and the smooth and period predictors 7-9 round-trip
 // exactly, the encoder's choices decode to the same integers, and malformed predictor /
 // reference / period fields are rejected.
 #include <gtest/gtest.h>
@@ -60,21 +60,15 @@ TEST(Positions, GivenRigidGroupsThenReferencePredictorsChosenAndExact) {
   for (unsigned seed = 1; seed <= 3; ++seed) {
     SCOPED_TRACE(seed);
     WindowInts w = rigid_groups(200, 40, 5, 0, seed);
-    std::vector<uint8_t> modes = positions_round_trip(w, 2);
+    std::vector<uint8_t> modes = positions_round_trip(w);
     // Every group but its first point can follow another point of the group.
     EXPECT_GE(count_refs(modes), 20u);
   }
 }
 
-TEST(Positions, GivenGapsThenEverySchemeRoundTripsExactly) {
-  for (int scheme = 1; scheme <= 3; ++scheme) {
-    SCOPED_TRACE(scheme);
-    WindowInts w = rigid_groups(150, 30, 3, 0.05, 7);
-    std::vector<uint8_t> modes = positions_round_trip(w, scheme);
-    if (scheme == 1) {
-      EXPECT_EQ(count_refs(modes), 0u);  // format 1.x has no references
-    }
-  }
+TEST(Positions, GivenGapsThenRoundTripsExactly) {
+  WindowInts w = rigid_groups(150, 30, 3, 0.05, 7);
+  positions_round_trip(w);
 }
 
 TEST(Positions, GivenWrappingValuesAndFloat64LowBitsThenExact) {
@@ -83,16 +77,14 @@ TEST(Positions, GivenWrappingValuesAndFloat64LowBitsThenExact) {
   for (size_t i = 0; i < w.q.size(); i += 7) w.q[i] = static_cast<int32_t>(rng());
   w.lo.resize(w.q.size());
   for (uint32_t& v : w.lo) v = static_cast<uint32_t>(rng());
-  positions_round_trip(w, 2, true);
-  positions_round_trip(w, 3, true);
+  positions_round_trip(w, true);
 }
 
 TEST(Positions, GivenTinyWindowsThenExact) {
   for (size_t frames : {1, 2, 3}) {
     for (size_t points : {1, 2, 5}) {
       WindowInts w = rigid_groups(frames, points, 2, 0, 5);
-      positions_round_trip(w, 2);
-      positions_round_trip(w, 3);
+      positions_round_trip(w);
     }
   }
 }
@@ -118,7 +110,7 @@ TEST(Positions, GivenFixedModesThenWalkPredictsAsSpecified) {
   const std::vector<uint32_t> ref = {0, 0, 1, 0};
   std::vector<int32_t> q = w.q, preds(q.size(), 0);
   Recorder rec{w.q.data(), &preds};
-  ResidualContexts ctx(2, 4);
+  ResidualContexts ctx(4);
   walk_window(6, 4, w.valid.data(), modes.data(), ref.data(), nullptr, q.data(), ctx, rec);
   auto Q = [&](size_t f, size_t p, int a) { return q[(f * 4 + p) * 3 + a]; };
   auto lin = [&](size_t f, size_t p, int a) {
@@ -148,7 +140,7 @@ TEST(Positions, GivenSmoothAndPeriodModesThenWalkPredictsAsSpecified) {
   const std::vector<uint32_t> ref(N, 0);
   std::vector<int32_t> q = w.q, preds(q.size(), 0);
   Recorder rec{w.q.data(), &preds};
-  ResidualContexts ctx(3, N);
+  ResidualContexts ctx(N);
   walk_window(F, N, w.valid.data(), modes.data(), ref.data(), nullptr, q.data(), ctx, rec, T);
   auto Q = [&](size_t f, size_t p, int a) -> int64_t { return q[(f * N + p) * 3 + a]; };
   auto wrap = [](int64_t v) { return static_cast<int32_t>(static_cast<uint32_t>(v)); };
@@ -210,20 +202,16 @@ WindowInts looped(size_t frames, size_t points, size_t period, bool noise, unsig
   return w;
 }
 
-TEST(Positions, GivenLoopedMotionThenPeriodPredictorsChosenAndSmaller) {
+TEST(Positions, GivenLoopedMotionThenPeriodPredictorsChosen) {
   for (bool noise : {false, true}) {
     SCOPED_TRACE(noise);
     const WindowInts w = looped(96, 40, 24, noise, 21);
-    const std::vector<uint8_t> modes = positions_round_trip(w, 3);
+    const std::vector<uint8_t> modes = positions_round_trip(w);
     size_t periodic = 0;
     for (uint8_t m : modes) periodic += uses_period(m) ? 1 : 0;
     EXPECT_GE(periodic, 30u);  // a few points may follow a rigid neighbour instead
-    const size_t with = encode_positions(w, {}, {}, false, 3).size();
-    const size_t without = encode_positions(w, {}, {}, false, 2).size();  // no period predictor
-    EXPECT_LT(static_cast<double>(with), 0.7 * static_cast<double>(without))
-        << with << " vs " << without;
     // The stream holds the period, 24 frames, after the reference block if there is one.
-    std::vector<uint8_t> pos = encode_positions(w, {}, {}, false, 3);
+    std::vector<uint8_t> pos = encode_positions(w, {}, {}, false);
     PositionsPayload pp = split_positions(pos.data(), pos.size(), "test");
     ByteReader r(pp.residuals, pp.residuals_size, "test");
     if (count_refs(modes) > 0) r.bytes(static_cast<size_t>(r.varint()));
@@ -232,8 +220,8 @@ TEST(Positions, GivenLoopedMotionThenPeriodPredictorsChosenAndSmaller) {
 }
 
 // Noisy sines a few grid steps a frame fast (a coarse grid's staircase): the smooth predictor
-// is chosen for most points and codes them smaller than the 2.0 coder.
-TEST(Positions, GivenStaircasesThenSmoothPredictorChosenAndSmaller) {
+// is chosen for most points.
+TEST(Positions, GivenStaircasesThenSmoothPredictorChosen) {
   WindowInts w;
   w.frames = 600;
   w.points = 12;
@@ -247,12 +235,8 @@ TEST(Positions, GivenStaircasesThenSmoothPredictorChosenAndSmaller) {
       w.q[f * w.points * 3 + k] = static_cast<int32_t>(
           std::lround(amp * std::sin(freq * static_cast<double>(f) + ph) + 0.1 * n(rng)));
   }
-  const std::vector<uint8_t> modes = positions_round_trip(w, 3);
+  const std::vector<uint8_t> modes = positions_round_trip(w);
   EXPECT_GE(std::count(modes.begin(), modes.end(), kPredSmooth), 9);
-  const size_t with = encode_positions(w, {}, {}, false, 3).size();
-  const size_t without = encode_positions(w, {}, {}, false, 2).size();
-  EXPECT_LT(static_cast<double>(with), 0.9 * static_cast<double>(without))
-      << with << " vs " << without;
 }
 
 // A POSW payload with the given modes, reference distances and an empty residual block.
@@ -273,14 +257,14 @@ std::vector<uint8_t> crafted(const std::vector<int32_t>& modes, const std::vecto
   return std::move(w.buffer());
 }
 
-void expect_corrupt(const std::vector<uint8_t>& pos, int scheme, const char* needle) {
+void expect_corrupt(const std::vector<uint8_t>& pos, const char* needle) {
   WindowInts back;
   back.frames = 4;
   back.points = 3;
   back.valid.assign(12, 1);
   try {
     PositionsPayload pp = split_positions(pos.data(), pos.size(), "POSW");
-    decode_positions(pp, {}, false, scheme, &back, "POSW");
+    decode_positions(pp, {}, false, &back, "POSW");
     ADD_FAILURE() << "accepted";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
@@ -289,22 +273,20 @@ void expect_corrupt(const std::vector<uint8_t>& pos, int scheme, const char* nee
 }
 
 TEST(Positions, GivenBadPredictorOrReferenceFieldsThenCorrupt) {
-  expect_corrupt(crafted({0, 5, 0}, {1}), 2, "refers to point");      // r = 0 - 1
-  expect_corrupt(crafted({0, 0, 6}, {2}), 2, "refers to point");      // r = 2 - 1 - 2
-  expect_corrupt(crafted({5, 0, 0}, {0}), 2, "point 0");              // nothing to refer to
-  expect_corrupt(crafted({0, 5, 0}, {0}), 1, "unknown predictor 5");  // not in format 1.x
-  expect_corrupt(crafted({0, 7, 0}, {}), 2, "unknown predictor 7");
-  expect_corrupt(crafted({0, 10, 0}, {}), 3, "unknown predictor 10");
-  expect_corrupt(crafted({0, 8, 0}, {}, 2), 2, "unknown predictor 8");  // not in format 2.x
-  expect_corrupt(crafted({0, 5, 6}, {0}), 2, "POSW");                   // one distance missing
+  expect_corrupt(crafted({0, 5, 0}, {1}), "refers to point");       // r = 0 - 1
+  expect_corrupt(crafted({0, 0, 6}, {2}), "refers to point");       // r = 2 - 1 - 2
+  expect_corrupt(crafted({5, 0, 0}, {0}), "point 0");               // nothing to refer to
+  expect_corrupt(crafted({0, 10, 0}, {}), "unknown predictor 10");  // no ray rule given
+  expect_corrupt(crafted({0, 11, 0}, {}), "unknown predictor 11");
+  expect_corrupt(crafted({0, 5, 6}, {0}), "POSW");  // one distance missing
 }
 
 TEST(Positions, GivenBadPeriodFieldThenCorrupt) {
   // The window has 4 frames: 1 <= T <= 3.
-  expect_corrupt(crafted({0, 8, 0}, {}, 0), 3, "period of 0 frames");
-  expect_corrupt(crafted({9, 0, 0}, {}, 4), 3, "period of 4 frames");
-  expect_corrupt(crafted({0, 5, 9}, {0}, int64_t{1} << 40), 3, "period of");
-  expect_corrupt(crafted({0, 0, 8}, {}), 3, "POSW");  // the period is missing (truncated)
+  expect_corrupt(crafted({0, 8, 0}, {}, 0), "period of 0 frames");
+  expect_corrupt(crafted({9, 0, 0}, {}, 4), "period of 4 frames");
+  expect_corrupt(crafted({0, 5, 9}, {0}, int64_t{1} << 40), "period of");
+  expect_corrupt(crafted({0, 0, 8}, {}), "POSW");  // the period is missing (truncated)
 }
 
 }  // namespace

@@ -389,6 +389,35 @@ TEST(ResidueC3D, RegeneratedDecAndMipsFramesDecodeToTheirValues) {
     }
 }
 
+// The rotation section regenerated in each processor's form (docs/FORMAT.md 14.1) reads back
+// as the C3D reader reads it: the same float32s (a NaN's bits too, except through VAX F, which
+// has no NaN).
+TEST(ResidueC3D, RegeneratedRotationsDecodeToTheirValuesInEveryProcessorForm) {
+  for (int proc : {c3d::kIntel, c3d::kDec, c3d::kMips}) {
+    SCOPED_TRACE(proc);
+    residue::C3DFrameLayout lay;
+    lay.processor = proc;
+    lay.float_storage = true;
+    lay.frames = 3;
+    lay.rotations = true;
+    lay.rot_per_frame = 2 * c3d::kRotationBytes;  // 2 segments, 1 sample a frame
+    FrameBlock b;
+    b.reset(0, 3, 0, 0, false, 2);
+    for (size_t i = 0; i < b.rotation_matrices.size(); ++i)
+      b.rotation_matrices[i] = 0.25f * static_cast<float>(i % 17) - 1.5f;
+    for (size_t i = 0; i < b.rotation_reliability.size(); ++i)
+      b.rotation_reliability[i] = proc == c3d::kDec || i != 3 ? 1.0f : std::nanf("");
+    std::vector<uint8_t> bytes(3 * lay.rot_per_frame);
+    residue::regenerate_c3d_rotations(lay, b, bytes.data());
+    c3d::DataLayout dl;
+    dl.nf.processor = proc;
+    std::vector<float> m(b.rotation_matrices.size()), r(b.rotation_reliability.size());
+    c3d::decode_c3d_rotations(dl, bytes.data(), r.size(), m.data(), r.data());
+    EXPECT_EQ(0, std::memcmp(m.data(), b.rotation_matrices.data(), 4 * m.size()));
+    EXPECT_EQ(0, std::memcmp(r.data(), b.rotation_reliability.data(), 4 * r.size()));
+  }
+}
+
 TEST(ResidueC3D, DamagedResidueThrowsCorruptNeverCrashes) {
   std::vector<uint8_t> v = synthetic_c3d(false);
   const size_t d = data_offset(v);

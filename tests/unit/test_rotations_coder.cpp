@@ -10,6 +10,7 @@
 #include "capz/error.h"
 #include "coding/quantiser.h"
 #include "coding/rotations.h"
+#include "support/rotation_c3d.h"
 
 using namespace capz;
 
@@ -94,6 +95,42 @@ TEST(RotationCoder, SmoothWindowRoundTripsExactlyAndCompresses) {
   EXPECT_LT(encode(w).size(), raw / 2) << "raw " << raw;
 }
 
+// A walking body's segments (tests/support/rotation_c3d.h): 3-D rotations in float32, jitter,
+// runs of lost samples (16 NaN, reliability -1).
+Window body(const capz_test::RotationTakeSpec& spec) {
+  capz_test::rotation_c3d_detail::Rng rng{spec.seed};
+  const std::vector<float> v = capz_test::rotation_c3d_detail::rotation_samples(spec, rng);
+  Window w;
+  w.samples = spec.frames * spec.ratio;
+  w.segments = spec.segments;
+  for (size_t i = 0; i < v.size(); i += 17) {
+    w.matrices.insert(w.matrices.end(), &v[i], &v[i] + 16);
+    w.reliability.push_back(v[i + 16]);
+  }
+  return w;
+}
+
+TEST(RotationCoder, RigidBodiesRoundTripAndTheStructureIsUsed) {
+  capz_test::RotationTakeSpec spec;
+  spec.frames = 200;
+  spec.segments = 6;
+  spec.lost_runs = 4;
+  const Window w = body(spec);
+  expect_round_trip(w);
+  // The bottom row, the reliability and column 2 (the cross product) cost next to nothing, so
+  // the window codes to well under half of its 17 float32s a sample.
+  const size_t raw = (w.matrices.size() + w.reliability.size()) * 4;
+  EXPECT_LT(encode(w).size(), raw * 4 / 10) << "raw " << raw;
+  // Column 2 flipped (a left-handed frame: the cross product's opposite) still comes back.
+  Window flipped = w;
+  for (size_t i = 0; i < flipped.matrices.size(); i += 16)
+    for (int k = 8; k < 11; ++k) flipped.matrices[i + static_cast<size_t>(k)] *= -1;
+  expect_round_trip(flipped);
+  // Smooth motion without jitter: every temporal predictor gets its turn.
+  spec.noise_deg = spec.noise_mm = 0;
+  expect_round_trip(body(spec));
+}
+
 TEST(RotationCoder, SpecialValuesInEveryPositionOfTheSeries) {
   // Each special value preceded and followed by each other one, in every element class, so
   // the linear predictor meets infinities, NaNs, overflow (max, -max) and denormals.
@@ -163,11 +200,13 @@ TEST(RotationCoder, CorruptInputThrowsCorruptNeverCrashes) {
   thrown = 0;
   attempt(extra, 60, 2);
   EXPECT_EQ(thrown, 1u) << "a byte past the end";
-  std::vector<uint8_t> bad_pred = good;
-  bad_pred[2] = 3;
-  thrown = 0;
-  attempt(bad_pred, 60, 2);
-  EXPECT_EQ(thrown, 1u) << "predictor 3";
+  for (size_t at : {0, 1}) {  // the rotation and the translation predictor
+    std::vector<uint8_t> bad_pred = good;
+    bad_pred[at] = 4;
+    thrown = 0;
+    attempt(bad_pred, 60, 2);
+    EXPECT_EQ(thrown, 1u) << "predictor 4 at byte " << at;
+  }
   // Counts the block cannot hold, refused before allocating (and without overflow).
   thrown = 0;
   attempt(good, size_t{1} << 40, 2);

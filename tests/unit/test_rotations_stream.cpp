@@ -84,8 +84,8 @@ TEST(RotationHead, FitsCountsTheRotationValues) {
   StreamHeader h = grid_header();
   h.rotation_segments = 100;
   h.rotation_samples_per_frame = 10;  // 100 frames: 1.7e6 values
-  EXPECT_NO_THROW(check_header_fits(h, 1000, kCapzMajor, "t"));
-  EXPECT_THROW(check_header_fits(h, 500, kCapzMajor, "t"), Error);
+  EXPECT_NO_THROW(check_header_fits(h, 1000, "t"));
+  EXPECT_THROW(check_header_fits(h, 500, "t"), Error);
 }
 
 TEST(RotationMeta, RateAndLabelsAreAppendedWhenTheTakeHasRotations) {
@@ -104,18 +104,18 @@ TEST(RotationMeta, RateAndLabelsAreAppendedWhenTheTakeHasRotations) {
   back.rotations.segments = 2;  // from HEAD
   back.rotations.samples_per_frame = 1;
   bool words = true;
-  decode_meta(as_chunk(rot, "META"), "t", &back, &words, 8);
+  decode_meta(as_chunk(rot, "META"), "t", &back, &words);
   EXPECT_EQ(back.rotations.rate, 120);
   EXPECT_EQ(back.rotations.labels, t.rotations.labels);
   EXPECT_EQ(back.units, "mm");
   // Without HEAD's rotations the appended fields are not read (as fields of a later version).
   Take none;
   none.frames = 4;
-  decode_meta(as_chunk(rot, "META"), "t", &none, &words, 8);
+  decode_meta(as_chunk(rot, "META"), "t", &none, &words);
   EXPECT_TRUE(none.rotations.labels.empty());
   // HEAD says rotations, META lacks their fields: corrupt.
   try {
-    decode_meta(as_chunk(plain, "META"), "t", &back, &words, 8);
+    decode_meta(as_chunk(plain, "META"), "t", &back, &words);
     FAIL() << "accepted";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << e.what();

@@ -1,7 +1,7 @@
-// The version API (capz/version.h) against what the library really writes and reads.
+// The version API (capz/version.h) against what the library really writes and reads, and what a
+// decoder of format 1.0 says of a stream it cannot read (docs/FORMAT.md 2).
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -11,6 +11,7 @@
 #include "capz/version.h"
 #include "coding/container.h"
 #include "coding/crc32c.h"
+#include "support/stream_pieces.h"
 
 using namespace capz;
 
@@ -26,6 +27,31 @@ Take small_take() {
   return t;
 }
 
+std::vector<uint8_t> small_stream() {
+  CompressOptions o;
+  o.max_error = 0.01;
+  return compress(small_take(), o);
+}
+
+// The stream with version major.minor in its header (and the header's CRC made right).
+std::vector<uint8_t> relabelled(std::vector<uint8_t> b, int major, int minor) {
+  b[9] = static_cast<uint8_t>(major);
+  b[10] = static_cast<uint8_t>(minor);
+  const uint32_t c = crc32c(b.data(), 11);
+  for (int i = 0; i < 4; ++i) b[11 + static_cast<size_t>(i)] = static_cast<uint8_t>(c >> (8 * i));
+  return b;
+}
+
+// decompress()'s error code and message (kInternal and "" when it decodes).
+std::pair<ErrorCode, std::string> refusal(const std::vector<uint8_t>& b, const char* name) {
+  try {
+    decompress(b.data(), b.size(), name);
+  } catch (const Error& e) {
+    return {e.code(), e.what()};
+  }
+  return {ErrorCode::kInternal, ""};
+}
+
 }  // namespace
 
 TEST(Version, GivenTheLibraryThenItsVersionStringSpellsItsNumbers) {
@@ -35,63 +61,90 @@ TEST(Version, GivenTheLibraryThenItsVersionStringSpellsItsNumbers) {
   EXPECT_EQ(v.patch, kVersion.patch);
   EXPECT_EQ(std::string(version_string()), std::to_string(v.major) + "." + std::to_string(v.minor) +
                                                "." + std::to_string(v.patch));
+  EXPECT_GE(v.major, 1);  // 0.x wrote the pre-release formats
 }
 
-TEST(Version, GivenACompressedTakeThenItsVersionIsTheOneWrittenAndItIsRead) {
-  CompressOptions o;
-  o.max_error = 0.01;
-  const std::vector<uint8_t> bytes = compress(small_take(), o);
-  ASSERT_GE(bytes.size(), 11u);
-  EXPECT_EQ(bytes[9], kFormatWritten.major);
-  EXPECT_EQ(bytes[10], kFormatWritten.minor);
+TEST(Version, GivenACompressedTakeThenItStartsWithTheMagicAndTheOneVersionWritten) {
+  const std::vector<uint8_t> bytes = small_stream();
+  ASSERT_GE(bytes.size(), kFileHeaderBytes);
+  const uint8_t magic[9] = {0x89, 'C', 'A', 'P', 'Z', 0x0D, 0x0A, 0x1A, 0x0A};
+  EXPECT_TRUE(std::equal(magic, magic + 9, bytes.begin()));
+  EXPECT_EQ(bytes[9], 1);
+  EXPECT_EQ(bytes[10], 0);
+  EXPECT_EQ(kFormatWritten.major, 1);
+  EXPECT_EQ(kFormatWritten.minor, 0);
+  EXPECT_EQ(bytes[9], kFormatNewestRead.major);
+  EXPECT_LE(bytes[10], kFormatNewestRead.minor);
   const StreamInfo si = describe(bytes.data(), bytes.size(), "v.capz");
-  EXPECT_EQ(si.major, kFormatWritten.major);
-  EXPECT_EQ(si.minor, kFormatWritten.minor);
-  // What is written is within what is read.
-  EXPECT_TRUE(kFormatOldestRead.major < kFormatWritten.major ||
-              (kFormatOldestRead.major == kFormatWritten.major &&
-               kFormatOldestRead.minor <= kFormatWritten.minor));
-  // The newest version written (streams with a normal triple, FORMAT.md 13.4) is the newest
-  // read, and later than the one every other stream is written in.
-  EXPECT_EQ(kFormatNewestRead.major, kFormatNewestWritten.major);
-  EXPECT_GE(kFormatNewestRead.minor, kFormatNewestWritten.minor);
-  EXPECT_GT(kFormatNewestWritten.major, kFormatWritten.major);
+  EXPECT_EQ(si.major, 1);
+  EXPECT_EQ(si.minor, 0);
 }
 
 TEST(Version, GivenAMajorVersionBeyondTheNewestReadThenTheStreamIsRefused) {
-  CompressOptions o;
-  o.max_error = 0.01;
-  std::vector<uint8_t> bytes = compress(small_take(), o);
-  // A later major keeps the 4.x file header: magic, version, and the version's CRC-32C.
-  std::vector<uint8_t> future(bytes.begin(), bytes.begin() + 9);
-  future.push_back(static_cast<uint8_t>(std::max(4, kFormatNewestRead.major + 1)));
-  future.push_back(0);
-  const uint32_t crc = crc32c(future.data(), 11);
-  for (int i = 0; i < 4; ++i) future.push_back(static_cast<uint8_t>(crc >> (8 * i)));
-  future.insert(future.end(),
-                bytes.begin() + static_cast<std::ptrdiff_t>(file_header_bytes(bytes[9])),
-                bytes.end());
-  try {
-    decompress(future.data(), future.size(), "future.capz");
-    FAIL() << "a stream of a later major version was read";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ErrorCode::kUnsupportedVersion) << e.what();
-  }
+  std::vector<uint8_t> future = relabelled(small_stream(), kFormatNewestRead.major + 1, 0);
+  EXPECT_EQ(refusal(future, "future.capz").first, ErrorCode::kUnsupportedVersion);
   // Its version bytes damaged: caught by the header's own CRC.
   future[9] ^= 0x01;
-  try {
-    decompress(future.data(), future.size(), "flipped.capz");
-    FAIL() << "a damaged version byte was read";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << e.what();
+  EXPECT_EQ(refusal(future, "flipped.capz").first, ErrorCode::kCorrupt);
+  EXPECT_EQ(refusal(relabelled(small_stream(), 0, 0), "zero.capz").first, ErrorCode::kCorrupt);
+}
+
+TEST(Version, GivenALaterMinorVersionThatUsesNothingNewThenItIsRead) {
+  const std::vector<uint8_t> later = relabelled(small_stream(), 1, kFormatNewestRead.minor + 1);
+  EXPECT_EQ(decompress(later.data(), later.size(), "later-minor.capz").frames, 3u);
+}
+
+// FORMAT.md 2: a chunk type of a later minor version whose first letter is upper case is
+// critical (refused, naming it and the stream's version), lower case ancillary (skipped).
+TEST(Version, GivenAnUnknownChunkThenACriticalOneIsRefusedAndAnAncillaryOneSkipped) {
+  const std::vector<uint8_t> later = relabelled(small_stream(), 1, 1);
+  for (const bool in_window : {false, true}) {
+    for (const char* type : {"SCAN", "scan"}) {
+      SCOPED_TRACE(std::string(type) + (in_window ? " in a window" : " after META"));
+      std::vector<capz_test::Piece> ps = capz_test::pieces(later);
+      size_t at = 2;  // after HEAD and META
+      if (in_window)
+        while (ps[at - 1].type != "POSW") ++at;
+      ps.insert(ps.begin() + static_cast<std::ptrdiff_t>(at), {type, {1, 2, 3}});
+      const std::vector<uint8_t> b = capz_test::assemble(later, ps);
+      const auto r = refusal(b, "x.capz");
+      if (type[0] == 's') {
+        EXPECT_EQ(r.second, "");
+      } else {
+        EXPECT_EQ(r.first, ErrorCode::kUnsupportedVersion) << r.second;
+        EXPECT_NE(
+            r.second.find("chunk SCAN of format 1.1 is not known to this decoder (reads 1.0)"),
+            std::string::npos)
+            << r.second;
+      }
+    }
   }
-  // A later minor version of the newest major is read (it only adds what a decoder skips).
-  bytes[9] = static_cast<uint8_t>(kFormatNewestRead.major);
-  bytes[10] = static_cast<uint8_t>(kFormatNewestRead.minor + 1);
-  if (bytes[9] >= 4) {  // the header's CRC, for the new minor
-    const uint32_t c = crc32c(bytes.data(), 11);
-    for (int i = 0; i < 4; ++i)
-      bytes[11 + static_cast<size_t>(i)] = static_cast<uint8_t>(c >> (8 * i));
-  }
-  EXPECT_EQ(decompress(bytes.data(), bytes.size(), "later-minor.capz").frames, 3u);
+}
+
+// FORMAT.md 2: a HEAD flag bit that format 1.0 leaves 0 names a feature of a later minor.
+TEST(Version, GivenAnUnknownHeadFlagThenTheFeatureIsNamed) {
+  const std::vector<uint8_t> later = relabelled(small_stream(), 1, 1);
+  std::vector<capz_test::Piece> ps = capz_test::pieces(later);
+  ASSERT_EQ(ps[0].type, "HEAD");
+  ps[0].payload[19] |= 8;  // flags: after frames u64, points u32, window u32, 3 bytes
+  const auto r = refusal(capz_test::assemble(later, ps), "flag.capz");
+  EXPECT_EQ(r.first, ErrorCode::kUnsupportedVersion) << r.second;
+  EXPECT_NE(r.second.find("feature bit 3 of format 1.1"), std::string::npos) << r.second;
+}
+
+// A stream of capz 0.1.0 or earlier (magic "\x89capz", formats 1.0-9.3) is refused with how to
+// upgrade it (tests/golden/test_golden.cpp reads a real one).
+TEST(Version, GivenThePrereleaseMagicThenTheStreamIsRefusedWithTheUpgradeMessage) {
+  std::vector<uint8_t> old = small_stream();
+  const char lower[4] = {'c', 'a', 'p', 'z'};
+  std::copy(lower, lower + 4, old.begin() + 1);
+  old[9] = 9;
+  old[10] = 3;
+  EXPECT_TRUE(is_capz(old.data(), old.size()));
+  const auto r = refusal(old, "old.capz");
+  EXPECT_EQ(r.first, ErrorCode::kUnsupportedVersion);
+  EXPECT_NE(r.second.find("old.capz: a pre-release capz stream (format 9.3); this capz reads "
+                          "format 1.x: decompress it with capz 0.1.0 (git tag v0.1.0)"),
+            std::string::npos)
+      << r.second;
 }

@@ -24,26 +24,15 @@ constexpr size_t kBlockRows = 4096;  // LPC block length (A.3)
 // 5,273,482 bytes for the 5,273,240 of trying every candidate (5,219,447 for 5,219,153 with
 // --repeats), and trial-codes about a fifth of the samples that trying all would.
 constexpr double kTrialMargin = 1.2;
-// What a coded sample costs beyond its residual's bit length, in the candidates' estimates (9.2
-// streams on): a zero residual has no bits of length, yet a candidate that leaves out held or
-// repeated samples saves their tokens (FORMAT.md 11.5). 1 bit: 124 bytes less on the 98 shared
-// takes than 0, the same as 2, at the same speed.
+// What a coded sample costs beyond its residual's bit length, in the candidates' estimates: a zero
+// residual has no bits of length, yet a candidate that leaves out held or repeated samples saves
+// their tokens (FORMAT.md 9.4). 1 bit: 124 bytes less on the 98 shared takes than 0, the same as 2,
+// at the same speed.
 constexpr uint64_t kEstimateBitsPerSample = 1;
-// The window's version byte (FORMAT.md 11.1): 0; from 9.2 on 1, whose integer residuals code
-// the two bits below their token through a model (11.10); from 9.3 on 2, which codes their tokens
-// relative to the magnitude context as well (11.10). It says how integer residuals are coded.
-constexpr int kWindowVersion = 0, kWindowVersionLowBits = 1, kWindowVersionRelative = 2;
-// The version of the windows capz writes into a stream of this version.
-int window_version(FormatVersion format) {
-  return format >= kAnalogRelativeSince  ? kWindowVersionRelative
-         : format >= kAnalogLowBitsSince ? kWindowVersionLowBits
-                                         : kWindowVersion;
-}
-// Whether a window of this version starts the low-bit models on their symbols (FORMAT.md 11.10).
-template <typename Coder>
-void start_models(int version, Coder* coder) {
-  if (version >= kWindowVersionLowBits) analog::start_low_bit_models(coder);
-}
+// The window's version byte (FORMAT.md 4.2.1): format 1.0 defines one value, 2 (integer
+// residuals' tokens relative to the magnitude context, 9.7, and the two bits below them through
+// a model, 9.5); any other is corrupt.
+constexpr int kWindowVersion = 2;
 
 // Whether a channel of this kind has numbers in the entropy-coded block (a window whose
 // channels have none omits the block).
@@ -64,12 +53,11 @@ void put_lpc(const analog::LpcParams& p, IntEncoder::Cursor* enc) {
   enc->put(static_cast<uint32_t>(p.shift), analog::kParamContext);
   for (int32_t q : p.q) enc->put_signed(q, analog::kCoefContext);
 }
-// constant: a 9.1 or later stream, where the constant predictor's order code is valid.
-analog::LpcParams get_lpc(IntDecoder::Cursor* dec, bool constant) {
+analog::LpcParams get_lpc(IntDecoder::Cursor* dec) {
   analog::LpcParams p;
   int tok;
   p.order = static_cast<int>(dec->get(analog::kParamContext, &tok));
-  if (p.order == analog::kLpcConstantOrder && constant) {
+  if (p.order == analog::kLpcConstantOrder) {
     p.order = 0;
     p.constant = dec->get_signed(analog::kCoefContext, &tok);
     if (p.constant > analog::kMaxSample || p.constant < -analog::kMaxSample)
@@ -93,7 +81,7 @@ analog::LpcParams get_lpc(IntDecoder::Cursor* dec, bool constant) {
 // first min(order, ...) samples of the window are predicted by the previous sample (0 for the
 // first) and the others by the block's LPC. *tally: the residuals' tokens (token_cost_bits).
 void lpc_stage(const std::vector<int32_t>& x, std::vector<analog::LpcParams>* params,
-               std::vector<int32_t>* r, bool constant, analog::TokenTally* tally) {
+               std::vector<int32_t>* r, analog::TokenTally* tally) {
   r->resize(x.size());
   // The samples as doubles after kMaxLpcOrder zeros (analog::LpcKernel reads before the first).
   double* xd =
@@ -105,7 +93,7 @@ void lpc_stage(const std::vector<int32_t>& x, std::vector<analog::LpcParams>* pa
     const size_t b1 = std::min(x.size(), b0 + kBlockRows);
     // The block's residuals by its predictor, then the head's by the previous sample.
     params->push_back(analog::choose_block_predictor(x.data() + b0, xs + b0, b1 - b0,
-                                                     r->data() + b0, constant, tally));
+                                                     r->data() + b0, true, tally));
     const size_t head = std::min(b1, std::max(b0, static_cast<size_t>(params->back().order)));
     for (size_t i = b0; i < head; ++i) {
       tally->remove((*r)[i]);
@@ -149,9 +137,9 @@ struct IntPlan {
 // picked the cascade where it turned exact zeros into +-1, stay the plan's estimate.
 void plan_int_channel(const std::vector<int32_t>& x,
                       const std::vector<const std::vector<int32_t>*>& refs,
-                      const std::vector<double>& ref_energy, bool constant, IntPlan* plan) {
+                      const std::vector<double>& ref_energy, IntPlan* plan) {
   analog::TokenTally r1_tokens;
-  lpc_stage(x, &plan->params, &plan->r1, constant, &r1_tokens);
+  lpc_stage(x, &plan->params, &plan->r1, &r1_tokens);
   const std::vector<int32_t>& r1 = plan->r1;
   const size_t n = r1.size();
   analog::CrossParams cross = analog::choose_cross(r1, refs, ref_energy);
@@ -186,12 +174,12 @@ void plan_int_channel(const std::vector<int32_t>& x,
 }
 
 // Integer channel: the cascade flag, the reference distance (and beta), then per block the LPC
-// parameters and residuals (as a window of `version` codes them: FORMAT.md 11.10).
+// parameters and residuals (FORMAT.md 4.2.5, 9.5, 9.7).
 // Stops, returning false, once enc->bytes_out() reaches `limit` (checked every kTrialCheck
 // samples). Everything it calls is inlined (flatten) and it codes through a local copy of the
 // cursor, which then stays in registers (entropy.h's Cursor).
-__attribute__((flatten)) bool emit_int_channel(const IntPlan& plan, int version,
-                                               IntEncoder::Cursor* out, size_t limit = SIZE_MAX) {
+__attribute__((flatten)) bool emit_int_channel(const IntPlan& plan, IntEncoder::Cursor* out,
+                                               size_t limit = SIZE_MAX) {
   IntEncoder::Cursor c = *out;
   IntEncoder::Cursor* enc = &c;
   enc->put(plan.cascade ? 1 : 0, analog::kParamContext);
@@ -205,30 +193,23 @@ __attribute__((flatten)) bool emit_int_channel(const IntPlan& plan, int version,
     for (size_t i0 = b0; i0 < b1; i0 += analog::kTrialCheck) {
       if (enc->bytes_out() >= limit) return false;  // a stopped trial: its cursor is dropped
       const size_t i1 = std::min(b1, i0 + analog::kTrialCheck);
-      if (version == kWindowVersionRelative)
-        for (size_t i = i0; i < i1; ++i) analog::put_residual_v2(enc, &mag, plan.r[i]);
-      else if (version == kWindowVersionLowBits)
-        for (size_t i = i0; i < i1; ++i) analog::put_residual_v1(enc, &mag, plan.r[i]);
-      else
-        for (size_t i = i0; i < i1; ++i) analog::put_residual(enc, &mag, plan.r[i]);
+      for (size_t i = i0; i < i1; ++i) analog::put_residual_v2(enc, &mag, plan.r[i]);
     }
   }
   *out = c;
   return true;
 }
 
-// Samples [b0, b1) of an integer channel, the stage flags and the window version (FORMAT.md
-// 4.2.5, 9.5, 9.7) fixed at compile time.
-template <bool kCascade, bool kRef, int kVersion>
+// Samples [b0, b1) of an integer channel, the stage flags fixed at compile time (FORMAT.md
+// 4.2.5, 9.5, 9.7).
+template <bool kCascade, bool kRef>
 void decode_int_block(size_t b0, size_t b1, const analog::LpcParams& p, const int32_t* ref,
                       int32_t beta, IntDecoder::Cursor* dec, analog::Magnitude* mag,
                       analog::SignLms* lms, int32_t* xs, double* xd, int32_t* r1) {
   const analog::LpcKernel lpc(p);
   const size_t order = static_cast<size_t>(p.order);
   for (size_t i = b0; i < b1; ++i) {
-    int64_t e = kVersion == kWindowVersionRelative  ? analog::get_residual_v2(dec, mag)
-                : kVersion == kWindowVersionLowBits ? analog::get_residual_v1(dec, mag)
-                                                    : analog::get_residual(dec, mag);
+    int64_t e = analog::get_residual_v2(dec, mag);
     if (kCascade) {
       const int64_t out = e;
       e += lms->predict();
@@ -244,24 +225,23 @@ void decode_int_block(size_t b0, size_t b1, const analog::LpcParams& p, const in
   }
 }
 
-template <int kVersion>
 void decode_int_blocks(size_t b0, size_t b1, bool cascade, const analog::LpcParams& p,
                        const int32_t* ref, int32_t beta, IntDecoder::Cursor* dec,
                        analog::Magnitude* mag, analog::SignLms* lms, int32_t* xs, double* xd,
                        int32_t* r1) {
   if (cascade && ref)
-    decode_int_block<true, true, kVersion>(b0, b1, p, ref, beta, dec, mag, lms, xs, xd, r1);
+    decode_int_block<true, true>(b0, b1, p, ref, beta, dec, mag, lms, xs, xd, r1);
   else if (cascade)
-    decode_int_block<true, false, kVersion>(b0, b1, p, ref, beta, dec, mag, lms, xs, xd, r1);
+    decode_int_block<true, false>(b0, b1, p, ref, beta, dec, mag, lms, xs, xd, r1);
   else if (ref)
-    decode_int_block<false, true, kVersion>(b0, b1, p, ref, beta, dec, mag, lms, xs, xd, r1);
+    decode_int_block<false, true>(b0, b1, p, ref, beta, dec, mag, lms, xs, xd, r1);
   else
-    decode_int_block<false, false, kVersion>(b0, b1, p, ref, beta, dec, mag, lms, xs, xd, r1);
+    decode_int_block<false, false>(b0, b1, p, ref, beta, dec, mag, lms, xs, xd, r1);
 }
 
 void decode_int_channel(size_t n, const std::vector<const std::vector<int32_t>*>& refs,
-                        bool constant, int version, IntDecoder::Cursor* dec,
-                        std::vector<int32_t>* x, std::vector<int32_t>* r1) {
+                        IntDecoder::Cursor* dec, std::vector<int32_t>* x,
+                        std::vector<int32_t>* r1) {
   x->resize(n);
   r1->resize(n);
   int tok;
@@ -286,29 +266,16 @@ void decode_int_channel(size_t n, const std::vector<const std::vector<int32_t>*>
   double* xs_d = xd.data() + analog::kMaxLpcOrder;
   for (size_t b0 = 0; b0 < n; b0 += kBlockRows) {
     const size_t b1 = std::min(n, b0 + kBlockRows);
-    const analog::LpcParams p = get_lpc(dec, constant);
-    int32_t* xs = x->data();
-    int32_t* rs = r1->data();
-    if (version == kWindowVersionRelative)
-      decode_int_blocks<kWindowVersionRelative>(b0, b1, cascade, p, ref, cross.beta, dec, &mag,
-                                                &lms, xs, xs_d, rs);
-    else if (version == kWindowVersionLowBits)
-      decode_int_blocks<kWindowVersionLowBits>(b0, b1, cascade, p, ref, cross.beta, dec, &mag, &lms,
-                                               xs, xs_d, rs);
-    else
-      decode_int_blocks<kWindowVersion>(b0, b1, cascade, p, ref, cross.beta, dec, &mag, &lms, xs,
-                                        xs_d, rs);
+    const analog::LpcParams p = get_lpc(dec);
+    decode_int_blocks(b0, b1, cascade, p, ref, cross.beta, dec, &mag, &lms, x->data(), xs_d,
+                      r1->data());
   }
 }
 
-// What the window's channel headers may carry in a stream of this version.
-analog::HeaderRules header_rules(FormatVersion format, size_t repeat_S) {
+// What the window's channel headers may carry: repeat lists with repeat_S > 0.
+analog::HeaderRules header_rules(size_t repeat_S) {
   analog::HeaderRules rules;
   rules.S = repeat_S;
-  rules.lattice = format >= kAnalogLatticeSince;
-  rules.interp = format >= kAnalogFloat9Since;
-  rules.hold = format >= kAnalogHoldSince;
-  rules.share = format >= kAnalogShareSince;
   return rules;
 }
 
@@ -323,7 +290,7 @@ struct ChannelCandidates {
 };
 
 ChannelCandidates channel_candidates(const double* col, size_t nrows, size_t repeat_S,
-                                     const analog::ChannelHint& hint, FormatVersion format) {
+                                     const analog::ChannelHint& hint) {
   ChannelCandidates cc;
   cc.reprs = analog::candidate_representations(col, 1, nrows, hint);
   cc.layouts.resize(1);
@@ -332,13 +299,11 @@ ChannelCandidates channel_candidates(const double* col, size_t nrows, size_t rep
   const size_t frames = repeat_S > 0 && nrows % repeat_S == 0 ? nrows / repeat_S : 0;
   analog::KeptRows more;
   if (frames) more.repeats = analog::repeated_frames(col, 1, frames, repeat_S);
-  if (more.repeats.empty() && format >= kAnalogFloat9Since)
-    analog::find_interpolation(col, 1, nrows, &more.interp);
+  if (more.repeats.empty()) analog::find_interpolation(col, 1, nrows, &more.interp);
   // A channel held for P > 2 rows also interpolates at period 2 with exceptions around its
   // changes: the layout with fewer kept samples is offered.
   analog::Hold hold;
-  if (more.repeats.empty() && format >= kAnalogHoldSince &&
-      analog::find_hold(col, 1, nrows, &hold) &&
+  if (more.repeats.empty() && analog::find_hold(col, 1, nrows, &hold) &&
       (more.interp.period == 0 ||
        analog::hold_kept_count(nrows, hold) < analog::interp_kept_count(nrows, more.interp))) {
     more.interp = analog::Interp();
@@ -380,8 +345,7 @@ bool is_float_kind(Kind k) {
 }
 
 // A candidate's references are the earlier integer channels that keep the same rows.
-CandidatePlans plan_candidates(const ChannelCandidates& cc, const EarlierChannels& earlier, int c,
-                               FormatVersion format) {
+CandidatePlans plan_candidates(const ChannelCandidates& cc, const EarlierChannels& earlier, int c) {
   const size_t C = earlier.has_r1.size();
   std::vector<std::vector<bool>> use(cc.layouts.size(), std::vector<bool>(C));
   for (size_t l = 0; l < cc.layouts.size(); ++l)
@@ -397,14 +361,11 @@ CandidatePlans plan_candidates(const ChannelCandidates& cc, const EarlierChannel
     if (analog::is_integer_kind(r.kind)) {
       const std::vector<bool>& u = use[cc.layout_at[k]];
       plan_int_channel(r.ints, cross_refs(earlier.r1s, u, c), cross_energies(earlier.energy, u, c),
-                       format >= kAnalogConstantSince, &p.ints[k]);
+                       &p.ints[k]);
       p.bits[k] = p.ints[k].bits;
     } else if (is_float_kind(r.kind)) {
       const bool f32 = r.kind == Kind::kFloat32;
-      if (format >= kAnalogFloat9Since)
-        p.floats[k] = analog::choose_float_plan9(r.filled, f32, &p.bits[k]);
-      else
-        p.floats[k].predictor = analog::choose_float_predictor(r.filled, f32, &p.bits[k]);
+      p.floats[k] = analog::choose_float_plan9(r.filled, f32, &p.bits[k]);
     }
   }
   return p;
@@ -412,10 +373,10 @@ CandidatePlans plan_candidates(const ChannelCandidates& cc, const EarlierChannel
 
 // Codes candidate k's samples; false when the coding stopped at `limit` bytes out (a trial that
 // cannot win).
-bool emit_candidate(const ChannelCandidates& cc, const CandidatePlans& p, size_t k, int version,
+bool emit_candidate(const ChannelCandidates& cc, const CandidatePlans& p, size_t k,
                     IntEncoder::Cursor* enc, size_t limit) {
   const ChannelRepr& r = cc.reprs[k];
-  if (analog::is_integer_kind(r.kind)) return emit_int_channel(p.ints[k], version, enc, limit);
+  if (analog::is_integer_kind(r.kind)) return emit_int_channel(p.ints[k], enc, limit);
   if (is_float_kind(r.kind))
     return analog::encode_float_channel(r.filled, r.kind == Kind::kFloat32, p.floats[k], enc,
                                         limit);
@@ -430,10 +391,9 @@ bool emit_candidate(const ChannelCandidates& cc, const CandidatePlans& p, size_t
 // candidate's header, written from `state`, and the state after it.
 size_t pick_candidate(const ChannelCandidates& cc, const CandidatePlans& p,
                       const analog::HeaderRules& rules, const analog::HeaderState& state,
-                      size_t nrows, FormatVersion format, std::vector<std::vector<uint8_t>>* heads,
+                      size_t nrows, std::vector<std::vector<uint8_t>>* heads,
                       std::vector<analog::HeaderState>* states) {
   const size_t K = cc.reprs.size();
-  const int version = window_version(format);
   std::vector<double> estimate(K);
   heads->resize(K);
   states->assign(K, state);
@@ -441,19 +401,17 @@ size_t pick_candidate(const ChannelCandidates& cc, const CandidatePlans& p,
     ByteWriter th;
     analog::write_repr_header(cc.reprs[k], cc.layout(k), rules, &(*states)[k], &th);
     (*heads)[k] = std::move(th.buffer());
-    // From 9.2 on the estimates count kEstimateBitsPerSample a coded sample (earlier versions
-    // code as they did).
-    const uint64_t samples = format >= kAnalogHoldSince ? cc.layout(k).count(nrows, rules.S) : 0;
+    const uint64_t samples = cc.layout(k).count(nrows, rules.S);
     estimate[k] = static_cast<double>((*heads)[k].size()) +
                   static_cast<double>(p.bits[k] + kEstimateBitsPerSample * samples) / 8;
   }
   auto trial = [&](size_t k, size_t bound) {
     IntEncoder coder(analog::kAnalogContexts);
-    start_models(version, &coder);
+    analog::start_low_bit_models(&coder);
     IntEncoder::Cursor tc = coder.cursor();
     const size_t fixed = (*heads)[k].size() + 1;
     const size_t limit = bound == SIZE_MAX ? SIZE_MAX : bound > fixed ? bound - fixed : 0;
-    if (!emit_candidate(cc, p, k, version, &tc, limit)) return SIZE_MAX;
+    if (!emit_candidate(cc, p, k, &tc, limit)) return SIZE_MAX;
     coder.commit(tc);
     return (*heads)[k].size() + coder.finish().size();
   };
@@ -463,15 +421,13 @@ size_t pick_candidate(const ChannelCandidates& cc, const CandidatePlans& p,
 }  // namespace
 
 std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int channels,
-                                          const AnalogHints& hints, size_t repeat_S,
-                                          FormatVersion format) {
-  const int version = window_version(format);
-  const analog::HeaderRules rules = header_rules(format, repeat_S);
+                                          const AnalogHints& hints, size_t repeat_S) {
+  const analog::HeaderRules rules = header_rules(repeat_S);
   ByteWriter head;
-  analog::HeaderState state;  // the last constant; from 9.2 on the last scaling (FORMAT.md 11.7)
+  analog::HeaderState state;  // the last constant, the last scaling (FORMAT.md 9.6)
   bool any_coded = false;
   IntEncoder ent(analog::kAnalogContexts);
-  start_models(version, &ent);
+  analog::start_low_bit_models(&ent);
   IntEncoder::Cursor cur = ent.cursor();
   const size_t nch = static_cast<size_t>(std::max(channels, 0));
   EarlierChannels earlier(nch);
@@ -483,15 +439,15 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
   for (int c = 0; c < channels; ++c) {
     analog::ChannelHint hint =
         static_cast<size_t>(c) < hints.channel.size() ? hints.channel[c] : analog::ChannelHint();
-    hint.share = state.share;  // empty before 9.2 (never set)
-    const ChannelCandidates cc = channel_candidates(cols.data() + static_cast<size_t>(c) * nrows,
-                                                    nrows, repeat_S, hint, format);
-    CandidatePlans plans = plan_candidates(cc, earlier, c, format);
+    hint.share = state.share;
+    const ChannelCandidates cc =
+        channel_candidates(cols.data() + static_cast<size_t>(c) * nrows, nrows, repeat_S, hint);
+    CandidatePlans plans = plan_candidates(cc, earlier, c);
     size_t pick = 0;
     if (cc.reprs.size() > 1) {
       std::vector<std::vector<uint8_t>> heads;
       std::vector<analog::HeaderState> states;
-      pick = pick_candidate(cc, plans, rules, state, nrows, format, &heads, &states);
+      pick = pick_candidate(cc, plans, rules, state, nrows, &heads, &states);
       head.bytes(heads[pick]);  // the header written for its estimate, from the same state
       state = states[pick];
     } else {
@@ -499,7 +455,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
     }
     const Kind kind = cc.reprs[pick].kind;
     any_coded |= coded(kind);
-    emit_candidate(cc, plans, pick, version, &cur, SIZE_MAX);
+    emit_candidate(cc, plans, pick, &cur, SIZE_MAX);
     earlier.layouts[c] = cc.layout(pick);
     earlier.has_r1[c] = analog::is_integer_kind(kind);
     if (earlier.has_r1[c]) {
@@ -509,7 +465,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
   }
   ent.commit(cur);
   ByteWriter out;
-  out.u8(static_cast<uint8_t>(version));
+  out.u8(static_cast<uint8_t>(kWindowVersion));
   out.varint(head.size());
   out.bytes(head.buffer());
   if (any_coded) out.bytes(ent.finish());
@@ -517,14 +473,13 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
 }
 
 void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int channels,
-                          double* rows, const std::string& what, size_t repeat_S,
-                          FormatVersion format) {
-  const bool format9 = format >= kAnalogFloat9Since, format91 = format >= kAnalogConstantSince;
-  const analog::HeaderRules rules = header_rules(format, repeat_S);
+                          double* rows, const std::string& what, size_t repeat_S) {
+  const analog::HeaderRules rules = header_rules(repeat_S);
   ByteReader in(data, size, what);
   const int version = in.u8();
-  if (version > window_version(format))
-    throw Error(ErrorCode::kCorrupt, what + ": unknown analog window version");
+  if (version != kWindowVersion)
+    throw Error(ErrorCode::kCorrupt, what + ": unknown analog window version " +
+                                         std::to_string(version) + " (format 1.0 has 2)");
   const uint64_t head_size = in.count(1, "analog header size");
   ByteReader head(in.bytes(static_cast<size_t>(head_size)), static_cast<size_t>(head_size), what);
   const size_t nch = static_cast<size_t>(std::max(channels, 0));
@@ -558,7 +513,7 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
     return;
   }
   IntDecoder ent(data + in.offset(), in.remaining(), analog::kAnalogContexts, what);
-  start_models(version, &ent);
+  analog::start_low_bit_models(&ent);
   IntDecoder::Cursor cur = ent.cursor();
   std::vector<std::vector<int32_t>> r1s(nch);
   std::vector<bool> has_r1(nch, false);
@@ -567,11 +522,11 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
     if (analog::is_integer_kind(r.kind)) {
       std::vector<bool> use(nch, false);  // the same kept rows (FORMAT.md 11.3, 11.4, 11.5)
       for (size_t j = 0; j < c; ++j) use[j] = has_r1[j] && layouts[j] == layouts[c];
-      decode_int_channel(kept[c], cross_refs(r1s, use, static_cast<int>(c)), format91, version,
-                         &cur, &r.ints, &r1s[c]);
+      decode_int_channel(kept[c], cross_refs(r1s, use, static_cast<int>(c)), &cur, &r.ints,
+                         &r1s[c]);
       has_r1[c] = true;
     } else if (r.kind == Kind::kFloat32 || r.kind == Kind::kFloat64)
-      analog::decode_float_channel(kept[c], r.kind == Kind::kFloat32, &cur, &r.filled, format9);
+      analog::decode_float_channel(kept[c], r.kind == Kind::kFloat32, &cur, &r.filled);
     put(c);
     std::vector<int32_t>().swap(r.ints);
     std::vector<double>().swap(r.filled);

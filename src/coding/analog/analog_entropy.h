@@ -57,7 +57,8 @@ struct Magnitude {
   }
 };
 
-// One int32 residual under the magnitude context (the zig-zag of |v| < 2^31 fits 32 bits).
+// One int32 residual under the magnitude context (the zig-zag of |v| < 2^31 fits 32 bits): how
+// ATTR codes an integer lane's residuals (FORMAT.md 5.3).
 inline void put_residual(IntEncoder::Cursor* enc, Magnitude* m, int32_t v) {
   const uint32_t u = zigzag(v);
   enc->put(u, m->context());
@@ -69,13 +70,13 @@ inline int32_t get_residual(IntDecoder::Cursor* dec, Magnitude* m) {
   m->update(u);
   return unzigzag(u);
 }
-// FORMAT.md 11.10: a version 1 window's coder starts each low-bit model on the symbols it can code
+// FORMAT.md 9.5: an analog window's coder starts each low-bit model on the symbols it can code
 // (2 after tokens 4 and 5, whose values have one bit below the token; 4 after the others).
 template <typename Coder>
 void start_low_bit_models(Coder* c) {
   for (int t = 4; t < 64; ++t) c->restrict_context(kLowContext + t - 4, t < 6 ? 2 : 4);
 }
-// FORMAT.md 11.10 (a version 1 or 2 window): the (up to) two bits below token tok of u as one
+// FORMAT.md 9.5: the (up to) two bits below token tok of u as one
 // symbol under context kLowContext + tok - 4, then only the bits below them raw.
 inline void put_low_bits(IntEncoder::Cursor* enc, uint32_t u, int tok, int nbits) {
   if (nbits) {
@@ -96,23 +97,10 @@ inline uint32_t get_low_bits(IntDecoder::Cursor* dec, int tok) {
   }
   return u;
 }
-// FORMAT.md 11.10 (a version 1 analog window): as put_residual, but with the bits below the token
-// as put_low_bits codes them.
-inline void put_residual_v1(IntEncoder::Cursor* enc, Magnitude* m, int32_t v) {
-  const uint32_t u = zigzag(v);
-  int nbits;
-  const int tok = enc->put_token(u, m->context(), &nbits);
-  put_low_bits(enc, u, tok, nbits);
-  m->update(u);
-}
-inline int32_t get_residual_v1(IntDecoder::Cursor* dec, Magnitude* m) {
-  const uint32_t u = get_low_bits(dec, dec->get_token(m->context()));
-  m->update(u);
-  return unzigzag(u);
-}
-// FORMAT.md 11.10 (a version 2 analog window): as put_residual_v1, but the token relative to the
-// magnitude context: d = t - c + kRelShift, symbol d (1 .. 14) under context c itself, or symbol
-// 0 and -d under kBelowContext + c, or symbol 15 and d - 15 under kAboveContext.
+// FORMAT.md 9.7 (an analog window's integer residual): its token relative to the magnitude
+// context, then the bits below it as put_low_bits codes them: d = t - c + kRelShift, symbol d (1 ..
+// 14) under context c itself, or symbol 0 and -d under kBelowContext + c, or symbol 15 and d - 15
+// under kAboveContext.
 inline void put_residual_v2(IntEncoder::Cursor* enc, Magnitude* m, int32_t v) {
   const uint32_t u = zigzag(v);
   const int c = m->context();

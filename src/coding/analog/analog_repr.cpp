@@ -340,13 +340,12 @@ void write_repr_header(const ChannelRepr& r, const KeptRows& kept, const HeaderR
                        HeaderState* state, ByteWriter* w) {
   const bool rep = !kept.repeats.empty(), inter = kept.interp.period != 0,
              held = kept.hold.period != 0;
-  if ((rep && rules.S == 0) || (inter && !rules.interp) || (held && !rules.hold) ||
-      rep + inter + held > 1)
+  if ((rep && rules.S == 0) || rep + inter + held > 1)
     throw Error(ErrorCode::kInternal, "analog channel layout not allowed in this format version");
   const bool gaps = !r.gap_index.empty();
   const ScaledShare& share = state->share;
   const bool same_scaling =
-      rules.share && share.have && r.kind == Kind::kScaled && share.round_f32 == r.round_f32 &&
+      share.have && r.kind == Kind::kScaled && share.round_f32 == r.round_f32 &&
       bits_of(share.step) == bits_of(r.step) && bits_of(share.offset) == bits_of(r.offset);
   const bool same = (r.kind == Kind::kConst && r.const_bits == state->last_const) || same_scaling;
   w->u8(static_cast<uint8_t>(static_cast<int>(r.kind) | (gaps ? 8 : 0) | (same ? 16 : 0) |
@@ -378,7 +377,7 @@ void write_repr_header(const ChannelRepr& r, const KeptRows& kept, const HeaderR
         w->f64(r.step);
         w->f64(r.offset);
       }
-      if (rules.share) state->share = ScaledShare{true, r.round_f32, r.step, r.offset};
+      state->share = ScaledShare{true, r.round_f32, r.step, r.offset};
       w->varint(r.exc_index.size());
       uint32_t prev = 0;
       for (size_t e = 0; e < r.exc_index.size(); ++e) {
@@ -389,7 +388,7 @@ void write_repr_header(const ChannelRepr& r, const KeptRows& kept, const HeaderR
       break;
     }
     case Kind::kRank:
-      write_value_table(r.table, rules.lattice, w);
+      write_value_table(r.table, w);
       break;
     default:
       break;
@@ -420,14 +419,11 @@ ChannelRepr read_repr_header(ByteReader* in, size_t n, const HeaderRules& rules,
                              KeptRows* kept) {
   ChannelRepr r;
   const int byte = in->u8();
-  // Bit 6 (FORMAT.md 11.4) and bit 7 (11.5) only where the rules allow them; at most one of bits
-  // 5-7, and neither 6 nor 7 with kind 0.
-  const int unknown = ~(63 | (rules.interp ? 64 : 0) | (rules.hold ? 128 : 0));
+  // At most one of bits 5-7 (FORMAT.md 7.2, 9.2, 9.4), and neither 6 nor 7 with kind 0.
   const int layouts = ((byte >> 5) & 1) + ((byte >> 6) & 1) + ((byte >> 7) & 1);
-  // Bit 4 names kind 0's previous constant; with rules.share (9.2 on) kind 2's previous scaling.
-  const bool same_ok =
-      (byte & 7) == 0 || (rules.share && (byte & 7) == static_cast<int>(Kind::kScaled));
-  if ((byte & 7) >= kKinds || (byte & unknown) != 0 || ((byte & 16) && !same_ok) || layouts > 1 ||
+  // Bit 4 names kind 0's previous constant, or kind 2's previous scaling (9.6).
+  const bool same_ok = (byte & 7) == 0 || (byte & 7) == static_cast<int>(Kind::kScaled);
+  if ((byte & 7) >= kKinds || ((byte & 16) && !same_ok) || layouts > 1 ||
       ((byte & 192) && (byte & 7) == 0))
     throw Error(ErrorCode::kCorrupt,
                 in->what() + ": unknown analog channel kind " + std::to_string(byte));
@@ -443,8 +439,9 @@ ChannelRepr read_repr_header(ByteReader* in, size_t n, const HeaderRules& rules,
   if (byte & 32) {  // FORMAT.md 11.3: only in 7.x streams (S > 0)
     const size_t S = rules.S;
     if (S == 0 || n % S != 0)
-      throw Error(ErrorCode::kCorrupt,
-                  in->what() + ": analog repeat list in a stream before format 7.0");
+      throw Error(
+          ErrorCode::kCorrupt,
+          in->what() + ": analog repeat list in a window without frames (no samples per frame)");
     kept->repeats = read_repeats(in, n / S);
     n -= S * kept->repeats.size();
   }
@@ -471,7 +468,7 @@ ChannelRepr read_repr_header(ByteReader* in, size_t n, const HeaderRules& rules,
         r.step = in->f64();
         r.offset = in->f64();
       }
-      if (rules.share) state->share = ScaledShare{true, r.round_f32, r.step, r.offset};
+      state->share = ScaledShare{true, r.round_f32, r.step, r.offset};
       const uint64_t ne = in->count(2, "analog exceptions");
       uint64_t prev = 0;
       for (uint64_t e = 0; e < ne; ++e) {
@@ -485,7 +482,7 @@ ChannelRepr read_repr_header(ByteReader* in, size_t n, const HeaderRules& rules,
       break;
     }
     case Kind::kRank:
-      r.table = read_value_table(in, n, rules.lattice);
+      r.table = read_value_table(in, n);
       break;
     default:
       break;

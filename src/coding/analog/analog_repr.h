@@ -144,11 +144,7 @@ ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
 // writer asserts it (an encoder that asks for more is a bug), the reader rejects the rest as
 // corrupt.
 struct HeaderRules {
-  size_t S = 0;  // 7.x streams on: analog samples a point frame, repeat lists (bit 5); 0: none
-  bool lattice = false;  // 8.0 on: a kRank table may be coded against a lattice (table flag bit 1)
-  bool interp = false;   // 9.0 on: an interpolation field (bit 6)
-  bool hold = false;     // 9.2 on: a hold field (bit 7)
-  bool share = false;    // 9.2 on: bit 4 with kind 2 names the previous kind 2 scaling
+  size_t S = 0;  // analog samples a point frame, repeat lists (bit 5); 0: none
 };
 // What one channel's header leaves for the next ones of the window: the last constant (bit 4
 // with kind 0; 0 before any) and the last kind 2 scaling (9.6; none before any).
@@ -158,7 +154,7 @@ struct HeaderState {
 };
 
 // The kind byte's low 3 bits are the kind; bit 3 says a gap list follows; bit 4 says the value
-// is the state's last constant (kind 0) or its scaling the state's (kind 2, rules.share); bits
+// is the state's last constant (kind 0) or its scaling the state's (kind 2); bits
 // 5, 6 and 7 say a repeat list, an interpolation or a hold field follows (at most one, as
 // `kept` has), and r then describes the channel's kept samples. The header carries everything
 // but the per-sample numbers (ints or float samples), which the entropy stage codes. kConst and

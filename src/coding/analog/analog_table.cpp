@@ -147,7 +147,7 @@ void read_lattice_table(ByteReader* in, uint64_t m, size_t n, bool f32,
 
 }  // namespace
 
-void write_value_table(const std::vector<double>& table, bool lattice_tables, ByteWriter* w) {
+void write_value_table(const std::vector<double>& table, ByteWriter* w) {
   w->varint(table.size());
   const bool f32 = std::all_of(table.begin(), table.end(), is_float32);
   // The entries as gaps of their ordered patterns; in 8.x streams the lattice coding instead
@@ -162,19 +162,17 @@ void write_value_table(const std::vector<double>& table, bool lattice_tables, By
       plain.varint(o - prev - 1);
     prev = o;
   }
-  const std::vector<uint8_t> lat =
-      lattice_tables ? lattice_table(table, f32, plain.size()) : std::vector<uint8_t>();
+  const std::vector<uint8_t> lat = lattice_table(table, f32, plain.size());
   const bool use_lattice = !lat.empty() && lat.size() < plain.size();
   w->u8(static_cast<uint8_t>((f32 ? 1 : 0) | (use_lattice ? 2 : 0)));
   w->bytes(use_lattice ? lat : plain.buffer());
 }
 
-std::vector<double> read_value_table(ByteReader* in, size_t n, bool lattice_tables) {
+std::vector<double> read_value_table(ByteReader* in, size_t n) {
   const uint64_t m = in->varint();
   if (m == 0) throw Error(ErrorCode::kCorrupt, in->what() + ": empty analog value table");
   const int flag = in->u8();
-  if (flag > (lattice_tables ? 3 : 1))
-    throw Error(ErrorCode::kCorrupt, in->what() + ": bad analog table flag");
+  if (flag > 3) throw Error(ErrorCode::kCorrupt, in->what() + ": bad analog table flag");
   const bool f32 = flag & 1;
   std::vector<double> table;
   if (flag & 2) {

@@ -13,13 +13,12 @@
 namespace capz {
 namespace analog {
 
-// Writes `table` (non-empty, strictly increasing); with lattice_tables (an 8.x stream) the
-// lattice coding where it is smaller than the gaps.
-void write_value_table(const std::vector<double>& table, bool lattice_tables, ByteWriter* w);
+// Writes `table` (non-empty, strictly increasing); the lattice coding where it is smaller than
+// the gaps.
+void write_value_table(const std::vector<double>& table, ByteWriter* w);
 // Reads a table of a channel of n coded samples; corrupt (naming in->what()) when it is empty,
-// not increasing, larger than the bytes left can hold, or flagged as a lattice table outside
-// an 8.x stream.
-std::vector<double> read_value_table(ByteReader* in, size_t n, bool lattice_tables);
+// not increasing, larger than the bytes left can hold, or of an unknown flag.
+std::vector<double> read_value_table(ByteReader* in, size_t n);
 
 }  // namespace analog
 }  // namespace capz

@@ -24,30 +24,29 @@ size_t elem_size(const C3DFrameLayout& lay) {
   return lay.float_storage ? 4 : 2;
 }
 
-// Intel-form numbers (what encode_c3d_frames writes) to the layout's processor form, in place.
-void to_processor_form(const C3DFrameLayout& lay, uint8_t* p, size_t n) {
-  if (lay.processor == c3d::kIntel) return;
-  const size_t elem = elem_size(lay);
+// Intel-form numbers of `elem` bytes (what encode_c3d_frames writes) to `processor`'s form, in
+// place.
+void to_processor_form(int processor, size_t elem, uint8_t* p, size_t n) {
+  if (processor == c3d::kIntel) return;
   for (size_t i = 0; i + elem <= n; i += elem) {
     uint8_t* q = p + i;
-    if (lay.processor == c3d::kMips)
+    if (processor == c3d::kMips)
       std::reverse(q, q + elem);
     else if (elem == 4)  // DEC: int16 is little-endian as Intel's; floats are VAX F
       c3d::float_to_dec(c3d::get_f32le(q), q);
   }
 }
+void to_processor_form(const C3DFrameLayout& lay, uint8_t* p, size_t n) {
+  to_processor_form(lay.processor, elem_size(lay), p, n);
+}
 
 // The parameter section as the writer encodes it, numbers in the file's processor form: most of
 // the head's bytes, so zstd finds them as matches. Empty when the writer refuses the groups.
 std::vector<uint8_t> dictionary(std::vector<C3DGroup> groups, int processor) {
-  C3DFrameLayout form;
-  form.processor = processor;
   for (auto& g : groups)
     for (auto& p : g.params)
-      if (p.type == 2 || p.type == 4) {
-        form.float_storage = p.type == 4;
-        to_processor_form(form, p.data.data(), p.data.size());
-      }
+      if (p.type == 2 || p.type == 4)
+        to_processor_form(processor, p.type == 4 ? 4 : 2, p.data.data(), p.data.size());
   std::vector<uint8_t> out;
   try {
     out = c3d::encode_parameter_section(groups);
@@ -74,10 +73,14 @@ std::vector<uint8_t> dictionary(std::vector<C3DGroup> groups, int processor) {
 void check_block(const C3DFrameLayout& lay, const FrameBlock& b, const std::string& name,
                  ErrorCode code = ErrorCode::kInternal) {
   const bool words = !b.residual.empty();
+  const uint64_t rotations =
+      lay.rotations ? b.frames * (lay.rot_per_frame / c3d::kRotationBytes) : 0;
   if (b.points != lay.points || b.first > lay.frames || b.frames > lay.frames - b.first ||
       b.xyz.size() != b.frames * b.points * 3 || b.valid.size() != b.frames * b.points ||
       (words && (b.residual.size() != b.valid.size() || b.camera_mask.size() != b.valid.size())) ||
-      b.analog.size() != b.frames * lay.analog_values)
+      b.analog.size() != b.frames * lay.analog_values ||
+      (lay.rotations && (b.rotation_matrices.size() != rotations * 16 ||
+                         b.rotation_reliability.size() != rotations)))
     fail(code, name,
          "C3D residue: block of frames " + std::to_string(b.first) + "+" +
              std::to_string(b.frames) + " does not match the file's " + std::to_string(lay.frames) +
@@ -125,6 +128,14 @@ void regenerate_c3d_frames(const C3DFrameLayout& lay, const FrameBlock& b, uint8
   to_processor_form(lay, out, n);
 }
 
+void regenerate_c3d_rotations(const C3DFrameLayout& lay, const FrameBlock& b, uint8_t* out) {
+  check_block(lay, b, "");
+  const size_t n = b.frames * lay.rot_per_frame;
+  c3d::encode_c3d_rotations(b.rotation_matrices.data(), b.rotation_reliability.data(),
+                            n / c3d::kRotationBytes, out);
+  to_processor_form(lay.processor, 4, out, n);
+}
+
 // ---- encoder ---------------------------------------------------------------------------------
 
 C3DResidueEncoder::C3DResidueEncoder(const std::string& path) : in_(path) {
@@ -147,19 +158,39 @@ C3DResidueEncoder::C3DResidueEncoder(const std::string& path) : in_(path) {
   lay_.analog_values = dl.analog_values;
   lay_.per_frame = dl.per_frame;
   lay_.head_size = std::min<uint64_t>(dl.data_offset, size);
-  lay_.tail_size = size - lay_.head_size - lay_.frames * lay_.per_frame;
+  const uint64_t frames_end = lay_.head_size + lay_.frame_bytes();
+  // The rotation section (within the file: the reader counts only the frames it holds) is
+  // regenerated when it follows the frames.
+  if (dl.rot_per_frame > 0 && dl.rot_offset >= frames_end) {
+    lay_.rotations = true;
+    lay_.rot_per_frame = dl.rot_per_frame;
+    lay_.rot_gap = dl.rot_offset - frames_end;
+  }
+  lay_.tail_size = size - frames_end - lay_.rot_gap - lay_.rotation_bytes();
 }
 
 std::vector<uint8_t> C3DResidueEncoder::window(const FrameBlock& block, bool exact) {
   check_block(lay_, block, in_.path());
   const size_t n = block.frames * lay_.per_frame;
-  regen_.resize(n);
+  const size_t nr = lay_.rotations ? block.frames * lay_.rot_per_frame : 0;
+  regen_.resize(n + nr);
   regenerate_c3d_frames(lay_, block, regen_.data());
   orig_at_ = lay_.head_size + block.first * lay_.per_frame;
   orig_size_ = n;
-  // The block's copy of the file's bytes when it carries them (FrameBlock::file_bytes), else
-  // read here.
-  if (block.file_bytes.size() == n && block.file_bytes_at == orig_at_) {
+  if (nr > 0) {  // the frames' bytes, then their rotations' (read from the rotation section)
+    regenerate_c3d_rotations(lay_, block, regen_.data() + n);
+    orig_.resize(n + nr);
+    if (block.file_bytes.size() == n && block.file_bytes_at == orig_at_)
+      std::copy(block.file_bytes.begin(), block.file_bytes.end(), orig_.begin());
+    else
+      in_.read_at(orig_at_, orig_.data(), n);
+    in_.read_at(
+        lay_.head_size + lay_.frame_bytes() + lay_.rot_gap + block.first * lay_.rot_per_frame,
+        orig_.data() + n, nr);
+    orig_ptr_ = orig_.data();
+  } else if (block.file_bytes.size() == n && block.file_bytes_at == orig_at_) {
+    // The block's copy of the file's bytes when it carries them (FrameBlock::file_bytes), else
+    // read here.
     orig_ptr_ = block.file_bytes.data();
   } else {
     orig_.resize(n);
@@ -185,7 +216,7 @@ std::vector<uint8_t> C3DResidueEncoder::window(const FrameBlock& block, bool exa
         }
       }
   }
-  std::vector<uint8_t> patch = diff_bytes(regen_.data(), orig_ptr_, n);
+  std::vector<uint8_t> patch = diff_bytes(regen_.data(), orig_ptr_, n + nr);
   if (patch.empty()) return {};
   ByteWriter out;
   pack(patch, {}, out);
@@ -193,20 +224,28 @@ std::vector<uint8_t> C3DResidueEncoder::window(const FrameBlock& block, bool exa
 }
 
 std::vector<uint8_t> C3DResidueEncoder::file_part(const std::vector<C3DGroup>& groups) {
-  std::vector<uint8_t> rest(static_cast<size_t>(lay_.head_size + lay_.tail_size));
-  in_.read_at(0, rest.data(), static_cast<size_t>(lay_.head_size));
-  in_.read_at(lay_.file_size() - lay_.tail_size, rest.data() + lay_.head_size,
+  // The head, the gap before the rotation section, the tail.
+  const size_t head = static_cast<size_t>(lay_.head_size), gap = static_cast<size_t>(lay_.rot_gap);
+  std::vector<uint8_t> rest(head + gap + static_cast<size_t>(lay_.tail_size));
+  in_.read_at(0, rest.data(), head);
+  in_.read_at(lay_.head_size + lay_.frame_bytes(), rest.data() + head, gap);
+  in_.read_at(lay_.file_size() - lay_.tail_size, rest.data() + head + gap,
               static_cast<size_t>(lay_.tail_size));
   ByteWriter out;
   out.u8(kKindC3D);
   out.u8(static_cast<uint8_t>(lay_.processor));
-  out.u8(static_cast<uint8_t>((lay_.float_storage ? 1 : 0) | (lay_.analog_unsigned ? 2 : 0)));
+  out.u8(static_cast<uint8_t>((lay_.float_storage ? 1 : 0) | (lay_.analog_unsigned ? 2 : 0) |
+                              (lay_.rotations ? 4 : 0)));
   out.f64(lay_.scale);
   out.varint(lay_.frames);
   out.varint(lay_.points);
   out.varint(lay_.analog_values);
   out.varint(lay_.per_frame);
   out.varint(lay_.head_size);
+  if (lay_.rotations) {
+    out.varint(lay_.rot_gap);
+    out.varint(lay_.rot_per_frame);
+  }
   pack(rest, dictionary(groups, lay_.processor), out);
   return std::move(out.buffer());
 }
@@ -224,31 +263,60 @@ C3DResidueDecoder::C3DResidueDecoder(const uint8_t* data, size_t size,
   const uint8_t flags = in.u8();
   lay_.float_storage = flags & 1;
   lay_.analog_unsigned = flags & 2;
+  lay_.rotations = flags & 4;
   lay_.scale = in.f64();
   lay_.frames = in.varint();
   lay_.points = in.varint();
   lay_.analog_values = in.varint();
   lay_.per_frame = in.varint();
   lay_.head_size = in.varint();
+  if (lay_.rotations) {
+    lay_.rot_gap = in.varint();
+    lay_.rot_per_frame = in.varint();
+  }
   const uint64_t sample_bytes = (lay_.points * 4 + lay_.analog_values) * elem_size(lay_);
-  if (lay_.processor < c3d::kIntel || lay_.processor > c3d::kMips || flags > 3 ||
+  if (lay_.processor < c3d::kIntel || lay_.processor > c3d::kMips || flags > 7 ||
       !(std::isfinite(lay_.scale) && lay_.scale > 0) || lay_.points > 65535 ||
       lay_.analog_values > 65535 || lay_.per_frame < sample_bytes ||
       lay_.per_frame % elem_size(lay_) != 0 || lay_.per_frame > uint64_t{65535} * 5 * 4 ||
-      (lay_.per_frame > 0 && lay_.frames > (uint64_t{1} << 62) / lay_.per_frame))
+      (lay_.per_frame > 0 && lay_.frames > (uint64_t{1} << 62) / lay_.per_frame) ||
+      (lay_.rotations &&
+       (lay_.rot_per_frame == 0 || lay_.rot_per_frame % c3d::kRotationBytes != 0 ||
+        lay_.rot_per_frame > uint64_t{65535} * 65535 * c3d::kRotationBytes ||
+        lay_.frames > (uint64_t{1} << 62) / (lay_.per_frame + lay_.rot_per_frame))))
     fail(ErrorCode::kCorrupt, what, "impossible frame layout");
   std::vector<uint8_t> rest =
       unpack(in, dictionary(groups, lay_.processor), file_size ? file_size : UINT64_MAX);
   if (!in.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the payload");
-  if (lay_.head_size > rest.size())
+  if (lay_.head_size > rest.size() || lay_.rot_gap > rest.size() - lay_.head_size)
     fail(ErrorCode::kCorrupt, what, "head longer than the bytes stored");
-  lay_.tail_size = rest.size() - lay_.head_size;
+  lay_.tail_size = rest.size() - lay_.head_size - lay_.rot_gap;
   if (file_size && lay_.file_size() != file_size)
     fail(ErrorCode::kCorrupt, what,
          "layout gives " + std::to_string(lay_.file_size()) + " bytes, the original had " +
              std::to_string(file_size));
-  head_.assign(rest.begin(), rest.begin() + static_cast<long>(lay_.head_size));
-  tail_.assign(rest.begin() + static_cast<long>(lay_.head_size), rest.end());
+  const auto gap_at = rest.begin() + static_cast<long>(lay_.head_size);
+  const auto tail_at = gap_at + static_cast<long>(lay_.rot_gap);
+  head_.assign(rest.begin(), gap_at);
+  gap_.assign(gap_at, tail_at);
+  tail_.assign(tail_at, rest.end());
+}
+
+void C3DResidueDecoder::rebuild_block(const FrameBlock& block, const uint8_t* payload, size_t n,
+                                      const std::string& what) {
+  check_block(lay_, block, name_, ErrorCode::kCorrupt);
+  const size_t frames = block.frames * lay_.per_frame;
+  const size_t bytes = frames + (lay_.rotations ? block.frames * lay_.rot_per_frame : 0);
+  scratch_.resize(bytes);
+  regenerate_c3d_frames(lay_, block, scratch_.data());
+  if (lay_.rotations) regenerate_c3d_rotations(lay_, block, scratch_.data() + frames);
+  if (n > 0) {
+    ByteReader in(payload, n, what);
+    // A patch holds at most every byte plus two varints a run.
+    std::vector<uint8_t> patch = unpack(in, {}, 16 * uint64_t{bytes} + 64);
+    if (!in.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the patch");
+    apply_patch(patch, scratch_.data(), bytes, what.c_str());
+  }
 }
 
 void C3DResidueDecoder::window(const FrameBlock& block, const uint8_t* payload, size_t n,
@@ -256,24 +324,36 @@ void C3DResidueDecoder::window(const FrameBlock& block, const uint8_t* payload, 
   const std::string what = name_ + ": C3D residue window at frame " + std::to_string(block.first);
   if (block.first != next_)
     fail(ErrorCode::kCorrupt, what, "expected frame " + std::to_string(next_) + " next");
-  check_block(lay_, block, name_, ErrorCode::kCorrupt);
-  const size_t at = out->size(), bytes = block.frames * lay_.per_frame;
-  out->resize(at + bytes);
-  regenerate_c3d_frames(lay_, block, out->data() + at);
-  if (n > 0) {
-    ByteReader in(payload, n, what);
-    // A patch holds at most every byte plus two varints a run.
-    std::vector<uint8_t> patch = unpack(in, {}, 16 * uint64_t{bytes} + 64);
-    if (!in.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the patch");
-    apply_patch(patch, out->data() + at, bytes, what.c_str());
-  }
+  rebuild_block(block, payload, n, what);
+  const size_t frames = block.frames * lay_.per_frame;
+  out->insert(out->end(), scratch_.begin(), scratch_.begin() + static_cast<long>(frames));
   next_ += block.frames;
 }
 
-const std::vector<uint8_t>& C3DResidueDecoder::tail() const {
-  if (next_ != lay_.frames)
+const std::vector<uint8_t>& C3DResidueDecoder::gap() const {
+  if (!lay_.rotations || (next_ != lay_.frames && lay_.per_frame > 0))
     fail(ErrorCode::kCorrupt, name_,
-         "C3D residue: " + std::to_string(next_) + " of " + std::to_string(lay_.frames) +
+         "C3D residue: the rotation section's gap asked for before the frames were rebuilt");
+  return gap_;
+}
+
+void C3DResidueDecoder::rotation_window(const FrameBlock& block, const uint8_t* payload, size_t n,
+                                        std::vector<uint8_t>* out) {
+  const std::string what =
+      name_ + ": C3D residue rotations at frame " + std::to_string(block.first);
+  if (!lay_.rotations || block.first != next_rot_)
+    fail(ErrorCode::kCorrupt, what, "expected frame " + std::to_string(next_rot_) + " next");
+  rebuild_block(block, payload, n, what);
+  const size_t frames = block.frames * lay_.per_frame;
+  out->insert(out->end(), scratch_.begin() + static_cast<long>(frames), scratch_.end());
+  next_rot_ += block.frames;
+}
+
+const std::vector<uint8_t>& C3DResidueDecoder::tail() const {
+  const uint64_t done = lay_.rotations ? next_rot_ : next_;
+  if (done != lay_.frames || (lay_.rotations && lay_.per_frame > 0 && next_ != lay_.frames))
+    fail(ErrorCode::kCorrupt, name_,
+         "C3D residue: " + std::to_string(done) + " of " + std::to_string(lay_.frames) +
              " frames rebuilt before the tail");
   return tail_;
 }
@@ -305,13 +385,23 @@ void rebuild_c3d(const FileResidue& residue, FrameSource& frames, size_t block,
     fail(ErrorCode::kCorrupt, name,
          "C3D residue for " + std::to_string(dec.layout().frames) + " frames, the take has " +
              std::to_string(frames.header().frames));
+  // One pass over the windows giving each one's frames (window) or rotations (rotation_window).
+  using Part =
+      void (C3DResidueDecoder::*)(const FrameBlock&, const uint8_t*, size_t, std::vector<uint8_t>*);
+  auto pass = [&](Part part) {
+    rebuild_windows(
+        residue, frames, block,
+        [&](const FrameBlock& b, const std::vector<uint8_t>& w, std::vector<uint8_t>* out) {
+          (dec.*part)(b, w.data(), w.size(), out);
+        },
+        write, name);
+  };
   write(dec.head().data(), dec.head().size());
-  rebuild_windows(
-      residue, frames, block,
-      [&](const FrameBlock& b, const std::vector<uint8_t>& w, std::vector<uint8_t>* out) {
-        dec.window(b, w.data(), w.size(), out);
-      },
-      write, name);
+  pass(&C3DResidueDecoder::window);
+  if (dec.layout().rotations) {  // a second pass for the rotation section
+    write(dec.gap().data(), dec.gap().size());
+    pass(&C3DResidueDecoder::rotation_window);
+  }
   write(dec.tail().data(), dec.tail().size());
 }
 

@@ -40,8 +40,16 @@ struct C3DFrameLayout {
   uint64_t analog_values = 0;  // decoded analog values per frame (samples x whole channels)
   uint64_t per_frame = 0;      // bytes per frame in the file (may hold undecoded analog values)
   uint64_t head_size = 0;      // bytes before frame 0
-  uint64_t tail_size = 0;      // bytes after the last decoded frame
-  uint64_t file_size() const { return head_size + frames * per_frame + tail_size; }
+  uint64_t tail_size = 0;      // bytes after the last decoded frame (after the rotations)
+  // The rotation section regenerated (docs/FORMAT.md 7.1, C3DR flags bit 2): rot_gap bytes
+  // after the frames, then frames x rot_per_frame bytes of rotations, then the tail.
+  bool rotations = false;
+  uint64_t rot_gap = 0, rot_per_frame = 0;
+  uint64_t frame_bytes() const { return frames * per_frame; }
+  uint64_t rotation_bytes() const { return frames * rot_per_frame; }
+  uint64_t file_size() const {
+    return head_size + frame_bytes() + rot_gap + rotation_bytes() + tail_size;
+  }
 };
 
 // Writes `block`'s frames (block.frames x lay.per_frame bytes at out) as the C3D writer would in
@@ -49,6 +57,9 @@ struct C3DFrameLayout {
 // camera << 8 | round(residual / scale) (0 when the block has no words), analog values past
 // lay.analog_values as zeros. Throws Error(kInternal) when the block does not match the layout.
 void regenerate_c3d_frames(const C3DFrameLayout& lay, const FrameBlock& block, uint8_t* out);
+// With lay.rotations: `block`'s rotations (block.frames x lay.rot_per_frame bytes at out) in the
+// layout's processor form, each sample's 16 matrix float32s then its reliability.
+void regenerate_c3d_rotations(const C3DFrameLayout& lay, const FrameBlock& block, uint8_t* out);
 
 class C3DResidueEncoder {
  public:
@@ -57,10 +68,11 @@ class C3DResidueEncoder {
   explicit C3DResidueEncoder(const std::string& path);
   const C3DFrameLayout& layout() const { return lay_; }
   // The per-window payload for the frames of `block` (as open_c3d_frames() reads them, or as a
-  // lossless decode gives them back); empty when regeneration gets every byte right. Blocks may
-  // come in any order. `exact` false (an archive at a bound): the coordinates of samples that
-  // are gaps in the take and whose 4th word in the file is negative (absent to every reader)
-  // are left as regenerated, not patched (docs/FORMAT.md 14.1).
+  // lossless decode gives them back), and with layout().rotations for their rotations too;
+  // empty when regeneration gets every byte right. Blocks may come in any order. `exact` false (an
+  // archive at a bound): the coordinates of samples that are gaps in the take and whose 4th word in
+  // the file is negative (absent to every reader) are left as regenerated, not patched
+  // (docs/FORMAT.md 14.1).
   std::vector<uint8_t> window(const FrameBlock& block, bool exact = true);
   // Samples so far whose coordinates the file holds but, at a bound, were not kept: gaps in the
   // take, 4th word negative, coordinates other than the regenerated ones (SIMI writes real
@@ -77,6 +89,9 @@ class C3DResidueEncoder {
   const uint8_t* original() const { return exact_orig_ ? orig_ptr_ : nullptr; }
   size_t original_size() const { return orig_size_; }
   uint64_t original_at() const { return orig_at_; }
+  // With layout().rotations: the file's rotation bytes of the last window() (its frames x
+  // rot_per_frame bytes).
+  const uint8_t* original_rotations() const { return orig_.data() + orig_size_; }
 
  private:
   InputFile in_;
@@ -101,14 +116,24 @@ class C3DResidueDecoder {
   // The original bytes of block's frames, appended to *out. Blocks must come in order from
   // frame 0; `payload` is the window's payload (n = 0: none). Throws Error(kCorrupt).
   void window(const FrameBlock& block, const uint8_t* payload, size_t n, std::vector<uint8_t>* out);
-  // The bytes after the frames; throws Error(kCorrupt) unless every frame was given.
+  // With layout().rotations, after every frame (or none when per_frame is 0): the bytes between
+  // the frames and the rotation section; then rotation_window() as window() for the rotations of
+  // every block again, in order from frame 0. Throws Error(kCorrupt).
+  const std::vector<uint8_t>& gap() const;
+  void rotation_window(const FrameBlock& block, const uint8_t* payload, size_t n,
+                       std::vector<uint8_t>* out);
+  // The bytes after the frames (after the rotations); throws Error(kCorrupt) unless every frame
+  // (every rotation) was given.
   const std::vector<uint8_t>& tail() const;
 
  private:
+  // Regenerates and patches block's frames and rotations into scratch_.
+  void rebuild_block(const FrameBlock& block, const uint8_t* payload, size_t n,
+                     const std::string& what);
   std::string name_;
   C3DFrameLayout lay_;
-  std::vector<uint8_t> head_, tail_;
-  uint64_t next_ = 0;
+  std::vector<uint8_t> head_, gap_, tail_, scratch_;
+  uint64_t next_ = 0, next_rot_ = 0;
 };
 
 // The whole residue of the C3D at `path` in one call: frames read from `frames` (the file's own
@@ -116,7 +141,8 @@ class C3DResidueDecoder {
 FileResidue encode_c3d_residue(const std::string& path, FrameSource& frames, size_t block);
 
 // Rebuilds the original from `frames` (the decoded take, read in the encoder's blocks) and the
-// residue, handing consecutive byte ranges to `write`: head, each window, tail.
+// residue, handing consecutive byte ranges to `write`: head, each window, tail (with a
+// regenerated rotation section: head, each window's frames, gap, each window's rotations, tail).
 // `file_size`: as C3DResidueDecoder's.
 void rebuild_c3d(const FileResidue& residue, FrameSource& frames, size_t block,
                  const std::function<void(const uint8_t*, size_t)>& write, const std::string& name,

@@ -1,0 +1,92 @@
+"""Ragged takes (frames of their own point count): read from PCD, PLY and .bin folders, the
+flattened arrays with their frame offsets, frame views, from_arrays with a list of frames,
+written back and read again."""
+import struct
+
+import numpy as np
+import pytest
+
+import capz
+
+
+def write_bin(path, points):
+    with open(path, "wb") as f:
+        for p in points:
+            f.write(struct.pack("<ffff", *p))
+
+
+@pytest.fixture
+def bin_folder(tmp_path):
+    d = tmp_path / "velodyne"
+    d.mkdir()
+    write_bin(d / "000000.bin", [(1, 2, 3, 0.5), (4, 5, 6, 0.25), (float("nan"), 0, 0, 1)])
+    write_bin(d / "000001.bin", [])
+    write_bin(d / "000002.bin", [(-1, -2, -3, 2.0)])
+    return d
+
+
+def test_bin_folder_reads_as_ragged_take(bin_folder):
+    t = capz.read(str(bin_folder))
+    assert t.ragged and t.points == 0 and t.frames == 3 and t.total_points == 4
+    assert t.format == "bin-folder" and t.units == "m" and t.units_assumed
+    np.testing.assert_array_equal(t.frame_offsets, [0, 3, 3, 4])
+    assert t.xyz.shape == (4, 3) and t.valid.shape == (4,)
+    np.testing.assert_array_equal(t.valid, [True, True, False, True])
+    assert t.attributes["intensity"].dtype == np.float32
+    np.testing.assert_array_equal(t.attributes["intensity"], [0.5, 0.25, 1, 2])
+    f = t.frame(2)
+    np.testing.assert_array_equal(f.xyz, [[-1, -2, -3]])
+    assert t.frame(1).xyz.shape == (0, 3) and t.frame(-1).valid.all()
+    assert [len(f.valid) for f in t.iter_frames()] == [3, 0, 1]
+    f.xyz[0, 0] = 9  # a view: the take changes
+    assert t.xyz[3, 0] == 9
+    with pytest.raises(IndexError):
+        t.frame(3)
+
+
+def test_from_list_of_frames_and_write_read_back(tmp_path):
+    frames = [np.array([[0.5, 1, 2], [np.nan, 0, 0]]), np.zeros((0, 3)), np.array([[3.0, 4, 5]])]
+    ring = [np.array([1, 2], np.uint16), np.zeros(0, np.uint16), np.array([7], np.uint16)]
+    t = capz.Take.from_arrays(frames, units="m", attributes={"ring": ring})
+    assert t.ragged and t.frames == 3
+    np.testing.assert_array_equal(t.frame_offsets, [0, 2, 2, 3])
+    np.testing.assert_array_equal(t.valid, [True, False, True])
+    np.testing.assert_array_equal(t.attributes["ring"], [1, 2, 7])
+    capz.write(t, str(tmp_path / "pcd") + "/")
+    capz.write(capz.read(str(tmp_path / "pcd")), str(tmp_path / "ply"), to="ply",
+               ply_encoding="ascii")
+    back = capz.read(str(tmp_path / "ply"))
+    assert back.format == "ply-folder"
+    np.testing.assert_array_equal(back.frame_offsets, t.frame_offsets)
+    np.testing.assert_array_equal(back.valid, t.valid)
+    np.testing.assert_array_equal(back.xyz[back.valid], t.xyz[t.valid])
+    np.testing.assert_array_equal(back.attributes["ring"], [1, 2, 7])
+
+
+def test_fixed_take_frames_are_views_too():
+    xyz = np.arange(2 * 3 * 3, dtype=np.float64).reshape(2, 3, 3)
+    t = capz.Take.from_arrays(xyz)
+    assert not t.ragged and t.total_points == 6
+    np.testing.assert_array_equal(t.frame_offsets, [0, 3, 6])
+    np.testing.assert_array_equal(t.frame(1).xyz, xyz[1])
+
+
+def test_ragged_take_is_refused_by_compress_and_c3d(tmp_path, bin_folder):
+    t = capz.read(str(bin_folder))
+    with pytest.raises(capz.Error) as e:
+        capz.compress(t)
+    assert e.value.code == "invalid-parameter" and "ragged" in str(e.value)
+    with pytest.raises(capz.Error):
+        capz.write(t, str(tmp_path / "x.c3d"), drop_fields=True)
+    assert not (tmp_path / "x.c3d").exists()
+
+
+def test_bad_frames_name_the_file(tmp_path):
+    d = tmp_path / "bad"
+    d.mkdir()
+    (d / "a.bin").write_bytes(b"\0" * 20)
+    with pytest.raises(capz.Error) as e:
+        capz.read(str(d))
+    assert "a.bin" in str(e.value) and e.value.code == "corrupt"
+    with pytest.raises(capz.Error):
+        capz.Take.from_arrays([np.zeros((2, 3))], valid=[np.ones(3, bool)])

@@ -1,0 +1,176 @@
+// Decoder library (capz_decode): builds without PCL and without the transform encoders.
+// KITTI-style .bin folders (io/bin_folder.h): read frame file by frame file, written by capz.
+#include "io/bin_folder.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <memory>
+
+#include "capz/error.h"
+#include "capz/stream.h"
+#include "core/input_file.h"
+#include "io/frame_files.h"
+
+namespace fs = std::filesystem;
+
+namespace capz {
+
+namespace {
+
+constexpr size_t kPointBytes = 16;  // float32 x y z intensity
+
+float le_float(const uint8_t* p) {
+  const uint32_t u = static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 |
+                     static_cast<uint32_t>(p[2]) << 16 | static_cast<uint32_t>(p[3]) << 24;
+  float f;
+  std::memcpy(&f, &u, 4);
+  return f;
+}
+
+void put_le_float(float f, uint8_t* p) {
+  uint32_t u;
+  std::memcpy(&u, &f, 4);
+  for (int k = 0; k < 4; ++k) p[k] = static_cast<uint8_t>(u >> (8 * k));
+}
+
+// The point count of a .bin frame from its size. Throws Error(kCorrupt) naming the file when
+// the size is not a whole number of points.
+size_t bin_points(const std::string& path, uint64_t size) {
+  if (size % kPointBytes != 0)
+    fail(ErrorCode::kCorrupt, path,
+         ".bin frame truncated mid-point: " + std::to_string(size) +
+             " bytes is not a multiple of 16 (float32 x y z intensity a point)");
+  return static_cast<size_t>(size / kPointBytes);
+}
+
+class BinSource : public FileFrameSource {
+ public:
+  explicit BinSource(const std::string& path) : FileFrameSource(list_frame_files(path, ".bin")) {
+    std::vector<size_t> counts;
+    for (size_t f = 0; f < files_.names.size(); ++f) {
+      std::error_code ec;
+      const std::string p = files_.path(f);
+      const uint64_t size = fs::file_size(p, ec);
+      if (ec) fail(ErrorCode::kIo, p, "cannot read: " + ec.message());
+      counts.push_back(bin_points(p, size));
+    }
+    set_counts(counts);
+    header_.source = path;
+    header_.format = Format::kBinFolder;
+    header_.units = "m";
+    header_.units_assumed = true;
+    auto extra = std::make_shared<BinExtra>();
+    extra->frame_names = files_.names;
+    header_.bin = std::move(extra);
+    PointAttribute a;
+    a.name = "intensity";
+    a.type = 'F';
+    a.size = 4;
+    header_.attributes.push_back(a);
+  }
+
+ protected:
+  void read_frame(size_t f, FrameData* out) override {
+    const std::string p = files_.path(f);
+    InputFile in(p);
+    bytes_.resize(bin_points(p, in.size()) * kPointBytes);
+    in.read_at(0, bytes_.data(), bytes_.size());
+    read_bin_frame(bytes_.data(), bytes_.size(), p, out);
+  }
+
+ private:
+  std::vector<uint8_t> bytes_;
+};
+
+// A field's value as a double (little-endian bytes of type / size).
+double field_value(const uint8_t* p, char type, int size) {
+  uint64_t u = 0;
+  for (int k = 0; k < size; ++k) u |= static_cast<uint64_t>(p[k]) << (8 * k);
+  if (type == 'F') {
+    if (size == 4) {
+      float f;
+      const uint32_t w = static_cast<uint32_t>(u);
+      std::memcpy(&f, &w, 4);
+      return f;
+    }
+    double d;
+    std::memcpy(&d, &u, 8);
+    return d;
+  }
+  if (type == 'U') return static_cast<double>(u);
+  const int shift = 64 - 8 * size;  // sign-extend
+  return static_cast<double>(static_cast<int64_t>(u << shift) >> shift);
+}
+
+}  // namespace
+
+void read_bin_frame(const uint8_t* bytes, size_t size, const std::string& name, FrameData* out) {
+  const size_t n = bin_points(name, size);
+  out->points = n;
+  out->xyz.assign(n * 3, 0.0);
+  out->valid.assign(n, 0);
+  out->attrs.assign(1, std::vector<uint8_t>(n * 4));
+  for (size_t i = 0; i < n; ++i) {
+    const uint8_t* q = bytes + i * kPointBytes;
+    double v[3];
+    for (int a = 0; a < 3; ++a) v[a] = le_float(q + 4 * a);
+    if (std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2])) {
+      std::memcpy(out->xyz.data() + 3 * i, v, sizeof v);
+      out->valid[i] = 1;
+    }
+    std::memcpy(out->attrs[0].data() + 4 * i, q + 12, 4);
+  }
+}
+
+std::vector<uint8_t> bin_frame_bytes(size_t n, const double* xyz, const uint8_t* valid,
+                                     const float* intensity) {
+  std::vector<uint8_t> out(n * kPointBytes);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (size_t i = 0; i < n; ++i) {
+    uint8_t* q = out.data() + i * kPointBytes;
+    for (int a = 0; a < 3; ++a)
+      put_le_float(valid[i] ? static_cast<float>(xyz[3 * i + a]) : nan, q + 4 * a);
+    put_le_float(intensity ? intensity[i] : 0.0f, q + 12);
+  }
+  return out;
+}
+
+std::vector<float> bin_intensity(const Take& take, size_t begin, size_t n) {
+  for (const PointAttribute& a : take.attributes) {
+    if (a.name != "intensity" || a.count != 1) continue;
+    std::vector<float> v(n);
+    const size_t s = static_cast<size_t>(a.size);
+    for (size_t i = 0; i < n; ++i) {
+      const uint8_t* p = a.data.data() + (begin + i) * s;
+      if (a.type == 'F' && a.size == 4)
+        std::memcpy(&v[i], p, 4);  // bit for bit (NaN payloads kept)
+      else
+        v[i] = static_cast<float>(field_value(p, a.type, a.size));
+    }
+    return v;
+  }
+  return {};
+}
+
+Take read_bin_folder(const std::string& path) {
+  BinSource source(path);
+  return read_all_frames(source);
+}
+
+std::unique_ptr<FrameSource> open_bin_frames(const std::string& path) {
+  return std::unique_ptr<FrameSource>(new BinSource(path));
+}
+
+void write_bin_folder(const Take& take, const std::string& path, const WriteOptions& opts) {
+  write_frame_files(take, path, ".bin", opts.overwrite, [&](size_t f) {
+    const size_t b = take.frame_begin(f), n = take.frame_points(f);
+    const std::vector<float> in = bin_intensity(take, b, n);
+    return bin_frame_bytes(n, take.xyz.data() + b * 3, take.valid.data() + b,
+                           in.empty() ? nullptr : in.data());
+  });
+}
+
+}  // namespace capz

@@ -1,0 +1,211 @@
+// Decoder library (capz_decode): builds without PCL and without the transform encoders.
+// Frame files (io/frame_files.h): folder listing, the fixed or ragged shape, the file-by-file
+// frame source.
+#include "io/frame_files.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+#include <set>
+
+#include "capz/error.h"
+#include "capz/file.h"
+#include "core/atomic_file.h"
+#include "core/input_file.h"
+#include "io/natural_sort.h"
+
+namespace fs = std::filesystem;
+
+namespace capz {
+
+std::string FrameFiles::path(size_t f) const {
+  return single && dir == "." ? names[f] : (fs::path(dir) / names[f]).string();
+}
+
+std::vector<uint8_t> read_file_head(const std::string& path, size_t bytes) {
+  InputFile in(path);
+  std::vector<uint8_t> head(static_cast<size_t>(std::min<uint64_t>(in.size(), bytes)));
+  in.read_at(0, head.data(), head.size());
+  return head;
+}
+
+std::vector<uint8_t> read_header_bytes(const std::string& path, const std::string& marker) {
+  std::vector<uint8_t> head = read_file_head(path, size_t{16} << 10);
+  if (head.size() == (size_t{16} << 10) &&
+      std::string(head.begin(), head.end()).find(marker) == std::string::npos)
+    head = read_file_head(path, (size_t{1} << 20) + 64);
+  return head;
+}
+
+void write_frame_files(const Take& take, const std::string& path, const std::string& ext,
+                       bool overwrite, const std::function<std::vector<uint8_t>(size_t)>& frame) {
+  const std::string fault = take.shape_fault();
+  if (!fault.empty()) fail(ErrorCode::kInternal, path, "take arrays: " + fault);
+  if (take.frames == 0) fail(ErrorCode::kUsage, path, "the take has no frames: nothing to write");
+  if (single_frame_output(path, ext)) {
+    if (take.frames != 1)
+      fail(ErrorCode::kUsage, path,
+           "a " + ext + " file holds one frame and the take has " + std::to_string(take.frames) +
+               ": give a folder path");
+    write_file(path, frame(0), overwrite);
+    return;
+  }
+  const std::vector<std::string> names = frame_output_names(take, ext);
+  check_replaceable_frame_dir(path, ext, overwrite);
+  AtomicDir out(path, overwrite);
+  for (size_t f = 0; f < take.frames; ++f)
+    write_file((fs::path(out.temp_dir()) / names[f]).string(), frame(f), true);
+  out.commit();
+}
+
+bool has_extension(const std::string& path, const std::string& ext) {
+  std::string e = fs::path(path).extension().string();
+  for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return e == ext;
+}
+
+FrameFiles list_frame_files(const std::string& path, const std::string& ext) {
+  FrameFiles ff;
+  std::error_code ec;
+  if (fs::is_regular_file(path, ec)) {
+    const fs::path p(path);
+    ff.dir = p.has_parent_path() ? p.parent_path().string() : ".";
+    ff.names.push_back(p.filename().string());
+    ff.single = true;
+    return ff;
+  }
+  if (!fs::is_directory(path, ec)) fail(ErrorCode::kUsage, path, "not a directory");
+  ff.dir = path;
+  for (fs::directory_iterator it(path, ec), end; !ec && it != end; it.increment(ec)) {
+    std::error_code ec2;
+    if (has_extension(it->path().string(), ext) && fs::is_regular_file(it->path(), ec2))
+      ff.names.push_back(it->path().filename().string());
+  }
+  if (ec) fail(ErrorCode::kIo, path, "cannot list directory: " + ec.message());
+  if (ff.names.empty()) fail(ErrorCode::kNotOurFormat, path, "no " + ext + " files in directory");
+  std::sort(ff.names.begin(), ff.names.end(), natural_less);
+  return ff;
+}
+
+const std::vector<std::string>* source_frame_names(const Take& take) {
+  if (take.pcd && !take.pcd->frame_names.empty()) return &take.pcd->frame_names;
+  if (take.ply && !take.ply->frame_names.empty()) return &take.ply->frame_names;
+  if (take.bin && !take.bin->frame_names.empty()) return &take.bin->frame_names;
+  return nullptr;
+}
+
+std::vector<std::string> frame_output_names(const Take& take, const std::string& ext) {
+  const std::vector<std::string>* names = source_frame_names(take);
+  std::vector<std::string> out;
+  if (names && names->size() == take.frames) {
+    std::set<std::string> seen;
+    for (const std::string& n : *names) {
+      const std::string name =
+          has_extension(n, ext) ? n : fs::path(n).replace_extension(ext).string();
+      if (n.empty() || name.find('/') != std::string::npos || name == ext ||
+          fs::path(n).stem().string().empty() || n == "." || n == ".." || !seen.insert(name).second)
+        break;
+      out.push_back(name);
+    }
+    if (out.size() == take.frames) return out;
+  }
+  out.clear();
+  for (size_t f = 0; f < take.frames; ++f) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "frame_%06zu", f + 1);
+    out.push_back(buf + ext);
+  }
+  return out;
+}
+
+void check_replaceable_frame_dir(const std::string& dir, const std::string& ext, bool overwrite) {
+  // Replacing an existing directory deletes it: only allow that for a folder of frame files.
+  std::error_code ec;
+  if (overwrite && fs::is_directory(dir, ec)) {
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+      std::error_code ec2;
+      if (!has_extension(it->path().string(), ext) || !fs::is_regular_file(it->symlink_status(ec2)))
+        fail(ErrorCode::kUsage, dir,
+             "refusing to replace this directory: it holds " + it->path().filename().string() +
+                 ", which is not a " + ext + " frame");
+    }
+  }
+}
+
+bool single_frame_output(const std::string& path, const std::string& ext) {
+  std::error_code ec;
+  return !path.empty() && path.back() != '/' && has_extension(path, ext) &&
+         !fs::is_directory(path, ec);
+}
+
+void set_frame_shape(const std::vector<size_t>& counts, Take* t) {
+  t->frames = counts.size();
+  const bool fixed =
+      std::all_of(counts.begin(), counts.end(), [&](size_t c) { return c == counts[0]; });
+  if (fixed) {
+    t->points = counts.empty() ? 0 : counts[0];
+    t->frame_offsets.clear();
+    t->labels.assign(t->points, std::string());
+  } else {
+    t->points = 0;
+    t->frame_offsets = offsets_of_counts(counts);
+    t->labels.clear();
+  }
+}
+
+void FileFrameSource::set_counts(const std::vector<size_t>& counts) {
+  counts_ = counts;
+  set_frame_shape(counts, &header_);
+}
+
+void FileFrameSource::read(size_t first, size_t count, FrameBlock* out) {
+  clip(&first, &count);
+  if (header_.ragged())
+    out->reset_ragged(first,
+                      std::vector<size_t>(counts_.begin() + static_cast<long>(first),
+                                          counts_.begin() + static_cast<long>(first + count)));
+  else
+    out->reset(first, count, header_.points, 0, false);
+  const size_t A = header_.attributes.size();
+  out->attributes.assign(A, std::vector<uint8_t>());
+  for (size_t a = 0; a < A; ++a)
+    out->attributes[a].reserve(out->total_points() * header_.attributes[a].bytes_per_point());
+  for (size_t k = 0; k < count; ++k) {
+    const size_t f = first + k;
+    read_frame(f, &data_);
+    if (data_.points != counts_[f] || data_.xyz.size() != data_.points * 3 ||
+        data_.valid.size() != data_.points)
+      fail(ErrorCode::kCorrupt, files_.path(f),
+           "frame holds " + std::to_string(data_.points) + " points, its header announced " +
+               std::to_string(counts_[f]) + " (was the file changed while being read?)");
+    const size_t b = out->frame_begin(k);
+    std::copy(data_.xyz.begin(), data_.xyz.end(), out->xyz.begin() + static_cast<long>(b * 3));
+    std::copy(data_.valid.begin(), data_.valid.end(), out->valid.begin() + static_cast<long>(b));
+    if (data_.attrs.size() != A) continue;  // fields left out of the header (drop_fields)
+    for (size_t a = 0; a < A; ++a)
+      out->attributes[a].insert(out->attributes[a].end(), data_.attrs[a].begin(),
+                                data_.attrs[a].end());
+  }
+}
+
+Take read_all_frames(FrameSource& source) {
+  Take t = source.header();
+  const size_t F = t.frames;
+  // The take grows block by block (not sized for every file up front), so memory follows what
+  // has actually been read and checked, not what the headers announce.
+  FrameBlock b;
+  const size_t B = std::max<size_t>(1, source.preferred_block());
+  for (size_t f = 0; f < F; f += B) {
+    source.read(f, std::min(B, F - f), &b);
+    t.xyz.insert(t.xyz.end(), b.xyz.begin(), b.xyz.end());
+    t.valid.insert(t.valid.end(), b.valid.begin(), b.valid.end());
+    for (size_t a = 0; a < t.attributes.size() && a < b.attributes.size(); ++a)
+      t.attributes[a].data.insert(t.attributes[a].data.end(), b.attributes[a].begin(),
+                                  b.attributes[a].end());
+  }
+  for (const std::string& w : source.frame_warnings()) t.warnings.push_back(w);
+  return t;
+}
+
+}  // namespace capz
