@@ -59,6 +59,23 @@ void add_memlimit_option(po::options_description* o) {
       "more is refused, exit 8");
 }
 
+void add_trc_delimiter_option(po::options_description* o, const char* default_text) {
+  o->add_options()("trc-delimiter", po::value<std::string>(),
+                   (std::string("TRC output: tab (OpenSim's form) or comma (every line padded "
+                                "with commas to the same field count); default: ") +
+                    default_text)
+                       .c_str());
+}
+
+char trc_delimiter(const po::variables_map& vm, char fallback) {
+  if (!vm.count("trc-delimiter")) return fallback;
+  const std::string v = vm["trc-delimiter"].as<std::string>();
+  if (v == "tab") return '\t';
+  if (v == "comma") return ',';
+  capz::fail(capz::ErrorCode::kInvalidParameter, "",
+             "--trc-delimiter must be tab or comma, not '" + v + "'");
+}
+
 uint64_t memlimit(const po::variables_map& vm) {
   if (!vm.count("memlimit")) return capz::kAutoMemoryLimit;
   const std::string v = vm["memlimit"].as<std::string>();

@@ -35,6 +35,11 @@ void add_memlimit_option(po::options_description* o);
 // powers of 1024; 0: none), else capz::kAutoMemoryLimit. Throws Error(kInvalidParameter).
 uint64_t memlimit(const po::variables_map& vm);
 
+// --trc-delimiter tab|comma: the TRC writer's delimiter (capz::WriteOptions::trc_delimiter).
+void add_trc_delimiter_option(po::options_description* o, const char* default_text);
+// '\t' for tab, ',' for comma, `fallback` without the option. Throws Error(kInvalidParameter).
+char trc_delimiter(const po::variables_map& vm, char fallback);
+
 // printf into a std::string.
 std::string strprintf(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
 

@@ -25,6 +25,7 @@ capz::WriteOptions write_options(const po::variables_map& vm, const char** enc_o
   wo.overwrite = vm.count("force") > 0;
   wo.c3d_float = vm.count("c3d-float") > 0;
   wo.drop_fields = vm.count("drop-fields") > 0;
+  wo.trc_delimiter = trc_delimiter(vm, '\t');
   if (vm.count("pcd-encoding") && vm.count("pcd-data"))
     throw po::error("give --pcd-encoding or --pcd-data, not both");
   *enc_opt = vm.count("pcd-data") ? "pcd-data" : "pcd-encoding";
@@ -92,6 +93,7 @@ int cmd_convert(const Args& args) {
                            "(default: the source's when it is PLY, else binary_little_endian)")(
       "rate", po::value<double>(), "set the frame rate in Hz (for sources without one, e.g. PCD)")(
       "units", po::value<std::string>(), "set the units (mm, cm, m, ...) when the source has none");
+  add_trc_delimiter_option(&opts, "tab");
   po::options_description positionals;
   positionals.add_options()("input", po::value<std::string>(), "IN")(
       "output", po::value<std::string>(), "OUT");
@@ -101,7 +103,8 @@ int cmd_convert(const Args& args) {
   if (!parse_args(
           args,
           "capz convert IN OUT [-f] [--to pcd|ply|bin] [--pcd-encoding E] [--ply-encoding E] "
-          "[--c3d-float] [--drop-fields]",
+          "[--c3d-float] [--drop-fields]\n"
+          "                    [--trc-delimiter tab|comma]",
           "Converts IN to OUT, each a .c3d, a .trc, a .pcd, .ply or .bin frame, or a folder\n"
           "of such frames (OUT: a path without extension or ending in '/'; its format is\n"
           "--to's, else IN's when IN is frames, else PCD), keeping point order, labels,\n"

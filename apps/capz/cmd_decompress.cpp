@@ -140,6 +140,7 @@ Written decode_whole(const Job& job, const Settings& s, const std::string& in,
   w.out = choose_output(job, s, in, take, space);
   w.take_shape(take);
   if (same_format(w.out, take.format) && wo.pcd_encoding.empty() && !wo.drop_fields &&
+      !wo.trc_delimiter &&
       capz::can_rebuild(capz::original_info(in), take.format == capz::Format::kC3D)) {
     src.reset();
     capz::rebuild_original(in, w.out, s.batch.force, dopts);
@@ -192,6 +193,7 @@ FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) 
   wo.overwrite = s.batch.force;
   wo.drop_fields = vm.count("drop-fields") > 0;
   if (vm.count("pcd-data")) wo.pcd_encoding = vm["pcd-data"].as<std::string>();
+  wo.trc_delimiter = trc_delimiter(vm, 0);
   const bool workers = job.alone && dopts.threads > 1;
   const double c0 = cpu_seconds(workers);
   Written w = vm.count("frames") ? decode_range(job, s, in, dopts, wo, space)
@@ -245,6 +247,7 @@ int cmd_decompress(const Args& args) {
       "write a C3D or TRC from an archive of PCD frames with point fields by leaving the fields "
       "out; without it that is an error naming them")("json",
                                                       "print the report as one JSON object");
+  add_trc_delimiter_option(&o, "the source's");
   add_memlimit_option(&o);
   Settings s;
   std::vector<std::string> inputs;
@@ -252,7 +255,8 @@ int cmd_decompress(const Args& args) {
           args,
           "capz decompress X.capz... [-o OUT | -c | --output-dir-mirror DIR | --output-dir-flat "
           "DIR]\n                         [-r] [-T N] [--frames FIRST:COUNT] [--pcd-data E] "
-          "[--drop-fields] [--memlimit SIZE] [-f]",
+          "[--drop-fields] [--trc-delimiter tab|comma]\n                         [--memlimit SIZE] "
+          "[-f]",
           "Decompresses each X.capz to OUT: a .c3d, a .trc or a folder of PCD frames, chosen\n"
           "by OUT's name. By default the source's format and name: take.c3d.capz -> take.c3d,\n"
           "frames.capz -> frames/ (never overwritten without -f). '-' (or no X.capz while\n"
@@ -271,7 +275,8 @@ int cmd_decompress(const Args& args) {
       capz::fail(capz::ErrorCode::kInvalidParameter, "",
                  "--pcd-data must be ascii, binary or binary_compressed, not '" + e + "'");
   }
-  memlimit(s.vm);  // a bad size: before any file
+  trc_delimiter(s.vm, 0);  // a bad delimiter: before any file
+  memlimit(s.vm);          // a bad size: before any file
   s.batch = batch_settings(s.vm, true);
   std::vector<Job> jobs = expand_inputs(inputs, InputKind::kArchives, s.batch);
   return run_batch("decompress", s.batch, std::move(jobs), [&s](const Job& job) {

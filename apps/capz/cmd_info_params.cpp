@@ -157,10 +157,16 @@ std::vector<std::pair<std::string, std::string>> trc_header(const capz::Take& t)
   const capz::TRCExtra& x = *t.trc;
   auto given = [](double v) { return v > 0 ? number(v) : std::string(); };
   std::string type = x.path_file_type_line;
-  const size_t tab = type.find('\t');
-  type = tab == std::string::npos ? std::string() : type.substr(tab + 1);
-  type.erase(type.find_last_not_of(" \t\r") + 1);  // writers pad the line with tabs
-  std::replace(type.begin(), type.end(), '\t', ' ');
+  // Tab-separated, or comma-separated (pyomeca, spreadsheets: no tab, and a comma right after
+  // the key or at the end of the line; docs/FORMAT.md 14.5).
+  const bool comma =
+      type.find('\t') == std::string::npos &&
+      ((type.size() > 12 && type[12] == ',') || (!type.empty() && type.back() == ','));
+  const char sep = comma ? ',' : '\t';
+  const size_t at = type.find(sep);
+  type = at == std::string::npos ? std::string() : type.substr(at + 1);
+  type.erase(type.find_last_not_of(" \t\r,") + 1);  // writers pad the line with tabs or commas
+  std::replace(type.begin(), type.end(), sep, ' ');
   return {{"PathFileType", type},
           {"DataRate", given(t.rate)},
           {"CameraRate", given(x.camera_rate)},

@@ -36,6 +36,9 @@ struct WriteOptions {
   // Writing a take with point fields (Take::attributes) to C3D or TRC, which cannot hold them,
   // is an error naming them unless this is set; then they are left out.
   bool drop_fields = false;
+  // TRC output: '\t' (OpenSim's form) or ',' (the comma form, every line padded to the same
+  // field count); 0: the take's own (a comma-separated TRC source's commas, else tabs).
+  char trc_delimiter = 0;
 };
 
 // Throws kUsage naming the take's point fields when a file of format f cannot hold them and

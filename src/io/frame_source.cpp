@@ -432,14 +432,18 @@ class C3DSink : public FrameSink {
 class TRCSink : public FrameSink {
  public:
   TRCSink(const Take& header, const std::string& path, const WriteOptions& opts)
-      : header_(header), path_(path) {
+      : header_(header),
+        path_(path),
+        delim_(trc::output_delimiter(header, opts.trc_delimiter, path)),
+        width_(delim_ == ',' ? trc::comma_width(header, path) : 0) {
     file_.reset(new AtomicFile(path, opts.overwrite));
-    text_ = trc::header_text(header_, path_);
+    text_ = trc::header_text(header_, path_, delim_);
   }
   void write(const FrameBlock& b) override {
     if (b.first != written_ || b.points != header_.points || written_ + b.frames > header_.frames)
       fail(ErrorCode::kInternal, path_, "frames written out of order or beyond the header's count");
-    trc::append_rows(header_, b.first, b.frames, b.xyz.data(), b.valid.data(), &text_);
+    trc::append_rows(header_, b.first, b.frames, b.xyz.data(), b.valid.data(), delim_, width_,
+                     &text_);
     file_->write(text_.data(), text_.size());
     text_.clear();
     written_ += b.frames;
@@ -455,6 +459,8 @@ class TRCSink : public FrameSink {
  private:
   Take header_;
   std::string path_;
+  char delim_;
+  size_t width_;
   std::unique_ptr<AtomicFile> file_;
   std::string text_;
   size_t written_ = 0;

@@ -8,7 +8,9 @@
 //   line 4  Frame# Time <name 1> <name 2> ...      (names = the non-empty fields after Time)
 //   line 5  X1 Y1 Z1 X2 ...                        (column titles, ignored)
 //   then    one row per frame: Frame# Time x1 y1 z1 x2 ...; blank lines are skipped.
-// A line holding a tab is split at tabs (fields trimmed of blanks), otherwise at runs of blanks.
+// A line holding a tab is split at tabs (fields trimmed of blanks), otherwise at runs of blanks;
+// in a comma-separated file (trc::delimiter_of line 1: pyomeca's, a spreadsheet's) every line
+// is split at commas (fields trimmed of blanks) and a line of only commas and blanks is blank.
 // A sample is valid when its three fields are numbers and finite; an empty field, NaN or a row
 // that ends early makes a gap. Points = max(names on line 4, widest row); disagreement with
 // NumMarkers / NumFrames becomes a warning in Take::warnings, not an error.
@@ -44,14 +46,15 @@ bool is_blank(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\0' || c == '\f' || c == '\v';
 }
 
-// Splits [b, e) into fields (see the top of the file). Reuses `out`.
-void split_fields(const char* b, const char* e, std::vector<Field>* out) {
+// Splits [b, e) into fields (see the top of the file); `delim` is ',' in a comma-separated file,
+// else '\t'. Reuses `out`.
+void split_fields(const char* b, const char* e, char delim, std::vector<Field>* out) {
   out->clear();
-  bool tabs = std::memchr(b, '\t', static_cast<size_t>(e - b)) != nullptr;
-  if (tabs) {
+  const char sep = delim == ',' ? ',' : '\t';
+  if (sep == ',' || std::memchr(b, '\t', static_cast<size_t>(e - b)) != nullptr) {
     const char* s = b;
     for (const char* p = b;; ++p) {
-      if (p == e || *p == '\t') {
+      if (p == e || *p == sep) {
         const char* fb = s;
         const char* fe = p;
         while (fb < fe && is_blank(*fb)) ++fb;
@@ -98,9 +101,10 @@ class LineReader {
   size_t number_ = 0;
 };
 
-bool all_blank(const char* b, const char* e) {
+// A blank line: nothing but blanks (and, in a comma-separated file, commas).
+bool all_blank(const char* b, const char* e, char delim) {
   for (const char* p = b; p < e; ++p)
-    if (!is_blank(*p)) return false;
+    if (!is_blank(*p) && !(delim == ',' && *p == ',')) return false;
   return true;
 }
 
@@ -136,9 +140,9 @@ struct Counted {
 };
 
 // Pass 1 over one row line: counts it (blank lines are not rows) and its width.
-void count_row(const char* b, const char* e, std::vector<Field>* f, Counted* c) {
-  if (all_blank(b, e)) return;
-  split_fields(b, e, f);
+void count_row(const char* b, const char* e, char delim, std::vector<Field>* f, Counted* c) {
+  if (all_blank(b, e, delim)) return;
+  split_fields(b, e, delim, f);
   ++c->rows;
   size_t last = 0;
   for (size_t i = f->size(); i > 2; --i)
@@ -158,6 +162,7 @@ struct Prelude {
   size_t bom = 0;          // bytes of a UTF-8 byte-order mark before line 1
   size_t data_offset = 0;  // offset of the first row line from the start of the text (after bom)
   size_t data_line0 = 0;   // its 1-based line number
+  char delim = '\t';       // ',' in a comma-separated file (trc::delimiter_of line 1)
 };
 
 // Lines 2 and 3 of a TRC file: the header keys and their values, into pre->h (the keys capz
@@ -222,24 +227,26 @@ Prelude parse_prelude(const char* text, size_t size, const std::string& name) {
          "not a TRC file (line 1 does not start with PathFileType)");
   pre.trc = std::make_shared<TRCExtra>();
   pre.trc->path_file_type_line.assign(b, e);
+  pre.delim = trc::delimiter_of(pre.trc->path_file_type_line);
+  const char d = pre.delim;
 
   // Lines 2 and 3: keys and values.
   if (!lines.next(&b, &e))
     fail(ErrorCode::kCorrupt, name, "file ends after line 1: the header keys (line 2) are missing");
   std::vector<Field> keys;
-  split_fields(b, e, &keys);
+  split_fields(b, e, d, &keys);
   if (!lines.next(&b, &e))
     fail(ErrorCode::kCorrupt, name,
          "file ends after line 2: the header values (line 3) are missing");
   std::vector<Field> vals;
-  split_fields(b, e, &vals);
+  split_fields(b, e, d, &vals);
   read_header_values(keys, vals, name, &pre);
 
   // Line 4: Frame# Time names...
   if (!lines.next(&b, &e))
     fail(ErrorCode::kCorrupt, name,
          "file ends after line 3: the marker names (line 4) are missing");
-  split_fields(b, e, &f);
+  split_fields(b, e, d, &f);
   if (f.empty() || !iequals(f[0].str(), "Frame#"))
     fail(ErrorCode::kCorrupt, name, "line 4 should start with Frame# (the marker names line)");
   for (size_t i = 2; i < f.size(); ++i)
@@ -255,6 +262,7 @@ Prelude parse_prelude(const char* text, size_t size, const std::string& name) {
 struct RowParser {
   size_t points = 0;
   double data_rate = 0;
+  char delim = '\t';
   std::string name;
   size_t short_rows = 0, partial = 0, no_time = 0;
   int decimals = 0, time_decimals = 0;
@@ -265,7 +273,7 @@ struct RowParser {
   // null, the samples (xyz: points x 3, valid: points; gaps left as they are).
   void parse(const char* b, const char* e, size_t line_no, size_t r, int64_t* frame_number,
              double* time_out, double* xyz, uint8_t* valid) {
-    split_fields(b, e, &f);
+    split_fields(b, e, delim, &f);
     auto bad = [&](size_t col, const Field& fld, const char* what) {
       fail(ErrorCode::kCorrupt, name,
            "line " + std::to_string(line_no) + ", column " + std::to_string(col + 1) + ": '" +
@@ -453,10 +461,11 @@ class TRCSource : public FrameSource {
       const char *b, *e;
       uint64_t off;
       std::vector<Field> f;
-      while (rows.next(&b, &e, &off)) count_row(b, e, &f, &c);
+      while (rows.next(&b, &e, &off)) count_row(b, e, pre.delim, &f, &c);
     }
     parser_.points = std::max(pre.names.size(), c.widest);
     parser_.data_rate = pre.h.data_rate;
+    parser_.delim = pre.delim;
     parser_.name = path;
     check_expansion(c.rows, parser_.points, static_cast<size_t>(size) - bom_, path);
     TRCExtra& trc = *pre.trc;
@@ -470,7 +479,7 @@ class TRCSource : public FrameSource {
       size_t line_no = pre.data_line0 - 1;
       while (rows.next(&b, &e, &off)) {
         ++line_no;
-        if (all_blank(b, e)) continue;
+        if (all_blank(b, e, pre.delim)) continue;
         int64_t fn;
         double t;
         parser_.parse(b, e, line_no, offsets_.size(), &fn, &t, nullptr, nullptr);
@@ -496,7 +505,7 @@ class TRCSource : public FrameSource {
     size_t r = 0;
     RowParser rp = parser_;  // counters of the open pass stay as they were
     while (r < count && lines.next(&b, &e)) {
-      if (all_blank(b, e)) continue;
+      if (all_blank(b, e, rp.delim)) continue;
       int64_t fn;
       double t;
       rp.parse(b, e, line_numbers_[first + r], first + r, &fn, &t, &out->xyz[r * N * 3],
@@ -535,11 +544,12 @@ Take read_trc_bytes(const uint8_t* data, size_t size, const std::string& name) {
   {
     std::vector<Field> f;
     LineReader rows(data_start, rows_size);
-    while (rows.next(&b, &e)) count_row(b, e, &f, &c);
+    while (rows.next(&b, &e)) count_row(b, e, pre.delim, &f, &c);
   }
   RowParser rp;
   rp.points = std::max(pre.names.size(), c.widest);
   rp.data_rate = pre.h.data_rate;
+  rp.delim = pre.delim;
   rp.name = name;
   check_expansion(c.rows, rp.points, size, name);
 
@@ -553,7 +563,7 @@ Take read_trc_bytes(const uint8_t* data, size_t size, const std::string& name) {
     LineReader rows(data_start, rows_size);
     size_t r = 0;
     while (rows.next(&b, &e)) {
-      if (all_blank(b, e)) continue;
+      if (all_blank(b, e, rp.delim)) continue;
       int64_t fn;
       double time;
       rp.parse(b, e, pre.data_line0 + rows.number() - 1, r, &fn, &time,
@@ -574,103 +584,6 @@ Take read_trc(const std::string& path) {
 
 std::unique_ptr<FrameSource> open_trc_frames(const std::string& path) {
   return std::unique_ptr<FrameSource>(new TRCSource(path));
-}
-
-namespace trc {
-
-std::string header_text(const Take& take, const std::string& path) {
-  const TRCExtra* x = take.trc.get();
-  const size_t F = take.frames, N = take.points;
-  const double rate = take.rate;
-  std::string s;
-  s.reserve(64 + N * 32);
-  if (x && !x->path_file_type_line.empty()) {
-    s += x->path_file_type_line;
-  } else {
-    s += "PathFileType\t4\t(X/Y/Z)\t";
-    s += std::filesystem::path(path).filename().string();
-  }
-  s += "\nDataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\tOrigDataRate\tOrigDataStartFrame\t"
-       "OrigNumFrames\n";
-  s += format_decimal(rate, 2);
-  s += '\t';
-  s += format_decimal(x && x->camera_rate > 0 ? x->camera_rate : rate, 2);
-  s += '\t' + std::to_string(F) + '\t' + std::to_string(N) + '\t';
-  s += take.units.empty() ? std::string("mm") : take.units;
-  s += '\t';
-  s += format_decimal(x && x->orig_data_rate > 0 ? x->orig_data_rate : rate, 2);
-  s += '\t' + std::to_string(x ? x->orig_data_start_frame : take.first_frame);
-  s += '\t' +
-       std::to_string(x && x->orig_num_frames > 0 ? static_cast<size_t>(x->orig_num_frames) : F);
-  s += "\nFrame#\tTime";
-  for (size_t p = 0; p < N; ++p) {
-    s += '\t';
-    const std::string& l = p < take.labels.size() ? take.labels[p] : std::string();
-    s += l.empty() ? "M" + std::to_string(p + 1) : l;
-    s += "\t\t";
-  }
-  s += "\n\t";
-  for (size_t p = 0; p < N; ++p) {
-    std::string i = std::to_string(p + 1);
-    s += "\tX" + i + "\tY" + i + "\tZ" + i;
-  }
-  s += "\n\n";
-  return s;
-}
-
-void append_rows(const Take& take, size_t first, size_t count, const double* xyz,
-                 const uint8_t* valid, std::string* out) {
-  const TRCExtra* x = take.trc.get();
-  const size_t F = take.frames, N = take.points;
-  const double rate = take.rate;
-  const int dec = x ? x->decimals : -1;
-  const int tdec = x && x->time_decimals >= 0 ? x->time_decimals : 3;
-  const bool have_times = x && x->times.size() == F;
-  const bool have_numbers = x && x->frame_numbers.size() == F;
-  std::string& s = *out;
-  for (size_t k = 0; k < count; ++k) {
-    const size_t fr = first + k;
-    s += std::to_string(have_numbers ? x->frame_numbers[fr]
-                                     : take.first_frame + static_cast<int64_t>(fr));
-    s += '\t';
-    double t = have_times ? x->times[fr] : (rate > 0 ? static_cast<double>(fr) / rate : 0.0);
-    s += format_decimal(t, tdec);
-    for (size_t p = 0; p < N; ++p) {
-      if (!valid[k * N + p]) {
-        s += "\t\t\t";
-        continue;
-      }
-      const double* v = xyz + (k * N + p) * 3;
-      for (int a = 0; a < 3; ++a) {
-        s += '\t';
-        s += format_decimal_rounded(v[a], dec);  // = format_decimal(v[a], dec) when lossless
-      }
-    }
-    // A closing tab, as OpenSim writes: its reader drops an empty last field, so a row ending
-    // in a gap would otherwise be one field short.
-    s += "\t\n";
-  }
-}
-
-}  // namespace trc
-
-void write_trc(const Take& take, const std::string& path, const WriteOptions& opts) {
-  refuse_ragged(take, "the TRC writer (a TRC row holds a fixed number of markers)", path);
-  const size_t F = take.frames, N = take.points;
-  if (take.xyz.size() != F * N * 3 || take.valid.size() != F * N)
-    fail(ErrorCode::kInternal, path, "take arrays do not match frames x points");
-  // Output is created before formatting so an existing file is refused without work.
-  AtomicFile out(path, opts.overwrite);
-  std::string s = trc::header_text(take, path);
-  constexpr size_t kRows = 256;  // rows formatted between writes
-  for (size_t fr = 0; fr < F; fr += kRows) {
-    const size_t n = std::min(kRows, F - fr);
-    trc::append_rows(take, fr, n, take.xyz.data() + fr * N * 3, take.valid.data() + fr * N, &s);
-    out.write(s.data(), s.size());
-    s.clear();
-  }
-  out.write(s.data(), s.size());
-  out.commit();
 }
 
 }  // namespace capz

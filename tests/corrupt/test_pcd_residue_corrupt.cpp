@@ -32,7 +32,7 @@ std::string header(const char* data, const std::string& nl) {
 }
 
 // Frames that use every mode: the writer's own, a shared header of another form with a NaN
-// payload and trailing bytes, an ASCII body with other spellings.
+// payload and trailing bytes, an ASCII body with other spellings, one by column styles.
 std::vector<std::vector<uint8_t>> frames() {
   std::vector<std::vector<uint8_t>> out;
   for (int f = 0; f < 3; ++f) {
@@ -50,6 +50,9 @@ std::vector<std::vector<uint8_t>> frames() {
   }
   const std::string a = header("ascii", "\n") + "1.50 2 3\n4 5e+00 6\n-0 8 9.0\n";
   out.emplace_back(a.begin(), a.end());
+  // Python's repr of each value, NaN in capitals: a body by column styles (5.4.3).
+  const std::string r = header("ascii", "\n") + "0.5 1.0 1.5\n2.0 2.5 3.0\nNaN NaN NaN\n";
+  out.emplace_back(r.begin(), r.end());
   return out;
 }
 

@@ -18,6 +18,7 @@
 #include "coding/lzf.h"
 #include "corrupt/chunk_util.h"
 #include "io/residue/pcd_residue.h"
+#include "io/text_number.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;
@@ -260,4 +261,122 @@ TEST(PcdResidue, BoundedArchivesCarryNoResidue) {
   for (const char* t : {"HASH", "PCDR", "PCDP"})
     EXPECT_EQ(capz_test::find_chunk(a, t), std::string::npos) << t;
   EXPECT_FALSE(capz::original_info(z).hashed);
+}
+
+// The spellings other writers give, pinned against Python 3 (repr, "%.8g", "%.18e", "%.6f",
+// "%.10g" of each float32 widened to a double; the shortest float32 text in repr's layout as
+// data/make_ascii_pcd.py's shortest_f32 finds it).
+TEST(TextNumber, StylesSpellNumbersAsTheirWriters) {
+  struct Case {
+    float v;
+    const char *repr, *f32, *g8, *e18, *f6, *g10;
+  };
+  const Case cases[] = {
+      {-0.059286266565322876f, "-0.059286266565322876", "-0.059286267", "-0.059286267",
+       "-5.928626656532287598e-02", "-0.059286", "-0.05928626657"},
+      {1e-5f, "9.999999747378752e-06", "1e-05", "9.9999997e-06", "9.999999747378751636e-06",
+       "0.000010", "9.999999747e-06"},
+      {3.0f, "3.0", "3.0", "3", "3.000000000000000000e+00", "3.000000", "3"},
+      {1e16f, "1.0000000272564224e+16", "1e+16", "1e+16", "1.000000027256422400e+16",
+       "10000000272564224.000000", "1.000000027e+16"},
+      {123456.78f, "123456.78125", "123456.78", "123456.78", "1.234567812500000000e+05",
+       "123456.781250", "123456.7812"},
+      {-0.0f, "-0.0", "-0.0", "-0", "-0.000000000000000000e+00", "-0.000000", "-0"},
+      {0.1f, "0.10000000149011612", "0.1", "0.1", "1.000000014901161194e-01", "0.100000",
+       "0.1000000015"},
+      {2.5e-38f, "2.4999999777439474e-38", "2.5e-38", "2.5e-38", "2.499999977743947414e-38",
+       "0.000000", "2.499999978e-38"}};
+  auto spelt = [](float v, uint8_t style, uint8_t p) {
+    std::string s;
+    capz::append_styled(v, true, style, p, &s);
+    return s;
+  };
+  for (const Case& c : cases) {
+    EXPECT_EQ(spelt(c.v, capz::kStylePythonDouble, 0), c.repr);
+    EXPECT_EQ(spelt(c.v, capz::kStylePythonShortest, 0), c.f32);
+    EXPECT_EQ(spelt(c.v, capz::kStyleG, 8), c.g8);
+    EXPECT_EQ(spelt(c.v, capz::kStyleE, 18), c.e18);
+    EXPECT_EQ(spelt(c.v, capz::kStyleF, 6), c.f6);
+    EXPECT_EQ(spelt(c.v, capz::kStyleG, 10), c.g10);
+  }
+  EXPECT_EQ(spelt(0.5f, capz::kStyleShortest, 0), "0.5");
+}
+
+namespace {
+
+// An organized W x H ascii frame in one writer's spelling: x y z F4, rgb U4, intensity F4,
+// normals F4, label U2; every 7th pixel a miss (NaN position and normal, zero rgb and label).
+std::vector<uint8_t> styled_frame(const std::string& conv, int f, size_t w, size_t h) {
+  const std::string nan = conv == "fixed" ? "NaN" : "nan";
+  auto fl = [&](float v) -> std::string {
+    if (std::isnan(v)) return nan;
+    std::string s;
+    if (conv == "pcl") capz::append_styled(v, true, capz::kStyleG, 8, &s);
+    if (conv == "repr") capz::append_styled(v, true, capz::kStylePythonDouble, 0, &s);
+    if (conv == "f32") capz::append_styled(v, true, capz::kStylePythonShortest, 0, &s);
+    if (conv == "savetxt") capz::append_styled(v, true, capz::kStyleE, 18, &s);
+    if (conv == "fixed") capz::append_styled(v, true, capz::kStyleF, 6, &s);
+    return s;
+  };
+  auto in = [&](uint32_t v) { return std::to_string(v); };
+  const std::string N = std::to_string(w * h);
+  std::string t =
+      "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z rgb intensity "
+      "normal_x normal_y normal_z label\nSIZE 4 4 4 4 4 4 4 4 2\nTYPE F F F U F F F F U\nCOUNT 1 "
+      "1 1 1 1 1 1 1 1\nWIDTH " +
+      std::to_string(w) + "\nHEIGHT " + std::to_string(h) + "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " +
+      N + "\nDATA ascii\n";
+  const float q = std::numeric_limits<float>::quiet_NaN();
+  for (size_t v = 0; v < h; ++v)
+    for (size_t u = 0; u < w; ++u) {
+      const size_t i = v * w + u;
+      const bool miss = (i * 7 + static_cast<size_t>(f)) % 11 == 0;
+      const float z = 2.0f + 0.013f * static_cast<float>(u) + 0.007f * static_cast<float>(f);
+      const float x = miss ? q : (static_cast<float>(u) - 20.0f) * z / 52.5f;
+      const float y = miss ? q : (static_cast<float>(v) - 15.0f) * z / 52.5f;
+      const float nx = miss ? q : 0.12f * static_cast<float>(v % 5), ny = miss ? q : -0.3f;
+      const float nz = miss ? q : -std::sqrt(1.0f - nx * nx - ny * ny);
+      t += fl(x) + " " + fl(y) + " " + fl(miss ? q : z) + " " +
+           in(miss ? 0 : 0x102030u + static_cast<uint32_t>(u * 997)) + " " +
+           fl(0.25f + 0.001f * static_cast<float>((u * 31 + v) % 97)) + " " + fl(nx) + " " +
+           fl(ny) + " " + fl(nz) + " " + in(miss ? 0 : 1 + static_cast<uint32_t>(u > w / 2)) + "\n";
+    }
+  return bytes_of(t);
+}
+
+}  // namespace
+
+// An organized sequence in each writer's spelling comes back byte for byte, and its per-frame
+// residue is the column styles and a few exceptions, not the numbers' text.
+TEST(PcdResidue, AsciiBodiesOfOtherWritersAreRegeneratedByColumnStyle) {
+  for (const std::string conv : {"pcl", "repr", "f32", "savetxt", "fixed"}) {
+    std::vector<std::vector<uint8_t>> frames;
+    size_t text = 0;
+    for (int f = 0; f < 3; ++f) {
+      frames.push_back(styled_frame(conv, f, 40, 30));
+      text += frames.back().size();
+    }
+    const Archived a = round_trip(frames);
+    EXPECT_LT(a.pcdp, 3u * 200u) << conv << ": " << a.pcdp << " bytes of PCDP for " << text;
+  }
+}
+
+// Lines the styles do not give (another spelling of one number, aligned columns, a CRLF line,
+// a missing last line end, bytes after the last line) are exceptions and come back.
+TEST(PcdResidue, AsciiStyleExceptionsComeBack) {
+  const std::vector<uint8_t> f = styled_frame("repr", 0, 40, 30);
+  std::string s(f.begin(), f.end());
+  // The start of point line k.
+  auto line = [&](int k) {
+    size_t at = s.find("DATA ascii\n") + 11;
+    for (int i = 0; i < k; ++i) at = s.find('\n', at) + 1;
+    return at;
+  };
+  s.replace(s.find(' ', line(5)), 1, "  ");      // two blanks: the line's own text
+  s.insert(s.find(' ', line(10)), "0");          // x spelt with one more zero
+  s.replace(s.find('\n', line(20)), 1, "\r\n");  // one CRLF
+  std::string t = s;
+  t.pop_back();                       // no line end after the last line
+  const std::string u = s + "\n \n";  // blank lines after the last point
+  round_trip({bytes_of(s), bytes_of(t), bytes_of(u)});
 }

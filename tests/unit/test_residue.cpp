@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 #include <xxhash.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <random>
 #include <string>
@@ -513,6 +515,42 @@ TEST(ResidueTRC, SpellingsLineEndsAndOddRowsRoundTrip) {
   spaced += "1  0.00   1.5  2.5  3.5   4.5  5.5  6.5\n2  0.01   1.5  2.5  3.5   4.5  5.5  6.5\n";
   trc_round_trip(spaced, "space separated");
   EXPECT_LT(clean, 200u);
+}
+
+TEST(ResidueTRC, CommaSeparatedFilesRoundTripAtTheCostOfTheirTabForm) {
+  // The same rows with tabs and as a spreadsheet saves them: commas, every line padded to the
+  // widest line's field count, blank lines of only commas, CRLF.
+  std::string tab_rows, comma_rows;
+  for (int r = 0; r < 40; ++r) {
+    char row[200];
+    std::snprintf(row, sizeof row, "%d\t%.2f\t%.4f\t%.4f\t%.4f\t%.4f\t%.4f\t%.4f\t\n", r + 1,
+                  r * 0.01, 700 + r * 0.3127, 80 - r * 0.0421, 191.5 + r * 0.01, 651.25 + r,
+                  313.5 - r * 0.7, 179.125);
+    tab_rows += row;
+    std::string c = row;
+    std::replace(c.begin(), c.end(), '\t', ',');
+    c.replace(c.size() - 1, 1, "\r\n");
+    if (r == 7) c.insert(c.size() - 2, ",");  // one row a field wider: an exception
+    comma_rows += c;
+  }
+  const size_t tabs = trc_round_trip(kTrcHead + tab_rows, "tabs");
+  const std::string head =
+      "PathFileType,4,(X/Y/Z),x.trc,,,,,\r\n"
+      "DataRate,CameraRate,NumFrames,NumMarkers,Units,,,,\r\n"
+      "100.00,100.00,  4,2,mm,,,,\r\n"
+      "Frame#,Time,A,,,B,,,\r\n"
+      ",,X1,Y1,Z1,X2,Y2,Z2,\r\n"
+      ",,,,,,,,\r\n";
+  const size_t commas = trc_round_trip(head + comma_rows, "commas");
+  // The same rows cost the same: what the commas add is one byte a window (20 here) for the CRLF
+  // line end, the wider row's exception and the padded head lines.
+  EXPECT_LT(commas, tabs + 48) << "tabs " << tabs << ", commas " << commas;
+  // pyomeca's rows: no closing delimiter, a line of commas between two rows, no final line end.
+  trc_round_trip(head +
+                     "1,0,1.5,2.5,3.5,,,\n"
+                     ",,,,,,,\n"
+                     "2,0.01,1.6,2.6,3.6,4.6,5.6,6.6",
+                 "pyomeca");
 }
 
 TEST(ResidueTRC, DamagedResidueThrowsCorruptNeverCrashes) {

@@ -247,3 +247,126 @@ TEST(TextNumber, ShortestFixedAndParse) {
     EXPECT_EQ(back, v);
   }
 }
+
+namespace {
+
+// pyomeca's shape (tests/data/markers.trc there): commas, every line padded to the widest line's
+// field count (2 + 3 x 2 = 8 here, as wide as line 2), a line of only commas after line 5, rows
+// without a closing delimiter, gaps as empty fields.
+const char kCommaFile[] =
+    "PathFileType,4,(X/Y/Z),/home/u/walk.trc,,,,\n"
+    "DataRate,CameraRate,NumFrames,NumMarkers,Units,OrigDataRate,OrigDataStartFrame,OrigNumFrames\n"
+    "100,100,3,2,mm,100,0,3\n"
+    "Frame#,Time,LASI,,,RASI,,\n"
+    ",,X1,Y1,Z1,X2,Y2,Z2\n"
+    ",,,,,,,\n"
+    "1,0,733.7041,80.9832,191.8668,,,\n"
+    "2,0.01, 733.4084 ,81.0119,191.8306,651.5213,313.561,179.0034\n"
+    "3,0.02,,,,651.3495,313.6268,179.0038\n";
+
+std::string slurp(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(f)), {});
+}
+
+}  // namespace
+
+TEST(Trc, ReadsACommaSeparatedFileAsPyomecaWritesIt) {
+  capz::Take t = parse(kCommaFile);
+  ASSERT_EQ(t.frames, 3u);
+  ASSERT_EQ(t.points, 2u);
+  EXPECT_EQ(t.labels, (std::vector<std::string>{"LASI", "RASI"}));
+  EXPECT_DOUBLE_EQ(t.rate, 100.0);
+  EXPECT_EQ(t.units, "mm");
+  EXPECT_EQ(t.trc->orig_data_start_frame, 0);
+  EXPECT_EQ(t.trc->frame_numbers, (std::vector<int64_t>{1, 2, 3}));
+  EXPECT_EQ(t.trc->times[2], 0.02);
+  EXPECT_TRUE(t.is_valid(0, 0));
+  EXPECT_FALSE(t.is_valid(0, 1));
+  EXPECT_FALSE(t.is_valid(2, 0));
+  EXPECT_EQ(t.at(1, 0)[0], 733.4084);  // blanks around a field are trimmed
+  EXPECT_EQ(t.at(2, 1)[2], 179.0038);
+  EXPECT_TRUE(t.warnings.empty()) << t.warnings.front();
+  EXPECT_EQ(t.trc->path_file_type_line, "PathFileType,4,(X/Y/Z),/home/u/walk.trc,,,,");
+}
+
+TEST(Trc, ABlankSeparatedLineOnePaddedWithCommasMakesACommaFile) {
+  // OpenSim's constraintTest.trc starts "PathFileType  4\t(X/Y/Z) ..."; a spreadsheet without
+  // tabs keeps such a line whole and pads it with commas.
+  std::string text = kCommaFile;
+  text.replace(0, text.find('\n'), "PathFileType  4 (X/Y/Z) walk.trc,,,,,,,");
+  capz::Take t = parse(text);
+  EXPECT_EQ(t.points, 2u);
+  EXPECT_EQ(t.at(2, 1)[2], 179.0038);
+}
+
+TEST(Trc, ACommaInAFieldOfATabFileIsText) {
+  // Only a comma right after PathFileType makes a comma-separated file.
+  std::string text = kTabFile;
+  text.replace(text.find("walk.trc"), 8, "walk,2.trc");
+  capz::Take t = parse(text);
+  EXPECT_EQ(t.points, 2u);
+  EXPECT_EQ(t.labels[0], "LASI");
+}
+
+TEST(Trc, WriterKeepsTheCommaFormOrWritesTheOneAsked) {
+  capz::Take t = parse(kCommaFile);
+  TempDir tmp;
+  const std::string kept = (tmp.path() / "kept.trc").string();
+  capz::write_trc(t, kept);
+  const std::string s = slurp(kept);
+  // Every line padded to the same 8 fields; the PathFileType line as read.
+  EXPECT_EQ(s.substr(0, s.find('\n')), "PathFileType,4,(X/Y/Z),/home/u/walk.trc,,,,");
+  size_t lines = 0;
+  for (size_t at = 0; at < s.size(); at = s.find('\n', at) + 1, ++lines) {
+    const std::string line = s.substr(at, s.find('\n', at) - at);
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 7) << line;
+  }
+  EXPECT_EQ(lines, 9u);
+  EXPECT_NE(s.find("\n,,,,,,,\n1,0.00,733.7041,80.9832,191.8668,,,\n"), std::string::npos) << s;
+  capz::Take u = capz::read_trc(kept);
+  expect_same_samples(t, u);
+  EXPECT_EQ(u.trc->times, t.trc->times);
+
+  // Asked for tabs: OpenSim's form, line 1 re-joined with tabs and its padding dropped.
+  capz::WriteOptions o;
+  o.trc_delimiter = '\t';
+  const std::string tabs = (tmp.path() / "tabs.trc").string();
+  capz::write_trc(t, tabs, o);
+  const std::string st = slurp(tabs);
+  EXPECT_EQ(st.find(','), std::string::npos) << st;
+  EXPECT_EQ(st.substr(0, st.find('\n')), "PathFileType\t4\t(X/Y/Z)\t/home/u/walk.trc");
+  capz::Take v = capz::read_trc(tabs);
+  expect_same_samples(t, v);
+
+  // And back to commas from the tab take: the same bytes as the comma take gave.
+  o.trc_delimiter = ',';
+  const std::string again = (tmp.path() / "again.trc").string();
+  capz::write_trc(v, again, o);
+  EXPECT_EQ(slurp(again), s);
+
+  o.trc_delimiter = ';';
+  EXPECT_EQ(capz_test::error_of([&] { capz::write_trc(t, (tmp.path() / "x.trc").string(), o); }),
+            ErrorCode::kInvalidParameter);
+}
+
+TEST(Trc, CommaFormOfATakeWithoutTrcMetadataIsPaddedToItsWidestLine) {
+  capz::Take t;
+  t.resize(2, 1);
+  t.rate = 50;
+  t.units = "m";
+  t.labels = {"A"};
+  t.at(0, 0)[0] = 1.5;
+  t.valid[0] = 1;
+  TempDir tmp;
+  capz::WriteOptions o;
+  o.trc_delimiter = ',';
+  const std::string out = (tmp.path() / "one.trc").string();
+  capz::write_trc(t, out, o);
+  const std::string s = slurp(out);
+  // One point: line 2's eight keys are the widest line.
+  EXPECT_EQ(s.substr(0, s.find('\n')), "PathFileType,4,(X/Y/Z),one.trc,,,,");
+  EXPECT_NE(s.find("\n1,0.000,1.5,0,0,,,\n2,0.020,,,,,,\n"), std::string::npos) << s;
+  capz::Take u = capz::read_trc(out);
+  expect_same_samples(t, u);
+}

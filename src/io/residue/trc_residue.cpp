@@ -7,6 +7,7 @@
 
 #include "capz/error.h"
 #include "coding/bytes.h"
+#include "io/residue/mode.h"
 #include "io/residue/pack.h"
 #include "io/residue/windows.h"
 #include "io/text_number.h"
@@ -42,19 +43,22 @@ struct Row {
   std::string ending;
 };
 
-// The TRC reader's blank characters (trc.cpp is_blank): a line of only these is not a row.
-bool blank_char(char c) {
-  return c == ' ' || c == '\t' || c == '\r' || c == '\0' || c == '\f' || c == '\v';
+// The TRC reader's blank characters (trc.cpp is_blank, and a comma-separated file's commas): a
+// line of only these is not a row.
+bool blank_char(char c, char delim) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\0' || c == '\f' || c == '\v' ||
+         (delim == ',' && c == ',');
 }
 
-Row split_row(const char* b, const char* e) {
+// A row's line split at `delim` (the take's: trc::take_delimiter).
+Row split_row(const char* b, const char* e, char delim) {
   const char* nl = static_cast<const char*>(std::memchr(b, '\n', static_cast<size_t>(e - b)));
   const char* ce = nl ? nl : e;
   while (ce > b && ce[-1] == '\r') --ce;
   Row r;
   r.ending.assign(ce, e);
   for (const char* s = b;;) {
-    const char* t = std::find(s, ce, '\t');
+    const char* t = std::find(s, ce, delim);
     r.fields.emplace_back(s, t);
     if (t == ce) break;
     s = t + 1;
@@ -67,14 +71,6 @@ uint64_t decimals_of(const std::string& s) {
   if (s.find_first_of("eE") != std::string::npos) return 0;
   const size_t dot = s.find('.');
   return dot == std::string::npos ? 0 : s.size() - dot - 1;
-}
-
-template <typename K>
-K mode(const std::map<K, size_t>& counts, K fallback) {
-  size_t best = 0;
-  for (const auto& kv : counts)
-    if (kv.second > best) best = kv.second, fallback = kv.first;
-  return fallback;
 }
 
 // The fields the model predicts for row k of `b` (frame b.first + k of `t`). `exact` false (an
@@ -180,6 +176,7 @@ TRCResidueEncoder::TRCResidueEncoder(const std::string& path, const Take& header
   // One pass over the file a chunk at a time: past the BOM and five lines, then the start of
   // every non-blank line.
   const uint64_t size = in_.size();
+  const char delim = trc::take_delimiter(header);
   std::vector<char> buf(size_t{1} << 20);
   size_t lines = 0;
   bool line_start = true, blank = true;
@@ -194,7 +191,7 @@ TRCResidueEncoder::TRCResidueEncoder(const std::string& path, const Take& header
         if (lines >= 5 && !blank) offsets_.push_back(start);
         ++lines;
         line_start = true;
-      } else if (!blank_char(c)) {
+      } else if (!blank_char(c, delim)) {
         blank = false;
       }
     }
@@ -214,9 +211,10 @@ std::vector<uint8_t> TRCResidueEncoder::window(const FrameBlock& block, bool exa
   text_.resize(static_cast<size_t>(b1 - b0));
   in_.read_at(b0, &text_[0], text_.size());
   std::vector<Row> rows;
+  const char delim = trc::take_delimiter(header_);
   for (size_t k = 0; k < block.frames; ++k)
     rows.push_back(split_row(text_.data() + (offsets_[block.first + k] - b0),
-                             text_.data() + (offsets_[block.first + k + 1] - b0)));
+                             text_.data() + (offsets_[block.first + k + 1] - b0), delim));
   const RowModel m = choose_model(rows, header_, block);
   ByteWriter w;
   w.varint(text_.size());
@@ -269,7 +267,7 @@ std::vector<uint8_t> TRCResidueEncoder::window(const FrameBlock& block, bool exa
 std::vector<uint8_t> TRCResidueEncoder::file_part() {
   std::vector<uint8_t> head(static_cast<size_t>(offsets_.front()));
   in_.read_at(0, head.data(), head.size());
-  const std::string dict = trc::header_text(header_, in_.path());
+  const std::string dict = trc::header_text(header_, in_.path(), trc::take_delimiter(header_));
   ByteWriter out;
   out.u8(kKindTRC);
   pack(head, std::vector<uint8_t>(dict.begin(), dict.end()), out);
@@ -284,7 +282,7 @@ TRCResidueDecoder::TRCResidueDecoder(const uint8_t* data, size_t size, const Tak
   const std::string what = name + ": TRC residue";
   ByteReader in(data, size, what);
   if (in.u8() != kKindTRC) fail(ErrorCode::kCorrupt, what, "not a TRC residue");
-  const std::string dict = trc::header_text(header, name);
+  const std::string dict = trc::header_text(header, name, trc::take_delimiter(header));
   head_ = unpack(in, std::vector<uint8_t>(dict.begin(), dict.end()),
                  file_size ? file_size : UINT64_MAX);
   // A window payload: the model (a varint a column, gap and ending text) and exceptions, whose
@@ -319,6 +317,7 @@ void TRCResidueDecoder::window(const FrameBlock& block, const uint8_t* payload, 
   uint64_t exceptions = in.count(2, "exceptions");
   uint64_t next_ex = exceptions ? in.varint() : block.frames;
   std::vector<std::string> fields;
+  const char delim = trc::take_delimiter(header_);
   for (size_t k = 0; k < block.frames; ++k) {
     predict(m, header_, block, k, &fields, exact);
     std::string ending = m.ending;
@@ -345,7 +344,7 @@ void TRCResidueDecoder::window(const FrameBlock& block, const uint8_t* payload, 
       next_ex = exceptions ? next_ex + step : block.frames;
     }
     for (size_t i = 0; i < fields.size(); ++i) {
-      if (i) out->push_back('\t');
+      if (i) out->push_back(static_cast<uint8_t>(delim));
       out->insert(out->end(), fields[i].begin(), fields[i].end());
     }
     out->insert(out->end(), ending.begin(), ending.end());

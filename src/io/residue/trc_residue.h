@@ -5,12 +5,13 @@
 // span runs from its first byte to the next row's (its line end and any blank lines after it
 // included; the last row's runs to the end of the file). Each window regenerates its rows from
 // the decoded values with a row model chosen for the window and stored in its payload: fields
-// joined by tabs, the frame number as an integer, the time and each coordinate column with the
-// window's most frequent number of decimals (capz's format_decimal: the shortest text that parses
-// back, padded with zeros), gaps spelled as the window's most frequent gap field ("", "NaN",
-// "       NaN"), the most frequent count of empty trailing fields and line end. Rows that differ
-// store exceptions: the fields whose text differs, a different line end, or (when the field
-// count differs) the whole line. Byte layout: docs/FORMAT.md 7, 14.
+// joined by the take's delimiter (trc::take_delimiter: a tab, or a comma), the frame number as an
+// integer, the time and each coordinate column with the window's most frequent number of decimals
+// (capz's format_decimal: the shortest text that parses back, padded with zeros), gaps spelled as
+// the window's most frequent gap field ("", "NaN", "       NaN"), the most frequent count of empty
+// trailing fields and line end. Rows that differ store exceptions: the fields whose text differs, a
+// different line end, or (when the field count differs) the whole line. Byte layout:
+// docs/FORMAT.md 7.2, 14.2, 14.5.
 #pragma once
 
 #include <cstddef>
