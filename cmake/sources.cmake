@@ -77,12 +77,14 @@ set(CAPZ_DECODE_SOURCES
   src/io/ply_folder.cpp
   src/io/residue/c3d_residue.cpp
   src/io/residue/pack.cpp
+  src/io/residue/pcd_ascii.cpp
   src/io/residue/patch.cpp
   src/io/residue/pcd_residue.cpp
   src/io/residue/trc_residue.cpp
   src/io/residue/windows.cpp
   src/io/text_number.cpp
   src/io/trc.cpp
+  src/io/trc_write.cpp
   src/metrics/metrics.cpp
   src/metrics/promise.cpp
 )
