@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <string>
 
-#include "capz/file.h"
+#include "capz/tool/file.h"
 #include "capz/io.h"
 #include "test_util.h"
 
