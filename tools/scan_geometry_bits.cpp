@@ -3,61 +3,96 @@
 // step 2 x bound (rounding to the nearest grid point, so the error is at most the bound in
 // metres), NaN points kept as gaps; the payload is decoded and compared with the integers.
 //
-//   scan_geometry_bits [--bound M]... [--no-ring] [--window F] [--dump N] PATH...
+//   scan_geometry_bits [--bound M]... [--no-ring] [--window F] [--dump N] [--breakdown]
+//                      PATH...
 //
 // --bound: bounds in metres (default 0.001 and 0.01); --no-ring: ignore the ring / channel
 // field (the coder then infers the rings); --window: frames per window (default: all);
-// --dump: print the first N points of each sequence's first frame in polar form.
+// --dump: print the first N points of each sequence's first frame in polar form; --breakdown:
+// bits per point of each kind of symbol (ring, column, range, x, y, z), step divisor 4.
 // Prints one line per sequence and bound: points, payload bytes, bits per point, encode and
 // decode milliseconds. Exits 1 when a round trip is not exact.
+#include <dirent.h>
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/io/pcd_io.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <dirent.h>
+#include <memory>
 #include <string>
-#include <sys/stat.h>
 #include <vector>
 
 #include "capz/error.h"
 #include "coding/scan_geometry.h"
+#include "coding/scan_table.h"
 
 namespace {
 
+bool show_breakdown = false;
+
 struct Frame {
-  std::vector<double> xyz;      // points x 3, NaN kept
-  std::vector<uint32_t> ring;   // the ring / channel field, or empty
+  std::vector<double> xyz;     // points x 3, NaN kept
+  std::vector<uint32_t> ring;  // the ring / channel field, or empty
 };
 
 // A field's value as a double (any PCD type), from a point's bytes.
 double field_value(const pcl::PCLPointField& f, const uint8_t* p) {
   p += f.offset;
   switch (f.datatype) {
-    case pcl::PCLPointField::INT8: return *reinterpret_cast<const int8_t*>(p);
-    case pcl::PCLPointField::UINT8: return *p;
-    case pcl::PCLPointField::INT16: { int16_t v; std::memcpy(&v, p, 2); return v; }
-    case pcl::PCLPointField::UINT16: { uint16_t v; std::memcpy(&v, p, 2); return v; }
-    case pcl::PCLPointField::INT32: { int32_t v; std::memcpy(&v, p, 4); return v; }
-    case pcl::PCLPointField::UINT32: { uint32_t v; std::memcpy(&v, p, 4); return v; }
-    case pcl::PCLPointField::FLOAT32: { float v; std::memcpy(&v, p, 4); return v; }
-    case pcl::PCLPointField::FLOAT64: { double v; std::memcpy(&v, p, 8); return v; }
-    default: return NAN;
+    case pcl::PCLPointField::INT8:
+      return *reinterpret_cast<const int8_t*>(p);
+    case pcl::PCLPointField::UINT8:
+      return *p;
+    case pcl::PCLPointField::INT16: {
+      int16_t v;
+      std::memcpy(&v, p, 2);
+      return v;
+    }
+    case pcl::PCLPointField::UINT16: {
+      uint16_t v;
+      std::memcpy(&v, p, 2);
+      return v;
+    }
+    case pcl::PCLPointField::INT32: {
+      int32_t v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case pcl::PCLPointField::UINT32: {
+      uint32_t v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case pcl::PCLPointField::FLOAT32: {
+      float v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case pcl::PCLPointField::FLOAT64: {
+      double v;
+      std::memcpy(&v, p, 8);
+      return v;
+    }
+    default:
+      return NAN;
   }
 }
 
 Frame read_frame(const std::string& path, bool use_ring) {
   pcl::PCLPointCloud2 c;
-  if (pcl::io::loadPCDFile(path, c) != 0) throw capz::Error(capz::ErrorCode::kIo, path + ": unreadable");
+  if (pcl::io::loadPCDFile(path, c) != 0)
+    throw capz::Error(capz::ErrorCode::kIo, path + ": unreadable");
   const pcl::PCLPointField* f[4] = {nullptr, nullptr, nullptr, nullptr};
   for (const auto& fd : c.fields) {
     if (fd.name == "x") f[0] = &fd;
     if (fd.name == "y") f[1] = &fd;
     if (fd.name == "z") f[2] = &fd;
-    if (use_ring && (fd.name == "ring" || fd.name == "channel" || fd.name == "laser_id")) f[3] = &fd;
+    if (use_ring && (fd.name == "ring" || fd.name == "channel" || fd.name == "laser_id"))
+      f[3] = &fd;
   }
   if (!f[0] || !f[1] || !f[2]) throw capz::Error(capz::ErrorCode::kIo, path + ": no x y z");
   Frame fr;
@@ -88,13 +123,79 @@ std::vector<std::string> list_frames(const std::string& path) {
   return out;
 }
 
+// --breakdown: the bytes each kind of symbol takes when every frame that can be is coded
+// spherically (each kind through its own range coder with the coder's contexts).
+class BreakdownIo {
+ public:
+  BreakdownIo(const capz::ScanGeometry& g, const std::vector<capz::scan::Polar>& polar)
+      : g_(g), polar_(polar) {
+    for (auto& e : enc_) e.reset(new capz::IntEncoder(capz::scan::kContexts));
+  }
+  int32_t sym(int32_t actual, int32_t pred, int ctx) {
+    put(capz::zigzag(capz::wrap_sub(actual, pred)), ctx);
+    return actual;
+  }
+  uint32_t ring(uint32_t d, uint32_t, int ctx) { return put(d, ctx), d; }
+  bool flag(bool v, int ctx) { return put(v, ctx), v; }
+  capz::scan::Polar polar(size_t i) const { return polar_[i]; }
+  const int32_t* actual(size_t i) const { return &g_.q[3 * i]; }
+  bool actual_valid(size_t i) const { return g_.valid[i] != 0; }
+  void print(size_t points) {
+    using namespace capz::scan;
+    const char* names[8] = {"valid", "ring", "column", "range", "x", "y", "z", "cartesian"};
+    std::printf("  bits/pt:");
+    for (int k = 0; k < 8; ++k) {
+      const size_t n = enc_[k]->finish().size();
+      if (n > 8) std::printf(" %s %.3f", names[k], 8.0 * double(n) / double(points));
+    }
+    std::printf("\n");
+  }
+
+ private:
+  void put(uint32_t u, int ctx) {
+    using namespace capz::scan;
+    const int k = ctx < kCtxRing     ? 0
+                  : ctx < kCtxColumn ? 1
+                  : ctx < kCtxRange  ? 2
+                  : ctx < kCtxX      ? 3
+                  : ctx < kCtxY      ? 4
+                  : ctx < kCtxZ      ? 5
+                  : ctx < kCtxCart   ? 6
+                                     : 7;
+    enc_[k]->put(u, ctx);
+  }
+  const capz::ScanGeometry& g_;
+  const std::vector<capz::scan::Polar>& polar_;
+  std::unique_ptr<capz::IntEncoder> enc_[8];
+};
+
+void breakdown(const capz::ScanGeometry& g, const capz::ScanHints& h) {
+  std::vector<capz::scan::Polar> polar;
+  const capz::scan::Table t = capz::scan::infer_table(g, h, 4.0, &polar);
+  BreakdownIo io(g, polar);
+  capz::scan::State st(t);
+  std::vector<int32_t> q;
+  std::vector<uint8_t> v;
+  size_t first = 0;
+  for (uint32_t n : g.counts) {
+    q.resize(3 * size_t{n});
+    v.resize(n);
+    uint8_t flags = capz::scan::kSomeValid;
+    if (t.rings() > 0 && capz::scan::spherical_ok(g, first, n)) flags |= capz::scan::kSpherical;
+    capz::scan::code_frame(io, st, flags, first, n, q.data(), v.data());
+    first += n;
+  }
+  std::printf("  rings %zu step %g columns %u\n", t.rings(), double(t.step), t.columns);
+  io.print(g.total());
+}
+
 double ms_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 }
 
 // Codes frames [a, b) at bound `bound` as one window; adds to the totals; false if not exact.
-bool code_window(const std::vector<Frame>& frames, size_t a, size_t b, double bound,
-                 size_t* points, size_t* bytes, double* enc_ms, double* dec_ms) {
+bool code_window(const std::vector<Frame>& frames, size_t a, size_t b, double bound, size_t* points,
+                 size_t* bytes, double* enc_ms, double* dec_ms) {
   capz::ScanGeometry g;
   capz::ScanHints h;
   const double step = 2 * bound;
@@ -119,6 +220,7 @@ bool code_window(const std::vector<Frame>& frames, size_t a, size_t b, double bo
   t0 = std::chrono::steady_clock::now();
   const capz::ScanGeometry d = capz::decode_scan_geometry(payload.data(), payload.size(), "scan");
   *dec_ms += ms_since(t0);
+  if (show_breakdown) breakdown(g, h);
   *points += g.valid.size();
   *bytes += payload.size();
   return d.counts == g.counts && d.valid == g.valid && d.q == g.q;
@@ -135,6 +237,8 @@ int main(int argc, char** argv) {
     const std::string a = argv[i];
     if (a == "--bound" && i + 1 < argc) {
       bounds.push_back(std::atof(argv[++i]));
+    } else if (a == "--breakdown") {
+      show_breakdown = true;
     } else if (a == "--no-ring") {
       use_ring = false;
     } else if (a == "--dump" && i + 1 < argc) {
@@ -147,8 +251,8 @@ int main(int argc, char** argv) {
   }
   if (bounds.empty()) bounds = {0.001, 0.01};
   bool exact = true;
-  std::printf("%-28s %7s %9s %10s %8s %8s %8s\n", "sequence", "bound", "points", "bytes",
-              "bits/pt", "enc_ms", "dec_ms");
+  std::printf("%-28s %7s %9s %10s %8s %8s %8s\n", "sequence", "bound", "points", "bytes", "bits/pt",
+              "enc_ms", "dec_ms");
   for (const std::string& p : paths) {
     std::vector<Frame> frames;
     for (const std::string& f : list_frames(p)) frames.push_back(read_frame(f, use_ring));

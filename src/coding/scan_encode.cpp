@@ -71,8 +71,8 @@ uint8_t validity(const ScanGeometry& g, size_t first, size_t n) {
 
 // Bits of frame [first, first + n) under `flags`, from the state st (left unchanged).
 double frame_cost(const scan::State& st, uint8_t flags, const ScanGeometry& g,
-                    const std::vector<scan::Polar>& polar, size_t first, size_t n,
-                    std::vector<int32_t>* q, std::vector<uint8_t>* v) {
+                  const std::vector<scan::Polar>& polar, size_t first, size_t n,
+                  std::vector<int32_t>* q, std::vector<uint8_t>* v) {
   CostSink sink;
   EncodeIo<CostSink> io(&sink, g, polar);
   scan::State trial = st.trial();

@@ -58,8 +58,8 @@ void code_spherical(Io& io, State& st, const Polar& pa, const int32_t* a, Prev* 
   const uint32_t k2 = pv->have ? (2 * pv->ring + rings - pv->before % rings) % rings : 0;
   const int sk = st.ring_score[1] < st.ring_score[0] ? 1 : 0;
   const uint32_t khat = sk ? k2 : k1;
-  const uint32_t d = io.ring((pa.ring + rings - khat) % rings, rings,
-                             kCtxRing + (pv->ring_residual != 0));
+  const uint32_t d =
+      io.ring((pa.ring + rings - khat) % rings, rings, kCtxRing + (pv->ring_residual != 0));
   const uint32_t k = (khat + d) % rings;
   if (pv->have) st.succ[pv->ring] = k;
   ring_score(&st.ring_score[0], k, k1, rings);
@@ -89,7 +89,8 @@ void code_spherical(Io& io, State& st, const Polar& pa, const int32_t* a, Prev* 
   det_sincos(phi, &s, &c);
   const double rho = static_cast<double>(range);
   const int32_t xh = round_clamp(rho * c), yh = round_clamp(rho * s);
-  const int32_t zh = round_clamp(static_cast<double>(t.z0[k]) + static_cast<double>(t.slope[k]) * rho);
+  const int32_t zh =
+      round_clamp(static_cast<double>(t.z0[k]) + static_cast<double>(t.slope[k]) * rho);
   const int lb = std::min(bit_length(range), 23);
   p[0] = io.sym(a[0], xh, kCtxX + lb);
   p[1] = io.sym(a[1], yh, kCtxY + 2 * lb + (p[0] != xh));

@@ -141,8 +141,7 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
 
 State::State(const Table& t)
     : ring(t.rings()), succ(t.rings()), t_(&t), maps_(std::make_shared<Maps>()) {
-  for (size_t k = 0; k < succ.size(); ++k)
-    succ[k] = static_cast<uint32_t>((k + 1) % succ.size());
+  for (size_t k = 0; k < succ.size(); ++k) succ[k] = static_cast<uint32_t>((k + 1) % succ.size());
   const size_t cells = t.rings() * t.columns;
   maps_->prev.assign(cells, 0);
   maps_->cur.assign(cells, 0);

@@ -34,22 +34,22 @@ constexpr int64_t kMaxSphericalCoord = int64_t{1} << 29;
 
 // The laser table: per ring an azimuth offset, a cone slope and a z offset; one azimuth step.
 struct Table {
-  float step = 0;         // radians per column (nonzero when rings > 0)
-  uint32_t columns = 0;   // map columns (the previous sweep's ring x column map), >= 1
+  float step = 0;        // radians per column (nonzero when rings > 0)
+  uint32_t columns = 0;  // map columns (the previous sweep's ring x column map), >= 1
   std::vector<float> azimuth0, slope, z0;  // per ring
   size_t rings() const { return azimuth0.size(); }
 };
 
 // Contexts of the one IntEncoder block.
 enum Ctx : int {
-  kCtxValid = 0,                       // 2: previous point's flag
-  kCtxRing = kCtxValid + 2,            // 2: previous ring residual zero or not
-  kCtxColumn = kCtxRing + 2,           // 8
-  kCtxRange = kCtxColumn + 8,          // 16: the chosen predictor's recent error
-  kCtxX = kCtxRange + 16,              // 24: bit length of the range
-  kCtxY = kCtxX + 24,                  // 48: as X, twice (x residual zero or not)
-  kCtxZ = kCtxY + 48,                  // 24
-  kCtxCart = kCtxZ + 24,               // 3 axes x 8: previous residual's bit length
+  kCtxValid = 0,               // 2: previous point's flag
+  kCtxRing = kCtxValid + 2,    // 2: previous ring residual zero or not
+  kCtxColumn = kCtxRing + 2,   // 8
+  kCtxRange = kCtxColumn + 8,  // 16: the chosen predictor's recent error
+  kCtxX = kCtxRange + 16,      // 24: bit length of the range
+  kCtxY = kCtxX + 24,          // 48: as X, twice (x residual zero or not)
+  kCtxZ = kCtxY + 48,          // 24
+  kCtxCart = kCtxZ + 24,       // 3 axes x 8: previous residual's bit length
   kContexts = kCtxCart + 24,
 };
 

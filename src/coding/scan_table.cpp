@@ -27,6 +27,16 @@ double wrap_pi(double d) {
   return d;
 }
 
+// Point i's azimuth: from the source's coordinates when the hints have them (on a coarse grid a
+// near point's azimuth is uncertain by more than the sensor's step), else from the integers.
+double azimuth(const ScanGeometry& g, const ScanHints& h, size_t i) {
+  if (h.xyz.size() == 3 * g.total()) {
+    const double x = h.xyz[3 * i], y = h.xyz[3 * i + 1];
+    if (std::isfinite(x) && std::isfinite(y)) return std::atan2(y, x);
+  }
+  return std::atan2(double(g.q[3 * i + 1]), double(g.q[3 * i]));
+}
+
 // Dense ring numbers 0..K-1 from the hint's values (sorted); K = 0 when there is no usable hint.
 size_t dense_rings(const ScanGeometry& g, const ScanHints& h, std::vector<uint32_t>* ring) {
   ring->assign(g.total(), 0);
@@ -75,13 +85,14 @@ size_t elevation_rings(const ScanGeometry& g, const std::vector<float>& xyz,
   // Smoothed over 3 bins; a peak is the largest within 3 bins either side and holds at least
   // 0.1% of the counted points.
   std::vector<double> s(kBins, 0.0);
-  for (int b = 1; b + 1 < kBins; ++b) s[size_t(b)] = h[size_t(b - 1)] + 2 * h[size_t(b)] + h[size_t(b + 1)];
+  for (int b = 1; b + 1 < kBins; ++b)
+    s[size_t(b)] = h[size_t(b - 1)] + 2 * h[size_t(b)] + h[size_t(b + 1)];
   double counted = 0;
   for (double v : h) counted += v;
   std::vector<double> peaks;
   for (int b = 3; b + 3 < kBins; ++b) {
     const double v = s[size_t(b)];
-    if (v < 4 * 0.001 * counted || v < 4) continue;
+    if (v < 4 * 0.0002 * counted || v < 32) continue;
     bool top = true;
     for (int o = -3; o <= 3 && top; ++o)
       if (o != 0 && (s[size_t(b + o)] > v || (o < 0 && s[size_t(b + o)] == v))) top = false;
@@ -158,7 +169,7 @@ Table infer_table(const ScanGeometry& g, const ScanHints& hints, double step_div
     const double x = p[0], y = p[1];
     rho[ring[i]].push_back(std::hypot(x, y));
     z[ring[i]].push_back(p[2]);
-    phi[ring[i]].push_back(std::atan2(y, x));
+    phi[ring[i]].push_back(azimuth(g, hints, i));
   }
   double step = infer_step(phi) / step_divisor;
   if (step == 0 || !std::isfinite(step)) return t;
@@ -182,7 +193,7 @@ Table infer_table(const ScanGeometry& g, const ScanHints& hints, double step_div
     const double x = p[0], y = p[1];
     Polar& o = (*polar)[i];
     o.ring = ring[i];
-    o.column = round_clamp((std::atan2(y, x) - t.azimuth0[ring[i]]) / step);
+    o.column = round_clamp((azimuth(g, hints, i) - t.azimuth0[ring[i]]) / step);
     o.range = round_clamp(std::hypot(x, y));
   }
   return t;

@@ -158,7 +158,8 @@ TEST(ScanGeometry, GivenDamagedPayloadsWhenDecodedThenErrorOrValues) {
   std::mt19937 rng(6);
   for (int t = 0; t < 1500; ++t) {
     std::vector<uint8_t> d = p;
-    for (int k = 0; k < 1 + t % 3; ++k) d[rng() % d.size()] ^= static_cast<uint8_t>(1 + rng() % 255);
+    for (int k = 0; k < 1 + t % 3; ++k)
+      d[rng() % d.size()] ^= static_cast<uint8_t>(1 + rng() % 255);
     try {
       const ScanGeometry r = decode_scan_geometry(d.data(), d.size(), "flipped", 1 << 20);
       size_t total = 0;
