@@ -53,14 +53,15 @@ size_t dense_rings(const ScanGeometry& g, const ScanHints& h, std::vector<uint32
 }
 
 // Rings from the points' elevations, for a source without a ring field: the peaks of the
-// elevation histogram of the farther half of the points (where a laser's z offset moves the
-// elevation least), each point then given to the nearest peak. 0 when there are no points.
+// elevation histogram of all points, each point then given to the nearest peak. 0 when there
+// are no points. (The farther half or quarter alone, where a laser's z offset moves the
+// elevation least, found fewer rings: docs/lab/2026-11-28-scan-geometry.md.)
 size_t elevation_rings(const ScanGeometry& g, const std::vector<float>& xyz,
                        std::vector<uint32_t>* ring) {
   const bool fine = xyz.size() == 3 * g.total();
   constexpr double kBin = 0.0002;  // radians (about 0.011 degrees)
   constexpr int kBins = static_cast<int>(3.2 / kBin);
-  std::vector<double> rho, el;
+  std::vector<double> el;
   std::vector<size_t> idx;
   for (size_t i = 0; i < g.total(); ++i) {
     const int32_t* p = &g.q[3 * i];
@@ -70,18 +71,13 @@ size_t elevation_rings(const ScanGeometry& g, const std::vector<float>& xyz,
       for (int a = 0; a < 3; ++a) v[a] = xyz[3 * i + size_t(a)];
     const double r = std::hypot(v[0], v[1]);
     if (!(r > 0) || !std::isfinite(v[2])) continue;
-    rho.push_back(r);
     el.push_back(std::atan2(v[2], r));
     idx.push_back(i);
   }
   if (el.empty()) return 0;
-  std::vector<double> sorted = rho;
-  std::nth_element(sorted.begin(), sorted.begin() + long(sorted.size() / 2), sorted.end());
-  const double far = sorted[sorted.size() / 2];
   std::vector<double> h(kBins, 0.0);
   auto bin = [&](double e) { return std::min(kBins - 1, std::max(0, int((e + 1.6) / kBin))); };
-  for (size_t j = 0; j < el.size(); ++j)
-    if (rho[j] >= far) h[size_t(bin(el[j]))] += 1;
+  for (double e : el) h[size_t(bin(e))] += 1;
   // Smoothed over 3 bins; a peak is the largest within 3 bins either side and holds at least
   // 0.1% of the counted points.
   std::vector<double> s(kBins, 0.0);
