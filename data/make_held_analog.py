@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes data/held_analog.c3d: a small synthetic C3D whose accelerometer channels were written
 into the analog block by sample and hold from a slower sensor, as EMG systems with inertial
-sensors do (c3d.org's EMG Data Cometa.c3d; issue #13, docs/FORMAT.md 9.4).
+sensors do (c3d.org's EMG Data Cometa.c3d; issue #13, docs/FORMAT.md 11.5).
 
 12 markers x 60 frames at 100 Hz (a ring turning and bobbing, mm, float32 storage, no gaps) and
 5 analog channels at 2000 Hz (20 samples a point frame), written by capz's own C3D writer through

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Writes data/repeat_analog.c3d: a small synthetic C3D whose analog channels repeat whole analog
-frames, as a wireless device does when a packet comes late (issue #13, docs/FORMAT.md 7.2).
+frames, as a wireless device does when a packet comes late (issue #13, docs/FORMAT.md 11.3).
 
 12 markers x 80 frames at 100 Hz (a ring turning and bobbing, mm, float32 storage, no gaps) and
 6 analog channels at 1000 Hz (10 samples a point frame), written by capz's own C3D writer through

@@ -7,7 +7,7 @@ pkgs=(build-essential cmake ccache pkg-config
       libxxhash-dev libzstd-dev liblzma-dev pybind11-dev python3-dev python3-pytest
       clang libclang-rt-14-dev clang-format
       xz-utils zstd zfp fpzip-utils draco flac wavpack python3 python3-matplotlib python3-numpy
-      parallel)
+      parallel slurm-wlm munge)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -21,9 +21,9 @@
 // auto_window_frames(points) point frames (1024 to 8192, codec.h) and repeat lists only when the
 // encoder's scan asks for them; the figures a user of the CLI gets.
 // --whole-frames rounds each window down to whole point frames of the take (at least one);
-// --repeats does too and codes as a 7.x stream does (FORMAT.md 7.2: channels may name repeated
+// --repeats does too and codes as a 7.x stream does (FORMAT.md 11.3: channels may name repeated
 // analog frames), so the two compare the repeat lists alone. Windows are coded as in a 9.x
-// stream (FORMAT.md 8.2 and 9.2), which capz writes for every take with analog channels;
+// stream (FORMAT.md 11.7 and 11.4), which capz writes for every take with analog channels;
 // --before92 codes them as 9.1 streams did, --before91 as 9.0 streams did, --before9 as 8.x
 // streams did, --before8 as earlier streams did.
 #include <algorithm>
@@ -88,8 +88,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 // repeat_S: the samples per point frame when coding as 7.x (window a multiple of it), else 0.
-// Code as a 9.2 stream does (FORMAT.md 8.2: rank tables against a lattice; 9.1: the float
-// predictors; 9.2: interpolated samples; 9.3: constant predictors; 9.4: held samples), as capz
+// Code as a 9.2 stream does (FORMAT.md 11.7: rank tables against a lattice; 11.9: the float
+// predictors; 11.4: interpolated samples; 11.8: constant predictors; 11.5: held samples), as capz
 // writes every take with analog channels; --before92 codes as 9.1 streams, --before91 as 9.0
 // streams, --before9 as 8.x streams, --before8 as the streams before 8.0.
 capz::FormatVersion g_format = capz::kFormatNewestWritten;

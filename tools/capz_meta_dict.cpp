@@ -1,5 +1,5 @@
 // capz_meta_dict [--dict FILE] FILE.capz...
-// What a preset dictionary gives META (docs/FORMAT.md 8.1), on the META of .capz streams that
+// What a preset dictionary gives META (docs/FORMAT.md 5.8), on the META of .capz streams that
 // capz wrote. Per stream, one tab-separated line:
 //   file  payload  coding  fields  lzma2  dict1  [dictfile]
 // payload: the META chunk's payload bytes as written; coding: its coding (0-3); fields: the bytes

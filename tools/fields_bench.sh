@@ -20,7 +20,7 @@ mkdir -p "$work"
 [ -d "$work/depth" ] || $py "$gen" depth "$shared/pcd/horse-gallop" "$work/depth" --frames 40 --width 160 --height 120
 [ -d "$work/lidar" ] || $py "$gen" lidar "$work/lidar" --frames 40 --rings 16 --steps 720
 # A driven LiDAR (points in sensor order, the scene sliding by) with a reflectivity field: where
-# ATTR's nearest-earlier-point predictors (FORMAT.md 7.3) have something to find.
+# ATTR's nearest-earlier-point predictors (FORMAT.md 13.5) have something to find.
 [ -d "$work/lidar_drive" ] || $py "$gen" lidar "$work/lidar_drive" --frames 40 --rings 16 --steps 720 \
   --order azimuth --drive 0.5 --reflectivity
 echo "| sequence | frames x points | fields | frames (bytes) | xz -9e | zstd -19 | capz lossless | x xz | capz 0.001 | x xz | fields share (lossless) | encode s | decode s |"

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Builds a preset dictionary for META coding 3 (docs/FORMAT.md 8.1) from C3D files.
+"""Builds a preset dictionary for META coding 3 (docs/FORMAT.md 5.8) from C3D files.
 
   make_meta_dict.py OUT.bin [--min-files K] [--list] FILE.c3d ...
 

@@ -12,7 +12,7 @@ Usage (repository root, after a Release build in build/):
    KG error lands at or just under the target (KG measured by build/tools/capz_metrics), and
    against `capz compress --kg-error` through the container without a transform (the bound-layer
    coder: its grid meets the target) and with `--codec ts` (a transform-output stream: ts's
-   reconstruction is the output, FORMAT.md 3.1; whole .capz file).
+   reconstruction is the output, FORMAT.md 4.3; whole .capz file).
 Everything is printed as markdown tables (and written to OUT/ts_bench.md).
 """
 import argparse

@@ -15,7 +15,7 @@ size_t rotations_per_frame(const capz::StreamInfo& si) {
 }
 
 // The analog line: channels, samples per frame, and the lossy ones grouped by bound and unit, in
-// channel order (FORMAT.md 5.2).
+// channel order (FORMAT.md 5.7).
 std::string analog_text(const capz::StreamInfo& si) {
   std::vector<std::pair<std::string, std::vector<std::string>>> groups;
   size_t lossy = 0;
@@ -71,7 +71,7 @@ void print_json(const std::string& path, size_t size, const capz::StreamInfo& si
   j.member("windows", static_cast<uint64_t>(si.windows));
   j.member("analog_channels", si.analog_channels);
   j.member("analog_samples_per_frame", si.analog_samples_per_frame);
-  j.key("analog_bounds");  // the lossy channels (FORMAT.md 5.2); the others are lossless
+  j.key("analog_bounds");  // the lossy channels (FORMAT.md 5.7); the others are lossless
   j.begin_array();
   for (size_t c = 0; c < si.analog_bounds.size(); ++c)
     if (si.analog_bounds[c] > 0) {
@@ -102,7 +102,7 @@ void print_json(const std::string& path, size_t size, const capz::StreamInfo& si
       if (si.pcd_field_bounds[i] > 0) j.member(si.pcd_fields[i].name, si.pcd_field_bounds[i]);
     j.end_object();
   }
-  // The original file (HASH, FORMAT.md 4.4.1, 5.4): null when the archive records none.
+  // The original file (HASH, FORMAT.md 6): null when the archive records none.
   const capz::OriginalInfo orig = capz::original_info(path);
   j.key("original");
   if (orig.hashed) {

@@ -39,7 +39,7 @@ struct CompressOptions {
   // every field NAME_* ("normal" bounds normal_x, normal_y, normal_z). Fields not named are
   // lossless. A key that names no float field is an error.
   std::map<std::string, double> attr_error;
-  // Bounds for analog channels (docs/FORMAT.md 5.2), each in the channel's physical units
+  // Bounds for analog channels (docs/FORMAT.md 5.7), each in the channel's physical units
   // (ANALOG:UNITS, after ANALOG:SCALE, GEN_SCALE and OFFSET): a key names a channel's label
   // ("Fz1") or a unit ("N", "V"), the label's bound winning over its unit's. Channels not named
   // stay lossless. Keys that name no channel are reported in CompressStats::analog_unmatched.
@@ -137,13 +137,13 @@ struct StreamInfo {
   int rotation_segments = 0, rotation_samples_per_frame = 0;
   double rotation_rate = 0;  // Hz, 0 unknown
   std::vector<std::string> rotation_labels;
-  // A PCD source's frame layout (FORMAT.md 5.3): every field, x y z included (empty when the
+  // A PCD source's frame layout (FORMAT.md 5.5): every field, x y z included (empty when the
   // stream has none), and WIDTH x HEIGHT (height 1: unorganized). The fields other than x y z
   // are coded losslessly (ATTR).
   std::vector<PCDField> pcd_fields;
   std::vector<double> pcd_field_bounds;  // per pcd_fields entry, 0: lossless; empty: all lossless
   size_t pcd_width = 0, pcd_height = 1;
-  // Lossy analog channels (FORMAT.md 5.2), per channel, empty when all are lossless: the bound
+  // Lossy analog channels (FORMAT.md 5.7), per channel, empty when all are lossless: the bound
   // in physical units (0: lossless), the factor from stored to physical units, and the label
   // and unit to name the channel by.
   std::vector<double> analog_bounds, analog_factors;

@@ -1,4 +1,4 @@
-// capz — the original file a .capz records (docs/FORMAT.md 4.4): its size and XXH3-128 hash
+// capz — the original file a .capz records (docs/FORMAT.md 7, 14): its size and XXH3-128 hash
 // (chunk HASH) and the residue that rebuilds it from the decoded take (C3DR/C3DP, TRCR/TRCP).
 #pragma once
 

@@ -76,7 +76,7 @@ class FrameSource {
   // Bytes read from the file so far (0 for sources in memory).
   virtual uint64_t bytes_read() const { return 0; }
   // The path of the original C3D or TRC file (or PCD folder) whose frames read() gives as read
-  // (the encoder then stores its checksum and residue, FORMAT.md 4.4, 5.4); empty for every
+  // (the encoder then stores its checksum and residue, FORMAT.md 7, 14); empty for every
   // other source.
   virtual std::string original_file() const { return std::string(); }
 
@@ -136,7 +136,7 @@ std::unique_ptr<FrameSink> create_frame_sink(const Take& header, bool words,
 
 // Compresses a source window by window into `path` (written atomically, as file.h says). Same
 // bytes as compress() on the whole take, plus, for a source with an original_file(), its HASH
-// and residue chunks (FORMAT.md 4.4). Lossless and --max-error read the source twice (a scan
+// and residue chunks (FORMAT.md 7, 14). Lossless and --max-error read the source twice (a scan
 // that fixes the grid, then the coding pass); so does a KG target when its valid coordinates fit
 // in 64 MiB (the scan keeps them for the grid search), else it reads it once more per bisection
 // step of the search (about 26). codec "auto" is not streamed (throws

@@ -95,7 +95,7 @@ struct Analog {
   double rate = 0;  // Hz
   std::vector<std::string> labels;
   std::vector<double> values;
-  // Lossy channels (docs/FORMAT.md 5.2), per channel, empty when every channel is lossless:
+  // Lossy channels (docs/FORMAT.md 5.7), per channel, empty when every channel is lossless:
   // bounds[c] > 0 is the bound of channel c in its physical units (0: lossless), factors[c] the
   // physical units per stored unit, |ANALOG:SCALE x GEN_SCALE| (1 for other sources). Set by
   // the encoder from CompressOptions::analog_max_error, read back from archives.
@@ -127,7 +127,7 @@ std::vector<C3DEvent> c3d_events(const C3DExtra& c3d);
 // time that is negative or not finite, or an icon id or flag outside int16.
 void set_c3d_events(C3DExtra* c3d, const std::vector<C3DEvent>& events);
 
-// Per analog channel, what gives the stored values physical units (docs/FORMAT.md 5.2): the
+// Per analog channel, what gives the stored values physical units (docs/FORMAT.md 5.7): the
 // factor |ANALOG:SCALE x GEN_SCALE| (1 when the take has no C3D parameters or they are
 // unreadable), the stored value of physical zero (ANALOG:OFFSET, 0 without), the unit
 // (ANALOG:UNITS, trimmed, "" without) and the storage (C3D int16, or uint16 with ANALOG:FORMAT
@@ -220,7 +220,7 @@ inline PointAttribute attribute_of(const PCDField& f) {
   return a;
 }
 
-// A field form the format and the PCD writer hold (docs/FORMAT.md 5.3): TYPE F, U or I; SIZE 1,
+// A field form the format and the PCD writer hold (docs/FORMAT.md 5.5): TYPE F, U or I; SIZE 1,
 // 2, 4 or 8 (4 or 8 for F); COUNT 1 .. 2^20. The one rule for META's decoder and the encoder.
 inline bool valid_field_form(char type, int size, uint64_t count) {
   return (type == 'F' || type == 'U' || type == 'I') &&

@@ -4,7 +4,7 @@
 // A stream promises, for the take it was made from (the "original"):
 //   - the shape (frames, points) and the gap mask exactly;
 //   - every valid coordinate as its header says (Promise below): bit-identical (lossless), within
-//     the stored per-coordinate bound, or, for a transform-output stream (FORMAT.md 3.1, a KG
+//     the stored per-coordinate bound, or, for a transform-output stream (FORMAT.md 4.3, a KG
 //     target and no bound), finite with the KG error over the whole take at most its target;
 //   - the rotations (layout, rate, labels, and every sample bit for bit: NaN payloads count);
 //   - rate, units, first frame, labels, descriptions, analog layout and values, and the format
@@ -33,7 +33,7 @@ struct Promise {
   // float values (float_size 4 or 8 bytes) come back within; NaN and infinities exactly.
   std::vector<double> attribute_bounds;
   std::vector<int> attribute_float_size;
-  // Per analog channel (FORMAT.md 5.2), empty when every channel comes back exactly: the bound
+  // Per analog channel (FORMAT.md 5.7), empty when every channel comes back exactly: the bound
   // in physical units (0: exact) and the factor from stored to physical units.
   std::vector<double> analog_bounds, analog_factors;
 };
@@ -88,7 +88,7 @@ struct PromiseResult {
   bool holds = false;
   std::string why;   // "" when it holds
   ErrorStats error;  // as compare(original, decoded) when the shapes agree
-  // Over the lossy analog channels (FORMAT.md 5.2): the largest error as a fraction of its
+  // Over the lossy analog channels (FORMAT.md 5.7): the largest error as a fraction of its
   // channel's bound (0 without such channels).
   double analog_bound_use = 0;
 };

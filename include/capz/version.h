@@ -1,4 +1,4 @@
-// capz — versions: of the library, and of the .capz format it writes and reads (docs/FORMAT.md 2).
+// capz — versions: of the library, and of the .capz format it writes and reads (docs/FORMAT.md 17).
 // The CAPZ_VERSION_* numbers are the one place the library version is kept: CMakeLists.txt
 // reads them for project(VERSION).
 #pragma once
@@ -31,18 +31,18 @@ const char* version_string();
 // The .capz version streams are written in, but for those of kFormat6 to kFormat9.
 constexpr FormatVersion kFormatWritten{5, 0};
 // The version of streams with point fields that include a normal triple or are organized
-// (FORMAT.md 6: ATTR predictor 9, transforms 4 and 5).
+// (FORMAT.md 13: ATTR predictor 9, transforms 4 and 5).
 constexpr FormatVersion kFormat6{6, 0};
 // The version of streams whose scan found what format 7 codes (FORMAT.md 7): PCD points moving
 // along their rays (POSW predictor 10, 7.1), repeated analog frames (7.2), or the point fields
 // of an unorganized cloud whose positions are on the grid (ATTR predictors 10 and 11, 7.3).
 // Every other stream is kFormatWritten or kFormat6.
 constexpr FormatVersion kFormat7{7, 0};
-// The version of streams whose META is coded after a preset dictionary (FORMAT.md 8.1: C3D
+// The version of streams whose META is coded after a preset dictionary (FORMAT.md 5.1: C3D
 // takes, when that is the smallest coding), but for those with analog channels (kFormat9).
 // Every 7.x addition holds in 8.x.
 constexpr FormatVersion kFormat8{8, 0};
-// The version of streams with analog channels (FORMAT.md 9.1: the float coder's predictors 2-5;
+// The version of streams with analog channels (FORMAT.md 11.9: the float coder's predictors 2-5;
 // 9.2: interpolated samples; 9.3, from 9.1 on: constant predictors of integer channels' blocks;
 // 9.4, from 9.2 on: held samples; 9.7, from 9.3 on: tokens relative to the magnitude context).
 // Every 8.x addition holds in 9.x.
@@ -51,7 +51,7 @@ constexpr FormatVersion kFormat9{9, 3};
 constexpr FormatVersion kFormatNewestWritten = kFormat9;
 // The versions read: every one from kFormatOldestRead to kFormatNewestRead, and any later
 // minor version of kFormatNewestRead's major (minor versions only add what older decoders skip;
-// FORMAT.md 2). A later major version is refused (Error kUnsupportedVersion).
+// FORMAT.md 17). A later major version is refused (Error kUnsupportedVersion).
 constexpr FormatVersion kFormatOldestRead{1, 0};
 constexpr FormatVersion kFormatNewestRead{9, 3};
 

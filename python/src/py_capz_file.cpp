@@ -40,7 +40,7 @@ py::dict info_dict(const std::string& path, const std::vector<uint8_t>& bytes) {
   d["windows"] = si.windows;
   d["analog_channels"] = si.analog_channels;
   d["analog_samples_per_frame"] = si.analog_samples_per_frame;
-  py::list bounds;  // the lossy analog channels (FORMAT.md 5.2), as `capz info --json`
+  py::list bounds;  // the lossy analog channels (FORMAT.md 5.7), as `capz info --json`
   for (size_t c = 0; c < si.analog_bounds.size(); ++c)
     if (si.analog_bounds[c] > 0) {
       py::dict b;

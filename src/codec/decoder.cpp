@@ -113,7 +113,7 @@ std::vector<int32_t> transform_prediction(const StreamContext& ctx, const Positi
 
 // POSW (and MASK) of the window: the gap mask into *valid, the coordinates of its valid
 // samples into *xyz (fn x points x 3, gap samples 0) and its integers into *q (empty with
-// transform output; ATTR predictors 10 and 11 read them, FORMAT.md 7.3).
+// transform output; ATTR predictors 10 and 11 read them, FORMAT.md 13.5).
 void decode_window_positions(const StreamContext& ctx, WindowChunks* chunks, size_t fn,
                              std::vector<uint8_t>* valid, std::vector<double>* xyz,
                              std::vector<int32_t>* q) {
@@ -138,7 +138,7 @@ void decode_window_positions(const StreamContext& ctx, WindowChunks* chunks, siz
   }
   const uint8_t* body = pc.payload + pr.offset();
   const size_t body_size = pc.size - pr.offset();
-  std::vector<double> tout_xyz;  // transform output (FORMAT.md 3.1): the reconstruction itself
+  std::vector<double> tout_xyz;  // transform output (FORMAT.md 4.3): the reconstruction itself
   if (h.transform_output) {
     decode_transform_output(body, body_size, h, fn, pwhat, wi, &tout_xyz);
   } else {
@@ -166,7 +166,7 @@ void decode_window_positions(const StreamContext& ctx, WindowChunks* chunks, siz
   q->swap(wi.q);
 }
 
-// ROTW of the window (FORMAT.md 4.3): its fn x R samples of G segments into the block's
+// ROTW of the window (FORMAT.md 12): its fn x R samples of G segments into the block's
 // rotation arrays.
 void decode_window_rotations(const StreamContext& ctx, WindowChunks* chunks, size_t fn,
                              FrameBlock* b) {
@@ -234,7 +234,7 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
   b.rotation_reliability.clear();
   if (ctx.h.rotations()) decode_window_rotations(ctx, &chunks, fn, out);
   b.attributes.clear();
-  if (!ctx.take.attributes.empty()) {  // FORMAT.md 5.3
+  if (!ctx.take.attributes.empty()) {  // FORMAT.md 13
     Chunk tc = chunks.next("ATTR", true);
     const std::string twhat = chunks.what("ATTR");
     ByteReader tr(tc.payload, tc.size, twhat);

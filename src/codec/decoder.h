@@ -1,4 +1,4 @@
-// The decoder: one window of a .capz back to frames (docs/FORMAT.md 3.3 - 3.6). This is the one
+// The decoder: one window of a .capz back to frames (docs/FORMAT.md 8 - 15). This is the one
 // decoder: decompress(), the .capz frame source, `capz verify` / `test` and the encoder's
 // self-check all call decode_window_chunks. Part of the decoder library.
 #pragma once

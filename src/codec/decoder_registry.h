@@ -1,5 +1,5 @@
 // Decoder library (capz_decode): builds without PCL and without the transform encoders.
-// The transform decoders a reader knows, by stored id (docs/FORMAT.md 3.1). A codec adds its
+// The transform decoders a reader knows, by stored id (docs/FORMAT.md 4.1). A codec adds its
 // decoder with one line in decoder_registry.cpp (and its encoder in registry.cpp).
 #pragma once
 

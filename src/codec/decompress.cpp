@@ -7,10 +7,10 @@
 
 #include "capz/codec.h"
 #include "capz/error.h"
+#include "codec/capz_source.h"
 #include "codec/decoder_registry.h"
 #include "codec/grid.h"
 #include "coding/analog/analog_codec.h"
-#include "io/capz_source.h"
 
 namespace capz {
 namespace {
@@ -131,7 +131,7 @@ StreamInfo describe(const uint8_t* data, size_t size, const std::string& name) {
     si.pcd_width = ps.take.pcd->width;
     si.pcd_height = ps.take.pcd->height;
   }
-  if (ps.take.analog.lossy()) {  // FORMAT.md 5.2
+  if (ps.take.analog.lossy()) {  // FORMAT.md 5.7
     si.analog_bounds = ps.take.analog.bounds;
     si.analog_factors = ps.take.analog.factors;
     si.analog_labels = ps.take.analog.labels;

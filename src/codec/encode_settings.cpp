@@ -43,7 +43,7 @@ void set_field_bounds(FrameSource& source, const CompressOptions& opts) {
   e.pcd = x;
 }
 
-// The per-channel bounds of opts.analog_max_error (FORMAT.md 5.2) on the header's analog
+// The per-channel bounds of opts.analog_max_error (FORMAT.md 5.7) on the header's analog
 // channels: a key names a channel's label or its unit; a label's bound wins over its unit's.
 // Returns the keys that name no channel.
 std::vector<std::string> set_analog_bounds(FrameSource& source, const CompressOptions& opts) {
@@ -93,7 +93,7 @@ std::vector<std::string> set_analog_bounds(FrameSource& source, const CompressOp
   return unmatched;
 }
 
-// A take with point fields needs a PCD layout in META (FORMAT.md 5.3): one read from a PCD
+// A take with point fields needs a PCD layout in META (FORMAT.md 5.5): one read from a PCD
 // folder has it; for any other (built in memory) it is x y z as float64 then the fields, one
 // row. With opts.drop_fields the fields are left out instead.
 void settle_fields(FrameSource& source, const CompressOptions& opts) {

@@ -1,4 +1,4 @@
-// What CompressOptions settle on a source's header before encoding (docs/FORMAT.md 5.2, 5.3):
+// What CompressOptions settle on a source's header before encoding (docs/FORMAT.md 5.7, 5.5):
 // the PCD layout of its point fields (or their removal), the bounds of float fields and the
 // bounds of analog channels. Each edits the header through FrameSource::edit_header and throws
 // Error(kInvalidParameter) for a request the take cannot meet.

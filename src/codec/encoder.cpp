@@ -67,7 +67,7 @@ std::map<std::string, std::string> options_for(const TransformCodec& codec,
 
 namespace {
 
-// Why a stream has the version it has (docs/FORMAT.md 2's version table): what the take may use,
+// Why a stream has the version it has (docs/FORMAT.md 17's version table): what the take may use,
 // found before HEAD is written (the scan, the plan, the META coding). Every stream is written as
 // the lowest version that holds all of it, so a take that needs none of these is written as
 // kFormatWritten (5.0), byte for byte as before they existed.
@@ -104,7 +104,7 @@ struct Plan {
   double point_scale = 0;                 // the take's POINT:SCALE (0 without C3D)
   const TransformCodec* codec = nullptr;  // the transform stage, nullptr for none
   // Only a KG target and a transform: the transform's reconstruction is the output, no grid and
-  // no bound layer (FORMAT.md 3.1 "transform output"); the transform meets the KG target itself.
+  // no bound layer (FORMAT.md 4.3 "transform output"); the transform meets the KG target itself.
   bool tout = false;
   double written_scale = 0;  // with tout: the int16 scale `capz decompress` writes at, or 0
   bool analog = false;
@@ -116,7 +116,7 @@ Plan resolve(const FrameSource& source, const CompressOptions& opts, bool allow_
   const Take& take = source.header();
   const std::string& src = take.source;
   // Up to 8192 frames a window keeps even an all-gap window above the decoder's plausibility
-  // floor of one byte per 2900 samples (docs/FORMAT.md 2).
+  // floor of one byte per 2900 samples (docs/FORMAT.md 3.6).
   if (opts.window_frames > 8192)
     fail(ErrorCode::kInvalidParameter, src, "window size must be 1 .. 8192 frames");
   Plan p;
@@ -172,7 +172,7 @@ double trc_print_room(const Take& t) {
   return 0.5 * std::pow(10.0, -t.trc->decimals) * (1.0 + 0x1p-20);
 }
 
-// The quantiser's view of each channel of a take with lossy analog channels (FORMAT.md 5.2);
+// The quantiser's view of each channel of a take with lossy analog channels (FORMAT.md 16.3);
 // empty when every channel is lossless.
 std::vector<analog::ChannelBound> analog_channel_bounds(const Take& t) {
   std::vector<analog::ChannelBound> out;
@@ -280,7 +280,7 @@ class Encoder {
     h.source_format = take_.format;
     h.mode = g_.mode;
     h.codec = plan_.codec ? plan_.codec->id() : 0;
-    // FORMAT.md 5.2: with a lossy analog channel the stream is not lossless, whatever its
+    // FORMAT.md 5.7: with a lossy analog channel the stream is not lossless, whatever its
     // positions are.
     h.lossless = g_.lossless && abounds_.empty();
     h.transform_output = plan_.tout;
@@ -485,7 +485,7 @@ class Encoder {
     if (plan_.analog) {
       const size_t before = buf.size();
       const double* rows = block.analog.data();
-      std::vector<double> moved;  // FORMAT.md 5.2: the bounded channels quantised
+      std::vector<double> moved;  // FORMAT.md 16.3: the bounded channels quantised
       AnalogHints hints = hints_;
       if (!abounds_.empty()) {
         moved = block.analog;
@@ -503,7 +503,7 @@ class Encoder {
     reconstruct(block.frames, wi, recon, &win->rec);
   }
 
-  // ROTW (FORMAT.md 4.3): the window's rotation samples, lossless whatever the bound.
+  // ROTW (FORMAT.md 12): the window's rotation samples, lossless whatever the bound.
   void append_rotations(Window* win) const {
     const FrameBlock& block = win->block;
     std::vector<uint8_t>* buf = &win->buf;
@@ -517,7 +517,7 @@ class Encoder {
     win->rotation_bytes = buf->size() - before;
   }
 
-  // ATTR (FORMAT.md 5.3): the window's point fields, lossless whatever the bound but for the
+  // ATTR (FORMAT.md 13): the window's point fields, lossless whatever the bound but for the
   // float fields given a bound of their own (--attr-error), which are quantised first.
   void append_attributes(Window* win) const {
     quantise_bounded_fields(&win->block);
@@ -526,14 +526,14 @@ class Encoder {
     const std::vector<uint8_t> at = encode_attributes(
         attribute_specs(take_.pcd->fields), win->block.attributes, win->wi.valid.data(),
         win->block.frames, take_.points, take_.pcd->width, version_.major >= 6,
-        // FORMAT.md 7.3: predictors 10 and 11 are candidates for an unorganized cloud's fields
+        // FORMAT.md 13.5: predictors 10 and 11 are candidates for an unorganized cloud's fields
         // (an organized one written as 7.0 for its rays, 7.1, has its pixel neighbours).
         version_.major >= 7 && take_.pcd->height == 1, plan_.tout ? nullptr : win->wi.q.data());
     append_chunk(buf, "ATTR", with_window_index(win->w, 0xFF, at));
     win->attribute_bytes = buf->size() - before;
   }
 
-  // FORMAT.md 5.3 "fields within a bound": each finite value of a bounded float field replaced
+  // FORMAT.md 16.4 "fields within a bound": each finite value of a bounded float field replaced
   // by the multiple of 2B nearest it, in the field's float type, when that is within B.
   void quantise_bounded_fields(FrameBlock* block) const {
     const std::vector<double>& bounds = take_.pcd->field_bounds;
@@ -611,7 +611,7 @@ class Encoder {
                               std::to_string(rec[k]));
       }
     }
-    if (plan_.tout) {  // each window within the KG target makes the take meet it (FORMAT.md 3.1)
+    if (plan_.tout) {  // each window within the KG target makes the take meet it (FORMAT.md 4.3)
       if (window_sq_error(fn, N, orig, rec.data(), valid) > win.kg_budget ||
           (plan_.written_scale > 0 &&
            window_sq_error(fn, N, orig, rec.data(), valid, plan_.written_scale) > win.kg_budget))
@@ -673,13 +673,13 @@ class Encoder {
   Grid g_;
   TransformParams tparams_;
   FormatVersion version_ = kFormatWritten;  // of the stream written (FORMAT.md 2, 6.1, 7)
-  RayKind ray_ = RayKind::kNone;            // predictor 10 a candidate (FORMAT.md 7.1)
-  bool analog_repeats_ = false;             // channels may name repeated frames (FORMAT.md 7.2)
+  RayKind ray_ = RayKind::kNone;            // predictor 10 a candidate (FORMAT.md 8.3)
+  bool analog_repeats_ = false;             // channels may name repeated frames (FORMAT.md 11.3)
   StreamContext ctx_;  // what the decoder reads from HEAD and META (with opts.check)
   Promise promise_;    // the stream's promise, checked on what the decoder gives (each window)
   std::unique_ptr<ResidueWriter> residue_;     // HASH and residue chunks (an original file only)
   AnalogHints hints_;                          // what the C3D parameters say of the analog channels
-  std::vector<analog::ChannelBound> abounds_;  // per channel with a lossy one (FORMAT.md 5.2)
+  std::vector<analog::ChannelBound> abounds_;  // per channel with a lossy one (FORMAT.md 5.7)
   ErrorAccumulator acc_;
   std::vector<IndexEntry> index_;
   size_t position_bytes_ = 0, analog_bytes_ = 0, rotation_bytes_ = 0, other_bytes_ = 0;

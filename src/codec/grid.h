@@ -1,4 +1,4 @@
-// The bound layer's grid as encoder and decoder share it (docs/FORMAT.md 3.1): how a window's
+// The bound layer's grid as encoder and decoder share it (docs/FORMAT.md 4.2): how a window's
 // integers map back to coordinates, and how a transform's reconstruction becomes a prediction on
 // the grid. The encoder's choice of grid is in grid_choice.h.
 #pragma once
@@ -15,7 +15,7 @@
 
 namespace capz {
 
-// How coordinates become integers (docs/FORMAT.md 3.1).
+// How coordinates become integers (docs/FORMAT.md 4.2).
 struct Grid {
   PosMode mode = PosMode::kGrid;
   double step = 0;   // kGrid: multiplier; kDecimal: divisor
@@ -62,12 +62,12 @@ void with_mode(PosMode m, Fn&& fn) {
 // and it sets them to 0 after.
 void dequantise_all(const Grid& g, const WindowInts& wi, std::vector<double>* rec);
 
-// Transform prediction on the grid (docs/FORMAT.md 3.3 predictor 3): round(recon / step),
+// Transform prediction on the grid (docs/FORMAT.md 8 predictor 3): round(recon / step),
 // clamped to the grid's index range (NaN to its low end).
 std::vector<int32_t> grid_prediction(const std::vector<double>& recon, double step);
 
 // C3D reads an all-zero coordinate triple as a gap, so a valid sample that quantises to
-// exactly (0, 0, 0) comes back as (0, 0, FLT_MIN) from a lossy C3D stream (FORMAT.md 3.3): a
+// exactly (0, 0, 0) comes back as (0, 0, FLT_MIN) from a lossy C3D stream (FORMAT.md 8): a
 // normal float32 that survives float storage, far inside the bound's margin.
 inline void keep_valid_off_origin(Format source, bool lossless, double* x) {
   if (source == Format::kC3D && !lossless && x[0] == 0 && x[1] == 0 && x[2] == 0)

@@ -21,7 +21,7 @@ inline bool grid_exact_as(const Grid& g, double x) {
   return same_bits(dequantise_as<M>(g, round_to_int(v), 0), x);
 }
 
-// Exact lossless grids in the order the encoder prefers them (docs/FORMAT.md 3.1): the int16
+// Exact lossless grids in the order the encoder prefers them (docs/FORMAT.md 16.1): the int16
 // C3D grid, a float C3D's scale grid, then decimal grids (the TRC's own decimals first).
 // all = false: only the int16 grid (what a bound needs to detect a lossless int16 take).
 std::vector<Grid> lossless_candidates(const Take& t, bool all) {
@@ -88,7 +88,7 @@ namespace {
 // Counts, in TakeScan::ray_moved / ray_on, the valid samples of b that moved since their
 // point's last valid position, and those of them that stayed on its ray from the origin: the
 // cross product of the two positions at most 2^-16 of the product of their lengths, the dot
-// product positive (FORMAT.md 7.1, "how the encoder chooses").
+// product positive (FORMAT.md 8.3, "how the encoder chooses").
 void scan_rays(const FrameBlock& b, TakeScan* s) {
   if (b.points * 3 != s->ray_last.size()) return;  // a block of another shape: not a sequence
   for (size_t f = 0; f < b.frames; ++f)
@@ -216,7 +216,7 @@ namespace {
 // mm without it). Returns 0 for outputs that store the decoded doubles exactly.
 double output_rounding_reserve(const Take& t, const TakeScan& s, double bound) {
   // TRC writers keep every decoded double (their printing has its own room, trc_print_room);
-  // PCD writers do too, except for frames whose x y z were float32 (FORMAT.md 5.3), which are
+  // PCD writers do too, except for frames whose x y z were float32 (FORMAT.md 5.5), which are
   // written back as float32.
   bool f32_pcd = false;
   if (t.format == Format::kPCDFolder && t.pcd)
@@ -345,7 +345,7 @@ WindowInts quantise_window(const FrameBlock& b, const Grid& g) {
   w.valid = b.valid;
   w.q.assign(n * 3, 0);
   if (g.mode == PosMode::kFloat64) w.lo.assign(n * 3, 0);
-  // Transform output (grid mode, step 0, FORMAT.md 3.1) quantises nothing: q stays 0. Dividing
+  // Transform output (grid mode, step 0, FORMAT.md 4.3) quantises nothing: q stays 0. Dividing
   // by the step would give infinities, and converting them to int is undefined behaviour (found
   // by fuzz_simple_round_trip under clang's UBSan, whose -fsanitize=undefined includes
   // float-cast-overflow; GCC's does not).

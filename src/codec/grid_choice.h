@@ -1,4 +1,4 @@
-// Encoder stage: choosing the grid (docs/FORMAT.md 3.1). A first pass over the take (scan_block,
+// Encoder stage: choosing the grid (docs/FORMAT.md 16.1). A first pass over the take (scan_block,
 // a block of frames at a time) gathers what the choice depends on; then exactly one of
 // lossless_grid, bounded_grid or kg_grid picks the grid, and quantise_window maps each window's
 // coordinates onto it.
@@ -33,20 +33,20 @@ struct TakeScan {
   size_t kg_cap = 0;
   bool kg_cached = false;
   std::vector<double> kg_coords;
-  // PCD takes (FORMAT.md 7.1): each point's last valid position (ray_seen: whether it has one),
+  // PCD takes (FORMAT.md 8.3): each point's last valid position (ray_seen: whether it has one),
   // and of the valid samples that moved since it, how many stayed on their ray from the origin.
   bool ray_track = false;
   std::vector<double> ray_last;
   std::vector<uint8_t> ray_seen;
   uint64_t ray_moved = 0, ray_on = 0;
-  // FORMAT.md 7.2: per analog channel, the frames f >= 1 of each block (window) whose
+  // FORMAT.md 11.3: per analog channel, the frames f >= 1 of each block (window) whose
   // analog_S samples repeat frame f - 1's bit for bit and are not all one bit pattern.
   size_t analog_S = 0;
   std::vector<size_t> analog_repeats;  // empty without analog
 };
 
 // True when the scan found the take's points moving along their rays from the origin, as a
-// sensor's pixels or beams do (FORMAT.md 7.1: the stream is written as 7.0, predictor 10 a
+// sensor's pixels or beams do (FORMAT.md 8.3: the stream is written as 7.0, predictor 10 a
 // candidate).
 bool on_rays(const TakeScan& s);
 

@@ -1,4 +1,4 @@
-// Rebuilding the original file from a .capz (capz/original.h; docs/FORMAT.md 4.4): the decoded
+// Rebuilding the original file from a .capz (capz/original.h; docs/FORMAT.md 7, 14): the decoded
 // take, read one window at a time, plus the residue chunks. Memory: one window, the residue's
 // head and tail.
 #include <filesystem>
@@ -8,10 +8,10 @@
 #include "capz/error.h"
 #include "capz/file.h"
 #include "capz/original.h"
+#include "codec/capz_source.h"
 #include "coding/bytes.h"
 #include "core/atomic_file.h"
 #include "core/hash.h"
-#include "io/capz_source.h"
 #include "io/pcd_folder.h"
 #include "io/residue/c3d_residue.h"
 #include "io/residue/pcd_residue.h"
@@ -85,8 +85,8 @@ std::vector<uint8_t> window_payload(StreamBytes& b, const ParsedStream& ps, size
   return {};
 }
 
-// A PCD folder's frame files rebuilt (FORMAT.md 5.4), each handed to `frame` after its size and
-// hash are checked; `out` sees every byte, in order.
+// A PCD folder's frame files rebuilt (FORMAT.md 7.3, 14.3), each handed to `frame` after its size
+// and hash are checked; `out` sees every byte, in order.
 void rebuild_pcd(const std::string& path, StreamBytes& raw, CapzSource& src, const Record& r,
                  const Write& out, const FrameWrite& frame) {
   const ParsedStream& ps = src.parsed();

@@ -1,4 +1,4 @@
-// The transform codecs the encoder knows, by CLI name (docs/FORMAT.md 3.1). A codec adds itself
+// The transform codecs the encoder knows, by CLI name (docs/FORMAT.md 4.1). A codec adds itself
 // with one line in registry.cpp; its decoder goes in decoder_registry.cpp.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The encoder's HASH and residue chunks (see residue_writer.h; layout in docs/FORMAT.md 4.4).
+// The encoder's HASH and residue chunks (see residue_writer.h; layout in docs/FORMAT.md 7, 14).
 #include "codec/residue_writer.h"
 
 #include <cstring>

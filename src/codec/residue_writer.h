@@ -1,4 +1,4 @@
-// The encoder's side of byte-exact archives (docs/FORMAT.md 4.4, 5.4): for a source read from an
+// The encoder's side of byte-exact archives (docs/FORMAT.md 7, 14): for a source read from an
 // original C3D or TRC file (or, lossless only, a PCD folder: HASH over its frame files, PCDR and
 // per window PCDP, each frame file compared in memory with the writer's bytes), the HASH chunk
 // (size and XXH3-128 of the file), the file-level residue (C3DR / TRCR) and each window's residue

@@ -1,4 +1,4 @@
-// Decoder stage: reading a .capz's frame of chunks (docs/FORMAT.md 2): the file header, HEAD and
+// Decoder stage: reading a .capz's frame of chunks (docs/FORMAT.md 3): the file header, HEAD and
 // META up front, INDX from the end, and each window's chunks on demand. Part of the decoder
 // library.
 #pragma once
@@ -69,7 +69,7 @@ struct ParsedStream : StreamContext {
   size_t first_window_offset = 0;
   size_t index_offset = 0;
   std::map<std::string, size_t> chunk_bytes;  // HEAD, META, INDX sizes with framing
-  // File-level chunks between META and the first window (HASH, C3DR, TRCR: FORMAT.md 4.4),
+  // File-level chunks between META and the first window (HASH, C3DR, TRCR: FORMAT.md 7),
   // each checked: type -> [offset, end).
   std::map<std::string, std::pair<size_t, size_t>> file_chunks;
 };

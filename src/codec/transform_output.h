@@ -1,4 +1,4 @@
-// The POSW body of a transform-output stream (docs/FORMAT.md 3.3): the transform codec's block
+// The POSW body of a transform-output stream (docs/FORMAT.md 8): the transform codec's block
 // alone, length-prefixed. Writer and reader of that layout, in one place. Part of the decoder
 // library.
 #pragma once

@@ -1,5 +1,5 @@
 // Encoder stage: squared errors of a window, for the KG checks of transform output (a window
-// within the KG target makes the take meet it, docs/FORMAT.md 3.1). Shapes: fn frames x n points;
+// within the KG target makes the take meet it, docs/FORMAT.md 4.3). Shapes: fn frames x n points;
 // a, b: fn x n x 3 coordinates; valid: fn x n.
 #pragma once
 

@@ -1,5 +1,5 @@
 // Lossless coding of one window of per-point attribute channels (PCD fields other than x y z:
-// colour, intensity, normals, labels, ...); the byte layout is docs/FORMAT.md 5.3 (`ATTR`).
+// colour, intensity, normals, labels, ...); the byte layout is docs/FORMAT.md 13 (`ATTR`).
 // Every element comes back bit for bit (NaN payloads, -0.0, padding bytes included).
 //
 // Input: per attribute (take.h PointAttribute: type F/U/I, size, count), the window's bytes,
@@ -27,17 +27,17 @@ std::vector<AttrSpec> attribute_specs(const std::vector<PCDField>& fields);
 // rgb or rgba).
 bool is_colour_field(const AttrSpec& s);
 
-// True when some field is a candidate for predictor 9 (FORMAT.md 6.1: float32 normal_z after
+// True when some field is a candidate for predictor 9 (FORMAT.md 13.4: float32 normal_z after
 // normal_x and normal_y, or a float32 count-3 normal* field): the encoder then writes a 6.0
 // stream.
 bool has_unit_candidate(const std::vector<AttrSpec>& specs);
 
 // The ATTR payload after the window index: per attribute, its transform and data.
 // valid: the window's gap mask (frames x points, from POSW / MASK), or nullptr for none (the
-// decoder must be given the same). v6: a 6.x stream (FORMAT.md 6: predictor 9 and transforms 4
+// decoder must be given the same). v6: a 6.x stream (FORMAT.md 13: predictor 9 and transforms 4
 // and 5 may be used). v7 (with v6): a 7.x stream; with q, the window's POSW integers (frames x
 // points x 3, as the decoder will have them at the valid samples), predictors 10 and 11 may be
-// used (FORMAT.md 7.3); q nullptr: they are not (positions as transform output).
+// used (FORMAT.md 13.5); q nullptr: they are not (positions as transform output).
 std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
                                        const std::vector<std::vector<uint8_t>>& data,
                                        const uint8_t* valid, size_t frames, size_t points,

@@ -1,4 +1,4 @@
-// ATTR's decoder (docs/FORMAT.md 5.3, 6.1, 6.2, 7.3): the mirror of attributes_encode.cpp, which
+// ATTR's decoder (docs/FORMAT.md 13, 13.4, 13.7, 13.5): the mirror of attributes_encode.cpp, which
 // says what the payload holds; the lanes, predictors and walks are attributes_lanes.h's.
 #include <algorithm>
 #include <array>
@@ -25,7 +25,7 @@ void store_lane(const AttrSpec& s, const Lane& l, size_t n, size_t j, std::vecto
     store_le(bytes->data() + (i * count + j) * size, s.size, from_ordered(l.u[i], s.type, l.bits));
 }
 
-// Predictor 9's references of lane j of attribute a, read and checked (FORMAT.md 6.1).
+// Predictor 9's references of lane j of attribute a, read and checked (FORMAT.md 13.4).
 void read_unit_refs(ByteReader* r, const std::vector<AttrSpec>& specs, size_t a, size_t j,
                     UnitRef refs[2], const std::string& what) {
   const AttrSpec& s = specs[a];
@@ -43,7 +43,7 @@ void read_unit_refs(ByteReader* r, const std::vector<AttrSpec>& specs, size_t a,
     fail(ErrorCode::kCorrupt, what, "predictor 9 refers to one element twice");
 }
 
-// A field coded by LZMA2 (transforms 2-5, FORMAT.md 5.3, 6.2): its n points' bytes into *out.
+// A field coded by LZMA2 (transforms 2-5, FORMAT.md 13, 13.7): its n points' bytes into *out.
 void decode_lzma_field(ByteReader* in, uint8_t t, const AttrSpec& s, size_t n, const uint8_t* valid,
                        const std::string& awhat, std::vector<uint8_t>* out) {
   ByteReader& r = *in;
@@ -60,7 +60,7 @@ void decode_lzma_field(ByteReader* in, uint8_t t, const AttrSpec& s, size_t n, c
     if (t == 2) bytes = from_planes(bytes, static_cast<size_t>(s.size));
     return;
   }
-  // 4, 5 (FORMAT.md 6.2): the valid points' values, then the gap points'.
+  // 4, 5 (FORMAT.md 13.7): the valid points' values, then the gap points'.
   if (!valid) fail(ErrorCode::kCorrupt, awhat, "transform " + std::to_string(t) + " without gaps");
   const size_t nv =
       static_cast<size_t>(std::count_if(valid, valid + n, [](uint8_t v) { return v != 0; }));

@@ -1,4 +1,4 @@
-// ATTR's encoder (docs/FORMAT.md 5.3, 6.1, 7.3): per attribute, lanes of ordered integers with one
+// ATTR's encoder (docs/FORMAT.md 13, 13.4, 13.5): per attribute, lanes of ordered integers with one
 // of nine predictors per lane (ten in a 6.x stream: 9 completes a unit vector's component from two
 // other elements; twelve in a 7.x stream: 10 and 11 read the point's nearest earlier point in
 // space) and residuals through the analog coder's entropy stage (4.2.5), or LZMA2 of
@@ -78,7 +78,7 @@ int choose_predictor(Lane& l, const uint8_t* valid, bool gaps, const uint32_t* n
   return best;
 }
 
-// The references predictor 9 may use for lane `j` of attribute `a` (FORMAT.md 6.1, how the
+// The references predictor 9 may use for lane `j` of attribute `a` (FORMAT.md 13.4, how the
 // encoder chooses): float32 normal_z after float32 normal_x and normal_y, or element 2 of a
 // float32 count-3 field named normal*. False when there are none.
 bool unit_candidate(const std::vector<AttrSpec>& specs, size_t a, size_t j, UnitRef refs[2]) {
@@ -223,10 +223,10 @@ std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
         specs, data, a, valid, gaps, near.empty() ? nullptr : near.data(), frames, points, W, v6);
     // LZMA of the byte planes (2) and, for elements of several bytes, of the bytes as they are
     // (3); in a 6.x window with gaps and valid points, the same of the valid points' values
-    // with the gap points' values apart (4, 5; FORMAT.md 6.2): the smallest wins.
+    // with the gap points' values apart (4, 5; FORMAT.md 13.7): the smallest wins.
     const size_t size = static_cast<size_t>(s.size);
     std::vector<uint8_t> at_valid, at_gaps;
-    // An unorganized cloud's window with predictors 10 and 11 (FORMAT.md 7.3) skips transforms
+    // An unorganized cloud's window with predictors 10 and 11 (FORMAT.md 13.5) skips transforms
     // 4 and 5: measured on the LiDAR sequences of docs/BENCHMARKS.md, they then won on one of
     // five (by 1 % of the fields' bytes) for a third of the encode time.
     const bool unorganized_near = !near.empty() && W >= points;

@@ -1,5 +1,5 @@
 // What ATTR's encoder (attributes_encode.cpp) and decoder (attributes_decode.cpp) share
-// (docs/FORMAT.md 5.3, 6.1, 6.2, 7.3): a field's lanes of ordered integers, the predictors and
+// (docs/FORMAT.md 13, 13.4, 13.7, 13.5): a field's lanes of ordered integers, the predictors and
 // the walks that apply them to a window in the same order on both sides, the colour transform,
 // the unit-vector completion, byte planes and the split of values by the gap mask.
 #pragma once
@@ -46,7 +46,7 @@ inline void store_le(uint8_t* p, int size, uint64_t v) {
   for (int i = 0; i < size; ++i) p[i] = static_cast<uint8_t>(v >> (8 * i));
 }
 
-// Element bits <-> ordered lane value (FORMAT.md 5.3).
+// Element bits <-> ordered lane value (FORMAT.md 13.2).
 inline uint64_t to_ordered(uint64_t v, char type, int bits) {
   const uint64_t top = uint64_t{1} << (bits - 1);
   if (type == 'I') return v ^ top;
@@ -133,7 +133,7 @@ inline void colour_inverse(const uint64_t in[4], uint8_t* e) {
   e[3] = static_cast<uint8_t>(in[3]);
 }
 
-// The prediction of a valid point under predictors 5..8 (FORMAT.md 5.3) and 10, 11 (7.3, n the
+// The prediction of a valid point under predictors 5..8 (FORMAT.md 13.3) and 10, 11 (13.5, n the
 // point's nearest earlier point, kNoPoint for none): only valid points count; `last` is the
 // lane's previous valid value.
 inline uint64_t predict_masked(int id, const uint64_t* cur, const uint64_t* prev,
@@ -168,7 +168,7 @@ inline uint64_t predict_masked(int id, const uint64_t* cur, const uint64_t* prev
 // Walks lane `u` (frames x N values) in coding order under predictor `id`, calling
 // step(&value, prediction, gap) for each value: the encoder reads the value, the decoder sets
 // it. valid: the window's gap mask (frames x N), used by predictors 5..8, 10 and 11; near: the
-// nearest earlier point of each point (FORMAT.md 7.3), used by 10 and 11.
+// nearest earlier point of each point (FORMAT.md 13.5), used by 10 and 11.
 template <typename Step>
 inline void walk_lane(int id, std::vector<uint64_t>* lane, const uint8_t* valid,
                       const uint32_t* near, size_t frames, size_t N, size_t W, uint64_t mask,
@@ -197,7 +197,7 @@ inline void walk_lane(int id, std::vector<uint64_t>* lane, const uint8_t* valid,
   }
 }
 
-// A float32 element referenced by predictor 9 (FORMAT.md 6.1): element `element` of attribute
+// A float32 element referenced by predictor 9 (FORMAT.md 13.4): element `element` of attribute
 // `attribute`, as its bytes (frames x points x count elements).
 struct UnitRef {
   size_t attribute = 0, element = 0;
@@ -259,7 +259,7 @@ inline std::vector<uint8_t> from_planes(const std::vector<uint8_t>& planes, size
 }
 
 // The elements (bpp bytes a point) of the valid points, then of the gap points, each in frame
-// and point order (FORMAT.md 6.2), and back.
+// and point order (FORMAT.md 13.7), and back.
 inline void split_by_mask(const std::vector<uint8_t>& b, const uint8_t* valid, size_t n, size_t bpp,
                           std::vector<uint8_t>* at_valid, std::vector<uint8_t>* at_gaps) {
   at_valid->clear();
@@ -280,7 +280,7 @@ inline void merge_by_mask(const std::vector<uint8_t>& at_valid, const std::vecto
   }
 }
 
-// The nearest earlier point of every point of the window (FORMAT.md 7.3): exact squared
+// The nearest earlier point of every point of the window (FORMAT.md 13.5): exact squared
 // distances of the POSW integers q (frames x points x 3) at the point's first valid frame.
 inline std::vector<uint32_t> nearest_points(const int32_t* q, const uint8_t* valid, size_t frames,
                                             size_t points) {

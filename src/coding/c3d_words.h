@@ -1,4 +1,4 @@
-// C3D per-sample words of a window (docs/FORMAT.md 3.5): each sample's residual word and camera
+// C3D per-sample words of a window (docs/FORMAT.md 10): each sample's residual word and camera
 // byte, coded by frame with an optional repeat flag per frame.
 #pragma once
 

@@ -116,7 +116,7 @@ std::vector<uint8_t> encode_header(const StreamHeader& h) {
   w.u32(h.analog_channels);
   w.u32(h.analog_samples_per_frame);
   if (h.transform_output) w.f64(h.kg_target);
-  if (h.rotations()) {  // FORMAT.md 4.3
+  if (h.rotations()) {  // FORMAT.md 4.4
     w.u32(h.rotation_segments);
     w.u32(h.rotation_samples_per_frame);
   }
@@ -145,7 +145,7 @@ StreamHeader decode_header(const Chunk& c, const std::string& name) {
              std::to_string(kMaxWindowFrames) + ")");
   if (flags > 7) fail(ErrorCode::kCorrupt, what, "unknown flag bits " + std::to_string(flags));
   h.transform_output = (flags & 2) != 0;
-  if (h.transform_output) {  // FORMAT.md 3.1: the transform's reconstruction is the output
+  if (h.transform_output) {  // FORMAT.md 4.3: the transform's reconstruction is the output
     h.kg_target = r.f64();
     if (flags & 1) fail(ErrorCode::kCorrupt, what, "transform output cannot be lossless");
     if (h.codec == 0) fail(ErrorCode::kCorrupt, what, "transform output without a transform codec");
@@ -156,7 +156,7 @@ StreamHeader decode_header(const Chunk& c, const std::string& name) {
       fail(ErrorCode::kCorrupt, what, "transform output: KG target is not a positive number");
   } else if ((mode == 0 || mode == 1 || mode == 4) && !(h.step > 0 && std::isfinite(h.step)))
     fail(ErrorCode::kCorrupt, what, "grid step is not a positive number");
-  if (flags & 4) {  // FORMAT.md 4.3: the rotation layout
+  if (flags & 4) {  // FORMAT.md 4.4: the rotation layout
     h.rotation_segments = r.u32();
     h.rotation_samples_per_frame = r.u32();
     if (h.rotation_segments == 0 || h.rotation_samples_per_frame == 0)

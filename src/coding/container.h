@@ -1,4 +1,4 @@
-// The .capz framing (docs/FORMAT.md sections 2, 3.1, 3.2, 3.7): magic, version, CRC-checked
+// The .capz framing (docs/FORMAT.md sections 3, 4, 15): magic, version, CRC-checked
 // chunks, and the HEAD and INDX payloads (META: coding/meta.h).
 #pragma once
 
@@ -14,10 +14,10 @@
 namespace capz {
 
 constexpr uint8_t kCapzMagic[9] = {0x89, 'c', 'a', 'p', 'z', 0x0D, 0x0A, 0x1A, 0x0A};
-constexpr uint8_t kCapzMajor = kFormatWritten.major;  // capz/version.h; docs/FORMAT.md 2:
+constexpr uint8_t kCapzMajor = kFormatWritten.major;  // capz/version.h; docs/FORMAT.md 17:
 constexpr uint8_t kCapzMinor = kFormatWritten.minor;  // what each version added
 constexpr size_t kFileHeaderBytes = 11;               // magic + major + minor (1.x - 3.x)
-// Bytes of the file header of a stream of major version `major` (FORMAT.md 2): magic, major,
+// Bytes of the file header of a stream of major version `major` (FORMAT.md 3): magic, major,
 // minor, and from 4.0 on a u32 CRC-32C of those 11 bytes.
 inline size_t file_header_bytes(int major) {
   return major >= 4 ? kFileHeaderBytes + 4 : kFileHeaderBytes;
@@ -60,14 +60,14 @@ struct StreamHeader {
   uint8_t codec = 0;
   bool lossless = false;
   // HEAD flags bit 1: positions are the transform's reconstruction, no grid and no bound layer
-  // (docs/FORMAT.md 3.1); kg_target (percent) is then stored after the analog fields.
+  // (docs/FORMAT.md 4.3); kg_target (percent) is then stored after the analog fields.
   bool transform_output = false;
   double kg_target = 0;
   double step = 0;
   double max_error = 0;
   uint32_t analog_channels = 0;
   uint32_t analog_samples_per_frame = 0;
-  // HEAD flags bit 2 (docs/FORMAT.md 4.3): the take has rotations, G segments sampled R times
+  // HEAD flags bit 2 (docs/FORMAT.md 4.4): the take has rotations, G segments sampled R times
   // per point frame; both 0 without (both at least 1 with), and each window has a ROTW chunk.
   uint32_t rotation_segments = 0;
   uint32_t rotation_samples_per_frame = 0;
@@ -80,8 +80,8 @@ struct StreamHeader {
 constexpr uint32_t kMaxWindowFrames = 8192;
 // Most analog values a coded byte may stand for, in a stream of major version `major`: the
 // format 1-3 coder spends at least a token per value (kMaxSymbolsPerByte); the 4.x coder codes a
-// constant channel of a whole window in a few bytes (FORMAT.md 4.2), so its cap is 2^18.
-size_t analog_values_per_byte(int major);  // HEAD window_frames is 1..this (FORMAT.md 3.1)
+// constant channel of a whole window in a few bytes (FORMAT.md 3.6), so its cap is 2^18.
+size_t analog_values_per_byte(int major);  // HEAD window_frames is 1..this (FORMAT.md 4.1)
 std::vector<uint8_t> encode_header(const StreamHeader& h);
 StreamHeader decode_header(const Chunk& c, const std::string& name);
 // Throws kCorrupt unless a file of `file_size` bytes can hold what `h` claims: one chunk per

@@ -1,5 +1,5 @@
 // CRC-32C (Castagnoli): reflected polynomial 0x82F63B78, init and final xor 0xFFFFFFFF
-// (docs/FORMAT.md section 2). crc32c("123456789") = 0xE3069283.
+// (docs/FORMAT.md 3.2). crc32c("123456789") = 0xE3069283.
 #pragma once
 
 #include <cstddef>

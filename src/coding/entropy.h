@@ -1,4 +1,4 @@
-// Integer entropy coding on top of the range coder (docs/FORMAT.md 1.3).
+// Integer entropy coding on top of the range coder (docs/FORMAT.md 2.4).
 //
 // A value is split into a "hybrid token" (an adaptive 64-symbol model picks it, under a context
 // chosen by the caller) and raw low bits, so small values cost one model step and large ones
@@ -57,7 +57,7 @@ inline uint32_t bit_cost(int32_t r) {
 // min(token, 15); 15 escapes to shared model k (k = 0..3), which codes min(token - 15 (k + 1), 15).
 constexpr int kEscapeLevels = 4;
 // Sets of escape models a block may choose between per value (set 0 is the only one most
-// streams use; position residuals of format 2.x choose by context, FORMAT.md 3.3.1).
+// streams use; position residuals of format 2.x choose by context, FORMAT.md 8.4).
 constexpr int kEscapeSets = 3;
 
 // Encoder and decoder keep their moving state in a Cursor: a trivially copyable object (coder
@@ -99,7 +99,7 @@ class IntEncoder {
       return tok;
     }
     int put_signed(int32_t v, int ctx, int eset = 0) { return put(zigzag(v), ctx, eset); }
-    // One symbol 0..15 with the context's model itself: no token, no escape (FORMAT.md 9.1).
+    // One symbol 0..15 with the context's model itself: no token, no escape (FORMAT.md 2.3).
     void put_symbol(int s, int ctx) { models_[ctx].encode(this, s); }
     // n raw bits of v (0 <= n <= 32), uncompressed.
     void raw_bits(uint32_t v, int n) { bits_.put(v, n, bits_out_); }
@@ -226,7 +226,7 @@ class IntDecoder {
   Cursor cur_;
 };
 
-// Generic integer streams (16 contexts from the previous token; FORMAT.md 1.3).
+// Generic integer streams (16 contexts from the previous token; FORMAT.md 2.4).
 constexpr int kIntStreamContexts = 16;
 constexpr size_t kMaxSymbolsPerByte = 2900;
 std::vector<uint8_t> encode_ints(const std::vector<int32_t>& values);
@@ -239,7 +239,7 @@ std::vector<int32_t> decode_ints(const uint8_t* data, size_t size, size_t count,
 std::vector<uint32_t> decode_uints(const uint8_t* data, size_t size, size_t count,
                                    const std::string& what = "integer stream");
 
-// Byte strings (text-like metadata, FORMAT.md 1.4): each byte as two nibbles, the high one under
+// Byte strings (text-like metadata, FORMAT.md 2.5): each byte as two nibbles, the high one under
 // the context of the previous two bytes' high nibbles, the low one under the context of its high
 // nibble and the previous byte's high nibble.
 std::vector<uint8_t> encode_bytes(const uint8_t* data, size_t size);

@@ -1,4 +1,4 @@
-// Decoder library (capz_decode). Raw LZMA2 blocks (lzma_block.h; docs/FORMAT.md 5.1).
+// Decoder library (capz_decode). Raw LZMA2 blocks (lzma_block.h; docs/FORMAT.md 2.6).
 #include "coding/lzma_block.h"
 
 #include <lzma.h>

@@ -1,4 +1,4 @@
-// capz — raw LZMA2 blocks (docs/FORMAT.md 5.1): META coding 2, through liblzma.
+// capz — raw LZMA2 blocks (docs/FORMAT.md 2.6): META coding 2, through liblzma.
 #pragma once
 
 #include <cstddef>
@@ -11,9 +11,9 @@ namespace capz {
 // LZMA2 with a fixed 2^20-byte dictionary, preset 9e; the decoder needs nothing else.
 constexpr uint32_t kLzmaDictBytes = uint32_t{1} << 20;
 
-// A preset dictionary (FORMAT.md 8.1): bytes the LZMA2 window holds before the first byte of the
+// A preset dictionary (FORMAT.md 2.6): bytes the LZMA2 window holds before the first byte of the
 // stream, which its matches may reach. The empty one is none (a stream that starts with a
-// dictionary reset, FORMAT.md 5.1).
+// dictionary reset, FORMAT.md 2.6).
 struct LzmaPreset {
   const uint8_t* data = nullptr;
   size_t size = 0;
@@ -32,7 +32,7 @@ std::vector<uint8_t> lzma2_encode_fast(const uint8_t* data, size_t n);
 std::vector<uint8_t> lzma2_decode(const uint8_t* data, size_t size, size_t n,
                                   const std::string& what, LzmaPreset preset = {});
 
-// The preset dictionaries of META coding 3 (FORMAT.md 8.1): number 1, or the empty preset for
+// The preset dictionaries of META coding 3 (FORMAT.md 5.8): number 1, or the empty preset for
 // a number the format does not define.
 LzmaPreset meta_dictionary(int number);
 

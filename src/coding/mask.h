@@ -1,4 +1,4 @@
-// The gap mask of a window (docs/FORMAT.md 3.4): which samples were measured, coded as runs
+// The gap mask of a window (docs/FORMAT.md 9): which samples were measured, coded as runs
 // per point.
 #pragma once
 

@@ -1,4 +1,4 @@
-// META (docs/FORMAT.md 3.2, 4.3, 5.1-5.3, 8.1): everything of the Take that the other chunks do
+// META (docs/FORMAT.md 5): everything of the Take that the other chunks do
 // not hold, as fields written and read by mirrored block functions, then coded as they are, by a
 // byte model or by LZMA2 (after a preset dictionary from 8.0 on). Decoder library (capz_decode).
 #include "coding/meta.h"
@@ -8,10 +8,9 @@
 
 #include "capz/error.h"
 #include "coding/bytes.h"
+#include "coding/c3d_params.h"
 #include "coding/entropy.h"
 #include "coding/lzma_block.h"
-#include "io/c3d_internal.h"
-#include "io/c3d_params.h"
 
 namespace capz {
 namespace {
@@ -30,7 +29,7 @@ std::vector<std::string> get_strings(ByteReader* r, size_t expect, const char* w
   return v;
 }
 
-// Frame numbers are coded with wrapping int64 arithmetic (FORMAT.md 3.2): every int64
+// Frame numbers are coded with wrapping int64 arithmetic (FORMAT.md 5.4): every int64
 // round-trips, and no input makes the sums overflow (signed overflow is undefined).
 int64_t wrap_add64(int64_t a, int64_t b) {
   return static_cast<int64_t>(static_cast<uint64_t>(a) + static_cast<uint64_t>(b));
@@ -42,7 +41,7 @@ int64_t wrap_sub64(int64_t a, int64_t b) {
 }  // namespace
 
 namespace {
-// The lists the C3D reader derives from the parameters (FORMAT.md 5.1, "Labels from the
+// The lists the C3D reader derives from the parameters (FORMAT.md 5.3, "Labels from the
 // parameters"; c3d_read.cpp read_labels_rates_units): cut or padded to the points (descriptions:
 // when there are any) and to the channels.
 void derive_labels(const C3DExtra& c, size_t points, int channels, std::vector<std::string>* l,
@@ -65,7 +64,7 @@ bool labels_from_parameters(const C3DExtra& c, size_t points, int channels,
   return l == labels && d == descriptions && a == analog_labels;
 }
 
-// FORMAT.md 5.1's C3D block.
+// FORMAT.md 5.3's C3D block.
 void put_c3d_block(const C3DExtra& c, bool has_sample_words, ByteWriter* out) {
   ByteWriter& w = *out;
   w.u8(static_cast<uint8_t>(c.processor));
@@ -153,7 +152,7 @@ void put_trc_frame_numbers(const std::vector<int64_t>& numbers, size_t frames, B
   }
 }
 
-// FORMAT.md 5.1's TRC block.
+// FORMAT.md 5.4's TRC block.
 void put_trc_block(const TRCExtra& x, size_t frames, ByteWriter* out) {
   ByteWriter& w = *out;
   w.str(x.path_file_type_line);
@@ -166,7 +165,7 @@ void put_trc_block(const TRCExtra& x, size_t frames, ByteWriter* out) {
   put_trc_frame_numbers(x.frame_numbers, frames, out);
 }
 
-// FORMAT.md 5.3: the PCD layout (fields, WIDTH x HEIGHT, VIEWPOINT).
+// FORMAT.md 5.5: the PCD layout (fields, WIDTH x HEIGHT, VIEWPOINT).
 void put_pcd_layout(const PCDExtra& x, size_t points, ByteWriter* out) {
   ByteWriter& w = *out;
   w.str(x.version);
@@ -192,14 +191,14 @@ void put_pcd_layout(const PCDExtra& x, size_t points, ByteWriter* out) {
     }
 }
 
-// FORMAT.md 5.1's PCD block, then (layout) 5.3's PCD layout.
+// FORMAT.md 5.5's PCD block, then (layout) its PCD layout.
 void put_pcd_block(const PCDExtra& x, size_t frames, size_t points, bool layout, ByteWriter* out) {
   out->str(x.encoding);
   put_strings(out, x.frame_names.size() == frames ? x.frame_names : std::vector<std::string>());
   if (layout) put_pcd_layout(x, points, out);
 }
 
-// FORMAT.md 5.2: the bounded analog channels.
+// FORMAT.md 5.7: the bounded analog channels.
 void put_analog_bounds(const Analog& a, ByteWriter* out) {
   ByteWriter& w = *out;
   size_t nb = 0;
@@ -224,7 +223,7 @@ std::vector<uint8_t> encode_meta_fields(const Take& t, bool has_sample_words) {
   w.str(t.units);
   w.f64(t.rate);
   w.svarint(t.first_frame);
-  // FORMAT.md 5.1: labels the C3D parameters already hold are not written twice.
+  // FORMAT.md 5.3: labels the C3D parameters already hold are not written twice.
   const bool derived = t.c3d && labels_from_parameters(*t.c3d, t.points, t.analog.channels,
                                                        t.labels, t.descriptions, t.analog.labels);
   static const std::vector<std::string> kNone;
@@ -232,7 +231,7 @@ std::vector<uint8_t> encode_meta_fields(const Take& t, bool has_sample_words) {
   put_strings(&w, derived ? kNone : t.descriptions);
   w.f64(t.analog.rate);
   put_strings(&w, derived ? kNone : t.analog.labels);
-  // FORMAT.md 5.3: a PCD layout (fields, WIDTH x HEIGHT, VIEWPOINT) follows the PCD block.
+  // FORMAT.md 5.5: a PCD layout (fields, WIDTH x HEIGHT, VIEWPOINT) follows the PCD block.
   const bool layout = t.pcd && !t.pcd->fields.empty();
   uint8_t extras = static_cast<uint8_t>((t.c3d ? 1 : 0) | (t.trc ? 2 : 0) | (t.pcd ? 4 : 0) |
                                         (derived ? 8 : 0) | (layout ? 16 : 0));
@@ -240,11 +239,11 @@ std::vector<uint8_t> encode_meta_fields(const Take& t, bool has_sample_words) {
   if (t.c3d) put_c3d_block(*t.c3d, has_sample_words, &w);
   if (t.trc) put_trc_block(*t.trc, t.frames, &w);
   if (t.pcd) put_pcd_block(*t.pcd, t.frames, t.points, layout, &w);
-  if (t.rotations.segments > 0) {  // FORMAT.md 4.3 (HEAD says rotations)
+  if (t.rotations.segments > 0) {  // FORMAT.md 5.6 (HEAD says rotations)
     w.f64(t.rotations.rate);
     put_strings(&w, t.rotations.labels);
   }
-  if (t.analog.lossy()) put_analog_bounds(t.analog, &w);  // FORMAT.md 5.2, appended
+  if (t.analog.lossy()) put_analog_bounds(t.analog, &w);  // FORMAT.md 5.7, appended
   return std::move(w.buffer());
 }
 }  // namespace
@@ -272,7 +271,7 @@ std::vector<uint8_t> encode_meta(const Take& t, bool has_sample_words, bool dict
 }
 
 namespace {
-// FORMAT.md 5.3: the PCD layout; sets the take's attribute layouts (no data).
+// FORMAT.md 5.5: the PCD layout; sets the take's attribute layouts (no data).
 void get_pcd_layout(ByteReader* r, const std::string& what, Take* t, PCDExtra* p) {
   p->version = r->str();
   const uint64_t width = r->varint(), height = r->varint();
@@ -346,7 +345,7 @@ std::vector<uint8_t> decode_meta_fields(const Chunk& c, const std::string& name,
         decode_bytes(c.payload + outer.offset(), outer.remaining(), static_cast<size_t>(n), what);
   } else if (coding == 0) {
     fields.assign(c.payload + 1, c.payload + c.size);
-  } else if (coding == 2 || (coding == 3 && major >= 8)) {  // FORMAT.md 5.1, 8.1
+  } else if (coding == 2 || (coding == 3 && major >= 8)) {  // FORMAT.md 5.1
     LzmaPreset preset;
     if (coding == 3) {
       const uint8_t number = outer.u8();
@@ -366,7 +365,7 @@ std::vector<uint8_t> decode_meta_fields(const Chunk& c, const std::string& name,
 }
 
 namespace {
-// FORMAT.md 5.1's C3D block: sets *has_sample_words.
+// FORMAT.md 5.3's C3D block: sets *has_sample_words.
 std::shared_ptr<C3DExtra> get_c3d_block(ByteReader* in, const std::string& what,
                                         bool* has_sample_words) {
   ByteReader& r = *in;
@@ -447,7 +446,7 @@ std::vector<int64_t> get_trc_frame_numbers(ByteReader* in, const std::string& wh
   return numbers;
 }
 
-// FORMAT.md 5.1's TRC block.
+// FORMAT.md 5.4's TRC block.
 std::shared_ptr<TRCExtra> get_trc_block(ByteReader* in, const std::string& what, size_t frames) {
   ByteReader& r = *in;
   auto x = std::make_shared<TRCExtra>();
@@ -462,7 +461,7 @@ std::shared_ptr<TRCExtra> get_trc_block(ByteReader* in, const std::string& what,
   return x;
 }
 
-// FORMAT.md 5.2: the bounded analog channels.
+// FORMAT.md 5.7: the bounded analog channels.
 void get_analog_bounds(ByteReader* in, const std::string& what, Analog* a) {
   ByteReader& r = *in;
   const size_t C = static_cast<size_t>(std::max(0, a->channels));
@@ -523,14 +522,14 @@ void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sam
     fail(ErrorCode::kCorrupt, what, "PCD layout without a PCD block");
   }
   if (extras & ~31) fail(ErrorCode::kCorrupt, what, "unknown metadata blocks");
-  if (t->rotations.segments > 0) {  // FORMAT.md 4.3
+  if (t->rotations.segments > 0) {  // FORMAT.md 5.6
     t->rotations.rate = r.f64();
     t->rotations.labels =
         get_strings(&r, static_cast<size_t>(t->rotations.segments), "rotation label count");
   }
   t->analog.bounds.clear();
   t->analog.factors.clear();
-  if (t->analog.channels > 0 && r.remaining() > 0) {  // FORMAT.md 5.2: bounded analog channels
+  if (t->analog.channels > 0 && r.remaining() > 0) {  // FORMAT.md 5.7: bounded analog channels
     get_analog_bounds(&r, what, &t->analog);
   }
   // Fields appended by later minor versions follow; they are skipped.

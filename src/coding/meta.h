@@ -1,4 +1,4 @@
-// META, the stream's metadata chunk (docs/FORMAT.md 3.2, 4.3, 5.1-5.3, 8.1).
+// META, the stream's metadata chunk (docs/FORMAT.md 5).
 #pragma once
 
 #include <cstdint>
@@ -14,8 +14,8 @@ namespace capz {
 // C3D per-sample words. decode_meta fills those fields of *take (frames/points, the analog
 // layout and take->rotations' segments and samples per frame from the header must already be
 // set and checked with check_header_fits; per-frame TRC/PCD lists are checked against them).
-// With rotations (segments > 0) META ends with their rate and labels (FORMAT.md 4.3).
-// has_sample_words tells whether C3DW chunks follow. With `dictionary` coding 3 (FORMAT.md 8.1,
+// With rotations (segments > 0) META ends with their rate and labels (FORMAT.md 5.6).
+// has_sample_words tells whether C3DW chunks follow. With `dictionary` coding 3 (FORMAT.md 5.1,
 // a stream of major 8 or above) is offered too; meta_coding(payload) tells the one chosen.
 // decode_meta reads coding 3 only when the stream's `major` is 8 or above.
 std::vector<uint8_t> encode_meta(const Take& take, bool has_sample_words, bool dictionary = false);

@@ -1,6 +1,6 @@
 // Nearest earlier points of a window's points, from the window's POSW integers: the search of
-// the encoder's POSW reference candidates (docs/FORMAT.md 3.3, position_modes.cpp) and the
-// normative neighbour of ATTR predictors 10 and 11 (FORMAT.md 7.3), one loop for both.
+// the encoder's POSW reference candidates (docs/FORMAT.md 8, position_modes.cpp) and the
+// normative neighbour of ATTR predictors 10 and 11 (FORMAT.md 13.5), one loop for both.
 #pragma once
 
 #include <cstddef>

@@ -47,7 +47,7 @@ struct DecCoder {
 
 // The walks of a scheme-3 stream that may hold predictor 10 (positions_ray.cpp): code q (every
 // valid sample's residual, gaps filled) into enc, or decode it from dec, predictor 10 reading
-// the integers as `ray` says (FORMAT.md 7.1); mode 3 never has it, so there are no low words.
+// the integers as `ray` says (FORMAT.md 8.3); mode 3 never has it, so there are no low words.
 void encode_walk_ray(size_t frames, size_t points, const uint8_t* valid, const uint8_t* modes,
                      const uint32_t* ref, const int32_t* t, int32_t* q, ResidualContexts& contexts,
                      IntEncoder& enc, size_t period, RayKind ray);

@@ -567,7 +567,7 @@ void choose_transform(const WindowInts& w, const std::vector<int32_t>& q, const 
   }
 }
 
-// Predictor 10 (FORMAT.md 7.1), estimated as choose_temporal estimates 0-9: per point, the
+// Predictor 10 (FORMAT.md 8.3), estimated as choose_temporal estimates 0-9: per point, the
 // residuals of each axis in axis order (the walk codes the lead axis first, which changes only
 // the `tb` of its contexts, which the estimate does not model).
 void choose_ray(const WindowInts& w, const PointMajor& pm, const std::vector<TokenHist>& first,

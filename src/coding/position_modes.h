@@ -1,4 +1,4 @@
-// The encoder's choice of a predictor per point for one window of positions (docs/FORMAT.md 3.3:
+// The encoder's choice of a predictor per point for one window of positions (docs/FORMAT.md 8:
 // predictors, reference points, period), by the estimated coded size of each point's residuals.
 // Built into the decoder library beside positions.cpp, whose encode_positions uses it.
 #pragma once

@@ -1,4 +1,4 @@
-// Positions of one window as integers (docs/FORMAT.md 3.3): a predictor per point chosen by an
+// Positions of one window as integers (docs/FORMAT.md 8): a predictor per point chosen by an
 // estimate of its coded size, then every sample's residual entropy-coded. encode_positions
 // returns a POSW payload (after the window index and has_mask byte); split_positions and
 // decode_positions parse one, throwing Error(kCorrupt) naming `what` on any inconsistency.
@@ -25,7 +25,7 @@ struct WindowInts {
 // POSW payload after the window index and has_mask byte: codec bytes, modes, residuals.
 // `codec_payload` is what the transform codec wrote (empty if none), `tpred` its prediction on
 // the grid (frames x points x 3, empty if none).
-// `scheme` is the coding generation (FORMAT.md 3.3): 3 (format 3.x: smooth and period
+// `scheme` is the coding generation (FORMAT.md 8): 3 (format 3.x: smooth and period
 // predictors, 448 residual contexts), what capz writes; 2 (format 2.x: reference predictors, 84
 // contexts) and 1 (format 1.x) for reading old streams and for their tests.
 constexpr int kPositionScheme = 3;
@@ -33,7 +33,7 @@ constexpr int kPositionScheme = 3;
 inline int position_scheme(int major) {
   return major >= 3 ? 3 : major == 2 ? 2 : 1;
 }
-// `ray`: whether (and on what integers) predictor 10 may be chosen (FORMAT.md 7.1; kNone but
+// `ray`: whether (and on what integers) predictor 10 may be chosen (FORMAT.md 8.3; kNone but
 // in a 7.x stream of mode 0, 1, 2 or 4 whose take the scan found on rays).
 std::vector<uint8_t> encode_positions(const WindowInts& w,
                                       const std::vector<uint8_t>& codec_payload,

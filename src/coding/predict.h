@@ -1,5 +1,5 @@
 // Position predictors and the window coding loop, shared by encoder and decoder so both compute
-// identical predictions (docs/FORMAT.md 3.3). All integer arithmetic wraps modulo 2^32.
+// identical predictions (docs/FORMAT.md 8). All integer arithmetic wraps modulo 2^32.
 //
 // Shapes: q, t are frames x points x 3 int32 (frame-major); valid is frames x points.
 #pragma once
@@ -30,19 +30,19 @@ enum Predictor : uint8_t {
   kPredRay = 10,             // lead axis q[f-1]; the others along the ray (format 7, 7.1)
 };
 
-// What predictor 10's ray rule reads the integers as (FORMAT.md 7.1): not allowed (a stream of
+// What predictor 10's ray rule reads the integers as (FORMAT.md 8.3): not allowed (a stream of
 // major 6 or lower, or mode 3), the coordinate times a constant (modes 0, 1, 4), or ordered
 // float32 bits (mode 2).
 enum class RayKind : uint8_t { kNone = 0, kLinear = 1, kFloat32 = 2 };
 
-// How predictor 10 reads a stream's integers: by major version and position mode (FORMAT.md 7.1).
+// How predictor 10 reads a stream's integers: by major version and position mode (FORMAT.md 8.3).
 inline RayKind ray_kind(int major, PosMode mode) {
   if (major < 7 || mode == PosMode::kFloat64) return RayKind::kNone;
   return mode == PosMode::kFloat32 ? RayKind::kFloat32 : RayKind::kLinear;
 }
 
-// Predictor ids a stream of position-coding scheme `scheme` may use (FORMAT.md 3.3), with
-// predictor 10 where `ray` allows it (7.1).
+// Predictor ids a stream of position-coding scheme `scheme` may use (FORMAT.md 8), with
+// predictor 10 where `ray` allows it (8.3).
 inline int predictor_count(int scheme, RayKind ray = RayKind::kNone) {
   if (ray != RayKind::kNone && scheme >= 3) return kPredRay + 1;
   return scheme >= 3 ? kPredCount : scheme == 2 ? kPredSmooth : kPredRefPrevious;
@@ -58,7 +58,7 @@ inline bool uses_period(int mode) {
   return mode == kPredPeriod || mode == kPredPeriodPrevious;
 }
 
-// Predictors that add a reference point's motion (docs/FORMAT.md 3.3); ref[p] = r < p.
+// Predictors that add a reference point's motion (docs/FORMAT.md 8); ref[p] = r < p.
 inline bool uses_ref(int mode) {
   return mode == kPredRefPrevious || mode == kPredRefLinear;
 }
@@ -78,7 +78,7 @@ inline int64_t round_div(int64_t n, int64_t d) {
   return n >= 0 ? (n + d / 2) / d : -((-n + d / 2) / d);
 }
 
-// Predictor 10's lead axis (FORMAT.md 7.1): the axis of the largest |v(c[a])| of the previous
+// Predictor 10's lead axis (FORMAT.md 8.3): the axis of the largest |v(c[a])| of the previous
 // frame's integers c, the lowest on ties, an unusable (not finite) value counting as 0.
 inline int ray_lead(RayKind k, const int32_t* c) {
   double m[3];
@@ -96,7 +96,7 @@ inline int ray_lead(RayKind k, const int32_t* c) {
   return l;
 }
 
-// Predictor 10's prediction of a non-lead axis (FORMAT.md 7.1): the previous frame's ca scaled
+// Predictor 10's prediction of a non-lead axis (FORMAT.md 8.3): the previous frame's ca scaled
 // by the lead axis's change cl -> ql, in binary64 (product, then quotient, each rounded);
 // ca itself where the ratio is undefined or leaves the integers' range.
 inline int32_t ray_predict(RayKind k, int32_t ca, int32_t cl, int32_t ql) {
@@ -117,7 +117,7 @@ inline int32_t ray_predict(RayKind k, int32_t ca, int32_t cl, int32_t ql) {
 }
 
 // Predictor 7: the least-squares line through q[f-1] .. q[f-K], K = min(6, f), at frame f, as
-// q[f-1] + rdiv(sum_{j=2..K} (4K + 2 - 6j) (q[f-j] - q[f-1]), K (K - 1)) (FORMAT.md 3.3).
+// q[f-1] + rdiv(sum_{j=2..K} (4K + 2 - 6j) (q[f-j] - q[f-1]), K (K - 1)) (FORMAT.md 8).
 // Differences wrap to int32; the sum (|.| < 5 * 26 * 2^31) cannot overflow int64.
 // Always inlined: the walks call it per coordinate, where a call costs about as much as its body.
 __attribute__((always_inline)) inline int32_t predict_smooth(size_t f, const int32_t* c,
@@ -173,7 +173,7 @@ __attribute__((always_inline)) inline int32_t predict_one(int mode, size_t f, co
   }
 }
 
-// Scheme 3's refinement of a zero run (FORMAT.md 3.3.1): 2 h + g by the run z (0..12) and
+// Scheme 3's refinement of a zero run (FORMAT.md 8.4): 2 h + g by the run z (0..12) and
 // run = L << 1 | g (L = 0..16), h the phase of z against the previous run length L.
 struct ZeroPhaseTable {
   uint8_t v[13][34];
@@ -190,7 +190,7 @@ constexpr ZeroPhaseTable zero_phase_table() {
 }
 constexpr ZeroPhaseTable kZeroPhase = zero_phase_table();
 
-// Escape sets by context for schemes 1, 2, 3 (FORMAT.md 1.3; see escape_set()): a table, as
+// Escape sets by context for schemes 1, 2, 3 (FORMAT.md 2.4; see escape_set()): a table, as
 // scheme 3's rule takes a modulo per coded value.
 struct EscapeSetTable {
   uint8_t by_scheme[3][448];
@@ -207,7 +207,7 @@ constexpr EscapeSetTable escape_set_table() {
 }
 constexpr EscapeSetTable kEscapeSetOfContext = escape_set_table();
 
-// Residual contexts of a window (docs/FORMAT.md 3.3.1). Per point and axis: `ta`, the token of
+// Residual contexts of a window (docs/FORMAT.md 8.4). Per point and axis: `ta`, the token of
 // the last residual coded for it in this window, and `z`, the number of zero tokens ending there
 // (capped at 12). Scheme 1 (format 1.x): 32 contexts from ta and tb (the token coded just before
 // in the same frame). Scheme 2 (format 2.x): 84 contexts from ta or the zero run, and tb.
@@ -402,7 +402,7 @@ void walk_window_as(size_t frames, size_t points, const uint8_t* valid, const ui
   coder = code;
 }
 
-// Codes (or decodes) one window frame by frame, point by point, x, y, z (FORMAT.md 3.3):
+// Codes (or decodes) one window frame by frame, point by point, x, y, z (FORMAT.md 8):
 // `code(i, pred, ctx, &tok)` returns q[i] and the residual's token. Gap samples are filled so
 // histories stay defined. `period` is the window's period T (only read by predictors 8 and 9).
 // Coder is trivially copyable: the walk codes through a local copy (kept in registers) and
@@ -424,7 +424,7 @@ void walk_window(size_t frames, size_t points, const uint8_t* valid, const uint8
 }
 
 // walk_window for a scheme-3 stream whose points may use predictor 10, which reads the integers
-// as coder.ray says (FORMAT.md 7.1): from frame 1 on, such a point's lead axis is coded first,
+// as coder.ray says (FORMAT.md 8.3): from frame 1 on, such a point's lead axis is coded first,
 // then the other two along the ray. Instantiated in its own translation unit
 // (positions_ray.cpp), so that its extra coding sites do not change how the compiler inlines the
 // coder into the walks of every other stream.

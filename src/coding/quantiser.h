@@ -1,4 +1,4 @@
-// The bound layer's number mappings (docs/FORMAT.md 3.1): between a coordinate x (double, the
+// The bound layer's number mappings (docs/FORMAT.md 4.2): between a coordinate x (double, the
 // take's units) and the 32-bit integer q that is predicted and entropy-coded.
 //
 // Rounding rule (grid): q = round-half-away-from-zero(x / s), computed in double; x' = q * s.

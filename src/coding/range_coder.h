@@ -1,4 +1,4 @@
-// Adaptive range coder: the entropy stage every capz stream ends in (docs/FORMAT.md section 1).
+// Adaptive range coder: the entropy stage every capz stream ends in (docs/FORMAT.md section 2).
 //
 // RangeEncoder/RangeDecoder code intervals of a fixed total 2^15 (kTotalBits).
 // SymbolModel is an adaptive cumulative-frequency table over up to 64 symbols; every symbol keeps
@@ -195,7 +195,7 @@ class RangeDecoder {
   std::string what_;
 };
 
-// Raw bit fields travel beside the range-coded bytes (docs/FORMAT.md 1.3): packed LSB first.
+// Raw bit fields travel beside the range-coded bytes (docs/FORMAT.md 2.4): packed LSB first.
 class BitWriter {
  public:
   // n low bits of v, 0 <= n <= 32.
@@ -296,7 +296,7 @@ struct TargetTable {
 inline constexpr TargetTable kTargets{};
 }  // namespace detail
 
-// Adaptive model over 16 symbols (docs/FORMAT.md 1.2): cum(i) = c[i] + i over kTotal, so every
+// Adaptive model over 16 symbols (docs/FORMAT.md 2.3): cum(i) = c[i] + i over kTotal, so every
 // symbol keeps a frequency >= 1. Alphabets of n < 16 symbols simply never code the top ones.
 // Stored as cum itself (cum_[i] = c[i] + i; cum_[16] = kTotal): the update
 // c += (target - c) >> rate is the same as cum += ((target + i) - cum) >> rate.
@@ -307,13 +307,13 @@ class SymbolModel {
   SymbolModel() {
     for (int i = 0; i <= kSymbols; ++i) cum_[i] = static_cast<uint16_t>(i * kT / kSymbols + i);
   }
-  // Start on the first m symbols (FORMAT.md 9.5): c[i] = floor(i * T / m) for i <= m, T above,
+  // Start on the first m symbols (FORMAT.md 2.3): c[i] = floor(i * T / m) for i <= m, T above,
   // so symbols m..15 keep their least frequency, 1.
   void restrict(int m) {
     for (int i = 0; i <= kSymbols; ++i)
       cum_[i] = static_cast<uint16_t>((i <= m ? i * kT / m : kT) + i);
   }
-  // Skewed start (FORMAT.md 1.2): c[i] = T - floor(T / 2^i), symbol i has about 2^-(i+1).
+  // Skewed start (FORMAT.md 2.3): c[i] = T - floor(T / 2^i), symbol i has about 2^-(i+1).
   void skew() {
     for (int i = 1; i < kSymbols; ++i) cum_[i] = static_cast<uint16_t>(kT - (kT >> i) + i);
   }

@@ -1,4 +1,4 @@
-// Lossless rotation-window coder (docs/FORMAT.md 4.3): per element series, a
+// Lossless rotation-window coder (docs/FORMAT.md 12): per element series, a
 // temporal prediction made in float arithmetic, the value and the prediction mapped to ordered
 // integers, their difference coded with the hybrid-token integer coder.
 #include "coding/rotations.h"

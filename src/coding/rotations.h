@@ -1,5 +1,5 @@
 // Lossless coding of one window of rotation samples (Rotations in take.h): the byte layout is
-// docs/FORMAT.md 4.3. Every float32 comes back bit for bit (NaN payloads, -0.0,
+// docs/FORMAT.md 12. Every float32 comes back bit for bit (NaN payloads, -0.0,
 // denormals, infinities included).
 //
 // Input shapes (one window of `samples` samples, sample-major as in take.h):

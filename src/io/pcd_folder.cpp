@@ -307,7 +307,7 @@ class PCDSource : public FrameSource {
     set_layout(layout_, names_, &header_);
   }
   bool has_sample_words() const override { return false; }
-  // The folder: the encoder stores each frame file's checksum and residue (FORMAT.md 5.4).
+  // The folder: the encoder stores each frame file's checksum and residue (FORMAT.md 7.3, 14.3).
   std::string original_file() const override { return dir_; }
   void read(size_t first, size_t count, FrameBlock* out) override {
     const size_t N = header_.points;

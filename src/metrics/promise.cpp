@@ -6,8 +6,8 @@
 #include <type_traits>
 
 #include "capz/verify.h"
+#include "coding/c3d_params.h"
 #include "coding/quantiser.h"
-#include "io/c3d_params.h"
 
 namespace capz {
 
@@ -275,7 +275,7 @@ bool PromiseCheck::check(const Frames& a, const Frames& b) {
   return holds();
 }
 
-// The analog samples: equal, or for a lossy channel (FORMAT.md 5.2) within its bound in
+// The analog samples: equal, or for a lossy channel (FORMAT.md 5.7) within its bound in
 // physical units, non-finite samples bit for bit.
 bool PromiseCheck::analog(const Frames& a, const Frames& b) {
   const size_t C = promise_.analog_bounds.size();

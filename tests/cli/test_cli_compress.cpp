@@ -106,7 +106,7 @@ TEST(CliCompress, GivenC3DWhenCompressedWithJsonAndUnitsThenFieldsAndConversion)
   EXPECT_NE(r.out.find("\"encode_mb_per_s\""), std::string::npos);
   Result i = capz_cli("info '" + out + "'");
   EXPECT_EQ(i.status, 0);
-  // EB015PI.c3d: analog channels (FORMAT.md 9).
+  // EB015PI.c3d: analog channels (FORMAT.md 11).
   EXPECT_NE(i.out.find("capz " + std::to_string(capz::kFormat9.major) + "."), std::string::npos)
       << i.out;
   EXPECT_NE(i.out.find("POSW"), std::string::npos);
@@ -336,7 +336,7 @@ TEST(CliCompress, GivenDecompressToTrcThenNotesNameWhatTrcDoesNotKeep) {
   EXPECT_EQ(r.out.find("does not keep"), std::string::npos) << r.out;
 }
 
-// --analog-max-error (docs/FORMAT.md 5.2): bounds by unit and by label, reported by info and
+// --analog-max-error (docs/FORMAT.md 5.7): bounds by unit and by label, reported by info and
 // verify, kept through decompress and --rm; bad requests are one-line errors.
 TEST(CliCompress, GivenAnalogMaxErrorThenInfoVerifyAndDecompressKeepTheBounds) {
   capz_test::TempDir d("capz_cli_analog");

@@ -76,7 +76,7 @@ TEST(PcdConformance, FrameOrderIsNatural) {
 // give back every frame file byte for byte through the PCD writer too (decompress with
 // --pcd-data binary): their headers are in the form capz writes (PCL's) and their gaps are
 // canonical NaNs. (Any other frame file comes back byte for byte through the residue only:
-// LosslessArchivesRebuild... below, FORMAT.md 5.4.)
+// LosslessArchivesRebuild... below, FORMAT.md 7.3, 14.3.)
 TEST(PcdConformance, LosslessArchivesGiveBackTheSharedFramesByteForByte) {
   const std::string data = capz_test::shared_data_or_skip();
   if (data.empty()) return;
@@ -119,7 +119,7 @@ size_t chunk_bytes(const std::vector<uint8_t>& a, const char* type) {
   return n;
 }
 
-// A --lossless archive of `dir` rebuilt through its residue (FORMAT.md 5.4): every frame file
+// A --lossless archive of `dir` rebuilt through its residue (FORMAT.md 7.3, 14.3): every frame file
 // byte for byte, each frame's checksum and the folder's checked by capz test's path too. One
 // line of the table per folder: files, bytes, archive, residue (HASH + PCDR + PCDP).
 void rebuild_exactly(const std::string& dir) {

@@ -1,5 +1,5 @@
 // Issue 14 conformance: every shared C3D and TRC capz reads, compressed --lossless from its path,
-// comes back byte for byte from the .capz alone (docs/FORMAT.md 4.4). Each file is listed with
+// comes back byte for byte from the .capz alone (docs/FORMAT.md 7, 14). Each file is listed with
 // its result and residue size; a file the reader refuses is listed as such (not a failure: the
 // C3D conformance test holds the list of refused files). At a bound, every C3D comes back with
 // everything but its coordinates exact (issue 14 item 3).
@@ -45,7 +45,7 @@ struct Result {
   size_t residue = 0, windows = 0, archive = 0;
 };
 
-// The wired path (FORMAT.md 4.4): the file compressed --lossless from its path (HASH, C3DR/TRCR,
+// The wired path (FORMAT.md 7, 14): the file compressed --lossless from its path (HASH, C3DR/TRCR,
 // C3DP/TRCP written, the encoder's self-check on), the original rebuilt from the .capz alone by
 // rebuild_original (size and hash checked), then compared with the file byte for byte.
 Result round_trip(const std::string& path, bool trc, const std::string& capz_path,

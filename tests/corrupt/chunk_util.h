@@ -1,5 +1,5 @@
 // Chunks of a .capz in memory, for tests that damage one chunk's payload and fix its CRC so
-// that only the payload's own checks can tell (docs/FORMAT.md 1.2: type, u32 length, payload,
+// that only the payload's own checks can tell (docs/FORMAT.md 3.2: type, u32 length, payload,
 // CRC-32C of type and payload).
 #pragma once
 

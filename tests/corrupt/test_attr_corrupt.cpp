@@ -1,4 +1,4 @@
-// Damaged ATTR chunks (docs/FORMAT.md 5.3, 6.1): every byte of a window's ATTR payload changed, its
+// Damaged ATTR chunks (docs/FORMAT.md 13, 13.4): every byte of a window's ATTR payload changed, its
 // chunk CRC recomputed so only the payload's own checks can tell: decoding throws a capz::Error
 // or gives a take (the change hit a value, which only a checksum could catch); never a crash,
 // never unbounded memory. A missing ATTR chunk and one of another window are corrupt.

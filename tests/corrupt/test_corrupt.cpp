@@ -172,7 +172,7 @@ TEST(Corrupt, GivenEveryTruncationWhenDecodedThenCleanError) {
   }
 }
 
-// FORMAT.md 8.1: META coding 3 exists from 8.0 on, with dictionary 1 only; its LZMA2 data,
+// FORMAT.md 5.1: META coding 3 exists from 8.0 on, with dictionary 1 only; its LZMA2 data,
 // damaged under a valid CRC, gives a clean error or a harmless take.
 TEST(Corrupt, GivenMetaCoding3DamagedOrInAnOlderMajorThenCleanCorruptNamingMeta) {
   const std::vector<uint8_t> good =
@@ -197,7 +197,7 @@ TEST(Corrupt, GivenMetaCoding3DamagedOrInAnOlderMajorThenCleanCorruptNamingMeta)
   expect_clean_under_flips(good, meta, 2, 5, "META");
 }
 
-// FORMAT.md 9.2 at stream level: the golden 9.0 stream whose force channels are interpolated,
+// FORMAT.md 11.4 at stream level: the golden 9.0 stream whose force channels are interpolated,
 // relabelled 8.0 (header CRC made right), is refused with one clean error naming ANLG; every
 // ANLG payload byte flipped under a valid CRC gives a clean error or a take.
 TEST(Corrupt, GivenInterpolatedAnalogInAnOlderMajorOrDamagedThenCleanCorruptNamingAnlg) {
@@ -215,7 +215,7 @@ TEST(Corrupt, GivenInterpolatedAnalogInAnOlderMajorOrDamagedThenCleanCorruptNami
   expect_clean_under_flips(good, anlg, 0, 9, "ANLG");
 }
 
-// FORMAT.md 9.1: the float coder's predictors 2-5 exist from 9.0 on; an ANLG payload using them,
+// FORMAT.md 11.9: the float coder's predictors 2-5 exist from 9.0 on; an ANLG payload using them,
 // damaged under a valid CRC, gives a clean error or a harmless take.
 TEST(Corrupt, GivenFloatPredictors9DamagedOrInAnOlderMajorThenCleanCorruptNamingAnlg) {
   const std::vector<uint8_t> good = read_file(
@@ -234,7 +234,7 @@ TEST(Corrupt, GivenFloatPredictors9DamagedOrInAnOlderMajorThenCleanCorruptNaming
   EXPECT_GT(errors, 0);
 }
 
-// FORMAT.md 9.7: window version 2 exists from 9.3 on. The golden 9.3 stream of a take with force
+// FORMAT.md 11.10: window version 2 exists from 9.3 on. The golden 9.3 stream of a take with force
 // and EMG channels, relabelled 9.2 (header CRC made right), is refused with one clean error naming
 // ANLG; every byte of its first ANLG payload flipped under a valid CRC gives a clean error or a
 // take.

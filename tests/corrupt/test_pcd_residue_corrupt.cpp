@@ -1,7 +1,7 @@
-// Damaged PCD residue chunks (docs/FORMAT.md 5.4): every byte of PCDR and PCDP changed with its
-// chunk CRC recomputed (so only the payload's own checks and the checksums can tell): the rebuild
-// throws a capz::Error and leaves no folder, or gives every frame file back exactly; never a
-// crash, never a wrong file.
+// Damaged PCD residue chunks (docs/FORMAT.md 7.3, 14.3): every byte of PCDR and PCDP changed with
+// its chunk CRC recomputed (so only the payload's own checks and the checksums can tell): the
+// rebuild throws a capz::Error and leaves no folder, or gives every frame file back exactly; never
+// a crash, never a wrong file.
 #include <gtest/gtest.h>
 
 #include <cstring>

@@ -1,4 +1,4 @@
-// Damaged byte-exact chunks (docs/FORMAT.md 4.4): every byte of HASH, C3DR and C3DP, changed with
+// Damaged byte-exact chunks (docs/FORMAT.md 7, 14): every byte of HASH, C3DR and C3DP, changed with
 // its chunk CRC recomputed (so only the payload's own checks and the hash can tell): the rebuild
 // throws a capz::Error or gives the original back exactly; never a crash, never a wrong file.
 #include <gtest/gtest.h>

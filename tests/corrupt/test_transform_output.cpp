@@ -1,4 +1,4 @@
-// Transform-output streams (docs/FORMAT.md 3.1, HEAD flags bit 1: the transform's reconstruction
+// Transform-output streams (docs/FORMAT.md 4.3, HEAD flags bit 1: the transform's reconstruction
 // is the output, no bound layer): a valid one decodes to the encoder's reconstruction and meets
 // its KG target; every inconsistent combination of flags and fields is rejected as corrupt.
 #include <gtest/gtest.h>

@@ -1,18 +1,19 @@
-// Fuzz target: the format 4.0 analog window codec (src/coding/analog/, FORMAT.md 4.2), and its
-// repeated frames of 7.0 (FORMAT.md 7.2). Byte 0 picks the mode, bytes 1-2 the shape (channels
+// Fuzz target: the format 4.0 analog window codec (src/coding/analog/, FORMAT.md 11), and its
+// repeated frames of 7.0 (FORMAT.md 11.3). Byte 0 picks the mode, bytes 1-2 the shape (channels
 // 1..16, rows 1..2048). With bit 7 of the mode the window is a 7.x one: S = 1 + bits 3-6 samples
 // a frame, rows rounded up to whole frames (and in odd modes some frames of some channels made
 // copies of the previous frame, as input bytes say); without it, a window of 4.x-6.x. With bit 7
-// of byte 2 the window is an 8.x one (FORMAT.md 8.2: rank tables against a lattice), and with bit
-// 6 of the mode or bit 7 of byte 1 too a 9.x one (FORMAT.md 9.1: the float coder's predictors
+// of byte 2 the window is an 8.x one (FORMAT.md 11.7: rank tables against a lattice), and with bit
+// 6 of the mode or bit 7 of byte 1 too a 9.x one (FORMAT.md 11.9: the float coder's predictors
 // 2-5; 9.2: interpolated samples: with bit 6 of the mode, in odd modes every second row is made
 // the mean of its neighbours, so that the encoder finds them), a 9.1 one when bit 0 of byte 2 is
-// set too (FORMAT.md 9.3: integer blocks predicted by a constant), and a 9.2 one when bit 1 of
-// byte 2 is set as well (FORMAT.md 9.5: windows of version 1, whose integer residuals code the bits
-// below their tokens through models; 9.4: held samples: without bit 6 of the mode, in odd modes the
-// even channels are made to change only at the rows i = 0 and i mod P = 1, P = 2 + bits 4-6 of
-// byte 1, and held in between), and a 9.3 one when bit 2 of byte 2 is set as well (FORMAT.md 9.7:
-// windows of version 2, whose integer residuals' tokens are coded relative to their context):
+// set too (FORMAT.md 11.8: integer blocks predicted by a constant), and a 9.2 one when bit 1 of
+// byte 2 is set as well (FORMAT.md 11.10: windows of version 1, whose integer residuals code the
+// bits below their tokens through models; 9.4: held samples: without bit 6 of the mode, in odd
+// modes the even channels are made to change only at the rows i = 0 and i mod P = 1, P = 2 + bits
+// 4-6 of byte 1, and held in between), and a 9.3 one when bit 2 of byte 2 is set as well
+// (FORMAT.md 11.10: windows of version 2, whose integer residuals' tokens are coded relative to
+// their context):
 //   mode even: the rest is an ANLG body; decoding must return or throw capz::Error, and a body
 //     that decodes must re-encode to one that decodes to the same bits;
 //   mode odd: the rest are sample bits (as int16 counts, float32 or float64 values, by mode),

@@ -1,5 +1,5 @@
-// Fuzz target: the ATTR coder of PCD point fields (src/coding/attributes.h, FORMAT.md 5.3, 6,
-// 7.3). Byte 0 picks the mode (bits 0-1), the field set (bits 2-4, and bit 6 for the normal
+// Fuzz target: the ATTR coder of PCD point fields (src/coding/attributes.h, FORMAT.md 13,
+// 13.5). Byte 0 picks the mode (bits 0-1), the field set (bits 2-4, and bit 6 for the normal
 // triples) and the stream's major (bit 5: 6.x, predictor 9 and transforms 4, 5 allowed; bit 7:
 // 7.x, predictors 10 and 11 too, with position integers made from the shape), bytes 1-2 the
 // shape (frames 1..16, points 1..256, width a divisor-free 1..points):

@@ -1,5 +1,5 @@
-// Fuzz target: the PCD residue (src/io/residue/pcd_residue.h, FORMAT.md 5.4) of a small PCD take
-// (x y z float32 and an intensity field; frames 1..4 of 5 points, point 1 of frame 0 a gap).
+// Fuzz target: the PCD residue (src/io/residue/pcd_residue.h, FORMAT.md 7.3, 14.3) of a small PCD
+// take (x y z float32 and an intensity field; frames 1..4 of 5 points, point 1 of frame 0 a gap).
 // Byte 0 picks the mode and the frame count:
 //   mode even: then a varint n, n bytes of PCDR payload and the rest a PCDP payload (after its
 //     window index); decoding every frame must return or throw capz::Error;

@@ -10,8 +10,8 @@
 
 #include "capz/error.h"
 #include "capz/io.h"
+#include "coding/c3d_params.h"
 #include "fuzz_common.h"
-#include "io/c3d_params.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   capz::Take t;

@@ -95,7 +95,7 @@ TEST(Golden, GivenGoldenStreamsWhenDecodedThenKnownContentAndWithinBoundOfSource
       EXPECT_EQ(
           std::memcmp(a.analog.values.data(), b.analog.values.data(), a.analog.values.size() * 8),
           0);
-    } else {  // lossy analog channels (FORMAT.md 5.2): within their bounds, the rest exact
+    } else {  // lossy analog channels (FORMAT.md 5.7): within their bounds, the rest exact
       const size_t C = si.analog_bounds.size();
       size_t moved = 0;
       for (size_t k = 0; k < a.analog.values.size(); ++k) {
@@ -152,9 +152,9 @@ int version_of(const std::string& stream) {
 }
 
 // The encoder still writes the golden streams of the versions it writes byte for byte (5.0; 6.0
-// for takes with a normal triple or an organized layout, FORMAT.md 6; 7.0 for scans along
+// for takes with a normal triple or an organized layout, FORMAT.md 13; 7.0 for scans along
 // sensor rays or unorganized clouds' fields, FORMAT.md 7; 8.0 for C3D parameters after the
-// dictionary, FORMAT.md 8; 9.0 for analog channels, FORMAT.md 9),
+// dictionary, FORMAT.md 5.8; 9.0 for analog channels, FORMAT.md 11),
 // through the CLI with the options
 // MANIFEST.txt records: for each source and options, the stream of the highest version (older
 // ones of the same source and options were written by older encoders, and are only decoded).

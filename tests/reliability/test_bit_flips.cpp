@@ -11,8 +11,8 @@
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/io.h"
+#include "coding/c3d_params.h"
 #include "coding/container.h"
-#include "io/c3d_params.h"
 #include "test_util.h"
 
 namespace {

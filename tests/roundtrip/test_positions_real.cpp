@@ -1,4 +1,4 @@
-// The position coder's reference predictors (docs/FORMAT.md 3.3, predictors 5/6) on real data:
+// The position coder's reference predictors (docs/FORMAT.md 8, predictors 5/6) on real data:
 // a mesh sequence's float32 bits (the lossless path) and grid integers, and a mocap take's grid
 // integers, are coded with references chosen by the encoder and decode to the same integers.
 #include <gtest/gtest.h>

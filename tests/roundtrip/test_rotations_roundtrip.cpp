@@ -1,4 +1,4 @@
-// Rotations in a .capz (docs/FORMAT.md 4.3): a C3D with a ROTATION section, built here, comes
+// Rotations in a .capz (docs/FORMAT.md 12): a C3D with a ROTATION section, built here, comes
 // back with every rotation bit (NaN payloads, -0.0, denormals) through compress / decompress,
 // through the streamed paths (C3D source -> .capz file -> C3D sink), lossless and at a bound,
 // with and without points, over several windows; damaged ROTW chunks are corrupt.

@@ -30,7 +30,7 @@ inline std::vector<uint8_t> positions_round_trip(const WindowInts& w, int scheme
   return decode_modes(pp, w.points, scheme, "test");
 }
 
-// Points whose predictor uses a reference point (FORMAT.md 3.3, predictors 5 and 6).
+// Points whose predictor uses a reference point (FORMAT.md 8, predictors 5 and 6).
 inline size_t count_refs(const std::vector<uint8_t>& modes) {
   size_t n = 0;
   for (uint8_t m : modes) n += uses_ref(m) ? 1 : 0;

@@ -9,7 +9,7 @@
 namespace capz_test {
 
 // A file source with its original_file() hidden: streaming then writes no HASH or residue
-// chunks (FORMAT.md 4.4), so its bytes must be compress()'s of the whole take.
+// chunks (FORMAT.md 7, 14), so its bytes must be compress()'s of the whole take.
 class WithoutOriginal : public capz::FrameSource {
  public:
   explicit WithoutOriginal(std::unique_ptr<capz::FrameSource> s) : s_(std::move(s)) {

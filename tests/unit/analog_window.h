@@ -1,4 +1,4 @@
-// Analog windows in unit tests (docs/FORMAT.md 4.2): round trips that compare every sample's bits,
+// Analog windows in unit tests (docs/FORMAT.md 11): round trips that compare every sample's bits,
 // damaged payloads that must decode as corrupt, and the channel headers (each channel's kind byte
 // and layout fields: 4.2.2, 7.2, 9.2, 9.4, 9.6; read as a 9.2 window reads them unless the caller
 // gives other rules).

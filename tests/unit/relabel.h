@@ -22,7 +22,7 @@ inline std::vector<uint8_t> golden_bytes(const std::string& name) {
   return std::vector<uint8_t>(text.begin(), text.end());
 }
 
-// b with version major.minor and the header CRC made right for it (FORMAT.md 2).
+// b with version major.minor and the header CRC made right for it (FORMAT.md 3).
 inline std::vector<uint8_t> relabelled(std::vector<uint8_t> b, uint8_t major, uint8_t minor) {
   if (b.size() < 15) return b;
   b[9] = major;

@@ -66,7 +66,7 @@ TEST(AnalogCodec, GivenInt16CountsWhenCodedThenExactIntKindAndSmall) {
   EXPECT_LT(bytes, v.size() * 2 / 2);  // well below 16 bits a sample
 }
 
-// FORMAT.md 9.3: white noise around a level far from 0 (an offset ADC channel, rank indices)
+// FORMAT.md 11.8: white noise around a level far from 0 (an offset ADC channel, rank indices)
 // is predicted by a constant in a 9.1 window, which decodes exactly and codes smaller than
 // 9.0's order 0 or first difference; a 9.0 decoder refuses the order code (corrupt).
 TEST(AnalogCodec, GivenNoiseAroundALevelWhen91ThenConstantPredictorSmallerAndExact) {

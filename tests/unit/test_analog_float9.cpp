@@ -1,4 +1,4 @@
-// The float coder's predictors of format 9.0 (FORMAT.md 9.1): round trips of every predictor on
+// The float coder's predictors of format 9.0 (FORMAT.md 11.9): round trips of every predictor on
 // edge cases (NaN payloads, -0.0, subnormals, infinities, float64 channels, 1-3 samples), the
 // predictor the encoder keeps for smooth and for noisy channels, the decoder refusing them in a
 // window before 9.0, and every new field damaged.

@@ -1,4 +1,4 @@
-// Held analog samples (docs/FORMAT.md 9.4): channels written by sample and hold from a slower
+// Held analog samples (docs/FORMAT.md 11.5): channels written by sample and hold from a slower
 // sensor (every sample but those at one phase of a period a copy of the one before) round-trip
 // bit for bit with a hold field, which is written only in 9.2 windows and only where it codes
 // smaller; exceptions, NaN and -0.0 samples, long periods and references between channels follow
@@ -202,7 +202,7 @@ TEST(AnalogHold, GivenDamagedFieldsThenCorruptNeverCrash) {
   ASSERT_EQ(c.p[k + 2], 9);   // phase
   ASSERT_EQ(c.p[k + 3], 0);   // no exceptions
   const char* kind = "unknown analog channel kind";
-  // Before 9.2 the window's version 1 (FORMAT.md 9.5) is corrupt first; as version 0, bit 7.
+  // Before 9.2 the window's version 1 (FORMAT.md 11.10) is corrupt first; as version 0, bit 7.
   expect_corrupt(c.p, n, kAnalogConstantSince, "version 1 before 9.2",
                  "unknown analog window version");
   std::vector<uint8_t> q = c.p;
@@ -304,7 +304,7 @@ TEST(AnalogHold, GivenTheBundledHeldSampleThenItsAccelerometersAreHeld) {
 }
 
 // The 9.2 golden stream relabelled 9.1 (header CRC made right): its analog windows (of version
-// 1, FORMAT.md 9.5, with hold fields) are then corrupt, and the decoder says so, naming the
+// 1, FORMAT.md 11.10, with hold fields) are then corrupt, and the decoder says so, naming the
 // chunk, rather than misreading them.
 TEST(AnalogHold, GivenA92StreamRelabelled91ThenTheHoldFieldIsCorrupt) {
   const std::vector<uint8_t> b = capz_test::golden_bytes("held_analog.c3d.lossless.v9.2.capz");

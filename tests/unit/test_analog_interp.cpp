@@ -1,4 +1,4 @@
-// Interpolated analog samples (docs/FORMAT.md 9.2): channels whose samples between anchors are
+// Interpolated analog samples (docs/FORMAT.md 11.4): channels whose samples between anchors are
 // the linear interpolation of them round-trip bit for bit with an interpolation field, which is
 // written only in 9.x windows and only where it codes smaller; exceptions, the tail, NaN
 // anchors, float32 and float64 channels and references between channels follow the format;

@@ -1,4 +1,4 @@
-// Rank tables coded against a lattice (FORMAT.md 8.2): round trips of float32 and double tables,
+// Rank tables coded against a lattice (FORMAT.md 11.7): round trips of float32 and double tables,
 // the window codec choosing them only in 8.x windows, and the decoder refusing a lattice table
 // in a stream before 8.0 and every damaged field.
 #include <gtest/gtest.h>
@@ -189,7 +189,7 @@ TEST(AnalogLattice, GivenFormat8WindowThenSmallerExactAndRefusedBefore8) {
       Error);
 }
 
-// A lattice table header written field by field (FORMAT.md 8.2), float32 entries 1.0, 2.0, ...
+// A lattice table header written field by field (FORMAT.md 11.7), float32 entries 1.0, 2.0, ...
 // with the given fields.
 struct Fields {
   uint64_t m = 3;

@@ -1,4 +1,4 @@
-// Lossy analog channels (docs/FORMAT.md 5.2): the quantiser keeps every sample within its bound
+// Lossy analog channels (docs/FORMAT.md 16.3): the quantiser keeps every sample within its bound
 // and on the channel's own lattice, the window codec codes the result exactly and smaller, META
 // carries the bounds (and rejects bad ones), and compress / decompress / verify keep the promise.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Analog window version 1 (docs/FORMAT.md 9.5, format 9.2): the two bits below an integer
+// Analog window version 1 (docs/FORMAT.md 11.10, format 9.2): the two bits below an integer
 // residual's token go through a model per token. Residuals round-trip through the stage for
 // every token; a channel whose differences keep a pattern in their low bits codes smaller than
 // in 9.1, noise about the same; a version 1 window is corrupt in a 9.1 stream, a version 0 one

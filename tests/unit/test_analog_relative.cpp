@@ -1,4 +1,4 @@
-// Analog window version 2 (docs/FORMAT.md 9.7, format 9.3): an integer residual's token is coded
+// Analog window version 2 (docs/FORMAT.md 11.10, format 9.3): an integer residual's token is coded
 // relative to its magnitude context, with contexts for tokens far below and one for tokens far
 // above. Residuals round-trip through the stage on all three paths; noise of large and changing
 // magnitude codes smaller than in a 9.2 window, small residuals about the same; a version 2

@@ -1,4 +1,4 @@
-// Repeated analog frames (docs/FORMAT.md 7.2): windows whose channels repeat whole point frames
+// Repeated analog frames (docs/FORMAT.md 11.3): windows whose channels repeat whole point frames
 // round-trip bit for bit with repeat lists, the lists are written where frames repeat (and only
 // in 7.x windows), references follow the same-set rule, corrupt lists throw kCorrupt, and
 // vicon_zerowire.c3d (the shared take with repeated frames) goes C3D -> capz 7.0 -> C3D exactly.
@@ -358,7 +358,7 @@ TEST(AnalogRepeat, GivenViconZerowireThenCapz7AndTheC3DComesBackByteForByte) {
   ASSERT_EQ(c.status, 0) << c.out;
   const std::string stream = capz_test::file_text(capz);
   ASSERT_GT(stream.size(), 11u);
-  // FORMAT.md 7.2, in the 9.0 every take with analog channels is written as (9.1, 9.2).
+  // FORMAT.md 11.3, in the 9.0 every take with analog channels is written as (9.1, 9.2).
   EXPECT_EQ(static_cast<int>(static_cast<uint8_t>(stream[9])), kFormat9.major);
   const auto d = capz_test::run_command(CAPZ_CLI, "decompress -q '" + capz + "' -o '" + back + "'",
                                         dir.file("d.txt"));

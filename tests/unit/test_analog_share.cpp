@@ -1,5 +1,5 @@
 // A scaled channel's scaling shared with the previous scaled channel of its window
-// (docs/FORMAT.md 9.6, format 9.2): channels stored with one step and offset write them once,
+// (docs/FORMAT.md 11.7, format 9.2): channels stored with one step and offset write them once,
 // the others name them by the kind byte's bit 4; a channel with another scaling writes its own
 // and is named after; below 9.2, and with no earlier scaled channel, the bit is corrupt; Walk1's
 // force channels, whose least-squares steps differ in their last bits, share one but for one.

@@ -1,4 +1,4 @@
-// ATTR predictors 10 and 11 (FORMAT.md 7.3): the nearest earlier point of each point (the rule
+// ATTR predictors 10 and 11 (FORMAT.md 13.5): the nearest earlier point of each point (the rule
 // of coding/neighbours.h: first valid frame, exact distances, ties to the larger index, the
 // 512-point window above 4096 points), round trips of integer, float and colour lanes that use
 // them, and what a decoder refuses (a 6.x stream, no position integers).
@@ -276,7 +276,7 @@ TEST(AttrNear, PredictorsTenAndElevenAreCorruptWithoutA7xStreamOrPositions) {
   EXPECT_NE(back, data);
 }
 
-// A take of an unorganized cloud with a field: written as 7.0 (FORMAT.md 7.3), the field exact
+// A take of an unorganized cloud with a field: written as 7.0 (FORMAT.md 13.5), the field exact
 // lossless and at a bound (the encoder's self-check decodes every window, so the decoder found
 // the same neighbours from the POSW integers it decoded); organized, the same take is 6.0.
 TEST(AttrNear, UnorganizedTakesWithFieldsAreWrittenAs70) {

@@ -1,4 +1,4 @@
-// The ATTR coder (coding/attributes.h, FORMAT.md 5.3): every field type and size, COUNT above 1,
+// The ATTR coder (coding/attributes.h, FORMAT.md 13): every field type and size, COUNT above 1,
 // packed colour in both spellings, NaN payloads and -0.0, organized layouts; the predictors
 // actually help on smooth data; damaged payloads are refused.
 #include <gtest/gtest.h>
@@ -306,7 +306,7 @@ TEST(AttrCoder, GapMaskAwarePredictorsAndLzmaRoundTrip) {
 }
 
 TEST(AttrCoder, UnitCompletionOfNormalZIsExactAndSmallerIn6x) {
-  // FORMAT.md 6.1: normal_z predicted from normal_x and normal_y (predictor 9) in a 6.x stream;
+  // FORMAT.md 13.4: normal_z predicted from normal_x and normal_y (predictor 9) in a 6.x stream;
   // the triple comes back bit for bit (NaN payloads, -0.0, infinities, |(x, y)| > 1), and z
   // costs far less than without it. A 5.x stream never uses predictor 9.
   const size_t F = 6, W = 40, N = 40 * 30;
@@ -420,7 +420,7 @@ TEST(AttrCoder, DamagedUnitReferencesAreCorrupt) {
 }
 
 TEST(AttrCoder, ValidAndGapValuesApartIn6x) {
-  // FORMAT.md 6.2: a camera-like window (a moving disc of texture colours and labels on a NaN /
+  // FORMAT.md 13.7: a camera-like window (a moving disc of texture colours and labels on a NaN /
   // zero background): LZMA of the valid points' values apart from the gap points' (transforms 4
   // and 5) beats LZMA of them interleaved, and everything comes back bit for bit.
   const size_t F = 6, W = 40, N = 40 * 30;

@@ -8,9 +8,9 @@
 
 #include "capz/error.h"
 #include "capz/io.h"
+#include "coding/c3d_params.h"
 #include "core/atomic_file.h"
 #include "io/c3d_internal.h"
-#include "io/c3d_params.h"
 #include "support/c3d_compare.h"
 #include "test_util.h"
 

@@ -303,7 +303,7 @@ TEST(Container, GivenKgTargetWhenSearchCachedOrStreamedThenSameStream) {
   }
 }
 
-// Frame numbers are coded with wrapping int64 sums (FORMAT.md 3.2): extreme values from the API
+// Frame numbers are coded with wrapping int64 sums (FORMAT.md 5.4): extreme values from the API
 // round-trip exactly, listed and regular (a run that wraps past the largest int64), and under
 // UBSan no sum overflows (fuzz corpus crash-frame-number-delta-overflow.capz: a crafted delta).
 TEST(Container, GivenExtremeFrameNumbersThenTheyRoundTripWithoutOverflow) {

@@ -1,4 +1,4 @@
-// META codings 2 and 3 (docs/FORMAT.md 5.1, 8.1): raw LZMA2 blocks, with or without a preset
+// META codings 2 and 3 (docs/FORMAT.md 5.1): raw LZMA2 blocks, with or without a preset
 // dictionary, round-trip exactly, anything else is rejected as corrupt, and the encoder keeps
 // the smallest coding.
 #include <gtest/gtest.h>
@@ -14,11 +14,11 @@
 #include "capz/io.h"
 #include "capz/take.h"
 #include "coding/bytes.h"
+#include "coding/c3d_params.h"
 #include "coding/container.h"
 #include "coding/lzma_block.h"
 #include "coding/meta.h"
 #include "core/hash.h"
-#include "io/c3d_params.h"
 
 using namespace capz;
 
@@ -245,10 +245,10 @@ TEST(MetaCoding, GivenLabelsFromParametersWithoutAC3DBlockThenCorrupt) {
   EXPECT_EQ(code_of([&] { decode_meta_payload(w.buffer()); }), kCorrupt);
 }
 
-// META coding 3 (docs/FORMAT.md 8.1): LZMA2 after dictionary 1.
+// META coding 3 (docs/FORMAT.md 5.1): LZMA2 after dictionary 1.
 
 TEST(MetaDictionary, GivenDictionary1ThenItIsTheBytesFormatMdNames) {
-  // FORMAT.md 8.1 names the dictionary by size and XXH3-128: a changed
+  // FORMAT.md 5.8 names the dictionary by size and XXH3-128: a changed
   // docs/format/meta-dict-1.bin would silently make every 8.0 stream undecodable.
   const LzmaPreset d = meta_dictionary(1);
   ASSERT_EQ(d.size, 94519u);

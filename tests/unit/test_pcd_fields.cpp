@@ -260,7 +260,7 @@ TEST(PcdFields, StreamingCompressionOfTheFolderGivesTheSameBytes) {
   const std::vector<uint8_t> whole = capz::compress(t, o);
   const std::string z = d.file("s.capz");
   // The folder's source as the streaming coder sees it, without original_file(): the same bytes
-  // as compress(). (With it, a lossless archive adds HASH, PCDR and PCDP: FORMAT.md 5.4.)
+  // as compress(). (With it, a lossless archive adds HASH, PCDR and PCDP: FORMAT.md 7.3, 14.3.)
   struct NoOriginal : capz::FrameSource {
     explicit NoOriginal(capz::FrameSource& in) : in_(in) { header_ = in.header(); }
     bool has_sample_words() const override { return in_.has_sample_words(); }

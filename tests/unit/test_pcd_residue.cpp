@@ -1,5 +1,5 @@
-// Byte-exact PCD archives (docs/FORMAT.md 5.4): folders whose frame files capz's writer does not
-// reproduce (other header text, ASCII number spellings, NaN payloads, trailing bytes, other LZF
+// Byte-exact PCD archives (docs/FORMAT.md 7.3, 14.3): folders whose frame files capz's writer does
+// not reproduce (other header text, ASCII number spellings, NaN payloads, trailing bytes, other LZF
 // bytes) come back byte for byte from a --lossless archive, each frame's checksum checked.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// The POSW position coder alone (docs/FORMAT.md 3.3): every predictor, the reference predictors
+// The POSW position coder alone (docs/FORMAT.md 8): every predictor, the reference predictors
 // 5/6, the smooth and period predictors 7-9 and all three residual context schemes round-trip
 // exactly, the encoder's choices decode to the same integers, and malformed predictor /
 // reference / period fields are rejected.
@@ -108,7 +108,7 @@ struct Recorder {
   }
 };
 
-// Every predictor computed by the walk equals its definition in FORMAT.md 3.3, for a fixed
+// Every predictor computed by the walk equals its definition in FORMAT.md 8, for a fixed
 // mode and reference set (independent of the encoder's choices).
 TEST(Positions, GivenFixedModesThenWalkPredictsAsSpecified) {
   WindowInts w = rigid_groups(6, 4, 4, 0, 9);
@@ -137,7 +137,7 @@ TEST(Positions, GivenFixedModesThenWalkPredictsAsSpecified) {
   EXPECT_EQ(Q(3, 1, 0), Q(2, 1, 0));  // the gap holds the previous frame's integers
 }
 
-// Predictors 7-9 as computed by the walk equal their definitions in FORMAT.md 3.3 (integer
+// Predictors 7-9 as computed by the walk equal their definitions in FORMAT.md 8 (integer
 // least-squares line with its rounding rule, one period back), including wrapping histories.
 TEST(Positions, GivenSmoothAndPeriodModesThenWalkPredictsAsSpecified) {
   const size_t F = 12, N = 3, T = 4;

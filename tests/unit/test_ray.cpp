@@ -1,4 +1,4 @@
-// POSW predictor 10, "ray" (docs/FORMAT.md 7.1): the rule, the coder with it, the decoder's
+// POSW predictor 10, "ray" (docs/FORMAT.md 8.3): the rule, the coder with it, the decoder's
 // refusal where a stream may not hold it, and the encoder's choice of format 7.0.
 #include <gtest/gtest.h>
 

@@ -154,7 +154,7 @@ TEST(ResiduePatch, DiffThenApplyGivesTheOriginal) {
 
 namespace {
 
-// The stored form of docs/FORMAT.md 4.4, byte by byte: a run starts at a differing byte and
+// The stored form of docs/FORMAT.md 14.1, byte by byte: a run starts at a differing byte and
 // takes in every further difference fewer than 3 equal bytes past its end.
 std::vector<uint8_t> patch_byte_by_byte(const std::vector<uint8_t>& regen,
                                         const std::vector<uint8_t>& orig) {

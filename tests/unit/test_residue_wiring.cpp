@@ -1,4 +1,4 @@
-// The byte-exact residue wired into .capz (docs/FORMAT.md 4.4): HASH, C3DR/C3DP written for a
+// The byte-exact residue wired into .capz (docs/FORMAT.md 7, 14): HASH, C3DR/C3DP written for a
 // C3D read from a path, the original rebuilt byte for byte, a damaged checksum caught.
 #include <gtest/gtest.h>
 #include <unistd.h>

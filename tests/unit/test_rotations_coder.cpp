@@ -1,4 +1,4 @@
-// The lossless rotation-window coder (src/coding/rotations.h, docs/FORMAT.md 4.3):
+// The lossless rotation-window coder (src/coding/rotations.h, docs/FORMAT.md 12):
 // exact round trips of every float32 bit pattern that matters, and corrupt input refused with
 // Error(kCorrupt), never a crash.
 #include <gtest/gtest.h>

@@ -1,5 +1,6 @@
-// The rotation fields of HEAD and META (docs/FORMAT.md 4.3), byte by byte as the spec lays them
-// out, and the promise rule (capz/verify.h) on rotations: every bit, the layout and the labels.
+// The rotation fields of HEAD and META (docs/FORMAT.md 4.4, 5.6), byte by byte as the spec lays
+// them out, and the promise rule (capz/verify.h) on rotations: every bit, the layout and the
+// labels.
 #include <gtest/gtest.h>
 
 #include <cstring>

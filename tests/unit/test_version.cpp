@@ -51,7 +51,7 @@ TEST(Version, GivenACompressedTakeThenItsVersionIsTheOneWrittenAndItIsRead) {
   EXPECT_TRUE(kFormatOldestRead.major < kFormatWritten.major ||
               (kFormatOldestRead.major == kFormatWritten.major &&
                kFormatOldestRead.minor <= kFormatWritten.minor));
-  // The newest version written (streams with a normal triple, FORMAT.md 6.1) is the newest
+  // The newest version written (streams with a normal triple, FORMAT.md 13.4) is the newest
   // read, and later than the one every other stream is written in.
   EXPECT_EQ(kFormatNewestRead.major, kFormatNewestWritten.major);
   EXPECT_GE(kFormatNewestRead.minor, kFormatNewestWritten.minor);

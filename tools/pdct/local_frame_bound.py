@@ -17,7 +17,7 @@ entropy (bits per coordinate) of the integer residuals of six predictors:
       of three earlier markers a, b, c: the marker's local coordinates at t-1 mapped by the frame
       at t, rounded to the grid                                               best triangle
   F2  the same with the local coordinates extrapolated linearly from t-1 and t-2.
-L1/L2/R1/R2 are what the format-2 bound coder already chooses between (FORMAT.md 3.3); F1/F2 are
+L1/L2/R1/R2 are what the format-2 bound coder already chooses between (FORMAT.md 8); F1/F2 are
 pdct's idea. Each marker takes its best predictor for the whole take, chosen by an oracle and
 with no side cost, so 'gain' = 1 - best(all) / best(L1, L2, R1, R2) bounds from above what adding
 local-frame predictors to the coder could save on the position residuals.

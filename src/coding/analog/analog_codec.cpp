@@ -26,12 +26,12 @@ constexpr size_t kBlockRows = 4096;  // LPC block length (A.3)
 constexpr double kTrialMargin = 1.2;
 // What a coded sample costs beyond its residual's bit length, in the candidates' estimates (9.2
 // streams on): a zero residual has no bits of length, yet a candidate that leaves out held or
-// repeated samples saves their tokens (FORMAT.md 9.4). 1 bit: 124 bytes less on the 98 shared
+// repeated samples saves their tokens (FORMAT.md 11.5). 1 bit: 124 bytes less on the 98 shared
 // takes than 0, the same as 2, at the same speed.
 constexpr uint64_t kEstimateBitsPerSample = 1;
-// The window's version byte (FORMAT.md 4.2.1): 0; from 9.2 on 1, whose integer residuals code
-// the two bits below their token through a model (9.5); from 9.3 on 2, which codes their tokens
-// relative to the magnitude context as well (9.7). It says how integer residuals are coded.
+// The window's version byte (FORMAT.md 11.1): 0; from 9.2 on 1, whose integer residuals code
+// the two bits below their token through a model (11.10); from 9.3 on 2, which codes their tokens
+// relative to the magnitude context as well (11.10). It says how integer residuals are coded.
 constexpr int kWindowVersion = 0, kWindowVersionLowBits = 1, kWindowVersionRelative = 2;
 // The version of the windows capz writes into a stream of this version.
 int window_version(FormatVersion format) {
@@ -39,7 +39,7 @@ int window_version(FormatVersion format) {
          : format >= kAnalogLowBitsSince ? kWindowVersionLowBits
                                          : kWindowVersion;
 }
-// Whether a window of this version starts the low-bit models on their symbols (FORMAT.md 9.5).
+// Whether a window of this version starts the low-bit models on their symbols (FORMAT.md 11.10).
 template <typename Coder>
 void start_models(int version, Coder* coder) {
   if (version >= kWindowVersionLowBits) analog::start_low_bit_models(coder);
@@ -186,7 +186,7 @@ void plan_int_channel(const std::vector<int32_t>& x,
 }
 
 // Integer channel: the cascade flag, the reference distance (and beta), then per block the LPC
-// parameters and residuals (as a window of `version` codes them: FORMAT.md 4.2.5, 9.5, 9.7).
+// parameters and residuals (as a window of `version` codes them: FORMAT.md 11.10).
 // Stops, returning false, once enc->bytes_out() reaches `limit` (checked every kTrialCheck
 // samples). Everything it calls is inlined (flatten) and it codes through a local copy of the
 // cursor, which then stays in registers (entropy.h's Cursor).
@@ -313,8 +313,8 @@ analog::HeaderRules header_rules(FormatVersion format, size_t repeat_S) {
 }
 
 // One channel's candidates: representations of all its rows, then, when it is not constant
-// and a layout keeps fewer rows (its repeated frames, FORMAT.md 7.2; else its interpolation, 9.2,
-// or its hold, 9.4), representations of the kept samples.
+// and a layout keeps fewer rows (its repeated frames, FORMAT.md 11.3; else its interpolation, 11.4,
+// or its hold, 11.5), representations of the kept samples.
 struct ChannelCandidates {
   std::vector<ChannelRepr> reprs;
   std::vector<analog::KeptRows> layouts;  // [0]: every row
@@ -468,7 +468,7 @@ std::vector<uint8_t> encode_analog_window(const double* rows, size_t nrows, int 
   const int version = window_version(format);
   const analog::HeaderRules rules = header_rules(format, repeat_S);
   ByteWriter head;
-  analog::HeaderState state;  // the last constant; from 9.2 on the last scaling (FORMAT.md 9.6)
+  analog::HeaderState state;  // the last constant; from 9.2 on the last scaling (FORMAT.md 11.7)
   bool any_coded = false;
   IntEncoder ent(analog::kAnalogContexts);
   start_models(version, &ent);
@@ -529,7 +529,7 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
   ByteReader head(in.bytes(static_cast<size_t>(head_size)), static_cast<size_t>(head_size), what);
   const size_t nch = static_cast<size_t>(std::max(channels, 0));
   std::vector<ChannelRepr> reprs;
-  std::vector<analog::KeptRows> layouts(nch);  // FORMAT.md 7.2, 9.2, 9.4
+  std::vector<analog::KeptRows> layouts(nch);  // FORMAT.md 11.3, 11.4, 11.5
   std::vector<size_t> kept(nch, nrows);        // each channel's coded samples
   analog::HeaderState state;
   bool any_coded = false;
@@ -565,7 +565,7 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
   for (size_t c = 0; c < nch; ++c) {
     ChannelRepr& r = reprs[c];
     if (analog::is_integer_kind(r.kind)) {
-      std::vector<bool> use(nch, false);  // the same kept rows (FORMAT.md 7.2, 9.2, 9.4)
+      std::vector<bool> use(nch, false);  // the same kept rows (FORMAT.md 11.3, 11.4, 11.5)
       for (size_t j = 0; j < c; ++j) use[j] = has_r1[j] && layouts[j] == layouts[c];
       decode_int_channel(kept[c], cross_refs(r1s, use, static_cast<int>(c)), format91, version,
                          &cur, &r.ints, &r1s[c]);

@@ -30,20 +30,20 @@ AnalogHints analog_hints(const Take& t);
 // rows: nrows x channels doubles, row-major (capz::Analog::values). Lossless: decoding gives
 // every sample back bit for bit (NaN payloads, -0.0, denormals, Inf included). repeat_S: in a
 // 7.x stream the analog samples per point frame (nrows a multiple of it), which lets channels
-// name repeated frames (FORMAT.md 7.2, analog_repeat.h) where that codes smaller; 0 in earlier
+// name repeated frames (FORMAT.md 11.3, analog_repeat.h) where that codes smaller; 0 in earlier
 // streams.
 // format: the version of the stream the window is in; what the codec does depends on it only
 // through the versions below (any version from 4.0 to 7.x codes as 4.0's windows).
-// The first version with analog windows in this codec (FORMAT.md 4.2).
+// The first version with analog windows in this codec (FORMAT.md 11).
 constexpr FormatVersion kAnalogWindowsSince{4, 0};
-// Value tables may be coded against a lattice (FORMAT.md 8.2).
+// Value tables may be coded against a lattice (FORMAT.md 11.7).
 constexpr FormatVersion kAnalogLatticeSince{8, 0};
 // Float channels use 9.1's predictors and coding, and channels may name interpolated samples
-// (FORMAT.md 9.1, 9.2).
+// (FORMAT.md 11.9, 11.4).
 constexpr FormatVersion kAnalogFloat9Since{9, 0};
-// Integer channels' blocks may be predicted by a constant (FORMAT.md 9.3).
+// Integer channels' blocks may be predicted by a constant (FORMAT.md 11.8).
 constexpr FormatVersion kAnalogConstantSince{9, 1};
-// Channels may name held samples (FORMAT.md 9.4).
+// Channels may name held samples (FORMAT.md 11.5).
 constexpr FormatVersion kAnalogHoldSince{9, 2};
 // Windows may be of version 1: the bits below integer residuals' tokens through models (9.5).
 constexpr FormatVersion kAnalogLowBitsSince{9, 2};

@@ -22,20 +22,20 @@ constexpr int kMagContexts = 48;
 constexpr int kFloatContexts = 33;
 constexpr int kParamContext = kMagContexts + kFloatContexts;
 constexpr int kCoefContext = kParamContext + 1;
-// FORMAT.md 9.1: the 4 bits below a float residual's leading bit, by its bit length 2..64.
+// FORMAT.md 11.10: the 4 bits below a float residual's leading bit, by its bit length 2..64.
 constexpr int kTopContext = kCoefContext + 1;
 constexpr int kTopContexts = 63;
-// FORMAT.md 9.1: a bit length far from the previous one.
+// FORMAT.md 11.10: a bit length far from the previous one.
 constexpr int kFarContext = kTopContext + kTopContexts;
-// FORMAT.md 9.5: the two bits below an integer residual's token t (4..63), by t.
+// FORMAT.md 11.10: the two bits below an integer residual's token t (4..63), by t.
 constexpr int kLowContext = kFarContext + 1;
 constexpr int kLowContexts = 60;
-// FORMAT.md 9.7 (a version 2 window): a token far below its magnitude context c, by c; one far
+// FORMAT.md 11.10 (a version 2 window): a token far below its magnitude context c, by c; one far
 // above it, for every context.
 constexpr int kBelowContext = kLowContext + kLowContexts;
 constexpr int kAboveContext = kBelowContext + kMagContexts;
 constexpr int kAnalogContexts = kAboveContext + 1;
-// FORMAT.md 9.7: a version 2 window's token t under magnitude context c is d = t - c + kRelShift;
+// FORMAT.md 11.10: a version 2 window's token t under magnitude context c is d = t - c + kRelShift;
 // its context's model codes d in 1 .. 14 itself.
 constexpr int kRelShift = 14;
 
@@ -69,13 +69,13 @@ inline int32_t get_residual(IntDecoder::Cursor* dec, Magnitude* m) {
   m->update(u);
   return unzigzag(u);
 }
-// FORMAT.md 9.5: a version 1 window's coder starts each low-bit model on the symbols it can code
+// FORMAT.md 11.10: a version 1 window's coder starts each low-bit model on the symbols it can code
 // (2 after tokens 4 and 5, whose values have one bit below the token; 4 after the others).
 template <typename Coder>
 void start_low_bit_models(Coder* c) {
   for (int t = 4; t < 64; ++t) c->restrict_context(kLowContext + t - 4, t < 6 ? 2 : 4);
 }
-// FORMAT.md 9.5 (a version 1 or 2 window): the (up to) two bits below token tok of u as one
+// FORMAT.md 11.10 (a version 1 or 2 window): the (up to) two bits below token tok of u as one
 // symbol under context kLowContext + tok - 4, then only the bits below them raw.
 inline void put_low_bits(IntEncoder::Cursor* enc, uint32_t u, int tok, int nbits) {
   if (nbits) {
@@ -96,7 +96,7 @@ inline uint32_t get_low_bits(IntDecoder::Cursor* dec, int tok) {
   }
   return u;
 }
-// FORMAT.md 9.5 (a version 1 analog window): as put_residual, but with the bits below the token
+// FORMAT.md 11.10 (a version 1 analog window): as put_residual, but with the bits below the token
 // as put_low_bits codes them.
 inline void put_residual_v1(IntEncoder::Cursor* enc, Magnitude* m, int32_t v) {
   const uint32_t u = zigzag(v);
@@ -110,7 +110,7 @@ inline int32_t get_residual_v1(IntDecoder::Cursor* dec, Magnitude* m) {
   m->update(u);
   return unzigzag(u);
 }
-// FORMAT.md 9.7 (a version 2 analog window): as put_residual_v1, but the token relative to the
+// FORMAT.md 11.10 (a version 2 analog window): as put_residual_v1, but the token relative to the
 // magnitude context: d = t - c + kRelShift, symbol d (1 .. 14) under context c itself, or symbol
 // 0 and -d under kBelowContext + c, or symbol 15 and d - 15 under kAboveContext.
 inline void put_residual_v2(IntEncoder::Cursor* enc, Magnitude* m, int32_t v) {
@@ -178,7 +178,7 @@ inline void put_float_residual(IntEncoder::Cursor* enc, int* prev_nb, int64_t d)
 }
 int64_t get_float_residual(IntDecoder::Cursor* dec, int* prev_nb);
 
-// FORMAT.md 9.1: as put_float_residual, but the (up to) 4 bits below the leading one are one
+// FORMAT.md 11.10: as put_float_residual, but the (up to) 4 bits below the leading one are one
 // symbol under context kTopContext + nb - 2, and only the bits below them are raw.
 inline void put_float_residual9(IntEncoder::Cursor* enc, int* prev_nb, int64_t d) {
   const uint64_t u = zigzag64(d);

@@ -86,7 +86,7 @@ void float32_costs(const std::vector<double>& x, uint64_t cost[2]) {
 }
 #endif
 
-// FORMAT.md 9.1: the prediction of sample i (x[0 .. i) decoded) by a 9.x predictor.
+// FORMAT.md 11.9: the prediction of sample i (x[0 .. i) decoded) by a 9.x predictor.
 inline double predict9(const FloatPlan& plan, double scale, const double* x, size_t i, bool f32) {
   const double a = i > 0 ? x[i - 1] : 0;
   double p;

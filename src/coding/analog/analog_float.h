@@ -33,11 +33,11 @@ void float_predictor_costs(const std::vector<double>& x, bool f32, uint64_t cost
 // samples).
 bool encode_float_channel(const std::vector<double>& x, bool f32, int predictor,
                           IntEncoder::Cursor* enc, size_t limit = SIZE_MAX);
-// Decodes n samples into x (resized to n). format9: predictors 2-5 (FORMAT.md 9.1) are valid.
+// Decodes n samples into x (resized to n). format9: predictors 2-5 (FORMAT.md 11.9) are valid.
 void decode_float_channel(size_t n, bool f32, IntDecoder::Cursor* dec, std::vector<double>* x,
                           bool format9 = false);
 
-// FORMAT.md 9.1: the predictors of a 9.x stream (2: previous, 3: linear, 4: zero, 5: LPC),
+// FORMAT.md 11.9: the predictors of a 9.x stream (2: previous, 3: linear, 4: zero, 5: LPC),
 // whose residuals code the 4 bits below the leading one through a model.
 constexpr int kMaxFloatLpcOrder = 8;
 constexpr int kMaxFloatLpcShift = 40;

@@ -8,7 +8,7 @@
 #include "capz/error.h"
 #include "capz/take.h"
 #include "coding/analog/analog_codec.h"
-#include "io/c3d_internal.h"
+#include "coding/c3d_params.h"
 
 namespace capz {
 

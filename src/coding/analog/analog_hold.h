@@ -1,4 +1,4 @@
-// Held analog samples (docs/FORMAT.md 9.4): a channel of a window written by sample and hold from
+// Held analog samples (docs/FORMAT.md 11.5): a channel of a window written by sample and hold from
 // a sensor at a lower rate changes only at one phase of a period. Only the samples at that phase
 // (the anchors, and sample 0) and the few held samples that change anyway (exceptions) are its
 // *kept* samples; the decoder copies every other sample from the one before it. Only in 9.2 and
@@ -24,7 +24,7 @@ struct Hold {
   bool operator!=(const Hold& o) const { return !(*this == o); }
 };
 
-// The encoder's choice (FORMAT.md 9.4) over col[0], col[stride], ... (n samples): the period is
+// The encoder's choice (FORMAT.md 11.5) over col[0], col[stride], ... (n samples): the period is
 // the most common distance between samples whose bit pattern differs from the previous one's,
 // the phase their most common residue; kept when the changes at other residues are at most 1/16
 // of the held samples and there are at least 8 of those. False (and *out untouched) otherwise.
@@ -37,7 +37,7 @@ std::vector<double> hold_kept(const double* col, size_t stride, size_t n, const 
 // Writes the channel's n samples to col[0], col[stride], ... from its kept samples.
 void expand_hold(const double* kept, size_t n, const Hold& h, double* col, size_t stride);
 
-// The field of FORMAT.md 9.4 (P, phase, then the exception runs), and its reader for a channel
+// The field of FORMAT.md 11.5 (P, phase, then the exception runs), and its reader for a channel
 // of n samples; the reader throws Error(kCorrupt) for a bad period or phase, or an exception that
 // is not a held sample.
 void write_hold(const Hold& h, ByteWriter* w);

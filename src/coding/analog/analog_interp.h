@@ -1,4 +1,4 @@
-// Interpolated analog samples (docs/FORMAT.md 9.2): a channel of a window whose samples between
+// Interpolated analog samples (docs/FORMAT.md 11.4): a channel of a window whose samples between
 // anchors (every P-th) are, bit for bit, the linear interpolation of them, except a few. Only
 // the anchors, the tail after the last anchor and those exceptions (the *kept* samples) are
 // coded; the decoder computes the rest. Only in 9.x streams.
@@ -24,11 +24,11 @@ struct Interp {
   bool operator!=(const Interp& o) const { return !(*this == o); }
 };
 
-// The interpolation of sample a + j (0 < j < P) from anchors x[a] and x[a + P], as FORMAT.md 9.2
+// The interpolation of sample a + j (0 < j < P) from anchors x[a] and x[a + P], as FORMAT.md 11.4
 // computes it (binary64 products, sum and quotient, then float32 rounding when f32).
 double interpolate(double xa, double xb, unsigned j, unsigned period, bool f32);
 
-// The encoder's choice (FORMAT.md 9.2): periods 2, 3 and 4 over col[0], col[stride], ...
+// The encoder's choice (FORMAT.md 11.4): periods 2, 3 and 4 over col[0], col[stride], ...
 // (n samples), the one with the fewest exceptions when they are at most 1/16 of its
 // interpolable samples and there are at least 8 of those. False (and *out untouched) when
 // none qualifies.
@@ -43,7 +43,7 @@ std::vector<double> interp_kept(const double* col, size_t stride, size_t n, cons
 void expand_interp(const double* kept, size_t n, const Interp& in, double* col, size_t stride,
                    const std::string& what);
 
-// The field of FORMAT.md 9.2 (q, then the exception runs), and its reader for a channel of n
+// The field of FORMAT.md 11.4 (q, then the exception runs), and its reader for a channel of n
 // samples; the reader throws Error(kCorrupt) for a bad q or an exception that is not
 // interpolable.
 void write_interp(const Interp& in, ByteWriter* w);

@@ -1,6 +1,6 @@
 // Which samples of a channel of an analog window are coded (its *kept* rows): all of them, those
-// of the point frames not repeated (docs/FORMAT.md 7.2), an interpolation's anchors, tail and
-// exceptions (9.2), or a hold's anchors and exceptions (9.4). A channel has at most one of the
+// of the point frames not repeated (docs/FORMAT.md 11.3), an interpolation's anchors, tail and
+// exceptions (11.4), or a hold's anchors and exceptions (11.5). A channel has at most one of the
 // three; the others are rebuilt from the kept ones. Inter-channel references need the same kept
 // rows on both sides (4.2.3.2, 7.2, 9.2, 9.4).
 #pragma once

@@ -6,7 +6,7 @@
 // (kMinLpcPrecision..kLpcPrecision, chosen per block) with a right shift. Synthesis (both sides,
 // integer arithmetic, bit exact everywhere):
 //   p = clamp((sum_j q[j] * x[i-1-j]) >> shift, -kMaxSample, kMaxSample)   (int64, floor shift)
-// where samples before the channel's first are 0; or, order 0 with a constant (FORMAT.md 9.1's
+// where samples before the channel's first are 0; or, order 0 with a constant (FORMAT.md 11.8's
 // order code 33), p = constant.
 #pragma once
 
@@ -41,7 +41,7 @@ struct LpcParams {
   // prediction). Coded as order kLpcConstantOrder (format 9.1 on).
   int32_t constant = 0;
 };
-// The order code of a constant predictor (FORMAT.md 9.1).
+// The order code of a constant predictor (FORMAT.md 11.8).
 constexpr int kLpcConstantOrder = kMaxLpcOrder + 1;
 
 // Quantises a[0..order) with error feedback so that max |q| < 2^precision.

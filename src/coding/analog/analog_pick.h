@@ -1,4 +1,4 @@
-// The window encoder's choice between a channel's candidate representations (FORMAT.md 4.2
+// The window encoder's choice between a channel's candidate representations (FORMAT.md 11
 // leaves it to the encoder): each candidate is coded alone, and the smallest kept, the first
 // (lowest index) of equals.
 #pragma once

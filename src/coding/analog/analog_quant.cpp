@@ -1,4 +1,4 @@
-// Lossy analog channels: the encoder's quantiser (analog_quant.h, docs/FORMAT.md 5.2).
+// Lossy analog channels: the encoder's quantiser (analog_quant.h, docs/FORMAT.md 16.3).
 #include "coding/analog/analog_quant.h"
 
 #include <cmath>

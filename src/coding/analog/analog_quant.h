@@ -1,4 +1,4 @@
-// Lossy analog channels (docs/FORMAT.md 5.2), the encoder's stage before the lossless window
+// Lossy analog channels (docs/FORMAT.md 16.3), the encoder's stage before the lossless window
 // codec: a bounded channel's samples are moved, each by at most its bound, onto a lattice the
 // codec then codes as kScaled (analog_repr.h). Nothing here is needed to decode.
 #pragma once

@@ -1,4 +1,4 @@
-// Repeated analog frames (docs/FORMAT.md 7.2): a channel of a window names the point frames whose
+// Repeated analog frames (docs/FORMAT.md 11.3): a channel of a window names the point frames whose
 // S samples are bit for bit the previous frame's; those rows are left out of the channel's coding
 // (its *kept* rows) and copied back by the decoder. Only in 7.x streams.
 #pragma once
@@ -16,10 +16,10 @@ namespace analog {
 // f - 1's bit for bit (increasing). Empty when S is 0.
 std::vector<uint32_t> repeated_frames(const double* col, size_t stride, size_t frames, size_t S);
 // How many frames f in [1, frames) repeat frame f - 1 bit for bit and do not hold one bit pattern
-// in all their S samples (the encoder's scan, FORMAT.md 7.2).
+// in all their S samples (the encoder's scan, FORMAT.md 11.3).
 size_t count_varying_repeats(const double* col, size_t stride, size_t frames, size_t S);
 
-// Increasing indices as runs (the gap list of FORMAT.md 4.2.2 and the repeat list of 7.2): the
+// Increasing indices as runs (the gap list of FORMAT.md 11.6 and the repeat list of 11.3): the
 // number of runs, then per run its start minus the previous run's end (0 at first) and its
 // length - 1, varints.
 void write_runs(const std::vector<uint32_t>& index, ByteWriter* w);

@@ -420,7 +420,7 @@ ChannelRepr read_repr_header(ByteReader* in, size_t n, const HeaderRules& rules,
                              KeptRows* kept) {
   ChannelRepr r;
   const int byte = in->u8();
-  // Bit 6 (FORMAT.md 9.2) and bit 7 (9.4) only where the rules allow them; at most one of bits
+  // Bit 6 (FORMAT.md 11.4) and bit 7 (11.5) only where the rules allow them; at most one of bits
   // 5-7, and neither 6 nor 7 with kind 0.
   const int unknown = ~(63 | (rules.interp ? 64 : 0) | (rules.hold ? 128 : 0));
   const int layouts = ((byte >> 5) & 1) + ((byte >> 6) & 1) + ((byte >> 7) & 1);
@@ -440,7 +440,7 @@ ChannelRepr read_repr_header(ByteReader* in, size_t n, const HeaderRules& rules,
     kept->hold = read_hold(in, n);
     n = hold_kept_count(n, kept->hold);
   }
-  if (byte & 32) {  // FORMAT.md 7.2: only in 7.x streams (S > 0)
+  if (byte & 32) {  // FORMAT.md 11.3: only in 7.x streams (S > 0)
     const size_t S = rules.S;
     if (S == 0 || n % S != 0)
       throw Error(ErrorCode::kCorrupt,
@@ -456,7 +456,7 @@ ChannelRepr read_repr_header(ByteReader* in, size_t n, const HeaderRules& rules,
       state->last_const = r.const_bits;
       break;
     case Kind::kScaled: {
-      if (byte & 16) {  // FORMAT.md 9.6
+      if (byte & 16) {  // FORMAT.md 11.7
         const ScaledShare& share = state->share;
         if (!share.have)
           throw Error(ErrorCode::kCorrupt,

@@ -42,7 +42,7 @@ inline bool is_integer_kind(Kind k) {
 }
 
 // What the file says about a channel; only ever a hint (the encoder verifies everything).
-// The scaling of the previous kind 2 channel of a window (FORMAT.md 9.6): from 9.2 on a kind 2
+// The scaling of the previous kind 2 channel of a window (FORMAT.md 11.7): from 9.2 on a kind 2
 // header may say "the same" instead of repeating round, s and o.
 struct ScaledShare {
   bool have = false;  // an earlier channel of the window has kind 2
@@ -53,11 +53,11 @@ struct ScaledShare {
 struct ChannelHint {
   double scale = 0;   // a candidate step of the stored values (0 = none)
   double offset = 0;  // a candidate offset, in stored units
-  // Lossy analog (FORMAT.md 5.2): the encoder moved the samples onto lattice_offset + k *
+  // Lossy analog (FORMAT.md 16.3): the encoder moved the samples onto lattice_offset + k *
   // lattice_step (0: it did not). That scaled fit is tried first and, when it holds, is the
   // only candidate.
   double lattice_step = 0, lattice_offset = 0;
-  // The window's previous kind 2 channel's scaling (FORMAT.md 9.6): a fit whose step is within
+  // The window's previous kind 2 channel's scaling (FORMAT.md 11.7): a fit whose step is within
   // 1e-6 of its step tries it too, and takes it when it leaves no more exceptions.
   ScaledShare share;
 };
@@ -140,7 +140,7 @@ bool sample_lattice(const double* col, size_t stride, size_t n, const ChannelHin
 ChannelRepr choose_representation(const double* col, size_t stride, size_t n,
                                   const ChannelHint& hint);
 
-// What a stream's version lets a channel header carry (FORMAT.md 7.2, 8.2, 9.2, 9.4, 9.6): the
+// What a stream's version lets a channel header carry (FORMAT.md 11.3, 11.7, 11.4, 11.5): the
 // writer asserts it (an encoder that asks for more is a bug), the reader rejects the rest as
 // corrupt.
 struct HeaderRules {

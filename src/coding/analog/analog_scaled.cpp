@@ -1,4 +1,4 @@
-// The scaled representation's fit (docs/FORMAT.md 4.2.2 kind 2, 4.2.7): the step and offset
+// The scaled representation's fit (docs/FORMAT.md 11.7 kind 2, 16.3): the step and offset
 // that describe a channel's samples as k * s + o (rounded to float32 when they are float32),
 // found from the data and the C3D hint, and the exceptions it leaves. Encoder side (the decoder
 // shares only scaled_value, in the header). Built with -ffp-contract=off.
@@ -329,7 +329,7 @@ bool find_scaled(const std::vector<double>& v, const std::vector<double>& sorted
                  const ChannelHint& hint, ChannelRepr* r) {
   ChannelRepr best;
   if (!cheapest_fit(v, scaled_fits(v, sorted, hint), f32, &best)) return false;
-  // FORMAT.md 9.6: the window's previous scaled channel's step and offset, when they are this
+  // FORMAT.md 11.7: the window's previous scaled channel's step and offset, when they are this
   // fit's up to its last bits and leave no more exceptions, so that the header can name them.
   const ScaledShare& sh = hint.share;
   ChannelRepr t;

@@ -1,4 +1,4 @@
-// The scaled representation's fit (docs/FORMAT.md 4.2.2 kind 2, 4.2.7), apart from the other
+// The scaled representation's fit (docs/FORMAT.md 11.7 kind 2, 16.3), apart from the other
 // representations (analog_repr): a channel's samples as k * s + o, exact but for a few
 // exceptions.
 #pragma once

@@ -22,7 +22,7 @@ uint64_t table_ordered(double v, bool f32) {
 double from_table_ordered(uint64_t o, bool f32) {
   return f32 ? from_ordered_f32(static_cast<uint32_t>(o)) : from_bits(from_ordered_bits(o));
 }
-// The lattice prediction of an entry from the previous one (FORMAT.md 8.2): prev + m * step in
+// The lattice prediction of an entry from the previous one (FORMAT.md 11.7): prev + m * step in
 // binary64, two separate operations, rounded to float32 for a float32 table.
 double lattice_next(double prev, uint32_t m, double step, bool f32) {
   const double d = static_cast<double>(m) * step;
@@ -30,7 +30,7 @@ double lattice_next(double prev, uint32_t m, double step, bool f32) {
   return f32 ? round_to_float32(p) : p;
 }
 
-// A value table coded against a lattice (FORMAT.md 8.2): the step, the first entry, then an
+// A value table coded against a lattice (FORMAT.md 11.7): the step, the first entry, then an
 // entropy-coded block of each later entry's (m, d). Empty when some entry does not fit (d or
 // the prediction out of range). The step: a least-squares line through the entries at
 // k = round((v - v0) / gap) (refine_fit). Also empty once the coding is known to take at least
@@ -111,7 +111,7 @@ std::vector<uint8_t> lattice_table(const std::vector<double>& t, bool f32, size_
   return best;
 }
 
-// A value table coded against a lattice (FORMAT.md 8.2), m entries (at most n, the channel's
+// A value table coded against a lattice (FORMAT.md 11.7), m entries (at most n, the channel's
 // samples), each above the previous in the table's ordered space.
 void read_lattice_table(ByteReader* in, uint64_t m, size_t n, bool f32,
                         std::vector<double>* table) {
@@ -151,7 +151,7 @@ void write_value_table(const std::vector<double>& table, bool lattice_tables, By
   w->varint(table.size());
   const bool f32 = std::all_of(table.begin(), table.end(), is_float32);
   // The entries as gaps of their ordered patterns; in 8.x streams the lattice coding instead
-  // when it is smaller (FORMAT.md 8.2).
+  // when it is smaller (FORMAT.md 11.7).
   ByteWriter plain;
   uint64_t prev = 0;
   for (size_t i = 0; i < table.size(); ++i) {

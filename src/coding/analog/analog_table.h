@@ -1,4 +1,4 @@
-// The value table of a rank channel (kind 3; docs/FORMAT.md 4.2.2 and 8.2): the channel's
+// The value table of a rank channel (kind 3; docs/FORMAT.md 11.2 and 11.7): the channel's
 // distinct values in increasing order, which its ranks index. A stage of the analog coder's
 // channel header (analog_repr): the entry count, the table flag, then the entries, either as
 // gaps of their ordered patterns (4.2.2) or, in 8.x streams, against a lattice (8.2: each entry

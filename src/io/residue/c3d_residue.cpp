@@ -1,4 +1,4 @@
-// capz — C3D residue (see c3d_residue.h; byte layout in docs/FORMAT.md 4.4).
+// capz — C3D residue (see c3d_residue.h; byte layout in docs/FORMAT.md 7, 14).
 #include "io/residue/c3d_residue.h"
 
 #include <algorithm>

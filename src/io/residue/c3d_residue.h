@@ -10,7 +10,7 @@
 // per-window payload patches the bytes that regeneration gets wrong (gap samples whose
 // coordinates or 4th word are not the writer's, 4th words beyond 16 bits, analog values past
 // the whole channels, DEC values without an IEEE counterpart). It is empty for most files.
-// Byte layout: docs/FORMAT.md 4.4.
+// Byte layout: docs/FORMAT.md 7, 14.
 //
 // Streaming: the encoder reads the original by ranges and holds one block of frames; the
 // decoder holds the head and tail (small but for files with large trailing data) and one block.
@@ -60,7 +60,7 @@ class C3DResidueEncoder {
   // lossless decode gives them back); empty when regeneration gets every byte right. Blocks may
   // come in any order. `exact` false (an archive at a bound): the coordinates of samples that
   // are gaps in the take and whose 4th word in the file is negative (absent to every reader)
-  // are left as regenerated, not patched (docs/FORMAT.md 4.4.3.3).
+  // are left as regenerated, not patched (docs/FORMAT.md 14.1).
   std::vector<uint8_t> window(const FrameBlock& block, bool exact = true);
   // Samples so far whose coordinates the file holds but, at a bound, were not kept: gaps in the
   // take, 4th word negative, coordinates other than the regenerated ones (SIMI writes real

@@ -1,7 +1,7 @@
 // capz — residue payload packing: a byte string stored as it is or as one zstd frame, optionally
 // with a "prefix dictionary" both sides can derive from what the archive already holds.
 //
-// Stored form (docs/FORMAT.md 4.4, "Packed bytes"):
+// Stored form (docs/FORMAT.md 2.7, "Packed byte strings"):
 //   u8 method      0 stored, 1 zstd, 2 zstd with the caller's prefix dictionary
 //   varint size    bytes once unpacked
 //   varint n       bytes that follow

@@ -1,6 +1,6 @@
 // capz — byte patches: where a regenerated buffer differs from the original one.
 //
-// Stored form (docs/FORMAT.md 4.4, "Patch list"): varint runs, then per run varint
+// Stored form (docs/FORMAT.md 14.1, "Patch list"): varint runs, then per run varint
 // skip (equal bytes before it, counted from the end of the previous run) and varint length - 1,
 // then the replacement bytes of every run, in order. Runs closer than kJoin equal bytes are
 // joined (a run costs about 2 bytes of header).

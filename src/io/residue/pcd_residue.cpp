@@ -1,4 +1,4 @@
-// capz — PCD residue (see pcd_residue.h; layout in docs/FORMAT.md 5.4).
+// capz — PCD residue (see pcd_residue.h; layout in docs/FORMAT.md 7.3, 14.3).
 #include "io/residue/pcd_residue.h"
 
 #include <cctype>

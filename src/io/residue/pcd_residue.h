@@ -7,7 +7,7 @@
 // (the file-level reference header); a body of the writer's length with a few different bytes
 // (NaN payloads, a gap with a finite coordinate) is a byte patch plus any trailing bytes; anything
 // else (ASCII number spellings, another LZF's compressed bytes) is the body packed with the
-// writer's body as zstd's prefix dictionary. Byte layout: docs/FORMAT.md 5.4.
+// writer's body as zstd's prefix dictionary. Byte layout: docs/FORMAT.md 7.3, 14.3.
 #pragma once
 
 #include <cstddef>

@@ -1,4 +1,4 @@
-// capz — TRC residue (see trc_residue.h; byte layout in docs/FORMAT.md 4.4).
+// capz — TRC residue (see trc_residue.h; byte layout in docs/FORMAT.md 7, 14).
 #include "io/residue/trc_residue.h"
 
 #include <algorithm>

@@ -10,7 +10,7 @@
 // back, padded with zeros), gaps spelled as the window's most frequent gap field ("", "NaN",
 // "       NaN"), the most frequent count of empty trailing fields and line end. Rows that differ
 // store exceptions: the fields whose text differs, a different line end, or (when the field
-// count differs) the whole line. Byte layout: docs/FORMAT.md 4.4.
+// count differs) the whole line. Byte layout: docs/FORMAT.md 7, 14.
 #pragma once
 
 #include <cstddef>
@@ -35,7 +35,7 @@ class TRCResidueEncoder {
   TRCResidueEncoder(const std::string& path, const Take& header);
   // The per-window payload for `block`'s frames (in any order). `exact` false (an archive at a
   // bound): no field fix for a valid sample's coordinates, and the model prints coordinates
-  // rounded to its decimals (docs/FORMAT.md 4.4.4.2).
+  // rounded to its decimals (docs/FORMAT.md 14.2).
   std::vector<uint8_t> window(const FrameBlock& block, bool exact = true);
   // The file-level payload: the head, packed.
   std::vector<uint8_t> file_part();

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""What META coding 3 (docs/FORMAT.md 8.1) gives takes whose software the dictionary has not seen.
+"""What does META coding 3 give takes whose software its dictionary has not seen?
+(analysis only, not part of capz; the findings are in docs/lab/2026-11-25-whole-takes-and-meta.md)
 
   meta_dict_eval.py BUILD_DIR OUT.tsv FILE.c3d ...
 

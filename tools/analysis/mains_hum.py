@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
-"""Mains hum in the residuals of a take's integer analog channels (docs/BENCHMARKS.md, eleventh
-session): analysis only, not part of capz.
+"""How much mains hum is left in the residuals of a take's integer analog channels?
+(analysis only, not part of capz; the findings are in docs/lab/2026-11-27-analog-misses.md)
 
-    PYTHONPATH=build/python:tools /usr/bin/python3 tools/mains_hum.py FILE.c3d ...
+    PYTHONPATH=build/python /usr/bin/python3 tools/analysis/mains_hum.py FILE.c3d ...
 
 For each integer channel (or float channel on a lattice) of at least 1000 samples: the
-residuals of a whole-channel least-squares predictor of order 8 (tools/cross_magnitude.py), and
+residuals of a whole-channel least-squares predictor of order 8 (tools/analysis/cross_magnitude.py), and
 their correlation rho with themselves one, two and three mains periods back (50 and 60 Hz at
 ANALOG:RATE, lags rounded down and up). A long-term predictor at the best lag would save at
 most 0.5 log2(1 / (1 - rho^2)) bits a sample (Gaussian residuals): printed per take in bytes,

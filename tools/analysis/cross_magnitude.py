@@ -1,13 +1,13 @@
 #!/usr/bin/env python3
-"""Would another channel's burst sharpen a channel's magnitude context? (docs/BENCHMARKS.md,
-eleventh session): analysis only, not part of capz.
+"""Would another channel's burst sharpen a channel's magnitude context?
+(analysis only, not part of capz; the findings are in docs/lab/2026-11-27-analog-misses.md)
 
-    PYTHONPATH=build/python:tools /usr/bin/python3 tools/cross_magnitude.py FILE.c3d ...
+    PYTHONPATH=build/python /usr/bin/python3 tools/analysis/cross_magnitude.py FILE.c3d ...
 
 For each integer channel (or float channel on a lattice, analog_takes.lattice_channels) of a
 take: residuals of a whole-channel least-squares predictor of order 8, less, where it lowers
 their sum of magnitudes, a weight (1/64 steps) times an earlier channel's residuals (capz's
-inter-channel stage, FORMAT.md 4.2.3.2, in spirit). Each residual is priced as an adaptive
+inter-channel stage, FORMAT.md 11.8, in spirit). Each residual is priced as an adaptive
 model codes it: a token (its bit length) under a context, plus its raw bits and sign. Two
 contexts: (A) the channel's running mean magnitude in 48 classes, as capz's; (B) the same times
 3 classes of an earlier channel's residual magnitude at the same row against that channel's own

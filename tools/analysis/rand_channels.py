@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
-"""Whether a C3D take's analog block is the output of C's rand() (docs/BENCHMARKS.md, eighth
-session): analysis only, not part of capz.
+"""Is a C3D take's analog block the output of C's rand()?
+(analysis only, not part of capz; the findings are in docs/lab/2026-11-27-analog-misses.md)
 
-    PYTHONPATH=build/python /usr/bin/python3 tools/rand_channels.py FILE.c3d ...
+    PYTHONPATH=build/python /usr/bin/python3 tools/analysis/rand_channels.py FILE.c3d ...
 
 Reads each take with the capz package, maps every analog sample x (row-major: frame by frame,
 channel by channel) to k = round(|x| * 32767), and tries two rand() generators of the form

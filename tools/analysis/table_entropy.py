@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
-"""What contexts could save on the value tables of a take's rank channels (docs/BENCHMARKS.md,
-ninth session): analysis only, not part of capz.
+"""What could contexts save on the value tables of a take's rank channels?
+(analysis only, not part of capz; the findings are in docs/lab/2026-11-27-analog-misses.md)
 
-    PYTHONPATH=build/python /usr/bin/python3 tools/table_entropy.py FILE.c3d ...
+    PYTHONPATH=build/python /usr/bin/python3 tools/analysis/table_entropy.py FILE.c3d ...
 
 For each channel with 16 or more distinct finite values, and at most one per two samples (a
 rank channel's kind of table): the sorted values t on a lattice of step s and offset o (s the
-smallest gap, refined by least squares), each entry after the first coded as FORMAT.md 8.2's
+smallest gap, refined by least squares), each entry after the first coded as FORMAT.md 11.7's
 lattice tables code it, a gap m = round((t[i] - t[i-1]) / s) in steps and a correction d from
 float32(t[i-1] + m s) in float32 units. Prints the empirical entropies of m and d at order 0,
 and of m under the previous gap (capped at 4) and d under m (capped at 3), in bytes, with no

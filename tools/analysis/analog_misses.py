@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""Where the analog misses of issue #13 are (docs/BENCHMARKS.md, "Where the analog misses are").
+"""Which analog channels keep a take above 0.85x its best peer, and by how many bytes?
+(analysis only, not part of capz; the findings are in docs/lab/2026-11-27-analog-misses.md)
 
-    tools/analog_misses.py build/tools/capz_analog_bench FILE.c3d ...
+    tools/analysis/analog_misses.py build/tools/capz_analog_bench FILE.c3d ...
 
 Runs the bench with its peers on every file, then `--per-channel` on the takes above 0.85x the
 best peer, and prints a Markdown table with one row per such take, worst first, and a class:

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
-"""How much the uneven use of ADC codes could save on a take's integer analog channels
-(docs/BENCHMARKS.md, eighth session): analysis only, not part of capz.
+"""How much could the uneven use of ADC codes save on a take's integer analog channels?
+(analysis only, not part of capz; the findings are in docs/lab/2026-11-27-analog-misses.md)
 
-    PYTHONPATH=build/python /usr/bin/python3 tools/code_density.py FILE.c3d ...
+    PYTHONPATH=build/python /usr/bin/python3 tools/analysis/code_density.py FILE.c3d ...
 
 For each channel of integers, or of floats on a lattice k s (s the smallest gap between its
 distinct values), with 64 or more distinct values: the first difference d of k is the residual

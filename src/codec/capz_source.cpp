@@ -1,5 +1,5 @@
 // The .capz frame source (capz_source.h). Part of the decoder library.
-#include "io/capz_source.h"
+#include "codec/capz_source.h"
 
 #include <algorithm>
 #include <cmath>

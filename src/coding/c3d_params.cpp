@@ -1,6 +1,6 @@
 // Decoder library (capz_decode): builds without PCL and without the transform encoders.
 // capz — the C3D parameter section: number forms, parsing, encoding, and typed helpers.
-#include "io/c3d_params.h"
+#include "coding/c3d_params.h"
 
 #include <algorithm>
 #include <cctype>
@@ -9,8 +9,6 @@
 #include <map>
 
 #include "capz/error.h"
-#include "capz/io.h"
-#include "io/c3d_internal.h"
 
 namespace capz {
 namespace c3d {
@@ -650,7 +648,7 @@ void set_string_list(C3DGroup& group, const std::string& base, const std::vector
 
 }  // namespace c3d
 
-// ---- the container's entry points (io/c3d_params.h)
+// ---- the container's entry points (coding/c3d_params.h)
 // -----------------------------------------------------------------------------
 
 std::vector<uint8_t> encode_c3d_parameters(const C3DExtra& extra) {

@@ -1,5 +1,5 @@
-"""The analog samples of the takes given to tools/rand_channels.py and tools/code_density.py
-(analysis only, not part of capz)."""
+"""Helper: the analog samples of a take, for rand_channels.py and code_density.py.
+(analysis only, not part of capz; the findings are in docs/lab/2026-11-27-analog-misses.md)"""
 import numpy as np
 
 import capz

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
-"""Bits that never change in the magnitude of a take's integer analog samples
-(docs/BENCHMARKS.md, ninth session): analysis only, not part of capz.
+"""Which bits never change in the magnitude of a take's integer analog samples?
+(analysis only, not part of capz; the findings are in docs/lab/2026-11-27-analog-misses.md)
 
-    PYTHONPATH=build/python /usr/bin/python3 tools/dead_bits.py [--squeeze] FILE.c3d ...
+    PYTHONPATH=build/python /usr/bin/python3 tools/analysis/dead_bits.py [--squeeze] FILE.c3d ...
 
 For each finite channel of integers, or of floats on a lattice k s (analog_takes.lattice_ints),
 with 8 or more distinct values: m = k for k >= 0, else -k - 1 (the ones' complement magnitude,
