@@ -7,6 +7,7 @@
 #include "capz/stream.h"
 #include "codec/encoder.h"
 #include "codec/registry.h"
+#include "codec/scan_encoder.h"
 #include "core/atomic_file.h"
 
 namespace capz {
@@ -19,10 +20,9 @@ size_t auto_window_frames(size_t points) {
 
 namespace {
 
-// What the encoder does not code yet (issue 37, format 1.1): frames of their own point count,
-// and PLY and .bin frames (their layouts have no META block). Throws kInvalidParameter.
+// What the encoder does not code yet (issue 37, format 1.1): PLY and .bin frames (their layouts
+// have no META block; ragged takes: compress_ragged). Throws kInvalidParameter.
 void refuse_scans(const Take& t) {
-  refuse_ragged(t, "the encoder");
   if (t.format == Format::kPLYFolder || t.format == Format::kBinFolder)
     fail(ErrorCode::kInvalidParameter, t.source,
          std::string(t.format == Format::kPLYFolder ? "PLY" : ".bin") +
@@ -33,6 +33,7 @@ void refuse_scans(const Take& t) {
 std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions& opts,
                                          const EncoderTuning& tuning, CompressStats* stats,
                                          bool allow_tout = true) {
+  if (take.ragged()) return compress_ragged(take, opts, stats);
   refuse_scans(take);
   if (take.xyz.size() != take.frames * take.points * 3 ||
       take.valid.size() != take.frames * take.points)

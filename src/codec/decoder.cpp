@@ -17,6 +17,7 @@
 #include "coding/mask.h"
 #include "coding/positions.h"
 #include "coding/rotations.h"
+#include "coding/scan_geometry.h"
 
 namespace capz {
 namespace {
@@ -45,8 +46,8 @@ class WindowChunks {
         off_ = c.end;
         return c;
       }
-      if (c.type == "POSW" || c.type == "MASK" || c.type == "C3DW" || c.type == "ANLG" ||
-          c.type == "ROTW" || c.type == "ATTR")
+      if (c.type == "POSW" || c.type == "MASK" || c.type == "SCNW" || c.type == "C3DW" ||
+          c.type == "ANLG" || c.type == "ROTW" || c.type == "ATTR")
         break;
       off_ = c.end;  // unknown chunk: skipped
     }
@@ -182,6 +183,44 @@ void decode_window_rotations(const StreamContext& ctx, WindowChunks* chunks, siz
   b->rotation_reliability.swap(rw.reliability);
 }
 
+// "Scans (format 1.1)": the fn frames of window w of a ragged stream from its SCNW chunk, into
+// out's frame offsets, gaps and coordinates (gaps 0).
+void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t fn,
+                        FrameBlock* out) {
+  Chunk c = chunks->next("SCNW", true);
+  const std::string what = chunks->what("SCNW");
+  ByteReader r(c.payload, c.size, what);
+  chunks->open(c, &r);
+  const uint64_t total = r.varint();
+  if (total > ctx.max_points)
+    fail(ErrorCode::kMemoryLimit, what,
+         std::to_string(total) + " points exceed the memory limit (" +
+             std::to_string(ctx.max_points) + " points)");
+  const ScanGeometry g = decode_scan_geometry(c.payload + r.offset(), c.size - r.offset(), what,
+                                              static_cast<size_t>(total));
+  if (g.counts.size() != fn)
+    fail(ErrorCode::kCorrupt, what,
+         std::to_string(g.counts.size()) + " frames, the window has " + std::to_string(fn));
+  if (g.total() != total)
+    fail(ErrorCode::kCorrupt, what,
+         "frame counts sum to " + std::to_string(g.total()) + " points, the chunk says " +
+             std::to_string(total));
+  FrameBlock& b = *out;
+  b.frame_offsets.assign(fn + 1, 0);
+  for (size_t f = 0; f < fn; ++f) b.frame_offsets[f + 1] = b.frame_offsets[f] + g.counts[f];
+  b.valid = g.valid;
+  b.xyz.assign(g.total() * 3, 0.0);
+  Grid grid;
+  grid.mode = ctx.h.mode;
+  grid.step = ctx.h.step;
+  with_mode(grid.mode, [&](auto m) {
+    for (size_t i = 0; i < g.total(); ++i)
+      if (g.valid[i])
+        for (size_t a = 0; a < 3; ++a)
+          b.xyz[3 * i + a] = dequantise_as<decltype(m)::value>(grid, g.q[3 * i + a], 0);
+  });
+}
+
 }  // namespace
 
 void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* region, size_t base,
@@ -195,7 +234,13 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
   FrameBlock& b = *out;
   // Decoded straight into the caller's arrays (their capacity is reused window after window).
   std::vector<int32_t> q;  // the window's POSW integers (none with transform output)
-  decode_window_positions(ctx, &chunks, fn, &b.valid, &b.xyz, &q);
+  b.frame_offsets.clear();
+  if (h.ragged && (ctx.words || !ctx.take.attributes.empty()))
+    fail(ErrorCode::kCorrupt, ctx.name, "ragged frames with C3D words or point fields");
+  if (h.ragged)
+    decode_window_scan(ctx, &chunks, fn, &b);
+  else
+    decode_window_positions(ctx, &chunks, fn, &b.valid, &b.xyz, &q);
   // The analog rows must fit what the chunks can hold before they are allocated.
   const size_t per_byte = analog_values_per_byte(ctx.major);
   if (C > 0 && S > 0 && fn * S * C > per_byte * (end - base))

@@ -65,13 +65,14 @@ Chunk index_chunk(StreamBytes& b, size_t meta_end, const std::string& name) {
 namespace {
 
 // The file-level chunks after META (4.0: HASH, C3DR, TRCR; any other type but a window's POSW or
-// INDX), each checked, recorded in ps->file_chunks; returns the offset of the first window.
+// SCNW (format 1.1), or INDX), each checked, recorded in ps->file_chunks; returns the offset of the
+// first window.
 size_t file_level_chunks(StreamBytes& b, size_t off, const std::string& name, ParsedStream* ps) {
   const size_t size = b.size();
   while (off + 4 <= size) {
     const uint8_t* t = b.get(off, 4);
     const std::string type(reinterpret_cast<const char*>(t), 4);
-    if (type == "POSW" || type == "INDX") break;
+    if (type == "POSW" || type == "SCNW" || type == "INDX") break;
     const Chunk x = chunk_at(b, off, name);
     if (ps->file_chunks.count(x.type)) fail(ErrorCode::kCorrupt, name, "two " + x.type + " chunks");
     ps->file_chunks[x.type] = {x.offset, x.end};

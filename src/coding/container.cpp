@@ -110,7 +110,7 @@ std::vector<uint8_t> encode_header(const StreamHeader& h) {
   w.u8(static_cast<uint8_t>(h.mode));
   w.u8(h.codec);
   w.u8(static_cast<uint8_t>((h.lossless ? 1 : 0) | (h.transform_output ? 2 : 0) |
-                            (h.rotations() ? 4 : 0)));
+                            (h.rotations() ? 4 : 0) | (h.ragged ? 8 : 0)));
   w.f64(h.step);
   w.f64(h.max_error);
   w.u32(h.analog_channels);
@@ -143,7 +143,11 @@ StreamHeader decode_header(const Chunk& c, const std::string& name) {
     fail(ErrorCode::kCorrupt, what,
          "window of " + std::to_string(h.window_frames) + " frames (1.." +
              std::to_string(kMaxWindowFrames) + ")");
-  if (flags > 7) fail(ErrorCode::kCorrupt, what, "unknown flag bits " + std::to_string(flags));
+  if (flags > 15) fail(ErrorCode::kCorrupt, what, "unknown flag bits " + std::to_string(flags));
+  h.ragged = (flags & 8) != 0;  // "Scans (format 1.1)": frames of their own point counts
+  if (h.ragged && (h.points != 0 || (flags & 3) != 0 || h.codec != 0 || mode == 1 || mode == 3))
+    fail(ErrorCode::kCorrupt, what,
+         "ragged frames with points, a transform, lossless or position mode 1 or 3");
   h.transform_output = (flags & 2) != 0;
   if (h.transform_output) {  // FORMAT.md 4.3: the transform's reconstruction is the output
     h.kg_target = r.f64();

@@ -71,6 +71,9 @@ struct StreamHeader {
   // per point frame; both 0 without (both at least 1 with), and each window has a ROTW chunk.
   uint32_t rotation_segments = 0;
   uint32_t rotation_samples_per_frame = 0;
+  // HEAD flags bit 3 ("Scans (format 1.1)" in docs/FORMAT.md): frames of their own point
+  // counts; points is 0 and each window has an SCNW chunk instead of POSW and MASK.
+  bool ragged = false;
 
   bool rotations() const { return rotation_segments > 0; }
   size_t windows() const {
