@@ -116,6 +116,21 @@ std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, Com
 void compress_stream(FrameSource& source, const CompressOptions& opts, const std::string& path,
                      bool overwrite, CompressStats* stats) {
   refuse_scans(source.header());
+  if (source.header().ragged()) {  // not streamed yet: the whole take in memory
+    Take t = source.header();
+    FrameBlock b;
+    source.read(0, t.frames, &b);
+    t.xyz = std::move(b.xyz);
+    t.valid = std::move(b.valid);
+    for (size_t a = 0; a < t.attributes.size() && a < b.attributes.size(); ++a)
+      t.attributes[a].data = std::move(b.attributes[a]);
+    std::vector<uint8_t> bytes = compress_ragged(t, opts, stats);
+    AtomicFile file(path, overwrite);
+    StreamOut out(&file);
+    out.flush(&bytes);
+    file.commit();
+    return;
+  }
   if (opts.codec == "auto")
     fail(ErrorCode::kInvalidParameter, source.header().source,
          "codec auto compares whole-take encodings and is not streamed");

@@ -183,6 +183,19 @@ void decode_window_rotations(const StreamContext& ctx, WindowChunks* chunks, siz
   b->rotation_reliability.swap(rw.reliability);
 }
 
+// Opens window w's SCNW chunk: checks the window index and returns the window's total points,
+// within the caller's limit (*r then at the geometry payload).
+uint64_t open_scan_chunk(const StreamContext& ctx, WindowChunks* chunks, const Chunk& c,
+                         ByteReader* r) {
+  chunks->open(c, r);
+  const uint64_t total = r->varint();
+  if (total > ctx.max_points)
+    fail(ErrorCode::kMemoryLimit, chunks->what("SCNW"),
+         std::to_string(total) + " points exceed the memory limit (" +
+             std::to_string(ctx.max_points) + " points)");
+  return total;
+}
+
 // "Scans (format 1.1)": the fn frames of window w of a ragged stream from its SCNW chunk, into
 // out's frame offsets, gaps and coordinates (gaps 0).
 void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t fn,
@@ -190,12 +203,7 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
   Chunk c = chunks->next("SCNW", true);
   const std::string what = chunks->what("SCNW");
   ByteReader r(c.payload, c.size, what);
-  chunks->open(c, &r);
-  const uint64_t total = r.varint();
-  if (total > ctx.max_points)
-    fail(ErrorCode::kMemoryLimit, what,
-         std::to_string(total) + " points exceed the memory limit (" +
-             std::to_string(ctx.max_points) + " points)");
+  const uint64_t total = open_scan_chunk(ctx, chunks, c, &r);
   const ScanGeometry g = decode_scan_geometry(c.payload + r.offset(), c.size - r.offset(), what,
                                               static_cast<size_t>(total));
   if (g.counts.size() != fn)
@@ -298,6 +306,34 @@ void window_extent(const ParsedStream& ps, size_t size, size_t w, size_t* base, 
          "INDX entry of window " + std::to_string(w) + " points outside the file");
   *base = static_cast<size_t>(ie.offset);
   *end = *base + static_cast<size_t>(ie.bytes);
+}
+
+std::vector<size_t> ragged_frame_offsets(StreamBytes& bytes, const ParsedStream& ps) {
+  std::vector<size_t> off(1, 0);
+  const size_t F = static_cast<size_t>(ps.h.frames), W = ps.h.window_frames;
+  for (size_t w = 0; w < ps.index.size(); ++w) {
+    size_t base = 0, end = 0;
+    window_extent(ps, bytes.size(), w, &base, &end);
+    WindowChunks chunks(ps, w, bytes.get(base, end - base), base, end);
+    const Chunk c = chunks.next("SCNW", true);
+    const std::string what = chunks.what("SCNW");
+    ByteReader r(c.payload, c.size, what);
+    const uint64_t total = open_scan_chunk(ps, &chunks, c, &r);
+    const size_t fn = std::min(W, F - std::min(F, w * W));
+    if (r.varint() != fn) fail(ErrorCode::kCorrupt, what, "frame count is not the window's");
+    uint64_t sum = 0;
+    for (size_t f = 0; f < fn; ++f) {
+      const uint64_t n = r.varint();
+      sum += n;
+      if (n > total || sum > total) break;
+      off.push_back(off.back() + static_cast<size_t>(n));
+    }
+    if (sum != total)
+      fail(ErrorCode::kCorrupt, what,
+           "frame counts disagree with the chunk's total of " + std::to_string(total));
+  }
+  if (off.size() != F + 1) fail(ErrorCode::kCorrupt, ps.name, "windows do not hold every frame");
+  return off;
 }
 
 void decode_window(StreamBytes& bytes, const ParsedStream& ps, size_t w, FrameBlock* out) {

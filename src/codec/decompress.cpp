@@ -40,46 +40,9 @@ void slice_frame_metadata(size_t first, size_t count, size_t F, Take* t) {
   }
 }
 
-// "Scans (format 1.1)": frames [first, first + count) of a ragged stream, window by window.
-Take decode_ragged(StreamBytes& bytes, ParsedStream& ps, size_t first, size_t count,
-                   const DecompressOptions& opts) {
-  const uint64_t limit = effective_memory_limit(opts.memory_limit, bytes.size());
-  ps.max_points = static_cast<size_t>(std::min<uint64_t>(limit / 25, size_t{1} << 40));
-  const size_t F = ps.take.frames, W = ps.h.window_frames;
-  Take t = ps.take;
-  t.frames = count;
-  t.frame_offsets.assign(1, 0);
-  FrameBlock b;
-  for (size_t w = first / W; w * W < first + count; ++w) {
-    decode_window(bytes, ps, w, &b);
-    const size_t f0 = std::max(first, w * W), f1 = std::min({first + count, (w + 1) * W, F});
-    const size_t p0 = b.frame_offsets[f0 - w * W], p1 = b.frame_offsets[f1 - w * W];
-    if (t.valid.size() + (p1 - p0) > ps.max_points)
-      fail(ErrorCode::kMemoryLimit, ps.name, "the frames' points exceed the memory limit");
-    t.valid.insert(t.valid.end(), b.valid.begin() + static_cast<std::ptrdiff_t>(p0),
-                   b.valid.begin() + static_cast<std::ptrdiff_t>(p1));
-    t.xyz.insert(t.xyz.end(), b.xyz.begin() + static_cast<std::ptrdiff_t>(3 * p0),
-                 b.xyz.begin() + static_cast<std::ptrdiff_t>(3 * p1));
-    for (size_t f = f0; f < f1; ++f)
-      t.frame_offsets.push_back(t.frame_offsets.back() + b.frame_offsets[f - w * W + 1] -
-                                b.frame_offsets[f - w * W]);
-  }
-  if (first > 0 || count < F) slice_frame_metadata(first, count, F, &t);
-  return t;
-}
-
 // Frames [first, first + count) of the stream, clipped, with the per-frame metadata sliced.
 Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
                   const std::string& name, const DecompressOptions& opts) {
-  MemoryBytes whole(data, size);
-  ParsedStream rp = parse_stream(whole, name);
-  if (rp.h.ragged) {
-    const size_t F = rp.take.frames;
-    first = std::min(first, F);
-    count = std::min(count, F - first);
-    if (first == 0 && count == F) check_tiling(rp, size, name);
-    return decode_ragged(whole, rp, first, count, opts);
-  }
   std::unique_ptr<StreamBytes> mem(new MemoryBytes(data, size));
   CapzSource src(std::move(mem), name, false, opts.threads, opts.memory_limit);
   const ParsedStream& ps = src.parsed();
@@ -93,6 +56,7 @@ Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
   t.frames = count;
   t.xyz = std::move(b.xyz);
   t.valid = std::move(b.valid);
+  t.frame_offsets = std::move(b.frame_offsets);  // a ragged take's; empty for a fixed one
   t.analog.values = std::move(b.analog);
   t.rotations.matrices = std::move(b.rotation_matrices);
   t.rotations.reliability = std::move(b.rotation_reliability);
@@ -141,6 +105,9 @@ StreamInfo describe(const uint8_t* data, size_t size, const std::string& name) {
   si.source_name = ps.take.source;
   si.frames = ps.take.frames;
   si.points = ps.take.points;
+  si.ragged = ps.h.ragged;
+  ps.max_points = size_t{1} << 40;  // only the counts are read: no limit on a window's points
+  si.total_points = si.ragged ? ragged_frame_offsets(bytes, ps).back() : si.frames * si.points;
   si.window_frames = ps.h.window_frames;
   si.windows = ps.h.windows();
   si.mode = ps.h.transform_output ? "transform-output" : mode_name(ps.h.mode);

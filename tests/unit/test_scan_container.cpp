@@ -4,9 +4,9 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <limits>
-#include <cstring>
 #include <random>
 
 #include "capz/codec.h"
