@@ -54,6 +54,10 @@ set(CAPZ_DECODE_SOURCES
   src/coding/positions.cpp
   src/coding/positions_ray.cpp
   src/coding/rotations.cpp
+  src/coding/scan_decode.cpp
+  src/coding/scan_encode.cpp
+  src/coding/scan_shared.cpp
+  src/coding/scan_table.cpp
   src/core/atomic_file.cpp
   src/core/error.cpp
   src/core/hash.cpp
@@ -102,6 +106,7 @@ set(CAPZ_ENCODE_SOURCES
   src/codec/pdct/pdct_encoder.cpp
   src/codec/pdct/seeds.cpp
   src/codec/registry.cpp
+  src/codec/scan_encoder.cpp
   src/codec/transform.cpp
   src/codec/ts/align.cpp
   src/codec/ts/cluster.cpp

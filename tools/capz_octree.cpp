@@ -1,6 +1,5 @@
 // PCL's OctreePointCloudCompression as a peer, one point cloud per frame (I-frames every
-// --iframe frames, P-frames between, as PCL streams them). The only file here that includes
-// PCL headers.
+// --iframe frames, P-frames between, as PCL streams them).
 //
 //   capz_octree encode IN.f32 FRAMES POINTS OUT.oct --point-res R [--octree-res O] [--iframe K]
 //   capz_octree decode IN.oct FRAMES OUT.pts

@@ -134,7 +134,10 @@ void print_text(const std::string& path, size_t size, const capz::StreamInfo& si
                       human_size(size) + ", " + num(bp) + " bpvf");
   line("source:", std::string(capz::format_name(si.source_format)) +
                       (si.source_name.empty() ? "" : " " + si.source_name));
-  line("take:", std::to_string(si.frames) + " frames x " + std::to_string(si.points) + " points" +
+  line("take:", std::to_string(si.frames) +
+                    (si.ragged ? " frames of their own point counts, " +
+                                     std::to_string(si.total_points) + " points in all"
+                               : " frames x " + std::to_string(si.points) + " points") +
                     (si.rate > 0 ? ", " + num(si.rate) + " Hz" : "") +
                     (si.units.empty() ? ", units unknown" : ", " + si.units));
   line("coding:",
@@ -181,7 +184,8 @@ void print_text(const std::string& path, size_t size, const capz::StreamInfo& si
 int info_capz(const std::string& path, bool json) {
   std::vector<uint8_t> bytes = capz::read_file(path);
   capz::StreamInfo si = capz::describe(bytes.data(), bytes.size(), path);
-  const double bp = capz::bpvf(bytes.size(), si.frames, si.points);
+  const double bp = si.ragged ? capz::bpvf(bytes.size(), 1, si.total_points)
+                              : capz::bpvf(bytes.size(), si.frames, si.points);
   // A C3D take's EVENT group, from META (no frame decoded).
   std::vector<capz::C3DEvent> events;
   const bool c3d = si.source_format == capz::Format::kC3D;

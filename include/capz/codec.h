@@ -122,6 +122,9 @@ struct StreamInfo {
   Format source_format = Format::kUnknown;
   std::string source_name;
   size_t frames = 0, points = 0, window_frames = 0, windows = 0;
+  // Frames of their own point counts (format 1.1; points is then 0): the points of all frames.
+  bool ragged = false;
+  size_t total_points = 0;
   std::string mode;   // as CompressStats::mode
   std::string codec;  // "none", "ts", "pdct", or "id N" when unknown
   bool lossless = false;

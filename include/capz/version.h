@@ -24,12 +24,15 @@ Version library_version();
 // "1.0.0"
 const char* version_string();
 
-// The .capz format (docs/FORMAT.md 2) every stream is written in.
+// The .capz format (docs/FORMAT.md 2) every stream is written in, but for scans.
 constexpr FormatVersion kFormatWritten{1, 0};
+// The version of streams of ragged takes (frames of their own point counts: docs/FORMAT.md
+// "Scans (format 1.1)"), the first minor version: HEAD's feature bit 3 and the SCNW chunk.
+constexpr FormatVersion kFormatScans{1, 1};
 // The newest format read. A stream of major 1 is read at any minor version; one of a later minor
 // is refused (Error kUnsupportedVersion, naming the chunk or feature) only where it uses what
 // its minor version adds. A greater major, and the pre-release formats 1.0-9.3 (written by capz
 // 0.1.0 and earlier, with the magic "\x89capz"), are refused (kUnsupportedVersion).
-constexpr FormatVersion kFormatNewestRead{1, 0};
+constexpr FormatVersion kFormatNewestRead{1, 1};
 
 }  // namespace capz

@@ -18,6 +18,11 @@ CapzSource::CapzSource(std::unique_ptr<StreamBytes> bytes, const std::string& na
       ps_(parse_stream(*bytes_, name)),
       memory_limit_(effective_memory_limit(memory_limit, bytes_->size())) {
   if (whole) check_tiling(ps_, bytes_->size(), name_);
+  if (ps_.h.ragged) {  // "Scans (format 1.1)": 25 bytes a point (x y z doubles and a flag)
+    ps_.max_points = static_cast<size_t>(std::min<uint64_t>(memory_limit_ / 25, uint64_t{1} << 40));
+    if (memory_limit_ == 0) ps_.max_points = size_t{1} << 40;
+    ps_.take.frame_offsets = ragged_frame_offsets(*bytes_, ps_);
+  }
   header_ = ps_.take;
   const size_t T = std::min(resolve_threads(threads), ps_.index.size());
   if (T > 1 && ps_.index.size() > 1) ahead_cap_ = T + 1;
@@ -65,9 +70,29 @@ CapzSource::~CapzSource() {
   pool_.reset();
 }
 
+// Frames [first, first + count) of a ragged stream (clipped), window by window.
+void CapzSource::read_ragged(size_t first, size_t count, FrameBlock* out) {
+  const std::vector<size_t>& off = ps_.take.frame_offsets;
+  if (off[first + count] - off[first] > ps_.max_points)
+    fail(ErrorCode::kMemoryLimit, name_, "these frames' points exceed the memory limit");
+  std::vector<size_t> counts;
+  for (size_t f = first; f < first + count; ++f) counts.push_back(off[f + 1] - off[f]);
+  out->reset_ragged(first, counts);
+  for (size_t f = first; f < first + count;) {
+    decode(f / ps_.h.window_frames);
+    const size_t lo = f - win_.first, hi = std::min(win_.frames, first + count - win_.first);
+    const size_t p0 = win_.frame_offsets[lo], n = win_.frame_offsets[hi] - p0;
+    const size_t o = off[f] - off[first];
+    std::copy_n(win_.xyz.data() + p0 * 3, n * 3, out->xyz.data() + o * 3);
+    std::copy_n(win_.valid.data() + p0, n, out->valid.data() + o);
+    f += hi - lo;
+  }
+}
+
 void CapzSource::read(size_t first, size_t count, FrameBlock* out) {
   const size_t F = ps_.take.frames, N = ps_.take.points;
   clip(&first, &count);
+  if (ps_.h.ragged) return read_ragged(first, count, out);
   const size_t S = ps_.h.analog_samples_per_frame, C = ps_.h.analog_channels;
   const size_t A = C > 0 && S > 0 ? S * C : 0;
   const size_t W = ps_.h.window_frames;

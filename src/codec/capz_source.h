@@ -50,6 +50,7 @@ class CapzSource : public FrameSource {
   // Throws Error(kMemoryLimit) when `frames` frames of decoded samples exceed the limit.
   void check_memory(double frames, const char* what) const;
   void decode(size_t w);
+  void read_ragged(size_t first, size_t count, FrameBlock* out);
   void decode_ahead(size_t w);
   void submit(size_t w);
   void drop_ahead();

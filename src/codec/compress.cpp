@@ -7,6 +7,7 @@
 #include "capz/stream.h"
 #include "codec/encoder.h"
 #include "codec/registry.h"
+#include "codec/scan_encoder.h"
 #include "core/atomic_file.h"
 
 namespace capz {
@@ -19,10 +20,9 @@ size_t auto_window_frames(size_t points) {
 
 namespace {
 
-// What the encoder does not code yet (issue 37, format 1.1): frames of their own point count,
-// and PLY and .bin frames (their layouts have no META block). Throws kInvalidParameter.
+// What the encoder does not code yet (issue 37, format 1.1): PLY and .bin frames (their layouts
+// have no META block; ragged takes: compress_ragged). Throws kInvalidParameter.
 void refuse_scans(const Take& t) {
-  refuse_ragged(t, "the encoder");
   if (t.format == Format::kPLYFolder || t.format == Format::kBinFolder)
     fail(ErrorCode::kInvalidParameter, t.source,
          std::string(t.format == Format::kPLYFolder ? "PLY" : ".bin") +
@@ -33,6 +33,7 @@ void refuse_scans(const Take& t) {
 std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions& opts,
                                          const EncoderTuning& tuning, CompressStats* stats,
                                          bool allow_tout = true) {
+  if (take.ragged()) return compress_ragged(take, opts, stats);
   refuse_scans(take);
   if (take.xyz.size() != take.frames * take.points * 3 ||
       take.valid.size() != take.frames * take.points)
@@ -115,6 +116,21 @@ std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, Com
 void compress_stream(FrameSource& source, const CompressOptions& opts, const std::string& path,
                      bool overwrite, CompressStats* stats) {
   refuse_scans(source.header());
+  if (source.header().ragged()) {  // not streamed yet: the whole take in memory
+    Take t = source.header();
+    FrameBlock b;
+    source.read(0, t.frames, &b);
+    t.xyz = std::move(b.xyz);
+    t.valid = std::move(b.valid);
+    for (size_t a = 0; a < t.attributes.size() && a < b.attributes.size(); ++a)
+      t.attributes[a].data = std::move(b.attributes[a]);
+    std::vector<uint8_t> bytes = compress_ragged(t, opts, stats);
+    AtomicFile file(path, overwrite);
+    StreamOut out(&file);
+    out.flush(&bytes);
+    file.commit();
+    return;
+  }
   if (opts.codec == "auto")
     fail(ErrorCode::kInvalidParameter, source.header().source,
          "codec auto compares whole-take encodings and is not streamed");

@@ -16,6 +16,7 @@
 #include "coding/mask.h"
 #include "coding/positions.h"
 #include "coding/rotations.h"
+#include "coding/scan_geometry.h"
 
 namespace capz {
 namespace {
@@ -41,8 +42,8 @@ class WindowChunks {
         off_ = c.end;
         return c;
       }
-      if (c.type == "POSW" || c.type == "MASK" || c.type == "C3DW" || c.type == "ANLG" ||
-          c.type == "ROTW" || c.type == "ATTR")
+      if (c.type == "POSW" || c.type == "MASK" || c.type == "SCNW" || c.type == "C3DW" ||
+          c.type == "ANLG" || c.type == "ROTW" || c.type == "ATTR")
         break;
       check_chunk_known(c, ctx_.features, ctx_.name);
       off_ = c.end;  // a residue or ancillary chunk: skipped
@@ -196,6 +197,52 @@ void decode_window_rotations(const StreamContext& ctx, WindowChunks* chunks, siz
   b->rotation_reliability.swap(rw.reliability);
 }
 
+// Opens window w's SCNW chunk: checks the window index and returns the window's total points,
+// within the caller's limit (*r then at the geometry payload).
+uint64_t open_scan_chunk(const StreamContext& ctx, WindowChunks* chunks, const Chunk& c,
+                         ByteReader* r) {
+  chunks->open(c, r);
+  const uint64_t total = r->varint();
+  if (total > ctx.max_points)
+    fail(ErrorCode::kMemoryLimit, chunks->what("SCNW"),
+         std::to_string(total) + " points exceed the memory limit (" +
+             std::to_string(ctx.max_points) + " points)");
+  return total;
+}
+
+// "Scans (format 1.1)": the fn frames of window w of a ragged stream from its SCNW chunk, into
+// out's frame offsets, gaps and coordinates (gaps 0).
+void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t fn,
+                        FrameBlock* out) {
+  Chunk c = chunks->next("SCNW", true);
+  const std::string what = chunks->what("SCNW");
+  ByteReader r(c.payload, c.size, what);
+  const uint64_t total = open_scan_chunk(ctx, chunks, c, &r);
+  const ScanGeometry g = decode_scan_geometry(c.payload + r.offset(), c.size - r.offset(), what,
+                                              static_cast<size_t>(total));
+  if (g.counts.size() != fn)
+    fail(ErrorCode::kCorrupt, what,
+         std::to_string(g.counts.size()) + " frames, the window has " + std::to_string(fn));
+  if (g.total() != total)
+    fail(ErrorCode::kCorrupt, what,
+         "frame counts sum to " + std::to_string(g.total()) + " points, the chunk says " +
+             std::to_string(total));
+  FrameBlock& b = *out;
+  b.frame_offsets.assign(fn + 1, 0);
+  for (size_t f = 0; f < fn; ++f) b.frame_offsets[f + 1] = b.frame_offsets[f] + g.counts[f];
+  b.valid = g.valid;
+  b.xyz.assign(g.total() * 3, 0.0);
+  Grid grid;
+  grid.mode = ctx.h.mode;
+  grid.step = ctx.h.step;
+  with_mode(grid.mode, [&](auto m) {
+    for (size_t i = 0; i < g.total(); ++i)
+      if (g.valid[i])
+        for (size_t a = 0; a < 3; ++a)
+          b.xyz[3 * i + a] = dequantise_as<decltype(m)::value>(grid, g.q[3 * i + a], 0);
+  });
+}
+
 }  // namespace
 
 void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* region, size_t base,
@@ -209,7 +256,13 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
   FrameBlock& b = *out;
   // Decoded straight into the caller's arrays (their capacity is reused window after window).
   std::vector<int32_t> q;  // the window's POSW integers (none with transform output)
-  decode_window_positions(ctx, &chunks, fn, &b.valid, &b.xyz, &q);
+  b.frame_offsets.clear();
+  if (h.ragged && (ctx.words || !ctx.take.attributes.empty()))
+    fail(ErrorCode::kCorrupt, ctx.name, "ragged frames with C3D words or point fields");
+  if (h.ragged)
+    decode_window_scan(ctx, &chunks, fn, &b);
+  else
+    decode_window_positions(ctx, &chunks, fn, &b.valid, &b.xyz, &q);
   // The analog rows must fit what the chunks can hold before they are allocated.
   const size_t per_byte = kMaxAnalogValuesPerByte;
   if (C > 0 && S > 0 && fn * S * C > per_byte * (end - base))
@@ -263,6 +316,34 @@ void window_extent(const ParsedStream& ps, size_t size, size_t w, size_t* base, 
          "INDX entry of window " + std::to_string(w) + " points outside the file");
   *base = static_cast<size_t>(ie.offset);
   *end = *base + static_cast<size_t>(ie.bytes);
+}
+
+std::vector<size_t> ragged_frame_offsets(StreamBytes& bytes, const ParsedStream& ps) {
+  std::vector<size_t> off(1, 0);
+  const size_t F = static_cast<size_t>(ps.h.frames), W = ps.h.window_frames;
+  for (size_t w = 0; w < ps.index.size(); ++w) {
+    size_t base = 0, end = 0;
+    window_extent(ps, bytes.size(), w, &base, &end);
+    WindowChunks chunks(ps, w, bytes.get(base, end - base), base, end);
+    const Chunk c = chunks.next("SCNW", true);
+    const std::string what = chunks.what("SCNW");
+    ByteReader r(c.payload, c.size, what);
+    const uint64_t total = open_scan_chunk(ps, &chunks, c, &r);
+    const size_t fn = std::min(W, F - std::min(F, w * W));
+    if (r.varint() != fn) fail(ErrorCode::kCorrupt, what, "frame count is not the window's");
+    uint64_t sum = 0;
+    for (size_t f = 0; f < fn; ++f) {
+      const uint64_t n = r.varint();
+      sum += n;
+      if (n > total || sum > total) break;
+      off.push_back(off.back() + static_cast<size_t>(n));
+    }
+    if (sum != total)
+      fail(ErrorCode::kCorrupt, what,
+           "frame counts disagree with the chunk's total of " + std::to_string(total));
+  }
+  if (off.size() != F + 1) fail(ErrorCode::kCorrupt, ps.name, "windows do not hold every frame");
+  return off;
 }
 
 void decode_window(StreamBytes& bytes, const ParsedStream& ps, size_t w, FrameBlock* out) {

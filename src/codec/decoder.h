@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "capz/stream.h"
 #include "codec/stream_reader.h"
@@ -21,6 +22,12 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
 // Where window w's chunks are in a stream of `size` bytes, as INDX says: [*base, *end). Throws
 // kCorrupt when the entry points outside the file.
 void window_extent(const ParsedStream& ps, size_t size, size_t w, size_t* base, size_t* end);
+
+// "Scans (format 1.1)": the frame offsets of a ragged stream (frames + 1), from the counts at
+// the head of every window's SCNW payload (the payloads are not decoded). Throws kCorrupt for
+// counts that disagree with HEAD or SCNW's total, kMemoryLimit for a window of more than
+// ps.max_points points.
+std::vector<size_t> ragged_frame_offsets(StreamBytes& bytes, const ParsedStream& ps);
 
 // Window w of a parsed stream, its chunks fetched from `bytes` as INDX says.
 void decode_window(StreamBytes& bytes, const ParsedStream& ps, size_t w, FrameBlock* out);

@@ -8,6 +8,7 @@
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "codec/capz_source.h"
+#include "codec/decoder.h"
 #include "codec/decoder_registry.h"
 #include "codec/grid.h"
 #include "coding/analog/analog_codec.h"
@@ -55,6 +56,7 @@ Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
   t.frames = count;
   t.xyz = std::move(b.xyz);
   t.valid = std::move(b.valid);
+  t.frame_offsets = std::move(b.frame_offsets);  // a ragged take's; empty for a fixed one
   t.analog.values = std::move(b.analog);
   t.rotations.matrices = std::move(b.rotation_matrices);
   t.rotations.reliability = std::move(b.rotation_reliability);
@@ -104,6 +106,9 @@ StreamInfo describe(const uint8_t* data, size_t size, const std::string& name) {
   si.source_name = ps.take.source;
   si.frames = ps.take.frames;
   si.points = ps.take.points;
+  si.ragged = ps.h.ragged;
+  ps.max_points = size_t{1} << 40;  // only the counts are read: no limit on a window's points
+  si.total_points = si.ragged ? ragged_frame_offsets(bytes, ps).back() : si.frames * si.points;
   si.window_frames = ps.h.window_frames;
   si.windows = ps.h.windows();
   si.mode = ps.h.transform_output ? "transform-output" : mode_name(ps.h.mode);

@@ -65,13 +65,13 @@ namespace {
 
 // The file-level chunks after META (HASH, C3DR, TRCR, PCDR, or an ancillary type; an unknown
 // critical type is refused), each checked, recorded in ps->file_chunks; returns the offset of
-// the first window.
+// the first window (its POSW, or SCNW in a stream of ragged frames, format 1.1).
 size_t file_level_chunks(StreamBytes& b, size_t off, const std::string& name, ParsedStream* ps) {
   const size_t size = b.size();
   while (off + 4 <= size) {
     const uint8_t* t = b.get(off, 4);
     const std::string type(reinterpret_cast<const char*>(t), 4);
-    if (type == "POSW" || type == "INDX") break;
+    if (type == "POSW" || type == "SCNW" || type == "INDX") break;
     const Chunk x = chunk_at(b, off, name);
     check_chunk_known(x, ps->features, name);
     if (ps->file_chunks.count(x.type)) fail(ErrorCode::kCorrupt, name, "two " + x.type + " chunks");

@@ -58,6 +58,8 @@ struct StreamContext {
   StreamHeader h;
   Take take;           // metadata only: frames, points, analog layout, META's fields
   bool words = false;  // windows carry C3DW chunks
+  // Ragged streams: the most points a window may hold (the caller's memory limit).
+  size_t max_points = size_t{1} << 26;
 };
 // The context of a stream with features f from its decoded HEAD and its META chunk.
 StreamContext read_context(const StreamHeader& h, const Chunk& meta, const StreamFeatures& f,

@@ -15,10 +15,10 @@ std::string chunk_what(const std::string& name, const Chunk& c) {
          std::to_string(c.offset);
 }
 
-void write_file_header(std::vector<uint8_t>* out) {
+void write_file_header(std::vector<uint8_t>* out, uint8_t minor) {
   out->insert(out->end(), kCapzMagic, kCapzMagic + 9);
   out->push_back(kCapzMajor);
-  out->push_back(kCapzMinor);
+  out->push_back(minor);
   ByteWriter w;
   w.u32(crc32c(out->data() + out->size() - 11, 11));
   out->insert(out->end(), w.buffer().begin(), w.buffer().end());
@@ -87,7 +87,7 @@ StreamFeatures check_file_header(const uint8_t* data, size_t size, const std::st
 bool known_chunk(const std::string& type) {
   static const char* const kTypes[] = {"HEAD", "META", "INDX", "POSW", "MASK", "C3DW",
                                        "ANLG", "ROTW", "ATTR", "HASH", "C3DR", "TRCR",
-                                       "PCDR", "C3DP", "TRCP", "PCDP"};
+                                       "PCDR", "C3DP", "TRCP", "PCDP", "SCNW"};
   for (const char* t : kTypes)
     if (type == t) return true;
   return false;
@@ -142,7 +142,7 @@ std::vector<uint8_t> encode_header(const StreamHeader& h) {
   w.u8(static_cast<uint8_t>(h.mode));
   w.u8(h.codec);
   w.u8(static_cast<uint8_t>((h.lossless ? 1 : 0) | (h.transform_output ? 2 : 0) |
-                            (h.rotations() ? 4 : 0)));
+                            (h.rotations() ? 4 : 0) | (h.ragged ? 8 : 0)));
   w.f64(h.step);
   w.f64(h.max_error);
   w.u32(h.analog_channels);
@@ -175,11 +175,17 @@ StreamHeader decode_header(const Chunk& c, const std::string& name, const Stream
     fail(ErrorCode::kCorrupt, what,
          "window of " + std::to_string(h.window_frames) + " frames (1.." +
              std::to_string(kMaxWindowFrames) + ")");
-  for (int bit = 3; bit < 8; ++bit)  // FORMAT.md 2: a flag a later minor version adds
+  for (int bit = 4; bit < 8; ++bit)  // FORMAT.md 17: a flag a later minor version adds
     if (flags >> bit & 1)
       fail(ErrorCode::kUnsupportedVersion, what,
            "feature bit " + std::to_string(bit) + " of format " + f.version() +
                " is not known to this decoder");
+  h.ragged = (flags & 8) != 0;  // "Scans (format 1.1)": frames of their own point counts
+  if (h.ragged && !f.ragged_frames())
+    fail(ErrorCode::kCorrupt, what, "feature bit 3 (ragged frames) in a format 1.0 stream");
+  if (h.ragged && (h.points != 0 || (flags & 3) != 0 || h.codec != 0 || mode == 1 || mode == 3))
+    fail(ErrorCode::kCorrupt, what,
+         "ragged frames with points, a transform, lossless or position mode 1 or 3");
   h.transform_output = (flags & 2) != 0;
   if (h.transform_output) {  // FORMAT.md 4.3: the transform's reconstruction is the output
     h.kg_target = r.f64();

@@ -23,8 +23,9 @@ constexpr uint8_t kCapzMinor = kFormatWritten.minor;
 constexpr size_t kFileHeaderBytes = 15;  // magic, major, minor, CRC-32C of those 11 bytes
 constexpr size_t kChunkOverhead = 12;    // type + length + crc
 
-// Appends the file header of a stream of the written format (kCapzMajor.kCapzMinor).
-void write_file_header(std::vector<uint8_t>* out);
+// Appends the file header of a stream of format kCapzMajor.minor: kCapzMinor, or
+// kFormatScans.minor for a stream of ragged frames.
+void write_file_header(std::vector<uint8_t>* out, uint8_t minor = kCapzMinor);
 // Appends one chunk: type (4 ASCII bytes), u32 length, payload, CRC-32C of type + payload.
 void append_chunk(std::vector<uint8_t>* out, const char type[4],
                   const std::vector<uint8_t>& payload);
@@ -76,6 +77,9 @@ struct StreamHeader {
   // per point frame; both 0 without (both at least 1 with), and each window has a ROTW chunk.
   uint32_t rotation_segments = 0;
   uint32_t rotation_samples_per_frame = 0;
+  // HEAD flags bit 3 ("Scans (format 1.1)" in docs/FORMAT.md): frames of their own point
+  // counts; points is 0 and each window has an SCNW chunk instead of POSW and MASK.
+  bool ragged = false;
 
   bool rotations() const { return rotation_segments > 0; }
   size_t windows() const {

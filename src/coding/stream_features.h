@@ -11,6 +11,8 @@ namespace capz {
 
 struct StreamFeatures {
   int minor = 0;  // the stream's minor version of format 1 (messages name it)
+  // 1.1: HEAD's feature bit 3, ragged frames coded in SCNW chunks ("Scans (format 1.1)").
+  bool ragged_frames() const { return minor >= 1; }
   // "1.<minor>", for messages.
   std::string version() const { return "1." + std::to_string(minor); }
 };

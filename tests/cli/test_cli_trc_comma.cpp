@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <string>
 
-#include "capz/tool/file.h"
 #include "capz/io.h"
+#include "capz/tool/file.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;

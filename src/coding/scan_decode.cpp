@@ -1,0 +1,59 @@
+// The scan geometry decoder (docs/FORMAT.md "Scans (format 1.1)").
+#include "capz/error.h"
+#include "coding/scan_geometry.h"
+#include "coding/scan_shared.h"
+
+namespace capz {
+
+namespace {
+
+// The decoding side of scan::code_frame: values come from the block, actual ones are unused.
+class DecodeIo {
+ public:
+  explicit DecodeIo(IntDecoder* dec) : dec_(dec) {}
+  int32_t sym(int32_t, int32_t pred, int ctx) { return wrap_add(pred, dec_->get_signed(ctx)); }
+  uint32_t ring(uint32_t, uint32_t rings, int ctx) {
+    const uint32_t d = dec_->get(ctx);
+    if (d >= rings) dec_->corrupt("ring residual beyond the laser table");
+    return d;
+  }
+  bool flag(bool, int ctx) {
+    int tok;
+    const uint32_t v = dec_->get(ctx, &tok);
+    if (v > 1) dec_->corrupt("point validity flag is neither 0 nor 1");
+    return v == 1;
+  }
+  scan::Polar polar(size_t) const { return {}; }
+  const int32_t* actual(size_t) const { return zero_; }
+  bool actual_valid(size_t) const { return false; }
+
+ private:
+  IntDecoder* dec_;
+  int32_t zero_[3] = {0, 0, 0};
+};
+
+}  // namespace
+
+ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::string& what,
+                                  size_t max_points) {
+  const scan::Header h = scan::read_header(data, size, what, max_points);
+  ScanGeometry g;
+  g.counts = h.counts;
+  size_t total = 0;
+  for (uint32_t n : h.counts) total += n;
+  g.q.resize(3 * total);
+  g.valid.resize(total);
+  IntDecoder dec(data + h.body, size - h.body, scan::kContexts, what);
+  DecodeIo io(&dec);
+  scan::State st(h.table);
+  size_t first = 0;
+  for (size_t f = 0; f < h.counts.size(); ++f) {
+    scan::code_frame(io, st, h.flags[f], first, h.counts[f], g.q.data() + 3 * first,
+                     g.valid.data() + first);
+    first += h.counts[f];
+  }
+  if (!dec.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the scan geometry");
+  return g;
+}
+
+}  // namespace capz

@@ -1,0 +1,48 @@
+// The scan geometry coder (docs/FORMAT.md "Scans (format 1.1)"): a lossless coder of one
+// window's grid integers for frames of their own size, in file order.
+//
+// A window is a run of frames; frame f holds counts[f] points, each three int32 grid integers
+// (x y z) and a validity flag (a NaN point of the source is a gap: valid 0, kept in place, its
+// integers ignored and decoded as 0). The coder predicts each valid point from the points
+// decoded before it (FORMAT.md: previous point, the point one firing back on its ring, the
+// previous sweep's point at the same ring and column, the laser cone of its ring) and codes the
+// residuals with the adaptive range coder (coding/entropy.h).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace capz {
+
+// One window's grid integers, frames of their own size, in file order.
+struct ScanGeometry {
+  std::vector<uint32_t> counts;  // points per frame
+  std::vector<int32_t> q;        // total x 3 grid integers (x y z per point)
+  std::vector<uint8_t> valid;    // total; 0 = gap (a NaN point)
+
+  size_t total() const { return valid.size(); }
+};
+
+// What the encoder may use besides the integers (never stored as such: each hint only steers
+// the encoder's choices, which the payload carries).
+struct ScanHints {
+  // The source's ring / laser / channel number of every point (total entries), or empty: the
+  // encoder then infers the rings from the points' elevations.
+  std::vector<uint32_t> ring;
+  // The source's coordinates (total x 3, any unit), or empty: without a ring field the rings
+  // are found from the elevations of these, finer than the grid's (at a coarse grid a near
+  // point's elevation is too uncertain to tell neighbouring lasers apart).
+  std::vector<float> xyz;
+};
+
+// The payload of one window. Throws Error(kInvalidArgument) when the shapes disagree.
+std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints = {});
+
+// Decodes a payload of encode_scan_geometry. At most `max_points` points in all (the caller's
+// memory bound); throws Error(kCorrupt) naming `what` on any inconsistency.
+ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::string& what,
+                                  size_t max_points = size_t{1} << 26);
+
+}  // namespace capz

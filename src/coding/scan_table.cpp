@@ -1,0 +1,205 @@
+// The scan encoder's laser table, inferred from the points (docs/FORMAT.md "Scans (format
+// 1.1)"): rings, then per ring the cone (slope, z offset) and azimuth offset, and one azimuth
+// step. Encoder side only: the decoder reads the table, so nothing here needs to repeat bit for
+// bit on another build.
+#include "coding/scan_table.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace capz {
+namespace scan {
+
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586;
+
+bool small_enough(const int32_t* p) {
+  for (int a = 0; a < 3; ++a)
+    if (std::llabs(static_cast<long long>(p[a])) >= kMaxSphericalCoord) return false;
+  return true;
+}
+
+double wrap_pi(double d) {
+  while (d > kTwoPi / 2) d -= kTwoPi;
+  while (d <= -kTwoPi / 2) d += kTwoPi;
+  return d;
+}
+
+// Point i's azimuth: from the source's coordinates when the hints have them (on a coarse grid a
+// near point's azimuth is uncertain by more than the sensor's step), else from the integers.
+double azimuth(const ScanGeometry& g, const ScanHints& h, size_t i) {
+  if (h.xyz.size() == 3 * g.total()) {
+    const double x = h.xyz[3 * i], y = h.xyz[3 * i + 1];
+    if (std::isfinite(x) && std::isfinite(y)) return std::atan2(y, x);
+  }
+  return std::atan2(double(g.q[3 * i + 1]), double(g.q[3 * i]));
+}
+
+// Dense ring numbers 0..K-1 from the hint's values (sorted); K = 0 when there is no usable hint.
+size_t dense_rings(const ScanGeometry& g, const ScanHints& h, std::vector<uint32_t>* ring) {
+  ring->assign(g.total(), 0);
+  if (h.ring.size() != g.total()) return 0;
+  std::map<uint32_t, uint32_t> ids;
+  for (size_t i = 0; i < g.total(); ++i)
+    if (g.valid[i]) ids.emplace(h.ring[i], 0);
+  if (ids.empty() || ids.size() > kMaxRings) return 0;
+  uint32_t n = 0;
+  for (auto& kv : ids) kv.second = n++;
+  for (size_t i = 0; i < g.total(); ++i)
+    if (g.valid[i]) (*ring)[i] = ids[h.ring[i]];
+  return ids.size();
+}
+
+// Rings from the points' elevations, for a source without a ring field: the peaks of the
+// elevation histogram of all points, each point then given to the nearest peak. 0 when there
+// are no points. (The farther half or quarter alone, where a laser's z offset moves the
+// elevation least, found fewer rings: docs/lab/2026-11-28-scan-geometry.md.)
+size_t elevation_rings(const ScanGeometry& g, const std::vector<float>& xyz,
+                       std::vector<uint32_t>* ring) {
+  const bool fine = xyz.size() == 3 * g.total();
+  constexpr double kBin = 0.0002;  // radians (about 0.011 degrees)
+  constexpr int kBins = static_cast<int>(3.2 / kBin);
+  std::vector<double> el;
+  std::vector<size_t> idx;
+  for (size_t i = 0; i < g.total(); ++i) {
+    const int32_t* p = &g.q[3 * i];
+    if (!g.valid[i] || !small_enough(p)) continue;
+    double v[3] = {double(p[0]), double(p[1]), double(p[2])};
+    if (fine)
+      for (int a = 0; a < 3; ++a) v[a] = xyz[3 * i + size_t(a)];
+    const double r = std::hypot(v[0], v[1]);
+    if (!(r > 0) || !std::isfinite(v[2])) continue;
+    el.push_back(std::atan2(v[2], r));
+    idx.push_back(i);
+  }
+  if (el.empty()) return 0;
+  std::vector<double> h(kBins, 0.0);
+  auto bin = [&](double e) { return std::min(kBins - 1, std::max(0, int((e + 1.6) / kBin))); };
+  for (double e : el) h[size_t(bin(e))] += 1;
+  // Smoothed over 3 bins; a peak is the largest within 3 bins either side and holds at least
+  // 0.1% of the counted points.
+  std::vector<double> s(kBins, 0.0);
+  for (int b = 1; b + 1 < kBins; ++b)
+    s[size_t(b)] = h[size_t(b - 1)] + 2 * h[size_t(b)] + h[size_t(b + 1)];
+  double counted = 0;
+  for (double v : h) counted += v;
+  std::vector<double> peaks;
+  for (int b = 3; b + 3 < kBins; ++b) {
+    const double v = s[size_t(b)];
+    if (v < 4 * 0.0002 * counted || v < 32) continue;
+    bool top = true;
+    for (int o = -3; o <= 3 && top; ++o)
+      if (o != 0 && (s[size_t(b + o)] > v || (o < 0 && s[size_t(b + o)] == v))) top = false;
+    if (top) peaks.push_back((b + 0.5) * kBin - 1.6);
+  }
+  if (peaks.empty() || peaks.size() > kMaxRings) return 0;
+  ring->assign(g.total(), 0);
+  for (size_t j = 0; j < el.size(); ++j) {
+    const auto it = std::lower_bound(peaks.begin(), peaks.end(), el[j]);
+    size_t k = size_t(it - peaks.begin());
+    if (k == peaks.size() || (k > 0 && el[j] - peaks[k - 1] < *it - el[j])) --k;
+    (*ring)[idx[j]] = uint32_t(k);
+  }
+  return peaks.size();
+}
+
+// Least squares z = z0 + slope * rho over one ring's points.
+void fit_cone(const std::vector<double>& rho, const std::vector<double>& z, float* slope,
+              float* z0) {
+  double n = 0, sr = 0, sz = 0, srr = 0, srz = 0;
+  for (size_t i = 0; i < rho.size(); ++i) {
+    n += 1, sr += rho[i], sz += z[i], srr += rho[i] * rho[i], srz += rho[i] * z[i];
+  }
+  const double det = n * srr - sr * sr;
+  double s = 0, c = n > 0 ? sz / n : 0;
+  if (n >= 2 && det > 1e-9 * n * srr) {
+    s = (n * srz - sr * sz) / det;
+    c = (sz - s * sr) / n;
+  } else if (sr > 0) {
+    s = sz / sr, c = 0;
+  }
+  *slope = static_cast<float>(s);
+  *z0 = static_cast<float>(c);
+}
+
+// The azimuth step: the median of the small azimuth changes between a ring's consecutive
+// points, refined over the changes of a few steps.
+double infer_step(const std::vector<std::vector<double>>& phi) {
+  std::vector<double> d;
+  for (const auto& p : phi)
+    for (size_t i = 1; i < p.size(); ++i) {
+      const double e = wrap_pi(p[i] - p[i - 1]);
+      if (std::fabs(e) > 1e-7 && std::fabs(e) < 0.1) d.push_back(e);
+    }
+  if (d.empty()) return 0;
+  std::vector<double> a(d.size());
+  size_t neg = 0;
+  for (size_t i = 0; i < d.size(); ++i) a[i] = std::fabs(d[i]), neg += d[i] < 0;
+  std::nth_element(a.begin(), a.begin() + static_cast<long>(a.size() / 2), a.end());
+  const double s0 = a[a.size() / 2];
+  double num = 0, den = 0;
+  for (double e : a) {
+    const double m = std::floor(e / s0 + 0.5);
+    if (m >= 1 && m <= 8 && std::fabs(e - m * s0) < 0.25 * s0) num += e, den += m;
+  }
+  const double s = den > 0 ? num / den : s0;
+  return 2 * neg > d.size() ? -s : s;
+}
+
+}  // namespace
+
+Table infer_table(const ScanGeometry& g, const ScanHints& hints, double step_divisor,
+                  std::vector<Polar>* polar) {
+  Table t;
+  std::vector<uint32_t> ring;
+  size_t rings = dense_rings(g, hints, &ring);
+  if (rings == 0) rings = elevation_rings(g, hints.xyz, &ring);
+  polar->assign(g.total(), Polar{});
+  if (rings == 0) return t;
+  std::vector<std::vector<double>> rho(rings), z(rings), phi(rings);
+  for (size_t i = 0; i < g.total(); ++i) {
+    const int32_t* p = &g.q[3 * i];
+    if (!g.valid[i] || !small_enough(p)) continue;
+    const double x = p[0], y = p[1];
+    rho[ring[i]].push_back(std::hypot(x, y));
+    z[ring[i]].push_back(p[2]);
+    phi[ring[i]].push_back(azimuth(g, hints, i));
+  }
+  double step = infer_step(phi) / step_divisor;
+  if (step == 0 || !std::isfinite(step)) return t;
+  t.step = static_cast<float>(step);
+  step = t.step;
+  const double cols = std::floor(kTwoPi / std::fabs(step) + 0.5);
+  t.columns = static_cast<uint32_t>(std::max(1.0, std::min(cols, double(kMaxMapCells / rings))));
+  t.azimuth0.resize(rings), t.slope.resize(rings), t.z0.resize(rings);
+  for (size_t k = 0; k < rings; ++k) {
+    fit_cone(rho[k], z[k], &t.slope[k], &t.z0[k]);
+    double sc = 0, ss = 0;
+    for (double a : phi[k]) {
+      const double th = kTwoPi * a / step;
+      sc += std::cos(th), ss += std::sin(th);
+    }
+    t.azimuth0[k] = static_cast<float>(step * std::atan2(ss, sc) / kTwoPi);
+  }
+  for (size_t i = 0; i < g.total(); ++i) {
+    const int32_t* p = &g.q[3 * i];
+    if (!g.valid[i] || !small_enough(p)) continue;
+    const double x = p[0], y = p[1];
+    Polar& o = (*polar)[i];
+    o.ring = ring[i];
+    o.column = round_clamp((azimuth(g, hints, i) - t.azimuth0[ring[i]]) / step);
+    o.range = round_clamp(std::hypot(x, y));
+  }
+  return t;
+}
+
+bool spherical_ok(const ScanGeometry& g, size_t first, size_t n) {
+  for (size_t i = first; i < first + n; ++i)
+    if (g.valid[i] && !small_enough(&g.q[3 * i])) return false;
+  return true;
+}
+
+}  // namespace scan
+}  // namespace capz

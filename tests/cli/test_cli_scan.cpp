@@ -1,0 +1,74 @@
+// `capz compress`, `info` and `decompress` on a folder of PCD frames of their own point counts
+// (a ragged take, docs/FORMAT.md "Scans (format 1.1)"), run through the built binary.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "capz/io.h"
+#include "test_util.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Runs `capz <args>`; returns the exit status, stdout and stderr into *out.
+int capz_run(const std::string& args, const capz_test::TempDir& dir, std::string* out) {
+  const std::string o = dir.file("stdout");
+  const int rc = std::system((std::string(CAPZ_CLI) + " " + args + " >" + o + " 2>&1").c_str());
+  *out = capz_test::file_text(o);
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+// An ASCII PCD frame of n points on a helix, point 1 NaN.
+void write_frame(const std::string& path, size_t n, double phase) {
+  std::ofstream f(path);
+  f << "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+    << "WIDTH " << n << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << n << "\nDATA ascii\n";
+  for (size_t i = 0; i < n; ++i) {
+    if (i == 1) {
+      f << "nan nan nan\n";
+      continue;
+    }
+    const double a = phase + 0.013 * static_cast<double>(i);
+    f << 20 * std::cos(a) << " " << 20 * std::sin(a) << " " << 0.001 * static_cast<double>(i)
+      << "\n";
+  }
+}
+
+TEST(CliScan, CompressInfoDecompressAFolderOfFramesOfTheirOwnSize) {
+  capz_test::TempDir dir("capz_cli_scan");
+  const std::string in = dir.file("scan");
+  fs::create_directories(in);
+  write_frame(in + "/0001.pcd", 300, 0.0);
+  write_frame(in + "/0002.pcd", 417, 0.5);
+  std::string out;
+  ASSERT_EQ(
+      capz_run("compress " + in + " -o " + dir.file("s.capz") + " --max-error 1mm", dir, &out), 0)
+      << out;
+  ASSERT_EQ(capz_run("info " + dir.file("s.capz"), dir, &out), 0) << out;
+  EXPECT_NE(out.find("2 frames of their own point counts, 717 points in all"), std::string::npos)
+      << out;
+  ASSERT_EQ(
+      capz_run("decompress " + dir.file("s.capz") + " -o " + dir.file("back") + "/", dir, &out), 0)
+      << out;
+  const capz::Take a = capz::read_take(in), b = capz::read_take(dir.file("back"));
+  ASSERT_TRUE(b.ragged());
+  ASSERT_EQ(b.frame_offsets, a.frame_offsets);
+  ASSERT_EQ(b.valid, a.valid);
+  EXPECT_EQ(b.valid[1], 0);
+  for (size_t i = 0; i < a.xyz.size(); ++i) {
+    if (!a.valid[i / 3]) continue;
+    EXPECT_LE(std::fabs(a.xyz[i] - b.xyz[i]), 0.001) << i;
+  }
+  // --lossless is refused, naming what is missing, and leaves no archive.
+  EXPECT_NE(capz_run("compress " + in + " -o " + dir.file("l.capz") + " --lossless", dir, &out), 0);
+  EXPECT_NE(out.find("--lossless is not implemented"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir.file("l.capz")));
+}
+
+}  // namespace

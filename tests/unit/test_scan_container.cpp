@@ -1,0 +1,168 @@
+// Ragged takes through the container (docs/FORMAT.md "Scans (format 1.1)"): compress and
+// decompress round trips at 1 mm and 1 cm, the SCNW chunk's checks, and what is refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <random>
+
+#include "capz/codec.h"
+#include "capz/error.h"
+#include "capz/io.h"
+#include "coding/bytes.h"
+#include "coding/crc32c.h"
+
+namespace capz {
+namespace {
+
+// A synthetic 16-beam spinning sweep per frame, each frame its own point count, with NaN gaps.
+Take synthetic_scan(size_t frames) {
+  Take t;
+  t.source = "synthetic";
+  t.format = Format::kPCDFolder;
+  t.units = "m";
+  t.frames = frames;
+  t.frame_offsets.assign(1, 0);
+  t.pcd = std::make_shared<PCDExtra>();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> noise(-0.3, 0.3);
+  for (size_t f = 0; f < frames; ++f) {
+    const size_t columns = 150 + 37 * f;
+    for (size_t c = 0; c < columns; ++c)
+      for (int k = 0; k < 16; ++k) {
+        const double az = 2 * M_PI * static_cast<double>(c) / static_cast<double>(columns);
+        const double el = (-15.0 + 2.0 * k) * M_PI / 180;
+        const double r = 5 + 40 * std::fabs(std::sin(3 * az)) + noise(rng);
+        const bool gap = (c * 16 + static_cast<size_t>(k)) % 23 == 5;
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        t.xyz.push_back(gap ? nan : static_cast<float>(r * std::cos(el) * std::cos(az)));
+        t.xyz.push_back(gap ? nan : static_cast<float>(r * std::cos(el) * std::sin(az)));
+        t.xyz.push_back(gap ? nan : static_cast<float>(r * std::sin(el)));
+        t.valid.push_back(gap ? 0 : 1);
+      }
+    t.frame_offsets.push_back(t.valid.size());
+    t.pcd->frame_names.push_back("f" + std::to_string(f) + ".pcd");
+  }
+  return t;
+}
+
+// Every coordinate within the bound (also as the float32 a PCD writer stores), gaps in place,
+// counts per frame equal.
+void expect_within(const Take& src, const Take& d, double bound) {
+  ASSERT_TRUE(d.ragged());
+  ASSERT_EQ(d.frames, src.frames);
+  for (size_t f = 0; f < src.frames; ++f) ASSERT_EQ(d.frame_points(f), src.frame_points(f));
+  ASSERT_EQ(d.valid, src.valid);
+  ASSERT_EQ(d.xyz.size(), src.xyz.size());
+  double worst = 0;
+  for (size_t i = 0; i < src.valid.size(); ++i)
+    if (src.valid[i])
+      for (size_t a = 0; a < 3; ++a) {
+        const double x = src.xyz[3 * i + a];
+        const double y = static_cast<float>(d.xyz[3 * i + a]);
+        worst = std::max(worst, std::fabs(x - y));
+      }
+  EXPECT_LE(worst, bound);
+  EXPECT_GT(worst, 0.0);  // lossy: the grid moved something
+}
+
+CompressOptions at(double bound) {
+  CompressOptions o;
+  o.max_error = bound;
+  return o;
+}
+
+TEST(ScanContainer, RoundTripsAtOneMillimetreAndOneCentimetre) {
+  const Take t = synthetic_scan(5);
+  for (double bound : {0.001, 0.01}) {
+    CompressOptions o = at(bound);
+    o.window_frames = 2;  // three windows, the last short
+    CompressStats st;
+    const std::vector<uint8_t> z = compress(t, o, &st);
+    EXPECT_LT(st.bpvf, 32.0);
+    expect_within(t, decompress(z.data(), z.size()), bound);
+    const Take mid = decompress_frames(z.data(), z.size(), 1, 3);
+    ASSERT_EQ(mid.frames, 3u);
+    for (size_t f = 0; f < 3; ++f) EXPECT_EQ(mid.frame_points(f), t.frame_points(f + 1));
+    EXPECT_EQ(mid.pcd->frame_names.front(), "f1.pcd");
+  }
+}
+
+TEST(ScanContainer, RefusesWhatIsNotCodedYet) {
+  Take t = synthetic_scan(2);
+  CompressOptions lossless;
+  lossless.lossless = true;
+  try {
+    compress(t, lossless);
+    FAIL() << "lossless ragged take accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInvalidParameter);
+    EXPECT_NE(std::string(e.what()).find("--lossless"), std::string::npos);
+  }
+  PointAttribute a;
+  a.name = "intensity";
+  a.data.assign(t.total_points() * 4, 1);
+  t.attributes.push_back(a);
+  EXPECT_THROW(compress(t, at(0.01)), Error);
+  CompressOptions drop = at(0.01);
+  drop.drop_fields = true;
+  const std::vector<uint8_t> z = compress(t, drop);
+  EXPECT_TRUE(decompress(z.data(), z.size()).attributes.empty());
+}
+
+// The SCNW chunk of window 0 re-framed with its total changed (CRC recomputed): corrupt.
+TEST(ScanContainer, CountsDisagreeingWithThePayloadAreCorrupt) {
+  const Take t = synthetic_scan(2);
+  std::vector<uint8_t> z = compress(t, at(0.01));
+  size_t off = 0;
+  for (size_t i = 0; i + 4 <= z.size(); ++i)
+    if (std::memcmp(&z[i], "SCNW", 4) == 0) {
+      off = i;
+      break;
+    }
+  ASSERT_GT(off, 0u);
+  const uint32_t len = load_le32(&z[off + 4]);
+  // payload: window varint (0), total varint; bump the total's first byte
+  z[off + 8 + 1] = static_cast<uint8_t>(z[off + 8 + 1] ^ 1);
+  const uint32_t crc = crc32c(&z[off], 4 + len);
+  for (int k = 0; k < 4; ++k) z[off + 8 + len + k] = static_cast<uint8_t>(crc >> (8 * k));
+  try {
+    decompress(z.data(), z.size());
+    FAIL() << "corrupt SCNW accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << e.what();
+    EXPECT_NE(std::string(e.what()).find("SCNW"), std::string::npos) << e.what();
+  }
+}
+
+// The shared scans (/work/shared/data/scan): every ragged sequence at 1 mm and 1 cm.
+TEST(ScanContainer, SharedScansRoundTrip) {
+  const char* env = std::getenv("CAPZ_SCAN_DATA");
+  const std::filesystem::path dir = env ? env : "/work/shared/data/scan";
+  if (!std::filesystem::is_directory(dir)) GTEST_SKIP() << dir << " is absent";
+  size_t done = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    if (!e.is_directory()) continue;
+    Take t;
+    try {
+      t = read_take(e.path().string());
+    } catch (const Error&) {
+      continue;  // not a frame folder capz reads
+    }
+    if (!t.ragged() || t.format != Format::kPCDFolder) continue;
+    for (double bound : {0.001, 0.01}) {
+      CompressOptions o = at(bound);
+      o.drop_fields = true;
+      const std::vector<uint8_t> z = compress(t, o);
+      expect_within(t, decompress(z.data(), z.size()), bound);
+    }
+    ++done;
+  }
+  if (done == 0) GTEST_SKIP() << "no ragged PCD folder in " << dir;
+}
+
+}  // namespace
+}  // namespace capz
