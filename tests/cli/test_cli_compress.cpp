@@ -53,10 +53,11 @@ TEST(CliVersion, GivenVersionThenLibraryAndFormatVersionsArePrinted) {
     return std::to_string(v.major) + "." + std::to_string(v.minor);
   };
   const std::string expected = std::string("capz ") + capz::version_string() + ", writes format " +
-                               text(capz::kFormatWritten) + ", reads " +
+                               text(capz::kFormatWritten) + " (" + text(capz::kFormatScans) +
+                               " for scans of ragged frames), reads " +
                                text(capz::kFormatNewestRead) + "\n";
-  EXPECT_EQ(expected,
-            std::string("capz ") + capz::version_string() + ", writes format 1.0, reads 1.0\n");
+  EXPECT_EQ(expected, std::string("capz ") + capz::version_string() +
+                          ", writes format 1.0 (1.1 for scans of ragged frames), reads 1.1\n");
   for (const char* flag : {"--version", "-V"}) {
     const Result r = capz_cli(flag);
     EXPECT_EQ(r.status, 0);

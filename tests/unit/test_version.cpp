@@ -97,7 +97,7 @@ TEST(Version, GivenALaterMinorVersionThatUsesNothingNewThenItIsRead) {
 // FORMAT.md 2: a chunk type of a later minor version whose first letter is upper case is
 // critical (refused, naming it and the stream's version), lower case ancillary (skipped).
 TEST(Version, GivenAnUnknownChunkThenACriticalOneIsRefusedAndAnAncillaryOneSkipped) {
-  const std::vector<uint8_t> later = relabelled(small_stream(), 1, 1);
+  const std::vector<uint8_t> later = relabelled(small_stream(), 1, 2);
   for (const bool in_window : {false, true}) {
     for (const char* type : {"SCAN", "scan"}) {
       SCOPED_TRACE(std::string(type) + (in_window ? " in a window" : " after META"));
@@ -113,7 +113,7 @@ TEST(Version, GivenAnUnknownChunkThenACriticalOneIsRefusedAndAnAncillaryOneSkipp
       } else {
         EXPECT_EQ(r.first, ErrorCode::kUnsupportedVersion) << r.second;
         EXPECT_NE(
-            r.second.find("chunk SCAN of format 1.1 is not known to this decoder (reads 1.0)"),
+            r.second.find("chunk SCAN of format 1.2 is not known to this decoder (reads 1.1)"),
             std::string::npos)
             << r.second;
       }
@@ -121,15 +121,16 @@ TEST(Version, GivenAnUnknownChunkThenACriticalOneIsRefusedAndAnAncillaryOneSkipp
   }
 }
 
-// FORMAT.md 2: a HEAD flag bit that format 1.0 leaves 0 names a feature of a later minor.
+// FORMAT.md 17: a HEAD flag bit that this decoder's formats (1.0, and 1.1's bit 3) leave 0 names
+// a feature of a later minor.
 TEST(Version, GivenAnUnknownHeadFlagThenTheFeatureIsNamed) {
-  const std::vector<uint8_t> later = relabelled(small_stream(), 1, 1);
+  const std::vector<uint8_t> later = relabelled(small_stream(), 1, 2);
   std::vector<capz_test::Piece> ps = capz_test::pieces(later);
   ASSERT_EQ(ps[0].type, "HEAD");
-  ps[0].payload[19] |= 8;  // flags: after frames u64, points u32, window u32, 3 bytes
+  ps[0].payload[19] |= 16;  // flags: after frames u64, points u32, window u32, 3 bytes
   const auto r = refusal(capz_test::assemble(later, ps), "flag.capz");
   EXPECT_EQ(r.first, ErrorCode::kUnsupportedVersion) << r.second;
-  EXPECT_NE(r.second.find("feature bit 3 of format 1.1"), std::string::npos) << r.second;
+  EXPECT_NE(r.second.find("feature bit 4 of format 1.2"), std::string::npos) << r.second;
 }
 
 // A stream of capz 0.1.0 or earlier (magic "\x89capz", formats 1.0-9.3) is refused with how to
