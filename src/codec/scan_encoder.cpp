@@ -162,8 +162,10 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
   append_chunk(&out, "HEAD", head);
   append_chunk(&out, "META", meta);
   const size_t meta_at = out.size() - meta.size() - kChunkOverhead;
-  StreamContext ctx = read_context(h, read_chunk(out.data(), out.size(), meta_at, t.source), out[9],
-                                   out[10], t.source);
+  StreamFeatures features;
+  features.minor = kFormatScans.minor;
+  StreamContext ctx =
+      read_context(h, read_chunk(out.data(), out.size(), meta_at, t.source), features, t.source);
   const std::vector<uint32_t> ring = ring_field(t);
   std::vector<IndexEntry> index;
   size_t position_bytes = 0;
