@@ -132,12 +132,18 @@ TEST(TransformOutput, GivenInconsistentHeadOrPositionsThenCorrupt) {
   // step @20, max_error @28, analog @36/@40, kg_target @44.
   EXPECT_NE(decode_error(with_head([](std::vector<uint8_t>* h) { (*h)[19] = 3; })).find("lossless"),
             std::string::npos);
-  // A flag bit format 1.0 does not define names a later minor version's feature (FORMAT.md 2).
+  // A flag bit this decoder does not define names a later minor version's feature (FORMAT.md
+  // 17); bit 3 (1.1's ragged frames) in a 1.0 stream is corrupt.
   std::string flag;
-  const std::vector<uint8_t> later = with_head([](std::vector<uint8_t>* h) { (*h)[19] = 10; });
+  const std::vector<uint8_t> later = with_head([](std::vector<uint8_t>* h) { (*h)[19] = 18; });
   EXPECT_EQ(capz_test::error_of([&] { decompress(later.data(), later.size(), "x"); }, &flag),
             ErrorCode::kUnsupportedVersion);
-  EXPECT_NE(flag.find("feature bit 3"), std::string::npos) << flag;
+  EXPECT_NE(flag.find("feature bit 4"), std::string::npos) << flag;
+  const std::vector<uint8_t> ragged = with_head([](std::vector<uint8_t>* h) { (*h)[19] = 10; });
+  EXPECT_EQ(capz_test::error_of([&] { decompress(ragged.data(), ragged.size(), "x"); }, &flag),
+            ErrorCode::kCorrupt);
+  EXPECT_NE(flag.find("feature bit 3 (ragged frames) in a format 1.0 stream"), std::string::npos)
+      << flag;
   EXPECT_NE(decode_error(with_head([](std::vector<uint8_t>* h) { (*h)[18] = 0; })).find("codec"),
             std::string::npos);
   EXPECT_NE(decode_error(with_head([](std::vector<uint8_t>* h) { (*h)[17] = 1; })).find("grid"),
