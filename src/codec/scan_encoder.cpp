@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include "capz/error.h"
@@ -10,6 +11,7 @@
 #include "codec/decoder.h"
 #include "codec/grid.h"
 #include "codec/grid_choice.h"
+#include "codec/residue_writer.h"
 #include "codec/stream_reader.h"
 #include "coding/bytes.h"
 #include "coding/container.h"
@@ -22,14 +24,9 @@ namespace {
 // What format 1.1 does not code yet for frames of their own size: refused, never dropped.
 void refuse_unsupported(const Take& t, const CompressOptions& opts) {
   const std::string what = "frames of their own point counts (a ragged take, format 1.1)";
-  if (opts.lossless)
+  if (!opts.lossless && !(opts.max_error > 0))
     fail(ErrorCode::kInvalidParameter, t.source,
-         "--lossless is not implemented for " + what +
-             ": the byte-exact rebuild of their frame files (a residue of ragged frames) is "
-             "missing; give --max-error");
-  if (!(opts.max_error > 0))
-    fail(ErrorCode::kInvalidParameter, t.source,
-         "only --max-error is implemented for " + what + " (no KG target)");
+         "only --max-error and --lossless are implemented for " + what + " (no KG target)");
   if (!t.attributes.empty() && !opts.drop_fields)
     fail(ErrorCode::kInvalidParameter, t.source,
          "point fields of " + what +
@@ -95,16 +92,23 @@ Grid choose_grid(const Take& t, const CompressOptions& opts) {
   b.xyz = t.xyz;
   b.valid = t.valid;
   scan_block(b, t.source, false, 0, &s);
-  Grid g = bounded_grid(hdr, s, opts.max_error);
-  if (g.mode == PosMode::kDecimal || g.mode == PosMode::kFloat64)
+  // Lossless ("Lossless ragged streams"): a decimal grid or float32 bits; float64 bits do not
+  // fit the scan payload's int32 integers.
+  Grid g = opts.lossless ? lossless_grid(s) : bounded_grid(hdr, s, opts.max_error);
+  if (g.mode == PosMode::kFloat64)
+    fail(ErrorCode::kInvalidParameter, t.source,
+         "--lossless of frames of their own size needs float32 coordinates or ones on a decimal "
+         "grid (these are float64 on none)");
+  if (!opts.lossless && g.mode == PosMode::kDecimal)
     fail(ErrorCode::kInvalidParameter, t.source,
          std::string("no grid for frames of their own size in mode ") + mode_name(g.mode));
   return g;
 }
 
 // Throws kInternal unless the decoded window has the source's counts, gaps and every valid
-// coordinate within the bound, also as the float32 a PCD writer stores.
-void check_window(const Take& t, size_t p0, size_t f0, const FrameBlock& d, double bound) {
+// coordinate within the bound, also as the float32 a PCD writer stores (lossless: bit for bit).
+void check_window(const Take& t, size_t p0, size_t f0, const FrameBlock& d, double bound,
+                  bool exact) {
   const bool f32 = float32_xyz(t);
   const size_t fn = d.frame_offsets.size() - 1;
   for (size_t f = 0; f < fn; ++f)
@@ -117,7 +121,7 @@ void check_window(const Take& t, size_t p0, size_t f0, const FrameBlock& d, doub
     for (size_t a = 0; a < 3; ++a) {
       const double x = t.xyz[3 * (p0 + i) + a], y = d.xyz[3 * i + a];
       const double y32 = f32 ? static_cast<double>(static_cast<float>(y)) : y;
-      if (!(std::fabs(y - x) <= bound && std::fabs(y32 - x) <= bound))
+      if (exact ? !same_bits(x, y) : !(std::fabs(y - x) <= bound && std::fabs(y32 - x) <= bound))
         fail(ErrorCode::kInternal, t.source,
              "self-check: coordinate " + std::to_string(x) + " comes back as " + std::to_string(y) +
                  ", off by more than " + std::to_string(bound));
@@ -125,10 +129,31 @@ void check_window(const Take& t, size_t p0, size_t f0, const FrameBlock& d, doub
   }
 }
 
+// Frames [f0, f1) of the take as a ragged block (offsets from the window's first point), with
+// the point fields when `fields`: what the residue regenerates the frame files from.
+FrameBlock frames_block(const Take& t, size_t f0, size_t f1, bool fields) {
+  const size_t p0 = t.frame_begin(f0), p1 = t.frame_begin(f1);
+  std::vector<size_t> counts;
+  for (size_t f = f0; f < f1; ++f) counts.push_back(t.frame_points(f));
+  FrameBlock b;
+  b.reset_ragged(f0, counts);
+  std::copy(t.xyz.begin() + static_cast<std::ptrdiff_t>(3 * p0),
+            t.xyz.begin() + static_cast<std::ptrdiff_t>(3 * p1), b.xyz.begin());
+  std::copy(t.valid.begin() + static_cast<std::ptrdiff_t>(p0),
+            t.valid.begin() + static_cast<std::ptrdiff_t>(p1), b.valid.begin());
+  if (fields)
+    for (const PointAttribute& a : t.attributes) {
+      const size_t per = a.bytes_per_point();
+      b.attributes.emplace_back(a.data.begin() + static_cast<std::ptrdiff_t>(p0 * per),
+                                a.data.begin() + static_cast<std::ptrdiff_t>(p1 * per));
+    }
+  return b;
+}
+
 }  // namespace
 
 std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
-                                     CompressStats* stats) {
+                                     CompressStats* stats, const std::string& original) {
   const size_t total = t.total_points();
   if (t.frame_offsets.size() != t.frames + 1 || t.xyz.size() != total * 3 ||
       t.valid.size() != total)
@@ -154,7 +179,8 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
   h.source_format = Format::kPCDFolder;
   h.mode = grid.mode;
   h.step = grid.step;
-  h.max_error = opts.max_error;
+  h.max_error = grid.lossless ? 0 : opts.max_error;
+  h.lossless = grid.lossless;
   h.ragged = true;
   std::vector<uint8_t> out;
   write_file_header(&out, kFormatScans.minor);
@@ -166,6 +192,12 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
   features.minor = kFormatScans.minor;
   StreamContext ctx =
       read_context(h, read_chunk(out.data(), out.size(), meta_at, t.source), features, t.source);
+  // "Lossless ragged streams": HASH and PCDR of the frame files, a PCDP per window, against the
+  // take as META gives it back (the decoder's header).
+  std::unique_ptr<ResidueWriter> residue;
+  if (grid.lossless && !original.empty())
+    residue = ResidueWriter::open(original, ctx.take, opts.check);
+  if (residue) residue->file_chunks(&out, true);
   const std::vector<uint32_t> ring = ring_field(t);
   std::vector<IndexEntry> index;
   size_t position_bytes = 0;
@@ -199,17 +231,21 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
     payload.insert(payload.end(), geo.begin(), geo.end());
     const size_t base = out.size();
     append_chunk(&out, "SCNW", payload);
-    index.push_back(IndexEntry{base, out.size() - base});
     position_bytes += out.size() - base;
+    FrameBlock d;
     if (opts.check || stats) {  // the one decoder gives the window back
-      FrameBlock d;
       decode_window_chunks(ctx, w, out.data() + base, base, out.size(), &d);
-      if (opts.check) check_window(t, p0, f0, d, opts.max_error);
+      if (opts.check) check_window(t, p0, f0, d, opts.max_error, grid.lossless);
       acc.add_ragged(f1 - f0, d.frame_offsets.data(), t.xyz.data() + 3 * p0, d.xyz.data(),
                      t.valid.data() + p0);
     }
+    if (residue)
+      residue->window_chunk(w, frames_block(t, f0, f1, !ctx.take.attributes.empty()),
+                            opts.check ? &d : nullptr, &out);
+    index.push_back(IndexEntry{base, out.size() - base});
     if (opts.progress) opts.progress(f1, t.frames);
   }
+  if (residue) residue->finish();
   append_chunk(&out, "INDX", encode_index(index));
   if (stats) {
     *stats = CompressStats();
@@ -217,6 +253,7 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
     stats->raw_bytes = total * 12;
     stats->bpvf = total ? 8.0 * static_cast<double>(out.size()) / static_cast<double>(total) : 0;
     stats->step = grid.step;
+    stats->lossless = grid.lossless;
     stats->mode = mode_name(grid.mode);
     stats->error = acc.finish();
     stats->codec = "none";
