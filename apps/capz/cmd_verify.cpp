@@ -86,8 +86,13 @@ void print_text(const Report& r) {
                             : si.transform_output ? "KG target " + num(si.kg_target) + "%"
                                                   : "bound " + num(si.max_error) + u;
   if (!r.has_against) {
-    std::printf("%s: ok, %zu frames x %zu points, %s bpvf, %s\n", r.in.c_str(), b.frames, b.points,
-                num(r.bpvf).c_str(), bound.c_str());
+    // A ragged take (frames of their own point counts): its frames and all their points.
+    const std::string shape =
+        b.ragged() ? std::to_string(b.frames) + " frames of their own point counts, " +
+                         std::to_string(b.total_points()) + " points in all"
+                   : std::to_string(b.frames) + " frames x " + std::to_string(b.points) + " points";
+    std::printf("%s: ok, %s, %s bpvf, %s\n", r.in.c_str(), shape.c_str(), num(r.bpvf).c_str(),
+                bound.c_str());
   } else {
     std::printf(
         "%s: max error %s%s per coordinate (%s%s Euclidean), RMSE %s%s, KG %s%%, %s bpvf, "
@@ -138,7 +143,7 @@ int cmd_verify(const Args& args) {
   r.si = &si;
   r.b = &b;
   r.bytes = bytes.size();
-  r.bpvf = capz::bpvf(bytes.size(), b.frames, b.points);
+  r.bpvf = capz::bpvf(bytes.size(), 1, b.total_points());  // frames x points when fixed
   if (vm.count("against")) {
     r.has_against = true;
     r.against = vm["against"].as<std::string>();
