@@ -591,9 +591,17 @@ void bind_functions(py::module_& m) {
 
   m.def("write", [](const capz::Take& take, const std::string& path, bool overwrite,
                     const std::string& pcd_encoding, bool c3d_float, bool drop_fields,
-                    const std::string& to, const std::string& ply_encoding) {
+                    const std::string& to, const std::string& ply_encoding,
+                    const std::string& trc_delimiter) {
     capz::WriteOptions o;
     o.overwrite = overwrite;
+    // The CLI's --trc-delimiter: "" keeps the take's own (capz::WriteOptions::trc_delimiter 0).
+    if (trc_delimiter == "tab")
+      o.trc_delimiter = '\t';
+    else if (trc_delimiter == "comma")
+      o.trc_delimiter = ',';
+    else if (!trc_delimiter.empty())
+      invalid("trc_delimiter: tab or comma, not '" + trc_delimiter + "'");
     o.pcd_encoding = pcd_encoding;
     o.ply_encoding = ply_encoding;
     o.folder_format = to == "pcd"   ? capz::Format::kPCDFolder
