@@ -173,7 +173,8 @@ std::vector<uint8_t> decode_comma_head(ByteReader& in, const Take& take, const s
     for (uint64_t i = 0, line = 0; i < n; ++i) {
       const uint64_t delta = in.varint();
       if (i && delta == 0) fail(ErrorCode::kCorrupt, in.what(), "padding exceptions out of order");
-      if (delta > limit) fail(ErrorCode::kCorrupt, in.what(), "padding exception past the head");
+      if (delta > limit - line)  // line <= limit: no overflow
+        fail(ErrorCode::kCorrupt, in.what(), "padding exception past the head");
       line += delta;
       commas[line] = in.varint();
     }
