@@ -589,32 +589,33 @@ void bind_functions(py::module_& m) {
     return adopt(std::move(t));
   });
 
-  m.def("write", [](const capz::Take& take, const std::string& path, bool overwrite,
-                    const std::string& pcd_encoding, bool c3d_float, bool drop_fields,
-                    const std::string& to, const std::string& ply_encoding,
-                    const std::string& trc_delimiter) {
-    capz::WriteOptions o;
-    o.overwrite = overwrite;
-    // The CLI's --trc-delimiter: "" keeps the take's own (capz::WriteOptions::trc_delimiter 0).
-    if (trc_delimiter == "tab")
-      o.trc_delimiter = '\t';
-    else if (trc_delimiter == "comma")
-      o.trc_delimiter = ',';
-    else if (!trc_delimiter.empty())
-      invalid("trc_delimiter: tab or comma, not '" + trc_delimiter + "'");
-    o.pcd_encoding = pcd_encoding;
-    o.ply_encoding = ply_encoding;
-    o.folder_format = to == "pcd"   ? capz::Format::kPCDFolder
-                      : to == "ply" ? capz::Format::kPLYFolder
-                      : to == "bin" ? capz::Format::kBinFolder
-                                    : capz::Format::kUnknown;
-    if (!to.empty() && o.folder_format == capz::Format::kUnknown)
-      invalid("to: pcd, ply or bin, not '" + to + "'");
-    o.c3d_float = c3d_float;
-    o.drop_fields = drop_fields;
-    py::gil_scoped_release nogil;
-    capz::write_take(take, path, o);
-  });
+  m.def("write",
+        [](const capz::Take& take, const std::string& path, bool overwrite,
+           const std::string& pcd_encoding, bool c3d_float, bool drop_fields, const std::string& to,
+           const std::string& ply_encoding, const std::string& trc_delimiter) {
+          capz::WriteOptions o;
+          o.overwrite = overwrite;
+          // The CLI's --trc-delimiter: "" keeps the take's own (capz::WriteOptions::trc_delimiter
+          // 0).
+          if (trc_delimiter == "tab")
+            o.trc_delimiter = '\t';
+          else if (trc_delimiter == "comma")
+            o.trc_delimiter = ',';
+          else if (!trc_delimiter.empty())
+            invalid("trc_delimiter: tab or comma, not '" + trc_delimiter + "'");
+          o.pcd_encoding = pcd_encoding;
+          o.ply_encoding = ply_encoding;
+          o.folder_format = to == "pcd"   ? capz::Format::kPCDFolder
+                            : to == "ply" ? capz::Format::kPLYFolder
+                            : to == "bin" ? capz::Format::kBinFolder
+                                          : capz::Format::kUnknown;
+          if (!to.empty() && o.folder_format == capz::Format::kUnknown)
+            invalid("to: pcd, ply or bin, not '" + to + "'");
+          o.c3d_float = c3d_float;
+          o.drop_fields = drop_fields;
+          py::gil_scoped_release nogil;
+          capz::write_take(take, path, o);
+        });
 
   m.def("compress", &compress_take);
 
