@@ -565,6 +565,14 @@ void bind_take_rest(TakeClass* cls) {
       });
 }
 
+// The CLI's --trc-delimiter: "tab", "comma", or "" for the take's own (WriteOptions 0).
+char trc_delimiter_char(const std::string& name) {
+  if (name == "tab") return '\t';
+  if (name == "comma") return ',';
+  if (!name.empty()) invalid("trc_delimiter: tab or comma, not '" + name + "'");
+  return 0;
+}
+
 // The module's functions: reading, writing, coding, comparing.
 void bind_functions(py::module_& m) {
   m.def("take_from_arrays", &take_from_arrays);
@@ -595,14 +603,7 @@ void bind_functions(py::module_& m) {
            const std::string& ply_encoding, const std::string& trc_delimiter) {
           capz::WriteOptions o;
           o.overwrite = overwrite;
-          // The CLI's --trc-delimiter: "" keeps the take's own (capz::WriteOptions::trc_delimiter
-          // 0).
-          if (trc_delimiter == "tab")
-            o.trc_delimiter = '\t';
-          else if (trc_delimiter == "comma")
-            o.trc_delimiter = ',';
-          else if (!trc_delimiter.empty())
-            invalid("trc_delimiter: tab or comma, not '" + trc_delimiter + "'");
+          o.trc_delimiter = trc_delimiter_char(trc_delimiter);
           o.pcd_encoding = pcd_encoding;
           o.ply_encoding = ply_encoding;
           o.folder_format = to == "pcd"   ? capz::Format::kPCDFolder
