@@ -218,6 +218,42 @@ TEST(Golden, GivenGoldenSourcesWhenRecompressedWithTheirOptionsThenAsTheManifest
   EXPECT_GE(checked, 20u);
 }
 
+// The format 1.1 streams (ragged frames, FORMAT.md "Scans") are in the manifest and are what
+// they say: minor version 1, HEAD feature bit 3, one SCNW chunk per window and no POSW or MASK,
+// frames of their own point counts as in their source, at both bounds and in more than one window.
+TEST(Golden, GivenTheScanGoldenStreamsThenFormat11RaggedFramesWithOneScnwPerWindow) {
+  size_t scans = 0, multi_window = 0;
+  for (const Entry& e : manifest()) {
+    const FormatVersion v = version_of(e.stream);
+    if (v.major != kFormatScans.major || v.minor != kFormatScans.minor) continue;
+    SCOPED_TRACE(e.stream);
+    ++scans;
+    const std::vector<uint8_t> b = read_file(kStreams + e.stream);
+    ASSERT_GT(b.size(), 15u + 12 + 20);
+    EXPECT_EQ(b[9], kFormatScans.major);
+    EXPECT_EQ(b[10], kFormatScans.minor);
+    EXPECT_EQ(std::string(b.begin() + 15, b.begin() + 19), "HEAD");
+    EXPECT_EQ(b[15 + 8 + 19] & 0x08, 0x08) << "HEAD flags: feature bit 3, ragged frames";
+    size_t scnw = 0, other = 0;
+    for (const std::string& c : integer_chunks(b)) {
+      scnw += c.compare(0, 4, "SCNW") == 0;
+      other += c.compare(0, 4, "POSW") == 0 || c.compare(0, 4, "MASK") == 0;
+    }
+    const StreamInfo si = describe(b.data(), b.size(), e.stream);
+    EXPECT_TRUE(si.ragged);
+    EXPECT_EQ(scnw, si.windows);
+    EXPECT_EQ(other, 0u);
+    multi_window += si.windows > 1;
+    const Take src = read_take(std::string(CAPZ_REPO_DATA) + "/" + e.source);
+    ASSERT_TRUE(src.ragged());
+    const Take t = decompress(b.data(), b.size(), e.stream);
+    EXPECT_EQ(t.frame_offsets, src.frame_offsets);
+    EXPECT_EQ(t.points, 0u);
+  }
+  EXPECT_GE(scans, 2u);
+  EXPECT_GE(multi_window, 1u);
+}
+
 // A stream of capz 0.1.0 (format 9.3, magic "\x89capz") is refused, by the library and the CLI,
 // as unsupported-version with how to upgrade it (CHANGELOG.md).
 TEST(Golden, GivenAPrereleaseStreamThenRefusedWithTheUpgradeMessage) {
