@@ -29,18 +29,11 @@ const std::string kStreams = std::string(CAPZ_TEST_DIR) + "/golden/streams/";
 const char* const kOneWindow = "scan_small.grid1mm.v1.1.capz";      // 4 frames, 1 window
 const char* const kTwoWindows = "scan_small.grid1cm-w2.v1.1.capz";  // 2 windows of 2 frames
 
-// The positions to damage in a payload of n bytes: all of the first 256 (at most half of
-// `most`), then a stride that keeps the total near `most`, and the last byte.
+// The positions to damage in a payload of n bytes, about `most` of them: all of the first 256
+// (at most half of `most`), the last 16, and the rest spread evenly (payload_positions).
 std::vector<size_t> sampled(size_t n, size_t most) {
-  std::vector<size_t> at;
-  const size_t head = std::min({n, size_t{256}, most / 2});
-  for (size_t i = 0; i < head; ++i) at.push_back(i);
-  if (n > head) {
-    const size_t stride = std::max<size_t>(1, (n - head) / (most - head) + 1);
-    for (size_t i = head; i < n; i += stride) at.push_back(i);
-    if (at.back() != n - 1) at.push_back(n - 1);
-  }
-  return at;
+  const size_t head = std::min<size_t>(256, most / 2), tail = 16;
+  return capz_test::payload_positions(n, head, most - head - tail, tail);
 }
 
 // A stream as its file header and chunks, rebuilt with every chunk's length and CRC right and
