@@ -20,10 +20,9 @@ namespace fs = std::filesystem;
 
 // Runs `capz <args>`; returns the exit status, stdout and stderr into *out.
 int capz_run(const std::string& args, const capz_test::TempDir& dir, std::string* out) {
-  const std::string o = dir.file("stdout");
-  const int rc = std::system((std::string(CAPZ_CLI) + " " + args + " >" + o + " 2>&1").c_str());
-  *out = capz_test::file_text(o);
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  const capz_test::CliResult r = capz_test::run_command(CAPZ_CLI, args, dir.file("stdout"));
+  *out = r.out;
+  return r.status;
 }
 
 // An ASCII PCD frame of n points on a helix with intensity (F4), ring (U2) and a per-point time

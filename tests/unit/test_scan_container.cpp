@@ -14,39 +14,14 @@
 #include "capz/io.h"
 #include "coding/bytes.h"
 #include "coding/crc32c.h"
+#include "synthetic.h"
 
 namespace capz {
 namespace {
 
 // A synthetic 16-beam spinning sweep per frame, each frame its own point count, with NaN gaps.
 Take synthetic_scan(size_t frames) {
-  Take t;
-  t.source = "synthetic";
-  t.format = Format::kPCDFolder;
-  t.units = "m";
-  t.frames = frames;
-  t.frame_offsets.assign(1, 0);
-  t.pcd = std::make_shared<PCDExtra>();
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> noise(-0.3, 0.3);
-  for (size_t f = 0; f < frames; ++f) {
-    const size_t columns = 150 + 37 * f;
-    for (size_t c = 0; c < columns; ++c)
-      for (int k = 0; k < 16; ++k) {
-        const double az = 2 * M_PI * static_cast<double>(c) / static_cast<double>(columns);
-        const double el = (-15.0 + 2.0 * k) * M_PI / 180;
-        const double r = 5 + 40 * std::fabs(std::sin(3 * az)) + noise(rng);
-        const bool gap = (c * 16 + static_cast<size_t>(k)) % 23 == 5;
-        const double nan = std::numeric_limits<double>::quiet_NaN();
-        t.xyz.push_back(gap ? nan : static_cast<float>(r * std::cos(el) * std::cos(az)));
-        t.xyz.push_back(gap ? nan : static_cast<float>(r * std::cos(el) * std::sin(az)));
-        t.xyz.push_back(gap ? nan : static_cast<float>(r * std::sin(el)));
-        t.valid.push_back(gap ? 0 : 1);
-      }
-    t.frame_offsets.push_back(t.valid.size());
-    t.pcd->frame_names.push_back("f" + std::to_string(f) + ".pcd");
-  }
-  return t;
+  return capz_test::synthetic_sweeps(frames, 150, 37, 5, 40, 3, 0.3, 7, 23, 5);
 }
 
 // Every coordinate within the bound (also as the float32 a PCD writer stores), gaps in place,

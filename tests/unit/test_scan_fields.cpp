@@ -16,6 +16,7 @@
 #include "capz/error.h"
 #include "capz/io.h"
 #include "coding/crc32c.h"
+#include "synthetic.h"
 #include "test_util.h"
 
 namespace capz {
@@ -40,53 +41,34 @@ void put_f64(PointAttribute* a, double v) {
 // driver writes: intensity F4 (a NaN with a payload, a -0.0), ring U2, a padding field `_` of
 // COUNT 3 (U1), timestamp F8 nearly linear in firing order, an I1 return type and a COUNT 2 F4.
 Take scan_with_fields(size_t frames) {
-  Take t;
-  t.source = "synthetic";
-  t.format = Format::kPCDFolder;
-  t.units = "m";
-  t.frames = frames;
-  t.frame_offsets.assign(1, 0);
-  t.pcd = std::make_shared<PCDExtra>();
+  Take t = capz_test::synthetic_sweeps(frames, 120, 29, 4, 30, 2, 0.2, 11, 19, 4);
   t.pcd->fields = {{"x", 'F', 4, 1},         {"y", 'F', 4, 1},    {"z", 'F', 4, 1},
                    {"intensity", 'F', 4, 1}, {"ring", 'U', 2, 1}, {"_", 'U', 1, 3},
                    {"timestamp", 'F', 8, 1}, {"ret", 'I', 1, 1},  {"pair", 'F', 4, 2}};
   for (size_t i = 3; i < t.pcd->fields.size(); ++i)
     t.attributes.push_back(attribute_of(t.pcd->fields[i]));
   std::mt19937 rng(11);
-  std::uniform_real_distribution<double> noise(-0.2, 0.2);
   std::uniform_int_distribution<int> byte(0, 255);
   double time = 1.69e9;
-  for (size_t f = 0; f < frames; ++f) {
-    const size_t columns = 120 + 29 * f;
-    for (size_t c = 0; c < columns; ++c)
-      for (int k = 0; k < 16; ++k) {
-        const double az = 2 * M_PI * static_cast<double>(c) / static_cast<double>(columns);
-        const double el = (-15.0 + 2.0 * k) * M_PI / 180;
-        const double r = 4 + 30 * std::fabs(std::sin(2 * az)) + noise(rng);
-        const size_t i = t.valid.size();
-        const bool gap = i % 19 == 4;
-        const double nan = std::numeric_limits<double>::quiet_NaN();
-        t.xyz.push_back(gap ? nan : static_cast<float>(r * std::cos(el) * std::cos(az)));
-        t.xyz.push_back(gap ? nan : static_cast<float>(r * std::cos(el) * std::sin(az)));
-        t.xyz.push_back(gap ? nan : static_cast<float>(r * std::sin(el)));
-        t.valid.push_back(gap ? 0 : 1);
-        float in = static_cast<float>(std::round(100 * std::fabs(std::cos(az + k))));
-        if (i == 7) in = -0.0f;
-        if (i == 9) {
-          uint32_t u = 0x7FC01234u;  // a NaN with a payload
-          std::memcpy(&in, &u, 4);
-        }
-        put_f32(&t.attributes[0], in);
-        put(&t.attributes[1], static_cast<uint64_t>(k), 2);
-        for (int b = 0; b < 3; ++b) put(&t.attributes[2], static_cast<uint64_t>(byte(rng)), 1);
-        time += 2.3e-6;
-        put_f64(&t.attributes[3], time);
-        put(&t.attributes[4], static_cast<uint64_t>(static_cast<uint8_t>(int8_t(k % 3 - 1))), 1);
-        put_f32(&t.attributes[5], static_cast<float>(r));
-        put_f32(&t.attributes[5], static_cast<float>(az));
-      }
-    t.frame_offsets.push_back(t.valid.size());
-    t.pcd->frame_names.push_back("f" + std::to_string(f) + ".pcd");
+  for (size_t i = 0; i < t.total_points(); ++i) {
+    const int ring = static_cast<int>(i % 16);  // every frame is whole columns of 16
+    const double* p = &t.xyz[3 * i];
+    const double az = t.valid[i] ? std::atan2(p[1], p[0]) : 0.0;
+    const double r = t.valid[i] ? std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) : 0.0;
+    float in = static_cast<float>(std::round(100 * std::fabs(std::cos(az + ring))));
+    if (i == 7) in = -0.0f;
+    if (i == 9) {
+      const uint32_t u = 0x7FC01234u;  // a NaN with a payload
+      std::memcpy(&in, &u, 4);
+    }
+    put_f32(&t.attributes[0], in);
+    put(&t.attributes[1], static_cast<uint64_t>(ring), 2);
+    for (int b = 0; b < 3; ++b) put(&t.attributes[2], static_cast<uint64_t>(byte(rng)), 1);
+    time += 2.3e-6;
+    put_f64(&t.attributes[3], time);
+    put(&t.attributes[4], static_cast<uint8_t>(static_cast<int8_t>(ring % 3 - 1)), 1);
+    put_f32(&t.attributes[5], static_cast<float>(r));
+    put_f32(&t.attributes[5], static_cast<float>(az));
   }
   return t;
 }
