@@ -40,7 +40,7 @@ set(CAPZ_DECODE_SOURCES
   src/coding/analog/analog_simd.cpp
   src/coding/analog/analog_table.cpp
   src/coding/attributes_decode.cpp
-  src/coding/attributes_encode.cpp
+  src/coding/attributes_shared.cpp
   src/coding/c3d_params.cpp
   src/coding/c3d_words.cpp
   src/coding/container.cpp
@@ -50,14 +50,11 @@ set(CAPZ_DECODE_SOURCES
   src/coding/lzma_block.cpp
   src/coding/mask.cpp
   src/coding/meta.cpp
-  src/coding/position_modes.cpp
   src/coding/positions.cpp
   src/coding/positions_ray.cpp
   src/coding/rotations.cpp
   src/coding/scan_decode.cpp
-  src/coding/scan_encode.cpp
   src/coding/scan_shared.cpp
-  src/coding/scan_table.cpp
   src/core/atomic_file.cpp
   src/core/error.cpp
   src/core/hash.cpp
@@ -81,8 +78,8 @@ set(CAPZ_DECODE_SOURCES
   src/io/ply_folder.cpp
   src/io/residue/c3d_residue.cpp
   src/io/residue/pack.cpp
-  src/io/residue/pcd_ascii.cpp
   src/io/residue/patch.cpp
+  src/io/residue/pcd_ascii.cpp
   src/io/residue/pcd_residue.cpp
   src/io/residue/trc_residue.cpp
   src/io/residue/windows.cpp
@@ -114,4 +111,17 @@ set(CAPZ_ENCODE_SOURCES
   src/codec/ts/ts_encoder.cpp
   src/codec/ts/ts_trial.cpp
   src/codec/window_error.cpp
+  src/coding/attributes_encode.cpp
+  src/coding/c3d_words_encode.cpp
+  src/coding/container_encode.cpp
+  src/coding/entropy_encode.cpp
+  src/coding/lzma_block_encode.cpp
+  src/coding/mask_encode.cpp
+  src/coding/meta_encode.cpp
+  src/coding/position_modes.cpp
+  src/coding/positions_encode.cpp
+  src/coding/positions_ray_encode.cpp
+  src/coding/rotations_encode.cpp
+  src/coding/scan_encode.cpp
+  src/coding/scan_table.cpp
 )

@@ -176,13 +176,6 @@ std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
 
 }  // namespace
 
-std::vector<AttrSpec> attribute_specs(const std::vector<PCDField>& fields) {
-  std::vector<AttrSpec> out;
-  for (const PCDField& f : fields)
-    if (f.name != "x" && f.name != "y" && f.name != "z") out.push_back(f);
-  return out;
-}
-
 bool is_colour_field(const AttrSpec& s) {
   return s.size == 4 && s.count == 1 && (s.type == 'F' || s.type == 'U') &&
          (s.name == "rgb" || s.name == "rgba");
