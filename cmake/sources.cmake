@@ -26,17 +26,13 @@ set(CAPZ_DECODE_SOURCES
   src/codec/ts/ts_decoder.cpp
   src/codec/ts/ts_model.cpp
   src/coding/analog/analog_codec.cpp
-  src/coding/analog/analog_cross.cpp
   src/coding/analog/analog_entropy.cpp
   src/coding/analog/analog_float.cpp
   src/coding/analog/analog_hints.cpp
   src/coding/analog/analog_hold.cpp
   src/coding/analog/analog_interp.cpp
-  src/coding/analog/analog_lpc.cpp
-  src/coding/analog/analog_quant.cpp
   src/coding/analog/analog_repeat.cpp
   src/coding/analog/analog_repr.cpp
-  src/coding/analog/analog_scaled.cpp
   src/coding/analog/analog_simd.cpp
   src/coding/analog/analog_table.cpp
   src/coding/attributes_decode.cpp
@@ -111,6 +107,18 @@ set(CAPZ_ENCODE_SOURCES
   src/codec/ts/ts_encoder.cpp
   src/codec/ts/ts_trial.cpp
   src/codec/window_error.cpp
+  src/coding/analog/analog_codec_encode.cpp
+  src/coding/analog/analog_cross.cpp
+  src/coding/analog/analog_float_encode.cpp
+  src/coding/analog/analog_hints_encode.cpp
+  src/coding/analog/analog_hold_encode.cpp
+  src/coding/analog/analog_interp_encode.cpp
+  src/coding/analog/analog_lpc.cpp
+  src/coding/analog/analog_quant.cpp
+  src/coding/analog/analog_repeat_encode.cpp
+  src/coding/analog/analog_repr_encode.cpp
+  src/coding/analog/analog_scaled.cpp
+  src/coding/analog/analog_table_encode.cpp
   src/coding/attributes_encode.cpp
   src/coding/c3d_words_encode.cpp
   src/coding/container_encode.cpp
