@@ -15,7 +15,6 @@ set(CAPZ_DECODE_SOURCES
   src/codec/pdct/pdct_decoder.cpp
   src/codec/pdct/predict.cpp
   src/codec/rebuild.cpp
-  src/codec/residue_writer.cpp
   src/codec/stream_reader.cpp
   src/codec/transform_output.cpp
   src/codec/ts/basis_predict.cpp
@@ -99,12 +98,16 @@ set(CAPZ_ENCODE_SOURCES
   src/codec/pdct/pdct_encoder.cpp
   src/codec/pdct/seeds.cpp
   src/codec/registry.cpp
+  src/codec/residue_writer.cpp
   src/codec/scan_encoder.cpp
   src/codec/transform.cpp
   src/codec/ts/align.cpp
   src/codec/ts/cluster.cpp
+  src/codec/ts/lcps_encode.cpp
+  src/codec/ts/lpc_encode.cpp
   src/codec/ts/segment.cpp
   src/codec/ts/ts_encoder.cpp
+  src/codec/ts/ts_model_encode.cpp
   src/codec/ts/ts_trial.cpp
   src/codec/window_error.cpp
   src/coding/analog/analog_codec_encode.cpp
@@ -132,4 +135,11 @@ set(CAPZ_ENCODE_SOURCES
   src/coding/rotations_encode.cpp
   src/coding/scan_encode.cpp
   src/coding/scan_table.cpp
+  src/io/residue/c3d_residue_encode.cpp
+  src/io/residue/pack_encode.cpp
+  src/io/residue/patch_encode.cpp
+  src/io/residue/pcd_ascii_encode.cpp
+  src/io/residue/pcd_residue_encode.cpp
+  src/io/residue/trc_residue_encode.cpp
+  src/io/residue/windows_encode.cpp
 )
