@@ -31,4 +31,23 @@ inline void fix_crc(std::vector<uint8_t>* b, size_t at) {
   for (int k = 0; k < 4; ++k) (*b)[at + 8 + len + k] = static_cast<uint8_t>(crc >> (8 * k));
 }
 
+// The payload offsets a damage test visits in a chunk of `len` bytes: every one when the payload
+// is short; else every one of the first `head` (where the payload's structure is: transforms,
+// predictors, sizes), `spread` evenly spaced through the middle, and every one of the last
+// `tail` (block ends, trailing fields). Bounds a test's decodes (the suite also runs under
+// AddressSanitizer), while every kind of field is still hit.
+inline std::vector<size_t> payload_positions(size_t len, size_t head = 384, size_t spread = 384,
+                                             size_t tail = 64) {
+  std::vector<size_t> at;
+  if (len <= head + spread + tail) {
+    for (size_t i = 0; i < len; ++i) at.push_back(i);
+    return at;
+  }
+  for (size_t i = 0; i < head; ++i) at.push_back(i);
+  const size_t middle = len - head - tail;
+  for (size_t k = 0; k < spread; ++k) at.push_back(head + k * middle / spread);
+  for (size_t i = len - tail; i < len; ++i) at.push_back(i);
+  return at;
+}
+
 }  // namespace capz_test

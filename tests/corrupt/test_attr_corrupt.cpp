@@ -1,7 +1,9 @@
-// Damaged ATTR chunks (docs/FORMAT.md 13, 13.4): every byte of a window's ATTR payload changed, its
-// chunk CRC recomputed so only the payload's own checks can tell: decoding throws a capz::Error
-// or gives a take (the change hit a value, which only a checksum could catch); never a crash,
-// never unbounded memory. A missing ATTR chunk and one of another window are corrupt.
+// Damaged ATTR chunks (docs/FORMAT.md 13, 13.4): bytes of a window's ATTR payload changed (every
+// one of a short payload; of a long one its head, its tail and a spread between:
+// payload_positions), its chunk CRC recomputed so only the payload's own checks can tell: decoding
+// throws a capz::Error or gives a take (the change hit a value, which only a checksum could catch);
+// never a crash, never unbounded memory. A missing ATTR chunk and one of another window are
+// corrupt.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -30,7 +32,8 @@ void damage_every_byte(const std::string& stream, uint8_t flip) {
   ASSERT_NE(at, std::string::npos);
   const uint32_t len = chunk_len(good, at);
   size_t thrown = 0;
-  for (uint32_t i = 0; i < len; ++i) {
+  const std::vector<size_t> positions = capz_test::payload_positions(len);
+  for (const size_t i : positions) {
     std::vector<uint8_t> b = good;
     b[at + 8 + i] ^= flip;
     fix_crc(&b, at);
@@ -47,7 +50,7 @@ void damage_every_byte(const std::string& stream, uint8_t flip) {
   // The payload's own structure (transforms, predictors, sizes, block ends, LZMA2's checks)
   // catches a part of the changes (about a quarter here); a change inside coded values decodes to
   // other values of the same shape, as for every chunk: the chunk CRC is what catches those.
-  EXPECT_GT(thrown, 0u) << thrown << " of " << len;
+  EXPECT_GT(thrown, 0u) << thrown << " of " << positions.size();
 }
 
 }  // namespace
