@@ -76,6 +76,7 @@ set(CAPZ_DECODE_SOURCES
   src/io/residue/patch.cpp
   src/io/residue/pcd_ascii.cpp
   src/io/residue/pcd_residue.cpp
+  src/io/residue/trc_comma_head.cpp
   src/io/residue/trc_residue.cpp
   src/io/residue/windows.cpp
   src/io/text_number.cpp
@@ -140,6 +141,7 @@ set(CAPZ_ENCODE_SOURCES
   src/io/residue/patch_encode.cpp
   src/io/residue/pcd_ascii_encode.cpp
   src/io/residue/pcd_residue_encode.cpp
+  src/io/residue/trc_comma_head_encode.cpp
   src/io/residue/trc_residue_encode.cpp
   src/io/residue/windows_encode.cpp
 )

@@ -10,6 +10,7 @@
 #include "coding/bytes.h"
 #include "io/residue/mode.h"
 #include "io/residue/pack.h"
+#include "io/residue/trc_comma_head.h"
 #include "io/residue/trc_residue_shared.h"
 #include "io/residue/windows.h"
 #include "io/text_number.h"
@@ -28,9 +29,14 @@ TRCResidueDecoder::TRCResidueDecoder(const uint8_t* data, size_t size, const Tak
   const std::string what = name + ": TRC residue";
   ByteReader in(data, size, what);
   if (in.u8() != kKindTRC) fail(ErrorCode::kCorrupt, what, "not a TRC residue");
-  const std::string dict = trc::header_text(header, name, trc::take_delimiter(header));
-  head_ = unpack(in, std::vector<uint8_t>(dict.begin(), dict.end()),
-                 file_size ? file_size : UINT64_MAX);
+  const uint64_t limit = file_size ? file_size : UINT64_MAX;
+  if (trc::take_delimiter(header) == ',') {
+    comma_ = true;
+    head_ = decode_comma_head(in, header, name, limit, &layout_);
+  } else {
+    const std::string dict = trc::header_text(header, name, '\t');
+    head_ = unpack(in, std::vector<uint8_t>(dict.begin(), dict.end()), limit);
+  }
   // A window payload: the model (a varint a column, gap and ending text) and exceptions, whose
   // texts are the window's own bytes plus two varints a field at most.
   if (file_size) window_limit_ = 3 * file_size + 3 * uint64_t{header.points} * 10 + 65536;
@@ -56,6 +62,7 @@ void TRCResidueDecoder::window(const FrameBlock& block, const uint8_t* payload, 
   if (m.time_decimals > kMaxDecimals || m.trailing > kMaxTrailing || m.gap.size() > kMaxGapText ||
       m.ending.size() > kMaxEnding)
     fail(ErrorCode::kCorrupt, what, "impossible row model");
+  if (comma_) m.ending = swap_ending(m.ending, layout_);
   m.decimals.resize(3 * block.points);
   for (auto& d : m.decimals)
     if ((d = in.varint()) > kMaxDecimals) fail(ErrorCode::kCorrupt, what, "impossible decimals");
@@ -84,7 +91,7 @@ void TRCResidueDecoder::window(const FrameBlock& block, const uint8_t* payload, 
           fields[field] = in.str();
         }
       }
-      if (flags & kNewEnding) ending = in.str();
+      if (flags & kNewEnding) ending = comma_ ? swap_ending(in.str(), layout_) : in.str();
       const uint64_t step = --exceptions ? in.varint() : block.frames;
       if (exceptions && step == 0) fail(ErrorCode::kCorrupt, what, "exceptions out of order");
       next_ex = exceptions ? next_ex + step : block.frames;

@@ -9,6 +9,7 @@
 #include "coding/bytes.h"
 #include "io/residue/mode.h"
 #include "io/residue/pack.h"
+#include "io/residue/trc_comma_head.h"
 #include "io/residue/trc_residue.h"
 #include "io/residue/trc_residue_shared.h"
 #include "io/residue/windows.h"
@@ -153,6 +154,13 @@ TRCResidueEncoder::TRCResidueEncoder(const std::string& path, const Take& header
          "TRC residue: " + std::to_string(offsets_.size()) + " rows found, the reader read " +
              std::to_string(header.frames));
   offsets_.push_back(size);
+  if (delim == ',') {
+    // The comma head's layout is chosen first: the windows' endings are stored by it.
+    std::vector<uint8_t> head(static_cast<size_t>(offsets_.front()));
+    in_.read_at(0, head.data(), head.size());
+    comma_ = true;
+    comma_head_ = encode_comma_head(head, header_, in_.path(), &layout_);
+  }
 }
 
 std::vector<uint8_t> TRCResidueEncoder::window(const FrameBlock& block, bool exact) {
@@ -171,7 +179,7 @@ std::vector<uint8_t> TRCResidueEncoder::window(const FrameBlock& block, bool exa
   w.varint(m.time_decimals);
   w.varint(m.trailing);
   w.str(m.gap);
-  w.str(m.ending);
+  w.str(comma_ ? swap_ending(m.ending, layout_) : m.ending);
   for (uint64_t d : m.decimals) w.varint(d);
   std::vector<std::string> want;
   size_t last = 0, exceptions = 0;
@@ -205,7 +213,7 @@ std::vector<uint8_t> TRCResidueEncoder::window(const FrameBlock& block, bool exa
         ex.str(row.fields[fix[i]]);
       }
     }
-    if (flags & kNewEnding) ex.str(row.ending);
+    if (flags & kNewEnding) ex.str(comma_ ? swap_ending(row.ending, layout_) : row.ending);
   }
   w.varint(exceptions);
   w.bytes(ex.buffer());
@@ -215,11 +223,15 @@ std::vector<uint8_t> TRCResidueEncoder::window(const FrameBlock& block, bool exa
 }
 
 std::vector<uint8_t> TRCResidueEncoder::file_part() {
-  std::vector<uint8_t> head(static_cast<size_t>(offsets_.front()));
-  in_.read_at(0, head.data(), head.size());
-  const std::string dict = trc::header_text(header_, in_.path(), trc::take_delimiter(header_));
   ByteWriter out;
   out.u8(kKindTRC);
+  if (comma_) {
+    out.bytes(comma_head_);
+    return std::move(out.buffer());
+  }
+  std::vector<uint8_t> head(static_cast<size_t>(offsets_.front()));
+  in_.read_at(0, head.data(), head.size());
+  const std::string dict = trc::header_text(header_, in_.path(), '\t');
   pack(head, std::vector<uint8_t>(dict.begin(), dict.end()), out);
   return std::move(out.buffer());
 }
