@@ -303,6 +303,10 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
   if (t.frame_offsets.size() != t.frames + 1 || t.xyz.size() != total * 3 ||
       t.valid.size() != total)
     fail(ErrorCode::kInvalidParameter, t.source, "ragged take arrays do not match its offsets");
+  if (t.points != 0 || !t.labels.empty())  // take.h: a ragged take has neither
+    fail(ErrorCode::kInvalidParameter, t.source,
+         "a ragged take has no per-point labels or shared point count (points " +
+             std::to_string(t.points) + ", " + std::to_string(t.labels.size()) + " labels)");
   for (const PointAttribute& a : t.attributes)
     if (a.data.size() != total * a.bytes_per_point() && !opts.drop_fields)
       fail(ErrorCode::kInvalidParameter, t.source,

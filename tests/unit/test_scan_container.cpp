@@ -94,7 +94,7 @@ TEST(ScanContainer, CountsDisagreeingWithThePayloadAreCorrupt) {
   const uint32_t len = load_le32(&z[off + 4]);
   // payload: window varint (0), total varint; bump the total's first byte
   z[off + 8 + 1] = static_cast<uint8_t>(z[off + 8 + 1] ^ 1);
-  const uint32_t crc = crc32c(&z[off], 4 + len);
+  const uint32_t crc = crc32c_update(crc32c(&z[off], 4), &z[off + 8], len);  // type and payload
   for (int k = 0; k < 4; ++k) z[off + 8 + len + k] = static_cast<uint8_t>(crc >> (8 * k));
   try {
     decompress(z.data(), z.size());
@@ -105,10 +105,30 @@ TEST(ScanContainer, CountsDisagreeingWithThePayloadAreCorrupt) {
   }
 }
 
-// The shared scans (/work/shared/data/scan): every ragged sequence at 1 mm and 1 cm.
+// take.h: a ragged take has no per-point labels and no shared point count; a take that says
+// otherwise is refused, never written into a META its decoder would call corrupt.
+TEST(ScanContainer, RaggedTakeWithLabelsOrPointsIsRefused) {
+  Take t = synthetic_scan(2);
+  t.labels.assign(t.frame_points(0), "p");
+  std::string msg;
+  try {
+    compress(t, at(0.01));
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInvalidParameter) << e.what();
+    msg = e.what();
+  }
+  EXPECT_NE(msg.find("labels"), std::string::npos) << msg;
+  t.labels.clear();
+  t.points = t.frame_points(0);
+  EXPECT_THROW(compress(t, at(0.01)), Error);
+  t.points = 0;
+  EXPECT_NO_THROW(compress(t, at(0.01)));
+}
+
+// The shared scans (../shared/data/scan): every ragged sequence at 1 mm and 1 cm.
 TEST(ScanContainer, SharedScansRoundTrip) {
   const char* env = std::getenv("CAPZ_SCAN_DATA");
-  const std::filesystem::path dir = env ? env : "/work/shared/data/scan";
+  const std::filesystem::path dir = env ? env : std::string(CAPZ_SHARED_DATA) + "/scan";
   if (!std::filesystem::is_directory(dir)) GTEST_SKIP() << dir << " is absent";
   size_t done = 0;
   for (const auto& e : std::filesystem::directory_iterator(dir)) {
