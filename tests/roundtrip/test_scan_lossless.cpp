@@ -8,8 +8,6 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <limits>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -22,38 +20,17 @@
 #include "coding/quantiser.h"
 #include "io/pcd_folder.h"
 #include "test_util.h"
+#include "unit/synthetic.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-// A ragged take of x y z float32: frame f holds 200 + 57 f points of a noisy sweep, point 3 of
-// every frame a NaN gap.
+// A ragged take of x y z float32 (tests/unit/synthetic.h): frame f holds 16 x (12 + 3 f)
+// points of a noisy sweep, every 37th point a NaN gap.
 capz::Take sweeps(size_t frames) {
-  capz::Take t;
-  t.source = "synthetic";
-  t.format = capz::Format::kPCDFolder;
-  t.units = "m";
-  t.frames = frames;
-  t.frame_offsets.assign(1, 0);
-  t.pcd = std::make_shared<capz::PCDExtra>();
+  capz::Take t = capz_test::synthetic_sweeps(frames, 12, 3, 5.0, 3.0, 5.0, 0.02, 11, 37, 3);
   t.pcd->fields = {{"x", 'F', 4, 1}, {"y", 'F', 4, 1}, {"z", 'F', 4, 1}};
-  std::mt19937 rng(11);
-  std::normal_distribution<double> noise(0, 0.02);
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  for (size_t f = 0; f < frames; ++f) {
-    const size_t n = 200 + 57 * f;
-    for (size_t i = 0; i < n; ++i) {
-      const double a = 0.031 * static_cast<double>(i), r = 8 + 3 * std::sin(5 * a) + noise(rng);
-      const bool gap = i == 3;
-      t.xyz.push_back(gap ? nan : static_cast<float>(r * std::cos(a)));
-      t.xyz.push_back(gap ? nan : static_cast<float>(r * std::sin(a)));
-      t.xyz.push_back(gap ? nan : static_cast<float>(0.1 * static_cast<double>(i % 16) - 0.7));
-      t.valid.push_back(gap ? 0 : 1);
-    }
-    t.frame_offsets.push_back(t.valid.size());
-    t.pcd->frame_names.push_back("s" + std::to_string(1000 + f) + ".pcd");
-  }
   return t;
 }
 
