@@ -77,6 +77,7 @@ set(CAPZ_DECODE_SOURCES
   src/io/pcd_folder.cpp
   src/io/pcd_frame_writer.cpp
   src/io/pcd_header.cpp
+  src/io/pcd_native.cpp
   src/io/ply.cpp
   src/io/ply_folder.cpp
   src/io/residue/c3d_residue.cpp
