@@ -56,6 +56,7 @@ set(CAPZ_DECODE_SOURCES
   src/coding/rotations.cpp
   src/coding/scan_decode.cpp
   src/coding/scan_encode.cpp
+  src/coding/scan_maps.cpp
   src/coding/scan_shared.cpp
   src/coding/scan_table.cpp
   src/core/atomic_file.cpp
