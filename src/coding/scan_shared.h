@@ -68,25 +68,16 @@ inline double floor_fast(double v) {
 namespace detail {
 // Taylor series of sin and cos on |r| <= pi/4 (terms to r^17 and r^16) in Horner form:
 // sin r = r + r r2 P_s(r2), cos r = 1 + r2 P_c(r2), the coefficients from the highest term.
-inline double sin_poly(double r2) {
-  double p = 1.0 / 355687428096000.0;
-  p = p * r2 + -1.0 / 1307674368000.0;
-  p = p * r2 + 1.0 / 6227020800.0;
-  p = p * r2 + -1.0 / 39916800.0;
-  p = p * r2 + 1.0 / 362880.0;
-  p = p * r2 + -1.0 / 5040.0;
-  p = p * r2 + 1.0 / 120.0;
-  return p * r2 + -1.0 / 6.0;
-}
-inline double cos_poly(double r2) {
-  double p = 1.0 / 20922789888000.0;
-  p = p * r2 + -1.0 / 87178291200.0;
-  p = p * r2 + 1.0 / 479001600.0;
-  p = p * r2 + -1.0 / 3628800.0;
-  p = p * r2 + 1.0 / 40320.0;
-  p = p * r2 + -1.0 / 720.0;
-  p = p * r2 + 1.0 / 24.0;
-  return p * r2 + -0.5;
+constexpr double kSinTerms[8] = {
+    1.0 / 355687428096000.0, -1.0 / 1307674368000.0, 1.0 / 6227020800.0, -1.0 / 39916800.0,
+    1.0 / 362880.0,          -1.0 / 5040.0,          1.0 / 120.0,        -1.0 / 6.0};
+constexpr double kCosTerms[8] = {
+    1.0 / 20922789888000.0, -1.0 / 87178291200.0, 1.0 / 479001600.0, -1.0 / 3628800.0,
+    1.0 / 40320.0,          -1.0 / 720.0,         1.0 / 24.0,        -0.5};
+inline double horner(const double (&c)[8], double r2) {
+  double p = c[0];
+  for (int i = 1; i < 8; ++i) p = p * r2 + c[i];
+  return p;
 }
 }  // namespace detail
 
@@ -100,7 +91,8 @@ inline void det_sincos(double a, double* s, double* c) {
   const double r = (a - k * kHalfPiHi) - k * kHalfPiLo;
   const double q = k - 4.0 * floor_fast(k * 0.25);  // 0, 1, 2 or 3
   const double r2 = r * r;
-  const double ps = r + r * r2 * detail::sin_poly(r2), pc = 1.0 + r2 * detail::cos_poly(r2);
+  const double ps = r + r * r2 * detail::horner(detail::kSinTerms, r2),
+               pc = 1.0 + r2 * detail::horner(detail::kCosTerms, r2);
   if (q == 0.0) {
     *s = ps, *c = pc;
   } else if (q == 1.0) {
