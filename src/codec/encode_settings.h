@@ -4,6 +4,7 @@
 // Error(kInvalidParameter) for a request the take cannot meet.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -16,8 +17,13 @@ namespace capz {
 // any other: x y z as float64, then the fields, one row); with opts.drop_fields the fields are
 // left out instead.
 void settle_fields(FrameSource& source, const CompressOptions& opts);
+void settle_fields(Take& header, const CompressOptions& opts);
 // The per-field bounds of opts.attr_error on the header's PCD layout (field_bounds).
 void set_field_bounds(FrameSource& source, const CompressOptions& opts);
+void set_field_bounds(Take& header, const CompressOptions& opts);
+// FORMAT.md 16.4: the values of the bounded float fields of `layout` (field_bounds) quantised in
+// place; fields: one byte array per attribute of the layout (its fields but x y z), in order.
+void quantise_bounded_fields(const PCDExtra& layout, std::vector<std::vector<uint8_t>>* fields);
 // The per-channel bounds of opts.analog_max_error on the header's analog channels: a key names
 // a channel's label or its unit; a label's bound wins over its unit's. Returns the keys that
 // name no channel.
