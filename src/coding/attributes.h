@@ -36,11 +36,16 @@ bool has_unit_candidate(const std::vector<AttrSpec>& specs);
 // decoder must be given the same). q: the window's POSW integers (frames x points x 3, as the
 // decoder will have them at the valid samples), which makes predictors 10 and 11 candidates
 // (FORMAT.md 7.3); nullptr: they are not tried (positions as transform output, or a choice of
-// the caller's).
+// the caller's). estimate: the LZMA transforms 2 and 3 of a large field (256 KiB and more, no
+// split by the mask) are first coded on its first eighth, and only the one whose estimate is
+// smaller is coded in full, none when the predictive coding is under 0.9 of that estimate (the
+// scan encoder's choice, format 1.1); false: every transform coded in full (the bytes of
+// format 1.0).
 std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
                                        const std::vector<std::vector<uint8_t>>& data,
                                        const uint8_t* valid, size_t frames, size_t points,
-                                       size_t width, const int32_t* q = nullptr);
+                                       size_t width, const int32_t* q = nullptr,
+                                       bool estimate = false);
 
 // Decodes what encode_attributes wrote into *out (one byte array per spec, resized). Throws
 // Error(kCorrupt) naming `what` on a bad transform or predictor, a window larger than the

@@ -174,6 +174,31 @@ std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
   return std::move(w.buffer());
 }
 
+// LZMA2 of transform 2 (byte planes of elements of `size` bytes) or 3 (the bytes as they are).
+std::vector<uint8_t> lzma_transform(uint8_t t, const std::vector<uint8_t>& b, size_t size) {
+  return t == 2 ? lzma2_encode_fast(to_planes(b, size).data(), b.size())
+                : lzma2_encode_fast(b.data(), b.size());
+}
+
+// The one LZMA transform (2 or 3) worth a full trial against a predictive coding of `pred`
+// bytes, or 0 for none: each is tried on the first 1/kSampleShare of the elements and its size
+// scaled to the whole; the smaller wins, and none when the predictive coding is below
+// kSkipRatio of that estimate. Windows under kSampleMin bytes: 0xFF (every transform tried).
+constexpr size_t kSampleShare = 8, kSampleMin = size_t{1} << 18;
+constexpr double kSkipRatio = 0.9;
+uint8_t lzma_worth_trying(const std::vector<uint8_t>& b, size_t size, size_t pred) {
+  if (b.size() < kSampleMin) return 0xFF;
+  const size_t m = b.size() / kSampleShare / size * size;
+  const std::vector<uint8_t> sample(b.begin(), b.begin() + static_cast<std::ptrdiff_t>(m));
+  double est[2] = {0, 0};
+  for (uint8_t t = 2; t <= 3; ++t)
+    est[t - 2] = t == 3 && size == 1 ? est[0] + 1
+                                     : static_cast<double>(lzma_transform(t, sample, size).size()) *
+                                           static_cast<double>(b.size()) / static_cast<double>(m);
+  const uint8_t t = est[1] < est[0] ? 3 : 2;
+  return static_cast<double>(pred) < kSkipRatio * est[t - 2] ? 0 : t;
+}
+
 }  // namespace
 
 bool is_colour_field(const AttrSpec& s) {
@@ -191,7 +216,7 @@ bool has_unit_candidate(const std::vector<AttrSpec>& specs) {
 std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
                                        const std::vector<std::vector<uint8_t>>& data,
                                        const uint8_t* valid, size_t frames, size_t points,
-                                       size_t width, const int32_t* q) {
+                                       size_t width, const int32_t* q, bool estimate) {
   const size_t n = frames * points;
   const size_t W = width ? width : std::max<size_t>(points, 1);
   const bool gaps = valid && std::find(valid, valid + n, 0) != valid + n;
@@ -225,15 +250,16 @@ std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
         std::any_of(valid, valid + n, [](uint8_t v) { return v != 0; }))
       split_by_mask(data[a], valid, n, size * static_cast<size_t>(s.count), &at_valid, &at_gaps);
     const uint8_t last = !at_valid.empty() ? (size > 1 ? 5 : 4) : (size > 1 ? 3 : 2);
+    const uint8_t tried =
+        estimate && at_valid.empty() ? lzma_worth_trying(data[a], size, best.size()) : 0xFF;
     for (uint8_t t = 2; bytes > 0 && t <= last; ++t) {
       if (t == 3 && size == 1) continue;
+      if (tried != 0xFF && t != tried) continue;
       ByteWriter alt;
       alt.u8(t);
       size_t m = 0;  // the size field
       if (t <= 3) {
-        const std::vector<uint8_t> z =
-            t == 2 ? lzma2_encode_fast(to_planes(data[a], size).data(), bytes)
-                   : lzma2_encode_fast(data[a].data(), bytes);
+        const std::vector<uint8_t> z = lzma_transform(t, data[a], size);
         m = z.size();
         alt.varint(z.size());
         alt.bytes(z);
