@@ -281,8 +281,19 @@ inline void merge_by_mask(const std::vector<uint8_t>& at_valid, const std::vecto
 
 // The nearest earlier point of every point of the window (FORMAT.md 13.5): exact squared
 // distances of the POSW integers q (frames x points x 3) at the point's first valid frame.
+// When every coordinate of q spans less than 2^31, a squared distance fits 64 bits (three squares
+// below 2^62), so nearest_earlier_narrow finds the same points with plain sums.
 inline std::vector<uint32_t> nearest_points(const int32_t* q, const uint8_t* valid, size_t frames,
                                             size_t points) {
+  int64_t lo[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, hi[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
+  for (size_t i = 0; i < frames * points; ++i)
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min<int64_t>(lo[k], q[i * 3 + k]);
+      hi[k] = std::max<int64_t>(hi[k], q[i * 3 + k]);
+    }
+  const int64_t span = int64_t{1} << 31;
+  if (hi[0] - lo[0] < span && hi[1] - lo[1] < span && hi[2] - lo[2] < span)
+    return nearest_earlier_narrow(q, valid, frames, points);
   return nearest_earlier(q, valid, frames, points, 1, exact_distance);
 }
 

@@ -74,4 +74,34 @@ std::vector<uint32_t> nearest_earlier(const int32_t* q, const uint8_t* valid, si
   return out;
 }
 
+// nearest_earlier with k = 1 and exact_distance, for q whose coordinates each span less than
+// 2^31 (the caller checks): each squared difference is then below 2^62 and their sum fits 64
+// bits, so the same points come out of plain sums.
+inline std::vector<uint32_t> nearest_earlier_narrow(const int32_t* q, const uint8_t* valid,
+                                                    size_t frames, size_t points) {
+  std::vector<uint32_t> out(points, kNoPoint);
+  for (size_t p = 1; p < points; ++p) {
+    size_t f = 0;
+    while (f < frames && !valid[f * points + p]) ++f;
+    if (f == frames) continue;
+    const int32_t* qf = q + f * points * 3;
+    const uint8_t* vf = valid + f * points;
+    const size_t lo = points <= kNearBruteForce || p < kNearWindow ? 0 : p - kNearWindow;
+    const int64_t x = qf[p * 3], y = qf[p * 3 + 1], z = qf[p * 3 + 2];
+    uint64_t best = UINT64_MAX;
+    uint32_t c = kNoPoint;
+    for (size_t r = p; r-- > lo;) {  // from p - 1 down: on equal distance the later r stays
+      const int64_t dx = qf[r * 3] - x, dy = qf[r * 3 + 1] - y, dz = qf[r * 3 + 2] - z;
+      const uint64_t d = static_cast<uint64_t>(dx * dx) + static_cast<uint64_t>(dy * dy) +
+                         static_cast<uint64_t>(dz * dz);
+      if (vf[r] && d < best) {
+        best = d;
+        c = static_cast<uint32_t>(r);
+      }
+    }
+    out[p] = c;
+  }
+  return out;
+}
+
 }  // namespace capz
