@@ -78,6 +78,24 @@ TEST(NearestEarlier, ExactWhereDoublesRound) {
   EXPECT_FALSE(d0 < d1);
 }
 
+TEST(NearestEarlier, NarrowSumsFindTheSamePointsAsExactDistances) {
+  // Random windows with gaps and many ties (coordinates from a few values), below and above
+  // kNearBruteForce, and one whose coordinates span just under 2^31.
+  std::mt19937 rng(37);
+  for (size_t points : {size_t{300}, size_t{5000}})
+    for (int32_t range : {3, 1000, INT32_MAX / 2}) {
+      const size_t frames = 2;
+      std::uniform_int_distribution<int32_t> c(-range / 2, range - range / 2 - 1);
+      std::vector<int32_t> q(frames * points * 3);
+      for (int32_t& x : q) x = c(rng);
+      std::vector<uint8_t> valid(frames * points);
+      for (uint8_t& v : valid) v = rng() % 5 != 0;
+      EXPECT_EQ(capz::nearest_earlier_narrow(q.data(), valid.data(), frames, points),
+                nearest(q, valid, frames, points))
+          << points << " points, range " << range;
+    }
+}
+
 TEST(NearestEarlier, AboveBruteForceOnlyThe512PointsBefore) {
   // 5000 points (above 4096): point 4999 sits on point 0 but only points 4487..4998 are
   // candidates; with 4096 points, brute force finds point 0.
