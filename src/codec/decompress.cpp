@@ -40,6 +40,21 @@ void slice_frame_metadata(size_t first, size_t count, size_t F, Take* t) {
   }
 }
 
+// A stream of one ragged frame (the encoder codes a single unorganized frame with the scan coder
+// when that is smaller) decodes to the shape a reader gives one frame file: a fixed take of one
+// frame, unlabelled points, an unorganized PCD layout of its point count.
+void one_frame_as_fixed(Take* t) {
+  t->points = t->frame_offsets[1];
+  t->frame_offsets.clear();
+  t->labels.assign(t->points, std::string());
+  if (t->pcd && t->pcd->width != t->points) {
+    auto x = std::make_shared<PCDExtra>(*t->pcd);
+    x->width = t->points;
+    x->height = 1;
+    t->pcd = x;
+  }
+}
+
 // Frames [first, first + count) of the stream, clipped, with the per-frame metadata sliced.
 Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
                   const std::string& name, const DecompressOptions& opts) {
@@ -68,6 +83,7 @@ Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
     t.c3d->camera_mask = std::move(b.camera_mask);
   }
   if (first > 0 || count < F) slice_frame_metadata(first, count, F, &t);
+  if (F == 1 && t.frame_offsets.size() == 2) one_frame_as_fixed(&t);
   return t;
 }
 
