@@ -9,6 +9,7 @@
 
 #include "capz/codec.h"
 #include "capz/stream.h"
+#include "capz/take.h"
 
 namespace capz {
 
@@ -16,6 +17,11 @@ namespace capz {
 // any other: x y z as float64, then the fields, one row); with opts.drop_fields the fields are
 // left out instead.
 void settle_fields(FrameSource& source, const CompressOptions& opts);
+// "Scans (format 1.1)": a take of PLY or .bin frames (t->format) without a PCD layout gets the
+// one META stores for it (FORMAT.md, frame-file sources): encoding binary, its frame names, its
+// fields (a PLY's properties, a .bin's x y z intensity; else x y z float64 and the attributes).
+// Throws Error(kInvalidParameter) for fields the format cannot hold (--drop-fields leaves them).
+void settle_frame_layout(Take* t);
 // The per-field bounds of opts.attr_error on the header's PCD layout (field_bounds).
 void set_field_bounds(FrameSource& source, const CompressOptions& opts);
 // The per-channel bounds of opts.analog_max_error on the header's analog channels: a key names

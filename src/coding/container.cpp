@@ -138,11 +138,14 @@ std::vector<uint8_t> encode_header(const StreamHeader& h) {
   w.u64(h.frames);
   w.u32(h.points);
   w.u32(h.window_frames);
-  w.u8(static_cast<uint8_t>(h.source_format));
+  // "Scans (format 1.1)": a frame-file source is named by the appended frame_format, its
+  // source_format byte 0, so that decoders without feature bit 4 refuse it by name.
+  w.u8(h.frame_file_source() ? 0 : static_cast<uint8_t>(h.source_format));
   w.u8(static_cast<uint8_t>(h.mode));
   w.u8(h.codec);
   w.u8(static_cast<uint8_t>((h.lossless ? 1 : 0) | (h.transform_output ? 2 : 0) |
-                            (h.rotations() ? 4 : 0) | (h.ragged ? 8 : 0)));
+                            (h.rotations() ? 4 : 0) | (h.ragged ? 8 : 0) |
+                            (h.frame_file_source() ? 16 : 0)));
   w.f64(h.step);
   w.f64(h.max_error);
   w.u32(h.analog_channels);
@@ -152,6 +155,7 @@ std::vector<uint8_t> encode_header(const StreamHeader& h) {
     w.u32(h.rotation_segments);
     w.u32(h.rotation_samples_per_frame);
   }
+  if (h.frame_file_source()) w.u8(static_cast<uint8_t>(h.source_format));
   return std::move(w.buffer());
 }
 
@@ -175,7 +179,7 @@ StreamHeader decode_header(const Chunk& c, const std::string& name, const Stream
     fail(ErrorCode::kCorrupt, what,
          "window of " + std::to_string(h.window_frames) + " frames (1.." +
              std::to_string(kMaxWindowFrames) + ")");
-  for (int bit = 4; bit < 8; ++bit)  // FORMAT.md 17: a flag a later minor version adds
+  for (int bit = 5; bit < 8; ++bit)  // FORMAT.md 17: a flag a later minor version adds
     if (flags >> bit & 1)
       fail(ErrorCode::kUnsupportedVersion, what,
            "feature bit " + std::to_string(bit) + " of format " + f.version() +
@@ -203,6 +207,17 @@ StreamHeader decode_header(const Chunk& c, const std::string& name, const Stream
     h.rotation_samples_per_frame = r.u32();
     if (h.rotation_segments == 0 || h.rotation_samples_per_frame == 0)
       fail(ErrorCode::kCorrupt, what, "rotations with 0 segments or 0 samples per frame");
+  }
+  if (flags & 16) {  // "Scans (format 1.1)": a frame-file source, named after the fields above
+    if (!f.frame_file_sources())
+      fail(ErrorCode::kCorrupt, what, "feature bit 4 (frame-file source) in a format 1.0 stream");
+    if (fmt != 0)
+      fail(ErrorCode::kCorrupt, what,
+           "frame-file source with source format " + std::to_string(fmt) + " (must be 0)");
+    fmt = r.u8();
+    if (fmt != static_cast<uint8_t>(Format::kBinFolder) &&
+        fmt != static_cast<uint8_t>(Format::kPLYFolder))
+      fail(ErrorCode::kCorrupt, what, "unknown frame-file format " + std::to_string(fmt));
   }
   if (h.frames > (uint64_t{1} << 40)) fail(ErrorCode::kCorrupt, what, "implausible frame count");
   if ((h.analog_channels == 0) != (h.analog_samples_per_frame == 0) && h.analog_channels != 0)
