@@ -68,7 +68,8 @@ capz::Take ply_take(const std::vector<size_t>& counts, bool fields) {
   }
   x->comments = {"made by test_scan_formats", ""};
   x->obj_info = {"synthetic spiral"};
-  for (size_t f = 0; f < counts.size(); ++f) x->frame_names.push_back("sweep" + std::to_string(f) + ".ply");
+  for (size_t f = 0; f < counts.size(); ++f)
+    x->frame_names.push_back("sweep" + std::to_string(f) + ".ply");
   t.ply = x;
   return t;
 }
@@ -175,10 +176,18 @@ TEST(ScanFormats, GivenLosslessOnPLYOrBinThenItIsRefusedByName) {
   capz::CompressOptions o;
   o.lossless = true;
   std::string msg;
-  EXPECT_EQ(capz_test::error_of([&] { capz::compress(ply_take({10, 10}, false), o); }, &msg),
+  EXPECT_EQ(capz_test::error_of(
+                [&] {
+                  capz::compress(ply_take({10, 10}, false), o);
+                },
+                &msg),
             capz::ErrorCode::kInvalidParameter);
   EXPECT_NE(msg.find("--lossless is not implemented for PLY frames"), std::string::npos) << msg;
-  EXPECT_EQ(capz_test::error_of([&] { capz::compress(bin_take({10, 12}), o); }, &msg),
+  EXPECT_EQ(capz_test::error_of(
+                [&] {
+                  capz::compress(bin_take({10, 12}), o);
+                },
+                &msg),
             capz::ErrorCode::kInvalidParameter);
   EXPECT_NE(msg.find("--lossless is not implemented for .bin frames"), std::string::npos) << msg;
 }
@@ -195,20 +204,20 @@ TEST(ScanFormats, GivenADamagedFrameFileCodeInHeadThenTheStreamIsRefusedByName) 
   const std::vector<uint8_t> good = compress_at(bin_take({40, 40}), 0.01);
   std::vector<capz_test::Piece> ps = capz_test::pieces(good);
   ASSERT_EQ(ps[0].type, "HEAD");
-  EXPECT_EQ(ps[0].payload[16], 0);                    // source_format: 0 with feature bit 4
-  EXPECT_EQ(ps[0].payload[19] & 16, 16);              // feature bit 4
-  EXPECT_EQ(ps[0].payload.back(), 4);                 // frame_format: .bin
+  EXPECT_EQ(ps[0].payload[16], 0);        // source_format: 0 with feature bit 4
+  EXPECT_EQ(ps[0].payload[19] & 16, 16);  // feature bit 4
+  EXPECT_EQ(ps[0].payload.back(), 4);     // frame_format: .bin
   ASSERT_EQ(capz_test::decode_error(capz_test::assemble(good, ps)), "");
   std::vector<capz_test::Piece> bad = ps;
   bad[0].payload.back() = 9;
-  EXPECT_NE(capz_test::decode_error(capz_test::assemble(good, bad))
-                .find("unknown frame-file format 9"),
-            std::string::npos);
+  EXPECT_NE(
+      capz_test::decode_error(capz_test::assemble(good, bad)).find("unknown frame-file format 9"),
+      std::string::npos);
   bad = ps;
   bad[0].payload.back() = 3;  // a PCD folder is not a frame-file source code
-  EXPECT_NE(capz_test::decode_error(capz_test::assemble(good, bad))
-                .find("unknown frame-file format 3"),
-            std::string::npos);
+  EXPECT_NE(
+      capz_test::decode_error(capz_test::assemble(good, bad)).find("unknown frame-file format 3"),
+      std::string::npos);
   bad = ps;
   bad[0].payload[16] = 3;
   EXPECT_NE(capz_test::decode_error(capz_test::assemble(good, bad))
