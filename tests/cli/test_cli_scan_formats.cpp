@@ -79,8 +79,7 @@ std::vector<std::string> names_in(const std::string& dir) {
 // `back` holds what `in` held: the same file names (a folder) and PLY headers, the same frames
 // and gaps, every coordinate within `bound` (the files store float32), and with `fields` every
 // field byte for byte.
-void expect_same_frames(const std::string& in, const std::string& back, double bound,
-                        bool fields) {
+void expect_same_frames(const std::string& in, const std::string& back, double bound, bool fields) {
   if (fs::is_directory(in)) {
     ASSERT_EQ(names_in(back), names_in(in));
     for (const std::string& n : names_in(in)) {
@@ -167,15 +166,12 @@ TEST(CliScanFormats, BinFoldersAndSingleFilesComeBackInTheirOwnFormat) {
 
 TEST(CliScanFormats, LosslessIsRefusedForPLYAndBinLeavingNoArchive) {
   capz_test::TempDir dir("capz_cli_lossless");
-  capz::write_take(spiral({20}, capz::Format::kBinFolder), dir.file("a.bin"),
-                   capz::WriteOptions());
-  capz::write_take(spiral({20}, capz::Format::kPLYFolder), dir.file("a.ply"),
-                   capz::WriteOptions());
+  capz::write_take(spiral({20}, capz::Format::kBinFolder), dir.file("a.bin"), capz::WriteOptions());
+  capz::write_take(spiral({20}, capz::Format::kPLYFolder), dir.file("a.ply"), capz::WriteOptions());
   std::string out;
   for (const char* f : {"a.bin", "a.ply"}) {
-    EXPECT_NE(capz_run("compress --lossless " + dir.file(f) + " -o " + dir.file("l.capz"), dir,
-                       &out),
-              0);
+    EXPECT_NE(
+        capz_run("compress --lossless " + dir.file(f) + " -o " + dir.file("l.capz"), dir, &out), 0);
     EXPECT_NE(out.find("--lossless is not implemented for"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(dir.file("l.capz")));
   }

@@ -139,7 +139,7 @@ TEST(TransformOutput, GivenInconsistentHeadOrPositionsThenCorrupt) {
   EXPECT_EQ(capz_test::error_of([&] { decompress(later.data(), later.size(), "x"); }, &flag),
             ErrorCode::kUnsupportedVersion);
   EXPECT_NE(flag.find("feature bit 5"), std::string::npos) << flag;
-  const std::vector<uint8_t> files = with_head([](std::vector<uint8_t>* h) { (*h)[19] = 16; });
+  const std::vector<uint8_t> files = with_head([](std::vector<uint8_t>* h) { (*h)[19] |= 16; });
   EXPECT_EQ(capz_test::error_of([&] { decompress(files.data(), files.size(), "x"); }, &flag),
             ErrorCode::kCorrupt);
   EXPECT_NE(flag.find("feature bit 4 (frame-file source) in a format 1.0 stream"),
