@@ -38,6 +38,16 @@ void slice_frame_metadata(size_t first, size_t count, size_t F, Take* t) {
     slice(first, count, F, &x->frame_names);
     t->pcd = x;
   }
+  if (t->ply) {
+    auto x = std::make_shared<PLYExtra>(*t->ply);
+    slice(first, count, F, &x->frame_names);
+    t->ply = x;
+  }
+  if (t->bin) {
+    auto x = std::make_shared<BinExtra>(*t->bin);
+    slice(first, count, F, &x->frame_names);
+    t->bin = x;
+  }
 }
 
 // Frames [first, first + count) of the stream, clipped, with the per-frame metadata sliced.

@@ -156,6 +156,16 @@ TEST(CliScanFormats, BinFoldersAndSingleFilesComeBackInTheirOwnFormat) {
   const std::string ragged = dir.file("ragged");
   capz::write_take(spiral({300, 411, 90}, capz::Format::kBinFolder), ragged, wo);
   round_trip(dir, ragged, dir.file("ragged_back") + "/", "--drop-fields", false);
+  // --frames: the frames asked for, under their own names.
+  std::string out;
+  ASSERT_EQ(capz_run("decompress " + dir.file("ragged_back.capz") + " --frames 1:2 -o " +
+                         dir.file("part") + "/",
+                     dir, &out),
+            0)
+      << out;
+  const std::vector<std::string> all = names_in(ragged);
+  ASSERT_EQ(all.size(), 3u);
+  EXPECT_EQ(names_in(dir.file("part")), std::vector<std::string>(all.begin() + 1, all.end()));
   // Single frame files: one-frame takes, back as one file.
   capz::write_take(spiral({350}, capz::Format::kBinFolder), dir.file("one.bin"), wo);
   round_trip(dir, dir.file("one.bin"), dir.file("one_back.bin"), "", true);
