@@ -84,6 +84,7 @@ set(CAPZ_DECODE_SOURCES
   src/io/residue/pcd_ascii.cpp
   src/io/residue/patch.cpp
   src/io/residue/pcd_residue.cpp
+  src/io/residue/trc_comma_head.cpp
   src/io/residue/trc_residue.cpp
   src/io/residue/windows.cpp
   src/io/text_number.cpp

@@ -17,7 +17,7 @@ exe=$PWD/build-fuzz/tests/fuzz/fuzz_$target
 case $target in
   read_c3d) dict=$PWD/tests/fuzz/dict/read_c3d.dict ;;
   read_trc) dict=$PWD/tests/fuzz/dict/read_trc.dict ;;
-  parse_container | simple_decompress) dict=$PWD/tests/fuzz/dict/capz.dict ;;
+  parse_container | simple_decompress | ragged_decompress) dict=$PWD/tests/fuzz/dict/capz.dict ;;
   *) dict= ;;
 esac
 rm -rf "$work"

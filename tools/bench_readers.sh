@@ -2,7 +2,9 @@
 # Issue #38 items 1 and 3: what --lossless costs on files other tools write, against xz -9e of
 # the same bytes in the same run.
 #   comma TRC: each OpenSim TRC of ../shared/data/trc/opensim re-saved as a spreadsheet and as
-#              pyomeca writes it (data/make_comma_trc.py), against the tab-separated original;
+#              pyomeca writes it (data/make_comma_trc.py), against the tab-separated original,
+#              each form compressed under the original's file name (META keeps the name), so
+#              that the last column compares the same take saved two ways;
 #   ascii PCD: one organized sequence in six writers' spellings (data/make_ascii_pcd.py), xz -9e
 #              of the frame files concatenated in order.
 # usage: tools/bench_readers.sh [BUILD_DIR] [WORK_DIR]   (prints markdown tables)
@@ -26,7 +28,9 @@ for src in "$DATA"/*.trc; do
   for form in tab sheet sheet-crlf sheet-gen pyomeca; do
     f="$WORK/trc/$stem.$form.trc"
     [ "$form" = tab ] && f="$src"
-    "$CAPZ" compress -q -f --lossless "$f" -o "$WORK/trc/$stem.$form.capz"
+    mkdir -p "$WORK/trc/$form"
+    cp "$f" "$WORK/trc/$form/$stem.trc"
+    "$CAPZ" compress -q -f --lossless "$WORK/trc/$form/$stem.trc" -o "$WORK/trc/$stem.$form.capz"
     "$CAPZ" test -q "$WORK/trc/$stem.$form.capz" > /dev/null
     c=$(size "$WORK/trc/$stem.$form.capz")
     x=$(xz_size "$f")

@@ -196,6 +196,20 @@ void events_json(Json* j, const std::vector<capz::C3DEvent>& events) {
   j->end_array();
 }
 
+std::string shape_text(size_t frames, size_t points, bool ragged, size_t total_points) {
+  return ragged ? std::to_string(frames) + " frames of their own point counts, " +
+                      std::to_string(total_points) + " points in all"
+                : std::to_string(frames) + " frames x " + std::to_string(points) + " points";
+}
+
+std::string archive_units(capz::Format source_format, const std::string& stored, bool* assumed) {
+  const bool unitless_format = source_format == capz::Format::kPCDFolder ||
+                               source_format == capz::Format::kPLYFolder ||
+                               source_format == capz::Format::kBinFolder;
+  *assumed = stored.empty() && unitless_format;
+  return *assumed ? std::string("m") : stored;
+}
+
 std::string percent(double share) {
   char buf[32];
   std::snprintf(buf, sizeof buf, share > 0 && share < 0.01 ? "%.2f%%" : "%.1f%%", share * 100);

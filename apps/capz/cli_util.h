@@ -52,6 +52,16 @@ std::string number(double v);
 // The double nearest the shortest decimal that reads back as float32 f: 0.86f gives 0.86, not
 // 0.8600000143051147, and parsing either as float32 gives f.
 double shortest_float32(float f);
+// A take's shape as the commands print it: "450 frames x 26 points", or for frames of their own
+// point counts (a ragged take) "4 frames of their own point counts, 7150 points in all".
+std::string shape_text(size_t frames, size_t points, bool ragged, size_t total_points);
+inline std::string shape_text(const capz::Take& t) {
+  return shape_text(t.frames, t.points, t.ragged(), t.total_points());
+}
+// The units of an archive's take as the commands show them: those it stores, or, for frames of
+// a format that carries none (PCD, PLY, .bin) stored without any, metres, as the reader assumed
+// when it was compressed (*assumed then true; capz::units_text says so). "" when unknown.
+std::string archive_units(capz::Format source_format, const std::string& stored, bool* assumed);
 // "3.2%" style share with one decimal (two below 1%).
 std::string percent(double share);
 // Text from a file (labels, units) made safe for a terminal line: valid UTF-8 passes, any other

@@ -99,12 +99,16 @@ std::string choose_output(const Job& job, const Settings& s, const std::string& 
 // What a decode wrote: the output's path and the take's shape, units and point fields.
 struct Written {
   std::string out;
-  size_t frames = 0, points = 0;
+  size_t frames = 0, points = 0;          // points: per frame, 0 for frames of their own counts
+  size_t total_points = 0;                // over all frames
+  std::string shape;                      // shape_text
   std::string units, fields;              // fields: capz::field_names
   std::vector<std::string> dropped;       // what out's format does not keep (capz::dropped_by)
-  void take_shape(const capz::Take& t) {  // once out is chosen
+  void take_shape(const capz::Take& t) {  // once out is chosen (a header has frame offsets)
     frames = t.frames;
     points = t.points;
+    total_points = t.total_points();
+    shape = shape_text(t);
     units = t.units;
     fields = capz::field_names(t);
     const capz::Format f = capz::format_for_output(out);
@@ -162,14 +166,15 @@ std::string record_text(const Settings& s, const FileRecord& rec, const Written&
     j.member("output", rec.output);
     j.member("frames", static_cast<uint64_t>(w.frames));
     j.member("points", static_cast<uint64_t>(w.points));
+    j.member("total_points", static_cast<uint64_t>(w.total_points));
     j.member("decode_cpu_seconds", t_dec);
     j.member("decode_mb_per_s", mbps);
     j.end_object();
     return j.str() + "\n";
   }
   if (g_verbosity < 1) return "";
-  std::string text = strprintf("%s -> %s: %zu frames x %zu points\n", rec.input.c_str(),
-                               rec.output.c_str(), w.frames, w.points);
+  std::string text =
+      strprintf("%s -> %s: %s\n", rec.input.c_str(), rec.output.c_str(), w.shape.c_str());
   if (g_verbosity >= 2)
     text += strprintf("  cpu: decode %.3f s (%s MB/s of raw float32 positions)\n", t_dec,
                       num(mbps).c_str());
@@ -206,7 +211,7 @@ FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) 
       std::fprintf(stderr, "capz decompress: note: %s does not keep %s\n",
                    capz::format_name(capz::format_for_output(w.out)), d.c_str());
   const double t_dec = cpu_seconds(workers) - c0;
-  const double raw = static_cast<double>(w.frames * w.points * 12);
+  const double raw = static_cast<double>(w.total_points * 12);
   const double mbps = t_dec > 0 ? raw / 1e6 / t_dec : 0;
 
   FileRecord rec;

@@ -125,7 +125,13 @@ void print_json(const std::string& path, size_t size, const capz::StreamInfo& si
 
 void print_text(const std::string& path, size_t size, const capz::StreamInfo& si, double bp,
                 const std::vector<capz::C3DEvent>* events) {
-  const std::string u = si.units.empty() ? "" : " " + si.units;
+  bool assumed = false;
+  const std::string units = archive_units(si.source_format, si.units, &assumed);
+  const std::string u = units.empty() ? "" : " " + units;
+  capz::Take shown;  // for capz::units_text's note on assumed units
+  shown.format = si.source_format;
+  shown.units = units;
+  shown.units_assumed = assumed;
   auto line = [](const char* k, const std::string& v) {
     std::printf("  %-12s %s\n", k, printable(v).c_str());
   };
@@ -134,12 +140,9 @@ void print_text(const std::string& path, size_t size, const capz::StreamInfo& si
                       human_size(size) + ", " + num(bp) + " bpvf");
   line("source:", std::string(capz::format_name(si.source_format)) +
                       (si.source_name.empty() ? "" : " " + si.source_name));
-  line("take:", std::to_string(si.frames) +
-                    (si.ragged ? " frames of their own point counts, " +
-                                     std::to_string(si.total_points) + " points in all"
-                               : " frames x " + std::to_string(si.points) + " points") +
+  line("take:", shape_text(si.frames, si.points, si.ragged, si.total_points) +
                     (si.rate > 0 ? ", " + num(si.rate) + " Hz" : "") +
-                    (si.units.empty() ? ", units unknown" : ", " + si.units));
+                    (units.empty() ? ", units unknown" : ", " + capz::units_text(shown)));
   line("coding:",
        si.mode +
            (si.lossless           ? ", lossless"

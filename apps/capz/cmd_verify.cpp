@@ -13,13 +13,27 @@ namespace capz_cli {
 namespace {
 
 // What the decoded take gave against the original (--against): the errors, the largest share of
-// a lossy analog channel's bound used, and whether the promise holds (why not).
+// a lossy analog channel's bound used, whether the promise holds (why not), and the original's
+// point fields that the archive does not hold.
 struct Verdict {
   capz::ErrorStats e;
   double analog_use = 0;
   bool ok = true;
   std::string why;
+  std::vector<std::string> dropped_fields;
 };
+
+// The names of the original's point fields when the archive holds none, and those fields taken
+// out of *a. The encoder codes every field of a take or refuses it unless asked to leave them
+// out (compress --drop-fields), so an archive without fields made from a take with fields was
+// asked for that: not a difference. An archive with other fields than the original is one.
+std::vector<std::string> drop_left_out_fields(capz::Take* a, const capz::Take& b) {
+  std::vector<std::string> names;
+  if (!b.attributes.empty()) return names;
+  for (const capz::PointAttribute& f : a->attributes) names.push_back(f.name);
+  a->attributes.clear();
+  return names;
+}
 
 Verdict check_against(const std::string& in, const std::string& orig, const capz::Take& b,
                       const capz::StreamInfo& si) {
@@ -27,13 +41,15 @@ Verdict check_against(const std::string& in, const std::string& orig, const capz
   // Data without units, or with assumed ones (PCD, PLY, .bin), took them from compress --units
   // (or stored none): not a difference.
   if (a.units.empty() || a.units_assumed) a.units = b.units, a.units_assumed = false;
-  if (a.frames != b.frames || a.points != b.points)
+  if (a.frames != b.frames || a.points != b.points || a.frame_offsets != b.frame_offsets) {
+    const std::string sa = shape_text(a), sb = shape_text(b);
     capz::fail(capz::ErrorCode::kCorrupt, in,
-               "decodes to " + std::to_string(b.frames) + " frames x " + std::to_string(b.points) +
-                   " points, " + orig + " has " + std::to_string(a.frames) + " x " +
-                   std::to_string(a.points));
-  const capz::PromiseResult r = capz::check_promise(a, b, capz::promise_of(si));
+               "decodes to " + sb + ", " + orig + " has " + sa +
+                   (sa == sb ? " (the frames' point counts differ)" : ""));
+  }
   Verdict v;
+  v.dropped_fields = drop_left_out_fields(&a, b);
+  const capz::PromiseResult r = capz::check_promise(a, b, capz::promise_of(si));
   v.e = r.error;
   v.analog_use = r.analog_bound_use;
   v.ok = r.holds;
@@ -61,6 +77,7 @@ void print_json(const Report& r) {
   j.member("ok", r.v.ok);
   j.member("frames", static_cast<uint64_t>(r.b->frames));
   j.member("points", static_cast<uint64_t>(r.b->points));
+  j.member("total_points", static_cast<uint64_t>(r.b->total_points()));
   j.member("bytes", static_cast<uint64_t>(r.bytes));
   j.member("bpvf", r.bpvf);
   j.member("lossless", si.lossless);
@@ -71,6 +88,7 @@ void print_json(const Report& r) {
     json_error_stats(&j, r.v.e);
     if (!si.analog_bounds.empty()) j.member("analog_bound_use", r.v.analog_use);
     if (!r.v.ok) j.member("breach", r.v.why);
+    j.member_strings("dropped_fields", r.v.dropped_fields);
   }
   j.member("decode_cpu_seconds", r.t_dec);
   j.end_object();
@@ -81,12 +99,14 @@ void print_text(const Report& r) {
   const capz::StreamInfo& si = *r.si;
   const capz::Take& b = *r.b;
   const capz::ErrorStats& e = r.v.e;
-  const std::string u = b.units.empty() ? "" : " " + b.units;
+  bool assumed = false;  // metres for PCD, PLY and .bin frames stored without units
+  const std::string units = archive_units(b.format, b.units, &assumed);
+  const std::string u = units.empty() ? "" : " " + units;
   const std::string bound = si.lossless           ? "lossless"
                             : si.transform_output ? "KG target " + num(si.kg_target) + "%"
                                                   : "bound " + num(si.max_error) + u;
   if (!r.has_against) {
-    std::printf("%s: ok, %zu frames x %zu points, %s bpvf, %s\n", r.in.c_str(), b.frames, b.points,
+    std::printf("%s: ok, %s, %s bpvf, %s\n", r.in.c_str(), shape_text(b).c_str(),
                 num(r.bpvf).c_str(), bound.c_str());
   } else {
     std::printf(
@@ -101,6 +121,13 @@ void print_text(const Report& r) {
           "  analog: the lossy channels within their bounds (largest error %s of its "
           "bound)\n",
           num(r.v.analog_use, 3).c_str());
+    if (!r.v.dropped_fields.empty()) {
+      std::string names;
+      for (const std::string& n : r.v.dropped_fields) names += (names.empty() ? "" : " ") + n;
+      std::printf(
+          "  fields: %s not in the archive (left out by compress --drop-fields), not compared\n",
+          names.c_str());
+    }
   }
   if (g_verbosity >= 2) std::printf("  cpu: decode %.3f s\n", r.t_dec);
 }
@@ -122,7 +149,8 @@ int cmd_verify(const Args& args) {
           "or does not keep its promise: the gap mask, every valid coordinate bit for bit\n"
           "(lossless), within the stored bound, or for a --kg-error transform stream within\n"
           "its KG target, and the metadata, analog values, rotations (bit for bit) and\n"
-          "format extras exactly.",
+          "format extras exactly. Point fields that the archive does not hold (compress\n"
+          "--drop-fields) are named and not compared.",
           o, "X.capz", &vm, &in))
     return 0;
 
@@ -138,7 +166,7 @@ int cmd_verify(const Args& args) {
   r.si = &si;
   r.b = &b;
   r.bytes = bytes.size();
-  r.bpvf = capz::bpvf(bytes.size(), b.frames, b.points);
+  r.bpvf = capz::bpvf(bytes.size(), 1, b.total_points());  // frames x points, or ragged
   if (vm.count("against")) {
     r.has_against = true;
     r.against = vm["against"].as<std::string>();

@@ -407,11 +407,16 @@ def write(
     drop_fields: bool = False,
     to: str = "",
     ply_encoding: str = "",
+    trc_delimiter: str = "",
 ) -> None:
     """Writes a take by the output path: ".c3d", ".trc", ".pcd", ".ply", ".bin" (one frame
     file), otherwise a folder of frames: of format `to` ("pcd", "ply", "bin"; "": the take's own
     when it came from PCD, PLY or .bin frames, else PCD). ply_encoding: "ascii",
     "binary_little_endian" or "binary_big_endian" ("": the source's, else little-endian).
+    trc_delimiter (the CLI's --trc-delimiter): a TRC's "tab" (OpenSim's form) or "comma" (the
+    form pyomeca and spreadsheets write: every line padded with commas to the widest); "": the
+    take's own, so a take read from a comma-separated TRC, or from the archive of one, is
+    written with commas, any other with tabs (`capz convert` writes tabs unless asked).
 
     The output appears whole or not at all. overwrite: replace an existing output (the CLI's
     -f). pcd_encoding: "ascii", "binary" or "binary_compressed" ("": the source folder's, else
@@ -428,7 +433,7 @@ def write(
     _check_take(take)
     dropped = _capz.dropped_by(take, p)
     _capz.write(take, p, bool(overwrite), pcd_encoding, bool(c3d_float), bool(drop_fields),
-                str(to), str(ply_encoding))
+                str(to), str(ply_encoding), str(trc_delimiter))
     if dropped:
         warnings.warn(f"{p} does not keep {', '.join(dropped)}", UserWarning, stacklevel=2)
 

@@ -565,6 +565,14 @@ void bind_take_rest(TakeClass* cls) {
       });
 }
 
+// The CLI's --trc-delimiter: "tab", "comma", or "" for the take's own (WriteOptions 0).
+char trc_delimiter_char(const std::string& name) {
+  if (name == "tab") return '\t';
+  if (name == "comma") return ',';
+  if (!name.empty()) invalid("trc_delimiter: tab or comma, not '" + name + "'");
+  return 0;
+}
+
 // The module's functions: reading, writing, coding, comparing.
 void bind_functions(py::module_& m) {
   m.def("take_from_arrays", &take_from_arrays);
@@ -589,24 +597,26 @@ void bind_functions(py::module_& m) {
     return adopt(std::move(t));
   });
 
-  m.def("write", [](const capz::Take& take, const std::string& path, bool overwrite,
-                    const std::string& pcd_encoding, bool c3d_float, bool drop_fields,
-                    const std::string& to, const std::string& ply_encoding) {
-    capz::WriteOptions o;
-    o.overwrite = overwrite;
-    o.pcd_encoding = pcd_encoding;
-    o.ply_encoding = ply_encoding;
-    o.folder_format = to == "pcd"   ? capz::Format::kPCDFolder
-                      : to == "ply" ? capz::Format::kPLYFolder
-                      : to == "bin" ? capz::Format::kBinFolder
-                                    : capz::Format::kUnknown;
-    if (!to.empty() && o.folder_format == capz::Format::kUnknown)
-      invalid("to: pcd, ply or bin, not '" + to + "'");
-    o.c3d_float = c3d_float;
-    o.drop_fields = drop_fields;
-    py::gil_scoped_release nogil;
-    capz::write_take(take, path, o);
-  });
+  m.def("write",
+        [](const capz::Take& take, const std::string& path, bool overwrite,
+           const std::string& pcd_encoding, bool c3d_float, bool drop_fields, const std::string& to,
+           const std::string& ply_encoding, const std::string& trc_delimiter) {
+          capz::WriteOptions o;
+          o.overwrite = overwrite;
+          o.trc_delimiter = trc_delimiter_char(trc_delimiter);
+          o.pcd_encoding = pcd_encoding;
+          o.ply_encoding = ply_encoding;
+          o.folder_format = to == "pcd"   ? capz::Format::kPCDFolder
+                            : to == "ply" ? capz::Format::kPLYFolder
+                            : to == "bin" ? capz::Format::kBinFolder
+                                          : capz::Format::kUnknown;
+          if (!to.empty() && o.folder_format == capz::Format::kUnknown)
+            invalid("to: pcd, ply or bin, not '" + to + "'");
+          o.c3d_float = c3d_float;
+          o.drop_fields = drop_fields;
+          py::gil_scoped_release nogil;
+          capz::write_take(take, path, o);
+        });
 
   m.def("compress", &compress_take);
 

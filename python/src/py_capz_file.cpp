@@ -93,7 +93,7 @@ py::dict info_dict(const std::string& path, const std::vector<uint8_t>& bytes) {
   } else {
     d["original"] = py::none();
   }
-  d["bpvf"] = capz::bpvf(bytes.size(), si.frames, si.points);
+  d["bpvf"] = capz::bpvf(bytes.size(), 1, si.total_points);  // as capz info: over every point
   py::dict chunks;
   for (const auto& kv : si.chunk_bytes) chunks[py::str(kv.first)] = kv.second;
   d["chunk_bytes"] = chunks;

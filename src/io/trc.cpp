@@ -228,6 +228,7 @@ Prelude parse_prelude(const char* text, size_t size, const std::string& name) {
   pre.trc = std::make_shared<TRCExtra>();
   pre.trc->path_file_type_line.assign(b, e);
   pre.delim = trc::delimiter_of(pre.trc->path_file_type_line);
+  if (pre.delim == ',') trc::cut_padding(&pre.trc->path_file_type_line);
   const char d = pre.delim;
 
   // Lines 2 and 3: keys and values.

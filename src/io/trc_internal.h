@@ -16,6 +16,10 @@ namespace trc {
 // of pyomeca and of spreadsheets, which pad line 1 with commas; a spreadsheet keeps a
 // blank-separated line 1 as one cell), else '\t' (tab- or blank-separated, OpenSim's forms).
 char delimiter_of(const std::string& path_file_type_line);
+// Cuts the trailing run of commas of a comma-separated line 1 (its padding to the widest line's
+// field count, which the TRC residue codes as a width, docs/FORMAT.md 14.5), all of it when a
+// comma follows PathFileType, else to one comma, so that the line stays comma-separated.
+void cut_padding(std::string* path_file_type_line);
 // The take's own delimiter: delimiter_of its TRC line 1; '\t' for a take not read from a TRC.
 char take_delimiter(const Take& take);
 // The delimiter to write `take` with when WriteOptions::trc_delimiter is `asked`: asked when
@@ -32,6 +36,11 @@ size_t comma_width(const Take& take, const std::string& path);
 // joined by `delim`, empty trailing fields dropped. With ',' each line is padded with commas to
 // comma_width fields (the blank line too).
 std::string header_text(const Take& take, const std::string& path, char delim);
+// The same with every line of the comma form padded to `width` fields instead (no line is cut;
+// the blank line holds width - 1 commas) and `eol` ("\n" or "\r\n") ending each line: the TRC
+// residue's dictionary for a comma-separated TRC (docs/FORMAT.md 14.5).
+std::string header_text(const Take& take, const std::string& path, char delim, size_t width,
+                        const std::string& eol);
 
 // Appends the rows of frames [first, first + count) of `take` (times and frame numbers from its
 // metadata); xyz: count x points x 3, valid: count x points, for those frames only. '\t': a

@@ -77,6 +77,16 @@ char delimiter_of(const std::string& path_file_type_line) {
   return (l.size() > 12 && l[12] == ',') || (!l.empty() && l.back() == ',') ? ',' : '\t';
 }
 
+void cut_padding(std::string* line) {
+  std::string& l = *line;
+  while (!l.empty() && l.back() == ',') {
+    l.pop_back();
+    if (delimiter_of(l) == ',') continue;
+    l.push_back(',');  // the last comma says the line is comma-separated
+    break;
+  }
+}
+
 char take_delimiter(const Take& take) {
   return take.trc ? delimiter_of(take.trc->path_file_type_line) : '\t';
 }
@@ -93,21 +103,25 @@ size_t comma_width(const Take& take, const std::string& path) {
 }
 
 std::string header_text(const Take& take, const std::string& path, char delim) {
+  return header_text(take, path, delim, delim == ',' ? comma_width(take, path) : 0, "\n");
+}
+
+std::string header_text(const Take& take, const std::string& path, char delim, size_t width,
+                        const std::string& eol) {
   const TRCExtra* x = take.trc.get();
   const size_t F = take.frames, N = take.points;
   const double rate = take.rate;
   const std::string d(1, delim);
   const bool comma = delim == ',';
-  const size_t width = comma ? comma_width(take, path) : 0;
   std::string s;
   s.reserve(64 + N * 32);
   const std::string line1 = first_line(take, path, delim);
   s += line1;
   if (comma) pad(&s, fields_of(line1, ','), width);
-  s += "\nDataRate" + d + "CameraRate" + d + "NumFrames" + d + "NumMarkers" + d + "Units" + d +
+  s += eol + "DataRate" + d + "CameraRate" + d + "NumFrames" + d + "NumMarkers" + d + "Units" + d +
        "OrigDataRate" + d + "OrigDataStartFrame" + d + "OrigNumFrames";
   if (comma) pad(&s, 8, width);
-  s += '\n';
+  s += eol;
   s += format_decimal(rate, 2);
   s += d + format_decimal(x && x->camera_rate > 0 ? x->camera_rate : rate, 2);
   s += d + std::to_string(F) + d + std::to_string(N) + d;
@@ -117,7 +131,7 @@ std::string header_text(const Take& take, const std::string& path, char delim) {
   s +=
       d + std::to_string(x && x->orig_num_frames > 0 ? static_cast<size_t>(x->orig_num_frames) : F);
   if (comma) pad(&s, 8, width);
-  s += "\nFrame#" + d + "Time";
+  s += eol + "Frame#" + d + "Time";
   for (size_t p = 0; p < N; ++p) {
     s += d;
     const std::string& l = p < take.labels.size() ? take.labels[p] : std::string();
@@ -125,15 +139,15 @@ std::string header_text(const Take& take, const std::string& path, char delim) {
     s += d + d;
   }
   if (comma) pad(&s, 2 + 3 * N, width);
-  s += '\n' + d;
+  s += eol + d;
   for (size_t p = 0; p < N; ++p) {
     std::string i = std::to_string(p + 1);
     s += d + "X" + i + d + "Y" + i + d + "Z" + i;
   }
   if (comma) pad(&s, 2 + 3 * N, width);
-  s += '\n';
+  s += eol;
   if (comma) pad(&s, 1, width);  // the blank line: only its commas
-  s += '\n';
+  s += eol;
   return s;
 }
 

@@ -53,9 +53,23 @@ TEST(CliScan, CompressInfoDecompressAFolderOfFramesOfTheirOwnSize) {
   ASSERT_EQ(capz_run("info " + dir.file("s.capz"), dir, &out), 0) << out;
   EXPECT_NE(out.find("2 frames of their own point counts, 717 points in all"), std::string::npos)
       << out;
+  // PCD frames carry no units: metres assumed, as the compress line says, not "units unknown".
+  EXPECT_NE(out.find("points in all, m (assumed: PCD frames carry no units"), std::string::npos)
+      << out;
+  EXPECT_NE(out.find("bound 0.001 m per coordinate"), std::string::npos) << out;
+  EXPECT_EQ(out.find("units unknown"), std::string::npos) << out;
   ASSERT_EQ(
       capz_run("decompress " + dir.file("s.capz") + " -o " + dir.file("back") + "/", dir, &out), 0)
       << out;
+  // The line gives the frames' total, not "2 frames x 0 points".
+  EXPECT_NE(out.find(": 2 frames of their own point counts, 717 points in all"), std::string::npos)
+      << out;
+  EXPECT_EQ(out.find("x 0 points"), std::string::npos) << out;
+  ASSERT_EQ(capz_run("decompress --json -f " + dir.file("s.capz") + " -o " + dir.file("back") + "/",
+                     dir, &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("\"points\":0,\"total_points\":717"), std::string::npos) << out;
   const capz::Take a = capz::read_take(in), b = capz::read_take(dir.file("back"));
   ASSERT_TRUE(b.ragged());
   ASSERT_EQ(b.frame_offsets, a.frame_offsets);
@@ -69,6 +83,52 @@ TEST(CliScan, CompressInfoDecompressAFolderOfFramesOfTheirOwnSize) {
   EXPECT_NE(capz_run("compress " + in + " -o " + dir.file("l.capz") + " --lossless", dir, &out), 0);
   EXPECT_NE(out.find("--lossless is not implemented"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(dir.file("l.capz")));
+}
+
+// capz verify --against the folder of an archive made with --drop-fields (data/scan_small, real
+// sweeps with seven fields besides x y z, and data/lidar_small, frames of one count): the
+// promise holds for what the archive keeps, and the fields left out are named as such, not
+// reported as a difference. Without --drop-fields nothing is said of fields.
+TEST(CliScan, VerifyNamesFieldsLeftOutByDropFieldsAndHolds) {
+  capz_test::TempDir dir("capz_cli_scan_verify");
+  for (const char* sample : {"scan_small", "lidar_small"}) {
+    SCOPED_TRACE(sample);
+    const std::string src = std::string(CAPZ_REPO_DATA) + "/" + sample;
+    const std::string z = dir.file(std::string(sample) + ".capz");
+    std::string out;
+    ASSERT_EQ(
+        capz_run("compress -f " + src + " -o " + z + " --max-error 1cm --drop-fields", dir, &out),
+        0)
+        << out;
+    EXPECT_EQ(capz_run("verify " + z + " --against " + src, dir, &out), 0) << out;
+    EXPECT_NE(out.find("bound 0.01 m holds"), std::string::npos) << out;
+    EXPECT_EQ(out.find("DOES NOT HOLD"), std::string::npos) << out;
+    EXPECT_NE(out.find(" not in the archive (left out by compress --drop-fields), not compared"),
+              std::string::npos)
+        << out;
+    EXPECT_NE(out.find("fields: intensity "), std::string::npos) << out;
+    EXPECT_EQ(capz_run("verify --json " + z + " --against " + src, dir, &out), 0) << out;
+    EXPECT_NE(out.find("\"ok\":true"), std::string::npos) << out;
+    EXPECT_NE(out.find("\"dropped_fields\":[\"intensity\","), std::string::npos) << out;
+    EXPECT_EQ(capz_run("verify " + z, dir, &out), 0) << out;
+    EXPECT_NE(out.find(std::string(sample) == "scan_small"
+                           ? "ok, 4 frames of their own point counts, 7150 points in all"
+                           : "ok, 6 frames x 512 points"),
+              std::string::npos)
+        << out;
+  }
+  // Fields kept: verify compares them and names none as left out.
+  const std::string src = std::string(CAPZ_REPO_DATA) + "/lidar_small";
+  std::string out;
+  ASSERT_EQ(
+      capz_run("compress -f " + src + " -o " + dir.file("k.capz") + " --max-error 1cm", dir, &out),
+      0)
+      << out;
+  EXPECT_EQ(capz_run("verify " + dir.file("k.capz") + " --against " + src, dir, &out), 0) << out;
+  EXPECT_EQ(out.find("not in the archive"), std::string::npos) << out;
+  EXPECT_EQ(capz_run("verify --json " + dir.file("k.capz") + " --against " + src, dir, &out), 0)
+      << out;
+  EXPECT_NE(out.find("\"dropped_fields\":[]"), std::string::npos) << out;
 }
 
 }  // namespace

@@ -28,21 +28,22 @@ void check_block(const capz::Take& h, const capz::FrameBlock& b, size_t first, s
   const size_t f0 = std::min(first, h.frames), n = std::min(count, h.frames - f0);
   const size_t row = static_cast<size_t>(std::max(0, h.analog.samples_per_frame)) *
                      static_cast<size_t>(std::max(0, h.analog.channels));
+  // Points of the range: n x points, or for frames of their own counts (format 1.1) the header's
+  // frame offsets, which the source reads on open.
+  const size_t p0 = h.frame_begin(f0), pn = h.frame_begin(f0 + n) - p0;
   CAPZ_FUZZ_CHECK(b.first == f0 && b.frames == n && b.points == h.points);
-  CAPZ_FUZZ_CHECK(b.xyz.size() == n * h.points * 3 && b.valid.size() == n * h.points);
+  CAPZ_FUZZ_CHECK(b.xyz.size() == pn * 3 && b.valid.size() == pn);
   CAPZ_FUZZ_CHECK(b.analog.size() == n * row);
   if (!whole) return;
-  const size_t p = h.points;
   CAPZ_FUZZ_CHECK(b.xyz.empty() ||
-                  std::memcmp(b.xyz.data(), &whole->xyz[f0 * p * 3], b.xyz.size() * 8) == 0);
-  CAPZ_FUZZ_CHECK(std::equal(b.valid.begin(), b.valid.end(), whole->valid.begin() + f0 * p));
+                  std::memcmp(b.xyz.data(), &whole->xyz[p0 * 3], b.xyz.size() * 8) == 0);
+  CAPZ_FUZZ_CHECK(std::equal(b.valid.begin(), b.valid.end(), whole->valid.begin() + p0));
   CAPZ_FUZZ_CHECK(b.analog.empty() || std::memcmp(b.analog.data(), &whole->analog.values[f0 * row],
                                                   b.analog.size() * 8) == 0);
   if (whole->c3d && !whole->c3d->residual.empty()) {
-    CAPZ_FUZZ_CHECK(b.residual.size() == n * p);
-    CAPZ_FUZZ_CHECK(
-        b.residual.empty() ||
-        std::memcmp(b.residual.data(), &whole->c3d->residual[f0 * p], b.residual.size() * 4) == 0);
+    CAPZ_FUZZ_CHECK(b.residual.size() == pn);
+    CAPZ_FUZZ_CHECK(b.residual.empty() || std::memcmp(b.residual.data(), &whole->c3d->residual[p0],
+                                                      b.residual.size() * 4) == 0);
   }
 }
 
@@ -66,7 +67,10 @@ void read_ranges(const capz_fuzz::TempFile& file, const uint8_t* stream, size_t 
   }
   const capz::Take& h = src->header();
   CAPZ_FUZZ_CHECK(h.xyz.empty() && h.valid.empty());
-  if (whole_ok) CAPZ_FUZZ_CHECK(h.frames == whole.frames && h.points == whole.points);
+  if (whole_ok)
+    CAPZ_FUZZ_CHECK(h.frames == whole.frames && h.points == whole.points &&
+                    h.frame_offsets == whole.frame_offsets);
+  CAPZ_FUZZ_CHECK(!h.ragged() || h.frame_offsets.size() == h.frames + 1);
   uint32_t x = seed | 1;
   auto next = [&x] {  // xorshift32
     x ^= x << 13;

@@ -21,10 +21,17 @@
 
 namespace capz_fuzz {
 
-// The shape invariants every Take a reader or decoder returns must satisfy.
+// The shape invariants every Take a reader or decoder returns must satisfy (take.h): frames x
+// points, or for frames of their own point counts frames + 1 non-decreasing offsets from 0.
 inline void check_take_shape(const capz::Take& t) {
-  CAPZ_FUZZ_CHECK(t.xyz.size() == t.frames * t.points * 3);
-  CAPZ_FUZZ_CHECK(t.valid.size() == t.frames * t.points);
+  if (t.ragged()) {
+    CAPZ_FUZZ_CHECK(t.frame_offsets.size() == t.frames + 1 && t.frame_offsets[0] == 0);
+    for (size_t f = 0; f < t.frames; ++f)
+      CAPZ_FUZZ_CHECK(t.frame_offsets[f] <= t.frame_offsets[f + 1]);
+    CAPZ_FUZZ_CHECK(t.points == 0 && t.labels.empty());
+  }
+  CAPZ_FUZZ_CHECK(t.xyz.size() == t.total_points() * 3);
+  CAPZ_FUZZ_CHECK(t.valid.size() == t.total_points());
   for (uint8_t v : t.valid) CAPZ_FUZZ_CHECK(v == 0 || v == 1);
   CAPZ_FUZZ_CHECK(t.labels.empty() || t.labels.size() == t.points);
   if (t.analog.channels > 0) {

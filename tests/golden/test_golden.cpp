@@ -4,8 +4,8 @@
 // transform output, within its KG target). Compressing each source again with the recorded
 // options must give a stream that decodes within the same promise (lossless: to the same
 // content), and, where the manifest says `bytes`, the same bytes in every chunk of integer paths
-// (HEAD, POSW, MASK, C3DW, ROTW; Eigen, floating-point fits and the system's LZMA decide the
-// others' bytes). A pre-release stream
+// (HEAD, POSW, MASK, C3DW, ROTW, and SCNW of format 1.1's ragged takes; Eigen, floating-point
+// fits and the system's LZMA decide the others' bytes). A pre-release stream
 // (tests/golden/prerelease, written by capz 0.1.0) is refused with how to upgrade it.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -33,11 +33,14 @@ namespace {
 
 const std::string kStreams = std::string(CAPZ_TEST_DIR) + "/golden/streams/";
 
-// CRC-32C of the decoded positions, mask, analog values and point fields in a fixed byte layout.
+// CRC-32C of the decoded positions, mask, analog values and point fields in a fixed byte layout
+// (a ragged take's frame offsets after its shape; a fixed take has none, so its CRC is as before
+// format 1.1).
 uint32_t content_crc(const Take& t) {
   ByteWriter w;
   w.u64(t.frames);
   w.u64(t.points);
+  for (size_t o : t.frame_offsets) w.u64(o);
   for (double x : t.xyz) w.f64(x);
   w.bytes(t.valid);
   for (double x : t.analog.values) w.f64(x);
@@ -100,6 +103,7 @@ TEST(Golden, GivenManifestThenItListsStreamsOfReleasedVersionsWithTheirChecks) {
 // makes (bound or KG target, exact mask, labels, analog values, point fields and C3D words).
 void expect_within_promise(const Take& a, const Take& b, const StreamInfo& si) {
   ASSERT_EQ(a.frames, b.frames);
+  ASSERT_EQ(a.frame_offsets, b.frame_offsets);  // a ragged source's frames keep their counts
   ErrorStats s = compare(a, b);
   EXPECT_EQ(s.mask_mismatches, 0u);
   if (si.lossless) {
@@ -155,7 +159,11 @@ TEST(Golden, GivenGoldenStreamsWhenDecodedThenKnownContentAndWithinBoundOfSource
 }
 
 // The chunks of integer paths of stream b (after its 15-byte file header), in order, each as its
-// type and payload.
+// type and payload. SCNW (format 1.1) is one: its coder is integer, and the laser table it infers
+// comes from binary64 arithmetic compiled without contraction (CMakeLists.txt) and the C
+// library's atan2, hypot, sin and cos: the same bytes on every build against one C library (a
+// libm rounding those differently could move a table entry and fail this check; the decoder's
+// sin and cos are capz's own, FORMAT.md "Scans", so decoding is exact everywhere).
 std::vector<std::string> integer_chunks(const std::vector<uint8_t>& b) {
   std::vector<std::string> out;
   for (size_t off = 15; off + 12 <= b.size();) {
@@ -164,7 +172,8 @@ std::vector<std::string> integer_chunks(const std::vector<uint8_t>& b) {
     if (n > b.size() - off - 12) break;
     const std::string type(b.begin() + static_cast<long>(off),
                            b.begin() + static_cast<long>(off) + 4);
-    if (type == "HEAD" || type == "POSW" || type == "MASK" || type == "C3DW" || type == "ROTW")
+    if (type == "HEAD" || type == "POSW" || type == "MASK" || type == "C3DW" || type == "ROTW" ||
+        type == "SCNW")
       out.push_back(type + std::string(b.begin() + static_cast<long>(off) + 8,
                                        b.begin() + static_cast<long>(off + 8 + n)));
     off += 12 + n;
@@ -207,6 +216,42 @@ TEST(Golden, GivenGoldenSourcesWhenRecompressedWithTheirOptionsThenAsTheManifest
     expect_within_promise(read_take(std::string(CAPZ_REPO_DATA) + "/" + e.source), b, si);
   }
   EXPECT_GE(checked, 20u);
+}
+
+// The format 1.1 streams (ragged frames, FORMAT.md "Scans") are in the manifest and are what
+// they say: minor version 1, HEAD feature bit 3, one SCNW chunk per window and no POSW or MASK,
+// frames of their own point counts as in their source, at both bounds and in more than one window.
+TEST(Golden, GivenTheScanGoldenStreamsThenFormat11RaggedFramesWithOneScnwPerWindow) {
+  size_t scans = 0, multi_window = 0;
+  for (const Entry& e : manifest()) {
+    const FormatVersion v = version_of(e.stream);
+    if (v.major != kFormatScans.major || v.minor != kFormatScans.minor) continue;
+    SCOPED_TRACE(e.stream);
+    ++scans;
+    const std::vector<uint8_t> b = read_file(kStreams + e.stream);
+    ASSERT_GT(b.size(), 15u + 12 + 20);
+    EXPECT_EQ(b[9], kFormatScans.major);
+    EXPECT_EQ(b[10], kFormatScans.minor);
+    EXPECT_EQ(std::string(b.begin() + 15, b.begin() + 19), "HEAD");
+    EXPECT_EQ(b[15 + 8 + 19] & 0x08, 0x08) << "HEAD flags: feature bit 3, ragged frames";
+    size_t scnw = 0, other = 0;
+    for (const std::string& c : integer_chunks(b)) {
+      scnw += c.compare(0, 4, "SCNW") == 0;
+      other += c.compare(0, 4, "POSW") == 0 || c.compare(0, 4, "MASK") == 0;
+    }
+    const StreamInfo si = describe(b.data(), b.size(), e.stream);
+    EXPECT_TRUE(si.ragged);
+    EXPECT_EQ(scnw, si.windows);
+    EXPECT_EQ(other, 0u);
+    multi_window += si.windows > 1;
+    const Take src = read_take(std::string(CAPZ_REPO_DATA) + "/" + e.source);
+    ASSERT_TRUE(src.ragged());
+    const Take t = decompress(b.data(), b.size(), e.stream);
+    EXPECT_EQ(t.frame_offsets, src.frame_offsets);
+    EXPECT_EQ(t.points, 0u);
+  }
+  EXPECT_GE(scans, 2u);
+  EXPECT_GE(multi_window, 1u);
 }
 
 // A stream of capz 0.1.0 (format 9.3, magic "\x89capz") is refused, by the library and the CLI,

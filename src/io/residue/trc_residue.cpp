@@ -9,6 +9,7 @@
 #include "coding/bytes.h"
 #include "io/residue/mode.h"
 #include "io/residue/pack.h"
+#include "io/residue/trc_comma_head.h"
 #include "io/residue/windows.h"
 #include "io/text_number.h"
 #include "io/trc_internal.h"
@@ -203,6 +204,13 @@ TRCResidueEncoder::TRCResidueEncoder(const std::string& path, const Take& header
          "TRC residue: " + std::to_string(offsets_.size()) + " rows found, the reader read " +
              std::to_string(header.frames));
   offsets_.push_back(size);
+  if (delim == ',') {
+    // The comma head's layout is chosen first: the windows' endings are stored by it.
+    std::vector<uint8_t> head(static_cast<size_t>(offsets_.front()));
+    in_.read_at(0, head.data(), head.size());
+    comma_ = true;
+    comma_head_ = encode_comma_head(head, header_, in_.path(), &layout_);
+  }
 }
 
 std::vector<uint8_t> TRCResidueEncoder::window(const FrameBlock& block, bool exact) {
@@ -221,7 +229,7 @@ std::vector<uint8_t> TRCResidueEncoder::window(const FrameBlock& block, bool exa
   w.varint(m.time_decimals);
   w.varint(m.trailing);
   w.str(m.gap);
-  w.str(m.ending);
+  w.str(comma_ ? swap_ending(m.ending, layout_) : m.ending);
   for (uint64_t d : m.decimals) w.varint(d);
   std::vector<std::string> want;
   size_t last = 0, exceptions = 0;
@@ -255,7 +263,7 @@ std::vector<uint8_t> TRCResidueEncoder::window(const FrameBlock& block, bool exa
         ex.str(row.fields[fix[i]]);
       }
     }
-    if (flags & kNewEnding) ex.str(row.ending);
+    if (flags & kNewEnding) ex.str(comma_ ? swap_ending(row.ending, layout_) : row.ending);
   }
   w.varint(exceptions);
   w.bytes(ex.buffer());
@@ -265,11 +273,15 @@ std::vector<uint8_t> TRCResidueEncoder::window(const FrameBlock& block, bool exa
 }
 
 std::vector<uint8_t> TRCResidueEncoder::file_part() {
-  std::vector<uint8_t> head(static_cast<size_t>(offsets_.front()));
-  in_.read_at(0, head.data(), head.size());
-  const std::string dict = trc::header_text(header_, in_.path(), trc::take_delimiter(header_));
   ByteWriter out;
   out.u8(kKindTRC);
+  if (comma_) {
+    out.bytes(comma_head_);
+    return std::move(out.buffer());
+  }
+  std::vector<uint8_t> head(static_cast<size_t>(offsets_.front()));
+  in_.read_at(0, head.data(), head.size());
+  const std::string dict = trc::header_text(header_, in_.path(), '\t');
   pack(head, std::vector<uint8_t>(dict.begin(), dict.end()), out);
   return std::move(out.buffer());
 }
@@ -282,9 +294,14 @@ TRCResidueDecoder::TRCResidueDecoder(const uint8_t* data, size_t size, const Tak
   const std::string what = name + ": TRC residue";
   ByteReader in(data, size, what);
   if (in.u8() != kKindTRC) fail(ErrorCode::kCorrupt, what, "not a TRC residue");
-  const std::string dict = trc::header_text(header, name, trc::take_delimiter(header));
-  head_ = unpack(in, std::vector<uint8_t>(dict.begin(), dict.end()),
-                 file_size ? file_size : UINT64_MAX);
+  const uint64_t limit = file_size ? file_size : UINT64_MAX;
+  if (trc::take_delimiter(header) == ',') {
+    comma_ = true;
+    head_ = decode_comma_head(in, header, name, limit, &layout_);
+  } else {
+    const std::string dict = trc::header_text(header, name, '\t');
+    head_ = unpack(in, std::vector<uint8_t>(dict.begin(), dict.end()), limit);
+  }
   // A window payload: the model (a varint a column, gap and ending text) and exceptions, whose
   // texts are the window's own bytes plus two varints a field at most.
   if (file_size) window_limit_ = 3 * file_size + 3 * uint64_t{header.points} * 10 + 65536;
@@ -310,6 +327,7 @@ void TRCResidueDecoder::window(const FrameBlock& block, const uint8_t* payload, 
   if (m.time_decimals > kMaxDecimals || m.trailing > kMaxTrailing || m.gap.size() > kMaxGapText ||
       m.ending.size() > kMaxEnding)
     fail(ErrorCode::kCorrupt, what, "impossible row model");
+  if (comma_) m.ending = swap_ending(m.ending, layout_);
   m.decimals.resize(3 * block.points);
   for (auto& d : m.decimals)
     if ((d = in.varint()) > kMaxDecimals) fail(ErrorCode::kCorrupt, what, "impossible decimals");
@@ -338,7 +356,7 @@ void TRCResidueDecoder::window(const FrameBlock& block, const uint8_t* payload, 
           fields[field] = in.str();
         }
       }
-      if (flags & kNewEnding) ending = in.str();
+      if (flags & kNewEnding) ending = comma_ ? swap_ending(in.str(), layout_) : in.str();
       const uint64_t step = --exceptions ? in.varint() : block.frames;
       if (exceptions && step == 0) fail(ErrorCode::kCorrupt, what, "exceptions out of order");
       next_ex = exceptions ? next_ex + step : block.frames;

@@ -24,6 +24,7 @@
 #include "capz/take.h"
 #include "core/input_file.h"
 #include "io/residue/pack.h"
+#include "io/residue/trc_comma_head.h"
 
 namespace capz {
 namespace residue {
@@ -46,6 +47,9 @@ class TRCResidueEncoder {
   const Take& header_;
   std::vector<uint64_t> offsets_;  // each row's first byte, then the file size
   std::string text_;
+  bool comma_ = false;               // a comma-separated TRC (docs/FORMAT.md 14.5)
+  CommaLayout layout_;               // its line end and padding width
+  std::vector<uint8_t> comma_head_;  // its head's fields, chosen with layout_
 };
 
 class TRCResidueDecoder {
@@ -71,6 +75,8 @@ class TRCResidueDecoder {
   std::vector<uint8_t> head_;
   uint64_t next_ = 0;
   uint64_t window_limit_ = UINT64_MAX;  // most bytes a window payload may unpack to
+  bool comma_ = false;                  // a comma-separated TRC: endings swapped (14.5)
+  CommaLayout layout_;
 };
 
 // The whole residue of the TRC at `path`: frames read from `frames` in blocks of `block`.
