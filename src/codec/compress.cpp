@@ -38,9 +38,8 @@ std::vector<uint8_t> compress_ragged_frames(const Take& take, const CompressOpti
                                             CompressStats* stats) {
   if (take.pcd || (take.format != Format::kPLYFolder && take.format != Format::kBinFolder))
     return compress_ragged(take, opts, stats);
-  Take t = take;
-  if (opts.drop_fields) t.attributes.clear();
-  settle_frame_layout(&t);
+  Take t = take;  // its fields stay: a ring field guides the geometry coder, --drop-fields or not
+  settle_frame_layout(&t, opts.drop_fields);
   return compress_ragged(t, opts, stats);
 }
 
@@ -131,8 +130,7 @@ void compress_stream(FrameSource& source, const CompressOptions& opts, const std
                      bool overwrite, CompressStats* stats) {
   refuse_scans(source.header(), opts);
   if (source.header().ragged()) {  // not streamed yet: the whole take in memory
-    if (opts.drop_fields) source.edit_header().attributes.clear();
-    settle_frame_layout(&source.edit_header());
+    settle_frame_layout(&source.edit_header(), opts.drop_fields);
     Take t = source.header();
     FrameBlock b;
     source.read(0, t.frames, &b);

@@ -133,11 +133,17 @@ std::vector<PCDField> frame_file_fields(const Take& t) {
 
 }  // namespace
 
-void settle_frame_layout(Take* t) {
+void settle_frame_layout(Take* t, bool drop_fields) {
   if ((t->format != Format::kPLYFolder && t->format != Format::kBinFolder) || t->pcd) return;
   auto x = std::make_shared<PCDExtra>();
   x->encoding = "binary";
   x->fields = frame_file_fields(*t);
+  if (x->fields.empty() && drop_fields) {  // the source's x y z alone
+    Take bare;
+    bare.format = t->format;
+    bare.ply = t->ply;
+    x->fields = frame_file_fields(bare);
+  }
   if (x->fields.empty())
     fail(ErrorCode::kInvalidParameter, t->source,
          std::string("the point fields (") + field_names(*t) + ") cannot be written back as " +
@@ -158,7 +164,7 @@ void settle_fields(FrameSource& source, const CompressOptions& opts) {
   if (source.header().format == Format::kPLYFolder ||
       source.header().format == Format::kBinFolder) {
     if (opts.drop_fields) source.edit_header().attributes.clear();
-    settle_frame_layout(&source.edit_header());
+    settle_frame_layout(&source.edit_header(), opts.drop_fields);
   }
   const Take& h = source.header();
   if (h.attributes.empty()) return;

@@ -20,8 +20,9 @@ void settle_fields(FrameSource& source, const CompressOptions& opts);
 // "Scans (format 1.1)": a take of PLY or .bin frames (t->format) without a PCD layout gets the
 // one META stores for it (FORMAT.md, frame-file sources): encoding binary, its frame names, its
 // fields (a PLY's properties, a .bin's x y z intensity; else x y z float64 and the attributes).
-// Throws Error(kInvalidParameter) for fields the format cannot hold (--drop-fields leaves them).
-void settle_frame_layout(Take* t);
+// Fields the format cannot hold: with drop_fields the layout is the source's x y z alone, else
+// Error(kInvalidParameter) (--drop-fields leaves them out).
+void settle_frame_layout(Take* t, bool drop_fields = false);
 // The per-field bounds of opts.attr_error on the header's PCD layout (field_bounds).
 void set_field_bounds(FrameSource& source, const CompressOptions& opts);
 // The per-channel bounds of opts.analog_max_error on the header's analog channels: a key names
