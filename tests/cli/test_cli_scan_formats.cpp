@@ -30,12 +30,7 @@ int capz_run(const std::string& args, const capz_test::TempDir& dir, std::string
 capz::Take spiral(const std::vector<size_t>& counts, capz::Format format) {
   capz::Take t;
   t.format = format;
-  bool same = true;
-  for (size_t c : counts) same = same && c == counts[0];
-  if (same)
-    t.resize(counts.size(), counts[0]);
-  else
-    t.resize_ragged(counts);
+  capz_test::resize_frames(&t, counts);
   capz::PointAttribute in{"intensity", 'F', 4, 1, {}};
   for (size_t i = 0; i < t.total_points(); ++i) {
     const double a = 0.011 * static_cast<double>(i);

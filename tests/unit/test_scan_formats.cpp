@@ -25,12 +25,7 @@ capz::Take spiral_take(Format format, const std::vector<size_t>& counts) {
   t.format = format;
   t.units = "m";
   t.units_assumed = true;
-  bool same = true;
-  for (size_t c : counts) same = same && c == counts[0];
-  if (same)
-    t.resize(counts.size(), counts[0]);
-  else
-    t.resize_ragged(counts);
+  capz_test::resize_frames(&t, counts);
   for (size_t i = 0; i < t.total_points(); ++i) {
     const double a = 0.01 * static_cast<double>(i);
     t.xyz[3 * i] = static_cast<float>(30 * std::cos(a));
