@@ -15,7 +15,6 @@ set(CAPZ_DECODE_SOURCES
   src/codec/pdct/pdct_decoder.cpp
   src/codec/pdct/predict.cpp
   src/codec/rebuild.cpp
-  src/codec/residue_writer.cpp
   src/codec/stream_reader.cpp
   src/codec/transform_output.cpp
   src/codec/ts/basis_predict.cpp
@@ -26,21 +25,17 @@ set(CAPZ_DECODE_SOURCES
   src/codec/ts/ts_decoder.cpp
   src/codec/ts/ts_model.cpp
   src/coding/analog/analog_codec.cpp
-  src/coding/analog/analog_cross.cpp
   src/coding/analog/analog_entropy.cpp
   src/coding/analog/analog_float.cpp
   src/coding/analog/analog_hints.cpp
   src/coding/analog/analog_hold.cpp
   src/coding/analog/analog_interp.cpp
-  src/coding/analog/analog_lpc.cpp
-  src/coding/analog/analog_quant.cpp
   src/coding/analog/analog_repeat.cpp
   src/coding/analog/analog_repr.cpp
-  src/coding/analog/analog_scaled.cpp
   src/coding/analog/analog_simd.cpp
   src/coding/analog/analog_table.cpp
   src/coding/attributes_decode.cpp
-  src/coding/attributes_encode.cpp
+  src/coding/attributes_shared.cpp
   src/coding/c3d_params.cpp
   src/coding/c3d_words.cpp
   src/coding/container.cpp
@@ -50,14 +45,11 @@ set(CAPZ_DECODE_SOURCES
   src/coding/lzma_block.cpp
   src/coding/mask.cpp
   src/coding/meta.cpp
-  src/coding/position_modes.cpp
   src/coding/positions.cpp
   src/coding/positions_ray.cpp
   src/coding/rotations.cpp
   src/coding/scan_decode.cpp
-  src/coding/scan_encode.cpp
   src/coding/scan_shared.cpp
-  src/coding/scan_table.cpp
   src/core/atomic_file.cpp
   src/core/error.cpp
   src/core/hash.cpp
@@ -81,8 +73,8 @@ set(CAPZ_DECODE_SOURCES
   src/io/ply_folder.cpp
   src/io/residue/c3d_residue.cpp
   src/io/residue/pack.cpp
-  src/io/residue/pcd_ascii.cpp
   src/io/residue/patch.cpp
+  src/io/residue/pcd_ascii.cpp
   src/io/residue/pcd_residue.cpp
   src/io/residue/trc_comma_head.cpp
   src/io/residue/trc_residue.cpp
@@ -107,12 +99,49 @@ set(CAPZ_ENCODE_SOURCES
   src/codec/pdct/pdct_encoder.cpp
   src/codec/pdct/seeds.cpp
   src/codec/registry.cpp
+  src/codec/residue_writer.cpp
   src/codec/scan_encoder.cpp
   src/codec/transform.cpp
   src/codec/ts/align.cpp
   src/codec/ts/cluster.cpp
+  src/codec/ts/lcps_encode.cpp
+  src/codec/ts/lpc_encode.cpp
   src/codec/ts/segment.cpp
   src/codec/ts/ts_encoder.cpp
+  src/codec/ts/ts_model_encode.cpp
   src/codec/ts/ts_trial.cpp
   src/codec/window_error.cpp
+  src/coding/analog/analog_codec_encode.cpp
+  src/coding/analog/analog_cross.cpp
+  src/coding/analog/analog_float_encode.cpp
+  src/coding/analog/analog_hints_encode.cpp
+  src/coding/analog/analog_hold_encode.cpp
+  src/coding/analog/analog_interp_encode.cpp
+  src/coding/analog/analog_lpc.cpp
+  src/coding/analog/analog_quant.cpp
+  src/coding/analog/analog_repeat_encode.cpp
+  src/coding/analog/analog_repr_encode.cpp
+  src/coding/analog/analog_scaled.cpp
+  src/coding/analog/analog_table_encode.cpp
+  src/coding/attributes_encode.cpp
+  src/coding/c3d_words_encode.cpp
+  src/coding/container_encode.cpp
+  src/coding/entropy_encode.cpp
+  src/coding/lzma_block_encode.cpp
+  src/coding/mask_encode.cpp
+  src/coding/meta_encode.cpp
+  src/coding/position_modes.cpp
+  src/coding/positions_encode.cpp
+  src/coding/positions_ray_encode.cpp
+  src/coding/rotations_encode.cpp
+  src/coding/scan_encode.cpp
+  src/coding/scan_table.cpp
+  src/io/residue/c3d_residue_encode.cpp
+  src/io/residue/pack_encode.cpp
+  src/io/residue/patch_encode.cpp
+  src/io/residue/pcd_ascii_encode.cpp
+  src/io/residue/pcd_residue_encode.cpp
+  src/io/residue/trc_comma_head_encode.cpp
+  src/io/residue/trc_residue_encode.cpp
+  src/io/residue/windows_encode.cpp
 )

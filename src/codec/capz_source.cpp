@@ -18,8 +18,11 @@ CapzSource::CapzSource(std::unique_ptr<StreamBytes> bytes, const std::string& na
       ps_(parse_stream(*bytes_, name)),
       memory_limit_(effective_memory_limit(memory_limit, bytes_->size())) {
   if (whole) check_tiling(ps_, bytes_->size(), name_);
-  if (ps_.h.ragged) {  // "Scans (format 1.1)": 25 bytes a point (x y z doubles and a flag)
-    ps_.max_points = static_cast<size_t>(std::min<uint64_t>(memory_limit_ / 25, uint64_t{1} << 40));
+  if (ps_.h.ragged) {  // "Scans (format 1.1)": x y z doubles, a flag and the fields, a point
+    uint64_t per_point = 25;
+    for (const PointAttribute& a : ps_.take.attributes) per_point += a.bytes_per_point();
+    ps_.max_points =
+        static_cast<size_t>(std::min<uint64_t>(memory_limit_ / per_point, uint64_t{1} << 40));
     if (memory_limit_ == 0) ps_.max_points = size_t{1} << 40;
     ps_.take.frame_offsets = ragged_frame_offsets(*bytes_, ps_);
   }
@@ -78,6 +81,10 @@ void CapzSource::read_ragged(size_t first, size_t count, FrameBlock* out) {
   std::vector<size_t> counts;
   for (size_t f = first; f < first + count; ++f) counts.push_back(off[f + 1] - off[f]);
   out->reset_ragged(first, counts);
+  const std::vector<PointAttribute>& attrs = ps_.take.attributes;
+  out->attributes.resize(attrs.size());
+  for (size_t a = 0; a < attrs.size(); ++a)
+    out->attributes[a].assign(out->total_points() * attrs[a].bytes_per_point(), 0);
   for (size_t f = first; f < first + count;) {
     decode(f / ps_.h.window_frames);
     const size_t lo = f - win_.first, hi = std::min(win_.frames, first + count - win_.first);
@@ -85,6 +92,11 @@ void CapzSource::read_ragged(size_t first, size_t count, FrameBlock* out) {
     const size_t o = off[f] - off[first];
     std::copy_n(win_.xyz.data() + p0 * 3, n * 3, out->xyz.data() + o * 3);
     std::copy_n(win_.valid.data() + p0, n, out->valid.data() + o);
+    for (size_t a = 0; a < attrs.size(); ++a) {  // flattened, as the points (take.h)
+      const size_t bpp = attrs[a].bytes_per_point();
+      std::copy_n(win_.attributes[a].data() + p0 * bpp, n * bpp,
+                  out->attributes[a].data() + o * bpp);
+    }
     f += hi - lo;
   }
 }

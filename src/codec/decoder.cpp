@@ -211,15 +211,16 @@ uint64_t open_scan_chunk(const StreamContext& ctx, WindowChunks* chunks, const C
 }
 
 // "Scans (format 1.1)": the fn frames of window w of a ragged stream from its SCNW chunk, into
-// out's frame offsets, gaps and coordinates (gaps 0).
-void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t fn,
-                        FrameBlock* out) {
+// out's frame offsets, gaps and coordinates (gaps 0), and its grid integers (total x 3, in the
+// flattened point order) into *q for ATTR's predictors 10 and 11.
+void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t fn, FrameBlock* out,
+                        std::vector<int32_t>* q) {
   Chunk c = chunks->next("SCNW", true);
   const std::string what = chunks->what("SCNW");
   ByteReader r(c.payload, c.size, what);
   const uint64_t total = open_scan_chunk(ctx, chunks, c, &r);
-  const ScanGeometry g = decode_scan_geometry(c.payload + r.offset(), c.size - r.offset(), what,
-                                              static_cast<size_t>(total));
+  ScanGeometry g = decode_scan_geometry(c.payload + r.offset(), c.size - r.offset(), what,
+                                        static_cast<size_t>(total));
   if (g.counts.size() != fn)
     fail(ErrorCode::kCorrupt, what,
          std::to_string(g.counts.size()) + " frames, the window has " + std::to_string(fn));
@@ -241,6 +242,23 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
         for (size_t a = 0; a < 3; ++a)
           b.xyz[3 * i + a] = dequantise_as<decltype(m)::value>(grid, g.q[3 * i + a], 0);
   });
+  q->swap(g.q);
+}
+
+// ATTR of the window (FORMAT.md 13): its fields over `frames` x `points` (a ragged window: one
+// frame of all its points, "Scans (format 1.1)") into out->attributes. q: the window's grid
+// integers (frames x points x 3), or empty (predictors 10 and 11 are then corrupt).
+void decode_window_attributes(const StreamContext& ctx, WindowChunks* chunks, size_t frames,
+                              size_t points, size_t width, const std::vector<int32_t>& q,
+                              FrameBlock* out) {
+  Chunk tc = chunks->next("ATTR", true);
+  const std::string twhat = chunks->what("ATTR");
+  ByteReader tr(tc.payload, tc.size, twhat);
+  chunks->open(tc, &tr);
+  const PCDExtra* px = ctx.take.pcd.get();
+  decode_attributes(tc.payload + tr.offset(), tc.size - tr.offset(), attribute_specs(px->fields),
+                    out->valid.data(), frames, points, width, &out->attributes, twhat,
+                    q.size() == frames * points * 3 && !q.empty() ? q.data() : nullptr);
 }
 
 }  // namespace
@@ -255,12 +273,11 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
   WindowChunks chunks(ctx, w, region, base, end);
   FrameBlock& b = *out;
   // Decoded straight into the caller's arrays (their capacity is reused window after window).
-  std::vector<int32_t> q;  // the window's POSW integers (none with transform output)
+  std::vector<int32_t> q;  // the window's POSW or SCNW integers (none with transform output)
   b.frame_offsets.clear();
-  if (h.ragged && (ctx.words || !ctx.take.attributes.empty()))
-    fail(ErrorCode::kCorrupt, ctx.name, "ragged frames with C3D words or point fields");
+  if (h.ragged && ctx.words) fail(ErrorCode::kCorrupt, ctx.name, "ragged frames with C3D words");
   if (h.ragged)
-    decode_window_scan(ctx, &chunks, fn, &b);
+    decode_window_scan(ctx, &chunks, fn, &b, &q);
   else
     decode_window_positions(ctx, &chunks, fn, &b.valid, &b.xyz, &q);
   // The analog rows must fit what the chunks can hold before they are allocated.
@@ -296,15 +313,11 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
   b.rotation_reliability.clear();
   if (ctx.h.rotations()) decode_window_rotations(ctx, &chunks, fn, out);
   b.attributes.clear();
-  if (!ctx.take.attributes.empty()) {  // FORMAT.md 13
-    Chunk tc = chunks.next("ATTR", true);
-    const std::string twhat = chunks.what("ATTR");
-    ByteReader tr(tc.payload, tc.size, twhat);
-    chunks.open(tc, &tr);
-    const PCDExtra* px = ctx.take.pcd.get();
-    decode_attributes(tc.payload + tr.offset(), tc.size - tr.offset(), attribute_specs(px->fields),
-                      b.valid.data(), fn, N, px->width, &b.attributes, twhat,
-                      q.size() == fn * N * 3 && !q.empty() ? q.data() : nullptr);
+  if (!ctx.take.attributes.empty() && h.ragged) {  // one frame of every point, of width total
+    const size_t total = b.valid.size();
+    decode_window_attributes(ctx, &chunks, 1, total, total, q, out);
+  } else if (!ctx.take.attributes.empty()) {
+    decode_window_attributes(ctx, &chunks, fn, N, ctx.take.pcd->width, q, out);
   }
   chunks.check_rest();
 }

@@ -2,6 +2,7 @@
 #include "codec/encode_settings.h"
 
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
@@ -13,8 +14,7 @@
 namespace capz {
 
 // The per-field bounds of opts.attr_error on the header's PCD layout (field_bounds).
-void set_field_bounds(FrameSource& source, const CompressOptions& opts) {
-  Take& e = source.edit_header();
+void set_field_bounds(Take& e, const CompressOptions& opts) {
   if (opts.attr_error.empty()) return;
   if (e.attributes.empty() || !e.pcd)
     fail(ErrorCode::kInvalidParameter, e.source,
@@ -42,6 +42,43 @@ void set_field_bounds(FrameSource& source, const CompressOptions& opts) {
            "--attr-error names no float field '" + kv.first + "' (fields: " + field_names(e) + ")");
   }
   e.pcd = x;
+}
+
+void set_field_bounds(FrameSource& source, const CompressOptions& opts) {
+  set_field_bounds(source.edit_header(), opts);
+}
+
+// FORMAT.md 16.4 "fields within a bound": each finite value of a bounded float field replaced
+// by the multiple of 2B nearest it, in the field's float type, when that is within B.
+void quantise_bounded_fields(const PCDExtra& layout, std::vector<std::vector<uint8_t>>* fields) {
+  const std::vector<double>& bounds = layout.field_bounds;
+  if (bounds.empty()) return;
+  size_t a = 0;
+  for (size_t i = 0; i < layout.fields.size() && a < fields->size(); ++i) {
+    const PCDField& f = layout.fields[i];
+    if (f.name == "x" || f.name == "y" || f.name == "z") continue;
+    const double b = i < bounds.size() ? bounds[i] : 0;
+    std::vector<uint8_t>& bytes = (*fields)[a++];
+    if (b <= 0 || f.type != 'F') continue;
+    const double step = 2 * b;
+    for (size_t k = 0; k + static_cast<size_t>(f.size) <= bytes.size();
+         k += static_cast<size_t>(f.size)) {
+      if (f.size == 4) {
+        float v;
+        std::memcpy(&v, &bytes[k], 4);
+        if (!std::isfinite(v)) continue;
+        const float q = static_cast<float>(std::round(static_cast<double>(v) / step) * step);
+        if (std::fabs(static_cast<double>(q) - static_cast<double>(v)) <= b)
+          std::memcpy(&bytes[k], &q, 4);
+      } else {
+        double v;
+        std::memcpy(&v, &bytes[k], 8);
+        if (!std::isfinite(v)) continue;
+        const double q = std::round(v / step) * step;
+        if (std::fabs(q - v) <= b) std::memcpy(&bytes[k], &q, 8);
+      }
+    }
+  }
 }
 
 // The per-channel bounds of opts.analog_max_error (FORMAT.md 5.7) on the header's analog
@@ -160,15 +197,13 @@ void settle_frame_layout(Take* t, bool drop_fields) {
 // A take with point fields needs a PCD layout in META (FORMAT.md 5.5): one read from a PCD
 // folder has it; for any other (built in memory) it is x y z as float64 then the fields, one
 // row. With opts.drop_fields the fields are left out instead.
-void settle_fields(FrameSource& source, const CompressOptions& opts) {
-  if (source.header().format == Format::kPLYFolder ||
-      source.header().format == Format::kBinFolder) {
-    if (opts.drop_fields) source.edit_header().attributes.clear();
-    settle_frame_layout(&source.edit_header(), opts.drop_fields);
+void settle_fields(Take& e, const CompressOptions& opts) {
+  if (e.format == Format::kPLYFolder || e.format == Format::kBinFolder) {
+    if (opts.drop_fields) e.attributes.clear();
+    settle_frame_layout(&e, opts.drop_fields);
   }
-  const Take& h = source.header();
+  const Take& h = e;
   if (h.attributes.empty()) return;
-  Take& e = source.edit_header();
   if (opts.drop_fields) {
     e.attributes.clear();
     if (e.pcd) {
@@ -204,6 +239,10 @@ void settle_fields(FrameSource& source, const CompressOptions& opts) {
     x->height = 1;
   }
   e.pcd = x;
+}
+
+void settle_fields(FrameSource& source, const CompressOptions& opts) {
+  settle_fields(source.edit_header(), opts);
 }
 
 }  // namespace capz

@@ -4,6 +4,7 @@
 // Error(kInvalidParameter) for a request the take cannot meet.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@ namespace capz {
 // any other: x y z as float64, then the fields, one row); with opts.drop_fields the fields are
 // left out instead.
 void settle_fields(FrameSource& source, const CompressOptions& opts);
+void settle_fields(Take& header, const CompressOptions& opts);
 // "Scans (format 1.1)": a take of PLY or .bin frames (t->format) without a PCD layout gets the
 // one META stores for it (FORMAT.md, frame-file sources): encoding binary, its frame names, its
 // fields (a PLY's properties, a .bin's x y z intensity; else x y z float64 and the attributes).
@@ -25,6 +27,10 @@ void settle_fields(FrameSource& source, const CompressOptions& opts);
 void settle_frame_layout(Take* t, bool drop_fields = false);
 // The per-field bounds of opts.attr_error on the header's PCD layout (field_bounds).
 void set_field_bounds(FrameSource& source, const CompressOptions& opts);
+void set_field_bounds(Take& header, const CompressOptions& opts);
+// FORMAT.md 16.4: the values of the bounded float fields of `layout` (field_bounds) quantised in
+// place; fields: one byte array per attribute of the layout (its fields but x y z), in order.
+void quantise_bounded_fields(const PCDExtra& layout, std::vector<std::vector<uint8_t>>* fields);
 // The per-channel bounds of opts.analog_max_error on the header's analog channels: a key names
 // a channel's label or its unit; a label's bound wins over its unit's. Returns the keys that
 // name no channel.

@@ -488,7 +488,7 @@ class Encoder {
   // ATTR (FORMAT.md 13): the window's point fields, lossless whatever the bound but for the
   // float fields given a bound of their own (--attr-error), which are quantised first.
   void append_attributes(Window* win) const {
-    quantise_bounded_fields(&win->block);
+    quantise_bounded_fields(*take_.pcd, &win->block.attributes);
     std::vector<uint8_t>* buf = &win->buf;
     const size_t before = buf->size();
     const std::vector<uint8_t> at =
@@ -499,39 +499,6 @@ class Encoder {
                           take_.pcd->height == 1 && !plan_.tout ? win->wi.q.data() : nullptr);
     append_chunk(buf, "ATTR", with_window_index(win->w, 0xFF, at));
     win->attribute_bytes = buf->size() - before;
-  }
-
-  // FORMAT.md 16.4 "fields within a bound": each finite value of a bounded float field replaced
-  // by the multiple of 2B nearest it, in the field's float type, when that is within B.
-  void quantise_bounded_fields(FrameBlock* block) const {
-    const std::vector<double>& bounds = take_.pcd->field_bounds;
-    if (bounds.empty()) return;
-    size_t a = 0;
-    for (size_t i = 0; i < take_.pcd->fields.size(); ++i) {
-      const PCDField& f = take_.pcd->fields[i];
-      if (f.name == "x" || f.name == "y" || f.name == "z") continue;
-      const double b = i < bounds.size() ? bounds[i] : 0;
-      std::vector<uint8_t>& bytes = block->attributes[a++];
-      if (b <= 0 || f.type != 'F') continue;
-      const double step = 2 * b;
-      for (size_t k = 0; k + static_cast<size_t>(f.size) <= bytes.size();
-           k += static_cast<size_t>(f.size)) {
-        if (f.size == 4) {
-          float v;
-          std::memcpy(&v, &bytes[k], 4);
-          if (!std::isfinite(v)) continue;
-          const float q = static_cast<float>(std::round(static_cast<double>(v) / step) * step);
-          if (std::fabs(static_cast<double>(q) - static_cast<double>(v)) <= b)
-            std::memcpy(&bytes[k], &q, 4);
-        } else {
-          double v;
-          std::memcpy(&v, &bytes[k], 8);
-          if (!std::isfinite(v)) continue;
-          const double q = std::round(v / step) * step;
-          if (std::fabs(q - v) <= b) std::memcpy(&bytes[k], &q, 8);
-        }
-      }
-    }
   }
 
   // The reconstruction the decoder will produce for the window's valid samples.

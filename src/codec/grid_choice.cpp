@@ -218,16 +218,12 @@ namespace {
 double output_rounding_reserve(const Take& t, const TakeScan& s, double bound) {
   // TRC writers keep every decoded double (their printing has its own room, trc_print_room);
   // PCD writers do too, except for frames whose x y z were float32 (FORMAT.md 5.5), which are
-  // written back as float32. A take without a layout (no PCD extras, or an empty field list)
-  // has x y z F4 by take.h's convention, so it keeps the reserve too (its writer stores float32
-  // when every decoded coordinate is one, else float64; the bound holds either way).
+  // written back as float32.
   bool f32_pcd = false;
-  if (t.format == Format::kPCDFolder || t.format == Format::kPLYFolder ||
-      t.format == Format::kBinFolder) {
-    f32_pcd = !t.pcd || t.pcd->fields.empty();
-    if (t.pcd)
-      for (const PCDField& f : t.pcd->fields) f32_pcd = f32_pcd || (f.name == "x" && f.size == 4);
-  }
+  if ((t.format == Format::kPCDFolder || t.format == Format::kPLYFolder ||
+       t.format == Format::kBinFolder) &&
+      t.pcd)
+    for (const PCDField& f : t.pcd->fields) f32_pcd = f32_pcd || (f.name == "x" && f.size == 4);
   if (t.format != Format::kC3D && !f32_pcd) return 0;
   int e = 0;
   std::frexp(s.max_abs + bound, &e);  // magnitude in [2^(e-1), 2^e): float32 ulp 2^(e-24)

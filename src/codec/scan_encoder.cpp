@@ -8,9 +8,11 @@
 #include "capz/error.h"
 #include "capz/metrics.h"
 #include "codec/decoder.h"
+#include "codec/encode_settings.h"
 #include "codec/grid.h"
 #include "codec/grid_choice.h"
 #include "codec/stream_reader.h"
+#include "coding/attributes.h"
 #include "coding/bytes.h"
 #include "coding/container.h"
 #include "coding/meta.h"
@@ -30,11 +32,6 @@ void refuse_unsupported(const Take& t, const CompressOptions& opts) {
   if (!(opts.max_error > 0))
     fail(ErrorCode::kInvalidParameter, t.source,
          "only --max-error is implemented for " + what + " (no KG target)");
-  if (!t.attributes.empty() && !opts.drop_fields)
-    fail(ErrorCode::kInvalidParameter, t.source,
-         "point fields of " + what +
-             " are not coded yet (ATTR of a ragged window is missing): --drop-fields keeps "
-             "x y z only");
   const bool frames = t.format == Format::kPCDFolder || t.format == Format::kPLYFolder ||
                       t.format == Format::kBinFolder;
   if (!frames || t.analog.channels > 0 || t.rotations.segments > 0)
@@ -127,6 +124,153 @@ void check_window(const Take& t, size_t p0, size_t f0, const FrameBlock& d, doub
   }
 }
 
+// The take META describes: t's header (no samples) with its PCD layout as the archive keeps it
+// ("Scans (format 1.1)": width 0, height 1): x y z and the point fields (settled and bounded as
+// for every take, encode_settings.h), or x y z alone without fields or with opts.drop_fields.
+Take meta_take_of(const Take& t, const CompressOptions& opts) {
+  Take m = t;
+  m.xyz.clear();
+  m.valid.clear();
+  for (PointAttribute& a : m.attributes) a.data.clear();
+  if (m.attributes.empty() || opts.drop_fields) {
+    m.attributes.clear();
+    if (m.pcd) {
+      auto x = std::make_shared<PCDExtra>(*m.pcd);
+      x->fields.erase(std::remove_if(x->fields.begin(), x->fields.end(),
+                                     [](const PCDField& f) {
+                                       return f.name != "x" && f.name != "y" && f.name != "z";
+                                     }),
+                      x->fields.end());
+      m.pcd = x;
+    }
+  } else {
+    settle_fields(m, opts);
+  }
+  set_field_bounds(m, opts);
+  if (m.pcd && (m.pcd->width != 0 || m.pcd->height != 1)) {
+    auto x = std::make_shared<PCDExtra>(*m.pcd);
+    x->width = 0;
+    x->height = 1;
+    m.pcd = x;
+  }
+  return m;
+}
+
+// Points [p0, p1) of every field of t (flattened, take.h), with the bounded float fields of
+// META's layout quantised (FORMAT.md 16.4): what ATTR codes and the decoder gives back.
+std::vector<std::vector<uint8_t>> window_fields(const Take& t, const PCDExtra& layout, size_t p0,
+                                                size_t p1) {
+  std::vector<std::vector<uint8_t>> out;
+  for (const PointAttribute& a : t.attributes) {
+    const size_t bpp = a.bytes_per_point();
+    out.emplace_back(a.data.begin() + static_cast<std::ptrdiff_t>(p0 * bpp),
+                     a.data.begin() + static_cast<std::ptrdiff_t>(p1 * bpp));
+  }
+  quantise_bounded_fields(layout, &out);
+  return out;
+}
+
+// Throws kInternal unless the decoded window's fields are `fields`, byte for byte.
+void check_fields(const Take& t, const std::vector<std::vector<uint8_t>>& fields,
+                  const FrameBlock& d) {
+  if (d.attributes.size() != fields.size())
+    fail(ErrorCode::kInternal, t.source, "self-check: the fields come back as another number");
+  for (size_t a = 0; a < fields.size(); ++a)
+    if (d.attributes[a] != fields[a])
+      fail(ErrorCode::kInternal, t.source,
+           "self-check: field " + t.attributes[a].name + " does not come back byte for byte");
+}
+
+// What compress_ragged carries from window to window.
+struct RaggedRun {
+  const Take& t;
+  const CompressOptions& opts;
+  const Grid& grid;
+  const StreamContext& ctx;
+  const Take& meta;               // META's take: its layout names the fields coded
+  std::vector<uint32_t> ring;     // ring_field(t), or empty
+  std::vector<uint8_t>* out;      // the stream so far
+  std::vector<IndexEntry> index;  // INDX
+  size_t position_bytes = 0, attribute_bytes = 0;
+  ErrorAccumulator acc;
+};
+
+// The SCNW chunk of frames [f0, f1) of r.t (window w), appended to r.out; *b gets the window's
+// points, *q their grid integers.
+void append_scan_chunk(RaggedRun& r, size_t w, size_t f0, size_t f1, FrameBlock* b,
+                       std::vector<int32_t>* q) {
+  const Take& t = r.t;
+  const size_t p0 = t.frame_begin(f0), p1 = t.frame_begin(f1);
+  b->frames = 1;
+  b->points = p1 - p0;
+  b->xyz.assign(t.xyz.begin() + static_cast<std::ptrdiff_t>(3 * p0),
+                t.xyz.begin() + static_cast<std::ptrdiff_t>(3 * p1));
+  b->valid.assign(t.valid.begin() + static_cast<std::ptrdiff_t>(p0),
+                  t.valid.begin() + static_cast<std::ptrdiff_t>(p1));
+  WindowInts wi = quantise_window(*b, r.grid);
+  ScanGeometry g;
+  for (size_t f = f0; f < f1; ++f) g.counts.push_back(static_cast<uint32_t>(t.frame_points(f)));
+  g.q = wi.q;
+  g.valid = b->valid;
+  ScanHints hints;
+  if (!r.ring.empty())
+    hints.ring.assign(r.ring.begin() + static_cast<std::ptrdiff_t>(p0),
+                      r.ring.begin() + static_cast<std::ptrdiff_t>(p1));
+  hints.xyz.resize(b->xyz.size());
+  for (size_t i = 0; i < b->xyz.size(); ++i) hints.xyz[i] = static_cast<float>(b->xyz[i]);
+  ByteWriter pw;
+  pw.varint(w);
+  pw.varint(p1 - p0);
+  std::vector<uint8_t> payload = std::move(pw.buffer());
+  const std::vector<uint8_t> geo = encode_scan_geometry(g, hints);
+  payload.insert(payload.end(), geo.begin(), geo.end());
+  const size_t before = r.out->size();
+  append_chunk(r.out, "SCNW", payload);
+  r.position_bytes += r.out->size() - before;
+  q->swap(wi.q);
+}
+
+// "Scans (format 1.1)": the ATTR chunk of window w, its fields as one frame of its n points
+// (width n), the SCNW integers q offered to predictors 10 and 11.
+void append_fields_chunk(RaggedRun& r, size_t w, const std::vector<std::vector<uint8_t>>& fields,
+                         const std::vector<uint8_t>& valid, const std::vector<int32_t>& q) {
+  const size_t n = valid.size();
+  ByteWriter aw;
+  aw.varint(w);
+  std::vector<uint8_t> payload = std::move(aw.buffer());
+  const std::vector<uint8_t> at = encode_attributes(attribute_specs(r.meta.pcd->fields), fields,
+                                                    valid.data(), 1, n, n, q.data());
+  payload.insert(payload.end(), at.begin(), at.end());
+  const size_t before = r.out->size();
+  append_chunk(r.out, "ATTR", payload);
+  r.attribute_bytes += r.out->size() - before;
+}
+
+// Window w (frames [f0, f1)): its chunks appended to r.out, then decoded again by the one
+// decoder and checked (opts.check) and measured (stats).
+void append_window(RaggedRun& r, size_t w, size_t f0, size_t f1, bool measure) {
+  const Take& t = r.t;
+  const size_t base = r.out->size(), p0 = t.frame_begin(f0);
+  FrameBlock b;
+  std::vector<int32_t> q;
+  append_scan_chunk(r, w, f0, f1, &b, &q);
+  std::vector<std::vector<uint8_t>> fields;
+  if (!r.meta.attributes.empty()) {
+    fields = window_fields(t, *r.meta.pcd, p0, t.frame_begin(f1));
+    append_fields_chunk(r, w, fields, b.valid, q);
+  }
+  r.index.push_back(IndexEntry{base, r.out->size() - base});
+  if (!r.opts.check && !measure) return;
+  FrameBlock d;  // the one decoder gives the window back
+  decode_window_chunks(r.ctx, w, r.out->data() + base, base, r.out->size(), &d);
+  if (r.opts.check) {
+    check_window(t, p0, f0, d, r.opts.max_error);
+    check_fields(t, fields, d);
+  }
+  r.acc.add_ragged(f1 - f0, d.frame_offsets.data(), t.xyz.data() + 3 * p0, d.xyz.data(),
+                   t.valid.data() + p0);
+}
+
 }  // namespace
 
 std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
@@ -135,21 +279,17 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
   if (t.frame_offsets.size() != t.frames + 1 || t.xyz.size() != total * 3 ||
       t.valid.size() != total)
     fail(ErrorCode::kInvalidParameter, t.source, "ragged take arrays do not match its offsets");
+  if (t.points != 0 || !t.labels.empty())  // take.h: a ragged take has neither
+    fail(ErrorCode::kInvalidParameter, t.source,
+         "a ragged take has no per-point labels or shared point count (points " +
+             std::to_string(t.points) + ", " + std::to_string(t.labels.size()) + " labels)");
+  for (const PointAttribute& a : t.attributes)
+    if (a.data.size() != total * a.bytes_per_point() && !opts.drop_fields)
+      fail(ErrorCode::kInvalidParameter, t.source,
+           "point field '" + a.name + "' does not hold a value for every point");
   refuse_unsupported(t, opts);
   const Grid grid = choose_grid(t, opts);
-  Take meta_take = t;  // META without the dropped fields; positions live in SCNW
-  meta_take.attributes.clear();
-  meta_take.xyz.clear();
-  meta_take.valid.clear();
-  if (meta_take.pcd) {
-    auto x = std::make_shared<PCDExtra>(*meta_take.pcd);
-    x->fields.erase(std::remove_if(x->fields.begin(), x->fields.end(),
-                                   [](const PCDField& f) {
-                                     return f.name != "x" && f.name != "y" && f.name != "z";
-                                   }),
-                    x->fields.end());
-    meta_take.pcd = x;
-  }
+  const Take meta_take = meta_take_of(t, opts);
   StreamHeader h;
   h.frames = t.frames;
   h.window_frames = window_frames(t, opts);
@@ -166,53 +306,15 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
   const size_t meta_at = out.size() - meta.size() - kChunkOverhead;
   StreamFeatures features;
   features.minor = kFormatScans.minor;
-  StreamContext ctx =
+  const StreamContext ctx =
       read_context(h, read_chunk(out.data(), out.size(), meta_at, t.source), features, t.source);
-  const std::vector<uint32_t> ring = ring_field(t);
-  std::vector<IndexEntry> index;
-  size_t position_bytes = 0;
-  ErrorAccumulator acc;
+  RaggedRun r{t, opts, grid, ctx, meta_take, ring_field(t), &out, {}, 0, 0, ErrorAccumulator()};
   for (size_t w = 0; w * h.window_frames < t.frames; ++w) {
     const size_t f0 = w * h.window_frames, f1 = std::min<size_t>(f0 + h.window_frames, t.frames);
-    const size_t p0 = t.frame_begin(f0), p1 = t.frame_begin(f1);
-    FrameBlock b;
-    b.frames = 1;
-    b.points = p1 - p0;
-    b.xyz.assign(t.xyz.begin() + static_cast<std::ptrdiff_t>(3 * p0),
-                 t.xyz.begin() + static_cast<std::ptrdiff_t>(3 * p1));
-    b.valid.assign(t.valid.begin() + static_cast<std::ptrdiff_t>(p0),
-                   t.valid.begin() + static_cast<std::ptrdiff_t>(p1));
-    const WindowInts wi = quantise_window(b, grid);
-    ScanGeometry g;
-    for (size_t f = f0; f < f1; ++f) g.counts.push_back(static_cast<uint32_t>(t.frame_points(f)));
-    g.q = wi.q;
-    g.valid = b.valid;
-    ScanHints hints;
-    if (!ring.empty())
-      hints.ring.assign(ring.begin() + static_cast<std::ptrdiff_t>(p0),
-                        ring.begin() + static_cast<std::ptrdiff_t>(p1));
-    hints.xyz.resize(b.xyz.size());
-    for (size_t i = 0; i < b.xyz.size(); ++i) hints.xyz[i] = static_cast<float>(b.xyz[i]);
-    ByteWriter pw;
-    pw.varint(w);
-    pw.varint(p1 - p0);
-    std::vector<uint8_t> payload = std::move(pw.buffer());
-    const std::vector<uint8_t> geo = encode_scan_geometry(g, hints);
-    payload.insert(payload.end(), geo.begin(), geo.end());
-    const size_t base = out.size();
-    append_chunk(&out, "SCNW", payload);
-    index.push_back(IndexEntry{base, out.size() - base});
-    position_bytes += out.size() - base;
-    if (opts.check || stats) {  // the one decoder gives the window back
-      FrameBlock d;
-      decode_window_chunks(ctx, w, out.data() + base, base, out.size(), &d);
-      if (opts.check) check_window(t, p0, f0, d, opts.max_error);
-      acc.add_ragged(f1 - f0, d.frame_offsets.data(), t.xyz.data() + 3 * p0, d.xyz.data(),
-                     t.valid.data() + p0);
-    }
+    append_window(r, w, f0, f1, stats != nullptr);
     if (opts.progress) opts.progress(f1, t.frames);
   }
-  append_chunk(&out, "INDX", encode_index(index));
+  append_chunk(&out, "INDX", encode_index(r.index));
   if (stats) {
     *stats = CompressStats();
     stats->bytes = out.size();
@@ -220,10 +322,11 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
     stats->bpvf = total ? 8.0 * static_cast<double>(out.size()) / static_cast<double>(total) : 0;
     stats->step = grid.step;
     stats->mode = mode_name(grid.mode);
-    stats->error = acc.finish();
+    stats->error = r.acc.finish();
     stats->codec = "none";
-    stats->position_bytes = position_bytes;
-    stats->other_bytes = out.size() - position_bytes;
+    stats->position_bytes = r.position_bytes;
+    stats->attribute_bytes = r.attribute_bytes;
+    stats->other_bytes = out.size() - r.position_bytes - r.attribute_bytes;
   }
   return out;
 }

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "capz/error.h"
-#include "coding/analog/analog_entropy.h"
 #include "coding/attributes.h"
+#include "coding/attributes_entropy.h"
 #include "coding/attributes_lanes.h"
 #include "coding/bytes.h"
 #include "coding/entropy.h"
@@ -138,7 +138,7 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
       all_valid.assign(n, 1);
     const uint8_t* mask_of_window = valid ? valid : all_valid.data();
     if (uses_near && near.empty()) near = nearest_points(q, mask_of_window, frames, points);
-    IntDecoder dec(block, static_cast<size_t>(m), analog::kAnalogContexts, awhat);
+    IntDecoder dec(block, static_cast<size_t>(m), kContexts, awhat);
     IntDecoder::Cursor c = dec.cursor();
     bytes.assign(n * bpp, 0);
     for (size_t j = 0; j < lanes; ++j) {
@@ -160,8 +160,7 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
                       last_sign = static_cast<int>(sign);
                     }
                     const uint64_t p = unit_prediction(x, y, completable, sign);
-                    const int64_t res =
-                        analog::get_float_residual(&c, &st.prev_nb[completable ? 0 : 1]);
+                    const int64_t res = get_float_residual(&c, &st.prev_nb[completable ? 0 : 1]);
                     *v = (p + static_cast<uint64_t>(res)) & 0xFFFFFFFFu;
                   });
         store_lane(s, cur_lane, n, j, &bytes);
@@ -170,8 +169,8 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
       walk_lane(pred[j], &cur_lane.u, mask_of_window, near.data(), frames, points, W, mask,
                 [&](uint64_t* v, uint64_t p, bool gap) {
                   const int64_t res = cur_lane.float_residuals
-                                          ? analog::get_float_residual(&c, &st.prev_nb[gap])
-                                          : analog::get_residual(&c, &st.mag[gap]);
+                                          ? get_float_residual(&c, &st.prev_nb[gap])
+                                          : get_int_residual(&c, &st.mag[gap]);
                   *v = (p + static_cast<uint64_t>(res)) & mask;
                 });
       if (!colour) store_lane(s, cur_lane, n, j, &bytes);

@@ -1,17 +1,16 @@
-// ATTR's encoder (docs/FORMAT.md 13, 13.4, 13.5): per attribute, lanes of ordered integers with one
-// of nine predictors per lane (ten in a 6.x stream: 9 completes a unit vector's component from two
-// other elements; twelve in a 7.x stream: 10 and 11 read the point's nearest earlier point in
-// space) and residuals through the analog coder's entropy stage (4.2.5), or LZMA2 of
-// its byte planes or bytes (in a 6.x stream also of its valid points' values apart from its gap
-// points', 6.2), whichever is smaller.
+// ATTR's encoder (docs/FORMAT.md 13): per attribute, lanes of ordered integers with one of twelve
+// predictors per lane (13.3; 9 completes a unit vector's component from two other elements,
+// 13.4; 10 and 11 read the point's nearest earlier point in space, 13.5) and residuals coded
+// under ATTR's contexts (attributes_entropy.h, 13.6), or LZMA2 of its byte planes or bytes, also
+// of its valid points' values apart from its gap points' (13.7), whichever is smaller.
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
 
 #include "capz/error.h"
-#include "coding/analog/analog_entropy.h"
 #include "coding/attributes.h"
+#include "coding/attributes_entropy.h"
 #include "coding/attributes_lanes.h"
 #include "coding/bytes.h"
 #include "coding/entropy.h"
@@ -67,7 +66,7 @@ int choose_predictor(Lane& l, const uint8_t* valid, bool gaps, const uint32_t* n
     if ((id >= 5 && id <= 8 && !gaps) || (id >= kNearPredictor && !near)) continue;
     uint64_t cost = 0;
     walk_lane(id, &l.u, valid, near, frames, N, W, mask, [&](uint64_t* v, uint64_t pred, bool) {
-      cost += bit_length(analog::zigzag64(signed_residual((*v - pred) & mask, l.bits)));
+      cost += bit_length(zigzag64(signed_residual((*v - pred) & mask, l.bits)));
     });
     if (cost < best_cost) {
       best_cost = cost;
@@ -109,7 +108,7 @@ uint64_t unit_cost(Lane& l, const std::vector<AttrSpec>& specs,
   walk_unit(&l.u, specs, data, refs, [&](uint64_t* v, float x, float y, bool completable) {
     const uint32_t sign = static_cast<uint32_t>(from_ordered(*v, 'F', 32) >> 31);
     const uint64_t pred = unit_prediction(x, y, completable, sign);
-    cost += bit_length(analog::zigzag64(signed_residual((*v - pred) & 0xFFFFFFFFu, 32))) +
+    cost += bit_length(zigzag64(signed_residual((*v - pred) & 0xFFFFFFFFu, 32))) +
             (completable ? 1 : 0);
   });
   return cost;
@@ -126,7 +125,7 @@ std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
   const bool colour = is_colour_field(s);
   ByteWriter w;
   w.u8(colour ? 1 : 0);
-  IntEncoder enc(analog::kAnalogContexts);
+  IntEncoder enc(kContexts);
   IntEncoder::Cursor c = enc.cursor();
   Lane l;
   for (size_t j = 0; j < lane_count(s, colour); ++j) {
@@ -153,8 +152,8 @@ std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
           q = static_cast<int>(sign);
         }
         const uint64_t p = unit_prediction(x, y, completable, sign);
-        analog::put_float_residual(&c, &st.prev_nb[completable ? 0 : 1],
-                                   signed_residual((*v - p) & 0xFFFFFFFFu, 32));
+        put_float_residual(&c, &st.prev_nb[completable ? 0 : 1],
+                           signed_residual((*v - p) & 0xFFFFFFFFu, 32));
       });
       continue;
     }
@@ -163,9 +162,9 @@ std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
               [&](uint64_t* v, uint64_t p, bool gap) {
                 const int64_t r = signed_residual((*v - p) & mask, l.bits);
                 if (l.float_residuals)
-                  analog::put_float_residual(&c, &st.prev_nb[gap], r);
+                  put_float_residual(&c, &st.prev_nb[gap], r);
                 else
-                  analog::put_residual(&c, &st.mag[gap], static_cast<int32_t>(r));
+                  put_int_residual(&c, &st.mag[gap], static_cast<int32_t>(r));
               });
   }
   enc.commit(c);
@@ -176,13 +175,6 @@ std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
 }
 
 }  // namespace
-
-std::vector<AttrSpec> attribute_specs(const std::vector<PCDField>& fields) {
-  std::vector<AttrSpec> out;
-  for (const PCDField& f : fields)
-    if (f.name != "x" && f.name != "y" && f.name != "z") out.push_back(f);
-  return out;
-}
 
 bool is_colour_field(const AttrSpec& s) {
   return s.size == 4 && s.count == 1 && (s.type == 'F' || s.type == 'U') &&

@@ -11,8 +11,8 @@
 #include <cstring>
 #include <vector>
 
-#include "coding/analog/analog_entropy.h"
 #include "coding/attributes.h"
+#include "coding/attributes_entropy.h"
 #include "coding/neighbours.h"
 #include "coding/quantiser.h"
 
@@ -24,7 +24,6 @@ inline constexpr int kUnitPredictor = 9;
 inline constexpr int kNearPredictor = 10;  // 7.3: the nearest earlier point's value
 inline constexpr int kNearChangePredictor =
     11;  // 7.3: its change since the previous frame, carried over
-inline constexpr int kSignContext = analog::kParamContext;  // 81, 82: unused elsewhere in ATTR
 
 // One lane: frames x points ordered values of `bits` bits.
 struct Lane {
@@ -238,7 +237,7 @@ inline void walk_unit(std::vector<uint64_t>* lane, const std::vector<AttrSpec>& 
 
 // Entropy state of one lane: for valid points and (predictors 5..8) for gap points.
 struct LaneState {
-  analog::Magnitude mag[2];
+  Magnitude mag[2];
   int prev_nb[2] = {0, 0};
 };
 

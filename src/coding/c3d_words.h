@@ -22,4 +22,9 @@ void decode_c3d_words(const uint8_t* data, size_t size, const uint8_t* valid, si
 bool residuals_on_grid(const std::vector<float>& residual, const std::vector<uint8_t>& valid,
                        double point_scale);
 
+// The residual of grid step k (mode 2), as encoder and decoder compute it.
+inline float residual_from_grid(int32_t k, double scale) {
+  return static_cast<float>(static_cast<double>(k) * scale);
+}
+
 }  // namespace capz

@@ -1,6 +1,7 @@
 // The encoder's choice of a predictor per point for one window of positions (docs/FORMAT.md 8:
 // predictors, reference points, period), by the estimated coded size of each point's residuals.
-// Built into the decoder library beside positions.cpp, whose encode_positions uses it.
+// Encoder only (capz::capz), used by encode_positions (positions_encode.cpp); the decoder reads
+// the choice from the payload (positions.cpp).
 #pragma once
 
 #include <cstddef>

@@ -3,11 +3,35 @@
 #include <string>
 
 #include "capz/error.h"
+#include "coding/bytes.h"
 #include "coding/scan_geometry.h"
 #include "coding/scan_shared.h"
 #include "coding/scan_table.h"
 
 namespace capz {
+
+namespace scan {
+
+void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, const Table& t,
+                  std::vector<uint8_t>* out) {
+  ByteWriter w;
+  w.varint(g.counts.size());
+  for (uint32_t n : g.counts) w.varint(n);
+  w.bytes(flags);
+  w.varint(t.rings());
+  if (t.rings() > 0) {
+    w.f32(t.step);
+    w.varint(t.columns);
+    for (size_t k = 0; k < t.rings(); ++k) {
+      w.f32(t.azimuth0[k]);
+      w.f32(t.slope[k]);
+      w.f32(t.z0[k]);
+    }
+  }
+  out->insert(out->end(), w.buffer().begin(), w.buffer().end());
+}
+
+}  // namespace scan
 
 namespace {
 

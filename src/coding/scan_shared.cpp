@@ -59,25 +59,6 @@ int32_t round_clamp(double v) {
   return static_cast<int32_t>(std::floor(v + 0.5));
 }
 
-void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, const Table& t,
-                  std::vector<uint8_t>* out) {
-  ByteWriter w;
-  w.varint(g.counts.size());
-  for (uint32_t n : g.counts) w.varint(n);
-  w.bytes(flags);
-  w.varint(t.rings());
-  if (t.rings() > 0) {
-    w.f32(t.step);
-    w.varint(t.columns);
-    for (size_t k = 0; k < t.rings(); ++k) {
-      w.f32(t.azimuth0[k]);
-      w.f32(t.slope[k]);
-      w.f32(t.z0[k]);
-    }
-  }
-  out->insert(out->end(), w.buffer().begin(), w.buffer().end());
-}
-
 Header read_header(const uint8_t* data, size_t size, const std::string& what, size_t max_points) {
   ByteReader r(data, size, what);
   Header h;

@@ -63,7 +63,8 @@ inline int bit_length(int64_t v) {
   return u == 0 ? 0 : 64 - __builtin_clzll(u);
 }
 
-// The header: frames, counts, flags, table (the entropy-coded block follows it).
+// The header: frames, counts, flags, table (the entropy-coded block follows it). write_header
+// is the encoder's (scan_encode.cpp), read_header the decoder's (scan_shared.cpp).
 void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, const Table& t,
                   std::vector<uint8_t>* out);
 struct Header {

@@ -2,15 +2,19 @@
 // - make_synth: a deforming blob whose pose repeats with a period, optionally moved by a rigid
 //   motion (rotation about z and a translation) — what ts's clustering and PCA look for;
 // - rigid_bodies: rigid bodies spinning and translating on seeded paths — what pdct's local
-//   frames look for.
+//   frames look for;
+// - synthetic_sweeps: a ragged take of 16-beam spinning LiDAR sweeps, each its own point count.
 #pragma once
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "capz/codec.h"
+#include "codec/transform.h"
 
 namespace capz_test {
 
@@ -99,6 +103,42 @@ inline Synth rigid_bodies(size_t bodies, size_t per_body, size_t frames, uint32_
           out[a] = v[a] * c + kxv[a] * s + k[a] * kv * (1 - c) + shift[a] + noise * g(rng);
       }
     }
+  }
+  return t;
+}
+
+// A ragged take (a PCD folder's, metres, float32 coordinates) of `frames` sweeps of a 16-beam
+// spinning LiDAR: frame f has columns0 + dcolumns f columns of 16 points (elevations -15 .. 15
+// degrees), the range r0 + r1 |sin(k azimuth)| plus seeded noise within +-noise; point i (over
+// all frames) is a NaN gap when i % gap_every == gap_at. Frames are named f0.pcd, f1.pcd, ...
+inline capz::Take synthetic_sweeps(size_t frames, size_t columns0, size_t dcolumns, double r0,
+                                   double r1, double k, double noise, uint32_t seed,
+                                   size_t gap_every, size_t gap_at) {
+  capz::Take t;
+  t.source = "synthetic";
+  t.format = capz::Format::kPCDFolder;
+  t.units = "m";
+  t.frames = frames;
+  t.frame_offsets.assign(1, 0);
+  t.pcd = std::make_shared<capz::PCDExtra>();
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> jitter(-noise, noise);
+  const double pi = 3.14159265358979323846, nan = std::numeric_limits<double>::quiet_NaN();
+  for (size_t f = 0; f < frames; ++f) {
+    const size_t columns = columns0 + dcolumns * f;
+    for (size_t c = 0; c < columns; ++c)
+      for (int ring = 0; ring < 16; ++ring) {
+        const double az = 2 * pi * static_cast<double>(c) / static_cast<double>(columns);
+        const double el = (-15.0 + 2.0 * ring) * pi / 180;
+        const double r = r0 + r1 * std::fabs(std::sin(k * az)) + jitter(rng);
+        const bool gap = t.valid.size() % gap_every == gap_at;
+        t.xyz.push_back(gap ? nan : static_cast<float>(r * std::cos(el) * std::cos(az)));
+        t.xyz.push_back(gap ? nan : static_cast<float>(r * std::cos(el) * std::sin(az)));
+        t.xyz.push_back(gap ? nan : static_cast<float>(r * std::sin(el)));
+        t.valid.push_back(gap ? 0 : 1);
+      }
+    t.frame_offsets.push_back(t.valid.size());
+    t.pcd->frame_names.push_back("f" + std::to_string(f) + ".pcd");
   }
   return t;
 }

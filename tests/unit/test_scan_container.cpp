@@ -14,39 +14,14 @@
 #include "capz/io.h"
 #include "coding/bytes.h"
 #include "coding/crc32c.h"
+#include "synthetic.h"
 
 namespace capz {
 namespace {
 
 // A synthetic 16-beam spinning sweep per frame, each frame its own point count, with NaN gaps.
 Take synthetic_scan(size_t frames) {
-  Take t;
-  t.source = "synthetic";
-  t.format = Format::kPCDFolder;
-  t.units = "m";
-  t.frames = frames;
-  t.frame_offsets.assign(1, 0);
-  t.pcd = std::make_shared<PCDExtra>();
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> noise(-0.3, 0.3);
-  for (size_t f = 0; f < frames; ++f) {
-    const size_t columns = 150 + 37 * f;
-    for (size_t c = 0; c < columns; ++c)
-      for (int k = 0; k < 16; ++k) {
-        const double az = 2 * M_PI * static_cast<double>(c) / static_cast<double>(columns);
-        const double el = (-15.0 + 2.0 * k) * M_PI / 180;
-        const double r = 5 + 40 * std::fabs(std::sin(3 * az)) + noise(rng);
-        const bool gap = (c * 16 + static_cast<size_t>(k)) % 23 == 5;
-        const double nan = std::numeric_limits<double>::quiet_NaN();
-        t.xyz.push_back(gap ? nan : static_cast<float>(r * std::cos(el) * std::cos(az)));
-        t.xyz.push_back(gap ? nan : static_cast<float>(r * std::cos(el) * std::sin(az)));
-        t.xyz.push_back(gap ? nan : static_cast<float>(r * std::sin(el)));
-        t.valid.push_back(gap ? 0 : 1);
-      }
-    t.frame_offsets.push_back(t.valid.size());
-    t.pcd->frame_names.push_back("f" + std::to_string(f) + ".pcd");
-  }
-  return t;
+  return capz_test::synthetic_sweeps(frames, 150, 37, 5, 40, 3, 0.3, 7, 23, 5);
 }
 
 // Every coordinate within the bound (also as the float32 a PCD writer stores), gaps in place,
@@ -106,7 +81,8 @@ TEST(ScanContainer, RefusesWhatIsNotCodedYet) {
   a.name = "intensity";
   a.data.assign(t.total_points() * 4, 1);
   t.attributes.push_back(a);
-  EXPECT_THROW(compress(t, at(0.01)), Error);
+  const std::vector<uint8_t> kept = compress(t, at(0.01));  // fields kept (test_scan_fields)
+  EXPECT_EQ(decompress(kept.data(), kept.size()).attributes.at(0).data, a.data);
   CompressOptions drop = at(0.01);
   drop.drop_fields = true;
   const std::vector<uint8_t> z = compress(t, drop);
@@ -127,7 +103,7 @@ TEST(ScanContainer, CountsDisagreeingWithThePayloadAreCorrupt) {
   const uint32_t len = load_le32(&z[off + 4]);
   // payload: window varint (0), total varint; bump the total's first byte
   z[off + 8 + 1] = static_cast<uint8_t>(z[off + 8 + 1] ^ 1);
-  const uint32_t crc = crc32c(&z[off], 4 + len);
+  const uint32_t crc = crc32c_update(crc32c(&z[off], 4), &z[off + 8], len);  // type and payload
   for (int k = 0; k < 4; ++k) z[off + 8 + len + k] = static_cast<uint8_t>(crc >> (8 * k));
   try {
     decompress(z.data(), z.size());
@@ -138,10 +114,30 @@ TEST(ScanContainer, CountsDisagreeingWithThePayloadAreCorrupt) {
   }
 }
 
-// The shared scans (/work/shared/data/scan): every ragged sequence at 1 mm and 1 cm.
+// take.h: a ragged take has no per-point labels and no shared point count; a take that says
+// otherwise is refused, never written into a META its decoder would call corrupt.
+TEST(ScanContainer, RaggedTakeWithLabelsOrPointsIsRefused) {
+  Take t = synthetic_scan(2);
+  t.labels.assign(t.frame_points(0), "p");
+  std::string msg;
+  try {
+    compress(t, at(0.01));
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInvalidParameter) << e.what();
+    msg = e.what();
+  }
+  EXPECT_NE(msg.find("labels"), std::string::npos) << msg;
+  t.labels.clear();
+  t.points = t.frame_points(0);
+  EXPECT_THROW(compress(t, at(0.01)), Error);
+  t.points = 0;
+  EXPECT_NO_THROW(compress(t, at(0.01)));
+}
+
+// The shared scans (../shared/data/scan): every ragged sequence at 1 mm and 1 cm.
 TEST(ScanContainer, SharedScansRoundTrip) {
   const char* env = std::getenv("CAPZ_SCAN_DATA");
-  const std::filesystem::path dir = env ? env : "/work/shared/data/scan";
+  const std::filesystem::path dir = env ? env : std::string(CAPZ_SHARED_DATA) + "/scan";
   if (!std::filesystem::is_directory(dir)) GTEST_SKIP() << dir << " is absent";
   size_t done = 0;
   for (const auto& e : std::filesystem::directory_iterator(dir)) {

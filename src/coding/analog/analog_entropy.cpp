@@ -3,25 +3,6 @@
 namespace capz {
 namespace analog {
 
-namespace {
-// put_raw64's n bits.
-uint64_t get_raw64(IntDecoder::Cursor* dec, int n) {
-  if (n < 32) return dec->raw_bits(n);
-  const uint64_t lo = dec->raw_bits(32);
-  return lo | static_cast<uint64_t>(dec->raw_bits(n - 32)) << 32;
-}
-}  // namespace
-
-int64_t get_float_residual(IntDecoder::Cursor* dec, int* prev_nb) {
-  int tok;
-  const uint32_t nb = dec->get(kMagContexts + *prev_nb / 2, &tok);
-  if (nb > 64) dec->corrupt("float residual longer than 64 bits");
-  *prev_nb = static_cast<int>(nb);
-  if (nb < 2) return unzigzag64(nb);
-  const int n = static_cast<int>(nb) - 1;
-  return unzigzag64((uint64_t{1} << n) | get_raw64(dec, n));
-}
-
 int64_t get_float_residual9(IntDecoder::Cursor* dec, int* prev_nb) {
   int tok;
   const int sym = dec->get_symbol(kMagContexts + std::min(*prev_nb, 32));

@@ -14,11 +14,18 @@
 #include <cstdint>
 
 #include "coding/entropy.h"
+#include "coding/residuals.h"
 
 namespace capz {
 namespace analog {
 
-constexpr int kMagContexts = 48;
+// The primitives residuals.h holds for ANLG and ATTR, under their names of the analog coder.
+using capz::Magnitude;
+using capz::put_raw64;
+using capz::unzigzag64;
+using capz::zigzag64;
+
+constexpr int kMagContexts = kMagnitudeContexts;
 constexpr int kFloatContexts = 33;
 constexpr int kParamContext = kMagContexts + kFloatContexts;
 constexpr int kCoefContext = kParamContext + 1;
@@ -39,37 +46,6 @@ constexpr int kAnalogContexts = kAboveContext + 1;
 // its context's model codes d in 1 .. 14 itself.
 constexpr int kRelShift = 14;
 
-// Running magnitude of a residual sequence: avg in 1/16 units, updated by an exponential mean
-// with weight 1/8. Encoder and decoder update it identically after every residual.
-struct Magnitude {
-  uint64_t avg = 0;
-  int context() const {
-    // Half-bit steps of log2(avg): 2 * bit length + the bit below the top one.
-    const uint64_t a = avg >> 2;
-    if (a < 2) return static_cast<int>(a);
-    const int bits = 64 - __builtin_clzll(a);
-    const int c = 2 * bits - 2 + static_cast<int>((a >> (bits - 2)) & 1);
-    return c < kMagContexts ? c : kMagContexts - 1;
-  }
-  void update(uint32_t u) {
-    const uint64_t t = static_cast<uint64_t>(u) << 4;
-    avg = avg + (t >> 3) - (avg >> 3);
-  }
-};
-
-// One int32 residual under the magnitude context (the zig-zag of |v| < 2^31 fits 32 bits): how
-// ATTR codes an integer lane's residuals (FORMAT.md 5.3).
-inline void put_residual(IntEncoder::Cursor* enc, Magnitude* m, int32_t v) {
-  const uint32_t u = zigzag(v);
-  enc->put(u, m->context());
-  m->update(u);
-}
-inline int32_t get_residual(IntDecoder::Cursor* dec, Magnitude* m) {
-  int tok;
-  const uint32_t u = dec->get(m->context(), &tok);
-  m->update(u);
-  return unzigzag(u);
-}
 // FORMAT.md 9.5: an analog window's coder starts each low-bit model on the symbols it can code
 // (2 after tokens 4 and 5, whose values have one bit below the token; 4 after the others).
 template <typename Coder>
@@ -135,39 +111,11 @@ inline int32_t get_residual_v2(IntDecoder::Cursor* dec, Magnitude* m) {
   return unzigzag(u);
 }
 
-inline uint64_t zigzag64(int64_t v) {
-  return (static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63);
-}
-inline int64_t unzigzag64(uint64_t u) {
-  return static_cast<int64_t>((u >> 1) ^ (0 - (u & 1)));
-}
-
-// The n (1..63) low bits of u, raw: in one field when fewer than 32, else the low 32 bits and
-// then the rest.
-inline void put_raw64(IntEncoder::Cursor* enc, uint64_t u, int n) {
-  if (n < 32) {
-    enc->raw_bits(static_cast<uint32_t>(u) & ((1u << n) - 1), n);
-  } else {
-    enc->raw_bits(static_cast<uint32_t>(u), 32);
-    enc->raw_bits(static_cast<uint32_t>(u >> 32) & ((1u << (n - 32)) - 1), n - 32);
-  }
-}
-
-// A float residual d (the wrapping difference of two ordered bit patterns, as int64): its bit
-// length nb = 0..64 of zigzag64(d) under context min(prev_nb, 64) / 2, then the nb - 1 bits
-// below the leading one, raw (low 32 first when 32 or more). *prev_nb is updated.
-inline void put_float_residual(IntEncoder::Cursor* enc, int* prev_nb, int64_t d) {
-  const uint64_t u = zigzag64(d);
-  const int nb = u == 0 ? 0 : 64 - __builtin_clzll(u);
-  enc->put(static_cast<uint32_t>(nb), kMagContexts + *prev_nb / 2);
-  *prev_nb = nb;
-  if (nb < 2) return;
-  put_raw64(enc, u, nb - 1);
-}
-int64_t get_float_residual(IntDecoder::Cursor* dec, int* prev_nb);
-
-// FORMAT.md 11.10: as put_float_residual, but the (up to) 4 bits below the leading one are one
-// symbol under context kTopContext + nb - 2, and only the bits below them are raw.
+// FORMAT.md 11.10: a float residual d (the wrapping difference of two ordered bit patterns, as
+// int64): the bit length nb of zigzag64(d) relative to the previous one, as a symbol under
+// context kMagContexts + min(prev_nb, 32) (or an escape and how far beyond, under kFarContext);
+// then the (up to) 4 bits below the leading one as one symbol under context
+// kTopContext + nb - 2, and only the bits below them raw. *prev_nb is updated.
 inline void put_float_residual9(IntEncoder::Cursor* enc, int* prev_nb, int64_t d) {
   const uint64_t u = zigzag64(d);
   const int nb = u == 0 ? 0 : 64 - __builtin_clzll(u);

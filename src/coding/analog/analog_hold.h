@@ -43,5 +43,19 @@ void expand_hold(const double* kept, size_t n, const Hold& h, double* col, size_
 void write_hold(const Hold& h, ByteWriter* w);
 Hold read_hold(ByteReader* in, size_t n);
 
+// What the encoder's search (analog_hold_encode.cpp) and the decoder (analog_hold.cpp) share.
+namespace hold {
+
+inline constexpr uint32_t kMinPeriod = 2, kMaxPeriod = 65535;
+
+// The anchors of a channel of n >= 1 samples: sample 0 and the i in [1, n) with i mod P = phase.
+inline size_t anchor_count(size_t n, uint32_t period, uint32_t phase) {
+  const size_t at_phase =
+      phase == 0 ? (n - 1) / period : (phase < n ? (n - 1 - phase) / period + 1 : 0);
+  return 1 + at_phase;
+}
+
+}  // namespace hold
+
 }  // namespace analog
 }  // namespace capz

@@ -49,5 +49,31 @@ void expand_interp(const double* kept, size_t n, const Interp& in, double* col, 
 void write_interp(const Interp& in, ByteWriter* w);
 Interp read_interp(ByteReader* in, size_t n);
 
+// What the encoder's search (analog_interp_encode.cpp) and the decoder (analog_interp.cpp) share.
+namespace interp {
+
+inline constexpr unsigned kMinPeriod = 2, kMaxPeriod = 15;
+
+// The last anchor of a channel of n >= 1 samples: P * floor((n - 1) / P).
+inline size_t last_anchor(size_t n, unsigned period) {
+  return (n - 1) / period * period;
+}
+// Its interpolable samples: those below the last anchor that are not anchors.
+inline size_t interpolable_count(size_t n, unsigned period) {
+  const size_t L = last_anchor(n, period);
+  return L - L / period;
+}
+
+// interpolate before its float32 rounding (inlined into the encoder's search).
+inline double interpolate_unrounded(double xa, double xb, unsigned j, unsigned period) {
+  // Separate statements: each product, the sum and the quotient rounded on their own.
+  const double wa = xa * static_cast<double>(period - j);
+  const double wb = xb * static_cast<double>(j);
+  const double sum = wa + wb;
+  return sum / static_cast<double>(period);
+}
+
+}  // namespace interp
+
 }  // namespace analog
 }  // namespace capz

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "coding/analog/analog_repr.h"
 #include "coding/bytes.h"
 
 namespace capz {
@@ -19,6 +20,26 @@ void write_value_table(const std::vector<double>& table, ByteWriter* w);
 // Reads a table of a channel of n coded samples; corrupt (naming in->what()) when it is empty,
 // not increasing, larger than the bytes left can hold, or of an unknown flag.
 std::vector<double> read_value_table(ByteReader* in, size_t n);
+
+// What the writer (analog_table_encode.cpp) and the reader (analog_table.cpp) share.
+namespace table {
+
+// A table's entries in the table's ordered space: 32-bit float patterns when f32, else 64-bit.
+inline uint64_t table_ordered(double v, bool f32) {
+  return f32 ? ordered_f32(v) : ordered_bits(bits_of(v));
+}
+inline double from_table_ordered(uint64_t o, bool f32) {
+  return f32 ? from_ordered_f32(static_cast<uint32_t>(o)) : from_bits(from_ordered_bits(o));
+}
+// The lattice prediction of an entry from the previous one (FORMAT.md 11.7): prev + m * step in
+// binary64, two separate operations, rounded to float32 for a float32 table.
+inline double lattice_next(double prev, uint32_t m, double step, bool f32) {
+  const double d = static_cast<double>(m) * step;
+  const double p = prev + d;
+  return f32 ? round_to_float32(p) : p;
+}
+
+}  // namespace table
 
 }  // namespace analog
 }  // namespace capz

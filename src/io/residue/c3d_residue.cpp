@@ -1,4 +1,6 @@
-// capz — C3D residue (see c3d_residue.h; byte layout in docs/FORMAT.md 7, 14).
+// The C3D residue (see c3d_residue.h; byte layout in docs/FORMAT.md 7, 14): what its encoder and
+// decoder share (c3d_residue_shared.h), the frames regenerated, and the decoder; the encoder is
+// c3d_residue_encode.cpp.
 #include "io/residue/c3d_residue.h"
 
 #include <algorithm>
@@ -9,6 +11,7 @@
 #include "capz/error.h"
 #include "coding/bytes.h"
 #include "io/c3d_internal.h"
+#include "io/residue/c3d_residue_shared.h"
 #include "io/residue/pack.h"
 #include "io/residue/patch.h"
 #include "io/residue/windows.h"
@@ -16,9 +19,7 @@
 namespace capz {
 namespace residue {
 
-namespace {
-
-constexpr uint8_t kKindC3D = 1;
+namespace c3dr {
 
 size_t elem_size(const C3DFrameLayout& lay) {
   return lay.float_storage ? 4 : 2;
@@ -71,7 +72,7 @@ std::vector<uint8_t> dictionary(std::vector<C3DGroup> groups, int processor) {
 // kInternal on the encoding side (the caller's blocks are wrong), kCorrupt on the decoding side
 // (the residue's layout does not fit the decoded take).
 void check_block(const C3DFrameLayout& lay, const FrameBlock& b, const std::string& name,
-                 ErrorCode code = ErrorCode::kInternal) {
+                 ErrorCode code) {
   const bool words = !b.residual.empty();
   const uint64_t rotations =
       lay.rotations ? b.frames * (lay.rot_per_frame / c3d::kRotationBytes) : 0;
@@ -99,7 +100,9 @@ bool word4_negative(const C3DFrameLayout& lay, const uint8_t* q) {
   return (w[3] & 0x80) != 0;
 }
 
-}  // namespace
+}  // namespace c3dr
+
+using namespace c3dr;
 
 void regenerate_c3d_frames(const C3DFrameLayout& lay, const FrameBlock& b, uint8_t* out) {
   check_block(lay, b, "");
@@ -134,120 +137,6 @@ void regenerate_c3d_rotations(const C3DFrameLayout& lay, const FrameBlock& b, ui
   c3d::encode_c3d_rotations(b.rotation_matrices.data(), b.rotation_reliability.data(),
                             n / c3d::kRotationBytes, out);
   to_processor_form(lay.processor, 4, out, n);
-}
-
-// ---- encoder ---------------------------------------------------------------------------------
-
-C3DResidueEncoder::C3DResidueEncoder(const std::string& path) : in_(path) {
-  const uint64_t size = in_.size();
-  std::vector<uint8_t> head(static_cast<size_t>(std::min<uint64_t>(size, c3d::kBlock)));
-  in_.read_at(0, head.data(), head.size());
-  const size_t extent = c3d::header_extent(head.data(), head.size(), size);
-  if (extent > head.size()) {
-    head.resize(extent);
-    in_.read_at(0, head.data(), extent);
-  }
-  c3d::DataLayout dl;
-  c3d::read_header(head.data(), head.size(), size, path, &dl);
-  lay_.processor = dl.nf.processor;
-  lay_.float_storage = dl.float_storage;
-  lay_.analog_unsigned = dl.analog_unsigned;
-  lay_.scale = dl.scale;
-  lay_.frames = dl.frames;
-  lay_.points = dl.points;
-  lay_.analog_values = dl.analog_values;
-  lay_.per_frame = dl.per_frame;
-  lay_.head_size = std::min<uint64_t>(dl.data_offset, size);
-  const uint64_t frames_end = lay_.head_size + lay_.frame_bytes();
-  // The rotation section (within the file: the reader counts only the frames it holds) is
-  // regenerated when it follows the frames.
-  if (dl.rot_per_frame > 0 && dl.rot_offset >= frames_end) {
-    lay_.rotations = true;
-    lay_.rot_per_frame = dl.rot_per_frame;
-    lay_.rot_gap = dl.rot_offset - frames_end;
-  }
-  lay_.tail_size = size - frames_end - lay_.rot_gap - lay_.rotation_bytes();
-}
-
-std::vector<uint8_t> C3DResidueEncoder::window(const FrameBlock& block, bool exact) {
-  check_block(lay_, block, in_.path());
-  const size_t n = block.frames * lay_.per_frame;
-  const size_t nr = lay_.rotations ? block.frames * lay_.rot_per_frame : 0;
-  regen_.resize(n + nr);
-  regenerate_c3d_frames(lay_, block, regen_.data());
-  orig_at_ = lay_.head_size + block.first * lay_.per_frame;
-  orig_size_ = n;
-  if (nr > 0) {  // the frames' bytes, then their rotations' (read from the rotation section)
-    regenerate_c3d_rotations(lay_, block, regen_.data() + n);
-    orig_.resize(n + nr);
-    if (block.file_bytes.size() == n && block.file_bytes_at == orig_at_)
-      std::copy(block.file_bytes.begin(), block.file_bytes.end(), orig_.begin());
-    else
-      in_.read_at(orig_at_, orig_.data(), n);
-    in_.read_at(
-        lay_.head_size + lay_.frame_bytes() + lay_.rot_gap + block.first * lay_.rot_per_frame,
-        orig_.data() + n, nr);
-    orig_ptr_ = orig_.data();
-  } else if (block.file_bytes.size() == n && block.file_bytes_at == orig_at_) {
-    // The block's copy of the file's bytes when it carries them (FrameBlock::file_bytes), else
-    // read here.
-    orig_ptr_ = block.file_bytes.data();
-  } else {
-    orig_.resize(n);
-    in_.read_at(orig_at_, orig_.data(), n);
-    orig_ptr_ = orig_.data();
-  }
-  exact_orig_ = exact;
-  if (!exact) {  // at a bound: absent samples' coordinates are not kept
-    // Those that differ from the regenerated ones are dropped (the original's bytes copied to
-    // orig_ first, when they are the block's).
-    const size_t elem = elem_size(lay_);
-    for (size_t f = 0; f < block.frames; ++f)
-      for (size_t p = 0; p < lay_.points; ++p) {
-        const size_t at = f * lay_.per_frame + p * 4 * elem;
-        if (!block.valid[f * lay_.points + p] && word4_negative(lay_, orig_ptr_ + at) &&
-            !std::equal(&regen_[at], &regen_[at] + 3 * elem, orig_ptr_ + at)) {
-          ++dropped_;
-          if (orig_ptr_ != orig_.data()) {
-            orig_.assign(orig_ptr_, orig_ptr_ + n);
-            orig_ptr_ = orig_.data();
-          }
-          std::copy_n(&regen_[at], 3 * elem, &orig_[at]);
-        }
-      }
-  }
-  std::vector<uint8_t> patch = diff_bytes(regen_.data(), orig_ptr_, n + nr);
-  if (patch.empty()) return {};
-  ByteWriter out;
-  pack(patch, {}, out);
-  return std::move(out.buffer());
-}
-
-std::vector<uint8_t> C3DResidueEncoder::file_part(const std::vector<C3DGroup>& groups) {
-  // The head, the gap before the rotation section, the tail.
-  const size_t head = static_cast<size_t>(lay_.head_size), gap = static_cast<size_t>(lay_.rot_gap);
-  std::vector<uint8_t> rest(head + gap + static_cast<size_t>(lay_.tail_size));
-  in_.read_at(0, rest.data(), head);
-  in_.read_at(lay_.head_size + lay_.frame_bytes(), rest.data() + head, gap);
-  in_.read_at(lay_.file_size() - lay_.tail_size, rest.data() + head + gap,
-              static_cast<size_t>(lay_.tail_size));
-  ByteWriter out;
-  out.u8(kKindC3D);
-  out.u8(static_cast<uint8_t>(lay_.processor));
-  out.u8(static_cast<uint8_t>((lay_.float_storage ? 1 : 0) | (lay_.analog_unsigned ? 2 : 0) |
-                              (lay_.rotations ? 4 : 0)));
-  out.f64(lay_.scale);
-  out.varint(lay_.frames);
-  out.varint(lay_.points);
-  out.varint(lay_.analog_values);
-  out.varint(lay_.per_frame);
-  out.varint(lay_.head_size);
-  if (lay_.rotations) {
-    out.varint(lay_.rot_gap);
-    out.varint(lay_.rot_per_frame);
-  }
-  pack(rest, dictionary(groups, lay_.processor), out);
-  return std::move(out.buffer());
 }
 
 // ---- decoder ---------------------------------------------------------------------------------
@@ -360,21 +249,12 @@ const std::vector<uint8_t>& C3DResidueDecoder::tail() const {
 
 // ---- whole-file helpers ----------------------------------------------------------------------
 
-namespace {
+namespace c3dr {
 const std::vector<C3DGroup>& groups_of(const Take& t) {
   static const std::vector<C3DGroup> kNone;
   return t.c3d ? t.c3d->groups : kNone;
 }
-}  // namespace
-
-FileResidue encode_c3d_residue(const std::string& path, FrameSource& frames, size_t block) {
-  C3DResidueEncoder enc(path);
-  FileResidue r;
-  encode_windows(
-      frames, block, [&](const FrameBlock& b) { return enc.window(b); }, &r);
-  r.file_part = enc.file_part(groups_of(frames.header()));
-  return r;
-}
+}  // namespace c3dr
 
 void rebuild_c3d(const FileResidue& residue, FrameSource& frames, size_t block,
                  const std::function<void(const uint8_t*, size_t)>& write, const std::string& name,

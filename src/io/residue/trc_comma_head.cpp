@@ -1,5 +1,6 @@
-// Decoder library (capz_decode): builds without PCL and without the transform encoders.
-// capz — comma-separated TRC head (see trc_comma_head.h; byte layout in docs/FORMAT.md 14.5).
+// A comma-separated TRC head read back (see trc_comma_head.h; byte layout in docs/FORMAT.md
+// 14.5), the line ends swapped, and what the encoder (trc_comma_head_encode.cpp) shares with it
+// (trc_comma_head_shared.h).
 #include "io/residue/trc_comma_head.h"
 
 #include <algorithm>
@@ -7,25 +8,13 @@
 
 #include "capz/error.h"
 #include "io/residue/pack.h"
+#include "io/residue/trc_comma_head_shared.h"
 #include "io/trc_internal.h"
 
 namespace capz {
 namespace residue {
 
-namespace {
-
-constexpr uint64_t kCRLF = 1, kExceptions = 2;
-// The most fields the padding width may exceed trc::comma_width by.
-constexpr uint64_t kMaxExtraWidth = uint64_t{1} << 20;
-// The most commas of a blank line swap_ending stands in for (a TRCP ending's limit, 14.2).
-constexpr uint64_t kMaxBlank = 4000;
-
-// One line of a head: [begin, body) its text without trailing commas, then `commas` commas,
-// then [cr, end) its carriage returns and line feed.
-struct Line {
-  size_t begin, body, cr, end;
-  uint64_t commas;
-};
+namespace comma {
 
 // The lines of `t` that end in a line feed (a last line without one is kept as it is). With
 // `cut`, each line's trailing commas are its padding, unless cutting them leaves a carriage
@@ -57,10 +46,6 @@ uint64_t default_commas(uint64_t fields, uint64_t width) {
   return width > fields ? width - fields : 0;
 }
 
-uint64_t zigzag(uint64_t width, uint64_t base) {
-  return width >= base ? 2 * (width - base) : 2 * (base - width) - 1;
-}
-
 // `t` with each of `lines` cut of its padding (lines_of(t, true)).
 std::vector<uint8_t> cut_text(const std::vector<uint8_t>& t, const std::vector<Line>& lines) {
   std::vector<uint8_t> cut;
@@ -84,63 +69,9 @@ std::vector<uint8_t> dictionary(const Take& take, const std::string& path, bool 
   return cut_text(text, lines_of(text, true));
 }
 
-// The head's fields for padding width `width`: layout, exceptions, packed cut text.
-std::vector<uint8_t> encode_with(const std::vector<uint8_t>& head, const std::vector<Line>& lines,
-                                 const std::vector<uint8_t>& dict, uint64_t width, uint64_t base,
-                                 bool crlf) {
-  const std::vector<uint8_t> cut = cut_text(head, lines);
-  ByteWriter ex;
-  size_t exceptions = 0, last = 0;
-  for (size_t i = 0; i < lines.size(); ++i) {
-    const Line& l = lines[i];
-    if (l.commas == default_commas(fields_of(&head[l.begin], &head[l.body]), width)) continue;
-    ex.varint(i - last);
-    ex.varint(l.commas);
-    last = i;
-    ++exceptions;
-  }
-  ByteWriter out;
-  out.varint(4 * zigzag(width, base) + (crlf ? kCRLF : 0) + (exceptions ? kExceptions : 0));
-  if (exceptions) {
-    out.varint(exceptions);
-    out.bytes(ex.buffer());
-  }
-  // zstd's levels parse a short text differently: the smallest of a few (an encoder's choice).
-  std::vector<uint8_t> best;
-  for (int level : {19, 22, 12, 6, 3, 1}) {
-    ByteWriter p;
-    pack(cut, dict, p, level);
-    if (best.empty() || p.buffer().size() < best.size()) best = std::move(p.buffer());
-  }
-  out.bytes(best);
-  return std::move(out.buffer());
-}
+}  // namespace comma
 
-}  // namespace
-
-std::vector<uint8_t> encode_comma_head(const std::vector<uint8_t>& head, const Take& take,
-                                       const std::string& path, CommaLayout* layout) {
-  const std::vector<Line> lines = lines_of(head, true);
-  const bool crlf = !lines.empty() && lines[0].end - lines[0].cr >= 2;
-  const std::vector<uint8_t> dict = dictionary(take, path, crlf);
-  // Widths tried: the default, then each of the five header lines' field counts (an encoder's
-  // choice; the smallest payload wins, the default on ties).
-  const uint64_t base = trc::comma_width(take, path);
-  std::vector<uint64_t> widths = {base};
-  for (size_t i = 0; i < lines.size() && i < 5; ++i) {
-    const Line& l = lines[i];
-    const uint64_t w = fields_of(&head[l.begin], &head[l.body]) + l.commas;
-    if (w <= base + kMaxExtraWidth && std::find(widths.begin(), widths.end(), w) == widths.end())
-      widths.push_back(w);
-  }
-  std::vector<uint8_t> best;
-  for (uint64_t w : widths) {
-    std::vector<uint8_t> b = encode_with(head, lines, dict, w, base, crlf);
-    if (best.empty() || b.size() < best.size()) best = std::move(b), layout->width = w;
-  }
-  layout->crlf = crlf;
-  return best;
-}
+using namespace comma;
 
 std::string swap_ending(const std::string& ending, const CommaLayout& layout) {
   const std::string eol = layout.crlf ? "\r\n" : "\n";

@@ -1,20 +1,11 @@
-// capz — residue window loops (see windows.h).
+// The residue's window loop on the decoding side (windows.h); windows_encode.cpp is the
+// encoder's.
 #include "io/residue/windows.h"
 
 #include "capz/error.h"
 
 namespace capz {
 namespace residue {
-
-void encode_windows(FrameSource& frames, size_t block,
-                    const std::function<std::vector<uint8_t>(const FrameBlock&)>& encode,
-                    FileResidue* r) {
-  FrameBlock b;
-  for (size_t f = 0; f < frames.header().frames; f += block) {
-    frames.read(f, block, &b);
-    r->windows.push_back(encode(b));
-  }
-}
 
 void rebuild_windows(const FileResidue& residue, FrameSource& frames, size_t block,
                      const std::function<void(const FrameBlock&, const std::vector<uint8_t>&,
