@@ -133,10 +133,11 @@ TEST(CliScanFormats, PLYFoldersOfEachEncodingComeBackInTheirOwnFormat) {
     const std::string fixed = dir.file(std::string("fixed_") + enc);
     capz::write_take(spiral({400, 400, 400}, capz::Format::kPLYFolder), fixed, wo);
     round_trip(dir, fixed, dir.file(std::string("fixed_back_") + enc) + "/", "", true);
-    // A ragged take: fields are left out until ATTR codes ragged windows (--drop-fields).
+    // A ragged take, with its fields and without them (--drop-fields).
     const std::string ragged = dir.file(std::string("ragged_") + enc);
     capz::write_take(spiral({400, 517, 3, 260}, capz::Format::kPLYFolder), ragged, wo);
-    round_trip(dir, ragged, dir.file(std::string("ragged_back_") + enc) + "/", "--drop-fields",
+    round_trip(dir, ragged, dir.file(std::string("ragged_back_") + enc) + "/", "", true);
+    round_trip(dir, ragged, dir.file(std::string("ragged_xyz_") + enc) + "/", "--drop-fields",
                false);
   }
 }
@@ -150,7 +151,8 @@ TEST(CliScanFormats, BinFoldersAndSingleFilesComeBackInTheirOwnFormat) {
   round_trip(dir, fixed, dir.file("fixed_back") + "/", "", true);
   const std::string ragged = dir.file("ragged");
   capz::write_take(spiral({300, 411, 90}, capz::Format::kBinFolder), ragged, wo);
-  round_trip(dir, ragged, dir.file("ragged_back") + "/", "--drop-fields", false);
+  round_trip(dir, ragged, dir.file("ragged_back") + "/", "", true);
+  round_trip(dir, ragged, dir.file("ragged_xyz") + "/", "--drop-fields", false);
   // --frames: the frames asked for, under their own names.
   std::string out;
   ASSERT_EQ(capz_run("decompress " + dir.file("ragged_back.capz") + " --frames 1:2 -o " +
@@ -183,7 +185,7 @@ TEST(CliScanFormats, LosslessIsRefusedForPLYAndBinLeavingNoArchive) {
 }
 
 // Shared real sweeps: three frames of the 64-beam sequence as ascii PLY, binary PLY and .bin
-// folders (ragged: their fields dropped), and one Velodyne sweep as a PLY file with every field.
+// folders (ragged; every field kept), and one Velodyne sweep as a PLY file with every field.
 TEST(CliScanFormats, SharedSweepsAsPLYAndBinComeBackWithinTheBound) {
   const std::string seq = capz_test::shared_data_or_skip("scan/pandar64-factory20");
   if (seq.empty()) return;
@@ -199,15 +201,15 @@ TEST(CliScanFormats, SharedSweepsAsPLYAndBinComeBackWithinTheBound) {
   wo.folder_format = capz::Format::kPLYFolder;
   wo.ply_encoding = "ascii";
   capz::write_take(t, dir.file("ply_ascii"), wo);
-  round_trip(dir, dir.file("ply_ascii"), dir.file("ply_ascii_back") + "/", "--drop-fields", false);
+  round_trip(dir, dir.file("ply_ascii"), dir.file("ply_ascii_back") + "/", "", true);
   wo.ply_encoding = "binary_little_endian";
   capz::write_take(t, dir.file("ply_bin"), wo);
-  round_trip(dir, dir.file("ply_bin"), dir.file("ply_bin_back") + "/", "--drop-fields", false);
+  round_trip(dir, dir.file("ply_bin"), dir.file("ply_bin_back") + "/", "", true);
   capz::WriteOptions bo;
   bo.folder_format = capz::Format::kBinFolder;
   bo.drop_fields = true;
   capz::write_take(t, dir.file("bin"), bo);
-  round_trip(dir, dir.file("bin"), dir.file("bin_back") + "/", "--drop-fields", false);
+  round_trip(dir, dir.file("bin"), dir.file("bin_back") + "/", "", true);
   wo.ply_encoding = "ascii";
   capz::write_take(capz::read_take(one), dir.file("vlp16.ply"), wo);
   round_trip(dir, dir.file("vlp16.ply"), dir.file("vlp16_back.ply"), "", true);

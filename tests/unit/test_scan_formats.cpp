@@ -140,7 +140,19 @@ TEST(ScanFormats, GivenARaggedPLYTakeThenItComesBackAsPLYWithItsCounts) {
   EXPECT_EQ(d.ply->frame_names, t.ply->frame_names);
   EXPECT_EQ(d.ply->comments, t.ply->comments);
   expect_within(t, d, 0.001);
-  // Point fields of ragged windows: --drop-fields keeps x y z and the header's other facts.
+  // Point fields of ragged windows: kept byte for byte; --drop-fields keeps x y z and the
+  // header's other facts.
+  {
+    const capz::Take tk = ply_take({300, 417, 5, 260}, true);
+    const std::vector<uint8_t> sk = compress_at(tk, 0.001);
+    const capz::Take dk = capz::decompress(sk.data(), sk.size(), "ragged.capz");
+    ASSERT_TRUE(dk.ply);
+    EXPECT_EQ(dk.ply->type_names, tk.ply->type_names);
+    ASSERT_EQ(dk.attributes.size(), 2u);
+    EXPECT_EQ(dk.attributes[0].data, tk.attributes[0].data);
+    EXPECT_EQ(dk.attributes[1].data, tk.attributes[1].data);
+    expect_within(tk, dk, 0.001);
+  }
   const capz::Take tf = ply_take({300, 417, 5, 260}, true);
   const std::vector<uint8_t> sf = compress_at(tf, 0.001, true);
   const capz::Take df = capz::decompress(sf.data(), sf.size(), "ragged.capz");
@@ -161,10 +173,16 @@ TEST(ScanFormats, GivenBinTakesThenTheyComeBackAsBinWithTheirIntensity) {
   EXPECT_EQ(d.attributes[0].data, t.attributes[0].data);
   expect_within(t, d, 0.01);
   const capz::Take r = bin_take({500, 200, 333});
-  const std::vector<uint8_t> rs = compress_at(r, 0.01, true);
-  const capz::Take rd = capz::decompress(rs.data(), rs.size(), "bin.capz");
-  EXPECT_EQ(rd.format, Format::kBinFolder);
-  expect_within(r, rd, 0.01);
+  for (bool drop : {false, true}) {
+    const std::vector<uint8_t> rs = compress_at(r, 0.01, drop);
+    const capz::Take rd = capz::decompress(rs.data(), rs.size(), "bin.capz");
+    EXPECT_EQ(rd.format, Format::kBinFolder);
+    ASSERT_EQ(rd.attributes.size(), drop ? 0u : 1u);
+    if (!drop) {
+      EXPECT_EQ(rd.attributes[0].data, r.attributes[0].data);
+    }
+    expect_within(r, rd, 0.01);
+  }
 }
 
 TEST(ScanFormats, GivenLosslessOnPLYOrBinThenItIsRefusedByName) {
