@@ -138,7 +138,7 @@ void compress_stream(FrameSource& source, const CompressOptions& opts, const std
     t.valid = std::move(b.valid);
     for (size_t a = 0; a < t.attributes.size() && a < b.attributes.size(); ++a)
       t.attributes[a].data = std::move(b.attributes[a]);
-    std::vector<uint8_t> bytes = compress_ragged(t, opts, stats);
+    std::vector<uint8_t> bytes = compress_ragged(t, opts, stats, source.original_file());
     AtomicFile file(path, overwrite);
     StreamOut out(&file);
     out.flush(&bytes);

@@ -13,13 +13,16 @@
 namespace capz {
 
 std::unique_ptr<ResidueWriter> ResidueWriter::open(const FrameSource& source, bool check) {
-  const std::string path = source.original_file();
-  const Format f = source.header().format;
-  const Take& t = source.header();
+  return open(source.original_file(), source.header(), check);
+}
+
+std::unique_ptr<ResidueWriter> ResidueWriter::open(const std::string& path, const Take& t,
+                                                   bool check) {
+  const Format f = t.format;
   const bool pcd = f == Format::kPCDFolder && t.pcd && t.pcd->frame_names.size() == t.frames &&
                    pcd_output_names(t) == t.pcd->frame_names;
   if (path.empty() || (f != Format::kC3D && f != Format::kTRC && !pcd)) return nullptr;
-  return std::unique_ptr<ResidueWriter>(new ResidueWriter(path, source.header(), check));
+  return std::unique_ptr<ResidueWriter>(new ResidueWriter(path, t, check));
 }
 
 ResidueWriter::ResidueWriter(const std::string& path, const Take& header, bool check)

@@ -28,6 +28,9 @@ class ResidueWriter {
   // nullptr unless the source reads an original C3D or TRC file or a PCD folder
   // (FrameSource::original_file).
   static std::unique_ptr<ResidueWriter> open(const FrameSource& source, bool check);
+  // The same for a take `header` read from `path` (the header must outlive the writer).
+  static std::unique_ptr<ResidueWriter> open(const std::string& path, const Take& header,
+                                             bool check);
   ResidueWriter(const std::string& path, const Take& header, bool check);
   ~ResidueWriter();
 

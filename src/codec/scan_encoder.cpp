@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include "capz/error.h"
@@ -11,6 +12,7 @@
 #include "codec/encode_settings.h"
 #include "codec/grid.h"
 #include "codec/grid_choice.h"
+#include "codec/residue_writer.h"
 #include "codec/stream_reader.h"
 #include "coding/attributes.h"
 #include "coding/bytes.h"
@@ -24,14 +26,9 @@ namespace {
 // What format 1.1 does not code yet for frames of their own size: refused, never dropped.
 void refuse_unsupported(const Take& t, const CompressOptions& opts) {
   const std::string what = "frames of their own point counts (a ragged take, format 1.1)";
-  if (opts.lossless)
+  if (!opts.lossless && !(opts.max_error > 0))
     fail(ErrorCode::kInvalidParameter, t.source,
-         "--lossless is not implemented for " + what +
-             ": the byte-exact rebuild of their frame files (a residue of ragged frames) is "
-             "missing; give --max-error");
-  if (!(opts.max_error > 0))
-    fail(ErrorCode::kInvalidParameter, t.source,
-         "only --max-error is implemented for " + what + " (no KG target)");
+         "only --max-error and --lossless are implemented for " + what + " (no KG target)");
   const bool frames = t.format == Format::kPCDFolder || t.format == Format::kPLYFolder ||
                       t.format == Format::kBinFolder;
   if (!frames || t.analog.channels > 0 || t.rotations.segments > 0)
@@ -94,16 +91,23 @@ Grid choose_grid(const Take& t, const CompressOptions& opts) {
   b.xyz = t.xyz;
   b.valid = t.valid;
   scan_block(b, t.source, false, 0, &s);
-  Grid g = bounded_grid(hdr, s, opts.max_error);
-  if (g.mode == PosMode::kDecimal || g.mode == PosMode::kFloat64)
+  // Lossless ("Lossless ragged streams"): a decimal grid or float32 bits; float64 bits do not
+  // fit the scan payload's int32 integers.
+  Grid g = opts.lossless ? lossless_grid(s) : bounded_grid(hdr, s, opts.max_error);
+  if (g.mode == PosMode::kFloat64)
+    fail(ErrorCode::kInvalidParameter, t.source,
+         "--lossless of frames of their own size needs float32 coordinates or ones on a decimal "
+         "grid (these are float64 on none)");
+  if (!opts.lossless && g.mode == PosMode::kDecimal)
     fail(ErrorCode::kInvalidParameter, t.source,
          std::string("no grid for frames of their own size in mode ") + mode_name(g.mode));
   return g;
 }
 
 // Throws kInternal unless the decoded window has the source's counts, gaps and every valid
-// coordinate within the bound, also as the float32 a PCD writer stores.
-void check_window(const Take& t, size_t p0, size_t f0, const FrameBlock& d, double bound) {
+// coordinate within the bound, also as the float32 a PCD writer stores (lossless: bit for bit).
+void check_window(const Take& t, size_t p0, size_t f0, const FrameBlock& d, double bound,
+                  bool exact) {
   const bool f32 = float32_xyz(t);
   const size_t fn = d.frame_offsets.size() - 1;
   for (size_t f = 0; f < fn; ++f)
@@ -116,7 +120,7 @@ void check_window(const Take& t, size_t p0, size_t f0, const FrameBlock& d, doub
     for (size_t a = 0; a < 3; ++a) {
       const double x = t.xyz[3 * (p0 + i) + a], y = d.xyz[3 * i + a];
       const double y32 = f32 ? static_cast<double>(static_cast<float>(y)) : y;
-      if (!(std::fabs(y - x) <= bound && std::fabs(y32 - x) <= bound))
+      if (exact ? !same_bits(x, y) : !(std::fabs(y - x) <= bound && std::fabs(y32 - x) <= bound))
         fail(ErrorCode::kInternal, t.source,
              "self-check: coordinate " + std::to_string(x) + " comes back as " + std::to_string(y) +
                  ", off by more than " + std::to_string(bound));
@@ -193,6 +197,7 @@ struct RaggedRun {
   std::vector<IndexEntry> index;  // INDX
   size_t position_bytes = 0, attribute_bytes = 0;
   ErrorAccumulator acc;
+  ResidueWriter* residue = nullptr;  // a lossless stream of a folder: PCDP per window
 };
 
 // The SCNW chunk of frames [f0, f1) of r.t (window w), appended to r.out; *b gets the window's
@@ -246,6 +251,23 @@ void append_fields_chunk(RaggedRun& r, size_t w, const std::vector<std::vector<u
   r.attribute_bytes += r.out->size() - before;
 }
 
+// Frames [f0, f1) of the take as a ragged block (offsets from the window's first point) with
+// the window's fields as ATTR keeps them: what the residue regenerates the frame files from.
+FrameBlock frames_block(const Take& t, size_t f0, size_t f1,
+                        std::vector<std::vector<uint8_t>> fields) {
+  const size_t p0 = t.frame_begin(f0), p1 = t.frame_begin(f1);
+  std::vector<size_t> counts;
+  for (size_t f = f0; f < f1; ++f) counts.push_back(t.frame_points(f));
+  FrameBlock b;
+  b.reset_ragged(f0, counts);
+  std::copy(t.xyz.begin() + static_cast<std::ptrdiff_t>(3 * p0),
+            t.xyz.begin() + static_cast<std::ptrdiff_t>(3 * p1), b.xyz.begin());
+  std::copy(t.valid.begin() + static_cast<std::ptrdiff_t>(p0),
+            t.valid.begin() + static_cast<std::ptrdiff_t>(p1), b.valid.begin());
+  b.attributes = std::move(fields);
+  return b;
+}
+
 // Window w (frames [f0, f1)): its chunks appended to r.out, then decoded again by the one
 // decoder and checked (opts.check) and measured (stats).
 void append_window(RaggedRun& r, size_t w, size_t f0, size_t f1, bool measure) {
@@ -259,22 +281,26 @@ void append_window(RaggedRun& r, size_t w, size_t f0, size_t f1, bool measure) {
     fields = window_fields(t, *r.meta.pcd, p0, t.frame_begin(f1));
     append_fields_chunk(r, w, fields, b.valid, q);
   }
-  r.index.push_back(IndexEntry{base, r.out->size() - base});
-  if (!r.opts.check && !measure) return;
   FrameBlock d;  // the one decoder gives the window back
-  decode_window_chunks(r.ctx, w, r.out->data() + base, base, r.out->size(), &d);
-  if (r.opts.check) {
-    check_window(t, p0, f0, d, r.opts.max_error);
-    check_fields(t, fields, d);
+  if (r.opts.check || measure) {
+    decode_window_chunks(r.ctx, w, r.out->data() + base, base, r.out->size(), &d);
+    if (r.opts.check) {
+      check_window(t, p0, f0, d, r.opts.max_error, r.grid.lossless);
+      check_fields(t, fields, d);
+    }
+    r.acc.add_ragged(f1 - f0, d.frame_offsets.data(), t.xyz.data() + 3 * p0, d.xyz.data(),
+                     t.valid.data() + p0);
   }
-  r.acc.add_ragged(f1 - f0, d.frame_offsets.data(), t.xyz.data() + 3 * p0, d.xyz.data(),
-                   t.valid.data() + p0);
+  if (r.residue)  // last in the window, rebuilt from d by the self-check
+    r.residue->window_chunk(w, frames_block(t, f0, f1, std::move(fields)),
+                            r.opts.check ? &d : nullptr, r.out);
+  r.index.push_back(IndexEntry{base, r.out->size() - base});
 }
 
 }  // namespace
 
 std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
-                                     CompressStats* stats) {
+                                     CompressStats* stats, const std::string& original) {
   const size_t total = t.total_points();
   if (t.frame_offsets.size() != t.frames + 1 || t.xyz.size() != total * 3 ||
       t.valid.size() != total)
@@ -296,7 +322,8 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
   h.source_format = t.format;  // PLY and .bin: HEAD's frame-file source (feature bit 4)
   h.mode = grid.mode;
   h.step = grid.step;
-  h.max_error = opts.max_error;
+  h.max_error = grid.lossless ? 0 : opts.max_error;
+  h.lossless = grid.lossless;
   h.ragged = true;
   std::vector<uint8_t> out;
   write_file_header(&out, kFormatScans.minor);
@@ -308,12 +335,20 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
   features.minor = kFormatScans.minor;
   const StreamContext ctx =
       read_context(h, read_chunk(out.data(), out.size(), meta_at, t.source), features, t.source);
+  // "Lossless ragged streams": HASH and PCDR of the frame files, a PCDP per window, against the
+  // take as META gives it back (the decoder's header).
+  std::unique_ptr<ResidueWriter> residue;
+  if (grid.lossless && !original.empty())
+    residue = ResidueWriter::open(original, ctx.take, opts.check);
+  if (residue) residue->file_chunks(&out, true);
   RaggedRun r{t, opts, grid, ctx, meta_take, ring_field(t), &out, {}, 0, 0, ErrorAccumulator()};
+  r.residue = residue.get();
   for (size_t w = 0; w * h.window_frames < t.frames; ++w) {
     const size_t f0 = w * h.window_frames, f1 = std::min<size_t>(f0 + h.window_frames, t.frames);
     append_window(r, w, f0, f1, stats != nullptr);
     if (opts.progress) opts.progress(f1, t.frames);
   }
+  if (residue) residue->finish();
   append_chunk(&out, "INDX", encode_index(r.index));
   if (stats) {
     *stats = CompressStats();
@@ -321,6 +356,7 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
     stats->raw_bytes = total * 12;
     stats->bpvf = total ? 8.0 * static_cast<double>(out.size()) / static_cast<double>(total) : 0;
     stats->step = grid.step;
+    stats->lossless = grid.lossless;
     stats->mode = mode_name(grid.mode);
     stats->error = r.acc.finish();
     stats->codec = "none";

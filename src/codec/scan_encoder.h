@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "capz/codec.h"
@@ -13,11 +14,13 @@
 namespace capz {
 
 // A ragged take (t.ragged()) to .capz bytes. Throws Error(kInvalidParameter) for what format
-// 1.1 does not code yet (--lossless, a KG target, analog or rotations, other sources than PCD
-// frames) and for fields that do not match the take (settle_fields, --attr-error naming no
-// float field), Error(kInternal) when the self-check fails. Point fields are kept (exact, or
-// within opts.attr_error) unless opts.drop_fields.
+// 1.1 does not code yet (a KG target, analog or rotations, other sources than PCD frames) and
+// for fields that do not match the take (settle_fields, --attr-error naming no float field),
+// Error(kInternal) when the self-check fails. Point fields are kept (exact, or within
+// opts.attr_error) unless opts.drop_fields. `original`: the PCD folder the take was read from
+// (FrameSource::original_file), or empty; a lossless stream of a folder carries the residue
+// that rebuilds its frame files byte for byte (FORMAT.md "Lossless ragged streams").
 std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
-                                     CompressStats* stats);
+                                     CompressStats* stats, const std::string& original = "");
 
 }  // namespace capz

@@ -135,9 +135,8 @@ StreamHeader decode_header(const Chunk& c, const std::string& name, const Stream
   h.ragged = (flags & 8) != 0;  // "Scans (format 1.1)": frames of their own point counts
   if (h.ragged && !f.ragged_frames())
     fail(ErrorCode::kCorrupt, what, "feature bit 3 (ragged frames) in a format 1.0 stream");
-  if (h.ragged && (h.points != 0 || (flags & 3) != 0 || h.codec != 0 || mode == 1 || mode == 3))
-    fail(ErrorCode::kCorrupt, what,
-         "ragged frames with points, a transform, lossless or position mode 1 or 3");
+  if (h.ragged && (h.points != 0 || (flags & 2) != 0 || h.codec != 0 || mode == 3))
+    fail(ErrorCode::kCorrupt, what, "ragged frames with points, a transform or position mode 3");
   h.transform_output = (flags & 2) != 0;
   if (h.transform_output) {  // FORMAT.md 4.3: the transform's reconstruction is the output
     h.kg_target = r.f64();

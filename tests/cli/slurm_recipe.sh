@@ -91,8 +91,6 @@ for f in "$repo"/data/*.c3d "$repo"/data/*.trc; do
 done
 for d in "$repo"/data/*/; do
   ls "$d"*.pcd >/dev/null 2>&1 || continue
-  # Frames of their own point counts (format 1.1): --lossless does not code them yet.
-  [ "$(basename "$d")" = scan_small ] && continue
   cp -r "$d" "$work/takes/" && n=$((n + 1))
 done
 if [ -n "$shared" ] && [ -d "$shared/c3d/c3dorg" ]; then

@@ -68,15 +68,6 @@ TEST(ScanContainer, RoundTripsAtOneMillimetreAndOneCentimetre) {
 
 TEST(ScanContainer, RefusesWhatIsNotCodedYet) {
   Take t = synthetic_scan(2);
-  CompressOptions lossless;
-  lossless.lossless = true;
-  try {
-    compress(t, lossless);
-    FAIL() << "lossless ragged take accepted";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ErrorCode::kInvalidParameter);
-    EXPECT_NE(std::string(e.what()).find("--lossless"), std::string::npos);
-  }
   PointAttribute a;
   a.name = "intensity";
   a.data.assign(t.total_points() * 4, 1);

@@ -48,25 +48,32 @@ PcdRegen::PcdRegen(const Take& header) {
   for (int i = 0; i < 3; ++i) plans_[i] = pcd_frame_plan(header, kEncodings[i]);
   take_enc_ = pcd_encoding_code(header.pcd ? header.pcd->encoding : "binary");
   attrs_.resize(header.attributes.size());
+  take_header_ = pcd_frame_header(plans_[take_enc_].layout);  // before frame() sets a width
 }
 
 std::string PcdRegen::take_header() const {
-  return pcd_frame_header(plans_[take_enc_].layout);
+  return take_header_;
 }
 
 void PcdRegen::frame(const FrameBlock& b, size_t k, int enc, std::vector<uint8_t>* out,
                      size_t* header_end) {
-  const size_t N = b.points;
+  // A ragged block's frame k: its own count, from its offset (FORMAT.md "Lossless ragged
+  // streams"); a fixed block's: b.points from k x b.points.
+  const size_t N = b.frame_points(k), p0 = b.frame_begin(k), total = b.total_points();
   if (b.attributes.size() != attrs_.size() || k >= b.frames)
     fail(ErrorCode::kInternal, "", "PCD residue: a frame block without its point fields");
   for (size_t a = 0; a < attrs_.size(); ++a) {
-    const size_t per_frame = b.attributes[a].size() / b.frames;
-    if (b.attributes[a].size() != per_frame * b.frames)
+    const size_t per_point = total ? b.attributes[a].size() / total : 0;
+    if (b.attributes[a].size() != per_point * total)
       fail(ErrorCode::kInternal, "", "PCD residue: a frame block without its point fields");
-    attrs_[a] = b.attributes[a].data() + k * per_frame;
+    attrs_[a] = b.attributes[a].data() + p0 * per_point;
   }
-  const PcdFramePlan& plan = plans_[enc];
-  pcd_frame_points(plan, N, b.xyz.data() + k * N * 3, b.valid.data() + k * N, attrs_, &points_);
+  PcdFramePlan& plan = plans_[enc];
+  if (b.ragged()) {
+    plan.layout.width = N;
+    plan.layout.height = 1;
+  }
+  pcd_frame_points(plan, N, b.xyz.data() + p0 * 3, b.valid.data() + p0, attrs_, &points_);
   *out = pcd_frame_bytes(plan.layout, points_.data());
   *header_end = pcd_header_end(out->data(), out->size());
   if (*header_end == SIZE_MAX) fail(ErrorCode::kInternal, "", "PCD writer wrote no DATA line");
@@ -120,7 +127,7 @@ void PCDResidueDecoder::frame(const FrameBlock& block, size_t k, ByteReader& in,
     const std::vector<uint8_t> body = unpack(in, slice(g, rh, g.size()), size);
     out->insert(out->end(), body.begin(), body.end());
   } else {
-    decode_ascii_body(regen_.plan(0), regen_.points().data(), block.points, in, size,
+    decode_ascii_body(regen_.plan(0), regen_.points().data(), block.frame_points(k), in, size,
                       what_ + ": PCDP frame file " + name, out);
   }
   if (out->size() != size)

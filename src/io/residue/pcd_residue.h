@@ -35,6 +35,7 @@ class PcdRegen {
  public:
   explicit PcdRegen(const Take& header);
   // Frame k of `block` regenerated in encoding `enc` into *out; *header_end: its header's bytes.
+  // A ragged block's frame has its own count (WIDTH n, HEIGHT 1).
   void frame(const FrameBlock& block, size_t k, int enc, std::vector<uint8_t>* out,
              size_t* header_end);
   // The header of any frame in the take's own encoding (META's).
@@ -46,6 +47,7 @@ class PcdRegen {
  private:
   PcdFramePlan plans_[3];
   int take_enc_ = 1;
+  std::string take_header_;
   std::vector<uint8_t> points_;
   std::vector<const uint8_t*> attrs_;
 };

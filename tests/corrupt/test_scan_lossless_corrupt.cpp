@@ -1,0 +1,140 @@
+// Damaged residue of a lossless ragged stream (docs/FORMAT.md "Lossless ragged streams"): every
+// byte of HASH, PCDR and each window's PCDP changed with its chunk CRC recomputed: the rebuild
+// throws a capz::Error and leaves no folder, or gives every frame file back exactly; and a
+// PCDP's window index naming another window is corrupt.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "capz/codec.h"
+#include "capz/error.h"
+#include "capz/stream.h"
+#include "capz/tool/file.h"
+#include "capz/tool/original.h"
+#include "chunk_util.h"
+#include "coding/container.h"
+#include "test_util.h"
+
+namespace fs = std::filesystem;
+
+using capz_test::chunk_len;
+using capz_test::fix_crc;
+
+namespace {
+
+// Frame f of 2 + f points, x y z float32: binary frames, one with a header comment and a NaN
+// payload of its own, one ascii in other spellings.
+std::vector<uint8_t> frame(size_t f) {
+  const size_t n = 2 + f;
+  const bool text = f == 2;
+  const std::string h = std::string(f == 1 ? "# own\n" : "") +
+                        "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z\n" +
+                        "SIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH " + std::to_string(n) +
+                        "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + std::to_string(n) +
+                        "\nDATA " + (text ? "ascii" : "binary") + "\n";
+  std::vector<uint8_t> b(h.begin(), h.end());
+  for (size_t i = 0; i < 3 * n; ++i) {
+    const float v = 0.5f * static_cast<float>(i) - static_cast<float>(f);
+    if (text) {
+      const std::string s = std::to_string(v) + (i % 3 == 2 ? "\n" : " ");
+      b.insert(b.end(), s.begin(), s.end());
+      continue;
+    }
+    uint8_t x[4];
+    std::memcpy(x, &v, 4);
+    if (f == 1 && i == 3) x[0] = 9, x[1] = 0, x[2] = 0xc0, x[3] = 0x7f;
+    b.insert(b.end(), x, x + 4);
+  }
+  return b;
+}
+
+class ScanResidueCorrupt : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    in_ = tmp_.file("in");
+    fs::create_directories(in_);
+    for (size_t f = 0; f < 4; ++f) {
+      orig_.push_back(frame(f));
+      capz::write_file(in_ + "/f" + std::to_string(f) + ".pcd", orig_.back(), true);
+    }
+    std::unique_ptr<capz::FrameSource> src = capz::open_frames(in_);
+    ASSERT_TRUE(src->header().ragged());
+    capz::CompressOptions o;
+    o.lossless = true;
+    o.window_frames = 3;  // two windows, two PCDP chunks
+    const std::string z = tmp_.file("good.capz");
+    capz::compress_stream(*src, o, z, true);
+    good_ = capz::read_file(z);
+  }
+
+  // The n-th chunk of `type` (its offset), or npos.
+  size_t nth(const char* type, int n) const {
+    size_t at = capz::kFileHeaderBytes;
+    while (at + 12 <= good_.size()) {
+      if (std::memcmp(&good_[at], type, 4) == 0 && n-- == 0) return at;
+      at += 12 + chunk_len(good_, at);
+    }
+    return std::string::npos;
+  }
+
+  bool rebuilds_or_throws(const std::vector<uint8_t>& b, const std::string& what) {
+    const std::string z = tmp_.file("bad.capz"), out = tmp_.file("out");
+    capz::write_file(z, b, true);
+    fs::remove_all(out);
+    try {
+      capz::rebuild_original(z, out, true);
+    } catch (const capz::Error&) {
+      EXPECT_FALSE(fs::exists(out)) << what;
+      return false;
+    }
+    for (size_t f = 0; f < orig_.size(); ++f)
+      EXPECT_EQ(capz::read_file(out + "/f" + std::to_string(f) + ".pcd"), orig_[f])
+          << what << ": a wrong file was written";
+    return true;
+  }
+
+  void damage_every_byte(const char* type, int n) {
+    const size_t at = nth(type, n);
+    ASSERT_NE(at, std::string::npos) << type << " " << n;
+    const uint32_t len = chunk_len(good_, at);
+    for (uint32_t i = 0; i < len; ++i)
+      for (uint8_t flip : {uint8_t{0x01}, uint8_t{0x80}}) {
+        std::vector<uint8_t> b = good_;
+        b[at + 8 + i] ^= flip;
+        fix_crc(&b, at);
+        rebuilds_or_throws(b, std::string(type) + " byte " + std::to_string(i));
+      }
+  }
+
+  capz_test::TempDir tmp_{"capz_scan_rcorrupt"};
+  std::string in_;
+  std::vector<std::vector<uint8_t>> orig_;
+  std::vector<uint8_t> good_;
+};
+
+}  // namespace
+
+TEST_F(ScanResidueCorrupt, TheUndamagedStreamRebuilds) {
+  EXPECT_TRUE(rebuilds_or_throws(good_, "undamaged"));
+}
+
+TEST_F(ScanResidueCorrupt, DamagedResidueIsCaught) {
+  damage_every_byte("HASH", 0);
+  damage_every_byte("PCDR", 0);
+  damage_every_byte("PCDP", 0);
+  damage_every_byte("PCDP", 1);
+}
+
+// The PCDP of window 1 claiming window 0: corrupt, nothing written.
+TEST_F(ScanResidueCorrupt, WindowResidueOfAnotherWindowIsCorrupt) {
+  std::vector<uint8_t> b = good_;
+  const size_t at = nth("PCDP", 1);
+  ASSERT_NE(at, std::string::npos);
+  ASSERT_EQ(b[at + 8], 1);  // the window index varint
+  b[at + 8] = 0;
+  fix_crc(&b, at);
+  EXPECT_FALSE(rebuilds_or_throws(b, "PCDP of window 0 in window 1"));
+}

@@ -1,0 +1,168 @@
+// Lossless ragged PCD folders (docs/FORMAT.md "Lossless ragged streams"): frames of their own
+// point counts compressed with --lossless from their folder give every frame file back byte for
+// byte (ascii, binary and binary_compressed, NaN gaps, headers of other forms), and every
+// coordinate bit for bit; the shared scan sequences do too (their first frames here; every file
+// with the CLI in docs/BENCHMARKS.md).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "capz/codec.h"
+#include "capz/error.h"
+#include "capz/io.h"
+#include "capz/stream.h"
+#include "capz/tool/file.h"
+#include "capz/tool/original.h"
+#include "coding/quantiser.h"
+#include "io/pcd_folder.h"
+#include "test_util.h"
+#include "unit/synthetic.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// A ragged take of x y z float32 (tests/unit/synthetic.h): frame f holds 16 x (12 + 3 f)
+// points of a noisy sweep, every 37th point a NaN gap.
+capz::Take sweeps(size_t frames) {
+  capz::Take t = capz_test::synthetic_sweeps(frames, 12, 3, 5.0, 3.0, 5.0, 0.02, 11, 37, 3);
+  t.pcd->fields = {{"x", 'F', 4, 1}, {"y", 'F', 4, 1}, {"z", 'F', 4, 1}};
+  return t;
+}
+
+std::vector<std::vector<uint8_t>> folder_bytes(const std::string& dir) {
+  std::vector<std::vector<uint8_t>> out;
+  for (const std::string& name : capz::list_pcd_frames(dir))
+    out.push_back(capz::read_file((fs::path(dir) / name).string()));
+  return out;
+}
+
+// Compresses folder `in` losslessly (windows of `window` frames), rebuilds it and expects every
+// frame file back byte for byte; returns the stats.
+capz::CompressStats expect_rebuilt(const std::string& in, const capz_test::TempDir& tmp,
+                                   size_t window = 0, bool drop_fields = false) {
+  std::unique_ptr<capz::FrameSource> src = capz::open_frames(in);
+  EXPECT_TRUE(src->header().ragged()) << in;
+  capz::CompressOptions o;
+  o.lossless = true;
+  o.window_frames = window;
+  o.drop_fields = drop_fields;
+  capz::CompressStats st;
+  const std::string z = tmp.file("l.capz"), out = tmp.file("back");
+  capz::compress_stream(*src, o, z, true, &st);
+  EXPECT_TRUE(st.lossless) << in;
+  EXPECT_TRUE(capz::original_info(z).exact) << in;
+  fs::remove_all(out);
+  capz::rebuild_original(z, out, true);
+  const std::vector<std::string> names = capz::list_pcd_frames(in);
+  EXPECT_EQ(capz::list_pcd_frames(out), names) << in;
+  for (const std::string& n : names)
+    EXPECT_EQ(capz::read_file(out + "/" + n), capz::read_file(in + "/" + n)) << in << "/" << n;
+  EXPECT_TRUE(capz::rebuilds_file(z, in).empty()) << capz::rebuilds_file(z, in);
+  return st;
+}
+
+TEST(ScanLossless, InMemoryRaggedTakeComesBackBitForBit) {
+  const capz::Take t = sweeps(4);
+  capz::CompressOptions o;
+  o.lossless = true;
+  o.window_frames = 3;
+  capz::CompressStats st;
+  const std::vector<uint8_t> z = capz::compress(t, o, &st);
+  EXPECT_TRUE(st.lossless);
+  EXPECT_EQ(st.mode, "float32-bits");
+  const capz::Take d = capz::decompress(z.data(), z.size());
+  ASSERT_EQ(d.frame_offsets, t.frame_offsets);
+  ASSERT_EQ(d.valid, t.valid);
+  for (size_t i = 0; i < t.xyz.size(); ++i) {
+    if (!t.valid[i / 3]) continue;
+    ASSERT_TRUE(capz::same_bits(d.xyz[i], t.xyz[i])) << i;
+  }
+  EXPECT_TRUE(capz::describe(z.data(), z.size()).lossless);
+}
+
+TEST(ScanLossless, Float64CoordinatesOnNoDecimalGridAreRefused) {
+  capz::Take t = sweeps(2);
+  t.pcd->fields = {{"x", 'F', 8, 1}, {"y", 'F', 8, 1}, {"z", 'F', 8, 1}};
+  t.xyz[0] = 1.0 + 1e-13;  // no float32, on no decimal grid of 0..9 digits
+  capz::CompressOptions o;
+  o.lossless = true;
+  try {
+    capz::compress(t, o);
+    FAIL() << "float64 bits accepted for a ragged take";
+  } catch (const capz::Error& e) {
+    EXPECT_EQ(e.code(), capz::ErrorCode::kInvalidParameter);
+    EXPECT_NE(std::string(e.what()).find("float64"), std::string::npos) << e.what();
+  }
+}
+
+// The writer's frames in each encoding, then files of other forms: a header comment with CRLF
+// line ends, an ascii body in printf spellings, a NaN payload of its own.
+TEST(ScanLossless, FoldersOfEveryEncodingRebuildByteForByte) {
+  capz_test::TempDir tmp("capz_scan_lossless");
+  for (const char* enc : {"ascii", "binary", "binary_compressed"}) {
+    const std::string dir = tmp.file(std::string("w_") + enc);
+    capz::WriteOptions w;
+    w.pcd_encoding = enc;
+    capz::write_take(sweeps(5), dir + "/", w);
+    expect_rebuilt(dir, tmp, 2);
+  }
+  const std::string odd = tmp.file("odd");
+  fs::create_directories(odd);
+  for (size_t f = 0; f < 3; ++f) {
+    const size_t n = 4 + f;
+    const bool text = f == 1;
+    std::string h = "# scan " + std::to_string(f) + "\r\n# .PCD v0.7\r\nVERSION 0.7\r\n" +
+                    "FIELDS x y z\r\nSIZE 4 4 4\r\nTYPE F F F\r\nCOUNT 1 1 1\r\nWIDTH " +
+                    std::to_string(n) + "\r\nHEIGHT 1\r\nVIEWPOINT 0 0 0 1 0 0 0\r\nPOINTS " +
+                    std::to_string(n) + "\r\nDATA " + (text ? "ascii" : "binary") + "\r\n";
+    std::vector<uint8_t> b(h.begin(), h.end());
+    for (size_t i = 0; i < n; ++i)
+      for (int a = 0; a < 3; ++a) {
+        const float v = 0.25f * static_cast<float>(i) - 1.5f * static_cast<float>(a) + 0.1f;
+        if (text) {
+          const std::string s = std::to_string(v) + (a == 2 ? "\n" : " ");
+          b.insert(b.end(), s.begin(), s.end());
+          continue;
+        }
+        uint8_t x[4];
+        std::memcpy(x, &v, 4);
+        if (f == 2 && i == 1) x[0] = 7, x[1] = 0, x[2] = 0xc0, x[3] = 0x7f;  // NaN, own payload
+        b.insert(b.end(), x, x + 4);
+      }
+    capz::write_file(odd + "/o" + std::to_string(f) + ".pcd", b, true);
+  }
+  expect_rebuilt(odd, tmp);
+}
+
+// The first three frames of each shared sequence (their fields in ATTR; once more with the
+// fields dropped from the take, kept in the residue's frame bodies), and of a binary folder
+// converted from one.
+TEST(ScanLossless, SharedSequencesRebuildByteForByte) {
+  const std::string root = capz_test::shared_data_or_skip("scan");
+  if (root.empty()) return;
+  capz_test::TempDir tmp("capz_scan_lossless_real");
+  for (const char* seq : {"robosense-helios16p", "robosense-e1", "pandar64-factory20"}) {
+    const std::string dir = tmp.file(seq);
+    fs::create_directories(dir);
+    const std::vector<std::string> names = capz::list_pcd_frames(root + "/" + seq);
+    ASSERT_GE(names.size(), 3u) << seq;
+    for (size_t f = 0; f < 3; ++f)
+      fs::copy_file(root + "/" + seq + "/" + names[f], dir + "/" + names[f]);
+    const capz::CompressStats st = expect_rebuilt(dir, tmp, 2);
+    EXPECT_GT(st.attribute_bytes, 0u) << seq;
+    expect_rebuilt(dir, tmp, 2, true);
+  }
+  const std::string bin = tmp.file("binary");
+  capz::WriteOptions w;
+  w.pcd_encoding = "binary";
+  capz::write_take(capz::read_take(tmp.file("robosense-helios16p")), bin + "/", w);
+  EXPECT_EQ(folder_bytes(bin).size(), 3u);
+  expect_rebuilt(bin, tmp);
+}
+
+}  // namespace
