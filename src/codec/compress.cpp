@@ -5,6 +5,7 @@
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/stream.h"
+#include "codec/encode_settings.h"
 #include "codec/encoder.h"
 #include "codec/registry.h"
 #include "codec/scan_encoder.h"
@@ -20,14 +21,26 @@ size_t auto_window_frames(size_t points) {
 
 namespace {
 
-// What the encoder does not code yet (issue 37, format 1.1): PLY and .bin frames (their layouts
-// have no META block; ragged takes: compress_ragged). Throws kInvalidParameter.
-void refuse_scans(const Take& t) {
-  if (t.format == Format::kPLYFolder || t.format == Format::kBinFolder)
+// What the encoder does not code yet for PLY and .bin frames (format 1.1, frame-file sources):
+// --lossless, which promises the frame files back byte for byte (no residue rebuilds them).
+// Throws kInvalidParameter.
+void refuse_scans(const Take& t, const CompressOptions& opts) {
+  if (opts.lossless && (t.format == Format::kPLYFolder || t.format == Format::kBinFolder))
     fail(ErrorCode::kInvalidParameter, t.source,
-         std::string(t.format == Format::kPLYFolder ? "PLY" : ".bin") +
-             " frames are not supported by the encoder yet: convert them to PCD first "
-             "(capz convert IN OUT/ --to pcd)");
+         std::string("--lossless is not implemented for ") +
+             (t.format == Format::kPLYFolder ? "PLY" : ".bin") +
+             " frames: their byte-exact rebuild (a residue of frame files) is missing; give "
+             "--max-error, or convert them to PCD first (capz convert IN OUT/ --to pcd)");
+}
+
+// A ragged take of PLY or .bin frames with the point layout META stores for it.
+std::vector<uint8_t> compress_ragged_frames(const Take& take, const CompressOptions& opts,
+                                            CompressStats* stats) {
+  if (take.pcd || (take.format != Format::kPLYFolder && take.format != Format::kBinFolder))
+    return compress_ragged(take, opts, stats);
+  Take t = take;  // its fields stay: a ring field guides the geometry coder, --drop-fields or not
+  settle_frame_layout(&t, opts.drop_fields);
+  return compress_ragged(t, opts, stats);
 }
 
 // A one-frame unorganized point cloud (a single LiDAR sweep, a depth camera's cloud with its
@@ -73,8 +86,8 @@ std::vector<uint8_t> smaller_as_scan(const Take& t, const CompressOptions& opts,
 std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions& opts,
                                          const EncoderTuning& tuning, CompressStats* stats,
                                          bool allow_tout = true) {
-  if (take.ragged()) return compress_ragged(take, opts, stats);
-  refuse_scans(take);
+  refuse_scans(take, opts);
+  if (take.ragged()) return compress_ragged_frames(take, opts, stats);
   if (take.xyz.size() != take.frames * take.points * 3 ||
       take.valid.size() != take.frames * take.points)
     fail(ErrorCode::kInvalidParameter, take.source,
@@ -158,8 +171,9 @@ std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, Com
 
 void compress_stream(FrameSource& source, const CompressOptions& opts, const std::string& path,
                      bool overwrite, CompressStats* stats) {
-  refuse_scans(source.header());
+  refuse_scans(source.header(), opts);
   if (source.header().ragged()) {  // not streamed yet: the whole take in memory
+    settle_frame_layout(&source.edit_header(), opts.drop_fields);
     Take t = source.header();
     FrameBlock b;
     source.read(0, t.frames, &b);

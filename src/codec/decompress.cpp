@@ -24,6 +24,15 @@ void slice(size_t first, size_t count, size_t F, std::vector<T>* v) {
   *v = std::vector<T>(b, b + static_cast<std::ptrdiff_t>(count));
 }
 
+// A copy of a frame-file extras (PCD, PLY, .bin) with its frame names sliced, when it is set.
+template <typename Extra>
+void slice_frame_names(size_t first, size_t count, size_t F, std::shared_ptr<Extra>* extra) {
+  if (!*extra) return;
+  auto x = std::make_shared<Extra>(**extra);
+  slice(first, count, F, &x->frame_names);
+  *extra = x;
+}
+
 // The per-frame metadata of *t (a take of F frames) cut to frames [first, first + count).
 void slice_frame_metadata(size_t first, size_t count, size_t F, Take* t) {
   t->first_frame += static_cast<decltype(t->first_frame)>(first);
@@ -33,11 +42,9 @@ void slice_frame_metadata(size_t first, size_t count, size_t F, Take* t) {
     slice(first, count, F, &x->frame_numbers);
     t->trc = x;
   }
-  if (t->pcd) {
-    auto x = std::make_shared<PCDExtra>(*t->pcd);
-    slice(first, count, F, &x->frame_names);
-    t->pcd = x;
-  }
+  slice_frame_names(first, count, F, &t->pcd);
+  slice_frame_names(first, count, F, &t->ply);
+  slice_frame_names(first, count, F, &t->bin);
 }
 
 // A stream of one ragged frame (the encoder codes a single unorganized frame with the scan coder
