@@ -3,7 +3,8 @@
 // table size, hash function, what is indexed after a match, whether offset 0 may be referenced),
 // reporting for each variant the compressed size and the first byte that differs from the file's.
 // Standalone (no capz library): g++ -O2 -std=c++17 pcd_lzf_variants.cpp -o pcd_lzf_variants
-// Usage: pcd_lzf_variants [-only 'ultra hlog13 after1'] FILE.pcd...   Notes: docs/lab/2026-11-29-pcd-lzf-variants.md
+// Usage: pcd_lzf_variants [-only 'ultra hlog13 after1'] FILE.pcd...   Notes:
+// docs/lab/2026-11-29-pcd-lzf-variants.md
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
@@ -29,10 +30,14 @@ struct Variant {
 uint32_t slot(uint32_t h, const Variant& v) {
   const uint32_t mask = (1u << v.hlog) - 1;
   switch (v.hash) {
-    case 0: return ((h >> (24 - v.hlog)) - h) & mask;
-    case 1: return ((h >> (24 - v.hlog)) - h * 5) & mask;
-    case 2: return (((h ^ (h << 5)) >> (24 - v.hlog)) - h * 5) & mask;
-    default: return ((h * 0x1e35a7bdu) >> (32 - v.hlog - 8)) & mask;
+    case 0:
+      return ((h >> (24 - v.hlog)) - h) & mask;
+    case 1:
+      return ((h >> (24 - v.hlog)) - h * 5) & mask;
+    case 2:
+      return (((h ^ (h << 5)) >> (24 - v.hlog)) - h * 5) & mask;
+    default:
+      return ((h * 0x1e35a7bdu) >> (32 - v.hlog - 8)) & mask;
   }
 }
 
@@ -41,13 +46,23 @@ struct Out {
   Bytes b;
   size_t lit_at = 0;
   int lit = 0;
-  void start() { lit_at = b.size(); b.push_back(0); lit = 0; }
+  void start() {
+    lit_at = b.size();
+    b.push_back(0);
+    lit = 0;
+  }
   void close() {
-    if (lit) b[lit_at] = static_cast<uint8_t>(lit - 1); else b.pop_back();
+    if (lit)
+      b[lit_at] = static_cast<uint8_t>(lit - 1);
+    else
+      b.pop_back();
   }
   void literal(uint8_t c) {
     b.push_back(c);
-    if (++lit == 32) { b[lit_at] = 31; start(); }
+    if (++lit == 32) {
+      b[lit_at] = 31;
+      start();
+    }
   }
 };
 
@@ -80,16 +95,28 @@ Bytes compress(const Bytes& in, const Variant& v) {
     // liblzf's unrolled first 16 comparisons run whenever maxlen > 16.
     bool stop = false;
     if (maxlen > 16)
-      for (int k = 0; k < 16 && !stop; ++k) { ++len; stop = in[ref + len] != in[ip + len]; }
-    if (!stop) do ++len; while (len < maxlen && in[ref + len] == in[ip + len]);
+      for (int k = 0; k < 16 && !stop; ++k) {
+        ++len;
+        stop = in[ref + len] != in[ip + len];
+      }
+    if (!stop) do
+        ++len;
+      while (len < maxlen && in[ref + len] == in[ip + len]);
     const size_t off = ip - ref - 1, l = len - 2;
     o.close();
-    if (l < 7) o.b.push_back(static_cast<uint8_t>((off >> 8) + (l << 5)));
-    else { o.b.push_back(static_cast<uint8_t>((off >> 8) + (7 << 5))); o.b.push_back(static_cast<uint8_t>(l - 7)); }
+    if (l < 7)
+      o.b.push_back(static_cast<uint8_t>((off >> 8) + (l << 5)));
+    else {
+      o.b.push_back(static_cast<uint8_t>((off >> 8) + (7 << 5)));
+      o.b.push_back(static_cast<uint8_t>(l - 7));
+    }
     o.b.push_back(static_cast<uint8_t>(off & 255));
     o.start();
     const size_t end = ip + len;
-    if (end + 2 >= n) { ip = end; break; }
+    if (end + 2 >= n) {
+      ip = end;
+      break;
+    }
     if (v.after < 0) {
       for (size_t p = ip + 1; p < end; ++p) {
         h = h << 8 | in[p + 2];
@@ -121,7 +148,10 @@ bool decompress(const uint8_t* p, size_t n, size_t size, Bytes* out) {
       i += c + 1;
     } else {
       size_t len = (c >> 5) + 2;
-      if ((c >> 5) == 7) { if (i >= n) return false; len += p[i++]; }
+      if ((c >> 5) == 7) {
+        if (i >= n) return false;
+        len += p[i++];
+      }
       if (i >= n) return false;
       const size_t d = ((c & 31) << 8) + p[i++] + 1;
       if (d > out->size() || out->size() + len > size) return false;
@@ -153,7 +183,8 @@ int main(int argc, char** argv) {
   for (int hash = 0; hash < 4; ++hash)
     for (int hlog : {13, 14, 15, 16})
       for (int after : {1, 2, -1})
-        for (int rz = 0; rz < 2; ++rz) vs.push_back({names[q++].c_str(), hlog, hash, after, rz == 1});
+        for (int rz = 0; rz < 2; ++rz)
+          vs.push_back({names[q++].c_str(), hlog, hash, after, rz == 1});
   // "-only NAME": just the variant NAME (e.g. "ultra hlog13 after1").
   int first = 1;
   if (argc > 2 && std::string(argv[1]) == "-only") {
@@ -168,13 +199,20 @@ int main(int argc, char** argv) {
     const Bytes file((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
     const char* key = "DATA binary_compressed";
     const auto it = std::search(file.begin(), file.end(), key, key + std::strlen(key));
-    if (it == file.end()) { std::printf("%s: not binary_compressed\n", argv[a]); continue; }
+    if (it == file.end()) {
+      std::printf("%s: not binary_compressed\n", argv[a]);
+      continue;
+    }
     size_t at = static_cast<size_t>(std::find(it, file.end(), '\n') - file.begin()) + 1;
     const uint32_t cs = le32(&file[at]), us = le32(&file[at + 4]);
     const uint8_t* body = &file[at + 8];
     Bytes raw;
-    if (!decompress(body, cs, us, &raw)) { std::printf("%s: bad body\n", argv[a]); continue; }
-    std::printf("%s: body %u -> %u bytes, trailing %zu\n", argv[a], cs, us, file.size() - at - 8 - cs);
+    if (!decompress(body, cs, us, &raw)) {
+      std::printf("%s: bad body\n", argv[a]);
+      continue;
+    }
+    std::printf("%s: body %u -> %u bytes, trailing %zu\n", argv[a], cs, us,
+                file.size() - at - 8 - cs);
     for (const Variant& v : vs) {
       const Bytes c = compress(raw, v);
       size_t d = 0;
