@@ -27,6 +27,17 @@ void flush_literals(const uint8_t* data, size_t from, size_t to, std::vector<uin
     from += n;
   }
 }
+// A copy of `len` bytes (3 to 264) from `off` + 1 bytes back.
+void put_copy(size_t len, size_t off, std::vector<uint8_t>* out) {
+  const size_t l = len - 2;
+  if (l < 7) {
+    out->push_back(static_cast<uint8_t>((l << 5) | (off >> 8)));
+  } else {
+    out->push_back(static_cast<uint8_t>((7 << 5) | (off >> 8)));
+    out->push_back(static_cast<uint8_t>(l - 7));
+  }
+  out->push_back(static_cast<uint8_t>(off & 255));
+}
 }  // namespace
 
 std::vector<uint8_t> lzf_compress(const uint8_t* data, size_t size) {
@@ -44,15 +55,7 @@ std::vector<uint8_t> lzf_compress(const uint8_t* data, size_t size) {
       const size_t limit = std::min(kMaxMatch, size - i);
       while (len < limit && data[cand + len] == data[i + len]) ++len;
       flush_literals(data, lit, i, &out);
-      const size_t off = i - cand - 1;
-      const size_t l = len - 2;
-      if (l < 7) {
-        out.push_back(static_cast<uint8_t>((l << 5) | (off >> 8)));
-      } else {
-        out.push_back(static_cast<uint8_t>((7 << 5) | (off >> 8)));
-        out.push_back(static_cast<uint8_t>(l - 7));
-      }
-      out.push_back(static_cast<uint8_t>(off & 255));
+      put_copy(len, i - cand - 1, &out);
       // Index the positions the match covers (their prefixes), so later matches find them.
       for (size_t k = i + 1; k < i + len && k + 3 <= size; ++k) table[hash3(data + k)] = k;
       i += len;
@@ -130,15 +133,9 @@ std::vector<uint8_t> lzf_compress_liblzf(const uint8_t* in, size_t n) {
       lit.add(in[i++]);
       continue;
     }
-    const size_t m = liblzf_length(in, n, r, i), d = i - r - 1, l = m - 2;
+    const size_t m = liblzf_length(in, n, r, i);
     lit.close();
-    if (l < 7) {
-      out.push_back(static_cast<uint8_t>((l << 5) | (d >> 8)));
-    } else {
-      out.push_back(static_cast<uint8_t>((7 << 5) | (d >> 8)));
-      out.push_back(static_cast<uint8_t>(l - 7));
-    }
-    out.push_back(static_cast<uint8_t>(d & 255));
+    put_copy(m, i - r - 1, &out);
     lit.open();
     i += m;
     if (i + 2 >= n) break;
