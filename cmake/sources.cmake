@@ -49,6 +49,7 @@ set(CAPZ_DECODE_SOURCES
   src/coding/positions_ray.cpp
   src/coding/rotations.cpp
   src/coding/scan_decode.cpp
+  src/coding/scan_maps.cpp
   src/coding/scan_shared.cpp
   src/core/atomic_file.cpp
   src/core/error.cpp
@@ -69,6 +70,7 @@ set(CAPZ_DECODE_SOURCES
   src/io/pcd_folder.cpp
   src/io/pcd_frame_writer.cpp
   src/io/pcd_header.cpp
+  src/io/pcd_native.cpp
   src/io/ply.cpp
   src/io/ply_folder.cpp
   src/io/residue/c3d_residue.cpp

@@ -155,34 +155,42 @@ std::vector<uint8_t> lzf_compress(const uint8_t* data, size_t size, LzfVariant v
                                           : lzf_compress(data, size);
 }
 
-std::vector<uint8_t> lzf_decompress(const uint8_t* data, size_t n, size_t size,
-                                    const std::string& what) {
-  std::vector<uint8_t> out;
-  out.reserve(size);
-  size_t p = 0;
+bool lzf_decompress_into(const uint8_t* data, size_t n, uint8_t* out, size_t size) {
+  size_t p = 0, o = 0;
   while (p < n) {
     const size_t c = data[p++];
     if (c < 32) {
       const size_t len = c + 1;
-      if (len > n - p || len > size - out.size())
-        fail(ErrorCode::kCorrupt, what, "LZF literal run past the end");
-      out.insert(out.end(), data + p, data + p + len);
-      p += len;
-    } else {
-      size_t len = (c >> 5) + 2;
-      if ((c >> 5) == 7) {
-        if (p >= n) fail(ErrorCode::kCorrupt, what, "LZF stream truncated");
-        len += data[p++];
-      }
-      if (p >= n) fail(ErrorCode::kCorrupt, what, "LZF stream truncated");
-      const size_t dist = ((c & 31) << 8) + data[p++] + 1;
-      if (dist > out.size()) fail(ErrorCode::kCorrupt, what, "LZF copy from before the start");
-      if (len > size - out.size()) fail(ErrorCode::kCorrupt, what, "LZF copy past the end");
-      const size_t from = out.size() - dist;
-      for (size_t k = 0; k < len; ++k) out.push_back(out[from + k]);
+      if (len > n - p || len > size - o) return false;
+      std::memcpy(out + o, data + p, len);
+      p += len, o += len;
+      continue;
     }
+    size_t len = (c >> 5) + 2;
+    if ((c >> 5) == 7) {
+      if (p >= n) return false;
+      len += data[p++];
+    }
+    if (p >= n) return false;
+    const size_t dist = ((c & 31) << 8) + data[p++] + 1;
+    if (dist > o || len > size - o) return false;
+    const uint8_t* from = out + o - dist;
+    if (dist >= len) {
+      std::memcpy(out + o, from, len);
+    } else {  // the copy overlaps what it writes: byte by byte, in order
+      for (size_t k = 0; k < len; ++k) out[o + k] = from[k];
+    }
+    o += len;
   }
-  if (out.size() != size) fail(ErrorCode::kCorrupt, what, "LZF stream gives too few bytes");
+  return o == size;
+}
+
+std::vector<uint8_t> lzf_decompress(const uint8_t* data, size_t n, size_t size,
+                                    const std::string& what) {
+  std::vector<uint8_t> out(size);
+  if (!lzf_decompress_into(data, n, out.data(), size))
+    fail(ErrorCode::kCorrupt, what,
+         "malformed LZF stream (a run past either end, or too few bytes)");
   return out;
 }
 

@@ -23,6 +23,10 @@ std::vector<uint8_t> lzf_compress(const uint8_t* data, size_t size);
 enum class LzfVariant : uint8_t { kCapz = 0, kLiblzf13 = 1 };
 std::vector<uint8_t> lzf_compress(const uint8_t* data, size_t size, LzfVariant variant);
 
+// Decompresses exactly `size` bytes into out[0, size): false (out's bytes unspecified) when the
+// stream is malformed, references before its start, or does not give exactly `size` bytes.
+bool lzf_decompress_into(const uint8_t* data, size_t n, uint8_t* out, size_t size);
+
 // Decompresses exactly `size` bytes; throws Error(kCorrupt) naming `what` on a stream that is
 // malformed, references before its start, or does not give exactly `size` bytes.
 std::vector<uint8_t> lzf_decompress(const uint8_t* data, size_t n, size_t size,

@@ -1,5 +1,7 @@
 // The scan geometry encoder (docs/FORMAT.md "Scans (format 1.1)").
+#include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include "capz/error.h"
@@ -40,8 +42,9 @@ struct PutSink {
   IntEncoder* enc;
   void put(uint32_t u, int ctx) { enc->put(u, ctx); }
 };
-// Estimates the bits the block would take: each context's tokens under adaptive counts (about
-// what the range coder's models learn) plus the raw bits below the token.
+// The bits the block would take: each context's tokens under adaptive counts (about what the
+// range coder's models learn) plus the raw bits below the token, summed symbol by symbol. The
+// exact estimate: its comparisons decide the coding of a frame (spherical_wins).
 class CostSink {
  public:
   CostSink() : counts_(scan::kContexts * 64, 0), totals_(scan::kContexts, 0) {}
@@ -57,6 +60,68 @@ class CostSink {
 
  private:
   std::vector<uint32_t> counts_, totals_;
+};
+
+// One symbol as coded: the value and its context.
+struct Sym {
+  uint32_t u, ctx;
+};
+
+// What CostSink's sum depends on: the symbols' count, raw bits and tokens per context. Its sum
+// of log2((t + 16) / (c + 0.25)) over a context's symbols is, in real numbers, the sum of
+// log2(t + 16) for t below the context's total less, per token, the sum of log2(c + 0.25) for c
+// below the token's count: the estimate below, which needs no logarithm per symbol.
+class Tally {
+ public:
+  Tally() : counts_(scan::kContexts * 64, 0), totals_(scan::kContexts, 0) {}
+  void clear() {
+    std::fill(counts_.begin(), counts_.end(), 0u);
+    std::fill(totals_.begin(), totals_.end(), 0u);
+    extra_ = symbols_ = 0;
+  }
+  void put(uint32_t u, int ctx) {
+    int extra;
+    const int tok = token_of(u, &extra);
+    ++counts_[static_cast<size_t>(ctx) * 64 + static_cast<size_t>(tok)];
+    ++totals_[static_cast<size_t>(ctx)];
+    extra_ += static_cast<uint64_t>(extra);
+    ++symbols_;
+  }
+  uint64_t symbols() const { return symbols_; }
+  // CostSink's bits in real numbers, computed in binary64 from prefix sums of logarithms.
+  double estimate(std::vector<double>* log_t, std::vector<double>* log_c) const {
+    double bits = static_cast<double>(extra_);
+    for (size_t ctx = 0; ctx < totals_.size(); ++ctx) {
+      if (totals_[ctx] == 0) continue;
+      bits += prefix(log_t, 16.0, totals_[ctx]);
+      for (size_t tok = 0; tok < 64; ++tok) bits -= prefix(log_c, 0.25, counts_[ctx * 64 + tok]);
+    }
+    return bits;
+  }
+
+ private:
+  // sum of log2(j + offset) for j < n, from the table of such sums (grown as needed).
+  static double prefix(std::vector<double>* sums, double offset, uint32_t n) {
+    if (sums->empty()) sums->push_back(0.0);
+    if (sums->size() <= n) sums->reserve(std::max<size_t>(2 * sums->size(), size_t{n} + 1));
+    while (sums->size() <= n) {
+      const double j = static_cast<double>(sums->size() - 1);
+      sums->push_back(sums->back() + std::log2(j + offset));
+    }
+    return (*sums)[n];
+  }
+  std::vector<uint32_t> counts_, totals_;
+  uint64_t extra_ = 0, symbols_ = 0;
+};
+
+// Records a frame's symbols and tallies them.
+struct RecordSink {
+  std::vector<Sym>* syms;
+  Tally* tally;
+  void put(uint32_t u, int ctx) {
+    syms->push_back(Sym{u, static_cast<uint32_t>(ctx)});
+    tally->put(u, ctx);
+  }
 };
 
 // The encoding side of scan::code_frame: the actual values are the window's.
@@ -93,41 +158,114 @@ uint8_t validity(const ScanGeometry& g, size_t first, size_t n) {
   return v == n ? scan::kAllValid : v == 0 ? scan::kNoneValid : scan::kSomeValid;
 }
 
-// Bits of frame [first, first + n) under `flags`, from the state st (left unchanged).
-double frame_cost(const scan::State& st, uint8_t flags, const ScanGeometry& g,
-                  const std::vector<scan::Polar>& polar, size_t first, size_t n,
-                  std::vector<int32_t>* q, std::vector<uint8_t>* v) {
-  CostSink sink;
-  EncodeIo<CostSink> io(&sink, g, polar);
+// A frame's Cartesian estimate from a state: the same under every table (Cartesian coding reads
+// only st.last and st.last_bits), so kept for the next table's pass over the window.
+struct CartesianEstimate {
+  bool known = false;
+  int32_t last[3] = {0, 0, 0};
+  int last_bits[3] = {0, 0, 0};
+  double bits = 0;
+  uint64_t symbols = 0;
+  bool same_state(const scan::State& st) const {
+    return known && std::equal(last, last + 3, st.last) &&
+           std::equal(last_bits, last_bits + 3, st.last_bits);
+  }
+};
+
+// Scratch of the per-frame choice, kept across frames and tables.
+struct Scratch {
+  std::vector<int32_t> q;
+  std::vector<uint8_t> v;
+  std::vector<Sym> syms;
+  Tally tally;
+  std::vector<double> log_t, log_c;     // Tally::estimate's prefix sums
+  std::vector<CartesianEstimate> cart;  // per frame of the window
+  std::shared_ptr<scan::SweepMaps> maps = std::make_shared<scan::SweepMaps>();  // every table's
+};
+
+// Whether spherical coding (its symbols recorded in s.syms, tallied in s.tally) costs less than
+// Cartesian by CostSink, the exact estimate. Decided on Tally::estimate when the two differ by
+// more than both estimates' rounding can move them (N terms each below 2^6, summed in binary64:
+// at most N (2^-52 sum + 2^-46) apart in all, with room to spare); else by CostSink itself.
+bool spherical_wins(const scan::State& st, uint8_t flags, const ScanGeometry& g,
+                    const std::vector<scan::Polar>& polar, size_t f, size_t first, size_t n,
+                    Scratch* s) {
+  CartesianEstimate& c = s->cart[f];
+  if (!c.same_state(st)) {
+    Tally tally;
+    EncodeIo<Tally> io(&tally, g, polar);
+    scan::State trial = st.trial();
+    scan::code_points(io, trial, flags, first, n, s->q.data(), s->v.data());
+    c.known = true;
+    std::copy(st.last, st.last + 3, c.last);
+    std::copy(st.last_bits, st.last_bits + 3, c.last_bits);
+    c.bits = tally.estimate(&s->log_t, &s->log_c);
+    c.symbols = tally.symbols();
+  }
+  const double sph = s->tally.estimate(&s->log_t, &s->log_c);
+  const double terms = static_cast<double>(s->tally.symbols() + c.symbols) + 2.0 * 64 * 64;
+  const double margin = 4.0 * terms * (terms * 64.0 * 0x1p-52 + 0x1p-46);
+  if (sph < c.bits - margin) return true;
+  if (sph > c.bits + margin) return false;
+  CostSink exact_sph, exact_cart;
+  for (const Sym& y : s->syms) exact_sph.put(y.u, static_cast<int>(y.ctx));
+  EncodeIo<CostSink> io(&exact_cart, g, polar);
   scan::State trial = st.trial();
-  scan::code_frame(io, trial, flags, first, n, q->data(), v->data());
-  return sink.bits;
+  scan::code_points(io, trial, flags, first, n, s->q.data(), s->v.data());
+  return exact_sph.bits < exact_cart.bits;
+}
+
+// Codes frame f spherically when that costs less by the estimate, else Cartesian: the spherical
+// coding runs once, on a staged state, its symbols recorded, and is replayed into the block
+// when it wins. True when spherical coding was chosen.
+bool code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanGeometry& g,
+                 const std::vector<scan::Polar>& polar, size_t f, size_t first, size_t n,
+                 Scratch* s) {
+  const uint8_t sph = static_cast<uint8_t>(flags | scan::kSpherical);
+  scan::State staged = st->staged();
+  s->syms.clear();
+  s->syms.reserve(7 * n);  // at most 7 symbols a point
+  s->tally.clear();
+  RecordSink rec{&s->syms, &s->tally};
+  EncodeIo<RecordSink> io(&rec, g, polar);
+  scan::code_points(io, staged, sph, first, n, s->q.data(), s->v.data());
+  if (spherical_wins(*st, flags, g, polar, f, first, n, s)) {
+    IntEncoder::Cursor c = enc->cursor();
+    for (const Sym& y : s->syms) c.put(y.u, static_cast<int>(y.ctx));
+    enc->commit(c);
+    *st = staged;
+    st->end_frame();
+    return true;
+  }
+  st->clear_sweep();
+  PutSink put{enc};
+  EncodeIo<PutSink> direct(&put, g, polar);
+  scan::code_frame(direct, *st, flags, first, n, s->q.data(), s->v.data());
+  return false;
 }
 
 // The payload under one table: per frame the cheaper of spherical and Cartesian coding.
 std::vector<uint8_t> encode_with(const ScanGeometry& g, const scan::Table& t,
-                                 const std::vector<scan::Polar>& polar) {
+                                 const std::vector<scan::Polar>& polar, Scratch* s) {
   const size_t frames = g.counts.size();
   std::vector<uint8_t> flags(frames);
   IntEncoder enc(scan::kContexts);
   PutSink sink{&enc};
   EncodeIo<PutSink> io(&sink, g, polar);
-  scan::State st(t);
-  std::vector<int32_t> q;
-  std::vector<uint8_t> v;
+  scan::State st(t, s->maps);
+  s->cart.resize(frames);
   size_t first = 0;
   for (size_t f = 0; f < frames; ++f) {
     const size_t n = g.counts[f];
-    q.resize(3 * n);
-    v.resize(n);
+    s->q.resize(3 * n);
+    s->v.resize(n);
     flags[f] = validity(g, first, n);
     if (t.rings() > 0 && flags[f] != scan::kNoneValid && scan::spherical_ok(g, first, n)) {
-      const uint8_t sph = static_cast<uint8_t>(flags[f] | scan::kSpherical);
-      if (frame_cost(st, sph, g, polar, first, n, &q, &v) <
-          frame_cost(st, flags[f], g, polar, first, n, &q, &v))
-        flags[f] = sph;
+      if (code_chosen(&enc, &st, flags[f], g, polar, f, first, n, s))
+        flags[f] = static_cast<uint8_t>(flags[f] | scan::kSpherical);
+    } else {
+      scan::code_frame(io, st, flags[f], first, n, s->q.data(), s->v.data());
     }
-    scan::code_frame(io, st, flags[f], first, n, q.data(), v.data());
     first += n;
   }
   std::vector<uint8_t> out;
@@ -147,10 +285,12 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
   // The table's azimuth step as found, and finer ones for azimuths off that step: the smallest
   // payload wins.
   std::vector<uint8_t> best;
+  const scan::RingFit fit = scan::fit_rings(g, hints);
+  Scratch scratch;
+  std::vector<scan::Polar> polar;
   for (double divisor : {1.0, 4.0, 16.0}) {
-    std::vector<scan::Polar> polar;
-    const scan::Table t = scan::infer_table(g, hints, divisor, &polar);
-    std::vector<uint8_t> out = encode_with(g, t, polar);
+    const scan::Table t = scan::table_for(g, fit, divisor, &polar);
+    std::vector<uint8_t> out = encode_with(g, t, polar, &scratch);
     if (best.empty() || out.size() < best.size()) best.swap(out);
     if (t.rings() == 0) break;
   }

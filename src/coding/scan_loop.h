@@ -22,6 +22,12 @@ inline void score(uint32_t* s, int32_t a, int32_t b) {
 inline void ring_score(uint32_t* s, uint32_t k, uint32_t khat, uint32_t rings) {
   *s = *s - (*s >> 4) + (k == khat ? 0u : 16u + 0u * rings);
 }
+// v % n for v < 3 n.
+inline uint32_t mod_small(uint32_t v, uint32_t n) {
+  if (v >= n) v -= n;
+  if (v >= n) v -= n;
+  return v;
+}
 // The least of n scores (the first on ties).
 inline int argmin(const uint32_t* s, int n) {
   int b = 0;
@@ -54,13 +60,15 @@ void code_spherical(Io& io, State& st, const Polar& pa, const int32_t* a, Prev* 
   const uint32_t rings = static_cast<uint32_t>(t.rings());
   // Ring: the one that followed the previous point's ring last time, or the previous step's
   // continuation (runs of rings up or down), whichever has done better lately.
+  // (Rings, and so pv->ring and pv->before, are below `rings`; so is d, which io.ring checks:
+  // each % below is a subtraction or two.)
   const uint32_t k1 = pv->have ? st.succ[pv->ring] : 0;
-  const uint32_t k2 = pv->have ? (2 * pv->ring + rings - pv->before % rings) % rings : 0;
+  const uint32_t k2 = pv->have ? mod_small(2 * pv->ring + rings - pv->before, rings) : 0;
   const int sk = st.ring_score[1] < st.ring_score[0] ? 1 : 0;
   const uint32_t khat = sk ? k2 : k1;
   const uint32_t d =
-      io.ring((pa.ring + rings - khat) % rings, rings, kCtxRing + (pv->ring_residual != 0));
-  const uint32_t k = (khat + d) % rings;
+      io.ring(mod_small(pa.ring + rings - khat, rings), rings, kCtxRing + (pv->ring_residual != 0));
+  const uint32_t k = mod_small(khat + d, rings);
   if (pv->have) st.succ[pv->ring] = k;
   ring_score(&st.ring_score[0], k, k1, rings);
   ring_score(&st.ring_score[1], k, k2, rings);
@@ -106,8 +114,8 @@ void code_spherical(Io& io, State& st, const Polar& pa, const int32_t* a, Prev* 
 }  // namespace detail
 
 template <class Io>
-void code_frame(Io& io, State& st, uint8_t flags, size_t first, size_t n, int32_t* q_out,
-                uint8_t* valid_out) {
+void code_points(Io& io, State& st, uint8_t flags, size_t first, size_t n, int32_t* q_out,
+                 uint8_t* valid_out) {
   const uint8_t vmode = flags & 3;
   const bool spherical = (flags & kSpherical) != 0;
   bool prev_valid = true;
@@ -128,6 +136,12 @@ void code_frame(Io& io, State& st, uint8_t flags, size_t first, size_t n, int32_
     else
       detail::code_cartesian(io, st, a, p);
   }
+}
+
+template <class Io>
+void code_frame(Io& io, State& st, uint8_t flags, size_t first, size_t n, int32_t* q_out,
+                uint8_t* valid_out) {
+  code_points(io, st, flags, first, n, q_out, valid_out);
   st.end_frame();
 }
 

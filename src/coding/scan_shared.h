@@ -9,6 +9,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -17,6 +18,7 @@
 
 #include "coding/entropy.h"
 #include "coding/scan_geometry.h"
+#include "coding/scan_maps.h"
 
 namespace capz {
 namespace scan {
@@ -53,10 +55,61 @@ enum Ctx : int {
   kContexts = kCtxCart + 24,
 };
 
+// floor(v) (std::floor's value; a zero's sign aside) without a call for |v| < 2^52: the
+// integer part by truncation, less one below a negative fraction.
+inline double floor_fast(double v) {
+  if (std::fabs(v) < 4503599627370496.0) {
+    const double t = static_cast<double>(static_cast<int64_t>(v));
+    return t > v ? t - 1.0 : t;
+  }
+  return std::floor(v);
+}
+
+namespace detail {
+// Taylor series of sin and cos on |r| <= pi/4 (terms to r^17 and r^16) in Horner form:
+// sin r = r + r r2 P_s(r2), cos r = 1 + r2 P_c(r2), the coefficients from the highest term.
+constexpr double kSinTerms[8] = {
+    1.0 / 355687428096000.0, -1.0 / 1307674368000.0, 1.0 / 6227020800.0, -1.0 / 39916800.0,
+    1.0 / 362880.0,          -1.0 / 5040.0,          1.0 / 120.0,        -1.0 / 6.0};
+constexpr double kCosTerms[8] = {
+    1.0 / 20922789888000.0, -1.0 / 87178291200.0, 1.0 / 479001600.0, -1.0 / 3628800.0,
+    1.0 / 40320.0,          -1.0 / 720.0,         1.0 / 24.0,        -0.5};
+inline double horner(const double (&c)[8], double r2) {
+  double p = c[0];
+  for (int i = 1; i < 8; ++i) p = p * r2 + c[i];
+  return p;
+}
+}  // namespace detail
+
 // sin and cos of a (radians) with binary64 +, -, * and floor only: the same bits on every build.
-void det_sincos(double a, double* s, double* c);
+// Inline for the coding loop; its callers are compiled without FMA contraction (CMakeLists.txt).
+inline void det_sincos(double a, double* s, double* c) {
+  // a = k pi/2 + r, |r| <= pi/4 (about; exactness does not matter, only the same bits).
+  const double kHalfPiHi = 1.5707963267948966;
+  const double kHalfPiLo = 6.123233995736766e-17;
+  const double k = floor_fast(a * (1.0 / kHalfPiHi) + 0.5);
+  const double r = (a - k * kHalfPiHi) - k * kHalfPiLo;
+  const double q = k - 4.0 * floor_fast(k * 0.25);  // 0, 1, 2 or 3
+  const double r2 = r * r;
+  const double ps = r + r * r2 * detail::horner(detail::kSinTerms, r2),
+               pc = 1.0 + r2 * detail::horner(detail::kCosTerms, r2);
+  if (q == 0.0) {
+    *s = ps, *c = pc;
+  } else if (q == 1.0) {
+    *s = pc, *c = -ps;
+  } else if (q == 2.0) {
+    *s = -ps, *c = -pc;
+  } else {
+    *s = -pc, *c = ps;
+  }
+}
 // floor(v + 0.5) clamped to the int32 range (NaN gives 0).
-int32_t round_clamp(double v);
+inline int32_t round_clamp(double v) {
+  if (!(v == v)) return 0;
+  if (v >= 2147483647.0) return INT32_MAX;
+  if (v <= -2147483648.0) return INT32_MIN;
+  return static_cast<int32_t>(floor_fast(v + 0.5));
+}
 // Bit length of |v| (0 for 0).
 inline int bit_length(int64_t v) {
   const uint64_t u = static_cast<uint64_t>(v < 0 ? -v : v);
@@ -85,7 +138,8 @@ struct Polar {
 // The state that lives across a window's frames and within one frame.
 class State {
  public:
-  explicit State(const Table& t);
+  // The maps are the state's own, or `maps` (reset for this table: an encoder's for each table).
+  explicit State(const Table& t, std::shared_ptr<SweepMaps> maps = nullptr);
   const Table& table() const { return *t_; }
   // Call after each frame: this sweep's map becomes the previous one.
   void end_frame();
@@ -95,6 +149,16 @@ class State {
     s.trial_ = true;
     return s;
   }
+  // A copy that codes a sweep ahead (the encoder's spherical trial, kept when it wins): writes
+  // this sweep's map, which the original shares. The original then takes it over (*this = it)
+  // before its end_frame, or drops it with clear_sweep.
+  State staged() const {
+    State s = *this;
+    s.trial_ = false;
+    return s;
+  }
+  // Forgets what this sweep wrote into its map (a dropped staged copy's writes).
+  void clear_sweep();
 
   // Spherical prediction state per ring.
   struct Ring {
@@ -107,21 +171,28 @@ class State {
   std::vector<uint32_t> succ;  // predicted ring after ring k
   uint32_t ring_score[2] = {0, 0};
   // The previous sweep's range at ring k, column col (false: none there).
-  bool map_prev(uint32_t k, int32_t col, int32_t* range) const;
-  void map_set(uint32_t k, int32_t col, int32_t range);
+  bool map_prev(uint32_t k, int32_t col, int32_t* range) const {
+    return maps_->prev(cell(k, col), range);
+  }
+  void map_set(uint32_t k, int32_t col, int32_t range) {
+    if (!trial_) maps_->set(cell(k, col), range);
+  }
   // Cartesian / cross-frame state.
   int32_t last[3] = {0, 0, 0};
   int last_bits[3] = {0, 0, 0};
 
  private:
-  size_t cell(uint32_t k, int32_t col) const;
+  size_t cell(uint32_t k, int32_t col) const {
+    const uint32_t n = t_->columns;
+    int64_t c = col;
+    if (static_cast<uint64_t>(c) >= n) {  // a column off [0, n): its residue mod n
+      c %= n;
+      if (c < 0) c += n;
+    }
+    return static_cast<size_t>(k) * n + static_cast<size_t>(c);
+  }
   const Table* t_;
-  // The previous sweep's ring x column map and this sweep's: ranges and whether set.
-  struct Maps {
-    std::vector<int32_t> prev, cur;
-    std::vector<uint8_t> prev_set, cur_set;
-  };
-  std::shared_ptr<Maps> maps_;
+  std::shared_ptr<SweepMaps> maps_;  // the previous sweep's ranges and this sweep's
   bool trial_ = false;
 };
 
@@ -136,6 +207,10 @@ class State {
 template <class Io>
 void code_frame(Io& io, State& st, uint8_t flags, size_t first, size_t n, int32_t* q_out,
                 uint8_t* valid_out);
+// code_frame without its closing st.end_frame().
+template <class Io>
+void code_points(Io& io, State& st, uint8_t flags, size_t first, size_t n, int32_t* q_out,
+                 uint8_t* valid_out);
 
 }  // namespace scan
 }  // namespace capz

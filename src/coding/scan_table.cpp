@@ -63,6 +63,8 @@ size_t elevation_rings(const ScanGeometry& g, const std::vector<float>& xyz,
   constexpr int kBins = static_cast<int>(3.2 / kBin);
   std::vector<double> el;
   std::vector<size_t> idx;
+  el.reserve(g.total());
+  idx.reserve(g.total());
   for (size_t i = 0; i < g.total(); ++i) {
     const int32_t* p = &g.q[3 * i];
     if (!g.valid[i] || !small_enough(p)) continue;
@@ -105,13 +107,15 @@ size_t elevation_rings(const ScanGeometry& g, const std::vector<float>& xyz,
   return peaks.size();
 }
 
-// Least squares z = z0 + slope * rho over one ring's points.
-void fit_cone(const std::vector<double>& rho, const std::vector<double>& z, float* slope,
-              float* z0) {
+// The sums of a least squares fit z = z0 + slope * rho, over one ring's points in order.
+struct ConeSums {
   double n = 0, sr = 0, sz = 0, srr = 0, srz = 0;
-  for (size_t i = 0; i < rho.size(); ++i) {
-    n += 1, sr += rho[i], sz += z[i], srr += rho[i] * rho[i], srz += rho[i] * z[i];
-  }
+  void add(double rho, double z) { n += 1, sr += rho, sz += z, srr += rho * rho, srz += rho * z; }
+};
+
+// Least squares z = z0 + slope * rho over one ring's points.
+void fit_cone(const ConeSums& c0, float* slope, float* z0) {
+  const double n = c0.n, sr = c0.sr, sz = c0.sz, srr = c0.srr, srz = c0.srz;
   const double det = n * srr - sr * sr;
   double s = 0, c = n > 0 ? sz / n : 0;
   if (n >= 2 && det > 1e-9 * n * srr) {
@@ -128,6 +132,9 @@ void fit_cone(const std::vector<double>& rho, const std::vector<double>& z, floa
 // points, refined over the changes of a few steps.
 double infer_step(const std::vector<std::vector<double>>& phi) {
   std::vector<double> d;
+  size_t total = 0;
+  for (const auto& p : phi) total += p.size();
+  d.reserve(total);
   for (const auto& p : phi)
     for (size_t i = 1; i < p.size(); ++i) {
       const double e = wrap_pi(p[i] - p[i - 1]);
@@ -150,47 +157,67 @@ double infer_step(const std::vector<std::vector<double>>& phi) {
 
 }  // namespace
 
-Table infer_table(const ScanGeometry& g, const ScanHints& hints, double step_divisor,
-                  std::vector<Polar>* polar) {
-  Table t;
+RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints) {
+  RingFit r;
   std::vector<uint32_t> ring;
   size_t rings = dense_rings(g, hints, &ring);
   if (rings == 0) rings = elevation_rings(g, hints.xyz, &ring);
-  polar->assign(g.total(), Polar{});
-  if (rings == 0) return t;
-  std::vector<std::vector<double>> rho(rings), z(rings), phi(rings);
+  r.polar.assign(g.total(), Polar{});
+  if (rings == 0) return r;
+  std::vector<size_t> size(rings, 0);
+  for (size_t i = 0; i < g.total(); ++i)
+    if (g.valid[i] && small_enough(&g.q[3 * i])) ++size[ring[i]];
+  std::vector<ConeSums> cone(rings);
+  r.phi.resize(rings);
+  for (size_t k = 0; k < rings; ++k) r.phi[k].reserve(size[k]);
   for (size_t i = 0; i < g.total(); ++i) {
     const int32_t* p = &g.q[3 * i];
     if (!g.valid[i] || !small_enough(p)) continue;
     const double x = p[0], y = p[1];
-    rho[ring[i]].push_back(std::hypot(x, y));
-    z[ring[i]].push_back(p[2]);
-    phi[ring[i]].push_back(azimuth(g, hints, i));
+    const double h = std::hypot(x, y);
+    cone[ring[i]].add(h, p[2]);
+    r.phi[ring[i]].push_back(azimuth(g, hints, i));
+    r.polar[i].ring = ring[i];
+    r.polar[i].range = round_clamp(h);
   }
-  double step = infer_step(phi) / step_divisor;
+  r.step = infer_step(r.phi);
+  r.slope.resize(rings), r.z0.resize(rings);
+  for (size_t k = 0; k < rings; ++k) fit_cone(cone[k], &r.slope[k], &r.z0[k]);
+  return r;
+}
+
+Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor,
+                std::vector<Polar>* polar) {
+  Table t;
+  const size_t rings = r.rings();
+  polar->assign(g.total(), Polar{});
+  if (rings == 0) return t;
+  double step = r.step / step_divisor;
   if (step == 0 || !std::isfinite(step)) return t;
   t.step = static_cast<float>(step);
   step = t.step;
   const double cols = std::floor(kTwoPi / std::fabs(step) + 0.5);
   t.columns = static_cast<uint32_t>(std::max(1.0, std::min(cols, double(kMaxMapCells / rings))));
-  t.azimuth0.resize(rings), t.slope.resize(rings), t.z0.resize(rings);
+  t.slope = r.slope;
+  t.z0 = r.z0;
+  t.azimuth0.resize(rings);
   for (size_t k = 0; k < rings; ++k) {
-    fit_cone(rho[k], z[k], &t.slope[k], &t.z0[k]);
     double sc = 0, ss = 0;
-    for (double a : phi[k]) {
+    for (double a : r.phi[k]) {
       const double th = kTwoPi * a / step;
       sc += std::cos(th), ss += std::sin(th);
     }
     t.azimuth0[k] = static_cast<float>(step * std::atan2(ss, sc) / kTwoPi);
   }
+  // Each valid point's column: its azimuth is the next of its ring's (fit_rings kept them in
+  // point order).
+  std::vector<size_t> next(rings, 0);
   for (size_t i = 0; i < g.total(); ++i) {
     const int32_t* p = &g.q[3 * i];
     if (!g.valid[i] || !small_enough(p)) continue;
-    const double x = p[0], y = p[1];
-    Polar& o = (*polar)[i];
-    o.ring = ring[i];
-    o.column = round_clamp((azimuth(g, hints, i) - t.azimuth0[ring[i]]) / step);
-    o.range = round_clamp(std::hypot(x, y));
+    Polar o = r.polar[i];
+    o.column = round_clamp((r.phi[o.ring][next[o.ring]++] - t.azimuth0[o.ring]) / step);
+    (*polar)[i] = o;
   }
   return t;
 }

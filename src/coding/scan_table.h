@@ -9,11 +9,23 @@
 namespace capz {
 namespace scan {
 
+// What the tables of every azimuth step share, found once per window: the rings, and per ring
+// its cone and its valid points' azimuths (in point order); the azimuth step found in the data;
+// every valid point's ring and range (Polar::column left 0).
+struct RingFit {
+  std::vector<std::vector<double>> phi;  // per ring
+  std::vector<float> slope, z0;          // per ring
+  double step = 0;                       // radians; 0 when none was found
+  std::vector<Polar> polar;              // per point
+  size_t rings() const { return phi.size(); }
+};
+RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints);
+
 // The table of a window's points and every valid point's ring, column and range under it; an
 // empty table (no rings) when none can be inferred. The azimuth step is the one found in the
 // data divided by step_divisor (finer columns for sensors whose azimuths are not on one step).
-Table infer_table(const ScanGeometry& g, const ScanHints& hints, double step_divisor,
-                  std::vector<Polar>* polar);
+Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor,
+                std::vector<Polar>* polar);
 
 // True when every valid point of points [first, first + n) may be coded spherically.
 bool spherical_ok(const ScanGeometry& g, size_t first, size_t n);

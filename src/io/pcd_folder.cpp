@@ -1,6 +1,8 @@
 // Decoder library (capz_decode): builds without PCL and without the transform encoders.
-// A folder of PCD frames <-> Take. Read through PCL's PCDReader, which lives in a module loaded
-// on first use (io/pcd_backend.h: the capz binary does not link PCL's I/O library); written by
+// A folder of PCD frames <-> Take. Read by capz itself when the body is binary or
+// binary_compressed under a plain header (io/pcd_native.h), else through PCL's PCDReader, which
+// lives in a module loaded on first use (io/pcd_backend.h: the capz binary does not link PCL's
+// I/O library); written by
 // capz itself (io/pcd_frame_writer.h), since PCL's writer drops padding fields and retypes
 // packed colour.
 //
@@ -38,6 +40,7 @@
 #include "io/pcd_backend.h"
 #include "io/pcd_frame_writer.h"
 #include "io/pcd_header.h"
+#include "io/pcd_native.h"
 #include "io/text_number.h"
 
 namespace fs = std::filesystem;
@@ -135,6 +138,7 @@ PcdHeader read_one(const std::string& path, pcd::Cloud* cloud) {
     return h;
   }
 
+  if (pcd::read_native(bytes, h, cloud)) return h;
   std::string msg;
   switch (pcd::backend(path).read(bytes.data(), bytes.size(), h.data_idx, h.points, h.point_step,
                                   cloud, &msg)) {
@@ -325,13 +329,23 @@ class PCDSource : public FileFrameSource {
     header_.format = Format::kPCDFolder;
     header_.units = "m";
     header_.units_assumed = true;
-    FrameData first;  // read whole once: its layout as PCL reads it
-    read_pcd_frame(files_.path(0), &layout_, &first);
+    // Read whole once: its layout as PCL reads it. Kept for the first read of frame 0.
+    read_pcd_frame(files_.path(0), &layout_, &first_);
+    have_first_ = true;
     set_layout(layout_, files_.names, &header_);
   }
 
  protected:
   void read_frame(size_t f, FrameData* out) override {
+    if (have_first_) {  // frame 0 read when opening: not read twice
+      have_first_ = false;
+      FrameData first = std::move(first_);
+      first_ = FrameData();
+      if (f == 0) {
+        *out = std::move(first);
+        return;
+      }
+    }
     const std::string p = files_.path(f);
     FrameLayout l;
     read_pcd_frame(p, &l, out);
@@ -344,6 +358,8 @@ class PCDSource : public FileFrameSource {
 
  private:
   FrameLayout layout_;
+  FrameData first_;  // frame 0 as the constructor read it, until the first read_frame
+  bool have_first_ = false;
   std::string organized_;  // a frame file with HEIGHT above 1, if any
 };
 

@@ -1,0 +1,63 @@
+// The scan coder's ring x column maps (docs/FORMAT.md "Scans (format 1.1)"): the range each cell
+// of the previous sweep held, and this sweep's as it is coded. Shared by the encoder and the
+// decoder through scan::State.
+//
+// Memory: a map of the table's rings x columns cells (up to kMaxMapCells) is zero-filled by
+// calloc, which leaves the kernel's zero pages untouched until a cell on them is written, and a
+// sweep's set flags are cleared cell by cell from the list of the cells it wrote, not map-wide:
+// a sweep costs time in proportion to its points, not to the table's cells.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <memory>
+#include <vector>
+
+namespace capz {
+namespace scan {
+
+class SweepMaps {
+ public:
+  // Ready for a table of `cells` cells, nothing set in either map. Buffers are kept when they
+  // are large enough (an encoder's maps serve each table it tries). Throws std::bad_alloc.
+  void reset(size_t cells);
+  // The previous sweep's range at cell i (false: none there).
+  bool prev(size_t i, int32_t* range) const {
+    if (!prev_.set[i]) return false;
+    *range = prev_.range[i];
+    return true;
+  }
+  void set(size_t i, int32_t range) {
+    cur_.range[i] = range;
+    if (!cur_.set[i]) {
+      cur_.set[i] = 1;
+      cur_.wrote.push_back(static_cast<uint32_t>(i));
+    }
+  }
+  // This sweep's map becomes the previous one; the new sweep's is empty.
+  void end_sweep();
+  // Forgets what this sweep wrote.
+  void clear_sweep() { cur_.clear(); }
+
+ private:
+  struct Free {
+    void operator()(void* p) const { std::free(p); }
+  };
+  struct Map {
+    std::unique_ptr<int32_t[], Free> range_buf;
+    std::unique_ptr<uint8_t[], Free> set_buf;
+    int32_t* range = nullptr;
+    uint8_t* set = nullptr;
+    std::vector<uint32_t> wrote;  // the cells set, each once
+    void clear() {
+      for (uint32_t i : wrote) set[i] = 0;
+      wrote.clear();
+    }
+  };
+  Map prev_, cur_;
+  size_t capacity_ = 0;
+};
+
+}  // namespace scan
+}  // namespace capz
