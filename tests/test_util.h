@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 #include <system_error>
+#include <vector>
 
 #include "capz/error.h"
 #include "capz/take.h"
@@ -78,6 +79,17 @@ inline void expect_same_samples(const capz::Take& a, const capz::Take& b) {
   }
   EXPECT_EQ(differ, 0u) << "first differing sample: frame " << first / (a.points ? a.points : 1)
                         << ", point " << first % (a.points ? a.points : 1);
+}
+
+// Shapes *t for frames of these point counts: a fixed take when they are all the same, else a
+// ragged one (all gaps, zero positions).
+inline void resize_frames(capz::Take* t, const std::vector<size_t>& counts) {
+  bool same = true;
+  for (size_t c : counts) same = same && c == counts[0];
+  if (same && !counts.empty())
+    t->resize(counts.size(), counts[0]);
+  else
+    t->resize_ragged(counts);
 }
 
 // Runs `f` and returns the code of the capz::Error it throws (its message in *msg); a call that

@@ -171,7 +171,7 @@ class BreakdownIo {
 
 void breakdown(const capz::ScanGeometry& g, const capz::ScanHints& h) {
   std::vector<capz::scan::Polar> polar;
-  const capz::scan::Table t = capz::scan::infer_table(g, h, 4.0, &polar);
+  const capz::scan::Table t = capz::scan::table_for(g, capz::scan::fit_rings(g, h), 4.0, &polar);
   BreakdownIo io(g, polar);
   capz::scan::State st(t);
   std::vector<int32_t> q;

@@ -244,8 +244,8 @@ void check_take_stream(const std::string& spool) {
              "not a C3D or TRC stream (a PCD sequence is a folder: give the folder)");
 }
 
-// --rm, once OUT has proved it gives IN back: a file is removed; a PCD folder loses the frame
-// files the take was read from, and the folder itself when nothing else is left in it.
+// --rm, once OUT has proved it gives IN back: a file is removed; a PCD, PLY or .bin folder loses
+// the frame files the take was read from, and the folder itself when nothing else is left in it.
 void remove_input(const std::string& in, const capz::Take& take) {
   std::error_code ec;
   if (!fs::is_directory(in)) {
@@ -254,9 +254,14 @@ void remove_input(const std::string& in, const capz::Take& take) {
       capz::fail(capz::ErrorCode::kIo, in, "could not remove after compressing: " + ec.message());
     return;
   }
-  if (!take.pcd)
-    capz::fail(capz::ErrorCode::kUsage, in, "--rm: a folder that is not a PCD sequence");
-  for (const std::string& name : take.pcd->frame_names) {
+  const std::vector<std::string>* names = take.pcd   ? &take.pcd->frame_names
+                                          : take.ply ? &take.ply->frame_names
+                                          : take.bin ? &take.bin->frame_names
+                                                     : nullptr;
+  if (!names)
+    capz::fail(capz::ErrorCode::kUsage, in,
+               "--rm: a folder that is not a PCD, PLY or .bin sequence");
+  for (const std::string& name : *names) {
     const fs::path f = fs::path(in) / name;
     fs::remove(f, ec);
     if (ec)
@@ -271,7 +276,7 @@ void remove_input(const std::string& in, const capz::Take& take) {
     std::fprintf(stderr,
                  "capz compress: note: %s: its %zu frame files removed; the folder is kept, as it "
                  "holds other files\n",
-                 in.c_str(), take.pcd->frame_names.size());
+                 in.c_str(), names->size());
   }
 }
 
@@ -360,10 +365,11 @@ int cmd_compress(const Args& args) {
           args,
           "capz compress IN... [-o OUT | -c | --output-dir-mirror DIR | --output-dir-flat DIR]\n"
           "                    [-r] [-T N] [--max-error E | --kg-error X | --lossless] [options]",
-          "Compresses each IN (a .c3d, a .trc or a folder of .pcd frames) to a .capz, by\n"
-          "default IN.capz beside it. '-' (or no IN while stdin is a pipe) reads one C3D or\n"
-          "TRC stream from stdin and writes the archive to stdout. -r walks folders: every\n"
-          ".c3d and .trc in them, and every folder holding .pcd frames as one sequence.\n"
+          "Compresses each IN (a .c3d, a .trc, a folder of .pcd, .ply or .bin frames, or one\n"
+          "such frame file) to a .capz, by default IN.capz beside it. '-' (or no IN while\n"
+          "stdin is a pipe) reads one C3D or TRC stream from stdin and writes the archive to\n"
+          "stdout. -r walks folders: every .c3d and .trc in them, and every folder holding\n"
+          ".pcd, .ply or .bin frames as one sequence.\n"
           "Error bounds are per coordinate: every valid coordinate comes back within the\n"
           "bound (a point's Euclidean error is then at most sqrt(3) times it); the report\n"
           "gives both, with the KG error and bits per vertex per frame (bpvf). Gaps,\n"

@@ -27,7 +27,8 @@ const char* version_string();
 // The .capz format (docs/FORMAT.md 2) every stream is written in, but for scans.
 constexpr FormatVersion kFormatWritten{1, 0};
 // The version of streams of ragged takes (frames of their own point counts: docs/FORMAT.md
-// "Scans (format 1.1)"), the first minor version: HEAD's feature bit 3 and the SCNW chunk.
+// "Scans (format 1.1)"), the first minor version: HEAD's feature bit 3 and the SCNW chunk; also
+// of takes read from PLY or .bin frames (HEAD's feature bit 4), whatever their shape.
 constexpr FormatVersion kFormatScans{1, 1};
 // The newest format read. A stream of major 1 is read at any minor version; one of a later minor
 // is refused (Error kUnsupportedVersion, naming the chunk or feature) only where it uses what

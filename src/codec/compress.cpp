@@ -5,6 +5,7 @@
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/stream.h"
+#include "codec/encode_settings.h"
 #include "codec/encoder.h"
 #include "codec/registry.h"
 #include "codec/scan_encoder.h"
@@ -20,21 +21,73 @@ size_t auto_window_frames(size_t points) {
 
 namespace {
 
-// What the encoder does not code yet (issue 37, format 1.1): PLY and .bin frames (their layouts
-// have no META block; ragged takes: compress_ragged). Throws kInvalidParameter.
-void refuse_scans(const Take& t) {
-  if (t.format == Format::kPLYFolder || t.format == Format::kBinFolder)
+// What the encoder does not code yet for PLY and .bin frames (format 1.1, frame-file sources):
+// --lossless, which promises the frame files back byte for byte (no residue rebuilds them).
+// Throws kInvalidParameter.
+void refuse_scans(const Take& t, const CompressOptions& opts) {
+  if (opts.lossless && (t.format == Format::kPLYFolder || t.format == Format::kBinFolder))
     fail(ErrorCode::kInvalidParameter, t.source,
-         std::string(t.format == Format::kPLYFolder ? "PLY" : ".bin") +
-             " frames are not supported by the encoder yet: convert them to PCD first "
-             "(capz convert IN OUT/ --to pcd)");
+         std::string("--lossless is not implemented for ") +
+             (t.format == Format::kPLYFolder ? "PLY" : ".bin") +
+             " frames: their byte-exact rebuild (a residue of frame files) is missing; give "
+             "--max-error, or convert them to PCD first (capz convert IN OUT/ --to pcd)");
+}
+
+// A ragged take of PLY or .bin frames with the point layout META stores for it.
+std::vector<uint8_t> compress_ragged_frames(const Take& take, const CompressOptions& opts,
+                                            CompressStats* stats) {
+  if (take.pcd || (take.format != Format::kPLYFolder && take.format != Format::kBinFolder))
+    return compress_ragged(take, opts, stats);
+  Take t = take;  // its fields stay: a ring field guides the geometry coder, --drop-fields or not
+  settle_frame_layout(&t, opts.drop_fields);
+  return compress_ragged(t, opts, stats);
+}
+
+// A one-frame unorganized point cloud (a single LiDAR sweep, a depth camera's cloud with its
+// NaN pixels dropped) may code smaller as a ragged take of one frame (format 1.1's scan coder
+// finds the sensor's rings and firing order) than through POSW, whose predictors look at earlier
+// frames: the encoder tries both and keeps the smaller stream. Not for transform codecs or KG
+// targets (the scan coder has neither).
+bool scan_candidate(const Take& t, const CompressOptions& o) {
+  const bool frame_files = t.format == Format::kPCDFolder || t.format == Format::kPLYFolder ||
+                           t.format == Format::kBinFolder;
+  const bool unorganized = !t.pcd || t.pcd->height <= 1;
+  return !t.ragged() && t.frames == 1 && t.points > 1 && frame_files && unorganized &&
+         (o.codec.empty() || o.codec == "none") && (o.lossless || o.max_error > 0) &&
+         t.analog.channels == 0 && t.rotations.segments == 0;
+}
+
+// t as a ragged take of its one frame (take.h: no labels, no shared point count).
+Take as_one_ragged_frame(Take t) {
+  t.frame_offsets = {0, t.points};
+  t.points = 0;
+  t.labels.clear();
+  return t;
+}
+
+// The scan coder's stream of t's one frame when it is smaller than `fixed` (then *stats is its
+// report), else empty. A take the scan coder does not take leaves `fixed` as it is.
+std::vector<uint8_t> smaller_as_scan(const Take& t, const CompressOptions& opts,
+                                     const std::vector<uint8_t>& fixed, CompressStats* stats,
+                                     const std::string& original = std::string()) {
+  CompressStats st;
+  std::vector<uint8_t> scan;
+  try {
+    scan = compress_ragged(as_one_ragged_frame(t), opts, stats ? &st : nullptr, original);
+  } catch (const Error& e) {
+    if (e.code() != ErrorCode::kInvalidParameter) throw;
+    return {};
+  }
+  if (scan.size() >= fixed.size()) return {};
+  if (stats) *stats = st;
+  return scan;
 }
 
 std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions& opts,
                                          const EncoderTuning& tuning, CompressStats* stats,
                                          bool allow_tout = true) {
-  if (take.ragged()) return compress_ragged(take, opts, stats);
-  refuse_scans(take);
+  refuse_scans(take, opts);
+  if (take.ragged()) return compress_ragged_frames(take, opts, stats);
   if (take.xyz.size() != take.frames * take.points * 3 ||
       take.valid.size() != take.frames * take.points)
     fail(ErrorCode::kInvalidParameter, take.source,
@@ -110,13 +163,17 @@ std::vector<uint8_t> compress_tuned(const Take& take, const CompressOptions& opt
 }
 
 std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, CompressStats* stats) {
-  return compress_tuned(take, opts, EncoderTuning(), stats);
+  std::vector<uint8_t> fixed = compress_tuned(take, opts, EncoderTuning(), stats);
+  if (!scan_candidate(take, opts)) return fixed;
+  std::vector<uint8_t> scan = smaller_as_scan(take, opts, fixed, stats);
+  return scan.empty() ? fixed : scan;
 }
 
 void compress_stream(FrameSource& source, const CompressOptions& opts, const std::string& path,
                      bool overwrite, CompressStats* stats) {
-  refuse_scans(source.header());
+  refuse_scans(source.header(), opts);
   if (source.header().ragged()) {  // not streamed yet: the whole take in memory
+    settle_frame_layout(&source.edit_header(), opts.drop_fields);
     Take t = source.header();
     FrameBlock b;
     source.read(0, t.frames, &b);
@@ -125,6 +182,27 @@ void compress_stream(FrameSource& source, const CompressOptions& opts, const std
     for (size_t a = 0; a < t.attributes.size() && a < b.attributes.size(); ++a)
       t.attributes[a].data = std::move(b.attributes[a]);
     std::vector<uint8_t> bytes = compress_ragged(t, opts, stats, source.original_file());
+    AtomicFile file(path, overwrite);
+    StreamOut out(&file);
+    out.flush(&bytes);
+    file.commit();
+    return;
+  }
+  if (scan_candidate(source.header(), opts)) {  // one frame: both codings in memory
+    Take t = source.header();
+    FrameBlock b;
+    source.read(0, 1, &b);
+    t.xyz = std::move(b.xyz);
+    t.valid = std::move(b.valid);
+    for (size_t a = 0; a < t.attributes.size() && a < b.attributes.size(); ++a)
+      t.attributes[a].data = std::move(b.attributes[a]);
+    std::vector<uint8_t> bytes;
+    {
+      StreamOut mem(&bytes);  // the source itself: a lossless stream carries its residue
+      encode_source(source, opts, EncoderTuning(), &mem, stats);
+    }
+    std::vector<uint8_t> scan = smaller_as_scan(t, opts, bytes, stats, source.original_file());
+    if (!scan.empty()) bytes.swap(scan);
     AtomicFile file(path, overwrite);
     StreamOut out(&file);
     out.flush(&bytes);

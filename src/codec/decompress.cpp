@@ -24,6 +24,15 @@ void slice(size_t first, size_t count, size_t F, std::vector<T>* v) {
   *v = std::vector<T>(b, b + static_cast<std::ptrdiff_t>(count));
 }
 
+// A copy of a frame-file extras (PCD, PLY, .bin) with its frame names sliced, when it is set.
+template <typename Extra>
+void slice_frame_names(size_t first, size_t count, size_t F, std::shared_ptr<Extra>* extra) {
+  if (!*extra) return;
+  auto x = std::make_shared<Extra>(**extra);
+  slice(first, count, F, &x->frame_names);
+  *extra = x;
+}
+
 // The per-frame metadata of *t (a take of F frames) cut to frames [first, first + count).
 void slice_frame_metadata(size_t first, size_t count, size_t F, Take* t) {
   t->first_frame += static_cast<decltype(t->first_frame)>(first);
@@ -33,9 +42,22 @@ void slice_frame_metadata(size_t first, size_t count, size_t F, Take* t) {
     slice(first, count, F, &x->frame_numbers);
     t->trc = x;
   }
-  if (t->pcd) {
+  slice_frame_names(first, count, F, &t->pcd);
+  slice_frame_names(first, count, F, &t->ply);
+  slice_frame_names(first, count, F, &t->bin);
+}
+
+// A stream of one ragged frame (the encoder codes a single unorganized frame with the scan coder
+// when that is smaller) decodes to the shape a reader gives one frame file: a fixed take of one
+// frame, unlabelled points, an unorganized PCD layout of its point count.
+void one_frame_as_fixed(Take* t) {
+  t->points = t->frame_offsets[1];
+  t->frame_offsets.clear();
+  t->labels.assign(t->points, std::string());
+  if (t->pcd && t->pcd->width != t->points) {
     auto x = std::make_shared<PCDExtra>(*t->pcd);
-    slice(first, count, F, &x->frame_names);
+    x->width = t->points;
+    x->height = 1;
     t->pcd = x;
   }
 }
@@ -68,6 +90,7 @@ Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
     t.c3d->camera_mask = std::move(b.camera_mask);
   }
   if (first > 0 || count < F) slice_frame_metadata(first, count, F, &t);
+  if (F == 1 && t.frame_offsets.size() == 2) one_frame_as_fixed(&t);
   return t;
 }
 

@@ -9,6 +9,7 @@
 
 #include "capz/error.h"
 #include "coding/attributes.h"
+#include "coding/ply_types.h"
 
 namespace capz {
 
@@ -130,10 +131,77 @@ std::vector<std::string> set_analog_bounds(FrameSource& source, const CompressOp
   return unmatched;
 }
 
+namespace {
+
+// The fields of a frame-file source's layout: a PLY's vertex properties, a .bin's x y z intensity
+// (float32), those the take's attributes still are (--drop-fields: x y z); else x y z as float64
+// (float32 for .bin) then the attributes. Empty when an attribute cannot be the format's
+// (COUNT above 1 or an 8-byte integer in a PLY; a .bin field other than a float32 intensity).
+std::vector<PCDField> frame_file_fields(const Take& t) {
+  std::vector<PCDField> source, fields;
+  if (t.ply) source = t.ply->fields;
+  if (t.format == Format::kBinFolder)
+    for (const char* name : {"x", "y", "z", "intensity"}) source.push_back({name, 'F', 4, 1});
+  // The source's x y z and those of its fields the take still has, in the source's order.
+  size_t k = 0, axes = 0;
+  for (const PCDField& f : source) {
+    const PointAttribute* a = k < t.attributes.size() ? &t.attributes[k] : nullptr;
+    if (f.name == "x" || f.name == "y" || f.name == "z") {
+      ++axes;
+      fields.push_back(f);
+    } else if (a && a->name == f.name && a->type == f.type && a->size == f.size &&
+               a->count == f.count) {
+      fields.push_back(f);
+      ++k;
+    }
+  }
+  if (axes == 3 && k == t.attributes.size()) return fields;
+  fields.clear();
+  for (const char* axis : {"x", "y", "z"}) fields.push_back(PCDField{axis, 'F', 8, 1});
+  for (const PointAttribute& a : t.attributes) {
+    if (a.count != 1 || !ply_type_name(a.type, a.size) ||
+        (t.format == Format::kBinFolder && (a.name != "intensity" || a.type != 'F' || a.size != 4)))
+      return {};
+    fields.push_back(PCDField{a.name, a.type, a.size, a.count});
+  }
+  if (t.format == Format::kBinFolder) fields[0].size = fields[1].size = fields[2].size = 4;
+  return fields;
+}
+
+}  // namespace
+
+void settle_frame_layout(Take* t, bool drop_fields) {
+  if ((t->format != Format::kPLYFolder && t->format != Format::kBinFolder) || t->pcd) return;
+  auto x = std::make_shared<PCDExtra>();
+  x->encoding = "binary";
+  x->fields = frame_file_fields(*t);
+  if (x->fields.empty() && drop_fields) {  // the source's x y z alone
+    Take bare;
+    bare.format = t->format;
+    bare.ply = t->ply;
+    x->fields = frame_file_fields(bare);
+  }
+  if (x->fields.empty())
+    fail(ErrorCode::kInvalidParameter, t->source,
+         std::string("the point fields (") + field_names(*t) + ") cannot be written back as " +
+             (t->format == Format::kPLYFolder ? "PLY properties (one value a point each)"
+                                              : ".bin frames (x y z intensity, float32)") +
+             ": give --drop-fields to leave them out");
+  if (const std::vector<std::string>* names = t->ply   ? &t->ply->frame_names
+                                              : t->bin ? &t->bin->frame_names
+                                                       : nullptr)
+    x->frame_names = *names;
+  t->pcd = x;
+}
+
 // A take with point fields needs a PCD layout in META (FORMAT.md 5.5): one read from a PCD
 // folder has it; for any other (built in memory) it is x y z as float64 then the fields, one
 // row. With opts.drop_fields the fields are left out instead.
 void settle_fields(Take& e, const CompressOptions& opts) {
+  if (e.format == Format::kPLYFolder || e.format == Format::kBinFolder) {
+    if (opts.drop_fields) e.attributes.clear();
+    settle_frame_layout(&e, opts.drop_fields);
+  }
   const Take& h = e;
   if (h.attributes.empty()) return;
   if (opts.drop_fields) {

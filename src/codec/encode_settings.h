@@ -10,6 +10,7 @@
 
 #include "capz/codec.h"
 #include "capz/stream.h"
+#include "capz/take.h"
 
 namespace capz {
 
@@ -18,6 +19,12 @@ namespace capz {
 // left out instead.
 void settle_fields(FrameSource& source, const CompressOptions& opts);
 void settle_fields(Take& header, const CompressOptions& opts);
+// "Scans (format 1.1)": a take of PLY or .bin frames (t->format) without a PCD layout gets the
+// one META stores for it (FORMAT.md, frame-file sources): encoding binary, its frame names, its
+// fields (a PLY's properties, a .bin's x y z intensity; else x y z float64 and the attributes).
+// Fields the format cannot hold: with drop_fields the layout is the source's x y z alone, else
+// Error(kInvalidParameter) (--drop-fields leaves them out).
+void settle_frame_layout(Take* t, bool drop_fields = false);
 // The per-field bounds of opts.attr_error on the header's PCD layout (field_bounds).
 void set_field_bounds(FrameSource& source, const CompressOptions& opts);
 void set_field_bounds(Take& header, const CompressOptions& opts);

@@ -276,7 +276,8 @@ class Encoder {
     analog_repeats_ = plan_.analog && analog_repeats_worth(scan_, take_.frames);
     const std::vector<uint8_t> meta_payload = encode_meta(take_, plan_.words, take_.c3d != nullptr);
     std::vector<uint8_t> buf;
-    write_file_header(&buf);
+    // "Scans (format 1.1)": PLY and .bin frames are a frame-file source (HEAD feature bit 4).
+    write_file_header(&buf, h.frame_file_source() ? kFormatScans.minor : kFormatWritten.minor);
     append_chunk(&buf, "HEAD", encode_header(h));
     const size_t meta_at = buf.size();
     append_chunk(&buf, "META", meta_payload);

@@ -29,9 +29,11 @@ void refuse_unsupported(const Take& t, const CompressOptions& opts) {
   if (!opts.lossless && !(opts.max_error > 0))
     fail(ErrorCode::kInvalidParameter, t.source,
          "only --max-error and --lossless are implemented for " + what + " (no KG target)");
-  if (t.format != Format::kPCDFolder || t.analog.channels > 0 || t.rotations.segments > 0)
+  const bool frames = t.format == Format::kPCDFolder || t.format == Format::kPLYFolder ||
+                      t.format == Format::kBinFolder;
+  if (!frames || t.analog.channels > 0 || t.rotations.segments > 0)
     fail(ErrorCode::kInvalidParameter, t.source,
-         "only PCD frames are coded as " + what + " yet: convert them to PCD first");
+         "only PCD, PLY and .bin frames are coded as " + what + " yet: convert them first");
 }
 
 // The ring / laser / channel number of every point from an unsigned or signed integer field of
@@ -317,7 +319,7 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
   StreamHeader h;
   h.frames = t.frames;
   h.window_frames = window_frames(t, opts);
-  h.source_format = Format::kPCDFolder;
+  h.source_format = t.format;  // PLY and .bin: HEAD's frame-file source (feature bit 4)
   h.mode = grid.mode;
   h.step = grid.step;
   h.max_error = grid.lossless ? 0 : opts.max_error;

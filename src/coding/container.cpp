@@ -127,7 +127,7 @@ StreamHeader decode_header(const Chunk& c, const std::string& name, const Stream
     fail(ErrorCode::kCorrupt, what,
          "window of " + std::to_string(h.window_frames) + " frames (1.." +
              std::to_string(kMaxWindowFrames) + ")");
-  for (int bit = 4; bit < 8; ++bit)  // FORMAT.md 17: a flag a later minor version adds
+  for (int bit = 5; bit < 8; ++bit)  // FORMAT.md 17: a flag a later minor version adds
     if (flags >> bit & 1)
       fail(ErrorCode::kUnsupportedVersion, what,
            "feature bit " + std::to_string(bit) + " of format " + f.version() +
@@ -154,6 +154,17 @@ StreamHeader decode_header(const Chunk& c, const std::string& name, const Stream
     h.rotation_samples_per_frame = r.u32();
     if (h.rotation_segments == 0 || h.rotation_samples_per_frame == 0)
       fail(ErrorCode::kCorrupt, what, "rotations with 0 segments or 0 samples per frame");
+  }
+  if (flags & 16) {  // "Scans (format 1.1)": a frame-file source, named after the fields above
+    if (!f.frame_file_sources())
+      fail(ErrorCode::kCorrupt, what, "feature bit 4 (frame-file source) in a format 1.0 stream");
+    if (fmt != 0)
+      fail(ErrorCode::kCorrupt, what,
+           "frame-file source with source format " + std::to_string(fmt) + " (must be 0)");
+    fmt = r.u8();
+    if (fmt != static_cast<uint8_t>(Format::kBinFolder) &&
+        fmt != static_cast<uint8_t>(Format::kPLYFolder))
+      fail(ErrorCode::kCorrupt, what, "unknown frame-file format " + std::to_string(fmt));
   }
   if (h.frames > (uint64_t{1} << 40)) fail(ErrorCode::kCorrupt, what, "implausible frame count");
   if ((h.analog_channels == 0) != (h.analog_samples_per_frame == 0) && h.analog_channels != 0)

@@ -82,6 +82,11 @@ struct StreamHeader {
   bool ragged = false;
 
   bool rotations() const { return rotation_segments > 0; }
+  // HEAD flags bit 4 ("Scans (format 1.1)"): the source is a PLY or .bin folder (source_format
+  // kPLYFolder or kBinFolder), written as HEAD's appended frame_format.
+  bool frame_file_source() const {
+    return source_format == Format::kPLYFolder || source_format == Format::kBinFolder;
+  }
   size_t windows() const {
     return frames == 0 ? 0 : static_cast<size_t>((frames + window_frames - 1) / window_frames);
   }

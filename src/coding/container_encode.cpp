@@ -42,11 +42,14 @@ std::vector<uint8_t> encode_header(const StreamHeader& h) {
   w.u64(h.frames);
   w.u32(h.points);
   w.u32(h.window_frames);
-  w.u8(static_cast<uint8_t>(h.source_format));
+  // "Scans (format 1.1)": a frame-file source is named by the appended frame_format, its
+  // source_format byte 0, so that decoders without feature bit 4 refuse it by name.
+  w.u8(h.frame_file_source() ? 0 : static_cast<uint8_t>(h.source_format));
   w.u8(static_cast<uint8_t>(h.mode));
   w.u8(h.codec);
   w.u8(static_cast<uint8_t>((h.lossless ? 1 : 0) | (h.transform_output ? 2 : 0) |
-                            (h.rotations() ? 4 : 0) | (h.ragged ? 8 : 0)));
+                            (h.rotations() ? 4 : 0) | (h.ragged ? 8 : 0) |
+                            (h.frame_file_source() ? 16 : 0)));
   w.f64(h.step);
   w.f64(h.max_error);
   w.u32(h.analog_channels);
@@ -56,6 +59,7 @@ std::vector<uint8_t> encode_header(const StreamHeader& h) {
     w.u32(h.rotation_segments);
     w.u32(h.rotation_samples_per_frame);
   }
+  if (h.frame_file_source()) w.u8(static_cast<uint8_t>(h.source_format));
   return std::move(w.buffer());
 }
 

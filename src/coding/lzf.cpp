@@ -1,6 +1,7 @@
 // LZF (coding/lzf.h).
 #include "coding/lzf.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "capz/error.h"
@@ -26,6 +27,17 @@ void flush_literals(const uint8_t* data, size_t from, size_t to, std::vector<uin
     from += n;
   }
 }
+// A copy of `len` bytes (3 to 264) from `off` + 1 bytes back.
+void put_copy(size_t len, size_t off, std::vector<uint8_t>* out) {
+  const size_t l = len - 2;
+  if (l < 7) {
+    out->push_back(static_cast<uint8_t>((l << 5) | (off >> 8)));
+  } else {
+    out->push_back(static_cast<uint8_t>((7 << 5) | (off >> 8)));
+    out->push_back(static_cast<uint8_t>(l - 7));
+  }
+  out->push_back(static_cast<uint8_t>(off & 255));
+}
 }  // namespace
 
 std::vector<uint8_t> lzf_compress(const uint8_t* data, size_t size) {
@@ -43,15 +55,7 @@ std::vector<uint8_t> lzf_compress(const uint8_t* data, size_t size) {
       const size_t limit = std::min(kMaxMatch, size - i);
       while (len < limit && data[cand + len] == data[i + len]) ++len;
       flush_literals(data, lit, i, &out);
-      const size_t off = i - cand - 1;
-      const size_t l = len - 2;
-      if (l < 7) {
-        out.push_back(static_cast<uint8_t>((l << 5) | (off >> 8)));
-      } else {
-        out.push_back(static_cast<uint8_t>((7 << 5) | (off >> 8)));
-        out.push_back(static_cast<uint8_t>(l - 7));
-      }
-      out.push_back(static_cast<uint8_t>(off & 255));
+      put_copy(len, i - cand - 1, &out);
       // Index the positions the match covers (their prefixes), so later matches find them.
       for (size_t k = i + 1; k < i + len && k + 3 <= size; ++k) table[hash3(data + k)] = k;
       i += len;
@@ -62,6 +66,93 @@ std::vector<uint8_t> lzf_compress(const uint8_t* data, size_t size) {
   }
   flush_literals(data, lit, size, &out);
   return out;
+}
+
+namespace {
+
+// Variant 1's output: literal runs under a control byte reserved when the run opens.
+struct LiteralRuns {
+  std::vector<uint8_t>* out;
+  size_t at = 0;
+  size_t n = 0;
+  void open() {
+    at = out->size();
+    out->push_back(0);
+    n = 0;
+  }
+  void close() {
+    if (n)
+      (*out)[at] = static_cast<uint8_t>(n - 1);
+    else
+      out->pop_back();
+  }
+  void add(uint8_t c) {
+    out->push_back(c);
+    if (++n == kMaxLiteral) {
+      (*out)[at] = static_cast<uint8_t>(kMaxLiteral - 1);
+      open();
+    }
+  }
+};
+
+constexpr int kLiblzfBits = 13;
+
+uint32_t liblzf_slot(uint32_t h) {
+  return ((h >> (24 - kLiblzfBits)) - h) & ((1u << kLiblzfBits) - 1);
+}
+
+// Variant 1's match length at i against r (FORMAT.md 14.3): liblzf checks its first 16 bytes
+// past the 3 equal ones unrolled whenever more than 16 may follow.
+size_t liblzf_length(const uint8_t* in, size_t n, size_t r, size_t i) {
+  const size_t M = std::min(kMaxMatch, n - i - 2);
+  size_t m = 2;
+  if (M > 16)
+    for (int k = 0; k < 16; ++k) {
+      ++m;
+      if (in[r + m] != in[i + m]) return m;
+    }
+  do ++m;
+  while (m < M && in[r + m] == in[i + m]);
+  return m;
+}
+
+std::vector<uint8_t> lzf_compress_liblzf(const uint8_t* in, size_t n) {
+  std::vector<uint8_t> out;
+  out.reserve(n / 2 + 16);
+  LiteralRuns lit{&out};
+  lit.open();
+  std::vector<uint32_t> table(size_t{1} << kLiblzfBits, 0);
+  size_t i = 0;
+  uint32_t h = n >= 2 ? (uint32_t{in[0]} << 8 | in[1]) : 0;
+  while (i + 2 < n) {
+    h = h << 8 | in[i + 2];
+    uint32_t& slot = table[liblzf_slot(h)];
+    const size_t r = slot;
+    slot = static_cast<uint32_t>(i);
+    if (!(r > 0 && r < i && i - r <= kMaxDistance && std::memcmp(in + r, in + i, 3) == 0)) {
+      lit.add(in[i++]);
+      continue;
+    }
+    const size_t m = liblzf_length(in, n, r, i);
+    lit.close();
+    put_copy(m, i - r - 1, &out);
+    lit.open();
+    i += m;
+    if (i + 2 >= n) break;
+    h = uint32_t{in[i - 1]} << 16 | uint32_t{in[i]} << 8 | in[i + 1];
+    table[liblzf_slot(h)] = static_cast<uint32_t>(i - 1);
+  }
+  while (i < n) lit.add(in[i++]);
+  lit.close();
+  return out;
+}
+
+}  // namespace
+
+std::vector<uint8_t> lzf_compress(const uint8_t* data, size_t size, LzfVariant variant) {
+  if (size > 0xFFFFFFFFu) fail(ErrorCode::kUsage, "", "LZF of more than 4 GiB");
+  return variant == LzfVariant::kLiblzf13 ? lzf_compress_liblzf(data, size)
+                                          : lzf_compress(data, size);
 }
 
 bool lzf_decompress_into(const uint8_t* data, size_t n, uint8_t* out, size_t size) {

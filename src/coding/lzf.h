@@ -16,6 +16,13 @@ namespace capz {
 
 std::vector<uint8_t> lzf_compress(const uint8_t* data, size_t size);
 
+// The LZF compressors capz reproduces (docs/FORMAT.md 14.3): its own (above) and variant 1,
+// liblzf's greedy compressor as PCL's io/src/lzf.cpp builds it with a 2^13-slot table (its
+// "(h >> 11) - h" hash of 3 bytes, one position indexed after a match, offset 0 never matched),
+// which wrote PCL's binary_compressed PCD files (pandar64-factory20's among them).
+enum class LzfVariant : uint8_t { kCapz = 0, kLiblzf13 = 1 };
+std::vector<uint8_t> lzf_compress(const uint8_t* data, size_t size, LzfVariant variant);
+
 // Decompresses exactly `size` bytes into out[0, size): false (out's bytes unspecified) when the
 // stream is malformed, references before its start, or does not give exactly `size` bytes.
 bool lzf_decompress_into(const uint8_t* data, size_t n, uint8_t* out, size_t size);

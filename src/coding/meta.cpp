@@ -13,6 +13,7 @@
 #include "coding/entropy.h"
 #include "coding/lzma_block.h"
 #include "coding/meta_shared.h"
+#include "coding/ply_types.h"
 
 namespace capz {
 namespace {
@@ -26,6 +27,13 @@ std::vector<std::string> get_strings(ByteReader* r, size_t expect, const char* w
     throw Error(ErrorCode::kCorrupt, r->what() + ": " + what + " = " + std::to_string(n) +
                                          ", expected 0 or " + std::to_string(expect));
   std::vector<std::string> v(static_cast<size_t>(n));
+  for (auto& s : v) s = r->str();
+  return v;
+}
+
+// A list of any length (each string at least its length byte).
+std::vector<std::string> get_any_strings(ByteReader* r, const char* what) {
+  std::vector<std::string> v(static_cast<size_t>(r->count(1, what)));
   for (auto& s : v) s = r->str();
   return v;
 }
@@ -220,6 +228,53 @@ std::shared_ptr<TRCExtra> get_trc_block(ByteReader* in, const std::string& what,
   return x;
 }
 
+// "Scans (format 1.1)": the PLY block, into a PLYExtra whose fields are the PCD layout's.
+std::shared_ptr<PLYExtra> get_ply_block(ByteReader* in, const std::string& what,
+                                        const PCDExtra& layout) {
+  ByteReader& r = *in;
+  auto x = std::make_shared<PLYExtra>();
+  const uint8_t enc = r.u8();
+  if (enc > 2) fail(ErrorCode::kCorrupt, what, "unknown PLY encoding " + std::to_string(enc));
+  x->encoding = meta::kPlyEncodings[enc];
+  x->version = r.str();
+  x->frame_names = layout.frame_names;
+  x->fields = layout.fields;
+  for (const PCDField& f : layout.fields) {
+    x->type_names.push_back(r.str());
+    const PlyType* t = find_ply_type(x->type_names.back());
+    if (!t || t->type != f.type || t->size != f.size || f.count != 1)
+      fail(ErrorCode::kCorrupt, what,
+           "PLY property " + f.name + " of type '" + x->type_names.back() +
+               "' does not match its field");
+  }
+  x->comments = get_any_strings(&r, "PLY comment count");
+  x->obj_info = get_any_strings(&r, "PLY obj_info count");
+  return x;
+}
+
+// "Scans (format 1.1)": a frame-file source's extras from its PCD block (the point layout) and
+// PLY block. Throws kCorrupt for a layout its format cannot have.
+void set_frame_file_extras(const std::string& what, std::shared_ptr<PLYExtra> ply, Take* t) {
+  const PCDExtra* p = t->pcd.get();
+  if (!p || p->fields.empty())
+    fail(ErrorCode::kCorrupt, what, "frame-file source without a PCD layout");
+  if (p->encoding != "binary")
+    fail(ErrorCode::kCorrupt, what, "frame-file source with PCD encoding '" + p->encoding + "'");
+  if (t->format == Format::kPLYFolder) {
+    if (!ply) fail(ErrorCode::kCorrupt, what, "PLY source without a PLY block");
+    t->ply = std::move(ply);
+    return;
+  }
+  const std::vector<std::string> names = {"x", "y", "z", "intensity"};
+  bool ok = p->fields.size() == 3 || p->fields.size() == 4;
+  for (size_t i = 0; ok && i < p->fields.size(); ++i)
+    ok = p->fields[i].name == names[i] && p->fields[i].type == 'F' && p->fields[i].size == 4 &&
+         p->fields[i].count == 1;
+  if (!ok) fail(ErrorCode::kCorrupt, what, ".bin source whose fields are not x y z intensity");
+  t->bin = std::make_shared<BinExtra>();
+  t->bin->frame_names = p->frame_names;
+}
+
 // FORMAT.md 5.7: the bounded analog channels.
 void get_analog_bounds(ByteReader* in, const std::string& what, Analog* a) {
   ByteReader& r = *in;
@@ -279,7 +334,15 @@ void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sam
   } else if (extras & 16) {
     fail(ErrorCode::kCorrupt, what, "PCD layout without a PCD block");
   }
-  if (extras & ~31) fail(ErrorCode::kCorrupt, what, "unknown metadata blocks");
+  if (extras & ~63) fail(ErrorCode::kCorrupt, what, "unknown metadata blocks");
+  std::shared_ptr<PLYExtra> ply;
+  if (extras & 32) {  // "Scans (format 1.1)": the PLY block, of a PLY source only
+    if (t->format != Format::kPLYFolder || !t->pcd)
+      fail(ErrorCode::kCorrupt, what, "a PLY block in a stream whose source is not a PLY folder");
+    ply = get_ply_block(&r, what, *t->pcd);
+  }
+  if (t->format == Format::kPLYFolder || t->format == Format::kBinFolder)
+    set_frame_file_extras(what, std::move(ply), t);
   if (t->rotations.segments > 0) {  // FORMAT.md 5.6
     t->rotations.rate = r.f64();
     t->rotations.labels =

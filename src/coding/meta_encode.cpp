@@ -11,6 +11,7 @@
 #include "coding/lzma_block.h"
 #include "coding/meta.h"
 #include "coding/meta_shared.h"
+#include "coding/ply_types.h"
 
 namespace capz {
 namespace {
@@ -168,6 +169,28 @@ void put_pcd_block(const PCDExtra& x, size_t frames, size_t points, bool layout,
   if (layout) put_pcd_layout(x, points, out);
 }
 
+// "Scans (format 1.1)": the PLY block of a frame-file source, after the PCD block whose layout
+// (`fields`) it names the types of. A field's type name is the one the source spelled for a
+// property of that name, type and size, else the classic name.
+void put_ply_block(const PLYExtra& x, const std::vector<PCDField>& fields, ByteWriter* out) {
+  ByteWriter& w = *out;
+  uint8_t enc = 1;
+  for (uint8_t i = 0; i < 3; ++i)
+    if (x.encoding == meta::kPlyEncodings[i]) enc = i;
+  w.u8(enc);
+  w.str(x.version);
+  for (const PCDField& f : fields) {
+    const char* name = ply_type_name(f.type, f.size);
+    std::string spelled = name ? name : "";
+    for (size_t i = 0; i < x.fields.size() && i < x.type_names.size(); ++i)
+      if (x.fields[i].name == f.name && x.fields[i].type == f.type && x.fields[i].size == f.size)
+        spelled = x.type_names[i];
+    w.str(spelled);
+  }
+  put_strings(&w, x.comments);
+  put_strings(&w, x.obj_info);
+}
+
 // FORMAT.md 5.7: the bounded analog channels.
 void put_analog_bounds(const Analog& a, ByteWriter* out) {
   ByteWriter& w = *out;
@@ -203,12 +226,15 @@ std::vector<uint8_t> encode_meta_fields(const Take& t, bool has_sample_words) {
   put_strings(&w, derived ? kNone : t.analog.labels);
   // FORMAT.md 5.5: a PCD layout (fields, WIDTH x HEIGHT, VIEWPOINT) follows the PCD block.
   const bool layout = t.pcd && !t.pcd->fields.empty();
+  // "Scans (format 1.1)": a PLY source's header facts follow its PCD block (its point layout).
+  const bool ply = t.format == Format::kPLYFolder && t.ply && layout;
   uint8_t extras = static_cast<uint8_t>((t.c3d ? 1 : 0) | (t.trc ? 2 : 0) | (t.pcd ? 4 : 0) |
-                                        (derived ? 8 : 0) | (layout ? 16 : 0));
+                                        (derived ? 8 : 0) | (layout ? 16 : 0) | (ply ? 32 : 0));
   w.u8(extras);
   if (t.c3d) put_c3d_block(*t.c3d, has_sample_words, &w);
   if (t.trc) put_trc_block(*t.trc, t.frames, &w);
   if (t.pcd) put_pcd_block(*t.pcd, t.frames, t.points, layout, &w);
+  if (ply) put_ply_block(*t.ply, t.pcd->fields, &w);
   if (t.rotations.segments > 0) {  // FORMAT.md 5.6 (HEAD says rotations)
     w.f64(t.rotations.rate);
     put_strings(&w, t.rotations.labels);

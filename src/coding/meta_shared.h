@@ -36,5 +36,9 @@ inline void derive_labels(const C3DExtra& c, size_t points, int channels,
   a->resize(static_cast<size_t>(std::max(0, channels)));
 }
 
+// "Scans (format 1.1)": the PLY block's encoding codes 0, 1, 2.
+inline constexpr const char* kPlyEncodings[] = {"ascii", "binary_little_endian",
+                                                "binary_big_endian"};
+
 }  // namespace meta
 }  // namespace capz

@@ -104,7 +104,8 @@ void put_le32(std::vector<uint8_t>* b, uint32_t v) {
 
 }  // namespace
 
-std::vector<uint8_t> pcd_frame_bytes(const PcdFrameLayout& layout, const uint8_t* all_points) {
+std::vector<uint8_t> pcd_frame_bytes(const PcdFrameLayout& layout, const uint8_t* all_points,
+                                     LzfVariant lzf) {
   const size_t n = layout.width * layout.height;
   size_t all_step = 0;
   for (const PCDField& f : layout.fields)
@@ -147,7 +148,7 @@ std::vector<uint8_t> pcd_frame_bytes(const PcdFrameLayout& layout, const uint8_t
     }
     if (fm.size() > 0xFFFFFFFFu)
       fail(ErrorCode::kUsage, "", "a PCD frame above 4 GiB cannot be binary_compressed");
-    const std::vector<uint8_t> c = lzf_compress(fm.data(), fm.size());
+    const std::vector<uint8_t> c = lzf_compress(fm.data(), fm.size(), lzf);
     put_le32(&out, static_cast<uint32_t>(c.size()));
     put_le32(&out, static_cast<uint32_t>(fm.size()));
     out.insert(out.end(), c.begin(), c.end());

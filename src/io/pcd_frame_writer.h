@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "capz/take.h"
+#include "coding/lzf.h"
 
 namespace capz {
 
@@ -32,8 +33,10 @@ struct PcdFrameLayout {
   std::string encoding = "binary";
 };
 
-// The file's bytes for `points` (width x height points of the layout's point size each).
-std::vector<uint8_t> pcd_frame_bytes(const PcdFrameLayout& layout, const uint8_t* points);
+// The file's bytes for `points` (width x height points of the layout's point size each); a
+// binary_compressed body is compressed by `lzf` (coding/lzf.h).
+std::vector<uint8_t> pcd_frame_bytes(const PcdFrameLayout& layout, const uint8_t* points,
+                                     LzfVariant lzf = LzfVariant::kCapz);
 
 // The header those bytes start with (through the DATA line's line feed).
 std::string pcd_frame_header(const PcdFrameLayout& layout);

@@ -8,36 +8,13 @@
 #include <limits>
 
 #include "capz/error.h"
+#include "coding/ply_types.h"
 #include "io/pcd_frame_writer.h"
 #include "io/text_number.h"
 
 namespace capz {
 
 namespace {
-
-struct PlyType {
-  const char* name;
-  const char* alias;
-  char type;
-  int size;
-};
-const PlyType kTypes[] = {
-    {"char", "int8", 'I', 1},     {"uchar", "uint8", 'U', 1},    {"short", "int16", 'I', 2},
-    {"ushort", "uint16", 'U', 2}, {"int", "int32", 'I', 4},      {"uint", "uint32", 'U', 4},
-    {"float", "float32", 'F', 4}, {"double", "float64", 'F', 8},
-};
-
-const PlyType* find_type(const std::string& s) {
-  for (const PlyType& t : kTypes)
-    if (s == t.name || s == t.alias) return &t;
-  return nullptr;
-}
-
-const char* canonical_name(char type, int size) {
-  for (const PlyType& t : kTypes)
-    if (t.type == type && t.size == size) return t.name;
-  return nullptr;
-}
 
 std::vector<std::string> split(const std::string& line) {
   std::vector<std::string> w;
@@ -147,7 +124,7 @@ struct ElementReader {
     if (w.size() >= 2 && w[1] == "list")
       fail(ErrorCode::kCorrupt, name, "PLY vertex list properties are not supported");
     if (w.size() != 3) fail(ErrorCode::kCorrupt, name, "PLY header: bad property line");
-    const PlyType* t = find_type(w[1]);
+    const PlyType* t = find_ply_type(w[1]);
     if (!t) fail(ErrorCode::kCorrupt, name, "PLY header: unknown property type '" + w[1] + "'");
     for (const PCDField& f : h->fields)
       if (f.name == w[2]) fail(ErrorCode::kCorrupt, name, "PLY property " + w[2] + " twice");
@@ -275,7 +252,7 @@ void read_ply_frame(const std::vector<uint8_t>& bytes, const PlyHeader& h, const
         if (!parse_token(tok[i], f, le))
           fail(ErrorCode::kCorrupt, name,
                "PLY vertex " + std::to_string(p) + ": '" + tok[i] + "' is not a " +
-                   canonical_name(f.type, f.size));
+                   ply_type_name(f.type, f.size));
       } else {
         copy_value(bytes.data() + pos, f.size, big, le);
         pos += static_cast<size_t>(f.size);
@@ -339,11 +316,11 @@ PlyPlan ply_plan(const Take& take, const std::string& encoding) {
   }
   for (size_t k = 0; k < take.attributes.size(); ++k) {
     const PointAttribute& at = take.attributes[k];
-    if (at.count != 1 || at.name == "_" || !canonical_name(at.type, at.size)) continue;
+    if (at.count != 1 || at.name == "_" || !ply_type_name(at.type, at.size)) continue;
     h.fields.push_back(PCDField{at.name, at.type, at.size, 1});
     plan.attribute.push_back(static_cast<int>(k));
   }
-  for (const PCDField& f : h.fields) h.type_names.push_back(canonical_name(f.type, f.size));
+  for (const PCDField& f : h.fields) h.type_names.push_back(ply_type_name(f.type, f.size));
   return plan;
 }
 

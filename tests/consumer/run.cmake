@@ -75,9 +75,13 @@ step("decode_take on its output" ${WORK}/build/decode_take ${WORK}/out)
 
 # 4. The installed CLI and its PCD module.
 if(PCD_FOLDER AND EXISTS ${PCD_FOLDER})
-  # The dynamic loader's trace names the module it opened: the installed one.
-  step("installed capz info on a PCD folder" ${CMAKE_COMMAND} -E env LD_DEBUG=files
-       ${prefix}/bin/capz info ${PCD_FOLDER})
+  # capz reads binary PCD itself; ascii frames go through PCL, in the module. The dynamic
+  # loader's trace names the module it opened: the installed one.
+  file(REMOVE_RECURSE ${WORK}/ascii)
+  step("installed capz convert to ascii PCD" ${prefix}/bin/capz convert ${PCD_FOLDER}
+       ${WORK}/ascii/ --pcd-encoding ascii -q)
+  step("installed capz info on an ascii PCD folder" ${CMAKE_COMMAND} -E env LD_DEBUG=files
+       ${prefix}/bin/capz info ${WORK}/ascii)
   string(REGEX REPLACE "([][+.*()^$?|\\])" "\\\\\\1" prefix_re "${prefix}")
   if(NOT step_output MATCHES "file=${prefix_re}/[^ ]*/libcapz_pcl_io\\.so ")
     message(FATAL_ERROR "install test: the installed capz did not load ${module}:\n${step_output}")

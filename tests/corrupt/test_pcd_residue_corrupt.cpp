@@ -15,6 +15,7 @@
 #include "capz/tool/file.h"
 #include "capz/tool/original.h"
 #include "chunk_util.h"
+#include "coding/lzf.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;
@@ -32,7 +33,8 @@ std::string header(const char* data, const std::string& nl) {
 }
 
 // Frames that use every mode: the writer's own, a shared header of another form with a NaN
-// payload and trailing bytes, an ASCII body with other spellings, one by column styles.
+// payload and trailing bytes, an ASCII body with other spellings, one by column styles, a
+// binary_compressed body of LZF variant 1.
 std::vector<std::vector<uint8_t>> frames() {
   std::vector<std::vector<uint8_t>> out;
   for (int f = 0; f < 3; ++f) {
@@ -53,6 +55,17 @@ std::vector<std::vector<uint8_t>> frames() {
   // Python's repr of each value, NaN in capitals: a body by column styles (5.4.3).
   const std::string r = header("ascii", "\n") + "0.5 1.0 1.5\n2.0 2.5 3.0\nNaN NaN NaN\n";
   out.emplace_back(r.begin(), r.end());
+  // binary_compressed by PCL's LZF (LZF variant 1, flags bit 6): nine 1.0f values.
+  std::vector<uint8_t> raw;
+  for (int i = 0; i < 9; ++i) raw.insert(raw.end(), {0, 0, 0x80, 0x3f});
+  const std::vector<uint8_t> c =
+      capz::lzf_compress(raw.data(), raw.size(), capz::LzfVariant::kLiblzf13);
+  const std::string h = header("binary_compressed", "\n");
+  std::vector<uint8_t> b(h.begin(), h.end());
+  for (uint32_t v : {static_cast<uint32_t>(c.size()), static_cast<uint32_t>(raw.size())})
+    for (int k = 0; k < 4; ++k) b.push_back(static_cast<uint8_t>(v >> (8 * k)));
+  b.insert(b.end(), c.begin(), c.end());
+  out.push_back(b);
   return out;
 }
 
@@ -117,6 +130,7 @@ TEST_F(PcdResidueCorrupt, DamagedFileResidueIsCaught) {
 
 TEST_F(PcdResidueCorrupt, DamagedWindowResidueIsCaught) {
   damage_every_byte("PCDP", 0x01);
+  damage_every_byte("PCDP", 0x40);  // flags bit 6: LZF variant 1
   damage_every_byte("PCDP", 0x80);
 }
 

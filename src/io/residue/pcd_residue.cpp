@@ -56,7 +56,7 @@ std::string PcdRegen::take_header() const {
 }
 
 void PcdRegen::frame(const FrameBlock& b, size_t k, int enc, std::vector<uint8_t>* out,
-                     size_t* header_end) {
+                     size_t* header_end, LzfVariant lzf) {
   // A ragged block's frame k: its own count, from its offset (FORMAT.md "Lossless ragged
   // streams"); a fixed block's: b.points from k x b.points.
   const size_t N = b.frame_points(k), p0 = b.frame_begin(k), total = b.total_points();
@@ -74,7 +74,7 @@ void PcdRegen::frame(const FrameBlock& b, size_t k, int enc, std::vector<uint8_t
     plan.layout.height = 1;
   }
   pcd_frame_points(plan, N, b.xyz.data() + p0 * 3, b.valid.data() + p0, attrs_, &points_);
-  *out = pcd_frame_bytes(plan.layout, points_.data());
+  *out = pcd_frame_bytes(plan.layout, points_.data(), lzf);
   *header_end = pcd_header_end(out->data(), out->size());
   if (*header_end == SIZE_MAX) fail(ErrorCode::kInternal, "", "PCD writer wrote no DATA line");
 }
@@ -100,10 +100,13 @@ void PCDResidueDecoder::frame(const FrameBlock& block, size_t k, ByteReader& in,
   for (uint8_t& x : hash) x = in.u8();
   const uint8_t flags = in.u8();
   const int enc = flags & 3, hmode = (flags >> 2) & 3, bmode = (flags >> 4) & 3;
-  if (enc == 3 || hmode == 3 || (bmode == 3 && enc != 0) || (flags >> 6) != 0)
+  const bool liblzf = (flags >> 6) & 1;
+  if (enc == 3 || hmode == 3 || (bmode == 3 && enc != 0) || (liblzf && enc != 2) ||
+      (flags >> 7) != 0)
     fail(ErrorCode::kCorrupt, what_, "PCDP: bad flags for frame file " + name);
   size_t rh = 0;
-  regen_.frame(block, k, enc, &regen_bytes_, &rh);
+  regen_.frame(block, k, enc, &regen_bytes_, &rh,
+               liblzf ? LzfVariant::kLiblzf13 : LzfVariant::kCapz);
   const std::vector<uint8_t>& g = regen_bytes_;
   const size_t rb = g.size() - rh;
   out->clear();

@@ -2,6 +2,7 @@
 // frame file against what capz regenerates; the decoder is pcd_residue.cpp.
 #include <cctype>
 #include <cstring>
+#include <utility>
 
 #include "capz/error.h"
 #include "io/residue/pack.h"
@@ -21,6 +22,12 @@ using namespace pcdr;
 // of their own are rare, and level 19 runs at a few MB/s).
 int level_for(size_t n) {
   return n <= (size_t{1} << 18) ? 19 : 6;
+}
+
+// Whether a's bytes from ah on are b's from bh on.
+bool same_body(const std::vector<uint8_t>& a, size_t ah, const std::vector<uint8_t>& b, size_t bh) {
+  return a.size() - ah == b.size() - bh &&
+         std::memcmp(a.data() + ah, b.data() + bh, a.size() - ah) == 0;
 }
 
 }  // namespace
@@ -66,8 +73,18 @@ void PCDResidueEncoder::frame(const FrameBlock& block, size_t k, const std::vect
   }
   size_t rh = 0;
   regen_.frame(block, k, enc, &bytes_, &rh);
-  const size_t rb = bytes_.size() - rh, ob = orig.size() - oh;
   uint8_t flags = static_cast<uint8_t>(enc);
+  if (enc == 2 && !same_body(orig, oh, bytes_, rh)) {
+    // PCL's LZF (variant 1) wrote it? Then that regenerates it (FORMAT.md 14.3, flags bit 6).
+    size_t vh = 0;
+    regen_.frame(block, k, enc, &variant_, &vh, LzfVariant::kLiblzf13);
+    if (same_body(orig, oh, variant_, vh)) {
+      std::swap(bytes_, variant_);
+      rh = vh;
+      flags |= 1 << 6;
+    }
+  }
+  const size_t rb = bytes_.size() - rh, ob = orig.size() - oh;
   ByteWriter rest;
   if (oh == rh && std::memcmp(orig.data(), bytes_.data(), oh) == 0) {
     // header 0
