@@ -35,6 +35,21 @@ inline ExactDistance exact_distance(const int32_t* a, const int32_t* b) {
   return d;
 }
 
+// Calls visit(p, qf, vf, lo) for every point p > 0 of a window valid in some frame: qf and vf
+// the positions and mask of p's first valid frame, lo the lowest index among its candidates
+// (every earlier point up to kNearBruteForce points, else the kNearWindow before it).
+template <typename Visit>
+void each_searched_point(const int32_t* q, const uint8_t* valid, size_t frames, size_t points,
+                         Visit&& visit) {
+  for (size_t p = 1; p < points; ++p) {
+    size_t f = 0;
+    while (f < frames && !valid[f * points + p]) ++f;
+    if (f == frames) continue;
+    visit(p, q + f * points * 3, valid + f * points,
+          points <= kNearBruteForce || p < kNearWindow ? 0 : p - kNearWindow);
+  }
+}
+
 // For every point p of a window (q: frames x points x 3 integers, valid: frames x points), up
 // to k points r < p nearest to p at p's first valid frame of the window, among the points valid
 // there (every r when points <= kNearBruteForce, else r >= p - kNearWindow), nearest first,
@@ -46,31 +61,26 @@ std::vector<uint32_t> nearest_earlier(const int32_t* q, const uint8_t* valid, si
   using D = decltype(dist(q, q));
   std::vector<uint32_t> out(points * k, kNoPoint);
   std::vector<D> d(k);
-  for (size_t p = 1; p < points; ++p) {
-    size_t f = 0;
-    while (f < frames && !valid[f * points + p]) ++f;
-    if (f == frames) continue;
-    const int32_t* qf = q + f * points * 3;
-    const uint8_t* vf = valid + f * points;
-    const size_t lo = points <= kNearBruteForce || p < kNearWindow ? 0 : p - kNearWindow;
-    uint32_t* c = &out[p * k];
-    size_t n = 0;
-    // From p - 1 down: a later r is kept on equal distance (only a strictly nearer one moves
-    // ahead of it).
-    for (size_t r = p; r-- > lo;) {
-      if (!vf[r]) continue;
-      const D dd = dist(qf + p * 3, qf + r * 3);
-      if (n == k && !(dd < d[n - 1])) continue;
-      size_t j = n < k ? n++ : n - 1;
-      while (j > 0 && dd < d[j - 1]) {
-        d[j] = d[j - 1];
-        c[j] = c[j - 1];
-        --j;
-      }
-      d[j] = dd;
-      c[j] = static_cast<uint32_t>(r);
-    }
-  }
+  each_searched_point(q, valid, frames, points,
+                      [&](size_t p, const int32_t* qf, const uint8_t* vf, size_t lo) {
+                        uint32_t* c = &out[p * k];
+                        size_t n = 0;
+                        // From p - 1 down: a later r is kept on equal distance (only a strictly
+                        // nearer one moves ahead of it).
+                        for (size_t r = p; r-- > lo;) {
+                          if (!vf[r]) continue;
+                          const D dd = dist(qf + p * 3, qf + r * 3);
+                          if (n == k && !(dd < d[n - 1])) continue;
+                          size_t j = n < k ? n++ : n - 1;
+                          while (j > 0 && dd < d[j - 1]) {
+                            d[j] = d[j - 1];
+                            c[j] = c[j - 1];
+                            --j;
+                          }
+                          d[j] = dd;
+                          c[j] = static_cast<uint32_t>(r);
+                        }
+                      });
   return out;
 }
 
@@ -80,27 +90,22 @@ std::vector<uint32_t> nearest_earlier(const int32_t* q, const uint8_t* valid, si
 inline std::vector<uint32_t> nearest_earlier_narrow(const int32_t* q, const uint8_t* valid,
                                                     size_t frames, size_t points) {
   std::vector<uint32_t> out(points, kNoPoint);
-  for (size_t p = 1; p < points; ++p) {
-    size_t f = 0;
-    while (f < frames && !valid[f * points + p]) ++f;
-    if (f == frames) continue;
-    const int32_t* qf = q + f * points * 3;
-    const uint8_t* vf = valid + f * points;
-    const size_t lo = points <= kNearBruteForce || p < kNearWindow ? 0 : p - kNearWindow;
-    const int64_t x = qf[p * 3], y = qf[p * 3 + 1], z = qf[p * 3 + 2];
-    uint64_t best = UINT64_MAX;
-    uint32_t c = kNoPoint;
-    for (size_t r = p; r-- > lo;) {  // from p - 1 down: on equal distance the later r stays
-      const int64_t dx = qf[r * 3] - x, dy = qf[r * 3 + 1] - y, dz = qf[r * 3 + 2] - z;
-      const uint64_t d = static_cast<uint64_t>(dx * dx) + static_cast<uint64_t>(dy * dy) +
-                         static_cast<uint64_t>(dz * dz);
-      if (vf[r] && d < best) {
-        best = d;
-        c = static_cast<uint32_t>(r);
-      }
-    }
-    out[p] = c;
-  }
+  each_searched_point(
+      q, valid, frames, points, [&](size_t p, const int32_t* qf, const uint8_t* vf, size_t lo) {
+        const int64_t x = qf[p * 3], y = qf[p * 3 + 1], z = qf[p * 3 + 2];
+        uint64_t best = UINT64_MAX;
+        uint32_t c = kNoPoint;
+        for (size_t r = p; r-- > lo;) {  // from p - 1 down: on equal distance the later r stays
+          const int64_t dx = qf[r * 3] - x, dy = qf[r * 3 + 1] - y, dz = qf[r * 3 + 2] - z;
+          const uint64_t d = static_cast<uint64_t>(dx * dx) + static_cast<uint64_t>(dy * dy) +
+                             static_cast<uint64_t>(dz * dz);
+          if (vf[r] && d < best) {
+            best = d;
+            c = static_cast<uint32_t>(r);
+          }
+        }
+        out[p] = c;
+      });
   return out;
 }
 
