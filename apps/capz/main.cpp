@@ -67,10 +67,12 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (name == "--version" || name == "-V") {
-    std::printf("capz %s, writes format %d.%d (%d.%d for scans of ragged frames), reads %d.%d\n",
-                capz::version_string(), capz::kFormatWritten.major, capz::kFormatWritten.minor,
-                capz::kFormatScans.major, capz::kFormatScans.minor, capz::kFormatNewestRead.major,
-                capz::kFormatNewestRead.minor);
+    std::printf(
+        "capz %s, writes format %d.%d (%d.%d for ragged frames and PLY or .bin sources), reads "
+        "%d.%d\n",
+        capz::version_string(), capz::kFormatWritten.major, capz::kFormatWritten.minor,
+        capz::kFormatScans.major, capz::kFormatScans.minor, capz::kFormatNewestRead.major,
+        capz::kFormatNewestRead.minor);
     return 0;
   }
   capz_cli::Args args(argv + 2, argv + argc);

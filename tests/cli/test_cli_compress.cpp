@@ -54,10 +54,11 @@ TEST(CliVersion, GivenVersionThenLibraryAndFormatVersionsArePrinted) {
   };
   const std::string expected = std::string("capz ") + capz::version_string() + ", writes format " +
                                text(capz::kFormatWritten) + " (" + text(capz::kFormatScans) +
-                               " for scans of ragged frames), reads " +
+                               " for ragged frames and PLY or .bin sources), reads " +
                                text(capz::kFormatNewestRead) + "\n";
-  EXPECT_EQ(expected, std::string("capz ") + capz::version_string() +
-                          ", writes format 1.0 (1.1 for scans of ragged frames), reads 1.1\n");
+  EXPECT_EQ(expected,
+            std::string("capz ") + capz::version_string() +
+                ", writes format 1.0 (1.1 for ragged frames and PLY or .bin sources), reads 1.1\n");
   for (const char* flag : {"--version", "-V"}) {
     const Result r = capz_cli(flag);
     EXPECT_EQ(r.status, 0);
