@@ -83,6 +83,19 @@ std::vector<uint8_t> smaller_as_scan(const Take& t, const CompressOptions& opts,
   return scan;
 }
 
+// Every frame of `source` in memory (its header with the positions, gaps and fields): for the
+// encodings that are not streamed (ragged takes, the one-frame choice below).
+Take whole_take(FrameSource& source) {
+  Take t = source.header();
+  FrameBlock b;
+  source.read(0, t.frames, &b);
+  t.xyz = std::move(b.xyz);
+  t.valid = std::move(b.valid);
+  for (size_t a = 0; a < t.attributes.size() && a < b.attributes.size(); ++a)
+    t.attributes[a].data = std::move(b.attributes[a]);
+  return t;
+}
+
 std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions& opts,
                                          const EncoderTuning& tuning, CompressStats* stats,
                                          bool allow_tout = true) {
@@ -174,13 +187,7 @@ void compress_stream(FrameSource& source, const CompressOptions& opts, const std
   refuse_scans(source.header(), opts);
   if (source.header().ragged()) {  // not streamed yet: the whole take in memory
     settle_frame_layout(&source.edit_header(), opts.drop_fields);
-    Take t = source.header();
-    FrameBlock b;
-    source.read(0, t.frames, &b);
-    t.xyz = std::move(b.xyz);
-    t.valid = std::move(b.valid);
-    for (size_t a = 0; a < t.attributes.size() && a < b.attributes.size(); ++a)
-      t.attributes[a].data = std::move(b.attributes[a]);
+    const Take t = whole_take(source);
     std::vector<uint8_t> bytes = compress_ragged(t, opts, stats, source.original_file());
     AtomicFile file(path, overwrite);
     StreamOut out(&file);
@@ -189,13 +196,7 @@ void compress_stream(FrameSource& source, const CompressOptions& opts, const std
     return;
   }
   if (scan_candidate(source.header(), opts)) {  // one frame: both codings in memory
-    Take t = source.header();
-    FrameBlock b;
-    source.read(0, 1, &b);
-    t.xyz = std::move(b.xyz);
-    t.valid = std::move(b.valid);
-    for (size_t a = 0; a < t.attributes.size() && a < b.attributes.size(); ++a)
-      t.attributes[a].data = std::move(b.attributes[a]);
+    const Take t = whole_take(source);
     std::vector<uint8_t> bytes;
     {
       StreamOut mem(&bytes);  // the source itself: a lossless stream carries its residue

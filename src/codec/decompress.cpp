@@ -12,6 +12,7 @@
 #include "codec/decoder_registry.h"
 #include "codec/grid.h"
 #include "coding/analog/analog_codec.h"
+#include "io/frame_files.h"
 
 namespace capz {
 namespace {
@@ -51,9 +52,7 @@ void slice_frame_metadata(size_t first, size_t count, size_t F, Take* t) {
 // when that is smaller) decodes to the shape a reader gives one frame file: a fixed take of one
 // frame, unlabelled points, an unorganized PCD layout of its point count.
 void one_frame_as_fixed(Take* t) {
-  t->points = t->frame_offsets[1];
-  t->frame_offsets.clear();
-  t->labels.assign(t->points, std::string());
+  set_frame_shape({t->frame_offsets[1]}, t);
   if (t->pcd && t->pcd->width != t->points) {
     auto x = std::make_shared<PCDExtra>(*t->pcd);
     x->width = t->points;
