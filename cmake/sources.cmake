@@ -126,6 +126,7 @@ set(CAPZ_ENCODE_SOURCES
   src/coding/analog/analog_scaled.cpp
   src/coding/analog/analog_table_encode.cpp
   src/coding/attributes_encode.cpp
+  src/coding/attributes_quantum_encode.cpp
   src/coding/c3d_words_encode.cpp
   src/coding/container_encode.cpp
   src/coding/entropy_encode.cpp

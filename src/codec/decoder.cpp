@@ -256,9 +256,12 @@ void decode_window_attributes(const StreamContext& ctx, WindowChunks* chunks, si
   ByteReader tr(tc.payload, tc.size, twhat);
   chunks->open(tc, &tr);
   const PCDExtra* px = ctx.take.pcd.get();
+  RaggedFields ragged;  // a ragged window: key-first, predictor 12 on its decoded positions
+  ragged.xyz = out->xyz.data();
   decode_attributes(tc.payload + tr.offset(), tc.size - tr.offset(), attribute_specs(px->fields),
                     out->valid.data(), frames, points, width, &out->attributes, twhat,
-                    q.size() == frames * points * 3 && !q.empty() ? q.data() : nullptr);
+                    q.size() == frames * points * 3 && !q.empty() ? q.data() : nullptr,
+                    ctx.h.ragged ? &ragged : nullptr);
 }
 
 }  // namespace

@@ -236,15 +236,25 @@ void append_scan_chunk(RaggedRun& r, size_t w, size_t f0, size_t f1, FrameBlock*
 }
 
 // "Scans (format 1.1)": the ATTR chunk of window w, its fields as one frame of its n points
-// (width n), the SCNW integers q offered to predictors 10 and 11.
+// (width n), the SCNW integers q offered to predictors 10 and 11 and the positions they decode to
+// to predictor 12 (as the decoder has them: 0 at gaps).
 void append_fields_chunk(RaggedRun& r, size_t w, const std::vector<std::vector<uint8_t>>& fields,
                          const std::vector<uint8_t>& valid, const std::vector<int32_t>& q) {
   const size_t n = valid.size();
+  std::vector<double> xyz(3 * n, 0.0);
+  with_mode(r.grid.mode, [&](auto m) {
+    for (size_t i = 0; i < n; ++i)
+      if (valid[i])
+        for (size_t a = 0; a < 3; ++a)
+          xyz[3 * i + a] = dequantise_as<decltype(m)::value>(r.grid, q[3 * i + a], 0);
+  });
+  RaggedFields ragged;
+  ragged.xyz = xyz.data();
   ByteWriter aw;
   aw.varint(w);
   std::vector<uint8_t> payload = std::move(aw.buffer());
   const std::vector<uint8_t> at = encode_attributes(attribute_specs(r.meta.pcd->fields), fields,
-                                                    valid.data(), 1, n, n, q.data(), true);
+                                                    valid.data(), 1, n, n, q.data(), true, &ragged);
   payload.insert(payload.end(), at.begin(), at.end());
   const size_t before = r.out->size();
   append_chunk(r.out, "ATTR", payload);

@@ -31,6 +31,13 @@ bool is_colour_field(const AttrSpec& s);
 // normal_x and normal_y, or a float32 count-3 normal* field).
 bool has_unit_candidate(const std::vector<AttrSpec>& specs);
 
+// A ragged window's ATTR (FORMAT.md "Scans (format 1.1)": point fields of a ragged window): the
+// attributes coded key-first and predictor 12 allowed. xyz: the window's decoded coordinates
+// (points x 3, binary64, as the decoder has them), for predictor 12's range; nullptr: none.
+struct RaggedFields {
+  const double* xyz = nullptr;
+};
+
 // The ATTR payload after the window index: per attribute, its transform and data.
 // valid: the window's gap mask (frames x points, from POSW / MASK), or nullptr for none (the
 // decoder must be given the same). q: the window's POSW integers (frames x points x 3, as the
@@ -45,16 +52,17 @@ std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
                                        const std::vector<std::vector<uint8_t>>& data,
                                        const uint8_t* valid, size_t frames, size_t points,
                                        size_t width, const int32_t* q = nullptr,
-                                       bool estimate = false);
+                                       bool estimate = false, const RaggedFields* ragged = nullptr);
 
 // Decodes what encode_attributes wrote into *out (one byte array per spec, resized). Throws
 // Error(kCorrupt) naming `what` on a bad transform or predictor, a window larger than the
 // payload can hold (checked before allocating), a truncated block or bytes left over.
 // q: the window's POSW integers (frames x points x 3), nullptr when it has none (then
-// predictors 10 and 11 are corrupt).
+// predictors 10 and 11 are corrupt). ragged: as encode_attributes was given (predictor 12 is
+// corrupt without it).
 void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrSpec>& specs,
                        const uint8_t* valid, size_t frames, size_t points, size_t width,
                        std::vector<std::vector<uint8_t>>* out, const std::string& what,
-                       const int32_t* q = nullptr);
+                       const int32_t* q = nullptr, const RaggedFields* ragged = nullptr);
 
 }  // namespace capz

@@ -2,12 +2,14 @@
 // says what the payload holds; the lanes, predictors and walks are attributes_lanes.h's.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <string>
 
 #include "capz/error.h"
 #include "coding/attributes.h"
 #include "coding/attributes_entropy.h"
 #include "coding/attributes_lanes.h"
+#include "coding/attributes_quantum.h"
 #include "coding/bytes.h"
 #include "coding/entropy.h"
 #include "coding/lzma_block.h"
@@ -79,12 +81,48 @@ void decode_lzma_field(ByteReader* in, uint8_t t, const AttrSpec& s, size_t n, c
 
 // The predictor of each of a field's lanes (and a unit vector's references to the fields that
 // complete it).
+// Predictor 12's parameters of a lane of attribute a (FORMAT.md "Scans (format 1.1)"), read and
+// checked.
+QuantumParams read_quantum(ByteReader* r, const std::vector<AttrSpec>& specs, size_t a,
+                           const std::string& awhat) {
+  const AttrSpec& s = specs[a];
+  if (s.type != 'F' || (s.size != 4 && s.size != 8))
+    fail(ErrorCode::kCorrupt, awhat, "predictor 12 on a field that is not a float");
+  QuantumParams qp;
+  qp.quantum = r->f64();
+  if (!std::isfinite(qp.quantum) || !(qp.quantum > 0))
+    fail(ErrorCode::kCorrupt, awhat, "predictor 12 with a bad quantum");
+  qp.base = r->u8();
+  if (qp.base == kBaseKey) {
+    const uint64_t b = r->varint();
+    const uint64_t e = r->varint();
+    if (b >= specs.size() || !is_key_field(specs[b]) || e >= static_cast<uint64_t>(specs[b].count))
+      fail(ErrorCode::kCorrupt, awhat, "predictor 12 keyed by a field it cannot use");
+    qp.key = {static_cast<size_t>(b), static_cast<size_t>(e)};
+  } else if (qp.base == kBaseRange) {
+    qp.offset = r->f64();
+    if (!std::isfinite(qp.offset))
+      fail(ErrorCode::kCorrupt, awhat, "predictor 12 with a bad offset");
+  } else if (qp.base != kBasePrevious) {
+    fail(ErrorCode::kCorrupt, awhat, "predictor 12 with an unknown base");
+  }
+  return qp;
+}
+
 void read_lane_predictors(ByteReader* in, const std::vector<AttrSpec>& specs, size_t a, bool colour,
-                          bool have_q, const std::string& awhat, std::vector<int>* pred,
-                          std::vector<std::array<UnitRef, 2>>* refs) {
+                          bool have_q, const RaggedFields* ragged, const std::string& awhat,
+                          std::vector<int>* pred, std::vector<std::array<UnitRef, 2>>* refs,
+                          std::vector<QuantumParams>* quanta) {
   for (size_t j = 0; j < pred->size(); ++j) {
     const uint8_t id = in->u8();
     const bool near_id = id == kNearPredictor || id == kNearChangePredictor;
+    if (id == kQuantumPredictor && ragged && !colour) {
+      (*pred)[j] = id;
+      (*quanta)[j] = read_quantum(in, specs, a, awhat);
+      if ((*quanta)[j].base == kBaseRange && !ragged->xyz)
+        fail(ErrorCode::kCorrupt, awhat, "predictor 12 from positions in a window without them");
+      continue;
+    }
     if (id >= kPredictors && !(id == kUnitPredictor && !colour) && !near_id)
       fail(ErrorCode::kCorrupt, awhat, "unknown predictor " + std::to_string(id));
     if (near_id && !have_q)
@@ -95,12 +133,36 @@ void read_lane_predictors(ByteReader* in, const std::vector<AttrSpec>& specs, si
   }
 }
 
+// A predictor-12 lane (FORMAT.md "Scans (format 1.1)"): the integer's residual, then the value's
+// correction against k D.
+void decode_quantum_lane(IntDecoder::Cursor* c, const QuantumParams& qp,
+                         const std::vector<AttrSpec>& specs,
+                         const std::vector<std::vector<uint8_t>>& data, const uint8_t* valid,
+                         const double* xyz, LaneState* st, Lane* l) {
+  std::vector<uint16_t> keys;
+  if (qp.base == kBaseKey)
+    keys = key_values(specs[qp.key.attribute], data[qp.key.attribute], l->u.size(), qp.key.element);
+  const uint64_t mask = mask_of(l->bits);
+  const int size = l->bits / 8;
+  walk_quantum(
+      &l->u, valid, qp, keys.data(), xyz,
+      [&](uint64_t* v, uint64_t p) {
+        *v = (p + static_cast<uint64_t>(get_float_residual(c, &st->prev_nb[1]))) & mask;
+      },
+      [&](uint64_t* v, int32_t kh, int32_t* k) {
+        const uint32_t d = static_cast<uint32_t>(get_int_residual(c, &st->mag[0]));
+        *k = static_cast<int32_t>(static_cast<uint32_t>(kh) + d);
+        const uint64_t p = quantum_value(*k, qp.quantum, size);
+        *v = (p + static_cast<uint64_t>(get_float_residual(c, &st->prev_nb[0]))) & mask;
+      });
+}
+
 }  // namespace
 
 void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrSpec>& specs,
                        const uint8_t* valid, size_t frames, size_t points, size_t width,
                        std::vector<std::vector<uint8_t>>* out, const std::string& what,
-                       const int32_t* q) {
+                       const int32_t* q, const RaggedFields* ragged) {
   ByteReader r(data, size, what);
   const size_t n = frames * points;
   const size_t W = width ? width : std::max<size_t>(points, 1);
@@ -108,7 +170,7 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
   std::vector<uint8_t> all_valid;  // no mask given: every point valid (made when first needed)
   std::vector<uint32_t> near;      // 7.3: nearest earlier points (found when first needed)
   Lane l, col[4];
-  for (size_t a = 0; a < specs.size(); ++a) {
+  for (size_t a : coding_order(specs, ragged != nullptr)) {
     const AttrSpec& s = specs[a];
     const std::string awhat = what + " field " + s.name;
     const uint8_t t = r.u8();
@@ -124,7 +186,8 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
     const size_t lanes = lane_count(s, colour);
     std::vector<int> pred(lanes);
     std::vector<std::array<UnitRef, 2>> refs(lanes);
-    read_lane_predictors(&r, specs, a, colour, q != nullptr, awhat, &pred, &refs);
+    std::vector<QuantumParams> quanta(lanes);
+    read_lane_predictors(&r, specs, a, colour, q != nullptr, ragged, awhat, &pred, &refs, &quanta);
     const uint64_t m = r.count(1, "block size");
     if (n != 0 && lanes > kMaxSymbolsPerByte * m / n)
       fail(ErrorCode::kCorrupt, awhat, "field larger than its block can hold");
@@ -135,6 +198,9 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
     if (!valid && all_valid.empty() &&
         (uses_near ||
          std::any_of(pred.begin(), pred.end(), [](int id) { return id >= 5 && id <= 8; })))
+      all_valid.assign(n, 1);
+    if (!valid && all_valid.empty() &&
+        std::find(pred.begin(), pred.end(), kQuantumPredictor) != pred.end())
       all_valid.assign(n, 1);
     const uint8_t* mask_of_window = valid ? valid : all_valid.data();
     if (uses_near && near.empty()) near = nearest_points(q, mask_of_window, frames, points);
@@ -163,6 +229,12 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
                     const int64_t res = get_float_residual(&c, &st.prev_nb[completable ? 0 : 1]);
                     *v = (p + static_cast<uint64_t>(res)) & 0xFFFFFFFFu;
                   });
+        store_lane(s, cur_lane, n, j, &bytes);
+        continue;
+      }
+      if (pred[j] == kQuantumPredictor) {
+        decode_quantum_lane(&c, quanta[j], specs, *out, mask_of_window, ragged->xyz, &st,
+                            &cur_lane);
         store_lane(s, cur_lane, n, j, &bytes);
         continue;
       }

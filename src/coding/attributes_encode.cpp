@@ -12,6 +12,7 @@
 #include "coding/attributes.h"
 #include "coding/attributes_entropy.h"
 #include "coding/attributes_lanes.h"
+#include "coding/attributes_quantum.h"
 #include "coding/bytes.h"
 #include "coding/entropy.h"
 #include "coding/lzma_block.h"
@@ -118,7 +119,8 @@ uint64_t unit_cost(Lane& l, const std::vector<AttrSpec>& specs,
 std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
                                        const std::vector<std::vector<uint8_t>>& data, size_t a,
                                        const uint8_t* valid, bool gaps, const uint32_t* near,
-                                       size_t frames, size_t points, size_t W) {
+                                       size_t frames, size_t points, size_t W,
+                                       const RaggedFields* ragged) {
   const AttrSpec& s = specs[a];
   const std::vector<uint8_t>& bytes = data[a];
   const size_t n = frames * points;
@@ -137,8 +139,19 @@ std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
       const uint64_t u = unit_cost(l, specs, data, refs);
       if (u < cost || (u == cost && pred > kUnitPredictor)) pred = kUnitPredictor;
     }
+    // Predictor 12 (a ragged window's; valid then holds a mask, all set without gaps).
+    QuantumParams qp;
+    uint64_t qcost = 0;
+    if (ragged && !colour && pred != kUnitPredictor &&
+        choose_quantum(specs, data, a, l, valid, ragged->xyz, &qp, &qcost) && qcost < cost)
+      pred = kQuantumPredictor;
     w.u8(static_cast<uint8_t>(pred));
     LaneState st;
+    if (pred == kQuantumPredictor) {
+      write_quantum(&w, qp);
+      encode_quantum_lane(&c, qp, specs, data, valid, ragged->xyz, &st, l);
+      continue;
+    }
     if (pred == kUnitPredictor) {
       for (const UnitRef& r : refs) {
         w.varint(r.attribute);
@@ -216,27 +229,29 @@ bool has_unit_candidate(const std::vector<AttrSpec>& specs) {
 std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
                                        const std::vector<std::vector<uint8_t>>& data,
                                        const uint8_t* valid, size_t frames, size_t points,
-                                       size_t width, const int32_t* q, bool estimate) {
+                                       size_t width, const int32_t* q, bool estimate,
+                                       const RaggedFields* ragged) {
   const size_t n = frames * points;
   const size_t W = width ? width : std::max<size_t>(points, 1);
   const bool gaps = valid && std::find(valid, valid + n, 0) != valid + n;
   // 7.3: the neighbours, found once for every lane (under a mask all set when there is none).
   std::vector<uint8_t> all_valid;
   std::vector<uint32_t> near;
-  if (q && points > 1) {
+  if ((q && points > 1) || ragged) {
     if (!valid) all_valid.assign(n, 1);
     valid = valid ? valid : all_valid.data();
-    near = nearest_points(q, valid, frames, points);
   }
+  if (q && points > 1) near = nearest_points(q, valid, frames, points);
   ByteWriter w;
-  for (size_t a = 0; a < specs.size(); ++a) {
+  for (size_t a : coding_order(specs, ragged != nullptr)) {
     const AttrSpec& s = specs[a];
     const size_t bytes = n * static_cast<size_t>(s.size) * static_cast<size_t>(s.count);
     if (data[a].size() != bytes)
       fail(ErrorCode::kInternal, "attributes",
            "field " + s.name + " does not hold frames x points values");
-    std::vector<uint8_t> best = encode_predictive(
-        specs, data, a, valid, gaps, near.empty() ? nullptr : near.data(), frames, points, W);
+    std::vector<uint8_t> best =
+        encode_predictive(specs, data, a, valid, gaps, near.empty() ? nullptr : near.data(), frames,
+                          points, W, ragged);
     // LZMA of the byte planes (2) and, for elements of several bytes, of the bytes as they are
     // (3); in a window with gaps and valid points, the same of the valid points' values with
     // the gap points' values apart (4, 5; FORMAT.md 6.2): the smallest wins.

@@ -1,0 +1,126 @@
+// ATTR's predictor 12, quantum (docs/FORMAT.md "Scans (format 1.1)": point fields of a ragged
+// window), shared by the encoder and the decoder: a float lane's values as integer multiples k of
+// a step D, k predicted from the lane's previous k, from the k of the latest point with the same
+// key (a ring or channel field) or from the point's decoded range, then the value's correction
+// against k D. Also the key-first coding order of a ragged window's attributes.
+#pragma once
+
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+#include "coding/attributes.h"
+#include "coding/attributes_lanes.h"
+#include "coding/bytes.h"
+#include "coding/entropy.h"
+
+namespace capz {
+namespace attr {
+
+inline constexpr int kQuantumPredictor = 12;
+enum QuantumBase : uint8_t { kBasePrevious = 0, kBaseKey = 1, kBaseRange = 2 };
+
+// Predictor 12's parameters (FORMAT.md: quantum, base, key or offset).
+struct QuantumParams {
+  double quantum = 1;
+  uint8_t base = kBasePrevious;
+  UnitRef key;      // base 1
+  double offset = 0;  // base 2
+};
+
+// True for an attribute that can be a key (type U or I, size 1 or 2); a ragged window codes them
+// first.
+inline bool is_key_field(const AttrSpec& s) {
+  return (s.type == 'U' || s.type == 'I') && (s.size == 1 || s.size == 2);
+}
+
+// The order in which a window's attributes are coded: the layout's, or (ragged) key-first.
+inline std::vector<size_t> coding_order(const std::vector<AttrSpec>& specs, bool ragged) {
+  std::vector<size_t> order;
+  for (int pass = ragged ? 0 : 1; pass < 2; ++pass)
+    for (size_t a = 0; a < specs.size(); ++a)
+      if (!ragged || is_key_field(specs[a]) == (pass == 0)) order.push_back(a);
+  return order;
+}
+
+// The lane value of k D for a field of size 4 or 8: size 4, the float32 product of k and D each
+// rounded to float32 (as drivers compute it; exact in binary64, then rounded once), size 8 the
+// binary64 product.
+inline uint64_t quantum_value(int32_t k, double quantum, int size) {
+  if (size == 4) {
+    const double e = static_cast<double>(static_cast<float>(k)) *
+                     static_cast<double>(static_cast<float>(quantum));
+    return to_ordered(float_bits(static_cast<float>(e)), 'F', 32);
+  }
+  const double e = static_cast<double>(k) * quantum;
+  uint64_t b;
+  std::memcpy(&b, &e, 8);
+  return to_ordered(b, 'F', 64);
+}
+
+// Base 2's prediction of k from a point's decoded coordinates (binary64, attributes_shared.cpp,
+// compiled without fused multiply-add).
+int32_t quantum_range_k(const double* xyz, double quantum, double offset);
+
+// The key lane values of element `e` of attribute bytes `b` (n points, spec s).
+inline std::vector<uint16_t> key_values(const AttrSpec& s, const std::vector<uint8_t>& b, size_t n,
+                                        size_t e) {
+  std::vector<uint16_t> out(n);
+  const size_t count = static_cast<size_t>(s.count), size = static_cast<size_t>(s.size);
+  for (size_t i = 0; i < n; ++i)
+    out[i] = static_cast<uint16_t>(
+        to_ordered(load_le(b.data() + (i * count + e) * size, s.size), s.type, 8 * s.size));
+  return out;
+}
+
+// Walks a predictor-12 lane in coding order: gap(&value, prediction) for a gap point,
+// valid(&value, kh, &k) for a valid one (which sets k). keys: base 1's key values (n), xyz: the
+// decoded coordinates (n x 3) for base 2.
+template <typename Gap, typename Valid>
+inline void walk_quantum(std::vector<uint64_t>* lane, const uint8_t* valid,
+                         const QuantumParams& qp, const uint16_t* keys, const double* xyz,
+                         Gap&& gap, Valid&& step) {
+  uint64_t last_gap = 0;
+  int32_t lastk = 0;
+  std::vector<int32_t> by_key;
+  std::vector<uint8_t> seen;
+  if (qp.base == kBaseKey) {
+    by_key.assign(65536, 0);
+    seen.assign(65536, 0);
+  }
+  for (size_t p = 0; p < lane->size(); ++p) {
+    uint64_t* v = &(*lane)[p];
+    if (!valid[p]) {
+      gap(v, last_gap);
+      last_gap = *v;
+      continue;
+    }
+    int32_t kh = lastk;
+    if (qp.base == kBaseKey && seen[keys[p]]) kh = by_key[keys[p]];
+    if (qp.base == kBaseRange) kh = quantum_range_k(xyz + 3 * p, qp.quantum, qp.offset);
+    int32_t k = 0;
+    step(v, kh, &k);
+    lastk = k;
+    if (qp.base == kBaseKey) {
+      by_key[keys[p]] = k;
+      seen[keys[p]] = 1;
+    }
+  }
+}
+
+// The encoder's side (attributes_quantum_encode.cpp). choose_quantum: predictor 12's parameters
+// for lane l of attribute a and their cost (the sum of the bit lengths of the zig-zagged integer
+// residuals and corrections, and of the gap residuals), false when no quantum fits the lane.
+bool choose_quantum(const std::vector<AttrSpec>& specs,
+                    const std::vector<std::vector<uint8_t>>& data, size_t a, Lane& l,
+                    const uint8_t* valid, const double* xyz, QuantumParams* qp, uint64_t* cost);
+// The parameters after the predictor byte.
+void write_quantum(ByteWriter* w, const QuantumParams& qp);
+// The lane's residuals under predictor 12.
+void encode_quantum_lane(IntEncoder::Cursor* c, const QuantumParams& qp,
+                         const std::vector<AttrSpec>& specs,
+                         const std::vector<std::vector<uint8_t>>& data, const uint8_t* valid,
+                         const double* xyz, LaneState* st, Lane& l);
+
+}  // namespace attr
+}  // namespace capz
