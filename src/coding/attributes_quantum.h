@@ -24,7 +24,7 @@ enum QuantumBase : uint8_t { kBasePrevious = 0, kBaseKey = 1, kBaseRange = 2 };
 struct QuantumParams {
   double quantum = 1;
   uint8_t base = kBasePrevious;
-  UnitRef key;      // base 1
+  UnitRef key;        // base 1
   double offset = 0;  // base 2
 };
 
@@ -77,9 +77,8 @@ inline std::vector<uint16_t> key_values(const AttrSpec& s, const std::vector<uin
 // valid(&value, kh, &k) for a valid one (which sets k). keys: base 1's key values (n), xyz: the
 // decoded coordinates (n x 3) for base 2.
 template <typename Gap, typename Valid>
-inline void walk_quantum(std::vector<uint64_t>* lane, const uint8_t* valid,
-                         const QuantumParams& qp, const uint16_t* keys, const double* xyz,
-                         Gap&& gap, Valid&& step) {
+inline void walk_quantum(std::vector<uint64_t>* lane, const uint8_t* valid, const QuantumParams& qp,
+                         const uint16_t* keys, const double* xyz, Gap&& gap, Valid&& step) {
   uint64_t last_gap = 0;
   int32_t lastk = 0;
   std::vector<int32_t> by_key;
