@@ -92,7 +92,11 @@ QuantumParams read_quantum(ByteReader* r, const std::vector<AttrSpec>& specs, si
   qp.quantum = r->f64();
   if (!std::isfinite(qp.quantum) || !(qp.quantum > 0))
     fail(ErrorCode::kCorrupt, awhat, "predictor 12 with a bad quantum");
-  qp.base = r->u8();
+  const uint8_t base = r->u8();
+  qp.wide = (base & kWideBit) != 0;
+  qp.base = static_cast<uint8_t>(base & ~kWideBit);
+  if (qp.wide && s.size != 4)
+    fail(ErrorCode::kCorrupt, awhat, "predictor 12's binary64 rounding on a float64 field");
   if (qp.base == kBaseKey) {
     const uint64_t b = r->varint();
     const uint64_t e = r->varint();
@@ -152,7 +156,7 @@ void decode_quantum_lane(IntDecoder::Cursor* c, const QuantumParams& qp,
       [&](uint64_t* v, int32_t kh, int32_t* k) {
         const uint32_t d = static_cast<uint32_t>(get_int_residual(c, &st->mag[0]));
         *k = static_cast<int32_t>(static_cast<uint32_t>(kh) + d);
-        const uint64_t p = quantum_value(*k, qp.quantum, size);
+        const uint64_t p = quantum_value(*k, qp.quantum, size, qp.wide);
         *v = (p + static_cast<uint64_t>(get_float_residual(c, &st->prev_nb[0]))) & mask;
       });
 }

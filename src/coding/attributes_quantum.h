@@ -26,7 +26,9 @@ struct QuantumParams {
   uint8_t base = kBasePrevious;
   UnitRef key;        // base 1
   double offset = 0;  // base 2
+  bool wide = false;  // a float32 field's k D in binary64, rounded once (the base byte's bit 2)
 };
+inline constexpr uint8_t kWideBit = 4;
 
 // True for an attribute that can be a key (type U or I, size 1 or 2); a ragged window codes them
 // first.
@@ -44,9 +46,12 @@ inline std::vector<size_t> coding_order(const std::vector<AttrSpec>& specs, bool
 }
 
 // The lane value of k D for a field of size 4 or 8: size 4, the float32 product of k and D each
-// rounded to float32 (as drivers compute it; exact in binary64, then rounded once), size 8 the
-// binary64 product.
-inline uint64_t quantum_value(int32_t k, double quantum, int size) {
+// rounded to float32 (as drivers compute it; exact in binary64, then rounded once), or with
+// `wide` the binary64 product rounded to float32 (as --attr-error quantises); size 8 the binary64
+// product.
+inline uint64_t quantum_value(int32_t k, double quantum, int size, bool wide = false) {
+  if (size == 4 && wide)
+    return to_ordered(float_bits(static_cast<float>(static_cast<double>(k) * quantum)), 'F', 32);
   if (size == 4) {
     const double e = static_cast<double>(static_cast<float>(k)) *
                      static_cast<double>(static_cast<float>(quantum));

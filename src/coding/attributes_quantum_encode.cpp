@@ -43,8 +43,9 @@ int32_t k_of(double v, double quantum, int32_t kh) {
 }
 
 // The largest decimal step m 10^e (m 5, 2.5, 2, 1; e 3 .. -6) for which all but 1/256 of the
-// valid values are k D rounded to the field's type; 0 for none.
-double find_quantum(const Lane& l, const uint8_t* valid) {
+// valid values are k D under one of the rounding rules (float32 fields: the float32 product or
+// the binary64 one, *wide); 0 for none.
+double find_quantum(const Lane& l, const uint8_t* valid, bool* wide) {
   const int size = l.bits / 8;
   size_t nv = 0;
   for (size_t p = 0; p < l.u.size(); ++p) nv += valid[p] ? 1 : 0;
@@ -53,15 +54,21 @@ double find_quantum(const Lane& l, const uint8_t* valid) {
   for (int e = 3; e >= -6; --e)
     for (const char* m : kMantissas) {
       const double quantum = std::stod(std::string(m) + "e" + std::to_string(e));
-      size_t misses = 0;
-      for (size_t p = 0; p < l.u.size() && misses <= nv / 256; ++p) {
-        if (!valid[p]) continue;
-        const double t = lane_double(l.u[p], l.bits) / quantum;
-        if (!std::isfinite(t) || std::fabs(t) >= 2147483647.0 ||
-            quantum_value(static_cast<int32_t>(std::nearbyint(t)), quantum, size) != l.u[p])
-          ++misses;
+      for (int w = 0; w < (size == 4 ? 2 : 1); ++w) {
+        size_t misses = 0;
+        for (size_t p = 0; p < l.u.size() && misses <= nv / 256; ++p) {
+          if (!valid[p]) continue;
+          const double t = lane_double(l.u[p], l.bits) / quantum;
+          if (!std::isfinite(t) || std::fabs(t) >= 2147483647.0 ||
+              quantum_value(static_cast<int32_t>(std::nearbyint(t)), quantum, size, w == 1) !=
+                  l.u[p])
+            ++misses;
+        }
+        if (misses <= nv / 256) {
+          *wide = w == 1;
+          return quantum;
+        }
       }
-      if (misses <= nv / 256) return quantum;
     }
   return 0;
 }
@@ -101,7 +108,8 @@ void walk_encode(const QuantumParams& qp, const std::vector<uint16_t>& keys, con
       [&](uint64_t* v, int32_t kh, int32_t* k) {
         *k = k_of(lane_double(*v, l.bits), qp.quantum, kh);
         int_res(static_cast<int32_t>(static_cast<uint32_t>(*k) - static_cast<uint32_t>(kh)));
-        corr(signed_diff((*v - quantum_value(*k, qp.quantum, size)) & mask, l.bits), false);
+        corr(signed_diff((*v - quantum_value(*k, qp.quantum, size, qp.wide)) & mask, l.bits),
+             false);
       });
 }
 
@@ -112,15 +120,16 @@ bool choose_quantum(const std::vector<AttrSpec>& specs,
                     const uint8_t* valid, const double* xyz, QuantumParams* qp, uint64_t* cost) {
   const AttrSpec& s = specs[a];
   if (s.type != 'F' || (s.size != 4 && s.size != 8) || l.u.empty()) return false;
-  const double quantum = find_quantum(l, valid);
+  bool wide = false;
+  const double quantum = find_quantum(l, valid, &wide);
   if (quantum == 0) return false;
   std::vector<QuantumParams> cands;
-  cands.push_back({quantum, kBasePrevious, {}, 0});
+  cands.push_back({quantum, kBasePrevious, {}, 0, wide});
   for (size_t b = 0; b < specs.size(); ++b)
     for (size_t e = 0; is_key_field(specs[b]) && e < static_cast<size_t>(specs[b].count) && e < 8;
          ++e)
-      cands.push_back({quantum, kBaseKey, {b, e}, 0});
-  if (xyz) cands.push_back({quantum, kBaseRange, {}, range_offset(l, valid, xyz)});
+      cands.push_back({quantum, kBaseKey, {b, e}, 0, wide});
+  if (xyz) cands.push_back({quantum, kBaseRange, {}, range_offset(l, valid, xyz), wide});
   *cost = ~uint64_t{0};
   for (const QuantumParams& c : cands) {
     uint64_t sum = 0;
@@ -138,7 +147,7 @@ bool choose_quantum(const std::vector<AttrSpec>& specs,
 
 void write_quantum(ByteWriter* w, const QuantumParams& qp) {
   w->f64(qp.quantum);
-  w->u8(qp.base);
+  w->u8(static_cast<uint8_t>(qp.base | (qp.wide ? kWideBit : 0)));
   if (qp.base == kBaseKey) {
     w->varint(qp.key.attribute);
     w->varint(qp.key.element);

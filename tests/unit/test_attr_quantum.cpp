@@ -46,7 +46,8 @@ void put_f64(std::vector<uint8_t>* b, double v) {
 
 // A ragged window's fields as a 16-ring sensor writes them: intensity F4 (integers, per ring),
 // ring U2 (after intensity in the layout), distance F4 (float32 steps of 2.5 mm, 3.4 cm short of
-// the decoded range) and a timestamp F8 (microseconds since a start, as multiples of 1e-6). Gaps every 23rd point, odd values
+// the decoded range) and a timestamp F8 (microseconds since a start, as multiples of 1e-6). Gaps
+// every 23rd point, odd values
 // (-0.0, NaN, an off-step distance) at a few valid ones.
 struct Window {
   std::vector<AttrSpec> specs = {spec("intensity", 'F', 4), spec("ring", 'U', 2),
@@ -104,8 +105,8 @@ capz::ErrorCode decode(const Window& w, const std::vector<uint8_t>& e,
   const size_t n = w.valid.size();
   return capz_test::error_of(
       [&] {
-        capz::decode_attributes(e.data(), e.size(), w.specs, w.valid.data(), 1, n, n, back,
-                                "test", nullptr, ragged ? &rf : nullptr);
+        capz::decode_attributes(e.data(), e.size(), w.specs, w.valid.data(), 1, n, n, back, "test",
+                                nullptr, ragged ? &rf : nullptr);
       },
       msg);
 }
@@ -140,7 +141,7 @@ std::vector<Header> headers(const std::vector<uint8_t>& e, size_t count) {
       h.predictor = e[at++];
       if (h.predictor == 12) {
         at += 8;
-        const uint8_t base = e[at++];
+        const uint8_t base = e[at++] & 3;
         if (base == 1) {
           varint_at(e, &at);
           varint_at(e, &at);
@@ -174,7 +175,7 @@ TEST(AttrQuantum, RangeRoundsHalfUpAndClamps) {
   using capz::attr::quantum_range_k;
   const double p[3] = {3, 4, 0};  // r = 5
   EXPECT_EQ(quantum_range_k(p, 0.5, 0), 10);
-  EXPECT_EQ(quantum_range_k(p, 2, 0), 3);   // 2.5 rounds up
+  EXPECT_EQ(quantum_range_k(p, 2, 0), 3);    // 2.5 rounds up
   EXPECT_EQ(quantum_range_k(p, 2, 10), -2);  // -2.5 rounds up too
   EXPECT_EQ(quantum_range_k(p, 1e-12, 0), INT32_MAX);
   EXPECT_EQ(quantum_range_k(p, 1e-12, 10), INT32_MIN);
@@ -196,7 +197,7 @@ TEST(AttrQuantum, EachBaseWhereItFitsAndExactBack) {
   ASSERT_EQ(decode(w, e, &back), ErrorCode::kInternal);
   EXPECT_EQ(back, w.data);
   const std::vector<Header> h = headers(e, 4);  // ring, intensity, distance, timestamp
-  EXPECT_EQ(h[1].predictor, 12);  // intensity: quantum 1, keyed by the ring
+  EXPECT_EQ(h[1].predictor, 12);                // intensity: quantum 1, keyed by the ring
   EXPECT_EQ(f64_at(e, h[1].at + 2), 1.0);
   EXPECT_EQ(e[h[1].at + 10], 1);
   EXPECT_EQ(e[h[1].at + 11], 1);  // attribute 1 (ring), element 0
@@ -226,6 +227,35 @@ TEST(AttrQuantum, MicrosecondTimestampsAsIntegers) {
   EXPECT_EQ(e[1], 12);
   EXPECT_EQ(f64_at(e, 2), 1e-6);
   EXPECT_EQ(e[10], 0);  // base 0: the previous integer
+  // The wide bit is for float32 fields only.
+  std::vector<uint8_t> d = e;
+  d[10] = 4;
+  std::string msg;
+  EXPECT_EQ(decode(w, d, &back, true, true, &msg), ErrorCode::kCorrupt);
+  EXPECT_NE(msg.find("float64"), std::string::npos) << msg;
+}
+
+TEST(AttrQuantum, BoundedFloat32FieldsTakeTheWideRounding) {
+  // A float32 field as --attr-error 0.001 leaves it: float(round(v / 0.002) 0.002), the product
+  // in binary64 (FORMAT.md 16.4), which the float32 product misses on about a quarter of values.
+  Window w = sensor_window(3000);
+  w.specs = {spec("v", 'F', 4)};
+  w.data = {std::vector<uint8_t>()};
+  size_t differ = 0;
+  for (size_t i = 0; i < 3000; ++i) {
+    const int32_t k = 5000 + static_cast<int32_t>(std::lround(3000 * std::sin(0.003 * i)));
+    const float v = static_cast<float>(static_cast<double>(k) * 0.002);
+    differ += v != static_cast<float>(k) * 0.002f;
+    put_f32(&w.data[0], v);
+  }
+  ASSERT_GT(differ, 300u);
+  const std::vector<uint8_t> e = encode(w);
+  std::vector<std::vector<uint8_t>> back;
+  ASSERT_EQ(decode(w, e, &back), ErrorCode::kInternal);
+  EXPECT_EQ(back, w.data);
+  ASSERT_EQ(e[1], 12);
+  EXPECT_EQ(f64_at(e, 2), 0.002);
+  EXPECT_EQ(e[10] & 4, 4);
 }
 
 TEST(AttrQuantum, DamagedParametersAreCorrupt) {
@@ -247,14 +277,14 @@ TEST(AttrQuantum, DamagedParametersAreCorrupt) {
   };
   const size_t q1 = h[1].at + 2, q2 = h[2].at + 2;
   const std::vector<std::vector<uint8_t>> bad = {
-      with(q1, f64_bytes(0)),                          // quantum 0
-      with(q1, f64_bytes(-1)),                         // negative
-      with(q1, f64_bytes(std::nan(""))),               // NaN
-      with(q1 + 8, {3}),                               // unknown base
-      with(q1 + 9, {0}),                               // key: intensity, a float
-      with(q1 + 9, {9}),                               // key past the last attribute
-      with(q1 + 10, {1}),                              // element 1 of a count-1 key
-      with(q2 + 9, f64_bytes(INFINITY)),               // offset not finite
+      with(q1, f64_bytes(0)),             // quantum 0
+      with(q1, f64_bytes(-1)),            // negative
+      with(q1, f64_bytes(std::nan(""))),  // NaN
+      with(q1 + 8, {3}),                  // unknown base
+      with(q1 + 9, {0}),                  // key: intensity, a float
+      with(q1 + 9, {9}),                  // key past the last attribute
+      with(q1 + 10, {1}),                 // element 1 of a count-1 key
+      with(q2 + 9, f64_bytes(INFINITY)),  // offset not finite
   };
   for (size_t i = 0; i < bad.size(); ++i) {
     std::string msg;
