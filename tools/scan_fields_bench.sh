@@ -10,6 +10,10 @@
 # and xz -9e of the field bytes alone: each field's bytes in point order (frames concatenated, as
 # the take and ATTR hold them; taken from the frames decompressed as binary PCD, which are the
 # source's fields byte for byte), one xz -9e -T1 stream per field, summed.
+#
+# ATTR_ERROR=NAME=B[,NAME=B...] (environment): the fields kept with --attr-error, each NAME=B
+# used on the sequences that have a float field NAME (the others' fields stay exact); the xz
+# column stays that of the exact fields.
 set -euo pipefail
 capz=$(readlink -f "$1")
 data=${2:-$(dirname "$0")/../../shared/data/scan}
@@ -55,7 +59,17 @@ for d in "$data"/*/; do
   [ "$s" = single ] && continue
   for b in 1mm 1cm; do
     "$capz" compress "$d" --max-error $b --drop-fields -o "$work/$s.$b.drop.capz" -f -q
-    "$capz" compress "$d" --max-error $b -o "$work/$s.$b.capz" -f -q
+    ae=()
+    if [ -n "${ATTR_ERROR:-}" ]; then
+      first=$(ls "$d" | head -1)
+      # The float fields of the sequence (its first frame's header), then the bounds that name one.
+      floats=$(head -c 4096 "$d/$first" | tr -d '\r' | awk '$1=="FIELDS"{n=NF; for(i=2;i<=NF;i++) f[i]=$i}
+        $1=="TYPE"{for(i=2;i<=NF;i++) if($i=="F") print f[i]}' | grep -vx '[xyz]' || true)
+      keep=$(echo "$ATTR_ERROR" | tr ',' '\n' | while IFS== read -r name bound; do
+        echo "$floats" | grep -qx "$name" && echo "$name=$bound"; done | paste -sd, -)
+      [ -n "$keep" ] && ae=(--attr-error "$keep")
+    fi
+    "$capz" compress "$d" --max-error $b "${ae[@]}" -o "$work/$s.$b.capz" -f -q
     n=$("$capz" info "$work/$s.$b.capz" | sed -n 's/.*, \([0-9]*\) points in all.*/\1/p')
     if [ ! -f "$work/$s.fields.xz" ]; then
       rm -rf "$work/$s.bin" "$work/$s.raw"
