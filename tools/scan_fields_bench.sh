@@ -66,8 +66,8 @@ for d in "$data"/*/; do
       floats=$(head -c 4096 "$d/$first" | tr -d '\r' | awk '$1=="FIELDS"{n=NF; for(i=2;i<=NF;i++) f[i]=$i}
         $1=="TYPE"{for(i=2;i<=NF;i++) if($i=="F") print f[i]}' | grep -vx '[xyz]' || true)
       keep=$(echo "$ATTR_ERROR" | tr ',' '\n' | while IFS== read -r name bound; do
-        echo "$floats" | grep -qx "$name" && echo "$name=$bound"; done | paste -sd, -)
-      [ -n "$keep" ] && ae=(--attr-error "$keep")
+        if echo "$floats" | grep -qx "$name"; then echo "$name=$bound"; fi; done | paste -sd, -)
+      if [ -n "$keep" ]; then ae=(--attr-error "$keep"); fi
     fi
     "$capz" compress "$d" --max-error $b "${ae[@]}" -o "$work/$s.$b.capz" -f -q
     n=$("$capz" info "$work/$s.$b.capz" | sed -n 's/.*, \([0-9]*\) points in all.*/\1/p')
