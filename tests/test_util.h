@@ -92,6 +92,16 @@ inline void resize_frames(capz::Take* t, const std::vector<size_t>& counts) {
     t->resize_ragged(counts);
 }
 
+// A PCD field (an ATTR attribute's spec): name, type F/U/I, size, count.
+inline capz::PCDField field_spec(const std::string& name, char type, int size, int count = 1) {
+  capz::PCDField s;
+  s.name = name;
+  s.type = type;
+  s.size = size;
+  s.count = count;
+  return s;
+}
+
 // Runs `f` and returns the code of the capz::Error it throws (its message in *msg); a call that
 // does not throw returns kInternal, which no test expects from a correct reader.
 template <typename F>

@@ -23,17 +23,6 @@ namespace {
 
 using namespace attr;
 
-int64_t signed_residual(uint64_t r, int bits) {
-  if (bits >= 64) return static_cast<int64_t>(r);
-  const uint64_t top = uint64_t{1} << (bits - 1);
-  return (r & top) ? static_cast<int64_t>(r) - static_cast<int64_t>(uint64_t{1} << bits)
-                   : static_cast<int64_t>(r);
-}
-
-uint32_t bit_length(uint64_t u) {
-  return u == 0 ? 0 : 64u - static_cast<uint32_t>(__builtin_clzll(u));
-}
-
 // Lane j of one attribute (frames x points x count elements of size bytes in `bytes`), one lane
 // at a time so a window holds one lane of 64-bit values, not every field's.
 void make_lane(const AttrSpec& s, bool colour, const std::vector<uint8_t>& bytes, size_t n,

@@ -36,6 +36,18 @@ inline uint64_t mask_of(int bits) {
   return bits >= 64 ? ~uint64_t{0} : (uint64_t{1} << bits) - 1;
 }
 
+// A lane residual (a difference modulo 2^bits) as a signed bits-bit number, and the bit length of
+// an unsigned value (the encoder's cost of a residual).
+inline int64_t signed_residual(uint64_t r, int bits) {
+  if (bits >= 64) return static_cast<int64_t>(r);
+  const uint64_t top = uint64_t{1} << (bits - 1);
+  return (r & top) ? static_cast<int64_t>(r) - static_cast<int64_t>(uint64_t{1} << bits)
+                   : static_cast<int64_t>(r);
+}
+inline uint32_t bit_length(uint64_t u) {
+  return u == 0 ? 0 : 64u - static_cast<uint32_t>(__builtin_clzll(u));
+}
+
 inline uint64_t load_le(const uint8_t* p, int size) {
   uint64_t v = 0;
   for (int i = 0; i < size; ++i) v |= static_cast<uint64_t>(p[i]) << (8 * i);

@@ -14,17 +14,6 @@ namespace attr {
 
 namespace {
 
-uint32_t bit_length(uint64_t u) {
-  return u == 0 ? 0 : 64u - static_cast<uint32_t>(__builtin_clzll(u));
-}
-
-int64_t signed_diff(uint64_t r, int bits) {
-  if (bits >= 64) return static_cast<int64_t>(r);
-  const uint64_t top = uint64_t{1} << (bits - 1);
-  return (r & top) ? static_cast<int64_t>(r) - static_cast<int64_t>(uint64_t{1} << bits)
-                   : static_cast<int64_t>(r);
-}
-
 // The value of a lane value of a float field (size 4 or 8).
 double lane_double(uint64_t u, int bits) {
   const uint64_t b = from_ordered(u, 'F', bits);
@@ -104,11 +93,11 @@ void walk_encode(const QuantumParams& qp, const std::vector<uint16_t>& keys, con
   const int size = l.bits / 8;
   walk_quantum(
       &l.u, valid, qp, keys.data(), xyz,
-      [&](uint64_t* v, uint64_t p) { corr(signed_diff((*v - p) & mask, l.bits), true); },
+      [&](uint64_t* v, uint64_t p) { corr(signed_residual((*v - p) & mask, l.bits), true); },
       [&](uint64_t* v, int32_t kh, int32_t* k) {
         *k = k_of(lane_double(*v, l.bits), qp.quantum, kh);
         int_res(static_cast<int32_t>(static_cast<uint32_t>(*k) - static_cast<uint32_t>(kh)));
-        corr(signed_diff((*v - quantum_value(*k, qp.quantum, size, qp.wide)) & mask, l.bits),
+        corr(signed_residual((*v - quantum_value(*k, qp.quantum, size, qp.wide)) & mask, l.bits),
              false);
       });
 }

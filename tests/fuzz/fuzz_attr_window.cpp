@@ -1,7 +1,8 @@
 // Fuzz target: the ATTR coder of PCD point fields (src/coding/attributes.h, FORMAT.md 5.3, 6,
 // 7.3). Byte 0 picks the mode (bits 0-1), the field set (bits 2-4, and bit 6 for the normal
 // triples) and whether the window has position integers (bit 7: predictors 10 and 11 allowed,
-// the integers made from the shape; bit 5 once chose format 6.x and is now unused), bytes 1-2
+// the integers made from the shape; bit 5: a ragged window of format 1.1, one frame of every
+// point, coded key-first with predictor 12 and decoded positions made from the shape), bytes 1-2
 // the shape (frames 1..16, points 1..256, width a divisor-free 1..points):
 //   mode even: the rest is an ATTR body; decoding must return or throw capz::Error, and what
 //     decodes must re-encode to a body that decodes to the same bytes;
@@ -53,19 +54,20 @@ std::vector<capz::AttrSpec> field_set(int k) {
   }
 }
 
-// The window's position integers (nullptr: none).
+// The window's position integers (nullptr: none) and, for a ragged window, its decoded positions.
 struct Stream {
   const int32_t* q = nullptr;
+  const capz::RaggedFields* ragged = nullptr;
 };
 
 void round_trip(const std::vector<capz::AttrSpec>& specs,
                 const std::vector<std::vector<uint8_t>>& data, const uint8_t* valid, size_t frames,
                 size_t points, size_t width, const Stream& st) {
-  const std::vector<uint8_t> enc =
-      capz::encode_attributes(specs, data, valid, frames, points, width, st.q);
+  const std::vector<uint8_t> enc = capz::encode_attributes(
+      specs, data, valid, frames, points, width, st.q, st.ragged != nullptr, st.ragged);
   std::vector<std::vector<uint8_t>> back;
   capz::decode_attributes(enc.data(), enc.size(), specs, valid, frames, points, width, &back,
-                          "re-encoded", st.q);
+                          "re-encoded", st.q, st.ragged);
   CAPZ_FUZZ_CHECK(back == data);
 }
 
@@ -76,9 +78,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const uint8_t mode = data[0];
   const std::vector<capz::AttrSpec> specs = field_set(((mode >> 2) & 7) | ((mode >> 3) & 8));
   Stream st;
-  const bool near = (mode & 128) != 0;
-  const size_t frames = 1 + (data[1] & 15);
-  const size_t points = 1 + data[2];
+  const bool near = (mode & 128) != 0, ragged = (mode & 32) != 0;
+  // A ragged window is one frame of all its points.
+  const size_t frames = ragged ? 1 : 1 + (data[1] & 15);
+  const size_t points = ragged ? (1 + (data[1] & 15)) * (1 + data[2]) : 1 + data[2];
   // Scattered integer positions drifting by frame (nearest points are not index order).
   std::vector<int32_t> q(near ? frames * points * 3 : 0);
   for (size_t i = 0; i < q.size(); ++i)
@@ -86,6 +89,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                static_cast<uint32_t>(((i / 3) % points) * 2654435761u + (i % 3) * 40503u) >> 24) +
            static_cast<int32_t>(i / (3 * points));
   st.q = near ? q.data() : nullptr;
+  // Decoded positions of a ragged window: points on a slowly turning spiral, ranges 1..40 m.
+  std::vector<double> xyz(ragged ? 3 * points : 0);
+  for (size_t i = 0; i < points && ragged; ++i) {
+    const double a = 0.01 * static_cast<double>(i), r = 1 + static_cast<double>(i % 97) * 0.4;
+    xyz[3 * i] = r * (1 - a * a / 2);
+    xyz[3 * i + 1] = r * a;
+    xyz[3 * i + 2] = 0.001 * static_cast<double>(i % 13);
+  }
+  capz::RaggedFields rf;
+  rf.xyz = xyz.data();
+  st.ragged = ragged ? &rf : nullptr;
   const size_t width = 1 + (static_cast<size_t>(data[1] >> 4) * 7) % points;
   // Modes 4k+2 and 4k+3 decode / code under a gap mask (every third point a gap, and a run).
   std::vector<uint8_t> mask(frames * points);
@@ -97,7 +111,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::vector<std::vector<uint8_t>> out;
     try {
       capz::decode_attributes(data, size, specs, valid, frames, points, width, &out, "fuzz ATTR",
-                              st.q);
+                              st.q, st.ragged);
     } catch (const capz::Error&) {
       return 0;
     }

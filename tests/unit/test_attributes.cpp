@@ -19,12 +19,7 @@ using capz::ErrorCode;
 namespace {
 
 AttrSpec spec(const std::string& name, char type, int size, int count = 1) {
-  AttrSpec s;
-  s.name = name;
-  s.type = type;
-  s.size = size;
-  s.count = count;
-  return s;
+  return capz_test::field_spec(name, type, size, count);
 }
 
 // Random bytes for frames x points x count elements.
