@@ -203,8 +203,9 @@ uint8_t lzma_worth_trying(const std::vector<uint8_t>& b, size_t size, size_t pre
 
 // A ragged window's (one frame of n points) trial of predictors 10 and 11 before their
 // neighbour search, the encoder's largest cost there: on the first eighth of the points (at
-// least kNearTrialMin), whether they save 3 % of some plain lane's cost (against the best of the
-// other predictors, 12 included). Windows under twice that are searched whole.
+// least kNearTrialMin), whether some field's coding with them is 3 % smaller than without them
+// (the other predictors, 12 included, or LZMA of the byte planes), first by the predictors' cost
+// sums, then by the coded bytes. Windows under twice that are searched whole.
 constexpr size_t kNearTrialMin = size_t{1} << 13;
 bool near_pays(const std::vector<AttrSpec>& specs, const std::vector<std::vector<uint8_t>>& data,
                const uint8_t* valid, bool gaps, const int32_t* q, size_t n,
@@ -212,24 +213,34 @@ bool near_pays(const std::vector<AttrSpec>& specs, const std::vector<std::vector
   const size_t m = std::max(n / 8, kNearTrialMin);
   if (2 * m > n) return true;
   const std::vector<uint32_t> near = nearest_points(q, valid, 1, m);
+  std::vector<std::vector<uint8_t>> heads;
+  for (size_t a = 0; a < specs.size(); ++a) {
+    const size_t bpp = static_cast<size_t>(specs[a].size) * static_cast<size_t>(specs[a].count);
+    heads.emplace_back(data[a].begin(), data[a].begin() + static_cast<std::ptrdiff_t>(m * bpp));
+  }
   Lane l;
   for (size_t a = 0; a < specs.size(); ++a) {
     const AttrSpec& s = specs[a];
     if (is_colour_field(s)) return true;
-    const size_t bpp = static_cast<size_t>(s.size) * static_cast<size_t>(s.count);
-    const std::vector<uint8_t> head(data[a].begin(),
-                                    data[a].begin() + static_cast<std::ptrdiff_t>(m * bpp));
-    for (size_t j = 0; j < static_cast<size_t>(s.count); ++j) {
-      make_lane(s, false, head, m, j, &l);
-      uint64_t with = 0, without = 0;
+    bool helps = false;
+    for (size_t j = 0; j < static_cast<size_t>(s.count) && !helps; ++j) {
+      make_lane(s, false, heads[a], m, j, &l);
+      uint64_t with = 0, without = 0, quantum = 0;
       choose_predictor(l, valid, gaps, near.data(), 1, m, m, &with);
       choose_predictor(l, valid, gaps, nullptr, 1, m, m, &without);
       QuantumParams qp;
-      uint64_t quantum = 0;
-      if (choose_quantum(specs, data, a, l, valid, ragged.xyz, &qp, &quantum))
+      if (choose_quantum(specs, heads, a, l, valid, ragged.xyz, &qp, &quantum))
         without = std::min(without, quantum);
-      if (static_cast<double>(with) < 0.97 * static_cast<double>(without)) return true;
+      helps = static_cast<double>(with) < 0.97 * static_cast<double>(without);
     }
+    if (!helps) continue;
+    const size_t size = static_cast<size_t>(s.size);
+    const size_t coded_with =
+        encode_predictive(specs, heads, a, valid, gaps, near.data(), 1, m, m, &ragged).size();
+    const size_t coded_without =
+        std::min(encode_predictive(specs, heads, a, valid, gaps, nullptr, 1, m, m, &ragged).size(),
+                 lzma_transform(2, heads[a], size).size());
+    if (static_cast<double>(coded_with) < 0.97 * static_cast<double>(coded_without)) return true;
   }
   return false;
 }
