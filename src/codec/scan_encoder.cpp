@@ -198,6 +198,7 @@ struct RaggedRun {
   std::vector<uint8_t>* out;      // the stream so far
   std::vector<IndexEntry> index;  // INDX
   size_t position_bytes = 0, attribute_bytes = 0;
+  size_t split_windows = 0;  // windows with a float32 split
   ErrorAccumulator acc;
   ResidueWriter* residue = nullptr;  // a lossless stream of a folder: PCDP per window
 };
@@ -221,7 +222,7 @@ std::vector<uint8_t> scan_body(const ScanGeometry& g, const ScanHints& hints, bo
 
 // The split exponents the encoder tries first (FORMAT.md "Lossless ragged streams",
 // informative); then the neighbours of the best of them.
-constexpr int kSplitCoarse[] = {8, 11, 14, 17, 20};
+constexpr int kSplitCoarse[] = {8, 11, 14, 17, 20, 23};
 // Split integers stay below 2^29, where the scan payload's spherical frames work.
 constexpr int64_t kSplitLimit = int64_t{1} << 29;
 
@@ -291,7 +292,10 @@ void append_scan_chunk(RaggedRun& r, size_t w, size_t f0, size_t f1, FrameBlock*
   if (e != scan::kNoSplit && !scan::split_coordinates(b->xyz.data(), g.valid.data(), g.valid.size(),
                                                       e, kSplitLimit, &g.q, &corrections))
     e = scan::kNoSplit;  // a later frame's coordinate beyond the split's integers
-  if (e == scan::kNoSplit) g.q = std::move(wi.q);
+  if (e == scan::kNoSplit)
+    g.q = std::move(wi.q);
+  else
+    ++r.split_windows;
   ByteWriter pw;
   pw.varint(w);
   pw.varint(p1 - p0);
@@ -410,7 +414,7 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
   if (grid.lossless && !original.empty())
     residue = ResidueWriter::open(original, ctx.take, opts.check);
   if (residue) residue->file_chunks(&out, true);
-  RaggedRun r{t, opts, grid, ctx, meta_take, ring_field(t), &out, {}, 0, 0, ErrorAccumulator()};
+  RaggedRun r{t, opts, grid, ctx, meta_take, ring_field(t), &out, {}, 0, 0, 0, ErrorAccumulator()};
   r.residue = residue.get();
   for (size_t w = 0; w * h.window_frames < t.frames; ++w) {
     const size_t f0 = w * h.window_frames, f1 = std::min<size_t>(f0 + h.window_frames, t.frames);
@@ -426,7 +430,7 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
     stats->bpvf = total ? 8.0 * static_cast<double>(out.size()) / static_cast<double>(total) : 0;
     stats->step = grid.step;
     stats->lossless = grid.lossless;
-    stats->mode = mode_name(grid.mode);
+    stats->mode = r.split_windows > 0 ? "float32-split" : mode_name(grid.mode);
     stats->error = r.acc.finish();
     stats->codec = "none";
     stats->position_bytes = r.position_bytes;

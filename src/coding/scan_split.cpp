@@ -37,8 +37,8 @@ double decode_coordinate(IntDecoder::Cursor& c, int32_t q, int e, int axis, doub
     return v;
   }
   const double half = b > 0 ? std::ldexp(1.0, b - 1) : 0.0;
-  const double v = std::ldexp(static_cast<double>(q), -e) +
-                   std::ldexp(static_cast<double>(t) - half, -e - b);
+  const double v =
+      std::ldexp(static_cast<double>(q), -e) + std::ldexp(static_cast<double>(t) - half, -e - b);
   if (static_cast<double>(static_cast<float>(v)) != v)
     c.corrupt("float32 split correction gives no float32");
   return v;
@@ -56,10 +56,12 @@ void decode_split(const uint8_t* data, size_t size, const std::string& what, int
   for (size_t i = 0; i < valid.size(); ++i) {
     if (!valid[i]) continue;
     for (int a = 0; a < 3; ++a)
-      xyz[3 * i + static_cast<size_t>(a)] = decode_coordinate(c, q[3 * i + static_cast<size_t>(a)], e, a, s);
+      xyz[3 * i + static_cast<size_t>(a)] =
+          decode_coordinate(c, q[3 * i + static_cast<size_t>(a)], e, a, s);
   }
   dec.commit(c);
-  if (!dec.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the float32 split corrections");
+  if (!dec.at_end())
+    fail(ErrorCode::kCorrupt, what, "bytes left after the float32 split corrections");
 }
 
 }  // namespace scan

@@ -37,7 +37,6 @@ inline int split_budget(int32_t q, int e) {
   return -e - ux;
 }
 
-
 // Decodes a corrections block: the window's valid points (valid, total entries) with their
 // grid integers q (3 per point, gaps ignored) at exponent e into xyz (3 per point, gaps left
 // as they are). Throws Error(kCorrupt) naming `what`.

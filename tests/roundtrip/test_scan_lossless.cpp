@@ -76,7 +76,7 @@ TEST(ScanLossless, InMemoryRaggedTakeComesBackBitForBit) {
   capz::CompressStats st;
   const std::vector<uint8_t> z = capz::compress(t, o, &st);
   EXPECT_TRUE(st.lossless);
-  EXPECT_EQ(st.mode, "float32-bits");
+  EXPECT_EQ(st.mode, "float32-split");  // "Lossless ragged streams": the float32 split
   const capz::Take d = capz::decompress(z.data(), z.size());
   ASSERT_EQ(d.frame_offsets, t.frame_offsets);
   ASSERT_EQ(d.valid, t.valid);
