@@ -100,6 +100,7 @@ set(CAPZ_ENCODE_SOURCES
   src/codec/pdct/kdtree.cpp
   src/codec/pdct/pdct_encoder.cpp
   src/codec/pdct/seeds.cpp
+  src/codec/point_order_encode.cpp
   src/codec/registry.cpp
   src/codec/residue_writer.cpp
   src/codec/scan_encoder.cpp
@@ -137,6 +138,7 @@ set(CAPZ_ENCODE_SOURCES
   src/coding/positions_ray_encode.cpp
   src/coding/rotations_encode.cpp
   src/coding/scan_encode.cpp
+  src/coding/scan_order_encode.cpp
   src/coding/scan_table.cpp
   src/io/residue/c3d_residue_encode.cpp
   src/io/residue/pack_encode.cpp

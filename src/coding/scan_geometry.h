@@ -40,6 +40,12 @@ struct ScanHints {
 // The payload of one window. Throws Error(kInvalidArgument) when the shapes disagree.
 std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints = {});
 
+// --point-order any (FORMAT.md "Points reordered"): the coded order of g's points, indices into
+// g (total of them), each frame's own points at its own places: its valid points by column,
+// ring and range under the table the encoder infers (the sensor's firing order), the valid
+// points off the table in file order, then its gaps. Encoder side (scan_order_encode.cpp).
+std::vector<uint32_t> scan_point_order(const ScanGeometry& g, const ScanHints& hints = {});
+
 // Decodes a payload of encode_scan_geometry. At most `max_points` points in all (the caller's
 // memory bound); throws Error(kCorrupt) naming `what` on any inconsistency.
 ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::string& what,
