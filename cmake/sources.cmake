@@ -85,6 +85,7 @@ set(CAPZ_DECODE_SOURCES
   src/io/trc.cpp
   src/io/trc_write.cpp
   src/metrics/metrics.cpp
+  src/metrics/point_match.cpp
   src/metrics/promise.cpp
 )
 

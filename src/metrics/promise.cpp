@@ -8,6 +8,7 @@
 #include "capz/tool/verify.h"
 #include "coding/c3d_params.h"
 #include "coding/quantiser.h"
+#include "metrics/point_match.h"
 
 namespace capz {
 
@@ -223,6 +224,7 @@ Promise promise_of(const StreamInfo& info) {
     p.kind = Promise::Kind::kBound;
     p.max_error = info.max_error;
   }
+  p.points_reordered = info.points_reordered;
   p.analog_bounds = info.analog_bounds;
   p.analog_factors = info.analog_factors;
   for (size_t i = 0; i < info.pcd_fields.size(); ++i) {
@@ -370,7 +372,18 @@ PromiseResult check_promise(const Take& original, const Take& decoded, const Pro
   if (original.frames == decoded.frames && original.points == decoded.points &&
       original.frame_offsets == decoded.frame_offsets) {
     if (!whole) return {false, "the takes' frame arrays do not match their shapes", c.error()};
-    c.check(PromiseCheck::Frames(original), PromiseCheck::Frames(decoded));
+    Take paired;
+    if (promise.points_reordered) {  // FORMAT.md "Points reordered": compared as sets
+      std::vector<bool> exact;
+      for (size_t i = 0; i < original.attributes.size(); ++i)
+        exact.push_back(i >= promise.attribute_bounds.size() || promise.attribute_bounds[i] <= 0);
+      std::string why;
+      const double bound = promise.kind == Promise::Kind::kBound ? promise.max_error : 0;
+      if (!match_reordered(original, decoded, bound, exact, &paired, &why))
+        return {false, why, c.error()};
+    }
+    c.check(PromiseCheck::Frames(promise.points_reordered ? paired : original),
+            PromiseCheck::Frames(decoded));
     c.finish();
   }
   r.holds = c.holds();
