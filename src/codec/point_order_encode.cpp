@@ -11,6 +11,24 @@ namespace capz {
 
 namespace {
 
+// g's points in `order`.
+ScanGeometry permuted(const ScanGeometry& g, const std::vector<uint32_t>& order) {
+  ScanGeometry s = g;
+  for (size_t j = 0; j < order.size(); ++j) {
+    s.valid[j] = g.valid[order[j]];
+    std::copy_n(&g.q[3 * size_t{order[j]}], 3, &s.q[3 * j]);
+  }
+  return s;
+}
+ScanHints permuted(const ScanHints& h, const std::vector<uint32_t>& order) {
+  ScanHints s = h;
+  for (size_t j = 0; j < order.size(); ++j) {
+    if (!h.ring.empty()) s.ring[j] = h.ring[order[j]];
+    if (!h.xyz.empty()) std::copy_n(&h.xyz[3 * size_t{order[j]}], 3, &s.xyz[3 * j]);
+  }
+  return s;
+}
+
 // The coded order of frames [f0, f1) of t: indices from the window's first point.
 std::vector<uint32_t> window_order(const Take& t, const Grid& grid, size_t f0, size_t f1,
                                    const std::vector<uint32_t>& ring) {
@@ -32,7 +50,18 @@ std::vector<uint32_t> window_order(const Take& t, const Grid& grid, size_t f0, s
                       ring.begin() + static_cast<std::ptrdiff_t>(p1));
   hints.xyz.resize(b.xyz.size());
   for (size_t i = 0; i < b.xyz.size(); ++i) hints.xyz[i] = static_cast<float>(b.xyz[i]);
-  return scan_point_order(g, hints);
+  // The smallest window payload of: each frame sorted under its own table, sorted under the
+  // window's table, or the file's order (a sensor whose file order is its firing order already,
+  // or one no table describes); the encoder's choice, any order being allowed.
+  std::vector<uint32_t> best(g.total());
+  for (size_t j = 0; j < best.size(); ++j) best[j] = static_cast<uint32_t>(j);
+  size_t least = encode_scan_geometry(g, hints).size();
+  for (ScanOrderTable table : {ScanOrderTable::kPerFrame, ScanOrderTable::kWindow}) {
+    std::vector<uint32_t> order = scan_point_order(g, hints, table);
+    const size_t bytes = encode_scan_geometry(permuted(g, order), permuted(hints, order)).size();
+    if (bytes < least) least = bytes, best.swap(order);
+  }
+  return best;
 }
 
 }  // namespace
