@@ -36,7 +36,7 @@ namespace {
 
 bool show_breakdown = false;
 double breakdown_divisor = 4;  // --divisor: the table's step divisor of --breakdown
-bool sorted_order = false;  // --sorted: --point-order any's coded order (scan_point_order)
+bool sorted_order = false;     // --sorted: --point-order any's coded order (scan_point_order)
 
 struct Frame {
   std::vector<double> xyz;     // points x 3, NaN kept

@@ -299,9 +299,9 @@ py::tuple compress_take(const capz::Take& take, bool lossless, std::optional<dou
       if (give_units) with_units->units = units, with_units->units_assumed = false;
     }
     const capz::Take& t = with_units ? *with_units : take;
-    capz::CompressOptions opts = coding_options(codec, clusters, window, check, codec_options,
-                                                threads, attr_error, drop_fields, analog_max_error,
-                                                any_point_order);
+    capz::CompressOptions opts =
+        coding_options(codec, clusters, window, check, codec_options, threads, attr_error,
+                       drop_fields, analog_max_error, any_point_order);
     std::unique_ptr<capz::FrameSource> src = capz::take_frames(t);
     capz::set_compress_target(*src, target_of(lossless, kg_error, std::move(max_error)), &opts);
     if (t.units_assumed) {  // as the CLI: the archive stores no assumed units
@@ -653,11 +653,11 @@ void bind_functions(py::module_& m) {
           capz::CompressStats st;
           {
             py::gil_scoped_release nogil;
-            capz::compress_file(in, out, target_of(lossless, kg_error, std::move(max_error)),
-                                coding_options(codec, clusters, window, check, codec_options,
-                                               threads, attr_error, drop_fields, analog_max_error,
-                                               any_point_order),
-                                units, overwrite, &st);
+            capz::compress_file(
+                in, out, target_of(lossless, kg_error, std::move(max_error)),
+                coding_options(codec, clusters, window, check, codec_options, threads, attr_error,
+                               drop_fields, analog_max_error, any_point_order),
+                units, overwrite, &st);
           }
           return compress_stats(st);
         });

@@ -1,10 +1,9 @@
 // The ragged encoder's --point-order any (point_order.h).
-#include "codec/point_order.h"
-
 #include <algorithm>
 
 #include "capz/stream.h"
 #include "codec/grid_choice.h"
+#include "codec/point_order.h"
 #include "coding/scan_geometry.h"
 
 namespace capz {

@@ -51,7 +51,8 @@ size_t partner(const Take& o, size_t i, const Take& d, Cells* c, double bound, d
     for (int64_t y = lo[1]; y <= hi[1]; ++y)
       for (int64_t z = lo[2]; z <= hi[2]; ++z) {
         const Key k{x, y, z};
-        auto it = std::lower_bound(c->sorted.begin(), c->sorted.end(), std::make_pair(k, size_t{0}));
+        auto it =
+            std::lower_bound(c->sorted.begin(), c->sorted.end(), std::make_pair(k, size_t{0}));
         for (; it != c->sorted.end() && it->first == k; ++it)
           if (it->second < best && !c->used[it->second] && agree(o, i, d, it->second, bound, exact))
             best = it->second;
@@ -88,10 +89,10 @@ bool match_reordered(const Take& original, const Take& decoded, double bound,
         gaps.push_back(j);
         continue;
       }
-      c.sorted.push_back({Key{cell_of(decoded.xyz[3 * j], cell),
-                              cell_of(decoded.xyz[3 * j + 1], cell),
-                              cell_of(decoded.xyz[3 * j + 2], cell)},
-                          j});
+      c.sorted.push_back(
+          {Key{cell_of(decoded.xyz[3 * j], cell), cell_of(decoded.xyz[3 * j + 1], cell),
+               cell_of(decoded.xyz[3 * j + 2], cell)},
+           j});
     }
     std::sort(c.sorted.begin(), c.sorted.end());
     size_t next_gap = 0;

@@ -166,9 +166,9 @@ TEST(CliScan, PointOrderAnyIsShownVerifiedAndRefusedWithLossless) {
   const std::string src = std::string(CAPZ_REPO_DATA) + "/scan_small";
   const std::string z = dir.file("any.capz"), k = dir.file("kept.capz");
   std::string out;
-  ASSERT_EQ(capz_run("compress -f " + src + " -o " + z + " --max-error 1mm --point-order any", dir,
-                     &out),
-            0)
+  ASSERT_EQ(
+      capz_run("compress -f " + src + " -o " + z + " --max-error 1mm --point-order any", dir, &out),
+      0)
       << out;
   ASSERT_EQ(capz_run("info " + z, dir, &out), 0) << out;
   EXPECT_NE(out.find("point order: reordered (--point-order any)"), std::string::npos) << out;
@@ -183,8 +183,8 @@ TEST(CliScan, PointOrderAnyIsShownVerifiedAndRefusedWithLossless) {
                      &out),
             0);
   EXPECT_NE(out.find("--point-order wants kept or any, got 'some'"), std::string::npos) << out;
-  EXPECT_NE(capz_run("compress -f " + src + " -o " + z + " --lossless --point-order any", dir, &out),
-            0);
+  EXPECT_NE(
+      capz_run("compress -f " + src + " -o " + z + " --lossless --point-order any", dir, &out), 0);
   EXPECT_NE(out.find("--point-order any with --lossless"), std::string::npos) << out;
 }
 

@@ -307,8 +307,7 @@ TEST(ScanCorrupt, GivenThePointsReorderedBitWhereItDoesNotBelongThenCorruptOrRef
   later.payload[later.find("HEAD")][19] |= 0x40;
   EXPECT_EQ(decode_code(later.bytes(), &msg), static_cast<int>(ErrorCode::kUnsupportedVersion))
       << msg;
-  EXPECT_NE(msg.find("feature bit 6 of format 1.1 is not known to this decoder"),
-            std::string::npos)
+  EXPECT_NE(msg.find("feature bit 6 of format 1.1 is not known to this decoder"), std::string::npos)
       << msg;
 }
 

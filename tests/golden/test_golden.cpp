@@ -19,10 +19,10 @@
 #include <sstream>
 
 #include "capz/codec.h"
-#include "capz/tool/verify.h"
 #include "capz/error.h"
 #include "capz/io.h"
 #include "capz/metrics.h"
+#include "capz/tool/verify.h"
 #include "capz/version.h"
 #include "coding/bytes.h"
 #include "coding/crc32c.h"

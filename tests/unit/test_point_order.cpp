@@ -100,7 +100,8 @@ TEST(PointOrder, GivenShuffledSweepsThenSamePointsWithTheirFieldsSmallerThanKept
     expect_same_points(t, d, bound);
     const StreamInfo si = describe(z.data(), z.size());
     EXPECT_TRUE(si.points_reordered);
-    EXPECT_TRUE(check_promise(t, d, promise_of(si)).holds) << check_promise(t, d, promise_of(si)).why;
+    EXPECT_TRUE(check_promise(t, d, promise_of(si)).holds)
+        << check_promise(t, d, promise_of(si)).why;
     // The order moved (the firing order is not the shuffle), and the stream is smaller kept off.
     size_t moved = 0;
     for (size_t j = 0; j < d.total_points(); ++j) moved += d.valid[j] && id_of(d, j) != j;
