@@ -14,6 +14,7 @@
 #include "capz/error.h"
 #include "capz/stream.h"
 #include "capz/tool/verify.h"
+#include "metrics/point_match.h"
 #include "synthetic.h"
 #include "test_util.h"
 
@@ -150,6 +151,26 @@ TEST(PointOrder, GivenAPointMovedOrAFieldChangedThenThePromiseBreaks) {
   Promise kept = p;
   kept.points_reordered = false;
   EXPECT_FALSE(check_promise(t, d, kept).holds);
+}
+
+// Two points whose partners a nearest-first pairing would swap wrongly: A at 0 is nearer B's
+// decoded point (0.96) than its own (-0.98), and B at 1.95 reaches only 0.96; the pairing moves
+// A to its own along an augmenting path. A third point with no partner is named.
+TEST(PointOrder, GivenCrowdedPointsThenThePairingFindsTheOneThatHolds) {
+  Take o, d;
+  o.resize_ragged({2});
+  o.xyz = {0, 0, 0, 1.95, 0, 0};
+  o.valid = {1, 1};
+  d = o;
+  d.xyz = {0.96, 0, 0, -0.98, 0, 0};
+  Take paired;
+  std::string why;
+  ASSERT_TRUE(match_reordered(o, d, 1.0, {}, &paired, &why)) << why;
+  EXPECT_EQ(paired.xyz, (std::vector<double>{1.95, 0, 0, 0, 0, 0}));
+  d.xyz[0] = 3.5;  // now nothing decoded is within 1 of B
+  EXPECT_FALSE(match_reordered(o, d, 1.0, {}, &paired, &why));
+  EXPECT_NE(why.find("frame 0, point 1 has no decoded point within the bound"), std::string::npos)
+      << why;
 }
 
 TEST(PointOrder, GivenLosslessThenRefusedByName) {
