@@ -25,6 +25,10 @@ namespace {
 // --lossless, which promises the frame files back byte for byte (no residue rebuilds them).
 // Throws kInvalidParameter.
 void refuse_scans(const Take& t, const CompressOptions& opts) {
+  if (opts.any_point_order && opts.lossless)  // FORMAT.md "Points reordered": bit 0 clear
+    fail(ErrorCode::kInvalidParameter, t.source,
+         "--point-order any with --lossless: a lossless archive gives the frame files back byte "
+         "for byte, in their order; give --max-error, or keep the order");
   if (opts.lossless && (t.format == Format::kPLYFolder || t.format == Format::kBinFolder))
     fail(ErrorCode::kInvalidParameter, t.source,
          std::string("--lossless is not implemented for ") +
