@@ -312,17 +312,21 @@ void append_scan_chunk(RaggedRun& r, size_t w, size_t f0, size_t f1, FrameBlock*
 }
 
 // "Scans (format 1.1)": the ATTR chunk of window w, its fields as one frame of its n points
-// (width n), the SCNW integers q offered to predictors 10 and 11 and the positions they decode to
-// to predictor 12 (as the decoder has them: 0 at gaps).
+// (width n), the SCNW integers q offered to predictors 10 and 11 and the positions the decoder
+// will have to predictor 12 (0 at gaps): lossless, the source's (b.xyz; every valid coordinate
+// decodes bit for bit, whether the window is split or not), else q's by the grid.
 void append_fields_chunk(RaggedRun& r, size_t w, const std::vector<std::vector<uint8_t>>& fields,
-                         const std::vector<uint8_t>& valid, const std::vector<int32_t>& q) {
+                         const FrameBlock& b, const std::vector<int32_t>& q) {
+  const std::vector<uint8_t>& valid = b.valid;
   const size_t n = valid.size();
   std::vector<double> xyz(3 * n, 0.0);
   with_mode(r.grid.mode, [&](auto m) {
     for (size_t i = 0; i < n; ++i)
       if (valid[i])
         for (size_t a = 0; a < 3; ++a)
-          xyz[3 * i + a] = dequantise_as<decltype(m)::value>(r.grid, q[3 * i + a], 0);
+          xyz[3 * i + a] = r.grid.lossless
+                               ? b.xyz[3 * i + a]
+                               : dequantise_as<decltype(m)::value>(r.grid, q[3 * i + a], 0);
   });
   RaggedFields ragged;
   ragged.xyz = xyz.data();
@@ -365,7 +369,7 @@ void append_window(RaggedRun& r, size_t w, size_t f0, size_t f1, bool measure) {
   std::vector<std::vector<uint8_t>> fields;
   if (!r.meta.attributes.empty()) {
     fields = window_fields(t, *r.meta.pcd, p0, t.frame_begin(f1));
-    append_fields_chunk(r, w, fields, b.valid, q);
+    append_fields_chunk(r, w, fields, b, q);
   }
   FrameBlock d;  // the one decoder gives the window back
   if (r.opts.check || measure) {
