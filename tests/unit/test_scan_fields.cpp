@@ -303,4 +303,22 @@ TEST(ScanFields, SingleSweepsAsRaggedTakes) {
 }
 
 }  // namespace
+// data/scan_small (four Helios 16P sweeps): the distance field, in 2.5 mm steps, is predicted from
+// the decoded range (ATTR predictor 12) as well in a lossless stream, whose float32 windows are
+// split (the positions the decoder has are the source's), as at 1 mm; every field comes back.
+TEST(ScanFields, DistanceFromTheRangeAlsoWhenLossless) {
+  const Take t = read_take(std::string(CAPZ_REPO_DATA) + "/scan_small");
+  ASSERT_TRUE(t.ragged());
+  CompressOptions lossless;
+  lossless.lossless = true;
+  CompressStats sl, sb;
+  const std::vector<uint8_t> zl = compress(t, lossless, &sl);
+  const std::vector<uint8_t> zb = compress(t, at(0.001), &sb);
+  expect_frames(t, 0, decompress(zl.data(), zl.size()), 0);
+  expect_frames(t, 0, decompress(zb.data(), zb.size()), 0.001);
+  EXPECT_LT(static_cast<double>(sl.attribute_bytes), 1.1 * static_cast<double>(sb.attribute_bytes));
+  // Far below the raw field bytes (the distance alone is 4 bytes a point).
+  EXPECT_LT(sb.attribute_bytes, t.total_points() * 2);
+}
+
 }  // namespace capz
