@@ -47,14 +47,17 @@ std::string default_output(const std::string& in, const capz::Take& take) {
 }
 
 // True when OUT names the source's own format (.c3d / .trc, any case; a PCD folder, not a
-// single .pcd file, which the rebuild of the original does not write).
-bool same_format(const std::string& out, capz::Format f) {
+// single .pcd file, which the rebuild of the original does not write; PLY or .bin frames,
+// `folder` being the format OUT is written in).
+bool same_format(const std::string& out, capz::Format f, capz::Format folder) {
   std::string lower = out;
   for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return (f == capz::Format::kC3D && ends_with(lower, ".c3d")) ||
          (f == capz::Format::kTRC && ends_with(lower, ".trc")) ||
          (f == capz::Format::kPCDFolder && !ends_with(lower, ".pcd") &&
-          capz::format_for_output(out) == capz::Format::kPCDFolder);
+          capz::format_for_output(out) == capz::Format::kPCDFolder) ||
+         // PLY and .bin frames: a folder, or one file of a one-frame take (rebuild_original)
+         ((f == capz::Format::kPLYFolder || f == capz::Format::kBinFolder) && folder == f);
 }
 
 // What every file of one `capz decompress` shares.
@@ -143,8 +146,8 @@ Written decode_whole(const Job& job, const Settings& s, const std::string& in,
   Written w;
   w.out = choose_output(job, s, in, take, space);
   w.take_shape(take);
-  if (same_format(w.out, take.format) && wo.pcd_encoding.empty() && !wo.drop_fields &&
-      !wo.trc_delimiter &&
+  if (same_format(w.out, take.format, capz::output_format(take, w.out, wo)) &&
+      wo.pcd_encoding.empty() && wo.ply_encoding.empty() && !wo.drop_fields && !wo.trc_delimiter &&
       capz::can_rebuild(capz::original_info(in), take.format == capz::Format::kC3D)) {
     src.reset();
     capz::rebuild_original(in, w.out, s.batch.force, dopts);

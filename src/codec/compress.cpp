@@ -21,18 +21,6 @@ size_t auto_window_frames(size_t points) {
 
 namespace {
 
-// What the encoder does not code yet for PLY and .bin frames (format 1.1, frame-file sources):
-// --lossless, which promises the frame files back byte for byte (no residue rebuilds them).
-// Throws kInvalidParameter.
-void refuse_scans(const Take& t, const CompressOptions& opts) {
-  if (opts.lossless && (t.format == Format::kPLYFolder || t.format == Format::kBinFolder))
-    fail(ErrorCode::kInvalidParameter, t.source,
-         std::string("--lossless is not implemented for ") +
-             (t.format == Format::kPLYFolder ? "PLY" : ".bin") +
-             " frames: their byte-exact rebuild (a residue of frame files) is missing; give "
-             "--max-error, or convert them to PCD first (capz convert IN OUT/ --to pcd)");
-}
-
 // A ragged take of PLY or .bin frames with the point layout META stores for it.
 std::vector<uint8_t> compress_ragged_frames(const Take& take, const CompressOptions& opts,
                                             CompressStats* stats) {
@@ -99,7 +87,6 @@ Take whole_take(FrameSource& source) {
 std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions& opts,
                                          const EncoderTuning& tuning, CompressStats* stats,
                                          bool allow_tout = true) {
-  refuse_scans(take, opts);
   if (take.ragged()) return compress_ragged_frames(take, opts, stats);
   if (take.xyz.size() != take.frames * take.points * 3 ||
       take.valid.size() != take.frames * take.points)
@@ -184,7 +171,6 @@ std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, Com
 
 void compress_stream(FrameSource& source, const CompressOptions& opts, const std::string& path,
                      bool overwrite, CompressStats* stats) {
-  refuse_scans(source.header(), opts);
   if (source.header().ragged()) {  // not streamed yet: the whole take in memory
     settle_frame_layout(&source.edit_header(), opts.drop_fields);
     const Take t = whole_take(source);
