@@ -185,24 +185,26 @@ TEST(ScanFormats, GivenBinTakesThenTheyComeBackAsBinWithTheirIntensity) {
   }
 }
 
-TEST(ScanFormats, GivenLosslessOnPLYOrBinThenItIsRefusedByName) {
+// --lossless on PLY and .bin takes in memory (no frame files to rebuild: no residue): every
+// valid coordinate bit for bit, every field exact (FORMAT.md "Lossless frame-file streams").
+TEST(ScanFormats, GivenLosslessOnPLYOrBinTakesThenPositionsAndFieldsComeBackExact) {
   capz::CompressOptions o;
   o.lossless = true;
-  std::string msg;
-  EXPECT_EQ(capz_test::error_of(
-                [&] {
-                  capz::compress(ply_take({10, 10}, false), o);
-                },
-                &msg),
-            capz::ErrorCode::kInvalidParameter);
-  EXPECT_NE(msg.find("--lossless is not implemented for PLY frames"), std::string::npos) << msg;
-  EXPECT_EQ(capz_test::error_of(
-                [&] {
-                  capz::compress(bin_take({10, 12}), o);
-                },
-                &msg),
-            capz::ErrorCode::kInvalidParameter);
-  EXPECT_NE(msg.find("--lossless is not implemented for .bin frames"), std::string::npos) << msg;
+  for (const capz::Take& t :
+       {ply_take({10, 10}, true), ply_take({9, 13}, true), bin_take({10, 12})}) {
+    capz::CompressStats st;
+    const std::vector<uint8_t> z = capz::compress(t, o, &st);
+    EXPECT_TRUE(st.lossless);
+    const capz::Take d = capz::decompress(z.data(), z.size());
+    ASSERT_EQ(d.total_points(), t.total_points());
+    ASSERT_EQ(d.valid, t.valid);
+    for (size_t i = 0; i < t.xyz.size(); ++i)
+      if (t.valid[i / 3]) ASSERT_EQ(d.xyz[i], t.xyz[i]) << i;
+    ASSERT_EQ(d.attributes.size(), t.attributes.size());
+    for (size_t a = 0; a < t.attributes.size(); ++a)
+      EXPECT_EQ(d.attributes[a].data, t.attributes[a].data) << t.attributes[a].name;
+    EXPECT_TRUE(capz::describe(z.data(), z.size()).lossless);
+  }
 }
 
 // The file header's minor set to `minor`, its CRC made right again.
