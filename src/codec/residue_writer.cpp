@@ -19,20 +19,7 @@ namespace {
 // The take's metadata as a decoder gets it from META (FORMAT.md "Frame-file sources"): a PLY
 // take's vertex properties are META's layout, each with the type name the source spelled.
 Take decoded_view(const Take& t) {
-  Take v;
-  v.format = t.format;
-  v.source = t.source;
-  v.frames = t.frames;
-  v.points = t.points;
-  v.frame_offsets = t.frame_offsets;
-  v.pcd = t.pcd;
-  v.ply = t.ply;
-  v.bin = t.bin;
-  for (const PointAttribute& a : t.attributes) {
-    PointAttribute h = a;
-    h.data.clear();
-    v.attributes.push_back(std::move(h));
-  }
+  Take v = t;  // a header: its frames come in blocks
   if (!t.ply || !t.pcd) return v;
   auto x = std::make_shared<PLYExtra>(*t.ply);
   x->fields = t.pcd->fields;

@@ -8,22 +8,12 @@
 
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
 #include <string>
 #include <vector>
 
-#include "capz/codec.h"
-#include "capz/error.h"
-#include "capz/stream.h"
-#include "capz/tool/file.h"
-#include "capz/tool/original.h"
 #include "chunk_util.h"
-#include "coding/container.h"
-#include "test_util.h"
+#include "frame_files_residue.h"
 
-namespace fs = std::filesystem;
-
-using capz_test::chunk_len;
 using capz_test::fix_crc;
 
 namespace {
@@ -58,63 +48,13 @@ std::vector<uint8_t> frame(size_t f, bool ply) {
   return b;
 }
 
-class FrameResidueCorrupt : public ::testing::TestWithParam<bool> {
+class FrameResidueCorrupt : public ::testing::TestWithParam<bool>,
+                            public capz_test::FrameFilesResidue {
  protected:
   void SetUp() override {
-    in_ = tmp_.file("in");
-    fs::create_directories(in_);
-    ext_ = GetParam() ? ".ply" : ".bin";
-    for (size_t f = 0; f < 4; ++f) {
-      orig_.push_back(frame(f, GetParam()));
-      capz::write_file(in_ + "/f" + std::to_string(f) + ext_, orig_.back(), true);
-    }
-    std::unique_ptr<capz::FrameSource> src = capz::open_frames(in_);
-    ASSERT_TRUE(src->header().ragged());
-    capz::CompressOptions o;
-    o.lossless = true;
-    o.window_frames = 3;  // two windows, two PCDP chunks
-    const std::string z = tmp_.file("good.capz");
-    capz::compress_stream(*src, o, z, true);
-    good_ = capz::read_file(z);
-  }
-
-  // The n-th chunk of `type` (its offset), or npos.
-  size_t nth(const char* type, int n) const {
-    size_t at = capz::kFileHeaderBytes;
-    while (at + 12 <= good_.size()) {
-      if (std::memcmp(&good_[at], type, 4) == 0 && n-- == 0) return at;
-      at += 12 + chunk_len(good_, at);
-    }
-    return std::string::npos;
-  }
-
-  bool rebuilds_or_throws(const std::vector<uint8_t>& b, const std::string& what) {
-    const std::string z = tmp_.file("bad.capz"), out = tmp_.file("out");
-    capz::write_file(z, b, true);
-    fs::remove_all(out);
-    try {
-      capz::rebuild_original(z, out, true);
-    } catch (const capz::Error&) {
-      EXPECT_FALSE(fs::exists(out)) << what;
-      return false;
-    }
-    for (size_t f = 0; f < orig_.size(); ++f)
-      EXPECT_EQ(capz::read_file(out + "/f" + std::to_string(f) + ext_), orig_[f])
-          << what << ": a wrong file was written";
-    return true;
-  }
-
-  void damage_every_byte(const char* type, int n) {
-    const size_t at = nth(type, n);
-    ASSERT_NE(at, std::string::npos) << type << " " << n;
-    const uint32_t len = chunk_len(good_, at);
-    for (uint32_t i = 0; i < len; ++i)
-      for (uint8_t flip : {uint8_t{0x01}, uint8_t{0x80}}) {
-        std::vector<uint8_t> b = good_;
-        b[at + 8 + i] ^= flip;
-        fix_crc(&b, at);
-        rebuilds_or_throws(b, std::string(type) + " byte " + std::to_string(i));
-      }
+    std::vector<std::vector<uint8_t>> files;
+    for (size_t f = 0; f < 4; ++f) files.push_back(frame(f, GetParam()));
+    make(files, GetParam() ? ".ply" : ".bin");
   }
 
   // The first frame record's flags byte in PCDP 0 (after the window index, size and hash).
@@ -124,11 +64,6 @@ class FrameResidueCorrupt : public ::testing::TestWithParam<bool> {
     while (good_[p] & 0x80) ++p;  // size varint
     return p + 1 + 16;
   }
-
-  capz_test::TempDir tmp_{"capz_frame_rcorrupt"};
-  std::string in_, ext_;
-  std::vector<std::vector<uint8_t>> orig_;
-  std::vector<uint8_t> good_;
 };
 
 }  // namespace
