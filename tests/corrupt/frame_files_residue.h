@@ -85,6 +85,17 @@ class FrameFilesResidue {
       }
   }
 
+  // The PCDP of window 1 claiming window 0: corrupt, nothing written.
+  void expect_window_claim_corrupt() {
+    std::vector<uint8_t> b = good_;
+    const size_t at = nth("PCDP", 1);
+    ASSERT_NE(at, std::string::npos);
+    ASSERT_EQ(b[at + 8], 1);  // the window index varint
+    b[at + 8] = 0;
+    fix_crc(&b, at);
+    EXPECT_FALSE(rebuilds_or_throws(b, "PCDP of window 0 in window 1"));
+  }
+
   TempDir tmp_{"capz_frames_rcorrupt"};
   std::string in_, ext_;
   std::vector<std::vector<uint8_t>> orig_;
