@@ -227,8 +227,8 @@ void rebuild_original(const std::string& capz_path, const std::string& out, bool
     frames = ps.take.frames;
   }
   const std::string ext = frame_extension(f);
-  if (!ext.empty() && f != Format::kPCDFolder && frames == 1 && single_frame_output(out, ext)) {
-    AtomicFile file(out, overwrite);  // a one-frame take of PLY or .bin: that one file
+  if (!ext.empty() && frames == 1 && single_frame_output(out, ext)) {
+    AtomicFile file(out, overwrite);  // a one-frame take: that one file
     rebuild(
         capz_path, [&](const uint8_t* p, size_t n) { file.write(p, n); }, opts);
     file.commit();
