@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <type_traits>
 
 #include "capz/error.h"
 #include "capz/metrics.h"
@@ -19,6 +20,7 @@
 #include "coding/container.h"
 #include "coding/meta.h"
 #include "coding/scan_geometry.h"
+#include "coding/scan_split.h"
 
 namespace capz {
 namespace {
@@ -196,12 +198,73 @@ struct RaggedRun {
   std::vector<uint8_t>* out;      // the stream so far
   std::vector<IndexEntry> index;  // INDX
   size_t position_bytes = 0, attribute_bytes = 0;
+  size_t split_windows = 0;  // windows with a float32 split
   ErrorAccumulator acc;
   ResidueWriter* residue = nullptr;  // a lossless stream of a folder: PCDP per window
 };
 
+// SCNW's bytes after `total` ("Scans (format 1.1)"): in mode 2 the split exponent e, and with a
+// split (g.q on the grid 2^-e, t the corrections) the geometry's length, the geometry and the
+// corrections block; else the geometry alone.
+std::vector<uint8_t> scan_body(const ScanGeometry& g, const ScanHints& hints, bool mode2, int e,
+                               const std::vector<uint32_t>& t) {
+  ByteWriter w;
+  if (mode2) w.u8(static_cast<uint8_t>(static_cast<int8_t>(e)));
+  const std::vector<uint8_t> geo = encode_scan_geometry(g, hints);
+  if (e != scan::kNoSplit) w.varint(geo.size());
+  w.bytes(geo.data(), geo.size());
+  if (e != scan::kNoSplit) {
+    const std::vector<uint8_t> c = scan::encode_split(e, g.q, t, g.valid);
+    w.bytes(c.data(), c.size());
+  }
+  return std::move(w.buffer());
+}
+
+// The split exponents the encoder tries first (FORMAT.md "Lossless ragged streams",
+// informative); then the neighbours of the best of them.
+constexpr int kSplitCoarse[] = {8, 11, 14, 17, 20, 23};
+// Split integers stay below 2^29, where the scan payload's spherical frames work.
+constexpr int64_t kSplitLimit = int64_t{1} << 29;
+
+// The float32 split of a lossless mode 2 window (b's points, counts frames): the exponent whose
+// SCNW is smallest on the window's first two frames (scan::kNoSplit when none beats the float32
+// bits there, or no exponent applies).
+int choose_split(const FrameBlock& b, const std::vector<uint32_t>& counts, const ScanHints& hints,
+                 const std::vector<int32_t>& bits) {
+  ScanGeometry g;
+  g.counts.assign(
+      counts.begin(),
+      counts.begin() + std::min<std::ptrdiff_t>(2, static_cast<std::ptrdiff_t>(counts.size())));
+  size_t n = 0;
+  for (uint32_t c : g.counts) n += c;
+  const auto upto = [](const auto& v, size_t k) {
+    return std::vector<typename std::decay_t<decltype(v)>::value_type>(
+        v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k));
+  };
+  g.valid = upto(b.valid, n);
+  g.q = upto(bits, 3 * n);
+  ScanHints h;
+  if (!hints.ring.empty()) h.ring = upto(hints.ring, n);
+  h.xyz = upto(hints.xyz, 3 * n);
+  int best = scan::kNoSplit;
+  size_t best_size = scan_body(g, h, true, best, {}).size();
+  std::vector<uint32_t> t;
+  const auto trial = [&](int e) {
+    if (!scan::split_coordinates(b.xyz.data(), g.valid.data(), n, e, kSplitLimit, &g.q, &t)) return;
+    const size_t size = scan_body(g, h, true, e, t).size();
+    if (size < best_size) best = e, best_size = size;
+  };
+  for (int e : kSplitCoarse) trial(e);
+  if (best != scan::kNoSplit) {
+    const int mid = best;
+    trial(mid - 1);
+    trial(mid + 1);
+  }
+  return best;
+}
+
 // The SCNW chunk of frames [f0, f1) of r.t (window w), appended to r.out; *b gets the window's
-// points, *q their grid integers.
+// points, *q the integers the payload codes.
 void append_scan_chunk(RaggedRun& r, size_t w, size_t f0, size_t f1, FrameBlock* b,
                        std::vector<int32_t>* q) {
   const Take& t = r.t;
@@ -215,7 +278,6 @@ void append_scan_chunk(RaggedRun& r, size_t w, size_t f0, size_t f1, FrameBlock*
   WindowInts wi = quantise_window(*b, r.grid);
   ScanGeometry g;
   for (size_t f = f0; f < f1; ++f) g.counts.push_back(static_cast<uint32_t>(t.frame_points(f)));
-  g.q = wi.q;
   g.valid = b->valid;
   ScanHints hints;
   if (!r.ring.empty())
@@ -223,16 +285,27 @@ void append_scan_chunk(RaggedRun& r, size_t w, size_t f0, size_t f1, FrameBlock*
                       r.ring.begin() + static_cast<std::ptrdiff_t>(p1));
   hints.xyz.resize(b->xyz.size());
   for (size_t i = 0; i < b->xyz.size(); ++i) hints.xyz[i] = static_cast<float>(b->xyz[i]);
+  // Mode 2 (lossless float32): a float32 split when it codes smaller.
+  const bool mode2 = r.grid.mode == PosMode::kFloat32;
+  int e = mode2 ? choose_split(*b, g.counts, hints, wi.q) : scan::kNoSplit;
+  std::vector<uint32_t> corrections;
+  if (e != scan::kNoSplit && !scan::split_coordinates(b->xyz.data(), g.valid.data(), g.valid.size(),
+                                                      e, kSplitLimit, &g.q, &corrections))
+    e = scan::kNoSplit;  // a later frame's coordinate beyond the split's integers
+  if (e == scan::kNoSplit)
+    g.q = std::move(wi.q);
+  else
+    ++r.split_windows;
   ByteWriter pw;
   pw.varint(w);
   pw.varint(p1 - p0);
   std::vector<uint8_t> payload = std::move(pw.buffer());
-  const std::vector<uint8_t> geo = encode_scan_geometry(g, hints);
-  payload.insert(payload.end(), geo.begin(), geo.end());
+  const std::vector<uint8_t> body = scan_body(g, hints, mode2, e, corrections);
+  payload.insert(payload.end(), body.begin(), body.end());
   const size_t before = r.out->size();
   append_chunk(r.out, "SCNW", payload);
   r.position_bytes += r.out->size() - before;
-  q->swap(wi.q);
+  q->swap(g.q);
 }
 
 // "Scans (format 1.1)": the ATTR chunk of window w, its fields as one frame of its n points
@@ -341,7 +414,7 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
   if (grid.lossless && !original.empty())
     residue = ResidueWriter::open(original, ctx.take, opts.check);
   if (residue) residue->file_chunks(&out, true);
-  RaggedRun r{t, opts, grid, ctx, meta_take, ring_field(t), &out, {}, 0, 0, ErrorAccumulator()};
+  RaggedRun r{t, opts, grid, ctx, meta_take, ring_field(t), &out, {}, 0, 0, 0, ErrorAccumulator()};
   r.residue = residue.get();
   for (size_t w = 0; w * h.window_frames < t.frames; ++w) {
     const size_t f0 = w * h.window_frames, f1 = std::min<size_t>(f0 + h.window_frames, t.frames);
@@ -357,7 +430,7 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
     stats->bpvf = total ? 8.0 * static_cast<double>(out.size()) / static_cast<double>(total) : 0;
     stats->step = grid.step;
     stats->lossless = grid.lossless;
-    stats->mode = mode_name(grid.mode);
+    stats->mode = r.split_windows > 0 ? "float32-split" : mode_name(grid.mode);
     stats->error = r.acc.finish();
     stats->codec = "none";
     stats->position_bytes = r.position_bytes;
