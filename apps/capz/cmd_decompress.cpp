@@ -154,8 +154,8 @@ Written decode_whole(const Job& job, const Settings& s, const std::string& in,
   Written w;
   w.out = choose_output(job, s, in, take, space);
   w.take_shape(take);
-  if (same_format(w.out, take, capz::output_format(take, w.out, wo)) &&
-      wo.pcd_encoding.empty() && wo.ply_encoding.empty() && !wo.drop_fields && !wo.trc_delimiter &&
+  if (same_format(w.out, take, capz::output_format(take, w.out, wo)) && wo.pcd_encoding.empty() &&
+      wo.ply_encoding.empty() && !wo.drop_fields && !wo.trc_delimiter &&
       capz::can_rebuild(capz::original_info(in), take.format == capz::Format::kC3D)) {
     src.reset();
     capz::rebuild_original(in, w.out, s.batch.force, dopts);
