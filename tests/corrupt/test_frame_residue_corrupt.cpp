@@ -3,7 +3,7 @@
 // recomputed: the rebuild throws a capz::Error and leaves no folder, or gives every frame file
 // back exactly; PCDR's kind of another format, PCDP flags a PLY or .bin frame cannot have (LZF
 // variant 1, a .bin header or ascii body) and a PCDR in a stream without the lossless bit are
-// corrupt.
+// corrupt, each refused for that reason, not only by the rebuilt bytes' hash.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -57,6 +57,19 @@ class FrameResidueCorrupt : public ::testing::TestWithParam<bool>,
     make(files, GetParam() ? ".ply" : ".bin");
   }
 
+  // `b` is refused as corrupt for the reason `why` names (not only by the rebuilt bytes' hash).
+  void expect_refused(const std::vector<uint8_t>& b, const std::string& why) {
+    const std::string z = tmp_.file("refused.capz");
+    capz::write_file(z, b, true);
+    try {
+      capz::test_original(z);
+      ADD_FAILURE() << why << ": accepted";
+    } catch (const capz::Error& e) {
+      EXPECT_EQ(e.code(), capz::ErrorCode::kCorrupt);
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+  }
+
   // The first frame record's flags byte in PCDP 0 (after the window index, size and hash).
   size_t first_flags() const {
     const size_t at = nth("PCDP", 0);
@@ -91,6 +104,7 @@ TEST_P(FrameResidueCorrupt, ResidueOfAnotherFormatIsCorrupt) {
     b[at + 8] = kind;
     fix_crc(&b, at);
     EXPECT_FALSE(rebuilds_or_throws(b, "PCDR kind " + std::to_string(kind)));
+    expect_refused(b, "the residue of another frame format");
   }
 }
 
@@ -105,6 +119,7 @@ TEST_P(FrameResidueCorrupt, FlagsOfPCDOnlyAreCorrupt) {
     b[p] = flags;
     fix_crc(&b, at);
     EXPECT_FALSE(rebuilds_or_throws(b, "flags " + std::to_string(flags)));
+    expect_refused(b, "bad flags for frame file f0");
   }
 }
 
