@@ -123,6 +123,18 @@ TEST_P(FrameResidueCorrupt, FlagsOfPCDOnlyAreCorrupt) {
   }
 }
 
+// HEAD without its lossless bit (flags byte 19 of its payload): PCDR is valid only in a lossless
+// stream.
+TEST_P(FrameResidueCorrupt, ResidueInAStreamThatIsNotLosslessIsCorrupt) {
+  std::vector<uint8_t> b = good_;
+  const size_t at = nth("HEAD", 0);
+  ASSERT_EQ(b[at + 8 + 19] & 1, 1);
+  b[at + 8 + 19] &= 0xfe;
+  fix_crc(&b, at);
+  EXPECT_FALSE(rebuilds_or_throws(b, "HEAD not lossless"));
+  expect_refused(b, "not lossless");
+}
+
 // The PCDP of window 1 claiming window 0: corrupt, nothing written.
 TEST_P(FrameResidueCorrupt, WindowResidueOfAnotherWindowIsCorrupt) {
   expect_window_claim_corrupt();
