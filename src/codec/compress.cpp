@@ -21,6 +21,15 @@ size_t auto_window_frames(size_t points) {
 
 namespace {
 
+// What the encoder refuses of scans (format 1.1): --point-order any with --lossless. Throws
+// kInvalidParameter.
+void refuse_scans(const Take& t, const CompressOptions& opts) {
+  if (opts.any_point_order && opts.lossless)  // FORMAT.md "Points reordered": bit 0 clear
+    fail(ErrorCode::kInvalidParameter, t.source,
+         "--point-order any with --lossless: a lossless archive gives the frame files back byte "
+         "for byte, in their order; give --max-error, or keep the order");
+}
+
 // A ragged take of PLY or .bin frames with the point layout META stores for it.
 std::vector<uint8_t> compress_ragged_frames(const Take& take, const CompressOptions& opts,
                                             CompressStats* stats) {
@@ -87,6 +96,7 @@ Take whole_take(FrameSource& source) {
 std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions& opts,
                                          const EncoderTuning& tuning, CompressStats* stats,
                                          bool allow_tout = true) {
+  refuse_scans(take, opts);
   if (take.ragged()) return compress_ragged_frames(take, opts, stats);
   if (take.xyz.size() != take.frames * take.points * 3 ||
       take.valid.size() != take.frames * take.points)
@@ -171,6 +181,7 @@ std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, Com
 
 void compress_stream(FrameSource& source, const CompressOptions& opts, const std::string& path,
                      bool overwrite, CompressStats* stats) {
+  refuse_scans(source.header(), opts);
   if (source.header().ragged()) {  // not streamed yet: the whole take in memory
     settle_frame_layout(&source.edit_header(), opts.drop_fields);
     const Take t = whole_take(source);

@@ -13,6 +13,7 @@
 #include "codec/encode_settings.h"
 #include "codec/grid.h"
 #include "codec/grid_choice.h"
+#include "codec/point_order.h"
 #include "codec/residue_writer.h"
 #include "codec/stream_reader.h"
 #include "coding/attributes.h"
@@ -36,6 +37,8 @@ void refuse_unsupported(const Take& t, const CompressOptions& opts) {
   if (!frames || t.analog.channels > 0 || t.rotations.segments > 0)
     fail(ErrorCode::kInvalidParameter, t.source,
          "only PCD, PLY and .bin frames are coded as " + what + " yet: convert them first");
+  if (opts.any_point_order && opts.lossless)  // refused earlier by compress(); for direct calls
+    fail(ErrorCode::kInvalidParameter, t.source, "--point-order any with --lossless");
 }
 
 // The ring / laser / channel number of every point from an unsigned or signed integer field of
@@ -398,6 +401,7 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
   h.max_error = grid.lossless ? 0 : opts.max_error;
   h.lossless = grid.lossless;
   h.ragged = true;
+  h.points_reordered = opts.any_point_order;
   std::vector<uint8_t> out;
   write_file_header(&out, kFormatScans.minor);
   const std::vector<uint8_t> head = encode_header(h), meta = encode_meta(meta_take, false);
@@ -414,7 +418,12 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
   if (grid.lossless && !original.empty())
     residue = ResidueWriter::open(original, ctx.take, opts.check);
   if (residue) residue->file_chunks(&out, true);
-  RaggedRun r{t, opts, grid, ctx, meta_take, ring_field(t), &out, {}, 0, 0, 0, ErrorAccumulator()};
+  // --point-order any: each window coded, checked and measured in its coded order.
+  const Take reordered =
+      opts.any_point_order ? reordered_take(t, grid, h.window_frames, ring_field(t)) : Take();
+  const Take& coded = opts.any_point_order ? reordered : t;
+  RaggedRun r{coded, opts, grid, ctx, meta_take, ring_field(coded),
+              &out,  {},   0,    0,   0,         ErrorAccumulator()};
   r.residue = residue.get();
   for (size_t w = 0; w * h.window_frames < t.frames; ++w) {
     const size_t f0 = w * h.window_frames, f1 = std::min<size_t>(f0 + h.window_frames, t.frames);
