@@ -75,6 +75,7 @@ set(CAPZ_DECODE_SOURCES
   src/io/ply.cpp
   src/io/ply_folder.cpp
   src/io/residue/c3d_residue.cpp
+  src/io/residue/frame_regen.cpp
   src/io/residue/pack.cpp
   src/io/residue/patch.cpp
   src/io/residue/pcd_ascii.cpp

@@ -566,11 +566,12 @@ def compress_file(
     analog_max_error: Optional[Mapping[str, float]] = None,
     point_order: str = "kept",
 ) -> Dict[str, Any]:
-    """Compresses a .c3d, a .trc or a folder of .pcd frames to a .capz file: the same bytes as
-    `capz compress INPUT -o OUTPUT` with the same options (see compress() for them; overwrite
-    is the CLI's -f). output defaults to INPUT.capz. The input is read a window at a time (and
-    for a C3D or TRC the original file's checksum and residue are stored, so a lossless
-    archive rebuilds it byte for byte). Returns the report as a dict.
+    """Compresses a .c3d, a .trc, a .pcd / .ply / .bin frame or a folder of them to a .capz file:
+    the same bytes as `capz compress INPUT -o OUTPUT` with the same options (see compress() for
+    them; overwrite is the CLI's -f). output defaults to INPUT.capz. The input is read a window
+    at a time (and for a C3D or TRC the original file's checksum and residue are stored, and
+    with lossless=True those of every PCD, PLY or .bin frame file, so a lossless archive
+    rebuilds the files byte for byte). Returns the report as a dict.
     """
     src = _path(input, "input")
     out = _path(output, "output") if output is not None else src.rstrip("/") + ".capz"
