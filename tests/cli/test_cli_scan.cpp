@@ -189,3 +189,18 @@ TEST(CliScan, PointOrderAnyIsShownVerifiedAndRefusedWithLossless) {
 }
 
 }  // namespace
+
+// compress --rm of a single sweep (a real Helios 16P frame of data/scan_small) whose stream
+// holds one ragged frame (the scan coder wins on it): the written archive read back decodes to
+// the fixed one-frame take the reader gives the file, so the check passes and the input goes.
+// Before, the check compared the stream's ragged header with the file's fixed one and kept it.
+TEST(CliScan, RmOfASingleSweepCodedAsOneRaggedFrame) {
+  capz_test::TempDir dir("capz_cli_scan_rm");
+  const std::string in = dir.file("sweep.pcd"), z = dir.file("sweep.capz");
+  fs::copy_file(std::string(CAPZ_REPO_DATA) + "/scan_small/1691031766781547066.pcd", in);
+  std::string out;
+  ASSERT_EQ(capz_run("compress " + in + " -o " + z + " --max-error 1mm --rm", dir, &out), 0) << out;
+  EXPECT_FALSE(fs::exists(in));
+  ASSERT_EQ(capz_run("info " + z, dir, &out), 0) << out;
+  EXPECT_NE(out.find("SCNW"), std::string::npos) << out;  // the one-ragged-frame stream
+}
