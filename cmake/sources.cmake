@@ -51,6 +51,7 @@ set(CAPZ_DECODE_SOURCES
   src/coding/scan_decode.cpp
   src/coding/scan_maps.cpp
   src/coding/scan_shared.cpp
+  src/coding/scan_split.cpp
   src/core/atomic_file.cpp
   src/core/error.cpp
   src/core/hash.cpp
@@ -137,6 +138,7 @@ set(CAPZ_ENCODE_SOURCES
   src/coding/positions_ray_encode.cpp
   src/coding/rotations_encode.cpp
   src/coding/scan_encode.cpp
+  src/coding/scan_split_encode.cpp
   src/coding/scan_table.cpp
   src/io/residue/c3d_residue_encode.cpp
   src/io/residue/pack_encode.cpp

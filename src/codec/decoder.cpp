@@ -17,6 +17,7 @@
 #include "coding/positions.h"
 #include "coding/rotations.h"
 #include "coding/scan_geometry.h"
+#include "coding/scan_split.h"
 
 namespace capz {
 namespace {
@@ -210,6 +211,16 @@ uint64_t open_scan_chunk(const StreamContext& ctx, WindowChunks* chunks, const C
   return total;
 }
 
+// SCNW's split exponent E (mode 2 only; "Lossless ragged streams"), or scan::kNoSplit.
+int read_split(const StreamHeader& h, ByteReader* r) {
+  if (h.mode != PosMode::kFloat32) return scan::kNoSplit;
+  const int e = static_cast<int8_t>(r->u8());
+  if (e != scan::kNoSplit && (e < scan::kMinSplitExponent || e > scan::kMaxSplitExponent))
+    fail(ErrorCode::kCorrupt, r->what(),
+         "float32 split exponent " + std::to_string(e) + " is neither -128 nor in -64..64");
+  return e;
+}
+
 // "Scans (format 1.1)": the fn frames of window w of a ragged stream from its SCNW chunk, into
 // out's frame offsets, gaps and coordinates (gaps 0), and its grid integers (total x 3, in the
 // flattened point order) into *q for ATTR's predictors 10 and 11.
@@ -219,8 +230,15 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
   const std::string what = chunks->what("SCNW");
   ByteReader r(c.payload, c.size, what);
   const uint64_t total = open_scan_chunk(ctx, chunks, c, &r);
-  ScanGeometry g = decode_scan_geometry(c.payload + r.offset(), c.size - r.offset(), what,
-                                        static_cast<size_t>(total));
+  const int e = read_split(ctx.h, &r);
+  size_t geo = r.remaining();
+  if (e != scan::kNoSplit) {
+    const uint64_t len = r.varint();
+    if (len > r.remaining()) fail(ErrorCode::kCorrupt, what, "geometry length beyond the chunk");
+    geo = static_cast<size_t>(len);
+  }
+  const size_t at = r.offset();
+  ScanGeometry g = decode_scan_geometry(c.payload + at, geo, what, static_cast<size_t>(total));
   if (g.counts.size() != fn)
     fail(ErrorCode::kCorrupt, what,
          std::to_string(g.counts.size()) + " frames, the window has " + std::to_string(fn));
@@ -233,6 +251,12 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
   for (size_t f = 0; f < fn; ++f) b.frame_offsets[f + 1] = b.frame_offsets[f] + g.counts[f];
   b.valid = g.valid;
   b.xyz.assign(g.total() * 3, 0.0);
+  if (e != scan::kNoSplit) {  // "Lossless ragged streams": the float32 split
+    scan::decode_split(c.payload + at + geo, c.size - at - geo, what, e, g.q, g.valid,
+                       b.xyz.data());
+    q->swap(g.q);
+    return;
+  }
   Grid grid;
   grid.mode = ctx.h.mode;
   grid.step = ctx.h.step;
@@ -342,6 +366,7 @@ std::vector<size_t> ragged_frame_offsets(StreamBytes& bytes, const ParsedStream&
     const std::string what = chunks.what("SCNW");
     ByteReader r(c.payload, c.size, what);
     const uint64_t total = open_scan_chunk(ps, &chunks, c, &r);
+    if (read_split(ps.h, &r) != scan::kNoSplit) r.varint();  // the geometry's length
     const size_t fn = std::min(W, F - std::min(F, w * W));
     if (r.varint() != fn) fail(ErrorCode::kCorrupt, what, "frame count is not the window's");
     uint64_t sum = 0;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <type_traits>
 
 #include "capz/error.h"
 #include "capz/metrics.h"
@@ -19,6 +20,7 @@
 #include "coding/container.h"
 #include "coding/meta.h"
 #include "coding/scan_geometry.h"
+#include "coding/scan_split.h"
 
 namespace capz {
 namespace {
@@ -193,31 +195,103 @@ struct RaggedRun {
   StreamOut* out;                 // the stream so far
   std::vector<IndexEntry> index;  // INDX
   size_t position_bytes = 0, attribute_bytes = 0;
+  size_t split_windows = 0;  // windows with a float32 split
   ErrorAccumulator acc;
   ResidueWriter* residue = nullptr;  // a lossless stream of a folder: PCDP per window
   std::vector<uint8_t> buf;          // the window's chunks
   FrameBlock back;                   // the window decoded again (kept: its memory is reused)
 };
 
-// The SCNW chunk of window w (the frames of b), appended to r.buf; *q gets the window's grid
-// integers.
+// SCNW's bytes after `total` ("Scans (format 1.1)"): in mode 2 the split exponent e, and with a
+// split (g.q on the grid 2^-e, t the corrections) the geometry's length, the geometry and the
+// corrections block; else the geometry alone.
+std::vector<uint8_t> scan_body(const ScanGeometry& g, const ScanHints& hints, bool mode2, int e,
+                               const std::vector<uint32_t>& t) {
+  ByteWriter w;
+  if (mode2) w.u8(static_cast<uint8_t>(static_cast<int8_t>(e)));
+  const std::vector<uint8_t> geo = encode_scan_geometry(g, hints);
+  if (e != scan::kNoSplit) w.varint(geo.size());
+  w.bytes(geo.data(), geo.size());
+  if (e != scan::kNoSplit) {
+    const std::vector<uint8_t> c = scan::encode_split(e, g.q, t, g.valid);
+    w.bytes(c.data(), c.size());
+  }
+  return std::move(w.buffer());
+}
+
+// The split exponents the encoder tries first (FORMAT.md "Lossless ragged streams",
+// informative); then the neighbours of the best of them.
+constexpr int kSplitCoarse[] = {8, 11, 14, 17, 20, 23};
+// Split integers stay below 2^29, where the scan payload's spherical frames work.
+constexpr int64_t kSplitLimit = int64_t{1} << 29;
+
+// The float32 split of a lossless mode 2 window (b's points, counts frames): the exponent whose
+// SCNW is smallest on the window's first two frames (scan::kNoSplit when none beats the float32
+// bits there, or no exponent applies).
+int choose_split(const FrameBlock& b, const std::vector<uint32_t>& counts, const ScanHints& hints,
+                 const std::vector<int32_t>& bits) {
+  ScanGeometry g;
+  g.counts.assign(
+      counts.begin(),
+      counts.begin() + std::min<std::ptrdiff_t>(2, static_cast<std::ptrdiff_t>(counts.size())));
+  size_t n = 0;
+  for (uint32_t c : g.counts) n += c;
+  const auto upto = [](const auto& v, size_t k) {
+    return std::vector<typename std::decay_t<decltype(v)>::value_type>(
+        v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k));
+  };
+  g.valid = upto(b.valid, n);
+  g.q = upto(bits, 3 * n);
+  ScanHints h;
+  if (!hints.ring.empty()) h.ring = upto(hints.ring, n);
+  h.xyz = upto(hints.xyz, 3 * n);
+  int best = scan::kNoSplit;
+  size_t best_size = scan_body(g, h, true, best, {}).size();
+  std::vector<uint32_t> t;
+  const auto trial = [&](int e) {
+    if (!scan::split_coordinates(b.xyz.data(), g.valid.data(), n, e, kSplitLimit, &g.q, &t)) return;
+    const size_t size = scan_body(g, h, true, e, t).size();
+    if (size < best_size) best = e, best_size = size;
+  };
+  for (int e : kSplitCoarse) trial(e);
+  if (best != scan::kNoSplit) {
+    const int mid = best;
+    trial(mid - 1);
+    trial(mid + 1);
+  }
+  return best;
+}
+
+// The SCNW chunk of window w (the frames of b), appended to r.buf; *q gets the integers the
+// payload codes.
 void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<int32_t>* q) {
   const size_t n = b.total_points();
   ScanGeometry g;
   for (size_t k = 0; k < b.frames; ++k)
     g.counts.push_back(static_cast<uint32_t>(b.frame_points(k)));
-  g.q = std::move(quantise_window(b, r.grid).q);
+  std::vector<int32_t> bits = std::move(quantise_window(b, r.grid).q);
   g.valid = b.valid;
   ScanHints hints;
   hints.ring = ring_field(r.t.attributes, b);
   hints.xyz.resize(b.xyz.size());
   for (size_t i = 0; i < b.xyz.size(); ++i) hints.xyz[i] = static_cast<float>(b.xyz[i]);
+  // Mode 2 (lossless float32): a float32 split when it codes smaller.
+  const bool mode2 = r.grid.mode == PosMode::kFloat32;
+  int e = mode2 ? choose_split(b, g.counts, hints, bits) : scan::kNoSplit;
+  std::vector<uint32_t> corrections;
+  if (e != scan::kNoSplit && !scan::split_coordinates(b.xyz.data(), g.valid.data(), g.valid.size(),
+                                                      e, kSplitLimit, &g.q, &corrections))
+    e = scan::kNoSplit;  // a later frame's coordinate beyond the split's integers
+  if (e == scan::kNoSplit)
+    g.q = std::move(bits);
+  else
+    ++r.split_windows;
   ByteWriter pw;
   pw.varint(w);
   pw.varint(n);
   std::vector<uint8_t> payload = std::move(pw.buffer());
-  const std::vector<uint8_t> geo = encode_scan_geometry(g, hints);
-  payload.insert(payload.end(), geo.begin(), geo.end());
+  const std::vector<uint8_t> body = scan_body(g, hints, mode2, e, corrections);
+  payload.insert(payload.end(), body.begin(), body.end());
   const size_t before = r.buf.size();
   append_chunk(&r.buf, "SCNW", payload);
   r.position_bytes += r.buf.size() - before;
@@ -287,7 +361,7 @@ void fill_stats(const RaggedRun& r, size_t total, CompressStats* stats) {
   stats->bpvf = total ? 8.0 * static_cast<double>(bytes) / static_cast<double>(total) : 0;
   stats->step = r.grid.step;
   stats->lossless = r.grid.lossless;
-  stats->mode = mode_name(r.grid.mode);
+  stats->mode = r.split_windows > 0 ? "float32-split" : mode_name(r.grid.mode);
   stats->error = r.acc.finish();
   stats->codec = "none";
   stats->position_bytes = r.position_bytes;
@@ -334,9 +408,9 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
     residue = ResidueWriter::open(original, ctx.take, opts.check);
   if (residue) residue->file_chunks(&head_buf, true);
   out->flush(&head_buf);
-  RaggedRun r{
-      t,  opts,        grid, ctx, meta_take, out, {}, 0, 0, ErrorAccumulator(), residue.get(),
-      {}, FrameBlock()};
+  RaggedRun r{t,  opts,        grid, ctx, meta_take,          out,
+              {}, 0,           0,    0,   ErrorAccumulator(), residue.get(),
+              {}, FrameBlock()};
   const size_t W = h.window_frames;
   for (size_t w = 0; w * W < t.frames; ++w) {
     const size_t f0 = w * W, f1 = std::min<size_t>(f0 + W, t.frames);

@@ -28,6 +28,7 @@ namespace {
 const std::string kStreams = std::string(CAPZ_TEST_DIR) + "/golden/streams/";
 const char* const kOneWindow = "scan_small.grid1mm.v1.1.capz";      // 4 frames, 1 window
 const char* const kTwoWindows = "scan_small.grid1cm-w2.v1.1.capz";  // 2 windows of 2 frames
+const char* const kLossless = "scan_small.lossless.v1.1.capz";      // mode 2, a float32 split
 
 // The positions to damage in a payload of n bytes, about `most` of them: all of the first 256
 // (at most half of `most`), the last 16, and the rest spread evenly (payload_positions).
@@ -120,8 +121,8 @@ void expect_caught_or_harmless(const std::vector<uint8_t>& b, const Take& ref, s
 }
 
 // Every sampled byte of each SCNW payload of `stream` changed by `flip` (CRC recomputed), about
-// 600 decodes over the stream's windows.
-void damage_scnw(const char* stream, uint8_t flip) {
+// `most` decodes over the stream's windows.
+void damage_scnw(const char* stream, uint8_t flip, size_t most = 600) {
   const std::vector<uint8_t> good = read_file(kStreams + stream);
   const Take ref = decompress(good.data(), good.size(), stream);
   std::vector<size_t> chunks;  // offsets of the SCNW chunks
@@ -133,7 +134,7 @@ void damage_scnw(const char* stream, uint8_t flip) {
   for (size_t at : chunks) {
     const size_t len = capz_test::chunk_len(good, at);
     size_t errors = 0;
-    const std::vector<size_t> where = sampled(len, 600 / chunks.size());
+    const std::vector<size_t> where = sampled(len, most / chunks.size());
     for (size_t i : where) {
       std::vector<uint8_t> b = good;
       b[at + 8 + i] ^= flip;
@@ -151,6 +152,58 @@ void damage_scnw(const char* stream, uint8_t flip) {
 TEST(ScanCorrupt, GivenEverySampledScnwByteDamagedThenCleanCorruptOrAWellFormedTake) {
   damage_scnw(kOneWindow, 0x01);
   damage_scnw(kTwoWindows, 0x80);
+  damage_scnw(kLossless, 0x01, 80);  // with ATTR and the residue: slower decodes
+}
+
+// "Lossless ragged streams": SCNW's split exponent E and the geometry's length, then the
+// corrections block (its own corruptions: tests/unit/test_scan_split.cpp).
+TEST(ScanCorrupt, GivenADamagedFloat32SplitThenCorruptNamingScnw) {
+  const Chunks good(read_file(kStreams + kLossless));
+  const size_t scnw = good.find("SCNW");
+  ByteReader r(good.payload[scnw].data(), good.payload[scnw].size(), "SCNW");
+  r.varint();
+  r.varint();
+  const size_t e_at = r.offset();
+  const int e = static_cast<int8_t>(r.u8());
+  ASSERT_GE(e, -64);  // the golden stream has a split
+  ASSERT_LE(e, 64);
+  const size_t len_at = r.offset();
+  const uint64_t len = r.varint();
+  const size_t geo_at = r.offset();
+  ASSERT_LT(geo_at + len, good.payload[scnw].size());  // a corrections block follows
+  std::string msg;
+  for (const uint8_t bad : {uint8_t{65}, uint8_t{0xBF}, uint8_t{0x81}, uint8_t{0x7F}}) {
+    Chunks c = good;
+    c.payload[scnw][e_at] = bad;  // 65, -65, -127, 127: neither -128 nor in -64..64
+    EXPECT_EQ(decode_code(c.bytes(), &msg), static_cast<int>(ErrorCode::kCorrupt)) << msg;
+    EXPECT_NE(msg.find("SCNW"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("exponent"), std::string::npos) << msg;
+  }
+  // The geometry's length beyond the chunk, or one byte off either way.
+  Chunks c = good;
+  std::vector<uint8_t>& p = c.payload[scnw];
+  ByteWriter w;
+  w.varint(p.size());
+  p.erase(p.begin() + static_cast<long>(len_at), p.begin() + static_cast<long>(geo_at));
+  p.insert(p.begin() + static_cast<long>(len_at), w.buffer().begin(), w.buffer().end());
+  EXPECT_EQ(decode_code(c.bytes(), &msg), static_cast<int>(ErrorCode::kCorrupt)) << msg;
+  EXPECT_NE(msg.find("SCNW"), std::string::npos) << msg;
+  for (const uint64_t other : {len - 1, len + 1}) {
+    c = good;
+    ByteWriter o;
+    o.varint(other);
+    std::vector<uint8_t>& q = c.payload[scnw];
+    q.erase(q.begin() + static_cast<long>(len_at), q.begin() + static_cast<long>(geo_at));
+    q.insert(q.begin() + static_cast<long>(len_at), o.buffer().begin(), o.buffer().end());
+    EXPECT_EQ(decode_code(c.bytes(), &msg), static_cast<int>(ErrorCode::kCorrupt)) << other;
+  }
+  // The corrections block's last byte gone, or one byte more.
+  c = good;
+  c.payload[scnw].pop_back();
+  EXPECT_EQ(decode_code(c.bytes(), &msg), static_cast<int>(ErrorCode::kCorrupt)) << msg;
+  c = good;
+  c.payload[scnw].push_back(0);
+  EXPECT_EQ(decode_code(c.bytes(), &msg), static_cast<int>(ErrorCode::kCorrupt)) << msg;
 }
 
 TEST(ScanCorrupt, GivenAMissingScnwThenCorruptOrRefusedNamingIt) {
@@ -273,7 +326,7 @@ TEST(ScanCorrupt, GivenFrameCountsDisagreeingWithHeadThenCorrupt) {
 // The file cut short anywhere (sampled), and each SCNW payload cut short inside a chunk whose
 // length, CRC and index are right: a clean corrupt error, never a take.
 TEST(ScanCorrupt, GivenTruncationsThenCorrupt) {
-  for (const char* stream : {kOneWindow, kTwoWindows}) {
+  for (const char* stream : {kOneWindow, kTwoWindows, kLossless}) {
     SCOPED_TRACE(stream);
     const std::vector<uint8_t> good = read_file(kStreams + stream);
     for (size_t n : sampled(good.size(), 300)) {
@@ -315,7 +368,7 @@ TEST(ScanCorrupt, GivenTruncationsThenCorrupt) {
 
 // The rebuilt stream without changes decodes as the golden one does (the helper is right).
 TEST(ScanCorrupt, GivenTheRebuiltGoldenStreamThenItIsByteIdentical) {
-  for (const char* stream : {kOneWindow, kTwoWindows}) {
+  for (const char* stream : {kOneWindow, kTwoWindows, kLossless}) {
     const std::vector<uint8_t> good = read_file(kStreams + stream);
     EXPECT_TRUE(Chunks(good).bytes() == good) << stream;
   }

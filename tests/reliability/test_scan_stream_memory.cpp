@@ -104,7 +104,11 @@ void expect_window_bounded(bool lossless) {
 
 }  // namespace
 
-TEST(ScanStreamMemory, RaggedFolderAtABoundPeaksAsAShortOne) { expect_window_bounded(false); }
+TEST(ScanStreamMemory, RaggedFolderAtABoundPeaksAsAShortOne) {
+  expect_window_bounded(false);
+}
 
 // --lossless adds the frame files' residue (HASH over every file, PCDP per window).
-TEST(ScanStreamMemory, RaggedFolderLosslessPeaksAsAShortOne) { expect_window_bounded(true); }
+TEST(ScanStreamMemory, RaggedFolderLosslessPeaksAsAShortOne) {
+  expect_window_bounded(true);
+}

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@
 #include "capz/stream.h"
 #include "capz/tool/file.h"
 #include "capz/tool/original.h"
+#include "coding/bytes.h"
 #include "coding/quantiser.h"
 #include "io/pcd_folder.h"
 #include "test_util.h"
@@ -74,7 +76,7 @@ TEST(ScanLossless, InMemoryRaggedTakeComesBackBitForBit) {
   capz::CompressStats st;
   const std::vector<uint8_t> z = capz::compress(t, o, &st);
   EXPECT_TRUE(st.lossless);
-  EXPECT_EQ(st.mode, "float32-bits");
+  EXPECT_EQ(st.mode, "float32-split");  // "Lossless ragged streams": the float32 split
   const capz::Take d = capz::decompress(z.data(), z.size());
   ASSERT_EQ(d.frame_offsets, t.frame_offsets);
   ASSERT_EQ(d.valid, t.valid);
@@ -83,6 +85,44 @@ TEST(ScanLossless, InMemoryRaggedTakeComesBackBitForBit) {
     ASSERT_TRUE(capz::same_bits(d.xyz[i], t.xyz[i])) << i;
   }
   EXPECT_TRUE(capz::describe(z.data(), z.size()).lossless);
+}
+
+// The float32 split ("Lossless ragged streams") keeps -0.0, subnormals and values at binade
+// edges; a window with a coordinate beyond the split's integers (1e30 in its third frame, after
+// the first two chose a split) keeps the float32 bits, the next window splits again.
+TEST(ScanLossless, EdgeCoordinatesComeBackBitForBitWithAndWithoutASplit) {
+  capz::Take t = sweeps(5);
+  const float edge[] = {-0.0f, 0.0f,         1e-45f, -1.17549435e-38f,
+                        0.5f,  -0.99999994f, 1.0f,   std::nextafter(2.0f, 0.0f),
+                        4.0f,  -1024.0f};
+  size_t k = 0;
+  for (size_t i = 0; i < t.frame_points(0) && k < 3 * std::size(edge); ++i)
+    if (t.valid[i]) t.xyz[3 * i + k % 3] = edge[(k / 3) % std::size(edge)], ++k;
+  const size_t p2 = t.frame_begin(2);
+  for (size_t i = p2; i < t.frame_begin(3); ++i)
+    if (t.valid[i]) {
+      t.xyz[3 * i + 1] = 1e30f;
+      break;
+    }
+  capz::CompressOptions o;
+  o.lossless = true;
+  o.window_frames = 3;
+  const std::vector<uint8_t> z = capz::compress(t, o);
+  const capz::Take d = capz::decompress(z.data(), z.size());
+  ASSERT_EQ(d.valid, t.valid);
+  for (size_t i = 0; i < t.xyz.size(); ++i)
+    if (t.valid[i / 3]) ASSERT_TRUE(capz::same_bits(d.xyz[i], t.xyz[i])) << i << " " << t.xyz[i];
+  std::vector<int> split;  // each SCNW's E (after the window and total varints)
+  for (size_t at = 15; at + 12 <= z.size(); at += 12 + capz::load_le32(&z[at + 4])) {
+    if (std::memcmp(&z[at], "SCNW", 4) != 0) continue;
+    capz::ByteReader r(&z[at + 8], capz::load_le32(&z[at + 4]), "SCNW");
+    r.varint();
+    r.varint();
+    split.push_back(static_cast<int8_t>(r.u8()));
+  }
+  ASSERT_EQ(split.size(), 2u);
+  EXPECT_EQ(split[0], -128);  // 1e30 has no integer below 2^29 at any exponent tried
+  EXPECT_GE(split[1], 7);
 }
 
 TEST(ScanLossless, Float64CoordinatesOnNoDecimalGridAreRefused) {
