@@ -22,13 +22,14 @@ namespace fs = std::filesystem;
 namespace {
 
 // A folder of `frames` binary PCD sweeps of a 16-beam spinning sensor, x y z intensity (F4),
-// frame f holding 3000 + 37 f mod 400 points (a ragged take); NaN points now and then.
+// frame f holding 3000 + 97 (f mod 4) points (a ragged take whose first 4 frames already have
+// every count: a longer take's windows are no larger); NaN points now and then.
 fs::path write_sweeps(const std::string& name, size_t frames) {
   const fs::path dir = fs::temp_directory_path() / ("capz_stream_mem_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   for (size_t f = 0; f < frames; ++f) {
-    const size_t n = 3000 + (37 * f) % 400;
+    const size_t n = 3000 + 97 * (f % 4);
     std::vector<float> v;
     for (size_t i = 0; i < n; ++i) {
       const double az = 2 * M_PI * static_cast<double>(i / 16) / static_cast<double>(n / 16 + 1);
