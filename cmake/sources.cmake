@@ -75,6 +75,7 @@ set(CAPZ_DECODE_SOURCES
   src/io/ply.cpp
   src/io/ply_folder.cpp
   src/io/residue/c3d_residue.cpp
+  src/io/residue/frame_regen.cpp
   src/io/residue/pack.cpp
   src/io/residue/patch.cpp
   src/io/residue/pcd_ascii.cpp
@@ -86,6 +87,7 @@ set(CAPZ_DECODE_SOURCES
   src/io/trc.cpp
   src/io/trc_write.cpp
   src/metrics/metrics.cpp
+  src/metrics/point_match.cpp
   src/metrics/promise.cpp
 )
 
@@ -101,6 +103,7 @@ set(CAPZ_ENCODE_SOURCES
   src/codec/pdct/kdtree.cpp
   src/codec/pdct/pdct_encoder.cpp
   src/codec/pdct/seeds.cpp
+  src/codec/point_order_encode.cpp
   src/codec/registry.cpp
   src/codec/residue_writer.cpp
   src/codec/scan_encoder.cpp
@@ -138,6 +141,7 @@ set(CAPZ_ENCODE_SOURCES
   src/coding/positions_ray_encode.cpp
   src/coding/rotations_encode.cpp
   src/coding/scan_encode.cpp
+  src/coding/scan_order_encode.cpp
   src/coding/scan_split_encode.cpp
   src/coding/scan_table.cpp
   src/io/residue/c3d_residue_encode.cpp

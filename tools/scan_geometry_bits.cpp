@@ -4,12 +4,14 @@
 // metres), NaN points kept as gaps; the payload is decoded and compared with the integers.
 //
 //   scan_geometry_bits [--bound M]... [--no-ring] [--window F] [--dump N] [--breakdown]
-//                      PATH...
+//                      [--sorted] PATH...
 //
 // --bound: bounds in metres (default 0.001 and 0.01); --no-ring: ignore the ring / channel
 // field (the coder then infers the rings); --window: frames per window (default: all);
 // --dump: print the first N points of each sequence's first frame in polar form; --breakdown:
-// bits per point of each kind of symbol (ring, column, range, x, y, z), step divisor 4.
+// bits per point of each kind of symbol (ring, column, range, x, y, z), step divisor 4 or
+// --divisor D;
+// --sorted: each frame in --point-order any's coded order (coding/scan_geometry.h).
 // Prints one line per sequence and bound: points, payload bytes, bits per point, encode and
 // decode milliseconds. Exits 1 when a round trip is not exact.
 #include <dirent.h>
@@ -33,6 +35,8 @@
 namespace {
 
 bool show_breakdown = false;
+double breakdown_divisor = 4;  // --divisor: the table's step divisor of --breakdown
+bool sorted_order = false;     // --sorted: --point-order any's coded order (scan_point_order)
 
 struct Frame {
   std::vector<double> xyz;     // points x 3, NaN kept
@@ -171,7 +175,8 @@ class BreakdownIo {
 
 void breakdown(const capz::ScanGeometry& g, const capz::ScanHints& h) {
   std::vector<capz::scan::Polar> polar;
-  const capz::scan::Table t = capz::scan::table_for(g, capz::scan::fit_rings(g, h), 4.0, &polar);
+  const capz::scan::Table t =
+      capz::scan::table_for(g, capz::scan::fit_rings(g, h), breakdown_divisor, &polar);
   BreakdownIo io(g, polar);
   capz::scan::State st(t);
   std::vector<int32_t> q;
@@ -214,6 +219,22 @@ bool code_window(const std::vector<Frame>& frames, size_t a, size_t b, double bo
     if (!fr.ring.empty()) h.ring.insert(h.ring.end(), fr.ring.begin(), fr.ring.end());
   }
   if (h.ring.size() != g.valid.size()) h.ring.clear();
+  if (sorted_order) {  // each frame in the coded order of --point-order any
+    const std::vector<uint32_t> order = capz::scan_point_order(g, h);
+    capz::ScanGeometry s = g;
+    capz::ScanHints sh = h;
+    for (size_t j = 0; j < order.size(); ++j) {
+      s.valid[j] = g.valid[order[j]];
+      for (int k = 0; k < 3; ++k) {
+        s.q[3 * j + k] = g.q[3 * order[j] + k];
+        sh.xyz[3 * j + k] = h.xyz[3 * order[j] + k];
+      }
+      if (!h.ring.empty()) sh.ring[j] = h.ring[order[j]];
+    }
+    g = std::move(s);
+    h.ring.swap(sh.ring);
+    h.xyz.swap(sh.xyz);
+  }
   auto t0 = std::chrono::steady_clock::now();
   const std::vector<uint8_t> payload = capz::encode_scan_geometry(g, h);
   *enc_ms += ms_since(t0);
@@ -239,6 +260,10 @@ int main(int argc, char** argv) {
       bounds.push_back(std::atof(argv[++i]));
     } else if (a == "--breakdown") {
       show_breakdown = true;
+    } else if (a == "--divisor" && i + 1 < argc) {
+      breakdown_divisor = std::atof(argv[++i]);
+    } else if (a == "--sorted") {
+      sorted_order = true;
     } else if (a == "--no-ring") {
       use_ring = false;
     } else if (a == "--dump" && i + 1 < argc) {

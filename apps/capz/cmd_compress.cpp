@@ -55,6 +55,11 @@ po::options_description compress_options() {
       "drop-fields",
       "leave the point fields of PCD frames (rgb, intensity, normals, ...) out of the archive; "
       "by default every field is kept, lossless")(
+      "point-order", po::value<std::string>()->default_value("kept"),
+      "kept (default): every frame keeps its points' order; any: the archive may reorder the "
+      "points of each frame of a scan (frames of their own point counts, or one sweep), each "
+      "with its fields, and codes them in the laser's firing order (smaller); gaps move after "
+      "each frame's points. Not with --lossless")(
       "attr-error", po::value<std::vector<std::string>>()->composing(),
       "bounds for float point fields, NAME=B[,NAME=B...] in each field's units (NAME: a field, "
       "or NAME_* as normal for normal_x/y/z); the others stay lossless")(
@@ -111,6 +116,10 @@ void set_coding_options(const po::variables_map& vm, capz::CompressOptions* opts
   opts->window_frames = vm["window"].as<size_t>();
   opts->check = vm.count("no-check") == 0;
   opts->drop_fields = vm.count("drop-fields") > 0;
+  const std::string order = vm["point-order"].as<std::string>();
+  if (order != "kept" && order != "any")
+    throw po::error("--point-order wants kept or any, got '" + order + "'");
+  opts->any_point_order = order == "any";
   parse_bounds(vm, "attr-error", "NAME", &opts->attr_error);
   parse_bounds(vm, "analog-max-error", "KEY", &opts->analog_max_error);
   if (vm.count("codec-opt"))

@@ -2,6 +2,7 @@
 //                  [-T N] [--frames FIRST:COUNT]
 #include <cctype>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 #include "batch.h"
@@ -46,15 +47,25 @@ std::string default_output(const std::string& in, const capz::Take& take) {
   return dir.empty() ? name : dir + "/" + name;
 }
 
-// True when OUT names the source's own format (.c3d / .trc, any case; a PCD folder, not a
-// single .pcd file, which the rebuild of the original does not write).
-bool same_format(const std::string& out, capz::Format f) {
+// True when OUT names one frame file (.pcd, .ply, .bin; `lower` its lowercase), not a folder.
+bool one_frame_file(const std::string& out, const std::string& lower) {
+  std::error_code ec;
+  return (ends_with(lower, ".pcd") || ends_with(lower, ".ply") || ends_with(lower, ".bin")) &&
+         !std::filesystem::is_directory(out, ec);
+}
+
+// True when OUT names the source's own format: .c3d / .trc (any case); frames of PCD, PLY or
+// .bin, `folder` being the format OUT is written in: a folder, or one file of a one-frame take
+// (which rebuild_original writes as that file).
+bool same_format(const std::string& out, const capz::Take& take, capz::Format folder) {
   std::string lower = out;
   for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const capz::Format f = take.format;
+  const bool frames = f == capz::Format::kPCDFolder || f == capz::Format::kPLYFolder ||
+                      f == capz::Format::kBinFolder;
   return (f == capz::Format::kC3D && ends_with(lower, ".c3d")) ||
          (f == capz::Format::kTRC && ends_with(lower, ".trc")) ||
-         (f == capz::Format::kPCDFolder && !ends_with(lower, ".pcd") &&
-          capz::format_for_output(out) == capz::Format::kPCDFolder);
+         (frames && folder == f && (take.frames == 1 || !one_frame_file(out, lower)));
 }
 
 // What every file of one `capz decompress` shares.
@@ -143,8 +154,8 @@ Written decode_whole(const Job& job, const Settings& s, const std::string& in,
   Written w;
   w.out = choose_output(job, s, in, take, space);
   w.take_shape(take);
-  if (same_format(w.out, take.format) && wo.pcd_encoding.empty() && !wo.drop_fields &&
-      !wo.trc_delimiter &&
+  if (same_format(w.out, take, capz::output_format(take, w.out, wo)) && wo.pcd_encoding.empty() &&
+      wo.ply_encoding.empty() && !wo.drop_fields && !wo.trc_delimiter &&
       capz::can_rebuild(capz::original_info(in), take.format == capz::Format::kC3D)) {
     src.reset();
     capz::rebuild_original(in, w.out, s.batch.force, dopts);

@@ -67,6 +67,7 @@ void print_json(const std::string& path, size_t size, const capz::StreamInfo& si
   j.member("grid_step", si.step);
   j.member("max_error", si.max_error);
   if (si.transform_output) j.member("kg_target", si.kg_target);
+  if (si.ragged) j.member("point_order", si.points_reordered ? "reordered" : "kept");
   j.member("window_frames", static_cast<uint64_t>(si.window_frames));
   j.member("windows", static_cast<uint64_t>(si.windows));
   j.member("analog_channels", si.analog_channels);
@@ -149,6 +150,8 @@ void print_text(const std::string& path, size_t size, const capz::StreamInfo& si
             : si.transform_output ? ", KG target " + num(si.kg_target) + "%, no bound"
                                   : ", bound " + num(si.max_error) + u + " per coordinate") +
            (si.step > 0 ? ", grid step " + num(si.step, 6) + u : "") + ", codec " + si.codec);
+  if (si.ragged)  // frames of their own size: the encoder may have been allowed to reorder them
+    line("point order:", si.points_reordered ? "reordered (--point-order any)" : "kept");
   line("windows:",
        std::to_string(si.windows) + " of " + std::to_string(si.window_frames) + " frames");
   const capz::OriginalInfo orig = capz::original_info(path);

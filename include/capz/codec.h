@@ -35,6 +35,12 @@ struct CompressOptions {
   // Leave the take's point fields (Take::attributes, PCD fields other than x y z) out of the
   // archive instead of coding them (they are lossless by default).
   bool drop_fields = false;
+  // --point-order any: the archive may reorder the points of each frame of a take whose frames
+  // have their own point counts (and of a single unorganized sweep), each point with its fields,
+  // and codes them in the laser's firing order (docs/FORMAT.md "Points reordered"); gaps are
+  // kept, after each frame's valid points. The decoded take has the coded order. Other takes
+  // (frames whose points correspond) keep their order. Not with lossless (refused).
+  bool any_point_order = false;
   // Bounds for float point fields (PCD), in each field's own units: a key names a field, or
   // every field NAME_* ("normal" bounds normal_x, normal_y, normal_z). Fields not named are
   // lossless. A key that names no float field is an error.
@@ -125,6 +131,9 @@ struct StreamInfo {
   // Frames of their own point counts (format 1.1; points is then 0): the points of all frames.
   bool ragged = false;
   size_t total_points = 0;
+  // Each frame's points are in the encoder's order, not the source's (compress
+  // --point-order any; HEAD feature bit 5, format 1.1): compare them with the source as sets.
+  bool points_reordered = false;
   std::string mode;   // as CompressStats::mode
   std::string codec;  // "none", "ts", "pdct", or "id N" when unknown
   bool lossless = false;

@@ -86,7 +86,8 @@ def _coding(max_error: Optional[Length], lossless: bool, kg_error: Optional[floa
             units: Optional[str], codec: str, clusters: int, window: int, check: bool,
             codec_options: Optional[Mapping[str, Any]], threads: int = 1,
             attr_error: Optional[Mapping[str, float]] = None, drop_fields: bool = False,
-            analog_max_error: Optional[Mapping[str, float]] = None) -> tuple:
+            analog_max_error: Optional[Mapping[str, float]] = None,
+            point_order: str = "kept") -> tuple:
     """The target and coding options of compress() and compress_file(), checked, in the order
     _capz.compress and _capz.compress_file take them."""
     if not isinstance(threads, (int, np.integer)) or isinstance(threads, bool) or threads < 0:
@@ -101,9 +102,11 @@ def _coding(max_error: Optional[Length], lossless: bool, kg_error: Optional[floa
         if not isinstance(k, str) or isinstance(v, bool) or not isinstance(v, (int, float, np.floating)):
             raise _invalid(f"analog_max_error wants channel label or unit -> bound, got {k!r}: {v!r}")
         analog[k] = float(v)
+    if point_order not in ("kept", "any"):
+        raise _invalid(f"point_order must be 'kept' or 'any', got {point_order!r}")
     return (bool(lossless), _kg(kg_error), _length(max_error, "max_error"), units or "",
             str(codec), int(clusters), int(window), bool(check), _options(codec_options),
-            int(threads), bounds, bool(drop_fields), analog)
+            int(threads), bounds, bool(drop_fields), analog, point_order == "any")
 
 
 def _array(name: str, value: Any, dtype: Optional[np.dtype] = None) -> np.ndarray:
@@ -468,6 +471,7 @@ def compress(
     attr_error: Optional[Mapping[str, float]] = None,
     drop_fields: bool = False,
     analog_max_error: Optional[Mapping[str, float]] = None,
+    point_order: str = "kept",
 ) -> Union[bytes, Tuple[bytes, Dict[str, Any]]]:
     """Compresses a take to .capz bytes (`capz compress` on a take in memory).
 
@@ -507,6 +511,10 @@ def compress(
                    {"N": 0.05, "Nmm": 5, "V": 1e-5} or {"Fz1": 0.1}; a label wins over its
                    unit. The CLI's --analog-max-error. Channels not named stay lossless; not
                    with lossless=True.
+    point_order    "kept" (default) or "any": the archive may reorder the points of each frame
+                   of a scan (frames of their own point counts, or one sweep), each with its
+                   fields, gaps after the valid points, and decodes in that order (the CLI's
+                   --point-order; not with lossless=True).
 
     The GIL is released while coding: separate takes can be compressed from several threads.
     Raises capz.Error (invalid-parameter for an impossible target or bad arrays).
@@ -516,7 +524,8 @@ def compress(
     data, report = _capz.compress(
         take,
         *_coding(max_error, lossless, kg_error, units, codec, clusters, window, check,
-                 codec_options, threads, attr_error, drop_fields, analog_max_error),
+                 codec_options, threads, attr_error, drop_fields, analog_max_error,
+                 point_order),
     )
     return (data, report) if stats else data
 
@@ -555,12 +564,14 @@ def compress_file(
     attr_error: Optional[Mapping[str, float]] = None,
     drop_fields: bool = False,
     analog_max_error: Optional[Mapping[str, float]] = None,
+    point_order: str = "kept",
 ) -> Dict[str, Any]:
-    """Compresses a .c3d, a .trc or a folder of .pcd frames to a .capz file: the same bytes as
-    `capz compress INPUT -o OUTPUT` with the same options (see compress() for them; overwrite
-    is the CLI's -f). output defaults to INPUT.capz. The input is read a window at a time (and
-    for a C3D or TRC the original file's checksum and residue are stored, so a lossless
-    archive rebuilds it byte for byte). Returns the report as a dict.
+    """Compresses a .c3d, a .trc, a .pcd / .ply / .bin frame or a folder of them to a .capz file:
+    the same bytes as `capz compress INPUT -o OUTPUT` with the same options (see compress() for
+    them; overwrite is the CLI's -f). output defaults to INPUT.capz. The input is read a window
+    at a time (and for a C3D or TRC the original file's checksum and residue are stored, and
+    with lossless=True those of every PCD, PLY or .bin frame file, so a lossless archive
+    rebuilds the files byte for byte). Returns the report as a dict.
     """
     src = _path(input, "input")
     out = _path(output, "output") if output is not None else src.rstrip("/") + ".capz"
@@ -568,7 +579,8 @@ def compress_file(
         src,
         out,
         *_coding(max_error, lossless, kg_error, units, codec, clusters, window, check,
-                 codec_options, threads, attr_error, drop_fields, analog_max_error),
+                 codec_options, threads, attr_error, drop_fields, analog_max_error,
+                 point_order),
         bool(overwrite),
     )
 

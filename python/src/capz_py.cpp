@@ -252,8 +252,10 @@ capz::CompressOptions coding_options(const std::string& codec, int clusters, siz
                                      const std::map<std::string, std::string>& codec_options,
                                      int threads, const std::map<std::string, double>& attr_error,
                                      bool drop_fields,
-                                     const std::map<std::string, double>& analog_max_error) {
+                                     const std::map<std::string, double>& analog_max_error,
+                                     bool any_point_order) {
   capz::CompressOptions o;
+  o.any_point_order = any_point_order;
   o.threads = threads;
   o.attr_error = attr_error;
   o.analog_max_error = analog_max_error;
@@ -281,7 +283,8 @@ py::tuple compress_take(const capz::Take& take, bool lossless, std::optional<dou
                         const std::string& codec, int clusters, size_t window, bool check,
                         const std::map<std::string, std::string>& codec_options, int threads,
                         const std::map<std::string, double>& attr_error, bool drop_fields,
-                        const std::map<std::string, double>& analog_max_error) {
+                        const std::map<std::string, double>& analog_max_error,
+                        bool any_point_order) {
   std::vector<uint8_t> bytes;
   capz::CompressStats st;
   {
@@ -296,8 +299,9 @@ py::tuple compress_take(const capz::Take& take, bool lossless, std::optional<dou
       if (give_units) with_units->units = units, with_units->units_assumed = false;
     }
     const capz::Take& t = with_units ? *with_units : take;
-    capz::CompressOptions opts = coding_options(codec, clusters, window, check, codec_options,
-                                                threads, attr_error, drop_fields, analog_max_error);
+    capz::CompressOptions opts =
+        coding_options(codec, clusters, window, check, codec_options, threads, attr_error,
+                       drop_fields, analog_max_error, any_point_order);
     std::unique_ptr<capz::FrameSource> src = capz::take_frames(t);
     capz::set_compress_target(*src, target_of(lossless, kg_error, std::move(max_error)), &opts);
     if (t.units_assumed) {  // as the CLI: the archive stores no assumed units
@@ -644,14 +648,16 @@ void bind_functions(py::module_& m) {
            const std::string& units, const std::string& codec, int clusters, size_t window,
            bool check, const std::map<std::string, std::string>& codec_options, int threads,
            const std::map<std::string, double>& attr_error, bool drop_fields,
-           const std::map<std::string, double>& analog_max_error, bool overwrite) {
+           const std::map<std::string, double>& analog_max_error, bool any_point_order,
+           bool overwrite) {
           capz::CompressStats st;
           {
             py::gil_scoped_release nogil;
-            capz::compress_file(in, out, target_of(lossless, kg_error, std::move(max_error)),
-                                coding_options(codec, clusters, window, check, codec_options,
-                                               threads, attr_error, drop_fields, analog_max_error),
-                                units, overwrite, &st);
+            capz::compress_file(
+                in, out, target_of(lossless, kg_error, std::move(max_error)),
+                coding_options(codec, clusters, window, check, codec_options, threads, attr_error,
+                               drop_fields, analog_max_error, any_point_order),
+                units, overwrite, &st);
           }
           return compress_stats(st);
         });

@@ -21,16 +21,13 @@ size_t auto_window_frames(size_t points) {
 
 namespace {
 
-// What the encoder does not code yet for PLY and .bin frames (format 1.1, frame-file sources):
-// --lossless, which promises the frame files back byte for byte (no residue rebuilds them).
-// Throws kInvalidParameter.
+// What the encoder refuses of scans (format 1.1): --point-order any with --lossless. Throws
+// kInvalidParameter.
 void refuse_scans(const Take& t, const CompressOptions& opts) {
-  if (opts.lossless && (t.format == Format::kPLYFolder || t.format == Format::kBinFolder))
+  if (opts.any_point_order && opts.lossless)  // FORMAT.md "Points reordered": bit 0 clear
     fail(ErrorCode::kInvalidParameter, t.source,
-         std::string("--lossless is not implemented for ") +
-             (t.format == Format::kPLYFolder ? "PLY" : ".bin") +
-             " frames: their byte-exact rebuild (a residue of frame files) is missing; give "
-             "--max-error, or convert them to PCD first (capz convert IN OUT/ --to pcd)");
+         "--point-order any with --lossless: a lossless archive gives the frame files back byte "
+         "for byte, in their order; give --max-error, or keep the order");
 }
 
 // A ragged take of PLY or .bin frames with the point layout META stores for it.

@@ -131,6 +131,7 @@ StreamInfo describe_bytes(StreamBytes& bytes, const std::string& name) {
   si.frames = ps.take.frames;
   si.points = ps.take.points;
   si.ragged = ps.h.ragged;
+  si.points_reordered = ps.h.points_reordered;
   ps.max_points = size_t{1} << 40;  // only the counts are read: no limit on a window's points
   si.total_points = si.ragged ? ragged_frame_offsets(bytes, ps).back() : si.frames * si.points;
   si.window_frames = ps.h.window_frames;

@@ -12,6 +12,7 @@
 #include "coding/bytes.h"
 #include "core/atomic_file.h"
 #include "core/hash.h"
+#include "io/frame_files.h"
 #include "io/pcd_folder.h"
 #include "io/residue/c3d_residue.h"
 #include "io/residue/pcd_residue.h"
@@ -51,7 +52,7 @@ Record read_record(StreamBytes& b, const ParsedStream& ps, const std::string& na
   r.info.hash_hex = digest_hex(r.hash);
   const Format f = ps.h.source_format;
   r.c3d = f == Format::kC3D;
-  r.pcd = f == Format::kPCDFolder;
+  r.pcd = f == Format::kPCDFolder || f == Format::kPLYFolder || f == Format::kBinFolder;
   const char* type = r.c3d ? "C3DR" : f == Format::kTRC ? "TRCR" : r.pcd ? "PCDR" : nullptr;
   if (type && ps.file_chunks.count(type)) {
     r.file_part = chunk_payload(b, ps, type, name);
@@ -85,13 +86,17 @@ std::vector<uint8_t> window_payload(StreamBytes& b, const ParsedStream& ps, size
   return {};
 }
 
-// A PCD folder's frame files rebuilt (FORMAT.md 7.3, 14.3), each handed to `frame` after its size
+// A folder's frame files (PCD, PLY, .bin) rebuilt (FORMAT.md 7.3, 14.3, "Lossless frame-file
+// streams"), each handed to `frame` after its size
 // and hash are checked; `out` sees every byte, in order.
 void rebuild_pcd(const std::string& path, StreamBytes& raw, CapzSource& src, const Record& r,
                  const Write& out, const FrameWrite& frame) {
   const ParsedStream& ps = src.parsed();
   const Take& t = ps.take;
-  if (!t.pcd || t.pcd->frame_names.size() != t.frames || pcd_output_names(t) != t.pcd->frame_names)
+  if (!t.pcd || t.pcd->frame_names.size() != t.frames ||
+      (t.format == Format::kPCDFolder
+           ? pcd_output_names(t)
+           : frame_output_names(t, frame_extension(t.format))) != t.pcd->frame_names)
     fail(ErrorCode::kCorrupt, path, "PCDR in an archive without one valid name per frame file");
   residue::PCDResidueDecoder dec(r.file_part.data(), r.file_part.size(), t, path);
   const size_t W = ps.h.window_frames;
@@ -213,15 +218,29 @@ bool can_rebuild(const OriginalInfo& info, bool c3d) {
 
 void rebuild_original(const std::string& capz_path, const std::string& out, bool overwrite,
                       const DecompressOptions& opts) {
-  bool pcd = false;
+  Format f = Format::kC3D;
+  size_t frames = 0;
   {
     FileBytes b(capz_path);
-    pcd = parse_stream(b, capz_path).h.source_format == Format::kPCDFolder;
+    const ParsedStream ps = parse_stream(b, capz_path);
+    f = ps.h.source_format;
+    frames = ps.take.frames;
   }
-  if (pcd) {  // a folder of frame files, renamed into place once every file has checked
+  const std::string ext = frame_extension(f);
+  if (!ext.empty() && frames == 1 && single_frame_output(out, ext)) {
+    AtomicFile file(out, overwrite);  // a one-frame take: that one file
+    rebuild(
+        capz_path, [&](const uint8_t* p, size_t n) { file.write(p, n); }, opts);
+    file.commit();
+    return;
+  }
+  if (!ext.empty()) {  // a folder of frame files, renamed into place once every file has checked
     std::string path = out;
     while (path.size() > 1 && path.back() == '/') path.pop_back();
-    check_replaceable_pcd_dir(path, overwrite);
+    if (f == Format::kPCDFolder)
+      check_replaceable_pcd_dir(path, overwrite);
+    else
+      check_replaceable_frame_dir(path, ext, overwrite);
     AtomicDir dir(path, overwrite);
     rebuild(
         capz_path, [](const uint8_t*, size_t) {}, opts,
@@ -249,10 +268,18 @@ std::string rebuilds_file(const std::string& capz_path, const std::string& origi
   if (!r.info.exact) return "the archive cannot rebuild the original byte for byte";
   test_original(capz_path);  // the rebuilt bytes hash as recorded
   Digest128 now{};
-  if (r.pcd) {  // a PCD folder: its frame files concatenated in frame order
+  if (r.pcd) {  // frame files: concatenated in frame order
     Hasher h;
-    for (const std::string& name : list_pcd_frames(original)) {
-      const std::vector<uint8_t> f = read_file((std::filesystem::path(original) / name).string());
+    const Format fmt = ps.h.source_format;
+    FrameFiles files;
+    if (fmt == Format::kPCDFolder) {
+      files.dir = original;
+      files.names = list_pcd_frames(original);
+    } else {
+      files = list_frame_files(original, frame_extension(fmt));
+    }
+    for (size_t i = 0; i < files.names.size(); ++i) {
+      const std::vector<uint8_t> f = read_file(files.path(i));
       h.update(f.data(), f.size());
     }
     now = h.digest();

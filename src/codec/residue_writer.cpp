@@ -8,9 +8,30 @@
 #include "capz/tool/file.h"
 #include "coding/bytes.h"
 #include "coding/container.h"
+#include "coding/ply_types.h"
+#include "io/frame_files.h"
 #include "io/pcd_folder.h"
 
 namespace capz {
+
+namespace {
+
+// The take's metadata as a decoder gets it from META (FORMAT.md "Frame-file sources"): a PLY
+// take's vertex properties are META's layout, each with the type name the source spelled.
+Take decoded_view(const Take& t) {
+  Take v = t;  // a header: its frames come in blocks
+  if (!t.ply || !t.pcd) return v;
+  auto x = std::make_shared<PLYExtra>(*t.ply);
+  x->fields = t.pcd->fields;
+  x->type_names.clear();
+  x->frame_names = t.pcd->frame_names;
+  for (const PCDField& f : x->fields)
+    x->type_names.push_back(spelled_ply_type(t.ply->fields, t.ply->type_names, f));
+  v.ply = x;
+  return v;
+}
+
+}  // namespace
 
 std::unique_ptr<ResidueWriter> ResidueWriter::open(const FrameSource& source, bool check) {
   return open(source.original_file(), source.header(), check);
@@ -19,15 +40,19 @@ std::unique_ptr<ResidueWriter> ResidueWriter::open(const FrameSource& source, bo
 std::unique_ptr<ResidueWriter> ResidueWriter::open(const std::string& path, const Take& t,
                                                    bool check) {
   const Format f = t.format;
-  const bool pcd = f == Format::kPCDFolder && t.pcd && t.pcd->frame_names.size() == t.frames &&
-                   pcd_output_names(t) == t.pcd->frame_names;
-  if (path.empty() || (f != Format::kC3D && f != Format::kTRC && !pcd)) return nullptr;
+  const bool named = t.pcd && t.pcd->frame_names.size() == t.frames;
+  const bool pcd = f == Format::kPCDFolder && named && pcd_output_names(t) == t.pcd->frame_names;
+  // PLY and .bin frames (FORMAT.md "Lossless frame-file streams"): META's layout and names.
+  const bool files = (f == Format::kPLYFolder || f == Format::kBinFolder) && named &&
+                     frame_output_names(t, frame_extension(f)) == t.pcd->frame_names;
+  if (path.empty() || (f != Format::kC3D && f != Format::kTRC && !pcd && !files)) return nullptr;
   return std::unique_ptr<ResidueWriter>(new ResidueWriter(path, t, check));
 }
 
 ResidueWriter::ResidueWriter(const std::string& path, const Take& header, bool check)
     : path_(path), header_(header), check_(check) {
-  if (header.format == Format::kPCDFolder) {
+  if (header.format == Format::kPCDFolder || header.format == Format::kPLYFolder ||
+      header.format == Format::kBinFolder) {
     pcd_ = true;  // hashed in file_chunks, when the stream turns out lossless
     return;
   }
@@ -194,13 +219,14 @@ void ResidueWriter::pcd_file_chunks(std::vector<uint8_t>* buf) {
   h.u64(size_);
   for (uint8_t b : hash_) h.u8(b);
   append_chunk(buf, "HASH", h.buffer());
-  pcd_enc_.reset(new residue::PCDResidueEncoder(header_));
+  const Take view = decoded_view(header_);
+  pcd_enc_.reset(new residue::PCDResidueEncoder(view));
   file_part_ = pcd_enc_->file_part(first);
   append_chunk(buf, "PCDR", file_part_);
   file_bytes_ = buf->size() - before;
   bytes_ += file_bytes_;
   if (check_)
-    pcd_back_.reset(new residue::PCDResidueDecoder(file_part_.data(), file_part_.size(), header_,
+    pcd_back_.reset(new residue::PCDResidueDecoder(file_part_.data(), file_part_.size(), view,
                                                    header_.source + " (self-check)"));
 }
 

@@ -13,6 +13,7 @@
 #include "codec/encode_settings.h"
 #include "codec/grid.h"
 #include "codec/grid_choice.h"
+#include "codec/point_order.h"
 #include "codec/residue_writer.h"
 #include "codec/stream_reader.h"
 #include "coding/attributes.h"
@@ -36,6 +37,8 @@ void refuse_unsupported(const Take& t, const CompressOptions& opts) {
   if (!frames || t.analog.channels > 0 || t.rotations.segments > 0)
     fail(ErrorCode::kInvalidParameter, t.source,
          "only PCD, PLY and .bin frames are coded as " + what + " yet: convert them first");
+  if (opts.any_point_order && opts.lossless)  // refused earlier by compress(); for direct calls
+    fail(ErrorCode::kInvalidParameter, t.source, "--point-order any with --lossless");
 }
 
 // The ring / laser / channel number of every point of block b from an unsigned or signed
@@ -323,6 +326,8 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
         b->attributes[a].size() != b->total_points() * t.attributes[a].bytes_per_point())
       fail(ErrorCode::kInvalidParameter, t.source,
            "point field '" + t.attributes[a].name + "' does not hold a value for every point");
+  // --point-order any: the window coded, checked and measured in its coded order.
+  if (r.opts.any_point_order) reorder_window(b, r.grid, ring_field(t.attributes, *b));
   const size_t base = r.out->size();
   r.buf.clear();
   std::vector<int32_t> q;
@@ -391,6 +396,7 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
   h.max_error = grid.lossless ? 0 : opts.max_error;
   h.lossless = grid.lossless;
   h.ragged = true;
+  h.points_reordered = opts.any_point_order;
   std::vector<uint8_t> head_buf;
   write_file_header(&head_buf, kFormatScans.minor);
   const std::vector<uint8_t> head = encode_header(h), meta = encode_meta(meta_take, false);

@@ -127,7 +127,7 @@ StreamHeader decode_header(const Chunk& c, const std::string& name, const Stream
     fail(ErrorCode::kCorrupt, what,
          "window of " + std::to_string(h.window_frames) + " frames (1.." +
              std::to_string(kMaxWindowFrames) + ")");
-  for (int bit = 5; bit < 8; ++bit)  // FORMAT.md 17: a flag a later minor version adds
+  for (int bit = 6; bit < 8; ++bit)  // FORMAT.md 17: a flag a later minor version adds
     if (flags >> bit & 1)
       fail(ErrorCode::kUnsupportedVersion, what,
            "feature bit " + std::to_string(bit) + " of format " + f.version() +
@@ -137,6 +137,12 @@ StreamHeader decode_header(const Chunk& c, const std::string& name, const Stream
     fail(ErrorCode::kCorrupt, what, "feature bit 3 (ragged frames) in a format 1.0 stream");
   if (h.ragged && (h.points != 0 || (flags & 2) != 0 || h.codec != 0 || mode == 3))
     fail(ErrorCode::kCorrupt, what, "ragged frames with points, a transform or position mode 3");
+  h.points_reordered = (flags & 32) != 0;  // "Scans (format 1.1)": points reordered
+  if (h.points_reordered && !f.ragged_frames())
+    fail(ErrorCode::kCorrupt, what, "feature bit 5 (points reordered) in a format 1.0 stream");
+  if (h.points_reordered && (!h.ragged || (flags & 1) != 0))
+    fail(ErrorCode::kCorrupt, what,
+         "feature bit 5 (points reordered) without ragged frames or with lossless positions");
   h.transform_output = (flags & 2) != 0;
   if (h.transform_output) {  // FORMAT.md 4.3: the transform's reconstruction is the output
     h.kg_target = r.f64();

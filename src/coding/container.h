@@ -80,6 +80,9 @@ struct StreamHeader {
   // HEAD flags bit 3 ("Scans (format 1.1)" in docs/FORMAT.md): frames of their own point
   // counts; points is 0 and each window has an SCNW chunk instead of POSW and MASK.
   bool ragged = false;
+  // HEAD flags bit 5 ("Scans (format 1.1)"): each frame's points are in the encoder's order,
+  // not the source's (--point-order any); requires ragged and not lossless.
+  bool points_reordered = false;
 
   bool rotations() const { return rotation_segments > 0; }
   // HEAD flags bit 4 ("Scans (format 1.1)"): the source is a PLY or .bin folder (source_format

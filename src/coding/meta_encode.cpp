@@ -179,14 +179,7 @@ void put_ply_block(const PLYExtra& x, const std::vector<PCDField>& fields, ByteW
     if (x.encoding == meta::kPlyEncodings[i]) enc = i;
   w.u8(enc);
   w.str(x.version);
-  for (const PCDField& f : fields) {
-    const char* name = ply_type_name(f.type, f.size);
-    std::string spelled = name ? name : "";
-    for (size_t i = 0; i < x.fields.size() && i < x.type_names.size(); ++i)
-      if (x.fields[i].name == f.name && x.fields[i].type == f.type && x.fields[i].size == f.size)
-        spelled = x.type_names[i];
-    w.str(spelled);
-  }
+  for (const PCDField& f : fields) w.str(spelled_ply_type(x.fields, x.type_names, f));
   put_strings(&w, x.comments);
   put_strings(&w, x.obj_info);
 }

@@ -4,6 +4,9 @@
 #pragma once
 
 #include <string>
+#include <vector>
+
+#include "capz/take.h"
 
 namespace capz {
 
@@ -32,6 +35,19 @@ inline const char* ply_type_name(char type, int size) {
   for (const PlyType& t : kPlyTypes)
     if (t.type == type && t.size == size) return t.name;
   return nullptr;
+}
+
+// The type name META's PLY block gives field f (FORMAT.md "Frame-file sources"): the one the
+// source spelled for a property of f's name, type and size (`fields` and `type_names` side by
+// side), else the classic name ("" when none).
+inline std::string spelled_ply_type(const std::vector<PCDField>& fields,
+                                    const std::vector<std::string>& type_names, const PCDField& f) {
+  const char* name = ply_type_name(f.type, f.size);
+  std::string spelled = name ? name : "";
+  for (size_t i = 0; i < fields.size() && i < type_names.size(); ++i)
+    if (fields[i].name == f.name && fields[i].type == f.type && fields[i].size == f.size)
+      spelled = type_names[i];
+  return spelled;
 }
 
 }  // namespace capz

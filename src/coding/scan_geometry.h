@@ -40,6 +40,17 @@ struct ScanHints {
 // The payload of one window. Throws Error(kInvalidArgument) when the shapes disagree.
 std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints = {});
 
+// Which table orders the points: one per frame with the azimuth step of each ring's sorted
+// azimuths (a driver that writes a ring out of firing order), or the window's as the payload
+// infers it (the step from the file's order).
+enum class ScanOrderTable { kPerFrame, kWindow };
+// --point-order any (FORMAT.md "Points reordered"): the coded order of g's points, indices into
+// g (total of them), each frame's own points at its own places: its valid points by column,
+// ring and range under the table the encoder infers (the sensor's firing order), the valid
+// points off the table in file order, then its gaps. Encoder side (scan_order_encode.cpp).
+std::vector<uint32_t> scan_point_order(const ScanGeometry& g, const ScanHints& hints = {},
+                                       ScanOrderTable table = ScanOrderTable::kPerFrame);
+
 // Decodes a payload of encode_scan_geometry. At most `max_points` points in all (the caller's
 // memory bound); throws Error(kCorrupt) naming `what` on any inconsistency.
 ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::string& what,

@@ -186,6 +186,12 @@ RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints) {
   return r;
 }
 
+double sorted_step(const RingFit& r) {
+  std::vector<std::vector<double>> phi = r.phi;
+  for (std::vector<double>& p : phi) std::sort(p.begin(), p.end());
+  return std::fabs(infer_step(phi));
+}
+
 Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor,
                 std::vector<Polar>* polar) {
   Table t;

@@ -20,6 +20,10 @@ struct RingFit {
   size_t rings() const { return phi.size(); }
 };
 RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints);
+// The azimuth step found in each ring's azimuths sorted (positive), not in point order: a
+// driver that writes a ring's points out of firing order (pandar64: columns in a shuffled
+// pattern) makes the point-order step a multiple of the sensor's. 0 when none is found.
+double sorted_step(const RingFit& r);
 
 // The table of a window's points and every valid point's ring, column and range under it; an
 // empty table (no rings) when none can be inferred. The azimuth step is the one found in the

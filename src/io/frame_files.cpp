@@ -208,4 +208,11 @@ Take read_all_frames(FrameSource& source) {
   return t;
 }
 
+const char* frame_extension(Format f) {
+  return f == Format::kPCDFolder   ? ".pcd"
+         : f == Format::kPLYFolder ? ".ply"
+         : f == Format::kBinFolder ? ".bin"
+                                   : "";
+}
+
 }  // namespace capz

@@ -45,6 +45,9 @@ std::vector<uint8_t> read_header_bytes(const std::string& path, const std::strin
 void write_frame_files(const Take& take, const std::string& path, const std::string& ext,
                        bool overwrite, const std::function<std::vector<uint8_t>(size_t)>& frame);
 
+// The extension of a frame format's files: ".pcd", ".ply", ".bin" ("" for another format).
+const char* frame_extension(Format f);
+
 // True when `path`'s extension is `ext` (".pcd"), case-insensitive.
 bool has_extension(const std::string& path, const std::string& ext);
 

@@ -8,6 +8,7 @@
 #include "capz/tool/verify.h"
 #include "coding/c3d_params.h"
 #include "coding/quantiser.h"
+#include "metrics/point_match.h"
 
 namespace capz {
 
@@ -69,6 +70,35 @@ std::string extras_difference(const Take& a, const Take& b) {
   if (a.bin && (!b.bin || a.bin->frame_names != b.bin->frame_names))
     return "the .bin frame names differ";
   return "";
+}
+
+// FORMAT.md "Points reordered": `original` with its points at their partners' places in
+// `decoded` (metrics/point_match.h), or false with the breach in *why.
+bool pair_reordered(const Take& original, const Take& decoded, const Promise& p, Take* paired,
+                    std::string* why) {
+  std::vector<bool> exact;
+  for (size_t i = 0; i < original.attributes.size(); ++i)
+    exact.push_back(i >= p.attribute_bounds.size() || p.attribute_bounds[i] <= 0);
+  const double bound = p.kind == Promise::Kind::kBound ? p.max_error : 0;
+  return match_reordered(original, decoded, bound, exact, paired, why);
+}
+
+// A block's frames as a take (positions, gaps, fields; offsets from the block's first point).
+Take block_take(const FrameBlock& b) {
+  Take t;
+  t.frames = b.frames;
+  t.points = b.ragged() ? 0 : b.points;
+  t.frame_offsets = b.frame_offsets;
+  t.xyz = b.xyz;
+  t.valid = b.valid;
+  for (const std::vector<uint8_t>& a : b.attributes) {
+    PointAttribute pa;
+    pa.size = 1;
+    pa.count = b.total_points() > 0 ? static_cast<int>(a.size() / b.total_points()) : 1;
+    pa.data = a;
+    t.attributes.push_back(std::move(pa));
+  }
+  return t;
 }
 
 std::string header_difference(const Take& a, const Take& b) {
@@ -223,6 +253,7 @@ Promise promise_of(const StreamInfo& info) {
     p.kind = Promise::Kind::kBound;
     p.max_error = info.max_error;
   }
+  p.points_reordered = info.points_reordered;
   p.analog_bounds = info.analog_bounds;
   p.analog_factors = info.analog_factors;
   for (size_t i = 0; i < info.pcd_fields.size(); ++i) {
@@ -339,7 +370,20 @@ bool PromiseCheck::analog(const Frames& a, const Frames& b) {
 }
 
 bool PromiseCheck::frames(const FrameBlock& original, const FrameBlock& decoded) {
-  return check(Frames(original), Frames(decoded));
+  if (!promise_.points_reordered) return check(Frames(original), Frames(decoded));
+  // FORMAT.md "Points reordered": the block's frames compared as sets.
+  const Take o = block_take(original), d = block_take(decoded);
+  if (o.frame_offsets != d.frame_offsets || o.points != d.points || o.frames != d.frames)
+    return check(Frames(original), Frames(decoded));  // the shape check names it
+  Take paired;
+  std::string why;
+  if (!pair_reordered(o, d, promise_, &paired, &why)) return breach(why);
+  FrameBlock p = original;
+  p.xyz = std::move(paired.xyz);
+  p.valid = std::move(paired.valid);
+  for (size_t a = 0; a < p.attributes.size() && a < paired.attributes.size(); ++a)
+    p.attributes[a] = std::move(paired.attributes[a].data);
+  return check(Frames(p), Frames(decoded));
 }
 
 bool PromiseCheck::finish() {
@@ -370,7 +414,12 @@ PromiseResult check_promise(const Take& original, const Take& decoded, const Pro
   if (original.frames == decoded.frames && original.points == decoded.points &&
       original.frame_offsets == decoded.frame_offsets) {
     if (!whole) return {false, "the takes' frame arrays do not match their shapes", c.error()};
-    c.check(PromiseCheck::Frames(original), PromiseCheck::Frames(decoded));
+    Take paired;
+    std::string why;
+    if (promise.points_reordered && !pair_reordered(original, decoded, promise, &paired, &why))
+      return {false, why, c.error()};
+    c.check(PromiseCheck::Frames(promise.points_reordered ? paired : original),
+            PromiseCheck::Frames(decoded));
     c.finish();
   }
   r.holds = c.holds();

@@ -159,4 +159,33 @@ TEST(CliScan, VerifyNamesFieldsLeftOutByDropFieldsAndHolds) {
   EXPECT_NE(out.find("\"dropped_fields\":[]"), std::string::npos) << out;
 }
 
+// --point-order any: info says the order is not the source's, verify pairs the points as sets
+// and holds, the default says "kept"; a bad value and --lossless are refused by name.
+TEST(CliScan, PointOrderAnyIsShownVerifiedAndRefusedWithLossless) {
+  capz_test::TempDir dir("capz_cli_scan_order");
+  const std::string src = std::string(CAPZ_REPO_DATA) + "/scan_small";
+  const std::string z = dir.file("any.capz"), k = dir.file("kept.capz");
+  std::string out;
+  ASSERT_EQ(
+      capz_run("compress -f " + src + " -o " + z + " --max-error 1mm --point-order any", dir, &out),
+      0)
+      << out;
+  ASSERT_EQ(capz_run("info " + z, dir, &out), 0) << out;
+  EXPECT_NE(out.find("point order: reordered (--point-order any)"), std::string::npos) << out;
+  ASSERT_EQ(capz_run("info --json " + z, dir, &out), 0) << out;
+  EXPECT_NE(out.find("\"point_order\":\"reordered\""), std::string::npos) << out;
+  EXPECT_EQ(capz_run("verify " + z + " --against " + src, dir, &out), 0) << out;
+  EXPECT_NE(out.find("bound 0.001 m holds"), std::string::npos) << out;
+  ASSERT_EQ(capz_run("compress -f " + src + " -o " + k + " --max-error 1mm", dir, &out), 0) << out;
+  ASSERT_EQ(capz_run("info " + k, dir, &out), 0) << out;
+  EXPECT_NE(out.find("point order: kept"), std::string::npos) << out;
+  EXPECT_NE(capz_run("compress -f " + src + " -o " + z + " --max-error 1mm --point-order some", dir,
+                     &out),
+            0);
+  EXPECT_NE(out.find("--point-order wants kept or any, got 'some'"), std::string::npos) << out;
+  EXPECT_NE(
+      capz_run("compress -f " + src + " -o " + z + " --lossless --point-order any", dir, &out), 0);
+  EXPECT_NE(out.find("--point-order any with --lossless"), std::string::npos) << out;
+}
+
 }  // namespace

@@ -280,6 +280,37 @@ TEST(ScanCorrupt, GivenTheRaggedBitInAStreamOfMinorVersion0ThenCorrupt) {
   EXPECT_NE(decode_code(c.bytes(), &msg), -1);
 }
 
+// HEAD's bit 5, points reordered (FORMAT.md "Points reordered"): without bit 3 or with bit 0 it
+// is corrupt; on a stream coded in file order it changes nothing but what describe says (the
+// decoder needs no permutation); a feature bit this decoder does not know (6) is refused by name,
+// as a decoder that does not know bit 5 refuses a reordered stream.
+TEST(ScanCorrupt, GivenThePointsReorderedBitWhereItDoesNotBelongThenCorruptOrRefused) {
+  const Chunks any(read_file(kStreams + std::string("scan_small.any1mm.v1.1.capz")));
+  ASSERT_EQ(any.payload[any.find("HEAD")][19] & 0x28, 0x28);
+  std::string msg;
+  for (uint8_t change : {uint8_t{0x08}, uint8_t{0x01}}) {  // bit 3 cleared, bit 0 set
+    Chunks c = any;
+    c.payload[c.find("HEAD")][19] ^= change;
+    EXPECT_EQ(decode_code(c.bytes(), &msg), static_cast<int>(ErrorCode::kCorrupt)) << msg;
+    EXPECT_NE(msg.find("feature bit 5 (points reordered) without ragged frames or with lossless"),
+              std::string::npos)
+        << msg;
+  }
+  Chunks kept(read_file(kStreams + kOneWindow));
+  const std::vector<uint8_t> plain = kept.bytes();
+  kept.payload[kept.find("HEAD")][19] |= 0x20;
+  const std::vector<uint8_t> b = kept.bytes();
+  EXPECT_TRUE(describe(b.data(), b.size(), "x").points_reordered);
+  EXPECT_FALSE(describe(plain.data(), plain.size(), "x").points_reordered);
+  EXPECT_EQ(decompress(b.data(), b.size()).xyz, decompress(plain.data(), plain.size()).xyz);
+  Chunks later = any;
+  later.payload[later.find("HEAD")][19] |= 0x40;
+  EXPECT_EQ(decode_code(later.bytes(), &msg), static_cast<int>(ErrorCode::kUnsupportedVersion))
+      << msg;
+  EXPECT_NE(msg.find("feature bit 6 of format 1.1 is not known to this decoder"), std::string::npos)
+      << msg;
+}
+
 // HEAD's frame count (u64 at payload byte 0) off by one either way, and the counts inside SCNW
 // (the payload's F and a frame's n_f) changed: corrupt, before any point is decoded for HEAD.
 TEST(ScanCorrupt, GivenFrameCountsDisagreeingWithHeadThenCorrupt) {

@@ -5,22 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
-#include <filesystem>
 #include <string>
 #include <vector>
 
-#include "capz/codec.h"
-#include "capz/error.h"
-#include "capz/stream.h"
-#include "capz/tool/file.h"
-#include "capz/tool/original.h"
 #include "chunk_util.h"
-#include "coding/container.h"
-#include "test_util.h"
+#include "frame_files_residue.h"
 
-namespace fs = std::filesystem;
-
-using capz_test::chunk_len;
 using capz_test::fix_crc;
 
 namespace {
@@ -51,68 +41,13 @@ std::vector<uint8_t> frame(size_t f) {
   return b;
 }
 
-class ScanResidueCorrupt : public ::testing::Test {
+class ScanResidueCorrupt : public ::testing::Test, public capz_test::FrameFilesResidue {
  protected:
   void SetUp() override {
-    in_ = tmp_.file("in");
-    fs::create_directories(in_);
-    for (size_t f = 0; f < 4; ++f) {
-      orig_.push_back(frame(f));
-      capz::write_file(in_ + "/f" + std::to_string(f) + ".pcd", orig_.back(), true);
-    }
-    std::unique_ptr<capz::FrameSource> src = capz::open_frames(in_);
-    ASSERT_TRUE(src->header().ragged());
-    capz::CompressOptions o;
-    o.lossless = true;
-    o.window_frames = 3;  // two windows, two PCDP chunks
-    const std::string z = tmp_.file("good.capz");
-    capz::compress_stream(*src, o, z, true);
-    good_ = capz::read_file(z);
+    std::vector<std::vector<uint8_t>> files;
+    for (size_t f = 0; f < 4; ++f) files.push_back(frame(f));
+    make(files, ".pcd");
   }
-
-  // The n-th chunk of `type` (its offset), or npos.
-  size_t nth(const char* type, int n) const {
-    size_t at = capz::kFileHeaderBytes;
-    while (at + 12 <= good_.size()) {
-      if (std::memcmp(&good_[at], type, 4) == 0 && n-- == 0) return at;
-      at += 12 + chunk_len(good_, at);
-    }
-    return std::string::npos;
-  }
-
-  bool rebuilds_or_throws(const std::vector<uint8_t>& b, const std::string& what) {
-    const std::string z = tmp_.file("bad.capz"), out = tmp_.file("out");
-    capz::write_file(z, b, true);
-    fs::remove_all(out);
-    try {
-      capz::rebuild_original(z, out, true);
-    } catch (const capz::Error&) {
-      EXPECT_FALSE(fs::exists(out)) << what;
-      return false;
-    }
-    for (size_t f = 0; f < orig_.size(); ++f)
-      EXPECT_EQ(capz::read_file(out + "/f" + std::to_string(f) + ".pcd"), orig_[f])
-          << what << ": a wrong file was written";
-    return true;
-  }
-
-  void damage_every_byte(const char* type, int n) {
-    const size_t at = nth(type, n);
-    ASSERT_NE(at, std::string::npos) << type << " " << n;
-    const uint32_t len = chunk_len(good_, at);
-    for (uint32_t i = 0; i < len; ++i)
-      for (uint8_t flip : {uint8_t{0x01}, uint8_t{0x80}}) {
-        std::vector<uint8_t> b = good_;
-        b[at + 8 + i] ^= flip;
-        fix_crc(&b, at);
-        rebuilds_or_throws(b, std::string(type) + " byte " + std::to_string(i));
-      }
-  }
-
-  capz_test::TempDir tmp_{"capz_scan_rcorrupt"};
-  std::string in_;
-  std::vector<std::vector<uint8_t>> orig_;
-  std::vector<uint8_t> good_;
 };
 
 }  // namespace
@@ -130,11 +65,5 @@ TEST_F(ScanResidueCorrupt, DamagedResidueIsCaught) {
 
 // The PCDP of window 1 claiming window 0: corrupt, nothing written.
 TEST_F(ScanResidueCorrupt, WindowResidueOfAnotherWindowIsCorrupt) {
-  std::vector<uint8_t> b = good_;
-  const size_t at = nth("PCDP", 1);
-  ASSERT_NE(at, std::string::npos);
-  ASSERT_EQ(b[at + 8], 1);  // the window index varint
-  b[at + 8] = 0;
-  fix_crc(&b, at);
-  EXPECT_FALSE(rebuilds_or_throws(b, "PCDP of window 0 in window 1"));
+  expect_window_claim_corrupt();
 }

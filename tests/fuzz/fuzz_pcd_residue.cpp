@@ -1,6 +1,8 @@
-// Fuzz target: the PCD residue (src/io/residue/pcd_residue.h, FORMAT.md 7.3, 14.3) of a small PCD
-// take (x y z float32 and an intensity field; frames 1..4 of 5 points, point 1 of frame 0 a gap).
-// Byte 0 picks the mode and the frame count:
+// Fuzz target: the PCD residue (src/io/residue/pcd_residue.h, FORMAT.md 7.3, 14.3) of a small
+// take of frame files (x y z float32 and an intensity field; frames 1..4 of 5 points, point 1 of
+// frame 0 a gap): PCD frames, or PLY or .bin frames ("Lossless frame-file streams": PCDR kinds 5
+// and 4). Byte 0 picks the mode, the frame count (bits 1-2), the PCD encoding (bits 3-4) and the
+// frame format (bits 5-6: 0 PCD, 1 PLY, 2 .bin, 3 PCD):
 //   mode even: then a varint n, n bytes of PCDR payload and the rest a PCDP payload (after its
 //     window index); decoding every frame must return or throw capz::Error;
 //   mode odd: the rest are edits of the frame files the writer gives (byte changes, insertions,
@@ -20,14 +22,26 @@
 
 namespace {
 
-capz::Take make_header(size_t frames, const char* encoding) {
+capz::Take make_header(size_t frames, const char* encoding, int format) {
   capz::Take t;
-  t.format = capz::Format::kPCDFolder;
+  t.format = format == 1   ? capz::Format::kPLYFolder
+             : format == 2 ? capz::Format::kBinFolder
+                           : capz::Format::kPCDFolder;
   t.frames = frames;
   t.points = 5;
   auto x = std::make_shared<capz::PCDExtra>();
-  x->encoding = encoding;
+  x->encoding = format == 1 || format == 2 ? "binary" : encoding;
   for (const char* n : {"x", "y", "z", "intensity"}) x->fields.push_back({n, 'F', 4, 1});
+  if (format == 1) {
+    auto p = std::make_shared<capz::PLYExtra>();
+    p->encoding = encoding[0] == 'a' ? "ascii" : "binary_little_endian";
+    p->fields = x->fields;
+    p->type_names = {"float", "float", "float32", "float"};
+    p->comments = {"fuzz"};
+    t.ply = p;
+  } else if (format == 2) {
+    t.bin = std::make_shared<capz::BinExtra>();
+  }
   x->width = 5;
   for (size_t f = 0; f < frames; ++f) x->frame_names.push_back("f" + std::to_string(f) + ".pcd");
   t.pcd = x;
@@ -59,7 +73,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const uint8_t mode = data[0];
   const size_t frames = 1 + ((mode >> 1) & 3);
   static const char* const kEnc[3] = {"ascii", "binary", "binary_compressed"};
-  const capz::Take header = make_header(frames, kEnc[(mode >> 3) % 3]);
+  const capz::Take header = make_header(frames, kEnc[(mode >> 3) % 3], (mode >> 5) & 3);
   const capz::FrameBlock block = make_block(frames);
   ++data;
   --size;
@@ -83,7 +97,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   auto next = [&]() -> uint8_t { return at < size ? data[at++] : 0; };
   for (size_t k = 0; k < frames; ++k) {
     size_t he = 0;
-    regen.frame(block, k, next() % 3, &files[k], &he);
+    regen.frame(block, k, next() % regen.encodings(), &files[k], &he);
     const size_t edits = next() % 8;
     for (size_t e = 0; e < edits; ++e) {
       const uint8_t op = next(), v = next();

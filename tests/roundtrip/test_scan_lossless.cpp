@@ -110,8 +110,11 @@ TEST(ScanLossless, EdgeCoordinatesComeBackBitForBitWithAndWithoutASplit) {
   const std::vector<uint8_t> z = capz::compress(t, o);
   const capz::Take d = capz::decompress(z.data(), z.size());
   ASSERT_EQ(d.valid, t.valid);
-  for (size_t i = 0; i < t.xyz.size(); ++i)
-    if (t.valid[i / 3]) ASSERT_TRUE(capz::same_bits(d.xyz[i], t.xyz[i])) << i << " " << t.xyz[i];
+  for (size_t i = 0; i < t.xyz.size(); ++i) {
+    if (t.valid[i / 3]) {
+      ASSERT_TRUE(capz::same_bits(d.xyz[i], t.xyz[i])) << i << " " << t.xyz[i];
+    }
+  }
   std::vector<int> split;  // each SCNW's E (after the window and total varints)
   for (size_t at = 15; at + 12 <= z.size(); at += 12 + capz::load_le32(&z[at + 4])) {
     if (std::memcmp(&z[at], "SCNW", 4) != 0) continue;

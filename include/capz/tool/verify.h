@@ -39,6 +39,10 @@ struct Promise {
   // Per analog channel (FORMAT.md 5.7), empty when every channel comes back exactly: the bound
   // in physical units (0: exact) and the factor from stored to physical units.
   std::vector<double> analog_bounds, analog_factors;
+  // Each frame's points were reordered by the encoder (--point-order any, FORMAT.md "Points
+  // reordered"): the original's points are paired with the decoded ones as sets, frame by frame,
+  // before the check (metrics/point_match.h); a point without a partner is a breach.
+  bool points_reordered = false;
 };
 Promise promise_of(const StreamInfo& info);
 

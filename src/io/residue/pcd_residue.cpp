@@ -20,75 +20,22 @@ using namespace pcdr;
 
 constexpr uint64_t kMaxReference = uint64_t{1} << 21;
 constexpr uint64_t kMaxFrame = uint64_t{1} << 40;
-const char* const kEncodings[3] = {"ascii", "binary", "binary_compressed"};
 
 }  // namespace
-
-size_t pcd_header_end(const uint8_t* p, size_t n) {
-  size_t pos = 0;
-  while (pos < n) {
-    const void* nl = std::memchr(p + pos, '\n', n - pos);
-    const size_t e = nl ? static_cast<size_t>(static_cast<const uint8_t*>(nl) - p) : n;
-    size_t w = pos;
-    while (w < e && is_space(p[w])) ++w;
-    if (e - w >= 4 && std::memcmp(p + w, "DATA", 4) == 0 && (e - w == 4 || is_space(p[w + 4])))
-      return e < n ? e + 1 : n;
-    pos = e + 1;
-  }
-  return SIZE_MAX;
-}
-
-int pcd_encoding_code(const std::string& data) {
-  for (int i = 0; i < 3; ++i)
-    if (data == kEncodings[i]) return i;
-  return 1;
-}
-
-PcdRegen::PcdRegen(const Take& header) {
-  for (int i = 0; i < 3; ++i) plans_[i] = pcd_frame_plan(header, kEncodings[i]);
-  take_enc_ = pcd_encoding_code(header.pcd ? header.pcd->encoding : "binary");
-  attrs_.resize(header.attributes.size());
-  take_header_ = pcd_frame_header(plans_[take_enc_].layout);  // before frame() sets a width
-}
-
-std::string PcdRegen::take_header() const {
-  return take_header_;
-}
-
-void PcdRegen::frame(const FrameBlock& b, size_t k, int enc, std::vector<uint8_t>* out,
-                     size_t* header_end, LzfVariant lzf) {
-  // A ragged block's frame k: its own count, from its offset (FORMAT.md "Lossless ragged
-  // streams"); a fixed block's: b.points from k x b.points.
-  const size_t N = b.frame_points(k), p0 = b.frame_begin(k), total = b.total_points();
-  if (b.attributes.size() != attrs_.size() || k >= b.frames)
-    fail(ErrorCode::kInternal, "", "PCD residue: a frame block without its point fields");
-  for (size_t a = 0; a < attrs_.size(); ++a) {
-    const size_t per_point = total ? b.attributes[a].size() / total : 0;
-    if (b.attributes[a].size() != per_point * total)
-      fail(ErrorCode::kInternal, "", "PCD residue: a frame block without its point fields");
-    attrs_[a] = b.attributes[a].data() + p0 * per_point;
-  }
-  PcdFramePlan& plan = plans_[enc];
-  if (b.ragged()) {
-    plan.layout.width = N;
-    plan.layout.height = 1;
-  }
-  pcd_frame_points(plan, N, b.xyz.data() + p0 * 3, b.valid.data() + p0, attrs_, &points_);
-  *out = pcd_frame_bytes(plan.layout, points_.data(), lzf);
-  *header_end = pcd_header_end(out->data(), out->size());
-  if (*header_end == SIZE_MAX) fail(ErrorCode::kInternal, "", "PCD writer wrote no DATA line");
-}
 
 PCDResidueDecoder::PCDResidueDecoder(const uint8_t* file_part, size_t size, const Take& header,
                                      const std::string& what)
     : regen_(header), what_(what) {
   ByteReader in(file_part, size, what + ": PCDR");
-  if (in.u8() != kKind) fail(ErrorCode::kCorrupt, what, "PCDR: not a PCD residue");
+  if (in.u8() != regen_.kind())
+    fail(ErrorCode::kCorrupt, what, "PCDR: the residue of another frame format");
   if (in.varint() != header.frames)
     fail(ErrorCode::kCorrupt, what, "PCDR: frame count differs from the take's");
   const std::string h = regen_.take_header();
   reference_ = unpack(in, std::vector<uint8_t>(h.begin(), h.end()), kMaxReference);
   if (!in.at_end()) fail(ErrorCode::kCorrupt, what, "PCDR: bytes left over");
+  if (regen_.kind() == 4 && !reference_.empty())
+    fail(ErrorCode::kCorrupt, what, "PCDR: a reference header for .bin frames");
 }
 
 void PCDResidueDecoder::frame(const FrameBlock& block, size_t k, ByteReader& in,
@@ -101,8 +48,11 @@ void PCDResidueDecoder::frame(const FrameBlock& block, size_t k, ByteReader& in,
   const uint8_t flags = in.u8();
   const int enc = flags & 3, hmode = (flags >> 2) & 3, bmode = (flags >> 4) & 3;
   const bool liblzf = (flags >> 6) & 1;
-  if (enc == 3 || hmode == 3 || (bmode == 3 && enc != 0) || (liblzf && enc != 2) ||
-      (flags >> 7) != 0)
+  // FORMAT.md 14.3; "Lossless frame-file streams": PLY and .bin frames have no LZF, .bin frames
+  // no header and no ascii body.
+  const uint8_t kind = regen_.kind();
+  if (enc >= regen_.encodings() || hmode == 3 || (bmode == 3 && (enc != 0 || kind == 4)) ||
+      (liblzf && (enc != 2 || kind != 3)) || (kind == 4 && hmode != 0) || (flags >> 7) != 0)
     fail(ErrorCode::kCorrupt, what_, "PCDP: bad flags for frame file " + name);
   size_t rh = 0;
   regen_.frame(block, k, enc, &regen_bytes_, &rh,

@@ -22,6 +22,7 @@
 #include "coding/bytes.h"
 #include "core/hash.h"
 #include "io/pcd_frame_writer.h"
+#include "io/ply.h"
 
 namespace capz {
 namespace residue {
@@ -30,8 +31,10 @@ namespace residue {
 // of the file when that line has none); SIZE_MAX when there is no DATA line.
 size_t pcd_header_end(const uint8_t* bytes, size_t n);
 
-// The writer's frames for a take (header: the take's metadata with its PCD layout), by encoding:
-// 0 ascii, 1 binary, 2 binary_compressed.
+// The writer's frames for a take (header: the take's metadata with its PCD layout): PCD frames
+// by encoding, 0 ascii, 1 binary, 2 binary_compressed; for a take of PLY frames (FORMAT.md
+// "Lossless frame-file streams") the PLY writer's, 0 ascii, 1 binary_little_endian, 2
+// binary_big_endian; for .bin frames the .bin writer's (0 only).
 class PcdRegen {
  public:
   explicit PcdRegen(const Take& header);
@@ -40,15 +43,26 @@ class PcdRegen {
   // A binary_compressed body is compressed by `lzf` (FORMAT.md 14.3, flags bit 6).
   void frame(const FrameBlock& block, size_t k, int enc, std::vector<uint8_t>* out,
              size_t* header_end, LzfVariant lzf = LzfVariant::kCapz);
-  // The header of any frame in the take's own encoding (META's).
+  // The reference header's dictionary (FORMAT.md 7.3): a PCD frame's header in the take's own
+  // encoding (META's), a PLY frame's of no vertices, nothing for .bin.
   std::string take_header() const;
-  // The plan of encoding `enc` and the point records of the last frame() (in that plan).
-  const PcdFramePlan& plan(int enc) const { return plans_[enc]; }
+  // PCDR's kind: 3 PCD, 4 .bin, 5 PLY (the take's format).
+  uint8_t kind() const { return kind_; }
+  // The encodings a frame may be regenerated in (3, or 1 for .bin).
+  int encodings() const;
+  // Where a frame file's header ends (FORMAT.md 14.3: through the DATA line; PLY: the
+  // end_header line; .bin: 0); SIZE_MAX when it has none.
+  size_t header_end(const uint8_t* bytes, size_t n) const;
+  // The PCD ascii plan and the point records of the last frame() in it (an ascii PCD or PLY
+  // frame's columns, FORMAT.md 14.6); plan(e) for a PCD frame in encoding e.
+  const PcdFramePlan& plan(int enc) const { return plans_[kind_ == 3 ? enc : 0]; }
   const std::vector<uint8_t>& points() const { return points_; }
 
  private:
+  uint8_t kind_ = 3;
   PcdFramePlan plans_[3];
-  int take_enc_ = 1;
+  PlyPlan plies_[3];
+  int take_enc_ = 1, intensity_ = -1;
   std::string take_header_;
   std::vector<uint8_t> points_;
   std::vector<const uint8_t*> attrs_;

@@ -1,0 +1,79 @@
+// The ragged encoder's --point-order any (point_order.h).
+#include <algorithm>
+
+#include "capz/stream.h"
+#include "codec/grid_choice.h"
+#include "codec/point_order.h"
+#include "coding/scan_geometry.h"
+
+namespace capz {
+
+namespace {
+
+// g's points in `order`.
+ScanGeometry permuted(const ScanGeometry& g, const std::vector<uint32_t>& order) {
+  ScanGeometry s = g;
+  for (size_t j = 0; j < order.size(); ++j) {
+    s.valid[j] = g.valid[order[j]];
+    std::copy_n(&g.q[3 * size_t{order[j]}], 3, &s.q[3 * j]);
+  }
+  return s;
+}
+ScanHints permuted(const ScanHints& h, const std::vector<uint32_t>& order) {
+  ScanHints s = h;
+  for (size_t j = 0; j < order.size(); ++j) {
+    if (!h.ring.empty()) s.ring[j] = h.ring[order[j]];
+    if (!h.xyz.empty()) std::copy_n(&h.xyz[3 * size_t{order[j]}], 3, &s.xyz[3 * j]);
+  }
+  return s;
+}
+
+// The coded order of the points of block b (a window's frames, ragged): indices from its first
+// point.
+std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
+                                   const std::vector<uint32_t>& ring) {
+  ScanGeometry g;
+  for (size_t k = 0; k < b.frames; ++k)
+    g.counts.push_back(static_cast<uint32_t>(b.frame_points(k)));
+  g.q = quantise_window(b, grid).q;
+  g.valid = b.valid;
+  ScanHints hints;
+  hints.ring = ring;
+  hints.xyz.resize(b.xyz.size());
+  for (size_t i = 0; i < b.xyz.size(); ++i) hints.xyz[i] = static_cast<float>(b.xyz[i]);
+  // The smallest window payload of: each frame sorted under its own table, sorted under the
+  // window's table, or the file's order (a sensor whose file order is its firing order already,
+  // or one no table describes); the encoder's choice, any order being allowed.
+  std::vector<uint32_t> best(g.total());
+  for (size_t j = 0; j < best.size(); ++j) best[j] = static_cast<uint32_t>(j);
+  size_t least = encode_scan_geometry(g, hints).size();
+  for (ScanOrderTable table : {ScanOrderTable::kPerFrame, ScanOrderTable::kWindow}) {
+    std::vector<uint32_t> order = scan_point_order(g, hints, table);
+    const size_t bytes = encode_scan_geometry(permuted(g, order), permuted(hints, order)).size();
+    if (bytes < least) least = bytes, best.swap(order);
+  }
+  return best;
+}
+
+// v's elements of `size` bytes (or values) each in `order`.
+template <typename T>
+void permute(std::vector<T>* v, size_t size, const std::vector<uint32_t>& order) {
+  std::vector<T> out(v->size());
+  for (size_t j = 0; j < order.size(); ++j)
+    std::copy_n(v->begin() + static_cast<std::ptrdiff_t>(size * order[j]), size,
+                out.begin() + static_cast<std::ptrdiff_t>(size * j));
+  v->swap(out);
+}
+
+}  // namespace
+
+void reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring) {
+  const std::vector<uint32_t> order = window_order(*b, grid, ring);
+  permute(&b->xyz, 3, order);
+  permute(&b->valid, 1, order);
+  const size_t n = b->total_points();
+  for (std::vector<uint8_t>& a : b->attributes)
+    if (n > 0 && a.size() % n == 0) permute(&a, a.size() / n, order);
+}
+
+}  // namespace capz
