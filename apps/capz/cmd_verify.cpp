@@ -1,9 +1,12 @@
 // capz verify X.capz [--against ORIGINAL]
+#include <algorithm>
 #include <cstdio>
+#include <memory>
 
 #include "capz/codec.h"
 #include "capz/io.h"
 #include "capz/metrics.h"
+#include "capz/stream.h"
 #include "capz/tool/file.h"
 #include "capz/tool/verify.h"
 #include "compress_common.h"
@@ -23,10 +26,11 @@ struct Verdict {
   std::vector<std::string> dropped_fields;
 };
 
-// The names of the original's point fields when the archive holds none, and those fields taken
-// out of *a. The encoder codes every field of a take or refuses it unless asked to leave them
-// out (compress --drop-fields), so an archive without fields made from a take with fields was
-// asked for that: not a difference. An archive with other fields than the original is one.
+// The names of the original's point fields when the archive holds none (their layouts are
+// then taken out of *a). The encoder codes every field of a take or refuses it unless asked to
+// leave them out (compress --drop-fields), so an archive without fields made from a take with
+// fields was asked for that: not a difference. An archive with other fields than the original
+// is one.
 std::vector<std::string> drop_left_out_fields(capz::Take* a, const capz::Take& b) {
   std::vector<std::string> names;
   if (!b.attributes.empty()) return names;
@@ -35,18 +39,27 @@ std::vector<std::string> drop_left_out_fields(capz::Take* a, const capz::Take& b
   return names;
 }
 
-Verdict check_against(const std::string& in, const std::string& orig, const capz::Take& b,
-                      const capz::StreamInfo& si) {
-  capz::Take a = capz::read_take(orig);
-  // Data without units, or with assumed ones (PCD, PLY, .bin), took them from compress --units
-  // (or stored none): not a difference.
-  if (a.units.empty() || a.units_assumed) a.units = b.units, a.units_assumed = false;
-  if (a.frames != b.frames || a.points != b.points || a.frame_offsets != b.frame_offsets) {
-    const std::string sa = shape_text(a), sb = shape_text(b);
+// The original's header *a against the archive's b: units taken from b where a has none or
+// assumed ones (they came from compress --units, or none was stored: not a difference); throws
+// kCorrupt when the shapes differ.
+void match_original(const std::string& in, const std::string& orig, const capz::Take& b,
+                    capz::Take* a) {
+  if (a->units.empty() || a->units_assumed) a->units = b.units, a->units_assumed = false;
+  if (a->frames != b.frames || a->points != b.points || a->frame_offsets != b.frame_offsets) {
+    const std::string sa = shape_text(*a), sb = shape_text(b);
     capz::fail(capz::ErrorCode::kCorrupt, in,
                "decodes to " + sb + ", " + orig + " has " + sa +
                    (sa == sb ? " (the frames' point counts differ)" : ""));
   }
+}
+
+// A one-frame archive decoded whole (one window) against the original read whole: the shape a
+// reader gives one frame file (decompress() turns a stream of one ragged frame, the scan coder's
+// single sweep, into that fixed frame).
+Verdict check_whole(const std::string& in, const std::string& orig, const capz::Take& b,
+                    const capz::StreamInfo& si) {
+  capz::Take a = capz::read_take(orig);
+  match_original(in, orig, b, &a);
   Verdict v;
   v.dropped_fields = drop_left_out_fields(&a, b);
   const capz::PromiseResult r = capz::check_promise(a, b, capz::promise_of(si));
@@ -54,6 +67,44 @@ Verdict check_against(const std::string& in, const std::string& orig, const capz
   v.analog_use = r.analog_bound_use;
   v.ok = r.holds;
   v.why = r.why;
+  return v;
+}
+
+// The archive decoded window by window (every chunk's CRC, every window), and with `orig` the
+// original read a block of the same frames at a time beside it, checked by the library's rule
+// (PromiseCheck): memory is bounded by the archive's window, not by the take. *t_dec: the CPU
+// seconds of decoding are added to it.
+Verdict check_stream(const std::string& in, const std::string& orig, capz::FrameSource& dec,
+                     const capz::StreamInfo& si, double* t_dec) {
+  Verdict v;
+  const capz::Take& b = dec.header();
+  std::unique_ptr<capz::FrameSource> src;
+  capz::Take a;
+  if (!orig.empty()) {
+    src = capz::open_frames(orig);
+    a = src->header();
+    match_original(in, orig, b, &a);
+    v.dropped_fields = drop_left_out_fields(&a, b);
+  }
+  capz::PromiseCheck check(capz::promise_of(si));
+  if (src) check.header(a, b);
+  const size_t block = std::max<size_t>(1, dec.preferred_block());
+  capz::FrameBlock x, y;
+  for (size_t f = 0; f < b.frames; f += block) {
+    const double c0 = cpu_seconds();
+    dec.read(f, block, &y);
+    *t_dec += cpu_seconds() - c0;
+    if (!src) continue;
+    src->read(f, block, &x);
+    if (!v.dropped_fields.empty()) x.attributes.clear();
+    check.frames(x, y);
+  }
+  if (!src) return v;
+  check.finish();
+  v.e = check.error();
+  v.analog_use = check.analog_bound_use();
+  v.ok = check.holds();
+  v.why = check.why();
   return v;
 }
 
@@ -156,21 +207,30 @@ int cmd_verify(const Args& args) {
 
   capz::DecompressOptions dopts;
   dopts.memory_limit = memlimit(vm);
-  std::vector<uint8_t> bytes = capz::read_file(in);
   const double c0 = cpu_seconds();
-  capz::StreamInfo si = capz::describe(bytes.data(), bytes.size(), in);
-  capz::Take b = capz::decompress(bytes.data(), bytes.size(), in, dopts);
+  const capz::StreamInfo si = capz::describe_file(in);
   Report r;
-  r.t_dec = cpu_seconds() - c0;
   r.in = in;
   r.si = &si;
-  r.b = &b;
-  r.bytes = bytes.size();
-  r.bpvf = capz::bpvf(bytes.size(), 1, b.total_points());  // frames x points, or ragged
+  r.bytes = static_cast<size_t>(path_size(in));
+  r.bpvf = capz::bpvf(r.bytes, 1, si.total_points);  // frames x points, or ragged
   if (vm.count("against")) {
     r.has_against = true;
     r.against = vm["against"].as<std::string>();
-    r.v = check_against(in, r.against, b, si);
+  }
+  capz::Take one;
+  std::unique_ptr<capz::FrameSource> dec;
+  if (si.frames <= 1) {  // one window, decoded whole in the shape a reader gives one frame file
+    const std::vector<uint8_t> bytes = capz::read_file(in);
+    one = capz::decompress(bytes.data(), bytes.size(), in, dopts);
+    r.t_dec = cpu_seconds() - c0;
+    r.b = &one;
+    if (r.has_against) r.v = check_whole(in, r.against, one, si);
+  } else {  // window by window: memory bounded by the archive's window, not by the take
+    dec = capz::open_capz_frames(in, dopts);
+    r.t_dec = cpu_seconds() - c0;
+    r.b = &dec->header();
+    r.v = check_stream(in, r.against, *dec, si, &r.t_dec);
   }
   if (vm.count("json"))
     print_json(r);

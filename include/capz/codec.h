@@ -163,6 +163,8 @@ struct StreamInfo {
   std::map<std::string, size_t> chunk_bytes;  // total bytes (with framing) per chunk type
 };
 StreamInfo describe(const uint8_t* data, size_t size, const std::string& name = "");
+// The same for the .capz file at `path`, read a chunk at a time (memory: the largest chunk).
+StreamInfo describe_file(const std::string& path);
 
 // True when the bytes start with the .capz magic: of format 1.x, or of the pre-release formats
 // (capz 0.1.0 and earlier), which decoding refuses (kUnsupportedVersion) with how to upgrade.

@@ -78,6 +78,13 @@ void CapzSource::read_ragged(size_t first, size_t count, FrameBlock* out) {
   const std::vector<size_t>& off = ps_.take.frame_offsets;
   if (off[first + count] - off[first] > ps_.max_points)
     fail(ErrorCode::kMemoryLimit, name_, "these frames' points exceed the memory limit");
+  const size_t W = ps_.h.window_frames;
+  if (count > 0 && first % W == 0 && count == std::min<size_t>(W, ps_.take.frames - first)) {
+    decode(first / W);  // exactly one window: handed over without a copy, as in read()
+    std::swap(*out, win_);
+    have_ = false;
+    return;
+  }
   std::vector<size_t> counts;
   for (size_t f = first; f < first + count; ++f) counts.push_back(off[f + 1] - off[f]);
   out->reset_ragged(first, counts);

@@ -81,7 +81,7 @@ std::vector<uint8_t> smaller_as_scan(const Take& t, const CompressOptions& opts,
 }
 
 // Every frame of `source` in memory (its header with the positions, gaps and fields): for the
-// encodings that are not streamed (ragged takes, the one-frame choice below).
+// one-frame choice below, which codes the frame both ways.
 Take whole_take(FrameSource& source) {
   Take t = source.header();
   FrameBlock b;
@@ -182,13 +182,11 @@ std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, Com
 void compress_stream(FrameSource& source, const CompressOptions& opts, const std::string& path,
                      bool overwrite, CompressStats* stats) {
   refuse_scans(source.header(), opts);
-  if (source.header().ragged()) {  // not streamed yet: the whole take in memory
+  if (source.header().ragged()) {  // two passes, a window in memory (encode_ragged)
     settle_frame_layout(&source.edit_header(), opts.drop_fields);
-    const Take t = whole_take(source);
-    std::vector<uint8_t> bytes = compress_ragged(t, opts, stats, source.original_file());
     AtomicFile file(path, overwrite);
     StreamOut out(&file);
-    out.flush(&bytes);
+    encode_ragged(source, opts, &out, stats, source.original_file());
     file.commit();
     return;
   }

@@ -118,8 +118,10 @@ bool is_capz(const uint8_t* data, size_t size) {
          (std::memcmp(data, kCapzMagic, 9) == 0 || std::memcmp(data, kPrereleaseMagic, 9) == 0);
 }
 
-StreamInfo describe(const uint8_t* data, size_t size, const std::string& name) {
-  MemoryBytes bytes(data, size);
+namespace {
+
+// describe() of the bytes in memory or in a file (read a chunk at a time).
+StreamInfo describe_bytes(StreamBytes& bytes, const std::string& name) {
   ParsedStream ps = parse_stream(bytes, name);
   StreamInfo si;
   si.major = kCapzMajor;
@@ -169,11 +171,23 @@ StreamInfo describe(const uint8_t* data, size_t size, const std::string& name) {
   }
   si.chunk_bytes = ps.chunk_bytes;
   for (size_t off = ps.first_window_offset; off < ps.index_offset;) {  // the window chunks
-    Chunk k = read_chunk(data, size, off, name);
+    Chunk k = chunk_at(bytes, off, name);
     si.chunk_bytes[k.type] += k.end - k.offset;
     off = k.end;
   }
   return si;
+}
+
+}  // namespace
+
+StreamInfo describe(const uint8_t* data, size_t size, const std::string& name) {
+  MemoryBytes bytes(data, size);
+  return describe_bytes(bytes, name);
+}
+
+StreamInfo describe_file(const std::string& path) {
+  FileBytes bytes(path);
+  return describe_bytes(bytes, path);
 }
 
 }  // namespace capz

@@ -129,7 +129,7 @@ void cache_kg_coordinates(const Take& hdr, size_t cap_bytes, TakeScan* s) {
 // not finite. words: the blocks carry C3D residual words (point_scale: the take's).
 void scan_block(const FrameBlock& b, const std::string& src, bool words, double point_scale,
                 TakeScan* s) {
-  const size_t n = b.frames * b.points;
+  const size_t n = b.total_points();  // a ragged block's too
   for (size_t i = 0; i < n; ++i) {
     if (!b.valid[i]) continue;
     const double* x = &b.xyz[i * 3];
@@ -344,7 +344,7 @@ WindowInts quantise_window(const FrameBlock& b, const Grid& g) {
   WindowInts w;
   w.frames = b.frames;
   w.points = b.points;
-  const size_t n = b.frames * b.points;
+  const size_t n = b.total_points();  // a ragged block's too
   w.valid = b.valid;
   w.q.assign(n * 3, 0);
   if (g.mode == PosMode::kFloat64) w.lo.assign(n * 3, 0);

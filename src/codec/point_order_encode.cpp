@@ -28,25 +28,17 @@ ScanHints permuted(const ScanHints& h, const std::vector<uint32_t>& order) {
   return s;
 }
 
-// The coded order of frames [f0, f1) of t: indices from the window's first point.
-std::vector<uint32_t> window_order(const Take& t, const Grid& grid, size_t f0, size_t f1,
+// The coded order of the points of block b (a window's frames, ragged): indices from its first
+// point.
+std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
                                    const std::vector<uint32_t>& ring) {
-  const size_t p0 = t.frame_begin(f0), p1 = t.frame_begin(f1);
-  FrameBlock b;
-  b.frames = 1;
-  b.points = p1 - p0;
-  b.xyz.assign(t.xyz.begin() + static_cast<std::ptrdiff_t>(3 * p0),
-               t.xyz.begin() + static_cast<std::ptrdiff_t>(3 * p1));
-  b.valid.assign(t.valid.begin() + static_cast<std::ptrdiff_t>(p0),
-                 t.valid.begin() + static_cast<std::ptrdiff_t>(p1));
   ScanGeometry g;
-  for (size_t f = f0; f < f1; ++f) g.counts.push_back(static_cast<uint32_t>(t.frame_points(f)));
+  for (size_t k = 0; k < b.frames; ++k)
+    g.counts.push_back(static_cast<uint32_t>(b.frame_points(k)));
   g.q = quantise_window(b, grid).q;
-  g.valid = std::move(b.valid);
+  g.valid = b.valid;
   ScanHints hints;
-  if (!ring.empty())
-    hints.ring.assign(ring.begin() + static_cast<std::ptrdiff_t>(p0),
-                      ring.begin() + static_cast<std::ptrdiff_t>(p1));
+  hints.ring = ring;
   hints.xyz.resize(b.xyz.size());
   for (size_t i = 0; i < b.xyz.size(); ++i) hints.xyz[i] = static_cast<float>(b.xyz[i]);
   // The smallest window payload of: each frame sorted under its own table, sorted under the
@@ -63,32 +55,25 @@ std::vector<uint32_t> window_order(const Take& t, const Grid& grid, size_t f0, s
   return best;
 }
 
+// v's elements of `size` bytes (or values) each in `order`.
+template <typename T>
+void permute(std::vector<T>* v, size_t size, const std::vector<uint32_t>& order) {
+  std::vector<T> out(v->size());
+  for (size_t j = 0; j < order.size(); ++j)
+    std::copy_n(v->begin() + static_cast<std::ptrdiff_t>(size * order[j]), size,
+                out.begin() + static_cast<std::ptrdiff_t>(size * j));
+  v->swap(out);
+}
+
 }  // namespace
 
-Take reordered_take(const Take& t, const Grid& grid, uint32_t window_frames,
-                    const std::vector<uint32_t>& ring) {
-  Take r = t;
-  const size_t wf = std::max<size_t>(window_frames, 1);
-  for (size_t f0 = 0; f0 < t.frames; f0 += wf) {
-    const size_t f1 = std::min(f0 + wf, t.frames), p0 = t.frame_begin(f0);
-    const std::vector<uint32_t> order = window_order(t, grid, f0, f1, ring);
-    for (size_t j = 0; j < order.size(); ++j) {
-      const size_t from = p0 + order[j], to = p0 + j;
-      std::copy_n(t.xyz.begin() + static_cast<std::ptrdiff_t>(3 * from), 3,
-                  r.xyz.begin() + static_cast<std::ptrdiff_t>(3 * to));
-      r.valid[to] = t.valid[from];
-    }
-    for (size_t a = 0; a < t.attributes.size(); ++a) {
-      const size_t bpp = t.attributes[a].bytes_per_point();
-      const std::vector<uint8_t>& src = t.attributes[a].data;
-      if (src.size() != t.total_points() * bpp) continue;  // dropped (--drop-fields)
-      std::vector<uint8_t>& dst = r.attributes[a].data;
-      for (size_t j = 0; j < order.size(); ++j)
-        std::copy_n(src.begin() + static_cast<std::ptrdiff_t>((p0 + order[j]) * bpp), bpp,
-                    dst.begin() + static_cast<std::ptrdiff_t>((p0 + j) * bpp));
-    }
-  }
-  return r;
+void reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring) {
+  const std::vector<uint32_t> order = window_order(*b, grid, ring);
+  permute(&b->xyz, 3, order);
+  permute(&b->valid, 1, order);
+  const size_t n = b->total_points();
+  for (std::vector<uint8_t>& a : b->attributes)
+    if (n > 0 && a.size() % n == 0) permute(&a, a.size() / n, order);
 }
 
 }  // namespace capz

@@ -41,20 +41,22 @@ void refuse_unsupported(const Take& t, const CompressOptions& opts) {
     fail(ErrorCode::kInvalidParameter, t.source, "--point-order any with --lossless");
 }
 
-// The ring / laser / channel number of every point from an unsigned or signed integer field of
-// that name, or empty.
-std::vector<uint32_t> ring_field(const Take& t) {
-  for (const PointAttribute& a : t.attributes) {
+// The ring / laser / channel number of every point of block b from an unsigned or signed
+// integer field of that name (layouts: the take's attributes), or empty.
+std::vector<uint32_t> ring_field(const std::vector<PointAttribute>& layouts, const FrameBlock& b) {
+  for (size_t i = 0; i < layouts.size() && i < b.attributes.size(); ++i) {
+    const PointAttribute& a = layouts[i];
     if (a.count != 1 || a.type == 'F' || a.size > 4) continue;
     if (a.name != "ring" && a.name != "channel" && a.name != "laser_id" && a.name != "laser")
       continue;
-    const size_t n = t.total_points(), sz = static_cast<size_t>(a.size);
-    if (a.data.size() != n * sz) return {};
+    const size_t n = b.total_points(), sz = static_cast<size_t>(a.size);
+    const std::vector<uint8_t>& data = b.attributes[i];
+    if (data.size() != n * sz) return {};
     std::vector<uint32_t> r(n);
-    for (size_t i = 0; i < n; ++i) {
+    for (size_t p = 0; p < n; ++p) {
       uint32_t v = 0;
-      for (size_t k = 0; k < sz; ++k) v |= static_cast<uint32_t>(a.data[i * sz + k]) << (8 * k);
-      r[i] = v;
+      for (size_t k = 0; k < sz; ++k) v |= static_cast<uint32_t>(data[p * sz + k]) << (8 * k);
+      r[p] = v;
     }
     return r;
   }
@@ -78,24 +80,35 @@ bool float32_xyz(const Take& t) {
   return true;
 }
 
-// The grid whose step bounds every coordinate by opts.max_error, after float32 rounding when
-// the frames are written back as float32.
-Grid choose_grid(const Take& t, const CompressOptions& opts) {
-  Take hdr;  // what the grid choice reads of the take, x y z's layout spelled out
-  hdr.source = t.source;
-  hdr.format = t.format;
-  hdr.units = t.units;
-  hdr.pcd = std::make_shared<PCDExtra>();
+// What choose_grid reads of the take (hdr: its header): x y z's layout spelled out, and no
+// per-point ray track (not for frames of their own size).
+TakeScan start_ragged_scan(const Take& t, const CompressOptions& opts, Take* hdr) {
+  hdr->source = t.source;
+  hdr->format = t.format;
+  hdr->units = t.units;
+  hdr->pcd = std::make_shared<PCDExtra>();
   const PCDField x32{"x", 'F', 4, 1};
-  if (float32_xyz(t)) hdr.pcd->fields = {x32};
-  TakeScan s = start_scan(hdr, opts);
-  s.ray_track = false;  // a per-point track: not for frames of their own size
-  FrameBlock b;
-  b.frames = 1;
-  b.points = t.total_points();
-  b.xyz = t.xyz;
-  b.valid = t.valid;
-  scan_block(b, t.source, false, 0, &s);
+  if (float32_xyz(t)) hdr->pcd->fields = {x32};
+  TakeScan s = start_scan(*hdr, opts);
+  s.ray_track = false;
+  return s;
+}
+
+// The grid whose step bounds every coordinate by opts.max_error, after float32 rounding when
+// the frames are written back as float32. Pass 1 (docs/STREAMING.md "Passes over the source"):
+// the source read a window of frames at a time, each block's values scanned where they are
+// (maxima, minima and all-of flags, so the order of the blocks does not matter). The blocks are
+// read last to first, so *first ends holding window 0's frames, which pass 2 codes first
+// without reading them again.
+Grid choose_grid(FrameSource& src, const CompressOptions& opts, size_t W, FrameBlock* first) {
+  const Take& t = src.header();
+  Take hdr;
+  TakeScan s = start_ragged_scan(t, opts, &hdr);
+  for (size_t f0 = t.frames ? (t.frames - 1) / W * W : 0;; f0 -= W) {
+    if (t.frames) src.read(f0, std::min(W, t.frames - f0), first);
+    scan_block(*first, t.source, false, 0, &s);
+    if (f0 == 0) break;
+  }
   // Lossless ("Lossless ragged streams"): a decimal grid or float32 bits; float64 bits do not
   // fit the scan payload's int32 integers.
   Grid g = opts.lossless ? lossless_grid(s) : bounded_grid(hdr, s, opts.max_error);
@@ -109,21 +122,20 @@ Grid choose_grid(const Take& t, const CompressOptions& opts) {
   return g;
 }
 
-// Throws kInternal unless the decoded window has the source's counts, gaps and every valid
-// coordinate within the bound, also as the float32 a PCD writer stores (lossless: bit for bit).
-void check_window(const Take& t, size_t p0, size_t f0, const FrameBlock& d, double bound,
+// Throws kInternal unless the decoded window d has the counts and gaps of the frames read (b)
+// and every valid coordinate within the bound, also as the float32 a PCD writer stores
+// (lossless: bit for bit).
+void check_window(const Take& t, const FrameBlock& b, const FrameBlock& d, double bound,
                   bool exact) {
   const bool f32 = float32_xyz(t);
-  const size_t fn = d.frame_offsets.size() - 1;
-  for (size_t f = 0; f < fn; ++f)
-    if (d.frame_offsets[f + 1] - d.frame_offsets[f] != t.frame_points(f0 + f))
-      fail(ErrorCode::kInternal, t.source, "self-check: frame counts differ");
+  bool counts = d.frames == b.frames && d.ragged() && d.valid.size() == b.valid.size();
+  for (size_t k = 0; counts && k < b.frames; ++k) counts = d.frame_points(k) == b.frame_points(k);
+  if (!counts) fail(ErrorCode::kInternal, t.source, "self-check: frame counts differ");
   for (size_t i = 0; i < d.valid.size(); ++i) {
-    if (d.valid[i] != t.valid[p0 + i])
-      fail(ErrorCode::kInternal, t.source, "self-check: gaps differ");
+    if (d.valid[i] != b.valid[i]) fail(ErrorCode::kInternal, t.source, "self-check: gaps differ");
     if (!d.valid[i]) continue;
     for (size_t a = 0; a < 3; ++a) {
-      const double x = t.xyz[3 * (p0 + i) + a], y = d.xyz[3 * i + a];
+      const double x = b.xyz[3 * i + a], y = d.xyz[3 * i + a];
       const double y32 = f32 ? static_cast<double>(static_cast<float>(y)) : y;
       if (exact ? !same_bits(x, y) : !(std::fabs(y - x) <= bound && std::fabs(y32 - x) <= bound))
         fail(ErrorCode::kInternal, t.source,
@@ -165,20 +177,6 @@ Take meta_take_of(const Take& t, const CompressOptions& opts) {
   return m;
 }
 
-// Points [p0, p1) of every field of t (flattened, take.h), with the bounded float fields of
-// META's layout quantised (FORMAT.md 16.4): what ATTR codes and the decoder gives back.
-std::vector<std::vector<uint8_t>> window_fields(const Take& t, const PCDExtra& layout, size_t p0,
-                                                size_t p1) {
-  std::vector<std::vector<uint8_t>> out;
-  for (const PointAttribute& a : t.attributes) {
-    const size_t bpp = a.bytes_per_point();
-    out.emplace_back(a.data.begin() + static_cast<std::ptrdiff_t>(p0 * bpp),
-                     a.data.begin() + static_cast<std::ptrdiff_t>(p1 * bpp));
-  }
-  quantise_bounded_fields(layout, &out);
-  return out;
-}
-
 // Throws kInternal unless the decoded window's fields are `fields`, byte for byte.
 void check_fields(const Take& t, const std::vector<std::vector<uint8_t>>& fields,
                   const FrameBlock& d) {
@@ -190,20 +188,21 @@ void check_fields(const Take& t, const std::vector<std::vector<uint8_t>>& fields
            "self-check: field " + t.attributes[a].name + " does not come back byte for byte");
 }
 
-// What compress_ragged carries from window to window.
+// What encode_ragged carries from window to window.
 struct RaggedRun {
-  const Take& t;
+  const Take& t;  // the source's header
   const CompressOptions& opts;
   const Grid& grid;
   const StreamContext& ctx;
   const Take& meta;               // META's take: its layout names the fields coded
-  std::vector<uint32_t> ring;     // ring_field(t), or empty
-  std::vector<uint8_t>* out;      // the stream so far
+  StreamOut* out;                 // the stream so far
   std::vector<IndexEntry> index;  // INDX
   size_t position_bytes = 0, attribute_bytes = 0;
   size_t split_windows = 0;  // windows with a float32 split
   ErrorAccumulator acc;
   ResidueWriter* residue = nullptr;  // a lossless stream of a folder: PCDP per window
+  std::vector<uint8_t> buf;          // the window's chunks
+  FrameBlock back;                   // the window decoded again (kept: its memory is reused)
 };
 
 // SCNW's bytes after `total` ("Scans (format 1.1)"): in mode 2 the split exponent e, and with a
@@ -266,48 +265,39 @@ int choose_split(const FrameBlock& b, const std::vector<uint32_t>& counts, const
   return best;
 }
 
-// The SCNW chunk of frames [f0, f1) of r.t (window w), appended to r.out; *b gets the window's
-// points, *q the integers the payload codes.
-void append_scan_chunk(RaggedRun& r, size_t w, size_t f0, size_t f1, FrameBlock* b,
-                       std::vector<int32_t>* q) {
-  const Take& t = r.t;
-  const size_t p0 = t.frame_begin(f0), p1 = t.frame_begin(f1);
-  b->frames = 1;
-  b->points = p1 - p0;
-  b->xyz.assign(t.xyz.begin() + static_cast<std::ptrdiff_t>(3 * p0),
-                t.xyz.begin() + static_cast<std::ptrdiff_t>(3 * p1));
-  b->valid.assign(t.valid.begin() + static_cast<std::ptrdiff_t>(p0),
-                  t.valid.begin() + static_cast<std::ptrdiff_t>(p1));
-  WindowInts wi = quantise_window(*b, r.grid);
+// The SCNW chunk of window w (the frames of b), appended to r.buf; *q gets the integers the
+// payload codes.
+void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<int32_t>* q) {
+  const size_t n = b.total_points();
   ScanGeometry g;
-  for (size_t f = f0; f < f1; ++f) g.counts.push_back(static_cast<uint32_t>(t.frame_points(f)));
-  g.valid = b->valid;
+  for (size_t k = 0; k < b.frames; ++k)
+    g.counts.push_back(static_cast<uint32_t>(b.frame_points(k)));
+  std::vector<int32_t> bits = std::move(quantise_window(b, r.grid).q);
+  g.valid = b.valid;
   ScanHints hints;
-  if (!r.ring.empty())
-    hints.ring.assign(r.ring.begin() + static_cast<std::ptrdiff_t>(p0),
-                      r.ring.begin() + static_cast<std::ptrdiff_t>(p1));
-  hints.xyz.resize(b->xyz.size());
-  for (size_t i = 0; i < b->xyz.size(); ++i) hints.xyz[i] = static_cast<float>(b->xyz[i]);
+  hints.ring = ring_field(r.t.attributes, b);
+  hints.xyz.resize(b.xyz.size());
+  for (size_t i = 0; i < b.xyz.size(); ++i) hints.xyz[i] = static_cast<float>(b.xyz[i]);
   // Mode 2 (lossless float32): a float32 split when it codes smaller.
   const bool mode2 = r.grid.mode == PosMode::kFloat32;
-  int e = mode2 ? choose_split(*b, g.counts, hints, wi.q) : scan::kNoSplit;
+  int e = mode2 ? choose_split(b, g.counts, hints, bits) : scan::kNoSplit;
   std::vector<uint32_t> corrections;
-  if (e != scan::kNoSplit && !scan::split_coordinates(b->xyz.data(), g.valid.data(), g.valid.size(),
+  if (e != scan::kNoSplit && !scan::split_coordinates(b.xyz.data(), g.valid.data(), g.valid.size(),
                                                       e, kSplitLimit, &g.q, &corrections))
     e = scan::kNoSplit;  // a later frame's coordinate beyond the split's integers
   if (e == scan::kNoSplit)
-    g.q = std::move(wi.q);
+    g.q = std::move(bits);
   else
     ++r.split_windows;
   ByteWriter pw;
   pw.varint(w);
-  pw.varint(p1 - p0);
+  pw.varint(n);
   std::vector<uint8_t> payload = std::move(pw.buffer());
   const std::vector<uint8_t> body = scan_body(g, hints, mode2, e, corrections);
   payload.insert(payload.end(), body.begin(), body.end());
-  const size_t before = r.out->size();
-  append_chunk(r.out, "SCNW", payload);
-  r.position_bytes += r.out->size() - before;
+  const size_t before = r.buf.size();
+  append_chunk(&r.buf, "SCNW", payload);
+  r.position_bytes += r.buf.size() - before;
   q->swap(g.q);
 }
 
@@ -336,58 +326,124 @@ void append_fields_chunk(RaggedRun& r, size_t w, const std::vector<std::vector<u
   const std::vector<uint8_t> at = encode_attributes(attribute_specs(r.meta.pcd->fields), fields,
                                                     valid.data(), 1, n, n, q.data(), true, &ragged);
   payload.insert(payload.end(), at.begin(), at.end());
-  const size_t before = r.out->size();
-  append_chunk(r.out, "ATTR", payload);
-  r.attribute_bytes += r.out->size() - before;
+  const size_t before = r.buf.size();
+  append_chunk(&r.buf, "ATTR", payload);
+  r.attribute_bytes += r.buf.size() - before;
 }
 
-// Frames [f0, f1) of the take as a ragged block (offsets from the window's first point) with
-// the window's fields as ATTR keeps them: what the residue regenerates the frame files from.
-FrameBlock frames_block(const Take& t, size_t f0, size_t f1,
-                        std::vector<std::vector<uint8_t>> fields) {
-  const size_t p0 = t.frame_begin(f0), p1 = t.frame_begin(f1);
-  std::vector<size_t> counts;
-  for (size_t f = f0; f < f1; ++f) counts.push_back(t.frame_points(f));
-  FrameBlock b;
-  b.reset_ragged(f0, counts);
-  std::copy(t.xyz.begin() + static_cast<std::ptrdiff_t>(3 * p0),
-            t.xyz.begin() + static_cast<std::ptrdiff_t>(3 * p1), b.xyz.begin());
-  std::copy(t.valid.begin() + static_cast<std::ptrdiff_t>(p0),
-            t.valid.begin() + static_cast<std::ptrdiff_t>(p1), b.valid.begin());
-  b.attributes = std::move(fields);
-  return b;
-}
-
-// Window w (frames [f0, f1)): its chunks appended to r.out, then decoded again by the one
-// decoder and checked (opts.check) and measured (stats).
-void append_window(RaggedRun& r, size_t w, size_t f0, size_t f1, bool measure) {
+// Window w (the frames of b, as read; its fields are taken): its chunks written to r.out, after
+// the one decoder has given them back for the check (opts.check) and the measures (stats).
+void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
   const Take& t = r.t;
-  const size_t base = r.out->size(), p0 = t.frame_begin(f0);
-  FrameBlock b;
+  for (size_t a = 0; a < t.attributes.size() && !r.opts.drop_fields; ++a)
+    if (a >= b->attributes.size() ||
+        b->attributes[a].size() != b->total_points() * t.attributes[a].bytes_per_point())
+      fail(ErrorCode::kInvalidParameter, t.source,
+           "point field '" + t.attributes[a].name + "' does not hold a value for every point");
+  // --point-order any: the window coded, checked and measured in its coded order.
+  if (r.opts.any_point_order) reorder_window(b, r.grid, ring_field(t.attributes, *b));
+  const size_t base = r.out->size();
+  r.buf.clear();
   std::vector<int32_t> q;
-  append_scan_chunk(r, w, f0, f1, &b, &q);
+  append_scan_chunk(r, w, *b, &q);
+  // What ATTR codes and the decoder gives back: the fields, the bounded float ones of META's
+  // layout quantised (FORMAT.md 16.4).
   std::vector<std::vector<uint8_t>> fields;
   if (!r.meta.attributes.empty()) {
-    fields = window_fields(t, *r.meta.pcd, p0, t.frame_begin(f1));
-    append_fields_chunk(r, w, fields, b, q);
+    fields = std::move(b->attributes);
+    quantise_bounded_fields(*r.meta.pcd, &fields);
+    append_fields_chunk(r, w, fields, *b, q);
   }
-  FrameBlock d;  // the one decoder gives the window back
+  FrameBlock& d = r.back;
   if (r.opts.check || measure) {
-    decode_window_chunks(r.ctx, w, r.out->data() + base, base, r.out->size(), &d);
+    decode_window_chunks(r.ctx, w, r.buf.data(), base, base + r.buf.size(), &d);
     if (r.opts.check) {
-      check_window(t, p0, f0, d, r.opts.max_error, r.grid.lossless);
+      check_window(t, *b, d, r.opts.max_error, r.grid.lossless);
       check_fields(t, fields, d);
     }
-    r.acc.add_ragged(f1 - f0, d.frame_offsets.data(), t.xyz.data() + 3 * p0, d.xyz.data(),
-                     t.valid.data() + p0);
+    r.acc.add_ragged(b->frames, d.frame_offsets.data(), b->xyz.data(), d.xyz.data(),
+                     b->valid.data());
   }
-  if (r.residue)  // last in the window, rebuilt from d by the self-check
-    r.residue->window_chunk(w, frames_block(t, f0, f1, std::move(fields)),
-                            r.opts.check ? &d : nullptr, r.out);
-  r.index.push_back(IndexEntry{base, r.out->size() - base});
+  if (r.residue) {  // last in the window, rebuilt from d by the self-check
+    b->attributes = std::move(fields);
+    r.residue->window_chunk(w, *b, r.opts.check ? &d : nullptr, &r.buf);
+  }
+  r.index.push_back(IndexEntry{base, r.buf.size()});
+  r.out->flush(&r.buf);
+}
+
+void fill_stats(const RaggedRun& r, size_t total, CompressStats* stats) {
+  const size_t bytes = r.out->size();
+  *stats = CompressStats();
+  stats->bytes = bytes;
+  stats->raw_bytes = total * 12;
+  stats->bpvf = total ? 8.0 * static_cast<double>(bytes) / static_cast<double>(total) : 0;
+  stats->step = r.grid.step;
+  stats->lossless = r.grid.lossless;
+  stats->mode = r.split_windows > 0 ? "float32-split" : mode_name(r.grid.mode);
+  stats->error = r.acc.finish();
+  stats->codec = "none";
+  stats->position_bytes = r.position_bytes;
+  stats->attribute_bytes = r.attribute_bytes;
+  stats->other_bytes = bytes - r.position_bytes - r.attribute_bytes;
 }
 
 }  // namespace
+
+void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out,
+                   CompressStats* stats, const std::string& original) {
+  const Take& t = src.header();
+  if (t.points != 0 || !t.labels.empty())  // take.h: a ragged take has neither
+    fail(ErrorCode::kInvalidParameter, t.source,
+         "a ragged take has no per-point labels or shared point count (points " +
+             std::to_string(t.points) + ", " + std::to_string(t.labels.size()) + " labels)");
+  refuse_unsupported(t, opts);
+  StreamHeader h;
+  h.frames = t.frames;
+  h.window_frames = window_frames(t, opts);
+  FrameBlock block;  // window 0 after pass 1; then each window as read
+  const Grid grid = choose_grid(src, opts, h.window_frames, &block);
+  const Take meta_take = meta_take_of(t, opts);
+  h.source_format = t.format;  // PLY and .bin: HEAD's frame-file source (feature bit 4)
+  h.mode = grid.mode;
+  h.step = grid.step;
+  h.max_error = grid.lossless ? 0 : opts.max_error;
+  h.lossless = grid.lossless;
+  h.ragged = true;
+  h.points_reordered = opts.any_point_order;
+  std::vector<uint8_t> head_buf;
+  write_file_header(&head_buf, kFormatScans.minor);
+  const std::vector<uint8_t> head = encode_header(h), meta = encode_meta(meta_take, false);
+  append_chunk(&head_buf, "HEAD", head);
+  append_chunk(&head_buf, "META", meta);
+  const size_t meta_at = head_buf.size() - meta.size() - kChunkOverhead;
+  StreamFeatures features;
+  features.minor = kFormatScans.minor;
+  const StreamContext ctx = read_context(
+      h, read_chunk(head_buf.data(), head_buf.size(), meta_at, t.source), features, t.source);
+  // "Lossless ragged streams": HASH and PCDR of the frame files, a PCDP per window, against the
+  // take as META gives it back (the decoder's header).
+  std::unique_ptr<ResidueWriter> residue;
+  if (grid.lossless && !original.empty())
+    residue = ResidueWriter::open(original, ctx.take, opts.check);
+  if (residue) residue->file_chunks(&head_buf, true);
+  out->flush(&head_buf);
+  RaggedRun r{t,  opts,        grid, ctx, meta_take,          out,
+              {}, 0,           0,    0,   ErrorAccumulator(), residue.get(),
+              {}, FrameBlock()};
+  const size_t W = h.window_frames;
+  for (size_t w = 0; w * W < t.frames; ++w) {
+    const size_t f0 = w * W, f1 = std::min<size_t>(f0 + W, t.frames);
+    if (w > 0) src.read(f0, f1 - f0, &block);  // window 0: still there from pass 1
+    code_window(r, w, &block, stats != nullptr);
+    if (opts.progress) opts.progress(f1, t.frames);
+  }
+  if (residue) residue->finish();
+  std::vector<uint8_t> tail;
+  append_chunk(&tail, "INDX", encode_index(r.index));
+  out->flush(&tail);
+  if (stats) fill_stats(r, t.total_points(), stats);
+}
 
 std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
                                      CompressStats* stats, const std::string& original) {
@@ -404,63 +460,11 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
       fail(ErrorCode::kInvalidParameter, t.source,
            "point field '" + a.name + "' does not hold a value for every point");
   refuse_unsupported(t, opts);
-  const Grid grid = choose_grid(t, opts);
-  const Take meta_take = meta_take_of(t, opts);
-  StreamHeader h;
-  h.frames = t.frames;
-  h.window_frames = window_frames(t, opts);
-  h.source_format = t.format;  // PLY and .bin: HEAD's frame-file source (feature bit 4)
-  h.mode = grid.mode;
-  h.step = grid.step;
-  h.max_error = grid.lossless ? 0 : opts.max_error;
-  h.lossless = grid.lossless;
-  h.ragged = true;
-  h.points_reordered = opts.any_point_order;
-  std::vector<uint8_t> out;
-  write_file_header(&out, kFormatScans.minor);
-  const std::vector<uint8_t> head = encode_header(h), meta = encode_meta(meta_take, false);
-  append_chunk(&out, "HEAD", head);
-  append_chunk(&out, "META", meta);
-  const size_t meta_at = out.size() - meta.size() - kChunkOverhead;
-  StreamFeatures features;
-  features.minor = kFormatScans.minor;
-  const StreamContext ctx =
-      read_context(h, read_chunk(out.data(), out.size(), meta_at, t.source), features, t.source);
-  // "Lossless ragged streams": HASH and PCDR of the frame files, a PCDP per window, against the
-  // take as META gives it back (the decoder's header).
-  std::unique_ptr<ResidueWriter> residue;
-  if (grid.lossless && !original.empty())
-    residue = ResidueWriter::open(original, ctx.take, opts.check);
-  if (residue) residue->file_chunks(&out, true);
-  // --point-order any: each window coded, checked and measured in its coded order.
-  const Take reordered =
-      opts.any_point_order ? reordered_take(t, grid, h.window_frames, ring_field(t)) : Take();
-  const Take& coded = opts.any_point_order ? reordered : t;
-  RaggedRun r{coded, opts, grid, ctx, meta_take, ring_field(coded),
-              &out,  {},   0,    0,   0,         ErrorAccumulator()};
-  r.residue = residue.get();
-  for (size_t w = 0; w * h.window_frames < t.frames; ++w) {
-    const size_t f0 = w * h.window_frames, f1 = std::min<size_t>(f0 + h.window_frames, t.frames);
-    append_window(r, w, f0, f1, stats != nullptr);
-    if (opts.progress) opts.progress(f1, t.frames);
-  }
-  if (residue) residue->finish();
-  append_chunk(&out, "INDX", encode_index(r.index));
-  if (stats) {
-    *stats = CompressStats();
-    stats->bytes = out.size();
-    stats->raw_bytes = total * 12;
-    stats->bpvf = total ? 8.0 * static_cast<double>(out.size()) / static_cast<double>(total) : 0;
-    stats->step = grid.step;
-    stats->lossless = grid.lossless;
-    stats->mode = r.split_windows > 0 ? "float32-split" : mode_name(grid.mode);
-    stats->error = r.acc.finish();
-    stats->codec = "none";
-    stats->position_bytes = r.position_bytes;
-    stats->attribute_bytes = r.attribute_bytes;
-    stats->other_bytes = out.size() - r.position_bytes - r.attribute_bytes;
-  }
-  return out;
+  std::unique_ptr<FrameSource> src = take_frames(t);
+  std::vector<uint8_t> bytes;
+  StreamOut out(&bytes);
+  encode_ragged(*src, opts, &out, stats, original);
+  return bytes;
 }
 
 }  // namespace capz
