@@ -15,7 +15,8 @@ namespace capz {
 // Block b (a window of a ragged take, as the encoder codes it) with each frame's points, and
 // their fields, in the order coding/scan_geometry.h's scan_point_order gives under `grid`, the
 // table inferred on the window. `ring`: the block's ring field of every point, or empty. The
-// frames keep their counts and gaps (moved after their valid points).
-void reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring);
+// frames keep their counts and gaps (moved after their valid points). Returns false, b
+// untouched, when the order chosen is the file's own.
+bool reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring);
 
 }  // namespace capz

@@ -67,13 +67,17 @@ void permute(std::vector<T>* v, size_t size, const std::vector<uint32_t>& order)
 
 }  // namespace
 
-void reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring) {
+bool reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring) {
   const std::vector<uint32_t> order = window_order(*b, grid, ring);
+  bool moved = false;
+  for (size_t j = 0; j < order.size() && !moved; ++j) moved = order[j] != j;
+  if (!moved) return false;
   permute(&b->xyz, 3, order);
   permute(&b->valid, 1, order);
   const size_t n = b->total_points();
   for (std::vector<uint8_t>& a : b->attributes)
     if (n > 0 && a.size() % n == 0) permute(&a, a.size() / n, order);
+  return true;
 }
 
 }  // namespace capz

@@ -331,6 +331,18 @@ void append_fields_chunk(RaggedRun& r, size_t w, const std::vector<std::vector<u
   r.attribute_bytes += r.buf.size() - before;
 }
 
+// Window w's SCNW and, with fields, ATTR appended to r.buf from block b (its fields taken into
+// *fields, the bounded float ones of META's layout quantised as the decoder gives them back,
+// FORMAT.md 16.4); *q: the SCNW integers.
+void code_chunks(RaggedRun& r, size_t w, FrameBlock* b, std::vector<int32_t>* q,
+                 std::vector<std::vector<uint8_t>>* fields) {
+  append_scan_chunk(r, w, *b, q);
+  if (r.meta.attributes.empty()) return;
+  *fields = std::move(b->attributes);
+  quantise_bounded_fields(*r.meta.pcd, fields);
+  append_fields_chunk(r, w, *fields, *b, *q);
+}
+
 // Window w (the frames of b, as read; its fields are taken): its chunks written to r.out, after
 // the one decoder has given them back for the check (opts.check) and the measures (stats).
 void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
@@ -341,18 +353,33 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
       fail(ErrorCode::kInvalidParameter, t.source,
            "point field '" + t.attributes[a].name + "' does not hold a value for every point");
   // --point-order any: the window coded, checked and measured in its coded order.
-  if (r.opts.any_point_order) reorder_window(b, r.grid, ring_field(t.attributes, *b));
+  std::unique_ptr<FrameBlock> as_read;
+  if (r.opts.any_point_order) {
+    if (!r.meta.attributes.empty()) as_read.reset(new FrameBlock(*b));
+    if (!reorder_window(b, r.grid, ring_field(t.attributes, *b))) as_read.reset();
+  }
   const size_t base = r.out->size();
   r.buf.clear();
   std::vector<int32_t> q;
-  append_scan_chunk(r, w, *b, &q);
-  // What ATTR codes and the decoder gives back: the fields, the bounded float ones of META's
-  // layout quantised (FORMAT.md 16.4).
   std::vector<std::vector<uint8_t>> fields;
-  if (!r.meta.attributes.empty()) {
-    fields = std::move(b->attributes);
-    quantise_bounded_fields(*r.meta.pcd, &fields);
-    append_fields_chunk(r, w, fields, *b, q);
+  const size_t position0 = r.position_bytes, attribute0 = r.attribute_bytes;
+  code_chunks(r, w, b, &q, &fields);
+  if (as_read) {  // the order was chosen on the geometry: with fields, keep the smaller window
+    std::vector<uint8_t> sorted;
+    sorted.swap(r.buf);
+    const size_t position1 = r.position_bytes, attribute1 = r.attribute_bytes;
+    r.position_bytes = position0, r.attribute_bytes = attribute0;
+    std::vector<int32_t> q2;
+    std::vector<std::vector<uint8_t>> fields2;
+    code_chunks(r, w, as_read.get(), &q2, &fields2);
+    if (r.buf.size() < sorted.size()) {
+      *b = std::move(*as_read);
+      q.swap(q2);
+      fields.swap(fields2);
+    } else {
+      r.buf.swap(sorted);
+      r.position_bytes = position1, r.attribute_bytes = attribute1;
+    }
   }
   FrameBlock& d = r.back;
   if (r.opts.check || measure) {

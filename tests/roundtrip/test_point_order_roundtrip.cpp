@@ -63,6 +63,11 @@ TEST(PointOrderRoundTrip, GivenScanSmallThenEachFramesPointsAndFieldsAsASetWithi
     drop.drop_fields = kept.drop_fields = true;
     kept.any_point_order = false;
     EXPECT_LE(compress(t, drop).size(), compress(t, kept).size());
+    // With the fields the window is kept in the order whose SCNW and ATTR are smaller together:
+    // sorted, these Helios sweeps' timestamps and angles cost more than the positions save.
+    CompressOptions kept_fields = o;
+    kept_fields.any_point_order = false;
+    EXPECT_LE(z.size(), compress(t, kept_fields).size());
   }
 }
 

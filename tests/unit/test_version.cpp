@@ -121,8 +121,8 @@ TEST(Version, GivenAnUnknownChunkThenACriticalOneIsRefusedAndAnAncillaryOneSkipp
   }
 }
 
-// FORMAT.md 17: a HEAD flag bit that this decoder's formats (1.0, and 1.1's bits 3, 4 and 5) leave 0
-// names a feature of a later minor.
+// FORMAT.md 17: a HEAD flag bit that this decoder's formats (1.0, and 1.1's bits 3, 4 and 5) leave
+// 0 names a feature of a later minor.
 TEST(Version, GivenAnUnknownHeadFlagThenTheFeatureIsNamed) {
   const std::vector<uint8_t> later = relabelled(small_stream(), 1, 2);
   std::vector<capz_test::Piece> ps = capz_test::pieces(later);
