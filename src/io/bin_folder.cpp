@@ -138,21 +138,17 @@ std::vector<uint8_t> bin_frame_bytes(size_t n, const double* xyz, const uint8_t*
   return out;
 }
 
-std::vector<float> bin_intensity(const Take& take, size_t begin, size_t n) {
-  for (const PointAttribute& a : take.attributes) {
-    if (a.name != "intensity" || a.count != 1) continue;
-    std::vector<float> v(n);
-    const size_t s = static_cast<size_t>(a.size);
-    for (size_t i = 0; i < n; ++i) {
-      const uint8_t* p = a.data.data() + (begin + i) * s;
-      if (a.type == 'F' && a.size == 4)
-        std::memcpy(&v[i], p, 4);  // bit for bit (NaN payloads kept)
-      else
-        v[i] = static_cast<float>(field_value(p, a.type, a.size));
-    }
-    return v;
+std::vector<float> bin_intensity(const PointAttribute& a, const uint8_t* bytes, size_t n) {
+  std::vector<float> v(n);
+  const size_t s = static_cast<size_t>(a.size);
+  for (size_t i = 0; i < n; ++i) {
+    const uint8_t* p = bytes + i * s;
+    if (a.type == 'F' && a.size == 4)
+      std::memcpy(&v[i], p, 4);  // bit for bit (NaN payloads kept)
+    else
+      v[i] = static_cast<float>(field_value(p, a.type, a.size));
   }
-  return {};
+  return v;
 }
 
 Take read_bin_folder(const std::string& path) {
@@ -164,13 +160,38 @@ std::unique_ptr<FrameSource> open_bin_frames(const std::string& path) {
   return std::unique_ptr<FrameSource>(new BinSource(path));
 }
 
+namespace {
+
+// The frame's intensity: the take's "intensity" field of COUNT 1 (its layout kept, not its
+// values), else zeros.
+FrameFileBytes bin_file_writer(const Take& take) {
+  size_t k = 0;
+  while (k < take.attributes.size() &&
+         (take.attributes[k].name != "intensity" || take.attributes[k].count != 1))
+    ++k;
+  PointAttribute layout;
+  if (k < take.attributes.size()) {
+    layout.name = take.attributes[k].name;
+    layout.type = take.attributes[k].type;
+    layout.size = take.attributes[k].size;
+  }
+  return [layout, k](const FrameView& v) {
+    const std::vector<float> in =
+        k < v.attrs.size() ? bin_intensity(layout, v.attrs[k], v.points) : std::vector<float>();
+    return bin_frame_bytes(v.points, v.xyz, v.valid, in.empty() ? nullptr : in.data());
+  };
+}
+
+}  // namespace
+
 void write_bin_folder(const Take& take, const std::string& path, const WriteOptions& opts) {
-  write_frame_files(take, path, ".bin", opts.overwrite, [&](size_t f) {
-    const size_t b = take.frame_begin(f), n = take.frame_points(f);
-    const std::vector<float> in = bin_intensity(take, b, n);
-    return bin_frame_bytes(n, take.xyz.data() + b * 3, take.valid.data() + b,
-                           in.empty() ? nullptr : in.data());
-  });
+  write_frame_files(take, path, ".bin", opts.overwrite, bin_file_writer(take));
+}
+
+std::unique_ptr<FrameSink> bin_folder_sink(const Take& header, const std::string& path,
+                                           const WriteOptions& opts) {
+  return frame_folder_sink(header, path, ".bin", opts.overwrite, false,
+                           [header](std::optional<bool>) { return bin_file_writer(header); });
 }
 
 }  // namespace capz

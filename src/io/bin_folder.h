@@ -3,10 +3,12 @@
 // a point with a NaN or infinite coordinate is a gap, kept in place. Part of the decoder library.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "capz/io.h"
+#include "capz/stream.h"
 #include "capz/take.h"
 #include "io/frame_files.h"
 
@@ -22,8 +24,13 @@ void read_bin_frame(const uint8_t* bytes, size_t size, const std::string& name, 
 std::vector<uint8_t> bin_frame_bytes(size_t n, const double* xyz, const uint8_t* valid,
                                      const float* intensity);
 
-// The intensity a .bin frame holds for the points [begin, begin + n) of `take`: its "intensity"
-// field (any numeric type, converted to float32), else zeros. Empty when the take has none.
-std::vector<float> bin_intensity(const Take& take, size_t begin, size_t n);
+// The intensity of `n` points as a .bin frame holds it: the bytes of field `a` (its type and
+// size; COUNT 1, any numeric type) converted to float32, a float32 field bit for bit.
+std::vector<float> bin_intensity(const PointAttribute& a, const uint8_t* bytes, size_t n);
+
+// A folder of .bin frames written block by block (frame_folder_sink): the files write_bin_folder
+// writes of the whole take.
+std::unique_ptr<FrameSink> bin_folder_sink(const Take& header, const std::string& path,
+                                           const WriteOptions& opts);
 
 }  // namespace capz

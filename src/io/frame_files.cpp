@@ -14,6 +14,7 @@
 #include "core/atomic_file.h"
 #include "core/input_file.h"
 #include "io/natural_sort.h"
+#include "io/pcd_frame_writer.h"
 
 namespace fs = std::filesystem;
 
@@ -38,8 +39,30 @@ std::vector<uint8_t> read_header_bytes(const std::string& path, const std::strin
   return head;
 }
 
+FrameView frame_view(const Take& take, size_t f) {
+  FrameView v;
+  const size_t b = take.frame_begin(f);
+  v.points = take.frame_points(f);
+  v.xyz = take.xyz.data() + b * 3;
+  v.valid = take.valid.data() + b;
+  for (const PointAttribute& a : take.attributes)
+    v.attrs.push_back(a.data.data() + b * a.bytes_per_point());
+  return v;
+}
+
+FrameView frame_view(const FrameBlock& b, size_t k) {
+  FrameView v;
+  const size_t p0 = b.frame_begin(k), total = b.total_points();
+  v.points = b.frame_points(k);
+  v.xyz = b.xyz.data() + p0 * 3;
+  v.valid = b.valid.data() + p0;
+  for (const std::vector<uint8_t>& a : b.attributes)
+    v.attrs.push_back(a.data() + p0 * (total ? a.size() / total : 0));
+  return v;
+}
+
 void write_frame_files(const Take& take, const std::string& path, const std::string& ext,
-                       bool overwrite, const std::function<std::vector<uint8_t>(size_t)>& frame) {
+                       bool overwrite, const FrameFileBytes& frame) {
   const std::string fault = take.shape_fault();
   if (!fault.empty()) fail(ErrorCode::kInternal, path, "take arrays: " + fault);
   if (take.frames == 0) fail(ErrorCode::kUsage, path, "the take has no frames: nothing to write");
@@ -48,15 +71,73 @@ void write_frame_files(const Take& take, const std::string& path, const std::str
       fail(ErrorCode::kUsage, path,
            "a " + ext + " file holds one frame and the take has " + std::to_string(take.frames) +
                ": give a folder path");
-    write_file(path, frame(0), overwrite);
+    write_file(path, frame(frame_view(take, 0)), overwrite);
     return;
   }
   const std::vector<std::string> names = frame_output_names(take, ext);
   check_replaceable_frame_dir(path, ext, overwrite);
   AtomicDir out(path, overwrite);
   for (size_t f = 0; f < take.frames; ++f)
-    write_file((fs::path(out.temp_dir()) / names[f]).string(), frame(f), true);
+    write_file((fs::path(out.temp_dir()) / names[f]).string(), frame(frame_view(take, f)), true);
   out.commit();
+}
+
+namespace {
+
+class FrameFolderSink : public FrameSink {
+ public:
+  FrameFolderSink(const Take& header, const std::string& path, const std::string& ext,
+                  bool overwrite, bool needs_scan,
+                  std::function<FrameFileBytes(std::optional<bool>)> make)
+      : frames_(header.frames), path_(path), scan_(needs_scan), make_(std::move(make)) {
+    if (frames_ == 0) fail(ErrorCode::kUsage, path, "the take has no frames: nothing to write");
+    names_ = frame_output_names(header, ext);
+    check_replaceable_frame_dir(path, ext, overwrite);
+    out_.reset(new AtomicDir(path, overwrite));
+  }
+  bool wants_prescan() const override { return scan_ && !scanned_; }
+  void prescan(const FrameBlock& b) override {
+    xyz_float_ =
+        xyz_float_ && coordinates_are_floats(b.total_points(), b.xyz.data(), b.valid.data());
+  }
+  void write(const FrameBlock& b) override {
+    if (!bytes_) {
+      bytes_ = make_(scan_ ? std::optional<bool>(xyz_float_) : std::nullopt);
+      scanned_ = true;
+    }
+    const size_t total = b.total_points();
+    if (b.first != written_ || written_ + b.frames > frames_ || b.xyz.size() != total * 3 ||
+        b.valid.size() != total)
+      fail(ErrorCode::kInternal, path_, "frames written out of order or beyond the header's count");
+    for (size_t k = 0; k < b.frames; ++k)
+      write_file((fs::path(out_->temp_dir()) / names_[b.first + k]).string(),
+                 bytes_(frame_view(b, k)), true);
+    written_ += b.frames;
+  }
+  void commit() override {
+    if (written_ != frames_)
+      fail(ErrorCode::kInternal, path_,
+           std::to_string(written_) + " of " + std::to_string(frames_) + " frames written");
+    out_->commit();
+  }
+
+ private:
+  size_t frames_, written_ = 0;
+  std::string path_;
+  bool scan_, scanned_ = false, xyz_float_ = true;
+  std::function<FrameFileBytes(std::optional<bool>)> make_;
+  FrameFileBytes bytes_;
+  std::vector<std::string> names_;
+  std::unique_ptr<AtomicDir> out_;
+};
+
+}  // namespace
+
+std::unique_ptr<FrameSink> frame_folder_sink(
+    const Take& header, const std::string& path, const std::string& ext, bool overwrite,
+    bool needs_scan, std::function<FrameFileBytes(std::optional<bool>)> make) {
+  return std::unique_ptr<FrameSink>(
+      new FrameFolderSink(header, path, ext, overwrite, needs_scan, std::move(make)));
 }
 
 bool has_extension(const std::string& path, const std::string& ext) {

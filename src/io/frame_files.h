@@ -8,6 +8,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,13 +39,39 @@ std::vector<uint8_t> read_file_head(const std::string& path, size_t bytes);
 // hold `marker` (the header's last line's key, "\nDATA", "end_header").
 std::vector<uint8_t> read_header_bytes(const std::string& path, const std::string& marker);
 
-// Writes the take's frames as files ending in `ext` (".ply", ".bin"), each frame's bytes from
-// frame(f): one file at `path` when single_frame_output(path, ext) (the take must have one
-// frame), else a folder of frame_output_names, replaced atomically (AtomicDir). Throws
-// Error(kInternal) for a take whose arrays do not match its shape, kUsage for a take without
-// frames or a single file asked of several.
+// One frame as a writer takes it: its points, their coordinates (points x 3) and validity, and
+// per take attribute a pointer to the frame's bytes (points x count x size).
+struct FrameView {
+  size_t points = 0;
+  const double* xyz = nullptr;
+  const uint8_t* valid = nullptr;
+  std::vector<const uint8_t*> attrs;
+};
+
+// Frame f of a take, frame k of a block (its arrays must match its shape).
+FrameView frame_view(const Take& take, size_t f);
+FrameView frame_view(const FrameBlock& b, size_t k);
+
+// A frame file's bytes from its frame (pcd_file_writer, ply_file_writer, bin_file_writer: the
+// one producer both the whole-take writers and the folder sink use).
+using FrameFileBytes = std::function<std::vector<uint8_t>(const FrameView&)>;
+
+// Writes the take's frames as files ending in `ext` (".pcd", ".ply", ".bin"), each frame's bytes
+// from frame(frame_view(take, f)): one file at `path` when single_frame_output(path, ext) (the
+// take must have one frame), else a folder of frame_output_names, replaced atomically
+// (AtomicDir). Throws Error(kInternal) for a take whose arrays do not match its shape, kUsage for
+// a take without frames or a single file asked of several.
 void write_frame_files(const Take& take, const std::string& path, const std::string& ext,
-                       bool overwrite, const std::function<std::vector<uint8_t>(size_t)>& frame);
+                       bool overwrite, const FrameFileBytes& frame);
+
+// A sink writing a folder of frame files as the blocks come (memory bounded by a block, not by
+// the take): each frame's file goes into the AtomicDir's temporary folder, renamed into `path` at
+// commit (nothing is left on failure). `make(header, xyz_float)` gives the format's producer;
+// `needs_scan` says whether its coordinate type comes from the data, which the sink then learns
+// by a prescan of every block (coordinates_are_floats). The same files as write_frame_files.
+std::unique_ptr<FrameSink> frame_folder_sink(
+    const Take& header, const std::string& path, const std::string& ext, bool overwrite,
+    bool needs_scan, std::function<FrameFileBytes(std::optional<bool>)> make);
 
 // The extension of a frame format's files: ".pcd", ".ply", ".bin" ("" for another format).
 const char* frame_extension(Format f);

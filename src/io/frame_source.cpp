@@ -1,6 +1,6 @@
 // Decoder library (capz_decode): builds without PCL and without the transform encoders.
 // Frame sources and sinks (include/capz/stream.h): C3D read by frame ranges, an in-memory take,
-// a C3D written frame block by frame block, and the whole-take fallback for the other formats.
+// a C3D, a TRC and folders of frame files written block by block, and the whole-take fallback.
 #include <algorithm>
 #include <memory>
 
@@ -9,7 +9,10 @@
 #include "capz/stream.h"
 #include "core/atomic_file.h"
 #include "core/input_file.h"
+#include "io/bin_folder.h"
 #include "io/c3d_internal.h"
+#include "io/pcd_folder.h"
+#include "io/ply.h"
 #include "io/trc_internal.h"
 
 namespace capz {
@@ -264,8 +267,8 @@ class TakeSource : public FrameSource {
 };
 
 // ---------------------------------------------------------------------------------------------
-// Collects the frames and writes the whole take at commit (TRC, PCD folders, and C3D files
-// whose int16 scale must come from the data).
+// Collects the frames and writes the whole take at commit (C3D files whose int16 scale must
+// come from the data, a single frame file).
 class WholeTakeSink : public FrameSink {
  public:
   WholeTakeSink(const Take& header, bool words, const std::string& path, const WriteOptions& opts)
@@ -501,6 +504,14 @@ std::unique_ptr<FrameSink> create_frame_sink(const Take& header, bool words,
   if (f == Format::kTRC) {
     check_output_free(target, opts.overwrite);
     return std::unique_ptr<FrameSink>(new TRCSink(header, target, opts));
+  }
+  // Folders of frame files, file by file as the blocks come (a single frame file: whole).
+  const char* ext = frame_extension(f);
+  if (*ext && !single_frame_output(target, ext)) {
+    check_output_free(target, opts.overwrite);
+    if (f == Format::kPCDFolder) return pcd_folder_sink(header, target, opts);
+    if (f == Format::kPLYFolder) return ply_folder_sink(header, target, opts);
+    return bin_folder_sink(header, target, opts);
   }
   return std::unique_ptr<FrameSink>(new WholeTakeSink(header, words, path, opts));
 }

@@ -386,50 +386,47 @@ void check_replaceable_pcd_dir(const std::string& dir, bool overwrite) {
   check_replaceable_frame_dir(dir, ".pcd", overwrite);
 }
 
-void write_pcd_folder(const Take& take, const std::string& dir, const WriteOptions& opts) {
+namespace {
+
+// The PCD encoding written: the option's, else the source's, else binary.
+std::string pcd_encoding(const Take& take, const WriteOptions& opts, const std::string& dir) {
   const std::string enc = !opts.pcd_encoding.empty()                ? opts.pcd_encoding
                           : take.pcd && !take.pcd->encoding.empty() ? take.pcd->encoding
                                                                     : "binary";
   if (enc != "ascii" && enc != "binary" && enc != "binary_compressed")
     fail(ErrorCode::kInvalidParameter, dir,
          "unknown PCD encoding '" + enc + "' (ascii, binary or binary_compressed)");
-  const size_t F = take.frames;
-  const std::string fault = take.shape_fault();
-  if (!fault.empty()) fail(ErrorCode::kInternal, dir, "take arrays: " + fault);
-  if (F == 0) fail(ErrorCode::kUsage, dir, "the take has no frames: nothing to write as PCD");
-  for (size_t f = 0; f < F; ++f)
-    if (take.frame_points(f) > (size_t{1} << 31))
+  return enc;
+}
+
+}  // namespace
+
+FrameFileBytes pcd_file_writer(const Take& take, const std::string& enc, const std::string& dir,
+                               std::optional<bool> xyz_float) {
+  return [plan = pcd_frame_plan(take, enc, xyz_float), points = std::vector<uint8_t>(),
+          ragged = take.ragged(), dir](const FrameView& v) mutable {
+    if (v.points > (size_t{1} << 31))
       fail(ErrorCode::kUsage, dir, "too many points for a PCD file");
+    if (ragged) plan.layout.width = v.points, plan.layout.height = 1;
+    pcd_frame_points(plan, v.points, v.xyz, v.valid, v.attrs, &points);
+    return pcd_frame_bytes(plan.layout, points.data());
+  };
+}
 
-  const std::vector<std::string> names = pcd_output_names(take);
-  PcdFramePlan plan = pcd_frame_plan(take, enc);
+void write_pcd_folder(const Take& take, const std::string& dir, const WriteOptions& opts) {
+  const std::string enc = pcd_encoding(take, opts, dir);
+  write_frame_files(take, dir, ".pcd", opts.overwrite,
+                    pcd_file_writer(take, enc, dir, std::nullopt));
+}
 
-  const bool single = single_frame_output(dir, ".pcd");
-  if (single && F != 1)
-    fail(ErrorCode::kUsage, dir,
-         "a .pcd file holds one frame and the take has " + std::to_string(F) +
-             ": give a folder path");
-  std::unique_ptr<AtomicDir> out;
-  if (!single) {
-    check_replaceable_pcd_dir(dir, opts.overwrite);
-    out.reset(new AtomicDir(dir, opts.overwrite));
-  }
-  std::vector<uint8_t> points;
-  std::vector<const uint8_t*> attrs(take.attributes.size());
-  for (size_t f = 0; f < F; ++f) {
-    const size_t b = take.frame_begin(f), n = take.frame_points(f);
-    for (size_t a = 0; a < attrs.size(); ++a)
-      attrs[a] = take.attributes[a].data.data() + b * take.attributes[a].bytes_per_point();
-    if (take.ragged()) plan.layout.width = n, plan.layout.height = 1;
-    pcd_frame_points(plan, n, take.xyz.data() + b * 3, take.valid.data() + b, attrs, &points);
-    if (single) {
-      write_file(dir, pcd_frame_bytes(plan.layout, points.data()), opts.overwrite);
-      return;
-    }
-    const std::string path = (fs::path(out->temp_dir()) / names[f]).string();
-    write_file(path, pcd_frame_bytes(plan.layout, points.data()), true);
-  }
-  out->commit();
+std::unique_ptr<FrameSink> pcd_folder_sink(const Take& header, const std::string& dir,
+                                           const WriteOptions& opts) {
+  const std::string enc = pcd_encoding(header, opts, dir);
+  return frame_folder_sink(header, dir, ".pcd", opts.overwrite,
+                           pcd_frame_plan(header, enc).xyz_from_data,
+                           [header, enc, dir](std::optional<bool> xyz_float) {
+                             return pcd_file_writer(header, enc, dir, xyz_float);
+                           });
 }
 
 }  // namespace capz

@@ -179,7 +179,15 @@ std::string pcd_frame_header(const PcdFrameLayout& layout) {
   return header(written_layout(layout), layout.width * layout.height);
 }
 
-PcdFramePlan pcd_frame_plan(const Take& take, const std::string& enc) {
+bool coordinates_are_floats(size_t n, const double* xyz, const uint8_t* valid) {
+  for (size_t i = 0; i < n; ++i)
+    for (int a = 0; a < 3 && valid[i]; ++a)
+      if (static_cast<double>(static_cast<float>(xyz[i * 3 + a])) != xyz[i * 3 + a]) return false;
+  return true;
+}
+
+PcdFramePlan pcd_frame_plan(const Take& take, const std::string& enc,
+                            std::optional<bool> xyz_float) {
   const size_t N = take.points, total = take.total_points();
   // The fields: the source's layout when it matches the take (x y z and its attributes, in
   // order), else x y z then the attributes.
@@ -214,15 +222,11 @@ PcdFramePlan pcd_frame_plan(const Take& take, const std::string& enc) {
   // float64 so no precision is lost.
   plan.as_float = xyz_size == 4;
   if (xyz_size == 0) {
-    plan.as_float = true;
+    plan.xyz_from_data = true;
     const bool arrays = take.valid.size() == total && take.xyz.size() == total * 3;
-    for (size_t i = 0; arrays && i < total && plan.as_float; ++i) {
-      if (!take.valid[i]) continue;
-      for (int a = 0; a < 3; ++a) {
-        const double v = take.xyz[i * 3 + a];
-        if (static_cast<double>(static_cast<float>(v)) != v) plan.as_float = false;
-      }
-    }
+    plan.as_float =
+        xyz_float ? *xyz_float
+                  : !arrays || coordinates_are_floats(total, take.xyz.data(), take.valid.data());
   }
   PcdFrameLayout& layout = plan.layout;
   layout.encoding = enc;

@@ -17,6 +17,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -49,12 +50,18 @@ struct PcdFramePlan {
   size_t axis_offset[3] = {0, 0, 0};
   std::vector<size_t> attr_offset;  // per Take::attributes entry
   bool as_float = true;             // x y z float32 (else float64)
+  bool xyz_from_data = false;       // as_float came from the coordinates (no layout said)
 };
 
 // The plan for `take` in encoding `enc`. Coordinates: float32 when the layout says so or, without
-// a layout, when every valid coordinate of take.xyz is exactly a float (a take without frame
-// arrays: float32). A ragged take's plan has width 0: set layout.width to each frame's count.
-PcdFramePlan pcd_frame_plan(const Take& take, const std::string& enc);
+// a layout, when every valid coordinate is exactly a float: `xyz_float` when given (a sink that
+// scanned the frames block by block), else take.xyz's (a take without frame arrays: float32).
+// A ragged take's plan has width 0: set layout.width to each frame's count.
+PcdFramePlan pcd_frame_plan(const Take& take, const std::string& enc,
+                            std::optional<bool> xyz_float = std::nullopt);
+
+// True when every valid coordinate of the `n` points (xyz n x 3, valid n) is exactly a float32.
+bool coordinates_are_floats(size_t n, const double* xyz, const uint8_t* valid);
 
 // One value of field f (little-endian bytes at p, f.size of them) as ASCII PCD writes it:
 // integers in decimal, floats as the shortest text that reads back to the same value ("nan",

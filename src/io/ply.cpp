@@ -2,6 +2,7 @@
 // PLY frames (io/ply.h): header, ASCII and binary bodies, and the writer.
 #include "io/ply.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -271,7 +272,7 @@ void read_ply_frame(const std::vector<uint8_t>& bytes, const PlyHeader& h, const
   }
 }
 
-PlyPlan ply_plan(const Take& take, const std::string& encoding) {
+PlyPlan ply_plan(const Take& take, const std::string& encoding, std::optional<bool> xyz_float) {
   PlyPlan plan;
   PlyHeader& h = plan.header;
   h.encoding = !encoding.empty()                         ? encoding
@@ -304,11 +305,10 @@ PlyPlan ply_plan(const Take& take, const std::string& encoding) {
     }
     plan.attribute.clear();
   }
-  bool as_float = true;
-  for (size_t i = 0; i < take.valid.size() && as_float; ++i)
-    for (int a = 0; a < 3 && take.valid[i]; ++a)
-      as_float = as_float && static_cast<double>(static_cast<float>(take.xyz[i * 3 + a])) ==
-                                 take.xyz[i * 3 + a];
+  plan.xyz_from_data = true;
+  const size_t n = std::min(take.valid.size(), take.xyz.size() / 3);
+  const bool as_float =
+      xyz_float ? *xyz_float : coordinates_are_floats(n, take.xyz.data(), take.valid.data());
   for (int a = 0; a < 3; ++a) {
     h.fields.push_back(
         PCDField{std::string(1, static_cast<char>('x' + a)), 'F', as_float ? 4 : 8, 1});

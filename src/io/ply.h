@@ -17,9 +17,13 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "capz/io.h"
+#include "capz/stream.h"
 #include "capz/take.h"
 #include "io/frame_files.h"
 
@@ -57,18 +61,27 @@ void read_ply_frame(const std::vector<uint8_t>& bytes, const PlyHeader& h, const
 struct PlyPlan {
   PlyHeader header;            // encoding, version, fields, type names, comments
   std::vector<int> attribute;  // per field: its Take::attributes index; -1 x, -2 y, -3 z
+  bool xyz_from_data = false;  // the coordinates' type came from the coordinates
 };
 
 // The plan for `take` in `encoding` (empty: the source's, else binary_little_endian): the
 // source's vertex layout when it matches the take's attributes, else x y z (float when every
 // valid coordinate is exactly a float, else double) then each attribute of COUNT 1 (padding
 // "_" fields and fields of COUNT above 1 left out: PLY properties hold one value).
-PlyPlan ply_plan(const Take& take, const std::string& encoding);
+// `xyz_float`, when given, says whether every valid coordinate is exactly a float (a sink that
+// scanned the frames block by block) instead of take.xyz.
+PlyPlan ply_plan(const Take& take, const std::string& encoding,
+                 std::optional<bool> xyz_float = std::nullopt);
 
 // The PLY file of `n` points: xyz (n x 3), valid (n; gaps are NaN vertices), and per take
 // attribute a pointer to the frame's bytes (n x count x size; only COUNT 1 ones are written).
 std::vector<uint8_t> ply_frame_bytes(const PlyPlan& plan, size_t n, const double* xyz,
                                      const uint8_t* valid,
                                      const std::vector<const uint8_t*>& attr_bytes);
+
+// A folder of PLY frames written block by block (frame_folder_sink): the files write_ply_folder
+// writes of the whole take.
+std::unique_ptr<FrameSink> ply_folder_sink(const Take& header, const std::string& path,
+                                           const WriteOptions& opts);
 
 }  // namespace capz

@@ -91,20 +91,38 @@ std::unique_ptr<FrameSource> open_ply_frames(const std::string& path) {
   return std::unique_ptr<FrameSource>(new PLYSource(path));
 }
 
-void write_ply_folder(const Take& take, const std::string& path, const WriteOptions& opts) {
+namespace {
+
+const std::string& ply_encoding(const WriteOptions& opts, const std::string& path) {
   const std::string& enc = opts.ply_encoding;
   if (!enc.empty() && enc != "ascii" && enc != "binary_little_endian" && enc != "binary_big_endian")
     fail(ErrorCode::kInvalidParameter, path,
          "unknown PLY encoding '" + enc + "' (ascii, binary_little_endian or binary_big_endian)");
-  const PlyPlan plan = ply_plan(take, enc);
-  std::vector<const uint8_t*> attrs(take.attributes.size());
-  write_frame_files(take, path, ".ply", opts.overwrite, [&](size_t f) {
-    const size_t b = take.frame_begin(f);
-    for (size_t a = 0; a < attrs.size(); ++a)
-      attrs[a] = take.attributes[a].data.data() + b * take.attributes[a].bytes_per_point();
-    return ply_frame_bytes(plan, take.frame_points(f), take.xyz.data() + b * 3,
-                           take.valid.data() + b, attrs);
-  });
+  return enc;
+}
+
+FrameFileBytes ply_file_writer(const Take& take, const std::string& enc,
+                               std::optional<bool> xyz_float) {
+  return [plan = ply_plan(take, enc, xyz_float)](const FrameView& v) {
+    return ply_frame_bytes(plan, v.points, v.xyz, v.valid, v.attrs);
+  };
+}
+
+}  // namespace
+
+void write_ply_folder(const Take& take, const std::string& path, const WriteOptions& opts) {
+  write_frame_files(take, path, ".ply", opts.overwrite,
+                    ply_file_writer(take, ply_encoding(opts, path), std::nullopt));
+}
+
+std::unique_ptr<FrameSink> ply_folder_sink(const Take& header, const std::string& path,
+                                           const WriteOptions& opts) {
+  const std::string enc = ply_encoding(opts, path);
+  return frame_folder_sink(header, path, ".ply", opts.overwrite,
+                           ply_plan(header, enc).xyz_from_data,
+                           [header, enc](std::optional<bool> xyz_float) {
+                             return ply_file_writer(header, enc, xyz_float);
+                           });
 }
 
 }  // namespace capz

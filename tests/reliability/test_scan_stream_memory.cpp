@@ -1,6 +1,7 @@
 // Memory of ragged takes (frames of their own point counts) bounded by a window, not by the
-// take (docs/STREAMING.md): compress_stream on a folder of PCD sweeps, and reading the archive
-// back a window at a time, peak at about the same heap for 4 frames as for 32. The heap is
+// take (docs/STREAMING.md): compress_stream on a folder of PCD sweeps, reading the archive back
+// a window at a time, and decompressing it to a PCD or a PLY folder (create_frame_sink, as
+// `capz decompress -o DIR/` does) peak at about the same heap for 4 frames as for 32. The heap is
 // counted by the allocation hooks of this executable (alloc_counter.h); no time is measured.
 #include <gtest/gtest.h>
 
@@ -55,8 +56,34 @@ fs::path write_sweeps(const std::string& name, size_t frames) {
 }
 
 struct Peaks {
-  int64_t encode = 0, decode = 0;
+  int64_t encode = 0, decode = 0, pcd_folder = 0, ply_folder = 0;
 };
+
+// The heap peak of decompressing `archive` to the folder `dir` (replaced) as the CLI does; the
+// folder then holds one file a frame.
+int64_t folder_peak(const std::string& archive, const fs::path& dir, capz::Format format,
+                    const std::string& ext) {
+  int64_t peak = 0;
+  size_t frames = 0;
+  {
+    capz_test::AllocScope scope;
+    std::unique_ptr<capz::FrameSource> dec = capz::open_capz_frames(archive);
+    frames = dec->header().frames;
+    capz::WriteOptions wo;
+    wo.overwrite = true;
+    wo.folder_format = format;
+    std::unique_ptr<capz::FrameSink> sink =
+        capz::create_frame_sink(dec->header(), dec->has_sample_words(), dir.string() + "/", wo);
+    capz::copy_frames(*dec, *sink, dec->preferred_block());
+    peak = scope.report().peak_bytes;
+  }
+  size_t files = 0;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir))
+    files += e.path().extension() == ext;
+  EXPECT_EQ(files, frames) << dir;
+  fs::remove_all(dir);
+  return peak;
+}
 
 // The heap peaks of compressing the folder (windows of 2 frames, the self-check on, fields
 // kept) and of reading the archive back window by window.
@@ -83,6 +110,10 @@ Peaks peaks_of(const fs::path& dir, bool lossless) {
     for (size_t f = 0; f < dec->header().frames; f += block) dec->read(f, block, &b);
     p.decode = scope.report().peak_bytes;
   }
+  if (!lossless) {  // the PLY folder: no PLY layout in the header, the coordinates are prescanned
+    p.pcd_folder = folder_peak(out, dir.string() + "_pcd", capz::Format::kPCDFolder, ".pcd");
+    p.ply_folder = folder_peak(out, dir.string() + "_ply", capz::Format::kPLYFolder, ".ply");
+  }
   fs::remove(out);
   return p;
 }
@@ -99,6 +130,15 @@ void expect_window_bounded(bool lossless) {
   const int64_t slack = int64_t{256} << 10;
   EXPECT_LT(b.encode, a.encode + a.encode / 4 + slack);
   EXPECT_LT(b.decode, a.decode + a.decode / 4 + slack);
+  if (!lossless) {
+    std::printf(
+        "decompress to a folder: 4 frames PCD %lld, PLY %lld; 32 frames PCD %lld, PLY "
+        "%lld\n",
+        static_cast<long long>(a.pcd_folder), static_cast<long long>(a.ply_folder),
+        static_cast<long long>(b.pcd_folder), static_cast<long long>(b.ply_folder));
+    EXPECT_LT(b.pcd_folder, a.pcd_folder + a.pcd_folder / 4 + slack);
+    EXPECT_LT(b.ply_folder, a.ply_folder + a.ply_folder / 4 + slack);
+  }
   fs::remove_all(few);
   fs::remove_all(many);
 }
