@@ -4,6 +4,7 @@
 // `capz decompress -o DIR/` does) peak at about the same heap for 4 frames as for 32. The heap is
 // counted by the allocation hooks of this executable (alloc_counter.h); no time is measured.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -26,7 +27,9 @@ namespace {
 // frame f holding 3000 + 97 (f mod 4) points (a ragged take whose first 4 frames already have
 // every count: a longer take's windows are no larger); NaN points now and then.
 fs::path write_sweeps(const std::string& name, size_t frames) {
-  const fs::path dir = fs::temp_directory_path() / ("capz_stream_mem_" + name);
+  // Named for this process too: ctest -j runs this executable's tests side by side.
+  const fs::path dir =
+      fs::temp_directory_path() / ("capz_stream_mem_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   for (size_t f = 0; f < frames; ++f) {
