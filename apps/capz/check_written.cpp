@@ -21,11 +21,7 @@ namespace {
 // "" when OUT reproduces IN as OUT's header promises, else what differs first.
 std::string written_difference(const std::string& out, const std::string& in,
                                const capz::Take& in_header) {
-  capz::StreamInfo info;
-  {
-    const std::vector<uint8_t> bytes = capz::read_file(out);
-    info = capz::describe(bytes.data(), bytes.size(), out);
-  }
+  const capz::StreamInfo info = capz::describe_file(out);  // a chunk at a time
   // Lossless: the archive must rebuild IN's bytes, proved through the checksum.
   if (info.lossless && capz::original_info(out).hashed) return capz::rebuilds_file(out, in);
   if (info.frames <= 1) {  // decoded whole, in the shape a reader gives one frame file (a single
