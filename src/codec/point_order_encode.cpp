@@ -29,9 +29,10 @@ ScanHints permuted(const ScanHints& h, const std::vector<uint32_t>& order) {
 }
 
 // The coded order of the points of block b (a window's frames, ragged): indices from its first
-// point.
+// point; *coded: the geometry's bytes in that order, *kept: in the file's order.
 std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
-                                   const std::vector<uint32_t>& ring) {
+                                   const std::vector<uint32_t>& ring, std::vector<uint8_t>* coded,
+                                   std::vector<uint8_t>* kept) {
   ScanGeometry g;
   for (size_t k = 0; k < b.frames; ++k)
     g.counts.push_back(static_cast<uint32_t>(b.frame_points(k)));
@@ -46,11 +47,12 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
   // or one no table describes); the encoder's choice, any order being allowed.
   std::vector<uint32_t> best(g.total());
   for (size_t j = 0; j < best.size(); ++j) best[j] = static_cast<uint32_t>(j);
-  size_t least = encode_scan_geometry(g, hints).size();
+  *kept = encode_scan_geometry(g, hints);
+  *coded = *kept;
   for (ScanOrderTable table : {ScanOrderTable::kPerFrame, ScanOrderTable::kWindow}) {
     std::vector<uint32_t> order = scan_point_order(g, hints, table);
-    const size_t bytes = encode_scan_geometry(permuted(g, order), permuted(hints, order)).size();
-    if (bytes < least) least = bytes, best.swap(order);
+    std::vector<uint8_t> bytes = encode_scan_geometry(permuted(g, order), permuted(hints, order));
+    if (bytes.size() < coded->size()) coded->swap(bytes), best.swap(order);
   }
   return best;
 }
@@ -67,8 +69,9 @@ void permute(std::vector<T>* v, size_t size, const std::vector<uint32_t>& order)
 
 }  // namespace
 
-bool reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring) {
-  const std::vector<uint32_t> order = window_order(*b, grid, ring);
+bool reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring,
+                    std::vector<uint8_t>* coded, std::vector<uint8_t>* kept) {
+  const std::vector<uint32_t> order = window_order(*b, grid, ring, coded, kept);
   bool moved = false;
   for (size_t j = 0; j < order.size() && !moved; ++j) moved = order[j] != j;
   if (!moved) return false;

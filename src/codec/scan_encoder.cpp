@@ -207,12 +207,14 @@ struct RaggedRun {
 
 // SCNW's bytes after `total` ("Scans (format 1.1)"): in mode 2 the split exponent e, and with a
 // split (g.q on the grid 2^-e, t the corrections) the geometry's length, the geometry and the
-// corrections block; else the geometry alone.
+// corrections block; else the geometry alone. coded: encode_scan_geometry(g, hints) when the
+// caller has it already, else null.
 std::vector<uint8_t> scan_body(const ScanGeometry& g, const ScanHints& hints, bool mode2, int e,
-                               const std::vector<uint32_t>& t) {
+                               const std::vector<uint32_t>& t,
+                               const std::vector<uint8_t>* coded = nullptr) {
   ByteWriter w;
   if (mode2) w.u8(static_cast<uint8_t>(static_cast<int8_t>(e)));
-  const std::vector<uint8_t> geo = encode_scan_geometry(g, hints);
+  const std::vector<uint8_t> geo = coded ? *coded : encode_scan_geometry(g, hints);
   if (e != scan::kNoSplit) w.varint(geo.size());
   w.bytes(geo.data(), geo.size());
   if (e != scan::kNoSplit) {
@@ -266,8 +268,10 @@ int choose_split(const FrameBlock& b, const std::vector<uint32_t>& counts, const
 }
 
 // The SCNW chunk of window w (the frames of b), appended to r.buf; *q gets the integers the
-// payload codes.
-void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<int32_t>* q) {
+// payload codes. coded: the window's geometry payload when --point-order any's choice has coded
+// it already (never in mode 2), else null.
+void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<int32_t>* q,
+                       const std::vector<uint8_t>* coded) {
   const size_t n = b.total_points();
   ScanGeometry g;
   for (size_t k = 0; k < b.frames; ++k)
@@ -275,11 +279,15 @@ void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<
   std::vector<int32_t> bits = std::move(quantise_window(b, r.grid).q);
   g.valid = b.valid;
   ScanHints hints;
-  hints.ring = ring_field(r.t.attributes, b);
-  hints.xyz.resize(b.xyz.size());
-  for (size_t i = 0; i < b.xyz.size(); ++i) hints.xyz[i] = static_cast<float>(b.xyz[i]);
+  if (!coded) {
+    hints.ring = ring_field(r.t.attributes, b);
+    hints.xyz.resize(b.xyz.size());
+    for (size_t i = 0; i < b.xyz.size(); ++i) hints.xyz[i] = static_cast<float>(b.xyz[i]);
+  }
   // Mode 2 (lossless float32): a float32 split when it codes smaller.
   const bool mode2 = r.grid.mode == PosMode::kFloat32;
+  if (mode2 && coded)
+    fail(ErrorCode::kInternal, r.t.source, "a float32 split of a reordered window");
   int e = mode2 ? choose_split(b, g.counts, hints, bits) : scan::kNoSplit;
   std::vector<uint32_t> corrections;
   if (e != scan::kNoSplit && !scan::split_coordinates(b.xyz.data(), g.valid.data(), g.valid.size(),
@@ -293,7 +301,7 @@ void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<
   pw.varint(w);
   pw.varint(n);
   std::vector<uint8_t> payload = std::move(pw.buffer());
-  const std::vector<uint8_t> body = scan_body(g, hints, mode2, e, corrections);
+  const std::vector<uint8_t> body = scan_body(g, hints, mode2, e, corrections, coded);
   payload.insert(payload.end(), body.begin(), body.end());
   const size_t before = r.buf.size();
   append_chunk(&r.buf, "SCNW", payload);
@@ -333,10 +341,10 @@ void append_fields_chunk(RaggedRun& r, size_t w, const std::vector<std::vector<u
 
 // Window w's SCNW and, with fields, ATTR appended to r.buf from block b (its fields taken into
 // *fields, the bounded float ones of META's layout quantised as the decoder gives them back,
-// FORMAT.md 16.4); *q: the SCNW integers.
+// FORMAT.md 16.4); *q: the SCNW integers; coded: as append_scan_chunk's.
 void code_chunks(RaggedRun& r, size_t w, FrameBlock* b, std::vector<int32_t>* q,
-                 std::vector<std::vector<uint8_t>>* fields) {
-  append_scan_chunk(r, w, *b, q);
+                 std::vector<std::vector<uint8_t>>* fields, const std::vector<uint8_t>* coded) {
+  append_scan_chunk(r, w, *b, q, coded);
   if (r.meta.attributes.empty()) return;
   *fields = std::move(b->attributes);
   quantise_bounded_fields(*r.meta.pcd, fields);
@@ -354,16 +362,18 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
            "point field '" + t.attributes[a].name + "' does not hold a value for every point");
   // --point-order any: the window coded, checked and measured in its coded order.
   std::unique_ptr<FrameBlock> as_read;
+  std::vector<uint8_t> coded, kept;  // the geometry payloads of the chosen and the file's order
   if (r.opts.any_point_order) {
     if (!r.meta.attributes.empty()) as_read.reset(new FrameBlock(*b));
-    if (!reorder_window(b, r.grid, ring_field(t.attributes, *b))) as_read.reset();
+    if (!reorder_window(b, r.grid, ring_field(t.attributes, *b), &coded, &kept)) as_read.reset();
   }
+  const bool any = r.opts.any_point_order;
   const size_t base = r.out->size();
   r.buf.clear();
   std::vector<int32_t> q;
   std::vector<std::vector<uint8_t>> fields;
   const size_t position0 = r.position_bytes, attribute0 = r.attribute_bytes;
-  code_chunks(r, w, b, &q, &fields);
+  code_chunks(r, w, b, &q, &fields, any ? &coded : nullptr);
   if (as_read) {  // the order was chosen on the geometry: with fields, keep the smaller window
     std::vector<uint8_t> sorted;
     sorted.swap(r.buf);
@@ -371,7 +381,7 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
     r.position_bytes = position0, r.attribute_bytes = attribute0;
     std::vector<int32_t> q2;
     std::vector<std::vector<uint8_t>> fields2;
-    code_chunks(r, w, as_read.get(), &q2, &fields2);
+    code_chunks(r, w, as_read.get(), &q2, &fields2, &kept);
     if (r.buf.size() < sorted.size()) {
       *b = std::move(*as_read);
       q.swap(q2);
