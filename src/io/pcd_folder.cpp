@@ -36,6 +36,7 @@
 #include "capz/io.h"
 #include "capz/stream.h"
 #include "core/atomic_file.h"
+#include "core/input_file.h"
 #include "io/frame_files.h"
 #include "io/pcd_backend.h"
 #include "io/pcd_frame_writer.h"
@@ -109,10 +110,27 @@ double read_value(const uint8_t* p, pcd::FieldType type) {
   return std::nan("");
 }
 
-// Reads one PCD file into a cloud (through PCL) after checking its header; returns the DATA
-// encoding.
-PcdHeader read_one(const std::string& path, pcd::Cloud* cloud) {
-  std::vector<uint8_t> bytes = read_file(path);
+// What reading a frame file needs: the file's bytes, its cloud, and a binary_compressed body's
+// points as the body lays them out (pcd::read_native's `planar`, not interleaved into the cloud).
+// Freed after each frame: kept, they would only add to the encoder's peak (the allocator reuses
+// freed blocks anyway).
+struct PcdBuffers {
+  std::vector<uint8_t> file, planar;
+  pcd::Cloud cloud;
+  bool is_planar = false;  // the points are in `planar`, not in cloud.data
+};
+
+// Reads one PCD file into b's cloud (capz's own reader, else PCL) after checking its header;
+// returns the header.
+PcdHeader read_one(const std::string& path, PcdBuffers* b) {
+  pcd::Cloud* cloud = &b->cloud;
+  b->is_planar = false;
+  {
+    InputFile in(path);
+    b->file.resize(static_cast<size_t>(in.size()));
+    if (!b->file.empty()) in.read_at(0, b->file.data(), b->file.size());
+  }
+  const std::vector<uint8_t>& bytes = b->file;
   if (bytes.empty()) fail(ErrorCode::kCorrupt, path, "empty PCD file (0 bytes)");
   PcdHeader h = parse_header(bytes, path);
   for (const char* axis : {"x", "y", "z"})
@@ -138,7 +156,10 @@ PcdHeader read_one(const std::string& path, pcd::Cloud* cloud) {
     return h;
   }
 
-  if (pcd::read_native(bytes, h, cloud)) return h;
+  if (pcd::read_native(bytes, h, cloud, &b->planar)) {
+    b->is_planar = h.data == "binary_compressed";
+    return h;
+  }
   std::string msg;
   switch (pcd::backend(path).read(bytes.data(), bytes.size(), h.data_idx, h.points, h.point_step,
                                   cloud, &msg)) {
@@ -242,45 +263,58 @@ PcdHeader head_of(const std::string& path) {
 }
 
 // Reads frame file `path` into *data (xyz n x 3, valid n, one byte array per field other than
-// x y z: n x count x size, as the file holds them) and *l.
-void read_pcd_frame(const std::string& path, FrameLayout* l, FrameData* data) {
-  pcd::Cloud cloud;
-  const PcdHeader h = read_one(path, &cloud);
+// x y z: n x count x size, as the file holds them; data's arrays reused) and *l, through b.
+void read_pcd_frame(const std::string& path, FrameLayout* l, FrameData* data, PcdBuffers* b) {
+  const PcdHeader h = read_one(path, b);
+  const pcd::Cloud& cloud = b->cloud;
   *l = layout_of(h, cloud, path);
   const size_t n = l->points;
+  // Field i's value of point p: at base(i) + p x stride(i), in the points or in the planes.
+  const uint8_t* points = b->is_planar ? b->planar.data() : cloud.data.data();
+  const auto base = [&](uint32_t offset) {
+    return points + (b->is_planar ? n * size_t{offset} : size_t{offset});
+  };
   FieldRef ref[3];
+  const uint8_t* at[3];
+  size_t stride[3];
   const char* axes[3] = {"x", "y", "z"};
   for (int a = 0; a < 3; ++a) {
     auto it = std::find_if(cloud.fields.begin(), cloud.fields.end(),
                            [&](const pcd::Field& fd) { return fd.name == axes[a]; });
     ref[a].offset = it->offset;
     ref[a].type = it->type;
+    at[a] = base(it->offset);
+    const auto i = static_cast<size_t>(it - cloud.fields.begin());  // h's field i too
+    stride[a] = b->is_planar ? static_cast<size_t>(h.sizes[i]) * h.counts[i] : cloud.point_step;
   }
   data->points = n;
-  data->xyz.assign(n * 3, 0.0);
-  data->valid.assign(n, 0);
+  data->xyz.resize(n * 3);
+  data->valid.resize(n);
   for (size_t p = 0; p < n; ++p) {
-    const uint8_t* base = cloud.data.data() + p * cloud.point_step;
     double v[3];
-    for (int a = 0; a < 3; ++a) v[a] = read_value(base + ref[a].offset, ref[a].type);
-    if (std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2])) {
-      std::copy(v, v + 3, data->xyz.data() + 3 * p);
-      data->valid[p] = 1;
-    }
+    for (int a = 0; a < 3; ++a) v[a] = read_value(at[a] + p * stride[a], ref[a].type);
+    const bool ok = std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+    for (int a = 0; a < 3; ++a) data->xyz[3 * p + size_t(a)] = ok ? v[a] : 0.0;
+    data->valid[p] = ok ? 1 : 0;
   }
-  data->attrs.clear();
+  size_t k = 0;
   for (size_t i = 0; i < l->fields.size(); ++i) {
     const PCDField& fd = l->fields[i];
     if (fd.name == "x" || fd.name == "y" || fd.name == "z") continue;
     const size_t bpp = static_cast<size_t>(fd.size) * static_cast<size_t>(fd.count);
     if (static_cast<uint64_t>(l->offsets[i]) + bpp > cloud.point_step)
       fail(ErrorCode::kCorrupt, path, "PCD field " + fd.name + " lies outside its point");
-    std::vector<uint8_t> bytes(n * bpp);
-    for (size_t p = 0; p < n; ++p)
-      std::memcpy(bytes.data() + p * bpp, cloud.data.data() + p * cloud.point_step + l->offsets[i],
-                  bpp);
-    data->attrs.push_back(std::move(bytes));
+    if (data->attrs.size() <= k) data->attrs.resize(k + 1);
+    std::vector<uint8_t>& bytes = data->attrs[k++];
+    bytes.resize(n * bpp);
+    const uint8_t* src = base(l->offsets[i]);
+    if (b->is_planar)
+      std::copy_n(src, n * bpp, bytes.data());
+    else
+      for (size_t p = 0; p < n; ++p)
+        std::memcpy(bytes.data() + p * bpp, src + p * cloud.point_step, bpp);
   }
+  data->attrs.resize(k);
 }
 
 // The take's PCD metadata and attribute layouts (no values) from the first frame's layout.
@@ -330,7 +364,8 @@ class PCDSource : public FileFrameSource {
     header_.units = "m";
     header_.units_assumed = true;
     // Read whole once: its layout as PCL reads it. Kept for the first read of frame 0.
-    read_pcd_frame(files_.path(0), &layout_, &first_);
+    PcdBuffers b;
+    read_pcd_frame(files_.path(0), &layout_, &first_, &b);
     have_first_ = true;
     set_layout(layout_, files_.names, &header_);
   }
@@ -348,7 +383,8 @@ class PCDSource : public FileFrameSource {
     }
     const std::string p = files_.path(f);
     FrameLayout l;
-    read_pcd_frame(p, &l, out);
+    PcdBuffers b;
+    read_pcd_frame(p, &l, out, &b);
     if (!same_fields(l.fields, layout_.fields) ||
         (!header_.ragged() && (l.width != layout_.width || l.height != layout_.height)))
       fail(ErrorCode::kCorrupt, p,

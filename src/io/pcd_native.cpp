@@ -109,14 +109,22 @@ bool fields_of(const PcdHeader& h, bool compressed, Cloud* cloud) {
   return offset == h.point_step;
 }
 
-// The compressed body's fields one after another (each all points' values) into points.
-bool unpack_compressed(const std::vector<uint8_t>& bytes, const PcdHeader& h, Cloud* cloud) {
+// The compressed body's fields one after another (each all points' values) into points, or
+// into *planar_out as they are when it is not null (cloud->data then left empty).
+bool unpack_compressed(const std::vector<uint8_t>& bytes, const PcdHeader& h, Cloud* cloud,
+                       std::vector<uint8_t>* planar_out) {
   const uint8_t* p = bytes.data() + h.data_idx;
   const size_t csize = static_cast<size_t>(p[0]) | static_cast<size_t>(p[1]) << 8 |
                        static_cast<size_t>(p[2]) << 16 | static_cast<size_t>(p[3]) << 24;
   const size_t n = static_cast<size_t>(h.points), step = static_cast<size_t>(h.point_step);
-  std::vector<uint8_t> planar(n * step);
+  std::vector<uint8_t> own;
+  std::vector<uint8_t>& planar = planar_out ? *planar_out : own;
+  planar.resize(n * step);
   if (!lzf_decompress_into(p + 8, csize, planar.data(), planar.size())) return false;
+  if (planar_out) {
+    cloud->data.clear();
+    return true;
+  }
   cloud->data.resize(n * step);
   const uint8_t* src = planar.data();
   uint8_t* dst = cloud->data.data();
@@ -136,7 +144,8 @@ bool unpack_compressed(const std::vector<uint8_t>& bytes, const PcdHeader& h, Cl
 
 }  // namespace
 
-bool read_native(const std::vector<uint8_t>& bytes, const PcdHeader& h, Cloud* cloud) {
+bool read_native(const std::vector<uint8_t>& bytes, const PcdHeader& h, Cloud* cloud,
+                 std::vector<uint8_t>* planar) {
   // PCL keeps WIDTH and HEIGHT in 32 bits and sizes a compressed body in 32 bits.
   if (h.points == 0 || h.width > UINT32_MAX || h.height > UINT32_MAX ||
       h.points * h.point_step >= (uint64_t{1} << 32) || !plain_header(bytes, h))
@@ -147,7 +156,7 @@ bool read_native(const std::vector<uint8_t>& bytes, const PcdHeader& h, Cloud* c
   cloud->height = static_cast<uint32_t>(h.height);
   cloud->point_step = static_cast<uint32_t>(h.point_step);
   cloud->dense = true;  // not computed: no reader of a Cloud uses it
-  if (compressed) return unpack_compressed(bytes, h, cloud);
+  if (compressed) return unpack_compressed(bytes, h, cloud, planar);
   const uint8_t* body = bytes.data() + h.data_idx;
   cloud->data.assign(body, body + h.points * h.point_step);
   return true;

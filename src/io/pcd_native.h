@@ -26,8 +26,12 @@ namespace pcd {
 
 // `bytes` is the whole file, `h` its header as parse_header read it (the body checked to fit),
 // with at least one point. True when *cloud now holds the frame; false when the file is left to
-// PCL (*cloud unspecified).
-bool read_native(const std::vector<uint8_t>& bytes, const PcdHeader& h, Cloud* cloud);
+// PCL (*cloud unspecified). With `planar` given, a binary_compressed body's points are left in
+// *planar as the body lays them out (each field's values for every point, field after field;
+// a field's plane starts at points x its Field::offset) and cloud->data is empty: the caller
+// skips interleaving them.
+bool read_native(const std::vector<uint8_t>& bytes, const PcdHeader& h, Cloud* cloud,
+                 std::vector<uint8_t>* planar = nullptr);
 
 }  // namespace pcd
 }  // namespace capz
