@@ -278,11 +278,13 @@ std::vector<uint8_t> encode_with(const ScanGeometry& g, const scan::Table& t,
 // The divisors (of `tried`, in order) whose table codes g's first kTrialFrames frames alone
 // within kTrialSlack of the smallest payload. On robosense-helios16p at 1 mm the first frame
 // alone ranked the tables otherwise than the window (the map of the sweep before counts), two
-// frames 1.8 % apart where the window's were 1.1 % apart.
+// frames 1.8 % apart where the window's were 1.1 % apart. *tables: the tables tried (each the
+// window's; only the first frames' points placed).
 constexpr double kTrialSlack = 1.02;
 constexpr size_t kTrialFrames = 2;
 std::vector<double> first_frame_choice(const ScanGeometry& g, const scan::RingFit& fit,
                                        const std::vector<double>& tried,
+                                       std::vector<scan::Table>* tables,
                                        std::vector<scan::Polar>* polar, Scratch* s) {
   ScanGeometry first;
   first.counts.assign(g.counts.begin(), g.counts.begin() + kTrialFrames);
@@ -291,7 +293,9 @@ std::vector<double> first_frame_choice(const ScanGeometry& g, const scan::RingFi
   first.valid.assign(g.valid.begin(), g.valid.begin() + n);
   std::vector<size_t> sizes;
   for (double divisor : tried) {
-    const scan::Table t = scan::table_for(g, fit, divisor, polar);
+    tables->push_back(scan::table_fit(fit, divisor));
+    const scan::Table& t = tables->back();
+    scan::place_points(g, fit, t, static_cast<size_t>(n), polar);
     sizes.push_back(encode_with(first, t, *polar, s).size());
     if (t.rings() == 0) break;
   }
@@ -320,12 +324,17 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
   const scan::RingFit fit = scan::fit_rings(g, hints);
   Scratch scratch;
   std::vector<scan::Polar> polar;
-  std::vector<double> divisors = {1.0, 4.0, 16.0};
+  const std::vector<double> tried = {1.0, 4.0, 16.0};
+  std::vector<double> divisors = tried;
+  std::vector<scan::Table> tables;  // of the divisors tried on the first frames, in order
   if (g.counts.size() > kTrialFrames)
-    divisors = first_frame_choice(g, fit, divisors, &polar, &scratch);
+    divisors = first_frame_choice(g, fit, tried, &tables, &polar, &scratch);
   std::vector<uint8_t> best;
   for (double divisor : divisors) {
-    const scan::Table t = scan::table_for(g, fit, divisor, &polar);
+    const size_t k =
+        static_cast<size_t>(std::find(tried.begin(), tried.end(), divisor) - tried.begin());
+    const scan::Table t = k < tables.size() ? tables[k] : scan::table_fit(fit, divisor);
+    scan::place_points(g, fit, t, g.total(), &polar);
     std::vector<uint8_t> out = encode_with(g, t, polar, &scratch);
     if (best.empty() || out.size() < best.size()) best.swap(out);
     if (t.rings() == 0) break;

@@ -192,11 +192,9 @@ double sorted_step(const RingFit& r) {
   return std::fabs(infer_step(phi));
 }
 
-Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor,
-                std::vector<Polar>* polar) {
+Table table_fit(const RingFit& r, double step_divisor) {
   Table t;
   const size_t rings = r.rings();
-  polar->assign(g.total(), Polar{});
   if (rings == 0) return t;
   double step = r.step / step_divisor;
   if (step == 0 || !std::isfinite(step)) return t;
@@ -215,16 +213,30 @@ Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor,
     }
     t.azimuth0[k] = static_cast<float>(step * std::atan2(ss, sc) / kTwoPi);
   }
+  return t;
+}
+
+void place_points(const ScanGeometry& g, const RingFit& r, const Table& t, size_t n,
+                  std::vector<Polar>* polar) {
+  polar->assign(n, Polar{});
+  if (t.rings() == 0) return;
+  const double step = t.step;
   // Each valid point's column: its azimuth is the next of its ring's (fit_rings kept them in
   // point order).
-  std::vector<size_t> next(rings, 0);
-  for (size_t i = 0; i < g.total(); ++i) {
+  std::vector<size_t> next(t.rings(), 0);
+  for (size_t i = 0; i < n; ++i) {
     const int32_t* p = &g.q[3 * i];
     if (!g.valid[i] || !small_enough(p)) continue;
     Polar o = r.polar[i];
     o.column = round_clamp((r.phi[o.ring][next[o.ring]++] - t.azimuth0[o.ring]) / step);
     (*polar)[i] = o;
   }
+}
+
+Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor,
+                std::vector<Polar>* polar) {
+  const Table t = table_fit(r, step_divisor);
+  place_points(g, r, t, g.total(), polar);
   return t;
 }
 

@@ -30,6 +30,12 @@ double sorted_step(const RingFit& r);
 // data divided by step_divisor (finer columns for sensors whose azimuths are not on one step).
 Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor,
                 std::vector<Polar>* polar);
+// table_for in two steps: the table alone (its per-ring fit, the costly part), then *polar
+// (resized to n) for points [0, n) under it, so an encoder trying a table on a window's first
+// frames places only those and keeps the table for the whole window.
+Table table_fit(const RingFit& r, double step_divisor);
+void place_points(const ScanGeometry& g, const RingFit& r, const Table& t, size_t n,
+                  std::vector<Polar>* polar);
 
 // True when every valid point of points [first, first + n) may be coded spherically.
 bool spherical_ok(const ScanGeometry& g, size_t first, size_t n);
