@@ -14,9 +14,14 @@ constexpr size_t kMaxDistance = 8192;
 constexpr size_t kMaxMatch = 2 + 7 + 255;
 constexpr int kHashBits = 16;
 
-uint32_t hash3(const uint8_t* p) {
-  const uint32_t v = static_cast<uint32_t>(p[0]) << 16 | static_cast<uint32_t>(p[1]) << 8 | p[2];
+uint32_t bytes3(const uint8_t* p) {
+  return static_cast<uint32_t>(p[0]) << 16 | static_cast<uint32_t>(p[1]) << 8 | p[2];
+}
+uint32_t hash_of(uint32_t v) {
   return (v * 2654435761u) >> (32 - kHashBits);
+}
+uint32_t hash3(const uint8_t* p) {
+  return hash_of(bytes3(p));
 }
 
 void flush_literals(const uint8_t* data, size_t from, size_t to, std::vector<uint8_t>* out) {
@@ -40,28 +45,41 @@ void put_copy(size_t len, size_t off, std::vector<uint8_t>* out) {
 }
 }  // namespace
 
+// size is below 2^32, so a position fits 32 bits and is never kNone.
 std::vector<uint8_t> lzf_compress(const uint8_t* data, size_t size) {
+  constexpr uint32_t kNone = ~uint32_t{0};
+  if (size > 0xFFFFFFFFu) fail(ErrorCode::kUsage, "", "LZF of more than 4 GiB");
   std::vector<uint8_t> out;
   out.reserve(size / 2 + 16);
-  std::vector<size_t> table(size_t{1} << kHashBits, ~size_t{0});
+  std::vector<uint32_t> table(size_t{1} << kHashBits, kNone);
   size_t i = 0, lit = 0;
+  uint32_t v = size >= 3 ? bytes3(data) : 0;  // the 3 bytes at i, rolled on byte by byte
   while (i + 3 <= size) {
-    const uint32_t h = hash3(data + i);
-    const size_t cand = table[h];
-    table[h] = i;
-    if (cand != ~size_t{0} && i - cand <= kMaxDistance &&
-        std::memcmp(data + cand, data + i, 3) == 0) {
+    const uint32_t h = hash_of(v);
+    const uint32_t cand = table[h];
+    table[h] = static_cast<uint32_t>(i);
+    if (cand != kNone && i - cand <= kMaxDistance && bytes3(data + cand) == v) {
       size_t len = 3;
       const size_t limit = std::min(kMaxMatch, size - i);
+      while (len + 8 <= limit) {  // 8 bytes at a time, then byte by byte: the same length
+        uint64_t a, b;
+        std::memcpy(&a, data + cand + len, 8);
+        std::memcpy(&b, data + i + len, 8);
+        if (a != b) break;
+        len += 8;
+      }
       while (len < limit && data[cand + len] == data[i + len]) ++len;
       flush_literals(data, lit, i, &out);
       put_copy(len, i - cand - 1, &out);
       // Index the positions the match covers (their prefixes), so later matches find them.
-      for (size_t k = i + 1; k < i + len && k + 3 <= size; ++k) table[hash3(data + k)] = k;
+      for (size_t k = i + 1; k < i + len && k + 3 <= size; ++k)
+        table[hash3(data + k)] = static_cast<uint32_t>(k);
       i += len;
       lit = i;
+      if (i + 3 <= size) v = bytes3(data + i);
     } else {
       ++i;
+      if (i + 3 <= size) v = (v << 8 | data[i + 2]) & 0xFFFFFFu;
     }
   }
   flush_literals(data, lit, size, &out);
