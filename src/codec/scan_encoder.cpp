@@ -365,7 +365,8 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
   std::vector<uint8_t> coded, kept;  // the geometry payloads of the chosen and the file's order
   if (r.opts.any_point_order) {
     if (!r.meta.attributes.empty()) as_read.reset(new FrameBlock(*b));
-    if (!reorder_window(b, r.grid, ring_field(t.attributes, *b), &coded, &kept)) as_read.reset();
+    if (!reorder_window(b, r.grid, ring_field(t.attributes, *b), &coded, as_read ? &kept : nullptr))
+      as_read.reset();
   }
   const bool any = r.opts.any_point_order;
   const size_t base = r.out->size();
