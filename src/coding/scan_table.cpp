@@ -171,7 +171,7 @@ bool on_steps(const std::vector<double>& dist, double q, std::vector<double>* sc
 
 // The sensor's range step (FORMAT.md "range units", informative), in the units of h.xyz: the
 // largest of 1, 2, 2.5, 4, 5 x 10^e that the distances from the origin of up to 16384 points
-// sit on, at least 1.5 grid units and at most an eighth of their median; 0 when none.
+// sit on, at least one grid unit and at most an eighth of their median; 0 when none.
 double range_step(const ScanGeometry& g, const ScanHints& h) {
   const size_t n = g.total();
   if (h.grid_per_unit <= 0 || h.xyz.size() != 3 * n) return 0;
@@ -194,7 +194,7 @@ double range_step(const ScanGeometry& g, const ScanHints& h) {
   for (int e = -6; e <= 3; ++e)
     for (double m : {1.0, 2.0, 2.5, 4.0, 5.0}) {
       const double q = m * std::pow(10.0, e);
-      if (q * h.grid_per_unit >= 1.5 && q <= largest && q > best && on_steps(dist, q, &scratch))
+      if (q * h.grid_per_unit >= 0.999 && q <= largest && q > best && on_steps(dist, q, &scratch))
         best = q;
     }
   return best;
