@@ -29,8 +29,13 @@ void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, cons
       w.f32(t.slope[k]);
       w.f32(t.z0[k]);
     }
-    w.u8(t.unit.empty() ? 0 : 1);
-    for (double u : t.unit) w.f64(u);
+    const bool offsets =
+        std::any_of(t.offset.begin(), t.offset.end(), [](double v) { return v != 0; });
+    w.u8(t.unit.empty() ? 0 : offsets ? 2 : 1);
+    for (size_t k = 0; k < t.unit.size(); ++k) {
+      w.f64(t.unit[k]);
+      if (offsets) w.f64(t.offset[k]);
+    }
   }
   out->insert(out->end(), w.buffer().begin(), w.buffer().end());
 }
