@@ -23,7 +23,8 @@ class DecodeIo {
   int32_t pixel_residual(size_t, int64_t) const { return 0; }
   int32_t rho(size_t) const { return 0; }
   int64_t check_pixel(int64_t p, size_t pixels) {
-    if (p < 0 || static_cast<uint64_t>(p) >= pixels) dec_->corrupt("pixel outside the raster table");
+    if (p < 0 || static_cast<uint64_t>(p) >= pixels)
+      dec_->corrupt("pixel outside the raster table");
     return p;
   }
 
@@ -38,7 +39,7 @@ void read_pixels(IntDecoder* dec, const Header& h, Pixels* px) {
   px->delta = h.delta;
   px->v.assign(3 * size_t{h.pixels}, 0.0);
   const double unit = 1.0 / static_cast<double>(uint64_t{1} << h.exponent);  // exact
-  int32_t prev[2][3] = {{0, 0, 0}, {0, 0, 0}};  // V[p-1], V[p-2]
+  int32_t prev[2][3] = {{0, 0, 0}, {0, 0, 0}};                               // V[p-1], V[p-2]
   for (size_t p = 0; p < h.pixels; ++p) {
     for (int a = 0; a < 3; ++a) {
       const int32_t pred = wrap_sub(wrap_add(prev[0][a], prev[0][a]), prev[1][a]);

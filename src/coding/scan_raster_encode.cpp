@@ -137,8 +137,9 @@ int64_t miss(const Pixels& px, size_t p, const int32_t* q, int32_t rho) {
 // the sum of their ranges (in quanta), rounded to 2^-e with e the finest that keeps them in int32
 // yet fine enough that the farthest range moves a prediction by at most 1/16 of a grid step.
 std::vector<int32_t> fit_vectors(const ScanGeometry& g, const ScanHints& hints,
-                                 const std::vector<uint32_t>& pixel, const std::vector<int32_t>& rho,
-                                 size_t count, double c, double delta, int* e) {
+                                 const std::vector<uint32_t>& pixel,
+                                 const std::vector<int32_t>& rho, size_t count, double c,
+                                 double delta, int* e) {
   std::vector<double> sum(3 * count, 0.0), rsum(count, 0.0);
   double far = 1;
   for (size_t i = 0; i < g.total(); ++i) {
@@ -195,7 +196,7 @@ bool find_raster(const ScanGeometry& g, const ScanHints& hints, Found* r) {
   std::vector<uint64_t> keys(total, 0);
   for (size_t i = 0; i < total; ++i)
     if (g.valid[i]) keys[i] = direction_key(&hints.xyz[3 * i], r->dist[i]);
-  if (!merge_pixels(g, keys, &r->pixel, &r->count) || 2 * r->count > valid) return false;
+  if (!merge_pixels(g, keys, &r->pixel, &r->count) || 4 * r->count > 3 * valid) return false;
   double sxy = 0, syy = 0;  // distance against the integers' length, least squares
   for (size_t i = 0; i < total; ++i) {
     if (!g.valid[i]) continue;
