@@ -3,8 +3,6 @@
 // their directions repeating from frame to frame), infers the pixel table and codes the window.
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
-#include <unordered_set>
 
 #include "coding/bytes.h"
 #include "coding/scan_raster.h"
@@ -22,6 +20,37 @@ constexpr size_t kQuantumSample = 20000;
 // Bits of the pixel vectors beyond the farthest range's: 2 puts a prediction within 1/8 of a
 // grid step (robosense-e1 at 1 mm: 6.53 bits a point with 4, 6.11 with 2, 6.14 with 0).
 constexpr int kExtraBits = 2;
+
+// Direction keys to values: open addressing, linear probing (node-based maps cost a cache miss a
+// point: a tenth of a pandar64 encode). Key 0 is no key (a point's key is never 0).
+class KeyMap {
+ public:
+  explicit KeyMap(size_t n) {
+    size_t cap = 16;
+    while (cap < 2 * n) cap *= 2;
+    keys_.assign(cap, 0);
+    vals_.assign(cap, 0);
+  }
+  // The value slot of key k, inserted with v when absent (*inserted says which).
+  uint32_t* get(uint64_t k, uint32_t v, bool* inserted) {
+    const size_t mask = keys_.size() - 1;
+    size_t i = static_cast<size_t>((k * 0x9e3779b97f4a7c15ull) >> 20) & mask;
+    while (keys_[i] != 0 && keys_[i] != k) i = (i + 1) & mask;
+    *inserted = keys_[i] == 0;
+    if (*inserted) keys_[i] = k, vals_[i] = v;
+    return &vals_[i];
+  }
+  const uint32_t* find(uint64_t k) const {
+    const size_t mask = keys_.size() - 1;
+    size_t i = static_cast<size_t>((k * 0x9e3779b97f4a7c15ull) >> 20) & mask;
+    while (keys_[i] != 0 && keys_[i] != k) i = (i + 1) & mask;
+    return keys_[i] == 0 ? nullptr : &vals_[i];
+  }
+
+ private:
+  std::vector<uint64_t> keys_;
+  std::vector<uint32_t> vals_;
+};
 
 // A point's direction rounded: the key of its pixel.
 uint64_t direction_key(const float* xyz, double r) {
@@ -63,36 +92,37 @@ double find_quantum(const std::vector<double>& dist) {
 bool merge_pixels(const ScanGeometry& g, const std::vector<uint64_t>& keys,
                   std::vector<uint32_t>* pixel, size_t* count) {
   std::vector<uint64_t> order, next;
-  std::unordered_map<uint64_t, uint32_t> pos;
-  std::unordered_set<uint64_t> placed;
+  KeyMap pos(0);
   size_t first = 0, largest = 0;
   for (size_t f = 0; f < g.counts.size(); ++f) {
     next.clear();
-    placed.clear();
+    KeyMap placed(g.counts[f]);  // this frame's new directions
     size_t mp = 0;
+    bool fresh;
     for (size_t i = first; i < first + g.counts[f]; ++i) {
       if (!g.valid[i]) continue;
-      const auto it = pos.find(keys[i]);
-      if (it == pos.end()) {
-        if (placed.insert(keys[i]).second) next.push_back(keys[i]);
-      } else if (it->second >= mp) {
+      const uint32_t* at = pos.find(keys[i]);
+      if (at == nullptr) {
+        placed.get(keys[i], 0, &fresh);
+        if (fresh) next.push_back(keys[i]);
+      } else if (*at >= mp) {
         next.insert(next.end(), order.begin() + static_cast<std::ptrdiff_t>(mp),
-                    order.begin() + static_cast<std::ptrdiff_t>(it->second) + 1);
-        mp = it->second + 1;
+                    order.begin() + static_cast<std::ptrdiff_t>(*at) + 1);
+        mp = *at + 1;
       }
     }
     next.insert(next.end(), order.begin() + static_cast<std::ptrdiff_t>(mp), order.end());
     order.swap(next);
     first += g.counts[f];
     largest = std::max<size_t>(largest, g.counts[f]);
-    if (order.size() > (size_t{1} << 22) || (f >= 1 && 2 * order.size() > 3 * largest))
+    if (order.size() > (size_t{1} << 22) || (f >= 1 && 4 * order.size() > 5 * largest))
       return false;
-    pos.clear();
-    for (size_t j = 0; j < order.size(); ++j) pos[order[j]] = static_cast<uint32_t>(j);
+    pos = KeyMap(order.size());
+    for (size_t j = 0; j < order.size(); ++j) pos.get(order[j], static_cast<uint32_t>(j), &fresh);
   }
   pixel->assign(g.total(), 0);
   for (size_t i = 0; i < g.total(); ++i)
-    if (g.valid[i]) (*pixel)[i] = pos[keys[i]];
+    if (g.valid[i]) (*pixel)[i] = *pos.find(keys[i]);
   *count = order.size();
   return true;
 }
@@ -165,6 +195,31 @@ uint8_t validity(const ScanGeometry& g, size_t first, size_t n) {
   return v == n ? kAllValid : v == 0 ? kNoneValid : kSomeValid;
 }
 
+// A point's direction key from its source coordinates (0 for a gap).
+uint64_t key_of(const ScanGeometry& g, const ScanHints& hints, size_t i, double* dist) {
+  const float* x = &hints.xyz[3 * i];
+  *dist = std::sqrt(static_cast<double>(x[0]) * x[0] + static_cast<double>(x[1]) * x[1] +
+                    static_cast<double>(x[2]) * x[2]);
+  return g.valid[i] && std::isfinite(*dist) ? direction_key(x, *dist) : 0;
+}
+
+// Whether most of the second frame's directions are the first frame's: the quick test that
+// spares a spinning sensor's window the rest (a flash LiDAR's repeat; a spinning one's do not).
+bool second_repeats(const ScanGeometry& g, const ScanHints& hints) {
+  KeyMap first(g.counts[0]);
+  double d;
+  bool fresh;
+  for (size_t i = 0; i < g.counts[0]; ++i)
+    if (g.valid[i]) first.get(key_of(g, hints, i, &d), 0, &fresh);
+  size_t seen = 0, valid = 0;
+  for (size_t i = g.counts[0]; i < size_t{g.counts[0]} + g.counts[1]; ++i) {
+    if (!g.valid[i]) continue;
+    ++valid;
+    seen += first.find(key_of(g, hints, i, &d)) != nullptr;
+  }
+  return 4 * seen > 3 * valid;
+}
+
 // What the encoder finds in a raster window: the pixels, the source distances, the quantum.
 struct Found {
   std::vector<uint32_t> pixel;  // per point (valid ones)
@@ -177,7 +232,8 @@ struct Found {
 // Whether g is a raster window (FORMAT.md, the encoder's note), and what it is.
 bool find_raster(const ScanGeometry& g, const ScanHints& hints, Found* r) {
   const size_t total = g.total();
-  if (g.counts.size() < 2 || hints.xyz.size() != 3 * total) return false;
+  if (g.counts.size() < 2 || hints.xyz.size() != 3 * total || !second_repeats(g, hints))
+    return false;
   r->dist.assign(total, 0.0);
   size_t valid = 0;
   for (size_t i = 0; i < total; ++i) {
