@@ -46,13 +46,6 @@ inline int32_t predict(const Pixels& px, size_t p, int a, int32_t rho) {
   return round_clamp(w * px.v[3 * p + static_cast<size_t>(a)]);
 }
 
-// Running score as the payload's others (scan_loop.h).
-inline void update_score(uint32_t* s, int32_t a, int32_t b) {
-  const int64_t e = static_cast<int64_t>(a) - b;
-  const uint32_t m = static_cast<uint32_t>(std::min<int64_t>(e < 0 ? -e : e, 1 << 20));
-  *s = *s - (*s >> 3) + m;
-}
-
 // One raster frame's points. Io provides, as scan_shared.h's code_frame's:
 //   int32_t sym(int32_t actual, int32_t pred, int ctx); bool flag(bool actual, int ctx);
 //   bool actual_valid(size_t i); const int32_t* actual(size_t i);
@@ -83,8 +76,8 @@ void code_frame(Io& io, const Pixels& px, State& st, uint8_t flags, size_t first
     const int j = st.score[1] < st.score[0] ? 1 : 0;
     const int rctx = kCtxRange + std::min(bit_length(st.score[j] >> 1), 15);
     const int32_t rho = io.sym(io.rho(first + i), j ? c1 : c0, rctx);
-    update_score(&st.score[0], rho, c0);
-    update_score(&st.score[1], rho, c1);
+    scan::detail::score(&st.score[0], rho, c0);  // as the other frames' scores (scan_loop.h)
+    scan::detail::score(&st.score[1], rho, c1);
     st.range[pu] = rho, st.has[pu] = 1, st.last = rho;
     const int32_t* a = io.actual(first + i);
     for (int ax = 0; ax < 3; ++ax) {

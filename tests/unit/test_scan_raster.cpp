@@ -12,6 +12,7 @@
 #include "coding/scan_geometry.h"
 #include "coding/scan_raster.h"
 #include "coding/scan_shared.h"
+#include "scan_geometry_expect.h"
 
 namespace capz {
 namespace {
@@ -48,15 +49,6 @@ ScanGeometry flash(int frames, int rows, int cols, uint32_t seed, ScanHints* hin
     g.counts.push_back(n);
   }
   return g;
-}
-
-void expect_same(const ScanGeometry& a, const ScanGeometry& b) {
-  ASSERT_EQ(a.counts, b.counts);
-  ASSERT_EQ(a.valid, b.valid);
-  for (size_t i = 0; i < a.valid.size(); ++i) {
-    if (!a.valid[i]) continue;
-    for (int k = 0; k < 3; ++k) ASSERT_EQ(a.q[3 * i + k], b.q[3 * i + k]) << "point " << i;
-  }
 }
 
 // One raster frame of two points, by FORMAT.md's rules: pixels (1, 0, 0) and (0, 1, 0) at e = 0,
