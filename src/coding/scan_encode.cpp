@@ -7,6 +7,7 @@
 #include "capz/error.h"
 #include "coding/bytes.h"
 #include "coding/scan_geometry.h"
+#include "coding/scan_raster.h"
 #include "coding/scan_shared.h"
 #include "coding/scan_table.h"
 
@@ -348,6 +349,7 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
     if (best.empty() || out.size() < best.size()) best.swap(out);
     if (t.rings() == 0) break;
   }
+  scan::raster::keep_smaller(g, hints, &best);  // a flash LiDAR's window (scan_raster.h)
   return best;
 }
 

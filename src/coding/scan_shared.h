@@ -26,7 +26,8 @@ namespace scan {
 // Frame flags (one byte per frame).
 constexpr uint8_t kAllValid = 0, kSomeValid = 1, kNoneValid = 2;  // bits 0-1
 constexpr uint8_t kSpherical = 4;                                 // bit 2
-constexpr uint8_t kFrameFlagMask = 7;
+constexpr uint8_t kRaster = 32;                                   // bit 5 (scan_raster.h)
+constexpr uint8_t kFrameFlagMask = 7 | kRaster;
 
 // Limits the decoder enforces (FORMAT.md).
 constexpr uint32_t kMaxRings = 1024;
@@ -57,7 +58,8 @@ enum Ctx : int {
   kCtxY = kCtxX + 24,          // 48: as X, twice (x residual zero or not)
   kCtxZ = kCtxY + 48,          // 24
   kCtxCart = kCtxZ + 24,       // 3 axes x 8: previous residual's bit length
-  kContexts = kCtxCart + 24,
+  kCtxRaster = kCtxCart + 24,
+  kContexts = kCtxRaster + 27,  // raster frames: scan_raster.h
 };
 
 // floor(v) (std::floor's value; a zero's sign aside) without a call for |v| < 2^52: the
@@ -129,6 +131,9 @@ struct Header {
   std::vector<uint32_t> counts;
   std::vector<uint8_t> flags;
   Table table;
+  uint32_t pixels = 0;  // raster frames' pixel table (scan_raster.h): P, delta, e; P = 0: none
+  double delta = 0;
+  int exponent = 0;
   size_t body = 0;  // offset of the entropy-coded block
 };
 Header read_header(const uint8_t* data, size_t size, const std::string& what, size_t max_points);
