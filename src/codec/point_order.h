@@ -16,13 +16,15 @@ namespace capz {
 // their fields, in the order coding/scan_geometry.h's scan_point_order gives under `grid`, the
 // table inferred on the window. `ring`: the block's ring field of every point, or empty. The
 // frames keep their counts and gaps (moved after their valid points). Returns false, b
-// untouched, when the order chosen is the file's own. The choice codes the window's geometry in
+// untouched, when the order chosen is the file's own. `distance`: the block's distance field
+// (ScanHints::distance), or empty. The choice codes the window's geometry in
 // each candidate order: *coded gets encode_scan_geometry's bytes of the order chosen and *kept
 // those of the file's order (the same when that was chosen), so the encoder need not code them
 // again. With kept null (a window without point fields: nothing else to weigh against the file's
 // order) a window of more than two frames has its orders ranked on its first two frames' payloads
 // and only the order chosen coded whole.
 bool reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring,
-                    std::vector<uint8_t>* coded, std::vector<uint8_t>* kept);
+                    const std::vector<float>& distance, std::vector<uint8_t>* coded,
+                    std::vector<uint8_t>* kept);
 
 }  // namespace capz

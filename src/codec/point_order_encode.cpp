@@ -23,6 +23,7 @@ ScanHints permuted(const ScanHints& h, const std::vector<uint32_t>& order) {
   ScanHints s = h;
   for (size_t j = 0; j < order.size(); ++j) {
     if (!h.ring.empty()) s.ring[j] = h.ring[order[j]];
+    if (!h.distance.empty()) s.distance[j] = h.distance[order[j]];
     if (!h.xyz.empty()) std::copy_n(&h.xyz[3 * size_t{order[j]}], 3, &s.xyz[3 * j]);
   }
   return s;
@@ -45,6 +46,9 @@ ScanHints head(const ScanHints& s, size_t n) {
     h.ring.assign(s.ring.begin(), s.ring.begin() + static_cast<std::ptrdiff_t>(n));
   if (!s.xyz.empty())
     h.xyz.assign(s.xyz.begin(), s.xyz.begin() + 3 * static_cast<std::ptrdiff_t>(n));
+  if (!s.distance.empty())
+    h.distance.assign(s.distance.begin(), s.distance.begin() + static_cast<std::ptrdiff_t>(n));
+  h.grid_per_unit = s.grid_per_unit;
   return h;
 }
 
@@ -56,7 +60,8 @@ constexpr size_t kRankFrames = 2;
 // With kept null and more than kRankFrames frames, the orders are ranked on the payloads of the
 // window's first kRankFrames frames and only the order chosen is coded whole.
 std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
-                                   const std::vector<uint32_t>& ring, std::vector<uint8_t>* coded,
+                                   const std::vector<uint32_t>& ring,
+                                   const std::vector<float>& distance, std::vector<uint8_t>* coded,
                                    std::vector<uint8_t>* kept) {
   ScanGeometry g;
   for (size_t k = 0; k < b.frames; ++k)
@@ -65,6 +70,8 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
   g.valid = b.valid;
   ScanHints hints;
   hints.ring = ring;
+  hints.distance = distance;
+  hints.grid_per_unit = grid_per_unit(grid);
   hints.xyz.resize(b.xyz.size());
   for (size_t i = 0; i < b.xyz.size(); ++i) hints.xyz[i] = static_cast<float>(b.xyz[i]);
   // The smallest window payload of: each frame sorted under its own table, sorted under the
@@ -117,8 +124,9 @@ void permute(std::vector<T>* v, size_t size, const std::vector<uint32_t>& order)
 }  // namespace
 
 bool reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring,
-                    std::vector<uint8_t>* coded, std::vector<uint8_t>* kept) {
-  const std::vector<uint32_t> order = window_order(*b, grid, ring, coded, kept);
+                    const std::vector<float>& distance, std::vector<uint8_t>* coded,
+                    std::vector<uint8_t>* kept) {
+  const std::vector<uint32_t> order = window_order(*b, grid, ring, distance, coded, kept);
   bool moved = false;
   for (size_t j = 0; j < order.size() && !moved; ++j) moved = order[j] != j;
   if (!moved) return false;

@@ -7,6 +7,7 @@
 #include "capz/error.h"
 #include "coding/bytes.h"
 #include "coding/scan_geometry.h"
+#include "coding/scan_raster.h"
 #include "coding/scan_shared.h"
 #include "coding/scan_table.h"
 
@@ -28,6 +29,13 @@ void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, cons
       w.f32(t.azimuth0[k]);
       w.f32(t.slope[k]);
       w.f32(t.z0[k]);
+    }
+    const bool offsets =
+        std::any_of(t.offset.begin(), t.offset.end(), [](double v) { return v != 0; });
+    w.u8(t.unit.empty() ? 0 : offsets ? 2 : 1);
+    for (size_t k = 0; k < t.unit.size(); ++k) {
+      w.f64(t.unit[k]);
+      if (offsets) w.f64(t.offset[k]);
     }
   }
   out->insert(out->end(), w.buffer().begin(), w.buffer().end());
@@ -275,25 +283,31 @@ std::vector<uint8_t> encode_with(const ScanGeometry& g, const scan::Table& t,
   return out;
 }
 
-// The divisors (of `tried`, in order) whose table codes g's first kTrialFrames frames alone
+// A table to try: the azimuth step found divided by `divisor`, ranges in the sensor's steps or not.
+struct TableChoice {
+  double divisor;
+  bool units;
+};
+
+// The choices (of `tried`, in order) whose table codes g's first kTrialFrames frames alone
 // within kTrialSlack of the smallest payload. On robosense-helios16p at 1 mm the first frame
 // alone ranked the tables otherwise than the window (the map of the sweep before counts), two
 // frames 1.8 % apart where the window's were 1.1 % apart. *tables: the tables tried (each the
 // window's; only the first frames' points placed).
 constexpr double kTrialSlack = 1.02;
 constexpr size_t kTrialFrames = 2;
-std::vector<double> first_frame_choice(const ScanGeometry& g, const scan::RingFit& fit,
-                                       const std::vector<double>& tried,
-                                       std::vector<scan::Table>* tables,
-                                       std::vector<scan::Polar>* polar, Scratch* s) {
+std::vector<TableChoice> first_frame_choice(const ScanGeometry& g, const scan::RingFit& fit,
+                                            const std::vector<TableChoice>& tried,
+                                            std::vector<scan::Table>* tables,
+                                            std::vector<scan::Polar>* polar, Scratch* s) {
   ScanGeometry first;
   first.counts.assign(g.counts.begin(), g.counts.begin() + kTrialFrames);
   const auto n = static_cast<std::ptrdiff_t>(first.counts[0] + first.counts[1]);
   first.q.assign(g.q.begin(), g.q.begin() + 3 * n);
   first.valid.assign(g.valid.begin(), g.valid.begin() + n);
   std::vector<size_t> sizes;
-  for (double divisor : tried) {
-    tables->push_back(scan::table_fit(fit, divisor));
+  for (const TableChoice& c : tried) {
+    tables->push_back(scan::table_fit(fit, c.divisor, c.units));
     const scan::Table& t = tables->back();
     scan::place_points(g, fit, t, static_cast<size_t>(n), polar);
     sizes.push_back(encode_with(first, t, *polar, s).size());
@@ -301,7 +315,7 @@ std::vector<double> first_frame_choice(const ScanGeometry& g, const scan::RingFi
   }
   s->cart.clear();  // its estimates were of the first frame's state under the last table
   const double least = static_cast<double>(*std::min_element(sizes.begin(), sizes.end()));
-  std::vector<double> out;
+  std::vector<TableChoice> out;
   for (size_t i = 0; i < sizes.size(); ++i)  // a size an earlier table had: the same coding, likely
     if (static_cast<double>(sizes[i]) <= least * kTrialSlack &&
         std::find(sizes.begin(), sizes.begin() + static_cast<std::ptrdiff_t>(i), sizes[i]) ==
@@ -317,28 +331,38 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
   for (uint32_t n : g.counts) total += n;
   if (g.valid.size() != total || g.q.size() != 3 * total)
     fail(ErrorCode::kInternal, "scan geometry", "the points disagree with the frames' counts");
-  // The table's azimuth step as found, and finer ones for azimuths off that step: the smallest
+  // The table's azimuth step as found, and finer ones for azimuths off that step, each with
+  // ranges in grid units and, when the sensor's range step is found, in that step: the smallest
   // payload wins. In a window of more than kTrialFrames frames, only the tables whose payload for
   // the first kTrialFrames frames is within kTrialSlack of the smallest such payload code the
   // whole window.
   const scan::RingFit fit = scan::fit_rings(g, hints);
   Scratch scratch;
   std::vector<scan::Polar> polar;
-  const std::vector<double> tried = {1.0, 4.0, 16.0};
-  std::vector<double> divisors = tried;
-  std::vector<scan::Table> tables;  // of the divisors tried on the first frames, in order
+  std::vector<TableChoice> tried;
+  for (double divisor : {1.0, 4.0, 16.0}) {
+    tried.push_back({divisor, false});
+    if (!fit.unit.empty()) tried.push_back({divisor, true});
+  }
+  std::vector<TableChoice> choices = tried;
+  std::vector<scan::Table> tables;  // of the choices tried on the first frames, in order
   if (g.counts.size() > kTrialFrames)
-    divisors = first_frame_choice(g, fit, tried, &tables, &polar, &scratch);
+    choices = first_frame_choice(g, fit, tried, &tables, &polar, &scratch);
   std::vector<uint8_t> best;
-  for (double divisor : divisors) {
-    const size_t k =
-        static_cast<size_t>(std::find(tried.begin(), tried.end(), divisor) - tried.begin());
-    const scan::Table t = k < tables.size() ? tables[k] : scan::table_fit(fit, divisor);
+  for (const TableChoice& c : choices) {
+    const auto k =
+        static_cast<size_t>(std::find_if(tried.begin(), tried.end(),
+                                         [&](const TableChoice& o) {
+                                           return o.divisor == c.divisor && o.units == c.units;
+                                         }) -
+                            tried.begin());
+    const scan::Table t = k < tables.size() ? tables[k] : scan::table_fit(fit, c.divisor, c.units);
     scan::place_points(g, fit, t, g.total(), &polar);
     std::vector<uint8_t> out = encode_with(g, t, polar, &scratch);
     if (best.empty() || out.size() < best.size()) best.swap(out);
     if (t.rings() == 0) break;
   }
+  scan::raster::keep_smaller(g, hints, &best);  // a flash LiDAR's window (scan_raster.h)
   return best;
 }
 
