@@ -20,9 +20,7 @@ namespace capz {
 // (ScanHints::distance), or empty. The choice codes the window's geometry in
 // each candidate order: *coded gets encode_scan_geometry's bytes of the order chosen and *kept
 // those of the file's order (the same when that was chosen), so the encoder need not code them
-// again. With kept null (a window without point fields: nothing else to weigh against the file's
-// order) a window of more than two frames has its orders ranked on its first two frames' payloads
-// and only the order chosen coded whole.
+// again (kept may be null).
 bool reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring,
                     const std::vector<float>& distance, std::vector<uint8_t>* coded,
                     std::vector<uint8_t>* kept);

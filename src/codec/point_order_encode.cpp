@@ -29,36 +29,8 @@ ScanHints permuted(const ScanHints& h, const std::vector<uint32_t>& order) {
   return s;
 }
 
-// g's first `frames` frames (all when it has no more).
-ScanGeometry head(const ScanGeometry& g, size_t frames) {
-  ScanGeometry h;
-  h.counts.assign(g.counts.begin(), g.counts.begin() + static_cast<std::ptrdiff_t>(
-                                                           std::min(frames, g.counts.size())));
-  std::ptrdiff_t n = 0;
-  for (uint32_t c : h.counts) n += c;
-  h.q.assign(g.q.begin(), g.q.begin() + 3 * n);
-  h.valid.assign(g.valid.begin(), g.valid.begin() + n);
-  return h;
-}
-ScanHints head(const ScanHints& s, size_t n) {
-  ScanHints h;
-  if (!s.ring.empty())
-    h.ring.assign(s.ring.begin(), s.ring.begin() + static_cast<std::ptrdiff_t>(n));
-  if (!s.xyz.empty())
-    h.xyz.assign(s.xyz.begin(), s.xyz.begin() + 3 * static_cast<std::ptrdiff_t>(n));
-  if (!s.distance.empty())
-    h.distance.assign(s.distance.begin(), s.distance.begin() + static_cast<std::ptrdiff_t>(n));
-  h.grid_per_unit = s.grid_per_unit;
-  return h;
-}
-
-// Frames of a window the orders are ranked on when the file order's payload is not needed.
-constexpr size_t kRankFrames = 2;
-
 // The coded order of the points of block b (a window's frames, ragged): indices from its first
 // point; *coded: the geometry's bytes in that order, *kept (when not null): in the file's order.
-// With kept null and more than kRankFrames frames, the orders are ranked on the payloads of the
-// window's first kRankFrames frames and only the order chosen is coded whole.
 std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
                                    const std::vector<uint32_t>& ring,
                                    const std::vector<float>& distance, std::vector<uint8_t>* coded,
@@ -79,27 +51,6 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
   // or one no table describes); the encoder's choice, any order being allowed.
   std::vector<uint32_t> best(g.total());
   for (size_t j = 0; j < best.size(); ++j) best[j] = static_cast<uint32_t>(j);
-  if (!kept && g.counts.size() > kRankFrames) {
-    // Each order keeps a frame's points in that frame, so the first frames of the window in an
-    // order are those frames in that order.
-    const ScanGeometry g0 = head(g, kRankFrames);
-    const ScanHints h0 = head(hints, g0.total());
-    const auto first = [&](const std::vector<uint32_t>& order) {
-      return std::vector<uint32_t>(order.begin(),
-                                   order.begin() + static_cast<std::ptrdiff_t>(g0.total()));
-    };
-    size_t least = encode_scan_geometry(g0, h0).size();
-    bool moved = false;
-    for (ScanOrderTable table : {ScanOrderTable::kPerFrame, ScanOrderTable::kWindow}) {
-      std::vector<uint32_t> order = scan_point_order(g, hints, table);
-      const std::vector<uint32_t> o0 = first(order);
-      const size_t bytes = encode_scan_geometry(permuted(g0, o0), permuted(h0, o0)).size();
-      if (bytes < least) least = bytes, best.swap(order), moved = true;
-    }
-    *coded = moved ? encode_scan_geometry(permuted(g, best), permuted(hints, best))
-                   : encode_scan_geometry(g, hints);
-    return best;
-  }
   std::vector<uint8_t> file = encode_scan_geometry(g, hints);
   *coded = file;
   for (ScanOrderTable table : {ScanOrderTable::kPerFrame, ScanOrderTable::kWindow}) {
