@@ -12,7 +12,6 @@
 #include "codec/decoder_registry.h"
 #include "codec/grid.h"
 #include "coding/analog/analog_codec.h"
-#include "io/frame_files.h"
 
 namespace capz {
 namespace {
@@ -48,19 +47,6 @@ void slice_frame_metadata(size_t first, size_t count, size_t F, Take* t) {
   slice_frame_names(first, count, F, &t->bin);
 }
 
-// A stream of one ragged frame (the encoder codes a single unorganized frame with the scan coder
-// when that is smaller) decodes to the shape a reader gives one frame file: a fixed take of one
-// frame, unlabelled points, an unorganized PCD layout of its point count.
-void one_frame_as_fixed(Take* t) {
-  set_frame_shape({t->frame_offsets[1]}, t);
-  if (t->pcd && t->pcd->width != t->points) {
-    auto x = std::make_shared<PCDExtra>(*t->pcd);
-    x->width = t->points;
-    x->height = 1;
-    t->pcd = x;
-  }
-}
-
 // Frames [first, first + count) of the stream, clipped, with the per-frame metadata sliced.
 Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
                   const std::string& name, const DecompressOptions& opts) {
@@ -73,7 +59,7 @@ Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
   if (first == 0 && count == F) check_tiling(ps, size, name);
   FrameBlock b;
   src.read(first, count, &b);
-  Take t = ps.take;
+  Take t = src.header();  // a stream of one ragged frame: one fixed frame (capz_source.h)
   t.frames = count;
   t.xyz = std::move(b.xyz);
   t.valid = std::move(b.valid);
@@ -89,7 +75,6 @@ Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
     t.c3d->camera_mask = std::move(b.camera_mask);
   }
   if (first > 0 || count < F) slice_frame_metadata(first, count, F, &t);
-  if (F == 1 && t.frame_offsets.size() == 2) one_frame_as_fixed(&t);
   return t;
 }
 
