@@ -118,7 +118,11 @@ StreamInfo describe_bytes(StreamBytes& bytes, const std::string& name) {
   si.ragged = ps.h.ragged;
   si.points_reordered = ps.h.points_reordered;
   ps.max_points = size_t{1} << 40;  // only the counts are read: no limit on a window's points
-  si.total_points = si.ragged ? ragged_frame_offsets(bytes, ps).back() : si.frames * si.points;
+  std::vector<int> splits;
+  si.total_points =
+      si.ragged ? ragged_frame_offsets(bytes, ps, &splits).back() : si.frames * si.points;
+  if (ps.h.mode == PosMode::kFloat32)
+    for (int e : splits) ++si.float32_split_windows[e];
   si.window_frames = ps.h.window_frames;
   si.windows = ps.h.windows();
   si.mode = ps.h.transform_output ? "transform-output" : mode_name(ps.h.mode);
