@@ -39,7 +39,7 @@ std::string positions_text(const capz::StreamInfo& si, const std::string& u) {
   }
   std::string s = std::string("float32 split on the grid") + (split.size() > 1 ? "s " : " ") +
                   grids + ", exact corrections";
-  if (plain == 0) return s + (n > 1 ? ", every window" : "");
+  if (plain == 0) return s + (split.size() == 1 && n > 1 ? ", every window" : "");
   return s + ", in " + windows(n) + " of " + std::to_string(n + plain) + "; float32-bits in " +
          windows(plain);
 }

@@ -12,6 +12,7 @@
 #include "codec/decoder_registry.h"
 #include "codec/grid.h"
 #include "coding/analog/analog_codec.h"
+#include "coding/scan_split.h"
 
 namespace capz {
 namespace {
@@ -126,6 +127,8 @@ StreamInfo describe_bytes(StreamBytes& bytes, const std::string& name) {
   si.window_frames = ps.h.window_frames;
   si.windows = ps.h.windows();
   si.mode = ps.h.transform_output ? "transform-output" : mode_name(ps.h.mode);
+  if (si.float32_split_windows.size() > si.float32_split_windows.count(scan::kNoSplit))
+    si.mode = "float32-split";  // as the encoder's CompressStats::mode says it
   si.transform_output = ps.h.transform_output;
   si.kg_target = ps.h.kg_target;
   if (ps.h.codec == 0) {
