@@ -95,11 +95,12 @@ void code_spherical(Io& io, State& st, const Polar& pa, const int32_t* a, Prev* 
   const double phi = static_cast<double>(t.azimuth0[k]) + static_cast<double>(col) * t.step;
   double s, c;
   det_sincos(phi, &s, &c);
-  const double rho = static_cast<double>(range);
+  const bool units = !t.unit.empty();
+  const double rho = units ? static_cast<double>(range) * t.unit[k] : static_cast<double>(range);
   const int32_t xh = round_clamp(rho * c), yh = round_clamp(rho * s);
   const int32_t zh =
       round_clamp(static_cast<double>(t.z0[k]) + static_cast<double>(t.slope[k]) * rho);
-  const int lb = std::min(bit_length(range), 23);
+  const int lb = std::min(bit_length(units ? round_clamp(rho) : range), 23);
   p[0] = io.sym(a[0], xh, kCtxX + lb);
   p[1] = io.sym(a[1], yh, kCtxY + 2 * lb + (p[0] != xh));
   p[2] = io.sym(a[2], zh, kCtxZ + lb);
