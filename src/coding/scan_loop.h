@@ -96,7 +96,8 @@ void code_spherical(Io& io, State& st, const Polar& pa, const int32_t* a, Prev* 
   double s, c;
   det_sincos(phi, &s, &c);
   const bool units = !t.unit.empty();
-  const double rho = units ? static_cast<double>(range) * t.unit[k] : static_cast<double>(range);
+  const double rho =
+      units ? static_cast<double>(range) * t.unit[k] + t.offset[k] : static_cast<double>(range);
   const int32_t xh = round_clamp(rho * c), yh = round_clamp(rho * s);
   const int32_t zh =
       round_clamp(static_cast<double>(t.z0[k]) + static_cast<double>(t.slope[k]) * rho);
