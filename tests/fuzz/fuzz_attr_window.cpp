@@ -1,14 +1,18 @@
 // Fuzz target: the ATTR coder of PCD point fields (src/coding/attributes.h, FORMAT.md 5.3, 6,
-// 7.3). Byte 0 picks the mode (bits 0-1), the field set (bits 2-4, and bit 6 for the normal
-// triples) and whether the window has position integers (bit 7: predictors 10 and 11 allowed,
-// the integers made from the shape; bit 5: a ragged window of format 1.1, one frame of every
-// point, coded key-first with predictor 12 and decoded positions made from the shape), bytes 1-2
-// the shape (frames 1..16, points 1..256, width a divisor-free 1..points):
+// 7.3). Byte 0 picks the mode (bits 0-1), the field set (bits 2-4, and bit 6: sets 8-9 normal
+// triples, 10-15 float fields of values k D beside key fields, for predictor 12) and whether the
+// window has position integers (bit 7: predictors 10 and 11 allowed, the integers made from the
+// shape; bit 5: a ragged window of format 1.1, one frame of every point, coded key-first with
+// predictor 12 and decoded positions made from the shape), bytes 1-2 the shape (frames 1..16,
+// points 1..256, width a divisor-free 1..points):
 //   mode even: the rest is an ATTR body; decoding must return or throw capz::Error, and what
 //     decodes must re-encode to a body that decodes to the same bytes;
-//   mode odd: the rest are field bytes (repeated to fill the window), which must round-trip.
+//   mode odd: the rest are field bytes (repeated to fill the window; for sets 10-15 the
+//     parameters of quantum_fields), which must round-trip.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "capz/error.h"
@@ -26,9 +30,21 @@ capz::AttrSpec spec(const char* name, char type, int size, int count) {
   return s;
 }
 
+// Sets 10-15: float lanes of values k D (predictor 12, quantum) beside key fields, a float
+// placed before its key in the layout (filled by quantum_fields below in the odd mode).
+bool quantum_set(int k) {
+  return (k & 8) != 0 && (k & 6) != 0;
+}
+
 // Field sets covering every lane kind: colour (F and U), integers of each size and signedness,
-// floats, COUNT above 1, and (8 and above) normal triples that predictor 9 completes.
+// floats, COUNT above 1, and (8 and 9) normal triples that predictor 9 completes.
 std::vector<capz::AttrSpec> field_set(int k) {
+  if (quantum_set(k))
+    return (k & 1) ? std::vector<capz::AttrSpec>{spec("ring", 'U', 1, 1), spec("t", 'F', 8, 1),
+                                                 spec("azimuth", 'F', 4, 1)}
+                   : std::vector<capz::AttrSpec>{
+                         spec("distance", 'F', 4, 1), spec("channel", 'U', 2, 1),
+                         spec("elevation", 'F', 4, 1), spec("intensity", 'U', 1, 1)};
   if (k & 8)
     return (k & 1) ? std::vector<capz::AttrSpec>{spec("normal", 'F', 4, 3), spec("i", 'U', 1, 1)}
                    : std::vector<capz::AttrSpec>{
@@ -69,6 +85,69 @@ void round_trip(const std::vector<capz::AttrSpec>& specs,
   capz::decode_attributes(enc.data(), enc.size(), specs, valid, frames, points, width, &back,
                           "re-encoded", st.q, st.ragged);
   CAPZ_FUZZ_CHECK(back == data);
+}
+
+// Odd mode of a quantum set: key fields of a few values, float lanes k D for a step D from the
+// input, k from the point's range (distance), from a table by key (elevation, azimuth) or the
+// previous k plus a small step (t); the float32 product as a driver computes it, or the binary64
+// one rounded once (--attr-error's) by the input, and some values a step off the rule.
+std::vector<std::vector<uint8_t>> quantum_fields(const std::vector<capz::AttrSpec>& specs, size_t n,
+                                                 const double* xyz, const uint8_t* data,
+                                                 size_t size) {
+  size_t at = 0;
+  auto next = [&]() -> uint8_t { return data[at++ % size]; };
+  std::vector<std::vector<uint8_t>> fields;
+  std::vector<uint16_t> keys(n, 0);
+  for (const capz::AttrSpec& s : specs) {
+    std::vector<uint8_t> b(n * static_cast<size_t>(s.size));
+    if (s.type != 'F') {
+      const uint8_t kinds = static_cast<uint8_t>(1 + next() % 16);
+      for (size_t p = 0; p < n; ++p) {
+        const uint16_t v = static_cast<uint16_t>(next() % kinds);
+        if (s.name == "ring" || s.name == "channel") keys[p] = v;
+        for (int i = 0; i < s.size; ++i)
+          b[p * static_cast<size_t>(s.size) + static_cast<size_t>(i)] =
+              static_cast<uint8_t>(v >> (8 * i));
+      }
+      fields.push_back(std::move(b));
+      continue;
+    }
+    fields.push_back(std::move(b));
+  }
+  for (size_t a = 0; a < specs.size(); ++a) {
+    const capz::AttrSpec& s = specs[a];
+    if (s.type != 'F') continue;
+    const double d = std::ldexp(1 + next() / 256.0, -static_cast<int>(next() % 16));
+    const bool wide = next() & 1;
+    int32_t table[16], k = static_cast<int32_t>(next()) - 128;
+    for (int32_t& t : table) t = static_cast<int32_t>(next()) * 37 - 4000;
+    for (size_t p = 0; p < n; ++p) {
+      const uint8_t c = next();
+      if (s.name == "distance" && xyz)
+        k = static_cast<int32_t>(
+                std::floor(std::sqrt(xyz[3 * p] * xyz[3 * p] + xyz[3 * p + 1] * xyz[3 * p + 1] +
+                                     xyz[3 * p + 2] * xyz[3 * p + 2]) /
+                               d +
+                           0.5)) +
+            c % 3 - 1;
+      else if (s.name == "t")
+        k += c % 4;
+      else
+        k = table[keys[p] % 16] += (c > 250 ? 1 : 0);
+      const double v = static_cast<double>(k) * d;
+      uint8_t* out = fields[a].data() + p * static_cast<size_t>(s.size);
+      if (s.size == 8) {
+        std::memcpy(out, &v, 8);
+      } else {
+        float f = wide ? static_cast<float>(v)
+                       : static_cast<float>(static_cast<double>(static_cast<float>(k)) *
+                                            static_cast<double>(static_cast<float>(d)));
+        if (c == 255) f = std::nextafter(f, 1e30f);
+        std::memcpy(out, &f, 4);
+      }
+    }
+  }
+  return fields;
 }
 
 }  // namespace
@@ -119,6 +198,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return 0;
   }
   if (size == 0) return 0;
+  if (quantum_set(((mode >> 2) & 7) | ((mode >> 3) & 8))) {
+    const auto fields =
+        quantum_fields(specs, frames * points, ragged ? xyz.data() : nullptr, data, size);
+    round_trip(specs, fields, valid, frames, points, width, st);
+    return 0;
+  }
   std::vector<std::vector<uint8_t>> fields;
   size_t at = 0;
   for (const capz::AttrSpec& s : specs) {

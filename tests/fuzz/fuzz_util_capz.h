@@ -20,6 +20,16 @@ inline capz::DecompressOptions decode_options() {
   return o;
 }
 
+// Whether `whole`, decoded by decompress(), has the shape of a stream of `frames` frames
+// (`ragged`: of their own point counts, `total` points in all): the same, or for a stream of one
+// ragged frame (a single frame file the encoder coded with the scan coder) the fixed take of
+// one frame that decompress() gives it, as a reader gives one frame file.
+inline bool decoded_shape_matches(size_t frames, bool ragged, size_t total,
+                                  const capz::Take& whole) {
+  if (whole.frames != frames || whole.total_points() != total) return false;
+  return whole.ragged() == ragged || (ragged && frames == 1 && !whole.ragged());
+}
+
 inline uint32_t le32(const uint8_t* p) {
   return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 |
          static_cast<uint32_t>(p[2]) << 16 | static_cast<uint32_t>(p[3]) << 24;
