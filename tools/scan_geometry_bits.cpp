@@ -3,11 +3,13 @@
 // step 2 x bound (rounding to the nearest grid point, so the error is at most the bound in
 // metres), NaN points kept as gaps; the payload is decoded and compared with the integers.
 //
-//   scan_geometry_bits [--bound M]... [--no-ring] [--window F] [--dump N] [--breakdown]
-//                      [--sorted] PATH...
+//   scan_geometry_bits [--bound M]... [--no-ring] [--no-units] [--window F] [--dump N]
+//                      [--breakdown] [--sorted] PATH...
 //
 // --bound: bounds in metres (default 0.001 and 0.01); --no-ring: ignore the ring / channel
-// field (the coder then infers the rings); --window: frames per window (default: all);
+// field (the coder then infers the rings); --no-units: no range units (the encoder is not told
+// the grid's scale, so it does not look for the sensor's range step); --window: frames per window
+// (default: all);
 // --dump: print the first N points of each sequence's first frame in polar form; --breakdown:
 // bits per point of each kind of symbol (ring, column, range, x, y, z), step divisor 4 or
 // --divisor D;
@@ -37,6 +39,7 @@ namespace {
 bool show_breakdown = false;
 double breakdown_divisor = 4;  // --divisor: the table's step divisor of --breakdown
 bool sorted_order = false;     // --sorted: --point-order any's coded order (scan_point_order)
+bool range_units = true;       // --no-units: no ScanHints::grid_per_unit (no range units)
 
 struct Frame {
   std::vector<double> xyz;     // points x 3, NaN kept
@@ -178,7 +181,7 @@ class BreakdownIo {
 void breakdown(const capz::ScanGeometry& g, const capz::ScanHints& h) {
   std::vector<capz::scan::Polar> polar;
   const capz::scan::Table t =
-      capz::scan::table_for(g, capz::scan::fit_rings(g, h), breakdown_divisor, &polar);
+      capz::scan::table_for(g, capz::scan::fit_rings(g, h), breakdown_divisor, range_units, &polar);
   BreakdownIo io(g, polar);
   capz::scan::State st(t);
   std::vector<int32_t> q;
@@ -206,6 +209,7 @@ bool code_window(const std::vector<Frame>& frames, size_t a, size_t b, double bo
   capz::ScanGeometry g;
   capz::ScanHints h;
   const double step = 2 * bound;
+  if (range_units) h.grid_per_unit = 1.0 / step;
   for (size_t f = a; f < b; ++f) {
     const Frame& fr = frames[f];
     const size_t n = fr.xyz.size() / 3;
@@ -266,6 +270,8 @@ int main(int argc, char** argv) {
       breakdown_divisor = std::atof(argv[++i]);
     } else if (a == "--sorted") {
       sorted_order = true;
+    } else if (a == "--no-units") {
+      range_units = false;
     } else if (a == "--no-ring") {
       use_ring = false;
     } else if (a == "--dump" && i + 1 < argc) {

@@ -340,6 +340,12 @@ Grid kg_grid(FrameSource& src, const TakeScan& s, double kg, size_t block, Frame
   return bounded_grid(t, s, step / 2 / (1.0 - 0x1p-30));
 }
 
+double grid_per_unit(const Grid& g) {
+  if (g.step <= 0) return 0;
+  if (g.mode == PosMode::kGrid || g.mode == PosMode::kFloat32Grid) return 1.0 / g.step;
+  return g.mode == PosMode::kDecimal ? g.step : 0;
+}
+
 WindowInts quantise_window(const FrameBlock& b, const Grid& g) {
   WindowInts w;
   w.frames = b.frames;

@@ -83,5 +83,8 @@ Grid kg_grid(FrameSource& src, const TakeScan& s, double kg, size_t block, Frame
 
 // The window's integers on grid g (transform output, grid step 0: all zero).
 WindowInts quantise_window(const FrameBlock& b, const Grid& g);
+// Grid integers per coordinate unit under g (ScanHints::grid_per_unit): 1 / step for a grid,
+// step for a decimal grid, 0 for float bits.
+double grid_per_unit(const Grid& g);
 
 }  // namespace capz

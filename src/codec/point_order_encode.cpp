@@ -39,6 +39,7 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
   g.valid = b.valid;
   ScanHints hints;
   hints.ring = ring;
+  hints.grid_per_unit = grid_per_unit(grid);
   hints.xyz.resize(b.xyz.size());
   for (size_t i = 0; i < b.xyz.size(); ++i) hints.xyz[i] = static_cast<float>(b.xyz[i]);
   // The smallest window payload of: each frame sorted under its own table, sorted under the

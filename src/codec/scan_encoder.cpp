@@ -253,6 +253,7 @@ int choose_split(const FrameBlock& b, const std::vector<uint32_t>& counts, const
   std::vector<uint32_t> t;
   const auto trial = [&](int e) {
     if (!scan::split_coordinates(b.xyz.data(), g.valid.data(), n, e, kSplitLimit, &g.q, &t)) return;
+    h.grid_per_unit = std::ldexp(1.0, e);
     const size_t size = scan_body(g, h, true, e, t).size();
     if (size < best_size) best = e, best_size = size;
   };
@@ -289,6 +290,7 @@ void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<
     g.q = std::move(bits);
   else
     ++r.split_windows;
+  hints.grid_per_unit = e != scan::kNoSplit ? std::ldexp(1.0, e) : grid_per_unit(r.grid);
   ByteWriter pw;
   pw.varint(w);
   pw.varint(n);

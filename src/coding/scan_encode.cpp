@@ -29,6 +29,8 @@ void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, cons
       w.f32(t.slope[k]);
       w.f32(t.z0[k]);
     }
+    w.u8(t.unit.empty() ? 0 : 1);
+    for (double u : t.unit) w.f64(u);
   }
   out->insert(out->end(), w.buffer().begin(), w.buffer().end());
 }
@@ -275,29 +277,35 @@ std::vector<uint8_t> encode_with(const ScanGeometry& g, const scan::Table& t,
   return out;
 }
 
-// The divisors (of `tried`, in order) whose table codes g's first kTrialFrames frames alone
+// A table to try: the azimuth step found divided by `divisor`, ranges in the sensor's steps or not.
+struct TableChoice {
+  double divisor;
+  bool units;
+};
+
+// The choices (of `tried`, in order) whose table codes g's first kTrialFrames frames alone
 // within kTrialSlack of the smallest payload. On robosense-helios16p at 1 mm the first frame
 // alone ranked the tables otherwise than the window (the map of the sweep before counts), two
 // frames 1.8 % apart where the window's were 1.1 % apart.
 constexpr double kTrialSlack = 1.02;
 constexpr size_t kTrialFrames = 2;
-std::vector<double> first_frame_choice(const ScanGeometry& g, const scan::RingFit& fit,
-                                       const std::vector<double>& tried,
-                                       std::vector<scan::Polar>* polar, Scratch* s) {
+std::vector<TableChoice> first_frame_choice(const ScanGeometry& g, const scan::RingFit& fit,
+                                            const std::vector<TableChoice>& tried,
+                                            std::vector<scan::Polar>* polar, Scratch* s) {
   ScanGeometry first;
   first.counts.assign(g.counts.begin(), g.counts.begin() + kTrialFrames);
   const auto n = static_cast<std::ptrdiff_t>(first.counts[0] + first.counts[1]);
   first.q.assign(g.q.begin(), g.q.begin() + 3 * n);
   first.valid.assign(g.valid.begin(), g.valid.begin() + n);
   std::vector<size_t> sizes;
-  for (double divisor : tried) {
-    const scan::Table t = scan::table_for(g, fit, divisor, polar);
+  for (const TableChoice& c : tried) {
+    const scan::Table t = scan::table_for(g, fit, c.divisor, c.units, polar);
     sizes.push_back(encode_with(first, t, *polar, s).size());
     if (t.rings() == 0) break;
   }
   s->cart.clear();  // its estimates were of the first frame's state under the last table
   const double least = static_cast<double>(*std::min_element(sizes.begin(), sizes.end()));
-  std::vector<double> out;
+  std::vector<TableChoice> out;
   for (size_t i = 0; i < sizes.size(); ++i)  // a size an earlier table had: the same coding, likely
     if (static_cast<double>(sizes[i]) <= least * kTrialSlack &&
         std::find(sizes.begin(), sizes.begin() + static_cast<std::ptrdiff_t>(i), sizes[i]) ==
@@ -313,19 +321,24 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
   for (uint32_t n : g.counts) total += n;
   if (g.valid.size() != total || g.q.size() != 3 * total)
     fail(ErrorCode::kInternal, "scan geometry", "the points disagree with the frames' counts");
-  // The table's azimuth step as found, and finer ones for azimuths off that step: the smallest
+  // The table's azimuth step as found, and finer ones for azimuths off that step, each with
+  // ranges in grid units and, when the sensor's range step is found, in that step: the smallest
   // payload wins. In a window of more than kTrialFrames frames, only the tables whose payload for
   // the first kTrialFrames frames is within kTrialSlack of the smallest such payload code the
   // whole window.
   const scan::RingFit fit = scan::fit_rings(g, hints);
   Scratch scratch;
   std::vector<scan::Polar> polar;
-  std::vector<double> divisors = {1.0, 4.0, 16.0};
+  std::vector<TableChoice> choices;
+  for (double divisor : {1.0, 4.0, 16.0}) {
+    choices.push_back({divisor, false});
+    if (!fit.unit.empty()) choices.push_back({divisor, true});
+  }
   if (g.counts.size() > kTrialFrames)
-    divisors = first_frame_choice(g, fit, divisors, &polar, &scratch);
+    choices = first_frame_choice(g, fit, choices, &polar, &scratch);
   std::vector<uint8_t> best;
-  for (double divisor : divisors) {
-    const scan::Table t = scan::table_for(g, fit, divisor, &polar);
+  for (const TableChoice& c : choices) {
+    const scan::Table t = scan::table_for(g, fit, c.divisor, c.units, &polar);
     std::vector<uint8_t> out = encode_with(g, t, polar, &scratch);
     if (best.empty() || out.size() < best.size()) best.swap(out);
     if (t.rings() == 0) break;

@@ -35,6 +35,10 @@ struct ScanHints {
   // are found from the elevations of these, finer than the grid's (at a coarse grid a near
   // point's elevation is too uncertain to tell neighbouring lasers apart).
   std::vector<float> xyz;
+  // Grid integers per unit of xyz (the integers are about xyz times this), or 0 when the
+  // integers are not a scaled copy of xyz: with it the encoder looks for the sensor's range step
+  // (FORMAT.md "Scan geometry payload", range units).
+  double grid_per_unit = 0;
 };
 
 // The payload of one window. Throws Error(kInvalidArgument) when the shapes disagree.

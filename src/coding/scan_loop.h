@@ -59,14 +59,14 @@ inline double root0(double e) {
 // x y z of a spherical point (FORMAT "Scan geometry payload", step 4): the axis less aligned
 // with the azimuth first, from rho cos or sin; the other from the range's hypotenuse; z on the
 // ring's cone.
+// (rho: the range in grid units; half: half a range step in grid units; lb: the contexts' bit
+// length.)
 template <class Io>
-void code_xyz(Io& io, const Table& t, uint32_t k, int32_t col, int32_t range, const int32_t* a,
-              int32_t* p) {
+void code_xyz(Io& io, const Table& t, uint32_t k, int32_t col, double rho, double half, int lb,
+              const int32_t* a, int32_t* p) {
   const double phi = static_cast<double>(t.azimuth0[k]) + static_cast<double>(col) * t.step;
   double s, c;
   det_sincos(phi, &s, &c);
-  const double rho = static_cast<double>(range);
-  const int lb = std::min(bit_length(range), 23);
   const int i0 = std::fabs(c) <= std::fabs(s) ? 0 : 1, i1 = 1 - i0;
   const double u0 = rho * (i0 == 0 ? c : s);
   const int32_t h0 = round_clamp(u0);
@@ -75,7 +75,7 @@ void code_xyz(Io& io, const Table& t, uint32_t k, int32_t col, int32_t range, co
   const double g = (i1 == 0 ? c : s) < 0 ? -1.0 : 1.0;
   const double u1 = g * root0(rho * rho - oo);
   const int32_t h1 = round_clamp(u1);
-  const double hi = (rho + 0.5) * (rho + 0.5) - oo, lo = (rho - 0.5) * (rho - 0.5) - oo;
+  const double hi = (rho + half) * (rho + half) - oo, lo = (rho - half) * (rho - half) - oo;
   const double n = floor_fast(-root0(lo)) - floor_fast(-root0(hi));  // ceil(m(hi)) - ceil(m(lo))
   const int ni = n <= 0 ? 0 : n >= 3 ? 3 : static_cast<int>(n);
   p[i1] = sym_fraction(io, a[i1], h1, u1 - h1, kCtxAxis2 + 3 * (2 * ni + (p[i0] != h0)));
@@ -146,7 +146,11 @@ void code_spherical(Io& io, State& st, const Polar& pa, const int32_t* a, Prev* 
                                        kCtxRangeFrac + 3 * (g >> 1))
                         : io.sym(pa.range, cand[sr], kCtxRange + g);
   for (int j = 0; j < 3; ++j) score(&r.score_range[j], range, cand[j]);
-  code_xyz(io, t, k, col, range, a, p);
+  // x y on the column's azimuth at that range, z on the ring's cone.
+  const bool units = !t.unit.empty();
+  const double rho = units ? static_cast<double>(range) * t.unit[k] : static_cast<double>(range);
+  const int lb = std::min(bit_length(units ? round_clamp(rho) : range), 23);
+  code_xyz(io, t, k, col, rho, units ? 0.5 * t.unit[k] : 0.5, lb, a, p);
   if (r.has_last) r.step = wrap_sub(col, r.last_column);
   r.last_column = col;
   r.last_range = range;

@@ -62,7 +62,7 @@ void order_one(const ScanGeometry& g, const ScanHints& hints, size_t first, size
   scan::RingFit fit = scan::fit_rings(f, h);
   fit.step = scan::sorted_step(fit);  // the sensor's step, whatever the file's order
   std::vector<scan::Polar> polar;
-  const scan::Table t = scan::table_for(f, fit, 1.0, &polar);
+  const scan::Table t = scan::table_for(f, fit, 1.0, false, &polar);
   const size_t at = out->size();
   order_frame(f, t.rings() > 0, polar, 0, n, out);
   for (size_t j = at; j < out->size(); ++j) (*out)[j] += static_cast<uint32_t>(first);
@@ -88,7 +88,7 @@ std::vector<uint32_t> scan_point_order(const ScanGeometry& g, const ScanHints& h
   }
   const scan::RingFit fit = scan::fit_rings(g, hints);  // the payload's own inference
   std::vector<scan::Polar> polar;
-  const scan::Table t = scan::table_for(g, fit, 1.0, &polar);
+  const scan::Table t = scan::table_for(g, fit, 1.0, false, &polar);
   for (uint32_t n : g.counts) {
     order_frame(g, t.rings() > 0, polar, first, n, &order);
     first += n;

@@ -52,6 +52,14 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
       check_finite(t.slope.back(), &r);
       check_finite(t.z0.back(), &r);
     }
+    const uint8_t units = r.u8();
+    if (units > 1) fail(ErrorCode::kCorrupt, what, "unknown range units in the laser table");
+    for (uint64_t k = 0; units == 1 && k < rings; ++k) {
+      const double u = r.f64();
+      if (!(u >= kMinUnit && u <= kMaxUnit))
+        fail(ErrorCode::kCorrupt, what, "a ring's range unit is out of range");
+      t.unit.push_back(u);
+    }
   }
   uint64_t coded = 0;  // points that code at least one symbol
   for (size_t i = 0; i < frames; ++i) {

@@ -31,6 +31,8 @@ constexpr uint8_t kFrameFlagMask = 7;
 // Limits the decoder enforces (FORMAT.md).
 constexpr uint32_t kMaxRings = 1024;
 constexpr uint64_t kMaxMapCells = uint64_t{1} << 22;  // rings x columns
+// The range units' bounds (FORMAT.md "Scan geometry payload").
+constexpr double kMinUnit = 0x1p-20, kMaxUnit = 0x1p20;
 // Coordinates of a spherical frame stay below this in magnitude (so a range fits an int32).
 constexpr int64_t kMaxSphericalCoord = int64_t{1} << 29;
 
@@ -39,6 +41,8 @@ struct Table {
   float step = 0;        // radians per column (nonzero when rings > 0)
   uint32_t columns = 0;  // map columns (the previous sweep's ring x column map), >= 1
   std::vector<float> azimuth0, slope, z0;  // per ring
+  // Per ring the grid units of one range step ("units" 1), or empty: ranges in grid units.
+  std::vector<double> unit;
   size_t rings() const { return azimuth0.size(); }
 };
 

@@ -155,6 +155,83 @@ double infer_step(const std::vector<std::vector<double>>& phi) {
   return 2 * neg > d.size() ? -s : s;
 }
 
+// Whether the distances sit on whole multiples of q: nine in ten within 5 % of q of the nearest
+// multiple (a median would take a step twice the sensor's, which half the points sit on).
+bool on_steps(const std::vector<double>& dist, double q, std::vector<double>* scratch) {
+  scratch->clear();
+  for (double d : dist) {
+    const double m = d / q;
+    if (m >= 2147483647.0) return false;
+    scratch->push_back(std::fabs(m - std::floor(m + 0.5)));
+  }
+  const auto p90 = scratch->begin() + static_cast<std::ptrdiff_t>(scratch->size() * 9 / 10);
+  std::nth_element(scratch->begin(), p90, scratch->end());
+  return *p90 < 0.05;
+}
+
+// The sensor's range step (FORMAT.md "range units", informative), in the units of h.xyz: the
+// largest of 1, 2, 2.5, 4, 5 x 10^e that the distances from the origin of up to 16384 points
+// sit on, at least one grid unit and at most an eighth of their median; 0 when none.
+double range_step(const ScanGeometry& g, const ScanHints& h) {
+  const size_t n = g.total();
+  if (h.grid_per_unit <= 0 || h.xyz.size() != 3 * n) return 0;
+  std::vector<double> dist;
+  const size_t stride = std::max<size_t>(1, n / 16384);
+  for (size_t i = 0; i < n; i += stride) {
+    if (!g.valid[i]) continue;
+    const double x = h.xyz[3 * i], y = h.xyz[3 * i + 1], z = h.xyz[3 * i + 2];
+    const double d = std::sqrt(x * x + y * y + z * z);
+    if (std::isfinite(d) && d > 0) dist.push_back(d);
+  }
+  if (dist.size() < 64) return 0;
+  // Steps of at most an eighth of the median distance (a step beyond the distances would fit
+  // them all, as zero steps).
+  std::vector<double> scratch = dist;
+  const auto mid = scratch.begin() + static_cast<std::ptrdiff_t>(scratch.size() / 2);
+  std::nth_element(scratch.begin(), mid, scratch.end());
+  const double largest = *mid / 8;
+  double best = 0;
+  for (int e = -6; e <= 3; ++e)
+    for (double m : {1.0, 2.0, 2.5, 4.0, 5.0}) {
+      const double q = m * std::pow(10.0, e);
+      if (q * h.grid_per_unit >= 0.999 && q <= largest && q > best && on_steps(dist, q, &scratch))
+        best = q;
+    }
+  return best;
+}
+
+// Per ring the grid units of one range step (least squares from the step counts to the
+// horizontal ranges) and per point its range in those units; nothing when no step is found.
+void fit_units(const ScanGeometry& g, const ScanHints& h, const std::vector<uint32_t>& ring,
+               size_t rings, RingFit* r) {
+  const double q = range_step(g, h);
+  if (q == 0) return;
+  const double gpu = h.grid_per_unit;
+  std::vector<double> num(rings, 0.0), den(rings, 0.0);
+  for (size_t i = 0; i < g.total(); ++i) {
+    if (!g.valid[i] || !small_enough(&g.q[3 * i])) continue;
+    const double x = h.xyz[3 * i], y = h.xyz[3 * i + 1], z = h.xyz[3 * i + 2];
+    const double m = std::floor(std::sqrt(x * x + y * y + z * z) / q + 0.5);
+    num[ring[i]] += m * std::hypot(x, y) * gpu;
+    den[ring[i]] += m * m;
+  }
+  r->unit.resize(rings);
+  for (size_t k = 0; k < rings; ++k) {
+    const double u = den[k] > 0 ? num[k] / den[k] : q * gpu;
+    if (!(u >= kMinUnit && u <= kMaxUnit)) {
+      r->unit.clear();
+      return;
+    }
+    r->unit[k] = u;
+  }
+  r->steps.assign(g.total(), 0);
+  for (size_t i = 0; i < g.total(); ++i) {
+    if (!g.valid[i] || !small_enough(&g.q[3 * i])) continue;
+    const double rho = std::hypot(double(h.xyz[3 * i]), double(h.xyz[3 * i + 1])) * gpu;
+    r->steps[i] = round_clamp(rho / r->unit[ring[i]]);
+  }
+}
+
 }  // namespace
 
 RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints) {
@@ -183,6 +260,7 @@ RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints) {
   r.step = infer_step(r.phi);
   r.slope.resize(rings), r.z0.resize(rings);
   for (size_t k = 0; k < rings; ++k) fit_cone(cone[k], &r.slope[k], &r.z0[k]);
+  fit_units(g, hints, ring, rings, &r);
   return r;
 }
 
@@ -192,7 +270,7 @@ double sorted_step(const RingFit& r) {
   return std::fabs(infer_step(phi));
 }
 
-Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor,
+Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor, bool units,
                 std::vector<Polar>* polar) {
   Table t;
   const size_t rings = r.rings();
@@ -206,6 +284,8 @@ Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor,
   t.columns = static_cast<uint32_t>(std::max(1.0, std::min(cols, double(kMaxMapCells / rings))));
   t.slope = r.slope;
   t.z0 = r.z0;
+  units = units && !r.unit.empty();
+  if (units) t.unit = r.unit;
   t.azimuth0.resize(rings);
   for (size_t k = 0; k < rings; ++k) {
     double sc = 0, ss = 0;
@@ -223,6 +303,7 @@ Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor,
     if (!g.valid[i] || !small_enough(p)) continue;
     Polar o = r.polar[i];
     o.column = round_clamp((r.phi[o.ring][next[o.ring]++] - t.azimuth0[o.ring]) / step);
+    if (units) o.range = r.steps[i];
     (*polar)[i] = o;
   }
   return t;

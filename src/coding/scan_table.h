@@ -17,6 +17,10 @@ struct RingFit {
   std::vector<float> slope, z0;          // per ring
   double step = 0;                       // radians; 0 when none was found
   std::vector<Polar> polar;              // per point
+  // The sensor's range step, when one is found (FORMAT.md "range units"): per ring the grid
+  // units of one step, and per point its range in steps (else both empty).
+  std::vector<double> unit;
+  std::vector<int32_t> steps;
   size_t rings() const { return phi.size(); }
 };
 RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints);
@@ -28,7 +32,8 @@ double sorted_step(const RingFit& r);
 // The table of a window's points and every valid point's ring, column and range under it; an
 // empty table (no rings) when none can be inferred. The azimuth step is the one found in the
 // data divided by step_divisor (finer columns for sensors whose azimuths are not on one step).
-Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor,
+// With `units` (and r.unit found) the table's ranges count the sensor's range steps.
+Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor, bool units,
                 std::vector<Polar>* polar);
 
 // True when every valid point of points [first, first + n) may be coded spherically.

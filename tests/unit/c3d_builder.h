@@ -1,7 +1,6 @@
 // A small C3D builder for the reader/writer tests, independent of the library's encoder.
 #pragma once
 
-
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -178,7 +177,7 @@ struct Built {
 
 // Standard groups for a builder: POINT (1), ANALOG (2).
 inline void standard_groups(Built& b, const std::vector<std::string>& labels,
-                     const std::vector<std::string>& analog_labels = {}) {
+                            const std::vector<std::string>& analog_labels = {}) {
   Group pg{1, "POINT", "3-D point parameters", {}};
   pg.params.push_back(ints("USED", {static_cast<double>(b.points)}));
   pg.params.push_back(ints("FRAMES", {static_cast<double>(b.frames)}));
@@ -243,6 +242,5 @@ inline bool has_warning(const Take& t, const std::string& part) {
     if (w.find(part) != std::string::npos) return true;
   return false;
 }
-
 
 }  // namespace c3d_builder

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <random>
 
+#include "c3d_builder.h"
 #include "capz/error.h"
 #include "capz/io.h"
 #include "coding/c3d_params.h"
@@ -13,7 +14,6 @@
 #include "io/c3d_internal.h"
 #include "support/c3d_compare.h"
 #include "test_util.h"
-#include "c3d_builder.h"
 
 using namespace capz;
 using capz::testing_support::expect_same_groups;
