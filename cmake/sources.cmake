@@ -50,6 +50,7 @@ set(CAPZ_DECODE_SOURCES
   src/coding/rotations.cpp
   src/coding/scan_decode.cpp
   src/coding/scan_maps.cpp
+  src/coding/scan_raster.cpp
   src/coding/scan_shared.cpp
   src/coding/scan_split.cpp
   src/core/atomic_file.cpp
@@ -143,6 +144,7 @@ set(CAPZ_ENCODE_SOURCES
   src/coding/rotations_encode.cpp
   src/coding/scan_encode.cpp
   src/coding/scan_order_encode.cpp
+  src/coding/scan_raster_encode.cpp
   src/coding/scan_split_encode.cpp
   src/coding/scan_table.cpp
   src/io/residue/c3d_residue_encode.cpp

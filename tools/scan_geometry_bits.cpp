@@ -42,8 +42,9 @@ bool sorted_order = false;     // --sorted: --point-order any's coded order (sca
 bool range_units = true;       // --no-units: no ScanHints::grid_per_unit (no range units)
 
 struct Frame {
-  std::vector<double> xyz;     // points x 3, NaN kept
-  std::vector<uint32_t> ring;  // the ring / channel field, or empty
+  std::vector<double> xyz;      // points x 3, NaN kept
+  std::vector<uint32_t> ring;   // the ring / channel field, or empty
+  std::vector<float> distance;  // the distance / range field, or empty
 };
 
 // A field's value as a double (any PCD type), from a point's bytes.
@@ -93,23 +94,26 @@ Frame read_frame(const std::string& path, bool use_ring) {
   pcl::PCLPointCloud2 c;
   if (pcl::io::loadPCDFile(path, c) != 0)
     throw capz::Error(capz::ErrorCode::kIo, path + ": unreadable");
-  const pcl::PCLPointField* f[4] = {nullptr, nullptr, nullptr, nullptr};
+  const pcl::PCLPointField* f[5] = {nullptr, nullptr, nullptr, nullptr, nullptr};
   for (const auto& fd : c.fields) {
     if (fd.name == "x") f[0] = &fd;
     if (fd.name == "y") f[1] = &fd;
     if (fd.name == "z") f[2] = &fd;
     if (use_ring && (fd.name == "ring" || fd.name == "channel" || fd.name == "laser_id"))
       f[3] = &fd;
+    if (fd.name == "distance" || fd.name == "range") f[4] = &fd;
   }
   if (!f[0] || !f[1] || !f[2]) throw capz::Error(capz::ErrorCode::kIo, path + ": no x y z");
   Frame fr;
   const size_t n = size_t{c.width} * c.height;
   fr.xyz.resize(3 * n);
   if (f[3]) fr.ring.resize(n);
+  if (f[4]) fr.distance.resize(n);
   for (size_t i = 0; i < n; ++i) {
     const uint8_t* p = c.data.data() + i * c.point_step;
     for (int a = 0; a < 3; ++a) fr.xyz[3 * i + a] = field_value(*f[a], p);
     if (f[3]) fr.ring[i] = static_cast<uint32_t>(field_value(*f[3], p));
+    if (f[4]) fr.distance[i] = static_cast<float>(field_value(*f[4], p));
   }
   return fr;
 }
@@ -223,8 +227,10 @@ bool code_window(const std::vector<Frame>& frames, size_t a, size_t b, double bo
         g.q.push_back(ok ? static_cast<int32_t>(std::floor(x[k] / step + 0.5)) : 0);
     }
     if (!fr.ring.empty()) h.ring.insert(h.ring.end(), fr.ring.begin(), fr.ring.end());
+    h.distance.insert(h.distance.end(), fr.distance.begin(), fr.distance.end());
   }
   if (h.ring.size() != g.valid.size()) h.ring.clear();
+  if (h.distance.size() != g.valid.size()) h.distance.clear();
   if (sorted_order) {  // each frame in the coded order of --point-order any
     const std::vector<uint32_t> order = capz::scan_point_order(g, h);
     capz::ScanGeometry s = g;
@@ -236,10 +242,12 @@ bool code_window(const std::vector<Frame>& frames, size_t a, size_t b, double bo
         sh.xyz[3 * j + k] = h.xyz[3 * order[j] + k];
       }
       if (!h.ring.empty()) sh.ring[j] = h.ring[order[j]];
+      if (!h.distance.empty()) sh.distance[j] = h.distance[order[j]];
     }
     g = std::move(s);
     h.ring.swap(sh.ring);
     h.xyz.swap(sh.xyz);
+    h.distance.swap(sh.distance);
   }
   auto t0 = std::chrono::steady_clock::now();
   const std::vector<uint8_t> payload = capz::encode_scan_geometry(g, h);

@@ -5,10 +5,12 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include "capz/error.h"
 #include "capz/io.h"
+#include "capz/stream.h"
 #include "capz/tool/file.h"
 #include "cli_util.h"
 #include "commands.h"
@@ -137,7 +139,11 @@ int cmd_convert(const Args& args) {
   if (fs::exists(in, ec) && fs::exists(target, ec) && fs::equivalent(in, target, ec))
     capz::fail(capz::ErrorCode::kUsage, out, "output is the input");
 
-  capz::Take take = capz::read_take(in);
+  // Read a block of frames at a time (open_frames: C3D by seeks, TRC rows, frame files one by
+  // one) and written as they come (write_frames): memory follows a block, not the take, except
+  // where an output needs the whole take (a single frame file, an int16 C3D scaled from the data).
+  std::unique_ptr<capz::FrameSource> src = capz::open_frames(in);
+  capz::Take& take = src->edit_header();
   const capz::Format out_format = capz::output_format(take, out, wo);
   if (vm.count("rate")) take.rate = vm["rate"].as<double>();
   if (vm.count("units") && (take.units.empty() || take.units_assumed)) {
@@ -151,7 +157,10 @@ int cmd_convert(const Args& args) {
 
   if (g_verbosity >= 1) print_notes(take, in, out_format);
 
-  capz::write_take(take, out, wo);
+  capz::write_frames(*src, out, wo);
+  if (g_verbosity >= 1)
+    for (const std::string& w : src->frame_warnings())
+      std::fprintf(stderr, "capz convert: %s: %s\n", in.c_str(), w.c_str());
   if (!is_frames(out_format) && !take.attributes.empty() && g_verbosity >= 1)
     std::fprintf(stderr, "capz convert: dropped point fields: %s\n",
                  capz::field_names(take).c_str());

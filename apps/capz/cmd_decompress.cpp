@@ -160,9 +160,7 @@ Written decode_whole(const Job& job, const Settings& s, const std::string& in,
     src.reset();
     capz::rebuild_original(in, w.out, s.batch.force, dopts);
   } else {
-    std::unique_ptr<capz::FrameSink> sink =
-        capz::create_frame_sink(take, src->has_sample_words(), w.out, wo);
-    capz::copy_frames(*src, *sink, src->preferred_block());
+    capz::write_frames(*src, w.out, wo);
   }
   return w;
 }

@@ -1,6 +1,9 @@
 // `capz info X.capz`: the stream header, metadata and chunk sizes of an archive.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <map>
+#include <string>
 
 #include "capz/codec.h"
 #include "capz/tool/original.h"
@@ -9,6 +12,37 @@
 namespace capz_cli {
 
 namespace {
+
+// "2^-17" for the float32 split exponent E = 17 (the grid 2^-E).
+std::string split_grid(int e) {
+  return e > 0 ? "2^-" + std::to_string(e) : "2^" + std::to_string(-e);
+}
+
+// What the coding line says of the positions: the mode, or for a ragged float32 stream whose
+// windows use a float32 split (FORMAT.md "Lossless ragged streams") the grids of the split and
+// how many windows use each, and the windows of plain float32 bits.
+std::string positions_text(const capz::StreamInfo& si, const std::string& u) {
+  std::map<int, size_t> split = si.float32_split_windows;
+  const size_t plain = split.count(-128) ? split[-128] : 0;
+  split.erase(-128);
+  if (split.empty()) return si.mode;
+  size_t n = 0;
+  for (const auto& kv : split) n += kv.second;
+  const auto windows = [](size_t k) {
+    return std::to_string(k) + (k == 1 ? " window" : " windows");
+  };
+  std::string grids;
+  for (const auto& kv : split) {
+    grids += (grids.empty() ? "" : ", ") + split_grid(kv.first) + " (" +
+             num(std::ldexp(1.0, -kv.first)) + u + ")";
+    if (split.size() > 1) grids += " in " + windows(kv.second);
+  }
+  std::string s = std::string("float32 split on the grid") + (split.size() > 1 ? "s " : " ") +
+                  grids + ", exact corrections";
+  if (plain == 0) return s + (split.size() == 1 && n > 1 ? ", every window" : "");
+  return s + ", in " + windows(n) + " of " + std::to_string(n + plain) + "; float32-bits in " +
+         windows(plain);
+}
 // Rotation samples per point frame (0 without rotations).
 size_t rotations_per_frame(const capz::StreamInfo& si) {
   return si.rotation_segments > 0 ? static_cast<size_t>(si.rotation_samples_per_frame) : 0;
@@ -62,6 +96,13 @@ void print_json(const std::string& path, size_t size, const capz::StreamInfo& si
   j.member("rate", si.rate);
   j.member("units", si.units);
   j.member("mode", si.mode);
+  if (!si.float32_split_windows.empty()) {  // windows per float32 split exponent (-128: none)
+    j.key("float32_split_windows");
+    j.begin_object();
+    for (const auto& kv : si.float32_split_windows)
+      j.member(std::to_string(kv.first), static_cast<uint64_t>(kv.second));
+    j.end_object();
+  }
   j.member("codec", si.codec);
   j.member("lossless", si.lossless);
   j.member("grid_step", si.step);
@@ -145,7 +186,7 @@ void print_text(const std::string& path, size_t size, const capz::StreamInfo& si
                     (si.rate > 0 ? ", " + num(si.rate) + " Hz" : "") +
                     (units.empty() ? ", units unknown" : ", " + capz::units_text(shown)));
   line("coding:",
-       si.mode +
+       positions_text(si, u) +
            (si.lossless           ? ", lossless"
             : si.transform_output ? ", KG target " + num(si.kg_target) + "%, no bound"
                                   : ", bound " + num(si.max_error) + u + " per coordinate") +

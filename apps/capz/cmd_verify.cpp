@@ -53,23 +53,6 @@ void match_original(const std::string& in, const std::string& orig, const capz::
   }
 }
 
-// A one-frame archive decoded whole (one window) against the original read whole: the shape a
-// reader gives one frame file (decompress() turns a stream of one ragged frame, the scan coder's
-// single sweep, into that fixed frame).
-Verdict check_whole(const std::string& in, const std::string& orig, const capz::Take& b,
-                    const capz::StreamInfo& si) {
-  capz::Take a = capz::read_take(orig);
-  match_original(in, orig, b, &a);
-  Verdict v;
-  v.dropped_fields = drop_left_out_fields(&a, b);
-  const capz::PromiseResult r = capz::check_promise(a, b, capz::promise_of(si));
-  v.e = r.error;
-  v.analog_use = r.analog_bound_use;
-  v.ok = r.holds;
-  v.why = r.why;
-  return v;
-}
-
 // The archive decoded window by window (every chunk's CRC, every window), and with `orig` the
 // original read a block of the same frames at a time beside it, checked by the library's rule
 // (PromiseCheck): memory is bounded by the archive's window, not by the take. *t_dec: the CPU
@@ -218,20 +201,12 @@ int cmd_verify(const Args& args) {
     r.has_against = true;
     r.against = vm["against"].as<std::string>();
   }
-  capz::Take one;
-  std::unique_ptr<capz::FrameSource> dec;
-  if (si.frames <= 1) {  // one window, decoded whole in the shape a reader gives one frame file
-    const std::vector<uint8_t> bytes = capz::read_file(in);
-    one = capz::decompress(bytes.data(), bytes.size(), in, dopts);
-    r.t_dec = cpu_seconds() - c0;
-    r.b = &one;
-    if (r.has_against) r.v = check_whole(in, r.against, one, si);
-  } else {  // window by window: memory bounded by the archive's window, not by the take
-    dec = capz::open_capz_frames(in, dopts);
-    r.t_dec = cpu_seconds() - c0;
-    r.b = &dec->header();
-    r.v = check_stream(in, r.against, *dec, si, &r.t_dec);
-  }
+  // Window by window: memory bounded by the archive's window, not by the take (an archive of
+  // one frame decodes in the shape a reader gives one frame file: capz_source.h).
+  std::unique_ptr<capz::FrameSource> dec = capz::open_capz_frames(in, dopts);
+  r.t_dec = cpu_seconds() - c0;
+  r.b = &dec->header();
+  r.v = check_stream(in, r.against, *dec, si, &r.t_dec);
   if (vm.count("json"))
     print_json(r);
   else if (g_verbosity >= 1)

@@ -134,7 +134,11 @@ struct StreamInfo {
   // Each frame's points are in the encoder's order, not the source's (compress
   // --point-order any; HEAD feature bit 5, format 1.1): compare them with the source as sets.
   bool points_reordered = false;
-  std::string mode;   // as CompressStats::mode
+  std::string mode;  // as CompressStats::mode
+  // A ragged stream in mode "float32-bits" (FORMAT.md "Lossless ragged streams"): how many of
+  // its windows code their float32 coordinates on each float32 split grid 2^-E (the key E),
+  // exactly, with corrections; key -128: windows of plain float32 bits. Empty otherwise.
+  std::map<int, size_t> float32_split_windows;
   std::string codec;  // "none", "ts", "pdct", or "id N" when unknown
   bool lossless = false;
   // The transform's reconstruction is the output (only a KG target was given): no bound holds,

@@ -169,4 +169,11 @@ void compress_stream(FrameSource& source, const CompressOptions& opts, const std
 // commits the sink.
 void copy_frames(FrameSource& source, FrameSink& sink, size_t block = 1024);
 
+// Writes every frame of the source to `path` (create_frame_sink: the bytes write_take writes of
+// the whole take), `block` frames at a time (0: the source's preferred_block()). A frame folder
+// in and a frame folder out hold one block in memory, not the take (`capz convert`). Throws
+// capz::Error; nothing is left at `path` on failure.
+void write_frames(FrameSource& source, const std::string& path, const WriteOptions& opts = {},
+                  size_t block = 0);
+
 }  // namespace capz

@@ -31,6 +31,12 @@ py::dict info_dict(const std::string& path, const std::vector<uint8_t>& bytes) {
   d["rate"] = si.rate;
   d["units"] = text(si.units);
   d["mode"] = si.mode;
+  if (!si.float32_split_windows.empty()) {  // windows per float32 split exponent, as the CLI
+    py::dict splits;
+    for (const auto& kv : si.float32_split_windows)
+      splits[py::str(std::to_string(kv.first))] = kv.second;
+    d["float32_split_windows"] = splits;
+  }
   d["codec"] = si.codec;
   d["lossless"] = si.lossless;
   d["grid_step"] = si.step;

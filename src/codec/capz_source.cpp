@@ -8,6 +8,7 @@
 
 #include "capz/error.h"
 #include "codec/decoder.h"
+#include "io/frame_files.h"
 
 namespace capz {
 
@@ -27,6 +28,7 @@ CapzSource::CapzSource(std::unique_ptr<StreamBytes> bytes, const std::string& na
     ps_.take.frame_offsets = ragged_frame_offsets(*bytes_, ps_);
   }
   header_ = ps_.take;
+  if (ps_.h.ragged && ps_.take.frames == 1) one_frame_as_fixed();
   const size_t T = std::min(resolve_threads(threads), ps_.index.size());
   if (T > 1 && ps_.index.size() > 1) ahead_cap_ = T + 1;
   // The window kept, and those decoded ahead, each with its buffers.
@@ -35,6 +37,17 @@ CapzSource::CapzSource(std::unique_ptr<StreamBytes> bytes, const std::string& na
   check_memory(window * static_cast<double>(1 + ahead_cap_),
                ahead_cap_ ? "its windows decoded ahead" : "a window");
   if (ahead_cap_) pool_.reset(new ThreadPool(T));
+}
+
+void CapzSource::one_frame_as_fixed() {
+  one_ragged_frame_ = true;
+  set_frame_shape({header_.frame_offsets.at(1)}, &header_);
+  if (header_.pcd && header_.pcd->width != header_.points) {
+    auto x = std::make_shared<PCDExtra>(*header_.pcd);
+    x->width = header_.points;
+    x->height = 1;
+    header_.pcd = x;
+  }
 }
 
 double CapzSource::frame_bytes() const {
@@ -111,7 +124,14 @@ void CapzSource::read_ragged(size_t first, size_t count, FrameBlock* out) {
 void CapzSource::read(size_t first, size_t count, FrameBlock* out) {
   const size_t F = ps_.take.frames, N = ps_.take.points;
   clip(&first, &count);
-  if (ps_.h.ragged) return read_ragged(first, count, out);
+  if (ps_.h.ragged) {
+    read_ragged(first, count, out);
+    if (one_ragged_frame_) {  // the block of the fixed one-frame take (its 0 or 1 frame)
+      out->points = header_.points;
+      out->frame_offsets.clear();
+    }
+    return;
+  }
   const size_t S = ps_.h.analog_samples_per_frame, C = ps_.h.analog_channels;
   const size_t A = C > 0 && S > 0 ? S * C : 0;
   const size_t W = ps_.h.window_frames;

@@ -16,6 +16,12 @@
 
 namespace capz {
 
+// What a reader gives one frame file, every .capz of one frame gives too: a stream of one ragged
+// frame (the encoder codes a single unorganized frame with the scan coder when that is smaller)
+// is a fixed take of one frame (header() and every block read()), its points unlabelled, a PCD
+// layout unorganized (width = its points, height 1). The one place this rule lives: decompress(),
+// `capz verify`, `capz compress --rm`'s read-back and every other .capz reader go through here.
+// parsed() keeps the stream's own (ragged) shape.
 class CapzSource : public FrameSource {
  public:
   // whole: the stream will be read whole, so check that its windows tile it exactly.
@@ -51,6 +57,8 @@ class CapzSource : public FrameSource {
   void check_memory(double frames, const char* what) const;
   void decode(size_t w);
   void read_ragged(size_t first, size_t count, FrameBlock* out);
+  // The header_ of a stream of one ragged frame in the fixed shape (the rule above).
+  void one_frame_as_fixed();
   void decode_ahead(size_t w);
   void submit(size_t w);
   void drop_ahead();
@@ -61,6 +69,7 @@ class CapzSource : public FrameSource {
   FrameBlock win_;
   size_t cached_ = 0;
   bool have_ = false;
+  bool one_ragged_frame_ = false;  // the rule above applies
   uint64_t memory_limit_ = 0;
   size_t ahead_cap_ = 0;  // windows decoded ahead at most (threads + 1)
   size_t next_ = 0;       // the window after the last one submitted

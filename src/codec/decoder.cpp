@@ -358,7 +358,8 @@ void window_extent(const ParsedStream& ps, size_t size, size_t w, size_t* base, 
   *end = *base + static_cast<size_t>(ie.bytes);
 }
 
-std::vector<size_t> ragged_frame_offsets(StreamBytes& bytes, const ParsedStream& ps) {
+std::vector<size_t> ragged_frame_offsets(StreamBytes& bytes, const ParsedStream& ps,
+                                         std::vector<int>* splits) {
   std::vector<size_t> off(1, 0);
   const size_t F = static_cast<size_t>(ps.h.frames), W = ps.h.window_frames;
   for (size_t w = 0; w < ps.index.size(); ++w) {
@@ -369,7 +370,9 @@ std::vector<size_t> ragged_frame_offsets(StreamBytes& bytes, const ParsedStream&
     const std::string what = chunks.what("SCNW");
     ByteReader r(c.payload, c.size, what);
     const uint64_t total = open_scan_chunk(ps, &chunks, c, &r);
-    if (read_split(ps.h, &r) != scan::kNoSplit) r.varint();  // the geometry's length
+    const int e = read_split(ps.h, &r);
+    if (e != scan::kNoSplit) r.varint();  // the geometry's length
+    if (splits) splits->push_back(e);
     const size_t fn = std::min(W, F - std::min(F, w * W));
     if (r.varint() != fn) fail(ErrorCode::kCorrupt, what, "frame count is not the window's");
     uint64_t sum = 0;

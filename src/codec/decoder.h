@@ -26,8 +26,10 @@ void window_extent(const ParsedStream& ps, size_t size, size_t w, size_t* base, 
 // "Scans (format 1.1)": the frame offsets of a ragged stream (frames + 1), from the counts at
 // the head of every window's SCNW payload (the payloads are not decoded). Throws kCorrupt for
 // counts that disagree with HEAD or SCNW's total, kMemoryLimit for a window of more than
-// ps.max_points points.
-std::vector<size_t> ragged_frame_offsets(StreamBytes& bytes, const ParsedStream& ps);
+// ps.max_points points. `splits`, when given, gets each window's float32 split exponent E (mode
+// 2; scan::kNoSplit for none, and in every other mode; "Lossless ragged streams").
+std::vector<size_t> ragged_frame_offsets(StreamBytes& bytes, const ParsedStream& ps,
+                                         std::vector<int>* splits = nullptr);
 
 // Window w of a parsed stream, its chunks fetched from `bytes` as INDX says.
 void decode_window(StreamBytes& bytes, const ParsedStream& ps, size_t w, FrameBlock* out);

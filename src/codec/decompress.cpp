@@ -12,7 +12,7 @@
 #include "codec/decoder_registry.h"
 #include "codec/grid.h"
 #include "coding/analog/analog_codec.h"
-#include "io/frame_files.h"
+#include "coding/scan_split.h"
 
 namespace capz {
 namespace {
@@ -48,19 +48,6 @@ void slice_frame_metadata(size_t first, size_t count, size_t F, Take* t) {
   slice_frame_names(first, count, F, &t->bin);
 }
 
-// A stream of one ragged frame (the encoder codes a single unorganized frame with the scan coder
-// when that is smaller) decodes to the shape a reader gives one frame file: a fixed take of one
-// frame, unlabelled points, an unorganized PCD layout of its point count.
-void one_frame_as_fixed(Take* t) {
-  set_frame_shape({t->frame_offsets[1]}, t);
-  if (t->pcd && t->pcd->width != t->points) {
-    auto x = std::make_shared<PCDExtra>(*t->pcd);
-    x->width = t->points;
-    x->height = 1;
-    t->pcd = x;
-  }
-}
-
 // Frames [first, first + count) of the stream, clipped, with the per-frame metadata sliced.
 Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
                   const std::string& name, const DecompressOptions& opts) {
@@ -73,7 +60,7 @@ Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
   if (first == 0 && count == F) check_tiling(ps, size, name);
   FrameBlock b;
   src.read(first, count, &b);
-  Take t = ps.take;
+  Take t = src.header();  // a stream of one ragged frame: one fixed frame (capz_source.h)
   t.frames = count;
   t.xyz = std::move(b.xyz);
   t.valid = std::move(b.valid);
@@ -89,7 +76,6 @@ Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
     t.c3d->camera_mask = std::move(b.camera_mask);
   }
   if (first > 0 || count < F) slice_frame_metadata(first, count, F, &t);
-  if (F == 1 && t.frame_offsets.size() == 2) one_frame_as_fixed(&t);
   return t;
 }
 
@@ -133,10 +119,16 @@ StreamInfo describe_bytes(StreamBytes& bytes, const std::string& name) {
   si.ragged = ps.h.ragged;
   si.points_reordered = ps.h.points_reordered;
   ps.max_points = size_t{1} << 40;  // only the counts are read: no limit on a window's points
-  si.total_points = si.ragged ? ragged_frame_offsets(bytes, ps).back() : si.frames * si.points;
+  std::vector<int> splits;
+  si.total_points =
+      si.ragged ? ragged_frame_offsets(bytes, ps, &splits).back() : si.frames * si.points;
+  if (ps.h.mode == PosMode::kFloat32)
+    for (int e : splits) ++si.float32_split_windows[e];
   si.window_frames = ps.h.window_frames;
   si.windows = ps.h.windows();
   si.mode = ps.h.transform_output ? "transform-output" : mode_name(ps.h.mode);
+  if (si.float32_split_windows.size() > si.float32_split_windows.count(scan::kNoSplit))
+    si.mode = "float32-split";  // as the encoder's CompressStats::mode says it
   si.transform_output = ps.h.transform_output;
   si.kg_target = ps.h.kg_target;
   if (ps.h.codec == 0) {

@@ -17,6 +17,7 @@ namespace capz {
 // table inferred on the window. `ring`: the block's ring field of every point, or empty. The
 // frames keep their counts and gaps (moved after their valid points). Returns false, b
 // untouched, when the order chosen is the file's own.
-bool reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring);
+bool reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring,
+                    const std::vector<float>& distance = {});
 
 }  // namespace capz

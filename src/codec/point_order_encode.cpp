@@ -23,6 +23,7 @@ ScanHints permuted(const ScanHints& h, const std::vector<uint32_t>& order) {
   ScanHints s = h;
   for (size_t j = 0; j < order.size(); ++j) {
     if (!h.ring.empty()) s.ring[j] = h.ring[order[j]];
+    if (!h.distance.empty()) s.distance[j] = h.distance[order[j]];
     if (!h.xyz.empty()) std::copy_n(&h.xyz[3 * size_t{order[j]}], 3, &s.xyz[3 * j]);
   }
   return s;
@@ -31,7 +32,8 @@ ScanHints permuted(const ScanHints& h, const std::vector<uint32_t>& order) {
 // The coded order of the points of block b (a window's frames, ragged): indices from its first
 // point.
 std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
-                                   const std::vector<uint32_t>& ring) {
+                                   const std::vector<uint32_t>& ring,
+                                   const std::vector<float>& distance) {
   ScanGeometry g;
   for (size_t k = 0; k < b.frames; ++k)
     g.counts.push_back(static_cast<uint32_t>(b.frame_points(k)));
@@ -39,6 +41,7 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
   g.valid = b.valid;
   ScanHints hints;
   hints.ring = ring;
+  hints.distance = distance;
   hints.grid_per_unit = grid_per_unit(grid);
   hints.xyz.resize(b.xyz.size());
   for (size_t i = 0; i < b.xyz.size(); ++i) hints.xyz[i] = static_cast<float>(b.xyz[i]);
@@ -68,8 +71,9 @@ void permute(std::vector<T>* v, size_t size, const std::vector<uint32_t>& order)
 
 }  // namespace
 
-bool reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring) {
-  const std::vector<uint32_t> order = window_order(*b, grid, ring);
+bool reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring,
+                    const std::vector<float>& distance) {
+  const std::vector<uint32_t> order = window_order(*b, grid, ring, distance);
   bool moved = false;
   for (size_t j = 0; j < order.size() && !moved; ++j) moved = order[j] != j;
   if (!moved) return false;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <type_traits>
@@ -59,6 +60,31 @@ std::vector<uint32_t> ring_field(const std::vector<PointAttribute>& layouts, con
       r[p] = v;
     }
     return r;
+  }
+  return {};
+}
+
+// The source's distance field (a float `distance` or `range`, the sensor's measured range), or
+// empty: a hint of the sensor's range step (ScanHints::distance).
+std::vector<float> distance_field(const std::vector<PointAttribute>& layouts, const FrameBlock& b) {
+  for (size_t i = 0; i < layouts.size() && i < b.attributes.size(); ++i) {
+    const PointAttribute& a = layouts[i];
+    if (a.count != 1 || a.type != 'F' || (a.size != 4 && a.size != 8)) continue;
+    if (a.name != "distance" && a.name != "range") continue;
+    const size_t n = b.total_points();
+    const std::vector<uint8_t>& data = b.attributes[i];
+    if (data.size() != n * static_cast<size_t>(a.size)) return {};
+    std::vector<float> d(n);
+    for (size_t p = 0; p < n; ++p) {
+      if (a.size == 4) {
+        std::memcpy(&d[p], &data[4 * p], 4);
+      } else {
+        double v;
+        std::memcpy(&v, &data[8 * p], 8);
+        d[p] = static_cast<float>(v);
+      }
+    }
+    return d;
   }
   return {};
 }
@@ -247,6 +273,7 @@ int choose_split(const FrameBlock& b, const std::vector<uint32_t>& counts, const
   g.q = upto(bits, 3 * n);
   ScanHints h;
   if (!hints.ring.empty()) h.ring = upto(hints.ring, n);
+  if (!hints.distance.empty()) h.distance = upto(hints.distance, n);
   h.xyz = upto(hints.xyz, 3 * n);
   int best = scan::kNoSplit;
   size_t best_size = scan_body(g, h, true, best, {}).size();
@@ -277,6 +304,7 @@ void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<
   g.valid = b.valid;
   ScanHints hints;
   hints.ring = ring_field(r.t.attributes, b);
+  hints.distance = distance_field(r.t.attributes, b);
   hints.xyz.resize(b.xyz.size());
   for (size_t i = 0; i < b.xyz.size(); ++i) hints.xyz[i] = static_cast<float>(b.xyz[i]);
   // Mode 2 (lossless float32): a float32 split when it codes smaller.
@@ -358,7 +386,8 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
   std::unique_ptr<FrameBlock> as_read;
   if (r.opts.any_point_order) {
     if (!r.meta.attributes.empty()) as_read.reset(new FrameBlock(*b));
-    if (!reorder_window(b, r.grid, ring_field(t.attributes, *b))) as_read.reset();
+    if (!reorder_window(b, r.grid, ring_field(t.attributes, *b), distance_field(t.attributes, *b)))
+      as_read.reset();
   }
   const size_t base = r.out->size();
   r.buf.clear();

@@ -1,6 +1,7 @@
 // The scan geometry decoder (docs/FORMAT.md "Scans (format 1.1)").
 #include "capz/error.h"
 #include "coding/scan_geometry.h"
+#include "coding/scan_raster.h"
 #include "coding/scan_shared.h"
 
 namespace capz {
@@ -46,10 +47,17 @@ ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::s
   IntDecoder dec(data + h.body, size - h.body, scan::kContexts, what);
   DecodeIo io(&dec);
   scan::State st(h.table);
+  scan::raster::Pixels px;
+  if (h.pixels > 0) scan::raster::read_pixels(&dec, h, &px);
+  scan::raster::State rs(px.count());
   size_t first = 0;
   for (size_t f = 0; f < h.counts.size(); ++f) {
-    scan::code_frame(io, st, h.flags[f], first, h.counts[f], g.q.data() + 3 * first,
-                     g.valid.data() + first);
+    if (h.flags[f] & scan::kRaster)
+      scan::raster::decode_frame(&dec, px, &rs, h.flags[f], h.counts[f], g.q.data() + 3 * first,
+                                 g.valid.data() + first);
+    else
+      scan::code_frame(io, st, h.flags[f], first, h.counts[f], g.q.data() + 3 * first,
+                       g.valid.data() + first);
     first += h.counts[f];
   }
   if (!dec.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the scan geometry");

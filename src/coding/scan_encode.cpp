@@ -7,6 +7,7 @@
 #include "capz/error.h"
 #include "coding/bytes.h"
 #include "coding/scan_geometry.h"
+#include "coding/scan_raster.h"
 #include "coding/scan_shared.h"
 #include "coding/scan_table.h"
 
@@ -29,8 +30,13 @@ void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, cons
       w.f32(t.slope[k]);
       w.f32(t.z0[k]);
     }
-    w.u8(t.unit.empty() ? 0 : 1);
-    for (double u : t.unit) w.f64(u);
+    const bool offsets =
+        std::any_of(t.offset.begin(), t.offset.end(), [](double v) { return v != 0; });
+    w.u8(t.unit.empty() ? 0 : offsets ? 2 : 1);
+    for (size_t k = 0; k < t.unit.size(); ++k) {
+      w.f64(t.unit[k]);
+      if (offsets) w.f64(t.offset[k]);
+    }
   }
   out->insert(out->end(), w.buffer().begin(), w.buffer().end());
 }
@@ -343,6 +349,7 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
     if (best.empty() || out.size() < best.size()) best.swap(out);
     if (t.rings() == 0) break;
   }
+  scan::raster::keep_smaller(g, hints, &best);  // a flash LiDAR's window (scan_raster.h)
   return best;
 }
 

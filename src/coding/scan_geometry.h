@@ -35,6 +35,9 @@ struct ScanHints {
   // are found from the elevations of these, finer than the grid's (at a coarse grid a near
   // point's elevation is too uncertain to tell neighbouring lasers apart).
   std::vector<float> xyz;
+  // The source's distance of every point from the sensor (a `distance` or `range` field; the
+  // unit of xyz), or empty: the encoder then takes the distance from the origin.
+  std::vector<float> distance;
   // Grid integers per unit of xyz (the integers are about xyz times this), or 0 when the
   // integers are not a scaled copy of xyz: with it the encoder looks for the sensor's range step
   // (FORMAT.md "Scan geometry payload", range units).

@@ -148,7 +148,8 @@ void code_spherical(Io& io, State& st, const Polar& pa, const int32_t* a, Prev* 
   for (int j = 0; j < 3; ++j) score(&r.score_range[j], range, cand[j]);
   // x y on the column's azimuth at that range, z on the ring's cone.
   const bool units = !t.unit.empty();
-  const double rho = units ? static_cast<double>(range) * t.unit[k] : static_cast<double>(range);
+  const double rho =
+      units ? static_cast<double>(range) * t.unit[k] + t.offset[k] : static_cast<double>(range);
   const int lb = std::min(bit_length(units ? round_clamp(rho) : range), 23);
   code_xyz(io, t, k, col, rho, units ? 0.5 * t.unit[k] : 0.5, lb, a, p);
   if (r.has_last) r.step = wrap_sub(col, r.last_column);

@@ -16,6 +16,19 @@ void check_finite(float v, ByteReader* r) {
   if (!std::isfinite(v)) fail(ErrorCode::kCorrupt, r->what(), "laser table value is not finite");
 }
 
+// The raster frames' pixel table header (FORMAT.md "Raster frames"); returns P.
+uint32_t read_raster_header(ByteReader* r, Header* h) {
+  const uint64_t p = r->varint();
+  if (p == 0 || p > (uint64_t{1} << 22))
+    fail(ErrorCode::kCorrupt, r->what(), "raster pixel table of 0 or more than 2^22 pixels");
+  h->pixels = static_cast<uint32_t>(p);
+  h->delta = r->f64();
+  h->exponent = r->u8();
+  if (!std::isfinite(h->delta) || !(h->delta > 0) || h->exponent > 30)
+    fail(ErrorCode::kCorrupt, r->what(), "raster range quantum or vector exponent out of range");
+  return h->pixels;
+}
+
 }  // namespace
 
 Header read_header(const uint8_t* data, size_t size, const std::string& what, size_t max_points) {
@@ -53,23 +66,27 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
       check_finite(t.z0.back(), &r);
     }
     const uint8_t units = r.u8();
-    if (units > 1) fail(ErrorCode::kCorrupt, what, "unknown range units in the laser table");
-    for (uint64_t k = 0; units == 1 && k < rings; ++k) {
-      const double u = r.f64();
-      if (!(u >= kMinUnit && u <= kMaxUnit))
-        fail(ErrorCode::kCorrupt, what, "a ring's range unit is out of range");
+    if (units > 2) fail(ErrorCode::kCorrupt, what, "unknown range units in the laser table");
+    for (uint64_t k = 0; units != 0 && k < rings; ++k) {
+      const double u = r.f64(), v = units == 2 ? r.f64() : 0.0;
+      if (!(u >= kMinUnit && u <= kMaxUnit) || !(std::fabs(v) <= kMaxOffset))
+        fail(ErrorCode::kCorrupt, what, "a ring's range unit or offset is out of range");
       t.unit.push_back(u);
+      t.offset.push_back(v);
     }
   }
   uint64_t coded = 0;  // points that code at least one symbol
+  bool raster = false;
   for (size_t i = 0; i < frames; ++i) {
     const uint8_t fl = h.flags[i];
-    if ((fl & ~kFrameFlagMask) != 0 || (fl & 3) == 3)
+    if ((fl & ~kFrameFlagMask) != 0 || (fl & 3) == 3 || ((fl & kSpherical) && (fl & kRaster)))
       fail(ErrorCode::kCorrupt, what, "frame " + std::to_string(i) + " has unknown flags");
     if ((fl & kSpherical) && rings == 0)
       fail(ErrorCode::kCorrupt, what, "a spherical frame without a laser table");
     if ((fl & 3) != kNoneValid) coded += h.counts[i];
+    raster = raster || (fl & kRaster);
   }
+  if (raster) coded += read_raster_header(&r, &h);
   h.body = r.offset();
   if (coded > kMaxSymbolsPerByte * (size - h.body))
     fail(ErrorCode::kCorrupt, what, "more points than the coded bytes can hold");

@@ -26,13 +26,14 @@ namespace scan {
 // Frame flags (one byte per frame).
 constexpr uint8_t kAllValid = 0, kSomeValid = 1, kNoneValid = 2;  // bits 0-1
 constexpr uint8_t kSpherical = 4;                                 // bit 2
-constexpr uint8_t kFrameFlagMask = 7;
+constexpr uint8_t kRaster = 32;                                   // bit 5 (scan_raster.h)
+constexpr uint8_t kFrameFlagMask = 7 | kRaster;
 
 // Limits the decoder enforces (FORMAT.md).
 constexpr uint32_t kMaxRings = 1024;
 constexpr uint64_t kMaxMapCells = uint64_t{1} << 22;  // rings x columns
 // The range units' bounds (FORMAT.md "Scan geometry payload").
-constexpr double kMinUnit = 0x1p-20, kMaxUnit = 0x1p20;
+constexpr double kMinUnit = 0x1p-20, kMaxUnit = 0x1p20, kMaxOffset = 0x1p30;
 // Coordinates of a spherical frame stay below this in magnitude (so a range fits an int32).
 constexpr int64_t kMaxSphericalCoord = int64_t{1} << 29;
 
@@ -41,8 +42,9 @@ struct Table {
   float step = 0;        // radians per column (nonzero when rings > 0)
   uint32_t columns = 0;  // map columns (the previous sweep's ring x column map), >= 1
   std::vector<float> azimuth0, slope, z0;  // per ring
-  // Per ring the grid units of one range step ("units" 1), or empty: ranges in grid units.
-  std::vector<double> unit;
+  // Per ring the grid units of one range step and the range's offset ("units" 1), or both
+  // empty: ranges in grid units.
+  std::vector<double> unit, offset;
   size_t rings() const { return azimuth0.size(); }
 };
 
@@ -56,7 +58,8 @@ enum Ctx : int {
   kCtxY = kCtxX + 24,
   kCtxZ = kCtxY + 48,
   kCtxCart = kCtxZ + 24,           // 3 axes x 8: previous residual's bit length
-  kCtxImage = kCtxCart + 24,       // the fraction-rule contexts below (FORMAT: 148)
+  kCtxRaster = kCtxCart + 24,      // 27: raster frames (scan_raster.h)
+  kCtxImage = kCtxRaster + 27,     // the fraction-rule contexts below (FORMAT: 175)
   kCtxRangeFrac = kCtxImage,       // 8 x 3: the range against the smoothed map
   kCtxAxis1 = kCtxRangeFrac + 24,  // 24 x 3: first of x y, by the range's bit length
   kCtxAxis2 = kCtxAxis1 + 72,      // 8 x 3: second of x y, by the candidates' count
@@ -133,6 +136,9 @@ struct Header {
   std::vector<uint32_t> counts;
   std::vector<uint8_t> flags;
   Table table;
+  uint32_t pixels = 0;  // raster frames' pixel table (scan_raster.h): P, delta, e; P = 0: none
+  double delta = 0;
+  int exponent = 0;
   size_t body = 0;  // offset of the entropy-coded block
 };
 Header read_header(const uint8_t* data, size_t size, const std::string& what, size_t max_points);

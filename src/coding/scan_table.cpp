@@ -169,9 +169,18 @@ bool on_steps(const std::vector<double>& dist, double q, std::vector<double>* sc
   return *p90 < 0.05;
 }
 
+// Point i's distance from the sensor: the source's distance field, else from the origin (NaN
+// when it has neither).
+double distance(const ScanHints& h, size_t n, size_t i) {
+  if (h.distance.size() == n) return h.distance[i];
+  if (h.xyz.size() != 3 * n) return NAN;
+  const double x = h.xyz[3 * i], y = h.xyz[3 * i + 1], z = h.xyz[3 * i + 2];
+  return std::sqrt(x * x + y * y + z * z);
+}
+
 // The sensor's range step (FORMAT.md "range units", informative), in the units of h.xyz: the
-// largest of 1, 2, 2.5, 4, 5 x 10^e that the distances from the origin of up to 16384 points
-// sit on, at least one grid unit and at most an eighth of their median; 0 when none.
+// largest of 1, 2, 2.5, 4, 5 x 10^e that the distances of up to 16384 points sit on, at least
+// one grid unit and at most an eighth of their median; 0 when none.
 double range_step(const ScanGeometry& g, const ScanHints& h) {
   const size_t n = g.total();
   if (h.grid_per_unit <= 0 || h.xyz.size() != 3 * n) return 0;
@@ -179,8 +188,7 @@ double range_step(const ScanGeometry& g, const ScanHints& h) {
   const size_t stride = std::max<size_t>(1, n / 16384);
   for (size_t i = 0; i < n; i += stride) {
     if (!g.valid[i]) continue;
-    const double x = h.xyz[3 * i], y = h.xyz[3 * i + 1], z = h.xyz[3 * i + 2];
-    const double d = std::sqrt(x * x + y * y + z * z);
+    const double d = distance(h, n, i);
     if (std::isfinite(d) && d > 0) dist.push_back(d);
   }
   if (dist.size() < 64) return 0;
@@ -200,35 +208,65 @@ double range_step(const ScanGeometry& g, const ScanHints& h) {
   return best;
 }
 
-// Per ring the grid units of one range step (least squares from the step counts to the
-// horizontal ranges) and per point its range in those units; nothing when no step is found.
+// Least-squares sums of a line y = u m + v.
+struct LineSums {
+  double n = 0, m = 0, y = 0, mm = 0, my = 0;
+  void add(double mi, double yi) { n += 1, m += mi, y += yi, mm += mi * mi, my += mi * yi; }
+  // The line, or through the origin (v = 0) without `offset` or when the step counts do not
+  // spread.
+  void fit(double fallback, bool offset, double* u, double* v) const {
+    const double det = n * mm - m * m;
+    if (offset && n >= 2 && det > 1e-9 * n * mm) {
+      *u = (n * my - m * y) / det;
+      *v = (y - *u * m) / n;
+    } else {
+      *u = mm > 0 ? my / mm : fallback;
+      *v = 0;
+    }
+  }
+};
+
+// Per ring the grid units of one range step and the range's offset (least squares from the step
+// counts to the horizontal ranges) and per point its range in steps; nothing when no step is
+// found.
 void fit_units(const ScanGeometry& g, const ScanHints& h, const std::vector<uint32_t>& ring,
                size_t rings, RingFit* r) {
   const double q = range_step(g, h);
   if (q == 0) return;
   const double gpu = h.grid_per_unit;
-  std::vector<double> num(rings, 0.0), den(rings, 0.0);
-  for (size_t i = 0; i < g.total(); ++i) {
+  const size_t n = g.total();
+  std::vector<LineSums> line(rings);
+  for (size_t i = 0; i < n; ++i) {
     if (!g.valid[i] || !small_enough(&g.q[3 * i])) continue;
-    const double x = h.xyz[3 * i], y = h.xyz[3 * i + 1], z = h.xyz[3 * i + 2];
-    const double m = std::floor(std::sqrt(x * x + y * y + z * z) / q + 0.5);
-    num[ring[i]] += m * std::hypot(x, y) * gpu;
-    den[ring[i]] += m * m;
+    const double d = distance(h, n, i);
+    if (!std::isfinite(d)) continue;
+    line[ring[i]].add(std::floor(d / q + 0.5),
+                      std::hypot(double(h.xyz[3 * i]), double(h.xyz[3 * i + 1])) * gpu);
   }
   r->unit.resize(rings);
+  r->offset.resize(rings);
+  // Offsets from a distance field, unless every ring's is under half a grid unit (the VLP-16's
+  // distance field: then the lines through the origin, and no offsets stored).
+  bool offsets = !h.distance.empty();
+  for (size_t k = 0; k < rings && offsets; ++k)
+    line[k].fit(q * gpu, true, &r->unit[k], &r->offset[k]);
+  if (offsets &&
+      std::all_of(r->offset.begin(), r->offset.end(), [](double v) { return std::fabs(v) < 0.5; }))
+    offsets = false;
   for (size_t k = 0; k < rings; ++k) {
-    const double u = den[k] > 0 ? num[k] / den[k] : q * gpu;
-    if (!(u >= kMinUnit && u <= kMaxUnit)) {
+    line[k].fit(q * gpu, offsets, &r->unit[k], &r->offset[k]);
+    if (!(r->unit[k] >= kMinUnit && r->unit[k] <= kMaxUnit) ||
+        !(std::fabs(r->offset[k]) <= kMaxOffset)) {
       r->unit.clear();
+      r->offset.clear();
       return;
     }
-    r->unit[k] = u;
   }
-  r->steps.assign(g.total(), 0);
-  for (size_t i = 0; i < g.total(); ++i) {
+  r->steps.assign(n, 0);
+  for (size_t i = 0; i < n; ++i) {
     if (!g.valid[i] || !small_enough(&g.q[3 * i])) continue;
     const double rho = std::hypot(double(h.xyz[3 * i]), double(h.xyz[3 * i + 1])) * gpu;
-    r->steps[i] = round_clamp(rho / r->unit[ring[i]]);
+    r->steps[i] = round_clamp((rho - r->offset[ring[i]]) / r->unit[ring[i]]);
   }
 }
 
@@ -285,7 +323,7 @@ Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor, bo
   t.slope = r.slope;
   t.z0 = r.z0;
   units = units && !r.unit.empty();
-  if (units) t.unit = r.unit;
+  if (units) t.unit = r.unit, t.offset = r.offset;
   t.azimuth0.resize(rings);
   for (size_t k = 0; k < rings; ++k) {
     double sc = 0, ss = 0;

@@ -19,7 +19,7 @@ struct RingFit {
   std::vector<Polar> polar;              // per point
   // The sensor's range step, when one is found (FORMAT.md "range units"): per ring the grid
   // units of one step, and per point its range in steps (else both empty).
-  std::vector<double> unit;
+  std::vector<double> unit, offset;
   std::vector<int32_t> steps;
   size_t rings() const { return phi.size(); }
 };

@@ -538,4 +538,11 @@ void copy_frames(FrameSource& source, FrameSink& sink, size_t block) {
   sink.commit();
 }
 
+void write_frames(FrameSource& source, const std::string& path, const WriteOptions& opts,
+                  size_t block) {
+  std::unique_ptr<FrameSink> sink =
+      create_frame_sink(source.header(), source.has_sample_words(), path, opts);
+  copy_frames(source, *sink, block ? block : source.preferred_block());
+}
+
 }  // namespace capz

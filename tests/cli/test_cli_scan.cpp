@@ -204,3 +204,51 @@ TEST(CliScan, RmOfASingleSweepCodedAsOneRaggedFrame) {
   ASSERT_EQ(capz_run("info " + z, dir, &out), 0) << out;
   EXPECT_NE(out.find("SCNW"), std::string::npos) << out;  // the one-ragged-frame stream
 }
+
+// `capz info` of a lossless ragged archive says what its windows' float32 split is (FORMAT.md
+// "Lossless ragged streams"): the grid 2^-E of each split and how many windows use it, as the
+// JSON's float32_split_windows counts them (key: E, -128 for plain float32 bits), rather than
+// a bare "float32-bits". An archive at a bound has no split and says nothing of one.
+TEST(CliScan, InfoDescribesTheFloat32SplitOfALosslessArchive) {
+  capz_test::TempDir dir("capz_cli_scan_split_info");
+  const std::string src = std::string(CAPZ_REPO_DATA) + "/scan_small", z = dir.file("s.capz");
+  std::string out, json;
+  ASSERT_EQ(capz_run("compress -q " + src + " -o " + z + " --lossless --window 1", dir, &out), 0)
+      << out;
+  ASSERT_EQ(capz_run("info --json " + z, dir, &json), 0) << json;
+  ASSERT_EQ(capz_run("info " + z, dir, &out), 0) << out;
+  const size_t at = json.find("\"float32_split_windows\":{");
+  ASSERT_NE(at, std::string::npos) << json;
+  const std::string counts = json.substr(at, json.find('}', at) - at);
+  size_t windows = 0, plain = 0, grids = 0;
+  for (size_t p = counts.find('{') + 1; p < counts.size();) {  // "E":n pairs
+    const size_t q = counts.find('"', p + 1);
+    const int e = std::stoi(counts.substr(p + 1, q - p - 1));
+    const size_t n = std::stoul(counts.substr(q + 2));
+    windows += n;
+    if (e == -128) {
+      plain = n;
+    } else {
+      ++grids;
+      EXPECT_NE(out.find((e > 0 ? "2^-" + std::to_string(e) : "2^" + std::to_string(-e)) + " ("),
+                std::string::npos)
+          << out;
+    }
+    p = counts.find(',', q);
+    if (p == std::string::npos) break;
+    ++p;
+  }
+  EXPECT_EQ(windows, 4u) << json;  // one window a frame
+  ASSERT_GT(grids, 0u) << "no window of scan_small is split any more: " << json;
+  EXPECT_NE(out.find("float32 split on the grid"), std::string::npos) << out;
+  EXPECT_EQ(out.find("float32-bits") == std::string::npos, plain == 0) << out;
+  if (grids > 1) {
+    EXPECT_NE(out.find("float32 split on the grids"), std::string::npos) << out;
+  }
+
+  ASSERT_EQ(capz_run("compress -q -f " + src + " -o " + z + " -e 1mm", dir, &out), 0) << out;
+  ASSERT_EQ(capz_run("info --json " + z, dir, &json), 0) << json;
+  EXPECT_EQ(json.find("float32_split_windows"), std::string::npos) << json;
+  ASSERT_EQ(capz_run("info " + z, dir, &out), 0) << out;
+  EXPECT_EQ(out.find("float32 split"), std::string::npos) << out;
+}

@@ -226,3 +226,36 @@ TEST(CliScanFormats, SharedSweepsAsPLYAndBinComeBackWithinTheBound) {
 }
 
 }  // namespace
+
+// convert streams frame files into the output's temporary folder as it reads them: a frame
+// that fails to read after others were written (the last of 20 binary PCD frames truncated
+// mid-point: its header is read when the folder is opened, its data when its block of 16 is)
+// stops it with an error naming that file, and no output folder, nor a temporary one, is left.
+TEST(CliScanFormats, ConvertOfAFolderWithABadLastFrameLeavesNothing) {
+  capz_test::TempDir dir("capz_cli_convert_atomic");
+  capz::WriteOptions wo;
+  wo.pcd_encoding = "binary";
+  const std::string in = dir.file("in");
+  std::vector<size_t> counts;
+  for (size_t f = 0; f < 20; ++f) counts.push_back(200 + 7 * f);
+  capz::write_take(spiral(counts, capz::Format::kPCDFolder), in, wo);
+  const std::vector<std::string> names = names_in(in);
+  ASSERT_EQ(names.size(), 20u);
+  const std::string last = in + "/" + names.back();
+  fs::resize_file(last, fs::file_size(last) - 6);
+  for (const char* to : {"pcd", "ply", "bin"}) {
+    std::string out;
+    const std::string o = dir.file(std::string("out_") + to);
+    EXPECT_NE(capz_run(std::string("convert ") + in + " " + o + "/ --to " + to +
+                           (std::string(to) == "bin" ? " --drop-fields" : ""),
+                       dir, &out),
+              0)
+        << out;
+    EXPECT_NE(out.find(names.back()), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(o)) << o;
+  }
+  size_t left = 0;  // only the input folder and the command's output file
+  for (const fs::directory_entry& e : fs::directory_iterator(dir.file("")))
+    left += e.path().filename() != "in" && e.path().filename() != "stdout";
+  EXPECT_EQ(left, 0u);
+}

@@ -1,8 +1,10 @@
 // Memory of ragged takes (frames of their own point counts) bounded by a window, not by the
 // take (docs/STREAMING.md): compress_stream on a folder of PCD sweeps, reading the archive back
-// a window at a time, and decompressing it to a PCD or a PLY folder (create_frame_sink, as
-// `capz decompress -o DIR/` does) peak at about the same heap for 4 frames as for 32. The heap is
-// counted by the allocation hooks of this executable (alloc_counter.h); no time is measured.
+// a window at a time, decompressing it to a PCD or a PLY folder (write_frames, as
+// `capz decompress -o DIR/` does) and converting the folder between PCD, PLY and .bin frames
+// (write_frames of open_frames, as `capz convert` does) peak at about the same heap for 4 frames
+// as for 32. The heap is counted by the allocation hooks of this executable (alloc_counter.h);
+// no time is measured.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -11,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -60,32 +63,56 @@ fs::path write_sweeps(const std::string& name, size_t frames) {
 
 struct Peaks {
   int64_t encode = 0, decode = 0, pcd_folder = 0, ply_folder = 0;
+  int64_t pcd_to_ply = 0, ply_to_bin = 0, bin_to_pcd = 0;  // convert
 };
 
-// The heap peak of decompressing `archive` to the folder `dir` (replaced) as the CLI does; the
-// folder then holds one file a frame.
-int64_t folder_peak(const std::string& archive, const fs::path& dir, capz::Format format,
-                    const std::string& ext) {
+// The heap peak of writing the frames `open` gives to the folder `dir` (replaced) in `format`,
+// `block` frames at a time (0: the source's preferred block), as the CLI does; the folder then
+// holds one file a frame.
+int64_t folder_peak(const std::function<std::unique_ptr<capz::FrameSource>()>& open,
+                    const fs::path& dir, capz::Format format, const std::string& ext,
+                    size_t block = 0) {
   int64_t peak = 0;
   size_t frames = 0;
   {
     capz_test::AllocScope scope;
-    std::unique_ptr<capz::FrameSource> dec = capz::open_capz_frames(archive);
-    frames = dec->header().frames;
+    std::unique_ptr<capz::FrameSource> src = open();
+    frames = src->header().frames;
     capz::WriteOptions wo;
     wo.overwrite = true;
     wo.folder_format = format;
-    std::unique_ptr<capz::FrameSink> sink =
-        capz::create_frame_sink(dec->header(), dec->has_sample_words(), dir.string() + "/", wo);
-    capz::copy_frames(*dec, *sink, dec->preferred_block());
+    capz::write_frames(*src, dir.string() + "/", wo, block);
     peak = scope.report().peak_bytes;
   }
   size_t files = 0;
   for (const fs::directory_entry& e : fs::directory_iterator(dir))
     files += e.path().extension() == ext;
   EXPECT_EQ(files, frames) << dir;
+  return peak;
+}
+
+// The heap peak of decompressing `archive` to the folder `dir` as `capz decompress` does.
+int64_t decompress_peak(const std::string& archive, const fs::path& dir, capz::Format format,
+                        const std::string& ext) {
+  const int64_t peak =
+      folder_peak([&archive] { return capz::open_capz_frames(archive); }, dir, format, ext);
   fs::remove_all(dir);
   return peak;
+}
+
+// The heap peaks of `capz convert` (open_frames, write_frames; 4 frames a block where the CLI
+// reads 16, so that the 4-frame take is one block) from the PCD folder `dir` to PLY frames, from
+// those to .bin frames, and from those back to PCD frames.
+void convert_peaks(const fs::path& dir, Peaks* p) {
+  const fs::path ply = dir.string() + "_ply", bin = dir.string() + "_bin",
+                 pcd = dir.string() + "_pcd";
+  const auto from = [](const fs::path& in) {
+    return [in] { return capz::open_frames(in.string()); };
+  };
+  p->pcd_to_ply = folder_peak(from(dir), ply, capz::Format::kPLYFolder, ".ply", 4);
+  p->ply_to_bin = folder_peak(from(ply), bin, capz::Format::kBinFolder, ".bin", 4);
+  p->bin_to_pcd = folder_peak(from(bin), pcd, capz::Format::kPCDFolder, ".pcd", 4);
+  for (const fs::path& d : {ply, bin, pcd}) fs::remove_all(d);
 }
 
 // The heap peaks of compressing the folder (windows of 2 frames, the self-check on, fields
@@ -114,8 +141,9 @@ Peaks peaks_of(const fs::path& dir, bool lossless) {
     p.decode = scope.report().peak_bytes;
   }
   if (!lossless) {  // the PLY folder: no PLY layout in the header, the coordinates are prescanned
-    p.pcd_folder = folder_peak(out, dir.string() + "_pcd", capz::Format::kPCDFolder, ".pcd");
-    p.ply_folder = folder_peak(out, dir.string() + "_ply", capz::Format::kPLYFolder, ".ply");
+    p.pcd_folder = decompress_peak(out, dir.string() + "_pcd", capz::Format::kPCDFolder, ".pcd");
+    p.ply_folder = decompress_peak(out, dir.string() + "_ply", capz::Format::kPLYFolder, ".ply");
+    convert_peaks(dir, &p);
   }
   fs::remove(out);
   return p;
@@ -141,6 +169,15 @@ void expect_window_bounded(bool lossless) {
         static_cast<long long>(b.pcd_folder), static_cast<long long>(b.ply_folder));
     EXPECT_LT(b.pcd_folder, a.pcd_folder + a.pcd_folder / 4 + slack);
     EXPECT_LT(b.ply_folder, a.ply_folder + a.ply_folder / 4 + slack);
+    std::printf(
+        "convert: 4 frames PCD->PLY %lld, PLY->bin %lld, bin->PCD %lld; 32 frames %lld, %lld, "
+        "%lld\n",
+        static_cast<long long>(a.pcd_to_ply), static_cast<long long>(a.ply_to_bin),
+        static_cast<long long>(a.bin_to_pcd), static_cast<long long>(b.pcd_to_ply),
+        static_cast<long long>(b.ply_to_bin), static_cast<long long>(b.bin_to_pcd));
+    EXPECT_LT(b.pcd_to_ply, a.pcd_to_ply + a.pcd_to_ply / 4 + slack);
+    EXPECT_LT(b.ply_to_bin, a.ply_to_bin + a.ply_to_bin / 4 + slack);
+    EXPECT_LT(b.bin_to_pcd, a.bin_to_pcd + a.bin_to_pcd / 4 + slack);
   }
   fs::remove_all(few);
   fs::remove_all(many);

@@ -1,6 +1,7 @@
 // Ragged takes through the container (docs/FORMAT.md "Scans (format 1.1)"): compress and
 // decompress round trips at 1 mm and 1 cm, the SCNW chunk's checks, and what is refused.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -8,10 +9,13 @@
 #include <filesystem>
 #include <limits>
 #include <random>
+#include <string>
 
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/io.h"
+#include "capz/stream.h"
+#include "capz/tool/file.h"
 #include "coding/bytes.h"
 #include "coding/crc32c.h"
 #include "synthetic.h"
@@ -149,6 +153,46 @@ TEST(ScanContainer, SharedScansRoundTrip) {
     ++done;
   }
   if (done == 0) GTEST_SKIP() << "no ragged PCD folder in " << dir;
+}
+
+// One place decides that a stream of one ragged frame (a single sweep the scan coder codes) is
+// the fixed one-frame take a reader gives its file (codec/capz_source.h): the archive's frame
+// source gives that header and fixed blocks, decompress() the same take, and describe() still
+// tells the stream's own ragged shape.
+TEST(ScanContainer, OneRaggedFrameReadsAsTheFixedFrameOfItsFile) {
+  const std::string file = std::string(CAPZ_REPO_DATA) + "/scan_small/1691031766781547066.pcd";
+  const Take t = read_take(file);
+  ASSERT_FALSE(t.ragged());
+  ASSERT_EQ(t.frames, 1u);
+  CompressOptions o = at(0.001);
+  o.drop_fields = true;
+  const std::vector<uint8_t> z = compress(t, o);
+  ASSERT_TRUE(describe(z.data(), z.size()).ragged) << "the scan coder no longer wins on it";
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("capz_one_ragged_frame_" + std::to_string(::getpid()) + ".capz"))
+                               .string();
+  write_file(path, z, true);
+  std::unique_ptr<FrameSource> src = open_capz_frames(path);
+  const Take& h = src->header();
+  EXPECT_FALSE(h.ragged());
+  EXPECT_EQ(h.frames, 1u);
+  EXPECT_EQ(h.points, t.points);
+  EXPECT_EQ(h.labels.size(), t.points);
+  ASSERT_TRUE(h.pcd);
+  EXPECT_EQ(h.pcd->width, t.points);
+  EXPECT_EQ(h.pcd->height, 1u);
+  FrameBlock b;
+  src->read(0, 1, &b);
+  EXPECT_FALSE(b.ragged());
+  EXPECT_EQ(b.points, t.points);
+  EXPECT_EQ(b.valid, t.valid);
+  const Take d = decompress(z.data(), z.size());
+  EXPECT_FALSE(d.ragged());
+  EXPECT_EQ(d.points, t.points);
+  EXPECT_EQ(d.xyz, b.xyz);
+  EXPECT_EQ(d.pcd->width, t.points);
+  src.reset();
+  std::filesystem::remove(path);
 }
 
 }  // namespace

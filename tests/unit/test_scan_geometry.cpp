@@ -8,6 +8,7 @@
 #include "capz/error.h"
 #include "coding/scan_geometry.h"
 #include "coding/scan_shared.h"
+#include "scan_geometry_expect.h"
 
 namespace capz {
 namespace {
@@ -49,15 +50,6 @@ ScanGeometry round_trip(const ScanGeometry& g, const ScanHints& h = {}, size_t* 
   const std::vector<uint8_t> p = encode_scan_geometry(g, h);
   if (bytes) *bytes = p.size();
   return decode_scan_geometry(p.data(), p.size(), "test");
-}
-
-void expect_same(const ScanGeometry& a, const ScanGeometry& b) {
-  ASSERT_EQ(a.counts, b.counts);
-  ASSERT_EQ(a.valid, b.valid);
-  for (size_t i = 0; i < a.valid.size(); ++i) {
-    if (!a.valid[i]) continue;
-    for (int k = 0; k < 3; ++k) ASSERT_EQ(a.q[3 * i + k], b.q[3 * i + k]) << "point " << i;
-  }
 }
 
 TEST(ScanGeometry, GivenSpinningSweepsWithRingHintsWhenRoundTrippedThenExactAndSmall) {

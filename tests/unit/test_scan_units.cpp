@@ -14,9 +14,10 @@
 namespace capz {
 namespace {
 
-// A spinning sensor's sweeps on a 1 mm grid (step 0.002 m), lasers through the origin, ranges
-// in whole steps of `range_step` metres (0: any range).
-ScanGeometry sweeps(double range_step, ScanHints* h) {
+// A spinning sensor's sweeps on a 1 mm grid (step 0.002 m), ranges in whole steps of
+// `range_step` metres (0: any range) measured from the origin, or with `offset` from a centre
+// that far off the axis (the RoboSense Helios 16P's optics), given as a distance field.
+ScanGeometry sweeps(double range_step, ScanHints* h, double offset = 0) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(0, 1);
   ScanGeometry g;
@@ -30,8 +31,9 @@ ScanGeometry sweeps(double range_step, ScanHints* h) {
         const double el = -0.26 + 0.4 * k / rings;
         double range = 6 + 3 * std::sin(3 * az) + std::cos(5 * az + k) + 0.05 * u(rng);
         if (range_step > 0) range = range_step * std::floor(range / range_step + 0.5);
-        const double p[3] = {range * std::cos(el) * std::cos(az),
-                             range * std::cos(el) * std::sin(az), range * std::sin(el)};
+        const double rho = range * std::cos(el) + offset;
+        const double p[3] = {rho * std::cos(az), rho * std::sin(az), range * std::sin(el)};
+        if (offset != 0) h->distance.push_back(static_cast<float>(range));
         g.valid.push_back(1);
         for (int a = 0; a < 3; ++a) {
           g.q.push_back(static_cast<int32_t>(std::floor(p[a] / 0.002 + 0.5)));
@@ -71,6 +73,24 @@ TEST(ScanUnits, GivenRangesInWholeStepsWhenCodedThenInStepsExactAndSmaller) {
   EXPECT_LT(static_cast<double>(with.size()), 0.9 * static_cast<double>(plain.size()));
 }
 
+TEST(ScanUnits, GivenADistanceFieldFromAnOffsetCentreThenUnitsWithOffsets) {
+  ScanHints h;
+  const ScanGeometry g = sweeps(0.0025, &h, 0.035);
+  const std::vector<uint8_t> with = encode_scan_geometry(g, h);
+  expect_exact(g, with);
+  const scan::Header hd = scan::read_header(with.data(), with.size(), "offsets", 1u << 20);
+  ASSERT_EQ(hd.table.offset.size(), hd.table.rings());
+  ASSERT_GT(hd.table.rings(), 0u);
+  EXPECT_EQ(with[hd.body - 16 * hd.table.rings() - 1], 2);     // units 2: u_k and v_k
+  for (double v : hd.table.offset) EXPECT_NEAR(v, 17.5, 0.5);  // 35 mm in 2 mm grid units
+  ScanHints without = h;
+  without.distance.clear();  // distances from the origin: on no step
+  const std::vector<uint8_t> plain = encode_scan_geometry(g, without);
+  expect_exact(g, plain);
+  EXPECT_TRUE(scan::read_header(plain.data(), plain.size(), "plain", 1u << 20).table.unit.empty());
+  EXPECT_LT(with.size(), plain.size());
+}
+
 TEST(ScanUnits, GivenRangesOffAnyStepThenGridUnits) {
   ScanHints h;
   const ScanGeometry g = sweeps(0, &h);
@@ -85,7 +105,7 @@ TEST(ScanUnits, GivenDamagedUnitsWhenDecodedThenCorrupt) {
   const std::vector<uint8_t> p = encode_scan_geometry(g, h);
   const scan::Header hd = scan::read_header(p.data(), p.size(), "units", 1u << 20);
   const size_t units_at = hd.body - 8 * hd.table.rings() - 1;
-  ASSERT_EQ(p[units_at], 1);
+  ASSERT_EQ(p[units_at], 1);  // through the origin: u_k alone
   const auto expect_corrupt = [](const std::vector<uint8_t>& d) {
     try {
       decode_scan_geometry(d.data(), d.size(), "damaged");
@@ -96,7 +116,7 @@ TEST(ScanUnits, GivenDamagedUnitsWhenDecodedThenCorrupt) {
     }
   };
   std::vector<uint8_t> d = p;
-  d[units_at] = 2;
+  d[units_at] = 3;
   expect_corrupt(d);
   for (double bad : {0.0, -1.0, 0x1p-21, 0x1p21, std::nan("")}) {
     d = p;

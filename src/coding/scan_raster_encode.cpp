@@ -1,0 +1,348 @@
+// Raster frames, the encoding side (docs/FORMAT.md "Scans (format 1.1)": "Raster frames" and the
+// encoder's note): finds whether a window is a raster's (its points' distances on a quantum,
+// their directions repeating from frame to frame), infers the pixel table and codes the window.
+#include <algorithm>
+#include <cmath>
+
+#include "coding/bytes.h"
+#include "coding/scan_raster.h"
+
+namespace capz {
+namespace scan {
+namespace raster {
+
+namespace {
+
+constexpr double kOnQuantum = 0.1;     // a distance within a tenth of a quantum is on it
+constexpr double kQuantumShare = 0.8;  // of the points, for a quantum to be found
+constexpr double kKeyScale = 32768.0;  // directions rounded to 2^-15
+constexpr size_t kQuantumSample = 20000;
+// Bits of the pixel vectors beyond the farthest range's: 2 puts a prediction within 1/8 of a
+// grid step (robosense-e1 at 1 mm: 6.53 bits a point with 4, 6.11 with 2, 6.14 with 0).
+constexpr int kExtraBits = 2;
+
+// Direction keys to values: open addressing, linear probing (node-based maps cost a cache miss a
+// point: a tenth of a pandar64 encode). Key 0 is no key (a point's key is never 0).
+class KeyMap {
+ public:
+  explicit KeyMap(size_t n) {
+    size_t cap = 16;
+    while (cap < 2 * n) cap *= 2;
+    keys_.assign(cap, 0);
+    vals_.assign(cap, 0);
+  }
+  // The value slot of key k, inserted with v when absent (*inserted says which).
+  uint32_t* get(uint64_t k, uint32_t v, bool* inserted) {
+    const size_t mask = keys_.size() - 1;
+    size_t i = static_cast<size_t>((k * 0x9e3779b97f4a7c15ull) >> 20) & mask;
+    while (keys_[i] != 0 && keys_[i] != k) i = (i + 1) & mask;
+    *inserted = keys_[i] == 0;
+    if (*inserted) keys_[i] = k, vals_[i] = v;
+    return &vals_[i];
+  }
+  const uint32_t* find(uint64_t k) const {
+    const size_t mask = keys_.size() - 1;
+    size_t i = static_cast<size_t>((k * 0x9e3779b97f4a7c15ull) >> 20) & mask;
+    while (keys_[i] != 0 && keys_[i] != k) i = (i + 1) & mask;
+    return keys_[i] == 0 ? nullptr : &vals_[i];
+  }
+
+ private:
+  std::vector<uint64_t> keys_;
+  std::vector<uint32_t> vals_;
+};
+
+// A point's direction rounded: the key of its pixel.
+uint64_t direction_key(const float* xyz, double r) {
+  uint64_t k = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double u = r > 0 ? static_cast<double>(xyz[a]) / r : 0.0;
+    k = (k << 18) | static_cast<uint64_t>(std::llround(u * kKeyScale) + 65536);
+  }
+  return k;
+}
+
+// The largest quantum m 10^k (m in 5, 2.5, 2, 1; k in 0..-6) on which kQuantumShare of the
+// (nonzero) distances lie, on up to kQuantumSample of them taken evenly; 0 for none.
+double find_quantum(const std::vector<double>& dist) {
+  std::vector<double> d;
+  for (double v : dist)
+    if (v > 0) d.push_back(v);
+  if (d.empty()) return 0;
+  const size_t stride = std::max<size_t>(1, d.size() / kQuantumSample);
+  const double m[4] = {5, 2.5, 2, 1};
+  double scale = 1;  // 10^-k
+  for (int k = 0; k <= 6; ++k, scale *= 10) {
+    for (double mm : m) {
+      const double c = mm / scale;
+      size_t on = 0, all = 0;
+      for (size_t i = 0; i < d.size(); i += stride, ++all) {
+        const double t = d[i] / c;
+        on += std::fabs(t - std::nearbyint(t)) <= kOnQuantum;
+      }
+      if (static_cast<double>(on) >= kQuantumShare * static_cast<double>(all)) return c;
+    }
+  }
+  return 0;
+}
+
+// The pixels of the window in table order: a merge of the frames' orders (each frame's new
+// directions placed where it saw them). pixel[i] gets each valid point's pixel. False when the
+// directions do not repeat (more pixels than 3/2 of the largest frame after two frames).
+bool merge_pixels(const ScanGeometry& g, const std::vector<uint64_t>& keys,
+                  std::vector<uint32_t>* pixel, size_t* count) {
+  std::vector<uint64_t> order, next;
+  KeyMap pos(0);
+  size_t first = 0, largest = 0;
+  for (size_t f = 0; f < g.counts.size(); ++f) {
+    next.clear();
+    KeyMap placed(g.counts[f]);  // this frame's new directions
+    size_t mp = 0;
+    bool fresh;
+    for (size_t i = first; i < first + g.counts[f]; ++i) {
+      if (!g.valid[i]) continue;
+      const uint32_t* at = pos.find(keys[i]);
+      if (at == nullptr) {
+        placed.get(keys[i], 0, &fresh);
+        if (fresh) next.push_back(keys[i]);
+      } else if (*at >= mp) {
+        next.insert(next.end(), order.begin() + static_cast<std::ptrdiff_t>(mp),
+                    order.begin() + static_cast<std::ptrdiff_t>(*at) + 1);
+        mp = *at + 1;
+      }
+    }
+    next.insert(next.end(), order.begin() + static_cast<std::ptrdiff_t>(mp), order.end());
+    order.swap(next);
+    first += g.counts[f];
+    largest = std::max<size_t>(largest, g.counts[f]);
+    if (order.size() > (size_t{1} << 22) || (f >= 1 && 4 * order.size() > 5 * largest))
+      return false;
+    pos = KeyMap(order.size());
+    for (size_t j = 0; j < order.size(); ++j) pos.get(order[j], static_cast<uint32_t>(j), &fresh);
+  }
+  pixel->assign(g.total(), 0);
+  for (size_t i = 0; i < g.total(); ++i)
+    if (g.valid[i]) (*pixel)[i] = *pos.find(keys[i]);
+  *count = order.size();
+  return true;
+}
+
+// The encoding Io of code_frame.
+class EncodeIo {
+ public:
+  EncodeIo(IntEncoder* enc, const ScanGeometry& g, const std::vector<uint32_t>& pixel,
+           const std::vector<int32_t>& rho)
+      : enc_(enc), g_(g), pixel_(pixel), rho_(rho) {}
+  int32_t sym(int32_t actual, int32_t pred, int ctx) {
+    enc_->put_signed(wrap_sub(actual, pred), ctx);
+    return actual;
+  }
+  bool flag(bool actual, int ctx) {
+    enc_->put(actual ? 1u : 0u, ctx);
+    return actual;
+  }
+  bool actual_valid(size_t i) const { return g_.valid[i] != 0; }
+  const int32_t* actual(size_t i) const { return g_.q.data() + 3 * i; }
+  int32_t pixel_residual(size_t i, int64_t pix) const {
+    return static_cast<int32_t>(static_cast<int64_t>(pixel_[i]) - pix - 1);
+  }
+  int32_t rho(size_t i) const { return rho_[i]; }
+  int64_t check_pixel(int64_t p, size_t) const { return p; }
+
+ private:
+  IntEncoder* enc_;
+  const ScanGeometry& g_;
+  const std::vector<uint32_t>& pixel_;
+  const std::vector<int32_t>& rho_;
+};
+
+// A point's distance from the prediction at rho (the sum over the axes).
+int64_t miss(const Pixels& px, size_t p, const int32_t* q, int32_t rho) {
+  int64_t m = 0;
+  for (int a = 0; a < 3; ++a) m += std::llabs(int64_t{q[a]} - predict(px, p, a, rho));
+  return m;
+}
+
+// The pixel vectors: per pixel the sum of its points' source coordinates over the quantum c times
+// the sum of their ranges (in quanta), rounded to 2^-e with e the finest that keeps them in int32
+// yet fine enough that the farthest range moves a prediction by at most 1/16 of a grid step.
+std::vector<int32_t> fit_vectors(const ScanGeometry& g, const ScanHints& hints,
+                                 const std::vector<uint32_t>& pixel,
+                                 const std::vector<int32_t>& rho, size_t count, double c,
+                                 double delta, int* e) {
+  std::vector<double> sum(3 * count, 0.0), rsum(count, 0.0);
+  double far = 1;
+  for (size_t i = 0; i < g.total(); ++i) {
+    if (!g.valid[i]) continue;
+    for (size_t a = 0; a < 3; ++a) sum[3 * pixel[i] + a] += hints.xyz[3 * i + a];
+    rsum[pixel[i]] += rho[i];
+    far = std::max(far, rho[i] * delta);
+  }
+  *e = std::min(30, static_cast<int>(std::ceil(std::log2(far))) + kExtraBits);
+  const double scale = std::ldexp(1.0, *e);
+  std::vector<int32_t> v(3 * count, 0);
+  for (size_t p = 0; p < count; ++p)
+    for (size_t a = 0; a < 3; ++a)
+      if (rsum[p] > 0)
+        v[3 * p + a] = static_cast<int32_t>(std::clamp<double>(
+            std::nearbyint(sum[3 * p + a] / (c * rsum[p]) * scale), -2147483647.0, 2147483647.0));
+  return v;
+}
+
+uint8_t validity(const ScanGeometry& g, size_t first, size_t n) {
+  size_t v = 0;
+  for (size_t i = first; i < first + n; ++i) v += g.valid[i] != 0;
+  return v == n ? kAllValid : v == 0 ? kNoneValid : kSomeValid;
+}
+
+// A point's direction key from its source coordinates (0 for a gap).
+uint64_t key_of(const ScanGeometry& g, const ScanHints& hints, size_t i, double* dist) {
+  const float* x = &hints.xyz[3 * i];
+  *dist = std::sqrt(static_cast<double>(x[0]) * x[0] + static_cast<double>(x[1]) * x[1] +
+                    static_cast<double>(x[2]) * x[2]);
+  return g.valid[i] && std::isfinite(*dist) ? direction_key(x, *dist) : 0;
+}
+
+// Whether most of the second frame's directions are the first frame's: the quick test that
+// spares a spinning sensor's window the rest (a flash LiDAR's repeat; a spinning one's do not).
+bool second_repeats(const ScanGeometry& g, const ScanHints& hints) {
+  KeyMap first(g.counts[0]);
+  double d;
+  bool fresh;
+  for (size_t i = 0; i < g.counts[0]; ++i)
+    if (g.valid[i]) first.get(key_of(g, hints, i, &d), 0, &fresh);
+  size_t seen = 0, valid = 0;
+  for (size_t i = g.counts[0]; i < size_t{g.counts[0]} + g.counts[1]; ++i) {
+    if (!g.valid[i]) continue;
+    ++valid;
+    seen += first.find(key_of(g, hints, i, &d)) != nullptr;
+  }
+  return 4 * seen > 3 * valid;
+}
+
+// What the encoder finds in a raster window: the pixels, the source distances, the quantum.
+struct Found {
+  std::vector<uint32_t> pixel;  // per point (valid ones)
+  size_t count = 0;             // pixels
+  std::vector<double> dist;     // per point, source units
+  double quantum = 0;           // source units
+  double step = 0;              // the grid step in source units
+};
+
+// Whether g is a raster window (FORMAT.md, the encoder's note), and what it is.
+bool find_raster(const ScanGeometry& g, const ScanHints& hints, Found* r) {
+  const size_t total = g.total();
+  if (g.counts.size() < 2 || hints.xyz.size() != 3 * total || !second_repeats(g, hints))
+    return false;
+  r->dist.assign(total, 0.0);
+  size_t valid = 0;
+  for (size_t i = 0; i < total; ++i) {
+    if (!g.valid[i]) continue;
+    double d2 = 0;
+    for (size_t a = 0; a < 3; ++a) {
+      const double x = hints.xyz[3 * i + a];
+      if (!std::isfinite(x) || std::llabs(g.q[3 * i + a]) >= kMaxSphericalCoord) return false;
+      d2 += x * x;
+    }
+    r->dist[i] = std::sqrt(d2);
+    ++valid;
+  }
+  r->quantum = find_quantum(r->dist);
+  if (r->quantum == 0) return false;
+  std::vector<uint64_t> keys(total, 0);
+  for (size_t i = 0; i < total; ++i)
+    if (g.valid[i]) keys[i] = direction_key(&hints.xyz[3 * i], r->dist[i]);
+  if (!merge_pixels(g, keys, &r->pixel, &r->count) || 4 * r->count > 3 * valid) return false;
+  double sxy = 0, syy = 0;  // distance against the integers' length, least squares
+  for (size_t i = 0; i < total; ++i) {
+    if (!g.valid[i]) continue;
+    double r2 = 0;
+    for (size_t a = 0; a < 3; ++a) r2 += static_cast<double>(g.q[3 * i + a]) * g.q[3 * i + a];
+    sxy += r->dist[i] * std::sqrt(r2);
+    syy += r2;
+  }
+  r->step = sxy / syy;
+  return sxy > 0 && std::isfinite(r->step);
+}
+
+// Each valid point's range in quanta of c: its distance's, moved by one where that brings the
+// prediction nearer.
+std::vector<int32_t> ranges(const ScanGeometry& g, const Found& r, const Pixels& px, double c) {
+  std::vector<int32_t> rho(g.total(), 0);
+  for (size_t i = 0; i < g.total(); ++i) {
+    if (!g.valid[i]) continue;
+    rho[i] = static_cast<int32_t>(std::min(std::nearbyint(r.dist[i] / c), 1e9));
+    if (px.v.empty()) continue;
+    const int32_t* q = g.q.data() + 3 * i;
+    int64_t best = miss(px, r.pixel[i], q, rho[i]);
+    const int32_t r0 = rho[i];
+    for (int32_t k : {r0 - 1, r0 + 1}) {
+      const int64_t m = k >= 0 ? miss(px, r.pixel[i], q, k) : best;
+      if (m < best) best = m, rho[i] = k;
+    }
+  }
+  return rho;
+}
+
+// The window coded as raster frames, ranges in quanta of c.
+std::vector<uint8_t> code_raster(const ScanGeometry& g, const ScanHints& hints, const Found& r,
+                                 double c) {
+  Pixels px;
+  px.delta = c / r.step;
+  std::vector<int32_t> rho = ranges(g, r, px, c);
+  int e = 0;
+  const std::vector<int32_t> vint = fit_vectors(g, hints, r.pixel, rho, r.count, c, px.delta, &e);
+  px.v.resize(vint.size());
+  const double unit = 1.0 / static_cast<double>(uint64_t{1} << e);
+  for (size_t j = 0; j < vint.size(); ++j) px.v[j] = vint[j] * unit;
+  rho = ranges(g, r, px, c);
+  IntEncoder enc(kContexts);
+  int32_t prev[2][3] = {{0, 0, 0}, {0, 0, 0}};
+  for (size_t p = 0; p < r.count; ++p)
+    for (int a = 0; a < 3; ++a) {
+      const int32_t v = vint[3 * p + static_cast<size_t>(a)];
+      enc.put_signed(wrap_sub(v, wrap_sub(wrap_add(prev[0][a], prev[0][a]), prev[1][a])),
+                     kCtxTable + a);
+      prev[1][a] = prev[0][a];
+      prev[0][a] = v;
+    }
+  EncodeIo io(&enc, g, r.pixel, rho);
+  State st(r.count);
+  std::vector<uint8_t> flags(g.counts.size());
+  std::vector<int32_t> q;
+  std::vector<uint8_t> v;
+  size_t first = 0;
+  for (size_t f = 0; f < g.counts.size(); ++f) {
+    const size_t n = g.counts[f];
+    flags[f] = static_cast<uint8_t>(validity(g, first, n) | kRaster);
+    q.resize(3 * n);
+    v.resize(n);
+    code_frame(io, px, st, flags[f], first, n, q.data(), v.data());
+    first += n;
+  }
+  std::vector<uint8_t> out;
+  write_header(g, flags, Table{}, &out);
+  ByteWriter w;
+  w.varint(r.count);
+  w.f64(px.delta);
+  w.u8(static_cast<uint8_t>(e));
+  out.insert(out.end(), w.buffer().begin(), w.buffer().end());
+  const std::vector<uint8_t> body = enc.finish();
+  out.insert(out.end(), body.begin(), body.end());
+  return out;
+}
+
+}  // namespace
+
+void keep_smaller(const ScanGeometry& g, const ScanHints& hints, std::vector<uint8_t>* best) {
+  Found r;
+  if (!find_raster(g, hints, &r)) return;
+  // Ranges in the sensor's quantum (coarser ones, 2 and 4 quanta, cost more on robosense-e1 at
+  // 1 cm: 284,544 and 276,691 bytes against 248,758).
+  std::vector<uint8_t> out = code_raster(g, hints, r, r.quantum);
+  if (out.size() < best->size()) best->swap(out);
+}
+
+}  // namespace raster
+}  // namespace scan
+}  // namespace capz
