@@ -153,7 +153,8 @@ class BreakdownIo {
   bool actual_valid(size_t i) const { return g_.valid[i] != 0; }
   void print(size_t points) {
     using namespace capz::scan;
-    const char* names[8] = {"valid", "ring", "column", "range", "x", "y", "z", "cartesian"};
+    const char* names[8] = {"valid",    "ring",      "column", "range",
+                            "xy-first", "xy-second", "z",      "cartesian"};
     std::printf("  bits/pt:");
     for (int k = 0; k < 8; ++k) {
       const size_t n = enc_[k]->finish().size();
@@ -168,11 +169,12 @@ class BreakdownIo {
     const int k = ctx < kCtxRing     ? 0
                   : ctx < kCtxColumn ? 1
                   : ctx < kCtxRange  ? 2
-                  : ctx < kCtxX      ? 3
-                  : ctx < kCtxY      ? 4
-                  : ctx < kCtxZ      ? 5
-                  : ctx < kCtxCart   ? 6
-                                     : 7;
+                  : ctx < kCtxCart   ? 3  // kCtxX..kCtxCart: unused
+                  : ctx < kCtxImage  ? 7
+                  : ctx < kCtxAxis1  ? 3
+                  : ctx < kCtxAxis2  ? 4
+                  : ctx < kCtxZFrac  ? 5
+                                     : 6;
     enc_[k]->put(u, ctx);
   }
   const capz::ScanGeometry& g_;

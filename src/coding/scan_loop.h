@@ -36,6 +36,54 @@ inline int argmin(const uint32_t* s, int n) {
   return b;
 }
 
+// FORMAT's fraction rule: v against pred, the rounding of u (fr = u - pred, known to the
+// decoder): the context by |fr| (3 from ctx), the residual's sign flipped when fr < 0.
+template <class Io>
+int32_t sym_fraction(Io& io, int32_t v, int32_t pred, double fr, int ctx) {
+  const double af = fr < 0 ? -fr : fr;
+  const int b = af < 0.1875 ? 0 : af < 0.375 ? 1 : 2;
+  if (fr < 0) return wrap_sub(0, io.sym(wrap_sub(0, v), wrap_sub(0, pred), ctx + b));
+  return io.sym(v, pred, ctx + b);
+}
+
+// floor(a / 16) for the smoothed ranges (|a| < 2^40).
+inline int64_t floor_div16(int64_t a) {
+  return a >= 0 ? a / 16 : -((15 - a) / 16);
+}
+
+// sqrt(max(e, 0)): IEEE's correctly rounded square root, the same on every build.
+inline double root0(double e) {
+  return std::sqrt(e > 0 ? e : 0.0);
+}
+
+// x y z of a spherical point (FORMAT "Scan geometry payload", step 4): the axis less aligned
+// with the azimuth first, from rho cos or sin; the other from the range's hypotenuse; z on the
+// ring's cone.
+// (rho: the range in grid units; half: half a range step in grid units; lb: the contexts' bit
+// length.)
+template <class Io>
+void code_xyz(Io& io, const Table& t, uint32_t k, int32_t col, double rho, double half, int lb,
+              const int32_t* a, int32_t* p) {
+  const double phi = static_cast<double>(t.azimuth0[k]) + static_cast<double>(col) * t.step;
+  double s, c;
+  det_sincos(phi, &s, &c);
+  const int i0 = std::fabs(c) <= std::fabs(s) ? 0 : 1, i1 = 1 - i0;
+  const double u0 = rho * (i0 == 0 ? c : s);
+  const int32_t h0 = round_clamp(u0);
+  p[i0] = sym_fraction(io, a[i0], h0, u0 - h0, kCtxAxis1 + 3 * lb);
+  const double o = static_cast<double>(p[i0]), oo = o * o;
+  const double g = (i1 == 0 ? c : s) < 0 ? -1.0 : 1.0;
+  const double u1 = g * root0(rho * rho - oo);
+  const int32_t h1 = round_clamp(u1);
+  const double hi = (rho + half) * (rho + half) - oo, lo = (rho - half) * (rho - half) - oo;
+  const double n = floor_fast(-root0(lo)) - floor_fast(-root0(hi));  // ceil(m(hi)) - ceil(m(lo))
+  const int ni = n <= 0 ? 0 : n >= 3 ? 3 : static_cast<int>(n);
+  p[i1] = sym_fraction(io, a[i1], h1, u1 - h1, kCtxAxis2 + 3 * (2 * ni + (p[i0] != h0)));
+  const double uz = static_cast<double>(t.z0[k]) + static_cast<double>(t.slope[k]) * rho;
+  const int32_t zh = round_clamp(uz);
+  p[2] = sym_fraction(io, a[2], zh, uz - zh, kCtxZFrac + 3 * lb);
+}
+
 template <class Io>
 void code_cartesian(Io& io, State& st, const int32_t* a, int32_t* p) {
   for (int ax = 0; ax < 3; ++ax) {
@@ -85,26 +133,25 @@ void code_spherical(Io& io, State& st, const Polar& pa, const int32_t* a, Prev* 
   const int32_t w = r.has_last ? r.last_range : (pv->have ? pv->range : 0);
   int32_t cand[3] = {w, w, w};
   if (pv->have && pv->column == col) cand[1] = pv->range;
-  int32_t m;
-  if (st.map_prev(k, col, &m)) cand[2] = m;
+  // The previous sweep's candidate is its cell's smoothed range, rounded; coded against it, the
+  // range takes the fraction rule.
+  int64_t smooth = 0;
+  const bool mapped = st.map_prev(k, col, &smooth);
+  if (mapped) cand[2] = static_cast<int32_t>(floor_div16(smooth + 8));
   const int sr = detail::argmin(r.score_range, 3);
-  const int rctx = kCtxRange + std::min(bit_length(r.score_range[sr] >> 1), 15);
-  const int32_t range = io.sym(pa.range, cand[sr], rctx);
+  const int g = std::min(bit_length(r.score_range[sr] >> 1), 15);
+  const int32_t range =
+      sr == 2 && mapped ? sym_fraction(io, pa.range, cand[2],
+                                       static_cast<double>(smooth - int64_t{cand[2]} * 16) / 16.0,
+                                       kCtxRangeFrac + 3 * (g >> 1))
+                        : io.sym(pa.range, cand[sr], kCtxRange + g);
   for (int j = 0; j < 3; ++j) score(&r.score_range[j], range, cand[j]);
   // x y on the column's azimuth at that range, z on the ring's cone.
-  const double phi = static_cast<double>(t.azimuth0[k]) + static_cast<double>(col) * t.step;
-  double s, c;
-  det_sincos(phi, &s, &c);
   const bool units = !t.unit.empty();
   const double rho =
       units ? static_cast<double>(range) * t.unit[k] + t.offset[k] : static_cast<double>(range);
-  const int32_t xh = round_clamp(rho * c), yh = round_clamp(rho * s);
-  const int32_t zh =
-      round_clamp(static_cast<double>(t.z0[k]) + static_cast<double>(t.slope[k]) * rho);
   const int lb = std::min(bit_length(units ? round_clamp(rho) : range), 23);
-  p[0] = io.sym(a[0], xh, kCtxX + lb);
-  p[1] = io.sym(a[1], yh, kCtxY + 2 * lb + (p[0] != xh));
-  p[2] = io.sym(a[2], zh, kCtxZ + lb);
+  code_xyz(io, t, k, col, rho, units ? 0.5 * t.unit[k] : 0.5, lb, a, p);
   if (r.has_last) r.step = wrap_sub(col, r.last_column);
   r.last_column = col;
   r.last_range = range;

@@ -14,13 +14,16 @@ void SweepMaps::reset(size_t cells) {
     return;
   }
   for (Map* m : {&prev_, &cur_}) {
-    m->range_buf.reset();
+    m->smooth_buf.reset();
     m->set_buf.reset();
-    m->range_buf.reset(static_cast<int32_t*>(std::calloc(cells, sizeof(int32_t))));
+    m->count_buf.reset();
+    m->smooth_buf.reset(static_cast<int64_t*>(std::calloc(cells, sizeof(int64_t))));
     m->set_buf.reset(static_cast<uint8_t*>(std::calloc(cells, 1)));
-    if (!m->range_buf || !m->set_buf) throw std::bad_alloc();
-    m->range = m->range_buf.get();
+    m->count_buf.reset(static_cast<uint8_t*>(std::calloc(cells, 1)));
+    if (!m->smooth_buf || !m->set_buf || !m->count_buf) throw std::bad_alloc();
+    m->smooth = m->smooth_buf.get();
     m->set = m->set_buf.get();
+    m->count = m->count_buf.get();
     m->wrote.clear();
   }
   capacity_ = cells;

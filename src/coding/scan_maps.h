@@ -1,5 +1,6 @@
-// The scan coder's ring x column maps (docs/FORMAT.md "Scans (format 1.1)"): the range each cell
-// of the previous sweep held, and this sweep's as it is coded. Shared by the encoder and the
+// The scan coder's ring x column maps (docs/FORMAT.md "Scans (format 1.1)"): the smoothed range
+// each cell of the previous sweep held (a running mean of the cell's last ranges, in 1/16 of a
+// grid step), and this sweep's as it is coded. Shared by the encoder and the
 // decoder through scan::State.
 //
 // Memory: a map of the table's rings x columns cells (up to kMaxMapCells) is zero-filled by
@@ -8,6 +9,7 @@
 // a sweep costs time in proportion to its points, not to the table's cells.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -22,14 +24,26 @@ class SweepMaps {
   // Ready for a table of `cells` cells, nothing set in either map. Buffers are kept when they
   // are large enough (an encoder's maps serve each table it tries). Throws std::bad_alloc.
   void reset(size_t cells);
-  // The previous sweep's range at cell i (false: none there).
-  bool prev(size_t i, int32_t* range) const {
+  // The previous sweep's smoothed range at cell i, in 1/16 steps (false: none there).
+  bool prev(size_t i, int64_t* smooth) const {
     if (!prev_.set[i]) return false;
-    *range = prev_.range[i];
+    *smooth = prev_.smooth[i];
     return true;
   }
+  // Sets cell i of this sweep from its range and the previous sweep's cell: the mean of up to
+  // kMeanOf ranges while each is within kMeanReach steps of the mean, else the range.
   void set(size_t i, int32_t range) {
-    cur_.range[i] = range;
+    int64_t v = int64_t{range} * 16;
+    uint8_t n = 1;
+    if (prev_.set[i]) {
+      const int64_t d = v - prev_.smooth[i];
+      if (d <= kMeanReach * 16 && d >= -kMeanReach * 16) {
+        n = static_cast<uint8_t>(std::min(prev_.count[i] + 1, kMeanOf));
+        v = prev_.smooth[i] + d / n;  // rounded toward zero
+      }
+    }
+    cur_.smooth[i] = v;
+    cur_.count[i] = n;
     if (!cur_.set[i]) {
       cur_.set[i] = 1;
       cur_.wrote.push_back(static_cast<uint32_t>(i));
@@ -44,11 +58,13 @@ class SweepMaps {
   struct Free {
     void operator()(void* p) const { std::free(p); }
   };
+  static constexpr int kMeanOf = 8, kMeanReach = 8;
   struct Map {
-    std::unique_ptr<int32_t[], Free> range_buf;
-    std::unique_ptr<uint8_t[], Free> set_buf;
-    int32_t* range = nullptr;
+    std::unique_ptr<int64_t[], Free> smooth_buf;
+    std::unique_ptr<uint8_t[], Free> set_buf, count_buf;
+    int64_t* smooth = nullptr;
     uint8_t* set = nullptr;
+    uint8_t* count = nullptr;
     std::vector<uint32_t> wrote;  // the cells set, each once
     void clear() {
       for (uint32_t i : wrote) set[i] = 0;

@@ -21,7 +21,7 @@ constexpr int kCtxTable = kCtxRaster;      // 3: the pixel vectors' axes
 constexpr int kCtxPixel = kCtxRaster + 3;  // 2: previous pixel residual zero or not
 constexpr int kCtxRange = kCtxRaster + 5;  // 16: the chosen predictor's recent error
 constexpr int kCtxXyz = kCtxRaster + 21;   // 3 axes x 2: previous residual zero or not
-static_assert(kCtxXyz + 6 == kContexts, "raster contexts are the payload's last");
+static_assert(kCtxXyz + 6 == kCtxImage, "raster contexts end where the fraction-rule ones begin");
 
 // The pixel table: P vectors (x y z, binary64, exact) and the range quantum.
 struct Pixels {

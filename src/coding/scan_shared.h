@@ -54,12 +54,17 @@ enum Ctx : int {
   kCtxRing = kCtxValid + 2,    // 2: previous ring residual zero or not
   kCtxColumn = kCtxRing + 2,   // 8
   kCtxRange = kCtxColumn + 8,  // 16: the chosen predictor's recent error
-  kCtxX = kCtxRange + 16,      // 24: bit length of the range
-  kCtxY = kCtxX + 24,          // 48: as X, twice (x residual zero or not)
-  kCtxZ = kCtxY + 48,          // 24
-  kCtxCart = kCtxZ + 24,       // 3 axes x 8: previous residual's bit length
-  kCtxRaster = kCtxCart + 24,
-  kContexts = kCtxRaster + 27,  // raster frames: scan_raster.h
+  kCtxX = kCtxRange + 16,      // 24, 48, 24: unused (x y z before the fraction rule)
+  kCtxY = kCtxX + 24,
+  kCtxZ = kCtxY + 48,
+  kCtxCart = kCtxZ + 24,           // 3 axes x 8: previous residual's bit length
+  kCtxRaster = kCtxCart + 24,      // 27: raster frames (scan_raster.h)
+  kCtxImage = kCtxRaster + 27,     // the fraction-rule contexts below (FORMAT: 175)
+  kCtxRangeFrac = kCtxImage,       // 8 x 3: the range against the smoothed map
+  kCtxAxis1 = kCtxRangeFrac + 24,  // 24 x 3: first of x y, by the range's bit length
+  kCtxAxis2 = kCtxAxis1 + 72,      // 8 x 3: second of x y, by the candidates' count
+  kCtxZFrac = kCtxAxis2 + 24,      // 24 x 3: z, by the range's bit length
+  kContexts = kCtxZFrac + 72,
 };
 
 // floor(v) (std::floor's value; a zero's sign aside) without a call for |v| < 2^52: the
@@ -180,9 +185,9 @@ class State {
   std::vector<Ring> ring;
   std::vector<uint32_t> succ;  // predicted ring after ring k
   uint32_t ring_score[2] = {0, 0};
-  // The previous sweep's range at ring k, column col (false: none there).
-  bool map_prev(uint32_t k, int32_t col, int32_t* range) const {
-    return maps_->prev(cell(k, col), range);
+  // The previous sweep's smoothed range (1/16 steps) at ring k, column col (false: none there).
+  bool map_prev(uint32_t k, int32_t col, int64_t* smooth) const {
+    return maps_->prev(cell(k, col), smooth);
   }
   void map_set(uint32_t k, int32_t col, int32_t range) {
     if (!trial_) maps_->set(cell(k, col), range);

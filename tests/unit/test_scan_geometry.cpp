@@ -61,6 +61,69 @@ TEST(ScanGeometry, GivenSpinningSweepsWithRingHintsWhenRoundTrippedThenExactAndS
   EXPECT_LT(8.0 * bytes / g.total(), 20.0);
 }
 
+// A still sensor's sweeps on a 1 mm grid: the same firings every sweep, each range the scene's
+// plus Gaussian noise of `noise` metres.
+ScanGeometry still_sweeps(int frames, double noise, ScanHints* hints) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> e(0, noise);
+  ScanGeometry g;
+  const int rings = 16, firings = 900;
+  const double step = 6.283185307179586 / firings;
+  for (int f = 0; f < frames; ++f) {
+    for (int c = 0; c < firings; ++c) {
+      const double az = c * step;
+      for (int k = 0; k < rings; ++k) {
+        const double el = -0.26 + 0.4 * k / rings;
+        const double rho =
+            (8 + 3 * std::sin(3 * az) + 0.5 * std::cos(7 * az + k) + e(rng)) * std::cos(el);
+        const double p[3] = {rho * std::cos(az), rho * std::sin(az), rho * std::tan(el)};
+        g.valid.push_back(1);
+        for (int a = 0; a < 3; ++a) {
+          g.q.push_back(static_cast<int32_t>(std::floor(p[a] / 0.002 + 0.5)));
+          hints->xyz.push_back(static_cast<float>(p[a]));
+        }
+        hints->ring.push_back(static_cast<uint32_t>(k));
+      }
+    }
+    g.counts.push_back(rings * firings);
+  }
+  return g;
+}
+
+// The first `frames` frames of g (and of its hints).
+ScanGeometry first_frames(const ScanGeometry& g, const ScanHints& h, size_t frames,
+                          ScanHints* out) {
+  ScanGeometry s;
+  s.counts.assign(g.counts.begin(), g.counts.begin() + static_cast<std::ptrdiff_t>(frames));
+  size_t n = 0;
+  for (uint32_t c : s.counts) n += c;
+  s.valid.assign(g.valid.begin(), g.valid.begin() + static_cast<std::ptrdiff_t>(n));
+  s.q.assign(g.q.begin(), g.q.begin() + static_cast<std::ptrdiff_t>(3 * n));
+  out->ring.assign(h.ring.begin(), h.ring.begin() + static_cast<std::ptrdiff_t>(n));
+  out->xyz.assign(h.xyz.begin(), h.xyz.begin() + static_cast<std::ptrdiff_t>(3 * n));
+  return s;
+}
+
+TEST(ScanGeometry, GivenAStillSensorsNoisySweepsThenLaterSweepsCostLessThanTheSecond) {
+  // The previous sweep's cell predicts a running mean of the cell's ranges (FORMAT "Scan
+  // geometry payload", step 5): against the last range alone the residual's spread is the
+  // noise's times sqrt(2), against a mean of 8 about sqrt(1.125): 0.4 bits a point less once the
+  // means settle (measured: 4.84 bits a point for the second sweep, 4.57 for the next ten; 4.85
+  // without).
+  ScanHints h;
+  const ScanGeometry g = still_sweeps(12, 0.006, &h);
+  size_t b1 = 0, b2 = 0, b12 = 0;
+  for (auto [frames, bytes] : {std::pair<size_t, size_t*>{1, &b1}, {2, &b2}, {12, &b12}}) {
+    ScanHints hs;
+    const ScanGeometry s = first_frames(g, h, frames, &hs);
+    expect_same(s, round_trip(s, hs, bytes));
+  }
+  const double n = g.counts[0];
+  const double second = 8.0 * (double(b2) - double(b1)) / n;
+  const double later = 8.0 * (double(b12) - double(b2)) / (10 * n);
+  EXPECT_LT(later, second - 0.15) << "second sweep " << second << ", later " << later;
+}
+
 TEST(ScanGeometry, GivenSpinningSweepsWithoutHintsWhenRoundTrippedThenExact) {
   const ScanGeometry g = spinning(2, 32, 500, 2, nullptr);
   size_t inferred = 0, ignored = 0;
