@@ -56,21 +56,13 @@ inline double root0(double e) {
   return std::sqrt(e > 0 ? e : 0.0);
 }
 
-// x y z of a spherical point (FORMAT "Scan geometry payload", step 4): the axis less aligned
-// with the azimuth first, from rho cos or sin; the other from the range's hypotenuse; z on the
-// ring's cone.
-// (rho: the range in grid units; half: half a range step in grid units; lb: the contexts' bit
-// length.)
+// The second of x y without range units (FORMAT step 4): from the range's hypotenuse with the
+// first (p[i0], predicted h0), its context by how many integers round to the range.
 template <class Io>
-void code_xyz(Io& io, const Table& t, uint32_t k, int32_t col, double rho, double half, int lb,
-              const int32_t* a, int32_t* p) {
-  const double phi = static_cast<double>(t.azimuth0[k]) + static_cast<double>(col) * t.step;
-  double s, c;
-  det_sincos(phi, &s, &c);
-  const int i0 = std::fabs(c) <= std::fabs(s) ? 0 : 1, i1 = 1 - i0;
-  const double u0 = rho * (i0 == 0 ? c : s);
-  const int32_t h0 = round_clamp(u0);
-  p[i0] = sym_fraction(io, a[i0], h0, u0 - h0, kCtxAxis1 + 3 * lb);
+void code_second(Io& io, double rho, double c, double s, int i0, int32_t h0, const int32_t* a,
+                 int32_t* p) {
+  const int i1 = 1 - i0;
+  const double half = 0.5;  // the range's rounding
   const double o = static_cast<double>(p[i0]), oo = o * o;
   const double g = (i1 == 0 ? c : s) < 0 ? -1.0 : 1.0;
   const double u1 = g * root0(rho * rho - oo);
@@ -79,6 +71,29 @@ void code_xyz(Io& io, const Table& t, uint32_t k, int32_t col, double rho, doubl
   const double n = floor_fast(-root0(lo)) - floor_fast(-root0(hi));  // ceil(m(hi)) - ceil(m(lo))
   const int ni = n <= 0 ? 0 : n >= 3 ? 3 : static_cast<int>(n);
   p[i1] = sym_fraction(io, a[i1], h1, u1 - h1, kCtxAxis2 + 3 * (2 * ni + (p[i0] != h0)));
+}
+
+// x y z of a spherical point (FORMAT "Scan geometry payload", step 4): the axis less aligned
+// with the azimuth first, from rho cos or sin; the other from the range's hypotenuse, or with
+// range units (an exact range) from the azimuth too; z on the ring's cone.
+// (rho: the range in grid units; lb: the contexts' bit length.)
+template <class Io>
+void code_xyz(Io& io, const Table& t, uint32_t k, int32_t col, double rho, int lb, const int32_t* a,
+              int32_t* p) {
+  const double phi = static_cast<double>(t.azimuth0[k]) + static_cast<double>(col) * t.step;
+  double s, c;
+  det_sincos(phi, &s, &c);
+  const int i0 = std::fabs(c) <= std::fabs(s) ? 0 : 1, i1 = 1 - i0;
+  const double u0 = rho * (i0 == 0 ? c : s);
+  const int32_t h0 = round_clamp(u0);
+  p[i0] = sym_fraction(io, a[i0], h0, u0 - h0, kCtxAxis1 + 3 * lb);
+  if (!t.unit.empty()) {  // the sensor's own range: the second axis from the azimuth as well
+    const double u1 = rho * (i1 == 0 ? c : s);
+    const int32_t h1 = round_clamp(u1);
+    p[i1] = sym_fraction(io, a[i1], h1, u1 - h1, kCtxY + 3 * std::min(lb, 15));
+  } else {
+    code_second(io, rho, c, s, i0, h0, a, p);
+  }
   const double uz = static_cast<double>(t.z0[k]) + static_cast<double>(t.slope[k]) * rho;
   const int32_t zh = round_clamp(uz);
   p[2] = sym_fraction(io, a[2], zh, uz - zh, kCtxZFrac + 3 * lb);
@@ -151,7 +166,7 @@ void code_spherical(Io& io, State& st, const Polar& pa, const int32_t* a, Prev* 
   const double rho =
       units ? static_cast<double>(range) * t.unit[k] + t.offset[k] : static_cast<double>(range);
   const int lb = std::min(bit_length(units ? round_clamp(rho) : range), 23);
-  code_xyz(io, t, k, col, rho, units ? 0.5 * t.unit[k] : 0.5, lb, a, p);
+  code_xyz(io, t, k, col, rho, lb, a, p);
   if (r.has_last) r.step = wrap_sub(col, r.last_column);
   r.last_column = col;
   r.last_range = range;

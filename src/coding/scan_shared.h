@@ -54,8 +54,8 @@ enum Ctx : int {
   kCtxRing = kCtxValid + 2,    // 2: previous ring residual zero or not
   kCtxColumn = kCtxRing + 2,   // 8
   kCtxRange = kCtxColumn + 8,  // 16: the chosen predictor's recent error
-  kCtxX = kCtxRange + 16,      // 24, 48, 24: unused (x y z before the fraction rule)
-  kCtxY = kCtxX + 24,
+  kCtxX = kCtxRange + 16,      // 24 and (kCtxZ) 24: unused (x y z before the fraction rule)
+  kCtxY = kCtxX + 24,          // 16 x 3: the second of x y with range units, by bit length
   kCtxZ = kCtxY + 48,
   kCtxCart = kCtxZ + 24,           // 3 axes x 8: previous residual's bit length
   kCtxRaster = kCtxCart + 24,      // 27: raster frames (scan_raster.h)
