@@ -205,6 +205,21 @@ TEST(CliScan, RmOfASingleSweepCodedAsOneRaggedFrame) {
   EXPECT_NE(out.find("SCNW"), std::string::npos) << out;  // the one-ragged-frame stream
 }
 
+// A single sweep coded losslessly as one ragged frame (SCNW) decompresses to its file byte for
+// byte: its residue is rebuilt from the fixed one-frame take the stream reads as (a PCD layout
+// as wide as its points; before, the rebuild wrote a header of no points and failed).
+TEST(CliScan, LosslessSingleSweepComesBackByteForByte) {
+  capz_test::TempDir dir("capz_cli_scan_one_lossless");
+  const std::string in = std::string(CAPZ_REPO_DATA) + "/scan_small/1691031766781547066.pcd";
+  const std::string z = dir.file("sweep.capz"), back = dir.file("back.pcd");
+  std::string out;
+  ASSERT_EQ(capz_run("compress -q " + in + " -o " + z + " --lossless", dir, &out), 0) << out;
+  ASSERT_EQ(capz_run("info " + z, dir, &out), 0) << out;
+  EXPECT_NE(out.find("SCNW"), std::string::npos) << out;  // the one-ragged-frame stream
+  ASSERT_EQ(capz_run("decompress -q " + z + " -o " + back, dir, &out), 0) << out;
+  EXPECT_EQ(capz_test::file_text(back), capz_test::file_text(in));
+}
+
 // `capz info` of a lossless ragged archive says what its windows' float32 split is (FORMAT.md
 // "Lossless ragged streams"): the grid 2^-E of each split and how many windows use it, as the
 // JSON's float32_split_windows counts them (key: E, -128 for plain float32 bits), rather than
