@@ -185,9 +185,7 @@ void code_points(Io& io, State& st, uint8_t flags, size_t first, size_t n, int32
   bool prev_valid = true;
   detail::Prev pv;
   for (size_t i = 0; i < n; ++i) {
-    bool v = vmode == kAllValid;
-    if (vmode == kSomeValid) v = io.flag(io.actual_valid(first + i), kCtxValid + prev_valid);
-    prev_valid = v;
+    const bool v = point_valid(io, vmode, first + i, &prev_valid);
     valid_out[i] = v;
     int32_t* p = q_out + 3 * i;
     if (!v) {

@@ -59,7 +59,7 @@ void order_one(const ScanGeometry& g, const ScanHints& hints, size_t first, size
   if (hints.ring.size() == g.total()) h.ring.assign(hints.ring.begin() + b, hints.ring.begin() + e);
   if (hints.xyz.size() == 3 * g.total())
     h.xyz.assign(hints.xyz.begin() + 3 * b, hints.xyz.begin() + 3 * e);
-  scan::RingFit fit = scan::fit_rings(f, h);
+  scan::RingFit fit = scan::fit_rings(f, h, false);
   fit.step = scan::sorted_step(fit);  // the sensor's step, whatever the file's order
   std::vector<scan::Polar> polar;
   const scan::Table t = scan::table_for(f, fit, 1.0, false, &polar);
@@ -86,7 +86,8 @@ std::vector<uint32_t> scan_point_order(const ScanGeometry& g, const ScanHints& h
     }
     return order;
   }
-  const scan::RingFit fit = scan::fit_rings(g, hints);  // the payload's own inference
+  // The payload's own inference, but for the range units (the order's table has none).
+  const scan::RingFit fit = scan::fit_rings(g, hints, false);
   std::vector<scan::Polar> polar;
   const scan::Table t = scan::table_for(g, fit, 1.0, false, &polar);
   for (uint32_t n : g.counts) {

@@ -59,9 +59,7 @@ void code_frame(Io& io, const Pixels& px, State& st, uint8_t flags, size_t first
   int64_t pix = -1;
   int32_t prev_s = 1;
   for (size_t i = 0; i < n; ++i) {
-    bool v = vmode == kAllValid;
-    if (vmode == kSomeValid) v = io.flag(io.actual_valid(first + i), kCtxValid + prev_valid);
-    prev_valid = v;
+    const bool v = point_valid(io, vmode, first + i, &prev_valid);
     valid_out[i] = v;
     int32_t* q = q_out + 3 * i;
     if (!v) {

@@ -67,6 +67,16 @@ enum Ctx : int {
   kContexts = kCtxZFrac + 72,
 };
 
+// A point's validity under the frame's validity mode (FORMAT: a flag per point in mode 1, under
+// the previous point's flag); *prev_valid carries that flag from point to point.
+template <class Io>
+bool point_valid(Io& io, uint8_t vmode, size_t i, bool* prev_valid) {
+  bool v = vmode == kAllValid;
+  if (vmode == kSomeValid) v = io.flag(io.actual_valid(i), kCtxValid + *prev_valid);
+  *prev_valid = v;
+  return v;
+}
+
 // floor(v) (std::floor's value; a zero's sign aside) without a call for |v| < 2^52: the
 // integer part by truncation, less one below a negative fraction.
 inline double floor_fast(double v) {

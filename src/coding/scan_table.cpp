@@ -272,7 +272,7 @@ void fit_units(const ScanGeometry& g, const ScanHints& h, const std::vector<uint
 
 }  // namespace
 
-RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints) {
+RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units) {
   RingFit r;
   std::vector<uint32_t> ring;
   size_t rings = dense_rings(g, hints, &ring);
@@ -298,7 +298,7 @@ RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints) {
   r.step = infer_step(r.phi);
   r.slope.resize(rings), r.z0.resize(rings);
   for (size_t k = 0; k < rings; ++k) fit_cone(cone[k], &r.slope[k], &r.z0[k]);
-  fit_units(g, hints, ring, rings, &r);
+  if (units) fit_units(g, hints, ring, rings, &r);
   return r;
 }
 

@@ -23,7 +23,8 @@ struct RingFit {
   std::vector<int32_t> steps;
   size_t rings() const { return phi.size(); }
 };
-RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints);
+// Without `units` the range step is not looked for (a caller that codes no payload with it).
+RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units = true);
 // The azimuth step found in each ring's azimuths sorted (positive), not in point order: a
 // driver that writes a ring's points out of firing order (pandar64: columns in a shuffled
 // pattern) makes the point-order step a multiple of the sensor's. 0 when none is found.
