@@ -184,8 +184,8 @@ struct CartesianEstimate {
 struct Scratch {
   std::vector<int32_t> q;
   std::vector<uint8_t> v;
-  std::vector<Sym> syms;
-  Tally tally;
+  std::vector<Sym> syms, walk_syms;
+  Tally tally, walk_tally;
   std::vector<double> log_t, log_c;     // Tally::estimate's prefix sums
   std::vector<CartesianEstimate> cart;  // per frame of the window
   std::shared_ptr<scan::SweepMaps> maps = std::make_shared<scan::SweepMaps>();  // every table's
@@ -223,33 +223,51 @@ bool spherical_wins(const scan::State& st, uint8_t flags, const ScanGeometry& g,
   return exact_sph.bits < exact_cart.bits;
 }
 
+// Codes frame [first, first + n) spherically under `flags` from *st, its symbols recorded in
+// *syms and tallied in *tally.
+void record_spherical(scan::State* st, uint8_t flags, const ScanGeometry& g,
+                      const std::vector<scan::Polar>& polar, size_t first, size_t n,
+                      std::vector<Sym>* syms, Tally* tally, Scratch* s) {
+  syms->clear();
+  syms->reserve(7 * n);  // at most 7 symbols a point, but the ring walk's flags
+  tally->clear();
+  RecordSink rec{syms, tally};
+  EncodeIo<RecordSink> io(&rec, g, polar);
+  scan::code_points(io, *st, flags, first, n, s->q.data(), s->v.data());
+}
+
 // Codes frame f spherically when that costs less by the estimate, else Cartesian: the spherical
 // coding runs once, on a staged state, its symbols recorded, and is replayed into the block
-// when it wins. True when spherical coding was chosen.
-bool code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanGeometry& g,
-                 const std::vector<scan::Polar>& polar, size_t f, size_t first, size_t n,
-                 Scratch* s) {
-  const uint8_t sph = static_cast<uint8_t>(flags | scan::kSpherical);
+// when it wins. Returns the frame's flags as coded.
+uint8_t code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanGeometry& g,
+                    const std::vector<scan::Polar>& polar, size_t f, size_t first, size_t n,
+                    Scratch* s) {
+  uint8_t sph = static_cast<uint8_t>(flags | scan::kSpherical);
   scan::State staged = st->staged();
-  s->syms.clear();
-  s->syms.reserve(7 * n);  // at most 7 symbols a point
-  s->tally.clear();
-  RecordSink rec{&s->syms, &s->tally};
-  EncodeIo<RecordSink> io(&rec, g, polar);
-  scan::code_points(io, staged, sph, first, n, s->q.data(), s->v.data());
+  record_spherical(&staged, sph, g, polar, first, n, &s->syms, &s->tally, s);
+  // The ring walk too (both write the same ranges into this sweep's map): the smaller kept.
+  scan::State walked = st->staged();
+  const auto walk = static_cast<uint8_t>(sph | scan::kRingWalk);
+  record_spherical(&walked, walk, g, polar, first, n, &s->walk_syms, &s->walk_tally, s);
+  if (s->walk_tally.estimate(&s->log_t, &s->log_c) < s->tally.estimate(&s->log_t, &s->log_c)) {
+    std::swap(s->syms, s->walk_syms);
+    std::swap(s->tally, s->walk_tally);
+    staged = std::move(walked);
+    sph = walk;
+  }
   if (spherical_wins(*st, flags, g, polar, f, first, n, s)) {
     IntEncoder::Cursor c = enc->cursor();
     for (const Sym& y : s->syms) c.put(y.u, static_cast<int>(y.ctx));
     enc->commit(c);
     *st = staged;
     st->end_frame();
-    return true;
+    return sph;
   }
   st->clear_sweep();
   PutSink put{enc};
   EncodeIo<PutSink> direct(&put, g, polar);
   scan::code_frame(direct, *st, flags, first, n, s->q.data(), s->v.data());
-  return false;
+  return flags;
 }
 
 // The payload under one table: per frame the cheaper of spherical and Cartesian coding.
@@ -269,8 +287,7 @@ std::vector<uint8_t> encode_with(const ScanGeometry& g, const scan::Table& t,
     s->v.resize(n);
     flags[f] = validity(g, first, n);
     if (t.rings() > 0 && flags[f] != scan::kNoneValid && scan::spherical_ok(g, first, n)) {
-      if (code_chosen(&enc, &st, flags[f], g, polar, f, first, n, s))
-        flags[f] = static_cast<uint8_t>(flags[f] | scan::kSpherical);
+      flags[f] = code_chosen(&enc, &st, flags[f], g, polar, f, first, n, s);
     } else {
       scan::code_frame(io, st, flags[f], first, n, s->q.data(), s->v.data());
     }
