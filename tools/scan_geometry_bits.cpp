@@ -4,7 +4,7 @@
 // metres), NaN points kept as gaps; the payload is decoded and compared with the integers.
 //
 //   scan_geometry_bits [--bound M]... [--no-ring] [--no-units] [--window F] [--dump N]
-//                      [--breakdown] [--sorted] PATH...
+//                      [--breakdown [--divisor D] [--hypot]] [--sorted] PATH...
 //
 // --bound: bounds in metres (default 0.001 and 0.01); --no-ring: ignore the ring / channel
 // field (the coder then infers the rings); --no-units: no range units (the encoder is not told
@@ -12,7 +12,7 @@
 // (default: all);
 // --dump: print the first N points of each sequence's first frame in polar form; --breakdown:
 // bits per point of each kind of symbol (ring, column, range, x, y, z), step divisor 4 or
-// --divisor D;
+// --divisor D, the second of x y from the azimuth or (--hypot) from the range's hypotenuse;
 // --sorted: each frame in --point-order any's coded order (coding/scan_geometry.h).
 // Prints one line per sequence and bound: points, payload bytes, bits per point, encode and
 // decode milliseconds. Exits 1 when a round trip is not exact.
@@ -40,6 +40,7 @@ bool show_breakdown = false;
 double breakdown_divisor = 4;  // --divisor: the table's step divisor of --breakdown
 bool sorted_order = false;     // --sorted: --point-order any's coded order (scan_point_order)
 bool range_units = true;       // --no-units: no ScanHints::grid_per_unit (no range units)
+bool breakdown_hypot = false;  // --hypot: --breakdown's second of x y from the hypotenuse
 
 struct Frame {
   std::vector<double> xyz;      // points x 3, NaN kept
@@ -169,7 +170,10 @@ class BreakdownIo {
     const int k = ctx < kCtxRing     ? 0
                   : ctx < kCtxColumn ? 1
                   : ctx < kCtxRange  ? 2
-                  : ctx < kCtxCart   ? 3  // kCtxX..kCtxCart: unused
+                  : ctx < kCtxX      ? 3
+                  : ctx < kCtxY      ? 7  // unused
+                  : ctx < kCtxZ      ? 5  // the second of x y from the azimuth
+                  : ctx < kCtxCart   ? 7  // unused
                   : ctx < kCtxImage  ? 7
                   : ctx < kCtxAxis1  ? 3
                   : ctx < kCtxAxis2  ? 4
@@ -195,7 +199,8 @@ void breakdown(const capz::ScanGeometry& g, const capz::ScanHints& h) {
     q.resize(3 * size_t{n});
     v.resize(n);
     uint8_t flags = capz::scan::kSomeValid;
-    if (t.rings() > 0 && capz::scan::spherical_ok(g, first, n)) flags |= capz::scan::kSpherical;
+    if (t.rings() > 0 && capz::scan::spherical_ok(g, first, n))
+      flags |= capz::scan::kSpherical | (breakdown_hypot ? capz::scan::kHypot : 0);
     capz::scan::code_frame(io, st, flags, first, n, q.data(), v.data());
     first += n;
   }
@@ -278,6 +283,8 @@ int main(int argc, char** argv) {
       breakdown_divisor = std::atof(argv[++i]);
     } else if (a == "--sorted") {
       sorted_order = true;
+    } else if (a == "--hypot") {
+      breakdown_hypot = true;
     } else if (a == "--no-units") {
       range_units = false;
     } else if (a == "--no-ring") {

@@ -27,7 +27,8 @@ namespace scan {
 constexpr uint8_t kAllValid = 0, kSomeValid = 1, kNoneValid = 2;  // bits 0-1
 constexpr uint8_t kSpherical = 4;                                 // bit 2
 constexpr uint8_t kRaster = 32;                                   // bit 5 (scan_raster.h)
-constexpr uint8_t kFrameFlagMask = 7 | kRaster;
+constexpr uint8_t kHypot = 64;  // bit 6: the second of x y from the range's hypotenuse
+constexpr uint8_t kFrameFlagMask = 7 | kRaster | kHypot;
 
 // Limits the decoder enforces (FORMAT.md).
 constexpr uint32_t kMaxRings = 1024;
@@ -55,15 +56,15 @@ enum Ctx : int {
   kCtxColumn = kCtxRing + 2,   // 8
   kCtxRange = kCtxColumn + 8,  // 16: the chosen predictor's recent error
   kCtxX = kCtxRange + 16,      // 24 and (kCtxZ) 24: unused (x y z before the fraction rule)
-  kCtxY = kCtxX + 24,          // 16 x 3: the second of x y with range units, by bit length
+  kCtxY = kCtxX + 24,          // 16 x 3: the second of x y from the azimuth, by bit length
   kCtxZ = kCtxY + 48,
   kCtxCart = kCtxZ + 24,           // 3 axes x 8: previous residual's bit length
   kCtxRaster = kCtxCart + 24,      // 27: raster frames (scan_raster.h)
   kCtxImage = kCtxRaster + 27,     // the fraction-rule contexts below (FORMAT: 175)
   kCtxRangeFrac = kCtxImage,       // 8 x 3: the range against the smoothed map
   kCtxAxis1 = kCtxRangeFrac + 24,  // 24 x 3: first of x y, by the range's bit length
-  kCtxAxis2 = kCtxAxis1 + 72,      // 8 x 3: second of x y, by the candidates' count
-  kCtxZFrac = kCtxAxis2 + 24,      // 24 x 3: z, by the range's bit length
+  kCtxAxis2 = kCtxAxis1 + 72,  // 8 x 3: second of x y from the hypotenuse, by the candidates' count
+  kCtxZFrac = kCtxAxis2 + 24,  // 24 x 3: z, by the range's bit length
   kContexts = kCtxZFrac + 72,
 };
 
