@@ -32,11 +32,15 @@ void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, cons
     }
     const bool offsets =
         std::any_of(t.offset.begin(), t.offset.end(), [](double v) { return v != 0; });
-    w.u8(t.unit.empty() ? 0 : offsets ? 2 : 1);
+    w.u8(static_cast<uint8_t>((t.unit.empty() ? 0
+                               : offsets      ? 2
+                                              : 1) |
+                              (t.bow != 0 ? scan::kBowBit : 0)));
     for (size_t k = 0; k < t.unit.size(); ++k) {
       w.f64(t.unit[k]);
       if (offsets) w.f64(t.offset[k]);
     }
+    if (t.bow != 0) w.f32(t.bow);
   }
   out->insert(out->end(), w.buffer().begin(), w.buffer().end());
 }

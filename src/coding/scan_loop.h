@@ -94,7 +94,7 @@ struct BothSeconds<Io, std::void_t<decltype(Io::kBothSeconds)>>
 
 // x y z of a spherical point (FORMAT "Scan geometry payload", step 4): the axis less aligned
 // with the azimuth first, from rho cos or sin; the other from the azimuth as well, or with
-// `hypot` (bit 6) from the range's hypotenuse; z on the ring's cone.
+// `hypot` (bit 6) from the range's hypotenuse; z on the ring's cone (bent by the table's bow).
 // (rho: the range in grid units; lb: the contexts' bit length.)
 template <class Io>
 void code_xyz(Io& io, const Table& t, bool hypot, uint32_t k, int32_t col, double rho, int lb,
@@ -114,7 +114,8 @@ void code_xyz(Io& io, const Table& t, bool hypot, uint32_t k, int32_t col, doubl
   } else {
     second_azimuth(io, rho, c, s, i1, lb, a, p);
   }
-  const double uz = static_cast<double>(t.z0[k]) + static_cast<double>(t.slope[k]) * rho;
+  const double slope = static_cast<double>(t.slope[k]) + static_cast<double>(t.bow) * (1.0 - c);
+  const double uz = static_cast<double>(t.z0[k]) + slope * rho;
   const int32_t zh = round_clamp(uz);
   p[2] = sym_fraction(io, a[2], zh, uz - zh, kCtxZFrac + 3 * lb);
 }

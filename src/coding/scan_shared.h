@@ -35,6 +35,9 @@ constexpr uint32_t kMaxRings = 1024;
 constexpr uint64_t kMaxMapCells = uint64_t{1} << 22;  // rings x columns
 // The range units' bounds (FORMAT.md "Scan geometry payload").
 constexpr double kMinUnit = 0x1p-20, kMaxUnit = 0x1p20, kMaxOffset = 0x1p30;
+// The units byte's bit of the cones' bow, and the bow's bound (FORMAT.md).
+constexpr uint8_t kBowBit = 4;
+constexpr double kMaxBow = 1;
 // Coordinates of a spherical frame stay below this in magnitude (so a range fits an int32).
 constexpr int64_t kMaxSphericalCoord = int64_t{1} << 29;
 
@@ -46,6 +49,8 @@ struct Table {
   // Per ring the grid units of one range step and the range's offset ("units" 1), or both
   // empty: ranges in grid units.
   std::vector<double> unit, offset;
+  // The cones' bow: a ring's slope at azimuth phi is slope + bow (1 - cos phi) (0: none).
+  float bow = 0;
   size_t rings() const { return azimuth0.size(); }
 };
 
