@@ -71,11 +71,11 @@ double gathering(const std::vector<double>& pts, double w, std::vector<uint32_t>
 }
 
 // The cones' bow (FORMAT.md, informative): the w of -0.016 .. 0.016 in steps of 0.001, then
-// within 0.001 of the best in steps of 0.00025, whose slopes of up to 16384 points gather most,
+// within 0.001 of the best in steps of 0.00025, whose slopes of up to 4096 points gather most,
 // kept when they gather at least 1.1 times as much as without a bow; else 0.
 float find_bow(const ScanGeometry& g, const ScanHints& h) {
   const size_t n = g.total();
-  const size_t stride = std::max<size_t>(1, n / 16384);
+  const size_t stride = std::max<size_t>(1, n / 4096);
   std::vector<double> pts;
   for (size_t i = 0; i < n; i += stride) {
     if (!g.valid[i] || !small_enough(&g.q[3 * i])) continue;
