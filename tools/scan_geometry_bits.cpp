@@ -4,7 +4,7 @@
 // metres), NaN points kept as gaps; the payload is decoded and compared with the integers.
 //
 //   scan_geometry_bits [--bound M]... [--no-ring] [--no-units] [--window F] [--dump N]
-//                      [--breakdown] [--sorted] [--walk] PATH...
+//                      [--breakdown [--divisor D] [--hypot] [--walk]] [--sorted] PATH...
 //
 // --bound: bounds in metres (default 0.001 and 0.01); --no-ring: ignore the ring / channel
 // field (the coder then infers the rings); --no-units: no range units (the encoder is not told
@@ -12,7 +12,7 @@
 // (default: all);
 // --dump: print the first N points of each sequence's first frame in polar form; --breakdown:
 // bits per point of each kind of symbol (ring, column, range, x, y, z), step divisor 4 or
-// --divisor D;
+// --divisor D, the second of x y from the azimuth or (--hypot) from the range's hypotenuse;
 // --sorted: each frame in --point-order any's coded order (coding/scan_geometry.h);
 // --walk: --breakdown's frames coded with the ring walk (frame flag bit 3).
 // Prints one line per sequence and bound: points, payload bytes, bits per point, encode and
@@ -42,6 +42,7 @@ double breakdown_divisor = 4;  // --divisor: the table's step divisor of --break
 bool sorted_order = false;     // --sorted: --point-order any's coded order (scan_point_order)
 bool range_units = true;       // --no-units: no ScanHints::grid_per_unit (no range units)
 bool ring_walk = false;        // --walk: --breakdown codes its frames with the ring walk
+bool breakdown_hypot = false;  // --hypot: --breakdown's second of x y from the hypotenuse
 
 struct Frame {
   std::vector<double> xyz;      // points x 3, NaN kept
@@ -171,8 +172,10 @@ class BreakdownIo {
     const int k = ctx < kCtxRing         ? 0
                   : ctx < kCtxColumn     ? 1
                   : ctx < kCtxRange      ? 2
-                  : ctx < kCtxCart       ? 3  // kCtxX..kCtxCart: unused
-                  : ctx < kCtxImage      ? 7
+                  : ctx < kCtxX          ? 3
+                  : ctx < kCtxY          ? 7  // unused
+                  : ctx < kCtxZ          ? 5  // the second of x y from the azimuth
+                  : ctx < kCtxImage      ? 7  // unused, Cartesian, raster
                   : ctx < kCtxAxis1      ? 3
                   : ctx < kCtxAxis2      ? 4
                   : ctx < kCtxZFrac      ? 5
@@ -200,7 +203,8 @@ void breakdown(const capz::ScanGeometry& g, const capz::ScanHints& h) {
     v.resize(n);
     uint8_t flags = capz::scan::kSomeValid;
     if (t.rings() > 0 && capz::scan::spherical_ok(g, first, n))
-      flags |= ring_walk ? capz::scan::kSpherical | capz::scan::kRingWalk : capz::scan::kSpherical;
+      flags |= capz::scan::kSpherical | (ring_walk ? capz::scan::kRingWalk : 0) |
+               (breakdown_hypot ? capz::scan::kHypot : 0);
     capz::scan::code_frame(io, st, flags, first, n, q.data(), v.data());
     first += n;
   }
@@ -285,6 +289,8 @@ int main(int argc, char** argv) {
       sorted_order = true;
     } else if (a == "--walk") {
       ring_walk = true;
+    } else if (a == "--hypot") {
+      breakdown_hypot = true;
     } else if (a == "--no-units") {
       range_units = false;
     } else if (a == "--no-ring") {

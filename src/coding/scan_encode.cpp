@@ -32,11 +32,15 @@ void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, cons
     }
     const bool offsets =
         std::any_of(t.offset.begin(), t.offset.end(), [](double v) { return v != 0; });
-    w.u8(t.unit.empty() ? 0 : offsets ? 2 : 1);
+    w.u8(static_cast<uint8_t>((t.unit.empty() ? 0
+                               : offsets      ? 2
+                                              : 1) |
+                              (t.bow != 0 ? scan::kBowBit : 0)));
     for (size_t k = 0; k < t.unit.size(); ++k) {
       w.f64(t.unit[k]);
       if (offsets) w.f64(t.offset[k]);
     }
+    if (t.bow != 0) w.f32(t.bow);
   }
   out->insert(out->end(), w.buffer().begin(), w.buffer().end());
 }
@@ -96,6 +100,13 @@ class Tally {
     ++symbols_;
   }
   uint64_t symbols() const { return symbols_; }
+  // Adds o's symbols to these.
+  void add(const Tally& o) {
+    for (size_t i = 0; i < counts_.size(); ++i) counts_[i] += o.counts_[i];
+    for (size_t i = 0; i < totals_.size(); ++i) totals_[i] += o.totals_[i];
+    extra_ += o.extra_;
+    symbols_ += o.symbols_;
+  }
   // CostSink's bits in real numbers, computed in binary64 from prefix sums of logarithms.
   double estimate(std::vector<double>* log_t, std::vector<double>* log_c) const {
     double bits = static_cast<double>(extra_);
@@ -122,13 +133,31 @@ class Tally {
   uint64_t extra_ = 0, symbols_ = 0;
 };
 
-// Records a frame's symbols and tallies them.
+// A symbol of the second of x y from the hypotenuse, the alternative to syms[at] (from the
+// azimuth).
+struct AltSym {
+  size_t at;
+  Sym sym;
+};
+
+// Records a frame's symbols and tallies them, the second of x y both ways (scan_loop.h's
+// BothSeconds): the azimuth's symbols into syms and `azimuth`, the hypotenuse's into alts and
+// `hypot` (each told by its contexts), every other symbol into syms and `tally`. The arrays
+// have room for the frame (at most 7 symbols and one alternative a point).
 struct RecordSink {
-  std::vector<Sym>* syms;
-  Tally* tally;
+  Sym *syms, *next, *end;
+  AltSym* alt;
+  Tally *tally, *azimuth, *hypot;
   void put(uint32_t u, int ctx) {
-    syms->push_back(Sym{u, static_cast<uint32_t>(ctx)});
-    tally->put(u, ctx);
+    const Sym y{u, static_cast<uint32_t>(ctx)};
+    if (next == end) fail(ErrorCode::kInternal, "scan geometry", "a trial's symbols overflow");
+    if (ctx >= scan::kCtxAxis2 && ctx < scan::kCtxZFrac) {
+      *alt++ = AltSym{static_cast<size_t>(next - syms), y};
+      hypot->put(u, ctx);
+      return;
+    }
+    *next++ = y;
+    (ctx >= scan::kCtxY && ctx < scan::kCtxZ ? azimuth : tally)->put(u, ctx);
   }
 };
 
@@ -160,6 +189,12 @@ class EncodeIo {
   const std::vector<scan::Polar>& polar_;
 };
 
+// The encoder's spherical trial: codes the second of x y both ways (scan_loop.h).
+struct RecordIo : EncodeIo<RecordSink> {
+  using EncodeIo<RecordSink>::EncodeIo;
+  static constexpr bool kBothSeconds = true;
+};
+
 uint8_t validity(const ScanGeometry& g, size_t first, size_t n) {
   size_t v = 0;
   for (size_t i = first; i < first + n; ++i) v += g.valid[i] != 0;
@@ -180,19 +215,29 @@ struct CartesianEstimate {
   }
 };
 
+// A frame's spherical trial: its symbols (the first `syms` of sym_room), the hypotenuse's
+// alternatives to the second of x y, and their tallies.
+struct Trial {
+  std::vector<Sym> sym_room;
+  std::vector<AltSym> alt_room;
+  size_t syms = 0;
+  Tally tally, azimuth, hypot;
+  const Sym* begin() const { return sym_room.data(); }
+  const Sym* end() const { return sym_room.data() + syms; }
+};
+
 // Scratch of the per-frame choice, kept across frames and tables.
 struct Scratch {
   std::vector<int32_t> q;
   std::vector<uint8_t> v;
-  std::vector<Sym> syms, walk_syms;
-  Tally tally, walk_tally;
-  int walk = -1;  // the window's choice of the ring walk (code_chosen): -1 not made yet
+  Trial trial, walk_trial;  // the spherical trial of the frame; with the ring walk
+  int walk = -1;            // the window's choice of the ring walk (code_chosen): -1 not made yet
   std::vector<double> log_t, log_c;     // Tally::estimate's prefix sums
   std::vector<CartesianEstimate> cart;  // per frame of the window
   std::shared_ptr<scan::SweepMaps> maps = std::make_shared<scan::SweepMaps>();  // every table's
 };
 
-// Whether spherical coding (its symbols recorded in s.syms, tallied in s.tally) costs less than
+// Whether spherical coding (its symbols recorded in s->trial, tallied in its tally) costs less than
 // Cartesian by CostSink, the exact estimate. Decided on Tally::estimate when the two differ by
 // more than both estimates' rounding can move them (N terms each below 2^6, summed in binary64:
 // at most N (2^-52 sum + 2^-46) apart in all, with room to spare); else by CostSink itself.
@@ -211,39 +256,27 @@ bool spherical_wins(const scan::State& st, uint8_t flags, const ScanGeometry& g,
     c.bits = tally.estimate(&s->log_t, &s->log_c);
     c.symbols = tally.symbols();
   }
-  const double sph = s->tally.estimate(&s->log_t, &s->log_c);
-  const double terms = static_cast<double>(s->tally.symbols() + c.symbols) + 2.0 * 64 * 64;
+  const double sph = s->trial.tally.estimate(&s->log_t, &s->log_c);
+  const double terms = static_cast<double>(s->trial.tally.symbols() + c.symbols) + 2.0 * 64 * 64;
   const double margin = 4.0 * terms * (terms * 64.0 * 0x1p-52 + 0x1p-46);
   if (sph < c.bits - margin) return true;
   if (sph > c.bits + margin) return false;
   CostSink exact_sph, exact_cart;
-  for (const Sym& y : s->syms) exact_sph.put(y.u, static_cast<int>(y.ctx));
+  for (const Sym& y : s->trial) exact_sph.put(y.u, static_cast<int>(y.ctx));
   EncodeIo<CostSink> io(&exact_cart, g, polar);
   scan::State trial = st.trial();
   scan::code_points(io, trial, flags, first, n, s->q.data(), s->v.data());
   return exact_sph.bits < exact_cart.bits;
 }
 
-// Codes frame [first, first + n) spherically under `flags` from *st, its symbols recorded in
-// *syms and tallied in *tally.
-void record_spherical(scan::State* st, uint8_t flags, const ScanGeometry& g,
-                      const std::vector<scan::Polar>& polar, size_t first, size_t n,
-                      std::vector<Sym>* syms, Tally* tally, Scratch* s) {
-  syms->clear();
-  syms->reserve(7 * n);  // at most 7 symbols a point, but the ring walk's flags
-  tally->clear();
-  RecordSink rec{syms, tally};
-  EncodeIo<RecordSink> io(&rec, g, polar);
-  scan::code_points(io, *st, flags, first, n, s->q.data(), s->v.data());
-}
-
 // Whether the ring walk is worth a trial on frame [first, first + n): its valid points' rings
-// run upward, as in firing order, so that the walk's flags (the rings passed, about) stay under
-// kWalkFlags a point. Rings in a driver's firing permutation or in blocks (most files' own
-// order) never pay the walk, and a long walk costs time.
+// run upward, as in firing order, so that the walk's flags (*passed: the rings passed, which is
+// the walk's flags but the repeat flags) stay under kWalkFlags a point. Rings in a driver's
+// firing permutation or in blocks (most files' own order) never pay the walk, and a long walk
+// costs time.
 constexpr size_t kWalkFlags = 8;
 bool walk_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& polar, size_t rings,
-                       size_t first, size_t n) {
+                       size_t first, size_t n, size_t* passed) {
   size_t valid = 0, flags = 0;
   uint32_t prev = 0;
   for (size_t i = first; i < first + n; ++i) {
@@ -252,7 +285,37 @@ bool walk_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& po
     if (valid++ > 0 && k != prev) flags += k > prev ? k - prev : k + rings - prev;
     prev = k;
   }
+  *passed = flags;
   return flags < kWalkFlags * valid;
+}
+
+// The spherical trial of frame [first, first + n) under *flags on a staged copy of *st
+// (returned), its symbols recorded in *t (room for `room` of them) and tallied in t->tally, the
+// second of x y by the cheaper of the azimuth and the hypotenuse by the estimate (both coded in
+// the one pass: the choice moves no other symbol). Sets kHypot in *flags when the hypotenuse's.
+scan::State spherical_trial(const scan::State& st, uint8_t* flags, const ScanGeometry& g,
+                            const std::vector<scan::Polar>& polar, size_t first, size_t n,
+                            size_t room, Trial* t, Scratch* s) {
+  scan::State staged = st.staged();
+  if (t->sym_room.size() < room) t->sym_room.resize(room);
+  if (t->alt_room.size() < n) t->alt_room.resize(n);
+  t->tally.clear();
+  t->azimuth.clear();
+  t->hypot.clear();
+  RecordSink rec{t->sym_room.data(), t->sym_room.data(), t->sym_room.data() + room,
+                 t->alt_room.data(), &t->tally,          &t->azimuth,
+                 &t->hypot};
+  RecordIo io(&rec, g, polar);
+  scan::code_points(io, staged, *flags, first, n, s->q.data(), s->v.data());
+  t->syms = static_cast<size_t>(rec.next - rec.syms);
+  const bool hypot =
+      t->hypot.estimate(&s->log_t, &s->log_c) < t->azimuth.estimate(&s->log_t, &s->log_c);
+  if (hypot) {
+    for (const AltSym* y = t->alt_room.data(); y != rec.alt; ++y) t->sym_room[y->at] = y->sym;
+    *flags = static_cast<uint8_t>(*flags | scan::kHypot);
+  }
+  t->tally.add(hypot ? t->hypot : t->azimuth);
+  return staged;
 }
 
 // Codes frame f spherically when that costs less by the estimate, else Cartesian: the spherical
@@ -261,33 +324,33 @@ bool walk_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& po
 uint8_t code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanGeometry& g,
                     const std::vector<scan::Polar>& polar, size_t f, size_t first, size_t n,
                     Scratch* s) {
-  auto sph = static_cast<uint8_t>(flags | scan::kSpherical);
-  const auto walk = static_cast<uint8_t>(sph | scan::kRingWalk);
-  const bool upward = walk_worth_trying(g, polar, st->table().rings(), first, n);
-  scan::State staged = st->staged();
-  if (upward && s->walk == 1) sph = walk;
-  record_spherical(&staged, sph, g, polar, first, n, &s->syms, &s->tally, s);
+  const auto sph = static_cast<uint8_t>(flags | scan::kSpherical);
+  size_t passed = 0;
+  const bool upward = walk_worth_trying(g, polar, st->table().rings(), first, n, &passed);
+  // At most 7 symbols a point; a walk frame's ring takes the repeat flag and the rings passed.
+  const size_t room = 7 * n + (upward ? n + passed : 0) + 1;
+  auto coded = static_cast<uint8_t>(upward && s->walk == 1 ? sph | scan::kRingWalk : sph);
+  scan::State staged = spherical_trial(*st, &coded, g, polar, first, n, room, &s->trial, s);
   // The window's first frame whose rings run upward is coded both ways (both write the same
   // ranges into this sweep's map), the smaller kept; the window's later frames follow it.
   if (upward && s->walk < 0) {
-    scan::State walked = st->staged();
-    record_spherical(&walked, walk, g, polar, first, n, &s->walk_syms, &s->walk_tally, s);
-    s->walk =
-        s->walk_tally.estimate(&s->log_t, &s->log_c) < s->tally.estimate(&s->log_t, &s->log_c);
+    auto walk = static_cast<uint8_t>(sph | scan::kRingWalk);
+    scan::State walked = spherical_trial(*st, &walk, g, polar, first, n, room, &s->walk_trial, s);
+    s->walk = s->walk_trial.tally.estimate(&s->log_t, &s->log_c) <
+              s->trial.tally.estimate(&s->log_t, &s->log_c);
     if (s->walk == 1) {
-      std::swap(s->syms, s->walk_syms);
-      std::swap(s->tally, s->walk_tally);
+      std::swap(s->trial, s->walk_trial);
       staged = std::move(walked);
-      sph = walk;
+      coded = walk;
     }
   }
   if (spherical_wins(*st, flags, g, polar, f, first, n, s)) {
     IntEncoder::Cursor c = enc->cursor();
-    for (const Sym& y : s->syms) c.put(y.u, static_cast<int>(y.ctx));
+    for (const Sym& y : s->trial) c.put(y.u, static_cast<int>(y.ctx));
     enc->commit(c);
     *st = staged;
     st->end_frame();
-    return sph;
+    return coded;
   }
   st->clear_sweep();
   PutSink put{enc};
@@ -336,9 +399,11 @@ struct TableChoice {
 // The choices (of `tried`, in order) whose table codes g's first kTrialFrames frames alone
 // within kTrialSlack of the smallest payload. On robosense-helios16p at 1 mm the first frame
 // alone ranked the tables otherwise than the window (the map of the sweep before counts), two
-// frames 1.8 % apart where the window's were 1.1 % apart. *tables: the tables tried (each the
-// window's; only the first frames' points placed).
-constexpr double kTrialSlack = 1.02;
+// frames 1.8 % apart where the window's were 1.1 % apart; with the second of x y chosen per
+// frame (flags_f bit 6), its two frames put the step divided by 4 3.0 % behind the step as
+// found, whose window came out 0.5 % larger. *tables: the tables tried (each the window's; only
+// the first frames' points placed).
+constexpr double kTrialSlack = 1.03;
 constexpr size_t kTrialFrames = 2;
 std::vector<TableChoice> first_frame_choice(const ScanGeometry& g, const scan::RingFit& fit,
                                             const std::vector<TableChoice>& tried,

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <type_traits>
 
 #include "coding/predict.h"
 
@@ -56,13 +57,23 @@ inline double root0(double e) {
   return std::sqrt(e > 0 ? e : 0.0);
 }
 
-// The second of x y without range units (FORMAT step 4): from the range's hypotenuse with the
-// first (p[i0], predicted h0), its context by how many integers round to the range.
+// The second of x y from the azimuth like the first (FORMAT step 4, a frame without bit 6).
 template <class Io>
-void code_second(Io& io, double rho, double c, double s, int i0, int32_t h0, const int32_t* a,
-                 int32_t* p) {
+void second_azimuth(Io& io, double rho, double c, double s, int i1, int lb, const int32_t* a,
+                    int32_t* p) {
+  const double u1 = rho * (i1 == 0 ? c : s);
+  const int32_t h1 = round_clamp(u1);
+  p[i1] = sym_fraction(io, a[i1], h1, u1 - h1, kCtxY + 3 * std::min(lb, 15));
+}
+
+// The second of x y from the range's hypotenuse with the first (p[i0], predicted h0; FORMAT
+// step 4, a frame with bit 6), its context by how many integers lie within half a grid step of
+// the range.
+template <class Io>
+void second_hypot(Io& io, double rho, double c, double s, int i0, int32_t h0, const int32_t* a,
+                  int32_t* p) {
   const int i1 = 1 - i0;
-  const double half = 0.5;  // the range's rounding
+  const double half = 0.5;
   const double o = static_cast<double>(p[i0]), oo = o * o;
   const double g = (i1 == 0 ? c : s) < 0 ? -1.0 : 1.0;
   const double u1 = g * root0(rho * rho - oo);
@@ -73,13 +84,21 @@ void code_second(Io& io, double rho, double c, double s, int i0, int32_t h0, con
   p[i1] = sym_fraction(io, a[i1], h1, u1 - h1, kCtxAxis2 + 3 * (2 * ni + (p[i0] != h0)));
 }
 
+// Whether Io codes the second of x y both ways (the encoder's trial: Io::kBothSeconds, the
+// hypotenuse's symbol first, in its own contexts), else as the frame's bit 6 says.
+template <class Io, class = void>
+struct BothSeconds : std::false_type {};
+template <class Io>
+struct BothSeconds<Io, std::void_t<decltype(Io::kBothSeconds)>>
+    : std::integral_constant<bool, Io::kBothSeconds> {};
+
 // x y z of a spherical point (FORMAT "Scan geometry payload", step 4): the axis less aligned
-// with the azimuth first, from rho cos or sin; the other from the range's hypotenuse, or with
-// range units (an exact range) from the azimuth too; z on the ring's cone.
+// with the azimuth first, from rho cos or sin; the other from the azimuth as well, or with
+// `hypot` (bit 6) from the range's hypotenuse; z on the ring's cone (bent by the table's bow).
 // (rho: the range in grid units; lb: the contexts' bit length.)
 template <class Io>
-void code_xyz(Io& io, const Table& t, uint32_t k, int32_t col, double rho, int lb, const int32_t* a,
-              int32_t* p) {
+void code_xyz(Io& io, const Table& t, bool hypot, uint32_t k, int32_t col, double rho, int lb,
+              const int32_t* a, int32_t* p) {
   const double phi = static_cast<double>(t.azimuth0[k]) + static_cast<double>(col) * t.step;
   double s, c;
   det_sincos(phi, &s, &c);
@@ -87,14 +106,16 @@ void code_xyz(Io& io, const Table& t, uint32_t k, int32_t col, double rho, int l
   const double u0 = rho * (i0 == 0 ? c : s);
   const int32_t h0 = round_clamp(u0);
   p[i0] = sym_fraction(io, a[i0], h0, u0 - h0, kCtxAxis1 + 3 * lb);
-  if (!t.unit.empty()) {  // the sensor's own range: the second axis from the azimuth as well
-    const double u1 = rho * (i1 == 0 ? c : s);
-    const int32_t h1 = round_clamp(u1);
-    p[i1] = sym_fraction(io, a[i1], h1, u1 - h1, kCtxY + 3 * std::min(lb, 15));
+  if (BothSeconds<Io>::value) {
+    second_hypot(io, rho, c, s, i0, h0, a, p);
+    second_azimuth(io, rho, c, s, i1, lb, a, p);
+  } else if (hypot) {
+    second_hypot(io, rho, c, s, i0, h0, a, p);
   } else {
-    code_second(io, rho, c, s, i0, h0, a, p);
+    second_azimuth(io, rho, c, s, i1, lb, a, p);
   }
-  const double uz = static_cast<double>(t.z0[k]) + static_cast<double>(t.slope[k]) * rho;
+  const double slope = static_cast<double>(t.slope[k]) + static_cast<double>(t.bow) * (1.0 - c);
+  const double uz = static_cast<double>(t.z0[k]) + slope * rho;
   const int32_t zh = round_clamp(uz);
   p[2] = sym_fraction(io, a[2], zh, uz - zh, kCtxZFrac + 3 * lb);
 }
@@ -238,8 +259,8 @@ RingColumn ring_walk(Io& io, State& st, const Polar& pa, const Prev* pv) {
 }
 
 template <class Io>
-void code_spherical(Io& io, State& st, const Polar& pa, const int32_t* a, bool walk, Prev* pv,
-                    int32_t* p) {
+void code_spherical(Io& io, State& st, const Polar& pa, const int32_t* a, bool walk, bool hypot,
+                    Prev* pv, int32_t* p) {
   const Table& t = st.table();
   const RingColumn rc = walk ? ring_walk(io, st, pa, pv) : ring_successor(io, st, pa, pv);
   const uint32_t k = rc.ring;
@@ -267,7 +288,7 @@ void code_spherical(Io& io, State& st, const Polar& pa, const int32_t* a, bool w
   const double rho =
       units ? static_cast<double>(range) * t.unit[k] + t.offset[k] : static_cast<double>(range);
   const int lb = std::min(bit_length(units ? round_clamp(rho) : range), 23);
-  code_xyz(io, t, k, col, rho, lb, a, p);
+  code_xyz(io, t, hypot, k, col, rho, lb, a, p);
   if (r.has_last && (!walk || rc.opened)) r.step = wrap_sub(col, r.last_column);
   r.last_column = col;
   r.last_range = range;
@@ -283,6 +304,7 @@ void code_points(Io& io, State& st, uint8_t flags, size_t first, size_t n, int32
                  uint8_t* valid_out) {
   const uint8_t vmode = flags & 3;
   const bool spherical = (flags & kSpherical) != 0, walk = (flags & kRingWalk) != 0;
+  const bool hypot = (flags & kHypot) != 0;
   bool prev_valid = true;
   detail::Prev pv;
   if (walk) std::fill(st.firing.begin(), st.firing.end(), State::Firing{});
@@ -296,7 +318,7 @@ void code_points(Io& io, State& st, uint8_t flags, size_t first, size_t n, int32
     }
     const int32_t* a = io.actual(first + i);
     if (spherical)
-      detail::code_spherical(io, st, io.polar(first + i), a, walk, &pv, p);
+      detail::code_spherical(io, st, io.polar(first + i), a, walk, hypot, &pv, p);
     else
       detail::code_cartesian(io, st, a, p);
   }

@@ -67,8 +67,9 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
       check_finite(t.slope.back(), &r);
       check_finite(t.z0.back(), &r);
     }
-    const uint8_t units = r.u8();
-    if (units > 2) fail(ErrorCode::kCorrupt, what, "unknown range units in the laser table");
+    const uint8_t byte = r.u8(), units = byte & 3;
+    if (units == 3 || (byte & ~7) != 0)
+      fail(ErrorCode::kCorrupt, what, "unknown range units in the laser table");
     for (uint64_t k = 0; units != 0 && k < rings; ++k) {
       const double u = r.f64(), v = units == 2 ? r.f64() : 0.0;
       if (!(u >= kMinUnit && u <= kMaxUnit) || !(std::fabs(v) <= kMaxOffset))
@@ -76,13 +77,18 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
       t.unit.push_back(u);
       t.offset.push_back(v);
     }
+    if (byte & kBowBit) {
+      t.bow = r.f32();
+      if (!(std::fabs(t.bow) <= kMaxBow))
+        fail(ErrorCode::kCorrupt, what, "the laser table's bow is out of range");
+    }
   }
   uint64_t coded = 0;  // points that code at least one symbol
   bool raster = false;
   for (size_t i = 0; i < frames; ++i) {
     const uint8_t fl = h.flags[i];
     if ((fl & ~kFrameFlagMask) != 0 || (fl & 3) == 3 || ((fl & kSpherical) && (fl & kRaster)) ||
-        ((fl & kRingWalk) && !(fl & kSpherical)))
+        ((fl & (kRingWalk | kHypot)) && !(fl & kSpherical)))
       fail(ErrorCode::kCorrupt, what, "frame " + std::to_string(i) + " has unknown flags");
     if ((fl & kSpherical) && rings == 0)
       fail(ErrorCode::kCorrupt, what, "a spherical frame without a laser table");

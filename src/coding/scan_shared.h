@@ -28,13 +28,17 @@ constexpr uint8_t kAllValid = 0, kSomeValid = 1, kNoneValid = 2;  // bits 0-1
 constexpr uint8_t kSpherical = 4;                                 // bit 2
 constexpr uint8_t kRingWalk = 8;  // bit 3: rings by the walk (FORMAT "Ring walk frames")
 constexpr uint8_t kRaster = 32;   // bit 5 (scan_raster.h)
-constexpr uint8_t kFrameFlagMask = 7 | kRingWalk | kRaster;
+constexpr uint8_t kHypot = 64;    // bit 6: the second of x y from the range's hypotenuse
+constexpr uint8_t kFrameFlagMask = 7 | kRingWalk | kRaster | kHypot;
 
 // Limits the decoder enforces (FORMAT.md).
 constexpr uint32_t kMaxRings = 1024;
 constexpr uint64_t kMaxMapCells = uint64_t{1} << 22;  // rings x columns
 // The range units' bounds (FORMAT.md "Scan geometry payload").
 constexpr double kMinUnit = 0x1p-20, kMaxUnit = 0x1p20, kMaxOffset = 0x1p30;
+// The units byte's bit of the cones' bow, and the bow's bound (FORMAT.md).
+constexpr uint8_t kBowBit = 4;
+constexpr double kMaxBow = 1;
 // Coordinates of a spherical frame stay below this in magnitude (so a range fits an int32).
 constexpr int64_t kMaxSphericalCoord = int64_t{1} << 29;
 constexpr int kMaxFine = 12;  // the raster header's fine shift k (FORMAT.md "Raster frames")
@@ -47,6 +51,8 @@ struct Table {
   // Per ring the grid units of one range step and the range's offset ("units" 1), or both
   // empty: ranges in grid units.
   std::vector<double> unit, offset;
+  // The cones' bow: a ring's slope at azimuth phi is slope + bow (1 - cos phi) (0: none).
+  float bow = 0;
   size_t rings() const { return azimuth0.size(); }
 };
 
@@ -57,14 +63,14 @@ enum Ctx : int {
   kCtxColumn = kCtxRing + 2,   // 8
   kCtxRange = kCtxColumn + 8,  // 16: the chosen predictor's recent error
   kCtxX = kCtxRange + 16,      // 24 and (kCtxZ) 24: unused (x y z before the fraction rule)
-  kCtxY = kCtxX + 24,          // 16 x 3: the second of x y with range units, by bit length
+  kCtxY = kCtxX + 24,          // 16 x 3: the second of x y from the azimuth, by bit length
   kCtxZ = kCtxY + 48,
   kCtxCart = kCtxZ + 24,            // 3 axes x 8: previous residual's bit length
   kCtxRaster = kCtxCart + 24,       // 27: raster frames (scan_raster.h)
   kCtxImage = kCtxRaster + 27,      // the fraction-rule contexts below (FORMAT: 175)
   kCtxRangeFrac = kCtxImage,        // 8 x 3: the range against the smoothed map
   kCtxAxis1 = kCtxRangeFrac + 24,   // 24 x 3: first of x y, by the range's bit length
-  kCtxAxis2 = kCtxAxis1 + 72,       // 8 x 3: second of x y, by the candidates' count
+  kCtxAxis2 = kCtxAxis1 + 72,       // 8 x 3: second of x y from the hypotenuse, by the count
   kCtxZFrac = kCtxAxis2 + 24,       // 24 x 3: z, by the range's bit length
   kCtxWalkRepeat = kCtxZFrac + 72,  // 24: the ring walk's repeat flag
   kCtxWalk = kCtxWalkRepeat + 24,   // 4 x 2 x 2 x 8: the walk's flags

@@ -37,6 +37,72 @@ double azimuth(const ScanGeometry& g, const ScanHints& h, size_t i) {
   return std::atan2(double(g.q[3 * i + 1]), double(g.q[3 * i]));
 }
 
+// Point i's x y z: the source's coordinates when the hints have them (finite), else the integers.
+void coords(const ScanGeometry& g, const std::vector<float>& xyz, size_t i, double* v) {
+  const int32_t* p = &g.q[3 * i];
+  for (int a = 0; a < 3; ++a) v[a] = double(p[a]);
+  if (xyz.size() != 3 * g.total()) return;
+  const double f[3] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
+  if (std::isfinite(f[0]) && std::isfinite(f[1]) && std::isfinite(f[2]))
+    for (int a = 0; a < 3; ++a) v[a] = f[a];
+}
+
+// The cone slope of a point with coordinates v under the bow w (FORMAT.md "Scan geometry
+// payload": a ring's slope at azimuth phi is s + w (1 - cos phi)): z / rho - w (1 - cos phi).
+// NaN when rho is 0.
+double bowed_slope(const double* v, double w) {
+  const double r = std::hypot(v[0], v[1]);
+  if (!(r > 0)) return NAN;
+  return v[2] / r - w * (1 - v[0] / r);
+}
+
+// How the slopes of points gather under the bow w: the sum of the squared counts of their bins
+// of 0.0002. `pts` holds per point z / rho and 1 - cos phi.
+double gathering(const std::vector<double>& pts, double w, std::vector<uint32_t>* bins) {
+  std::fill(bins->begin(), bins->end(), 0u);
+  const double n = double(bins->size());
+  for (size_t i = 0; i + 1 < pts.size(); i += 2) {
+    const double b = std::floor((pts[i] - w * pts[i + 1] + 1.6) / 0.0002);
+    if (b >= 0 && b < n) ++(*bins)[size_t(b)];
+  }
+  double sum = 0;
+  for (uint32_t c : *bins) sum += double(c) * double(c);
+  return sum;
+}
+
+// The cones' bow (FORMAT.md, informative): the w of -0.016 .. 0.016 in steps of 0.001, then
+// within 0.001 of the best in steps of 0.00025, whose slopes of up to 4096 points gather most,
+// kept when they gather at least 1.1 times as much as without a bow; else 0.
+float find_bow(const ScanGeometry& g, const ScanHints& h) {
+  const size_t n = g.total();
+  const size_t stride = std::max<size_t>(1, n / 4096);
+  std::vector<double> pts;
+  for (size_t i = 0; i < n; i += stride) {
+    if (!g.valid[i] || !small_enough(&g.q[3 * i])) continue;
+    double v[3];
+    coords(g, h.xyz, i, v);
+    const double r = std::hypot(v[0], v[1]);
+    if (!(r > 0)) continue;
+    pts.push_back(v[2] / r);
+    pts.push_back(1 - v[0] / r);
+  }
+  if (pts.size() < 2 * 64) return 0;
+  std::vector<uint32_t> bins(16000);
+  const double flat = gathering(pts, 0, &bins);
+  double best = 0, most = flat;
+  for (int j = -16; j <= 16; ++j) {
+    const double v = gathering(pts, 0.001 * j, &bins);
+    if (v > most) most = v, best = 0.001 * j;
+  }
+  const double coarse = best;
+  for (int j = -4; j <= 4; ++j) {
+    const double w = coarse + 0.00025 * j;
+    const double v = gathering(pts, w, &bins);
+    if (v > most) most = v, best = w;
+  }
+  return most >= 1.1 * flat ? static_cast<float>(best) : 0.0f;
+}
+
 // Dense ring numbers 0..K-1 from the hint's values (sorted); K = 0 when there is no usable hint.
 size_t dense_rings(const ScanGeometry& g, const ScanHints& h, std::vector<uint32_t>* ring) {
   ring->assign(g.total(), 0);
@@ -53,12 +119,12 @@ size_t dense_rings(const ScanGeometry& g, const ScanHints& h, std::vector<uint32
 }
 
 // Rings from the points' elevations, for a source without a ring field: the peaks of the
-// elevation histogram of all points, each point then given to the nearest peak. 0 when there
-// are no points. (The farther half or quarter alone, where a laser's z offset moves the
-// elevation least, found fewer rings: docs/lab/2026-11-28-scan-geometry.md.)
-size_t elevation_rings(const ScanGeometry& g, const std::vector<float>& xyz,
+// elevation histogram of all points (their elevations under the bow w: atan of bowed_slope),
+// each point then given to the nearest peak. 0 when there are no points. (The farther half or
+// quarter alone, where a laser's z offset moves the elevation least, found fewer rings:
+// docs/lab/2026-11-28-scan-geometry.md.)
+size_t elevation_rings(const ScanGeometry& g, const std::vector<float>& xyz, double w,
                        std::vector<uint32_t>* ring) {
-  const bool fine = xyz.size() == 3 * g.total();
   constexpr double kBin = 0.0002;  // radians (about 0.011 degrees)
   constexpr int kBins = static_cast<int>(3.2 / kBin);
   std::vector<double> el;
@@ -66,22 +132,20 @@ size_t elevation_rings(const ScanGeometry& g, const std::vector<float>& xyz,
   el.reserve(g.total());
   idx.reserve(g.total());
   for (size_t i = 0; i < g.total(); ++i) {
-    const int32_t* p = &g.q[3 * i];
-    if (!g.valid[i] || !small_enough(p)) continue;
-    double v[3] = {double(p[0]), double(p[1]), double(p[2])};
-    if (fine)
-      for (int a = 0; a < 3; ++a) v[a] = xyz[3 * i + size_t(a)];
-    const double r = std::hypot(v[0], v[1]);
-    if (!(r > 0) || !std::isfinite(v[2])) continue;
-    el.push_back(std::atan2(v[2], r));
+    if (!g.valid[i] || !small_enough(&g.q[3 * i])) continue;
+    double v[3];
+    coords(g, xyz, i, v);
+    const double t = bowed_slope(v, w);
+    if (!std::isfinite(t)) continue;
+    el.push_back(std::atan(t));
     idx.push_back(i);
   }
   if (el.empty()) return 0;
   std::vector<double> h(kBins, 0.0);
   auto bin = [&](double e) { return std::min(kBins - 1, std::max(0, int((e + 1.6) / kBin))); };
   for (double e : el) h[size_t(bin(e))] += 1;
-  // Smoothed over 3 bins; a peak is the largest within 3 bins either side and holds at least
-  // 0.1% of the counted points.
+  // Smoothed over 3 bins; a peak is the largest within 3 bins either side, at least 0.0008 of
+  // the counted points and 8 (32 lost a third of the lasers of a 10198-point AT128 sweep).
   std::vector<double> s(kBins, 0.0);
   for (int b = 1; b + 1 < kBins; ++b)
     s[size_t(b)] = h[size_t(b - 1)] + 2 * h[size_t(b)] + h[size_t(b + 1)];
@@ -90,7 +154,7 @@ size_t elevation_rings(const ScanGeometry& g, const std::vector<float>& xyz,
   std::vector<double> peaks;
   for (int b = 3; b + 3 < kBins; ++b) {
     const double v = s[size_t(b)];
-    if (v < 4 * 0.0002 * counted || v < 32) continue;
+    if (v < 4 * 0.0002 * counted || v < 8) continue;
     bool top = true;
     for (int o = -3; o <= 3 && top; ++o)
       if (o != 0 && (s[size_t(b + o)] > v || (o < 0 && s[size_t(b + o)] == v))) top = false;
@@ -275,8 +339,9 @@ void fit_units(const ScanGeometry& g, const ScanHints& h, const std::vector<uint
 RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units) {
   RingFit r;
   std::vector<uint32_t> ring;
+  r.bow = find_bow(g, hints);
   size_t rings = dense_rings(g, hints, &ring);
-  if (rings == 0) rings = elevation_rings(g, hints.xyz, &ring);
+  if (rings == 0) rings = elevation_rings(g, hints.xyz, r.bow, &ring);
   r.polar.assign(g.total(), Polar{});
   if (rings == 0) return r;
   std::vector<size_t> size(rings, 0);
@@ -290,7 +355,14 @@ RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units) {
     if (!g.valid[i] || !small_enough(p)) continue;
     const double x = p[0], y = p[1];
     const double h = std::hypot(x, y);
-    cone[ring[i]].add(h, p[2]);
+    double bent = 0;  // the bow's part of z, 1 - cos phi from the finer coordinates
+    if (r.bow != 0) {
+      double v[3];
+      coords(g, hints.xyz, i, v);
+      const double rv = std::hypot(v[0], v[1]);
+      if (rv > 0) bent = double(r.bow) * h * (1 - v[0] / rv);
+    }
+    cone[ring[i]].add(h, p[2] - bent);
     r.phi[ring[i]].push_back(azimuth(g, hints, i));
     r.polar[i].ring = ring[i];
     r.polar[i].range = round_clamp(h);
@@ -320,6 +392,7 @@ Table table_fit(const RingFit& r, double step_divisor, bool units) {
   t.columns = static_cast<uint32_t>(std::max(1.0, std::min(cols, double(kMaxMapCells / rings))));
   t.slope = r.slope;
   t.z0 = r.z0;
+  t.bow = r.bow;
   units = units && !r.unit.empty();
   if (units) t.unit = r.unit, t.offset = r.offset;
   t.azimuth0.resize(rings);

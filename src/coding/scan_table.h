@@ -21,6 +21,7 @@ struct RingFit {
   // units of one step, and per point its range in steps (else both empty).
   std::vector<double> unit, offset;
   std::vector<int32_t> steps;
+  float bow = 0;  // the cones' bow (Table::bow), 0 when none is found
   size_t rings() const { return phi.size(); }
 };
 // Without `units` the range step is not looked for (a caller that codes no payload with it).
