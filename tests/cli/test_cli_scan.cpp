@@ -94,7 +94,7 @@ TEST(CliScan, LosslessGivesEveryFrameFileBackByteForByte) {
   std::string out;
   const std::string z = dir.file("l.capz");
   ASSERT_EQ(capz_run("compress " + in + " -o " + z + " --lossless", dir, &out), 0) << out;
-  EXPECT_NE(out.find("lossless (float32-"), std::string::npos) << out;  // -bits or -split
+  EXPECT_NE(out.find("lossless (float32"), std::string::npos) << out;  // -bits, or a split
   ASSERT_EQ(capz_run("info " + z, dir, &out), 0) << out;
   EXPECT_NE(out.find("rebuilt byte for byte"), std::string::npos) << out;
   EXPECT_NE(out.find("3 frames of their own point counts, 769 points in all"), std::string::npos)
