@@ -45,20 +45,26 @@ std::string ascii_ply(size_t f, const char* type) {
   return s;
 }
 
-// A binary little-endian PLY of double x y z: the text's values, -0.0 bits included.
-std::string double_ply(size_t f) {
-  const auto p = frame_text(f);
-  std::string s = "ply\nformat binary_little_endian 1.0\nelement vertex " +
-                  std::to_string(p.size()) +
-                  "\nproperty double x\nproperty double y\nproperty double z\nend_header\n";
-  for (const auto& v : p)
+// Frame f's values as T (double or float; -0.0 bits included), little-endian, appended to s.
+template <typename T>
+std::string with_values(std::string s, size_t f) {
+  for (const auto& v : frame_text(f))
     for (const std::string& x : v) {
-      const double d = std::stod(x);
-      char b[8];
-      std::memcpy(b, &d, 8);
-      s.append(b, 8);
+      const T d = static_cast<T>(std::stod(x));
+      char b[sizeof(T)];
+      std::memcpy(b, &d, sizeof(T));
+      s.append(b, sizeof(T));
     }
   return s;
+}
+
+// A binary little-endian PLY of double x y z.
+std::string double_ply(size_t f) {
+  return with_values<double>(
+      "ply\nformat binary_little_endian 1.0\nelement vertex " +
+          std::to_string(frame_text(f).size()) +
+          "\nproperty double x\nproperty double y\nproperty double z\nend_header\n",
+      f);
 }
 
 std::string pcd_head(size_t n, int size, const char* data) {
@@ -76,18 +82,9 @@ std::string ascii_pcd(size_t f, int size) {
   return s;
 }
 
-// A binary PCD of float32 x y z: the text's values as float32, -0.0f bits included.
+// A binary PCD of float32 x y z (the values rounded to float32).
 std::string binary_pcd(size_t f) {
-  const auto p = frame_text(f);
-  std::string s = pcd_head(p.size(), 4, "binary");
-  for (const auto& v : p)
-    for (const std::string& x : v) {
-      const float d = std::stof(x);
-      char b[4];
-      std::memcpy(b, &d, 4);
-      s.append(b, 4);
-    }
-  return s;
+  return with_values<float>(pcd_head(frame_text(f).size(), 4, "binary"), f);
 }
 
 void put(const std::string& path, const std::string& text) {
@@ -190,8 +187,8 @@ TEST(NegativeZeroLossless, TakeInMemoryKeepsItsSigns) {
   const capz::Take b = capz::decompress(z.data(), z.size());
   ASSERT_EQ(b.xyz.size(), t.xyz.size());
   for (size_t i = 0; i < t.xyz.size(); ++i) {
-    if (t.valid[i / 3])
-      EXPECT_EQ(std::memcmp(&t.xyz[i], &b.xyz[i], 8), 0) << "coordinate " << i << ": " << b.xyz[i];
+    if (!t.valid[i / 3]) continue;
+    EXPECT_EQ(std::memcmp(&t.xyz[i], &b.xyz[i], 8), 0) << "coordinate " << i << ": " << b.xyz[i];
   }
 }
 
