@@ -162,7 +162,7 @@ void print_text(const std::string& path, size_t size, const capz::StreamInfo& si
             : si.transform_output ? ", KG target " + num(si.kg_target) + "%, no bound"
                                   : ", bound " + num(si.max_error) + u + " per coordinate") +
            (si.step > 0 ? ", grid step " + num(si.step, 6) + u : "") + ", codec " + si.codec);
-  // Frames of their own size (or one such frame): the encoder may have been allowed to reorder
+  // Frames of their own size (or one frame, reordered): the encoder may reorder their points
   if (si.ragged || si.points_reordered)
     line("point order:", si.points_reordered ? "reordered (--point-order any)" : "kept");
   line("windows:",
