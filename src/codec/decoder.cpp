@@ -266,11 +266,14 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
   Grid grid;
   grid.mode = ctx.h.mode;
   grid.step = ctx.h.step;
+  if (g.fine != 0 && grid.mode != PosMode::kGrid)
+    fail(ErrorCode::kCorrupt, what, "a raster fine shift outside mode 0");
+  const double fine = std::ldexp(1.0, -g.fine);  // exact: (q s) 2^-k
   with_mode(grid.mode, [&](auto m) {
     for (size_t i = 0; i < g.total(); ++i)
       if (g.valid[i])
         for (size_t a = 0; a < 3; ++a)
-          b.xyz[3 * i + a] = dequantise_as<decltype(m)::value>(grid, g.q[3 * i + a], 0);
+          b.xyz[3 * i + a] = dequantise_as<decltype(m)::value>(grid, g.q[3 * i + a], 0) * fine;
   });
   apply_negative_zeros(zeros, b.valid, what, &b.xyz);
   q->swap(g.q);
