@@ -10,6 +10,7 @@ set(CAPZ_DECODE_SOURCES
   src/codec/decoder_registry.cpp
   src/codec/decompress.cpp
   src/codec/grid.cpp
+  src/codec/negative_zeros.cpp
   src/codec/pdct/dct.cpp
   src/codec/pdct/lcf.cpp
   src/codec/pdct/pdct_decoder.cpp
@@ -100,6 +101,7 @@ set(CAPZ_ENCODE_SOURCES
   src/codec/encode_settings.cpp
   src/codec/encoder.cpp
   src/codec/grid_choice.cpp
+  src/codec/negative_zeros_encode.cpp
   src/codec/pdct/cluster.cpp
   src/codec/pdct/kdtree.cpp
   src/codec/pdct/pdct_encoder.cpp

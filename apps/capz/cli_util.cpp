@@ -12,6 +12,7 @@
 
 #include "capz/codec.h"
 #include "capz/error.h"
+#include "compress_common.h"
 
 namespace fs = std::filesystem;
 
@@ -196,6 +197,37 @@ void events_json(Json* j, const std::vector<capz::C3DEvent>& events) {
   j->end_array();
 }
 
+namespace {
+
+// "2^-17" for the float32 split exponent E = 17 (the grid 2^-E).
+std::string split_grid(int e) {
+  return e > 0 ? "2^-" + std::to_string(e) : "2^" + std::to_string(-e);
+}
+
+}  // namespace
+
+std::string positions_text(const std::string& mode, std::map<int, size_t> split,
+                           const std::string& u) {
+  const size_t plain = split.count(-128) ? split[-128] : 0;
+  split.erase(-128);
+  if (split.empty()) return mode;
+  size_t n = 0;
+  for (const auto& kv : split) n += kv.second;
+  const auto windows = [](size_t k) {
+    return std::to_string(k) + (k == 1 ? " window" : " windows");
+  };
+  std::string grids;
+  for (const auto& kv : split) {
+    grids += (grids.empty() ? "" : ", ") + split_grid(kv.first) + " (" +
+             num(std::ldexp(1.0, -kv.first)) + u + ")";
+    if (split.size() > 1) grids += " in " + windows(kv.second);
+  }
+  std::string s = std::string("float32 split on the grid") + (split.size() > 1 ? "s " : " ") +
+                  grids + ", exact corrections";
+  if (plain == 0) return s + (split.size() == 1 && n > 1 ? ", every window" : "");
+  return s + ", in " + windows(n) + " of " + std::to_string(n + plain) + "; float32-bits in " +
+         windows(plain);
+}
 std::string shape_text(size_t frames, size_t points, bool ragged, size_t total_points) {
   return ragged ? std::to_string(frames) + " frames of their own point counts, " +
                       std::to_string(total_points) + " points in all"

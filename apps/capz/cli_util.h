@@ -4,6 +4,7 @@
 
 #include <boost/program_options.hpp>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,12 @@ std::string shape_text(size_t frames, size_t points, bool ragged, size_t total_p
 inline std::string shape_text(const capz::Take& t) {
   return shape_text(t.frames, t.points, t.ragged(), t.total_points());
 }
+// What `info` and `compress` say of the positions: the mode (CompressStats::mode), or for a
+// ragged float32 stream whose windows use a float32 split (FORMAT.md "Lossless ragged streams")
+// the grids of the split and how many windows use each, and the windows of plain float32 bits
+// (split_windows: StreamInfo::float32_split_windows). u: the units after a number (" m"), or "".
+std::string positions_text(const std::string& mode, std::map<int, size_t> split_windows,
+                           const std::string& u);
 // The units of an archive's take as the commands show them: those it stores, or, for frames of
 // a format that carries none (PCD, PLY, .bin) stored without any, metres, as the reader assumed
 // when it was compressed (*assumed then true; capz::units_text says so). "" when unknown.

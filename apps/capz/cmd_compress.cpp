@@ -180,6 +180,13 @@ std::string report_json(const Report& r, const capz::Take& take, const capz::Com
   j.member("units_assumed", !r.units_note.empty());
   j.member("bpvf", st.bpvf);
   j.member("mode", st.mode);
+  if (!st.float32_split_windows.empty()) {  // windows per float32 split exponent, as info's
+    j.key("float32_split_windows");
+    j.begin_object();
+    for (const auto& kv : st.float32_split_windows)
+      j.member(std::to_string(kv.first), static_cast<uint64_t>(kv.second));
+    j.end_object();
+  }
   j.member("codec", st.codec);
   j.member("lossless", st.lossless);
   j.member("grid_step", st.step);
@@ -205,10 +212,11 @@ std::string report_text(const Report& r, const capz::Take& take, const capz::Com
   std::string text;
   if (g_verbosity >= 1) {
     const std::string u = r.units.empty() ? "" : " " + r.units;
-    std::string err = st.lossless ? "lossless (" + st.mode + ")"
-                                  : "max error " + num(st.error.max_abs) + u + " per coordinate (" +
-                                        num(st.error.max_error) + u + " Euclidean), KG " +
-                                        num(st.error.kg_error) + "%";
+    std::string err =
+        st.lossless
+            ? "lossless (" + positions_text(st.mode, st.float32_split_windows, u) + ")"
+            : "max error " + num(st.error.max_abs) + u + " per coordinate (" +
+                  num(st.error.max_error) + u + " Euclidean), KG " + num(st.error.kg_error) + "%";
     if (opts.codec == "auto") err += ", codec " + st.codec;
     if (!r.units_note.empty()) err += "; " + r.units_note;
     text += strprintf("%s -> %s: %s -> %s (ratio %s), %s bpvf, %s\n", r.in.c_str(), r.out.c_str(),

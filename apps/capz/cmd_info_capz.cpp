@@ -13,36 +13,6 @@ namespace capz_cli {
 
 namespace {
 
-// "2^-17" for the float32 split exponent E = 17 (the grid 2^-E).
-std::string split_grid(int e) {
-  return e > 0 ? "2^-" + std::to_string(e) : "2^" + std::to_string(-e);
-}
-
-// What the coding line says of the positions: the mode, or for a ragged float32 stream whose
-// windows use a float32 split (FORMAT.md "Lossless ragged streams") the grids of the split and
-// how many windows use each, and the windows of plain float32 bits.
-std::string positions_text(const capz::StreamInfo& si, const std::string& u) {
-  std::map<int, size_t> split = si.float32_split_windows;
-  const size_t plain = split.count(-128) ? split[-128] : 0;
-  split.erase(-128);
-  if (split.empty()) return si.mode;
-  size_t n = 0;
-  for (const auto& kv : split) n += kv.second;
-  const auto windows = [](size_t k) {
-    return std::to_string(k) + (k == 1 ? " window" : " windows");
-  };
-  std::string grids;
-  for (const auto& kv : split) {
-    grids += (grids.empty() ? "" : ", ") + split_grid(kv.first) + " (" +
-             num(std::ldexp(1.0, -kv.first)) + u + ")";
-    if (split.size() > 1) grids += " in " + windows(kv.second);
-  }
-  std::string s = std::string("float32 split on the grid") + (split.size() > 1 ? "s " : " ") +
-                  grids + ", exact corrections";
-  if (plain == 0) return s + (split.size() == 1 && n > 1 ? ", every window" : "");
-  return s + ", in " + windows(n) + " of " + std::to_string(n + plain) + "; float32-bits in " +
-         windows(plain);
-}
 // Rotation samples per point frame (0 without rotations).
 size_t rotations_per_frame(const capz::StreamInfo& si) {
   return si.rotation_segments > 0 ? static_cast<size_t>(si.rotation_samples_per_frame) : 0;
@@ -108,7 +78,8 @@ void print_json(const std::string& path, size_t size, const capz::StreamInfo& si
   j.member("grid_step", si.step);
   j.member("max_error", si.max_error);
   if (si.transform_output) j.member("kg_target", si.kg_target);
-  if (si.ragged) j.member("point_order", si.points_reordered ? "reordered" : "kept");
+  if (si.ragged || si.points_reordered)  // a one-frame stream's order, if the encoder chose it
+    j.member("point_order", si.points_reordered ? "reordered" : "kept");
   j.member("window_frames", static_cast<uint64_t>(si.window_frames));
   j.member("windows", static_cast<uint64_t>(si.windows));
   j.member("analog_channels", si.analog_channels);
@@ -186,12 +157,13 @@ void print_text(const std::string& path, size_t size, const capz::StreamInfo& si
                     (si.rate > 0 ? ", " + num(si.rate) + " Hz" : "") +
                     (units.empty() ? ", units unknown" : ", " + capz::units_text(shown)));
   line("coding:",
-       positions_text(si, u) +
+       positions_text(si.mode, si.float32_split_windows, u) +
            (si.lossless           ? ", lossless"
             : si.transform_output ? ", KG target " + num(si.kg_target) + "%, no bound"
                                   : ", bound " + num(si.max_error) + u + " per coordinate") +
            (si.step > 0 ? ", grid step " + num(si.step, 6) + u : "") + ", codec " + si.codec);
-  if (si.ragged)  // frames of their own size: the encoder may have been allowed to reorder them
+  // Frames of their own size (or one frame, reordered): the encoder may reorder their points
+  if (si.ragged || si.points_reordered)
     line("point order:", si.points_reordered ? "reordered (--point-order any)" : "kept");
   line("windows:",
        std::to_string(si.windows) + " of " + std::to_string(si.window_frames) + " frames");

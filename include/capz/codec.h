@@ -68,7 +68,10 @@ struct CompressStats {
   double step = 0;       // grid step used (0 for float-bit lossless coding)
   std::string mode;      // "grid", "decimal-grid", "float32-bits", "float64-bits",
                          // "transform-output" (only a KG target and a transform)
-  std::string codec;     // transform stage used: "none", "ts", "pdct" (what auto chose)
+  // A ragged stream in mode 2: its windows per float32 split exponent, as
+  // StreamInfo::float32_split_windows counts them (key -128: plain float32 bits). Else empty.
+  std::map<int, size_t> float32_split_windows;
+  std::string codec;  // transform stage used: "none", "ts", "pdct" (what auto chose)
   bool lossless = false;
   ErrorStats error;                           // achieved, over valid samples (zero when lossless)
   size_t position_bytes = 0;                  // bytes of POSW + MASK chunks
@@ -129,6 +132,8 @@ struct StreamInfo {
   std::string source_name;
   size_t frames = 0, points = 0, window_frames = 0, windows = 0;
   // Frames of their own point counts (format 1.1; points is then 0): the points of all frames.
+  // A stream of one ragged frame is described as the fixed frame every reader gives it
+  // (ragged false, points its count, an unorganized layout of that width).
   bool ragged = false;
   size_t total_points = 0;
   // Each frame's points are in the encoder's order, not the source's (compress

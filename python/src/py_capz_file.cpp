@@ -42,7 +42,8 @@ py::dict info_dict(const std::string& path, const std::vector<uint8_t>& bytes) {
   d["grid_step"] = si.step;
   d["max_error"] = si.max_error;
   if (si.transform_output) d["kg_target"] = si.kg_target;
-  if (si.ragged) d["point_order"] = si.points_reordered ? "reordered" : "kept";
+  if (si.ragged || si.points_reordered)
+    d["point_order"] = si.points_reordered ? "reordered" : "kept";
   d["window_frames"] = si.window_frames;
   d["windows"] = si.windows;
   d["analog_channels"] = si.analog_channels;

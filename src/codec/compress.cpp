@@ -30,14 +30,16 @@ void refuse_scans(const Take& t, const CompressOptions& opts) {
          "for byte, in their order; give --max-error, or keep the order");
 }
 
-// A ragged take of PLY or .bin frames with the point layout META stores for it.
+// A ragged take, one of PLY or .bin frames with the point layout META stores for it (also
+// without point fields). original: as compress_ragged's.
 std::vector<uint8_t> compress_ragged_frames(const Take& take, const CompressOptions& opts,
-                                            CompressStats* stats) {
+                                            CompressStats* stats,
+                                            const std::string& original = std::string()) {
   if (take.pcd || (take.format != Format::kPLYFolder && take.format != Format::kBinFolder))
-    return compress_ragged(take, opts, stats);
+    return compress_ragged(take, opts, stats, original);
   Take t = take;  // its fields stay: a ring field guides the geometry coder, --drop-fields or not
   settle_frame_layout(&t, opts.drop_fields);
-  return compress_ragged(t, opts, stats);
+  return compress_ragged(t, opts, stats, original);
 }
 
 // A one-frame unorganized point cloud (a single LiDAR sweep, a depth camera's cloud with its
@@ -70,7 +72,7 @@ std::vector<uint8_t> smaller_as_scan(const Take& t, const CompressOptions& opts,
   CompressStats st;
   std::vector<uint8_t> scan;
   try {
-    scan = compress_ragged(as_one_ragged_frame(t), opts, stats ? &st : nullptr, original);
+    scan = compress_ragged_frames(as_one_ragged_frame(t), opts, stats ? &st : nullptr, original);
   } catch (const Error& e) {
     if (e.code() != ErrorCode::kInvalidParameter) throw;
     return {};

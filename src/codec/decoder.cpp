@@ -7,6 +7,7 @@
 #include "capz/error.h"
 #include "codec/decoder_registry.h"
 #include "codec/grid.h"
+#include "codec/negative_zeros.h"
 #include "codec/transform_output.h"
 #include "coding/analog/analog_codec.h"
 #include "coding/attributes.h"
@@ -211,8 +212,12 @@ uint64_t open_scan_chunk(const StreamContext& ctx, WindowChunks* chunks, const C
   return total;
 }
 
-// SCNW's split exponent E (mode 2 only; "Lossless ragged streams"), or scan::kNoSplit.
-int read_split(const StreamHeader& h, ByteReader* r) {
+// SCNW's fields after `total` ("Lossless ragged streams"): the negative zeros of a lossless
+// mode 1 window into *zeros (else none), then the split exponent E (mode 2 only), returned, or
+// scan::kNoSplit.
+int read_split(const StreamHeader& h, uint64_t total, ByteReader* r, std::vector<uint64_t>* zeros) {
+  zeros->clear();
+  if (lists_negative_zeros(h)) *zeros = read_negative_zeros(r, total);
   if (h.mode != PosMode::kFloat32) return scan::kNoSplit;
   const int e = static_cast<int8_t>(r->u8());
   if (e != scan::kNoSplit && (e < scan::kMinSplitExponent || e > scan::kMaxSplitExponent))
@@ -230,7 +235,8 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
   const std::string what = chunks->what("SCNW");
   ByteReader r(c.payload, c.size, what);
   const uint64_t total = open_scan_chunk(ctx, chunks, c, &r);
-  const int e = read_split(ctx.h, &r);
+  std::vector<uint64_t> zeros;
+  const int e = read_split(ctx.h, total, &r, &zeros);
   size_t geo = r.remaining();
   if (e != scan::kNoSplit) {
     const uint64_t len = r.varint();
@@ -269,6 +275,7 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
         for (size_t a = 0; a < 3; ++a)
           b.xyz[3 * i + a] = dequantise_as<decltype(m)::value>(grid, g.q[3 * i + a], 0) * fine;
   });
+  apply_negative_zeros(zeros, b.valid, what, &b.xyz);
   q->swap(g.q);
 }
 
@@ -373,7 +380,8 @@ std::vector<size_t> ragged_frame_offsets(StreamBytes& bytes, const ParsedStream&
     const std::string what = chunks.what("SCNW");
     ByteReader r(c.payload, c.size, what);
     const uint64_t total = open_scan_chunk(ps, &chunks, c, &r);
-    const int e = read_split(ps.h, &r);
+    std::vector<uint64_t> zeros;
+    const int e = read_split(ps.h, total, &r, &zeros);
     if (e != scan::kNoSplit) r.varint();  // the geometry's length
     if (splits) splits->push_back(e);
     const size_t fn = std::min(W, F - std::min(F, w * W));

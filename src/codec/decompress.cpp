@@ -154,6 +154,11 @@ StreamInfo describe_bytes(StreamBytes& bytes, const std::string& name) {
     si.pcd_width = ps.take.pcd->width;
     si.pcd_height = ps.take.pcd->height;
   }
+  if (si.ragged && si.frames == 1) {  // read as the fixed frame of its file (capz_source.h)
+    si.ragged = false;
+    si.points = si.total_points;
+    if (ps.take.pcd) si.pcd_width = si.total_points, si.pcd_height = 1;
+  }
   if (ps.take.analog.lossy()) {  // FORMAT.md 5.7
     si.analog_bounds = ps.take.analog.bounds;
     si.analog_factors = ps.take.analog.factors;

@@ -148,11 +148,12 @@ void scan_block(const FrameBlock& b, const std::string& src, bool words, double 
   for (size_t c = 0; c < s->candidates.size(); ++c) {
     if (!s->exact[c]) continue;
     const Grid& g = s->candidates[c];
+    const bool zeros = s->zeros_listed && g.mode == PosMode::kDecimal;
     with_mode(g.mode, [&](auto m) {
       for (size_t i = 0; i < n; ++i)
         if (b.valid[i])
           for (size_t k = i * 3; k < i * 3 + 3; ++k)
-            if (!grid_exact_as<decltype(m)::value>(g, b.xyz[k])) {
+            if (!grid_exact_as<decltype(m)::value>(g, b.xyz[k]) && !(zeros && b.xyz[k] == 0)) {
               s->exact[c] = 0;
               return;
             }

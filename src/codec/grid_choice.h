@@ -26,9 +26,12 @@ struct TakeScan {
   std::vector<uint8_t> exact;    // per candidate: every valid coordinate reproduced exactly
   bool lossless = false;         // a lossless target: all_float32 is tracked
   bool all_float32 = true;       // every valid coordinate is a float32 value
-  bool words_on_grid = false;    // C3D residual words are point_scale multiples
-  bool kg = false;               // accumulate centred_sq
-  double centred_sq = 0;         // sum of squared distances to each frame's centroid
+  // A -0.0 counts as on a decimal grid (a lossless ragged stream lists its negative zeros,
+  // FORMAT.md "Lossless ragged streams").
+  bool zeros_listed = false;
+  bool words_on_grid = false;  // C3D residual words are point_scale multiples
+  bool kg = false;             // accumulate centred_sq
+  double centred_sq = 0;       // sum of squared distances to each frame's centroid
   // With kg: the valid coordinates in take order, for the grid search, while they number at
   // most kg_cap (kg_cached turns false, and the vector is freed, past it).
   size_t kg_cap = 0;

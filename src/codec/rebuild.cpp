@@ -274,7 +274,8 @@ std::string rebuilds_file(const std::string& capz_path, const std::string& origi
     Hasher h;
     const Format fmt = ps.h.source_format;
     FrameFiles files;
-    if (fmt == Format::kPCDFolder) {
+    std::error_code ec;  // a PCD folder, or one file (a one-frame take) as PLY and .bin
+    if (fmt == Format::kPCDFolder && std::filesystem::is_directory(original, ec)) {
       files.dir = original;
       files.names = list_pcd_frames(original);
     } else {

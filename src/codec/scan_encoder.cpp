@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <initializer_list>
+#include <map>
 #include <memory>
 #include <string>
 #include <type_traits>
@@ -15,6 +16,7 @@
 #include "codec/encode_settings.h"
 #include "codec/grid.h"
 #include "codec/grid_choice.h"
+#include "codec/negative_zeros.h"
 #include "codec/point_order.h"
 #include "codec/residue_writer.h"
 #include "codec/stream_reader.h"
@@ -126,6 +128,7 @@ TakeScan start_ragged_scan(const Take& t, const CompressOptions& opts, Take* hdr
   if (float32_xyz(t)) hdr->pcd->fields = {x32};
   TakeScan s = start_scan(*hdr, opts);
   s.ray_track = false;
+  s.zeros_listed = true;  // a lossless decimal grid's windows list their negative zeros
   return s;
 }
 
@@ -233,7 +236,7 @@ struct RaggedRun {
   StreamOut* out;                 // the stream so far
   std::vector<IndexEntry> index;  // INDX
   size_t position_bytes = 0, attribute_bytes = 0;
-  size_t split_windows = 0;  // windows with a float32 split
+  std::map<int, size_t> splits;  // mode 2: windows per split exponent (CompressStats)
   ErrorAccumulator acc;
   ResidueWriter* residue = nullptr;  // a lossless stream of a folder: PCDP per window
   std::vector<uint8_t> buf;          // the window's chunks
@@ -332,15 +335,14 @@ void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<
   if (e != scan::kNoSplit && !scan::split_coordinates(b.xyz.data(), g.valid.data(), g.valid.size(),
                                                       e, kSplitLimit, &g.q, &corrections))
     e = scan::kNoSplit;  // a later frame's coordinate beyond the split's integers
-  if (e == scan::kNoSplit)
-    g.q = std::move(bits);
-  else
-    ++r.split_windows;
+  if (e == scan::kNoSplit) g.q = std::move(bits);
+  if (mode2) ++r.splits[e];
   hints.grid_per_unit = e != scan::kNoSplit ? std::ldexp(1.0, e) : grid_per_unit(r.grid);
   bound_hints(r.grid, &hints);
   ByteWriter pw;
   pw.varint(w);
   pw.varint(n);
+  if (lists_negative_zeros(r.ctx.h)) write_negative_zeros(b.xyz, b.valid, &pw);
   std::vector<uint8_t> payload = std::move(pw.buffer());
   const std::vector<uint8_t> body = scan_body(g, hints, mode2, e, corrections, coded);
   payload.insert(payload.end(), body.begin(), body.end());
@@ -464,7 +466,9 @@ void fill_stats(const RaggedRun& r, size_t total, CompressStats* stats) {
   stats->bpvf = total ? 8.0 * static_cast<double>(bytes) / static_cast<double>(total) : 0;
   stats->step = r.grid.step;
   stats->lossless = r.grid.lossless;
-  stats->mode = r.split_windows > 0 ? "float32-split" : mode_name(r.grid.mode);
+  stats->float32_split_windows = r.splits;
+  stats->mode =
+      r.splits.size() > r.splits.count(scan::kNoSplit) ? "float32-split" : mode_name(r.grid.mode);
   stats->error = r.acc.finish();
   stats->codec = "none";
   stats->position_bytes = r.position_bytes;
@@ -513,7 +517,7 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
   if (residue) residue->file_chunks(&head_buf, true);
   out->flush(&head_buf);
   RaggedRun r{
-      t,  opts,         grid, ctx, meta_take, out, {}, 0, 0, 0, ErrorAccumulator(), residue.get(),
+      t,  opts,         grid, ctx, meta_take, out, {}, 0, 0, {}, ErrorAccumulator(), residue.get(),
       {}, FrameBlock(), 0};
   const size_t W = h.window_frames;
   for (size_t w = 0; w * W < t.frames; ++w) {

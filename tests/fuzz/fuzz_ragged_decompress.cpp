@@ -6,7 +6,7 @@
 // mutations of the payload reach the decoder through the container. Decoding may throw
 // capz::Error; anything else is a finding, and so is a take of the wrong shape, a frame range
 // that disagrees with the whole decode, a description that disagrees with it (a stream of one
-// ragged frame decodes to a fixed take of one frame, capz_fuzz::decoded_shape_matches), and (odd
+// ragged frame is a fixed take of one frame to both, capz_fuzz::decoded_shape_matches), and (odd
 // mode) a payload that the geometry decoder accepts but the stream built around it does not decode
 // to.
 #include <algorithm>

@@ -21,13 +21,12 @@ inline capz::DecompressOptions decode_options() {
 }
 
 // Whether `whole`, decoded by decompress(), has the shape of a stream of `frames` frames
-// (`ragged`: of their own point counts, `total` points in all): the same, or for a stream of one
-// ragged frame (a single frame file the encoder coded with the scan coder) the fixed take of
-// one frame that decompress() gives it, as a reader gives one frame file.
+// (`ragged`: of their own point counts, `total` points in all): the same. A stream of one ragged
+// frame (a single frame file the encoder coded with the scan coder) is the fixed take of one
+// frame to decompress(), the frame source and describe() alike, as a reader gives one frame file.
 inline bool decoded_shape_matches(size_t frames, bool ragged, size_t total,
                                   const capz::Take& whole) {
-  if (whole.frames != frames || whole.total_points() != total) return false;
-  return whole.ragged() == ragged || (ragged && frames == 1 && !whole.ragged());
+  return whole.frames == frames && whole.total_points() == total && whole.ragged() == ragged;
 }
 
 inline uint32_t le32(const uint8_t* p) {

@@ -157,8 +157,8 @@ TEST(ScanContainer, SharedScansRoundTrip) {
 
 // One place decides that a stream of one ragged frame (a single sweep the scan coder codes) is
 // the fixed one-frame take a reader gives its file (codec/capz_source.h): the archive's frame
-// source gives that header and fixed blocks, decompress() the same take, and describe() still
-// tells the stream's own ragged shape.
+// source gives that header and fixed blocks, decompress() the same take, and describe() (what
+// `capz info` prints) the same shape: not ragged, the frame's points, an unorganized layout.
 TEST(ScanContainer, OneRaggedFrameReadsAsTheFixedFrameOfItsFile) {
   const std::string file = std::string(CAPZ_REPO_DATA) + "/scan_small/1691031766781547066.pcd";
   const Take t = read_take(file);
@@ -167,7 +167,14 @@ TEST(ScanContainer, OneRaggedFrameReadsAsTheFixedFrameOfItsFile) {
   CompressOptions o = at(0.001);
   o.drop_fields = true;
   const std::vector<uint8_t> z = compress(t, o);
-  ASSERT_TRUE(describe(z.data(), z.size()).ragged) << "the scan coder no longer wins on it";
+  const StreamInfo si = describe(z.data(), z.size());
+  ASSERT_TRUE(si.chunk_bytes.count("SCNW")) << "the scan coder no longer wins on it";
+  EXPECT_FALSE(si.ragged);
+  EXPECT_EQ(si.frames, 1u);
+  EXPECT_EQ(si.points, t.points);
+  EXPECT_EQ(si.total_points, t.points);
+  EXPECT_EQ(si.pcd_width, t.points);
+  EXPECT_EQ(si.pcd_height, 1u);
   const std::string path = (std::filesystem::temp_directory_path() /
                             ("capz_one_ragged_frame_" + std::to_string(::getpid()) + ".capz"))
                                .string();
