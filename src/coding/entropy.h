@@ -74,14 +74,14 @@ class IntEncoder {
    public:
     // Codes u under context ctx (0 <= ctx < contexts); returns its token.
     // `eset` picks the set of escape models (0 <= eset < kEscapeSets).
-    int put(uint32_t u, int ctx, int eset = 0) {
+    __attribute__((always_inline)) int put(uint32_t u, int ctx, int eset = 0) {
       int nbits;
       const int tok = put_token(u, ctx, &nbits, eset);
       if (nbits) bits_.put(u & ((1u << nbits) - 1), nbits, bits_out_);
       return tok;
     }
     // As put, but only u's token: the *nbits bits below it are the caller's to code.
-    int put_token(uint32_t u, int ctx, int* nbits, int eset = 0) {
+    __attribute__((always_inline)) int put_token(uint32_t u, int ctx, int* nbits, int eset = 0) {
       const int tok = token_of(u, nbits);
       if (tok < 15) {
         models_[ctx].encode(this, tok);
@@ -154,7 +154,7 @@ class IntDecoder {
   class Cursor {
    public:
     // Decodes one value under ctx and stores its token in *tok.
-    uint32_t get(int ctx, int* tok_out, int eset = 0) {
+    __attribute__((always_inline)) uint32_t get(int ctx, int* tok_out, int eset = 0) {
       const int tok = get_token(ctx, eset);
       *tok_out = tok;
       int nbits;
@@ -162,7 +162,7 @@ class IntDecoder {
       return nbits ? top | raw_bits(nbits) : top;
     }
     // The token put_token coded (0..63).
-    int get_token(int ctx, int eset = 0) {
+    __attribute__((always_inline)) int get_token(int ctx, int eset = 0) {
       int tok = models_[ctx].decode(this);
       if (tok == 15) {
         SymbolModel* escape = escape_ + kEscapeLevels * eset;
@@ -181,7 +181,9 @@ class IntDecoder {
       if (!bits_.get(n, &v)) corrupt("raw bits of an entropy-coded block are truncated");
       return v;
     }
-    int32_t get_signed(int ctx, int* tok, int eset = 0) { return unzigzag(get(ctx, tok, eset)); }
+    __attribute__((always_inline)) int32_t get_signed(int ctx, int* tok, int eset = 0) {
+      return unzigzag(get(ctx, tok, eset));
+    }
     // The symbol put_symbol coded.
     int get_symbol(int ctx) { return models_[ctx].decode(this); }
     // For SymbolModel::decode.

@@ -11,25 +11,34 @@ namespace {
 // The decoding side of scan::code_frame: values come from the block, actual ones are unused.
 class DecodeIo {
  public:
-  explicit DecodeIo(IntDecoder* dec) : dec_(dec) {}
-  int32_t sym(int32_t, int32_t pred, int ctx) { return wrap_add(pred, dec_->get_signed(ctx)); }
+  // Decodes through a copy of dec's cursor (entropy.h): commit() stores it back before dec is
+  // used otherwise, take() reloads it after.
+  explicit DecodeIo(IntDecoder* dec) : dec_(dec), c_(dec->cursor()) {}
+  int32_t sym(int32_t, int32_t pred, int ctx) {
+    int tok;
+    return wrap_add(pred, c_.get_signed(ctx, &tok));
+  }
   uint32_t ring(uint32_t, uint32_t rings, int ctx) {
-    const uint32_t d = dec_->get(ctx);
-    if (d >= rings) dec_->corrupt("ring residual beyond the laser table");
+    int tok;
+    const uint32_t d = c_.get(ctx, &tok);
+    if (d >= rings) c_.corrupt("ring residual beyond the laser table");
     return d;
   }
   bool flag(bool, int ctx) {
     int tok;
-    const uint32_t v = dec_->get(ctx, &tok);
-    if (v > 1) dec_->corrupt("point validity flag is neither 0 nor 1");
+    const uint32_t v = c_.get(ctx, &tok);
+    if (v > 1) c_.corrupt("point validity flag is neither 0 nor 1");
     return v == 1;
   }
   scan::Polar polar(size_t) const { return {}; }
   const int32_t* actual(size_t) const { return zero_; }
   bool actual_valid(size_t) const { return false; }
+  void commit() { dec_->commit(c_); }
+  void take() { c_ = dec_->cursor(); }
 
  private:
   IntDecoder* dec_;
+  IntDecoder::Cursor c_;
   int32_t zero_[3] = {0, 0, 0};
 };
 
@@ -45,21 +54,25 @@ ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::s
   g.q.resize(3 * total);
   g.valid.resize(total);
   IntDecoder dec(data + h.body, size - h.body, scan::kContexts, what);
-  DecodeIo io(&dec);
   scan::State st(h.table);
   scan::raster::Pixels px;
   if (h.pixels > 0) scan::raster::read_pixels(&dec, h, &px);
+  DecodeIo io(&dec);
   scan::raster::State rs(px.count());
   size_t first = 0;
   for (size_t f = 0; f < h.counts.size(); ++f) {
-    if (h.flags[f] & scan::kRaster)
+    if (h.flags[f] & scan::kRaster) {
+      io.commit();
       scan::raster::decode_frame(&dec, px, &rs, h.flags[f], h.counts[f], g.q.data() + 3 * first,
                                  g.valid.data() + first);
-    else
+      io.take();
+    } else {
       scan::code_frame(io, st, h.flags[f], first, h.counts[f], g.q.data() + 3 * first,
                        g.valid.data() + first);
+    }
     first += h.counts[f];
   }
+  io.commit();
   if (!dec.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the scan geometry");
   return g;
 }

@@ -307,7 +307,8 @@ std::vector<TableChoice> first_frame_choice(const ScanGeometry& g, const scan::R
   first.valid.assign(g.valid.begin(), g.valid.begin() + n);
   std::vector<size_t> sizes;
   for (const TableChoice& c : tried) {
-    tables->push_back(scan::table_fit(fit, c.divisor, c.units));
+    tables->push_back(
+        scan::table_fit(fit, c.divisor, c.units, tables->empty() ? nullptr : &tables->back()));
     const scan::Table& t = tables->back();
     scan::place_points(g, fit, t, static_cast<size_t>(n), polar);
     sizes.push_back(encode_with(first, t, *polar, s).size());
@@ -326,7 +327,8 @@ std::vector<TableChoice> first_frame_choice(const ScanGeometry& g, const scan::R
 
 }  // namespace
 
-std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints) {
+std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints,
+                                          ScanWorkspace* ws) {
   size_t total = 0;
   for (uint32_t n : g.counts) total += n;
   if (g.valid.size() != total || g.q.size() != 3 * total)
@@ -338,6 +340,10 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
   // whole window.
   const scan::RingFit fit = scan::fit_rings(g, hints);
   Scratch scratch;
+  if (ws) {  // the maps of the windows before (reset for each table: the same coding)
+    if (!ws->maps) ws->maps = std::make_shared<scan::SweepMaps>();
+    scratch.maps = ws->maps;
+  }
   std::vector<scan::Polar> polar;
   std::vector<TableChoice> tried;
   for (double divisor : {1.0, 4.0, 16.0}) {
@@ -349,6 +355,7 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
   if (g.counts.size() > kTrialFrames)
     choices = first_frame_choice(g, fit, tried, &tables, &polar, &scratch);
   std::vector<uint8_t> best;
+  scan::Table t;  // the table of the choice before, then this one's
   for (const TableChoice& c : choices) {
     const auto k =
         static_cast<size_t>(std::find_if(tried.begin(), tried.end(),
@@ -356,7 +363,7 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
                                            return o.divisor == c.divisor && o.units == c.units;
                                          }) -
                             tried.begin());
-    const scan::Table t = k < tables.size() ? tables[k] : scan::table_fit(fit, c.divisor, c.units);
+    t = k < tables.size() ? tables[k] : scan::table_fit(fit, c.divisor, c.units, &t);
     scan::place_points(g, fit, t, g.total(), &polar);
     std::vector<uint8_t> out = encode_with(g, t, polar, &scratch);
     if (best.empty() || out.size() < best.size()) best.swap(out);

@@ -39,7 +39,8 @@ inline int argmin(const uint32_t* s, int n) {
 // FORMAT's fraction rule: v against pred, the rounding of u (fr = u - pred, known to the
 // decoder): the context by |fr| (3 from ctx), the residual's sign flipped when fr < 0.
 template <class Io>
-int32_t sym_fraction(Io& io, int32_t v, int32_t pred, double fr, int ctx) {
+__attribute__((always_inline)) inline int32_t sym_fraction(Io& io, int32_t v, int32_t pred,
+                                                           double fr, int ctx) {
   const double af = fr < 0 ? -fr : fr;
   const int b = af < 0.1875 ? 0 : af < 0.375 ? 1 : 2;
   if (fr < 0) return wrap_sub(0, io.sym(wrap_sub(0, v), wrap_sub(0, pred), ctx + b));
@@ -59,8 +60,9 @@ inline double root0(double e) {
 // The second of x y without range units (FORMAT step 4): from the range's hypotenuse with the
 // first (p[i0], predicted h0), its context by how many integers round to the range.
 template <class Io>
-void code_second(Io& io, double rho, double c, double s, int i0, int32_t h0, const int32_t* a,
-                 int32_t* p) {
+__attribute__((always_inline)) inline void code_second(Io& io, double rho, double c, double s,
+                                                       int i0, int32_t h0, const int32_t* a,
+                                                       int32_t* p) {
   const int i1 = 1 - i0;
   const double half = 0.5;  // the range's rounding
   const double o = static_cast<double>(p[i0]), oo = o * o;
@@ -78,8 +80,9 @@ void code_second(Io& io, double rho, double c, double s, int i0, int32_t h0, con
 // range units (an exact range) from the azimuth too; z on the ring's cone.
 // (rho: the range in grid units; lb: the contexts' bit length.)
 template <class Io>
-void code_xyz(Io& io, const Table& t, uint32_t k, int32_t col, double rho, int lb, const int32_t* a,
-              int32_t* p) {
+__attribute__((always_inline)) inline void code_xyz(Io& io, const Table& t, uint32_t k, int32_t col,
+                                                    double rho, int lb, const int32_t* a,
+                                                    int32_t* p) {
   const double phi = static_cast<double>(t.azimuth0[k]) + static_cast<double>(col) * t.step;
   double s, c;
   det_sincos(phi, &s, &c);
@@ -100,7 +103,8 @@ void code_xyz(Io& io, const Table& t, uint32_t k, int32_t col, double rho, int l
 }
 
 template <class Io>
-void code_cartesian(Io& io, State& st, const int32_t* a, int32_t* p) {
+__attribute__((always_inline)) inline void code_cartesian(Io& io, State& st, const int32_t* a,
+                                                          int32_t* p) {
   for (int ax = 0; ax < 3; ++ax) {
     const int ctx = kCtxCart + ax * 8 + std::min((st.last_bits[ax] + 1) / 2, 7);
     p[ax] = io.sym(a[ax], st.last[ax], ctx);
@@ -118,7 +122,8 @@ struct Prev {
 };
 
 template <class Io>
-void code_spherical(Io& io, State& st, const Polar& pa, const int32_t* a, Prev* pv, int32_t* p) {
+__attribute__((always_inline)) inline void code_spherical(Io& io, State& st, const Polar& pa,
+                                                          const int32_t* a, Prev* pv, int32_t* p) {
   const Table& t = st.table();
   const uint32_t rings = static_cast<uint32_t>(t.rings());
   // Ring: the one that followed the previous point's ring last time, or the previous step's
