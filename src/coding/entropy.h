@@ -141,6 +141,12 @@ class IntEncoder {
   void commit(const Cursor& c) { cur_ = c; }
   // The block: varint(length of the range-coded part), that part, then the raw bits.
   std::vector<uint8_t> finish();
+  // finish()'s size if it were called now (the coder left as it is).
+  size_t finished_size() const {
+    size_t varint = 1;
+    for (size_t v = cur_.rc_.n + 4; v >= 0x80; v >>= 7) ++varint;
+    return varint + cur_.bytes_out();
+  }
 
  private:
   std::vector<SymbolModel> models_;

@@ -48,11 +48,11 @@ struct ScanHints {
 namespace scan {
 class SweepMaps;  // scan_maps.h
 }
-// What an encoder may keep from window to window: the ring x column maps, up to the largest
-// table's cells. Given to each window's encode_scan_geometry, their memory is reused (only the
-// cells a window wrote are cleared) instead of allocated and zeroed again. Empty until used.
+// What an encoder may keep from window to window: the ring x column maps (two pairs), up to the
+// largest table's cells. Given to each window's encode_scan_geometry, their memory is reused (only
+// the cells a window wrote are cleared) instead of allocated and zeroed again. Empty until used.
 struct ScanWorkspace {
-  std::shared_ptr<scan::SweepMaps> maps;
+  std::shared_ptr<scan::SweepMaps> maps, spare;
 };
 
 // The payload of one window. Throws Error(kInvalidArgument) when the shapes disagree.
