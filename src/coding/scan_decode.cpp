@@ -14,17 +14,17 @@ class DecodeIo {
   // Decodes through a copy of dec's cursor (entropy.h): commit() stores it back before dec is
   // used otherwise, take() reloads it after.
   explicit DecodeIo(IntDecoder* dec) : dec_(dec), c_(dec->cursor()) {}
-  int32_t sym(int32_t, int32_t pred, int ctx) {
+  __attribute__((always_inline)) int32_t sym(int32_t, int32_t pred, int ctx) {
     int tok;
     return wrap_add(pred, c_.get_signed(ctx, &tok));
   }
-  uint32_t ring(uint32_t, uint32_t rings, int ctx) {
+  __attribute__((always_inline)) uint32_t ring(uint32_t, uint32_t rings, int ctx) {
     int tok;
     const uint32_t d = c_.get(ctx, &tok);
     if (d >= rings) c_.corrupt("ring residual beyond the laser table");
     return d;
   }
-  bool flag(bool, int ctx) {
+  __attribute__((always_inline)) bool flag(bool, int ctx) {
     int tok;
     const uint32_t v = c_.get(ctx, &tok);
     if (v > 1) c_.corrupt("point validity flag is neither 0 nor 1");
