@@ -357,8 +357,11 @@ Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* 
 
 void place_points(const ScanGeometry& g, const RingFit& r, const Table& t, size_t n,
                   std::vector<Polar>* polar) {
-  polar->assign(n, Polar{});
-  if (t.rings() == 0) return;
+  if (t.rings() == 0) {
+    polar->assign(n, Polar{});
+    return;
+  }
+  polar->resize(n);  // each entry written once below
   const double step = t.step;
   const bool units = !t.unit.empty();  // table_fit's ranges in the sensor's steps
   // Each valid point's column: its azimuth is the next of its ring's (fit_rings kept them in
@@ -366,7 +369,10 @@ void place_points(const ScanGeometry& g, const RingFit& r, const Table& t, size_
   std::vector<size_t> next(t.rings(), 0);
   for (size_t i = 0; i < n; ++i) {
     const int32_t* p = &g.q[3 * i];
-    if (!g.valid[i] || !small_enough(p)) continue;
+    if (!g.valid[i] || !small_enough(p)) {
+      (*polar)[i] = Polar{};
+      continue;
+    }
     Polar o = r.polar[i];
     o.column = round_clamp((r.phi[o.ring][next[o.ring]++] - t.azimuth0[o.ring]) / step);
     if (units) o.range = r.steps[i];
