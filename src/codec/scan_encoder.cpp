@@ -406,7 +406,7 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
   if (r.opts.any_point_order) {
     if (!r.meta.attributes.empty()) as_read.reset(new FrameBlock(*b));
     if (!reorder_window(b, r.grid, ring_field(t.attributes, *b), distance_field(t.attributes, *b),
-                        &coded, as_read ? &kept : nullptr))
+                        &coded, as_read ? &kept : nullptr, &r.scan_ws))
       as_read.reset();
   }
   const bool any = r.opts.any_point_order;

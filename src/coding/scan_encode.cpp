@@ -188,6 +188,7 @@ struct Scratch {
   Tally tally;
   std::vector<double> log_t, log_c;     // Tally::estimate's prefix sums
   std::vector<CartesianEstimate> cart;  // per frame of the window
+  std::vector<int8_t> spherical_ok;     // per frame: scan::spherical_ok, -1 not yet known
   std::shared_ptr<scan::SweepMaps> maps = std::make_shared<scan::SweepMaps>();   // every table's
   std::shared_ptr<scan::SweepMaps> spare = std::make_shared<scan::SweepMaps>();  // a kept coding's
 };
@@ -271,6 +272,7 @@ void code_frames(const ScanGeometry& g, const std::vector<scan::Polar>& polar, s
   PutSink sink{c->enc.get()};
   EncodeIo<PutSink> io(&sink, g, polar);
   s->cart.resize(g.counts.size());
+  s->spherical_ok.resize(g.counts.size(), -1);
   c->flags.resize(to);
   for (size_t f = c->frames; f < to; ++f) {
     const size_t n = g.counts[f], first = c->first;
@@ -278,7 +280,9 @@ void code_frames(const ScanGeometry& g, const std::vector<scan::Polar>& polar, s
     s->v.resize(n);
     uint8_t& flags = c->flags[f];
     flags = validity(g, first, n);
-    if (t.rings() > 0 && flags != scan::kNoneValid && scan::spherical_ok(g, first, n)) {
+    int8_t& ok = s->spherical_ok[f];  // the same under every table
+    if (t.rings() > 0 && flags != scan::kNoneValid && ok < 0) ok = scan::spherical_ok(g, first, n);
+    if (t.rings() > 0 && flags != scan::kNoneValid && ok) {
       if (code_chosen(c->enc.get(), c->st.get(), flags, g, polar, f, first, n, s))
         flags = static_cast<uint8_t>(flags | scan::kSpherical);
     } else {
