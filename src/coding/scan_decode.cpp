@@ -66,9 +66,13 @@ ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::s
       scan::raster::decode_frame(&dec, px, &rs, h.flags[f], h.counts[f], g.q.data() + 3 * first,
                                  g.valid.data() + first);
       io.take();
-    } else {
+    } else if (f + 1 < h.counts.size()) {
       scan::code_frame(io, st, h.flags[f], first, h.counts[f], g.q.data() + 3 * first,
                        g.valid.data() + first);
+    } else {  // the last: on a trial state, which leaves the map no later sweep reads
+      scan::State last = st.trial();
+      scan::code_points(io, last, h.flags[f], first, h.counts[f], g.q.data() + 3 * first,
+                        g.valid.data() + first);
     }
     first += h.counts[f];
   }

@@ -227,12 +227,14 @@ bool spherical_wins(const scan::State& st, uint8_t flags, const ScanGeometry& g,
 
 // Codes frame f spherically when that costs less by the estimate, else Cartesian: the spherical
 // coding runs once, on a staged state, its symbols recorded, and is replayed into the block
-// when it wins. True when spherical coding was chosen.
+// when it wins. True when spherical coding was chosen. The window's last frame (f + 1 = its
+// frames) is coded on a trial state: no later sweep reads the map it would write (the map never
+// changes a symbol of its own sweep), so its cells are not touched.
 bool code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanGeometry& g,
                  const std::vector<scan::Polar>& polar, size_t f, size_t first, size_t n,
                  Scratch* s) {
   const uint8_t sph = static_cast<uint8_t>(flags | scan::kSpherical);
-  scan::State staged = st->staged();
+  scan::State staged = f + 1 == g.counts.size() ? st->trial() : st->staged();
   s->syms.clear();
   s->syms.reserve(7 * n);  // at most 7 symbols a point
   s->tally.clear();
