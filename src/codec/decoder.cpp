@@ -260,12 +260,15 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
   Grid grid;
   grid.mode = ctx.h.mode;
   grid.step = ctx.h.step;
-  b.xyz.resize(g.total() * 3);  // each value written once below (0 at gaps)
+  if (g.fine != 0 && grid.mode != PosMode::kGrid)
+    fail(ErrorCode::kCorrupt, what, "a raster fine shift outside mode 0");
+  const double fine = std::ldexp(1.0, -g.fine);  // exact: (q s) 2^-k
+  b.xyz.resize(g.total() * 3);                   // each value written once below (0 at gaps)
   with_mode(grid.mode, [&](auto m) {
     for (size_t i = 0; i < g.total(); ++i)
       for (size_t a = 0; a < 3; ++a)
         b.xyz[3 * i + a] =
-            g.valid[i] ? dequantise_as<decltype(m)::value>(grid, g.q[3 * i + a], 0) : 0.0;
+            g.valid[i] ? dequantise_as<decltype(m)::value>(grid, g.q[3 * i + a], 0) * fine : 0.0;
   });
   q->swap(g.q);
 }

@@ -346,6 +346,12 @@ double grid_per_unit(const Grid& g) {
   return g.mode == PosMode::kDecimal ? g.step : 0;
 }
 
+void bound_hints(const Grid& g, ScanHints* h) {
+  if (g.mode != PosMode::kGrid || g.lossless || !(g.bound > 0) || !(g.step > 0)) return;
+  h->bound = g.bound;
+  h->step = g.step;
+}
+
 WindowInts quantise_window(const FrameBlock& b, const Grid& g) {
   WindowInts w;
   w.frames = b.frames;

@@ -12,6 +12,7 @@
 #include "capz/codec.h"
 #include "capz/stream.h"
 #include "codec/grid.h"
+#include "coding/scan_geometry.h"
 
 namespace capz {
 
@@ -86,5 +87,8 @@ WindowInts quantise_window(const FrameBlock& b, const Grid& g);
 // Grid integers per coordinate unit under g (ScanHints::grid_per_unit): 1 / step for a grid,
 // step for a decimal grid, 0 for float bits.
 double grid_per_unit(const Grid& g);
+// A lossy grid of mode 0 (kGrid) gives the scan payload its bound and step (ScanHints::bound,
+// ::step: a raster window may then code its points on their rays); any other leaves h as it is.
+void bound_hints(const Grid& g, ScanHints* h);
 
 }  // namespace capz

@@ -44,6 +44,7 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
   hints.ring = ring;
   hints.distance = distance;
   hints.grid_per_unit = grid_per_unit(grid);
+  bound_hints(grid, &hints);
   hints.xyz.resize(b.xyz.size());
   for (size_t i = 0; i < b.xyz.size(); ++i) hints.xyz[i] = static_cast<float>(b.xyz[i]);
   // The smallest window payload of: each frame sorted under its own table, sorted under the

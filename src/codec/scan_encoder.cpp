@@ -238,6 +238,7 @@ struct RaggedRun {
   ResidueWriter* residue = nullptr;  // a lossless stream of a folder: PCDP per window
   std::vector<uint8_t> buf;          // the window's chunks
   FrameBlock back;                   // the window decoded again (kept: its memory is reused)
+  int fine;                          // the last SCNW's fine shift (FORMAT.md "Raster frames")
   ScanWorkspace scan_ws;             // the scan coder's maps, kept from window to window
 };
 
@@ -337,12 +338,16 @@ void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<
   else
     ++r.split_windows;
   hints.grid_per_unit = e != scan::kNoSplit ? std::ldexp(1.0, e) : grid_per_unit(r.grid);
+  bound_hints(r.grid, &hints);
   ByteWriter pw;
   pw.varint(w);
   pw.varint(n);
   std::vector<uint8_t> payload = std::move(pw.buffer());
   const std::vector<uint8_t> body = scan_body(g, hints, mode2, e, corrections, &r.scan_ws, coded);
   payload.insert(payload.end(), body.begin(), body.end());
+  // A raster window at a bound codes integers of its own (a finer grid): the decoder's.
+  r.fine = mode2 ? 0 : scan_fine_shift(body.data(), body.size(), "SCNW");
+  if (r.fine != 0) g.q = decode_scan_geometry(body.data(), body.size(), "SCNW", n).q;
   const size_t before = r.buf.size();
   append_chunk(&r.buf, "SCNW", payload);
   r.position_bytes += r.buf.size() - before;
@@ -358,13 +363,14 @@ void append_fields_chunk(RaggedRun& r, size_t w, const std::vector<std::vector<u
   const std::vector<uint8_t>& valid = b.valid;
   const size_t n = valid.size();
   std::vector<double> xyz(3 * n, 0.0);
+  const double fine = std::ldexp(1.0, -r.fine);  // as the decoder's (FORMAT.md "Raster frames")
   with_mode(r.grid.mode, [&](auto m) {
     for (size_t i = 0; i < n; ++i)
       if (valid[i])
         for (size_t a = 0; a < 3; ++a)
           xyz[3 * i + a] = r.grid.lossless
                                ? b.xyz[3 * i + a]
-                               : dequantise_as<decltype(m)::value>(r.grid, q[3 * i + a], 0);
+                               : dequantise_as<decltype(m)::value>(r.grid, q[3 * i + a], 0) * fine;
   });
   RaggedFields ragged;
   ragged.xyz = xyz.data();
@@ -521,6 +527,7 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
               residue.get(),
               {},
               FrameBlock(),
+              0,
               ScanWorkspace()};
   const size_t W = h.window_frames;
   for (size_t w = 0; w * W < t.frames; ++w) {

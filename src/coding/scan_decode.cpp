@@ -1,4 +1,6 @@
 // The scan geometry decoder (docs/FORMAT.md "Scans (format 1.1)").
+#include <cstdint>
+
 #include "capz/error.h"
 #include "coding/scan_geometry.h"
 #include "coding/scan_raster.h"
@@ -8,11 +10,11 @@ namespace capz {
 
 namespace {
 
-// The decoding side of scan::code_frame: values come from the block, actual ones are unused.
+// The decoding side of scan::code_frame and scan::raster::code_frame: values come from the
+// block, actual ones are unused.
 class DecodeIo {
  public:
-  // Decodes through a copy of dec's cursor (entropy.h): commit() stores it back before dec is
-  // used otherwise, take() reloads it after.
+  // Decodes through a copy of dec's cursor (entropy.h): commit() stores it back at the end.
   explicit DecodeIo(IntDecoder* dec) : dec_(dec), c_(dec->cursor()) {}
   __attribute__((always_inline)) int32_t sym(int32_t, int32_t pred, int ctx) {
     int tok;
@@ -33,8 +35,15 @@ class DecodeIo {
   scan::Polar polar(size_t) const { return {}; }
   const int32_t* actual(size_t) const { return zero_; }
   bool actual_valid(size_t) const { return false; }
+  // Raster frames.
+  int32_t coord(size_t, int, int32_t) const { return 0; }
+  int32_t pixel_residual(size_t, int64_t) const { return 0; }
+  int32_t rho(size_t, int32_t) const { return 0; }
+  int64_t check_pixel(int64_t p, size_t pixels) {
+    if (p < 0 || static_cast<uint64_t>(p) >= pixels) c_.corrupt("pixel outside the raster table");
+    return p;
+  }
   void commit() { dec_->commit(c_); }
-  void take() { c_ = dec_->cursor(); }
 
  private:
   IntDecoder* dec_;
@@ -49,6 +58,7 @@ ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::s
   const scan::Header h = scan::read_header(data, size, what, max_points);
   ScanGeometry g;
   g.counts = h.counts;
+  g.fine = h.fine;
   size_t total = 0;
   for (uint32_t n : h.counts) total += n;
   g.q.resize(3 * total);
@@ -62,10 +72,8 @@ ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::s
   size_t first = 0;
   for (size_t f = 0; f < h.counts.size(); ++f) {
     if (h.flags[f] & scan::kRaster) {
-      io.commit();
-      scan::raster::decode_frame(&dec, px, &rs, h.flags[f], h.counts[f], g.q.data() + 3 * first,
-                                 g.valid.data() + first);
-      io.take();
+      scan::raster::code_frame(io, px, rs, h.flags[f], first, h.counts[f], g.q.data() + 3 * first,
+                               g.valid.data() + first);
     } else if (f + 1 < h.counts.size()) {
       scan::code_frame(io, st, h.flags[f], first, h.counts[f], g.q.data() + 3 * first,
                        g.valid.data() + first);
@@ -79,6 +87,10 @@ ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::s
   io.commit();
   if (!dec.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the scan geometry");
   return g;
+}
+
+int scan_fine_shift(const uint8_t* data, size_t size, const std::string& what) {
+  return scan::read_header(data, size, what, SIZE_MAX).fine;
 }
 
 }  // namespace capz

@@ -22,6 +22,9 @@ struct ScanGeometry {
   std::vector<uint32_t> counts;  // points per frame
   std::vector<int32_t> q;        // total x 3 grid integers (x y z per point)
   std::vector<uint8_t> valid;    // total; 0 = gap (a NaN point)
+  // The fine shift k of a raster window at a bound (FORMAT.md "Raster frames"): the integers
+  // count the stream's grid step times 2^-k. 0 for every other payload.
+  int fine = 0;
 
   size_t total() const { return valid.size(); }
 };
@@ -43,6 +46,12 @@ struct ScanHints {
   // integers are not a scaled copy of xyz: with it the encoder looks for the sensor's range step
   // (FORMAT.md "Scan geometry payload", range units).
   double grid_per_unit = 0;
+  // The bound on a coordinate and the grid's step (both in xyz units; a coordinate decodes as
+  // its integer times the step), or 0: the integers are coded exactly. With both, a raster
+  // window may code other integers, on a finer grid, within the bound of xyz (FORMAT.md
+  // "Raster frames", fine shift); decode the payload for them.
+  double bound = 0;
+  double step = 0;
 };
 
 namespace scan {
@@ -75,5 +84,8 @@ std::vector<uint32_t> scan_point_order(const ScanGeometry& g, const ScanHints& h
 // memory bound); throws Error(kCorrupt) naming `what` on any inconsistency.
 ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::string& what,
                                   size_t max_points = size_t{1} << 26);
+// The fine shift k of a payload (its header's; ScanGeometry::fine), without decoding the rest:
+// a payload with k > 0 codes other integers than the encoder was given.
+int scan_fine_shift(const uint8_t* data, size_t size, const std::string& what);
 
 }  // namespace capz

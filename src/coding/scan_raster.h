@@ -48,9 +48,11 @@ inline int32_t predict(const Pixels& px, size_t p, int a, int32_t rho) {
 
 // One raster frame's points. Io provides, as scan_shared.h's code_frame's:
 //   int32_t sym(int32_t actual, int32_t pred, int ctx); bool flag(bool actual, int ctx);
-//   bool actual_valid(size_t i); const int32_t* actual(size_t i);
-// and int64_t pixel(size_t i, int64_t pix) -> the pixel residual's actual value, int32_t rho(i).
-// The decoder's pixel() checks the decoded pixel (pix + 1 + residual) against the table.
+//   bool actual_valid(size_t i);
+// and int32_t pixel_residual(size_t i, int64_t pix), int64_t check_pixel(int64_t p, size_t P)
+// (the decoder's checks the decoded pixel against the table), int32_t rho(size_t i,
+// int32_t pred) (the range coded against the prediction pred; the encoder's may choose it
+// then) and int32_t coord(size_t i, int a, int32_t h) (axis a's integer against h).
 template <class Io>
 void code_frame(Io& io, const Pixels& px, State& st, uint8_t flags, size_t first, size_t n,
                 int32_t* q_out, uint8_t* valid_out) {
@@ -73,23 +75,22 @@ void code_frame(Io& io, const Pixels& px, State& st, uint8_t flags, size_t first
     const int32_t c0 = st.last, c1 = st.has[pu] ? st.range[pu] : st.last;
     const int j = st.score[1] < st.score[0] ? 1 : 0;
     const int rctx = kCtxRange + std::min(bit_length(st.score[j] >> 1), 15);
-    const int32_t rho = io.sym(io.rho(first + i), j ? c1 : c0, rctx);
+    const int32_t pred = j ? c1 : c0;
+    const int32_t rho = io.sym(io.rho(first + i, pred), pred, rctx);
     scan::detail::score(&st.score[0], rho, c0);  // as the other frames' scores (scan_loop.h)
     scan::detail::score(&st.score[1], rho, c1);
     st.range[pu] = rho, st.has[pu] = 1, st.last = rho;
-    const int32_t* a = io.actual(first + i);
     for (int ax = 0; ax < 3; ++ax) {
       const int32_t h = predict(px, pu, ax, rho);
-      q[ax] = io.sym(a[ax], h, kCtxXyz + 2 * ax + st.z[ax]);
+      q[ax] = io.sym(io.coord(first + i, ax, h), h, kCtxXyz + 2 * ax + st.z[ax]);
       st.z[ax] = q[ax] != h;
     }
   }
 }
 
-// Decoder (scan_raster.cpp): the pixel table at the block's start (h.pixels > 0), then frames.
+// Decoder (scan_raster.cpp): the pixel table at the block's start (h.pixels > 0); the frames
+// with scan_decode.cpp's Io.
 void read_pixels(IntDecoder* dec, const Header& h, Pixels* px);
-void decode_frame(IntDecoder* dec, const Pixels& px, State* st, uint8_t flags, size_t n,
-                  int32_t* q_out, uint8_t* valid_out);
 
 // Encoder (scan_raster_encode.cpp): replaces *best by a raster payload of g when the window is
 // a raster's (FORMAT.md, the encoder's note) and that payload is smaller.

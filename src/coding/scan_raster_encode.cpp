@@ -20,6 +20,13 @@ constexpr size_t kQuantumSample = 20000;
 // Bits of the pixel vectors beyond the farthest range's: 2 puts a prediction within 1/8 of a
 // grid step (robosense-e1 at 1 mm: 6.53 bits a point with 4, 6.11 with 2, 6.14 with 0).
 constexpr int kExtraBits = 2;
+// At a bound, points on their rays (fine shift > 0): 2 bits fewer than the farthest range's,
+// the rays' error taken up by the choice of the range (robosense-e1, bytes at 5 mm / 1 cm / 2 cm
+// with 2: 209,222 / 161,656 / 120,331; 0: 194,583 / 150,796 / 112,619; -2: 186,620 / 146,137 /
+// 110,126; -3 at 1 cm 147,199, -4 155,586).
+constexpr int kExtraBitsOnRays = -2;
+// The fine shift of points on their rays (the trials of keep_smaller).
+constexpr int kFineShift = 2;
 
 // Direction keys to values: open addressing, linear probing (node-based maps cost a cache miss a
 // point: a tenth of a pandar64 encode). Key 0 is no key (a point's key is never 0).
@@ -127,35 +134,6 @@ bool merge_pixels(const ScanGeometry& g, const std::vector<uint64_t>& keys,
   return true;
 }
 
-// The encoding Io of code_frame.
-class EncodeIo {
- public:
-  EncodeIo(IntEncoder* enc, const ScanGeometry& g, const std::vector<uint32_t>& pixel,
-           const std::vector<int32_t>& rho)
-      : enc_(enc), g_(g), pixel_(pixel), rho_(rho) {}
-  int32_t sym(int32_t actual, int32_t pred, int ctx) {
-    enc_->put_signed(wrap_sub(actual, pred), ctx);
-    return actual;
-  }
-  bool flag(bool actual, int ctx) {
-    enc_->put(actual ? 1u : 0u, ctx);
-    return actual;
-  }
-  bool actual_valid(size_t i) const { return g_.valid[i] != 0; }
-  const int32_t* actual(size_t i) const { return g_.q.data() + 3 * i; }
-  int32_t pixel_residual(size_t i, int64_t pix) const {
-    return static_cast<int32_t>(static_cast<int64_t>(pixel_[i]) - pix - 1);
-  }
-  int32_t rho(size_t i) const { return rho_[i]; }
-  int64_t check_pixel(int64_t p, size_t) const { return p; }
-
- private:
-  IntEncoder* enc_;
-  const ScanGeometry& g_;
-  const std::vector<uint32_t>& pixel_;
-  const std::vector<int32_t>& rho_;
-};
-
 // A point's distance from the prediction at rho (the sum over the axes).
 int64_t miss(const Pixels& px, size_t p, const int32_t* q, int32_t rho) {
   int64_t m = 0;
@@ -164,12 +142,12 @@ int64_t miss(const Pixels& px, size_t p, const int32_t* q, int32_t rho) {
 }
 
 // The pixel vectors: per pixel the sum of its points' source coordinates over the quantum c times
-// the sum of their ranges (in quanta), rounded to 2^-e with e the finest that keeps them in int32
-// yet fine enough that the farthest range moves a prediction by at most 1/16 of a grid step.
+// the sum of their ranges (in quanta), rounded to 2^-e with e the bit length of the farthest
+// range (grid units) plus `extra`, in 0..30.
+template <class Range>
 std::vector<int32_t> fit_vectors(const ScanGeometry& g, const ScanHints& hints,
-                                 const std::vector<uint32_t>& pixel,
-                                 const std::vector<int32_t>& rho, size_t count, double c,
-                                 double delta, int* e) {
+                                 const std::vector<uint32_t>& pixel, const std::vector<Range>& rho,
+                                 size_t count, double c, double delta, int extra, int* e) {
   std::vector<double> sum(3 * count, 0.0), rsum(count, 0.0);
   double far = 1;
   for (size_t i = 0; i < g.total(); ++i) {
@@ -178,7 +156,7 @@ std::vector<int32_t> fit_vectors(const ScanGeometry& g, const ScanHints& hints,
     rsum[pixel[i]] += rho[i];
     far = std::max(far, rho[i] * delta);
   }
-  *e = std::min(30, static_cast<int>(std::ceil(std::log2(far))) + kExtraBits);
+  *e = std::clamp(static_cast<int>(std::ceil(std::log2(far))) + extra, 0, 30);
   const double scale = std::ldexp(1.0, *e);
   std::vector<int32_t> v(3 * count, 0);
   for (size_t p = 0; p < count; ++p)
@@ -227,6 +205,90 @@ struct Found {
   std::vector<double> dist;     // per point, source units
   double quantum = 0;           // source units
   double step = 0;              // the grid step in source units
+  int64_t largest = 0;          // the largest magnitude of an integer
+};
+
+// How a window's raster frames code: ranges in quanta of `range` (source units); fine = 0: the
+// integers given, exactly; else on the grid step times 2^-fine, chosen within the bound (FORMAT.md
+// "Raster frames", fine shift).
+struct Trial {
+  double range = 0;
+  int fine = 0;
+};
+
+// A bound's margin: 2^-22 of a coordinate's magnitude (the source as float32, the written float32).
+constexpr double kMargin = 1.0 / 4194304.0;
+
+// The encoding Io of code_frame.
+class EncodeIo {
+ public:
+  EncodeIo(IntEncoder* enc, const ScanGeometry& g, const ScanHints& hints, const Found& r,
+           const Pixels& px, const std::vector<int32_t>& rho, const Trial& t)
+      : enc_(enc),
+        g_(g),
+        hints_(hints),
+        r_(r),
+        px_(px),
+        rho_(rho),
+        t_(t),
+        unit_(std::ldexp(hints.step, -t.fine)) {}
+  int32_t sym(int32_t actual, int32_t pred, int ctx) {
+    enc_->put_signed(wrap_sub(actual, pred), ctx);
+    return actual;
+  }
+  bool flag(bool actual, int ctx) {
+    enc_->put(actual ? 1u : 0u, ctx);
+    return actual;
+  }
+  bool actual_valid(size_t i) const { return g_.valid[i] != 0; }
+  int32_t pixel_residual(size_t i, int64_t pix) const {
+    return static_cast<int32_t>(static_cast<int64_t>(r_.pixel[i]) - pix - 1);
+  }
+  int64_t check_pixel(int64_t p, size_t) const { return p; }
+  // Exactly: the range found. At a bound: of the ranges within the bound and a quantum of the
+  // source's, the one whose predictions hold the bound on the most axes, then the nearest pred.
+  int32_t rho(size_t i, int32_t pred) const {
+    if (t_.fine == 0) return rho_[i];
+    const int32_t span = static_cast<int32_t>(std::ceil(hints_.bound / t_.range)) + 1;
+    int32_t best = rho_[i];
+    int best_ok = -1;
+    int64_t best_off = 0;
+    for (int32_t c = std::max(0, rho_[i] - span); c <= rho_[i] + span; ++c) {
+      int ok = 0;
+      for (int a = 0; a < 3; ++a) ok += within(i, a, predict(px_, r_.pixel[i], a, c));
+      const int64_t off = std::llabs(int64_t{c} - pred);
+      if (ok > best_ok || (ok == best_ok && off < best_off)) best = c, best_ok = ok, best_off = off;
+    }
+    return best;
+  }
+
+  // Exactly: the integer given. At a bound: h where it holds the bound, else the source's
+  // coordinate rounded to the fine grid.
+  int32_t coord(size_t i, int a, int32_t h) const {
+    if (t_.fine == 0) return g_.q[3 * i + static_cast<size_t>(a)];
+    if (within(i, a, h)) return h;
+    return round_clamp(static_cast<double>(hints_.xyz[3 * i + static_cast<size_t>(a)]) / unit_);
+  }
+
+ private:
+  // Whether integer h of axis a decodes within the bound of point i's coordinate, as the decoder
+  // gives it back and as a float32 writer stores it.
+  bool within(size_t i, int a, int32_t h) const {
+    const double x = hints_.xyz[3 * i + static_cast<size_t>(a)];
+    const double y = std::ldexp(static_cast<double>(h) * hints_.step, -t_.fine);
+    const double y32 = static_cast<float>(y);
+    const double lim = hints_.bound - std::fabs(x) * kMargin;
+    return std::fabs(y - x) <= lim && std::fabs(y32 - x) <= lim;
+  }
+
+  IntEncoder* enc_;
+  const ScanGeometry& g_;
+  const ScanHints& hints_;
+  const Found& r_;
+  const Pixels& px_;
+  const std::vector<int32_t>& rho_;
+  Trial t_;
+  double unit_;  // source units of a fine integer
 };
 
 // Whether g is a raster window (FORMAT.md, the encoder's note), and what it is.
@@ -242,6 +304,7 @@ bool find_raster(const ScanGeometry& g, const ScanHints& hints, Found* r) {
     for (size_t a = 0; a < 3; ++a) {
       const double x = hints.xyz[3 * i + a];
       if (!std::isfinite(x) || std::llabs(g.q[3 * i + a]) >= kMaxSphericalCoord) return false;
+      r->largest = std::max<int64_t>(r->largest, std::llabs(g.q[3 * i + a]));
       d2 += x * x;
     }
     r->dist[i] = std::sqrt(d2);
@@ -284,29 +347,48 @@ std::vector<int32_t> ranges(const ScanGeometry& g, const Found& r, const Pixels&
   return rho;
 }
 
-// The window coded as raster frames, ranges in quanta of c.
-std::vector<uint8_t> code_raster(const ScanGeometry& g, const ScanHints& hints, const Found& r,
-                                 double c) {
-  Pixels px;
-  px.delta = c / r.step;
-  std::vector<int32_t> rho = ranges(g, r, px, c);
-  int e = 0;
-  const std::vector<int32_t> vint = fit_vectors(g, hints, r.pixel, rho, r.count, c, px.delta, &e);
-  px.v.resize(vint.size());
-  const double unit = 1.0 / static_cast<double>(uint64_t{1} << e);
-  for (size_t j = 0; j < vint.size(); ++j) px.v[j] = vint[j] * unit;
-  rho = ranges(g, r, px, c);
-  IntEncoder enc(kContexts);
+// The pixel table into enc (FORMAT.md "Raster frames": second differences per axis).
+void put_pixels(const std::vector<int32_t>& vint, size_t count, IntEncoder* enc) {
   int32_t prev[2][3] = {{0, 0, 0}, {0, 0, 0}};
-  for (size_t p = 0; p < r.count; ++p)
+  for (size_t p = 0; p < count; ++p)
     for (int a = 0; a < 3; ++a) {
       const int32_t v = vint[3 * p + static_cast<size_t>(a)];
-      enc.put_signed(wrap_sub(v, wrap_sub(wrap_add(prev[0][a], prev[0][a]), prev[1][a])),
-                     kCtxTable + a);
+      enc->put_signed(wrap_sub(v, wrap_sub(wrap_add(prev[0][a], prev[0][a]), prev[1][a])),
+                      kCtxTable + a);
       prev[1][a] = prev[0][a];
       prev[0][a] = v;
     }
-  EncodeIo io(&enc, g, r.pixel, rho);
+}
+
+// The window coded as raster frames under trial t.
+std::vector<uint8_t> code_raster(const ScanGeometry& g, const ScanHints& hints, const Found& r,
+                                 const Trial& t) {
+  Pixels px;
+  std::vector<int32_t> rho;
+  std::vector<int32_t> vint;
+  int e = 0;
+  const double c = t.range;
+  if (t.fine == 0) {
+    px.delta = c / r.step;
+    rho = ranges(g, r, px, c);
+    vint = fit_vectors(g, hints, r.pixel, rho, r.count, c, px.delta, kExtraBits, &e);
+  } else {  // ranges from the source distances, the vectors fitted to them
+    px.delta = c / std::ldexp(hints.step, -t.fine);
+    rho.assign(g.total(), 0);
+    std::vector<double> exact(g.total(), 0.0);
+    for (size_t i = 0; i < g.total(); ++i) {
+      exact[i] = r.dist[i] / c;
+      rho[i] = static_cast<int32_t>(std::min(std::nearbyint(exact[i]), 1e9));
+    }
+    vint = fit_vectors(g, hints, r.pixel, exact, r.count, c, px.delta, kExtraBitsOnRays, &e);
+  }
+  px.v.resize(vint.size());
+  const double unit = 1.0 / static_cast<double>(uint64_t{1} << e);
+  for (size_t j = 0; j < vint.size(); ++j) px.v[j] = vint[j] * unit;
+  if (t.fine == 0) rho = ranges(g, r, px, c);
+  IntEncoder enc(kContexts);
+  put_pixels(vint, r.count, &enc);
+  EncodeIo io(&enc, g, hints, r, px, rho, t);
   State st(r.count);
   std::vector<uint8_t> flags(g.counts.size());
   std::vector<int32_t> q;
@@ -326,6 +408,7 @@ std::vector<uint8_t> code_raster(const ScanGeometry& g, const ScanHints& hints, 
   w.varint(r.count);
   w.f64(px.delta);
   w.u8(static_cast<uint8_t>(e));
+  w.u8(static_cast<uint8_t>(t.fine));
   out.insert(out.end(), w.buffer().begin(), w.buffer().end());
   const std::vector<uint8_t> body = enc.finish();
   out.insert(out.end(), body.begin(), body.end());
@@ -337,10 +420,23 @@ std::vector<uint8_t> code_raster(const ScanGeometry& g, const ScanHints& hints, 
 void keep_smaller(const ScanGeometry& g, const ScanHints& hints, std::vector<uint8_t>* best) {
   Found r;
   if (!find_raster(g, hints, &r)) return;
-  // Ranges in the sensor's quantum (coarser ones, 2 and 4 quanta, cost more on robosense-e1 at
-  // 1 cm: 284,544 and 276,691 bytes against 248,758).
-  std::vector<uint8_t> out = code_raster(g, hints, r, r.quantum);
+  // Exactly, ranges in the sensor's quantum (coarser ones, 2 and 4 quanta, cost more on
+  // robosense-e1 at 1 cm: 284,544 and 276,691 bytes against 248,758).
+  std::vector<uint8_t> out = code_raster(g, hints, r, Trial{r.quantum, 0});
   if (out.size() < best->size()) best->swap(out);
+  if (!(hints.bound > 0 && hints.step > 0)) return;
+  // At a bound, the points on their rays: fine shift 2, range steps of the whole quanta nearest
+  // twice the bound and one less (robosense-e1, bytes with m quanta, k = 1 / 2 / 3 / 4: at 1 cm,
+  // m = 4, 153,621 / 145,829 / 146,474 / 149,110, m = 3 and 5 larger; at 5 cm, m = 19, 84,511 /
+  // 72,444 / 73,036 / 73,643, m = 20 larger; at 5 mm k = 2 with m = 2 186,312, m = 3 201,826;
+  // at 1 mm k = 2, m = 1 241,713 beats k = 0's 256,994).
+  if ((r.largest << kFineShift) >= kMaxSphericalCoord) return;
+  const int m0 =
+      static_cast<int>(std::min(1e6, std::max(1.0, std::nearbyint(2 * hints.bound / r.quantum))));
+  for (int m = std::max(1, m0 - 1); m <= m0; ++m) {
+    out = code_raster(g, hints, r, Trial{m * r.quantum, kFineShift});
+    if (out.size() < best->size()) best->swap(out);
+  }
 }
 
 }  // namespace raster

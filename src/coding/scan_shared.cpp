@@ -24,8 +24,10 @@ uint32_t read_raster_header(ByteReader* r, Header* h) {
   h->pixels = static_cast<uint32_t>(p);
   h->delta = r->f64();
   h->exponent = r->u8();
-  if (!std::isfinite(h->delta) || !(h->delta > 0) || h->exponent > 30)
-    fail(ErrorCode::kCorrupt, r->what(), "raster range quantum or vector exponent out of range");
+  h->fine = r->u8();
+  if (!std::isfinite(h->delta) || !(h->delta > 0) || h->exponent > 30 || h->fine > kMaxFine)
+    fail(ErrorCode::kCorrupt, r->what(),
+         "raster range quantum, vector exponent or fine shift out of range");
   return h->pixels;
 }
 

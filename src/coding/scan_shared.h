@@ -36,6 +36,7 @@ constexpr uint64_t kMaxMapCells = uint64_t{1} << 22;  // rings x columns
 constexpr double kMinUnit = 0x1p-20, kMaxUnit = 0x1p20, kMaxOffset = 0x1p30;
 // Coordinates of a spherical frame stay below this in magnitude (so a range fits an int32).
 constexpr int64_t kMaxSphericalCoord = int64_t{1} << 29;
+constexpr int kMaxFine = 12;  // the raster header's fine shift k (FORMAT.md "Raster frames")
 
 // The laser table: per ring an azimuth offset, a cone slope and a z offset; one azimuth step.
 struct Table {
@@ -149,6 +150,7 @@ struct Header {
   uint32_t pixels = 0;  // raster frames' pixel table (scan_raster.h): P, delta, e; P = 0: none
   double delta = 0;
   int exponent = 0;
+  int fine = 0;     // the fine shift k: the integers count the grid step times 2^-k
   size_t body = 0;  // offset of the entropy-coded block
 };
 Header read_header(const uint8_t* data, size_t size, const std::string& what, size_t max_points);

@@ -74,9 +74,13 @@ std::vector<size_t> candidates(const Frame& fr, size_t i) {
   return out;
 }
 
-// Gives original point i a partner: a free candidate, or one whose holder can move to another
-// (an augmenting path, Kuhn's algorithm), depth-bounded. True when it found one.
+// Gives original point i a partner: the decoded point at its own place when free and agreeing
+// (an archive that kept the order: a decoder that moves points within the bound, as raster
+// frames on their rays do, puts others' partners nearer than their own), else a free candidate,
+// or one whose holder can move to another (an augmenting path, Kuhn's algorithm),
+// depth-bounded. True when it found one.
 bool assign(Frame* fr, size_t i, int depth) {
+  if (fr->d.valid[i] && fr->owner[i] == kNone && agree(*fr, i, i)) return fr->owner[i] = i, true;
   const std::vector<size_t> cand = candidates(*fr, i);
   for (size_t j : cand)
     if (fr->owner[j] == kNone) return fr->owner[j] = i, true;

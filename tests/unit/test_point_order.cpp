@@ -173,6 +173,25 @@ TEST(PointOrder, GivenCrowdedPointsThenThePairingFindsTheOneThatHolds) {
       << why;
 }
 
+// Points each decoded within the bound at its own place but nearer the next point's original
+// (as raster frames on their rays decode, moved within the bound): a nearest-first pairing
+// takes every next point's partner, and the chain of 200 is beyond any augmenting path's depth;
+// the pairing at the points' own places holds.
+TEST(PointOrder, GivenPointsMovedTowardTheirNeighboursThenTheOwnPlacePairingHolds) {
+  Take o, d;
+  const size_t n = 200;
+  o.resize_ragged({static_cast<uint32_t>(n)});
+  o.valid.assign(n, 1);
+  o.xyz.assign(3 * n, 0.0);
+  for (size_t i = 0; i < n; ++i) o.xyz[3 * i] = static_cast<double>(i);
+  d = o;
+  for (size_t i = 0; i < n; ++i) d.xyz[3 * i] -= 0.55;  // 0.45 from point i - 1's original
+  Take paired;
+  std::string why;
+  ASSERT_TRUE(match_reordered(o, d, 0.6, {}, &paired, &why)) << why;
+  EXPECT_EQ(paired.xyz, o.xyz);
+}
+
 TEST(PointOrder, GivenLosslessThenRefusedByName) {
   CompressOptions o;
   o.lossless = true;
