@@ -4,7 +4,7 @@
 // metres), NaN points kept as gaps; the payload is decoded and compared with the integers.
 //
 //   scan_geometry_bits [--bound M]... [--no-ring] [--no-units] [--window F] [--dump N]
-//                      [--breakdown] [--sorted] PATH...
+//                      [--breakdown] [--sorted] [--walk] PATH...
 //
 // --bound: bounds in metres (default 0.001 and 0.01); --no-ring: ignore the ring / channel
 // field (the coder then infers the rings); --no-units: no range units (the encoder is not told
@@ -13,7 +13,8 @@
 // --dump: print the first N points of each sequence's first frame in polar form; --breakdown:
 // bits per point of each kind of symbol (ring, column, range, x, y, z), step divisor 4 or
 // --divisor D;
-// --sorted: each frame in --point-order any's coded order (coding/scan_geometry.h).
+// --sorted: each frame in --point-order any's coded order (coding/scan_geometry.h);
+// --walk: --breakdown's frames coded with the ring walk (frame flag bit 3).
 // Prints one line per sequence and bound: points, payload bytes, bits per point, encode and
 // decode milliseconds. Exits 1 when a round trip is not exact.
 #include <dirent.h>
@@ -40,6 +41,7 @@ bool show_breakdown = false;
 double breakdown_divisor = 4;  // --divisor: the table's step divisor of --breakdown
 bool sorted_order = false;     // --sorted: --point-order any's coded order (scan_point_order)
 bool range_units = true;       // --no-units: no ScanHints::grid_per_unit (no range units)
+bool ring_walk = false;        // --walk: --breakdown codes its frames with the ring walk
 
 struct Frame {
   std::vector<double> xyz;      // points x 3, NaN kept
@@ -166,15 +168,17 @@ class BreakdownIo {
  private:
   void put(uint32_t u, int ctx) {
     using namespace capz::scan;
-    const int k = ctx < kCtxRing     ? 0
-                  : ctx < kCtxColumn ? 1
-                  : ctx < kCtxRange  ? 2
-                  : ctx < kCtxCart   ? 3  // kCtxX..kCtxCart: unused
-                  : ctx < kCtxImage  ? 7
-                  : ctx < kCtxAxis1  ? 3
-                  : ctx < kCtxAxis2  ? 4
-                  : ctx < kCtxZFrac  ? 5
-                                     : 6;
+    const int k = ctx < kCtxRing         ? 0
+                  : ctx < kCtxColumn     ? 1
+                  : ctx < kCtxRange      ? 2
+                  : ctx < kCtxCart       ? 3  // kCtxX..kCtxCart: unused
+                  : ctx < kCtxImage      ? 7
+                  : ctx < kCtxAxis1      ? 3
+                  : ctx < kCtxAxis2      ? 4
+                  : ctx < kCtxZFrac      ? 5
+                  : ctx < kCtxWalkRepeat ? 6
+                  : ctx < kCtxWalkColumn ? 1
+                                         : 2;
     enc_[k]->put(u, ctx);
   }
   const capz::ScanGeometry& g_;
@@ -195,7 +199,8 @@ void breakdown(const capz::ScanGeometry& g, const capz::ScanHints& h) {
     q.resize(3 * size_t{n});
     v.resize(n);
     uint8_t flags = capz::scan::kSomeValid;
-    if (t.rings() > 0 && capz::scan::spherical_ok(g, first, n)) flags |= capz::scan::kSpherical;
+    if (t.rings() > 0 && capz::scan::spherical_ok(g, first, n))
+      flags |= ring_walk ? capz::scan::kSpherical | capz::scan::kRingWalk : capz::scan::kSpherical;
     capz::scan::code_frame(io, st, flags, first, n, q.data(), v.data());
     first += n;
   }
@@ -278,6 +283,8 @@ int main(int argc, char** argv) {
       breakdown_divisor = std::atof(argv[++i]);
     } else if (a == "--sorted") {
       sorted_order = true;
+    } else if (a == "--walk") {
+      ring_walk = true;
     } else if (a == "--no-units") {
       range_units = false;
     } else if (a == "--no-ring") {

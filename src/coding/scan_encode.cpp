@@ -184,8 +184,9 @@ struct CartesianEstimate {
 struct Scratch {
   std::vector<int32_t> q;
   std::vector<uint8_t> v;
-  std::vector<Sym> syms;
-  Tally tally;
+  std::vector<Sym> syms, walk_syms;
+  Tally tally, walk_tally;
+  int walk = -1;  // the window's choice of the ring walk (code_chosen): -1 not made yet
   std::vector<double> log_t, log_c;     // Tally::estimate's prefix sums
   std::vector<CartesianEstimate> cart;  // per frame of the window
   std::vector<int8_t> spherical_ok;     // per frame: scan::spherical_ok, -1 not yet known
@@ -225,35 +226,79 @@ bool spherical_wins(const scan::State& st, uint8_t flags, const ScanGeometry& g,
   return exact_sph.bits < exact_cart.bits;
 }
 
+// Codes frame [first, first + n) spherically under `flags` from *st, its symbols recorded in
+// *syms and tallied in *tally.
+void record_spherical(scan::State* st, uint8_t flags, const ScanGeometry& g,
+                      const std::vector<scan::Polar>& polar, size_t first, size_t n,
+                      std::vector<Sym>* syms, Tally* tally, Scratch* s) {
+  syms->clear();
+  syms->reserve(7 * n);  // at most 7 symbols a point, but the ring walk's flags
+  tally->clear();
+  RecordSink rec{syms, tally};
+  EncodeIo<RecordSink> io(&rec, g, polar);
+  scan::code_points(io, *st, flags, first, n, s->q.data(), s->v.data());
+}
+
+// Whether the ring walk is worth a trial on frame [first, first + n): its valid points' rings
+// run upward, as in firing order, so that the walk's flags (the rings passed, about) stay under
+// kWalkFlags a point. Rings in a driver's firing permutation or in blocks (most files' own
+// order) never pay the walk, and a long walk costs time.
+constexpr size_t kWalkFlags = 8;
+bool walk_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& polar, size_t rings,
+                       size_t first, size_t n) {
+  size_t valid = 0, flags = 0;
+  uint32_t prev = 0;
+  for (size_t i = first; i < first + n; ++i) {
+    if (!g.valid[i]) continue;
+    const uint32_t k = polar[i].ring;
+    if (valid++ > 0 && k != prev) flags += k > prev ? k - prev : k + rings - prev;
+    prev = k;
+  }
+  return flags < kWalkFlags * valid;
+}
+
 // Codes frame f spherically when that costs less by the estimate, else Cartesian: the spherical
 // coding runs once, on a staged state, its symbols recorded, and is replayed into the block
-// when it wins. True when spherical coding was chosen. The window's last frame (f + 1 = its
-// frames) is coded on a trial state: no later sweep reads the map it would write (the map never
+// when it wins. Returns the frame's flags as coded. The window's last frame (f + 1 = its
+// frames) is coded on trial states: no later sweep reads the map it would write (the map never
 // changes a symbol of its own sweep), so its cells are not touched.
-bool code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanGeometry& g,
-                 const std::vector<scan::Polar>& polar, size_t f, size_t first, size_t n,
-                 Scratch* s) {
-  const uint8_t sph = static_cast<uint8_t>(flags | scan::kSpherical);
-  scan::State staged = f + 1 == g.counts.size() ? st->trial() : st->staged();
-  s->syms.clear();
-  s->syms.reserve(7 * n);  // at most 7 symbols a point
-  s->tally.clear();
-  RecordSink rec{&s->syms, &s->tally};
-  EncodeIo<RecordSink> io(&rec, g, polar);
-  scan::code_points(io, staged, sph, first, n, s->q.data(), s->v.data());
+uint8_t code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanGeometry& g,
+                    const std::vector<scan::Polar>& polar, size_t f, size_t first, size_t n,
+                    Scratch* s) {
+  auto sph = static_cast<uint8_t>(flags | scan::kSpherical);
+  const auto walk = static_cast<uint8_t>(sph | scan::kRingWalk);
+  const bool upward = walk_worth_trying(g, polar, st->table().rings(), first, n);
+  const bool last = f + 1 == g.counts.size();
+  scan::State staged = last ? st->trial() : st->staged();
+  if (upward && s->walk == 1) sph = walk;
+  record_spherical(&staged, sph, g, polar, first, n, &s->syms, &s->tally, s);
+  // The window's first frame whose rings run upward is coded both ways (both write the same
+  // ranges into this sweep's map), the smaller kept; the window's later frames follow it.
+  if (upward && s->walk < 0) {
+    scan::State walked = last ? st->trial() : st->staged();
+    record_spherical(&walked, walk, g, polar, first, n, &s->walk_syms, &s->walk_tally, s);
+    s->walk =
+        s->walk_tally.estimate(&s->log_t, &s->log_c) < s->tally.estimate(&s->log_t, &s->log_c);
+    if (s->walk == 1) {
+      std::swap(s->syms, s->walk_syms);
+      std::swap(s->tally, s->walk_tally);
+      staged = std::move(walked);
+      sph = walk;
+    }
+  }
   if (spherical_wins(*st, flags, g, polar, f, first, n, s)) {
     IntEncoder::Cursor c = enc->cursor();
     for (const Sym& y : s->syms) c.put(y.u, static_cast<int>(y.ctx));
     enc->commit(c);
     *st = staged;
     st->end_frame();
-    return true;
+    return sph;
   }
   st->clear_sweep();
   PutSink put{enc};
   EncodeIo<PutSink> direct(&put, g, polar);
   scan::code_frame(direct, *st, flags, first, n, s->q.data(), s->v.data());
-  return false;
+  return flags;
 }
 
 // A window's coding under one table, frame by frame: the block so far, the state after it and
@@ -265,6 +310,7 @@ struct Coding {
   std::unique_ptr<scan::State> st;
   std::vector<uint8_t> flags;
   size_t frames = 0, first = 0;  // the frames coded, their points
+  int walk = -1;                 // its ring walk choice (Scratch::walk)
 };
 
 // Codes frames c->frames .. to - 1 of g: per frame the cheaper of spherical and Cartesian coding.
@@ -276,6 +322,7 @@ void code_frames(const ScanGeometry& g, const std::vector<scan::Polar>& polar, s
   s->cart.resize(g.counts.size());
   s->spherical_ok.resize(g.counts.size(), -1);
   c->flags.resize(to);
+  s->walk = c->walk;  // the coding's ring walk choice (code_chosen)
   for (size_t f = c->frames; f < to; ++f) {
     const size_t n = g.counts[f], first = c->first;
     s->q.resize(3 * n);
@@ -285,14 +332,14 @@ void code_frames(const ScanGeometry& g, const std::vector<scan::Polar>& polar, s
     int8_t& ok = s->spherical_ok[f];  // the same under every table
     if (t.rings() > 0 && flags != scan::kNoneValid && ok < 0) ok = scan::spherical_ok(g, first, n);
     if (t.rings() > 0 && flags != scan::kNoneValid && ok) {
-      if (code_chosen(c->enc.get(), c->st.get(), flags, g, polar, f, first, n, s))
-        flags = static_cast<uint8_t>(flags | scan::kSpherical);
+      flags = code_chosen(c->enc.get(), c->st.get(), flags, g, polar, f, first, n, s);
     } else {
       scan::code_frame(io, *c->st, flags, first, n, s->q.data(), s->v.data());
     }
     c->first += n;
     c->frames = f + 1;
   }
+  c->walk = s->walk;
 }
 
 // The payload of c's frames (g's first c->frames) under c's table; c's block is finished.

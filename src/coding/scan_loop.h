@@ -119,13 +119,37 @@ struct Prev {
   uint32_t ring = 0, ring_residual = 0;
   int32_t column = 0, range = 0;
   uint32_t before = 0;  // the ring of the point before it
+  bool repeat = false;  // ring walk: the point repeated its predecessor's ring
+  int64_t firing = 0;   // ring walk: the firing counter F
 };
 
+// A point's ring and column as coded (FORMAT steps 1 and 2): `residual` is the ring residual
+// its successor sees; `opened` whether it opened its ring's firing one after the ring's last
+// (ring walk frames: the ring's step is updated only then).
+struct RingColumn {
+  uint32_t ring = 0, residual = 0;
+  int32_t column = 0;
+  bool repeat = false, opened = true;
+  int64_t firing = 0;
+};
+
+// The ring's column (FORMAT step 2) from p0 and p1, the context's first part by the residual.
 template <class Io>
-__attribute__((always_inline)) inline void code_spherical(Io& io, State& st, const Polar& pa,
-                                                          const int32_t* a, Prev* pv, int32_t* p) {
-  const Table& t = st.table();
-  const uint32_t rings = static_cast<uint32_t>(t.rings());
+__attribute__((always_inline)) inline int32_t code_column(Io& io, State::Ring& r, int32_t col,
+                                                          int32_t p0, int32_t p1, bool moved) {
+  const int sc = detail::argmin(r.score_col, 2);
+  const int cctx = kCtxColumn + 4 * moved + std::min(bit_length(r.score_col[sc] >> 2), 3);
+  const int32_t c = io.sym(col, sc ? p1 : p0, cctx);
+  score(&r.score_col[0], c, p0);
+  score(&r.score_col[1], c, p1);
+  return c;
+}
+
+// Ring and column of a frame without bit 3: the ring against the successor or the run.
+template <class Io>
+__attribute__((always_inline)) inline RingColumn ring_successor(Io& io, State& st, const Polar& pa,
+                                                                const Prev* pv) {
+  const uint32_t rings = static_cast<uint32_t>(st.table().rings());
   // Ring: the one that followed the previous point's ring last time, or the previous step's
   // continuation (runs of rings up or down), whichever has done better lately.
   // (Rings, and so pv->ring and pv->before, are below `rings`; so is d, which io.ring checks:
@@ -144,11 +168,91 @@ __attribute__((always_inline)) inline void code_spherical(Io& io, State& st, con
   // Column: the previous point's (same firing) or the ring's last plus its step.
   const int32_t p0 = pv->have ? pv->column : (r.has_last ? r.last_column : 0);
   const int32_t p1 = r.has_last ? wrap_add(r.last_column, r.step) : p0;
-  const int sc = detail::argmin(r.score_col, 2);
-  const int cctx = kCtxColumn + 4 * (d != 0) + std::min(bit_length(r.score_col[sc] >> 2), 3);
-  const int32_t col = io.sym(pa.column, sc ? p1 : p0, cctx);
-  score(&r.score_col[0], col, p0);
-  score(&r.score_col[1], col, p1);
+  RingColumn out;
+  out.ring = k;
+  out.residual = d;
+  out.column = code_column(io, r, pa.column, p0, p1, d != 0);
+  return out;
+}
+
+// The ring walk (FORMAT "Ring walk frames", step 1) after the previous point P: the repeat
+// flag, else a flag per ring after P's until the point's. Returns the ring; sets *firing (F)
+// and *steps (the walk's flags before the one that ended it).
+template <class Io>
+uint32_t walk_ring(Io& io, const State& st, uint32_t want, const Prev* pv, bool* repeat,
+                   int64_t* firing, uint32_t* steps) {
+  const uint32_t rings = static_cast<uint32_t>(st.table().rings()), pr = pv->ring;
+  const State::Firing& fb = st.firing[pr == 0 ? rings - 1 : pr - 1];
+  const int b = fb.last == pv->firing ? static_cast<int>(std::min<uint32_t>(fb.n, 2)) : 3;
+  const int rctx = kCtxWalkRepeat + 12 * pv->repeat +
+                   4 * static_cast<int>(std::min<uint32_t>(st.firing[pr].m, 2)) + b;
+  *steps = 0;
+  *firing = pv->firing;
+  *repeat = io.flag(want == pr, rctx);
+  if (*repeat) return pr;
+  uint32_t j = pr + 1 == rings ? 0 : pr + 1;
+  int64_t g0 = pv->firing + (j == 0);  // G: the firing ring j would be in
+  for (; j != pr; ++*steps) {
+    const int64_t fj = st.firing[j].last;
+    const int g = fj < 0 ? 3 : static_cast<int>(std::min<int64_t>(g0 - fj, 3));
+    const int64_t fi = st.firing[j + 1 == rings ? 0 : j + 1].last;
+    const int a = fi >= 0 && fi >= g0 - 1;
+    const int band = static_cast<int>(uint64_t{8} * j / rings);
+    const int ctx = kCtxWalk + 32 * g + 16 * (*steps == 0) + 8 * a + band;
+    if (io.flag(want == j, ctx)) break;
+    j = j + 1 == rings ? 0 : j + 1;
+    g0 += j == 0;
+  }
+  *firing = g0;
+  return j;
+}
+
+// Ring and column of a ring walk frame (FORMAT "Ring walk frames", steps 1 and 2).
+template <class Io>
+__attribute__((always_inline)) inline RingColumn ring_walk(Io& io, State& st, const Polar& pa,
+                                                           const Prev* pv) {
+  RingColumn out;
+  if (!pv->have) {  // the frame's first point: its ring as a residual against ring 0
+    out.ring = io.ring(pa.ring, static_cast<uint32_t>(st.table().rings()), kCtxRing);
+    out.residual = out.ring;
+  } else {
+    out.ring = walk_ring(io, st, pa.ring, pv, &out.repeat, &out.firing, &out.residual);
+  }
+  State::Firing& f = st.firing[out.ring];
+  const int64_t was = f.last;  // f' (FORMAT)
+  if (f.last == out.firing) {
+    ++f.n;
+  } else {
+    f.m = f.last == out.firing - 1 ? f.n : 0;
+    f.n = 1;
+    f.last = out.firing;
+  }
+  out.opened = was >= 0 && was == out.firing - 1;
+  State::Ring& r = st.ring[out.ring];
+  if (out.repeat) {  // the same firing's second return: P's column
+    out.column = io.sym(pa.column, pv->column, kCtxWalkColumn);
+    return out;
+  }
+  const int32_t p0 = pv->have ? pv->column : (r.has_last ? r.last_column : 0);
+  int32_t p1 = r.has_last ? wrap_add(r.last_column, r.step) : p0;
+  if (was >= 0 && was < out.firing) {  // the ring's step a firing, times the firings since
+    const uint64_t gap = static_cast<uint64_t>(out.firing - was);
+    const uint64_t prod = gap * static_cast<uint64_t>(static_cast<int64_t>(r.step));
+    p1 = wrap_add(r.last_column, static_cast<int32_t>(static_cast<uint32_t>(prod)));
+  }
+  out.column = code_column(io, r, pa.column, p0, p1, out.residual != 0);
+  return out;
+}
+
+template <class Io>
+__attribute__((always_inline)) inline void code_spherical(Io& io, State& st, const Polar& pa,
+                                                          const int32_t* a, bool walk, Prev* pv,
+                                                          int32_t* p) {
+  const Table& t = st.table();
+  const RingColumn rc = walk ? ring_walk(io, st, pa, pv) : ring_successor(io, st, pa, pv);
+  const uint32_t k = rc.ring;
+  const int32_t col = rc.column;
+  State::Ring& r = st.ring[k];
   // Range: the ring's last, the previous point's (same column), the previous sweep's.
   const int32_t w = r.has_last ? r.last_range : (pv->have ? pv->range : 0);
   int32_t cand[3] = {w, w, w};
@@ -172,12 +276,12 @@ __attribute__((always_inline)) inline void code_spherical(Io& io, State& st, con
       units ? static_cast<double>(range) * t.unit[k] + t.offset[k] : static_cast<double>(range);
   const int lb = std::min(bit_length(units ? round_clamp(rho) : range), 23);
   code_xyz(io, t, k, col, rho, lb, a, p);
-  if (r.has_last) r.step = wrap_sub(col, r.last_column);
+  if (r.has_last && (!walk || rc.opened)) r.step = wrap_sub(col, r.last_column);
   r.last_column = col;
   r.last_range = range;
   r.has_last = true;
   st.map_set(k, col, range);
-  *pv = Prev{true, k, d, col, range, pv->have ? pv->ring : k};
+  *pv = Prev{true, k, rc.residual, col, range, pv->have ? pv->ring : k, rc.repeat, rc.firing};
 }
 
 }  // namespace detail
@@ -186,9 +290,10 @@ template <class Io>
 void code_points(Io& io, State& st, uint8_t flags, size_t first, size_t n, int32_t* q_out,
                  uint8_t* valid_out) {
   const uint8_t vmode = flags & 3;
-  const bool spherical = (flags & kSpherical) != 0;
+  const bool spherical = (flags & kSpherical) != 0, walk = (flags & kRingWalk) != 0;
   bool prev_valid = true;
   detail::Prev pv;
+  if (walk) std::fill(st.firing.begin(), st.firing.end(), State::Firing{});
   for (size_t i = 0; i < n; ++i) {
     const bool v = point_valid(io, vmode, first + i, &prev_valid);
     valid_out[i] = v;
@@ -199,7 +304,7 @@ void code_points(Io& io, State& st, uint8_t flags, size_t first, size_t n, int32
     }
     const int32_t* a = io.actual(first + i);
     if (spherical)
-      detail::code_spherical(io, st, io.polar(first + i), a, &pv, p);
+      detail::code_spherical(io, st, io.polar(first + i), a, walk, &pv, p);
     else
       detail::code_cartesian(io, st, a, p);
   }

@@ -81,7 +81,8 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
   bool raster = false;
   for (size_t i = 0; i < frames; ++i) {
     const uint8_t fl = h.flags[i];
-    if ((fl & ~kFrameFlagMask) != 0 || (fl & 3) == 3 || ((fl & kSpherical) && (fl & kRaster)))
+    if ((fl & ~kFrameFlagMask) != 0 || (fl & 3) == 3 || ((fl & kSpherical) && (fl & kRaster)) ||
+        ((fl & kRingWalk) && !(fl & kSpherical)))
       fail(ErrorCode::kCorrupt, what, "frame " + std::to_string(i) + " has unknown flags");
     if ((fl & kSpherical) && rings == 0)
       fail(ErrorCode::kCorrupt, what, "a spherical frame without a laser table");
@@ -96,7 +97,7 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
 }
 
 State::State(const Table& t, std::shared_ptr<SweepMaps> maps)
-    : ring(t.rings()), succ(t.rings()), t_(&t), maps_(std::move(maps)) {
+    : ring(t.rings()), succ(t.rings()), firing(t.rings()), t_(&t), maps_(std::move(maps)) {
   for (size_t k = 0; k < succ.size(); ++k) succ[k] = static_cast<uint32_t>((k + 1) % succ.size());
   if (!maps_) maps_ = std::make_shared<SweepMaps>();
   maps_->reset(t.rings() * t.columns);

@@ -26,8 +26,9 @@ namespace scan {
 // Frame flags (one byte per frame).
 constexpr uint8_t kAllValid = 0, kSomeValid = 1, kNoneValid = 2;  // bits 0-1
 constexpr uint8_t kSpherical = 4;                                 // bit 2
-constexpr uint8_t kRaster = 32;                                   // bit 5 (scan_raster.h)
-constexpr uint8_t kFrameFlagMask = 7 | kRaster;
+constexpr uint8_t kRingWalk = 8;  // bit 3: rings by the walk (FORMAT "Ring walk frames")
+constexpr uint8_t kRaster = 32;   // bit 5 (scan_raster.h)
+constexpr uint8_t kFrameFlagMask = 7 | kRingWalk | kRaster;
 
 // Limits the decoder enforces (FORMAT.md).
 constexpr uint32_t kMaxRings = 1024;
@@ -58,14 +59,17 @@ enum Ctx : int {
   kCtxX = kCtxRange + 16,      // 24 and (kCtxZ) 24: unused (x y z before the fraction rule)
   kCtxY = kCtxX + 24,          // 16 x 3: the second of x y with range units, by bit length
   kCtxZ = kCtxY + 48,
-  kCtxCart = kCtxZ + 24,           // 3 axes x 8: previous residual's bit length
-  kCtxRaster = kCtxCart + 24,      // 27: raster frames (scan_raster.h)
-  kCtxImage = kCtxRaster + 27,     // the fraction-rule contexts below (FORMAT: 175)
-  kCtxRangeFrac = kCtxImage,       // 8 x 3: the range against the smoothed map
-  kCtxAxis1 = kCtxRangeFrac + 24,  // 24 x 3: first of x y, by the range's bit length
-  kCtxAxis2 = kCtxAxis1 + 72,      // 8 x 3: second of x y, by the candidates' count
-  kCtxZFrac = kCtxAxis2 + 24,      // 24 x 3: z, by the range's bit length
-  kContexts = kCtxZFrac + 72,
+  kCtxCart = kCtxZ + 24,            // 3 axes x 8: previous residual's bit length
+  kCtxRaster = kCtxCart + 24,       // 27: raster frames (scan_raster.h)
+  kCtxImage = kCtxRaster + 27,      // the fraction-rule contexts below (FORMAT: 175)
+  kCtxRangeFrac = kCtxImage,        // 8 x 3: the range against the smoothed map
+  kCtxAxis1 = kCtxRangeFrac + 24,   // 24 x 3: first of x y, by the range's bit length
+  kCtxAxis2 = kCtxAxis1 + 72,       // 8 x 3: second of x y, by the candidates' count
+  kCtxZFrac = kCtxAxis2 + 24,       // 24 x 3: z, by the range's bit length
+  kCtxWalkRepeat = kCtxZFrac + 72,  // 24: the ring walk's repeat flag
+  kCtxWalk = kCtxWalkRepeat + 24,   // 4 x 2 x 2 x 8: the walk's flags
+  kCtxWalkColumn = kCtxWalk + 128,  // 1: a repeated ring's column
+  kContexts = kCtxWalkColumn + 1,
 };
 
 // A point's validity under the frame's validity mode (FORMAT: a flag per point in mode 1, under
@@ -196,6 +200,13 @@ class State {
   };
   std::vector<Ring> ring;
   std::vector<uint32_t> succ;  // predicted ring after ring k
+  // Per ring in a ring walk frame: its last firing (-1: none), its points in that firing and
+  // in the firing before it.
+  struct Firing {
+    int64_t last = -1;
+    uint32_t n = 0, m = 0;
+  };
+  std::vector<Firing> firing;
   uint32_t ring_score[2] = {0, 0};
   // The previous sweep's smoothed range (1/16 steps) at ring k, column col (false: none there).
   bool map_prev(uint32_t k, int32_t col, int64_t* smooth) const {
