@@ -256,8 +256,8 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
   b.frame_offsets.assign(fn + 1, 0);
   for (size_t f = 0; f < fn; ++f) b.frame_offsets[f + 1] = b.frame_offsets[f] + g.counts[f];
   b.valid = g.valid;
-  b.xyz.assign(g.total() * 3, 0.0);
   if (e != scan::kNoSplit) {  // "Lossless ragged streams": the float32 split
+    b.xyz.assign(g.total() * 3, 0.0);
     scan::decode_split(c.payload + at + geo, c.size - at - geo, what, e, g.q, g.valid,
                        b.xyz.data());
     q->swap(g.q);
@@ -269,11 +269,12 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
   if (g.fine != 0 && grid.mode != PosMode::kGrid)
     fail(ErrorCode::kCorrupt, what, "a raster fine shift outside mode 0");
   const double fine = std::ldexp(1.0, -g.fine);  // exact: (q s) 2^-k
+  b.xyz.resize(g.total() * 3);                   // each value written once below (0 at gaps)
   with_mode(grid.mode, [&](auto m) {
     for (size_t i = 0; i < g.total(); ++i)
-      if (g.valid[i])
-        for (size_t a = 0; a < 3; ++a)
-          b.xyz[3 * i + a] = dequantise_as<decltype(m)::value>(grid, g.q[3 * i + a], 0) * fine;
+      for (size_t a = 0; a < 3; ++a)
+        b.xyz[3 * i + a] =
+            g.valid[i] ? dequantise_as<decltype(m)::value>(grid, g.q[3 * i + a], 0) * fine : 0.0;
   });
   apply_negative_zeros(zeros, b.valid, what, &b.xyz);
   q->swap(g.q);

@@ -34,7 +34,7 @@ ScanHints permuted(const ScanHints& h, const std::vector<uint32_t>& order) {
 std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
                                    const std::vector<uint32_t>& ring,
                                    const std::vector<float>& distance, std::vector<uint8_t>* coded,
-                                   std::vector<uint8_t>* kept) {
+                                   std::vector<uint8_t>* kept, ScanWorkspace* ws) {
   ScanGeometry g;
   for (size_t k = 0; k < b.frames; ++k)
     g.counts.push_back(static_cast<uint32_t>(b.frame_points(k)));
@@ -52,11 +52,12 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
   // or one no table describes); the encoder's choice, any order being allowed.
   std::vector<uint32_t> best(g.total());
   for (size_t j = 0; j < best.size(); ++j) best[j] = static_cast<uint32_t>(j);
-  std::vector<uint8_t> file = encode_scan_geometry(g, hints);
+  std::vector<uint8_t> file = encode_scan_geometry(g, hints, ws);
   *coded = file;
   for (ScanOrderTable table : {ScanOrderTable::kPerFrame, ScanOrderTable::kWindow}) {
     std::vector<uint32_t> order = scan_point_order(g, hints, table);
-    std::vector<uint8_t> bytes = encode_scan_geometry(permuted(g, order), permuted(hints, order));
+    std::vector<uint8_t> bytes =
+        encode_scan_geometry(permuted(g, order), permuted(hints, order), ws);
     if (bytes.size() < coded->size()) coded->swap(bytes), best.swap(order);
   }
   if (kept) kept->swap(file);
@@ -77,8 +78,8 @@ void permute(std::vector<T>* v, size_t size, const std::vector<uint32_t>& order)
 
 bool reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring,
                     const std::vector<float>& distance, std::vector<uint8_t>* coded,
-                    std::vector<uint8_t>* kept) {
-  const std::vector<uint32_t> order = window_order(*b, grid, ring, distance, coded, kept);
+                    std::vector<uint8_t>* kept, ScanWorkspace* ws) {
+  const std::vector<uint32_t> order = window_order(*b, grid, ring, distance, coded, kept, ws);
   bool moved = false;
   for (size_t j = 0; j < order.size() && !moved; ++j) moved = order[j] != j;
   if (!moved) return false;

@@ -242,6 +242,7 @@ struct RaggedRun {
   std::vector<uint8_t> buf;          // the window's chunks
   FrameBlock back;                   // the window decoded again (kept: its memory is reused)
   int fine;                          // the last SCNW's fine shift (FORMAT.md "Raster frames")
+  ScanWorkspace scan_ws;             // the scan coder's maps, kept from window to window
 };
 
 // SCNW's bytes after `total` ("Scans (format 1.1)"): in mode 2 the split exponent e, and with a
@@ -249,11 +250,11 @@ struct RaggedRun {
 // corrections block; else the geometry alone. coded: encode_scan_geometry(g, hints) when the
 // caller has it already, else null.
 std::vector<uint8_t> scan_body(const ScanGeometry& g, const ScanHints& hints, bool mode2, int e,
-                               const std::vector<uint32_t>& t,
+                               const std::vector<uint32_t>& t, ScanWorkspace* ws,
                                const std::vector<uint8_t>* coded = nullptr) {
   ByteWriter w;
   if (mode2) w.u8(static_cast<uint8_t>(static_cast<int8_t>(e)));
-  const std::vector<uint8_t> geo = coded ? *coded : encode_scan_geometry(g, hints);
+  const std::vector<uint8_t> geo = coded ? *coded : encode_scan_geometry(g, hints, ws);
   if (e != scan::kNoSplit) w.varint(geo.size());
   w.bytes(geo.data(), geo.size());
   if (e != scan::kNoSplit) {
@@ -273,7 +274,7 @@ constexpr int64_t kSplitLimit = int64_t{1} << 29;
 // SCNW is smallest on the window's first two frames (scan::kNoSplit when none beats the float32
 // bits there, or no exponent applies).
 int choose_split(const FrameBlock& b, const std::vector<uint32_t>& counts, const ScanHints& hints,
-                 const std::vector<int32_t>& bits) {
+                 const std::vector<int32_t>& bits, ScanWorkspace* ws) {
   ScanGeometry g;
   g.counts.assign(
       counts.begin(),
@@ -291,12 +292,12 @@ int choose_split(const FrameBlock& b, const std::vector<uint32_t>& counts, const
   if (!hints.distance.empty()) h.distance = upto(hints.distance, n);
   h.xyz = upto(hints.xyz, 3 * n);
   int best = scan::kNoSplit;
-  size_t best_size = scan_body(g, h, true, best, {}).size();
+  size_t best_size = scan_body(g, h, true, best, {}, ws).size();
   std::vector<uint32_t> t;
   const auto trial = [&](int e) {
     if (!scan::split_coordinates(b.xyz.data(), g.valid.data(), n, e, kSplitLimit, &g.q, &t)) return;
     h.grid_per_unit = std::ldexp(1.0, e);
-    const size_t size = scan_body(g, h, true, e, t).size();
+    const size_t size = scan_body(g, h, true, e, t, ws).size();
     if (size < best_size) best = e, best_size = size;
   };
   for (int e : kSplitCoarse) trial(e);
@@ -330,7 +331,7 @@ void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<
   const bool mode2 = r.grid.mode == PosMode::kFloat32;
   if (mode2 && coded)
     fail(ErrorCode::kInternal, r.t.source, "a float32 split of a reordered window");
-  int e = mode2 ? choose_split(b, g.counts, hints, bits) : scan::kNoSplit;
+  int e = mode2 ? choose_split(b, g.counts, hints, bits, &r.scan_ws) : scan::kNoSplit;
   std::vector<uint32_t> corrections;
   if (e != scan::kNoSplit && !scan::split_coordinates(b.xyz.data(), g.valid.data(), g.valid.size(),
                                                       e, kSplitLimit, &g.q, &corrections))
@@ -344,7 +345,7 @@ void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<
   pw.varint(n);
   if (lists_negative_zeros(r.ctx.h)) write_negative_zeros(b.xyz, b.valid, &pw);
   std::vector<uint8_t> payload = std::move(pw.buffer());
-  const std::vector<uint8_t> body = scan_body(g, hints, mode2, e, corrections, coded);
+  const std::vector<uint8_t> body = scan_body(g, hints, mode2, e, corrections, &r.scan_ws, coded);
   payload.insert(payload.end(), body.begin(), body.end());
   // A raster window at a bound codes integers of its own (a finer grid): the decoder's.
   r.fine = mode2 ? 0 : scan_fine_shift(body.data(), body.size(), "SCNW");
@@ -413,7 +414,7 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
   if (r.opts.any_point_order) {
     if (!r.meta.attributes.empty()) as_read.reset(new FrameBlock(*b));
     if (!reorder_window(b, r.grid, ring_field(t.attributes, *b), distance_field(t.attributes, *b),
-                        &coded, as_read ? &kept : nullptr))
+                        &coded, as_read ? &kept : nullptr, &r.scan_ws))
       as_read.reset();
   }
   const bool any = r.opts.any_point_order;
@@ -516,9 +517,22 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
     residue = ResidueWriter::open(original, ctx.take, opts.check);
   if (residue) residue->file_chunks(&head_buf, true);
   out->flush(&head_buf);
-  RaggedRun r{
-      t,  opts,         grid, ctx, meta_take, out, {}, 0, 0, {}, ErrorAccumulator(), residue.get(),
-      {}, FrameBlock(), 0};
+  RaggedRun r{t,
+              opts,
+              grid,
+              ctx,
+              meta_take,
+              out,
+              {},
+              0,
+              0,
+              {},
+              ErrorAccumulator(),
+              residue.get(),
+              {},
+              FrameBlock(),
+              0,
+              ScanWorkspace()};
   const size_t W = h.window_frames;
   for (size_t w = 0; w * W < t.frames; ++w) {
     const size_t f0 = w * W, f1 = std::min<size_t>(f0 + W, t.frames);

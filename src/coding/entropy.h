@@ -74,14 +74,14 @@ class IntEncoder {
    public:
     // Codes u under context ctx (0 <= ctx < contexts); returns its token.
     // `eset` picks the set of escape models (0 <= eset < kEscapeSets).
-    int put(uint32_t u, int ctx, int eset = 0) {
+    __attribute__((always_inline)) int put(uint32_t u, int ctx, int eset = 0) {
       int nbits;
       const int tok = put_token(u, ctx, &nbits, eset);
       if (nbits) bits_.put(u & ((1u << nbits) - 1), nbits, bits_out_);
       return tok;
     }
     // As put, but only u's token: the *nbits bits below it are the caller's to code.
-    int put_token(uint32_t u, int ctx, int* nbits, int eset = 0) {
+    __attribute__((always_inline)) int put_token(uint32_t u, int ctx, int* nbits, int eset = 0) {
       const int tok = token_of(u, nbits);
       if (tok < 15) {
         models_[ctx].encode(this, tok);
@@ -141,6 +141,12 @@ class IntEncoder {
   void commit(const Cursor& c) { cur_ = c; }
   // The block: varint(length of the range-coded part), that part, then the raw bits.
   std::vector<uint8_t> finish();
+  // finish()'s size if it were called now (the coder left as it is).
+  size_t finished_size() const {
+    size_t varint = 1;
+    for (size_t v = cur_.rc_.n + 4; v >= 0x80; v >>= 7) ++varint;
+    return varint + cur_.bytes_out();
+  }
 
  private:
   std::vector<SymbolModel> models_;
@@ -154,7 +160,7 @@ class IntDecoder {
   class Cursor {
    public:
     // Decodes one value under ctx and stores its token in *tok.
-    uint32_t get(int ctx, int* tok_out, int eset = 0) {
+    __attribute__((always_inline)) uint32_t get(int ctx, int* tok_out, int eset = 0) {
       const int tok = get_token(ctx, eset);
       *tok_out = tok;
       int nbits;
@@ -162,7 +168,7 @@ class IntDecoder {
       return nbits ? top | raw_bits(nbits) : top;
     }
     // The token put_token coded (0..63).
-    int get_token(int ctx, int eset = 0) {
+    __attribute__((always_inline)) int get_token(int ctx, int eset = 0) {
       int tok = models_[ctx].decode(this);
       if (tok == 15) {
         SymbolModel* escape = escape_ + kEscapeLevels * eset;
@@ -181,7 +187,9 @@ class IntDecoder {
       if (!bits_.get(n, &v)) corrupt("raw bits of an entropy-coded block are truncated");
       return v;
     }
-    int32_t get_signed(int ctx, int* tok, int eset = 0) { return unzigzag(get(ctx, tok, eset)); }
+    __attribute__((always_inline)) int32_t get_signed(int ctx, int* tok, int eset = 0) {
+      return unzigzag(get(ctx, tok, eset));
+    }
     // The symbol put_symbol coded.
     int get_symbol(int ctx) { return models_[ctx].decode(this); }
     // For SymbolModel::decode.

@@ -24,24 +24,33 @@ uint32_t hash3(const uint8_t* p) {
   return hash_of(bytes3(p));
 }
 
-void flush_literals(const uint8_t* data, size_t from, size_t to, std::vector<uint8_t>* out) {
+// The literals [from, to) at o, in runs of up to kMaxLiteral under a control byte; returns the
+// end.
+uint8_t* flush_literals(const uint8_t* data, size_t from, size_t to, uint8_t* o) {
   while (from < to) {
     const size_t n = std::min(kMaxLiteral, to - from);
-    out->push_back(static_cast<uint8_t>(n - 1));
-    out->insert(out->end(), data + from, data + from + n);
+    *o++ = static_cast<uint8_t>(n - 1);
+    std::memcpy(o, data + from, n);
+    o += n;
     from += n;
   }
+  return o;
 }
-// A copy of `len` bytes (3 to 264) from `off` + 1 bytes back.
-void put_copy(size_t len, size_t off, std::vector<uint8_t>* out) {
+// A copy of `len` bytes (3 to 264) from `off` + 1 bytes back, at o; returns the end.
+uint8_t* put_copy(size_t len, size_t off, uint8_t* o) {
   const size_t l = len - 2;
   if (l < 7) {
-    out->push_back(static_cast<uint8_t>((l << 5) | (off >> 8)));
+    *o++ = static_cast<uint8_t>((l << 5) | (off >> 8));
   } else {
-    out->push_back(static_cast<uint8_t>((7 << 5) | (off >> 8)));
-    out->push_back(static_cast<uint8_t>(l - 7));
+    *o++ = static_cast<uint8_t>((7 << 5) | (off >> 8));
+    *o++ = static_cast<uint8_t>(l - 7);
   }
-  out->push_back(static_cast<uint8_t>(off & 255));
+  *o++ = static_cast<uint8_t>(off & 255);
+  return o;
+}
+void put_copy(size_t len, size_t off, std::vector<uint8_t>* out) {
+  uint8_t b[3];
+  out->insert(out->end(), b, put_copy(len, off, b));
 }
 }  // namespace
 
@@ -49,8 +58,10 @@ void put_copy(size_t len, size_t off, std::vector<uint8_t>* out) {
 std::vector<uint8_t> lzf_compress(const uint8_t* data, size_t size) {
   constexpr uint32_t kNone = ~uint32_t{0};
   if (size > 0xFFFFFFFFu) fail(ErrorCode::kUsage, "", "LZF of more than 4 GiB");
-  std::vector<uint8_t> out;
-  out.reserve(size / 2 + 16);
+  // At most the input and a control byte per kMaxLiteral literals: a copy codes 3 or more bytes
+  // in 2 or 3.
+  std::vector<uint8_t> out(size + size / kMaxLiteral + 1);
+  uint8_t* o = out.data();
   std::vector<uint32_t> table(size_t{1} << kHashBits, kNone);
   size_t i = 0, lit = 0;
   uint32_t v = size >= 3 ? bytes3(data) : 0;  // the 3 bytes at i, rolled on byte by byte
@@ -69,8 +80,8 @@ std::vector<uint8_t> lzf_compress(const uint8_t* data, size_t size) {
         len += 8;
       }
       while (len < limit && data[cand + len] == data[i + len]) ++len;
-      flush_literals(data, lit, i, &out);
-      put_copy(len, i - cand - 1, &out);
+      o = flush_literals(data, lit, i, o);
+      o = put_copy(len, i - cand - 1, o);
       // Index the positions the match covers (their prefixes), so later matches find them.
       for (size_t k = i + 1; k < i + len && k + 3 <= size; ++k)
         table[hash3(data + k)] = static_cast<uint32_t>(k);
@@ -82,7 +93,8 @@ std::vector<uint8_t> lzf_compress(const uint8_t* data, size_t size) {
       if (i + 3 <= size) v = (v << 8 | data[i + 2]) & 0xFFFFFFu;
     }
   }
-  flush_literals(data, lit, size, &out);
+  o = flush_literals(data, lit, size, o);
+  out.resize(static_cast<size_t>(o - out.data()));
   return out;
 }
 

@@ -14,17 +14,22 @@ namespace {
 // block, actual ones are unused.
 class DecodeIo {
  public:
-  explicit DecodeIo(IntDecoder* dec) : dec_(dec) {}
-  int32_t sym(int32_t, int32_t pred, int ctx) { return wrap_add(pred, dec_->get_signed(ctx)); }
-  uint32_t ring(uint32_t, uint32_t rings, int ctx) {
-    const uint32_t d = dec_->get(ctx);
-    if (d >= rings) dec_->corrupt("ring residual beyond the laser table");
+  // Decodes through a copy of dec's cursor (entropy.h): commit() stores it back at the end.
+  explicit DecodeIo(IntDecoder* dec) : dec_(dec), c_(dec->cursor()) {}
+  __attribute__((always_inline)) int32_t sym(int32_t, int32_t pred, int ctx) {
+    int tok;
+    return wrap_add(pred, c_.get_signed(ctx, &tok));
+  }
+  __attribute__((always_inline)) uint32_t ring(uint32_t, uint32_t rings, int ctx) {
+    int tok;
+    const uint32_t d = c_.get(ctx, &tok);
+    if (d >= rings) c_.corrupt("ring residual beyond the laser table");
     return d;
   }
-  bool flag(bool, int ctx) {
+  __attribute__((always_inline)) bool flag(bool, int ctx) {
     int tok;
-    const uint32_t v = dec_->get(ctx, &tok);
-    if (v > 1) dec_->corrupt("point validity flag is neither 0 nor 1");
+    const uint32_t v = c_.get(ctx, &tok);
+    if (v > 1) c_.corrupt("point validity flag is neither 0 nor 1");
     return v == 1;
   }
   scan::Polar polar(size_t) const { return {}; }
@@ -35,13 +40,14 @@ class DecodeIo {
   int32_t pixel_residual(size_t, int64_t) const { return 0; }
   int32_t rho(size_t, int32_t) const { return 0; }
   int64_t check_pixel(int64_t p, size_t pixels) {
-    if (p < 0 || static_cast<uint64_t>(p) >= pixels)
-      dec_->corrupt("pixel outside the raster table");
+    if (p < 0 || static_cast<uint64_t>(p) >= pixels) c_.corrupt("pixel outside the raster table");
     return p;
   }
+  void commit() { dec_->commit(c_); }
 
  private:
   IntDecoder* dec_;
+  IntDecoder::Cursor c_;
   int32_t zero_[3] = {0, 0, 0};
 };
 
@@ -58,21 +64,27 @@ ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::s
   g.q.resize(3 * total);
   g.valid.resize(total);
   IntDecoder dec(data + h.body, size - h.body, scan::kContexts, what);
-  DecodeIo io(&dec);
   scan::State st(h.table);
   scan::raster::Pixels px;
   if (h.pixels > 0) scan::raster::read_pixels(&dec, h, &px);
+  DecodeIo io(&dec);
   scan::raster::State rs(px.count());
   size_t first = 0;
   for (size_t f = 0; f < h.counts.size(); ++f) {
-    if (h.flags[f] & scan::kRaster)
+    if (h.flags[f] & scan::kRaster) {
       scan::raster::code_frame(io, px, rs, h.flags[f], first, h.counts[f], g.q.data() + 3 * first,
                                g.valid.data() + first);
-    else
+    } else if (f + 1 < h.counts.size()) {
       scan::code_frame(io, st, h.flags[f], first, h.counts[f], g.q.data() + 3 * first,
                        g.valid.data() + first);
+    } else {  // the last: on a trial state, which leaves the map no later sweep reads
+      scan::State last = st.trial();
+      scan::code_points(io, last, h.flags[f], first, h.counts[f], g.q.data() + 3 * first,
+                        g.valid.data() + first);
+    }
     first += h.counts[f];
   }
+  io.commit();
   if (!dec.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the scan geometry");
   return g;
 }

@@ -234,7 +234,9 @@ struct Scratch {
   int walk = -1;            // the window's choice of the ring walk (code_chosen): -1 not made yet
   std::vector<double> log_t, log_c;     // Tally::estimate's prefix sums
   std::vector<CartesianEstimate> cart;  // per frame of the window
-  std::shared_ptr<scan::SweepMaps> maps = std::make_shared<scan::SweepMaps>();  // every table's
+  std::vector<int8_t> spherical_ok;     // per frame: scan::spherical_ok, -1 not yet known
+  std::shared_ptr<scan::SweepMaps> maps = std::make_shared<scan::SweepMaps>();   // every table's
+  std::shared_ptr<scan::SweepMaps> spare = std::make_shared<scan::SweepMaps>();  // a kept coding's
 };
 
 // Whether spherical coding (its symbols recorded in s->trial, tallied in its tally) costs less than
@@ -289,14 +291,15 @@ bool walk_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& po
   return flags < kWalkFlags * valid;
 }
 
-// The spherical trial of frame [first, first + n) under *flags on a staged copy of *st
-// (returned), its symbols recorded in *t (room for `room` of them) and tallied in t->tally, the
-// second of x y by the cheaper of the azimuth and the hypotenuse by the estimate (both coded in
-// the one pass: the choice moves no other symbol). Sets kHypot in *flags when the hypotenuse's.
-scan::State spherical_trial(const scan::State& st, uint8_t* flags, const ScanGeometry& g,
+// The spherical trial of frame [first, first + n) under *flags on a staged copy of *st (a
+// trial copy for a window's last frame, whose map no later sweep reads; returned), its symbols
+// recorded in *t (room for `room` of them) and tallied in t->tally, the second of x y by the
+// cheaper of the azimuth and the hypotenuse by the estimate (both coded in the one pass: the choice
+// moves no other symbol). Sets kHypot in *flags when the hypotenuse's.
+scan::State spherical_trial(const scan::State& st, bool last, uint8_t* flags, const ScanGeometry& g,
                             const std::vector<scan::Polar>& polar, size_t first, size_t n,
                             size_t room, Trial* t, Scratch* s) {
-  scan::State staged = st.staged();
+  scan::State staged = last ? st.trial() : st.staged();
   if (t->sym_room.size() < room) t->sym_room.resize(room);
   if (t->alt_room.size() < n) t->alt_room.resize(n);
   t->tally.clear();
@@ -320,22 +323,26 @@ scan::State spherical_trial(const scan::State& st, uint8_t* flags, const ScanGeo
 
 // Codes frame f spherically when that costs less by the estimate, else Cartesian: the spherical
 // coding runs once, on a staged state, its symbols recorded, and is replayed into the block
-// when it wins. Returns the frame's flags as coded.
+// when it wins. Returns the frame's flags as coded. The window's last frame (f + 1 = its
+// frames) is coded on trial states: no later sweep reads the map it would write (the map never
+// changes a symbol of its own sweep), so its cells are not touched.
 uint8_t code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanGeometry& g,
                     const std::vector<scan::Polar>& polar, size_t f, size_t first, size_t n,
                     Scratch* s) {
   const auto sph = static_cast<uint8_t>(flags | scan::kSpherical);
   size_t passed = 0;
   const bool upward = walk_worth_trying(g, polar, st->table().rings(), first, n, &passed);
+  const bool last = f + 1 == g.counts.size();
   // At most 7 symbols a point; a walk frame's ring takes the repeat flag and the rings passed.
   const size_t room = 7 * n + (upward ? n + passed : 0) + 1;
   auto coded = static_cast<uint8_t>(upward && s->walk == 1 ? sph | scan::kRingWalk : sph);
-  scan::State staged = spherical_trial(*st, &coded, g, polar, first, n, room, &s->trial, s);
+  scan::State staged = spherical_trial(*st, last, &coded, g, polar, first, n, room, &s->trial, s);
   // The window's first frame whose rings run upward is coded both ways (both write the same
   // ranges into this sweep's map), the smaller kept; the window's later frames follow it.
   if (upward && s->walk < 0) {
     auto walk = static_cast<uint8_t>(sph | scan::kRingWalk);
-    scan::State walked = spherical_trial(*st, &walk, g, polar, first, n, room, &s->walk_trial, s);
+    scan::State walked =
+        spherical_trial(*st, last, &walk, g, polar, first, n, room, &s->walk_trial, s);
     s->walk = s->walk_trial.tally.estimate(&s->log_t, &s->log_c) <
               s->trial.tally.estimate(&s->log_t, &s->log_c);
     if (s->walk == 1) {
@@ -359,35 +366,73 @@ uint8_t code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanG
   return flags;
 }
 
-// The payload under one table: per frame the cheaper of spherical and Cartesian coding.
-std::vector<uint8_t> encode_with(const ScanGeometry& g, const scan::Table& t,
-                                 const std::vector<scan::Polar>& polar, Scratch* s) {
-  const size_t frames = g.counts.size();
-  std::vector<uint8_t> flags(frames);
-  IntEncoder enc(scan::kContexts);
-  PutSink sink{&enc};
+// A window's coding under one table, frame by frame: the block so far, the state after it and
+// the frames' flags. (The encoder points into itself and the state at its table: neither moves.)
+struct Coding {
+  Coding(const scan::Table& t, std::shared_ptr<scan::SweepMaps> maps)
+      : enc(new IntEncoder(scan::kContexts)), st(new scan::State(t, std::move(maps))) {}
+  std::unique_ptr<IntEncoder> enc;
+  std::unique_ptr<scan::State> st;
+  std::vector<uint8_t> flags;
+  size_t frames = 0, first = 0;  // the frames coded, their points
+  int walk = -1;                 // its ring walk choice (Scratch::walk)
+};
+
+// Codes frames c->frames .. to - 1 of g: per frame the cheaper of spherical and Cartesian coding.
+void code_frames(const ScanGeometry& g, const std::vector<scan::Polar>& polar, size_t to, Coding* c,
+                 Scratch* s) {
+  const scan::Table& t = c->st->table();
+  PutSink sink{c->enc.get()};
   EncodeIo<PutSink> io(&sink, g, polar);
-  scan::State st(t, s->maps);
-  s->cart.resize(frames);
-  s->walk = -1;
-  size_t first = 0;
-  for (size_t f = 0; f < frames; ++f) {
-    const size_t n = g.counts[f];
+  s->cart.resize(g.counts.size());
+  s->spherical_ok.resize(g.counts.size(), -1);
+  c->flags.resize(to);
+  s->walk = c->walk;  // the coding's ring walk choice (code_chosen)
+  for (size_t f = c->frames; f < to; ++f) {
+    const size_t n = g.counts[f], first = c->first;
     s->q.resize(3 * n);
     s->v.resize(n);
-    flags[f] = validity(g, first, n);
-    if (t.rings() > 0 && flags[f] != scan::kNoneValid && scan::spherical_ok(g, first, n)) {
-      flags[f] = code_chosen(&enc, &st, flags[f], g, polar, f, first, n, s);
+    uint8_t& flags = c->flags[f];
+    flags = validity(g, first, n);
+    int8_t& ok = s->spherical_ok[f];  // the same under every table
+    if (t.rings() > 0 && flags != scan::kNoneValid && ok < 0) ok = scan::spherical_ok(g, first, n);
+    if (t.rings() > 0 && flags != scan::kNoneValid && ok) {
+      flags = code_chosen(c->enc.get(), c->st.get(), flags, g, polar, f, first, n, s);
     } else {
-      scan::code_frame(io, st, flags[f], first, n, s->q.data(), s->v.data());
+      scan::code_frame(io, *c->st, flags, first, n, s->q.data(), s->v.data());
     }
-    first += n;
+    c->first += n;
+    c->frames = f + 1;
   }
+  c->walk = s->walk;
+}
+
+// The payload of c's frames (g's first c->frames) under c's table; c's block is finished.
+std::vector<uint8_t> finish(const ScanGeometry& g, Coding* c) {
+  ScanGeometry head;  // write_header reads the counts only
+  head.counts.assign(g.counts.begin(), g.counts.begin() + static_cast<std::ptrdiff_t>(c->frames));
   std::vector<uint8_t> out;
-  scan::write_header(g, flags, t, &out);
-  const std::vector<uint8_t> body = enc.finish();
+  scan::write_header(head, c->flags, c->st->table(), &out);
+  const std::vector<uint8_t> body = c->enc->finish();
   out.insert(out.end(), body.begin(), body.end());
   return out;
+}
+
+// finish(g, c)'s size, c left as it is.
+size_t finished_size(const ScanGeometry& g, const Coding& c) {
+  ScanGeometry head;
+  head.counts.assign(g.counts.begin(), g.counts.begin() + static_cast<std::ptrdiff_t>(c.frames));
+  std::vector<uint8_t> out;
+  scan::write_header(head, c.flags, c.st->table(), &out);
+  return out.size() + c.enc->finished_size();
+}
+
+// The payload under one table.
+std::vector<uint8_t> encode_with(const ScanGeometry& g, const scan::Table& t,
+                                 const std::vector<scan::Polar>& polar, Scratch* s) {
+  Coding c(t, s->maps);
+  code_frames(g, polar, g.counts.size(), &c, s);
+  return finish(g, &c);
 }
 
 // A table to try: the azimuth step found divided by `divisor`, ranges in the sensor's steps or not.
@@ -402,24 +447,31 @@ struct TableChoice {
 // frames 1.8 % apart where the window's were 1.1 % apart; with the second of x y chosen per
 // frame (flags_f bit 6), its two frames put the step divided by 4 3.0 % behind the step as
 // found, whose window came out 0.5 % larger. *tables: the tables tried (each the window's; only
-// the first frames' points placed).
+// the first frames' points placed). *kept: the coding of the first frames under the first
+// table of the smallest payload (a choice: the window's coding under it goes on from there),
+// its maps s->spare's, which it swaps with s->maps.
 constexpr double kTrialSlack = 1.03;
 constexpr size_t kTrialFrames = 2;
 std::vector<TableChoice> first_frame_choice(const ScanGeometry& g, const scan::RingFit& fit,
                                             const std::vector<TableChoice>& tried,
                                             std::vector<scan::Table>* tables,
-                                            std::vector<scan::Polar>* polar, Scratch* s) {
-  ScanGeometry first;
-  first.counts.assign(g.counts.begin(), g.counts.begin() + kTrialFrames);
-  const auto n = static_cast<std::ptrdiff_t>(first.counts[0] + first.counts[1]);
-  first.q.assign(g.q.begin(), g.q.begin() + 3 * n);
-  first.valid.assign(g.valid.begin(), g.valid.begin() + n);
+                                            std::vector<scan::Polar>* polar,
+                                            std::unique_ptr<Coding>* kept, Scratch* s) {
+  const size_t n = g.counts[0] + g.counts[1];
+  tables->reserve(tried.size());  // the codings point at their tables
   std::vector<size_t> sizes;
   for (const TableChoice& c : tried) {
-    tables->push_back(scan::table_fit(fit, c.divisor, c.units));
+    tables->push_back(
+        scan::table_fit(fit, c.divisor, c.units, tables->empty() ? nullptr : &tables->back()));
     const scan::Table& t = tables->back();
-    scan::place_points(g, fit, t, static_cast<size_t>(n), polar);
-    sizes.push_back(encode_with(first, t, *polar, s).size());
+    scan::place_points(g, fit, t, n, polar);
+    std::unique_ptr<Coding> coding(new Coding(t, s->maps));
+    code_frames(g, *polar, kTrialFrames, coding.get(), s);
+    sizes.push_back(finished_size(g, *coding));
+    if (sizes.size() == 1 || sizes.back() < *std::min_element(sizes.begin(), sizes.end() - 1)) {
+      kept->swap(coding);
+      std::swap(s->maps, s->spare);  // the kept coding's maps are not reset by the next table
+    }
     if (t.rings() == 0) break;
   }
   s->cart.clear();  // its estimates were of the first frame's state under the last table
@@ -435,7 +487,8 @@ std::vector<TableChoice> first_frame_choice(const ScanGeometry& g, const scan::R
 
 }  // namespace
 
-std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints) {
+std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints,
+                                          ScanWorkspace* ws) {
   size_t total = 0;
   for (uint32_t n : g.counts) total += n;
   if (g.valid.size() != total || g.q.size() != 3 * total)
@@ -447,6 +500,12 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
   // whole window.
   const scan::RingFit fit = scan::fit_rings(g, hints);
   Scratch scratch;
+  if (ws) {  // the maps of the windows before (reset for each table: the same coding)
+    if (!ws->maps) ws->maps = std::make_shared<scan::SweepMaps>();
+    if (!ws->spare) ws->spare = std::make_shared<scan::SweepMaps>();
+    scratch.maps = ws->maps;
+    scratch.spare = ws->spare;
+  }
   std::vector<scan::Polar> polar;
   std::vector<TableChoice> tried;
   for (double divisor : {1.0, 4.0, 16.0}) {
@@ -455,9 +514,11 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
   }
   std::vector<TableChoice> choices = tried;
   std::vector<scan::Table> tables;  // of the choices tried on the first frames, in order
+  std::unique_ptr<Coding> kept;     // the first frames' coding under one of them
   if (g.counts.size() > kTrialFrames)
-    choices = first_frame_choice(g, fit, tried, &tables, &polar, &scratch);
+    choices = first_frame_choice(g, fit, tried, &tables, &polar, &kept, &scratch);
   std::vector<uint8_t> best;
+  scan::Table t;  // the table of the choice before, then this one's
   for (const TableChoice& c : choices) {
     const auto k =
         static_cast<size_t>(std::find_if(tried.begin(), tried.end(),
@@ -465,9 +526,19 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
                                            return o.divisor == c.divisor && o.units == c.units;
                                          }) -
                             tried.begin());
-    const scan::Table t = k < tables.size() ? tables[k] : scan::table_fit(fit, c.divisor, c.units);
+    if (k < tables.size())
+      t = tables[k];
+    else
+      t = scan::table_fit(fit, c.divisor, c.units, &t);
     scan::place_points(g, fit, t, g.total(), &polar);
-    std::vector<uint8_t> out = encode_with(g, t, polar, &scratch);
+    std::vector<uint8_t> out;
+    if (kept && &kept->st->table() == &tables[k]) {  // its first frames coded already
+      code_frames(g, polar, g.counts.size(), kept.get(), &scratch);
+      out = finish(g, kept.get());
+      kept.reset();
+    } else {
+      out = encode_with(g, t, polar, &scratch);
+    }
     if (best.empty() || out.size() < best.size()) best.swap(out);
     if (t.rings() == 0) break;
   }

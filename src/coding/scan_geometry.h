@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -53,8 +54,20 @@ struct ScanHints {
   double step = 0;
 };
 
+namespace scan {
+class SweepMaps;  // scan_maps.h
+}
+// What an encoder may keep from window to window: the ring x column maps (two pairs), up to the
+// largest table's cells. Given to each window's encode_scan_geometry, their memory is reused (only
+// the cells a window wrote are cleared) instead of allocated and zeroed again. Empty until used.
+struct ScanWorkspace {
+  std::shared_ptr<scan::SweepMaps> maps, spare;
+};
+
 // The payload of one window. Throws Error(kInvalidArgument) when the shapes disagree.
-std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints = {});
+// ws: a workspace kept across windows, or null (the same bytes either way).
+std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints = {},
+                                          ScanWorkspace* ws = nullptr);
 
 // Which table orders the points: one per frame with the azimuth step of each ring's sorted
 // azimuths (a driver that writes a ring out of firing order), or the window's as the payload

@@ -40,7 +40,8 @@ inline int argmin(const uint32_t* s, int n) {
 // FORMAT's fraction rule: v against pred, the rounding of u (fr = u - pred, known to the
 // decoder): the context by |fr| (3 from ctx), the residual's sign flipped when fr < 0.
 template <class Io>
-int32_t sym_fraction(Io& io, int32_t v, int32_t pred, double fr, int ctx) {
+__attribute__((always_inline)) inline int32_t sym_fraction(Io& io, int32_t v, int32_t pred,
+                                                           double fr, int ctx) {
   const double af = fr < 0 ? -fr : fr;
   const int b = af < 0.1875 ? 0 : af < 0.375 ? 1 : 2;
   if (fr < 0) return wrap_sub(0, io.sym(wrap_sub(0, v), wrap_sub(0, pred), ctx + b));
@@ -59,8 +60,9 @@ inline double root0(double e) {
 
 // The second of x y from the azimuth like the first (FORMAT step 4, a frame without bit 6).
 template <class Io>
-void second_azimuth(Io& io, double rho, double c, double s, int i1, int lb, const int32_t* a,
-                    int32_t* p) {
+__attribute__((always_inline)) inline void second_azimuth(Io& io, double rho, double c, double s,
+                                                          int i1, int lb, const int32_t* a,
+                                                          int32_t* p) {
   const double u1 = rho * (i1 == 0 ? c : s);
   const int32_t h1 = round_clamp(u1);
   p[i1] = sym_fraction(io, a[i1], h1, u1 - h1, kCtxY + 3 * std::min(lb, 15));
@@ -70,8 +72,9 @@ void second_azimuth(Io& io, double rho, double c, double s, int i1, int lb, cons
 // step 4, a frame with bit 6), its context by how many integers lie within half a grid step of
 // the range.
 template <class Io>
-void second_hypot(Io& io, double rho, double c, double s, int i0, int32_t h0, const int32_t* a,
-                  int32_t* p) {
+__attribute__((always_inline)) inline void second_hypot(Io& io, double rho, double c, double s,
+                                                        int i0, int32_t h0, const int32_t* a,
+                                                        int32_t* p) {
   const int i1 = 1 - i0;
   const double half = 0.5;
   const double o = static_cast<double>(p[i0]), oo = o * o;
@@ -97,8 +100,9 @@ struct BothSeconds<Io, std::void_t<decltype(Io::kBothSeconds)>>
 // `hypot` (bit 6) from the range's hypotenuse; z on the ring's cone (bent by the table's bow).
 // (rho: the range in grid units; lb: the contexts' bit length.)
 template <class Io>
-void code_xyz(Io& io, const Table& t, bool hypot, uint32_t k, int32_t col, double rho, int lb,
-              const int32_t* a, int32_t* p) {
+__attribute__((always_inline)) inline void code_xyz(Io& io, const Table& t, bool hypot, uint32_t k,
+                                                    int32_t col, double rho, int lb,
+                                                    const int32_t* a, int32_t* p) {
   const double phi = static_cast<double>(t.azimuth0[k]) + static_cast<double>(col) * t.step;
   double s, c;
   det_sincos(phi, &s, &c);
@@ -121,7 +125,8 @@ void code_xyz(Io& io, const Table& t, bool hypot, uint32_t k, int32_t col, doubl
 }
 
 template <class Io>
-void code_cartesian(Io& io, State& st, const int32_t* a, int32_t* p) {
+__attribute__((always_inline)) inline void code_cartesian(Io& io, State& st, const int32_t* a,
+                                                          int32_t* p) {
   for (int ax = 0; ax < 3; ++ax) {
     const int ctx = kCtxCart + ax * 8 + std::min((st.last_bits[ax] + 1) / 2, 7);
     p[ax] = io.sym(a[ax], st.last[ax], ctx);
@@ -152,7 +157,8 @@ struct RingColumn {
 
 // The ring's column (FORMAT step 2) from p0 and p1, the context's first part by the residual.
 template <class Io>
-int32_t code_column(Io& io, State::Ring& r, int32_t col, int32_t p0, int32_t p1, bool moved) {
+__attribute__((always_inline)) inline int32_t code_column(Io& io, State::Ring& r, int32_t col,
+                                                          int32_t p0, int32_t p1, bool moved) {
   const int sc = detail::argmin(r.score_col, 2);
   const int cctx = kCtxColumn + 4 * moved + std::min(bit_length(r.score_col[sc] >> 2), 3);
   const int32_t c = io.sym(col, sc ? p1 : p0, cctx);
@@ -163,7 +169,8 @@ int32_t code_column(Io& io, State::Ring& r, int32_t col, int32_t p0, int32_t p1,
 
 // Ring and column of a frame without bit 3: the ring against the successor or the run.
 template <class Io>
-RingColumn ring_successor(Io& io, State& st, const Polar& pa, const Prev* pv) {
+__attribute__((always_inline)) inline RingColumn ring_successor(Io& io, State& st, const Polar& pa,
+                                                                const Prev* pv) {
   const uint32_t rings = static_cast<uint32_t>(st.table().rings());
   // Ring: the one that followed the previous point's ring last time, or the previous step's
   // continuation (runs of rings up or down), whichever has done better lately.
@@ -224,7 +231,8 @@ uint32_t walk_ring(Io& io, const State& st, uint32_t want, const Prev* pv, bool*
 
 // Ring and column of a ring walk frame (FORMAT "Ring walk frames", steps 1 and 2).
 template <class Io>
-RingColumn ring_walk(Io& io, State& st, const Polar& pa, const Prev* pv) {
+__attribute__((always_inline)) inline RingColumn ring_walk(Io& io, State& st, const Polar& pa,
+                                                           const Prev* pv) {
   RingColumn out;
   if (!pv->have) {  // the frame's first point: its ring as a residual against ring 0
     out.ring = io.ring(pa.ring, static_cast<uint32_t>(st.table().rings()), kCtxRing);
@@ -259,8 +267,9 @@ RingColumn ring_walk(Io& io, State& st, const Polar& pa, const Prev* pv) {
 }
 
 template <class Io>
-void code_spherical(Io& io, State& st, const Polar& pa, const int32_t* a, bool walk, bool hypot,
-                    Prev* pv, int32_t* p) {
+__attribute__((always_inline)) inline void code_spherical(Io& io, State& st, const Polar& pa,
+                                                          const int32_t* a, bool walk, bool hypot,
+                                                          Prev* pv, int32_t* p) {
   const Table& t = st.table();
   const RingColumn rc = walk ? ring_walk(io, st, pa, pv) : ring_successor(io, st, pa, pv);
   const uint32_t k = rc.ring;

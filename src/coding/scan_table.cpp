@@ -107,15 +107,32 @@ float find_bow(const ScanGeometry& g, const ScanHints& h) {
 size_t dense_rings(const ScanGeometry& g, const ScanHints& h, std::vector<uint32_t>* ring) {
   ring->assign(g.total(), 0);
   if (h.ring.size() != g.total()) return 0;
+  // The values seen, flagged in a table when they are small (ring fields are: laser numbers),
+  // else collected in a map; then numbered in order.
+  constexpr uint32_t kSmall = 1u << 16;
+  std::vector<uint32_t> small;  // value -> 1 + its number (0: not seen)
   std::map<uint32_t, uint32_t> ids;
-  for (size_t i = 0; i < g.total(); ++i)
-    if (g.valid[i]) ids.emplace(h.ring[i], 0);
-  if (ids.empty() || ids.size() > kMaxRings) return 0;
+  for (size_t i = 0; i < g.total(); ++i) {
+    if (!g.valid[i]) continue;
+    const uint32_t v = h.ring[i];
+    if (v < kSmall) {
+      if (small.size() <= v) small.resize(std::max<size_t>(v + 1, 2 * small.size()), 0);
+      small[v] = 1;
+    } else {
+      ids.emplace(v, 0);
+    }
+  }
   uint32_t n = 0;
+  for (uint32_t& s : small)
+    if (s) s = ++n;
+  if (n + ids.size() == 0 || n + ids.size() > kMaxRings) return 0;
   for (auto& kv : ids) kv.second = n++;
-  for (size_t i = 0; i < g.total(); ++i)
-    if (g.valid[i]) (*ring)[i] = ids[h.ring[i]];
-  return ids.size();
+  for (size_t i = 0; i < g.total(); ++i) {
+    if (!g.valid[i]) continue;
+    const uint32_t v = h.ring[i];
+    (*ring)[i] = v < kSmall ? small[v] - 1 : ids[v];
+  }
+  return n;
 }
 
 // Rings from the points' elevations, for a source without a ring field: the peaks of the
@@ -380,7 +397,7 @@ double sorted_step(const RingFit& r) {
   return std::fabs(infer_step(phi));
 }
 
-Table table_fit(const RingFit& r, double step_divisor, bool units) {
+Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* twin) {
   Table t;
   const size_t rings = r.rings();
   if (rings == 0) return t;
@@ -395,6 +412,10 @@ Table table_fit(const RingFit& r, double step_divisor, bool units) {
   t.bow = r.bow;
   units = units && !r.unit.empty();
   if (units) t.unit = r.unit, t.offset = r.offset;
+  if (twin && twin->step == t.step && twin->rings() == rings) {  // the same offsets
+    t.azimuth0 = twin->azimuth0;
+    return t;
+  }
   t.azimuth0.resize(rings);
   for (size_t k = 0; k < rings; ++k) {
     double sc = 0, ss = 0;
@@ -409,8 +430,11 @@ Table table_fit(const RingFit& r, double step_divisor, bool units) {
 
 void place_points(const ScanGeometry& g, const RingFit& r, const Table& t, size_t n,
                   std::vector<Polar>* polar) {
-  polar->assign(n, Polar{});
-  if (t.rings() == 0) return;
+  if (t.rings() == 0) {
+    polar->assign(n, Polar{});
+    return;
+  }
+  polar->resize(n);  // each entry written once below
   const double step = t.step;
   const bool units = !t.unit.empty();  // table_fit's ranges in the sensor's steps
   // Each valid point's column: its azimuth is the next of its ring's (fit_rings kept them in
@@ -418,7 +442,10 @@ void place_points(const ScanGeometry& g, const RingFit& r, const Table& t, size_
   std::vector<size_t> next(t.rings(), 0);
   for (size_t i = 0; i < n; ++i) {
     const int32_t* p = &g.q[3 * i];
-    if (!g.valid[i] || !small_enough(p)) continue;
+    if (!g.valid[i] || !small_enough(p)) {
+      (*polar)[i] = Polar{};
+      continue;
+    }
     Polar o = r.polar[i];
     o.column = round_clamp((r.phi[o.ring][next[o.ring]++] - t.azimuth0[o.ring]) / step);
     if (units) o.range = r.steps[i];

@@ -40,7 +40,9 @@ Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor, bo
 // table_for in two steps: the table alone (its per-ring fit, the costly part), then *polar
 // (resized to n) for points [0, n) under it, so an encoder trying a table on a window's first
 // frames places only those and keeps the table for the whole window.
-Table table_fit(const RingFit& r, double step_divisor, bool units);
+// twin: a table of r fitted before (or null); when its step is this one's, its azimuth offsets
+// (which depend on r and the step only) are taken instead of fitted again.
+Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* twin = nullptr);
 void place_points(const ScanGeometry& g, const RingFit& r, const Table& t, size_t n,
                   std::vector<Polar>* polar);
 
