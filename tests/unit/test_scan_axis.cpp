@@ -13,6 +13,7 @@
 #include "capz/error.h"
 #include "coding/scan_geometry.h"
 #include "coding/scan_shared.h"
+#include "scan_geometry_expect.h"
 
 namespace capz {
 namespace {
@@ -37,12 +38,7 @@ ScanGeometry sweeps(double jitter, ScanHints* h) {
         range = 0.004 * std::floor(range / 0.004 + 0.5);
         const double rho = range * std::cos(el);
         const double p[3] = {rho * std::cos(az), rho * std::sin(az), range * std::sin(el)};
-        g.valid.push_back(1);
-        for (int a = 0; a < 3; ++a) {
-          g.q.push_back(static_cast<int32_t>(std::floor(p[a] / 0.002 + 0.5)));
-          h->xyz.push_back(static_cast<float>(p[a]));
-        }
-        h->ring.push_back(static_cast<uint32_t>(k));
+        push_point(&g, h, p, static_cast<uint32_t>(k));
         ++n;
       }
     }

@@ -10,6 +10,7 @@
 #include "capz/error.h"
 #include "coding/scan_geometry.h"
 #include "coding/scan_shared.h"
+#include "scan_geometry_expect.h"
 
 namespace capz {
 namespace {
@@ -34,12 +35,7 @@ ScanGeometry sweeps(double range_step, ScanHints* h, double offset = 0) {
         const double rho = range * std::cos(el) + offset;
         const double p[3] = {rho * std::cos(az), rho * std::sin(az), range * std::sin(el)};
         if (offset != 0) h->distance.push_back(static_cast<float>(range));
-        g.valid.push_back(1);
-        for (int a = 0; a < 3; ++a) {
-          g.q.push_back(static_cast<int32_t>(std::floor(p[a] / 0.002 + 0.5)));
-          h->xyz.push_back(static_cast<float>(p[a]));
-        }
-        h->ring.push_back(static_cast<uint32_t>(k));
+        push_point(&g, h, p, static_cast<uint32_t>(k));
         ++n;
       }
     }

@@ -39,12 +39,7 @@ ScanGeometry firing_order(const std::vector<uint32_t>& order, ScanHints* h) {
         const double range = 7 + 2 * std::sin(2 * az) + std::cos(5 * az + k) + 0.02 * u(rng) + ret;
         const double rho = range * std::cos(el);
         const double p[3] = {rho * std::cos(az), rho * std::sin(az), range * std::sin(el)};
-        g.valid.push_back(1);
-        for (int a = 0; a < 3; ++a) {
-          g.q.push_back(static_cast<int32_t>(std::floor(p[a] / 0.002 + 0.5)));
-          h->xyz.push_back(static_cast<float>(p[a]));
-        }
-        h->ring.push_back(static_cast<uint32_t>(k));
+        push_point(&g, h, p, static_cast<uint32_t>(k));
         ++n;
       }
     }
