@@ -165,11 +165,9 @@ int cmd_convert(const Args& args) {
     std::fprintf(stderr, "capz convert: dropped point fields: %s\n",
                  capz::field_names(take).c_str());
   if (g_verbosity >= 1)
-    std::fprintf(stderr, "capz convert: %s (%s) -> %s (%s): %zu points%s x %zu frames, %s\n",
-                 in.c_str(), capz::format_name(take.format), target.c_str(),
-                 capz::format_name(out_format), take.ragged() ? take.total_points() : take.points,
-                 take.ragged() ? " in all" : "", take.frames,
-                 human_size(path_size(target)).c_str());
+    std::fprintf(stderr, "capz convert: %s (%s) -> %s (%s): %s, %s\n", in.c_str(),
+                 capz::format_name(take.format), target.c_str(), capz::format_name(out_format),
+                 shape_text(take).c_str(), human_size(path_size(target)).c_str());
   return 0;
 }
 

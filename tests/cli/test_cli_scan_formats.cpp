@@ -259,3 +259,15 @@ TEST(CliScanFormats, ConvertOfAFolderWithABadLastFrameLeavesNothing) {
     left += e.path().filename() != "in" && e.path().filename() != "stdout";
   EXPECT_EQ(left, 0u);
 }
+
+// convert's summary line gives a ragged folder's shape as info does: its frames of their own
+// counts and the points in all.
+TEST(CliScanFormats, ConvertOfARaggedFolderSaysItsShape) {
+  capz_test::TempDir dir("capz_cli_convert_shape");
+  const std::string in = dir.file("in");
+  capz::write_take(spiral({300, 310, 320}, capz::Format::kPCDFolder), in, capz::WriteOptions());
+  std::string out;
+  ASSERT_EQ(capz_run("convert " + in + " " + dir.file("out") + "/ --to ply", dir, &out), 0) << out;
+  EXPECT_NE(out.find("3 frames of their own point counts, 930 points in all"), std::string::npos)
+      << out;
+}
