@@ -6,7 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <vector>
 
+#include "capz/error.h"
 #include "coding/scan_geometry.h"
 
 namespace capz {
@@ -17,6 +20,17 @@ inline void expect_same(const ScanGeometry& a, const ScanGeometry& b) {
   for (size_t i = 0; i < a.valid.size(); ++i) {
     if (!a.valid[i]) continue;
     for (int k = 0; k < 3; ++k) ASSERT_EQ(a.q[3 * i + k], b.q[3 * i + k]) << "point " << i;
+  }
+}
+
+// Decoding payload d fails as corrupt, naming it ("damaged").
+inline void expect_scan_corrupt(const std::vector<uint8_t>& d) {
+  try {
+    decode_scan_geometry(d.data(), d.size(), "damaged");
+    ADD_FAILURE() << "decoded";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
+    EXPECT_NE(std::string(e.what()).find("damaged"), std::string::npos);
   }
 }
 
