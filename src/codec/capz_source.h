@@ -56,6 +56,7 @@ class CapzSource : public FrameSource {
   // Throws Error(kMemoryLimit) when `frames` frames of decoded samples exceed the limit.
   void check_memory(double frames, const char* what) const;
   void decode(size_t w);
+  void hand_over(size_t w, FrameBlock* out);
   void read_ragged(size_t first, size_t count, FrameBlock* out);
   // The header_ of a stream of one ragged frame in the fixed shape (the rule above).
   void one_frame_as_fixed();
