@@ -195,7 +195,7 @@ void CapzSource::decode(size_t w) {
   if (pool_)
     decode_ahead(w);
   else
-    decode_window(*bytes_, ps_, w, &win_);
+    decode_window(*bytes_, ps_, w, &win_, &ints_);
   cached_ = w;
   have_ = true;
 }
@@ -236,7 +236,7 @@ void CapzSource::submit(size_t w) {
     Ahead* q = a.get();
     a->done = pool_->submit([this, q] {
       try {
-        decode_window_chunks(ps_, q->w, q->chunks.data(), q->base, q->end, &q->block);
+        decode_window_chunks(ps_, q->w, q->chunks.data(), q->base, q->end, &q->block, &q->ints);
       } catch (...) {
         q->error = std::current_exception();
       }

@@ -234,17 +234,6 @@ double scan_fine(const Grid& grid, int k, const std::string& what) {
   return std::ldexp(1.0, -k);
 }
 
-// Sizes *v to n values that the caller writes whole: within its capacity as it is (the values
-// past its size zeroed); above it, room for an eighth more, taken without copying the old values
-// (a window's block is refilled window after window, their point counts a little apart).
-void size_for_overwrite(std::vector<double>* v, size_t n) {
-  if (n > v->capacity()) {
-    v->clear();
-    v->reserve(n + n / 8);
-  }
-  v->resize(n);
-}
-
 // The coordinates of n scan points from their grid integers (3 n) and flags, 0 at gaps.
 void scan_coordinates(const Grid& grid, double fine, size_t n, const int32_t* q,
                       const uint8_t* valid, double* xyz) {
@@ -284,7 +273,7 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
   const bool keep_q = e != scan::kNoSplit || !ctx.take.attributes.empty();
   ScanGeometry g;
   if (keep_q) {
-    g = decode_scan_geometry(c.payload + at, geo, what, static_cast<size_t>(total));
+    g = decode_scan_geometry(c.payload + at, geo, what, static_cast<size_t>(total), q);
   } else {
     const double fine = scan_fine(grid, scan_fine_shift(c.payload + at, geo, what), what);
     size_for_overwrite(&b.xyz, static_cast<size_t>(total) * 3);  // each value written once
@@ -318,7 +307,10 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
     scan_coordinates(grid, fine, b.valid.size(), g.q.data(), b.valid.data(), b.xyz.data());
   }
   apply_negative_zeros(zeros, b.valid, what, &b.xyz);
-  q->swap(g.q);
+  if (keep_q)
+    q->swap(g.q);
+  else
+    q->clear();  // none held (the buffer's memory kept)
 }
 
 // ATTR of the window (FORMAT.md 13): its fields over `frames` x `points` (a ragged window: one
@@ -343,7 +335,7 @@ void decode_window_attributes(const StreamContext& ctx, WindowChunks* chunks, si
 }  // namespace
 
 void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* region, size_t base,
-                          size_t end, FrameBlock* out) {
+                          size_t end, FrameBlock* out, std::vector<int32_t>* ints) {
   const StreamHeader& h = ctx.h;
   const size_t N = h.points;
   const size_t f0 = w * h.window_frames;
@@ -352,7 +344,8 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
   WindowChunks chunks(ctx, w, region, base, end);
   FrameBlock& b = *out;
   // Decoded straight into the caller's arrays (their capacity is reused window after window).
-  std::vector<int32_t> q;  // the window's POSW or SCNW integers (none with transform output)
+  std::vector<int32_t> q;   // the window's POSW or SCNW integers (none with transform output)
+  if (ints) q.swap(*ints);  // its memory, given back at the end
   b.frame_offsets.clear();
   if (h.ragged && ctx.words) fail(ErrorCode::kCorrupt, ctx.name, "ragged frames with C3D words");
   if (h.ragged)
@@ -399,6 +392,7 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
     decode_window_attributes(ctx, &chunks, fn, N, ctx.take.pcd->width, q, out);
   }
   chunks.check_rest();
+  if (ints) ints->swap(q);
 }
 
 void window_extent(const ParsedStream& ps, size_t size, size_t w, size_t* base, size_t* end) {
@@ -443,10 +437,11 @@ std::vector<size_t> ragged_frame_offsets(StreamBytes& bytes, const ParsedStream&
   return off;
 }
 
-void decode_window(StreamBytes& bytes, const ParsedStream& ps, size_t w, FrameBlock* out) {
+void decode_window(StreamBytes& bytes, const ParsedStream& ps, size_t w, FrameBlock* out,
+                   std::vector<int32_t>* ints) {
   size_t base = 0, end = 0;
   window_extent(ps, bytes.size(), w, &base, &end);
-  decode_window_chunks(ps, w, bytes.get(base, end - base), base, end, out);
+  decode_window_chunks(ps, w, bytes.get(base, end - base), base, end, out, ints);
 }
 
 }  // namespace capz

@@ -3,6 +3,7 @@
 #include <cstdint>
 
 #include "capz/error.h"
+#include "coding/bytes.h"
 #include "coding/scan_geometry.h"
 #include "coding/scan_raster.h"
 #include "coding/scan_shared.h"
@@ -55,9 +56,11 @@ class DecodeIo {
 // decode_scan_geometry: with `frame`, each frame's integers go to it from a buffer of one frame;
 // without, into g.q.
 ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& what,
-                           size_t max_points, const ScanFrameSink* frame) {
+                           size_t max_points, const ScanFrameSink* frame,
+                           std::vector<int32_t>* space) {
   const scan::Header h = scan::read_header(data, size, what, max_points);
   ScanGeometry g;
+  if (space) g.q.swap(*space);
   g.counts = h.counts;
   g.fine = h.fine;
   size_t total = 0, most = 0;
@@ -66,7 +69,7 @@ ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& 
   if (frame)
     one.resize(3 * most);
   else
-    g.q.resize(3 * total);
+    size_for_overwrite(&g.q, 3 * total);  // every value written below
   g.valid.resize(total);
   IntDecoder dec(data + h.body, size - h.body, scan::kContexts, what);
   scan::State st(h.table);
@@ -98,12 +101,17 @@ ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& 
 
 ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::string& what,
                                   size_t max_points) {
-  return decode_frames(data, size, what, max_points, nullptr);
+  return decode_frames(data, size, what, max_points, nullptr, nullptr);
+}
+
+ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::string& what,
+                                  size_t max_points, std::vector<int32_t>* space) {
+  return decode_frames(data, size, what, max_points, nullptr, space);
 }
 
 ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::string& what,
                                   size_t max_points, const ScanFrameSink& frame) {
-  return decode_frames(data, size, what, max_points, &frame);
+  return decode_frames(data, size, what, max_points, &frame, nullptr);
 }
 
 int scan_fine_shift(const uint8_t* data, size_t size, const std::string& what) {

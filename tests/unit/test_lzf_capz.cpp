@@ -95,7 +95,8 @@ TEST(LzfCapz, LongRunsAndFarRepeatsFollowTheRule) {
   std::vector<uint8_t> block(8190);
   for (uint8_t& c : block) c = static_cast<uint8_t>(rng());
   for (size_t gap : {8189, 8190, 8191, 8192, 8193}) {  // a repeat at the window's edge
-    std::vector<uint8_t> in(block.begin(), block.begin() + static_cast<long>(std::min(gap, block.size())));
+    std::vector<uint8_t> in(block.begin(),
+                            block.begin() + static_cast<long>(std::min(gap, block.size())));
     in.resize(gap, 0x55);
     in.insert(in.end(), block.begin(), block.begin() + 600);
     expect_reference(in);
