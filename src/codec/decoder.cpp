@@ -11,6 +11,7 @@
 #include "codec/transform_output.h"
 #include "coding/analog/analog_codec.h"
 #include "coding/attributes.h"
+#include "coding/buffers.h"
 #include "coding/bytes.h"
 #include "coding/c3d_words.h"
 #include "coding/entropy.h"

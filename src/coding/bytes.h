@@ -18,18 +18,6 @@ inline uint32_t load_le32(const uint8_t* p) {
          static_cast<uint32_t>(p[2]) << 16 | static_cast<uint32_t>(p[3]) << 24;
 }
 
-// Sizes *v to n values that the caller writes whole: within its capacity as it is (values past
-// its old size zeroed); above it, room for an eighth more, taken without copying the old values
-// (a buffer refilled window after window, the windows' sizes a little apart).
-template <typename T>
-void size_for_overwrite(std::vector<T>* v, size_t n) {
-  if (n > v->capacity()) {
-    v->clear();
-    v->reserve(n + n / 8);
-  }
-  v->resize(n);
-}
-
 class ByteWriter {
  public:
   void u8(uint8_t v) { buf_.push_back(v); }

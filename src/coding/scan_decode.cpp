@@ -3,7 +3,7 @@
 #include <cstdint>
 
 #include "capz/error.h"
-#include "coding/bytes.h"
+#include "coding/buffers.h"
 #include "coding/scan_geometry.h"
 #include "coding/scan_raster.h"
 #include "coding/scan_shared.h"
