@@ -161,10 +161,15 @@ template <class Io>
 __attribute__((always_inline)) inline int32_t code_column(Io& io, const State& st, State::Ring& r,
                                                           int32_t col, int32_t p0, int32_t p1,
                                                           bool moved, const Prev* pv) {
-  if (st.table().turn) {  // p2: the ring's last column plus how far P's ring turned since
+  if (st.table().turn) {
+    // p2: P's column plus the ring's lead on P's ring, or the ring's last column plus how far
+    // P's ring turned since.
     const State::Ring& b = st.ring[pv->ring];
-    const bool ok = pv->have && r.has_last && b.has_before;
-    const int32_t p2 = ok ? wrap_add(r.last_column, wrap_sub(pv->column, b.before_column)) : p1;
+    int32_t p2 = p1;
+    if (pv->have && r.has_lead && r.lead_ring == pv->ring)
+      p2 = wrap_add(pv->column, r.lead);
+    else if (pv->have && r.has_last && b.has_before)
+      p2 = wrap_add(r.last_column, wrap_sub(pv->column, b.before_column));
     const int sc = detail::argmin(r.score_col, 3);
     const int cctx =
         kCtxTurn + 8 * (sc == 2) + 4 * moved + std::min(bit_length(r.score_col[sc] >> 2), 3);
@@ -314,6 +319,9 @@ __attribute__((always_inline)) inline void code_spherical(Io& io, State& st, con
   const int lb = std::min(bit_length(units ? round_clamp(rho) : range), 23);
   code_xyz(io, t, hypot, k, col, rho, lb, a, p);
   if (r.has_last && (!walk || rc.opened)) r.step = wrap_sub(col, r.last_column);
+  r.has_lead = pv->have;
+  r.lead = wrap_sub(col, pv->column);
+  r.lead_ring = pv->ring;
   r.before_column = r.last_column;
   r.has_before = r.has_last;
   r.last_column = col;

@@ -205,7 +205,9 @@ class State {
   struct Ring {
     int32_t last_range = 0, last_column = 0, step = 0;
     int32_t before_column = 0;  // the column before the last (has_before)
-    bool has_last = false, has_before = false;
+    int32_t lead = 0;           // its last column less the point's before it then (has_lead)
+    uint32_t lead_ring = 0;     // that point's ring
+    bool has_last = false, has_before = false, has_lead = false;
     uint32_t score_col[3] = {0, 0, 0};
     uint32_t score_range[3] = {0, 0, 0};
   };
