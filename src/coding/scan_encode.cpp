@@ -510,8 +510,8 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
   std::vector<scan::Polar> polar;
   std::vector<TableChoice> tried;
   // Azimuths on the sensor's own quantum (divisor 0: the quantum's table, with the column's
-  // third candidate) take the place of the finest step: tried as well, it was never chosen on
-  // the shared sweeps (2026-11-29-any-1mm.md).
+  // third candidate) take the place of the finest step: tried as well, the finest step won only
+  // on hesai-xt32's sorted order, by 0.04 % (docs/lab/2026-11-29-any-1mm.md).
   for (double divisor : {1.0, 4.0, fit.quantum > 0 ? 0.0 : 16.0}) {
     tried.push_back({divisor, false});
     if (!fit.unit.empty()) tried.push_back({divisor, true});
