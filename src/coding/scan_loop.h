@@ -168,15 +168,18 @@ __attribute__((always_inline)) inline int32_t code_column(Io& io, State::Ring& r
 }
 
 // Ring and column of a frame without bit 3: the ring against the successor or the run.
+// (pairs: a ring pair frame, FORMAT "Ring pair frames".)
 template <class Io>
 __attribute__((always_inline)) inline RingColumn ring_successor(Io& io, State& st, const Polar& pa,
-                                                                const Prev* pv) {
+                                                                const Prev* pv, bool pairs) {
   const uint32_t rings = static_cast<uint32_t>(st.table().rings());
   // Ring: the one that followed the previous point's ring last time, or the previous step's
   // continuation (runs of rings up or down), whichever has done better lately.
   // (Rings, and so pv->ring and pv->before, are below `rings`; so is d, which io.ring checks:
   // each % below is a subtraction or two.)
-  const uint32_t k1 = pv->have ? st.succ[pv->ring] : 0;
+  uint32_t k1 = pv->have ? st.succ[pv->ring] : 0;
+  uint16_t* after_pair = pairs && pv->have ? &st.pair_ring[st.pair_cell(pv->before, pv->ring)] : nullptr;
+  if (after_pair && *after_pair) k1 = *after_pair - 1u;
   const uint32_t k2 = pv->have ? mod_small(2 * pv->ring + rings - pv->before, rings) : 0;
   const int sk = st.ring_score[1] < st.ring_score[0] ? 1 : 0;
   const uint32_t khat = sk ? k2 : k1;
@@ -187,13 +190,21 @@ __attribute__((always_inline)) inline RingColumn ring_successor(Io& io, State& s
   ring_score(&st.ring_score[0], k, k1, rings);
   ring_score(&st.ring_score[1], k, k2, rings);
   State::Ring& r = st.ring[k];
-  // Column: the previous point's (same firing) or the ring's last plus its step.
-  const int32_t p0 = pv->have ? pv->column : (r.has_last ? r.last_column : 0);
+  // Column: the previous point's (same firing; in a ring pair frame plus the pair's step) or the
+  // ring's last plus its step.
+  int32_t* pair_step = nullptr;
+  if (after_pair) {
+    *after_pair = static_cast<uint16_t>(k + 1);
+    pair_step = &st.pair_column[st.pair_cell(pv->ring, k)];
+  }
+  const int32_t p0 = pv->have ? wrap_add(pv->column, pair_step ? *pair_step : 0)
+                              : (r.has_last ? r.last_column : 0);
   const int32_t p1 = r.has_last ? wrap_add(r.last_column, r.step) : p0;
   RingColumn out;
   out.ring = k;
   out.residual = d;
   out.column = code_column(io, r, pa.column, p0, p1, d != 0);
+  if (pair_step) *pair_step = wrap_sub(out.column, pv->column);
   return out;
 }
 
@@ -268,10 +279,12 @@ __attribute__((always_inline)) inline RingColumn ring_walk(Io& io, State& st, co
 
 template <class Io>
 __attribute__((always_inline)) inline void code_spherical(Io& io, State& st, const Polar& pa,
-                                                          const int32_t* a, bool walk, bool hypot,
+                                                          const int32_t* a, uint8_t flags,
                                                           Prev* pv, int32_t* p) {
   const Table& t = st.table();
-  const RingColumn rc = walk ? ring_walk(io, st, pa, pv) : ring_successor(io, st, pa, pv);
+  const bool walk = (flags & kRingWalk) != 0, hypot = (flags & kHypot) != 0;
+  const RingColumn rc = walk ? ring_walk(io, st, pa, pv)
+                             : ring_successor(io, st, pa, pv, (flags & kRingPairs) != 0);
   const uint32_t k = rc.ring;
   const int32_t col = rc.column;
   State::Ring& r = st.ring[k];
@@ -312,11 +325,14 @@ template <class Io>
 void code_points(Io& io, State& st, uint8_t flags, size_t first, size_t n, int32_t* q_out,
                  uint8_t* valid_out) {
   const uint8_t vmode = flags & 3;
-  const bool spherical = (flags & kSpherical) != 0, walk = (flags & kRingWalk) != 0;
-  const bool hypot = (flags & kHypot) != 0;
+  const bool spherical = (flags & kSpherical) != 0;
   bool prev_valid = true;
   detail::Prev pv;
-  if (walk) std::fill(st.firing.begin(), st.firing.end(), State::Firing{});
+  if (flags & kRingWalk) std::fill(st.firing.begin(), st.firing.end(), State::Firing{});
+  if ((flags & kRingPairs) && st.pair_ring.empty()) {
+    st.pair_ring.assign(State::kPairCells, 0);
+    st.pair_column.assign(State::kPairCells, 0);
+  }
   for (size_t i = 0; i < n; ++i) {
     const bool v = point_valid(io, vmode, first + i, &prev_valid);
     valid_out[i] = v;
@@ -327,7 +343,7 @@ void code_points(Io& io, State& st, uint8_t flags, size_t first, size_t n, int32
     }
     const int32_t* a = io.actual(first + i);
     if (spherical)
-      detail::code_spherical(io, st, io.polar(first + i), a, walk, hypot, &pv, p);
+      detail::code_spherical(io, st, io.polar(first + i), a, flags, &pv, p);
     else
       detail::code_cartesian(io, st, a, p);
   }

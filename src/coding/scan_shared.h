@@ -29,7 +29,8 @@ constexpr uint8_t kSpherical = 4;                                 // bit 2
 constexpr uint8_t kRingWalk = 8;  // bit 3: rings by the walk (FORMAT "Ring walk frames")
 constexpr uint8_t kRaster = 32;   // bit 5 (scan_raster.h)
 constexpr uint8_t kHypot = 64;    // bit 6: the second of x y from the range's hypotenuse
-constexpr uint8_t kFrameFlagMask = 7 | kRingWalk | kRaster | kHypot;
+constexpr uint8_t kRingPairs = 128;  // bit 7: ring pair frames (FORMAT "Ring pair frames")
+constexpr uint8_t kFrameFlagMask = 7 | kRingWalk | kRaster | kHypot | kRingPairs;
 
 // Limits the decoder enforces (FORMAT.md).
 constexpr uint32_t kMaxRings = 1024;
@@ -213,6 +214,14 @@ class State {
     uint32_t n = 0, m = 0;
   };
   std::vector<Firing> firing;
+  // Ring pair frames: per pair of rings (a, b) at pair_cell(a, b), the ring that followed them
+  // last plus one (0: none) and the column step from a to b; empty until such a frame.
+  static constexpr uint32_t kPairCells = 4096;
+  std::vector<uint16_t> pair_ring;
+  std::vector<int32_t> pair_column;
+  uint32_t pair_cell(uint32_t a, uint32_t b) const {
+    return (a * static_cast<uint32_t>(t_->rings()) + b) & (kPairCells - 1);
+  }
   uint32_t ring_score[2] = {0, 0};
   // The previous sweep's smoothed range (1/16 steps) at ring k, column col (false: none there).
   bool map_prev(uint32_t k, int32_t col, int64_t* smooth) const {
