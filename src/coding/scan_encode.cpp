@@ -364,8 +364,8 @@ uint8_t code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanG
   // At most 7 symbols a point; a walk frame's ring takes the repeat flag and the rings passed.
   const size_t room = 7 * n + (upward ? n + passed : 0) + 1;
   auto coded = static_cast<uint8_t>(upward && s->walk == 1 ? sph | scan::kRingWalk
-                                    : s->pairs == 1             ? sph | scan::kRingPairs
-                                                                : sph);
+                                    : s->pairs == 1        ? sph | scan::kRingPairs
+                                                           : sph);
   scan::State staged = spherical_trial(*st, last, &coded, g, polar, first, n, room, &s->trial, s);
   // The window's first frame whose rings run upward is coded both ways (both write the same
   // ranges into this sweep's map), the smaller kept; the window's later frames follow it.

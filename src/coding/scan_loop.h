@@ -178,7 +178,8 @@ __attribute__((always_inline)) inline RingColumn ring_successor(Io& io, State& s
   // (Rings, and so pv->ring and pv->before, are below `rings`; so is d, which io.ring checks:
   // each % below is a subtraction or two.)
   uint32_t k1 = pv->have ? st.succ[pv->ring] : 0;
-  uint16_t* after_pair = pairs && pv->have ? &st.pair_ring[st.pair_cell(pv->before, pv->ring)] : nullptr;
+  uint16_t* after_pair =
+      pairs && pv->have ? &st.pair_ring[st.pair_cell(pv->before, pv->ring)] : nullptr;
   if (after_pair && *after_pair) k1 = *after_pair - 1u;
   const uint32_t k2 = pv->have ? mod_small(2 * pv->ring + rings - pv->before, rings) : 0;
   const int sk = st.ring_score[1] < st.ring_score[0] ? 1 : 0;
@@ -279,12 +280,12 @@ __attribute__((always_inline)) inline RingColumn ring_walk(Io& io, State& st, co
 
 template <class Io>
 __attribute__((always_inline)) inline void code_spherical(Io& io, State& st, const Polar& pa,
-                                                          const int32_t* a, uint8_t flags,
-                                                          Prev* pv, int32_t* p) {
+                                                          const int32_t* a, uint8_t flags, Prev* pv,
+                                                          int32_t* p) {
   const Table& t = st.table();
   const bool walk = (flags & kRingWalk) != 0, hypot = (flags & kHypot) != 0;
-  const RingColumn rc = walk ? ring_walk(io, st, pa, pv)
-                             : ring_successor(io, st, pa, pv, (flags & kRingPairs) != 0);
+  const RingColumn rc =
+      walk ? ring_walk(io, st, pa, pv) : ring_successor(io, st, pa, pv, (flags & kRingPairs) != 0);
   const uint32_t k = rc.ring;
   const int32_t col = rc.column;
   State::Ring& r = st.ring[k];

@@ -26,9 +26,9 @@ namespace scan {
 // Frame flags (one byte per frame).
 constexpr uint8_t kAllValid = 0, kSomeValid = 1, kNoneValid = 2;  // bits 0-1
 constexpr uint8_t kSpherical = 4;                                 // bit 2
-constexpr uint8_t kRingWalk = 8;  // bit 3: rings by the walk (FORMAT "Ring walk frames")
-constexpr uint8_t kRaster = 32;   // bit 5 (scan_raster.h)
-constexpr uint8_t kHypot = 64;    // bit 6: the second of x y from the range's hypotenuse
+constexpr uint8_t kRingWalk = 8;     // bit 3: rings by the walk (FORMAT "Ring walk frames")
+constexpr uint8_t kRaster = 32;      // bit 5 (scan_raster.h)
+constexpr uint8_t kHypot = 64;       // bit 6: the second of x y from the range's hypotenuse
 constexpr uint8_t kRingPairs = 128;  // bit 7: ring pair frames (FORMAT "Ring pair frames")
 constexpr uint8_t kFrameFlagMask = 7 | kRingWalk | kRaster | kHypot | kRingPairs;
 
