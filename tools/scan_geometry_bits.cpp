@@ -183,7 +183,8 @@ class BreakdownIo {
                   : ctx < kCtxZFrac      ? 5
                   : ctx < kCtxWalkRepeat ? 6
                   : ctx < kCtxWalkColumn ? 1
-                                         : 2;
+                  : ctx < kCtxPairRing   ? 2
+                                         : 1;
     enc_[k]->put(u, ctx);
   }
   const capz::ScanGeometry& g_;

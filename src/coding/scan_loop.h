@@ -167,6 +167,29 @@ __attribute__((always_inline)) inline int32_t code_column(Io& io, State::Ring& r
   return c;
 }
 
+// The ring of a ring pair frame (FORMAT "Ring pair frames", step 1): its place among the
+// candidates khat, `other`, the ring's successor and the ring above P's, else n plus the
+// zig-zag of its signed residual against khat. *u: the symbol.
+template <class Io>
+uint32_t pair_ring(Io& io, const State& st, uint32_t want, const Prev* pv, uint32_t khat,
+                   uint32_t other, uint32_t* u) {
+  const uint32_t rings = static_cast<uint32_t>(st.table().rings());
+  uint32_t c[4] = {khat, other, st.succ[pv->ring], pv->ring + 1 == rings ? 0 : pv->ring + 1};
+  uint32_t n = 1;
+  for (int j = 1; j < 4; ++j)
+    if (std::find(c, c + n, c[j]) == c + n) c[n++] = c[j];
+  uint32_t a = static_cast<uint32_t>(std::find(c, c + n, want) - c);
+  if (a == n) {  // the encoder's residual (the decoder's `want` is anything)
+    const uint32_t d = mod_small(want + rings - khat, rings);
+    a = n + zigzag(d <= (rings - 1) / 2 ? static_cast<int32_t>(d)
+                                        : static_cast<int32_t>(d) - static_cast<int32_t>(rings));
+  }
+  *u = io.ring(a, n + rings, kCtxPairRing + static_cast<int>(std::min(pv->ring_residual, 5u)));
+  if (*u < n) return c[*u];
+  return mod_small(static_cast<uint32_t>(static_cast<int32_t>(khat + rings) + unzigzag(*u - n)),
+                   rings);
+}
+
 // Ring and column of a frame without bit 3: the ring against the successor or the run.
 // (pairs: a ring pair frame, FORMAT "Ring pair frames".)
 template <class Io>
@@ -184,9 +207,14 @@ __attribute__((always_inline)) inline RingColumn ring_successor(Io& io, State& s
   const uint32_t k2 = pv->have ? mod_small(2 * pv->ring + rings - pv->before, rings) : 0;
   const int sk = st.ring_score[1] < st.ring_score[0] ? 1 : 0;
   const uint32_t khat = sk ? k2 : k1;
-  const uint32_t d =
-      io.ring(mod_small(pa.ring + rings - khat, rings), rings, kCtxRing + (pv->ring_residual != 0));
-  const uint32_t k = mod_small(khat + d, rings);
+  uint32_t d, k;
+  if (after_pair) {
+    k = pair_ring(io, st, pa.ring, pv, khat, sk ? k1 : k2, &d);
+  } else {
+    d = io.ring(mod_small(pa.ring + rings - khat, rings), rings,
+                kCtxRing + (pv->ring_residual != 0));
+    k = mod_small(khat + d, rings);
+  }
   if (pv->have) st.succ[pv->ring] = k;
   ring_score(&st.ring_score[0], k, k1, rings);
   ring_score(&st.ring_score[1], k, k2, rings);

@@ -110,8 +110,7 @@ TEST(ScanPairs, GivenRingsInADriversOrderWithColumnsApartByRingThenPairsCodeFewe
   const std::vector<uint8_t> pp = payload(g, h, true), ps = payload(g, h, false);
   expect_same(g, decode_scan_geometry(pp.data(), pp.size(), "pairs"));
   expect_same(g, decode_scan_geometry(ps.data(), ps.size(), "successor"));
-  EXPECT_LT(pp.size() * 100, ps.size() * 95) << "pairs " << pp.size() << ", without "
-                                             << ps.size();
+  EXPECT_LT(pp.size() * 100, ps.size() * 95) << "pairs " << pp.size() << ", without " << ps.size();
   // The encoder finds them too.
   const std::vector<uint8_t> p = encode_scan_geometry(g, h);
   EXPECT_EQ(frame_flags(p) & scan::kRingPairs, scan::kRingPairs);
@@ -154,10 +153,10 @@ TEST(ScanPairs, GivenDamagedPairFramesWhenDecodedThenCorrupt) {
   ++at;
   ASSERT_LT(at, hd.body);
   ASSERT_EQ(p[at], scan::kSomeValid | scan::kSpherical | scan::kRingPairs);
-  for (uint8_t bad : {uint8_t{scan::kSomeValid | scan::kRingPairs},
-                      uint8_t{scan::kSomeValid | scan::kSpherical | scan::kRingPairs |
-                              scan::kRingWalk},
-                      uint8_t{scan::kSomeValid | scan::kRaster | scan::kRingPairs}}) {
+  for (uint8_t bad :
+       {uint8_t{scan::kSomeValid | scan::kRingPairs},
+        uint8_t{scan::kSomeValid | scan::kSpherical | scan::kRingPairs | scan::kRingWalk},
+        uint8_t{scan::kSomeValid | scan::kRaster | scan::kRingPairs}}) {
     std::vector<uint8_t> d = p;
     d[at] = bad;
     expect_scan_corrupt(d);
