@@ -48,27 +48,6 @@ ScanGeometry driver_order(const std::vector<uint32_t>& order, ScanHints* h, bool
   return g;
 }
 
-// Codes through a block.
-class EncodeIo {
- public:
-  EncodeIo(IntEncoder* enc, const ScanGeometry& g, const std::vector<scan::Polar>& polar)
-      : enc_(enc), g_(g), polar_(polar) {}
-  int32_t sym(int32_t actual, int32_t pred, int ctx) {
-    enc_->put(zigzag(wrap_sub(actual, pred)), ctx);
-    return actual;
-  }
-  uint32_t ring(uint32_t d, uint32_t, int ctx) { return enc_->put(d, ctx), d; }
-  bool flag(bool v, int ctx) { return enc_->put(v ? 1u : 0u, ctx), v; }
-  scan::Polar polar(size_t i) const { return polar_[i]; }
-  const int32_t* actual(size_t i) const { return &g_.q[3 * i]; }
-  bool actual_valid(size_t i) const { return g_.valid[i] != 0; }
-
- private:
-  IntEncoder* enc_;
-  const ScanGeometry& g_;
-  const std::vector<scan::Polar>& polar_;
-};
-
 // The rings of a firing descending, as the Helios writes them.
 std::vector<uint32_t> descending() {
   std::vector<uint32_t> o;
@@ -76,25 +55,17 @@ std::vector<uint32_t> descending() {
   return o;
 }
 
-// g's one frame coded spherically under the table the encoder infers (step as found, no range
-// units), with or without ring pairs.
-std::vector<uint8_t> payload(const ScanGeometry& g, const ScanHints& h, bool pairs) {
-  std::vector<scan::Polar> polar;
-  const scan::Table t = scan::table_for(g, scan::fit_rings(g, h, false), 1.0, false, &polar);
-  EXPECT_EQ(t.rings(), size_t{kRings});
-  const auto flags =
-      static_cast<uint8_t>(scan::kSomeValid | scan::kSpherical | (pairs ? scan::kRingPairs : 0));
-  IntEncoder enc(scan::kContexts);
-  EncodeIo io(&enc, g, polar);
-  scan::State st(t);
-  std::vector<int32_t> q(g.q.size());
-  std::vector<uint8_t> v(g.valid.size());
-  scan::code_frame(io, st, flags, 0, g.total(), q.data(), v.data());
-  std::vector<uint8_t> out;
-  scan::write_header(g, {flags}, t, &out);
-  const std::vector<uint8_t> block = enc.finish();
-  out.insert(out.end(), block.begin(), block.end());
-  return out;
+// g's one frame coded spherically, with or without ring pairs: the payload, and (*ring_column)
+// the ring and column bytes.
+std::vector<uint8_t> payload(const ScanGeometry& g, const ScanHints& h, bool pairs,
+                             size_t* ring_column = nullptr) {
+  size_t rc = 0;
+  const std::vector<uint8_t> p = one_frame_payload(
+      g, h,
+      static_cast<uint8_t>(scan::kSomeValid | scan::kSpherical | (pairs ? scan::kRingPairs : 0)),
+      &rc);
+  if (ring_column) *ring_column = rc;
+  return p;
 }
 
 uint8_t frame_flags(const std::vector<uint8_t>& p) {
@@ -104,13 +75,16 @@ uint8_t frame_flags(const std::vector<uint8_t>& p) {
 TEST(ScanPairs, GivenRingsInADriversOrderWithColumnsApartByRingThenPairsCodeFewerBits) {
   // Against the previous point's column every point pays its ring's offset; against the ring's
   // last column plus its step every firing 2 columns on pays; the pair's step is exact within
-  // a firing.
+  // a firing. Measured: ring and column 1266 bytes with pairs against 3325, the payload 14451
+  // against 16433.
   ScanHints h;
   const ScanGeometry g = driver_order(descending(), &h);
-  const std::vector<uint8_t> pp = payload(g, h, true), ps = payload(g, h, false);
+  size_t rp = 0, rs = 0;
+  const std::vector<uint8_t> pp = payload(g, h, true, &rp), ps = payload(g, h, false, &rs);
   expect_same(g, decode_scan_geometry(pp.data(), pp.size(), "pairs"));
   expect_same(g, decode_scan_geometry(ps.data(), ps.size(), "successor"));
   EXPECT_LT(pp.size() * 100, ps.size() * 95) << "pairs " << pp.size() << ", without " << ps.size();
+  EXPECT_LT(rp * 2, rs) << "ring and column bytes: pairs " << rp << ", without " << rs;
   // The encoder finds them too.
   const std::vector<uint8_t> p = encode_scan_geometry(g, h);
   EXPECT_EQ(frame_flags(p) & scan::kRingPairs, scan::kRingPairs);
