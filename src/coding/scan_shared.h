@@ -69,18 +69,18 @@ enum Ctx : int {
   kCtxX = kCtxRange + 16,      // 24 and (kCtxZ) 24: unused (x y z before the fraction rule)
   kCtxY = kCtxX + 24,          // 16 x 3: the second of x y from the azimuth, by bit length
   kCtxZ = kCtxY + 48,
-  kCtxCart = kCtxZ + 24,              // 3 axes x 8: previous residual's bit length
-  kCtxRaster = kCtxCart + 24,         // 27: raster frames (scan_raster.h)
-  kCtxImage = kCtxRaster + 27,        // the fraction-rule contexts below (FORMAT: 175)
-  kCtxRangeFrac = kCtxImage,          // 8 x 3: the range against the smoothed map
-  kCtxAxis1 = kCtxRangeFrac + 24,     // 24 x 3: first of x y, by the range's bit length
-  kCtxAxis2 = kCtxAxis1 + 72,         // 8 x 3: second of x y from the hypotenuse, by the count
-  kCtxZFrac = kCtxAxis2 + 24,         // 24 x 3: z, by the range's bit length
-  kCtxWalkRepeat = kCtxZFrac + 72,    // 24: the ring walk's repeat flag
-  kCtxWalk = kCtxWalkRepeat + 24,     // 4 x 2 x 2 x 8: the walk's flags
-  kCtxWalkColumn = kCtxWalk + 128,    // 1: a repeated ring's column
-  kCtxTurn = kCtxWalkColumn + 1,      // 2 x 2 x 4: the column with the third candidate (units bit 4)
-  kCtxPairRing = kCtxTurn + 16,       // 6: a ring pair frame's ring, by the previous symbol
+  kCtxCart = kCtxZ + 24,            // 3 axes x 8: previous residual's bit length
+  kCtxRaster = kCtxCart + 24,       // 27: raster frames (scan_raster.h)
+  kCtxImage = kCtxRaster + 27,      // the fraction-rule contexts below (FORMAT: 175)
+  kCtxRangeFrac = kCtxImage,        // 8 x 3: the range against the smoothed map
+  kCtxAxis1 = kCtxRangeFrac + 24,   // 24 x 3: first of x y, by the range's bit length
+  kCtxAxis2 = kCtxAxis1 + 72,       // 8 x 3: second of x y from the hypotenuse, by the count
+  kCtxZFrac = kCtxAxis2 + 24,       // 24 x 3: z, by the range's bit length
+  kCtxWalkRepeat = kCtxZFrac + 72,  // 24: the ring walk's repeat flag
+  kCtxWalk = kCtxWalkRepeat + 24,   // 4 x 2 x 2 x 8: the walk's flags
+  kCtxWalkColumn = kCtxWalk + 128,  // 1: a repeated ring's column
+  kCtxTurn = kCtxWalkColumn + 1,    // 2 x 2 x 4: the column with the third candidate (units bit 4)
+  kCtxPairRing = kCtxTurn + 16,     // 6: a ring pair frame's ring, by the previous symbol
   kContexts = kCtxPairRing + 6,
 };
 
