@@ -10,6 +10,7 @@
 #include "codec/registry.h"
 #include "codec/scan_encoder.h"
 #include "coding/container.h"
+#include "coding/meta.h"
 #include "core/atomic_file.h"
 
 namespace capz {
@@ -102,7 +103,8 @@ Take whole_take(FrameSource& source) {
 // META's payload, plus the 1 byte any coding of META takes, is at most the size of the stream
 // with META coded (INDX's offsets are fixed width), so a scan stream under it is the smaller
 // without coding META (the LZMA trials of a sweep's point labels: about a sixth of a pandar64
-// sweep's encode). Else the fixed stream is coded as always and compared.
+// sweep's encode); else META's fields are coded alone, which makes that stream's size exact.
+// Only when the fixed stream is the smaller is it coded again, whole, as always.
 std::vector<uint8_t> one_frame_choice(FrameSource& source, const CompressOptions& opts,
                                       CompressStats* stats) {
   const Take t = whole_take(source);
@@ -130,6 +132,12 @@ std::vector<uint8_t> one_frame_choice(FrameSource& source, const CompressOptions
     if (meta.type != "META" || meta.size > bound.size())
       fail(ErrorCode::kInternal, what, "no META after HEAD");
     if (scan.size() < bound.size() - meta.size + 1) {
+      if (stats) *stats = st;
+      return scan;
+    }
+    // META coded as the encoder codes it (dictionary: C3D takes only): the fixed stream's size.
+    const size_t coded = code_meta_fields(decode_meta_fields(meta, what), false).size();
+    if (scan.size() < bound.size() - meta.size + coded) {
       if (stats) *stats = st;
       return scan;
     }

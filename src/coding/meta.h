@@ -21,6 +21,8 @@ std::vector<uint8_t> encode_meta(const Take& take, bool has_sample_words, bool d
 // META in coding 0 (its fields as they are): no coding tried, for an encoder that only wants
 // the size of the rest of a stream.
 std::vector<uint8_t> encode_meta_raw(const Take& take, bool has_sample_words);
+// The META payload encode_meta makes of these fields (decode_meta_fields' bytes).
+std::vector<uint8_t> code_meta_fields(const std::vector<uint8_t>& fields, bool dictionary);
 void decode_meta(const Chunk& c, const std::string& name, Take* take, bool* has_sample_words);
 // META's fields (the bytes its coding codes), decoded from any coding.
 std::vector<uint8_t> decode_meta_fields(const Chunk& c, const std::string& name);
