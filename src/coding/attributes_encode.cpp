@@ -186,7 +186,7 @@ std::vector<uint8_t> lzma_transform(uint8_t t, const std::vector<uint8_t>& b, si
 // bytes, or 0 for none: each is tried on the first 1/kSampleShare of the elements and its size
 // scaled to the whole; the smaller wins, and none when the predictive coding is below
 // kSkipRatio of that estimate. Windows under kSampleMin bytes: 0xFF (every transform tried).
-constexpr size_t kSampleShare = 16, kSampleMin = size_t{1} << 18;
+constexpr size_t kSampleShare = 8, kSampleMin = size_t{1} << 18;
 constexpr double kSkipRatio = 0.9;
 uint8_t lzma_worth_trying(const std::vector<uint8_t>& b, size_t size, size_t pred) {
   if (b.size() < kSampleMin) return 0xFF;
