@@ -202,15 +202,15 @@ uint8_t lzma_worth_trying(const std::vector<uint8_t>& b, size_t size, size_t pre
 }
 
 // A ragged window's (one frame of n points) trial of predictors 10 and 11 before their
-// neighbour search, the encoder's largest cost there: on the first sixteenth of the points (at
+// neighbour search, the encoder's largest cost there: on the first eighth of the points (at
 // least kNearTrialMin), whether some field's coding with them is 3 % smaller than without them
 // (the other predictors, 12 included, or LZMA of the byte planes), first by the predictors' cost
 // sums, then by the coded bytes. Windows under twice that are searched whole.
-constexpr size_t kNearTrialShare = 16, kNearTrialMin = size_t{1} << 13;
+constexpr size_t kNearTrialMin = size_t{1} << 13;
 bool near_pays(const std::vector<AttrSpec>& specs, const std::vector<std::vector<uint8_t>>& data,
                const uint8_t* valid, bool gaps, const int32_t* q, size_t n,
                const RaggedFields& ragged) {
-  const size_t m = std::max(n / kNearTrialShare, kNearTrialMin);
+  const size_t m = std::max(n / 8, kNearTrialMin);
   if (2 * m > n) return true;
   const std::vector<uint32_t> near = nearest_points(q, valid, 1, m);
   std::vector<std::vector<uint8_t>> heads;
