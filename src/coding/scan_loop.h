@@ -155,10 +155,30 @@ struct RingColumn {
   int64_t firing = 0;
 };
 
-// The ring's column (FORMAT step 2) from p0 and p1, the context's first part by the residual.
+// The ring's column (FORMAT step 2) from p0 and p1 (and with the table's `turn` p2), the
+// context's first part by the residual.
 template <class Io>
-__attribute__((always_inline)) inline int32_t code_column(Io& io, State::Ring& r, int32_t col,
-                                                          int32_t p0, int32_t p1, bool moved) {
+__attribute__((always_inline)) inline int32_t code_column(Io& io, const State& st, State::Ring& r,
+                                                          int32_t col, int32_t p0, int32_t p1,
+                                                          bool moved, const Prev* pv) {
+  if (st.table().turn) {
+    // p2: P's column plus the ring's lead on P's ring, or the ring's last column plus how far
+    // P's ring turned since.
+    const State::Ring& b = st.ring[pv->ring];
+    int32_t p2 = p1;
+    if (pv->have && r.has_lead && r.lead_ring == pv->ring)
+      p2 = wrap_add(pv->column, r.lead);
+    else if (pv->have && r.has_last && b.has_before)
+      p2 = wrap_add(r.last_column, wrap_sub(pv->column, b.before_column));
+    const int sc = detail::argmin(r.score_col, 3);
+    const int cctx =
+        kCtxTurn + 8 * (sc == 2) + 4 * moved + std::min(bit_length(r.score_col[sc] >> 2), 3);
+    const int32_t c = io.sym(col, sc == 2 ? p2 : sc ? p1 : p0, cctx);
+    score(&r.score_col[0], c, p0);
+    score(&r.score_col[1], c, p1);
+    score(&r.score_col[2], c, p2);
+    return c;
+  }
   const int sc = detail::argmin(r.score_col, 2);
   const int cctx = kCtxColumn + 4 * moved + std::min(bit_length(r.score_col[sc] >> 2), 3);
   const int32_t c = io.sym(col, sc ? p1 : p0, cctx);
@@ -193,7 +213,7 @@ __attribute__((always_inline)) inline RingColumn ring_successor(Io& io, State& s
   RingColumn out;
   out.ring = k;
   out.residual = d;
-  out.column = code_column(io, r, pa.column, p0, p1, d != 0);
+  out.column = code_column(io, st, r, pa.column, p0, p1, d != 0, pv);
   return out;
 }
 
@@ -262,7 +282,7 @@ __attribute__((always_inline)) inline RingColumn ring_walk(Io& io, State& st, co
     const uint64_t prod = gap * static_cast<uint64_t>(static_cast<int64_t>(r.step));
     p1 = wrap_add(r.last_column, static_cast<int32_t>(static_cast<uint32_t>(prod)));
   }
-  out.column = code_column(io, r, pa.column, p0, p1, out.residual != 0);
+  out.column = code_column(io, st, r, pa.column, p0, p1, out.residual != 0, pv);
   return out;
 }
 
@@ -299,6 +319,11 @@ __attribute__((always_inline)) inline void code_spherical(Io& io, State& st, con
   const int lb = std::min(bit_length(units ? round_clamp(rho) : range), 23);
   code_xyz(io, t, hypot, k, col, rho, lb, a, p);
   if (r.has_last && (!walk || rc.opened)) r.step = wrap_sub(col, r.last_column);
+  r.has_lead = pv->have;
+  r.lead = wrap_sub(col, pv->column);
+  r.lead_ring = pv->ring;
+  r.before_column = r.last_column;
+  r.has_before = r.has_last;
   r.last_column = col;
   r.last_range = range;
   r.has_last = true;

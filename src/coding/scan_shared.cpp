@@ -68,7 +68,7 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
       check_finite(t.z0.back(), &r);
     }
     const uint8_t byte = r.u8(), units = byte & 3;
-    if (units == 3 || (byte & ~7) != 0)
+    if (units == 3 || (byte & ~(7 | kTurnBit)) != 0)
       fail(ErrorCode::kCorrupt, what, "unknown range units in the laser table");
     for (uint64_t k = 0; units != 0 && k < rings; ++k) {
       const double u = r.f64(), v = units == 2 ? r.f64() : 0.0;
@@ -77,6 +77,7 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
       t.unit.push_back(u);
       t.offset.push_back(v);
     }
+    t.turn = (byte & kTurnBit) != 0;
     if (byte & kBowBit) {
       t.bow = r.f32();
       if (!(std::fabs(t.bow) <= kMaxBow))

@@ -38,6 +38,8 @@ constexpr uint64_t kMaxMapCells = uint64_t{1} << 22;  // rings x columns
 constexpr double kMinUnit = 0x1p-20, kMaxUnit = 0x1p20, kMaxOffset = 0x1p30;
 // The units byte's bit of the cones' bow, and the bow's bound (FORMAT.md).
 constexpr uint8_t kBowBit = 4;
+// The units byte's bit of the column's third candidate, the firing's turn (FORMAT.md step 2).
+constexpr uint8_t kTurnBit = 16;
 constexpr double kMaxBow = 1;
 // Coordinates of a spherical frame stay below this in magnitude (so a range fits an int32).
 constexpr int64_t kMaxSphericalCoord = int64_t{1} << 29;
@@ -53,6 +55,7 @@ struct Table {
   std::vector<double> unit, offset;
   // The cones' bow: a ring's slope at azimuth phi is slope + bow (1 - cos phi) (0: none).
   float bow = 0;
+  bool turn = false;  // the column's third candidate (units bit 4)
   size_t rings() const { return azimuth0.size(); }
 };
 
@@ -75,7 +78,8 @@ enum Ctx : int {
   kCtxWalkRepeat = kCtxZFrac + 72,  // 24: the ring walk's repeat flag
   kCtxWalk = kCtxWalkRepeat + 24,   // 4 x 2 x 2 x 8: the walk's flags
   kCtxWalkColumn = kCtxWalk + 128,  // 1: a repeated ring's column
-  kContexts = kCtxWalkColumn + 1,
+  kCtxTurn = kCtxWalkColumn + 1,    // 2 x 2 x 4: the column with the third candidate (units bit 4)
+  kContexts = kCtxTurn + 16,
 };
 
 // A point's validity under the frame's validity mode (FORMAT: a flag per point in mode 1, under
@@ -200,8 +204,11 @@ class State {
   // Spherical prediction state per ring.
   struct Ring {
     int32_t last_range = 0, last_column = 0, step = 0;
-    bool has_last = false;
-    uint32_t score_col[2] = {0, 0};
+    int32_t before_column = 0;  // the column before the last (has_before)
+    int32_t lead = 0;           // its last column less the point's before it then (has_lead)
+    uint32_t lead_ring = 0;     // that point's ring
+    bool has_last = false, has_before = false, has_lead = false;
+    uint32_t score_col[3] = {0, 0, 0};
     uint32_t score_range[3] = {0, 0, 0};
   };
   std::vector<Ring> ring;

@@ -250,6 +250,30 @@ bool on_steps(const std::vector<double>& dist, double q, std::vector<double>* sc
   return *p90 < 0.05;
 }
 
+// The sensor's azimuth quantum (docs/FORMAT.md "units" bit 4, informative): 0.01 degree (the
+// Velodyne and most Hesai drivers' azimuths, each ring's offset aside) when it is under half
+// the step and nine in ten of up to 4096 of the rings' azimuths, less their ring's offset (the
+// circular mean on the quantum), lie within 5 % of it of a multiple; else 0.
+double azimuth_quantum(const RingFit& r) {
+  const double q = 0.01 * kTwoPi / 360;
+  size_t total = 0;
+  for (const auto& p : r.phi) total += p.size();
+  if (total == 0 || !(q < std::fabs(r.step) / 2)) return 0;
+  const size_t stride = std::max<size_t>(1, total / 4096);
+  size_t near = 0, seen = 0;
+  for (const auto& p : r.phi) {
+    double sc = 0, ss = 0;
+    for (size_t i = 0; i < p.size(); i += stride)
+      sc += std::cos(kTwoPi * p[i] / q), ss += std::sin(kTwoPi * p[i] / q);
+    const double a0 = q * std::atan2(ss, sc) / kTwoPi;
+    for (size_t i = 0; i < p.size(); i += stride, ++seen) {
+      const double m = (p[i] - a0) / q;
+      near += std::fabs(m - std::floor(m + 0.5)) < 0.05;
+    }
+  }
+  return near >= seen - seen / 10 ? q : 0;
+}
+
 // Point i's distance from the sensor: the source's distance field, else from the origin (NaN
 // when it has neither).
 double distance(const ScanHints& h, size_t n, size_t i) {
@@ -385,6 +409,7 @@ RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units) {
     r.polar[i].range = round_clamp(h);
   }
   r.step = infer_step(r.phi);
+  r.quantum = azimuth_quantum(r);
   r.slope.resize(rings), r.z0.resize(rings);
   for (size_t k = 0; k < rings; ++k) fit_cone(cone[k], &r.slope[k], &r.z0[k]);
   if (units) fit_units(g, hints, ring, rings, &r);
@@ -401,8 +426,9 @@ Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* 
   Table t;
   const size_t rings = r.rings();
   if (rings == 0) return t;
-  double step = r.step / step_divisor;
+  double step = step_divisor > 0 ? r.step / step_divisor : std::copysign(r.quantum, r.step);
   if (step == 0 || !std::isfinite(step)) return t;
+  t.turn = step_divisor <= 0;
   t.step = static_cast<float>(step);
   step = t.step;
   const double cols = std::floor(kTwoPi / std::fabs(step) + 0.5);

@@ -16,7 +16,8 @@ struct RingFit {
   std::vector<std::vector<double>> phi;  // per ring
   std::vector<float> slope, z0;          // per ring
   double step = 0;                       // radians; 0 when none was found
-  std::vector<Polar> polar;              // per point
+  double quantum = 0;        // the azimuths' own step (radians, positive), 0 when none was found
+  std::vector<Polar> polar;  // per point
   // The sensor's range step, when one is found (FORMAT.md "range units"): per ring the grid
   // units of one step, and per point its range in steps (else both empty).
   std::vector<double> unit, offset;
@@ -33,7 +34,9 @@ double sorted_step(const RingFit& r);
 
 // The table of a window's points and every valid point's ring, column and range under it; an
 // empty table (no rings) when none can be inferred. The azimuth step is the one found in the
-// data divided by step_divisor (finer columns for sensors whose azimuths are not on one step).
+// data divided by step_divisor (finer columns for sensors whose azimuths are not on one step),
+// or with step_divisor 0 the azimuths' quantum r.quantum, with the column's third candidate
+// (Table::turn).
 // With `units` (and r.unit found) the table's ranges count the sensor's range steps.
 Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor, bool units,
                 std::vector<Polar>* polar);
