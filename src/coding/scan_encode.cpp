@@ -529,7 +529,9 @@ size_t sample_size(const ScanGeometry& g, const ScanGeometry& sample,
 // kSampleSlack of the smallest payload: what first_frame_choice does on whole frames, for
 // windows whose first frames are larger than their sample. *tables: the tables tried (each the
 // window's; one of an empty table per choice not tried). *sizes: the sample's payload per choice
-// (0: not tried). With a choice remembered from the windows before (ws->remember, ws->choice),
+// (0: not tried). With a choice remembered from the windows before (ws->remember, ws->choice)
+// among the same tables (its trial's finest: the step divided by 16, or the azimuths' quantum,
+// which a window finds or not),
 // only that table codes the sample first, and it alone is kept when its payload is within
 // kRememberSlack of what it was in the window whose trial chose it (bits a point of the sample).
 constexpr double kSampleSlack = 1.03, kRememberSlack = 1.05;
@@ -540,14 +542,15 @@ std::vector<TableChoice> sampled_choice(const ScanGeometry& g, const ScanGeometr
                                         std::vector<size_t>* sizes, Scratch* s) {
   sizes->assign(tried.size(), 0);
   tables->assign(tried.size(), scan::Table());
-  const auto k = static_cast<size_t>(std::find_if(tried.begin(), tried.end(),
-                                                  [&](const TableChoice& c) {
-                                                    return ws && ws->remember &&
-                                                           ws->choice.bits > 0 &&
-                                                           c.divisor == ws->choice.divisor &&
-                                                           c.units == ws->choice.units;
-                                                  }) -
-                                     tried.begin());
+  const auto k =
+      static_cast<size_t>(std::find_if(tried.begin(), tried.end(),
+                                       [&](const TableChoice& c) {
+                                         return ws && ws->remember && ws->choice.bits > 0 &&
+                                                ws->choice.finest == tried.back().divisor &&
+                                                c.divisor == ws->choice.divisor &&
+                                                c.units == ws->choice.units;
+                                       }) -
+                          tried.begin());
   if (k < tried.size()) {
     (*tables)[k] = scan::table_fit(fit, tried[k].divisor, tried[k].units);
     (*sizes)[k] = sample_size(g, sample, from, fit, (*tables)[k], s);
@@ -650,7 +653,8 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
       best.swap(out);
       if (k < sizes.size() && sizes[k] > 0)
         chosen = {c.divisor, c.units,
-                  8.0 * static_cast<double>(sizes[k]) / static_cast<double>(sample.total())};
+                  8.0 * static_cast<double>(sizes[k]) / static_cast<double>(sample.total()),
+                  tried.back().divisor};
     }
     if (t.rings() == 0) break;
   }

@@ -66,6 +66,7 @@ struct ScanChoice {
   double divisor = 0;
   bool units = false;
   double bits = 0;
+  double finest = 0;  // the trial's finest table: its divisor (16, or 0 for the quantum's)
 };
 // remember: the windows are one sequence's, in order: a window's table choice is kept in
 // `choice` and tried first on the next window's sample (scan_encode.cpp, sampled_choice).
