@@ -4,7 +4,7 @@
 // metres), NaN points kept as gaps; the payload is decoded and compared with the integers.
 //
 //   scan_geometry_bits [--bound M]... [--no-ring] [--no-units] [--window F] [--dump N]
-//                      [--breakdown [--divisor D] [--hypot] [--walk]] [--sorted] PATH...
+//                      [--breakdown [--divisor D] [--hypot] [--walk | --pairs]] [--sorted] PATH...
 //
 // --bound: bounds in metres (default 0.001 and 0.01); --no-ring: ignore the ring / channel
 // field (the coder then infers the rings); --no-units: no range units (the encoder is not told
@@ -14,7 +14,8 @@
 // bits per point of each kind of symbol (ring, column, range, x, y, z), step divisor 4 or
 // --divisor D, the second of x y from the azimuth or (--hypot) from the range's hypotenuse;
 // --sorted: each frame in --point-order any's coded order (coding/scan_geometry.h);
-// --walk: --breakdown's frames coded with the ring walk (frame flag bit 3).
+// --walk: --breakdown's frames coded with the ring walk (frame flag bit 3); --pairs: with ring
+// pairs (bit 7).
 // Prints one line per sequence and bound: points, payload bytes, bits per point, encode and
 // decode milliseconds. Exits 1 when a round trip is not exact.
 #include <dirent.h>
@@ -42,6 +43,7 @@ double breakdown_divisor = 4;  // --divisor: the table's step divisor of --break
 bool sorted_order = false;     // --sorted: --point-order any's coded order (scan_point_order)
 bool range_units = true;       // --no-units: no ScanHints::grid_per_unit (no range units)
 bool ring_walk = false;        // --walk: --breakdown codes its frames with the ring walk
+bool ring_pairs = false;       // --pairs: --breakdown codes its frames with ring pairs
 bool breakdown_hypot = false;  // --hypot: --breakdown's second of x y from the hypotenuse
 
 struct Frame {
@@ -181,7 +183,8 @@ class BreakdownIo {
                   : ctx < kCtxZFrac      ? 5
                   : ctx < kCtxWalkRepeat ? 6
                   : ctx < kCtxWalkColumn ? 1
-                                         : 2;
+                  : ctx < kCtxPairRing   ? 2
+                                         : 1;
     enc_[k]->put(u, ctx);
   }
   const capz::ScanGeometry& g_;
@@ -204,6 +207,7 @@ void breakdown(const capz::ScanGeometry& g, const capz::ScanHints& h) {
     uint8_t flags = capz::scan::kSomeValid;
     if (t.rings() > 0 && capz::scan::spherical_ok(g, first, n))
       flags |= capz::scan::kSpherical | (ring_walk ? capz::scan::kRingWalk : 0) |
+               (ring_pairs && !ring_walk ? capz::scan::kRingPairs : 0) |
                (breakdown_hypot ? capz::scan::kHypot : 0);
     capz::scan::code_frame(io, st, flags, first, n, q.data(), v.data());
     first += n;
@@ -287,6 +291,8 @@ int main(int argc, char** argv) {
       breakdown_divisor = std::atof(argv[++i]);
     } else if (a == "--sorted") {
       sorted_order = true;
+    } else if (a == "--pairs") {
+      ring_pairs = true;
     } else if (a == "--walk") {
       ring_walk = true;
     } else if (a == "--hypot") {

@@ -93,9 +93,7 @@ void CapzSource::read_ragged(size_t first, size_t count, FrameBlock* out) {
     fail(ErrorCode::kMemoryLimit, name_, "these frames' points exceed the memory limit");
   const size_t W = ps_.h.window_frames;
   if (count > 0 && first % W == 0 && count == std::min<size_t>(W, ps_.take.frames - first)) {
-    decode(first / W);  // exactly one window: handed over without a copy, as in read()
-    std::swap(*out, win_);
-    have_ = false;
+    hand_over(first / W, out);  // exactly one window, as in read()
     return;
   }
   std::vector<size_t> counts;
@@ -136,12 +134,8 @@ void CapzSource::read(size_t first, size_t count, FrameBlock* out) {
   const size_t A = C > 0 && S > 0 ? S * C : 0;
   const size_t W = ps_.h.window_frames;
   const size_t R = ps_.take.rotations.per_frame();  // rotations per frame
-  // A block that is exactly one window is handed over without a copy: swapped with the
-  // caller's block (whose buffers the next decode refills), so it is no longer cached.
   if (count > 0 && first % W == 0 && count == std::min<size_t>(W, F - first)) {
-    decode(first / W);
-    std::swap(*out, win_);
-    have_ = false;
+    hand_over(first / W, out);  // exactly one window
     return;
   }
   // The block, besides the window(s) kept (checked when the source was opened).
@@ -180,13 +174,28 @@ void CapzSource::read(size_t first, size_t count, FrameBlock* out) {
   }
 }
 
+// A block that is exactly one window is handed over without a copy: swapped with the caller's
+// block, so it is no longer cached. Unless it is cached already, it is decoded into the caller's
+// block's buffers (whose frames the read replaces): their capacity is reused, and the caller's
+// previous window and this one are not both held (a window's worth of memory less, touched
+// afresh, on a take of more than one window).
+void CapzSource::hand_over(size_t w, FrameBlock* out) {
+  if (!(have_ && cached_ == w)) {
+    std::swap(*out, win_);
+    have_ = false;
+  }
+  decode(w);
+  std::swap(*out, win_);
+  have_ = false;
+}
+
 void CapzSource::decode(size_t w) {
   if (have_ && cached_ == w) return;
   have_ = false;
   if (pool_)
     decode_ahead(w);
   else
-    decode_window(*bytes_, ps_, w, &win_);
+    decode_window(*bytes_, ps_, w, &win_, &ints_);
   cached_ = w;
   have_ = true;
 }
@@ -227,7 +236,7 @@ void CapzSource::submit(size_t w) {
     Ahead* q = a.get();
     a->done = pool_->submit([this, q] {
       try {
-        decode_window_chunks(ps_, q->w, q->chunks.data(), q->base, q->end, &q->block);
+        decode_window_chunks(ps_, q->w, q->chunks.data(), q->base, q->end, &q->block, &q->ints);
       } catch (...) {
         q->error = std::current_exception();
       }

@@ -48,6 +48,7 @@ class CapzSource : public FrameSource {
     size_t w = 0, base = 0, end = 0;
     std::vector<uint8_t> chunks;
     FrameBlock block;
+    std::vector<int32_t> ints;
     std::exception_ptr error;  // rethrown when the window is read
     std::future<void> done;    // invalid when the chunks could not be fetched
   };
@@ -56,6 +57,7 @@ class CapzSource : public FrameSource {
   // Throws Error(kMemoryLimit) when `frames` frames of decoded samples exceed the limit.
   void check_memory(double frames, const char* what) const;
   void decode(size_t w);
+  void hand_over(size_t w, FrameBlock* out);
   void read_ragged(size_t first, size_t count, FrameBlock* out);
   // The header_ of a stream of one ragged frame in the fixed shape (the rule above).
   void one_frame_as_fixed();
@@ -67,6 +69,7 @@ class CapzSource : public FrameSource {
   std::string name_;
   ParsedStream ps_;
   FrameBlock win_;
+  std::vector<int32_t> ints_;  // a scan window's grid integers, their memory kept (decoder.h)
   size_t cached_ = 0;
   bool have_ = false;
   bool one_ragged_frame_ = false;  // the rule above applies

@@ -11,6 +11,7 @@
 #include "codec/transform_output.h"
 #include "coding/analog/analog_codec.h"
 #include "coding/attributes.h"
+#include "coding/buffers.h"
 #include "coding/bytes.h"
 #include "coding/c3d_words.h"
 #include "coding/entropy.h"
@@ -226,6 +227,25 @@ int read_split(const StreamHeader& h, uint64_t total, ByteReader* r, std::vector
   return e;
 }
 
+// A raster window's fine shift k as the factor 2^-k of its integers (exact: (q s) 2^-k), only
+// in mode 0.
+double scan_fine(const Grid& grid, int k, const std::string& what) {
+  if (k != 0 && grid.mode != PosMode::kGrid)
+    fail(ErrorCode::kCorrupt, what, "a raster fine shift outside mode 0");
+  return std::ldexp(1.0, -k);
+}
+
+// The coordinates of n scan points from their grid integers (3 n) and flags, 0 at gaps.
+void scan_coordinates(const Grid& grid, double fine, size_t n, const int32_t* q,
+                      const uint8_t* valid, double* xyz) {
+  with_mode(grid.mode, [&](auto m) {
+    for (size_t i = 0; i < n; ++i)
+      for (size_t a = 0; a < 3; ++a)
+        xyz[3 * i + a] =
+            valid[i] ? dequantise_as<decltype(m)::value>(grid, q[3 * i + a], 0) * fine : 0.0;
+  });
+}
+
 // "Scans (format 1.1)": the fn frames of window w of a ragged stream from its SCNW chunk, into
 // out's frame offsets, gaps and coordinates (gaps 0), and its grid integers (total x 3, in the
 // flattened point order) into *q for ATTR's predictors 10 and 11.
@@ -244,7 +264,27 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
     geo = static_cast<size_t>(len);
   }
   const size_t at = r.offset();
-  ScanGeometry g = decode_scan_geometry(c.payload + at, geo, what, static_cast<size_t>(total));
+  FrameBlock& b = *out;
+  Grid grid;
+  grid.mode = ctx.h.mode;
+  grid.step = ctx.h.step;
+  // Without ATTR (predictors 10 and 11) or the float32 split, nothing reads the window's
+  // integers but its coordinates: each frame's become coordinates as soon as they are decoded,
+  // from one frame's buffer (the window's integers are never all held).
+  const bool keep_q = e != scan::kNoSplit || !ctx.take.attributes.empty();
+  ScanGeometry g;
+  if (keep_q) {
+    g = decode_scan_geometry(c.payload + at, geo, what, static_cast<size_t>(total), q);
+  } else {
+    const double fine = scan_fine(grid, scan_fine_shift(c.payload + at, geo, what), what);
+    size_for_overwrite(&b.xyz, static_cast<size_t>(total) * 3);  // each value written once
+    g = decode_scan_geometry(c.payload + at, geo, what, static_cast<size_t>(total),
+                             [&](size_t first, size_t n, const int32_t* fq, const uint8_t* fv) {
+                               if (first + n > total)  // read_header bounds them: not reached
+                                 fail(ErrorCode::kCorrupt, what, "frames beyond the chunk's total");
+                               scan_coordinates(grid, fine, n, fq, fv, b.xyz.data() + 3 * first);
+                             });
+  }
   if (g.counts.size() != fn)
     fail(ErrorCode::kCorrupt, what,
          std::to_string(g.counts.size()) + " frames, the window has " + std::to_string(fn));
@@ -252,32 +292,26 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
     fail(ErrorCode::kCorrupt, what,
          "frame counts sum to " + std::to_string(g.total()) + " points, the chunk says " +
              std::to_string(total));
-  FrameBlock& b = *out;
   b.frame_offsets.assign(fn + 1, 0);
   for (size_t f = 0; f < fn; ++f) b.frame_offsets[f + 1] = b.frame_offsets[f] + g.counts[f];
-  b.valid = g.valid;
+  b.valid.swap(g.valid);
   if (e != scan::kNoSplit) {  // "Lossless ragged streams": the float32 split
-    b.xyz.assign(g.total() * 3, 0.0);
-    scan::decode_split(c.payload + at + geo, c.size - at - geo, what, e, g.q, g.valid,
+    b.xyz.assign(b.valid.size() * 3, 0.0);
+    scan::decode_split(c.payload + at + geo, c.size - at - geo, what, e, g.q, b.valid,
                        b.xyz.data());
     q->swap(g.q);
     return;
   }
-  Grid grid;
-  grid.mode = ctx.h.mode;
-  grid.step = ctx.h.step;
-  if (g.fine != 0 && grid.mode != PosMode::kGrid)
-    fail(ErrorCode::kCorrupt, what, "a raster fine shift outside mode 0");
-  const double fine = std::ldexp(1.0, -g.fine);  // exact: (q s) 2^-k
-  b.xyz.resize(g.total() * 3);                   // each value written once below (0 at gaps)
-  with_mode(grid.mode, [&](auto m) {
-    for (size_t i = 0; i < g.total(); ++i)
-      for (size_t a = 0; a < 3; ++a)
-        b.xyz[3 * i + a] =
-            g.valid[i] ? dequantise_as<decltype(m)::value>(grid, g.q[3 * i + a], 0) * fine : 0.0;
-  });
+  if (keep_q) {
+    const double fine = scan_fine(grid, g.fine, what);
+    size_for_overwrite(&b.xyz, b.valid.size() * 3);  // each value written once below
+    scan_coordinates(grid, fine, b.valid.size(), g.q.data(), b.valid.data(), b.xyz.data());
+  }
   apply_negative_zeros(zeros, b.valid, what, &b.xyz);
-  q->swap(g.q);
+  if (keep_q)
+    q->swap(g.q);
+  else
+    q->clear();  // none held (the buffer's memory kept)
 }
 
 // ATTR of the window (FORMAT.md 13): its fields over `frames` x `points` (a ragged window: one
@@ -302,7 +336,7 @@ void decode_window_attributes(const StreamContext& ctx, WindowChunks* chunks, si
 }  // namespace
 
 void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* region, size_t base,
-                          size_t end, FrameBlock* out) {
+                          size_t end, FrameBlock* out, std::vector<int32_t>* ints) {
   const StreamHeader& h = ctx.h;
   const size_t N = h.points;
   const size_t f0 = w * h.window_frames;
@@ -311,7 +345,8 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
   WindowChunks chunks(ctx, w, region, base, end);
   FrameBlock& b = *out;
   // Decoded straight into the caller's arrays (their capacity is reused window after window).
-  std::vector<int32_t> q;  // the window's POSW or SCNW integers (none with transform output)
+  std::vector<int32_t> q;   // the window's POSW or SCNW integers (none with transform output)
+  if (ints) q.swap(*ints);  // its memory, given back at the end
   b.frame_offsets.clear();
   if (h.ragged && ctx.words) fail(ErrorCode::kCorrupt, ctx.name, "ragged frames with C3D words");
   if (h.ragged)
@@ -358,6 +393,7 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
     decode_window_attributes(ctx, &chunks, fn, N, ctx.take.pcd->width, q, out);
   }
   chunks.check_rest();
+  if (ints) ints->swap(q);
 }
 
 void window_extent(const ParsedStream& ps, size_t size, size_t w, size_t* base, size_t* end) {
@@ -402,10 +438,11 @@ std::vector<size_t> ragged_frame_offsets(StreamBytes& bytes, const ParsedStream&
   return off;
 }
 
-void decode_window(StreamBytes& bytes, const ParsedStream& ps, size_t w, FrameBlock* out) {
+void decode_window(StreamBytes& bytes, const ParsedStream& ps, size_t w, FrameBlock* out,
+                   std::vector<int32_t>* ints) {
   size_t base = 0, end = 0;
   window_extent(ps, bytes.size(), w, &base, &end);
-  decode_window_chunks(ps, w, bytes.get(base, end - base), base, end, out);
+  decode_window_chunks(ps, w, bytes.get(base, end - base), base, end, out, ints);
 }
 
 }  // namespace capz

@@ -16,8 +16,10 @@ namespace capz {
 // region holds the window's chunks, the file's bytes [base, end); offsets in messages are file
 // offsets. Unknown chunks between the known ones are skipped. Throws kCorrupt naming ctx.name,
 // the chunk and the window; kUnsupportedVersion for an unknown transform codec.
+// ints: a buffer kept from window to window for a scan window's grid integers (its memory
+// reused), or null.
 void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* region, size_t base,
-                          size_t end, FrameBlock* out);
+                          size_t end, FrameBlock* out, std::vector<int32_t>* ints = nullptr);
 
 // Where window w's chunks are in a stream of `size` bytes, as INDX says: [*base, *end). Throws
 // kCorrupt when the entry points outside the file.
@@ -32,6 +34,7 @@ std::vector<size_t> ragged_frame_offsets(StreamBytes& bytes, const ParsedStream&
                                          std::vector<int>* splits = nullptr);
 
 // Window w of a parsed stream, its chunks fetched from `bytes` as INDX says.
-void decode_window(StreamBytes& bytes, const ParsedStream& ps, size_t w, FrameBlock* out);
+void decode_window(StreamBytes& bytes, const ParsedStream& ps, size_t w, FrameBlock* out,
+                   std::vector<int32_t>* ints = nullptr);
 
 }  // namespace capz

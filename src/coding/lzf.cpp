@@ -20,9 +20,6 @@ uint32_t bytes3(const uint8_t* p) {
 uint32_t hash_of(uint32_t v) {
   return (v * 2654435761u) >> (32 - kHashBits);
 }
-uint32_t hash3(const uint8_t* p) {
-  return hash_of(bytes3(p));
-}
 
 // The literals [from, to) at o, in runs of up to kMaxLiteral under a control byte; returns the
 // end.
@@ -52,49 +49,90 @@ void put_copy(size_t len, size_t off, std::vector<uint8_t>* out) {
   uint8_t b[3];
   out->insert(out->end(), b, put_copy(len, off, b));
 }
-}  // namespace
 
-// size is below 2^32, so a position fits 32 bits and is never kNone.
-std::vector<uint8_t> lzf_compress(const uint8_t* data, size_t size) {
+// Whether the 3 bytes at a and b are equal, reading 4 bytes at each (both have a 4th).
+bool same3_wide(const uint8_t* a, const uint8_t* b) {
+  uint32_t x, y;
+  std::memcpy(&x, a, 4);
+  std::memcpy(&y, b, 4);
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  return ((x ^ y) & 0xFFFFFFu) == 0;
+#else
+  return ((x ^ y) & 0xFFFFFF00u) == 0;
+#endif
+}
+
+// The length of the match of a and b, 3 equal bytes known, at most limit: the first byte that
+// differs, 8 bytes at a time while 8 fit, then byte by byte.
+size_t match_length(const uint8_t* a, const uint8_t* b, size_t limit) {
+  size_t len = 3;
+  for (; len + 8 <= limit; len += 8) {
+    uint64_t x, y;
+    std::memcpy(&x, a + len, 8);
+    std::memcpy(&y, b + len, 8);
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    if (x != y) return len + static_cast<size_t>(__builtin_ctzll(x ^ y) >> 3);
+#else
+    if (x != y) break;
+#endif
+  }
+  while (len < limit && a[len] == b[len]) ++len;
+  return len;
+}
+
+size_t lzf_compress_capz(const uint8_t* data, size_t size, uint8_t* out) {
+  // A slot holds a position, or kNone (above any position: size is below 2^32, checked by the
+  // callers), whose distance i - kNone wraps beyond kMaxDistance.
   constexpr uint32_t kNone = ~uint32_t{0};
-  if (size > 0xFFFFFFFFu) fail(ErrorCode::kUsage, "", "LZF of more than 4 GiB");
-  // At most the input and a control byte per kMaxLiteral literals: a copy codes 3 or more bytes
-  // in 2 or 3.
-  std::vector<uint8_t> out(size + size / kMaxLiteral + 1);
-  uint8_t* o = out.data();
   std::vector<uint32_t> table(size_t{1} << kHashBits, kNone);
+  uint32_t* const slots = table.data();
+  uint8_t* o = out;
   size_t i = 0, lit = 0;
   uint32_t v = size >= 3 ? bytes3(data) : 0;  // the 3 bytes at i, rolled on byte by byte
   while (i + 3 <= size) {
     const uint32_t h = hash_of(v);
-    const uint32_t cand = table[h];
-    table[h] = static_cast<uint32_t>(i);
-    if (cand != kNone && i - cand <= kMaxDistance && bytes3(data + cand) == v) {
-      size_t len = 3;
-      const size_t limit = std::min(kMaxMatch, size - i);
-      while (len + 8 <= limit) {  // 8 bytes at a time, then byte by byte: the same length
-        uint64_t a, b;
-        std::memcpy(&a, data + cand + len, 8);
-        std::memcpy(&b, data + i + len, 8);
-        if (a != b) break;
-        len += 8;
-      }
-      while (len < limit && data[cand + len] == data[i + len]) ++len;
-      o = flush_literals(data, lit, i, o);
-      o = put_copy(len, i - cand - 1, o);
-      // Index the positions the match covers (their prefixes), so later matches find them.
-      for (size_t k = i + 1; k < i + len && k + 3 <= size; ++k)
-        table[hash3(data + k)] = static_cast<uint32_t>(k);
-      i += len;
-      lit = i;
-      if (i + 3 <= size) v = bytes3(data + i);
-    } else {
+    const size_t cand = slots[h];
+    slots[h] = static_cast<uint32_t>(i);
+    const bool hit = i - cand <= kMaxDistance &&
+                     (i + 4 <= size ? same3_wide(data + cand, data + i) : bytes3(data + cand) == v);
+    if (!hit) {
       ++i;
       if (i + 3 <= size) v = (v << 8 | data[i + 2]) & 0xFFFFFFu;
+      continue;
     }
+    const size_t len = match_length(data + cand, data + i, std::min(kMaxMatch, size - i));
+    o = flush_literals(data, lit, i, o);
+    o = put_copy(len, i - cand - 1, o);
+    // Index the positions the match covers (their prefixes), so later matches find them; the
+    // 3 bytes rolled on from i's.
+    const size_t stop = std::min(i + len, size - 2);  // k + 3 <= size
+    for (size_t k = i + 1; k < stop; ++k) {
+      v = (v << 8 | data[k + 2]) & 0xFFFFFFu;
+      slots[hash_of(v)] = static_cast<uint32_t>(k);
+    }
+    i += len;
+    lit = i;
+    if (i + 3 <= size) v = bytes3(data + i);
   }
   o = flush_literals(data, lit, size, o);
-  out.resize(static_cast<size_t>(o - out.data()));
+  return static_cast<size_t>(o - out);
+}
+
+}  // namespace
+
+size_t lzf_bound(size_t size) {
+  return size + size / kMaxLiteral + 1;
+}
+
+size_t lzf_compress_into(const uint8_t* data, size_t size, uint8_t* out) {
+  if (size > 0xFFFFFFFFu) fail(ErrorCode::kUsage, "", "LZF of more than 4 GiB");
+  return lzf_compress_capz(data, size, out);
+}
+
+std::vector<uint8_t> lzf_compress(const uint8_t* data, size_t size) {
+  if (size > 0xFFFFFFFFu) fail(ErrorCode::kUsage, "", "LZF of more than 4 GiB");
+  std::vector<uint8_t> out(lzf_bound(size));
+  out.resize(lzf_compress_capz(data, size, out.data()));
   return out;
 }
 

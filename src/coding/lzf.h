@@ -15,6 +15,10 @@
 namespace capz {
 
 std::vector<uint8_t> lzf_compress(const uint8_t* data, size_t size);
+// The same bytes into out[0, lzf_bound(size)) (the caller's buffer); returns their count.
+size_t lzf_compress_into(const uint8_t* data, size_t size, uint8_t* out);
+// The most bytes lzf_compress gives for `size` bytes (the input and a control byte per 32).
+size_t lzf_bound(size_t size);
 
 // The LZF compressors capz reproduces (docs/FORMAT.md 14.3): its own (above) and variant 1,
 // liblzf's greedy compressor as PCL's io/src/lzf.cpp builds it with a 2^13-slot table (its

@@ -1,7 +1,9 @@
 // The scan geometry decoder (docs/FORMAT.md "Scans (format 1.1)").
+#include <algorithm>
 #include <cstdint>
 
 #include "capz/error.h"
+#include "coding/buffers.h"
 #include "coding/scan_geometry.h"
 #include "coding/scan_raster.h"
 #include "coding/scan_shared.h"
@@ -51,17 +53,23 @@ class DecodeIo {
   int32_t zero_[3] = {0, 0, 0};
 };
 
-}  // namespace
-
-ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::string& what,
-                                  size_t max_points) {
+// decode_scan_geometry: with `frame`, each frame's integers go to it from a buffer of one frame;
+// without, into g.q.
+ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& what,
+                           size_t max_points, const ScanFrameSink* frame,
+                           std::vector<int32_t>* space) {
   const scan::Header h = scan::read_header(data, size, what, max_points);
   ScanGeometry g;
+  if (space) g.q.swap(*space);
   g.counts = h.counts;
   g.fine = h.fine;
-  size_t total = 0;
-  for (uint32_t n : h.counts) total += n;
-  g.q.resize(3 * total);
+  size_t total = 0, most = 0;
+  for (uint32_t n : h.counts) total += n, most = std::max<size_t>(most, n);
+  std::vector<int32_t> one;  // a frame's integers, with `frame`
+  if (frame)
+    one.resize(3 * most);
+  else
+    size_for_overwrite(&g.q, 3 * total);  // every value written below
   g.valid.resize(total);
   IntDecoder dec(data + h.body, size - h.body, scan::kContexts, what);
   scan::State st(h.table);
@@ -71,22 +79,39 @@ ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::s
   scan::raster::State rs(px.count());
   size_t first = 0;
   for (size_t f = 0; f < h.counts.size(); ++f) {
+    int32_t* q = frame ? one.data() : g.q.data() + 3 * first;
+    uint8_t* valid = g.valid.data() + first;
     if (h.flags[f] & scan::kRaster) {
-      scan::raster::code_frame(io, px, rs, h.flags[f], first, h.counts[f], g.q.data() + 3 * first,
-                               g.valid.data() + first);
+      scan::raster::code_frame(io, px, rs, h.flags[f], first, h.counts[f], q, valid);
     } else if (f + 1 < h.counts.size()) {
-      scan::code_frame(io, st, h.flags[f], first, h.counts[f], g.q.data() + 3 * first,
-                       g.valid.data() + first);
+      scan::code_frame(io, st, h.flags[f], first, h.counts[f], q, valid);
     } else {  // the last: on a trial state, which leaves the map no later sweep reads
       scan::State last = st.trial();
-      scan::code_points(io, last, h.flags[f], first, h.counts[f], g.q.data() + 3 * first,
-                        g.valid.data() + first);
+      scan::code_points(io, last, h.flags[f], first, h.counts[f], q, valid);
     }
+    if (frame) (*frame)(first, h.counts[f], q, valid);
     first += h.counts[f];
   }
   io.commit();
   if (!dec.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the scan geometry");
   return g;
+}
+
+}  // namespace
+
+ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::string& what,
+                                  size_t max_points) {
+  return decode_frames(data, size, what, max_points, nullptr, nullptr);
+}
+
+ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::string& what,
+                                  size_t max_points, std::vector<int32_t>* space) {
+  return decode_frames(data, size, what, max_points, nullptr, space);
+}
+
+ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::string& what,
+                                  size_t max_points, const ScanFrameSink& frame) {
+  return decode_frames(data, size, what, max_points, &frame, nullptr);
 }
 
 int scan_fine_shift(const uint8_t* data, size_t size, const std::string& what) {

@@ -232,6 +232,7 @@ struct Scratch {
   std::vector<uint8_t> v;
   Trial trial, walk_trial;  // the spherical trial of the frame; with the ring walk
   int walk = -1;            // the window's choice of the ring walk (code_chosen): -1 not made yet
+  int pairs = -1;           // the window's choice of ring pair frames (code_chosen), every table's
   std::vector<double> log_t, log_c;     // Tally::estimate's prefix sums
   std::vector<CartesianEstimate> cart;  // per frame of the window
   std::vector<int8_t> spherical_ok;     // per frame: scan::spherical_ok, -1 not yet known
@@ -291,6 +292,33 @@ bool walk_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& po
   return flags < kWalkFlags * valid;
 }
 
+// Whether ring pair frames (flags_f bit 7) are worth a trial on frame [first, first + n): its
+// valid points' columns step as they did the last time the same two rings came in a row more
+// often than they repeat the previous point's column, by more than an eighth of its points (a
+// driver that writes a firing's rings in its own order, its columns apart by ring).
+bool pairs_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& polar,
+                        const scan::State& st, size_t first, size_t n) {
+  std::vector<int32_t> step(scan::State::kPairCells);
+  std::vector<uint8_t> seen(scan::State::kPairCells);
+  size_t valid = 0, pair = 0, same = 0;
+  const scan::Polar* prev = nullptr;
+  for (size_t i = first; i < first + n; ++i) {
+    if (!g.valid[i]) continue;
+    ++valid;
+    const scan::Polar& p = polar[i];
+    if (prev) {
+      const uint32_t h = st.pair_cell(prev->ring, p.ring);
+      const int32_t d = wrap_sub(p.column, prev->column);
+      pair += seen[h] && step[h] == d;
+      same += d == 0;
+      seen[h] = 1;
+      step[h] = d;
+    }
+    prev = &p;
+  }
+  return pair > same + valid / 8;
+}
+
 // The spherical trial of frame [first, first + n) under *flags on a staged copy of *st (a
 // trial copy for a window's last frame, whose map no later sweep reads; returned), its symbols
 // recorded in *t (room for `room` of them) and tallied in t->tally, the second of x y by the
@@ -335,7 +363,9 @@ uint8_t code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanG
   const bool last = f + 1 == g.counts.size();
   // At most 7 symbols a point; a walk frame's ring takes the repeat flag and the rings passed.
   const size_t room = 7 * n + (upward ? n + passed : 0) + 1;
-  auto coded = static_cast<uint8_t>(upward && s->walk == 1 ? sph | scan::kRingWalk : sph);
+  auto coded = static_cast<uint8_t>(upward && s->walk == 1 ? sph | scan::kRingWalk
+                                    : s->pairs == 1        ? sph | scan::kRingPairs
+                                                           : sph);
   scan::State staged = spherical_trial(*st, last, &coded, g, polar, first, n, room, &s->trial, s);
   // The window's first frame whose rings run upward is coded both ways (both write the same
   // ranges into this sweep's map), the smaller kept; the window's later frames follow it.
@@ -349,6 +379,23 @@ uint8_t code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanG
       std::swap(s->trial, s->walk_trial);
       staged = std::move(walked);
       coded = walk;
+    }
+  }
+  // The window's first frame coded without the walk tries ring pair frames when they look
+  // worth it (the trial of the walk's room), the smaller kept; the window's later frames follow.
+  if (!(coded & scan::kRingWalk) && s->pairs < 0) {
+    s->pairs = 0;
+    if (pairs_worth_trying(g, polar, *st, first, n)) {
+      auto pairs = static_cast<uint8_t>(sph | scan::kRingPairs);
+      scan::State paired =
+          spherical_trial(*st, last, &pairs, g, polar, first, n, room, &s->walk_trial, s);
+      s->pairs = s->walk_trial.tally.estimate(&s->log_t, &s->log_c) <
+                 s->trial.tally.estimate(&s->log_t, &s->log_c);
+      if (s->pairs == 1) {
+        std::swap(s->trial, s->walk_trial);
+        staged = std::move(paired);
+        coded = pairs;
+      }
     }
   }
   if (spherical_wins(*st, flags, g, polar, f, first, n, s)) {

@@ -187,33 +187,73 @@ __attribute__((always_inline)) inline int32_t code_column(Io& io, const State& s
   return c;
 }
 
+// The ring of a ring pair frame (FORMAT "Ring pair frames", step 1): its place among the
+// candidates khat, `other`, the ring's successor and the ring above P's, else n plus the
+// zig-zag of its signed residual against khat. *u: the symbol.
+template <class Io>
+uint32_t pair_ring(Io& io, const State& st, uint32_t want, const Prev* pv, uint32_t khat,
+                   uint32_t other, uint32_t* u) {
+  const uint32_t rings = static_cast<uint32_t>(st.table().rings());
+  uint32_t c[4] = {khat, other, st.succ[pv->ring], pv->ring + 1 == rings ? 0 : pv->ring + 1};
+  uint32_t n = 1;
+  for (int j = 1; j < 4; ++j)
+    if (std::find(c, c + n, c[j]) == c + n) c[n++] = c[j];
+  uint32_t a = static_cast<uint32_t>(std::find(c, c + n, want) - c);
+  if (a == n) {  // the encoder's residual (the decoder's `want` is anything)
+    const uint32_t d = mod_small(want + rings - khat, rings);
+    a = n + zigzag(d <= (rings - 1) / 2 ? static_cast<int32_t>(d)
+                                        : static_cast<int32_t>(d) - static_cast<int32_t>(rings));
+  }
+  *u = io.ring(a, n + rings, kCtxPairRing + static_cast<int>(std::min(pv->ring_residual, 5u)));
+  if (*u < n) return c[*u];
+  return mod_small(static_cast<uint32_t>(static_cast<int32_t>(khat + rings) + unzigzag(*u - n)),
+                   rings);
+}
+
 // Ring and column of a frame without bit 3: the ring against the successor or the run.
+// (pairs: a ring pair frame, FORMAT "Ring pair frames".)
 template <class Io>
 __attribute__((always_inline)) inline RingColumn ring_successor(Io& io, State& st, const Polar& pa,
-                                                                const Prev* pv) {
+                                                                const Prev* pv, bool pairs) {
   const uint32_t rings = static_cast<uint32_t>(st.table().rings());
   // Ring: the one that followed the previous point's ring last time, or the previous step's
   // continuation (runs of rings up or down), whichever has done better lately.
   // (Rings, and so pv->ring and pv->before, are below `rings`; so is d, which io.ring checks:
   // each % below is a subtraction or two.)
-  const uint32_t k1 = pv->have ? st.succ[pv->ring] : 0;
+  uint32_t k1 = pv->have ? st.succ[pv->ring] : 0;
+  uint16_t* after_pair =
+      pairs && pv->have ? &st.pair_ring[st.pair_cell(pv->before, pv->ring)] : nullptr;
+  if (after_pair && *after_pair) k1 = *after_pair - 1u;
   const uint32_t k2 = pv->have ? mod_small(2 * pv->ring + rings - pv->before, rings) : 0;
   const int sk = st.ring_score[1] < st.ring_score[0] ? 1 : 0;
   const uint32_t khat = sk ? k2 : k1;
-  const uint32_t d =
-      io.ring(mod_small(pa.ring + rings - khat, rings), rings, kCtxRing + (pv->ring_residual != 0));
-  const uint32_t k = mod_small(khat + d, rings);
+  uint32_t d, k;
+  if (after_pair) {
+    k = pair_ring(io, st, pa.ring, pv, khat, sk ? k1 : k2, &d);
+  } else {
+    d = io.ring(mod_small(pa.ring + rings - khat, rings), rings,
+                kCtxRing + (pv->ring_residual != 0));
+    k = mod_small(khat + d, rings);
+  }
   if (pv->have) st.succ[pv->ring] = k;
   ring_score(&st.ring_score[0], k, k1, rings);
   ring_score(&st.ring_score[1], k, k2, rings);
   State::Ring& r = st.ring[k];
-  // Column: the previous point's (same firing) or the ring's last plus its step.
-  const int32_t p0 = pv->have ? pv->column : (r.has_last ? r.last_column : 0);
+  // Column: the previous point's (same firing; in a ring pair frame plus the pair's step) or the
+  // ring's last plus its step.
+  int32_t* pair_step = nullptr;
+  if (after_pair) {
+    *after_pair = static_cast<uint16_t>(k + 1);
+    pair_step = &st.pair_column[st.pair_cell(pv->ring, k)];
+  }
+  const int32_t p0 = pv->have ? wrap_add(pv->column, pair_step ? *pair_step : 0)
+                              : (r.has_last ? r.last_column : 0);
   const int32_t p1 = r.has_last ? wrap_add(r.last_column, r.step) : p0;
   RingColumn out;
   out.ring = k;
   out.residual = d;
   out.column = code_column(io, st, r, pa.column, p0, p1, d != 0, pv);
+  if (pair_step) *pair_step = wrap_sub(out.column, pv->column);
   return out;
 }
 
@@ -288,10 +328,12 @@ __attribute__((always_inline)) inline RingColumn ring_walk(Io& io, State& st, co
 
 template <class Io>
 __attribute__((always_inline)) inline void code_spherical(Io& io, State& st, const Polar& pa,
-                                                          const int32_t* a, bool walk, bool hypot,
-                                                          Prev* pv, int32_t* p) {
+                                                          const int32_t* a, uint8_t flags, Prev* pv,
+                                                          int32_t* p) {
   const Table& t = st.table();
-  const RingColumn rc = walk ? ring_walk(io, st, pa, pv) : ring_successor(io, st, pa, pv);
+  const bool walk = (flags & kRingWalk) != 0, hypot = (flags & kHypot) != 0;
+  const RingColumn rc =
+      walk ? ring_walk(io, st, pa, pv) : ring_successor(io, st, pa, pv, (flags & kRingPairs) != 0);
   const uint32_t k = rc.ring;
   const int32_t col = rc.column;
   State::Ring& r = st.ring[k];
@@ -337,11 +379,14 @@ template <class Io>
 void code_points(Io& io, State& st, uint8_t flags, size_t first, size_t n, int32_t* q_out,
                  uint8_t* valid_out) {
   const uint8_t vmode = flags & 3;
-  const bool spherical = (flags & kSpherical) != 0, walk = (flags & kRingWalk) != 0;
-  const bool hypot = (flags & kHypot) != 0;
+  const bool spherical = (flags & kSpherical) != 0;
   bool prev_valid = true;
   detail::Prev pv;
-  if (walk) std::fill(st.firing.begin(), st.firing.end(), State::Firing{});
+  if (flags & kRingWalk) std::fill(st.firing.begin(), st.firing.end(), State::Firing{});
+  if ((flags & kRingPairs) && st.pair_ring.empty()) {
+    st.pair_ring.assign(State::kPairCells, 0);
+    st.pair_column.assign(State::kPairCells, 0);
+  }
   for (size_t i = 0; i < n; ++i) {
     const bool v = point_valid(io, vmode, first + i, &prev_valid);
     valid_out[i] = v;
@@ -352,7 +397,7 @@ void code_points(Io& io, State& st, uint8_t flags, size_t first, size_t n, int32
     }
     const int32_t* a = io.actual(first + i);
     if (spherical)
-      detail::code_spherical(io, st, io.polar(first + i), a, walk, hypot, &pv, p);
+      detail::code_spherical(io, st, io.polar(first + i), a, flags, &pv, p);
     else
       detail::code_cartesian(io, st, a, p);
   }

@@ -89,7 +89,8 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
   for (size_t i = 0; i < frames; ++i) {
     const uint8_t fl = h.flags[i];
     if ((fl & ~kFrameFlagMask) != 0 || (fl & 3) == 3 || ((fl & kSpherical) && (fl & kRaster)) ||
-        ((fl & (kRingWalk | kHypot)) && !(fl & kSpherical)))
+        ((fl & (kRingWalk | kHypot | kRingPairs)) && !(fl & kSpherical)) ||
+        ((fl & kRingWalk) && (fl & kRingPairs)))
       fail(ErrorCode::kCorrupt, what, "frame " + std::to_string(i) + " has unknown flags");
     if ((fl & kSpherical) && rings == 0)
       fail(ErrorCode::kCorrupt, what, "a spherical frame without a laser table");

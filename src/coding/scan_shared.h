@@ -26,10 +26,11 @@ namespace scan {
 // Frame flags (one byte per frame).
 constexpr uint8_t kAllValid = 0, kSomeValid = 1, kNoneValid = 2;  // bits 0-1
 constexpr uint8_t kSpherical = 4;                                 // bit 2
-constexpr uint8_t kRingWalk = 8;  // bit 3: rings by the walk (FORMAT "Ring walk frames")
-constexpr uint8_t kRaster = 32;   // bit 5 (scan_raster.h)
-constexpr uint8_t kHypot = 64;    // bit 6: the second of x y from the range's hypotenuse
-constexpr uint8_t kFrameFlagMask = 7 | kRingWalk | kRaster | kHypot;
+constexpr uint8_t kRingWalk = 8;     // bit 3: rings by the walk (FORMAT "Ring walk frames")
+constexpr uint8_t kRaster = 32;      // bit 5 (scan_raster.h)
+constexpr uint8_t kHypot = 64;       // bit 6: the second of x y from the range's hypotenuse
+constexpr uint8_t kRingPairs = 128;  // bit 7: ring pair frames (FORMAT "Ring pair frames")
+constexpr uint8_t kFrameFlagMask = 7 | kRingWalk | kRaster | kHypot | kRingPairs;
 
 // Limits the decoder enforces (FORMAT.md).
 constexpr uint32_t kMaxRings = 1024;
@@ -68,18 +69,19 @@ enum Ctx : int {
   kCtxX = kCtxRange + 16,      // 24 and (kCtxZ) 24: unused (x y z before the fraction rule)
   kCtxY = kCtxX + 24,          // 16 x 3: the second of x y from the azimuth, by bit length
   kCtxZ = kCtxY + 48,
-  kCtxCart = kCtxZ + 24,            // 3 axes x 8: previous residual's bit length
-  kCtxRaster = kCtxCart + 24,       // 27: raster frames (scan_raster.h)
-  kCtxImage = kCtxRaster + 27,      // the fraction-rule contexts below (FORMAT: 175)
-  kCtxRangeFrac = kCtxImage,        // 8 x 3: the range against the smoothed map
-  kCtxAxis1 = kCtxRangeFrac + 24,   // 24 x 3: first of x y, by the range's bit length
-  kCtxAxis2 = kCtxAxis1 + 72,       // 8 x 3: second of x y from the hypotenuse, by the count
-  kCtxZFrac = kCtxAxis2 + 24,       // 24 x 3: z, by the range's bit length
-  kCtxWalkRepeat = kCtxZFrac + 72,  // 24: the ring walk's repeat flag
-  kCtxWalk = kCtxWalkRepeat + 24,   // 4 x 2 x 2 x 8: the walk's flags
-  kCtxWalkColumn = kCtxWalk + 128,  // 1: a repeated ring's column
-  kCtxTurn = kCtxWalkColumn + 1,    // 2 x 2 x 4: the column with the third candidate (units bit 4)
-  kContexts = kCtxTurn + 16,
+  kCtxCart = kCtxZ + 24,              // 3 axes x 8: previous residual's bit length
+  kCtxRaster = kCtxCart + 24,         // 27: raster frames (scan_raster.h)
+  kCtxImage = kCtxRaster + 27,        // the fraction-rule contexts below (FORMAT: 175)
+  kCtxRangeFrac = kCtxImage,          // 8 x 3: the range against the smoothed map
+  kCtxAxis1 = kCtxRangeFrac + 24,     // 24 x 3: first of x y, by the range's bit length
+  kCtxAxis2 = kCtxAxis1 + 72,         // 8 x 3: second of x y from the hypotenuse, by the count
+  kCtxZFrac = kCtxAxis2 + 24,         // 24 x 3: z, by the range's bit length
+  kCtxWalkRepeat = kCtxZFrac + 72,    // 24: the ring walk's repeat flag
+  kCtxWalk = kCtxWalkRepeat + 24,     // 4 x 2 x 2 x 8: the walk's flags
+  kCtxWalkColumn = kCtxWalk + 128,    // 1: a repeated ring's column
+  kCtxTurn = kCtxWalkColumn + 1,      // 2 x 2 x 4: the column with the third candidate (units bit 4)
+  kCtxPairRing = kCtxTurn + 16,       // 6: a ring pair frame's ring, by the previous symbol
+  kContexts = kCtxPairRing + 6,
 };
 
 // A point's validity under the frame's validity mode (FORMAT: a flag per point in mode 1, under
@@ -220,6 +222,14 @@ class State {
     uint32_t n = 0, m = 0;
   };
   std::vector<Firing> firing;
+  // Ring pair frames: per pair of rings (a, b) at pair_cell(a, b), the ring that followed them
+  // last plus one (0: none) and the column step from a to b; empty until such a frame.
+  static constexpr uint32_t kPairCells = 4096;
+  std::vector<uint16_t> pair_ring;
+  std::vector<int32_t> pair_column;
+  uint32_t pair_cell(uint32_t a, uint32_t b) const {
+    return (a * static_cast<uint32_t>(t_->rings()) + b) & (kPairCells - 1);
+  }
   uint32_t ring_score[2] = {0, 0};
   // The previous sweep's smoothed range (1/16 steps) at ring k, column col (false: none there).
   bool map_prev(uint32_t k, int32_t col, int64_t* smooth) const {

@@ -440,12 +440,13 @@ std::string pcd_encoding(const Take& take, const WriteOptions& opts, const std::
 FrameFileBytes pcd_file_writer(const Take& take, const std::string& enc, const std::string& dir,
                                std::optional<bool> xyz_float) {
   return [plan = pcd_frame_plan(take, enc, xyz_float), points = std::vector<uint8_t>(),
-          ragged = take.ragged(), dir](const FrameView& v) mutable {
+          body = std::vector<uint8_t>(), ragged = take.ragged(),
+          dir](const FrameView& v) mutable {  // the buffers kept from frame to frame
     if (v.points > (size_t{1} << 31))
       fail(ErrorCode::kUsage, dir, "too many points for a PCD file");
     if (ragged) plan.layout.width = v.points, plan.layout.height = 1;
     pcd_frame_points(plan, v.points, v.xyz, v.valid, v.attrs, &points);
-    return pcd_frame_bytes(plan.layout, points.data());
+    return pcd_frame_bytes(plan.layout, points.data(), LzfVariant::kCapz, &body);
   };
 }
 

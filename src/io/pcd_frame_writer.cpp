@@ -98,6 +98,9 @@ PcdFrameLayout written_layout(const PcdFrameLayout& layout) {
   return l;
 }
 
+void store_le32(uint8_t* p, uint32_t v) {
+  for (int i = 0; i < 4; ++i) p[i] = static_cast<uint8_t>(v >> (8 * i));
+}
 void put_le32(std::vector<uint8_t>* b, uint32_t v) {
   for (int i = 0; i < 4; ++i) b->push_back(static_cast<uint8_t>(v >> (8 * i)));
 }
@@ -105,7 +108,7 @@ void put_le32(std::vector<uint8_t>* b, uint32_t v) {
 }  // namespace
 
 std::vector<uint8_t> pcd_frame_bytes(const PcdFrameLayout& layout, const uint8_t* all_points,
-                                     LzfVariant lzf) {
+                                     LzfVariant lzf, std::vector<uint8_t>* scratch) {
   const size_t n = layout.width * layout.height;
   size_t all_step = 0;
   for (const PCDField& f : layout.fields)
@@ -137,7 +140,9 @@ std::vector<uint8_t> pcd_frame_bytes(const PcdFrameLayout& layout, const uint8_t
   if (l.encoding == "binary") {
     out.insert(out.end(), points, points + n * step);
   } else if (l.encoding == "binary_compressed") {
-    std::vector<uint8_t> fm(n * step);  // field-major
+    std::vector<uint8_t> own;
+    std::vector<uint8_t>& fm = scratch ? *scratch : own;  // field-major, each byte written below
+    fm.resize(n * step);
     uint8_t* d = fm.data();
     size_t off = 0;
     for (const PCDField& f : l.fields) {
@@ -153,10 +158,19 @@ std::vector<uint8_t> pcd_frame_bytes(const PcdFrameLayout& layout, const uint8_t
     }
     if (fm.size() > 0xFFFFFFFFu)
       fail(ErrorCode::kUsage, "", "a PCD frame above 4 GiB cannot be binary_compressed");
-    const std::vector<uint8_t> c = lzf_compress(fm.data(), fm.size(), lzf);
-    put_le32(&out, static_cast<uint32_t>(c.size()));
-    put_le32(&out, static_cast<uint32_t>(fm.size()));
-    out.insert(out.end(), c.begin(), c.end());
+    if (lzf == LzfVariant::kCapz) {  // compressed in place, after the two sizes
+      const size_t at = out.size() + 8;
+      out.resize(at + lzf_bound(fm.size()));
+      const size_t c = lzf_compress_into(fm.data(), fm.size(), out.data() + at);
+      store_le32(out.data() + at - 8, static_cast<uint32_t>(c));
+      store_le32(out.data() + at - 4, static_cast<uint32_t>(fm.size()));
+      out.resize(at + c);
+    } else {
+      const std::vector<uint8_t> c = lzf_compress(fm.data(), fm.size(), lzf);
+      put_le32(&out, static_cast<uint32_t>(c.size()));
+      put_le32(&out, static_cast<uint32_t>(fm.size()));
+      out.insert(out.end(), c.begin(), c.end());
+    }
   } else if (l.encoding == "ascii") {
     std::string body;
     for (size_t p = 0; p < n; ++p) {

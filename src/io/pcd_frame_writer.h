@@ -35,9 +35,11 @@ struct PcdFrameLayout {
 };
 
 // The file's bytes for `points` (width x height points of the layout's point size each); a
-// binary_compressed body is compressed by `lzf` (coding/lzf.h).
+// binary_compressed body is compressed by `lzf` (coding/lzf.h). scratch: a buffer the caller
+// keeps from frame to frame for the body's field-major bytes, or null (the same file).
 std::vector<uint8_t> pcd_frame_bytes(const PcdFrameLayout& layout, const uint8_t* points,
-                                     LzfVariant lzf = LzfVariant::kCapz);
+                                     LzfVariant lzf = LzfVariant::kCapz,
+                                     std::vector<uint8_t>* scratch = nullptr);
 
 // The header those bytes start with (through the DATA line's line feed).
 std::string pcd_frame_header(const PcdFrameLayout& layout);

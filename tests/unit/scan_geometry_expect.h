@@ -1,6 +1,6 @@
 // What the scan geometry tests (test_scan_geometry.cpp, test_scan_raster.cpp, ...) compare: two
-// windows' counts, gaps and valid points' integers, exactly; and how their synthetic sweeps add
-// a point.
+// windows' counts, gaps and valid points' integers, exactly; how their synthetic sweeps add
+// a point; and how they code one frame with flags of their choice.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -11,6 +11,8 @@
 
 #include "capz/error.h"
 #include "coding/scan_geometry.h"
+#include "coding/scan_shared.h"
+#include "coding/scan_table.h"
 
 namespace capz {
 
@@ -42,6 +44,56 @@ inline void push_point(ScanGeometry* g, ScanHints* h, const double p[3], uint32_
     h->xyz.push_back(static_cast<float>(p[a]));
   }
   h->ring.push_back(k);
+}
+
+// Codes through a block, the ring and column symbols also counted apart.
+class BlockIo {
+ public:
+  BlockIo(IntEncoder* enc, const ScanGeometry& g, const std::vector<scan::Polar>& polar)
+      : enc_(enc), g_(g), polar_(polar) {}
+  int32_t sym(int32_t actual, int32_t pred, int ctx) {
+    put(zigzag(wrap_sub(actual, pred)), ctx);
+    return actual;
+  }
+  uint32_t ring(uint32_t d, uint32_t, int ctx) { return put(d, ctx), d; }
+  bool flag(bool v, int ctx) { return put(v ? 1u : 0u, ctx), v; }
+  scan::Polar polar(size_t i) const { return polar_[i]; }
+  const int32_t* actual(size_t i) const { return &g_.q[3 * i]; }
+  bool actual_valid(size_t i) const { return g_.valid[i] != 0; }
+  // The bytes the ring and column symbols alone take.
+  size_t ring_column_bytes() { return apart_.finish().size(); }
+
+ private:
+  void put(uint32_t u, int ctx) {
+    enc_->put(u, ctx);
+    const bool ring_or_column = ctx < scan::kCtxRange || ctx >= scan::kCtxWalkRepeat;
+    if (ring_or_column) apart_.put(u, ctx);
+  }
+  IntEncoder* enc_;
+  IntEncoder apart_{scan::kContexts};
+  const ScanGeometry& g_;
+  const std::vector<scan::Polar>& polar_;
+};
+
+// g's one frame coded under the table the encoder infers (step as found, no range units) with
+// `flags`: the payload, and (*ring_column) the bytes its ring and column symbols alone take.
+inline std::vector<uint8_t> one_frame_payload(const ScanGeometry& g, const ScanHints& h,
+                                              uint8_t flags, size_t* ring_column) {
+  std::vector<scan::Polar> polar;
+  const scan::Table t = scan::table_for(g, scan::fit_rings(g, h, false), 1.0, false, &polar);
+  EXPECT_GT(t.rings(), 0u);
+  IntEncoder enc(scan::kContexts);
+  BlockIo io(&enc, g, polar);
+  scan::State st(t);
+  std::vector<int32_t> q(g.q.size());
+  std::vector<uint8_t> v(g.valid.size());
+  scan::code_frame(io, st, flags, 0, g.total(), q.data(), v.data());
+  *ring_column = io.ring_column_bytes();
+  std::vector<uint8_t> out;
+  scan::write_header(g, {flags}, t, &out);
+  const std::vector<uint8_t> block = enc.finish();
+  out.insert(out.end(), block.begin(), block.end());
+  return out;
 }
 
 }  // namespace capz
