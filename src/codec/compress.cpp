@@ -9,6 +9,8 @@
 #include "codec/encoder.h"
 #include "codec/registry.h"
 #include "codec/scan_encoder.h"
+#include "coding/container.h"
+#include "coding/meta.h"
 #include "core/atomic_file.h"
 
 namespace capz {
@@ -93,6 +95,61 @@ Take whole_take(FrameSource& source) {
   for (size_t a = 0; a < t.attributes.size() && a < b.attributes.size(); ++a)
     t.attributes[a].data = std::move(b.attributes[a]);
   return t;
+}
+
+// The fixed take's stream of a one-frame source (the source itself: a lossless stream carries
+// its residue), or the scan coder's when it is smaller (smaller_as_scan). The fixed stream is
+// first coded without its self-check and with META as it is (coding 0): that stream's size less
+// META's payload, plus the 1 byte any coding of META takes, is at most the size of the stream
+// with META coded (INDX's offsets are fixed width), so a scan stream under it is the smaller
+// without coding META (the LZMA trials of a sweep's point labels: about a sixth of a pandar64
+// sweep's encode); else META's fields are coded alone, which makes that stream's size exact.
+// Only when the fixed stream is the smaller is it coded again, whole, as always.
+std::vector<uint8_t> one_frame_choice(FrameSource& source, const CompressOptions& opts,
+                                      CompressStats* stats) {
+  const Take t = whole_take(source);
+  CompressStats st;
+  std::vector<uint8_t> scan;
+  try {
+    scan = compress_ragged_frames(as_one_ragged_frame(t), opts, stats ? &st : nullptr,
+                                  source.original_file());
+  } catch (const Error& e) {
+    if (e.code() != ErrorCode::kInvalidParameter) throw;
+  }
+  if (!scan.empty()) {
+    std::vector<uint8_t> bound;
+    {
+      CompressOptions unchecked = opts;
+      unchecked.check = false;
+      EncoderTuning raw;
+      raw.meta_raw = true;
+      StreamOut mem(&bound);
+      encode_source(source, unchecked, raw, &mem, nullptr);
+    }
+    const std::string what = t.source + " (size bound)";
+    const Chunk head = read_chunk(bound.data(), bound.size(), kFileHeaderBytes, what);
+    const Chunk meta = read_chunk(bound.data(), bound.size(), head.end, what);
+    if (meta.type != "META" || meta.size > bound.size())
+      fail(ErrorCode::kInternal, what, "no META after HEAD");
+    if (scan.size() < bound.size() - meta.size + 1) {
+      if (stats) *stats = st;
+      return scan;
+    }
+    // META coded as the encoder codes it (dictionary: C3D takes only): the fixed stream's size.
+    const size_t coded = code_meta_fields(decode_meta_fields(meta, what), false).size();
+    if (scan.size() < bound.size() - meta.size + coded) {
+      if (stats) *stats = st;
+      return scan;
+    }
+  }
+  std::vector<uint8_t> fixed;
+  {
+    StreamOut mem(&fixed);
+    encode_source(source, opts, EncoderTuning(), &mem, stats);
+  }
+  if (scan.empty() || scan.size() >= fixed.size()) return fixed;
+  if (stats) *stats = st;
+  return scan;
 }
 
 std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions& opts,
@@ -193,14 +250,7 @@ void compress_stream(FrameSource& source, const CompressOptions& opts, const std
     return;
   }
   if (scan_candidate(source.header(), opts)) {  // one frame: both codings in memory
-    const Take t = whole_take(source);
-    std::vector<uint8_t> bytes;
-    {
-      StreamOut mem(&bytes);  // the source itself: a lossless stream carries its residue
-      encode_source(source, opts, EncoderTuning(), &mem, stats);
-    }
-    std::vector<uint8_t> scan = smaller_as_scan(t, opts, bytes, stats, source.original_file());
-    if (!scan.empty()) bytes.swap(scan);
+    std::vector<uint8_t> bytes = one_frame_choice(source, opts, stats);
     AtomicFile file(path, overwrite);
     StreamOut out(&file);
     out.flush(&bytes);

@@ -274,7 +274,9 @@ class Encoder {
     // analog channels repeating whole frames (7.2), META's dictionary for C3D takes (8.1).
     if (on_rays(scan_)) ray_ = ray_kind(g_.mode);
     analog_repeats_ = plan_.analog && analog_repeats_worth(scan_, take_.frames);
-    const std::vector<uint8_t> meta_payload = encode_meta(take_, plan_.words, take_.c3d != nullptr);
+    const std::vector<uint8_t> meta_payload =
+        tuning_.meta_raw ? encode_meta_raw(take_, plan_.words)
+                         : encode_meta(take_, plan_.words, take_.c3d != nullptr);
     std::vector<uint8_t> buf;
     // "Scans (format 1.1)": PLY and .bin frames are a frame-file source (HEAD feature bit 4).
     write_file_header(&buf, h.frame_file_source() ? kFormatScans.minor : kFormatWritten.minor);

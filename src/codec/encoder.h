@@ -22,6 +22,9 @@ struct EncoderTuning {
   // the take's valid coordinates in memory for them when they take at most this many bytes,
   // else the search reads the source once per step. Either way it finds the same step.
   size_t kg_cache_bytes = size_t{64} << 20;
+  // META in coding 0 (encode_meta_raw), no coding tried: a stream whose size less META's
+  // payload bounds from below the stream's size with META coded (INDX's offsets are fixed width).
+  bool meta_raw = false;
 };
 
 // Where the encoder puts the stream: appended to memory, or written to a file as it goes.

@@ -345,7 +345,9 @@ void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<
   pw.varint(n);
   if (lists_negative_zeros(r.ctx.h)) write_negative_zeros(b.xyz, b.valid, &pw);
   std::vector<uint8_t> payload = std::move(pw.buffer());
+  r.scan_ws.remember = !mode2;  // the take's windows in order, each coded once here
   const std::vector<uint8_t> body = scan_body(g, hints, mode2, e, corrections, &r.scan_ws, coded);
+  r.scan_ws.remember = false;
   payload.insert(payload.end(), body.begin(), body.end());
   // A raster window at a bound codes integers of its own (a finer grid): the decoder's.
   r.fine = mode2 ? 0 : scan_fine_shift(body.data(), body.size(), "SCNW");

@@ -18,6 +18,11 @@ namespace capz {
 // has_sample_words tells whether C3DW chunks follow. With `dictionary` coding 3 (FORMAT.md 8.1)
 // is offered too; meta_coding(payload) tells the one chosen.
 std::vector<uint8_t> encode_meta(const Take& take, bool has_sample_words, bool dictionary = false);
+// META in coding 0 (its fields as they are): no coding tried, for an encoder that only wants
+// the size of the rest of a stream.
+std::vector<uint8_t> encode_meta_raw(const Take& take, bool has_sample_words);
+// The META payload encode_meta makes of these fields (decode_meta_fields' bytes).
+std::vector<uint8_t> code_meta_fields(const std::vector<uint8_t>& fields, bool dictionary);
 void decode_meta(const Chunk& c, const std::string& name, Take* take, bool* has_sample_words);
 // META's fields (the bytes its coding codes), decoded from any coding.
 std::vector<uint8_t> decode_meta_fields(const Chunk& c, const std::string& name);

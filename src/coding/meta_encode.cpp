@@ -237,8 +237,18 @@ std::vector<uint8_t> encode_meta_fields(const Take& t, bool has_sample_words) {
 }
 }  // namespace
 
+std::vector<uint8_t> encode_meta_raw(const Take& t, bool has_sample_words) {
+  ByteWriter w;
+  w.u8(0);
+  w.bytes(encode_meta_fields(t, has_sample_words));
+  return std::move(w.buffer());
+}
+
 std::vector<uint8_t> encode_meta(const Take& t, bool has_sample_words, bool dictionary) {
-  std::vector<uint8_t> fields = encode_meta_fields(t, has_sample_words);
+  return code_meta_fields(encode_meta_fields(t, has_sample_words), dictionary);
+}
+
+std::vector<uint8_t> code_meta_fields(const std::vector<uint8_t>& fields, bool dictionary) {
   // The smallest of codings 0 (as they are), 1 (byte model), 2 (LZMA2) and, when offered, 3
   // (LZMA2 after dictionary 1); ties: the lowest.
   ByteWriter w;

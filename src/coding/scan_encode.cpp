@@ -533,6 +533,102 @@ std::vector<TableChoice> first_frame_choice(const ScanGeometry& g, const scan::R
   return out;
 }
 
+// The trial sample of a window: the first points of each of its first kTrialFrames frames (the
+// sensor's first firings of each sweep, so the second frame's sample is predicted from the first
+// one's map of the same azimuths): a share 1 / kSampleShare of a frame's points, at least
+// kSampleMin of them. *from: the index of each sample point in g.
+constexpr size_t kSampleShare = 4, kSampleMin = 16384;
+ScanGeometry trial_sample(const ScanGeometry& g, std::vector<size_t>* from) {
+  ScanGeometry s;
+  from->clear();
+  size_t first = 0;
+  for (size_t f = 0; f < std::min(kTrialFrames, g.counts.size()); ++f) {
+    const size_t n = g.counts[f], m = std::min(n, std::max(kSampleMin, n / kSampleShare));
+    s.counts.push_back(static_cast<uint32_t>(m));
+    for (size_t i = first; i < first + m; ++i) from->push_back(i);
+    first += n;
+  }
+  s.valid.resize(from->size());
+  s.q.resize(3 * from->size());
+  for (size_t j = 0; j < from->size(); ++j) {
+    const size_t i = (*from)[j];
+    s.valid[j] = g.valid[i];
+    std::copy(&g.q[3 * i], &g.q[3 * i] + 3, &s.q[3 * j]);
+  }
+  return s;
+}
+
+// The size of the trial sample's payload (trial_sample, drawn as `from`) under table t.
+size_t sample_size(const ScanGeometry& g, const ScanGeometry& sample,
+                   const std::vector<size_t>& from, const scan::RingFit& fit, const scan::Table& t,
+                   Scratch* s) {
+  std::vector<scan::Polar> placed, polar(from.size());
+  scan::place_points(g, fit, t, from.back() + 1, &placed);
+  for (size_t j = 0; j < from.size(); ++j) polar[j] = placed[from[j]];
+  Coding coding(t, s->maps);
+  code_frames(sample, polar, sample.counts.size(), &coding, s);
+  s->cart.clear();  // the sample's frames' estimates and checks, not the window's
+  s->spherical_ok.clear();
+  return finished_size(sample, coding);
+}
+
+// The choices (of `tried`, in order) whose table codes the window's trial sample within
+// kSampleSlack of the smallest payload: what first_frame_choice does on whole frames, for
+// windows whose first frames are larger than their sample. *tables: the tables tried (each the
+// window's; one of an empty table per choice not tried). *sizes: the sample's payload per choice
+// (0: not tried). With a choice remembered from the windows before (ws->remember, ws->choice)
+// among the same tables (its trial's finest: the step divided by 16, or the azimuths' quantum,
+// which a window finds or not),
+// only that table codes the sample first, and it alone is kept when its payload is within
+// kRememberSlack of what it was in the window whose trial chose it (bits a point of the sample).
+constexpr double kSampleSlack = 1.03, kRememberSlack = 1.05;
+std::vector<TableChoice> sampled_choice(const ScanGeometry& g, const ScanGeometry& sample,
+                                        const std::vector<size_t>& from, const scan::RingFit& fit,
+                                        const std::vector<TableChoice>& tried, ScanWorkspace* ws,
+                                        std::vector<scan::Table>* tables,
+                                        std::vector<size_t>* sizes, Scratch* s) {
+  sizes->assign(tried.size(), 0);
+  tables->assign(tried.size(), scan::Table());
+  const auto k =
+      static_cast<size_t>(std::find_if(tried.begin(), tried.end(),
+                                       [&](const TableChoice& c) {
+                                         return ws && ws->remember && ws->choice.bits > 0 &&
+                                                ws->choice.finest == tried.back().divisor &&
+                                                c.divisor == ws->choice.divisor &&
+                                                c.units == ws->choice.units;
+                                       }) -
+                          tried.begin());
+  if (k < tried.size()) {
+    (*tables)[k] = scan::table_fit(fit, tried[k].divisor, tried[k].units);
+    (*sizes)[k] = sample_size(g, sample, from, fit, (*tables)[k], s);
+    ++ws->sample_codings;
+    const double bits =
+        8.0 * static_cast<double>((*sizes)[k]) / static_cast<double>(sample.total());
+    if (bits <= ws->choice.bits * kRememberSlack) return {tried[k]};
+  }
+  for (size_t i = 0; i < tried.size(); ++i) {
+    scan::Table& t = (*tables)[i];
+    if (i != k)
+      t = scan::table_fit(fit, tried[i].divisor, tried[i].units, i ? &(*tables)[i - 1] : nullptr);
+    if (i != k) (*sizes)[i] = sample_size(g, sample, from, fit, t, s);
+    if (i != k && ws) ++ws->sample_codings;
+    if (t.rings() == 0) break;
+  }
+  size_t least = 0;
+  for (size_t v : *sizes)
+    if (v > 0 && (least == 0 || v < least)) least = v;
+  std::vector<TableChoice> out;
+  for (size_t i = 0; i < sizes->size();
+       ++i) {  // a size an earlier table had: likely the same coding
+    const size_t v = (*sizes)[i];
+    if (v > 0 && static_cast<double>(v) <= static_cast<double>(least) * kSampleSlack &&
+        std::find(sizes->begin(), sizes->begin() + static_cast<std::ptrdiff_t>(i), v) ==
+            sizes->begin() + static_cast<std::ptrdiff_t>(i))
+      out.push_back(tried[i]);
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints,
@@ -566,10 +662,19 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
   std::vector<TableChoice> choices = tried;
   std::vector<scan::Table> tables;  // of the choices tried on the first frames, in order
   std::unique_ptr<Coding> kept;     // the first frames' coding under one of them
-  if (g.counts.size() > kTrialFrames)
+  std::vector<size_t> from;
+  const ScanGeometry sample = trial_sample(g, &from);
+  size_t trial_points = 0;  // the points of the frames sampled
+  for (size_t f = 0; f < sample.counts.size(); ++f) trial_points += g.counts[f];
+  const bool every = ws && ws->every_table;
+  std::vector<size_t> sizes;  // the sample's payloads (sampled_choice)
+  if (!every && fit.rings() > 0 && sample.total() < trial_points)
+    choices = sampled_choice(g, sample, from, fit, tried, ws, &tables, &sizes, &scratch);
+  else if (!every && g.counts.size() > kTrialFrames)
     choices = first_frame_choice(g, fit, tried, &tables, &polar, &kept, &scratch);
   std::vector<uint8_t> best;
-  scan::Table t;  // the table of the choice before, then this one's
+  ScanChoice chosen;  // the choice of the smallest payload, when it was tried on the sample
+  scan::Table t;      // the table of the choice before, then this one's
   for (const TableChoice& c : choices) {
     const auto k =
         static_cast<size_t>(std::find_if(tried.begin(), tried.end(),
@@ -590,9 +695,21 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
     } else {
       out = encode_with(g, t, polar, &scratch);
     }
-    if (best.empty() || out.size() < best.size()) best.swap(out);
+    if (ws) ++ws->tables_coded;
+    if (best.empty() || out.size() < best.size()) {
+      best.swap(out);
+      if (k < sizes.size() && sizes[k] > 0)
+        chosen = {c.divisor, c.units,
+                  8.0 * static_cast<double>(sizes[k]) / static_cast<double>(sample.total()),
+                  tried.back().divisor};
+    }
     if (t.rings() == 0) break;
   }
+  // The window's choice remembered when its trial coded every table (choices.size() > 1 or a
+  // sample size of another table known).
+  if (ws && ws->remember &&
+      std::count_if(sizes.begin(), sizes.end(), [](size_t v) { return v > 0; }) > 1)
+    ws->choice = chosen;
   scan::raster::keep_smaller(g, hints, &best);  // a flash LiDAR's window (scan_raster.h)
   return best;
 }

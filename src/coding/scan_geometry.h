@@ -61,8 +61,25 @@ class SweepMaps;  // scan_maps.h
 // What an encoder may keep from window to window: the ring x column maps (two pairs), up to the
 // largest table's cells. Given to each window's encode_scan_geometry, their memory is reused (only
 // the cells a window wrote are cleared) instead of allocated and zeroed again. Empty until used.
+// A laser table choice of the encoder (its azimuth step divided by `divisor`, ranges in the
+// sensor's steps or not) and the bits a point of its trial sample's payload; bits 0: none.
+struct ScanChoice {
+  double divisor = 0;
+  bool units = false;
+  double bits = 0;
+  double finest = 0;  // the trial's finest table: its divisor (16, or 0 for the quantum's)
+};
+// remember: the windows are one sequence's, in order: a window's table choice is kept in
+// `choice` and tried first on the next window's sample (scan_encode.cpp, sampled_choice).
+// every_table: each laser table the encoder tries codes the whole window, the smallest payload
+// kept (no trial on the window's first points; for measurements and tests). tables_coded and
+// sample_codings: the number of whole-window codings and of trial sample codings so far.
 struct ScanWorkspace {
   std::shared_ptr<scan::SweepMaps> maps, spare;
+  bool remember = false;
+  ScanChoice choice;
+  bool every_table = false;
+  size_t tables_coded = 0, sample_codings = 0;
 };
 
 // The payload of one window. Throws Error(kInvalidArgument) when the shapes disagree.

@@ -202,5 +202,36 @@ TEST(ScanContainer, OneRaggedFrameReadsAsTheFixedFrameOfItsFile) {
   std::filesystem::remove(path);
 }
 
+// A one-frame source streamed (compress_stream, which codes the fixed stream's META only when
+// the scan stream is not under the rest of the fixed stream) writes the bytes compress() of its
+// take writes (both codings whole, the smaller kept): a sweep (its scan stream) and a cloud of
+// three points.
+TEST(ScanContainer, OneFrameSourceStreamsWhatCompressChooses) {
+  const std::string dir = std::filesystem::temp_directory_path().string();
+  const std::string few = dir + "/capz_few_points_" + std::to_string(::getpid()) + ".pcd";
+  const std::string header(
+      "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+      "WIDTH 3\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 3\nDATA ascii\n"
+      "1 2 3\n4 5 6.5\n-1 0.25 2\n");
+  write_file(few, std::vector<uint8_t>(header.begin(), header.end()), true);
+  const std::string sweep = std::string(CAPZ_REPO_DATA) + "/scan_small/1691031766781547066.pcd";
+  const std::string out = dir + "/capz_one_frame_" + std::to_string(::getpid()) + ".capz";
+  for (const std::string& file : {sweep, few}) {
+    for (bool drop : {true, false}) {
+      CompressOptions o = at(0.001);
+      o.drop_fields = drop;
+      const std::vector<uint8_t> z = compress(read_take(file), o);
+      std::unique_ptr<FrameSource> src = open_frames(file);
+      compress_stream(*src, o, out, true);
+      EXPECT_EQ(read_file(out), z) << file << (drop ? " --drop-fields" : "");
+      if (file == sweep) {
+        EXPECT_EQ(describe(z.data(), z.size()).chunk_bytes.count("SCNW"), 1u);
+      }
+    }
+  }
+  std::filesystem::remove(few);
+  std::filesystem::remove(out);
+}
+
 }  // namespace
 }  // namespace capz
