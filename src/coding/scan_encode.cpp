@@ -367,36 +367,27 @@ uint8_t code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanG
                                     : s->pairs == 1        ? sph | scan::kRingPairs
                                                            : sph);
   scan::State staged = spherical_trial(*st, last, &coded, g, polar, first, n, room, &s->trial, s);
+  // Codes the frame with `bit` as well (into the spare trial) and keeps the smaller: *choice.
+  auto try_also = [&](uint8_t bit, int* choice) {
+    auto other = static_cast<uint8_t>(sph | bit);
+    scan::State kept =
+        spherical_trial(*st, last, &other, g, polar, first, n, room, &s->walk_trial, s);
+    *choice = s->walk_trial.tally.estimate(&s->log_t, &s->log_c) <
+              s->trial.tally.estimate(&s->log_t, &s->log_c);
+    if (*choice == 1) {
+      std::swap(s->trial, s->walk_trial);
+      staged = std::move(kept);
+      coded = other;
+    }
+  };
   // The window's first frame whose rings run upward is coded both ways (both write the same
   // ranges into this sweep's map), the smaller kept; the window's later frames follow it.
-  if (upward && s->walk < 0) {
-    auto walk = static_cast<uint8_t>(sph | scan::kRingWalk);
-    scan::State walked =
-        spherical_trial(*st, last, &walk, g, polar, first, n, room, &s->walk_trial, s);
-    s->walk = s->walk_trial.tally.estimate(&s->log_t, &s->log_c) <
-              s->trial.tally.estimate(&s->log_t, &s->log_c);
-    if (s->walk == 1) {
-      std::swap(s->trial, s->walk_trial);
-      staged = std::move(walked);
-      coded = walk;
-    }
-  }
+  if (upward && s->walk < 0) try_also(scan::kRingWalk, &s->walk);
   // The window's first frame coded without the walk tries ring pair frames when they look
   // worth it (the trial of the walk's room), the smaller kept; the window's later frames follow.
   if (!(coded & scan::kRingWalk) && s->pairs < 0) {
     s->pairs = 0;
-    if (pairs_worth_trying(g, polar, *st, first, n)) {
-      auto pairs = static_cast<uint8_t>(sph | scan::kRingPairs);
-      scan::State paired =
-          spherical_trial(*st, last, &pairs, g, polar, first, n, room, &s->walk_trial, s);
-      s->pairs = s->walk_trial.tally.estimate(&s->log_t, &s->log_c) <
-                 s->trial.tally.estimate(&s->log_t, &s->log_c);
-      if (s->pairs == 1) {
-        std::swap(s->trial, s->walk_trial);
-        staged = std::move(paired);
-        coded = pairs;
-      }
-    }
+    if (pairs_worth_trying(g, polar, *st, first, n)) try_also(scan::kRingPairs, &s->pairs);
   }
   if (spherical_wins(*st, flags, g, polar, f, first, n, s)) {
     IntEncoder::Cursor c = enc->cursor();
