@@ -147,9 +147,9 @@ class FrameSink {
 
 // A writer for `path` by its extension, the bytes write_take writes: .c3d, .trc and folders of
 // PCD, PLY or .bin frames written block by block (a frame folder file by file into a temporary
-// folder renamed at commit); a single frame file, and a C3D whose int16 scale comes from the
-// data, written whole from memory. `header` as FrameSource::header(); `words`: blocks carry C3D
-// 4th words.
+// folder renamed at commit, a single frame file from its block at commit); a C3D whose int16
+// scale comes from the data written whole from memory. `header` as FrameSource::header();
+// `words`: blocks carry C3D 4th words.
 std::unique_ptr<FrameSink> create_frame_sink(const Take& header, bool words,
                                              const std::string& path,
                                              const WriteOptions& opts = {});

@@ -8,7 +8,6 @@
 
 #include "capz/error.h"
 #include "codec/decoder.h"
-#include "io/frame_files.h"
 
 namespace capz {
 
@@ -41,7 +40,9 @@ CapzSource::CapzSource(std::unique_ptr<StreamBytes> bytes, const std::string& na
 
 void CapzSource::one_frame_as_fixed() {
   one_ragged_frame_ = true;
-  set_frame_shape({header_.frame_offsets.at(1)}, &header_);
+  header_.points = header_.frame_offsets.at(1);
+  header_.frame_offsets.clear();
+  header_.labels.clear();  // unlabelled points: no string a point (decompress() adds them)
   if (header_.pcd && header_.pcd->width != header_.points) {
     auto x = std::make_shared<PCDExtra>(*header_.pcd);
     x->width = header_.points;

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <limits>
 #include <memory>
+#include <string>
 
 #include "capz/codec.h"
 #include "capz/error.h"
@@ -61,6 +62,8 @@ Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
   FrameBlock b;
   src.read(first, count, &b);
   Take t = src.header();  // a stream of one ragged frame: one fixed frame (capz_source.h)
+  if (ps.h.ragged && !t.ragged() && t.labels.empty())
+    t.labels.assign(t.points, std::string());  // as a reader gives a frame file
   t.frames = count;
   t.xyz = std::move(b.xyz);
   t.valid = std::move(b.valid);

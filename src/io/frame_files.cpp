@@ -89,8 +89,20 @@ class FrameFolderSink : public FrameSink {
   FrameFolderSink(const Take& header, const std::string& path, const std::string& ext,
                   bool overwrite, bool needs_scan,
                   std::function<FrameFileBytes(std::optional<bool>)> make)
-      : frames_(header.frames), path_(path), scan_(needs_scan), make_(std::move(make)) {
+      : frames_(header.frames),
+        path_(path),
+        single_(single_frame_output(path, ext)),
+        overwrite_(overwrite),
+        scan_(needs_scan),
+        make_(std::move(make)) {
     if (frames_ == 0) fail(ErrorCode::kUsage, path, "the take has no frames: nothing to write");
+    if (single_) {  // as write_frame_files says it
+      if (frames_ != 1)
+        fail(ErrorCode::kUsage, path,
+             "a " + ext + " file holds one frame and the take has " + std::to_string(frames_) +
+                 ": give a folder path");
+      return;
+    }
     names_ = frame_output_names(header, ext);
     check_replaceable_frame_dir(path, ext, overwrite);
     out_.reset(new AtomicDir(path, overwrite));
@@ -100,35 +112,47 @@ class FrameFolderSink : public FrameSink {
     xyz_float_ =
         xyz_float_ && coordinates_are_floats(b.total_points(), b.xyz.data(), b.valid.data());
   }
+  // One file of one frame: its one block is all the prescan would see, so it is scanned as it
+  // is written (not decoded twice).
+  bool skip_prescan() override { return single_ && written_ == 0; }
   void write(const FrameBlock& b) override {
-    if (!bytes_) {
-      bytes_ = make_(scan_ ? std::optional<bool>(xyz_float_) : std::nullopt);
-      scanned_ = true;
-    }
     const size_t total = b.total_points();
     if (b.first != written_ || written_ + b.frames > frames_ || b.xyz.size() != total * 3 ||
         b.valid.size() != total)
       fail(ErrorCode::kInternal, path_, "frames written out of order or beyond the header's count");
-    for (size_t k = 0; k < b.frames; ++k)
-      write_file((fs::path(out_->temp_dir()) / names_[b.first + k]).string(),
-                 bytes_(frame_view(b, k)), true);
+    if (!bytes_) {
+      if (single_ && scan_) prescan(b);
+      bytes_ = make_(scan_ ? std::optional<bool>(xyz_float_) : std::nullopt);
+      scanned_ = true;
+    }
+    for (size_t k = 0; k < b.frames; ++k) {
+      std::vector<uint8_t> file = bytes_(frame_view(b, k));
+      if (single_)
+        file_.swap(file);  // written at commit, as write_frame_files writes it
+      else
+        write_file((fs::path(out_->temp_dir()) / names_[b.first + k]).string(), file, true);
+    }
     written_ += b.frames;
   }
   void commit() override {
     if (written_ != frames_)
       fail(ErrorCode::kInternal, path_,
            std::to_string(written_) + " of " + std::to_string(frames_) + " frames written");
-    out_->commit();
+    if (single_)
+      write_file(path_, file_, overwrite_);
+    else
+      out_->commit();
   }
 
  private:
   size_t frames_, written_ = 0;
   std::string path_;
-  bool scan_, scanned_ = false, xyz_float_ = true;
+  bool single_, overwrite_, scan_, scanned_ = false, xyz_float_ = true;
   std::function<FrameFileBytes(std::optional<bool>)> make_;
   FrameFileBytes bytes_;
   std::vector<std::string> names_;
   std::unique_ptr<AtomicDir> out_;
+  std::vector<uint8_t> file_;  // a single file's bytes until commit
 };
 
 }  // namespace

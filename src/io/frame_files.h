@@ -69,6 +69,8 @@ void write_frame_files(const Take& take, const std::string& path, const std::str
 // commit (nothing is left on failure). `make(header, xyz_float)` gives the format's producer;
 // `needs_scan` says whether its coordinate type comes from the data, which the sink then learns
 // by a prescan of every block (coordinates_are_floats). The same files as write_frame_files.
+// When single_frame_output(path, ext), one file at `path` (a take of one frame; its block scanned
+// as it is written, no prescan), written at commit.
 std::unique_ptr<FrameSink> frame_folder_sink(
     const Take& header, const std::string& path, const std::string& ext, bool overwrite,
     bool needs_scan, std::function<FrameFileBytes(std::optional<bool>)> make);

@@ -268,7 +268,7 @@ class TakeSource : public FrameSource {
 
 // ---------------------------------------------------------------------------------------------
 // Collects the frames and writes the whole take at commit (C3D files whose int16 scale must
-// come from the data, a single frame file).
+// come from the data).
 class WholeTakeSink : public FrameSink {
  public:
   WholeTakeSink(const Take& header, bool words, const std::string& path, const WriteOptions& opts)
@@ -505,9 +505,9 @@ std::unique_ptr<FrameSink> create_frame_sink(const Take& header, bool words,
     check_output_free(target, opts.overwrite);
     return std::unique_ptr<FrameSink>(new TRCSink(header, target, opts));
   }
-  // Folders of frame files, file by file as the blocks come (a single frame file: whole).
+  // Folders of frame files, file by file as the blocks come; a single frame file from its block.
   const char* ext = frame_extension(f);
-  if (*ext && !single_frame_output(target, ext)) {
+  if (*ext) {
     check_output_free(target, opts.overwrite);
     if (f == Format::kPCDFolder) return pcd_folder_sink(header, target, opts);
     if (f == Format::kPLYFolder) return ply_folder_sink(header, target, opts);
