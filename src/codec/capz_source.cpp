@@ -8,6 +8,7 @@
 
 #include "capz/error.h"
 #include "codec/decoder.h"
+#include "coding/buffers.h"
 
 namespace capz {
 
@@ -97,13 +98,27 @@ void CapzSource::read_ragged(size_t first, size_t count, FrameBlock* out) {
     hand_over(first / W, out);  // exactly one window, as in read()
     return;
   }
-  std::vector<size_t> counts;
-  for (size_t f = first; f < first + count; ++f) counts.push_back(off[f + 1] - off[f]);
-  out->reset_ragged(first, counts);
+  // The block's shape (FrameBlock::reset_ragged's), its arrays sized, not zeroed: every point
+  // of the range is copied in below.
+  FrameBlock& b = *out;
+  b.first = first;
+  b.frames = count;
+  b.points = 0;
+  b.frame_offsets.assign(1, 0);
+  for (size_t f = first; f < first + count; ++f)
+    b.frame_offsets.push_back(b.frame_offsets.back() + off[f + 1] - off[f]);
+  const size_t total = b.frame_offsets.back();
+  size_for_overwrite(&b.xyz, total * 3);
+  size_for_overwrite(&b.valid, total);
+  for (auto* v : {&b.residual, &b.rotation_matrices, &b.rotation_reliability}) v->clear();
+  b.camera_mask.clear();
+  b.analog.clear();
+  b.file_bytes.clear();
+  b.file_bytes_at = 0;
   const std::vector<PointAttribute>& attrs = ps_.take.attributes;
-  out->attributes.resize(attrs.size());
+  b.attributes.resize(attrs.size());
   for (size_t a = 0; a < attrs.size(); ++a)
-    out->attributes[a].assign(out->total_points() * attrs[a].bytes_per_point(), 0);
+    size_for_overwrite(&b.attributes[a], total * attrs[a].bytes_per_point());
   for (size_t f = first; f < first + count;) {
     decode(f / ps_.h.window_frames);
     const size_t lo = f - win_.first, hi = std::min(win_.frames, first + count - win_.first);

@@ -270,7 +270,7 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
   grid.step = ctx.h.step;
   // Without ATTR (predictors 10 and 11) or the float32 split, nothing reads the window's
   // integers but its coordinates: each frame's become coordinates as soon as they are decoded,
-  // from one frame's buffer (the window's integers are never all held).
+  // from one frame's buffer (the window's integers are never all held) in *q's memory.
   const bool keep_q = e != scan::kNoSplit || !ctx.take.attributes.empty();
   ScanGeometry g;
   if (keep_q) {
@@ -278,12 +278,14 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
   } else {
     const double fine = scan_fine(grid, scan_fine_shift(c.payload + at, geo, what), what);
     size_for_overwrite(&b.xyz, static_cast<size_t>(total) * 3);  // each value written once
-    g = decode_scan_geometry(c.payload + at, geo, what, static_cast<size_t>(total),
-                             [&](size_t first, size_t n, const int32_t* fq, const uint8_t* fv) {
-                               if (first + n > total)  // read_header bounds them: not reached
-                                 fail(ErrorCode::kCorrupt, what, "frames beyond the chunk's total");
-                               scan_coordinates(grid, fine, n, fq, fv, b.xyz.data() + 3 * first);
-                             });
+    g = decode_scan_geometry(
+        c.payload + at, geo, what, static_cast<size_t>(total),
+        [&](size_t first, size_t n, const int32_t* fq, const uint8_t* fv) {
+          if (first + n > total)  // read_header bounds them: not reached
+            fail(ErrorCode::kCorrupt, what, "frames beyond the chunk's total");
+          scan_coordinates(grid, fine, n, fq, fv, b.xyz.data() + 3 * first);
+        },
+        q);
   }
   if (g.counts.size() != fn)
     fail(ErrorCode::kCorrupt, what,

@@ -60,14 +60,14 @@ ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& 
                            std::vector<int32_t>* space) {
   const scan::Header h = scan::read_header(data, size, what, max_points);
   ScanGeometry g;
-  if (space) g.q.swap(*space);
+  std::vector<int32_t> one;  // a frame's integers, with `frame`
+  if (space) (frame ? one : g.q).swap(*space);
   g.counts = h.counts;
   g.fine = h.fine;
   size_t total = 0, most = 0;
   for (uint32_t n : h.counts) total += n, most = std::max<size_t>(most, n);
-  std::vector<int32_t> one;  // a frame's integers, with `frame`
   if (frame)
-    one.resize(3 * most);
+    size_for_overwrite(&one, 3 * most);  // each frame's values written before they are read
   else
     size_for_overwrite(&g.q, 3 * total);  // every value written below
   g.valid.resize(total);
@@ -94,6 +94,7 @@ ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& 
   }
   io.commit();
   if (!dec.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the scan geometry");
+  if (frame && space) space->swap(one);
   return g;
 }
 
@@ -110,8 +111,9 @@ ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::s
 }
 
 ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::string& what,
-                                  size_t max_points, const ScanFrameSink& frame) {
-  return decode_frames(data, size, what, max_points, &frame, nullptr);
+                                  size_t max_points, const ScanFrameSink& frame,
+                                  std::vector<int32_t>* space) {
+  return decode_frames(data, size, what, max_points, &frame, space);
 }
 
 int scan_fine_shift(const uint8_t* data, size_t size, const std::string& what) {

@@ -108,11 +108,13 @@ ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::s
 // As above, a frame at a time: each frame's integers (3 x n, of points first..first + n - 1 of
 // the window) and flags go to frame(first, n, q, valid) as soon as they are decoded, q in a
 // buffer of one frame reused for the next. The result's q is then empty (its valid holds every
-// flag). For callers that need each frame's integers only once (the coordinates).
+// flag). For callers that need each frame's integers only once (the coordinates). space: memory
+// for that buffer, given back in *space (a caller decoding window after window keeps it), or null.
 using ScanFrameSink =
     std::function<void(size_t first, size_t n, const int32_t* q, const uint8_t* valid)>;
 ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::string& what,
-                                  size_t max_points, const ScanFrameSink& frame);
+                                  size_t max_points, const ScanFrameSink& frame,
+                                  std::vector<int32_t>* space = nullptr);
 // The fine shift k of a payload (its header's; ScanGeometry::fine), without decoding the rest:
 // a payload with k > 0 codes other integers than the encoder was given.
 int scan_fine_shift(const uint8_t* data, size_t size, const std::string& what);

@@ -445,8 +445,7 @@ FrameFileBytes pcd_file_writer(const Take& take, const std::string& enc, const s
     if (v.points > (size_t{1} << 31))
       fail(ErrorCode::kUsage, dir, "too many points for a PCD file");
     if (ragged) plan.layout.width = v.points, plan.layout.height = 1;
-    pcd_frame_points(plan, v.points, v.xyz, v.valid, v.attrs, &points);
-    return pcd_frame_bytes(plan.layout, points.data(), LzfVariant::kCapz, &body);
+    return pcd_frame_file(plan, v.points, v.xyz, v.valid, v.attrs, &points, &body);
   };
 }
 

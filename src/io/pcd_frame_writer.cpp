@@ -105,6 +105,25 @@ void put_le32(std::vector<uint8_t>* b, uint32_t v) {
   for (int i = 0; i < 4; ++i) b->push_back(static_cast<uint8_t>(v >> (8 * i)));
 }
 
+// Appends a binary_compressed body (the two sizes, then LZF) of the field-major bytes fm.
+void append_compressed(const std::vector<uint8_t>& fm, LzfVariant lzf, std::vector<uint8_t>* out) {
+  if (fm.size() > 0xFFFFFFFFu)
+    fail(ErrorCode::kUsage, "", "a PCD frame above 4 GiB cannot be binary_compressed");
+  if (lzf == LzfVariant::kCapz) {  // compressed in place, after the two sizes
+    const size_t at = out->size() + 8;
+    out->resize(at + lzf_bound(fm.size()));
+    const size_t c = lzf_compress_into(fm.data(), fm.size(), out->data() + at);
+    store_le32(out->data() + at - 8, static_cast<uint32_t>(c));
+    store_le32(out->data() + at - 4, static_cast<uint32_t>(fm.size()));
+    out->resize(at + c);
+  } else {
+    const std::vector<uint8_t> c = lzf_compress(fm.data(), fm.size(), lzf);
+    put_le32(out, static_cast<uint32_t>(c.size()));
+    put_le32(out, static_cast<uint32_t>(fm.size()));
+    out->insert(out->end(), c.begin(), c.end());
+  }
+}
+
 }  // namespace
 
 std::vector<uint8_t> pcd_frame_bytes(const PcdFrameLayout& layout, const uint8_t* all_points,
@@ -156,21 +175,7 @@ std::vector<uint8_t> pcd_frame_bytes(const PcdFrameLayout& layout, const uint8_t
         for (size_t p = 0; p < n; ++p, d += fs) std::memcpy(d, s + p * step, fs);
       off += fs;
     }
-    if (fm.size() > 0xFFFFFFFFu)
-      fail(ErrorCode::kUsage, "", "a PCD frame above 4 GiB cannot be binary_compressed");
-    if (lzf == LzfVariant::kCapz) {  // compressed in place, after the two sizes
-      const size_t at = out.size() + 8;
-      out.resize(at + lzf_bound(fm.size()));
-      const size_t c = lzf_compress_into(fm.data(), fm.size(), out.data() + at);
-      store_le32(out.data() + at - 8, static_cast<uint32_t>(c));
-      store_le32(out.data() + at - 4, static_cast<uint32_t>(fm.size()));
-      out.resize(at + c);
-    } else {
-      const std::vector<uint8_t> c = lzf_compress(fm.data(), fm.size(), lzf);
-      put_le32(&out, static_cast<uint32_t>(c.size()));
-      put_le32(&out, static_cast<uint32_t>(fm.size()));
-      out.insert(out.end(), c.begin(), c.end());
-    }
+    append_compressed(fm, lzf, &out);
   } else if (l.encoding == "ascii") {
     std::string body;
     for (size_t p = 0; p < n; ++p) {
@@ -297,6 +302,53 @@ void pcd_frame_points(const PcdFramePlan& plan, size_t n, const double* xyz, con
     for (size_t a = 0; a < attrs.size(); ++a)
       std::memcpy(dst + plan.attr_offset[a], attrs[a] + p * bpp[a], bpp[a]);
   }
+}
+
+std::vector<uint8_t> pcd_frame_file(const PcdFramePlan& plan, size_t n, const double* xyz,
+                                    const uint8_t* valid, const std::vector<const uint8_t*>& attrs,
+                                    std::vector<uint8_t>* points, std::vector<uint8_t>* body) {
+  const PcdFrameLayout& layout = plan.layout;
+  size_t fields = 0;  // fields other than x y z: one a take attribute each
+  for (const PCDField& f : layout.fields) fields += f.name != "x" && f.name != "y" && f.name != "z";
+  if (layout.encoding != "binary_compressed" || n != layout.width * layout.height ||
+      fields != attrs.size()) {
+    pcd_frame_points(plan, n, xyz, valid, attrs, points);
+    return pcd_frame_bytes(layout, points->data(), LzfVariant::kCapz, body);
+  }
+  // The field-major body from the arrays: a coordinate's plane as pcd_frame_points converts it
+  // (NaN at gaps), an attribute's plane its bytes as they are (padding fields left out).
+  const PcdFrameLayout l = written_layout(layout);
+  size_t step = 0;
+  for (const PCDField& f : l.fields)
+    step += static_cast<size_t>(f.size) * static_cast<size_t>(f.count);
+  body->resize(n * step);
+  uint8_t* d = body->data();
+  const double nan = std::nan("");
+  size_t k = 0;
+  for (const PCDField& f : layout.fields) {
+    const int axis = f.name == "x" ? 0 : f.name == "y" ? 1 : f.name == "z" ? 2 : -1;
+    if (axis < 0) {
+      const size_t bpp = static_cast<size_t>(f.size) * static_cast<size_t>(f.count);
+      const uint8_t* a = attrs[k++];
+      if (f.name == "_") continue;
+      if (n > 0) std::memcpy(d, a, n * bpp);
+      d += n * bpp;
+    } else if (plan.as_float) {
+      for (size_t p = 0; p < n; ++p, d += 4) {
+        const float x = static_cast<float>(valid[p] ? xyz[3 * p + axis] : nan);
+        std::memcpy(d, &x, 4);
+      }
+    } else {
+      for (size_t p = 0; p < n; ++p, d += 8) {
+        const double x = valid[p] ? xyz[3 * p + axis] : nan;
+        std::memcpy(d, &x, 8);
+      }
+    }
+  }
+  const std::string h = header(l, n);
+  std::vector<uint8_t> out(h.begin(), h.end());
+  append_compressed(*body, LzfVariant::kCapz, &out);
+  return out;
 }
 
 }  // namespace capz

@@ -76,4 +76,12 @@ void pcd_frame_points(const PcdFramePlan& plan, size_t points, const double* xyz
                       const uint8_t* valid, const std::vector<const uint8_t*>& attrs,
                       std::vector<uint8_t>* out);
 
+// One frame file's bytes from its arrays as pcd_frame_points gives them: pcd_frame_bytes of
+// those points (capz's LZF), through the caller's buffers kept from frame to frame. A
+// binary_compressed body is built field-major from the arrays, without the points (*points
+// then unused).
+std::vector<uint8_t> pcd_frame_file(const PcdFramePlan& plan, size_t points, const double* xyz,
+                                    const uint8_t* valid, const std::vector<const uint8_t*>& attrs,
+                                    std::vector<uint8_t>* point_bytes, std::vector<uint8_t>* body);
+
 }  // namespace capz

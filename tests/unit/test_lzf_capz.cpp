@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -135,6 +136,52 @@ TEST(LzfCapz, PcdWriterScratchGivesTheSameFile) {
     EXPECT_EQ(capz::pcd_frame_bytes(l, points.data(), capz::LzfVariant::kCapz, &scratch), fresh);
     EXPECT_EQ(capz::pcd_frame_bytes(l, points.data(), capz::LzfVariant::kLiblzf13, &scratch),
               capz::pcd_frame_bytes(l, points.data(), capz::LzfVariant::kLiblzf13));
+  }
+}
+
+// A frame file built from the arrays (pcd_frame_file: a binary_compressed body field-major from
+// them, without the point-major buffer) holds the bytes of pcd_frame_points then
+// pcd_frame_bytes: float32 and float64 coordinates with gaps, a padding field, fields of 1, 2
+// and 12 bytes a point, in each encoding, frame after frame through the same buffers.
+TEST(LzfCapz, PcdFrameFromArraysGivesTheSameFile) {
+  std::mt19937 rng(5);
+  for (int xyz_size : {4, 8}) {
+    capz::Take t;
+    t.pcd = std::make_shared<capz::PCDExtra>();
+    for (const char* name : {"x", "y", "z"})
+      t.pcd->fields.push_back(capz::PCDField{name, 'F', xyz_size, 1});
+    for (const capz::PCDField& f :
+         {capz::PCDField{"_", 'U', 1, 3}, capz::PCDField{"ring", 'U', 2, 1},
+          capz::PCDField{"normal", 'F', 4, 3}, capz::PCDField{"i", 'U', 1, 1}}) {
+      t.pcd->fields.push_back(f);
+      t.attributes.push_back(capz::attribute_of(f));
+    }
+    for (const char* enc : {"binary_compressed", "binary", "ascii"}) {
+      capz::PcdFramePlan plan = capz::pcd_frame_plan(t, enc);
+      std::vector<uint8_t> points, body;
+      for (size_t n : {3000, 7, 0, 1200}) {
+        std::vector<double> xyz(n * 3);
+        std::vector<uint8_t> valid(n);
+        for (size_t i = 0; i < n; ++i) {
+          valid[i] = rng() % 5 != 0;
+          for (int a = 0; a < 3; ++a) xyz[i * 3 + a] = static_cast<double>(rng() % 100000) * 1e-3;
+        }
+        std::vector<std::vector<uint8_t>> data;
+        std::vector<const uint8_t*> attrs;
+        for (const capz::PointAttribute& a : t.attributes) {
+          data.emplace_back(n * a.bytes_per_point());
+          for (uint8_t& c : data.back()) c = static_cast<uint8_t>(rng() % 7);
+        }
+        for (const std::vector<uint8_t>& d : data) attrs.push_back(d.data());
+        plan.layout.width = n;
+        std::vector<uint8_t> fresh_points;
+        capz::pcd_frame_points(plan, n, xyz.data(), valid.data(), attrs, &fresh_points);
+        const std::vector<uint8_t> want = capz::pcd_frame_bytes(plan.layout, fresh_points.data());
+        EXPECT_EQ(capz::pcd_frame_file(plan, n, xyz.data(), valid.data(), attrs, &points, &body),
+                  want)
+            << enc << ", float" << xyz_size * 8 << ", " << n << " points";
+      }
+    }
   }
 }
 

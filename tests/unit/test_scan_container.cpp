@@ -10,6 +10,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <utility>
 
 #include "capz/codec.h"
 #include "capz/error.h"
@@ -69,6 +70,45 @@ TEST(ScanContainer, RoundTripsAtOneMillimetreAndOneCentimetre) {
     for (size_t f = 0; f < 3; ++f) EXPECT_EQ(mid.frame_points(f), t.frame_points(f + 1));
     EXPECT_EQ(mid.pcd->frame_names.front(), "f1.pcd");
   }
+}
+
+// Ranges across windows read into one block again and again (its arrays sized, not zeroed, for
+// each range) give what a fresh block is given: larger, smaller and one-frame ranges, with a
+// point field.
+TEST(ScanContainer, RangesReadIntoAReusedBlockAreFreshBlocks) {
+  Take t = synthetic_scan(7);
+  PointAttribute ring{"ring", 'U', 2, 1, {}};
+  ring.data.resize(t.total_points() * 2);
+  for (size_t i = 0; i < ring.data.size(); ++i) ring.data[i] = static_cast<uint8_t>(i % 16);
+  t.attributes.push_back(ring);
+  t.pcd->fields = {PCDField{"x", 'F', 4, 1}, PCDField{"y", 'F', 4, 1}, PCDField{"z", 'F', 4, 1},
+                   PCDField{"ring", 'U', 2, 1}};
+  CompressOptions o = at(0.001);
+  o.window_frames = 2;
+  const std::vector<uint8_t> z = compress(t, o);
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("capz_ranges_" + std::to_string(::getpid()) + ".capz"))
+                               .string();
+  write_file(path, z, true);
+  std::unique_ptr<FrameSource> src = open_capz_frames(path);
+  FrameBlock reused;
+  for (const auto& r : {std::make_pair(0, 7), std::make_pair(3, 3), std::make_pair(1, 1),
+                        std::make_pair(2, 5), std::make_pair(5, 1), std::make_pair(1, 4)}) {
+    src->read(static_cast<size_t>(r.first), static_cast<size_t>(r.second), &reused);
+    FrameBlock fresh;
+    open_capz_frames(path)->read(static_cast<size_t>(r.first), static_cast<size_t>(r.second),
+                                 &fresh);
+    EXPECT_EQ(reused.first, fresh.first);
+    EXPECT_EQ(reused.frames, fresh.frames);
+    EXPECT_EQ(reused.frame_offsets, fresh.frame_offsets);
+    EXPECT_EQ(reused.xyz, fresh.xyz);
+    EXPECT_EQ(reused.valid, fresh.valid);
+    EXPECT_EQ(reused.attributes, fresh.attributes);
+    EXPECT_EQ(fresh.frame_offsets.back(), t.frame_offsets[static_cast<size_t>(r.first + r.second)] -
+                                              t.frame_offsets[static_cast<size_t>(r.first)]);
+  }
+  src.reset();
+  std::filesystem::remove(path);
 }
 
 TEST(ScanContainer, RefusesWhatIsNotCodedYet) {
