@@ -14,8 +14,8 @@ namespace scan {
 namespace {
 
 constexpr double kTwoPi = 6.283185307179586;
-constexpr size_t kMaxFitPoints = 65536;  // the window's first valid points
-constexpr int kRefinements = 5;
+constexpr size_t kMaxFitPoints = 4096;  // the window's first valid points
+constexpr int kRefinements = 3;
 
 // The valid points' rings and azimuths in columns of the quantum (point order, up to
 // kMaxFitPoints), as place_points meets them.
