@@ -39,12 +39,8 @@ ScanGeometry sweep(ScanHints* h) {
       const int64_t quanta = a + static_cast<int64_t>(std::floor(d * slot / 48.0 + 0.5));
       const double az = static_cast<double>(quanta) * kQuantum;
       const double el = (-15.0 + 2.0 * k) * 3.141592653589793 / 180;
-      double range = 9 + 2 * std::sin(2 * az) + std::cos(5 * az + k) + 0.004 * u(rng);
-      range = 0.004 * std::floor(range / 0.004 + 0.5);
-      const double rho = range * std::cos(el);
-      const double p[3] = {rho * std::cos(az), rho * std::sin(az), range * std::sin(el)};
-      push_point(&g, h, p, static_cast<uint32_t>(k));
-      h->distance.push_back(static_cast<float>(range));
+      push_polar(&g, h, az, el, 9 + 2 * std::sin(2 * az) + std::cos(5 * az + k) + 0.004 * u(rng),
+                 static_cast<uint32_t>(k));
       ++n;
     }
   }
