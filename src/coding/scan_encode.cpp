@@ -36,12 +36,17 @@ void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, cons
     w.u8(static_cast<uint8_t>((t.unit.empty() ? 0
                                : offsets      ? 2
                                               : 1) |
-                              (t.bow != 0 ? scan::kBowBit : 0) | (t.turn ? scan::kTurnBit : 0)));
+                              (t.bow != 0 ? scan::kBowBit : 0) | (t.turn ? scan::kTurnBit : 0) |
+                              (t.share.empty() ? 0 : scan::kShareBit)));
     for (size_t k = 0; k < t.unit.size(); ++k) {
       w.f64(t.unit[k]);
       if (offsets) w.f64(t.offset[k]);
     }
     if (t.bow != 0) w.f32(t.bow);
+    if (!t.share.empty()) {
+      w.f32(t.fire_turn);
+      for (float v : t.share) w.f32(v);
+    }
   }
   out->insert(out->end(), w.buffer().begin(), w.buffer().end());
 }

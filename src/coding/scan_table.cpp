@@ -410,6 +410,7 @@ RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units) {
   }
   r.step = infer_step(r.phi);
   r.quantum = azimuth_quantum(r);
+  fit_shares(g, &r);
   r.slope.resize(rings), r.z0.resize(rings);
   for (size_t k = 0; k < rings; ++k) fit_cone(cone[k], &r.slope[k], &r.z0[k]);
   if (units) fit_units(g, hints, ring, rings, &r);
@@ -429,6 +430,7 @@ Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* 
   double step = step_divisor > 0 ? r.step / step_divisor : std::copysign(r.quantum, r.step);
   if (step == 0 || !std::isfinite(step)) return t;
   t.turn = step_divisor <= 0;
+  if (t.turn) t.fire_turn = r.fire_turn, t.share = r.share;
   t.step = static_cast<float>(step);
   step = t.step;
   const double cols = std::floor(kTwoPi / std::fabs(step) + 0.5);
