@@ -212,19 +212,16 @@ void fit_cone(const ConeSums& c0, float* slope, float* z0) {
 // The azimuth step: the median of the small azimuth changes between a ring's consecutive
 // points, refined over the changes of a few steps.
 double infer_step(const std::vector<std::vector<double>>& phi) {
-  std::vector<double> d;
-  size_t total = 0;
+  std::vector<double> a;  // the steps' sizes (one window-sized vector: fewer pages touched)
+  size_t total = 0, neg = 0;
   for (const auto& p : phi) total += p.size();
-  d.reserve(total);
+  a.reserve(total);
   for (const auto& p : phi)
     for (size_t i = 1; i < p.size(); ++i) {
       const double e = wrap_pi(p[i] - p[i - 1]);
-      if (std::fabs(e) > 1e-7 && std::fabs(e) < 0.1) d.push_back(e);
+      if (std::fabs(e) > 1e-7 && std::fabs(e) < 0.1) a.push_back(std::fabs(e)), neg += e < 0;
     }
-  if (d.empty()) return 0;
-  std::vector<double> a(d.size());
-  size_t neg = 0;
-  for (size_t i = 0; i < d.size(); ++i) a[i] = std::fabs(d[i]), neg += d[i] < 0;
+  if (a.empty()) return 0;
   std::nth_element(a.begin(), a.begin() + static_cast<long>(a.size() / 2), a.end());
   const double s0 = a[a.size() / 2];
   double num = 0, den = 0;
@@ -233,7 +230,7 @@ double infer_step(const std::vector<std::vector<double>>& phi) {
     if (m >= 1 && m <= 8 && std::fabs(e - m * s0) < 0.25 * s0) num += e, den += m;
   }
   const double s = den > 0 ? num / den : s0;
-  return 2 * neg > d.size() ? -s : s;
+  return 2 * neg > a.size() ? -s : s;
 }
 
 // Whether the distances sit on whole multiples of q: nine in ten within 5 % of q of the nearest
