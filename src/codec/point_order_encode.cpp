@@ -4,6 +4,7 @@
 #include "capz/stream.h"
 #include "codec/grid_choice.h"
 #include "codec/point_order.h"
+#include "coding/scan_cells.h"
 #include "coding/scan_geometry.h"
 
 namespace capz {
@@ -27,6 +28,19 @@ ScanHints permuted(const ScanHints& h, const std::vector<uint32_t>& order) {
     if (!h.xyz.empty()) std::copy_n(&h.xyz[3 * size_t{order[j]}], 3, &s.xyz[3 * j]);
   }
   return s;
+}
+
+// Cells with counts (FORMAT.md "Cells with counts"): `best` with each point's copies moved to
+// just after it, coded with counts, replaces *coded when smaller. Tried only when the copies are
+// at least 2 % of the valid points (else the counts cost about what the copies save).
+void try_cells(const ScanGeometry& g, const ScanHints& hints, std::vector<uint8_t>* coded,
+               std::vector<uint32_t>* best, ScanWorkspace* ws) {
+  std::vector<uint32_t> order = group_cell_copies(g, *best);
+  const ScanGeometry grouped = permuted(g, order);
+  const size_t valid = static_cast<size_t>(std::count(g.valid.begin(), g.valid.end(), 1));
+  if (scan_cell_copies(grouped) * 50 < valid || valid == 0) return;
+  std::vector<uint8_t> bytes = encode_scan_cells(grouped, permuted(hints, order), ws);
+  if (!bytes.empty() && bytes.size() < coded->size()) coded->swap(bytes), best->swap(order);
 }
 
 // The coded order of the points of block b (a window's frames, ragged): indices from its first
@@ -60,6 +74,7 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
         encode_scan_geometry(permuted(g, order), permuted(hints, order), ws);
     if (bytes.size() < coded->size()) coded->swap(bytes), best.swap(order);
   }
+  try_cells(g, hints, coded, &best, ws);
   if (kept) kept->swap(file);
   return best;
 }

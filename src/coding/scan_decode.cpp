@@ -1,9 +1,11 @@
 // The scan geometry decoder (docs/FORMAT.md "Scans (format 1.1)").
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 
 #include "capz/error.h"
 #include "coding/buffers.h"
+#include "coding/scan_cells.h"
 #include "coding/scan_geometry.h"
 #include "coding/scan_raster.h"
 #include "coding/scan_shared.h"
@@ -77,23 +79,33 @@ ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& 
   if (h.pixels > 0) scan::raster::read_pixels(&dec, h, &px);
   DecodeIo io(&dec);
   scan::raster::State rs(px.count());
+  // The counts block of frames with cells (FORMAT "Cells with counts").
+  std::unique_ptr<IntDecoder> cells;
+  if (h.cells_size > 0)
+    cells.reset(new IntDecoder(data + h.cells, h.cells_size, scan::kCellContexts, what));
+  std::vector<uint32_t> counts;
   size_t first = 0;
   for (size_t f = 0; f < h.counts.size(); ++f) {
     int32_t* q = frame ? one.data() : g.q.data() + 3 * first;
     uint8_t* valid = g.valid.data() + first;
+    const size_t coded = h.counts[f] - h.copies[f];  // the frame's coded points
     if (h.flags[f] & scan::kRaster) {
-      scan::raster::code_frame(io, px, rs, h.flags[f], first, h.counts[f], q, valid);
+      scan::raster::code_frame(io, px, rs, h.flags[f], first, coded, q, valid);
     } else if (f + 1 < h.counts.size()) {
-      scan::code_frame(io, st, h.flags[f], first, h.counts[f], q, valid);
+      scan::code_frame(io, st, h.flags[f], first, coded, q, valid);
     } else {  // the last: on a trial state, which leaves the map no later sweep reads
       scan::State last = st.trial();
-      scan::code_points(io, last, h.flags[f], first, h.counts[f], q, valid);
+      scan::code_points(io, last, h.flags[f], first, coded, q, valid);
     }
+    if (h.copies[f] > 0)
+      scan::expand_cells(cells.get(), h.copies[f], h.counts[f], q, valid, &counts);
     if (frame) (*frame)(first, h.counts[f], q, valid);
     first += h.counts[f];
   }
   io.commit();
   if (!dec.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the scan geometry");
+  if (cells && !cells->at_end())
+    fail(ErrorCode::kCorrupt, what, "bytes left after the cells' counts");
   return g;
 }
 

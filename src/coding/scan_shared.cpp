@@ -49,6 +49,14 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
   }
   const uint8_t* f = r.bytes(frames);
   h.flags.assign(f, f + frames);
+  h.copies.assign(frames, 0);
+  for (size_t i = 0; i < frames; ++i) {
+    if (!(h.flags[i] & kCells)) continue;
+    const uint64_t d = r.varint();
+    if (d == 0 || d >= h.counts[i])
+      fail(ErrorCode::kCorrupt, what, "frame " + std::to_string(i) + "'s copies are out of range");
+    h.copies[i] = static_cast<uint32_t>(d);
+  }
   const uint64_t rings = r.varint();
   if (rings > kMaxRings) fail(ErrorCode::kCorrupt, what, "more than 1024 rings in the laser table");
   Table& t = h.table;
@@ -84,7 +92,8 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
         fail(ErrorCode::kCorrupt, what, "the laser table's bow is out of range");
     }
   }
-  uint64_t coded = 0;  // points that code at least one symbol
+  uint64_t coded = 0;    // points that code at least one symbol
+  uint64_t counted = 0;  // coded points of frames with cells: a count each at most
   bool raster = false;
   for (size_t i = 0; i < frames; ++i) {
     const uint8_t fl = h.flags[i];
@@ -94,10 +103,21 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
       fail(ErrorCode::kCorrupt, what, "frame " + std::to_string(i) + " has unknown flags");
     if ((fl & kSpherical) && rings == 0)
       fail(ErrorCode::kCorrupt, what, "a spherical frame without a laser table");
-    if ((fl & 3) != kNoneValid) coded += h.counts[i];
+    if ((fl & 3) != kNoneValid) coded += h.counts[i] - h.copies[i];
+    if (fl & kCells) counted += h.counts[i] - h.copies[i];
     raster = raster || (fl & kRaster);
   }
   if (raster) coded += read_raster_header(&r, &h);
+  if (counted > 0) {  // the counts block (FORMAT "Cells with counts")
+    const uint64_t L = r.varint();
+    if (L > size - r.offset())
+      fail(ErrorCode::kCorrupt, what, "the counts block is longer than the bytes left");
+    h.cells = r.offset();
+    h.cells_size = static_cast<size_t>(L);
+    if (counted > kMaxSymbolsPerByte * L)
+      fail(ErrorCode::kCorrupt, what, "more points than the counts block can hold");
+    r.bytes(h.cells_size);
+  }
   h.body = r.offset();
   if (coded > kMaxSymbolsPerByte * (size - h.body))
     fail(ErrorCode::kCorrupt, what, "more points than the coded bytes can hold");

@@ -27,10 +27,11 @@ namespace scan {
 constexpr uint8_t kAllValid = 0, kSomeValid = 1, kNoneValid = 2;  // bits 0-1
 constexpr uint8_t kSpherical = 4;                                 // bit 2
 constexpr uint8_t kRingWalk = 8;     // bit 3: rings by the walk (FORMAT "Ring walk frames")
+constexpr uint8_t kCells = 16;       // bit 4: cells with counts (scan_cells.h)
 constexpr uint8_t kRaster = 32;      // bit 5 (scan_raster.h)
 constexpr uint8_t kHypot = 64;       // bit 6: the second of x y from the range's hypotenuse
 constexpr uint8_t kRingPairs = 128;  // bit 7: ring pair frames (FORMAT "Ring pair frames")
-constexpr uint8_t kFrameFlagMask = 7 | kRingWalk | kRaster | kHypot | kRingPairs;
+constexpr uint8_t kFrameFlagMask = 7 | kRingWalk | kCells | kRaster | kHypot | kRingPairs;
 
 // Limits the decoder enforces (FORMAT.md).
 constexpr uint32_t kMaxRings = 1024;
@@ -166,7 +167,11 @@ struct Header {
   uint32_t pixels = 0;  // raster frames' pixel table (scan_raster.h): P, delta, e; P = 0: none
   double delta = 0;
   int exponent = 0;
-  int fine = 0;     // the fine shift k: the integers count the grid step times 2^-k
+  int fine = 0;  // the fine shift k: the integers count the grid step times 2^-k
+  // Per frame its copies d_f (0 without bit 4: FORMAT "Cells with counts"), and the counts
+  // block's offset and size (size 0: no frame has bit 4).
+  std::vector<uint32_t> copies;
+  size_t cells = 0, cells_size = 0;
   size_t body = 0;  // offset of the entropy-coded block
 };
 Header read_header(const uint8_t* data, size_t size, const std::string& what, size_t max_points);

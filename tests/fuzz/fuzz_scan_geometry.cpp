@@ -1,10 +1,12 @@
 // Fuzz target: the scan geometry decoder (decode_scan_geometry, docs/FORMAT.md "Scans (format
 // 1.1)") on arbitrary payloads, at most 2^20 points. A payload that decodes must re-encode to
-// one that decodes to the same points.
+// one that decodes to the same points, with cells with counts (scan_cells.h) as well when its
+// frames hold runs of the same point.
 #include <cstddef>
 #include <cstdint>
 
 #include "capz/error.h"
+#include "coding/scan_cells.h"
 #include "coding/scan_geometry.h"
 #include "fuzz_common.h"
 
@@ -18,6 +20,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const capz::ScanGeometry h =
         capz::decode_scan_geometry(again.data(), again.size(), "re-encoded", 1 << 20);
     CAPZ_FUZZ_CHECK(h.counts == g.counts && h.valid == g.valid && h.q == g.q);
+    const std::vector<uint8_t> cells = capz::encode_scan_cells(g, {}, nullptr);
+    if (!cells.empty()) {
+      const capz::ScanGeometry c =
+          capz::decode_scan_geometry(cells.data(), cells.size(), "with cells", 1 << 20);
+      CAPZ_FUZZ_CHECK(c.counts == g.counts && c.valid == g.valid && c.q == g.q);
+    }
   } catch (const capz::Error&) {
   }
   return 0;
