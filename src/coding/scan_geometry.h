@@ -89,8 +89,10 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
 
 // Which table orders the points: one per frame with the azimuth step of each ring's sorted
 // azimuths (a driver that writes a ring out of firing order), or the window's as the payload
-// infers it (the step from the file's order).
-enum class ScanOrderTable { kPerFrame, kWindow };
+// infers it (the step from the file's order). kPerFrameByRing: the per-frame table's points ring
+// by ring (ring, then column, then range), for the cells of a near sweep (FORMAT.md "Cells with
+// counts": their firings keep irregular sets of rings).
+enum class ScanOrderTable { kPerFrame, kWindow, kPerFrameByRing };
 // --point-order any (FORMAT.md "Points reordered"): the coded order of g's points, indices into
 // g (total of them), each frame's own points at its own places: its valid points by column,
 // ring and range under the table the encoder infers (the sensor's firing order), the valid

@@ -12,7 +12,7 @@ namespace capz {
 
 namespace {
 
-// A placed point's sort key: column, ring, range, then its place in the file.
+// A placed point's sort key: column, ring, range, then its place in the file (or ring first).
 struct Placed {
   int32_t column;
   uint32_t ring;
@@ -21,12 +21,16 @@ struct Placed {
   bool operator<(const Placed& o) const {
     return std::tie(column, ring, range, index) < std::tie(o.column, o.ring, o.range, o.index);
   }
+  static bool by_ring(const Placed& a, const Placed& b) {
+    return std::tie(a.ring, a.column, a.range, a.index) <
+           std::tie(b.ring, b.column, b.range, b.index);
+  }
 };
 
 // Appends the order of frame [first, first + n) to *out: the placed points sorted, the valid
 // points the table does not place in file order, then the gaps.
 void order_frame(const ScanGeometry& g, bool table, const std::vector<scan::Polar>& polar,
-                 size_t first, size_t n, std::vector<uint32_t>* out) {
+                 size_t first, size_t n, std::vector<uint32_t>* out, bool by_ring = false) {
   std::vector<Placed> placed;
   std::vector<uint32_t> rest, gaps;
   placed.reserve(n);
@@ -39,7 +43,10 @@ void order_frame(const ScanGeometry& g, bool table, const std::vector<scan::Pola
     else
       rest.push_back(idx);
   }
-  std::sort(placed.begin(), placed.end());
+  if (by_ring)
+    std::sort(placed.begin(), placed.end(), Placed::by_ring);
+  else
+    std::sort(placed.begin(), placed.end());
   for (const Placed& p : placed) out->push_back(p.index);
   out->insert(out->end(), rest.begin(), rest.end());
   out->insert(out->end(), gaps.begin(), gaps.end());
@@ -49,7 +56,7 @@ void order_frame(const ScanGeometry& g, bool table, const std::vector<scan::Pola
 // frame alone with the step of its rings' sorted azimuths (sorted_step: over a window the
 // sweeps' azimuths would interleave).
 void order_one(const ScanGeometry& g, const ScanHints& hints, size_t first, size_t n,
-               std::vector<uint32_t>* out) {
+               std::vector<uint32_t>* out, bool by_ring) {
   ScanGeometry f;
   f.counts = {static_cast<uint32_t>(n)};
   const auto b = static_cast<std::ptrdiff_t>(first), e = static_cast<std::ptrdiff_t>(first + n);
@@ -64,7 +71,7 @@ void order_one(const ScanGeometry& g, const ScanHints& hints, size_t first, size
   std::vector<scan::Polar> polar;
   const scan::Table t = scan::table_for(f, fit, 1.0, false, &polar);
   const size_t at = out->size();
-  order_frame(f, t.rings() > 0, polar, 0, n, out);
+  order_frame(f, t.rings() > 0, polar, 0, n, out, by_ring);
   for (size_t j = at; j < out->size(); ++j) (*out)[j] += static_cast<uint32_t>(first);
 }
 
@@ -79,9 +86,9 @@ std::vector<uint32_t> scan_point_order(const ScanGeometry& g, const ScanHints& h
   std::vector<uint32_t> order;
   order.reserve(total);
   size_t first = 0;
-  if (table == ScanOrderTable::kPerFrame) {
+  if (table != ScanOrderTable::kWindow) {
     for (uint32_t n : g.counts) {
-      order_one(g, hints, first, n, &order);
+      order_one(g, hints, first, n, &order, table == ScanOrderTable::kPerFrameByRing);
       first += n;
     }
     return order;

@@ -132,6 +132,31 @@ TEST(ScanCells, GivenAnOrderThenCopiesFollowTheirFirstAndTheRestKeepsItsOrder) {
   expect_same(decode_scan_geometry(p.data(), p.size(), "cells"), s);
 }
 
+TEST(ScanCells, GivenTheByRingOrderThenEachFramesPointsRingByRingGapsLast) {
+  ScanHints h;
+  const ScanGeometry g = near_window(&h);
+  const std::vector<uint32_t> o = scan_point_order(g, h, ScanOrderTable::kPerFrameByRing);
+  ASSERT_EQ(o.size(), g.total());
+  size_t first = 0;
+  for (uint32_t n : {g.counts[0], g.counts[1]}) {  // frame 2 is one cell on one ring
+    std::vector<uint32_t> seen(o.begin() + static_cast<std::ptrdiff_t>(first),
+                               o.begin() + static_cast<std::ptrdiff_t>(first + n));
+    size_t valid = 0;
+    for (size_t j = 0; j < n; ++j) {
+      ASSERT_GE(seen[j], first);
+      ASSERT_LT(seen[j], first + n);
+      if (!g.valid[seen[j]]) continue;
+      EXPECT_EQ(j, valid++) << "a gap before a valid point";
+      if (j > 0) {
+        EXPECT_LE(h.ring[seen[j - 1]], h.ring[seen[j]]) << "frame at " << first;
+      }
+    }
+    std::sort(seen.begin(), seen.end());
+    EXPECT_EQ(std::unique(seen.begin(), seen.end()), seen.end());
+    first += n;
+  }
+}
+
 // p with its frame 0's d_f (the varint after the flags) set to d.
 std::vector<uint8_t> with_copies(const std::vector<uint8_t>& p, uint64_t d) {
   ByteReader r(p.data(), p.size(), "t");
