@@ -310,6 +310,49 @@ double range_step(const ScanGeometry& g, const ScanHints& h) {
   return best;
 }
 
+// The sensor's range step for distances from the origin that sit on the steps only less an
+// offset of their own ring (a source without a distance field whose sensor measures its ranges
+// from a centre off the axis: the Helios 16P's 35 mm), as range_step but with each ring's
+// distances less *phase (per ring, in the units of h.xyz: the circular mean of the distances
+// modulo the step). 0 (and *phase empty) when no step is found.
+double ring_offset_step(const ScanGeometry& g, const ScanHints& h,
+                        const std::vector<uint32_t>& ring, size_t rings,
+                        std::vector<double>* phase) {
+  phase->clear();
+  const size_t n = g.total();
+  if (h.grid_per_unit <= 0 || h.xyz.size() != 3 * n || !h.distance.empty() || rings == 0) return 0;
+  std::vector<std::vector<double>> dist(rings);
+  std::vector<double> all;
+  const size_t stride = std::max<size_t>(1, n / 16384);
+  for (size_t i = 0; i < n; i += stride) {
+    if (!g.valid[i] || !small_enough(&g.q[3 * i])) continue;
+    const double d = distance(h, n, i);
+    if (std::isfinite(d) && d > 0) dist[ring[i]].push_back(d), all.push_back(d);
+  }
+  if (all.size() < 64) return 0;
+  const auto mid = all.begin() + static_cast<std::ptrdiff_t>(all.size() / 2);
+  std::nth_element(all.begin(), mid, all.end());
+  const double largest = *mid / 8;
+  std::vector<double> shifted, scratch, ph(rings);
+  for (int e = 3; e >= -6; --e)
+    for (double m : {5.0, 4.0, 2.5, 2.0, 1.0}) {
+      const double q = m * std::pow(10.0, e);
+      if (q * h.grid_per_unit < 0.999 || q > largest) continue;
+      shifted.clear();
+      for (size_t k = 0; k < rings; ++k) {
+        double sc = 0, ss = 0;
+        for (double d : dist[k]) sc += std::cos(kTwoPi * d / q), ss += std::sin(kTwoPi * d / q);
+        ph[k] = dist[k].empty() ? 0 : q * std::atan2(ss, sc) / kTwoPi;
+        for (double d : dist[k]) shifted.push_back(d - ph[k]);
+      }
+      if (on_steps(shifted, q, &scratch)) {
+        *phase = ph;
+        return q;
+      }
+    }
+  return 0;
+}
+
 // Least-squares sums of a line y = u m + v.
 struct LineSums {
   double n = 0, m = 0, y = 0, mm = 0, my = 0;
@@ -333,14 +376,16 @@ struct LineSums {
 // found.
 void fit_units(const ScanGeometry& g, const ScanHints& h, const std::vector<uint32_t>& ring,
                size_t rings, RingFit* r) {
-  const double q = range_step(g, h);
+  std::vector<double> phase;  // per ring, when only the rings' own offsets put them on steps
+  double q = range_step(g, h);
+  if (q == 0) q = ring_offset_step(g, h, ring, rings, &phase);
   if (q == 0) return;
   const double gpu = h.grid_per_unit;
   const size_t n = g.total();
   std::vector<LineSums> line(rings);
   for (size_t i = 0; i < n; ++i) {
     if (!g.valid[i] || !small_enough(&g.q[3 * i])) continue;
-    const double d = distance(h, n, i);
+    const double d = distance(h, n, i) - (phase.empty() ? 0 : phase[ring[i]]);
     if (!std::isfinite(d)) continue;
     line[ring[i]].add(std::floor(d / q + 0.5),
                       std::hypot(double(h.xyz[3 * i]), double(h.xyz[3 * i + 1])) * gpu);
@@ -349,7 +394,7 @@ void fit_units(const ScanGeometry& g, const ScanHints& h, const std::vector<uint
   r->offset.resize(rings);
   // Offsets from a distance field, unless every ring's is under half a grid unit (the VLP-16's
   // distance field: then the lines through the origin, and no offsets stored).
-  bool offsets = !h.distance.empty();
+  bool offsets = !h.distance.empty() || !phase.empty();
   for (size_t k = 0; k < rings && offsets; ++k)
     line[k].fit(q * gpu, true, &r->unit[k], &r->offset[k]);
   if (offsets &&
