@@ -184,6 +184,7 @@ class BreakdownIo {
                   : ctx < kCtxWalkRepeat ? 6
                   : ctx < kCtxWalkColumn ? 1
                   : ctx < kCtxPairRing   ? 2
+                  : ctx >= kCtxShare     ? 2  // the column against the firing's base
                                          : 1;
     enc_[k]->put(u, ctx);
   }

@@ -97,43 +97,59 @@ Take whole_take(FrameSource& source) {
   return t;
 }
 
+// The fixed stream of `source` coded without its self-check, META as it is (coding 0) and, with
+// attr_empty, the fields not coded (EncoderTuning): its size less META's payload, plus the 1 byte
+// any coding of META takes, is at most the size of the stream as the encoder writes it (INDX's
+// offsets are fixed width). *meta: that stream's META chunk; returns the stream's size.
+size_t fixed_bound(FrameSource& source, const CompressOptions& opts, bool attr_empty,
+                   std::vector<uint8_t>* stream, Chunk* meta) {
+  stream->clear();
+  CompressOptions unchecked = opts;
+  unchecked.check = false;
+  EncoderTuning raw;
+  raw.meta_raw = true;
+  raw.attr_empty = attr_empty;
+  StreamOut mem(stream);
+  encode_source(source, unchecked, raw, &mem, nullptr);
+  const std::string what = source.header().source + " (size bound)";
+  const Chunk head = read_chunk(stream->data(), stream->size(), kFileHeaderBytes, what);
+  *meta = read_chunk(stream->data(), stream->size(), head.end, what);
+  if (meta->type != "META" || meta->size > stream->size())
+    fail(ErrorCode::kInternal, what, "no META after HEAD");
+  return stream->size();
+}
+
 // The fixed take's stream of a one-frame source (the source itself: a lossless stream carries
-// its residue), or the scan coder's when it is smaller (smaller_as_scan). The fixed stream is
-// first coded without its self-check and with META as it is (coding 0): that stream's size less
-// META's payload, plus the 1 byte any coding of META takes, is at most the size of the stream
-// with META coded (INDX's offsets are fixed width), so a scan stream under it is the smaller
-// without coding META (the LZMA trials of a sweep's point labels: about a sixth of a pandar64
-// sweep's encode); else META's fields are coded alone, which makes that stream's size exact.
-// Only when the fixed stream is the smaller is it coded again, whole, as always.
+// its residue), or the scan coder's when it is smaller (smaller_as_scan). The scan stream is
+// coded first; the fixed stream is then bounded from below before it is coded (fixed_bound),
+// cheapest bound first: with neither META nor the point fields coded (the fields' LZMA and
+// predictive trials: about three fifths of a pandar64 sweep's encode with its fields), then
+// with the fields coded, then with META's fields coded alone, which makes the size exact. A
+// scan stream under a bound is the smaller, as it is under the exact size. Only when the fixed
+// stream is the smaller is it coded again, whole and checked, as always.
 std::vector<uint8_t> one_frame_choice(FrameSource& source, const CompressOptions& opts,
                                       CompressStats* stats) {
-  const Take t = whole_take(source);
+  const std::string what = source.header().source + " (size bound)";
+  const bool fields = !source.header().attributes.empty();  // else the two bounds are one
   CompressStats st;
   std::vector<uint8_t> scan;
-  try {
-    scan = compress_ragged_frames(as_one_ragged_frame(t), opts, stats ? &st : nullptr,
-                                  source.original_file());
+  try {  // the frame moved into the scan coder's take, not copied
+    scan = compress_ragged_frames(as_one_ragged_frame(whole_take(source)), opts,
+                                  stats ? &st : nullptr, source.original_file());
   } catch (const Error& e) {
     if (e.code() != ErrorCode::kInvalidParameter) throw;
   }
   if (!scan.empty()) {
     std::vector<uint8_t> bound;
-    {
-      CompressOptions unchecked = opts;
-      unchecked.check = false;
-      EncoderTuning raw;
-      raw.meta_raw = true;
-      StreamOut mem(&bound);
-      encode_source(source, unchecked, raw, &mem, nullptr);
-    }
-    const std::string what = t.source + " (size bound)";
-    const Chunk head = read_chunk(bound.data(), bound.size(), kFileHeaderBytes, what);
-    const Chunk meta = read_chunk(bound.data(), bound.size(), head.end, what);
-    if (meta.type != "META" || meta.size > bound.size())
-      fail(ErrorCode::kInternal, what, "no META after HEAD");
-    if (scan.size() < bound.size() - meta.size + 1) {
-      if (stats) *stats = st;
-      return scan;
+    Chunk meta;
+    for (const bool attr_empty : {true, false}) {
+      if (!attr_empty || fields) {
+        const size_t size = fixed_bound(source, opts, attr_empty, &bound, &meta);
+        if (scan.size() < size - meta.size + 1) {
+          if (stats) *stats = st;
+          return scan;
+        }
+      }
     }
     // META coded as the encoder codes it (dictionary: C3D takes only): the fixed stream's size.
     const size_t coded = code_meta_fields(decode_meta_fields(meta, what), false).size();

@@ -493,6 +493,11 @@ class Encoder {
     quantise_bounded_fields(*take_.pcd, &win->block.attributes);
     std::vector<uint8_t>* buf = &win->buf;
     const size_t before = buf->size();
+    if (tuning_.attr_empty) {  // EncoderTuning: a size bound
+      append_chunk(buf, "ATTR", with_window_index(win->w, 0xFF, {}));
+      win->attribute_bytes = buf->size() - before;
+      return;
+    }
     const std::vector<uint8_t> at =
         encode_attributes(attribute_specs(take_.pcd->fields), win->block.attributes,
                           win->wi.valid.data(), win->block.frames, take_.points, take_.pcd->width,

@@ -25,6 +25,11 @@ struct EncoderTuning {
   // META in coding 0 (encode_meta_raw), no coding tried: a stream whose size less META's
   // payload bounds from below the stream's size with META coded (INDX's offsets are fixed width).
   bool meta_raw = false;
+  // ATTR chunks with an empty payload (their window index only), the fields not coded: no other
+  // chunk depends on ATTR's bytes (the fields are still quantised as for the coding, which a
+  // residue reads), so with meta_raw the stream's size less META's payload bounds from below the
+  // size of the stream with its fields and META coded.
+  bool attr_empty = false;
 };
 
 // Where the encoder puts the stream: appended to memory, or written to a file as it goes.

@@ -107,7 +107,7 @@ QuantumParams read_quantum(ByteReader* r, const std::vector<AttrSpec>& specs, si
     qp.offset = r->f64();
     if (!std::isfinite(qp.offset))
       fail(ErrorCode::kCorrupt, awhat, "predictor 12 with a bad offset");
-  } else if (qp.base != kBasePrevious) {
+  } else if (qp.base != kBasePrevious && qp.base != kBaseNear) {
     fail(ErrorCode::kCorrupt, awhat, "predictor 12 with an unknown base");
   }
   return qp;
@@ -125,6 +125,9 @@ void read_lane_predictors(ByteReader* in, const std::vector<AttrSpec>& specs, si
       (*quanta)[j] = read_quantum(in, specs, a, awhat);
       if ((*quanta)[j].base == kBaseRange && !ragged->xyz)
         fail(ErrorCode::kCorrupt, awhat, "predictor 12 from positions in a window without them");
+      if ((*quanta)[j].base == kBaseNear && !have_q)
+        fail(ErrorCode::kCorrupt, awhat,
+             "predictor 12 from the nearest points in a window without position integers");
       continue;
     }
     if (id >= kPredictors && !(id == kUnitPredictor && !colour) && !near_id)
@@ -142,14 +145,14 @@ void read_lane_predictors(ByteReader* in, const std::vector<AttrSpec>& specs, si
 void decode_quantum_lane(IntDecoder::Cursor* c, const QuantumParams& qp,
                          const std::vector<AttrSpec>& specs,
                          const std::vector<std::vector<uint8_t>>& data, const uint8_t* valid,
-                         const double* xyz, LaneState* st, Lane* l) {
+                         const double* xyz, const uint32_t* near, LaneState* st, Lane* l) {
   std::vector<uint16_t> keys;
   if (qp.base == kBaseKey)
     keys = key_values(specs[qp.key.attribute], data[qp.key.attribute], l->u.size(), qp.key.element);
   const uint64_t mask = mask_of(l->bits);
   const int size = l->bits / 8;
   walk_quantum(
-      &l->u, valid, qp, keys.data(), xyz,
+      &l->u, valid, qp, keys.data(), xyz, near,
       [&](uint64_t* v, uint64_t p) {
         *v = (p + static_cast<uint64_t>(get_float_residual(c, &st->prev_nb[1]))) & mask;
       },
@@ -196,9 +199,11 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
     if (n != 0 && lanes > kMaxSymbolsPerByte * m / n)
       fail(ErrorCode::kCorrupt, awhat, "field larger than its block can hold");
     const uint8_t* block = r.bytes(static_cast<size_t>(m));
-    const bool uses_near = std::any_of(pred.begin(), pred.end(), [](int id) {
+    bool uses_near = std::any_of(pred.begin(), pred.end(), [](int id) {
       return id == kNearPredictor || id == kNearChangePredictor;
     });
+    for (size_t j = 0; j < lanes; ++j)
+      uses_near = uses_near || (pred[j] == kQuantumPredictor && quanta[j].base == kBaseNear);
     if (!valid && all_valid.empty() &&
         (uses_near ||
          std::any_of(pred.begin(), pred.end(), [](int id) { return id >= 5 && id <= 8; })))
@@ -237,8 +242,8 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
         continue;
       }
       if (pred[j] == kQuantumPredictor) {
-        decode_quantum_lane(&c, quanta[j], specs, *out, mask_of_window, ragged->xyz, &st,
-                            &cur_lane);
+        decode_quantum_lane(&c, quanta[j], specs, *out, mask_of_window, ragged->xyz, near.data(),
+                            &st, &cur_lane);
         store_lane(s, cur_lane, n, j, &bytes);
         continue;
       }

@@ -132,13 +132,13 @@ std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
     QuantumParams qp;
     uint64_t qcost = 0;
     if (ragged && !colour && pred != kUnitPredictor &&
-        choose_quantum(specs, data, a, l, valid, ragged->xyz, &qp, &qcost) && qcost < cost)
+        choose_quantum(specs, data, a, l, valid, ragged->xyz, near, &qp, &qcost) && qcost < cost)
       pred = kQuantumPredictor;
     w.u8(static_cast<uint8_t>(pred));
     LaneState st;
     if (pred == kQuantumPredictor) {
       write_quantum(&w, qp);
-      encode_quantum_lane(&c, qp, specs, data, valid, ragged->xyz, &st, l);
+      encode_quantum_lane(&c, qp, specs, data, valid, ragged->xyz, near, &st, l);
       continue;
     }
     if (pred == kUnitPredictor) {
@@ -229,8 +229,10 @@ bool near_pays(const std::vector<AttrSpec>& specs, const std::vector<std::vector
       choose_predictor(l, valid, gaps, near.data(), 1, m, m, &with);
       choose_predictor(l, valid, gaps, nullptr, 1, m, m, &without);
       QuantumParams qp;
-      if (choose_quantum(specs, heads, a, l, valid, ragged.xyz, &qp, &quantum))
+      if (choose_quantum(specs, heads, a, l, valid, ragged.xyz, nullptr, &qp, &quantum))
         without = std::min(without, quantum);
+      if (choose_quantum(specs, heads, a, l, valid, ragged.xyz, near.data(), &qp, &quantum))
+        with = std::min(with, quantum);
       helps = static_cast<double>(with) < 0.97 * static_cast<double>(without);
     }
     if (!helps) continue;

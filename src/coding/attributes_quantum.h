@@ -18,7 +18,7 @@ namespace capz {
 namespace attr {
 
 inline constexpr int kQuantumPredictor = 12;
-enum QuantumBase : uint8_t { kBasePrevious = 0, kBaseKey = 1, kBaseRange = 2 };
+enum QuantumBase : uint8_t { kBasePrevious = 0, kBaseKey = 1, kBaseRange = 2, kBaseNear = 3 };
 
 // Predictor 12's parameters (FORMAT.md: quantum, base, key or offset).
 struct QuantumParams {
@@ -80,10 +80,12 @@ inline std::vector<uint16_t> key_values(const AttrSpec& s, const std::vector<uin
 
 // Walks a predictor-12 lane in coding order: gap(&value, prediction) for a gap point,
 // valid(&value, kh, &k) for a valid one (which sets k). keys: base 1's key values (n), xyz: the
-// decoded coordinates (n x 3) for base 2.
+// decoded coordinates (n x 3) for base 2, near: each point's nearest earlier point (n, kNoPoint
+// for none; FORMAT.md 13.5) for base 3.
 template <typename Gap, typename Valid>
 inline void walk_quantum(std::vector<uint64_t>* lane, const uint8_t* valid, const QuantumParams& qp,
-                         const uint16_t* keys, const double* xyz, Gap&& gap, Valid&& step) {
+                         const uint16_t* keys, const double* xyz, const uint32_t* near, Gap&& gap,
+                         Valid&& step) {
   uint64_t last_gap = 0;
   int32_t lastk = 0;
   std::vector<int32_t> by_key;
@@ -92,6 +94,8 @@ inline void walk_quantum(std::vector<uint64_t>* lane, const uint8_t* valid, cons
     by_key.assign(65536, 0);
     seen.assign(65536, 0);
   }
+  std::vector<int32_t> ks;  // base 3: every valid point's k
+  if (qp.base == kBaseNear) ks.assign(lane->size(), 0);
   for (size_t p = 0; p < lane->size(); ++p) {
     uint64_t* v = &(*lane)[p];
     if (!valid[p]) {
@@ -102,9 +106,11 @@ inline void walk_quantum(std::vector<uint64_t>* lane, const uint8_t* valid, cons
     int32_t kh = lastk;
     if (qp.base == kBaseKey && seen[keys[p]]) kh = by_key[keys[p]];
     if (qp.base == kBaseRange) kh = quantum_range_k(xyz + 3 * p, qp.quantum, qp.offset);
+    if (qp.base == kBaseNear && near[p] != kNoPoint && valid[near[p]]) kh = ks[near[p]];
     int32_t k = 0;
     step(v, kh, &k);
     lastk = k;
+    if (qp.base == kBaseNear) ks[p] = k;
     if (qp.base == kBaseKey) {
       by_key[keys[p]] = k;
       seen[keys[p]] = 1;
@@ -115,16 +121,18 @@ inline void walk_quantum(std::vector<uint64_t>* lane, const uint8_t* valid, cons
 // The encoder's side (attributes_quantum_encode.cpp). choose_quantum: predictor 12's parameters
 // for lane l of attribute a and their cost (the sum of the bit lengths of the zig-zagged integer
 // residuals and corrections, and of the gap residuals), false when no quantum fits the lane.
+// Base 3 is tried when near (the points' nearest earlier points) is given.
 bool choose_quantum(const std::vector<AttrSpec>& specs,
                     const std::vector<std::vector<uint8_t>>& data, size_t a, Lane& l,
-                    const uint8_t* valid, const double* xyz, QuantumParams* qp, uint64_t* cost);
+                    const uint8_t* valid, const double* xyz, const uint32_t* near,
+                    QuantumParams* qp, uint64_t* cost);
 // The parameters after the predictor byte.
 void write_quantum(ByteWriter* w, const QuantumParams& qp);
 // The lane's residuals under predictor 12.
 void encode_quantum_lane(IntEncoder::Cursor* c, const QuantumParams& qp,
                          const std::vector<AttrSpec>& specs,
                          const std::vector<std::vector<uint8_t>>& data, const uint8_t* valid,
-                         const double* xyz, LaneState* st, Lane& l);
+                         const double* xyz, const uint32_t* near, LaneState* st, Lane& l);
 
 }  // namespace attr
 }  // namespace capz

@@ -88,11 +88,11 @@ std::vector<uint16_t> keys_of(const QuantumParams& qp, const std::vector<AttrSpe
 // Walks the lane under qp as the encoder codes it: int_res(d), corr(c, gap) per residual.
 template <typename Int, typename Corr>
 void walk_encode(const QuantumParams& qp, const std::vector<uint16_t>& keys, const uint8_t* valid,
-                 const double* xyz, Lane& l, Int&& int_res, Corr&& corr) {
+                 const double* xyz, const uint32_t* near, Lane& l, Int&& int_res, Corr&& corr) {
   const uint64_t mask = mask_of(l.bits);
   const int size = l.bits / 8;
   walk_quantum(
-      &l.u, valid, qp, keys.data(), xyz,
+      &l.u, valid, qp, keys.data(), xyz, near,
       [&](uint64_t* v, uint64_t p) { corr(signed_residual((*v - p) & mask, l.bits), true); },
       [&](uint64_t* v, int32_t kh, int32_t* k) {
         *k = k_of(lane_double(*v, l.bits), qp.quantum, kh);
@@ -106,7 +106,8 @@ void walk_encode(const QuantumParams& qp, const std::vector<uint16_t>& keys, con
 
 bool choose_quantum(const std::vector<AttrSpec>& specs,
                     const std::vector<std::vector<uint8_t>>& data, size_t a, Lane& l,
-                    const uint8_t* valid, const double* xyz, QuantumParams* qp, uint64_t* cost) {
+                    const uint8_t* valid, const double* xyz, const uint32_t* near,
+                    QuantumParams* qp, uint64_t* cost) {
   const AttrSpec& s = specs[a];
   if (s.type != 'F' || (s.size != 4 && s.size != 8) || l.u.empty()) return false;
   bool wide = false;
@@ -119,11 +120,12 @@ bool choose_quantum(const std::vector<AttrSpec>& specs,
          ++e)
       cands.push_back({quantum, kBaseKey, {b, e}, 0, wide});
   if (xyz) cands.push_back({quantum, kBaseRange, {}, range_offset(l, valid, xyz), wide});
+  if (near) cands.push_back({quantum, kBaseNear, {}, 0, wide});
   *cost = ~uint64_t{0};
   for (const QuantumParams& c : cands) {
     uint64_t sum = 0;
     walk_encode(
-        c, keys_of(c, specs, data, l.u.size()), valid, xyz, l,
+        c, keys_of(c, specs, data, l.u.size()), valid, xyz, near, l,
         [&](int32_t d) { sum += bit_length(zigzag(d)); },
         [&](int64_t r, bool) { sum += bit_length(zigzag64(r)); });
     if (sum < *cost) {
@@ -148,9 +150,9 @@ void write_quantum(ByteWriter* w, const QuantumParams& qp) {
 void encode_quantum_lane(IntEncoder::Cursor* c, const QuantumParams& qp,
                          const std::vector<AttrSpec>& specs,
                          const std::vector<std::vector<uint8_t>>& data, const uint8_t* valid,
-                         const double* xyz, LaneState* st, Lane& l) {
+                         const double* xyz, const uint32_t* near, LaneState* st, Lane& l) {
   walk_encode(
-      qp, keys_of(qp, specs, data, l.u.size()), valid, xyz, l,
+      qp, keys_of(qp, specs, data, l.u.size()), valid, xyz, near, l,
       [&](int32_t d) { put_int_residual(c, &st->mag[0], d); },
       [&](int64_t r, bool gap) { put_float_residual(c, &st->prev_nb[gap ? 1 : 0], r); });
 }

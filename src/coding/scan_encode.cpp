@@ -36,12 +36,17 @@ void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, cons
     w.u8(static_cast<uint8_t>((t.unit.empty() ? 0
                                : offsets      ? 2
                                               : 1) |
-                              (t.bow != 0 ? scan::kBowBit : 0) | (t.turn ? scan::kTurnBit : 0)));
+                              (t.bow != 0 ? scan::kBowBit : 0) | (t.turn ? scan::kTurnBit : 0) |
+                              (t.share.empty() ? 0 : scan::kShareBit)));
     for (size_t k = 0; k < t.unit.size(); ++k) {
       w.f64(t.unit[k]);
       if (offsets) w.f64(t.offset[k]);
     }
     if (t.bow != 0) w.f32(t.bow);
+    if (!t.share.empty()) {
+      w.f32(t.fire_turn);
+      for (float v : t.share) w.f32(v);
+    }
   }
   out->insert(out->end(), w.buffer().begin(), w.buffer().end());
 }
@@ -75,8 +80,8 @@ struct CartesianEstimate {
 // A frame's spherical trial: its symbols (the first `syms` of sym_room), the hypotenuse's
 // alternatives to the second of x y, and their tallies.
 struct Trial {
-  std::vector<Sym> sym_room;
-  std::vector<AltSym> alt_room;
+  Room<Sym> sym_room;
+  Room<AltSym> alt_room;
   size_t syms = 0;
   Tally tally, azimuth, hypot;
   const Sym* begin() const { return sym_room.data(); }
@@ -185,21 +190,19 @@ scan::State spherical_trial(const scan::State& st, bool last, uint8_t* flags, co
                             const std::vector<scan::Polar>& polar, size_t first, size_t n,
                             size_t room, Trial* t, Scratch* s) {
   scan::State staged = last ? st.trial() : st.staged();
-  if (t->sym_room.size() < room) t->sym_room.resize(room);
-  if (t->alt_room.size() < n) t->alt_room.resize(n);
+  Sym* const syms = t->sym_room.reserve(room);
+  AltSym* const alts = t->alt_room.reserve(n);
   t->tally.clear();
   t->azimuth.clear();
   t->hypot.clear();
-  RecordSink rec{t->sym_room.data(), t->sym_room.data(), t->sym_room.data() + room,
-                 t->alt_room.data(), &t->tally,          &t->azimuth,
-                 &t->hypot};
+  RecordSink rec{syms, syms, syms + room, alts, &t->tally, &t->azimuth, &t->hypot};
   RecordIo io(&rec, g, polar);
   scan::code_points(io, staged, *flags, first, n, s->q.data(), s->v.data());
   t->syms = static_cast<size_t>(rec.next - rec.syms);
   const bool hypot =
       t->hypot.estimate(&s->log_t, &s->log_c) < t->azimuth.estimate(&s->log_t, &s->log_c);
   if (hypot) {
-    for (const AltSym* y = t->alt_room.data(); y != rec.alt; ++y) t->sym_room[y->at] = y->sym;
+    for (const AltSym* y = alts; y != rec.alt; ++y) syms[y->at] = y->sym;
     *flags = static_cast<uint8_t>(*flags | scan::kHypot);
   }
   t->tally.add(hypot ? t->hypot : t->azimuth);

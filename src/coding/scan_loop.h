@@ -155,12 +155,48 @@ struct RingColumn {
   int64_t firing = 0;
 };
 
-// The ring's column (FORMAT step 2) from p0 and p1 (and with the table's `turn` p2), the
-// context's first part by the residual.
+// The firing's base (FORMAT step 2, units bit 3): ring k's column from the active interval,
+// after opening a firing when the ring's share is not after the last point's (else p1).
+inline int32_t base_predict(State::Base& b, const Table& t, uint32_t k, int32_t p1) {
+  if (!b.open) return p1;
+  const double s = t.share[k];
+  if (s <= b.last_share) {
+    const double turn = t.fire_turn, lo = b.lo[b.active] + turn, hi = b.hi[b.active] + turn;
+    b.lo[0] = b.lo[1] = lo;
+    b.hi[0] = b.hi[1] = hi;
+    b.live[0] = b.live[1] = true;
+  }
+  const double o = b.active == 0 ? static_cast<double>(t.fire_turn) * s : 0.0;
+  return round_clamp((b.lo[b.active] + b.hi[b.active]) / 2 + o);
+}
+
+// The firing's base takes ring k's column c (FORMAT step 5, units bit 3).
+inline void base_update(State::Base& b, const Table& t, uint32_t k, int32_t c) {
+  const double s = t.share[k], o[2] = {static_cast<double>(t.fire_turn) * s, 0.0};
+  const double cd = static_cast<double>(c);
+  bool any = false;
+  for (int j = 0; j < 2 && b.open; ++j) {
+    if (!b.live[j]) continue;
+    const double lo = std::max(b.lo[j], cd - o[j] - 0.5), hi = std::min(b.hi[j], cd - o[j] + 0.5);
+    b.live[j] = !(lo > hi);
+    if (b.live[j]) b.lo[j] = lo, b.hi[j] = hi, any = true;
+  }
+  if (!any) {
+    for (int j = 0; j < 2; ++j)
+      b.lo[j] = cd - o[j] - 0.5, b.hi[j] = cd - o[j] + 0.5, b.live[j] = true;
+    if (!b.open) b.active = 0;
+    b.open = true;
+  }
+  if (!b.live[b.active]) b.active = b.live[0] ? 0 : 1;
+  b.last_share = s;
+}
+
+// The ring's column (FORMAT step 2) from p0 and p1 (and with the table's `turn` p2, with its
+// shares p3), the context's first part by the residual.
 template <class Io>
-__attribute__((always_inline)) inline int32_t code_column(Io& io, const State& st, State::Ring& r,
-                                                          int32_t col, int32_t p0, int32_t p1,
-                                                          bool moved, const Prev* pv) {
+__attribute__((always_inline)) inline int32_t code_column(Io& io, State& st, State::Ring& r,
+                                                          uint32_t k, int32_t col, int32_t p0,
+                                                          int32_t p1, bool moved, const Prev* pv) {
   if (st.table().turn) {
     // p2: P's column plus the ring's lead on P's ring, or the ring's last column plus how far
     // P's ring turned since.
@@ -170,6 +206,16 @@ __attribute__((always_inline)) inline int32_t code_column(Io& io, const State& s
       p2 = wrap_add(pv->column, r.lead);
     else if (pv->have && r.has_last && b.has_before)
       p2 = wrap_add(r.last_column, wrap_sub(pv->column, b.before_column));
+    if (!st.table().share.empty()) {
+      const int32_t p[4] = {p0, p1, p2, base_predict(st.base, st.table(), k, p1)};
+      const int sc = detail::argmin(r.score_col, 4);
+      const int bl = std::min(bit_length(r.score_col[sc] >> 2), 3);
+      const int32_t c =
+          io.sym(col, p[sc],
+                 sc == 3 ? kCtxShare + 4 * moved + bl : kCtxTurn + 8 * (sc == 2) + 4 * moved + bl);
+      for (int j = 0; j < 4; ++j) score(&r.score_col[j], c, p[j]);
+      return c;
+    }
     const int sc = detail::argmin(r.score_col, 3);
     const int cctx =
         kCtxTurn + 8 * (sc == 2) + 4 * moved + std::min(bit_length(r.score_col[sc] >> 2), 3);
@@ -252,7 +298,7 @@ __attribute__((always_inline)) inline RingColumn ring_successor(Io& io, State& s
   RingColumn out;
   out.ring = k;
   out.residual = d;
-  out.column = code_column(io, st, r, pa.column, p0, p1, d != 0, pv);
+  out.column = code_column(io, st, r, k, pa.column, p0, p1, d != 0, pv);
   if (pair_step) *pair_step = wrap_sub(out.column, pv->column);
   return out;
 }
@@ -322,7 +368,7 @@ __attribute__((always_inline)) inline RingColumn ring_walk(Io& io, State& st, co
     const uint64_t prod = gap * static_cast<uint64_t>(static_cast<int64_t>(r.step));
     p1 = wrap_add(r.last_column, static_cast<int32_t>(static_cast<uint32_t>(prod)));
   }
-  out.column = code_column(io, st, r, pa.column, p0, p1, out.residual != 0, pv);
+  out.column = code_column(io, st, r, out.ring, pa.column, p0, p1, out.residual != 0, pv);
   return out;
 }
 
@@ -368,6 +414,7 @@ __attribute__((always_inline)) inline void code_spherical(Io& io, State& st, con
   r.has_before = r.has_last;
   r.last_column = col;
   r.last_range = range;
+  if (!t.share.empty()) detail::base_update(st.base, t, k, col);
   r.has_last = true;
   st.map_set(k, col, range);
   *pv = Prev{true, k, rc.residual, col, range, pv->have ? pv->ring : k, rc.repeat, rc.firing};

@@ -16,6 +16,18 @@ void check_finite(float v, ByteReader* r) {
   if (!std::isfinite(v)) fail(ErrorCode::kCorrupt, r->what(), "laser table value is not finite");
 }
 
+// The firing's turn and the rings' shares of it (FORMAT.md, units bit 3).
+void read_shares(ByteReader* r, uint64_t rings, Table* t, const std::string& what) {
+  t->fire_turn = r->f32();
+  bool ok = std::fabs(t->fire_turn) <= kMaxFireTurn;
+  for (uint64_t k = 0; k < rings; ++k) {
+    t->share.push_back(r->f32());
+    ok = ok && std::fabs(t->share.back()) <= kMaxShare;
+  }
+  if (!ok)
+    fail(ErrorCode::kCorrupt, what, "the laser table's firing turn or shares are out of range");
+}
+
 // The raster frames' pixel table header (FORMAT.md "Raster frames"); returns P.
 uint32_t read_raster_header(ByteReader* r, Header* h) {
   const uint64_t p = r->varint();
@@ -76,7 +88,8 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
       check_finite(t.z0.back(), &r);
     }
     const uint8_t byte = r.u8(), units = byte & 3;
-    if (units == 3 || (byte & ~(7 | kTurnBit)) != 0)
+    if (units == 3 || (byte & ~(7 | kShareBit | kTurnBit)) != 0 ||
+        ((byte & kShareBit) && !(byte & kTurnBit)))
       fail(ErrorCode::kCorrupt, what, "unknown range units in the laser table");
     for (uint64_t k = 0; units != 0 && k < rings; ++k) {
       const double u = r.f64(), v = units == 2 ? r.f64() : 0.0;
@@ -91,6 +104,7 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
       if (!(std::fabs(t.bow) <= kMaxBow))
         fail(ErrorCode::kCorrupt, what, "the laser table's bow is out of range");
     }
+    if (byte & kShareBit) read_shares(&r, rings, &t, what);
   }
   uint64_t coded = 0;    // points that code at least one symbol
   uint64_t counted = 0;  // coded points of frames with cells: a count each at most

@@ -42,6 +42,10 @@ constexpr double kMinUnit = 0x1p-20, kMaxUnit = 0x1p20, kMaxOffset = 0x1p30;
 constexpr uint8_t kBowBit = 4;
 // The units byte's bit of the column's third candidate, the firing's turn (FORMAT.md step 2).
 constexpr uint8_t kTurnBit = 16;
+// The units byte's bit of the column's fourth candidate, the firing's base (only with kTurnBit),
+// and the bounds of its turn and shares (FORMAT.md step 2).
+constexpr uint8_t kShareBit = 8;
+constexpr double kMaxFireTurn = 65536, kMaxShare = 16;
 constexpr double kMaxBow = 1;
 // Coordinates of a spherical frame stay below this in magnitude (so a range fits an int32).
 constexpr int64_t kMaxSphericalCoord = int64_t{1} << 29;
@@ -58,6 +62,10 @@ struct Table {
   // The cones' bow: a ring's slope at azimuth phi is slope + bow (1 - cos phi) (0: none).
   float bow = 0;
   bool turn = false;  // the column's third candidate (units bit 4)
+  // The column's fourth candidate (units bit 3): the firing's turn in columns and per ring its
+  // laser's share of it (empty: none).
+  float fire_turn = 0;
+  std::vector<float> share;
   size_t rings() const { return azimuth0.size(); }
 };
 
@@ -82,7 +90,8 @@ enum Ctx : int {
   kCtxWalkColumn = kCtxWalk + 128,  // 1: a repeated ring's column
   kCtxTurn = kCtxWalkColumn + 1,    // 2 x 2 x 4: the column with the third candidate (units bit 4)
   kCtxPairRing = kCtxTurn + 16,     // 6: a ring pair frame's ring, by the previous symbol
-  kContexts = kCtxPairRing + 6,
+  kCtxShare = kCtxPairRing + 6,     // 2 x 4: the column against the firing's base (units bit 3)
+  kContexts = kCtxShare + 8,
 };
 
 // A point's validity under the frame's validity mode (FORMAT: a flag per point in mode 1, under
@@ -215,7 +224,7 @@ class State {
     int32_t lead = 0;           // its last column less the point's before it then (has_lead)
     uint32_t lead_ring = 0;     // that point's ring
     bool has_last = false, has_before = false, has_lead = false;
-    uint32_t score_col[3] = {0, 0, 0};
+    uint32_t score_col[4] = {0, 0, 0, 0};
     uint32_t score_range[3] = {0, 0, 0};
   };
   std::vector<Ring> ring;
@@ -236,6 +245,17 @@ class State {
     return (a * static_cast<uint32_t>(t_->rings()) + b) & (kPairCells - 1);
   }
   uint32_t ring_score[2] = {0, 0};
+  // The firing's base (units bit 3, FORMAT step 2): per j (the lasers spread by their shares, or
+  // all on the base) the interval of bases the firing's points allow, whether it is live; the
+  // active j; the last point's share.
+  struct Base {
+    double lo[2] = {0, 0}, hi[2] = {0, 0};
+    bool live[2] = {false, false};
+    bool open = false;
+    int active = 0;
+    double last_share = 0;
+  };
+  Base base;
   // The previous sweep's smoothed range (1/16 steps) at ring k, column col (false: none there).
   bool map_prev(uint32_t k, int32_t col, int64_t* smooth) const {
     return maps_->prev(cell(k, col), smooth);

@@ -212,19 +212,16 @@ void fit_cone(const ConeSums& c0, float* slope, float* z0) {
 // The azimuth step: the median of the small azimuth changes between a ring's consecutive
 // points, refined over the changes of a few steps.
 double infer_step(const std::vector<std::vector<double>>& phi) {
-  std::vector<double> d;
-  size_t total = 0;
+  std::vector<double> a;  // the steps' sizes (one window-sized vector: fewer pages touched)
+  size_t total = 0, neg = 0;
   for (const auto& p : phi) total += p.size();
-  d.reserve(total);
+  a.reserve(total);
   for (const auto& p : phi)
     for (size_t i = 1; i < p.size(); ++i) {
       const double e = wrap_pi(p[i] - p[i - 1]);
-      if (std::fabs(e) > 1e-7 && std::fabs(e) < 0.1) d.push_back(e);
+      if (std::fabs(e) > 1e-7 && std::fabs(e) < 0.1) a.push_back(std::fabs(e)), neg += e < 0;
     }
-  if (d.empty()) return 0;
-  std::vector<double> a(d.size());
-  size_t neg = 0;
-  for (size_t i = 0; i < d.size(); ++i) a[i] = std::fabs(d[i]), neg += d[i] < 0;
+  if (a.empty()) return 0;
   std::nth_element(a.begin(), a.begin() + static_cast<long>(a.size() / 2), a.end());
   const double s0 = a[a.size() / 2];
   double num = 0, den = 0;
@@ -233,7 +230,7 @@ double infer_step(const std::vector<std::vector<double>>& phi) {
     if (m >= 1 && m <= 8 && std::fabs(e - m * s0) < 0.25 * s0) num += e, den += m;
   }
   const double s = den > 0 ? num / den : s0;
-  return 2 * neg > d.size() ? -s : s;
+  return 2 * neg > a.size() ? -s : s;
 }
 
 // Whether the distances sit on whole multiples of q: nine in ten within 5 % of q of the nearest
@@ -313,6 +310,49 @@ double range_step(const ScanGeometry& g, const ScanHints& h) {
   return best;
 }
 
+// The sensor's range step for distances from the origin that sit on the steps only less an
+// offset of their own ring (a source without a distance field whose sensor measures its ranges
+// from a centre off the axis: the Helios 16P's 35 mm), as range_step but with each ring's
+// distances less *phase (per ring, in the units of h.xyz: the circular mean of the distances
+// modulo the step). 0 (and *phase empty) when no step is found.
+double ring_offset_step(const ScanGeometry& g, const ScanHints& h,
+                        const std::vector<uint32_t>& ring, size_t rings,
+                        std::vector<double>* phase) {
+  phase->clear();
+  const size_t n = g.total();
+  if (h.grid_per_unit <= 0 || h.xyz.size() != 3 * n || !h.distance.empty() || rings == 0) return 0;
+  std::vector<std::vector<double>> dist(rings);
+  std::vector<double> all;
+  const size_t stride = std::max<size_t>(1, n / 16384);
+  for (size_t i = 0; i < n; i += stride) {
+    if (!g.valid[i] || !small_enough(&g.q[3 * i])) continue;
+    const double d = distance(h, n, i);
+    if (std::isfinite(d) && d > 0) dist[ring[i]].push_back(d), all.push_back(d);
+  }
+  if (all.size() < 64) return 0;
+  const auto mid = all.begin() + static_cast<std::ptrdiff_t>(all.size() / 2);
+  std::nth_element(all.begin(), mid, all.end());
+  const double largest = *mid / 8;
+  std::vector<double> shifted, scratch, ph(rings);
+  for (int e = 3; e >= -6; --e)
+    for (double m : {5.0, 4.0, 2.5, 2.0, 1.0}) {
+      const double q = m * std::pow(10.0, e);
+      if (q * h.grid_per_unit < 0.999 || q > largest) continue;
+      shifted.clear();
+      for (size_t k = 0; k < rings; ++k) {
+        double sc = 0, ss = 0;
+        for (double d : dist[k]) sc += std::cos(kTwoPi * d / q), ss += std::sin(kTwoPi * d / q);
+        ph[k] = dist[k].empty() ? 0 : q * std::atan2(ss, sc) / kTwoPi;
+        for (double d : dist[k]) shifted.push_back(d - ph[k]);
+      }
+      if (on_steps(shifted, q, &scratch)) {
+        *phase = ph;
+        return q;
+      }
+    }
+  return 0;
+}
+
 // Least-squares sums of a line y = u m + v.
 struct LineSums {
   double n = 0, m = 0, y = 0, mm = 0, my = 0;
@@ -336,14 +376,16 @@ struct LineSums {
 // found.
 void fit_units(const ScanGeometry& g, const ScanHints& h, const std::vector<uint32_t>& ring,
                size_t rings, RingFit* r) {
-  const double q = range_step(g, h);
+  std::vector<double> phase;  // per ring, when only the rings' own offsets put them on steps
+  double q = range_step(g, h);
+  if (q == 0) q = ring_offset_step(g, h, ring, rings, &phase);
   if (q == 0) return;
   const double gpu = h.grid_per_unit;
   const size_t n = g.total();
   std::vector<LineSums> line(rings);
   for (size_t i = 0; i < n; ++i) {
     if (!g.valid[i] || !small_enough(&g.q[3 * i])) continue;
-    const double d = distance(h, n, i);
+    const double d = distance(h, n, i) - (phase.empty() ? 0 : phase[ring[i]]);
     if (!std::isfinite(d)) continue;
     line[ring[i]].add(std::floor(d / q + 0.5),
                       std::hypot(double(h.xyz[3 * i]), double(h.xyz[3 * i + 1])) * gpu);
@@ -352,7 +394,7 @@ void fit_units(const ScanGeometry& g, const ScanHints& h, const std::vector<uint
   r->offset.resize(rings);
   // Offsets from a distance field, unless every ring's is under half a grid unit (the VLP-16's
   // distance field: then the lines through the origin, and no offsets stored).
-  bool offsets = !h.distance.empty();
+  bool offsets = !h.distance.empty() || !phase.empty();
   for (size_t k = 0; k < rings && offsets; ++k)
     line[k].fit(q * gpu, true, &r->unit[k], &r->offset[k]);
   if (offsets &&
@@ -410,6 +452,7 @@ RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units) {
   }
   r.step = infer_step(r.phi);
   r.quantum = azimuth_quantum(r);
+  fit_shares(g, &r);
   r.slope.resize(rings), r.z0.resize(rings);
   for (size_t k = 0; k < rings; ++k) fit_cone(cone[k], &r.slope[k], &r.z0[k]);
   if (units) fit_units(g, hints, ring, rings, &r);
@@ -429,6 +472,7 @@ Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* 
   double step = step_divisor > 0 ? r.step / step_divisor : std::copysign(r.quantum, r.step);
   if (step == 0 || !std::isfinite(step)) return t;
   t.turn = step_divisor <= 0;
+  if (t.turn) t.fire_turn = r.fire_turn, t.share = r.share;
   t.step = static_cast<float>(step);
   step = t.step;
   const double cols = std::floor(kTwoPi / std::fabs(step) + 0.5);

@@ -23,10 +23,18 @@ struct RingFit {
   std::vector<double> unit, offset;
   std::vector<int32_t> steps;
   float bow = 0;  // the cones' bow (Table::bow), 0 when none is found
+  // The firing's base on the quantum's table (Table::fire_turn, share), when found
+  // (fit_shares, scan_shares_encode.cpp; else 0 and empty).
+  float fire_turn = 0;
+  std::vector<float> share;
   size_t rings() const { return phi.size(); }
 };
 // Without `units` the range step is not looked for (a caller that codes no payload with it).
 RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units = true);
+// Fits the firing's turn and the rings' shares of it on the azimuths' quantum (r->quantum > 0),
+// from g's points in order; kept in r only when the firing's base predicts more columns
+// exactly than the ring's lead on the point before.
+void fit_shares(const ScanGeometry& g, RingFit* r);
 // The azimuth step found in each ring's azimuths sorted (positive), not in point order: a
 // driver that writes a ring's points out of firing order (pandar64: columns in a shuffled
 // pattern) makes the point-order step a multiple of the sensor's. 0 when none is found.

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "capz/error.h"
@@ -109,6 +110,32 @@ struct AltSym {
   Sym sym;
 };
 
+// Room for n values of a trivial type, left uninitialised (only the pages written are touched)
+// and kept while large enough: a trial's symbols, about 50 bytes a point of a frame.
+template <class T>
+class Room {
+ public:
+  // At least n values; those held before are lost when it grows (to twice its size at least, as
+  // a vector's capacity does: each new block is fresh pages to touch).
+  T* reserve(size_t n) {
+    if (n > size_) {
+      size_ = std::max(n, 2 * size_);
+      buf_.reset();
+      buf_.reset(new T[size_]);  // default-initialised: no writes
+    }
+    return buf_.get();
+  }
+  T* data() const { return buf_.get(); }
+
+ private:
+  std::unique_ptr<T[]> buf_;
+  size_t size_ = 0;
+};
+
+[[noreturn]] __attribute__((noinline, cold)) inline void trial_overflow() {
+  fail(ErrorCode::kInternal, "scan geometry", "a trial's symbols overflow");
+}
+
 // Records a frame's symbols and tallies them, the second of x y both ways (scan_loop.h's
 // BothSeconds): the azimuth's symbols into syms and `azimuth`, the hypotenuse's into alts and
 // `hypot` (each told by its contexts), every other symbol into syms and `tally`. The arrays
@@ -117,9 +144,9 @@ struct RecordSink {
   Sym *syms, *next, *end;
   AltSym* alt;
   Tally *tally, *azimuth, *hypot;
-  void put(uint32_t u, int ctx) {
+  __attribute__((always_inline)) void put(uint32_t u, int ctx) {
     const Sym y{u, static_cast<uint32_t>(ctx)};
-    if (next == end) fail(ErrorCode::kInternal, "scan geometry", "a trial's symbols overflow");
+    if (__builtin_expect(next == end, 0)) trial_overflow();
     if (ctx >= scan::kCtxAxis2 && ctx < scan::kCtxZFrac) {
       *alt++ = AltSym{static_cast<size_t>(next - syms), y};
       hypot->put(u, ctx);
@@ -136,15 +163,15 @@ class EncodeIo {
  public:
   EncodeIo(Sink* sink, const ScanGeometry& g, const std::vector<scan::Polar>& polar)
       : sink_(sink), g_(g), polar_(polar) {}
-  int32_t sym(int32_t actual, int32_t pred, int ctx) {
+  __attribute__((always_inline)) int32_t sym(int32_t actual, int32_t pred, int ctx) {
     sink_->put(zigzag(wrap_sub(actual, pred)), ctx);
     return actual;
   }
-  uint32_t ring(uint32_t d, uint32_t, int ctx) {
+  __attribute__((always_inline)) uint32_t ring(uint32_t d, uint32_t, int ctx) {
     sink_->put(d, ctx);
     return d;
   }
-  bool flag(bool v, int ctx) {
+  __attribute__((always_inline)) bool flag(bool v, int ctx) {
     sink_->put(v ? 1u : 0u, ctx);
     return v;
   }

@@ -46,6 +46,17 @@ inline void push_point(ScanGeometry* g, ScanHints* h, const double p[3], uint32_
   h->ring.push_back(k);
 }
 
+// A point of ring k at azimuth az and elevation el (radians) and a range on a 4 mm step (from
+// `range`, metres), with the range as the source's distance field.
+inline void push_polar(ScanGeometry* g, ScanHints* h, double az, double el, double range,
+                       uint32_t k) {
+  range = 0.004 * std::floor(range / 0.004 + 0.5);
+  const double rho = range * std::cos(el);
+  const double p[3] = {rho * std::cos(az), rho * std::sin(az), range * std::sin(el)};
+  push_point(g, h, p, k);
+  h->distance.push_back(static_cast<float>(range));
+}
+
 // Codes through a block, the ring and column symbols also counted apart.
 class BlockIo {
  public:

@@ -275,7 +275,8 @@ TEST(AttrQuantum, DamagedParametersAreCorrupt) {
       with(q1, f64_bytes(0)),             // quantum 0
       with(q1, f64_bytes(-1)),            // negative
       with(q1, f64_bytes(std::nan(""))),  // NaN
-      with(q1 + 8, {3}),                  // unknown base
+      with(q1 + 8, {3}),                  // base 3 (near) without position integers
+      with(q1 + 8, {8}),                  // unknown base
       with(q1 + 9, {0}),                  // key: intensity, a float
       with(q1 + 9, {9}),                  // key past the last attribute
       with(q1 + 10, {1}),                 // element 1 of a count-1 key
@@ -306,4 +307,43 @@ TEST(AttrQuantum, DamagedParametersAreCorrupt) {
     const std::vector<uint8_t> t(e.begin(), e.begin() + static_cast<std::ptrdiff_t>(cut));
     EXPECT_EQ(decode(w, t, &back), ErrorCode::kCorrupt) << cut;
   }
+}
+
+// Base 3: an intensity stored as a float of whole numbers (a KITTI .bin's, a script's PLY) with no
+// ring field, in the sensor's firing order (ring after ring at each azimuth): the previous point
+// is another laser's, the nearest earlier point the same laser's at the azimuth before.
+TEST(AttrQuantum, NearBaseFromTheNearestEarlierPoint) {
+  Window w = sensor_window(3000);
+  const size_t n = w.valid.size();
+  Window one;
+  one.specs = {w.specs[0]};
+  one.data = {w.data[0]};
+  one.valid = w.valid;
+  one.xyz = w.xyz;
+  std::vector<int32_t> q;
+  for (double c : w.xyz) q.push_back(static_cast<int32_t>(std::lround(c * 1000)));
+  capz::RaggedFields rf;
+  rf.xyz = one.xyz.data();
+  const std::vector<uint8_t> e =
+      capz::encode_attributes(one.specs, one.data, one.valid.data(), 1, n, n, q.data(), true, &rf);
+  std::vector<std::vector<uint8_t>> back;
+  capz::decode_attributes(e.data(), e.size(), one.specs, one.valid.data(), 1, n, n, &back, "test",
+                          q.data(), &rf);
+  EXPECT_EQ(back, one.data);
+  ASSERT_EQ(e[1], 12);           // transform 0, predictor 12
+  EXPECT_EQ(f64_at(e, 2), 1.0);  // quantum 1
+  EXPECT_EQ(e[10], 3);           // base 3: near
+  const std::vector<uint8_t> without =
+      capz::encode_attributes(one.specs, one.data, one.valid.data(), 1, n, n, nullptr, true, &rf);
+  EXPECT_LT(e.size() * 10, without.size() * 8) << e.size() << " " << without.size();
+  // Without the positions' integers the decoder has no nearest points: corrupt.
+  std::string msg;
+  EXPECT_EQ(capz_test::error_of(
+                [&] {
+                  capz::decode_attributes(e.data(), e.size(), one.specs, one.valid.data(), 1, n, n,
+                                          &back, "test", nullptr, &rf);
+                },
+                &msg),
+            ErrorCode::kCorrupt);
+  EXPECT_NE(msg.find("nearest points"), std::string::npos) << msg;
 }

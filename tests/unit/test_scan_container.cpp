@@ -257,10 +257,11 @@ TEST(ScanContainer, OneRaggedFrameReadsAsTheFixedFrameOfItsFile) {
   std::filesystem::remove(path);
 }
 
-// A one-frame source streamed (compress_stream, which codes the fixed stream's META only when
-// the scan stream is not under the rest of the fixed stream) writes the bytes compress() of its
-// take writes (both codings whole, the smaller kept): a sweep (its scan stream) and a cloud of
-// three points.
+// A one-frame source streamed (compress_stream, which bounds the fixed stream from below, first
+// without its fields and META coded, and codes it only when the scan stream is not under a
+// bound) writes the bytes compress() of its take writes (both codings whole, the smaller kept):
+// a sweep with and without its fields (its scan stream under the first bound), and clouds of
+// three points without and with a field.
 TEST(ScanContainer, OneFrameSourceStreamsWhatCompressChooses) {
   const std::string dir = std::filesystem::temp_directory_path().string();
   const std::string few = dir + "/capz_few_points_" + std::to_string(::getpid()) + ".pcd";
@@ -269,9 +270,15 @@ TEST(ScanContainer, OneFrameSourceStreamsWhatCompressChooses) {
       "WIDTH 3\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 3\nDATA ascii\n"
       "1 2 3\n4 5 6.5\n-1 0.25 2\n");
   write_file(few, std::vector<uint8_t>(header.begin(), header.end()), true);
+  const std::string few_field = dir + "/capz_few_field_" + std::to_string(::getpid()) + ".pcd";
+  const std::string with_field(
+      "VERSION 0.7\nFIELDS x y z intensity\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\n"
+      "WIDTH 3\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 3\nDATA ascii\n"
+      "1 2 3 7\n4 5 6.5 9.5\n-1 0.25 2 100\n");
+  write_file(few_field, std::vector<uint8_t>(with_field.begin(), with_field.end()), true);
   const std::string sweep = std::string(CAPZ_REPO_DATA) + "/scan_small/1691031766781547066.pcd";
   const std::string out = dir + "/capz_one_frame_" + std::to_string(::getpid()) + ".capz";
-  for (const std::string& file : {sweep, few}) {
+  for (const std::string& file : {sweep, few, few_field}) {
     for (bool drop : {true, false}) {
       CompressOptions o = at(0.001);
       o.drop_fields = drop;
@@ -285,6 +292,7 @@ TEST(ScanContainer, OneFrameSourceStreamsWhatCompressChooses) {
     }
   }
   std::filesystem::remove(few);
+  std::filesystem::remove(few_field);
   std::filesystem::remove(out);
 }
 

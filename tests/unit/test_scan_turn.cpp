@@ -36,12 +36,8 @@ ScanGeometry sweep(ScanHints* h) {
       const int64_t quanta = a + (k * 37) % 300 - 150 + std::lround(turn * k / 40.0);
       const double az = static_cast<double>(quanta) * kQuantum;
       const double el = -0.4 + 0.5 * k / rings;
-      double range = 12 + 3 * std::sin(2 * az) + std::cos(7 * az + k) + 0.004 * u(rng);
-      range = 0.004 * std::floor(range / 0.004 + 0.5);
-      const double rho = range * std::cos(el);
-      const double p[3] = {rho * std::cos(az), rho * std::sin(az), range * std::sin(el)};
-      push_point(&g, h, p, static_cast<uint32_t>(k));
-      h->distance.push_back(static_cast<float>(range));
+      push_polar(&g, h, az, el, 12 + 3 * std::sin(2 * az) + std::cos(7 * az + k) + 0.004 * u(rng),
+                 static_cast<uint32_t>(k));
       ++n;
     }
   }
@@ -104,7 +100,7 @@ TEST(ScanTurn, GivenDamagedUnitsOrBlockThenCorrupt) {
   const ScanGeometry g = sweep(&h);
   const std::vector<uint8_t> p = coded(g, h);
   const size_t at = units_at(p);
-  for (uint8_t bit : {8, 32, 64, 128}) {
+  for (uint8_t bit : {32, 64, 128}) {  // (bit 3, the shares: test_scan_shares.cpp)
     std::vector<uint8_t> d = p;
     d[at] = static_cast<uint8_t>(d[at] | bit);
     expect_scan_corrupt(d);

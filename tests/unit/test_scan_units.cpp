@@ -80,11 +80,34 @@ TEST(ScanUnits, GivenADistanceFieldFromAnOffsetCentreThenUnitsWithOffsets) {
   EXPECT_EQ(with[hd.body - 16 * hd.table.rings() - 1], 2);     // units 2: u_k and v_k
   for (double v : hd.table.offset) EXPECT_NEAR(v, 17.5, 0.5);  // 35 mm in 2 mm grid units
   ScanHints without = h;
-  without.distance.clear();  // distances from the origin: on no step
+  without.grid_per_unit = 0;  // the encoder cannot look for a step
   const std::vector<uint8_t> plain = encode_scan_geometry(g, without);
   expect_exact(g, plain);
   EXPECT_TRUE(scan::read_header(plain.data(), plain.size(), "plain", 1u << 20).table.unit.empty());
   EXPECT_LT(with.size(), plain.size());
+}
+
+// Without the distance field (a .bin or PLY of the same sweeps) the distances from the origin sit
+// on the steps only less each ring's own offset (about 35 mm cos(el)): the encoder finds the step
+// and the rings' offsets all the same (units 2), nearly as small as with the field.
+TEST(ScanUnits, GivenNoDistanceFieldFromAnOffsetCentreThenUnitsWithRingOffsets) {
+  ScanHints h;
+  const ScanGeometry g = sweeps(0.0025, &h, 0.035);
+  const std::vector<uint8_t> field = encode_scan_geometry(g, h);
+  h.distance.clear();
+  const std::vector<uint8_t> with = encode_scan_geometry(g, h);
+  expect_exact(g, with);
+  const scan::Header hd = scan::read_header(with.data(), with.size(), "rings", 1u << 20);
+  ASSERT_EQ(hd.table.offset.size(), hd.table.rings());
+  ASSERT_GT(hd.table.rings(), 0u);
+  EXPECT_EQ(with[hd.body - 16 * hd.table.rings() - 1], 2);   // units 2: u_k and v_k
+  for (double u : hd.table.unit) EXPECT_NEAR(u, 1.25, 0.1);  // 2.5 mm in 2 mm grid units, cos(el)
+  ScanHints without = h;
+  without.grid_per_unit = 0;
+  const std::vector<uint8_t> plain = encode_scan_geometry(g, without);
+  expect_exact(g, plain);
+  EXPECT_LT(static_cast<double>(with.size()), 0.9 * static_cast<double>(plain.size()));
+  EXPECT_LT(static_cast<double>(with.size()), 1.02 * static_cast<double>(field.size()));
 }
 
 TEST(ScanUnits, GivenRangesOffAnyStepThenGridUnits) {

@@ -1,0 +1,125 @@
+// The column's fourth candidate, the firing's base (docs/FORMAT.md "Scan geometry payload",
+// `units` bit 3): a VLP-16-like sweep whose lasers' azimuths are the firing's plus the turn
+// times their firing time, rounded to 0.01 degree, is coded with the firing's turn and the
+// rings' shares of it, exactly; without them the decoder predicts otherwise; damaged fields
+// are corrupt.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+
+#include "capz/error.h"
+#include "coding/scan_geometry.h"
+#include "coding/scan_shared.h"
+#include "scan_geometry_expect.h"
+
+namespace capz {
+namespace {
+
+constexpr double kQuantum = 0.01 * 3.141592653589793 / 180;  // 0.01 degree in radians
+
+// One sweep on a 1 mm grid (step 0.002 m) in firing order, ranges on a 4 mm step, as the
+// VLP-16's driver writes it: each firing's azimuth 19 to 21 quanta after the last; the 16
+// lasers (ring k, elevation -15 + 2k degrees) fire in slots `2k` below 8 and `2 (k - 8) + 1`
+// from 8 on, each at the firing's azimuth plus D slot / 48 quanta, rounded, with D 39 to 41,
+// or 0 in one firing of six (the driver's last block of a packet).
+ScanGeometry sweep(ScanHints* h) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  ScanGeometry g;
+  uint32_t n = 0;
+  int64_t a = 0;
+  for (int f = 0; a < 36000; ++f) {
+    a += 19 + static_cast<int>(u(rng) * 3);
+    const int d = f % 6 == 5 ? 0 : 39 + static_cast<int>(u(rng) * 3);
+    for (int slot = 0; slot < 16; ++slot) {
+      if (u(rng) < 0.05) continue;
+      const int k = slot % 2 ? 8 + slot / 2 : slot / 2;
+      const int64_t quanta = a + static_cast<int64_t>(std::floor(d * slot / 48.0 + 0.5));
+      const double az = static_cast<double>(quanta) * kQuantum;
+      const double el = (-15.0 + 2.0 * k) * 3.141592653589793 / 180;
+      push_polar(&g, h, az, el, 9 + 2 * std::sin(2 * az) + std::cos(5 * az + k) + 0.004 * u(rng),
+                 static_cast<uint32_t>(k));
+      ++n;
+    }
+  }
+  g.counts.push_back(n);
+  h->grid_per_unit = 500;
+  return g;
+}
+
+std::vector<uint8_t> coded(const ScanGeometry& g, const ScanHints& h) {
+  const std::vector<uint8_t> p = encode_scan_geometry(g, h);
+  expect_same(g, decode_scan_geometry(p.data(), p.size(), "shares"));
+  return p;
+}
+
+scan::Header header(const std::vector<uint8_t>& p) {
+  return scan::read_header(p.data(), p.size(), "shares", 1u << 22);
+}
+
+// The offset of the laser table's `units` byte: ranges in steps through the origin (units 1),
+// no bow, then the turn and the shares.
+size_t units_at(const std::vector<uint8_t>& p) {
+  const scan::Header hd = header(p);
+  return hd.body - 4 - 4 * hd.table.rings() - 8 * hd.table.rings() - 1;
+}
+
+TEST(ScanShares, GivenLasersSpreadByTheirFiringTimeThenTheFiringsBaseExact) {
+  ScanHints h;
+  const ScanGeometry g = sweep(&h);
+  const std::vector<uint8_t> p = coded(g, h);
+  const scan::Header hd = header(p);
+  EXPECT_TRUE(hd.table.turn);
+  EXPECT_NEAR(hd.table.step, kQuantum, 1e-9);
+  ASSERT_EQ(hd.table.share.size(), hd.table.rings());
+  EXPECT_NEAR(hd.table.fire_turn, 20, 1);
+  EXPECT_EQ(p[units_at(p)], 1 | scan::kShareBit | scan::kTurnBit);
+  // The shares follow the slots: ring 8 (slot 1) after ring 0 (slot 0), ring 1 (slot 2) after
+  // it, ring 15 (slot 15) last, about 5/6 of a quantum a slot.
+  const std::vector<float>& s = hd.table.share;
+  EXPECT_LT(s[0], s[8]);
+  EXPECT_LT(s[8], s[1]);
+  EXPECT_NEAR((s[15] - s[0]) * hd.table.fire_turn, 15 * 40 / 48.0, 1.5);
+}
+
+TEST(ScanShares, GivenTheSharesRemovedThenTheDecoderPredictsOtherwise) {
+  ScanHints h;
+  const ScanGeometry g = sweep(&h);
+  const std::vector<uint8_t> p = coded(g, h);
+  const scan::Header hd = header(p);
+  std::vector<uint8_t> d(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(hd.body) - 4 -
+                                        4 * static_cast<std::ptrdiff_t>(hd.table.rings()));
+  d[units_at(p)] &= static_cast<uint8_t>(~scan::kShareBit);
+  d.insert(d.end(), p.begin() + static_cast<std::ptrdiff_t>(hd.body), p.end());
+  try {
+    const ScanGeometry back = decode_scan_geometry(d.data(), d.size(), "damaged");
+    EXPECT_NE(back.q, g.q);
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
+  }
+}
+
+TEST(ScanShares, GivenDamagedTurnSharesOrBitsThenCorrupt) {
+  ScanHints h;
+  const ScanGeometry g = sweep(&h);
+  const std::vector<uint8_t> p = coded(g, h);
+  const size_t at = units_at(p), turn = header(p).body - 4 - 4 * header(p).table.rings();
+  std::vector<uint8_t> d = p;
+  d[at] = static_cast<uint8_t>(d[at] & ~scan::kTurnBit);  // bit 3 without bit 4
+  expect_scan_corrupt(d);
+  for (float v : {1e9f, NAN, -70000.0f}) {  // the turn out of range
+    d = p;
+    std::memcpy(&d[turn], &v, 4);
+    expect_scan_corrupt(d);
+  }
+  for (float v : {17.0f, INFINITY}) {  // a share out of range
+    d = p;
+    std::memcpy(&d[turn + 4 + 4 * 3], &v, 4);
+    expect_scan_corrupt(d);
+  }
+}
+
+}  // namespace
+}  // namespace capz
