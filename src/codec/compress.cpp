@@ -66,20 +66,25 @@ Take as_one_ragged_frame(Take t) {
   return t;
 }
 
-// The scan coder's stream of t's one frame when it is smaller than `fixed` (then *stats is its
-// report), else empty. A take the scan coder does not take leaves `fixed` as it is.
-std::vector<uint8_t> smaller_as_scan(const Take& t, const CompressOptions& opts,
-                                     const std::vector<uint8_t>& fixed, CompressStats* stats,
-                                     const std::string& original = std::string()) {
-  CompressStats st;
-  std::vector<uint8_t> scan;
+// The scan coder's stream of t's one frame (its report in *st when st is not null), or empty
+// when the scan coder does not take it.
+std::vector<uint8_t> one_frame_scan(Take t, const CompressOptions& opts, CompressStats* st,
+                                    const std::string& original = std::string()) {
   try {
-    scan = compress_ragged_frames(as_one_ragged_frame(t), opts, stats ? &st : nullptr, original);
+    return compress_ragged_frames(as_one_ragged_frame(std::move(t)), opts, st, original);
   } catch (const Error& e) {
     if (e.code() != ErrorCode::kInvalidParameter) throw;
     return {};
   }
-  if (scan.size() >= fixed.size()) return {};
+}
+
+// The scan coder's stream of t's one frame when it is smaller than `fixed` (then *stats is its
+// report), else empty. A take the scan coder does not take leaves `fixed` as it is.
+std::vector<uint8_t> smaller_as_scan(const Take& t, const CompressOptions& opts,
+                                     const std::vector<uint8_t>& fixed, CompressStats* stats) {
+  CompressStats st;
+  std::vector<uint8_t> scan = one_frame_scan(t, opts, stats ? &st : nullptr);
+  if (scan.empty() || scan.size() >= fixed.size()) return {};
   if (stats) *stats = st;
   return scan;
 }
@@ -131,41 +136,33 @@ std::vector<uint8_t> one_frame_choice(FrameSource& source, const CompressOptions
                                       CompressStats* stats) {
   const std::string what = source.header().source + " (size bound)";
   const bool fields = !source.header().attributes.empty();  // else the two bounds are one
-  CompressStats st;
-  std::vector<uint8_t> scan;
-  try {  // the frame moved into the scan coder's take, not copied
-    scan = compress_ragged_frames(as_one_ragged_frame(whole_take(source)), opts,
-                                  stats ? &st : nullptr, source.original_file());
-  } catch (const Error& e) {
-    if (e.code() != ErrorCode::kInvalidParameter) throw;
-  }
+  CompressStats st;  // the frame moved into the scan coder's take, not copied
+  std::vector<uint8_t> scan =
+      one_frame_scan(whole_take(source), opts, stats ? &st : nullptr, source.original_file());
+  // The scan stream with its report, when it is under `size`.
+  const auto scan_under = [&](size_t size) {
+    if (scan.size() >= size) return false;
+    if (stats) *stats = st;
+    return true;
+  };
   if (!scan.empty()) {
     std::vector<uint8_t> bound;
     Chunk meta;
     for (const bool attr_empty : {true, false}) {
-      if (!attr_empty || fields) {
-        const size_t size = fixed_bound(source, opts, attr_empty, &bound, &meta);
-        if (scan.size() < size - meta.size + 1) {
-          if (stats) *stats = st;
-          return scan;
-        }
-      }
+      if ((!attr_empty || fields) &&
+          scan_under(fixed_bound(source, opts, attr_empty, &bound, &meta) - meta.size + 1))
+        return scan;
     }
     // META coded as the encoder codes it (dictionary: C3D takes only): the fixed stream's size.
     const size_t coded = code_meta_fields(decode_meta_fields(meta, what), false).size();
-    if (scan.size() < bound.size() - meta.size + coded) {
-      if (stats) *stats = st;
-      return scan;
-    }
+    if (scan_under(bound.size() - meta.size + coded)) return scan;
   }
   std::vector<uint8_t> fixed;
   {
     StreamOut mem(&fixed);
     encode_source(source, opts, EncoderTuning(), &mem, stats);
   }
-  if (scan.empty() || scan.size() >= fixed.size()) return fixed;
-  if (stats) *stats = st;
-  return scan;
+  return !scan.empty() && scan_under(fixed.size()) ? scan : fixed;
 }
 
 std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions& opts,

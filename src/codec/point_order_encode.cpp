@@ -36,13 +36,16 @@ ScanHints permuted(const ScanHints& h, const std::vector<uint32_t>& order) {
 void try_cells(const ScanGeometry& g, const ScanHints& hints, std::vector<uint8_t>* coded,
                std::vector<uint32_t>* best, ScanWorkspace* ws) {
   std::vector<uint32_t> order = group_cell_copies(g, *best);
+  ScanGeometry grouped = permuted(g, order);
   const size_t valid = static_cast<size_t>(std::count(g.valid.begin(), g.valid.end(), 1));
-  if (scan_cell_copies(permuted(g, order)) * 50 < valid || valid == 0) return;
+  if (scan_cell_copies(grouped) * 50 < valid || valid == 0) return;
   // The best order's cells, then each frame's ring by ring.
   for (int k = 0; k < 2; ++k) {
-    if (k == 1)
+    if (k == 1) {
       order = group_cell_copies(g, scan_point_order(g, hints, ScanOrderTable::kPerFrameByRing));
-    std::vector<uint8_t> bytes = encode_scan_cells(permuted(g, order), permuted(hints, order), ws);
+      grouped = permuted(g, order);
+    }
+    std::vector<uint8_t> bytes = encode_scan_cells(grouped, permuted(hints, order), ws);
     if (!bytes.empty() && bytes.size() < coded->size()) coded->swap(bytes), best->swap(order);
   }
 }

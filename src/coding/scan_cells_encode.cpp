@@ -124,13 +124,9 @@ std::vector<uint8_t> encode_scan_cells(const ScanGeometry& g, const ScanHints& h
   const std::vector<uint8_t> plain = encode_scan_geometry(c.coded, c.hints, ws);
   if (scan_fine_shift(plain.data(), plain.size(), "scan cells") > 0) return {};
   // plain's header with the frames' own counts, bit 4 and d_f, then the counts block before its
-  // entropy-coded block.
+  // entropy-coded block (plain has no d_f: K follows its flags).
   const scan::Header h = scan::read_header(plain.data(), plain.size(), "scan cells", SIZE_MAX);
-  ByteReader r(plain.data(), plain.size(), "scan cells");
-  const size_t frames = static_cast<size_t>(r.varint());
-  for (size_t f = 0; f < frames; ++f) r.varint();
-  r.bytes(frames);
-  const size_t table = r.offset();
+  const size_t frames = h.counts.size(), table = h.flags_end;
   ByteWriter w;
   w.varint(frames);
   for (uint32_t n : g.counts) w.varint(n);

@@ -61,6 +61,7 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
   }
   const uint8_t* f = r.bytes(frames);
   h.flags.assign(f, f + frames);
+  h.flags_end = r.offset();
   h.copies.assign(frames, 0);
   for (size_t i = 0; i < frames; ++i) {
     if (!(h.flags[i] & kCells)) continue;

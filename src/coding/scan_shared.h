@@ -181,7 +181,8 @@ struct Header {
   // block's offset and size (size 0: no frame has bit 4).
   std::vector<uint32_t> copies;
   size_t cells = 0, cells_size = 0;
-  size_t body = 0;  // offset of the entropy-coded block
+  size_t flags_end = 0;  // offset just past flags_f (where d_f, else K, begins)
+  size_t body = 0;       // offset of the entropy-coded block
 };
 Header read_header(const uint8_t* data, size_t size, const std::string& what, size_t max_points);
 
