@@ -206,23 +206,15 @@ __attribute__((always_inline)) inline int32_t code_column(Io& io, State& st, Sta
       p2 = wrap_add(pv->column, r.lead);
     else if (pv->have && r.has_last && b.has_before)
       p2 = wrap_add(r.last_column, wrap_sub(pv->column, b.before_column));
-    if (!st.table().share.empty()) {
-      const int32_t p[4] = {p0, p1, p2, base_predict(st.base, st.table(), k, p1)};
-      const int sc = detail::argmin(r.score_col, 4);
-      const int bl = std::min(bit_length(r.score_col[sc] >> 2), 3);
-      const int32_t c =
-          io.sym(col, p[sc],
-                 sc == 3 ? kCtxShare + 4 * moved + bl : kCtxTurn + 8 * (sc == 2) + 4 * moved + bl);
-      for (int j = 0; j < 4; ++j) score(&r.score_col[j], c, p[j]);
-      return c;
-    }
-    const int sc = detail::argmin(r.score_col, 3);
-    const int cctx =
-        kCtxTurn + 8 * (sc == 2) + 4 * moved + std::min(bit_length(r.score_col[sc] >> 2), 3);
-    const int32_t c = io.sym(col, sc == 2 ? p2 : sc ? p1 : p0, cctx);
-    score(&r.score_col[0], c, p0);
-    score(&r.score_col[1], c, p1);
-    score(&r.score_col[2], c, p2);
+    // p3 (the firing's base) only with the table's shares.
+    const int n = st.table().share.empty() ? 3 : 4;
+    const int32_t p[4] = {p0, p1, p2, n == 4 ? base_predict(st.base, st.table(), k, p1) : p1};
+    const int sc = detail::argmin(r.score_col, n);
+    const int bl = std::min(bit_length(r.score_col[sc] >> 2), 3);
+    const int32_t c =
+        io.sym(col, p[sc],
+               sc == 3 ? kCtxShare + 4 * moved + bl : kCtxTurn + 8 * (sc == 2) + 4 * moved + bl);
+    for (int j = 0; j < n; ++j) score(&r.score_col[j], c, p[j]);
     return c;
   }
   const int sc = detail::argmin(r.score_col, 2);
