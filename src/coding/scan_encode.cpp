@@ -418,8 +418,6 @@ size_t sample_size(const ScanGeometry& g, const ScanGeometry& sample,
   for (size_t j = 0; j < from.size(); ++j) polar[j] = placed[from[j]];
   Coding coding(t, s->maps);
   code_frames(sample, polar, sample.counts.size(), &coding, s);
-  s->cart.clear();  // the sample's frames' estimates and checks, not the window's
-  s->spherical_ok.clear();
   return finished_size(sample, coding);
 }
 
@@ -519,10 +517,15 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
   for (size_t f = 0; f < sample.counts.size(); ++f) trial_points += g.counts[f];
   const bool every = ws && ws->every_table;
   std::vector<size_t> sizes;  // the sample's payloads (sampled_choice)
-  if (!every && fit.rings() > 0 && sample.total() < trial_points)
+  if (!every && fit.rings() > 0 && sample.total() < trial_points) {
     choices = sampled_choice(g, sample, from, fit, tried, ws, &tables, &sizes, &scratch);
-  else if (!every && g.counts.size() > kTrialFrames)
+    // The sample's frames' Cartesian estimates and checks, kept from table to table (the same
+    // frames, and an estimate is used only in the state it was made in), are not the window's.
+    scratch.cart.clear();
+    scratch.spherical_ok.clear();
+  } else if (!every && g.counts.size() > kTrialFrames) {
     choices = first_frame_choice(g, fit, tried, &tables, &polar, &kept, &scratch);
+  }
   std::vector<uint8_t> best;
   ScanChoice chosen;  // the choice of the smallest payload, when it was tried on the sample
   scan::Table t;      // the table of the choice before, then this one's

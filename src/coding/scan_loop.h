@@ -233,10 +233,17 @@ uint32_t pair_ring(Io& io, const State& st, uint32_t want, const Prev* pv, uint3
                    uint32_t other, uint32_t* u) {
   const uint32_t rings = static_cast<uint32_t>(st.table().rings());
   uint32_t c[4] = {khat, other, st.succ[pv->ring], pv->ring + 1 == rings ? 0 : pv->ring + 1};
+  // The place of v among the first m candidates (m when absent): a loop of at most 4, inline
+  // (std::find's out-of-line unrolled search cost more than the search).
+  const auto place = [&c](uint32_t m, uint32_t v) {
+    uint32_t j = 0;
+    while (j < m && c[j] != v) ++j;
+    return j;
+  };
   uint32_t n = 1;
   for (int j = 1; j < 4; ++j)
-    if (std::find(c, c + n, c[j]) == c + n) c[n++] = c[j];
-  uint32_t a = static_cast<uint32_t>(std::find(c, c + n, want) - c);
+    if (place(n, c[j]) == n) c[n++] = c[j];
+  uint32_t a = place(n, want);
   if (a == n) {  // the encoder's residual (the decoder's `want` is anything)
     const uint32_t d = mod_small(want + rings - khat, rings);
     a = n + zigzag(d <= (rings - 1) / 2 ? static_cast<int32_t>(d)
