@@ -113,7 +113,10 @@ void pack_table(Table* t, double reach) {
   double least_unit = kMaxUnit;
   for (double u : t->unit) least_unit = std::min(least_unit, u);
   std::vector<Field> f = fields(*t);
-  const double need[5] = {256 * reach, 256 * reach, 256, 256 * reach / least_unit, 256};
+  // 2^E >= 64 R: an angle's or slope's rounding (at most 2^-(E+1)) moves a point at range R by
+  // at most 1/128 of a grid step (256 R cost hesai-at128 0.6 % more, 1024 R 1.2 %; 16 R cost
+  // hesai-xt32m and velodyne-vlp16 more: docs/lab/2026-11-29-at128.md).
+  const double need[5] = {64 * reach, 64 * reach, 64, 64 * reach / least_unit, 64};
   for (size_t i = 0; i < f.size(); ++i) {
     f[i].e = exponent(f[i].v, need[i]);
     if (f[i].e < 0) return;

@@ -63,7 +63,7 @@ void place_points(const ScanGeometry& g, const RingFit& r, const Table& t, size_
 
 // Packs t (FORMAT.md "Packed laser table", units bit 5) when that is smaller than the plain
 // table: its values rounded to the packed fields' multiples (so that reach, the largest range
-// of the points in grid units, moves by at most 1/512 of a grid step for an angle's rounding).
+// of the points in grid units, moves by at most 1/128 of a grid step for an angle's rounding).
 void pack_table(Table* t, double reach);
 // The packed fields of a table pack_table packed (t.pack not empty).
 void write_packed_table(const Table& t, ByteWriter* w);
