@@ -106,28 +106,34 @@ TEST(ScanPack, GivenManyRingsThenTheTablePackedSmallerAndExact) {
   EXPECT_GT(plain.size(), p.size() + 10 * kRings);
 }
 
-TEST(ScanPack, GivenFieldsRepackedWiderThenTheSamePoints) {
+// The sweep, its payload and the payload's packed fields (and where they end).
+struct Packed {
   ScanHints h;
-  const ScanGeometry g = sweep(&h);
-  const std::vector<uint8_t> p = encode_scan_geometry(g, h);
-  const size_t count = scan::read_header(p.data(), p.size(), "p", 1u << 22).table.pack.size();
+  ScanGeometry g = sweep(&h);
+  std::vector<uint8_t> p = encode_scan_geometry(g, h);
   size_t end = 0;
-  std::vector<Field> f = read_fields(p, count, &end);
-  EXPECT_EQ(rewritten(p, f, end), p);  // the reading above is the format's
+  std::vector<Field> fields =
+      read_fields(p, scan::read_header(p.data(), p.size(), "p", 1u << 22).table.pack.size(), &end);
+};
+
+TEST(ScanPack, GivenFieldsRepackedWiderThenTheSamePoints) {
+  const Packed c;
+  const std::vector<uint8_t>& p = c.p;
+  std::vector<Field> f = c.fields;
+  EXPECT_EQ(rewritten(p, f, c.end), p);  // the reading above is the format's
   for (Field& x : f) x.b = std::min(x.b + 3, scan::kMaxPackBits);
-  const std::vector<uint8_t> wide = rewritten(p, f, end);
+  const std::vector<uint8_t> wide = rewritten(p, f, c.end);
   EXPECT_GT(wide.size(), p.size());
-  expect_same(g, decode_scan_geometry(wide.data(), wide.size(), "wide"));
+  expect_same(c.g, decode_scan_geometry(wide.data(), wide.size(), "wide"));
 }
 
 TEST(ScanPack, GivenDamagedFieldsThenCorrupt) {
-  ScanHints h;
-  const ScanGeometry g = sweep(&h);
-  const std::vector<uint8_t> p = encode_scan_geometry(g, h);
-  const size_t count = scan::read_header(p.data(), p.size(), "p", 1u << 22).table.pack.size();
-  size_t end = 0;
-  const std::vector<Field> f = read_fields(p, count, &end);
-  for (size_t i = 0; i < count; ++i) {
+  const Packed c;
+  const std::vector<uint8_t>& p = c.p;
+  const std::vector<Field>& f = c.fields;
+  const size_t end = c.end;
+  const ScanGeometry& g = c.g;
+  for (size_t i = 0; i < f.size(); ++i) {
     std::vector<Field> d = f;
     d[i].e = scan::kMaxPackExponent + 1;  // exponent out of range
     expect_scan_corrupt(rewritten(p, d, end));
