@@ -152,6 +152,7 @@ set(CAPZ_ENCODE_SOURCES
   src/coding/scan_order_encode.cpp
   src/coding/scan_raster_encode.cpp
   src/coding/scan_split_encode.cpp
+  src/coding/scan_pack_encode.cpp
   src/coding/scan_table.cpp
   src/coding/scan_shares_encode.cpp
   src/io/residue/c3d_residue_encode.cpp

@@ -26,21 +26,26 @@ void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, cons
   if (t.rings() > 0) {
     w.f32(t.step);
     w.varint(t.columns);
-    for (size_t k = 0; k < t.rings(); ++k) {
-      w.f32(t.azimuth0[k]);
-      w.f32(t.slope[k]);
-      w.f32(t.z0[k]);
-    }
     const bool offsets =
         std::any_of(t.offset.begin(), t.offset.end(), [](double v) { return v != 0; });
     w.u8(static_cast<uint8_t>((t.unit.empty() ? 0
                                : offsets      ? 2
                                               : 1) |
                               (t.bow != 0 ? scan::kBowBit : 0) | (t.turn ? scan::kTurnBit : 0) |
-                              (t.share.empty() ? 0 : scan::kShareBit)));
-    for (size_t k = 0; k < t.unit.size(); ++k) {
-      w.f64(t.unit[k]);
-      if (offsets) w.f64(t.offset[k]);
+                              (t.share.empty() ? 0 : scan::kShareBit) |
+                              (t.pack.empty() ? 0 : scan::kPackBit)));
+    if (!t.pack.empty()) {
+      write_packed_table(t, &w);
+    } else {
+      for (size_t k = 0; k < t.rings(); ++k) {
+        w.f32(t.azimuth0[k]);
+        w.f32(t.slope[k]);
+        w.f32(t.z0[k]);
+      }
+      for (size_t k = 0; k < t.unit.size(); ++k) {
+        w.f64(t.unit[k]);
+        if (offsets) w.f64(t.offset[k]);
+      }
     }
     if (t.bow != 0) w.f32(t.bow);
     if (!t.share.empty()) {

@@ -46,6 +46,12 @@ constexpr uint8_t kTurnBit = 16;
 // and the bounds of its turn and shares (FORMAT.md step 2).
 constexpr uint8_t kShareBit = 8;
 constexpr double kMaxFireTurn = 65536, kMaxShare = 16;
+// The units byte's bit of the packed table, and the bounds of its fields (FORMAT.md "Packed
+// laser table"): exponent, bits of a difference, magnitude of an integer.
+constexpr uint8_t kPackBit = 32;
+constexpr int kMaxPackExponent = 62;
+constexpr unsigned kMaxPackBits = 55;
+constexpr int64_t kMaxPacked = int64_t{1} << 53;
 constexpr double kMaxBow = 1;
 // Coordinates of a spherical frame stay below this in magnitude (so a range fits an int32).
 constexpr int64_t kMaxSphericalCoord = int64_t{1} << 29;
@@ -66,6 +72,9 @@ struct Table {
   // laser's share of it (empty: none).
   float fire_turn = 0;
   std::vector<float> share;
+  // Packed (units bit 5): each packed field's exponent E (a0, slope, z0, then unit and offset as
+  // the range units have them); empty: the table is plain.
+  std::vector<uint8_t> pack;
   size_t rings() const { return azimuth0.size(); }
 };
 

@@ -449,6 +449,7 @@ RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units) {
     r.phi[ring[i]].push_back(azimuth(g, hints, i));
     r.polar[i].ring = ring[i];
     r.polar[i].range = round_clamp(h);
+    r.reach = std::max(r.reach, h);
   }
   r.step = infer_step(r.phi);
   r.quantum = azimuth_quantum(r);
@@ -484,6 +485,7 @@ Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* 
   if (units) t.unit = r.unit, t.offset = r.offset;
   if (twin && twin->step == t.step && twin->rings() == rings) {  // the same offsets
     t.azimuth0 = twin->azimuth0;
+    pack_table(&t, r.reach);
     return t;
   }
   t.azimuth0.resize(rings);
@@ -495,6 +497,7 @@ Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* 
     }
     t.azimuth0[k] = static_cast<float>(step * std::atan2(ss, sc) / kTwoPi);
   }
+  pack_table(&t, r.reach);
   return t;
 }
 

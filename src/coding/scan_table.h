@@ -7,6 +7,9 @@
 #include "coding/scan_shared.h"
 
 namespace capz {
+
+class ByteWriter;
+
 namespace scan {
 
 // What the tables of every azimuth step share, found once per window: the rings, and per ring
@@ -27,6 +30,7 @@ struct RingFit {
   // (fit_shares, scan_shares_encode.cpp; else 0 and empty).
   float fire_turn = 0;
   std::vector<float> share;
+  double reach = 0;  // the largest range of the points, grid units
   size_t rings() const { return phi.size(); }
 };
 // Without `units` the range step is not looked for (a caller that codes no payload with it).
@@ -56,6 +60,13 @@ Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor, bo
 Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* twin = nullptr);
 void place_points(const ScanGeometry& g, const RingFit& r, const Table& t, size_t n,
                   std::vector<Polar>* polar);
+
+// Packs t (FORMAT.md "Packed laser table", units bit 5) when that is smaller than the plain
+// table: its values rounded to the packed fields' multiples (so that reach, the largest range
+// of the points in grid units, moves by at most 1/128 of a grid step for an angle's rounding).
+void pack_table(Table* t, double reach);
+// The packed fields of a table pack_table packed (t.pack not empty).
+void write_packed_table(const Table& t, ByteWriter* w);
 
 // True when every valid point of points [first, first + n) may be coded spherically.
 bool spherical_ok(const ScanGeometry& g, size_t first, size_t n);

@@ -59,11 +59,9 @@ scan::Header header(const std::vector<uint8_t>& p) {
   return scan::read_header(p.data(), p.size(), "shares", 1u << 22);
 }
 
-// The offset of the laser table's `units` byte: ranges in steps through the origin (units 1),
-// no bow, then the turn and the shares.
+// The offset of the laser table's `units` byte.
 size_t units_at(const std::vector<uint8_t>& p) {
-  const scan::Header hd = header(p);
-  return hd.body - 4 - 4 * hd.table.rings() - 8 * hd.table.rings() - 1;
+  return units_offset(p);
 }
 
 TEST(ScanShares, GivenLasersSpreadByTheirFiringTimeThenTheFiringsBaseExact) {
@@ -75,7 +73,7 @@ TEST(ScanShares, GivenLasersSpreadByTheirFiringTimeThenTheFiringsBaseExact) {
   EXPECT_NEAR(hd.table.step, kQuantum, 1e-9);
   ASSERT_EQ(hd.table.share.size(), hd.table.rings());
   EXPECT_NEAR(hd.table.fire_turn, 20, 1);
-  EXPECT_EQ(p[units_at(p)], 1 | scan::kShareBit | scan::kTurnBit);
+  EXPECT_EQ(p[units_at(p)] & ~scan::kPackBit, 1 | scan::kShareBit | scan::kTurnBit);
   // The shares follow the slots: ring 8 (slot 1) after ring 0 (slot 0), ring 1 (slot 2) after
   // it, ring 15 (slot 15) last, about 5/6 of a quantum a slot.
   const std::vector<float>& s = hd.table.share;
