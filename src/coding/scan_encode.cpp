@@ -37,7 +37,8 @@ void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, cons
                                : offsets      ? 2
                                               : 1) |
                               (t.bow != 0 ? scan::kBowBit : 0) | (t.turn ? scan::kTurnBit : 0) |
-                              (t.share.empty() ? 0 : scan::kShareBit)));
+                              (t.share.empty() ? 0 : scan::kShareBit) |
+                              (t.slots == 0 ? 0 : scan::kSlotBit)));
     for (size_t k = 0; k < t.unit.size(); ++k) {
       w.f64(t.unit[k]);
       if (offsets) w.f64(t.offset[k]);
@@ -46,6 +47,10 @@ void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, cons
     if (!t.share.empty()) {
       w.f32(t.fire_turn);
       for (float v : t.share) w.f32(v);
+    }
+    if (t.slots != 0) {
+      w.u8(static_cast<uint8_t>(t.slots));
+      for (uint8_t m : t.slot) w.u8(m);
     }
   }
   out->insert(out->end(), w.buffer().begin(), w.buffer().end());
