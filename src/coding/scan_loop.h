@@ -211,13 +211,12 @@ __attribute__((always_inline)) inline int32_t code_slots(Io& io, State::Slots& f
   if (!f.open || m <= f.last) {
     const int32_t d = io.sym(pa.fire_d, f.d, kCtxSlots + (f.d == 0));
     const int32_t b =
-        io.sym(pa.fire_b, wrap_add(f.b, f.d != 0 ? f.d : f.dn), kCtxSlots + 2 + (d != f.d));
+        io.sym(pa.fire_b, wrap_add(f.b, f.d), kCtxSlots + 2 + 2 * (f.d == 0) + (d != f.d));
     f.b = b, f.d = d, f.open = true;
-    if (d != 0) f.dn = d;
   }
   f.last = m;
   const int64_t p = slot_column(t.slots, f.b, f.d, m);
-  return io.sym(pa.column, static_cast<int32_t>(static_cast<uint32_t>(p)), kCtxSlots + 4 + moved);
+  return io.sym(pa.column, static_cast<int32_t>(static_cast<uint32_t>(p)), kCtxSlots + 6 + moved);
 }
 
 // The ring's column (FORMAT step 2) from p0 and p1 (and with the table's `turn` p2, with its

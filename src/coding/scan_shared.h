@@ -98,8 +98,8 @@ enum Ctx : int {
   kCtxTurn = kCtxWalkColumn + 1,    // 2 x 2 x 4: the column with the third candidate (units bit 4)
   kCtxPairRing = kCtxTurn + 16,     // 6: a ring pair frame's ring, by the previous symbol
   kCtxShare = kCtxPairRing + 6,     // 2 x 4: the column against the firing's base (units bit 3)
-  kCtxSlots = kCtxShare + 8,        // 2 + 2 + 2: the firing's turn, base, column (units bit 6)
-  kContexts = kCtxSlots + 6,
+  kCtxSlots = kCtxShare + 8,        // 2 + 4 + 2: the firing's turn, base, column (units bit 6)
+  kContexts = kCtxSlots + 8,
 };
 
 // A point's validity under the frame's validity mode (FORMAT: a flag per point in mode 1, under
@@ -268,10 +268,10 @@ class State {
   };
   Base base;
   // The firing's slots (units bit 6, FORMAT step 2): the firing's base B and turn D, the last
-  // nonzero turn, the last point's slot; set again at each frame's start.
+  // point's slot; set again at each frame's start.
   struct Slots {
     bool open = false;
-    int32_t b = 0, d = 0, dn = 0;
+    int32_t b = 0, d = 0;
     uint32_t last = 0;
   };
   Slots slots;

@@ -203,7 +203,7 @@ void split_firings(const int32_t* c, const uint32_t* m, size_t len, bool wide, O
     size_t j = i + 1;
     while (j < len && m[j] > m[j - 1]) ++j;
     int32_t fb, fd;
-    const bool ok = fire_fit(&c[i], &m[i], j - i, b + (d != 0 ? d : dn), d, dn, wide, &fb, &fd);
+    const bool ok = fire_fit(&c[i], &m[i], j - i, b + d, d, dn, wide, &fb, &fd);
     out(i, j - i, fb, fd, ok);
     b = fb, d = fd;
     if (d != 0) dn = d;
@@ -219,14 +219,13 @@ size_t slot_cost(const std::vector<int32_t>& c, const std::vector<uint32_t>& rin
                  const std::vector<uint8_t>& slot, size_t len, std::vector<uint32_t>* m) {
   for (size_t i = 0; i < len; ++i) (*m)[i] = slot[ring[i]];
   size_t bits = 0;
-  int64_t b = 0, d = 0, dn = 0;
-  split_firings(
-      c.data(), m->data(), len, false, [&](size_t, size_t n, int32_t fb, int32_t fd, bool ok) {
-        bits += 2 + bit_cost(static_cast<int32_t>(fd - d)) +
-                bit_cost(static_cast<int32_t>(fb - b - (d != 0 ? d : dn))) + (ok ? 0 : 2 * n);
-        b = fb, d = fd;
-        if (d != 0) dn = d;
-      });
+  int64_t b = 0, d = 0;
+  split_firings(c.data(), m->data(), len, false,
+                [&](size_t, size_t n, int32_t fb, int32_t fd, bool ok) {
+                  bits += 2 + bit_cost(static_cast<int32_t>(fd - d)) +
+                          bit_cost(static_cast<int32_t>(fb - b - d)) + (ok ? 0 : 2 * n);
+                  b = fb, d = fd;
+                });
   return bits;
 }
 
