@@ -195,7 +195,8 @@ bool fire_fit(const int32_t* c, const uint32_t* m, size_t len, int64_t bp, int64
 }
 
 // Splits points (columns c, slots m, the first len) into firings as the decoder does from a
-// frame's start, and gives each its (B, D) (fire_fit); calls out(first, len, b, d, fitted).
+// frame's start, and gives each its (B, D) (fire_fit); calls out(first, len, b, d, fitted), which
+// returns whether to go on.
 template <class Out>
 void split_firings(const int32_t* c, const uint32_t* m, size_t len, bool wide, Out out) {
   int64_t b = 0, d = 0, dn = 0;
@@ -204,19 +205,21 @@ void split_firings(const int32_t* c, const uint32_t* m, size_t len, bool wide, O
     while (j < len && m[j] > m[j - 1]) ++j;
     int32_t fb, fd;
     const bool ok = fire_fit(&c[i], &m[i], j - i, b + d, d, dn, wide, &fb, &fd);
-    out(i, j - i, fb, fd, ok);
+    if (!out(i, j - i, fb, fd, ok)) return;
     b = fb, d = fd;
     if (d != 0) dn = d;
     i = j;
   }
 }
 
-constexpr size_t kSlotFitPoints = 48, kShiftFitPoints = 1024, kMaxSlotFitPoints = 65536;
+constexpr size_t kSlotFitPoints = 16, kShiftFitPoints = 1024, kMaxSlotFitPoints = 65536;
 
 // The bits the slots would cost the first len points, roughly: a firing's turn and base (their
 // residuals' bit lengths), and two bits a point of a firing they do not fit.
+// (Counting stops above `bound`.)
 size_t slot_cost(const std::vector<int32_t>& c, const std::vector<uint32_t>& ring,
-                 const std::vector<uint8_t>& slot, size_t len, std::vector<uint32_t>* m) {
+                 const std::vector<uint8_t>& slot, size_t len, std::vector<uint32_t>* m,
+                 size_t bound = SIZE_MAX) {
   for (size_t i = 0; i < len; ++i) (*m)[i] = slot[ring[i]];
   size_t bits = 0;
   int64_t b = 0, d = 0;
@@ -225,6 +228,7 @@ size_t slot_cost(const std::vector<int32_t>& c, const std::vector<uint32_t>& rin
                   bits += 2 + bit_cost(static_cast<int32_t>(fd - d)) +
                           bit_cost(static_cast<int32_t>(fb - b - d)) + (ok ? 0 : 2 * n);
                   b = fb, d = fd;
+                  return bits <= bound;
                 });
   return bits;
 }
@@ -241,7 +245,7 @@ void shift_slots(const std::vector<int32_t>& c, const std::vector<uint32_t>& rin
   int shift = 0;
   for (int v = -lo; v < static_cast<int>(kSlots) - hi; ++v) {
     for (size_t k = 0; k < slot->size(); ++k) moved[k] = static_cast<uint8_t>((*slot)[k] + v);
-    const size_t bits = slot_cost(c, ring, moved, few, m);
+    const size_t bits = slot_cost(c, ring, moved, few, m, least);
     if (bits < least) least = bits, shift = v;
   }
   for (uint8_t& k : *slot) k = static_cast<uint8_t>(k + shift);
@@ -267,9 +271,10 @@ std::vector<uint8_t> fit_slots(const std::vector<uint32_t>& ring, const std::vec
     if (seen == 0) continue;  // a ring without points keeps its slot
     uint8_t best = slot[k];
     size_t least = slot_cost(c, ring, slot, few, &m);
-    for (uint32_t v = 0; v < kSlots; ++v) {
+    for (uint32_t v = 0; v < kSlots; ++v) {  // a slot of another ring's left out (lasers apart)
+      if (std::find(slot.begin(), slot.end(), v) != slot.end()) continue;
       slot[k] = static_cast<uint8_t>(v);
-      const size_t bits = slot_cost(c, ring, slot, few, &m);
+      const size_t bits = slot_cost(c, ring, slot, few, &m, least);
       if (bits < least) least = bits, best = slot[k];
     }
     slot[k] = best;
@@ -277,8 +282,10 @@ std::vector<uint8_t> fit_slots(const std::vector<uint32_t>& ring, const std::vec
   shift_slots(c, ring, u.size(), &slot, &m);
   size_t firings = 0, fitted = 0;
   for (size_t i = 0; i < u.size(); ++i) m[i] = slot[ring[i]];
-  split_firings(c.data(), m.data(), u.size(), true,
-                [&](size_t, size_t, int32_t, int32_t, bool ok) { ++firings, fitted += ok; });
+  split_firings(c.data(), m.data(), u.size(), true, [&](size_t, size_t, int32_t, int32_t, bool ok) {
+    ++firings, fitted += ok;
+    return true;
+  });
   if (fitted * 10 < firings * 9) slot.clear();
   return slot;
 }
@@ -303,6 +310,7 @@ void fire_points(const ScanGeometry& g, const Table& t, size_t n, std::vector<Po
                   [&](size_t i, size_t len, int32_t b, int32_t d, bool) {
                     for (size_t j = i; j < i + len; ++j)
                       (*polar)[at[j]].fire_b = b, (*polar)[at[j]].fire_d = d;
+                    return true;
                   });
     first += g.counts[f];
   }
