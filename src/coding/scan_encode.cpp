@@ -33,7 +33,8 @@ void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, cons
                                               : 1) |
                               (t.bow != 0 ? scan::kBowBit : 0) | (t.turn ? scan::kTurnBit : 0) |
                               (t.share.empty() ? 0 : scan::kShareBit) |
-                              (t.pack.empty() ? 0 : scan::kPackBit)));
+                              (t.pack.empty() ? 0 : scan::kPackBit) |
+                              (t.slots == 0 ? 0 : scan::kSlotBit)));
     if (!t.pack.empty()) {
       write_packed_table(t, &w);
     } else {
@@ -51,6 +52,10 @@ void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, cons
     if (!t.share.empty()) {
       w.f32(t.fire_turn);
       for (float v : t.share) w.f32(v);
+    }
+    if (t.slots != 0) {
+      w.u8(static_cast<uint8_t>(t.slots));
+      for (uint8_t m : t.slot) w.u8(m);
     }
   }
   out->insert(out->end(), w.buffer().begin(), w.buffer().end());

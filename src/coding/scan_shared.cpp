@@ -16,6 +16,14 @@ void check_finite(float v, ByteReader* r) {
   if (!std::isfinite(v)) fail(ErrorCode::kCorrupt, r->what(), "laser table value is not finite");
 }
 
+// The firing's slots (FORMAT.md, units bit 6).
+void read_slots(ByteReader* r, uint64_t rings, Table* t, const std::string& what) {
+  t->slots = r->u8();
+  if (t->slots < 1 || t->slots > kMaxSlots)
+    fail(ErrorCode::kCorrupt, what, "the laser table's firing slots are out of range");
+  for (uint64_t k = 0; k < rings; ++k) t->slot.push_back(r->u8());
+}
+
 // The firing's turn and the rings' shares of it (FORMAT.md, units bit 3).
 void read_shares(ByteReader* r, uint64_t rings, Table* t, const std::string& what) {
   t->fire_turn = r->f32();
@@ -150,8 +158,9 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
       fail(ErrorCode::kCorrupt, what, "laser table with a zero step or too many columns");
     t.columns = static_cast<uint32_t>(cols);
     const uint8_t byte = r.u8(), units = byte & 3;
-    if (units == 3 || (byte & ~(7 | kShareBit | kTurnBit | kPackBit)) != 0 ||
-        ((byte & kShareBit) && !(byte & kTurnBit)))
+    if (units == 3 || (byte & ~(7 | kShareBit | kTurnBit | kPackBit | kSlotBit)) != 0 ||
+        ((byte & (kShareBit | kSlotBit)) && !(byte & kTurnBit)) ||
+        ((byte & kShareBit) && (byte & kSlotBit)))
       fail(ErrorCode::kCorrupt, what, "unknown range units in the laser table");
     read_rings(&r, rings, byte, &t);
     t.turn = (byte & kTurnBit) != 0;
@@ -161,6 +170,7 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
         fail(ErrorCode::kCorrupt, what, "the laser table's bow is out of range");
     }
     if (byte & kShareBit) read_shares(&r, rings, &t, what);
+    if (byte & kSlotBit) read_slots(&r, rings, &t, what);
   }
   uint64_t coded = 0;    // points that code at least one symbol
   uint64_t counted = 0;  // coded points of frames with cells: a count each at most

@@ -473,7 +473,7 @@ Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* 
   double step = step_divisor > 0 ? r.step / step_divisor : std::copysign(r.quantum, r.step);
   if (step == 0 || !std::isfinite(step)) return t;
   t.turn = step_divisor <= 0;
-  if (t.turn) t.fire_turn = r.fire_turn, t.share = r.share;
+  if (t.turn) t.fire_turn = r.fire_turn, t.share = r.share, t.slots = r.slots, t.slot = r.slot;
   t.step = static_cast<float>(step);
   step = t.step;
   const double cols = std::floor(kTwoPi / std::fabs(step) + 0.5);
@@ -524,6 +524,7 @@ void place_points(const ScanGeometry& g, const RingFit& r, const Table& t, size_
     if (units) o.range = r.steps[i];
     (*polar)[i] = o;
   }
+  if (t.slots) fire_points(g, t, n, polar);
 }
 
 Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor, bool units,

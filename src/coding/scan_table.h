@@ -31,6 +31,10 @@ struct RingFit {
   float fire_turn = 0;
   std::vector<float> share;
   double reach = 0;  // the largest range of the points, grid units
+  // The firing's slots in their place (Table::slots, slot), when found (fit_shares; else 0 and
+  // empty).
+  uint32_t slots = 0;
+  std::vector<uint8_t> slot;
   size_t rings() const { return phi.size(); }
 };
 // Without `units` the range step is not looked for (a caller that codes no payload with it).
@@ -39,6 +43,9 @@ RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units = tr
 // from g's points in order; kept in r only when the firing's base predicts more columns
 // exactly than the ring's lead on the point before.
 void fit_shares(const ScanGeometry& g, RingFit* r);
+// Each valid point's firing's base and turn (Polar::fire_b, fire_d) on a table with slots, the
+// firings split per frame as the decoder splits them (scan_shares_encode.cpp).
+void fire_points(const ScanGeometry& g, const Table& t, size_t n, std::vector<Polar>* polar);
 // The azimuth step found in each ring's azimuths sorted (positive), not in point order: a
 // driver that writes a ring's points out of firing order (pandar64: columns in a shuffled
 // pattern) makes the point-order step a multiple of the sensor's. 0 when none is found.

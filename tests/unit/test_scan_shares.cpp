@@ -1,8 +1,9 @@
 // The column's fourth candidate, the firing's base (docs/FORMAT.md "Scan geometry payload",
-// `units` bit 3): a VLP-16-like sweep whose lasers' azimuths are the firing's plus the turn
-// times their firing time, rounded to 0.01 degree, is coded with the firing's turn and the
-// rings' shares of it, exactly; without them the decoder predicts otherwise; damaged fields
-// are corrupt.
+// `units` bit 3), and the firing's slots (bit 6): a VLP-16-like sweep whose lasers' azimuths
+// are the firing's plus the turn times their firing time, rounded to 0.01 degree, is coded with
+// the firing's slots when the firing time is a 24th of half the firing's turn (the VLP-16's),
+// else with the firing's turn and the rings' shares of it, exactly; without them the decoder
+// predicts otherwise; damaged fields are corrupt.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -22,9 +23,9 @@ constexpr double kQuantum = 0.01 * 3.141592653589793 / 180;  // 0.01 degree in r
 // One sweep on a 1 mm grid (step 0.002 m) in firing order, ranges on a 4 mm step, as the
 // VLP-16's driver writes it: each firing's azimuth 19 to 21 quanta after the last; the 16
 // lasers (ring k, elevation -15 + 2k degrees) fire in slots `2k` below 8 and `2 (k - 8) + 1`
-// from 8 on, each at the firing's azimuth plus D slot / 48 quanta, rounded, with D 39 to 41,
-// or 0 in one firing of six (the driver's last block of a packet).
-ScanGeometry sweep(ScanHints* h) {
+// from 8 on, each at the firing's azimuth plus D slot / `per` quanta, rounded, with D 39 to 41,
+// or 0 in one firing of six (the driver's last block of a packet). The VLP-16's `per` is 48.
+ScanGeometry sweep(ScanHints* h, double per) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(0, 1);
   ScanGeometry g;
@@ -36,7 +37,7 @@ ScanGeometry sweep(ScanHints* h) {
     for (int slot = 0; slot < 16; ++slot) {
       if (u(rng) < 0.05) continue;
       const int k = slot % 2 ? 8 + slot / 2 : slot / 2;
-      const int64_t quanta = a + static_cast<int64_t>(std::floor(d * slot / 48.0 + 0.5));
+      const int64_t quanta = a + static_cast<int64_t>(std::floor(d * slot / per + 0.5));
       const double az = static_cast<double>(quanta) * kQuantum;
       const double el = (-15.0 + 2.0 * k) * 3.141592653589793 / 180;
       push_polar(&g, h, az, el, 9 + 2 * std::sin(2 * az) + std::cos(5 * az + k) + 0.004 * u(rng),
@@ -64,9 +65,11 @@ size_t units_at(const std::vector<uint8_t>& p) {
   return units_offset(p);
 }
 
+constexpr double kSlotShare = 48, kOtherShare = 44;  // the VLP-16's D slot / 48, and another
+
 TEST(ScanShares, GivenLasersSpreadByTheirFiringTimeThenTheFiringsBaseExact) {
   ScanHints h;
-  const ScanGeometry g = sweep(&h);
+  const ScanGeometry g = sweep(&h, kOtherShare);
   const std::vector<uint8_t> p = coded(g, h);
   const scan::Header hd = header(p);
   EXPECT_TRUE(hd.table.turn);
@@ -79,12 +82,54 @@ TEST(ScanShares, GivenLasersSpreadByTheirFiringTimeThenTheFiringsBaseExact) {
   const std::vector<float>& s = hd.table.share;
   EXPECT_LT(s[0], s[8]);
   EXPECT_LT(s[8], s[1]);
-  EXPECT_NEAR((s[15] - s[0]) * hd.table.fire_turn, 15 * 40 / 48.0, 1.5);
+  EXPECT_NEAR((s[15] - s[0]) * hd.table.fire_turn, 15 * 40 / kOtherShare, 1.5);
+}
+
+TEST(ScanSlots, GivenTheVlp16sFiringTimesThenTheSlotsExact) {
+  ScanHints h;
+  const ScanGeometry g = sweep(&h, kSlotShare);
+  const std::vector<uint8_t> p = coded(g, h);
+  const scan::Header hd = header(p);
+  EXPECT_TRUE(hd.table.share.empty());
+  EXPECT_EQ(hd.table.slots, 24u);
+  EXPECT_EQ(p[units_at(p)], 1 | scan::kSlotBit | scan::kTurnBit);
+  ASSERT_EQ(hd.table.slot.size(), 16u);
+  for (uint32_t k = 0; k < 16; ++k) EXPECT_EQ(hd.table.slot[k], k < 8 ? 2 * k : 2 * (k - 8) + 1);
+  // Removing the slots (bit 6 cleared, N and m_k cut) makes the decoder predict otherwise.
+  std::vector<uint8_t> d(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(hd.body) - 17);
+  d[units_at(p)] &= static_cast<uint8_t>(~scan::kSlotBit);
+  d.insert(d.end(), p.begin() + static_cast<std::ptrdiff_t>(hd.body), p.end());
+  try {
+    EXPECT_NE(decode_scan_geometry(d.data(), d.size(), "damaged").q, g.q);
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
+  }
+}
+
+TEST(ScanSlots, GivenDamagedSlotsOrBitsThenCorrupt) {
+  ScanHints h;
+  const ScanGeometry g = sweep(&h, kSlotShare);
+  const std::vector<uint8_t> p = coded(g, h);
+  const size_t at = units_at(p), n = header(p).body - 17;
+  std::vector<uint8_t> d = p;
+  d[at] = static_cast<uint8_t>(d[at] & ~scan::kTurnBit);  // bit 6 without bit 4
+  expect_scan_corrupt(d);
+  d = p;
+  d[at] = static_cast<uint8_t>(d[at] | scan::kShareBit);  // bits 3 and 6
+  expect_scan_corrupt(d);
+  for (uint8_t v : {0, 65, 255}) {  // N out of range
+    d = p;
+    d[n] = v;
+    expect_scan_corrupt(d);
+  }
+  d = p;  // truncated in the slots
+  d.resize(n + 5);
+  expect_scan_corrupt(d);
 }
 
 TEST(ScanShares, GivenTheSharesRemovedThenTheDecoderPredictsOtherwise) {
   ScanHints h;
-  const ScanGeometry g = sweep(&h);
+  const ScanGeometry g = sweep(&h, kOtherShare);
   const std::vector<uint8_t> p = coded(g, h);
   const scan::Header hd = header(p);
   std::vector<uint8_t> d(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(hd.body) - 4 -
@@ -101,7 +146,7 @@ TEST(ScanShares, GivenTheSharesRemovedThenTheDecoderPredictsOtherwise) {
 
 TEST(ScanShares, GivenDamagedTurnSharesOrBitsThenCorrupt) {
   ScanHints h;
-  const ScanGeometry g = sweep(&h);
+  const ScanGeometry g = sweep(&h, kOtherShare);
   const std::vector<uint8_t> p = coded(g, h);
   const size_t at = units_at(p), turn = header(p).body - 4 - 4 * header(p).table.rings();
   std::vector<uint8_t> d = p;
