@@ -59,6 +59,7 @@ set(CAPZ_DECODE_SOURCES
   src/core/error.cpp
   src/core/hash.cpp
   src/core/input_file.cpp
+  src/core/modules.cpp
   src/core/take.cpp
   src/core/thread_pool.cpp
   src/core/units.cpp
@@ -103,6 +104,7 @@ set(CAPZ_ENCODE_SOURCES
   src/codec/encoder.cpp
   src/codec/grid_choice.cpp
   src/codec/negative_zeros_encode.cpp
+  src/codec/pcl_geom.cpp
   src/codec/pdct/cluster.cpp
   src/codec/pdct/kdtree.cpp
   src/codec/pdct/pdct_encoder.cpp
@@ -150,6 +152,7 @@ set(CAPZ_ENCODE_SOURCES
   src/coding/scan_order_encode.cpp
   src/coding/scan_raster_encode.cpp
   src/coding/scan_split_encode.cpp
+  src/coding/scan_pack_encode.cpp
   src/coding/scan_table.cpp
   src/coding/scan_shares_encode.cpp
   src/io/residue/c3d_residue_encode.cpp

@@ -30,21 +30,24 @@ ScanHints permuted(const ScanHints& h, const std::vector<uint32_t>& order) {
   return s;
 }
 
-// Cells with counts (FORMAT.md "Cells with counts"): `best` with each point's copies moved to
-// just after it, coded with counts, replaces *coded when smaller. Tried only when the copies are
-// at least 2 % of the valid points (else the counts cost about what the copies save).
-void try_cells(const ScanGeometry& g, const ScanHints& hints, std::vector<uint8_t>* coded,
-               std::vector<uint32_t>* best, ScanWorkspace* ws) {
-  std::vector<uint32_t> order = group_cell_copies(g, *best);
-  ScanGeometry grouped = permuted(g, order);
+// Whether cells with counts (FORMAT.md "Cells with counts") are worth a trial on g: when the
+// copies are at least 2 % of the valid points (else the counts cost about what the copies save).
+// How many copies a frame has does not depend on its order.
+bool cells_worth_trying(const ScanGeometry& g) {
   const size_t valid = static_cast<size_t>(std::count(g.valid.begin(), g.valid.end(), 1));
-  if (scan_cell_copies(grouped) * 50 < valid || valid == 0) return;
-  // The best order's cells, then each frame's ring by ring.
-  for (int k = 0; k < 2; ++k) {
-    if (k == 1) {
-      order = group_cell_copies(g, scan_point_order(g, hints, ScanOrderTable::kPerFrameByRing));
-      grouped = permuted(g, order);
-    }
+  return valid > 0 && scan_grouped_copies(g) * 50 >= valid;
+}
+
+// Cells with counts: `best` with each point's copies moved to just after it, coded with counts,
+// replaces *coded when smaller; then the same with each frame ring by ring (`by_ring`:
+// scan_point_order's kPerFrameByRing order).
+void try_cells(const ScanGeometry& g, const ScanHints& hints, std::vector<uint8_t>* coded,
+               std::vector<uint32_t>* best, const std::vector<uint32_t>& by_ring,
+               ScanWorkspace* ws) {
+  const std::vector<uint32_t>* orders[2] = {best, &by_ring};
+  for (const std::vector<uint32_t>* from : orders) {
+    std::vector<uint32_t> order = group_cell_copies(g, *from);
+    const ScanGeometry grouped = permuted(g, order);
     std::vector<uint8_t> bytes = encode_scan_cells(grouped, permuted(hints, order), ws);
     if (!bytes.empty() && bytes.size() < coded->size()) coded->swap(bytes), best->swap(order);
   }
@@ -75,13 +78,16 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
   for (size_t j = 0; j < best.size(); ++j) best[j] = static_cast<uint32_t>(j);
   std::vector<uint8_t> file = encode_scan_geometry(g, hints, ws);
   *coded = file;
+  const bool cells = cells_worth_trying(g);
+  std::vector<uint32_t> by_ring;  // with cells: the per-frame tables' order ring by ring
   for (ScanOrderTable table : {ScanOrderTable::kPerFrame, ScanOrderTable::kWindow}) {
-    std::vector<uint32_t> order = scan_point_order(g, hints, table);
+    std::vector<uint32_t> order = scan_point_order(
+        g, hints, table, cells && table == ScanOrderTable::kPerFrame ? &by_ring : nullptr);
     std::vector<uint8_t> bytes =
         encode_scan_geometry(permuted(g, order), permuted(hints, order), ws);
     if (bytes.size() < coded->size()) coded->swap(bytes), best.swap(order);
   }
-  try_cells(g, hints, coded, &best, ws);
+  if (cells) try_cells(g, hints, coded, &best, by_ring, ws);
   if (kept) kept->swap(file);
   return best;
 }

@@ -48,6 +48,9 @@ size_t scan_cell_copies(const ScanGeometry& g);
 // order (indices into g, each frame's points at its own places, as scan_point_order gives) with
 // each valid point that has the grid integers of an earlier valid point of its frame (in
 // `order`) moved to just after that point's run; the rest keeps its order.
+// scan_cell_copies of g in the order group_cell_copies gives it (any order): per frame, its valid
+// points less its distinct valid points.
+size_t scan_grouped_copies(const ScanGeometry& g);
 std::vector<uint32_t> group_cell_copies(const ScanGeometry& g, const std::vector<uint32_t>& order);
 
 }  // namespace capz

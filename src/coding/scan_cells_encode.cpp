@@ -81,6 +81,37 @@ size_t scan_cell_copies(const ScanGeometry& g) {
   return copies;
 }
 
+size_t scan_grouped_copies(const ScanGeometry& g) {
+  // Per frame, its distinct valid points in an open-addressed table of point indices (0: empty).
+  std::vector<uint32_t> slot;
+  size_t copies = 0, first = 0;
+  for (uint32_t n : g.counts) {
+    size_t size = 16;
+    while (size < 2 * size_t{n}) size *= 2;
+    slot.assign(size, 0);
+    for (size_t i = first; i < first + n; ++i) {
+      if (!g.valid[i]) continue;
+      const int32_t* p = &g.q[3 * i];
+      uint64_t h = static_cast<uint32_t>(p[0]);
+      h = h * 0x9E3779B97F4A7C15ull + static_cast<uint32_t>(p[1]);
+      h = h * 0x9E3779B97F4A7C15ull + static_cast<uint32_t>(p[2]);
+      h *= 0x9E3779B97F4A7C15ull;
+      for (size_t at = static_cast<size_t>(h >> 32) & (size - 1);; at = (at + 1) & (size - 1)) {
+        if (slot[at] == 0) {
+          slot[at] = static_cast<uint32_t>(i - first + 1);
+          break;
+        }
+        if (same_point(g, first + slot[at] - 1, i)) {
+          ++copies;
+          break;
+        }
+      }
+    }
+    first += n;
+  }
+  return copies;
+}
+
 std::vector<uint32_t> group_cell_copies(const ScanGeometry& g, const std::vector<uint32_t>& order) {
   std::vector<uint32_t> out;
   out.reserve(order.size());

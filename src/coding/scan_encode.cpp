@@ -26,26 +26,36 @@ void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, cons
   if (t.rings() > 0) {
     w.f32(t.step);
     w.varint(t.columns);
-    for (size_t k = 0; k < t.rings(); ++k) {
-      w.f32(t.azimuth0[k]);
-      w.f32(t.slope[k]);
-      w.f32(t.z0[k]);
-    }
     const bool offsets =
         std::any_of(t.offset.begin(), t.offset.end(), [](double v) { return v != 0; });
     w.u8(static_cast<uint8_t>((t.unit.empty() ? 0
                                : offsets      ? 2
                                               : 1) |
                               (t.bow != 0 ? scan::kBowBit : 0) | (t.turn ? scan::kTurnBit : 0) |
-                              (t.share.empty() ? 0 : scan::kShareBit)));
-    for (size_t k = 0; k < t.unit.size(); ++k) {
-      w.f64(t.unit[k]);
-      if (offsets) w.f64(t.offset[k]);
+                              (t.share.empty() ? 0 : scan::kShareBit) |
+                              (t.pack.empty() ? 0 : scan::kPackBit) |
+                              (t.slots == 0 ? 0 : scan::kSlotBit)));
+    if (!t.pack.empty()) {
+      write_packed_table(t, &w);
+    } else {
+      for (size_t k = 0; k < t.rings(); ++k) {
+        w.f32(t.azimuth0[k]);
+        w.f32(t.slope[k]);
+        w.f32(t.z0[k]);
+      }
+      for (size_t k = 0; k < t.unit.size(); ++k) {
+        w.f64(t.unit[k]);
+        if (offsets) w.f64(t.offset[k]);
+      }
     }
     if (t.bow != 0) w.f32(t.bow);
     if (!t.share.empty()) {
       w.f32(t.fire_turn);
       for (float v : t.share) w.f32(v);
+    }
+    if (t.slots != 0) {
+      w.u8(static_cast<uint8_t>(t.slots));
+      for (uint8_t m : t.slot) w.u8(m);
     }
   }
   out->insert(out->end(), w.buffer().begin(), w.buffer().end());
@@ -418,8 +428,6 @@ size_t sample_size(const ScanGeometry& g, const ScanGeometry& sample,
   for (size_t j = 0; j < from.size(); ++j) polar[j] = placed[from[j]];
   Coding coding(t, s->maps);
   code_frames(sample, polar, sample.counts.size(), &coding, s);
-  s->cart.clear();  // the sample's frames' estimates and checks, not the window's
-  s->spherical_ok.clear();
   return finished_size(sample, coding);
 }
 
@@ -519,10 +527,15 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
   for (size_t f = 0; f < sample.counts.size(); ++f) trial_points += g.counts[f];
   const bool every = ws && ws->every_table;
   std::vector<size_t> sizes;  // the sample's payloads (sampled_choice)
-  if (!every && fit.rings() > 0 && sample.total() < trial_points)
+  if (!every && fit.rings() > 0 && sample.total() < trial_points) {
     choices = sampled_choice(g, sample, from, fit, tried, ws, &tables, &sizes, &scratch);
-  else if (!every && g.counts.size() > kTrialFrames)
+    // The sample's frames' Cartesian estimates and checks, kept from table to table (the same
+    // frames, and an estimate is used only in the state it was made in), are not the window's.
+    scratch.cart.clear();
+    scratch.spherical_ok.clear();
+  } else if (!every && g.counts.size() > kTrialFrames) {
     choices = first_frame_choice(g, fit, tried, &tables, &polar, &kept, &scratch);
+  }
   std::vector<uint8_t> best;
   ScanChoice chosen;  // the choice of the smallest payload, when it was tried on the sample
   scan::Table t;      // the table of the choice before, then this one's

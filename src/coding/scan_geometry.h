@@ -97,8 +97,11 @@ enum class ScanOrderTable { kPerFrame, kWindow, kPerFrameByRing };
 // g (total of them), each frame's own points at its own places: its valid points by column,
 // ring and range under the table the encoder infers (the sensor's firing order), the valid
 // points off the table in file order, then its gaps. Encoder side (scan_order_encode.cpp).
+// by_ring (when not null): with kPerFrame, also the kPerFrameByRing order, from the same fits
+// (else left empty).
 std::vector<uint32_t> scan_point_order(const ScanGeometry& g, const ScanHints& hints = {},
-                                       ScanOrderTable table = ScanOrderTable::kPerFrame);
+                                       ScanOrderTable table = ScanOrderTable::kPerFrame,
+                                       std::vector<uint32_t>* by_ring = nullptr);
 
 // Decodes a payload of encode_scan_geometry. At most `max_points` points in all (the caller's
 // memory bound); throws Error(kCorrupt) naming `what` on any inconsistency.

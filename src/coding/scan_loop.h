@@ -191,12 +191,42 @@ inline void base_update(State::Base& b, const Table& t, uint32_t k, int32_t c) {
   b.last_share = s;
 }
 
+// floor(a / b) for b > 0.
+inline int64_t floor_div(int64_t a, int64_t b) {
+  return a >= 0 ? a / b : -((b - 1 - a) / b);
+}
+
+// A column on the firing's slots (FORMAT step 2, units bit 6): floor((B N + D m + N) / 2N).
+inline int64_t slot_column(int64_t n, int64_t b, int64_t d, int64_t m) {
+  return floor_div(b * n + d * m + n, 2 * n);
+}
+
+// The column on the firing's slots (FORMAT step 2, units bit 6): when the ring's slot is not
+// after the last point's, a firing opens with its turn D and base B (pa.fire_d, pa.fire_b when
+// encoding); the column against floor((B N + D m_k + N) / 2N).
+template <class Io>
+__attribute__((always_inline)) inline int32_t code_slots(Io& io, State::Slots& f, const Table& t,
+                                                         uint32_t k, const Polar& pa, bool moved) {
+  const uint32_t m = t.slot[k];
+  if (!f.open || m <= f.last) {
+    const int32_t d = io.sym(pa.fire_d, f.d, kCtxSlots + (f.d == 0));
+    const int32_t b =
+        io.sym(pa.fire_b, wrap_add(f.b, f.d), kCtxSlots + 2 + 2 * (f.d == 0) + (d != f.d));
+    f.b = b, f.d = d, f.open = true;
+  }
+  f.last = m;
+  const int64_t p = slot_column(t.slots, f.b, f.d, m);
+  return io.sym(pa.column, static_cast<int32_t>(static_cast<uint32_t>(p)), kCtxSlots + 6 + moved);
+}
+
 // The ring's column (FORMAT step 2) from p0 and p1 (and with the table's `turn` p2, with its
-// shares p3), the context's first part by the residual.
+// shares p3; with its slots the firing's), the context's first part by the residual.
 template <class Io>
 __attribute__((always_inline)) inline int32_t code_column(Io& io, State& st, State::Ring& r,
-                                                          uint32_t k, int32_t col, int32_t p0,
+                                                          uint32_t k, const Polar& pa, int32_t p0,
                                                           int32_t p1, bool moved, const Prev* pv) {
+  const int32_t col = pa.column;
+  if (st.table().slots) return code_slots(io, st.slots, st.table(), k, pa, moved);
   if (st.table().turn) {
     // p2: P's column plus the ring's lead on P's ring, or the ring's last column plus how far
     // P's ring turned since.
@@ -233,10 +263,17 @@ uint32_t pair_ring(Io& io, const State& st, uint32_t want, const Prev* pv, uint3
                    uint32_t other, uint32_t* u) {
   const uint32_t rings = static_cast<uint32_t>(st.table().rings());
   uint32_t c[4] = {khat, other, st.succ[pv->ring], pv->ring + 1 == rings ? 0 : pv->ring + 1};
+  // The place of v among the first m candidates (m when absent): a loop of at most 4, inline
+  // (std::find's out-of-line unrolled search cost more than the search).
+  const auto place = [&c](uint32_t m, uint32_t v) {
+    uint32_t j = 0;
+    while (j < m && c[j] != v) ++j;
+    return j;
+  };
   uint32_t n = 1;
   for (int j = 1; j < 4; ++j)
-    if (std::find(c, c + n, c[j]) == c + n) c[n++] = c[j];
-  uint32_t a = static_cast<uint32_t>(std::find(c, c + n, want) - c);
+    if (place(n, c[j]) == n) c[n++] = c[j];
+  uint32_t a = place(n, want);
   if (a == n) {  // the encoder's residual (the decoder's `want` is anything)
     const uint32_t d = mod_small(want + rings - khat, rings);
     a = n + zigzag(d <= (rings - 1) / 2 ? static_cast<int32_t>(d)
@@ -290,7 +327,7 @@ __attribute__((always_inline)) inline RingColumn ring_successor(Io& io, State& s
   RingColumn out;
   out.ring = k;
   out.residual = d;
-  out.column = code_column(io, st, r, k, pa.column, p0, p1, d != 0, pv);
+  out.column = code_column(io, st, r, k, pa, p0, p1, d != 0, pv);
   if (pair_step) *pair_step = wrap_sub(out.column, pv->column);
   return out;
 }
@@ -349,6 +386,10 @@ __attribute__((always_inline)) inline RingColumn ring_walk(Io& io, State& st, co
   }
   out.opened = was >= 0 && was == out.firing - 1;
   State::Ring& r = st.ring[out.ring];
+  if (out.repeat && st.table().slots) {  // on the firing's slots like every point
+    out.column = code_slots(io, st.slots, st.table(), out.ring, pa, false);
+    return out;
+  }
   if (out.repeat) {  // the same firing's second return: P's column
     out.column = io.sym(pa.column, pv->column, kCtxWalkColumn);
     return out;
@@ -360,7 +401,7 @@ __attribute__((always_inline)) inline RingColumn ring_walk(Io& io, State& st, co
     const uint64_t prod = gap * static_cast<uint64_t>(static_cast<int64_t>(r.step));
     p1 = wrap_add(r.last_column, static_cast<int32_t>(static_cast<uint32_t>(prod)));
   }
-  out.column = code_column(io, st, r, out.ring, pa.column, p0, p1, out.residual != 0, pv);
+  out.column = code_column(io, st, r, out.ring, pa, p0, p1, out.residual != 0, pv);
   return out;
 }
 
@@ -422,6 +463,7 @@ void code_points(Io& io, State& st, uint8_t flags, size_t first, size_t n, int32
   bool prev_valid = true;
   detail::Prev pv;
   if (flags & kRingWalk) std::fill(st.firing.begin(), st.firing.end(), State::Firing{});
+  st.slots = State::Slots{};
   if ((flags & kRingPairs) && st.pair_ring.empty()) {
     st.pair_ring.assign(State::kPairCells, 0);
     st.pair_column.assign(State::kPairCells, 0);

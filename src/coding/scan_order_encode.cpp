@@ -54,9 +54,10 @@ void order_frame(const ScanGeometry& g, bool table, const std::vector<scan::Pola
 
 // The order of points [first, first + n) of g (one frame), under the table inferred from that
 // frame alone with the step of its rings' sorted azimuths (sorted_step: over a window the
-// sweeps' azimuths would interleave).
+// sweeps' azimuths would interleave), appended to *out by column (or by ring with `by_ring`)
+// and, when ring_out is not null, ring by ring to *ring_out as well (one fit for both).
 void order_one(const ScanGeometry& g, const ScanHints& hints, size_t first, size_t n,
-               std::vector<uint32_t>* out, bool by_ring) {
+               std::vector<uint32_t>* out, bool by_ring, std::vector<uint32_t>* ring_out) {
   ScanGeometry f;
   f.counts = {static_cast<uint32_t>(n)};
   const auto b = static_cast<std::ptrdiff_t>(first), e = static_cast<std::ptrdiff_t>(first + n);
@@ -70,15 +71,18 @@ void order_one(const ScanGeometry& g, const ScanHints& hints, size_t first, size
   fit.step = scan::sorted_step(fit);  // the sensor's step, whatever the file's order
   std::vector<scan::Polar> polar;
   const scan::Table t = scan::table_for(f, fit, 1.0, false, &polar);
-  const size_t at = out->size();
-  order_frame(f, t.rings() > 0, polar, 0, n, out, by_ring);
-  for (size_t j = at; j < out->size(); ++j) (*out)[j] += static_cast<uint32_t>(first);
+  for (std::vector<uint32_t>* o : {out, ring_out}) {
+    if (o == nullptr) continue;
+    const size_t at = o->size();
+    order_frame(f, t.rings() > 0, polar, 0, n, o, o == ring_out || by_ring);
+    for (size_t j = at; j < o->size(); ++j) (*o)[j] += static_cast<uint32_t>(first);
+  }
 }
 
 }  // namespace
 
 std::vector<uint32_t> scan_point_order(const ScanGeometry& g, const ScanHints& hints,
-                                       ScanOrderTable table) {
+                                       ScanOrderTable table, std::vector<uint32_t>* by_ring) {
   size_t total = 0;
   for (uint32_t n : g.counts) total += n;
   if (g.valid.size() != total || g.q.size() != 3 * total || total > UINT32_MAX)
@@ -86,9 +90,12 @@ std::vector<uint32_t> scan_point_order(const ScanGeometry& g, const ScanHints& h
   std::vector<uint32_t> order;
   order.reserve(total);
   size_t first = 0;
+  if (by_ring) by_ring->clear();
   if (table != ScanOrderTable::kWindow) {
+    if (by_ring && table == ScanOrderTable::kPerFrame) by_ring->reserve(total);
     for (uint32_t n : g.counts) {
-      order_one(g, hints, first, n, &order, table == ScanOrderTable::kPerFrameByRing);
+      order_one(g, hints, first, n, &order, table == ScanOrderTable::kPerFrameByRing,
+                table == ScanOrderTable::kPerFrame ? by_ring : nullptr);
       first += n;
     }
     return order;

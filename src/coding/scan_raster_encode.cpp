@@ -189,13 +189,14 @@ bool second_repeats(const ScanGeometry& g, const ScanHints& hints) {
   bool fresh;
   for (size_t i = 0; i < g.counts[0]; ++i)
     if (g.valid[i]) first.get(key_of(g, hints, i, &d), 0, &fresh);
-  size_t seen = 0, valid = 0;
-  for (size_t i = g.counts[0]; i < size_t{g.counts[0]} + g.counts[1]; ++i) {
-    if (!g.valid[i]) continue;
-    ++valid;
-    seen += first.find(key_of(g, hints, i, &d)) != nullptr;
-  }
-  return 4 * seen > 3 * valid;
+  const size_t begin = g.counts[0], end = begin + g.counts[1];
+  size_t valid = 0, missed = 0;
+  for (size_t i = begin; i < end; ++i) valid += g.valid[i] != 0;
+  // Repeats when 4 seen > 3 valid: no longer once 4 missed >= valid (a spinning sensor's window
+  // stops after about a quarter of its second frame).
+  for (size_t i = begin; i < end && 4 * missed < valid; ++i)
+    if (g.valid[i]) missed += first.find(key_of(g, hints, i, &d)) == nullptr;
+  return 4 * (valid - missed) > 3 * valid;
 }
 
 // What the encoder finds in a raster window: the pixels, the source distances, the quantum.

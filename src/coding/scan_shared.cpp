@@ -16,6 +16,14 @@ void check_finite(float v, ByteReader* r) {
   if (!std::isfinite(v)) fail(ErrorCode::kCorrupt, r->what(), "laser table value is not finite");
 }
 
+// The firing's slots (FORMAT.md, units bit 6).
+void read_slots(ByteReader* r, uint64_t rings, Table* t, const std::string& what) {
+  t->slots = r->u8();
+  if (t->slots < 1 || t->slots > kMaxSlots)
+    fail(ErrorCode::kCorrupt, what, "the laser table's firing slots are out of range");
+  for (uint64_t k = 0; k < rings; ++k) t->slot.push_back(r->u8());
+}
+
 // The firing's turn and the rings' shares of it (FORMAT.md, units bit 3).
 void read_shares(ByteReader* r, uint64_t rings, Table* t, const std::string& what) {
   t->fire_turn = r->f32();
@@ -26,6 +34,75 @@ void read_shares(ByteReader* r, uint64_t rings, Table* t, const std::string& wha
   }
   if (!ok)
     fail(ErrorCode::kCorrupt, what, "the laser table's firing turn or shares are out of range");
+}
+
+// One packed field of `rings` values (FORMAT.md "Packed laser table"): each J_k 2^-E, binary64.
+std::vector<double> read_packed(ByteReader* r, uint64_t rings, uint8_t* exponent) {
+  const std::string& what = r->what();
+  const int e = r->u8();
+  int64_t j = r->svarint();
+  if (e > kMaxPackExponent || j > kMaxPacked || j < -kMaxPacked)
+    fail(ErrorCode::kCorrupt, what,
+         "a packed laser table field's exponent or value is out of range");
+  *exponent = static_cast<uint8_t>(e);
+  std::vector<double> v(rings);
+  v[0] = std::ldexp(static_cast<double>(j), -e);
+  if (rings < 2) return v;
+  const unsigned b = r->u8();
+  if (b > kMaxPackBits)
+    fail(ErrorCode::kCorrupt, what, "a packed laser table field's differences are too wide");
+  const uint64_t bits = (rings - 1) * b, size = (bits + 7) / 8;
+  if (size > r->remaining())
+    fail(ErrorCode::kCorrupt, what, "a packed laser table field runs past the bytes left");
+  const uint8_t* p = r->bytes(static_cast<size_t>(size));
+  uint64_t at = 0;
+  for (uint64_t k = 1; k < rings; ++k) {
+    uint64_t u = 0;
+    for (unsigned i = 0; i < b; ++i, ++at) u |= uint64_t{(p[at >> 3] >> (at & 7)) & 1u} << i;
+    j += static_cast<int64_t>(u >> 1) ^ -static_cast<int64_t>(u & 1);  // |j| <= 2^53 before
+    if (j > kMaxPacked || j < -kMaxPacked)
+      fail(ErrorCode::kCorrupt, what, "a packed laser table value is out of range");
+    v[k] = std::ldexp(static_cast<double>(j), -e);
+  }
+  if ((bits & 7) != 0 && (p[size - 1] >> (bits & 7)) != 0)
+    fail(ErrorCode::kCorrupt, what, "a packed laser table field's padding bits are not zero");
+  return v;
+}
+
+// The laser table's per-ring values after the units byte (FORMAT.md): plain or packed.
+void read_rings(ByteReader* r, uint64_t rings, uint8_t byte, Table* t) {
+  const uint8_t units = byte & 3;
+  if (byte & kPackBit) {
+    std::vector<double> f[5];
+    const size_t fields = units == 0 ? 3 : units == 1 ? 4 : 5;
+    t->pack.resize(fields);
+    for (size_t i = 0; i < fields; ++i) f[i] = read_packed(r, rings, &t->pack[i]);
+    for (uint64_t k = 0; k < rings; ++k) {
+      t->azimuth0.push_back(static_cast<float>(f[0][k]));
+      t->slope.push_back(static_cast<float>(f[1][k]));
+      t->z0.push_back(static_cast<float>(f[2][k]));
+      if (units != 0) t->unit.push_back(f[3][k]), t->offset.push_back(units == 2 ? f[4][k] : 0.0);
+    }
+  } else {
+    for (uint64_t k = 0; k < rings; ++k) {
+      t->azimuth0.push_back(r->f32());
+      t->slope.push_back(r->f32());
+      t->z0.push_back(r->f32());
+    }
+    for (uint64_t k = 0; units != 0 && k < rings; ++k) {
+      t->unit.push_back(r->f64());
+      t->offset.push_back(units == 2 ? r->f64() : 0.0);
+    }
+  }
+  for (uint64_t k = 0; k < rings; ++k) {
+    check_finite(t->azimuth0[k], r);
+    check_finite(t->slope[k], r);
+    check_finite(t->z0[k], r);
+  }
+  for (size_t k = 0; k < t->unit.size(); ++k)
+    if (!(t->unit[k] >= kMinUnit && t->unit[k] <= kMaxUnit) ||
+        !(std::fabs(t->offset[k]) <= kMaxOffset))
+      fail(ErrorCode::kCorrupt, r->what(), "a ring's range unit or offset is out of range");
 }
 
 // The raster frames' pixel table header (FORMAT.md "Raster frames"); returns P.
@@ -80,25 +157,12 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
     if (t.step == 0.0f || cols == 0 || cols * rings > kMaxMapCells)
       fail(ErrorCode::kCorrupt, what, "laser table with a zero step or too many columns");
     t.columns = static_cast<uint32_t>(cols);
-    for (uint64_t k = 0; k < rings; ++k) {
-      t.azimuth0.push_back(r.f32());
-      t.slope.push_back(r.f32());
-      t.z0.push_back(r.f32());
-      check_finite(t.azimuth0.back(), &r);
-      check_finite(t.slope.back(), &r);
-      check_finite(t.z0.back(), &r);
-    }
     const uint8_t byte = r.u8(), units = byte & 3;
-    if (units == 3 || (byte & ~(7 | kShareBit | kTurnBit)) != 0 ||
-        ((byte & kShareBit) && !(byte & kTurnBit)))
+    if (units == 3 || (byte & ~(7 | kShareBit | kTurnBit | kPackBit | kSlotBit)) != 0 ||
+        ((byte & (kShareBit | kSlotBit)) && !(byte & kTurnBit)) ||
+        ((byte & kShareBit) && (byte & kSlotBit)))
       fail(ErrorCode::kCorrupt, what, "unknown range units in the laser table");
-    for (uint64_t k = 0; units != 0 && k < rings; ++k) {
-      const double u = r.f64(), v = units == 2 ? r.f64() : 0.0;
-      if (!(u >= kMinUnit && u <= kMaxUnit) || !(std::fabs(v) <= kMaxOffset))
-        fail(ErrorCode::kCorrupt, what, "a ring's range unit or offset is out of range");
-      t.unit.push_back(u);
-      t.offset.push_back(v);
-    }
+    read_rings(&r, rings, byte, &t);
     t.turn = (byte & kTurnBit) != 0;
     if (byte & kBowBit) {
       t.bow = r.f32();
@@ -106,6 +170,7 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
         fail(ErrorCode::kCorrupt, what, "the laser table's bow is out of range");
     }
     if (byte & kShareBit) read_shares(&r, rings, &t, what);
+    if (byte & kSlotBit) read_slots(&r, rings, &t, what);
   }
   uint64_t coded = 0;    // points that code at least one symbol
   uint64_t counted = 0;  // coded points of frames with cells: a count each at most

@@ -46,6 +46,16 @@ constexpr uint8_t kTurnBit = 16;
 // and the bounds of its turn and shares (FORMAT.md step 2).
 constexpr uint8_t kShareBit = 8;
 constexpr double kMaxFireTurn = 65536, kMaxShare = 16;
+// The units byte's bit of the packed table, and the bounds of its fields (FORMAT.md "Packed
+// laser table"): exponent, bits of a difference, magnitude of an integer.
+constexpr uint8_t kPackBit = 32;
+constexpr int kMaxPackExponent = 62;
+constexpr unsigned kMaxPackBits = 55;
+constexpr int64_t kMaxPacked = int64_t{1} << 53;
+// The units byte's bit of the firing's slots (only with kTurnBit, not with kShareBit), and the
+// bound of its slots per half turn (FORMAT.md step 2).
+constexpr uint8_t kSlotBit = 64;
+constexpr uint32_t kMaxSlots = 64;
 constexpr double kMaxBow = 1;
 // Coordinates of a spherical frame stay below this in magnitude (so a range fits an int32).
 constexpr int64_t kMaxSphericalCoord = int64_t{1} << 29;
@@ -66,6 +76,12 @@ struct Table {
   // laser's share of it (empty: none).
   float fire_turn = 0;
   std::vector<float> share;
+  // Packed (units bit 5): each packed field's exponent E (a0, slope, z0, then unit and offset as
+  // the range units have them); empty: the table is plain.
+  std::vector<uint8_t> pack;
+  // The firing's slots (units bit 6): slots per half turn N (0: none) and per ring its slot.
+  uint32_t slots = 0;
+  std::vector<uint8_t> slot;
   size_t rings() const { return azimuth0.size(); }
 };
 
@@ -91,7 +107,8 @@ enum Ctx : int {
   kCtxTurn = kCtxWalkColumn + 1,    // 2 x 2 x 4: the column with the third candidate (units bit 4)
   kCtxPairRing = kCtxTurn + 16,     // 6: a ring pair frame's ring, by the previous symbol
   kCtxShare = kCtxPairRing + 6,     // 2 x 4: the column against the firing's base (units bit 3)
-  kContexts = kCtxShare + 8,
+  kCtxSlots = kCtxShare + 8,        // 2 + 4 + 2: the firing's turn, base, column (units bit 6)
+  kContexts = kCtxSlots + 8,
 };
 
 // A point's validity under the frame's validity mode (FORMAT: a flag per point in mode 1, under
@@ -191,6 +208,8 @@ struct Polar {
   uint32_t ring = 0;
   int32_t column = 0;
   int32_t range = 0;
+  // Encoder, with the table's slots: the base B and turn D of the point's firing (FORMAT step 2).
+  int32_t fire_b = 0, fire_d = 0;
 };
 
 // The state that lives across a window's frames and within one frame.
@@ -257,6 +276,14 @@ class State {
     double last_share = 0;
   };
   Base base;
+  // The firing's slots (units bit 6, FORMAT step 2): the firing's base B and turn D, the last
+  // point's slot; set again at each frame's start.
+  struct Slots {
+    bool open = false;
+    int32_t b = 0, d = 0;
+    uint32_t last = 0;
+  };
+  Slots slots;
   // The previous sweep's smoothed range (1/16 steps) at ring k, column col (false: none there).
   bool map_prev(uint32_t k, int32_t col, int64_t* smooth) const {
     return maps_->prev(cell(k, col), smooth);

@@ -20,9 +20,10 @@ constexpr int kRefinements = 3;
 // The valid points' rings and azimuths in columns of the quantum (point order, up to
 // kMaxFitPoints), as place_points meets them.
 void columns_in_order(const ScanGeometry& g, const RingFit& r, double step,
-                      std::vector<uint32_t>* ring, std::vector<double>* u) {
+                      std::vector<uint32_t>* ring, std::vector<double>* u,
+                      size_t most = kMaxFitPoints) {
   std::vector<size_t> next(r.rings(), 0);
-  for (size_t i = 0; i < g.total() && ring->size() < kMaxFitPoints; ++i) {
+  for (size_t i = 0; i < g.total() && ring->size() < most; ++i) {
     if (!g.valid[i]) continue;
     const uint32_t k = r.polar[i].ring;
     if (k >= r.rings() || next[k] >= r.phi[k].size()) continue;
@@ -149,11 +150,177 @@ size_t lead_hits(const std::vector<uint32_t>& ring, const std::vector<double>& u
   return hits;
 }
 
+// The firing's slots (FORMAT step 2, units bit 6), for a driver like the VLP-16's: kSlots slots
+// of half a firing's turn (its firing of 55.296 us is 24 slots of 2.304 us).
+constexpr uint32_t kSlots = 24;
+
+// A firing's columns c[i] of slots m[i] against (b, d) (FORMAT's p each).
+bool fits(const int32_t* c, const uint32_t* m, size_t len, int64_t b, int64_t d) {
+  for (size_t i = 0; i < len; ++i)
+    if (detail::slot_column(kSlots, b, d, m[i]) != c[i]) return false;
+  return true;
+}
+
+// The firing's (B, D) that gives all its columns, preferring B on its prediction bp, then D on
+// dp, then the nearest: among D within 2 of dp, of the last nonzero dn and 0, else (`wide`, or
+// before a nonzero D) any |D| <= kWideTurn; false (and bp, dp) when none does.
+constexpr int64_t kWideTurn = 64;
+bool fire_fit(const int32_t* c, const uint32_t* m, size_t len, int64_t bp, int64_t dp, int64_t dn,
+              bool wide, int32_t* b, int32_t* d) {
+  *b = static_cast<int32_t>(bp), *d = static_cast<int32_t>(dp);
+  if (fits(c, m, len, bp, dp)) return true;
+  const int64_t near[11] = {0,      dp - 2, dp - 1, dp,     dp + 1, dp + 2,
+                            dn - 2, dn - 1, dn,     dn + 1, dn + 2};
+  int64_t best = -1;
+  const bool first = dp == 0 && dn == 0;
+  for (int round = first ? 1 : 0; round < (wide || first ? 2 : 1) && best < 0; ++round) {
+    const int64_t count = round == 0 ? 11 : 2 * kWideTurn + 1;
+    for (int64_t j = 0; j < count; ++j) {
+      const int64_t dd = round == 0 ? near[j] : j - kWideTurn;
+      if (round == 0 && std::find(near, near + j, dd) != near + j) continue;
+      // The first column right: 2N c0 <= B N + D m0 + N < 2N c0 + 2N.
+      const int64_t n = kSlots, top = 2 * n * c[0] + n - 1 - dd * m[0];
+      for (int64_t bb = detail::floor_div(top - n, n); bb <= detail::floor_div(top, n); ++bb) {
+        if (bb < INT32_MIN || bb > INT32_MAX || !fits(c, m, len, bb, dd)) continue;
+        const int64_t db = bb > bp ? bb - bp : bp - bb, dt = dd > dp ? dd - dp : dp - dd;
+        const int64_t cost = ((db != 0) + (dt != 0)) * (int64_t{1} << 40) + db + dt;
+        if (best < 0 || cost < best) {
+          best = cost;
+          *b = static_cast<int32_t>(bb), *d = static_cast<int32_t>(dd);
+        }
+      }
+    }
+  }
+  return best >= 0;
+}
+
+// Splits points (columns c, slots m, the first len) into firings as the decoder does from a
+// frame's start, and gives each its (B, D) (fire_fit); calls out(first, len, b, d, fitted), which
+// returns whether to go on.
+template <class Out>
+void split_firings(const int32_t* c, const uint32_t* m, size_t len, bool wide, Out out) {
+  int64_t b = 0, d = 0, dn = 0;
+  for (size_t i = 0; i < len;) {
+    size_t j = i + 1;
+    while (j < len && m[j] > m[j - 1]) ++j;
+    int32_t fb, fd;
+    const bool ok = fire_fit(&c[i], &m[i], j - i, b + d, d, dn, wide, &fb, &fd);
+    if (!out(i, j - i, fb, fd, ok)) return;
+    b = fb, d = fd;
+    if (d != 0) dn = d;
+    i = j;
+  }
+}
+
+constexpr size_t kSlotFitPoints = 16, kShiftFitPoints = 1024, kMaxSlotFitPoints = 65536;
+
+// The bits the slots would cost the first len points, roughly: a firing's turn and base (their
+// residuals' bit lengths), and two bits a point of a firing they do not fit.
+// (Counting stops above `bound`.)
+size_t slot_cost(const std::vector<int32_t>& c, const std::vector<uint32_t>& ring,
+                 const std::vector<uint8_t>& slot, size_t len, std::vector<uint32_t>* m,
+                 size_t bound = SIZE_MAX) {
+  for (size_t i = 0; i < len; ++i) (*m)[i] = slot[ring[i]];
+  size_t bits = 0;
+  int64_t b = 0, d = 0;
+  split_firings(c.data(), m->data(), len, false,
+                [&](size_t, size_t n, int32_t fb, int32_t fd, bool ok) {
+                  bits += 2 + bit_cost(static_cast<int32_t>(fd - d)) +
+                          bit_cost(static_cast<int32_t>(fb - b - d)) + (ok ? 0 : 2 * n);
+                  b = fb, d = fd;
+                  return bits <= bound;
+                });
+  return bits;
+}
+
+// All the slots moved together to the least slot_cost on the first kShiftFitPoints points: the
+// slots count from the firing's own start, which the shares (from its first laser) do not know.
+void shift_slots(const std::vector<int32_t>& c, const std::vector<uint32_t>& ring, size_t n,
+                 std::vector<uint8_t>* slot, std::vector<uint32_t>* m) {
+  const size_t few = std::min(n, kShiftFitPoints);
+  const int lo = *std::min_element(slot->begin(), slot->end()),
+            hi = *std::max_element(slot->begin(), slot->end());
+  std::vector<uint8_t> moved = *slot;
+  size_t least = slot_cost(c, ring, *slot, few, m);
+  int shift = 0;
+  for (int v = -lo; v < static_cast<int>(kSlots) - hi; ++v) {
+    for (size_t k = 0; k < slot->size(); ++k) moved[k] = static_cast<uint8_t>((*slot)[k] + v);
+    const size_t bits = slot_cost(c, ring, moved, few, m, least);
+    if (bits < least) least = bits, shift = v;
+  }
+  for (uint8_t& k : *slot) k = static_cast<uint8_t>(k + shift);
+}
+
+// The rings' slots: from the shares, then each ring's slot in turn set to the one (of 0..N-1)
+// of the least slot_cost on the points up to the ring's kSlotFitPoints-th. Kept
+// when nine in ten of the sample's firings fit (else empty).
+std::vector<uint8_t> fit_slots(const std::vector<uint32_t>& ring, const std::vector<double>& u,
+                               const std::vector<double>& share) {
+  std::vector<uint8_t> slot;
+  for (double s : share)
+    slot.push_back(
+        static_cast<uint8_t>(std::min(std::max(std::floor(s * kSlots + 0.5), 0.0), kSlots - 1.0)));
+  std::vector<int32_t> c(u.size());
+  std::vector<uint32_t> m(u.size());
+  for (size_t i = 0; i < u.size(); ++i) c[i] = round_clamp(u[i]);
+  shift_slots(c, ring, u.size(), &slot, &m);
+  for (size_t pass = 0; pass < slot.size(); ++pass) {
+    const size_t k = pass % slot.size();
+    size_t few = 0, seen = 0;  // up to ring k's kSlotFitPoints-th point
+    while (few < u.size() && seen < kSlotFitPoints) seen += ring[few++] == k;
+    if (seen == 0) continue;  // a ring without points keeps its slot
+    uint8_t best = slot[k];
+    size_t least = slot_cost(c, ring, slot, few, &m);
+    for (uint32_t v = 0; v < kSlots; ++v) {  // a slot of another ring's left out (lasers apart)
+      if (std::find(slot.begin(), slot.end(), v) != slot.end()) continue;
+      slot[k] = static_cast<uint8_t>(v);
+      const size_t bits = slot_cost(c, ring, slot, few, &m, least);
+      if (bits < least) least = bits, best = slot[k];
+    }
+    slot[k] = best;
+  }
+  shift_slots(c, ring, u.size(), &slot, &m);
+  size_t firings = 0, fitted = 0;
+  for (size_t i = 0; i < u.size(); ++i) m[i] = slot[ring[i]];
+  split_firings(c.data(), m.data(), u.size(), true, [&](size_t, size_t, int32_t, int32_t, bool ok) {
+    ++firings, fitted += ok;
+    return true;
+  });
+  if (fitted * 10 < firings * 9) slot.clear();
+  return slot;
+}
+
 }  // namespace
+
+void fire_points(const ScanGeometry& g, const Table& t, size_t n, std::vector<Polar>* polar) {
+  std::vector<int32_t> c;
+  std::vector<uint32_t> m;
+  std::vector<size_t> at;
+  size_t first = 0;
+  for (size_t f = 0; f < g.counts.size() && first < n; ++f) {
+    const size_t end = std::min<size_t>(n, first + g.counts[f]);
+    c.clear(), m.clear(), at.clear();
+    for (size_t i = first; i < end; ++i) {
+      if (!g.valid[i]) continue;
+      const Polar& p = (*polar)[i];
+      if (p.ring >= t.slot.size()) continue;
+      c.push_back(p.column), m.push_back(t.slot[p.ring]), at.push_back(i);
+    }
+    split_firings(c.data(), m.data(), c.size(), true,
+                  [&](size_t i, size_t len, int32_t b, int32_t d, bool) {
+                    for (size_t j = i; j < i + len; ++j)
+                      (*polar)[at[j]].fire_b = b, (*polar)[at[j]].fire_d = d;
+                    return true;
+                  });
+    first += g.counts[f];
+  }
+}
 
 void fit_shares(const ScanGeometry& g, RingFit* r) {
   r->fire_turn = 0;
   r->share.clear();
+  r->slots = 0;
+  r->slot.clear();
   if (r->quantum <= 0 || r->rings() == 0) return;
   const double step = std::copysign(r->quantum, r->step), cols = kTwoPi / r->quantum;
   std::vector<uint32_t> ring;
@@ -170,6 +337,15 @@ void fit_shares(const ScanGeometry& g, RingFit* r) {
   if (hits <= lead_hits(ring, u, rings)) return;
   r->fire_turn = static_cast<float>(turn);
   for (double o : off) r->share.push_back(static_cast<float>(std::min(o / turn, kMaxShare)));
+  // The firing's slots in the base's place when they fit (fit_slots).
+  std::vector<double> share(r->share.begin(), r->share.end());
+  ring.clear(), u.clear();
+  columns_in_order(g, *r, step, &ring, &u, kMaxSlotFitPoints);
+  r->slot = fit_slots(ring, u, share);
+  if (r->slot.empty()) return;
+  r->slots = kSlots;
+  r->fire_turn = 0;
+  r->share.clear();
 }
 
 }  // namespace scan

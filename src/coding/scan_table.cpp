@@ -449,6 +449,7 @@ RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units) {
     r.phi[ring[i]].push_back(azimuth(g, hints, i));
     r.polar[i].ring = ring[i];
     r.polar[i].range = round_clamp(h);
+    r.reach = std::max(r.reach, h);
   }
   r.step = infer_step(r.phi);
   r.quantum = azimuth_quantum(r);
@@ -472,7 +473,7 @@ Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* 
   double step = step_divisor > 0 ? r.step / step_divisor : std::copysign(r.quantum, r.step);
   if (step == 0 || !std::isfinite(step)) return t;
   t.turn = step_divisor <= 0;
-  if (t.turn) t.fire_turn = r.fire_turn, t.share = r.share;
+  if (t.turn) t.fire_turn = r.fire_turn, t.share = r.share, t.slots = r.slots, t.slot = r.slot;
   t.step = static_cast<float>(step);
   step = t.step;
   const double cols = std::floor(kTwoPi / std::fabs(step) + 0.5);
@@ -484,6 +485,7 @@ Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* 
   if (units) t.unit = r.unit, t.offset = r.offset;
   if (twin && twin->step == t.step && twin->rings() == rings) {  // the same offsets
     t.azimuth0 = twin->azimuth0;
+    pack_table(&t, r.reach);
     return t;
   }
   t.azimuth0.resize(rings);
@@ -495,6 +497,7 @@ Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* 
     }
     t.azimuth0[k] = static_cast<float>(step * std::atan2(ss, sc) / kTwoPi);
   }
+  pack_table(&t, r.reach);
   return t;
 }
 
@@ -521,6 +524,7 @@ void place_points(const ScanGeometry& g, const RingFit& r, const Table& t, size_
     if (units) o.range = r.steps[i];
     (*polar)[i] = o;
   }
+  if (t.slots) fire_points(g, t, n, polar);
 }
 
 Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor, bool units,

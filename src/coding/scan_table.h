@@ -7,6 +7,9 @@
 #include "coding/scan_shared.h"
 
 namespace capz {
+
+class ByteWriter;
+
 namespace scan {
 
 // What the tables of every azimuth step share, found once per window: the rings, and per ring
@@ -27,6 +30,11 @@ struct RingFit {
   // (fit_shares, scan_shares_encode.cpp; else 0 and empty).
   float fire_turn = 0;
   std::vector<float> share;
+  double reach = 0;  // the largest range of the points, grid units
+  // The firing's slots in their place (Table::slots, slot), when found (fit_shares; else 0 and
+  // empty).
+  uint32_t slots = 0;
+  std::vector<uint8_t> slot;
   size_t rings() const { return phi.size(); }
 };
 // Without `units` the range step is not looked for (a caller that codes no payload with it).
@@ -35,6 +43,9 @@ RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units = tr
 // from g's points in order; kept in r only when the firing's base predicts more columns
 // exactly than the ring's lead on the point before.
 void fit_shares(const ScanGeometry& g, RingFit* r);
+// Each valid point's firing's base and turn (Polar::fire_b, fire_d) on a table with slots, the
+// firings split per frame as the decoder splits them (scan_shares_encode.cpp).
+void fire_points(const ScanGeometry& g, const Table& t, size_t n, std::vector<Polar>* polar);
 // The azimuth step found in each ring's azimuths sorted (positive), not in point order: a
 // driver that writes a ring's points out of firing order (pandar64: columns in a shuffled
 // pattern) makes the point-order step a multiple of the sensor's. 0 when none is found.
@@ -56,6 +67,13 @@ Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor, bo
 Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* twin = nullptr);
 void place_points(const ScanGeometry& g, const RingFit& r, const Table& t, size_t n,
                   std::vector<Polar>* polar);
+
+// Packs t (FORMAT.md "Packed laser table", units bit 5) when that is smaller than the plain
+// table: its values rounded to the packed fields' multiples (so that reach, the largest range
+// of the points in grid units, moves by at most 1/128 of a grid step for an angle's rounding).
+void pack_table(Table* t, double reach);
+// The packed fields of a table pack_table packed (t.pack not empty).
+void write_packed_table(const Table& t, ByteWriter* w);
 
 // True when every valid point of points [first, first + n) may be coded spherically.
 bool spherical_ok(const ScanGeometry& g, size_t first, size_t n);

@@ -61,7 +61,7 @@ class Tally {
     std::fill(totals_.begin(), totals_.end(), 0u);
     extra_ = symbols_ = 0;
   }
-  void put(uint32_t u, int ctx) {
+  __attribute__((always_inline)) void put(uint32_t u, int ctx) {
     int extra;
     const int tok = token_of(u, &extra);
     ++counts_[static_cast<size_t>(ctx) * 64 + static_cast<size_t>(tok)];

@@ -40,8 +40,10 @@ endforeach()
 file(GLOB_RECURSE config ${prefix}/*/capzConfig.cmake)
 file(GLOB_RECURSE pcfile ${prefix}/*/capz.pc)
 file(GLOB_RECURSE module ${prefix}/*/libcapz_pcl_io.so)
-if(NOT config OR NOT pcfile OR NOT module)
-  message(FATAL_ERROR "install test: capzConfig.cmake, capz.pc or libcapz_pcl_io.so missing "
+file(GLOB_RECURSE geom_module ${prefix}/*/libcapz_pcl_geom.so)
+if(NOT config OR NOT pcfile OR NOT module OR NOT geom_module)
+  message(FATAL_ERROR "install test: capzConfig.cmake, capz.pc, libcapz_pcl_io.so or "
+                      "libcapz_pcl_geom.so missing "
                       "under ${prefix}")
 endif()
 get_filename_component(pcdir ${pcfile} DIRECTORY)

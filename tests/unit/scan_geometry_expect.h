@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "capz/error.h"
+#include "coding/bytes.h"
 #include "coding/scan_geometry.h"
 #include "coding/scan_shared.h"
 #include "coding/scan_table.h"
@@ -168,6 +169,36 @@ inline std::vector<uint8_t> one_frame_payload(const ScanGeometry& g, const ScanH
   scan::write_header(g, {flags}, t, &out);
   const std::vector<uint8_t> block = enc.finish();
   out.insert(out.end(), block.begin(), block.end());
+  return out;
+}
+
+// The offset of a payload's laser table `units` byte (after F, the counts, the frames' flags,
+// their copies, K, step and C; FORMAT.md "Scan geometry payload").
+inline size_t units_offset(const std::vector<uint8_t>& p) {
+  ByteReader r(p.data(), p.size(), "units");
+  const uint64_t frames = r.varint();
+  for (uint64_t f = 0; f < frames; ++f) r.varint();
+  const uint8_t* flags = r.bytes(static_cast<size_t>(frames));
+  for (uint64_t f = 0; f < frames; ++f)
+    if (flags[f] & scan::kCells) r.varint();
+  r.varint();
+  r.f32();
+  r.varint();
+  return r.offset();
+}
+
+// Payload p with its laser table written plain (units bit 5 clear): the same values, so the
+// same points. (For payloads without cells or raster frames, whose header ends with the table.)
+inline std::vector<uint8_t> unpacked(const std::vector<uint8_t>& p) {
+  const scan::Header hd = scan::read_header(p.data(), p.size(), "plain", size_t{1} << 24);
+  for (uint8_t f : hd.flags) EXPECT_EQ(f & (scan::kCells | scan::kRaster), 0);
+  scan::Table t = hd.table;
+  t.pack.clear();
+  ScanGeometry head;
+  head.counts = hd.counts;
+  std::vector<uint8_t> out;
+  scan::write_header(head, hd.flags, t, &out);
+  out.insert(out.end(), p.begin() + static_cast<std::ptrdiff_t>(hd.body), p.end());
   return out;
 }
 

@@ -166,8 +166,7 @@ TEST(ScanBow, GivenADamagedBowWhenDecodedThenCorrupt) {
   std::vector<uint8_t> p;
   const scan::Header hd = coded(g, h, &p);
   ASSERT_NE(hd.table.bow, 0.0f);
-  const size_t per_ring = hd.table.unit.empty() ? 0 : hd.table.offset[0] != 0 ? 16 : 8;
-  const size_t bow_at = hd.body - 4, units_at = bow_at - per_ring * hd.table.rings() - 1;
+  const size_t bow_at = hd.body - 4, units_at = units_offset(p);
   ASSERT_EQ(p[units_at] & scan::kBowBit, scan::kBowBit);
   for (uint8_t bit : {8, 16, 128}) {
     std::vector<uint8_t> d = p;

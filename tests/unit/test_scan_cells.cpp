@@ -125,11 +125,35 @@ TEST(ScanCells, GivenAnOrderThenCopiesFollowTheirFirstAndTheRestKeepsItsOrder) {
     s.valid[j] = g.valid[o[j]];
     std::copy_n(&g.q[3 * size_t{o[j]}], 3, &s.q[3 * j]);
   }
-  EXPECT_EQ(scan_cell_copies(s), 4u);  // two A, one B, one C
-  EXPECT_EQ(scan_cell_copies(g), 0u);  // none adjacent as given
+  EXPECT_EQ(scan_cell_copies(s), 4u);     // two A, one B, one C
+  EXPECT_EQ(scan_cell_copies(g), 0u);     // none adjacent as given
+  EXPECT_EQ(scan_grouped_copies(g), 4u);  // the grouped order's, from any order
   EXPECT_TRUE(encode_scan_cells(g, {}, nullptr).empty());
   const std::vector<uint8_t> p = encode_scan_cells(s, {}, nullptr);
   expect_same(decode_scan_geometry(p.data(), p.size(), "cells"), s);
+}
+
+TEST(ScanCells, GivenAnyWindowThenTheGroupedCopiesAreCountedWithoutGrouping) {
+  ScanHints h;
+  ScanGeometry g = near_window(&h);
+  std::vector<uint32_t> order(g.total());
+  for (size_t j = 0; j < order.size(); ++j) order[j] = static_cast<uint32_t>(j);
+  for (int pass = 0; pass < 2; ++pass) {  // the file's order, then each frame's reversed
+    ScanGeometry s = g;
+    const std::vector<uint32_t> o = group_cell_copies(g, order);
+    for (size_t j = 0; j < o.size(); ++j) {
+      s.valid[j] = g.valid[o[j]];
+      std::copy_n(&g.q[3 * size_t{o[j]}], 3, &s.q[3 * j]);
+    }
+    EXPECT_GT(scan_cell_copies(s), 0u);
+    EXPECT_EQ(scan_grouped_copies(g), scan_cell_copies(s));
+    size_t first = 0;
+    for (uint32_t n : g.counts) {
+      std::reverse(order.begin() + static_cast<std::ptrdiff_t>(first),
+                   order.begin() + static_cast<std::ptrdiff_t>(first + n));
+      first += n;
+    }
+  }
 }
 
 TEST(ScanCells, GivenTheByRingOrderThenEachFramesPointsRingByRingGapsLast) {
@@ -137,6 +161,11 @@ TEST(ScanCells, GivenTheByRingOrderThenEachFramesPointsRingByRingGapsLast) {
   const ScanGeometry g = near_window(&h);
   const std::vector<uint32_t> o = scan_point_order(g, h, ScanOrderTable::kPerFrameByRing);
   ASSERT_EQ(o.size(), g.total());
+  // The per-frame order's fits give the same order ring by ring.
+  std::vector<uint32_t> by_ring;
+  EXPECT_EQ(scan_point_order(g, h, ScanOrderTable::kPerFrame, &by_ring),
+            scan_point_order(g, h, ScanOrderTable::kPerFrame));
+  EXPECT_EQ(by_ring, o);
   size_t first = 0;
   for (uint32_t n : {g.counts[0], g.counts[1]}) {  // frame 2 is one cell on one ring
     std::vector<uint32_t> seen(o.begin() + static_cast<std::ptrdiff_t>(first),

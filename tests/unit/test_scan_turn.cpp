@@ -36,10 +36,9 @@ std::vector<uint8_t> coded(const ScanGeometry& g, const ScanHints& h) {
   return coded_exact(g, h, "turn");
 }
 
-// The offset of the laser table's `units` byte (ranges in steps, through the origin, no bow).
+// The offset of the laser table's `units` byte.
 size_t units_at(const std::vector<uint8_t>& p) {
-  const scan::Header hd = scan::read_header(p.data(), p.size(), "turn", 1u << 22);
-  return hd.body - 8 * hd.table.rings() - 1;
+  return units_offset(p);
 }
 
 TEST(ScanTurn, GivenAzimuthsOnTheQuantumThenItsTableWithTheTurnExactAndSmaller) {
@@ -59,7 +58,7 @@ TEST(ScanTurn, GivenAzimuthsOnTheQuantumThenItsTableWithTheTurnExactAndSmaller) 
   const scan::Header hd = scan::read_header(on.data(), on.size(), "turn", 1u << 22);
   EXPECT_TRUE(hd.table.turn);
   EXPECT_NEAR(hd.table.step, kQuantum, 1e-9);
-  EXPECT_EQ(on[units_at(on)], 1 | scan::kTurnBit);
+  EXPECT_EQ(on[units_at(on)] & ~scan::kPackBit, 1 | scan::kTurnBit);
   EXPECT_FALSE(scan::read_header(plain.data(), plain.size(), "off", 1u << 22).table.turn);
   EXPECT_EQ(scan::read_header(plain.data(), plain.size(), "off", 1u << 22).table.unit.size(),
             hd.table.rings());  // both count the range's 4 mm steps
@@ -79,7 +78,7 @@ TEST(ScanTurn, GivenDamagedUnitsOrBlockThenCorrupt) {
   const ScanGeometry g = sweep(&h);
   const std::vector<uint8_t> p = coded(g, h);
   const size_t at = units_at(p);
-  for (uint8_t bit : {32, 64, 128}) {  // (bit 3, the shares: test_scan_shares.cpp)
+  for (uint8_t bit : {64, 128}) {  // (bit 3: test_scan_shares.cpp; 5: test_scan_pack.cpp)
     std::vector<uint8_t> d = p;
     d[at] = static_cast<uint8_t>(d[at] | bit);
     expect_scan_corrupt(d);

@@ -77,7 +77,7 @@ TEST(ScanUnits, GivenADistanceFieldFromAnOffsetCentreThenUnitsWithOffsets) {
   const scan::Header hd = scan::read_header(with.data(), with.size(), "offsets", 1u << 20);
   ASSERT_EQ(hd.table.offset.size(), hd.table.rings());
   ASSERT_GT(hd.table.rings(), 0u);
-  EXPECT_EQ(with[hd.body - 16 * hd.table.rings() - 1], 2);     // units 2: u_k and v_k
+  EXPECT_EQ(with[units_offset(with)] & 3, 2);                  // units 2: u_k and v_k
   for (double v : hd.table.offset) EXPECT_NEAR(v, 17.5, 0.5);  // 35 mm in 2 mm grid units
   ScanHints without = h;
   without.grid_per_unit = 0;  // the encoder cannot look for a step
@@ -100,7 +100,7 @@ TEST(ScanUnits, GivenNoDistanceFieldFromAnOffsetCentreThenUnitsWithRingOffsets) 
   const scan::Header hd = scan::read_header(with.data(), with.size(), "rings", 1u << 20);
   ASSERT_EQ(hd.table.offset.size(), hd.table.rings());
   ASSERT_GT(hd.table.rings(), 0u);
-  EXPECT_EQ(with[hd.body - 16 * hd.table.rings() - 1], 2);   // units 2: u_k and v_k
+  EXPECT_EQ(with[units_offset(with)] & 3, 2);                // units 2: u_k and v_k
   for (double u : hd.table.unit) EXPECT_NEAR(u, 1.25, 0.1);  // 2.5 mm in 2 mm grid units, cos(el)
   ScanHints without = h;
   without.grid_per_unit = 0;
@@ -121,16 +121,17 @@ TEST(ScanUnits, GivenRangesOffAnyStepThenGridUnits) {
 TEST(ScanUnits, GivenDamagedUnitsWhenDecodedThenCorrupt) {
   ScanHints h;
   const ScanGeometry g = sweeps(0.004, &h);
-  const std::vector<uint8_t> p = encode_scan_geometry(g, h);
+  const std::vector<uint8_t> p = unpacked(encode_scan_geometry(g, h));  // the plain table
+  expect_exact(g, p);
   const scan::Header hd = scan::read_header(p.data(), p.size(), "units", 1u << 20);
-  const size_t units_at = hd.body - 8 * hd.table.rings() - 1;
+  const size_t units_at = units_offset(p);
   ASSERT_EQ(p[units_at], 1);  // through the origin: u_k alone
   std::vector<uint8_t> d = p;
   d[units_at] = 3;
   expect_scan_corrupt(d);
   for (double bad : {0.0, -1.0, 0x1p-21, 0x1p21, std::nan("")}) {
     d = p;
-    std::memcpy(&d[units_at + 1], &bad, 8);  // little-endian hosts, as the library's tests
+    std::memcpy(&d[units_at + 1 + 12 * hd.table.rings()], &bad, 8);  // little-endian hosts
     expect_scan_corrupt(d);
   }
 }

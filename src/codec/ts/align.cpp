@@ -1,12 +1,10 @@
 #include "codec/ts/align.h"
 
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
-#include <pcl/registration/transformation_estimation_svd.h>
-
+#include <Eigen/Core>
 #include <cmath>
 
 #include "capz/error.h"
+#include "codec/pcl_geom.h"
 
 namespace capz {
 namespace ts {
@@ -17,8 +15,7 @@ std::vector<RigidParams> estimate_alignment(const PositionsView& in, const Align
   std::vector<RigidParams> out(in.frames);
   if (in.frames == 0) return out;
   const size_t ref = params.reference;
-  pcl::registration::TransformationEstimationSVD<pcl::PointXYZ, pcl::PointXYZ, double> est;
-  pcl::PointCloud<pcl::PointXYZ> src, tgt;
+  std::vector<float> src, tgt;  // x y z of the common points, less the reference's mean
   for (size_t f = 0; f < in.frames; ++f) {
     if (f == ref) continue;
     // PCL points are float: subtract the reference frame's mean first so the float rounding is
@@ -35,19 +32,22 @@ std::vector<RigidParams> estimate_alignment(const PositionsView& in, const Align
     for (double& v : c) v /= static_cast<double>(n);
     src.clear();
     tgt.clear();
-    src.reserve(n);
-    tgt.reserve(n);
+    src.reserve(3 * n);
+    tgt.reserve(3 * n);
     for (size_t p = 0; p < in.points; ++p) {
       if (!in.valid[f * in.points + p] || !in.valid[ref * in.points + p]) continue;
       const double* s = in.xyz + (f * in.points + p) * 3;
       const double* t = in.xyz + (ref * in.points + p) * 3;
-      src.push_back(pcl::PointXYZ(static_cast<float>(s[0] - c[0]), static_cast<float>(s[1] - c[1]),
-                                  static_cast<float>(s[2] - c[2])));
-      tgt.push_back(pcl::PointXYZ(static_cast<float>(t[0] - c[0]), static_cast<float>(t[1] - c[1]),
-                                  static_cast<float>(t[2] - c[2])));
+      for (int a = 0; a < 3; ++a) {
+        src.push_back(static_cast<float>(s[a] - c[a]));
+        tgt.push_back(static_cast<float>(t[a] - c[a]));
+      }
     }
-    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-    est.estimateRigidTransformation(src, tgt, m);
+    double mm[16];
+    geom::backend("ts alignment").rigid(src.data(), tgt.data(), n, mm);
+    Eigen::Matrix4d m;
+    for (int r = 0; r < 4; ++r)
+      for (int k = 0; k < 4; ++k) m(r, k) = mm[4 * r + k];
     if (!m.allFinite()) continue;
     // p - c = R (v - c) + t'  =>  p = R v + (t' + c - R c)
     const Eigen::Matrix3d r = m.block<3, 3>(0, 0);
