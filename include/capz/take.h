@@ -34,6 +34,8 @@ enum class Format {
 };
 // "c3d", "trc", "pcd-folder", "bin-folder", "ply-folder", "unknown"
 const char* format_name(Format f);
+// PCD, PLY and .bin frames: point clouds, whose points have no labels (Take::labels empty).
+bool is_frame_files(Format f);
 
 // ---------------------------------------------------------------------------------------------
 // C3D specifics: what a C3D carries beyond positions, kept so a C3D written back is faithful.
@@ -296,8 +298,10 @@ struct Take {
   // True when the file holds no units and the reader assumed `units` (PCD, PLY and .bin frames:
   // metres, as ROS REP 103 and LiDAR drivers write them); --units overrides.
   bool units_assumed = false;
-  int64_t first_frame = 1;                // number of the first frame as the source counts them
-  std::vector<std::string> labels;        // one per point (may be empty strings)
+  int64_t first_frame = 1;  // number of the first frame as the source counts them
+  // One per point (may be empty strings), or none: a ragged take's, and the points of PCD, PLY
+  // and .bin frames (is_frame_files), which carry no labels.
+  std::vector<std::string> labels;
   std::vector<std::string> descriptions;  // one per point or empty
 
   Analog analog;        // channels == 0 when none

@@ -381,7 +381,8 @@ void bind_take_positions(TakeClass* cls) {
               invalid("labels: one per point expected");
             t.labels = file_texts(v, latin1_text(t), "labels");
           },
-          "one label per point (may be empty strings)")
+          "one label per point (may be empty strings), or none: a ragged take's points and "
+          "those of PCD, PLY and .bin frames have no labels")
       .def_property_readonly("descriptions",
                              [](const capz::Take& t) { return texts(t.descriptions); })
       .def_property(

@@ -43,7 +43,7 @@ void CapzSource::one_frame_as_fixed() {
   one_ragged_frame_ = true;
   header_.points = header_.frame_offsets.at(1);
   header_.frame_offsets.clear();
-  header_.labels.clear();  // unlabelled points: no string a point (decompress() adds them)
+  header_.labels.clear();  // frame files' points have no labels (take.h)
   if (header_.pcd && header_.pcd->width != header_.points) {
     auto x = std::make_shared<PCDExtra>(*header_.pcd);
     x->width = header_.points;

@@ -18,13 +18,10 @@ namespace capz {
 
 // What a reader gives one frame file, every .capz of one frame gives too: a stream of one ragged
 // frame (the encoder codes a single unorganized frame with the scan coder when that is smaller)
-// is a fixed take of one frame (header() and every block read()), its points unlabelled, a PCD
-// layout unorganized (width = its points, height 1). The one place this rule lives: decompress(),
-// `capz verify`, `capz compress --rm`'s read-back and every other .capz reader go through here.
-// parsed() keeps the stream's own (ragged) shape. Unlabelled here means header().labels is
-// empty, not one empty string a point (a sweep's 100 thousand strings cost more than decoding
-// it): a writer reads a label only where there is one, a comparison takes the two as the same
-// (metrics/promise.h); decompress() gives the Take a reader gives, one empty label a point.
+// is a fixed take of one frame (header() and every block read()), its points without labels
+// (as every frame file's, take.h), a PCD layout unorganized (width = its points, height 1). The
+// one place this rule lives: decompress(), `capz verify`, `capz compress --rm`'s read-back and
+// every other .capz reader go through here. parsed() keeps the stream's own (ragged) shape.
 class CapzSource : public FrameSource {
  public:
   // whole: the stream will be read whole, so check that its windows tile it exactly.

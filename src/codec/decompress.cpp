@@ -62,8 +62,6 @@ Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
   FrameBlock b;
   src.read(first, count, &b);
   Take t = src.header();  // a stream of one ragged frame: one fixed frame (capz_source.h)
-  if (ps.h.ragged && !t.ragged() && t.labels.empty())
-    t.labels.assign(t.points, std::string());  // as a reader gives a frame file
   t.frames = count;
   t.xyz = std::move(b.xyz);
   t.valid = std::move(b.valid);

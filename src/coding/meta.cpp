@@ -4,6 +4,7 @@
 // block functions these mirror, is meta_encode.cpp.
 #include "coding/meta.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -308,6 +309,10 @@ void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sam
   t->rate = r.f64();
   t->first_frame = r.svarint();
   t->labels = get_strings(&r, t->points, "label count");
+  // FORMAT.md 5.2: the N empty labels of frame files are no labels (take.h).
+  if (is_frame_files(t->format) && std::all_of(t->labels.begin(), t->labels.end(),
+                                               [](const std::string& l) { return l.empty(); }))
+    t->labels.clear();
   t->descriptions = get_strings(&r, t->points, "description count");
   t->analog.rate = r.f64();
   t->analog.labels = get_strings(&r, static_cast<size_t>(t->analog.channels), "analog label count");

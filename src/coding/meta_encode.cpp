@@ -213,7 +213,13 @@ std::vector<uint8_t> encode_meta_fields(const Take& t, bool has_sample_words) {
   const bool derived = t.c3d && labels_from_parameters(*t.c3d, t.points, t.analog.channels,
                                                        t.labels, t.descriptions, t.analog.labels);
   static const std::vector<std::string> kNone;
-  put_strings(&w, derived ? kNone : t.labels);
+  if (!t.ragged() && t.labels.empty() && is_frame_files(t.format)) {
+    // FORMAT.md 5.2: frame files' points have no labels; their list is N empty strings.
+    w.varint(t.points);
+    for (size_t p = 0; p < t.points; ++p) w.varint(0);  // an empty string
+  } else {
+    put_strings(&w, derived ? kNone : t.labels);
+  }
   put_strings(&w, derived ? kNone : t.descriptions);
   w.f64(t.analog.rate);
   put_strings(&w, derived ? kNone : t.analog.labels);

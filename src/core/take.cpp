@@ -28,6 +28,10 @@ const char* format_name(Format f) {
   return "unknown";
 }
 
+bool is_frame_files(Format f) {
+  return f == Format::kPCDFolder || f == Format::kPLYFolder || f == Format::kBinFolder;
+}
+
 static std::string lower(std::string s) {
   for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;

@@ -251,12 +251,11 @@ void set_frame_shape(const std::vector<size_t>& counts, Take* t) {
   if (fixed) {
     t->points = counts.empty() ? 0 : counts[0];
     t->frame_offsets.clear();
-    t->labels.assign(t->points, std::string());
   } else {
     t->points = 0;
     t->frame_offsets = offsets_of_counts(counts);
-    t->labels.clear();
   }
+  t->labels.clear();  // frame files carry no point labels (take.h)
 }
 
 void FileFrameSource::set_counts(const std::vector<size_t>& counts) {

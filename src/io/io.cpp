@@ -103,10 +103,6 @@ Format folder_format(const std::string& dir) {
   return ply ? Format::kPLYFolder : bin ? Format::kBinFolder : Format::kPCDFolder;
 }
 
-bool is_frames_format(Format f) {
-  return f == Format::kPCDFolder || f == Format::kPLYFolder || f == Format::kBinFolder;
-}
-
 }  // namespace
 
 Format detect_format(const std::string& path) {
@@ -162,8 +158,8 @@ Format output_format(const Take& take, const std::string& path, const WriteOptio
   while (p.size() > 1 && p.back() == '/') p.pop_back();
   std::error_code ec;
   if (lower_extension(p) == ".pcd" && path.back() != '/' && !fs::is_directory(p, ec)) return f;
-  if (is_frames_format(opts.folder_format)) return opts.folder_format;
-  return is_frames_format(take.format) ? take.format : Format::kPCDFolder;
+  if (is_frame_files(opts.folder_format)) return opts.folder_format;
+  return is_frame_files(take.format) ? take.format : Format::kPCDFolder;
 }
 
 std::vector<std::string> dropped_by(const Take& take, Format out) {
@@ -178,7 +174,7 @@ std::vector<std::string> dropped_by(const Take& take, Format out) {
   }
   if (take.rotations.segments > 0)
     d.push_back("the " + std::to_string(take.rotations.segments) + " rotation segments");
-  if (is_frames_format(out) && take.rate > 0) {
+  if (is_frame_files(out) && take.rate > 0) {
     char rate[64];
     const std::to_chars_result r = std::to_chars(rate, rate + sizeof rate, take.rate);
     d.push_back("the frame rate (" + std::string(rate, r.ptr) + " Hz)");

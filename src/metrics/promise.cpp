@@ -26,16 +26,6 @@ bool same_values(const double* a, const double* b, size_t n) {
   return true;
 }
 
-// The same point labels: equal lists, or one empty and the other only empty strings (a .capz of
-// one scan frame gives its points no label strings, a reader one empty string a point:
-// codec/capz_source.h).
-bool same_labels(const std::vector<std::string>& a, const std::vector<std::string>& b) {
-  const auto blank = [](const std::vector<std::string>& v) {
-    return std::all_of(v.begin(), v.end(), [](const std::string& l) { return l.empty(); });
-  };
-  return a == b || (a.empty() && blank(b)) || (b.empty() && blank(a));
-}
-
 std::string text(double v, int digits) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*g", digits, v);
@@ -126,7 +116,7 @@ std::string header_difference(const Take& a, const Take& b) {
                           (b.units_assumed && a.units.empty());
   if (!same_value(a.rate, b.rate) || !same_units || a.first_frame != b.first_frame)
     return "the rate, units or first frame differ";
-  if (!same_labels(a.labels, b.labels) || a.descriptions != b.descriptions)
+  if (a.labels != b.labels || a.descriptions != b.descriptions)
     return "the point labels or descriptions differ";
   const Analog &p = a.analog, &q = b.analog;
   if (p.channels != q.channels || p.samples_per_frame != q.samples_per_frame ||

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -56,6 +58,68 @@ inline void push_polar(ScanGeometry* g, ScanHints* h, double az, double el, doub
   const double p[3] = {rho * std::cos(az), rho * std::sin(az), range * std::sin(el)};
   push_point(g, h, p, k);
   h->distance.push_back(static_cast<float>(range));
+}
+
+constexpr double kQuantum001 = 0.01 * 3.141592653589793 / 180;  // 0.01 degree in radians
+
+// A laser's point in a firing (quantum_sweep): its ring, azimuth in 0.01 degree quanta,
+// elevation (radians) and range (metres, before the noise quantum_sweep adds).
+struct SweepLaser {
+  uint32_t ring = 0;
+  int64_t quanta = 0;
+  double elevation = 0, range = 0;
+};
+
+// One sweep of a spinning sensor on a 1 mm grid (step 0.002 m) in firing order, ranges on a
+// 4 mm step and also the distance field, its azimuths on the 0.01 degree quantum as a Velodyne
+// driver writes them: each firing turns 19 to 21 quanta from the last (random from `seed`)
+// until a whole turn. A firing's `lasers` slots each miss with probability `drop`.
+// firing(f, turn, draw) is called once a firing (draw() gives the next uniform [0, 1) of the
+// sweep's generator) and returns what its slots see; slot(s, a, turn, v) places slot s of the
+// firing at azimuth a (quanta) given v. A point's range gets 0 to 4 mm of noise.
+template <typename Firing, typename Slot>
+ScanGeometry quantum_sweep(ScanHints* h, unsigned seed, int lasers, double drop, Firing firing,
+                           Slot slot) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  const auto draw = [&] { return u(rng); };
+  ScanGeometry g;
+  uint32_t n = 0;
+  int64_t a = 0;
+  for (int f = 0; a < 36000; ++f) {
+    const int turn = 19 + static_cast<int>(u(rng) * 3);
+    a += turn;
+    const int v = firing(f, turn, draw);
+    for (int s = 0; s < lasers; ++s) {
+      if (u(rng) < drop) continue;
+      const SweepLaser l = slot(s, a, turn, v);
+      push_polar(&g, h, static_cast<double>(l.quanta) * kQuantum001, l.elevation,
+                 l.range + 0.004 * u(rng), l.ring);
+      ++n;
+    }
+  }
+  g.counts.push_back(n);
+  h->grid_per_unit = 500;
+  return g;
+}
+
+// g coded with hints h: the payload, checked to decode to g exactly (`what` names it).
+inline std::vector<uint8_t> coded_exact(const ScanGeometry& g, const ScanHints& h,
+                                        const std::string& what) {
+  const std::vector<uint8_t> p = encode_scan_geometry(g, h);
+  expect_same(g, decode_scan_geometry(p.data(), p.size(), what));
+  return p;
+}
+
+// Payload d, g's with a header field taken away, decodes to other integers than g's or fails
+// as corrupt.
+inline void expect_decoded_otherwise(const std::vector<uint8_t>& d, const ScanGeometry& g) {
+  try {
+    const ScanGeometry back = decode_scan_geometry(d.data(), d.size(), "damaged");
+    EXPECT_NE(back.q, g.q);
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
+  }
 }
 
 // Codes through a block, the ring and column symbols also counted apart.

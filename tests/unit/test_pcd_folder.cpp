@@ -9,8 +9,10 @@
 #include <fstream>
 #include <string>
 
+#include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/io.h"
+#include "coding/meta.h"
 #include "io/natural_sort.h"
 #include "test_util.h"
 
@@ -90,7 +92,36 @@ TEST(PcdFolder, ReadsFramesInNaturalOrderWithNanGaps) {
   EXPECT_EQ(t.pcd->frame_names,
             (std::vector<std::string>{"frame_1.pcd", "frame_2.pcd", "frame_10.pcd"}));
   EXPECT_EQ(t.pcd->encoding, "ascii");
-  EXPECT_EQ(t.labels.size(), 2u);
+  EXPECT_TRUE(t.labels.empty());  // frame files' points have no labels (take.h)
+}
+
+// A fixed PCD folder's points have no labels, read or decoded, and META lists the N empty
+// labels every stream since 1.0 has (FORMAT.md 5.2): the same bytes as a take that has them.
+TEST(PcdFolder, GivenFramesOfOneCountThenNoLabelsReadOrDecodedAndMetaAsBefore) {
+  TempDir d;
+  write_ascii_pcd(d.path() / "f1.pcd", {{{1, 0, 0}}, {{1, 2, 3}}, {{0, 0, 1}}});
+  write_ascii_pcd(d.path() / "f2.pcd", {{{1, 0, 1}}, {{1, 2, 4}}, {{0, 1, 1}}});
+  const capz::Take t = capz::read_pcd_folder(d.path().string());
+  ASSERT_FALSE(t.ragged());
+  ASSERT_EQ(t.points, 3u);
+  EXPECT_TRUE(t.labels.empty());
+  capz::Take listed = t;
+  listed.labels.assign(t.points, std::string());
+  EXPECT_EQ(capz::encode_meta_raw(t, false), capz::encode_meta_raw(listed, false));
+  capz::CompressOptions o;
+  o.max_error = 0.001;
+  const std::vector<uint8_t> z = capz::compress(t, o);
+  EXPECT_EQ(z, capz::compress(listed, o));
+  const capz::Take back = capz::decompress(z.data(), z.size());
+  EXPECT_TRUE(back.labels.empty());
+  EXPECT_EQ(back.points, t.points);
+  // Another source's empty labels stay as read: a take of the same points without a format.
+  capz::Take plain = t;
+  plain.format = capz::Format::kUnknown;
+  plain.pcd.reset();
+  plain.labels.assign(t.points, std::string());
+  const std::vector<uint8_t> zp = capz::compress(plain, o);
+  EXPECT_EQ(capz::decompress(zp.data(), zp.size()).labels, plain.labels);
 }
 
 TEST(PcdFolder, PointCountsThatDifferGiveARaggedTake) {

@@ -225,7 +225,7 @@ TEST(ScanContainer, OneRaggedFrameReadsAsTheFixedFrameOfItsFile) {
   EXPECT_FALSE(h.ragged());
   EXPECT_EQ(h.frames, 1u);
   EXPECT_EQ(h.points, t.points);
-  EXPECT_TRUE(h.labels.empty());  // unlabelled without a string a point (capz_source.h)
+  EXPECT_TRUE(h.labels.empty());  // no labels, as the reader's (take.h)
   PromiseCheck check(promise_of(si));
   EXPECT_TRUE(check.header(t, h)) << check.why();  // the same labels as the reader's
   ASSERT_TRUE(h.pcd);
@@ -239,7 +239,7 @@ TEST(ScanContainer, OneRaggedFrameReadsAsTheFixedFrameOfItsFile) {
   const Take d = decompress(z.data(), z.size());
   EXPECT_FALSE(d.ragged());
   EXPECT_EQ(d.points, t.points);
-  EXPECT_EQ(d.labels, t.labels);  // one empty label a point, as the reader gives
+  EXPECT_EQ(d.labels, t.labels);  // none, as the reader gives
   EXPECT_EQ(d.xyz, b.xyz);
   EXPECT_EQ(d.pcd->width, t.points);
   src.reset();

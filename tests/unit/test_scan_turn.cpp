@@ -15,41 +15,25 @@
 namespace capz {
 namespace {
 
-constexpr double kQuantum = 0.01 * 3.141592653589793 / 180;  // 0.01 degree in radians
+constexpr double kQuantum = kQuantum001;
 
-// One sweep of a spinning sensor on a 1 mm grid (step 0.002 m) in firing order, ranges on a
-// 4 mm step, as a Velodyne driver writes it: a firing's azimuth on the quantum, turning 19 to 21
-// quanta a firing, and each laser's azimuth that plus a fixed offset and its share of the turn
-// (its firing time), rounded to the quantum; the ranges also as a distance field.
+// One sweep (quantum_sweep) of a 32-ring sensor as a Velodyne driver writes it: each laser's
+// azimuth the firing's plus a fixed offset and its share of the turn (its firing time),
+// rounded to the quantum.
 ScanGeometry sweep(ScanHints* h) {
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> u(0, 1);
-  ScanGeometry g;
   const int rings = 32;
-  uint32_t n = 0;
-  int64_t a = 0;
-  for (int f = 0; a < 36000; ++f) {
-    const int turn = 19 + static_cast<int>(u(rng) * 3);
-    a += turn;
-    for (int k = 0; k < rings; ++k) {
-      if (u(rng) < 0.03) continue;
-      const int64_t quanta = a + (k * 37) % 300 - 150 + std::lround(turn * k / 40.0);
-      const double az = static_cast<double>(quanta) * kQuantum;
-      const double el = -0.4 + 0.5 * k / rings;
-      push_polar(&g, h, az, el, 12 + 3 * std::sin(2 * az) + std::cos(7 * az + k) + 0.004 * u(rng),
-                 static_cast<uint32_t>(k));
-      ++n;
-    }
-  }
-  g.counts.push_back(n);
-  h->grid_per_unit = 500;
-  return g;
+  const auto none = [](int, int, const auto&) { return 0; };
+  const auto slot = [&](int k, int64_t a, int turn, int) {
+    const int64_t quanta = a + (k * 37) % 300 - 150 + std::lround(turn * k / 40.0);
+    const double az = static_cast<double>(quanta) * kQuantum;
+    return SweepLaser{static_cast<uint32_t>(k), quanta, -0.4 + 0.5 * k / rings,
+                      12 + 3 * std::sin(2 * az) + std::cos(7 * az + k)};
+  };
+  return quantum_sweep(h, 5, rings, 0.03, none, slot);
 }
 
 std::vector<uint8_t> coded(const ScanGeometry& g, const ScanHints& h) {
-  const std::vector<uint8_t> p = encode_scan_geometry(g, h);
-  expect_same(g, decode_scan_geometry(p.data(), p.size(), "turn"));
-  return p;
+  return coded_exact(g, h, "turn");
 }
 
 // The offset of the laser table's `units` byte.
@@ -86,12 +70,7 @@ TEST(ScanTurn, GivenTheTurnBitClearedThenTheDecoderPredictsOtherwise) {
   const ScanGeometry g = sweep(&h);
   std::vector<uint8_t> p = coded(g, h);
   p[units_at(p)] &= static_cast<uint8_t>(~scan::kTurnBit);
-  try {
-    const ScanGeometry back = decode_scan_geometry(p.data(), p.size(), "damaged");
-    EXPECT_NE(back.q, g.q);
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
-  }
+  expect_decoded_otherwise(p, g);
 }
 
 TEST(ScanTurn, GivenDamagedUnitsOrBlockThenCorrupt) {
