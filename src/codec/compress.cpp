@@ -50,8 +50,7 @@ std::vector<uint8_t> compress_ragged_frames(const Take& take, const CompressOpti
 // frames: the encoder tries both and keeps the smaller stream. Not for transform codecs or KG
 // targets (the scan coder has neither).
 bool scan_candidate(const Take& t, const CompressOptions& o) {
-  const bool frame_files = t.format == Format::kPCDFolder || t.format == Format::kPLYFolder ||
-                           t.format == Format::kBinFolder;
+  const bool frame_files = is_frame_files(t.format);
   const bool unorganized = !t.pcd || t.pcd->height <= 1;
   return !t.ragged() && t.frames == 1 && t.points > 1 && frame_files && unorganized &&
          (o.codec.empty() || o.codec == "none") && (o.lossless || o.max_error > 0) &&

@@ -68,8 +68,7 @@ TakeScan start_scan(const Take& hdr, const CompressOptions& opts) {
   s.words_on_grid = hdr.c3d && hdr.c3d->point_scale > 0;
   s.kg = !opts.lossless && opts.kg_error > 0;
   s.lossless = opts.lossless;
-  s.ray_track = hdr.format == Format::kPCDFolder || hdr.format == Format::kPLYFolder ||
-                hdr.format == Format::kBinFolder;
+  s.ray_track = is_frame_files(hdr.format);
   if (s.ray_track) {
     s.ray_last.assign(hdr.points * 3, 0.0);
     s.ray_seen.assign(hdr.points, 0);
@@ -221,9 +220,7 @@ double output_rounding_reserve(const Take& t, const TakeScan& s, double bound) {
   // PCD writers do too, except for frames whose x y z were float32 (FORMAT.md 5.5), which are
   // written back as float32.
   bool f32_pcd = false;
-  if ((t.format == Format::kPCDFolder || t.format == Format::kPLYFolder ||
-       t.format == Format::kBinFolder) &&
-      t.pcd)
+  if (is_frame_files(t.format) && t.pcd)
     for (const PCDField& f : t.pcd->fields) f32_pcd = f32_pcd || (f.name == "x" && f.size == 4);
   if (t.format != Format::kC3D && !f32_pcd) return 0;
   int e = 0;

@@ -52,7 +52,7 @@ Record read_record(StreamBytes& b, const ParsedStream& ps, const std::string& na
   r.info.hash_hex = digest_hex(r.hash);
   const Format f = ps.h.source_format;
   r.c3d = f == Format::kC3D;
-  r.pcd = f == Format::kPCDFolder || f == Format::kPLYFolder || f == Format::kBinFolder;
+  r.pcd = is_frame_files(f);
   const char* type = r.c3d ? "C3DR" : f == Format::kTRC ? "TRCR" : r.pcd ? "PCDR" : nullptr;
   if (type && ps.file_chunks.count(type)) {
     r.file_part = chunk_payload(b, ps, type, name);

@@ -51,8 +51,7 @@ std::unique_ptr<ResidueWriter> ResidueWriter::open(const std::string& path, cons
 
 ResidueWriter::ResidueWriter(const std::string& path, const Take& header, bool check)
     : path_(path), header_(header), check_(check) {
-  if (header.format == Format::kPCDFolder || header.format == Format::kPLYFolder ||
-      header.format == Format::kBinFolder) {
+  if (is_frame_files(header.format)) {
     pcd_ = true;  // hashed in file_chunks, when the stream turns out lossless
     return;
   }

@@ -36,8 +36,7 @@ void refuse_unsupported(const Take& t, const CompressOptions& opts) {
   if (!opts.lossless && !(opts.max_error > 0))
     fail(ErrorCode::kInvalidParameter, t.source,
          "only --max-error and --lossless are implemented for " + what + " (no KG target)");
-  const bool frames = t.format == Format::kPCDFolder || t.format == Format::kPLYFolder ||
-                      t.format == Format::kBinFolder;
+  const bool frames = is_frame_files(t.format);
   if (!frames || t.analog.channels > 0 || t.rotations.segments > 0)
     fail(ErrorCode::kInvalidParameter, t.source,
          "only PCD, PLY and .bin frames are coded as " + what + " yet: convert them first");
