@@ -292,7 +292,8 @@ std::vector<uint8_t> fit_slots(const std::vector<uint32_t>& ring, const std::vec
 
 }  // namespace
 
-void fire_points(const ScanGeometry& g, const Table& t, size_t n, std::vector<Polar>* polar) {
+void fire_points(const ScanGeometry& g, const Table& t, size_t n, Placement* placed) {
+  placed->fire.assign(n, Fire{});
   std::vector<int32_t> c;
   std::vector<uint32_t> m;
   std::vector<size_t> at;
@@ -302,14 +303,13 @@ void fire_points(const ScanGeometry& g, const Table& t, size_t n, std::vector<Po
     c.clear(), m.clear(), at.clear();
     for (size_t i = first; i < end; ++i) {
       if (!g.valid[i]) continue;
-      const Polar& p = (*polar)[i];
+      const Polar& p = placed->polar[i];
       if (p.ring >= t.slot.size()) continue;
       c.push_back(p.column), m.push_back(t.slot[p.ring]), at.push_back(i);
     }
     split_firings(c.data(), m.data(), c.size(), true,
                   [&](size_t i, size_t len, int32_t b, int32_t d, bool) {
-                    for (size_t j = i; j < i + len; ++j)
-                      (*polar)[at[j]].fire_b = b, (*polar)[at[j]].fire_d = d;
+                    for (size_t j = i; j < i + len; ++j) placed->fire[at[j]] = Fire{b, d};
                     return true;
                   });
     first += g.counts[f];

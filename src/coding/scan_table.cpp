@@ -502,7 +502,9 @@ Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* 
 }
 
 void place_points(const ScanGeometry& g, const RingFit& r, const Table& t, size_t n,
-                  std::vector<Polar>* polar) {
+                  Placement* placed) {
+  std::vector<Polar>* polar = &placed->polar;
+  placed->fire.clear();
   if (t.rings() == 0) {
     polar->assign(n, Polar{});
     return;
@@ -524,13 +526,13 @@ void place_points(const ScanGeometry& g, const RingFit& r, const Table& t, size_
     if (units) o.range = r.steps[i];
     (*polar)[i] = o;
   }
-  if (t.slots) fire_points(g, t, n, polar);
+  if (t.slots) fire_points(g, t, n, placed);
 }
 
 Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor, bool units,
-                std::vector<Polar>* polar) {
+                Placement* placed) {
   const Table t = table_fit(r, step_divisor, units);
-  place_points(g, r, t, g.total(), polar);
+  place_points(g, r, t, g.total(), placed);
   return t;
 }
 
