@@ -67,7 +67,7 @@ void order_one(const ScanGeometry& g, const ScanHints& hints, size_t first, size
   if (hints.ring.size() == g.total()) h.ring.assign(hints.ring.begin() + b, hints.ring.begin() + e);
   if (hints.xyz.size() == 3 * g.total())
     h.xyz.assign(hints.xyz.begin() + 3 * b, hints.xyz.begin() + 3 * e);
-  scan::RingFit fit = scan::fit_rings(f, h, false);
+  scan::RingFit fit = scan::fit_rings(f, h, false, false);
   fit.step = scan::sorted_step(fit);  // the sensor's step, whatever the file's order
   scan::Placement placed;
   const scan::Table t = scan::table_for(f, fit, 1.0, false, &placed);
@@ -100,8 +100,9 @@ std::vector<uint32_t> scan_point_order(const ScanGeometry& g, const ScanHints& h
     }
     return order;
   }
-  // The payload's own inference, but for the range units (the order's table has none).
-  const scan::RingFit fit = scan::fit_rings(g, hints, false);
+  // The payload's own inference, but for the range units and the firing's base and slots (the
+  // order's table, of the step as found, has none of them).
+  const scan::RingFit fit = scan::fit_rings(g, hints, false, false);
   scan::Placement placed;
   const scan::Table t = scan::table_for(g, fit, 1.0, false, &placed);
   for (uint32_t n : g.counts) {

@@ -419,7 +419,7 @@ void fit_units(const ScanGeometry& g, const ScanHints& h, const std::vector<uint
 
 }  // namespace
 
-RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units) {
+RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units, bool shares) {
   RingFit r;
   std::vector<uint32_t> ring;
   r.bow = find_bow(g, hints);
@@ -453,7 +453,7 @@ RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units) {
   }
   r.step = infer_step(r.phi);
   r.quantum = azimuth_quantum(r);
-  fit_shares(g, &r);
+  if (shares) fit_shares(g, &r);
   r.slope.resize(rings), r.z0.resize(rings);
   for (size_t k = 0; k < rings; ++k) fit_cone(cone[k], &r.slope[k], &r.z0[k]);
   if (units) fit_units(g, hints, ring, rings, &r);

@@ -37,8 +37,11 @@ struct RingFit {
   std::vector<uint8_t> slot;
   size_t rings() const { return phi.size(); }
 };
-// Without `units` the range step is not looked for (a caller that codes no payload with it).
-RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units = true);
+// Without `units` the range step is not looked for (a caller that codes no payload with it);
+// without `shares` neither are the firing's base and slots (fit_shares: a caller whose tables
+// are never the quantum's, such as the point order's).
+RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units = true,
+                  bool shares = true);
 // Every point's place under a table (place_points): its ring, column and range, and on a table
 // with slots its firing's base and turn (else `fire` is empty).
 struct Placement {
