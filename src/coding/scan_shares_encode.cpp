@@ -196,19 +196,22 @@ bool fire_fit(const int32_t* c, const uint32_t* m, size_t len, int64_t bp, int64
   if (lo > hi) return false;
   constexpr int64_t kTurnCost = int64_t{1} << 40;  // a B or D off its prediction, before both
   int64_t best = -1;
-  // D = dd with its B of the least cost (the first point's B's that fit all), kept when it costs
-  // less than the best, or as much with a smaller D (`least`).
+  // D = dd with its B of the least cost (of the two B's that put the first column right, the
+  // nearer bp if it fits all points, else the other), kept when it costs less than the best, or
+  // as much with a smaller D (`least`).
   const auto try_turn = [&](int64_t dd, bool least) {
-    // The first column right: 2N c0 <= B N + D m0 + N < 2N c0 + 2N.
-    const int64_t n = kSlots, top = 2 * n * c[0] + n - 1 - dd * m[0];
-    for (int64_t bb = detail::floor_div(top - n, n); bb <= detail::floor_div(top, n); ++bb) {
-      if (bb < INT32_MIN || bb > INT32_MAX || !fits(c, m, len, bb, dd)) continue;
+    // The first column right: 2N c0 <= B N + D m0 + N < 2N c0 + 2N, so B is b1 - 1 or b1.
+    const int64_t n = kSlots, b1 = detail::floor_div(2 * n * c[0] + n - 1 - dd * m[0], n);
+    const int64_t bn = bp >= b1 ? b1 : b1 - 1, bf = bn == b1 ? b1 - 1 : b1;
+    for (const int64_t bb : {bn, bf}) {
+      if (bb < INT32_MIN || bb > INT32_MAX || !fits(c + 1, m + 1, len - 1, bb, dd)) continue;
       const int64_t db = bb > bp ? bb - bp : bp - bb, dt = dd > dp ? dd - dp : dp - dd;
       const int64_t cost = ((db != 0) + (dt != 0)) * kTurnCost + db + dt;
       if (best < 0 || cost < best || (least && cost == best && dd < *d)) {
         best = cost;
         *b = static_cast<int32_t>(bb), *d = static_cast<int32_t>(dd);
       }
+      return;  // the other B, farther from bp, costs more
     }
   };
   const bool first = dp == 0 && dn == 0;
@@ -307,9 +310,11 @@ std::vector<uint8_t> fit_slots(const std::vector<uint32_t>& ring, const std::vec
     while (few < u.size() && seen < kSlotFitPoints) seen += ring[few++] == k;
     if (seen == 0) continue;  // a ring without points keeps its slot
     uint8_t best = slot[k];
-    size_t least = slot_cost(c, ring, slot, few, &m);
+    size_t least = 0;  // the slots as they are, counted at the first candidate (if any)
+    bool counted = false;
     for (uint32_t v = 0; v < kSlots; ++v) {  // a slot of another ring's left out (lasers apart)
       if (std::find(slot.begin(), slot.end(), v) != slot.end()) continue;
+      if (!counted) least = slot_cost(c, ring, slot, few, &m), counted = true;
       slot[k] = static_cast<uint8_t>(v);
       const size_t bits = slot_cost(c, ring, slot, few, &m, least);
       if (bits < least) least = bits, best = slot[k];
