@@ -143,8 +143,8 @@ std::vector<std::string> list_frames(const std::string& path) {
 // spherically (each kind through its own range coder with the coder's contexts).
 class BreakdownIo {
  public:
-  BreakdownIo(const capz::ScanGeometry& g, const std::vector<capz::scan::Polar>& polar)
-      : g_(g), polar_(polar) {
+  BreakdownIo(const capz::ScanGeometry& g, const capz::scan::Placement& placed)
+      : g_(g), placed_(placed) {
     for (auto& e : enc_) e.reset(new capz::IntEncoder(capz::scan::kContexts));
   }
   int32_t sym(int32_t actual, int32_t pred, int ctx) {
@@ -153,7 +153,8 @@ class BreakdownIo {
   }
   uint32_t ring(uint32_t d, uint32_t, int ctx) { return put(d, ctx), d; }
   bool flag(bool v, int ctx) { return put(v, ctx), v; }
-  capz::scan::Polar polar(size_t i) const { return polar_[i]; }
+  capz::scan::Polar polar(size_t i) const { return placed_.polar[i]; }
+  capz::scan::Fire fire(size_t i) const { return placed_.fire[i]; }
   const int32_t* actual(size_t i) const { return &g_.q[3 * i]; }
   bool actual_valid(size_t i) const { return g_.valid[i] != 0; }
   void print(size_t points) {
@@ -189,15 +190,15 @@ class BreakdownIo {
     enc_[k]->put(u, ctx);
   }
   const capz::ScanGeometry& g_;
-  const std::vector<capz::scan::Polar>& polar_;
+  const capz::scan::Placement& placed_;
   std::unique_ptr<capz::IntEncoder> enc_[8];
 };
 
 void breakdown(const capz::ScanGeometry& g, const capz::ScanHints& h) {
-  std::vector<capz::scan::Polar> polar;
-  const capz::scan::Table t =
-      capz::scan::table_for(g, capz::scan::fit_rings(g, h), breakdown_divisor, range_units, &polar);
-  BreakdownIo io(g, polar);
+  capz::scan::Placement placed;
+  const capz::scan::Table t = capz::scan::table_for(g, capz::scan::fit_rings(g, h),
+                                                    breakdown_divisor, range_units, &placed);
+  BreakdownIo io(g, placed);
   capz::scan::State st(t);
   std::vector<int32_t> q;
   std::vector<uint8_t> v;

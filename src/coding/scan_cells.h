@@ -43,14 +43,13 @@ void expand_cells(IntDecoder* counts, uint32_t copies, size_t n, int32_t* q, uin
 // with a fine shift (its integers are not the cells'): the caller then codes g as it is.
 std::vector<uint8_t> encode_scan_cells(const ScanGeometry& g, const ScanHints& hints,
                                        ScanWorkspace* ws);
-// The valid points of g equal to the valid point before them in their frame.
-size_t scan_cell_copies(const ScanGeometry& g);
+// The copies (valid points equal to the valid point before them in their frame) of g in the
+// order group_cell_copies gives it, from any order: per frame, its valid points less its distinct
+// valid points.
+size_t scan_grouped_copies(const ScanGeometry& g);
 // order (indices into g, each frame's points at its own places, as scan_point_order gives) with
 // each valid point that has the grid integers of an earlier valid point of its frame (in
 // `order`) moved to just after that point's run; the rest keeps its order.
-// scan_cell_copies of g in the order group_cell_copies gives it (any order): per frame, its valid
-// points less its distinct valid points.
-size_t scan_grouped_copies(const ScanGeometry& g);
 std::vector<uint32_t> group_cell_copies(const ScanGeometry& g, const std::vector<uint32_t>& order);
 
 }  // namespace capz

@@ -72,15 +72,6 @@ std::vector<uint8_t> code_counts(const Cells& c) {
 
 }  // namespace
 
-size_t scan_cell_copies(const ScanGeometry& g) {
-  size_t copies = 0, first = 0;
-  for (uint32_t n : g.counts) {
-    for (size_t i = first + 1; i < first + n; ++i) copies += is_copy(g, i);
-    first += n;
-  }
-  return copies;
-}
-
 size_t scan_grouped_copies(const ScanGeometry& g) {
   // Per frame, its distinct valid points in an open-addressed table of point indices (0: empty).
   std::vector<uint32_t> slot;

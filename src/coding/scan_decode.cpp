@@ -37,6 +37,7 @@ class DecodeIo {
     return v == 1;
   }
   scan::Polar polar(size_t) const { return {}; }
+  scan::Fire fire(size_t) const { return {}; }
   const int32_t* actual(size_t) const { return zero_; }
   bool actual_valid(size_t) const { return false; }
   // Raster frames.

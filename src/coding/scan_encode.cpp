@@ -117,12 +117,11 @@ struct Scratch {
 // more than both estimates' rounding can move them (N terms each below 2^6, summed in binary64:
 // at most N (2^-52 sum + 2^-46) apart in all, with room to spare); else by CostSink itself.
 bool spherical_wins(const scan::State& st, uint8_t flags, const ScanGeometry& g,
-                    const std::vector<scan::Polar>& polar, size_t f, size_t first, size_t n,
-                    Scratch* s) {
+                    const scan::Placement& placed, size_t f, size_t first, size_t n, Scratch* s) {
   CartesianEstimate& c = s->cart[f];
   if (!c.same_state(st)) {
     Tally tally;
-    EncodeIo<Tally> io(&tally, g, polar);
+    EncodeIo<Tally> io(&tally, g, placed);
     scan::State trial = st.trial();
     scan::code_points(io, trial, flags, first, n, s->q.data(), s->v.data());
     c.known = true;
@@ -138,7 +137,7 @@ bool spherical_wins(const scan::State& st, uint8_t flags, const ScanGeometry& g,
   if (sph > c.bits + margin) return false;
   CostSink exact_sph, exact_cart;
   for (const Sym& y : s->trial) exact_sph.put(y.u, static_cast<int>(y.ctx));
-  EncodeIo<CostSink> io(&exact_cart, g, polar);
+  EncodeIo<CostSink> io(&exact_cart, g, placed);
   scan::State trial = st.trial();
   scan::code_points(io, trial, flags, first, n, s->q.data(), s->v.data());
   return exact_sph.bits < exact_cart.bits;
@@ -197,8 +196,8 @@ bool pairs_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& p
 // cheaper of the azimuth and the hypotenuse by the estimate (both coded in the one pass: the choice
 // moves no other symbol). Sets kHypot in *flags when the hypotenuse's.
 scan::State spherical_trial(const scan::State& st, bool last, uint8_t* flags, const ScanGeometry& g,
-                            const std::vector<scan::Polar>& polar, size_t first, size_t n,
-                            size_t room, Trial* t, Scratch* s) {
+                            const scan::Placement& placed, size_t first, size_t n, size_t room,
+                            Trial* t, Scratch* s) {
   scan::State staged = last ? st.trial() : st.staged();
   Sym* const syms = t->sym_room.reserve(room);
   AltSym* const alts = t->alt_room.reserve(n);
@@ -206,7 +205,7 @@ scan::State spherical_trial(const scan::State& st, bool last, uint8_t* flags, co
   t->azimuth.clear();
   t->hypot.clear();
   RecordSink rec{syms, syms, syms + room, alts, &t->tally, &t->azimuth, &t->hypot};
-  RecordIo io(&rec, g, polar);
+  RecordIo io(&rec, g, placed);
   scan::code_points(io, staged, *flags, first, n, s->q.data(), s->v.data());
   t->syms = static_cast<size_t>(rec.next - rec.syms);
   const bool hypot =
@@ -225,23 +224,22 @@ scan::State spherical_trial(const scan::State& st, bool last, uint8_t* flags, co
 // frames) is coded on trial states: no later sweep reads the map it would write (the map never
 // changes a symbol of its own sweep), so its cells are not touched.
 uint8_t code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanGeometry& g,
-                    const std::vector<scan::Polar>& polar, size_t f, size_t first, size_t n,
-                    Scratch* s) {
+                    const scan::Placement& placed, size_t f, size_t first, size_t n, Scratch* s) {
   const auto sph = static_cast<uint8_t>(flags | scan::kSpherical);
   size_t passed = 0;
-  const bool upward = walk_worth_trying(g, polar, st->table().rings(), first, n, &passed);
+  const bool upward = walk_worth_trying(g, placed.polar, st->table().rings(), first, n, &passed);
   const bool last = f + 1 == g.counts.size();
   // At most 7 symbols a point; a walk frame's ring takes the repeat flag and the rings passed.
   const size_t room = 7 * n + (upward ? n + passed : 0) + 1;
   auto coded = static_cast<uint8_t>(upward && s->walk == 1 ? sph | scan::kRingWalk
                                     : s->pairs == 1        ? sph | scan::kRingPairs
                                                            : sph);
-  scan::State staged = spherical_trial(*st, last, &coded, g, polar, first, n, room, &s->trial, s);
+  scan::State staged = spherical_trial(*st, last, &coded, g, placed, first, n, room, &s->trial, s);
   // Codes the frame with `bit` as well (into the spare trial) and keeps the smaller: *choice.
   auto try_also = [&](uint8_t bit, int* choice) {
     auto other = static_cast<uint8_t>(sph | bit);
     scan::State kept =
-        spherical_trial(*st, last, &other, g, polar, first, n, room, &s->walk_trial, s);
+        spherical_trial(*st, last, &other, g, placed, first, n, room, &s->walk_trial, s);
     *choice = s->walk_trial.tally.estimate(&s->log_t, &s->log_c) <
               s->trial.tally.estimate(&s->log_t, &s->log_c);
     if (*choice == 1) {
@@ -257,9 +255,9 @@ uint8_t code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanG
   // worth it (the trial of the walk's room), the smaller kept; the window's later frames follow.
   if (!(coded & scan::kRingWalk) && s->pairs < 0) {
     s->pairs = 0;
-    if (pairs_worth_trying(g, polar, *st, first, n)) try_also(scan::kRingPairs, &s->pairs);
+    if (pairs_worth_trying(g, placed.polar, *st, first, n)) try_also(scan::kRingPairs, &s->pairs);
   }
-  if (spherical_wins(*st, flags, g, polar, f, first, n, s)) {
+  if (spherical_wins(*st, flags, g, placed, f, first, n, s)) {
     IntEncoder::Cursor c = enc->cursor();
     for (const Sym& y : s->trial) c.put(y.u, static_cast<int>(y.ctx));
     enc->commit(c);
@@ -269,7 +267,7 @@ uint8_t code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanG
   }
   st->clear_sweep();
   PutSink put{enc};
-  EncodeIo<PutSink> direct(&put, g, polar);
+  EncodeIo<PutSink> direct(&put, g, placed);
   scan::code_frame(direct, *st, flags, first, n, s->q.data(), s->v.data());
   return flags;
 }
@@ -287,11 +285,11 @@ struct Coding {
 };
 
 // Codes frames c->frames .. to - 1 of g: per frame the cheaper of spherical and Cartesian coding.
-void code_frames(const ScanGeometry& g, const std::vector<scan::Polar>& polar, size_t to, Coding* c,
+void code_frames(const ScanGeometry& g, const scan::Placement& placed, size_t to, Coding* c,
                  Scratch* s) {
   const scan::Table& t = c->st->table();
   PutSink sink{c->enc.get()};
-  EncodeIo<PutSink> io(&sink, g, polar);
+  EncodeIo<PutSink> io(&sink, g, placed);
   s->cart.resize(g.counts.size());
   s->spherical_ok.resize(g.counts.size(), -1);
   c->flags.resize(to);
@@ -305,7 +303,7 @@ void code_frames(const ScanGeometry& g, const std::vector<scan::Polar>& polar, s
     int8_t& ok = s->spherical_ok[f];  // the same under every table
     if (t.rings() > 0 && flags != scan::kNoneValid && ok < 0) ok = scan::spherical_ok(g, first, n);
     if (t.rings() > 0 && flags != scan::kNoneValid && ok) {
-      flags = code_chosen(c->enc.get(), c->st.get(), flags, g, polar, f, first, n, s);
+      flags = code_chosen(c->enc.get(), c->st.get(), flags, g, placed, f, first, n, s);
     } else {
       scan::code_frame(io, *c->st, flags, first, n, s->q.data(), s->v.data());
     }
@@ -337,9 +335,9 @@ size_t finished_size(const ScanGeometry& g, const Coding& c) {
 
 // The payload under one table.
 std::vector<uint8_t> encode_with(const ScanGeometry& g, const scan::Table& t,
-                                 const std::vector<scan::Polar>& polar, Scratch* s) {
+                                 const scan::Placement& placed, Scratch* s) {
   Coding c(t, s->maps);
-  code_frames(g, polar, g.counts.size(), &c, s);
+  code_frames(g, placed, g.counts.size(), &c, s);
   return finish(g, &c);
 }
 
@@ -364,8 +362,8 @@ constexpr size_t kTrialFrames = 2;
 std::vector<TableChoice> first_frame_choice(const ScanGeometry& g, const scan::RingFit& fit,
                                             const std::vector<TableChoice>& tried,
                                             std::vector<scan::Table>* tables,
-                                            std::vector<scan::Polar>* polar,
-                                            std::unique_ptr<Coding>* kept, Scratch* s) {
+                                            scan::Placement* placed, std::unique_ptr<Coding>* kept,
+                                            Scratch* s) {
   const size_t n = g.counts[0] + g.counts[1];
   tables->reserve(tried.size());  // the codings point at their tables
   std::vector<size_t> sizes;
@@ -373,9 +371,9 @@ std::vector<TableChoice> first_frame_choice(const ScanGeometry& g, const scan::R
     tables->push_back(
         scan::table_fit(fit, c.divisor, c.units, tables->empty() ? nullptr : &tables->back()));
     const scan::Table& t = tables->back();
-    scan::place_points(g, fit, t, n, polar);
+    scan::place_points(g, fit, t, n, placed);
     std::unique_ptr<Coding> coding(new Coding(t, s->maps));
-    code_frames(g, *polar, kTrialFrames, coding.get(), s);
+    code_frames(g, *placed, kTrialFrames, coding.get(), s);
     sizes.push_back(finished_size(g, *coding));
     if (sizes.size() == 1 || sizes.back() < *std::min_element(sizes.begin(), sizes.end() - 1)) {
       kept->swap(coding);
@@ -423,11 +421,16 @@ ScanGeometry trial_sample(const ScanGeometry& g, std::vector<size_t>* from) {
 size_t sample_size(const ScanGeometry& g, const ScanGeometry& sample,
                    const std::vector<size_t>& from, const scan::RingFit& fit, const scan::Table& t,
                    Scratch* s) {
-  std::vector<scan::Polar> placed, polar(from.size());
-  scan::place_points(g, fit, t, from.back() + 1, &placed);
-  for (size_t j = 0; j < from.size(); ++j) polar[j] = placed[from[j]];
+  scan::Placement all, placed;
+  scan::place_points(g, fit, t, from.back() + 1, &all);
+  placed.polar.resize(from.size());
+  for (size_t j = 0; j < from.size(); ++j) placed.polar[j] = all.polar[from[j]];
+  if (!all.fire.empty()) {
+    placed.fire.resize(from.size());
+    for (size_t j = 0; j < from.size(); ++j) placed.fire[j] = all.fire[from[j]];
+  }
   Coding coding(t, s->maps);
-  code_frames(sample, polar, sample.counts.size(), &coding, s);
+  code_frames(sample, placed, sample.counts.size(), &coding, s);
   return finished_size(sample, coding);
 }
 
@@ -509,7 +512,7 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
     scratch.maps = ws->maps;
     scratch.spare = ws->spare;
   }
-  std::vector<scan::Polar> polar;
+  scan::Placement placed;
   std::vector<TableChoice> tried;
   // Azimuths on the sensor's own quantum (divisor 0: the quantum's table, with the column's
   // third candidate) take the place of the finest step: tried as well, the finest step won only
@@ -534,7 +537,7 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
     scratch.cart.clear();
     scratch.spherical_ok.clear();
   } else if (!every && g.counts.size() > kTrialFrames) {
-    choices = first_frame_choice(g, fit, tried, &tables, &polar, &kept, &scratch);
+    choices = first_frame_choice(g, fit, tried, &tables, &placed, &kept, &scratch);
   }
   std::vector<uint8_t> best;
   ScanChoice chosen;  // the choice of the smallest payload, when it was tried on the sample
@@ -550,14 +553,14 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
       t = tables[k];
     else
       t = scan::table_fit(fit, c.divisor, c.units, &t);
-    scan::place_points(g, fit, t, g.total(), &polar);
+    scan::place_points(g, fit, t, g.total(), &placed);
     std::vector<uint8_t> out;
     if (kept && &kept->st->table() == &tables[k]) {  // its first frames coded already
-      code_frames(g, polar, g.counts.size(), kept.get(), &scratch);
+      code_frames(g, placed, g.counts.size(), kept.get(), &scratch);
       out = finish(g, kept.get());
       kept.reset();
     } else {
-      out = encode_with(g, t, polar, &scratch);
+      out = encode_with(g, t, placed, &scratch);
     }
     if (ws) ++ws->tables_coded;
     if (best.empty() || out.size() < best.size()) {

@@ -201,17 +201,18 @@ inline int64_t slot_column(int64_t n, int64_t b, int64_t d, int64_t m) {
   return floor_div(b * n + d * m + n, 2 * n);
 }
 
-// The column on the firing's slots (FORMAT step 2, units bit 6): when the ring's slot is not
-// after the last point's, a firing opens with its turn D and base B (pa.fire_d, pa.fire_b when
+// The column on the firing's slots (FORMAT step 2, units bit 6) of point i: when the ring's slot
+// is not after the last point's, a firing opens with its turn D and base B (io.fire(i) when
 // encoding); the column against floor((B N + D m_k + N) / 2N).
 template <class Io>
 __attribute__((always_inline)) inline int32_t code_slots(Io& io, State::Slots& f, const Table& t,
-                                                         uint32_t k, const Polar& pa, bool moved) {
+                                                         uint32_t k, const Polar& pa, size_t i,
+                                                         bool moved) {
   const uint32_t m = t.slot[k];
   if (!f.open || m <= f.last) {
-    const int32_t d = io.sym(pa.fire_d, f.d, kCtxSlots + (f.d == 0));
-    const int32_t b =
-        io.sym(pa.fire_b, wrap_add(f.b, f.d), kCtxSlots + 2 + 2 * (f.d == 0) + (d != f.d));
+    const Fire fa = io.fire(i);
+    const int32_t d = io.sym(fa.d, f.d, kCtxSlots + (f.d == 0));
+    const int32_t b = io.sym(fa.b, wrap_add(f.b, f.d), kCtxSlots + 2 + 2 * (f.d == 0) + (d != f.d));
     f.b = b, f.d = d, f.open = true;
   }
   f.last = m;
@@ -219,14 +220,15 @@ __attribute__((always_inline)) inline int32_t code_slots(Io& io, State::Slots& f
   return io.sym(pa.column, static_cast<int32_t>(static_cast<uint32_t>(p)), kCtxSlots + 6 + moved);
 }
 
-// The ring's column (FORMAT step 2) from p0 and p1 (and with the table's `turn` p2, with its
-// shares p3; with its slots the firing's), the context's first part by the residual.
+// The ring's column (FORMAT step 2) of point i from p0 and p1 (and with the table's `turn` p2,
+// with its shares p3; with its slots the firing's), the context's first part by the residual.
 template <class Io>
 __attribute__((always_inline)) inline int32_t code_column(Io& io, State& st, State::Ring& r,
-                                                          uint32_t k, const Polar& pa, int32_t p0,
-                                                          int32_t p1, bool moved, const Prev* pv) {
+                                                          uint32_t k, const Polar& pa, size_t i,
+                                                          int32_t p0, int32_t p1, bool moved,
+                                                          const Prev* pv) {
   const int32_t col = pa.column;
-  if (st.table().slots) return code_slots(io, st.slots, st.table(), k, pa, moved);
+  if (st.table().slots) return code_slots(io, st.slots, st.table(), k, pa, i, moved);
   if (st.table().turn) {
     // p2: P's column plus the ring's lead on P's ring, or the ring's last column plus how far
     // P's ring turned since.
@@ -285,11 +287,12 @@ uint32_t pair_ring(Io& io, const State& st, uint32_t want, const Prev* pv, uint3
                    rings);
 }
 
-// Ring and column of a frame without bit 3: the ring against the successor or the run.
-// (pairs: a ring pair frame, FORMAT "Ring pair frames".)
+// Ring and column of point i (pa) in a frame without bit 3: the ring against the successor or
+// the run. (pairs: a ring pair frame, FORMAT "Ring pair frames".)
 template <class Io>
 __attribute__((always_inline)) inline RingColumn ring_successor(Io& io, State& st, const Polar& pa,
-                                                                const Prev* pv, bool pairs) {
+                                                                size_t i, const Prev* pv,
+                                                                bool pairs) {
   const uint32_t rings = static_cast<uint32_t>(st.table().rings());
   // Ring: the one that followed the previous point's ring last time, or the previous step's
   // continuation (runs of rings up or down), whichever has done better lately.
@@ -327,7 +330,7 @@ __attribute__((always_inline)) inline RingColumn ring_successor(Io& io, State& s
   RingColumn out;
   out.ring = k;
   out.residual = d;
-  out.column = code_column(io, st, r, k, pa, p0, p1, d != 0, pv);
+  out.column = code_column(io, st, r, k, pa, i, p0, p1, d != 0, pv);
   if (pair_step) *pair_step = wrap_sub(out.column, pv->column);
   return out;
 }
@@ -364,10 +367,11 @@ uint32_t walk_ring(Io& io, const State& st, uint32_t want, const Prev* pv, bool*
   return j;
 }
 
-// Ring and column of a ring walk frame (FORMAT "Ring walk frames", steps 1 and 2).
+// Ring and column of point i (pa) in a ring walk frame (FORMAT "Ring walk frames", steps 1
+// and 2).
 template <class Io>
 __attribute__((always_inline)) inline RingColumn ring_walk(Io& io, State& st, const Polar& pa,
-                                                           const Prev* pv) {
+                                                           size_t i, const Prev* pv) {
   RingColumn out;
   if (!pv->have) {  // the frame's first point: its ring as a residual against ring 0
     out.ring = io.ring(pa.ring, static_cast<uint32_t>(st.table().rings()), kCtxRing);
@@ -387,7 +391,7 @@ __attribute__((always_inline)) inline RingColumn ring_walk(Io& io, State& st, co
   out.opened = was >= 0 && was == out.firing - 1;
   State::Ring& r = st.ring[out.ring];
   if (out.repeat && st.table().slots) {  // on the firing's slots like every point
-    out.column = code_slots(io, st.slots, st.table(), out.ring, pa, false);
+    out.column = code_slots(io, st.slots, st.table(), out.ring, pa, i, false);
     return out;
   }
   if (out.repeat) {  // the same firing's second return: P's column
@@ -401,18 +405,19 @@ __attribute__((always_inline)) inline RingColumn ring_walk(Io& io, State& st, co
     const uint64_t prod = gap * static_cast<uint64_t>(static_cast<int64_t>(r.step));
     p1 = wrap_add(r.last_column, static_cast<int32_t>(static_cast<uint32_t>(prod)));
   }
-  out.column = code_column(io, st, r, out.ring, pa, p0, p1, out.residual != 0, pv);
+  out.column = code_column(io, st, r, out.ring, pa, i, p0, p1, out.residual != 0, pv);
   return out;
 }
 
+// Point i (pa, its integers a) of a spherical frame.
 template <class Io>
 __attribute__((always_inline)) inline void code_spherical(Io& io, State& st, const Polar& pa,
-                                                          const int32_t* a, uint8_t flags, Prev* pv,
-                                                          int32_t* p) {
+                                                          size_t i, const int32_t* a, uint8_t flags,
+                                                          Prev* pv, int32_t* p) {
   const Table& t = st.table();
   const bool walk = (flags & kRingWalk) != 0, hypot = (flags & kHypot) != 0;
-  const RingColumn rc =
-      walk ? ring_walk(io, st, pa, pv) : ring_successor(io, st, pa, pv, (flags & kRingPairs) != 0);
+  const RingColumn rc = walk ? ring_walk(io, st, pa, i, pv)
+                             : ring_successor(io, st, pa, i, pv, (flags & kRingPairs) != 0);
   const uint32_t k = rc.ring;
   const int32_t col = rc.column;
   State::Ring& r = st.ring[k];
@@ -478,7 +483,7 @@ void code_points(Io& io, State& st, uint8_t flags, size_t first, size_t n, int32
     }
     const int32_t* a = io.actual(first + i);
     if (spherical)
-      detail::code_spherical(io, st, io.polar(first + i), a, flags, &pv, p);
+      detail::code_spherical(io, st, io.polar(first + i), first + i, a, flags, &pv, p);
     else
       detail::code_cartesian(io, st, a, p);
   }

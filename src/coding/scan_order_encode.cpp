@@ -67,14 +67,14 @@ void order_one(const ScanGeometry& g, const ScanHints& hints, size_t first, size
   if (hints.ring.size() == g.total()) h.ring.assign(hints.ring.begin() + b, hints.ring.begin() + e);
   if (hints.xyz.size() == 3 * g.total())
     h.xyz.assign(hints.xyz.begin() + 3 * b, hints.xyz.begin() + 3 * e);
-  scan::RingFit fit = scan::fit_rings(f, h, false);
+  scan::RingFit fit = scan::fit_rings(f, h, false, false);
   fit.step = scan::sorted_step(fit);  // the sensor's step, whatever the file's order
-  std::vector<scan::Polar> polar;
-  const scan::Table t = scan::table_for(f, fit, 1.0, false, &polar);
+  scan::Placement placed;
+  const scan::Table t = scan::table_for(f, fit, 1.0, false, &placed);
   for (std::vector<uint32_t>* o : {out, ring_out}) {
     if (o == nullptr) continue;
     const size_t at = o->size();
-    order_frame(f, t.rings() > 0, polar, 0, n, o, o == ring_out || by_ring);
+    order_frame(f, t.rings() > 0, placed.polar, 0, n, o, o == ring_out || by_ring);
     for (size_t j = at; j < o->size(); ++j) (*o)[j] += static_cast<uint32_t>(first);
   }
 }
@@ -100,12 +100,13 @@ std::vector<uint32_t> scan_point_order(const ScanGeometry& g, const ScanHints& h
     }
     return order;
   }
-  // The payload's own inference, but for the range units (the order's table has none).
-  const scan::RingFit fit = scan::fit_rings(g, hints, false);
-  std::vector<scan::Polar> polar;
-  const scan::Table t = scan::table_for(g, fit, 1.0, false, &polar);
+  // The payload's own inference, but for the range units and the firing's base and slots (the
+  // order's table, of the step as found, has none of them).
+  const scan::RingFit fit = scan::fit_rings(g, hints, false, false);
+  scan::Placement placed;
+  const scan::Table t = scan::table_for(g, fit, 1.0, false, &placed);
   for (uint32_t n : g.counts) {
-    order_frame(g, t.rings() > 0, polar, first, n, &order);
+    order_frame(g, t.rings() > 0, placed.polar, first, n, &order);
     first += n;
   }
   return order;

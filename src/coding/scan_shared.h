@@ -208,8 +208,12 @@ struct Polar {
   uint32_t ring = 0;
   int32_t column = 0;
   int32_t range = 0;
-  // Encoder, with the table's slots: the base B and turn D of the point's firing (FORMAT step 2).
-  int32_t fire_b = 0, fire_d = 0;
+};
+static_assert(sizeof(Polar) == 12, "the encoder keeps several Polar arrays a window");
+// Encoder, with the table's slots: the base B and turn D of a point's firing (FORMAT step 2),
+// apart from Polar since only tables with slots have them.
+struct Fire {
+  int32_t b = 0, d = 0;
 };
 
 // The state that lives across a window's frames and within one frame.
@@ -315,6 +319,7 @@ class State {
 //   uint32_t ring(uint32_t actual_residual, uint32_t rings, int ctx) -> the ring residual
 //   bool flag(bool actual, int ctx)
 //   Polar polar(size_t i) (encoder: the point's ring, column, range; decoder: anything)
+//   Fire fire(size_t i) (encoder, on a table with slots: the point's firing; else anything)
 //   const int32_t* actual(size_t i) (encoder: the point's integers; decoder: anything)
 //   bool actual_valid(size_t i)
 // q_out and valid_out receive the frame's points (n of them).

@@ -161,35 +161,75 @@ bool fits(const int32_t* c, const uint32_t* m, size_t len, int64_t b, int64_t d)
   return true;
 }
 
+// The turns D that can give a firing's columns c[i] of slots m[i] all (some B fitting every
+// point), found cheaply: between each point and the first, 2N c_0 - N <= B N + D m_0 < 2N c_0 + N
+// and the same for point i give (m_i - m_0) D within 2N (c_i - c_0) -+ (2N - 1). Every such D
+// lies in [*lo, *hi] (empty when *lo > *hi); not every D there fits.
+void turn_range(const int32_t* c, const uint32_t* m, size_t len, int64_t* lo, int64_t* hi) {
+  const int64_t n2 = 2 * int64_t{kSlots};
+  *lo = INT64_MIN, *hi = INT64_MAX;
+  for (size_t i = 1; i < len && *lo <= *hi; ++i) {
+    int64_t dm = int64_t{m[i]} - m[0], dc = n2 * (int64_t{c[i]} - c[0]);
+    if (dm < 0) dm = -dm, dc = -dc;
+    const int64_t a = dc - n2 + 1, z = dc + n2 - 1;  // dm D within [a, z]
+    if (dm == 0) {
+      if (a > 0 || z < 0) *lo = 1, *hi = 0;
+      continue;
+    }
+    *lo = std::max(*lo, -detail::floor_div(-a, dm));
+    *hi = std::min(*hi, detail::floor_div(z, dm));
+  }
+}
+
 // The firing's (B, D) that gives all its columns, preferring B on its prediction bp, then D on
-// dp, then the nearest: among D within 2 of dp, of the last nonzero dn and 0, else (`wide`, or
-// before a nonzero D) any |D| <= kWideTurn; false (and bp, dp) when none does.
+// dp, then the nearest: among D within 2 of dp, of the last nonzero dn and 0 (the first of them
+// on ties), else (`wide`, or before a nonzero D) any |D| <= kWideTurn (the least on ties); false
+// (and bp, dp) when none does. Only the D in turn_range are tried (no other fits), those of
+// the wide search from dp outward until no farther one can cost less: the same answer.
 constexpr int64_t kWideTurn = 64;
 bool fire_fit(const int32_t* c, const uint32_t* m, size_t len, int64_t bp, int64_t dp, int64_t dn,
               bool wide, int32_t* b, int32_t* d) {
   *b = static_cast<int32_t>(bp), *d = static_cast<int32_t>(dp);
   if (fits(c, m, len, bp, dp)) return true;
-  const int64_t near[11] = {0,      dp - 2, dp - 1, dp,     dp + 1, dp + 2,
-                            dn - 2, dn - 1, dn,     dn + 1, dn + 2};
+  int64_t lo, hi;
+  turn_range(c, m, len, &lo, &hi);
+  if (lo > hi) return false;
+  constexpr int64_t kTurnCost = int64_t{1} << 40;  // a B or D off its prediction, before both
   int64_t best = -1;
-  const bool first = dp == 0 && dn == 0;
-  for (int round = first ? 1 : 0; round < (wide || first ? 2 : 1) && best < 0; ++round) {
-    const int64_t count = round == 0 ? 11 : 2 * kWideTurn + 1;
-    for (int64_t j = 0; j < count; ++j) {
-      const int64_t dd = round == 0 ? near[j] : j - kWideTurn;
-      if (round == 0 && std::find(near, near + j, dd) != near + j) continue;
-      // The first column right: 2N c0 <= B N + D m0 + N < 2N c0 + 2N.
-      const int64_t n = kSlots, top = 2 * n * c[0] + n - 1 - dd * m[0];
-      for (int64_t bb = detail::floor_div(top - n, n); bb <= detail::floor_div(top, n); ++bb) {
-        if (bb < INT32_MIN || bb > INT32_MAX || !fits(c, m, len, bb, dd)) continue;
-        const int64_t db = bb > bp ? bb - bp : bp - bb, dt = dd > dp ? dd - dp : dp - dd;
-        const int64_t cost = ((db != 0) + (dt != 0)) * (int64_t{1} << 40) + db + dt;
-        if (best < 0 || cost < best) {
-          best = cost;
-          *b = static_cast<int32_t>(bb), *d = static_cast<int32_t>(dd);
-        }
+  // D = dd with its B of the least cost (of the two B's that put the first column right, the
+  // nearer bp if it fits all points, else the other), kept when it costs less than the best, or
+  // as much with a smaller D (`least`).
+  const auto try_turn = [&](int64_t dd, bool least) {
+    // The first column right: 2N c0 <= B N + D m0 + N < 2N c0 + 2N, so B is b1 - 1 or b1.
+    const int64_t n = kSlots, b1 = detail::floor_div(2 * n * c[0] + n - 1 - dd * m[0], n);
+    const int64_t bn = bp >= b1 ? b1 : b1 - 1, bf = bn == b1 ? b1 - 1 : b1;
+    for (const int64_t bb : {bn, bf}) {
+      if (bb < INT32_MIN || bb > INT32_MAX || !fits(c + 1, m + 1, len - 1, bb, dd)) continue;
+      const int64_t db = bb > bp ? bb - bp : bp - bb, dt = dd > dp ? dd - dp : dp - dd;
+      const int64_t cost = ((db != 0) + (dt != 0)) * kTurnCost + db + dt;
+      if (best < 0 || cost < best || (least && cost == best && dd < *d)) {
+        best = cost;
+        *b = static_cast<int32_t>(bb), *d = static_cast<int32_t>(dd);
       }
+      return;  // the other B, farther from bp, costs more
     }
+  };
+  const bool first = dp == 0 && dn == 0;
+  if (!first) {
+    const int64_t near[11] = {0,      dp - 2, dp - 1, dp,     dp + 1, dp + 2,
+                              dn - 2, dn - 1, dn,     dn + 1, dn + 2};
+    for (int j = 0; j < 11; ++j)
+      if (near[j] >= lo && near[j] <= hi && std::find(near, near + j, near[j]) == near + j)
+        try_turn(near[j], false);
+  }
+  if (best >= 0 || !(wide || first)) return best >= 0;
+  // The wide search: D in [l, h] at distance t from dp costs at least kTurnCost + t (t > 0).
+  const int64_t l = std::max(lo, -kWideTurn), h = std::min(hi, kWideTurn);
+  const int64_t t0 = dp < l ? l - dp : dp > h ? dp - h : 0, t1 = std::max(dp - l, h - dp);
+  for (int64_t t = t0; t <= t1; ++t) {
+    if (best >= 0 && (t > 0 ? kTurnCost : 0) + t > best) break;
+    if (dp - t >= l && dp - t <= h) try_turn(dp - t, true);
+    if (t > 0 && dp + t >= l && dp + t <= h) try_turn(dp + t, true);
   }
   return best >= 0;
 }
@@ -270,9 +310,11 @@ std::vector<uint8_t> fit_slots(const std::vector<uint32_t>& ring, const std::vec
     while (few < u.size() && seen < kSlotFitPoints) seen += ring[few++] == k;
     if (seen == 0) continue;  // a ring without points keeps its slot
     uint8_t best = slot[k];
-    size_t least = slot_cost(c, ring, slot, few, &m);
+    size_t least = 0;  // the slots as they are, counted at the first candidate (if any)
+    bool counted = false;
     for (uint32_t v = 0; v < kSlots; ++v) {  // a slot of another ring's left out (lasers apart)
       if (std::find(slot.begin(), slot.end(), v) != slot.end()) continue;
+      if (!counted) least = slot_cost(c, ring, slot, few, &m), counted = true;
       slot[k] = static_cast<uint8_t>(v);
       const size_t bits = slot_cost(c, ring, slot, few, &m, least);
       if (bits < least) least = bits, best = slot[k];
@@ -292,7 +334,8 @@ std::vector<uint8_t> fit_slots(const std::vector<uint32_t>& ring, const std::vec
 
 }  // namespace
 
-void fire_points(const ScanGeometry& g, const Table& t, size_t n, std::vector<Polar>* polar) {
+void fire_points(const ScanGeometry& g, const Table& t, size_t n, Placement* placed) {
+  placed->fire.assign(n, Fire{});
   std::vector<int32_t> c;
   std::vector<uint32_t> m;
   std::vector<size_t> at;
@@ -302,14 +345,13 @@ void fire_points(const ScanGeometry& g, const Table& t, size_t n, std::vector<Po
     c.clear(), m.clear(), at.clear();
     for (size_t i = first; i < end; ++i) {
       if (!g.valid[i]) continue;
-      const Polar& p = (*polar)[i];
+      const Polar& p = placed->polar[i];
       if (p.ring >= t.slot.size()) continue;
       c.push_back(p.column), m.push_back(t.slot[p.ring]), at.push_back(i);
     }
     split_firings(c.data(), m.data(), c.size(), true,
                   [&](size_t i, size_t len, int32_t b, int32_t d, bool) {
-                    for (size_t j = i; j < i + len; ++j)
-                      (*polar)[at[j]].fire_b = b, (*polar)[at[j]].fire_d = d;
+                    for (size_t j = i; j < i + len; ++j) placed->fire[at[j]] = Fire{b, d};
                     return true;
                   });
     first += g.counts[f];

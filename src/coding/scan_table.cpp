@@ -419,7 +419,7 @@ void fit_units(const ScanGeometry& g, const ScanHints& h, const std::vector<uint
 
 }  // namespace
 
-RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units) {
+RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units, bool shares) {
   RingFit r;
   std::vector<uint32_t> ring;
   r.bow = find_bow(g, hints);
@@ -453,7 +453,7 @@ RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units) {
   }
   r.step = infer_step(r.phi);
   r.quantum = azimuth_quantum(r);
-  fit_shares(g, &r);
+  if (shares) fit_shares(g, &r);
   r.slope.resize(rings), r.z0.resize(rings);
   for (size_t k = 0; k < rings; ++k) fit_cone(cone[k], &r.slope[k], &r.z0[k]);
   if (units) fit_units(g, hints, ring, rings, &r);
@@ -502,7 +502,9 @@ Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* 
 }
 
 void place_points(const ScanGeometry& g, const RingFit& r, const Table& t, size_t n,
-                  std::vector<Polar>* polar) {
+                  Placement* placed) {
+  std::vector<Polar>* polar = &placed->polar;
+  placed->fire.clear();
   if (t.rings() == 0) {
     polar->assign(n, Polar{});
     return;
@@ -524,13 +526,13 @@ void place_points(const ScanGeometry& g, const RingFit& r, const Table& t, size_
     if (units) o.range = r.steps[i];
     (*polar)[i] = o;
   }
-  if (t.slots) fire_points(g, t, n, polar);
+  if (t.slots) fire_points(g, t, n, placed);
 }
 
 Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor, bool units,
-                std::vector<Polar>* polar) {
+                Placement* placed) {
   const Table t = table_fit(r, step_divisor, units);
-  place_points(g, r, t, g.total(), polar);
+  place_points(g, r, t, g.total(), placed);
   return t;
 }
 

@@ -37,36 +37,46 @@ struct RingFit {
   std::vector<uint8_t> slot;
   size_t rings() const { return phi.size(); }
 };
-// Without `units` the range step is not looked for (a caller that codes no payload with it).
-RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units = true);
+// Without `units` the range step is not looked for (a caller that codes no payload with it);
+// without `shares` neither are the firing's base and slots (fit_shares: a caller whose tables
+// are never the quantum's, such as the point order's).
+RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units = true,
+                  bool shares = true);
+// Every point's place under a table (place_points): its ring, column and range, and on a table
+// with slots its firing's base and turn (else `fire` is empty).
+struct Placement {
+  std::vector<Polar> polar;
+  std::vector<Fire> fire;
+};
+
 // Fits the firing's turn and the rings' shares of it on the azimuths' quantum (r->quantum > 0),
 // from g's points in order; kept in r only when the firing's base predicts more columns
 // exactly than the ring's lead on the point before.
 void fit_shares(const ScanGeometry& g, RingFit* r);
-// Each valid point's firing's base and turn (Polar::fire_b, fire_d) on a table with slots, the
-// firings split per frame as the decoder splits them (scan_shares_encode.cpp).
-void fire_points(const ScanGeometry& g, const Table& t, size_t n, std::vector<Polar>* polar);
+// Each of the first n points' firing's base and turn (p->fire, from p->polar) on a table with
+// slots, the firings split per frame as the decoder splits them (scan_shares_encode.cpp).
+void fire_points(const ScanGeometry& g, const Table& t, size_t n, Placement* p);
 // The azimuth step found in each ring's azimuths sorted (positive), not in point order: a
 // driver that writes a ring's points out of firing order (pandar64: columns in a shuffled
 // pattern) makes the point-order step a multiple of the sensor's. 0 when none is found.
 double sorted_step(const RingFit& r);
 
-// The table of a window's points and every valid point's ring, column and range under it; an
+// The table of a window's points and every valid point's place under it (*placed); an
 // empty table (no rings) when none can be inferred. The azimuth step is the one found in the
 // data divided by step_divisor (finer columns for sensors whose azimuths are not on one step),
 // or with step_divisor 0 the azimuths' quantum r.quantum, with the column's third candidate
 // (Table::turn).
 // With `units` (and r.unit found) the table's ranges count the sensor's range steps.
 Table table_for(const ScanGeometry& g, const RingFit& r, double step_divisor, bool units,
-                std::vector<Polar>* polar);
-// table_for in two steps: the table alone (its per-ring fit, the costly part), then *polar
+                Placement* placed);
+// table_for in two steps: the table alone (its per-ring fit, the costly part), then *placed
 // (resized to n) for points [0, n) under it, so an encoder trying a table on a window's first
 // frames places only those and keeps the table for the whole window.
 // twin: a table of r fitted before (or null); when its step is this one's, its azimuth offsets
 // (which depend on r and the step only) are taken instead of fitted again.
 Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* twin = nullptr);
 void place_points(const ScanGeometry& g, const RingFit& r, const Table& t, size_t n,
-                  std::vector<Polar>* polar);
+                  Placement* placed);
 
 // Packs t (FORMAT.md "Packed laser table", units bit 5) when that is smaller than the plain
 // table: its values rounded to the packed fields' multiples (so that reach, the largest range

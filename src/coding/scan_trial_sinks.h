@@ -15,6 +15,7 @@
 #include "coding/entropy.h"
 #include "coding/scan_geometry.h"
 #include "coding/scan_shared.h"
+#include "coding/scan_table.h"
 
 namespace capz {
 namespace scan_sinks {
@@ -161,8 +162,8 @@ struct RecordSink {
 template <class Sink>
 class EncodeIo {
  public:
-  EncodeIo(Sink* sink, const ScanGeometry& g, const std::vector<scan::Polar>& polar)
-      : sink_(sink), g_(g), polar_(polar) {}
+  EncodeIo(Sink* sink, const ScanGeometry& g, const scan::Placement& placed)
+      : sink_(sink), g_(g), polar_(placed.polar.data()), fire_(placed.fire.data()) {}
   __attribute__((always_inline)) int32_t sym(int32_t actual, int32_t pred, int ctx) {
     sink_->put(zigzag(wrap_sub(actual, pred)), ctx);
     return actual;
@@ -176,13 +177,16 @@ class EncodeIo {
     return v;
   }
   scan::Polar polar(size_t i) const { return polar_[i]; }
+  // (Called only on a table with slots, whose placement has every point's firing.)
+  scan::Fire fire(size_t i) const { return fire_[i]; }
   const int32_t* actual(size_t i) const { return &g_.q[3 * i]; }
   bool actual_valid(size_t i) const { return g_.valid[i] != 0; }
 
  private:
   Sink* sink_;
   const ScanGeometry& g_;
-  const std::vector<scan::Polar>& polar_;
+  const scan::Polar* polar_;
+  const scan::Fire* fire_;
 };
 
 // The encoder's spherical trial: codes the second of x y both ways (scan_loop.h).

@@ -125,15 +125,16 @@ inline void expect_decoded_otherwise(const std::vector<uint8_t>& d, const ScanGe
 // Codes through a block, the ring and column symbols also counted apart.
 class BlockIo {
  public:
-  BlockIo(IntEncoder* enc, const ScanGeometry& g, const std::vector<scan::Polar>& polar)
-      : enc_(enc), g_(g), polar_(polar) {}
+  BlockIo(IntEncoder* enc, const ScanGeometry& g, const scan::Placement& placed)
+      : enc_(enc), g_(g), placed_(placed) {}
   int32_t sym(int32_t actual, int32_t pred, int ctx) {
     put(zigzag(wrap_sub(actual, pred)), ctx);
     return actual;
   }
   uint32_t ring(uint32_t d, uint32_t, int ctx) { return put(d, ctx), d; }
   bool flag(bool v, int ctx) { return put(v ? 1u : 0u, ctx), v; }
-  scan::Polar polar(size_t i) const { return polar_[i]; }
+  scan::Polar polar(size_t i) const { return placed_.polar[i]; }
+  scan::Fire fire(size_t i) const { return placed_.fire[i]; }
   const int32_t* actual(size_t i) const { return &g_.q[3 * i]; }
   bool actual_valid(size_t i) const { return g_.valid[i] != 0; }
   // The bytes the ring and column symbols alone take.
@@ -148,18 +149,18 @@ class BlockIo {
   IntEncoder* enc_;
   IntEncoder apart_{scan::kContexts};
   const ScanGeometry& g_;
-  const std::vector<scan::Polar>& polar_;
+  const scan::Placement& placed_;
 };
 
 // g's one frame coded under the table the encoder infers (step as found, no range units) with
 // `flags`: the payload, and (*ring_column) the bytes its ring and column symbols alone take.
 inline std::vector<uint8_t> one_frame_payload(const ScanGeometry& g, const ScanHints& h,
                                               uint8_t flags, size_t* ring_column) {
-  std::vector<scan::Polar> polar;
-  const scan::Table t = scan::table_for(g, scan::fit_rings(g, h, false), 1.0, false, &polar);
+  scan::Placement placed;
+  const scan::Table t = scan::table_for(g, scan::fit_rings(g, h, false), 1.0, false, &placed);
   EXPECT_GT(t.rings(), 0u);
   IntEncoder enc(scan::kContexts);
-  BlockIo io(&enc, g, polar);
+  BlockIo io(&enc, g, placed);
   scan::State st(t);
   std::vector<int32_t> q(g.q.size());
   std::vector<uint8_t> v(g.valid.size());
