@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -63,6 +64,31 @@ inline std::string shared_data_or_skip(const std::string& rel = "") {
     return "";
   }
   return path.string();
+}
+
+// Whether this build runs under a sanitizer (cmake CAPZ_SANITIZE). The tests that code whole
+// real sequences then code their first frames only: the same code paths in a fraction of the
+// time (scripts/test.sh runs them whole in the Release build first).
+#if defined(CAPZ_TEST_SANITIZED) && CAPZ_TEST_SANITIZED
+constexpr bool kSanitized = true;
+#else
+constexpr bool kSanitized = false;
+#endif
+
+// The PCD folder `dir` as a test reads it: the folder itself, or in a sanitized build (kSanitized)
+// a folder in `tmp` holding copies of its first `n` frame files (by name).
+inline std::string folder_for_build(const std::string& dir, const TempDir& tmp, size_t n) {
+  if (!kSanitized) return dir;
+  std::vector<std::filesystem::path> frames;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    if (e.path().extension() == ".pcd") frames.push_back(e.path());
+  std::sort(frames.begin(), frames.end());
+  const std::filesystem::path out =
+      tmp.path() / ("first_frames_" + std::filesystem::path(dir).filename().string());
+  std::filesystem::create_directories(out);
+  for (size_t f = 0; f < frames.size() && f < n; ++f)
+    std::filesystem::copy_file(frames[f], out / frames[f].filename());
+  return out.string();
 }
 
 // Same shape, same gaps, and bit-identical coordinates at every valid sample.

@@ -189,12 +189,13 @@ TEST(ScanLossless, SharedSequencesRebuildByteForByte) {
   const std::string root = capz_test::shared_data_or_skip("scan");
   if (root.empty()) return;
   capz_test::TempDir tmp("capz_scan_lossless_real");
+  const size_t kFrames = capz_test::kSanitized ? 2 : 3;  // 2: the same paths, two thirds the time
   for (const char* seq : {"robosense-helios16p", "robosense-e1", "pandar64-factory20"}) {
     const std::string dir = tmp.file(seq);
     fs::create_directories(dir);
     const std::vector<std::string> names = capz::list_pcd_frames(root + "/" + seq);
     ASSERT_GE(names.size(), 3u) << seq;
-    for (size_t f = 0; f < 3; ++f)
+    for (size_t f = 0; f < kFrames; ++f)
       fs::copy_file(root + "/" + seq + "/" + names[f], dir + "/" + names[f]);
     const capz::CompressStats st = expect_rebuilt(dir, tmp, 2);
     EXPECT_GT(st.attribute_bytes, 0u) << seq;
@@ -204,7 +205,7 @@ TEST(ScanLossless, SharedSequencesRebuildByteForByte) {
   capz::WriteOptions w;
   w.pcd_encoding = "binary";
   capz::write_take(capz::read_take(tmp.file("robosense-helios16p")), bin + "/", w);
-  EXPECT_EQ(folder_bytes(bin).size(), 3u);
+  EXPECT_EQ(folder_bytes(bin).size(), kFrames);
   expect_rebuilt(bin, tmp);
 }
 
