@@ -488,20 +488,15 @@ std::vector<TableChoice> sampled_choice(const ScanGeometry& g, const ScanGeometr
   return out;
 }
 
-}  // namespace
 
-std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints,
-                                          ScanWorkspace* ws) {
-  size_t total = 0;
-  for (uint32_t n : g.counts) total += n;
-  if (g.valid.size() != total || g.q.size() != 3 * total)
-    fail(ErrorCode::kInternal, "scan geometry", "the points disagree with the frames' counts");
+// The payload of window g under the rings of `fit` (fit_rings of g and hints).
+std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const ScanHints& hints,
+                                   const scan::RingFit& fit, ScanWorkspace* ws) {
   // The table's azimuth step as found, and finer ones for azimuths off that step, each with
   // ranges in grid units and, when the sensor's range step is found, in that step: the smallest
   // payload wins. In a window of more than kTrialFrames frames, only the tables whose payload for
   // the first kTrialFrames frames is within kTrialSlack of the smallest such payload code the
   // whole window.
-  const scan::RingFit fit = scan::fit_rings(g, hints);
   Scratch scratch;
   if (ws) {  // the maps of the windows before (reset for each table: the same coding)
     if (!ws->maps) ws->maps = std::make_shared<scan::SweepMaps>();
@@ -575,6 +570,64 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
       std::count_if(sizes.begin(), sizes.end(), [](size_t v) { return v > 0; }) > 1)
     ws->choice = chosen;
   scan::raster::keep_smaller(g, hints, &best);  // a flash LiDAR's window (scan_raster.h)
+  return best;
+}
+
+// Replaces *best by the payload of g under `fit` when that is smaller; whether it did.
+bool keep_smaller_fit(const ScanGeometry& g, const ScanHints& hints, const scan::RingFit& fit,
+                      ScanWorkspace* ws, std::vector<uint8_t>* best) {
+  std::vector<uint8_t> out = encode_fitted(g, hints, fit, ws);
+  if (out.size() >= best->size()) return false;
+  best->swap(out);
+  return true;
+}
+
+// Whether fits a and b give every valid point of g the same ring, up to the rings' numbering.
+bool same_rings(const ScanGeometry& g, const scan::RingFit& a, const scan::RingFit& b) {
+  if (a.rings() != b.rings()) return false;
+  constexpr uint32_t kNone = UINT32_MAX;
+  std::vector<uint32_t> to(a.rings(), kNone), from(b.rings(), kNone);
+  for (size_t i = 0; i < g.total(); ++i) {
+    if (!g.valid[i]) continue;
+    const uint32_t ka = a.polar[i].ring, kb = b.polar[i].ring;
+    if (to[ka] == kNone && from[kb] == kNone) to[ka] = kb, from[kb] = ka;
+    if (to[ka] != kb) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool scan_rings_differ(const ScanGeometry& g, const ScanHints& hints) {
+  ScanHints elevations = hints;
+  elevations.ring.clear();
+  const scan::RingFit other = scan::fit_rings(g, elevations, false);
+  return other.rings() > 0 && !same_rings(g, scan::fit_rings(g, hints, false), other);
+}
+
+std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints,
+                                          ScanWorkspace* ws) {
+  size_t total = 0;
+  for (uint32_t n : g.counts) total += n;
+  if (g.valid.size() != total || g.q.size() != 3 * total)
+    fail(ErrorCode::kInternal, "scan geometry", "the points disagree with the frames' counts");
+  const scan::RingFit fit = scan::fit_rings(g, hints);
+  if (hints.ring.empty()) return encode_fitted(g, hints, fit, ws);
+  // A ring field is not always the best rings: the RoboSense Helios 16P's near points, seen
+  // from the origin 35 mm off its optical centre, leave each laser's cone by their range, and
+  // rings found from the elevations split a laser by range, which predicts the range and keeps
+  // the previous sweep's map cells apart (docs/lab/2026-11-29-helios-at128.md). The rings from
+  // the elevations are tried too when they differ, the smaller payload kept.
+  ScanHints elevations = hints;
+  elevations.ring.clear();
+  const scan::RingFit other = scan::fit_rings(g, elevations);
+  if (other.rings() == 0 || same_rings(g, fit, other)) return encode_fitted(g, hints, fit, ws);
+  const ScanChoice before = ws ? ws->choice : ScanChoice();
+  std::vector<uint8_t> best = encode_fitted(g, hints, fit, ws);
+  if (!ws) return keep_smaller_fit(g, elevations, other, nullptr, &best), best;
+  const ScanChoice chosen = ws->choice;
+  ws->choice = before;  // the second fit's trial sees the windows before as the first's did
+  if (!keep_smaller_fit(g, elevations, other, ws, &best)) ws->choice = chosen;
   return best;
 }
 

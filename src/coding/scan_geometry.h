@@ -87,6 +87,10 @@ struct ScanWorkspace {
 std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints = {},
                                           ScanWorkspace* ws = nullptr);
 
+// Whether the rings the encoder finds from the points' elevations differ from the ring field's
+// (hints.ring, not empty): encode_scan_geometry then tries both (encoder side).
+bool scan_rings_differ(const ScanGeometry& g, const ScanHints& hints);
+
 // Which table orders the points: one per frame with the azimuth step of each ring's sorted
 // azimuths (a driver that writes a ring out of firing order), or the window's as the payload
 // infers it (the step from the file's order). kPerFrameByRing: the per-frame table's points ring
