@@ -3,6 +3,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <unordered_map>
 
 #include "capz/error.h"
 #include "coding/bytes.h"
@@ -488,7 +489,6 @@ std::vector<TableChoice> sampled_choice(const ScanGeometry& g, const ScanGeometr
   return out;
 }
 
-
 // The payload of window g under the rings of `fit` (fit_rings of g and hints).
 std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const ScanHints& hints,
                                    const scan::RingFit& fit, ScanWorkspace* ws) {
@@ -582,18 +582,24 @@ bool keep_smaller_fit(const ScanGeometry& g, const ScanHints& hints, const scan:
   return true;
 }
 
-// Whether fits a and b give every valid point of g the same ring, up to the rings' numbering.
+// Whether fits a and b give the valid points of g nearly the same rings, up to the rings'
+// numbering: all but 1 % of them on the ring most of their ring's points have in the other fit,
+// both ways (a ring field and the elevations' rings of a sensor whose cones hold: the same).
 bool same_rings(const ScanGeometry& g, const scan::RingFit& a, const scan::RingFit& b) {
-  if (a.rings() != b.rings()) return false;
-  constexpr uint32_t kNone = UINT32_MAX;
-  std::vector<uint32_t> to(a.rings(), kNone), from(b.rings(), kNone);
-  for (size_t i = 0; i < g.total(); ++i) {
-    if (!g.valid[i]) continue;
-    const uint32_t ka = a.polar[i].ring, kb = b.polar[i].ring;
-    if (to[ka] == kNone && from[kb] == kNone) to[ka] = kb, from[kb] = ka;
-    if (to[ka] != kb) return false;
+  std::unordered_map<uint64_t, size_t> pairs;  // (a's ring, b's ring): points
+  size_t valid = 0;
+  for (size_t i = 0; i < g.total(); ++i)
+    if (g.valid[i]) ++valid, ++pairs[uint64_t{a.polar[i].ring} << 32 | b.polar[i].ring];
+  std::vector<size_t> most_a(a.rings(), 0), most_b(b.rings(), 0);
+  for (const auto& p : pairs) {
+    const auto ka = static_cast<size_t>(p.first >> 32), kb = static_cast<size_t>(p.first & ~0u);
+    most_a[ka] = std::max(most_a[ka], p.second);
+    most_b[kb] = std::max(most_b[kb], p.second);
   }
-  return true;
+  size_t agree_a = 0, agree_b = 0;
+  for (size_t v : most_a) agree_a += v;
+  for (size_t v : most_b) agree_b += v;
+  return 100 * (valid - std::min(agree_a, agree_b)) <= valid;
 }
 
 }  // namespace
