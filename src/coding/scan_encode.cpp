@@ -35,7 +35,8 @@ void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, cons
                               (t.bow != 0 ? scan::kBowBit : 0) | (t.turn ? scan::kTurnBit : 0) |
                               (t.share.empty() ? 0 : scan::kShareBit) |
                               (t.pack.empty() ? 0 : scan::kPackBit) |
-                              (t.slots == 0 ? 0 : scan::kSlotBit)));
+                              (t.slots == 0 ? 0 : scan::kSlotBit) |
+                              (t.before ? scan::kBeforeBit : 0)));
     if (!t.pack.empty()) {
       write_packed_table(t, &w);
     } else {
@@ -489,6 +490,27 @@ std::vector<TableChoice> sampled_choice(const ScanGeometry& g, const ScanGeometr
   return out;
 }
 
+// The range's fourth candidate (units bit 7): table t again with it, *best replaced when its
+// payload is smaller; first on the trial sample when t's sample payload is known (`sampled` >
+// 0), and the whole window only when the sample is smaller with it.
+void try_before(const ScanGeometry& g, const ScanGeometry& sample, const std::vector<size_t>& from,
+                const scan::RingFit& fit, scan::Table t, size_t sampled, std::vector<uint8_t>* best,
+                Scratch* s) {
+  t.before = true;
+  if (sampled > 0) {
+    s->cart.clear();  // the estimates and checks are the frames' they were made on
+    s->spherical_ok.clear();
+    const size_t size = sample_size(g, sample, from, fit, t, s);
+    s->cart.clear();
+    s->spherical_ok.clear();
+    if (size >= sampled) return;
+  }
+  std::vector<scan::Polar> polar;
+  scan::place_points(g, fit, t, g.total(), &polar);
+  std::vector<uint8_t> out = encode_with(g, t, polar, s);
+  if (out.size() < best->size()) best->swap(out);
+}
+
 // The payload of window g under the rings of `fit` (fit_rings of g and hints).
 std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const ScanHints& hints,
                                    const scan::RingFit& fit, ScanWorkspace* ws) {
@@ -534,6 +556,8 @@ std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const ScanHints& hints
   std::vector<uint8_t> best;
   ScanChoice chosen;  // the choice of the smallest payload, when it was tried on the sample
   scan::Table t;      // the table of the choice before, then this one's
+  scan::Table best_table;        // the smallest payload's
+  size_t best_sample = 0;        // its sample's payload (0: not known)
   for (const TableChoice& c : choices) {
     const auto k =
         static_cast<size_t>(std::find_if(tried.begin(), tried.end(),
@@ -557,6 +581,8 @@ std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const ScanHints& hints
     if (ws) ++ws->tables_coded;
     if (best.empty() || out.size() < best.size()) {
       best.swap(out);
+      best_table = t;
+      best_sample = k < sizes.size() ? sizes[k] : 0;
       if (k < sizes.size() && sizes[k] > 0)
         chosen = {c.divisor, c.units,
                   8.0 * static_cast<double>(sizes[k]) / static_cast<double>(sample.total()),
@@ -569,6 +595,8 @@ std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const ScanHints& hints
   if (ws && ws->remember &&
       std::count_if(sizes.begin(), sizes.end(), [](size_t v) { return v > 0; }) > 1)
     ws->choice = chosen;
+  if (best_table.rings() > 0)
+    try_before(g, sample, from, fit, best_table, best_sample, &best, &scratch);
   scan::raster::keep_smaller(g, hints, &best);  // a flash LiDAR's window (scan_raster.h)
   return best;
 }

@@ -1,11 +1,14 @@
 // Which rings the scan encoder codes with (src/coding/scan_encode.cpp): a ring field, or the
-// rings it finds from the points' elevations when those code smaller. The RoboSense Helios 16P's
+// rings it finds from the points' elevations when those code smaller; and the range's fourth
+// candidate (FORMAT.md "Scan geometry payload", units bit 7), the ring's range before its last,
+// for a sensor in dual-return mode. The RoboSense Helios 16P's
 // near points, seen from the origin 35 mm off its optical centre, leave their laser's cone by
 // their range, and the rings from the elevations (a laser split by range) code its sweeps in
 // about 0.78x the bytes (docs/lab/2026-11-29-helios-at128.md).
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include "capz/error.h"
@@ -76,6 +79,31 @@ TEST(ScanRings, GivenLasersOnTheOriginThenTheRingFieldsRingsKept) {
   const std::vector<uint8_t> field = encode_scan_geometry(g, h);
   expect_exact(g, field);
   EXPECT_EQ(scan::read_header(field.data(), field.size(), "rings", 1u << 22).table.rings(), 16u);
+}
+
+// Its alternating returns: each laser's range one firing back is the same return's. The encoder
+// sets units bit 7, the payload decodes exactly, and without the bit it decodes to other points
+// (the decoder reads it).
+TEST(ScanRings, GivenDualReturnsThenTheRangeBeforeTheLastIsACandidate) {
+  ScanHints h;
+  const ScanGeometry g = dual_returns(0, &h);
+  const std::vector<uint8_t> p = encode_scan_geometry(g, h);
+  expect_exact(g, p);
+  const scan::Header hd = scan::read_header(p.data(), p.size(), "rings", 1u << 22);
+  EXPECT_TRUE(hd.table.before);
+  const size_t at = units_offset(p);
+  ASSERT_NE(p[at] & scan::kBeforeBit, 0);
+  std::vector<uint8_t> d = p;
+  d[at] = static_cast<uint8_t>(d[at] & ~scan::kBeforeBit);
+  try {
+    const ScanGeometry back = decode_scan_geometry(d.data(), d.size(), "damaged");
+    EXPECT_NE(back.q, g.q);
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
+  }
+  // A payload cut anywhere is corrupt.
+  for (size_t n : {at + 1, hd.body, hd.body + 16, p.size() / 2, p.size() - 1})
+    expect_scan_corrupt(std::vector<uint8_t>(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(n)));
 }
 
 }  // namespace
