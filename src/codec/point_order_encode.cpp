@@ -79,21 +79,21 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
   std::vector<uint8_t> file = encode_scan_geometry(g, hints, ws);
   *coded = file;
   const bool cells = cells_worth_trying(g);
-  // The sorted orders of rings from `h` (the window's hints, or without their ring field).
+  // The sorted orders of rings from `h` (the window's hints, or without their ring field), coded
+  // with h (encode_scan_geometry tries the elevations' rings too where h has a ring field).
   const auto try_orders = [&](const ScanHints& h) {
     std::vector<uint32_t> by_ring;  // with cells: the per-frame tables' order ring by ring
     for (ScanOrderTable table : {ScanOrderTable::kPerFrame, ScanOrderTable::kWindow}) {
       std::vector<uint32_t> order = scan_point_order(
           g, h, table, cells && table == ScanOrderTable::kPerFrame ? &by_ring : nullptr);
-      std::vector<uint8_t> bytes =
-          encode_scan_geometry(permuted(g, order), permuted(hints, order), ws);
+      std::vector<uint8_t> bytes = encode_scan_geometry(permuted(g, order), permuted(h, order), ws);
       if (bytes.size() < coded->size()) coded->swap(bytes), best.swap(order);
     }
-    if (cells) try_cells(g, hints, coded, &best, by_ring, ws);
+    if (cells) try_cells(g, h, coded, &best, by_ring, ws);
   };
   try_orders(hints);
   // The orders of the rings found from the elevations where they differ from the ring field's
-  // (encode_scan_geometry tries both rings for the payload; the Helios 16P's near points).
+  // (the Helios 16P's near points), coded with those rings alone.
   if (!hints.ring.empty() && scan_rings_differ(g, hints)) {
     ScanHints elevations = hints;
     elevations.ring.clear();

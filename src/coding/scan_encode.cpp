@@ -29,14 +29,13 @@ void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, cons
     w.varint(t.columns);
     const bool offsets =
         std::any_of(t.offset.begin(), t.offset.end(), [](double v) { return v != 0; });
-    w.u8(static_cast<uint8_t>((t.unit.empty() ? 0
-                               : offsets      ? 2
-                                              : 1) |
-                              (t.bow != 0 ? scan::kBowBit : 0) | (t.turn ? scan::kTurnBit : 0) |
-                              (t.share.empty() ? 0 : scan::kShareBit) |
-                              (t.pack.empty() ? 0 : scan::kPackBit) |
-                              (t.slots == 0 ? 0 : scan::kSlotBit) |
-                              (t.before ? scan::kBeforeBit : 0)));
+    w.u8(static_cast<uint8_t>(
+        (t.unit.empty() ? 0
+         : offsets      ? 2
+                        : 1) |
+        (t.bow != 0 ? scan::kBowBit : 0) | (t.turn ? scan::kTurnBit : 0) |
+        (t.share.empty() ? 0 : scan::kShareBit) | (t.pack.empty() ? 0 : scan::kPackBit) |
+        (t.slots == 0 ? 0 : scan::kSlotBit) | (t.before ? scan::kBeforeBit : 0)));
     if (!t.pack.empty()) {
       write_packed_table(t, &w);
     } else {
@@ -554,10 +553,10 @@ std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const ScanHints& hints
     choices = first_frame_choice(g, fit, tried, &tables, &polar, &kept, &scratch);
   }
   std::vector<uint8_t> best;
-  ScanChoice chosen;  // the choice of the smallest payload, when it was tried on the sample
-  scan::Table t;      // the table of the choice before, then this one's
-  scan::Table best_table;        // the smallest payload's
-  size_t best_sample = 0;        // its sample's payload (0: not known)
+  ScanChoice chosen;       // the choice of the smallest payload, when it was tried on the sample
+  scan::Table t;           // the table of the choice before, then this one's
+  scan::Table best_table;  // the smallest payload's
+  size_t best_sample = 0;  // its sample's payload (0: not known)
   for (const TableChoice& c : choices) {
     const auto k =
         static_cast<size_t>(std::find_if(tried.begin(), tried.end(),

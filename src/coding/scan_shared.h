@@ -55,9 +55,10 @@ constexpr int64_t kMaxPacked = int64_t{1} << 53;
 // The units byte's bit of the firing's slots (only with kTurnBit, not with kShareBit), and the
 // bound of its slots per half turn (FORMAT.md step 2).
 constexpr uint8_t kSlotBit = 64;
-// The range's fourth candidate, the ring's range before its last (FORMAT.md, units bit 7).
-constexpr uint8_t kBeforeBit = 128;
 constexpr uint32_t kMaxSlots = 64;
+// The units byte's bit of the range's fourth candidate, the ring's range before its last
+// (FORMAT.md step 3).
+constexpr uint8_t kBeforeBit = 128;
 constexpr double kMaxBow = 1;
 // Coordinates of a spherical frame stay below this in magnitude (so a range fits an int32).
 constexpr int64_t kMaxSphericalCoord = int64_t{1} << 29;
@@ -73,7 +74,7 @@ struct Table {
   std::vector<double> unit, offset;
   // The cones' bow: a ring's slope at azimuth phi is slope + bow (1 - cos phi) (0: none).
   float bow = 0;
-  bool turn = false;  // the column's third candidate (units bit 4)
+  bool turn = false;    // the column's third candidate (units bit 4)
   bool before = false;  // the range's fourth candidate (units bit 7)
   // The column's fourth candidate (units bit 3): the firing's turn in columns and per ring its
   // laser's share of it (empty: none).

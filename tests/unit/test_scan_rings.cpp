@@ -103,7 +103,8 @@ TEST(ScanRings, GivenDualReturnsThenTheRangeBeforeTheLastIsACandidate) {
   }
   // A payload cut anywhere is corrupt.
   for (size_t n : {at + 1, hd.body, hd.body + 16, p.size() / 2, p.size() - 1})
-    expect_scan_corrupt(std::vector<uint8_t>(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(n)));
+    expect_scan_corrupt(
+        std::vector<uint8_t>(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(n)));
 }
 
 }  // namespace
