@@ -71,6 +71,8 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
   bound_hints(grid, &hints);
   hints.xyz.resize(b.xyz.size());
   for (size_t i = 0; i < b.xyz.size(); ++i) hints.xyz[i] = static_cast<float>(b.xyz[i]);
+  // Whether the elevations' rings differ from the ring field's: the same in every order.
+  if (!hints.ring.empty()) hints.elevation_rings = scan_rings_differ(g, hints) ? 1 : 0;
   // The smallest window payload of: each frame sorted under its own table, sorted under the
   // window's table, or the file's order (a sensor whose file order is its firing order already,
   // or one no table describes); the encoder's choice, any order being allowed.
@@ -94,7 +96,7 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
   try_orders(hints);
   // The orders of the rings found from the elevations where they differ from the ring field's
   // (the Helios 16P's near points), coded with those rings alone.
-  if (!hints.ring.empty() && scan_rings_differ(g, hints)) {
+  if (hints.elevation_rings == 1) {
     ScanHints elevations = hints;
     elevations.ring.clear();
     try_orders(elevations);

@@ -3,7 +3,6 @@
 #include <cmath>
 #include <memory>
 #include <string>
-#include <unordered_map>
 
 #include "capz/error.h"
 #include "coding/bytes.h"
@@ -613,16 +612,18 @@ bool keep_smaller_fit(const ScanGeometry& g, const ScanHints& hints, const scan:
 // numbering: all but 1 % of them on the ring most of their ring's points have in the other fit,
 // both ways (a ring field and the elevations' rings of a sensor whose cones hold: the same).
 bool same_rings(const ScanGeometry& g, const scan::RingFit& a, const scan::RingFit& b) {
-  std::unordered_map<uint64_t, size_t> pairs;  // (a's ring, b's ring): points
+  const size_t ka = a.rings(), kb = b.rings();
+  if (ka == 0 || kb == 0 || ka * kb > (size_t{1} << 22)) return false;
+  std::vector<uint32_t> pairs(ka * kb, 0);  // (a's ring, b's ring): points
   size_t valid = 0;
   for (size_t i = 0; i < g.total(); ++i)
-    if (g.valid[i]) ++valid, ++pairs[uint64_t{a.polar[i].ring} << 32 | b.polar[i].ring];
-  std::vector<size_t> most_a(a.rings(), 0), most_b(b.rings(), 0);
-  for (const auto& p : pairs) {
-    const auto ka = static_cast<size_t>(p.first >> 32), kb = static_cast<size_t>(p.first & ~0u);
-    most_a[ka] = std::max(most_a[ka], p.second);
-    most_b[kb] = std::max(most_b[kb], p.second);
-  }
+    if (g.valid[i]) ++valid, ++pairs[a.polar[i].ring * kb + b.polar[i].ring];
+  std::vector<size_t> most_a(ka, 0), most_b(kb, 0);
+  for (size_t i = 0; i < ka; ++i)
+    for (size_t j = 0; j < kb; ++j) {
+      most_a[i] = std::max<size_t>(most_a[i], pairs[i * kb + j]);
+      most_b[j] = std::max<size_t>(most_b[j], pairs[i * kb + j]);
+    }
   size_t agree_a = 0, agree_b = 0;
   for (size_t v : most_a) agree_a += v;
   for (size_t v : most_b) agree_b += v;
@@ -632,9 +633,7 @@ bool same_rings(const ScanGeometry& g, const scan::RingFit& a, const scan::RingF
 }  // namespace
 
 bool scan_rings_differ(const ScanGeometry& g, const ScanHints& hints) {
-  ScanHints elevations = hints;
-  elevations.ring.clear();
-  const scan::RingFit other = scan::fit_rings(g, elevations, false);
+  const scan::RingFit other = scan::fit_rings(g, hints, false, false);
   return other.rings() > 0 && !same_rings(g, scan::fit_rings(g, hints, false), other);
 }
 
@@ -645,22 +644,22 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
   if (g.valid.size() != total || g.q.size() != 3 * total)
     fail(ErrorCode::kInternal, "scan geometry", "the points disagree with the frames' counts");
   const scan::RingFit fit = scan::fit_rings(g, hints);
-  if (hints.ring.empty()) return encode_fitted(g, hints, fit, ws);
+  if (hints.ring.empty() || hints.elevation_rings == 0) return encode_fitted(g, hints, fit, ws);
   // A ring field is not always the best rings: the RoboSense Helios 16P's near points, seen
   // from the origin 35 mm off its optical centre, leave each laser's cone by their range, and
-  // rings found from the elevations split a laser by range, which predicts the range and keeps
-  // the previous sweep's map cells apart (docs/lab/2026-11-29-helios-at128.md). The rings from
-  // the elevations are tried too when they differ, the smaller payload kept.
-  ScanHints elevations = hints;
-  elevations.ring.clear();
-  const scan::RingFit other = scan::fit_rings(g, elevations);
-  if (other.rings() == 0 || same_rings(g, fit, other)) return encode_fitted(g, hints, fit, ws);
+  // rings found from the elevations split a laser by range, which keeps its two returns apart
+  // (docs/lab/2026-11-29-helios-at128.md). The rings from the elevations are tried too when they
+  // differ, the smaller payload kept.
+  if (hints.elevation_rings < 0 && !scan_rings_differ(g, hints))
+    return encode_fitted(g, hints, fit, ws);
+  const scan::RingFit other = scan::fit_rings(g, hints, true, false);
+  if (other.rings() == 0) return encode_fitted(g, hints, fit, ws);
   const ScanChoice before = ws ? ws->choice : ScanChoice();
   std::vector<uint8_t> best = encode_fitted(g, hints, fit, ws);
-  if (!ws) return keep_smaller_fit(g, elevations, other, nullptr, &best), best;
+  if (!ws) return keep_smaller_fit(g, hints, other, nullptr, &best), best;
   const ScanChoice chosen = ws->choice;
   ws->choice = before;  // the second fit's trial sees the windows before as the first's did
-  if (!keep_smaller_fit(g, elevations, other, ws, &best)) ws->choice = chosen;
+  if (!keep_smaller_fit(g, hints, other, ws, &best)) ws->choice = chosen;
   return best;
 }
 

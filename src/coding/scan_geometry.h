@@ -53,6 +53,10 @@ struct ScanHints {
   // "Raster frames", fine shift); decode the payload for them.
   double bound = 0;
   double step = 0;
+  // With a ring field: whether the encoder also codes the rings it finds from the elevations
+  // (the smaller payload kept): -1 where those differ from the field's (it fits both to know),
+  // 0 never, 1 always (a caller that knows: scan_rings_differ, the same for any order).
+  int elevation_rings = -1;
 };
 
 namespace scan {

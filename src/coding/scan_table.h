@@ -38,7 +38,9 @@ struct RingFit {
   size_t rings() const { return phi.size(); }
 };
 // Without `units` the range step is not looked for (a caller that codes no payload with it).
-RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units = true);
+// Without `ring_field` the rings are found from the elevations even when hints has a ring field.
+RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units = true,
+                  bool ring_field = true);
 // Fits the firing's turn and the rings' shares of it on the azimuths' quantum (r->quantum > 0),
 // from g's points in order; kept in r only when the firing's base predicts more columns
 // exactly than the ring's lead on the point before.
