@@ -71,6 +71,8 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
   bound_hints(grid, &hints);
   hints.xyz.resize(b.xyz.size());
   for (size_t i = 0; i < b.xyz.size(); ++i) hints.xyz[i] = static_cast<float>(b.xyz[i]);
+  // Whether the elevations' rings differ from the ring field's: the same in every order.
+  if (!hints.ring.empty()) hints.elevation_rings = scan_rings_differ(g, hints) ? 1 : 0;
   // The smallest window payload of: each frame sorted under its own table, sorted under the
   // window's table, or the file's order (a sensor whose file order is its firing order already,
   // or one no table describes); the encoder's choice, any order being allowed.
@@ -79,15 +81,26 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
   std::vector<uint8_t> file = encode_scan_geometry(g, hints, ws);
   *coded = file;
   const bool cells = cells_worth_trying(g);
-  std::vector<uint32_t> by_ring;  // with cells: the per-frame tables' order ring by ring
-  for (ScanOrderTable table : {ScanOrderTable::kPerFrame, ScanOrderTable::kWindow}) {
-    std::vector<uint32_t> order = scan_point_order(
-        g, hints, table, cells && table == ScanOrderTable::kPerFrame ? &by_ring : nullptr);
-    std::vector<uint8_t> bytes =
-        encode_scan_geometry(permuted(g, order), permuted(hints, order), ws);
-    if (bytes.size() < coded->size()) coded->swap(bytes), best.swap(order);
+  // The sorted orders of rings from `h` (the window's hints, or without their ring field), coded
+  // with h (encode_scan_geometry tries the elevations' rings too where h has a ring field).
+  const auto try_orders = [&](const ScanHints& h) {
+    std::vector<uint32_t> by_ring;  // with cells: the per-frame tables' order ring by ring
+    for (ScanOrderTable table : {ScanOrderTable::kPerFrame, ScanOrderTable::kWindow}) {
+      std::vector<uint32_t> order = scan_point_order(
+          g, h, table, cells && table == ScanOrderTable::kPerFrame ? &by_ring : nullptr);
+      std::vector<uint8_t> bytes = encode_scan_geometry(permuted(g, order), permuted(h, order), ws);
+      if (bytes.size() < coded->size()) coded->swap(bytes), best.swap(order);
+    }
+    if (cells) try_cells(g, h, coded, &best, by_ring, ws);
+  };
+  try_orders(hints);
+  // The orders of the rings found from the elevations where they differ from the ring field's
+  // (the Helios 16P's near points), coded with those rings alone.
+  if (hints.elevation_rings == 1) {
+    ScanHints elevations = hints;
+    elevations.ring.clear();
+    try_orders(elevations);
   }
-  if (cells) try_cells(g, hints, coded, &best, by_ring, ws);
   if (kept) kept->swap(file);
   return best;
 }

@@ -31,6 +31,7 @@ struct Cells {
 Cells split_cells(const ScanGeometry& g, const ScanHints& hints) {
   Cells c;
   c.hints.grid_per_unit = hints.grid_per_unit;
+  c.hints.elevation_rings = hints.elevation_rings;
   // No bound: a raster window's fine shift would code other integers than the cells' (their
   // copies' sources are up to a grid step apart).
   size_t first = 0;

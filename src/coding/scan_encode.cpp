@@ -28,13 +28,13 @@ void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, cons
     w.varint(t.columns);
     const bool offsets =
         std::any_of(t.offset.begin(), t.offset.end(), [](double v) { return v != 0; });
-    w.u8(static_cast<uint8_t>((t.unit.empty() ? 0
-                               : offsets      ? 2
-                                              : 1) |
-                              (t.bow != 0 ? scan::kBowBit : 0) | (t.turn ? scan::kTurnBit : 0) |
-                              (t.share.empty() ? 0 : scan::kShareBit) |
-                              (t.pack.empty() ? 0 : scan::kPackBit) |
-                              (t.slots == 0 ? 0 : scan::kSlotBit)));
+    w.u8(static_cast<uint8_t>(
+        (t.unit.empty() ? 0
+         : offsets      ? 2
+                        : 1) |
+        (t.bow != 0 ? scan::kBowBit : 0) | (t.turn ? scan::kTurnBit : 0) |
+        (t.share.empty() ? 0 : scan::kShareBit) | (t.pack.empty() ? 0 : scan::kPackBit) |
+        (t.slots == 0 ? 0 : scan::kSlotBit) | (t.before ? scan::kBeforeBit : 0)));
     if (!t.pack.empty()) {
       write_packed_table(t, &w);
     } else {
@@ -491,20 +491,35 @@ std::vector<TableChoice> sampled_choice(const ScanGeometry& g, const ScanGeometr
   return out;
 }
 
-}  // namespace
+// The range's fourth candidate (units bit 7): table t again with it, *best replaced when its
+// payload is smaller; first on the trial sample when t's sample payload is known (`sampled` >
+// 0), and the whole window only when the sample is smaller with it.
+void try_before(const ScanGeometry& g, const ScanGeometry& sample, const std::vector<size_t>& from,
+                const scan::RingFit& fit, scan::Table t, size_t sampled, std::vector<uint8_t>* best,
+                Scratch* s) {
+  t.before = true;
+  if (sampled > 0) {
+    s->cart.clear();  // the estimates and checks are the frames' they were made on
+    s->spherical_ok.clear();
+    const size_t size = sample_size(g, sample, from, fit, t, s);
+    s->cart.clear();
+    s->spherical_ok.clear();
+    if (size >= sampled) return;
+  }
+  std::vector<scan::Polar> polar;
+  scan::place_points(g, fit, t, g.total(), &polar);
+  std::vector<uint8_t> out = encode_with(g, t, polar, s);
+  if (out.size() < best->size()) best->swap(out);
+}
 
-std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints,
-                                          ScanWorkspace* ws) {
-  size_t total = 0;
-  for (uint32_t n : g.counts) total += n;
-  if (g.valid.size() != total || g.q.size() != 3 * total)
-    fail(ErrorCode::kInternal, "scan geometry", "the points disagree with the frames' counts");
+// The payload of window g under the rings of `fit` (fit_rings of g and hints).
+std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const ScanHints& hints,
+                                   const scan::RingFit& fit, ScanWorkspace* ws) {
   // The table's azimuth step as found, and finer ones for azimuths off that step, each with
   // ranges in grid units and, when the sensor's range step is found, in that step: the smallest
   // payload wins. In a window of more than kTrialFrames frames, only the tables whose payload for
   // the first kTrialFrames frames is within kTrialSlack of the smallest such payload code the
   // whole window.
-  const scan::RingFit fit = scan::fit_rings(g, hints);
   Scratch scratch;
   if (ws) {  // the maps of the windows before (reset for each table: the same coding)
     if (!ws->maps) ws->maps = std::make_shared<scan::SweepMaps>();
@@ -540,8 +555,10 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
     choices = first_frame_choice(g, fit, tried, &tables, &placed, &kept, &scratch);
   }
   std::vector<uint8_t> best;
-  ScanChoice chosen;  // the choice of the smallest payload, when it was tried on the sample
-  scan::Table t;      // the table of the choice before, then this one's
+  ScanChoice chosen;       // the choice of the smallest payload, when it was tried on the sample
+  scan::Table t;           // the table of the choice before, then this one's
+  scan::Table best_table;  // the smallest payload's
+  size_t best_sample = 0;  // its sample's payload (0: not known)
   for (const TableChoice& c : choices) {
     const auto k =
         static_cast<size_t>(std::find_if(tried.begin(), tried.end(),
@@ -565,6 +582,8 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
     if (ws) ++ws->tables_coded;
     if (best.empty() || out.size() < best.size()) {
       best.swap(out);
+      best_table = t;
+      best_sample = k < sizes.size() ? sizes[k] : 0;
       if (k < sizes.size() && sizes[k] > 0)
         chosen = {c.divisor, c.units,
                   8.0 * static_cast<double>(sizes[k]) / static_cast<double>(sample.total()),
@@ -577,7 +596,73 @@ std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints
   if (ws && ws->remember &&
       std::count_if(sizes.begin(), sizes.end(), [](size_t v) { return v > 0; }) > 1)
     ws->choice = chosen;
+  if (best_table.rings() > 0)
+    try_before(g, sample, from, fit, best_table, best_sample, &best, &scratch);
   scan::raster::keep_smaller(g, hints, &best);  // a flash LiDAR's window (scan_raster.h)
+  return best;
+}
+
+// Replaces *best by the payload of g under `fit` when that is smaller; whether it did.
+bool keep_smaller_fit(const ScanGeometry& g, const ScanHints& hints, const scan::RingFit& fit,
+                      ScanWorkspace* ws, std::vector<uint8_t>* best) {
+  std::vector<uint8_t> out = encode_fitted(g, hints, fit, ws);
+  if (out.size() >= best->size()) return false;
+  best->swap(out);
+  return true;
+}
+
+// Whether fits a and b give the valid points of g nearly the same rings, up to the rings'
+// numbering: all but 1 % of them on the ring most of their ring's points have in the other fit,
+// both ways (a ring field and the elevations' rings of a sensor whose cones hold: the same).
+bool same_rings(const ScanGeometry& g, const scan::RingFit& a, const scan::RingFit& b) {
+  const size_t ka = a.rings(), kb = b.rings();
+  if (ka == 0 || kb == 0 || ka * kb > (size_t{1} << 22)) return false;
+  std::vector<uint32_t> pairs(ka * kb, 0);  // (a's ring, b's ring): points
+  size_t valid = 0;
+  for (size_t i = 0; i < g.total(); ++i)
+    if (g.valid[i]) ++valid, ++pairs[a.polar[i].ring * kb + b.polar[i].ring];
+  std::vector<size_t> most_a(ka, 0), most_b(kb, 0);
+  for (size_t i = 0; i < ka; ++i)
+    for (size_t j = 0; j < kb; ++j) {
+      most_a[i] = std::max<size_t>(most_a[i], pairs[i * kb + j]);
+      most_b[j] = std::max<size_t>(most_b[j], pairs[i * kb + j]);
+    }
+  size_t agree_a = 0, agree_b = 0;
+  for (size_t v : most_a) agree_a += v;
+  for (size_t v : most_b) agree_b += v;
+  return 100 * (valid - std::min(agree_a, agree_b)) <= valid;
+}
+
+}  // namespace
+
+bool scan_rings_differ(const ScanGeometry& g, const ScanHints& hints) {
+  const scan::RingFit other = scan::fit_rings(g, hints, false, false, false);
+  return other.rings() > 0 && !same_rings(g, scan::fit_rings(g, hints, false, false), other);
+}
+
+std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints,
+                                          ScanWorkspace* ws) {
+  size_t total = 0;
+  for (uint32_t n : g.counts) total += n;
+  if (g.valid.size() != total || g.q.size() != 3 * total)
+    fail(ErrorCode::kInternal, "scan geometry", "the points disagree with the frames' counts");
+  const scan::RingFit fit = scan::fit_rings(g, hints);
+  if (hints.ring.empty() || hints.elevation_rings == 0) return encode_fitted(g, hints, fit, ws);
+  // A ring field is not always the best rings: the RoboSense Helios 16P's near points, seen
+  // from the origin 35 mm off its optical centre, leave each laser's cone by their range, and
+  // rings found from the elevations split a laser by range, which keeps its two returns apart
+  // (docs/lab/2026-11-29-helios-at128.md). The rings from the elevations are tried too when they
+  // differ, the smaller payload kept.
+  if (hints.elevation_rings < 0 && !scan_rings_differ(g, hints))
+    return encode_fitted(g, hints, fit, ws);
+  const scan::RingFit other = scan::fit_rings(g, hints, true, true, false);
+  if (other.rings() == 0) return encode_fitted(g, hints, fit, ws);
+  const ScanChoice before = ws ? ws->choice : ScanChoice();
+  std::vector<uint8_t> best = encode_fitted(g, hints, fit, ws);
+  if (!ws) return keep_smaller_fit(g, hints, other, nullptr, &best), best;
+  const ScanChoice chosen = ws->choice;
+  ws->choice = before;  // the second fit's trial sees the windows before as the first's did
+  if (!keep_smaller_fit(g, hints, other, ws, &best)) ws->choice = chosen;
   return best;
 }
 

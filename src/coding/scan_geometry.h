@@ -53,6 +53,10 @@ struct ScanHints {
   // "Raster frames", fine shift); decode the payload for them.
   double bound = 0;
   double step = 0;
+  // With a ring field: whether the encoder also codes the rings it finds from the elevations
+  // (the smaller payload kept): -1 where those differ from the field's (it fits both to know),
+  // 0 never, 1 always (a caller that knows: scan_rings_differ, the same for any order).
+  int elevation_rings = -1;
 };
 
 namespace scan {
@@ -86,6 +90,10 @@ struct ScanWorkspace {
 // ws: a workspace kept across windows, or null (the same bytes either way).
 std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints = {},
                                           ScanWorkspace* ws = nullptr);
+
+// Whether the rings the encoder finds from the points' elevations differ from the ring field's
+// (hints.ring, not empty): encode_scan_geometry then tries both (encoder side).
+bool scan_rings_differ(const ScanGeometry& g, const ScanHints& hints);
 
 // Which table orders the points: one per frame with the azimuth step of each ring's sorted
 // azimuths (a driver that writes a ring out of firing order), or the window's as the payload

@@ -421,23 +421,25 @@ __attribute__((always_inline)) inline void code_spherical(Io& io, State& st, con
   const uint32_t k = rc.ring;
   const int32_t col = rc.column;
   State::Ring& r = st.ring[k];
-  // Range: the ring's last, the previous point's (same column), the previous sweep's.
+  // Range: the ring's last, the previous point's (same column), the previous sweep's; with
+  // units bit 7 the ring's range before its last.
   const int32_t w = r.has_last ? r.last_range : (pv->have ? pv->range : 0);
-  int32_t cand[3] = {w, w, w};
+  const int nr = t.before ? 4 : 3;
+  int32_t cand[4] = {w, w, w, r.has_before_range ? r.before_range : w};
   if (pv->have && pv->column == col) cand[1] = pv->range;
   // The previous sweep's candidate is its cell's smoothed range, rounded; coded against it, the
   // range takes the fraction rule.
   int64_t smooth = 0;
   const bool mapped = st.map_prev(k, col, &smooth);
   if (mapped) cand[2] = static_cast<int32_t>(floor_div16(smooth + 8));
-  const int sr = detail::argmin(r.score_range, 3);
+  const int sr = detail::argmin(r.score_range, nr);
   const int g = std::min(bit_length(r.score_range[sr] >> 1), 15);
   const int32_t range =
       sr == 2 && mapped ? sym_fraction(io, pa.range, cand[2],
                                        static_cast<double>(smooth - int64_t{cand[2]} * 16) / 16.0,
                                        kCtxRangeFrac + 3 * (g >> 1))
                         : io.sym(pa.range, cand[sr], kCtxRange + g);
-  for (int j = 0; j < 3; ++j) score(&r.score_range[j], range, cand[j]);
+  for (int j = 0; j < nr; ++j) score(&r.score_range[j], range, cand[j]);
   // x y on the column's azimuth at that range, z on the ring's cone.
   const bool units = !t.unit.empty();
   const double rho =
@@ -451,6 +453,8 @@ __attribute__((always_inline)) inline void code_spherical(Io& io, State& st, con
   r.before_column = r.last_column;
   r.has_before = r.has_last;
   r.last_column = col;
+  r.before_range = r.last_range;
+  r.has_before_range = r.has_last;
   r.last_range = range;
   if (!t.share.empty()) detail::base_update(st.base, t, k, col);
   r.has_last = true;

@@ -158,12 +158,14 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
       fail(ErrorCode::kCorrupt, what, "laser table with a zero step or too many columns");
     t.columns = static_cast<uint32_t>(cols);
     const uint8_t byte = r.u8(), units = byte & 3;
-    if (units == 3 || (byte & ~(7 | kShareBit | kTurnBit | kPackBit | kSlotBit)) != 0 ||
+    if (units == 3 ||
+        (byte & ~(7 | kShareBit | kTurnBit | kPackBit | kSlotBit | kBeforeBit)) != 0 ||
         ((byte & (kShareBit | kSlotBit)) && !(byte & kTurnBit)) ||
         ((byte & kShareBit) && (byte & kSlotBit)))
       fail(ErrorCode::kCorrupt, what, "unknown range units in the laser table");
     read_rings(&r, rings, byte, &t);
     t.turn = (byte & kTurnBit) != 0;
+    t.before = (byte & kBeforeBit) != 0;
     if (byte & kBowBit) {
       t.bow = r.f32();
       if (!(std::fabs(t.bow) <= kMaxBow))

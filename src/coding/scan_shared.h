@@ -56,6 +56,9 @@ constexpr int64_t kMaxPacked = int64_t{1} << 53;
 // bound of its slots per half turn (FORMAT.md step 2).
 constexpr uint8_t kSlotBit = 64;
 constexpr uint32_t kMaxSlots = 64;
+// The units byte's bit of the range's fourth candidate, the ring's range before its last
+// (FORMAT.md step 3).
+constexpr uint8_t kBeforeBit = 128;
 constexpr double kMaxBow = 1;
 // Coordinates of a spherical frame stay below this in magnitude (so a range fits an int32).
 constexpr int64_t kMaxSphericalCoord = int64_t{1} << 29;
@@ -71,7 +74,8 @@ struct Table {
   std::vector<double> unit, offset;
   // The cones' bow: a ring's slope at azimuth phi is slope + bow (1 - cos phi) (0: none).
   float bow = 0;
-  bool turn = false;  // the column's third candidate (units bit 4)
+  bool turn = false;    // the column's third candidate (units bit 4)
+  bool before = false;  // the range's fourth candidate (units bit 7)
   // The column's fourth candidate (units bit 3): the firing's turn in columns and per ring its
   // laser's share of it (empty: none).
   float fire_turn = 0;
@@ -249,7 +253,9 @@ class State {
     uint32_t lead_ring = 0;     // that point's ring
     bool has_last = false, has_before = false, has_lead = false;
     uint32_t score_col[4] = {0, 0, 0, 0};
-    uint32_t score_range[3] = {0, 0, 0};
+    uint32_t score_range[4] = {0, 0, 0, 0};
+    int32_t before_range = 0;  // the range before the last (has_before_range; units bit 7)
+    bool has_before_range = false;
   };
   std::vector<Ring> ring;
   std::vector<uint32_t> succ;  // predicted ring after ring k

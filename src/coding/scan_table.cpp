@@ -419,11 +419,12 @@ void fit_units(const ScanGeometry& g, const ScanHints& h, const std::vector<uint
 
 }  // namespace
 
-RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units, bool shares) {
+RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units, bool shares,
+                  bool ring_field) {
   RingFit r;
   std::vector<uint32_t> ring;
   r.bow = find_bow(g, hints);
-  size_t rings = dense_rings(g, hints, &ring);
+  size_t rings = ring_field ? dense_rings(g, hints, &ring) : 0;
   if (rings == 0) rings = elevation_rings(g, hints.xyz, r.bow, &ring);
   r.polar.assign(g.total(), Polar{});
   if (rings == 0) return r;

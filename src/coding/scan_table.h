@@ -39,9 +39,10 @@ struct RingFit {
 };
 // Without `units` the range step is not looked for (a caller that codes no payload with it);
 // without `shares` neither are the firing's base and slots (fit_shares: a caller whose tables
-// are never the quantum's, such as the point order's).
+// are never the quantum's, such as the point order's). Without `ring_field` the rings are found
+// from the elevations even when hints has a ring field.
 RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units = true,
-                  bool shares = true);
+                  bool shares = true, bool ring_field = true);
 // Every point's place under a table (place_points): its ring, column and range, and on a table
 // with slots its firing's base and turn (else `fire` is empty).
 struct Placement {

@@ -168,7 +168,7 @@ TEST(ScanBow, GivenADamagedBowWhenDecodedThenCorrupt) {
   ASSERT_NE(hd.table.bow, 0.0f);
   const size_t bow_at = hd.body - 4, units_at = units_offset(p);
   ASSERT_EQ(p[units_at] & scan::kBowBit, scan::kBowBit);
-  for (uint8_t bit : {8, 16, 128}) {
+  for (uint8_t bit : {8, 16}) {  // (bit 7, the range's fourth candidate, is any table's)
     std::vector<uint8_t> d = p;
     d[units_at] = static_cast<uint8_t>(d[units_at] | bit);
     expect_scan_corrupt(d);

