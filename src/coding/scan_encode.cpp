@@ -506,9 +506,9 @@ void try_before(const ScanGeometry& g, const ScanGeometry& sample, const std::ve
     s->spherical_ok.clear();
     if (size >= sampled) return;
   }
-  std::vector<scan::Polar> polar;
-  scan::place_points(g, fit, t, g.total(), &polar);
-  std::vector<uint8_t> out = encode_with(g, t, polar, s);
+  scan::Placement placed;
+  scan::place_points(g, fit, t, g.total(), &placed);
+  std::vector<uint8_t> out = encode_with(g, t, placed, s);
   if (out.size() < best->size()) best->swap(out);
 }
 
@@ -611,16 +611,17 @@ bool keep_smaller_fit(const ScanGeometry& g, const ScanHints& hints, const scan:
   return true;
 }
 
-// Whether fits a and b give the valid points of g nearly the same rings, up to the rings'
-// numbering: all but 1 % of them on the ring most of their ring's points have in the other fit,
-// both ways (a ring field and the elevations' rings of a sensor whose cones hold: the same).
-bool same_rings(const ScanGeometry& g, const scan::RingFit& a, const scan::RingFit& b) {
-  const size_t ka = a.rings(), kb = b.rings();
+// Whether ring labels a (ka rings) and b (kb rings) give the valid points of g nearly the same
+// rings, up to the rings' numbering: all but 1 % of them on the ring most of their ring's points
+// have in the other labelling, both ways (a ring field and the elevations' rings of a sensor
+// whose cones hold: the same).
+bool same_rings(const ScanGeometry& g, const std::vector<uint32_t>& a, size_t ka,
+                const std::vector<uint32_t>& b, size_t kb) {
   if (ka == 0 || kb == 0 || ka * kb > (size_t{1} << 22)) return false;
   std::vector<uint32_t> pairs(ka * kb, 0);  // (a's ring, b's ring): points
   size_t valid = 0;
   for (size_t i = 0; i < g.total(); ++i)
-    if (g.valid[i]) ++valid, ++pairs[a.polar[i].ring * kb + b.polar[i].ring];
+    if (g.valid[i]) ++valid, ++pairs[a[i] * kb + b[i]];
   std::vector<size_t> most_a(ka, 0), most_b(kb, 0);
   for (size_t i = 0; i < ka; ++i)
     for (size_t j = 0; j < kb; ++j) {
@@ -636,8 +637,12 @@ bool same_rings(const ScanGeometry& g, const scan::RingFit& a, const scan::RingF
 }  // namespace
 
 bool scan_rings_differ(const ScanGeometry& g, const ScanHints& hints) {
-  const scan::RingFit other = scan::fit_rings(g, hints, false, false, false);
-  return other.rings() > 0 && !same_rings(g, scan::fit_rings(g, hints, false, false), other);
+  // The rings alone (placed_rings), not the rest of two fits: a third of the instructions.
+  std::vector<uint32_t> field, elevations;
+  const size_t kb = scan::placed_rings(g, hints, false, &elevations);
+  if (kb == 0) return false;
+  const size_t ka = scan::placed_rings(g, hints, true, &field);
+  return !same_rings(g, field, ka, elevations, kb);
 }
 
 std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints,

@@ -419,6 +419,18 @@ void fit_units(const ScanGeometry& g, const ScanHints& h, const std::vector<uint
 
 }  // namespace
 
+size_t placed_rings(const ScanGeometry& g, const ScanHints& hints, bool ring_field,
+                    std::vector<uint32_t>* placed) {
+  std::vector<uint32_t> ring;
+  size_t rings = ring_field ? dense_rings(g, hints, &ring) : 0;
+  if (rings == 0) rings = elevation_rings(g, hints.xyz, find_bow(g, hints), &ring);
+  placed->assign(g.total(), 0);
+  if (rings == 0) return 0;
+  for (size_t i = 0; i < g.total(); ++i)
+    if (g.valid[i] && small_enough(&g.q[3 * i])) (*placed)[i] = ring[i];
+  return rings;
+}
+
 RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units, bool shares,
                   bool ring_field) {
   RingFit r;

@@ -43,6 +43,10 @@ struct RingFit {
 // from the elevations even when hints has a ring field.
 RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units = true,
                   bool shares = true, bool ring_field = true);
+// The rings fit_rings gives g's points (its RingFit::polar's rings: 0 for a gap), found the same
+// way but nothing else fitted; the number of rings, 0 when none are found.
+size_t placed_rings(const ScanGeometry& g, const ScanHints& hints, bool ring_field,
+                    std::vector<uint32_t>* ring);
 // Every point's place under a table (place_points): its ring, column and range, and on a table
 // with slots its firing's base and turn (else `fire` is empty).
 struct Placement {
