@@ -3,9 +3,9 @@
 // TransformationEstimationSVD). Both are encoder-only (what they find is stored in the stream).
 //
 // Why: libpcl_common and libpcl_kdtree, linked into capz, cost every capz process their loading
-// and relocation (2026-11-29, farm-bench medians: an empty program linked against them 15 ms of
-// CPU, unlinked 5 ms, on a loaded machine; `capz --version` 7 ms without them against 10 ms
-// with, on a quiet one), for calls only those two encoders make. The
+// and relocation (2026-11-29, medians of paired whole-process runs: an empty program linked
+// against them 15 ms of CPU, unlinked 5 ms, on a loaded machine; `capz --version` 7 ms without
+// them against 10 ms with, on a quiet one), for calls only those two encoders make. The
 // implementation (src/modules/geom_pcl.cpp) is built as a module, libcapz_pcl_geom.so, next to
 // the capz binary and installed beside libcapz_pcl_io.so; backend() opens it on first use.
 #pragma once
