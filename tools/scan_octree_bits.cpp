@@ -1,0 +1,491 @@
+// Bits per point of an octree code of a sweep's distinct grid cells plus their point counts
+// (issue 37, `--point-order any` at 1 cm; docs/lab/2026-11-29-octree-1cm.md). A measuring tool:
+// nothing here is a stream format. Each frame is coded intra, on its own.
+//
+//   scan_octree_bits [--step S] [--frames N] [--occ g6|oct7|oct7c] [--counts octave|nbr|rays]
+//                    [--laser] [--dir 1|3] [--bitmodel N] [--dump FILE] PATH...
+//
+// The points are quantised to integers round(x / S) (S = 0.02 m: capz's grid at --max-error
+// 1cm); the distinct integer triples are the cells, each with the number of points in it.
+// The cells are coded as an octree, level by level from the root, nodes in Morton order, each
+// node's 8 child bits one by one (child i = 4 x + 2 y + z of its octant), through capz's own
+// range coder and adaptive models (coding/range_coder.h: a SymbolModel started on 2 symbols per
+// context); a node's last child is not coded when none before it is occupied. --frames: the
+// first N frames of a folder (default 1), each coded on its own.
+//
+// --occ: the child bit's context (default oct7):
+//   g6    the parent's 6 face neighbours at its level (64) x the child's index (8) x the
+//         occupied siblings so far (0, 1, 2+) x the level (last, last but one, others);
+//   oct7  the 7 parent-level nodes that touch the child's octant (mirrored so every octant
+//         shares one map) x the child-level neighbours at -x, -y, -z (always coded before:
+//         a sibling with a lower index or a child of a node before in Morton order) x the
+//         occupied siblings so far x the level;
+//   oct7c oct7 x the count (0, 1, 2+) of the child's other child-level neighbours (edges and
+//         corners) earlier in Morton order.
+// --counts: the context of each cell's count less one, an unsigned hybrid token
+// (coding/entropy.h), cells in Morton order after the tree (default nbr):
+//   octave  min(floor(bits(x^2 + y^2 + z^2) / 2), 15) of the cell's integers (as FORMAT.md
+//           "Cells with counts");
+//   nbr     octave x the mean count of the cell's neighbours coded before it (26-neighbourhood,
+//           earlier in Morton order): none, < 1.5, < 2.5, < 4, < 8, 8+;
+//   rays    nbr's neighbour class x the rays of the inferred laser table through the cell
+//           (--laser only; else as nbr).
+// --laser: infer the laser table (coding/scan_table.h, the encoder's own fit) and add to every
+// child bit at the last two levels how many rings' cones meet the child's box (0, 1, 2+).
+// --dir 1|3: add whether the octant's outward direction points away from the sensor along the
+// ray's dominant axis (1) or along each axis (3). --bitmodel N: a counting binary model instead
+// of the SymbolModel (BinCoder). --dump FILE: one record of 6 uint32 per coded child bit (the
+// bit, level, child, siblings; the parent's 27-neighbourhood; the child-level 27-neighbourhood
+// known and occupied; the sensor-side signs and cone class; the depth) for modelling elsewhere.
+//
+// Prints per sequence: points, cells, bytes of occupancy and counts, bits per point and per cell.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <unordered_set>
+#include <vector>
+
+#include "coding/entropy.h"
+#include "coding/range_coder.h"
+#include "coding/scan_geometry.h"
+#include "coding/scan_table.h"
+#include "scan_frames.h"
+
+namespace {
+
+using scan_tools::Frame;
+
+std::string occ_model = "oct7", counts_model = "nbr";
+bool use_laser = false;
+std::FILE* dump_file = nullptr;  // --dump FILE
+int dir_bits = 0;  // --dir 1 or 3: the octant against the sensor ray (dominant axis, or all)
+size_t level_bytes[3] = {0, 0, 0};  // occupancy bytes: children are cells, next, others
+
+// Morton code of 21-bit coordinates: bit 3b + 2 is x's bit b, 3b + 1 y's, 3b z's.
+uint64_t spread(uint64_t v) {
+  v &= 0x1FFFFF;
+  v = (v | v << 32) & 0x1F00000000FFFFull;
+  v = (v | v << 16) & 0x1F0000FF0000FFull;
+  v = (v | v << 8) & 0x100F00F00F00F00Full;
+  v = (v | v << 4) & 0x10C30C30C30C30C3ull;
+  v = (v | v << 2) & 0x1249249249249249ull;
+  return v;
+}
+uint64_t compact(uint64_t v) {
+  v &= 0x1249249249249249ull;
+  v = (v ^ (v >> 2)) & 0x10C30C30C30C30C3ull;
+  v = (v ^ (v >> 4)) & 0x100F00F00F00F00Full;
+  v = (v ^ (v >> 8)) & 0x1F0000FF0000FFull;
+  v = (v ^ (v >> 16)) & 0x1F00000000FFFFull;
+  v = (v ^ (v >> 32)) & 0x1FFFFF;
+  return v;
+}
+uint64_t morton(int64_t x, int64_t y, int64_t z) {
+  return spread(uint64_t(x)) << 2 | spread(uint64_t(y)) << 1 | spread(uint64_t(z));
+}
+void unmorton(uint64_t k, int64_t* c) {
+  c[0] = int64_t(compact(k >> 2));
+  c[1] = int64_t(compact(k >> 1));
+  c[2] = int64_t(compact(k));
+}
+
+int bit_limit = 0;  // --bitmodel N: counting binary models, rate 1/(n + 2) up to n = N
+
+// Binary decisions through capz's range coder: one SymbolModel on 2 symbols per context, or
+// (--bitmodel N) a counting model: p(1) in 1/2^15, moved by (target - p) / (n + 2) after its
+// n-th decision, n capped at N (so it learns a sparse context's skew within a few decisions).
+class BinCoder {
+ public:
+  explicit BinCoder(size_t contexts) : m_(contexts), p_(contexts, 1 << 14), n_(contexts, 0) {
+    for (auto& s : m_) s.restrict(2);
+  }
+  void put(bool b, size_t ctx) {
+    if (bit_limit == 0) return m_[ctx].encode(&enc_, b ? 1 : 0);
+    int p = p_[ctx];
+    const uint32_t f1 = uint32_t(std::min(std::max(p, 16), int(capz::kTotal) - 16));
+    if (b)
+      enc_.encode(capz::kTotal - f1, f1);
+    else
+      enc_.encode(0, capz::kTotal - f1);
+    const int n = n_[ctx];
+    p += ((b ? int(capz::kTotal) : 0) - p) / (n + 2);
+    p_[ctx] = p;
+    if (n < bit_limit) ++n_[ctx];
+  }
+  size_t bytes() { return enc_.finish().size(); }
+
+ private:
+  capz::RangeEncoder enc_;
+  std::vector<capz::SymbolModel> m_;
+  std::vector<int> p_, n_;
+};
+
+// The cells of one frame: integers relative to `lo` (all >= 0), sorted by Morton code.
+struct Cells {
+  std::vector<uint64_t> key;
+  std::vector<uint32_t> count;
+  int64_t lo[3] = {0, 0, 0};
+  int depth = 0;  // levels below the root: every coordinate < 2^depth
+};
+
+Cells make_cells(const std::vector<int64_t>& q) {  // q: n x 3 integers
+  Cells c;
+  const size_t n = q.size() / 3;
+  if (n == 0) return c;
+  int64_t hi[3];
+  for (int a = 0; a < 3; ++a) c.lo[a] = hi[a] = q[size_t(a)];
+  for (size_t i = 0; i < n; ++i)
+    for (int a = 0; a < 3; ++a) {
+      c.lo[a] = std::min(c.lo[a], q[3 * i + size_t(a)]);
+      hi[a] = std::max(hi[a], q[3 * i + size_t(a)]);
+    }
+  int64_t ext = 1;
+  for (int a = 0; a < 3; ++a) ext = std::max(ext, hi[a] - c.lo[a] + 1);
+  while ((int64_t{1} << c.depth) < ext) ++c.depth;
+  std::vector<uint64_t> k(n);
+  for (size_t i = 0; i < n; ++i)
+    k[i] = morton(q[3 * i] - c.lo[0], q[3 * i + 1] - c.lo[1], q[3 * i + 2] - c.lo[2]);
+  std::sort(k.begin(), k.end());
+  for (size_t i = 0; i < n; ++i) {
+    if (c.key.empty() || c.key.back() != k[i]) {
+      c.key.push_back(k[i]);
+      c.count.push_back(0);
+    }
+    ++c.count.back();
+  }
+  return c;
+}
+
+// The laser cones of an inferred table, in grid units: ring k's points satisfy
+// z = z0_k + slope_k * rho (rho the horizontal range), the table's cone.
+struct Cones {
+  std::vector<double> slope, z0;  // sorted by slope
+  double step = 0;                // the azimuth step found in the data (radians), 0: none
+};
+
+// Rings whose cone meets the box [a, a + s)^3 (grid integers relative to the sensor, the cell
+// at integer v covering [v - 1/2, v + 1/2)): 0, 1 or 2 (2 or more).
+int cones_meeting(const Cones& cn, const double* a, double s) {
+  if (cn.slope.empty()) return 2;
+  // rho range of the box
+  double rlo2 = 0, rhi2 = 0;
+  for (int d = 0; d < 2; ++d) {
+    const double l = a[d] - 0.5, h = a[d] + s - 0.5;
+    const double m = (l <= 0 && h >= 0) ? 0 : std::min(std::fabs(l), std::fabs(h));
+    const double M = std::max(std::fabs(l), std::fabs(h));
+    rlo2 += m * m;
+    rhi2 += M * M;
+  }
+  const double rlo = std::sqrt(rlo2), rhi = std::sqrt(rhi2);
+  const double zl = a[2] - 0.5, zh = a[2] + s - 0.5;
+  int n = 0;
+  for (size_t k = 0; k < cn.slope.size() && n < 2; ++k) {
+    const double z1 = cn.z0[k] + cn.slope[k] * rlo, z2 = cn.z0[k] + cn.slope[k] * rhi;
+    if (std::max(z1, z2) >= zl && std::min(z1, z2) <= zh) ++n;
+  }
+  return n;
+}
+
+// Rays of the table through a cell: per ring meeting the cell, the azimuth extent of the cell
+// at that range over the table's step. Returns a class 0..5.
+int ray_class(const Cones& cn, double step, const int64_t* v) {
+  const double a[3] = {double(v[0]), double(v[1]), double(v[2])};
+  const int m = cones_meeting(cn, a, 1.0);
+  const double rho = std::max(0.5, std::hypot(a[0], a[1]));
+  const double cols = step > 0 ? (1.0 / rho) / step : 1;  // columns across the cell
+  const double rays = m * cols;
+  return rays < 0.5 ? 0 : rays < 1.5 ? 1 : rays < 3 ? 2 : rays < 6 ? 3 : rays < 12 ? 4 : 5;
+}
+
+struct Level {
+  std::vector<uint64_t> key;  // sorted
+  std::unordered_set<uint64_t> set;
+  bool has(int64_t x, int64_t y, int64_t z, int64_t side) const {
+    if (x < 0 || y < 0 || z < 0 || x >= side || y >= side || z >= side) return false;
+    return set.count(morton(x, y, z)) != 0;
+  }
+};
+
+struct Sizes {
+  size_t occ = 0, counts = 0;
+};
+
+int level_class(int l, int depth) {
+  const int below = depth - 1 - l;  // 0: the children are the cells
+  return below == 0 ? 0 : below == 1 ? 1 : 2;
+}
+
+// The octree's child bits of one frame's cells.
+size_t code_occupancy(const Cells& c, const Cones* cones) {
+  const int D = c.depth;
+  std::vector<Level> lv(size_t(D) + 1);
+  lv[size_t(D)].key = c.key;
+  for (int l = D - 1; l >= 0; --l) {
+    auto& k = lv[size_t(l)].key;
+    for (uint64_t x : lv[size_t(l) + 1].key)
+      if (k.empty() || k.back() != (x >> 3)) k.push_back(x >> 3);
+  }
+  for (auto& L : lv) L.set.insert(L.key.begin(), L.key.end());
+  const size_t laser_mult = cones ? 3 : 1;
+  // one coder per level class (its contexts apart anyway): the breakdown by level
+  std::vector<BinCoder> bcs(3, BinCoder(size_t(128) * 64 * 3 * 3 * laser_mult * 8));
+  for (int l = 0; l < D; ++l) {
+    const Level& P = lv[size_t(l)];
+    const Level& C = lv[size_t(l) + 1];
+    const int64_t ps = int64_t{1} << l, cs = ps << 1;
+    const int lc = level_class(l, D);
+    size_t ci = 0;  // cursor into C.key
+    for (uint64_t pk : P.key) {
+      int64_t p[3];
+      unmorton(pk, p);
+      int nb[27];
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz)
+            nb[(dx + 1) * 9 + (dy + 1) * 3 + dz + 1] = P.has(p[0] + dx, p[1] + dy, p[2] + dz, ps);
+      unsigned mask = 0;
+      while (ci < C.key.size() && (C.key[ci] >> 3) == pk) mask |= 1u << (C.key[ci++] & 7);
+      int coded = 0;
+      for (int i = 0; i < 8; ++i) {
+        const bool bit = (mask >> i) & 1;
+        if (i == 7 && coded == 0) break;  // inferred
+        const int ox = (i >> 2) & 1, oy = (i >> 1) & 1, oz = i & 1;
+        const int64_t cx = 2 * p[0] + ox, cy = 2 * p[1] + oy, cz = 2 * p[2] + oz;
+        size_t ctx;
+        const int sib = std::min(coded, 2);
+        if (occ_model == "g6") {
+          const int f = nb[4] | nb[22] << 1 | nb[10] << 2 | nb[16] << 3 | nb[12] << 4 | nb[14] << 5;
+          ctx = ((size_t(f) * 8 + size_t(i)) * 3 + size_t(sib)) * 3 + size_t(lc);
+        } else {
+          // the 7 parent-level nodes touching the octant, mirrored
+          const int sx = ox ? 1 : -1, sy = oy ? 1 : -1, sz = oz ? 1 : -1;
+          int o7 = 0, b = 0;
+          for (int d = 1; d < 8; ++d) {
+            const int dx = (d >> 2) & 1, dy = (d >> 1) & 1, dz = d & 1;
+            o7 |= nb[(sx * dx + 1) * 9 + (sy * dy + 1) * 3 + sz * dz + 1] << b++;
+          }
+          int cn = C.has(cx - 1, cy, cz, cs) | C.has(cx, cy - 1, cz, cs) << 1 |
+                   C.has(cx, cy, cz - 1, cs) << 2;
+          if (occ_model == "oct7c") {  // plus the other child-level neighbours coded before
+            int n = 0;
+            const uint64_t me = morton(cx, cy, cz);
+            for (int dx = -1; dx <= 1; ++dx)
+              for (int dy = -1; dy <= 1; ++dy)
+                for (int dz = -1; dz <= 1; ++dz) {
+                  if (std::abs(dx) + std::abs(dy) + std::abs(dz) < 2) continue;
+                  const int64_t x = cx + dx, y = cy + dy, z = cz + dz;
+                  if (x < 0 || y < 0 || z < 0 || x >= cs || y >= cs || z >= cs) continue;
+                  const uint64_t k = morton(x, y, z);
+                  if (k < me && C.set.count(k)) ++n;
+                }
+            cn += 8 * std::min(n, 2);
+          }
+          ctx = ((size_t(o7) * 24 + size_t(cn)) * 3 + size_t(sib)) * 3 + size_t(lc);
+        }
+        if (dir_bits) {  // the octant's outward directions against the ray from the sensor
+          const double side = double(int64_t{1} << (D - l));  // the parent's side in cells
+          double r[3];
+          for (int d = 0; d < 3; ++d) r[d] = (double(p[d]) + 0.5) * side + double(c.lo[d]) - 0.5;
+          const int o[3] = {ox, oy, oz};
+          if (dir_bits == 1) {
+            int d = 0;
+            for (int e = 1; e < 3; ++e)
+              if (std::fabs(r[e]) > std::fabs(r[d])) d = e;
+            ctx = ctx * 2 + size_t(o[d] == (r[d] > 0));
+          } else {
+            for (int d = 0; d < 3; ++d) ctx = ctx * 2 + size_t(o[d] == (r[d] > 0));
+          }
+        }
+        if (cones) {
+          int m = 2;
+          if (lc <= 1) {
+            const int64_t side = int64_t{1} << (D - l - 1);  // the child's side in cells
+            const double a[3] = {double(cx * side + c.lo[0]), double(cy * side + c.lo[1]),
+                                 double(cz * side + c.lo[2])};
+            m = cones_meeting(*cones, a, double(side));
+          }
+          ctx = ctx * 3 + size_t(m);
+        }
+        bcs[size_t(lc)].put(bit, ctx);
+        if (dump_file) {  // --dump: one record per coded bit, for modelling elsewhere
+          uint32_t rec[6] = {uint32_t(bit) | uint32_t(lc) << 1 | uint32_t(i) << 3 |
+                                 uint32_t(std::min(coded, 3)) << 6,
+                             0,
+                             0,
+                             0,
+                             0,
+                             uint32_t(D - l)};
+          for (int k = 0; k < 27; ++k) rec[1] |= uint32_t(nb[k]) << k;
+          const uint64_t me = morton(cx, cy, cz);
+          int b = 0;
+          for (int dx = -1; dx <= 1; ++dx)
+            for (int dy = -1; dy <= 1; ++dy)
+              for (int dz = -1; dz <= 1; ++dz, ++b) {
+                const int64_t x = cx + dx, y = cy + dy, z = cz + dz;
+                if (x < 0 || y < 0 || z < 0 || x >= cs || y >= cs || z >= cs) {
+                  rec[2] |= 1u << b;  // known: outside
+                  continue;
+                }
+                const uint64_t k = morton(x, y, z);
+                if (k < me) {
+                  rec[2] |= 1u << b;
+                  if (C.set.count(k)) rec[3] |= 1u << b;
+                }
+              }
+          const double side = double(int64_t{1} << (D - l));
+          for (int d = 0; d < 3; ++d) {
+            const double r = (double(p[d]) + 0.5) * side + double(c.lo[d]) - 0.5;
+            rec[4] |= uint32_t(r > 0) << d;
+          }
+          int m = 2;
+          if (cones) {
+            const int64_t cside = int64_t{1} << (D - l - 1);
+            const double a[3] = {double(cx * cside + c.lo[0]), double(cy * cside + c.lo[1]),
+                                 double(cz * cside + c.lo[2])};
+            m = cones_meeting(*cones, a, double(cside));
+          }
+          rec[4] |= uint32_t(m) << 3;
+          std::fwrite(rec, sizeof rec, 1, dump_file);
+        }
+        coded += bit;
+      }
+    }
+  }
+  size_t total = 0;
+  for (int k = 0; k < 3; ++k) {
+    const size_t b = bcs[size_t(k)].bytes();
+    level_bytes[k] += b;
+    total += b;
+  }
+  return total;
+}
+
+// The cells' counts less one, in Morton order.
+size_t code_counts(const Cells& c, const Cones* cones) {
+  capz::IntEncoder enc(16 * 6 * 6);
+  const size_t n = c.key.size();
+  for (size_t i = 0; i < n; ++i) {
+    int64_t v[3];
+    unmorton(c.key[i], v);
+    int64_t a[3];
+    for (int d = 0; d < 3; ++d) a[d] = v[d] + c.lo[d];
+    const uint64_t r2 = uint64_t(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    const int oct = std::min((r2 ? 64 - __builtin_clzll(r2) : 0) / 2, 15);
+    int ctx = oct;
+    if (counts_model != "octave") {
+      uint64_t sum = 0, num = 0;
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz) {
+            if ((!dx && !dy && !dz) || v[0] + dx < 0 || v[1] + dy < 0 || v[2] + dz < 0) continue;
+            const uint64_t k = morton(v[0] + dx, v[1] + dy, v[2] + dz);
+            if (k >= c.key[i]) continue;
+            auto it = std::lower_bound(c.key.begin(), c.key.begin() + long(i), k);
+            if (it != c.key.begin() + long(i) && *it == k) {
+              sum += c.count[size_t(it - c.key.begin())];
+              ++num;
+            }
+          }
+      const double m = num ? double(sum) / double(num) : -1;
+      const int nc = m < 0 ? 0 : m < 1.5 ? 1 : m < 2.5 ? 2 : m < 4 ? 3 : m < 8 ? 4 : 5;
+      ctx = oct * 6 + nc;
+      if (counts_model == "rays" && cones)
+        ctx = 16 * 6 + ray_class(*cones, cones->step, a) * 6 + nc;
+    }
+    enc.put(c.count[i] - 1, ctx);
+  }
+  return enc.finish().size();
+}
+
+Cones cones_of(const Frame& fr, double step) {
+  capz::ScanGeometry g;
+  capz::ScanHints h;
+  const size_t n = fr.xyz.size() / 3;
+  g.counts.push_back(uint32_t(n));
+  for (size_t i = 0; i < n; ++i) {
+    const double* x = &fr.xyz[3 * i];
+    const bool ok = std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]);
+    g.valid.push_back(ok);
+    for (int k = 0; k < 3; ++k) {
+      h.xyz.push_back(float(x[k]));
+      g.q.push_back(ok ? int32_t(std::floor(x[k] / step + 0.5)) : 0);
+    }
+  }
+  h.ring = fr.ring;
+  h.grid_per_unit = 1.0 / step;
+  const capz::scan::RingFit r = capz::scan::fit_rings(g, h, false);
+  Cones c;
+  c.step = r.step;
+  std::vector<size_t> idx(r.rings());
+  for (size_t k = 0; k < idx.size(); ++k) idx[k] = k;
+  std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) { return r.slope[a] < r.slope[b]; });
+  for (size_t k : idx) {
+    c.slope.push_back(r.slope[k]);
+    c.z0.push_back(r.z0[k]);
+  }
+  return c;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  double step = 0.02;
+  size_t frames = 1;
+  std::vector<std::string> paths;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--step" && i + 1 < argc) {
+      step = std::atof(argv[++i]);
+    } else if (a == "--frames" && i + 1 < argc) {
+      frames = size_t(std::atol(argv[++i]));
+    } else if (a == "--occ" && i + 1 < argc) {
+      occ_model = argv[++i];
+    } else if (a == "--counts" && i + 1 < argc) {
+      counts_model = argv[++i];
+    } else if (a == "--bitmodel" && i + 1 < argc) {
+      bit_limit = std::atoi(argv[++i]);
+    } else if (a == "--dir" && i + 1 < argc) {
+      dir_bits = std::atoi(argv[++i]);
+    } else if (a == "--dump" && i + 1 < argc) {
+      dump_file = std::fopen(argv[++i], "wb");
+    } else if (a == "--laser") {
+      use_laser = true;
+    } else {
+      paths.push_back(a);
+    }
+  }
+  std::printf("%-24s %8s %8s %8s %8s %8s %8s %8s  %s\n", "sequence", "points", "cells", "occ_B",
+              "cnt_B", "bits/pt", "occ/cell", "cnt/cell", "occ_B by level (last, next, rest)");
+  for (const std::string& p : paths) {
+    std::vector<std::string> files = scan_tools::list_frames(p);
+    if (files.size() > frames) files.resize(frames);
+    size_t points = 0, cells = 0;
+    Sizes s;
+    for (size_t& b : level_bytes) b = 0;
+    for (const std::string& f : files) {
+      const Frame fr = scan_tools::read_frame(f, true);
+      std::vector<int64_t> q;
+      for (size_t i = 0; i < fr.xyz.size() / 3; ++i) {
+        const double* x = &fr.xyz[3 * i];
+        if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2])) continue;
+        for (int k = 0; k < 3; ++k) q.push_back(int64_t(std::floor(x[k] / step + 0.5)));
+      }
+      const Cells c = make_cells(q);
+      Cones cones;
+      if (use_laser) cones = cones_of(fr, step);
+      points += q.size() / 3;
+      cells += c.key.size();
+      s.occ += code_occupancy(c, use_laser ? &cones : nullptr);
+      s.counts += code_counts(c, use_laser ? &cones : nullptr);
+    }
+    std::string name = p;
+    while (!name.empty() && name.back() == '/') name.pop_back();
+    name = name.substr(name.find_last_of('/') + 1);
+    std::printf("%-24s %8zu %8zu %8zu %8zu %8.3f %8.3f %8.3f  %zu %zu %zu\n", name.c_str(), points,
+                cells, s.occ, s.counts, 8.0 * double(s.occ + s.counts) / double(points),
+                8.0 * double(s.occ) / double(cells), 8.0 * double(s.counts) / double(cells),
+                level_bytes[0], level_bytes[1], level_bytes[2]);
+  }
+  return 0;
+}
