@@ -49,6 +49,7 @@
 #include "coding/entropy.h"
 #include "coding/range_coder.h"
 #include "coding/scan_geometry.h"
+#include "coding/scan_octree.h"
 #include "coding/scan_table.h"
 #include "scan_frames.h"
 
@@ -58,36 +59,18 @@ using scan_tools::Frame;
 
 std::string occ_model = "oct7", counts_model = "nbr";
 bool use_laser = false;
+bool use_library = false;  // --lib: also the library coder's block (library_bytes)
+size_t lib_bytes = 0;
 std::FILE* dump_file = nullptr;  // --dump FILE
 int dir_bits = 0;  // --dir 1 or 3: the octant against the sensor ray (dominant axis, or all)
 size_t level_bytes[3] = {0, 0, 0};  // occupancy bytes: children are cells, next, others
 
-// Morton code of 21-bit coordinates: bit 3b + 2 is x's bit b, 3b + 1 y's, 3b z's.
-uint64_t spread(uint64_t v) {
-  v &= 0x1FFFFF;
-  v = (v | v << 32) & 0x1F00000000FFFFull;
-  v = (v | v << 16) & 0x1F0000FF0000FFull;
-  v = (v | v << 8) & 0x100F00F00F00F00Full;
-  v = (v | v << 4) & 0x10C30C30C30C30C3ull;
-  v = (v | v << 2) & 0x1249249249249249ull;
-  return v;
-}
-uint64_t compact(uint64_t v) {
-  v &= 0x1249249249249249ull;
-  v = (v ^ (v >> 2)) & 0x10C30C30C30C30C3ull;
-  v = (v ^ (v >> 4)) & 0x100F00F00F00F00Full;
-  v = (v ^ (v >> 8)) & 0x1F0000FF0000FFull;
-  v = (v ^ (v >> 16)) & 0x1F00000000FFFFull;
-  v = (v ^ (v >> 32)) & 0x1FFFFF;
-  return v;
-}
+// Morton keys, x the high bit of a child index (coding/scan_octree.h's, as FORMAT.md's).
 uint64_t morton(int64_t x, int64_t y, int64_t z) {
-  return spread(uint64_t(x)) << 2 | spread(uint64_t(y)) << 1 | spread(uint64_t(z));
+  return capz::scan::octree::key(uint64_t(x), uint64_t(y), uint64_t(z));
 }
 void unmorton(uint64_t k, int64_t* c) {
-  c[0] = int64_t(compact(k >> 2));
-  c[1] = int64_t(compact(k >> 1));
-  c[2] = int64_t(compact(k));
+  capz::scan::octree::coords(k, c);
 }
 
 int bit_limit = 0;  // --bitmodel N: counting binary models, rate 1/(n + 2) up to n = N
@@ -398,6 +381,34 @@ size_t code_counts(const Cells& c, const Cones* cones) {
   return enc.finish().size();
 }
 
+// --lib: the frame through capz's own octree frame coder (coding/scan_octree.h, FORMAT.md
+// "Octree frames") in octree order, decoded again; the block's bytes, or 0 when the round trip
+// is not exact.
+size_t library_bytes(const std::vector<int64_t>& q) {
+  capz::ScanGeometry g;
+  const size_t n = q.size() / 3;
+  g.counts.push_back(uint32_t(n));
+  g.valid.assign(n, 1);
+  for (int64_t v : q) g.q.push_back(int32_t(v));
+  const std::vector<uint32_t> order = capz::octree_frame_order(g, 0, n);
+  capz::ScanGeometry s = g;
+  for (size_t j = 0; j < n; ++j)
+    for (int a = 0; a < 3; ++a) s.q[3 * j + size_t(a)] = g.q[3 * order[j] + size_t(a)];
+  uint32_t copies = 0;
+  for (size_t j = 1; j < n; ++j)
+    copies += std::equal(&s.q[3 * j], &s.q[3 * j] + 3, &s.q[3 * j - 3]);
+  capz::IntEncoder enc(capz::scan::kOctreeContexts);
+  capz::scan::start_octree_block(&enc);
+  capz::encode_octree_frame(s, 0, n, copies, &enc);
+  const std::vector<uint8_t> block = enc.finish();
+  capz::IntDecoder dec(block.data(), block.size(), capz::scan::kOctreeContexts, "octree");
+  capz::scan::start_octree_block(&dec);
+  std::vector<int32_t> back(3 * n);
+  std::vector<uint8_t> valid(n);
+  capz::scan::decode_octree_frame(&dec, n, copies, false, back.data(), valid.data());
+  return back == s.q && dec.at_end() ? block.size() : 0;
+}
+
 Cones cones_of(const Frame& fr, double step) {
   capz::ScanGeometry g;
   capz::ScanHints h;
@@ -449,6 +460,8 @@ int main(int argc, char** argv) {
       dir_bits = std::atoi(argv[++i]);
     } else if (a == "--dump" && i + 1 < argc) {
       dump_file = std::fopen(argv[++i], "wb");
+    } else if (a == "--lib") {
+      use_library = true;
     } else if (a == "--laser") {
       use_laser = true;
     } else {
@@ -463,6 +476,7 @@ int main(int argc, char** argv) {
     size_t points = 0, cells = 0;
     Sizes s;
     for (size_t& b : level_bytes) b = 0;
+    lib_bytes = 0;
     for (const std::string& f : files) {
       const Frame fr = scan_tools::read_frame(f, true);
       std::vector<int64_t> q;
@@ -478,6 +492,7 @@ int main(int argc, char** argv) {
       cells += c.key.size();
       s.occ += code_occupancy(c, use_laser ? &cones : nullptr);
       s.counts += code_counts(c, use_laser ? &cones : nullptr);
+      if (use_library) lib_bytes += library_bytes(q);
     }
     std::string name = p;
     while (!name.empty() && name.back() == '/') name.pop_back();
@@ -486,6 +501,10 @@ int main(int argc, char** argv) {
                 cells, s.occ, s.counts, 8.0 * double(s.occ + s.counts) / double(points),
                 8.0 * double(s.occ) / double(cells), 8.0 * double(s.counts) / double(cells),
                 level_bytes[0], level_bytes[1], level_bytes[2]);
+    if (use_library)
+      std::printf("%-24s library octree frames: %zu bytes, %.3f bits/pt%s\n", name.c_str(),
+                  lib_bytes, 8.0 * double(lib_bytes) / double(points),
+                  lib_bytes ? "" : " (ROUND TRIP NOT EXACT)");
   }
   return 0;
 }

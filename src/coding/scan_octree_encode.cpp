@@ -1,0 +1,132 @@
+// Octree frames, the encoding side (scan_octree.h; docs/FORMAT.md "Octree frames").
+#include <algorithm>
+
+#include "capz/error.h"
+#include "coding/scan_octree.h"
+
+namespace capz {
+
+namespace {
+
+// The frame's least integers and its tree's depth; false when it has no valid point or its
+// valid points span 2^21 or more on an axis.
+bool frame_cube(const ScanGeometry& g, size_t first, size_t n, int64_t* lo, int* depth) {
+  int64_t hi[3] = {0, 0, 0};
+  bool any = false;
+  for (size_t i = first; i < first + n; ++i) {
+    if (!g.valid[i]) continue;
+    for (int a = 0; a < 3; ++a) {
+      const int64_t v = g.q[3 * i + static_cast<size_t>(a)];
+      lo[a] = any ? std::min(lo[a], v) : v;
+      hi[a] = any ? std::max(hi[a], v) : v;
+    }
+    any = true;
+  }
+  if (!any) return false;
+  int64_t ext = 1;
+  for (int a = 0; a < 3; ++a) ext = std::max(ext, hi[a] - lo[a] + 1);
+  *depth = 0;
+  while ((int64_t{1} << *depth) < ext) ++*depth;
+  return *depth <= scan::kMaxOctreeDepth;
+}
+
+uint64_t cell_key(const ScanGeometry& g, size_t i, const int64_t* lo) {
+  const int32_t* q = &g.q[3 * i];
+  return scan::octree::key(static_cast<uint64_t>(q[0] - lo[0]), static_cast<uint64_t>(q[1] - lo[1]),
+                           static_cast<uint64_t>(q[2] - lo[2]));
+}
+
+// The encoder's child bits: whether the child is a node of its level in the actual tree.
+class EncodeBits {
+ public:
+  EncodeBits(IntEncoder* enc, std::vector<std::vector<uint64_t>> levels)
+      : enc_(enc), levels_(std::move(levels)) {}
+  bool bit(int ctx, int l, uint64_t child) {
+    const std::vector<uint64_t>& next = levels_[static_cast<size_t>(l) + 1];
+    const bool b = std::binary_search(next.begin(), next.end(), child);
+    enc_->put_symbol(b ? 1 : 0, ctx);
+    return b;
+  }
+  [[noreturn]] void too_many() { throw Error(ErrorCode::kInternal, "octree: a level too large"); }
+
+ private:
+  IntEncoder* enc_;
+  std::vector<std::vector<uint64_t>> levels_;
+};
+
+}  // namespace
+
+bool octree_frame_ok(const ScanGeometry& g, size_t first, size_t n) {
+  int64_t lo[3];
+  int depth;
+  return frame_cube(g, first, n, lo, &depth);
+}
+
+std::vector<uint32_t> octree_frame_order(const ScanGeometry& g, size_t first, size_t n) {
+  int64_t lo[3] = {0, 0, 0};
+  int depth = 0;
+  const bool ok = frame_cube(g, first, n, lo, &depth);
+  std::vector<uint32_t> order(n);
+  for (size_t j = 0; j < n; ++j) order[j] = static_cast<uint32_t>(j);
+  if (!ok) return order;
+  std::vector<uint64_t> keys(n, 0);
+  for (size_t j = 0; j < n; ++j)
+    if (g.valid[first + j]) keys[j] = cell_key(g, first + j, lo);
+  std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+    const bool va = g.valid[first + a] != 0, vb = g.valid[first + b] != 0;
+    if (va != vb) return va;
+    return va && keys[a] < keys[b];
+  });
+  return order;
+}
+
+void encode_octree_frame(const ScanGeometry& g, size_t first, size_t n, uint32_t copies,
+                         IntEncoder* enc) {
+  int64_t lo[3];
+  int depth;
+  if (!frame_cube(g, first, n, lo, &depth))
+    throw Error(ErrorCode::kInternal, "octree frame without valid points or too wide");
+  std::vector<uint64_t> cells;
+  std::vector<uint32_t> points;
+  size_t gaps = 0;
+  for (size_t i = first; i < first + n; ++i) {
+    if (!g.valid[i]) {
+      ++gaps;
+      continue;
+    }
+    if (gaps > 0) throw Error(ErrorCode::kInternal, "octree frame: a gap before a valid point");
+    const uint64_t k = cell_key(g, i, lo);
+    if (!cells.empty() && k == cells.back()) {
+      ++points.back();
+      continue;
+    }
+    if (!cells.empty() && k < cells.back())
+      throw Error(ErrorCode::kInternal, "octree frame: points not in Morton order");
+    cells.push_back(k);
+    points.push_back(1);
+  }
+  if (n - gaps - cells.size() != copies)
+    throw Error(ErrorCode::kInternal, "octree frame: copies disagree with the cells");
+  if (gaps > 0) enc->put(static_cast<uint32_t>(gaps), scan::kOctCornerCtx);
+  enc->put(static_cast<uint32_t>(depth), scan::kOctDepthCtx);
+  for (int a = 0; a < 3; ++a) enc->put_signed(static_cast<int32_t>(lo[a]), scan::kOctCornerCtx);
+  std::vector<std::vector<uint64_t>> levels(static_cast<size_t>(depth) + 1);
+  levels.back() = cells;
+  for (int l = depth - 1; l >= 0; --l)
+    for (uint64_t k : levels[static_cast<size_t>(l) + 1])
+      if (levels[static_cast<size_t>(l)].empty() || levels[static_cast<size_t>(l)].back() != k >> 3)
+        levels[static_cast<size_t>(l)].push_back(k >> 3);
+  EncodeBits io(enc, std::move(levels));
+  scan::octree::code_tree(io, depth, cells.size());
+  if (copies == 0) return;
+  std::vector<uint32_t> seen(cells.size(), 1);
+  for (size_t j = 0; j < cells.size(); ++j) {
+    int64_t v[3];
+    scan::octree::coords(cells[j], v);
+    for (int a = 0; a < 3; ++a) v[a] += lo[a];
+    enc->put(points[j] - 1, scan::octree::count_context(cells, seen, j, v));
+    seen[j] = points[j];
+  }
+}
+
+}  // namespace capz
