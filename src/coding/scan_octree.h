@@ -54,8 +54,8 @@ inline void coords(uint64_t k, int64_t* c) {
 inline bool has(const std::vector<uint64_t>& level, const int64_t* c, int64_t side) {
   for (int a = 0; a < 3; ++a)
     if (c[a] < 0 || c[a] >= side) return false;
-  const uint64_t k = key(static_cast<uint64_t>(c[0]), static_cast<uint64_t>(c[1]),
-                         static_cast<uint64_t>(c[2]));
+  const uint64_t k =
+      key(static_cast<uint64_t>(c[0]), static_cast<uint64_t>(c[1]), static_cast<uint64_t>(c[2]));
   return std::binary_search(level.begin(), level.end(), k);
 }
 
@@ -137,15 +137,15 @@ inline int count_context(const std::vector<uint64_t>& cells, const std::vector<u
     if (e == 13) continue;
     const int64_t c[3] = {v[0] + e / 9 - 1, v[1] + (e / 3) % 3 - 1, v[2] + e % 3 - 1};
     if (c[0] < 0 || c[1] < 0 || c[2] < 0) continue;
-    const uint64_t ck = key(static_cast<uint64_t>(c[0]), static_cast<uint64_t>(c[1]),
-                            static_cast<uint64_t>(c[2]));
+    const uint64_t ck =
+        key(static_cast<uint64_t>(c[0]), static_cast<uint64_t>(c[1]), static_cast<uint64_t>(c[2]));
     if (ck >= cells[j]) continue;
     const auto it = std::lower_bound(cells.begin(), end, ck);
     if (it == end || *it != ck) continue;
     ++k;
     sum += points[static_cast<size_t>(it - cells.begin())];
   }
-  const int nc = k == 0           ? 0
+  const int nc = k == 0            ? 0
                  : 2 * sum < 3 * k ? 1
                  : 2 * sum < 5 * k ? 2
                  : sum < 4 * k     ? 3
@@ -182,5 +182,8 @@ std::vector<uint32_t> octree_frame_order(const ScanGeometry& g, size_t first, si
 // point is not valid.
 void encode_octree_frame(const ScanGeometry& g, size_t first, size_t n, uint32_t copies,
                          IntEncoder* enc);
+// The scan geometry payload of g (FORMAT.md) with every frame that has a valid point an octree
+// frame, each frame's points in octree_frame_order's order; empty when a frame is too wide.
+std::vector<uint8_t> encode_scan_octree(const ScanGeometry& g);
 
 }  // namespace capz

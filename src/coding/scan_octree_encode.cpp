@@ -2,7 +2,9 @@
 #include <algorithm>
 
 #include "capz/error.h"
+#include "coding/bytes.h"
 #include "coding/scan_octree.h"
+#include "coding/scan_shared.h"
 
 namespace capz {
 
@@ -127,6 +129,44 @@ void encode_octree_frame(const ScanGeometry& g, size_t first, size_t n, uint32_t
     enc->put(points[j] - 1, scan::octree::count_context(cells, seen, j, v));
     seen[j] = points[j];
   }
+}
+
+std::vector<uint8_t> encode_scan_octree(const ScanGeometry& g) {
+  const size_t frames = g.counts.size();
+  std::vector<uint8_t> flags(frames, 0);
+  std::vector<uint32_t> copies(frames, 0);
+  IntEncoder tree(scan::kOctreeContexts);
+  scan::start_octree_block(&tree);
+  size_t first = 0;
+  for (size_t f = 0; f < frames; ++f) {
+    const size_t n = g.counts[f];
+    size_t valid = 0;
+    for (size_t i = first; i < first + n; ++i) valid += g.valid[i] != 0;
+    if (valid == 0) {
+      flags[f] = scan::kNoneValid;
+    } else {
+      if (!octree_frame_ok(g, first, n)) return {};
+      // copies: valid points equal to the valid point before them (octree order puts them there)
+      for (size_t i = first + 1; i < first + n; ++i)
+        copies[f] += g.valid[i] && g.valid[i - 1] &&
+                     std::equal(&g.q[3 * i], &g.q[3 * i] + 3, &g.q[3 * (i - 1)]);
+      flags[f] = static_cast<uint8_t>(scan::kOctreeFrame | (valid < n ? scan::kSomeValid : 0) |
+                                      (copies[f] > 0 ? scan::kCells : 0));
+      encode_octree_frame(g, first, n, copies[f], &tree);
+    }
+    first += n;
+  }
+  ByteWriter w;
+  w.varint(frames);
+  for (uint32_t n : g.counts) w.varint(n);
+  for (uint8_t fl : flags) w.u8(fl);
+  for (uint32_t d : copies)
+    if (d > 0) w.varint(d);
+  w.varint(0);  // K: no laser table
+  if (std::any_of(flags.begin(), flags.end(), scan::octree_frame)) put_block(&w, tree.finish());
+  IntEncoder main_block(scan::kContexts);  // no point codes a symbol there
+  w.bytes(main_block.finish());
+  return std::move(w.buffer());
 }
 
 }  // namespace capz

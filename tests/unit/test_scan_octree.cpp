@@ -52,8 +52,8 @@ ScanGeometry reordered(const ScanGeometry& g, const std::vector<uint32_t>& order
 uint32_t copies_of(const ScanGeometry& s) {
   uint32_t c = 0;
   for (size_t i = 1; i < s.valid.size(); ++i)
-    c += s.valid[i] && s.valid[i - 1] &&
-         std::equal(&s.q[3 * i], &s.q[3 * i] + 3, &s.q[3 * (i - 1)]);
+    c +=
+        s.valid[i] && s.valid[i - 1] && std::equal(&s.q[3 * i], &s.q[3 * i] + 3, &s.q[3 * (i - 1)]);
   return c;
 }
 
@@ -86,8 +86,8 @@ TEST(ScanOctree, GivenANearSweepInOctreeOrderWhenCodedThenItsPointsComeBackInTha
     EXPECT_EQ(d.valid, s.valid);
     EXPECT_EQ(d.q, s.q);
     // The cells of a smooth wall: a few bits a cell (counts included).
-    const size_t cells = s.valid.size() - copies - static_cast<size_t>(std::count(
-                                                         s.valid.begin(), s.valid.end(), 0));
+    const size_t cells = s.valid.size() - copies -
+                         static_cast<size_t>(std::count(s.valid.begin(), s.valid.end(), 0));
     EXPECT_LT(8.0 * static_cast<double>(block.size()) / static_cast<double>(cells), 5.0);
   }
 }
