@@ -45,6 +45,11 @@ void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps, 
   const std::vector<uint64_t> cells = octree::code_tree(io, static_cast<int>(d), m);
   if (cells.size() != m) dec->corrupt("an octree with fewer cells than the frame's");
   std::vector<uint32_t> points(m, 1);
+  octree::KeySet set;
+  if (copies > 0) {
+    set.reset(m);
+    for (size_t j = 0; j < m; ++j) set.insert(cells[j], static_cast<uint32_t>(j));
+  }
   uint32_t left = copies;
   size_t at = 0;
   for (size_t j = 0; j < m; ++j) {
@@ -53,7 +58,7 @@ void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps, 
     for (int a = 0; a < 3; ++a) v[a] += lo[a];
     uint32_t c = 0;
     if (copies > 0) {
-      c = dec->get(octree::count_context(cells, points, j, v));
+      c = dec->get(octree::count_context(cells, set, points, j, v));
       if (c > left) dec->corrupt("a cell's count exceeds the frame's copies");
       left -= c;
       points[j] = c + 1;

@@ -50,20 +50,55 @@ inline void coords(uint64_t k, int64_t* c) {
   c[1] = static_cast<int64_t>(compact(k >> 1));
   c[2] = static_cast<int64_t>(compact(k));
 }
-// Whether the sorted keys hold the node at c (false outside [0, side)^3).
-inline bool has(const std::vector<uint64_t>& level, const int64_t* c, int64_t side) {
-  for (int a = 0; a < 3; ++a)
-    if (c[a] < 0 || c[a] >= side) return false;
-  const uint64_t k =
-      key(static_cast<uint64_t>(c[0]), static_cast<uint64_t>(c[1]), static_cast<uint64_t>(c[2]));
-  return std::binary_search(level.begin(), level.end(), k);
-}
+// A set of Morton keys (each below 2^63) with an index each: open addressing, at most half
+// full. The walk's and the counts' neighbour lookups (a binary search in the sorted keys
+// answers the same, several times slower).
+class KeySet {
+ public:
+  // Room for n keys; emptied.
+  void reset(size_t n) {
+    size_t cap = 16;
+    while (cap < 2 * n) cap <<= 1;
+    shift_ = 64 - __builtin_ctzll(cap);
+    keys_.assign(cap, kEmpty);
+    index_.resize(cap);
+  }
+  void insert(uint64_t k, uint32_t index) {
+    size_t at = slot(k);
+    while (keys_[at] != kEmpty) at = (at + 1) & (keys_.size() - 1);
+    keys_[at] = k;
+    index_[at] = index;
+  }
+  // The key's index, or -1.
+  int64_t find(uint64_t k) const {
+    for (size_t at = slot(k);; at = (at + 1) & (keys_.size() - 1)) {
+      if (keys_[at] == k) return index_[at];
+      if (keys_[at] == kEmpty) return -1;
+    }
+  }
+  // Whether the set holds the node at c (false outside [0, side)^3).
+  bool has(const int64_t* c, int64_t side) const {
+    for (int a = 0; a < 3; ++a)
+      if (c[a] < 0 || c[a] >= side) return false;
+    return find(key(static_cast<uint64_t>(c[0]), static_cast<uint64_t>(c[1]),
+                    static_cast<uint64_t>(c[2]))) >= 0;
+  }
+
+ private:
+  static constexpr uint64_t kEmpty = ~uint64_t{0};
+  size_t slot(uint64_t k) const {
+    return static_cast<size_t>((k * 0x9E3779B97F4A7C15ull) >> shift_);
+  }
+  int shift_ = 60;
+  std::vector<uint64_t> keys_;
+  std::vector<uint32_t> index_;
+};
 
 // The child bit's context (FORMAT.md step 4) of child i of the node at p (level l of a tree of
 // depth d): nb[k] is P of the parent's neighbour (dx, dy, dz) at k = 9 (dx + 1) + 3 (dy + 1) +
 // dz + 1; next the level l + 1 coded so far; ones the bits 1 before child i.
-inline int bit_context(const int* nb, const std::vector<uint64_t>& next, const int64_t* p, int l,
-                       int d, int i, int ones) {
+inline int bit_context(const int* nb, const KeySet& next, const int64_t* p, int l, int d, int i,
+                       int ones) {
   const int o[3] = {(i >> 2) & 1, (i >> 1) & 1, i & 1};
   int o7 = 0;
   for (int k = 1; k < 8; ++k) {
@@ -77,7 +112,7 @@ inline int bit_context(const int* nb, const std::vector<uint64_t>& next, const i
   for (int e = 0; e < 3; ++e) {
     int64_t c[3] = {2 * p[0] + o[0], 2 * p[1] + o[1], 2 * p[2] + o[2]};
     --c[e];
-    cn |= static_cast<int>(has(next, c, side)) << e;
+    cn |= static_cast<int>(next.has(c, side)) << e;
   }
   const int sib = std::min(ones, 2);
   const int lc = l == d - 1 ? 0 : l == d - 2 ? 1 : 2;
@@ -91,8 +126,12 @@ inline int bit_context(const int* nb, const std::vector<uint64_t>& next, const i
 template <class Io>
 std::vector<uint64_t> code_tree(Io& io, int d, size_t m) {
   std::vector<uint64_t> level{0}, next;
+  KeySet here, there;  // level's keys, and next's so far
   for (int l = 0; l < d; ++l) {
     next.clear();
+    here.reset(level.size());
+    for (size_t j = 0; j < level.size(); ++j) here.insert(level[j], static_cast<uint32_t>(j));
+    there.reset(std::min(m, 8 * level.size()));
     const int64_t side = int64_t{1} << l;
     for (uint64_t pk : level) {
       int64_t p[3];
@@ -100,15 +139,16 @@ std::vector<uint64_t> code_tree(Io& io, int d, size_t m) {
       int nb[27];
       for (int k = 0; k < 27; ++k) {
         const int64_t c[3] = {p[0] + k / 9 - 1, p[1] + (k / 3) % 3 - 1, p[2] + k % 3 - 1};
-        nb[k] = has(level, c, side);
+        nb[k] = k == 13 || here.has(c, side);
       }
       int ones = 0;
       for (int i = 0; i < 8; ++i) {
         const uint64_t ck = pk << 3 | static_cast<uint64_t>(i);
         bool bit = true;
-        if (i < 7 || ones > 0) bit = io.bit(bit_context(nb, next, p, l, d, i, ones), l, ck);
+        if (i < 7 || ones > 0) bit = io.bit(bit_context(nb, there, p, l, d, i, ones), l, ck);
         if (!bit) continue;
         if (next.size() >= m) io.too_many();
+        there.insert(ck, static_cast<uint32_t>(next.size()));
         next.push_back(ck);
         ++ones;
       }
@@ -118,10 +158,11 @@ std::vector<uint64_t> code_tree(Io& io, int d, size_t m) {
   return level;
 }
 
-// A cell's count context (FORMAT.md step 5): cells sorted, j the cell's index, points its
-// cells' points so far (valid up to j), abs the cell's grid integers.
-inline int count_context(const std::vector<uint64_t>& cells, const std::vector<uint32_t>& points,
-                         size_t j, const int64_t* abs) {
+// A cell's count context (FORMAT.md step 5): cells sorted and `set` them with their indices,
+// j the cell's index, points its cells' points so far (valid up to j), abs the cell's grid
+// integers.
+inline int count_context(const std::vector<uint64_t>& cells, const KeySet& set,
+                         const std::vector<uint32_t>& points, size_t j, const int64_t* abs) {
   uint64_t s2 = 0;
   for (int a = 0; a < 3; ++a) {
     const uint64_t v = static_cast<uint64_t>(abs[a] < 0 ? -abs[a] : abs[a]);
@@ -132,18 +173,15 @@ inline int count_context(const std::vector<uint64_t>& cells, const std::vector<u
   int64_t v[3];
   coords(cells[j], v);
   uint64_t k = 0, sum = 0;
-  const auto end = cells.begin() + static_cast<std::ptrdiff_t>(j);
   for (int e = 0; e < 27; ++e) {
     if (e == 13) continue;
     const int64_t c[3] = {v[0] + e / 9 - 1, v[1] + (e / 3) % 3 - 1, v[2] + e % 3 - 1};
     if (c[0] < 0 || c[1] < 0 || c[2] < 0) continue;
-    const uint64_t ck =
-        key(static_cast<uint64_t>(c[0]), static_cast<uint64_t>(c[1]), static_cast<uint64_t>(c[2]));
-    if (ck >= cells[j]) continue;
-    const auto it = std::lower_bound(cells.begin(), end, ck);
-    if (it == end || *it != ck) continue;
+    const int64_t at = set.find(
+        key(static_cast<uint64_t>(c[0]), static_cast<uint64_t>(c[1]), static_cast<uint64_t>(c[2])));
+    if (at < 0 || static_cast<size_t>(at) >= j) continue;  // not a cell, or not before this one
     ++k;
-    sum += points[static_cast<size_t>(it - cells.begin())];
+    sum += points[static_cast<size_t>(at)];
   }
   const int nc = k == 0            ? 0
                  : 2 * sum < 3 * k ? 1

@@ -122,11 +122,14 @@ void encode_octree_frame(const ScanGeometry& g, size_t first, size_t n, uint32_t
   scan::octree::code_tree(io, depth, cells.size());
   if (copies == 0) return;
   std::vector<uint32_t> seen(cells.size(), 1);
+  scan::octree::KeySet set;
+  set.reset(cells.size());
+  for (size_t j = 0; j < cells.size(); ++j) set.insert(cells[j], static_cast<uint32_t>(j));
   for (size_t j = 0; j < cells.size(); ++j) {
     int64_t v[3];
     scan::octree::coords(cells[j], v);
     for (int a = 0; a < 3; ++a) v[a] += lo[a];
-    enc->put(points[j] - 1, scan::octree::count_context(cells, seen, j, v));
+    enc->put(points[j] - 1, scan::octree::count_context(cells, set, seen, j, v));
     seen[j] = points[j];
   }
 }
