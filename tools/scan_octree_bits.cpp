@@ -59,7 +59,12 @@ using scan_tools::Frame;
 
 std::string occ_model = "oct7", counts_model = "nbr";
 bool use_laser = false;
-bool use_library = false;  // --lib: also the library coder's block (library_bytes)
+bool inter = false;          // --inter: the previous frame's cells as a context bit
+bool window_models = false;  // --window: one set of models over a path's frames
+class BinCoder;
+std::vector<BinCoder>* window_coders = nullptr;
+std::vector<int64_t> prev_cells;  // the previous frame's cells (grid integers)
+bool use_library = false;         // --lib: also the library coder's block (library_bytes)
 size_t lib_bytes = 0;
 std::FILE* dump_file = nullptr;  // --dump FILE
 int dir_bits = 0;  // --dir 1 or 3: the octant against the sensor ray (dominant axis, or all)
@@ -211,8 +216,26 @@ size_t code_occupancy(const Cells& c, const Cones* cones) {
   }
   for (auto& L : lv) L.set.insert(L.key.begin(), L.key.end());
   const size_t laser_mult = cones ? 3 : 1;
-  // one coder per level class (its contexts apart anyway): the breakdown by level
-  std::vector<BinCoder> bcs(3, BinCoder(size_t(128) * 64 * 3 * 3 * laser_mult * 8));
+  // one coder per level class (its contexts apart anyway): the breakdown by level; with
+  // --window the models of the path's frames (window_coders), finished by the caller
+  std::vector<BinCoder> own;
+  if (!window_coders) own.assign(3, BinCoder(size_t(128) * 64 * 3 * 3 * laser_mult * 8));
+  std::vector<BinCoder>& bcs = window_coders ? *window_coders : own;
+  // --inter: per child level, the previous frame's cells on that level's grid from this lo
+  std::vector<std::unordered_set<uint64_t>> prev(size_t(D) + 1);
+  if (inter)
+    for (int L = 1; L <= D; ++L) {
+      const int sh = D - L;
+      for (size_t j = 0; j + 2 < prev_cells.size(); j += 3) {
+        int64_t r[3];
+        bool in = true;
+        for (int a = 0; a < 3; ++a) {
+          r[a] = prev_cells[j + size_t(a)] - c.lo[a];
+          in = in && r[a] >= 0 && r[a] < (int64_t{1} << D);
+        }
+        if (in) prev[size_t(L)].insert(morton(r[0] >> sh, r[1] >> sh, r[2] >> sh));
+      }
+    }
   for (int l = 0; l < D; ++l) {
     const Level& P = lv[size_t(l)];
     const Level& C = lv[size_t(l) + 1];
@@ -280,6 +303,7 @@ size_t code_occupancy(const Cells& c, const Cones* cones) {
             for (int d = 0; d < 3; ++d) ctx = ctx * 2 + size_t(o[d] == (r[d] > 0));
           }
         }
+        if (inter) ctx = ctx * 2 + prev[size_t(l) + 1].count(morton(cx, cy, cz));
         if (cones) {
           int m = 2;
           if (lc <= 1) {
@@ -335,6 +359,13 @@ size_t code_occupancy(const Cells& c, const Cones* cones) {
       }
     }
   }
+  prev_cells.clear();
+  for (size_t j = 0; j < c.key.size(); ++j) {
+    int64_t v[3];
+    unmorton(c.key[j], v);
+    for (int a = 0; a < 3; ++a) prev_cells.push_back(v[a] + c.lo[a]);
+  }
+  if (window_coders) return 0;
   size_t total = 0;
   for (int k = 0; k < 3; ++k) {
     const size_t b = bcs[size_t(k)].bytes();
@@ -399,13 +430,15 @@ size_t library_bytes(const std::vector<int64_t>& q) {
     copies += std::equal(&s.q[3 * j], &s.q[3 * j] + 3, &s.q[3 * j - 3]);
   capz::IntEncoder enc(capz::scan::kOctreeContexts);
   capz::scan::start_octree_block(&enc);
-  capz::encode_octree_frame(s, 0, n, copies, &enc);
+  std::vector<int32_t> prev;
+  capz::encode_octree_frame(s, 0, n, copies, &prev, &enc);
   const std::vector<uint8_t> block = enc.finish();
   capz::IntDecoder dec(block.data(), block.size(), capz::scan::kOctreeContexts, "octree");
   capz::scan::start_octree_block(&dec);
   std::vector<int32_t> back(3 * n);
   std::vector<uint8_t> valid(n);
-  capz::scan::decode_octree_frame(&dec, n, copies, false, back.data(), valid.data());
+  prev.clear();
+  capz::scan::decode_octree_frame(&dec, n, copies, false, &prev, back.data(), valid.data());
   return back == s.q && dec.at_end() ? block.size() : 0;
 }
 
@@ -462,6 +495,10 @@ int main(int argc, char** argv) {
       dump_file = std::fopen(argv[++i], "wb");
     } else if (a == "--lib") {
       use_library = true;
+    } else if (a == "--inter") {
+      inter = true;
+    } else if (a == "--window") {
+      window_models = true;
     } else if (a == "--laser") {
       use_laser = true;
     } else {
@@ -477,6 +514,12 @@ int main(int argc, char** argv) {
     Sizes s;
     for (size_t& b : level_bytes) b = 0;
     lib_bytes = 0;
+    prev_cells.clear();
+    std::vector<BinCoder> path_coders;
+    if (window_models) {
+      path_coders.assign(3, BinCoder(size_t(128) * 64 * 3 * 3 * 3 * 8));
+      window_coders = &path_coders;
+    }
     for (const std::string& f : files) {
       const Frame fr = scan_tools::read_frame(f, true);
       std::vector<int64_t> q;
@@ -493,6 +536,14 @@ int main(int argc, char** argv) {
       s.occ += code_occupancy(c, use_laser ? &cones : nullptr);
       s.counts += code_counts(c, use_laser ? &cones : nullptr);
       if (use_library) lib_bytes += library_bytes(q);
+    }
+    if (window_models) {
+      for (int k = 0; k < 3; ++k) {
+        const size_t b = path_coders[size_t(k)].bytes();
+        level_bytes[k] += b;
+        s.occ += b;
+      }
+      window_coders = nullptr;
     }
     std::string name = p;
     while (!name.empty() && name.back() == '/') name.pop_back();

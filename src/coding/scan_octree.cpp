@@ -24,8 +24,8 @@ class DecodeBits {
 
 }  // namespace
 
-void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps, int32_t* q,
-                         uint8_t* valid) {
+void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps,
+                         std::vector<int32_t>* prev, int32_t* q, uint8_t* valid) {
   size_t g = 0;
   if (gaps) {
     g = dec->get(kOctCornerCtx);
@@ -42,8 +42,9 @@ void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps, 
       dec->corrupt("an octree's cube beyond the grid integers' range");
   }
   DecodeBits io(dec);
-  const std::vector<uint64_t> cells = octree::code_tree(io, static_cast<int>(d), m);
+  const std::vector<uint64_t> cells = octree::code_tree(io, static_cast<int>(d), m, lo, *prev);
   if (cells.size() != m) dec->corrupt("an octree with fewer cells than the frame's");
+  prev->clear();
   std::vector<uint32_t> points(m, 1);
   octree::KeySet set;
   if (copies > 0) {
@@ -55,7 +56,10 @@ void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps, 
   for (size_t j = 0; j < m; ++j) {
     int64_t v[3];
     octree::coords(cells[j], v);
-    for (int a = 0; a < 3; ++a) v[a] += lo[a];
+    for (int a = 0; a < 3; ++a) {
+      v[a] += lo[a];
+      prev->push_back(static_cast<int32_t>(v[a]));
+    }
     uint32_t c = 0;
     if (copies > 0) {
       c = dec->get(octree::count_context(cells, set, points, j, v));

@@ -16,9 +16,9 @@ namespace capz {
 namespace scan {
 
 // The octree block's contexts: the depth 0, the gaps and the corner 1, the counts 2..97, the
-// child bits 98..9313.
+// child bits 98..18529.
 constexpr int kOctDepthCtx = 0, kOctCornerCtx = 1, kOctCountCtx = 2, kOctBitCtx = 98;
-constexpr int kOctreeContexts = kOctBitCtx + 128 * 8 * 3 * 3;
+constexpr int kOctreeContexts = kOctBitCtx + 128 * 8 * 3 * 3 * 2;
 constexpr int kMaxOctreeDepth = 21;
 
 namespace octree {
@@ -96,9 +96,10 @@ class KeySet {
 
 // The child bit's context (FORMAT.md step 4) of child i of the node at p (level l of a tree of
 // depth d): nb[k] is P of the parent's neighbour (dx, dy, dz) at k = 9 (dx + 1) + 3 (dy + 1) +
-// dz + 1; next the level l + 1 coded so far; ones the bits 1 before child i.
-inline int bit_context(const int* nb, const KeySet& next, const int64_t* p, int l, int d, int i,
-                       int ones) {
+// dz + 1; next the level l + 1 coded so far; ones the bits 1 before child i; before the level
+// l + 1 nodes of the previous frame's cells.
+inline int bit_context(const int* nb, const KeySet& next, const KeySet& before, const int64_t* p,
+                       int l, int d, int i, int ones) {
   const int o[3] = {(i >> 2) & 1, (i >> 1) & 1, i & 1};
   int o7 = 0;
   for (int k = 1; k < 8; ++k) {
@@ -116,18 +117,44 @@ inline int bit_context(const int* nb, const KeySet& next, const int64_t* p, int 
   }
   const int sib = std::min(ones, 2);
   const int lc = l == d - 1 ? 0 : l == d - 2 ? 1 : 2;
-  return kOctBitCtx + ((o7 * 8 + cn) * 3 + sib) * 3 + lc;
+  const int64_t c[3] = {2 * p[0] + o[0], 2 * p[1] + o[1], 2 * p[2] + o[2]};
+  const int pv = before.has(c, side);
+  return kOctBitCtx + 2 * (((o7 * 8 + cn) * 3 + sib) * 3 + lc) + pv;
 }
 
-// The walk over a tree of depth d (FORMAT.md step 4) both sides run: io.bit(ctx, level, key of
-// the child) gives each coded child bit (the encoder's actual one, or the decoded one); the
-// inferred ones are not asked. Returns the cells' keys in Morton order, or stops with
-// io.too_many() (which throws) when a level has more than m nodes.
+// The previous frame's cells (grid integers, 3 each) as nodes of level l of a tree of depth d
+// with corner lo: those inside the tree's cube.
+inline void previous_level(const std::vector<int32_t>& prev, const int64_t* lo, int l, int d,
+                           KeySet* out) {
+  out->reset(prev.size() / 3);
+  const int64_t side = int64_t{1} << d;
+  for (size_t j = 0; j + 2 < prev.size(); j += 3) {
+    int64_t r[3];
+    bool in = true;
+    for (int a = 0; a < 3; ++a) {
+      r[a] = prev[j + static_cast<size_t>(a)] - lo[a];
+      in = in && r[a] >= 0 && r[a] < side;
+    }
+    if (in)
+      out->insert(
+          key(static_cast<uint64_t>(r[0] >> (d - l)), static_cast<uint64_t>(r[1] >> (d - l)),
+              static_cast<uint64_t>(r[2] >> (d - l))),
+          0);
+  }
+}
+
+// The walk over a tree of depth d and corner lo (FORMAT.md step 4) both sides run: io.bit(ctx,
+// level, key of the child) gives each coded child bit (the encoder's actual one, or the decoded
+// one); the inferred ones are not asked. prev: the previous frame's cells (empty: none).
+// Returns the cells' keys in Morton order, or stops with io.too_many() (which throws) when a
+// level has more than m nodes.
 template <class Io>
-std::vector<uint64_t> code_tree(Io& io, int d, size_t m) {
+std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
+                                const std::vector<int32_t>& prev) {
   std::vector<uint64_t> level{0}, next;
-  KeySet here, there;  // level's keys, and next's so far
+  KeySet here, there, before;  // level's keys, next's so far, the previous frame's at next's
   for (int l = 0; l < d; ++l) {
+    previous_level(prev, lo, l + 1, d, &before);
     next.clear();
     here.reset(level.size());
     for (size_t j = 0; j < level.size(); ++j) here.insert(level[j], static_cast<uint32_t>(j));
@@ -145,7 +172,8 @@ std::vector<uint64_t> code_tree(Io& io, int d, size_t m) {
       for (int i = 0; i < 8; ++i) {
         const uint64_t ck = pk << 3 | static_cast<uint64_t>(i);
         bool bit = true;
-        if (i < 7 || ones > 0) bit = io.bit(bit_context(nb, there, p, l, d, i, ones), l, ck);
+        if (i < 7 || ones > 0)
+          bit = io.bit(bit_context(nb, there, before, p, l, d, i, ones), l, ck);
         if (!bit) continue;
         if (next.size() >= m) io.too_many();
         there.insert(ck, static_cast<uint32_t>(next.size()));
@@ -201,9 +229,10 @@ void start_octree_block(Coder* c) {
 }
 
 // Decodes octree frame of n points (copies of them copies; with gaps, G is read) into q (3 per
-// point) and valid, per FORMAT.md. Throws Error(kCorrupt) through dec.
-void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps, int32_t* q,
-                         uint8_t* valid);
+// point) and valid, per FORMAT.md. *prev: the previous frame's cells (grid integers, 3 a cell;
+// empty: it was not an octree frame), then this frame's. Throws Error(kCorrupt) through dec.
+void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps,
+                         std::vector<int32_t>* prev, int32_t* q, uint8_t* valid);
 
 }  // namespace scan
 
@@ -217,9 +246,9 @@ bool octree_frame_ok(const ScanGeometry& g, size_t first, size_t n);
 std::vector<uint32_t> octree_frame_order(const ScanGeometry& g, size_t first, size_t n);
 // Codes points [first, first + n) of g, in octree_frame_order's order (else throws
 // Error(kInternal)), as an octree frame with `copies` copies (0: no counts) and gaps when some
-// point is not valid.
+// point is not valid. *prev as decode_octree_frame's.
 void encode_octree_frame(const ScanGeometry& g, size_t first, size_t n, uint32_t copies,
-                         IntEncoder* enc);
+                         std::vector<int32_t>* prev, IntEncoder* enc);
 // The scan geometry payload of g (FORMAT.md) with every frame that has a valid point an octree
 // frame, each frame's points in octree_frame_order's order; empty when a frame is too wide.
 std::vector<uint8_t> encode_scan_octree(const ScanGeometry& g);

@@ -83,7 +83,7 @@ std::vector<uint32_t> octree_frame_order(const ScanGeometry& g, size_t first, si
 }
 
 void encode_octree_frame(const ScanGeometry& g, size_t first, size_t n, uint32_t copies,
-                         IntEncoder* enc) {
+                         std::vector<int32_t>* prev, IntEncoder* enc) {
   int64_t lo[3];
   int depth;
   if (!frame_cube(g, first, n, lo, &depth))
@@ -119,7 +119,13 @@ void encode_octree_frame(const ScanGeometry& g, size_t first, size_t n, uint32_t
       if (levels[static_cast<size_t>(l)].empty() || levels[static_cast<size_t>(l)].back() != k >> 3)
         levels[static_cast<size_t>(l)].push_back(k >> 3);
   EncodeBits io(enc, std::move(levels));
-  scan::octree::code_tree(io, depth, cells.size());
+  scan::octree::code_tree(io, depth, cells.size(), lo, *prev);
+  prev->clear();
+  for (uint64_t k : cells) {
+    int64_t v[3];
+    scan::octree::coords(k, v);
+    for (int a = 0; a < 3; ++a) prev->push_back(static_cast<int32_t>(v[a] + lo[a]));
+  }
   if (copies == 0) return;
   std::vector<uint32_t> seen(cells.size(), 1);
   scan::octree::KeySet set;
@@ -140,6 +146,7 @@ std::vector<uint8_t> encode_scan_octree(const ScanGeometry& g) {
   std::vector<uint32_t> copies(frames, 0);
   IntEncoder tree(scan::kOctreeContexts);
   scan::start_octree_block(&tree);
+  std::vector<int32_t> prev;  // the previous frame's cells when it is an octree frame
   size_t first = 0;
   for (size_t f = 0; f < frames; ++f) {
     const size_t n = g.counts[f];
@@ -147,6 +154,7 @@ std::vector<uint8_t> encode_scan_octree(const ScanGeometry& g) {
     for (size_t i = first; i < first + n; ++i) valid += g.valid[i] != 0;
     if (valid == 0) {
       flags[f] = scan::kNoneValid;
+      prev.clear();
     } else {
       if (!octree_frame_ok(g, first, n)) return {};
       // copies: valid points equal to the valid point before them (octree order puts them there)
@@ -155,7 +163,7 @@ std::vector<uint8_t> encode_scan_octree(const ScanGeometry& g) {
                      std::equal(&g.q[3 * i], &g.q[3 * i] + 3, &g.q[3 * (i - 1)]);
       flags[f] = static_cast<uint8_t>(scan::kOctreeFrame | (valid < n ? scan::kSomeValid : 0) |
                                       (copies[f] > 0 ? scan::kCells : 0));
-      encode_octree_frame(g, first, n, copies[f], &tree);
+      encode_octree_frame(g, first, n, copies[f], &prev, &tree);
     }
     first += n;
   }

@@ -60,7 +60,8 @@ uint32_t copies_of(const ScanGeometry& s) {
 std::vector<uint8_t> encode(const ScanGeometry& s, uint32_t copies) {
   IntEncoder enc(scan::kOctreeContexts);
   scan::start_octree_block(&enc);
-  encode_octree_frame(s, 0, s.valid.size(), copies, &enc);
+  std::vector<int32_t> prev;
+  encode_octree_frame(s, 0, s.valid.size(), copies, &prev, &enc);
   return enc.finish();
 }
 
@@ -70,7 +71,8 @@ ScanGeometry decode(const std::vector<uint8_t>& block, size_t n, uint32_t copies
   ScanGeometry d;
   d.q.assign(3 * n, -1);
   d.valid.assign(n, 2);
-  scan::decode_octree_frame(&dec, n, copies, gaps, d.q.data(), d.valid.data());
+  std::vector<int32_t> prev;
+  scan::decode_octree_frame(&dec, n, copies, gaps, &prev, d.q.data(), d.valid.data());
   if (!dec.at_end()) throw Error(ErrorCode::kCorrupt, "octree: bytes left");
   return d;
 }

@@ -63,6 +63,25 @@ TEST(ScanOctreePayload, GivenAWindowOfOctreeFramesWhenDecodedThenItsPointsAndThe
   EXPECT_LT(p.size(), 8000u * 2);
 }
 
+// The previous frame's cells (FORMAT.md step 4, pv): a still sensor's second sweep, the same
+// cells as its first, costs a fraction of the first; decoded exactly.
+TEST(ScanOctreePayload, GivenASweepAfterTheSameSweepThenItCostsAFractionOfTheFirst) {
+  ScanGeometry one = window();
+  one.counts.resize(1);
+  one.valid.resize(one.counts[0]);
+  one.q.resize(3 * one.valid.size());
+  ScanGeometry two = one;
+  two.counts.push_back(one.counts[0]);
+  two.valid.insert(two.valid.end(), one.valid.begin(), one.valid.end());
+  two.q.insert(two.q.end(), one.q.begin(), one.q.end());
+  const std::vector<uint8_t> p1 = encode_scan_octree(one), p2 = encode_scan_octree(two);
+  const ScanGeometry d = decode_scan_geometry(p2.data(), p2.size(), "octree");
+  EXPECT_EQ(d.q, two.q);
+  EXPECT_EQ(d.valid, two.valid);
+  // Without pv the second frame's tree would cost about what the first's does.
+  EXPECT_LT(p2.size() - p1.size(), p1.size() / 2) << p1.size() << " then " << p2.size();
+}
+
 TEST(ScanOctreePayload, GivenAFrameTooWideForAnOctreeThenNoOctreePayload) {
   ScanGeometry g;
   g.counts.push_back(2);
