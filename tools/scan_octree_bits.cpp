@@ -40,8 +40,11 @@
 //
 // Prints per sequence: points, cells, bytes of occupancy and counts, bits per point and per cell.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <memory>
 #include <string>
 #include <unordered_set>
 #include <vector>
@@ -59,7 +62,9 @@ using scan_tools::Frame;
 
 std::string occ_model = "oct7", counts_model = "nbr";
 bool use_laser = false;
-bool inter = false;          // --inter: the previous frame's cells as a context bit
+bool inter = false;
+bool counts_inter = false;   // --counts-inter
+                             // --inter: the previous frame's cells as a context bit
 bool window_models = false;  // --window: one set of models over a path's frames
 class BinCoder;
 std::vector<BinCoder>* window_coders = nullptr;
@@ -376,8 +381,14 @@ size_t code_occupancy(const Cells& c, const Cones* cones) {
 }
 
 // The cells' counts less one, in Morton order.
+// --counts-inter: the previous frame's cells' counts by grid integers (a window's models kept).
+std::map<std::array<int64_t, 3>, uint32_t> prev_counts;
+std::unique_ptr<capz::IntEncoder> window_counts;
+
 size_t code_counts(const Cells& c, const Cones* cones) {
-  capz::IntEncoder enc(16 * 6 * 6);
+  capz::IntEncoder own(16 * 6 * 6 * 6);
+  capz::IntEncoder& enc = counts_inter ? *window_counts : own;
+  std::map<std::array<int64_t, 3>, uint32_t> mine;
   const size_t n = c.key.size();
   for (size_t i = 0; i < n; ++i) {
     int64_t v[3];
@@ -407,7 +418,18 @@ size_t code_counts(const Cells& c, const Cones* cones) {
       if (counts_model == "rays" && cones)
         ctx = 16 * 6 + ray_class(*cones, cones->step, a) * 6 + nc;
     }
+    if (counts_inter) {
+      mine[{a[0], a[1], a[2]}] = c.count[i];
+      const auto it = prev_counts.find({a[0], a[1], a[2]});
+      const uint32_t pc = it == prev_counts.end() ? 0 : it->second;
+      const int pcl = pc == 0 ? 0 : pc == 1 ? 1 : pc == 2 ? 2 : pc <= 4 ? 3 : pc <= 8 ? 4 : 5;
+      ctx = ctx * 6 + pcl;
+    }
     enc.put(c.count[i] - 1, ctx);
+  }
+  if (counts_inter) {
+    prev_counts.swap(mine);
+    return 0;
   }
   return enc.finish().size();
 }
@@ -495,6 +517,8 @@ int main(int argc, char** argv) {
       dump_file = std::fopen(argv[++i], "wb");
     } else if (a == "--lib") {
       use_library = true;
+    } else if (a == "--counts-inter") {
+      counts_inter = true;
     } else if (a == "--inter") {
       inter = true;
     } else if (a == "--window") {
@@ -515,6 +539,8 @@ int main(int argc, char** argv) {
     for (size_t& b : level_bytes) b = 0;
     lib_bytes = 0;
     prev_cells.clear();
+    prev_counts.clear();
+    window_counts.reset(new capz::IntEncoder(16 * 6 * 6 * 6));
     std::vector<BinCoder> path_coders;
     if (window_models) {
       path_coders.assign(3, BinCoder(size_t(128) * 64 * 3 * 3 * 3 * 8));
@@ -545,6 +571,7 @@ int main(int argc, char** argv) {
       }
       window_coders = nullptr;
     }
+    if (counts_inter) s.counts += window_counts->finish().size();
     std::string name = p;
     while (!name.empty() && name.back() == '/') name.pop_back();
     name = name.substr(name.find_last_of('/') + 1);

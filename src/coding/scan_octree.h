@@ -122,11 +122,13 @@ inline int bit_context(const int* nb, const KeySet& next, const KeySet& before, 
   return kOctBitCtx + 2 * (((o7 * 8 + cn) * 3 + sib) * 3 + lc) + pv;
 }
 
-// The previous frame's cells (grid integers, 3 each) as nodes of level l of a tree of depth d
-// with corner lo: those inside the tree's cube.
-inline void previous_level(const std::vector<int32_t>& prev, const int64_t* lo, int l, int d,
-                           KeySet* out) {
-  out->reset(prev.size() / 3);
+// The previous frame's cells (grid integers, 3 each) as the nodes of each level 1..d of a tree
+// of depth d with corner lo (those inside its cube), each level's keys sorted: (*out)[l].
+inline void previous_levels(const std::vector<int32_t>& prev, const int64_t* lo, int d,
+                            std::vector<std::vector<uint64_t>>* out) {
+  out->assign(static_cast<size_t>(d) + 1, {});
+  if (prev.empty()) return;
+  std::vector<uint64_t>& cells = (*out)[static_cast<size_t>(d)];
   const int64_t side = int64_t{1} << d;
   for (size_t j = 0; j + 2 < prev.size(); j += 3) {
     int64_t r[3];
@@ -136,11 +138,16 @@ inline void previous_level(const std::vector<int32_t>& prev, const int64_t* lo, 
       in = in && r[a] >= 0 && r[a] < side;
     }
     if (in)
-      out->insert(
-          key(static_cast<uint64_t>(r[0] >> (d - l)), static_cast<uint64_t>(r[1] >> (d - l)),
-              static_cast<uint64_t>(r[2] >> (d - l))),
-          0);
+      cells.push_back(key(static_cast<uint64_t>(r[0]), static_cast<uint64_t>(r[1]),
+                          static_cast<uint64_t>(r[2])));
   }
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  for (int l = d - 1; l >= 1; --l)
+    for (uint64_t k : (*out)[static_cast<size_t>(l) + 1]) {
+      std::vector<uint64_t>& up = (*out)[static_cast<size_t>(l)];
+      if (up.empty() || up.back() != k >> 3) up.push_back(k >> 3);
+    }
 }
 
 // The walk over a tree of depth d and corner lo (FORMAT.md step 4) both sides run: io.bit(ctx,
@@ -153,8 +160,12 @@ std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
                                 const std::vector<int32_t>& prev) {
   std::vector<uint64_t> level{0}, next;
   KeySet here, there, before;  // level's keys, next's so far, the previous frame's at next's
+  std::vector<std::vector<uint64_t>> earlier;
+  previous_levels(prev, lo, d, &earlier);
   for (int l = 0; l < d; ++l) {
-    previous_level(prev, lo, l + 1, d, &before);
+    const std::vector<uint64_t>& e = earlier[static_cast<size_t>(l) + 1];
+    before.reset(e.size());
+    for (uint64_t k : e) before.insert(k, 0);
     next.clear();
     here.reset(level.size());
     for (size_t j = 0; j < level.size(); ++j) here.insert(level[j], static_cast<uint32_t>(j));
