@@ -3,7 +3,8 @@
 // nothing here is a stream format. Each frame is coded intra, on its own.
 //
 //   scan_octree_bits [--step S] [--frames N] [--occ g6|oct7|oct7c] [--counts octave|nbr|rays]
-//                    [--laser] [--dir 1|3] [--bitmodel N] [--dump FILE] PATH...
+//                    [--laser] [--dir 1|3] [--bitmodel N] [--dump FILE] [--lib]
+//                    [--window [--inter] [--counts-inter]] PATH...
 //
 // The points are quantised to integers round(x / S) (S = 0.02 m: capz's grid at --max-error
 // 1cm); the distinct integer triples are the cells, each with the number of points in it.
@@ -37,6 +38,12 @@
 // of the SymbolModel (BinCoder). --dump FILE: one record of 6 uint32 per coded child bit (the
 // bit, level, child, siblings; the parent's 27-neighbourhood; the child-level 27-neighbourhood
 // known and occupied; the sensor-side signs and cone class; the depth) for modelling elsewhere.
+// --lib: also code each frame through capz's own octree frame coder (coding/scan_octree.h) and
+// decode it (its bytes, or a failed round trip). --window: one set of child-bit models over a
+// path's frames (as a window codes them); --inter: the previous frame's cells in the child's box
+// as one more context bit (FORMAT.md "Octree frames" pv); --counts-inter: the counts in one
+// coder over the frames, with the previous frame's count of the cell (0, 1, 2, 3-4, 5-8, 9+)
+// as a context.
 //
 // Prints per sequence: points, cells, bytes of occupancy and counts, bits per point and per cell.
 #include <algorithm>
@@ -62,9 +69,8 @@ using scan_tools::Frame;
 
 std::string occ_model = "oct7", counts_model = "nbr";
 bool use_laser = false;
-bool inter = false;
-bool counts_inter = false;   // --counts-inter
-                             // --inter: the previous frame's cells as a context bit
+bool inter = false;          // --inter: the previous frame's cells as a context bit
+bool counts_inter = false;   // --counts-inter: the previous frame's count of the cell too
 bool window_models = false;  // --window: one set of models over a path's frames
 class BinCoder;
 std::vector<BinCoder>* window_coders = nullptr;
