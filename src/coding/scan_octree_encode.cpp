@@ -1,5 +1,6 @@
 // Octree frames, the encoding side (scan_octree.h; docs/FORMAT.md "Octree frames").
 #include <algorithm>
+#include <cstdint>
 
 #include "capz/error.h"
 #include "coding/bytes.h"
@@ -29,7 +30,10 @@ bool frame_cube(const ScanGeometry& g, size_t first, size_t n, int64_t* lo, int*
   for (int a = 0; a < 3; ++a) ext = std::max(ext, hi[a] - lo[a] + 1);
   *depth = 0;
   while ((int64_t{1} << *depth) < ext) ++*depth;
-  return *depth <= scan::kMaxOctreeDepth;
+  if (*depth > scan::kMaxOctreeDepth) return false;
+  for (int a = 0; a < 3; ++a)  // the cube within the int32 integers (FORMAT.md step 3)
+    if (lo[a] + (int64_t{1} << *depth) - 1 > INT32_MAX) return false;
+  return true;
 }
 
 uint64_t cell_key(const ScanGeometry& g, size_t i, const int64_t* lo) {

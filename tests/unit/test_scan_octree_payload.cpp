@@ -82,12 +82,19 @@ TEST(ScanOctreePayload, GivenASweepAfterTheSameSweepThenItCostsAFractionOfTheFir
   EXPECT_LT(p2.size() - p1.size(), p1.size() / 2) << p1.size() << " then " << p2.size();
 }
 
-TEST(ScanOctreePayload, GivenAFrameTooWideForAnOctreeThenNoOctreePayload) {
+TEST(ScanOctreePayload, GivenAFrameTooWideOrTooHighForAnOctreeThenNoOctreePayload) {
   ScanGeometry g;
   g.counts.push_back(2);
   g.valid = {1, 1};
   g.q = {0, 0, 0, 1 << 22, 0, 0};
   EXPECT_TRUE(encode_scan_octree(g).empty());
+  // A cube that would pass the int32 integers (FORMAT.md step 3): 3 apart below 2^31 - 1.
+  g.q = {0, 0, INT32_MAX - 2, 0, 0, INT32_MAX};
+  EXPECT_TRUE(encode_scan_octree(g).empty());
+  g.q = {0, 0, INT32_MAX - 3, 0, 0, INT32_MAX};  // a cube of side 4 ending at 2^31 - 1: fine
+  const std::vector<uint8_t> p = encode_scan_octree(g);
+  ASSERT_FALSE(p.empty());
+  EXPECT_EQ(decode_scan_geometry(p.data(), p.size(), "octree").q, g.q);
 }
 
 // The payload of window() with frame 0's flags byte, or the octree block's length, changed.
