@@ -216,42 +216,170 @@ int level_class(int l, int depth) {
 }
 
 // The octree's child bits of one frame's cells.
-size_t code_occupancy(const Cells& c, const Cones* cones) {
-  const int D = c.depth;
-  std::vector<Level> lv(size_t(D) + 1);
-  lv[size_t(D)].key = c.key;
-  for (int l = D - 1; l >= 0; --l) {
+// One child bit's place: its frame's cells and child level, the tree's depth, the parent's
+// level l and level class, the parent p and its 27-neighbourhood, the child i and its
+// coordinates, the occupied siblings before it.
+struct Child {
+  const Cells& c;
+  const Level& C;
+  int D, l, lc, i, coded;
+  const int64_t* p;
+  const int* nb;
+  int64_t cx, cy, cz, cs;  // the child and its level's side
+};
+
+// --occ's context of the child bit (g6, oct7, oct7c).
+size_t model_context(const Child& k) {
+  const int ox = (k.i >> 2) & 1, oy = (k.i >> 1) & 1, oz = k.i & 1;
+  const int sib = std::min(k.coded, 2);
+  const int* nb = k.nb;
+  if (occ_model == "g6") {
+    const int f = nb[4] | nb[22] << 1 | nb[10] << 2 | nb[16] << 3 | nb[12] << 4 | nb[14] << 5;
+    return ((size_t(f) * 8 + size_t(k.i)) * 3 + size_t(sib)) * 3 + size_t(k.lc);
+  }
+  // the 7 parent-level nodes touching the octant, mirrored
+  const int sx = ox ? 1 : -1, sy = oy ? 1 : -1, sz = oz ? 1 : -1;
+  int o7 = 0, b = 0;
+  for (int d = 1; d < 8; ++d) {
+    const int dx = (d >> 2) & 1, dy = (d >> 1) & 1, dz = d & 1;
+    o7 |= nb[(sx * dx + 1) * 9 + (sy * dy + 1) * 3 + sz * dz + 1] << b++;
+  }
+  const int64_t cx = k.cx, cy = k.cy, cz = k.cz, cs = k.cs;
+  int cn = k.C.has(cx - 1, cy, cz, cs) | k.C.has(cx, cy - 1, cz, cs) << 1 |
+           k.C.has(cx, cy, cz - 1, cs) << 2;
+  if (occ_model == "oct7c") {  // plus the other child-level neighbours coded before
+    int n = 0;
+    const uint64_t me = morton(cx, cy, cz);
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          if (std::abs(dx) + std::abs(dy) + std::abs(dz) < 2) continue;
+          const int64_t x = cx + dx, y = cy + dy, z = cz + dz;
+          if (x < 0 || y < 0 || z < 0 || x >= cs || y >= cs || z >= cs) continue;
+          const uint64_t key = morton(x, y, z);
+          if (key < me && k.C.set.count(key)) ++n;
+        }
+    cn += 8 * std::min(n, 2);
+  }
+  return ((size_t(o7) * 24 + size_t(cn)) * 3 + size_t(sib)) * 3 + size_t(k.lc);
+}
+
+// Whether the parent's centre is on the positive side of the sensor on each axis.
+void sensor_side(const Child& k, double* r) {
+  const double side = double(int64_t{1} << (k.D - k.l));  // the parent's side in cells
+  for (int d = 0; d < 3; ++d) r[d] = (double(k.p[d]) + 0.5) * side + double(k.c.lo[d]) - 0.5;
+}
+
+// The cone class of the child's box (cones_meeting); 2 above the last two levels unless `all`.
+int cone_class(const Child& k, const Cones& cones, bool all = false) {
+  if (k.lc > 1 && !all) return 2;
+  const int64_t side = int64_t{1} << (k.D - k.l - 1);  // the child's side in cells
+  const double a[3] = {double(k.cx * side + k.c.lo[0]), double(k.cy * side + k.c.lo[1]),
+                       double(k.cz * side + k.c.lo[2])};
+  return cones_meeting(cones, a, double(side));
+}
+
+// The full context: --occ's, then --dir, --inter and --laser's bits.
+size_t child_context(const Child& k, const Cones* cones,
+                     const std::vector<std::unordered_set<uint64_t>>& prev) {
+  size_t ctx = model_context(k);
+  if (dir_bits) {  // the octant's outward directions against the ray from the sensor
+    double r[3];
+    sensor_side(k, r);
+    const int o[3] = {(k.i >> 2) & 1, (k.i >> 1) & 1, k.i & 1};
+    if (dir_bits == 1) {
+      int d = 0;
+      for (int e = 1; e < 3; ++e)
+        if (std::fabs(r[e]) > std::fabs(r[d])) d = e;
+      ctx = ctx * 2 + size_t(o[d] == (r[d] > 0));
+    } else {
+      for (int d = 0; d < 3; ++d) ctx = ctx * 2 + size_t(o[d] == (r[d] > 0));
+    }
+  }
+  if (inter) ctx = ctx * 2 + prev[size_t(k.l) + 1].count(morton(k.cx, k.cy, k.cz));
+  if (cones) ctx = ctx * 3 + size_t(cone_class(k, *cones));
+  return ctx;
+}
+
+// --dump: one record of the child bit.
+void dump_child(const Child& k, bool bit, const Cones* cones) {
+  uint32_t rec[6] = {uint32_t(bit) | uint32_t(k.lc) << 1 | uint32_t(k.i) << 3 |
+                         uint32_t(std::min(k.coded, 3)) << 6,
+                     0,
+                     0,
+                     0,
+                     0,
+                     uint32_t(k.D - k.l)};
+  for (int j = 0; j < 27; ++j) rec[1] |= uint32_t(k.nb[j]) << j;
+  const uint64_t me = morton(k.cx, k.cy, k.cz);
+  int b = 0;
+  for (int dx = -1; dx <= 1; ++dx)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dz = -1; dz <= 1; ++dz, ++b) {
+        const int64_t x = k.cx + dx, y = k.cy + dy, z = k.cz + dz;
+        if (x < 0 || y < 0 || z < 0 || x >= k.cs || y >= k.cs || z >= k.cs) {
+          rec[2] |= 1u << b;  // known: outside
+          continue;
+        }
+        const uint64_t key = morton(x, y, z);
+        if (key < me) {
+          rec[2] |= 1u << b;
+          if (k.C.set.count(key)) rec[3] |= 1u << b;
+        }
+      }
+  double r[3];
+  sensor_side(k, r);
+  for (int d = 0; d < 3; ++d) rec[4] |= uint32_t(r[d] > 0) << d;
+  rec[4] |= uint32_t(cones ? cone_class(k, *cones, true) : 2) << 3;
+  std::fwrite(rec, sizeof rec, 1, dump_file);
+}
+
+// The tree's levels of a frame's cells, root first.
+std::vector<Level> make_levels(const Cells& c) {
+  std::vector<Level> lv(size_t(c.depth) + 1);
+  lv[size_t(c.depth)].key = c.key;
+  for (int l = c.depth - 1; l >= 0; --l) {
     auto& k = lv[size_t(l)].key;
     for (uint64_t x : lv[size_t(l) + 1].key)
       if (k.empty() || k.back() != (x >> 3)) k.push_back(x >> 3);
   }
   for (auto& L : lv) L.set.insert(L.key.begin(), L.key.end());
-  const size_t laser_mult = cones ? 3 : 1;
+  return lv;
+}
+
+// --inter: per child level, the previous frame's cells on that level's grid from this lo.
+std::vector<std::unordered_set<uint64_t>> previous_sets(const Cells& c) {
+  const int D = c.depth;
+  std::vector<std::unordered_set<uint64_t>> prev(size_t(D) + 1);
+  for (int L = 1; inter && L <= D; ++L) {
+    const int sh = D - L;
+    for (size_t j = 0; j + 2 < prev_cells.size(); j += 3) {
+      int64_t r[3];
+      bool in = true;
+      for (int a = 0; a < 3; ++a) {
+        r[a] = prev_cells[j + size_t(a)] - c.lo[a];
+        in = in && r[a] >= 0 && r[a] < (int64_t{1} << D);
+      }
+      if (in) prev[size_t(L)].insert(morton(r[0] >> sh, r[1] >> sh, r[2] >> sh));
+    }
+  }
+  return prev;
+}
+
+// The octree's child bits of one frame's cells; its bytes (0 with --window: the caller's).
+size_t code_occupancy(const Cells& c, const Cones* cones) {
+  const int D = c.depth;
+  const std::vector<Level> lv = make_levels(c);
   // one coder per level class (its contexts apart anyway): the breakdown by level; with
   // --window the models of the path's frames (window_coders), finished by the caller
   std::vector<BinCoder> own;
-  if (!window_coders) own.assign(3, BinCoder(size_t(128) * 64 * 3 * 3 * laser_mult * 8));
+  if (!window_coders) own.assign(3, BinCoder(size_t(128) * 64 * 3 * 3 * (cones ? 3 : 1) * 8));
   std::vector<BinCoder>& bcs = window_coders ? *window_coders : own;
-  // --inter: per child level, the previous frame's cells on that level's grid from this lo
-  std::vector<std::unordered_set<uint64_t>> prev(size_t(D) + 1);
-  if (inter)
-    for (int L = 1; L <= D; ++L) {
-      const int sh = D - L;
-      for (size_t j = 0; j + 2 < prev_cells.size(); j += 3) {
-        int64_t r[3];
-        bool in = true;
-        for (int a = 0; a < 3; ++a) {
-          r[a] = prev_cells[j + size_t(a)] - c.lo[a];
-          in = in && r[a] >= 0 && r[a] < (int64_t{1} << D);
-        }
-        if (in) prev[size_t(L)].insert(morton(r[0] >> sh, r[1] >> sh, r[2] >> sh));
-      }
-    }
+  const std::vector<std::unordered_set<uint64_t>> prev = previous_sets(c);
   for (int l = 0; l < D; ++l) {
     const Level& P = lv[size_t(l)];
     const Level& C = lv[size_t(l) + 1];
-    const int64_t ps = int64_t{1} << l, cs = ps << 1;
-    const int lc = level_class(l, D);
+    const int64_t ps = int64_t{1} << l;
     size_t ci = 0;  // cursor into C.key
     for (uint64_t pk : P.key) {
       int64_t p[3];
@@ -267,105 +395,21 @@ size_t code_occupancy(const Cells& c, const Cones* cones) {
       for (int i = 0; i < 8; ++i) {
         const bool bit = (mask >> i) & 1;
         if (i == 7 && coded == 0) break;  // inferred
-        const int ox = (i >> 2) & 1, oy = (i >> 1) & 1, oz = i & 1;
-        const int64_t cx = 2 * p[0] + ox, cy = 2 * p[1] + oy, cz = 2 * p[2] + oz;
-        size_t ctx;
-        const int sib = std::min(coded, 2);
-        if (occ_model == "g6") {
-          const int f = nb[4] | nb[22] << 1 | nb[10] << 2 | nb[16] << 3 | nb[12] << 4 | nb[14] << 5;
-          ctx = ((size_t(f) * 8 + size_t(i)) * 3 + size_t(sib)) * 3 + size_t(lc);
-        } else {
-          // the 7 parent-level nodes touching the octant, mirrored
-          const int sx = ox ? 1 : -1, sy = oy ? 1 : -1, sz = oz ? 1 : -1;
-          int o7 = 0, b = 0;
-          for (int d = 1; d < 8; ++d) {
-            const int dx = (d >> 2) & 1, dy = (d >> 1) & 1, dz = d & 1;
-            o7 |= nb[(sx * dx + 1) * 9 + (sy * dy + 1) * 3 + sz * dz + 1] << b++;
-          }
-          int cn = C.has(cx - 1, cy, cz, cs) | C.has(cx, cy - 1, cz, cs) << 1 |
-                   C.has(cx, cy, cz - 1, cs) << 2;
-          if (occ_model == "oct7c") {  // plus the other child-level neighbours coded before
-            int n = 0;
-            const uint64_t me = morton(cx, cy, cz);
-            for (int dx = -1; dx <= 1; ++dx)
-              for (int dy = -1; dy <= 1; ++dy)
-                for (int dz = -1; dz <= 1; ++dz) {
-                  if (std::abs(dx) + std::abs(dy) + std::abs(dz) < 2) continue;
-                  const int64_t x = cx + dx, y = cy + dy, z = cz + dz;
-                  if (x < 0 || y < 0 || z < 0 || x >= cs || y >= cs || z >= cs) continue;
-                  const uint64_t k = morton(x, y, z);
-                  if (k < me && C.set.count(k)) ++n;
-                }
-            cn += 8 * std::min(n, 2);
-          }
-          ctx = ((size_t(o7) * 24 + size_t(cn)) * 3 + size_t(sib)) * 3 + size_t(lc);
-        }
-        if (dir_bits) {  // the octant's outward directions against the ray from the sensor
-          const double side = double(int64_t{1} << (D - l));  // the parent's side in cells
-          double r[3];
-          for (int d = 0; d < 3; ++d) r[d] = (double(p[d]) + 0.5) * side + double(c.lo[d]) - 0.5;
-          const int o[3] = {ox, oy, oz};
-          if (dir_bits == 1) {
-            int d = 0;
-            for (int e = 1; e < 3; ++e)
-              if (std::fabs(r[e]) > std::fabs(r[d])) d = e;
-            ctx = ctx * 2 + size_t(o[d] == (r[d] > 0));
-          } else {
-            for (int d = 0; d < 3; ++d) ctx = ctx * 2 + size_t(o[d] == (r[d] > 0));
-          }
-        }
-        if (inter) ctx = ctx * 2 + prev[size_t(l) + 1].count(morton(cx, cy, cz));
-        if (cones) {
-          int m = 2;
-          if (lc <= 1) {
-            const int64_t side = int64_t{1} << (D - l - 1);  // the child's side in cells
-            const double a[3] = {double(cx * side + c.lo[0]), double(cy * side + c.lo[1]),
-                                 double(cz * side + c.lo[2])};
-            m = cones_meeting(*cones, a, double(side));
-          }
-          ctx = ctx * 3 + size_t(m);
-        }
-        bcs[size_t(lc)].put(bit, ctx);
-        if (dump_file) {  // --dump: one record per coded bit, for modelling elsewhere
-          uint32_t rec[6] = {uint32_t(bit) | uint32_t(lc) << 1 | uint32_t(i) << 3 |
-                                 uint32_t(std::min(coded, 3)) << 6,
-                             0,
-                             0,
-                             0,
-                             0,
-                             uint32_t(D - l)};
-          for (int k = 0; k < 27; ++k) rec[1] |= uint32_t(nb[k]) << k;
-          const uint64_t me = morton(cx, cy, cz);
-          int b = 0;
-          for (int dx = -1; dx <= 1; ++dx)
-            for (int dy = -1; dy <= 1; ++dy)
-              for (int dz = -1; dz <= 1; ++dz, ++b) {
-                const int64_t x = cx + dx, y = cy + dy, z = cz + dz;
-                if (x < 0 || y < 0 || z < 0 || x >= cs || y >= cs || z >= cs) {
-                  rec[2] |= 1u << b;  // known: outside
-                  continue;
-                }
-                const uint64_t k = morton(x, y, z);
-                if (k < me) {
-                  rec[2] |= 1u << b;
-                  if (C.set.count(k)) rec[3] |= 1u << b;
-                }
-              }
-          const double side = double(int64_t{1} << (D - l));
-          for (int d = 0; d < 3; ++d) {
-            const double r = (double(p[d]) + 0.5) * side + double(c.lo[d]) - 0.5;
-            rec[4] |= uint32_t(r > 0) << d;
-          }
-          int m = 2;
-          if (cones) {
-            const int64_t cside = int64_t{1} << (D - l - 1);
-            const double a[3] = {double(cx * cside + c.lo[0]), double(cy * cside + c.lo[1]),
-                                 double(cz * cside + c.lo[2])};
-            m = cones_meeting(*cones, a, double(cside));
-          }
-          rec[4] |= uint32_t(m) << 3;
-          std::fwrite(rec, sizeof rec, 1, dump_file);
-        }
+        const Child k{c,
+                      C,
+                      D,
+                      l,
+                      level_class(l, D),
+                      i,
+                      coded,
+                      p,
+                      nb,
+                      2 * p[0] + ((i >> 2) & 1),
+                      2 * p[1] + ((i >> 1) & 1),
+                      2 * p[2] + (i & 1),
+                      ps << 1};
+        bcs[size_t(k.lc)].put(bit, child_context(k, cones, prev));
+        if (dump_file) dump_child(k, bit, cones);
         coded += bit;
       }
     }
@@ -501,6 +545,61 @@ Cones cones_of(const Frame& fr, double step) {
 
 }  // namespace
 
+// One line of the table: the first `frames` frames of path p on the grid of `step`.
+void measure_path(const std::string& p, double step, size_t frames) {
+  std::vector<std::string> files = scan_tools::list_frames(p);
+  if (files.size() > frames) files.resize(frames);
+  size_t points = 0, cells = 0;
+  Sizes s;
+  for (size_t& b : level_bytes) b = 0;
+  lib_bytes = 0;
+  prev_cells.clear();
+  prev_counts.clear();
+  window_counts.reset(new capz::IntEncoder(16 * 6 * 6 * 6));
+  std::vector<BinCoder> path_coders;
+  if (window_models) {
+    path_coders.assign(3, BinCoder(size_t(128) * 64 * 3 * 3 * 3 * 8));
+    window_coders = &path_coders;
+  }
+  for (const std::string& f : files) {
+    const Frame fr = scan_tools::read_frame(f, true);
+    std::vector<int64_t> q;
+    for (size_t i = 0; i < fr.xyz.size() / 3; ++i) {
+      const double* x = &fr.xyz[3 * i];
+      if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2])) continue;
+      for (int k = 0; k < 3; ++k) q.push_back(int64_t(std::floor(x[k] / step + 0.5)));
+    }
+    const Cells c = make_cells(q);
+    Cones cones;
+    if (use_laser) cones = cones_of(fr, step);
+    points += q.size() / 3;
+    cells += c.key.size();
+    s.occ += code_occupancy(c, use_laser ? &cones : nullptr);
+    s.counts += code_counts(c, use_laser ? &cones : nullptr);
+    if (use_library) lib_bytes += library_bytes(q);
+  }
+  if (window_models) {
+    for (int k = 0; k < 3; ++k) {
+      const size_t b = path_coders[size_t(k)].bytes();
+      level_bytes[k] += b;
+      s.occ += b;
+    }
+    window_coders = nullptr;
+  }
+  if (counts_inter) s.counts += window_counts->finish().size();
+  std::string name = p;
+  while (!name.empty() && name.back() == '/') name.pop_back();
+  name = name.substr(name.find_last_of('/') + 1);
+  std::printf("%-24s %8zu %8zu %8zu %8zu %8.3f %8.3f %8.3f  %zu %zu %zu\n", name.c_str(), points,
+              cells, s.occ, s.counts, 8.0 * double(s.occ + s.counts) / double(points),
+              8.0 * double(s.occ) / double(cells), 8.0 * double(s.counts) / double(cells),
+              level_bytes[0], level_bytes[1], level_bytes[2]);
+  if (use_library)
+    std::printf("%-24s library octree frames: %zu bytes, %.3f bits/pt%s\n", name.c_str(), lib_bytes,
+                8.0 * double(lib_bytes) / double(points),
+                lib_bytes ? "" : " (ROUND TRIP NOT EXACT)");
+}
+
 int main(int argc, char** argv) {
   double step = 0.02;
   size_t frames = 1;
@@ -537,58 +636,6 @@ int main(int argc, char** argv) {
   }
   std::printf("%-24s %8s %8s %8s %8s %8s %8s %8s  %s\n", "sequence", "points", "cells", "occ_B",
               "cnt_B", "bits/pt", "occ/cell", "cnt/cell", "occ_B by level (last, next, rest)");
-  for (const std::string& p : paths) {
-    std::vector<std::string> files = scan_tools::list_frames(p);
-    if (files.size() > frames) files.resize(frames);
-    size_t points = 0, cells = 0;
-    Sizes s;
-    for (size_t& b : level_bytes) b = 0;
-    lib_bytes = 0;
-    prev_cells.clear();
-    prev_counts.clear();
-    window_counts.reset(new capz::IntEncoder(16 * 6 * 6 * 6));
-    std::vector<BinCoder> path_coders;
-    if (window_models) {
-      path_coders.assign(3, BinCoder(size_t(128) * 64 * 3 * 3 * 3 * 8));
-      window_coders = &path_coders;
-    }
-    for (const std::string& f : files) {
-      const Frame fr = scan_tools::read_frame(f, true);
-      std::vector<int64_t> q;
-      for (size_t i = 0; i < fr.xyz.size() / 3; ++i) {
-        const double* x = &fr.xyz[3 * i];
-        if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2])) continue;
-        for (int k = 0; k < 3; ++k) q.push_back(int64_t(std::floor(x[k] / step + 0.5)));
-      }
-      const Cells c = make_cells(q);
-      Cones cones;
-      if (use_laser) cones = cones_of(fr, step);
-      points += q.size() / 3;
-      cells += c.key.size();
-      s.occ += code_occupancy(c, use_laser ? &cones : nullptr);
-      s.counts += code_counts(c, use_laser ? &cones : nullptr);
-      if (use_library) lib_bytes += library_bytes(q);
-    }
-    if (window_models) {
-      for (int k = 0; k < 3; ++k) {
-        const size_t b = path_coders[size_t(k)].bytes();
-        level_bytes[k] += b;
-        s.occ += b;
-      }
-      window_coders = nullptr;
-    }
-    if (counts_inter) s.counts += window_counts->finish().size();
-    std::string name = p;
-    while (!name.empty() && name.back() == '/') name.pop_back();
-    name = name.substr(name.find_last_of('/') + 1);
-    std::printf("%-24s %8zu %8zu %8zu %8zu %8.3f %8.3f %8.3f  %zu %zu %zu\n", name.c_str(), points,
-                cells, s.occ, s.counts, 8.0 * double(s.occ + s.counts) / double(points),
-                8.0 * double(s.occ) / double(cells), 8.0 * double(s.counts) / double(cells),
-                level_bytes[0], level_bytes[1], level_bytes[2]);
-    if (use_library)
-      std::printf("%-24s library octree frames: %zu bytes, %.3f bits/pt%s\n", name.c_str(),
-                  lib_bytes, 8.0 * double(lib_bytes) / double(points),
-                  lib_bytes ? "" : " (ROUND TRIP NOT EXACT)");
-  }
+  for (const std::string& p : paths) measure_path(p, step, frames);
   return 0;
 }
