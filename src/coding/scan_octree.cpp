@@ -44,13 +44,15 @@ void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps,
   DecodeBits io(dec);
   const std::vector<uint64_t> cells = octree::code_tree(io, static_cast<int>(d), m, lo, *prev);
   if (cells.size() != m) dec->corrupt("an octree with fewer cells than the frame's");
-  prev->clear();
   std::vector<uint32_t> points(m, 1);
-  octree::KeySet set;
+  octree::KeySet set, before;
   if (copies > 0) {
     set.reset(m);
     for (size_t j = 0; j < m; ++j) set.insert(cells[j], static_cast<uint32_t>(j));
+    octree::previous_cells(*prev, lo, static_cast<int>(d), &before);
   }
+  std::vector<int32_t> mine;  // this frame's cells, for the next
+  mine.reserve(4 * m);
   uint32_t left = copies;
   size_t at = 0;
   for (size_t j = 0; j < m; ++j) {
@@ -58,21 +60,23 @@ void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps,
     octree::coords(cells[j], v);
     for (int a = 0; a < 3; ++a) {
       v[a] += lo[a];
-      prev->push_back(static_cast<int32_t>(v[a]));
+      mine.push_back(static_cast<int32_t>(v[a]));
     }
     uint32_t c = 0;
     if (copies > 0) {
-      c = dec->get(octree::count_context(cells, set, points, j, v));
+      c = dec->get(octree::count_context(cells, set, points, j, v, before, *prev));
       if (c > left) dec->corrupt("a cell's count exceeds the frame's copies");
       left -= c;
       points[j] = c + 1;
     }
+    mine.push_back(static_cast<int32_t>(c + 1));
     for (uint32_t k = 0; k <= c; ++k, ++at) {
       for (int a = 0; a < 3; ++a) q[3 * at + static_cast<size_t>(a)] = static_cast<int32_t>(v[a]);
       valid[at] = 1;
     }
   }
   if (left != 0) dec->corrupt("the cells' counts fall short of the frame's copies");
+  prev->swap(mine);
   for (; at < n; ++at) {
     q[3 * at] = q[3 * at + 1] = q[3 * at + 2] = 0;
     valid[at] = 0;

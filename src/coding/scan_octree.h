@@ -15,9 +15,9 @@
 namespace capz {
 namespace scan {
 
-// The octree block's contexts: the depth 0, the gaps and the corner 1, the counts 2..97, the
-// child bits 98..18529.
-constexpr int kOctDepthCtx = 0, kOctCornerCtx = 1, kOctCountCtx = 2, kOctBitCtx = 98;
+// The octree block's contexts: the depth 0, the gaps and the corner 1, the counts 2..577, the
+// child bits 578..19009.
+constexpr int kOctDepthCtx = 0, kOctCornerCtx = 1, kOctCountCtx = 2, kOctBitCtx = 578;
 constexpr int kOctreeContexts = kOctBitCtx + 128 * 8 * 3 * 3 * 2;
 constexpr int kMaxOctreeDepth = 21;
 
@@ -122,15 +122,16 @@ inline int bit_context(const int* nb, const KeySet& next, const KeySet& before, 
   return kOctBitCtx + 2 * (((o7 * 8 + cn) * 3 + sib) * 3 + lc) + pv;
 }
 
-// The previous frame's cells (grid integers, 3 each) as the nodes of each level 1..d of a tree
-// of depth d with corner lo (those inside its cube), each level's keys sorted: (*out)[l].
+// The previous frame's cells (x y z grid integers and points, 4 a cell) as the nodes of each
+// level 1..d of a tree of depth d with corner lo (those inside its cube), each level's keys
+// sorted: (*out)[l].
 inline void previous_levels(const std::vector<int32_t>& prev, const int64_t* lo, int d,
                             std::vector<std::vector<uint64_t>>* out) {
   out->assign(static_cast<size_t>(d) + 1, {});
   if (prev.empty()) return;
   std::vector<uint64_t>& cells = (*out)[static_cast<size_t>(d)];
   const int64_t side = int64_t{1} << d;
-  for (size_t j = 0; j + 2 < prev.size(); j += 3) {
+  for (size_t j = 0; j + 3 < prev.size(); j += 4) {
     int64_t r[3];
     bool in = true;
     for (int a = 0; a < 3; ++a) {
@@ -197,11 +198,32 @@ std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
   return level;
 }
 
+// The previous frame's cells (4 ints a cell, previous_levels') inside the cube of corner lo
+// and depth d, by key from lo, each with its index in prev.
+inline void previous_cells(const std::vector<int32_t>& prev, const int64_t* lo, int d,
+                           KeySet* out) {
+  out->reset(prev.size() / 4);
+  const int64_t side = int64_t{1} << d;
+  for (size_t j = 0; j + 3 < prev.size(); j += 4) {
+    int64_t r[3];
+    bool in = true;
+    for (int a = 0; a < 3; ++a) {
+      r[a] = prev[j + static_cast<size_t>(a)] - lo[a];
+      in = in && r[a] >= 0 && r[a] < side;
+    }
+    if (in)
+      out->insert(key(static_cast<uint64_t>(r[0]), static_cast<uint64_t>(r[1]),
+                      static_cast<uint64_t>(r[2])),
+                  static_cast<uint32_t>(j / 4));
+  }
+}
+
 // A cell's count context (FORMAT.md step 5): cells sorted and `set` them with their indices,
 // j the cell's index, points its cells' points so far (valid up to j), abs the cell's grid
-// integers.
+// integers; before: the previous frame's cells by key (previous_cells), prev its cells.
 inline int count_context(const std::vector<uint64_t>& cells, const KeySet& set,
-                         const std::vector<uint32_t>& points, size_t j, const int64_t* abs) {
+                         const std::vector<uint32_t>& points, size_t j, const int64_t* abs,
+                         const KeySet& before, const std::vector<int32_t>& prev) {
   uint64_t s2 = 0;
   for (int a = 0; a < 3; ++a) {
     const uint64_t v = static_cast<uint64_t>(abs[a] < 0 ? -abs[a] : abs[a]);
@@ -228,7 +250,10 @@ inline int count_context(const std::vector<uint64_t>& cells, const KeySet& set,
                  : sum < 4 * k     ? 3
                  : sum < 8 * k     ? 4
                                    : 5;
-  return kOctCountCtx + 6 * oct + nc;
+  const int64_t at = prev.empty() ? -1 : before.find(cells[j]);
+  const int32_t was = at < 0 ? 0 : prev[4 * static_cast<size_t>(at) + 3];
+  const int pc = was == 0 ? 0 : was == 1 ? 1 : was == 2 ? 2 : was <= 4 ? 3 : was <= 8 ? 4 : 5;
+  return kOctCountCtx + 6 * (6 * oct + nc) + pc;
 }
 
 }  // namespace octree
@@ -240,8 +265,9 @@ void start_octree_block(Coder* c) {
 }
 
 // Decodes octree frame of n points (copies of them copies; with gaps, G is read) into q (3 per
-// point) and valid, per FORMAT.md. *prev: the previous frame's cells (grid integers, 3 a cell;
-// empty: it was not an octree frame), then this frame's. Throws Error(kCorrupt) through dec.
+// point) and valid, per FORMAT.md. *prev: the previous frame's cells (grid integers and
+// points, 4 a cell; empty: it was not an octree frame), then this frame's. Throws Error(kCorrupt)
+// through dec.
 void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps,
                          std::vector<int32_t>* prev, int32_t* q, uint8_t* valid);
 

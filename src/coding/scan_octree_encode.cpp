@@ -124,24 +124,28 @@ void encode_octree_frame(const ScanGeometry& g, size_t first, size_t n, uint32_t
         levels[static_cast<size_t>(l)].push_back(k >> 3);
   EncodeBits io(enc, std::move(levels));
   scan::octree::code_tree(io, depth, cells.size(), lo, *prev);
-  prev->clear();
-  for (uint64_t k : cells) {
-    int64_t v[3];
-    scan::octree::coords(k, v);
-    for (int a = 0; a < 3; ++a) prev->push_back(static_cast<int32_t>(v[a] + lo[a]));
-  }
-  if (copies == 0) return;
-  std::vector<uint32_t> seen(cells.size(), 1);
-  scan::octree::KeySet set;
-  set.reset(cells.size());
-  for (size_t j = 0; j < cells.size(); ++j) set.insert(cells[j], static_cast<uint32_t>(j));
+  std::vector<int32_t> mine;  // this frame's cells and points, for the next
   for (size_t j = 0; j < cells.size(); ++j) {
     int64_t v[3];
     scan::octree::coords(cells[j], v);
-    for (int a = 0; a < 3; ++a) v[a] += lo[a];
-    enc->put(points[j] - 1, scan::octree::count_context(cells, set, seen, j, v));
-    seen[j] = points[j];
+    for (int a = 0; a < 3; ++a) mine.push_back(static_cast<int32_t>(v[a] + lo[a]));
+    mine.push_back(static_cast<int32_t>(points[j]));
   }
+  if (copies > 0) {
+    std::vector<uint32_t> seen(cells.size(), 1);
+    scan::octree::KeySet set, before;
+    set.reset(cells.size());
+    for (size_t j = 0; j < cells.size(); ++j) set.insert(cells[j], static_cast<uint32_t>(j));
+    scan::octree::previous_cells(*prev, lo, depth, &before);
+    for (size_t j = 0; j < cells.size(); ++j) {
+      int64_t v[3];
+      scan::octree::coords(cells[j], v);
+      for (int a = 0; a < 3; ++a) v[a] += lo[a];
+      enc->put(points[j] - 1, scan::octree::count_context(cells, set, seen, j, v, before, *prev));
+      seen[j] = points[j];
+    }
+  }
+  prev->swap(mine);
 }
 
 std::vector<uint8_t> encode_scan_octree(const ScanGeometry& g) {
@@ -150,7 +154,7 @@ std::vector<uint8_t> encode_scan_octree(const ScanGeometry& g) {
   std::vector<uint32_t> copies(frames, 0);
   IntEncoder tree(scan::kOctreeContexts);
   scan::start_octree_block(&tree);
-  std::vector<int32_t> prev;  // the previous frame's cells when it is an octree frame
+  std::vector<int32_t> prev;  // the previous frame's cells and points when an octree frame
   size_t first = 0;
   for (size_t f = 0; f < frames; ++f) {
     const size_t n = g.counts[f];
