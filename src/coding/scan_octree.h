@@ -122,6 +122,17 @@ inline int bit_context(const int* nb, const KeySet& next, const KeySet& before, 
   return kOctBitCtx + 2 * (((o7 * 8 + cn) * 3 + sib) * 3 + lc) + pv;
 }
 
+// Whether the grid integers u lie in the cube [lo, lo + side)^3, and *k their key from lo.
+inline bool inside(const int32_t* u, const int64_t* lo, int64_t side, uint64_t* k) {
+  int64_t r[3];
+  for (int a = 0; a < 3; ++a) {
+    r[a] = u[a] - lo[a];
+    if (r[a] < 0 || r[a] >= side) return false;
+  }
+  *k = key(static_cast<uint64_t>(r[0]), static_cast<uint64_t>(r[1]), static_cast<uint64_t>(r[2]));
+  return true;
+}
+
 // The previous frame's cells (x y z grid integers and points, 4 a cell) as the nodes of each
 // level 1..d of a tree of depth d with corner lo (those inside its cube), each level's keys
 // sorted: (*out)[l].
@@ -131,23 +142,15 @@ inline void previous_levels(const std::vector<int32_t>& prev, const int64_t* lo,
   if (prev.empty()) return;
   std::vector<uint64_t>& cells = (*out)[static_cast<size_t>(d)];
   const int64_t side = int64_t{1} << d;
-  for (size_t j = 0; j + 3 < prev.size(); j += 4) {
-    int64_t r[3];
-    bool in = true;
-    for (int a = 0; a < 3; ++a) {
-      r[a] = prev[j + static_cast<size_t>(a)] - lo[a];
-      in = in && r[a] >= 0 && r[a] < side;
-    }
-    if (in)
-      cells.push_back(key(static_cast<uint64_t>(r[0]), static_cast<uint64_t>(r[1]),
-                          static_cast<uint64_t>(r[2])));
-  }
+  uint64_t k;
+  for (size_t j = 0; j + 3 < prev.size(); j += 4)
+    if (inside(&prev[j], lo, side, &k)) cells.push_back(k);
   std::sort(cells.begin(), cells.end());
   cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
   for (int l = d - 1; l >= 1; --l)
-    for (uint64_t k : (*out)[static_cast<size_t>(l) + 1]) {
+    for (uint64_t below : (*out)[static_cast<size_t>(l) + 1]) {
       std::vector<uint64_t>& up = (*out)[static_cast<size_t>(l)];
-      if (up.empty() || up.back() != k >> 3) up.push_back(k >> 3);
+      if (up.empty() || up.back() != below >> 3) up.push_back(below >> 3);
     }
 }
 
@@ -204,18 +207,9 @@ inline void previous_cells(const std::vector<int32_t>& prev, const int64_t* lo, 
                            KeySet* out) {
   out->reset(prev.size() / 4);
   const int64_t side = int64_t{1} << d;
-  for (size_t j = 0; j + 3 < prev.size(); j += 4) {
-    int64_t r[3];
-    bool in = true;
-    for (int a = 0; a < 3; ++a) {
-      r[a] = prev[j + static_cast<size_t>(a)] - lo[a];
-      in = in && r[a] >= 0 && r[a] < side;
-    }
-    if (in)
-      out->insert(key(static_cast<uint64_t>(r[0]), static_cast<uint64_t>(r[1]),
-                      static_cast<uint64_t>(r[2])),
-                  static_cast<uint32_t>(j / 4));
-  }
+  uint64_t k;
+  for (size_t j = 0; j + 3 < prev.size(); j += 4)
+    if (inside(&prev[j], lo, side, &k)) out->insert(k, static_cast<uint32_t>(j / 4));
 }
 
 // A cell's count context (FORMAT.md step 5): cells sorted and `set` them with their indices,
