@@ -50,6 +50,7 @@ set(CAPZ_DECODE_SOURCES
   src/coding/positions_ray.cpp
   src/coding/rotations.cpp
   src/coding/scan_cells.cpp
+  src/coding/scan_octree.cpp
   src/coding/scan_decode.cpp
   src/coding/scan_maps.cpp
   src/coding/scan_raster.cpp
@@ -148,6 +149,7 @@ set(CAPZ_ENCODE_SOURCES
   src/coding/positions_ray_encode.cpp
   src/coding/rotations_encode.cpp
   src/coding/scan_cells_encode.cpp
+  src/coding/scan_octree_encode.cpp
   src/coding/scan_encode.cpp
   src/coding/scan_order_encode.cpp
   src/coding/scan_raster_encode.cpp

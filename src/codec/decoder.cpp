@@ -287,6 +287,8 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
         },
         q);
   }
+  if (g.octree && !ctx.h.octree_frames)
+    fail(ErrorCode::kCorrupt, what, "octree frames in a stream without HEAD feature bit 6");
   if (g.counts.size() != fn)
     fail(ErrorCode::kCorrupt, what,
          std::to_string(g.counts.size()) + " frames, the window has " + std::to_string(fn));

@@ -21,9 +21,10 @@ namespace capz {
 // (ScanHints::distance), or empty. The choice codes the window's geometry in
 // each candidate order: *coded gets encode_scan_geometry's bytes of the order chosen and *kept
 // those of the file's order (the same when that was chosen), so the encoder need not code them
-// again (kept may be null). ws: the encoder's workspace kept across windows, or null.
+// again (kept may be null). ws: the encoder's workspace kept across windows, or null. octree:
+// octree frames are among the candidates (docs/FORMAT.md "Octree frames").
 bool reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring,
                     const std::vector<float>& distance, std::vector<uint8_t>* coded,
-                    std::vector<uint8_t>* kept, ScanWorkspace* ws = nullptr);
+                    std::vector<uint8_t>* kept, ScanWorkspace* ws = nullptr, bool octree = false);
 
 }  // namespace capz

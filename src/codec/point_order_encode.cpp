@@ -6,6 +6,7 @@
 #include "codec/point_order.h"
 #include "coding/scan_cells.h"
 #include "coding/scan_geometry.h"
+#include "coding/scan_octree.h"
 
 namespace capz {
 
@@ -53,12 +54,27 @@ void try_cells(const ScanGeometry& g, const ScanHints& hints, std::vector<uint8_
   }
 }
 
+// Octree frames (FORMAT.md "Octree frames"): each frame's points in octree order, every frame
+// with a valid point an octree frame; replaces *coded (and *best) when smaller.
+void try_octree(const ScanGeometry& g, std::vector<uint8_t>* coded, std::vector<uint32_t>* best) {
+  std::vector<uint32_t> order;
+  order.reserve(g.total());
+  size_t first = 0;
+  for (uint32_t n : g.counts) {
+    for (uint32_t j : octree_frame_order(g, first, n))
+      order.push_back(static_cast<uint32_t>(first + j));
+    first += n;
+  }
+  std::vector<uint8_t> bytes = encode_scan_octree(permuted(g, order));
+  if (!bytes.empty() && bytes.size() < coded->size()) coded->swap(bytes), best->swap(order);
+}
+
 // The coded order of the points of block b (a window's frames, ragged): indices from its first
 // point; *coded: the geometry's bytes in that order, *kept (when not null): in the file's order.
 std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
                                    const std::vector<uint32_t>& ring,
                                    const std::vector<float>& distance, std::vector<uint8_t>* coded,
-                                   std::vector<uint8_t>* kept, ScanWorkspace* ws) {
+                                   std::vector<uint8_t>* kept, ScanWorkspace* ws, bool octree) {
   ScanGeometry g;
   for (size_t k = 0; k < b.frames; ++k)
     g.counts.push_back(static_cast<uint32_t>(b.frame_points(k)));
@@ -101,6 +117,7 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
     elevations.ring.clear();
     try_orders(elevations);
   }
+  if (cells && octree) try_octree(g, coded, &best);
   if (kept) kept->swap(file);
   return best;
 }
@@ -119,8 +136,9 @@ void permute(std::vector<T>* v, size_t size, const std::vector<uint32_t>& order)
 
 bool reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring,
                     const std::vector<float>& distance, std::vector<uint8_t>* coded,
-                    std::vector<uint8_t>* kept, ScanWorkspace* ws) {
-  const std::vector<uint32_t> order = window_order(*b, grid, ring, distance, coded, kept, ws);
+                    std::vector<uint8_t>* kept, ScanWorkspace* ws, bool octree) {
+  const std::vector<uint32_t> order =
+      window_order(*b, grid, ring, distance, coded, kept, ws, octree);
   bool moved = false;
   for (size_t j = 0; j < order.size() && !moved; ++j) moved = order[j] != j;
   if (!moved) return false;

@@ -414,8 +414,11 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
   std::vector<uint8_t> coded, kept;  // the geometry payloads of the chosen and the file's order
   if (r.opts.any_point_order) {
     if (!r.meta.attributes.empty()) as_read.reset(new FrameBlock(*b));
+    // Octree frames only without fields: the order is chosen on the geometry's bytes, and the
+    // fields (timestamps, rings) cost more in Morton order than in a firing's (the Helios
+    // sequence at 1 cm with its fields: 138,761 -> 139,788 B; lab/2026-11-29-octree-1cm.md).
     if (!reorder_window(b, r.grid, ring_field(t.attributes, *b), distance_field(t.attributes, *b),
-                        &coded, as_read ? &kept : nullptr, &r.scan_ws))
+                        &coded, as_read ? &kept : nullptr, &r.scan_ws, !as_read))
       as_read.reset();
   }
   const bool any = r.opts.any_point_order;
@@ -501,6 +504,7 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
   h.lossless = grid.lossless;
   h.ragged = true;
   h.points_reordered = opts.any_point_order;
+  h.octree_frames = opts.any_point_order;  // point_order_encode.cpp may code octree frames
   std::vector<uint8_t> head_buf;
   write_file_header(&head_buf, kFormatScans.minor);
   const std::vector<uint8_t> head = encode_header(h), meta = encode_meta(meta_take, false);

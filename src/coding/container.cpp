@@ -127,7 +127,7 @@ StreamHeader decode_header(const Chunk& c, const std::string& name, const Stream
     fail(ErrorCode::kCorrupt, what,
          "window of " + std::to_string(h.window_frames) + " frames (1.." +
              std::to_string(kMaxWindowFrames) + ")");
-  for (int bit = 6; bit < 8; ++bit)  // FORMAT.md 17: a flag a later minor version adds
+  for (int bit = 7; bit < 8; ++bit)  // FORMAT.md 17: a flag a later minor version adds
     if (flags >> bit & 1)
       fail(ErrorCode::kUnsupportedVersion, what,
            "feature bit " + std::to_string(bit) + " of format " + f.version() +
@@ -143,6 +143,9 @@ StreamHeader decode_header(const Chunk& c, const std::string& name, const Stream
   if (h.points_reordered && (!h.ragged || (flags & 1) != 0))
     fail(ErrorCode::kCorrupt, what,
          "feature bit 5 (points reordered) without ragged frames or with lossless positions");
+  h.octree_frames = (flags & 64) != 0;  // "Octree frames" (format 1.1)
+  if (h.octree_frames && !h.points_reordered)
+    fail(ErrorCode::kCorrupt, what, "feature bit 6 (octree frames) without points reordered");
   h.transform_output = (flags & 2) != 0;
   if (h.transform_output) {  // FORMAT.md 4.3: the transform's reconstruction is the output
     h.kg_target = r.f64();

@@ -83,6 +83,9 @@ struct StreamHeader {
   // HEAD flags bit 5 ("Scans (format 1.1)"): each frame's points are in the encoder's order,
   // not the source's (--point-order any); requires ragged and not lossless.
   bool points_reordered = false;
+  // HEAD flags bit 6 ("Octree frames", format 1.1): the SCNW payloads may hold octree frames;
+  // requires points_reordered.
+  bool octree_frames = false;
 
   bool rotations() const { return rotation_segments > 0; }
   // HEAD flags bit 4 ("Scans (format 1.1)"): the source is a PLY or .bin folder (source_format

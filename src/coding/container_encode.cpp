@@ -49,7 +49,8 @@ std::vector<uint8_t> encode_header(const StreamHeader& h) {
   w.u8(h.codec);
   w.u8(static_cast<uint8_t>((h.lossless ? 1 : 0) | (h.transform_output ? 2 : 0) |
                             (h.rotations() ? 4 : 0) | (h.ragged ? 8 : 0) |
-                            (h.frame_file_source() ? 16 : 0) | (h.points_reordered ? 32 : 0)));
+                            (h.frame_file_source() ? 16 : 0) | (h.points_reordered ? 32 : 0) |
+                            (h.octree_frames ? 64 : 0)));
   w.f64(h.step);
   w.f64(h.max_error);
   w.u32(h.analog_channels);

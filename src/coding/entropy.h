@@ -136,6 +136,7 @@ class IntEncoder {
   void restrict_context(int ctx, int m) { models_[static_cast<size_t>(ctx)].restrict(m); }
   int put(uint32_t u, int ctx, int eset = 0) { return cur_.put(u, ctx, eset); }
   int put_signed(int32_t v, int ctx, int eset = 0) { return cur_.put_signed(v, ctx, eset); }
+  void put_symbol(int s, int ctx) { cur_.put_symbol(s, ctx); }
   void raw_bits(uint32_t v, int n) { cur_.raw_bits(v, n); }
   Cursor cursor() const { return cur_; }
   void commit(const Cursor& c) { cur_ = c; }
@@ -217,6 +218,7 @@ class IntDecoder {
   }
   int32_t get_signed(int ctx, int* tok, int eset = 0) { return cur_.get_signed(ctx, tok, eset); }
   int32_t get_signed(int ctx) { return unzigzag(get(ctx)); }
+  int get_symbol(int ctx) { return cur_.get_symbol(ctx); }
   // True when both parts of the block were consumed exactly (a valid block ends there).
   bool at_end() const { return cur_.rc_.p == cur_.rc_.end && cur_.bits_.at_valid_end(); }
   [[noreturn]] void corrupt(const char* msg) const { cur_.corrupt(msg); }

@@ -7,6 +7,7 @@
 #include "coding/buffers.h"
 #include "coding/scan_cells.h"
 #include "coding/scan_geometry.h"
+#include "coding/scan_octree.h"
 #include "coding/scan_raster.h"
 #include "coding/scan_shared.h"
 
@@ -84,12 +85,28 @@ ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& 
   std::unique_ptr<IntDecoder> cells;
   if (h.cells_size > 0)
     cells.reset(new IntDecoder(data + h.cells, h.cells_size, scan::kCellContexts, what));
+  // The octree block of octree frames (FORMAT "Octree frames").
+  std::unique_ptr<IntDecoder> tree;
+  if (h.octree_size > 0) {
+    tree.reset(new IntDecoder(data + h.octree, h.octree_size, scan::kOctreeContexts, what));
+    scan::start_octree_block(tree.get());
+    g.octree = true;
+  }
   std::vector<uint32_t> counts;
+  std::vector<int32_t> prev_cells;  // the previous frame's cells when it is an octree frame
   size_t first = 0;
   for (size_t f = 0; f < h.counts.size(); ++f) {
     int32_t* q = frame ? one.data() : g.q.data() + 3 * first;
     uint8_t* valid = g.valid.data() + first;
     const size_t coded = h.counts[f] - h.copies[f];  // the frame's coded points
+    if (scan::octree_frame(h.flags[f])) {
+      scan::decode_octree_frame(tree.get(), h.counts[f], h.copies[f],
+                                (h.flags[f] & 3) == scan::kSomeValid, &prev_cells, q, valid);
+      if (frame) (*frame)(first, h.counts[f], q, valid);
+      first += h.counts[f];
+      continue;
+    }
+    prev_cells.clear();
     if (h.flags[f] & scan::kRaster) {
       scan::raster::code_frame(io, px, rs, h.flags[f], first, coded, q, valid);
     } else if (f + 1 < h.counts.size()) {
@@ -107,6 +124,7 @@ ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& 
   if (!dec.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the scan geometry");
   if (cells && !cells->at_end())
     fail(ErrorCode::kCorrupt, what, "bytes left after the cells' counts");
+  if (tree && !tree->at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the octree");
   if (frame && space) space->swap(one);
   return g;
 }

@@ -26,6 +26,9 @@ struct ScanGeometry {
   // The fine shift k of a raster window at a bound (FORMAT.md "Raster frames"): the integers
   // count the stream's grid step times 2^-k. 0 for every other payload.
   int fine = 0;
+  // The decoder's: some frame is an octree frame (FORMAT.md "Octree frames"), which a stream
+  // allows only with HEAD bit 6 (the caller's check).
+  bool octree = false;
 
   size_t total() const { return valid.size(); }
 };

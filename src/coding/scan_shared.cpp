@@ -120,6 +120,19 @@ uint32_t read_raster_header(ByteReader* r, Header* h) {
   return h->pixels;
 }
 
+// A block of its own before the main block: varint(L), then L bytes (offset *at, size *size),
+// for `symbols` values at most kMaxSymbolsPerByte a byte.
+void read_side_block(ByteReader* r, uint64_t symbols, const char* name, const char* too_many,
+                     size_t* at, size_t* size) {
+  const uint64_t len = r->varint();
+  if (len > r->remaining())
+    fail(ErrorCode::kCorrupt, r->what(), std::string(name) + " is longer than the bytes left");
+  *at = r->offset();
+  *size = static_cast<size_t>(len);
+  if (symbols > kMaxSymbolsPerByte * len) fail(ErrorCode::kCorrupt, r->what(), too_many);
+  r->bytes(*size);
+}
+
 }  // namespace
 
 Header read_header(const uint8_t* data, size_t size, const std::string& what, size_t max_points) {
@@ -176,9 +189,16 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
   }
   uint64_t coded = 0;    // points that code at least one symbol
   uint64_t counted = 0;  // coded points of frames with cells: a count each at most
+  uint64_t in_tree = 0;  // points less copies of octree frames (FORMAT "Octree frames")
   bool raster = false;
   for (size_t i = 0; i < frames; ++i) {
     const uint8_t fl = h.flags[i];
+    if (octree_frame(fl)) {
+      if ((fl & 3) > kSomeValid || (fl & (kRingWalk | kHypot | kRingPairs)) || h.counts[i] == 0)
+        fail(ErrorCode::kCorrupt, what, "octree frame " + std::to_string(i) + " has unknown flags");
+      in_tree += h.counts[i] - h.copies[i];
+      continue;
+    }
     if ((fl & ~kFrameFlagMask) != 0 || (fl & 3) == 3 || ((fl & kSpherical) && (fl & kRaster)) ||
         ((fl & (kRingWalk | kHypot | kRingPairs)) && !(fl & kSpherical)) ||
         ((fl & kRingWalk) && (fl & kRingPairs)))
@@ -190,16 +210,12 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
     raster = raster || (fl & kRaster);
   }
   if (raster) coded += read_raster_header(&r, &h);
-  if (counted > 0) {  // the counts block (FORMAT "Cells with counts")
-    const uint64_t L = r.varint();
-    if (L > size - r.offset())
-      fail(ErrorCode::kCorrupt, what, "the counts block is longer than the bytes left");
-    h.cells = r.offset();
-    h.cells_size = static_cast<size_t>(L);
-    if (counted > kMaxSymbolsPerByte * L)
-      fail(ErrorCode::kCorrupt, what, "more points than the counts block can hold");
-    r.bytes(h.cells_size);
-  }
+  if (counted > 0)  // the counts block (FORMAT "Cells with counts")
+    read_side_block(&r, counted, "the counts block", "more points than the counts block can hold",
+                    &h.cells, &h.cells_size);
+  if (in_tree > 0)  // the octree block (FORMAT "Octree frames")
+    read_side_block(&r, in_tree, "the octree block", "more cells than the octree block can hold",
+                    &h.octree, &h.octree_size);
   h.body = r.offset();
   if (coded > kMaxSymbolsPerByte * (size - h.body))
     fail(ErrorCode::kCorrupt, what, "more points than the coded bytes can hold");

@@ -32,6 +32,11 @@ constexpr uint8_t kRaster = 32;      // bit 5 (scan_raster.h)
 constexpr uint8_t kHypot = 64;       // bit 6: the second of x y from the range's hypotenuse
 constexpr uint8_t kRingPairs = 128;  // bit 7: ring pair frames (FORMAT "Ring pair frames")
 constexpr uint8_t kFrameFlagMask = 7 | kRingWalk | kCells | kRaster | kHypot | kRingPairs;
+// An octree frame: bits 2 and 5 together (FORMAT "Octree frames", scan_octree.h).
+constexpr uint8_t kOctreeFrame = kSpherical | kRaster;
+inline bool octree_frame(uint8_t flags) {
+  return (flags & kOctreeFrame) == kOctreeFrame;
+}
 
 // Limits the decoder enforces (FORMAT.md).
 constexpr uint32_t kMaxRings = 1024;
@@ -202,6 +207,8 @@ struct Header {
   // block's offset and size (size 0: no frame has bit 4).
   std::vector<uint32_t> copies;
   size_t cells = 0, cells_size = 0;
+  // The octree block's offset and size (size 0: no octree frame; FORMAT "Octree frames").
+  size_t octree = 0, octree_size = 0;
   size_t flags_end = 0;  // offset just past flags_f (where d_f, else K, begins)
   size_t body = 0;       // offset of the entropy-coded block
 };

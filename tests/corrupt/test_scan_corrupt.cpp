@@ -29,6 +29,7 @@ const std::string kStreams = std::string(CAPZ_TEST_DIR) + "/golden/streams/";
 const char* const kOneWindow = "scan_small.grid1mm.v1.1.capz";      // 4 frames, 1 window
 const char* const kTwoWindows = "scan_small.grid1cm-w2.v1.1.capz";  // 2 windows of 2 frames
 const char* const kLossless = "scan_small.lossless.v1.1.capz";      // mode 2, a float32 split
+const char* const kOctree = "scan_small.octree2cm.v1.1.capz";       // octree frames
 
 // The positions to damage in a payload of n bytes, about `most` of them: all of the first 256
 // (at most half of `most`), the last 16, and the rest spread evenly (payload_positions).
@@ -153,6 +154,19 @@ TEST(ScanCorrupt, GivenEverySampledScnwByteDamagedThenCleanCorruptOrAWellFormedT
   damage_scnw(kOneWindow, 0x01);
   damage_scnw(kTwoWindows, 0x80);
   damage_scnw(kLossless, 0x01, 80);  // with ATTR and the residue: slower decodes
+  damage_scnw(kOctree, 0x01);
+  damage_scnw(kOctree, 0x10);
+}
+
+// "Octree frames": a stream whose SCNW holds octree frames without HEAD bit 6 is corrupt.
+TEST(ScanCorrupt, GivenOctreeFramesWithoutHeadBit6ThenCorrupt) {
+  Chunks c(read_file(kStreams + kOctree));
+  ASSERT_EQ(c.payload[c.find("HEAD")][19] & 0x60, 0x60);
+  c.payload[c.find("HEAD")][19] &= static_cast<uint8_t>(~0x40u);
+  std::string msg;
+  EXPECT_EQ(decode_code(c.bytes(), &msg), static_cast<int>(ErrorCode::kCorrupt)) << msg;
+  EXPECT_NE(msg.find("octree frames in a stream without HEAD feature bit 6"), std::string::npos)
+      << msg;
 }
 
 // "Lossless ragged streams": SCNW's split exponent E and the geometry's length, then the
@@ -282,7 +296,7 @@ TEST(ScanCorrupt, GivenTheRaggedBitInAStreamOfMinorVersion0ThenCorrupt) {
 
 // HEAD's bit 5, points reordered (FORMAT.md "Points reordered"): without bit 3 or with bit 0 it
 // is corrupt; on a stream coded in file order it changes nothing but what describe says (the
-// decoder needs no permutation); a feature bit this decoder does not know (6) is refused by name,
+// decoder needs no permutation); a feature bit this decoder does not know (7) is refused by name,
 // as a decoder that does not know bit 5 refuses a reordered stream.
 TEST(ScanCorrupt, GivenThePointsReorderedBitWhereItDoesNotBelongThenCorruptOrRefused) {
   const Chunks any(read_file(kStreams + std::string("scan_small.any1mm.v1.1.capz")));
@@ -304,10 +318,16 @@ TEST(ScanCorrupt, GivenThePointsReorderedBitWhereItDoesNotBelongThenCorruptOrRef
   EXPECT_FALSE(describe(plain.data(), plain.size(), "x").points_reordered);
   EXPECT_EQ(decompress(b.data(), b.size()).xyz, decompress(plain.data(), plain.size()).xyz);
   Chunks later = any;
-  later.payload[later.find("HEAD")][19] |= 0x40;
+  later.payload[later.find("HEAD")][19] |= 0x80;
   EXPECT_EQ(decode_code(later.bytes(), &msg), static_cast<int>(ErrorCode::kUnsupportedVersion))
       << msg;
-  EXPECT_NE(msg.find("feature bit 6 of format 1.1 is not known to this decoder"), std::string::npos)
+  EXPECT_NE(msg.find("feature bit 7 of format 1.1 is not known to this decoder"), std::string::npos)
+      << msg;
+  // Bit 6 (octree frames) only with bit 5 (points reordered).
+  Chunks octree = Chunks(read_file(kStreams + kOneWindow));
+  octree.payload[octree.find("HEAD")][19] |= 0x40;
+  EXPECT_EQ(decode_code(octree.bytes(), &msg), static_cast<int>(ErrorCode::kCorrupt)) << msg;
+  EXPECT_NE(msg.find("feature bit 6 (octree frames) without points reordered"), std::string::npos)
       << msg;
 }
 

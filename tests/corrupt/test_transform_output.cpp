@@ -133,13 +133,13 @@ TEST(TransformOutput, GivenInconsistentHeadOrPositionsThenCorrupt) {
   EXPECT_NE(decode_error(with_head([](std::vector<uint8_t>* h) { (*h)[19] = 3; })).find("lossless"),
             std::string::npos);
   // A flag bit this decoder does not define names a later minor version's feature (FORMAT.md
-  // 17); bits 3, 4 and 5 (1.1's ragged frames, frame-file sources and reordered points) in a 1.0
-  // stream are corrupt.
+  // 17); bits 3, 4, 5 and 6 (1.1's ragged frames, frame-file sources, reordered points and octree
+  // frames) in a 1.0 stream are corrupt.
   std::string flag;
-  const std::vector<uint8_t> later = with_head([](std::vector<uint8_t>* h) { (*h)[19] = 66; });
+  const std::vector<uint8_t> later = with_head([](std::vector<uint8_t>* h) { (*h)[19] = 130; });
   EXPECT_EQ(capz_test::error_of([&] { decompress(later.data(), later.size(), "x"); }, &flag),
             ErrorCode::kUnsupportedVersion);
-  EXPECT_NE(flag.find("feature bit 6"), std::string::npos) << flag;
+  EXPECT_NE(flag.find("feature bit 7"), std::string::npos) << flag;
   const std::vector<uint8_t> files = with_head([](std::vector<uint8_t>* h) { (*h)[19] |= 16; });
   EXPECT_EQ(capz_test::error_of([&] { decompress(files.data(), files.size(), "x"); }, &flag),
             ErrorCode::kCorrupt);

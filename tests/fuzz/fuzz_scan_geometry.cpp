@@ -1,13 +1,14 @@
 // Fuzz target: the scan geometry decoder (decode_scan_geometry, docs/FORMAT.md "Scans (format
 // 1.1)") on arbitrary payloads, at most 2^20 points. A payload that decodes must re-encode to
 // one that decodes to the same points, with cells with counts (scan_cells.h) as well when its
-// frames hold runs of the same point.
+// frames hold runs of the same point, and as octree frames (scan_octree.h) in octree order.
 #include <cstddef>
 #include <cstdint>
 
 #include "capz/error.h"
 #include "coding/scan_cells.h"
 #include "coding/scan_geometry.h"
+#include "coding/scan_octree.h"
 #include "fuzz_common.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -25,6 +26,24 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       const capz::ScanGeometry c =
           capz::decode_scan_geometry(cells.data(), cells.size(), "with cells", 1 << 20);
       CAPZ_FUZZ_CHECK(c.counts == g.counts && c.valid == g.valid && c.q == g.q);
+    }
+    capz::ScanGeometry o = g;  // each frame in octree order, coded as octree frames
+    size_t first = 0;
+    for (uint32_t n : g.counts) {
+      const std::vector<uint32_t> order = capz::octree_frame_order(g, first, n);
+      for (size_t j = 0; j < n; ++j) {
+        o.valid[first + j] = g.valid[first + order[j]];
+        for (size_t a = 0; a < 3; ++a)
+          o.q[3 * (first + j) + a] =
+              g.valid[first + order[j]] ? g.q[3 * (first + order[j]) + a] : 0;
+      }
+      first += n;
+    }
+    const std::vector<uint8_t> tree = capz::encode_scan_octree(o);
+    if (!tree.empty()) {
+      const capz::ScanGeometry t =
+          capz::decode_scan_geometry(tree.data(), tree.size(), "octree", 1 << 20);
+      CAPZ_FUZZ_CHECK(t.counts == o.counts && t.valid == o.valid && t.q == o.q);
     }
   } catch (const capz::Error&) {
   }

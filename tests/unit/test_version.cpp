@@ -121,16 +121,16 @@ TEST(Version, GivenAnUnknownChunkThenACriticalOneIsRefusedAndAnAncillaryOneSkipp
   }
 }
 
-// FORMAT.md 17: a HEAD flag bit that this decoder's formats (1.0, and 1.1's bits 3, 4 and 5) leave
+// FORMAT.md 17: a HEAD flag bit that this decoder's formats (1.0, and 1.1's bits 3 to 6) leave
 // 0 names a feature of a later minor.
 TEST(Version, GivenAnUnknownHeadFlagThenTheFeatureIsNamed) {
   const std::vector<uint8_t> later = relabelled(small_stream(), 1, 2);
   std::vector<capz_test::Piece> ps = capz_test::pieces(later);
   ASSERT_EQ(ps[0].type, "HEAD");
-  ps[0].payload[19] |= 64;  // flags: after frames u64, points u32, window u32, 3 bytes
+  ps[0].payload[19] |= 128;  // flags: after frames u64, points u32, window u32, 3 bytes
   const auto r = refusal(capz_test::assemble(later, ps), "flag.capz");
   EXPECT_EQ(r.first, ErrorCode::kUnsupportedVersion) << r.second;
-  EXPECT_NE(r.second.find("feature bit 6 of format 1.2"), std::string::npos) << r.second;
+  EXPECT_NE(r.second.find("feature bit 7 of format 1.2"), std::string::npos) << r.second;
 }
 
 // A stream of capz 0.1.0 or earlier (magic "\x89capz", formats 1.0-9.3) is refused with how to

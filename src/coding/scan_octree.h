@@ -1,0 +1,287 @@
+// Octree frames (docs/FORMAT.md "Scans (format 1.1)", "Octree frames"): a frame's valid points
+// as the distinct cells of an octree, each with its count of points, in an entropy-coded block
+// of their own. The walk over the tree both sides run is here (code_tree); the decoder in
+// scan_octree.cpp, the encoder in scan_octree_encode.cpp.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "coding/entropy.h"
+#include "coding/scan_geometry.h"
+
+namespace capz {
+namespace scan {
+
+// The octree block's contexts: the depth 0, the gaps and the corner 1, the counts 2..577, the
+// child bits 578..19009.
+constexpr int kOctDepthCtx = 0, kOctCornerCtx = 1, kOctCountCtx = 2, kOctBitCtx = 578;
+constexpr int kOctreeContexts = kOctBitCtx + 128 * 8 * 3 * 3 * 2;
+constexpr int kMaxOctreeDepth = 21;
+
+namespace octree {
+
+// Morton keys of 21-bit coordinates: bit 3b + 2 is x's bit b, 3b + 1 y's, 3b z's.
+inline uint64_t spread(uint64_t v) {
+  v &= 0x1FFFFF;
+  v = (v | v << 32) & 0x1F00000000FFFFull;
+  v = (v | v << 16) & 0x1F0000FF0000FFull;
+  v = (v | v << 8) & 0x100F00F00F00F00Full;
+  v = (v | v << 4) & 0x10C30C30C30C30C3ull;
+  v = (v | v << 2) & 0x1249249249249249ull;
+  return v;
+}
+inline uint64_t compact(uint64_t v) {
+  v &= 0x1249249249249249ull;
+  v = (v ^ (v >> 2)) & 0x10C30C30C30C30C3ull;
+  v = (v ^ (v >> 4)) & 0x100F00F00F00F00Full;
+  v = (v ^ (v >> 8)) & 0x1F0000FF0000FFull;
+  v = (v ^ (v >> 16)) & 0x1F00000000FFFFull;
+  v = (v ^ (v >> 32)) & 0x1FFFFF;
+  return v;
+}
+inline uint64_t key(uint64_t x, uint64_t y, uint64_t z) {
+  return spread(x) << 2 | spread(y) << 1 | spread(z);
+}
+inline void coords(uint64_t k, int64_t* c) {
+  c[0] = static_cast<int64_t>(compact(k >> 2));
+  c[1] = static_cast<int64_t>(compact(k >> 1));
+  c[2] = static_cast<int64_t>(compact(k));
+}
+// A set of Morton keys (each below 2^63) with an index each: open addressing, at most half
+// full. The walk's and the counts' neighbour lookups (a binary search in the sorted keys
+// answers the same, several times slower).
+class KeySet {
+ public:
+  // Room for n keys; emptied.
+  void reset(size_t n) {
+    size_t cap = 16;
+    while (cap < 2 * n) cap <<= 1;
+    shift_ = 64 - __builtin_ctzll(cap);
+    keys_.assign(cap, kEmpty);
+    index_.resize(cap);
+  }
+  void insert(uint64_t k, uint32_t index) {
+    size_t at = slot(k);
+    while (keys_[at] != kEmpty) at = (at + 1) & (keys_.size() - 1);
+    keys_[at] = k;
+    index_[at] = index;
+  }
+  // The key's index, or -1.
+  int64_t find(uint64_t k) const {
+    for (size_t at = slot(k);; at = (at + 1) & (keys_.size() - 1)) {
+      if (keys_[at] == k) return index_[at];
+      if (keys_[at] == kEmpty) return -1;
+    }
+  }
+  // Whether the set holds the node at c (false outside [0, side)^3).
+  bool has(const int64_t* c, int64_t side) const {
+    for (int a = 0; a < 3; ++a)
+      if (c[a] < 0 || c[a] >= side) return false;
+    return find(key(static_cast<uint64_t>(c[0]), static_cast<uint64_t>(c[1]),
+                    static_cast<uint64_t>(c[2]))) >= 0;
+  }
+
+ private:
+  static constexpr uint64_t kEmpty = ~uint64_t{0};
+  size_t slot(uint64_t k) const {
+    return static_cast<size_t>((k * 0x9E3779B97F4A7C15ull) >> shift_);
+  }
+  int shift_ = 60;
+  std::vector<uint64_t> keys_;
+  std::vector<uint32_t> index_;
+};
+
+// The child bit's context (FORMAT.md step 4) of child i of the node at p (level l of a tree of
+// depth d): nb[k] is P of the parent's neighbour (dx, dy, dz) at k = 9 (dx + 1) + 3 (dy + 1) +
+// dz + 1; next the level l + 1 coded so far; ones the bits 1 before child i; before the level
+// l + 1 nodes of the previous frame's cells.
+inline int bit_context(const int* nb, const KeySet& next, const KeySet& before, const int64_t* p,
+                       int l, int d, int i, int ones) {
+  const int o[3] = {(i >> 2) & 1, (i >> 1) & 1, i & 1};
+  int o7 = 0;
+  for (int k = 1; k < 8; ++k) {
+    const int a[3] = {(k >> 2) & 1, (k >> 1) & 1, k & 1};
+    int at = 0;
+    for (int e = 0; e < 3; ++e) at = at * 3 + (2 * o[e] - 1) * a[e] + 1;
+    o7 |= nb[at] << (k - 1);
+  }
+  const int64_t side = int64_t{1} << (l + 1);
+  int cn = 0;
+  for (int e = 0; e < 3; ++e) {
+    int64_t c[3] = {2 * p[0] + o[0], 2 * p[1] + o[1], 2 * p[2] + o[2]};
+    --c[e];
+    cn |= static_cast<int>(next.has(c, side)) << e;
+  }
+  const int sib = std::min(ones, 2);
+  const int lc = l == d - 1 ? 0 : l == d - 2 ? 1 : 2;
+  const int64_t c[3] = {2 * p[0] + o[0], 2 * p[1] + o[1], 2 * p[2] + o[2]};
+  const int pv = before.has(c, side);
+  return kOctBitCtx + 2 * (((o7 * 8 + cn) * 3 + sib) * 3 + lc) + pv;
+}
+
+// Whether the grid integers u lie in the cube [lo, lo + side)^3, and *k their key from lo.
+inline bool inside(const int32_t* u, const int64_t* lo, int64_t side, uint64_t* k) {
+  int64_t r[3];
+  for (int a = 0; a < 3; ++a) {
+    r[a] = u[a] - lo[a];
+    if (r[a] < 0 || r[a] >= side) return false;
+  }
+  *k = key(static_cast<uint64_t>(r[0]), static_cast<uint64_t>(r[1]), static_cast<uint64_t>(r[2]));
+  return true;
+}
+
+// The previous frame's cells (x y z grid integers and points, 4 a cell) as the nodes of each
+// level 1..d of a tree of depth d with corner lo (those inside its cube), each level's keys
+// sorted: (*out)[l].
+inline void previous_levels(const std::vector<int32_t>& prev, const int64_t* lo, int d,
+                            std::vector<std::vector<uint64_t>>* out) {
+  out->assign(static_cast<size_t>(d) + 1, {});
+  if (prev.empty()) return;
+  std::vector<uint64_t>& cells = (*out)[static_cast<size_t>(d)];
+  const int64_t side = int64_t{1} << d;
+  uint64_t k;
+  for (size_t j = 0; j + 3 < prev.size(); j += 4)
+    if (inside(&prev[j], lo, side, &k)) cells.push_back(k);
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  for (int l = d - 1; l >= 1; --l)
+    for (uint64_t below : (*out)[static_cast<size_t>(l) + 1]) {
+      std::vector<uint64_t>& up = (*out)[static_cast<size_t>(l)];
+      if (up.empty() || up.back() != below >> 3) up.push_back(below >> 3);
+    }
+}
+
+// The walk over a tree of depth d and corner lo (FORMAT.md step 4) both sides run: io.bit(ctx,
+// level, key of the child) gives each coded child bit (the encoder's actual one, or the decoded
+// one); the inferred ones are not asked. prev: the previous frame's cells (empty: none).
+// Returns the cells' keys in Morton order, or stops with io.too_many() (which throws) when a
+// level has more than m nodes.
+template <class Io>
+std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
+                                const std::vector<int32_t>& prev) {
+  std::vector<uint64_t> level{0}, next;
+  KeySet here, there, before;  // level's keys, next's so far, the previous frame's at next's
+  std::vector<std::vector<uint64_t>> earlier;
+  previous_levels(prev, lo, d, &earlier);
+  for (int l = 0; l < d; ++l) {
+    const std::vector<uint64_t>& e = earlier[static_cast<size_t>(l) + 1];
+    before.reset(e.size());
+    for (uint64_t k : e) before.insert(k, 0);
+    next.clear();
+    here.reset(level.size());
+    for (size_t j = 0; j < level.size(); ++j) here.insert(level[j], static_cast<uint32_t>(j));
+    there.reset(std::min(m, 8 * level.size()));
+    const int64_t side = int64_t{1} << l;
+    for (uint64_t pk : level) {
+      int64_t p[3];
+      coords(pk, p);
+      int nb[27];
+      for (int k = 0; k < 27; ++k) {
+        const int64_t c[3] = {p[0] + k / 9 - 1, p[1] + (k / 3) % 3 - 1, p[2] + k % 3 - 1};
+        nb[k] = k == 13 || here.has(c, side);
+      }
+      int ones = 0;
+      for (int i = 0; i < 8; ++i) {
+        const uint64_t ck = pk << 3 | static_cast<uint64_t>(i);
+        bool bit = true;
+        if (i < 7 || ones > 0)
+          bit = io.bit(bit_context(nb, there, before, p, l, d, i, ones), l, ck);
+        if (!bit) continue;
+        if (next.size() >= m) io.too_many();
+        there.insert(ck, static_cast<uint32_t>(next.size()));
+        next.push_back(ck);
+        ++ones;
+      }
+    }
+    level.swap(next);
+  }
+  return level;
+}
+
+// The previous frame's cells (4 ints a cell, previous_levels') inside the cube of corner lo
+// and depth d, by key from lo, each with its index in prev.
+inline void previous_cells(const std::vector<int32_t>& prev, const int64_t* lo, int d,
+                           KeySet* out) {
+  out->reset(prev.size() / 4);
+  const int64_t side = int64_t{1} << d;
+  uint64_t k;
+  for (size_t j = 0; j + 3 < prev.size(); j += 4)
+    if (inside(&prev[j], lo, side, &k)) out->insert(k, static_cast<uint32_t>(j / 4));
+}
+
+// A cell's count context (FORMAT.md step 5): cells sorted and `set` them with their indices,
+// j the cell's index, points its cells' points so far (valid up to j), abs the cell's grid
+// integers; before: the previous frame's cells by key (previous_cells), prev its cells.
+inline int count_context(const std::vector<uint64_t>& cells, const KeySet& set,
+                         const std::vector<uint32_t>& points, size_t j, const int64_t* abs,
+                         const KeySet& before, const std::vector<int32_t>& prev) {
+  uint64_t s2 = 0;
+  for (int a = 0; a < 3; ++a) {
+    const uint64_t v = static_cast<uint64_t>(abs[a] < 0 ? -abs[a] : abs[a]);
+    s2 += v * v;
+  }
+  const int bits = s2 == 0 ? 0 : 64 - __builtin_clzll(s2);
+  const int oct = std::min(bits / 2, 15);
+  int64_t v[3];
+  coords(cells[j], v);
+  uint64_t k = 0, sum = 0;
+  for (int e = 0; e < 27; ++e) {
+    if (e == 13) continue;
+    const int64_t c[3] = {v[0] + e / 9 - 1, v[1] + (e / 3) % 3 - 1, v[2] + e % 3 - 1};
+    if (c[0] < 0 || c[1] < 0 || c[2] < 0) continue;
+    const int64_t at = set.find(
+        key(static_cast<uint64_t>(c[0]), static_cast<uint64_t>(c[1]), static_cast<uint64_t>(c[2])));
+    if (at < 0 || static_cast<size_t>(at) >= j) continue;  // not a cell, or not before this one
+    ++k;
+    sum += points[static_cast<size_t>(at)];
+  }
+  const int nc = k == 0            ? 0
+                 : 2 * sum < 3 * k ? 1
+                 : 2 * sum < 5 * k ? 2
+                 : sum < 4 * k     ? 3
+                 : sum < 8 * k     ? 4
+                                   : 5;
+  const int64_t at = prev.empty() ? -1 : before.find(cells[j]);
+  const int32_t was = at < 0 ? 0 : prev[4 * static_cast<size_t>(at) + 3];
+  const int pc = was == 0 ? 0 : was == 1 ? 1 : was == 2 ? 2 : was <= 4 ? 3 : was <= 8 ? 4 : 5;
+  return kOctCountCtx + 6 * (6 * oct + nc) + pc;
+}
+
+}  // namespace octree
+
+// Starts every child-bit context of an octree block on 2 symbols (FORMAT.md step 4).
+template <class Coder>
+void start_octree_block(Coder* c) {
+  for (int k = kOctBitCtx; k < kOctreeContexts; ++k) c->restrict_context(k, 2);
+}
+
+// Decodes octree frame of n points (copies of them copies; with gaps, G is read) into q (3 per
+// point) and valid, per FORMAT.md. *prev: the previous frame's cells (grid integers and
+// points, 4 a cell; empty: it was not an octree frame), then this frame's. Throws Error(kCorrupt)
+// through dec.
+void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps,
+                         std::vector<int32_t>* prev, int32_t* q, uint8_t* valid);
+
+}  // namespace scan
+
+// Encoder side (scan_octree_encode.cpp).
+// Whether points [first, first + n) of g can be an octree frame (some valid point, every valid
+// point within a cube of side 2^21).
+bool octree_frame_ok(const ScanGeometry& g, size_t first, size_t n);
+// The octree order of points [first, first + n) of g: its valid points by the Morton key of
+// their integers less the frame's least, equal ones together in their order, then its gaps.
+// Indices from `first`.
+std::vector<uint32_t> octree_frame_order(const ScanGeometry& g, size_t first, size_t n);
+// Codes points [first, first + n) of g, in octree_frame_order's order (else throws
+// Error(kInternal)), as an octree frame with `copies` copies (0: no counts) and gaps when some
+// point is not valid. *prev as decode_octree_frame's.
+void encode_octree_frame(const ScanGeometry& g, size_t first, size_t n, uint32_t copies,
+                         std::vector<int32_t>* prev, IntEncoder* enc);
+// The scan geometry payload of g (FORMAT.md) with every frame that has a valid point an octree
+// frame, each frame's points in octree_frame_order's order; empty when a frame is too wide.
+std::vector<uint8_t> encode_scan_octree(const ScanGeometry& g);
+
+}  // namespace capz
