@@ -260,9 +260,10 @@ void start_octree_block(Coder* c) {
 
 // Decodes octree frame of n points (copies of them copies; with gaps, G is read) into q (3 per
 // point) and valid, per FORMAT.md. *prev: the previous frame's cells (grid integers and
-// points, 4 a cell; empty: it was not an octree frame), then this frame's. Throws Error(kCorrupt)
-// through dec.
-void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps,
+// points, 4 a cell; empty: it was not an octree frame), then this frame's. *cells_left: the
+// cells the block can still hold (2900 a byte less the earlier frames'), less this frame's.
+// Throws Error(kCorrupt) through dec.
+void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps, size_t* cells_left,
                          std::vector<int32_t>* prev, int32_t* q, uint8_t* valid);
 
 }  // namespace scan

@@ -72,7 +72,8 @@ ScanGeometry decode(const std::vector<uint8_t>& block, size_t n, uint32_t copies
   d.q.assign(3 * n, -1);
   d.valid.assign(n, 2);
   std::vector<int32_t> prev;
-  scan::decode_octree_frame(&dec, n, copies, gaps, &prev, d.q.data(), d.valid.data());
+  size_t cells_left = SIZE_MAX;
+  scan::decode_octree_frame(&dec, n, copies, gaps, &cells_left, &prev, d.q.data(), d.valid.data());
   if (!dec.at_end()) throw Error(ErrorCode::kCorrupt, "octree: bytes left");
   return d;
 }
