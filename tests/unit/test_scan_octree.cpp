@@ -162,5 +162,22 @@ TEST(ScanOctree, GivenADamagedBlockWhenDecodedThenItIsCorruptOrDecodesToAFrameOf
   }
 }
 
+// A cell's neighbours outside the cube are no cells (FORMAT.md step 5), also at depth 21, where
+// the neighbour at x = 2^21 has no 21-bit key: it must not be taken for the cell at x = 0.
+TEST(ScanOctree, GivenACellAtTheFarFaceOfADepth21CubeThenItsCountContextHasNoNeighbour) {
+  const uint64_t far = (uint64_t{1} << 21) - 1;
+  const std::vector<uint64_t> cells = {scan::octree::key(0, 0, 0), scan::octree::key(far, 0, 0)};
+  scan::octree::KeySet set, before;
+  set.reset(2);
+  set.insert(cells[0], 0);
+  set.insert(cells[1], 1);
+  before.reset(0);
+  const std::vector<uint32_t> points = {9, 1};  // the cell at 0 has 9 points
+  const int64_t abs[3] = {static_cast<int64_t>(far), 0, 0};
+  // Octave 15 (x^2 has 42 bits), no neighbour before it (nc 0), no previous frame (pc 0).
+  EXPECT_EQ(scan::octree::count_context(cells, set, points, 1, abs, before, {}),
+            scan::kOctCountCtx + 6 * (6 * 15 + 0) + 0);
+}
+
 }  // namespace
 }  // namespace capz
