@@ -1,8 +1,7 @@
 // Octree frames (docs/FORMAT.md "Scans (format 1.1)", "Octree frames"): a frame's valid points
 // as the cells of an octree with their counts. The coder alone here (an octree block of one or
 // more frames round trip in octree order, one cell, gaps, damaged blocks, each corrupt case of
-// the spec crafted); the payload's octree
-// frames in test_scan_octree_payload.cpp.
+// the spec crafted); the payload's octree frames in test_scan_octree_payload.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>

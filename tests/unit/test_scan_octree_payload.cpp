@@ -129,6 +129,19 @@ TEST(ScanOctreePayload, GivenAFrameTooWideOrTooHighForAnOctreeThenNoOctreePayloa
   EXPECT_EQ(decode_scan_geometry(p.data(), p.size(), "octree").q, g.q);
 }
 
+// Decoding p is corrupt for more cells than its octree block can hold.
+void expect_too_many_cells(const std::vector<uint8_t>& p) {
+  try {
+    decode_scan_geometry(p.data(), p.size(), "octree");
+    ADD_FAILURE() << "decoded";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
+    EXPECT_NE(std::string(e.what()).find("more cells than the octree block can hold"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 // A frame of few cells and many gaps (a sweep that mostly missed): G is one value of the block,
 // so the gaps do not count against its bytes (FORMAT.md, the bound on cells per byte).
 TEST(ScanOctreePayload, GivenAFrameOfFewCellsAndManyGapsThenItDecodes) {
@@ -158,16 +171,7 @@ TEST(ScanOctreePayload, GivenAFrameOfFewCellsAndManyGapsThenItDecodes) {
   w.bytes(block);
   IntEncoder m(scan::kContexts);
   w.bytes(m.finish());
-  const std::vector<uint8_t> bad = w.buffer();
-  try {
-    decode_scan_geometry(bad.data(), bad.size(), "octree");
-    ADD_FAILURE() << "decoded";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
-    EXPECT_NE(std::string(e.what()).find("more cells than the octree block can hold"),
-              std::string::npos)
-        << e.what();
-  }
+  expect_too_many_cells(w.buffer());
 }
 
 // The payload of window() with frame 0's flags byte, or the octree block's length, changed.
@@ -212,6 +216,14 @@ TEST(ScanOctreePayload, GivenBadOctreeFlagsOrBlockThenCorrupt) {
   longer.insert(longer.end(), o.buffer().begin(), o.buffer().end());
   longer.insert(longer.end(), p.begin() + static_cast<long>(h.octree), p.end());
   EXPECT_THROW(decode_scan_geometry(longer.data(), longer.size(), "octree"), Error);
+  // An empty octree block (O = 0) with octree frames: they, even with gaps, hold a cell each.
+  std::vector<uint8_t> none(p.begin(), p.begin() + static_cast<long>(len_at));
+  none.push_back(0);
+  none.insert(none.end(), p.begin() + static_cast<long>(h.octree + h.octree_size), p.end());
+  for (uint8_t f : {uint8_t(cells), uint8_t(cells | scan::kSomeValid)}) {
+    none[h.flags_end - 3] = f;
+    expect_too_many_cells(none);
+  }
   p.resize(p.size() - 1);
   EXPECT_THROW(decode_scan_geometry(p.data(), p.size(), "octree"), Error);
 }
