@@ -94,6 +94,7 @@ ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& 
   }
   std::vector<uint32_t> counts;
   std::vector<int32_t> prev_cells;  // the previous frame's cells when it is an octree frame
+  size_t cells_left = kMaxSymbolsPerByte * h.octree_size;  // FORMAT "Octree frames"
   size_t first = 0;
   for (size_t f = 0; f < h.counts.size(); ++f) {
     int32_t* q = frame ? one.data() : g.q.data() + 3 * first;
@@ -101,7 +102,8 @@ ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& 
     const size_t coded = h.counts[f] - h.copies[f];  // the frame's coded points
     if (scan::octree_frame(h.flags[f])) {
       scan::decode_octree_frame(tree.get(), h.counts[f], h.copies[f],
-                                (h.flags[f] & 3) == scan::kSomeValid, &prev_cells, q, valid);
+                                (h.flags[f] & 3) == scan::kSomeValid, &cells_left, &prev_cells, q,
+                                valid);
       if (frame) (*frame)(first, h.counts[f], q, valid);
       first += h.counts[f];
       continue;

@@ -24,7 +24,7 @@ class DecodeBits {
 
 }  // namespace
 
-void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps,
+void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps, size_t* cells_left,
                          std::vector<int32_t>* prev, int32_t* q, uint8_t* valid) {
   size_t g = 0;
   if (gaps) {
@@ -32,6 +32,8 @@ void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps,
     if (g == 0 || g + copies + 1 > n) dec->corrupt("an octree frame's gaps are out of range");
   }
   const size_t m = n - copies - g;
+  if (m > *cells_left) dec->corrupt("more cells than the octree block can hold");
+  *cells_left -= m;
   const uint32_t d = dec->get(kOctDepthCtx);
   if (d > static_cast<uint32_t>(kMaxOctreeDepth)) dec->corrupt("an octree deeper than 21 levels");
   if (d == 0 && m != 1) dec->corrupt("an octree of depth 0 with more than one cell");

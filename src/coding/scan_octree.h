@@ -231,7 +231,10 @@ inline int count_context(const std::vector<uint64_t>& cells, const KeySet& set,
   for (int e = 0; e < 27; ++e) {
     if (e == 13) continue;
     const int64_t c[3] = {v[0] + e / 9 - 1, v[1] + (e / 3) % 3 - 1, v[2] + e % 3 - 1};
-    if (c[0] < 0 || c[1] < 0 || c[2] < 0) continue;
+    // outside the cube (at depth 21, 2^21 has no 21-bit key: it would be taken for 0)
+    constexpr int64_t kSide = int64_t{1} << kMaxOctreeDepth;
+    if (c[0] < 0 || c[1] < 0 || c[2] < 0 || c[0] >= kSide || c[1] >= kSide || c[2] >= kSide)
+      continue;
     const int64_t at = set.find(
         key(static_cast<uint64_t>(c[0]), static_cast<uint64_t>(c[1]), static_cast<uint64_t>(c[2])));
     if (at < 0 || static_cast<size_t>(at) >= j) continue;  // not a cell, or not before this one
@@ -260,9 +263,10 @@ void start_octree_block(Coder* c) {
 
 // Decodes octree frame of n points (copies of them copies; with gaps, G is read) into q (3 per
 // point) and valid, per FORMAT.md. *prev: the previous frame's cells (grid integers and
-// points, 4 a cell; empty: it was not an octree frame), then this frame's. Throws Error(kCorrupt)
-// through dec.
-void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps,
+// points, 4 a cell; empty: it was not an octree frame), then this frame's. *cells_left: the
+// cells the block can still hold (2900 a byte less the earlier frames'), less this frame's.
+// Throws Error(kCorrupt) through dec.
+void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps, size_t* cells_left,
                          std::vector<int32_t>* prev, int32_t* q, uint8_t* valid);
 
 }  // namespace scan

@@ -189,14 +189,16 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
   }
   uint64_t coded = 0;    // points that code at least one symbol
   uint64_t counted = 0;  // coded points of frames with cells: a count each at most
-  uint64_t in_tree = 0;  // points less copies of octree frames (FORMAT "Octree frames")
+  // Octree frames' cells as far as known here (FORMAT "Octree frames"): the points less copies
+  // of a frame without gaps, 1 at least for one with gaps (its G is in the octree block).
+  uint64_t in_tree = 0;
   bool raster = false;
   for (size_t i = 0; i < frames; ++i) {
     const uint8_t fl = h.flags[i];
     if (octree_frame(fl)) {
       if ((fl & 3) > kSomeValid || (fl & (kRingWalk | kHypot | kRingPairs)) || h.counts[i] == 0)
         fail(ErrorCode::kCorrupt, what, "octree frame " + std::to_string(i) + " has unknown flags");
-      in_tree += h.counts[i] - h.copies[i];
+      in_tree += (fl & 3) == kSomeValid ? 1 : h.counts[i] - h.copies[i];
       continue;
     }
     if ((fl & ~kFrameFlagMask) != 0 || (fl & 3) == 3 || ((fl & kSpherical) && (fl & kRaster)) ||

@@ -1,7 +1,7 @@
 // Octree frames (docs/FORMAT.md "Scans (format 1.1)", "Octree frames"): a frame's valid points
 // as the cells of an octree with their counts. The coder alone here (an octree block of one or
-// more frames round trip in octree order, one cell, gaps, damaged blocks); the payload's octree
-// frames in test_scan_octree_payload.cpp.
+// more frames round trip in octree order, one cell, gaps, damaged blocks, each corrupt case of
+// the spec crafted); the payload's octree frames in test_scan_octree_payload.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -72,7 +72,8 @@ ScanGeometry decode(const std::vector<uint8_t>& block, size_t n, uint32_t copies
   d.q.assign(3 * n, -1);
   d.valid.assign(n, 2);
   std::vector<int32_t> prev;
-  scan::decode_octree_frame(&dec, n, copies, gaps, &prev, d.q.data(), d.valid.data());
+  size_t cells_left = SIZE_MAX;
+  scan::decode_octree_frame(&dec, n, copies, gaps, &cells_left, &prev, d.q.data(), d.valid.data());
   if (!dec.at_end()) throw Error(ErrorCode::kCorrupt, "octree: bytes left");
   return d;
 }
@@ -159,6 +160,92 @@ TEST(ScanOctree, GivenADamagedBlockWhenDecodedThenItIsCorruptOrDecodesToAFrameOf
       EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
     }
   }
+}
+
+// Writes scripted child bits (symbols, 2 and above too) under the contexts the walk gives.
+class ScriptedBits {
+ public:
+  ScriptedBits(IntEncoder* enc, std::vector<int> symbols) : enc_(enc), s_(std::move(symbols)) {}
+  bool bit(int ctx, int, uint64_t) {
+    const int s = at_ < s_.size() ? s_[at_++] : 0;
+    enc_->put_symbol(s, ctx);
+    return s == 1;
+  }
+  [[noreturn]] void too_many() { throw Error(ErrorCode::kInternal, "scripted: too many"); }
+
+ private:
+  IntEncoder* enc_;
+  std::vector<int> s_;
+  size_t at_ = 0;
+};
+
+// A block of one frame: G (when > 0), D, the corner, the child bits (for a walk that allows
+// `room` nodes a level), then the counts.
+std::vector<uint8_t> crafted(uint32_t gaps, uint32_t d, const std::vector<int32_t>& lo,
+                             const std::vector<int>& bits, size_t room,
+                             const std::vector<uint32_t>& counts) {
+  IntEncoder enc(scan::kOctreeContexts);
+  scan::start_octree_block(&enc);
+  if (gaps > 0) enc.put(gaps, scan::kOctCornerCtx);
+  enc.put(d, scan::kOctDepthCtx);
+  for (int32_t v : lo) enc.put_signed(v, scan::kOctCornerCtx);
+  ScriptedBits io(&enc, bits);
+  const int64_t lo64[3] = {lo[0], lo[1], lo[2]};
+  if (d <= 21) scan::octree::code_tree(io, static_cast<int>(d), room, lo64, {});
+  for (uint32_t c : counts) enc.put(c, scan::kOctCountCtx);  // cell 0 at the origin: context 2
+  return enc.finish();
+}
+
+void expect_corrupt(const std::vector<uint8_t>& block, size_t n, uint32_t copies, bool gaps,
+                    const char* says) {
+  try {
+    decode(block, n, copies, gaps);
+    ADD_FAILURE() << "decoded; expected: " << says;
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << e.what();
+    EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+  }
+}
+
+// Each corrupt case of FORMAT.md's octree frame, crafted, with the decoder's message.
+TEST(ScanOctree, GivenEachCorruptCaseOfTheSpecThenCorruptSayingWhich) {
+  const std::vector<int32_t> origin = {0, 0, 0};
+  // The frame decodes as crafted: two cells (0,0,0) and (0,0,1) at depth 1.
+  EXPECT_EQ(decode(crafted(0, 1, origin, {1, 1, 0, 0, 0, 0, 0, 0}, 2, {}), 2, 0, false).q,
+            (std::vector<int32_t>{0, 0, 0, 0, 0, 1}));
+  const char* gaps = "gaps are out of range";
+  expect_corrupt(crafted(0, 0, origin, {}, 1, {}), 5, 0, true, gaps);  // G = 0 read
+  expect_corrupt(crafted(5, 0, origin, {}, 1, {}), 5, 0, true, gaps);  // G = n: no cell
+  expect_corrupt(crafted(4, 0, origin, {}, 1, {}), 5, 1, true, gaps);  // G = n - d: no cell
+  expect_corrupt(crafted(0, 22, origin, {}, 1, {}), 2, 0, false, "deeper than 21");
+  expect_corrupt(crafted(0, 0, origin, {}, 1, {}), 2, 0, false, "depth 0 with more than one");
+  const std::vector<int32_t> top = {0, INT32_MAX, 0};
+  expect_corrupt(crafted(0, 1, top, {1}, 1, {}), 1, 0, false, "beyond the grid integers");
+  expect_corrupt(crafted(0, 1, origin, {2}, 1, {}), 1, 0, false, "neither 0 nor 1");
+  expect_corrupt(crafted(0, 1, origin, {1, 1}, 8, {}), 1, 0, false, "more nodes than cells");
+  expect_corrupt(crafted(0, 1, origin, {1, 0, 0, 0, 0, 0, 0, 0}, 1, {}), 2, 0, false,
+                 "fewer cells");
+  // One cell at depth 0 with 2 copies: a count of 3 is above them, 1 falls short.
+  expect_corrupt(crafted(0, 0, origin, {}, 1, {3}), 3, 2, false, "exceeds the frame's copies");
+  expect_corrupt(crafted(0, 0, origin, {}, 1, {1}), 3, 2, false, "fall short");
+  EXPECT_EQ(decode(crafted(0, 0, origin, {}, 1, {2}), 3, 2, false).q, std::vector<int32_t>(9, 0));
+}
+
+// A cell's neighbours outside the cube are no cells (FORMAT.md step 5), also at depth 21, where
+// the neighbour at x = 2^21 has no 21-bit key: it must not be taken for the cell at x = 0.
+TEST(ScanOctree, GivenACellAtTheFarFaceOfADepth21CubeThenItsCountContextHasNoNeighbour) {
+  const uint64_t far = (uint64_t{1} << 21) - 1;
+  const std::vector<uint64_t> cells = {scan::octree::key(0, 0, 0), scan::octree::key(far, 0, 0)};
+  scan::octree::KeySet set, before;
+  set.reset(2);
+  set.insert(cells[0], 0);
+  set.insert(cells[1], 1);
+  before.reset(0);
+  const std::vector<uint32_t> points = {9, 1};  // the cell at 0 has 9 points
+  const int64_t abs[3] = {static_cast<int64_t>(far), 0, 0};
+  // Octave 15 (x^2 has 42 bits), no neighbour before it (nc 0), no previous frame (pc 0).
+  EXPECT_EQ(scan::octree::count_context(cells, set, points, 1, abs, before, {}),
+            scan::kOctCountCtx + 6 * (6 * 15 + 0) + 0);
 }
 
 }  // namespace

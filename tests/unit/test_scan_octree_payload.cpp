@@ -129,6 +129,51 @@ TEST(ScanOctreePayload, GivenAFrameTooWideOrTooHighForAnOctreeThenNoOctreePayloa
   EXPECT_EQ(decode_scan_geometry(p.data(), p.size(), "octree").q, g.q);
 }
 
+// Decoding p is corrupt for more cells than its octree block can hold.
+void expect_too_many_cells(const std::vector<uint8_t>& p) {
+  try {
+    decode_scan_geometry(p.data(), p.size(), "octree");
+    ADD_FAILURE() << "decoded";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kCorrupt);
+    EXPECT_NE(std::string(e.what()).find("more cells than the octree block can hold"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// A frame of few cells and many gaps (a sweep that mostly missed): G is one value of the block,
+// so the gaps do not count against its bytes (FORMAT.md, the bound on cells per byte).
+TEST(ScanOctreePayload, GivenAFrameOfFewCellsAndManyGapsThenItDecodes) {
+  ScanGeometry g;
+  g.counts.push_back(100000);
+  g.valid.assign(100000, 0);
+  g.q.assign(3 * 100000, 0);
+  g.valid[0] = g.valid[1] = 1;
+  g.q[3] = 1;  // cells (0, 0, 0) and (1, 0, 0), in octree order: the gaps last
+  const std::vector<uint8_t> p = encode_scan_octree(g);
+  ASSERT_FALSE(p.empty());
+  ASSERT_LT(p.size(), 100u);
+  const ScanGeometry d = decode_scan_geometry(p.data(), p.size(), "octree");
+  EXPECT_EQ(d.valid, g.valid);
+  EXPECT_EQ(d.q, g.q);
+  // The same frame said to have one gap: 99998 cells, more than its few bytes can hold.
+  ByteWriter w;
+  w.varint(1);
+  w.varint(100000);
+  w.u8(scan::kOctreeFrame | scan::kSomeValid);
+  w.varint(0);
+  IntEncoder tree(scan::kOctreeContexts);
+  tree.put(1, scan::kOctCornerCtx);
+  tree.put(17, scan::kOctDepthCtx);
+  const std::vector<uint8_t> block = tree.finish();
+  w.varint(block.size());
+  w.bytes(block);
+  IntEncoder m(scan::kContexts);
+  w.bytes(m.finish());
+  expect_too_many_cells(w.buffer());
+}
+
 // The payload of window() with frame 0's flags byte, or the octree block's length, changed.
 std::vector<uint8_t> with_flags(uint8_t flags0) {
   std::vector<uint8_t> p = encode_scan_octree(window());
@@ -171,6 +216,14 @@ TEST(ScanOctreePayload, GivenBadOctreeFlagsOrBlockThenCorrupt) {
   longer.insert(longer.end(), o.buffer().begin(), o.buffer().end());
   longer.insert(longer.end(), p.begin() + static_cast<long>(h.octree), p.end());
   EXPECT_THROW(decode_scan_geometry(longer.data(), longer.size(), "octree"), Error);
+  // An empty octree block (O = 0) with octree frames: they, even with gaps, hold a cell each.
+  std::vector<uint8_t> none(p.begin(), p.begin() + static_cast<long>(len_at));
+  none.push_back(0);
+  none.insert(none.end(), p.begin() + static_cast<long>(h.octree + h.octree_size), p.end());
+  for (uint8_t f : {uint8_t(cells), uint8_t(cells | scan::kSomeValid)}) {
+    none[h.flags_end - 3] = f;
+    expect_too_many_cells(none);
+  }
   p.resize(p.size() - 1);
   EXPECT_THROW(decode_scan_geometry(p.data(), p.size(), "octree"), Error);
 }
