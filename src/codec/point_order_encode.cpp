@@ -69,8 +69,8 @@ bool octree_worth_trying(const ScanGeometry& g, size_t coded) {
     first.valid.push_back(g.valid[j]);
   }
   const std::vector<uint8_t> bytes = encode_scan_octree(first);
-  return !bytes.empty() && double(bytes.size()) * double(g.total()) <=
-                               1.25 * double(coded) * double(n);
+  return !bytes.empty() &&
+         double(bytes.size()) * double(g.total()) <= 1.25 * double(coded) * double(n);
 }
 
 // Octree frames (FORMAT.md "Octree frames"): each frame's points in octree order, every frame
