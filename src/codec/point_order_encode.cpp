@@ -129,9 +129,10 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
     }
     if (cells) try_cells(g, h, coded, &best, by_ring, ws);
   };
-  try_orders(hints);
-  // The orders of the rings found from the elevations where they differ from the ring field's
-  // (the Helios 16P's near points), coded with those rings alone.
+  // Where the elevations' rings differ from the ring field's (the Helios 16P's near points), the
+  // orders of the elevations' rings alone: the field's orders, each coded under both ring sets,
+  // gave the same archives at 1 mm and 1 cm (octree frames) for 2.5 times the work.
+  if (hints.elevation_rings != 1) try_orders(hints);
   if (hints.elevation_rings == 1) {
     ScanHints elevations = hints;
     elevations.ring.clear();
