@@ -56,8 +56,9 @@ void try_cells(const ScanGeometry& g, const ScanHints& hints, std::vector<uint8_
 
 // Whether a window of several frames is worth coding as octree frames: its first frame alone as
 // an octree (with no frame before it, its dearest) within 5/4 of that frame's share of `coded`
-// bytes by points. A far scene's octree is far above it (pandar64 at 1 cm: 4.3 bits a point
-// against about 2.5), a near one's below it (the E1 and the Helios: 0.8-0.9).
+// bytes by points. A far scene's octree is far above it, a near one's below it (at 1 cm, the
+// first frames' octrees against the archives' bits a point: pandar64 1.7, the E1 0.9, the
+// Helios 0.8; docs/lab/2026-11-29-octree-1cm.md).
 bool octree_worth_trying(const ScanGeometry& g, size_t coded) {
   const size_t n = g.counts.empty() ? 0 : g.counts[0];
   if (g.counts.size() < 2 || n == 0) return true;
