@@ -510,7 +510,9 @@ size_t library_bytes(const std::vector<int64_t>& q) {
   std::vector<int32_t> back(3 * n);
   std::vector<uint8_t> valid(n);
   prev.clear();
-  capz::scan::decode_octree_frame(&dec, n, copies, false, &prev, back.data(), valid.data());
+  size_t cells_left = capz::kMaxSymbolsPerByte * block.size();
+  capz::scan::decode_octree_frame(&dec, n, copies, false, &cells_left, &prev, back.data(),
+                                  valid.data());
   return back == s.q && dec.at_end() ? block.size() : 0;
 }
 
