@@ -91,13 +91,13 @@ void try_octree(const ScanGeometry& g, const ScanHints& hints, std::vector<uint8
   const ScanGeometry sorted = permuted(g, order);
   std::vector<uint8_t> bytes = encode_scan_octree(sorted);
   if (bytes.empty()) return;
-  // The block's flags L (FORMAT.md): 0 above; 3, the cones and the counting models, with a
-  // table; 2 without one (1 and 2 were never the smallest where 3 could be:
-  // docs/lab/2026-11-30-octree-cones.md).
+  // With the table's cones and the counting models (L = 3; 1 and 2 were never the smallest
+  // where 3 could be: docs/lab/2026-11-30-octree-cones.md).
   const scan::Table table = octree_cone_table(g, hints);
-  std::vector<uint8_t> other =
-      encode_scan_octree(sorted, table.rings() > 0 ? &table : nullptr, true);
-  if (other.size() < bytes.size()) bytes.swap(other);
+  if (table.rings() > 0) {
+    std::vector<uint8_t> other = encode_scan_octree(sorted, &table, 3);
+    if (other.size() < bytes.size()) bytes.swap(other);
+  }
   if (bytes.size() < coded->size()) coded->swap(bytes), best->swap(order);
 }
 

@@ -66,10 +66,11 @@ Cones table_cones(const Table& t) {
 }
 
 OctreeMode read_octree_flags(IntDecoder* dec, const Table& t) {
+  if (t.rings() == 0) return {};
   const uint32_t l = dec->get(kOctFlagsCtx);
   if (l > 3) dec->corrupt("an octree block's flags have unknown bits");
-  if ((l & 1) && (t.rings() == 0 || t.rings() > kMaxConeRings))
-    dec->corrupt("an octree block's cones without a table or from more than 256 rings");
+  if ((l & 1) && t.rings() > kMaxConeRings)
+    dec->corrupt("an octree block's cones from more than 256 rings");
   return OctreeMode((l & 1) ? table_cones(t) : Cones{}, (l & 2) != 0);
 }
 

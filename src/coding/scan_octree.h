@@ -431,10 +431,11 @@ void encode_octree_frame(const ScanGeometry& g, size_t first, size_t n, uint32_t
                          scan::OctreeMode* mode = nullptr);
 // The scan geometry payload of g (FORMAT.md) with every frame that has a valid point an octree
 // frame, each frame's points in octree_frame_order's order; empty when a frame is too wide.
-// With a table of 1..kMaxConeRings rings, the payload carries it and its cones class the child
-// bits (L bit 0); with `counting`, the child bits take the counting models (L bit 1).
+// With a table of some rings, the payload carries it and the octree block's flags L = l
+// (FORMAT.md "The block's flags"; bit 0 left out for more than kMaxConeRings rings or past the
+// cone work's bound); without one, L = 0.
 std::vector<uint8_t> encode_scan_octree(const ScanGeometry& g, const scan::Table* table = nullptr,
-                                        bool counting = false);
+                                        uint32_t l = 0);
 // The table of g's cones (FORMAT.md "The capz encoder"): fit_rings' slopes and offsets, packed
 // when smaller; no rings when none are found or more than kMaxConeRings.
 scan::Table octree_cone_table(const ScanGeometry& g, const ScanHints& hints);

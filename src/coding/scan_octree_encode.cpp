@@ -171,17 +171,17 @@ scan::Table octree_cone_table(const ScanGeometry& g, const ScanHints& hints) {
 }
 
 std::vector<uint8_t> encode_scan_octree(const ScanGeometry& g, const scan::Table* table,
-                                        bool counting) {
+                                        uint32_t l) {
   const size_t frames = g.counts.size();
   std::vector<uint8_t> flags(frames, 0);
   std::vector<uint32_t> copies(frames, 0);
   IntEncoder tree(scan::kOctreeContexts);
   scan::start_octree_block(&tree);
   const scan::Table none;
-  const bool cone = table && table->rings() > 0 && table->rings() <= scan::kMaxConeRings;
-  if (!cone) table = &none;
-  scan::OctreeMode mode(cone ? scan::table_cones(*table) : scan::Cones{}, counting);
-  tree.put(mode.flags(), scan::kOctFlagsCtx);  // L (FORMAT.md "The block's flags")
+  if (!table || table->rings() == 0) table = &none, l = 0;
+  if (table->rings() > scan::kMaxConeRings) l &= ~1u;
+  scan::OctreeMode mode((l & 1) ? scan::table_cones(*table) : scan::Cones{}, (l & 2) != 0);
+  if (table->rings() > 0) tree.put(l, scan::kOctFlagsCtx);  // L (FORMAT.md "The block's flags")
   std::vector<int32_t> prev;  // the previous frame's cells and points when an octree frame
   size_t first = 0;
   for (size_t f = 0; f < frames; ++f) {
@@ -215,7 +215,7 @@ std::vector<uint8_t> encode_scan_octree(const ScanGeometry& g, const scan::Table
     // The decoder's bound on the cone work (FORMAT.md "The block's flags"): never reached by the
     // sweeps measured (docs/lab/2026-11-30-octree-cones.md), so such a window goes without.
     if (mode.cones() && mode.cones()->work > scan::kMaxConeWorkPerByte * block.size())
-      return encode_scan_octree(g, nullptr, counting);
+      return encode_scan_octree(g, table, l & ~1u);
     put_block(&w, block);
   }
   IntEncoder main_block(scan::kContexts);  // no point codes a symbol there

@@ -43,7 +43,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     const capz::scan::Table table = capz::scan::read_header(data, size, "fuzz", 1 << 20).table;
     for (int l = 0; l < 2; ++l) {
-      const std::vector<uint8_t> tree = capz::encode_scan_octree(o, l ? &table : nullptr, l == 1);
+      const std::vector<uint8_t> tree = capz::encode_scan_octree(o, l ? &table : nullptr, 3);
       if (tree.empty()) continue;
       const capz::ScanGeometry t =
           capz::decode_scan_geometry(tree.data(), tree.size(), "octree", 1 << 20);

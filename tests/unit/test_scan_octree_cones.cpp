@@ -146,7 +146,8 @@ TEST(ScanOctreeCones, GivenATreeThenTheWalksClassesAreTheBoxTestOfEveryRing) {
     const double rho = std::hypot(x, y);
     const size_t k = static_cast<size_t>(j % 4);
     const double z = k < 3 ? c.z0[k] + c.slope[k] * rho : lo[2] + 127 * u(rng);
-    const int64_t v[3] = {std::llround(x) - lo[0], std::llround(y) - lo[1], std::llround(z) - lo[2]};
+    const int64_t v[3] = {std::llround(x) - lo[0], std::llround(y) - lo[1],
+                          std::llround(z) - lo[2]};
     if (v[2] < 0 || v[2] > 127) continue;
     cells.push_back(scan::octree::key(static_cast<uint64_t>(v[0]), static_cast<uint64_t>(v[1]),
                                       static_cast<uint64_t>(v[2])));
@@ -158,7 +159,8 @@ TEST(ScanOctreeCones, GivenATreeThenTheWalksClassesAreTheBoxTestOfEveryRing) {
   io.levels[d] = cells;
   for (int l = d - 1; l >= 0; --l)
     for (uint64_t k : io.levels[static_cast<size_t>(l) + 1])
-      if (io.levels[static_cast<size_t>(l)].empty() || io.levels[static_cast<size_t>(l)].back() != k >> 3)
+      if (io.levels[static_cast<size_t>(l)].empty() ||
+          io.levels[static_cast<size_t>(l)].back() != k >> 3)
         io.levels[static_cast<size_t>(l)].push_back(k >> 3);
   Recorder plain = io;
   EXPECT_EQ(scan::octree::code_tree(io, d, cells.size(), lo, {}, &c), cells);
@@ -251,9 +253,10 @@ ScanGeometry near_window(scan::Table* t) {
   return g;
 }
 
-// The octree block's flags L of payload p.
+// The octree block's flags L of payload p (0 without a table: not coded).
 uint32_t flags_of(const std::vector<uint8_t>& p) {
   const scan::Header h = scan::read_header(p.data(), p.size(), "octree", SIZE_MAX);
+  if (h.table.rings() == 0) return 0;
   IntDecoder dec(p.data() + h.octree, h.octree_size, scan::kOctreeContexts, "octree");
   return dec.get(scan::kOctFlagsCtx);
 }
@@ -262,27 +265,34 @@ TEST(ScanOctreeCones, GivenAWindowWithEachFlagThenItsPointsComeBack) {
   scan::Table t;
   const ScanGeometry g = near_window(&t);
   size_t bytes[4];
+  const std::vector<uint8_t> none = encode_scan_octree(g);
   for (uint32_t l = 0; l < 4; ++l) {
-    const std::vector<uint8_t> p = encode_scan_octree(g, (l & 1) ? &t : nullptr, (l & 2) != 0);
+    const std::vector<uint8_t> p = encode_scan_octree(g, &t, l);
     ASSERT_FALSE(p.empty());
     EXPECT_EQ(flags_of(p), l);
     const ScanGeometry d = decode_scan_geometry(p.data(), p.size(), "octree");
     EXPECT_EQ(d.valid, g.valid) << l;
     EXPECT_EQ(d.q, g.q) << l;
     bytes[l] = scan::read_header(p.data(), p.size(), "octree", SIZE_MAX).octree_size;
-    EXPECT_EQ(scan::read_header(p.data(), p.size(), "octree", SIZE_MAX).table.rings(),
-              (l & 1) ? 32u : 0u);
+    EXPECT_EQ(scan::read_header(p.data(), p.size(), "octree", SIZE_MAX).table.rings(), 32u);
   }
-  std::printf("octree blocks, L = 0..3: %zu %zu %zu %zu B\n", bytes[0], bytes[1], bytes[2], bytes[3]);
+  // Without a table L is not coded: the block is L = 0's less that symbol.
+  const scan::Header h = scan::read_header(none.data(), none.size(), "octree", SIZE_MAX);
+  EXPECT_EQ(h.table.rings(), 0u);
+  EXPECT_LE(h.octree_size, bytes[0]);
+  EXPECT_EQ(decode_scan_geometry(none.data(), none.size(), "octree").q, g.q);
+  std::printf("octree blocks, L = 0..3: %zu %zu %zu %zu B\n", bytes[0], bytes[1], bytes[2],
+              bytes[3]);
   // The counting models learn a skewed context within a few bits (10,243 -> 9,454 B). The cones
   // add nothing here: on a wall at 0.8 m every cell has a ring or two (the real sweep below).
   EXPECT_LT(static_cast<double>(bytes[2]), 0.95 * static_cast<double>(bytes[0]));
   // More rings than a cone class may take: the encoder leaves them out (L bit 0 clear).
   const scan::Table big = table_of(std::vector<float>(257, 0.1f), std::vector<float>(257, 0.0f));
-  EXPECT_EQ(flags_of(encode_scan_octree(g, &big, true)), 2u);
+  EXPECT_EQ(flags_of(encode_scan_octree(g, &big, 3)), 2u);
 }
 
-// A payload of one octree frame of one cell (depth 0) whose block starts with L, under table t.
+// A payload of one octree frame of one cell (depth 0) whose block starts with L (with a table t
+// of some rings; else it has none).
 std::vector<uint8_t> one_cell(uint32_t l, const scan::Table& t) {
   ByteWriter w;
   w.varint(1);
@@ -291,7 +301,7 @@ std::vector<uint8_t> one_cell(uint32_t l, const scan::Table& t) {
   scan::write_table(t, &w);
   IntEncoder tree(scan::kOctreeContexts);
   scan::start_octree_block(&tree);
-  tree.put(l, scan::kOctFlagsCtx);
+  if (t.rings() > 0) tree.put(l, scan::kOctFlagsCtx);
   tree.put(0, scan::kOctDepthCtx);
   for (int a = 0; a < 3; ++a) tree.put_signed(7, scan::kOctCornerCtx);
   const std::vector<uint8_t> block = tree.finish();
@@ -317,13 +327,18 @@ TEST(ScanOctreeCones, GivenBadBlockFlagsThenCorruptSayingWhich) {
   const scan::Table many = table_of(std::vector<float>(257, 0.1f), std::vector<float>(257, 0.0f));
   for (uint32_t l = 0; l < 4; ++l) {  // the valid ones decode: the cell at (7, 7, 7)
     const std::vector<uint8_t> p = one_cell(l, two);
-    EXPECT_EQ(decode_scan_geometry(p.data(), p.size(), "octree").q, (std::vector<int32_t>{7, 7, 7}));
+    EXPECT_EQ(decode_scan_geometry(p.data(), p.size(), "octree").q,
+              (std::vector<int32_t>{7, 7, 7}));
   }
   expect_corrupt(one_cell(4, two), "an octree block's flags have unknown bits");
-  expect_corrupt(one_cell(1, none), "cones without a table or from more than 256 rings");
-  expect_corrupt(one_cell(3, many), "cones without a table or from more than 256 rings");
+  expect_corrupt(one_cell(1, many), "an octree block's cones from more than 256 rings");
+  expect_corrupt(one_cell(3, many), "an octree block's cones from more than 256 rings");
+  const std::vector<uint8_t> bare = one_cell(0, none);  // no table, no L
+  EXPECT_EQ(decode_scan_geometry(bare.data(), bare.size(), "octree").q,
+            (std::vector<int32_t>{7, 7, 7}));
   const std::vector<uint8_t> ok = one_cell(2, many);  // no cones: the table's size is no matter
-  EXPECT_EQ(decode_scan_geometry(ok.data(), ok.size(), "octree").q, (std::vector<int32_t>{7, 7, 7}));
+  EXPECT_EQ(decode_scan_geometry(ok.data(), ok.size(), "octree").q,
+            (std::vector<int32_t>{7, 7, 7}));
 }
 
 // A lattice of 32^3 cells 4 apart: each cell has a parent of its own at each of the last two
@@ -361,8 +376,9 @@ TEST(ScanOctreeCones, GivenMoreConeWorkThanTheBlockAllowsThenCorruptAndTheEncode
   w.bytes(block);
   IntEncoder m(scan::kContexts);
   w.bytes(m.finish());
-  expect_corrupt(w.buffer(), "the octree's cone classes take more work than its block's bytes allow");
-  const std::vector<uint8_t> p = encode_scan_octree(s, &t, true);
+  expect_corrupt(w.buffer(),
+                 "the octree's cone classes take more work than its block's bytes allow");
+  const std::vector<uint8_t> p = encode_scan_octree(s, &t, 3);
   EXPECT_EQ(flags_of(p), 2u);
   EXPECT_EQ(decode_scan_geometry(p.data(), p.size(), "octree").q, s.q);
 }
@@ -395,7 +411,8 @@ TEST(ScanOctreeCones, GivenARealSweepThenTheConesAndCountingModelsPay) {
     s.valid[j] = g.valid[order[j]];
     std::copy_n(&g.q[3 * size_t{order[j]}], 3, &s.q[3 * j]);
   }
-  const std::vector<uint8_t> plain = encode_scan_octree(s), cones = encode_scan_octree(s, &table, true);
+  const std::vector<uint8_t> plain = encode_scan_octree(s),
+                             cones = encode_scan_octree(s, &table, 3);
   for (const std::vector<uint8_t>* p : {&plain, &cones}) {
     const ScanGeometry d = decode_scan_geometry(p->data(), p->size(), "xt32");
     EXPECT_EQ(d.q, s.q);

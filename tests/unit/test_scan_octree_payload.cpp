@@ -164,7 +164,6 @@ TEST(ScanOctreePayload, GivenAFrameOfFewCellsAndManyGapsThenItDecodes) {
   w.u8(scan::kOctreeFrame | scan::kSomeValid);
   w.varint(0);
   IntEncoder tree(scan::kOctreeContexts);
-  tree.put(0, scan::kOctFlagsCtx);  // L
   tree.put(1, scan::kOctCornerCtx);
   tree.put(17, scan::kOctDepthCtx);
   const std::vector<uint8_t> block = tree.finish();
