@@ -48,10 +48,11 @@ void crossing(const Cones& c, const int64_t* a, int64_t side, const uint16_t* fr
   }
   const double rl = std::sqrt(n[0] * n[0] + n[1] * n[1]), rh = std::sqrt(f[0] * f[0] + f[1] * f[1]);
   const double zl = static_cast<double>(a[2]) - 0.5, zh = static_cast<double>(a[2] + side) - 0.5;
+  const double *s = c.slope.data(), *z0 = c.z0.data();
   size_t found = 0;
   for (size_t j = 0; j < count && found < most; ++j) {
     const size_t k = from[j];
-    const double z1 = c.z0[k] + c.slope[k] * rl, z2 = c.z0[k] + c.slope[k] * rh;
+    const double z1 = z0[k] + s[k] * rl, z2 = z0[k] + s[k] * rh;
     if (std::max(z1, z2) >= zl && std::min(z1, z2) <= zh) out->push_back(from[j]), ++found;
   }
 }

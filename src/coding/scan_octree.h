@@ -183,9 +183,9 @@ inline int bit_context(const int* nb, const KeySet& next, const KeySet& before, 
   return kOctBitCtx + 2 * (((o7 * 8 + cn) * 3 + sib) * 3 + lc) + pv;
 }
 
-// The cone classes of a walk's last two levels: each parent's crossing rings (crossing), the
-// first of those levels' from every ring, the second's from the nodes' own lists kept as they
-// were coded.
+// The cone classes of a walk's last two levels: a parent's crossing rings (crossing) at level
+// D - 2 from every ring, at D - 1 from its own parent's (kept by index); each child's class from
+// its parent's rings, stopping at 2.
 class ConeWalk {
  public:
   ConeWalk(Cones* c, int d, const int64_t* lo) : c_(c), d_(d), lo_(lo) {
@@ -197,25 +197,29 @@ class ConeWalk {
   // Before the parents of level l (whose children are the nodes of level l + 1).
   void start_level(int l) {
     first_ = l == std::max(d_ - 2, 0);
-    if (l == d_ - 1 && !first_) parent_pool_.swap(pool_), parent_span_.swap(span_);
+    if (!first_) return;  // level D - 1 reads what level D - 2 kept
     pool_.clear();
     span_.assign(1, 0);
+    parent_of_.clear();
   }
   // Before the children of the parent at p, the j-th node of level l; false when that takes the
   // window's cone work past its budget.
   bool start_parent(const int64_t* p, int l, size_t j) {
     l_ = l;
+    j_ = j;
     c_->work += c_->rings();
     if (c_->work > c_->budget) return false;
+    const int64_t side = int64_t{1} << (d_ - l);
+    const int64_t a[3] = {lo_[0] + side * p[0], lo_[1] + side * p[1], lo_[2] + side * p[2]};
+    mine_.clear();
     if (first_) {
-      mine_.clear();
-      const int64_t side = int64_t{1} << (d_ - l);
-      const int64_t a[3] = {lo_[0] + side * p[0], lo_[1] + side * p[1], lo_[2] + side * p[2]};
       crossing(*c_, a, side, all_.data(), all_.size(), all_.size(), &mine_);
-      from_ = mine_.data(), count_ = mine_.size();
+      pool_.insert(pool_.end(), mine_.begin(), mine_.end());
+      span_.push_back(pool_.size());
     } else {
-      from_ = parent_pool_.data() + parent_span_[j];
-      count_ = parent_span_[j + 1] - parent_span_[j];
+      const size_t up = parent_of_[j];
+      crossing(*c_, a, side, pool_.data() + span_[up], span_[up + 1] - span_[up],
+               span_[up + 1] - span_[up], &mine_);
     }
     return true;
   }
@@ -224,25 +228,22 @@ class ConeWalk {
     child_.clear();
     const int64_t side = int64_t{1} << (d_ - l_ - 1);
     const int64_t a[3] = {lo_[0] + side * c[0], lo_[1] + side * c[1], lo_[2] + side * c[2]};
-    crossing(*c_, a, side, from_, count_, first_ ? count_ : 2, &child_);
-    return static_cast<int>(std::min<size_t>(child_.size(), 2));
+    crossing(*c_, a, side, mine_.data(), mine_.size(), 2, &child_);
+    return static_cast<int>(child_.size());
   }
   // The child last classed is a node (the next of level l + 1).
   void keep_child() {
-    if (!first_) return;
-    pool_.insert(pool_.end(), child_.begin(), child_.end());
-    span_.push_back(pool_.size());
+    if (first_) parent_of_.push_back(j_);
   }
 
  private:
   Cones* c_;
   int d_, l_ = 0;
+  size_t j_ = 0;
   const int64_t* lo_;
   bool first_ = false;
-  std::vector<uint16_t> all_, mine_, child_, pool_, parent_pool_;
-  std::vector<size_t> span_, parent_span_;
-  const uint16_t* from_ = nullptr;
-  size_t count_ = 0;
+  std::vector<uint16_t> all_, mine_, child_, pool_;
+  std::vector<size_t> span_, parent_of_;
 };
 
 // Whether the grid integers u lie in the cube [lo, lo + side)^3, and *k their key from lo.
