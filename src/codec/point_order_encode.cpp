@@ -75,8 +75,10 @@ bool octree_worth_trying(const ScanGeometry& g, size_t coded) {
 }
 
 // Octree frames (FORMAT.md "Octree frames"): each frame's points in octree order, every frame
-// with a valid point an octree frame; replaces *coded (and *best) when smaller.
-void try_octree(const ScanGeometry& g, std::vector<uint8_t>* coded, std::vector<uint32_t>* best) {
+// with a valid point an octree frame, without a table and with the cones of the one fitted to
+// the window (hints: g's); replaces *coded (and *best) by the smallest when smaller.
+void try_octree(const ScanGeometry& g, const ScanHints& hints, std::vector<uint8_t>* coded,
+                std::vector<uint32_t>* best) {
   if (!octree_worth_trying(g, coded->size())) return;
   std::vector<uint32_t> order;
   order.reserve(g.total());
@@ -86,8 +88,17 @@ void try_octree(const ScanGeometry& g, std::vector<uint8_t>* coded, std::vector<
       order.push_back(static_cast<uint32_t>(first + j));
     first += n;
   }
-  std::vector<uint8_t> bytes = encode_scan_octree(permuted(g, order));
-  if (!bytes.empty() && bytes.size() < coded->size()) coded->swap(bytes), best->swap(order);
+  const ScanGeometry sorted = permuted(g, order);
+  std::vector<uint8_t> bytes = encode_scan_octree(sorted);
+  if (bytes.empty()) return;
+  // With the table's cones and the counting models (L = 3; 1 and 2 were never the smallest
+  // where 3 could be: docs/lab/2026-11-30-octree-cones.md).
+  const scan::Table table = octree_cone_table(g, hints);
+  if (table.rings() > 0) {
+    std::vector<uint8_t> other = encode_scan_octree(sorted, &table, 3);
+    if (other.size() < bytes.size()) bytes.swap(other);
+  }
+  if (bytes.size() < coded->size()) coded->swap(bytes), best->swap(order);
 }
 
 // The coded order of the points of block b (a window's frames, ragged): indices from its first
@@ -139,7 +150,7 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
     elevations.ring.clear();
     try_orders(elevations);
   }
-  if (cells && octree) try_octree(g, coded, &best);
+  if (cells && octree) try_octree(g, hints, coded, &best);
   if (kept) kept->swap(file);
   return best;
 }

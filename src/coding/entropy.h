@@ -138,6 +138,8 @@ class IntEncoder {
   int put_signed(int32_t v, int ctx, int eset = 0) { return cur_.put_signed(v, ctx, eset); }
   void put_symbol(int s, int ctx) { cur_.put_symbol(s, ctx); }
   void raw_bits(uint32_t v, int n) { cur_.raw_bits(v, n); }
+  // The range coder's interval [start, start + freq) of kTotal, for a caller's own model.
+  void encode(uint32_t start, uint32_t freq) { cur_.encode(start, freq); }
   Cursor cursor() const { return cur_; }
   void commit(const Cursor& c) { cur_ = c; }
   // The block: varint(length of the range-coded part), that part, then the raw bits.
@@ -219,6 +221,9 @@ class IntDecoder {
   int32_t get_signed(int ctx, int* tok, int eset = 0) { return cur_.get_signed(ctx, tok, eset); }
   int32_t get_signed(int ctx) { return unzigzag(get(ctx)); }
   int get_symbol(int ctx) { return cur_.get_symbol(ctx); }
+  // For a caller's own model: the target in [0, kTotal), then the interval it lies in.
+  uint32_t target() { return cur_.target(); }
+  void consume(uint32_t start, uint32_t freq) { cur_.consume(start, freq); }
   // True when both parts of the block were consumed exactly (a valid block ends there).
   bool at_end() const { return cur_.rc_.p == cur_.rc_.end && cur_.bits_.at_valid_end(); }
   [[noreturn]] void corrupt(const char* msg) const { cur_.corrupt(msg); }

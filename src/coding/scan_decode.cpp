@@ -92,6 +92,8 @@ ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& 
     scan::start_octree_block(tree.get());
     g.octree = true;
   }
+  scan::OctreeMode mode = tree ? scan::read_octree_flags(tree.get(), h.table) : scan::OctreeMode{};
+  if (mode.cones()) mode.cones()->budget = scan::kMaxConeWorkPerByte * h.octree_size;
   std::vector<uint32_t> counts;
   std::vector<int32_t> prev_cells;  // the previous frame's cells when it is an octree frame
   size_t cells_left = kMaxSymbolsPerByte * h.octree_size;  // FORMAT "Octree frames"
@@ -103,7 +105,7 @@ ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& 
     if (scan::octree_frame(h.flags[f])) {
       scan::decode_octree_frame(tree.get(), h.counts[f], h.copies[f],
                                 (h.flags[f] & 3) == scan::kSomeValid, &cells_left, &prev_cells, q,
-                                valid);
+                                valid, &mode);
       if (frame) (*frame)(first, h.counts[f], q, valid);
       first += h.counts[f];
       continue;

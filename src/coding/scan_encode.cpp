@@ -22,6 +22,12 @@ void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, cons
   w.varint(g.counts.size());
   for (uint32_t n : g.counts) w.varint(n);
   w.bytes(flags);
+  write_table(t, &w);
+  out->insert(out->end(), w.buffer().begin(), w.buffer().end());
+}
+
+void write_table(const Table& t, ByteWriter* out) {
+  ByteWriter& w = *out;
   w.varint(t.rings());
   if (t.rings() > 0) {
     w.f32(t.step);
@@ -58,7 +64,6 @@ void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, cons
       for (uint8_t m : t.slot) w.u8(m);
     }
   }
-  out->insert(out->end(), w.buffer().begin(), w.buffer().end());
 }
 
 }  // namespace scan

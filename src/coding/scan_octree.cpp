@@ -1,6 +1,7 @@
 // Octree frames, the decoding side (scan_octree.h; docs/FORMAT.md "Octree frames").
 #include "coding/scan_octree.h"
 
+#include <cmath>
 #include <limits>
 
 namespace capz {
@@ -10,22 +11,72 @@ namespace {
 
 class DecodeBits {
  public:
-  explicit DecodeBits(IntDecoder* dec) : dec_(dec) {}
+  DecodeBits(IntDecoder* dec, OctreeMode* mode) : dec_(dec), mode_(mode) {}
   bool bit(int ctx, int, uint64_t) {
+    if (mode_ && mode_->counting()) {
+      const uint32_t one = mode_->one(ctx), zero = kTotal - one;
+      const bool b = dec_->target() >= zero;
+      dec_->consume(b ? zero : 0, b ? one : zero);
+      mode_->update(ctx, b);
+      return b;
+    }
     const int s = dec_->get_symbol(ctx);
     if (s > 1) dec_->corrupt("an octree child bit is neither 0 nor 1");
     return s == 1;
   }
   [[noreturn]] void too_many() { dec_->corrupt("an octree level has more nodes than cells"); }
+  [[noreturn]] void too_much() {
+    dec_->corrupt("the octree's cone classes take more work than its block's bytes allow");
+  }
 
  private:
   IntDecoder* dec_;
+  OctreeMode* mode_;
 };
 
 }  // namespace
 
+namespace octree {
+
+void crossing(const Cones& c, const int64_t* a, int64_t side, const uint16_t* from, size_t count,
+              size_t most, std::vector<uint16_t>* out) {
+  double n[2], f[2];  // the box's nearest and farthest |x| and |y|
+  for (int e = 0; e < 2; ++e) {
+    const double lo = static_cast<double>(a[e]) - 0.5, hi = static_cast<double>(a[e] + side) - 0.5;
+    n[e] = lo <= 0 && 0 <= hi ? 0.0 : std::min(std::fabs(lo), std::fabs(hi));
+    f[e] = std::max(std::fabs(lo), std::fabs(hi));
+  }
+  const double rl = std::sqrt(n[0] * n[0] + n[1] * n[1]), rh = std::sqrt(f[0] * f[0] + f[1] * f[1]);
+  const double zl = static_cast<double>(a[2]) - 0.5, zh = static_cast<double>(a[2] + side) - 0.5;
+  const double *s = c.slope.data(), *z0 = c.z0.data();
+  size_t found = 0;
+  for (size_t j = 0; j < count && found < most; ++j) {
+    const size_t k = from[j];
+    const double z1 = z0[k] + s[k] * rl, z2 = z0[k] + s[k] * rh;
+    if (std::max(z1, z2) >= zl && std::min(z1, z2) <= zh) out->push_back(from[j]), ++found;
+  }
+}
+
+}  // namespace octree
+
+Cones table_cones(const Table& t) {
+  Cones c;
+  c.slope.assign(t.slope.begin(), t.slope.end());
+  c.z0.assign(t.z0.begin(), t.z0.end());
+  return c;
+}
+
+OctreeMode read_octree_flags(IntDecoder* dec, const Table& t) {
+  if (t.rings() == 0) return {};
+  const uint32_t l = dec->get(kOctFlagsCtx);
+  if (l > 3) dec->corrupt("an octree block's flags have unknown bits");
+  if ((l & 1) && t.rings() > kMaxConeRings)
+    dec->corrupt("an octree block's cones from more than 256 rings");
+  return OctreeMode((l & 1) ? table_cones(t) : Cones{}, (l & 2) != 0);
+}
+
 void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps, size_t* cells_left,
-                         std::vector<int32_t>* prev, int32_t* q, uint8_t* valid) {
+                         std::vector<int32_t>* prev, int32_t* q, uint8_t* valid, OctreeMode* mode) {
   size_t g = 0;
   if (gaps) {
     g = dec->get(kOctCornerCtx);
@@ -43,8 +94,9 @@ void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps, 
     if (v + (int64_t{1} << d) - 1 > std::numeric_limits<int32_t>::max())
       dec->corrupt("an octree's cube beyond the grid integers' range");
   }
-  DecodeBits io(dec);
-  const std::vector<uint64_t> cells = octree::code_tree(io, static_cast<int>(d), m, lo, *prev);
+  DecodeBits io(dec, mode);
+  const std::vector<uint64_t> cells =
+      octree::code_tree(io, static_cast<int>(d), m, lo, *prev, mode ? mode->cones() : nullptr);
   if (cells.size() != m) dec->corrupt("an octree with fewer cells than the frame's");
   std::vector<uint32_t> points(m, 1);
   octree::KeySet set, before;

@@ -11,17 +11,77 @@
 
 #include "coding/entropy.h"
 #include "coding/scan_geometry.h"
+#include "coding/scan_shared.h"
 
 namespace capz {
 namespace scan {
 
 // The octree block's contexts: the depth 0, the gaps and the corner 1, the counts 2..577, the
-// child bits 578..19009.
+// child bits 578..19009, the block's flags 19010, the child bits with a cone class 0 or 1
+// 19011..43586.
 constexpr int kOctDepthCtx = 0, kOctCornerCtx = 1, kOctCountCtx = 2, kOctBitCtx = 578;
-constexpr int kOctreeContexts = kOctBitCtx + 128 * 8 * 3 * 3 * 2;
+constexpr int kOctFlagsCtx = kOctBitCtx + 128 * 8 * 3 * 3 * 2, kOctConeCtx = kOctFlagsCtx + 1;
+constexpr int kOctreeContexts = kOctConeCtx + 128 * 8 * 3 * 2 * 2 * 2;
 constexpr int kMaxOctreeDepth = 21;
+// The most rings of a table whose cones the child bits may use (FORMAT.md "The cone flag").
+constexpr size_t kMaxConeRings = 256;
+
+// The cone classes' work a window's octree block may ask for: K for each node of the last two
+// levels' parents, at most this much a byte of the block (FORMAT.md "The block's flags").
+constexpr uint64_t kMaxConeWorkPerByte = 4096;
+
+// A laser table's cones for the child bits' cone class (FORMAT.md step 4, r): per ring its
+// slope and z offset, the table's f32 values widened. Empty: no cone class. work: the window's
+// cone work so far (K per parent classed), at most budget.
+struct Cones {
+  std::vector<double> slope, z0;
+  uint64_t work = 0, budget = UINT64_MAX;
+  size_t rings() const { return slope.size(); }
+};
+
+// An octree block's coding of its child bits (FORMAT.md "The block's flags", L): the cones
+// (bit 0) and the counting models (bit 1) with their state, one per child-bit context.
+class OctreeMode {
+ public:
+  static constexpr int kMaxCount = 62;
+  OctreeMode() = default;
+  OctreeMode(Cones cones, bool counting) : cones_(std::move(cones)), counting_(counting) {
+    if (!counting_) return;
+    p_.assign(static_cast<size_t>(kOctreeContexts - kOctBitCtx), 1 << 14);
+    n_.assign(p_.size(), 0);
+  }
+  Cones* cones() { return cones_.rings() > 0 ? &cones_ : nullptr; }
+  bool counting() const { return counting_; }
+  uint32_t flags() const { return (cones_.rings() > 0 ? 1u : 0u) | (counting_ ? 2u : 0u); }
+  // Context ctx's frequency of a 1 (of kTotal).
+  uint32_t one(int ctx) const {
+    const uint32_t p = p_[static_cast<size_t>(ctx - kOctBitCtx)];
+    return std::min(std::max(p, 16u), kTotal - 16);
+  }
+  // After a bit b of context ctx.
+  void update(int ctx, bool b) {
+    const size_t k = static_cast<size_t>(ctx - kOctBitCtx);
+    const int p = p_[k], n = n_[k];
+    p_[k] = static_cast<uint16_t>(p + ((b ? static_cast<int>(kTotal) : 0) - p) / (n + 2));
+    if (n < kMaxCount) ++n_[k];
+  }
+
+ private:
+  Cones cones_;
+  bool counting_ = false;
+  std::vector<uint16_t> p_;
+  std::vector<uint8_t> n_;
+};
 
 namespace octree {
+
+// The rings among `from` (indices into c) that cross the box of side `side` cells whose least
+// cell has the grid integers a (FORMAT.md step 4, r), appended to *out in from's order; at most
+// `most` of them. A ring that crosses a box crosses every box holding it (the binary64 steps
+// are monotone), so a child's rings are among its parent's. In scan_octree.cpp (compiled
+// without contraction).
+void crossing(const Cones& c, const int64_t* a, int64_t side, const uint16_t* from, size_t count,
+              size_t most, std::vector<uint16_t>* out);
 
 // Morton keys of 21-bit coordinates: bit 3b + 2 is x's bit b, 3b + 1 y's, 3b z's.
 inline uint64_t spread(uint64_t v) {
@@ -97,9 +157,9 @@ class KeySet {
 // The child bit's context (FORMAT.md step 4) of child i of the node at p (level l of a tree of
 // depth d): nb[k] is P of the parent's neighbour (dx, dy, dz) at k = 9 (dx + 1) + 3 (dy + 1) +
 // dz + 1; next the level l + 1 coded so far; ones the bits 1 before child i; before the level
-// l + 1 nodes of the previous frame's cells.
+// l + 1 nodes of the previous frame's cells; r the cone class (2 without one).
 inline int bit_context(const int* nb, const KeySet& next, const KeySet& before, const int64_t* p,
-                       int l, int d, int i, int ones) {
+                       int l, int d, int i, int ones, int r = 2) {
   const int o[3] = {(i >> 2) & 1, (i >> 1) & 1, i & 1};
   int o7 = 0;
   for (int k = 1; k < 8; ++k) {
@@ -119,8 +179,72 @@ inline int bit_context(const int* nb, const KeySet& next, const KeySet& before, 
   const int lc = l == d - 1 ? 0 : l == d - 2 ? 1 : 2;
   const int64_t c[3] = {2 * p[0] + o[0], 2 * p[1] + o[1], 2 * p[2] + o[2]};
   const int pv = before.has(c, side);
+  if (r < 2) return kOctConeCtx + 2 * ((((o7 * 8 + cn) * 3 + sib) * 2 + lc) * 2 + r) + pv;
   return kOctBitCtx + 2 * (((o7 * 8 + cn) * 3 + sib) * 3 + lc) + pv;
 }
+
+// The cone classes of a walk's last two levels: a parent's crossing rings (crossing) at level
+// D - 2 from every ring, at D - 1 from its own parent's (kept by index); each child's class from
+// its parent's rings, stopping at 2.
+class ConeWalk {
+ public:
+  ConeWalk(Cones* c, int d, const int64_t* lo) : c_(c), d_(d), lo_(lo) {
+    if (!on()) return;
+    all_.resize(c->rings());
+    for (size_t k = 0; k < all_.size(); ++k) all_[k] = static_cast<uint16_t>(k);
+  }
+  bool on() const { return c_ != nullptr && c_->rings() > 0; }
+  // Before the parents of level l (whose children are the nodes of level l + 1).
+  void start_level(int l) {
+    first_ = l == std::max(d_ - 2, 0);
+    if (!first_) return;  // level D - 1 reads what level D - 2 kept
+    pool_.clear();
+    span_.assign(1, 0);
+    parent_of_.clear();
+  }
+  // Before the children of the parent at p, the j-th node of level l; false when that takes the
+  // window's cone work past its budget.
+  bool start_parent(const int64_t* p, int l, size_t j) {
+    l_ = l;
+    j_ = j;
+    c_->work += c_->rings();
+    if (c_->work > c_->budget) return false;
+    const int64_t side = int64_t{1} << (d_ - l);
+    const int64_t a[3] = {lo_[0] + side * p[0], lo_[1] + side * p[1], lo_[2] + side * p[2]};
+    mine_.clear();
+    if (first_) {
+      crossing(*c_, a, side, all_.data(), all_.size(), all_.size(), &mine_);
+      pool_.insert(pool_.end(), mine_.begin(), mine_.end());
+      span_.push_back(pool_.size());
+    } else {
+      const size_t up = parent_of_[j];
+      crossing(*c_, a, side, pool_.data() + span_[up], span_[up + 1] - span_[up],
+               span_[up + 1] - span_[up], &mine_);
+    }
+    return true;
+  }
+  // The class of child c (its coordinates at level l + 1) of the parent started last.
+  int child_class(const int64_t* c) {
+    child_.clear();
+    const int64_t side = int64_t{1} << (d_ - l_ - 1);
+    const int64_t a[3] = {lo_[0] + side * c[0], lo_[1] + side * c[1], lo_[2] + side * c[2]};
+    crossing(*c_, a, side, mine_.data(), mine_.size(), 2, &child_);
+    return static_cast<int>(child_.size());
+  }
+  // The child last classed is a node (the next of level l + 1).
+  void keep_child() {
+    if (first_) parent_of_.push_back(j_);
+  }
+
+ private:
+  Cones* c_;
+  int d_, l_ = 0;
+  size_t j_ = 0;
+  const int64_t* lo_;
+  bool first_ = false;
+  std::vector<uint16_t> all_, mine_, child_, pool_;
+  std::vector<size_t> span_, parent_of_;
+};
 
 // Whether the grid integers u lie in the cube [lo, lo + side)^3, and *k their key from lo.
 inline bool inside(const int32_t* u, const int64_t* lo, int64_t side, uint64_t* k) {
@@ -156,17 +280,22 @@ inline void previous_levels(const std::vector<int32_t>& prev, const int64_t* lo,
 
 // The walk over a tree of depth d and corner lo (FORMAT.md step 4) both sides run: io.bit(ctx,
 // level, key of the child) gives each coded child bit (the encoder's actual one, or the decoded
-// one); the inferred ones are not asked. prev: the previous frame's cells (empty: none).
+// one); the inferred ones are not asked. prev: the previous frame's cells (empty: none); cones:
+// the table's cones with L bit 0 (null or empty: without).
 // Returns the cells' keys in Morton order, or stops with io.too_many() (which throws) when a
-// level has more than m nodes.
+// level has more than m nodes, or with io.too_much() (which throws) past the cone work's
+// budget.
 template <class Io>
 std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
-                                const std::vector<int32_t>& prev) {
+                                const std::vector<int32_t>& prev, Cones* cones = nullptr) {
   std::vector<uint64_t> level{0}, next;
   KeySet here, there, before;  // level's keys, next's so far, the previous frame's at next's
   std::vector<std::vector<uint64_t>> earlier;
   previous_levels(prev, lo, d, &earlier);
+  ConeWalk cw(cones, d, lo);
   for (int l = 0; l < d; ++l) {
+    const bool classed = cw.on() && l >= d - 2;
+    if (classed) cw.start_level(l);
     const std::vector<uint64_t>& e = earlier[static_cast<size_t>(l) + 1];
     before.reset(e.size());
     for (uint64_t k : e) before.insert(k, 0);
@@ -175,9 +304,11 @@ std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
     for (size_t j = 0; j < level.size(); ++j) here.insert(level[j], static_cast<uint32_t>(j));
     there.reset(std::min(m, 8 * level.size()));
     const int64_t side = int64_t{1} << l;
-    for (uint64_t pk : level) {
+    for (size_t j = 0; j < level.size(); ++j) {
+      const uint64_t pk = level[j];
       int64_t p[3];
       coords(pk, p);
+      if (classed && !cw.start_parent(p, l, j)) io.too_much();
       int nb[27];
       for (int k = 0; k < 27; ++k) {
         const int64_t c[3] = {p[0] + k / 9 - 1, p[1] + (k / 3) % 3 - 1, p[2] + k % 3 - 1};
@@ -187,10 +318,16 @@ std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
       for (int i = 0; i < 8; ++i) {
         const uint64_t ck = pk << 3 | static_cast<uint64_t>(i);
         bool bit = true;
+        int r = 2;
+        if (classed) {
+          const int64_t c[3] = {2 * p[0] + (i >> 2), 2 * p[1] + ((i >> 1) & 1), 2 * p[2] + (i & 1)};
+          r = cw.child_class(c);
+        }
         if (i < 7 || ones > 0)
-          bit = io.bit(bit_context(nb, there, before, p, l, d, i, ones), l, ck);
+          bit = io.bit(bit_context(nb, there, before, p, l, d, i, ones, r), l, ck);
         if (!bit) continue;
         if (next.size() >= m) io.too_many();
+        if (classed) cw.keep_child();
         there.insert(ck, static_cast<uint32_t>(next.size()));
         next.push_back(ck);
         ++ones;
@@ -258,16 +395,24 @@ inline int count_context(const std::vector<uint64_t>& cells, const KeySet& set,
 // Starts every child-bit context of an octree block on 2 symbols (FORMAT.md step 4).
 template <class Coder>
 void start_octree_block(Coder* c) {
-  for (int k = kOctBitCtx; k < kOctreeContexts; ++k) c->restrict_context(k, 2);
+  for (int k = kOctBitCtx; k < kOctreeContexts; ++k)
+    if (k != kOctFlagsCtx) c->restrict_context(k, 2);
 }
 
+// The cones of table t (its slopes and offsets widened; FORMAT.md "The cone flag").
+Cones table_cones(const Table& t);
+
 // Decodes octree frame of n points (copies of them copies; with gaps, G is read) into q (3 per
-// point) and valid, per FORMAT.md. *prev: the previous frame's cells (grid integers and
-// points, 4 a cell; empty: it was not an octree frame), then this frame's. *cells_left: the
-// cells the block can still hold (2900 a byte less the earlier frames'), less this frame's.
-// Throws Error(kCorrupt) through dec.
+// point) and valid, per FORMAT.md; mode: the block's (read_octree_flags; null: L = 0). *prev: the
+// previous frame's cells (grid integers and points, 4 a cell; empty: it was not an octree frame),
+// then this frame's. *cells_left: the cells the block can still hold (2900 a byte less the earlier
+// frames'), less this frame's. Throws Error(kCorrupt) through dec.
 void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps, size_t* cells_left,
-                         std::vector<int32_t>* prev, int32_t* q, uint8_t* valid);
+                         std::vector<int32_t>* prev, int32_t* q, uint8_t* valid,
+                         OctreeMode* mode = nullptr);
+// Reads the octree block's flags L (FORMAT.md "The block's flags") for a window with table t.
+// Throws Error(kCorrupt) through dec.
+OctreeMode read_octree_flags(IntDecoder* dec, const Table& t);
 
 }  // namespace scan
 
@@ -283,9 +428,17 @@ std::vector<uint32_t> octree_frame_order(const ScanGeometry& g, size_t first, si
 // Error(kInternal)), as an octree frame with `copies` copies (0: no counts) and gaps when some
 // point is not valid. *prev as decode_octree_frame's.
 void encode_octree_frame(const ScanGeometry& g, size_t first, size_t n, uint32_t copies,
-                         std::vector<int32_t>* prev, IntEncoder* enc);
+                         std::vector<int32_t>* prev, IntEncoder* enc,
+                         scan::OctreeMode* mode = nullptr);
 // The scan geometry payload of g (FORMAT.md) with every frame that has a valid point an octree
 // frame, each frame's points in octree_frame_order's order; empty when a frame is too wide.
-std::vector<uint8_t> encode_scan_octree(const ScanGeometry& g);
+// With a table of some rings, the payload carries it and the octree block's flags L = l
+// (FORMAT.md "The block's flags"; bit 0 left out for more than kMaxConeRings rings or past the
+// cone work's bound); without one, L = 0.
+std::vector<uint8_t> encode_scan_octree(const ScanGeometry& g, const scan::Table* table = nullptr,
+                                        uint32_t l = 0);
+// The table of g's cones (FORMAT.md "The capz encoder"): fit_rings' slopes and offsets, packed
+// when smaller; no rings when none are found or more than kMaxConeRings.
+scan::Table octree_cone_table(const ScanGeometry& g, const ScanHints& hints);
 
 }  // namespace capz

@@ -6,6 +6,7 @@
 #include "coding/bytes.h"
 #include "coding/scan_octree.h"
 #include "coding/scan_shared.h"
+#include "coding/scan_table.h"
 
 namespace capz {
 
@@ -45,19 +46,27 @@ uint64_t cell_key(const ScanGeometry& g, size_t i, const int64_t* lo) {
 // The encoder's child bits: whether the child is a node of its level in the actual tree.
 class EncodeBits {
  public:
-  EncodeBits(IntEncoder* enc, std::vector<std::vector<uint64_t>> levels)
-      : enc_(enc), levels_(std::move(levels)) {}
+  EncodeBits(IntEncoder* enc, std::vector<std::vector<uint64_t>> levels, scan::OctreeMode* mode)
+      : enc_(enc), levels_(std::move(levels)), mode_(mode) {}
   bool bit(int ctx, int l, uint64_t child) {
     const std::vector<uint64_t>& next = levels_[static_cast<size_t>(l) + 1];
     const bool b = std::binary_search(next.begin(), next.end(), child);
-    enc_->put_symbol(b ? 1 : 0, ctx);
+    if (mode_ && mode_->counting()) {
+      const uint32_t one = mode_->one(ctx), zero = kTotal - one;
+      enc_->encode(b ? zero : 0, b ? one : zero);
+      mode_->update(ctx, b);
+    } else {
+      enc_->put_symbol(b ? 1 : 0, ctx);
+    }
     return b;
   }
   [[noreturn]] void too_many() { throw Error(ErrorCode::kInternal, "octree: a level too large"); }
+  [[noreturn]] void too_much() { throw Error(ErrorCode::kInternal, "octree: cone work unbounded"); }
 
  private:
   IntEncoder* enc_;
   std::vector<std::vector<uint64_t>> levels_;
+  scan::OctreeMode* mode_;
 };
 
 }  // namespace
@@ -87,7 +96,7 @@ std::vector<uint32_t> octree_frame_order(const ScanGeometry& g, size_t first, si
 }
 
 void encode_octree_frame(const ScanGeometry& g, size_t first, size_t n, uint32_t copies,
-                         std::vector<int32_t>* prev, IntEncoder* enc) {
+                         std::vector<int32_t>* prev, IntEncoder* enc, scan::OctreeMode* mode) {
   int64_t lo[3];
   int depth;
   if (!frame_cube(g, first, n, lo, &depth))
@@ -122,8 +131,8 @@ void encode_octree_frame(const ScanGeometry& g, size_t first, size_t n, uint32_t
     for (uint64_t k : levels[static_cast<size_t>(l) + 1])
       if (levels[static_cast<size_t>(l)].empty() || levels[static_cast<size_t>(l)].back() != k >> 3)
         levels[static_cast<size_t>(l)].push_back(k >> 3);
-  EncodeBits io(enc, std::move(levels));
-  scan::octree::code_tree(io, depth, cells.size(), lo, *prev);
+  EncodeBits io(enc, std::move(levels), mode);
+  scan::octree::code_tree(io, depth, cells.size(), lo, *prev, mode ? mode->cones() : nullptr);
   std::vector<int32_t> mine;  // this frame's cells and points, for the next
   for (size_t j = 0; j < cells.size(); ++j) {
     int64_t v[3];
@@ -148,12 +157,31 @@ void encode_octree_frame(const ScanGeometry& g, size_t first, size_t n, uint32_t
   prev->swap(mine);
 }
 
-std::vector<uint8_t> encode_scan_octree(const ScanGeometry& g) {
+scan::Table octree_cone_table(const ScanGeometry& g, const ScanHints& hints) {
+  const scan::RingFit r = scan::fit_rings(g, hints, false, false);
+  scan::Table t;
+  if (r.rings() == 0 || r.rings() > scan::kMaxConeRings) return t;
+  t.step = 1;  // no point is placed by it: any valid step and one column
+  t.columns = 1;
+  t.azimuth0.assign(r.rings(), 0.0f);
+  t.slope = r.slope;
+  t.z0 = r.z0;
+  scan::pack_table(&t, r.reach);
+  return t;
+}
+
+std::vector<uint8_t> encode_scan_octree(const ScanGeometry& g, const scan::Table* table,
+                                        uint32_t l) {
   const size_t frames = g.counts.size();
   std::vector<uint8_t> flags(frames, 0);
   std::vector<uint32_t> copies(frames, 0);
   IntEncoder tree(scan::kOctreeContexts);
   scan::start_octree_block(&tree);
+  const scan::Table none;
+  if (!table || table->rings() == 0) table = &none, l = 0;
+  if (table->rings() > scan::kMaxConeRings) l &= ~1u;
+  scan::OctreeMode mode((l & 1) ? scan::table_cones(*table) : scan::Cones{}, (l & 2) != 0);
+  if (table->rings() > 0) tree.put(l, scan::kOctFlagsCtx);  // L (FORMAT.md "The block's flags")
   std::vector<int32_t> prev;  // the previous frame's cells and points when an octree frame
   size_t first = 0;
   for (size_t f = 0; f < frames; ++f) {
@@ -171,7 +199,7 @@ std::vector<uint8_t> encode_scan_octree(const ScanGeometry& g) {
                      std::equal(&g.q[3 * i], &g.q[3 * i] + 3, &g.q[3 * (i - 1)]);
       flags[f] = static_cast<uint8_t>(scan::kOctreeFrame | (valid < n ? scan::kSomeValid : 0) |
                                       (copies[f] > 0 ? scan::kCells : 0));
-      encode_octree_frame(g, first, n, copies[f], &prev, &tree);
+      encode_octree_frame(g, first, n, copies[f], &prev, &tree, &mode);
     }
     first += n;
   }
@@ -181,8 +209,15 @@ std::vector<uint8_t> encode_scan_octree(const ScanGeometry& g) {
   for (uint8_t fl : flags) w.u8(fl);
   for (uint32_t d : copies)
     if (d > 0) w.varint(d);
-  w.varint(0);  // K: no laser table
-  if (std::any_of(flags.begin(), flags.end(), scan::octree_frame)) put_block(&w, tree.finish());
+  scan::write_table(*table, &w);  // K and the table
+  if (std::any_of(flags.begin(), flags.end(), scan::octree_frame)) {
+    const std::vector<uint8_t> block = tree.finish();
+    // The decoder's bound on the cone work (FORMAT.md "The block's flags"): never reached by the
+    // sweeps measured (docs/lab/2026-11-30-octree-cones.md), so such a window goes without.
+    if (mode.cones() && mode.cones()->work > scan::kMaxConeWorkPerByte * block.size())
+      return encode_scan_octree(g, table, l & ~1u);
+    put_block(&w, block);
+  }
   IntEncoder main_block(scan::kContexts);  // no point codes a symbol there
   w.bytes(main_block.finish());
   return std::move(w.buffer());

@@ -21,6 +21,9 @@
 #include "coding/scan_maps.h"
 
 namespace capz {
+
+class ByteWriter;
+
 namespace scan {
 
 // Frame flags (one byte per frame).
@@ -195,6 +198,8 @@ inline int bit_length(int64_t v) {
 // is the encoder's (scan_encode.cpp), read_header the decoder's (scan_shared.cpp).
 void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, const Table& t,
                   std::vector<uint8_t>* out);
+// The header's K and laser table (write_header's part after the flags).
+void write_table(const Table& t, ByteWriter* w);
 struct Header {
   std::vector<uint32_t> counts;
   std::vector<uint8_t> flags;

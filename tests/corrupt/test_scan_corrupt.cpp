@@ -20,6 +20,7 @@
 #include "coding/bytes.h"
 #include "coding/container.h"
 #include "coding/crc32c.h"
+#include "coding/scan_octree.h"
 #include "test_util.h"
 
 namespace capz {
@@ -167,6 +168,27 @@ TEST(ScanCorrupt, GivenOctreeFramesWithoutHeadBit6ThenCorrupt) {
   EXPECT_EQ(decode_code(c.bytes(), &msg), static_cast<int>(ErrorCode::kCorrupt)) << msg;
   EXPECT_NE(msg.find("octree frames in a stream without HEAD feature bit 6"), std::string::npos)
       << msg;
+}
+
+// "The block's flags": the octree golden (four Helios sweeps at 2 cm) takes the cones of its
+// table and the counting models (L = 3), so the damage above reaches that path too.
+TEST(ScanCorrupt, GivenTheOctreeGoldenThenItsBlockTakesTheConesAndCountingModels) {
+  const Chunks c(read_file(kStreams + kOctree));
+  size_t cones = 0;
+  for (size_t i = 0; i < c.type.size(); ++i) {
+    if (c.type[i] != "SCNW") continue;
+    ByteReader r(c.payload[i].data(), c.payload[i].size(), "SCNW");
+    r.varint();  // window, total: mode 0 has no zeros, no split
+    r.varint();
+    const uint8_t* g = c.payload[i].data() + r.offset();
+    const size_t n = c.payload[i].size() - r.offset();
+    const scan::Header h = scan::read_header(g, n, "SCNW", SIZE_MAX);
+    if (h.octree_size == 0 || h.table.rings() == 0) continue;  // L = 0 without a table
+    IntDecoder dec(g + h.octree, h.octree_size, scan::kOctreeContexts, "SCNW");
+    const uint32_t l = dec.get(scan::kOctFlagsCtx);
+    cones += l == 3;
+  }
+  EXPECT_GT(cones, 0u);
 }
 
 // "Lossless ragged streams": SCNW's split exponent E and the geometry's length, then the

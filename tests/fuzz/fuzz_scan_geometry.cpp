@@ -1,7 +1,8 @@
 // Fuzz target: the scan geometry decoder (decode_scan_geometry, docs/FORMAT.md "Scans (format
 // 1.1)") on arbitrary payloads, at most 2^20 points. A payload that decodes must re-encode to
 // one that decodes to the same points, with cells with counts (scan_cells.h) as well when its
-// frames hold runs of the same point, and as octree frames (scan_octree.h) in octree order.
+// frames hold runs of the same point, and as octree frames (scan_octree.h) in octree order:
+// plainly, and with the counting models and the cones of the payload's table (when it has one).
 #include <cstddef>
 #include <cstdint>
 
@@ -9,6 +10,7 @@
 #include "coding/scan_cells.h"
 #include "coding/scan_geometry.h"
 #include "coding/scan_octree.h"
+#include "coding/scan_shared.h"
 #include "fuzz_common.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -39,8 +41,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       }
       first += n;
     }
-    const std::vector<uint8_t> tree = capz::encode_scan_octree(o);
-    if (!tree.empty()) {
+    const capz::scan::Table table = capz::scan::read_header(data, size, "fuzz", 1 << 20).table;
+    for (int l = 0; l < 2; ++l) {
+      const std::vector<uint8_t> tree = capz::encode_scan_octree(o, l ? &table : nullptr, 3);
+      if (tree.empty()) continue;
       const capz::ScanGeometry t =
           capz::decode_scan_geometry(tree.data(), tree.size(), "octree", 1 << 20);
       CAPZ_FUZZ_CHECK(t.counts == o.counts && t.valid == o.valid && t.q == o.q);

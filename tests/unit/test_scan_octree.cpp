@@ -172,6 +172,7 @@ class ScriptedBits {
     return s == 1;
   }
   [[noreturn]] void too_many() { throw Error(ErrorCode::kInternal, "scripted: too many"); }
+  [[noreturn]] void too_much() { throw Error(ErrorCode::kInternal, "scripted: too much"); }
 
  private:
   IntEncoder* enc_;
