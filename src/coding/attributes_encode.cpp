@@ -211,18 +211,24 @@ std::vector<uint8_t> lzma_transform(uint8_t t, const std::vector<uint8_t>& b, si
 // The one LZMA transform (2 or 3) worth a full trial against a predictive coding of `pred`
 // bytes, or 0 for none: each is tried on the first 1/kSampleShare of the elements and its size
 // scaled to the whole; the smaller wins, and none when the predictive coding is below
-// kSkipRatio of that estimate. Windows under kSampleMin bytes: 0xFF (every transform tried).
+// kSkipRatio of that estimate. Fields under kSampleMin bytes: 0xFF (every transform tried),
+// but from kRankMin bytes with elements of several bytes the smaller of 2 and 3 by
+// lzma2_quick_size of the whole field (no skip: it is then coded and compared).
 // The sample is first sized by lzma2_quick_size; when the answer would be the same for any
 // lzma2_encode_fast sizes between kQuickLow and kQuickHigh times the quick ones, it is taken,
 // else the sample is coded again as the full trial would code it.
-constexpr size_t kSampleShare = 8, kSampleMin = size_t{1} << 18;
+constexpr size_t kSampleShare = 8, kSampleMin = size_t{1} << 18, kRankMin = size_t{1} << 17;
 constexpr double kSkipRatio = 0.9, kQuickLow = 0.8, kQuickHigh = 1.1;
 uint8_t lzma_choice(const double est[2], size_t pred) {
   const uint8_t t = est[1] < est[0] ? 3 : 2;
   return static_cast<double>(pred) < kSkipRatio * est[t - 2] ? 0 : t;
 }
 uint8_t lzma_worth_trying(const std::vector<uint8_t>& b, size_t size, size_t pred) {
-  if (b.size() < kSampleMin) return 0xFF;
+  if (b.size() < kSampleMin && (size == 1 || b.size() < kRankMin)) return 0xFF;
+  if (b.size() < kSampleMin) {  // the smaller of 2 and 3 coded quickly, whole, is tried
+    const size_t planes = lzma2_quick_size(to_planes(b, size).data(), b.size());
+    return lzma2_quick_size(b.data(), b.size()) < planes ? 3 : 2;
+  }
   const size_t m = b.size() / kSampleShare / size * size;
   const std::vector<uint8_t> sample(b.begin(), b.begin() + static_cast<std::ptrdiff_t>(m));
   const std::vector<uint8_t> planes = to_planes(sample, size);
