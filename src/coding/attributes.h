@@ -45,9 +45,10 @@ struct RaggedFields {
 // (FORMAT.md 7.3); nullptr: they are not tried (positions as transform output, or a choice of
 // the caller's). estimate: the LZMA transforms 2 and 3 of a large field (256 KiB and more, no
 // split by the mask) are first coded on its first eighth, and only the one whose estimate is
-// smaller is coded in full, none when the predictive coding is under 0.9 of that estimate (the
-// scan encoder's choice, format 1.1); false: every transform coded in full (the bytes of
-// format 1.0).
+// smaller is coded in full, none when the predictive coding is under 0.9 of that estimate; of a
+// field of 128 KiB to 256 KiB with elements of several bytes, only the one smaller when both
+// are coded quickly (the scan encoder's choice, format 1.1); false: every transform coded in
+// full (the bytes of format 1.0).
 std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
                                        const std::vector<std::vector<uint8_t>>& data,
                                        const uint8_t* valid, size_t frames, size_t points,

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 
 #include "capz/error.h"
 #include "coding/attributes.h"
@@ -39,21 +40,46 @@ void make_lane(const AttrSpec& s, bool colour, const std::vector<uint8_t>& bytes
     return;
   }
   const size_t count = static_cast<size_t>(s.count), size = static_cast<size_t>(s.size);
-  for (size_t i = 0; i < n; ++i)
-    l->u[i] = to_ordered(load_le(bytes.data() + (i * count + j) * size, s.size), s.type, l->bits);
+  const uint8_t* at = bytes.data() + j * size;
+  const size_t step = count * size;
+  // The element size known to the compiler: one load an element instead of a loop of bytes.
+  auto fill = [&](auto bytes_per) {
+    constexpr int kSize = decltype(bytes_per)::value;
+    for (size_t i = 0; i < n; ++i)
+      l->u[i] = to_ordered(load_le(at + i * step, kSize), s.type, l->bits);
+  };
+  switch (s.size) {
+    case 1:
+      return fill(std::integral_constant<int, 1>());
+    case 2:
+      return fill(std::integral_constant<int, 2>());
+    case 4:
+      return fill(std::integral_constant<int, 4>());
+    case 8:
+      return fill(std::integral_constant<int, 8>());
+    default:
+      for (size_t i = 0; i < n; ++i)
+        l->u[i] = to_ordered(load_le(at + i * step, s.size), s.type, l->bits);
+  }
 }
 
 // The predictor whose residuals have the smallest sum of bit lengths (ties: the lowest);
 // 5..8 only with a gap mask that has gaps, 10 and 11 only with the points' nearest earlier
-// points (near; valid then holds a mask, all set when the window has no gaps).
+// points (near; valid then holds a mask, all set when the window has no gaps). In one frame of
+// one row (a ragged window's fields) 2, 3 and 4 predict what 1 does (the previous value), 6, 7
+// and 8 what 5 does (the previous valid value) and 11 what 10 does (no previous frame), so they
+// are not walked: they tie, and the lower id wins a tie.
 int choose_predictor(Lane& l, const uint8_t* valid, bool gaps, const uint32_t* near, size_t frames,
                      size_t N, size_t W, uint64_t* cost_out) {
   const uint64_t mask = mask_of(l.bits);
   uint64_t best_cost = ~uint64_t{0};
   int best = 0;
+  const bool one_row = frames == 1 && W >= N;
   const int ids[] = {0, 1, 2, 3, 4, 5, 6, 7, 8, kNearPredictor, kNearChangePredictor};
   for (int id : ids) {
     if ((id >= 5 && id <= 8 && !gaps) || (id >= kNearPredictor && !near)) continue;
+    if (one_row && ((id >= 2 && id <= 4) || (id >= 6 && id <= 8) || id == kNearChangePredictor))
+      continue;
     uint64_t cost = 0;
     walk_lane(id, &l.u, valid, near, frames, N, W, mask, [&](uint64_t* v, uint64_t pred, bool) {
       cost += bit_length(zigzag64(signed_residual((*v - pred) & mask, l.bits)));
@@ -185,32 +211,64 @@ std::vector<uint8_t> lzma_transform(uint8_t t, const std::vector<uint8_t>& b, si
 // The one LZMA transform (2 or 3) worth a full trial against a predictive coding of `pred`
 // bytes, or 0 for none: each is tried on the first 1/kSampleShare of the elements and its size
 // scaled to the whole; the smaller wins, and none when the predictive coding is below
-// kSkipRatio of that estimate. Windows under kSampleMin bytes: 0xFF (every transform tried).
-constexpr size_t kSampleShare = 8, kSampleMin = size_t{1} << 18;
-constexpr double kSkipRatio = 0.9;
-uint8_t lzma_worth_trying(const std::vector<uint8_t>& b, size_t size, size_t pred) {
-  if (b.size() < kSampleMin) return 0xFF;
-  const size_t m = b.size() / kSampleShare / size * size;
-  const std::vector<uint8_t> sample(b.begin(), b.begin() + static_cast<std::ptrdiff_t>(m));
-  double est[2] = {0, 0};
-  for (uint8_t t = 2; t <= 3; ++t)
-    est[t - 2] = t == 3 && size == 1 ? est[0] + 1
-                                     : static_cast<double>(lzma_transform(t, sample, size).size()) *
-                                           static_cast<double>(b.size()) / static_cast<double>(m);
+// kSkipRatio of that estimate. Fields under kSampleMin bytes: 0xFF (every transform tried),
+// but from kRankMin bytes with elements of several bytes the smaller of 2 and 3 by
+// lzma2_quick_size of the whole field (no skip: it is then coded and compared).
+// The sample is first sized by lzma2_quick_size; when the answer would be the same for any
+// lzma2_encode_fast sizes between kQuickLow and kQuickHigh times the quick ones, it is taken,
+// else the sample is coded again as the full trial would code it.
+constexpr size_t kSampleShare = 8, kSampleMin = size_t{1} << 18, kRankMin = size_t{1} << 17;
+constexpr double kSkipRatio = 0.9, kQuickLow = 0.8, kQuickHigh = 1.1;
+uint8_t lzma_choice(const double est[2], size_t pred) {
   const uint8_t t = est[1] < est[0] ? 3 : 2;
   return static_cast<double>(pred) < kSkipRatio * est[t - 2] ? 0 : t;
+}
+uint8_t lzma_worth_trying(const std::vector<uint8_t>& b, size_t size, size_t pred) {
+  if (b.size() < kSampleMin && (size == 1 || b.size() < kRankMin)) return 0xFF;
+  if (b.size() < kSampleMin) {  // the smaller of 2 and 3 coded quickly, whole, is tried
+    const size_t planes = lzma2_quick_size(to_planes(b, size).data(), b.size());
+    return lzma2_quick_size(b.data(), b.size()) < planes ? 3 : 2;
+  }
+  const size_t m = b.size() / kSampleShare / size * size;
+  const std::vector<uint8_t> sample(b.begin(), b.begin() + static_cast<std::ptrdiff_t>(m));
+  const std::vector<uint8_t> planes = to_planes(sample, size);
+  const double scale = static_cast<double>(b.size()) / static_cast<double>(m);
+  auto estimates = [&](bool quick, double est[2]) {
+    for (uint8_t t = 2; t <= 3; ++t) {
+      const std::vector<uint8_t>& in = t == 2 ? planes : sample;
+      est[t - 2] = t == 3 && size == 1 ? est[0] + 1
+                   : quick             ? static_cast<double>(lzma2_quick_size(in.data(), m)) * scale
+                           : static_cast<double>(lzma2_encode_fast(in.data(), m).size()) * scale;
+    }
+  };
+  double quick[2], low[2], high[2];
+  estimates(true, quick);
+  // The two ends of the band, and the two mixed ends that favour one transform or the other.
+  for (int k = 0; k < 2; ++k) {
+    low[k] = kQuickLow * quick[k];
+    high[k] = kQuickHigh * quick[k];
+  }
+  const double favour2[2] = {low[0], high[1]}, favour3[2] = {high[0], low[1]};
+  const uint8_t c = lzma_choice(quick, pred);
+  if (lzma_choice(low, pred) == c && lzma_choice(high, pred) == c &&
+      lzma_choice(favour2, pred) == c && (size == 1 || lzma_choice(favour3, pred) == c))
+    return c;
+  double est[2];
+  estimates(false, est);
+  return lzma_choice(est, pred);
 }
 
 // A ragged window's (one frame of n points) trial of predictors 10 and 11 before their
 // neighbour search, the encoder's largest cost there: on the first eighth of the points (at
-// least kNearTrialMin), whether some field's coding with them is 3 % smaller than without them
-// (the other predictors, 12 included, or LZMA of the byte planes), first by the predictors' cost
-// sums, then by the coded bytes. Windows under twice that are searched whole.
-constexpr size_t kNearTrialMin = size_t{1} << 13;
+// least kNearTrialMin, at most kNearTrialMax), whether some field's coding with them is 3 % smaller
+// than without them (the other predictors, 12 included, or LZMA of the byte planes), first by the
+// predictors' cost sums, then by the coded bytes. Windows under twice kNearTrialMin are searched
+// whole.
+constexpr size_t kNearTrialMin = size_t{1} << 13, kNearTrialMax = size_t{1} << 15;
 bool near_pays(const std::vector<AttrSpec>& specs, const std::vector<std::vector<uint8_t>>& data,
                const uint8_t* valid, bool gaps, const int32_t* q, size_t n,
                const RaggedFields& ragged) {
-  const size_t m = std::max(n / 8, kNearTrialMin);
+  const size_t m = std::min(std::max(n / 8, kNearTrialMin), kNearTrialMax);
   if (2 * m > n) return true;
   const std::vector<uint32_t> near = nearest_points(q, valid, 1, m);
   std::vector<std::vector<uint8_t>> heads;

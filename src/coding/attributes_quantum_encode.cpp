@@ -121,13 +121,49 @@ bool choose_quantum(const std::vector<AttrSpec>& specs,
       cands.push_back({quantum, kBaseKey, {b, e}, 0, wide});
   if (xyz) cands.push_back({quantum, kBaseRange, {}, range_offset(l, valid, xyz), wide});
   if (near) cands.push_back({quantum, kBaseNear, {}, 0, wide});
+  // What every candidate's walk_encode would sum alike, summed once: each valid point's k and
+  // correction (k_of depends on the prediction only for a value without an int32 multiple,
+  // `own`: those are costed per candidate) and the gap points' residuals.
+  const uint64_t mask = mask_of(l.bits);
+  const int size = l.bits / 8;
+  const size_t n = l.u.size();
+  std::vector<int32_t> ks(n, 0);
+  std::vector<uint8_t> own(n, 0);
+  uint64_t shared = 0, last_gap = 0;
+  for (size_t p = 0; p < n; ++p) {
+    const uint64_t v = l.u[p];
+    if (!valid[p]) {
+      shared += bit_length(zigzag64(signed_residual((v - last_gap) & mask, l.bits)));
+      last_gap = v;
+      continue;
+    }
+    const double t = lane_double(v, l.bits) / quantum;
+    if (!std::isfinite(t) || std::fabs(t) >= 2147483647.0) {
+      own[p] = 1;
+      continue;
+    }
+    ks[p] = static_cast<int32_t>(std::nearbyint(t));
+    shared += bit_length(
+        zigzag64(signed_residual((v - quantum_value(ks[p], quantum, size, wide)) & mask, l.bits)));
+  }
   *cost = ~uint64_t{0};
   for (const QuantumParams& c : cands) {
-    uint64_t sum = 0;
-    walk_encode(
-        c, keys_of(c, specs, data, l.u.size()), valid, xyz, near, l,
-        [&](int32_t d) { sum += bit_length(zigzag(d)); },
-        [&](int64_t r, bool) { sum += bit_length(zigzag64(r)); });
+    uint64_t sum = shared;
+    const uint64_t* base = l.u.data();
+    walk_quantum(
+        &l.u, valid, c, keys_of(c, specs, data, n).data(), xyz, near, [](uint64_t*, uint64_t) {},
+        [&](uint64_t* v, int32_t kh, int32_t* k) {
+          const size_t p = static_cast<size_t>(v - base);
+          if (own[p]) {  // k = kh: no integer residual, the correction against kh D
+            *k = kh;
+            sum += bit_length(zigzag64(
+                signed_residual((*v - quantum_value(kh, quantum, size, wide)) & mask, l.bits)));
+            return;
+          }
+          *k = ks[p];
+          sum += bit_length(zigzag(
+              static_cast<int32_t>(static_cast<uint32_t>(ks[p]) - static_cast<uint32_t>(kh))));
+        });
     if (sum < *cost) {
       *cost = sum;
       *qp = c;

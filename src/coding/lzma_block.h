@@ -27,6 +27,11 @@ std::vector<uint8_t> lzma2_encode(const uint8_t* data, size_t n, LzmaPreset pres
 // without text-like context, e.g. byte planes of numbers). About 3x faster than lzma2_encode.
 std::vector<uint8_t> lzma2_encode_fast(const uint8_t* data, size_t n);
 
+// The size of a raw LZMA2 stream of the same bytes coded quickly (liblzma's preset 3: fast mode,
+// the hash-chain match finder; lc 0 lp 0 pb 0): an estimate of lzma2_encode_fast's size, about
+// 4x cheaper on byte planes of numbers, typically 0-12 % larger.
+size_t lzma2_quick_size(const uint8_t* data, size_t n);
+
 // Decodes a raw LZMA2 stream that must give exactly `n` bytes and end exactly at `size`.
 // Throws Error(kCorrupt) naming `what` otherwise. Memory: the output and the fixed dictionary.
 std::vector<uint8_t> lzma2_decode(const uint8_t* data, size_t size, size_t n,

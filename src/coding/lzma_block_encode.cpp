@@ -24,6 +24,17 @@ std::vector<uint8_t> encode_with(lzma_options_lzma o, const uint8_t* data, size_
   return out;
 }
 
+// liblzma's preset `level` with the fixed dictionary and lc 0 lp 0 pb 0.
+lzma_options_lzma plain_options(uint32_t level) {
+  lzma_options_lzma o;
+  lzma_lzma_preset(&o, level);
+  o.dict_size = kLzmaDictBytes;
+  o.lc = 0;
+  o.lp = 0;
+  o.pb = 0;
+  return o;
+}
+
 }  // namespace
 
 std::vector<uint8_t> lzma2_encode(const uint8_t* data, size_t n, LzmaPreset preset) {
@@ -52,13 +63,11 @@ std::vector<uint8_t> lzma2_encode(const uint8_t* data, size_t n, LzmaPreset pres
 }
 
 std::vector<uint8_t> lzma2_encode_fast(const uint8_t* data, size_t n) {
-  lzma_options_lzma o;
-  lzma_lzma_preset(&o, 6);
-  o.dict_size = kLzmaDictBytes;
-  o.lc = 0;
-  o.lp = 0;
-  o.pb = 0;
-  return encode_with(o, data, n);
+  return encode_with(plain_options(6), data, n);
+}
+
+size_t lzma2_quick_size(const uint8_t* data, size_t n) {
+  return encode_with(plain_options(3), data, n).size();
 }
 
 }  // namespace capz

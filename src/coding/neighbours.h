@@ -96,9 +96,13 @@ inline std::vector<uint32_t> nearest_earlier_narrow(const int32_t* q, const uint
         uint64_t best = UINT64_MAX;
         uint32_t c = kNoPoint;
         for (size_t r = p; r-- > lo;) {  // from p - 1 down: on equal distance the later r stays
-          const int64_t dx = qf[r * 3] - x, dy = qf[r * 3 + 1] - y, dz = qf[r * 3 + 2] - z;
-          const uint64_t d = static_cast<uint64_t>(dx * dx) + static_cast<uint64_t>(dy * dy) +
-                             static_cast<uint64_t>(dz * dz);
+          // A candidate whose x difference alone reaches the best distance cannot be nearer:
+          // most are passed over here, without their y and z.
+          const int64_t dx = qf[r * 3] - x;
+          const uint64_t dx2 = static_cast<uint64_t>(dx * dx);
+          if (dx2 >= best) continue;
+          const int64_t dy = qf[r * 3 + 1] - y, dz = qf[r * 3 + 2] - z;
+          const uint64_t d = dx2 + static_cast<uint64_t>(dy * dy) + static_cast<uint64_t>(dz * dz);
           if (vf[r] && d < best) {
             best = d;
             c = static_cast<uint32_t>(r);
