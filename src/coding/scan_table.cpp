@@ -417,13 +417,43 @@ void fit_units(const ScanGeometry& g, const ScanHints& h, const std::vector<uint
   }
 }
 
+// find_bow(g, h), from *found when it has it (then kept there).
+float bow_of(const ScanGeometry& g, const ScanHints& h, FoundRings* found) {
+  if (!found) return find_bow(g, h);
+  if (!found->bow_known) found->bow = find_bow(g, h), found->bow_known = true;
+  return found->bow;
+}
+
+// The rings fit_rings and placed_rings give the points (*ring; their number, 0 for none): the
+// ring field's (with ring_field), else the elevations' under the bow; from *found when it has
+// them (then kept there).
+size_t rings_of(const ScanGeometry& g, const ScanHints& h, bool ring_field, FoundRings* found,
+                std::vector<uint32_t>* ring) {
+  size_t rings = 0;
+  if (ring_field && !found) rings = dense_rings(g, h, ring);
+  if (ring_field && found) {
+    if (!found->field_known)
+      found->field_rings = dense_rings(g, h, &found->field), found->field_known = true;
+    rings = found->field_rings;
+    if (rings > 0) *ring = found->field;
+  }
+  if (rings > 0) return rings;
+  if (!found) return elevation_rings(g, h.xyz, find_bow(g, h), ring);
+  if (!found->elevations_known) {
+    found->elevations = *ring;  // elevation_rings leaves it as it is when it finds none
+    found->elevation_rings = elevation_rings(g, h.xyz, bow_of(g, h, found), &found->elevations);
+    found->elevations_known = true;
+  }
+  if (found->elevation_rings > 0) *ring = found->elevations;
+  return found->elevation_rings;
+}
+
 }  // namespace
 
 size_t placed_rings(const ScanGeometry& g, const ScanHints& hints, bool ring_field,
-                    std::vector<uint32_t>* placed) {
+                    std::vector<uint32_t>* placed, FoundRings* found) {
   std::vector<uint32_t> ring;
-  size_t rings = ring_field ? dense_rings(g, hints, &ring) : 0;
-  if (rings == 0) rings = elevation_rings(g, hints.xyz, find_bow(g, hints), &ring);
+  const size_t rings = rings_of(g, hints, ring_field, found, &ring);
   placed->assign(g.total(), 0);
   if (rings == 0) return 0;
   for (size_t i = 0; i < g.total(); ++i)
@@ -432,12 +462,11 @@ size_t placed_rings(const ScanGeometry& g, const ScanHints& hints, bool ring_fie
 }
 
 RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units, bool shares,
-                  bool ring_field) {
+                  bool ring_field, FoundRings* found) {
   RingFit r;
   std::vector<uint32_t> ring;
-  r.bow = find_bow(g, hints);
-  size_t rings = ring_field ? dense_rings(g, hints, &ring) : 0;
-  if (rings == 0) rings = elevation_rings(g, hints.xyz, r.bow, &ring);
+  r.bow = bow_of(g, hints, found);
+  const size_t rings = rings_of(g, hints, ring_field, found, &ring);
   r.polar.assign(g.total(), Polar{});
   if (rings == 0) return r;
   std::vector<size_t> size(rings, 0);
