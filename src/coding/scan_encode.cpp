@@ -658,16 +658,16 @@ std::vector<uint8_t> encode_geometry(const ScanGeometry& g, const ScanHints& hin
     fail(ErrorCode::kInternal, "scan geometry", "the points disagree with the frames' counts");
   scan::FoundRings found;  // the bow and both rings, found once for the fits and the check
   const scan::RingFit fit = scan::fit_rings(g, hints, true, true, true, &found);
-  if (hints.ring.empty() || hints.elevation_rings == 0)
-    return encode_fitted(g, hints, fit, ws, fine_q);
   // A ring field is not always the best rings: the RoboSense Helios 16P's near points, seen
   // from the origin 35 mm off its optical centre, leave each laser's cone by their range, and
   // rings found from the elevations split a laser by range, which keeps its two returns apart
   // (docs/lab/2026-11-29-helios-at128.md). The rings from the elevations are tried too when they
   // differ, the smaller payload kept.
-  if (hints.elevation_rings < 0 && !rings_differ(g, hints, &found))
-    return encode_fitted(g, hints, fit, ws, fine_q);
-  const scan::RingFit other = scan::fit_rings(g, hints, true, true, false, &found);
+  const bool both = !hints.ring.empty() && hints.elevation_rings != 0 &&
+                    (hints.elevation_rings > 0 || rings_differ(g, hints, &found));
+  scan::RingFit other;
+  if (both) other = scan::fit_rings(g, hints, true, true, false, &found);
+  found = scan::FoundRings();  // (the window's rings twice: not held while it is coded)
   if (other.rings() == 0) return encode_fitted(g, hints, fit, ws, fine_q);
   const ScanChoice before = ws ? ws->choice : ScanChoice();
   std::vector<uint8_t> best = encode_fitted(g, hints, fit, ws, fine_q);
