@@ -309,8 +309,9 @@ int choose_split(const FrameBlock& b, const std::vector<uint32_t>& counts, const
 }
 
 // The SCNW chunk of window w (the frames of b), appended to r.buf; *q gets the integers the
-// payload codes. coded: the window's geometry payload when --point-order any's choice has coded
-// it already (never in mode 2), else null.
+// payload codes (with fields; without, a fine window's are not worked out: the grid's). coded: the
+// window's geometry payload when --point-order any's choice has coded it already (never in mode 2),
+// else null.
 void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<int32_t>* q,
                        const std::vector<uint8_t>* coded) {
   const size_t n = b.total_points();
@@ -348,9 +349,16 @@ void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<
   const std::vector<uint8_t> body = scan_body(g, hints, mode2, e, corrections, &r.scan_ws, coded);
   r.scan_ws.remember = false;
   payload.insert(payload.end(), body.begin(), body.end());
-  // A raster window at a bound codes integers of its own (a finer grid): the decoder's.
+  // A raster window at a bound codes integers of its own (a finer grid): the decoder's, which the
+  // fields' predictors take (without fields they are not used). The coder hands them out with
+  // the payload it chose; a payload coded before (--point-order any's) is decoded again.
   r.fine = mode2 ? 0 : scan_fine_shift(body.data(), body.size(), "SCNW");
-  if (r.fine != 0) g.q = decode_scan_geometry(body.data(), body.size(), "SCNW", n).q;
+  if (r.fine != 0 && !r.meta.attributes.empty()) {
+    if (!r.scan_ws.fine_q.empty() && r.scan_ws.fine_payload == body)
+      g.q.swap(r.scan_ws.fine_q);
+    else
+      g.q = decode_scan_geometry(body.data(), body.size(), "SCNW", n).q;
+  }
   const size_t before = r.buf.size();
   append_chunk(&r.buf, "SCNW", payload);
   r.position_bytes += r.buf.size() - before;

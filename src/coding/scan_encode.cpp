@@ -517,9 +517,11 @@ void try_before(const ScanGeometry& g, const ScanGeometry& sample, const std::ve
   if (out.size() < best->size()) best->swap(out);
 }
 
-// The payload of window g under the rings of `fit` (fit_rings of g and hints).
+// The payload of window g under the rings of `fit` (fit_rings of g and hints). *fine_q: the
+// decoder's integers of it when they are not g's (raster::keep_smaller), else empty.
 std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const ScanHints& hints,
-                                   const scan::RingFit& fit, ScanWorkspace* ws) {
+                                   const scan::RingFit& fit, ScanWorkspace* ws,
+                                   std::vector<int32_t>* fine_q) {
   // The table's azimuth step as found, and finer ones for azimuths off that step, each with
   // ranges in grid units and, when the sensor's range step is found, in that step: the smallest
   // payload wins. In a window of more than kTrialFrames frames, only the tables whose payload for
@@ -603,16 +605,19 @@ std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const ScanHints& hints
     ws->choice = chosen;
   if (best_table.rings() > 0)
     try_before(g, sample, from, fit, best_table, best_sample, &best, &scratch);
-  scan::raster::keep_smaller(g, hints, &best);  // a flash LiDAR's window (scan_raster.h)
+  scan::raster::keep_smaller(g, hints, &best, fine_q);  // a flash LiDAR's window (scan_raster.h)
   return best;
 }
 
-// Replaces *best by the payload of g under `fit` when that is smaller; whether it did.
+// Replaces *best (*fine_q: its integers as encode_fitted's) by the payload of g under `fit` when
+// that is smaller; whether it did.
 bool keep_smaller_fit(const ScanGeometry& g, const ScanHints& hints, const scan::RingFit& fit,
-                      ScanWorkspace* ws, std::vector<uint8_t>* best) {
-  std::vector<uint8_t> out = encode_fitted(g, hints, fit, ws);
+                      ScanWorkspace* ws, std::vector<uint8_t>* best, std::vector<int32_t>* fine_q) {
+  std::vector<int32_t> q;
+  std::vector<uint8_t> out = encode_fitted(g, hints, fit, ws, &q);
   if (out.size() >= best->size()) return false;
   best->swap(out);
+  fine_q->swap(q);
   return true;
 }
 
@@ -639,41 +644,61 @@ bool same_rings(const ScanGeometry& g, const std::vector<uint32_t>& a, size_t ka
   return 100 * (valid - std::min(agree_a, agree_b)) <= valid;
 }
 
-}  // namespace
-
-bool scan_rings_differ(const ScanGeometry& g, const ScanHints& hints) {
+// scan_rings_differ, the rings found kept in (or taken from) *found.
+bool rings_differ(const ScanGeometry& g, const ScanHints& hints, scan::FoundRings* found) {
   // The rings alone (placed_rings), not the rest of two fits: a third of the instructions.
   std::vector<uint32_t> field, elevations;
-  const size_t kb = scan::placed_rings(g, hints, false, &elevations);
+  const size_t kb = scan::placed_rings(g, hints, false, &elevations, found);
   if (kb == 0) return false;
-  const size_t ka = scan::placed_rings(g, hints, true, &field);
+  const size_t ka = scan::placed_rings(g, hints, true, &field, found);
   return !same_rings(g, field, ka, elevations, kb);
 }
 
-std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints,
-                                          ScanWorkspace* ws) {
+// encode_scan_geometry's payload; *fine_q as encode_fitted's.
+std::vector<uint8_t> encode_geometry(const ScanGeometry& g, const ScanHints& hints,
+                                     ScanWorkspace* ws, std::vector<int32_t>* fine_q) {
   size_t total = 0;
   for (uint32_t n : g.counts) total += n;
   if (g.valid.size() != total || g.q.size() != 3 * total)
     fail(ErrorCode::kInternal, "scan geometry", "the points disagree with the frames' counts");
-  const scan::RingFit fit = scan::fit_rings(g, hints);
-  if (hints.ring.empty() || hints.elevation_rings == 0) return encode_fitted(g, hints, fit, ws);
+  scan::FoundRings found;  // the bow and both rings, found once for the fits and the check
+  const scan::RingFit fit = scan::fit_rings(g, hints, true, true, true, &found);
   // A ring field is not always the best rings: the RoboSense Helios 16P's near points, seen
   // from the origin 35 mm off its optical centre, leave each laser's cone by their range, and
   // rings found from the elevations split a laser by range, which keeps its two returns apart
   // (docs/lab/2026-11-29-helios-at128.md). The rings from the elevations are tried too when they
   // differ, the smaller payload kept.
-  if (hints.elevation_rings < 0 && !scan_rings_differ(g, hints))
-    return encode_fitted(g, hints, fit, ws);
-  const scan::RingFit other = scan::fit_rings(g, hints, true, true, false);
-  if (other.rings() == 0) return encode_fitted(g, hints, fit, ws);
+  const bool both = !hints.ring.empty() && hints.elevation_rings != 0 &&
+                    (hints.elevation_rings > 0 || rings_differ(g, hints, &found));
+  scan::RingFit other;
+  if (both) other = scan::fit_rings(g, hints, true, true, false, &found);
+  found = scan::FoundRings();  // (the window's rings twice: not held while it is coded)
+  if (other.rings() == 0) return encode_fitted(g, hints, fit, ws, fine_q);
   const ScanChoice before = ws ? ws->choice : ScanChoice();
-  std::vector<uint8_t> best = encode_fitted(g, hints, fit, ws);
-  if (!ws) return keep_smaller_fit(g, hints, other, nullptr, &best), best;
+  std::vector<uint8_t> best = encode_fitted(g, hints, fit, ws, fine_q);
+  if (!ws) return keep_smaller_fit(g, hints, other, nullptr, &best, fine_q), best;
   const ScanChoice chosen = ws->choice;
   ws->choice = before;  // the second fit's trial sees the windows before as the first's did
-  if (!keep_smaller_fit(g, hints, other, ws, &best)) ws->choice = chosen;
+  if (!keep_smaller_fit(g, hints, other, ws, &best, fine_q)) ws->choice = chosen;
   return best;
+}
+
+}  // namespace
+
+bool scan_rings_differ(const ScanGeometry& g, const ScanHints& hints) {
+  return rings_differ(g, hints, nullptr);
+}
+
+std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints,
+                                          ScanWorkspace* ws) {
+  std::vector<int32_t> fine_q;
+  std::vector<uint8_t> out = encode_geometry(g, hints, ws, &fine_q);
+  if (ws) {
+    ws->fine_payload.clear();
+    if (!fine_q.empty()) ws->fine_payload = out;
+    ws->fine_q.swap(fine_q);
+  }
+  return out;
 }
 
 }  // namespace capz

@@ -87,6 +87,11 @@ struct ScanWorkspace {
   ScanChoice choice;
   bool every_table = false;
   size_t tables_coded = 0, sample_codings = 0;
+  // After each encode_scan_geometry: when its payload codes other integers than it was given (a
+  // raster window at a bound, fine shift above 0), that payload and the integers the decoder gives
+  // back from it (x y z per point, 0 at gaps; the coder's own, not decoded again); else empty.
+  std::vector<uint8_t> fine_payload;
+  std::vector<int32_t> fine_q;
 };
 
 // The payload of one window. Throws Error(kInvalidArgument) when the shapes disagree.

@@ -3,8 +3,8 @@
 // grid step), and this sweep's as it is coded. Shared by the encoder and the
 // decoder through scan::State.
 //
-// Memory: a map of the table's rings x columns cells (up to kMaxMapCells) is zero-filled by
-// calloc, which leaves the kernel's zero pages untouched until a cell on them is written, and a
+// Memory: a map of the table's rings x columns cells (up to kMaxMapCells) has its set flags
+// zero-filled by calloc (its ranges and counts are not filled: read only where set), and a
 // sweep's set flags are cleared cell by cell from the list of the cells it wrote, not map-wide:
 // a sweep costs time in proportion to its points, not to the table's cells.
 #pragma once

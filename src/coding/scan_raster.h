@@ -93,8 +93,11 @@ void code_frame(Io& io, const Pixels& px, State& st, uint8_t flags, size_t first
 void read_pixels(IntDecoder* dec, const Header& h, Pixels* px);
 
 // Encoder (scan_raster_encode.cpp): replaces *best by a raster payload of g when the window is
-// a raster's (FORMAT.md, the encoder's note) and that payload is smaller.
-void keep_smaller(const ScanGeometry& g, const ScanHints& hints, std::vector<uint8_t>* best);
+// a raster's (FORMAT.md, the encoder's note) and that payload is smaller. fine_q (when not null)
+// gets the integers the decoder gives back from *best when it is a raster payload of fine shift
+// above 0 (other integers than g's), else is left empty.
+void keep_smaller(const ScanGeometry& g, const ScanHints& hints, std::vector<uint8_t>* best,
+                  std::vector<int32_t>* fine_q = nullptr);
 
 }  // namespace raster
 }  // namespace scan

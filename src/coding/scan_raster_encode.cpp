@@ -361,9 +361,10 @@ void put_pixels(const std::vector<int32_t>& vint, size_t count, IntEncoder* enc)
     }
 }
 
-// The window coded as raster frames under trial t.
+// The window coded as raster frames under trial t; *decoded (when not null) gets the integers
+// the decoder gives back (x y z per point, 0 at gaps).
 std::vector<uint8_t> code_raster(const ScanGeometry& g, const ScanHints& hints, const Found& r,
-                                 const Trial& t) {
+                                 const Trial& t, std::vector<int32_t>* decoded = nullptr) {
   Pixels px;
   std::vector<int32_t> rho;
   std::vector<int32_t> vint;
@@ -394,6 +395,7 @@ std::vector<uint8_t> code_raster(const ScanGeometry& g, const ScanHints& hints, 
   std::vector<uint8_t> flags(g.counts.size());
   std::vector<int32_t> q;
   std::vector<uint8_t> v;
+  if (decoded) decoded->clear(), decoded->reserve(3 * g.total());
   size_t first = 0;
   for (size_t f = 0; f < g.counts.size(); ++f) {
     const size_t n = g.counts[f];
@@ -401,6 +403,7 @@ std::vector<uint8_t> code_raster(const ScanGeometry& g, const ScanHints& hints, 
     q.resize(3 * n);
     v.resize(n);
     code_frame(io, px, st, flags[f], first, n, q.data(), v.data());
+    if (decoded) decoded->insert(decoded->end(), q.begin(), q.end());
     first += n;
   }
   std::vector<uint8_t> out;
@@ -418,13 +421,15 @@ std::vector<uint8_t> code_raster(const ScanGeometry& g, const ScanHints& hints, 
 
 }  // namespace
 
-void keep_smaller(const ScanGeometry& g, const ScanHints& hints, std::vector<uint8_t>* best) {
+void keep_smaller(const ScanGeometry& g, const ScanHints& hints, std::vector<uint8_t>* best,
+                  std::vector<int32_t>* fine_q) {
+  if (fine_q) fine_q->clear();
   Found r;
   if (!find_raster(g, hints, &r)) return;
   // Exactly, ranges in the sensor's quantum (coarser ones, 2 and 4 quanta, cost more on
   // robosense-e1 at 1 cm: 284,544 and 276,691 bytes against 248,758).
   std::vector<uint8_t> out = code_raster(g, hints, r, Trial{r.quantum, 0});
-  if (out.size() < best->size()) best->swap(out);
+  if (out.size() < best->size()) best->swap(out);  // (fine shift 0: the integers given)
   if (!(hints.bound > 0 && hints.step > 0)) return;
   // At a bound, the points on their rays: fine shift 2, range steps of the whole quanta nearest
   // twice the bound and one less (robosense-e1, bytes with m quanta, k = 1 / 2 / 3 / 4: at 1 cm,
@@ -434,9 +439,12 @@ void keep_smaller(const ScanGeometry& g, const ScanHints& hints, std::vector<uin
   if ((r.largest << kFineShift) >= kMaxSphericalCoord) return;
   const int m0 =
       static_cast<int>(std::min(1e6, std::max(1.0, std::nearbyint(2 * hints.bound / r.quantum))));
+  std::vector<int32_t> q;
   for (int m = std::max(1, m0 - 1); m <= m0; ++m) {
-    out = code_raster(g, hints, r, Trial{m * r.quantum, kFineShift});
-    if (out.size() < best->size()) best->swap(out);
+    out = code_raster(g, hints, r, Trial{m * r.quantum, kFineShift}, fine_q ? &q : nullptr);
+    if (out.size() >= best->size()) continue;
+    best->swap(out);
+    if (fine_q) fine_q->swap(q);
   }
 }
 

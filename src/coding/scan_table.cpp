@@ -57,17 +57,24 @@ double bowed_slope(const double* v, double w) {
 }
 
 // How the slopes of points gather under the bow w: the sum of the squared counts of their bins
-// of 0.0002. `pts` holds per point z / rho and 1 - cos phi.
-double gathering(const std::vector<double>& pts, double w, std::vector<uint32_t>* bins) {
-  std::fill(bins->begin(), bins->end(), 0u);
+// of 0.0002. `pts` holds per point z / rho and 1 - cos phi; *bins all 0, left so (*touched:
+// scratch). The sum grows by 2 c + 1 as a bin's count c grows by one: integers below 2^53, so the
+// same double as summing c^2 over the bins, without a pass over all of them (find_bow calls this
+// 43 times a window).
+double gathering(const std::vector<double>& pts, double w, std::vector<uint32_t>* bins,
+                 std::vector<size_t>* touched) {
   const double n = double(bins->size());
+  uint64_t sum = 0;
+  touched->clear();
   for (size_t i = 0; i + 1 < pts.size(); i += 2) {
     const double b = std::floor((pts[i] - w * pts[i + 1] + 1.6) / 0.0002);
-    if (b >= 0 && b < n) ++(*bins)[size_t(b)];
+    if (!(b >= 0 && b < n)) continue;
+    uint32_t& c = (*bins)[size_t(b)];
+    if (c == 0) touched->push_back(size_t(b));
+    sum += 2 * uint64_t{c++} + 1;
   }
-  double sum = 0;
-  for (uint32_t c : *bins) sum += double(c) * double(c);
-  return sum;
+  for (size_t b : *touched) (*bins)[b] = 0;
+  return double(sum);
 }
 
 // The cones' bow (FORMAT.md, informative): the w of -0.016 .. 0.016 in steps of 0.001, then
@@ -88,16 +95,17 @@ float find_bow(const ScanGeometry& g, const ScanHints& h) {
   }
   if (pts.size() < 2 * 64) return 0;
   std::vector<uint32_t> bins(16000);
-  const double flat = gathering(pts, 0, &bins);
+  std::vector<size_t> touched;
+  const double flat = gathering(pts, 0, &bins, &touched);
   double best = 0, most = flat;
   for (int j = -16; j <= 16; ++j) {
-    const double v = gathering(pts, 0.001 * j, &bins);
+    const double v = gathering(pts, 0.001 * j, &bins, &touched);
     if (v > most) most = v, best = 0.001 * j;
   }
   const double coarse = best;
   for (int j = -4; j <= 4; ++j) {
     const double w = coarse + 0.00025 * j;
-    const double v = gathering(pts, w, &bins);
+    const double v = gathering(pts, w, &bins, &touched);
     if (v > most) most = v, best = w;
   }
   return most >= 1.1 * flat ? static_cast<float>(best) : 0.0f;
@@ -417,13 +425,43 @@ void fit_units(const ScanGeometry& g, const ScanHints& h, const std::vector<uint
   }
 }
 
+// find_bow(g, h), from *found when it has it (then kept there).
+float bow_of(const ScanGeometry& g, const ScanHints& h, FoundRings* found) {
+  if (!found) return find_bow(g, h);
+  if (!found->bow_known) found->bow = find_bow(g, h), found->bow_known = true;
+  return found->bow;
+}
+
+// The rings fit_rings and placed_rings give the points (*ring; their number, 0 for none): the
+// ring field's (with ring_field), else the elevations' under the bow; from *found when it has
+// them (then kept there).
+size_t rings_of(const ScanGeometry& g, const ScanHints& h, bool ring_field, FoundRings* found,
+                std::vector<uint32_t>* ring) {
+  size_t rings = 0;
+  if (ring_field && !found) rings = dense_rings(g, h, ring);
+  if (ring_field && found) {
+    if (!found->field_known)
+      found->field_rings = dense_rings(g, h, &found->field), found->field_known = true;
+    rings = found->field_rings;
+    if (rings > 0) *ring = found->field;
+  }
+  if (rings > 0) return rings;
+  if (!found) return elevation_rings(g, h.xyz, find_bow(g, h), ring);
+  if (!found->elevations_known) {
+    found->elevations = *ring;  // elevation_rings leaves it as it is when it finds none
+    found->elevation_rings = elevation_rings(g, h.xyz, bow_of(g, h, found), &found->elevations);
+    found->elevations_known = true;
+  }
+  if (found->elevation_rings > 0) *ring = found->elevations;
+  return found->elevation_rings;
+}
+
 }  // namespace
 
 size_t placed_rings(const ScanGeometry& g, const ScanHints& hints, bool ring_field,
-                    std::vector<uint32_t>* placed) {
+                    std::vector<uint32_t>* placed, FoundRings* found) {
   std::vector<uint32_t> ring;
-  size_t rings = ring_field ? dense_rings(g, hints, &ring) : 0;
-  if (rings == 0) rings = elevation_rings(g, hints.xyz, find_bow(g, hints), &ring);
+  const size_t rings = rings_of(g, hints, ring_field, found, &ring);
   placed->assign(g.total(), 0);
   if (rings == 0) return 0;
   for (size_t i = 0; i < g.total(); ++i)
@@ -432,12 +470,11 @@ size_t placed_rings(const ScanGeometry& g, const ScanHints& hints, bool ring_fie
 }
 
 RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units, bool shares,
-                  bool ring_field) {
+                  bool ring_field, FoundRings* found) {
   RingFit r;
   std::vector<uint32_t> ring;
-  r.bow = find_bow(g, hints);
-  size_t rings = ring_field ? dense_rings(g, hints, &ring) : 0;
-  if (rings == 0) rings = elevation_rings(g, hints.xyz, r.bow, &ring);
+  r.bow = bow_of(g, hints, found);
+  const size_t rings = rings_of(g, hints, ring_field, found, &ring);
   r.polar.assign(g.total(), Polar{});
   if (rings == 0) return r;
   std::vector<size_t> size(rings, 0);

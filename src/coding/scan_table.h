@@ -37,16 +37,28 @@ struct RingFit {
   std::vector<uint8_t> slot;
   size_t rings() const { return phi.size(); }
 };
+// What fit_rings and placed_rings find on one window (g and hints) before they fit anything: the
+// cones' bow and the rings, from the ring field and from the elevations (the costly part: a
+// window's encoder asks for both rings more than once, scan_encode.cpp). Kept here by the first
+// call given it, taken from here by the later ones; empty until then. Valid for that g and those
+// hints only.
+struct FoundRings {
+  bool bow_known = false, field_known = false, elevations_known = false;
+  float bow = 0;
+  size_t field_rings = 0, elevation_rings = 0;  // 0: none found
+  std::vector<uint32_t> field, elevations;      // per point
+};
 // Without `units` the range step is not looked for (a caller that codes no payload with it);
 // without `shares` neither are the firing's base and slots (fit_shares: a caller whose tables
 // are never the quantum's, such as the point order's). Without `ring_field` the rings are found
 // from the elevations even when hints has a ring field.
+// found: g's and hints' FoundRings, or null.
 RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units = true,
-                  bool shares = true, bool ring_field = true);
+                  bool shares = true, bool ring_field = true, FoundRings* found = nullptr);
 // The rings fit_rings gives g's points (its RingFit::polar's rings: 0 for a gap), found the same
 // way but nothing else fitted; the number of rings, 0 when none are found.
 size_t placed_rings(const ScanGeometry& g, const ScanHints& hints, bool ring_field,
-                    std::vector<uint32_t>* ring);
+                    std::vector<uint32_t>* ring, FoundRings* found = nullptr);
 // Every point's place under a table (place_points): its ring, column and range, and on a table
 // with slots its firing's base and turn (else `fire` is empty).
 struct Placement {

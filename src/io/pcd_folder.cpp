@@ -363,7 +363,8 @@ class PCDSource : public FileFrameSource {
     header_.format = Format::kPCDFolder;
     header_.units = "m";
     header_.units_assumed = true;
-    // Read whole once: its layout as PCL reads it. Kept for the first read of frame 0.
+    // Read whole once: its layout as PCL reads it. Kept for the first read of frame 0 (of a
+    // single file: for every read).
     PcdBuffers b;
     read_pcd_frame(files_.path(0), &layout_, &first_, &b);
     have_first_ = true;
@@ -372,6 +373,10 @@ class PCDSource : public FileFrameSource {
 
  protected:
   void read_frame(size_t f, FrameData* out) override {
+    if (have_first_ && f == 0 && files_.names.size() == 1) {  // a one-file source's every read
+      *out = first_;  // (the one-frame choice reads its frame three times; compress.cpp)
+      return;
+    }
     if (have_first_) {  // frame 0 read when opening: not read twice
       have_first_ = false;
       FrameData first = std::move(first_);
@@ -394,7 +399,8 @@ class PCDSource : public FileFrameSource {
 
  private:
   FrameLayout layout_;
-  FrameData first_;  // frame 0 as the constructor read it, until the first read_frame
+  FrameData first_;  // frame 0 as the constructor read it, until the first read_frame (one file:
+                     // kept)
   bool have_first_ = false;
   std::string organized_;  // a frame file with HEIGHT above 1, if any
 };

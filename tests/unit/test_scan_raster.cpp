@@ -311,5 +311,63 @@ TEST(ScanRaster, SharedE1AtOneCentimetreHoldsTheBoundWithItsFields) {
   }
 }
 
+// The integers a raster payload at a bound codes (fine shift above 0) as the encoder hands them
+// out in its workspace (ScanWorkspace::fine_q, which the ATTR chunk's predictors take instead
+// of decoding the payload again) are the decoder's, point for point; a payload of the integers
+// given (no bound) hands out none. s: the source's coordinates (x y z per point), counts: per
+// frame.
+void expect_fine_q_decodes(const std::vector<uint32_t>& counts, const std::vector<float>& s,
+                           double bound, const std::string& what) {
+  ScanGeometry g;
+  ScanHints h;
+  g.counts = counts;
+  h.xyz = s;
+  for (size_t i = 0; i < s.size() / 3; ++i)
+    g.valid.push_back(std::isfinite(s[3 * i]) && std::isfinite(s[3 * i + 1]) &&
+                      std::isfinite(s[3 * i + 2]));
+  g.q.assign(s.size(), 0);
+  const double step = 2 * bound * (1 - std::ldexp(1.0, -30));
+  on_grid(h, step, &g);
+  ScanWorkspace ws;
+  const std::vector<uint8_t> exact = encode_scan_geometry(g, h, &ws);
+  EXPECT_TRUE(ws.fine_q.empty() && ws.fine_payload.empty()) << what;
+  h.bound = bound, h.step = step;
+  const std::vector<uint8_t> p = encode_scan_geometry(g, h, &ws);
+  const ScanGeometry back = decode_scan_geometry(p.data(), p.size(), what);
+  ASSERT_GT(back.fine, 0) << what;
+  EXPECT_EQ(ws.fine_payload, p) << what;
+  ASSERT_EQ(ws.fine_q.size(), back.q.size()) << what;
+  size_t moved = 0;  // integers other than the grid's (the hand-out is not g.q)
+  for (size_t j = 0; j < back.q.size(); ++j) {
+    ASSERT_EQ(ws.fine_q[j], back.q[j]) << what << " integer " << j;
+    moved += back.q[j] != g.q[j];
+  }
+  EXPECT_GT(moved, back.q.size() / 2) << what;
+}
+
+TEST(ScanRaster, GivenFlashSweepsAtBoundWhenEncodedThenHandedOutIntegersAreTheDecoders) {
+  for (double bound : {0.005, 0.02}) {
+    ScanHints h;
+    const ScanGeometry g = flash(5, 20, 28, 3, &h);
+    expect_fine_q_decodes(g.counts, h.xyz, bound, "flash " + std::to_string(bound));
+  }
+}
+
+// The same on the RoboSense E1's first four sweeps (../shared) at 1 cm and 1 mm.
+TEST(ScanRaster, SharedE1SweepsAtBoundHandOutTheDecodersIntegers) {
+  const std::string dir = capz_test::shared_data_or_skip("scan/robosense-e1");
+  if (dir.empty()) return;
+  const Take t = read_take(dir);
+  ASSERT_TRUE(t.ragged() && t.frames >= 4);
+  std::vector<uint32_t> counts;
+  for (size_t f = 0; f < 4; ++f) counts.push_back(static_cast<uint32_t>(t.frame_points(f)));
+  std::vector<float> s(3 * t.frame_begin(4));
+  for (size_t i = 0; i < s.size() / 3; ++i)
+    for (size_t a = 0; a < 3; ++a)
+      s[3 * i + a] = t.valid[i] ? static_cast<float>(t.xyz[3 * i + a]) : NAN;
+  for (double bound : {0.01, 0.001})
+    expect_fine_q_decodes(counts, s, bound, "e1 " + std::to_string(bound));
+}
+
 }  // namespace
 }  // namespace capz
