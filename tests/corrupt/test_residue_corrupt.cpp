@@ -2,7 +2,6 @@
 // its chunk CRC recomputed (so only the payload's own checks and the hash can tell): the rebuild
 // throws a capz::Error or gives the original back exactly; never a crash, never a wrong file.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <string>
@@ -14,6 +13,7 @@
 #include "capz/tool/file.h"
 #include "capz/tool/original.h"
 #include "chunk_util.h"
+#include "test_util.h"
 
 namespace fs = std::filesystem;
 
@@ -23,12 +23,12 @@ using capz_test::fix_crc;
 
 namespace {
 
-// Per process and per test: ctest runs the tests of this executable in parallel processes.
+// Per test, in a folder of this process's own that is removed when it exits (ctest runs the
+// tests of this executable in parallel processes).
 std::string tmp(const std::string& name) {
+  static const capz_test::TempDir dir("capz_rcorrupt");
   const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  return (fs::temp_directory_path() /
-          ("capz_rcorrupt_" + std::to_string(::getpid()) + "_" + test + "_" + name))
-      .string();
+  return dir.file(test + "_" + name);
 }
 
 std::vector<uint8_t> lossless_archive(const char* name) {

@@ -1,7 +1,6 @@
 // The byte-exact residue wired into .capz (docs/FORMAT.md 7, 14): HASH, C3DR/C3DP written for a
 // C3D read from a path, the original rebuilt byte for byte, a damaged checksum caught.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -15,14 +14,16 @@
 #include "capz/tool/file.h"
 #include "capz/tool/original.h"
 #include "coding/crc32c.h"
+#include "test_util.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
+// In a folder of this process's own, removed when it exits.
 std::string tmp(const std::string& name) {
-  return (fs::temp_directory_path() / ("capz_wire_" + std::to_string(::getpid()) + "_" + name))
-      .string();
+  static const capz_test::TempDir dir("capz_wire");
+  return dir.file(name);
 }
 
 std::string compress_file(const std::string& in, bool lossless, const std::string& out) {
