@@ -22,18 +22,22 @@
 namespace capz {
 namespace {
 
+// Point i of t's fields as one row of bytes.
+std::vector<uint8_t> field_row(const Take& t, size_t i) {
+  std::vector<uint8_t> r;
+  for (const PointAttribute& a : t.attributes) {
+    const size_t b = a.bytes_per_point();
+    r.insert(r.end(), a.data.begin() + static_cast<std::ptrdiff_t>(i * b),
+             a.data.begin() + static_cast<std::ptrdiff_t>((i + 1) * b));
+  }
+  return r;
+}
+
 // Frame f's points as rows of their field bytes, sorted: the frame's fields as a multiset.
 std::vector<std::vector<uint8_t>> field_rows(const Take& t, size_t f) {
   std::vector<std::vector<uint8_t>> rows;
-  for (size_t i = t.frame_begin(f); i < t.frame_begin(f) + t.frame_points(f); ++i) {
-    std::vector<uint8_t> r;
-    for (const PointAttribute& a : t.attributes) {
-      const size_t b = a.bytes_per_point();
-      r.insert(r.end(), a.data.begin() + static_cast<std::ptrdiff_t>(i * b),
-               a.data.begin() + static_cast<std::ptrdiff_t>((i + 1) * b));
-    }
-    rows.push_back(std::move(r));
-  }
+  for (size_t i = t.frame_begin(f); i < t.frame_begin(f) + t.frame_points(f); ++i)
+    rows.push_back(field_row(t, i));
   std::sort(rows.begin(), rows.end());
   return rows;
 }
@@ -76,17 +80,6 @@ TEST(PointOrderRoundTrip, GivenScanSmallThenEachFramesPointsAndFieldsAsASetWithi
     kept_fields.any_point_order = false;
     EXPECT_LE(z.size(), compress(t, kept_fields).size());
   }
-}
-
-// Point i of t's fields as one row of bytes.
-std::vector<uint8_t> field_row(const Take& t, size_t i) {
-  std::vector<uint8_t> r;
-  for (const PointAttribute& a : t.attributes) {
-    const size_t b = a.bytes_per_point();
-    r.insert(r.end(), a.data.begin() + static_cast<std::ptrdiff_t>(i * b),
-             a.data.begin() + static_cast<std::ptrdiff_t>((i + 1) * b));
-  }
-  return r;
 }
 
 // Whether the first SCNW of archive z holds octree frames (FORMAT.md "Octree frames": the
