@@ -436,6 +436,17 @@ void keep_smaller(RaggedRun& r, size_t w, const WindowBytes& at, FrameBlock* oth
   }
 }
 
+// Whether the offered octree window (point_order.h) may be smaller with its fields than the
+// window now in r.buf (its byte counts from `at` on): when its geometry saves at least a tenth
+// of that window's field bytes. In the cells' Morton order the fields grew by 15 to 56 % (1 cm:
+// an E1 sweep +15 %, the E1 folder +18 %, the Helios +27 %, vlp16 +56 %), so a smaller saving
+// is not worth coding them again (docs/lab/2026-11-30-octree-fields.md).
+bool octree_may_win(const RaggedRun& r, const WindowBytes& at, const OctreeOffer& offer) {
+  const size_t geometry = r.position_bytes - at.position;
+  const size_t saving = geometry - std::min(geometry, offer.coded.size());
+  return !offer.coded.empty() && 10 * saving >= r.attribute_bytes - at.attribute;
+}
+
 // Window w (the frames of b, as read; its fields are taken): its chunks written to r.out, after
 // the one decoder has given them back for the check (opts.check) and the measures (stats).
 void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
@@ -467,7 +478,8 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
   const WindowBytes at{r.position_bytes, r.attribute_bytes};
   code_chunks(r, w, b, &q, &fields, any ? &coded : nullptr);
   if (as_read) keep_smaller(r, w, at, as_read.get(), kept, b, &q, &fields);
-  if (!offer.coded.empty()) keep_smaller(r, w, at, &offer.block, offer.coded, b, &q, &fields);
+  if (octree_may_win(r, at, offer))
+    keep_smaller(r, w, at, &offer.block, offer.coded, b, &q, &fields);
   FrameBlock& d = r.back;
   if (r.opts.check || measure) {
     decode_window_chunks(r.ctx, w, r.buf.data(), base, base + r.buf.size(), &d);
