@@ -93,7 +93,9 @@ bool octree_window(const ScanGeometry& g, const ScanHints& hints, const std::vec
   *bytes = encode_scan_octree(sorted);
   if (bytes->empty()) return false;
   // With the table's cones and the counting models (L = 3; 1 and 2 were never the smallest
-  // where 3 could be: docs/lab/2026-11-30-octree-cones.md).
+  // where 3 could be: docs/lab/2026-11-30-octree-cones.md), unless the payload without them is
+  // above 5/4 of `coded`: they saved at most 11 % (docs/lab/2026-11-30-octree-fields.md).
+  if (4 * bytes->size() > 5 * coded.size()) return false;
   const scan::Table table = octree_cone_table(g, hints);
   if (table.rings() > 0) {
     std::vector<uint8_t> other = encode_scan_octree(sorted, &table, 3);
