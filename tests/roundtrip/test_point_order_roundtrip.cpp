@@ -42,15 +42,21 @@ std::vector<std::vector<uint8_t>> field_rows(const Take& t, size_t f) {
   return rows;
 }
 
+// --point-order any within `bound`.
+CompressOptions any_at(double bound) {
+  CompressOptions o;
+  o.max_error = bound;
+  o.any_point_order = true;
+  return o;
+}
+
 TEST(PointOrderRoundTrip, GivenScanSmallThenEachFramesPointsAndFieldsAsASetWithinTheBound) {
   const Take t = read_take(std::string(CAPZ_REPO_DATA) + "/scan_small");
   ASSERT_TRUE(t.ragged());
   ASSERT_FALSE(t.attributes.empty());
   for (double bound : {0.001, 0.01}) {
     SCOPED_TRACE(bound);
-    CompressOptions o;
-    o.max_error = bound;
-    o.any_point_order = true;
+    const CompressOptions o = any_at(bound);
     CompressStats st;
     const std::vector<uint8_t> z = compress(t, o, &st);
     EXPECT_LE(st.error.max_abs, bound);
@@ -105,9 +111,7 @@ TEST(PointOrderRoundTrip, GivenAnE1SweepWithFieldsAt1cmThenOctreeFramesAndFields
   const Take t = read_take(path);
   ASSERT_FALSE(t.attributes.empty());
   const double bound = 0.01;
-  CompressOptions o;
-  o.max_error = bound;
-  o.any_point_order = true;
+  const CompressOptions o = any_at(bound);
   CompressStats st;
   const std::vector<uint8_t> z = compress(t, o, &st);
   EXPECT_LE(st.error.max_abs, bound);
