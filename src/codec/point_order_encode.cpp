@@ -76,37 +76,44 @@ bool octree_worth_trying(const ScanGeometry& g, size_t coded) {
 
 // Octree frames (FORMAT.md "Octree frames"): each frame's points in octree order, every frame
 // with a valid point an octree frame, without a table and with the cones of the one fitted to
-// the window (hints: g's); replaces *coded (and *best) by the smallest when smaller.
-void try_octree(const ScanGeometry& g, const ScanHints& hints, std::vector<uint8_t>* coded,
-                std::vector<uint32_t>* best) {
-  if (!octree_worth_trying(g, coded->size())) return;
-  std::vector<uint32_t> order;
-  order.reserve(g.total());
+// the window (hints: g's). True, with the smallest payload in *bytes and its order in *order,
+// when that payload is smaller than `coded`.
+bool octree_window(const ScanGeometry& g, const ScanHints& hints, const std::vector<uint8_t>& coded,
+                   std::vector<uint8_t>* bytes, std::vector<uint32_t>* order) {
+  if (!octree_worth_trying(g, coded.size())) return false;
+  order->clear();
+  order->reserve(g.total());
   size_t first = 0;
   for (uint32_t n : g.counts) {
     for (uint32_t j : octree_frame_order(g, first, n))
-      order.push_back(static_cast<uint32_t>(first + j));
+      order->push_back(static_cast<uint32_t>(first + j));
     first += n;
   }
-  const ScanGeometry sorted = permuted(g, order);
-  std::vector<uint8_t> bytes = encode_scan_octree(sorted);
-  if (bytes.empty()) return;
+  const ScanGeometry sorted = permuted(g, *order);
+  *bytes = encode_scan_octree(sorted);
+  if (bytes->empty()) return false;
   // With the table's cones and the counting models (L = 3; 1 and 2 were never the smallest
-  // where 3 could be: docs/lab/2026-11-30-octree-cones.md).
+  // where 3 could be: docs/lab/2026-11-30-octree-cones.md), unless the payload without them is
+  // above 5/4 of `coded`: they saved at most 11 % (docs/lab/2026-11-30-octree-fields.md).
+  if (4 * bytes->size() > 5 * coded.size()) return false;
   const scan::Table table = octree_cone_table(g, hints);
   if (table.rings() > 0) {
     std::vector<uint8_t> other = encode_scan_octree(sorted, &table, 3);
-    if (other.size() < bytes.size()) bytes.swap(other);
+    if (other.size() < bytes->size()) bytes->swap(other);
   }
-  if (bytes.size() < coded->size()) coded->swap(bytes), best->swap(order);
+  return bytes->size() < coded.size();
 }
 
 // The coded order of the points of block b (a window's frames, ragged): indices from its first
 // point; *coded: the geometry's bytes in that order, *kept (when not null): in the file's order.
+// With octree_coded (and octree_order) not null, octree frames are not chosen but put there
+// (left empty when not smaller than *coded).
 std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
                                    const std::vector<uint32_t>& ring,
                                    const std::vector<float>& distance, std::vector<uint8_t>* coded,
-                                   std::vector<uint8_t>* kept, ScanWorkspace* ws, bool octree) {
+                                   std::vector<uint8_t>* kept, ScanWorkspace* ws, bool octree,
+                                   std::vector<uint8_t>* octree_coded,
+                                   std::vector<uint32_t>* octree_order) {
   ScanGeometry g;
   for (size_t k = 0; k < b.frames; ++k)
     g.counts.push_back(static_cast<uint32_t>(b.frame_points(k)));
@@ -150,7 +157,16 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
     elevations.ring.clear();
     try_orders(elevations);
   }
-  if (cells && octree) try_octree(g, hints, coded, &best);
+  // Octree frames: with octree_coded, offered (the caller compares whole windows); else chosen
+  // when their payload is the smallest.
+  std::vector<uint8_t> bytes;
+  std::vector<uint32_t> order;
+  if (cells && octree && octree_window(g, hints, *coded, &bytes, &order)) {
+    if (octree_coded)
+      octree_coded->swap(bytes), octree_order->swap(order);
+    else
+      coded->swap(bytes), best.swap(order);
+  }
   if (kept) kept->swap(file);
   return best;
 }
@@ -165,21 +181,34 @@ void permute(std::vector<T>* v, size_t size, const std::vector<uint32_t>& order)
   v->swap(out);
 }
 
-}  // namespace
-
-bool reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring,
-                    const std::vector<float>& distance, std::vector<uint8_t>* coded,
-                    std::vector<uint8_t>* kept, ScanWorkspace* ws, bool octree) {
-  const std::vector<uint32_t> order =
-      window_order(*b, grid, ring, distance, coded, kept, ws, octree);
-  bool moved = false;
-  for (size_t j = 0; j < order.size() && !moved; ++j) moved = order[j] != j;
-  if (!moved) return false;
+// b's points, and their fields, in `order`.
+void permute_block(FrameBlock* b, const std::vector<uint32_t>& order) {
   permute(&b->xyz, 3, order);
   permute(&b->valid, 1, order);
   const size_t n = b->total_points();
   for (std::vector<uint8_t>& a : b->attributes)
     if (n > 0 && a.size() % n == 0) permute(&a, a.size() / n, order);
+}
+
+}  // namespace
+
+bool reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring,
+                    const std::vector<float>& distance, std::vector<uint8_t>* coded,
+                    std::vector<uint8_t>* kept, ScanWorkspace* ws, bool octree,
+                    OctreeOffer* offer) {
+  std::vector<uint32_t> octree_order;
+  if (offer) offer->coded.clear();
+  const std::vector<uint32_t> order =
+      window_order(*b, grid, ring, distance, coded, kept, ws, octree,
+                   offer ? &offer->coded : nullptr, offer ? &octree_order : nullptr);
+  if (offer && !offer->coded.empty()) {
+    offer->block = *b;
+    permute_block(&offer->block, octree_order);
+  }
+  bool moved = false;
+  for (size_t j = 0; j < order.size() && !moved; ++j) moved = order[j] != j;
+  if (!moved) return false;
+  permute_block(b, order);
   return true;
 }
 

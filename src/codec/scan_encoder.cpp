@@ -408,6 +408,45 @@ void code_chunks(RaggedRun& r, size_t w, FrameBlock* b, std::vector<int32_t>* q,
   append_fields_chunk(r, w, *fields, *b, *q);
 }
 
+// The position and field bytes counted before a window's chunks.
+struct WindowBytes {
+  size_t position, attribute;
+};
+
+// Window w's chunks in r.buf (of block *b, *q and *fields as code_chunks gave them; the byte
+// counts from `at` on) replaced by those of block `other` (its geometry payload `coded`) when
+// they are smaller, *b, *q and *fields with them.
+void keep_smaller(RaggedRun& r, size_t w, const WindowBytes& at, FrameBlock* other,
+                  const std::vector<uint8_t>& coded, FrameBlock* b, std::vector<int32_t>* q,
+                  std::vector<std::vector<uint8_t>>* fields) {
+  std::vector<uint8_t> first;
+  first.swap(r.buf);
+  const WindowBytes first_at{r.position_bytes, r.attribute_bytes};
+  r.position_bytes = at.position, r.attribute_bytes = at.attribute;
+  std::vector<int32_t> q2;
+  std::vector<std::vector<uint8_t>> fields2;
+  code_chunks(r, w, other, &q2, &fields2, &coded);
+  if (r.buf.size() < first.size()) {
+    *b = std::move(*other);
+    q->swap(q2);
+    fields->swap(fields2);
+  } else {
+    r.buf.swap(first);
+    r.position_bytes = first_at.position, r.attribute_bytes = first_at.attribute;
+  }
+}
+
+// Whether the offered octree window (point_order.h) may be smaller with its fields than the
+// window now in r.buf (its byte counts from `at` on): when its geometry saves at least a tenth
+// of that window's field bytes. In the cells' Morton order the fields grew by 15 to 56 % (1 cm:
+// an E1 sweep +15 %, the E1 folder +18 %, the Helios +27 %, vlp16 +56 %), so a smaller saving
+// is not worth coding them again (docs/lab/2026-11-30-octree-fields.md).
+bool octree_may_win(const RaggedRun& r, const WindowBytes& at, const OctreeOffer& offer) {
+  const size_t geometry = r.position_bytes - at.position;
+  const size_t saving = geometry - std::min(geometry, offer.coded.size());
+  return !offer.coded.empty() && 10 * saving >= r.attribute_bytes - at.attribute;
+}
+
 // Window w (the frames of b, as read; its fields are taken): its chunks written to r.out, after
 // the one decoder has given them back for the check (opts.check) and the measures (stats).
 void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
@@ -417,16 +456,18 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
         b->attributes[a].size() != b->total_points() * t.attributes[a].bytes_per_point())
       fail(ErrorCode::kInvalidParameter, t.source,
            "point field '" + t.attributes[a].name + "' does not hold a value for every point");
-  // --point-order any: the window coded, checked and measured in its coded order.
+  // --point-order any: the window coded, checked and measured in its coded order. Its order is
+  // chosen on the geometry's bytes; with fields, the file's order and octree frames (where their
+  // geometry is smaller) are coded too, fields and all, and the smallest window kept: the fields
+  // (timestamps, rings) may cost more in a sorted or Morton order than in a firing's.
   std::unique_ptr<FrameBlock> as_read;
+  OctreeOffer offer;
   std::vector<uint8_t> coded, kept;  // the geometry payloads of the chosen and the file's order
   if (r.opts.any_point_order) {
     if (!r.meta.attributes.empty()) as_read.reset(new FrameBlock(*b));
-    // Octree frames only without fields: the order is chosen on the geometry's bytes, and the
-    // fields (timestamps, rings) cost more in Morton order than in a firing's (the Helios
-    // sequence at 1 cm with its fields: 138,761 -> 139,788 B; lab/2026-11-29-octree-1cm.md).
     if (!reorder_window(b, r.grid, ring_field(t.attributes, *b), distance_field(t.attributes, *b),
-                        &coded, as_read ? &kept : nullptr, &r.scan_ws, !as_read))
+                        &coded, as_read ? &kept : nullptr, &r.scan_ws, true,
+                        as_read ? &offer : nullptr))
       as_read.reset();
   }
   const bool any = r.opts.any_point_order;
@@ -434,25 +475,11 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
   r.buf.clear();
   std::vector<int32_t> q;
   std::vector<std::vector<uint8_t>> fields;
-  const size_t position0 = r.position_bytes, attribute0 = r.attribute_bytes;
+  const WindowBytes at{r.position_bytes, r.attribute_bytes};
   code_chunks(r, w, b, &q, &fields, any ? &coded : nullptr);
-  if (as_read) {  // the order was chosen on the geometry: with fields, keep the smaller window
-    std::vector<uint8_t> sorted;
-    sorted.swap(r.buf);
-    const size_t position1 = r.position_bytes, attribute1 = r.attribute_bytes;
-    r.position_bytes = position0, r.attribute_bytes = attribute0;
-    std::vector<int32_t> q2;
-    std::vector<std::vector<uint8_t>> fields2;
-    code_chunks(r, w, as_read.get(), &q2, &fields2, &kept);
-    if (r.buf.size() < sorted.size()) {
-      *b = std::move(*as_read);
-      q.swap(q2);
-      fields.swap(fields2);
-    } else {
-      r.buf.swap(sorted);
-      r.position_bytes = position1, r.attribute_bytes = attribute1;
-    }
-  }
+  if (as_read) keep_smaller(r, w, at, as_read.get(), kept, b, &q, &fields);
+  if (octree_may_win(r, at, offer))
+    keep_smaller(r, w, at, &offer.block, offer.coded, b, &q, &fields);
   FrameBlock& d = r.back;
   if (r.opts.check || measure) {
     decode_window_chunks(r.ctx, w, r.buf.data(), base, base + r.buf.size(), &d);
