@@ -83,6 +83,24 @@ namespace octree {
 void crossing(const Cones& c, const int64_t* a, int64_t side, const uint16_t* from, size_t count,
               size_t most, std::vector<uint16_t>* out);
 
+// The rings of c that cross a box (crossing's a and side), found among those a bisection leaves:
+// the rings sorted by slope, each bounded above by its slope and the greatest offset at or before
+// it, below by its slope and the least offset at or after it (both nondecreasing along the
+// order, and the box test's binary64 steps monotone), so the rings that can cross are one run of
+// the order; each is then tested as crossing tests it. The same rings as crossing from every ring
+// in index order (ScanOctreeCones tests it against crossing on random and real tables).
+class ConeIndex {
+ public:
+  explicit ConeIndex(const Cones& c);
+  // Appends the crossing rings to *out in index order.
+  void crossing_all(const Cones& c, const int64_t* a, int64_t side,
+                    std::vector<uint16_t>* out) const;
+
+ private:
+  std::vector<uint16_t> order_;        // ring indices by slope
+  std::vector<double> s_, top_, bot_;  // their slopes, greatest z0 up to, least z0 from each
+};
+
 // Morton keys of 21-bit coordinates: bit 3b + 2 is x's bit b, 3b + 1 y's, 3b z's.
 inline uint64_t spread(uint64_t v) {
   v &= 0x1FFFFF;
@@ -184,15 +202,13 @@ inline int bit_context(const int* nb, const KeySet& next, const KeySet& before, 
 }
 
 // The cone classes of a walk's last two levels: a parent's crossing rings (crossing) at level
-// D - 2 from every ring, at D - 1 from its own parent's (kept by index); each child's class from
-// its parent's rings, stopping at 2.
+// D - 2 from every ring (ConeIndex), at D - 1 from its own parent's (kept by index); each
+// child's class from its parent's rings, stopping at 2 (the children's box reaches worked out
+// once a parent, as crossing works them out). In scan_octree.cpp, compiled without contraction.
 class ConeWalk {
  public:
-  ConeWalk(Cones* c, int d, const int64_t* lo) : c_(c), d_(d), lo_(lo) {
-    if (!on()) return;
-    all_.resize(c->rings());
-    for (size_t k = 0; k < all_.size(); ++k) all_[k] = static_cast<uint16_t>(k);
-  }
+  ConeWalk(Cones* c, int d, const int64_t* lo)
+      : c_(c), d_(d), lo_(lo), index_(on() ? *c : Cones{}) {}
   bool on() const { return c_ != nullptr && c_->rings() > 0; }
   // Before the parents of level l (whose children are the nodes of level l + 1).
   void start_level(int l) {
@@ -204,33 +220,9 @@ class ConeWalk {
   }
   // Before the children of the parent at p, the j-th node of level l; false when that takes the
   // window's cone work past its budget.
-  bool start_parent(const int64_t* p, int l, size_t j) {
-    l_ = l;
-    j_ = j;
-    c_->work += c_->rings();
-    if (c_->work > c_->budget) return false;
-    const int64_t side = int64_t{1} << (d_ - l);
-    const int64_t a[3] = {lo_[0] + side * p[0], lo_[1] + side * p[1], lo_[2] + side * p[2]};
-    mine_.clear();
-    if (first_) {
-      crossing(*c_, a, side, all_.data(), all_.size(), all_.size(), &mine_);
-      pool_.insert(pool_.end(), mine_.begin(), mine_.end());
-      span_.push_back(pool_.size());
-    } else {
-      const size_t up = parent_of_[j];
-      crossing(*c_, a, side, pool_.data() + span_[up], span_[up + 1] - span_[up],
-               span_[up + 1] - span_[up], &mine_);
-    }
-    return true;
-  }
+  bool start_parent(const int64_t* p, int l, size_t j);
   // The class of child c (its coordinates at level l + 1) of the parent started last.
-  int child_class(const int64_t* c) {
-    child_.clear();
-    const int64_t side = int64_t{1} << (d_ - l_ - 1);
-    const int64_t a[3] = {lo_[0] + side * c[0], lo_[1] + side * c[1], lo_[2] + side * c[2]};
-    crossing(*c_, a, side, mine_.data(), mine_.size(), 2, &child_);
-    return static_cast<int>(child_.size());
-  }
+  int child_class(const int64_t* c) const;
   // The child last classed is a node (the next of level l + 1).
   void keep_child() {
     if (first_) parent_of_.push_back(j_);
@@ -238,12 +230,16 @@ class ConeWalk {
 
  private:
   Cones* c_;
-  int d_, l_ = 0;
+  int d_;
   size_t j_ = 0;
   const int64_t* lo_;
   bool first_ = false;
-  std::vector<uint16_t> all_, mine_, child_, pool_;
+  ConeIndex index_;
+  std::vector<uint16_t> mine_, pool_;
   std::vector<size_t> span_, parent_of_;
+  // The children's nearest and farthest horizontal distance by x half 2 + y half, z range by z
+  // half (crossing's rl, rh, zl, zh of each child's box).
+  double rl_[4], rh_[4], zl_[2], zh_[2];
 };
 
 // Whether the grid integers u lie in the cube [lo, lo + side)^3, and *k their key from lo.
