@@ -128,6 +128,35 @@ inline void coords(uint64_t k, int64_t* c) {
   c[1] = static_cast<int64_t>(compact(k >> 1));
   c[2] = static_cast<int64_t>(compact(k));
 }
+// The key's bits of each axis (x, y, z), and the key one step (-1, 0 or 1) along an axis, the
+// coordinate staying within [0, 2^21): the neighbours' keys without spreading coordinates.
+constexpr uint64_t kAxisBits[3] = {0x1249249249249249ull << 2, 0x1249249249249249ull << 1,
+                                   0x1249249249249249ull};
+inline uint64_t step_key(uint64_t k, int axis, int step) {
+  const uint64_t m = kAxisBits[axis], low = uint64_t{1} << (2 - axis);
+  if (step > 0) return (((k | ~m) + low) & m) | (k & ~m);
+  if (step < 0) return (((k & m) - low) & m) | (k & ~m);
+  return k;
+}
+// The 26 neighbours (and the node) of the node of key k at coordinates v: part[a][t] the bits of
+// axis a of the key at step t - 1, ok[a][t] whether that coordinate lies in [0, side). The
+// neighbour (dx, dy, dz) is part[0][dx + 1] | part[1][dy + 1] | part[2][dz + 1].
+struct Around {
+  uint64_t part[3][3];
+  bool ok[3][3];
+  Around(uint64_t k, const int64_t* v, int64_t side) {
+    for (int a = 0; a < 3; ++a)
+      for (int t = 0; t < 3; ++t) {
+        part[a][t] = step_key(k, a, t - 1) & kAxisBits[a];
+        ok[a][t] = v[a] + t - 1 >= 0 && v[a] + t - 1 < side;
+      }
+  }
+  // The e-th of the 27 (e = 9 (dx + 1) + 3 (dy + 1) + dz + 1): whether it lies in the cube,
+  // and its key.
+  bool inside(int e) const { return ok[0][e / 9] && ok[1][(e / 3) % 3] && ok[2][e % 3]; }
+  uint64_t key(int e) const { return part[0][e / 9] | part[1][(e / 3) % 3] | part[2][e % 3]; }
+};
+
 // A set of Morton keys (each below 2^63) with an index each: open addressing, at most half
 // full. The walk's and the counts' neighbour lookups (a binary search in the sorted keys
 // answers the same, several times slower).
@@ -172,12 +201,12 @@ class KeySet {
   std::vector<uint32_t> index_;
 };
 
-// The child bit's context (FORMAT.md step 4) of child i of the node at p (level l of a tree of
-// depth d): nb[k] is P of the parent's neighbour (dx, dy, dz) at k = 9 (dx + 1) + 3 (dy + 1) +
-// dz + 1; next the level l + 1 coded so far; ones the bits 1 before child i; before the level
-// l + 1 nodes of the previous frame's cells; r the cone class (2 without one).
-inline int bit_context(const int* nb, const KeySet& next, const KeySet& before, const int64_t* p,
-                       int l, int d, int i, int ones, int r = 2) {
+// The child bit's context (FORMAT.md step 4) of child i (key ck, coordinates c) of a node at
+// level l of a tree of depth d: nb[k] is P of the parent's neighbour (dx, dy, dz) at k = 9 (dx +
+// 1) + 3 (dy + 1) + dz + 1; next the level l + 1 coded so far; ones the bits 1 before child i;
+// before the level l + 1 nodes of the previous frame's cells; r the cone class (2 without one).
+inline int child_context(const int* nb, const KeySet& next, const KeySet& before, uint64_t ck,
+                         const int64_t* c, int l, int d, int i, int ones, int r = 2) {
   const int o[3] = {(i >> 2) & 1, (i >> 1) & 1, i & 1};
   int o7 = 0;
   for (int k = 1; k < 8; ++k) {
@@ -186,19 +215,23 @@ inline int bit_context(const int* nb, const KeySet& next, const KeySet& before, 
     for (int e = 0; e < 3; ++e) at = at * 3 + (2 * o[e] - 1) * a[e] + 1;
     o7 |= nb[at] << (k - 1);
   }
-  const int64_t side = int64_t{1} << (l + 1);
-  int cn = 0;
-  for (int e = 0; e < 3; ++e) {
-    int64_t c[3] = {2 * p[0] + o[0], 2 * p[1] + o[1], 2 * p[2] + o[2]};
-    --c[e];
-    cn |= static_cast<int>(next.has(c, side)) << e;
-  }
+  int cn = 0;  // the child's neighbours one below on each axis (within the cube: c >= 0)
+  for (int e = 0; e < 3; ++e)
+    cn |= static_cast<int>(c[e] > 0 && next.find(step_key(ck, e, -1)) >= 0) << e;
   const int sib = std::min(ones, 2);
   const int lc = l == d - 1 ? 0 : l == d - 2 ? 1 : 2;
-  const int64_t c[3] = {2 * p[0] + o[0], 2 * p[1] + o[1], 2 * p[2] + o[2]};
-  const int pv = before.has(c, side);
+  const int pv = before.find(ck) >= 0;
   if (r < 2) return kOctConeCtx + 2 * ((((o7 * 8 + cn) * 3 + sib) * 2 + lc) * 2 + r) + pv;
   return kOctBitCtx + 2 * (((o7 * 8 + cn) * 3 + sib) * 3 + lc) + pv;
+}
+
+// child_context of child i of the node at p.
+inline int bit_context(const int* nb, const KeySet& next, const KeySet& before, const int64_t* p,
+                       int l, int d, int i, int ones, int r = 2) {
+  const int64_t c[3] = {2 * p[0] + ((i >> 2) & 1), 2 * p[1] + ((i >> 1) & 1), 2 * p[2] + (i & 1)};
+  const uint64_t ck =
+      key(static_cast<uint64_t>(c[0]), static_cast<uint64_t>(c[1]), static_cast<uint64_t>(c[2]));
+  return child_context(nb, next, before, ck, c, l, d, i, ones, r);
 }
 
 // The cone classes of a walk's last two levels: a parent's crossing rings (crossing) at level
@@ -306,21 +339,17 @@ std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
       coords(pk, p);
       if (classed && !cw.start_parent(p, l, j)) io.too_much();
       int nb[27];
-      for (int k = 0; k < 27; ++k) {
-        const int64_t c[3] = {p[0] + k / 9 - 1, p[1] + (k / 3) % 3 - 1, p[2] + k % 3 - 1};
-        nb[k] = k == 13 || here.has(c, side);
-      }
+      const Around around(pk, p, side);
+      for (int k = 0; k < 27; ++k)
+        nb[k] = k == 13 || (around.inside(k) && here.find(around.key(k)) >= 0);
       int ones = 0;
       for (int i = 0; i < 8; ++i) {
         const uint64_t ck = pk << 3 | static_cast<uint64_t>(i);
+        const int64_t c[3] = {2 * p[0] + (i >> 2), 2 * p[1] + ((i >> 1) & 1), 2 * p[2] + (i & 1)};
         bool bit = true;
-        int r = 2;
-        if (classed) {
-          const int64_t c[3] = {2 * p[0] + (i >> 2), 2 * p[1] + ((i >> 1) & 1), 2 * p[2] + (i & 1)};
-          r = cw.child_class(c);
-        }
+        const int r = classed ? cw.child_class(c) : 2;
         if (i < 7 || ones > 0)
-          bit = io.bit(bit_context(nb, there, before, p, l, d, i, ones, r), l, ck);
+          bit = io.bit(child_context(nb, there, before, ck, c, l, d, i, ones, r), l, ck);
         if (!bit) continue;
         if (next.size() >= m) io.too_many();
         if (classed) cw.keep_child();
@@ -361,15 +390,11 @@ inline int count_context(const std::vector<uint64_t>& cells, const KeySet& set,
   int64_t v[3];
   coords(cells[j], v);
   uint64_t k = 0, sum = 0;
+  // outside [0, 2^21) (at depth 21, 2^21 has no 21-bit key: it would be taken for 0)
+  const Around around(cells[j], v, int64_t{1} << kMaxOctreeDepth);
   for (int e = 0; e < 27; ++e) {
-    if (e == 13) continue;
-    const int64_t c[3] = {v[0] + e / 9 - 1, v[1] + (e / 3) % 3 - 1, v[2] + e % 3 - 1};
-    // outside the cube (at depth 21, 2^21 has no 21-bit key: it would be taken for 0)
-    constexpr int64_t kSide = int64_t{1} << kMaxOctreeDepth;
-    if (c[0] < 0 || c[1] < 0 || c[2] < 0 || c[0] >= kSide || c[1] >= kSide || c[2] >= kSide)
-      continue;
-    const int64_t at = set.find(
-        key(static_cast<uint64_t>(c[0]), static_cast<uint64_t>(c[1]), static_cast<uint64_t>(c[2])));
+    if (e == 13 || !around.inside(e)) continue;
+    const int64_t at = set.find(around.key(e));
     if (at < 0 || static_cast<size_t>(at) >= j) continue;  // not a cell, or not before this one
     ++k;
     sum += points[static_cast<size_t>(at)];

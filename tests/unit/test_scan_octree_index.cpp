@@ -1,6 +1,7 @@
 // The octree walk's shortcuts that must not change a context (docs/lab/2026-11-30-octree-speed.md):
 // the cone index's rings of a box against the box test of every ring, on random tables and on
-// the tables fitted to real sweeps.
+// the tables fitted to real sweeps; the neighbours' keys by key arithmetic against their
+// coordinates' keys.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -100,6 +101,37 @@ TEST(ScanOctreeIndex, GivenRealSweepsTablesThenTheIndexFindsTheRingsOfTheBoxTest
       EXPECT_GT(crossed, b.size() / 8) << name;
     }
   }
+}
+
+TEST(ScanOctreeIndex, GivenNodesThenTheirNeighboursKeysAreTheKeysOfTheirCoordinates) {
+  std::mt19937_64 rng(13);
+  size_t inside = 0, outside = 0;
+  for (int t = 0; t < 20000; ++t) {
+    const int bits = 1 + t % 21;
+    const int64_t side = int64_t{1} << bits;
+    int64_t v[3];
+    for (int64_t& x : v) {  // often at a face of the cube
+      const uint64_t r = rng();
+      x = r % 4 == 0 ? 0 : r % 4 == 1 ? side - 1 : static_cast<int64_t>(rng() % uint64_t(side));
+    }
+    const uint64_t k = scan::octree::key(uint64_t(v[0]), uint64_t(v[1]), uint64_t(v[2]));
+    const scan::octree::Around around(k, v, side);
+    for (int e = 0; e < 27; ++e) {
+      const int64_t c[3] = {v[0] + e / 9 - 1, v[1] + (e / 3) % 3 - 1, v[2] + e % 3 - 1};
+      bool in = true;
+      for (int64_t x : c) in = in && x >= 0 && x < side;
+      ASSERT_EQ(around.inside(e), in) << t << " " << e;
+      if (!in) {
+        ++outside;
+        continue;
+      }
+      ++inside;
+      ASSERT_EQ(around.key(e), scan::octree::key(uint64_t(c[0]), uint64_t(c[1]), uint64_t(c[2])))
+          << t << " " << e;
+    }
+  }
+  EXPECT_GT(outside, 20000u);
+  EXPECT_GT(inside, 20000u);
 }
 
 }  // namespace
