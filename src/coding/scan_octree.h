@@ -138,23 +138,35 @@ inline uint64_t step_key(uint64_t k, int axis, int step) {
   if (step < 0) return (((k & m) - low) & m) | (k & ~m);
   return k;
 }
-// The 26 neighbours (and the node) of the node of key k at coordinates v: part[a][t] the bits of
-// axis a of the key at step t - 1, ok[a][t] whether that coordinate lies in [0, side). The
-// neighbour (dx, dy, dz) is part[0][dx + 1] | part[1][dy + 1] | part[2][dz + 1].
-struct Around {
-  uint64_t part[3][3];
-  bool ok[3][3];
+// The 26 neighbours of the node of key k at coordinates v whose coordinates lie in [0, side):
+// each(f) calls f(e, key) for each in the order of e = 9 (dx + 1) + 3 (dy + 1) + dz + 1.
+class Around {
+ public:
   Around(uint64_t k, const int64_t* v, int64_t side) {
     for (int a = 0; a < 3; ++a)
       for (int t = 0; t < 3; ++t) {
-        part[a][t] = step_key(k, a, t - 1) & kAxisBits[a];
-        ok[a][t] = v[a] + t - 1 >= 0 && v[a] + t - 1 < side;
+        part_[a][t] = step_key(k, a, t - 1) & kAxisBits[a];
+        ok_[a][t] = v[a] + t - 1 >= 0 && v[a] + t - 1 < side;
       }
   }
-  // The e-th of the 27 (e = 9 (dx + 1) + 3 (dy + 1) + dz + 1): whether it lies in the cube,
-  // and its key.
-  bool inside(int e) const { return ok[0][e / 9] && ok[1][(e / 3) % 3] && ok[2][e % 3]; }
-  uint64_t key(int e) const { return part[0][e / 9] | part[1][(e / 3) % 3] | part[2][e % 3]; }
+  template <class F>
+  void each(F&& f) const {
+    for (int x = 0; x < 3; ++x) {
+      if (!ok_[0][x]) continue;
+      for (int y = 0; y < 3; ++y) {
+        if (!ok_[1][y]) continue;
+        const uint64_t xy = part_[0][x] | part_[1][y];
+        for (int z = 0; z < 3; ++z) {
+          const int e = 9 * x + 3 * y + z;
+          if (ok_[2][z] && e != 13) f(e, xy | part_[2][z]);
+        }
+      }
+    }
+  }
+
+ private:
+  uint64_t part_[3][3];  // the bits of axis a of the key at step t - 1
+  bool ok_[3][3];        // whether that coordinate lies in [0, side)
 };
 
 // A set of Morton keys (each below 2^63) with an index each: open addressing, at most half
@@ -338,10 +350,9 @@ std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
       int64_t p[3];
       coords(pk, p);
       if (classed && !cw.start_parent(p, l, j)) io.too_much();
-      int nb[27];
-      const Around around(pk, p, side);
-      for (int k = 0; k < 27; ++k)
-        nb[k] = k == 13 || (around.inside(k) && here.find(around.key(k)) >= 0);
+      int nb[27] = {0};
+      nb[13] = 1;
+      Around(pk, p, side).each([&](int at, uint64_t k) { nb[at] = here.find(k) >= 0; });
       int ones = 0;
       for (int i = 0; i < 8; ++i) {
         const uint64_t ck = pk << 3 | static_cast<uint64_t>(i);
@@ -391,14 +402,12 @@ inline int count_context(const std::vector<uint64_t>& cells, const KeySet& set,
   coords(cells[j], v);
   uint64_t k = 0, sum = 0;
   // outside [0, 2^21) (at depth 21, 2^21 has no 21-bit key: it would be taken for 0)
-  const Around around(cells[j], v, int64_t{1} << kMaxOctreeDepth);
-  for (int e = 0; e < 27; ++e) {
-    if (e == 13 || !around.inside(e)) continue;
-    const int64_t at = set.find(around.key(e));
-    if (at < 0 || static_cast<size_t>(at) >= j) continue;  // not a cell, or not before this one
+  Around(cells[j], v, int64_t{1} << kMaxOctreeDepth).each([&](int, uint64_t c) {
+    const int64_t at = set.find(c);
+    if (at < 0 || static_cast<size_t>(at) >= j) return;  // not a cell, or not before this one
     ++k;
     sum += points[static_cast<size_t>(at)];
-  }
+  });
   const int nc = k == 0            ? 0
                  : 2 * sum < 3 * k ? 1
                  : 2 * sum < 5 * k ? 2
