@@ -143,11 +143,15 @@ inline uint64_t step_key(uint64_t k, int axis, int step) {
 class Around {
  public:
   Around(uint64_t k, const int64_t* v, int64_t side) {
-    for (int a = 0; a < 3; ++a)
-      for (int t = 0; t < 3; ++t) {
-        part_[a][t] = step_key(k, a, t - 1) & kAxisBits[a];
-        ok_[a][t] = v[a] + t - 1 >= 0 && v[a] + t - 1 < side;
-      }
+    for (int a = 0; a < 3; ++a) {
+      const uint64_t m = kAxisBits[a], low = uint64_t{1} << (2 - a);  // step_key's, unrolled
+      part_[a][0] = ((k & m) - low) & m;
+      part_[a][1] = k & m;
+      part_[a][2] = ((k | ~m) + low) & m;
+      ok_[a][0] = v[a] > 0;
+      ok_[a][1] = v[a] >= 0 && v[a] < side;
+      ok_[a][2] = v[a] + 1 < side;
+    }
   }
   template <class F>
   void each(F&& f) const {
@@ -219,14 +223,18 @@ class KeySet {
 // before the level l + 1 nodes of the previous frame's cells; r the cone class (2 without one).
 inline int child_context(const int* nb, const KeySet& next, const KeySet& before, uint64_t ck,
                          const int64_t* c, int l, int d, int i, int ones, int r = 2) {
-  const int o[3] = {(i >> 2) & 1, (i >> 1) & 1, i & 1};
+  // o7's bit k - 1: the neighbour at (2 o - 1) a for k's bits a (o child i's), by a table
+  static constexpr struct Toward {
+    int at[8][8] = {};
+    constexpr Toward() {
+      for (int j = 0; j < 8; ++j)
+        for (int k = 1; k < 8; ++k)
+          for (int e = 0; e < 3; ++e)
+            at[j][k] = at[j][k] * 3 + (2 * ((j >> (2 - e)) & 1) - 1) * ((k >> (2 - e)) & 1) + 1;
+    }
+  } kToward;
   int o7 = 0;
-  for (int k = 1; k < 8; ++k) {
-    const int a[3] = {(k >> 2) & 1, (k >> 1) & 1, k & 1};
-    int at = 0;
-    for (int e = 0; e < 3; ++e) at = at * 3 + (2 * o[e] - 1) * a[e] + 1;
-    o7 |= nb[at] << (k - 1);
-  }
+  for (int k = 1; k < 8; ++k) o7 |= nb[kToward.at[i][k]] << (k - 1);
   int cn = 0;  // the child's neighbours one below on each axis (within the cube: c >= 0)
   for (int e = 0; e < 3; ++e)
     cn |= static_cast<int>(c[e] > 0 && next.find(step_key(ck, e, -1)) >= 0) << e;
