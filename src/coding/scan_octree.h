@@ -185,12 +185,15 @@ class KeySet {
     shift_ = 64 - __builtin_ctzll(cap);
     keys_.assign(cap, kEmpty);
     index_.resize(cap);
+    size_ = 0;
   }
+  bool empty() const { return size_ == 0; }
   void insert(uint64_t k, uint32_t index) {
     size_t at = slot(k);
     while (keys_[at] != kEmpty) at = (at + 1) & (keys_.size() - 1);
     keys_[at] = k;
     index_[at] = index;
+    ++size_;
   }
   // The key's index, or -1.
   int64_t find(uint64_t k) const {
@@ -213,16 +216,18 @@ class KeySet {
     return static_cast<size_t>((k * 0x9E3779B97F4A7C15ull) >> shift_);
   }
   int shift_ = 60;
+  size_t size_ = 0;
   std::vector<uint64_t> keys_;
   std::vector<uint32_t> index_;
 };
 
 // The child bit's context (FORMAT.md step 4) of child i (key ck, coordinates c) of a node at
 // level l of a tree of depth d: nb[k] is P of the parent's neighbour (dx, dy, dz) at k = 9 (dx +
-// 1) + 3 (dy + 1) + dz + 1; next the level l + 1 coded so far; ones the bits 1 before child i;
-// before the level l + 1 nodes of the previous frame's cells; r the cone class (2 without one).
+// 1) + 3 (dy + 1) + dz + 1; next the level l + 1 coded so far; coded the bits of the children
+// before i (bit j: child j is a node), ones how many; before the level l + 1 nodes of the
+// previous frame's cells; r the cone class (2 without one).
 inline int child_context(const int* nb, const KeySet& next, const KeySet& before, uint64_t ck,
-                         const int64_t* c, int l, int d, int i, int ones, int r = 2) {
+                         const int64_t* c, int l, int d, int i, int coded, int ones, int r = 2) {
   // o7's bit k - 1: the neighbour at (2 o - 1) a for k's bits a (o child i's), by a table
   static constexpr struct Toward {
     int at[8][8] = {};
@@ -236,11 +241,16 @@ inline int child_context(const int* nb, const KeySet& next, const KeySet& before
   int o7 = 0;
   for (int k = 1; k < 8; ++k) o7 |= nb[kToward.at[i][k]] << (k - 1);
   int cn = 0;  // the child's neighbours one below on each axis (within the cube: c >= 0)
-  for (int e = 0; e < 3; ++e)
-    cn |= static_cast<int>(c[e] > 0 && next.find(step_key(ck, e, -1)) >= 0) << e;
+  for (int e = 0; e < 3; ++e) {
+    const int bit = 1 << (2 - e);  // a sibling when the child is the upper half on axis e
+    if (i & bit)
+      cn |= ((coded >> (i ^ bit)) & 1) << e;
+    else
+      cn |= static_cast<int>(c[e] > 0 && next.find(step_key(ck, e, -1)) >= 0) << e;
+  }
   const int sib = std::min(ones, 2);
   const int lc = l == d - 1 ? 0 : l == d - 2 ? 1 : 2;
-  const int pv = before.find(ck) >= 0;
+  const int pv = !before.empty() && before.find(ck) >= 0;
   if (r < 2) return kOctConeCtx + 2 * ((((o7 * 8 + cn) * 3 + sib) * 2 + lc) * 2 + r) + pv;
   return kOctBitCtx + 2 * (((o7 * 8 + cn) * 3 + sib) * 3 + lc) + pv;
 }
@@ -251,7 +261,10 @@ inline int bit_context(const int* nb, const KeySet& next, const KeySet& before, 
   const int64_t c[3] = {2 * p[0] + ((i >> 2) & 1), 2 * p[1] + ((i >> 1) & 1), 2 * p[2] + (i & 1)};
   const uint64_t ck =
       key(static_cast<uint64_t>(c[0]), static_cast<uint64_t>(c[1]), static_cast<uint64_t>(c[2]));
-  return child_context(nb, next, before, ck, c, l, d, i, ones, r);
+  int coded = 0;
+  for (int j = 0; j < i; ++j)
+    coded |= static_cast<int>(next.find((ck & ~uint64_t{7}) | static_cast<uint64_t>(j)) >= 0) << j;
+  return child_context(nb, next, before, ck, c, l, d, i, coded, ones, r);
 }
 
 // The cone classes of a walk's last two levels: a parent's crossing rings (crossing) at level
@@ -361,19 +374,20 @@ std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
       int nb[27] = {0};
       nb[13] = 1;
       Around(pk, p, side).each([&](int at, uint64_t k) { nb[at] = here.find(k) >= 0; });
-      int ones = 0;
+      int ones = 0, coded = 0;
       for (int i = 0; i < 8; ++i) {
         const uint64_t ck = pk << 3 | static_cast<uint64_t>(i);
         const int64_t c[3] = {2 * p[0] + (i >> 2), 2 * p[1] + ((i >> 1) & 1), 2 * p[2] + (i & 1)};
         bool bit = true;
         const int r = classed ? cw.child_class(c) : 2;
         if (i < 7 || ones > 0)
-          bit = io.bit(child_context(nb, there, before, ck, c, l, d, i, ones, r), l, ck);
+          bit = io.bit(child_context(nb, there, before, ck, c, l, d, i, coded, ones, r), l, ck);
         if (!bit) continue;
         if (next.size() >= m) io.too_many();
         if (classed) cw.keep_child();
         there.insert(ck, static_cast<uint32_t>(next.size()));
         next.push_back(ck);
+        coded |= 1 << i;
         ++ones;
       }
     }
