@@ -139,7 +139,8 @@ inline uint64_t step_key(uint64_t k, int axis, int step) {
   return k;
 }
 // The 26 neighbours of the node of key k at coordinates v whose coordinates lie in [0, side):
-// each(f) calls f(e, key) for each in the order of e = 9 (dx + 1) + 3 (dy + 1) + dz + 1.
+// each(f, skip) calls f(e, key) for each in the order of e = 9 (dx + 1) + 3 (dy + 1) + dz + 1
+// but those whose bit e is set in skip (bit 13, the node, always).
 class Around {
  public:
   Around(uint64_t k, const int64_t* v, int64_t side) {
@@ -154,7 +155,7 @@ class Around {
     }
   }
   template <class F>
-  void each(F&& f) const {
+  void each(F&& f, uint32_t skip = 1u << 13) const {
     for (int x = 0; x < 3; ++x) {
       if (!ok_[0][x]) continue;
       for (int y = 0; y < 3; ++y) {
@@ -162,7 +163,7 @@ class Around {
         const uint64_t xy = part_[0][x] | part_[1][y];
         for (int z = 0; z < 3; ++z) {
           const int e = 9 * x + 3 * y + z;
-          if (ok_[2][z] && e != 13) f(e, xy | part_[2][z]);
+          if (ok_[2][z] && !((skip >> e) & 1)) f(e, xy | part_[2][z]);
         }
       }
     }
@@ -172,6 +173,30 @@ class Around {
   uint64_t part_[3][3];  // the bits of axis a of the key at step t - 1
   bool ok_[3][3];        // whether that coordinate lies in [0, side)
 };
+
+// The neighbours e (Around's) with dx, dy, dz >= 0: their keys are above the node's (a key grows
+// with each coordinate), the node's own included.
+constexpr uint32_t kUpperNeighbours = [] {
+  uint32_t b = 0;
+  for (int e = 0; e < 27; ++e)
+    b |= static_cast<uint32_t>(e / 9 >= 1 && (e / 3) % 3 >= 1 && e % 3 >= 1) << e;
+  return b;
+}();
+// For a node at position o in its parent (key & 7): at[o][s] the e of its sibling at position s,
+// skip[o] those e and the node's own.
+struct Siblings {
+  int at[8][8] = {};
+  uint32_t skip[8] = {};
+  constexpr Siblings() {
+    for (int o = 0; o < 8; ++o)
+      for (int s = 0; s < 8; ++s) {
+        at[o][s] = 9 * (((s >> 2) & 1) - ((o >> 2) & 1) + 1) +
+                   3 * (((s >> 1) & 1) - ((o >> 1) & 1) + 1) + (s & 1) - (o & 1) + 1;
+        skip[o] |= uint32_t{1} << at[o][s];
+      }
+  }
+};
+constexpr Siblings kSiblings;
 
 // A set of Morton keys (each below 2^63) with an index each: open addressing, at most half
 // full. The walk's and the counts' neighbour lookups (a binary search in the sorted keys
@@ -355,6 +380,9 @@ std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
   std::vector<std::vector<uint64_t>> earlier;
   previous_levels(prev, lo, d, &earlier);
   ConeWalk cw(cones, d, lo);
+  // level's parents' child bits (by index), level's nodes' parents (by index); next's, so far
+  std::vector<uint8_t> kids_up, kids;
+  std::vector<uint32_t> up, up_next;
   for (int l = 0; l < d; ++l) {
     const bool classed = cw.on() && l >= d - 2;
     if (classed) cw.start_level(l);
@@ -373,7 +401,15 @@ std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
       if (classed && !cw.start_parent(p, l, j)) io.too_much();
       int nb[27] = {0};
       nb[13] = 1;
-      Around(pk, p, side).each([&](int at, uint64_t k) { nb[at] = here.find(k) >= 0; });
+      uint32_t skip = 1u << 13;
+      if (l > 0) {  // the siblings from the parent's bits
+        const size_t o = pk & 7;
+        const int bits = kids_up[up[j]];
+        for (size_t s = 0; s < 8; ++s) nb[kSiblings.at[o][s]] = (bits >> s) & 1;
+        nb[13] = 1;
+        skip = kSiblings.skip[o];
+      }
+      Around(pk, p, side).each([&](int at, uint64_t k) { nb[at] = here.find(k) >= 0; }, skip);
       int ones = 0, coded = 0;
       for (int i = 0; i < 8; ++i) {
         const uint64_t ck = pk << 3 | static_cast<uint64_t>(i);
@@ -387,11 +423,17 @@ std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
         if (classed) cw.keep_child();
         there.insert(ck, static_cast<uint32_t>(next.size()));
         next.push_back(ck);
+        up_next.push_back(static_cast<uint32_t>(j));
         coded |= 1 << i;
         ++ones;
       }
+      kids.push_back(static_cast<uint8_t>(coded));
     }
     level.swap(next);
+    kids_up.swap(kids);
+    kids.clear();
+    up.swap(up_next);
+    up_next.clear();
   }
   return level;
 }
@@ -424,12 +466,16 @@ inline int count_context(const std::vector<uint64_t>& cells, const KeySet& set,
   coords(cells[j], v);
   uint64_t k = 0, sum = 0;
   // outside [0, 2^21) (at depth 21, 2^21 has no 21-bit key: it would be taken for 0)
-  Around(cells[j], v, int64_t{1} << kMaxOctreeDepth).each([&](int, uint64_t c) {
-    const int64_t at = set.find(c);
-    if (at < 0 || static_cast<size_t>(at) >= j) return;  // not a cell, or not before this one
-    ++k;
-    sum += points[static_cast<size_t>(at)];
-  });
+  // (those above in key order are not before this one: not asked)
+  Around(cells[j], v, int64_t{1} << kMaxOctreeDepth)
+      .each(
+          [&](int, uint64_t c) {
+            const int64_t at = set.find(c);
+            if (at < 0 || static_cast<size_t>(at) >= j) return;  // not a cell, or not before
+            ++k;
+            sum += points[static_cast<size_t>(at)];
+          },
+          kUpperNeighbours);
   const int nc = k == 0            ? 0
                  : 2 * sum < 3 * k ? 1
                  : 2 * sum < 5 * k ? 2

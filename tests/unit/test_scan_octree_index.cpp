@@ -1,12 +1,13 @@
 // The octree walk's shortcuts that must not change a context (docs/lab/2026-11-30-octree-speed.md):
 // the cone index's rings of a box against the box test of every ring, on random tables and on
 // the tables fitted to real sweeps; the neighbours' keys by key arithmetic against their
-// coordinates' keys.
+// coordinates' keys; the walk's and the counts' contexts against lookups by coordinates.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
+#include "capz/error.h"
 #include "capz/io.h"
 #include "coding/scan_octree.h"
 #include "coding/scan_shared.h"
@@ -130,6 +131,144 @@ TEST(ScanOctreeIndex, GivenNodesThenTheirNeighboursKeysAreTheKeysOfTheirCoordina
   }
   EXPECT_GT(outside, 20000u);
   EXPECT_GT(inside, 20000u);
+}
+
+// The walk's child bits, and the contexts it asks for.
+struct Recorder {
+  std::vector<std::vector<uint64_t>> levels;
+  std::vector<int> ctx;
+  bool bit(int c, int l, uint64_t k) {
+    ctx.push_back(c);
+    const std::vector<uint64_t>& n = levels[static_cast<size_t>(l) + 1];
+    return std::binary_search(n.begin(), n.end(), k);
+  }
+  [[noreturn]] void too_many() { throw Error(ErrorCode::kInternal, "too many"); }
+  [[noreturn]] void too_much() { throw Error(ErrorCode::kInternal, "too much"); }
+};
+
+// Sorted distinct keys of the cells (x y z from lo, 4 ints a cell as the previous frame's).
+std::vector<uint64_t> keys_of(const std::vector<int32_t>& cells, const int64_t* lo) {
+  std::vector<uint64_t> k;
+  for (size_t j = 0; j + 3 < cells.size(); j += 4)
+    k.push_back(scan::octree::key(uint64_t(cells[j] - lo[0]), uint64_t(cells[j + 1] - lo[1]),
+                                  uint64_t(cells[j + 2] - lo[2])));
+  std::sort(k.begin(), k.end());
+  k.erase(std::unique(k.begin(), k.end()), k.end());
+  return k;
+}
+
+// Cells of a depth-d cube from lo: clusters on a few surfaces and scattered ones, on its faces
+// too, with points 1-12 each.
+std::vector<int32_t> some_cells(std::mt19937* rng, int d, const int64_t* lo, size_t n) {
+  const int64_t side = int64_t{1} << d;
+  std::uniform_int_distribution<int64_t> u(0, side - 1);
+  std::vector<int32_t> c;
+  for (size_t j = 0; j < n; ++j) {
+    int64_t v[3] = {u(*rng), u(*rng), u(*rng)};
+    if (j % 3 == 0) v[2] = (v[0] / 2 + v[1] / 3) % side;  // a slanted plane
+    if (j % 7 == 0) v[j % 3] = j % 2 == 0 ? 0 : side - 1;
+    for (int a = 0; a < 3; ++a) c.push_back(static_cast<int32_t>(lo[a] + v[a]));
+    c.push_back(static_cast<int32_t>(1 + (*rng)() % 12));
+  }
+  return c;
+}
+
+// The walk's contexts against FORMAT.md step 4 worked out with hash lookups of coordinates
+// (bit_context over KeySets of each level, of the next level so far and of the previous frame's
+// cells), on random trees with and without a previous frame.
+TEST(ScanOctreeIndex, GivenRandomTreesThenTheWalksContextsAreTheLookupsOfTheirCoordinates) {
+  std::mt19937 rng(17);
+  size_t asked = 0;
+  for (int t = 0; t < 12; ++t) {
+    const int d = 3 + t % 5;
+    const int64_t lo[3] = {-37, 5, -(int64_t{1} << d) / 2};
+    const std::vector<int32_t> cells = some_cells(&rng, d, lo, 40u << (t % 5));
+    const std::vector<int32_t> prev = t % 2 ? some_cells(&rng, d, lo, 200) : std::vector<int32_t>{};
+    Recorder io;
+    io.levels.resize(static_cast<size_t>(d) + 1);
+    io.levels.back() = keys_of(cells, lo);
+    for (int l = d - 1; l >= 0; --l)
+      for (uint64_t k : io.levels[static_cast<size_t>(l) + 1])
+        if (io.levels[size_t(l)].empty() || io.levels[size_t(l)].back() != k >> 3)
+          io.levels[size_t(l)].push_back(k >> 3);
+    const std::vector<uint64_t> got =
+        scan::octree::code_tree(io, d, io.levels.back().size(), lo, prev);
+    ASSERT_EQ(got, io.levels.back());
+    std::vector<std::vector<uint64_t>> earlier;
+    scan::octree::previous_levels(prev, lo, d, &earlier);
+    size_t at = 0;
+    for (int l = 0; l < d; ++l) {
+      const std::vector<uint64_t>& level = io.levels[size_t(l)];
+      const std::vector<uint64_t>& below = io.levels[size_t(l) + 1];
+      scan::octree::KeySet here, next, before;
+      here.reset(level.size());
+      for (uint64_t k : level) here.insert(k, 0);
+      next.reset(below.size());
+      before.reset(earlier[size_t(l) + 1].size());
+      for (uint64_t k : earlier[size_t(l) + 1]) before.insert(k, 0);
+      const int64_t side = int64_t{1} << l;
+      for (uint64_t pk : level) {
+        int64_t p[3];
+        scan::octree::coords(pk, p);
+        int nb[27];
+        for (int e = 0; e < 27; ++e) {
+          const int64_t c[3] = {p[0] + e / 9 - 1, p[1] + (e / 3) % 3 - 1, p[2] + e % 3 - 1};
+          nb[e] = here.has(c, side);
+        }
+        int ones = 0;
+        for (int i = 0; i < 8; ++i) {
+          const uint64_t ck = pk << 3 | uint64_t(i);
+          if (i < 7 || ones > 0) {
+            ASSERT_LT(at, io.ctx.size());
+            ASSERT_EQ(io.ctx[at], scan::octree::bit_context(nb, next, before, p, l, d, i, ones))
+                << "tree " << t << " level " << l << " child " << ck;
+            ++at;
+          }
+          if (!std::binary_search(below.begin(), below.end(), ck)) continue;
+          next.insert(ck, 0);
+          ++ones;
+        }
+      }
+    }
+    EXPECT_EQ(at, io.ctx.size());
+    asked += at;
+  }
+  EXPECT_GT(asked, 10000u);
+}
+
+// A cell's count context (FORMAT.md step 5) against its 26 neighbours looked up by coordinates.
+TEST(ScanOctreeIndex, GivenRandomCellsThenTheCountContextsNeighboursAreTheCellsBeforeThem) {
+  std::mt19937 rng(19);
+  for (int t = 0; t < 6; ++t) {
+    const int d = 4 + t;
+    const int64_t lo[3] = {3, -9, 0};
+    const std::vector<int32_t> c = some_cells(&rng, d, lo, 60u << t);
+    const std::vector<uint64_t> cells = keys_of(c, lo);
+    scan::octree::KeySet set, none;
+    set.reset(cells.size());
+    for (size_t j = 0; j < cells.size(); ++j) set.insert(cells[j], static_cast<uint32_t>(j));
+    none.reset(0);
+    std::vector<uint32_t> points(cells.size());
+    for (size_t j = 0; j < cells.size(); ++j) points[j] = 1 + static_cast<uint32_t>(rng() % 12);
+    for (size_t j = 0; j < cells.size(); ++j) {
+      int64_t v[3], a[3];
+      scan::octree::coords(cells[j], v);
+      for (int e = 0; e < 3; ++e) a[e] = v[e] + lo[e];
+      uint64_t k = 0, sum = 0;
+      for (int e = 0; e < 27; ++e) {
+        const int64_t n[3] = {v[0] + e / 9 - 1, v[1] + (e / 3) % 3 - 1, v[2] + e % 3 - 1};
+        if (e == 13 || n[0] < 0 || n[1] < 0 || n[2] < 0) continue;
+        const int64_t at =
+            set.find(scan::octree::key(uint64_t(n[0]), uint64_t(n[1]), uint64_t(n[2])));
+        if (at >= 0 && size_t(at) < j) ++k, sum += points[size_t(at)];
+      }
+      // the class of the neighbours' mean points (FORMAT.md step 5): none, < 1.5, 2.5, 4, 8, more
+      const double mean = k == 0 ? 0 : double(sum) / double(k);
+      const int nc = k == 0 ? 0 : 1 + (mean >= 1.5) + (mean >= 2.5) + (mean >= 4) + (mean >= 8);
+      const int ctx = scan::octree::count_context(cells, set, points, j, a, none, {});
+      ASSERT_EQ((ctx - scan::kOctCountCtx) / 6 % 6, nc) << t << " " << j;
+    }
+  }
 }
 
 }  // namespace
