@@ -365,6 +365,21 @@ inline void previous_levels(const std::vector<int32_t>& prev, const int64_t* lo,
     }
 }
 
+// nb[e] (child_context's) of the node of key pk at p of a level of side `side` whose nodes are
+// `here`; siblings: its parent's child bits (-1: no parent).
+inline void parent_neighbours(const KeySet& here, uint64_t pk, const int64_t* p, int64_t side,
+                              int siblings, int* nb) {
+  std::fill(nb, nb + 27, 0);
+  uint32_t skip = 1u << 13;
+  if (siblings >= 0) {
+    const size_t o = pk & 7;
+    for (size_t s = 0; s < 8; ++s) nb[kSiblings.at[o][s]] = (siblings >> s) & 1;
+    skip = kSiblings.skip[o];
+  }
+  nb[13] = 1;
+  Around(pk, p, side).each([&](int at, uint64_t k) { nb[at] = here.find(k) >= 0; }, skip);
+}
+
 // The walk over a tree of depth d and corner lo (FORMAT.md step 4) both sides run: io.bit(ctx,
 // level, key of the child) gives each coded child bit (the encoder's actual one, or the decoded
 // one); the inferred ones are not asked. prev: the previous frame's cells (empty: none); cones:
@@ -399,17 +414,8 @@ std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
       int64_t p[3];
       coords(pk, p);
       if (classed && !cw.start_parent(p, l, j)) io.too_much();
-      int nb[27] = {0};
-      nb[13] = 1;
-      uint32_t skip = 1u << 13;
-      if (l > 0) {  // the siblings from the parent's bits
-        const size_t o = pk & 7;
-        const int bits = kids_up[up[j]];
-        for (size_t s = 0; s < 8; ++s) nb[kSiblings.at[o][s]] = (bits >> s) & 1;
-        nb[13] = 1;
-        skip = kSiblings.skip[o];
-      }
-      Around(pk, p, side).each([&](int at, uint64_t k) { nb[at] = here.find(k) >= 0; }, skip);
+      int nb[27];
+      parent_neighbours(here, pk, p, side, l > 0 ? kids_up[up[j]] : -1, nb);
       int ones = 0, coded = 0;
       for (int i = 0; i < 8; ++i) {
         const uint64_t ck = pk << 3 | static_cast<uint64_t>(i);
