@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "coding/entropy.h"
@@ -398,6 +399,8 @@ std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
   // level's parents' child bits (by index), level's nodes' parents (by index); next's, so far
   std::vector<uint8_t> kids_up, kids;
   std::vector<uint32_t> up, up_next;
+  here.reset(1);
+  here.insert(0, 0);
   for (int l = 0; l < d; ++l) {
     const bool classed = cw.on() && l >= d - 2;
     if (classed) cw.start_level(l);
@@ -405,8 +408,6 @@ std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
     before.reset(e.size());
     for (uint64_t k : e) before.insert(k, 0);
     next.clear();
-    here.reset(level.size());
-    for (size_t j = 0; j < level.size(); ++j) here.insert(level[j], static_cast<uint32_t>(j));
     there.reset(std::min(m, 8 * level.size()));
     const int64_t side = int64_t{1} << l;
     for (size_t j = 0; j < level.size(); ++j) {
@@ -436,6 +437,7 @@ std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
       kids.push_back(static_cast<uint8_t>(coded));
     }
     level.swap(next);
+    std::swap(here, there);  // next's keys, all of them now
     kids_up.swap(kids);
     kids.clear();
     up.swap(up_next);
