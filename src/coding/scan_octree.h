@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "coding/entropy.h"
@@ -83,6 +84,24 @@ namespace octree {
 void crossing(const Cones& c, const int64_t* a, int64_t side, const uint16_t* from, size_t count,
               size_t most, std::vector<uint16_t>* out);
 
+// The rings of c that cross a box (crossing's a and side), found among those a bisection leaves:
+// the rings sorted by slope, each bounded above by its slope and the greatest offset at or before
+// it, below by its slope and the least offset at or after it (both nondecreasing along the
+// order, and the box test's binary64 steps monotone), so the rings that can cross are one run of
+// the order; each is then tested as crossing tests it. The same rings as crossing from every ring
+// in index order (ScanOctreeCones tests it against crossing on random and real tables).
+class ConeIndex {
+ public:
+  explicit ConeIndex(const Cones& c);
+  // Appends the crossing rings to *out in index order.
+  void crossing_all(const Cones& c, const int64_t* a, int64_t side,
+                    std::vector<uint16_t>* out) const;
+
+ private:
+  std::vector<uint16_t> order_;        // ring indices by slope
+  std::vector<double> s_, top_, bot_;  // their slopes, greatest z0 up to, least z0 from each
+};
+
 // Morton keys of 21-bit coordinates: bit 3b + 2 is x's bit b, 3b + 1 y's, 3b z's.
 inline uint64_t spread(uint64_t v) {
   v &= 0x1FFFFF;
@@ -110,6 +129,76 @@ inline void coords(uint64_t k, int64_t* c) {
   c[1] = static_cast<int64_t>(compact(k >> 1));
   c[2] = static_cast<int64_t>(compact(k));
 }
+// The key's bits of each axis (x, y, z), and the key one step (-1, 0 or 1) along an axis, the
+// coordinate staying within [0, 2^21): the neighbours' keys without spreading coordinates.
+constexpr uint64_t kAxisBits[3] = {0x1249249249249249ull << 2, 0x1249249249249249ull << 1,
+                                   0x1249249249249249ull};
+inline uint64_t step_key(uint64_t k, int axis, int step) {
+  const uint64_t m = kAxisBits[axis], low = uint64_t{1} << (2 - axis);
+  if (step > 0) return (((k | ~m) + low) & m) | (k & ~m);
+  if (step < 0) return (((k & m) - low) & m) | (k & ~m);
+  return k;
+}
+// The 26 neighbours of the node of key k at coordinates v whose coordinates lie in [0, side):
+// each(f, skip) calls f(e, key) for each in the order of e = 9 (dx + 1) + 3 (dy + 1) + dz + 1
+// but those whose bit e is set in skip (bit 13, the node, always).
+class Around {
+ public:
+  Around(uint64_t k, const int64_t* v, int64_t side) {
+    for (int a = 0; a < 3; ++a) {
+      const uint64_t m = kAxisBits[a], low = uint64_t{1} << (2 - a);  // step_key's, unrolled
+      part_[a][0] = ((k & m) - low) & m;
+      part_[a][1] = k & m;
+      part_[a][2] = ((k | ~m) + low) & m;
+      ok_[a][0] = v[a] > 0;
+      ok_[a][1] = v[a] >= 0 && v[a] < side;
+      ok_[a][2] = v[a] + 1 < side;
+    }
+  }
+  template <class F>
+  void each(F&& f, uint32_t skip = 1u << 13) const {
+    for (int x = 0; x < 3; ++x) {
+      if (!ok_[0][x]) continue;
+      for (int y = 0; y < 3; ++y) {
+        if (!ok_[1][y]) continue;
+        const uint64_t xy = part_[0][x] | part_[1][y];
+        for (int z = 0; z < 3; ++z) {
+          const int e = 9 * x + 3 * y + z;
+          if (ok_[2][z] && !((skip >> e) & 1)) f(e, xy | part_[2][z]);
+        }
+      }
+    }
+  }
+
+ private:
+  uint64_t part_[3][3];  // the bits of axis a of the key at step t - 1
+  bool ok_[3][3];        // whether that coordinate lies in [0, side)
+};
+
+// The neighbours e (Around's) with dx, dy, dz >= 0: their keys are above the node's (a key grows
+// with each coordinate), the node's own included.
+constexpr uint32_t kUpperNeighbours = [] {
+  uint32_t b = 0;
+  for (int e = 0; e < 27; ++e)
+    b |= static_cast<uint32_t>(e / 9 >= 1 && (e / 3) % 3 >= 1 && e % 3 >= 1) << e;
+  return b;
+}();
+// For a node at position o in its parent (key & 7): at[o][s] the e of its sibling at position s,
+// skip[o] those e and the node's own.
+struct Siblings {
+  int at[8][8] = {};
+  uint32_t skip[8] = {};
+  constexpr Siblings() {
+    for (int o = 0; o < 8; ++o)
+      for (int s = 0; s < 8; ++s) {
+        at[o][s] = 9 * (((s >> 2) & 1) - ((o >> 2) & 1) + 1) +
+                   3 * (((s >> 1) & 1) - ((o >> 1) & 1) + 1) + (s & 1) - (o & 1) + 1;
+        skip[o] |= uint32_t{1} << at[o][s];
+      }
+  }
+};
+constexpr Siblings kSiblings;
+
 // A set of Morton keys (each below 2^63) with an index each: open addressing, at most half
 // full. The walk's and the counts' neighbour lookups (a binary search in the sorted keys
 // answers the same, several times slower).
@@ -122,12 +211,15 @@ class KeySet {
     shift_ = 64 - __builtin_ctzll(cap);
     keys_.assign(cap, kEmpty);
     index_.resize(cap);
+    size_ = 0;
   }
+  bool empty() const { return size_ == 0; }
   void insert(uint64_t k, uint32_t index) {
     size_t at = slot(k);
     while (keys_[at] != kEmpty) at = (at + 1) & (keys_.size() - 1);
     keys_[at] = k;
     index_[at] = index;
+    ++size_;
   }
   // The key's index, or -1.
   int64_t find(uint64_t k) const {
@@ -150,49 +242,65 @@ class KeySet {
     return static_cast<size_t>((k * 0x9E3779B97F4A7C15ull) >> shift_);
   }
   int shift_ = 60;
+  size_t size_ = 0;
   std::vector<uint64_t> keys_;
   std::vector<uint32_t> index_;
 };
 
-// The child bit's context (FORMAT.md step 4) of child i of the node at p (level l of a tree of
-// depth d): nb[k] is P of the parent's neighbour (dx, dy, dz) at k = 9 (dx + 1) + 3 (dy + 1) +
-// dz + 1; next the level l + 1 coded so far; ones the bits 1 before child i; before the level
-// l + 1 nodes of the previous frame's cells; r the cone class (2 without one).
-inline int bit_context(const int* nb, const KeySet& next, const KeySet& before, const int64_t* p,
-                       int l, int d, int i, int ones, int r = 2) {
-  const int o[3] = {(i >> 2) & 1, (i >> 1) & 1, i & 1};
+// The child bit's context (FORMAT.md step 4) of child i (key ck, coordinates c) of a node at
+// level l of a tree of depth d: nb[k] is P of the parent's neighbour (dx, dy, dz) at k = 9 (dx +
+// 1) + 3 (dy + 1) + dz + 1; next the level l + 1 coded so far; coded the bits of the children
+// before i (bit j: child j is a node), ones how many; before the level l + 1 nodes of the
+// previous frame's cells; r the cone class (2 without one).
+inline int child_context(const int* nb, const KeySet& next, const KeySet& before, uint64_t ck,
+                         const int64_t* c, int l, int d, int i, int coded, int ones, int r = 2) {
+  // o7's bit k - 1: the neighbour at (2 o - 1) a for k's bits a (o child i's), by a table
+  static constexpr struct Toward {
+    int at[8][8] = {};
+    constexpr Toward() {
+      for (int j = 0; j < 8; ++j)
+        for (int k = 1; k < 8; ++k)
+          for (int e = 0; e < 3; ++e)
+            at[j][k] = at[j][k] * 3 + (2 * ((j >> (2 - e)) & 1) - 1) * ((k >> (2 - e)) & 1) + 1;
+    }
+  } kToward;
   int o7 = 0;
-  for (int k = 1; k < 8; ++k) {
-    const int a[3] = {(k >> 2) & 1, (k >> 1) & 1, k & 1};
-    int at = 0;
-    for (int e = 0; e < 3; ++e) at = at * 3 + (2 * o[e] - 1) * a[e] + 1;
-    o7 |= nb[at] << (k - 1);
-  }
-  const int64_t side = int64_t{1} << (l + 1);
-  int cn = 0;
+  for (int k = 1; k < 8; ++k) o7 |= nb[kToward.at[i][k]] << (k - 1);
+  int cn = 0;  // the child's neighbours one below on each axis (within the cube: c >= 0)
   for (int e = 0; e < 3; ++e) {
-    int64_t c[3] = {2 * p[0] + o[0], 2 * p[1] + o[1], 2 * p[2] + o[2]};
-    --c[e];
-    cn |= static_cast<int>(next.has(c, side)) << e;
+    const int bit = 1 << (2 - e);  // a sibling when the child is the upper half on axis e
+    if (i & bit)
+      cn |= ((coded >> (i ^ bit)) & 1) << e;
+    else
+      cn |= static_cast<int>(c[e] > 0 && next.find(step_key(ck, e, -1)) >= 0) << e;
   }
   const int sib = std::min(ones, 2);
   const int lc = l == d - 1 ? 0 : l == d - 2 ? 1 : 2;
-  const int64_t c[3] = {2 * p[0] + o[0], 2 * p[1] + o[1], 2 * p[2] + o[2]};
-  const int pv = before.has(c, side);
+  const int pv = !before.empty() && before.find(ck) >= 0;
   if (r < 2) return kOctConeCtx + 2 * ((((o7 * 8 + cn) * 3 + sib) * 2 + lc) * 2 + r) + pv;
   return kOctBitCtx + 2 * (((o7 * 8 + cn) * 3 + sib) * 3 + lc) + pv;
 }
 
+// child_context of child i of the node at p.
+inline int bit_context(const int* nb, const KeySet& next, const KeySet& before, const int64_t* p,
+                       int l, int d, int i, int ones, int r = 2) {
+  const int64_t c[3] = {2 * p[0] + ((i >> 2) & 1), 2 * p[1] + ((i >> 1) & 1), 2 * p[2] + (i & 1)};
+  const uint64_t ck =
+      key(static_cast<uint64_t>(c[0]), static_cast<uint64_t>(c[1]), static_cast<uint64_t>(c[2]));
+  int coded = 0;
+  for (int j = 0; j < i; ++j)
+    coded |= static_cast<int>(next.find((ck & ~uint64_t{7}) | static_cast<uint64_t>(j)) >= 0) << j;
+  return child_context(nb, next, before, ck, c, l, d, i, coded, ones, r);
+}
+
 // The cone classes of a walk's last two levels: a parent's crossing rings (crossing) at level
-// D - 2 from every ring, at D - 1 from its own parent's (kept by index); each child's class from
-// its parent's rings, stopping at 2.
+// D - 2 from every ring (ConeIndex), at D - 1 from its own parent's (kept by index); each
+// child's class from its parent's rings, stopping at 2 (the children's box reaches worked out
+// once a parent, as crossing works them out). In scan_octree.cpp, compiled without contraction.
 class ConeWalk {
  public:
-  ConeWalk(Cones* c, int d, const int64_t* lo) : c_(c), d_(d), lo_(lo) {
-    if (!on()) return;
-    all_.resize(c->rings());
-    for (size_t k = 0; k < all_.size(); ++k) all_[k] = static_cast<uint16_t>(k);
-  }
+  ConeWalk(Cones* c, int d, const int64_t* lo)
+      : c_(c), d_(d), lo_(lo), index_(on() ? *c : Cones{}) {}
   bool on() const { return c_ != nullptr && c_->rings() > 0; }
   // Before the parents of level l (whose children are the nodes of level l + 1).
   void start_level(int l) {
@@ -204,33 +312,9 @@ class ConeWalk {
   }
   // Before the children of the parent at p, the j-th node of level l; false when that takes the
   // window's cone work past its budget.
-  bool start_parent(const int64_t* p, int l, size_t j) {
-    l_ = l;
-    j_ = j;
-    c_->work += c_->rings();
-    if (c_->work > c_->budget) return false;
-    const int64_t side = int64_t{1} << (d_ - l);
-    const int64_t a[3] = {lo_[0] + side * p[0], lo_[1] + side * p[1], lo_[2] + side * p[2]};
-    mine_.clear();
-    if (first_) {
-      crossing(*c_, a, side, all_.data(), all_.size(), all_.size(), &mine_);
-      pool_.insert(pool_.end(), mine_.begin(), mine_.end());
-      span_.push_back(pool_.size());
-    } else {
-      const size_t up = parent_of_[j];
-      crossing(*c_, a, side, pool_.data() + span_[up], span_[up + 1] - span_[up],
-               span_[up + 1] - span_[up], &mine_);
-    }
-    return true;
-  }
+  bool start_parent(const int64_t* p, int l, size_t j);
   // The class of child c (its coordinates at level l + 1) of the parent started last.
-  int child_class(const int64_t* c) {
-    child_.clear();
-    const int64_t side = int64_t{1} << (d_ - l_ - 1);
-    const int64_t a[3] = {lo_[0] + side * c[0], lo_[1] + side * c[1], lo_[2] + side * c[2]};
-    crossing(*c_, a, side, mine_.data(), mine_.size(), 2, &child_);
-    return static_cast<int>(child_.size());
-  }
+  int child_class(const int64_t* c) const;
   // The child last classed is a node (the next of level l + 1).
   void keep_child() {
     if (first_) parent_of_.push_back(j_);
@@ -238,12 +322,16 @@ class ConeWalk {
 
  private:
   Cones* c_;
-  int d_, l_ = 0;
+  int d_;
   size_t j_ = 0;
   const int64_t* lo_;
   bool first_ = false;
-  std::vector<uint16_t> all_, mine_, child_, pool_;
+  ConeIndex index_;
+  std::vector<uint16_t> mine_, pool_;
   std::vector<size_t> span_, parent_of_;
+  // The children's nearest and farthest horizontal distance by x half 2 + y half, z range by z
+  // half (crossing's rl, rh, zl, zh of each child's box).
+  double rl_[4], rh_[4], zl_[2], zh_[2];
 };
 
 // Whether the grid integers u lie in the cube [lo, lo + side)^3, and *k their key from lo.
@@ -278,6 +366,21 @@ inline void previous_levels(const std::vector<int32_t>& prev, const int64_t* lo,
     }
 }
 
+// nb[e] (child_context's) of the node of key pk at p of a level of side `side` whose nodes are
+// `here`; siblings: its parent's child bits (-1: no parent).
+inline void parent_neighbours(const KeySet& here, uint64_t pk, const int64_t* p, int64_t side,
+                              int siblings, int* nb) {
+  std::fill(nb, nb + 27, 0);
+  uint32_t skip = 1u << 13;
+  if (siblings >= 0) {
+    const size_t o = pk & 7;
+    for (size_t s = 0; s < 8; ++s) nb[kSiblings.at[o][s]] = (siblings >> s) & 1;
+    skip = kSiblings.skip[o];
+  }
+  nb[13] = 1;
+  Around(pk, p, side).each([&](int at, uint64_t k) { nb[at] = here.find(k) >= 0; }, skip);
+}
+
 // The walk over a tree of depth d and corner lo (FORMAT.md step 4) both sides run: io.bit(ctx,
 // level, key of the child) gives each coded child bit (the encoder's actual one, or the decoded
 // one); the inferred ones are not asked. prev: the previous frame's cells (empty: none); cones:
@@ -293,6 +396,11 @@ std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
   std::vector<std::vector<uint64_t>> earlier;
   previous_levels(prev, lo, d, &earlier);
   ConeWalk cw(cones, d, lo);
+  // level's parents' child bits (by index), level's nodes' parents (by index); next's, so far
+  std::vector<uint8_t> kids_up, kids;
+  std::vector<uint32_t> up, up_next;
+  here.reset(1);
+  here.insert(0, 0);
   for (int l = 0; l < d; ++l) {
     const bool classed = cw.on() && l >= d - 2;
     if (classed) cw.start_level(l);
@@ -300,8 +408,6 @@ std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
     before.reset(e.size());
     for (uint64_t k : e) before.insert(k, 0);
     next.clear();
-    here.reset(level.size());
-    for (size_t j = 0; j < level.size(); ++j) here.insert(level[j], static_cast<uint32_t>(j));
     there.reset(std::min(m, 8 * level.size()));
     const int64_t side = int64_t{1} << l;
     for (size_t j = 0; j < level.size(); ++j) {
@@ -310,30 +416,32 @@ std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
       coords(pk, p);
       if (classed && !cw.start_parent(p, l, j)) io.too_much();
       int nb[27];
-      for (int k = 0; k < 27; ++k) {
-        const int64_t c[3] = {p[0] + k / 9 - 1, p[1] + (k / 3) % 3 - 1, p[2] + k % 3 - 1};
-        nb[k] = k == 13 || here.has(c, side);
-      }
-      int ones = 0;
+      parent_neighbours(here, pk, p, side, l > 0 ? kids_up[up[j]] : -1, nb);
+      int ones = 0, coded = 0;
       for (int i = 0; i < 8; ++i) {
         const uint64_t ck = pk << 3 | static_cast<uint64_t>(i);
+        const int64_t c[3] = {2 * p[0] + (i >> 2), 2 * p[1] + ((i >> 1) & 1), 2 * p[2] + (i & 1)};
         bool bit = true;
-        int r = 2;
-        if (classed) {
-          const int64_t c[3] = {2 * p[0] + (i >> 2), 2 * p[1] + ((i >> 1) & 1), 2 * p[2] + (i & 1)};
-          r = cw.child_class(c);
-        }
+        const int r = classed ? cw.child_class(c) : 2;
         if (i < 7 || ones > 0)
-          bit = io.bit(bit_context(nb, there, before, p, l, d, i, ones, r), l, ck);
+          bit = io.bit(child_context(nb, there, before, ck, c, l, d, i, coded, ones, r), l, ck);
         if (!bit) continue;
         if (next.size() >= m) io.too_many();
         if (classed) cw.keep_child();
         there.insert(ck, static_cast<uint32_t>(next.size()));
         next.push_back(ck);
+        up_next.push_back(static_cast<uint32_t>(j));
+        coded |= 1 << i;
         ++ones;
       }
+      kids.push_back(static_cast<uint8_t>(coded));
     }
     level.swap(next);
+    std::swap(here, there);  // next's keys, all of them now
+    kids_up.swap(kids);
+    kids.clear();
+    up.swap(up_next);
+    up_next.clear();
   }
   return level;
 }
@@ -365,19 +473,17 @@ inline int count_context(const std::vector<uint64_t>& cells, const KeySet& set,
   int64_t v[3];
   coords(cells[j], v);
   uint64_t k = 0, sum = 0;
-  for (int e = 0; e < 27; ++e) {
-    if (e == 13) continue;
-    const int64_t c[3] = {v[0] + e / 9 - 1, v[1] + (e / 3) % 3 - 1, v[2] + e % 3 - 1};
-    // outside the cube (at depth 21, 2^21 has no 21-bit key: it would be taken for 0)
-    constexpr int64_t kSide = int64_t{1} << kMaxOctreeDepth;
-    if (c[0] < 0 || c[1] < 0 || c[2] < 0 || c[0] >= kSide || c[1] >= kSide || c[2] >= kSide)
-      continue;
-    const int64_t at = set.find(
-        key(static_cast<uint64_t>(c[0]), static_cast<uint64_t>(c[1]), static_cast<uint64_t>(c[2])));
-    if (at < 0 || static_cast<size_t>(at) >= j) continue;  // not a cell, or not before this one
-    ++k;
-    sum += points[static_cast<size_t>(at)];
-  }
+  // outside [0, 2^21) (at depth 21, 2^21 has no 21-bit key: it would be taken for 0)
+  // (those above in key order are not before this one: not asked)
+  Around(cells[j], v, int64_t{1} << kMaxOctreeDepth)
+      .each(
+          [&](int, uint64_t c) {
+            const int64_t at = set.find(c);
+            if (at < 0 || static_cast<size_t>(at) >= j) return;  // not a cell, or not before
+            ++k;
+            sum += points[static_cast<size_t>(at)];
+          },
+          kUpperNeighbours);
   const int nc = k == 0            ? 0
                  : 2 * sum < 3 * k ? 1
                  : 2 * sum < 5 * k ? 2

@@ -1,6 +1,6 @@
 // What the scan geometry tests (test_scan_geometry.cpp, test_scan_raster.cpp, ...) compare: two
 // windows' counts, gaps and valid points' integers, exactly; how their synthetic sweeps add
-// a point; and how they code one frame with flags of their choice.
+// a point; how they code one frame with flags of their choice; a real sweep as integers.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "capz/error.h"
+#include "capz/take.h"
 #include "coding/bytes.h"
 #include "coding/scan_geometry.h"
 #include "coding/scan_shared.h"
@@ -201,6 +202,25 @@ inline std::vector<uint8_t> unpacked(const std::vector<uint8_t>& p) {
   scan::write_header(head, hd.flags, t, &out);
   out.insert(out.end(), p.begin() + static_cast<std::ptrdiff_t>(hd.body), p.end());
   return out;
+}
+
+// One sweep of t (its first frame's points) as one frame of integers at per_metre a metre
+// (floor(x per_metre + 1/2)), a point valid when t's is and finite; *hints its coordinates and
+// per_metre.
+inline ScanGeometry sweep_geometry(const Take& t, double per_metre, ScanHints* hints) {
+  ScanGeometry g;
+  hints->grid_per_unit = per_metre;
+  g.counts.push_back(static_cast<uint32_t>(t.total_points()));
+  for (size_t i = 0; i < t.total_points(); ++i) {
+    const double* x = &t.xyz[3 * i];
+    const bool ok = t.valid[i] && std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]);
+    g.valid.push_back(ok);
+    for (int a = 0; a < 3; ++a) {
+      g.q.push_back(ok ? static_cast<int32_t>(std::floor(x[a] * per_metre + 0.5)) : 0);
+      hints->xyz.push_back(static_cast<float>(x[a]));
+    }
+  }
+  return g;
 }
 
 }  // namespace capz

@@ -12,6 +12,7 @@
 #include "coding/bytes.h"
 #include "coding/scan_octree.h"
 #include "coding/scan_shared.h"
+#include "scan_geometry_expect.h"
 #include "test_util.h"
 
 namespace capz {
@@ -389,20 +390,8 @@ TEST(ScanOctreeCones, GivenMoreConeWorkThanTheBlockAllowsThenCorruptAndTheEncode
 TEST(ScanOctreeCones, GivenARealSweepThenTheConesAndCountingModelsPay) {
   const std::string root = capz_test::shared_data_or_skip("scan/single");
   if (root.empty()) return;
-  const Take t = read_take(root + "/hesai-xt32.pcd");
-  ScanGeometry g;
   ScanHints hints;
-  hints.grid_per_unit = 50;
-  g.counts.push_back(static_cast<uint32_t>(t.total_points()));
-  for (size_t i = 0; i < t.total_points(); ++i) {
-    const double* x = &t.xyz[3 * i];
-    const bool ok = t.valid[i] && std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]);
-    g.valid.push_back(ok);
-    for (int a = 0; a < 3; ++a) {
-      g.q.push_back(ok ? static_cast<int32_t>(std::floor(x[a] * 50 + 0.5)) : 0);
-      hints.xyz.push_back(static_cast<float>(x[a]));
-    }
-  }
+  const ScanGeometry g = sweep_geometry(read_take(root + "/hesai-xt32.pcd"), 50, &hints);
   const scan::Table table = octree_cone_table(g, hints);
   EXPECT_EQ(table.rings(), 32u);
   ScanGeometry s = g;
