@@ -1,9 +1,11 @@
-// The packed laser table, encoder side (docs/FORMAT.md "Packed laser table"): the table's
-// values rounded to multiples of 2^-E per field, and written as differences of a few bits.
+// The laser table and the payload's header, written (docs/FORMAT.md "Scan geometry payload"),
+// and the packed laser table, encoder side ("Packed laser table"): the table's values rounded
+// to multiples of 2^-E per field, and written as differences of a few bits.
 #include <algorithm>
 #include <cmath>
 
 #include "coding/bytes.h"
+#include "coding/scan_shared.h"
 #include "coding/scan_table.h"
 
 namespace capz {
@@ -148,6 +150,56 @@ void pack_table(Table* t, double reach) {
 
 void write_packed_table(const Table& t, ByteWriter* w) {
   for (const Field& f : fields(t)) write_field(f, w);
+}
+
+void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, const Table& t,
+                  std::vector<uint8_t>* out) {
+  ByteWriter w;
+  w.varint(g.counts.size());
+  for (uint32_t n : g.counts) w.varint(n);
+  w.bytes(flags);
+  write_table(t, &w);
+  out->insert(out->end(), w.buffer().begin(), w.buffer().end());
+}
+
+void write_table(const Table& t, ByteWriter* out) {
+  ByteWriter& w = *out;
+  w.varint(t.rings());
+  if (t.rings() > 0) {
+    w.f32(t.step);
+    w.varint(t.columns);
+    const bool offsets =
+        std::any_of(t.offset.begin(), t.offset.end(), [](double v) { return v != 0; });
+    w.u8(static_cast<uint8_t>(
+        (t.unit.empty() ? 0
+         : offsets      ? 2
+                        : 1) |
+        (t.bow != 0 ? scan::kBowBit : 0) | (t.turn ? scan::kTurnBit : 0) |
+        (t.share.empty() ? 0 : scan::kShareBit) | (t.pack.empty() ? 0 : scan::kPackBit) |
+        (t.slots == 0 ? 0 : scan::kSlotBit) | (t.before ? scan::kBeforeBit : 0)));
+    if (!t.pack.empty()) {
+      write_packed_table(t, &w);
+    } else {
+      for (size_t k = 0; k < t.rings(); ++k) {
+        w.f32(t.azimuth0[k]);
+        w.f32(t.slope[k]);
+        w.f32(t.z0[k]);
+      }
+      for (size_t k = 0; k < t.unit.size(); ++k) {
+        w.f64(t.unit[k]);
+        if (offsets) w.f64(t.offset[k]);
+      }
+    }
+    if (t.bow != 0) w.f32(t.bow);
+    if (!t.share.empty()) {
+      w.f32(t.fire_turn);
+      for (float v : t.share) w.f32(v);
+    }
+    if (t.slots != 0) {
+      w.u8(static_cast<uint8_t>(t.slots));
+      for (uint8_t m : t.slot) w.u8(m);
+    }
+  }
 }
 
 }  // namespace scan
