@@ -1,19 +1,20 @@
 // PCD sweeps for the scan tools (scan_geometry_bits, scan_octree_bits): a frame's x y z as
-// doubles (NaN kept), its ring / channel and distance fields when present; PCL reads the files.
+// doubles (NaN kept), its ring / channel and distance fields when present; capz reads the files.
 #pragma once
 
 #include <dirent.h>
-#include <pcl/PCLPointCloud2.h>
-#include <pcl/io/pcd_io.h>
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <string>
 #include <vector>
 
 #include "capz/error.h"
+#include "capz/io.h"
+#include "capz/take.h"
 
 namespace scan_tools {
 
@@ -23,73 +24,44 @@ struct Frame {
   std::vector<float> distance;  // the distance / range field, or empty
 };
 
-// A field's value as a double (any PCD type), from a point's bytes.
-inline double field_value(const pcl::PCLPointField& f, const uint8_t* p) {
-  p += f.offset;
-  switch (f.datatype) {
-    case pcl::PCLPointField::INT8:
-      return *reinterpret_cast<const int8_t*>(p);
-    case pcl::PCLPointField::UINT8:
-      return *p;
-    case pcl::PCLPointField::INT16: {
-      int16_t v;
-      std::memcpy(&v, p, 2);
-      return v;
-    }
-    case pcl::PCLPointField::UINT16: {
-      uint16_t v;
-      std::memcpy(&v, p, 2);
-      return v;
-    }
-    case pcl::PCLPointField::INT32: {
-      int32_t v;
-      std::memcpy(&v, p, 4);
-      return v;
-    }
-    case pcl::PCLPointField::UINT32: {
-      uint32_t v;
-      std::memcpy(&v, p, 4);
-      return v;
-    }
-    case pcl::PCLPointField::FLOAT32: {
-      float v;
-      std::memcpy(&v, p, 4);
-      return v;
-    }
-    case pcl::PCLPointField::FLOAT64: {
-      double v;
-      std::memcpy(&v, p, 8);
-      return v;
-    }
-    default:
-      return NAN;
-  }
+// A field's value as a double (type F, U or I of 1, 2, 4 or 8 bytes), from its element's bytes.
+inline double field_value(const capz::PointAttribute& a, const uint8_t* p) {
+  const auto get = [p](auto v) {
+    std::memcpy(&v, p, sizeof v);
+    return static_cast<double>(v);
+  };
+  if (a.type == 'F') return a.size == 8 ? get(double{}) : get(float{});
+  if (a.type == 'U')
+    return a.size == 1   ? get(uint8_t{})
+           : a.size == 2 ? get(uint16_t{})
+           : a.size == 4 ? get(uint32_t{})
+                         : get(uint64_t{});
+  return a.size == 1   ? get(int8_t{})
+         : a.size == 2 ? get(int16_t{})
+         : a.size == 4 ? get(int32_t{})
+                       : get(int64_t{});
 }
 
+// One PCD file, read by capz (capz::read_take: a one-frame take); a gap's x y z are NaN.
 inline Frame read_frame(const std::string& path, bool use_ring) {
-  pcl::PCLPointCloud2 c;
-  if (pcl::io::loadPCDFile(path, c) != 0)
-    throw capz::Error(capz::ErrorCode::kIo, path + ": unreadable");
-  const pcl::PCLPointField* f[5] = {nullptr, nullptr, nullptr, nullptr, nullptr};
-  for (const auto& fd : c.fields) {
-    if (fd.name == "x") f[0] = &fd;
-    if (fd.name == "y") f[1] = &fd;
-    if (fd.name == "z") f[2] = &fd;
-    if (use_ring && (fd.name == "ring" || fd.name == "channel" || fd.name == "laser_id"))
-      f[3] = &fd;
-    if (fd.name == "distance" || fd.name == "range") f[4] = &fd;
-  }
-  if (!f[0] || !f[1] || !f[2]) throw capz::Error(capz::ErrorCode::kIo, path + ": no x y z");
+  const capz::Take t = capz::read_take(path);
+  const size_t n = t.total_points();
   Frame fr;
-  const size_t n = size_t{c.width} * c.height;
-  fr.xyz.resize(3 * n);
-  if (f[3]) fr.ring.resize(n);
-  if (f[4]) fr.distance.resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    const uint8_t* p = c.data.data() + i * c.point_step;
-    for (int a = 0; a < 3; ++a) fr.xyz[3 * i + a] = field_value(*f[a], p);
-    if (f[3]) fr.ring[i] = static_cast<uint32_t>(field_value(*f[3], p));
-    if (f[4]) fr.distance[i] = static_cast<float>(field_value(*f[4], p));
+  fr.xyz = t.xyz;
+  for (size_t i = 0; i < n; ++i)
+    if (!t.valid[i]) fr.xyz[3 * i] = fr.xyz[3 * i + 1] = fr.xyz[3 * i + 2] = NAN;
+  for (const capz::PointAttribute& a : t.attributes) {
+    const bool ring = use_ring && (a.name == "ring" || a.name == "channel" || a.name == "laser_id");
+    const bool distance = a.name == "distance" || a.name == "range";
+    if (!ring && !distance) continue;
+    const size_t step = a.bytes_per_point();  // the first element of each point
+    if (ring) fr.ring.resize(n);
+    if (distance) fr.distance.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+      const double v = field_value(a, a.data.data() + i * step);
+      if (ring) fr.ring[i] = static_cast<uint32_t>(v);
+      if (distance) fr.distance[i] = static_cast<float>(v);
+    }
   }
   return fr;
 }
