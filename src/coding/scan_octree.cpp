@@ -139,7 +139,7 @@ bool ConeWalk::start_parent(const int64_t* p, int l, size_t j) {
   const int64_t a[3] = {lo_[0] + side * p[0], lo_[1] + side * p[1], lo_[2] + side * p[2]};
   mine_.clear();
   if (first_) {
-    index_.crossing_all(*c_, a, side, &mine_);
+    c_->index->crossing_all(*c_, a, side, &mine_);
     pool_.insert(pool_.end(), mine_.begin(), mine_.end());
     span_.push_back(pool_.size());
   } else {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -31,12 +32,19 @@ constexpr size_t kMaxConeRings = 256;
 // levels' parents, at most this much a byte of the block (FORMAT.md "The block's flags").
 constexpr uint64_t kMaxConeWorkPerByte = 4096;
 
+namespace octree {
+class ConeIndex;
+}
+
 // A laser table's cones for the child bits' cone class (FORMAT.md step 4, r): per ring its
 // slope and z offset, the table's f32 values widened. Empty: no cone class. work: the window's
-// cone work so far (K per parent classed), at most budget.
+// cone work so far (K per parent classed), at most budget. index: their ConeIndex, built once a
+// window by the first frame whose walk classes children (which that frame's work pays for; a
+// frame of depth 0 classes none and costs nothing), so slope and z0 do not change after.
 struct Cones {
   std::vector<double> slope, z0;
   uint64_t work = 0, budget = UINT64_MAX;
+  std::shared_ptr<const octree::ConeIndex> index;
   size_t rings() const { return slope.size(); }
 };
 
@@ -299,13 +307,13 @@ inline int bit_context(const int* nb, const KeySet& next, const KeySet& before, 
 // once a parent, as crossing works them out). In scan_octree.cpp, compiled without contraction.
 class ConeWalk {
  public:
-  ConeWalk(Cones* c, int d, const int64_t* lo)
-      : c_(c), d_(d), lo_(lo), index_(on() ? *c : Cones{}) {}
+  ConeWalk(Cones* c, int d, const int64_t* lo) : c_(c), d_(d), lo_(lo) {}
   bool on() const { return c_ != nullptr && c_->rings() > 0; }
   // Before the parents of level l (whose children are the nodes of level l + 1).
   void start_level(int l) {
     first_ = l == std::max(d_ - 2, 0);
     if (!first_) return;  // level D - 1 reads what level D - 2 kept
+    if (!c_->index) c_->index = std::make_shared<const ConeIndex>(*c_);
     pool_.clear();
     span_.assign(1, 0);
     parent_of_.clear();
@@ -326,7 +334,6 @@ class ConeWalk {
   size_t j_ = 0;
   const int64_t* lo_;
   bool first_ = false;
-  ConeIndex index_;
   std::vector<uint16_t> mine_, pool_;
   std::vector<size_t> span_, parent_of_;
   // The children's nearest and farthest horizontal distance by x half 2 + y half, z range by z

@@ -211,6 +211,29 @@ TEST(ScanOctreeCones, GivenBitsThenTheCountingModelMovesAsTheSpecSays) {
   EXPECT_EQ(m.flags(), 2u);
 }
 
+// The cone index is built once a window, and only by a frame whose walk classes children (which
+// its cone work pays for): a crafted window of depth-0 frames (one cell, no cone work) built it
+// for each frame, 2.8 us a frame with 256 rings, 20x the decoding of such a window without
+// cones (docs/lab/2026-11-30-octree-review.md).
+TEST(ScanOctreeCones, GivenFramesThenTheConeIndexIsBuiltOnceAWindowByAFrameWithConeWork) {
+  Cones c;
+  for (int k = 0; k < 256; ++k) c.slope.push_back(k % 7 / 64.0), c.z0.push_back(k % 3);
+  const int64_t lo[3] = {-4, -4, -4};
+  Recorder one;  // depth 0: the root is the cell, nothing classed
+  one.levels.assign(1, {0});
+  for (int f = 0; f < 3; ++f) EXPECT_EQ(scan::octree::code_tree(one, 0, 1, lo, {}, &c).size(), 1u);
+  EXPECT_EQ(c.index, nullptr);
+  EXPECT_EQ(c.work, 0u);
+  Recorder io;  // depth 3: cells (0 0 0) and (7 7 7)
+  io.levels = {{0}, {0, 7}, {0, 63}, {0, 511}};
+  EXPECT_EQ(scan::octree::code_tree(io, 3, 2, lo, {}, &c), io.levels[3]);
+  ASSERT_NE(c.index, nullptr);
+  const scan::octree::ConeIndex* built = c.index.get();
+  EXPECT_EQ(c.work, 256u * (2 + 2));  // two parents at each of levels 1 and 2
+  EXPECT_EQ(scan::octree::code_tree(io, 3, 2, lo, {}, &c), io.levels[3]);
+  EXPECT_EQ(c.index.get(), built);
+}
+
 // A table of the cones z = z0 + slope rho (grid units), step 1 and one column, as the encoder's.
 scan::Table table_of(const std::vector<float>& slope, const std::vector<float>& z0) {
   scan::Table t;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "capz/error.h"
@@ -69,6 +70,43 @@ TEST(ScanOctreeIndex, GivenRandomTablesAndBoxesThenTheIndexFindsTheRingsOfTheBox
     expect_same_rings(c, b, &crossed);
   }
   EXPECT_GT(crossed, boxes / 4);  // the boxes meet rings, not only miss them
+}
+
+// A crafted table's extremes (docs/lab/2026-11-30-octree-review.md): f32 slopes and offsets up to
+// FLT_MAX, denormals, many equal, and boxes up to the grid integers' ends with sides to 2^21.
+// Every product and sum stays finite in binary64 (|s rho| < 2^128 2^32), so the sort's order is
+// strict and weak, and the bisection's runs hold: the same rings as the box test.
+TEST(ScanOctreeIndex, GivenExtremeTablesAndBoxesThenTheIndexFindsTheRingsOfTheBoxTest) {
+  std::mt19937 rng(23);
+  const float big = std::numeric_limits<float>::max(),
+              tiny = std::numeric_limits<float>::denorm_min();
+  const std::vector<float> some = {big,  -big,  1e30f, -1e30f, 1e-30f, -1e-30f, tiny, -tiny,
+                                   0.0f, -0.0f, 1.0f,  -1.0f,  3e9f,   -3e9f,   0.5f, -0.5f};
+  const int64_t ends[] = {-(int64_t{1} << 31), (int64_t{1} << 31) - 1, 0, -1, 1};
+  size_t crossed = 0, boxes = 0;
+  for (int t = 0; t < 300; ++t) {
+    Cones c;
+    const size_t rings = 1 + rng() % 256;
+    for (size_t k = 0; k < rings; ++k) {
+      c.slope.push_back(some[rng() % (t % 2 == 0 ? 4 : some.size())]);
+      c.z0.push_back(t % 3 == 0 ? 0.0f : some[rng() % some.size()]);
+    }
+    std::vector<int64_t> b;
+    for (int j = 0; j < 200; ++j) {
+      const int64_t side = int64_t{1} << (rng() % 22);
+      int64_t a[3];
+      for (int64_t& x : a) {  // at the ends, about 0, or anywhere, within [-2^31, 2^31 - side]
+        const int64_t e = ends[rng() % 5], top = (int64_t{1} << 31) - side;
+        x = rng() % 3 == 0 ? static_cast<int64_t>(rng() % (uint64_t{1} << 32)) - (int64_t{1} << 31)
+                           : e - side / 2;
+        x = std::min(std::max(x, -(int64_t{1} << 31)), top);
+      }
+      b.insert(b.end(), {a[0], a[1], a[2], side});
+    }
+    boxes += b.size() / 4;
+    expect_same_rings(c, b, &crossed);
+  }
+  EXPECT_GT(crossed, boxes / 8);
 }
 
 // The cones of a sweep's fitted table (the encoder's, octree_cone_table) at per_metre integers a
