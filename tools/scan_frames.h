@@ -2,7 +2,6 @@
 // doubles (NaN kept), its ring / channel and distance fields when present; capz reads the files.
 #pragma once
 
-#include <dirent.h>
 #include <sys/stat.h>
 
 #include <algorithm>
@@ -15,6 +14,7 @@
 #include "capz/error.h"
 #include "capz/io.h"
 #include "capz/take.h"
+#include "io/pcd_folder.h"
 
 namespace scan_tools {
 
@@ -66,19 +66,13 @@ inline Frame read_frame(const std::string& path, bool use_ring) {
   return fr;
 }
 
+// The frame files of a folder in name order (capz's own listing), or a single file itself.
 inline std::vector<std::string> list_frames(const std::string& path) {
   struct stat st;
   if (stat(path.c_str(), &st) != 0) return {};
   if (!S_ISDIR(st.st_mode)) return {path};
   std::vector<std::string> out;
-  if (DIR* d = opendir(path.c_str())) {
-    while (dirent* e = readdir(d)) {
-      const std::string n = e->d_name;
-      if (n.size() > 4 && n.substr(n.size() - 4) == ".pcd") out.push_back(path + "/" + n);
-    }
-    closedir(d);
-  }
-  std::sort(out.begin(), out.end());
+  for (const std::string& name : capz::list_pcd_frames(path)) out.push_back(path + "/" + name);
   return out;
 }
 
