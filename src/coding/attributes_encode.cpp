@@ -156,15 +156,17 @@ std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
     }
     // Predictor 12 (a ragged window's; valid then holds a mask, all set without gaps).
     QuantumParams qp;
+    QuantumPoints qpoints;
     uint64_t qcost = 0;
     if (ragged && !colour && pred != kUnitPredictor &&
-        choose_quantum(specs, data, a, l, valid, ragged->xyz, near, &qp, &qcost) && qcost < cost)
+        choose_quantum(specs, data, a, l, valid, ragged->xyz, near, &qp, &qcost, &qpoints) &&
+        qcost < cost)
       pred = kQuantumPredictor;
     w.u8(static_cast<uint8_t>(pred));
     LaneState st;
     if (pred == kQuantumPredictor) {
       write_quantum(&w, qp);
-      encode_quantum_lane(&c, qp, specs, data, valid, ragged->xyz, near, &st, l);
+      encode_quantum_lane(&c, qp, specs, data, valid, ragged->xyz, near, qpoints, &st, l);
       continue;
     }
     if (pred == kUnitPredictor) {

@@ -118,21 +118,33 @@ inline void walk_quantum(std::vector<uint64_t>* lane, const uint8_t* valid, cons
   }
 }
 
+// What choose_quantum found for each point of the lane, whatever the base: a valid point's k and
+// its correction's residual, or own (no int32 multiple: k is the prediction, kh, and the
+// correction is against kh D).
+struct QuantumPoints {
+  std::vector<int32_t> k;
+  std::vector<int64_t> corr;
+  std::vector<uint8_t> own;
+};
+
 // The encoder's side (attributes_quantum_encode.cpp). choose_quantum: predictor 12's parameters
 // for lane l of attribute a and their cost (the sum of the bit lengths of the zig-zagged integer
 // residuals and corrections, and of the gap residuals), false when no quantum fits the lane.
-// Base 3 is tried when near (the points' nearest earlier points) is given.
+// Base 3 is tried when near (the points' nearest earlier points) is given. With points, the
+// lane's k and corrections are left there for encode_quantum_lane.
 bool choose_quantum(const std::vector<AttrSpec>& specs,
                     const std::vector<std::vector<uint8_t>>& data, size_t a, Lane& l,
                     const uint8_t* valid, const double* xyz, const uint32_t* near,
-                    QuantumParams* qp, uint64_t* cost);
+                    QuantumParams* qp, uint64_t* cost, QuantumPoints* points = nullptr);
 // The parameters after the predictor byte.
 void write_quantum(ByteWriter* w, const QuantumParams& qp);
-// The lane's residuals under predictor 12.
+// The lane's residuals under predictor 12, with the points choose_quantum left for the same lane
+// and quantum.
 void encode_quantum_lane(IntEncoder::Cursor* c, const QuantumParams& qp,
                          const std::vector<AttrSpec>& specs,
                          const std::vector<std::vector<uint8_t>>& data, const uint8_t* valid,
-                         const double* xyz, const uint32_t* near, LaneState* st, Lane& l);
+                         const double* xyz, const uint32_t* near, const QuantumPoints& points,
+                         LaneState* st, Lane& l);
 
 }  // namespace attr
 }  // namespace capz

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <string>
 
+#include "capz/error.h"
 #include "coding/attributes_entropy.h"
 #include "coding/attributes_quantum.h"
 
@@ -21,14 +22,6 @@ double lane_double(uint64_t u, int bits) {
   double d;
   std::memcpy(&d, &b, 8);
   return d;
-}
-
-// The k the encoder gives a value: the nearest multiple, or kh (no integer change) when the
-// value has none in int32.
-int32_t k_of(double v, double quantum, int32_t kh) {
-  const double t = v / quantum;
-  if (!std::isfinite(t) || std::fabs(t) >= 2147483647.0) return kh;
-  return static_cast<int32_t>(std::nearbyint(t));
 }
 
 // The largest decimal step m 10^e (m 5, 2.5, 2, 1; e 3 .. -6) for which all but 1/256 of the
@@ -85,29 +78,12 @@ std::vector<uint16_t> keys_of(const QuantumParams& qp, const std::vector<AttrSpe
   return key_values(specs[qp.key.attribute], data[qp.key.attribute], n, qp.key.element);
 }
 
-// Walks the lane under qp as the encoder codes it: int_res(d), corr(c, gap) per residual.
-template <typename Int, typename Corr>
-void walk_encode(const QuantumParams& qp, const std::vector<uint16_t>& keys, const uint8_t* valid,
-                 const double* xyz, const uint32_t* near, Lane& l, Int&& int_res, Corr&& corr) {
-  const uint64_t mask = mask_of(l.bits);
-  const int size = l.bits / 8;
-  walk_quantum(
-      &l.u, valid, qp, keys.data(), xyz, near,
-      [&](uint64_t* v, uint64_t p) { corr(signed_residual((*v - p) & mask, l.bits), true); },
-      [&](uint64_t* v, int32_t kh, int32_t* k) {
-        *k = k_of(lane_double(*v, l.bits), qp.quantum, kh);
-        int_res(static_cast<int32_t>(static_cast<uint32_t>(*k) - static_cast<uint32_t>(kh)));
-        corr(signed_residual((*v - quantum_value(*k, qp.quantum, size, qp.wide)) & mask, l.bits),
-             false);
-      });
-}
-
 }  // namespace
 
 bool choose_quantum(const std::vector<AttrSpec>& specs,
                     const std::vector<std::vector<uint8_t>>& data, size_t a, Lane& l,
                     const uint8_t* valid, const double* xyz, const uint32_t* near,
-                    QuantumParams* qp, uint64_t* cost) {
+                    QuantumParams* qp, uint64_t* cost, QuantumPoints* points) {
   const AttrSpec& s = specs[a];
   if (s.type != 'F' || (s.size != 4 && s.size != 8) || l.u.empty()) return false;
   bool wide = false;
@@ -127,8 +103,13 @@ bool choose_quantum(const std::vector<AttrSpec>& specs,
   const uint64_t mask = mask_of(l.bits);
   const int size = l.bits / 8;
   const size_t n = l.u.size();
-  std::vector<int32_t> ks(n, 0);
-  std::vector<uint8_t> own(n, 0);
+  QuantumPoints local;
+  QuantumPoints& pts = points ? *points : local;
+  std::vector<int32_t>& ks = pts.k;
+  std::vector<uint8_t>& own = pts.own;
+  ks.assign(n, 0);
+  own.assign(n, 0);
+  pts.corr.assign(points ? n : 0, 0);
   uint64_t shared = 0, last_gap = 0;
   for (size_t p = 0; p < n; ++p) {
     const uint64_t v = l.u[p];
@@ -143,8 +124,10 @@ bool choose_quantum(const std::vector<AttrSpec>& specs,
       continue;
     }
     ks[p] = static_cast<int32_t>(std::nearbyint(t));
-    shared += bit_length(
-        zigzag64(signed_residual((v - quantum_value(ks[p], quantum, size, wide)) & mask, l.bits)));
+    const int64_t r =
+        signed_residual((v - quantum_value(ks[p], quantum, size, wide)) & mask, l.bits);
+    if (points) pts.corr[p] = r;
+    shared += bit_length(zigzag64(r));
   }
   *cost = ~uint64_t{0};
   for (const QuantumParams& c : cands) {
@@ -186,11 +169,31 @@ void write_quantum(ByteWriter* w, const QuantumParams& qp) {
 void encode_quantum_lane(IntEncoder::Cursor* c, const QuantumParams& qp,
                          const std::vector<AttrSpec>& specs,
                          const std::vector<std::vector<uint8_t>>& data, const uint8_t* valid,
-                         const double* xyz, const uint32_t* near, LaneState* st, Lane& l) {
-  walk_encode(
-      qp, keys_of(qp, specs, data, l.u.size()), valid, xyz, near, l,
-      [&](int32_t d) { put_int_residual(c, &st->mag[0], d); },
-      [&](int64_t r, bool gap) { put_float_residual(c, &st->prev_nb[gap ? 1 : 0], r); });
+                         const double* xyz, const uint32_t* near, const QuantumPoints& points,
+                         LaneState* st, Lane& l) {
+  if (points.k.size() != l.u.size() || points.corr.size() != l.u.size())
+    fail(ErrorCode::kInternal, "attributes", "predictor 12's points are not the lane's");
+  const uint64_t mask = mask_of(l.bits);
+  const int size = l.bits / 8;
+  const uint64_t* base = l.u.data();
+  walk_quantum(
+      &l.u, valid, qp, keys_of(qp, specs, data, l.u.size()).data(), xyz, near,
+      [&](uint64_t* v, uint64_t p) {
+        put_float_residual(c, &st->prev_nb[1], signed_residual((*v - p) & mask, l.bits));
+      },
+      [&](uint64_t* v, int32_t kh, int32_t* k) {
+        const size_t p = static_cast<size_t>(v - base);
+        // A value without an int32 multiple keeps the prediction, kh.
+        *k = points.own[p] ? kh : points.k[p];
+        put_int_residual(
+            c, &st->mag[0],
+            static_cast<int32_t>(static_cast<uint32_t>(*k) - static_cast<uint32_t>(kh)));
+        const int64_t r =
+            points.own[p] ? signed_residual(
+                                (*v - quantum_value(kh, qp.quantum, size, qp.wide)) & mask, l.bits)
+                          : points.corr[p];
+        put_float_residual(c, &st->prev_nb[0], r);
+      });
 }
 
 }  // namespace attr
