@@ -104,6 +104,111 @@ bool octree_window(const ScanGeometry& g, const ScanHints& hints, const std::vec
   return bytes->size() < coded.size();
 }
 
+// g's points `idx` (window indices) as a geometry of frames of `counts` points, and their hints.
+ScanGeometry picked(const ScanGeometry& g, const std::vector<uint32_t>& idx,
+                    std::vector<uint32_t> counts) {
+  ScanGeometry s;
+  s.counts = std::move(counts);
+  s.q.resize(3 * idx.size());
+  s.valid.resize(idx.size());
+  for (size_t j = 0; j < idx.size(); ++j) {
+    s.valid[j] = g.valid[idx[j]];
+    std::copy_n(&g.q[3 * size_t{idx[j]}], 3, &s.q[3 * j]);
+  }
+  return s;
+}
+ScanHints picked(const ScanHints& h, const std::vector<uint32_t>& idx) {
+  ScanHints s = permuted(h, idx);
+  if (!s.ring.empty()) s.ring.resize(idx.size());
+  if (!s.distance.empty()) s.distance.resize(idx.size());
+  if (!s.xyz.empty()) s.xyz.resize(3 * idx.size());
+  return s;
+}
+
+// The far parts' payload (FORMAT.md "Split frames"): each frame sorted under its own table, and
+// with cells (ring by ring too) when they are worth a trial; the smallest, its order in *order.
+std::vector<uint8_t> far_payload(const ScanGeometry& g, const ScanHints& h, ScanWorkspace* ws,
+                                 std::vector<uint32_t>* order) {
+  const bool cells = cells_worth_trying(g);
+  std::vector<uint32_t> by_ring;
+  *order = scan_point_order(g, h, ScanOrderTable::kPerFrame, cells ? &by_ring : nullptr);
+  std::vector<uint8_t> coded = encode_scan_geometry(permuted(g, *order), permuted(h, *order), ws);
+  if (cells) try_cells(g, h, &coded, order, by_ring, ws);
+  return coded;
+}
+
+// Whether grid integers q lie within the radius whose square is r2 (grid units).
+bool is_near(const int32_t* q, double r2) {
+  const double x = q[0], y = q[1], z = q[2];
+  return x * x + y * y + z * z < r2;
+}
+
+// Split frames at radius^2 r2: a frame's valid points within it its near part (with its gaps),
+// the others its far part. True, with the payload in *bytes and the window's order in *order,
+// when some frame is split and the payload is below `limit` bytes.
+bool split_at(const ScanGeometry& g, const ScanHints& hints, double r2, size_t limit,
+              ScanWorkspace* ws, std::vector<uint8_t>* bytes, std::vector<uint32_t>* order) {
+  std::vector<uint32_t> near_idx, far_idx, near_counts, far_counts;
+  std::vector<uint8_t> has_far;
+  bool split = false;
+  size_t first = 0;
+  for (uint32_t n : g.counts) {
+    size_t nv = 0, fv = 0;
+    for (size_t i = first; i < first + n; ++i)
+      if (g.valid[i]) ++(is_near(&g.q[3 * i], r2) ? nv : fv);
+    const size_t nb = near_idx.size(), fb = far_idx.size();
+    for (size_t i = first; i < first + n; ++i)
+      (nv > 0 && (!g.valid[i] || is_near(&g.q[3 * i], r2)) ? near_idx : far_idx)
+          .push_back(static_cast<uint32_t>(i));
+    near_counts.push_back(static_cast<uint32_t>(near_idx.size() - nb));
+    has_far.push_back(nv == 0 || fv > 0);
+    if (has_far.back()) far_counts.push_back(static_cast<uint32_t>(far_idx.size() - fb));
+    split = split || (nv > 0 && fv > 0);
+    first += n;
+  }
+  if (!split) return false;
+  ScanGeometry near = picked(g, near_idx, near_counts);
+  std::vector<uint32_t> near_order;  // each near part in octree order, as window indices
+  first = 0;
+  for (uint32_t n : near.counts) {
+    for (uint32_t j : octree_frame_order(near, first, n)) near_order.push_back(near_idx[first + j]);
+    first += n;
+  }
+  near = picked(g, near_order, near_counts);
+  std::vector<uint32_t> far_order;
+  const ScanGeometry far = picked(g, far_idx, far_counts);
+  const std::vector<uint8_t> far_bytes = far_payload(far, picked(hints, far_idx), ws, &far_order);
+  std::vector<uint8_t> payload = encode_scan_split(near, far_bytes, has_far, 3);
+  if (payload.empty() || payload.size() >= limit) return false;
+  bytes->swap(payload);
+  order->clear();
+  size_t at_near = 0, at_far = 0, k = 0;
+  for (size_t f = 0; f < g.counts.size(); ++f) {
+    order->insert(order->end(), near_order.begin() + static_cast<std::ptrdiff_t>(at_near),
+                  near_order.begin() + static_cast<std::ptrdiff_t>(at_near + near_counts[f]));
+    at_near += near_counts[f];
+    if (!has_far[f]) continue;
+    for (size_t j = at_far; j < at_far + far_counts[k]; ++j)
+      order->push_back(far_idx[far_order[j]]);
+    at_far += far_counts[k++];
+  }
+  return true;
+}
+
+// Split frames (FORMAT.md "Split frames") at 1, 2, 4 and 8 m: the smallest payload below `limit`
+// bytes into *bytes, its order into *order (true), else false.
+bool split_window(const ScanGeometry& g, const ScanHints& hints, size_t limit,
+                  std::vector<uint8_t>* bytes, std::vector<uint32_t>* order) {
+  if (!(hints.grid_per_unit > 0)) return false;
+  ScanWorkspace ws;  // the window's own: the encoder's remembered choice is not moved by a trial
+  bool found = false;
+  for (double metres : {1.0, 2.0, 4.0, 8.0}) {
+    const double r = metres * hints.grid_per_unit;
+    if (split_at(g, hints, r * r, found ? bytes->size() : limit, &ws, bytes, order)) found = true;
+  }
+  return found;
+}
+
 // The coded order of the points of block b (a window's frames, ragged): indices from its first
 // point; *coded: the geometry's bytes in that order, *kept (when not null): in the file's order.
 // With octree_coded (and octree_order) not null, octree frames are not chosen but put there
@@ -161,7 +266,12 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
   // when their payload is the smallest.
   std::vector<uint8_t> bytes;
   std::vector<uint32_t> order;
-  if (cells && octree && octree_window(g, hints, *coded, &bytes, &order)) {
+  bool tree = cells && octree && octree_window(g, hints, *coded, &bytes, &order);
+  // Split frames, where octree frames are tried: chosen or offered as octree frames are.
+  if (cells && octree &&
+      split_window(g, hints, tree ? bytes.size() : coded->size(), &bytes, &order))
+    tree = true;
+  if (tree) {
     if (octree_coded)
       octree_coded->swap(bytes), octree_order->swap(order);
     else
