@@ -212,13 +212,14 @@ bool split_window(const ScanGeometry& g, const ScanHints& hints, size_t limit,
 // The coded order of the points of block b (a window's frames, ragged): indices from its first
 // point; *coded: the geometry's bytes in that order, *kept (when not null): in the file's order.
 // With octree_coded (and octree_order) not null, octree frames are not chosen but put there
-// (left empty when not smaller than *coded).
+// (left empty when not smaller than *coded); split: split frames are tried where octree frames
+// are, and offered or chosen as they are.
 std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
                                    const std::vector<uint32_t>& ring,
                                    const std::vector<float>& distance, std::vector<uint8_t>* coded,
                                    std::vector<uint8_t>* kept, ScanWorkspace* ws, bool octree,
                                    std::vector<uint8_t>* octree_coded,
-                                   std::vector<uint32_t>* octree_order) {
+                                   std::vector<uint32_t>* octree_order, bool split) {
   ScanGeometry g;
   for (size_t k = 0; k < b.frames; ++k)
     g.counts.push_back(static_cast<uint32_t>(b.frame_points(k)));
@@ -268,7 +269,7 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
   std::vector<uint32_t> order;
   bool tree = cells && octree && octree_window(g, hints, *coded, &bytes, &order);
   // Split frames, where octree frames are tried: chosen or offered as octree frames are.
-  if (cells && octree &&
+  if (cells && octree && split &&
       split_window(g, hints, tree ? bytes.size() : coded->size(), &bytes, &order))
     tree = true;
   if (tree) {
@@ -305,12 +306,12 @@ void permute_block(FrameBlock* b, const std::vector<uint32_t>& order) {
 bool reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring,
                     const std::vector<float>& distance, std::vector<uint8_t>* coded,
                     std::vector<uint8_t>* kept, ScanWorkspace* ws, bool octree,
-                    OctreeOffer* offer) {
+                    OctreeOffer* offer, bool split) {
   std::vector<uint32_t> octree_order;
   if (offer) offer->coded.clear();
   const std::vector<uint32_t> order =
       window_order(*b, grid, ring, distance, coded, kept, ws, octree,
-                   offer ? &offer->coded : nullptr, offer ? &octree_order : nullptr);
+                   offer ? &offer->coded : nullptr, offer ? &octree_order : nullptr, split);
   if (offer && !offer->coded.empty()) {
     offer->block = *b;
     permute_block(&offer->block, octree_order);
