@@ -31,10 +31,10 @@ bool reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>
                     std::vector<uint8_t>* kept, ScanWorkspace* ws = nullptr, bool octree = false,
                     OctreeOffer* offer = nullptr, bool split = true);
 
-// A window with fields as octree frames (or split frames), for the encoder to compare whole windows (geometry and
-// fields: the fields follow their points in the cells' Morton order, where they may cost more
-// than in a firing's): `block`, reorder_window's b as it came with every frame's points (and
-// fields) in octree order, and `coded` its geometry's bytes; left empty unless that geometry
+// A window with fields as octree frames (or split frames), for the encoder to compare whole windows
+// (geometry and fields: the fields follow their points in the cells' Morton order, where they may
+// cost more than in a firing's): `block`, reorder_window's b as it came with every frame's points
+// (and fields) in octree order, and `coded` its geometry's bytes; left empty unless that geometry
 // is smaller than the order reorder_window chose.
 struct OctreeOffer {
   FrameBlock block;

@@ -55,9 +55,9 @@ std::vector<uint8_t> near_block(const ScanGeometry& near, const std::vector<uint
     for (size_t i = first + 1; i < first + n; ++i)  // copies: in octree order after their cell
       p.copies += near.valid[i] && near.valid[i - 1] &&
                   std::equal(&near.q[3 * i], &near.q[3 * i] + 3, &near.q[3 * (i - 1)]);
-    p.flags = static_cast<uint8_t>(scan::kOctreeFrame | (valid < n ? scan::kSomeValid : 0) |
-                                   (p.copies > 0 ? scan::kCells : 0) |
-                                   (far[f] ? scan::kNearPart : 0));
+    p.flags =
+        static_cast<uint8_t>(scan::kOctreeFrame | (valid < n ? scan::kSomeValid : 0) |
+                             (p.copies > 0 ? scan::kCells : 0) | (far[f] ? scan::kNearPart : 0));
     encode_octree_frame(near, first, n, p.copies, &prev, &tree, &mode);
     frames->push_back(p);
     if (far[f]) far_part();
