@@ -262,35 +262,53 @@ bool split_estimate(const ScanGeometry& g, double r2, size_t per_point, size_t c
   return true;
 }
 
-// Split frames (FORMAT.md "Split frames") at 1, 2, 4 or 8 m: the radius of the least estimate
-// (split_estimate's), coded when that is 1 % below `limit` bytes; true, with the payload in *bytes
-// and the window's order in *order, when the payload is below `limit`. per_point: the window's
-// best payload of the per-point coder; table: its order (far_payload's).
+// Split s coded, its far parts in `table`'s order (far_payload's) on ws: true, with the payload
+// in *bytes and the window's order in *order, when the payload is below `limit` bytes.
+bool split_coded(const ScanGeometry& g, const ScanHints& hints, const Split& s,
+                 const ScanOrderTable* table, size_t limit, ScanWorkspace* ws,
+                 std::vector<uint8_t>* bytes, std::vector<uint32_t>* order) {
+  const Parted& p = s.p;
+  std::vector<uint32_t> far_order;
+  const std::vector<uint8_t> far_bytes =
+      far_payload(picked(g, p.far, p.far_counts), picked(hints, p.far), table, ws, &far_order);
+  std::vector<uint8_t> payload = encode_scan_split(s.near, far_bytes, p.has_far, 3);
+  if (payload.empty() || payload.size() >= limit) return false;
+  bytes->swap(payload);
+  *order = split_order(p, s.near_order, far_order);
+  return true;
+}
+
+// Split frames (FORMAT.md "Split frames") at 1, 2, 4 or 8 m, below `limit` bytes: true, with the
+// smallest payload in *bytes and the window's order in *order, else false. A window of several
+// frames is coded at the radius of the least estimate (split_estimate's) when that is 1 % below
+// `limit`; a window of one frame at each radius whose estimate is below the smallest payload so
+// far, least estimate first (the estimates rank the radii roughly; one frame costs little).
+// per_point: the window's best payload of the per-point coder; table: its order.
 bool split_window(const ScanGeometry& g, const ScanHints& hints, const ScanOrderTable* table,
                   size_t per_point, size_t limit, const ScanWorkspace* window_ws,
                   std::vector<uint8_t>* bytes, std::vector<uint32_t>* order) {
   if (!(hints.grid_per_unit > 0) || g.total() == 0) return false;
-  Split best, s;
   const size_t copies = scan_grouped_copies(g);
+  std::vector<Split> splits;
   for (double metres : {1.0, 2.0, 4.0, 8.0}) {
     const double r = metres * hints.grid_per_unit;
-    if (split_estimate(g, r * r, per_point, copies, &s) &&
-        (best.near_order.empty() || s.estimate < best.estimate))
-      std::swap(best, s);
+    Split s;
+    if (split_estimate(g, r * r, per_point, copies, &s)) splits.push_back(std::move(s));
   }
-  if (best.near_order.empty() || best.estimate >= 0.99 * double(limit)) return false;
+  std::sort(splits.begin(), splits.end(),
+            [](const Split& a, const Split& b) { return a.estimate < b.estimate; });
+  const bool one = g.counts.size() == 1;
+  if (!one && splits.size() > 1) splits.resize(1);
   // A copy of the encoder's: its remembered table choice spares the far payload a choice of its
   // own, and that does not move the encoder's (the maps are shared memory, reset by each payload).
   ScanWorkspace ws = window_ws ? *window_ws : ScanWorkspace{};
-  const Parted& p = best.p;
-  std::vector<uint32_t> far_order;
-  const std::vector<uint8_t> far_bytes =
-      far_payload(picked(g, p.far, p.far_counts), picked(hints, p.far), table, &ws, &far_order);
-  std::vector<uint8_t> payload = encode_scan_split(best.near, far_bytes, p.has_far, 3);
-  if (payload.empty() || payload.size() >= limit) return false;
-  bytes->swap(payload);
-  *order = split_order(p, best.near_order, far_order);
-  return true;
+  bool found = false;
+  for (const Split& s : splits) {
+    const size_t most = found ? bytes->size() : limit;
+    if (s.estimate >= (one ? 1.0 : 0.99) * double(most)) break;
+    found = split_coded(g, hints, s, table, most, &ws, bytes, order) || found;
+  }
+  return found;
 }
 
 // The coded order of the points of block b (a window's frames, ragged): indices from its first
