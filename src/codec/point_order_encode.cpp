@@ -230,13 +230,16 @@ struct Split {
   double estimate = 0;
 };
 
-// The split of g at radius^2 r2 and its estimate: the near parts' octree (near_octree_estimate,
-// less a tenth for the cones) plus the far points' share of `per_point` (the window's best payload
-// of the per-point coder, of whose valid points `copies` are copies). False when no frame is split,
+// The split of g at radius^2 r2 and its estimate: the near parts' octree plus the far points'
+// share of `per_point` (the window's best payload of the per-point coder, of whose valid points
+// `copies` are copies). The octree: its cells at `per_cell` bytes (the window's octree payload a
+// cell, its cones and the cells of the frames before included) when that is not 0, else
+// near_octree_estimate less a tenth for the cones. False when no frame is split,
 // or the near parts' copies are below 5 % of their valid points (the octree does not pay: at 1 cm
 // the splits kept had 7 to 70 %; at 1 mm the near parts of hesai-ot128 and xt32 had 2 to 5 % and
 // cost the octree trials a third of the compress without a split).
-bool split_estimate(const ScanGeometry& g, double r2, size_t per_point, size_t copies, Split* s) {
+bool split_estimate(const ScanGeometry& g, double r2, size_t per_point, size_t copies,
+                    double per_cell, Split* s) {
   s->p = part(g, r2);
   if (!s->p.split) return false;
   const Parted& p = s->p;
@@ -259,7 +262,9 @@ bool split_estimate(const ScanGeometry& g, double r2, size_t per_point, size_t c
   const double far_share = 0.5 * double(per_point) *
                            (double(p.far_valid) / double(p.near_valid + p.far_valid) +
                             (coded > 0 ? far_coded / coded : 0));
-  s->estimate = 0.9 * near_octree_estimate(s->near, p.near_valid - near_copies) + far_share;
+  const size_t cells = p.near_valid - near_copies;
+  s->estimate = far_share + (per_cell > 0 ? per_cell * double(cells)
+                                          : 0.9 * near_octree_estimate(s->near, cells));
   return true;
 }
 
@@ -284,21 +289,24 @@ bool split_coded(const ScanGeometry& g, const ScanHints& hints, const Split& s,
 // frames is coded at the radius of the least estimate (split_estimate's) when that is 1 % below
 // `limit`; a window of one frame at each radius whose estimate is below the smallest payload so
 // far, least estimate first (the estimates rank the radii roughly; one frame costs little).
-// per_point: the window's best payload of the per-point coder; table: its order.
+// per_point: the window's best payload of the per-point coder; table: its order; octree: the bytes
+// of its octree payload, or 0 (none smaller than per_point).
 bool split_window(const ScanGeometry& g, const ScanHints& hints, const ScanOrderTable* table,
-                  size_t per_point, size_t limit, const ScanWorkspace* window_ws,
+                  size_t per_point, size_t limit, size_t octree, const ScanWorkspace* window_ws,
                   std::vector<uint8_t>* bytes, std::vector<uint32_t>* order) {
   if (!(hints.grid_per_unit > 0) || g.total() == 0) return false;
-  // Copies under 0.2 % of the valid points: no radius's near parts have 2 % (at 1 mm none of the
-  // shared sweeps' windows; vls128 at 1 cm 0.4 %, split).
+  // Copies under 0.2 % of the valid points: a radius's near parts seldom have 5 % (vls128 at 1 cm
+  // 0.4 %, split at 8 m with 7 %).
   const size_t copies = scan_grouped_copies(g);
   const size_t valid = static_cast<size_t>(std::count(g.valid.begin(), g.valid.end(), 1));
   if (copies * 500 < valid) return false;
+  const double per_cell =
+      octree > 0 && g.counts.size() > 1 ? double(octree) / double(valid - copies) : 0;
   std::vector<Split> splits;
   for (double metres : {1.0, 2.0, 4.0, 8.0}) {
     const double r = metres * hints.grid_per_unit;
     Split s;
-    if (split_estimate(g, r * r, per_point, copies, &s)) splits.push_back(std::move(s));
+    if (split_estimate(g, r * r, per_point, copies, per_cell, &s)) splits.push_back(std::move(s));
   }
   std::sort(splits.begin(), splits.end(),
             [](const Split& a, const Split& b) { return a.estimate < b.estimate; });
@@ -382,7 +390,8 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
   // offered as octree frames are.
   if (octree && split &&
       split_window(g, hints, sorted ? &won : nullptr, coded->size(),
-                   tree ? bytes.size() : coded->size(), ws, &bytes, &order))
+                   tree ? bytes.size() : coded->size(), tree ? bytes.size() : 0, ws, &bytes,
+                   &order))
     tree = true;
   if (tree) {
     if (octree_coded)
