@@ -59,14 +59,16 @@ bool organized_cloud(const Take& t) {
 // finds the sensor's rings and firing order) than through POSW, whose predictors look at earlier
 // frames: the encoder tries both and keeps the smaller stream. Not for transform codecs or KG
 // targets (the scan coder has neither).
-// An organized frame keeps its layout (frames of one organized shape), so not with
-// --point-order any, which would move its points.
+// An organized frame keeps its layout (frames of one organized shape): so not with
+// --point-order any, which would move its points, nor --lossless (a lossless ragged stream has
+// frames of their own counts, FORMAT.md "Ragged frames: HEAD and the window chunk").
 bool scan_candidate(const Take& t, const CompressOptions& o) {
   const bool frame_files = is_frame_files(t.format);
   const bool unorganized = !organized_cloud(t);
   return !t.ragged() && t.frames == 1 && t.points > 1 && frame_files &&
-         (unorganized || !o.any_point_order) && (o.codec.empty() || o.codec == "none") &&
-         (o.lossless || o.max_error > 0) && t.analog.channels == 0 && t.rotations.segments == 0;
+         (unorganized || (!o.any_point_order && !o.lossless)) &&
+         (o.codec.empty() || o.codec == "none") && (o.lossless || o.max_error > 0) &&
+         t.analog.channels == 0 && t.rotations.segments == 0;
 }
 
 // t as a ragged take of its frames (take.h: no labels, no shared point count).
