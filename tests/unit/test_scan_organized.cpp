@@ -6,6 +6,7 @@
 // two streams measured; streamed and in memory the same bytes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -18,12 +19,16 @@
 #include <vector>
 
 #include "capz/codec.h"
+#include "capz/error.h"
 #include "capz/io.h"
 #include "capz/stream.h"
 #include "capz/tool/file.h"
 #include "capz/tool/original.h"
 #include "codec/encoder.h"
 #include "codec/scan_encoder.h"
+#include "codec/stream_reader.h"
+#include "coding/container.h"
+#include "coding/meta.h"
 #include "test_util.h"
 
 namespace capz {
@@ -225,6 +230,63 @@ TEST(ScanOrganized, GivenOneOrganizedFrameThenTheSmallerStreamKeepsItsLayout) {
   EXPECT_TRUE(has_chunk(read_file(dir.file("l.capz")), "POSW"));
   rebuild_original(dir.file("l.capz"), dir.file("back.pcd"), true);
   EXPECT_EQ(read_file(dir.file("back.pcd")), read_file(file));
+}
+
+// META's layout in a stream of ragged frames (FORMAT.md "Ragged frames: HEAD and the window
+// chunk"): 0 x 1 (frames of their own counts) and W x H with W > 0, H >= 1 (frames of one
+// organized shape, organized_points W H) are read; 0 x 2, 4 x 0, and W x H with HEAD's lossless
+// or points-reordered bit are corrupt.
+TEST(ScanOrganized, GivenARaggedStreamsLayoutThenOnlyTheTwoShapesAreRead) {
+  const auto context = [](size_t width, size_t height, bool lossless, bool reordered) {
+    Take m;
+    m.format = Format::kPCDFolder;
+    m.frames = 2;
+    m.pcd = std::make_shared<PCDExtra>();
+    m.pcd->encoding = "binary";
+    m.pcd->fields = {{"x", 'F', 4, 1}, {"y", 'F', 4, 1}, {"z", 'F', 4, 1}};
+    m.pcd->version = "0.7";
+    m.pcd->width = width;
+    m.pcd->height = width ? height : 1;
+    // META in coding 0, its layout's width and height (varints after the version) as asked (the
+    // encoder writes 0 x 1 for width 0).
+    std::vector<uint8_t> meta = encode_meta_raw(m, false);
+    const std::string v = "0.7";
+    const auto at = std::search(meta.begin(), meta.end(), v.begin(), v.end());
+    EXPECT_NE(at, meta.end());
+    if (!width && at != meta.end()) at[4] = static_cast<uint8_t>(height);  // "0.7", 0, height
+    std::vector<uint8_t> b;
+    append_chunk(&b, "META", meta);
+    StreamHeader h;
+    h.frames = 2;
+    h.ragged = true;
+    h.lossless = lossless;
+    h.points_reordered = reordered;
+    StreamFeatures f;
+    f.minor = 1;
+    return read_context(h, read_chunk(b.data(), b.size(), 0, "meta"), f, "crafted");
+  };
+  EXPECT_EQ(organized_points(context(0, 1, false, false)), 0u);
+  EXPECT_EQ(organized_points(context(0, 1, true, false)), 0u);
+  const StreamContext c = context(8, 3, false, false);
+  EXPECT_EQ(organized_points(c), 24u);
+  EXPECT_EQ(c.take.pcd->width, 8u);
+  EXPECT_EQ(c.take.pcd->height, 3u);
+  EXPECT_EQ(organized_points(context(24, 1, false, false)), 24u);
+  for (const auto& bad : {std::vector<size_t>{0, 2, 0, 0}, std::vector<size_t>{4, 0, 0, 0},
+                          std::vector<size_t>{8, 3, 1, 0}, std::vector<size_t>{8, 3, 0, 1}}) {
+    SCOPED_TRACE(std::to_string(bad[0]) + " x " + std::to_string(bad[1]) +
+                 (bad[2] ? " lossless" : "") + (bad[3] ? " reordered" : ""));
+    try {
+      context(bad[0], bad[1], bad[2] != 0, bad[3] != 0);
+      ADD_FAILURE() << "read";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << e.what();
+      const std::string why = bad[2] || bad[3] ? "organized shape in a lossless or reordered"
+                                               : "PCD layout " + std::to_string(bad[0]) + " x " +
+                                                     std::to_string(bad[1]) + " is not";
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace
