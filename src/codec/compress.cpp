@@ -58,10 +58,10 @@ bool organized_cloud(const Take& t) {
 // NaN pixels dropped) may code smaller as a ragged take of one frame (format 1.1's scan coder
 // finds the sensor's rings and firing order) than through POSW, whose predictors look at earlier
 // frames: the encoder tries both and keeps the smaller stream. Not for transform codecs or KG
-// targets (the scan coder has neither).
-// An organized frame keeps its layout (frames of one organized shape): so not with
-// --point-order any, which would move its points, nor --lossless (a lossless ragged stream has
-// frames of their own counts, FORMAT.md "Ragged frames: HEAD and the window chunk").
+// targets (the scan coder has neither). An organized frame keeps its layout (frames of one
+// organized shape): so not with --point-order any, which would move its points, nor --lossless
+// (a lossless ragged stream has frames of their own counts, FORMAT.md "Ragged frames: HEAD and
+// the window chunk").
 bool scan_candidate(const Take& t, const CompressOptions& o) {
   const bool frame_files = is_frame_files(t.format);
   const bool unorganized = !organized_cloud(t);
@@ -183,10 +183,10 @@ std::vector<uint8_t> one_frame_choice(FrameSource& source, const CompressOptions
 // Frames of one count through the scan coder, as frames of one organized shape (FORMAT.md
 // "Ragged frames: HEAD and the window chunk"): an organized LiDAR sequence (Ouster's and
 // Velodyne's ROS drivers write HEIGHT beams x WIDTH columns, a point without a return at NaN or
-// 0 0 0) codes smaller so than through POSW, whose prediction from the point of the same index
-// in the frame before fails as the sensor turns; a mesh animation's or a static sensor's frames
-// code smaller through POSW. At a bound only (a lossless stream of them stays a fixed take), for
-// the coders and the sources the scan coder takes (scan_candidate's), in the file's order.
+// 0 0 0) codes smaller that way than through POSW, whose prediction from the point of the same
+// index in the frame before fails as the sensor turns; a mesh animation's or a static sensor's
+// frames code smaller through POSW. At a bound only (a lossless stream of them stays a fixed take),
+// for the coders and the sources the scan coder takes (scan_candidate's), in the file's order.
 bool fixed_scan_candidate(const Take& t, const CompressOptions& o) {
   return !t.ragged() && t.frames >= 2 && t.points > 1 && is_frame_files(t.format) &&
          (o.codec.empty() || o.codec == "none") && !o.lossless && o.max_error > 0 &&
