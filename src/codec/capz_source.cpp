@@ -28,7 +28,7 @@ CapzSource::CapzSource(std::unique_ptr<StreamBytes> bytes, const std::string& na
     ps_.take.frame_offsets = ragged_frame_offsets(*bytes_, ps_);
   }
   header_ = ps_.take;
-  if (ps_.h.ragged && ps_.take.frames == 1) one_frame_as_fixed();
+  if (ps_.h.ragged && (ps_.take.frames == 1 || organized_points(ps_) > 0)) ragged_as_fixed();
   const size_t T = std::min(resolve_threads(threads), ps_.index.size());
   if (T > 1 && ps_.index.size() > 1) ahead_cap_ = T + 1;
   // The window kept, and those decoded ahead, each with its buffers.
@@ -39,12 +39,13 @@ CapzSource::CapzSource(std::unique_ptr<StreamBytes> bytes, const std::string& na
   if (ahead_cap_) pool_.reset(new ThreadPool(T));
 }
 
-void CapzSource::one_frame_as_fixed() {
-  one_ragged_frame_ = true;
-  header_.points = header_.frame_offsets.at(1);
+void CapzSource::ragged_as_fixed() {
+  ragged_as_fixed_ = true;
+  const size_t shape = organized_points(ps_);  // every frame's count (checked when listed)
+  header_.points = shape ? shape : header_.frame_offsets.at(1);
   header_.frame_offsets.clear();
   header_.labels.clear();  // frame files' points have no labels (take.h)
-  if (header_.pcd && header_.pcd->width != header_.points) {
+  if (shape == 0 && header_.pcd && header_.pcd->width != header_.points) {
     auto x = std::make_shared<PCDExtra>(*header_.pcd);
     x->width = header_.points;
     x->height = 1;
@@ -140,7 +141,7 @@ void CapzSource::read(size_t first, size_t count, FrameBlock* out) {
   clip(&first, &count);
   if (ps_.h.ragged) {
     read_ragged(first, count, out);
-    if (one_ragged_frame_) {  // the block of the fixed one-frame take (its 0 or 1 frame)
+    if (ragged_as_fixed_) {  // the block of the fixed take (capz_source.h)
       out->points = header_.points;
       out->frame_offsets.clear();
     }

@@ -19,9 +19,13 @@ namespace capz {
 // What a reader gives one frame file, every .capz of one frame gives too: a stream of one ragged
 // frame (the encoder codes a single unorganized frame with the scan coder when that is smaller)
 // is a fixed take of one frame (header() and every block read()), its points without labels
-// (as every frame file's, take.h), a PCD layout unorganized (width = its points, height 1). The
-// one place this rule lives: decompress(), `capz verify`, `capz compress --rm`'s read-back and
-// every other .capz reader go through here. parsed() keeps the stream's own (ragged) shape.
+// (as every frame file's, take.h), a PCD layout unorganized (width = its points, height 1).
+// Likewise a ragged stream whose PCD layout has an organized shape W x H (FORMAT.md "Ragged
+// frames: HEAD and the window chunk": every frame has W x H points; the encoder writes it for a
+// take of frames of one count coded with the scan coder) is the fixed take of W x H points,
+// its layout W x H, as the folder it came from reads. The one place these rules live:
+// decompress(), `capz verify`, `capz compress --rm`'s read-back and every other .capz reader
+// go through here. parsed() keeps the stream's own (ragged) shape.
 class CapzSource : public FrameSource {
  public:
   // whole: the stream will be read whole, so check that its windows tile it exactly.
@@ -59,8 +63,8 @@ class CapzSource : public FrameSource {
   void decode(size_t w);
   void hand_over(size_t w, FrameBlock* out);
   void read_ragged(size_t first, size_t count, FrameBlock* out);
-  // The header_ of a stream of one ragged frame in the fixed shape (the rule above).
-  void one_frame_as_fixed();
+  // The header_ of a ragged stream in the fixed shape (the rules above).
+  void ragged_as_fixed();
   void decode_ahead(size_t w);
   void submit(size_t w);
   void drop_ahead();
@@ -72,7 +76,7 @@ class CapzSource : public FrameSource {
   std::vector<int32_t> ints_;  // a scan window's grid integers, their memory kept (decoder.h)
   size_t cached_ = 0;
   bool have_ = false;
-  bool one_ragged_frame_ = false;  // the rule above applies
+  bool ragged_as_fixed_ = false;  // a rule above applies
   uint64_t memory_limit_ = 0;
   size_t ahead_cap_ = 0;  // windows decoded ahead at most (threads + 1)
   size_t next_ = 0;       // the window after the last one submitted

@@ -1,6 +1,8 @@
 // compress() and compress_stream() (capz/codec.h, capz/stream.h): the encoder driver run on a
 // take or a frame source, once per codec, or for every codec under "auto".
+#include <algorithm>
 #include <memory>
+#include <utility>
 
 #include "capz/codec.h"
 #include "capz/error.h"
@@ -9,6 +11,7 @@
 #include "codec/encoder.h"
 #include "codec/registry.h"
 #include "codec/scan_encoder.h"
+#include "codec/stream_reader.h"
 #include "coding/container.h"
 #include "coding/meta.h"
 #include "core/atomic_file.h"
@@ -33,33 +36,45 @@ void refuse_scans(const Take& t, const CompressOptions& opts) {
 }
 
 // A ragged take, one of PLY or .bin frames with the point layout META stores for it (also
-// without point fields). original: as compress_ragged's.
+// without point fields). original, organized: as compress_ragged's.
 std::vector<uint8_t> compress_ragged_frames(const Take& take, const CompressOptions& opts,
                                             CompressStats* stats,
-                                            const std::string& original = std::string()) {
+                                            const std::string& original = std::string(),
+                                            bool organized = false) {
   if (take.pcd || (take.format != Format::kPLYFolder && take.format != Format::kBinFolder))
-    return compress_ragged(take, opts, stats, original);
+    return compress_ragged(take, opts, stats, original, organized);
   Take t = take;  // its fields stay: a ring field guides the geometry coder, --drop-fields or not
   settle_frame_layout(&t, opts.drop_fields);
-  return compress_ragged(t, opts, stats, original);
+  return compress_ragged(t, opts, stats, original, organized);
+}
+
+// An organized cloud (PCD HEIGHT above 1): its layout kept through the scan coder (FORMAT.md
+// "Ragged frames: HEAD and the window chunk").
+bool organized_cloud(const Take& t) {
+  return t.pcd && t.pcd->height > 1;
 }
 
 // A one-frame unorganized point cloud (a single LiDAR sweep, a depth camera's cloud with its
 // NaN pixels dropped) may code smaller as a ragged take of one frame (format 1.1's scan coder
 // finds the sensor's rings and firing order) than through POSW, whose predictors look at earlier
 // frames: the encoder tries both and keeps the smaller stream. Not for transform codecs or KG
-// targets (the scan coder has neither).
+// targets (the scan coder has neither). An organized frame keeps its layout (frames of one
+// organized shape): so not with --point-order any, which would move its points, nor --lossless
+// (a lossless ragged stream has frames of their own counts, FORMAT.md "Ragged frames: HEAD and
+// the window chunk").
 bool scan_candidate(const Take& t, const CompressOptions& o) {
   const bool frame_files = is_frame_files(t.format);
-  const bool unorganized = !t.pcd || t.pcd->height <= 1;
-  return !t.ragged() && t.frames == 1 && t.points > 1 && frame_files && unorganized &&
+  const bool unorganized = !organized_cloud(t);
+  return !t.ragged() && t.frames == 1 && t.points > 1 && frame_files &&
+         (unorganized || (!o.any_point_order && !o.lossless)) &&
          (o.codec.empty() || o.codec == "none") && (o.lossless || o.max_error > 0) &&
          t.analog.channels == 0 && t.rotations.segments == 0;
 }
 
-// t as a ragged take of its one frame (take.h: no labels, no shared point count).
-Take as_one_ragged_frame(Take t) {
-  t.frame_offsets = {0, t.points};
+// t as a ragged take of its frames (take.h: no labels, no shared point count).
+Take as_ragged(Take t) {
+  t.frame_offsets.resize(t.frames + 1);
+  for (size_t f = 0; f <= t.frames; ++f) t.frame_offsets[f] = f * t.points;
   t.points = 0;
   t.labels.clear();
   return t;
@@ -69,8 +84,9 @@ Take as_one_ragged_frame(Take t) {
 // when the scan coder does not take it.
 std::vector<uint8_t> one_frame_scan(Take t, const CompressOptions& opts, CompressStats* st,
                                     const std::string& original = std::string()) {
+  const bool organized = organized_cloud(t);
   try {
-    return compress_ragged_frames(as_one_ragged_frame(std::move(t)), opts, st, original);
+    return compress_ragged_frames(as_ragged(std::move(t)), opts, st, original, organized);
   } catch (const Error& e) {
     if (e.code() != ErrorCode::kInvalidParameter) throw;
     return {};
@@ -164,6 +180,107 @@ std::vector<uint8_t> one_frame_choice(FrameSource& source, const CompressOptions
   return !scan.empty() && scan_under(fixed.size()) ? scan : fixed;
 }
 
+// Frames of one count through the scan coder, as frames of one organized shape (FORMAT.md
+// "Ragged frames: HEAD and the window chunk"): an organized LiDAR sequence (Ouster's and
+// Velodyne's ROS drivers write HEIGHT beams x WIDTH columns, a point without a return at NaN or
+// 0 0 0) codes smaller that way than through POSW, whose prediction from the point of the same
+// index in the frame before fails as the sensor turns; a mesh animation's or a static sensor's
+// frames code smaller through POSW. At a bound only (a lossless stream of them stays a fixed take),
+// for the coders and the sources the scan coder takes (scan_candidate's), in the file's order.
+bool fixed_scan_candidate(const Take& t, const CompressOptions& o) {
+  return !t.ragged() && t.frames >= 2 && t.points > 1 && is_frame_files(t.format) &&
+         (o.codec.empty() || o.codec == "none") && !o.lossless && o.max_error > 0 &&
+         !o.any_point_order && t.analog.channels == 0 && t.rotations.segments == 0;
+}
+
+// A fixed source's frames as a ragged take's, every frame of the source's count (take.h: no
+// labels, no shared point count), for encode_ragged.
+class FixedAsRagged : public FrameSource {
+ public:
+  explicit FixedAsRagged(FrameSource& fixed) : fixed_(fixed), n_(fixed.header().points) {
+    header_ = fixed.header();
+    header_.points = 0;
+    header_.labels.clear();
+    set_offsets(header_.frames, &header_.frame_offsets);
+  }
+  bool has_sample_words() const override { return false; }
+  size_t preferred_block() const override { return fixed_.preferred_block(); }
+  uint64_t bytes_read() const override { return fixed_.bytes_read(); }
+  std::string original_file() const override { return fixed_.original_file(); }
+  void read(size_t first, size_t count, FrameBlock* out) override {
+    fixed_.read(first, count, out);
+    set_offsets(out->frames, &out->frame_offsets);
+    out->points = 0;
+  }
+
+ private:
+  void set_offsets(size_t frames, std::vector<size_t>* offsets) const {
+    offsets->resize(frames + 1);
+    for (size_t f = 0; f <= frames; ++f) (*offsets)[f] = f * n_;
+  }
+  FrameSource& fixed_;
+  size_t n_;
+};
+
+// Frames [0, k) of `source` in memory, their per-frame metadata cut to them.
+Take prefix_take(FrameSource& source, size_t k) {
+  Take t = source.header();
+  FrameBlock b;
+  source.read(0, k, &b);
+  slice_frame_metadata(0, k, t.frames, &t);
+  t.frames = k;
+  t.xyz = std::move(b.xyz);
+  t.valid = std::move(b.valid);
+  for (size_t a = 0; a < t.attributes.size() && a < b.attributes.size(); ++a)
+    t.attributes[a].data = std::move(b.attributes[a]);
+  return t;
+}
+
+// The sizes of frames [0, k) of `source` coded through POSW and through the scan coder (0 when
+// it does not take them), with opts as they are (fixed_scan_choice gives them unchecked).
+std::pair<size_t, size_t> prefix_sizes(FrameSource& source, size_t k, const CompressOptions& opts) {
+  Take t = prefix_take(source, k);
+  std::vector<uint8_t> fixed, scan;
+  {
+    std::unique_ptr<FrameSource> s = take_frames(t);
+    StreamOut mem(&fixed);
+    encode_source(*s, opts, EncoderTuning(), &mem, nullptr);
+  }
+  try {
+    scan = compress_ragged_frames(as_ragged(std::move(t)), opts, nullptr, std::string(), true);
+  } catch (const Error& e) {
+    if (e.code() != ErrorCode::kInvalidParameter) throw;
+  }
+  return {fixed.size(), scan.size()};
+}
+
+// Frames coded both ways, unchecked, on a prefix of the source (at most a window of either
+// coder in memory).
+constexpr size_t kPrefixFrames = 4;
+
+// Whether `source` (fixed_scan_candidate) codes smaller through the scan coder than through
+// POSW. A take of at most kPrefixFrames frames is coded whole both ways; a longer one's size is
+// estimated from its first frame's and its first kPrefixFrames' (k): for either coder,
+// s(1) + (F - 1) (s(k) - s(1)) / (k - 1), the first frame and then the others at the prefix's
+// cost a frame (docs/lab/2026-11-30-fixed-count-scans.md).
+bool fixed_scan_choice(FrameSource& source, const CompressOptions& opts) {
+  CompressOptions o = opts;
+  o.check = false;
+  o.progress = nullptr;
+  const size_t F = source.header().frames, k = std::min(F, kPrefixFrames);
+  const std::pair<size_t, size_t> prefix = prefix_sizes(source, k, o);
+  if (prefix.second == 0) return false;
+  if (k == F) return prefix.second < prefix.first;
+  const std::pair<size_t, size_t> first = prefix_sizes(source, 1, o);
+  if (first.second == 0) return false;
+  const auto estimate = [&](size_t one, size_t all) {
+    return static_cast<double>(one) + static_cast<double>(F - 1) *
+                                          (static_cast<double>(all) - static_cast<double>(one)) /
+                                          static_cast<double>(k - 1);
+  };
+  return estimate(first.second, prefix.second) < estimate(first.first, prefix.first);
+}
+
 std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions& opts,
                                          const EncoderTuning& tuning, CompressStats* stats,
                                          bool allow_tout = true) {
@@ -244,6 +361,12 @@ std::vector<uint8_t> compress_tuned(const Take& take, const CompressOptions& opt
 }
 
 std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, CompressStats* stats) {
+  if (fixed_scan_candidate(take, opts) && take.xyz.size() == take.frames * take.points * 3 &&
+      take.valid.size() == take.frames * take.points) {  // else compress_with_codec refuses it
+    std::unique_ptr<FrameSource> src = take_frames(take);
+    if (fixed_scan_choice(*src, opts))
+      return compress_ragged_frames(as_ragged(take), opts, stats, std::string(), true);
+  }
   std::vector<uint8_t> fixed = compress_tuned(take, opts, EncoderTuning(), stats);
   if (!scan_candidate(take, opts)) return fixed;
   std::vector<uint8_t> scan = smaller_as_scan(take, opts, fixed, stats);
@@ -258,6 +381,15 @@ void compress_stream(FrameSource& source, const CompressOptions& opts, const std
     AtomicFile file(path, overwrite);
     StreamOut out(&file);
     encode_ragged(source, opts, &out, stats, source.original_file());
+    file.commit();
+    return;
+  }
+  if (fixed_scan_candidate(source.header(), opts) && fixed_scan_choice(source, opts)) {
+    FixedAsRagged ragged(source);  // frames of one count, as ragged frames (encode_ragged)
+    settle_frame_layout(&ragged.edit_header(), opts.drop_fields);
+    AtomicFile file(path, overwrite);
+    StreamOut out(&file);
+    encode_ragged(ragged, opts, &out, stats, source.original_file(), true);
     file.commit();
     return;
   }

@@ -246,6 +246,16 @@ void scan_coordinates(const Grid& grid, double fine, size_t n, const int32_t* q,
   });
 }
 
+// Throws kCorrupt when a frame of n points is not of the organized shape of ctx's layout
+// (FORMAT.md "Ragged frames: HEAD and the window chunk").
+void check_organized_count(const StreamContext& ctx, uint64_t n, const std::string& what) {
+  const size_t shape = organized_points(ctx);
+  if (shape != 0 && n != shape)
+    fail(ErrorCode::kCorrupt, what,
+         "a frame of " + std::to_string(n) + " points in a stream whose frames are " +
+             std::to_string(ctx.take.pcd->width) + " x " + std::to_string(ctx.take.pcd->height));
+}
+
 // "Scans (format 1.1)": the fn frames of window w of a ragged stream from its SCNW chunk, into
 // out's frame offsets, gaps and coordinates (gaps 0), and its grid integers (total x 3, in the
 // flattened point order) into *q for ATTR's predictors 10 and 11.
@@ -296,6 +306,7 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
     fail(ErrorCode::kCorrupt, what,
          "frame counts sum to " + std::to_string(g.total()) + " points, the chunk says " +
              std::to_string(total));
+  for (uint32_t n : g.counts) check_organized_count(ctx, n, what);
   b.frame_offsets.assign(fn + 1, 0);
   for (size_t f = 0; f < fn; ++f) b.frame_offsets[f + 1] = b.frame_offsets[f] + g.counts[f];
   b.valid.swap(g.valid);
@@ -431,6 +442,7 @@ std::vector<size_t> ragged_frame_offsets(StreamBytes& bytes, const ParsedStream&
     if (counts.size() != fn) fail(ErrorCode::kCorrupt, what, "frame count is not the window's");
     uint64_t sum = 0;
     for (uint64_t n : counts) {
+      check_organized_count(ps, n, what);
       sum += n;
       if (n > total || sum > total) break;
       off.push_back(off.back() + static_cast<size_t>(n));

@@ -18,37 +18,6 @@
 namespace capz {
 namespace {
 
-// Elements [first, first + count) of v, when v holds one per frame of a take of F frames.
-template <typename T>
-void slice(size_t first, size_t count, size_t F, std::vector<T>* v) {
-  if (v->size() != F) return;
-  const auto b = v->begin() + static_cast<std::ptrdiff_t>(first);
-  *v = std::vector<T>(b, b + static_cast<std::ptrdiff_t>(count));
-}
-
-// A copy of a frame-file extras (PCD, PLY, .bin) with its frame names sliced, when it is set.
-template <typename Extra>
-void slice_frame_names(size_t first, size_t count, size_t F, std::shared_ptr<Extra>* extra) {
-  if (!*extra) return;
-  auto x = std::make_shared<Extra>(**extra);
-  slice(first, count, F, &x->frame_names);
-  *extra = x;
-}
-
-// The per-frame metadata of *t (a take of F frames) cut to frames [first, first + count).
-void slice_frame_metadata(size_t first, size_t count, size_t F, Take* t) {
-  t->first_frame += static_cast<decltype(t->first_frame)>(first);
-  if (t->trc) {
-    auto x = std::make_shared<TRCExtra>(*t->trc);
-    slice(first, count, F, &x->times);
-    slice(first, count, F, &x->frame_numbers);
-    t->trc = x;
-  }
-  slice_frame_names(first, count, F, &t->pcd);
-  slice_frame_names(first, count, F, &t->ply);
-  slice_frame_names(first, count, F, &t->bin);
-}
-
 // Frames [first, first + count) of the stream, clipped, with the per-frame metadata sliced.
 Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
                   const std::string& name, const DecompressOptions& opts) {
@@ -155,7 +124,10 @@ StreamInfo describe_bytes(StreamBytes& bytes, const std::string& name) {
     si.pcd_width = ps.take.pcd->width;
     si.pcd_height = ps.take.pcd->height;
   }
-  if (si.ragged && si.frames == 1) {  // read as the fixed frame of its file (capz_source.h)
+  if (si.ragged && organized_points(ps) > 0) {  // read as the fixed take (capz_source.h)
+    si.ragged = false;
+    si.points = organized_points(ps);
+  } else if (si.ragged && si.frames == 1) {  // read as the fixed frame of its file
     si.ragged = false;
     si.points = si.total_points;
     if (ps.take.pcd) si.pcd_width = si.total_points, si.pcd_height = 1;

@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 #include <type_traits>
+#include <utility>
 
 #include "capz/error.h"
 #include "capz/metrics.h"
@@ -182,10 +183,25 @@ void check_window(const Take& t, const FrameBlock& b, const FrameBlock& d, doubl
   }
 }
 
+// The organized shape META keeps for t's frames (FORMAT.md "Ragged frames: HEAD and the window
+// chunk"): its PCD layout's width x height when that is every frame's count, else the count x 1.
+// Throws kInvalidParameter when the frames' counts differ or are 0.
+std::pair<size_t, size_t> organized_shape(const Take& t) {
+  const size_t n = t.frames ? t.frame_points(0) : 0;
+  for (size_t f = 0; f < t.frames; ++f)
+    if (t.frame_points(f) != n || n == 0)
+      fail(ErrorCode::kInvalidParameter, t.source,
+           "frames of one organized shape need one point count, above 0, in every frame");
+  if (t.pcd && t.pcd->width > 0 && t.pcd->width * t.pcd->height == n)
+    return {t.pcd->width, t.pcd->height};
+  return {n, 1};
+}
+
 // The take META describes: t's header (no samples) with its PCD layout as the archive keeps it
-// ("Scans (format 1.1)": width 0, height 1): x y z and the point fields (settled and bounded as
-// for every take, encode_settings.h), or x y z alone without fields or with opts.drop_fields.
-Take meta_take_of(const Take& t, const CompressOptions& opts) {
+// ("Ragged frames: HEAD and the window chunk": width 0 and height 1, or with `organized` the
+// frames' one shape): x y z and the point fields (settled and bounded as for every take,
+// encode_settings.h), or x y z alone without fields or with opts.drop_fields.
+Take meta_take_of(const Take& t, const CompressOptions& opts, bool organized) {
   Take m = t;
   m.xyz.clear();
   m.valid.clear();
@@ -205,10 +221,13 @@ Take meta_take_of(const Take& t, const CompressOptions& opts) {
     settle_fields(m, opts);
   }
   set_field_bounds(m, opts);
-  if (m.pcd && (m.pcd->width != 0 || m.pcd->height != 1)) {
+  const std::pair<size_t, size_t> shape =
+      organized ? organized_shape(t) : std::pair<size_t, size_t>{0, 1};
+  if (organized && !m.pcd) m.pcd = std::make_shared<PCDExtra>();
+  if (m.pcd && (m.pcd->width != shape.first || m.pcd->height != shape.second)) {
     auto x = std::make_shared<PCDExtra>(*m.pcd);
-    x->width = 0;
-    x->height = 1;
+    x->width = shape.first;
+    x->height = shape.second;
     m.pcd = x;
   }
   return m;
@@ -519,19 +538,22 @@ void fill_stats(const RaggedRun& r, size_t total, CompressStats* stats) {
 }  // namespace
 
 void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out,
-                   CompressStats* stats, const std::string& original) {
+                   CompressStats* stats, const std::string& original, bool organized) {
   const Take& t = src.header();
   if (t.points != 0 || !t.labels.empty())  // take.h: a ragged take has neither
     fail(ErrorCode::kInvalidParameter, t.source,
          "a ragged take has no per-point labels or shared point count (points " +
              std::to_string(t.points) + ", " + std::to_string(t.labels.size()) + " labels)");
   refuse_unsupported(t, opts);
+  if (organized && (opts.lossless || opts.any_point_order))  // FORMAT.md: not in such a stream
+    fail(ErrorCode::kInvalidParameter, t.source,
+         "frames of one organized shape are coded at a bound, in their order");
   StreamHeader h;
   h.frames = t.frames;
   h.window_frames = window_frames(t, opts);
   FrameBlock block;  // window 0 after pass 1; then each window as read
   const Grid grid = choose_grid(src, opts, h.window_frames, &block);
-  const Take meta_take = meta_take_of(t, opts);
+  const Take meta_take = meta_take_of(t, opts, organized);
   h.source_format = t.format;  // PLY and .bin: HEAD's frame-file source (feature bit 4)
   h.mode = grid.mode;
   h.step = grid.step;
@@ -588,7 +610,8 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
 }
 
 std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
-                                     CompressStats* stats, const std::string& original) {
+                                     CompressStats* stats, const std::string& original,
+                                     bool organized) {
   const size_t total = t.total_points();
   if (t.frame_offsets.size() != t.frames + 1 || t.xyz.size() != total * 3 ||
       t.valid.size() != total)
@@ -605,7 +628,7 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
   std::unique_ptr<FrameSource> src = take_frames(t);
   std::vector<uint8_t> bytes;
   StreamOut out(&bytes);
-  encode_ragged(*src, opts, &out, stats, original);
+  encode_ragged(*src, opts, &out, stats, original, organized);
   return bytes;
 }
 

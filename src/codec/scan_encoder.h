@@ -25,12 +25,16 @@ namespace capz {
 // self-check fails. Point fields are kept (exact, or within opts.attr_error) unless
 // opts.drop_fields. `original`: the folder the frames were read from (FrameSource::original_file),
 // or empty; a lossless stream of a PCD folder carries the residue that rebuilds its frame files
-// byte for byte (FORMAT.md "Lossless ragged streams").
+// byte for byte (FORMAT.md "Lossless ragged streams"). organized: every frame has one count,
+// and META keeps the frames' shape (FORMAT.md "Ragged frames: HEAD and the window chunk": the
+// source's PCD width x height when that is the count, else the count x 1), so that the stream
+// decodes as the fixed take the frames were read as (capz_source.h); else kInvalidParameter.
 void encode_ragged(FrameSource& source, const CompressOptions& opts, StreamOut* out,
-                   CompressStats* stats, const std::string& original = "");
+                   CompressStats* stats, const std::string& original = "", bool organized = false);
 
 // The same for a ragged take in memory (t.ragged()); the same bytes.
 std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
-                                     CompressStats* stats, const std::string& original = "");
+                                     CompressStats* stats, const std::string& original = "",
+                                     bool organized = false);
 
 }  // namespace capz

@@ -38,7 +38,10 @@ StreamContext read_context(const StreamHeader& h, const Chunk& meta, const Strea
   c.take.rotations.segments = static_cast<int>(std::min<uint32_t>(c.h.rotation_segments, 1u << 30));
   c.take.rotations.samples_per_frame =
       static_cast<int>(std::min<uint32_t>(c.h.rotation_samples_per_frame, 1u << 30));
-  decode_meta(meta, name, &c.take, &c.words);
+  decode_meta(meta, name, &c.take, &c.words, c.h.ragged);
+  if (organized_points(c) > 0 && (c.h.lossless || c.h.points_reordered))
+    fail(ErrorCode::kCorrupt, name,
+         "frames of one organized shape in a lossless or reordered stream of ragged frames");
   return c;
 }
 
@@ -125,6 +128,41 @@ void check_tiling(const ParsedStream& ps, size_t size, const std::string& name) 
     fail(ErrorCode::kCorrupt, name,
          "INDX: windows end at byte " + std::to_string(expect) + ", the index starts at " +
              std::to_string(ps.index_offset));
+}
+
+namespace {
+
+// Elements [first, first + count) of v, when v holds one per frame of a take of F frames.
+template <typename T>
+void slice(size_t first, size_t count, size_t F, std::vector<T>* v) {
+  if (v->size() != F) return;
+  const auto b = v->begin() + static_cast<std::ptrdiff_t>(first);
+  *v = std::vector<T>(b, b + static_cast<std::ptrdiff_t>(count));
+}
+
+// A copy of a frame-file extras (PCD, PLY, .bin) with its frame names sliced, when it is set.
+template <typename Extra>
+void slice_frame_names(size_t first, size_t count, size_t F, std::shared_ptr<Extra>* extra) {
+  if (!*extra) return;
+  auto x = std::make_shared<Extra>(**extra);
+  slice(first, count, F, &x->frame_names);
+  *extra = x;
+}
+
+}  // namespace
+
+// The per-frame metadata of *t (a take of F frames) cut to frames [first, first + count).
+void slice_frame_metadata(size_t first, size_t count, size_t F, Take* t) {
+  t->first_frame += static_cast<decltype(t->first_frame)>(first);
+  if (t->trc) {
+    auto x = std::make_shared<TRCExtra>(*t->trc);
+    slice(first, count, F, &x->times);
+    slice(first, count, F, &x->frame_numbers);
+    t->trc = x;
+  }
+  slice_frame_names(first, count, F, &t->pcd);
+  slice_frame_names(first, count, F, &t->ply);
+  slice_frame_names(first, count, F, &t->bin);
 }
 
 }  // namespace capz

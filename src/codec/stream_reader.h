@@ -61,6 +61,15 @@ struct StreamContext {
   // Ragged streams: the most points a window may hold (the caller's memory limit).
   size_t max_points = size_t{1} << 26;
 };
+// The points of every frame of a ragged stream whose PCD layout has an organized shape, width x
+// height (FORMAT.md "Ragged frames: HEAD and the window chunk"); 0 for frames of their own
+// counts, or a stream that is not ragged.
+inline size_t organized_points(const StreamContext& c) {
+  return c.h.ragged && c.take.pcd ? c.take.pcd->width * c.take.pcd->height : 0;
+}
+// The per-frame metadata of *t (a take of F frames: TRC times and frame numbers, frame-file
+// names) cut to frames [first, first + count), its first frame moved on by `first`.
+void slice_frame_metadata(size_t first, size_t count, size_t F, Take* t);
 // The context of a stream with features f from its decoded HEAD and its META chunk.
 StreamContext read_context(const StreamHeader& h, const Chunk& meta, const StreamFeatures& f,
                            const std::string& name);

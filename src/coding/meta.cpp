@@ -39,14 +39,25 @@ std::vector<std::string> get_any_strings(ByteReader* r, const char* what) {
   return v;
 }
 
+// Whether a PCD layout of width x height fits the take: N = width x height (FORMAT.md 5.5), or,
+// in a ragged stream, width 0 and height 1 or an organized shape of at most 2^40 points ("Ragged
+// frames: HEAD and the window chunk").
+bool layout_fits(uint64_t width, uint64_t height, size_t points, bool ragged) {
+  const uint64_t most = uint64_t{1} << 40;
+  if (width > most || height > most) return false;
+  if (!ragged) return width * height == points;
+  return width == 0 ? height == 1 : height >= 1 && width <= most / height;
+}
+
 // FORMAT.md 5.5: the PCD layout; sets the take's attribute layouts (no data).
-void get_pcd_layout(ByteReader* r, const std::string& what, Take* t, PCDExtra* p) {
+void get_pcd_layout(ByteReader* r, const std::string& what, Take* t, PCDExtra* p, bool ragged) {
   p->version = r->str();
   const uint64_t width = r->varint(), height = r->varint();
-  if (width > (uint64_t{1} << 40) || height > (uint64_t{1} << 40) || width * height != t->points)
+  if (!layout_fits(width, height, t->points, ragged))
     fail(ErrorCode::kCorrupt, what,
          "PCD layout " + std::to_string(width) + " x " + std::to_string(height) + " is not the " +
-             std::to_string(t->points) + " points");
+             (ragged ? std::string("shape of a ragged stream's frames")
+                     : std::to_string(t->points) + " points"));
   p->width = static_cast<size_t>(width);
   p->height = static_cast<size_t>(height);
   const uint8_t vf = r->u8();
@@ -300,7 +311,8 @@ void get_analog_bounds(ByteReader* in, const std::string& what, Analog* a) {
 }
 }  // namespace
 
-void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sample_words) {
+void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sample_words,
+                 bool ragged) {
   const std::string what = chunk_what(name, c);
   const std::vector<uint8_t> fields = decode_meta_fields(c, name);
   ByteReader r(fields.data(), fields.size(), what);
@@ -334,7 +346,7 @@ void decode_meta(const Chunk& c, const std::string& name, Take* t, bool* has_sam
     auto p = std::make_shared<PCDExtra>();
     p->encoding = r.str();
     p->frame_names = get_strings(&r, t->frames, "frame name count");
-    if (extras & 16) get_pcd_layout(&r, what, t, p.get());
+    if (extras & 16) get_pcd_layout(&r, what, t, p.get(), ragged);
     t->pcd = p;
   } else if (extras & 16) {
     fail(ErrorCode::kCorrupt, what, "PCD layout without a PCD block");

@@ -396,6 +396,41 @@ TEST(ScanCorrupt, GivenFrameCountsDisagreeingWithHeadThenCorrupt) {
   }
 }
 
+// Frames of one organized shape (FORMAT.md "Ragged frames: HEAD and the window chunk"): in the
+// lidar_small golden stream (META's layout 512 x 1, 6 frames of 512 points in one window) the
+// first frame's count made 511 and the second's 513, the sum still the chunk's total: corrupt,
+// naming SCNW and the shape, for decompress and describe alike.
+TEST(ScanCorrupt, GivenAFrameCountThatIsNotTheOrganizedShapeThenCorrupt) {
+  const Chunks good(read_file(kStreams + std::string("lidar_small.grid0.01.v1.1.capz")));
+  const size_t scnw = good.find("SCNW");
+  std::string msg;
+  ASSERT_EQ(decode_code(good.bytes(), &msg), -1) << msg;
+  ByteReader r(good.payload[scnw].data(), good.payload[scnw].size(), "SCNW");
+  r.varint();
+  ASSERT_EQ(r.varint(), 6u * 512u);  // total
+  ASSERT_EQ(r.varint(), 6u);         // F
+  const size_t n0_at = r.offset();
+  ASSERT_EQ(r.varint(), 512u);
+  const size_t n1_at = r.offset();
+  ASSERT_EQ(r.varint(), 512u);
+  ASSERT_EQ(r.offset(), n1_at + 2);  // 512 = 0x80 0x04; 511 = 0xff 0x03, 513 = 0x81 0x04
+  Chunks c = good;
+  c.payload[scnw][n0_at] = 0xff;
+  c.payload[scnw][n0_at + 1] = 0x03;
+  c.payload[scnw][n1_at] = 0x81;
+  const std::vector<uint8_t> b = c.bytes();
+  EXPECT_EQ(decode_code(b, &msg), static_cast<int>(ErrorCode::kCorrupt)) << msg;
+  EXPECT_NE(msg.find("SCNW"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("511 points"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("512 x 1"), std::string::npos) << msg;
+  try {
+    describe(b.data(), b.size(), "damaged.capz");
+    ADD_FAILURE() << "describe took a frame count that is not the shape";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << e.what();
+  }
+}
+
 // The file cut short anywhere (sampled), and each SCNW payload cut short inside a chunk whose
 // length, CRC and index are right: a clean corrupt error, never a take.
 TEST(ScanCorrupt, GivenTruncationsThenCorrupt) {

@@ -225,8 +225,12 @@ std::vector<uint8_t> with_minor(std::vector<uint8_t> b, uint8_t minor) {
   return b;
 }
 
+// A fixed take's stream (POSW) of .bin frames: lossless, since at a bound these two frames of one
+// count code smaller through the scan coder (a ragged stream, HEAD bit 3 besides bit 4).
 TEST(ScanFormats, GivenADamagedFrameFileCodeInHeadThenTheStreamIsRefusedByName) {
-  const std::vector<uint8_t> good = compress_at(bin_take({40, 40}), 0.01);
+  capz::CompressOptions lossless;
+  lossless.lossless = true;
+  const std::vector<uint8_t> good = capz::compress(bin_take({40, 40}), lossless);
   std::vector<capz_test::Piece> ps = capz_test::pieces(good);
   ASSERT_EQ(ps[0].type, "HEAD");
   EXPECT_EQ(ps[0].payload[16], 0);        // source_format: 0 with feature bit 4
