@@ -150,6 +150,7 @@ set(CAPZ_ENCODE_SOURCES
   src/coding/rotations_encode.cpp
   src/coding/scan_cells_encode.cpp
   src/coding/scan_octree_encode.cpp
+  src/coding/scan_nearfar_encode.cpp
   src/coding/scan_encode.cpp
   src/coding/scan_order_encode.cpp
   src/coding/scan_raster_encode.cpp

@@ -437,10 +437,11 @@ std::vector<size_t> ragged_frame_offsets(StreamBytes& bytes, const ParsedStream&
     if (e != scan::kNoSplit) r.varint();  // the geometry's length
     if (splits) splits->push_back(e);
     const size_t fn = std::min(W, F - std::min(F, w * W));
-    if (r.varint() != fn) fail(ErrorCode::kCorrupt, what, "frame count is not the window's");
+    const std::vector<uint64_t> counts =
+        scan_frame_counts(c.payload + r.offset(), c.size - r.offset(), what);
+    if (counts.size() != fn) fail(ErrorCode::kCorrupt, what, "frame count is not the window's");
     uint64_t sum = 0;
-    for (size_t f = 0; f < fn; ++f) {
-      const uint64_t n = r.varint();
+    for (uint64_t n : counts) {
       check_organized_count(ps, n, what);
       sum += n;
       if (n > total || sum > total) break;

@@ -23,17 +23,18 @@ namespace capz {
 // those of the file's order (the same when that was chosen), so the encoder need not code them
 // again (kept may be null). ws: the encoder's workspace kept across windows, or null. octree:
 // octree frames are among the candidates (docs/FORMAT.md "Octree frames"), chosen on the
-// geometry's bytes when `offer` is null; else never chosen, but offered (below).
+// geometry's bytes when `offer` is null; else never chosen, but offered (below). split: with
+// octree, split frames (docs/FORMAT.md "Split frames") are candidates too, as octree frames are.
 struct OctreeOffer;
 bool reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring,
                     const std::vector<float>& distance, std::vector<uint8_t>* coded,
                     std::vector<uint8_t>* kept, ScanWorkspace* ws = nullptr, bool octree = false,
-                    OctreeOffer* offer = nullptr);
+                    OctreeOffer* offer = nullptr, bool split = true);
 
-// A window with fields as octree frames, for the encoder to compare whole windows (geometry and
-// fields: the fields follow their points in the cells' Morton order, where they may cost more
-// than in a firing's): `block`, reorder_window's b as it came with every frame's points (and
-// fields) in octree order, and `coded` its geometry's bytes; left empty unless that geometry
+// A window with fields as octree frames (or split frames), for the encoder to compare whole windows
+// (geometry and fields: the fields follow their points in the cells' Morton order, where they may
+// cost more than in a firing's): `block`, reorder_window's b as it came with every frame's points
+// (and fields) in octree order, and `coded` its geometry's bytes; left empty unless that geometry
 // is smaller than the order reorder_window chose.
 struct OctreeOffer {
   FrameBlock block;

@@ -104,16 +104,237 @@ bool octree_window(const ScanGeometry& g, const ScanHints& hints, const std::vec
   return bytes->size() < coded.size();
 }
 
+// g's points `idx` (window indices) as a geometry of frames of `counts` points, and their hints.
+ScanGeometry picked(const ScanGeometry& g, const std::vector<uint32_t>& idx,
+                    std::vector<uint32_t> counts) {
+  ScanGeometry s;
+  s.counts = std::move(counts);
+  s.q.resize(3 * idx.size());
+  s.valid.resize(idx.size());
+  for (size_t j = 0; j < idx.size(); ++j) {
+    s.valid[j] = g.valid[idx[j]];
+    std::copy_n(&g.q[3 * size_t{idx[j]}], 3, &s.q[3 * j]);
+  }
+  return s;
+}
+ScanHints picked(const ScanHints& h, const std::vector<uint32_t>& idx) {
+  ScanHints s = permuted(h, idx);
+  if (!s.ring.empty()) s.ring.resize(idx.size());
+  if (!s.distance.empty()) s.distance.resize(idx.size());
+  if (!s.xyz.empty()) s.xyz.resize(3 * idx.size());
+  return s;
+}
+
+// The far parts' payload (FORMAT.md "Split frames"): the far points in file order (`table`
+// null) or sorted under *table, and with cells (ring by ring too) when they are worth a trial
+// (the smaller kept); its order in *order. The window's own choice of order is the far parts'.
+std::vector<uint8_t> far_payload(const ScanGeometry& g, const ScanHints& h,
+                                 const ScanOrderTable* table, ScanWorkspace* ws,
+                                 std::vector<uint32_t>* order) {
+  const bool cells = cells_worth_trying(g);
+  std::vector<uint32_t> by_ring;
+  if (table) {
+    *order = scan_point_order(g, h, *table,
+                              cells && *table == ScanOrderTable::kPerFrame ? &by_ring : nullptr);
+  } else {
+    order->resize(g.total());
+    for (size_t j = 0; j < order->size(); ++j) (*order)[j] = static_cast<uint32_t>(j);
+  }
+  std::vector<uint8_t> coded = encode_scan_geometry(permuted(g, *order), permuted(h, *order), ws);
+  if (cells && by_ring.empty()) by_ring = *order;
+  if (cells) try_cells(g, h, &coded, order, by_ring, ws);
+  return coded;
+}
+
+// Whether grid integers q lie within the radius whose square is r2 (grid units).
+bool is_near(const int32_t* q, double r2) {
+  const double x = q[0], y = q[1], z = q[2];
+  return x * x + y * y + z * z < r2;
+}
+
+// A window's points parted at radius^2 r2 (FORMAT.md "Split frames"): per frame, when it has a
+// valid point within the radius, those and its gaps are its near part and its other points its
+// far part; else all of it is a far part. Indices into the window, each part in file order.
+struct Parted {
+  std::vector<uint32_t> near, far, near_counts, far_counts;
+  std::vector<uint8_t> has_far;  // per frame
+  size_t near_valid = 0, far_valid = 0;
+  bool split = false;  // some frame has both parts
+};
+
+Parted part(const ScanGeometry& g, double r2) {
+  Parted p;
+  size_t first = 0;
+  for (uint32_t n : g.counts) {
+    size_t nv = 0, fv = 0;
+    for (size_t i = first; i < first + n; ++i)
+      if (g.valid[i]) ++(is_near(&g.q[3 * i], r2) ? nv : fv);
+    const size_t nb = p.near.size(), fb = p.far.size();
+    for (size_t i = first; i < first + n; ++i)
+      (nv > 0 && (!g.valid[i] || is_near(&g.q[3 * i], r2)) ? p.near : p.far)
+          .push_back(static_cast<uint32_t>(i));
+    p.near_counts.push_back(static_cast<uint32_t>(p.near.size() - nb));
+    p.has_far.push_back(nv == 0 || fv > 0);
+    if (p.has_far.back()) p.far_counts.push_back(static_cast<uint32_t>(p.far.size() - fb));
+    p.split = p.split || (nv > 0 && fv > 0);
+    p.near_valid += nv, p.far_valid += fv;
+    first += n;
+  }
+  return p;
+}
+
+// The window's order of a split: each frame's near part (near_order's) then its far part
+// (p.far in far_order).
+std::vector<uint32_t> split_order(const Parted& p, const std::vector<uint32_t>& near_order,
+                                  const std::vector<uint32_t>& far_order) {
+  std::vector<uint32_t> order;
+  size_t at_near = 0, at_far = 0, k = 0;
+  for (size_t f = 0; f < p.near_counts.size(); ++f) {
+    order.insert(order.end(), near_order.begin() + static_cast<std::ptrdiff_t>(at_near),
+                 near_order.begin() + static_cast<std::ptrdiff_t>(at_near + p.near_counts[f]));
+    at_near += p.near_counts[f];
+    if (!p.has_far[f]) continue;
+    for (size_t j = at_far; j < at_far + p.far_counts[k]; ++j) order.push_back(p.far[far_order[j]]);
+    at_far += p.far_counts[k++];
+  }
+  return order;
+}
+
+// The bytes of near's octree frames (their `cells` cells): of one frame coded; of several, the
+// first frame's with a near part coded alone, times the cells over its cells (the later frames
+// cost less, with the cells of the one before).
+double near_octree_estimate(const ScanGeometry& near, size_t cells) {
+  if (near.counts.size() < 2) return double(encode_scan_octree(near).size());
+  size_t first = 0, f = 0;
+  while (f < near.counts.size() && near.counts[f] == 0) ++f;
+  if (f == near.counts.size()) return 0;
+  ScanGeometry one;
+  one.counts = {near.counts[f]};
+  const size_t n = near.counts[f];
+  for (size_t k = 0; k < f; ++k) first += near.counts[k];
+  one.valid.assign(near.valid.begin() + static_cast<std::ptrdiff_t>(first),
+                   near.valid.begin() + static_cast<std::ptrdiff_t>(first + n));
+  one.q.assign(near.q.begin() + static_cast<std::ptrdiff_t>(3 * first),
+               near.q.begin() + static_cast<std::ptrdiff_t>(3 * (first + n)));
+  const size_t own = one.total() - scan_grouped_copies(one) -
+                     static_cast<size_t>(std::count(one.valid.begin(), one.valid.end(), 0));
+  return own == 0 ? 0 : double(encode_scan_octree(one).size()) * double(cells) / double(own);
+}
+
+// A split of a window at one radius: its parts, the near parts in octree order (as a geometry
+// and as window indices), and the estimate of its payload.
+struct Split {
+  Parted p;
+  ScanGeometry near;
+  std::vector<uint32_t> near_order;
+  double estimate = 0;
+};
+
+// The split of g at radius^2 r2 and its estimate: the near parts' octree plus the far points'
+// share of `per_point` (the window's best payload of the per-point coder, of whose valid points
+// `copies` are copies). The octree: its cells at `per_cell` bytes (the window's octree payload a
+// cell, its cones and the cells of the frames before included) when that is not 0, else
+// near_octree_estimate less a tenth for the cones. False when no frame is split,
+// or the near parts' copies are below 5 % of their valid points (the octree does not pay: at 1 cm
+// the splits kept had 7 to 70 %; at 1 mm the near parts of hesai-ot128 and xt32 had 2 to 5 % and
+// cost the octree trials a third of the compress without a split).
+bool split_estimate(const ScanGeometry& g, double r2, size_t per_point, size_t copies,
+                    double per_cell, Split* s) {
+  s->p = part(g, r2);
+  if (!s->p.split) return false;
+  const Parted& p = s->p;
+  s->near = picked(g, p.near, p.near_counts);
+  s->near_order.clear();
+  size_t first = 0;
+  for (uint32_t n : s->near.counts) {
+    for (uint32_t j : octree_frame_order(s->near, first, n))
+      s->near_order.push_back(p.near[first + j]);
+    first += n;
+  }
+  s->near = picked(g, s->near_order, p.near_counts);
+  const size_t near_copies = scan_grouped_copies(s->near);
+  if (near_copies * 20 < p.near_valid) return false;
+  // The far points' share by points and by coded points (less copies, which cost little): the
+  // mean of the two.
+  const double coded = double(p.near_valid + p.far_valid - copies);
+  const double far_coded =
+      double(p.far_valid - scan_grouped_copies(picked(g, p.far, p.far_counts)));
+  const double far_share = 0.5 * double(per_point) *
+                           (double(p.far_valid) / double(p.near_valid + p.far_valid) +
+                            (coded > 0 ? far_coded / coded : 0));
+  const size_t cells = p.near_valid - near_copies;
+  s->estimate = far_share + (per_cell > 0 ? per_cell * double(cells)
+                                          : 0.9 * near_octree_estimate(s->near, cells));
+  return true;
+}
+
+// Split s coded, its far parts in `table`'s order (far_payload's) on ws: true, with the payload
+// in *bytes and the window's order in *order, when the payload is below `limit` bytes.
+bool split_coded(const ScanGeometry& g, const ScanHints& hints, const Split& s,
+                 const ScanOrderTable* table, size_t limit, ScanWorkspace* ws,
+                 std::vector<uint8_t>* bytes, std::vector<uint32_t>* order) {
+  const Parted& p = s.p;
+  std::vector<uint32_t> far_order;
+  const std::vector<uint8_t> far_bytes =
+      far_payload(picked(g, p.far, p.far_counts), picked(hints, p.far), table, ws, &far_order);
+  std::vector<uint8_t> payload = encode_scan_split(s.near, far_bytes, p.has_far, 3);
+  if (payload.empty() || payload.size() >= limit) return false;
+  bytes->swap(payload);
+  *order = split_order(p, s.near_order, far_order);
+  return true;
+}
+
+// Split frames (FORMAT.md "Split frames") at 1, 2, 4 or 8 m, below `limit` bytes: true, with the
+// smallest payload in *bytes and the window's order in *order, else false. A window of several
+// frames is coded at the radius of the least estimate (split_estimate's) when that is 1 % below
+// `limit`; a window of one frame at each radius whose estimate is below the smallest payload so
+// far, least estimate first (the estimates rank the radii roughly; one frame costs little).
+// per_point: the window's best payload of the per-point coder; table: its order; octree: the bytes
+// of its octree payload, or 0 (none smaller than per_point).
+bool split_window(const ScanGeometry& g, const ScanHints& hints, const ScanOrderTable* table,
+                  size_t per_point, size_t limit, size_t octree, const ScanWorkspace* window_ws,
+                  std::vector<uint8_t>* bytes, std::vector<uint32_t>* order) {
+  if (!(hints.grid_per_unit > 0) || g.total() == 0) return false;
+  // Copies under 0.2 % of the valid points: a radius's near parts seldom have 5 % (vls128 at 1 cm
+  // 0.4 %, split at 8 m with 7 %).
+  const size_t copies = scan_grouped_copies(g);
+  const size_t valid = static_cast<size_t>(std::count(g.valid.begin(), g.valid.end(), 1));
+  if (copies * 500 < valid) return false;
+  const double per_cell =
+      octree > 0 && g.counts.size() > 1 ? double(octree) / double(valid - copies) : 0;
+  std::vector<Split> splits;
+  for (double metres : {1.0, 2.0, 4.0, 8.0}) {
+    const double r = metres * hints.grid_per_unit;
+    Split s;
+    if (split_estimate(g, r * r, per_point, copies, per_cell, &s)) splits.push_back(std::move(s));
+  }
+  std::sort(splits.begin(), splits.end(),
+            [](const Split& a, const Split& b) { return a.estimate < b.estimate; });
+  const bool one = g.counts.size() == 1;
+  if (!one && splits.size() > 1) splits.resize(1);
+  // A copy of the encoder's: its remembered table choice spares the far payload a choice of its
+  // own, and that does not move the encoder's (the maps are shared memory, reset by each payload).
+  ScanWorkspace ws = window_ws ? *window_ws : ScanWorkspace{};
+  bool found = false;
+  for (const Split& s : splits) {
+    const size_t most = found ? bytes->size() : limit;
+    if (s.estimate >= (one ? 1.0 : 0.99) * double(most)) break;
+    found = split_coded(g, hints, s, table, most, &ws, bytes, order) || found;
+  }
+  return found;
+}
+
 // The coded order of the points of block b (a window's frames, ragged): indices from its first
 // point; *coded: the geometry's bytes in that order, *kept (when not null): in the file's order.
 // With octree_coded (and octree_order) not null, octree frames are not chosen but put there
-// (left empty when not smaller than *coded).
+// (left empty when not smaller than *coded); split: split frames are tried where octree frames
+// are, and offered or chosen as they are.
 std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
                                    const std::vector<uint32_t>& ring,
                                    const std::vector<float>& distance, std::vector<uint8_t>* coded,
                                    std::vector<uint8_t>* kept, ScanWorkspace* ws, bool octree,
                                    std::vector<uint8_t>* octree_coded,
-                                   std::vector<uint32_t>* octree_order) {
+                                   std::vector<uint32_t>* octree_order, bool split) {
   ScanGeometry g;
   for (size_t k = 0; k < b.frames; ++k)
     g.counts.push_back(static_cast<uint32_t>(b.frame_points(k)));
@@ -134,6 +355,8 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
   std::vector<uint32_t> best(g.total());
   for (size_t j = 0; j < best.size(); ++j) best[j] = static_cast<uint32_t>(j);
   std::vector<uint8_t> file = encode_scan_geometry(g, hints, ws);
+  ScanOrderTable won = ScanOrderTable::kPerFrame;  // the order of *coded (with `sorted`)
+  bool sorted = false;
   *coded = file;
   const bool cells = cells_worth_trying(g);
   // The sorted orders of rings from `h` (the window's hints, or without their ring field), coded
@@ -144,7 +367,8 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
       std::vector<uint32_t> order = scan_point_order(
           g, h, table, cells && table == ScanOrderTable::kPerFrame ? &by_ring : nullptr);
       std::vector<uint8_t> bytes = encode_scan_geometry(permuted(g, order), permuted(h, order), ws);
-      if (bytes.size() < coded->size()) coded->swap(bytes), best.swap(order);
+      if (bytes.size() < coded->size())
+        coded->swap(bytes), best.swap(order), won = table, sorted = true;
     }
     if (cells) try_cells(g, h, coded, &best, by_ring, ws);
   };
@@ -161,7 +385,15 @@ std::vector<uint32_t> window_order(const FrameBlock& b, const Grid& grid,
   // when their payload is the smallest.
   std::vector<uint8_t> bytes;
   std::vector<uint32_t> order;
-  if (cells && octree && octree_window(g, hints, *coded, &bytes, &order)) {
+  bool tree = cells && octree && octree_window(g, hints, *coded, &bytes, &order);
+  // Split frames, where octree frames may be (near copies are the split's own gate): chosen or
+  // offered as octree frames are.
+  if (octree && split &&
+      split_window(g, hints, sorted ? &won : nullptr, coded->size(),
+                   tree ? bytes.size() : coded->size(), tree ? bytes.size() : 0, ws, &bytes,
+                   &order))
+    tree = true;
+  if (tree) {
     if (octree_coded)
       octree_coded->swap(bytes), octree_order->swap(order);
     else
@@ -194,13 +426,13 @@ void permute_block(FrameBlock* b, const std::vector<uint32_t>& order) {
 
 bool reorder_window(FrameBlock* b, const Grid& grid, const std::vector<uint32_t>& ring,
                     const std::vector<float>& distance, std::vector<uint8_t>* coded,
-                    std::vector<uint8_t>* kept, ScanWorkspace* ws, bool octree,
-                    OctreeOffer* offer) {
+                    std::vector<uint8_t>* kept, ScanWorkspace* ws, bool octree, OctreeOffer* offer,
+                    bool split) {
   std::vector<uint32_t> octree_order;
   if (offer) offer->coded.clear();
   const std::vector<uint32_t> order =
       window_order(*b, grid, ring, distance, coded, kept, ws, octree,
-                   offer ? &offer->coded : nullptr, offer ? &octree_order : nullptr);
+                   offer ? &offer->coded : nullptr, offer ? &octree_order : nullptr, split);
   if (offer && !offer->coded.empty()) {
     offer->block = *b;
     permute_block(&offer->block, octree_order);

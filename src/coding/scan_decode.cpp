@@ -5,6 +5,7 @@
 
 #include "capz/error.h"
 #include "coding/buffers.h"
+#include "coding/bytes.h"
 #include "coding/scan_cells.h"
 #include "coding/scan_geometry.h"
 #include "coding/scan_octree.h"
@@ -110,7 +111,8 @@ ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& 
       first += h.counts[f];
       continue;
     }
-    prev_cells.clear();
+    if (f == 0 || !scan::near_part(h.flags[f - 1]))  // a far part keeps its near part's cells
+      prev_cells.clear();
     if (h.flags[f] & scan::kRaster) {
       scan::raster::code_frame(io, px, rs, h.flags[f], first, coded, q, valid);
     } else if (f + 1 < h.counts.size()) {
@@ -125,6 +127,16 @@ ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& 
     first += h.counts[f];
   }
   io.commit();
+  // A split frame is its two parts (FORMAT "Split frames"): their points are already in order.
+  g.counts.clear();
+  for (size_t f = 0; f < h.counts.size(); ++f)
+    if (f > 0 && scan::near_part(h.flags[f - 1])) {
+      if (h.counts[f] > UINT32_MAX - g.counts.back())
+        fail(ErrorCode::kCorrupt, what, "a split frame of 2^32 points or more");
+      g.counts.back() += h.counts[f];
+    } else {
+      g.counts.push_back(h.counts[f]);
+    }
   if (!dec.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the scan geometry");
   if (cells && !cells->at_end())
     fail(ErrorCode::kCorrupt, what, "bytes left after the cells' counts");
@@ -149,6 +161,21 @@ ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::s
                                   size_t max_points, const ScanFrameSink& frame,
                                   std::vector<int32_t>* space) {
   return decode_frames(data, size, what, max_points, &frame, space);
+}
+
+std::vector<uint64_t> scan_frame_counts(const uint8_t* data, size_t size, const std::string& what) {
+  ByteReader r(data, size, what);
+  const size_t frames = static_cast<size_t>(r.count(2, "frame count"));
+  std::vector<uint64_t> n(frames);
+  for (uint64_t& v : n) v = r.varint();
+  const uint8_t* flags = r.bytes(frames);
+  std::vector<uint64_t> counts;
+  for (size_t f = 0; f < frames; ++f)
+    if (f > 0 && scan::near_part(flags[f - 1]))
+      counts.back() += std::min(n[f], UINT64_MAX - counts.back());  // saturated: too many anyway
+    else
+      counts.push_back(n[f]);
+  return counts;
 }
 
 int scan_fine_shift(const uint8_t* data, size_t size, const std::string& what) {

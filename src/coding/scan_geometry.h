@@ -136,6 +136,10 @@ using ScanFrameSink =
 ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::string& what,
                                   size_t max_points, const ScanFrameSink& frame,
                                   std::vector<int32_t>* space = nullptr);
+// The window's frame counts of a payload (its header's n_f, a split frame's two parts as one:
+// FORMAT.md "Split frames"), without decoding the rest; no check beyond the bytes read (the
+// counts may be anything a varint holds).
+std::vector<uint64_t> scan_frame_counts(const uint8_t* data, size_t size, const std::string& what);
 // The fine shift k of a payload (its header's; ScanGeometry::fine), without decoding the rest:
 // a payload with k > 0 codes other integers than the encoder was given.
 int scan_fine_shift(const uint8_t* data, size_t size, const std::string& what);

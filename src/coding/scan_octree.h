@@ -550,6 +550,17 @@ void encode_octree_frame(const ScanGeometry& g, size_t first, size_t n, uint32_t
 // cone work's bound); without one, L = 0.
 std::vector<uint8_t> encode_scan_octree(const ScanGeometry& g, const scan::Table* table = nullptr,
                                         uint32_t l = 0);
+// A window of split frames (FORMAT.md "Split frames"; scan_nearfar_encode.cpp). near: one frame
+// per window frame, its near part (points in octree_frame_order's order, its gaps last), or no
+// point; far[f]: whether window frame f has a far part, a frame of far_payload (a payload of
+// encode_scan_geometry or encode_scan_cells, one frame per f with far[f], in order). A frame with
+// no valid near point must have far[f] and no near point; one with near points and far[f] is
+// split, one without far[f] an octree frame. l: the octree block's L (FORMAT.md "The block's
+// flags") when far_payload has a table. Empty when a near part is too wide for an octree, or
+// far_payload has a fine shift or octree frames.
+std::vector<uint8_t> encode_scan_split(const ScanGeometry& near,
+                                       const std::vector<uint8_t>& far_payload,
+                                       const std::vector<uint8_t>& far, uint32_t l = 3);
 // The table of g's cones (FORMAT.md "The capz encoder"): fit_rings' slopes and offsets, packed
 // when smaller; no rings when none are found or more than kMaxConeRings.
 scan::Table octree_cone_table(const ScanGeometry& g, const ScanHints& hints);

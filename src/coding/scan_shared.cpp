@@ -196,8 +196,11 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
   for (size_t i = 0; i < frames; ++i) {
     const uint8_t fl = h.flags[i];
     if (octree_frame(fl)) {
-      if ((fl & 3) > kSomeValid || (fl & (kRingWalk | kHypot | kRingPairs)) || h.counts[i] == 0)
+      if ((fl & 3) > kSomeValid || (fl & (kHypot | kRingPairs)) || h.counts[i] == 0)
         fail(ErrorCode::kCorrupt, what, "octree frame " + std::to_string(i) + " has unknown flags");
+      if ((fl & kNearPart) && (i + 1 == frames || octree_frame(h.flags[i + 1])))
+        fail(ErrorCode::kCorrupt, what,
+             "split frame " + std::to_string(i) + "'s near part is not followed by a far part");
       in_tree += (fl & 3) == kSomeValid ? 1 : h.counts[i] - h.copies[i];
       continue;
     }

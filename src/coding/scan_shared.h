@@ -40,6 +40,12 @@ constexpr uint8_t kOctreeFrame = kSpherical | kRaster;
 inline bool octree_frame(uint8_t flags) {
   return (flags & kOctreeFrame) == kOctreeFrame;
 }
+// An octree frame with bit 3: the near part of a split frame, the next frame its far part
+// (FORMAT "Split frames").
+constexpr uint8_t kNearPart = kRingWalk;
+inline bool near_part(uint8_t flags) {
+  return octree_frame(flags) && (flags & kNearPart) != 0;
+}
 
 // Limits the decoder enforces (FORMAT.md).
 constexpr uint32_t kMaxRings = 1024;
