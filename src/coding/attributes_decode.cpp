@@ -10,6 +10,7 @@
 #include "coding/attributes_entropy.h"
 #include "coding/attributes_lanes.h"
 #include "coding/attributes_quantum.h"
+#include "coding/attributes_ring.h"
 #include "coding/bytes.h"
 #include "coding/entropy.h"
 #include "coding/lzma_block.h"
@@ -130,6 +131,13 @@ void read_lane_predictors(ByteReader* in, const std::vector<AttrSpec>& specs, si
              "predictor 12 from the nearest points in a window without position integers");
       continue;
     }
+    if (id == kRingPredictor && ragged) {
+      if (!ring_lane(specs[a], colour))
+        fail(ErrorCode::kCorrupt, awhat,
+             "predictor 13 on a field that is not an integer of 1 or 2 bytes");
+      (*pred)[j] = id;
+      continue;
+    }
     if (id >= kPredictors && !(id == kUnitPredictor && !colour) && !near_id)
       fail(ErrorCode::kCorrupt, awhat, "unknown predictor " + std::to_string(id));
     if (near_id && !have_q)
@@ -164,6 +172,50 @@ void decode_quantum_lane(IntDecoder::Cursor* c, const QuantumParams& qp,
       });
 }
 
+// A predictor-13 lane (FORMAT.md "Scans (format 1.1)"): gap points' residuals, the valid
+// points' runs of predictions and misses.
+void decode_ring_lane(IntDecoder::Cursor* c, const uint8_t* valid, const uint16_t* rings,
+                      LaneState* st, Lane* l, const std::string& awhat) {
+  const uint64_t mask = mask_of(l->bits);
+  bool need = true;  // a run count is due at the next valid point
+  uint64_t left = 0;
+  int tok;
+  walk_ring(&l->u, valid, rings, [&](uint64_t* v, uint64_t p, bool gap) {
+    if (gap) {
+      *v = (p + static_cast<uint64_t>(static_cast<int64_t>(get_int_residual(c, &st->mag[1])))) &
+           mask;
+      return;
+    }
+    if (need) {
+      left = c->get(kRunContext, &tok);
+      need = false;
+    }
+    if (left > 0) {
+      --left;
+      *v = p;
+      return;
+    }
+    const uint32_t e = c->get(kMissContext, &tok);
+    if (e >= mask) fail(ErrorCode::kCorrupt, awhat, "predictor 13's miss beyond the lane's values");
+    *v = (p + static_cast<uint64_t>(unzigzag64(uint64_t{e} + 1))) & mask;
+    need = true;
+  });
+  if (left > 0)
+    fail(ErrorCode::kCorrupt, awhat, "predictor 13's last run counts points past the lane's end");
+}
+
+// Whether the block of m bytes can hold the values of a field's lanes (FORMAT.md 13.6, checked
+// before allocating): lanes x n, but a predictor-13 lane's gap points only.
+bool block_holds(const std::vector<int>& pred, size_t n, const uint8_t* valid, uint64_t m) {
+  const size_t lanes = pred.size();
+  if (std::find(pred.begin(), pred.end(), kRingPredictor) == pred.end())
+    return n == 0 || lanes <= kMaxSymbolsPerByte * m / n;
+  const size_t gaps = valid ? static_cast<size_t>(std::count(valid, valid + n, 0)) : 0;
+  uint64_t values = 0;
+  for (int id : pred) values += id == kRingPredictor ? gaps : n;
+  return values <= kMaxSymbolsPerByte * m;
+}
+
 }  // namespace
 
 void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrSpec>& specs,
@@ -196,7 +248,7 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
     std::vector<QuantumParams> quanta(lanes);
     read_lane_predictors(&r, specs, a, colour, q != nullptr, ragged, awhat, &pred, &refs, &quanta);
     const uint64_t m = r.count(1, "block size");
-    if (n != 0 && lanes > kMaxSymbolsPerByte * m / n)
+    if (!block_holds(pred, n, valid, m))
       fail(ErrorCode::kCorrupt, awhat, "field larger than its block can hold");
     const uint8_t* block = r.bytes(static_cast<size_t>(m));
     bool uses_near = std::any_of(pred.begin(), pred.end(), [](int id) {
@@ -208,8 +260,9 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
         (uses_near ||
          std::any_of(pred.begin(), pred.end(), [](int id) { return id >= 5 && id <= 8; })))
       all_valid.assign(n, 1);
-    if (!valid && all_valid.empty() &&
-        std::find(pred.begin(), pred.end(), kQuantumPredictor) != pred.end())
+    if (!valid && all_valid.empty() && std::any_of(pred.begin(), pred.end(), [](int id) {
+          return id == kQuantumPredictor || id == kRingPredictor;
+        }))
       all_valid.assign(n, 1);
     const uint8_t* mask_of_window = valid ? valid : all_valid.data();
     if (uses_near && near.empty()) near = nearest_points(q, mask_of_window, frames, points);
@@ -238,6 +291,11 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
                     const int64_t res = get_float_residual(&c, &st.prev_nb[completable ? 0 : 1]);
                     *v = (p + static_cast<uint64_t>(res)) & 0xFFFFFFFFu;
                   });
+        store_lane(s, cur_lane, n, j, &bytes);
+        continue;
+      }
+      if (pred[j] == kRingPredictor) {
+        decode_ring_lane(&c, mask_of_window, ragged->ring, &st, &cur_lane, awhat);
         store_lane(s, cur_lane, n, j, &bytes);
         continue;
       }
