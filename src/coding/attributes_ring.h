@@ -70,7 +70,8 @@ inline void ring_symbols(Lane& l, const uint8_t* valid, const uint16_t* rings, S
   const uint64_t mask = mask_of(l.bits);
   std::vector<uint64_t> res(n);  // each point's residual mod 2^bits
   size_t at = 0;
-  walk_ring(&l.u, valid, rings, [&](uint64_t* v, uint64_t p, bool) { res[at++] = (*v - p) & mask; });
+  walk_ring(&l.u, valid, rings,
+            [&](uint64_t* v, uint64_t p, bool) { res[at++] = (*v - p) & mask; });
   bool need = true;  // a run count is due at the next valid point
   uint64_t left = 0;
   for (size_t p = 0; p < n; ++p) {

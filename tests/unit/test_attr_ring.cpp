@@ -191,8 +191,8 @@ void expect_decoder_rings(const ScanGeometry& g, const ScanHints& h, size_t* rin
   ScanWorkspace ws;
   const std::vector<uint8_t> p = encode_scan_geometry(g, h, &ws);
   EXPECT_EQ(ws.ring_payload, p);
-  const ScanGeometry back = decode_scan_geometry(p.data(), p.size(), "rings", g.total(), nullptr,
-                                                 true);
+  const ScanGeometry back =
+      decode_scan_geometry(p.data(), p.size(), "rings", g.total(), nullptr, true);
   expect_same(g, back);
   ASSERT_EQ(back.ring.size(), g.total());
   EXPECT_EQ(ws.rings, back.ring);
@@ -258,8 +258,7 @@ TEST(AttrRing, SharedSweepsRingFieldFromTheGeometry) {
       h.grid_per_unit = 1 / step;
       ScanWorkspace ws;
       const std::vector<uint8_t> p = encode_scan_geometry(g, h, &ws);
-      const ScanGeometry back =
-          decode_scan_geometry(p.data(), p.size(), name, n, nullptr, true);
+      const ScanGeometry back = decode_scan_geometry(p.data(), p.size(), name, n, nullptr, true);
       ASSERT_EQ(back.ring, ws.rings) << name << " " << step;
       const std::vector<AttrSpec> specs = {capz_test::field_spec(field.name, 'U', 2)};
       const std::vector<std::vector<uint8_t>> data = {field.data};
