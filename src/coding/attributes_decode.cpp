@@ -29,30 +29,18 @@ void store_lane(const AttrSpec& s, const Lane& l, size_t n, size_t j, std::vecto
   const size_t step = count * size;
   // The element size and type known to the compiler: one store an element, no branch on the
   // type (make_lane's mirror).
-  auto fill = [&](auto bytes_per, auto type) {
+  with_element_size(s.size, [&](auto bytes_per) {
     constexpr int kSize = decltype(bytes_per)::value;
-    constexpr char kType = decltype(type)::value;
-    for (size_t i = 0; i < n; ++i)
-      store_le(at + i * step, kSize, from_ordered(l.u[i], kType, l.bits));
-  };
-  auto typed = [&](auto bytes_per) {
-    if (s.type == 'F') return fill(bytes_per, std::integral_constant<char, 'F'>());
-    if (s.type == 'I') return fill(bytes_per, std::integral_constant<char, 'I'>());
-    fill(bytes_per, std::integral_constant<char, 'U'>());
-  };
-  switch (s.size) {
-    case 1:
-      return typed(std::integral_constant<int, 1>());
-    case 2:
-      return typed(std::integral_constant<int, 2>());
-    case 4:
-      return typed(std::integral_constant<int, 4>());
-    case 8:
-      return typed(std::integral_constant<int, 8>());
-    default:
+    const int sz = kSize ? kSize : s.size;
+    auto fill = [&](auto type) {
+      constexpr char kType = decltype(type)::value;
       for (size_t i = 0; i < n; ++i)
-        store_le(at + i * step, s.size, from_ordered(l.u[i], s.type, l.bits));
-  }
+        store_le(at + i * step, sz, from_ordered(l.u[i], kType, l.bits));
+    };
+    if (s.type == 'F') return fill(std::integral_constant<char, 'F'>());
+    if (s.type == 'I') return fill(std::integral_constant<char, 'I'>());
+    fill(std::integral_constant<char, 'U'>());
+  });
 }
 
 // Predictor 9's references of lane j of attribute a, read and checked (FORMAT.md 13.4).

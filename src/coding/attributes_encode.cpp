@@ -44,24 +44,12 @@ void make_lane(const AttrSpec& s, bool colour, const std::vector<uint8_t>& bytes
   const uint8_t* at = bytes.data() + j * size;
   const size_t step = count * size;
   // The element size known to the compiler: one load an element instead of a loop of bytes.
-  auto fill = [&](auto bytes_per) {
+  with_element_size(s.size, [&](auto bytes_per) {
     constexpr int kSize = decltype(bytes_per)::value;
+    const int sz = kSize ? kSize : s.size;
     for (size_t i = 0; i < n; ++i)
-      l->u[i] = to_ordered(load_le(at + i * step, kSize), s.type, l->bits);
-  };
-  switch (s.size) {
-    case 1:
-      return fill(std::integral_constant<int, 1>());
-    case 2:
-      return fill(std::integral_constant<int, 2>());
-    case 4:
-      return fill(std::integral_constant<int, 4>());
-    case 8:
-      return fill(std::integral_constant<int, 8>());
-    default:
-      for (size_t i = 0; i < n; ++i)
-        l->u[i] = to_ordered(load_le(at + i * step, s.size), s.type, l->bits);
-  }
+      l->u[i] = to_ordered(load_le(at + i * step, sz), s.type, l->bits);
+  });
 }
 
 // The predictor whose residuals have the smallest sum of bit lengths (ties: the lowest);
