@@ -336,6 +336,12 @@ void decode_window_attributes(const StreamContext& ctx, WindowChunks* chunks, si
   RaggedFields ragged;  // a ragged window: key-first, predictor 12 on its decoded positions
   ragged.xyz = out->xyz.data();
   ragged.ring = rings.size() == frames * points ? rings.data() : nullptr;
+  if (q.size() == frames * points * 3 && !q.empty() && !out->frame_offsets.empty() &&
+      out->frame_offsets.back() == frames * points) {
+    ragged.q = q.data();
+    ragged.frame_offsets = out->frame_offsets.data();
+    ragged.frames = out->frame_offsets.size() - 1;
+  }
   decode_attributes(tc.payload + tr.offset(), tc.size - tr.offset(), attribute_specs(px->fields),
                     out->valid.data(), frames, points, width, &out->attributes, twhat,
                     q.size() == frames * points * 3 && !q.empty() ? q.data() : nullptr,

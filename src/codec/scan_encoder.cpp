@@ -399,6 +399,11 @@ void append_fields_chunk(RaggedRun& r, size_t w, const std::vector<std::vector<u
   RaggedFields ragged;
   ragged.xyz = xyz.data();
   ragged.ring = rings.size() == n ? rings.data() : nullptr;
+  if (q.size() == 3 * n && n > 0 && b.frame_offsets.size() > 1 && b.frame_offsets.back() == n) {
+    ragged.q = q.data();
+    ragged.frame_offsets = b.frame_offsets.data();
+    ragged.frames = b.frame_offsets.size() - 1;
+  }
   ByteWriter aw;
   aw.varint(w);
   std::vector<uint8_t> payload = std::move(aw.buffer());

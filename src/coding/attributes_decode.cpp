@@ -110,7 +110,8 @@ QuantumParams read_quantum(ByteReader* r, const std::vector<AttrSpec>& specs, si
     fail(ErrorCode::kCorrupt, awhat, "predictor 12 with a bad quantum");
   const uint8_t base = r->u8();
   qp.wide = (base & kWideBit) != 0;
-  qp.base = static_cast<uint8_t>(base & ~kWideBit);
+  const bool sweep = (base & kSweepBit) != 0;
+  qp.base = static_cast<uint8_t>(base & ~(kWideBit | kSweepBit));
   if (qp.wide && s.size != 4)
     fail(ErrorCode::kCorrupt, awhat, "predictor 12's binary64 rounding on a float64 field");
   if (qp.base == kBaseKey) {
@@ -125,6 +126,13 @@ QuantumParams read_quantum(ByteReader* r, const std::vector<AttrSpec>& specs, si
       fail(ErrorCode::kCorrupt, awhat, "predictor 12 with a bad offset");
   } else if (qp.base != kBasePrevious && qp.base != kBaseNear) {
     fail(ErrorCode::kCorrupt, awhat, "predictor 12 with an unknown base");
+  }
+  if (sweep && qp.base != kBaseKey)
+    fail(ErrorCode::kCorrupt, awhat, "predictor 12's sweep bit without a key");
+  if (sweep) {
+    qp.sweep = r->u8();
+    if (qp.sweep < kMinSweepBins || qp.sweep > kMaxSweepBins)
+      fail(ErrorCode::kCorrupt, awhat, "predictor 12's sweep with bins outside 4..12");
   }
   return qp;
 }
@@ -144,6 +152,9 @@ void read_lane_predictors(ByteReader* in, const std::vector<AttrSpec>& specs, si
       if ((*quanta)[j].base == kBaseNear && !have_q)
         fail(ErrorCode::kCorrupt, awhat,
              "predictor 12 from the nearest points in a window without position integers");
+      if ((*quanta)[j].sweep && (!ragged->q || !ragged->frame_offsets || ragged->frames == 0))
+        fail(ErrorCode::kCorrupt, awhat,
+             "predictor 12 from the previous sweep in a window without position integers");
       continue;
     }
     if (id == kRingPredictor && ragged) {
@@ -168,10 +179,12 @@ void read_lane_predictors(ByteReader* in, const std::vector<AttrSpec>& specs, si
 void decode_quantum_lane(IntDecoder::Cursor* c, const QuantumParams& qp,
                          const std::vector<AttrSpec>& specs,
                          const std::vector<std::vector<uint8_t>>& data, const uint8_t* valid,
-                         const double* xyz, const uint32_t* near, LaneState* st, Lane* l) {
+                         const double* xyz, const uint32_t* near, LaneState* st, Lane* l,
+                         const RaggedFields* rf) {
   std::vector<uint16_t> keys;
   if (qp.base == kBaseKey)
     keys = key_values(specs[qp.key.attribute], data[qp.key.attribute], l->u.size(), qp.key.element);
+  const std::vector<int32_t> cells = cells_of(qp, keys.data(), valid, l->u.size(), rf);
   const uint64_t mask = mask_of(l->bits);
   const int size = l->bits / 8;
   walk_quantum(
@@ -184,7 +197,8 @@ void decode_quantum_lane(IntDecoder::Cursor* c, const QuantumParams& qp,
         *k = static_cast<int32_t>(static_cast<uint32_t>(kh) + d);
         const uint64_t p = quantum_value(*k, qp.quantum, size, qp.wide);
         *v = (p + static_cast<uint64_t>(get_float_residual(c, &st->prev_nb[0]))) & mask;
-      });
+      },
+      cells.empty() ? nullptr : cells.data(), rf);
 }
 
 // A predictor-13 lane (FORMAT.md "Scans (format 1.1)"): gap points' residuals, the valid
@@ -316,7 +330,7 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
       }
       if (pred[j] == kQuantumPredictor) {
         decode_quantum_lane(&c, quanta[j], specs, *out, mask_of_window, ragged->xyz, near.data(),
-                            &st, &cur_lane);
+                            &st, &cur_lane, ragged);
         store_lane(s, cur_lane, n, j, &bytes);
         continue;
       }

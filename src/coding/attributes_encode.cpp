@@ -160,7 +160,8 @@ std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
     QuantumPoints qpoints;
     uint64_t qcost = 0;
     if (ragged && !colour && pred != kUnitPredictor &&
-        choose_quantum(specs, data, a, l, valid, ragged->xyz, near, &qp, &qcost, &qpoints) &&
+        choose_quantum(specs, data, a, l, valid, ragged->xyz, near, &qp, &qcost, &qpoints,
+                       ragged) &&
         qcost < cost)
       pred = kQuantumPredictor;
     const uint64_t mask = mask_of(l.bits);
@@ -184,7 +185,7 @@ std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
     }
     if (pred == kQuantumPredictor) {
       write_quantum(&w, qp);
-      encode_quantum_lane(&c, qp, specs, data, valid, ragged->xyz, near, qpoints, &st, l);
+      encode_quantum_lane(&c, qp, specs, data, valid, ragged->xyz, near, qpoints, &st, l, ragged);
       continue;
     }
     if (pred == kUnitPredictor) {
