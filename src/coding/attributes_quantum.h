@@ -90,13 +90,14 @@ inline std::vector<int32_t> sweep_cells(const uint16_t* keys, const int32_t* q,
                                         const uint8_t* valid, size_t n, int s) {
   std::vector<int32_t> out(n, -1);
   const int32_t top = (int32_t{1} << s) - 1;
+  const double scale = static_cast<double>(int32_t{1} << s) / 4;  // 2^(s-2): a exact product
   for (size_t p = 0; p < n; ++p) {
     const int32_t x = q[3 * p], y = q[3 * p + 1];
     if (!valid[p] || keys[p] >= kSweepKeys || (x == 0 && y == 0)) continue;
     const double ax = std::fabs(static_cast<double>(x)), ay = std::fabs(static_cast<double>(y));
     const double d = ax + ay;  // exact: below 2^32
     const double a = y >= 0 ? (x >= 0 ? ay / d : 1 + ax / d) : (x < 0 ? 2 + ay / d : 3 + ax / d);
-    const auto c = static_cast<int32_t>(std::min<double>(std::floor(std::ldexp(a, s - 2)), top));
+    const auto c = static_cast<int32_t>(std::min<double>(std::floor(a * scale), top));
     out[p] = (static_cast<int32_t>(keys[p]) << s) | c;
   }
   return out;

@@ -22,8 +22,8 @@ using attr::sweep_cells;
 
 TEST(AttrSweep, CellsByTheDiamondAngle) {
   // x y z per point: +x, +y, -x, -y, the four diagonals, the origin; keys 0 and 3 and 300.
-  const std::vector<int32_t> q = {5, 0, 0,  0, 5, 0,  -5, 0, 0,  0, -5, 0,  3, 3, 0, -3, 3, 0,
-                                  -3, -3, 0, 3, -3, 0, 0, 0, 7,  7, 0, 0,  7, 0, 0};
+  const std::vector<int32_t> q = {5, 0,  0,  0, 5, 0,  -5, 0, 0, 0, -5, 0, 3, 3, 0, -3, 3,
+                                  0, -3, -3, 0, 3, -3, 0,  0, 0, 7, 7,  0, 0, 7, 0, 0};
   const std::vector<uint16_t> keys = {0, 0, 0, 0, 0, 0, 0, 0, 0, 3, 300};
   const std::vector<uint8_t> valid(11, 1);
   const std::vector<int32_t> c = sweep_cells(keys.data(), q.data(), valid.data(), 11, 4);
@@ -144,9 +144,9 @@ size_t base_byte(const std::vector<uint8_t>& e) {
     if (!(e[at++] & 0x80)) break;
   }
   at += size;
-  EXPECT_EQ(e[at], 0);      // transform 0
+  EXPECT_EQ(e[at], 0);       // transform 0
   EXPECT_EQ(e[at + 1], 12);  // predictor 12
-  return at + 10;           // after the quantum
+  return at + 10;            // after the quantum
 }
 
 TEST(AttrSweep, StillSceneCodedFromThePreviousSweep) {
@@ -178,9 +178,9 @@ TEST(AttrSweep, DamagedParametersAreCorrupt) {
     return d;
   };
   const std::vector<std::pair<std::vector<uint8_t>, std::string>> bad = {
-      {with(b, 8), "without a key"},           // base 0 with the sweep bit
-      {with(b, 1 | 8 | 16), "unknown base"},   // bit 4
-      {with(b + 3, 3), "outside 4..12"},       // bins
+      {with(b, 8), "without a key"},          // base 0 with the sweep bit
+      {with(b, 1 | 8 | 16), "unknown base"},  // bit 4
+      {with(b + 3, 3), "outside 4..12"},      // bins
       {with(b + 3, 13), "outside 4..12"},
   };
   for (const auto& [d, what] : bad) {
