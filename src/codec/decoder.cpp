@@ -258,9 +258,10 @@ void check_organized_count(const StreamContext& ctx, uint64_t n, const std::stri
 
 // "Scans (format 1.1)": the fn frames of window w of a ragged stream from its SCNW chunk, into
 // out's frame offsets, gaps and coordinates (gaps 0), and its grid integers (total x 3, in the
-// flattened point order) into *q for ATTR's predictors 10 and 11.
+// flattened point order) into *q for ATTR's predictors 10 and 11, and with fields each point's
+// geometry ring into *rings for ATTR's predictor 13 (else *rings empty).
 void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t fn, FrameBlock* out,
-                        std::vector<int32_t>* q) {
+                        std::vector<int32_t>* q, std::vector<uint16_t>* rings) {
   Chunk c = chunks->next("SCNW", true);
   const std::string what = chunks->what("SCNW");
   ByteReader r(c.payload, c.size, what);
@@ -284,7 +285,8 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
   const bool keep_q = e != scan::kNoSplit || !ctx.take.attributes.empty();
   ScanGeometry g;
   if (keep_q) {
-    g = decode_scan_geometry(c.payload + at, geo, what, static_cast<size_t>(total), q);
+    g = decode_scan_geometry(c.payload + at, geo, what, static_cast<size_t>(total), q,
+                             !ctx.take.attributes.empty());
   } else {
     const double fine = scan_fine(grid, scan_fine_shift(c.payload + at, geo, what), what);
     size_for_overwrite(&b.xyz, static_cast<size_t>(total) * 3);  // each value written once
@@ -310,6 +312,7 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
   b.frame_offsets.assign(fn + 1, 0);
   for (size_t f = 0; f < fn; ++f) b.frame_offsets[f + 1] = b.frame_offsets[f] + g.counts[f];
   b.valid.swap(g.valid);
+  rings->swap(g.ring);
   if (e != scan::kNoSplit) {  // "Lossless ragged streams": the float32 split
     b.xyz.assign(b.valid.size() * 3, 0.0);
     scan::decode_split(c.payload + at + geo, c.size - at - geo, what, e, g.q, b.valid,
@@ -331,10 +334,11 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
 
 // ATTR of the window (FORMAT.md 13): its fields over `frames` x `points` (a ragged window: one
 // frame of all its points, "Scans (format 1.1)") into out->attributes. q: the window's grid
-// integers (frames x points x 3), or empty (predictors 10 and 11 are then corrupt).
+// integers (frames x points x 3), or empty (predictors 10 and 11 are then corrupt); rings: a
+// ragged window's geometry rings (predictor 13), else empty.
 void decode_window_attributes(const StreamContext& ctx, WindowChunks* chunks, size_t frames,
                               size_t points, size_t width, const std::vector<int32_t>& q,
-                              FrameBlock* out) {
+                              const std::vector<uint16_t>& rings, FrameBlock* out) {
   Chunk tc = chunks->next("ATTR", true);
   const std::string twhat = chunks->what("ATTR");
   ByteReader tr(tc.payload, tc.size, twhat);
@@ -342,6 +346,13 @@ void decode_window_attributes(const StreamContext& ctx, WindowChunks* chunks, si
   const PCDExtra* px = ctx.take.pcd.get();
   RaggedFields ragged;  // a ragged window: key-first, predictor 12 on its decoded positions
   ragged.xyz = out->xyz.data();
+  ragged.ring = rings.size() == frames * points ? rings.data() : nullptr;
+  if (q.size() == frames * points * 3 && !q.empty() && !out->frame_offsets.empty() &&
+      out->frame_offsets.back() == frames * points) {
+    ragged.q = q.data();
+    ragged.frame_offsets = out->frame_offsets.data();
+    ragged.frames = out->frame_offsets.size() - 1;
+  }
   decode_attributes(tc.payload + tr.offset(), tc.size - tr.offset(), attribute_specs(px->fields),
                     out->valid.data(), frames, points, width, &out->attributes, twhat,
                     q.size() == frames * points * 3 && !q.empty() ? q.data() : nullptr,
@@ -360,12 +371,13 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
   WindowChunks chunks(ctx, w, region, base, end);
   FrameBlock& b = *out;
   // Decoded straight into the caller's arrays (their capacity is reused window after window).
-  std::vector<int32_t> q;   // the window's POSW or SCNW integers (none with transform output)
-  if (ints) q.swap(*ints);  // its memory, given back at the end
+  std::vector<int32_t> q;       // the window's POSW or SCNW integers (none with transform output)
+  std::vector<uint16_t> rings;  // a ragged window's geometry rings (with fields)
+  if (ints) q.swap(*ints);      // its memory, given back at the end
   b.frame_offsets.clear();
   if (h.ragged && ctx.words) fail(ErrorCode::kCorrupt, ctx.name, "ragged frames with C3D words");
   if (h.ragged)
-    decode_window_scan(ctx, &chunks, fn, &b, &q);
+    decode_window_scan(ctx, &chunks, fn, &b, &q, &rings);
   else
     decode_window_positions(ctx, &chunks, fn, &b.valid, &b.xyz, &q);
   // The analog rows must fit what the chunks can hold before they are allocated.
@@ -403,9 +415,9 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
   b.attributes.clear();
   if (!ctx.take.attributes.empty() && h.ragged) {  // one frame of every point, of width total
     const size_t total = b.valid.size();
-    decode_window_attributes(ctx, &chunks, 1, total, total, q, out);
+    decode_window_attributes(ctx, &chunks, 1, total, total, q, rings, out);
   } else if (!ctx.take.attributes.empty()) {
-    decode_window_attributes(ctx, &chunks, fn, N, ctx.take.pcd->width, q, out);
+    decode_window_attributes(ctx, &chunks, fn, N, ctx.take.pcd->width, q, {}, out);
   }
   chunks.check_rest();
   if (ints) ints->swap(q);

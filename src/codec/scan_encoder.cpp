@@ -22,6 +22,7 @@
 #include "codec/residue_writer.h"
 #include "codec/stream_reader.h"
 #include "coding/attributes.h"
+#include "coding/attributes_quantum.h"
 #include "coding/bytes.h"
 #include "coding/container.h"
 #include "coding/meta.h"
@@ -266,13 +267,15 @@ struct RaggedRun {
 // SCNW's bytes after `total` ("Scans (format 1.1)"): in mode 2 the split exponent e, and with a
 // split (g.q on the grid 2^-e, t the corrections) the geometry's length, the geometry and the
 // corrections block; else the geometry alone. coded: encode_scan_geometry(g, hints) when the
-// caller has it already, else null.
+// caller has it already, else null. *geo_out (when not null): the geometry.
 std::vector<uint8_t> scan_body(const ScanGeometry& g, const ScanHints& hints, bool mode2, int e,
                                const std::vector<uint32_t>& t, ScanWorkspace* ws,
-                               const std::vector<uint8_t>* coded = nullptr) {
+                               const std::vector<uint8_t>* coded = nullptr,
+                               std::vector<uint8_t>* geo_out = nullptr) {
   ByteWriter w;
   if (mode2) w.u8(static_cast<uint8_t>(static_cast<int8_t>(e)));
   const std::vector<uint8_t> geo = coded ? *coded : encode_scan_geometry(g, hints, ws);
+  if (geo_out) *geo_out = geo;
   if (e != scan::kNoSplit) w.varint(geo.size());
   w.bytes(geo.data(), geo.size());
   if (e != scan::kNoSplit) {
@@ -330,9 +333,10 @@ int choose_split(const FrameBlock& b, const std::vector<uint32_t>& counts, const
 // The SCNW chunk of window w (the frames of b), appended to r.buf; *q gets the integers the
 // payload codes (with fields; without, a fine window's are not worked out: the grid's). coded: the
 // window's geometry payload when --point-order any's choice has coded it already (never in mode 2),
-// else null.
+// else null. *rings (when not null): each point's geometry ring in the payload (ATTR's predictor
+// 13: FORMAT.md "Point fields of a ragged window").
 void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<int32_t>* q,
-                       const std::vector<uint8_t>* coded) {
+                       const std::vector<uint8_t>* coded, std::vector<uint16_t>* rings) {
   const size_t n = b.total_points();
   ScanGeometry g;
   for (size_t k = 0; k < b.frames; ++k)
@@ -365,8 +369,16 @@ void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<
   if (lists_negative_zeros(r.ctx.h)) write_negative_zeros(b.xyz, b.valid, &pw);
   std::vector<uint8_t> payload = std::move(pw.buffer());
   r.scan_ws.remember = !mode2;  // the take's windows in order, each coded once here
-  const std::vector<uint8_t> body = scan_body(g, hints, mode2, e, corrections, &r.scan_ws, coded);
+  std::vector<uint8_t> geo;
+  const std::vector<uint8_t> body =
+      scan_body(g, hints, mode2, e, corrections, &r.scan_ws, coded, &geo);
   r.scan_ws.remember = false;
+  // The coder's rings for its payload; a payload coded before (--point-order any's, whose
+  // choice coded others after it) is decoded again for them.
+  if (rings && r.scan_ws.ring_payload == geo)
+    rings->swap(r.scan_ws.rings);
+  else if (rings)
+    *rings = decode_scan_geometry(geo.data(), geo.size(), "SCNW", n, nullptr, true).ring;
   payload.insert(payload.end(), body.begin(), body.end());
   // A raster window at a bound codes integers of its own (a finer grid): the decoder's, which the
   // fields' predictors take (without fields they are not used). The coder hands them out with
@@ -389,7 +401,8 @@ void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<
 // will have to predictor 12 (0 at gaps): lossless, the source's (b.xyz; every valid coordinate
 // decodes bit for bit, whether the window is split or not), else q's by the grid.
 void append_fields_chunk(RaggedRun& r, size_t w, const std::vector<std::vector<uint8_t>>& fields,
-                         const FrameBlock& b, const std::vector<int32_t>& q) {
+                         const FrameBlock& b, const std::vector<int32_t>& q,
+                         const std::vector<uint16_t>& rings) {
   const std::vector<uint8_t>& valid = b.valid;
   const size_t n = valid.size();
   std::vector<double> xyz(3 * n, 0.0);
@@ -404,6 +417,12 @@ void append_fields_chunk(RaggedRun& r, size_t w, const std::vector<std::vector<u
   });
   RaggedFields ragged;
   ragged.xyz = xyz.data();
+  ragged.ring = rings.size() == n ? rings.data() : nullptr;
+  if (q.size() == 3 * n && n > 0 && b.frame_offsets.size() > 1 && b.frame_offsets.back() == n) {
+    ragged.q = q.data();
+    ragged.frame_offsets = b.frame_offsets.data();
+    ragged.frames = b.frame_offsets.size() - 1;
+  }
   ByteWriter aw;
   aw.varint(w);
   std::vector<uint8_t> payload = std::move(aw.buffer());
@@ -420,11 +439,15 @@ void append_fields_chunk(RaggedRun& r, size_t w, const std::vector<std::vector<u
 // FORMAT.md 16.4); *q: the SCNW integers; coded: as append_scan_chunk's.
 void code_chunks(RaggedRun& r, size_t w, FrameBlock* b, std::vector<int32_t>* q,
                  std::vector<std::vector<uint8_t>>* fields, const std::vector<uint8_t>* coded) {
-  append_scan_chunk(r, w, *b, q, coded);
+  std::vector<uint16_t> rings;  // with a field predictor 13 may code (a key field)
+  const std::vector<AttrSpec> specs =
+      r.meta.attributes.empty() ? std::vector<AttrSpec>() : attribute_specs(r.meta.pcd->fields);
+  const bool keys = std::any_of(specs.begin(), specs.end(), attr::is_key_field);
+  append_scan_chunk(r, w, *b, q, coded, keys ? &rings : nullptr);
   if (r.meta.attributes.empty()) return;
   *fields = std::move(b->attributes);
   quantise_bounded_fields(*r.meta.pcd, fields);
-  append_fields_chunk(r, w, *fields, *b, *q);
+  append_fields_chunk(r, w, *fields, *b, *q, rings);
 }
 
 // The position and field bytes counted before a window's chunks.

@@ -34,8 +34,16 @@ bool has_unit_candidate(const std::vector<AttrSpec>& specs);
 // A ragged window's ATTR (FORMAT.md "Scans (format 1.1)": point fields of a ragged window): the
 // attributes coded key-first and predictor 12 allowed. xyz: the window's decoded coordinates
 // (points x 3, binary64, as the decoder has them), for predictor 12's range; nullptr: none.
+// ring: each point's geometry ring (predictor 13: the ring the SCNW payload decoded for it,
+// ScanGeometry::kNoRing for none), or nullptr when no point has one.
+// q, frame_offsets, frames: the window's SCNW integers (x y z per point) and its frames' point
+// offsets (frames + 1 of them), for predictor 12's sweep cells; nullptr / 0 when not given.
 struct RaggedFields {
   const double* xyz = nullptr;
+  const uint16_t* ring = nullptr;
+  const int32_t* q = nullptr;
+  const size_t* frame_offsets = nullptr;
+  size_t frames = 0;
 };
 
 // The ATTR payload after the window index: per attribute, its transform and data.

@@ -4,12 +4,14 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <type_traits>
 
 #include "capz/error.h"
 #include "coding/attributes.h"
 #include "coding/attributes_entropy.h"
 #include "coding/attributes_lanes.h"
 #include "coding/attributes_quantum.h"
+#include "coding/attributes_ring.h"
 #include "coding/bytes.h"
 #include "coding/entropy.h"
 #include "coding/lzma_block.h"
@@ -23,8 +25,22 @@ using namespace attr;
 // Lane j of a plain attribute into its bytes (sized n x count x size).
 void store_lane(const AttrSpec& s, const Lane& l, size_t n, size_t j, std::vector<uint8_t>* bytes) {
   const size_t count = static_cast<size_t>(s.count), size = static_cast<size_t>(s.size);
-  for (size_t i = 0; i < n; ++i)
-    store_le(bytes->data() + (i * count + j) * size, s.size, from_ordered(l.u[i], s.type, l.bits));
+  uint8_t* at = bytes->data() + j * size;
+  const size_t step = count * size;
+  // The element size and type known to the compiler: one store an element, no branch on the
+  // type (make_lane's mirror).
+  with_element_size(s.size, [&](auto bytes_per) {
+    constexpr int kSize = decltype(bytes_per)::value;
+    const int sz = kSize ? kSize : s.size;
+    auto fill = [&](auto type) {
+      constexpr char kType = decltype(type)::value;
+      for (size_t i = 0; i < n; ++i)
+        store_le(at + i * step, sz, from_ordered(l.u[i], kType, l.bits));
+    };
+    if (s.type == 'F') return fill(std::integral_constant<char, 'F'>());
+    if (s.type == 'I') return fill(std::integral_constant<char, 'I'>());
+    fill(std::integral_constant<char, 'U'>());
+  });
 }
 
 // Predictor 9's references of lane j of attribute a, read and checked (FORMAT.md 13.4).
@@ -94,7 +110,8 @@ QuantumParams read_quantum(ByteReader* r, const std::vector<AttrSpec>& specs, si
     fail(ErrorCode::kCorrupt, awhat, "predictor 12 with a bad quantum");
   const uint8_t base = r->u8();
   qp.wide = (base & kWideBit) != 0;
-  qp.base = static_cast<uint8_t>(base & ~kWideBit);
+  const bool sweep = (base & kSweepBit) != 0;
+  qp.base = static_cast<uint8_t>(base & ~(kWideBit | kSweepBit));
   if (qp.wide && s.size != 4)
     fail(ErrorCode::kCorrupt, awhat, "predictor 12's binary64 rounding on a float64 field");
   if (qp.base == kBaseKey) {
@@ -109,6 +126,13 @@ QuantumParams read_quantum(ByteReader* r, const std::vector<AttrSpec>& specs, si
       fail(ErrorCode::kCorrupt, awhat, "predictor 12 with a bad offset");
   } else if (qp.base != kBasePrevious && qp.base != kBaseNear) {
     fail(ErrorCode::kCorrupt, awhat, "predictor 12 with an unknown base");
+  }
+  if (sweep && qp.base != kBaseKey)
+    fail(ErrorCode::kCorrupt, awhat, "predictor 12's sweep bit without a key");
+  if (sweep) {
+    qp.sweep = r->u8();
+    if (qp.sweep < kMinSweepBins || qp.sweep > kMaxSweepBins)
+      fail(ErrorCode::kCorrupt, awhat, "predictor 12's sweep with bins outside 4..12");
   }
   return qp;
 }
@@ -128,6 +152,16 @@ void read_lane_predictors(ByteReader* in, const std::vector<AttrSpec>& specs, si
       if ((*quanta)[j].base == kBaseNear && !have_q)
         fail(ErrorCode::kCorrupt, awhat,
              "predictor 12 from the nearest points in a window without position integers");
+      if ((*quanta)[j].sweep && (!ragged->q || !ragged->frame_offsets || ragged->frames == 0))
+        fail(ErrorCode::kCorrupt, awhat,
+             "predictor 12 from the previous sweep in a window without position integers");
+      continue;
+    }
+    if (id == kRingPredictor && ragged) {
+      if (!ring_lane(specs[a], colour))
+        fail(ErrorCode::kCorrupt, awhat,
+             "predictor 13 on a field that is not an integer of 1 or 2 bytes");
+      (*pred)[j] = id;
       continue;
     }
     if (id >= kPredictors && !(id == kUnitPredictor && !colour) && !near_id)
@@ -145,10 +179,12 @@ void read_lane_predictors(ByteReader* in, const std::vector<AttrSpec>& specs, si
 void decode_quantum_lane(IntDecoder::Cursor* c, const QuantumParams& qp,
                          const std::vector<AttrSpec>& specs,
                          const std::vector<std::vector<uint8_t>>& data, const uint8_t* valid,
-                         const double* xyz, const uint32_t* near, LaneState* st, Lane* l) {
+                         const double* xyz, const uint32_t* near, LaneState* st, Lane* l,
+                         const RaggedFields* rf) {
   std::vector<uint16_t> keys;
   if (qp.base == kBaseKey)
     keys = key_values(specs[qp.key.attribute], data[qp.key.attribute], l->u.size(), qp.key.element);
+  const std::vector<int32_t> cells = cells_of(qp, keys.data(), valid, l->u.size(), rf);
   const uint64_t mask = mask_of(l->bits);
   const int size = l->bits / 8;
   walk_quantum(
@@ -161,7 +197,52 @@ void decode_quantum_lane(IntDecoder::Cursor* c, const QuantumParams& qp,
         *k = static_cast<int32_t>(static_cast<uint32_t>(kh) + d);
         const uint64_t p = quantum_value(*k, qp.quantum, size, qp.wide);
         *v = (p + static_cast<uint64_t>(get_float_residual(c, &st->prev_nb[0]))) & mask;
-      });
+      },
+      cells.empty() ? nullptr : cells.data(), rf);
+}
+
+// A predictor-13 lane (FORMAT.md "Scans (format 1.1)"): gap points' residuals, the valid
+// points' runs of predictions and misses.
+void decode_ring_lane(IntDecoder::Cursor* c, const uint8_t* valid, const uint16_t* rings,
+                      LaneState* st, Lane* l, const std::string& awhat) {
+  const uint64_t mask = mask_of(l->bits);
+  bool need = true;  // a run count is due at the next valid point
+  uint64_t left = 0;
+  int tok;
+  walk_ring(&l->u, valid, rings, [&](uint64_t* v, uint64_t p, bool gap) {
+    if (gap) {
+      *v = (p + static_cast<uint64_t>(static_cast<int64_t>(get_int_residual(c, &st->mag[1])))) &
+           mask;
+      return;
+    }
+    if (need) {
+      left = c->get(kRunContext, &tok);
+      need = false;
+    }
+    if (left > 0) {
+      --left;
+      *v = p;
+      return;
+    }
+    const uint32_t e = c->get(kMissContext, &tok);
+    if (e >= mask) fail(ErrorCode::kCorrupt, awhat, "predictor 13's miss beyond the lane's values");
+    *v = (p + static_cast<uint64_t>(unzigzag64(uint64_t{e} + 1))) & mask;
+    need = true;
+  });
+  if (left > 0)
+    fail(ErrorCode::kCorrupt, awhat, "predictor 13's last run counts points past the lane's end");
+}
+
+// Whether the block of m bytes can hold the values of a field's lanes (FORMAT.md 13.6, checked
+// before allocating): lanes x n, but a predictor-13 lane's gap points only.
+bool block_holds(const std::vector<int>& pred, size_t n, const uint8_t* valid, uint64_t m) {
+  const size_t lanes = pred.size();
+  if (std::find(pred.begin(), pred.end(), kRingPredictor) == pred.end())
+    return n == 0 || lanes <= kMaxSymbolsPerByte * m / n;
+  const size_t gaps = valid ? static_cast<size_t>(std::count(valid, valid + n, 0)) : 0;
+  uint64_t values = 0;
+  for (int id : pred) values += id == kRingPredictor ? gaps : n;
+  return values <= kMaxSymbolsPerByte * m;
 }
 
 }  // namespace
@@ -196,7 +277,7 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
     std::vector<QuantumParams> quanta(lanes);
     read_lane_predictors(&r, specs, a, colour, q != nullptr, ragged, awhat, &pred, &refs, &quanta);
     const uint64_t m = r.count(1, "block size");
-    if (n != 0 && lanes > kMaxSymbolsPerByte * m / n)
+    if (!block_holds(pred, n, valid, m))
       fail(ErrorCode::kCorrupt, awhat, "field larger than its block can hold");
     const uint8_t* block = r.bytes(static_cast<size_t>(m));
     bool uses_near = std::any_of(pred.begin(), pred.end(), [](int id) {
@@ -208,8 +289,9 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
         (uses_near ||
          std::any_of(pred.begin(), pred.end(), [](int id) { return id >= 5 && id <= 8; })))
       all_valid.assign(n, 1);
-    if (!valid && all_valid.empty() &&
-        std::find(pred.begin(), pred.end(), kQuantumPredictor) != pred.end())
+    if (!valid && all_valid.empty() && std::any_of(pred.begin(), pred.end(), [](int id) {
+          return id == kQuantumPredictor || id == kRingPredictor;
+        }))
       all_valid.assign(n, 1);
     const uint8_t* mask_of_window = valid ? valid : all_valid.data();
     if (uses_near && near.empty()) near = nearest_points(q, mask_of_window, frames, points);
@@ -241,9 +323,14 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
         store_lane(s, cur_lane, n, j, &bytes);
         continue;
       }
+      if (pred[j] == kRingPredictor) {
+        decode_ring_lane(&c, mask_of_window, ragged->ring, &st, &cur_lane, awhat);
+        store_lane(s, cur_lane, n, j, &bytes);
+        continue;
+      }
       if (pred[j] == kQuantumPredictor) {
         decode_quantum_lane(&c, quanta[j], specs, *out, mask_of_window, ragged->xyz, near.data(),
-                            &st, &cur_lane);
+                            &st, &cur_lane, ragged);
         store_lane(s, cur_lane, n, j, &bytes);
         continue;
       }

@@ -14,6 +14,7 @@
 #include "coding/attributes_entropy.h"
 #include "coding/attributes_lanes.h"
 #include "coding/attributes_quantum.h"
+#include "coding/attributes_ring.h"
 #include "coding/bytes.h"
 #include "coding/entropy.h"
 #include "coding/lzma_block.h"
@@ -43,24 +44,12 @@ void make_lane(const AttrSpec& s, bool colour, const std::vector<uint8_t>& bytes
   const uint8_t* at = bytes.data() + j * size;
   const size_t step = count * size;
   // The element size known to the compiler: one load an element instead of a loop of bytes.
-  auto fill = [&](auto bytes_per) {
+  with_element_size(s.size, [&](auto bytes_per) {
     constexpr int kSize = decltype(bytes_per)::value;
+    const int sz = kSize ? kSize : s.size;
     for (size_t i = 0; i < n; ++i)
-      l->u[i] = to_ordered(load_le(at + i * step, kSize), s.type, l->bits);
-  };
-  switch (s.size) {
-    case 1:
-      return fill(std::integral_constant<int, 1>());
-    case 2:
-      return fill(std::integral_constant<int, 2>());
-    case 4:
-      return fill(std::integral_constant<int, 4>());
-    case 8:
-      return fill(std::integral_constant<int, 8>());
-    default:
-      for (size_t i = 0; i < n; ++i)
-        l->u[i] = to_ordered(load_le(at + i * step, s.size), s.type, l->bits);
-  }
+      l->u[i] = to_ordered(load_le(at + i * step, sz), s.type, l->bits);
+  });
 }
 
 // The predictor whose residuals have the smallest sum of bit lengths (ties: the lowest);
@@ -130,6 +119,18 @@ uint64_t unit_cost(Lane& l, const std::vector<AttrSpec>& specs,
   return cost;
 }
 
+// Cost of a predictor-13 lane as choose_predictor counts it (valid: a mask, all set without
+// gaps): the bit lengths of its run counts, misses and gap residuals. kLeastSymbolShare: the
+// valid points a bit of the other predictors' symbols is counted for (FORMAT.md 16.4).
+constexpr uint64_t kLeastSymbolShare = 160;
+uint64_t ring_cost(Lane& l, const uint8_t* valid, const uint16_t* rings) {
+  uint64_t cost = 0;
+  ring_symbols(l, valid, rings, [&](int kind, uint64_t u) {
+    cost += bit_length(kind == 2 ? zigzag64(static_cast<int64_t>(u)) : u);
+  });
+  return cost;
+}
+
 // One attribute, predictively (transforms 0 and 1): transform, predictors, size, block.
 std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
                                        const std::vector<std::vector<uint8_t>>& data, size_t a,
@@ -159,14 +160,32 @@ std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
     QuantumPoints qpoints;
     uint64_t qcost = 0;
     if (ragged && !colour && pred != kUnitPredictor &&
-        choose_quantum(specs, data, a, l, valid, ragged->xyz, near, &qp, &qcost, &qpoints) &&
+        choose_quantum(specs, data, a, l, valid, ragged->xyz, near, &qp, &qcost, &qpoints,
+                       ragged) &&
         qcost < cost)
       pred = kQuantumPredictor;
+    const uint64_t mask = mask_of(l.bits);
+    // Predictor 13 (a ragged window's, on a key field's lane): the geometry's rings. Its runs
+    // code a valid point that takes its prediction in no symbol, the others in one, which costs
+    // about 1/160 bit at least (2.3's models at rate 7): counted against them.
+    if (ragged && ring_lane(s, colour) &&
+        ring_cost(l, valid, ragged->ring) <
+            cost + static_cast<uint64_t>(std::count(valid, valid + n, 1)) / kLeastSymbolShare)
+      pred = kRingPredictor;
     w.u8(static_cast<uint8_t>(pred));
     LaneState st;
+    if (pred == kRingPredictor) {
+      ring_symbols(l, valid, ragged->ring, [&](int kind, uint64_t u) {
+        if (kind == 2)
+          put_int_residual(&c, &st.mag[1], static_cast<int32_t>(static_cast<int64_t>(u)));
+        else
+          c.put(static_cast<uint32_t>(u), kind == 0 ? kRunContext : kMissContext);
+      });
+      continue;
+    }
     if (pred == kQuantumPredictor) {
       write_quantum(&w, qp);
-      encode_quantum_lane(&c, qp, specs, data, valid, ragged->xyz, near, qpoints, &st, l);
+      encode_quantum_lane(&c, qp, specs, data, valid, ragged->xyz, near, qpoints, &st, l, ragged);
       continue;
     }
     if (pred == kUnitPredictor) {
@@ -187,7 +206,6 @@ std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
       });
       continue;
     }
-    const uint64_t mask = mask_of(l.bits);
     walk_lane(pred, &l.u, valid, near, frames, points, W, mask,
               [&](uint64_t* v, uint64_t p, bool gap) {
                 const int64_t r = signed_residual((*v - p) & mask, l.bits);

@@ -15,14 +15,17 @@ namespace attr {
 //   0 .. 47   integer residuals, by the lane state's running magnitude (Magnitude::context)
 //   48 .. 80  float residuals' bit lengths, by the lane state's previous bit length / 2
 //   81, 82    predictor 9's sign, by the sign of the lane's previous completable value
+//   83, 84    predictor 13's run counts and misses (a ragged window's)
 inline constexpr int kIntContext = 0;
 inline constexpr int kIntContexts = kMagnitudeContexts;
 inline constexpr int kFloatContext = kIntContext + kIntContexts;
 inline constexpr int kFloatContexts = 33;  // previous bit length 0 .. 64, halved
 inline constexpr int kSignContext = kFloatContext + kFloatContexts;
 inline constexpr int kSignContexts = 2;
-inline constexpr int kContexts = kSignContext + kSignContexts;
-static_assert(kFloatContext == 48 && kSignContext == 81 && kContexts == 83,
+inline constexpr int kRunContext = kSignContext + kSignContexts;
+inline constexpr int kMissContext = kRunContext + 1;
+inline constexpr int kContexts = kMissContext + 1;
+static_assert(kFloatContext == 48 && kSignContext == 81 && kRunContext == 83 && kContexts == 85,
               "ATTR's context numbers are part of the format (FORMAT.md 13.6)");
 
 // An integer residual (int32; the zig-zag of |v| < 2^31 fits 32 bits) under the state's

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 #include <vector>
 
 #include "coding/attributes.h"
@@ -55,6 +56,25 @@ inline uint64_t load_le(const uint8_t* p, int size) {
 }
 inline void store_le(uint8_t* p, int size, uint64_t v) {
   for (int i = 0; i < size; ++i) p[i] = static_cast<uint8_t>(v >> (8 * i));
+}
+
+// f(std::integral_constant<int, S>()) with S the element size when it is 1, 2, 4 or 8, else
+// with S = 0 (the caller's loop then takes the size at run time): an element's loads and stores
+// as one instruction where the compiler knows its size.
+template <typename F>
+inline void with_element_size(int size, F&& f) {
+  switch (size) {
+    case 1:
+      return f(std::integral_constant<int, 1>());
+    case 2:
+      return f(std::integral_constant<int, 2>());
+    case 4:
+      return f(std::integral_constant<int, 4>());
+    case 8:
+      return f(std::integral_constant<int, 8>());
+    default:
+      return f(std::integral_constant<int, 0>());
+  }
 }
 
 // Element bits <-> ordered lane value (FORMAT.md 13.2).

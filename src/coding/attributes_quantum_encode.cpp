@@ -15,6 +15,10 @@ namespace attr {
 
 namespace {
 
+// The sweep bit's bins the encoder tries (FORMAT.md, informative): 2^11 a turn, about 0.18
+// degree (pandar64-factory20: 2^10 and 2^12 coded more, docs/lab/2026-11-30-fields-ring.md).
+constexpr int kSweepBinsTried = 11;
+
 // The value of a lane value of a float field (size 4 or 8).
 double lane_double(uint64_t u, int bits) {
   const uint64_t b = from_ordered(u, 'F', bits);
@@ -83,7 +87,8 @@ std::vector<uint16_t> keys_of(const QuantumParams& qp, const std::vector<AttrSpe
 bool choose_quantum(const std::vector<AttrSpec>& specs,
                     const std::vector<std::vector<uint8_t>>& data, size_t a, Lane& l,
                     const uint8_t* valid, const double* xyz, const uint32_t* near,
-                    QuantumParams* qp, uint64_t* cost, QuantumPoints* points) {
+                    QuantumParams* qp, uint64_t* cost, QuantumPoints* points,
+                    const RaggedFields* rf) {
   const AttrSpec& s = specs[a];
   if (s.type != 'F' || (s.size != 4 && s.size != 8) || l.u.empty()) return false;
   bool wide = false;
@@ -94,7 +99,9 @@ bool choose_quantum(const std::vector<AttrSpec>& specs,
   for (size_t b = 0; b < specs.size(); ++b)
     for (size_t e = 0; is_key_field(specs[b]) && e < static_cast<size_t>(specs[b].count) && e < 8;
          ++e)
-      cands.push_back({quantum, kBaseKey, {b, e}, 0, wide});
+      for (int sweep : {0, kSweepBinsTried})
+        if (sweep == 0 || (rf && rf->q && rf->frame_offsets && rf->frames > 1))
+          cands.push_back({quantum, kBaseKey, {b, e}, 0, wide, sweep});
   if (xyz) cands.push_back({quantum, kBaseRange, {}, range_offset(l, valid, xyz), wide});
   if (near) cands.push_back({quantum, kBaseNear, {}, 0, wide});
   // What every candidate's walk_encode would sum alike, summed once: each valid point's k and
@@ -133,8 +140,10 @@ bool choose_quantum(const std::vector<AttrSpec>& specs,
   for (const QuantumParams& c : cands) {
     uint64_t sum = shared;
     const uint64_t* base = l.u.data();
+    const std::vector<uint16_t> keys = keys_of(c, specs, data, n);
+    const std::vector<int32_t> cells = cells_of(c, keys.data(), valid, n, rf);
     walk_quantum(
-        &l.u, valid, c, keys_of(c, specs, data, n).data(), xyz, near, [](uint64_t*, uint64_t) {},
+        &l.u, valid, c, keys.data(), xyz, near, [](uint64_t*, uint64_t) {},
         [&](uint64_t* v, int32_t kh, int32_t* k) {
           const size_t p = static_cast<size_t>(v - base);
           if (own[p]) {  // k = kh: no integer residual, the correction against kh D
@@ -146,7 +155,8 @@ bool choose_quantum(const std::vector<AttrSpec>& specs,
           *k = ks[p];
           sum += bit_length(zigzag(
               static_cast<int32_t>(static_cast<uint32_t>(ks[p]) - static_cast<uint32_t>(kh))));
-        });
+        },
+        cells.empty() ? nullptr : cells.data(), rf);
     if (sum < *cost) {
       *cost = sum;
       *qp = c;
@@ -157,27 +167,30 @@ bool choose_quantum(const std::vector<AttrSpec>& specs,
 
 void write_quantum(ByteWriter* w, const QuantumParams& qp) {
   w->f64(qp.quantum);
-  w->u8(static_cast<uint8_t>(qp.base | (qp.wide ? kWideBit : 0)));
+  w->u8(static_cast<uint8_t>(qp.base | (qp.wide ? kWideBit : 0) | (qp.sweep ? kSweepBit : 0)));
   if (qp.base == kBaseKey) {
     w->varint(qp.key.attribute);
     w->varint(qp.key.element);
   } else if (qp.base == kBaseRange) {
     w->f64(qp.offset);
   }
+  if (qp.sweep) w->u8(static_cast<uint8_t>(qp.sweep));
 }
 
 void encode_quantum_lane(IntEncoder::Cursor* c, const QuantumParams& qp,
                          const std::vector<AttrSpec>& specs,
                          const std::vector<std::vector<uint8_t>>& data, const uint8_t* valid,
                          const double* xyz, const uint32_t* near, const QuantumPoints& points,
-                         LaneState* st, Lane& l) {
+                         LaneState* st, Lane& l, const RaggedFields* rf) {
   if (points.k.size() != l.u.size() || points.corr.size() != l.u.size())
     fail(ErrorCode::kInternal, "attributes", "predictor 12's points are not the lane's");
   const uint64_t mask = mask_of(l.bits);
   const int size = l.bits / 8;
   const uint64_t* base = l.u.data();
+  const std::vector<uint16_t> keys = keys_of(qp, specs, data, l.u.size());
+  const std::vector<int32_t> cells = cells_of(qp, keys.data(), valid, l.u.size(), rf);
   walk_quantum(
-      &l.u, valid, qp, keys_of(qp, specs, data, l.u.size()).data(), xyz, near,
+      &l.u, valid, qp, keys.data(), xyz, near,
       [&](uint64_t* v, uint64_t p) {
         put_float_residual(c, &st->prev_nb[1], signed_residual((*v - p) & mask, l.bits));
       },
@@ -193,7 +206,8 @@ void encode_quantum_lane(IntEncoder::Cursor* c, const QuantumParams& qp,
                                 (*v - quantum_value(kh, qp.quantum, size, qp.wide)) & mask, l.bits)
                           : points.corr[p];
         put_float_residual(c, &st->prev_nb[0], r);
-      });
+      },
+      cells.empty() ? nullptr : cells.data(), rf);
 }
 
 }  // namespace attr

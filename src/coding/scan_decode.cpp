@@ -62,7 +62,7 @@ class DecodeIo {
 // without, into g.q.
 ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& what,
                            size_t max_points, const ScanFrameSink* frame,
-                           std::vector<int32_t>* space) {
+                           std::vector<int32_t>* space, bool rings = false) {
   const scan::Header h = scan::read_header(data, size, what, max_points);
   ScanGeometry g;
   std::vector<int32_t> one;  // a frame's integers, with `frame`
@@ -78,6 +78,10 @@ ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& 
   g.valid.resize(total);
   IntDecoder dec(data + h.body, size - h.body, scan::kContexts, what);
   scan::State st(h.table);
+  if (rings) {
+    g.ring.assign(total, ScanGeometry::kNoRing);
+    st.ring_out = g.ring.data();
+  }
   scan::raster::Pixels px;
   if (h.pixels > 0) scan::raster::read_pixels(&dec, h, &px);
   DecodeIo io(&dec);
@@ -121,8 +125,13 @@ ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& 
       scan::State last = st.trial();
       scan::code_points(io, last, h.flags[f], first, coded, q, valid);
     }
-    if (h.copies[f] > 0)
+    if (h.copies[f] > 0) {
       scan::expand_cells(cells.get(), h.copies[f], h.counts[f], q, valid, &counts);
+      if (rings)  // a frame with cells has no geometry ring (FORMAT.md predictor 13)
+        std::fill(g.ring.begin() + static_cast<std::ptrdiff_t>(first),
+                  g.ring.begin() + static_cast<std::ptrdiff_t>(first + h.counts[f]),
+                  ScanGeometry::kNoRing);
+    }
     if (frame) (*frame)(first, h.counts[f], q, valid);
     first += h.counts[f];
   }
@@ -153,8 +162,8 @@ ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::s
 }
 
 ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::string& what,
-                                  size_t max_points, std::vector<int32_t>* space) {
-  return decode_frames(data, size, what, max_points, nullptr, space);
+                                  size_t max_points, std::vector<int32_t>* space, bool rings) {
+  return decode_frames(data, size, what, max_points, nullptr, space, rings);
 }
 
 ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::string& what,

@@ -600,9 +600,31 @@ bool rings_differ(const ScanGeometry& g, const ScanHints& hints, scan::FoundRing
   return !same_rings(g, field, ka, elevations, kb);
 }
 
-// encode_scan_geometry's payload; *fine_q as encode_fitted's.
+// The geometry rings a decoder finds in `payload`, coded from g's points under the rings of
+// `fit` (FORMAT.md predictor 13): in a spherical frame without cells or raster, each valid
+// point's ring is its fit's (the loop codes the ring it is given); every other point has none.
+std::vector<uint16_t> payload_rings(const ScanGeometry& g, const scan::RingFit& fit,
+                                    const std::vector<uint8_t>& payload) {
+  const scan::Header h =
+      scan::read_header(payload.data(), payload.size(), "scan geometry", SIZE_MAX);
+  std::vector<uint16_t> rings(g.total(), ScanGeometry::kNoRing);
+  size_t first = 0;
+  for (size_t f = 0; f < h.counts.size(); ++f) {
+    const uint8_t fl = h.flags[f];
+    const size_t end = first + h.counts[f];
+    if ((fl & scan::kSpherical) && !(fl & (scan::kCells | scan::kRaster)) && end <= g.total() &&
+        fit.polar.size() >= end)
+      for (size_t i = first; i < end; ++i)
+        if (g.valid[i]) rings[i] = static_cast<uint16_t>(fit.polar[i].ring);
+    first = end;
+  }
+  return rings;
+}
+
+// encode_scan_geometry's payload; *fine_q as encode_fitted's; *rings: its payload_rings.
 std::vector<uint8_t> encode_geometry(const ScanGeometry& g, const ScanHints& hints,
-                                     ScanWorkspace* ws, std::vector<int32_t>* fine_q) {
+                                     ScanWorkspace* ws, std::vector<int32_t>* fine_q,
+                                     std::vector<uint16_t>* rings) {
   size_t total = 0;
   for (uint32_t n : g.counts) total += n;
   if (g.valid.size() != total || g.q.size() != 3 * total)
@@ -619,13 +641,21 @@ std::vector<uint8_t> encode_geometry(const ScanGeometry& g, const ScanHints& hin
   scan::RingFit other;
   if (both) other = scan::fit_rings(g, hints, true, true, false, &found);
   found = scan::FoundRings();  // (the window's rings twice: not held while it is coded)
-  if (other.rings() == 0) return encode_fitted(g, hints, fit, ws, fine_q);
+  if (other.rings() == 0) {
+    std::vector<uint8_t> out = encode_fitted(g, hints, fit, ws, fine_q);
+    *rings = payload_rings(g, fit, out);
+    return out;
+  }
   const ScanChoice before = ws ? ws->choice : ScanChoice();
   std::vector<uint8_t> best = encode_fitted(g, hints, fit, ws, fine_q);
-  if (!ws) return keep_smaller_fit(g, hints, other, nullptr, &best, fine_q), best;
-  const ScanChoice chosen = ws->choice;
-  ws->choice = before;  // the second fit's trial sees the windows before as the first's did
-  if (!keep_smaller_fit(g, hints, other, ws, &best, fine_q)) ws->choice = chosen;
+  ScanChoice chosen;
+  if (ws) {
+    chosen = ws->choice;
+    ws->choice = before;  // the second fit's trial sees the windows before as the first's did
+  }
+  const bool second = keep_smaller_fit(g, hints, other, ws, &best, fine_q);
+  if (ws && !second) ws->choice = chosen;
+  *rings = payload_rings(g, second ? other : fit, best);
   return best;
 }
 
@@ -638,11 +668,14 @@ bool scan_rings_differ(const ScanGeometry& g, const ScanHints& hints) {
 std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints,
                                           ScanWorkspace* ws) {
   std::vector<int32_t> fine_q;
-  std::vector<uint8_t> out = encode_geometry(g, hints, ws, &fine_q);
+  std::vector<uint16_t> rings;
+  std::vector<uint8_t> out = encode_geometry(g, hints, ws, &fine_q, &rings);
   if (ws) {
     ws->fine_payload.clear();
     if (!fine_q.empty()) ws->fine_payload = out;
     ws->fine_q.swap(fine_q);
+    ws->ring_payload = out;
+    ws->rings.swap(rings);
   }
   return out;
 }

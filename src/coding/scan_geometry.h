@@ -29,6 +29,11 @@ struct ScanGeometry {
   // The decoder's: some frame is an octree frame (FORMAT.md "Octree frames"), which a stream
   // allows only with HEAD bit 6 (the caller's check).
   bool octree = false;
+  // The decoder's, when asked: each point's geometry ring (FORMAT.md predictor 13: the ring k a
+  // spherical frame's step 1 decoded for a valid point, in a frame without cells or raster),
+  // kNoRing for the others. Empty when not asked for.
+  static constexpr uint16_t kNoRing = 0xFFFF;
+  std::vector<uint16_t> ring;
 
   size_t total() const { return valid.size(); }
 };
@@ -92,6 +97,10 @@ struct ScanWorkspace {
   // back from it (x y z per point, 0 at gaps; the coder's own, not decoded again); else empty.
   std::vector<uint8_t> fine_payload;
   std::vector<int32_t> fine_q;
+  // After each encode_scan_geometry: its payload and the geometry ring a decoder finds for each
+  // point in it (ScanGeometry::ring: FORMAT.md predictor 13), worked out from the coder's fit.
+  std::vector<uint8_t> ring_payload;
+  std::vector<uint16_t> rings;
 };
 
 // The payload of one window. Throws Error(kInvalidArgument) when the shapes disagree.
@@ -123,9 +132,11 @@ std::vector<uint32_t> scan_point_order(const ScanGeometry& g, const ScanHints& h
 // memory bound); throws Error(kCorrupt) naming `what` on any inconsistency.
 ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::string& what,
                                   size_t max_points = size_t{1} << 26);
-// The same, the result's q in the memory *space held (taken: *space is left empty).
+// The same, the result's q in the memory *space held (taken: *space is left empty); with
+// `rings`, the result's ring filled (each point's geometry ring).
 ScanGeometry decode_scan_geometry(const uint8_t* data, size_t size, const std::string& what,
-                                  size_t max_points, std::vector<int32_t>* space);
+                                  size_t max_points, std::vector<int32_t>* space,
+                                  bool rings = false);
 // As above, a frame at a time: each frame's integers (3 x n, of points first..first + n - 1 of
 // the window) and flags go to frame(first, n, q, valid) as soon as they are decoded, q in a
 // buffer of one frame reused for the next. The result's q is then empty (its valid holds every

@@ -420,6 +420,7 @@ __attribute__((always_inline)) inline void code_spherical(Io& io, State& st, con
                              : ring_successor(io, st, pa, i, pv, (flags & kRingPairs) != 0);
   const uint32_t k = rc.ring;
   const int32_t col = rc.column;
+  if (st.ring_out) st.ring_out[i] = static_cast<uint16_t>(k);
   State::Ring& r = st.ring[k];
   // Range: the ring's last, the previous point's (same column), the previous sweep's; with
   // units bit 7 the ring's range before its last.

@@ -322,6 +322,9 @@ class State {
   // Cartesian / cross-frame state.
   int32_t last[3] = {0, 0, 0};
   int last_bits[3] = {0, 0, 0};
+  // The decoder's, when not null: each spherical point's ring k (step 1) at its index in the
+  // window (ATTR's geometry ring, FORMAT.md predictor 13); copies share it.
+  uint16_t* ring_out = nullptr;
 
  private:
   size_t cell(uint32_t k, int32_t col) const {

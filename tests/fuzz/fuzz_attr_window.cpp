@@ -3,7 +3,8 @@
 // triples, 10-15 float fields of values k D beside key fields, for predictor 12) and whether the
 // window has position integers (bit 7: predictors 10 and 11 allowed, the integers made from the
 // shape; bit 5: a ragged window of format 1.1, one frame of every point, coded key-first with
-// predictor 12 and decoded positions made from the shape), bytes 1-2 the shape (frames 1..16,
+// predictors 12 and 13, decoded positions and geometry rings made from the shape, and with bit 7
+// three frames for predictor 12's sweep bit), bytes 1-2 the shape (frames 1..16,
 // points 1..256, width a divisor-free 1..points):
 //   mode even: the rest is an ATTR body; decoding must return or throw capz::Error, and what
 //     decodes must re-encode to a body that decodes to the same bytes;
@@ -178,6 +179,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   capz::RaggedFields rf;
   rf.xyz = xyz.data();
+  // A ragged window's geometry rings (predictor 13: 7 rings, every fifth point without one) and,
+  // with integers, three frames for predictor 12's sweep cells.
+  std::vector<uint16_t> rings(ragged ? points : 0);
+  for (size_t i = 0; i < rings.size(); ++i)
+    rings[i] = i % 5 == 4 ? uint16_t{0xFFFF} : static_cast<uint16_t>((i * 3) % 7);
+  const std::vector<size_t> offsets = {0, points / 3, 2 * points / 3, points};
+  rf.ring = ragged ? rings.data() : nullptr;
+  if (ragged && near) {
+    rf.q = q.data();
+    rf.frame_offsets = offsets.data();
+    rf.frames = 3;
+  }
   st.ragged = ragged ? &rf : nullptr;
   const size_t width = 1 + (static_cast<size_t>(data[1] >> 4) * 7) % points;
   // Modes 4k+2 and 4k+3 decode / code under a gap mask (every third point a gap, and a run).
