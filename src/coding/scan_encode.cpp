@@ -63,6 +63,23 @@ struct Scratch {
   std::shared_ptr<scan::SweepMaps> spare = std::make_shared<scan::SweepMaps>();  // a kept coding's
 };
 
+// The raw bits (below each token) of frame [first, first + n)'s Cartesian coding from state st:
+// each valid point's x y z against the previous one's (scan_loop.h's code_cartesian).
+uint64_t cartesian_raw_bits(const scan::State& st, const ScanGeometry& g, size_t first, size_t n) {
+  int32_t last[3] = {st.last[0], st.last[1], st.last[2]};
+  uint64_t bits = 0;
+  for (size_t i = first; i < first + n; ++i) {
+    if (!g.valid[i]) continue;
+    const int32_t* a = &g.q[3 * i];
+    for (int ax = 0; ax < 3; ++ax) {
+      const uint32_t u = zigzag(wrap_sub(a[ax], last[ax]));
+      bits += u < 4 ? 0u : static_cast<uint32_t>(30 - __builtin_clz(u));  // token_of's extra
+      last[ax] = a[ax];
+    }
+  }
+  return bits;
+}
+
 // Whether spherical coding (its symbols recorded in s->trial, tallied in its tally) costs less than
 // Cartesian by CostSink, the exact estimate. Decided on Tally::estimate when the two differ by
 // more than both estimates' rounding can move them (N terms each below 2^6, summed in binary64:
@@ -70,7 +87,15 @@ struct Scratch {
 bool spherical_wins(const scan::State& st, uint8_t flags, const ScanGeometry& g,
                     const scan::Placement& placed, size_t f, size_t first, size_t n, Scratch* s) {
   CartesianEstimate& c = s->cart[f];
+  const double sph = s->trial.tally.estimate(&s->log_t, &s->log_c);
   if (!c.same_state(st)) {
+    // Cartesian coding's raw bits alone bound its estimate from below (every symbol's token
+    // costs more than 0 bits): when the spherical estimate is under that bound by twice the
+    // margin below (taken for 4 symbols a point, Cartesian coding's most), the estimate would
+    // have chosen spherical as well.
+    const double terms = static_cast<double>(s->trial.tally.symbols() + 4 * n) + 2.0 * 64 * 64;
+    const double margin = 4.0 * terms * (terms * 64.0 * 0x1p-52 + 0x1p-46);
+    if (sph < static_cast<double>(cartesian_raw_bits(st, g, first, n)) - 2 * margin) return true;
     Tally tally;
     EncodeIo<Tally> io(&tally, g, placed);
     scan::State trial = st.trial();
@@ -81,7 +106,6 @@ bool spherical_wins(const scan::State& st, uint8_t flags, const ScanGeometry& g,
     c.bits = tally.estimate(&s->log_t, &s->log_c);
     c.symbols = tally.symbols();
   }
-  const double sph = s->trial.tally.estimate(&s->log_t, &s->log_c);
   const double terms = static_cast<double>(s->trial.tally.symbols() + c.symbols) + 2.0 * 64 * 64;
   const double margin = 4.0 * terms * (terms * 64.0 * 0x1p-52 + 0x1p-46);
   if (sph < c.bits - margin) return true;
