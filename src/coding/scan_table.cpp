@@ -21,6 +21,13 @@ bool small_enough(const int32_t* p) {
   return true;
 }
 
+// The length of (x, y) as the root of the sum of squares: std::hypot's value but for the last
+// bit, without its call (the coordinates here are finite and below 2^29 in magnitude, far from
+// the overflow and underflow hypot guards against).
+double planar(double x, double y) {
+  return std::sqrt(x * x + y * y);
+}
+
 double wrap_pi(double d) {
   while (d > kTwoPi / 2) d -= kTwoPi;
   while (d <= -kTwoPi / 2) d += kTwoPi;
@@ -51,7 +58,7 @@ void coords(const ScanGeometry& g, const std::vector<float>& xyz, size_t i, doub
 // payload": a ring's slope at azimuth phi is s + w (1 - cos phi)): z / rho - w (1 - cos phi).
 // NaN when rho is 0.
 double bowed_slope(const double* v, double w) {
-  const double r = std::hypot(v[0], v[1]);
+  const double r = planar(v[0], v[1]);
   if (!(r > 0)) return NAN;
   return v[2] / r - w * (1 - v[0] / r);
 }
@@ -88,7 +95,7 @@ float find_bow(const ScanGeometry& g, const ScanHints& h) {
     if (!g.valid[i] || !small_enough(&g.q[3 * i])) continue;
     double v[3];
     coords(g, h.xyz, i, v);
-    const double r = std::hypot(v[0], v[1]);
+    const double r = planar(v[0], v[1]);
     if (!(r > 0)) continue;
     pts.push_back(v[2] / r);
     pts.push_back(1 - v[0] / r);
@@ -396,7 +403,7 @@ void fit_units(const ScanGeometry& g, const ScanHints& h, const std::vector<uint
     const double d = distance(h, n, i) - (phase.empty() ? 0 : phase[ring[i]]);
     if (!std::isfinite(d)) continue;
     line[ring[i]].add(std::floor(d / q + 0.5),
-                      std::hypot(double(h.xyz[3 * i]), double(h.xyz[3 * i + 1])) * gpu);
+                      planar(double(h.xyz[3 * i]), double(h.xyz[3 * i + 1])) * gpu);
   }
   r->unit.resize(rings);
   r->offset.resize(rings);
@@ -420,7 +427,7 @@ void fit_units(const ScanGeometry& g, const ScanHints& h, const std::vector<uint
   r->steps.assign(n, 0);
   for (size_t i = 0; i < n; ++i) {
     if (!g.valid[i] || !small_enough(&g.q[3 * i])) continue;
-    const double rho = std::hypot(double(h.xyz[3 * i]), double(h.xyz[3 * i + 1])) * gpu;
+    const double rho = planar(double(h.xyz[3 * i]), double(h.xyz[3 * i + 1])) * gpu;
     r->steps[i] = round_clamp((rho - r->offset[ring[i]]) / r->unit[ring[i]]);
   }
 }
@@ -487,12 +494,12 @@ RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units, boo
     const int32_t* p = &g.q[3 * i];
     if (!g.valid[i] || !small_enough(p)) continue;
     const double x = p[0], y = p[1];
-    const double h = std::hypot(x, y);
+    const double h = planar(x, y);
     double bent = 0;  // the bow's part of z, 1 - cos phi from the finer coordinates
     if (r.bow != 0) {
       double v[3];
       coords(g, hints.xyz, i, v);
-      const double rv = std::hypot(v[0], v[1]);
+      const double rv = planar(v[0], v[1]);
       if (rv > 0) bent = double(r.bow) * h * (1 - v[0] / rv);
     }
     cone[ring[i]].add(h, p[2] - bent);
@@ -515,6 +522,12 @@ double sorted_step(const RingFit& r) {
   for (std::vector<double>& p : phi) std::sort(p.begin(), p.end());
   return std::fabs(infer_step(phi));
 }
+
+// The azimuths a ring's offset is the circular mean of: about this many, evenly spaced in the
+// ring's (every third of a pandar64 sweep's, every 32nd of a 9-sweep window's). All of them cost
+// a sine and a cosine each per step tried: table_fit was 0.74 G of the 16.2 G instructions of
+// the 20-sweep pandar64 folder's encode (docs/lab/2026-11-30-encoder-speed-2.md).
+constexpr size_t kOffsetSample = 512;
 
 Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* twin) {
   Table t;
@@ -541,8 +554,10 @@ Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* 
   t.azimuth0.resize(rings);
   for (size_t k = 0; k < rings; ++k) {
     double sc = 0, ss = 0;
-    for (double a : r.phi[k]) {
-      const double th = kTwoPi * a / step;
+    const std::vector<double>& phi = r.phi[k];
+    const size_t stride = std::max<size_t>(1, phi.size() / kOffsetSample);
+    for (size_t i = 0; i < phi.size(); i += stride) {
+      const double th = kTwoPi * phi[i] / step;
       sc += std::cos(th), ss += std::sin(th);
     }
     t.azimuth0[k] = static_cast<float>(step * std::atan2(ss, sc) / kTwoPi);
