@@ -87,6 +87,9 @@ struct ScanWorkspace {
   ScanChoice choice;
   bool every_table = false;
   size_t tables_coded = 0, sample_codings = 0;
+  // The elevation peaks of the last window whose rings from the elevations were its ring field's
+  // (the next window's ring check tries them first, scan_encode.cpp); else empty.
+  std::vector<double> ring_peaks;
   // After each encode_scan_geometry: when its payload codes other integers than it was given (a
   // raster window at a bound, fine shift above 0), that payload and the integers the decoder gives
   // back from it (x y z per point, 0 at gaps; the coder's own, not decoded again); else empty.

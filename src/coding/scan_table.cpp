@@ -150,13 +150,21 @@ size_t dense_rings(const ScanGeometry& g, const ScanHints& h, std::vector<uint32
   return n;
 }
 
+// The number of the peak (of `peaks`, ascending) nearest elevation e.
+uint32_t nearest_peak(const std::vector<double>& peaks, double e) {
+  const auto it = std::lower_bound(peaks.begin(), peaks.end(), e);
+  size_t k = size_t(it - peaks.begin());
+  if (k == peaks.size() || (k > 0 && e - peaks[k - 1] < *it - e)) --k;
+  return uint32_t(k);
+}
+
 // Rings from the points' elevations, for a source without a ring field: the peaks of the
 // elevation histogram of all points (their elevations under the bow w: atan of bowed_slope),
 // each point then given to the nearest peak. 0 when there are no points. (The farther half or
 // quarter alone, where a laser's z offset moves the elevation least, found fewer rings:
 // docs/lab/2026-11-28-scan-geometry.md.)
 size_t elevation_rings(const ScanGeometry& g, const std::vector<float>& xyz, double w,
-                       std::vector<uint32_t>* ring) {
+                       std::vector<uint32_t>* ring, std::vector<double>* found_peaks) {
   constexpr double kBin = 0.0002;  // radians (about 0.011 degrees)
   constexpr int kBins = static_cast<int>(3.2 / kBin);
   std::vector<double> el;
@@ -194,12 +202,8 @@ size_t elevation_rings(const ScanGeometry& g, const std::vector<float>& xyz, dou
   }
   if (peaks.empty() || peaks.size() > kMaxRings) return 0;
   ring->assign(g.total(), 0);
-  for (size_t j = 0; j < el.size(); ++j) {
-    const auto it = std::lower_bound(peaks.begin(), peaks.end(), el[j]);
-    size_t k = size_t(it - peaks.begin());
-    if (k == peaks.size() || (k > 0 && el[j] - peaks[k - 1] < *it - el[j])) --k;
-    (*ring)[idx[j]] = uint32_t(k);
-  }
+  for (size_t j = 0; j < el.size(); ++j) (*ring)[idx[j]] = nearest_peak(peaks, el[j]);
+  if (found_peaks) *found_peaks = peaks;
   return peaks.size();
 }
 
@@ -453,10 +457,11 @@ size_t rings_of(const ScanGeometry& g, const ScanHints& h, bool ring_field, Foun
     if (rings > 0) *ring = found->field;
   }
   if (rings > 0) return rings;
-  if (!found) return elevation_rings(g, h.xyz, find_bow(g, h), ring);
+  if (!found) return elevation_rings(g, h.xyz, find_bow(g, h), ring, nullptr);
   if (!found->elevations_known) {
     found->elevations = *ring;  // elevation_rings leaves it as it is when it finds none
-    found->elevation_rings = elevation_rings(g, h.xyz, bow_of(g, h, found), &found->elevations);
+    found->elevation_rings =
+        elevation_rings(g, h.xyz, bow_of(g, h, found), &found->elevations, &found->peaks);
     found->elevations_known = true;
   }
   if (found->elevation_rings > 0) *ring = found->elevations;
@@ -474,6 +479,25 @@ size_t placed_rings(const ScanGeometry& g, const ScanHints& hints, bool ring_fie
   for (size_t i = 0; i < g.total(); ++i)
     if (g.valid[i] && small_enough(&g.q[3 * i])) (*placed)[i] = ring[i];
   return rings;
+}
+
+size_t peak_rings(const ScanGeometry& g, const ScanHints& hints, const std::vector<double>& peaks,
+                  size_t stride, FoundRings* found, std::vector<uint32_t>* ring,
+                  std::vector<uint8_t>* has) {
+  ring->clear();
+  has->clear();
+  const double w = bow_of(g, hints, found);
+  for (size_t i = 0; i < g.total(); i += stride) {
+    double t = NAN;
+    if (g.valid[i] && small_enough(&g.q[3 * i])) {
+      double v[3];
+      coords(g, hints.xyz, i, v);
+      t = bowed_slope(v, w);
+    }
+    has->push_back(std::isfinite(t));
+    ring->push_back(std::isfinite(t) ? nearest_peak(peaks, std::atan(t)) : 0);
+  }
+  return peaks.size();
 }
 
 RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units, bool shares,
