@@ -34,14 +34,46 @@ double wrap_pi(double d) {
   return d;
 }
 
+// atan(k / 8) for k = 0 .. 8: the centres of quick_atan2's series.
+struct AtanEighths {
+  double v[9];
+  AtanEighths() {
+    for (int k = 0; k <= 8; ++k) v[k] = std::atan(k / 8.0);
+  }
+};
+
+// std::atan2(y, x) for finite x y (the same signs and quadrants), within a few units in the last
+// place, at about half its instructions (atan2 was 0.3 G of the 20-sweep pandar64 folder's
+// encode, an azimuth a point): |y / x| or its inverse, t in [0, 1], is taken to the nearest
+// c = k / 8, and atan t = atan c + atan u with u = (t - c) / (1 + t c), |u| < 1/16, whose odd
+// series to u^15 is exact to about 2^-64.
+double quick_atan2(double y, double x) {
+  static const AtanEighths kAtan;
+  const double ax = std::fabs(x), ay = std::fabs(y);
+  if (!(ax > 0 || ay > 0)) return std::atan2(y, x);
+  const bool steep = ay > ax;
+  const double t = steep ? ax / ay : ay / ax;
+  const int k = static_cast<int>(t * 8 + 0.5);
+  const double c = k / 8.0, u = (t - c) / (1 + t * c), u2 = u * u;
+  const double series =
+      u * (1 + u2 * (-1.0 / 3 +
+                     u2 * (1.0 / 5 +
+                           u2 * (-1.0 / 7 +
+                                 u2 * (1.0 / 9 + u2 * (-1.0 / 11 + u2 * (1.0 / 13 - u2 / 15)))))));
+  double a = kAtan.v[k] + series;
+  if (steep) a = kTwoPi / 4 - a;
+  if (std::signbit(x)) a = kTwoPi / 2 - a;
+  return std::signbit(y) ? -a : a;
+}
+
 // Point i's azimuth: from the source's coordinates when the hints have them (on a coarse grid a
 // near point's azimuth is uncertain by more than the sensor's step), else from the integers.
 double azimuth(const ScanGeometry& g, const ScanHints& h, size_t i) {
   if (h.xyz.size() == 3 * g.total()) {
     const double x = h.xyz[3 * i], y = h.xyz[3 * i + 1];
-    if (std::isfinite(x) && std::isfinite(y)) return std::atan2(y, x);
+    if (std::isfinite(x) && std::isfinite(y)) return quick_atan2(y, x);
   }
-  return std::atan2(double(g.q[3 * i + 1]), double(g.q[3 * i]));
+  return quick_atan2(double(g.q[3 * i + 1]), double(g.q[3 * i]));
 }
 
 // Point i's x y z: the source's coordinates when the hints have them (finite), else the integers.
