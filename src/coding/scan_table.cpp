@@ -579,11 +579,12 @@ double sorted_step(const RingFit& r) {
   return std::fabs(infer_step(phi));
 }
 
-// The azimuths a ring's offset is the circular mean of: about this many, evenly spaced in the
-// ring's (every third of a pandar64 sweep's, every 32nd of a 9-sweep window's). All of them cost
-// a sine and a cosine each per step tried: table_fit was 0.74 G of the 16.2 G instructions of
-// the 20-sweep pandar64 folder's encode (docs/lab/2026-11-30-encoder-speed-2.md).
-constexpr size_t kOffsetSample = 512;
+// The azimuths a ring's offset is the circular mean of: at least this many, evenly spaced in the
+// ring's (all of a pandar64 sweep's 1,770, every 4th of a 9-sweep window's). All of them cost a
+// sine and a cosine each per step tried: table_fit was 0.74 G of the 16.2 G instructions of the
+// 20-sweep pandar64 folder's encode. 512 made robosense-helios16p 2.1 % larger at 1 mm with
+// --point-order any; from 2048 up it was as with all (docs/lab/2026-11-30-encoder-speed-2.md).
+constexpr size_t kOffsetSample = 4096;
 
 Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* twin) {
   Table t;
