@@ -90,6 +90,9 @@ struct ScanWorkspace {
   // The elevation peaks of the last window whose rings from the elevations were its ring field's
   // (the next window's ring check tries them first, scan_encode.cpp); else empty.
   std::vector<double> ring_peaks;
+  // Whether a window's second frame did not repeat its first's directions (a spinning sensor's,
+  // scan_raster.h's keep_smaller): the windows after it are not tried as raster windows.
+  bool moving = false;
   // After each encode_scan_geometry: when its payload codes other integers than it was given (a
   // raster window at a bound, fine shift above 0), that payload and the integers the decoder gives
   // back from it (x y z per point, 0 at gaps; the coder's own, not decoded again); else empty.
