@@ -93,6 +93,9 @@ struct ScanWorkspace {
   // Whether a window's second frame did not repeat its first's directions (a spinning sensor's,
   // scan_raster.h's keep_smaller): the windows after it are not tried as raster windows.
   bool moving = false;
+  // With remember: the trial sample's payload with units bit 7 over the one without, in the last
+  // window where it was tried on the sample (0: none yet).
+  double before = 0;
   // After each encode_scan_geometry: when its payload codes other integers than it was given (a
   // raster window at a bound, fine shift above 0), that payload and the integers the decoder gives
   // back from it (x y z per point, 0 at gaps; the coder's own, not decoded again); else empty.
