@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <map>
 
 namespace capz {
@@ -261,32 +260,6 @@ void fit_cone(const ConeSums& c0, float* slope, float* z0) {
   *z0 = static_cast<float>(c);
 }
 
-// The k-th smallest of a's values (k < a.size(); all positive and finite): std::nth_element's
-// a[k], found in the bin of their bit patterns' high bits that holds it (positive doubles order
-// as their patterns), the bins' counts first: a window's million steps took 0.24 G in
-// nth_element, once per window of the 20-sweep pandar64 folder.
-double kth_positive(const std::vector<double>& a, size_t k) {
-  const auto bits = [](double v) {
-    uint64_t u;
-    std::memcpy(&u, &v, sizeof u);
-    return u;
-  };
-  uint64_t lo = UINT64_MAX, hi = 0;
-  for (double v : a) lo = std::min(lo, bits(v)), hi = std::max(hi, bits(v));
-  int shift = 0;
-  while (((hi - lo) >> shift) >= (uint64_t{1} << 16)) ++shift;
-  std::vector<uint32_t> count(((hi - lo) >> shift) + 1, 0);
-  for (double v : a) ++count[(bits(v) - lo) >> shift];
-  size_t bin = 0, below = 0;
-  while (below + count[bin] <= k) below += count[bin++];
-  std::vector<double> in;
-  in.reserve(count[bin]);
-  for (double v : a)
-    if (((bits(v) - lo) >> shift) == bin) in.push_back(v);
-  std::nth_element(in.begin(), in.begin() + static_cast<std::ptrdiff_t>(k - below), in.end());
-  return in[k - below];
-}
-
 // The azimuth step: the median of the small azimuth changes between a ring's consecutive
 // points, refined over the changes of a few steps.
 double infer_step(const std::vector<std::vector<double>>& phi) {
@@ -300,7 +273,8 @@ double infer_step(const std::vector<std::vector<double>>& phi) {
       if (std::fabs(e) > 1e-7 && std::fabs(e) < 0.1) a.push_back(std::fabs(e)), neg += e < 0;
     }
   if (a.empty()) return 0;
-  const double s0 = kth_positive(a, a.size() / 2);
+  std::nth_element(a.begin(), a.begin() + static_cast<long>(a.size() / 2), a.end());
+  const double s0 = a[a.size() / 2];
   double num = 0, den = 0;
   for (double e : a) {
     const double m = std::floor(e / s0 + 0.5);
