@@ -611,13 +611,14 @@ std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const ScanHints& hints
     const double ratio = try_before(g, sample, from, fit, best_table, best_sample, &best, &scratch);
     if (ws && ws->remember && ratio > 0) ws->before = ratio;
   }
-  // A flash LiDAR's window (scan_raster.h); not tried again in a take whose window before had a
+  // A flash LiDAR's window (scan_raster.h); not tried again in a sequence whose window before had a
   // second frame that did not repeat its first's directions (a spinning sensor's: the test keys
   // every point of the first frame, 2.6 % of the 20-sweep pandar64 folder's encode).
-  if (ws && ws->moving) {
+  const bool sequence = ws && ws->remember;  // one take's windows in order
+  if (sequence && ws->moving) {
     if (fine_q) fine_q->clear();
   } else {
-    scan::raster::keep_smaller(g, hints, &best, fine_q, ws ? &ws->moving : nullptr);
+    scan::raster::keep_smaller(g, hints, &best, fine_q, sequence ? &ws->moving : nullptr);
   }
   return best;
 }
@@ -660,14 +661,15 @@ bool same_rings(const std::vector<uint8_t>& valid_points, const std::vector<uint
 // The quick ring check's share of the points: every kPeakStride-th.
 constexpr size_t kPeakStride = 16;
 
-// scan_rings_differ, the rings found kept in (or taken from) *found. With ws (a take's windows in
-// turn), a window after one whose rings were the same is checked first on every kPeakStride-th
-// point, on that window's elevation peaks: when those points' rings are the same, so are the
-// window's (the elevation rings were 5 % of a pandar64 folder's encode, the sensor's lasers the
-// same in every window); else, and in every other window, on all its points and its own peaks.
+// scan_rings_differ, the rings found kept in (or taken from) *found. With ws remembering (a take's
+// windows in turn), a window after one whose rings were the same is checked first on every
+// kPeakStride-th point, on that window's elevation peaks: when those points' rings are the same, so
+// are the window's (the elevation rings were 5 % of a pandar64 folder's encode, the sensor's lasers
+// the same in every window); else, and in every other window, on all its points and its own peaks.
 bool rings_differ(const ScanGeometry& g, const ScanHints& hints, scan::FoundRings* found,
                   ScanWorkspace* ws) {
   std::vector<uint32_t> field, elevations;
+  ws = ws && ws->remember ? ws : nullptr;  // one take's windows in order
   if (ws && !ws->ring_peaks.empty()) {
     std::vector<uint8_t> has;
     const size_t ka = scan::placed_rings(g, hints, true, &field, found);

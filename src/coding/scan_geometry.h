@@ -77,7 +77,8 @@ struct ScanChoice {
   double finest = 0;  // the trial's finest table: its divisor (16, or 0 for the quantum's)
 };
 // remember: the windows are one sequence's, in order: a window's table choice is kept in
-// `choice` and tried first on the next window's sample (scan_encode.cpp, sampled_choice).
+// `choice` and tried first on the next window's sample (scan_encode.cpp, sampled_choice), and
+// ring_peaks, moving and before below are kept and used.
 // every_table: each laser table the encoder tries codes the whole window, the smallest payload
 // kept (no trial on the window's first points; for measurements and tests). tables_coded and
 // sample_codings: the number of whole-window codings and of trial sample codings so far.
@@ -104,7 +105,7 @@ struct ScanWorkspace {
 };
 
 // The payload of one window. Throws Error(kInvalidArgument) when the shapes disagree.
-// ws: a workspace kept across windows, or null (the same bytes either way).
+// ws: a workspace kept across windows, or null (the same bytes either way unless ws->remember).
 std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints = {},
                                           ScanWorkspace* ws = nullptr);
 
