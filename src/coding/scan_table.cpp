@@ -614,8 +614,9 @@ Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* 
     const std::vector<double>& phi = r.phi[k];
     const size_t stride = std::max<size_t>(1, phi.size() / kOffsetSample);
     for (size_t i = 0; i < phi.size(); i += stride) {
-      const double th = kTwoPi * phi[i] / step;
-      sc += std::cos(th), ss += std::sin(th);
+      double sn, cs;  // without libm's calls (a few units in the last place apart)
+      det_sincos(kTwoPi * phi[i] / step, &sn, &cs);
+      sc += cs, ss += sn;
     }
     t.azimuth0[k] = static_cast<float>(step * std::atan2(ss, sc) / kTwoPi);
   }
