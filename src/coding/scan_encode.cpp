@@ -414,8 +414,8 @@ size_t sample_size(const ScanGeometry& g, const ScanGeometry& sample,
 // windows whose first frames are larger than their sample. *tables: the tables tried (each the
 // window's; one of an empty table per choice not tried). *sizes: the sample's payload per choice
 // (0: not tried). With a choice remembered from the windows before (ws->remember, ws->choice)
-// among the same tables (its trial's finest: the step divided by 16, or the azimuths' quantum,
-// which a window finds or not),
+// among this window's tables (a choice of the finest table, the step divided by 16 or the
+// azimuths' quantum, which a window finds or not, only while the finest is the same kind),
 // only that table codes the sample first, and it alone is kept when its payload is within
 // kRememberSlack of what it was in the window whose trial chose it (bits a point of the sample).
 constexpr double kSampleSlack = 1.03, kRememberSlack = 1.05;
@@ -430,7 +430,8 @@ std::vector<TableChoice> sampled_choice(const ScanGeometry& g, const ScanGeometr
       static_cast<size_t>(std::find_if(tried.begin(), tried.end(),
                                        [&](const TableChoice& c) {
                                          return ws && ws->remember && ws->choice.bits > 0 &&
-                                                ws->choice.finest == tried.back().divisor &&
+                                                (ws->choice.divisor != ws->choice.finest ||
+                                                 ws->choice.finest == tried.back().divisor) &&
                                                 c.divisor == ws->choice.divisor &&
                                                 c.units == ws->choice.units;
                                        }) -
