@@ -67,6 +67,12 @@ size_t placed_rings(const ScanGeometry& g, const ScanHints& hints, bool ring_fie
 size_t peak_rings(const ScanGeometry& g, const ScanHints& hints, const std::vector<double>& peaks,
                   size_t stride, FoundRings* found, std::vector<uint32_t>* ring,
                   std::vector<uint8_t>* has);
+// Whether the rings fit_rings finds from g's elevations differ from its ring field's (hints.ring,
+// not empty), both found once in *found (when not null; kept there for the fits). With ws (when
+// not null and remembering) the peaks of a window whose rings were the same are kept in
+// ws->ring_peaks and tried first on the next window's points (scan_rings_encode.cpp).
+bool rings_differ(const ScanGeometry& g, const ScanHints& hints, FoundRings* found,
+                  ScanWorkspace* ws);
 // Every point's place under a table (place_points): its ring, column and range, and on a table
 // with slots its firing's base and turn (else `fire` is empty).
 struct Placement {
