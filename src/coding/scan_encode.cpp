@@ -63,6 +63,23 @@ struct Scratch {
   std::shared_ptr<scan::SweepMaps> spare = std::make_shared<scan::SweepMaps>();  // a kept coding's
 };
 
+// The raw bits (below each token) of frame [first, first + n)'s Cartesian coding from state st:
+// each valid point's x y z against the previous one's (scan_loop.h's code_cartesian).
+uint64_t cartesian_raw_bits(const scan::State& st, const ScanGeometry& g, size_t first, size_t n) {
+  int32_t last[3] = {st.last[0], st.last[1], st.last[2]};
+  uint64_t bits = 0;
+  for (size_t i = first; i < first + n; ++i) {
+    if (!g.valid[i]) continue;
+    const int32_t* a = &g.q[3 * i];
+    for (int ax = 0; ax < 3; ++ax) {
+      const uint32_t u = zigzag(wrap_sub(a[ax], last[ax]));
+      bits += u < 4 ? 0u : static_cast<uint32_t>(30 - __builtin_clz(u));  // token_of's extra
+      last[ax] = a[ax];
+    }
+  }
+  return bits;
+}
+
 // Whether spherical coding (its symbols recorded in s->trial, tallied in its tally) costs less than
 // Cartesian by CostSink, the exact estimate. Decided on Tally::estimate when the two differ by
 // more than both estimates' rounding can move them (N terms each below 2^6, summed in binary64:
@@ -70,7 +87,15 @@ struct Scratch {
 bool spherical_wins(const scan::State& st, uint8_t flags, const ScanGeometry& g,
                     const scan::Placement& placed, size_t f, size_t first, size_t n, Scratch* s) {
   CartesianEstimate& c = s->cart[f];
+  const double sph = s->trial.tally.estimate(&s->log_t, &s->log_c);
   if (!c.same_state(st)) {
+    // Cartesian coding's raw bits alone bound its estimate from below (every symbol's token
+    // costs more than 0 bits): when the spherical estimate is under that bound by twice the
+    // margin below (taken for 4 symbols a point, Cartesian coding's most), the estimate would
+    // have chosen spherical as well.
+    const double terms = static_cast<double>(s->trial.tally.symbols() + 4 * n) + 2.0 * 64 * 64;
+    const double margin = 4.0 * terms * (terms * 64.0 * 0x1p-52 + 0x1p-46);
+    if (sph < static_cast<double>(cartesian_raw_bits(st, g, first, n)) - 2 * margin) return true;
     Tally tally;
     EncodeIo<Tally> io(&tally, g, placed);
     scan::State trial = st.trial();
@@ -81,7 +106,6 @@ bool spherical_wins(const scan::State& st, uint8_t flags, const ScanGeometry& g,
     c.bits = tally.estimate(&s->log_t, &s->log_c);
     c.symbols = tally.symbols();
   }
-  const double sph = s->trial.tally.estimate(&s->log_t, &s->log_c);
   const double terms = static_cast<double>(s->trial.tally.symbols() + c.symbols) + 2.0 * 64 * 64;
   const double margin = 4.0 * terms * (terms * 64.0 * 0x1p-52 + 0x1p-46);
   if (sph < c.bits - margin) return true;
@@ -390,8 +414,8 @@ size_t sample_size(const ScanGeometry& g, const ScanGeometry& sample,
 // windows whose first frames are larger than their sample. *tables: the tables tried (each the
 // window's; one of an empty table per choice not tried). *sizes: the sample's payload per choice
 // (0: not tried). With a choice remembered from the windows before (ws->remember, ws->choice)
-// among the same tables (its trial's finest: the step divided by 16, or the azimuths' quantum,
-// which a window finds or not),
+// among this window's tables (a choice of the finest table, the step divided by 16 or the
+// azimuths' quantum, which a window finds or not, only while the finest is the same kind),
 // only that table codes the sample first, and it alone is kept when its payload is within
 // kRememberSlack of what it was in the window whose trial chose it (bits a point of the sample).
 constexpr double kSampleSlack = 1.03, kRememberSlack = 1.05;
@@ -406,7 +430,8 @@ std::vector<TableChoice> sampled_choice(const ScanGeometry& g, const ScanGeometr
       static_cast<size_t>(std::find_if(tried.begin(), tried.end(),
                                        [&](const TableChoice& c) {
                                          return ws && ws->remember && ws->choice.bits > 0 &&
-                                                ws->choice.finest == tried.back().divisor &&
+                                                (ws->choice.divisor != ws->choice.finest ||
+                                                 ws->choice.finest == tried.back().divisor) &&
                                                 c.divisor == ws->choice.divisor &&
                                                 c.units == ws->choice.units;
                                        }) -
@@ -419,13 +444,33 @@ std::vector<TableChoice> sampled_choice(const ScanGeometry& g, const ScanGeometr
         8.0 * static_cast<double>((*sizes)[k]) / static_cast<double>(sample.total());
     if (bits <= ws->choice.bits * kRememberSlack) return {tried[k]};
   }
-  for (size_t i = 0; i < tried.size(); ++i) {
+  // Table i's sample payload (when not k's, coded already); false when it has no rings. (twin:
+  // a table of the same step, whose azimuth offsets it takes, or any other: table_fit.)
+  const auto code = [&](size_t i, const scan::Table* twin) {
     scan::Table& t = (*tables)[i];
-    if (i != k)
-      t = scan::table_fit(fit, tried[i].divisor, tried[i].units, i ? &(*tables)[i - 1] : nullptr);
-    if (i != k) (*sizes)[i] = sample_size(g, sample, from, fit, t, s);
-    if (i != k && ws) ++ws->sample_codings;
-    if (t.rings() == 0) break;
+    if (i != k) {
+      t = scan::table_fit(fit, tried[i].divisor, tried[i].units, twin);
+      (*sizes)[i] = sample_size(g, sample, from, fit, t, s);
+      if (ws) ++ws->sample_codings;
+    }
+    return t.rings() > 0;
+  };
+  if (fit.unit.empty()) {  // one choice a divisor
+    for (size_t i = 0; i < tried.size() && code(i, i ? &(*tables)[i - 1] : nullptr); ++i) {
+    }
+  } else {
+    // Ranges in the sensor's steps (the second of each divisor's pair) first, then in grid units
+    // with the divisor whose sample was smallest in steps, alone: in steps the sample came out
+    // smaller on 171 of 177 pairs traced (16 inputs at 1 mm and 1 cm, in the file's order and
+    // any), and grid units were the smallest only on robosense-e1 at 1 mm, 0.01 % below the same
+    // divisor in steps (docs/lab/2026-11-30-encoder-speed-2.md).
+    size_t best = tried.size();
+    bool rings = true;
+    for (size_t i = 1; i < tried.size() && rings; i += 2) {
+      rings = code(i, &(*tables)[i - 1]);
+      if (best == tried.size() || (*sizes)[i] < (*sizes)[best]) best = i;
+    }
+    if (rings) code(best - 1, &(*tables)[best]);
   }
   size_t least = 0;
   for (size_t v : *sizes)
@@ -444,24 +489,32 @@ std::vector<TableChoice> sampled_choice(const ScanGeometry& g, const ScanGeometr
 
 // The range's fourth candidate (units bit 7): table t again with it, *best replaced when its
 // payload is smaller; first on the trial sample when t's sample payload is known (`sampled` >
-// 0), and the whole window only when the sample is smaller with it.
-void try_before(const ScanGeometry& g, const ScanGeometry& sample, const std::vector<size_t>& from,
-                const scan::RingFit& fit, scan::Table t, size_t sampled, std::vector<uint8_t>* best,
-                Scratch* s) {
+// 0), and the whole window only when the sample is smaller with it. Returns the sample's payload
+// with it over `sampled` (0 when not sampled).
+double try_before(const ScanGeometry& g, const ScanGeometry& sample,
+                  const std::vector<size_t>& from, const scan::RingFit& fit, scan::Table t,
+                  size_t sampled, std::vector<uint8_t>* best, Scratch* s) {
   t.before = true;
+  double ratio = 0;
   if (sampled > 0) {
     s->cart.clear();  // the estimates and checks are the frames' they were made on
     s->spherical_ok.clear();
     const size_t size = sample_size(g, sample, from, fit, t, s);
     s->cart.clear();
     s->spherical_ok.clear();
-    if (size >= sampled) return;
+    ratio = static_cast<double>(size) / static_cast<double>(sampled);
+    if (size >= sampled) return ratio;
   }
   scan::Placement placed;
   scan::place_points(g, fit, t, g.total(), &placed);
   std::vector<uint8_t> out = encode_with(g, t, placed, s);
   if (out.size() < best->size()) best->swap(out);
+  return ratio;
 }
+
+// How much larger units bit 7 made the last window's sample for a remembered table's window
+// not to try it (encode_fitted).
+constexpr double kBeforeLost = 1.002;
 
 // The payload of window g under the rings of `fit` (fit_rings of g and hints). *fine_q: the
 // decoder's integers of it when they are not g's (raster::keep_smaller), else empty.
@@ -549,9 +602,25 @@ std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const ScanHints& hints
   if (ws && ws->remember &&
       std::count_if(sizes.begin(), sizes.end(), [](size_t v) { return v > 0; }) > 1)
     ws->choice = chosen;
-  if (best_table.rings() > 0)
-    try_before(g, sample, from, fit, best_table, best_sample, &best, &scratch);
-  scan::raster::keep_smaller(g, hints, &best, fine_q);  // a flash LiDAR's window (scan_raster.h)
+  // Units bit 7 is not tried on a window whose table is the one remembered (its sample alone
+  // coded) when it made the last window's sample where it was tried larger by more than
+  // kBeforeLost: the 20-sweep pandar64 folder's every window by 0.3 % at 1 mm.
+  const bool remembered =
+      ws && ws->remember &&
+      std::count_if(sizes.begin(), sizes.end(), [](size_t v) { return v > 0; }) == 1;
+  if (best_table.rings() > 0 && !(remembered && best_sample > 0 && ws->before > kBeforeLost)) {
+    const double ratio = try_before(g, sample, from, fit, best_table, best_sample, &best, &scratch);
+    if (ws && ws->remember && ratio > 0) ws->before = ratio;
+  }
+  // A flash LiDAR's window (scan_raster.h); not tried again in a sequence whose window before had a
+  // second frame that did not repeat its first's directions (a spinning sensor's: the test keys
+  // every point of the first frame, 2.6 % of the 20-sweep pandar64 folder's encode).
+  const bool sequence = ws && ws->remember;  // one take's windows in order
+  if (sequence && ws->moving) {
+    if (fine_q) fine_q->clear();
+  } else {
+    scan::raster::keep_smaller(g, hints, &best, fine_q, sequence ? &ws->moving : nullptr);
+  }
   return best;
 }
 
@@ -565,60 +634,6 @@ bool keep_smaller_fit(const ScanGeometry& g, const ScanHints& hints, const scan:
   best->swap(out);
   fine_q->swap(q);
   return true;
-}
-
-// Whether ring labels a (ka rings) and b (kb rings) give the valid points of g nearly the same
-// rings, up to the rings' numbering: all but 1 % of them on the ring most of their ring's points
-// have in the other labelling, both ways (a ring field and the elevations' rings of a sensor
-// whose cones hold: the same).
-bool same_rings(const ScanGeometry& g, const std::vector<uint32_t>& a, size_t ka,
-                const std::vector<uint32_t>& b, size_t kb) {
-  if (ka == 0 || kb == 0 || ka * kb > (size_t{1} << 22)) return false;
-  std::vector<uint32_t> pairs(ka * kb, 0);  // (a's ring, b's ring): points
-  size_t valid = 0;
-  for (size_t i = 0; i < g.total(); ++i)
-    if (g.valid[i]) ++valid, ++pairs[a[i] * kb + b[i]];
-  std::vector<size_t> most_a(ka, 0), most_b(kb, 0);
-  for (size_t i = 0; i < ka; ++i)
-    for (size_t j = 0; j < kb; ++j) {
-      most_a[i] = std::max<size_t>(most_a[i], pairs[i * kb + j]);
-      most_b[j] = std::max<size_t>(most_b[j], pairs[i * kb + j]);
-    }
-  size_t agree_a = 0, agree_b = 0;
-  for (size_t v : most_a) agree_a += v;
-  for (size_t v : most_b) agree_b += v;
-  return 100 * (valid - std::min(agree_a, agree_b)) <= valid;
-}
-
-// scan_rings_differ, the rings found kept in (or taken from) *found.
-bool rings_differ(const ScanGeometry& g, const ScanHints& hints, scan::FoundRings* found) {
-  // The rings alone (placed_rings), not the rest of two fits: a third of the instructions.
-  std::vector<uint32_t> field, elevations;
-  const size_t kb = scan::placed_rings(g, hints, false, &elevations, found);
-  if (kb == 0) return false;
-  const size_t ka = scan::placed_rings(g, hints, true, &field, found);
-  return !same_rings(g, field, ka, elevations, kb);
-}
-
-// The geometry rings a decoder finds in `payload`, coded from g's points under the rings of
-// `fit` (FORMAT.md predictor 13): in a spherical frame without cells or raster, each valid
-// point's ring is its fit's (the loop codes the ring it is given); every other point has none.
-std::vector<uint16_t> payload_rings(const ScanGeometry& g, const scan::RingFit& fit,
-                                    const std::vector<uint8_t>& payload) {
-  const scan::Header h =
-      scan::read_header(payload.data(), payload.size(), "scan geometry", SIZE_MAX);
-  std::vector<uint16_t> rings(g.total(), ScanGeometry::kNoRing);
-  size_t first = 0;
-  for (size_t f = 0; f < h.counts.size(); ++f) {
-    const uint8_t fl = h.flags[f];
-    const size_t end = first + h.counts[f];
-    if ((fl & scan::kSpherical) && !(fl & (scan::kCells | scan::kRaster)) && end <= g.total() &&
-        fit.polar.size() >= end)
-      for (size_t i = first; i < end; ++i)
-        if (g.valid[i]) rings[i] = static_cast<uint16_t>(fit.polar[i].ring);
-    first = end;
-  }
-  return rings;
 }
 
 // encode_scan_geometry's payload; *fine_q as encode_fitted's; *rings: its payload_rings.
@@ -637,13 +652,13 @@ std::vector<uint8_t> encode_geometry(const ScanGeometry& g, const ScanHints& hin
   // (docs/lab/2026-11-29-helios-at128.md). The rings from the elevations are tried too when they
   // differ, the smaller payload kept.
   const bool both = !hints.ring.empty() && hints.elevation_rings != 0 &&
-                    (hints.elevation_rings > 0 || rings_differ(g, hints, &found));
+                    (hints.elevation_rings > 0 || scan::rings_differ(g, hints, &found, ws));
   scan::RingFit other;
   if (both) other = scan::fit_rings(g, hints, true, true, false, &found);
   found = scan::FoundRings();  // (the window's rings twice: not held while it is coded)
   if (other.rings() == 0) {
     std::vector<uint8_t> out = encode_fitted(g, hints, fit, ws, fine_q);
-    *rings = payload_rings(g, fit, out);
+    *rings = scan::payload_rings(g, fit, out);
     return out;
   }
   const ScanChoice before = ws ? ws->choice : ScanChoice();
@@ -655,15 +670,11 @@ std::vector<uint8_t> encode_geometry(const ScanGeometry& g, const ScanHints& hin
   }
   const bool second = keep_smaller_fit(g, hints, other, ws, &best, fine_q);
   if (ws && !second) ws->choice = chosen;
-  *rings = payload_rings(g, second ? other : fit, best);
+  *rings = scan::payload_rings(g, second ? other : fit, best);
   return best;
 }
 
 }  // namespace
-
-bool scan_rings_differ(const ScanGeometry& g, const ScanHints& hints) {
-  return rings_differ(g, hints, nullptr);
-}
 
 std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints,
                                           ScanWorkspace* ws) {

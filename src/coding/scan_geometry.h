@@ -82,7 +82,8 @@ struct ScanChoice {
   double finest = 0;  // the trial's finest table: its divisor (16, or 0 for the quantum's)
 };
 // remember: the windows are one sequence's, in order: a window's table choice is kept in
-// `choice` and tried first on the next window's sample (scan_encode.cpp, sampled_choice).
+// `choice` and tried first on the next window's sample (scan_encode.cpp, sampled_choice), and
+// ring_peaks, moving and before below are kept and used.
 // every_table: each laser table the encoder tries codes the whole window, the smallest payload
 // kept (no trial on the window's first points; for measurements and tests). tables_coded and
 // sample_codings: the number of whole-window codings and of trial sample codings so far.
@@ -92,6 +93,15 @@ struct ScanWorkspace {
   ScanChoice choice;
   bool every_table = false;
   size_t tables_coded = 0, sample_codings = 0;
+  // The elevation peaks of the last window whose rings from the elevations were its ring field's
+  // (the next window's ring check tries them first, scan_encode.cpp); else empty.
+  std::vector<double> ring_peaks;
+  // Whether a window's second frame did not repeat its first's directions (a spinning sensor's,
+  // scan_raster.h's keep_smaller): the windows after it are not tried as raster windows.
+  bool moving = false;
+  // With remember: the trial sample's payload with units bit 7 over the one without, in the last
+  // window where it was tried on the sample (0: none yet).
+  double before = 0;
   // After each encode_scan_geometry: when its payload codes other integers than it was given (a
   // raster window at a bound, fine shift above 0), that payload and the integers the decoder gives
   // back from it (x y z per point, 0 at gaps; the coder's own, not decoded again); else empty.
@@ -104,7 +114,7 @@ struct ScanWorkspace {
 };
 
 // The payload of one window. Throws Error(kInvalidArgument) when the shapes disagree.
-// ws: a workspace kept across windows, or null (the same bytes either way).
+// ws: a workspace kept across windows, or null (the same bytes either way unless ws->remember).
 std::vector<uint8_t> encode_scan_geometry(const ScanGeometry& g, const ScanHints& hints = {},
                                           ScanWorkspace* ws = nullptr);
 

@@ -95,9 +95,11 @@ void read_pixels(IntDecoder* dec, const Header& h, Pixels* px);
 // Encoder (scan_raster_encode.cpp): replaces *best by a raster payload of g when the window is
 // a raster's (FORMAT.md, the encoder's note) and that payload is smaller. fine_q (when not null)
 // gets the integers the decoder gives back from *best when it is a raster payload of fine shift
-// above 0 (other integers than g's), else is left empty.
+// above 0 (other integers than g's), else is left empty. moving (when not null) is set when the
+// window's second frame did not repeat the directions of its first (a spinning sensor's), the
+// quick test that ends the trial, and left as it is otherwise.
 void keep_smaller(const ScanGeometry& g, const ScanHints& hints, std::vector<uint8_t>* best,
-                  std::vector<int32_t>* fine_q = nullptr);
+                  std::vector<int32_t>* fine_q = nullptr, bool* moving = nullptr);
 
 }  // namespace raster
 }  // namespace scan

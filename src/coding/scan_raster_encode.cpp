@@ -59,12 +59,20 @@ class KeyMap {
   std::vector<uint32_t> vals_;
 };
 
+// std::llround(v) for |v| < 2^52 (half away from zero), without a call: the fraction v - trunc(v)
+// is exact there.
+int64_t round_half_away(double v) {
+  const auto t = static_cast<int64_t>(v);
+  const double f = v - static_cast<double>(t);
+  return t + (f >= 0.5) - (f <= -0.5);
+}
+
 // A point's direction rounded: the key of its pixel.
 uint64_t direction_key(const float* xyz, double r) {
   uint64_t k = 0;
   for (int a = 0; a < 3; ++a) {
     const double u = r > 0 ? static_cast<double>(xyz[a]) / r : 0.0;
-    k = (k << 18) | static_cast<uint64_t>(std::llround(u * kKeyScale) + 65536);
+    k = (k << 18) | static_cast<uint64_t>(round_half_away(u * kKeyScale) + 65536);
   }
   return k;
 }
@@ -292,11 +300,15 @@ class EncodeIo {
   double unit_;  // source units of a fine integer
 };
 
-// Whether g is a raster window (FORMAT.md, the encoder's note), and what it is.
-bool find_raster(const ScanGeometry& g, const ScanHints& hints, Found* r) {
+// Whether g is a raster window (FORMAT.md, the encoder's note), and what it is. *moving (when not
+// null) set when its second frame did not repeat its first's directions.
+bool find_raster(const ScanGeometry& g, const ScanHints& hints, Found* r, bool* moving) {
   const size_t total = g.total();
-  if (g.counts.size() < 2 || hints.xyz.size() != 3 * total || !second_repeats(g, hints))
+  if (g.counts.size() < 2 || hints.xyz.size() != 3 * total) return false;
+  if (!second_repeats(g, hints)) {
+    if (moving) *moving = true;
     return false;
+  }
   r->dist.assign(total, 0.0);
   size_t valid = 0;
   for (size_t i = 0; i < total; ++i) {
@@ -422,10 +434,10 @@ std::vector<uint8_t> code_raster(const ScanGeometry& g, const ScanHints& hints, 
 }  // namespace
 
 void keep_smaller(const ScanGeometry& g, const ScanHints& hints, std::vector<uint8_t>* best,
-                  std::vector<int32_t>* fine_q) {
+                  std::vector<int32_t>* fine_q, bool* moving) {
   if (fine_q) fine_q->clear();
   Found r;
-  if (!find_raster(g, hints, &r)) return;
+  if (!find_raster(g, hints, &r, moving)) return;
   // Exactly, ranges in the sensor's quantum (coarser ones, 2 and 4 quanta, cost more on
   // robosense-e1 at 1 cm: 284,544 and 276,691 bytes against 248,758).
   std::vector<uint8_t> out = code_raster(g, hints, r, Trial{r.quantum, 0});

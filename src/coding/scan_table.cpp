@@ -21,10 +21,49 @@ bool small_enough(const int32_t* p) {
   return true;
 }
 
+// The length of (x, y) as the root of the sum of squares: std::hypot's value but for the last
+// bit, without its call (the coordinates here are finite and below 2^29 in magnitude, far from
+// the overflow and underflow hypot guards against).
+double planar(double x, double y) {
+  return std::sqrt(x * x + y * y);
+}
+
 double wrap_pi(double d) {
   while (d > kTwoPi / 2) d -= kTwoPi;
   while (d <= -kTwoPi / 2) d += kTwoPi;
   return d;
+}
+
+// atan(k / 8) for k = 0 .. 8: the centres of quick_atan2's series.
+struct AtanEighths {
+  double v[9];
+  AtanEighths() {
+    for (int k = 0; k <= 8; ++k) v[k] = std::atan(k / 8.0);
+  }
+};
+
+// std::atan2(y, x) for finite x y (the same signs and quadrants), within a few units in the last
+// place, at about half its instructions (atan2 was 0.3 G of the 20-sweep pandar64 folder's
+// encode, an azimuth a point): |y / x| or its inverse, t in [0, 1], is taken to the nearest
+// c = k / 8, and atan t = atan c + atan u with u = (t - c) / (1 + t c), |u| < 1/16, whose odd
+// series to u^15 is exact to about 2^-64.
+double quick_atan2(double y, double x) {
+  static const AtanEighths kAtan;
+  const double ax = std::fabs(x), ay = std::fabs(y);
+  if (!(ax > 0 || ay > 0)) return std::atan2(y, x);
+  const bool steep = ay > ax;
+  const double t = steep ? ax / ay : ay / ax;
+  const int k = static_cast<int>(t * 8 + 0.5);
+  const double c = k / 8.0, u = (t - c) / (1 + t * c), u2 = u * u;
+  const double series =
+      u * (1 + u2 * (-1.0 / 3 +
+                     u2 * (1.0 / 5 +
+                           u2 * (-1.0 / 7 +
+                                 u2 * (1.0 / 9 + u2 * (-1.0 / 11 + u2 * (1.0 / 13 - u2 / 15)))))));
+  double a = kAtan.v[k] + series;
+  if (steep) a = kTwoPi / 4 - a;
+  if (std::signbit(x)) a = kTwoPi / 2 - a;
+  return std::signbit(y) ? -a : a;
 }
 
 // Point i's azimuth: from the source's coordinates when the hints have them (on a coarse grid a
@@ -32,9 +71,9 @@ double wrap_pi(double d) {
 double azimuth(const ScanGeometry& g, const ScanHints& h, size_t i) {
   if (h.xyz.size() == 3 * g.total()) {
     const double x = h.xyz[3 * i], y = h.xyz[3 * i + 1];
-    if (std::isfinite(x) && std::isfinite(y)) return std::atan2(y, x);
+    if (std::isfinite(x) && std::isfinite(y)) return quick_atan2(y, x);
   }
-  return std::atan2(double(g.q[3 * i + 1]), double(g.q[3 * i]));
+  return quick_atan2(double(g.q[3 * i + 1]), double(g.q[3 * i]));
 }
 
 // Point i's x y z: the source's coordinates when the hints have them (finite), else the integers.
@@ -51,7 +90,7 @@ void coords(const ScanGeometry& g, const std::vector<float>& xyz, size_t i, doub
 // payload": a ring's slope at azimuth phi is s + w (1 - cos phi)): z / rho - w (1 - cos phi).
 // NaN when rho is 0.
 double bowed_slope(const double* v, double w) {
-  const double r = std::hypot(v[0], v[1]);
+  const double r = planar(v[0], v[1]);
   if (!(r > 0)) return NAN;
   return v[2] / r - w * (1 - v[0] / r);
 }
@@ -88,7 +127,7 @@ float find_bow(const ScanGeometry& g, const ScanHints& h) {
     if (!g.valid[i] || !small_enough(&g.q[3 * i])) continue;
     double v[3];
     coords(g, h.xyz, i, v);
-    const double r = std::hypot(v[0], v[1]);
+    const double r = planar(v[0], v[1]);
     if (!(r > 0)) continue;
     pts.push_back(v[2] / r);
     pts.push_back(1 - v[0] / r);
@@ -143,13 +182,21 @@ size_t dense_rings(const ScanGeometry& g, const ScanHints& h, std::vector<uint32
   return n;
 }
 
+// The number of the peak (of `peaks`, ascending) nearest elevation e.
+uint32_t nearest_peak(const std::vector<double>& peaks, double e) {
+  const auto it = std::lower_bound(peaks.begin(), peaks.end(), e);
+  size_t k = size_t(it - peaks.begin());
+  if (k == peaks.size() || (k > 0 && e - peaks[k - 1] < *it - e)) --k;
+  return uint32_t(k);
+}
+
 // Rings from the points' elevations, for a source without a ring field: the peaks of the
 // elevation histogram of all points (their elevations under the bow w: atan of bowed_slope),
 // each point then given to the nearest peak. 0 when there are no points. (The farther half or
 // quarter alone, where a laser's z offset moves the elevation least, found fewer rings:
 // docs/lab/2026-11-28-scan-geometry.md.)
 size_t elevation_rings(const ScanGeometry& g, const std::vector<float>& xyz, double w,
-                       std::vector<uint32_t>* ring) {
+                       std::vector<uint32_t>* ring, std::vector<double>* found_peaks) {
   constexpr double kBin = 0.0002;  // radians (about 0.011 degrees)
   constexpr int kBins = static_cast<int>(3.2 / kBin);
   std::vector<double> el;
@@ -187,12 +234,8 @@ size_t elevation_rings(const ScanGeometry& g, const std::vector<float>& xyz, dou
   }
   if (peaks.empty() || peaks.size() > kMaxRings) return 0;
   ring->assign(g.total(), 0);
-  for (size_t j = 0; j < el.size(); ++j) {
-    const auto it = std::lower_bound(peaks.begin(), peaks.end(), el[j]);
-    size_t k = size_t(it - peaks.begin());
-    if (k == peaks.size() || (k > 0 && el[j] - peaks[k - 1] < *it - el[j])) --k;
-    (*ring)[idx[j]] = uint32_t(k);
-  }
+  for (size_t j = 0; j < el.size(); ++j) (*ring)[idx[j]] = nearest_peak(peaks, el[j]);
+  if (found_peaks) *found_peaks = peaks;
   return peaks.size();
 }
 
@@ -396,7 +439,7 @@ void fit_units(const ScanGeometry& g, const ScanHints& h, const std::vector<uint
     const double d = distance(h, n, i) - (phase.empty() ? 0 : phase[ring[i]]);
     if (!std::isfinite(d)) continue;
     line[ring[i]].add(std::floor(d / q + 0.5),
-                      std::hypot(double(h.xyz[3 * i]), double(h.xyz[3 * i + 1])) * gpu);
+                      planar(double(h.xyz[3 * i]), double(h.xyz[3 * i + 1])) * gpu);
   }
   r->unit.resize(rings);
   r->offset.resize(rings);
@@ -420,7 +463,7 @@ void fit_units(const ScanGeometry& g, const ScanHints& h, const std::vector<uint
   r->steps.assign(n, 0);
   for (size_t i = 0; i < n; ++i) {
     if (!g.valid[i] || !small_enough(&g.q[3 * i])) continue;
-    const double rho = std::hypot(double(h.xyz[3 * i]), double(h.xyz[3 * i + 1])) * gpu;
+    const double rho = planar(double(h.xyz[3 * i]), double(h.xyz[3 * i + 1])) * gpu;
     r->steps[i] = round_clamp((rho - r->offset[ring[i]]) / r->unit[ring[i]]);
   }
 }
@@ -446,10 +489,11 @@ size_t rings_of(const ScanGeometry& g, const ScanHints& h, bool ring_field, Foun
     if (rings > 0) *ring = found->field;
   }
   if (rings > 0) return rings;
-  if (!found) return elevation_rings(g, h.xyz, find_bow(g, h), ring);
+  if (!found) return elevation_rings(g, h.xyz, find_bow(g, h), ring, nullptr);
   if (!found->elevations_known) {
     found->elevations = *ring;  // elevation_rings leaves it as it is when it finds none
-    found->elevation_rings = elevation_rings(g, h.xyz, bow_of(g, h, found), &found->elevations);
+    found->elevation_rings =
+        elevation_rings(g, h.xyz, bow_of(g, h, found), &found->elevations, &found->peaks);
     found->elevations_known = true;
   }
   if (found->elevation_rings > 0) *ring = found->elevations;
@@ -467,6 +511,25 @@ size_t placed_rings(const ScanGeometry& g, const ScanHints& hints, bool ring_fie
   for (size_t i = 0; i < g.total(); ++i)
     if (g.valid[i] && small_enough(&g.q[3 * i])) (*placed)[i] = ring[i];
   return rings;
+}
+
+size_t peak_rings(const ScanGeometry& g, const ScanHints& hints, const std::vector<double>& peaks,
+                  size_t stride, FoundRings* found, std::vector<uint32_t>* ring,
+                  std::vector<uint8_t>* has) {
+  ring->clear();
+  has->clear();
+  const double w = bow_of(g, hints, found);
+  for (size_t i = 0; i < g.total(); i += stride) {
+    double t = NAN;
+    if (g.valid[i] && small_enough(&g.q[3 * i])) {
+      double v[3];
+      coords(g, hints.xyz, i, v);
+      t = bowed_slope(v, w);
+    }
+    has->push_back(std::isfinite(t));
+    ring->push_back(std::isfinite(t) ? nearest_peak(peaks, std::atan(t)) : 0);
+  }
+  return peaks.size();
 }
 
 RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units, bool shares,
@@ -487,12 +550,12 @@ RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units, boo
     const int32_t* p = &g.q[3 * i];
     if (!g.valid[i] || !small_enough(p)) continue;
     const double x = p[0], y = p[1];
-    const double h = std::hypot(x, y);
+    const double h = planar(x, y);
     double bent = 0;  // the bow's part of z, 1 - cos phi from the finer coordinates
     if (r.bow != 0) {
       double v[3];
       coords(g, hints.xyz, i, v);
-      const double rv = std::hypot(v[0], v[1]);
+      const double rv = planar(v[0], v[1]);
       if (rv > 0) bent = double(r.bow) * h * (1 - v[0] / rv);
     }
     cone[ring[i]].add(h, p[2] - bent);
@@ -515,6 +578,13 @@ double sorted_step(const RingFit& r) {
   for (std::vector<double>& p : phi) std::sort(p.begin(), p.end());
   return std::fabs(infer_step(phi));
 }
+
+// The azimuths a ring's offset is the circular mean of: at least this many, evenly spaced in the
+// ring's (all of a pandar64 sweep's 1,770, every 4th of a 9-sweep window's). All of them cost a
+// sine and a cosine each per step tried: table_fit was 0.74 G of the 16.2 G instructions of the
+// 20-sweep pandar64 folder's encode. 512 made robosense-helios16p 2.1 % larger at 1 mm with
+// --point-order any; from 2048 up it was as with all (docs/lab/2026-11-30-encoder-speed-2.md).
+constexpr size_t kOffsetSample = 4096;
 
 Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* twin) {
   Table t;
@@ -541,9 +611,12 @@ Table table_fit(const RingFit& r, double step_divisor, bool units, const Table* 
   t.azimuth0.resize(rings);
   for (size_t k = 0; k < rings; ++k) {
     double sc = 0, ss = 0;
-    for (double a : r.phi[k]) {
-      const double th = kTwoPi * a / step;
-      sc += std::cos(th), ss += std::sin(th);
+    const std::vector<double>& phi = r.phi[k];
+    const size_t stride = std::max<size_t>(1, phi.size() / kOffsetSample);
+    for (size_t i = 0; i < phi.size(); i += stride) {
+      double sn, cs;  // without libm's calls (a few units in the last place apart)
+      det_sincos(kTwoPi * phi[i] / step, &sn, &cs);
+      sc += cs, ss += sn;
     }
     t.azimuth0[k] = static_cast<float>(step * std::atan2(ss, sc) / kTwoPi);
   }

@@ -47,6 +47,7 @@ struct FoundRings {
   float bow = 0;
   size_t field_rings = 0, elevation_rings = 0;  // 0: none found
   std::vector<uint32_t> field, elevations;      // per point
+  std::vector<double> peaks;  // the elevations' peaks (radians under the bow), when found
 };
 // Without `units` the range step is not looked for (a caller that codes no payload with it);
 // without `shares` neither are the firing's base and slots (fit_shares: a caller whose tables
@@ -59,6 +60,23 @@ RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units = tr
 // way but nothing else fitted; the number of rings, 0 when none are found.
 size_t placed_rings(const ScanGeometry& g, const ScanHints& hints, bool ring_field,
                     std::vector<uint32_t>* ring, FoundRings* found = nullptr);
+// The rings of points 0, stride, 2 stride ... of g by the nearest of `peaks` (an earlier
+// window's FoundRings::peaks) to their elevation under g's bow (kept in found when not null):
+// *ring per point taken, and *has whether it has an elevation (valid, not too far, rho above 0).
+// Returns the number of rings (peaks).
+size_t peak_rings(const ScanGeometry& g, const ScanHints& hints, const std::vector<double>& peaks,
+                  size_t stride, FoundRings* found, std::vector<uint32_t>* ring,
+                  std::vector<uint8_t>* has);
+// Whether the rings fit_rings finds from g's elevations differ from its ring field's (hints.ring,
+// not empty), both found once in *found (when not null; kept there for the fits). With ws (when
+// not null and remembering) the peaks of a window whose rings were the same are kept in
+// ws->ring_peaks and tried first on the next window's points (scan_rings_encode.cpp).
+bool rings_differ(const ScanGeometry& g, const ScanHints& hints, FoundRings* found,
+                  ScanWorkspace* ws);
+// The geometry rings a decoder finds in `payload`, coded from g's points under the rings of
+// `fit` (FORMAT.md predictor 13; scan_rings_encode.cpp).
+std::vector<uint16_t> payload_rings(const ScanGeometry& g, const RingFit& fit,
+                                    const std::vector<uint8_t>& payload);
 // Every point's place under a table (place_points): its ring, column and range, and on a table
 // with slots its firing's base and turn (else `fire` is empty).
 struct Placement {

@@ -17,9 +17,10 @@ namespace {
 // ring), firing together every `step` radians, ranges from a room-like scene, some returns
 // missing (dropped, so every frame has its own count) and some NaN (kept as gaps).
 // wobble: the firings' azimuths off the step by up to that share of it (a sensor whose azimuth
-// step is not its firing interval: finer tables' columns fit them better).
+// step is not its firing interval: finer tables' columns fit them better). lift: each laser's
+// height above the one below (m; at 0 the elevations' rings are the ring field's).
 ScanGeometry spinning(int frames, int rings, int firings, uint32_t seed, ScanHints* hints,
-                      double wobble = 0) {
+                      double wobble = 0, double lift = 0.002) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0, 1);
   ScanGeometry g;
@@ -30,7 +31,7 @@ ScanGeometry spinning(int frames, int rings, int firings, uint32_t seed, ScanHin
       const double az = (c + wobble * std::sin(0.37 * c)) * step + 0.001 * f;
       for (int k = 0; k < rings; ++k) {
         if (u(rng) < 0.05) continue;  // no return
-        const double el = -0.26 + 0.4 * k / rings, z0 = 0.002 * k;
+        const double el = -0.26 + 0.4 * k / rings, z0 = lift * k;
         const double range = 8 + 3 * std::sin(3 * az) + 0.5 * std::cos(7 * az + k) + 0.01 * u(rng);
         const double rho = range * std::cos(el);
         const bool nan = u(rng) < 0.01;
@@ -284,6 +285,30 @@ TEST(ScanTrial, GivenASequenceWhenTheChoiceIsRememberedThenTheNextWindowTriesItA
   const size_t before = ws.sample_codings;
   encode_scan_geometry(g2, h2, &ws);
   EXPECT_GE(ws.sample_codings, before + tried);
+}
+
+// What a sequence keeps beside its table choice: a spinning sensor's window leaves `moving` set
+// (its second frame did not repeat its first's directions) and its elevation peaks (its ring
+// field's rings); the next window's ring check on every 16th point and on those peaks, and its
+// raster test skipped, give the bytes the full check and the test give.
+TEST(ScanTrial, GivenASequenceWhenItsRingsAndMotionAreKeptThenTheNextWindowCodesTheSame) {
+  ScanHints h1, h2;
+  const ScanGeometry g1 = spinning(3, 16, 2400, 8, &h1, 0, 0),
+                     g2 = spinning(3, 16, 2400, 9, &h2, 0, 0);
+  ScanWorkspace ws;
+  ws.remember = true;
+  encode_scan_geometry(g1, h1, &ws);
+  EXPECT_TRUE(ws.moving);
+  EXPECT_FALSE(scan_rings_differ(g1, h1));
+  ASSERT_EQ(ws.ring_peaks.size(), 16u);
+  ASSERT_FALSE(scan_rings_differ(g2, h2));
+  ScanWorkspace full = ws;
+  full.ring_peaks.clear();
+  full.moving = false;
+  const std::vector<uint8_t> quick = encode_scan_geometry(g2, h2, &ws);
+  EXPECT_EQ(quick, encode_scan_geometry(g2, h2, &full));
+  EXPECT_EQ(ws.ring_peaks.size(), 16u);
+  expect_same(g2, decode_scan_geometry(quick.data(), quick.size(), "test"));
 }
 
 }  // namespace
