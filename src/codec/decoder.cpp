@@ -201,15 +201,21 @@ void decode_window_rotations(const StreamContext& ctx, WindowChunks* chunks, siz
 }
 
 // Opens window w's SCNW chunk: checks the window index and returns the window's total points,
-// within the caller's limit (*r then at the geometry payload).
+// within the caller's limit, and in *origin its gaps byte's bit 0 (FORMAT.md "Origin points";
+// *r then after that byte).
 uint64_t open_scan_chunk(const StreamContext& ctx, WindowChunks* chunks, const Chunk& c,
-                         ByteReader* r) {
+                         ByteReader* r, bool* origin) {
   chunks->open(c, r);
   const uint64_t total = r->varint();
   if (total > ctx.max_points)
     fail(ErrorCode::kMemoryLimit, chunks->what("SCNW"),
          std::to_string(total) + " points exceed the memory limit (" +
              std::to_string(ctx.max_points) + " points)");
+  const uint8_t gaps = r->u8();
+  if (gaps > 1)
+    fail(ErrorCode::kCorrupt, chunks->what("SCNW"),
+         "gaps byte " + std::to_string(gaps) + " has bits other than bit 0");
+  *origin = gaps == 1;
   return total;
 }
 
@@ -259,13 +265,14 @@ void check_organized_count(const StreamContext& ctx, uint64_t n, const std::stri
 // "Scans (format 1.1)": the fn frames of window w of a ragged stream from its SCNW chunk, into
 // out's frame offsets, gaps and coordinates (gaps 0), and its grid integers (total x 3, in the
 // flattened point order) into *q for ATTR's predictors 10 and 11, and with fields each point's
-// geometry ring into *rings for ATTR's predictor 13 (else *rings empty).
+// geometry ring into *rings for ATTR's predictor 13 (else *rings empty); *origin: the window's
+// gaps are origin points (FORMAT.md "Origin points", made points by the caller after ATTR).
 void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t fn, FrameBlock* out,
-                        std::vector<int32_t>* q, std::vector<uint16_t>* rings) {
+                        std::vector<int32_t>* q, std::vector<uint16_t>* rings, bool* origin) {
   Chunk c = chunks->next("SCNW", true);
   const std::string what = chunks->what("SCNW");
   ByteReader r(c.payload, c.size, what);
-  const uint64_t total = open_scan_chunk(ctx, chunks, c, &r);
+  const uint64_t total = open_scan_chunk(ctx, chunks, c, &r, origin);
   std::vector<uint64_t> zeros;
   const int e = read_split(ctx.h, total, &r, &zeros);
   size_t geo = r.remaining();
@@ -376,8 +383,9 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
   if (ints) q.swap(*ints);      // its memory, given back at the end
   b.frame_offsets.clear();
   if (h.ragged && ctx.words) fail(ErrorCode::kCorrupt, ctx.name, "ragged frames with C3D words");
+  bool origin = false;  // a ragged window's gaps are origin points (FORMAT.md "Origin points")
   if (h.ragged)
-    decode_window_scan(ctx, &chunks, fn, &b, &q, &rings);
+    decode_window_scan(ctx, &chunks, fn, &b, &q, &rings, &origin);
   else
     decode_window_positions(ctx, &chunks, fn, &b.valid, &b.xyz, &q);
   // The analog rows must fit what the chunks can hold before they are allocated.
@@ -420,6 +428,9 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
     decode_window_attributes(ctx, &chunks, fn, N, ctx.take.pcd->width, q, {}, out);
   }
   chunks.check_rest();
+  if (origin)  // the gaps (their coordinates +0.0 from the payload) as valid points at 0 0 0
+    for (size_t i = 0; i < b.valid.size(); ++i)
+      if (!b.valid[i]) b.valid[i] = 1, b.xyz[3 * i] = b.xyz[3 * i + 1] = b.xyz[3 * i + 2] = 0.0;
   if (ints) ints->swap(q);
 }
 
@@ -443,7 +454,8 @@ std::vector<size_t> ragged_frame_offsets(StreamBytes& bytes, const ParsedStream&
     const Chunk c = chunks.next("SCNW", true);
     const std::string what = chunks.what("SCNW");
     ByteReader r(c.payload, c.size, what);
-    const uint64_t total = open_scan_chunk(ps, &chunks, c, &r);
+    bool origin = false;
+    const uint64_t total = open_scan_chunk(ps, &chunks, c, &r, &origin);
     std::vector<uint64_t> zeros;
     const int e = read_split(ps.h, total, &r, &zeros);
     if (e != scan::kNoSplit) r.varint();  // the geometry's length

@@ -1,6 +1,7 @@
 // "Lossless ragged streams" (docs/FORMAT.md, format 1.1): the negative zeros of a mode 1 window
-// (lossless). A decimal grid decodes q = 0 as +0.0; the window's SCNW lists, after `total`, the
-// coordinates that are -0.0 (a `-0.000000` in a PLY or PCD text), and the decoder negates them.
+// (lossless). A decimal grid decodes q = 0 as +0.0; the window's SCNW lists, after `total` and
+// `gaps`, the coordinates that are -0.0 (a `-0.000000` in a PLY or PCD text), and the decoder
+// negates them.
 #pragma once
 
 #include <cstddef>

@@ -262,6 +262,7 @@ struct RaggedRun {
   FrameBlock back;                   // the window decoded again (kept: its memory is reused)
   int fine;                          // the last SCNW's fine shift (FORMAT.md "Raster frames")
   ScanWorkspace scan_ws;             // the scan coder's maps, kept from window to window
+  bool origin;                       // the window's gaps are origin points (SCNW's gaps bit 0)
 };
 
 // SCNW's bytes after `total` ("Scans (format 1.1)"): in mode 2 the split exponent e, and with a
@@ -366,6 +367,7 @@ void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<
   ByteWriter pw;
   pw.varint(w);
   pw.varint(n);
+  pw.u8(r.origin ? 1 : 0);  // gaps
   if (lists_negative_zeros(r.ctx.h)) write_negative_zeros(b.xyz, b.valid, &pw);
   std::vector<uint8_t> payload = std::move(pw.buffer());
   r.scan_ws.remember = !mode2;  // the take's windows in order, each coded once here
@@ -489,6 +491,33 @@ bool octree_may_win(const RaggedRun& r, const WindowBytes& at, const OctreeOffer
   return !offer.coded.empty() && 10 * saving >= r.attribute_bytes - at.attribute;
 }
 
+// FORMAT.md "Origin points": when block b has points at exactly +0.0 +0.0 +0.0 (bit patterns)
+// and no gap, those points become its gaps (true returned), else b is left as it is.
+bool origin_gaps(FrameBlock* b) {
+  const auto origin = [&](size_t i) {
+    const double* p = &b->xyz[3 * i];
+    return same_bits(p[0], 0.0) && same_bits(p[1], 0.0) && same_bits(p[2], 0.0);
+  };
+  bool any = false;
+  for (size_t i = 0; i < b->valid.size(); ++i) {
+    if (!b->valid[i]) return false;
+    any = any || origin(i);
+  }
+  for (size_t i = 0; any && i < b->valid.size(); ++i)
+    if (origin(i)) b->valid[i] = 0;
+  return any;
+}
+
+// The gaps of a block origin_gaps made (and coded, perhaps reordered) back as the points they
+// were, as the decoder gives them.
+void origin_points(FrameBlock* b) {
+  for (size_t i = 0; i < b->valid.size(); ++i)
+    if (!b->valid[i]) {
+      b->valid[i] = 1;
+      for (size_t a = 0; a < 3; ++a) b->xyz[3 * i + a] = 0.0;
+    }
+}
+
 // Window w (the frames of b, as read; its fields are taken): its chunks written to r.out, after
 // the one decoder has given them back for the check (opts.check) and the measures (stats).
 void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
@@ -502,6 +531,7 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
   // chosen on the geometry's bytes; with fields, the file's order and octree frames (where their
   // geometry is smaller) are coded too, fields and all, and the smallest window kept: the fields
   // (timestamps, rings) may cost more in a sorted or Morton order than in a firing's.
+  r.origin = origin_gaps(b);
   std::unique_ptr<FrameBlock> as_read;
   OctreeOffer offer;
   std::vector<uint8_t> coded, kept;  // the geometry payloads of the chosen and the file's order
@@ -522,6 +552,7 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
   if (as_read) keep_smaller(r, w, at, as_read.get(), kept, b, &q, &fields);
   if (octree_may_win(r, at, offer))
     keep_smaller(r, w, at, &offer.block, offer.coded, b, &q, &fields);
+  if (r.origin) origin_points(b);
   FrameBlock& d = r.back;
   if (r.opts.check || measure) {
     decode_window_chunks(r.ctx, w, r.buf.data(), base, base + r.buf.size(), &d);
@@ -617,7 +648,8 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
               {},
               FrameBlock(),
               0,
-              ScanWorkspace()};
+              ScanWorkspace(),
+              false};
   const size_t W = h.window_frames;
   for (size_t w = 0; w * W < t.frames; ++w) {
     const size_t f0 = w * W, f1 = std::min<size_t>(f0 + W, t.frames);

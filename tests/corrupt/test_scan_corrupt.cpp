@@ -178,8 +178,9 @@ TEST(ScanCorrupt, GivenTheOctreeGoldenThenItsBlockTakesTheConesAndCountingModels
   for (size_t i = 0; i < c.type.size(); ++i) {
     if (c.type[i] != "SCNW") continue;
     ByteReader r(c.payload[i].data(), c.payload[i].size(), "SCNW");
-    r.varint();  // window, total: mode 0 has no zeros, no split
+    r.varint();  // window, total, gaps: mode 0 has no zeros, no split
     r.varint();
+    r.u8();
     const uint8_t* g = c.payload[i].data() + r.offset();
     const size_t n = c.payload[i].size() - r.offset();
     const scan::Header h = scan::read_header(g, n, "SCNW", SIZE_MAX);
@@ -199,6 +200,7 @@ TEST(ScanCorrupt, GivenADamagedFloat32SplitThenCorruptNamingScnw) {
   ByteReader r(good.payload[scnw].data(), good.payload[scnw].size(), "SCNW");
   r.varint();
   r.varint();
+  ASSERT_EQ(r.u8(), 0);  // gaps: no origin points
   const size_t e_at = r.offset();
   const int e = static_cast<int8_t>(r.u8());
   ASSERT_GE(e, -64);  // the golden stream has a split
@@ -368,10 +370,11 @@ TEST(ScanCorrupt, GivenFrameCountsDisagreeingWithHeadThenCorrupt) {
       EXPECT_EQ(decode_code(c.bytes(), &msg), static_cast<int>(ErrorCode::kCorrupt))
           << int(frames) << ": " << msg;
     }
-    // SCNW payload: window, total (varints), then F and the n_f (varints).
+    // SCNW payload: window, total (varints), gaps (u8), then F and the n_f (varints).
     ByteReader r(good.payload[scnw].data(), good.payload[scnw].size(), "SCNW");
     r.varint();
     const uint64_t total = r.varint();
+    EXPECT_EQ(r.u8(), 0);  // gaps
     const size_t f_at = r.offset();
     const uint64_t F = r.varint();
     const size_t n0_at = r.offset();
@@ -408,6 +411,7 @@ TEST(ScanCorrupt, GivenAFrameCountThatIsNotTheOrganizedShapeThenCorrupt) {
   ByteReader r(good.payload[scnw].data(), good.payload[scnw].size(), "SCNW");
   r.varint();
   ASSERT_EQ(r.varint(), 6u * 512u);  // total
+  ASSERT_EQ(r.u8(), 0);              // gaps
   ASSERT_EQ(r.varint(), 6u);         // F
   const size_t n0_at = r.offset();
   ASSERT_EQ(r.varint(), 512u);

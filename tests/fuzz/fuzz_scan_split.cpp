@@ -1,8 +1,8 @@
 // Fuzz target: the float32 split of lossless scan windows (coding/scan_split.h; docs/FORMAT.md
 // "Lossless ragged streams"), through the scan geometry coder as SCNW carries it. Byte 0 picks
 // the mode:
-//   even: the rest is SCNW's body after its point count in mode 2 with a split: the exponent E
-//     (int8), the geometry's length (varint), the geometry (at most 4096 points) and the
+//   even: the rest is SCNW's body after its point count and gaps byte in mode 2 with a split: the
+//     exponent E (int8), the geometry's length (varint), the geometry (at most 4096 points) and the
 //     corrections block, decoded as the decoder does. It must return or throw capz::Error; what
 //     decodes is float32 at every valid coordinate, and split again at E gives the same
 //     integers and corrections that decode to the same coordinates;

@@ -200,17 +200,19 @@ TEST(NegativeZeroLossless, DamagedListIsCorruptNamingScnw) {
   const std::vector<uint8_t> z = capz::compress(memory_take(), o);
   const size_t at = capz_test::find_chunk(z, "SCNW");
   ASSERT_NE(at, std::string::npos);
-  // The payload: window 0, total 5, count 4, then the gaps 0 (j 0), 3 (j 4), 0 (j 5) and 3 (j 9);
-  // each change below is one byte: a count of 16, a first j of 1 (0.5), 6 (the gap), 14 and 15.
+  // The payload: window 0, total 5, gaps byte 0, count 4, then the gaps 0 (j 0), 3 (j 4), 0 (j 5)
+  // and 3 (j 9); each change below is one byte: a count of 16, a first j of 1 (0.5), 6 (the gap),
+  // 14 and 15.
   const size_t p = at + 8;
   ASSERT_EQ(z[p], 0);
   ASSERT_EQ(z[p + 1], 5);
-  ASSERT_EQ(z[p + 2], 4);
-  ASSERT_EQ(z[p + 3], 0);
+  ASSERT_EQ(z[p + 2], 0);
+  ASSERT_EQ(z[p + 3], 4);
+  ASSERT_EQ(z[p + 4], 0);
   const struct {
     size_t offset;
     uint8_t value;
-  } damage[] = {{p + 2, 16}, {p + 3, 1}, {p + 3, 6}, {p + 3, 14}, {p + 3, 15}};
+  } damage[] = {{p + 3, 16}, {p + 4, 1}, {p + 4, 6}, {p + 4, 14}, {p + 4, 15}};
   for (const auto& d : damage) {
     std::vector<uint8_t> b = z;
     b[d.offset] = d.value;

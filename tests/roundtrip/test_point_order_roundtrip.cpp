@@ -98,6 +98,7 @@ bool codes_octree_frames(const std::vector<uint8_t>& z) {
   ByteReader r(p, n, "SCNW");
   r.varint();  // window
   const uint64_t total = r.varint();
+  r.u8();  // gaps
   return scan::read_header(p + r.offset(), n - r.offset(), "SCNW", total).octree_size > 0;
 }
 
