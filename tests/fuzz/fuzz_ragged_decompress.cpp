@@ -101,6 +101,7 @@ std::vector<uint8_t> frame_payload(const uint8_t* geo, size_t size) {
   capz::ByteWriter w;
   w.varint(0);
   w.varint(total);
+  w.u8(0);  // gaps: NaN (FORMAT.md "Origin points")
   std::vector<uint8_t> scnw = std::move(w.buffer());
   scnw.insert(scnw.end(), geo, geo + size);
   const size_t at = out.size();
