@@ -127,11 +127,12 @@ ScanHints picked(const ScanHints& h, const std::vector<uint32_t>& idx) {
 
 // The far parts' payload (FORMAT.md "Split frames"): the far points in file order (`table`
 // null) or sorted under *table, and with cells (ring by ring too) when they are worth a trial
-// (the smaller kept); its order in *order. The window's own choice of order is the far parts'.
+// (the smaller kept; not tried without cells_allowed); its order in *order. The window's own
+// choice of order is the far parts'.
 std::vector<uint8_t> far_payload(const ScanGeometry& g, const ScanHints& h,
                                  const ScanOrderTable* table, ScanWorkspace* ws,
-                                 std::vector<uint32_t>* order) {
-  const bool cells = cells_worth_trying(g);
+                                 std::vector<uint32_t>* order, bool cells_allowed = true) {
+  const bool cells = cells_allowed && cells_worth_trying(g);
   std::vector<uint32_t> by_ring;
   if (table) {
     *order = scan_point_order(g, h, *table,
@@ -269,15 +270,16 @@ bool split_estimate(const ScanGeometry& g, double r2, size_t per_point, size_t c
   return true;
 }
 
-// Split s coded, its far parts in `table`'s order (far_payload's) on ws: true, with the payload
-// in *bytes and the window's order in *order, when the payload is below `limit` bytes.
+// Split s coded, its far parts in `table`'s order (far_payload's, with cells as `cells`
+// allows) on ws: true, with the payload in *bytes and the window's order in *order, when the
+// payload is below `limit` bytes.
 bool split_coded(const ScanGeometry& g, const ScanHints& hints, const Split& s,
                  const ScanOrderTable* table, size_t limit, ScanWorkspace* ws,
-                 std::vector<uint8_t>* bytes, std::vector<uint32_t>* order) {
+                 std::vector<uint8_t>* bytes, std::vector<uint32_t>* order, bool cells = true) {
   const Parted& p = s.p;
   std::vector<uint32_t> far_order;
-  const std::vector<uint8_t> far_bytes =
-      far_payload(picked(g, p.far, p.far_counts), picked(hints, p.far), table, ws, &far_order);
+  const std::vector<uint8_t> far_bytes = far_payload(
+      picked(g, p.far, p.far_counts), picked(hints, p.far), table, ws, &far_order, cells);
   std::vector<uint8_t> payload = encode_scan_split(s.near, far_bytes, p.has_far, 3);
   if (payload.empty() || payload.size() >= limit) return false;
   bytes->swap(payload);
@@ -304,7 +306,7 @@ size_t octree_bytes(const ScanGeometry& g1, const ScanHints& h1) {
 // with no frame before it, its dearest; split_estimate misjudged the Helios' splits by 1.06 to
 // 1.18 times, ranking the radii wrongly, and their first frames ranked them as their windows
 // (docs/lab/2026-11-30-split-radius.md).
-void first_frame_choice(const ScanGeometry& g, const ScanHints& hints, const ScanOrderTable* table,
+void first_frame_radius(const ScanGeometry& g, const ScanHints& hints, const ScanOrderTable* table,
                         size_t per_point, size_t octree, ScanWorkspace* ws,
                         std::vector<Split>* splits) {
   std::vector<uint32_t> idx(g.counts[0]);
@@ -320,9 +322,11 @@ void first_frame_choice(const ScanGeometry& g, const ScanHints& hints, const Sca
     Split s1;
     std::vector<uint8_t> bytes;
     std::vector<uint32_t> order;
-    // (per_cell 1: the estimate is not used, and the near parts' octree not coded for it)
+    // (per_cell 1: the estimate is not used, and the near parts' octree not coded for it; the far
+    // parts without cells: their two trials cost the most, on xt32m's far points 1.3 G
+    // instructions each, and the Helios' first frames ranked the radii the same without them)
     if (split_estimate(g1, (*splits)[k].r2, share, copies1, 1, &s1) &&
-        split_coded(g1, h1, s1, table, least, ws, &bytes, &order))
+        split_coded(g1, h1, s1, table, least, ws, &bytes, &order, false))
       least = bytes.size(), at = k;
   }
   const size_t reference = octree > 0 ? octree_bytes(g1, h1) : share;
@@ -336,10 +340,10 @@ void first_frame_choice(const ScanGeometry& g, const ScanHints& hints, const Sca
 
 // Split frames (FORMAT.md "Split frames") at 1, 2, 4 or 8 m, below `limit` bytes: true, with the
 // smallest payload in *bytes and the window's order in *order, else false. A window of several
-// frames is coded at the radius first_frame_choice keeps, if any; a window of one frame at each
-// radius whose estimate is below 5/4 of the smallest payload so far, least estimate first (the
+// frames is coded at the radius first_frame_radius keeps, if any; a window of one frame at each
+// radius whose estimate is below 1.15 of the smallest payload so far, least estimate first (the
 // estimates rank the radii roughly: hesai-xt32m's smallest at 1 cm was 1.11 of the payload
-// before it; one frame costs little).
+// before it; one frame costs little), those at or above it with far parts without cells.
 // per_point: the window's best payload of the per-point coder; table: its order; octree: the bytes
 // of its octree payload, or 0 (none smaller than per_point).
 bool split_window(const ScanGeometry& g, const ScanHints& hints, const ScanOrderTable* table,
@@ -364,14 +368,15 @@ bool split_window(const ScanGeometry& g, const ScanHints& hints, const ScanOrder
   // own, and that does not move the encoder's (the maps are shared memory, reset by each payload).
   ScanWorkspace ws = window_ws ? *window_ws : ScanWorkspace{};
   const bool one = g.counts.size() == 1;
-  if (!one && !splits.empty()) first_frame_choice(g, hints, table, per_point, octree, &ws, &splits);
+  if (!one && !splits.empty()) first_frame_radius(g, hints, table, per_point, octree, &ws, &splits);
   std::sort(splits.begin(), splits.end(),
             [](const Split& a, const Split& b) { return a.estimate < b.estimate; });
   bool found = false;
   for (const Split& s : splits) {
     const size_t most = found ? bytes->size() : limit;
-    if (one && s.estimate >= 1.25 * double(most)) break;
-    found = split_coded(g, hints, s, table, most, &ws, bytes, order) || found;
+    if (one && s.estimate >= 1.15 * double(most)) break;
+    found = split_coded(g, hints, s, table, most, &ws, bytes, order, s.estimate < double(most)) ||
+            found;
   }
   return found;
 }
