@@ -343,7 +343,8 @@ void first_frame_radius(const ScanGeometry& g, const ScanHints& hints, const Sca
 // frames is coded at the radius first_frame_radius keeps, if any; a window of one frame at each
 // radius whose estimate is below 1.15 of the smallest payload so far, least estimate first (the
 // estimates rank the radii roughly: hesai-xt32m's smallest at 1 cm was 1.11 of the payload
-// before it; one frame costs little), those at or above it with far parts without cells.
+// before it; one frame costs little). A split whose estimate is not below the payload to beat
+// is coded with its far parts without cells (the Helios' window the same bytes either way).
 // per_point: the window's best payload of the per-point coder; table: its order; octree: the bytes
 // of its octree payload, or 0 (none smaller than per_point).
 bool split_window(const ScanGeometry& g, const ScanHints& hints, const ScanOrderTable* table,
