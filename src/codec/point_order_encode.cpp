@@ -334,7 +334,7 @@ void first_frame_radius(const ScanGeometry& g, const ScanHints& hints, const Sca
     splits->clear();
     return;
   }
-  (*splits)[0] = std::move((*splits)[at]);
+  std::swap((*splits)[0], (*splits)[at]);  // (not a move: at may be 0)
   splits->resize(1);
 }
 
@@ -369,6 +369,12 @@ bool split_window(const ScanGeometry& g, const ScanHints& hints, const ScanOrder
   // own, and that does not move the encoder's (the maps are shared memory, reset by each payload).
   ScanWorkspace ws = window_ws ? *window_ws : ScanWorkspace{};
   const bool one = g.counts.size() == 1;
+  // Several frames: the radii estimated within 5/4 of the limit (the Helios' best at 1.11),
+  // the first frame's choice among them.
+  if (!one)
+    splits.erase(std::remove_if(splits.begin(), splits.end(),
+                                [&](const Split& s) { return s.estimate >= 1.25 * double(limit); }),
+                 splits.end());
   if (!one && !splits.empty()) first_frame_radius(g, hints, table, per_point, octree, &ws, &splits);
   std::sort(splits.begin(), splits.end(),
             [](const Split& a, const Split& b) { return a.estimate < b.estimate; });
