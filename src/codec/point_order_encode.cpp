@@ -127,11 +127,12 @@ ScanHints picked(const ScanHints& h, const std::vector<uint32_t>& idx) {
 
 // The far parts' payload (FORMAT.md "Split frames"): the far points in file order (`table`
 // null) or sorted under *table, and with cells (ring by ring too) when they are worth a trial
-// (the smaller kept); its order in *order. The window's own choice of order is the far parts'.
+// (the smaller kept; not tried without cells_allowed); its order in *order. The window's own
+// choice of order is the far parts'.
 std::vector<uint8_t> far_payload(const ScanGeometry& g, const ScanHints& h,
                                  const ScanOrderTable* table, ScanWorkspace* ws,
-                                 std::vector<uint32_t>* order) {
-  const bool cells = cells_worth_trying(g);
+                                 std::vector<uint32_t>* order, bool cells_allowed = true) {
+  const bool cells = cells_allowed && cells_worth_trying(g);
   std::vector<uint32_t> by_ring;
   if (table) {
     *order = scan_point_order(g, h, *table,
@@ -228,6 +229,7 @@ struct Split {
   ScanGeometry near;
   std::vector<uint32_t> near_order;
   double estimate = 0;
+  double r2 = 0;  // the radius^2 (grid units)
 };
 
 // The split of g at radius^2 r2 and its estimate: the near parts' octree plus the far points'
@@ -268,15 +270,16 @@ bool split_estimate(const ScanGeometry& g, double r2, size_t per_point, size_t c
   return true;
 }
 
-// Split s coded, its far parts in `table`'s order (far_payload's) on ws: true, with the payload
-// in *bytes and the window's order in *order, when the payload is below `limit` bytes.
+// Split s coded, its far parts in `table`'s order (far_payload's, with cells as `cells`
+// allows) on ws: true, with the payload in *bytes and the window's order in *order, when the
+// payload is below `limit` bytes.
 bool split_coded(const ScanGeometry& g, const ScanHints& hints, const Split& s,
                  const ScanOrderTable* table, size_t limit, ScanWorkspace* ws,
-                 std::vector<uint8_t>* bytes, std::vector<uint32_t>* order) {
+                 std::vector<uint8_t>* bytes, std::vector<uint32_t>* order, bool cells = true) {
   const Parted& p = s.p;
   std::vector<uint32_t> far_order;
-  const std::vector<uint8_t> far_bytes =
-      far_payload(picked(g, p.far, p.far_counts), picked(hints, p.far), table, ws, &far_order);
+  const std::vector<uint8_t> far_bytes = far_payload(
+      picked(g, p.far, p.far_counts), picked(hints, p.far), table, ws, &far_order, cells);
   std::vector<uint8_t> payload = encode_scan_split(s.near, far_bytes, p.has_far, 3);
   if (payload.empty() || payload.size() >= limit) return false;
   bytes->swap(payload);
@@ -284,11 +287,64 @@ bool split_coded(const ScanGeometry& g, const ScanHints& hints, const Split& s,
   return true;
 }
 
+// A window of one frame (g1, hints h1) as octree frames, as octree_window codes it: the bytes
+// of the smaller payload with and without the cones, SIZE_MAX when it has none.
+size_t octree_bytes(const ScanGeometry& g1, const ScanHints& h1) {
+  const ScanGeometry sorted = permuted(g1, octree_frame_order(g1, 0, g1.total()));
+  size_t least = SIZE_MAX;
+  const std::vector<uint8_t> plain = encode_scan_octree(sorted);
+  if (!plain.empty()) least = plain.size();
+  const scan::Table table = octree_cone_table(g1, h1);
+  if (table.rings() > 0) least = std::min(least, encode_scan_octree(sorted, &table, 3).size());
+  return least;
+}
+
+// The split of a window of several frames worth coding: each of `splits` (split_estimate's)
+// coded on the window's first frame alone, the radius of the smallest kept (splits resized to
+// it) when that is 1 % below the first frame's payload of the window's choice (octree: coded
+// alone as octree frames; else its share of per_point by valid points). Both are that frame
+// with no frame before it, its dearest; split_estimate misjudged the Helios' splits by 1.06 to
+// 1.18 times, ranking the radii wrongly, and their first frames ranked them as their windows
+// (docs/lab/2026-11-30-split-radius.md).
+void first_frame_radius(const ScanGeometry& g, const ScanHints& hints, const ScanOrderTable* table,
+                        size_t per_point, size_t octree, ScanWorkspace* ws,
+                        std::vector<Split>* splits) {
+  std::vector<uint32_t> idx(g.counts[0]);
+  for (size_t j = 0; j < idx.size(); ++j) idx[j] = static_cast<uint32_t>(j);
+  const ScanHints h1 = picked(hints, idx);
+  const ScanGeometry g1 = picked(g, idx, {g.counts[0]});
+  const size_t valid = static_cast<size_t>(std::count(g.valid.begin(), g.valid.end(), 1));
+  const size_t valid1 = static_cast<size_t>(std::count(g1.valid.begin(), g1.valid.end(), 1));
+  const size_t copies1 = scan_grouped_copies(g1);
+  const size_t share = valid > 0 ? per_point * valid1 / valid : 0;
+  size_t least = SIZE_MAX, at = 0;
+  for (size_t k = 0; k < splits->size(); ++k) {
+    Split s1;
+    std::vector<uint8_t> bytes;
+    std::vector<uint32_t> order;
+    // (per_cell 1: the estimate is not used, and the near parts' octree not coded for it; the far
+    // parts without cells: their two trials cost the most, on xt32m's far points 1.3 G
+    // instructions each, and the Helios' first frames ranked the radii the same without them)
+    if (split_estimate(g1, (*splits)[k].r2, share, copies1, 1, &s1) &&
+        split_coded(g1, h1, s1, table, least, ws, &bytes, &order, false))
+      least = bytes.size(), at = k;
+  }
+  const size_t reference = octree > 0 ? octree_bytes(g1, h1) : share;
+  if (least == SIZE_MAX || double(least) >= 0.99 * double(reference)) {
+    splits->clear();
+    return;
+  }
+  std::swap((*splits)[0], (*splits)[at]);  // (not a move: at may be 0)
+  splits->resize(1);
+}
+
 // Split frames (FORMAT.md "Split frames") at 1, 2, 4 or 8 m, below `limit` bytes: true, with the
 // smallest payload in *bytes and the window's order in *order, else false. A window of several
-// frames is coded at the radius of the least estimate (split_estimate's) when that is 1 % below
-// `limit`; a window of one frame at each radius whose estimate is below the smallest payload so
-// far, least estimate first (the estimates rank the radii roughly; one frame costs little).
+// frames is coded at the radius first_frame_radius keeps, if any; a window of one frame at each
+// radius whose estimate is below 1.15 of the smallest payload so far, least estimate first (the
+// estimates rank the radii roughly: hesai-xt32m's smallest at 1 cm was 1.11 of the payload
+// before it; one frame costs little). A split whose estimate is not below the payload to beat
+// is coded with its far parts without cells (the Helios' window the same bytes either way).
 // per_point: the window's best payload of the per-point coder; table: its order; octree: the bytes
 // of its octree payload, or 0 (none smaller than per_point).
 bool split_window(const ScanGeometry& g, const ScanHints& hints, const ScanOrderTable* table,
@@ -306,20 +362,28 @@ bool split_window(const ScanGeometry& g, const ScanHints& hints, const ScanOrder
   for (double metres : {1.0, 2.0, 4.0, 8.0}) {
     const double r = metres * hints.grid_per_unit;
     Split s;
+    s.r2 = r * r;
     if (split_estimate(g, r * r, per_point, copies, per_cell, &s)) splits.push_back(std::move(s));
   }
-  std::sort(splits.begin(), splits.end(),
-            [](const Split& a, const Split& b) { return a.estimate < b.estimate; });
-  const bool one = g.counts.size() == 1;
-  if (!one && splits.size() > 1) splits.resize(1);
   // A copy of the encoder's: its remembered table choice spares the far payload a choice of its
   // own, and that does not move the encoder's (the maps are shared memory, reset by each payload).
   ScanWorkspace ws = window_ws ? *window_ws : ScanWorkspace{};
+  const bool one = g.counts.size() == 1;
+  // Several frames: the radii estimated within 5/4 of the limit (the Helios' best at 1.11),
+  // the first frame's choice among them.
+  if (!one)
+    splits.erase(std::remove_if(splits.begin(), splits.end(),
+                                [&](const Split& s) { return s.estimate >= 1.25 * double(limit); }),
+                 splits.end());
+  if (!one && !splits.empty()) first_frame_radius(g, hints, table, per_point, octree, &ws, &splits);
+  std::sort(splits.begin(), splits.end(),
+            [](const Split& a, const Split& b) { return a.estimate < b.estimate; });
   bool found = false;
   for (const Split& s : splits) {
     const size_t most = found ? bytes->size() : limit;
-    if (s.estimate >= (one ? 1.0 : 0.99) * double(most)) break;
-    found = split_coded(g, hints, s, table, most, &ws, bytes, order) || found;
+    if (one && s.estimate >= 1.15 * double(most)) break;
+    found = split_coded(g, hints, s, table, most, &ws, bytes, order, s.estimate < double(most)) ||
+            found;
   }
   return found;
 }

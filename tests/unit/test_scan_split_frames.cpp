@@ -1,8 +1,9 @@
 // Split frames (docs/FORMAT.md "Split frames"): a window whose frames are split into an octree
 // near part and a per-point far part decodes to each frame's near points then its far points,
 // the parts joined into the window's frames; a near part keeps the previous near part's cells
-// through a far part; the header's checks; and a real sweep (hesai-qt64 at 1 cm) on which the
-// encoder chooses the split, smaller than without it and within the bound.
+// through a far part; the header's checks; and real data at 1 cm (a hesai-qt64 sweep, the first
+// two robosense-helios16p sweeps) on which the encoder chooses the split, smaller than without it
+// and within the bound.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -193,6 +194,29 @@ TEST(ScanSplitFrames, GivenDamagedSplitPayloadsThenCorruptOrBounded) {
   }
 }
 
+// Window b coded by reorder_window on a 2 cm grid (1 cm bound) with and without split frames:
+// the split chosen (its payload's frames `frames`, the first a near part), smaller than without,
+// and each decoded point within the bound of its source point in the coded order.
+void expect_split_chosen(FrameBlock b, size_t frames, const char* name) {
+  Grid grid;
+  grid.step = 0.02;
+  grid.bound = 0.01;
+  FrameBlock without = b;
+  std::vector<uint8_t> coded, plain;
+  reorder_window(&b, grid, {}, {}, &coded, nullptr, nullptr, true, nullptr, true);
+  reorder_window(&without, grid, {}, {}, &plain, nullptr, nullptr, true, nullptr, false);
+  const scan::Header h = scan::read_header(coded.data(), coded.size(), name, SIZE_MAX);
+  ASSERT_EQ(h.counts.size(), frames);
+  EXPECT_TRUE(scan::near_part(h.flags[0]));
+  std::printf("%s at 1 cm: %zu B split, %zu B without\n", name, coded.size(), plain.size());
+  EXPECT_LT(coded.size(), plain.size());
+  const ScanGeometry d = decode_scan_geometry(coded.data(), coded.size(), name);
+  ASSERT_EQ(d.valid, b.valid);
+  for (size_t i = 0; i < d.valid.size(); ++i)
+    for (size_t a = 0; a < 3 && d.valid[i]; ++a)
+      ASSERT_LE(std::fabs(d.q[3 * i + a] * grid.step - b.xyz[3 * i + a]), grid.bound + 1e-9);
+}
+
 // A real sweep (hesai-qt64, 24k points, half of them within a metre) at 1 cm (grid 2 cm): the
 // encoder's --point-order any splits it (docs/lab/2026-11-30-near-far-split.md), and the split
 // window is smaller than the window it chooses without split frames; each decoded point within
@@ -201,28 +225,28 @@ TEST(ScanSplitFrames, GivenHesaiQt64At1cmThenTheSplitIsChosenAndSmaller) {
   const std::string root = capz_test::shared_data_or_skip("scan/single");
   if (root.empty()) return;
   const Take t = read_take(root + "/hesai-qt64.pcd");
-  Grid grid;
-  grid.step = 0.02;
-  grid.bound = 0.01;
-  std::vector<size_t> counts = {t.total_points()};
-  FrameBlock b, without;
-  b.reset_ragged(0, counts);
+  FrameBlock b;
+  b.reset_ragged(0, {t.total_points()});
   b.xyz = t.xyz;
   b.valid = t.valid;
-  without = b;
-  std::vector<uint8_t> coded, plain;
-  reorder_window(&b, grid, {}, {}, &coded, nullptr, nullptr, true, nullptr, true);
-  reorder_window(&without, grid, {}, {}, &plain, nullptr, nullptr, true, nullptr, false);
-  const scan::Header h = scan::read_header(coded.data(), coded.size(), "qt64", SIZE_MAX);
-  ASSERT_EQ(h.counts.size(), 2u);
-  EXPECT_TRUE(scan::near_part(h.flags[0]));
-  std::printf("hesai-qt64 at 1 cm: %zu B split, %zu B without\n", coded.size(), plain.size());
-  EXPECT_LT(coded.size(), plain.size());
-  const ScanGeometry d = decode_scan_geometry(coded.data(), coded.size(), "qt64");
-  ASSERT_EQ(d.valid, b.valid);
-  for (size_t i = 0; i < d.valid.size(); ++i)
-    for (size_t a = 0; a < 3 && d.valid[i]; ++a)
-      ASSERT_LE(std::fabs(d.q[3 * i + a] * grid.step - b.xyz[3 * i + a]), grid.bound + 1e-9);
+  expect_split_chosen(b, 2, "hesai-qt64");
+}
+
+// A sequence (robosense-helios16p's first two sweeps, 57k points each) at 1 cm: split_estimate
+// alone ranked its radii wrongly and put them all above the octree window's payload, and no
+// split was coded; the radius chosen on the first sweep (docs/lab/2026-11-30-split-radius.md)
+// splits the window, smaller than the window chosen without split frames.
+TEST(ScanSplitFrames, GivenTwoHeliosSweepsAt1cmThenTheSplitIsChosenAndSmaller) {
+  const std::string root = capz_test::shared_data_or_skip("scan/robosense-helios16p");
+  if (root.empty()) return;
+  const Take t = read_take(root);
+  ASSERT_GE(t.frames, 2u);
+  const size_t n = t.frame_points(0) + t.frame_points(1);
+  FrameBlock b;
+  b.reset_ragged(0, {t.frame_points(0), t.frame_points(1)});
+  b.xyz.assign(t.xyz.begin(), t.xyz.begin() + static_cast<std::ptrdiff_t>(3 * n));
+  b.valid.assign(t.valid.begin(), t.valid.begin() + static_cast<std::ptrdiff_t>(n));
+  expect_split_chosen(b, 4, "robosense-helios16p, 2 sweeps");
 }
 
 }  // namespace
