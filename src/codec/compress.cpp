@@ -104,12 +104,13 @@ std::vector<uint8_t> smaller_as_scan(const Take& t, const CompressOptions& opts,
   return scan;
 }
 
-// Every frame of `source` in memory (its header with the positions, gaps and fields): for the
-// one-frame choice below, which codes the frame both ways.
-Take whole_take(FrameSource& source) {
+// Frames [0, k) of `source` in memory, their per-frame metadata cut to them.
+Take prefix_take(FrameSource& source, size_t k) {
   Take t = source.header();
   FrameBlock b;
-  source.read(0, t.frames, &b);
+  source.read(0, k, &b);
+  slice_frame_metadata(0, k, t.frames, &t);
+  t.frames = k;
   t.xyz = std::move(b.xyz);
   t.valid = std::move(b.valid);
   for (size_t a = 0; a < t.attributes.size() && a < b.attributes.size(); ++a)
@@ -152,8 +153,8 @@ std::vector<uint8_t> one_frame_choice(FrameSource& source, const CompressOptions
   const std::string what = source.header().source + " (size bound)";
   const bool fields = !source.header().attributes.empty();  // else the two bounds are one
   CompressStats st;  // the frame moved into the scan coder's take, not copied
-  std::vector<uint8_t> scan =
-      one_frame_scan(whole_take(source), opts, stats ? &st : nullptr, source.original_file());
+  std::vector<uint8_t> scan = one_frame_scan(prefix_take(source, source.header().frames), opts,
+                                             stats ? &st : nullptr, source.original_file());
   // The scan stream with its report, when it is under `size`.
   const auto scan_under = [&](size_t size) {
     if (scan.size() >= size) return false;
@@ -222,24 +223,21 @@ class FixedAsRagged : public FrameSource {
   size_t n_;
 };
 
-// Frames [0, k) of `source` in memory, their per-frame metadata cut to them.
-Take prefix_take(FrameSource& source, size_t k) {
-  Take t = source.header();
-  FrameBlock b;
-  source.read(0, k, &b);
+// Frames [0, k) of a fixed take in memory (k at most its frames): prefix_take's of a take read
+// already.
+Take first_frames(Take t, size_t k) {
   slice_frame_metadata(0, k, t.frames, &t);
   t.frames = k;
-  t.xyz = std::move(b.xyz);
-  t.valid = std::move(b.valid);
-  for (size_t a = 0; a < t.attributes.size() && a < b.attributes.size(); ++a)
-    t.attributes[a].data = std::move(b.attributes[a]);
+  t.xyz.resize(k * t.points * 3);
+  t.valid.resize(k * t.points);
+  for (PointAttribute& a : t.attributes)
+    if (!a.data.empty()) a.data.resize(k * t.points * a.bytes_per_point());
   return t;
 }
 
-// The sizes of frames [0, k) of `source` coded through POSW and through the scan coder (0 when
-// it does not take them), with opts as they are (fixed_scan_choice gives them unchecked).
-std::pair<size_t, size_t> prefix_sizes(FrameSource& source, size_t k, const CompressOptions& opts) {
-  Take t = prefix_take(source, k);
+// The sizes of fixed take t coded through POSW and through the scan coder (0 when it does not
+// take it), with opts as they are (fixed_scan_choice gives them unchecked).
+std::pair<size_t, size_t> coded_sizes(Take t, const CompressOptions& opts) {
   std::vector<uint8_t> fixed, scan;
   {
     std::unique_ptr<FrameSource> s = take_frames(t);
@@ -268,10 +266,12 @@ bool fixed_scan_choice(FrameSource& source, const CompressOptions& opts) {
   o.check = false;
   o.progress = nullptr;
   const size_t F = source.header().frames, k = std::min(F, kPrefixFrames);
-  const std::pair<size_t, size_t> prefix = prefix_sizes(source, k, o);
+  Take head = prefix_take(source, k);  // read once: the first frame's take is cut from it
+  Take frame0 = k == F ? Take() : first_frames(head, 1);
+  const std::pair<size_t, size_t> prefix = coded_sizes(std::move(head), o);
   if (prefix.second == 0) return false;
   if (k == F) return prefix.second < prefix.first;
-  const std::pair<size_t, size_t> first = prefix_sizes(source, 1, o);
+  const std::pair<size_t, size_t> first = coded_sizes(std::move(frame0), o);
   if (first.second == 0) return false;
   const auto estimate = [&](size_t one, size_t all) {
     return static_cast<double>(one) + static_cast<double>(F - 1) *
