@@ -49,10 +49,6 @@ void extent(int64_t a, int64_t side, double* n, double* f) {
   *f = std::max(std::fabs(lo), std::fabs(hi));
 }
 
-double hypot2(double x, double y) {
-  return std::sqrt(x * x + y * y);
-}
-
 // Whether the cone z = z0 + s rho crosses the box of nearest and farthest horizontal distance
 // rl, rh and z range [zl, zh].
 bool crossed(double s, double z0, double rl, double rh, double zl, double zh) {
@@ -66,8 +62,8 @@ struct Reach {
   Reach(const int64_t* a, int64_t side) {
     double n[2], f[2];  // the box's nearest and farthest |x| and |y|
     for (int e = 0; e < 2; ++e) extent(a[e], side, &n[e], &f[e]);
-    rl = hypot2(n[0], n[1]);
-    rh = hypot2(f[0], f[1]);
+    rl = planar_length(n[0], n[1]);
+    rh = planar_length(f[0], f[1]);
     zl = static_cast<double>(a[2]) - 0.5;
     zh = static_cast<double>(a[2] + side) - 0.5;
   }
@@ -154,8 +150,8 @@ bool ConeWalk::start_parent(const int64_t* p, int l, size_t j) {
   for (int e = 0; e < 2; ++e)
     for (int h = 0; h < 2; ++h) extent(a[e] + h * half, half, &n[e][h], &f[e][h]);
   for (int h = 0; h < 4; ++h) {
-    rl_[h] = hypot2(n[0][h >> 1], n[1][h & 1]);
-    rh_[h] = hypot2(f[0][h >> 1], f[1][h & 1]);
+    rl_[h] = planar_length(n[0][h >> 1], n[1][h & 1]);
+    rh_[h] = planar_length(f[0][h >> 1], f[1][h & 1]);
   }
   for (int h = 0; h < 2; ++h) {
     zl_[h] = static_cast<double>(a[2] + h * half) - 0.5;

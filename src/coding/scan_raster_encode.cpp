@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "coding/bytes.h"
+#include "coding/quantiser.h"
 #include "coding/scan_raster.h"
 
 namespace capz {
@@ -59,20 +60,13 @@ class KeyMap {
   std::vector<uint32_t> vals_;
 };
 
-// std::llround(v) for |v| < 2^52 (half away from zero), without a call: the fraction v - trunc(v)
-// is exact there.
-int64_t round_half_away(double v) {
-  const auto t = static_cast<int64_t>(v);
-  const double f = v - static_cast<double>(t);
-  return t + (f >= 0.5) - (f <= -0.5);
-}
-
 // A point's direction rounded: the key of its pixel.
 uint64_t direction_key(const float* xyz, double r) {
   uint64_t k = 0;
   for (int a = 0; a < 3; ++a) {
     const double u = r > 0 ? static_cast<double>(xyz[a]) / r : 0.0;
-    k = (k << 18) | static_cast<uint64_t>(round_half_away(u * kKeyScale) + 65536);
+    k = (k << 18) |
+        static_cast<uint64_t>(static_cast<int64_t>(round_half_away(u * kKeyScale)) + 65536);
   }
   return k;
 }

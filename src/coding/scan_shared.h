@@ -139,6 +139,13 @@ bool point_valid(Io& io, uint8_t vmode, size_t i, bool* prev_valid) {
   return v;
 }
 
+// The length of (x, y) as sqrt(x x + y y), each step rounded (the octree's cone class, FORMAT.md
+// "The block's flags"; the table fit's lengths): std::hypot's value but for the last bit,
+// without its call, for finite coordinates far from hypot's overflow and underflow guards.
+inline double planar_length(double x, double y) {
+  return std::sqrt(x * x + y * y);
+}
+
 // floor(v) (std::floor's value; a zero's sign aside) without a call for |v| < 2^52: the
 // integer part by truncation, less one below a negative fraction.
 inline double floor_fast(double v) {

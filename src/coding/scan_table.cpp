@@ -21,13 +21,6 @@ bool small_enough(const int32_t* p) {
   return true;
 }
 
-// The length of (x, y) as the root of the sum of squares: std::hypot's value but for the last
-// bit, without its call (the coordinates here are finite and below 2^29 in magnitude, far from
-// the overflow and underflow hypot guards against).
-double planar(double x, double y) {
-  return std::sqrt(x * x + y * y);
-}
-
 double wrap_pi(double d) {
   while (d > kTwoPi / 2) d -= kTwoPi;
   while (d <= -kTwoPi / 2) d += kTwoPi;
@@ -90,7 +83,7 @@ void coords(const ScanGeometry& g, const std::vector<float>& xyz, size_t i, doub
 // payload": a ring's slope at azimuth phi is s + w (1 - cos phi)): z / rho - w (1 - cos phi).
 // NaN when rho is 0.
 double bowed_slope(const double* v, double w) {
-  const double r = planar(v[0], v[1]);
+  const double r = planar_length(v[0], v[1]);
   if (!(r > 0)) return NAN;
   return v[2] / r - w * (1 - v[0] / r);
 }
@@ -127,7 +120,7 @@ float find_bow(const ScanGeometry& g, const ScanHints& h) {
     if (!g.valid[i] || !small_enough(&g.q[3 * i])) continue;
     double v[3];
     coords(g, h.xyz, i, v);
-    const double r = planar(v[0], v[1]);
+    const double r = planar_length(v[0], v[1]);
     if (!(r > 0)) continue;
     pts.push_back(v[2] / r);
     pts.push_back(1 - v[0] / r);
@@ -439,7 +432,7 @@ void fit_units(const ScanGeometry& g, const ScanHints& h, const std::vector<uint
     const double d = distance(h, n, i) - (phase.empty() ? 0 : phase[ring[i]]);
     if (!std::isfinite(d)) continue;
     line[ring[i]].add(std::floor(d / q + 0.5),
-                      planar(double(h.xyz[3 * i]), double(h.xyz[3 * i + 1])) * gpu);
+                      planar_length(double(h.xyz[3 * i]), double(h.xyz[3 * i + 1])) * gpu);
   }
   r->unit.resize(rings);
   r->offset.resize(rings);
@@ -463,7 +456,7 @@ void fit_units(const ScanGeometry& g, const ScanHints& h, const std::vector<uint
   r->steps.assign(n, 0);
   for (size_t i = 0; i < n; ++i) {
     if (!g.valid[i] || !small_enough(&g.q[3 * i])) continue;
-    const double rho = planar(double(h.xyz[3 * i]), double(h.xyz[3 * i + 1])) * gpu;
+    const double rho = planar_length(double(h.xyz[3 * i]), double(h.xyz[3 * i + 1])) * gpu;
     r->steps[i] = round_clamp((rho - r->offset[ring[i]]) / r->unit[ring[i]]);
   }
 }
@@ -550,12 +543,12 @@ RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units, boo
     const int32_t* p = &g.q[3 * i];
     if (!g.valid[i] || !small_enough(p)) continue;
     const double x = p[0], y = p[1];
-    const double h = planar(x, y);
+    const double h = planar_length(x, y);
     double bent = 0;  // the bow's part of z, 1 - cos phi from the finer coordinates
     if (r.bow != 0) {
       double v[3];
       coords(g, hints.xyz, i, v);
-      const double rv = planar(v[0], v[1]);
+      const double rv = planar_length(v[0], v[1]);
       if (rv > 0) bent = double(r.bow) * h * (1 - v[0] / rv);
     }
     cone[ring[i]].add(h, p[2] - bent);
