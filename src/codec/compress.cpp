@@ -71,10 +71,15 @@ bool scan_candidate(const Take& t, const CompressOptions& o) {
          t.analog.channels == 0 && t.rotations.segments == 0;
 }
 
+// The frame offsets of `frames` frames of n points each.
+void uniform_offsets(size_t frames, size_t n, std::vector<size_t>* offsets) {
+  offsets->resize(frames + 1);
+  for (size_t f = 0; f <= frames; ++f) (*offsets)[f] = f * n;
+}
+
 // t as a ragged take of its frames (take.h: no labels, no shared point count).
 Take as_ragged(Take t) {
-  t.frame_offsets.resize(t.frames + 1);
-  for (size_t f = 0; f <= t.frames; ++f) t.frame_offsets[f] = f * t.points;
+  uniform_offsets(t.frames, t.points, &t.frame_offsets);
   t.points = 0;
   t.labels.clear();
   return t;
@@ -202,7 +207,7 @@ class FixedAsRagged : public FrameSource {
     header_ = fixed.header();
     header_.points = 0;
     header_.labels.clear();
-    set_offsets(header_.frames, &header_.frame_offsets);
+    uniform_offsets(header_.frames, n_, &header_.frame_offsets);
   }
   bool has_sample_words() const override { return false; }
   size_t preferred_block() const override { return fixed_.preferred_block(); }
@@ -210,15 +215,11 @@ class FixedAsRagged : public FrameSource {
   std::string original_file() const override { return fixed_.original_file(); }
   void read(size_t first, size_t count, FrameBlock* out) override {
     fixed_.read(first, count, out);
-    set_offsets(out->frames, &out->frame_offsets);
+    uniform_offsets(out->frames, n_, &out->frame_offsets);
     out->points = 0;
   }
 
  private:
-  void set_offsets(size_t frames, std::vector<size_t>* offsets) const {
-    offsets->resize(frames + 1);
-    for (size_t f = 0; f <= frames; ++f) (*offsets)[f] = f * n_;
-  }
   FrameSource& fixed_;
   size_t n_;
 };

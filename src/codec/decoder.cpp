@@ -368,6 +368,14 @@ void decode_window_attributes(const StreamContext& ctx, WindowChunks* chunks, si
 
 }  // namespace
 
+void origin_points(FrameBlock* b) {
+  for (size_t i = 0; i < b->valid.size(); ++i)
+    if (!b->valid[i]) {
+      b->valid[i] = 1;
+      for (size_t a = 0; a < 3; ++a) b->xyz[3 * i + a] = 0.0;
+    }
+}
+
 void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* region, size_t base,
                           size_t end, FrameBlock* out, std::vector<int32_t>* ints) {
   const StreamHeader& h = ctx.h;
@@ -428,9 +436,7 @@ void decode_window_chunks(const StreamContext& ctx, size_t w, const uint8_t* reg
     decode_window_attributes(ctx, &chunks, fn, N, ctx.take.pcd->width, q, {}, out);
   }
   chunks.check_rest();
-  if (origin)  // the gaps (their coordinates +0.0 from the payload) as valid points at 0 0 0
-    for (size_t i = 0; i < b.valid.size(); ++i)
-      if (!b.valid[i]) b.valid[i] = 1, b.xyz[3 * i] = b.xyz[3 * i + 1] = b.xyz[3 * i + 2] = 0.0;
+  if (origin) origin_points(&b);
   if (ints) ints->swap(q);
 }
 

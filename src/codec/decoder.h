@@ -12,6 +12,10 @@
 
 namespace capz {
 
+// The gaps of b made valid points at +0.0 +0.0 +0.0: a window whose gaps are origin points
+// (FORMAT.md "Origin points", SCNW's gaps bit 0).
+void origin_points(FrameBlock* b);
+
 // Decodes window w of the stream described by ctx into *out (frames [w W, ...), every point).
 // region holds the window's chunks, the file's bytes [base, end); offsets in messages are file
 // offsets. Unknown chunks between the known ones are skipped. Throws kCorrupt naming ctx.name,

@@ -508,16 +508,6 @@ bool origin_gaps(FrameBlock* b) {
   return any;
 }
 
-// The gaps of a block origin_gaps made (and coded, perhaps reordered) back as the points they
-// were, as the decoder gives them.
-void origin_points(FrameBlock* b) {
-  for (size_t i = 0; i < b->valid.size(); ++i)
-    if (!b->valid[i]) {
-      b->valid[i] = 1;
-      for (size_t a = 0; a < 3; ++a) b->xyz[3 * i + a] = 0.0;
-    }
-}
-
 // Window w (the frames of b, as read; its fields are taken): its chunks written to r.out, after
 // the one decoder has given them back for the check (opts.check) and the measures (stats).
 void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
