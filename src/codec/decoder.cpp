@@ -11,6 +11,7 @@
 #include "codec/transform_output.h"
 #include "coding/analog/analog_codec.h"
 #include "coding/attributes.h"
+#include "coding/attributes_ring.h"
 #include "coding/buffers.h"
 #include "coding/bytes.h"
 #include "coding/c3d_words.h"
@@ -19,6 +20,7 @@
 #include "coding/positions.h"
 #include "coding/rotations.h"
 #include "coding/scan_geometry.h"
+#include "coding/scan_shared.h"
 #include "coding/scan_split.h"
 
 namespace capz {
@@ -367,6 +369,11 @@ void decode_window_attributes(const StreamContext& ctx, WindowChunks* chunks, si
 }
 
 }  // namespace
+
+// The rings the scan decoder hands ATTR (predictor 13) mean the same to both: no ring, and the
+// most rings a payload has.
+static_assert(attr::kNoGeometryRing == ScanGeometry::kNoRing, "a point without a geometry ring");
+static_assert(attr::kMaxGeometryRings == scan::kMaxRings, "the most rings of a payload");
 
 void origin_points(FrameBlock* b) {
   for (size_t i = 0; i < b->valid.size(); ++i)

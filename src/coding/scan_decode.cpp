@@ -67,7 +67,6 @@ ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& 
   ScanGeometry g;
   std::vector<int32_t> one;  // a frame's integers, with `frame`
   if (space) (frame ? one : g.q).swap(*space);
-  g.counts = h.counts;
   g.fine = h.fine;
   size_t total = 0, most = 0;
   for (uint32_t n : h.counts) total += n, most = std::max<size_t>(most, n);
