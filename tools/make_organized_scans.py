@@ -22,30 +22,12 @@ import os
 
 import numpy as np
 
+from make_scan_sequences import read_pcd_xyz
+
 
 def read_sweep(path):
-    """x y z of a binary PCD whose first three fields are float32 x y z (the finite points)."""
-    b = open(path, 'rb').read()
-    head = b[:b.index(b'DATA binary\n')].decode()
-    fields = sizes = None
-    for line in head.splitlines():
-        w = line.split()
-        if w and w[0] == 'FIELDS':
-            fields = w[1:]
-        if w and w[0] == 'SIZE':
-            sizes = [int(s) for s in w[1:]]
-    counts = [1] * len(fields)
-    for line in head.splitlines():
-        w = line.split()
-        if w and w[0] == 'COUNT':
-            counts = [int(c) for c in w[1:]]
-    if fields[:3] != ['x', 'y', 'z'] or sizes[:3] != [4, 4, 4]:
-        raise SystemExit(path + ': x y z float32 first expected')
-    step = sum(s * c for s, c in zip(sizes, counts))
-    body = b[b.index(b'DATA binary\n') + 12:]
-    n = len(body) // step
-    rec = np.frombuffer(body[:n * step], dtype=np.uint8).reshape(n, step)
-    pts = rec[:, :12].copy().view('<f4').reshape(n, 3)
+    """The finite points of a PCD frame as float32 x y z (make_scan_sequences.py's reader)."""
+    pts = read_pcd_xyz(path).astype(np.float32)
     return pts[np.isfinite(pts).all(1)]
 
 
