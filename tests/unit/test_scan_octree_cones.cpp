@@ -349,12 +349,15 @@ void expect_corrupt(const std::vector<uint8_t>& p, const char* says) {
 TEST(ScanOctreeCones, GivenBadBlockFlagsThenCorruptSayingWhich) {
   const scan::Table none, two = table_of({0.1f, 0.2f}, {0.0f, 1.0f});
   const scan::Table many = table_of(std::vector<float>(257, 0.1f), std::vector<float>(257, 0.0f));
-  for (uint32_t l = 0; l < 4; ++l) {  // the valid ones decode: the cell at (7, 7, 7)
+  for (uint32_t l : {0u, 1u, 2u, 3u, 6u, 7u}) {  // the valid ones decode: the cell at (7, 7, 7)
     const std::vector<uint8_t> p = one_cell(l, two);
     EXPECT_EQ(decode_scan_geometry(p.data(), p.size(), "octree").q,
               (std::vector<int32_t>{7, 7, 7}));
   }
-  expect_corrupt(one_cell(4, two), "an octree block's flags have unknown bits");
+  expect_corrupt(one_cell(8, two), "an octree block's flags have unknown bits");
+  expect_corrupt(one_cell(4, two), "an octree block's mix without counting models");
+  expect_corrupt(one_cell(5, two), "an octree block's mix without counting models");
+  expect_corrupt(one_cell(7, many), "an octree block's cones from more than 256 rings");
   expect_corrupt(one_cell(1, many), "an octree block's cones from more than 256 rings");
   expect_corrupt(one_cell(3, many), "an octree block's cones from more than 256 rings");
   const std::vector<uint8_t> bare = one_cell(0, none);  // no table, no L
