@@ -26,6 +26,14 @@ inline int squash(int d) {
   return (kT[j] * (128 - w) + kT[j + 1] * w + 64) >> 7;
 }
 
+// w + step modulo 2^32, as a two's-complement int32 (the weights' sum: FORMAT.md "Mixing").
+// Without a bound on the weights a hostile block could take them past int32; the sum wraps
+// instead, the same on every build (no signed overflow, no implementation-defined conversion).
+inline int32_t wrapped(int32_t w, int32_t step) {
+  const uint32_t u = static_cast<uint32_t>(w) + static_cast<uint32_t>(step);
+  return u < 0x80000000u ? static_cast<int32_t>(u) : -static_cast<int32_t>(~u) - 1;
+}
+
 // stretch(p), p 0..4095: the least d in [-2047, 2047] with squash(d) >= p (2047 when none).
 struct Stretch {
   int16_t t[4096] = {};
@@ -135,8 +143,8 @@ class MixWalk {
 }  // namespace octree
 
 // The mixer of one octree block (FORMAT.md "Octree frames", step 4 with L bit 2): the side
-// models' state and the weights, and the inputs of the bit being coded (set() by the walk before
-// each mixed bit, then one() and update()).
+// models' state and the weights (int32, wrapping), and the inputs of the bit being coded (set() by
+// the walk before each mixed bit, then one() and update()).
 class OctreeMixer {
  public:
   // The inputs: the context's own model, the side models, a bias.
@@ -145,7 +153,6 @@ class OctreeMixer {
   // The weight sets: three sets of kInputs weights each, one of each chosen per bit.
   static constexpr int kSets = 27 + 192 + 336, kSetAt[3] = {0, 27, 27 + 192};
   static constexpr int kRate = 120;  // weights of 2^16 move by st err rate / 2^16
-  static constexpr int32_t kMaxWeight = 1 << 22;
   OctreeMixer() : w_(static_cast<size_t>(kSets)) {
     for (int k = 0; k < kSides; ++k) {
       p_[k].assign(static_cast<size_t>(kSide[k]), 1 << 14);
@@ -175,10 +182,7 @@ class OctreeMixer {
     const int err = ((b ? 4096 : 0) - pr_) * kRate;
     for (size_t k = 0; k < kInputs; ++k) {
       const int32_t step = st_[k] * err / 65536;  // the same for the three sets
-      for (size_t set : ws_) {
-        int32_t& w = w_[set][k];
-        w = std::min(std::max(w + step, -kMaxWeight), kMaxWeight);
-      }
+      for (size_t set : ws_) w_[set][k] = mix::wrapped(w_[set][k], step);
     }
     for (int k = 0; k < kSides; ++k) {
       uint16_t& p = p_[k][s_[k]];

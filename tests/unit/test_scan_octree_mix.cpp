@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <random>
 
@@ -44,7 +45,7 @@ TEST(ScanOctreeMix, GivenTheSpecsTableThenSquashAndStretchAreItsNumbers) {
 }
 
 // FORMAT.md "Mixing" as written: three weight sets of 4 per bit, summed, the inputs the
-// stretched counting models, then the steps and the clamp.
+// stretched counting models, then the steps, the weights wrapping modulo 2^32.
 struct SpecMix {
   std::vector<std::array<int64_t, 4>> w =
       std::vector<std::array<int64_t, 4>>(555, {65536, 0, 0, 0});
@@ -75,13 +76,22 @@ struct SpecMix {
   void update(int b) {
     const int64_t err = (4096 * b - p) * 120;
     for (int k = 0; k < 4; ++k)
-      for (size_t s : set)
-        w[s][k] =
-            std::min<int64_t>(std::max<int64_t>(w[s][k] + x[k] * err / 65536, -(1 << 22)), 1 << 22);
+      for (size_t s : set) {  // modulo 2^32, two's complement
+        const int64_t v = (w[s][k] + x[k] * err / 65536) & 0xFFFFFFFF;
+        w[s][k] = v >= (int64_t{1} << 31) ? v - (int64_t{1} << 32) : v;
+      }
     count(&p1[s1], &n1[s1], b);
     count(&p2[s2], &n2[s2], b);
   }
 };
+
+TEST(ScanOctreeMix, GivenAWeightPastInt32ThenItWrapsAsTwosComplement) {
+  EXPECT_EQ(mix::wrapped(5, -7), -2);
+  EXPECT_EQ(mix::wrapped(INT32_MAX, 1), INT32_MIN);
+  EXPECT_EQ(mix::wrapped(INT32_MIN, -1), INT32_MAX);
+  EXPECT_EQ(mix::wrapped(INT32_MAX - 10, 15351), INT32_MIN + 15340);
+  EXPECT_EQ(mix::wrapped(-65536, -15351), -80887);
+}
 
 TEST(ScanOctreeMix, GivenTheFirstBitThenItsProbabilityIsTheHandWorkedOne) {
   OctreeMixer m;
@@ -93,14 +103,14 @@ TEST(ScanOctreeMix, GivenTheFirstBitThenItsProbabilityIsTheHandWorkedOne) {
 }
 
 // Random contexts and bits, first skewed by context (the weights learn), then each bit the one
-// the mix finds less likely, then a weight run to its clamp: the mixer's frequencies are the
-// spec's at every bit. Fails if any step of the arithmetic changes.
+// the mix finds less likely, then a weight run far (past 2^22) and back: the mixer's frequencies
+// are the spec's at every bit. Fails if any step of the arithmetic changes.
 TEST(ScanOctreeMix, GivenBitsThenTheMixersFrequenciesAreTheSpecsArithmetic) {
   std::mt19937 rng(23);
   OctreeMixer m;
   SpecMix spec;
   std::vector<int64_t> own(64, 16384), own_n(64, 0);  // the context's own counting models
-  uint32_t at_clamp = 0;
+  uint32_t far = 0;
   for (int j = 0; j < 60000; ++j) {
     const int c = static_cast<int>(rng() % 64);
     const int side[2] = {static_cast<int>(rng() % 24576) / (j < 30000 ? 512 : 1),
@@ -117,7 +127,7 @@ TEST(ScanOctreeMix, GivenBitsThenTheMixersFrequenciesAreTheSpecsArithmetic) {
     SpecMix::count(&own[static_cast<size_t>(c)], &own_n[static_cast<size_t>(c)], b);
   }
   // The context's model sure of the bit the stream does not give, both ways in turn: the mix
-  // stays within 1 of 4096 of it, so its weight keeps moving the same way, to the clamp.
+  // stays within 1 of 4096 of it, so its weight keeps moving the same way, far.
   const int side[2] = {7, 7}, sets[3] = {5, 5, 5};
   for (int j = 0; j < 1500000; ++j) {
     const int b = j % 2;
@@ -128,9 +138,9 @@ TEST(ScanOctreeMix, GivenBitsThenTheMixersFrequenciesAreTheSpecsArithmetic) {
     spec.update(b);
   }
   for (const auto& w : spec.w)
-    for (int64_t v : w) at_clamp += v == (1 << 22) || v == -(1 << 22);
-  EXPECT_GT(at_clamp, 0u);  // the clamp was reached
-  // Then the bits the model is sure of: the weight comes back from the clamp, not from further.
+    for (int64_t v : w) far += v > (1 << 22) || v < -(1 << 22);
+  EXPECT_GT(far, 0u);
+  // Then the bits the model is sure of: the weight comes back, at the spec's pace.
   for (int j = 0; j < 3000; ++j) {
     m.set(side, sets);
     ASSERT_EQ(int64_t{m.one(32767)}, spec.f(32767, side, sets)) << j;
