@@ -50,7 +50,7 @@ struct SpecMix {
   std::vector<std::array<int64_t, 4>> w =
       std::vector<std::array<int64_t, 4>>(555, {65536, 0, 0, 0});
   std::vector<int64_t> p1 = std::vector<int64_t>(24576, 16384), n1 = std::vector<int64_t>(24576, 0);
-  std::vector<int64_t> p2 = std::vector<int64_t>(4608, 16384), n2 = std::vector<int64_t>(4608, 0);
+  std::vector<int64_t> p2 = std::vector<int64_t>(3456, 16384), n2 = std::vector<int64_t>(3456, 0);
   int64_t x[4] = {};
   int64_t p = 0;
   size_t set[3] = {};
@@ -114,7 +114,7 @@ TEST(ScanOctreeMix, GivenBitsThenTheMixersFrequenciesAreTheSpecsArithmetic) {
   for (int j = 0; j < 60000; ++j) {
     const int c = static_cast<int>(rng() % 64);
     const int side[2] = {static_cast<int>(rng() % 24576) / (j < 30000 ? 512 : 1),
-                         static_cast<int>(rng() % 4608) / 64};
+                         static_cast<int>(rng() % 3456) / 64};
     const int sets[3] = {static_cast<int>(rng() % 27), static_cast<int>(rng() % 192) / 8,
                          static_cast<int>(rng() % 336)};
     m.set(side, sets);
