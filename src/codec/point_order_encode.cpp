@@ -93,14 +93,16 @@ bool octree_window(const ScanGeometry& g, const ScanHints& hints, const std::vec
   *bytes = encode_scan_octree(sorted);
   if (bytes->empty()) return false;
   // With the table's cones and the counting models (L = 3; 1 and 2 were never the smallest
-  // where 3 could be: docs/lab/2026-11-30-octree-cones.md), unless the payload without them is
-  // above 5/4 of `coded`: they saved at most 11 % (docs/lab/2026-11-30-octree-fields.md).
+  // where 3 could be: docs/lab/2026-11-30-octree-cones.md), and with the mix too (L = 7,
+  // docs/lab/2026-11-30-octree-mixing.md), unless the payload without them is above 5/4 of
+  // `coded`: they saved at most 11 % (docs/lab/2026-11-30-octree-fields.md).
   if (4 * bytes->size() > 5 * coded.size()) return false;
   const scan::Table table = octree_cone_table(g, hints);
-  if (table.rings() > 0) {
-    std::vector<uint8_t> other = encode_scan_octree(sorted, &table, 3);
-    if (other.size() < bytes->size()) bytes->swap(other);
-  }
+  if (table.rings() > 0)
+    for (uint32_t l : {3u, 7u}) {
+      std::vector<uint8_t> other = encode_scan_octree(sorted, &table, l);
+      if (other.size() < bytes->size()) bytes->swap(other);
+    }
   return bytes->size() < coded.size();
 }
 
@@ -281,6 +283,8 @@ bool split_coded(const ScanGeometry& g, const ScanHints& hints, const Split& s,
   const std::vector<uint8_t> far_bytes = far_payload(
       picked(g, p.far, p.far_counts), picked(hints, p.far), table, ws, &far_order, cells);
   std::vector<uint8_t> payload = encode_scan_split(s.near, far_bytes, p.has_far, 3);
+  std::vector<uint8_t> mixed = encode_scan_split(s.near, far_bytes, p.has_far, 7);
+  if (!mixed.empty() && (payload.empty() || mixed.size() < payload.size())) payload.swap(mixed);
   if (payload.empty() || payload.size() >= limit) return false;
   bytes->swap(payload);
   *order = split_order(p, s.near_order, far_order);
@@ -295,7 +299,9 @@ size_t octree_bytes(const ScanGeometry& g1, const ScanHints& h1) {
   const std::vector<uint8_t> plain = encode_scan_octree(sorted);
   if (!plain.empty()) least = plain.size();
   const scan::Table table = octree_cone_table(g1, h1);
-  if (table.rings() > 0) least = std::min(least, encode_scan_octree(sorted, &table, 3).size());
+  if (table.rings() > 0)
+    for (uint32_t l : {3u, 7u})
+      least = std::min(least, encode_scan_octree(sorted, &table, l).size());
   return least;
 }
 

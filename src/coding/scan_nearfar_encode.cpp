@@ -29,7 +29,9 @@ std::vector<uint8_t> near_block(const ScanGeometry& near, const std::vector<uint
   const scan::Table& table = h.table;
   if (table.rings() == 0) l = 0;
   if (table.rings() > scan::kMaxConeRings) l &= ~1u;
-  scan::OctreeMode mode((l & 1) ? scan::table_cones(table) : scan::Cones{}, (l & 2) != 0);
+  if (!(l & 2)) l &= ~4u;  // the mix only with counting models
+  scan::OctreeMode mode((l & 1) ? scan::table_cones(table) : scan::Cones{}, (l & 2) != 0,
+                        (l & 4) != 0);
   if (table.rings() > 0) tree.put(l, scan::kOctFlagsCtx);
   std::vector<int32_t> prev;  // the previous near part's cells (a far part keeps them)
   size_t first = 0, j = 0;    // j: the far payload's next frame

@@ -182,10 +182,11 @@ Cones table_cones(const Table& t) {
 OctreeMode read_octree_flags(IntDecoder* dec, const Table& t) {
   if (t.rings() == 0) return {};
   const uint32_t l = dec->get(kOctFlagsCtx);
-  if (l > 3) dec->corrupt("an octree block's flags have unknown bits");
+  if (l > 7) dec->corrupt("an octree block's flags have unknown bits");
+  if ((l & 4) && !(l & 2)) dec->corrupt("an octree block's mix without counting models");
   if ((l & 1) && t.rings() > kMaxConeRings)
     dec->corrupt("an octree block's cones from more than 256 rings");
-  return OctreeMode((l & 1) ? table_cones(t) : Cones{}, (l & 2) != 0);
+  return OctreeMode((l & 1) ? table_cones(t) : Cones{}, (l & 2) != 0, (l & 4) != 0);
 }
 
 void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps, size_t* cells_left,
@@ -209,7 +210,8 @@ void decode_octree_frame(IntDecoder* dec, size_t n, uint32_t copies, bool gaps, 
   }
   DecodeBits io(dec, mode);
   const std::vector<uint64_t> cells =
-      octree::code_tree(io, static_cast<int>(d), m, lo, *prev, mode ? mode->cones() : nullptr);
+      octree::code_tree(io, static_cast<int>(d), m, lo, *prev, mode ? mode->cones() : nullptr,
+                        mode ? mode->mixer() : nullptr);
   if (cells.size() != m) dec->corrupt("an octree with fewer cells than the frame's");
   std::vector<uint32_t> points(m, 1);
   octree::KeySet set, before;

@@ -13,6 +13,7 @@
 
 #include "coding/entropy.h"
 #include "coding/scan_geometry.h"
+#include "coding/scan_octree_mix.h"
 #include "coding/scan_shared.h"
 
 namespace capz {
@@ -54,22 +55,30 @@ class OctreeMode {
  public:
   static constexpr int kMaxCount = 62;
   OctreeMode() = default;
-  OctreeMode(Cones cones, bool counting) : cones_(std::move(cones)), counting_(counting) {
+  // mixing (L bit 2) only with counting.
+  OctreeMode(Cones cones, bool counting, bool mixing = false)
+      : cones_(std::move(cones)), counting_(counting) {
+    if (mixing && counting) mixer_ = std::make_unique<OctreeMixer>();
     if (!counting_) return;
     p_.assign(static_cast<size_t>(kOctreeContexts - kOctBitCtx), 1 << 14);
     n_.assign(p_.size(), 0);
   }
   Cones* cones() { return cones_.rings() > 0 ? &cones_ : nullptr; }
   bool counting() const { return counting_; }
-  uint32_t flags() const { return (cones_.rings() > 0 ? 1u : 0u) | (counting_ ? 2u : 0u); }
-  // Context ctx's frequency of a 1 (of kTotal).
-  uint32_t one(int ctx) const {
+  uint32_t flags() const {
+    return (cones_.rings() > 0 ? 1u : 0u) | (counting_ ? 2u : 0u) | (mixer_ ? 4u : 0u);
+  }
+  OctreeMixer* mixer() { return mixer_.get(); }
+  // Context ctx's frequency of a 1 (of kTotal); with the mixer, the mix's (its inputs set).
+  uint32_t one(int ctx) {
     const uint32_t p = p_[static_cast<size_t>(ctx - kOctBitCtx)];
+    if (mixer_) return mixer_->one(p);
     return std::min(std::max(p, 16u), kTotal - 16);
   }
   // After a bit b of context ctx.
   void update(int ctx, bool b) {
     const size_t k = static_cast<size_t>(ctx - kOctBitCtx);
+    if (mixer_) mixer_->update(b);
     const int p = p_[k], n = n_[k];
     p_[k] = static_cast<uint16_t>(p + ((b ? static_cast<int>(kTotal) : 0) - p) / (n + 2));
     if (n < kMaxCount) ++n_[k];
@@ -78,6 +87,7 @@ class OctreeMode {
  private:
   Cones cones_;
   bool counting_ = false;
+  std::unique_ptr<OctreeMixer> mixer_;
   std::vector<uint16_t> p_;
   std::vector<uint8_t> n_;
 };
@@ -255,6 +265,24 @@ class KeySet {
   std::vector<uint32_t> index_;
 };
 
+// o7's bit k - 1: the neighbour at (2 o - 1) a for k's bits a (o child i's), by a table
+struct Toward {
+  int at[8][8] = {};
+  constexpr Toward() {
+    for (int j = 0; j < 8; ++j)
+      for (int k = 1; k < 8; ++k)
+        for (int e = 0; e < 3; ++e)
+          at[j][k] = at[j][k] * 3 + (2 * ((j >> (2 - e)) & 1) - 1) * ((k >> (2 - e)) & 1) + 1;
+  }
+};
+constexpr Toward kToward;
+
+// The child bit's context from its parts (FORMAT.md step 4).
+inline int context_of(int o7, int cn, int sib, int lc, int pv, int r) {
+  if (r < 2) return kOctConeCtx + 2 * ((((o7 * 8 + cn) * 3 + sib) * 2 + lc) * 2 + r) + pv;
+  return kOctBitCtx + 2 * (((o7 * 8 + cn) * 3 + sib) * 3 + lc) + pv;
+}
+
 // The child bit's context (FORMAT.md step 4) of child i (key ck, coordinates c) of a node at
 // level l of a tree of depth d: nb[k] is P of the parent's neighbour (dx, dy, dz) at k = 9 (dx +
 // 1) + 3 (dy + 1) + dz + 1; next the level l + 1 coded so far; coded the bits of the children
@@ -262,16 +290,6 @@ class KeySet {
 // previous frame's cells; r the cone class (2 without one).
 inline int child_context(const int* nb, const KeySet& next, const KeySet& before, uint64_t ck,
                          const int64_t* c, int l, int d, int i, int coded, int ones, int r = 2) {
-  // o7's bit k - 1: the neighbour at (2 o - 1) a for k's bits a (o child i's), by a table
-  static constexpr struct Toward {
-    int at[8][8] = {};
-    constexpr Toward() {
-      for (int j = 0; j < 8; ++j)
-        for (int k = 1; k < 8; ++k)
-          for (int e = 0; e < 3; ++e)
-            at[j][k] = at[j][k] * 3 + (2 * ((j >> (2 - e)) & 1) - 1) * ((k >> (2 - e)) & 1) + 1;
-    }
-  } kToward;
   int o7 = 0;
   for (int k = 1; k < 8; ++k) o7 |= nb[kToward.at[i][k]] << (k - 1);
   int cn = 0;  // the child's neighbours one below on each axis (within the cube: c >= 0)
@@ -285,8 +303,7 @@ inline int child_context(const int* nb, const KeySet& next, const KeySet& before
   const int sib = std::min(ones, 2);
   const int lc = l == d - 1 ? 0 : l == d - 2 ? 1 : 2;
   const int pv = !before.empty() && before.find(ck) >= 0;
-  if (r < 2) return kOctConeCtx + 2 * ((((o7 * 8 + cn) * 3 + sib) * 2 + lc) * 2 + r) + pv;
-  return kOctBitCtx + 2 * (((o7 * 8 + cn) * 3 + sib) * 3 + lc) + pv;
+  return context_of(o7, cn, sib, lc, pv, r);
 }
 
 // child_context of child i of the node at p.
@@ -376,17 +393,35 @@ inline void previous_levels(const std::vector<int32_t>& prev, const int64_t* lo,
 // nb[e] (child_context's) of the node of key pk at p of a level of side `side` whose nodes are
 // `here`; siblings: its parent's child bits (-1: no parent).
 inline void parent_neighbours(const KeySet& here, uint64_t pk, const int64_t* p, int64_t side,
-                              int siblings, int* nb) {
+                              int siblings, int* nb, size_t j = 0, const uint8_t* kids = nullptr,
+                              int* km = nullptr) {
   std::fill(nb, nb + 27, 0);
+  if (km) std::fill(km, km + 27, 0);
   uint32_t skip = 1u << 13;
   if (siblings >= 0) {
     const size_t o = pk & 7;
-    for (size_t s = 0; s < 8; ++s) nb[kSiblings.at[o][s]] = (siblings >> s) & 1;
+    for (size_t s = 0; s < 8; ++s) {
+      nb[kSiblings.at[o][s]] = (siblings >> s) & 1;
+      // a sibling before the node: the nodes from it up to the node's own are its index's lead
+      if (km && s < o && ((siblings >> s) & 1))
+        km[kSiblings.at[o][s]] =
+            kids[j - static_cast<size_t>(kOnes[siblings & ((1 << o) - (1 << s))])];
+    }
     skip = kSiblings.skip[o];
   }
   nb[13] = 1;
-  Around(pk, p, side).each([&](int at, uint64_t k) { nb[at] = here.find(k) >= 0; }, skip);
+  Around(pk, p, side)
+      .each(
+          [&](int at, uint64_t k) {
+            const int64_t x = here.find(k);
+            nb[at] = x >= 0;
+            if (km && x >= 0 && static_cast<size_t>(x) < j) km[at] = kids[x];
+          },
+          skip);
 }
+
+// The offset of a parent's neighbour one step along axis a in nb's index.
+constexpr int kFace[3] = {9, 3, 1};
 
 // The walk over a tree of depth d and corner lo (FORMAT.md step 4) both sides run: io.bit(ctx,
 // level, key of the child) gives each coded child bit (the encoder's actual one, or the decoded
@@ -395,14 +430,16 @@ inline void parent_neighbours(const KeySet& here, uint64_t pk, const int64_t* p,
 // Returns the cells' keys in Morton order, or stops with io.too_many() (which throws) when a
 // level has more than m nodes, or with io.too_much() (which throws) past the cone work's
 // budget.
-template <class Io>
+template <class Io, class Mix = OctreeMixer>
 std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
-                                const std::vector<int32_t>& prev, Cones* cones = nullptr) {
+                                const std::vector<int32_t>& prev, Cones* cones = nullptr,
+                                Mix* mx = nullptr) {
   std::vector<uint64_t> level{0}, next;
   KeySet here, there, before;  // level's keys, next's so far, the previous frame's at next's
   std::vector<std::vector<uint64_t>> earlier;
   previous_levels(prev, lo, d, &earlier);
   ConeWalk cw(cones, d, lo);
+  octree::MixWalk mw;
   // level's parents' child bits (by index), level's nodes' parents (by index); next's, so far
   std::vector<uint8_t> kids_up, kids;
   std::vector<uint32_t> up, up_next;
@@ -423,16 +460,30 @@ std::vector<uint64_t> code_tree(Io& io, int d, size_t m, const int64_t* lo,
       coords(pk, p);
       if (classed && !cw.start_parent(p, l, j)) io.too_much();
       int nb[27];
-      parent_neighbours(here, pk, p, side, l > 0 ? kids_up[up[j]] : -1, nb);
+      int km[27];
+      parent_neighbours(here, pk, p, side, l > 0 ? kids_up[up[j]] : -1, nb, j, kids.data(), km);
       int ones = 0, coded = 0;
+      if (mx) mw.start_parent(km, lo, p, l, d);
+      const int lc = l == d - 1 ? 0 : l == d - 2 ? 1 : 2;
       for (int i = 0; i < 8; ++i) {
         const uint64_t ck = pk << 3 | static_cast<uint64_t>(i);
         const int64_t c[3] = {2 * p[0] + (i >> 2), 2 * p[1] + ((i >> 1) & 1), 2 * p[2] + (i & 1)};
         bool bit = true;
         const int r = classed ? cw.child_class(c) : 2;
-        if (i < 7 || ones > 0)
-          bit = io.bit(child_context(nb, there, before, ck, c, l, d, i, coded, ones, r), l, ck);
+        if (i < 7 || ones > 0) {
+          // child_context's parts; cn from the child bits of the parent's earlier neighbours
+          int o7 = 0, cn = 0;
+          for (int k = 1; k < 8; ++k) o7 |= nb[kToward.at[i][k]] << (k - 1);
+          for (int a = 0; a < 3; ++a) {
+            const int half = 1 << (2 - a);
+            cn |= (((i & half) ? coded : km[13 - kFace[a]]) >> (i ^ half) & 1) << a;
+          }
+          const int sib = std::min(ones, 2), pv = !before.empty() && before.find(ck) >= 0;
+          if (mx) mw.child(mx, i, o7, cn, sib, lc, pv, r);
+          bit = io.bit(context_of(o7, cn, sib, lc, pv, r), l, ck);
+        }
         if (!bit) continue;
+        if (mx) mw.keep_child(i);
         if (next.size() >= m) io.too_many();
         if (classed) cw.keep_child();
         there.insert(ck, static_cast<uint32_t>(next.size()));
@@ -547,7 +598,7 @@ void encode_octree_frame(const ScanGeometry& g, size_t first, size_t n, uint32_t
 // frame, each frame's points in octree_frame_order's order; empty when a frame is too wide.
 // With a table of some rings, the payload carries it and the octree block's flags L = l
 // (FORMAT.md "The block's flags"; bit 0 left out for more than kMaxConeRings rings or past the
-// cone work's bound); without one, L = 0.
+// cone work's bound, bit 2 without bit 1); without one, L = 0.
 std::vector<uint8_t> encode_scan_octree(const ScanGeometry& g, const scan::Table* table = nullptr,
                                         uint32_t l = 0);
 // A window of split frames (FORMAT.md "Split frames"; scan_nearfar_encode.cpp). near: one frame

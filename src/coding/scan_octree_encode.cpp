@@ -132,7 +132,8 @@ void encode_octree_frame(const ScanGeometry& g, size_t first, size_t n, uint32_t
       if (levels[static_cast<size_t>(l)].empty() || levels[static_cast<size_t>(l)].back() != k >> 3)
         levels[static_cast<size_t>(l)].push_back(k >> 3);
   EncodeBits io(enc, std::move(levels), mode);
-  scan::octree::code_tree(io, depth, cells.size(), lo, *prev, mode ? mode->cones() : nullptr);
+  scan::octree::code_tree(io, depth, cells.size(), lo, *prev, mode ? mode->cones() : nullptr,
+                          mode ? mode->mixer() : nullptr);
   std::vector<int32_t> mine;  // this frame's cells and points, for the next
   for (size_t j = 0; j < cells.size(); ++j) {
     int64_t v[3];
@@ -180,7 +181,9 @@ std::vector<uint8_t> encode_scan_octree(const ScanGeometry& g, const scan::Table
   const scan::Table none;
   if (!table || table->rings() == 0) table = &none, l = 0;
   if (table->rings() > scan::kMaxConeRings) l &= ~1u;
-  scan::OctreeMode mode((l & 1) ? scan::table_cones(*table) : scan::Cones{}, (l & 2) != 0);
+  if (!(l & 2)) l &= ~4u;  // the mix only with counting models
+  scan::OctreeMode mode((l & 1) ? scan::table_cones(*table) : scan::Cones{}, (l & 2) != 0,
+                        (l & 4) != 0);
   if (table->rings() > 0) tree.put(l, scan::kOctFlagsCtx);  // L (FORMAT.md "The block's flags")
   std::vector<int32_t> prev;  // the previous frame's cells and points when an octree frame
   size_t first = 0;

@@ -171,8 +171,8 @@ TEST(ScanCorrupt, GivenOctreeFramesWithoutHeadBit6ThenCorrupt) {
 }
 
 // "The block's flags": the octree golden (four Helios sweeps at 2 cm) takes the cones of its
-// table and the counting models (L = 3), so the damage above reaches that path too.
-TEST(ScanCorrupt, GivenTheOctreeGoldenThenItsBlockTakesTheConesAndCountingModels) {
+// table, the counting models and the mix (L = 7), so the damage above reaches that path too.
+TEST(ScanCorrupt, GivenTheOctreeGoldenThenItsBlockTakesTheConesCountingModelsAndMix) {
   const Chunks c(read_file(kStreams + kOctree));
   size_t cones = 0;
   for (size_t i = 0; i < c.type.size(); ++i) {
@@ -187,7 +187,7 @@ TEST(ScanCorrupt, GivenTheOctreeGoldenThenItsBlockTakesTheConesAndCountingModels
     if (h.octree_size == 0 || h.table.rings() == 0) continue;  // L = 0 without a table
     IntDecoder dec(g + h.octree, h.octree_size, scan::kOctreeContexts, "SCNW");
     const uint32_t l = dec.get(scan::kOctFlagsCtx);
-    cones += l == 3;
+    cones += l == 7;  // the sampled damage above reaches the mix (FORMAT.md "Mixing")
   }
   EXPECT_GT(cones, 0u);
 }

@@ -81,8 +81,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     split_round_trip(o);
     const capz::scan::Table table = capz::scan::read_header(data, size, "fuzz", 1 << 20).table;
-    for (int l = 0; l < 2; ++l) {
-      const std::vector<uint8_t> tree = capz::encode_scan_octree(o, l ? &table : nullptr, 3);
+    for (uint32_t l : {0u, 3u, 7u}) {  // no table; cones and counting models; and the mix
+      const std::vector<uint8_t> tree = capz::encode_scan_octree(o, l ? &table : nullptr, l);
       if (tree.empty()) continue;
       const capz::ScanGeometry t =
           capz::decode_scan_geometry(tree.data(), tree.size(), "octree", 1 << 20);

@@ -288,9 +288,9 @@ uint32_t flags_of(const std::vector<uint8_t>& p) {
 TEST(ScanOctreeCones, GivenAWindowWithEachFlagThenItsPointsComeBack) {
   scan::Table t;
   const ScanGeometry g = near_window(&t);
-  size_t bytes[4];
+  size_t bytes[8] = {};
   const std::vector<uint8_t> none = encode_scan_octree(g);
-  for (uint32_t l = 0; l < 4; ++l) {
+  for (uint32_t l : {0u, 1u, 2u, 3u, 6u, 7u}) {  // 6 and 7: with the mix (bit 2)
     const std::vector<uint8_t> p = encode_scan_octree(g, &t, l);
     ASSERT_FALSE(p.empty());
     EXPECT_EQ(flags_of(p), l);
@@ -305,8 +305,8 @@ TEST(ScanOctreeCones, GivenAWindowWithEachFlagThenItsPointsComeBack) {
   EXPECT_EQ(h.table.rings(), 0u);
   EXPECT_LE(h.octree_size, bytes[0]);
   EXPECT_EQ(decode_scan_geometry(none.data(), none.size(), "octree").q, g.q);
-  std::printf("octree blocks, L = 0..3: %zu %zu %zu %zu B\n", bytes[0], bytes[1], bytes[2],
-              bytes[3]);
+  std::printf("octree blocks, L = 0..3, 6, 7: %zu %zu %zu %zu %zu %zu B\n", bytes[0], bytes[1],
+              bytes[2], bytes[3], bytes[6], bytes[7]);
   // The counting models learn a skewed context within a few bits (10,243 -> 9,454 B). The cones
   // add nothing here: on a wall at 0.8 m every cell has a ring or two (the real sweep below).
   EXPECT_LT(static_cast<double>(bytes[2]), 0.95 * static_cast<double>(bytes[0]));
@@ -349,12 +349,15 @@ void expect_corrupt(const std::vector<uint8_t>& p, const char* says) {
 TEST(ScanOctreeCones, GivenBadBlockFlagsThenCorruptSayingWhich) {
   const scan::Table none, two = table_of({0.1f, 0.2f}, {0.0f, 1.0f});
   const scan::Table many = table_of(std::vector<float>(257, 0.1f), std::vector<float>(257, 0.0f));
-  for (uint32_t l = 0; l < 4; ++l) {  // the valid ones decode: the cell at (7, 7, 7)
+  for (uint32_t l : {0u, 1u, 2u, 3u, 6u, 7u}) {  // the valid ones decode: the cell at (7, 7, 7)
     const std::vector<uint8_t> p = one_cell(l, two);
     EXPECT_EQ(decode_scan_geometry(p.data(), p.size(), "octree").q,
               (std::vector<int32_t>{7, 7, 7}));
   }
-  expect_corrupt(one_cell(4, two), "an octree block's flags have unknown bits");
+  expect_corrupt(one_cell(8, two), "an octree block's flags have unknown bits");
+  expect_corrupt(one_cell(4, two), "an octree block's mix without counting models");
+  expect_corrupt(one_cell(5, two), "an octree block's mix without counting models");
+  expect_corrupt(one_cell(7, many), "an octree block's cones from more than 256 rings");
   expect_corrupt(one_cell(1, many), "an octree block's cones from more than 256 rings");
   expect_corrupt(one_cell(3, many), "an octree block's cones from more than 256 rings");
   const std::vector<uint8_t> bare = one_cell(0, none);  // no table, no L
@@ -409,7 +412,7 @@ TEST(ScanOctreeCones, GivenMoreConeWorkThanTheBlockAllowsThenCorruptAndTheEncode
 
 // A real sweep (hesai-xt32, 63k points) on capz's grid at 1 cm: the cones of the table the
 // encoder fits and the counting models take its octree payload down by more than 5 %
-// (docs/lab/2026-11-30-octree-cones.md), and it comes back exactly.
+// (docs/lab/2026-11-30-octree-cones.md), the mix by 5 % more, and it comes back exactly.
 TEST(ScanOctreeCones, GivenARealSweepThenTheConesAndCountingModelsPay) {
   const std::string root = capz_test::shared_data_or_skip("scan/single");
   if (root.empty()) return;
@@ -424,8 +427,9 @@ TEST(ScanOctreeCones, GivenARealSweepThenTheConesAndCountingModelsPay) {
     std::copy_n(&g.q[3 * size_t{order[j]}], 3, &s.q[3 * j]);
   }
   const std::vector<uint8_t> plain = encode_scan_octree(s),
-                             cones = encode_scan_octree(s, &table, 3);
-  for (const std::vector<uint8_t>* p : {&plain, &cones}) {
+                             cones = encode_scan_octree(s, &table, 3),
+                             mixed = encode_scan_octree(s, &table, 7);
+  for (const std::vector<uint8_t>* p : {&plain, &cones, &mixed}) {
     const ScanGeometry d = decode_scan_geometry(p->data(), p->size(), "xt32");
     EXPECT_EQ(d.q, s.q);
     EXPECT_EQ(d.valid, s.valid);
@@ -433,6 +437,9 @@ TEST(ScanOctreeCones, GivenARealSweepThenTheConesAndCountingModelsPay) {
   std::printf("hesai-xt32 octree payload: %zu B plain, %zu B with cones and counting models\n",
               plain.size(), cones.size());
   EXPECT_LT(static_cast<double>(cones.size()), 0.95 * static_cast<double>(plain.size()));
+  // The mix (L = 7) takes it down again by more than 5 % (docs/lab/2026-11-30-octree-mixing.md).
+  std::printf("hesai-xt32 octree payload with the mix: %zu B\n", mixed.size());
+  EXPECT_LT(static_cast<double>(mixed.size()), 0.95 * static_cast<double>(cones.size()));
 }
 
 }  // namespace
