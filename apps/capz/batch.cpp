@@ -34,7 +34,10 @@ bool holds_frames(const fs::path& dir) {
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string e = lower_extension(it->path());
-    if ((e == ".pcd" || e == ".ply" || e == ".bin") && it->is_regular_file(ec)) return true;
+    // Hidden files (macOS's "._NAME") are no frames to the readers either.
+    const bool hidden = it->path().filename().string().front() == '.';
+    if ((e == ".pcd" || e == ".ply" || e == ".bin") && !hidden && it->is_regular_file(ec))
+      return true;
   }
   return false;
 }

@@ -170,6 +170,10 @@ bool has_extension(const std::string& path, const std::string& ext) {
   return e == ext;
 }
 
+bool hidden_name(const std::string& name) {
+  return !name.empty() && name[0] == '.';
+}
+
 FrameFiles list_frame_files(const std::string& path, const std::string& ext) {
   FrameFiles ff;
   std::error_code ec;
@@ -184,8 +188,9 @@ FrameFiles list_frame_files(const std::string& path, const std::string& ext) {
   ff.dir = path;
   for (fs::directory_iterator it(path, ec), end; !ec && it != end; it.increment(ec)) {
     std::error_code ec2;
-    if (has_extension(it->path().string(), ext) && fs::is_regular_file(it->path(), ec2))
-      ff.names.push_back(it->path().filename().string());
+    const std::string name = it->path().filename().string();
+    if (!hidden_name(name) && has_extension(name, ext) && fs::is_regular_file(it->path(), ec2))
+      ff.names.push_back(name);
   }
   if (ec) fail(ErrorCode::kIo, path, "cannot list directory: " + ec.message());
   if (ff.names.empty()) fail(ErrorCode::kNotOurFormat, path, "no " + ext + " files in directory");

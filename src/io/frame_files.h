@@ -27,10 +27,15 @@ struct FrameFiles {
   std::string path(size_t f) const;
 };
 
-// Lists `path`: a directory gives its files ending in `ext` (".pcd", case-insensitive), a file
-// gives itself. Throws Error(kUsage) for a path that is neither, kNotOurFormat for a folder
-// without such files.
+// Lists `path`: a directory gives its files ending in `ext` (".pcd", case-insensitive), hidden
+// ones aside (hidden_name), a file gives itself. Throws Error(kUsage) for a path that is
+// neither, kNotOurFormat for a folder without such files.
 FrameFiles list_frame_files(const std::string& path, const std::string& ext);
+
+// Whether a file name in a folder is hidden (starts with '.'): never a frame of the folder.
+// macOS leaves "._NAME" files of its own beside every file it copies to a foreign file system,
+// and editors their ".NAME.swp": none is a frame.
+bool hidden_name(const std::string& name);
 
 // The first min(size, `bytes`) bytes of a file. Throws Error(kIo) naming it.
 std::vector<uint8_t> read_file_head(const std::string& path, size_t bytes);

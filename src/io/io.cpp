@@ -23,6 +23,7 @@
 
 #include "capz/error.h"
 #include "core/atomic_file.h"
+#include "io/frame_files.h"
 
 namespace fs = std::filesystem;
 
@@ -89,18 +90,31 @@ Format sniff(const std::string& path, bool* is_capz) {
   return frame_file_format(ext);
 }
 
-// The folder format of a directory: that of its frame files (.pcd first, then .ply, then .bin);
-// PCD when it holds none (the PCD reader then names the fault).
+// The folder format of a directory: that of its frame files (hidden ones aside,
+// frame_files.h); PCD when it holds none (the PCD reader then names the fault). Frame files of
+// two formats are refused (kNotOurFormat), naming one of each: a folder is one sequence, and
+// reading one format would leave the other's frames out of the take.
 Format folder_format(const std::string& dir) {
-  bool ply = false, bin = false;
+  std::string first[3];  // a file of each format: PCD, PLY, .bin
+  const Format formats[3] = {Format::kPCDFolder, Format::kPLYFolder, Format::kBinFolder};
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    const Format f = frame_file_format(lower_extension(it->path().string()));
-    if (f == Format::kPCDFolder) return f;
-    ply = ply || f == Format::kPLYFolder;
-    bin = bin || f == Format::kBinFolder;
+    const std::string name = it->path().filename().string();
+    const Format f = frame_file_format(lower_extension(name));
+    for (int k = 0; k < 3; ++k)
+      if (f == formats[k] && first[k].empty() && !hidden_name(name)) first[k] = name;
   }
-  return ply ? Format::kPLYFolder : bin ? Format::kBinFolder : Format::kPCDFolder;
+  std::vector<std::string> held;
+  for (int k = 0; k < 3; ++k)
+    if (!first[k].empty()) held.push_back(first[k]);
+  if (held.size() > 1)
+    fail(ErrorCode::kNotOurFormat, dir,
+         "holds frame files of more than one format (" + held[0] + ", " + held[1] +
+             "): a folder is one sequence of PCD, PLY or .bin frames; move the others to a "
+             "folder of their own");
+  for (int k = 0; k < 3; ++k)
+    if (!first[k].empty()) return formats[k];
+  return Format::kPCDFolder;
 }
 
 }  // namespace

@@ -37,3 +37,42 @@ TEST(CliUserInputs, GivenOneFrameFileWithItsOwnHeaderThenLosslessGivesItBack) {
   r = capz_run("test '" + dir.file("s.capz") + "'", dir);
   EXPECT_EQ(r.status, 0) << r.out;
 }
+
+// A folder holding .pcd and .ply frames was read as its .pcd frames alone: the .ply frames were
+// left out of the archive without a word (a --lossless archive of the folder did not give them
+// back). Now refused, naming a file of each format, and no archive is left.
+TEST(CliUserInputs, GivenAFolderOfPcdAndPlyFramesThenRefusedNamingBoth) {
+  TempDir dir;
+  fs::create_directory(dir.path() / "mixed");
+  capz_test::put(dir.path() / "mixed" / "0.pcd", capz_test::binary_pcd(20, 0.0f));
+  capz_test::put(dir.path() / "mixed" / "1.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                 "property float z\nend_header\n1 2 3\n");
+  for (const char* opt : {"", " --lossless"}) {
+    const auto r =
+        capz_run("compress '" + dir.file("mixed") + "' -o '" + dir.file("m.capz") + "'" + opt, dir);
+    EXPECT_EQ(r.status, 3) << r.out;
+    EXPECT_NE(r.out.find("0.pcd"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("1.ply"), std::string::npos) << r.out;
+    EXPECT_FALSE(fs::exists(dir.file("m.capz")));
+  }
+}
+
+// macOS leaves a "._NAME" file beside each file it copies to a foreign file system; one named
+// "._0.pcd" made the folder's compression fail (not a PCD file). Hidden files are no frames.
+TEST(CliUserInputs, GivenAHiddenFileBesideTheFramesThenItIsNoFrame) {
+  TempDir dir;
+  fs::create_directory(dir.path() / "sweeps");
+  const std::string frame = capz_test::binary_pcd(50, 2.0f);
+  capz_test::put(dir.path() / "sweeps" / "0.pcd", frame);
+  capz_test::put(dir.path() / "sweeps" / "._0.pcd", std::string("\0\5\26\7", 4) + "Mac OS X");
+  auto r = capz_run(
+      "compress '" + dir.file("sweeps") + "' -o '" + dir.file("s.capz") + "' --lossless", dir);
+  ASSERT_EQ(r.status, 0) << r.out;
+  r = capz_run("decompress '" + dir.file("s.capz") + "' -o '" + dir.file("back") + "/'", dir);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(capz_test::file_text(dir.file("back/0.pcd")), frame);
+  EXPECT_FALSE(fs::exists(dir.file("back/._0.pcd")));
+  r = capz_run("info '" + dir.file("sweeps") + "'", dir);
+  EXPECT_EQ(r.status, 0) << r.out;
+}
