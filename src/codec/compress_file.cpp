@@ -8,6 +8,7 @@
 #include "capz/error.h"
 #include "capz/io.h"
 #include "capz/tool/file.h"
+#include "codec/grid_choice.h"
 
 namespace capz {
 
@@ -43,6 +44,28 @@ double unitless_default_bound(const ValidExtent& e) {
   for (int a = 0; a < 3; ++a)
     d2 += e.hi[a] > e.lo[a] ? (e.hi[a] - e.lo[a]) * (e.hi[a] - e.lo[a]) : 0;
   return d2 > 0 ? 1e-4 * std::sqrt(d2) : 1e-4;
+}
+
+// Whether the frame files written back store x y z as float32: .bin frames, PCD and PLY frames
+// whose x is 4 bytes.
+bool float32_frames(const Take& t) {
+  if (t.format == Format::kBinFolder) return true;
+  if (!is_frame_files(t.format)) return false;
+  const std::vector<PCDField>* fields = t.pcd ? &t.pcd->fields : t.ply ? &t.ply->fields : nullptr;
+  if (!fields || fields->empty()) return t.pcd != nullptr;  // PCD's default: x y z F 4
+  for (const PCDField& f : *fields)
+    if (f.name == "x") return f.size == 4;
+  return false;
+}
+
+// The default bound for t when it can hold in float32 frames: 0 for frames whose coordinates
+// are farther from the origin than float32 resolves that bound (UTM eastings and northings),
+// whose default is then lossless (their float32 values kept; docs/CLI.md, --units).
+double default_bound(const Take& t, const ValidExtent& e) {
+  const double b = unitless_default_bound(e);
+  double m = 0;
+  for (int a = 0; a < 3; ++a) m = std::max({m, std::fabs(e.lo[a]), std::fabs(e.hi[a])});
+  return float32_frames(t) && !(b > float32_half_ulp(m + b)) ? 0 : b;
 }
 
 }  // namespace
@@ -88,7 +111,8 @@ void set_compress_target(FrameSource& source, const CompressTarget& target, Comp
   } else if (unitless && (extent = valid_extent(source)).valid == 0) {
     opts->max_error = 1;  // no positions to bound (analog-only take): any bound will do
   } else if (!target.max_error && unitless) {
-    opts->max_error = unitless_default_bound(extent);
+    opts->max_error = default_bound(take, extent);
+    opts->lossless = opts->max_error == 0;
   } else {
     opts->max_error = parse_length(target.max_error ? *target.max_error : "0.1mm", take.units);
     if (!(opts->max_error > 0))

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 
@@ -223,22 +224,32 @@ double output_rounding_reserve(const Take& t, const TakeScan& s, double bound) {
   if (is_frame_files(t.format) && t.pcd)
     for (const PCDField& f : t.pcd->fields) f32_pcd = f32_pcd || (f.name == "x" && f.size == 4);
   if (t.format != Format::kC3D && !f32_pcd) return 0;
-  int e = 0;
-  std::frexp(s.max_abs + bound, &e);  // magnitude in [2^(e-1), 2^e): float32 ulp 2^(e-24)
-  return std::ldexp(1.0, e - 25);
+  return float32_half_ulp(s.max_abs + bound);
 }
 
 // A grid step for `bound` with the output's rounding reserve taken off.
 double reserved_step(const Take& t, const TakeScan& s, double bound) {
   const double r = output_rounding_reserve(t, s, bound);
-  if (!(bound > r))
-    fail(ErrorCode::kInvalidParameter, t.source,
-         "max error " + std::to_string(bound) + " is below the float32 resolution of a C3D at " +
-             "coordinates up to " + std::to_string(s.max_abs) + " (use --lossless)");
+  if (!(bound > r)) {
+    // "%g": a coordinate of 1e30 in six digits, not in thirty-one.
+    char msg[320];
+    std::snprintf(msg, sizeof msg,
+                  "max error %g is below the float32 resolution of %s at coordinates up to %g "
+                  "(float32 values %g apart there): use --lossless, or a max error above %g",
+                  bound, t.format == Format::kC3D ? "a C3D" : "the frame files written back",
+                  s.max_abs, 2 * r, r);
+    fail(ErrorCode::kInvalidParameter, t.source, msg);
+  }
   return grid_step_for_bound(bound - r);
 }
 
 }  // namespace
+
+double float32_half_ulp(double m) {
+  int e = 0;
+  std::frexp(m, &e);  // magnitude in [2^(e-1), 2^e): float32 ulp 2^(e-24)
+  return std::ldexp(1.0, e - 25);
+}
 
 // A grid whose step bounds every coordinate's error by `bound`, in the decoded take and in the
 // file the decoder writes in the source's format.

@@ -81,6 +81,11 @@ Grid lossless_grid(const TakeScan& s);
 // and in the file the decoder writes in the source's format. Throws kInvalidParameter when the
 // bound is too fine for the coordinates.
 Grid bounded_grid(const Take& t, const TakeScan& s, double bound);
+
+// Half a float32 ulp at magnitudes up to m (m in [2^(e-1), 2^e): 2^(e-25)): how far writing a
+// decoded coordinate of magnitude at most m as float32 may move it. bounded_grid keeps that much
+// of the bound in reserve for outputs that store float32 coordinates.
+double float32_half_ulp(double m);
 // The largest grid whose KG error is at or under `kg` percent (bisection on the step). Reads the
 // source again in blocks of `block` frames (into *b) unless the scan cached the coordinates.
 Grid kg_grid(FrameSource& src, const TakeScan& s, double kg, size_t block, FrameBlock* b);

@@ -76,3 +76,27 @@ TEST(CliUserInputs, GivenAHiddenFileBesideTheFramesThenItIsNoFrame) {
   r = capz_run("info '" + dir.file("sweeps") + "'", dir);
   EXPECT_EQ(r.status, 0) << r.out;
 }
+
+// float32 frames far from the origin (UTM-like: y near 5e6 m, where float32 values are 0.5 m
+// apart). A bound below half that spacing cannot hold once the decoded frames are written back
+// as float32: refused, and the message spoke of "a C3D" and printed 1e30 in 37 digits. With no
+// bound given, the default (1e-4 of the diagonal) was refused the same way, exit 6; it now keeps
+// the float32 values as they are.
+TEST(CliUserInputs, GivenFloat32FramesFarFromTheOriginThenDefaultIsLosslessAndFineBoundsSayWhy) {
+  TempDir dir;
+  const std::string in = dir.file("utm.pcd");
+  const std::string frame = capz_test::binary_pcd(200, 5e6f);
+  capz_test::put(in, frame);
+  auto r = capz_run("compress '" + in + "' -o '" + dir.file("u.capz") + "'", dir);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("lossless"), std::string::npos) << r.out;
+  r = capz_run("decompress '" + dir.file("u.capz") + "' -o '" + dir.file("back.pcd") + "'", dir);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_TRUE(capz_test::file_text(dir.file("back.pcd")) == frame);
+  r = capz_run("compress '" + in + "' -o '" + dir.file("c.capz") + "' --max-error 1mm", dir);
+  EXPECT_EQ(r.status, 6) << r.out;
+  EXPECT_NE(r.out.find("utm.pcd"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("C3D"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--lossless"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(dir.file("c.capz")));
+}
