@@ -39,11 +39,11 @@ CompressInput open_compress_input(const std::string& path, bool whole, const std
 
 // Sets opts->lossless, kg_error and max_error from `target` as `capz compress` does. The default
 // bound is 0.1 mm; for data without units, or with assumed ones, it is 1e-4 of the bounding-box
-// diagonal of the valid samples (the source is read once for it), and any bound when no sample
-// is valid. A bound with a unit on assumed units is read in them (--max-error 1mm on PCD
-// frames: 0.001 m). Throws
-// Error(kUsage) for more than one target, kInvalidParameter for a KG target or a bound that is
-// not > 0, or a bound with a unit on data without units.
+// diagonal of the valid samples (the source is read once for it), lossless for frames that
+// store float32 coordinates too far from the origin for float32 to resolve that bound, and any
+// bound when no sample is valid. A bound with a unit on assumed units is read in them (--max-error
+// 1mm on PCD frames: 0.001 m). Throws Error(kUsage) for more than one target, kInvalidParameter for
+// a KG target or a bound that is not > 0, or a bound with a unit on data without units.
 void set_compress_target(FrameSource& source, const CompressTarget& target, CompressOptions* opts);
 
 // Compresses the input into `out`, written atomically: compress_stream() (for a C3D or TRC

@@ -24,10 +24,15 @@ int level_for(size_t n) {
   return n <= (size_t{1} << 18) ? 19 : 6;
 }
 
+// Whether a[0, n) is b[0, n). No memcmp of n = 0: an empty vector's data() may be null (a
+// .bin frame of 0 bytes), which memcmp must not be given.
+bool same_bytes(const uint8_t* a, const uint8_t* b, size_t n) {
+  return n == 0 || std::memcmp(a, b, n) == 0;
+}
+
 // Whether a's bytes from ah on are b's from bh on.
 bool same_body(const std::vector<uint8_t>& a, size_t ah, const std::vector<uint8_t>& b, size_t bh) {
-  return a.size() - ah == b.size() - bh &&
-         std::memcmp(a.data() + ah, b.data() + bh, a.size() - ah) == 0;
+  return a.size() - ah == b.size() - bh && same_bytes(a.data() + ah, b.data() + bh, a.size() - ah);
 }
 
 // The encoding a frame file's header names (FORMAT.md 14.3, "Lossless frame-file streams"): a
@@ -101,10 +106,10 @@ void PCDResidueEncoder::frame(const FrameBlock& block, size_t k, const std::vect
   }
   const size_t rb = bytes_.size() - rh, ob = orig.size() - oh;
   ByteWriter rest;
-  if (oh == rh && std::memcmp(orig.data(), bytes_.data(), oh) == 0) {
+  if (oh == rh && same_bytes(orig.data(), bytes_.data(), oh)) {
     // header 0
   } else if (!reference_.empty() && oh == reference_.size() &&
-             std::memcmp(orig.data(), reference_.data(), oh) == 0) {
+             same_bytes(orig.data(), reference_.data(), oh)) {
     flags |= 1 << 2;
   } else {
     flags |= 2 << 2;
@@ -112,7 +117,7 @@ void PCDResidueEncoder::frame(const FrameBlock& block, size_t k, const std::vect
   }
   const uint8_t* o = orig.data() + oh;
   const uint8_t* r = bytes_.data() + rh;
-  if (ob == rb && std::memcmp(o, r, rb) == 0) {
+  if (ob == rb && same_bytes(o, r, rb)) {
     // body 0
   } else {
     ByteWriter patched;
