@@ -28,8 +28,13 @@ void set_field_bounds(Take& e, const CompressOptions& opts) {
     bool any = false;
     for (size_t i = 0; i < x->fields.size(); ++i) {
       const PCDField& f = x->fields[i];
-      const bool named = f.name == kv.first || f.name.rfind(kv.first + "_", 0) == 0;
-      if (!named || f.name == "x" || f.name == "y" || f.name == "z") continue;
+      const bool exact = f.name == kv.first;
+      if (!(exact || f.name.rfind(kv.first + "_", 0) == 0) || f.name == "x" || f.name == "y" ||
+          f.name == "z")
+        continue;
+      // NAME_* stands for its float fields (CloudCompare's scalar_Intensity beside its
+      // scalar_Classification, uchar): its integer fields stay lossless, as they always are.
+      if (f.type != 'F' && !exact) continue;
       if (f.type != 'F')
         fail(ErrorCode::kInvalidParameter, e.source,
              "--attr-error " + kv.first + ": field " + f.name +

@@ -100,3 +100,37 @@ TEST(CliUserInputs, GivenFloat32FramesFarFromTheOriginThenDefaultIsLosslessAndFi
   EXPECT_NE(r.out.find("--lossless"), std::string::npos) << r.out;
   EXPECT_FALSE(fs::exists(dir.file("c.capz")));
 }
+
+// CloudCompare writes its scalar fields as scalar_NAME, floats and integers side by side;
+// --attr-error scalar=B (NAME_* stands for every such field) was refused because one of them
+// holds integers. The float ones are bounded now, the integer ones kept as they are.
+TEST(CliUserInputs, GivenScalarFieldsOfBothKindsThenAPrefixBoundsTheFloatOnes) {
+  TempDir dir;
+  const std::string in = dir.file("cc.ply");
+  std::string body;
+  for (int p = 0; p < 300; ++p) {
+    body += capz_test::floats({0.1f * static_cast<float>(p), 2.0f, static_cast<float>(p % 7),
+                               0.001f * static_cast<float>(p * p % 1000)});
+    body += static_cast<char>(p % 5);
+  }
+  capz_test::put(in,
+                 "ply\nformat binary_little_endian 1.0\ncomment Author: CloudCompare\n"
+                 "element vertex 300\nproperty float x\nproperty float y\nproperty float z\n"
+                 "property float scalar_Intensity\nproperty uchar scalar_Classification\n"
+                 "end_header\n" +
+                     body);
+  auto r = capz_run("compress '" + in + "' -o '" + dir.file("c.capz") +
+                        "' --max-error 1mm --attr-error scalar=0.01",
+                    dir);
+  ASSERT_EQ(r.status, 0) << r.out;
+  r = capz_run("verify '" + dir.file("c.capz") + "' --against '" + in + "'", dir);
+  EXPECT_EQ(r.status, 0) << r.out;
+  r = capz_run("info '" + dir.file("c.capz") + "'", dir);
+  EXPECT_NE(r.out.find("scalar_Intensity"), std::string::npos) << r.out;
+  // An integer field named as it is stays an error.
+  r = capz_run(
+      "compress '" + in + "' -o '" + dir.file("d.capz") + "' --attr-error scalar_Classification=1",
+      dir);
+  EXPECT_EQ(r.status, 6) << r.out;
+  EXPECT_FALSE(fs::exists(dir.file("d.capz")));
+}
