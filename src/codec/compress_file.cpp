@@ -112,6 +112,9 @@ void set_compress_target(FrameSource& source, const CompressTarget& target, Comp
     opts->max_error = 1;  // no positions to bound (analog-only take): any bound will do
   } else if (!target.max_error && unitless) {
     opts->max_error = default_bound(take, extent);
+    // Not with --point-order any, which a lossless archive refuses: the bound then says why.
+    if (opts->max_error == 0 && opts->any_point_order)
+      opts->max_error = unitless_default_bound(extent);
     opts->lossless = opts->max_error == 0;
   } else {
     opts->max_error = parse_length(target.max_error ? *target.max_error : "0.1mm", take.units);

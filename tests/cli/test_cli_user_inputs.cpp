@@ -99,6 +99,12 @@ TEST(CliUserInputs, GivenFloat32FramesFarFromTheOriginThenDefaultIsLosslessAndFi
   EXPECT_EQ(r.out.find("C3D"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("--lossless"), std::string::npos) << r.out;
   EXPECT_FALSE(fs::exists(dir.file("c.capz")));
+  // --point-order any has no lossless archive: its default bound is refused for what it is,
+  // not for a --lossless the user did not give.
+  r = capz_run("compress '" + in + "' -o '" + dir.file("c.capz") + "' --point-order any", dir);
+  EXPECT_EQ(r.status, 6) << r.out;
+  EXPECT_NE(r.out.find("float32 resolution"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(dir.file("c.capz")));
 }
 
 // CloudCompare writes its scalar fields as scalar_NAME, floats and integers side by side;
