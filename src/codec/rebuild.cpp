@@ -98,9 +98,12 @@ void rebuild_pcd(const std::string& path, StreamBytes& raw, CapzSource& src, con
            ? pcd_output_names(t)
            : frame_output_names(t, frame_extension(t.format))) != t.pcd->frame_names)
     fail(ErrorCode::kCorrupt, path, "PCDR in an archive without one valid name per frame file");
-  // The source's header: a stream of one ragged frame reads as the fixed frame of its file
-  // (capz_source.h), its blocks fixed, its PCD layout as wide as its points.
-  residue::PCDResidueDecoder dec(r.file_part.data(), r.file_part.size(), src.header(), path);
+  // A ragged stream's PCDR is described against its META take (FORMAT.md "Lossless ragged
+  // streams": the reference's dictionary has WIDTH 0 and POINTS 0), also when the source reads
+  // a stream of one ragged frame as the fixed frame of its file (capz_source.h), its blocks
+  // fixed (regenerated as wide as their points, pcd_residue.h).
+  residue::PCDResidueDecoder dec(r.file_part.data(), r.file_part.size(),
+                                 ps.h.ragged ? ps.take : src.header(), path);
   const size_t W = ps.h.window_frames;
   FrameBlock block;
   std::vector<uint8_t> bytes;

@@ -617,15 +617,10 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
   const StreamContext ctx = read_context(
       h, read_chunk(head_buf.data(), head_buf.size(), meta_at, t.source), features, t.source);
   // "Lossless ragged streams": HASH and PCDR of the frame files, a PCDP per window, against the
-  // take as META gives it back (the decoder's header). The decoder reads a stream of one frame
-  // as the fixed take of its file, as many points as that frame (capz_source.h): PCDR's
-  // reference header is described against that take's header, not against one of no points.
-  // `decoded` outlives the writer, which keeps a reference to it.
-  Take decoded = ctx.take;
-  if (t.frames == 1) decoded.points = t.frame_points(0);
+  // take as META gives it back (the decoder's header).
   std::unique_ptr<ResidueWriter> residue;
   if (grid.lossless && !original.empty())
-    residue = ResidueWriter::open(original, decoded, opts.check);
+    residue = ResidueWriter::open(original, ctx.take, opts.check);
   if (residue) residue->file_chunks(&head_buf, true);
   out->flush(&head_buf);
   RaggedRun r{t,
