@@ -114,7 +114,7 @@ struct ElementReader {
       seen_vertex = true;
       h->vertices = n;
     } else if (n > 0) {
-      fail(ErrorCode::kCorrupt, name,
+      fail(ErrorCode::kNotOurFormat, name,  // a valid PLY, of a kind capz does not read
            "PLY element '" + current + "' (" + std::to_string(n) +
                ") is not supported: capz reads point clouds (the vertex element), not meshes");
     }

@@ -195,7 +195,8 @@ TEST(FrameFileLossless, SingleFilesAndDroppedFieldsRebuildByteForByte) {
   expect_rebuilt(dir, tmp.file("back"), tmp, 0, true);
 }
 
-// A PLY file whose face element is not empty is refused by the reader, naming the file.
+// A PLY file whose face element is not empty (a mesh) is refused by the reader, naming the file,
+// as not our format (exit 3): it is a valid PLY, of a kind capz does not read.
 TEST(FrameFileLossless, NonEmptyFaceElementIsRefusedByName) {
   capz_test::TempDir tmp("capz_ffl_face");
   put(tmp.file("mesh.ply"),
@@ -207,6 +208,7 @@ TEST(FrameFileLossless, NonEmptyFaceElementIsRefusedByName) {
     FAIL() << "a mesh was read";
   } catch (const capz::Error& e) {
     EXPECT_NE(std::string(e.what()).find("mesh.ply"), std::string::npos) << e.what();
+    EXPECT_EQ(e.code(), capz::ErrorCode::kNotOurFormat) << e.what();  // a valid PLY, a mesh
   }
 }
 

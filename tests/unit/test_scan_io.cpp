@@ -228,11 +228,6 @@ TEST(ScanIO, GivenBadFramesWhenReadThenErrorNamesTheFile) {
   const std::vector<Case> cases = {
       {"short.bin", std::string(16 * 2 + 5, '\0'), "truncated"},
       {"short.ply", ply_head + std::string(12 + 7, '\0'), "truncated"},
-      {"face.ply",
-       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-       "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-       "0 0 0\n3 0 0 0\n",
-       "face"},
       {"lies.pcd", binary_pcd(3, 0, 5), "5 points"},
   };
   for (const Case& c : cases) {
