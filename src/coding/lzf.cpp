@@ -227,23 +227,41 @@ namespace {
 
 // Runs of the stream decompressed into out[0, size) until `stop` bytes are out (stop <= size) or
 // the stream ends; returns the bytes out, or SIZE_MAX on a run that is malformed, references
-// before the start or passes `size`. *p: the stream's bytes used. Where 32 bytes past a run fit
-// both buffers, a literal run is copied 32 bytes at once and a copy from at least 16 bytes back
-// 16 at a time (the bytes past the run are written again by the runs after it, or lie beyond
-// what was asked when the stream stops).
+// before the start or passes `size`. *p: the stream's bytes used. While a run's bytes and 32
+// more fit both buffers (kRoom), the runs go without their bounds tests: a literal run copied 32
+// bytes at once, a copy from at least 16 bytes back 16 at a time (the bytes past the run are
+// written again by the runs after it, or lie beyond what was asked when the stream stops); the
+// last runs are tested one by one.
 size_t decompress_runs(const uint8_t* data, size_t n, uint8_t* out, size_t size, size_t stop,
                        size_t* used) {
   constexpr size_t kFail = ~size_t{0};
+  constexpr size_t kRoom = 3 + kMaxMatch + 32;  // a run's bytes in either buffer, and 32
   size_t p = 0, o = 0;
+  while (o < stop && n - p >= kRoom && size - o >= kRoom) {
+    const size_t c = data[p++];
+    if (c < 32) {
+      std::memcpy(out + o, data + p, 32);
+      p += c + 1, o += c + 1;
+      continue;
+    }
+    size_t len = (c >> 5) + 2;
+    if (len == 9) len += data[p++];
+    const size_t dist = ((c & 31) << 8) + data[p++] + 1;
+    if (dist > o) return kFail;
+    const uint8_t* from = out + o - dist;
+    if (dist >= 16) {  // each 16 bytes read were written before
+      for (size_t k = 0; k < len; k += 16) std::memcpy(out + o + k, from + k, 16);
+    } else {  // the copy overlaps what it writes: byte by byte, in order
+      for (size_t k = 0; k < len; ++k) out[o + k] = from[k];
+    }
+    o += len;
+  }
   while (p < n && o < stop) {
     const size_t c = data[p++];
     if (c < 32) {
       const size_t len = c + 1;
       if (len > n - p || len > size - o) return kFail;
-      if (n - p >= 32 && size - o >= 32)
-        std::memcpy(out + o, data + p, 32);
-      else
-        std::memcpy(out + o, data + p, len);
+      std::memcpy(out + o, data + p, len);
       p += len, o += len;
       continue;
     }
@@ -256,9 +274,7 @@ size_t decompress_runs(const uint8_t* data, size_t n, uint8_t* out, size_t size,
     const size_t dist = ((c & 31) << 8) + data[p++] + 1;
     if (dist > o || len > size - o) return kFail;
     const uint8_t* from = out + o - dist;
-    if (dist >= 16 && size - o - len >= 16) {  // each 16 bytes read were written before
-      for (size_t k = 0; k < len; k += 16) std::memcpy(out + o + k, from + k, 16);
-    } else if (dist >= len) {
+    if (dist >= len) {
       std::memcpy(out + o, from, len);
     } else {  // the copy overlaps what it writes: byte by byte, in order
       for (size_t k = 0; k < len; ++k) out[o + k] = from[k];

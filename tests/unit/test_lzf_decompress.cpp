@@ -104,6 +104,28 @@ TEST(LzfDecompress, MalformedStreamsAreRefusedAsTheRuleRefusesThem) {
   }
 }
 
+// Long streams (their runs mostly far from the buffers' ends) with one byte changed: a copy from
+// before the start, a run past the output's end, or another output size, refused as the rule
+// refuses it; else the rule's bytes.
+TEST(LzfDecompress, LongStreamsWithAByteChangedAreReadAsTheRuleReadsThem) {
+  std::mt19937 rng(5);
+  size_t refused = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    size_t size = 0;
+    std::vector<uint8_t> s = random_stream(rng, 2000 + rng() % 6000, &size);
+    s[rng() % (s.size() / 4)] = static_cast<uint8_t>(rng());
+    const size_t out_size = trial % 2 ? size : size + 300;
+    std::vector<uint8_t> want, got(out_size);
+    const bool ok = reference(s, out_size, &want);
+    refused += !ok;
+    ASSERT_EQ(capz::lzf_decompress_into(s.data(), s.size(), got.data(), out_size), ok) << trial;
+    if (ok) {
+      EXPECT_EQ(got, want) << trial;
+    }
+  }
+  EXPECT_GT(refused, 100u);
+}
+
 TEST(LzfDecompress, PrefixGivesTheFirstBytesAlone) {
   std::mt19937 rng(3);
   size_t size = 0;
