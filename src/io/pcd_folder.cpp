@@ -263,21 +263,44 @@ PcdHeader head_of(const std::string& path) {
   return h;
 }
 
-// The coordinates of the n points at[a] + p x stride[a] (a = 0, 1, 2), each of type T, into
-// data's xyz and valid: a point with a coordinate that is not finite is a gap (0 0 0).
-template <class T>
-void coordinates_of(const uint8_t* const at[3], const size_t stride[3], size_t n, FrameData* data) {
+// The coordinates of the n points at[a] + p x stride[a] (a = 0, 1, 2) into data's xyz and valid,
+// each value read by value(pointer): a point with a coordinate that is not finite is a gap
+// (0 0 0).
+template <class Value>
+void coordinates_of(const uint8_t* const at[3], const size_t stride[3], size_t n, Value value,
+                    FrameData* data) {
   double* xyz = data->xyz.data();
   uint8_t* valid = data->valid.data();
   for (size_t p = 0; p < n; ++p) {
-    T v[3];
-    for (int a = 0; a < 3; ++a) std::memcpy(&v[a], at[a] + p * stride[a], sizeof(T));
-    const bool ok = std::isfinite(static_cast<double>(v[0])) &&
-                    std::isfinite(static_cast<double>(v[1])) &&
-                    std::isfinite(static_cast<double>(v[2]));
-    for (int a = 0; a < 3; ++a) xyz[3 * p + size_t(a)] = ok ? static_cast<double>(v[a]) : 0.0;
+    double v[3];
+    for (int a = 0; a < 3; ++a) v[a] = value(a, at[a] + p * stride[a]);
+    const bool ok = std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+    for (int a = 0; a < 3; ++a) xyz[3 * p + size_t(a)] = ok ? v[a] : 0.0;
     valid[p] = ok ? 1 : 0;
   }
+}
+
+// The same, each coordinate of its field's PCD type (ref): float32 and float64 read without a
+// switch a value.
+void coordinates_by_type(const uint8_t* const at[3], const size_t stride[3], size_t n,
+                         const FieldRef ref[3], FrameData* data) {
+  const auto all = [&](pcd::FieldType type) {
+    return ref[0].type == type && ref[1].type == type && ref[2].type == type;
+  };
+  const auto typed = [](auto zero) {
+    return [](int, const uint8_t* p) {
+      decltype(zero) v;
+      std::memcpy(&v, p, sizeof v);
+      return static_cast<double>(v);
+    };
+  };
+  if (all(pcd::FieldType::kFloat32))
+    coordinates_of(at, stride, n, typed(0.0f), data);
+  else if (all(pcd::FieldType::kFloat64))
+    coordinates_of(at, stride, n, typed(0.0), data);
+  else
+    coordinates_of(
+        at, stride, n, [&](int a, const uint8_t* p) { return read_value(p, ref[a].type); }, data);
 }
 
 // Reads frame file `path` into *data (xyz n x 3, valid n, one byte array per field other than
@@ -310,22 +333,7 @@ void read_pcd_frame(const std::string& path, FrameLayout* l, FrameData* data, Pc
   data->points = n;
   data->xyz.resize(n * 3);
   data->valid.resize(n);
-  const auto all = [&](pcd::FieldType type) {
-    return ref[0].type == type && ref[1].type == type && ref[2].type == type;
-  };
-  if (all(pcd::FieldType::kFloat32)) {
-    coordinates_of<float>(at, stride, n, data);
-  } else if (all(pcd::FieldType::kFloat64)) {
-    coordinates_of<double>(at, stride, n, data);
-  } else {
-    for (size_t p = 0; p < n; ++p) {
-      double v[3];
-      for (int a = 0; a < 3; ++a) v[a] = read_value(at[a] + p * stride[a], ref[a].type);
-      const bool ok = std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
-      for (int a = 0; a < 3; ++a) data->xyz[3 * p + size_t(a)] = ok ? v[a] : 0.0;
-      data->valid[p] = ok ? 1 : 0;
-    }
-  }
+  coordinates_by_type(at, stride, n, ref, data);
   size_t k = 0;
   for (size_t i = 0; i < l->fields.size(); ++i) {
     const PCDField& fd = l->fields[i];
