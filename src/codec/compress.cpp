@@ -125,17 +125,19 @@ Take prefix_take(FrameSource& source, size_t k) {
 }
 
 // The fixed stream of `source` coded without its self-check, META as it is (coding 0) and, with
-// attr_empty, the fields not coded (EncoderTuning): its size less META's payload, plus the 1 byte
-// any coding of META takes, is at most the size of the stream as the encoder writes it (INDX's
-// offsets are fixed width). *meta: that stream's META chunk; returns the stream's size.
+// attr_empty, the fields not coded, with positions_bound POSW's residuals not entropy-coded
+// (EncoderTuning): its size less META's payload, plus the 1 byte any coding of META takes, is at
+// most the size of the stream as the encoder writes it (INDX's offsets are fixed width). *meta:
+// that stream's META chunk; returns the stream's size.
 size_t fixed_bound(FrameSource& source, const CompressOptions& opts, bool attr_empty,
-                   std::vector<uint8_t>* stream, Chunk* meta) {
+                   bool positions_bound, std::vector<uint8_t>* stream, Chunk* meta) {
   stream->clear();
   CompressOptions unchecked = opts;
   unchecked.check = false;
   EncoderTuning raw;
   raw.meta_raw = true;
   raw.attr_empty = attr_empty;
+  raw.positions_bound = positions_bound;
   StreamOut mem(stream);
   encode_source(source, unchecked, raw, &mem, nullptr);
   const std::string what = source.header().source + " (size bound)";
@@ -149,11 +151,13 @@ size_t fixed_bound(FrameSource& source, const CompressOptions& opts, bool attr_e
 // The fixed take's stream of a one-frame source (the source itself: a lossless stream carries
 // its residue), or the scan coder's when it is smaller (smaller_as_scan). The scan stream is
 // coded first; the fixed stream is then bounded from below before it is coded (fixed_bound),
-// cheapest bound first: with neither META nor the point fields coded (the fields' LZMA and
-// predictive trials: about three fifths of a pandar64 sweep's encode with its fields), then
-// with the fields coded, then with META's fields coded alone, which makes the size exact. A
-// scan stream under a bound is the smaller, as it is under the exact size. Only when the fixed
-// stream is the smaller is it coded again, whole and checked, as always.
+// cheapest bound first: with neither META nor the point fields coded and of the positions'
+// residuals only their raw bits (the bits below their tokens: 3.2 to 5.9 times the scan stream's
+// size on the shared single sweeps at 1 mm), then with the positions coded, then with the fields
+// coded (the fields' LZMA and predictive trials: about three fifths of a pandar64 sweep's encode
+// with its fields), then with META's fields coded alone, which makes the size exact. A scan stream
+// under a bound is the smaller, as it is under the exact size. Only when the fixed stream is the
+// smaller is it coded again, whole and checked, as always.
 std::vector<uint8_t> one_frame_choice(FrameSource& source, const CompressOptions& opts,
                                       CompressStats* stats) {
   const std::string what = source.header().source + " (size bound)";
@@ -170,9 +174,11 @@ std::vector<uint8_t> one_frame_choice(FrameSource& source, const CompressOptions
   if (!scan.empty()) {
     std::vector<uint8_t> bound;
     Chunk meta;
+    if (scan_under(fixed_bound(source, opts, true, true, &bound, &meta) - meta.size + 1))
+      return scan;
     for (const bool attr_empty : {true, false}) {
       if ((!attr_empty || fields) &&
-          scan_under(fixed_bound(source, opts, attr_empty, &bound, &meta) - meta.size + 1))
+          scan_under(fixed_bound(source, opts, attr_empty, false, &bound, &meta) - meta.size + 1))
         return scan;
     }
     // META coded as the encoder codes it (dictionary: C3D takes only): the fixed stream's size.
@@ -237,20 +243,29 @@ Take first_frames(Take t, size_t k) {
   return t;
 }
 
+// Fixed take t coded through POSW (*fixed) and through the scan coder (*scan, empty when it does
+// not take it), with opts as they are; their reports in *fixed_stats and *scan_stats when those
+// are not null.
+void coded_both(Take t, const CompressOptions& opts, std::vector<uint8_t>* fixed,
+                std::vector<uint8_t>* scan, CompressStats* fixed_stats = nullptr,
+                CompressStats* scan_stats = nullptr) {
+  {
+    std::unique_ptr<FrameSource> s = take_frames(t);
+    StreamOut mem(fixed);
+    encode_source(*s, opts, EncoderTuning(), &mem, fixed_stats);
+  }
+  try {
+    *scan = compress_ragged_frames(as_ragged(std::move(t)), opts, scan_stats, std::string(), true);
+  } catch (const Error& e) {
+    if (e.code() != ErrorCode::kInvalidParameter) throw;
+  }
+}
+
 // The sizes of fixed take t coded through POSW and through the scan coder (0 when it does not
 // take it), with opts as they are (fixed_scan_choice gives them unchecked).
 std::pair<size_t, size_t> coded_sizes(Take t, const CompressOptions& opts) {
   std::vector<uint8_t> fixed, scan;
-  {
-    std::unique_ptr<FrameSource> s = take_frames(t);
-    StreamOut mem(&fixed);
-    encode_source(*s, opts, EncoderTuning(), &mem, nullptr);
-  }
-  try {
-    scan = compress_ragged_frames(as_ragged(std::move(t)), opts, nullptr, std::string(), true);
-  } catch (const Error& e) {
-    if (e.code() != ErrorCode::kInvalidParameter) throw;
-  }
+  coded_both(std::move(t), opts, &fixed, &scan);
   return {fixed.size(), scan.size()};
 }
 
@@ -258,21 +273,35 @@ std::pair<size_t, size_t> coded_sizes(Take t, const CompressOptions& opts) {
 // coder in memory).
 constexpr size_t kPrefixFrames = 4;
 
-// Whether `source` (fixed_scan_candidate) codes smaller through the scan coder than through
-// POSW. A take of at most kPrefixFrames frames is coded whole both ways; a longer one's size is
-// estimated from its first frame's and its first kPrefixFrames' (k): for either coder,
-// s(1) + (F - 1) (s(k) - s(1)) / (k - 1), the first frame and then the others at the prefix's
-// cost a frame (docs/lab/2026-11-30-fixed-count-scans.md).
+// The stream of a source (fixed_scan_candidate) of at most kPrefixFrames frames: coded whole
+// both ways, checked as opts say (*stats: the report of the stream kept), and the scan coder's
+// kept when it is smaller (fixed_scan_choice's rule for such a take): the trial's bytes are the
+// stream's, not coded a third time.
+std::vector<uint8_t> short_fixed_choice(FrameSource& source, const CompressOptions& opts,
+                                        CompressStats* stats) {
+  std::vector<uint8_t> fixed, scan;
+  CompressStats fixed_stats, scan_stats;
+  coded_both(prefix_take(source, source.header().frames), opts, &fixed, &scan,
+             stats ? &fixed_stats : nullptr, stats ? &scan_stats : nullptr);
+  const bool scan_wins = !scan.empty() && scan.size() < fixed.size();
+  if (stats) *stats = scan_wins ? scan_stats : fixed_stats;
+  return scan_wins ? scan : fixed;
+}
+
+// Whether `source` (fixed_scan_candidate, more than kPrefixFrames frames) codes smaller through
+// the scan coder than through POSW. Its size is estimated from its first frame's and its first
+// kPrefixFrames' (k): for either coder, s(1) + (F - 1) (s(k) - s(1)) / (k - 1), the first frame
+// and then the others at the prefix's cost a frame (docs/lab/2026-11-30-fixed-count-scans.md).
 bool fixed_scan_choice(FrameSource& source, const CompressOptions& opts) {
   CompressOptions o = opts;
   o.check = false;
   o.progress = nullptr;
   const size_t F = source.header().frames, k = std::min(F, kPrefixFrames);
+  if (k == F) fail(ErrorCode::kInternal, source.header().source, "a short take's size estimate");
   Take head = prefix_take(source, k);  // read once: the first frame's take is cut from it
-  Take frame0 = k == F ? Take() : first_frames(head, 1);
+  Take frame0 = first_frames(head, 1);
   const std::pair<size_t, size_t> prefix = coded_sizes(std::move(head), o);
   if (prefix.second == 0) return false;
-  if (k == F) return prefix.second < prefix.first;
   const std::pair<size_t, size_t> first = coded_sizes(std::move(frame0), o);
   if (first.second == 0) return false;
   const auto estimate = [&](size_t one, size_t all) {
@@ -366,6 +395,7 @@ std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, Com
   if (fixed_scan_candidate(take, opts) && take.xyz.size() == take.frames * take.points * 3 &&
       take.valid.size() == take.frames * take.points) {  // else compress_with_codec refuses it
     std::unique_ptr<FrameSource> src = take_frames(take);
+    if (take.frames <= kPrefixFrames) return short_fixed_choice(*src, opts, stats);
     if (fixed_scan_choice(*src, opts))
       return compress_ragged_frames(as_ragged(take), opts, stats, std::string(), true);
   }
@@ -413,6 +443,15 @@ void compress_stream(FrameSource& source, const CompressOptions& opts, const std
     commit_rebuilt(&file, source, opts);
     return;
   }
+  // A stream coded in memory (both codings of a short source, of one frame), written whole.
+  const auto write = [&](std::vector<uint8_t> bytes) {
+    AtomicFile file(path, overwrite);
+    StreamOut out(&file);
+    out.flush(&bytes);
+    commit_rebuilt(&file, source, opts);
+  };
+  if (fixed_scan_candidate(source.header(), opts) && source.header().frames <= kPrefixFrames)
+    return write(short_fixed_choice(source, opts, stats));
   if (fixed_scan_candidate(source.header(), opts) && fixed_scan_choice(source, opts)) {
     FixedAsRagged ragged(source);  // frames of one count, as ragged frames (encode_ragged)
     settle_frame_layout(&ragged.edit_header(), opts.drop_fields);
@@ -422,14 +461,8 @@ void compress_stream(FrameSource& source, const CompressOptions& opts, const std
     commit_rebuilt(&file, source, opts);
     return;
   }
-  if (scan_candidate(source.header(), opts)) {  // one frame: both codings in memory
-    std::vector<uint8_t> bytes = one_frame_choice(source, opts, stats);
-    AtomicFile file(path, overwrite);
-    StreamOut out(&file);
-    out.flush(&bytes);
-    commit_rebuilt(&file, source, opts);
-    return;
-  }
+  if (scan_candidate(source.header(), opts))  // one frame: both codings in memory
+    return write(one_frame_choice(source, opts, stats));
   if (opts.codec == "auto")
     fail(ErrorCode::kInvalidParameter, source.header().source,
          "codec auto compares whole-take encodings and is not streamed");

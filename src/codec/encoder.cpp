@@ -438,9 +438,11 @@ class Encoder {
     std::vector<uint8_t>& buf = win->buf;
     buf.clear();
     const bool gaps = std::find(wi.valid.begin(), wi.valid.end(), 0) != wi.valid.end();
-    const std::vector<uint8_t> pos =
-        plan_.tout ? transform_only_positions(codec_bytes)
-                   : encode_positions(wi, codec_bytes, tpred, g_.mode == PosMode::kFloat64, ray_);
+    const bool f64 = g_.mode == PosMode::kFloat64;
+    const std::vector<uint8_t> pos = plan_.tout ? transform_only_positions(codec_bytes)
+                                     : tuning_.positions_bound
+                                         ? encode_positions_bound(wi, codec_bytes, tpred, f64, ray_)
+                                         : encode_positions(wi, codec_bytes, tpred, f64, ray_);
     append_chunk(&buf, "POSW", with_window_index(w, gaps ? 1 : 0, pos));
     if (gaps)
       append_chunk(&buf, "MASK", with_window_index(w, 0xFF, encode_mask(wi.valid.data(), fn, N)));

@@ -30,6 +30,10 @@ struct EncoderTuning {
   // residue reads), so with meta_raw the stream's size less META's payload bounds from below the
   // size of the stream with its fields and META coded.
   bool attr_empty = false;
+  // POSW's residual block cut to its raw bits' bytes (encode_positions_bound), nothing entropy
+  // coded: with meta_raw, the stream's size less META's payload bounds from below the size of
+  // the stream coded whole, META and all (and, with attr_empty, its fields too).
+  bool positions_bound = false;
 };
 
 // Where the encoder puts the stream: appended to memory, or written to a file as it goes.

@@ -28,6 +28,7 @@
 #include "coding/meta.h"
 #include "coding/scan_geometry.h"
 #include "coding/scan_split.h"
+#include "io/frame_files.h"
 
 namespace capz {
 namespace {
@@ -138,13 +139,18 @@ TakeScan start_ragged_scan(const Take& t, const CompressOptions& opts, Take* hdr
 // the source read a window of frames at a time, each block's values scanned where they are
 // (maxima, minima and all-of flags, so the order of the blocks does not matter). The blocks are
 // read last to first, so *first ends holding window 0's frames, which pass 2 codes first
-// without reading them again.
+// without reading them again; the windows before it only need their coordinates scanned (a
+// file source's read_coordinates).
 Grid choose_grid(FrameSource& src, const CompressOptions& opts, size_t W, FrameBlock* first) {
   const Take& t = src.header();
   Take hdr;
   TakeScan s = start_ragged_scan(t, opts, &hdr);
+  FileFrameSource* files = dynamic_cast<FileFrameSource*>(&src);
   for (size_t f0 = t.frames ? (t.frames - 1) / W * W : 0;; f0 -= W) {
-    if (t.frames) src.read(f0, std::min(W, t.frames - f0), first);
+    if (t.frames && f0 > 0 && files)
+      files->read_coordinates(f0, std::min(W, t.frames - f0), first);
+    else if (t.frames)
+      src.read(f0, std::min(W, t.frames - f0), first);
     scan_block(*first, t.source, false, 0, &s);
     if (f0 == 0) break;
   }

@@ -223,25 +223,56 @@ std::vector<uint8_t> lzf_compress(const uint8_t* data, size_t size, LzfVariant v
                                           : lzf_compress(data, size);
 }
 
-bool lzf_decompress_into(const uint8_t* data, size_t n, uint8_t* out, size_t size) {
+namespace {
+
+// Runs of the stream decompressed into out[0, size) until `stop` bytes are out (stop <= size) or
+// the stream ends; returns the bytes out, or SIZE_MAX on a run that is malformed, references
+// before the start or passes `size`. *p: the stream's bytes used. While a run's bytes and 32
+// more fit both buffers (kRoom), the runs go without their bounds tests: a literal run copied 32
+// bytes at once, a copy from at least 16 bytes back 16 at a time (the bytes past the run are
+// written again by the runs after it, or lie beyond what was asked when the stream stops); the
+// last runs are tested one by one.
+size_t decompress_runs(const uint8_t* data, size_t n, uint8_t* out, size_t size, size_t stop,
+                       size_t* used) {
+  constexpr size_t kFail = ~size_t{0};
+  constexpr size_t kRoom = 3 + kMaxMatch + 32;  // a run's bytes in either buffer, and 32
   size_t p = 0, o = 0;
-  while (p < n) {
+  while (o < stop && n - p >= kRoom && size - o >= kRoom) {
+    const size_t c = data[p++];
+    if (c < 32) {
+      std::memcpy(out + o, data + p, 32);
+      p += c + 1, o += c + 1;
+      continue;
+    }
+    size_t len = (c >> 5) + 2;
+    if (len == 9) len += data[p++];
+    const size_t dist = ((c & 31) << 8) + data[p++] + 1;
+    if (dist > o) return kFail;
+    const uint8_t* from = out + o - dist;
+    if (dist >= 16) {  // each 16 bytes read were written before
+      for (size_t k = 0; k < len; k += 16) std::memcpy(out + o + k, from + k, 16);
+    } else {  // the copy overlaps what it writes: byte by byte, in order
+      for (size_t k = 0; k < len; ++k) out[o + k] = from[k];
+    }
+    o += len;
+  }
+  while (p < n && o < stop) {
     const size_t c = data[p++];
     if (c < 32) {
       const size_t len = c + 1;
-      if (len > n - p || len > size - o) return false;
+      if (len > n - p || len > size - o) return kFail;
       std::memcpy(out + o, data + p, len);
       p += len, o += len;
       continue;
     }
     size_t len = (c >> 5) + 2;
     if ((c >> 5) == 7) {
-      if (p >= n) return false;
+      if (p >= n) return kFail;
       len += data[p++];
     }
-    if (p >= n) return false;
+    if (p >= n) return kFail;
     const size_t dist = ((c & 31) << 8) + data[p++] + 1;
-    if (dist > o || len > size - o) return false;
+    if (dist > o || len > size - o) return kFail;
     const uint8_t* from = out + o - dist;
     if (dist >= len) {
       std::memcpy(out + o, from, len);
@@ -250,7 +281,22 @@ bool lzf_decompress_into(const uint8_t* data, size_t n, uint8_t* out, size_t siz
     }
     o += len;
   }
-  return o == size;
+  *used = p;
+  return o;
+}
+
+}  // namespace
+
+bool lzf_decompress_into(const uint8_t* data, size_t n, uint8_t* out, size_t size) {
+  size_t used = 0;
+  return decompress_runs(data, n, out, size, size, &used) == size && used == n;
+}
+
+bool lzf_decompress_prefix(const uint8_t* data, size_t n, uint8_t* out, size_t size,
+                           size_t prefix) {
+  size_t used = 0;
+  const size_t o = decompress_runs(data, n, out, size, std::min(prefix, size), &used);
+  return o != ~size_t{0} && o >= std::min(prefix, size);
 }
 
 std::vector<uint8_t> lzf_decompress(const uint8_t* data, size_t n, size_t size,

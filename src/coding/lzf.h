@@ -30,6 +30,11 @@ std::vector<uint8_t> lzf_compress(const uint8_t* data, size_t size, LzfVariant v
 // Decompresses exactly `size` bytes into out[0, size): false (out's bytes unspecified) when the
 // stream is malformed, references before its start, or does not give exactly `size` bytes.
 bool lzf_decompress_into(const uint8_t* data, size_t n, uint8_t* out, size_t size);
+// The runs of the same stream that give out[0, prefix) (prefix at most size; out[prefix, size)
+// unspecified): false when one of them is malformed, references before the start or passes
+// `size`, or the stream ends before `prefix` bytes. A stream lzf_decompress_into takes gives
+// the same prefix here; one it refuses may still give its prefix.
+bool lzf_decompress_prefix(const uint8_t* data, size_t n, uint8_t* out, size_t size, size_t prefix);
 
 // Decompresses exactly `size` bytes; throws Error(kCorrupt) naming `what` on a stream that is
 // malformed, references before its start, or does not give exactly `size` bytes.

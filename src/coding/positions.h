@@ -31,6 +31,15 @@ std::vector<uint8_t> encode_positions(const WindowInts& w,
                                       const std::vector<uint8_t>& codec_payload,
                                       const std::vector<int32_t>& tpred, bool float64,
                                       RayKind ray = RayKind::kNone);
+// encode_positions' payload with its residual block cut to the bytes of its raw bits (the
+// residuals' bits below their tokens, FORMAT.md 2.3; the tokens' range-coded bytes left out): no
+// larger than encode_positions' payload, and cheaper (nothing entropy-coded). Not a stream to
+// decode: a size bound (EncoderTuning::positions_bound). With `ray` (but in mode 3) it is
+// encode_positions' own payload.
+std::vector<uint8_t> encode_positions_bound(const WindowInts& w,
+                                            const std::vector<uint8_t>& codec_payload,
+                                            const std::vector<int32_t>& tpred, bool float64,
+                                            RayKind ray = RayKind::kNone);
 // Parses what encode_positions wrote from `r`'s current position to the end of the payload.
 // `codec_payload` receives the codec bytes; `make_tpred` is called with them to produce the
 // transform prediction when any point's predictor needs it (it throws if there is no codec).

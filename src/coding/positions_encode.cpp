@@ -33,7 +33,39 @@ std::vector<uint8_t> write_positions(const std::vector<uint8_t>& codec_payload, 
   return std::move(out.buffer());
 }
 
+// The walks' raw bits alone (entropy.h: the bits below each residual's token, and a mode 3
+// sample's low word), tokens as EncCoder gives them (they steer the contexts), nothing coded.
+struct RawBitsCoder {
+  const int32_t* q;
+  bool lo;
+  uint64_t bits = 0;
+  int32_t operator()(size_t i, int32_t pred, int, int* tok) {
+    int extra;
+    *tok = token_of(zigzag(wrap_sub(q[i], pred)), &extra);
+    bits += static_cast<uint64_t>(extra) + (lo ? 32u : 0u);
+    return q[i];
+  }
+};
+
 }  // namespace
+
+std::vector<uint8_t> encode_positions_bound(const WindowInts& w,
+                                            const std::vector<uint8_t>& codec_payload,
+                                            const std::vector<int32_t>& tpred, bool float64,
+                                            RayKind ray) {
+  if (float64) ray = RayKind::kNone;  // 7.1: not in mode 3
+  if (ray != RayKind::kNone) return encode_positions(w, codec_payload, tpred, float64, ray);
+  const size_t F = w.frames, N = w.points;
+  std::vector<int32_t> q = w.q;  // as encode_positions' walks
+  ResidualContexts ctx(N);
+  const int32_t* t = tpred.empty() ? nullptr : tpred.data();
+  const ModeChoice c = choose_modes(w, t, ctx, &q, ray);
+  ctx.reset();
+  RawBitsCoder rc{q.data(), float64};
+  walk_window(F, N, w.valid.data(), c.modes.data(), c.ref.data(), t, q.data(), ctx, rc, c.period);
+  // The finished block holds the raw bits' bytes after the range coder's (IntEncoder::finish).
+  return write_positions(codec_payload, c, std::vector<uint8_t>((rc.bits + 7) / 8));
+}
 
 std::vector<uint8_t> encode_positions(const WindowInts& w,
                                       const std::vector<uint8_t>& codec_payload,

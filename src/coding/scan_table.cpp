@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 
 namespace capz {
 namespace scan {
@@ -15,10 +16,14 @@ namespace {
 
 constexpr double kTwoPi = 6.283185307179586;
 
+// Whether every integer of p is below kMaxSphericalCoord in magnitude: |v| < M, M = 2^29, is
+// v + (M - 1) in [0, 2 (M - 1)], as an unsigned sum (a negative one wraps above), without a
+// branch per integer (this test runs several times a point in the fits).
 bool small_enough(const int32_t* p) {
-  for (int a = 0; a < 3; ++a)
-    if (std::llabs(static_cast<long long>(p[a])) >= kMaxSphericalCoord) return false;
-  return true;
+  constexpr uint32_t kBias = static_cast<uint32_t>(kMaxSphericalCoord) - 1;
+  const uint32_t a = static_cast<uint32_t>(p[0]) + kBias, b = static_cast<uint32_t>(p[1]) + kBias,
+                 c = static_cast<uint32_t>(p[2]) + kBias;
+  return std::max(a, std::max(b, c)) <= 2 * kBias;
 }
 
 double wrap_pi(double d) {
@@ -256,25 +261,28 @@ void fit_cone(const ConeSums& c0, float* slope, float* z0) {
 // The azimuth step: the median of the small azimuth changes between a ring's consecutive
 // points, refined over the changes of a few steps.
 double infer_step(const std::vector<std::vector<double>>& phi) {
-  std::vector<double> a;  // the steps' sizes (one window-sized vector: fewer pages touched)
-  size_t total = 0, neg = 0;
+  // The steps' sizes: one window-sized array (fewer pages touched), written in place (neither
+  // zeroed first nor grown by push_back's call a step).
+  size_t total = 0, neg = 0, n = 0;
   for (const auto& p : phi) total += p.size();
-  a.reserve(total);
+  const std::unique_ptr<double[]> steps(new double[total]);
+  double* const a = steps.get();
   for (const auto& p : phi)
     for (size_t i = 1; i < p.size(); ++i) {
       const double e = wrap_pi(p[i] - p[i - 1]);
-      if (std::fabs(e) > 1e-7 && std::fabs(e) < 0.1) a.push_back(std::fabs(e)), neg += e < 0;
+      if (std::fabs(e) > 1e-7 && std::fabs(e) < 0.1) a[n++] = std::fabs(e), neg += e < 0;
     }
-  if (a.empty()) return 0;
-  std::nth_element(a.begin(), a.begin() + static_cast<long>(a.size() / 2), a.end());
-  const double s0 = a[a.size() / 2];
+  if (n == 0) return 0;
+  std::nth_element(a, a + n / 2, a + n);
+  const double s0 = a[n / 2];
   double num = 0, den = 0;
-  for (double e : a) {
+  for (size_t i = 0; i < n; ++i) {
+    const double e = a[i];
     const double m = std::floor(e / s0 + 0.5);
     if (m >= 1 && m <= 8 && std::fabs(e - m * s0) < 0.25 * s0) num += e, den += m;
   }
   const double s = den > 0 ? num / den : s0;
-  return 2 * neg > a.size() ? -s : s;
+  return 2 * neg > n ? -s : s;
 }
 
 // Whether the distances sit on whole multiples of q: nine in ten within 5 % of q of the nearest
@@ -538,7 +546,8 @@ RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units, boo
     if (g.valid[i] && small_enough(&g.q[3 * i])) ++size[ring[i]];
   std::vector<ConeSums> cone(rings);
   r.phi.resize(rings);
-  for (size_t k = 0; k < rings; ++k) r.phi[k].reserve(size[k]);
+  for (size_t k = 0; k < rings; ++k) r.phi[k].resize(size[k]);
+  std::fill(size.begin(), size.end(), 0);  // now each ring's azimuths so far
   for (size_t i = 0; i < g.total(); ++i) {
     const int32_t* p = &g.q[3 * i];
     if (!g.valid[i] || !small_enough(p)) continue;
@@ -552,7 +561,7 @@ RingFit fit_rings(const ScanGeometry& g, const ScanHints& hints, bool units, boo
       if (rv > 0) bent = double(r.bow) * h * (1 - v[0] / rv);
     }
     cone[ring[i]].add(h, p[2] - bent);
-    r.phi[ring[i]].push_back(azimuth(g, hints, i));
+    r.phi[ring[i]][size[ring[i]]++] = azimuth(g, hints, i);
     r.polar[i].ring = ring[i];
     r.polar[i].range = round_clamp(h);
     r.reach = std::max(r.reach, h);

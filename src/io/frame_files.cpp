@@ -269,6 +269,14 @@ void FileFrameSource::set_counts(const std::vector<size_t>& counts) {
 }
 
 void FileFrameSource::read(size_t first, size_t count, FrameBlock* out) {
+  read_frames(first, count, out, false);
+}
+
+void FileFrameSource::read_coordinates(size_t first, size_t count, FrameBlock* out) {
+  read_frames(first, count, out, true);
+}
+
+void FileFrameSource::read_frames(size_t first, size_t count, FrameBlock* out, bool coordinates) {
   clip(&first, &count);
   if (header_.ragged())
     out->reset_ragged(first,
@@ -276,13 +284,16 @@ void FileFrameSource::read(size_t first, size_t count, FrameBlock* out) {
                                           counts_.begin() + static_cast<long>(first + count)));
   else
     out->reset(first, count, header_.points, 0, false);
-  const size_t A = header_.attributes.size();
+  const size_t A = coordinates ? 0 : header_.attributes.size();
   out->attributes.assign(A, std::vector<uint8_t>());
   for (size_t a = 0; a < A; ++a)
     out->attributes[a].reserve(out->total_points() * header_.attributes[a].bytes_per_point());
   for (size_t k = 0; k < count; ++k) {
     const size_t f = first + k;
-    read_frame(f, &data_);
+    if (coordinates)
+      read_frame_coordinates(f, &data_);
+    else
+      read_frame(f, &data_);
     if (data_.points != counts_[f] || data_.xyz.size() != data_.points * 3 ||
         data_.valid.size() != data_.points)
       fail(ErrorCode::kCorrupt, files_.path(f),

@@ -128,17 +128,25 @@ class FileFrameSource : public FrameSource {
   // residue where the format has a residue (FORMAT.md 7.3, 14.3).
   std::string original_file() const override { return files_.dir; }
   void read(size_t first, size_t count, FrameBlock* out) override;
+  // As read(), but the block's attributes may be left empty (not one array each): what a pass
+  // over the coordinates alone needs, cheaper where the format allows (a PCD folder's
+  // binary_compressed bodies: their field planes after x y z's are not decompressed).
+  void read_coordinates(size_t first, size_t count, FrameBlock* out);
   size_t preferred_block() const override { return 16; }
 
  protected:
   void set_counts(const std::vector<size_t>& counts);
   // Reads frame f (files_.path(f)) into *out. Throws Error naming the file.
   virtual void read_frame(size_t f, FrameData* out) = 0;
+  // The same, but out's attrs may be left empty; by default read_frame.
+  virtual void read_frame_coordinates(size_t f, FrameData* out) { read_frame(f, out); }
 
   FrameFiles files_;
   std::vector<size_t> counts_;
 
  private:
+  void read_frames(size_t first, size_t count, FrameBlock* out, bool coordinates);
+
   FrameData data_;
 };
 

@@ -121,8 +121,9 @@ struct PcdBuffers {
 };
 
 // Reads one PCD file into b's cloud (capz's own reader, else PCL) after checking its header;
-// returns the header.
-PcdHeader read_one(const std::string& path, PcdBuffers* b) {
+// returns the header. With `coordinates`, a binary_compressed body read by capz has only its
+// planes through x y z's decompressed (pcd::read_native).
+PcdHeader read_one(const std::string& path, PcdBuffers* b, bool coordinates) {
   pcd::Cloud* cloud = &b->cloud;
   b->is_planar = false;
   {
@@ -156,7 +157,7 @@ PcdHeader read_one(const std::string& path, PcdBuffers* b) {
     return h;
   }
 
-  if (pcd::read_native(bytes, h, cloud, &b->planar)) {
+  if (pcd::read_native(bytes, h, cloud, &b->planar, coordinates)) {
     b->is_planar = h.data == "binary_compressed";
     return h;
   }
@@ -262,10 +263,52 @@ PcdHeader head_of(const std::string& path) {
   return h;
 }
 
+// The coordinates of the n points at[a] + p x stride[a] (a = 0, 1, 2) into data's xyz and valid,
+// each value read by value(pointer): a point with a coordinate that is not finite is a gap
+// (0 0 0).
+template <class Value>
+void coordinates_of(const uint8_t* const at[3], const size_t stride[3], size_t n, Value value,
+                    FrameData* data) {
+  double* xyz = data->xyz.data();
+  uint8_t* valid = data->valid.data();
+  for (size_t p = 0; p < n; ++p) {
+    double v[3];
+    for (int a = 0; a < 3; ++a) v[a] = value(a, at[a] + p * stride[a]);
+    const bool ok = std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+    for (int a = 0; a < 3; ++a) xyz[3 * p + size_t(a)] = ok ? v[a] : 0.0;
+    valid[p] = ok ? 1 : 0;
+  }
+}
+
+// The same, each coordinate of its field's PCD type (ref): float32 and float64 read without a
+// switch a value.
+void coordinates_by_type(const uint8_t* const at[3], const size_t stride[3], size_t n,
+                         const FieldRef ref[3], FrameData* data) {
+  const auto all = [&](pcd::FieldType type) {
+    return ref[0].type == type && ref[1].type == type && ref[2].type == type;
+  };
+  const auto typed = [](auto zero) {
+    return [](int, const uint8_t* p) {
+      decltype(zero) v;
+      std::memcpy(&v, p, sizeof v);
+      return static_cast<double>(v);
+    };
+  };
+  if (all(pcd::FieldType::kFloat32))
+    coordinates_of(at, stride, n, typed(0.0f), data);
+  else if (all(pcd::FieldType::kFloat64))
+    coordinates_of(at, stride, n, typed(0.0), data);
+  else
+    coordinates_of(
+        at, stride, n, [&](int a, const uint8_t* p) { return read_value(p, ref[a].type); }, data);
+}
+
 // Reads frame file `path` into *data (xyz n x 3, valid n, one byte array per field other than
 // x y z: n x count x size, as the file holds them; data's arrays reused) and *l, through b.
-void read_pcd_frame(const std::string& path, FrameLayout* l, FrameData* data, PcdBuffers* b) {
-  const PcdHeader h = read_one(path, b);
+// With `coordinates`, data's field arrays are left empty (their layout still checked).
+void read_pcd_frame(const std::string& path, FrameLayout* l, FrameData* data, PcdBuffers* b,
+                    bool coordinates = false) {
+  const PcdHeader h = read_one(path, b, coordinates);
   const pcd::Cloud& cloud = b->cloud;
   *l = layout_of(h, cloud, path);
   const size_t n = l->points;
@@ -290,13 +333,7 @@ void read_pcd_frame(const std::string& path, FrameLayout* l, FrameData* data, Pc
   data->points = n;
   data->xyz.resize(n * 3);
   data->valid.resize(n);
-  for (size_t p = 0; p < n; ++p) {
-    double v[3];
-    for (int a = 0; a < 3; ++a) v[a] = read_value(at[a] + p * stride[a], ref[a].type);
-    const bool ok = std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
-    for (int a = 0; a < 3; ++a) data->xyz[3 * p + size_t(a)] = ok ? v[a] : 0.0;
-    data->valid[p] = ok ? 1 : 0;
-  }
+  coordinates_by_type(at, stride, n, ref, data);
   size_t k = 0;
   for (size_t i = 0; i < l->fields.size(); ++i) {
     const PCDField& fd = l->fields[i];
@@ -304,15 +341,17 @@ void read_pcd_frame(const std::string& path, FrameLayout* l, FrameData* data, Pc
     const size_t bpp = static_cast<size_t>(fd.size) * static_cast<size_t>(fd.count);
     if (static_cast<uint64_t>(l->offsets[i]) + bpp > cloud.point_step)
       fail(ErrorCode::kCorrupt, path, "PCD field " + fd.name + " lies outside its point");
+    if (coordinates) continue;
     if (data->attrs.size() <= k) data->attrs.resize(k + 1);
     std::vector<uint8_t>& bytes = data->attrs[k++];
-    bytes.resize(n * bpp);
     const uint8_t* src = base(l->offsets[i]);
-    if (b->is_planar)
-      std::copy_n(src, n * bpp, bytes.data());
-    else
+    if (b->is_planar) {
+      bytes.assign(src, src + n * bpp);  // not zeroed first
+    } else {
+      bytes.resize(n * bpp);
       for (size_t p = 0; p < n; ++p)
         std::memcpy(bytes.data() + p * bpp, src + p * cloud.point_step, bpp);
+    }
   }
   data->attrs.resize(k);
 }
@@ -372,24 +411,26 @@ class PCDSource : public FileFrameSource {
   }
 
  protected:
-  void read_frame(size_t f, FrameData* out) override {
+  void read_frame(size_t f, FrameData* out) override { read_file(f, out, false); }
+  void read_frame_coordinates(size_t f, FrameData* out) override { read_file(f, out, true); }
+
+ private:
+  // Frame f into *out (with `coordinates`, maybe without its fields: read_pcd_frame).
+  void read_file(size_t f, FrameData* out, bool coordinates) {
     if (have_first_ && f == 0 && files_.names.size() == 1) {  // a one-file source's every read
       *out = first_;  // (the one-frame choice reads its frame three times; compress.cpp)
       return;
     }
-    if (have_first_) {  // frame 0 read when opening: not read twice
-      have_first_ = false;
-      FrameData first = std::move(first_);
+    if (have_first_ && f == 0) {  // frame 0 read when opening: not read twice (kept until then:
+      have_first_ = false;        // the encoder's first pass reads it last, compress_ragged)
+      *out = std::move(first_);
       first_ = FrameData();
-      if (f == 0) {
-        *out = std::move(first);
-        return;
-      }
+      return;
     }
     const std::string p = files_.path(f);
     FrameLayout l;
     PcdBuffers b;
-    read_pcd_frame(p, &l, out, &b);
+    read_pcd_frame(p, &l, out, &b, coordinates);
     if (!same_fields(l.fields, layout_.fields) ||
         (!header_.ragged() && (l.width != layout_.width || l.height != layout_.height)))
       fail(ErrorCode::kCorrupt, p,

@@ -1,6 +1,7 @@
 // Decoder library (capz_decode). PCD frames read without PCL (io/pcd_native.h).
 #include "io/pcd_native.h"
 
+#include <algorithm>
 #include <cstring>
 #include <string>
 
@@ -109,10 +110,24 @@ bool fields_of(const PcdHeader& h, bool compressed, Cloud* cloud) {
   return offset == h.point_step;
 }
 
+// The bytes of a compressed body's planes through the last of x y z's (Field::offset: a plane
+// starts at points x offset).
+size_t coordinate_planes(const PcdHeader& h, const Cloud& cloud) {
+  size_t end = 0;
+  for (size_t i = 0; i < cloud.fields.size(); ++i) {
+    const std::string& name = cloud.fields[i].name;
+    if (name == "x" || name == "y" || name == "z")
+      end = std::max(end, static_cast<size_t>(cloud.fields[i].offset) +
+                              static_cast<size_t>(h.sizes[i]) * h.counts[i]);
+  }
+  return static_cast<size_t>(h.points) * end;
+}
+
 // The compressed body's fields one after another (each all points' values) into points, or
-// into *planar_out as they are when it is not null (cloud->data then left empty).
+// into *planar_out as they are when it is not null (cloud->data then left empty; with
+// `coordinates`, only the planes through x y z's).
 bool unpack_compressed(const std::vector<uint8_t>& bytes, const PcdHeader& h, Cloud* cloud,
-                       std::vector<uint8_t>* planar_out) {
+                       std::vector<uint8_t>* planar_out, bool coordinates) {
   const uint8_t* p = bytes.data() + h.data_idx;
   const size_t csize = static_cast<size_t>(p[0]) | static_cast<size_t>(p[1]) << 8 |
                        static_cast<size_t>(p[2]) << 16 | static_cast<size_t>(p[3]) << 24;
@@ -120,6 +135,9 @@ bool unpack_compressed(const std::vector<uint8_t>& bytes, const PcdHeader& h, Cl
   std::vector<uint8_t> own;
   std::vector<uint8_t>& planar = planar_out ? *planar_out : own;
   planar.resize(n * step);
+  if (planar_out && coordinates)
+    return lzf_decompress_prefix(p + 8, csize, planar.data(), planar.size(),
+                                 coordinate_planes(h, *cloud));
   if (!lzf_decompress_into(p + 8, csize, planar.data(), planar.size())) return false;
   if (planar_out) {
     cloud->data.clear();
@@ -145,7 +163,7 @@ bool unpack_compressed(const std::vector<uint8_t>& bytes, const PcdHeader& h, Cl
 }  // namespace
 
 bool read_native(const std::vector<uint8_t>& bytes, const PcdHeader& h, Cloud* cloud,
-                 std::vector<uint8_t>* planar) {
+                 std::vector<uint8_t>* planar, bool coordinates) {
   // PCL keeps WIDTH and HEIGHT in 32 bits and sizes a compressed body in 32 bits.
   if (h.points == 0 || h.width > UINT32_MAX || h.height > UINT32_MAX ||
       h.points * h.point_step >= (uint64_t{1} << 32) || !plain_header(bytes, h))
@@ -156,7 +174,7 @@ bool read_native(const std::vector<uint8_t>& bytes, const PcdHeader& h, Cloud* c
   cloud->height = static_cast<uint32_t>(h.height);
   cloud->point_step = static_cast<uint32_t>(h.point_step);
   cloud->dense = true;  // not computed: no reader of a Cloud uses it
-  if (compressed) return unpack_compressed(bytes, h, cloud, planar);
+  if (compressed) return unpack_compressed(bytes, h, cloud, planar, coordinates);
   const uint8_t* body = bytes.data() + h.data_idx;
   cloud->data.assign(body, body + h.points * h.point_step);
   return true;

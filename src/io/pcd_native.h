@@ -29,9 +29,11 @@ namespace pcd {
 // PCL (*cloud unspecified). With `planar` given, a binary_compressed body's points are left in
 // *planar as the body lays them out (each field's values for every point, field after field;
 // a field's plane starts at points x its Field::offset) and cloud->data is empty: the caller
-// skips interleaving them.
+// skips interleaving them. With `coordinates` too, only the planes through the last of x y z's
+// are decompressed (the others unspecified): a body whose runs give them is read, even if a run
+// after them would make the whole body refused.
 bool read_native(const std::vector<uint8_t>& bytes, const PcdHeader& h, Cloud* cloud,
-                 std::vector<uint8_t>* planar = nullptr);
+                 std::vector<uint8_t>* planar = nullptr, bool coordinates = false);
 
 }  // namespace pcd
 }  // namespace capz

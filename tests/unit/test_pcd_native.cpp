@@ -1,12 +1,18 @@
 // The PCD frames capz reads without PCL (io/pcd_native.h): the same cloud as PCL's reader gives
 // (fields, offsets, types, counts and point bytes) on binary and binary_compressed files, and a
-// refusal, left to PCL, for headers PCL parses otherwise, `_` in a compressed body and bad LZF.
+// refusal, left to PCL, for headers PCL parses otherwise, `_` in a compressed body and bad LZF;
+// a folder's frames read for their coordinates alone (FileFrameSource::read_coordinates).
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "capz/stream.h"
 #include "coding/lzf.h"
 #include "io/frame_files.h"
 #include "io/pcd_backend.h"
@@ -163,4 +169,65 @@ TEST(PcdNative, GivenTheSharedScanFilesThenPclsCloud) {
     ++native;
   }
   EXPECT_GT(native, 0u);
+}
+
+namespace {
+
+// A folder of three frames of 500, 20 and 7 points with the given fields (make_pcd's bytes).
+std::string frame_folder(const std::string& name, const std::vector<FieldSpec>& fields,
+                         bool compressed) {
+  const fs::path dir = fs::temp_directory_path() / ("capz_pcd_coords_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const size_t points[3] = {500, 20, 7};
+  for (int f = 0; f < 3; ++f) {
+    const std::vector<uint8_t> bytes = make_pcd(fields, points[f], compressed);
+    FILE* out = std::fopen((dir / ("f" + std::to_string(f) + ".pcd")).string().c_str(), "wb");
+    EXPECT_TRUE(out != nullptr);
+    if (!out) break;
+    std::fwrite(bytes.data(), 1, bytes.size(), out);
+    std::fclose(out);
+  }
+  return dir.string();
+}
+
+}  // namespace
+
+// FileFrameSource::read_coordinates (the encoder's first pass over a ragged take): the
+// coordinates and gaps read() gives, frame by frame, without the fields; a compressed body's
+// planes after x y z's (here a field before them and two after) are not needed for that. Frame
+// 0, which opening the folder read, still comes whole to the first read() of it after.
+TEST(PcdNative, GivenFolderWhenCoordinatesReadThenReadsCoordinatesAndGaps) {
+  const std::vector<FieldSpec> after = {{"intensity", 4, 'F', 1}, {"x", 4, 'F', 1},
+                                        {"y", 4, 'F', 1},         {"z", 4, 'F', 1},
+                                        {"ring", 2, 'U', 1},      {"t", 8, 'F', 1}};
+  const std::vector<FieldSpec> doubles = {
+      {"x", 8, 'F', 1}, {"y", 8, 'F', 1}, {"z", 8, 'F', 1}, {"ring", 2, 'U', 1}};
+  for (const auto& c : {std::make_pair(after, true), std::make_pair(after, false),
+                        std::make_pair(doubles, true), std::make_pair(doubles, false)}) {
+    const std::string dir =
+        frame_folder(std::to_string(c.first.size()) + (c.second ? "c" : "b"), c.first, c.second);
+    std::unique_ptr<capz::FrameSource> src = capz::open_pcd_frames(dir);
+    auto* files = dynamic_cast<capz::FileFrameSource*>(src.get());
+    ASSERT_TRUE(files != nullptr);
+    capz::FrameBlock coords, whole;
+    files->read_coordinates(1, 2, &coords);
+    src->read(1, 2, &whole);
+    EXPECT_TRUE(coords.attributes.empty());
+    ASSERT_EQ(whole.attributes.size(), c.first.size() - 3);
+    EXPECT_EQ(whole.attributes[0].size(), 27 * static_cast<size_t>(c.first[0].size == 4 ? 4 : 2));
+    EXPECT_EQ(coords.frame_offsets, whole.frame_offsets);
+    EXPECT_EQ(coords.valid, whole.valid);
+    ASSERT_EQ(coords.xyz.size(), whole.xyz.size());
+    for (size_t i = 0; i < coords.xyz.size(); ++i)
+      ASSERT_TRUE(std::memcmp(&coords.xyz[i], &whole.xyz[i], 8) == 0) << i;
+    std::unique_ptr<capz::FrameSource> again = capz::open_pcd_frames(dir);
+    capz::FrameBlock first;
+    again->read(0, 1, &first);  // the frame opening read, given whole
+    dynamic_cast<capz::FileFrameSource*>(again.get())->read_coordinates(0, 1, &coords);
+    EXPECT_EQ(first.xyz.size(), 1500u);
+    EXPECT_EQ(first.attributes.size(), c.first.size() - 3);
+    EXPECT_EQ(coords.valid, first.valid);
+    fs::remove_all(dir);
+  }
 }

@@ -289,5 +289,36 @@ TEST(Positions, GivenBadPeriodFieldThenCorrupt) {
   expect_corrupt(crafted({0, 0, 8}, {}), "POSW");  // the period is missing (truncated)
 }
 
+// encode_positions_bound (the one-sweep choice's cheapest size bound of the fixed stream): the
+// payload encode_positions writes, its residual block cut to the raw bits' bytes at its end (the
+// range coder's bytes and their varint left out), so never larger; in mode 3 with the low words.
+TEST(Positions, GivenWindowThenBoundIsThePayloadLessTheRangeCodersBytes) {
+  for (bool float64 : {false, true}) {
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+      WindowInts w = rigid_groups(6, 40, seed == 1 ? 40 : 5, seed == 3 ? 0.1 : 0, seed);
+      if (float64) w.lo.assign(w.q.size(), 0x12345678u);
+      const std::vector<uint8_t> real = encode_positions(w, {}, {}, float64);
+      const std::vector<uint8_t> bound = encode_positions_bound(w, {}, {}, float64);
+      const PositionsPayload pp = split_positions(real.data(), real.size(), "test");
+      // After the predictors: the references' block and the period when a point uses them, then
+      // the residual block: the range coder's bytes after their count, then the raw bits'.
+      const std::vector<uint8_t> modes = decode_modes(pp, w.points, "test");
+      ByteReader r(pp.residuals, pp.residuals_size, "test");
+      if (std::any_of(modes.begin(), modes.end(), [](uint8_t m) { return uses_ref(m); }))
+        r.bytes(static_cast<size_t>(r.varint()));
+      if (std::any_of(modes.begin(), modes.end(), [](uint8_t m) { return uses_period(m); }))
+        r.varint();
+      const size_t head = static_cast<size_t>(pp.residuals - real.data()) + r.offset();
+      const uint64_t rc = r.varint();
+      const size_t raw = r.remaining() - static_cast<size_t>(rc);
+      const size_t valid = static_cast<size_t>(std::count(w.valid.begin(), w.valid.end(), 1));
+      EXPECT_GE(raw, float64 ? 12 * valid : 1u);  // mode 3: a low word a coordinate
+      ASSERT_EQ(bound.size(), head + raw) << float64 << " " << seed;
+      EXPECT_TRUE(std::equal(bound.begin(), bound.begin() + static_cast<long>(head), real.begin()));
+      EXPECT_LT(bound.size(), real.size());
+    }
+  }
+}
+
 }  // namespace
 }  // namespace capz
