@@ -412,7 +412,7 @@ namespace {
 // encoder's self-check rebuilds each window with the residue decoder it built from its own view
 // of the take; this one reads the stream as `capz decompress` will, so that a disagreement
 // between the two views (an archive that compresses but does not decompress) never reaches the
-// output. Costs one decode (p20 --lossless: about a tenth of the encode).
+// output. Costs one decode (p20 --lossless: 8.62 -> 9.21 user s, one run each).
 void commit_rebuilt(AtomicFile* file, const FrameSource& source, const CompressOptions& opts) {
   if (opts.lossless && opts.check && is_frame_files(source.header().format)) {
     const std::string& tmp = file->temp_path();

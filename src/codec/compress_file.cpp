@@ -46,18 +46,6 @@ double unitless_default_bound(const ValidExtent& e) {
   return d2 > 0 ? 1e-4 * std::sqrt(d2) : 1e-4;
 }
 
-// Whether the frame files written back store x y z as float32: .bin frames, PCD and PLY frames
-// whose x is 4 bytes.
-bool float32_frames(const Take& t) {
-  if (t.format == Format::kBinFolder) return true;
-  if (!is_frame_files(t.format)) return false;
-  const std::vector<PCDField>* fields = t.pcd ? &t.pcd->fields : t.ply ? &t.ply->fields : nullptr;
-  if (!fields || fields->empty()) return t.pcd != nullptr;  // PCD's default: x y z F 4
-  for (const PCDField& f : *fields)
-    if (f.name == "x") return f.size == 4;
-  return false;
-}
-
 // The default bound for t when it can hold in float32 frames: 0 for frames whose coordinates
 // are farther from the origin than float32 resolves that bound (UTM eastings and northings),
 // whose default is then lossless (their float32 values kept; docs/CLI.md, --units).

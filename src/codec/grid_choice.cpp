@@ -220,10 +220,7 @@ double output_rounding_reserve(const Take& t, const TakeScan& s, double bound) {
   // TRC writers keep every decoded double (their printing has its own room, trc_print_room);
   // PCD writers do too, except for frames whose x y z were float32 (FORMAT.md 5.5), which are
   // written back as float32.
-  bool f32_pcd = false;
-  if (is_frame_files(t.format) && t.pcd)
-    for (const PCDField& f : t.pcd->fields) f32_pcd = f32_pcd || (f.name == "x" && f.size == 4);
-  if (t.format != Format::kC3D && !f32_pcd) return 0;
+  if (t.format != Format::kC3D && !float32_frames(t)) return 0;
   return float32_half_ulp(s.max_abs + bound);
 }
 
@@ -244,6 +241,16 @@ double reserved_step(const Take& t, const TakeScan& s, double bound) {
 }
 
 }  // namespace
+
+bool float32_frames(const Take& t) {
+  if (t.format == Format::kBinFolder) return true;
+  if (!is_frame_files(t.format)) return false;
+  const std::vector<PCDField>* fields = t.pcd ? &t.pcd->fields : t.ply ? &t.ply->fields : nullptr;
+  if (!fields || fields->empty()) return t.pcd != nullptr;  // PCD's default: x y z F 4
+  for (const PCDField& f : *fields)
+    if (f.name == "x") return f.size == 4;
+  return false;
+}
 
 double float32_half_ulp(double m) {
   int e = 0;

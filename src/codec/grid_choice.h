@@ -82,6 +82,10 @@ Grid lossless_grid(const TakeScan& s);
 // bound is too fine for the coordinates.
 Grid bounded_grid(const Take& t, const TakeScan& s, double bound);
 
+// Whether the frame files the decoder writes for t store x y z as float32: .bin frames, PCD and
+// PLY frames whose x is 4 bytes (so bounded_grid keeps float32_half_ulp in reserve).
+bool float32_frames(const Take& t);
+
 // Half a float32 ulp at magnitudes up to m (m in [2^(e-1), 2^e): 2^(e-25)): how far writing a
 // decoded coordinate of magnitude at most m as float32 may move it. bounded_grid keeps that much
 // of the bound in reserve for outputs that store float32 coordinates.
