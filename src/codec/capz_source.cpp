@@ -28,7 +28,7 @@ CapzSource::CapzSource(std::unique_ptr<StreamBytes> bytes, const std::string& na
     ps_.take.frame_offsets = ragged_frame_offsets(*bytes_, ps_);
   }
   header_ = ps_.take;
-  if (ps_.h.ragged && (ps_.take.frames == 1 || organized_points(ps_) > 0)) ragged_as_fixed();
+  if (ragged_reads_fixed(ps_)) ragged_as_fixed();
   const size_t T = std::min(resolve_threads(threads), ps_.index.size());
   if (T > 1 && ps_.index.size() > 1) ahead_cap_ = T + 1;
   // The window kept, and those decoded ahead, each with its buffers.

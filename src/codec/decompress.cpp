@@ -124,13 +124,10 @@ StreamInfo describe_bytes(StreamBytes& bytes, const std::string& name) {
     si.pcd_width = ps.take.pcd->width;
     si.pcd_height = ps.take.pcd->height;
   }
-  if (si.ragged && organized_points(ps) > 0) {  // read as the fixed take (capz_source.h)
+  if (ragged_reads_fixed(ps)) {  // read as the fixed take (capz_source.h)
     si.ragged = false;
-    si.points = organized_points(ps);
-  } else if (si.ragged && si.frames == 1) {  // read as the fixed frame of its file
-    si.ragged = false;
-    si.points = si.total_points;
-    if (ps.take.pcd) si.pcd_width = si.total_points, si.pcd_height = 1;
+    si.points = organized_points(ps) ? organized_points(ps) : si.total_points;
+    if (ps.take.pcd && !organized_points(ps)) si.pcd_width = si.total_points, si.pcd_height = 1;
   }
   if (ps.take.analog.lossy()) {  // FORMAT.md 5.7
     si.analog_bounds = ps.take.analog.bounds;

@@ -67,6 +67,11 @@ struct StreamContext {
 inline size_t organized_points(const StreamContext& c) {
   return c.h.ragged && c.take.pcd ? c.take.pcd->width * c.take.pcd->height : 0;
 }
+// Whether every .capz reader reads this ragged stream as a fixed take (capz_source.h): a stream
+// of one frame, or of frames of one organized shape.
+inline bool ragged_reads_fixed(const StreamContext& c) {
+  return c.h.ragged && (c.take.frames == 1 || organized_points(c) > 0);
+}
 // The per-frame metadata of *t (a take of F frames: TRC times and frame numbers, frame-file
 // names) cut to frames [first, first + count), its first frame moved on by `first`.
 void slice_frame_metadata(size_t first, size_t count, size_t F, Take* t);
