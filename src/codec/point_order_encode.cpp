@@ -74,6 +74,20 @@ bool octree_worth_trying(const ScanGeometry& g, size_t coded) {
          double(bytes.size()) * double(g.total()) <= 1.25 * double(coded) * double(n);
 }
 
+// *bytes (the plain octree payload of `sorted`, g's points in octree order), or the payload
+// with the cones of g's laser table (L = 3; 1 and 2 were never the smallest where 3 could be:
+// docs/lab/2026-11-30-octree-cones.md) or with the mix too (L = 7,
+// docs/lab/2026-11-30-octree-mixing.md) when one of those is smaller.
+void with_cones(const ScanGeometry& sorted, const ScanGeometry& g, const ScanHints& hints,
+                std::vector<uint8_t>* bytes) {
+  const scan::Table table = octree_cone_table(g, hints);
+  if (table.rings() == 0) return;
+  for (uint32_t l : {3u, 7u}) {
+    std::vector<uint8_t> other = encode_scan_octree(sorted, &table, l);
+    if (other.size() < bytes->size()) bytes->swap(other);
+  }
+}
+
 // Octree frames (FORMAT.md "Octree frames"): each frame's points in octree order, every frame
 // with a valid point an octree frame, without a table and with the cones of the one fitted to
 // the window (hints: g's). True, with the smallest payload in *bytes and its order in *order,
@@ -92,17 +106,10 @@ bool octree_window(const ScanGeometry& g, const ScanHints& hints, const std::vec
   const ScanGeometry sorted = permuted(g, *order);
   *bytes = encode_scan_octree(sorted);
   if (bytes->empty()) return false;
-  // With the table's cones and the counting models (L = 3; 1 and 2 were never the smallest
-  // where 3 could be: docs/lab/2026-11-30-octree-cones.md), and with the mix too (L = 7,
-  // docs/lab/2026-11-30-octree-mixing.md), unless the payload without them is above 5/4 of
+  // With the cones and the mix (with_cones), unless the payload without them is above 5/4 of
   // `coded`: they saved at most 11 % (docs/lab/2026-11-30-octree-fields.md).
   if (4 * bytes->size() > 5 * coded.size()) return false;
-  const scan::Table table = octree_cone_table(g, hints);
-  if (table.rings() > 0)
-    for (uint32_t l : {3u, 7u}) {
-      std::vector<uint8_t> other = encode_scan_octree(sorted, &table, l);
-      if (other.size() < bytes->size()) bytes->swap(other);
-    }
+  with_cones(sorted, g, hints, bytes);
   return bytes->size() < coded.size();
 }
 
@@ -295,14 +302,10 @@ bool split_coded(const ScanGeometry& g, const ScanHints& hints, const Split& s,
 // of the smaller payload with and without the cones, SIZE_MAX when it has none.
 size_t octree_bytes(const ScanGeometry& g1, const ScanHints& h1) {
   const ScanGeometry sorted = permuted(g1, octree_frame_order(g1, 0, g1.total()));
-  size_t least = SIZE_MAX;
-  const std::vector<uint8_t> plain = encode_scan_octree(sorted);
-  if (!plain.empty()) least = plain.size();
-  const scan::Table table = octree_cone_table(g1, h1);
-  if (table.rings() > 0)
-    for (uint32_t l : {3u, 7u})
-      least = std::min(least, encode_scan_octree(sorted, &table, l).size());
-  return least;
+  std::vector<uint8_t> bytes = encode_scan_octree(sorted);
+  if (bytes.empty()) return SIZE_MAX;
+  with_cones(sorted, g1, h1, &bytes);
+  return bytes.size();
 }
 
 // The split of a window of several frames worth coding: each of `splits` (split_estimate's)
