@@ -269,6 +269,7 @@ struct RaggedRun {
   int fine;                          // the last SCNW's fine shift (FORMAT.md "Raster frames")
   ScanWorkspace scan_ws;             // the scan coder's maps, kept from window to window
   bool origin;                       // the window's gaps are origin points (SCNW's gaps bit 0)
+  bool key_fields = false;           // META has a field predictor 13 may code (attr::is_key_field)
 };
 
 // SCNW's bytes after `total` ("Scans (format 1.1)"): in mode 2 the split exponent e, and with a
@@ -448,10 +449,7 @@ void append_fields_chunk(RaggedRun& r, size_t w, const std::vector<std::vector<u
 void code_chunks(RaggedRun& r, size_t w, FrameBlock* b, std::vector<int32_t>* q,
                  std::vector<std::vector<uint8_t>>* fields, const std::vector<uint8_t>* coded) {
   std::vector<uint16_t> rings;  // with a field predictor 13 may code (a key field)
-  const std::vector<AttrSpec> specs =
-      r.meta.attributes.empty() ? std::vector<AttrSpec>() : attribute_specs(r.meta.pcd->fields);
-  const bool keys = std::any_of(specs.begin(), specs.end(), attr::is_key_field);
-  append_scan_chunk(r, w, *b, q, coded, keys ? &rings : nullptr);
+  append_scan_chunk(r, w, *b, q, coded, r.key_fields ? &rings : nullptr);
   if (r.meta.attributes.empty()) return;
   *fields = std::move(b->attributes);
   quantise_bounded_fields(*r.meta.pcd, fields);
@@ -646,6 +644,10 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
               0,
               ScanWorkspace(),
               false};
+  if (!meta_take.attributes.empty()) {
+    const std::vector<AttrSpec> specs = attribute_specs(meta_take.pcd->fields);
+    r.key_fields = std::any_of(specs.begin(), specs.end(), attr::is_key_field);
+  }
   const size_t W = h.window_frames;
   for (size_t w = 0; w * W < t.frames; ++w) {
     const size_t f0 = w * W, f1 = std::min<size_t>(f0 + W, t.frames);
