@@ -132,13 +132,14 @@ void set_coding_options(const po::variables_map& vm, capz::CompressOptions* opts
 
 // The error target: --lossless, --kg-error, --max-error, or the default bound
 // (capz::set_compress_target).
-void set_target(const po::variables_map& vm, capz::FrameSource& source,
-                capz::CompressOptions* opts) {
+// Returns the default bound's note (capz::set_compress_target), or "".
+std::string set_target(const po::variables_map& vm, capz::FrameSource& source,
+                       capz::CompressOptions* opts) {
   capz::CompressTarget target;
   target.lossless = vm.count("lossless") != 0;
   if (vm.count("kg-error")) target.kg_error = vm["kg-error"].as<double>();
   if (vm.count("max-error")) target.max_error = vm["max-error"].as<std::string>();
-  capz::set_compress_target(source, target, opts);
+  return capz::set_compress_target(source, target, opts);
 }
 
 // Compresses the input into `out`; returns the encoding's CPU seconds: of the process when the
@@ -330,7 +331,9 @@ FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
   // files at once): the windows of the take coded in parallel.
   opts.threads = static_cast<int>(job.threads);
   const capz::Take& take = input.in.source->header();
-  set_target(vm, *input.in.source, &opts);
+  const std::string bound_note = set_target(vm, *input.in.source, &opts);
+  if (!bound_note.empty() && g_verbosity > 0)
+    std::fprintf(stderr, "capz compress: note: %s: %s\n", in.c_str(), bound_note.c_str());
   r.units = take.units;
   if (take.units_assumed) r.units_note = "units " + capz::units_text(take);
 

@@ -483,7 +483,9 @@ def compress(
     max_error      per-coordinate bound: a length with a unit ("0.1mm", "0.05cm", "0.0001m",
                    "0.01in") or a number in the take's own units. Default "0.1mm"; for a take
                    without units (PCD, unless units= is given) 1e-4 x the bounding-box
-                   diagonal of the data, and a bound with a unit needs units=.
+                   diagonal of the data (a few points far outside the others do not count:
+                   a UserWarning then says so, as the CLI's note), and a bound with a unit
+                   needs units=.
     kg_error       instead of a bound: KG error target in percent; the grid is chosen so the
                    achieved KG error is at or just under it.
     lossless       every stored coordinate back exactly (int16 C3D integers, float32 bits,

@@ -277,6 +277,12 @@ capz::CompressTarget target_of(bool lossless, std::optional<double> kg_error,
   return t;
 }
 
+// A note of the library's (the default bound's) as a Python UserWarning, as the CLI prints it.
+void warn_note(const std::string& note) {
+  if (!note.empty() && PyErr_WarnEx(PyExc_UserWarning, ("capz: " + note).c_str(), 1) != 0)
+    throw py::error_already_set();
+}
+
 // capz.compress: (bytes, stats). `units` is given to a take without units, as --units does.
 py::tuple compress_take(const capz::Take& take, bool lossless, std::optional<double> kg_error,
                         std::optional<std::string> max_error, const std::string& units,
@@ -287,6 +293,7 @@ py::tuple compress_take(const capz::Take& take, bool lossless, std::optional<dou
                         bool any_point_order) {
   std::vector<uint8_t> bytes;
   capz::CompressStats st;
+  std::string note;  // the default bound's, as the CLI's note
   {
     py::gil_scoped_release nogil;
     if (!units.empty() && capz::units_to_metres(units) == 0)
@@ -303,13 +310,15 @@ py::tuple compress_take(const capz::Take& take, bool lossless, std::optional<dou
         coding_options(codec, clusters, window, check, codec_options, threads, attr_error,
                        drop_fields, analog_max_error, any_point_order);
     std::unique_ptr<capz::FrameSource> src = capz::take_frames(t);
-    capz::set_compress_target(*src, target_of(lossless, kg_error, std::move(max_error)), &opts);
+    note =
+        capz::set_compress_target(*src, target_of(lossless, kg_error, std::move(max_error)), &opts);
     if (t.units_assumed) {  // as the CLI: the archive stores no assumed units
       with_units->units.clear();
       with_units->units_assumed = false;
     }
     bytes = capz::compress(t, opts, &st);
   }
+  warn_note(note);
   return py::make_tuple(py::bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
                         compress_stats(st));
 }
@@ -652,14 +661,16 @@ void bind_functions(py::module_& m) {
            const std::map<std::string, double>& analog_max_error, bool any_point_order,
            bool overwrite) {
           capz::CompressStats st;
+          std::string note;
           {
             py::gil_scoped_release nogil;
-            capz::compress_file(
+            note = capz::compress_file(
                 in, out, target_of(lossless, kg_error, std::move(max_error)),
                 coding_options(codec, clusters, window, check, codec_options, threads, attr_error,
                                drop_fields, analog_max_error, any_point_order),
                 units, overwrite, &st);
           }
+          warn_note(note);
           return compress_stats(st);
         });
 

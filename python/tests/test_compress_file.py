@@ -64,3 +64,22 @@ def test_compress_file_default_output_and_bad_options(tmp_path):
             capz.compress_file(src, str(tmp_path / "x.capz"), **kwargs)
         assert e.value.code in ("usage", "invalid-parameter"), kwargs
     assert not (tmp_path / "x.capz").exists()  # nothing partial left
+
+
+def test_a_stray_point_does_not_set_the_default_bound(tmp_path):
+    """One far point (a driver's garbage return) used to set the default bound for all: 1e-4 of a
+    diagonal of 500 km is 50 m. The others' box sets it now, with a warning, as the CLI's note."""
+    import numpy as np
+    rng = np.random.default_rng(7)
+    xyz = rng.random((1, 5000, 3)) * [100.0, 100.0, 10.0]
+    xyz[0, 5] = [5e5, 0, 0]
+    take = capz.Take.from_arrays(xyz, units="")  # no units: the default is a fraction of the box
+    with pytest.warns(UserWarning, match="far outside the others"):
+        _, stats = capz.compress(take, stats=True)
+    assert 0.001 < stats["grid_step"] < 0.05
+    path = tmp_path / "sweep.pcd"
+    capz.write(take, str(path))
+    with pytest.warns(UserWarning, match="far outside the others"):
+        stats = capz.compress_file(str(path), str(tmp_path / "s.capz"))
+    out = json.loads(cli("compress", str(path), "-o", str(tmp_path / "c.capz"), "--json"))
+    assert stats["grid_step"] == out["grid_step"] < 0.05

@@ -4,8 +4,10 @@
 // byte with --lossless), or one line names the file and nothing is left behind.
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "support/frame_files.h"
 #include "test_util.h"
@@ -105,6 +107,56 @@ TEST(CliUserInputs, GivenFloat32FramesFarFromTheOriginThenDefaultIsLosslessAndFi
   EXPECT_EQ(r.status, 6) << r.out;
   EXPECT_NE(r.out.find("float32 resolution"), std::string::npos) << r.out;
   EXPECT_FALSE(fs::exists(dir.file("c.capz")));
+}
+
+namespace {
+
+// A .bin sweep of 20,000 points in a 100 x 100 x 10 m box plus one stray point at (x, 0, 0).
+std::string sweep_with_a_stray(float x) {
+  std::vector<float> v;
+  uint32_t r = 12345;
+  auto next = [&r] {
+    return static_cast<float>((r = r * 1103515245u + 12345u) >> 8) / 16777216.0f;
+  };
+  for (int i = 0; i < 20000; ++i) {
+    const float a = 100 * next(), b = 100 * next(), c = 10 * next();
+    v.insert(v.end(), {i == 5 ? x : a, i == 5 ? 0.0f : b, i == 5 ? 0.0f : c, next()});
+  }
+  return capz_test::floats(v);
+}
+
+}  // namespace
+
+// The default bound of data without units is 1e-4 of the box's diagonal, so one stray point (a
+// driver's far garbage return) set it for every point: one point at 500 km gave a 50 m bound,
+// one at 1e30 m put every other point at the origin's grid cell. The few far points no longer
+// set it: the others' box does (made coarse enough to hold at the stray), or the sweep is kept
+// lossless when no such bound holds; a note says so.
+TEST(CliUserInputs, GivenAStrayPointThenTheDefaultBoundIsTheOthers) {
+  TempDir dir;
+  const std::string far = dir.file("far.bin"), wild = dir.file("wild.bin");
+  capz_test::put(far, sweep_with_a_stray(5e5f));
+  capz_test::put(wild, sweep_with_a_stray(1e30f));
+  auto r = capz_run("compress '" + far + "' -o '" + dir.file("f.capz") + "' --json", dir);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("far outside the others"), std::string::npos) << r.out;
+  const size_t at = r.out.find("\"max_error_target\":");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  const double bound = std::stod(r.out.substr(at + 19));
+  EXPECT_GT(bound, 0.01) << r.out;  // 1e-4 of the others' 141.8 m, doubled for float32 at 5e5 m
+  EXPECT_LT(bound, 0.05) << r.out;  // not 50 m
+  r = capz_run("verify '" + dir.file("f.capz") + "' --against '" + far + "'", dir);
+  EXPECT_EQ(r.status, 0) << r.out;
+  r = capz_run("compress '" + wild + "' -o '" + dir.file("w.capz") + "'", dir);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("kept lossless"), std::string::npos) << r.out;
+  r = capz_run("decompress '" + dir.file("w.capz") + "' -o '" + dir.file("back.bin") + "'", dir);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_TRUE(capz_test::file_text(dir.file("back.bin")) == capz_test::file_text(wild));
+  // A bound given is the bound used, note or none.
+  r = capz_run("compress '" + far + "' -o '" + dir.file("g.capz") + "' --max-error 5cm", dir);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(r.out.find("far outside"), std::string::npos) << r.out;
 }
 
 // CloudCompare writes its scalar fields as scalar_NAME, floats and integers side by side;

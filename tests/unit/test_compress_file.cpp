@@ -62,6 +62,55 @@ TEST(CompressTarget, WithoutUnitsTheDefaultIsAFractionOfTheDiagonal) {
             ErrorCode::kInvalidParameter);
 }
 
+// n points on a 10 x 10 x 1 grid (diagonal about 14.2) and one stray at (x, 0, 0).
+Take stray_take(size_t n, double x) {
+  Take t;
+  t.resize(1, n + 1);
+  for (size_t p = 0; p < n; ++p) {
+    double* v = t.at(0, p);
+    v[0] = static_cast<double>(p % 10);
+    v[1] = static_cast<double>(p / 10 % 10);
+    v[2] = static_cast<double>(p / 100 % 2);
+  }
+  t.at(0, n)[0] = x;
+  std::fill(t.valid.begin(), t.valid.end(), 1);
+  return t;
+}
+
+// The default bound of t and its note.
+double default_of(const Take& t, CompressOptions* o, std::string* note) {
+  auto src = take_frames(t);  // holds t by reference
+  *note = set_compress_target(*src, {}, o);
+  return o->max_error;
+}
+
+TEST(CompressTarget, AFewFarPointsDoNotSetTheDefaultBound) {
+  CompressOptions o;
+  std::string note;
+  const double others = 1e-4 * std::sqrt(9.0 * 9 + 9 * 9 + 1);
+  EXPECT_DOUBLE_EQ(default_of(stray_take(5000, 1e6), &o, &note), others);
+  EXPECT_NE(note, "");  // it says why
+  EXPECT_FALSE(o.lossless);
+  // Under 1000 points, or far points as spread as the others: the whole box, no note.
+  EXPECT_DOUBLE_EQ(default_of(stray_take(998, 1e6), &o, &note),
+                   1e-4 * std::sqrt(1e6 * 1e6 + 9 * 9 + 1));
+  EXPECT_EQ(note, "");
+  EXPECT_DOUBLE_EQ(default_of(stray_take(5000, 1000), &o, &note),
+                   1e-4 * std::sqrt(1000.0 * 1000 + 9 * 9 + 1));
+  EXPECT_EQ(note, "");
+  EXPECT_DOUBLE_EQ(default_of(stray_take(5000, 1500), &o, &note), others);
+  EXPECT_NE(note, "");
+  // A stray the grid's integers cannot reach at the others' bound: lossless, with the note.
+  default_of(stray_take(5000, 1e30), &o, &note);
+  EXPECT_TRUE(o.lossless);
+  EXPECT_NE(note, "");
+  // With units: as before.
+  Take mm = stray_take(5000, 1e6);
+  mm.units = "mm";
+  EXPECT_DOUBLE_EQ(default_of(mm, &o, &note), 0.1);
+  EXPECT_EQ(note, "");
+}
+
 TEST(CompressTarget, OneTargetOnly) {
   CompressOptions o;
   CompressTarget t;

@@ -42,9 +42,14 @@ CompressInput open_compress_input(const std::string& path, bool whole, const std
 // diagonal of the valid samples (the source is read once for it), lossless for frames that
 // store float32 coordinates too far from the origin for float32 to resolve that bound, and any
 // bound when no sample is valid. A bound with a unit on assumed units is read in them (--max-error
-// 1mm on PCD frames: 0.001 m). Throws Error(kUsage) for more than one target, kInvalidParameter for
-// a KG target or a bound that is not > 0, or a bound with a unit on data without units.
-void set_compress_target(FrameSource& source, const CompressTarget& target, CompressOptions* opts);
+// 1mm on PCD frames: 0.001 m). A few samples far outside the others (up to 16 at each end of an
+// axis, none in a take of under 1000 samples, their box's diagonal over 100x the others') do not
+// set the default: it is then the others' box's (or lossless, when that bound cannot hold at the
+// far samples), and the returned note (otherwise empty) says so. Throws Error(kUsage) for more
+// than one target, kInvalidParameter for a KG target or a bound that is not > 0, or a bound with
+// a unit on data without units.
+std::string set_compress_target(FrameSource& source, const CompressTarget& target,
+                                CompressOptions* opts);
 
 // Compresses the input into `out`, written atomically: compress_stream() (for a C3D or TRC
 // source with the original file's checksum and residue), or under codec auto compress() of the
@@ -56,9 +61,10 @@ void compress_input(CompressInput& input, const CompressOptions& opts, const std
 
 // The three above in a row: `capz compress IN -o OUT` with `target`, `units` (--units; checked
 // to name a unit capz knows) and the coding options of `opts` (codec, clusters, codec_options,
-// window_frames, check, progress; its target fields are replaced).
-void compress_file(const std::string& in, const std::string& out, const CompressTarget& target,
-                   const CompressOptions& opts, const std::string& units, bool overwrite,
-                   CompressStats* stats = nullptr);
+// window_frames, check, progress; its target fields are replaced). Returns
+// set_compress_target's note.
+std::string compress_file(const std::string& in, const std::string& out,
+                          const CompressTarget& target, const CompressOptions& opts,
+                          const std::string& units, bool overwrite, CompressStats* stats = nullptr);
 
 }  // namespace capz
