@@ -60,7 +60,8 @@ Format format_for_output(const std::string& path);
 Format output_format(const Take& take, const std::string& path, const WriteOptions& opts);
 // What writing `take` as `out` leaves out, each as a phrase: "the 16 analog channels", "the C3D
 // parameter section (with its 8 events)", "the 2 rotation segments", "the frame rate (100 Hz)"
-// (PCD frames store none); empty when `out` keeps it all. Point fields are not listed: the
+// (PCD frames store none), "float64 values (x y z: rounded to float32)" (.bin frames from
+// PCD or PLY doubles); empty when `out` keeps it all. Point fields are not listed: the
 // writers refuse them without WriteOptions::drop_fields.
 std::vector<std::string> dropped_by(const Take& take, Format out);
 

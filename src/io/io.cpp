@@ -188,6 +188,18 @@ std::vector<std::string> dropped_by(const Take& take, Format out) {
   }
   if (take.rotations.segments > 0)
     d.push_back("the " + std::to_string(take.rotations.segments) + " rotation segments");
+  if (out == Format::kBinFolder) {  // float32 x y z intensity (KITTI's layout)
+    const std::vector<PCDField>* fields = take.pcd   ? &take.pcd->fields
+                                          : take.ply ? &take.ply->fields
+                                                     : nullptr;
+    std::string wide;  // the 8-byte float fields a .bin frame rounds to float32
+    if (fields)
+      for (const PCDField& f : *fields)
+        if (f.type == 'F' && f.size == 8 &&
+            (f.name == "x" || f.name == "y" || f.name == "z" || f.name == "intensity"))
+          wide += (wide.empty() ? "" : " ") + f.name;
+    if (!wide.empty()) d.push_back("float64 values (" + wide + ": rounded to float32)");
+  }
   if (is_frame_files(out) && take.rate > 0) {
     char rate[64];
     const std::to_chars_result r = std::to_chars(rate, rate + sizeof rate, take.rate);

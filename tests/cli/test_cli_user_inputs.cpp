@@ -159,6 +159,25 @@ TEST(CliUserInputs, GivenAStrayPointThenTheDefaultBoundIsTheOthers) {
   EXPECT_EQ(r.out.find("far outside"), std::string::npos) << r.out;
 }
 
+// A .bin frame stores float32 x y z intensity: converting double-precision PCD frames to it
+// rounded them without a word. A note says so now; float32 sources convert as they did.
+TEST(CliUserInputs, GivenFloat64FramesThenConvertingToBinSaysTheyAreRounded) {
+  TempDir dir;
+  const std::string in = dir.file("d.pcd");
+  capz_test::put(in,
+                 "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z intensity\nSIZE 8 8 8 4\nTYPE F F F F\n"
+                 "COUNT 1 1 1 1\nWIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA ascii\n"
+                 "0.123456789012 1 2 3\n4 5 6.000000001 7\n");
+  auto r = capz_run("convert '" + in + "' '" + dir.file("out") + "/' --to bin", dir);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("float64 values (x y z: rounded to float32)"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(dir.file("out/d.bin")));
+  capz_test::put(dir.file("f.pcd"), capz_test::binary_pcd(3, 1.0f));
+  r = capz_run("convert '" + dir.file("f.pcd") + "' '" + dir.file("out2") + "/' --to bin", dir);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(r.out.find("float64"), std::string::npos) << r.out;
+}
+
 // CloudCompare writes its scalar fields as scalar_NAME, floats and integers side by side;
 // --attr-error scalar=B (NAME_* stands for every such field) was refused because one of them
 // holds integers. The float ones are bounded now, the integer ones kept as they are.
