@@ -11,6 +11,7 @@
 #include "codec/encode_settings.h"
 #include "codec/encoder.h"
 #include "codec/registry.h"
+#include "codec/residue_writer.h"
 #include "codec/scan_encoder.h"
 #include "codec/stream_reader.h"
 #include "coding/container.h"
@@ -164,7 +165,7 @@ std::vector<uint8_t> one_frame_choice(FrameSource& source, const CompressOptions
   const bool fields = !source.header().attributes.empty();  // else the two bounds are one
   CompressStats st;  // the frame moved into the scan coder's take, not copied
   std::vector<uint8_t> scan = one_frame_scan(prefix_take(source, source.header().frames), opts,
-                                             stats ? &st : nullptr, source.original_file());
+                                             stats ? &st : nullptr, residue_original(source, opts));
   // The scan stream with its report, when it is under `size`.
   const auto scan_under = [&](size_t size) {
     if (scan.size() >= size) return false;
@@ -439,7 +440,7 @@ void compress_stream(FrameSource& source, const CompressOptions& opts, const std
     settle_frame_layout(&source.edit_header(), opts.drop_fields);
     AtomicFile file(path, overwrite);
     StreamOut out(&file);
-    encode_ragged(source, opts, &out, stats, source.original_file());
+    encode_ragged(source, opts, &out, stats, residue_original(source, opts));
     commit_rebuilt(&file, source, opts);
     return;
   }
@@ -457,7 +458,7 @@ void compress_stream(FrameSource& source, const CompressOptions& opts, const std
     settle_frame_layout(&ragged.edit_header(), opts.drop_fields);
     AtomicFile file(path, overwrite);
     StreamOut out(&file);
-    encode_ragged(ragged, opts, &out, stats, source.original_file(), true);
+    encode_ragged(ragged, opts, &out, stats, residue_original(source, opts), true);
     commit_rebuilt(&file, source, opts);
     return;
   }

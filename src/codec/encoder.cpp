@@ -171,15 +171,16 @@ std::vector<analog::ChannelBound> analog_channel_bounds(const Take& t) {
 
 class Encoder {
  public:
+  // original: residue_original(source, opts), taken before settle_fields.
   Encoder(FrameSource& source, const CompressOptions& opts, const EncoderTuning& tuning,
-          StreamOut* out, bool allow_tout)
+          StreamOut* out, bool allow_tout, const std::string& original)
       : source_(source),
         take_(source.header()),
         opts_(opts),
         tuning_(tuning),
         out_(out),
         plan_(resolve(source, opts, allow_tout)),
-        residue_(ResidueWriter::open(source, opts.check)) {}
+        residue_(ResidueWriter::open(original, source.header(), opts.check)) {}
 
   void run(CompressStats* stats) {
     if (plan_.analog) {
@@ -633,10 +634,11 @@ class Encoder {
 
 void encode_source(FrameSource& source, const CompressOptions& opts, const EncoderTuning& tuning,
                    StreamOut* out, CompressStats* stats, bool allow_transform_output) {
+  const std::string original = residue_original(source, opts);  // before the fields settle
   settle_fields(source, opts);
   set_field_bounds(source, opts);
   std::vector<std::string> unmatched = set_analog_bounds(source, opts);
-  Encoder(source, opts, tuning, out, allow_transform_output).run(stats);
+  Encoder(source, opts, tuning, out, allow_transform_output, original).run(stats);
   if (stats) stats->analog_unmatched = std::move(unmatched);
 }
 

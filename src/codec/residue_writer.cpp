@@ -33,8 +33,9 @@ Take decoded_view(const Take& t) {
 
 }  // namespace
 
-std::unique_ptr<ResidueWriter> ResidueWriter::open(const FrameSource& source, bool check) {
-  return open(source.original_file(), source.header(), check);
+std::string residue_original(const FrameSource& source, const CompressOptions& opts) {
+  return opts.drop_fields && !source.header().attributes.empty() ? std::string()
+                                                                 : source.original_file();
 }
 
 std::unique_ptr<ResidueWriter> ResidueWriter::open(const std::string& path, const Take& t,

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "capz/codec.h"
 #include "capz/stream.h"
 #include "core/hash.h"
 #include "core/input_file.h"
@@ -23,12 +24,16 @@
 
 namespace capz {
 
+// The original file (FrameSource::original_file) an archive of `source` under `opts` gives back,
+// or "" when it can give none: opts.drop_fields leaves the source's point fields out, so its
+// frame files cannot come back byte for byte (`--lossless --drop-fields` keeps the positions'
+// bits alone, docs/CLI.md).
+std::string residue_original(const FrameSource& source, const CompressOptions& opts);
+
 class ResidueWriter {
  public:
-  // nullptr unless the source reads an original C3D or TRC file or a PCD folder
-  // (FrameSource::original_file).
-  static std::unique_ptr<ResidueWriter> open(const FrameSource& source, bool check);
-  // The same for a take `header` read from `path` (the header must outlive the writer).
+  // nullptr unless `path` (residue_original) is an original C3D or TRC file or a PCD folder,
+  // for a take `header` read from it (the header must outlive the writer).
   static std::unique_ptr<ResidueWriter> open(const std::string& path, const Take& header,
                                              bool check);
   ResidueWriter(const std::string& path, const Take& header, bool check);
