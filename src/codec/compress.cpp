@@ -68,9 +68,8 @@ bool scan_candidate(const Take& t, const CompressOptions& o) {
   const bool frame_files = is_frame_files(t.format);
   const bool unorganized = !organized_cloud(t);
   return !t.ragged() && t.frames == 1 && t.points > 1 && frame_files &&
-         (unorganized || (!o.any_point_order && !o.lossless)) &&
-         (o.codec.empty() || o.codec == "none") && (o.lossless || o.max_error > 0) &&
-         t.analog.channels == 0 && t.rotations.segments == 0;
+         (unorganized || !o.any_point_order) && (o.codec.empty() || o.codec == "none") &&
+         (o.lossless || o.max_error > 0) && t.analog.channels == 0 && t.rotations.segments == 0;
 }
 
 // The frame offsets of `frames` frames of n points each.
@@ -203,7 +202,7 @@ std::vector<uint8_t> one_frame_choice(FrameSource& source, const CompressOptions
 // for the coders and the sources the scan coder takes (scan_candidate's), in the file's order.
 bool fixed_scan_candidate(const Take& t, const CompressOptions& o) {
   return !t.ragged() && t.frames >= 2 && t.points > 1 && is_frame_files(t.format) &&
-         (o.codec.empty() || o.codec == "none") && !o.lossless && o.max_error > 0 &&
+         (o.codec.empty() || o.codec == "none") && (o.lossless || o.max_error > 0) &&
          !o.any_point_order && t.analog.channels == 0 && t.rotations.segments == 0;
 }
 
@@ -274,6 +273,27 @@ std::pair<size_t, size_t> coded_sizes(Take t, const CompressOptions& opts) {
 // coder in memory).
 constexpr size_t kPrefixFrames = 4;
 
+// Whether a lossless fixed take t (2 frames or more) keeps POSW without the scan coder's trial,
+// which costs about 15 times POSW's coding there (the float32 split's trials of `E`:
+// docs/lab/2026-11-30-lossless-organized.md): its frames are not a sensor's sweeps (neither
+// organized nor with a gap in frame 0: a mesh's vertices), or POSW's second frame costs under
+// 6/10 of its first (a still sensor: per-index prediction pays), coded as opts say.
+bool posw_without_trial(const Take& t, const CompressOptions& opts) {
+  const bool gaps = std::find(t.valid.begin(), t.valid.begin() + static_cast<long>(t.points),
+                              uint8_t{0}) != t.valid.begin() + static_cast<long>(t.points);
+  if (!organized_cloud(t) && !gaps) return true;
+  const auto posw_bytes = [&](size_t k) {
+    const Take head = first_frames(t, k);  // the source below holds it by reference
+    std::unique_ptr<FrameSource> s = take_frames(head);
+    std::vector<uint8_t> bytes;
+    StreamOut mem(&bytes);
+    encode_source(*s, opts, EncoderTuning(), &mem, nullptr);
+    return bytes.size();
+  };
+  const size_t one = posw_bytes(1), two = posw_bytes(2);
+  return 10 * (two - std::min(one, two)) < 6 * one;
+}
+
 // The stream of a source (fixed_scan_candidate) of at most kPrefixFrames frames: coded whole
 // both ways, checked as opts say (*stats: the report of the stream kept), and the scan coder's
 // kept when it is smaller (fixed_scan_choice's rule for such a take): the trial's bytes are the
@@ -289,17 +309,23 @@ std::vector<uint8_t> short_fixed_choice(FrameSource& source, const CompressOptio
   return scan_wins ? scan : fixed;
 }
 
-// Whether `source` (fixed_scan_candidate, more than kPrefixFrames frames) codes smaller through
-// the scan coder than through POSW. Its size is estimated from its first frame's and its first
-// kPrefixFrames' (k): for either coder, s(1) + (F - 1) (s(k) - s(1)) / (k - 1), the first frame
-// and then the others at the prefix's cost a frame (docs/lab/2026-11-30-fixed-count-scans.md).
+// Whether `source` (fixed_scan_candidate) codes smaller through the scan coder than through
+// POSW. Its size is estimated from its first frame's and its first kPrefixFrames' (k): for either
+// coder, s(1) + (F - 1) (s(k) - s(1)) / (k - 1), the first frame and then the others at the
+// prefix's cost a frame (docs/lab/2026-11-30-fixed-count-scans.md); a source of at most k frames
+// is coded whole both ways (short_fixed_choice's rule, for a lossless source, whose stream is then
+// coded again with its residue).
 bool fixed_scan_choice(FrameSource& source, const CompressOptions& opts) {
   CompressOptions o = opts;
   o.check = false;
   o.progress = nullptr;
   const size_t F = source.header().frames, k = std::min(F, kPrefixFrames);
-  if (k == F) fail(ErrorCode::kInternal, source.header().source, "a short take's size estimate");
   Take head = prefix_take(source, k);  // read once: the first frame's take is cut from it
+  if (o.lossless && posw_without_trial(head, o)) return false;
+  if (k == F) {
+    const std::pair<size_t, size_t> whole = coded_sizes(std::move(head), o);
+    return whole.second != 0 && whole.second < whole.first;
+  }
   Take frame0 = first_frames(head, 1);
   const std::pair<size_t, size_t> prefix = coded_sizes(std::move(head), o);
   if (prefix.second == 0) return false;
@@ -451,7 +477,9 @@ void compress_stream(FrameSource& source, const CompressOptions& opts, const std
     out.flush(&bytes);
     commit_rebuilt(&file, source, opts);
   };
-  if (fixed_scan_candidate(source.header(), opts) && source.header().frames <= kPrefixFrames)
+  // A lossless stream needs its residue, which the short choice's in-memory codings lack.
+  if (fixed_scan_candidate(source.header(), opts) && !opts.lossless &&
+      source.header().frames <= kPrefixFrames)
     return write(short_fixed_choice(source, opts, stats));
   if (fixed_scan_candidate(source.header(), opts) && fixed_scan_choice(source, opts)) {
     FixedAsRagged ragged(source);  // frames of one count, as ragged frames (encode_ragged)

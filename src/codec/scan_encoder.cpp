@@ -593,9 +593,9 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
          "a ragged take has no per-point labels or shared point count (points " +
              std::to_string(t.points) + ", " + std::to_string(t.labels.size()) + " labels)");
   refuse_unsupported(t, opts);
-  if (organized && (opts.lossless || opts.any_point_order))  // FORMAT.md: not in such a stream
+  if (organized && opts.any_point_order)  // FORMAT.md: not in such a stream
     fail(ErrorCode::kInvalidParameter, t.source,
-         "frames of one organized shape are coded at a bound, in their order");
+         "frames of one organized shape are coded in their order");
   StreamHeader h;
   h.frames = t.frames;
   h.window_frames = window_frames(t, opts);

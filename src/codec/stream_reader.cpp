@@ -39,9 +39,9 @@ StreamContext read_context(const StreamHeader& h, const Chunk& meta, const Strea
   c.take.rotations.samples_per_frame =
       static_cast<int>(std::min<uint32_t>(c.h.rotation_samples_per_frame, 1u << 30));
   decode_meta(meta, name, &c.take, &c.words, c.h.ragged);
-  if (organized_points(c) > 0 && (c.h.lossless || c.h.points_reordered))
+  if (organized_points(c) > 0 && c.h.points_reordered)
     fail(ErrorCode::kCorrupt, name,
-         "frames of one organized shape in a lossless or reordered stream of ragged frames");
+         "frames of one organized shape in a reordered stream of ragged frames");
   return c;
 }
 

@@ -221,21 +221,29 @@ TEST(ScanOrganized, GivenOneOrganizedFrameThenTheSmallerStreamKeepsItsLayout) {
   EXPECT_EQ(d.pcd->width, 256u);
   EXPECT_EQ(d.pcd->height, 16u);
   EXPECT_EQ(d.valid, t.valid);
-  // Lossless: not through the scan coder (a lossless ragged stream's residue rebuilds frames of
-  // their own counts), the file back byte for byte.
+  // Lossless: the scan coder's stream too, as frames of one organized shape whose residue
+  // regenerates the frame WIDTH 256 HEIGHT 16; the file back byte for byte, read back as the
+  // organized take.
   CompressOptions lossless;
   lossless.lossless = true;
   std::unique_ptr<FrameSource> ls = open_frames(file);
   compress_stream(*ls, lossless, dir.file("l.capz"), true);
-  EXPECT_TRUE(has_chunk(read_file(dir.file("l.capz")), "POSW"));
+  const std::vector<uint8_t> l = read_file(dir.file("l.capz"));
+  EXPECT_TRUE(has_chunk(l, "SCNW"));
+  EXPECT_TRUE(has_chunk(l, "PCDR"));
   rebuild_original(dir.file("l.capz"), dir.file("back.pcd"), true);
   EXPECT_EQ(read_file(dir.file("back.pcd")), read_file(file));
+  const Take ld = decompress(l.data(), l.size());
+  EXPECT_FALSE(ld.ragged());
+  EXPECT_EQ(ld.pcd->width, 256u);
+  EXPECT_EQ(ld.pcd->height, 16u);
+  EXPECT_EQ(ld.valid, t.valid);
 }
 
 // META's layout in a stream of ragged frames (FORMAT.md "Ragged frames: HEAD and the window
 // chunk"): 0 x 1 (frames of their own counts) and W x H with W > 0, H >= 1 (frames of one
-// organized shape, organized_points W H) are read; 0 x 2, 4 x 0, and W x H with HEAD's lossless
-// or points-reordered bit are corrupt.
+// organized shape, organized_points W H; lossless too) are read; 0 x 2, 4 x 0, and W x H with
+// HEAD's points-reordered bit are corrupt.
 TEST(ScanOrganized, GivenARaggedStreamsLayoutThenOnlyTheTwoShapesAreRead) {
   const auto context = [](size_t width, size_t height, bool lossless, bool reordered) {
     Take m;
@@ -272,8 +280,9 @@ TEST(ScanOrganized, GivenARaggedStreamsLayoutThenOnlyTheTwoShapesAreRead) {
   EXPECT_EQ(c.take.pcd->width, 8u);
   EXPECT_EQ(c.take.pcd->height, 3u);
   EXPECT_EQ(organized_points(context(24, 1, false, false)), 24u);
+  EXPECT_EQ(organized_points(context(8, 3, true, false)), 24u);
   for (const auto& bad : {std::vector<size_t>{0, 2, 0, 0}, std::vector<size_t>{4, 0, 0, 0},
-                          std::vector<size_t>{8, 3, 1, 0}, std::vector<size_t>{8, 3, 0, 1}}) {
+                          std::vector<size_t>{8, 3, 0, 1}}) {
     SCOPED_TRACE(std::to_string(bad[0]) + " x " + std::to_string(bad[1]) +
                  (bad[2] ? " lossless" : "") + (bad[3] ? " reordered" : ""));
     try {
@@ -281,7 +290,7 @@ TEST(ScanOrganized, GivenARaggedStreamsLayoutThenOnlyTheTwoShapesAreRead) {
       ADD_FAILURE() << "read";
     } catch (const Error& e) {
       EXPECT_EQ(e.code(), ErrorCode::kCorrupt) << e.what();
-      const std::string why = bad[2] || bad[3] ? "organized shape in a lossless or reordered"
+      const std::string why = bad[2] || bad[3] ? "organized shape in a reordered"
                                                : "PCD layout " + std::to_string(bad[0]) + " x " +
                                                      std::to_string(bad[1]) + " is not";
       EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();

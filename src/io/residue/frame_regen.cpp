@@ -109,9 +109,10 @@ void PcdRegen::frame(const FrameBlock& b, size_t k, int enc, std::vector<uint8_t
   // PCD frames, and the ascii columns a PLY ascii body is styled by (FORMAT.md 14.6).
   const int pcd_enc = kind_ == 5 ? 0 : enc;
   PcdFramePlan& plan = plans_[pcd_enc];
-  // A fixed block of a ragged take (the one frame of a one-frame stream, read fixed): as wide
-  // as its points too.
-  if (b.ragged() || kind_ == 5 || plan.layout.width * plan.layout.height != N) {
+  // A frame of its own count (a ragged take's, or the one frame of a one-frame stream read
+  // fixed): as wide as its points; a frame of the layout's count (a fixed take's, or one of a
+  // stream of one organized shape, read fixed or as ragged frames): the layout's shape.
+  if (kind_ == 5 || plan.layout.width * plan.layout.height != N) {
     plan.layout.width = N;
     plan.layout.height = 1;
   }
