@@ -293,15 +293,17 @@ std::vector<uint8_t> scan_body(const ScanGeometry& g, const ScanHints& hints, bo
   return std::move(w.buffer());
 }
 
-// The split exponents the encoder tries first (FORMAT.md "Lossless ragged streams",
-// informative); then the neighbours of the best of them.
-constexpr int kSplitCoarse[] = {8, 11, 14, 17, 20, 23};
+// The split exponents the encoder searches (FORMAT.md "Lossless ragged streams", informative):
+// from kSplitStart, steps of kSplitStep within [kSplitLeast, kSplitMost] while the size falls,
+// then the best one's neighbours. Most of the shared sweeps' best is 16 or 17.
+constexpr int kSplitStart = 17, kSplitStep = 3, kSplitLeast = 8, kSplitMost = 23;
 // Split integers stay below 2^29, where the scan payload's spherical frames work.
 constexpr int64_t kSplitLimit = int64_t{1} << 29;
 
 // The float32 split of a lossless mode 2 window (b's points, counts frames): the exponent whose
 // SCNW is smallest on the window's first two frames (scan::kNoSplit when none beats the float32
-// bits there, or no exponent applies).
+// bits there, or no exponent applies). Coding only a part of them to choose was tried and
+// dropped (docs/lab/2026-11-30-lossless-organized.md: the E1 and ot128 lost 2.3x and 3.7x).
 int choose_split(const FrameBlock& b, const std::vector<uint32_t>& counts, const ScanHints& hints,
                  const std::vector<int32_t>& bits, ScanWorkspace* ws) {
   ScanGeometry g;
@@ -323,17 +325,31 @@ int choose_split(const FrameBlock& b, const std::vector<uint32_t>& counts, const
   int best = scan::kNoSplit;
   size_t best_size = scan_body(g, h, true, best, {}, ws).size();
   std::vector<uint32_t> t;
+  // The size at exponent e (SIZE_MAX where it does not apply), the best kept.
   const auto trial = [&](int e) {
-    if (!scan::split_coordinates(b.xyz.data(), g.valid.data(), n, e, kSplitLimit, &g.q, &t)) return;
+    if (!scan::split_coordinates(b.xyz.data(), g.valid.data(), n, e, kSplitLimit, &g.q, &t))
+      return SIZE_MAX;
     h.grid_per_unit = std::ldexp(1.0, e);
     const size_t size = scan_body(g, h, true, e, t, ws).size();
     if (size < best_size) best = e, best_size = size;
+    return size;
   };
-  for (int e : kSplitCoarse) trial(e);
+  const size_t mid = trial(kSplitStart);
+  for (int dir : {-kSplitStep, kSplitStep}) {  // down while it falls, else up while it falls
+    size_t last = mid;
+    bool fell = false;
+    for (int e = kSplitStart + dir; e >= kSplitLeast && e <= kSplitMost; e += dir) {
+      const size_t size = trial(e);
+      if (size >= last) break;
+      last = size;
+      fell = true;
+    }
+    if (fell) break;
+  }
   if (best != scan::kNoSplit) {
-    const int mid = best;
-    trial(mid - 1);
-    trial(mid + 1);
+    const int at = best;
+    trial(at - 1);
+    trial(at + 1);
   }
   return best;
 }
