@@ -114,6 +114,7 @@ set(CAPZ_ENCODE_SOURCES
   src/codec/registry.cpp
   src/codec/residue_writer.cpp
   src/codec/scan_encoder.cpp
+  src/codec/scan_split_choice.cpp
   src/codec/transform.cpp
   src/codec/ts/align.cpp
   src/codec/ts/cluster.cpp

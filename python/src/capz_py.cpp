@@ -270,17 +270,7 @@ capz::CompressOptions coding_options(const std::string& codec, int clusters, siz
 
 capz::CompressTarget target_of(bool lossless, std::optional<double> kg_error,
                                std::optional<std::string> max_error) {
-  capz::CompressTarget t;
-  t.lossless = lossless;
-  t.kg_error = kg_error;
-  t.max_error = std::move(max_error);
-  return t;
-}
-
-// A note of the library's (the default bound's) as a Python UserWarning, as the CLI prints it.
-void warn_note(const std::string& note) {
-  if (!note.empty() && PyErr_WarnEx(PyExc_UserWarning, ("capz: " + note).c_str(), 1) != 0)
-    throw py::error_already_set();
+  return capz::CompressTarget{lossless, kg_error, std::move(max_error)};
 }
 
 // capz.compress: (bytes, stats). `units` is given to a take without units, as --units does.

@@ -94,6 +94,12 @@ inline py::list texts(const std::vector<std::string>& v) {
   return out;
 }
 
+// A note of the library's (the default bound's) as a Python UserWarning, as the CLI prints it.
+inline void warn_note(const std::string& note) {
+  if (!note.empty() && PyErr_WarnEx(PyExc_UserWarning, ("capz: " + note).c_str(), 1) != 0)
+    throw py::error_already_set();
+}
+
 using TakeClass = py::class_<capz::Take, TakePtr>;
 
 // Take: the C3D parameter section, sample words and header events (py_c3d.cpp).

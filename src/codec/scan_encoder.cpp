@@ -20,6 +20,7 @@
 #include "codec/negative_zeros.h"
 #include "codec/point_order.h"
 #include "codec/residue_writer.h"
+#include "codec/scan_split_choice.h"
 #include "codec/stream_reader.h"
 #include "coding/attributes.h"
 #include "coding/attributes_quantum.h"
@@ -270,89 +271,8 @@ struct RaggedRun {
   ScanWorkspace scan_ws;             // the scan coder's maps, kept from window to window
   bool origin;                       // the window's gaps are origin points (SCNW's gaps bit 0)
   bool key_fields = false;           // META has a field predictor 13 may code (attr::is_key_field)
+  int last_split = scan::kNoSplit;   // mode 2: the window before's (choose_split's start)
 };
-
-// SCNW's bytes after `total` ("Scans (format 1.1)"): in mode 2 the split exponent e, and with a
-// split (g.q on the grid 2^-e, t the corrections) the geometry's length, the geometry and the
-// corrections block; else the geometry alone. coded: encode_scan_geometry(g, hints) when the
-// caller has it already, else null. *geo_out (when not null): the geometry.
-std::vector<uint8_t> scan_body(const ScanGeometry& g, const ScanHints& hints, bool mode2, int e,
-                               const std::vector<uint32_t>& t, ScanWorkspace* ws,
-                               const std::vector<uint8_t>* coded = nullptr,
-                               std::vector<uint8_t>* geo_out = nullptr) {
-  ByteWriter w;
-  if (mode2) w.u8(static_cast<uint8_t>(static_cast<int8_t>(e)));
-  const std::vector<uint8_t> geo = coded ? *coded : encode_scan_geometry(g, hints, ws);
-  if (geo_out) *geo_out = geo;
-  if (e != scan::kNoSplit) w.varint(geo.size());
-  w.bytes(geo.data(), geo.size());
-  if (e != scan::kNoSplit) {
-    const std::vector<uint8_t> c = scan::encode_split(e, g.q, t, g.valid);
-    w.bytes(c.data(), c.size());
-  }
-  return std::move(w.buffer());
-}
-
-// The split exponents the encoder searches (FORMAT.md "Lossless ragged streams", informative):
-// from kSplitStart, steps of kSplitStep within [kSplitLeast, kSplitMost] while the size falls,
-// then the best one's neighbours. Most of the shared sweeps' best is 16 or 17.
-constexpr int kSplitStart = 17, kSplitStep = 3, kSplitLeast = 8, kSplitMost = 23;
-// Split integers stay below 2^29, where the scan payload's spherical frames work.
-constexpr int64_t kSplitLimit = int64_t{1} << 29;
-
-// The float32 split of a lossless mode 2 window (b's points, counts frames): the exponent whose
-// SCNW is smallest on the window's first two frames (scan::kNoSplit when none beats the float32
-// bits there, or no exponent applies). Coding only a part of them to choose was tried and
-// dropped (docs/lab/2026-11-30-lossless-organized.md: the E1 and ot128 lost 2.3x and 3.7x).
-int choose_split(const FrameBlock& b, const std::vector<uint32_t>& counts, const ScanHints& hints,
-                 const std::vector<int32_t>& bits, ScanWorkspace* ws) {
-  ScanGeometry g;
-  g.counts.assign(
-      counts.begin(),
-      counts.begin() + std::min<std::ptrdiff_t>(2, static_cast<std::ptrdiff_t>(counts.size())));
-  size_t n = 0;
-  for (uint32_t c : g.counts) n += c;
-  const auto upto = [](const auto& v, size_t k) {
-    return std::vector<typename std::decay_t<decltype(v)>::value_type>(
-        v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k));
-  };
-  g.valid = upto(b.valid, n);
-  g.q = upto(bits, 3 * n);
-  ScanHints h;
-  if (!hints.ring.empty()) h.ring = upto(hints.ring, n);
-  if (!hints.distance.empty()) h.distance = upto(hints.distance, n);
-  h.xyz = upto(hints.xyz, 3 * n);
-  int best = scan::kNoSplit;
-  size_t best_size = scan_body(g, h, true, best, {}, ws).size();
-  std::vector<uint32_t> t;
-  // The size at exponent e (SIZE_MAX where it does not apply), the best kept.
-  const auto trial = [&](int e) {
-    if (!scan::split_coordinates(b.xyz.data(), g.valid.data(), n, e, kSplitLimit, &g.q, &t))
-      return SIZE_MAX;
-    h.grid_per_unit = std::ldexp(1.0, e);
-    const size_t size = scan_body(g, h, true, e, t, ws).size();
-    if (size < best_size) best = e, best_size = size;
-    return size;
-  };
-  const size_t mid = trial(kSplitStart);
-  for (int dir : {-kSplitStep, kSplitStep}) {  // down while it falls, else up while it falls
-    size_t last = mid;
-    bool fell = false;
-    for (int e = kSplitStart + dir; e >= kSplitLeast && e <= kSplitMost; e += dir) {
-      const size_t size = trial(e);
-      if (size >= last) break;
-      last = size;
-      fell = true;
-    }
-    if (fell) break;
-  }
-  if (best != scan::kNoSplit) {
-    const int at = best;
-    trial(at - 1);
-    trial(at + 1);
-  }
-  return best;
-}
 
 // The SCNW chunk of window w (the frames of b), appended to r.buf; *q gets the integers the
 // payload codes (with fields; without, a fine window's are not worked out: the grid's). coded: the
@@ -378,13 +298,13 @@ void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<
   const bool mode2 = r.grid.mode == PosMode::kFloat32;
   if (mode2 && coded)
     fail(ErrorCode::kInternal, r.t.source, "a float32 split of a reordered window");
-  int e = mode2 ? choose_split(b, g.counts, hints, bits, &r.scan_ws) : scan::kNoSplit;
+  int e = mode2 ? choose_split(b, g.counts, hints, bits, r.last_split, &r.scan_ws) : scan::kNoSplit;
   std::vector<uint32_t> corrections;
   if (e != scan::kNoSplit && !scan::split_coordinates(b.xyz.data(), g.valid.data(), g.valid.size(),
                                                       e, kSplitLimit, &g.q, &corrections))
     e = scan::kNoSplit;  // a later frame's coordinate beyond the split's integers
   if (e == scan::kNoSplit) g.q = std::move(bits);
-  if (mode2) ++r.splits[e];
+  if (mode2) ++r.splits[e], r.last_split = e;
   hints.grid_per_unit = e != scan::kNoSplit ? std::ldexp(1.0, e) : grid_per_unit(r.grid);
   bound_hints(r.grid, &hints);
   ByteWriter pw;
