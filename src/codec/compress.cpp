@@ -422,7 +422,8 @@ std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, Com
   if (fixed_scan_candidate(take, opts) && take.xyz.size() == take.frames * take.points * 3 &&
       take.valid.size() == take.frames * take.points) {  // else compress_with_codec refuses it
     std::unique_ptr<FrameSource> src = take_frames(take);
-    if (take.frames <= kPrefixFrames) return short_fixed_choice(*src, opts, stats);
+    if (take.frames <= kPrefixFrames && !opts.lossless)  // lossless: compress_stream's rule
+      return short_fixed_choice(*src, opts, stats);
     if (fixed_scan_choice(*src, opts))
       return compress_ragged_frames(as_ragged(take), opts, stats, std::string(), true);
   }

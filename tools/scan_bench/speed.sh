@@ -79,6 +79,8 @@ row "encode one sweep, fields" 1 "$enc1" -- compress "$w/01.pcd" --max-error 1mm
 row "encode p20, \`--drop-fields\`" 20 "$enc20" -- \
   compress "$w/p20" --max-error 1mm --drop-fields -q -f -o "$w/a.capz"
 row "encode p20, fields" 20 "$enc20" -- compress "$w/p20" --max-error 1mm -q -f -o "$w/a.capz"
+row "encode p20, \`--drop-fields --no-check\` (no self-check)" 20 "$enc20" -- \
+  compress "$w/p20" --max-error 1mm --drop-fields --no-check -q -f -o "$w/a.capz"
 row "decode one sweep, \`--drop-fields\` archive (to .pcd)" 1 \
   "$tmc3 --mode=1 --compressedStreamPath=$w/f.bin --reconstructedDataPath=$w/dec.ply" -- \
   decompress "$w/swd.capz" -q -f -o "$w/swd.pcd"
