@@ -214,8 +214,9 @@ std::string report_text(const Report& r, const capz::Take& take, const capz::Com
   if (g_verbosity >= 1) {
     const std::string u = r.units.empty() ? "" : " " + r.units;
     std::string err =
-        st.lossless
-            ? "lossless (" + positions_text(st.mode, st.float32_split_windows, u) + ")"
+        st.lossless ? "lossless (" + positions_text(st.mode, st.float32_split_windows, u) + ")"
+        : std::isnan(st.error.max_abs)  // a ragged take with --no-check: no decode to measure
+            ? "max error not measured (--no-check), bound " + num(opts.max_error) + u
             : "max error " + num(st.error.max_abs) + u + " per coordinate (" +
                   num(st.error.max_error) + u + " Euclidean), KG " + num(st.error.kg_error) + "%";
     if (opts.codec == "auto") err += ", codec " + st.codec;

@@ -73,7 +73,9 @@ struct CompressStats {
   std::map<int, size_t> float32_split_windows;
   std::string codec;  // transform stage used: "none", "ts", "pdct" (what auto chose)
   bool lossless = false;
-  ErrorStats error;                           // achieved, over valid samples (zero when lossless)
+  // Achieved, over valid samples (zero when lossless); NaN (samples 0) when not measured: a take
+  // of ragged frames coded without the check (CompressOptions::check), whose measure is a decode.
+  ErrorStats error;
   size_t position_bytes = 0;                  // bytes of POSW + MASK chunks
   size_t analog_bytes = 0;                    // bytes of ANLG chunks
   size_t rotation_bytes = 0;                  // bytes of ROTW chunks

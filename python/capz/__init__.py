@@ -499,7 +499,8 @@ def compress(
     window         frames per independently decodable window, 1..8192; 0: 1024, or with codec
                    none up to 8192 for takes of fewer than 64 points.
     check          decode each window after writing it and verify the bound (False: the CLI's
-                   --no-check).
+                   --no-check; a take of ragged frames then has NaN in its stats' error:
+                   not measured).
     units          units of a take that has none (or whose units capz cannot read): mm, cm, m.
     stats          also return the report as a dict: (bytes, stats).
     threads        windows coded in parallel (the CLI's -T; 0: every core); the bytes do not

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <initializer_list>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -513,6 +514,11 @@ void fill_stats(const RaggedRun& r, size_t total, CompressStats* stats) {
   stats->mode =
       r.splits.size() > r.splits.count(scan::kNoSplit) ? "float32-split" : mode_name(r.grid.mode);
   stats->error = r.acc.finish();
+  if (!r.opts.check && !r.grid.lossless) {  // not measured (code_window's decode not run)
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    stats->error.max_abs = stats->error.max_error = stats->error.rmse = nan;
+    stats->error.kg_error = stats->error.psnr = nan;
+  }
   stats->codec = "none";
   stats->position_bytes = r.position_bytes;
   stats->attribute_bytes = r.attribute_bytes;
@@ -588,7 +594,8 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
   for (size_t w = 0; w * W < t.frames; ++w) {
     const size_t f0 = w * W, f1 = std::min<size_t>(f0 + W, t.frames);
     if (w > 0) src.read(f0, f1 - f0, &block);  // window 0: still there from pass 1
-    code_window(r, w, &block, stats != nullptr);
+    // Measured by decoding each window: without the check the error is not measured (NaN).
+    code_window(r, w, &block, stats != nullptr && opts.check);
     if (opts.progress) opts.progress(f1, t.frames);
   }
   if (residue) residue->finish();

@@ -190,6 +190,31 @@ TEST(CliScan, PointOrderAnyIsShownVerifiedAndRefusedWithLossless) {
   EXPECT_NE(out.find("--point-order any with --lossless"), std::string::npos) << out;
 }
 
+// --no-check on a scan folder: the windows are not decoded again, so the report's error is not
+// measured (it was: each window was still decoded for the report, and --no-check saved nothing);
+// the same archive as with the check, which verify then measures.
+TEST(CliScan, NoCheckDoesNotDecodeAndSaysTheErrorIsNotMeasured) {
+  capz_test::TempDir dir("capz_cli_scan_nocheck");
+  const std::string src = std::string(CAPZ_REPO_DATA) + "/scan_small";
+  const std::string a = dir.file("a.capz"), b = dir.file("b.capz");
+  std::string out;
+  ASSERT_EQ(capz_run("compress -f " + src + " -o " + a + " --max-error 1mm --no-check", dir, &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("max error not measured (--no-check), bound 0.001 m"), std::string::npos)
+      << out;
+  ASSERT_EQ(
+      capz_run("compress -f " + src + " -o " + b + " --max-error 1mm --no-check --json", dir, &out),
+      0)
+      << out;
+  EXPECT_NE(out.find("\"max_error_per_coordinate\":null"), std::string::npos) << out;
+  ASSERT_EQ(capz_run("compress -f " + src + " -o " + b + " --max-error 1mm", dir, &out), 0) << out;
+  EXPECT_NE(out.find("max error 0.000"), std::string::npos) << out;
+  EXPECT_TRUE(capz_test::file_text(a) == capz_test::file_text(b));
+  EXPECT_EQ(capz_run("verify " + a + " --against " + src, dir, &out), 0) << out;
+  EXPECT_NE(out.find("bound 0.001 m holds"), std::string::npos) << out;
+}
+
 void put(const std::string& path, const std::string& bytes) {
   std::ofstream f(path, std::ios::binary);
   f << bytes;
