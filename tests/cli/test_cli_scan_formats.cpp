@@ -14,6 +14,7 @@
 
 #include "capz/io.h"
 #include "capz/tool/file.h"
+#include "support/float32.h"
 #include "test_util.h"
 
 namespace {
@@ -35,8 +36,8 @@ capz::Take spiral(const std::vector<size_t>& counts, capz::Format format) {
   capz::PointAttribute in{"intensity", 'F', 4, 1, {}};
   for (size_t i = 0; i < t.total_points(); ++i) {
     const double a = 0.011 * static_cast<double>(i);
-    t.xyz[3 * i] = static_cast<float>(25 * std::cos(a));
-    t.xyz[3 * i + 1] = static_cast<float>(25 * std::sin(a));
+    t.xyz[3 * i] = capz_test::float32_value(25 * std::cos(a));
+    t.xyz[3 * i + 1] = capz_test::float32_value(25 * std::sin(a));
     t.xyz[3 * i + 2] = static_cast<float>(-1.5 + 0.003 * static_cast<double>(i % 211));
     t.valid[i] = 1;
     const float v = static_cast<float>(i % 255) / 255.0f;

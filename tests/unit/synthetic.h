@@ -15,6 +15,7 @@
 
 #include "capz/codec.h"
 #include "codec/transform.h"
+#include "support/float32.h"
 
 namespace capz_test {
 
@@ -132,9 +133,9 @@ inline capz::Take synthetic_sweeps(size_t frames, size_t columns0, size_t dcolum
         const double el = (-15.0 + 2.0 * ring) * pi / 180;
         const double r = r0 + r1 * std::fabs(std::sin(k * az)) + jitter(rng);
         const bool gap = t.valid.size() % gap_every == gap_at;
-        t.xyz.push_back(gap ? nan : static_cast<float>(r * std::cos(el) * std::cos(az)));
-        t.xyz.push_back(gap ? nan : static_cast<float>(r * std::cos(el) * std::sin(az)));
-        t.xyz.push_back(gap ? nan : static_cast<float>(r * std::sin(el)));
+        t.xyz.push_back(gap ? nan : capz_test::float32_value(r * std::cos(el) * std::cos(az)));
+        t.xyz.push_back(gap ? nan : capz_test::float32_value(r * std::cos(el) * std::sin(az)));
+        t.xyz.push_back(gap ? nan : capz_test::float32_value(r * std::sin(el)));
         t.valid.push_back(gap ? 0 : 1);
       }
     t.frame_offsets.push_back(t.valid.size());
