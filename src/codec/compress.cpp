@@ -243,17 +243,23 @@ Take first_frames(Take t, size_t k) {
   return t;
 }
 
+// Fixed take t coded through POSW, with opts as they are (its report in *stats when not null).
+std::vector<uint8_t> posw_stream(const Take& t, const CompressOptions& opts,
+                                 CompressStats* stats = nullptr) {
+  std::unique_ptr<FrameSource> s = take_frames(t);  // holds t by reference
+  std::vector<uint8_t> bytes;
+  StreamOut mem(&bytes);
+  encode_source(*s, opts, EncoderTuning(), &mem, stats);
+  return bytes;
+}
+
 // Fixed take t coded through POSW (*fixed) and through the scan coder (*scan, empty when it does
 // not take it), with opts as they are; their reports in *fixed_stats and *scan_stats when those
 // are not null.
 void coded_both(Take t, const CompressOptions& opts, std::vector<uint8_t>* fixed,
                 std::vector<uint8_t>* scan, CompressStats* fixed_stats = nullptr,
                 CompressStats* scan_stats = nullptr) {
-  {
-    std::unique_ptr<FrameSource> s = take_frames(t);
-    StreamOut mem(fixed);
-    encode_source(*s, opts, EncoderTuning(), &mem, fixed_stats);
-  }
+  *fixed = posw_stream(t, opts, fixed_stats);
   try {
     *scan = compress_ragged_frames(as_ragged(std::move(t)), opts, scan_stats, std::string(), true);
   } catch (const Error& e) {
@@ -282,15 +288,8 @@ bool posw_without_trial(const Take& t, const CompressOptions& opts) {
   const bool gaps = std::find(t.valid.begin(), t.valid.begin() + static_cast<long>(t.points),
                               uint8_t{0}) != t.valid.begin() + static_cast<long>(t.points);
   if (!organized_cloud(t) && !gaps) return true;
-  const auto posw_bytes = [&](size_t k) {
-    const Take head = first_frames(t, k);  // the source below holds it by reference
-    std::unique_ptr<FrameSource> s = take_frames(head);
-    std::vector<uint8_t> bytes;
-    StreamOut mem(&bytes);
-    encode_source(*s, opts, EncoderTuning(), &mem, nullptr);
-    return bytes.size();
-  };
-  const size_t one = posw_bytes(1), two = posw_bytes(2);
+  const size_t one = posw_stream(first_frames(t, 1), opts).size(),
+               two = posw_stream(first_frames(t, 2), opts).size();
   return 10 * (two - std::min(one, two)) < 6 * one;
 }
 
@@ -307,6 +306,13 @@ std::vector<uint8_t> short_fixed_choice(FrameSource& source, const CompressOptio
   const bool scan_wins = !scan.empty() && scan.size() < fixed.size();
   if (stats) *stats = scan_wins ? scan_stats : fixed_stats;
   return scan_wins ? scan : fixed;
+}
+
+// Whether a take (fixed_scan_candidate) is coded both ways whole, the smaller kept
+// (short_fixed_choice): a short one at a bound. A lossless stream needs its residue, which those
+// in-memory codings lack: fixed_scan_choice chooses for it, and the kind chosen is coded again.
+bool short_choice(const Take& t, const CompressOptions& opts) {
+  return t.frames <= kPrefixFrames && !opts.lossless;
 }
 
 // Whether `source` (fixed_scan_candidate) codes smaller through the scan coder than through
@@ -422,8 +428,7 @@ std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, Com
   if (fixed_scan_candidate(take, opts) && take.xyz.size() == take.frames * take.points * 3 &&
       take.valid.size() == take.frames * take.points) {  // else compress_with_codec refuses it
     std::unique_ptr<FrameSource> src = take_frames(take);
-    if (take.frames <= kPrefixFrames && !opts.lossless)  // lossless: compress_stream's rule
-      return short_fixed_choice(*src, opts, stats);
+    if (short_choice(take, opts)) return short_fixed_choice(*src, opts, stats);
     if (fixed_scan_choice(*src, opts))
       return compress_ragged_frames(as_ragged(take), opts, stats, std::string(), true);
   }
@@ -478,9 +483,7 @@ void compress_stream(FrameSource& source, const CompressOptions& opts, const std
     out.flush(&bytes);
     commit_rebuilt(&file, source, opts);
   };
-  // A lossless stream needs its residue, which the short choice's in-memory codings lack.
-  if (fixed_scan_candidate(source.header(), opts) && !opts.lossless &&
-      source.header().frames <= kPrefixFrames)
+  if (fixed_scan_candidate(source.header(), opts) && short_choice(source.header(), opts))
     return write(short_fixed_choice(source, opts, stats));
   if (fixed_scan_candidate(source.header(), opts) && fixed_scan_choice(source, opts)) {
     FixedAsRagged ragged(source);  // frames of one count, as ragged frames (encode_ragged)

@@ -96,13 +96,17 @@ double largest_magnitude(const ValidExtent& e) {
   return m;
 }
 
-// Whether bound b holds for every valid sample of t: float32 frames resolve it at the largest
-// magnitude (else the frames written back would move a coordinate by more), and the grid's
-// integers reach it (the grid step is at least b / 2 there; bounded_grid's test is on the step).
+// Whether the frame files written back resolve bound b at the largest magnitude: float32 frames
+// would otherwise move a coordinate by more.
+bool float32_holds(const Take& t, const ValidExtent& e, double b) {
+  return !float32_frames(t) || b > float32_half_ulp(largest_magnitude(e) + b);
+}
+
+// Whether bound b holds for every valid sample of t: float32_holds, and the grid's integers
+// reach it (the grid step is at least b / 2 there; bounded_grid's test is on the step).
 bool bound_fits(const Take& t, const ValidExtent& e, double b) {
-  const double m = largest_magnitude(e);
-  if (float32_frames(t) && !(b > float32_half_ulp(m + b))) return false;
-  return m / b < static_cast<double>(kMaxGridIndex) / 2;
+  return float32_holds(t, e, b) &&
+         largest_magnitude(e) / b < static_cast<double>(kMaxGridIndex) / 2;
 }
 
 // The default bound for t when it can hold in float32 frames: 0 for frames whose coordinates
@@ -112,7 +116,7 @@ bool bound_fits(const Take& t, const ValidExtent& e, double b) {
 // until it holds at the far samples too, else 0 (lossless); *note then says so.
 double default_bound(const Take& t, const ValidExtent& e, std::string* note) {
   const double b = unitless_default_bound(e), s = stray_free_bound(e);
-  if (s == 0) return float32_frames(t) && !(b > float32_half_ulp(largest_magnitude(e) + b)) ? 0 : b;
+  if (s == 0) return float32_holds(t, e, b) ? b : 0;
   const std::string far = "a few points lie far outside the others (up to " +
                           length_text(t, largest_magnitude(e)) + " from the origin), so the " +
                           "default bound is not 1e-4 of the whole box's diagonal (" +

@@ -17,7 +17,8 @@ namespace {
 
 // The split exponents the encoder searches (FORMAT.md "Lossless ragged streams", informative):
 // from kSplitStart, steps of kSplitStep within [kSplitLeast, kSplitMost] while the size falls,
-// then the best one's neighbours. Most of the shared sweeps' best is 16 or 17.
+// then the best one's neighbours, so at most one beyond either end (the warm start's steps of 1
+// keep to the same [kSplitLeast - 1, kSplitMost + 1]). Most of the shared sweeps' best is 16 or 17.
 constexpr int kSplitStart = 17, kSplitStep = 3, kSplitLeast = 8, kSplitMost = 23;
 
 }  // namespace
