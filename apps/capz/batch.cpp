@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "capz/error.h"
+#include "capz/io.h"
 #include "capz/tool/file.h"
 
 namespace fs = std::filesystem;
@@ -29,22 +30,9 @@ std::string lower_extension(const fs::path& p) {
   return e;
 }
 
-// True for a folder of frame files (.pcd, .ply or .bin).
-bool holds_frames(const fs::path& dir) {
-  std::error_code ec;
-  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string e = lower_extension(it->path());
-    // Hidden files (macOS's "._NAME") are no frames to the readers either.
-    const bool hidden = it->path().filename().string().front() == '.';
-    if ((e == ".pcd" || e == ".ply" || e == ".bin") && !hidden && it->is_regular_file(ec))
-      return true;
-  }
-  return false;
-}
-
 // The inputs below `dir` (itself included, for a folder of PCD, PLY or .bin frames), sorted.
 void walk(const fs::path& dir, InputKind kind, std::vector<fs::path>* found) {
-  if (kind == InputKind::kTakes && holds_frames(dir)) found->push_back(dir);
+  if (kind == InputKind::kTakes && capz::holds_frame_files(dir.string())) found->push_back(dir);
   std::vector<fs::path> entries;
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))

@@ -206,11 +206,9 @@ void print_text(const std::string& path, const capz::Take& t, const Summary& s) 
                                       : ", " + std::to_string(s.points_with_gaps) + " of " +
                                             std::to_string(t.points) + " points have gaps"));
   line("labels:", labels_text(t));
-  if (t.pcd && !t.pcd->fields.empty()) {
+  if (t.file_fields() && !t.file_fields()->empty()) {
     // Every field of the frames, x y z included: NAME TYPE SIZE[xCOUNT].
-    line("fields:", pcd_fields_text(t.pcd->fields));
-  } else if (t.ply && !t.ply->fields.empty()) {
-    line("fields:", pcd_fields_text(t.ply->fields));
+    line("fields:", pcd_fields_text(*t.file_fields()));
   } else if (t.bin) {
     line("fields:", "x F4, y F4, z F4, intensity F4");
   }

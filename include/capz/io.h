@@ -15,6 +15,11 @@ namespace capz {
 // .pcd, .ply, .bin; a single frame file is the one-frame take of its folder format).
 Format detect_format(const std::string& path);
 
+// Whether a directory holds frame files (.pcd, .ply or .bin regular files, hidden ones aside:
+// a name starting with '.', as macOS's "._NAME" copies): the folder of a take. False for a path
+// that is not a readable directory.
+bool holds_frame_files(const std::string& dir);
+
 // Reads any supported input (.c3d, .trc, a folder of .pcd, .ply or .bin frames, or a single
 // .pcd, .ply or .bin frame file as a one-frame take). Folders whose frames' point counts differ
 // give a ragged take (take.h).

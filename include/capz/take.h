@@ -331,6 +331,11 @@ struct Take {
   double* at(size_t f, size_t p) { return &xyz[(frame_begin(f) + p) * 3]; }
   const double* at(size_t f, size_t p) const { return &xyz[(frame_begin(f) + p) * 3]; }
   bool is_valid(size_t f, size_t p) const { return valid[frame_begin(f) + p] != 0; }
+  // The frame files' field list (x y z included): the PCD's or the PLY's header fields; null
+  // for other formats (a .bin frame's layout is fixed).
+  const std::vector<PCDField>* file_fields() const {
+    return pcd ? &pcd->fields : ply ? &ply->fields : nullptr;
+  }
 
   // Allocates xyz and valid for frames x points (all gaps, zero positions): a fixed take
   // (frame_offsets cleared).

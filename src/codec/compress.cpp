@@ -253,6 +253,17 @@ std::vector<uint8_t> posw_stream(const Take& t, const CompressOptions& opts,
   return bytes;
 }
 
+// Fixed take t coded through the scan coder, with opts as they are (its report in *stats when not
+// null); empty when the scan coder does not take it.
+std::vector<uint8_t> scan_stream(Take t, const CompressOptions& opts, CompressStats* stats) {
+  try {
+    return compress_ragged_frames(as_ragged(std::move(t)), opts, stats, std::string(), true);
+  } catch (const Error& e) {
+    if (e.code() != ErrorCode::kInvalidParameter) throw;
+  }
+  return {};
+}
+
 // Fixed take t coded through POSW (*fixed) and through the scan coder (*scan, empty when it does
 // not take it), with opts as they are; their reports in *fixed_stats and *scan_stats when those
 // are not null.
@@ -260,19 +271,15 @@ void coded_both(Take t, const CompressOptions& opts, std::vector<uint8_t>* fixed
                 std::vector<uint8_t>* scan, CompressStats* fixed_stats = nullptr,
                 CompressStats* scan_stats = nullptr) {
   *fixed = posw_stream(t, opts, fixed_stats);
-  try {
-    *scan = compress_ragged_frames(as_ragged(std::move(t)), opts, scan_stats, std::string(), true);
-  } catch (const Error& e) {
-    if (e.code() != ErrorCode::kInvalidParameter) throw;
-  }
+  *scan = scan_stream(std::move(t), opts, scan_stats);
 }
 
 // The sizes of fixed take t coded through POSW and through the scan coder (0 when it does not
-// take it), with opts as they are (fixed_scan_choice gives them unchecked).
-std::pair<size_t, size_t> coded_sizes(Take t, const CompressOptions& opts) {
-  std::vector<uint8_t> fixed, scan;
-  coded_both(std::move(t), opts, &fixed, &scan);
-  return {fixed.size(), scan.size()};
+// take it), with opts as they are (fixed_scan_choice gives them unchecked). A POSW size known
+// already (fixed_known, not 0) is not coded again.
+std::pair<size_t, size_t> coded_sizes(Take t, const CompressOptions& opts, size_t fixed_known = 0) {
+  const size_t fixed = fixed_known ? fixed_known : posw_stream(t, opts).size();
+  return {fixed, scan_stream(std::move(t), opts, nullptr).size()};
 }
 
 // Frames coded both ways, unchecked, on a prefix of the source (at most a window of either
@@ -283,14 +290,15 @@ constexpr size_t kPrefixFrames = 4;
 // which costs about 15 times POSW's coding there (the float32 split's trials of `E`:
 // docs/lab/2026-11-30-lossless-organized.md): its frames are not a sensor's sweeps (neither
 // organized nor with a gap in frame 0: a mesh's vertices), or POSW's second frame costs under
-// 6/10 of its first (a still sensor: per-index prediction pays), coded as opts say.
-bool posw_without_trial(const Take& t, const CompressOptions& opts) {
+// 6/10 of its first (a still sensor: per-index prediction pays), coded as opts say. *one: the
+// size of POSW's first frame when it was coded (else left as it is).
+bool posw_without_trial(const Take& t, const CompressOptions& opts, size_t* one) {
   const bool gaps = std::find(t.valid.begin(), t.valid.begin() + static_cast<long>(t.points),
                               uint8_t{0}) != t.valid.begin() + static_cast<long>(t.points);
   if (!organized_cloud(t) && !gaps) return true;
-  const size_t one = posw_stream(first_frames(t, 1), opts).size(),
-               two = posw_stream(first_frames(t, 2), opts).size();
-  return 10 * (two - std::min(one, two)) < 6 * one;
+  *one = posw_stream(first_frames(t, 1), opts).size();
+  const size_t two = posw_stream(first_frames(t, 2), opts).size();
+  return 10 * (two - std::min(*one, two)) < 6 * *one;
 }
 
 // The stream of a source (fixed_scan_candidate) of at most kPrefixFrames frames: coded whole
@@ -327,7 +335,8 @@ bool fixed_scan_choice(FrameSource& source, const CompressOptions& opts) {
   o.progress = nullptr;
   const size_t F = source.header().frames, k = std::min(F, kPrefixFrames);
   Take head = prefix_take(source, k);  // read once: the first frame's take is cut from it
-  if (o.lossless && posw_without_trial(head, o)) return false;
+  size_t posw_one = 0;                 // POSW's first frame, when posw_without_trial has coded it
+  if (o.lossless && posw_without_trial(head, o, &posw_one)) return false;
   if (k == F) {
     const std::pair<size_t, size_t> whole = coded_sizes(std::move(head), o);
     return whole.second != 0 && whole.second < whole.first;
@@ -335,7 +344,7 @@ bool fixed_scan_choice(FrameSource& source, const CompressOptions& opts) {
   Take frame0 = first_frames(head, 1);
   const std::pair<size_t, size_t> prefix = coded_sizes(std::move(head), o);
   if (prefix.second == 0) return false;
-  const std::pair<size_t, size_t> first = coded_sizes(std::move(frame0), o);
+  const std::pair<size_t, size_t> first = coded_sizes(std::move(frame0), o, posw_one);
   if (first.second == 0) return false;
   const auto estimate = [&](size_t one, size_t all) {
     return static_cast<double>(one) + static_cast<double>(F - 1) *

@@ -245,7 +245,7 @@ double reserved_step(const Take& t, const TakeScan& s, double bound) {
 bool float32_frames(const Take& t) {
   if (t.format == Format::kBinFolder) return true;
   if (!is_frame_files(t.format)) return false;
-  const std::vector<PCDField>* fields = t.pcd ? &t.pcd->fields : t.ply ? &t.ply->fields : nullptr;
+  const std::vector<PCDField>* fields = t.file_fields();
   if (!fields || fields->empty()) return t.pcd != nullptr;  // PCD's default: x y z F 4
   for (const PCDField& f : *fields)
     if (f.name == "x") return f.size == 4;

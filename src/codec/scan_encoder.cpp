@@ -147,6 +147,8 @@ Grid choose_grid(FrameSource& src, const CompressOptions& opts, size_t W, FrameB
   const Take& t = src.header();
   Take hdr;
   TakeScan s = start_ragged_scan(t, opts, &hdr);
+  // Frame files' sources read coordinates alone cheaper. A virtual of the public FrameSource
+  // would move its vtable (the installed library's ABI), so the one source is asked for here.
   FileFrameSource* files = dynamic_cast<FileFrameSource*>(&src);
   for (size_t f0 = t.frames ? (t.frames - 1) / W * W : 0;; f0 -= W) {
     if (t.frames && f0 > 0 && files)
@@ -449,9 +451,16 @@ bool origin_gaps(FrameBlock* b) {
   return any;
 }
 
+// Whether each window is decoded after its coding: for the self-check (opts.check), whose
+// decode also measures the report's error; without it the error is not measured (NaN), and a
+// lossless take's is 0 by its rule.
+bool decodes_windows(const RaggedRun& r) {
+  return r.opts.check;
+}
+
 // Window w (the frames of b, as read; its fields are taken): its chunks written to r.out, after
-// the one decoder has given them back for the check (opts.check) and the measures (stats).
-void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
+// the one decoder has given them back for the check and the report's measures (decodes_windows).
+void code_window(RaggedRun& r, size_t w, FrameBlock* b) {
   const Take& t = r.t;
   for (size_t a = 0; a < t.attributes.size() && !r.opts.drop_fields; ++a)
     if (a >= b->attributes.size() ||
@@ -485,18 +494,16 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b, bool measure) {
     keep_smaller(r, w, at, &offer.block, offer.coded, b, &q, &fields);
   if (r.origin) origin_points(b);
   FrameBlock& d = r.back;
-  if (r.opts.check || measure) {
+  if (decodes_windows(r)) {
     decode_window_chunks(r.ctx, w, r.buf.data(), base, base + r.buf.size(), &d);
-    if (r.opts.check) {
-      check_window(t, *b, d, r.opts.max_error, r.grid.lossless);
-      check_fields(t, fields, d);
-    }
+    check_window(t, *b, d, r.opts.max_error, r.grid.lossless);
+    check_fields(t, fields, d);
     r.acc.add_ragged(b->frames, d.frame_offsets.data(), b->xyz.data(), d.xyz.data(),
                      b->valid.data());
   }
   if (r.residue) {  // last in the window, rebuilt from d by the self-check
     b->attributes = std::move(fields);
-    r.residue->window_chunk(w, *b, r.opts.check ? &d : nullptr, &r.buf);
+    r.residue->window_chunk(w, *b, decodes_windows(r) ? &d : nullptr, &r.buf);
   }
   r.index.push_back(IndexEntry{base, r.buf.size()});
   r.out->flush(&r.buf);
@@ -514,7 +521,7 @@ void fill_stats(const RaggedRun& r, size_t total, CompressStats* stats) {
   stats->mode =
       r.splits.size() > r.splits.count(scan::kNoSplit) ? "float32-split" : mode_name(r.grid.mode);
   stats->error = r.acc.finish();
-  if (!r.opts.check && !r.grid.lossless) {  // not measured (code_window's decode not run)
+  if (!decodes_windows(r) && !r.grid.lossless) {  // not measured
     const double nan = std::numeric_limits<double>::quiet_NaN();
     stats->error.max_abs = stats->error.max_error = stats->error.rmse = nan;
     stats->error.kg_error = stats->error.psnr = nan;
@@ -594,8 +601,7 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
   for (size_t w = 0; w * W < t.frames; ++w) {
     const size_t f0 = w * W, f1 = std::min<size_t>(f0 + W, t.frames);
     if (w > 0) src.read(f0, f1 - f0, &block);  // window 0: still there from pass 1
-    // Measured by decoding each window: without the check the error is not measured (NaN).
-    code_window(r, w, &block, stats != nullptr && opts.check);
+    code_window(r, w, &block);
     if (opts.progress) opts.progress(f1, t.frames);
   }
   if (residue) residue->finish();

@@ -73,13 +73,12 @@ struct Reach {
 }  // namespace
 
 void crossing(const Cones& c, const int64_t* a, int64_t side, const uint16_t* from, size_t count,
-              size_t most, std::vector<uint16_t>* out) {
+              std::vector<uint16_t>* out) {
   const Reach b(a, side);
   const double *s = c.slope.data(), *z0 = c.z0.data();
-  size_t found = 0;
-  for (size_t j = 0; j < count && found < most; ++j) {
+  for (size_t j = 0; j < count; ++j) {
     const size_t k = from[j];
-    if (b.crossed(s[k], z0[k])) out->push_back(from[j]), ++found;
+    if (b.crossed(s[k], z0[k])) out->push_back(from[j]);
   }
 }
 
@@ -141,8 +140,7 @@ bool ConeWalk::start_parent(const int64_t* p, int l, size_t j) {
   } else {
     const size_t up = parent_of_[j];
     if (span_[up + 1] > span_[up])
-      crossing(*c_, a, side, pool_.data() + span_[up], span_[up + 1] - span_[up],
-               span_[up + 1] - span_[up], &mine_);
+      crossing(*c_, a, side, pool_.data() + span_[up], span_[up + 1] - span_[up], &mine_);
   }
   if (mine_.empty()) return true;  // every child's class is 0
   const int64_t half = side / 2;

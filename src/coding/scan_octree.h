@@ -95,12 +95,11 @@ class OctreeMode {
 namespace octree {
 
 // The rings among `from` (indices into c) that cross the box of side `side` cells whose least
-// cell has the grid integers a (FORMAT.md step 4, r), appended to *out in from's order; at most
-// `most` of them. A ring that crosses a box crosses every box holding it (the binary64 steps
-// are monotone), so a child's rings are among its parent's. In scan_octree.cpp (compiled
-// without contraction).
+// cell has the grid integers a (FORMAT.md step 4, r), appended to *out in from's order. A ring that
+// crosses a box crosses every box holding it (the binary64 steps are monotone), so a child's rings
+// are among its parent's. In scan_octree.cpp (compiled without contraction).
 void crossing(const Cones& c, const int64_t* a, int64_t side, const uint16_t* from, size_t count,
-              size_t most, std::vector<uint16_t>* out);
+              std::vector<uint16_t>* out);
 
 // The rings of c that cross a box (crossing's a and side), found among those a bisection leaves:
 // the rings sorted by slope, each bounded above by its slope and the greatest offset at or before
@@ -246,13 +245,6 @@ class KeySet {
       if (keys_[at] == kEmpty) return -1;
     }
   }
-  // Whether the set holds the node at c (false outside [0, side)^3).
-  bool has(const int64_t* c, int64_t side) const {
-    for (int a = 0; a < 3; ++a)
-      if (c[a] < 0 || c[a] >= side) return false;
-    return find(key(static_cast<uint64_t>(c[0]), static_cast<uint64_t>(c[1]),
-                    static_cast<uint64_t>(c[2]))) >= 0;
-  }
 
  private:
   static constexpr uint64_t kEmpty = ~uint64_t{0};
@@ -304,18 +296,6 @@ inline int child_context(const int* nb, const KeySet& next, const KeySet& before
   const int lc = l == d - 1 ? 0 : l == d - 2 ? 1 : 2;
   const int pv = !before.empty() && before.find(ck) >= 0;
   return context_of(o7, cn, sib, lc, pv, r);
-}
-
-// child_context of child i of the node at p.
-inline int bit_context(const int* nb, const KeySet& next, const KeySet& before, const int64_t* p,
-                       int l, int d, int i, int ones, int r = 2) {
-  const int64_t c[3] = {2 * p[0] + ((i >> 2) & 1), 2 * p[1] + ((i >> 1) & 1), 2 * p[2] + (i & 1)};
-  const uint64_t ck =
-      key(static_cast<uint64_t>(c[0]), static_cast<uint64_t>(c[1]), static_cast<uint64_t>(c[2]));
-  int coded = 0;
-  for (int j = 0; j < i; ++j)
-    coded |= static_cast<int>(next.find((ck & ~uint64_t{7}) | static_cast<uint64_t>(j)) >= 0) << j;
-  return child_context(nb, next, before, ck, c, l, d, i, coded, ones, r);
 }
 
 // The cone classes of a walk's last two levels: a parent's crossing rings (crossing) at level

@@ -119,6 +119,18 @@ Format folder_format(const std::string& dir) {
 
 }  // namespace
 
+bool holds_frame_files(const std::string& dir) {
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    std::error_code ec2;
+    if (frame_file_format(lower_extension(name)) != Format::kUnknown && !hidden_name(name) &&
+        it->is_regular_file(ec2))
+      return true;
+  }
+  return false;
+}
+
 Format detect_format(const std::string& path) {
   std::error_code ec;
   auto st = fs::status(path, ec);
@@ -189,9 +201,7 @@ std::vector<std::string> dropped_by(const Take& take, Format out) {
   if (take.rotations.segments > 0)
     d.push_back("the " + std::to_string(take.rotations.segments) + " rotation segments");
   if (out == Format::kBinFolder) {  // float32 x y z intensity (KITTI's layout)
-    const std::vector<PCDField>* fields = take.pcd   ? &take.pcd->fields
-                                          : take.ply ? &take.ply->fields
-                                                     : nullptr;
+    const std::vector<PCDField>* fields = take.file_fields();
     std::string wide;  // the 8-byte float fields a .bin frame rounds to float32
     if (fields)
       for (const PCDField& f : *fields)

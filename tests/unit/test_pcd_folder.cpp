@@ -273,3 +273,21 @@ TEST(PcdFolder, WriterRefusesExistingOutputAndBadEncodingWithoutLeavingFiles) {
   // Only the two outputs' directories ever existed: no temporaries left.
   EXPECT_EQ(std::distance(fs::directory_iterator(d.path()), fs::directory_iterator()), 1);
 }
+
+// holds_frame_files (the CLI's batch walk finds take folders with it): regular .pcd, .ply or
+// .bin files, any case, count; hidden files, other extensions and folders named like frames do
+// not; a path that is no directory holds none.
+TEST(PcdFolder, GivenFolderContentsThenHoldsFrameFilesCountsOnlyVisibleFrameFiles) {
+  TempDir d;
+  EXPECT_FALSE(capz::holds_frame_files(d.file("absent")));
+  EXPECT_FALSE(capz::holds_frame_files(d.path().string()));
+  std::ofstream(d.file("._0.pcd")) << "Mac OS X";
+  std::ofstream(d.file("notes.txt")) << "x";
+  fs::create_directories(d.path() / "sub.ply");
+  EXPECT_FALSE(capz::holds_frame_files(d.path().string()));
+  std::ofstream(d.file("0.pcd.bak")) << "x";
+  EXPECT_FALSE(capz::holds_frame_files(d.path().string()));
+  std::ofstream(d.file("frame.BIN")) << "";
+  EXPECT_TRUE(capz::holds_frame_files(d.path().string()));
+  EXPECT_FALSE(capz::holds_frame_files(d.file("frame.BIN")));
+}

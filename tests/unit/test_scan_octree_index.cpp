@@ -13,6 +13,7 @@
 #include "coding/scan_octree.h"
 #include "coding/scan_shared.h"
 #include "scan_geometry_expect.h"
+#include "support/octree_reference.h"
 #include "test_util.h"
 
 namespace capz {
@@ -23,7 +24,7 @@ using scan::Cones;
 std::vector<uint16_t> every_ring(const Cones& c, const int64_t* a, int64_t side) {
   std::vector<uint16_t> all(c.rings()), out;
   for (size_t k = 0; k < all.size(); ++k) all[k] = static_cast<uint16_t>(k);
-  scan::octree::crossing(c, a, side, all.data(), all.size(), all.size(), &out);
+  scan::octree::crossing(c, a, side, all.data(), all.size(), &out);
   return out;
 }
 
@@ -251,14 +252,14 @@ TEST(ScanOctreeIndex, GivenRandomTreesThenTheWalksContextsAreTheLookupsOfTheirCo
         int nb[27];
         for (int e = 0; e < 27; ++e) {
           const int64_t c[3] = {p[0] + e / 9 - 1, p[1] + (e / 3) % 3 - 1, p[2] + e % 3 - 1};
-          nb[e] = here.has(c, side);
+          nb[e] = capz_test::has(here, c, side);
         }
         int ones = 0;
         for (int i = 0; i < 8; ++i) {
           const uint64_t ck = pk << 3 | uint64_t(i);
           if (i < 7 || ones > 0) {
             ASSERT_LT(at, io.ctx.size());
-            ASSERT_EQ(io.ctx[at], scan::octree::bit_context(nb, next, before, p, l, d, i, ones))
+            ASSERT_EQ(io.ctx[at], capz_test::bit_context(nb, next, before, p, l, d, i, ones))
                 << "tree " << t << " level " << l << " child " << ck;
             ++at;
           }
