@@ -275,10 +275,9 @@ void coded_both(Take t, const CompressOptions& opts, std::vector<uint8_t>* fixed
 }
 
 // The sizes of fixed take t coded through POSW and through the scan coder (0 when it does not
-// take it), with opts as they are (fixed_scan_choice gives them unchecked). A POSW size known
-// already (fixed_known, not 0) is not coded again.
-std::pair<size_t, size_t> coded_sizes(Take t, const CompressOptions& opts, size_t fixed_known = 0) {
-  const size_t fixed = fixed_known ? fixed_known : posw_stream(t, opts).size();
+// take it), with opts as they are (fixed_scan_choice gives them unchecked).
+std::pair<size_t, size_t> coded_sizes(Take t, const CompressOptions& opts) {
+  const size_t fixed = posw_stream(t, opts).size();
   return {fixed, scan_stream(std::move(t), opts, nullptr).size()};
 }
 
@@ -286,19 +285,30 @@ std::pair<size_t, size_t> coded_sizes(Take t, const CompressOptions& opts, size_
 // coder in memory).
 constexpr size_t kPrefixFrames = 4;
 
-// Whether a lossless fixed take t (2 frames or more) keeps POSW without the scan coder's trial,
-// which costs about 15 times POSW's coding there (the float32 split's trials of `E`:
-// docs/lab/2026-11-30-lossless-organized.md): its frames are not a sensor's sweeps (neither
-// organized nor with a gap in frame 0: a mesh's vertices), or POSW's second frame costs under
-// 6/10 of its first (a still sensor: per-index prediction pays), coded as opts say. *one: the
-// size of POSW's first frame when it was coded (else left as it is).
-bool posw_without_trial(const Take& t, const CompressOptions& opts, size_t* one) {
+// Whether a lossless fixed take t (2 frames or more) keeps POSW without the rest of the scan
+// coder's trial, which costs about 15 times POSW's coding there (the float32 split's trials of
+// `E`: docs/lab/2026-11-30-lossless-organized.md), its frames coded as opts say. *first: frame
+// 0's sizes (POSW's, and the scan coder's when it was coded, else 0: fixed_scan_choice's estimate
+// reuses them).
+// - Frames that are not sweeps by their layout (neither organized nor with a gap in frame 0): a
+//   mesh's vertices, or a sensor's sweeps of one count without gaps. The scan coder's frame 0
+//   tells them apart: at least 8/10 of POSW's keeps POSW (the shared mesh animations 0.96-1.00:
+//   no sensor geometry), below goes on (sweeps 0.46-0.65;
+//   docs/lab/2026-11-30-lossless-fixed-count.md).
+// - Sweeps: POSW's second frame under 6/10 of its first keeps POSW (a still sensor: per-index
+//   prediction pays).
+bool posw_without_trial(const Take& t, const CompressOptions& opts,
+                        std::pair<size_t, size_t>* first) {
   const bool gaps = std::find(t.valid.begin(), t.valid.begin() + static_cast<long>(t.points),
                               uint8_t{0}) != t.valid.begin() + static_cast<long>(t.points);
-  if (!organized_cloud(t) && !gaps) return true;
-  *one = posw_stream(first_frames(t, 1), opts).size();
+  const size_t one = posw_stream(first_frames(t, 1), opts).size();
+  *first = {one, 0};
+  if (!organized_cloud(t) && !gaps) {
+    first->second = scan_stream(first_frames(t, 1), opts, nullptr).size();
+    return first->second == 0 || 10 * first->second >= 8 * one;
+  }
   const size_t two = posw_stream(first_frames(t, 2), opts).size();
-  return 10 * (two - std::min(*one, two)) < 6 * *one;
+  return 10 * (two - std::min(one, two)) < 6 * one;
 }
 
 // The stream of a source (fixed_scan_candidate) of at most kPrefixFrames frames: coded whole
@@ -334,9 +344,9 @@ bool fixed_scan_choice(FrameSource& source, const CompressOptions& opts) {
   o.check = false;
   o.progress = nullptr;
   const size_t F = source.header().frames, k = std::min(F, kPrefixFrames);
-  Take head = prefix_take(source, k);  // read once: the first frame's take is cut from it
-  size_t posw_one = 0;                 // POSW's first frame, when posw_without_trial has coded it
-  if (o.lossless && posw_without_trial(head, o, &posw_one)) return false;
+  Take head = prefix_take(source, k);     // read once: the first frame's take is cut from it
+  std::pair<size_t, size_t> known{0, 0};  // frame 0's sizes that posw_without_trial coded
+  if (o.lossless && posw_without_trial(head, o, &known)) return false;
   if (k == F) {
     const std::pair<size_t, size_t> whole = coded_sizes(std::move(head), o);
     return whole.second != 0 && whole.second < whole.first;
@@ -344,7 +354,11 @@ bool fixed_scan_choice(FrameSource& source, const CompressOptions& opts) {
   Take frame0 = first_frames(head, 1);
   const std::pair<size_t, size_t> prefix = coded_sizes(std::move(head), o);
   if (prefix.second == 0) return false;
-  const std::pair<size_t, size_t> first = coded_sizes(std::move(frame0), o, posw_one);
+  std::pair<size_t, size_t> first = known;
+  if (!first.first)  // at a bound
+    first = coded_sizes(std::move(frame0), o);
+  else if (!first.second)  // lossless sweeps: POSW's coded already
+    first.second = scan_stream(std::move(frame0), o, nullptr).size();
   if (first.second == 0) return false;
   const auto estimate = [&](size_t one, size_t all) {
     return static_cast<double>(one) + static_cast<double>(F - 1) *
