@@ -227,15 +227,25 @@ std::vector<uint8_t> with_minor(std::vector<uint8_t> b, uint8_t minor) {
   return b;
 }
 
-// A fixed take's stream (POSW) of .bin frames: lossless and without gaps, since at a bound these
-// two frames of one count code smaller through the scan coder (a ragged stream, HEAD bit 3
-// besides bit 4), and lossless too when a frame has a gap (the trial on sweeps).
+// A fixed take's stream (POSW) of .bin frames: lossless, without gaps and scattered like a mesh's
+// vertices (the second frame the first moved a little), which the scan coder codes no smaller,
+// so POSW is kept without the rest of the trial; the spiral sweeps code smaller through the scan
+// coder (a ragged stream, HEAD bit 3 besides bit 4).
 TEST(ScanFormats, GivenADamagedFrameFileCodeInHeadThenTheStreamIsRefusedByName) {
   capz::CompressOptions lossless;
   lossless.lossless = true;
   capz::Take t = bin_take({40, 40});
   std::fill(t.valid.begin(), t.valid.end(), uint8_t{1});
+  ASSERT_EQ(t.points, 40u);  // a fixed take
+  uint32_t seed = 7;
+  const auto next = [&seed] { return (seed = seed * 1664525u + 1013904223u) >> 8; };
+  for (size_t i = 0; i < 3 * t.points; ++i) {
+    t.xyz[i] = capz_test::float32_value(static_cast<double>(next() % 20000) / 1000.0 - 10);
+    t.xyz[3 * t.points + i] =
+        capz_test::float32_value(t.xyz[i] + static_cast<double>(next() % 100) / 1000.0);
+  }
   const std::vector<uint8_t> good = capz::compress(t, lossless);
+  ASSERT_GT(capz::describe(good.data(), good.size()).chunk_bytes.count("POSW"), 0u);
   std::vector<capz_test::Piece> ps = capz_test::pieces(good);
   ASSERT_EQ(ps[0].type, "HEAD");
   EXPECT_EQ(ps[0].payload[16], 0);        // source_format: 0 with feature bit 4
