@@ -45,7 +45,7 @@ std::vector<std::string> drop_left_out_fields(capz::Take* a, const capz::Take& b
 void match_original(const std::string& in, const std::string& orig, const capz::Take& b,
                     capz::Take* a) {
   if (a->units.empty() || a->units_assumed) a->units = b.units, a->units_assumed = false;
-  if (a->frames != b.frames || a->points != b.points || a->frame_offsets != b.frame_offsets) {
+  if (!capz::same_frame_counts(*a, b)) {
     const std::string sa = shape_text(*a), sb = shape_text(b);
     capz::fail(capz::ErrorCode::kCorrupt, in,
                "decodes to " + sb + ", " + orig + " has " + sa +

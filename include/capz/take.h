@@ -364,6 +364,13 @@ std::string units_text(const Take& take);
 std::vector<size_t> frame_point_counts(const Take& take);
 // Offsets (counts.size() + 1, from 0) of frames with these point counts.
 std::vector<size_t> offsets_of_counts(const std::vector<size_t>& counts);
+// Whether a and b hold the same frames of the same point counts, fixed or ragged: a ragged take
+// whose frames all hold a fixed take's count has its shape (the scan coder's frames of one count
+// reordered: --point-order any on a folder of fixed-size sweeps decodes to such a ragged take).
+bool same_frame_counts(const Take& a, const Take& b);
+// t with `like`'s representation of the same shape (same_frame_counts): a fixed take made ragged
+// (or a ragged one of one count made fixed) as `like` is; t itself when they are alike already.
+Take in_shape_of(const Take& t, const Take& like);
 
 // The names of the take's point fields (Take::attributes), separated by ", "; empty when none.
 std::string field_names(const Take& take);

@@ -198,12 +198,32 @@ std::vector<uint8_t> one_frame_choice(FrameSource& source, const CompressOptions
 // Velodyne's ROS drivers write HEIGHT beams x WIDTH columns, a point without a return at NaN or
 // 0 0 0) codes smaller that way than through POSW, whose prediction from the point of the same
 // index in the frame before fails as the sensor turns; a mesh animation's or a static sensor's
-// frames code smaller through POSW. At a bound only (a lossless stream of them stays a fixed take),
-// for the coders and the sources the scan coder takes (scan_candidate's), in the file's order.
+// frames code smaller through POSW. For the coders and the sources the scan coder takes
+// (scan_candidate's). With --point-order any an unorganized take's frames are coded as frames of
+// their own counts that happen to be equal (keeps_shape), each reordered as the scan coder
+// chooses; an organized take keeps its layout, so its order, and stays fixed.
 bool fixed_scan_candidate(const Take& t, const CompressOptions& o) {
   return !t.ragged() && t.frames >= 2 && t.points > 1 && is_frame_files(t.format) &&
          (o.codec.empty() || o.codec == "none") && (o.lossless || o.max_error > 0) &&
-         !o.any_point_order && t.analog.channels == 0 && t.rotations.segments == 0;
+         (!o.any_point_order || !organized_cloud(t)) && t.analog.channels == 0 &&
+         t.rotations.segments == 0;
+}
+
+// The options a take is coded with: --point-order any leaves an organized cloud's order as it is
+// (its layout gives each point its pixel; FORMAT.md "Ragged frames: HEAD and the window chunk":
+// a stream of one shape keeps its order), so it is coded as with the order kept, both coders
+// tried: never larger than asking for the order kept.
+CompressOptions settled_order(const Take& t, const CompressOptions& o) {
+  CompressOptions s = o;
+  if (!t.ragged() && organized_cloud(t)) s.any_point_order = false;
+  return s;
+}
+
+// Whether a fixed_scan_candidate's scan stream keeps the frames' shape (META's layout W x H,
+// decoded as the fixed take): not when its points may be reordered (FORMAT.md "Ragged frames:
+// HEAD and the window chunk": a stream of one shape keeps its order), whose layout is 0 x 1.
+bool keeps_shape(const CompressOptions& o) {
+  return !o.any_point_order;
 }
 
 // A fixed source's frames as a ragged take's, every frame of the source's count (take.h: no
@@ -257,7 +277,8 @@ std::vector<uint8_t> posw_stream(const Take& t, const CompressOptions& opts,
 // null); empty when the scan coder does not take it.
 std::vector<uint8_t> scan_stream(Take t, const CompressOptions& opts, CompressStats* stats) {
   try {
-    return compress_ragged_frames(as_ragged(std::move(t)), opts, stats, std::string(), true);
+    return compress_ragged_frames(as_ragged(std::move(t)), opts, stats, std::string(),
+                                  keeps_shape(opts));
   } catch (const Error& e) {
     if (e.code() != ErrorCode::kInvalidParameter) throw;
   }
@@ -284,6 +305,8 @@ std::pair<size_t, size_t> coded_sizes(Take t, const CompressOptions& opts) {
 // Frames coded both ways, unchecked, on a prefix of the source (at most a window of either
 // coder in memory).
 constexpr size_t kPrefixFrames = 4;
+// fixed_scan_choice's margin for reordered scan frames.
+constexpr double kAnyMargin = 0.8;
 
 // Whether a lossless fixed take t (2 frames or more) keeps POSW without the rest of the scan
 // coder's trial, which costs about 15 times POSW's coding there (the float32 split's trials of
@@ -365,7 +388,19 @@ bool fixed_scan_choice(FrameSource& source, const CompressOptions& opts) {
                                           (static_cast<double>(all) - static_cast<double>(one)) /
                                           static_cast<double>(k - 1);
   };
-  return estimate(first.second, prefix.second) < estimate(first.first, prefix.first);
+  const double scan = estimate(first.second, prefix.second),
+               posw = estimate(first.first, prefix.first);
+  if (!o.any_point_order || scan >= posw) return scan < posw;
+  // Reordered (--point-order any), the scan coder's frames are mostly octree frames, each coded
+  // on its own cells: its prefix's cost a frame is its cost a frame. POSW's later frames cost less
+  // than its prefix's on long mesh animations (pcow at 1 cm: 377,410 B estimated, 265,172 coded),
+  // so the reordered scan coder is taken under kAnyMargin of POSW, and above it where the order
+  // kept would take the scan coder too (whose windows reordering only makes smaller): never
+  // where the order kept keeps POSW on a near tie (docs/lab/2026-11-30-fixed-count-any.md).
+  if (scan < kAnyMargin * posw) return true;
+  CompressOptions kept = opts;
+  kept.any_point_order = false;
+  return fixed_scan_choice(source, kept);
 }
 
 std::vector<uint8_t> compress_with_codec(const Take& take, const CompressOptions& opts,
@@ -447,13 +482,16 @@ std::vector<uint8_t> compress_tuned(const Take& take, const CompressOptions& opt
   return best;
 }
 
-std::vector<uint8_t> compress(const Take& take, const CompressOptions& opts, CompressStats* stats) {
+std::vector<uint8_t> compress(const Take& take, const CompressOptions& asked,
+                              CompressStats* stats) {
+  refuse_scans(take, asked);
+  const CompressOptions opts = settled_order(take, asked);
   if (fixed_scan_candidate(take, opts) && take.xyz.size() == take.frames * take.points * 3 &&
       take.valid.size() == take.frames * take.points) {  // else compress_with_codec refuses it
     std::unique_ptr<FrameSource> src = take_frames(take);
     if (short_choice(take, opts)) return short_fixed_choice(*src, opts, stats);
     if (fixed_scan_choice(*src, opts))
-      return compress_ragged_frames(as_ragged(take), opts, stats, std::string(), true);
+      return compress_ragged_frames(as_ragged(take), opts, stats, std::string(), keeps_shape(opts));
   }
   std::vector<uint8_t> fixed = compress_tuned(take, opts, EncoderTuning(), stats);
   if (!scan_candidate(take, opts)) return fixed;
@@ -488,9 +526,10 @@ void commit_rebuilt(AtomicFile* file, const FrameSource& source, const CompressO
 
 }  // namespace
 
-void compress_stream(FrameSource& source, const CompressOptions& opts, const std::string& path,
+void compress_stream(FrameSource& source, const CompressOptions& asked, const std::string& path,
                      bool overwrite, CompressStats* stats) {
-  refuse_scans(source.header(), opts);
+  refuse_scans(source.header(), asked);
+  const CompressOptions opts = settled_order(source.header(), asked);
   if (source.header().ragged()) {  // two passes, a window in memory (encode_ragged)
     settle_frame_layout(&source.edit_header(), opts.drop_fields);
     AtomicFile file(path, overwrite);
@@ -513,7 +552,7 @@ void compress_stream(FrameSource& source, const CompressOptions& opts, const std
     settle_frame_layout(&ragged.edit_header(), opts.drop_fields);
     AtomicFile file(path, overwrite);
     StreamOut out(&file);
-    encode_ragged(ragged, opts, &out, stats, residue_original(source, opts), true);
+    encode_ragged(ragged, opts, &out, stats, residue_original(source, opts), keeps_shape(opts));
     commit_rebuilt(&file, source, opts);
     return;
   }

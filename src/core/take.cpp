@@ -153,6 +153,27 @@ void Take::resize_ragged(const std::vector<size_t>& counts) {
   valid.assign(frame_offsets.back(), 0);
 }
 
+bool same_frame_counts(const Take& a, const Take& b) {
+  if (a.frames != b.frames) return false;
+  if (a.ragged() == b.ragged())
+    return a.ragged() ? a.frame_offsets == b.frame_offsets : a.points == b.points;
+  const Take& fixed = a.ragged() ? b : a;
+  const std::vector<size_t>& offsets = a.ragged() ? a.frame_offsets : b.frame_offsets;
+  if (offsets.size() != fixed.frames + 1) return false;
+  for (size_t f = 0; f <= fixed.frames; ++f)
+    if (offsets[f] != f * fixed.points) return false;
+  return true;
+}
+
+Take in_shape_of(const Take& t, const Take& like) {
+  Take r = t;
+  if (t.ragged() == like.ragged()) return r;
+  r.points = like.points;
+  r.frame_offsets = like.frame_offsets;
+  if (r.ragged()) r.labels.clear(), r.descriptions.clear();
+  return r;
+}
+
 std::string Take::shape_fault() const {
   if (ragged()) {
     if (frame_offsets.size() != frames + 1)

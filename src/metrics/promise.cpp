@@ -104,13 +104,14 @@ Take block_take(const FrameBlock& b) {
 }
 
 std::string header_difference(const Take& a, const Take& b) {
-  if (a.ragged() != b.ragged() || a.frame_offsets != b.frame_offsets)
-    return a.frames != b.frames ? "decodes to " + std::to_string(b.frames) + " frames instead of " +
-                                      std::to_string(a.frames)
-                                : "the frames' point counts differ";
-  if (a.frames != b.frames || a.points != b.points)
+  if (!same_frame_counts(a, b)) {
+    if (a.ragged() || b.ragged())
+      return a.frames != b.frames ? "decodes to " + std::to_string(b.frames) +
+                                        " frames instead of " + std::to_string(a.frames)
+                                  : "the frames' point counts differ";
     return "decodes to " + std::to_string(b.frames) + " frames x " + std::to_string(b.points) +
            " points instead of " + std::to_string(a.frames) + " x " + std::to_string(a.points);
+  }
   // Units a reader assumed (PCD, PLY, .bin: metres) are not stored: they match none.
   const bool same_units = a.units == b.units || (a.units_assumed && b.units.empty()) ||
                           (b.units_assumed && a.units.empty());
@@ -374,13 +375,15 @@ bool PromiseCheck::analog(const Frames& a, const Frames& b) {
 bool PromiseCheck::frames(const FrameBlock& original, const FrameBlock& decoded) {
   if (!promise_.points_reordered) return check(Frames(original), Frames(decoded));
   // FORMAT.md "Points reordered": the block's frames compared as sets.
-  const Take o = block_take(original), d = block_take(decoded);
-  if (o.frame_offsets != d.frame_offsets || o.points != d.points || o.frames != d.frames)
+  const Take d = block_take(decoded), o = in_shape_of(block_take(original), d);
+  if (!same_frame_counts(o, d))
     return check(Frames(original), Frames(decoded));  // the shape check names it
   Take paired;
   std::string why;
   if (!pair_reordered(o, d, promise_, &paired, &why)) return breach(why);
   FrameBlock p = original;
+  p.points = decoded.points;  // a fixed source's frames, compared as the ragged ones they are
+  p.frame_offsets = decoded.frame_offsets;
   p.xyz = std::move(paired.xyz);
   p.valid = std::move(paired.valid);
   for (size_t a = 0; a < p.attributes.size() && a < paired.attributes.size(); ++a)
@@ -404,10 +407,17 @@ ErrorStats PromiseCheck::error() const {
   return s;
 }
 
-PromiseResult check_promise(const Take& original, const Take& decoded, const Promise& promise) {
+PromiseResult check_promise(const Take& original_as_read, const Take& decoded,
+                            const Promise& promise) {
   PromiseCheck c(promise);
   PromiseResult r;
-  c.header(original, decoded);
+  c.header(original_as_read, decoded);
+  // A fixed original of a ragged take's shape (same_frame_counts) is compared as that take.
+  const Take reshaped =
+      same_frame_counts(original_as_read, decoded) && original_as_read.ragged() != decoded.ragged()
+          ? in_shape_of(original_as_read, decoded)
+          : Take();
+  const Take& original = reshaped.frames ? reshaped : original_as_read;
   // The frames are measured even when the metadata differs, so the caller can report both.
   const bool whole = original.xyz.size() == original.total_points() * 3 &&
                      original.valid.size() == original.total_points() &&

@@ -190,6 +190,28 @@ TEST(CliScan, PointOrderAnyIsShownVerifiedAndRefusedWithLossless) {
   EXPECT_NE(out.find("--point-order any with --lossless"), std::string::npos) << out;
 }
 
+// --point-order any on a folder of frames of one count, unorganized (data/lidar_small: 6 x 512
+// points): the points are reordered as a scan's (they stayed in their order through the per-index
+// coder alone), and verify against the fixed-size folder compares the frames as the ragged ones
+// the archive decodes to (it refused: "6 frames of their own point counts ... 6 frames x 512").
+TEST(CliScan, PointOrderAnyReordersFramesOfOneCountAndVerifyHolds) {
+  capz_test::TempDir dir("capz_cli_scan_order_fixed");
+  const std::string src = std::string(CAPZ_REPO_DATA) + "/lidar_small";
+  const std::string z = dir.file("any.capz");
+  std::string out;
+  ASSERT_EQ(capz_run("compress -f " + src + " -o " + z + " --max-error 0.01 --point-order any", dir,
+                     &out),
+            0)
+      << out;
+  ASSERT_EQ(capz_run("info " + z, dir, &out), 0) << out;
+  EXPECT_NE(out.find("point order: reordered (--point-order any)"), std::string::npos) << out;
+  EXPECT_EQ(capz_run("verify " + z + " --against " + src, dir, &out), 0) << out;
+  EXPECT_NE(out.find("bound 0.01 m holds"), std::string::npos) << out;
+  ASSERT_EQ(capz_run("decompress " + z + " -o " + dir.file("back") + " -q", dir, &out), 0) << out;
+  const std::string text = capz_test::file_text(dir.file("back/sweep_00003.pcd"));
+  EXPECT_NE(text.find("WIDTH 512\nHEIGHT 1\n"), std::string::npos);
+}
+
 // --no-check on a scan folder: the windows are not decoded again, so the report's error is not
 // measured (it was: each window was still decoded for the report, and --no-check saved nothing);
 // the same archive as with the check, which verify then measures.

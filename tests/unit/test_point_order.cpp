@@ -192,6 +192,65 @@ TEST(PointOrder, GivenPointsMovedTowardTheirNeighboursThenTheOwnPlacePairingHold
   EXPECT_EQ(paired.xyz, o.xyz);
 }
 
+// shuffled_scan's frames cut to one count (a fixed take, as a folder of fixed-size sweeps is read),
+// its ids renumbered to the fixed index f x points + j; with `organized`, HEIGHT 2.
+Take fixed_shuffled_scan(size_t frames, bool organized) {
+  const Take r = shuffled_scan(frames);
+  size_t least = r.frame_points(0);
+  for (size_t f = 0; f < r.frames; ++f) least = std::min(least, r.frame_points(f));
+  least -= least % 2;
+  Take t = r;
+  t.frame_offsets.clear();
+  t.resize(r.frames, least);
+  std::vector<uint8_t>& id = t.attributes.at(0).data;
+  id.assign(4 * t.frames * least, 0);
+  for (size_t f = 0; f < r.frames; ++f)
+    for (size_t j = 0; j < least; ++j) {
+      std::copy_n(r.at(f, j), 3, t.at(f, j));
+      const size_t i = f * least + j;
+      t.valid[i] = r.valid[r.frame_begin(f) + j];
+      for (int k = 0; k < 4; ++k) id[4 * i + k] = static_cast<uint8_t>(i >> (8 * k));
+    }
+  t.pcd->width = organized ? least / 2 : least;
+  t.pcd->height = organized ? 2 : 1;
+  return t;
+}
+
+// Unorganized frames of one count (a driver's fixed-size sweeps) are reordered as sweeps of their
+// own counts are: the archive says so, each frame's points come back as a set with their fields
+// within the bound, and it is smaller than the order kept (it used to stay a fixed take in its
+// order through POSW alone, 3.4x larger than kept at 1 cm on five real sweeps cut so:
+// docs/lab/2026-11-30-fixed-count-any.md). An organized take keeps its layout and order.
+TEST(PointOrder, GivenFixedSizeSweepsThenAnyReordersThemUnlessOrganized) {
+  const Take t = fixed_shuffled_scan(4, false);
+  ASSERT_FALSE(t.ragged());
+  Take as_ragged = t;
+  as_ragged.resize_ragged(std::vector<size_t>(t.frames, t.points));
+  as_ragged.xyz = t.xyz;
+  as_ragged.valid = t.valid;
+  for (double bound : {0.001, 0.01}) {
+    SCOPED_TRACE(bound);
+    CompressOptions o = any_order(bound);
+    const std::vector<uint8_t> z = compress(t, o);
+    const StreamInfo si = describe(z.data(), z.size());
+    EXPECT_TRUE(si.points_reordered);
+    const Take d = decompress(z.data(), z.size());
+    expect_same_points(as_ragged, d, bound);
+    EXPECT_TRUE(check_promise(t, d, promise_of(si)).holds)
+        << check_promise(t, d, promise_of(si)).why;
+    CompressOptions kept = o;
+    kept.any_point_order = false;
+    EXPECT_LT(z.size(), compress(t, kept).size());
+  }
+  // An organized take: the order kept, the same bytes as asking for it (both coders tried).
+  const Take organized = fixed_shuffled_scan(4, true);
+  const std::vector<uint8_t> zo = compress(organized, any_order(0.01));
+  EXPECT_FALSE(describe(zo.data(), zo.size()).points_reordered);
+  CompressOptions kept = any_order(0.01);
+  kept.any_point_order = false;
+  EXPECT_EQ(zo, compress(organized, kept));
+}
+
 TEST(PointOrder, GivenLosslessThenRefusedByName) {
   CompressOptions o;
   o.lossless = true;
