@@ -113,10 +113,12 @@ uint32_t window_frames(const Take& t, const CompressOptions& opts) {
   return static_cast<uint32_t>(std::clamp<size_t>((size_t{1} << 20) / most, 1, kMaxWindowFrames));
 }
 
-// Whether a PCD writer stores the take's x y z as float32 (no layout: x y z F 4).
+// Whether the frame files store the take's x y z as float32: their x field's size (PCD and PLY;
+// no field list: x y z F 4, as .bin frames and a PCD without FIELDS have).
 bool float32_xyz(const Take& t) {
-  if (!t.pcd || t.pcd->fields.empty()) return true;
-  for (const PCDField& f : t.pcd->fields)
+  const std::vector<PCDField>* fields = t.file_fields();
+  if (!fields || fields->empty()) return true;
+  for (const PCDField& f : *fields)
     if (f.name == "x") return f.size == 4;
   return true;
 }
@@ -128,8 +130,9 @@ TakeScan start_ragged_scan(const Take& t, const CompressOptions& opts, Take* hdr
   hdr->format = t.format;
   hdr->units = t.units;
   hdr->pcd = std::make_shared<PCDExtra>();
-  const PCDField x32{"x", 'F', 4, 1};
-  if (float32_xyz(t)) hdr->pcd->fields = {x32};
+  // x's size, which bounded_grid reads (float32_frames) for the files written back: a float64
+  // frame keeps its values' precision, and a field list is needed to say so (none: F 4).
+  hdr->pcd->fields = {PCDField{"x", 'F', float32_xyz(t) ? 4 : 8, 1}};
   TakeScan s = start_scan(*hdr, opts);
   s.ray_track = false;
   s.zeros_listed = true;  // a lossless decimal grid's windows list their negative zeros
@@ -164,7 +167,7 @@ Grid choose_grid(FrameSource& src, const CompressOptions& opts, size_t W, FrameB
   if (g.mode == PosMode::kFloat64)
     fail(ErrorCode::kInvalidParameter, t.source,
          "--lossless of frames of their own size needs float32 coordinates or ones on a decimal "
-         "grid (these are float64 on none)");
+         "grid (these are float64 on none); a --max-error keeps them float64 within it");
   if (!opts.lossless && g.mode == PosMode::kDecimal)
     fail(ErrorCode::kInvalidParameter, t.source,
          std::string("no grid for frames of their own size in mode ") + mode_name(g.mode));

@@ -227,6 +227,48 @@ std::vector<uint8_t> with_minor(std::vector<uint8_t> b, uint8_t minor) {
   return b;
 }
 
+// Frames of their own counts with float64 x y z far from the origin (map coordinates: UTM
+// eastings and northings), PCD and PLY: at 2.5 cm (about the CLI's default there), 1 cm and 1 mm
+// the files written back keep float64, so the grid need not hold under float32's 0.25 m spacing
+// there (every bound was refused with "below the float32 resolution of the frame files written
+// back").
+TEST(ScanFormats, GivenFloat64MapCoordinatesInFramesOfTheirOwnCountsThenABoundHolds) {
+  for (const Format format : {Format::kPCDFolder, Format::kPLYFolder}) {
+    SCOPED_TRACE(format == Format::kPLYFolder ? "PLY" : "PCD");
+    capz::Take t = spiral_take(format, {300, 280, 310});
+    for (size_t i = 0; i < t.total_points(); ++i) {
+      t.xyz[3 * i] += 500000.123456789;
+      t.xyz[3 * i + 1] += 4000000.987654321;
+    }
+    const std::vector<capz::PCDField> f64 = {{"x", 'F', 8, 1}, {"y", 'F', 8, 1}, {"z", 'F', 8, 1}};
+    if (format == Format::kPCDFolder) {
+      t.pcd = std::make_shared<capz::PCDExtra>();
+      t.pcd->fields = f64;
+    } else {
+      t.ply = std::make_shared<capz::PLYExtra>();
+      t.ply->encoding = "binary_little_endian";
+      t.ply->version = "1.0";
+      t.ply->fields = f64;
+      t.ply->type_names = {"double", "double", "double"};
+      for (size_t f = 0; f < t.frames; ++f)
+        t.ply->frame_names.push_back(std::to_string(f) + ".ply");
+    }
+    for (const double bound : {0.025, 0.01, 0.001}) {
+      capz::CompressOptions o;
+      o.max_error = bound;
+      const std::vector<uint8_t> z = capz::compress(t, o);
+      const capz::Take d = capz::decompress(z.data(), z.size());
+      EXPECT_EQ(capz::describe(z.data(), z.size()).max_error, bound);
+      ASSERT_EQ(d.frame_offsets, t.frame_offsets);
+      ASSERT_EQ(d.valid, t.valid);
+      double worst = 0;  // float64 written back: the decoded values as they are
+      for (size_t i = 0; i < t.xyz.size(); ++i)
+        if (t.valid[i / 3]) worst = std::max(worst, std::fabs(t.xyz[i] - d.xyz[i]));
+      EXPECT_LE(worst, bound);
+    }
+  }
+}
+
 // A fixed take's stream (POSW) of .bin frames: lossless, without gaps and scattered like a mesh's
 // vertices (the second frame the first moved a little), which the scan coder codes no smaller,
 // so POSW is kept without the rest of the trial; the spiral sweeps code smaller through the scan
