@@ -128,11 +128,14 @@ int cmd_list(const Args& args) {
         if (o.hashed && o.size > 0)
           std::snprintf(ratio, sizeof ratio, "%.4f",
                         static_cast<double>(bytes.size()) / static_cast<double>(o.size));
+        // Frames of their own counts: the points of all frames, as info says them.
+        const std::string points =
+            s.ragged ? std::to_string(s.total_points) + " in all" : std::to_string(s.points);
         r.text =
-            strprintf("%s: %s (%s) frames %zu points %zu analog %d %s %s ratio %s xxh3-128 %s\n",
+            strprintf("%s: %s (%s) frames %zu points %s analog %d %s %s ratio %s xxh3-128 %s\n",
                       f.c_str(), s.source_name.c_str(), capz::format_name(s.source_format),
-                      s.frames, s.points, s.analog_channels, s.mode.c_str(), bound.c_str(), ratio,
-                      o.hashed ? o.hash_hex.c_str() : "-");
+                      s.frames, points.c_str(), s.analog_channels, s.mode.c_str(), bound.c_str(),
+                      ratio, o.hashed ? o.hash_hex.c_str() : "-");
         return r;
       },
       true);

@@ -165,8 +165,10 @@ void print_text(const std::string& path, size_t size, const capz::StreamInfo& si
   // Frames of their own size (or one frame, reordered): the encoder may reorder their points
   if (si.ragged || si.points_reordered)
     line("point order:", si.points_reordered ? "reordered (--point-order any)" : "kept");
-  line("windows:",
-       std::to_string(si.windows) + " of " + std::to_string(si.window_frames) + " frames");
+  // Each window holds up to window_frames frames (the last may hold fewer: a take of 5 frames
+  // in windows of 9 is 1 window of 5).
+  line("windows:", std::to_string(si.windows) + " of up to " + std::to_string(si.window_frames) +
+                       " frames each");
   const capz::OriginalInfo orig = capz::original_info(path);
   if (orig.hashed)
     line("original:", std::to_string(orig.size) + " bytes, xxh3-128 " + orig.hash_hex +

@@ -61,12 +61,21 @@ FrameView frame_view(const FrameBlock& b, size_t k) {
   return v;
 }
 
-void write_frame_files(const Take& take, const std::string& path, const std::string& ext,
+// "a/b/" -> "a/b": a folder's path for the file system, once single_frame_output has read its
+// trailing '/'.
+std::string folder_path(const std::string& path) {
+  std::string p = path;
+  while (p.size() > 1 && p.back() == '/') p.pop_back();
+  return p;
+}
+
+void write_frame_files(const Take& take, const std::string& given, const std::string& ext,
                        bool overwrite, const FrameFileBytes& frame) {
+  const std::string path = folder_path(given);
   const std::string fault = take.shape_fault();
   if (!fault.empty()) fail(ErrorCode::kInternal, path, "take arrays: " + fault);
   if (take.frames == 0) fail(ErrorCode::kUsage, path, "the take has no frames: nothing to write");
-  if (single_frame_output(path, ext)) {
+  if (single_frame_output(given, ext)) {
     if (take.frames != 1)
       fail(ErrorCode::kUsage, path,
            "a " + ext + " file holds one frame and the take has " + std::to_string(take.frames) +
@@ -90,7 +99,7 @@ class FrameFolderSink : public FrameSink {
                   bool overwrite, bool needs_scan,
                   std::function<FrameFileBytes(std::optional<bool>)> make)
       : frames_(header.frames),
-        path_(path),
+        path_(folder_path(path)),
         single_(single_frame_output(path, ext)),
         overwrite_(overwrite),
         scan_(needs_scan),
@@ -104,8 +113,8 @@ class FrameFolderSink : public FrameSink {
       return;
     }
     names_ = frame_output_names(header, ext);
-    check_replaceable_frame_dir(path, ext, overwrite);
-    out_.reset(new AtomicDir(path, overwrite));
+    check_replaceable_frame_dir(path_, ext, overwrite);
+    out_.reset(new AtomicDir(path_, overwrite));
   }
   bool wants_prescan() const override { return scan_ && !scanned_; }
   void prescan(const FrameBlock& b) override {

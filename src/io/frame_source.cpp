@@ -509,9 +509,10 @@ std::unique_ptr<FrameSink> create_frame_sink(const Take& header, bool words,
   const char* ext = frame_extension(f);
   if (*ext) {
     check_output_free(target, opts.overwrite);
-    if (f == Format::kPCDFolder) return pcd_folder_sink(header, target, opts);
-    if (f == Format::kPLYFolder) return ply_folder_sink(header, target, opts);
-    return bin_folder_sink(header, target, opts);
+    // path, not target: a trailing '/' says a folder (a folder named "x.ply/")
+    if (f == Format::kPCDFolder) return pcd_folder_sink(header, path, opts);
+    if (f == Format::kPLYFolder) return ply_folder_sink(header, path, opts);
+    return bin_folder_sink(header, path, opts);
   }
   return std::unique_ptr<FrameSink>(new WholeTakeSink(header, words, path, opts));
 }

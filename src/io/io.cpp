@@ -257,13 +257,13 @@ void write_take(const Take& take, const std::string& path, const WriteOptions& o
       write_trc(take, target, opts);
       return;
     case Format::kPCDFolder:
-      write_pcd_folder(take, target, opts);
+      write_pcd_folder(take, path, opts);  // its trailing '/' says a folder
       return;
     case Format::kPLYFolder:
-      write_ply_folder(take, target, opts);
+      write_ply_folder(take, path, opts);  // its trailing '/' says a folder
       return;
     case Format::kBinFolder:
-      write_bin_folder(take, target, opts);
+      write_bin_folder(take, path, opts);  // its trailing '/' says a folder
       return;
     case Format::kUnknown:
       break;

@@ -205,6 +205,9 @@ TEST(CliScan, PointOrderAnyReordersFramesOfOneCountAndVerifyHolds) {
       << out;
   ASSERT_EQ(capz_run("info " + z, dir, &out), 0) << out;
   EXPECT_NE(out.find("point order: reordered (--point-order any)"), std::string::npos) << out;
+  EXPECT_NE(out.find("windows:     1 of up to "), std::string::npos) << out;
+  ASSERT_EQ(capz_run("list " + z, dir, &out), 0) << out;  // a ragged take's points: all of them
+  EXPECT_NE(out.find("frames 6 points 3072 in all analog 0"), std::string::npos) << out;
   EXPECT_EQ(capz_run("verify " + z + " --against " + src, dir, &out), 0) << out;
   EXPECT_NE(out.find("bound 0.01 m holds"), std::string::npos) << out;
   ASSERT_EQ(capz_run("decompress " + z + " -o " + dir.file("back") + " -q", dir, &out), 0) << out;

@@ -272,3 +272,27 @@ TEST(CliScanFormats, ConvertOfARaggedFolderSaysItsShape) {
   EXPECT_NE(out.find("3 frames of their own point counts, 930 points in all"), std::string::npos)
       << out;
 }
+
+// A folder path named like a frame file but ending in '/' is a folder (CLI.md): convert to
+// "out.ply/" and decompress to "back.pcd/" write folders of frames (they were refused as single
+// files: "a .ply file holds one frame and the take has 3"); without the '/' it stays a file.
+TEST(CliScanFormats, AFolderPathNamedLikeAFrameFileEndingInASlashIsAFolder) {
+  capz_test::TempDir dir("capz_cli_slash_folder");
+  const std::string in = dir.file("in");
+  capz::write_take(spiral({300, 310, 320}, capz::Format::kPCDFolder), in, capz::WriteOptions());
+  std::string out;
+  ASSERT_EQ(capz_run("convert " + in + " " + dir.file("out.ply") + "/ --to ply", dir, &out), 0)
+      << out;
+  EXPECT_TRUE(fs::is_directory(dir.file("out.ply")));
+  EXPECT_EQ(capz::read_take(dir.file("out.ply")).frames, 3u);
+  ASSERT_EQ(
+      capz_run("compress " + in + " -o " + dir.file("a.capz") + " --max-error 1mm", dir, &out), 0)
+      << out;
+  ASSERT_EQ(
+      capz_run("decompress " + dir.file("a.capz") + " -o " + dir.file("back.pcd") + "/", dir, &out),
+      0)
+      << out;
+  EXPECT_TRUE(fs::is_directory(dir.file("back.pcd")));
+  EXPECT_NE(capz_run("convert " + in + " " + dir.file("one.ply"), dir, &out), 0);
+  EXPECT_NE(out.find("holds one frame"), std::string::npos) << out;
+}
