@@ -43,7 +43,10 @@ struct Span {
   }
 };
 
-// A body cut into n lines (content, ending) and what follows them.
+// A body cut into n lines (content, ending) and what follows them. A line's end is its '\n' with
+// the '\r' and the blanks (spaces, tabs) before it: writers that put a separator after every
+// value (Python's `print(*row, end=" \n")`, some C loops) end each line with " \n", which the
+// model line then gives as its `eol` (FORMAT.md 14.6), the values as C columns.
 struct Lines {
   std::vector<Span> content, ending;
   Span tail{nullptr, nullptr};
@@ -59,6 +62,7 @@ bool cut_lines(const uint8_t* body, size_t size, size_t n, Lines* out) {
     const uint8_t* le = nl ? nl + 1 : end;
     const uint8_t* ce = nl ? nl : end;
     if (nl && ce > p && ce[-1] == '\r') --ce;
+    while (nl && ce > p && (ce[-1] == ' ' || ce[-1] == '\t')) --ce;
     out->content.push_back({p, ce});
     out->ending.push_back({ce, le});
     p = le;
