@@ -116,7 +116,16 @@ bool bound_fits(const Take& t, const ValidExtent& e, double b) {
 // until it holds at the far samples too, else 0 (lossless); *note then says so.
 double default_bound(const Take& t, const ValidExtent& e, std::string* note) {
   const double b = unitless_default_bound(e), s = stray_free_bound(e);
-  if (s == 0) return float32_holds(t, e, b) ? b : 0;
+  if (s == 0 && float32_holds(t, e, b)) return b;
+  if (s == 0) {
+    const double half = float32_half_ulp(largest_magnitude(e) + b);
+    *note = "float32 coordinates up to " + length_text(t, largest_magnitude(e)) +
+            " from the origin are " + length_text(t, 2 * half) +
+            " apart there, coarser than the default bound (1e-4 of the box's diagonal, " +
+            length_text(t, b) + "): kept lossless; a --max-error above " + length_text(t, half) +
+            " gives a bound";
+    return 0;
+  }
   const std::string far = "a few points lie far outside the others (up to " +
                           length_text(t, largest_magnitude(e)) + " from the origin), so the " +
                           "default bound is not 1e-4 of the whole box's diagonal (" +

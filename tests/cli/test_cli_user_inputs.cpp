@@ -83,7 +83,7 @@ TEST(CliUserInputs, GivenAHiddenFileBesideTheFramesThenItIsNoFrame) {
 // apart). A bound below half that spacing cannot hold once the decoded frames are written back
 // as float32: refused, and the message spoke of "a C3D" and printed 1e30 in 37 digits. With no
 // bound given, the default (1e-4 of the diagonal) was refused the same way, exit 6; it now keeps
-// the float32 values as they are.
+// the float32 values as they are, and a note says why and which bound would hold (it was silent).
 TEST(CliUserInputs, GivenFloat32FramesFarFromTheOriginThenDefaultIsLosslessAndFineBoundsSayWhy) {
   TempDir dir;
   const std::string in = dir.file("utm.pcd");
@@ -92,6 +92,9 @@ TEST(CliUserInputs, GivenFloat32FramesFarFromTheOriginThenDefaultIsLosslessAndFi
   auto r = capz_run("compress '" + in + "' -o '" + dir.file("u.capz") + "'", dir);
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("lossless"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("note: " + in + ": float32 coordinates up to"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("0.5 m apart there"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("a --max-error above 0.25 m gives a bound"), std::string::npos) << r.out;
   r = capz_run("decompress '" + dir.file("u.capz") + "' -o '" + dir.file("back.pcd") + "'", dir);
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_TRUE(capz_test::file_text(dir.file("back.pcd")) == frame);
