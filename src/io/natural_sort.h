@@ -1,9 +1,12 @@
 // Natural order of file names: runs of digits compare by numeric value, so "frame_2" sorts
-// before "frame_10". Other characters compare by byte value. Equal numeric values with different
-// leading zeros ("01" vs "1") and otherwise equal names fall back to plain byte order, so the
-// order is total and deterministic.
+// before "frame_10". A run right after a digit and a '.' is a decimal fraction and compares digit
+// by digit ("1691031766.781" < ".8" < ".881" < ".98": timestamps printed with their trailing zeros
+// dropped). Other characters compare by byte value. Equal numeric values with different leading
+// (or, in a fraction, trailing) zeros ("01" vs "1") and otherwise equal names fall back to plain
+// byte order, so the order is total and deterministic.
 #pragma once
 
+#include <algorithm>
 #include <string>
 
 namespace capz {
@@ -16,6 +19,16 @@ inline bool natural_less(const std::string& a, const std::string& b) {
       size_t ie = i, je = j;
       while (ie < a.size() && digit(a[ie])) ++ie;
       while (je < b.size() && digit(b[je])) ++je;
+      // The names agree up to here, so a's two characters before the run are b's too.
+      if (i >= 2 && a[i - 1] == '.' && digit(a[i - 2])) {  // a fraction
+        for (size_t k = 0; k < std::max(ie - i, je - j); ++k) {
+          const char da = i + k < ie ? a[i + k] : '0', db = j + k < je ? b[j + k] : '0';
+          if (da != db) return da < db;
+        }
+        i = ie;
+        j = je;
+        continue;
+      }
       size_t is = i, js = j;  // skip leading zeros
       while (is + 1 < ie && a[is] == '0') ++is;
       while (js + 1 < je && b[js] == '0') ++js;

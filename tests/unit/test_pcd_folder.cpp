@@ -71,6 +71,22 @@ TEST(NaturalSort, NumbersCompareByValue) {
   EXPECT_FALSE(capz::natural_less("x", "x"));
 }
 
+// Timestamps printed with their trailing zeros dropped: the digits after "<digits>." are a
+// fraction (they sorted .8, .98, .781, .881 by value); a number after a letter and a '.' is
+// still a number ("frame.9" before "frame.10"); the order stays total.
+TEST(NaturalSort, DigitsAfterANumbersPointAreAFraction) {
+  std::vector<std::string> v = {"1691031766.98.pcd",  "1691031766.8.pcd",  "1691031766.881.pcd",
+                                "1691031766.781.pcd", "1691031767.05.pcd", "1691031766.80.pcd"};
+  std::sort(v.begin(), v.end(), capz::natural_less);
+  EXPECT_EQ(v, (std::vector<std::string>{"1691031766.781.pcd", "1691031766.8.pcd",
+                                         "1691031766.80.pcd", "1691031766.881.pcd",
+                                         "1691031766.98.pcd", "1691031767.05.pcd"}));
+  std::vector<std::string> w = {"frame.10.pcd", "frame.9.pcd"};
+  std::sort(w.begin(), w.end(), capz::natural_less);
+  EXPECT_EQ(w, (std::vector<std::string>{"frame.9.pcd", "frame.10.pcd"}));
+  EXPECT_NE(capz::natural_less("1.8", "1.80"), capz::natural_less("1.80", "1.8"));
+}
+
 TEST(PcdFolder, ReadsFramesInNaturalOrderWithNanGaps) {
   TempDir d;
   const float nan = std::nanf("");
