@@ -265,12 +265,22 @@ Take first_frames(Take t, size_t k) {
 
 // Fixed take t coded through POSW, with opts as they are (its report in *stats when not null).
 std::vector<uint8_t> posw_stream(const Take& t, const CompressOptions& opts,
-                                 CompressStats* stats = nullptr) {
+                                 CompressStats* stats = nullptr,
+                                 const EncoderTuning& tuning = EncoderTuning()) {
   std::unique_ptr<FrameSource> s = take_frames(t);  // holds t by reference
   std::vector<uint8_t> bytes;
   StreamOut mem(&bytes);
-  encode_source(*s, opts, EncoderTuning(), &mem, stats);
+  encode_source(*s, opts, tuning, &mem, stats);
   return bytes;
+}
+
+// The size of POSW's stream of t for a trial (fixed_scan_choice, posw_without_trial): its fields'
+// LZMA transforms estimated (EncoderTuning::attr_estimate), not each coded in full. The stream
+// itself is coded again if kept.
+size_t posw_trial_size(const Take& t, const CompressOptions& opts) {
+  EncoderTuning trial;
+  trial.attr_estimate = true;
+  return posw_stream(t, opts, nullptr, trial).size();
 }
 
 // Fixed take t coded through the scan coder, with opts as they are (its report in *stats when not
@@ -298,7 +308,7 @@ void coded_both(Take t, const CompressOptions& opts, std::vector<uint8_t>* fixed
 // The sizes of fixed take t coded through POSW and through the scan coder (0 when it does not
 // take it), with opts as they are (fixed_scan_choice gives them unchecked).
 std::pair<size_t, size_t> coded_sizes(Take t, const CompressOptions& opts) {
-  const size_t fixed = posw_stream(t, opts).size();
+  const size_t fixed = posw_trial_size(t, opts);
   return {fixed, scan_stream(std::move(t), opts, nullptr).size()};
 }
 
@@ -324,13 +334,13 @@ bool posw_without_trial(const Take& t, const CompressOptions& opts,
                         std::pair<size_t, size_t>* first) {
   const bool gaps = std::find(t.valid.begin(), t.valid.begin() + static_cast<long>(t.points),
                               uint8_t{0}) != t.valid.begin() + static_cast<long>(t.points);
-  const size_t one = posw_stream(first_frames(t, 1), opts).size();
+  const size_t one = posw_trial_size(first_frames(t, 1), opts);
   *first = {one, 0};
   if (!organized_cloud(t) && !gaps) {
     first->second = scan_stream(first_frames(t, 1), opts, nullptr).size();
     return first->second == 0 || 10 * first->second >= 8 * one;
   }
-  const size_t two = posw_stream(first_frames(t, 2), opts).size();
+  const size_t two = posw_trial_size(first_frames(t, 2), opts);
   return 10 * (two - std::min(one, two)) < 6 * one;
 }
 

@@ -506,7 +506,8 @@ class Encoder {
                           win->wi.valid.data(), win->block.frames, take_.points, take_.pcd->width,
                           // FORMAT.md 7.3: predictors 10 and 11 are candidates for an unorganized
                           // cloud's fields (an organized one has its pixel neighbours).
-                          take_.pcd->height == 1 && !plan_.tout ? win->wi.q.data() : nullptr);
+                          take_.pcd->height == 1 && !plan_.tout ? win->wi.q.data() : nullptr,
+                          tuning_.attr_estimate, nullptr, tuning_.attr_estimate);
     append_chunk(buf, "ATTR", with_window_index(win->w, 0xFF, at));
     win->attribute_bytes = buf->size() - before;
   }

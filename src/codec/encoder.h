@@ -34,6 +34,11 @@ struct EncoderTuning {
   // coded: with meta_raw, the stream's size less META's payload bounds from below the size of
   // the stream coded whole, META and all (and, with attr_empty, its fields too).
   bool positions_bound = false;
+  // ATTR's LZMA transforms estimated on a sample before any is coded in full
+  // (encode_attributes' estimate and estimate_split): a trial's size within a few per mille of
+  // the stream's, for the choice between POSW and the scan coder (compress.cpp), never a
+  // stream's bytes.
+  bool attr_estimate = false;
 };
 
 // Where the encoder puts the stream: appended to memory, or written to a file as it goes.

@@ -377,8 +377,9 @@ void append_fields_chunk(RaggedRun& r, size_t w, const std::vector<std::vector<u
   ByteWriter aw;
   aw.varint(w);
   std::vector<uint8_t> payload = std::move(aw.buffer());
-  const std::vector<uint8_t> at = encode_attributes(attribute_specs(r.meta.pcd->fields), fields,
-                                                    valid.data(), 1, n, n, q.data(), true, &ragged);
+  const std::vector<uint8_t> at =
+      encode_attributes(attribute_specs(r.meta.pcd->fields), fields, valid.data(), 1, n, n,
+                        q.data(), true, &ragged, true);
   payload.insert(payload.end(), at.begin(), at.end());
   const size_t before = r.buf.size();
   append_chunk(&r.buf, "ATTR", payload);

@@ -56,12 +56,15 @@ struct RaggedFields {
 // smaller is coded in full, none when the predictive coding is under 0.9 of that estimate; of a
 // field of 128 KiB to 256 KiB with elements of several bytes, only the one smaller when both
 // are coded quickly (the scan encoder's choice, format 1.1); false: every transform coded in
-// full (the bytes of format 1.0).
+// full (the bytes of format 1.0). estimate_split: transforms 2 and 3 estimated so in a window
+// with gaps too, and 4 and 5 the same way on the valid points' values (a trial's size, not a
+// stream's bytes: the encoder's choice between its coders, EncoderTuning::attr_estimate).
 std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
                                        const std::vector<std::vector<uint8_t>>& data,
                                        const uint8_t* valid, size_t frames, size_t points,
                                        size_t width, const int32_t* q = nullptr,
-                                       bool estimate = false, const RaggedFields* ragged = nullptr);
+                                       bool estimate = false, const RaggedFields* ragged = nullptr,
+                                       bool estimate_split = false);
 
 // Decodes what encode_attributes wrote into *out (one byte array per spec, resized). Throws
 // Error(kCorrupt) naming `what` on a bad transform or predictor, a window larger than the

@@ -343,7 +343,7 @@ std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
                                        const std::vector<std::vector<uint8_t>>& data,
                                        const uint8_t* valid, size_t frames, size_t points,
                                        size_t width, const int32_t* q, bool estimate,
-                                       const RaggedFields* ragged) {
+                                       const RaggedFields* ragged, bool estimate_split) {
   const size_t n = frames * points;
   const size_t W = width ? width : std::max<size_t>(points, 1);
   const bool gaps = valid && std::find(valid, valid + n, 0) != valid + n;
@@ -379,11 +379,17 @@ std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
         std::any_of(valid, valid + n, [](uint8_t v) { return v != 0; }))
       split_by_mask(data[a], valid, n, size * static_cast<size_t>(s.count), &at_valid, &at_gaps);
     const uint8_t last = !at_valid.empty() ? (size > 1 ? 5 : 4) : (size > 1 ? 3 : 2);
-    const uint8_t tried =
-        estimate && at_valid.empty() ? lzma_worth_trying(data[a], size, best.size()) : 0xFF;
+    const bool split = !at_valid.empty();
+    const uint8_t tried = (estimate && !split) || estimate_split
+                              ? lzma_worth_trying(data[a], size, best.size())
+                              : 0xFF;
+    // Of 4 and 5 (estimate_split): the one lzma_worth_trying takes for the valid values.
+    const uint8_t tried_split =
+        estimate_split && split ? lzma_worth_trying(at_valid, size, best.size()) : 0xFF;
     for (uint8_t t = 2; bytes > 0 && t <= last; ++t) {
       if (t == 3 && size == 1) continue;
-      if (tried != 0xFF && t != tried) continue;
+      if (t <= 3 && tried != 0xFF && t != tried) continue;
+      if (t >= 4 && tried_split != 0xFF && t != tried_split + 2) continue;
       ByteWriter alt;
       alt.u8(t);
       size_t m = 0;  // the size field
