@@ -411,18 +411,30 @@ TEST(AttrCoder, DamagedUnitReferencesAreCorrupt) {
   EXPECT_NE(msg.find("predictor 9"), std::string::npos) << msg;
 }
 
+namespace {
+
+// A camera-like window's mask: F frames of W x (N / W) pixels, a disc of radius^2 r2 centred at
+// (cx + step f, cy) valid, the rest gaps.
+std::vector<uint8_t> moving_disc(size_t F, size_t W, size_t N, double cx, double cy, double step,
+                                 double r2) {
+  std::vector<uint8_t> valid(F * N);
+  for (size_t f = 0; f < F; ++f)
+    for (size_t p = 0; p < N; ++p) {
+      const double dx = static_cast<double>(p % W) - cx - step * static_cast<double>(f);
+      const double dy = static_cast<double>(p / W) - cy;
+      valid[f * N + p] = dx * dx + dy * dy < r2;
+    }
+  return valid;
+}
+
+}  // namespace
+
 TEST(AttrCoder, ValidAndGapValuesApart) {
   // FORMAT.md 6.2: a camera-like window (a moving disc of texture colours and labels on a NaN /
   // zero background): LZMA of the valid points' values apart from the gap points' (transforms 4
   // and 5) is chosen, and everything comes back bit for bit.
   const size_t F = 6, W = 40, N = 40 * 30;
-  std::vector<uint8_t> valid(F * N);
-  for (size_t f = 0; f < F; ++f)
-    for (size_t p = 0; p < N; ++p) {
-      const double dx = static_cast<double>(p % W) - 18.0 - 1.5 * static_cast<double>(f);
-      const double dy = static_cast<double>(p / W) - 15.0;
-      valid[f * N + p] = dx * dx + dy * dy < 90;
-    }
+  std::vector<uint8_t> valid = moving_disc(F, W, N, 18.0, 15.0, 1.5, 90);
   const std::vector<AttrSpec> specs = {spec("rgb", 'F', 4), spec("label", 'U', 2)};
   std::vector<std::vector<uint8_t>> data = {std::vector<uint8_t>(F * N * 4),
                                             std::vector<uint8_t>(F * N * 2)};
@@ -454,13 +466,7 @@ TEST(AttrCoder, ValidAndGapValuesApart) {
 // full trial.
 TEST(AttrCoder, EstimatedSplitTransformsKeepTheValidPointsTransform) {
   const size_t F = 4, W = 160, N = 160 * 120;
-  std::vector<uint8_t> valid(F * N);
-  for (size_t f = 0; f < F; ++f)
-    for (size_t p = 0; p < N; ++p) {
-      const double dx = static_cast<double>(p % W) - 70.0 - 3.0 * static_cast<double>(f);
-      const double dy = static_cast<double>(p / W) - 60.0;
-      valid[f * N + p] = dx * dx + dy * dy < 2500;
-    }
+  const std::vector<uint8_t> valid = moving_disc(F, W, N, 70.0, 60.0, 3.0, 2500);
   const std::vector<AttrSpec> specs = {spec("rgb", 'F', 4)};
   std::vector<std::vector<uint8_t>> data = {std::vector<uint8_t>(F * N * 4)};
   for (size_t i = 0; i < F * N; ++i) {
