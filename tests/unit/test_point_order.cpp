@@ -13,6 +13,7 @@
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/stream.h"
+#include "capz/tool/file.h"
 #include "capz/tool/verify.h"
 #include "metrics/point_match.h"
 #include "synthetic.h"
@@ -249,6 +250,15 @@ TEST(PointOrder, GivenFixedSizeSweepsThenAnyReordersThemUnlessOrganized) {
   CompressOptions kept = any_order(0.01);
   kept.any_point_order = false;
   EXPECT_EQ(zo, compress(organized, kept));
+  // Past the both-ways coding of 4 frames (the estimate from the prefix, then the whole coded):
+  // streamed, the same bytes as in memory.
+  const Take six = fixed_shuffled_scan(6, false);
+  const std::vector<uint8_t> z6 = compress(six, any_order(0.01));
+  EXPECT_TRUE(describe(z6.data(), z6.size()).points_reordered);
+  capz_test::TempDir dir("capz_point_order_stream");
+  std::unique_ptr<FrameSource> src = take_frames(six);
+  compress_stream(*src, any_order(0.01), dir.file("s.capz"), true);
+  EXPECT_EQ(read_file(dir.file("s.capz")), z6);
 }
 
 TEST(PointOrder, GivenLosslessThenRefusedByName) {
