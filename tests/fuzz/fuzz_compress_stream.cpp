@@ -4,6 +4,12 @@
 // contract in capz/stream.h), and decode within the bound (fuzz_take.h's check_round_trip). When
 // compress() refuses the options, compress_stream must refuse them with the same code and leave
 // no file; kInvalidParameter (an impossible target) is the only refusal that is not a finding.
+// With data[1] bit 3 (and no rotations or analog: bits 6, 7 clear) the take is a PCD folder's
+// instead (no labels, metres assumed; organized 2 rows with bit 5 when its points are even), and
+// bit 4 asks --point-order any: the encoder's choices between POSW and the scan coder for frames
+// of one count (settled order, reordered frames, the lossless trial). Such a stream must then
+// decode within the promise its description makes (capz verify's check: reordered frames as
+// sets).
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -16,6 +22,7 @@
 #include "capz/codec.h"
 #include "capz/error.h"
 #include "capz/stream.h"
+#include "capz/tool/verify.h"
 #include "core/atomic_file.h"
 #include "fuzz_take.h"
 #include "fuzz_temp_file.h"
@@ -34,12 +41,43 @@ int error_code_of(F&& f, std::string* what) {
   return -1;
 }
 
+// The case's take as a PCD folder's frames (see the top of the file); false when it stays as it is.
+bool as_frame_files(uint8_t b, capz_fuzz::RoundTripCase* c) {
+  if ((b & 0xC0) || !(b & 0x08)) return false;
+  capz::Take& t = c->take;
+  t.format = capz::Format::kPCDFolder;
+  t.source = "fuzz_frames";
+  t.labels.clear();
+  t.units = "m";
+  t.units_assumed = true;
+  t.pcd = std::make_shared<capz::PCDExtra>();
+  t.pcd->fields = {{"x", 'F', 4, 1}, {"y", 'F', 4, 1}, {"z", 'F', 4, 1}};
+  const bool organized = (b & 0x20) && t.points % 2 == 0;
+  t.pcd->width = organized ? t.points / 2 : t.points;
+  t.pcd->height = organized ? 2 : 1;
+  for (size_t f = 0; f < t.frames; ++f) t.pcd->frame_names.push_back(std::to_string(f) + ".pcd");
+  c->opts.any_point_order = (b & 0x10) != 0;
+  return true;
+}
+
+// A frame-file case's stream decodes within the promise its description makes.
+void check_promise_holds(const capz::Take& t, const std::vector<uint8_t>& bytes) {
+  const capz::Take d = capz::decompress(bytes.data(), bytes.size(), "round trip");
+  const capz::PromiseResult r =
+      capz::check_promise(t, d, capz::promise_of(capz::describe(bytes.data(), bytes.size())));
+  if (!r.holds) {
+    std::fprintf(stderr, "the promise breaks: %s\n", r.why.c_str());
+    std::abort();
+  }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const capz_fuzz::TempFile out("compress_stream");
   capz_fuzz::RoundTripCase c;
   if (!capz_fuzz::round_trip_case(data, size, &c)) return 0;
+  const bool frame_files = as_frame_files(data[1], &c);
   out.remove();
   std::vector<uint8_t> whole;
   std::string whole_error, stream_error;
@@ -66,6 +104,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                  bytes.size(), whole.size());
     std::abort();
   }
-  capz_fuzz::check_round_trip(c, bytes);
+  if (frame_files)
+    check_promise_holds(c.take, bytes);
+  else
+    capz_fuzz::check_round_trip(c, bytes);
   return 0;
 }
