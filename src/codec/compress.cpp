@@ -305,8 +305,9 @@ void coded_both(Take t, const CompressOptions& opts, std::vector<uint8_t>* fixed
   *scan = scan_stream(std::move(t), opts, scan_stats);
 }
 
-// The sizes of fixed take t coded through POSW and through the scan coder (0 when it does not
-// take it), with opts as they are (fixed_scan_choice gives them unchecked).
+// The sizes of fixed take t coded through POSW (a trial's: posw_trial_size) and through the scan
+// coder (0 when it does not take it), with opts as they are (fixed_scan_choice gives them
+// unchecked).
 std::pair<size_t, size_t> coded_sizes(Take t, const CompressOptions& opts) {
   const size_t fixed = posw_trial_size(t, opts);
   return {fixed, scan_stream(std::move(t), opts, nullptr).size()};
