@@ -61,6 +61,8 @@ FrameView frame_view(const FrameBlock& b, size_t k) {
   return v;
 }
 
+namespace {
+
 // "a/b/" -> "a/b": a folder's path for the file system, once single_frame_output has read its
 // trailing '/'.
 std::string folder_path(const std::string& path) {
@@ -68,6 +70,8 @@ std::string folder_path(const std::string& path) {
   while (p.size() > 1 && p.back() == '/') p.pop_back();
   return p;
 }
+
+}  // namespace
 
 void write_frame_files(const Take& take, const std::string& given, const std::string& ext,
                        bool overwrite, const FrameFileBytes& frame) {
