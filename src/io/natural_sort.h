@@ -1,15 +1,25 @@
 // Natural order of file names: runs of digits compare by numeric value, so "frame_2" sorts
 // before "frame_10". A run right after a digit and a '.' is a decimal fraction and compares digit
-// by digit ("1691031766.781" < ".8" < ".881" < ".98": timestamps printed with their trailing zeros
-// dropped). Other characters compare by byte value. Equal numeric values with different leading
-// (or, in a fraction, trailing) zeros ("01" vs "1") and otherwise equal names fall back to plain
-// byte order, so the order is total and deterministic.
+// by digit when that number has 9 digits or more, a timestamp ("1691031766.781" < ".8" < ".881" <
+// ".98": timestamps printed with their trailing zeros dropped). Other characters compare by byte
+// value. Equal numeric values with different leading (or, in a fraction, trailing) zeros ("01" vs
+// "1") and otherwise equal names fall back to plain byte order, so the order is total and
+// deterministic.
 #pragma once
 
 #include <algorithm>
 #include <string>
 
 namespace capz {
+
+// Whether the digit run at i follows a timestamp's point: '.' after a run of 9 or more digits
+// (seconds since 1970 have 10, milliseconds 13). "take1.10" keeps 10 a number after 9.
+inline bool timestamp_fraction(const std::string& a, size_t i) {
+  if (i < 2 || a[i - 1] != '.') return false;
+  size_t k = i - 1, run = 0;
+  while (k > 0 && a[k - 1] >= '0' && a[k - 1] <= '9') --k, ++run;
+  return run >= 9;
+}
 
 inline bool natural_less(const std::string& a, const std::string& b) {
   size_t i = 0, j = 0;
@@ -19,8 +29,8 @@ inline bool natural_less(const std::string& a, const std::string& b) {
       size_t ie = i, je = j;
       while (ie < a.size() && digit(a[ie])) ++ie;
       while (je < b.size() && digit(b[je])) ++je;
-      // The names agree up to here, so a's two characters before the run are b's too.
-      if (i >= 2 && a[i - 1] == '.' && digit(a[i - 2])) {  // a fraction
+      // The names agree up to here, so a's characters before the run are b's too.
+      if (timestamp_fraction(a, i)) {
         for (size_t k = 0; k < std::max(ie - i, je - j); ++k) {
           const char da = i + k < ie ? a[i + k] : '0', db = j + k < je ? b[j + k] : '0';
           if (da != db) return da < db;

@@ -71,9 +71,10 @@ TEST(NaturalSort, NumbersCompareByValue) {
   EXPECT_FALSE(capz::natural_less("x", "x"));
 }
 
-// Timestamps printed with their trailing zeros dropped: the digits after "<digits>." are a
-// fraction (they sorted .8, .98, .781, .881 by value); a number after a letter and a '.' is
-// still a number ("frame.9" before "frame.10"); the order stays total.
+// Timestamps printed with their trailing zeros dropped: the digits after a point that follows 9
+// digits or more are a fraction (they sorted .8, .98, .781, .881 by value); a number after a
+// letter or a short number and a '.' is still a number ("frame.9" before "frame.10", "take1.9"
+// before "take1.10"); the order stays total.
 TEST(NaturalSort, DigitsAfterANumbersPointAreAFraction) {
   std::vector<std::string> v = {"1691031766.98.pcd",  "1691031766.8.pcd",  "1691031766.881.pcd",
                                 "1691031766.781.pcd", "1691031767.05.pcd", "1691031766.80.pcd"};
@@ -81,9 +82,10 @@ TEST(NaturalSort, DigitsAfterANumbersPointAreAFraction) {
   EXPECT_EQ(v, (std::vector<std::string>{"1691031766.781.pcd", "1691031766.8.pcd",
                                          "1691031766.80.pcd", "1691031766.881.pcd",
                                          "1691031766.98.pcd", "1691031767.05.pcd"}));
-  std::vector<std::string> w = {"frame.10.pcd", "frame.9.pcd"};
+  std::vector<std::string> w = {"frame.10.pcd", "frame.9.pcd", "take1.10.pcd", "take1.9.pcd"};
   std::sort(w.begin(), w.end(), capz::natural_less);
-  EXPECT_EQ(w, (std::vector<std::string>{"frame.9.pcd", "frame.10.pcd"}));
+  EXPECT_EQ(
+      w, (std::vector<std::string>{"frame.9.pcd", "frame.10.pcd", "take1.9.pcd", "take1.10.pcd"}));
   EXPECT_NE(capz::natural_less("1.8", "1.80"), capz::natural_less("1.80", "1.8"));
 }
 
