@@ -351,6 +351,14 @@ struct Take {
   std::string shape_fault() const;
 };
 
+// What is wrong with the take's point field names, as a phrase (empty when nothing): a field
+// named x, y or z (the positions' names in every frame file), two of one name, an empty name, or
+// one with a blank or control character (a PCD FIELDS line and a PLY property line split on
+// blanks, so such a file would not read back). Checked where a take is made of arrays
+// (Python's Take.from_arrays), compressed (take_frames) and written as frame files; a decoded
+// archive is not refused for them.
+std::string point_field_fault(const Take& take);
+
 // Throws Error(kInvalidParameter) naming `file` (take.source when empty): "ragged takes (frames
 // of different point counts) are not supported by <consumer> yet", when take.ragged(); returns
 // otherwise.

@@ -208,7 +208,7 @@ TakePtr take_from_arrays(const py::array& xyz, const py::array& valid, double ra
     }
   }
   add_attributes(attributes, F * N, &t);
-  return adopt(std::move(t));
+  return adopt_arrays(std::move(t));
 }
 
 // Take.from_arrays with a list of frames, after the Python layer's checks and concatenation:
@@ -244,7 +244,7 @@ TakePtr take_from_frames(const py::array& xyz, const py::array& valid, const py:
   t.units = units;
   t.first_frame = first_frame;
   add_attributes(attributes, T, &t);
-  return adopt(std::move(t));
+  return adopt_arrays(std::move(t));
 }
 
 capz::CompressOptions coding_options(const std::string& codec, int clusters, size_t window,

@@ -40,6 +40,14 @@ inline TakePtr adopt(capz::Take&& t) {
   return p;
 }
 
+// A Take made of a caller's arrays (from_arrays): its point field names checked (point_field_fault:
+// a field named x, or "a b", would write files that do not read back), then adopted.
+inline TakePtr adopt_arrays(capz::Take&& t) {
+  const std::string fault = capz::point_field_fault(t);
+  if (!fault.empty()) capz::fail(capz::ErrorCode::kInvalidParameter, t.source, fault);
+  return adopt(std::move(t));
+}
+
 // A numpy array over `data` (C order unless `strides` are given) that keeps `owner` alive.
 inline py::array view(py::handle owner, const py::dtype& dt, const std::vector<py::ssize_t>& shape,
                       const void* data, std::vector<py::ssize_t> strides = {}) {

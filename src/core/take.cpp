@@ -198,6 +198,22 @@ std::string Take::shape_fault() const {
   return std::string();
 }
 
+std::string point_field_fault(const Take& take) {
+  const std::vector<PointAttribute>& fields = take.attributes;
+  for (size_t i = 0; i < fields.size(); ++i) {
+    const std::string& name = fields[i].name;
+    if (name.empty()) return "a point field without a name";
+    if (name == "x" || name == "y" || name == "z")
+      return "a point field named '" + name + "' (the positions' name)";
+    for (const char c : name)
+      if (static_cast<unsigned char>(c) <= ' ' || c == 0x7F)
+        return "point field '" + name + "': a blank or control character in its name";
+    for (size_t j = 0; j < i; ++j)
+      if (fields[j].name == name && name != "_") return "two point fields named '" + name + "'";
+  }
+  return std::string();
+}
+
 void refuse_ragged(const Take& take, const std::string& consumer, const std::string& file) {
   if (take.ragged())
     fail(ErrorCode::kInvalidParameter, file.empty() ? take.source : file,

@@ -78,6 +78,9 @@ void write_frame_files(const Take& take, const std::string& given, const std::st
   const std::string path = folder_path(given);
   const std::string fault = take.shape_fault();
   if (!fault.empty()) fail(ErrorCode::kInternal, path, "take arrays: " + fault);
+  const std::string bad_names = point_field_fault(take);  // files that would not read back
+  if (!bad_names.empty())
+    fail(ErrorCode::kInvalidParameter, path, bad_names + ": a frame file would not read back");
   if (take.frames == 0) fail(ErrorCode::kUsage, path, "the take has no frames: nothing to write");
   if (single_frame_output(given, ext)) {
     if (take.frames != 1)
@@ -109,6 +112,9 @@ class FrameFolderSink : public FrameSink {
         scan_(needs_scan),
         make_(std::move(make)) {
     if (frames_ == 0) fail(ErrorCode::kUsage, path, "the take has no frames: nothing to write");
+    const std::string names = point_field_fault(header);  // files that would not read back
+    if (!names.empty())
+      fail(ErrorCode::kInvalidParameter, path, names + ": a frame file would not read back");
     if (single_) {  // as write_frame_files says it
       if (frames_ != 1)
         fail(ErrorCode::kUsage, path,

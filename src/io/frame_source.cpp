@@ -187,8 +187,10 @@ class TakeSource : public FrameSource {
   TakeSource(const Take& take, std::unique_ptr<Take> owned)
       : owned_(std::move(owned)), take_(take) {
     header_ = header_of(take);
-    const std::string fault = take.shape_fault();
+    std::string fault = take.shape_fault();
     if (!fault.empty()) fail(ErrorCode::kInvalidParameter, take.source, "take arrays: " + fault);
+    fault = point_field_fault(take);
+    if (!fault.empty()) fail(ErrorCode::kInvalidParameter, take.source, fault);
     const size_t n = take.total_points();
     words_ = !take.ragged() && take.c3d && take.c3d->residual.size() == n &&
              take.c3d->camera_mask.size() == n;

@@ -309,3 +309,34 @@ TEST(PcdFolder, GivenFolderContentsThenHoldsFrameFilesCountsOnlyVisibleFrameFile
   EXPECT_TRUE(capz::holds_frame_files(d.path().string()));
   EXPECT_FALSE(capz::holds_frame_files(d.file("frame.BIN")));
 }
+
+// Point field names a frame file cannot hold (a field named x, two of one name, a blank in a
+// name): refused by name where a take is compressed or written, nothing left behind (a Python
+// take with a field named x was written as a PCD folder with two x fields and crashed the
+// interpreter; one named "a b" gave files capz could not read back).
+TEST(PcdFolder, GivenPointFieldNamesAFileCannotHoldThenCompressAndWriteRefuseThem) {
+  for (const std::string bad : {"x", "a b", "tab\there", "dup"}) {
+    SCOPED_TRACE(bad);
+    capz::Take t = make_take(2, 5);
+    capz::PointAttribute a;
+    a.name = bad;
+    a.type = 'F';
+    a.size = 4;
+    a.data.assign(2 * 5 * 4, 0);
+    t.attributes.push_back(a);
+    if (bad == "dup") t.attributes.push_back(a);
+    EXPECT_FALSE(capz::point_field_fault(t).empty());
+    TempDir d;
+    std::string msg;
+    EXPECT_EQ(capz_test::error_of([&] { capz::write_pcd_folder(t, d.file("out")); }, &msg),
+              ErrorCode::kInvalidParameter);
+    EXPECT_NE(msg.find("would not read back"), std::string::npos) << msg;
+    EXPECT_FALSE(fs::exists(d.file("out")));
+    capz::CompressOptions o;
+    o.max_error = 0.001;
+    EXPECT_EQ(capz_test::error_of([&] { capz::compress(t, o); }, &msg),
+              ErrorCode::kInvalidParameter);
+  }
+  capz::Take ok = make_take(2, 5);
+  EXPECT_TRUE(capz::point_field_fault(ok).empty());
+}
