@@ -22,6 +22,7 @@
 #include <string>
 
 #include "capz/error.h"
+#include "coding/ply_types.h"
 #include "core/atomic_file.h"
 #include "io/frame_files.h"
 
@@ -228,15 +229,18 @@ void check_fields_fit(const Take& take, Format f, const std::string& path,
   if (opts.drop_fields || f == Format::kPCDFolder || f == Format::kUnknown) return;
   std::string unfit;  // the fields f cannot hold
   for (const PointAttribute& a : take.attributes) {
-    const bool fits = a.name == "_" || (f == Format::kPLYFolder && a.count == 1) ||
+    // PLY has no 8-byte integers (ply_type_name): such a field would be left out.
+    const bool fits = a.name == "_" ||
+                      (f == Format::kPLYFolder && a.count == 1 && ply_type_name(a.type, a.size)) ||
                       (f == Format::kBinFolder && a.name == "intensity" && a.count == 1);
     if (!fits) unfit += (unfit.empty() ? "" : ", ") + a.name;
   }
   if (unfit.empty()) return;
-  const char* what = f == Format::kTRC         ? "TRC file"
-                     : f == Format::kC3D       ? "C3D file"
-                     : f == Format::kPLYFolder ? "PLY frame (one value a property)"
-                                               : ".bin frame (x y z intensity)";
+  const char* what = f == Format::kTRC   ? "TRC file"
+                     : f == Format::kC3D ? "C3D file"
+                     : f == Format::kPLYFolder
+                         ? "PLY frame (one value a property, no 64-bit integers)"
+                         : ".bin frame (x y z intensity)";
   fail(ErrorCode::kUsage, path,
        std::string("a ") + what + " cannot hold the point fields " + unfit +
            ": write a PCD folder, or give --drop-fields to leave them out");
