@@ -17,6 +17,8 @@
 #include "coding/container.h"
 #include "coding/meta.h"
 #include "core/atomic_file.h"
+#include "io/frame_files.h"
+#include "io/pcd_frame_writer.h"
 
 namespace capz {
 
@@ -493,8 +495,24 @@ std::vector<uint8_t> compress_tuned(const Take& take, const CompressOptions& opt
   return best;
 }
 
+// A ragged take made of arrays (no frame-file format: Python's Take.from_arrays with a list of
+// frames) as the PCD folder capz writes of it (pcd_frame_plan's layout: x y z float32 when every
+// valid coordinate is one, else float64, then its fields; the writer's frame names), which is what
+// its archive decodes to. The scan coder codes frames of their own counts of frame files only.
+Take as_pcd_frames(const Take& t) {
+  Take p = t;
+  p.format = Format::kPCDFolder;
+  p.pcd = std::make_shared<PCDExtra>();
+  p.pcd->fields = pcd_frame_plan(t, "binary", std::nullopt).layout.fields;
+  p.pcd->frame_names = frame_output_names(t, ".pcd");
+  return p;
+}
+
 std::vector<uint8_t> compress(const Take& take, const CompressOptions& asked,
                               CompressStats* stats) {
+  if (take.ragged() && take.format == Format::kUnknown && take.analog.channels == 0 &&
+      take.rotations.segments == 0 && take.shape_fault().empty())
+    return compress(as_pcd_frames(take), asked, stats);
   refuse_scans(take, asked);
   const CompressOptions opts = settled_order(take, asked);
   if (fixed_scan_candidate(take, opts) && take.xyz.size() == take.frames * take.points * 3 &&
