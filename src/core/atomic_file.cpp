@@ -90,6 +90,8 @@ AtomicDir::AtomicDir(const std::string& path, bool overwrite) : path_(path), ove
   if (!mkdtemp(buf.data()))
     fail(ErrorCode::kIo, path_, "cannot create temporary directory: " + sys_error());
   tmp_ = buf.data();
+  // mkdtemp makes it 0700; a folder of frames is read by others as its files are (0644).
+  ::chmod(tmp_.c_str(), 0755);
 }
 
 AtomicDir::~AtomicDir() {

@@ -340,3 +340,14 @@ TEST(PcdFolder, GivenPointFieldNamesAFileCannotHoldThenCompressAndWriteRefuseThe
   capz::Take ok = make_take(2, 5);
   EXPECT_TRUE(capz::point_field_fault(ok).empty());
 }
+
+// A folder of frames is readable by others, as its files are: 0755 and 0644 (the temporary
+// folder it is renamed from was 0700, so restored frames were the owner's alone).
+TEST(PcdFolder, AWrittenFolderIsReadableByOthersAsItsFiles) {
+  TempDir d;
+  capz::write_pcd_folder(make_take(2, 3), d.file("seq"));
+  const fs::perms folder = fs::status(d.file("seq")).permissions();
+  EXPECT_EQ(folder & fs::perms::all, fs::perms(0755));
+  for (const fs::directory_entry& e : fs::directory_iterator(d.file("seq")))
+    EXPECT_EQ(e.status().permissions() & fs::perms::all, fs::perms(0644)) << e.path();
+}
