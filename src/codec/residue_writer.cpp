@@ -34,8 +34,9 @@ Take decoded_view(const Take& t) {
 }  // namespace
 
 std::string residue_original(const FrameSource& source, const CompressOptions& opts) {
-  return opts.drop_fields && !source.header().attributes.empty() ? std::string()
-                                                                 : source.original_file();
+  const bool fields_changed = opts.drop_fields || !opts.attr_error.empty();
+  return fields_changed && !source.header().attributes.empty() ? std::string()
+                                                               : source.original_file();
 }
 
 std::unique_ptr<ResidueWriter> ResidueWriter::open(const std::string& path, const Take& t,

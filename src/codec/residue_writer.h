@@ -25,9 +25,10 @@
 namespace capz {
 
 // The original file (FrameSource::original_file) an archive of `source` under `opts` gives back,
-// or "" when it can give none: opts.drop_fields leaves the source's point fields out, so its
-// frame files cannot come back byte for byte (`--lossless --drop-fields` keeps the positions'
-// bits alone, docs/CLI.md).
+// or "" when it can give none: opts.drop_fields leaves the source's point fields out, and
+// opts.attr_error keeps some within a bound, so its frame files cannot come back byte for byte
+// (`--lossless --drop-fields` keeps the positions' bits alone, `--lossless --attr-error` the
+// positions' bits and the fields within their bounds: docs/CLI.md).
 std::string residue_original(const FrameSource& source, const CompressOptions& opts);
 
 class ResidueWriter {

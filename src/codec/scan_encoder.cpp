@@ -47,6 +47,9 @@ void refuse_unsupported(const Take& t, const CompressOptions& opts) {
          "only PCD, PLY and .bin frames are coded as " + what + " yet: convert them first");
   if (opts.any_point_order && opts.lossless)  // refused earlier by compress(); for direct calls
     fail(ErrorCode::kInvalidParameter, t.source, "--point-order any with --lossless");
+  if (opts.lossless && !opts.analog_max_error.empty())  // as set_analog_bounds says it
+    fail(ErrorCode::kInvalidParameter, t.source,
+         "--lossless keeps every analog sample: it cannot be given with --analog-max-error");
 }
 
 // The index of block b's first point field (layouts: the take's attributes) named one of
@@ -531,6 +534,8 @@ void fill_stats(const RaggedRun& r, size_t total, CompressStats* stats) {
     stats->error.kg_error = stats->error.psnr = nan;
   }
   stats->codec = "none";
+  for (const auto& kv : r.opts.analog_max_error)  // frames of their own counts hold no analog
+    stats->analog_unmatched.push_back(kv.first);
   stats->position_bytes = r.position_bytes;
   stats->attribute_bytes = r.attribute_bytes;
   stats->other_bytes = bytes - r.position_bytes - r.attribute_bytes;
