@@ -116,16 +116,6 @@ uint32_t window_frames(const Take& t, const CompressOptions& opts) {
   return static_cast<uint32_t>(std::clamp<size_t>((size_t{1} << 20) / most, 1, kMaxWindowFrames));
 }
 
-// Whether the frame files store the take's x y z as float32: their x field's size (PCD and PLY;
-// no field list: x y z F 4, as .bin frames and a PCD without FIELDS have).
-bool float32_xyz(const Take& t) {
-  const std::vector<PCDField>* fields = t.file_fields();
-  if (!fields || fields->empty()) return true;
-  for (const PCDField& f : *fields)
-    if (f.name == "x") return f.size == 4;
-  return true;
-}
-
 // What choose_grid reads of the take (hdr: its header): x y z's layout spelled out, and no
 // per-point ray track (not for frames of their own size).
 TakeScan start_ragged_scan(const Take& t, const CompressOptions& opts, Take* hdr) {
@@ -135,7 +125,7 @@ TakeScan start_ragged_scan(const Take& t, const CompressOptions& opts, Take* hdr
   hdr->pcd = std::make_shared<PCDExtra>();
   // x's size, which bounded_grid reads (float32_frames) for the files written back: a float64
   // frame keeps its values' precision, and a field list is needed to say so (none: F 4).
-  hdr->pcd->fields = {PCDField{"x", 'F', float32_xyz(t) ? 4 : 8, 1}};
+  hdr->pcd->fields = {PCDField{"x", 'F', float32_frames(t) ? 4 : 8, 1}};
   TakeScan s = start_scan(*hdr, opts);
   s.ray_track = false;
   s.zeros_listed = true;  // a lossless decimal grid's windows list their negative zeros
@@ -182,7 +172,7 @@ Grid choose_grid(FrameSource& src, const CompressOptions& opts, size_t W, FrameB
 // (lossless: bit for bit).
 void check_window(const Take& t, const FrameBlock& b, const FrameBlock& d, double bound,
                   bool exact) {
-  const bool f32 = float32_xyz(t);
+  const bool f32 = float32_frames(t);
   bool counts = d.frames == b.frames && d.ragged() && d.valid.size() == b.valid.size();
   for (size_t k = 0; counts && k < b.frames; ++k) counts = d.frame_points(k) == b.frame_points(k);
   if (!counts) fail(ErrorCode::kInternal, t.source, "self-check: frame counts differ");

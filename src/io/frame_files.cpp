@@ -71,6 +71,14 @@ std::string folder_path(const std::string& path) {
   return p;
 }
 
+// Refuses (kInvalidParameter, naming `path`) a take whose point field names a frame file cannot
+// hold (point_field_fault): the files written would not read back.
+void refuse_unreadable_names(const Take& take, const std::string& path) {
+  const std::string fault = point_field_fault(take);
+  if (!fault.empty())
+    fail(ErrorCode::kInvalidParameter, path, fault + ": a frame file would not read back");
+}
+
 }  // namespace
 
 void write_frame_files(const Take& take, const std::string& given, const std::string& ext,
@@ -78,9 +86,7 @@ void write_frame_files(const Take& take, const std::string& given, const std::st
   const std::string path = folder_path(given);
   const std::string fault = take.shape_fault();
   if (!fault.empty()) fail(ErrorCode::kInternal, path, "take arrays: " + fault);
-  const std::string bad_names = point_field_fault(take);  // files that would not read back
-  if (!bad_names.empty())
-    fail(ErrorCode::kInvalidParameter, path, bad_names + ": a frame file would not read back");
+  refuse_unreadable_names(take, path);
   if (take.frames == 0) fail(ErrorCode::kUsage, path, "the take has no frames: nothing to write");
   if (single_frame_output(given, ext)) {
     if (take.frames != 1)
@@ -112,9 +118,7 @@ class FrameFolderSink : public FrameSink {
         scan_(needs_scan),
         make_(std::move(make)) {
     if (frames_ == 0) fail(ErrorCode::kUsage, path, "the take has no frames: nothing to write");
-    const std::string names = point_field_fault(header);  // files that would not read back
-    if (!names.empty())
-      fail(ErrorCode::kInvalidParameter, path, names + ": a frame file would not read back");
+    refuse_unreadable_names(header, path);
     if (single_) {  // as write_frame_files says it
       if (frames_ != 1)
         fail(ErrorCode::kUsage, path,
