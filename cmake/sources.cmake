@@ -55,6 +55,7 @@ set(CAPZ_DECODE_SOURCES
   src/coding/scan_maps.cpp
   src/coding/scan_raster.cpp
   src/coding/scan_shared.cpp
+  src/coding/scan_raw.cpp
   src/coding/scan_split.cpp
   src/core/atomic_file.cpp
   src/core/error.cpp
@@ -114,6 +115,8 @@ set(CAPZ_ENCODE_SOURCES
   src/codec/registry.cpp
   src/codec/residue_writer.cpp
   src/codec/scan_encoder.cpp
+  src/codec/scan_field_hints.cpp
+  src/codec/scan_raw_choice.cpp
   src/codec/scan_split_choice.cpp
   src/codec/transform.cpp
   src/codec/ts/align.cpp
@@ -156,6 +159,7 @@ set(CAPZ_ENCODE_SOURCES
   src/coding/scan_rings_encode.cpp
   src/coding/scan_order_encode.cpp
   src/coding/scan_raster_encode.cpp
+  src/coding/scan_raw_encode.cpp
   src/coding/scan_split_encode.cpp
   src/coding/scan_pack_encode.cpp
   src/coding/scan_table.cpp

@@ -208,14 +208,27 @@ std::string split_grid(int e) {
 
 std::string positions_text(const std::string& mode, std::map<int, size_t> split,
                            const std::string& u) {
-  const size_t plain = split.count(-128) ? split[-128] : 0;
-  split.erase(-128);
-  if (split.empty()) return mode;
+  const auto take = [&](int key) {
+    const size_t k = split.count(key) ? split[key] : 0;
+    split.erase(key);
+    return k;
+  };
+  const size_t plain = take(-128), raw = take(capz::kRawWindowsKey);
   size_t n = 0;
   for (const auto& kv : split) n += kv.second;
+  const size_t all = n + plain + raw;
   const auto windows = [](size_t k) {
     return std::to_string(k) + (k == 1 ? " window" : " windows");
   };
+  // Raw windows (FORMAT.md "Raw windows"): the coordinates' bits through LZMA2.
+  const auto with_raw = [&](const std::string& s) {
+    if (raw == 0) return s;
+    return s + (n + plain ? "; " : ", ") + "raw bits through LZMA2 in " +
+           (raw == all ? std::string(all > 1 ? "every window" : "the window") : windows(raw));
+  };
+  if (split.empty())
+    return with_raw(plain && raw ? mode + " in " + windows(plain) + " of " + std::to_string(all)
+                                 : mode);
   std::string grids;
   for (const auto& kv : split) {
     grids += (grids.empty() ? "" : ", ") + split_grid(kv.first) + " (" +
@@ -224,9 +237,9 @@ std::string positions_text(const std::string& mode, std::map<int, size_t> split,
   }
   std::string s = std::string("float32 split on the grid") + (split.size() > 1 ? "s " : " ") +
                   grids + ", exact corrections";
-  if (plain == 0) return s + (split.size() == 1 && n > 1 ? ", every window" : "");
-  return s + ", in " + windows(n) + " of " + std::to_string(n + plain) + "; float32-bits in " +
-         windows(plain);
+  if (n == all) return s + (split.size() == 1 && n > 1 ? ", every window" : "");
+  s += ", in " + windows(n) + " of " + std::to_string(all);
+  return with_raw(plain ? s + "; float32-bits in " + windows(plain) : s);
 }
 std::string shape_text(size_t frames, size_t points, bool ragged, size_t total_points) {
   return ragged ? std::to_string(frames) + " frames of their own point counts, " +

@@ -61,6 +61,11 @@ struct CompressOptions {
 // context warm-up. With a transform codec it stands for 1024.
 size_t auto_window_frames(size_t points);
 
+// The key of raw windows (docs/FORMAT.md "Raw windows": a lossless window's coordinates as
+// their bits through LZMA2) in CompressStats / StreamInfo::float32_split_windows, beside the
+// float32 split exponents and -128 (plain float32 bits).
+constexpr int kRawWindowsKey = -127;
+
 struct CompressStats {
   size_t bytes = 0;      // size of the .capz stream
   size_t raw_bytes = 0;  // frames x points x 3 x 4: the positions as raw float32
@@ -68,8 +73,9 @@ struct CompressStats {
   double step = 0;       // grid step used (0 for float-bit lossless coding)
   std::string mode;      // "grid", "decimal-grid", "float32-bits", "float64-bits",
                          // "transform-output" (only a KG target and a transform)
-  // A ragged stream in mode 2: its windows per float32 split exponent, as
-  // StreamInfo::float32_split_windows counts them (key -128: plain float32 bits). Else empty.
+  // A ragged stream in mode 2 or 3: its windows per float32 split exponent, as
+  // StreamInfo::float32_split_windows counts them (key -128: plain float32 bits;
+  // kRawWindowsKey: raw windows). Else empty.
   std::map<int, size_t> float32_split_windows;
   std::string codec;  // transform stage used: "none", "ts", "pdct" (what auto chose)
   bool lossless = false;
@@ -144,7 +150,8 @@ struct StreamInfo {
   std::string mode;  // as CompressStats::mode
   // A ragged stream in mode "float32-bits" (FORMAT.md "Lossless ragged streams"): how many of
   // its windows code their float32 coordinates on each float32 split grid 2^-E (the key E),
-  // exactly, with corrections; key -128: windows of plain float32 bits. Empty otherwise.
+  // exactly, with corrections; key -128: windows of plain float32 bits; kRawWindowsKey: raw
+  // windows (also in mode "float64-bits", where every window is raw). Empty otherwise.
   std::map<int, size_t> float32_split_windows;
   std::string codec;  // "none", "ts", "pdct", or "id N" when unknown
   bool lossless = false;

@@ -20,6 +20,7 @@
 #include "coding/positions.h"
 #include "coding/rotations.h"
 #include "coding/scan_geometry.h"
+#include "coding/scan_raw.h"
 #include "coding/scan_shared.h"
 #include "coding/scan_split.h"
 
@@ -203,10 +204,10 @@ void decode_window_rotations(const StreamContext& ctx, WindowChunks* chunks, siz
 }
 
 // Opens window w's SCNW chunk: checks the window index and returns the window's total points,
-// within the caller's limit, and in *origin its gaps byte's bit 0 (FORMAT.md "Origin points";
-// *r then after that byte).
+// within the caller's limit, in *origin its gaps byte's bit 0 (FORMAT.md "Origin points") and
+// in *raw its bit 1 ("Raw windows"; *r then after that byte).
 uint64_t open_scan_chunk(const StreamContext& ctx, WindowChunks* chunks, const Chunk& c,
-                         ByteReader* r, bool* origin) {
+                         ByteReader* r, bool* origin, bool* raw) {
   chunks->open(c, r);
   const uint64_t total = r->varint();
   if (total > ctx.max_points)
@@ -214,10 +215,17 @@ uint64_t open_scan_chunk(const StreamContext& ctx, WindowChunks* chunks, const C
          std::to_string(total) + " points exceed the memory limit (" +
              std::to_string(ctx.max_points) + " points)");
   const uint8_t gaps = r->u8();
-  if (gaps > 1)
+  if (gaps > (scan::kOriginGapsBit | scan::kRawWindowBit))
     fail(ErrorCode::kCorrupt, chunks->what("SCNW"),
-         "gaps byte " + std::to_string(gaps) + " has bits other than bit 0");
-  *origin = gaps == 1;
+         "gaps byte " + std::to_string(gaps) + " has bits other than bits 0 and 1");
+  *origin = (gaps & scan::kOriginGapsBit) != 0;
+  *raw = (gaps & scan::kRawWindowBit) != 0;
+  const PosMode m = ctx.h.mode;
+  if (*raw && (*origin || !ctx.h.lossless || (m != PosMode::kFloat32 && m != PosMode::kFloat64)))
+    fail(ErrorCode::kCorrupt, chunks->what("SCNW"),
+         "a raw window with origin points, in a bounded stream or outside modes 2 and 3");
+  if (!*raw && m == PosMode::kFloat64)
+    fail(ErrorCode::kCorrupt, chunks->what("SCNW"), "a mode 3 window that is not raw");
   return total;
 }
 
@@ -264,6 +272,27 @@ void check_organized_count(const StreamContext& ctx, uint64_t n, const std::stri
              std::to_string(ctx.take.pcd->width) + " x " + std::to_string(ctx.take.pcd->height));
 }
 
+// "Raw windows": the rest of a raw window's SCNW (r after its gaps byte) into b's frame offsets,
+// gaps and coordinates; *q its grid integers with fields in mode 2 (else none), no geometry rings
+// (ATTR's predictor 13 walks without them).
+void decode_raw_scan(const StreamContext& ctx, const Chunk& c, const ByteReader& r, size_t fn,
+                     uint64_t total, const std::string& what, FrameBlock* b,
+                     std::vector<int32_t>* q, std::vector<uint16_t>* rings) {
+  const bool f64 = ctx.h.mode == PosMode::kFloat64;
+  scan::RawWindow rw = scan::decode_raw_window(c.payload + r.offset(), c.size - r.offset(), what,
+                                               fn, total, f64 ? 8 : 4);
+  for (uint32_t n : rw.counts) check_organized_count(ctx, n, what);
+  b->frame_offsets.assign(fn + 1, 0);
+  for (size_t f = 0; f < fn; ++f) b->frame_offsets[f + 1] = b->frame_offsets[f] + rw.counts[f];
+  b->valid.swap(rw.valid);
+  b->xyz.swap(rw.xyz);
+  rings->clear();
+  if (!f64 && !ctx.take.attributes.empty())
+    *q = scan::raw_window_ints(b->xyz, b->valid);
+  else
+    q->clear();
+}
+
 // "Scans (format 1.1)": the fn frames of window w of a ragged stream from its SCNW chunk, into
 // out's frame offsets, gaps and coordinates (gaps 0), and its grid integers (total x 3, in the
 // flattened point order) into *q for ATTR's predictors 10 and 11, and with fields each point's
@@ -274,7 +303,9 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
   Chunk c = chunks->next("SCNW", true);
   const std::string what = chunks->what("SCNW");
   ByteReader r(c.payload, c.size, what);
-  const uint64_t total = open_scan_chunk(ctx, chunks, c, &r, origin);
+  bool raw = false;
+  const uint64_t total = open_scan_chunk(ctx, chunks, c, &r, origin, &raw);
+  if (raw) return decode_raw_scan(ctx, c, r, fn, total, what, out, q, rings);
   std::vector<uint64_t> zeros;
   const int e = read_split(ctx.h, total, &r, &zeros);
   size_t geo = r.remaining();
@@ -467,15 +498,20 @@ std::vector<size_t> ragged_frame_offsets(StreamBytes& bytes, const ParsedStream&
     const Chunk c = chunks.next("SCNW", true);
     const std::string what = chunks.what("SCNW");
     ByteReader r(c.payload, c.size, what);
-    bool origin = false;
-    const uint64_t total = open_scan_chunk(ps, &chunks, c, &r, &origin);
-    std::vector<uint64_t> zeros;
-    const int e = read_split(ps.h, total, &r, &zeros);
-    if (e != scan::kNoSplit) r.varint();  // the geometry's length
-    if (splits) splits->push_back(e);
+    bool origin = false, raw = false;
+    const uint64_t total = open_scan_chunk(ps, &chunks, c, &r, &origin, &raw);
+    std::vector<uint64_t> counts;
+    if (raw) {  // "Raw windows"
+      if (splits) splits->push_back(scan::kRawWindowKey);
+      counts = scan::raw_frame_counts(c.payload + r.offset(), c.size - r.offset(), what);
+    } else {
+      std::vector<uint64_t> zeros;
+      const int e = read_split(ps.h, total, &r, &zeros);
+      if (e != scan::kNoSplit) r.varint();  // the geometry's length
+      if (splits) splits->push_back(e);
+      counts = scan_frame_counts(c.payload + r.offset(), c.size - r.offset(), what);
+    }
     const size_t fn = std::min(W, F - std::min(F, w * W));
-    const std::vector<uint64_t> counts =
-        scan_frame_counts(c.payload + r.offset(), c.size - r.offset(), what);
     if (counts.size() != fn) fail(ErrorCode::kCorrupt, what, "frame count is not the window's");
     uint64_t sum = 0;
     for (uint64_t n : counts) {

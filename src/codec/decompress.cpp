@@ -13,6 +13,7 @@
 #include "codec/decoder_registry.h"
 #include "codec/grid.h"
 #include "coding/analog/analog_codec.h"
+#include "coding/scan_raw.h"
 #include "coding/scan_split.h"
 
 namespace capz {
@@ -92,12 +93,12 @@ StreamInfo describe_bytes(StreamBytes& bytes, const std::string& name) {
   std::vector<int> splits;
   si.total_points =
       si.ragged ? ragged_frame_offsets(bytes, ps, &splits).back() : si.frames * si.points;
-  if (ps.h.mode == PosMode::kFloat32)
+  if (ps.h.mode == PosMode::kFloat32 || ps.h.mode == PosMode::kFloat64)  // with raw windows
     for (int e : splits) ++si.float32_split_windows[e];
   si.window_frames = ps.h.window_frames;
   si.windows = ps.h.windows();
   si.mode = ps.h.transform_output ? "transform-output" : mode_name(ps.h.mode);
-  if (si.float32_split_windows.size() > si.float32_split_windows.count(scan::kNoSplit))
+  if (scan::has_split_windows(si.float32_split_windows))
     si.mode = "float32-split";  // as the encoder's CompressStats::mode says it
   si.transform_output = ps.h.transform_output;
   si.kg_target = ps.h.kg_target;

@@ -21,6 +21,8 @@
 #include "codec/negative_zeros.h"
 #include "codec/point_order.h"
 #include "codec/residue_writer.h"
+#include "codec/scan_field_hints.h"
+#include "codec/scan_raw_choice.h"
 #include "codec/scan_split_choice.h"
 #include "codec/stream_reader.h"
 #include "coding/attributes.h"
@@ -29,6 +31,7 @@
 #include "coding/container.h"
 #include "coding/meta.h"
 #include "coding/scan_geometry.h"
+#include "coding/scan_raw.h"
 #include "coding/scan_split.h"
 #include "io/frame_files.h"
 
@@ -50,61 +53,6 @@ void refuse_unsupported(const Take& t, const CompressOptions& opts) {
   if (opts.lossless && !opts.analog_max_error.empty())  // as set_analog_bounds says it
     fail(ErrorCode::kInvalidParameter, t.source,
          "--lossless keeps every analog sample: it cannot be given with --analog-max-error");
-}
-
-// The index of block b's first point field (layouts: the take's attributes) named one of
-// `names` whose layout `fits`, with a value for every point; -1 when none.
-template <class Fits>
-long field_index(const std::vector<PointAttribute>& layouts, const FrameBlock& b,
-                 std::initializer_list<const char*> names, Fits fits) {
-  for (size_t i = 0; i < layouts.size() && i < b.attributes.size(); ++i) {
-    const PointAttribute& a = layouts[i];
-    if (a.count != 1 || !fits(a) ||
-        std::none_of(names.begin(), names.end(), [&](const char* n) { return a.name == n; }))
-      continue;
-    const size_t size = b.total_points() * static_cast<size_t>(a.size);
-    return b.attributes[i].size() == size ? static_cast<long>(i) : -1;
-  }
-  return -1;
-}
-
-// The ring / laser / channel number of every point of block b from an unsigned or signed
-// integer field of that name (layouts: the take's attributes), or empty.
-std::vector<uint32_t> ring_field(const std::vector<PointAttribute>& layouts, const FrameBlock& b) {
-  const long i = field_index(layouts, b, {"ring", "channel", "laser_id", "laser"},
-                             [](const PointAttribute& a) { return a.type != 'F' && a.size <= 4; });
-  if (i < 0) return {};
-  const size_t n = b.total_points(), sz = static_cast<size_t>(layouts[size_t(i)].size);
-  const std::vector<uint8_t>& data = b.attributes[size_t(i)];
-  std::vector<uint32_t> r(n);
-  for (size_t p = 0; p < n; ++p) {
-    uint32_t v = 0;
-    for (size_t k = 0; k < sz; ++k) v |= static_cast<uint32_t>(data[p * sz + k]) << (8 * k);
-    r[p] = v;
-  }
-  return r;
-}
-
-// The source's distance field (a float `distance` or `range`, the sensor's measured range), or
-// empty: a hint of the sensor's range step (ScanHints::distance).
-std::vector<float> distance_field(const std::vector<PointAttribute>& layouts, const FrameBlock& b) {
-  const long i = field_index(layouts, b, {"distance", "range"}, [](const PointAttribute& a) {
-    return a.type == 'F' && (a.size == 4 || a.size == 8);
-  });
-  if (i < 0) return {};
-  const size_t n = b.total_points();
-  const std::vector<uint8_t>& data = b.attributes[size_t(i)];
-  std::vector<float> d(n);
-  for (size_t p = 0; p < n; ++p) {
-    if (layouts[size_t(i)].size == 4) {
-      std::memcpy(&d[p], &data[4 * p], 4);
-    } else {
-      double v;
-      std::memcpy(&v, &data[8 * p], 8);
-      d[p] = static_cast<float>(v);
-    }
-  }
-  return d;
 }
 
 // Frames per window: about 2^20 points in a window, 1 .. 8192 frames.
@@ -154,13 +102,9 @@ Grid choose_grid(FrameSource& src, const CompressOptions& opts, size_t W, FrameB
     scan_block(*first, t.source, false, 0, &s);
     if (f0 == 0) break;
   }
-  // Lossless ("Lossless ragged streams"): a decimal grid or float32 bits; float64 bits do not
-  // fit the scan payload's int32 integers.
+  // Lossless ("Lossless ragged streams"): a decimal grid, float32 bits, or float64 bits in raw
+  // windows ("Raw windows").
   Grid g = opts.lossless ? lossless_grid(s) : bounded_grid(hdr, s, opts.max_error);
-  if (g.mode == PosMode::kFloat64)
-    fail(ErrorCode::kInvalidParameter, t.source,
-         "--lossless of frames of their own size needs float32 coordinates or ones on a decimal "
-         "grid (these are float64 on none); a --max-error keeps them float64 within it");
   if (!opts.lossless && g.mode == PosMode::kDecimal)
     fail(ErrorCode::kInvalidParameter, t.source,
          std::string("no grid for frames of their own size in mode ") + mode_name(g.mode));
@@ -372,7 +316,7 @@ void append_fields_chunk(RaggedRun& r, size_t w, const std::vector<std::vector<u
   std::vector<uint8_t> payload = std::move(aw.buffer());
   const std::vector<uint8_t> at =
       encode_attributes(attribute_specs(r.meta.pcd->fields), fields, valid.data(), 1, n, n,
-                        q.data(), true, &ragged, true);
+                        q.empty() ? nullptr : q.data(), true, &ragged, true);
   payload.insert(payload.end(), at.begin(), at.end());
   const size_t before = r.buf.size();
   append_chunk(&r.buf, "ATTR", payload);
@@ -390,6 +334,19 @@ void code_chunks(RaggedRun& r, size_t w, FrameBlock* b, std::vector<int32_t>* q,
   *fields = std::move(b->attributes);
   quantise_bounded_fields(*r.meta.pcd, fields);
   append_fields_chunk(r, w, *fields, *b, *q, rings);
+}
+
+// "Raw windows": window w's SCNW as a raw window of block b (its points as read), appended to
+// r.buf, and ATTR of `fields` (taken and quantised as code_chunks takes them); *q: the integers
+// ATTR's predictors see.
+void code_raw_chunks(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<int32_t>* q,
+                     const std::vector<std::vector<uint8_t>>& fields) {
+  const size_t before = r.buf.size();
+  append_chunk(&r.buf, "SCNW", raw_scan_payload(w, b, r.grid.mode, r.t.source));
+  r.position_bytes += r.buf.size() - before;
+  r.fine = 0;
+  *q = r.meta.attributes.empty() ? std::vector<int32_t>() : raw_scan_ints(b, r.grid.mode);
+  if (!r.meta.attributes.empty()) append_fields_chunk(r, w, fields, b, *q, {});
 }
 
 // The position and field bytes counted before a window's chunks.
@@ -417,6 +374,33 @@ void keep_smaller(RaggedRun& r, size_t w, const WindowBytes& at, FrameBlock* oth
   } else {
     r.buf.swap(first);
     r.position_bytes = first_at.position, r.attribute_bytes = first_at.attribute;
+  }
+}
+
+// "Raw windows", mode 2: window w's chunks in r.buf (of block b as read, *q and fields as
+// code_chunks gave them; the byte counts from `at` on) replaced by a raw window's when the
+// estimate lets it be tried (raw_may_win) and it is smaller.
+void keep_raw_if_smaller(RaggedRun& r, size_t w, const WindowBytes& at, const FrameBlock& b,
+                         std::vector<int32_t>* q, const std::vector<std::vector<uint8_t>>& fields) {
+  if (!r.grid.lossless || r.grid.mode != PosMode::kFloat32 ||
+      !raw_may_win(b, r.position_bytes - at.position))
+    return;
+  std::vector<uint8_t> first;
+  first.swap(r.buf);
+  const WindowBytes first_at{r.position_bytes, r.attribute_bytes};
+  r.position_bytes = at.position, r.attribute_bytes = at.attribute;
+  const int fine = r.fine;
+  std::vector<int32_t> q2;
+  code_raw_chunks(r, w, b, &q2, fields);
+  if (r.buf.size() < first.size()) {
+    q->swap(q2);
+    r.origin = false;
+    if (--r.splits[r.last_split] == 0) r.splits.erase(r.last_split);
+    ++r.splits[scan::kRawWindowKey];
+  } else {
+    r.buf.swap(first);
+    r.position_bytes = first_at.position, r.attribute_bytes = first_at.attribute;
+    r.fine = fine;
   }
 }
 
@@ -468,7 +452,8 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b) {
   // chosen on the geometry's bytes; with fields, the file's order and octree frames (where their
   // geometry is smaller) are coded too, fields and all, and the smallest window kept: the fields
   // (timestamps, rings) may cost more in a sorted or Morton order than in a firing's.
-  r.origin = origin_gaps(b);
+  const bool raw = r.grid.mode == PosMode::kFloat64;  // "Raw windows": every window
+  r.origin = !raw && origin_gaps(b);
   std::unique_ptr<FrameBlock> as_read;
   OctreeOffer offer;
   std::vector<uint8_t> coded, kept;  // the geometry payloads of the chosen and the file's order
@@ -485,11 +470,19 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b) {
   std::vector<int32_t> q;
   std::vector<std::vector<uint8_t>> fields;
   const WindowBytes at{r.position_bytes, r.attribute_bytes};
-  code_chunks(r, w, b, &q, &fields, any ? &coded : nullptr);
+  if (raw) {
+    fields = std::move(b->attributes);
+    if (!r.meta.attributes.empty()) quantise_bounded_fields(*r.meta.pcd, &fields);
+    code_raw_chunks(r, w, *b, &q, fields);
+    ++r.splits[scan::kRawWindowKey];
+  } else {
+    code_chunks(r, w, b, &q, &fields, any ? &coded : nullptr);
+  }
   if (as_read) keep_smaller(r, w, at, as_read.get(), kept, b, &q, &fields);
   if (octree_may_win(r, at, offer))
     keep_smaller(r, w, at, &offer.block, offer.coded, b, &q, &fields);
-  if (r.origin) origin_points(b);
+  if (r.origin) origin_points(b);  // b as read again
+  if (!raw) keep_raw_if_smaller(r, w, at, *b, &q, fields);
   FrameBlock& d = r.back;
   if (decodes_windows(r)) {
     decode_window_chunks(r.ctx, w, r.buf.data(), base, base + r.buf.size(), &d);
@@ -515,8 +508,7 @@ void fill_stats(const RaggedRun& r, size_t total, CompressStats* stats) {
   stats->step = r.grid.step;
   stats->lossless = r.grid.lossless;
   stats->float32_split_windows = r.splits;
-  stats->mode =
-      r.splits.size() > r.splits.count(scan::kNoSplit) ? "float32-split" : mode_name(r.grid.mode);
+  stats->mode = scan::has_split_windows(r.splits) ? "float32-split" : mode_name(r.grid.mode);
   stats->error = r.acc.finish();
   if (!decodes_windows(r) && !r.grid.lossless) {  // not measured
     const double nan = std::numeric_limits<double>::quiet_NaN();

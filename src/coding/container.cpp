@@ -135,8 +135,11 @@ StreamHeader decode_header(const Chunk& c, const std::string& name, const Stream
   h.ragged = (flags & 8) != 0;  // "Scans (format 1.1)": frames of their own point counts
   if (h.ragged && !f.ragged_frames())
     fail(ErrorCode::kCorrupt, what, "feature bit 3 (ragged frames) in a format 1.0 stream");
-  if (h.ragged && (h.points != 0 || (flags & 2) != 0 || h.codec != 0 || mode == 3))
-    fail(ErrorCode::kCorrupt, what, "ragged frames with points, a transform or position mode 3");
+  // Mode 3 only lossless: every window raw ("Raw windows", format 1.1).
+  if (h.ragged &&
+      (h.points != 0 || (flags & 2) != 0 || h.codec != 0 || (mode == 3 && !(flags & 1))))
+    fail(ErrorCode::kCorrupt, what,
+         "ragged frames with points, a transform or position mode 3 without lossless");
   h.points_reordered = (flags & 32) != 0;  // "Scans (format 1.1)": points reordered
   if (h.points_reordered && !f.ragged_frames())
     fail(ErrorCode::kCorrupt, what, "feature bit 5 (points reordered) in a format 1.0 stream");

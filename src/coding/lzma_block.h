@@ -27,6 +27,10 @@ std::vector<uint8_t> lzma2_encode(const uint8_t* data, size_t n, LzmaPreset pres
 // without text-like context, e.g. byte planes of numbers). About 3x faster than lzma2_encode.
 std::vector<uint8_t> lzma2_encode_fast(const uint8_t* data, size_t n);
 
+// The same stream format for arrays of 4- or 8-byte numbers: preset 6, lc 0 lp 2 pb 2 (a
+// number's bytes aligned on 4; docs/FORMAT.md "Raw windows").
+std::vector<uint8_t> lzma2_encode_words(const uint8_t* data, size_t n);
+
 // The size of a raw LZMA2 stream of the same bytes coded quickly (liblzma's preset 3: fast mode,
 // the hash-chain match finder; lc 0 lp 0 pb 0): an estimate of lzma2_encode_fast's size, about
 // 4x cheaper on byte planes of numbers, typically 0-12 % larger.

@@ -66,6 +66,13 @@ std::vector<uint8_t> lzma2_encode_fast(const uint8_t* data, size_t n) {
   return encode_with(plain_options(6), data, n);
 }
 
+std::vector<uint8_t> lzma2_encode_words(const uint8_t* data, size_t n) {
+  lzma_options_lzma o = plain_options(6);
+  o.lp = 2;
+  o.pb = 2;
+  return encode_with(o, data, n);
+}
+
 size_t lzma2_quick_size(const uint8_t* data, size_t n) {
   return encode_with(plain_options(3), data, n).size();
 }

@@ -351,8 +351,10 @@ TEST(CliScan, LosslessSingleSweepComesBackByteForByte) {
 
 // `capz info` of a lossless ragged archive says what its windows' float32 split is (FORMAT.md
 // "Lossless ragged streams"): the grid 2^-E of each split and how many windows use it, as the
-// JSON's float32_split_windows counts them (key: E, -128 for plain float32 bits), rather than
-// a bare "float32-bits". An archive at a bound has no split and says nothing of one.
+// JSON's float32_split_windows counts them (key: E, -128 for plain float32 bits, -127 for raw
+// windows: a window of 1,500-1,900 points may code smaller as LZMA2 of its bits, FORMAT.md "Raw
+// windows"), rather than a bare "float32-bits". An archive at a bound has no split and says
+// nothing of one.
 TEST(CliScan, InfoDescribesTheFloat32SplitOfALosslessArchive) {
   capz_test::TempDir dir("capz_cli_scan_split_info");
   const std::string src = std::string(CAPZ_REPO_DATA) + "/scan_small", z = dir.file("s.capz");
@@ -364,7 +366,7 @@ TEST(CliScan, InfoDescribesTheFloat32SplitOfALosslessArchive) {
   const size_t at = json.find("\"float32_split_windows\":{");
   ASSERT_NE(at, std::string::npos) << json;
   const std::string counts = json.substr(at, json.find('}', at) - at);
-  size_t windows = 0, plain = 0, grids = 0;
+  size_t windows = 0, plain = 0, grids = 0, raw = 0;
   for (size_t p = counts.find('{') + 1; p < counts.size();) {  // "E":n pairs
     const size_t q = counts.find('"', p + 1);
     const int e = std::stoi(counts.substr(p + 1, q - p - 1));
@@ -372,6 +374,8 @@ TEST(CliScan, InfoDescribesTheFloat32SplitOfALosslessArchive) {
     windows += n;
     if (e == -128) {
       plain = n;
+    } else if (e == -127) {  // raw windows (FORMAT.md "Raw windows")
+      raw = n;
     } else {
       ++grids;
       EXPECT_NE(out.find((e > 0 ? "2^-" + std::to_string(e) : "2^" + std::to_string(-e)) + " ("),
@@ -386,6 +390,10 @@ TEST(CliScan, InfoDescribesTheFloat32SplitOfALosslessArchive) {
   ASSERT_GT(grids, 0u) << "no window of scan_small is split any more: " << json;
   EXPECT_NE(out.find("float32 split on the grid"), std::string::npos) << out;
   EXPECT_EQ(out.find("float32-bits") == std::string::npos, plain == 0) << out;
+  EXPECT_EQ(
+      out.find("raw bits through LZMA2 in " + std::to_string(raw) + " window") == std::string::npos,
+      raw == 0)
+      << out;
   if (grids > 1) {
     EXPECT_NE(out.find("float32 split on the grids"), std::string::npos) << out;
   }

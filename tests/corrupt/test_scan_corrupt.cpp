@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "capz/codec.h"
@@ -31,6 +32,8 @@ const char* const kOneWindow = "scan_small.grid1mm.v1.1.capz";      // 4 frames,
 const char* const kTwoWindows = "scan_small.grid1cm-w2.v1.1.capz";  // 2 windows of 2 frames
 const char* const kLossless = "scan_small.lossless.v1.1.capz";      // mode 2, a float32 split
 const char* const kOctree = "scan_small.octree2cm.v1.1.capz";       // octree frames
+const char* const kRaw64 = "utm_small.lossless-w2.v1.1.capz";       // mode 3: raw windows
+const char* const kRaw32 = "depth_drop_small.lossless.v1.1.capz";   // mode 2: a raw window
 
 // The positions to damage in a payload of n bytes, about `most` of them: all of the first 256
 // (at most half of `most`), the last 16, and the rest spread evenly (payload_positions).
@@ -157,6 +160,8 @@ TEST(ScanCorrupt, GivenEverySampledScnwByteDamagedThenCleanCorruptOrAWellFormedT
   damage_scnw(kLossless, 0x01, 80);  // with ATTR and the residue: slower decodes
   damage_scnw(kOctree, 0x01);
   damage_scnw(kOctree, 0x10);
+  damage_scnw(kRaw64, 0x01, 120);  // "Raw windows": the counts, then the LZMA2 stream
+  damage_scnw(kRaw32, 0x01, 80);
 }
 
 // "Octree frames": a stream whose SCNW holds octree frames without HEAD bit 6 is corrupt.
@@ -438,7 +443,7 @@ TEST(ScanCorrupt, GivenAFrameCountThatIsNotTheOrganizedShapeThenCorrupt) {
 // The file cut short anywhere (sampled), and each SCNW payload cut short inside a chunk whose
 // length, CRC and index are right: a clean corrupt error, never a take.
 TEST(ScanCorrupt, GivenTruncationsThenCorrupt) {
-  for (const char* stream : {kOneWindow, kTwoWindows, kLossless}) {
+  for (const char* stream : {kOneWindow, kTwoWindows, kLossless, kRaw64, kRaw32}) {
     SCOPED_TRACE(stream);
     const std::vector<uint8_t> good = read_file(kStreams + stream);
     for (size_t n : sampled(good.size(), 300)) {
@@ -480,10 +485,46 @@ TEST(ScanCorrupt, GivenTruncationsThenCorrupt) {
 
 // The rebuilt stream without changes decodes as the golden one does (the helper is right).
 TEST(ScanCorrupt, GivenTheRebuiltGoldenStreamThenItIsByteIdentical) {
-  for (const char* stream : {kOneWindow, kTwoWindows, kLossless}) {
+  for (const char* stream : {kOneWindow, kTwoWindows, kLossless, kRaw64, kRaw32}) {
     const std::vector<uint8_t> good = read_file(kStreams + stream);
     EXPECT_TRUE(Chunks(good).bytes() == good) << stream;
   }
+}
+
+// "Raw windows": a raw window's gaps byte with origin points or another bit, a mode 3 window
+// that is not raw, another frame count, counts that do not sum to `total`: corrupt, naming SCNW.
+TEST(ScanCorrupt, GivenARawWindowsHeaderChangedThenCorruptNamingScnw) {
+  for (const char* stream : {kRaw64, kRaw32}) {
+    const Chunks good(read_file(kStreams + stream));
+    const size_t scnw = good.find("SCNW");
+    ByteReader r(good.payload[scnw].data(), good.payload[scnw].size(), "SCNW");
+    r.varint();  // window, total
+    r.varint();
+    const size_t gaps = r.offset();
+    ASSERT_EQ(good.payload[scnw][gaps], 2) << stream;
+    const bool f64 = stream == std::string(kRaw64);
+    std::vector<std::pair<size_t, uint8_t>> bad = {{gaps, 3}, {gaps, 6}, {gaps + 1, 1}};
+    if (f64) bad.push_back({gaps, 0});                            // mode 3, not raw
+    bad.push_back({gaps + 2, good.payload[scnw][gaps + 2] ^ 1});  // frame 0's count
+    for (const auto& b : bad) {
+      Chunks c = good;
+      c.payload[scnw][b.first] = b.second;
+      std::string msg;
+      EXPECT_EQ(decode_code(c.bytes(), &msg), static_cast<int>(ErrorCode::kCorrupt))
+          << stream << " byte " << b.first << " = " << int(b.second) << ": " << msg;
+      EXPECT_NE(msg.find("SCNW"), std::string::npos) << msg;
+    }
+  }
+}
+
+// HEAD: ragged frames in mode 3 without the lossless bit are corrupt ("Raw windows").
+TEST(ScanCorrupt, GivenRaggedMode3WithoutLosslessThenCorrupt) {
+  Chunks c(read_file(kStreams + kRaw64));
+  ASSERT_EQ(c.payload[c.find("HEAD")][19] & 0x09, 0x09);  // ragged, lossless
+  c.payload[c.find("HEAD")][19] &= static_cast<uint8_t>(~0x01u);
+  std::string msg;
+  EXPECT_EQ(decode_code(c.bytes(), &msg), static_cast<int>(ErrorCode::kCorrupt)) << msg;
+  EXPECT_NE(msg.find("position mode 3 without lossless"), std::string::npos) << msg;
 }
 
 }  // namespace

@@ -33,11 +33,26 @@ def chunks(b):
     return out
 
 
+def varint_end(p, i):
+    """The offset after the varint at p[i]."""
+    while p[i] & 0x80:
+        i += 1
+    return i + 1
+
+
+def raw_window(p):
+    """Whether an SCNW payload is a raw window (gaps bit 1: LZMA2 of the bits, FORMAT.md)."""
+    return p[varint_end(p, varint_end(p, 0))] & 2 != 0
+
+
 def check_of(b):
-    """'bytes' for a stream whose positions come from integer paths only (no transform codec:
-    the manifest's header), else 'content'."""
-    head = dict((t, p) for t, p in reversed(chunks(b)))['HEAD']
-    return 'bytes' if head[18] == 0 else 'content'
+    """'bytes' for a stream whose positions come from integer paths only (no transform codec,
+    no raw window, whose SCNW the system's LZMA decides: the manifest's header), else
+    'content'."""
+    cs = chunks(b)
+    head = dict((t, p) for t, p in reversed(cs))['HEAD']
+    raw = any(raw_window(p) for t, p in cs if t == 'SCNW')
+    return 'bytes' if head[18] == 0 and not raw else 'content'
 
 
 lines = open(manifest).read().splitlines()

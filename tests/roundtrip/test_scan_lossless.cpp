@@ -21,12 +21,15 @@
 #include "coding/bytes.h"
 #include "coding/quantiser.h"
 #include "io/pcd_folder.h"
+#include "roundtrip/lossless_folder.h"
 #include "test_util.h"
 #include "unit/synthetic.h"
 
 namespace fs = std::filesystem;
 
 namespace {
+
+using capz_test::expect_rebuilt;
 
 // The take an archive on disk decodes to.
 capz::Take read_archive(const std::string& path) {
@@ -47,30 +50,6 @@ std::vector<std::vector<uint8_t>> folder_bytes(const std::string& dir) {
   for (const std::string& name : capz::list_pcd_frames(dir))
     out.push_back(capz::read_file((fs::path(dir) / name).string()));
   return out;
-}
-
-// Compresses folder `in` losslessly (windows of `window` frames), rebuilds it and expects every
-// frame file back byte for byte; returns the stats.
-capz::CompressStats expect_rebuilt(const std::string& in, const capz_test::TempDir& tmp,
-                                   size_t window = 0) {
-  std::unique_ptr<capz::FrameSource> src = capz::open_frames(in);
-  EXPECT_TRUE(src->header().ragged()) << in;
-  capz::CompressOptions o;
-  o.lossless = true;
-  o.window_frames = window;
-  capz::CompressStats st;
-  const std::string z = tmp.file("l.capz"), out = tmp.file("back");
-  capz::compress_stream(*src, o, z, true, &st);
-  EXPECT_TRUE(st.lossless) << in;
-  EXPECT_TRUE(capz::original_info(z).exact) << in;
-  fs::remove_all(out);
-  capz::rebuild_original(z, out, true);
-  const std::vector<std::string> names = capz::list_pcd_frames(in);
-  EXPECT_EQ(capz::list_pcd_frames(out), names) << in;
-  for (const std::string& n : names)
-    EXPECT_EQ(capz::read_file(out + "/" + n), capz::read_file(in + "/" + n)) << in << "/" << n;
-  EXPECT_TRUE(capz::rebuilds_file(z, in).empty()) << capz::rebuilds_file(z, in);
-  return st;
 }
 
 // --lossless --drop-fields on folder `in`: x y z and gaps back bit for bit, no field, no HASH
@@ -158,21 +137,6 @@ TEST(ScanLossless, EdgeCoordinatesComeBackBitForBitWithAndWithoutASplit) {
   ASSERT_EQ(split.size(), 2u);
   EXPECT_EQ(split[0], -128);  // 1e30 has no integer below 2^29 at any exponent tried
   EXPECT_GE(split[1], 7);
-}
-
-TEST(ScanLossless, Float64CoordinatesOnNoDecimalGridAreRefused) {
-  capz::Take t = sweeps(2);
-  t.pcd->fields = {{"x", 'F', 8, 1}, {"y", 'F', 8, 1}, {"z", 'F', 8, 1}};
-  t.xyz[0] = 1.0 + 1e-13;  // no float32, on no decimal grid of 0..9 digits
-  capz::CompressOptions o;
-  o.lossless = true;
-  try {
-    capz::compress(t, o);
-    FAIL() << "float64 bits accepted for a ragged take";
-  } catch (const capz::Error& e) {
-    EXPECT_EQ(e.code(), capz::ErrorCode::kInvalidParameter);
-    EXPECT_NE(std::string(e.what()).find("float64"), std::string::npos) << e.what();
-  }
 }
 
 // The writer's frames in each encoding, then files of other forms: a header comment with CRLF

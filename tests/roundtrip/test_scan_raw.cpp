@@ -1,0 +1,112 @@
+// Raw windows (docs/FORMAT.md "Raw windows"): a lossless ragged take whose coordinates are
+// float64 on no decimal grid is kept as float64 bits (mode 3, every window raw; refused before);
+// a depth camera's frames without their invalid pixels, which the scan coder codes larger than
+// LZMA2 of their bits, are kept raw; LiDAR sweeps keep the scan coder. Each gives every
+// coordinate back bit for bit, its fields byte for byte and, from a folder, its files.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "capz/codec.h"
+#include "capz/io.h"
+#include "capz/stream.h"
+#include "capz/tool/file.h"
+#include "io/pcd_folder.h"
+#include "roundtrip/lossless_folder.h"
+#include "test_util.h"
+#include "unit/synthetic.h"
+
+
+namespace {
+
+const std::string kData = CAPZ_REPO_DATA;
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, 8) == 0; }
+
+// d has t's frames, gaps, coordinates bit for bit and fields byte for byte.
+void expect_exact(const capz::Take& t, const capz::Take& d) {
+  ASSERT_EQ(d.frame_offsets, t.frame_offsets);
+  ASSERT_EQ(d.valid, t.valid);
+  ASSERT_EQ(d.xyz.size(), t.xyz.size());
+  for (size_t i = 0; i < t.xyz.size(); ++i)
+    if (t.valid[i / 3]) {
+      ASSERT_TRUE(same_bits(d.xyz[i], t.xyz[i])) << "value " << i;
+    }
+  ASSERT_EQ(d.attributes.size(), t.attributes.size());
+  for (size_t a = 0; a < t.attributes.size(); ++a)
+    EXPECT_EQ(d.attributes[a].data, t.attributes[a].data) << t.attributes[a].name;
+}
+
+// Folder `in` compressed losslessly in windows of `window` frames, every frame file rebuilt
+// byte for byte (capz_test::expect_rebuilt), and the decoded take exact against the folder's.
+capz::CompressStats lossless_folder(const std::string& in, size_t window) {
+  capz_test::TempDir tmp("capz_scan_raw");
+  const capz::CompressStats st = capz_test::expect_rebuilt(in, tmp, window);
+  const std::vector<uint8_t> bytes = capz::read_file(tmp.file("l.capz"));
+  expect_exact(capz::read_take(in), capz::decompress(bytes.data(), bytes.size()));
+  return st;
+}
+
+// lidar_small's sweeps without NaN in float64 map coordinates (data/make_raw_small.py), frames
+// of their own counts: every window raw (refused at 841c43da).
+TEST(ScanRaw, Float64FramesOnNoDecimalGridAreKeptAsTheirBits) {
+  const capz::CompressStats st = lossless_folder(kData + "/utm_small", 2);
+  EXPECT_EQ(st.mode, "float64-bits");
+  EXPECT_EQ(st.float32_split_windows, (std::map<int, size_t>{{capz::kRawWindowsKey, 2}}));
+  EXPECT_GT(st.attribute_bytes, 0u);  // intensity, in ATTR after the raw window
+}
+
+// A depth camera's frames without their invalid pixels (data/make_raw_small.py, 8,952 points):
+// a raw window, 46,084 B (41.2 bits a point; `xz -9e` of the files 48,956 B), where the scan
+// coder's float32 split took 68,554 B (61.3 bits a point) at 841c43da.
+TEST(ScanRaw, DepthCameraFramesWithoutInvalidPixelsAreKeptRaw) {
+  const capz::CompressStats st = lossless_folder(kData + "/depth_drop_small", 0);
+  ASSERT_EQ(st.float32_split_windows.count(capz::kRawWindowsKey), 1u);
+  EXPECT_EQ(st.float32_split_windows.at(capz::kRawWindowsKey), 1u);
+  EXPECT_EQ(st.mode, "float32-bits");
+  EXPECT_LT(st.bytes * 8, 45 * 8952u);
+}
+
+// An in-memory float64 take with a field, NaN gaps and a point at +0.0 0 0 (kept a point, bit
+// for bit: a raw window has no origin points), and -0.0 coordinates.
+TEST(ScanRaw, Float64TakeWithFieldsGapsAndZerosComesBackBitForBit) {
+  capz::Take t = capz_test::synthetic_sweeps(3, 40, 5, 5.0, 30.0, 3.0, 0.02, 9, 11, 4);
+  t.pcd->fields = {{"x", 'F', 8, 1}, {"y", 'F', 8, 1}, {"z", 'F', 8, 1}, {"intensity", 'U', 2, 1}};
+  for (size_t i = 0; i < t.xyz.size(); ++i) t.xyz[i] += i % 3 == 0 ? 412345.6789012 : 1e-7;
+  ASSERT_TRUE(t.valid[1] && t.valid[2]);
+  for (size_t a = 0; a < 3; ++a) t.xyz[3 + a] = 0.0;
+  t.xyz[7] = -0.0;
+  capz::PointAttribute in{"intensity", 'U', 2, 1, {}};
+  in.data.resize(t.total_points() * 2);
+  for (size_t i = 0; i < in.data.size(); ++i) in.data[i] = static_cast<uint8_t>(i * 13 % 29);
+  t.attributes.push_back(in);
+  capz::CompressOptions o;
+  o.lossless = true;
+  o.window_frames = 2;
+  capz::CompressStats st;
+  const std::vector<uint8_t> z = capz::compress(t, o, &st);
+  EXPECT_EQ(st.float32_split_windows, (std::map<int, size_t>{{capz::kRawWindowsKey, 2}}));
+  expect_exact(t, capz::decompress(z.data(), z.size()));
+  const capz::StreamInfo si = capz::describe(z.data(), z.size());
+  EXPECT_EQ(si.mode, "float64-bits");
+  EXPECT_EQ(si.float32_split_windows, st.float32_split_windows);
+}
+
+// LiDAR sweeps (float32): the scan coder's windows are far below a raw window's estimate.
+TEST(ScanRaw, SweepsKeepTheScanCoder) {
+  capz::Take t = capz_test::synthetic_sweeps(4, 60, 3, 5.0, 30.0, 3.0, 0.02, 5, 17, 2);
+  t.pcd->fields = {{"x", 'F', 4, 1}, {"y", 'F', 4, 1}, {"z", 'F', 4, 1}};
+  for (double& v : t.xyz) v = static_cast<double>(static_cast<float>(v));
+  capz::CompressOptions o;
+  o.lossless = true;
+  capz::CompressStats st;
+  const std::vector<uint8_t> z = capz::compress(t, o, &st);
+  EXPECT_EQ(st.float32_split_windows.count(capz::kRawWindowsKey), 0u);
+  expect_exact(t, capz::decompress(z.data(), z.size()));
+}
+
+}  // namespace
