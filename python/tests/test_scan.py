@@ -189,3 +189,24 @@ def test_from_arrays_ragged_take_compresses_as_pcd_frames():
             if v.any():
                 assert np.abs(a.xyz[v] - b.xyz[v]).max() <= bound
             np.testing.assert_array_equal(a.attributes["intensity"], b.attributes["intensity"])
+
+
+def test_float64_ragged_take_is_lossless_bit_for_bit(tmp_path):
+    """Frames of their own counts in float64 map coordinates (on no decimal grid) compress
+    losslessly, kept as their bits (docs/FORMAT.md "Raw windows"; refused before), and decode
+    bit for bit, the archive describing its positions as float64 bits."""
+    rng = np.random.default_rng(2)
+    frames = [rng.random((n, 3)) * 50 + np.array([500000.1234567, 4000000.7654321, 100.5])
+              for n in (120, 95, 140)]
+    frames[1][7] = np.nan
+    t = capz.Take.from_arrays(frames)
+    z = capz.compress(t, lossless=True)
+    d = capz.decompress(z)
+    np.testing.assert_array_equal(d.frame_offsets, t.frame_offsets)
+    np.testing.assert_array_equal(d.valid, t.valid)
+    v = t.valid.astype(bool)
+    assert (np.asarray(d.xyz)[v].view(np.uint64) == np.asarray(t.xyz)[v].view(np.uint64)).all()
+    path = tmp_path / "utm.capz"
+    path.write_bytes(z)
+    with capz.open(path) as f:
+        assert f.info["mode"] == "float64-bits"

@@ -19,8 +19,8 @@ std::vector<uint8_t> raw_scan_payload(size_t w, const FrameBlock& b, PosMode m,
   pw.varint(n);
   pw.u8(scan::kRawWindowBit);  // gaps: no origin points
   std::vector<uint8_t> payload = std::move(pw.buffer());
-  const std::vector<uint8_t> raw = scan::encode_raw_window(
-      counts, b.xyz.data(), b.valid.data(), n, m == PosMode::kFloat64 ? 8 : 4, source);
+  const std::vector<uint8_t> raw = scan::encode_raw_window(counts, b.xyz.data(), b.valid.data(), n,
+                                                           m == PosMode::kFloat64 ? 8 : 4, source);
   payload.insert(payload.end(), raw.begin(), raw.end());
   return payload;
 }

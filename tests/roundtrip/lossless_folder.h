@@ -21,7 +21,7 @@ namespace capz_test {
 // Compresses folder `in` losslessly (windows of `window` frames), rebuilds it and expects every
 // frame file back byte for byte; returns the stats.
 inline capz::CompressStats expect_rebuilt(const std::string& in, const TempDir& tmp,
-                                   size_t window = 0) {
+                                          size_t window = 0) {
   std::unique_ptr<capz::FrameSource> src = capz::open_frames(in);
   EXPECT_TRUE(src->header().ragged()) << in;
   capz::CompressOptions o;

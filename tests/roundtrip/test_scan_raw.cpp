@@ -20,12 +20,13 @@
 #include "test_util.h"
 #include "unit/synthetic.h"
 
-
 namespace {
 
 const std::string kData = CAPZ_REPO_DATA;
 
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, 8) == 0; }
+bool same_bits(double a, double b) {
+  return std::memcmp(&a, &b, 8) == 0;
+}
 
 // d has t's frames, gaps, coordinates bit for bit and fields byte for byte.
 void expect_exact(const capz::Take& t, const capz::Take& d) {
