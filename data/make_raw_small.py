@@ -17,7 +17,11 @@
 Deterministic, standard library only.
 
 usage: python3 data/make_raw_small.py
+       python3 data/make_raw_small.py --depth OUT [--width 640 --height 480 --frames 5]
+The second form writes only the depth frames, at another size (the focal length scaled with the
+width: 52 at 64 pixels), into OUT: the larger input of docs/BENCHMARKS.md "Raw windows".
 """
+import argparse
 import math
 import os
 import random
@@ -87,13 +91,26 @@ def read_xyzi(path):
     return [struct.unpack_from('<ffff', b, pos + i * size) for i in range(n)]
 
 
-def main():
+def depth_frames(out, frames, w, h):
+    """`frames` depth frames of w x h pixels into folder out."""
     rng = random.Random(7)
-    out = os.path.join(HERE, 'depth_drop_small')
     os.makedirs(out, exist_ok=True)
     xyz = [('x', 'F', 4), ('y', 'F', 4), ('z', 'F', 4)]
-    for k in range(3):
-        pcd(os.path.join(out, 'depth_%02d.pcd' % k), xyz, depth(k, rng))
+    for k in range(frames):
+        pcd(os.path.join(out, 'depth_%02d.pcd' % k), xyz, depth(k, rng, w, h, 52.0 * w / 64))
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument('--depth')
+    ap.add_argument('--width', type=int, default=640)
+    ap.add_argument('--height', type=int, default=480)
+    ap.add_argument('--frames', type=int, default=5)
+    a = ap.parse_args()
+    if a.depth:
+        depth_frames(a.depth, a.frames, a.width, a.height)
+        return
+    depth_frames(os.path.join(HERE, 'depth_drop_small'), 3, 64, 48)
     out = os.path.join(HERE, 'utm_small')
     os.makedirs(out, exist_ok=True)
     off = (500000.123456789, 4000000.987654321, 100.5)
