@@ -10,6 +10,7 @@
 #include "coding/scan_raster.h"
 #include "coding/scan_shared.h"
 #include "coding/scan_table.h"
+#include "coding/scan_trial_gates.h"
 #include "coding/scan_trial_sinks.h"
 
 namespace capz {
@@ -118,75 +119,42 @@ bool spherical_wins(const scan::State& st, uint8_t flags, const ScanGeometry& g,
   return exact_sph.bits < exact_cart.bits;
 }
 
-// Whether the ring walk is worth a trial on frame [first, first + n): its valid points' rings
-// run upward, as in firing order, so that the walk's flags (*passed: the rings passed, which is
-// the walk's flags but the repeat flags) stay under kWalkFlags a point. Rings in a driver's
-// firing permutation or in blocks (most files' own order) never pay the walk, and a long walk
-// costs time.
-constexpr size_t kWalkFlags = 8;
-bool walk_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& polar, size_t rings,
-                       size_t first, size_t n, size_t* passed) {
-  size_t valid = 0, flags = 0;
-  uint32_t prev = 0;
-  for (size_t i = first; i < first + n; ++i) {
-    if (!g.valid[i]) continue;
-    const uint32_t k = polar[i].ring;
-    if (valid++ > 0 && k != prev) flags += k > prev ? k - prev : k + rings - prev;
-    prev = k;
-  }
-  *passed = flags;
-  return flags < kWalkFlags * valid;
-}
-
-// Whether ring pair frames (flags_f bit 7) are worth a trial on frame [first, first + n): its
-// valid points' columns step as they did the last time the same two rings came in a row more
-// often than they repeat the previous point's column, by more than an eighth of its points (a
-// driver that writes a firing's rings in its own order, its columns apart by ring).
-bool pairs_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& polar,
-                        const scan::State& st, size_t first, size_t n) {
-  std::vector<int32_t> step(scan::State::kPairCells);
-  std::vector<uint8_t> seen(scan::State::kPairCells);
-  size_t valid = 0, pair = 0, same = 0;
-  const scan::Polar* prev = nullptr;
-  for (size_t i = first; i < first + n; ++i) {
-    if (!g.valid[i]) continue;
-    ++valid;
-    const scan::Polar& p = polar[i];
-    if (prev) {
-      const uint32_t h = st.pair_cell(prev->ring, p.ring);
-      const int32_t d = wrap_sub(p.column, prev->column);
-      pair += seen[h] && step[h] == d;
-      same += d == 0;
-      seen[h] = 1;
-      step[h] = d;
-    }
-    prev = &p;
-  }
-  return pair > same + valid / 8;
-}
+// The most points of a frame whose two spherical trials are both recorded (code_chosen).
+constexpr size_t kRecordedTwice = size_t{1} << 20;
 
 // The spherical trial of frame [first, first + n) under *flags on a staged copy of *st (a
 // trial copy for a window's last frame, whose map no later sweep reads; returned), its symbols
 // recorded in *t (room for `room` of them) and tallied in t->tally, the second of x y by the
 // cheaper of the azimuth and the hypotenuse by the estimate (both coded in the one pass: the choice
-// moves no other symbol). Sets kHypot in *flags when the hypotenuse's.
+// moves no other symbol). Sets kHypot in *flags when the hypotenuse's. Without `record` its
+// symbols are only tallied (t->syms 0).
 scan::State spherical_trial(const scan::State& st, bool last, uint8_t* flags, const ScanGeometry& g,
                             const scan::Placement& placed, size_t first, size_t n, size_t room,
-                            Trial* t, Scratch* s) {
+                            Trial* t, Scratch* s, bool record = true) {
   scan::State staged = last ? st.trial() : st.staged();
-  Sym* const syms = t->sym_room.reserve(room);
-  AltSym* const alts = t->alt_room.reserve(n);
   t->tally.clear();
   t->azimuth.clear();
   t->hypot.clear();
-  RecordSink rec{syms, syms, syms + room, alts, &t->tally, &t->azimuth, &t->hypot};
-  RecordIo io(&rec, g, placed);
-  scan::code_points(io, staged, *flags, first, n, s->q.data(), s->v.data());
-  t->syms = static_cast<size_t>(rec.next - rec.syms);
+  Sym* syms = nullptr;
+  AltSym *alts = nullptr, *alts_end = nullptr;
+  t->syms = 0;
+  if (record) {
+    syms = t->sym_room.reserve(room);
+    alts = t->alt_room.reserve(n);
+    RecordSink rec{syms, syms, syms + room, alts, &t->tally, &t->azimuth, &t->hypot};
+    RecordIo io(&rec, g, placed);
+    scan::code_points(io, staged, *flags, first, n, s->q.data(), s->v.data());
+    t->syms = static_cast<size_t>(rec.next - rec.syms);
+    alts_end = rec.alt;
+  } else {
+    TallySink tally{&t->tally, &t->azimuth, &t->hypot};
+    TallyIo io(&tally, g, placed);
+    scan::code_points(io, staged, *flags, first, n, s->q.data(), s->v.data());
+  }
   const bool hypot =
       t->hypot.estimate(&s->log_t, &s->log_c) < t->azimuth.estimate(&s->log_t, &s->log_c);
   if (hypot) {
-    for (const AltSym* y = alts; y != rec.alt; ++y) syms[y->at] = y->sym;
+    for (const AltSym* y = alts; y != alts_end; ++y) syms[y->at] = y->sym;
     *flags = static_cast<uint8_t>(*flags | scan::kHypot);
   }
   t->tally.add(hypot ? t->hypot : t->azimuth);
@@ -210,15 +178,23 @@ uint8_t code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanG
                                     : s->pairs == 1        ? sph | scan::kRingPairs
                                                            : sph);
   scan::State staged = spherical_trial(*st, last, &coded, g, placed, first, n, room, &s->trial, s);
-  // Codes the frame with `bit` as well (into the spare trial) and keeps the smaller: *choice.
+  // Codes the frame with `bit` as well (into the spare trial) and keeps the smaller: *choice. A
+  // frame of more than kRecordedTwice points is only counted there, and coded again into the
+  // first trial's records when it wins: two trials' records take about 100 bytes a point.
   auto try_also = [&](uint8_t bit, int* choice) {
     auto other = static_cast<uint8_t>(sph | bit);
+    const bool record = n <= kRecordedTwice;
     scan::State kept =
-        spherical_trial(*st, last, &other, g, placed, first, n, room, &s->walk_trial, s);
+        spherical_trial(*st, last, &other, g, placed, first, n, room, &s->walk_trial, s, record);
     *choice = s->walk_trial.tally.estimate(&s->log_t, &s->log_c) <
               s->trial.tally.estimate(&s->log_t, &s->log_c);
     if (*choice == 1) {
-      std::swap(s->trial, s->walk_trial);
+      if (record) {
+        std::swap(s->trial, s->walk_trial);
+      } else {
+        other = static_cast<uint8_t>(sph | bit);
+        kept = spherical_trial(*st, last, &other, g, placed, first, n, room, &s->trial, s);
+      }
       staged = std::move(kept);
       coded = other;
     }

@@ -158,6 +158,18 @@ struct RecordSink {
   }
 };
 
+// RecordSink's tallies without its records: a trial coded again, recorded, if it wins (the
+// second trial of a frame too large to hold two trials' records, scan_encode.cpp).
+struct TallySink {
+  Tally *tally, *azimuth, *hypot;
+  __attribute__((always_inline)) void put(uint32_t u, int ctx) {
+    if (ctx >= scan::kCtxAxis2 && ctx < scan::kCtxZFrac)
+      hypot->put(u, ctx);
+    else
+      (ctx >= scan::kCtxY && ctx < scan::kCtxZ ? azimuth : tally)->put(u, ctx);
+  }
+};
+
 // The encoding side of scan::code_frame: the actual values are the window's.
 template <class Sink>
 class EncodeIo {
@@ -192,6 +204,10 @@ class EncodeIo {
 // The encoder's spherical trial: codes the second of x y both ways (scan_loop.h).
 struct RecordIo : EncodeIo<RecordSink> {
   using EncodeIo<RecordSink>::EncodeIo;
+  static constexpr bool kBothSeconds = true;
+};
+struct TallyIo : EncodeIo<TallySink> {
+  using EncodeIo<TallySink>::EncodeIo;
   static constexpr bool kBothSeconds = true;
 };
 

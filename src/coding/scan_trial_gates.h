@@ -1,0 +1,30 @@
+// Cheap tests of whether a frame is worth one of the scan encoder's costlier trials
+// (scan_encode.cpp): the ring walk and ring pair frames (docs/FORMAT.md "Scan geometry
+// payload"). Encoder only.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "coding/scan_geometry.h"
+#include "coding/scan_shared.h"
+
+namespace capz {
+
+// Whether the ring walk is worth a trial on frame [first, first + n): its valid points' rings
+// run upward, as in firing order, so that the walk's flags (*passed: the rings passed, which is
+// the walk's flags but the repeat flags) stay under kWalkFlags a point. Rings in a driver's
+// firing permutation or in blocks (most files' own order) never pay the walk, and a long walk
+// costs time.
+constexpr size_t kWalkFlags = 8;
+bool walk_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& polar, size_t rings,
+                       size_t first, size_t n, size_t* passed);
+
+// Whether ring pair frames (flags_f bit 7) are worth a trial on frame [first, first + n): its
+// valid points' columns step as they did the last time the same two rings came in a row more
+// often than they repeat the previous point's column, by more than an eighth of its points (a
+// driver that writes a firing's rings in its own order, its columns apart by ring).
+bool pairs_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& polar,
+                        const scan::State& st, size_t first, size_t n);
+
+}  // namespace capz

@@ -1,0 +1,46 @@
+// The scan encoder's trial gates (scan_trial_gates.h).
+#include <cstdint>
+
+#include "coding/predict.h"
+#include "coding/scan_trial_gates.h"
+
+namespace capz {
+
+bool walk_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& polar, size_t rings,
+                       size_t first, size_t n, size_t* passed) {
+  size_t valid = 0, flags = 0;
+  uint32_t prev = 0;
+  for (size_t i = first; i < first + n; ++i) {
+    if (!g.valid[i]) continue;
+    const uint32_t k = polar[i].ring;
+    if (valid++ > 0 && k != prev) flags += k > prev ? k - prev : k + rings - prev;
+    prev = k;
+  }
+  *passed = flags;
+  return flags < kWalkFlags * valid;
+}
+
+bool pairs_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& polar,
+                        const scan::State& st, size_t first, size_t n) {
+  std::vector<int32_t> step(scan::State::kPairCells);
+  std::vector<uint8_t> seen(scan::State::kPairCells);
+  size_t valid = 0, pair = 0, same = 0;
+  const scan::Polar* prev = nullptr;
+  for (size_t i = first; i < first + n; ++i) {
+    if (!g.valid[i]) continue;
+    ++valid;
+    const scan::Polar& p = polar[i];
+    if (prev) {
+      const uint32_t h = st.pair_cell(prev->ring, p.ring);
+      const int32_t d = wrap_sub(p.column, prev->column);
+      pair += seen[h] && step[h] == d;
+      same += d == 0;
+      seen[h] = 1;
+      step[h] = d;
+    }
+    prev = &p;
+  }
+  return pair > same + valid / 8;
+}
+
+}  // namespace capz
