@@ -22,6 +22,8 @@ CapzSource::CapzSource(std::unique_ptr<StreamBytes> bytes, const std::string& na
   if (ps_.h.ragged) {  // "Scans (format 1.1)": x y z doubles, a flag and the fields, a point
     uint64_t per_point = 25;
     for (const PointAttribute& a : ps_.take.attributes) per_point += a.bytes_per_point();
+    if (ps_.h.lossless && ps_.h.mode == PosMode::kFloat32) per_point += 12;  // a raw window's bits
+    if (ps_.h.lossless && ps_.h.mode == PosMode::kFloat64) per_point += 24;
     ps_.max_points =
         static_cast<size_t>(std::min<uint64_t>(memory_limit_ / per_point, uint64_t{1} << 40));
     if (memory_limit_ == 0) ps_.max_points = size_t{1} << 40;

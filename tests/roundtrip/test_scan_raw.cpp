@@ -111,3 +111,26 @@ TEST(ScanRaw, SweepsKeepTheScanCoder) {
 }
 
 }  // namespace
+
+namespace {
+
+// The decoder's memory limit counts a raw window's bits (24 bytes a point in mode 3) besides the
+// 25 bytes of a decoded point and its fields' (FORMAT.md "Ragged frames: HEAD and the window
+// chunk"): utm_small's golden stream (857 points, an F4 field) is refused under 40 bytes a point,
+// which would hold it without the bits (29), and decodes under 53.
+TEST(ScanRaw, MemoryLimitCountsARawWindowsBits) {
+  const std::vector<uint8_t> z = capz::read_file(std::string(CAPZ_TEST_DIR) +
+                                                 "/golden/streams/utm_small.lossless-w2.v1.1.capz");
+  capz::DecompressOptions o;
+  o.memory_limit = 857 * 40;
+  try {
+    capz::decompress(z.data(), z.size(), "utm.capz", o);
+    ADD_FAILURE() << "decoded under " << o.memory_limit << " bytes";
+  } catch (const capz::Error& e) {
+    EXPECT_EQ(e.code(), capz::ErrorCode::kMemoryLimit) << e.what();
+  }
+  o.memory_limit = 857 * 53;
+  EXPECT_EQ(capz::decompress(z.data(), z.size(), "utm.capz", o).total_points(), 857u);
+}
+
+}  // namespace
