@@ -291,12 +291,25 @@ void shift_slots(const std::vector<int32_t>& c, const std::vector<uint32_t>& rin
   for (uint8_t& k : *slot) k = static_cast<uint8_t>(k + shift);
 }
 
+// Whether the points' rings (in file order) look like firings: a firing holds several rings, so
+// the ring changes from one point to the next at least at a quarter of the points. A cloud in
+// rows (an organized sweep, Ouster's; a file written ring by ring) changes ring once a row: each
+// of its "firings" is one point, which the slots fit at a base and turn of its own, slowly (the
+// search below is quadratic in its rings) and at a cost (Ouster-like 128 x 2048 frames,
+// --lossless: 965,480 -> 855,135 B; docs/lab/2026-11-30-slots-in-rows.md).
+bool in_firing_order(const std::vector<uint32_t>& ring) {
+  size_t changes = 0;
+  for (size_t i = 1; i < ring.size(); ++i) changes += ring[i] != ring[i - 1];
+  return 4 * changes >= ring.size();
+}
+
 // The rings' slots: from the shares, then each ring's slot in turn set to the one (of 0..N-1)
 // of the least slot_cost on the points up to the ring's kSlotFitPoints-th. Kept
 // when nine in ten of the sample's firings fit (else empty).
 std::vector<uint8_t> fit_slots(const std::vector<uint32_t>& ring, const std::vector<double>& u,
                                const std::vector<double>& share) {
   std::vector<uint8_t> slot;
+  if (!in_firing_order(ring)) return slot;
   for (double s : share)
     slot.push_back(
         static_cast<uint8_t>(std::min(std::max(std::floor(s * kSlots + 0.5), 0.0), kSlots - 1.0)));

@@ -140,5 +140,33 @@ TEST(ScanShares, GivenDamagedTurnSharesOrBitsThenCorrupt) {
   }
 }
 
+// The VLP-16's sweep written ring by ring (each ring's points in their firing order, as a cloud
+// in rows has them): the ring changes once a row, so no run of points is a firing and the
+// slots are not fitted (fit_slots' in_firing_order), which would fit each point its own base
+// and turn, slowly (quadratic in the rings); the payload still decodes exactly.
+TEST(ScanSlots, GivenASweepInRowsThenNoSlots) {
+  ScanHints h;
+  const ScanGeometry g = sweep(&h, kSlotShare);
+  ScanGeometry rows;
+  ScanHints rh;
+  rh.grid_per_unit = h.grid_per_unit;
+  for (uint32_t k = 0; k < 16; ++k)
+    for (size_t i = 0; i < h.ring.size(); ++i) {
+      if (h.ring[i] != k) continue;
+      rows.valid.push_back(g.valid[i]);
+      for (size_t a = 0; a < 3; ++a) {
+        rows.q.push_back(g.q[3 * i + a]);
+        rh.xyz.push_back(h.xyz[3 * i + a]);
+      }
+      rh.ring.push_back(k);
+      rh.distance.push_back(h.distance[i]);
+    }
+  rows.counts = g.counts;
+  ASSERT_EQ(rows.valid.size(), g.valid.size());
+  const scan::Header hd = header(coded(rows, rh));
+  EXPECT_EQ(hd.table.slots, 0u);
+  EXPECT_TRUE(hd.table.slot.empty());
+}
+
 }  // namespace
 }  // namespace capz
