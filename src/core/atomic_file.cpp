@@ -11,6 +11,7 @@
 #include <fstream>
 
 #include "capz/error.h"
+#include "core/temporaries.h"
 
 namespace fs = std::filesystem;
 
@@ -29,18 +30,20 @@ void check_output_free(const std::string& path, bool overwrite) {
 AtomicFile::AtomicFile(const std::string& path, bool overwrite)
     : path_(path), overwrite_(overwrite) {
   check_output_free(path, overwrite);
-  std::string templ = path + ".tmp-XXXXXX";
-  std::vector<char> buf(templ.begin(), templ.end());
-  buf.push_back('\0');
-  fd_ = mkstemp(buf.data());
-  if (fd_ < 0) fail(ErrorCode::kIo, path, "cannot create temporary file: " + sys_error());
-  tmp_ = buf.data();
+  tmp_ = temporaries::create([&] {
+    std::string templ = path + ".tmp-XXXXXX";
+    std::vector<char> buf(templ.begin(), templ.end());
+    buf.push_back('\0');
+    fd_ = mkstemp(buf.data());
+    if (fd_ < 0) fail(ErrorCode::kIo, path, "cannot create temporary file: " + sys_error());
+    return std::string(buf.data());
+  });
   fchmod(fd_, 0644);
 }
 
 AtomicFile::~AtomicFile() {
   if (fd_ >= 0) ::close(fd_);
-  if (!committed_ && !tmp_.empty()) ::unlink(tmp_.c_str());
+  if (!committed_ && !tmp_.empty()) temporaries::remove(tmp_);
 }
 
 void AtomicFile::write(const void* data, size_t size) {
@@ -76,47 +79,54 @@ void AtomicFile::commit() {
   fd_ = -1;
   if (::close(fd) != 0) fail(ErrorCode::kIo, path_, "close failed: " + sys_error());
   check_output_free(path_, overwrite_);
-  if (::rename(tmp_.c_str(), path_.c_str()) != 0)
-    fail(ErrorCode::kIo, path_, "cannot rename temporary file into place: " + sys_error());
+  temporaries::settle(tmp_, [&] {
+    if (::rename(tmp_.c_str(), path_.c_str()) != 0)
+      fail(ErrorCode::kIo, path_, "cannot rename temporary file into place: " + sys_error());
+    return std::string();
+  });
   committed_ = true;
 }
 
 AtomicDir::AtomicDir(const std::string& path, bool overwrite) : path_(path), overwrite_(overwrite) {
   while (path_.size() > 1 && path_.back() == '/') path_.pop_back();
   check_output_free(path_, overwrite);
-  std::string templ = path_ + ".tmp-XXXXXX";
-  std::vector<char> buf(templ.begin(), templ.end());
-  buf.push_back('\0');
-  if (!mkdtemp(buf.data()))
-    fail(ErrorCode::kIo, path_, "cannot create temporary directory: " + sys_error());
-  tmp_ = buf.data();
+  tmp_ = temporaries::create([&] {
+    std::string templ = path_ + ".tmp-XXXXXX";
+    std::vector<char> buf(templ.begin(), templ.end());
+    buf.push_back('\0');
+    if (!mkdtemp(buf.data()))
+      fail(ErrorCode::kIo, path_, "cannot create temporary directory: " + sys_error());
+    return std::string(buf.data());
+  });
   // mkdtemp makes it 0700; a folder of frames is read by others as its files are (0644).
   ::chmod(tmp_.c_str(), 0755);
 }
 
 AtomicDir::~AtomicDir() {
-  if (!committed_ && !tmp_.empty()) {
-    std::error_code ec;
-    fs::remove_all(tmp_, ec);
-  }
+  if (!committed_ && !tmp_.empty()) temporaries::remove(tmp_);
 }
 
 void AtomicDir::commit() {
   check_output_free(path_, overwrite_);
-  std::error_code ec;
   std::string old;
-  if (fs::exists(path_, ec)) {
-    old = path_ + ".old-" + std::to_string(::getpid());
-    fs::rename(path_, old, ec);
-    if (ec) fail(ErrorCode::kIo, path_, "cannot move the existing output aside: " + ec.message());
-  }
-  fs::rename(tmp_, path_, ec);
-  if (ec) {
-    if (!old.empty()) fs::rename(old, path_, ec);
-    fail(ErrorCode::kIo, path_, "cannot rename temporary directory into place");
-  }
+  // Both renames under the registry's lock: a signal's cleanup finds the new folder in place and
+  // the old one registered, or the temporary registered and the old output where it was.
+  temporaries::settle(tmp_, [&] {
+    std::error_code ec;
+    if (fs::exists(path_, ec)) {
+      old = path_ + ".old-" + std::to_string(::getpid());
+      fs::rename(path_, old, ec);
+      if (ec) fail(ErrorCode::kIo, path_, "cannot move the existing output aside: " + ec.message());
+    }
+    fs::rename(tmp_, path_, ec);
+    if (ec) {
+      if (!old.empty()) fs::rename(old, path_, ec);
+      fail(ErrorCode::kIo, path_, "cannot rename temporary directory into place");
+    }
+    return old;
+  });
   committed_ = true;
-  if (!old.empty()) fs::remove_all(old, ec);
+  if (!old.empty()) temporaries::remove(old);
 }
 
 std::vector<uint8_t> read_file(const std::string& path, uint64_t max_bytes) {

@@ -1,6 +1,8 @@
 // Output that appears whole or not at all: data goes to a temporary sibling ("<path>.tmp-XXXXXX"),
-// is fsync'ed, then renamed over `path`. If commit() is never reached (exception, crash), the
-// destructor removes the temporary; the destination is untouched.
+// is fsync'ed, then renamed over `path`. If commit() is never reached (exception), the destructor
+// removes the temporary; the destination is untouched. Temporaries are registered
+// (core/temporaries.h), so a program that calls remove_temporaries_on_signals() loses them to
+// SIGINT, SIGTERM and SIGHUP too.
 #pragma once
 
 #include <cstdint>

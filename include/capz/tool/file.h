@@ -24,4 +24,28 @@ void check_output_free(const std::string& path, bool overwrite);
 // kIo when the write fails (disk full).
 void write_file(const std::string& path, const std::vector<uint8_t>& bytes, bool overwrite);
 
+// Makes SIGINT (Ctrl-C), SIGTERM and SIGHUP remove the temporaries of the outputs not yet in place
+// (the library's "<path>.tmp-XXXXXX" files and folders, TemporaryFolder's folders) before the
+// process ends by that signal, as it would without this call (a shell sees status 128 + N): an
+// interrupted run leaves no partial output. A signal ignored at the call (SIGHUP under nohup)
+// stays ignored. Call it once, first in main(), before any thread starts: it blocks those
+// signals in the calling thread, so in every thread started after it, and starts a thread that
+// waits for them. Later calls do nothing.
+void remove_temporaries_on_signals();
+
+// A fresh private folder made from `templ` (a path ending in XXXXXX, as mkdtemp(3) takes; Error
+// kIo when it cannot be made), removed with what it holds when the object goes, or by a signal
+// as remove_temporaries_on_signals() says.
+class TemporaryFolder {
+ public:
+  explicit TemporaryFolder(const std::string& templ);
+  ~TemporaryFolder();
+  TemporaryFolder(const TemporaryFolder&) = delete;
+  TemporaryFolder& operator=(const TemporaryFolder&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
 }  // namespace capz
