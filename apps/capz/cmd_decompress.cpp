@@ -3,7 +3,9 @@
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
+#include <string>
 
 #include "batch.h"
 #include "capz/codec.h"
@@ -74,14 +76,30 @@ struct Settings {
   BatchSettings batch;
 };
 
-// --frames FIRST:COUNT
+// --frames FIRST:COUNT: decimal digits, COUNT -1 for to the end (as many as there are). A COUNT
+// of 0 asks for nothing: a usage error, before any file.
 void parse_frames(const std::string& fr, size_t* first, size_t* count) {
-  unsigned long long a = 0, n = 0;
-  char extra;
-  if (std::sscanf(fr.c_str(), "%llu:%llu%c", &a, &n, &extra) != 2)
-    throw po::error("--frames wants FIRST:COUNT, got '" + fr + "'");
-  *first = a;
-  *count = n;
+  const auto number = [](const std::string& digits, size_t* v) {
+    if (digits.empty() || digits.size() > 18 ||
+        digits.find_first_not_of("0123456789") != digits.npos)
+      return false;
+    *v = static_cast<size_t>(std::stoull(digits));
+    return true;
+  };
+  const size_t colon = fr.find(':');
+  const std::string c = colon == fr.npos ? "" : fr.substr(colon + 1);
+  if (colon == fr.npos || !number(fr.substr(0, colon), first) ||
+      !(c == "-1" ? (*count = std::numeric_limits<size_t>::max(), true) : number(c, count)))
+    throw po::error("--frames wants FIRST:COUNT (COUNT -1: to the end), got '" + fr + "'");
+  if (*count == 0)
+    throw po::error("--frames " + fr + " asks for no frames (COUNT 1 or more, -1: to the end)");
+}
+
+// "20 frames (0..19)", "1 frame (0)", "no frames".
+std::string frames_text(size_t frames) {
+  if (frames == 0) return "no frames";
+  return std::to_string(frames) +
+         (frames == 1 ? " frame (0" : " frames (0.." + std::to_string(frames - 1)) + ")";
 }
 
 // Where the take goes: stdout (through a file of the source's format in `space`), -o, or its
@@ -135,6 +153,10 @@ Written decode_range(const Job& job, const Settings& s, const std::string& in,
   parse_frames(s.vm["frames"].as<std::string>(), &a, &n);
   std::vector<uint8_t> bytes = capz::read_file(in);
   capz::Take take = capz::decompress_frames(bytes.data(), bytes.size(), a, n, in, dopts);
+  if (take.frames == 0)  // FIRST at or past the end: what the take has (COUNT 0 was refused)
+    capz::fail(capz::ErrorCode::kUsage, in,
+               "--frames " + s.vm["frames"].as<std::string>() + " is past the end: the take has " +
+                   frames_text(capz::describe(bytes.data(), bytes.size(), in).frames));
   Written w;
   w.out = choose_output(job, s, in, take, space);
   capz::write_take(take, w.out, wo);
@@ -253,8 +275,8 @@ int cmd_decompress(const Args& args) {
   po::options_description o("decompress options");
   add_batch_options(&o, true, "output .c3d, .trc, or a folder for PCD frames (a single input)");
   o.add_options()("frames", po::value<std::string>(),
-                  "decode only frames FIRST:COUNT (0-based); only the "
-                  "windows they touch are read")(
+                  "decode only frames FIRST:COUNT (0-based; COUNT -1: to the end); only "
+                  "the windows they touch are read")(
       "pcd-data", po::value<std::string>(),
       "PCD output: ascii, binary or binary_compressed (default: the source's)")(
       "drop-fields",
