@@ -19,12 +19,18 @@ namespace capz_cli {
 
 namespace {
 
+// Whether `s` ends in the extension `e` (lower case) in any case: walk.C3D ends in .c3d.
 bool ends_with(const std::string& s, const std::string& e) {
-  return s.size() > e.size() && s.compare(s.size() - e.size(), e.size(), e) == 0;
+  if (s.size() <= e.size()) return false;
+  const size_t at = s.size() - e.size();
+  for (size_t i = 0; i < e.size(); ++i)
+    if (std::tolower(static_cast<unsigned char>(s[at + i])) != e[i]) return false;
+  return true;
 }
 
 // Default output: X.capz -> X when X names the source's format (take.c3d.capz -> take.c3d,
-// frames.capz -> frames/ for a PCD folder); else the source's own name beside X.capz.
+// walk.C3D.capz -> walk.C3D, frames.capz -> frames/ for a PCD folder); else the source's own
+// name beside X.capz. Extensions are recognised in any case.
 // A one-frame take from a single frame file comes back as that file (scan.pcd.capz ->
 // scan.pcd).
 std::string default_output(const std::string& in, const capz::Take& take) {
@@ -49,10 +55,10 @@ std::string default_output(const std::string& in, const capz::Take& take) {
   return dir.empty() ? name : dir + "/" + name;
 }
 
-// True when OUT names one frame file (.pcd, .ply, .bin; `lower` its lowercase), not a folder.
-bool one_frame_file(const std::string& out, const std::string& lower) {
+// True when OUT names one frame file (.pcd, .ply, .bin, any case), not a folder.
+bool one_frame_file(const std::string& out) {
   std::error_code ec;
-  return (ends_with(lower, ".pcd") || ends_with(lower, ".ply") || ends_with(lower, ".bin")) &&
+  return (ends_with(out, ".pcd") || ends_with(out, ".ply") || ends_with(out, ".bin")) &&
          !std::filesystem::is_directory(out, ec);
 }
 
@@ -60,14 +66,12 @@ bool one_frame_file(const std::string& out, const std::string& lower) {
 // .bin, `folder` being the format OUT is written in: a folder, or one file of a one-frame take
 // (which rebuild_original writes as that file).
 bool same_format(const std::string& out, const capz::Take& take, capz::Format folder) {
-  std::string lower = out;
-  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   const capz::Format f = take.format;
   const bool frames = f == capz::Format::kPCDFolder || f == capz::Format::kPLYFolder ||
                       f == capz::Format::kBinFolder;
-  return (f == capz::Format::kC3D && ends_with(lower, ".c3d")) ||
-         (f == capz::Format::kTRC && ends_with(lower, ".trc")) ||
-         (frames && folder == f && (take.frames == 1 || !one_frame_file(out, lower)));
+  return (f == capz::Format::kC3D && ends_with(out, ".c3d")) ||
+         (f == capz::Format::kTRC && ends_with(out, ".trc")) ||
+         (frames && folder == f && (take.frames == 1 || !one_frame_file(out)));
 }
 
 // What every file of one `capz decompress` shares.
