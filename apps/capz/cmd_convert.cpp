@@ -132,8 +132,7 @@ int cmd_convert(const Args& args) {
     capz::fail(capz::ErrorCode::kUsage, out,
                "cannot tell the output format from the name: use .c3d, .trc, .pcd, .ply, .bin, "
                "or a folder path (no extension or ending in '/') for frame files");
-  std::string target = out;
-  while (target.size() > 1 && target.back() == '/') target.pop_back();
+  const std::string target = capz::without_trailing_slashes(out);
   capz::check_output_free(target, wo.overwrite);
   std::error_code ec;
   if (fs::exists(in, ec) && fs::exists(target, ec) && fs::equivalent(in, target, ec))

@@ -121,11 +121,12 @@ std::string choose_output(const Job& job, const Settings& s, const std::string& 
   if (out.empty()) {
     const std::string beside = default_output(in, take);
     const bool folder = !beside.empty() && beside.back() == '/';
-    out = place_output(s.batch, job,
-                       fs::path(strip_slashes(beside)).filename().string() + (folder ? "/" : ""));
+    out = place_output(
+        s.batch, job,
+        fs::path(capz::without_trailing_slashes(beside)).filename().string() + (folder ? "/" : ""));
   }
   claim_output(out, in);
-  capz::check_output_free(strip_slashes(out), s.batch.force);
+  capz::check_output_free(capz::without_trailing_slashes(out), s.batch.force);
   return out;
 }
 
@@ -253,7 +254,7 @@ FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) 
   rec.units = w.units;
   rec.input = job.from_stdin ? "stdin" : in;
   rec.bytes_in = path_size(in);
-  rec.bytes_out = path_size(strip_slashes(w.out));
+  rec.bytes_out = path_size(capz::without_trailing_slashes(w.out));
   rec.ratio = rec.bytes_in ? static_cast<double>(rec.bytes_out) / static_cast<double>(rec.bytes_in)
                            : FileRecord::kNone;
   if (!s.batch.report.empty()) {  // the bound, for --report (the archive read whole once more)

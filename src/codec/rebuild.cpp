@@ -240,8 +240,7 @@ void rebuild_original(const std::string& capz_path, const std::string& out, bool
     return;
   }
   if (!ext.empty()) {  // a folder of frame files, renamed into place once every file has checked
-    std::string path = out;
-    while (path.size() > 1 && path.back() == '/') path.pop_back();
+    const std::string path = without_trailing_slashes(out);
     if (f == Format::kPCDFolder)
       check_replaceable_pcd_dir(path, overwrite);
     else

@@ -21,6 +21,11 @@ static std::string sys_error() {
   return std::strerror(errno);
 }
 
+std::string without_trailing_slashes(std::string path) {
+  while (path.size() > 1 && path.back() == '/') path.pop_back();
+  return path;
+}
+
 void check_output_free(const std::string& path, bool overwrite) {
   std::error_code ec;
   if (!overwrite && fs::exists(fs::symlink_status(path, ec)))
@@ -87,8 +92,8 @@ void AtomicFile::commit() {
   committed_ = true;
 }
 
-AtomicDir::AtomicDir(const std::string& path, bool overwrite) : path_(path), overwrite_(overwrite) {
-  while (path_.size() > 1 && path_.back() == '/') path_.pop_back();
+AtomicDir::AtomicDir(const std::string& path, bool overwrite)
+    : path_(without_trailing_slashes(path)), overwrite_(overwrite) {
   check_output_free(path_, overwrite);
   tmp_ = temporaries::create([&] {
     std::string templ = path_ + ".tmp-XXXXXX";

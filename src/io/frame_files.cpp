@@ -63,14 +63,6 @@ FrameView frame_view(const FrameBlock& b, size_t k) {
 
 namespace {
 
-// "a/b/" -> "a/b": a folder's path for the file system, once single_frame_output has read its
-// trailing '/'.
-std::string folder_path(const std::string& path) {
-  std::string p = path;
-  while (p.size() > 1 && p.back() == '/') p.pop_back();
-  return p;
-}
-
 // Refuses (kInvalidParameter, naming `path`) a take whose point field names a frame file cannot
 // hold (point_field_fault): the files written would not read back.
 void refuse_unreadable_names(const Take& take, const std::string& path) {
@@ -83,7 +75,7 @@ void refuse_unreadable_names(const Take& take, const std::string& path) {
 
 void write_frame_files(const Take& take, const std::string& given, const std::string& ext,
                        bool overwrite, const FrameFileBytes& frame) {
-  const std::string path = folder_path(given);
+  const std::string path = without_trailing_slashes(given);
   const std::string fault = take.shape_fault();
   if (!fault.empty()) fail(ErrorCode::kInternal, path, "take arrays: " + fault);
   refuse_unreadable_names(take, path);
@@ -112,7 +104,7 @@ class FrameFolderSink : public FrameSink {
                   bool overwrite, bool needs_scan,
                   std::function<FrameFileBytes(std::optional<bool>)> make)
       : frames_(header.frames),
-        path_(folder_path(path)),
+        path_(without_trailing_slashes(path)),
         single_(single_frame_output(path, ext)),
         overwrite_(overwrite),
         scan_(needs_scan),

@@ -40,9 +40,7 @@ Format frame_file_format(const std::string& ext) {
 }
 
 std::string lower_extension(const std::string& path) {
-  std::string p = path;
-  while (p.size() > 1 && p.back() == '/') p.pop_back();
-  std::string ext = fs::path(p).extension().string();
+  std::string ext = fs::path(without_trailing_slashes(path)).extension().string();
   for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext;
 }
@@ -181,8 +179,7 @@ Format format_for_output(const std::string& path) {
 Format output_format(const Take& take, const std::string& path, const WriteOptions& opts) {
   const Format f = format_for_output(path);
   if (f != Format::kPCDFolder) return f;
-  std::string p = path;
-  while (p.size() > 1 && p.back() == '/') p.pop_back();
+  const std::string p = without_trailing_slashes(path);
   std::error_code ec;
   if (lower_extension(p) == ".pcd" && path.back() != '/' && !fs::is_directory(p, ec)) return f;
   if (is_frame_files(opts.folder_format)) return opts.folder_format;
@@ -249,8 +246,7 @@ void check_fields_fit(const Take& take, Format f, const std::string& path,
 void write_take(const Take& take, const std::string& path, const WriteOptions& opts) {
   if (path.empty()) fail(ErrorCode::kUsage, path, "empty output path");
   const Format f = output_format(take, path, opts);
-  std::string target = path;
-  while (target.size() > 1 && target.back() == '/') target.pop_back();
+  const std::string target = without_trailing_slashes(path);
   check_fields_fit(take, f, target, opts);
   check_output_free(target, opts.overwrite);
   switch (f) {

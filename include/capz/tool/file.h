@@ -16,6 +16,10 @@ namespace capz {
 // `max_bytes` (kIo).
 std::vector<uint8_t> read_file(const std::string& path, uint64_t max_bytes = (uint64_t{1} << 34));
 
+// `path` without its trailing slashes ("a/b/" -> "a/b"; "/" stays "/"): a folder's path for the
+// file system, once a trailing '/' has said "a folder".
+std::string without_trailing_slashes(std::string path);
+
 // Throws Error(kUsage) if `path` exists and !overwrite.
 void check_output_free(const std::string& path, bool overwrite);
 
