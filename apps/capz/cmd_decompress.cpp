@@ -126,7 +126,8 @@ std::string choose_output(const Job& job, const Settings& s, const std::string& 
         fs::path(capz::without_trailing_slashes(beside)).filename().string() + (folder ? "/" : ""));
   }
   claim_output(out, in);
-  capz::check_output_free(capz::without_trailing_slashes(out), s.batch.force);
+  if (!capz::frames_go_beside(out))  // a folder of an archive tree takes frames beside its own
+    capz::check_output_free(capz::without_trailing_slashes(out), s.batch.force);
   return out;
 }
 

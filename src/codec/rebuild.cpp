@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "capz/error.h"
+#include "capz/io.h"
 #include "capz/tool/file.h"
 #include "capz/tool/original.h"
 #include "codec/capz_source.h"
@@ -245,7 +246,7 @@ void rebuild_original(const std::string& capz_path, const std::string& out, bool
       check_replaceable_pcd_dir(path, overwrite);
     else
       check_replaceable_frame_dir(path, ext, overwrite);
-    AtomicDir dir(path, overwrite);
+    AtomicDir dir(path, overwrite, frames_go_beside);
     rebuild(
         capz_path, [](const uint8_t*, size_t) {}, opts,
         [&](const std::string& name, const std::vector<uint8_t>& bytes) {

@@ -92,9 +92,10 @@ void AtomicFile::commit() {
   committed_ = true;
 }
 
-AtomicDir::AtomicDir(const std::string& path, bool overwrite)
-    : path_(without_trailing_slashes(path)), overwrite_(overwrite) {
-  check_output_free(path_, overwrite);
+AtomicDir::AtomicDir(const std::string& path, bool overwrite,
+                     bool (*beside)(const std::string& path))
+    : path_(without_trailing_slashes(path)), overwrite_(overwrite), beside_(beside) {
+  if (!beside_ || !beside_(path_)) check_output_free(path_, overwrite);
   tmp_ = temporaries::create([&] {
     std::string templ = path_ + ".tmp-XXXXXX";
     std::vector<char> buf(templ.begin(), templ.end());
@@ -112,6 +113,7 @@ AtomicDir::~AtomicDir() {
 }
 
 void AtomicDir::commit() {
+  if (beside_ && beside_(path_)) return move_in();
   check_output_free(path_, overwrite_);
   std::string old;
   // Both renames under the registry's lock: a signal's cleanup finds the new folder in place and
@@ -132,6 +134,36 @@ void AtomicDir::commit() {
   });
   committed_ = true;
   if (!old.empty()) temporaries::remove(old);
+}
+
+void AtomicDir::move_in() {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (fs::directory_iterator it(tmp_, ec), end; !ec && it != end; it.increment(ec))
+    names.push_back(it->path().filename().string());
+  if (ec) fail(ErrorCode::kIo, tmp_, "cannot list: " + ec.message());
+  for (const std::string& name : names)
+    if (fs::exists(fs::symlink_status(path_ + "/" + name, ec)))
+      fail(ErrorCode::kUsage, path_, "holds " + name + " already (not written over)");
+  // Under the registry's lock, which a signal's cleanup waits for: every file moved in, or the
+  // temporary folder whole and registered.
+  temporaries::settle(tmp_, [&] {
+    size_t moved = 0;
+    for (; moved < names.size(); ++moved)
+      if (::rename((tmp_ + "/" + names[moved]).c_str(), (path_ + "/" + names[moved]).c_str()) != 0)
+        break;
+    if (moved < names.size()) {  // the ones moved go back
+      const std::string why = sys_error(), failed = names[moved];
+      while (moved > 0) {
+        --moved;
+        ::rename((path_ + "/" + names[moved]).c_str(), (tmp_ + "/" + names[moved]).c_str());
+      }
+      fail(ErrorCode::kIo, path_, "cannot move " + failed + " into place: " + why);
+    }
+    ::rmdir(tmp_.c_str());
+    return std::string();
+  });
+  committed_ = true;
 }
 
 std::vector<uint8_t> read_file(const std::string& path, uint64_t max_bytes) {

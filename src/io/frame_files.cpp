@@ -10,6 +10,7 @@
 #include <set>
 
 #include "capz/error.h"
+#include "capz/io.h"
 #include "capz/tool/file.h"
 #include "core/atomic_file.h"
 #include "core/input_file.h"
@@ -90,7 +91,7 @@ void write_frame_files(const Take& take, const std::string& given, const std::st
   }
   const std::vector<std::string> names = frame_output_names(take, ext);
   check_replaceable_frame_dir(path, ext, overwrite);
-  AtomicDir out(path, overwrite);
+  AtomicDir out(path, overwrite, frames_go_beside);
   for (size_t f = 0; f < take.frames; ++f)
     write_file((fs::path(out.temp_dir()) / names[f]).string(), frame(frame_view(take, f)), true);
   out.commit();
@@ -120,7 +121,7 @@ class FrameFolderSink : public FrameSink {
     }
     names_ = frame_output_names(header, ext);
     check_replaceable_frame_dir(path_, ext, overwrite);
-    out_.reset(new AtomicDir(path_, overwrite));
+    out_.reset(new AtomicDir(path_, overwrite, frames_go_beside));
   }
   bool wants_prescan() const override { return scan_ && !scanned_; }
   void prescan(const FrameBlock& b) override {
@@ -247,7 +248,7 @@ std::vector<std::string> frame_output_names(const Take& take, const std::string&
 void check_replaceable_frame_dir(const std::string& dir, const std::string& ext, bool overwrite) {
   // Replacing an existing directory deletes it: only allow that for a folder of frame files.
   std::error_code ec;
-  if (overwrite && fs::is_directory(dir, ec)) {
+  if (overwrite && fs::is_directory(dir, ec) && !frames_go_beside(dir)) {
     for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
       std::error_code ec2;
       if (!has_extension(it->path().string(), ext) || !fs::is_regular_file(it->symlink_status(ec2)))

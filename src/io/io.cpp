@@ -130,6 +130,22 @@ bool holds_frame_files(const std::string& dir) {
   return false;
 }
 
+bool frames_go_beside(const std::string& dir) {
+  const std::string d = without_trailing_slashes(dir);
+  std::error_code ec;
+  if (!fs::is_directory(fs::symlink_status(d, ec))) return false;
+  for (fs::directory_iterator it(d, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    std::error_code ec2;
+    const auto st = it->symlink_status(ec2);
+    if (hidden_name(name) || fs::is_directory(st) ||
+        (fs::is_regular_file(st) && lower_extension(name) == ".capz"))
+      continue;
+    return false;
+  }
+  return !ec;
+}
+
 Format detect_format(const std::string& path) {
   std::error_code ec;
   auto st = fs::status(path, ec);
@@ -248,7 +264,7 @@ void write_take(const Take& take, const std::string& path, const WriteOptions& o
   const Format f = output_format(take, path, opts);
   const std::string target = without_trailing_slashes(path);
   check_fields_fit(take, f, target, opts);
-  check_output_free(target, opts.overwrite);
+  if (!is_frame_files(f) || !frames_go_beside(target)) check_output_free(target, opts.overwrite);
   switch (f) {
     case Format::kC3D:
       write_c3d(take, target, opts);
