@@ -113,27 +113,39 @@ AtomicDir::~AtomicDir() {
 }
 
 void AtomicDir::commit() {
-  if (beside_ && beside_(path_)) return move_in();
-  check_output_free(path_, overwrite_);
-  std::string old;
-  // Both renames under the registry's lock: a signal's cleanup finds the new folder in place and
-  // the old one registered, or the temporary registered and the old output where it was.
-  temporaries::settle(tmp_, [&] {
-    std::error_code ec;
-    if (fs::exists(path_, ec)) {
-      old = path_ + ".old-" + std::to_string(::getpid());
-      fs::rename(path_, old, ec);
-      if (ec) fail(ErrorCode::kIo, path_, "cannot move the existing output aside: " + ec.message());
+  struct Appeared {};  // a folder taking the files beside its own appeared meanwhile
+  const auto takes_files = [&] { return beside_ && beside_(path_); };
+  if (!takes_files()) {
+    check_output_free(path_, overwrite_);
+    std::string old;
+    try {
+      // Both renames under the registry's lock: a signal's cleanup finds the new folder in place
+      // and the old one registered, or the temporary registered and the old output where it was.
+      temporaries::settle(tmp_, [&] {
+        std::error_code ec;
+        if (fs::exists(path_, ec)) {
+          if (takes_files()) throw Appeared{};  // another job's subfolder made it (-r -T)
+          check_output_free(path_, overwrite_);
+          old = path_ + ".old-" + std::to_string(::getpid());
+          fs::rename(path_, old, ec);
+          if (ec)
+            fail(ErrorCode::kIo, path_, "cannot move the existing output aside: " + ec.message());
+        }
+        fs::rename(tmp_, path_, ec);
+        if (ec) {
+          if (!old.empty()) fs::rename(old, path_, ec);
+          if (old.empty() && takes_files()) throw Appeared{};
+          fail(ErrorCode::kIo, path_, "cannot rename temporary directory into place");
+        }
+        return old;
+      });
+      committed_ = true;
+      if (!old.empty()) temporaries::remove(old);
+      return;
+    } catch (const Appeared&) {
     }
-    fs::rename(tmp_, path_, ec);
-    if (ec) {
-      if (!old.empty()) fs::rename(old, path_, ec);
-      fail(ErrorCode::kIo, path_, "cannot rename temporary directory into place");
-    }
-    return old;
-  });
-  committed_ = true;
-  if (!old.empty()) temporaries::remove(old);
+  }
+  move_in();
 }
 
 void AtomicDir::move_in() {
