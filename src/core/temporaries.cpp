@@ -96,13 +96,18 @@ void remove(const std::string& path) {
 void remove_temporaries_on_signals() {
   static std::once_flag once;
   std::call_once(once, [] {
-    sigset_t signals;
+    // A signal ignored or blocked at start stays so (nohup's SIGHUP, SIGINT in a script's
+    // background job, a parent's mask): only those that would end the process are waited for.
+    sigset_t signals, blocked;
     sigemptyset(&signals);
+    pthread_sigmask(SIG_BLOCK, nullptr, &blocked);
     for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
       struct sigaction now {};
-      if (sigaction(sig, nullptr, &now) == 0 && now.sa_handler != SIG_IGN) sigaddset(&signals, sig);
+      if (sigaction(sig, nullptr, &now) == 0 && now.sa_handler == SIG_DFL &&
+          !sigismember(&blocked, sig))
+        sigaddset(&signals, sig);
     }
-    if (sigisemptyset(&signals)) return;  // every one ignored (nohup and a background job)
+    if (sigisemptyset(&signals)) return;
     pthread_sigmask(SIG_BLOCK, &signals, nullptr);
     std::thread(wait_and_clean, signals).detach();
   });
