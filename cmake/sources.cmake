@@ -63,6 +63,7 @@ set(CAPZ_DECODE_SOURCES
   src/core/input_file.cpp
   src/core/modules.cpp
   src/core/take.cpp
+  src/core/temporaries.cpp
   src/core/thread_pool.cpp
   src/core/units.cpp
   src/core/version.cpp

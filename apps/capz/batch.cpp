@@ -52,16 +52,10 @@ void walk(const fs::path& dir, InputKind kind, std::vector<fs::path>* found) {
   }
 }
 
-// "a/b/" -> "a/b"
-std::string without_slashes(std::string p) {
-  while (p.size() > 1 && p.back() == '/') p.pop_back();
-  return p;
-}
-
 // The mirror path of `p`: the path as given, without its root ("/") and without the ".."
 // at its head ("../data/a.c3d" -> "data/a.c3d", "/x/y.c3d" -> "x/y.c3d").
 std::string mirror_path(const std::string& p) {
-  const fs::path n = fs::path(without_slashes(p)).lexically_normal();
+  const fs::path n = fs::path(capz::without_trailing_slashes(p)).lexically_normal();
   fs::path rel;
   bool head = true;
   for (const fs::path& part : n.relative_path()) {
@@ -198,7 +192,7 @@ std::string place_output(const BatchSettings& s, const Job& job, const std::stri
   } else if (!s.mirror_dir.empty()) {
     dir = fs::path(s.mirror_dir) / fs::path(job.rel).parent_path();
   } else {
-    dir = fs::path(without_slashes(job.input)).parent_path();
+    dir = fs::path(capz::without_trailing_slashes(job.input)).parent_path();
   }
   if (dir.empty()) return name;
   if (!s.flat_dir.empty() || !s.mirror_dir.empty()) {
@@ -210,7 +204,7 @@ std::string place_output(const BatchSettings& s, const Job& job, const std::stri
 }
 
 void claim_output(const std::string& out, const std::string& input) {
-  const std::string key = fs::path(without_slashes(out)).lexically_normal().string();
+  const std::string key = fs::path(capz::without_trailing_slashes(out)).lexically_normal().string();
   std::lock_guard<std::mutex> lock(g_claims_mutex);
   auto it = g_claims.find(key);
   if (it != g_claims.end())

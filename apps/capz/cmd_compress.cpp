@@ -312,10 +312,11 @@ FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
     refuse_terminal_stdout("a .capz archive");
     r.out = space->path("stdout.capz");
   } else {
-    r.out =
-        !job.output.empty()
-            ? job.output
-            : place_output(s.batch, job, fs::path(strip_slashes(in)).filename().string() + ".capz");
+    r.out = !job.output.empty()
+                ? job.output
+                : place_output(
+                      s.batch, job,
+                      fs::path(capz::without_trailing_slashes(in)).filename().string() + ".capz");
     claim_output(r.out, in);
     capz::check_output_free(r.out, force);
   }

@@ -132,9 +132,8 @@ int cmd_convert(const Args& args) {
     capz::fail(capz::ErrorCode::kUsage, out,
                "cannot tell the output format from the name: use .c3d, .trc, .pcd, .ply, .bin, "
                "or a folder path (no extension or ending in '/') for frame files");
-  std::string target = out;
-  while (target.size() > 1 && target.back() == '/') target.pop_back();
-  capz::check_output_free(target, wo.overwrite);
+  const std::string target = capz::without_trailing_slashes(out);
+  if (!capz::frames_go_beside(target)) capz::check_output_free(target, wo.overwrite);
   std::error_code ec;
   if (fs::exists(in, ec) && fs::exists(target, ec) && fs::equivalent(in, target, ec))
     capz::fail(capz::ErrorCode::kUsage, out, "output is the input");

@@ -3,7 +3,9 @@
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
+#include <string>
 
 #include "batch.h"
 #include "capz/codec.h"
@@ -17,12 +19,18 @@ namespace capz_cli {
 
 namespace {
 
+// Whether `s` ends in the extension `e` (lower case) in any case: walk.C3D ends in .c3d.
 bool ends_with(const std::string& s, const std::string& e) {
-  return s.size() > e.size() && s.compare(s.size() - e.size(), e.size(), e) == 0;
+  if (s.size() <= e.size()) return false;
+  const size_t at = s.size() - e.size();
+  for (size_t i = 0; i < e.size(); ++i)
+    if (std::tolower(static_cast<unsigned char>(s[at + i])) != e[i]) return false;
+  return true;
 }
 
 // Default output: X.capz -> X when X names the source's format (take.c3d.capz -> take.c3d,
-// frames.capz -> frames/ for a PCD folder); else the source's own name beside X.capz.
+// walk.C3D.capz -> walk.C3D, frames.capz -> frames/ for a PCD folder); else the source's own
+// name beside X.capz. Extensions are recognised in any case.
 // A one-frame take from a single frame file comes back as that file (scan.pcd.capz ->
 // scan.pcd).
 std::string default_output(const std::string& in, const capz::Take& take) {
@@ -47,10 +55,10 @@ std::string default_output(const std::string& in, const capz::Take& take) {
   return dir.empty() ? name : dir + "/" + name;
 }
 
-// True when OUT names one frame file (.pcd, .ply, .bin; `lower` its lowercase), not a folder.
-bool one_frame_file(const std::string& out, const std::string& lower) {
+// True when OUT names one frame file (.pcd, .ply, .bin, any case), not a folder.
+bool one_frame_file(const std::string& out) {
   std::error_code ec;
-  return (ends_with(lower, ".pcd") || ends_with(lower, ".ply") || ends_with(lower, ".bin")) &&
+  return (ends_with(out, ".pcd") || ends_with(out, ".ply") || ends_with(out, ".bin")) &&
          !std::filesystem::is_directory(out, ec);
 }
 
@@ -58,14 +66,12 @@ bool one_frame_file(const std::string& out, const std::string& lower) {
 // .bin, `folder` being the format OUT is written in: a folder, or one file of a one-frame take
 // (which rebuild_original writes as that file).
 bool same_format(const std::string& out, const capz::Take& take, capz::Format folder) {
-  std::string lower = out;
-  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   const capz::Format f = take.format;
   const bool frames = f == capz::Format::kPCDFolder || f == capz::Format::kPLYFolder ||
                       f == capz::Format::kBinFolder;
-  return (f == capz::Format::kC3D && ends_with(lower, ".c3d")) ||
-         (f == capz::Format::kTRC && ends_with(lower, ".trc")) ||
-         (frames && folder == f && (take.frames == 1 || !one_frame_file(out, lower)));
+  return (f == capz::Format::kC3D && ends_with(out, ".c3d")) ||
+         (f == capz::Format::kTRC && ends_with(out, ".trc")) ||
+         (frames && folder == f && (take.frames == 1 || !one_frame_file(out)));
 }
 
 // What every file of one `capz decompress` shares.
@@ -74,14 +80,30 @@ struct Settings {
   BatchSettings batch;
 };
 
-// --frames FIRST:COUNT
+// --frames FIRST:COUNT: decimal digits, COUNT -1 for to the end (as many as there are). A COUNT
+// of 0 asks for nothing: a usage error, before any file.
 void parse_frames(const std::string& fr, size_t* first, size_t* count) {
-  unsigned long long a = 0, n = 0;
-  char extra;
-  if (std::sscanf(fr.c_str(), "%llu:%llu%c", &a, &n, &extra) != 2)
-    throw po::error("--frames wants FIRST:COUNT, got '" + fr + "'");
-  *first = a;
-  *count = n;
+  const auto number = [](const std::string& digits, size_t* v) {
+    if (digits.empty() || digits.size() > 18 ||
+        digits.find_first_not_of("0123456789") != digits.npos)
+      return false;
+    *v = static_cast<size_t>(std::stoull(digits));
+    return true;
+  };
+  const size_t colon = fr.find(':');
+  const std::string c = colon == fr.npos ? "" : fr.substr(colon + 1);
+  if (colon == fr.npos || !number(fr.substr(0, colon), first) ||
+      !(c == "-1" ? (*count = std::numeric_limits<size_t>::max(), true) : number(c, count)))
+    throw po::error("--frames wants FIRST:COUNT (COUNT -1: to the end), got '" + fr + "'");
+  if (*count == 0)
+    throw po::error("--frames " + fr + " asks for no frames (COUNT 1 or more, -1: to the end)");
+}
+
+// "20 frames (0..19)", "1 frame (0)", "no frames".
+std::string frames_text(size_t frames) {
+  if (frames == 0) return "no frames";
+  return std::to_string(frames) +
+         (frames == 1 ? " frame (0" : " frames (0.." + std::to_string(frames - 1)) + ")";
 }
 
 // Where the take goes: stdout (through a file of the source's format in `space`), -o, or its
@@ -99,11 +121,13 @@ std::string choose_output(const Job& job, const Settings& s, const std::string& 
   if (out.empty()) {
     const std::string beside = default_output(in, take);
     const bool folder = !beside.empty() && beside.back() == '/';
-    out = place_output(s.batch, job,
-                       fs::path(strip_slashes(beside)).filename().string() + (folder ? "/" : ""));
+    out = place_output(
+        s.batch, job,
+        fs::path(capz::without_trailing_slashes(beside)).filename().string() + (folder ? "/" : ""));
   }
   claim_output(out, in);
-  capz::check_output_free(strip_slashes(out), s.batch.force);
+  if (!capz::frames_go_beside(out))  // a folder of an archive tree takes frames beside its own
+    capz::check_output_free(capz::without_trailing_slashes(out), s.batch.force);
   return out;
 }
 
@@ -135,6 +159,10 @@ Written decode_range(const Job& job, const Settings& s, const std::string& in,
   parse_frames(s.vm["frames"].as<std::string>(), &a, &n);
   std::vector<uint8_t> bytes = capz::read_file(in);
   capz::Take take = capz::decompress_frames(bytes.data(), bytes.size(), a, n, in, dopts);
+  if (take.frames == 0)  // FIRST at or past the end: what the take has (COUNT 0 was refused)
+    capz::fail(capz::ErrorCode::kUsage, in,
+               "--frames " + s.vm["frames"].as<std::string>() + " is past the end: the take has " +
+                   frames_text(capz::describe(bytes.data(), bytes.size(), in).frames));
   Written w;
   w.out = choose_output(job, s, in, take, space);
   capz::write_take(take, w.out, wo);
@@ -227,7 +255,7 @@ FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) 
   rec.units = w.units;
   rec.input = job.from_stdin ? "stdin" : in;
   rec.bytes_in = path_size(in);
-  rec.bytes_out = path_size(strip_slashes(w.out));
+  rec.bytes_out = path_size(capz::without_trailing_slashes(w.out));
   rec.ratio = rec.bytes_in ? static_cast<double>(rec.bytes_out) / static_cast<double>(rec.bytes_in)
                            : FileRecord::kNone;
   if (!s.batch.report.empty()) {  // the bound, for --report (the archive read whole once more)
@@ -253,8 +281,8 @@ int cmd_decompress(const Args& args) {
   po::options_description o("decompress options");
   add_batch_options(&o, true, "output .c3d, .trc, or a folder for PCD frames (a single input)");
   o.add_options()("frames", po::value<std::string>(),
-                  "decode only frames FIRST:COUNT (0-based); only the "
-                  "windows they touch are read")(
+                  "decode only frames FIRST:COUNT (0-based; COUNT -1: to the end); only "
+                  "the windows they touch are read")(
       "pcd-data", po::value<std::string>(),
       "PCD output: ascii, binary or binary_compressed (default: the source's)")(
       "drop-fields",

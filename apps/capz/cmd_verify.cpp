@@ -8,6 +8,7 @@
 #include "capz/metrics.h"
 #include "capz/stream.h"
 #include "capz/tool/file.h"
+#include "capz/tool/original.h"
 #include "capz/tool/verify.h"
 #include "compress_common.h"
 
@@ -101,6 +102,7 @@ struct Report {
   size_t bytes = 0;
   double bpvf = 0, t_dec = 0;
   Verdict v;
+  capz::OriginalInfo original;  // rebuilt (original.exact): --against a lossless archive
 };
 
 void print_json(const Report& r) {
@@ -123,6 +125,7 @@ void print_json(const Report& r) {
     if (!si.analog_bounds.empty()) j.member("analog_bound_use", r.v.analog_use);
     if (!r.v.ok) j.member("breach", r.v.why);
     j.member_strings("dropped_fields", r.v.dropped_fields);
+    j.member("original_rebuilt", r.original.exact);
   }
   j.member("decode_cpu_seconds", r.t_dec);
   j.end_object();
@@ -155,6 +158,9 @@ void print_text(const Report& r) {
           "  analog: the lossy channels within their bounds (largest error %s of its "
           "bound)\n",
           num(r.v.analog_use, 3).c_str());
+    if (r.original.exact)
+      std::printf("  original: rebuilt from the residue, %s bytes, xxh3-128 %s as recorded\n",
+                  std::to_string(r.original.size).c_str(), r.original.hash_hex.c_str());
     if (!r.v.dropped_fields.empty()) {
       std::string names;
       for (const std::string& n : r.v.dropped_fields) names += (names.empty() ? "" : " ") + n;
@@ -183,8 +189,10 @@ int cmd_verify(const Args& args) {
           "or does not keep its promise: the gap mask, every valid coordinate bit for bit\n"
           "(lossless), within the stored bound, or for a --kg-error transform stream within\n"
           "its KG target, and the metadata, analog values, rotations (bit for bit) and\n"
-          "format extras exactly. Point fields that the archive does not hold (compress\n"
-          "--drop-fields) are named and not compared.",
+          "format extras exactly; for a lossless archive with its original's checksum, the\n"
+          "original's bytes rebuilt from the residue, their size and hash checked, as test\n"
+          "does. Point fields that the archive does not hold (compress --drop-fields) are\n"
+          "named and not compared.",
           o, "X.capz", &vm, &in))
     return 0;
 
@@ -207,6 +215,12 @@ int cmd_verify(const Args& args) {
   r.t_dec = cpu_seconds() - c0;
   r.b = &dec->header();
   r.v = check_stream(in, r.against, *dec, si, &r.t_dec);
+  if (r.has_against && r.v.ok) {  // a lossless archive: the original's bytes too, as test does
+    r.original = capz::original_info(in);
+    const double c1 = cpu_seconds();
+    if (r.original.exact) capz::test_original(in, dopts);  // Error(kCorrupt) when they differ
+    r.t_dec += cpu_seconds() - c1;
+  }
   if (vm.count("json"))
     print_json(r);
   else if (g_verbosity >= 1)

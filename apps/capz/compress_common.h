@@ -21,12 +21,6 @@ namespace capz_cli {
 
 namespace fs = std::filesystem;
 
-// "a/b/frames/" -> "a/b/frames"
-inline std::string strip_slashes(std::string p) {
-  while (p.size() > 1 && p.back() == '/') p.pop_back();
-  return p;
-}
-
 // A progress line on stderr, only at normal verbosity on a terminal, at most ~10 times a second.
 class Progress {
  public:

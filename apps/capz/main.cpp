@@ -8,6 +8,7 @@
 #endif
 
 #include "capz/error.h"
+#include "capz/tool/file.h"
 #include "capz/version.h"
 #include "cli_util.h"
 #include "commands.h"
@@ -49,6 +50,8 @@ void usage(std::FILE* out) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // First, before any thread: an interrupted run leaves no temporary behind (docs/CLI.md).
+  capz::remove_temporaries_on_signals();
 #if defined(__GLIBC__)
   // Each window allocates and frees the same few large buffers. By default glibc serves those
   // with mmap and returns them on free, so every window pays fresh page faults (about a sixth

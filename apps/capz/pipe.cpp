@@ -7,14 +7,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <vector>
 
 #include "capz/error.h"
-
-namespace fs = std::filesystem;
 
 namespace capz_cli {
 
@@ -40,17 +37,9 @@ void write_all(int fd, const char* data, size_t n, const std::string& name) {
 PipeSpace::PipeSpace() {
   std::signal(SIGPIPE, SIG_IGN);  // a closed stdout is an error to report, not a silent death
   const char* t = std::getenv("TMPDIR");
-  std::string tmpl = std::string(t && *t ? t : "/tmp") + "/capz-pipe-XXXXXX";
-  std::vector<char> buf(tmpl.begin(), tmpl.end());
-  buf.push_back('\0');
-  if (!::mkdtemp(buf.data()))
-    capz::fail(capz::ErrorCode::kIo, tmpl, "cannot create a temporary folder: " + sys_error());
-  dir_ = buf.data();
-}
-
-PipeSpace::~PipeSpace() {
-  std::error_code ec;
-  fs::remove_all(dir_, ec);
+  folder_ = std::make_unique<capz::TemporaryFolder>(std::string(t && *t ? t : "/tmp") +
+                                                    "/capz-pipe-XXXXXX");
+  dir_ = folder_->path();
 }
 
 std::string PipeSpace::spool_stdin(const std::string& name, uint64_t max_bytes) {

@@ -1,21 +1,23 @@
 // Pipes for compress and decompress: stdin spooled to a private temporary folder (so the
 // streaming readers, which read files by ranges, and the original's checksum and residue work
 // as for a file; memory stays bounded as for a file), outputs written there and copied to
-// stdout. The folder and everything in it is removed when the PipeSpace goes.
+// stdout. The folder and everything in it is removed when the PipeSpace goes (or when SIGINT,
+// SIGTERM or SIGHUP ends capz: capz::remove_temporaries_on_signals).
 #pragma once
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "batch.h"
+#include "capz/tool/file.h"
 
 namespace capz_cli {
 
 class PipeSpace {
  public:
   PipeSpace();  // a fresh folder under $TMPDIR (or /tmp); Error(kIo) when it cannot be made
-  ~PipeSpace();
   PipeSpace(const PipeSpace&) = delete;
   PipeSpace& operator=(const PipeSpace&) = delete;
 
@@ -28,6 +30,7 @@ class PipeSpace {
   std::string tidy(const std::string& message) const;
 
  private:
+  std::unique_ptr<capz::TemporaryFolder> folder_;  // removed with what it holds (signals too)
   std::string dir_;
 };
 

@@ -20,6 +20,14 @@ Format detect_format(const std::string& path);
 // that is not a readable directory.
 bool holds_frame_files(const std::string& dir);
 
+// Whether frame files written to the folder `dir` go in beside what it holds: `dir` is an
+// existing directory (not a symbolic link) holding nothing but subfolders, hidden files and
+// .capz archives, such as the folder of an archive tree that holds its subfolder's archive
+// (`decompress -r` restores both). Writing a take's frames there is no overwrite: the folder
+// writers (write_take, the frame sinks, rebuild_original) move their files in at the end, each
+// under a name the folder does not hold yet.
+bool frames_go_beside(const std::string& dir);
+
 // Reads any supported input (.c3d, .trc, a folder of .pcd, .ply or .bin frames, or a single
 // .pcd, .ply or .bin frame file as a one-frame take). Folders whose frames' point counts differ
 // give a ragged take (take.h).

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "capz/error.h"
+#include "capz/io.h"
 #include "capz/tool/file.h"
 #include "capz/tool/original.h"
 #include "codec/capz_source.h"
@@ -240,13 +241,12 @@ void rebuild_original(const std::string& capz_path, const std::string& out, bool
     return;
   }
   if (!ext.empty()) {  // a folder of frame files, renamed into place once every file has checked
-    std::string path = out;
-    while (path.size() > 1 && path.back() == '/') path.pop_back();
+    const std::string path = without_trailing_slashes(out);
     if (f == Format::kPCDFolder)
       check_replaceable_pcd_dir(path, overwrite);
     else
       check_replaceable_frame_dir(path, ext, overwrite);
-    AtomicDir dir(path, overwrite);
+    AtomicDir dir(path, overwrite, frames_go_beside);
     rebuild(
         capz_path, [](const uint8_t*, size_t) {}, opts,
         [&](const std::string& name, const std::vector<uint8_t>& bytes) {

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "capz/error.h"
+#include "capz/tool/file.h"
 #include "coding/bytes.h"
 #include "coding/c3d_params.h"
 #include "coding/entropy.h"
@@ -202,8 +203,7 @@ void put_analog_bounds(const Analog& a, ByteWriter* out) {
 
 std::vector<uint8_t> encode_meta_fields(const Take& t, bool has_sample_words) {
   ByteWriter w;
-  std::string src = t.source;
-  while (!src.empty() && src.back() == '/') src.pop_back();
+  const std::string src = without_trailing_slashes(t.source);  // its last name, a folder's too
   size_t slash = src.find_last_of('/');
   w.str(slash == std::string::npos ? src : src.substr(slash + 1));
   w.str(t.units);

@@ -1,6 +1,8 @@
 // Output that appears whole or not at all: data goes to a temporary sibling ("<path>.tmp-XXXXXX"),
-// is fsync'ed, then renamed over `path`. If commit() is never reached (exception, crash), the
-// destructor removes the temporary; the destination is untouched.
+// is fsync'ed, then renamed over `path`. If commit() is never reached (exception), the destructor
+// removes the temporary; the destination is untouched. Temporaries are registered
+// (core/temporaries.h), so a program that calls remove_temporaries_on_signals() loses them to
+// SIGINT, SIGTERM and SIGHUP too.
 #pragma once
 
 #include <cstdint>
@@ -35,9 +37,15 @@ class AtomicFile {
 
 // The same for a directory (a PCD folder): files are written inside temp_dir(), and commit()
 // renames the directory into place (an existing destination is removed first when overwrite).
+// `beside`, when given, says whether an existing `path` takes the files in beside what it holds
+// (io's frames_go_beside: a folder of an archive tree); commit() then moves them in one by one,
+// under names it does not hold yet (Error kUsage naming one otherwise, nothing moved), and
+// takes them all back if one fails: they appear together as far as any error or signal can
+// tell, though a SIGKILL or power cut while they move may leave some.
 class AtomicDir {
  public:
-  AtomicDir(const std::string& path, bool overwrite);
+  AtomicDir(const std::string& path, bool overwrite,
+            bool (*beside)(const std::string& path) = nullptr);
   ~AtomicDir();
   AtomicDir(const AtomicDir&) = delete;
   AtomicDir& operator=(const AtomicDir&) = delete;
@@ -45,8 +53,11 @@ class AtomicDir {
   void commit();
 
  private:
+  void move_in();  // commit() into an existing folder that takes the files beside its own
+
   std::string path_, tmp_;
   bool overwrite_;
+  bool (*beside_)(const std::string&);
   bool committed_ = false;
 };
 

@@ -10,6 +10,7 @@
 #include <set>
 
 #include "capz/error.h"
+#include "capz/io.h"
 #include "capz/tool/file.h"
 #include "core/atomic_file.h"
 #include "core/input_file.h"
@@ -63,14 +64,6 @@ FrameView frame_view(const FrameBlock& b, size_t k) {
 
 namespace {
 
-// "a/b/" -> "a/b": a folder's path for the file system, once single_frame_output has read its
-// trailing '/'.
-std::string folder_path(const std::string& path) {
-  std::string p = path;
-  while (p.size() > 1 && p.back() == '/') p.pop_back();
-  return p;
-}
-
 // Refuses (kInvalidParameter, naming `path`) a take whose point field names a frame file cannot
 // hold (point_field_fault): the files written would not read back.
 void refuse_unreadable_names(const Take& take, const std::string& path) {
@@ -83,7 +76,7 @@ void refuse_unreadable_names(const Take& take, const std::string& path) {
 
 void write_frame_files(const Take& take, const std::string& given, const std::string& ext,
                        bool overwrite, const FrameFileBytes& frame) {
-  const std::string path = folder_path(given);
+  const std::string path = without_trailing_slashes(given);
   const std::string fault = take.shape_fault();
   if (!fault.empty()) fail(ErrorCode::kInternal, path, "take arrays: " + fault);
   refuse_unreadable_names(take, path);
@@ -98,7 +91,7 @@ void write_frame_files(const Take& take, const std::string& given, const std::st
   }
   const std::vector<std::string> names = frame_output_names(take, ext);
   check_replaceable_frame_dir(path, ext, overwrite);
-  AtomicDir out(path, overwrite);
+  AtomicDir out(path, overwrite, frames_go_beside);
   for (size_t f = 0; f < take.frames; ++f)
     write_file((fs::path(out.temp_dir()) / names[f]).string(), frame(frame_view(take, f)), true);
   out.commit();
@@ -112,7 +105,7 @@ class FrameFolderSink : public FrameSink {
                   bool overwrite, bool needs_scan,
                   std::function<FrameFileBytes(std::optional<bool>)> make)
       : frames_(header.frames),
-        path_(folder_path(path)),
+        path_(without_trailing_slashes(path)),
         single_(single_frame_output(path, ext)),
         overwrite_(overwrite),
         scan_(needs_scan),
@@ -128,7 +121,7 @@ class FrameFolderSink : public FrameSink {
     }
     names_ = frame_output_names(header, ext);
     check_replaceable_frame_dir(path_, ext, overwrite);
-    out_.reset(new AtomicDir(path_, overwrite));
+    out_.reset(new AtomicDir(path_, overwrite, frames_go_beside));
   }
   bool wants_prescan() const override { return scan_ && !scanned_; }
   void prescan(const FrameBlock& b) override {
@@ -255,7 +248,7 @@ std::vector<std::string> frame_output_names(const Take& take, const std::string&
 void check_replaceable_frame_dir(const std::string& dir, const std::string& ext, bool overwrite) {
   // Replacing an existing directory deletes it: only allow that for a folder of frame files.
   std::error_code ec;
-  if (overwrite && fs::is_directory(dir, ec)) {
+  if (overwrite && fs::is_directory(dir, ec) && !frames_go_beside(dir)) {
     for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
       std::error_code ec2;
       if (!has_extension(it->path().string(), ext) || !fs::is_regular_file(it->symlink_status(ec2)))

@@ -95,7 +95,8 @@ const std::vector<std::string>* source_frame_names(const Take& take);
 std::vector<std::string> frame_output_names(const Take& take, const std::string& ext);
 
 // With `overwrite`, an existing `dir` may be replaced only when it holds nothing but frame files
-// ending in `ext`: throws Error(kUsage) otherwise.
+// ending in `ext`: throws Error(kUsage) otherwise. A `dir` the frames go beside what it holds
+// (frames_go_beside) is not replaced.
 void check_replaceable_frame_dir(const std::string& dir, const std::string& ext, bool overwrite);
 
 // True when `path` names a single frame file to write: it ends in `ext` and is no directory.

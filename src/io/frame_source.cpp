@@ -495,8 +495,7 @@ std::unique_ptr<FrameSource> open_frames(const std::string& path) {
 
 std::unique_ptr<FrameSink> create_frame_sink(const Take& header, bool words,
                                              const std::string& path, const WriteOptions& opts) {
-  std::string target = path;
-  while (target.size() > 1 && target.back() == '/') target.pop_back();
+  const std::string target = without_trailing_slashes(path);
   const bool int16_from_data = c3d::c3d_known_scale(header) == 0 && header.c3d &&
                                !header.c3d->float_storage && !opts.c3d_float;
   const Format f = path.empty() ? Format::kUnknown : output_format(header, path, opts);
@@ -510,7 +509,7 @@ std::unique_ptr<FrameSink> create_frame_sink(const Take& header, bool words,
   // Folders of frame files, file by file as the blocks come; a single frame file from its block.
   const char* ext = frame_extension(f);
   if (*ext) {
-    check_output_free(target, opts.overwrite);
+    if (!frames_go_beside(target)) check_output_free(target, opts.overwrite);
     // path, not target: a trailing '/' says a folder (a folder named "x.ply/")
     if (f == Format::kPCDFolder) return pcd_folder_sink(header, path, opts);
     if (f == Format::kPLYFolder) return ply_folder_sink(header, path, opts);

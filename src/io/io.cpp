@@ -40,9 +40,7 @@ Format frame_file_format(const std::string& ext) {
 }
 
 std::string lower_extension(const std::string& path) {
-  std::string p = path;
-  while (p.size() > 1 && p.back() == '/') p.pop_back();
-  std::string ext = fs::path(p).extension().string();
+  std::string ext = fs::path(without_trailing_slashes(path)).extension().string();
   for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext;
 }
@@ -132,6 +130,22 @@ bool holds_frame_files(const std::string& dir) {
   return false;
 }
 
+bool frames_go_beside(const std::string& dir) {
+  const std::string d = without_trailing_slashes(dir);
+  std::error_code ec;
+  if (!fs::is_directory(fs::symlink_status(d, ec))) return false;
+  for (fs::directory_iterator it(d, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    std::error_code ec2;
+    const auto st = it->symlink_status(ec2);
+    if (hidden_name(name) || fs::is_directory(st) ||
+        (fs::is_regular_file(st) && lower_extension(name) == ".capz"))
+      continue;
+    return false;
+  }
+  return !ec;
+}
+
 Format detect_format(const std::string& path) {
   std::error_code ec;
   auto st = fs::status(path, ec);
@@ -181,8 +195,7 @@ Format format_for_output(const std::string& path) {
 Format output_format(const Take& take, const std::string& path, const WriteOptions& opts) {
   const Format f = format_for_output(path);
   if (f != Format::kPCDFolder) return f;
-  std::string p = path;
-  while (p.size() > 1 && p.back() == '/') p.pop_back();
+  const std::string p = without_trailing_slashes(path);
   std::error_code ec;
   if (lower_extension(p) == ".pcd" && path.back() != '/' && !fs::is_directory(p, ec)) return f;
   if (is_frame_files(opts.folder_format)) return opts.folder_format;
@@ -249,10 +262,9 @@ void check_fields_fit(const Take& take, Format f, const std::string& path,
 void write_take(const Take& take, const std::string& path, const WriteOptions& opts) {
   if (path.empty()) fail(ErrorCode::kUsage, path, "empty output path");
   const Format f = output_format(take, path, opts);
-  std::string target = path;
-  while (target.size() > 1 && target.back() == '/') target.pop_back();
+  const std::string target = without_trailing_slashes(path);
   check_fields_fit(take, f, target, opts);
-  check_output_free(target, opts.overwrite);
+  if (!is_frame_files(f) || !frames_go_beside(target)) check_output_free(target, opts.overwrite);
   switch (f) {
     case Format::kC3D:
       write_c3d(take, target, opts);

@@ -155,3 +155,34 @@ TEST(CliArchive, PcdFolderComesBackByteForByte) {
   EXPECT_FALSE(fs::exists(d.file("bad_out")));
   EXPECT_EQ(run("test '" + bad + "'").status, 1);
 }
+
+// verify --against decoded the positions, not the residue: a lossless archive whose HASH, PCDR
+// or PCDP was changed (its CRC recomputed: deliberate tampering) passed it while test and
+// decompress refused. It now rebuilds the original as test does: exit status 5, naming it.
+TEST(CliArchive, GivenALosslessArchiveWithItsResidueTamperedThenVerifyAgainstRefuses) {
+  capz_test::TempDir d("capz_cli_archive");
+  const std::string c3d = std::string(CAPZ_REPO_DATA) + "/EB015PI.c3d";
+  const std::string frames = std::string(CAPZ_REPO_DATA) + "/synth_wave";
+  struct Case {
+    std::string original, chunk;
+  };
+  for (const Case& c : {Case{c3d, "HASH"}, Case{c3d, "C3DR"}, Case{frames, "HASH"},
+                        Case{frames, "PCDR"}, Case{frames, "PCDP"}}) {
+    const std::string z = d.file("ok.capz"), bad = d.file("bad.capz"),
+                      what = c.chunk + " of " + c.original;
+    ASSERT_EQ(run("compress -q -f --lossless '" + c.original + "' -o '" + z + "'").status, 0);
+    Result r = run("verify '" + z + "' --against '" + c.original + "'");
+    ASSERT_EQ(r.status, 0) << r.out;
+    EXPECT_NE(r.out.find("  original: rebuilt from the residue, "), std::string::npos) << r.out;
+    std::vector<uint8_t> b = capz::read_file(z);
+    const size_t at = capz_test::find_chunk(b, c.chunk.c_str());
+    ASSERT_NE(at, std::string::npos) << what;
+    b[at + 8 + capz_test::chunk_len(b, at) - 1] ^= 0x01;  // the payload's last byte
+    capz_test::fix_crc(&b, at);
+    capz::write_file(bad, b, true);
+    ASSERT_EQ(run("test '" + bad + "'").status, 1) << what;
+    r = run("verify '" + bad + "' --against '" + c.original + "'");
+    EXPECT_EQ(r.status, 5) << what << ": " << r.out;
+    EXPECT_NE(r.out.find("capz verify: error: " + bad), std::string::npos) << what << ": " << r.out;
+  }
+}

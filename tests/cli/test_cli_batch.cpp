@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "capz/io.h"
 #include "capz/tool/file.h"
 #include "test_util.h"
 
@@ -231,6 +232,56 @@ TEST(CliBatch, GivenTreeWhenRecursiveThenMirrorAndFlatFoldersAndLosslessBack) {
   Result nr = shell(dir, "capz decompress -q t");
   EXPECT_EQ(nr.status, 1);
   EXPECT_NE(nr.err.find("use -r"), std::string::npos) << nr.err;
+}
+
+// A folder of frames holding a subfolder of frames (t/a/*.pcd, t/a/sub/*.pcd): its archive tree
+// holds a.capz beside the folder a/ that holds sub.capz, so restoring a.capz meets a/ already
+// there ("output exists", with -f "refusing to replace"). Both restored now, in place and into a
+// mirror: the frames go in beside what a/ holds. A folder holding frames already still refuses.
+TEST(CliBatch, GivenAFolderOfFramesHoldingASubfolderOfFramesThenDecompressRestoresBoth) {
+  capz_test::TempDir d("capz_cli_batch");
+  const std::string dir = d.path().string();
+  fs::create_directories(d.file("t/a/sub"));
+  std::vector<std::string> frames;
+  for (const auto& f : fs::directory_iterator(repo("synth_wave")))
+    if (f.path().extension() == ".pcd" && frames.size() < 3) {
+      frames.push_back(f.path().filename().string());
+      fs::copy_file(f.path(), d.file("t/a/" + frames.back()));
+      fs::copy_file(f.path(), d.file("t/a/sub/" + frames.back()));
+    }
+  ASSERT_EQ(frames.size(), 3u);
+  const auto same_frames = [&](const std::string& root) {
+    for (const char* folder : {"/t/a/", "/t/a/sub/"})
+      for (const std::string& f : frames)
+        EXPECT_EQ(capz::read_file(d.file(root + folder + f)),
+                  capz::read_file(d.file("t/a/sub/" + f)))
+            << root << folder << f;
+  };
+  Result r = shell(dir, "capz compress -r -q --lossless t --output-dir-mirror m");
+  ASSERT_EQ(r.status, 0) << r.err;
+  ASSERT_TRUE(fs::is_regular_file(d.file("m/t/a/sub.capz")));
+  r = shell(dir, "capz decompress -r -q m/t --output-dir-mirror back");
+  EXPECT_EQ(r.status, 0) << r.err;
+  same_frames("back/m");
+  r = shell(dir, "capz decompress -r -q m/t");  // in place
+  EXPECT_EQ(r.status, 0) << r.err;
+  same_frames("m");
+  EXPECT_TRUE(fs::is_regular_file(d.file("m/t/a/sub.capz")));
+  // Through the writer too (a bound), with -f: nothing is replaced, so -f changes nothing.
+  ASSERT_EQ(shell(dir, "capz compress -r -q t --output-dir-mirror lossy").status, 0);
+  r = shell(dir, "capz decompress -r -q -f lossy/t");
+  EXPECT_EQ(r.status, 0) << r.err;
+  for (const char* folder : {"lossy/t/a/", "lossy/t/a/sub/"})
+    EXPECT_EQ(capz::read_take(d.file(folder)).frames, frames.size()) << folder;
+  // Once restored, a/ holds frames: a second run refuses it, with -f too (a/ holds more than
+  // frames), and leaves it as it was.
+  r = shell(dir, "capz decompress -q m/t/a.capz");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("output exists"), std::string::npos) << r.err;
+  r = shell(dir, "capz decompress -q -f m/t/a.capz");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("refusing to replace"), std::string::npos) << r.err;
+  same_frames("m");
 }
 
 TEST(CliBatch, GivenThreadCountsThenArchivesIdentical) {

@@ -119,6 +119,35 @@ TEST(CliCompress, GivenC3DWhenCompressedWithJsonAndUnitsThenFieldsAndConversion)
   EXPECT_EQ(capz_cli("verify '" + d.file("l.capz") + "' --against '" + kC3d + "'").status, 0);
 }
 
+// --frames past the end said "the take has no frames: nothing to write"; now what was asked and
+// what the take has, naming the archive. COUNT 0 asks for nothing (refused before any file);
+// COUNT -1 is to the end; other negative numbers are refused (they were read as huge counts).
+TEST(CliDecompress, GivenFramesPastTheEndOrNoneThenTheMessageSaysWhatTheTakeHas) {
+  capz_test::TempDir d("capz_cli_compress");
+  const std::string x = d.file("e.capz"), part = d.file("part.c3d");
+  ASSERT_EQ(capz_cli("compress -q '" + kC3d + "' -o '" + x + "'").status, 0);
+  const size_t frames = capz::read_take(kC3d).frames;
+  const std::string past = std::to_string(frames) + ":40";
+  Result r = capz_cli("decompress -q '" + x + "' --frames " + past + " -o '" + part + "'", true);
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("e.capz: --frames " + past + " is past the end: the take has " +
+                       std::to_string(frames) + " frames (0.." + std::to_string(frames - 1) + ")"),
+            std::string::npos)
+      << r.out;
+  r = capz_cli("decompress -q '" + x + "' --frames 3:0 -o '" + part + "'", true);
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("--frames 3:0 asks for no frames"), std::string::npos) << r.out;
+  for (const char* bad : {"3:-5", "-2:5", "3:", "1:2x"}) {
+    r = capz_cli("decompress -q '" + x + "' --frames=" + bad + " -o '" + part + "'", true);
+    EXPECT_EQ(r.status, 1) << bad << ": " << r.out;
+    EXPECT_NE(r.out.find("--frames wants FIRST:COUNT"), std::string::npos) << r.out;
+  }
+  EXPECT_FALSE(fs::exists(part));
+  r = capz_cli("decompress -q '" + x + "' --frames 3:-1 -o '" + part + "'", true);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(capz::read_take(part).frames, frames - 3);
+}
+
 TEST(CliCompress, GivenBadRequestsThenOneLineErrorsAndStatuses) {
   capz_test::TempDir d("capz_cli_compress");
   EXPECT_EQ(

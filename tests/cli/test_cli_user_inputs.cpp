@@ -214,3 +214,35 @@ TEST(CliUserInputs, GivenScalarFieldsOfBothKindsThenAPrefixBoundsTheFloatOnes) {
   EXPECT_EQ(r.status, 6) << r.out;
   EXPECT_FALSE(fs::exists(dir.file("d.capz")));
 }
+
+// Extensions in upper case (cameras' and Windows tools' habit): `decompress walk.C3D.capz` gave
+// walk.C3D.c3d, and a one-frame archive of scan.PCD the folder scan.PCD/scan.PCD; each now
+// comes back under its own name, byte for byte with --lossless.
+TEST(CliUserInputs, GivenUpperCaseExtensionsThenDecompressGivesTheSameNamesBack) {
+  TempDir dir;
+  const std::string data = CAPZ_REPO_DATA;
+  fs::copy_file(data + "/EB015PI.c3d", dir.file("walk.C3D"));
+  fs::copy_file(data + "/std_walking5_markers.trc", dir.file("walk.TRC"));
+  capz_test::put(dir.file("scan.PCD"), capz_test::binary_pcd(200, 1.0f));
+  capz_test::put(dir.file("scan.PLY"),
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                 "property float z\nend_header\n1 2 3\n4 5 6\n7 8 9.5\n");
+  std::string bin;
+  for (int i = 0; i < 64; ++i) {
+    const float p[4] = {0.5f * static_cast<float>(i), 2.0f, -1.0f, 0.25f};
+    bin.append(reinterpret_cast<const char*>(p), sizeof p);
+  }
+  capz_test::put(dir.file("scan.BIN"), bin);
+  for (const char* name : {"walk.C3D", "walk.TRC", "scan.PCD", "scan.PLY", "scan.BIN"}) {
+    const std::string in = dir.file(name), original = capz_test::file_text(in);
+    auto r = capz_run("compress -q --lossless '" + in + "'", dir);
+    ASSERT_EQ(r.status, 0) << name << ": " << r.out;
+    fs::remove(in);
+    r = capz_run("decompress -q '" + in + ".capz'", dir);
+    ASSERT_EQ(r.status, 0) << name << ": " << r.out;
+    EXPECT_TRUE(fs::is_regular_file(in)) << name;
+    EXPECT_TRUE(capz_test::file_text(in) == original) << name << " differs";
+    for (const char* ext : {".c3d", ".trc", ".pcd", ".ply", ".bin"})
+      EXPECT_FALSE(fs::exists(in + ext)) << name << ext;
+  }
+}

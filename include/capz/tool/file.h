@@ -16,6 +16,10 @@ namespace capz {
 // `max_bytes` (kIo).
 std::vector<uint8_t> read_file(const std::string& path, uint64_t max_bytes = (uint64_t{1} << 34));
 
+// `path` without its trailing slashes ("a/b/" -> "a/b"; "/" stays "/"): a folder's path for the
+// file system, once a trailing '/' has said "a folder".
+std::string without_trailing_slashes(std::string path);
+
 // Throws Error(kUsage) if `path` exists and !overwrite.
 void check_output_free(const std::string& path, bool overwrite);
 
@@ -23,5 +27,29 @@ void check_output_free(const std::string& path, bool overwrite);
 // (the destination is untouched on failure). Throws kUsage if `path` exists and !overwrite,
 // kIo when the write fails (disk full).
 void write_file(const std::string& path, const std::vector<uint8_t>& bytes, bool overwrite);
+
+// Makes SIGINT (Ctrl-C), SIGTERM and SIGHUP remove the temporaries of the outputs not yet in place
+// (the library's "<path>.tmp-XXXXXX" files and folders, TemporaryFolder's folders) before the
+// process ends by that signal, as it would without this call (a shell sees status 128 + N): an
+// interrupted run leaves no partial output. A signal ignored, blocked or handled at the call
+// (SIGHUP under nohup) is left as it is. Call it once, first in main(), before any thread starts:
+// it blocks those signals in the calling thread, so in every thread started after it, and starts a
+// thread that waits for them. Later calls do nothing.
+void remove_temporaries_on_signals();
+
+// A fresh private folder made from `templ` (a path ending in XXXXXX, as mkdtemp(3) takes; Error
+// kIo when it cannot be made), removed with what it holds when the object goes, or by a signal
+// as remove_temporaries_on_signals() says.
+class TemporaryFolder {
+ public:
+  explicit TemporaryFolder(const std::string& templ);
+  ~TemporaryFolder();
+  TemporaryFolder(const TemporaryFolder&) = delete;
+  TemporaryFolder& operator=(const TemporaryFolder&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
 
 }  // namespace capz

@@ -1,0 +1,131 @@
+// Decoder library (capz_decode): builds without PCL and without the transform encoders.
+#include "core/temporaries.h"
+
+#include <pthread.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <mutex>
+#include <system_error>
+#include <thread>
+#include <vector>
+
+#include "capz/error.h"
+#include "capz/tool/file.h"
+
+namespace fs = std::filesystem;
+
+namespace capz {
+
+namespace {
+
+struct Registry {
+  std::mutex lock;
+  std::vector<std::string> paths;  // in registration order: a folder before what it holds
+};
+
+// Never destroyed: a signal may come while the process exits, after static destructors ran.
+Registry& registry() {
+  static Registry* r = new Registry;
+  return *r;
+}
+
+void drop(std::vector<std::string>* paths, const std::string& path) {
+  const auto at = std::find(paths->begin(), paths->end(), path);
+  if (at != paths->end()) paths->erase(at);
+}
+
+void remove_path(const std::string& path) {
+  std::error_code ec;
+  fs::remove_all(path, ec);
+}
+
+// The signal thread: waits for one of `signals`, removes every registered temporary while holding
+// the registry's lock (so no temporary is made or renamed into place meanwhile, nor after), then
+// ends the process by that signal with its default action.
+[[noreturn]] void wait_and_clean(sigset_t signals) {
+  int sig = 0;
+  while (sigwait(&signals, &sig) != 0) {
+  }
+  Registry& r = registry();
+  r.lock.lock();  // kept: the process ends holding it
+  for (auto p = r.paths.rbegin(); p != r.paths.rend(); ++p) remove_path(*p);
+  std::signal(sig, SIG_DFL);
+  sigset_t one;
+  sigemptyset(&one);
+  sigaddset(&one, sig);
+  pthread_sigmask(SIG_UNBLOCK, &one, nullptr);
+  raise(sig);  // this thread's, unblocked now with the default action: the process ends
+  _exit(128 + sig);
+}
+
+}  // namespace
+
+namespace temporaries {
+
+std::string create(const std::function<std::string()>& make) {
+  Registry& r = registry();
+  std::lock_guard<std::mutex> hold(r.lock);
+  std::string path = make();
+  r.paths.push_back(path);
+  return path;
+}
+
+void settle(const std::string& path, const std::function<std::string()>& settle) {
+  Registry& r = registry();
+  std::lock_guard<std::mutex> hold(r.lock);
+  std::string instead = settle();
+  drop(&r.paths, path);
+  if (!instead.empty()) r.paths.push_back(std::move(instead));
+}
+
+void remove(const std::string& path) {
+  Registry& r = registry();
+  std::lock_guard<std::mutex> hold(r.lock);
+  remove_path(path);
+  drop(&r.paths, path);
+}
+
+}  // namespace temporaries
+
+void remove_temporaries_on_signals() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    // A signal ignored or blocked at start stays so (nohup's SIGHUP, SIGINT in a script's
+    // background job, a parent's mask): only those that would end the process are waited for.
+    sigset_t signals, blocked;
+    sigemptyset(&signals);
+    pthread_sigmask(SIG_BLOCK, nullptr, &blocked);
+    for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
+      struct sigaction now {};
+      if (sigaction(sig, nullptr, &now) == 0 && now.sa_handler == SIG_DFL &&
+          !sigismember(&blocked, sig))
+        sigaddset(&signals, sig);
+    }
+    if (sigisemptyset(&signals)) return;
+    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+    std::thread(wait_and_clean, signals).detach();
+  });
+}
+
+TemporaryFolder::TemporaryFolder(const std::string& templ) {
+  path_ = temporaries::create([&] {
+    std::vector<char> buf(templ.begin(), templ.end());
+    buf.push_back('\0');
+    if (!::mkdtemp(buf.data()))
+      fail(ErrorCode::kIo, templ,
+           std::string("cannot create a temporary folder: ") + std::strerror(errno));
+    return std::string(buf.data());
+  });
+}
+
+TemporaryFolder::~TemporaryFolder() {
+  temporaries::remove(path_);
+}
+
+}  // namespace capz

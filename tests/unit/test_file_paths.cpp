@@ -1,0 +1,92 @@
+// Output paths: the one trailing-slash rule (capz/tool/file.h), TemporaryFolder (the CLI's pipe
+// folder) removed with what it holds, and AtomicDir's files going in beside a folder's own.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "capz/io.h"
+#include "capz/tool/file.h"
+#include "core/atomic_file.h"
+#include "support/frame_files.h"
+#include "test_util.h"
+
+namespace fs = std::filesystem;
+
+TEST(WithoutTrailingSlashes, GivenPathsThenOnlyTrailingSlashesGoAndTheRootStays) {
+  EXPECT_EQ(capz::without_trailing_slashes("a/b/frames/"), "a/b/frames");
+  EXPECT_EQ(capz::without_trailing_slashes("a/b//"), "a/b");
+  EXPECT_EQ(capz::without_trailing_slashes("/a/b"), "/a/b");
+  EXPECT_EQ(capz::without_trailing_slashes("out.ply/"), "out.ply");
+  EXPECT_EQ(capz::without_trailing_slashes("/"), "/");
+  EXPECT_EQ(capz::without_trailing_slashes("///"), "/");
+  EXPECT_EQ(capz::without_trailing_slashes(""), "");
+}
+
+TEST(TemporaryFolder, GivenFilesInsideThenTheFolderGoesWithThem) {
+  capz_test::TempDir dir;
+  std::string path;
+  {
+    capz::TemporaryFolder t(dir.file("pipe-XXXXXX"));
+    path = t.path();
+    ASSERT_TRUE(fs::is_directory(path));
+    EXPECT_EQ(path.find("XXXXXX"), std::string::npos) << path;
+    std::ofstream(path + "/stdin") << "bytes";
+  }
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_THROW(capz::TemporaryFolder(dir.file("absent/pipe-XXXXXX")), capz::Error);
+}
+
+namespace {
+
+std::vector<std::string> names_in(const fs::path& dir) {
+  std::vector<std::string> v;
+  for (const auto& e : fs::directory_iterator(dir)) v.push_back(e.path().filename().string());
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
+}  // namespace
+
+// A folder of an archive tree (subfolders and .capz archives only) takes a folder output's files
+// beside its own; a name it holds already refuses them all, and nothing is left behind.
+TEST(AtomicDirBeside, GivenAFolderOfArchivesThenFilesGoInBesideAndANameHeldRefuses) {
+  capz_test::TempDir dir;
+  fs::create_directories(dir.path() / "a" / "sub");
+  capz_test::put(dir.path() / "a" / "sub.capz", "archive");
+  ASSERT_TRUE(capz::frames_go_beside(dir.file("a/")));
+  {
+    capz::AtomicDir out(dir.file("a/"), false, capz::frames_go_beside);
+    capz::write_file(out.temp_dir() + "/0.pcd", {1, 2}, false);
+    capz::write_file(out.temp_dir() + "/1.pcd", {3}, false);
+    out.commit();
+  }
+  EXPECT_EQ(names_in(dir.path() / "a"),
+            (std::vector<std::string>{"0.pcd", "1.pcd", "sub", "sub.capz"}));
+  EXPECT_EQ(names_in(dir.path()), std::vector<std::string>{"a"});
+  EXPECT_FALSE(capz::frames_go_beside(dir.file("a")));  // it holds frames now
+  EXPECT_THROW(capz::AtomicDir(dir.file("a"), false, capz::frames_go_beside), capz::Error);
+
+  fs::create_directories(dir.path() / "b" / "1.pcd");  // a subfolder named as a frame
+  {
+    capz::AtomicDir out(dir.file("b"), false, capz::frames_go_beside);
+    capz::write_file(out.temp_dir() + "/0.pcd", {1}, false);
+    capz::write_file(out.temp_dir() + "/1.pcd", {2}, false);
+    try {
+      out.commit();
+      ADD_FAILURE() << "b/1.pcd was written over";
+    } catch (const capz::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("holds 1.pcd already"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(names_in(dir.path() / "b"), std::vector<std::string>{"1.pcd"});
+  EXPECT_EQ(names_in(dir.path()), (std::vector<std::string>{"a", "b"}));
+  // A folder holding anything else is an existing output, as before.
+  fs::create_directories(dir.path() / "c");
+  capz_test::put(dir.path() / "c" / "notes.txt", "x");
+  EXPECT_FALSE(capz::frames_go_beside(dir.file("c")));
+  EXPECT_THROW(capz::AtomicDir(dir.file("c"), false, capz::frames_go_beside), capz::Error);
+}
