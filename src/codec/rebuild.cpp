@@ -266,12 +266,13 @@ void test_original(const std::string& capz_path, const DecompressOptions& opts) 
       capz_path, [](const uint8_t*, size_t) {}, opts);
 }
 
-std::string rebuilds_file(const std::string& capz_path, const std::string& original) {
+std::string rebuilds_file(const std::string& capz_path, const std::string& original,
+                          const DecompressOptions& opts) {
   FileBytes b(capz_path);
   const ParsedStream ps = parse_stream(b, capz_path);
   const Record r = read_record(b, ps, capz_path);
   if (!r.info.exact) return "the archive cannot rebuild the original byte for byte";
-  test_original(capz_path);  // the rebuilt bytes hash as recorded
+  test_original(capz_path, opts);  // the rebuilt bytes hash as recorded
   Digest128 now{};
   if (r.pcd) {  // frame files: concatenated in frame order
     Hasher h;

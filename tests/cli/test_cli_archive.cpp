@@ -186,3 +186,25 @@ TEST(CliArchive, GivenALosslessArchiveWithItsResidueTamperedThenVerifyAgainstRef
     EXPECT_NE(r.out.find("capz verify: error: " + bad), std::string::npos) << what << ": " << r.out;
   }
 }
+
+// verify --against of a lossless archive also holds the --against file's bytes to the recorded
+// hash: a frame file given a header comment decodes to the same take (it passed, exit 0), but it
+// is not the file the archive rebuilds (exit 5, saying so).
+TEST(CliArchive, GivenALosslessArchiveAndAnotherFileOfTheSameTakeThenVerifyAgainstRefuses) {
+  capz_test::TempDir d("capz_cli_archive_hash");
+  const std::string frames = d.file("frames"), z = d.file("l.capz");
+  ASSERT_EQ(run("convert -q '" + std::string(CAPZ_REPO_DATA) + "/lidar_small' '" + frames +
+                "' --pcd-encoding ascii")
+                .status,
+            0);
+  ASSERT_EQ(run("compress -q --lossless '" + frames + "' -o '" + z + "'").status, 0);
+  Result r = run("verify '" + z + "' --against '" + frames + "'");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const std::string f = frames + "/sweep_00002.pcd";
+  std::string text = capz_test::file_text(f);
+  text.insert(text.find('\n') + 1, "# a comment the reader skips\n");
+  capz::write_file(f, std::vector<uint8_t>(text.begin(), text.end()), true);
+  r = run("verify '" + z + "' --against '" + frames + "'");
+  EXPECT_EQ(r.status, 5) << r.out;
+  EXPECT_NE(r.out.find("the recorded hash is not the input's"), std::string::npos) << r.out;
+}

@@ -42,8 +42,10 @@ void rebuild_original(const std::string& capz_path, const std::string& out, bool
 // The same rebuild, written nowhere: checks size and hash (lossless) or size (bound).
 void test_original(const std::string& capz_path, const DecompressOptions& opts = {});
 
-// For --rm: "" when `capz_path` is exact and its rebuilt bytes (size and hash checked) hash as
-// the file at `original` does now; else what differs.
-std::string rebuilds_file(const std::string& capz_path, const std::string& original);
+// For --rm and verify --against: "" when `capz_path` is exact and its rebuilt bytes (size and
+// hash checked: Error(kCorrupt) when they differ) hash as the file at `original` does now (a
+// folder of frames: its frame files concatenated in frame order); else what differs.
+std::string rebuilds_file(const std::string& capz_path, const std::string& original,
+                          const DecompressOptions& opts = {});
 
 }  // namespace capz
