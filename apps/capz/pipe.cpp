@@ -34,12 +34,18 @@ void write_all(int fd, const char* data, size_t n, const std::string& name) {
 
 }  // namespace
 
-PipeSpace::PipeSpace() {
-  std::signal(SIGPIPE, SIG_IGN);  // a closed stdout is an error to report, not a silent death
+namespace {
+
+// The pipe folder's mkdtemp template: under $TMPDIR, else /tmp.
+std::string pipe_template() {
   const char* t = std::getenv("TMPDIR");
-  folder_ = std::make_unique<capz::TemporaryFolder>(std::string(t && *t ? t : "/tmp") +
-                                                    "/capz-pipe-XXXXXX");
-  dir_ = folder_->path();
+  return std::string(t && *t ? t : "/tmp") + "/capz-pipe-XXXXXX";
+}
+
+}  // namespace
+
+PipeSpace::PipeSpace() : folder_(pipe_template()) {
+  std::signal(SIGPIPE, SIG_IGN);  // a closed stdout is an error to report, not a silent death
 }
 
 std::string PipeSpace::spool_stdin(const std::string& name, uint64_t max_bytes) {
@@ -73,7 +79,7 @@ std::string PipeSpace::spool_stdin(const std::string& name, uint64_t max_bytes) 
 
 std::string PipeSpace::tidy(const std::string& message) const {
   std::string m = message;
-  const std::string prefix = dir_ + "/";
+  const std::string prefix = folder_.path() + "/";
   for (size_t at; (at = m.find(prefix)) != std::string::npos;) m.erase(at, prefix.size());
   return m;
 }

@@ -7,7 +7,6 @@
 
 #include <cstdint>
 #include <functional>
-#include <memory>
 #include <string>
 
 #include "batch.h"
@@ -21,7 +20,7 @@ class PipeSpace {
   PipeSpace(const PipeSpace&) = delete;
   PipeSpace& operator=(const PipeSpace&) = delete;
 
-  std::string path(const std::string& name) const { return dir_ + "/" + name; }
+  std::string path(const std::string& name) const { return folder_.path() + "/" + name; }
   // Copies stdin to path(name) and returns that path. More than `max_bytes` (the limit
   // capz::read_file applies to a whole file) is Error(kIo); an empty stream is left to the
   // format check, which names it.
@@ -30,8 +29,7 @@ class PipeSpace {
   std::string tidy(const std::string& message) const;
 
  private:
-  std::unique_ptr<capz::TemporaryFolder> folder_;  // removed with what it holds (signals too)
-  std::string dir_;
+  capz::TemporaryFolder folder_;  // removed with what it holds (signals too)
 };
 
 // Copies the file at `path` to stdout; Error(kIo) naming stdout when a write fails (a closed

@@ -378,7 +378,8 @@ std::vector<size_t> offsets_of_counts(const std::vector<size_t>& counts);
 bool same_frame_counts(const Take& a, const Take& b);
 // t with `like`'s representation of the same shape (same_frame_counts): a fixed take made ragged
 // (or a ragged one of one count made fixed) as `like` is; t itself when they are alike already.
-Take in_shape_of(const Take& t, const Take& like);
+// Taken by value: a temporary moves in, not copied.
+Take in_shape_of(Take t, const Take& like);
 
 // The names of the take's point fields (Take::attributes), separated by ", "; empty when none.
 std::string field_names(const Take& take);

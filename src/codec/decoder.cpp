@@ -272,6 +272,17 @@ void check_organized_count(const StreamContext& ctx, uint64_t n, const std::stri
              std::to_string(ctx.take.pcd->width) + " x " + std::to_string(ctx.take.pcd->height));
 }
 
+// A window's frame offsets into b from its frames' counts (their number and sum checked by the
+// caller), each count checked against an organized layout's shape.
+void set_frame_offsets(const StreamContext& ctx, const std::vector<uint32_t>& counts,
+                       const std::string& what, FrameBlock* b) {
+  b->frame_offsets.assign(counts.size() + 1, 0);
+  for (size_t f = 0; f < counts.size(); ++f) {
+    check_organized_count(ctx, counts[f], what);
+    b->frame_offsets[f + 1] = b->frame_offsets[f] + counts[f];
+  }
+}
+
 // "Raw windows": the rest of a raw window's SCNW (r after its gaps byte) into b's frame offsets,
 // gaps and coordinates; *q its grid integers with fields in mode 2 (else none), no geometry rings
 // (ATTR's predictor 13 walks without them).
@@ -281,9 +292,7 @@ void decode_raw_scan(const StreamContext& ctx, const Chunk& c, const ByteReader&
   const bool f64 = ctx.h.mode == PosMode::kFloat64;
   scan::RawWindow rw = scan::decode_raw_window(c.payload + r.offset(), c.size - r.offset(), what,
                                                fn, total, f64 ? 8 : 4);
-  for (uint32_t n : rw.counts) check_organized_count(ctx, n, what);
-  b->frame_offsets.assign(fn + 1, 0);
-  for (size_t f = 0; f < fn; ++f) b->frame_offsets[f + 1] = b->frame_offsets[f] + rw.counts[f];
+  set_frame_offsets(ctx, rw.counts, what, b);
   b->valid.swap(rw.valid);
   b->xyz.swap(rw.xyz);
   rings->clear();
@@ -348,9 +357,7 @@ void decode_window_scan(const StreamContext& ctx, WindowChunks* chunks, size_t f
     fail(ErrorCode::kCorrupt, what,
          "frame counts sum to " + std::to_string(g.total()) + " points, the chunk says " +
              std::to_string(total));
-  for (uint32_t n : g.counts) check_organized_count(ctx, n, what);
-  b.frame_offsets.assign(fn + 1, 0);
-  for (size_t f = 0; f < fn; ++f) b.frame_offsets[f + 1] = b.frame_offsets[f] + g.counts[f];
+  set_frame_offsets(ctx, g.counts, what, &b);
   b.valid.swap(g.valid);
   rings->swap(g.ring);
   if (e != scan::kNoSplit) {  // "Lossless ragged streams": the float32 split

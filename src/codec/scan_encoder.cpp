@@ -253,7 +253,7 @@ void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<
   ByteWriter pw;
   pw.varint(w);
   pw.varint(n);
-  pw.u8(r.origin ? 1 : 0);  // gaps
+  pw.u8(r.origin ? scan::kOriginGapsBit : 0);  // gaps
   if (lists_negative_zeros(r.ctx.h)) write_negative_zeros(b.xyz, b.valid, &pw);
   std::vector<uint8_t> payload = std::move(pw.buffer());
   r.scan_ws.remember = !mode2;  // the take's windows in order, each coded once here
@@ -354,27 +354,34 @@ struct WindowBytes {
   size_t position, attribute;
 };
 
+// Window w's chunks in r.buf (the byte counts from `at` on) replaced by those `code` appends
+// to an empty r.buf when they are smaller: true, the caller then takes what `code` made; else
+// false, r.buf and the counts as they were.
+template <class Code>
+bool replaced_if_smaller(RaggedRun& r, const WindowBytes& at, Code code) {
+  std::vector<uint8_t> first;
+  first.swap(r.buf);
+  const WindowBytes first_at{r.position_bytes, r.attribute_bytes};
+  r.position_bytes = at.position, r.attribute_bytes = at.attribute;
+  code();
+  if (r.buf.size() < first.size()) return true;
+  r.buf.swap(first);
+  r.position_bytes = first_at.position, r.attribute_bytes = first_at.attribute;
+  return false;
+}
+
 // Window w's chunks in r.buf (of block *b, *q and *fields as code_chunks gave them; the byte
 // counts from `at` on) replaced by those of block `other` (its geometry payload `coded`) when
 // they are smaller, *b, *q and *fields with them.
 void keep_smaller(RaggedRun& r, size_t w, const WindowBytes& at, FrameBlock* other,
                   const std::vector<uint8_t>& coded, FrameBlock* b, std::vector<int32_t>* q,
                   std::vector<std::vector<uint8_t>>* fields) {
-  std::vector<uint8_t> first;
-  first.swap(r.buf);
-  const WindowBytes first_at{r.position_bytes, r.attribute_bytes};
-  r.position_bytes = at.position, r.attribute_bytes = at.attribute;
   std::vector<int32_t> q2;
   std::vector<std::vector<uint8_t>> fields2;
-  code_chunks(r, w, other, &q2, &fields2, &coded);
-  if (r.buf.size() < first.size()) {
-    *b = std::move(*other);
-    q->swap(q2);
-    fields->swap(fields2);
-  } else {
-    r.buf.swap(first);
-    r.position_bytes = first_at.position, r.attribute_bytes = first_at.attribute;
-  }
+  if (!replaced_if_smaller(r, at, [&] { code_chunks(r, w, other, &q2, &fields2, &coded); })) return;
+  *b = std::move(*other);
+  q->swap(q2);
+  fields->swap(fields2);
 }
 
 // "Raw windows", mode 2: window w's chunks in r.buf (of block b as read, *q and fields as
@@ -382,26 +389,12 @@ void keep_smaller(RaggedRun& r, size_t w, const WindowBytes& at, FrameBlock* oth
 // estimate lets it be tried (raw_may_win) and it is smaller.
 void keep_raw_if_smaller(RaggedRun& r, size_t w, const WindowBytes& at, const FrameBlock& b,
                          std::vector<int32_t>* q, const std::vector<std::vector<uint8_t>>& fields) {
-  if (!r.grid.lossless || r.grid.mode != PosMode::kFloat32 ||
-      !raw_may_win(b, r.position_bytes - at.position))
-    return;
-  std::vector<uint8_t> first;
-  first.swap(r.buf);
-  const WindowBytes first_at{r.position_bytes, r.attribute_bytes};
-  r.position_bytes = at.position, r.attribute_bytes = at.attribute;
-  const int fine = r.fine;
+  if (r.grid.mode != PosMode::kFloat32 || !raw_may_win(b, r.position_bytes - at.position)) return;
   std::vector<int32_t> q2;
-  code_raw_chunks(r, w, b, &q2, fields);
-  if (r.buf.size() < first.size()) {
-    q->swap(q2);
-    r.origin = false;
-    if (--r.splits[r.last_split] == 0) r.splits.erase(r.last_split);
-    ++r.splits[scan::kRawWindowKey];
-  } else {
-    r.buf.swap(first);
-    r.position_bytes = first_at.position, r.attribute_bytes = first_at.attribute;
-    r.fine = fine;
-  }
+  if (!replaced_if_smaller(r, at, [&] { code_raw_chunks(r, w, b, &q2, fields); })) return;
+  q->swap(q2);
+  if (--r.splits[r.last_split] == 0) r.splits.erase(r.last_split);  // counted as split before
+  ++r.splits[scan::kRawWindowKey];
 }
 
 // Whether the offered octree window (point_order.h) may be smaller with its fields than the

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "coding/scan_split.h"
+
 namespace capz {
 namespace scan {
 
@@ -36,14 +38,14 @@ RawWindow decode_raw_window(const uint8_t* data, size_t size, const std::string&
 std::vector<uint64_t> raw_frame_counts(const uint8_t* data, size_t size, const std::string& what);
 
 // The key of raw windows in CompressStats / StreamInfo::float32_split_windows (split exponents
-// are -128 or -64..64).
+// are kNoSplit or -64..64).
 constexpr int kRawWindowKey = -127;
 
-// Whether windows counted by split exponent (the keys: -128, kRawWindowKey or an exponent) have
+// Whether windows counted by split exponent (the keys: kNoSplit, kRawWindowKey or an exponent) have
 // a float32 split.
 inline bool has_split_windows(const std::map<int, size_t>& windows) {
   for (const auto& kv : windows)
-    if (kv.first != kRawWindowKey && kv.first != -128 && kv.second > 0) return true;
+    if (kv.first != kRawWindowKey && kv.first != kNoSplit && kv.second > 0) return true;
   return false;
 }
 

@@ -1,7 +1,6 @@
 // Raw windows encoded (scan_raw.h; docs/FORMAT.md "Raw windows").
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 #include "capz/error.h"
 #include "coding/bytes.h"
@@ -18,24 +17,20 @@ namespace {
 // NaN. Throws Error(kInternal) naming `source` when a valid value is not finite.
 std::vector<uint8_t> raw_bits(const double* xyz, const uint8_t* valid, size_t n, int bytes,
                               const std::string& source) {
-  const size_t point = 3 * static_cast<size_t>(bytes);
-  std::vector<uint8_t> out(n * point);
-  for (size_t i = 0; i < n; ++i)
-    for (size_t a = 0; a < 3; ++a) {
-      uint8_t* p = &out[i * point + a * static_cast<size_t>(bytes)];
-      const double v = valid[i] ? xyz[3 * i + a] : std::nan("");
-      if (valid[i] && !std::isfinite(v))
-        fail(ErrorCode::kInternal, source, "a valid point with a coordinate that is not finite");
-      if (bytes == 4) {
-        const uint32_t u = valid[i] ? float_bits(static_cast<float>(v)) : 0x7FC00000u;
-        for (int k = 0; k < 4; ++k) p[k] = static_cast<uint8_t>(u >> (8 * k));
-      } else {
-        uint64_t u = 0x7FF8000000000000ull;
-        if (valid[i]) std::memcpy(&u, &v, 8);
-        for (int k = 0; k < 8; ++k) p[k] = static_cast<uint8_t>(u >> (8 * k));
-      }
-    }
-  return out;
+  ByteWriter w;
+  w.buffer().reserve(n * 3 * static_cast<size_t>(bytes));
+  for (size_t i = 0; i < 3 * n; ++i) {
+    const double v = xyz[i];
+    if (valid[i / 3] && !std::isfinite(v))
+      fail(ErrorCode::kInternal, source, "a valid point with a coordinate that is not finite");
+    if (bytes == 4)
+      w.u32(valid[i / 3] ? float_bits(static_cast<float>(v)) : 0x7FC00000u);
+    else if (valid[i / 3])
+      w.f64(v);
+    else
+      w.u64(0x7FF8000000000000ull);
+  }
+  return std::move(w.buffer());
 }
 
 }  // namespace

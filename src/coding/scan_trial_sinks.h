@@ -141,6 +141,15 @@ class Room {
 // BothSeconds): the azimuth's symbols into syms and `azimuth`, the hypotenuse's into alts and
 // `hypot` (each told by its contexts), every other symbol into syms and `tally`. The arrays
 // have room for the frame (at most 7 symbols and one alternative a point).
+// A trial's symbol of context ctx: the hypotenuse's second of x y (an alternative, tallied in
+// `hypot`), the azimuth's (tallied in `azimuth`), or another (in `tally`).
+inline bool hypot_context(int ctx) {
+  return ctx >= scan::kCtxAxis2 && ctx < scan::kCtxZFrac;
+}
+inline bool azimuth_context(int ctx) {
+  return ctx >= scan::kCtxY && ctx < scan::kCtxZ;
+}
+
 struct RecordSink {
   Sym *syms, *next, *end;
   AltSym* alt;
@@ -148,13 +157,13 @@ struct RecordSink {
   __attribute__((always_inline)) void put(uint32_t u, int ctx) {
     const Sym y{u, static_cast<uint32_t>(ctx)};
     if (__builtin_expect(next == end, 0)) trial_overflow();
-    if (ctx >= scan::kCtxAxis2 && ctx < scan::kCtxZFrac) {
+    if (hypot_context(ctx)) {
       *alt++ = AltSym{static_cast<size_t>(next - syms), y};
       hypot->put(u, ctx);
       return;
     }
     *next++ = y;
-    (ctx >= scan::kCtxY && ctx < scan::kCtxZ ? azimuth : tally)->put(u, ctx);
+    (azimuth_context(ctx) ? azimuth : tally)->put(u, ctx);
   }
 };
 
@@ -163,10 +172,7 @@ struct RecordSink {
 struct TallySink {
   Tally *tally, *azimuth, *hypot;
   __attribute__((always_inline)) void put(uint32_t u, int ctx) {
-    if (ctx >= scan::kCtxAxis2 && ctx < scan::kCtxZFrac)
-      hypot->put(u, ctx);
-    else
-      (ctx >= scan::kCtxY && ctx < scan::kCtxZ ? azimuth : tally)->put(u, ctx);
+    (hypot_context(ctx) ? hypot : azimuth_context(ctx) ? azimuth : tally)->put(u, ctx);
   }
 };
 

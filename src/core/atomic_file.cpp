@@ -96,14 +96,7 @@ AtomicDir::AtomicDir(const std::string& path, bool overwrite,
                      bool (*beside)(const std::string& path))
     : path_(without_trailing_slashes(path)), overwrite_(overwrite), beside_(beside) {
   if (!beside_ || !beside_(path_)) check_output_free(path_, overwrite);
-  tmp_ = temporaries::create([&] {
-    std::string templ = path_ + ".tmp-XXXXXX";
-    std::vector<char> buf(templ.begin(), templ.end());
-    buf.push_back('\0');
-    if (!mkdtemp(buf.data()))
-      fail(ErrorCode::kIo, path_, "cannot create temporary directory: " + sys_error());
-    return std::string(buf.data());
-  });
+  tmp_ = temporaries::create_folder(path_ + ".tmp-XXXXXX", path_);
   // mkdtemp makes it 0700; a folder of frames is read by others as its files are (0644).
   ::chmod(tmp_.c_str(), 0755);
 }

@@ -165,9 +165,8 @@ bool same_frame_counts(const Take& a, const Take& b) {
   return true;
 }
 
-Take in_shape_of(const Take& t, const Take& like) {
-  Take r = t;
-  if (t.ragged() == like.ragged()) return r;
+Take in_shape_of(Take r, const Take& like) {
+  if (r.ragged() == like.ragged()) return r;
   r.points = like.points;
   r.frame_offsets = like.frame_offsets;
   if (r.ragged()) r.labels.clear(), r.descriptions.clear();

@@ -76,6 +76,17 @@ std::string create(const std::function<std::string()>& make) {
   return path;
 }
 
+std::string create_folder(const std::string& templ, const std::string& name) {
+  return create([&] {
+    std::vector<char> buf(templ.begin(), templ.end());
+    buf.push_back('\0');
+    if (!::mkdtemp(buf.data()))
+      fail(ErrorCode::kIo, name,
+           std::string("cannot create a temporary folder: ") + std::strerror(errno));
+    return std::string(buf.data());
+  });
+}
+
 void settle(const std::string& path, const std::function<std::string()>& settle) {
   Registry& r = registry();
   std::lock_guard<std::mutex> hold(r.lock);
@@ -113,16 +124,8 @@ void remove_temporaries_on_signals() {
   });
 }
 
-TemporaryFolder::TemporaryFolder(const std::string& templ) {
-  path_ = temporaries::create([&] {
-    std::vector<char> buf(templ.begin(), templ.end());
-    buf.push_back('\0');
-    if (!::mkdtemp(buf.data()))
-      fail(ErrorCode::kIo, templ,
-           std::string("cannot create a temporary folder: ") + std::strerror(errno));
-    return std::string(buf.data());
-  });
-}
+TemporaryFolder::TemporaryFolder(const std::string& templ)
+    : path_(temporaries::create_folder(templ, templ)) {}
 
 TemporaryFolder::~TemporaryFolder() {
   temporaries::remove(path_);

@@ -15,6 +15,10 @@ namespace capz::temporaries {
 // and registers that path.
 std::string create(const std::function<std::string()>& make);
 
+// A fresh private folder made from `templ` (a path ending in XXXXXX, as mkdtemp(3) takes) and
+// registered (create's); Error(kIo) naming `name` when it cannot be made.
+std::string create_folder(const std::string& templ, const std::string& name);
+
 // Runs `settle` (a rename of `path` into place), then unregisters `path` and registers what
 // `settle` returns instead (a path still to remove: an old output moved aside), "" for none.
 // When `settle` throws, `path` stays registered.
