@@ -492,11 +492,9 @@ double try_before(const ScanGeometry& g, const ScanGeometry& sample,
 // not to try it (encode_fitted).
 constexpr double kBeforeLost = 1.002;
 
-// The payload of window g under the rings of `fit` (fit_rings of g and hints). *fine_q: the
-// decoder's integers of it when they are not g's (raster::keep_smaller), else empty.
-std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const ScanHints& hints,
-                                   const scan::RingFit& fit, ScanWorkspace* ws,
-                                   std::vector<int32_t>* fine_q) {
+// The payload of window g under the rings of `fit` (fit_rings of g and hints).
+std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const scan::RingFit& fit,
+                                   ScanWorkspace* ws) {
   // The table's azimuth step as found, and finer ones for azimuths off that step, each with
   // ranges in grid units and, when the sensor's range step is found, in that step: the smallest
   // payload wins. In a window of more than kTrialFrames frames, only the tables whose payload for
@@ -588,28 +586,51 @@ std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const ScanHints& hints
     const double ratio = try_before(g, sample, from, fit, best_table, best_sample, &best, &scratch);
     if (ws && ws->remember && ratio > 0) ws->before = ratio;
   }
-  // A flash LiDAR's window (scan_raster.h); not tried again in a sequence whose window before had a
-  // second frame that did not repeat its first's directions (a spinning sensor's: the test keys
-  // every point of the first frame, 2.6 % of the 20-sweep pandar64 folder's encode).
-  const bool sequence = ws && ws->remember;  // one take's windows in order
-  if (sequence && ws->moving) {
-    if (fine_q) fine_q->clear();
-  } else {
-    scan::raster::keep_smaller(g, hints, &best, fine_q, sequence ? &ws->moving : nullptr);
-  }
   return best;
 }
 
-// Replaces *best (*fine_q: its integers as encode_fitted's) by the payload of g under `fit` when
-// that is smaller; whether it did.
-bool keep_smaller_fit(const ScanGeometry& g, const ScanHints& hints, const scan::RingFit& fit,
-                      ScanWorkspace* ws, std::vector<uint8_t>* best, std::vector<int32_t>* fine_q) {
-  std::vector<int32_t> q;
-  std::vector<uint8_t> out = encode_fitted(g, hints, fit, ws, &q);
+// How much larger the second rings' payload was in the last window that coded it for a window of
+// a sequence not to code it (encode_geometry), and how many windows in a row may skip it: on an
+// Ouster-like organized sequence (its ring field the driver's) it is 3 % larger in every window,
+// and each fit is about a tenth of the encode.
+constexpr double kSecondLost = 1.02;
+constexpr size_t kSecondSkips = 7;
+
+// Whether window g of a sequence skips the rings found from the elevations (encode_geometry).
+bool skip_second(ScanWorkspace* ws) {
+  if (!ws || !ws->remember || ws->second_ratio <= kSecondLost || ws->second_skipped >= kSecondSkips)
+    return false;
+  ++ws->second_skipped;
+  return true;
+}
+
+// Replaces *best by the payload of g under `fit` when that is smaller; whether it did.
+bool keep_smaller_fit(const ScanGeometry& g, const scan::RingFit& fit, ScanWorkspace* ws,
+                      std::vector<uint8_t>* best) {
+  std::vector<uint8_t> out = encode_fitted(g, fit, ws);
+  if (ws && ws->remember && !best->empty()) {
+    ws->second_ratio = static_cast<double>(out.size()) / static_cast<double>(best->size());
+    ws->second_skipped = 0;
+  }
   if (out.size() >= best->size()) return false;
   best->swap(out);
-  fine_q->swap(q);
   return true;
+}
+
+// Replaces *best by window g as a flash LiDAR's raster (scan_raster.h) when that is smaller (its
+// coding does not depend on the rings: tried once a window, after the fits); whether it did.
+// *fine_q: the decoder's integers of *best when they are not g's, else empty. Not tried again in
+// a sequence whose window before had a second frame that did not repeat its first's directions
+// (a spinning sensor's: the test keys every point of the first frame, 2.6 % of the 20-sweep
+// pandar64 folder's encode).
+bool keep_smaller_raster(const ScanGeometry& g, const ScanHints& hints, ScanWorkspace* ws,
+                         std::vector<uint8_t>* best, std::vector<int32_t>* fine_q) {
+  fine_q->clear();
+  const bool sequence = ws && ws->remember;  // one take's windows in order
+  if (sequence && ws->moving) return false;
+  const size_t before = best->size();
+  scan::raster::keep_smaller(g, hints, best, fine_q, sequence ? &ws->moving : nullptr);
+  return best->size() < before;
 }
 
 // encode_scan_geometry's payload; *fine_q as encode_fitted's; *rings: its payload_rings.
@@ -626,26 +647,28 @@ std::vector<uint8_t> encode_geometry(const ScanGeometry& g, const ScanHints& hin
   // from the origin 35 mm off its optical centre, leave each laser's cone by their range, and
   // rings found from the elevations split a laser by range, which keeps its two returns apart
   // (docs/lab/2026-11-29-helios-at128.md). The rings from the elevations are tried too when they
-  // differ, the smaller payload kept.
+  // differ, the smaller payload kept (in a sequence, not in up to kSecondSkips windows after one
+  // where they were larger by kSecondLost).
   const bool both = !hints.ring.empty() && hints.elevation_rings != 0 &&
-                    (hints.elevation_rings > 0 || scan::rings_differ(g, hints, &found, ws));
+                    (hints.elevation_rings > 0 || scan::rings_differ(g, hints, &found, ws)) &&
+                    !skip_second(ws);
   scan::RingFit other;
   if (both) other = scan::fit_rings(g, hints, true, true, false, &found);
   found = scan::FoundRings();  // (the window's rings twice: not held while it is coded)
-  if (other.rings() == 0) {
-    std::vector<uint8_t> out = encode_fitted(g, hints, fit, ws, fine_q);
-    *rings = scan::payload_rings(g, fit, out);
-    return out;
-  }
   const ScanChoice before = ws ? ws->choice : ScanChoice();
-  std::vector<uint8_t> best = encode_fitted(g, hints, fit, ws, fine_q);
-  ScanChoice chosen;
-  if (ws) {
-    chosen = ws->choice;
-    ws->choice = before;  // the second fit's trial sees the windows before as the first's did
+  std::vector<uint8_t> best = encode_fitted(g, fit, ws);
+  bool second = false;
+  if (other.rings() > 0) {
+    ScanChoice chosen;
+    if (ws) {
+      chosen = ws->choice;
+      ws->choice = before;  // the second fit's trial sees the windows before as the first's did
+    }
+    second = keep_smaller_fit(g, other, ws, &best);
+    if (ws && !second) ws->choice = chosen;
   }
-  const bool second = keep_smaller_fit(g, hints, other, ws, &best, fine_q);
-  if (ws && !second) ws->choice = chosen;
+  // A raster payload's rings are the first fit's (as when each fit tried the raster itself).
+  if (keep_smaller_raster(g, hints, ws, &best, fine_q)) second = false;
   *rings = scan::payload_rings(g, second ? other : fit, best);
   return best;
 }

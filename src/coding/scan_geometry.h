@@ -102,6 +102,11 @@ struct ScanWorkspace {
   // With remember: the trial sample's payload with units bit 7 over the one without, in the last
   // window where it was tried on the sample (0: none yet).
   double before = 0;
+  // With remember: the payload under the rings found from the elevations over the one under the
+  // ring field's, in the last window where both were coded (0: none yet), and the windows since
+  // then that coded only the ring field's (scan_encode.cpp's encode_geometry).
+  double second_ratio = 0;
+  size_t second_skipped = 0;
   // After each encode_scan_geometry: when its payload codes other integers than it was given (a
   // raster window at a bound, fine shift above 0), that payload and the integers the decoder gives
   // back from it (x y z per point, 0 at gaps; the coder's own, not decoded again); else empty.

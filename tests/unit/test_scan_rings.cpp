@@ -24,10 +24,10 @@ namespace {
 // so that a laser's points alternate between the two. With `offset` each point is its distance
 // (on 2.5 mm, the distance field) along its laser from a centre `offset` metres off the axis that
 // turns with the sweep: seen from the origin a near point then leaves its laser's cone.
-ScanGeometry dual_returns(double offset, ScanHints* h) {
+ScanGeometry dual_returns(double offset, ScanHints* h, int firings = 1800) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(0, 1);
-  const int rings = 16, firings = 1800;
+  const int rings = 16;
   ScanGeometry g;
   for (int f = 0; f < 4; ++f) {
     uint32_t n = 0;
@@ -70,6 +70,35 @@ TEST(ScanRings, GivenDualReturnsOffTheOriginThenTheElevationsRings) {
   // The ring field's own rings (16) would cost more here: the payload is the elevations' one.
   EXPECT_EQ(field, elevations);
   EXPECT_GT(scan::read_header(field.data(), field.size(), "rings", 1u << 22).table.rings(), 16u);
+}
+
+// A sequence's windows (ScanWorkspace::remember) keep the second rings' payload over the first's;
+// after a window where the elevations' rings lost by more than 2 %, up to 7 windows in a row code
+// the ring field's alone, then both again.
+TEST(ScanRings, GivenASequenceWhereTheElevationsRingsLostThenTheyAreSkippedAWhile) {
+  ScanHints h;
+  const ScanGeometry g = dual_returns(0.035, &h, 300);
+  ScanWorkspace ws;
+  ws.remember = true;
+  const std::vector<uint8_t> both = encode_scan_geometry(g, h, &ws);
+  ASSERT_GT(ws.second_ratio, 0.0);
+  EXPECT_LT(ws.second_ratio, 1.0);  // the elevations' rings won here
+  EXPECT_EQ(encode_scan_geometry(g, h, &ws).size(), both.size());
+  EXPECT_EQ(ws.second_skipped, 0u);
+  ws.second_ratio = 1.05;  // as if they had lost by 5 %
+  size_t skipped = 0;
+  for (int w = 0; w < 10 && ws.second_skipped == skipped; ++w) {
+    const size_t coded = ws.tables_coded;
+    const std::vector<uint8_t> p = encode_scan_geometry(g, h, &ws);
+    expect_exact(g, p);
+    if (ws.second_skipped == 0) break;  // both coded again
+    ++skipped;
+    EXPECT_GT(p.size(), both.size());  // the ring field's rings alone
+    EXPECT_EQ(ws.tables_coded, coded + 1);
+  }
+  EXPECT_EQ(skipped, 7u);
+  EXPECT_EQ(ws.second_skipped, 0u);
+  EXPECT_LT(ws.second_ratio, 1.0);
 }
 
 TEST(ScanRings, GivenLasersOnTheOriginThenTheRingFieldsRingsKept) {
