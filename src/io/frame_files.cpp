@@ -323,6 +323,9 @@ void FileFrameSource::read_frames(size_t first, size_t count, FrameBlock* out, b
       out->attributes[a].insert(out->attributes[a].end(), data_.attrs[a].begin(),
                                 data_.attrs[a].end());
   }
+  // The last frame read is in *out now: its buffers are not kept until the next read (a one-frame
+  // take's whole cloud, while the encoder codes it: 29 bytes a point of x y z float32 intensity).
+  data_ = FrameData();
 }
 
 Take read_all_frames(FrameSource& source) {
