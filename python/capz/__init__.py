@@ -507,7 +507,8 @@ def compress(
                    depend on it.
     attr_error     dict field name -> bound for float point fields (PCD attributes), in the
                    field's units; a name also bounds every field NAME_* ("normal"). The CLI's
-                   --attr-error. Fields not named are lossless.
+                   --attr-error. Fields not named are lossless; a bounded field is kept
+                   exact in each window where that codes no larger.
     drop_fields    leave the point fields out of the archive (the CLI's --drop-fields).
     analog_max_error  dict channel label or unit -> bound for analog channels, in the
                    channel's physical units (after ANALOG:SCALE, GEN_SCALE and OFFSET), e.g.
