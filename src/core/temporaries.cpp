@@ -64,6 +64,26 @@ void remove_path(const std::string& path) {
   _exit(128 + sig);
 }
 
+// The signal thread, which alone blocks SIGPIPE once remove_temporaries_on_signals() handles it.
+pthread_t cleaner;
+
+// SIGPIPE: a write to a pipe (or socket) nobody reads any more, raised in the writing thread,
+// which sigwait() in another thread cannot take. It is handed to the signal thread, and the
+// writing thread waits here for the process to end, so it goes on with nothing (no error message
+// after its write fails, no output of the next step). pthread_kill and pause are async-signal-safe.
+extern "C" void on_broken_pipe(int) {
+  pthread_kill(cleaner, SIGPIPE);
+  for (;;) pause();
+}
+
+// Whether `sig` is at its default action and not blocked in the calling thread (one ignored,
+// blocked or handled by whoever started the process is left to it).
+bool at_default(int sig, const sigset_t& blocked) {
+  struct sigaction now {};
+  return sigaction(sig, nullptr, &now) == 0 && now.sa_handler == SIG_DFL &&
+         !sigismember(&blocked, sig);
+}
+
 }  // namespace
 
 namespace temporaries {
@@ -112,15 +132,25 @@ void remove_temporaries_on_signals() {
     sigset_t signals, blocked;
     sigemptyset(&signals);
     pthread_sigmask(SIG_BLOCK, nullptr, &blocked);
-    for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
-      struct sigaction now {};
-      if (sigaction(sig, nullptr, &now) == 0 && now.sa_handler == SIG_DFL &&
-          !sigismember(&blocked, sig))
-        sigaddset(&signals, sig);
-    }
+    for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT})
+      if (at_default(sig, blocked)) sigaddset(&signals, sig);
+    const bool pipe = at_default(SIGPIPE, blocked);
+    if (pipe) sigaddset(&signals, SIGPIPE);
     if (sigisemptyset(&signals)) return;
-    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
-    std::thread(wait_and_clean, signals).detach();
+    pthread_sigmask(SIG_BLOCK, &signals, nullptr);  // the signal thread starts with them blocked
+    std::thread waiter(wait_and_clean, signals);
+    cleaner = waiter.native_handle();
+    waiter.detach();
+    if (!pipe) return;
+    // Every other thread takes SIGPIPE in on_broken_pipe, which passes it to the signal thread.
+    struct sigaction handed {};
+    handed.sa_handler = on_broken_pipe;
+    sigemptyset(&handed.sa_mask);
+    sigaction(SIGPIPE, &handed, nullptr);
+    sigset_t one;
+    sigemptyset(&one);
+    sigaddset(&one, SIGPIPE);
+    pthread_sigmask(SIG_UNBLOCK, &one, nullptr);
   });
 }
 

@@ -28,13 +28,16 @@ void check_output_free(const std::string& path, bool overwrite);
 // kIo when the write fails (disk full).
 void write_file(const std::string& path, const std::vector<uint8_t>& bytes, bool overwrite);
 
-// Makes SIGINT (Ctrl-C), SIGTERM and SIGHUP remove the temporaries of the outputs not yet in place
-// (the library's "<path>.tmp-XXXXXX" files and folders, TemporaryFolder's folders) before the
-// process ends by that signal, as it would without this call (a shell sees status 128 + N): an
+// Makes SIGINT (Ctrl-C), SIGTERM, SIGHUP, SIGQUIT and SIGPIPE (a write to a pipe whose reader
+// has gone: `capz decompress -c a.capz | head -c 10`) remove the temporaries of the outputs not yet
+// in place (the library's "<path>.tmp-XXXXXX" files and folders, TemporaryFolder's folders) before
+// the process ends by that signal, as it would without this call (a shell sees status 128 + N): an
 // interrupted run leaves no partial output. A signal ignored, blocked or handled at the call
 // (SIGHUP under nohup) is left as it is. Call it once, first in main(), before any thread starts:
-// it blocks those signals in the calling thread, so in every thread started after it, and starts a
-// thread that waits for them. Later calls do nothing.
+// it blocks the first four in the calling thread, so in every thread started after it, and starts
+// a thread that waits for them; SIGPIPE, raised in the thread whose write failed, is handled there
+// by passing it to that thread (the writing thread then waits for the end). Later calls do
+// nothing.
 void remove_temporaries_on_signals();
 
 // A fresh private folder made from `templ` (a path ending in XXXXXX, as mkdtemp(3) takes; Error
