@@ -26,7 +26,8 @@ namespace {
 
 struct Registry {
   std::mutex lock;
-  std::vector<std::string> paths;  // in registration order: a folder before what it holds
+  std::vector<std::string> paths;    // in registration order: a folder before what it holds
+  std::vector<std::string> folders;  // create_output_folders', in creation order
 };
 
 // Never destroyed: a signal may come while the process exits, after static destructors ran.
@@ -45,6 +46,13 @@ void remove_path(const std::string& path) {
   fs::remove_all(path, ec);
 }
 
+// The folders of `folders` that are empty, deepest first (rmdir(2) removes nothing else); all of
+// them forgotten.
+void remove_empty(std::vector<std::string>* folders) {
+  for (auto p = folders->rbegin(); p != folders->rend(); ++p) ::rmdir(p->c_str());
+  folders->clear();
+}
+
 // The signal thread: waits for one of `signals`, removes every registered temporary while holding
 // the registry's lock (so no temporary is made or renamed into place meanwhile, nor after), then
 // ends the process by that signal with its default action.
@@ -55,6 +63,7 @@ void remove_path(const std::string& path) {
   Registry& r = registry();
   r.lock.lock();  // kept: the process ends holding it
   for (auto p = r.paths.rbegin(); p != r.paths.rend(); ++p) remove_path(*p);
+  remove_empty(&r.folders);
   std::signal(sig, SIG_DFL);
   sigset_t one;
   sigemptyset(&one);
@@ -152,6 +161,26 @@ void remove_temporaries_on_signals() {
     sigaddset(&one, SIGPIPE);
     pthread_sigmask(SIG_UNBLOCK, &one, nullptr);
   });
+}
+
+void create_output_folders(const std::string& path) {
+  Registry& r = registry();
+  std::lock_guard<std::mutex> hold(r.lock);
+  fs::path made;
+  for (const fs::path& part : fs::path(path)) {
+    made /= part;
+    std::error_code ec;
+    if (fs::create_directory(made, ec))
+      r.folders.push_back(made.string());
+    else if (ec)
+      fail(ErrorCode::kIo, made.string(), "cannot create: " + ec.message());
+  }
+}
+
+void remove_empty_output_folders() {
+  Registry& r = registry();
+  std::lock_guard<std::mutex> hold(r.lock);
+  remove_empty(&r.folders);
 }
 
 TemporaryFolder::TemporaryFolder(const std::string& templ)

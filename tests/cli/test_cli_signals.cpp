@@ -248,6 +248,20 @@ TEST_F(CliSignals, GivenARecursiveBatchStoppedBySigtermThenNoTemporaryIsLeft) {
   EXPECT_FALSE(fs::exists(dir.file("report.jsonl")));
 }
 
+// The folders --output-dir-mirror made for the output not written go too (only those: m/ was
+// there before).
+TEST_F(CliSignals, GivenAMirrorBatchStoppedBySigintThenTheFoldersItMadeAreRemoved) {
+  TempDir dir;
+  fs::create_directories(dir.path() / "in" / "s1");
+  fs::create_directories(dir.path() / "m");
+  fs::copy_file(data("big.trc"), dir.path() / "in" / "s1" / "big.trc");
+  const std::string mirror = dir.file("m"), in = dir.file("in");
+  interrupt({"compress", "-q", "-r", in, "--output-dir-mirror", mirror}, dir, SIGINT,
+            mirror + in + "/s1/big.trc.capz");
+  EXPECT_TRUE(fs::is_directory(mirror));
+  EXPECT_TRUE(fs::is_empty(mirror)) << "left: " << fs::directory_iterator(mirror)->path();
+}
+
 // stdin is spooled to a folder under $TMPDIR, the archive written there and copied to stdout.
 TEST_F(CliSignals, GivenAPipeStoppedBySigtermThenItsTemporaryFolderIsRemoved) {
   TempDir dir;

@@ -40,6 +40,17 @@ void write_file(const std::string& path, const std::vector<uint8_t>& bytes, bool
 // nothing.
 void remove_temporaries_on_signals();
 
+// Makes the folder `path` and the folders above it that do not exist yet (as
+// std::filesystem::create_directories; Error kIo naming the folder that cannot be made), and
+// records those it made: remove_empty_output_folders() removes those that hold nothing then, and
+// so does a signal that remove_temporaries_on_signals() handles, after the temporaries. A batch's
+// output folders (--output-dir-mirror, --output-dir-flat): a failed or interrupted run leaves no
+// empty folder it made, and never removes one it did not make.
+void create_output_folders(const std::string& path);
+// Removes the folders create_output_folders() made that are empty now, deepest first (rmdir: a
+// folder holding anything stays), and forgets every folder it made.
+void remove_empty_output_folders();
+
 // A fresh private folder made from `templ` (a path ending in XXXXXX, as mkdtemp(3) takes; Error
 // kIo when it cannot be made), removed with what it holds when the object goes, or by a signal
 // as remove_temporaries_on_signals() says.
