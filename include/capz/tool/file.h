@@ -20,8 +20,11 @@ std::vector<uint8_t> read_file(const std::string& path, uint64_t max_bytes = (ui
 // file system, once a trailing '/' has said "a folder".
 std::string without_trailing_slashes(std::string path);
 
-// Throws Error(kUsage) if `path` exists and !overwrite.
-void check_output_free(const std::string& path, bool overwrite);
+// Throws Error(kUsage) if `path` exists and !overwrite, unless `takes_files` (when given) says the
+// existing `path` takes a folder output's files beside its own (io.h's frames_go_beside). It is
+// asked only then: listing a folder is what costs.
+void check_output_free(const std::string& path, bool overwrite,
+                       bool (*takes_files)(const std::string& path) = nullptr);
 
 // Writes `bytes` to `path` atomically: a temporary sibling, fsync'ed, then renamed over `path`
 // (the destination is untouched on failure). Throws kUsage if `path` exists and !overwrite,
