@@ -575,7 +575,9 @@ def compress_file(
     them; overwrite is the CLI's -f). output defaults to INPUT.capz. The input is read a window
     at a time (and for a C3D or TRC the original file's checksum and residue are stored, and
     with lossless=True those of every PCD, PLY or .bin frame file, so a lossless archive
-    rebuilds the files byte for byte). Returns the report as a dict.
+    rebuilds the files byte for byte). Returns the report as a dict. The CLI's notes are
+    UserWarnings (a default bound set without far points; C3D samples marked absent that hold
+    coordinates, not kept at a bound).
     """
     src = _path(input, "input")
     out = _path(output, "output") if output is not None else src.rstrip("/") + ".capz"
