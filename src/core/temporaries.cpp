@@ -79,10 +79,14 @@ pthread_t cleaner;
 // SIGPIPE: a write to a pipe (or socket) nobody reads any more, raised in the writing thread,
 // which sigwait() in another thread cannot take. It is handed to the signal thread, and the
 // writing thread waits here for the process to end, so it goes on with nothing (no error message
-// after its write fails, no output of the next step). pthread_kill and pause are async-signal-safe.
-extern "C" void on_broken_pipe(int) {
+// after its write fails, no output of the next step); no write of capz's happens under the
+// registry's lock. The kernel sends it as from this process; one sent by another (kill -PIPE) may
+// have stopped this thread anywhere, holding that lock even, so the thread goes on then.
+// pthread_kill, getpid and pause are async-signal-safe.
+extern "C" void on_broken_pipe(int, siginfo_t* info, void*) {
   pthread_kill(cleaner, SIGPIPE);
-  for (;;) pause();
+  if (info && info->si_pid == getpid())
+    for (;;) pause();
 }
 
 // Whether `sig` is at its default action and not blocked in the calling thread (one ignored,
@@ -153,7 +157,8 @@ void remove_temporaries_on_signals() {
     if (!pipe) return;
     // Every other thread takes SIGPIPE in on_broken_pipe, which passes it to the signal thread.
     struct sigaction handed {};
-    handed.sa_handler = on_broken_pipe;
+    handed.sa_sigaction = on_broken_pipe;
+    handed.sa_flags = SA_SIGINFO;
     sigemptyset(&handed.sa_mask);
     sigaction(SIGPIPE, &handed, nullptr);
     sigset_t one;

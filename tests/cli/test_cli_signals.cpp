@@ -274,6 +274,13 @@ TEST_F(CliSignals, GivenDecompressStoppedBySigquitThenNoTemporaryIsLeft) {
             dir.file("back.c3d"));
 }
 
+// SIGPIPE sent from outside (kill -PIPE) while a file is written: removed, ended by it.
+TEST_F(CliSignals, GivenCompressSentSigpipeThenNoTemporaryIsLeft) {
+  TempDir dir;
+  interrupt({"compress", "-q", data("big.trc"), "-o", dir.file("big.capz")}, dir, SIGPIPE,
+            dir.file("big.capz"));
+}
+
 // `capz decompress -c a.capz | head -c 10`: the take is written to the pipe folder, then copied
 // to stdout, whose first write fails. It was an error ("stdout: write failed: Broken pipe",
 // exit 2); it is now what other tools do there, a quiet end by SIGPIPE, the folder removed.
