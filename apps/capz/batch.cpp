@@ -195,11 +195,8 @@ std::string place_output(const BatchSettings& s, const Job& job, const std::stri
     dir = fs::path(capz::without_trailing_slashes(job.input)).parent_path();
   }
   if (dir.empty()) return name;
-  if (!s.flat_dir.empty() || !s.mirror_dir.empty()) {
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec) capz::fail(capz::ErrorCode::kIo, dir.string(), "cannot create: " + ec.message());
-  }
+  // Those the run makes and leaves empty (a failed output's) are removed at its end.
+  if (!s.flat_dir.empty() || !s.mirror_dir.empty()) capz::create_output_folders(dir.string());
   return (dir / name).string();
 }
 
@@ -381,6 +378,7 @@ int run_batch(const std::string& command, const BatchSettings& s, std::vector<Jo
       if (status == 0) status = static_cast<int>(e.code());
     }
   }
+  capz::remove_empty_output_folders();  // after the report, which may be in one of them
   return status;
 }
 

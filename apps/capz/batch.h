@@ -84,7 +84,8 @@ std::vector<Job> expand_inputs(const std::vector<std::string>& args, InputKind k
 
 // Where a job's output goes, given `name`, the output's name beside the input (no folder; a
 // trailing '/' for a PCD folder is kept): beside the input, under the mirror folder at the
-// input's relative path, or in the flat folder. Creates the folder it needs.
+// input's relative path, or in the flat folder. Creates the folders it needs
+// (capz::create_output_folders: those still empty at run_batch's end, or at a signal, go).
 std::string place_output(const BatchSettings& s, const Job& job, const std::string& name);
 
 // Runs `work` on every job with s.threads workers. A worker throws capz::Error on a failure;
@@ -92,8 +93,9 @@ std::string place_output(const BatchSettings& s, const Job& job, const std::stri
 // with -v) and each failure as one line "capz <command>: error: <message>" on stderr (with
 // `failed_lines`, as test and list do: "<input>: FAILED: <message>" on stdout), in input order
 // whatever the thread count; shows a progress line on stderr for several files (a terminal
-// only, not with -q); writes --report at the end. Returns 0, or the exit status of the first
-// failing file (with `failed_lines`: 1).
+// only, not with -q); writes --report at the end, then removes the output folders place_output
+// made that hold nothing (a failed file's). Returns 0, or the exit status of the first failing
+// file (with `failed_lines`: 1).
 using Worker = std::function<FileRecord(const Job&)>;
 int run_batch(const std::string& command, const BatchSettings& s, std::vector<Job> jobs,
               const Worker& work, bool failed_lines = false);

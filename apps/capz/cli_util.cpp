@@ -213,7 +213,7 @@ std::string positions_text(const std::string& mode, std::map<int, size_t> split,
     split.erase(key);
     return k;
   };
-  const size_t plain = take(-128), raw = take(capz::kRawWindowsKey);
+  const size_t plain = take(capz::kPlainFloat32WindowsKey), raw = take(capz::kRawWindowsKey);
   size_t n = 0;
   for (const auto& kv : split) n += kv.second;
   const size_t all = n + plain + raw;

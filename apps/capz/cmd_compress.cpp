@@ -346,11 +346,9 @@ FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
                  "capz compress: note: %s: --analog-max-error %s names no analog channel's label "
                  "or unit; those stay lossless\n",
                  in.c_str(), k.c_str());
-  if (st.dropped_coordinates && g_verbosity > 0)
-    std::fprintf(stderr,
-                 "capz compress: note: %s: %zu samples marked absent (negative residual) hold "
-                 "coordinates, which are not kept at a bound (--lossless keeps them)\n",
-                 in.c_str(), st.dropped_coordinates);
+  const std::string dropped = capz::dropped_coordinates_note(st);
+  if (!dropped.empty() && g_verbosity > 0)
+    std::fprintf(stderr, "capz compress: note: %s: %s\n", in.c_str(), dropped.c_str());
   r.in_bytes = path_size(in);
   r.ratio = st.bytes ? static_cast<double>(r.in_bytes) / static_cast<double>(st.bytes) : 0;
   r.mbps = r.t_enc > 0 ? static_cast<double>(st.raw_bytes) / 1e6 / r.t_enc : 0;

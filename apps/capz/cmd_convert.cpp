@@ -133,7 +133,7 @@ int cmd_convert(const Args& args) {
                "cannot tell the output format from the name: use .c3d, .trc, .pcd, .ply, .bin, "
                "or a folder path (no extension or ending in '/') for frame files");
   const std::string target = capz::without_trailing_slashes(out);
-  if (!capz::frames_go_beside(target)) capz::check_output_free(target, wo.overwrite);
+  capz::check_output_free(target, wo.overwrite, capz::frames_go_beside);
   std::error_code ec;
   if (fs::exists(in, ec) && fs::exists(target, ec) && fs::equivalent(in, target, ec))
     capz::fail(capz::ErrorCode::kUsage, out, "output is the input");

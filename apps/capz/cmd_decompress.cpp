@@ -126,8 +126,9 @@ std::string choose_output(const Job& job, const Settings& s, const std::string& 
         fs::path(capz::without_trailing_slashes(beside)).filename().string() + (folder ? "/" : ""));
   }
   claim_output(out, in);
-  if (!capz::frames_go_beside(out))  // a folder of an archive tree takes frames beside its own
-    capz::check_output_free(capz::without_trailing_slashes(out), s.batch.force);
+  // A folder of an archive tree takes frames beside its own.
+  capz::check_output_free(capz::without_trailing_slashes(out), s.batch.force,
+                          capz::frames_go_beside);
   return out;
 }
 

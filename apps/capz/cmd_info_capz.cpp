@@ -66,7 +66,8 @@ void print_json(const std::string& path, size_t size, const capz::StreamInfo& si
   j.member("rate", si.rate);
   j.member("units", si.units);
   j.member("mode", si.mode);
-  if (!si.float32_split_windows.empty()) {  // windows per float32 split exponent (-128: none)
+  // Windows per float32 split exponent (capz::kPlainFloat32WindowsKey: none, kRawWindowsKey: raw).
+  if (!si.float32_split_windows.empty()) {
     j.key("float32_split_windows");
     j.begin_object();
     for (const auto& kv : si.float32_split_windows)

@@ -3,7 +3,6 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -44,9 +43,7 @@ std::string pipe_template() {
 
 }  // namespace
 
-PipeSpace::PipeSpace() : folder_(pipe_template()) {
-  std::signal(SIGPIPE, SIG_IGN);  // a closed stdout is an error to report, not a silent death
-}
+PipeSpace::PipeSpace() : folder_(pipe_template()) {}
 
 std::string PipeSpace::spool_stdin(const std::string& name, uint64_t max_bytes) {
   const std::string p = path(name);

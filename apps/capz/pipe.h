@@ -2,7 +2,7 @@
 // streaming readers, which read files by ranges, and the original's checksum and residue work
 // as for a file; memory stays bounded as for a file), outputs written there and copied to
 // stdout. The folder and everything in it is removed when the PipeSpace goes (or when SIGINT,
-// SIGTERM or SIGHUP ends capz: capz::remove_temporaries_on_signals).
+// SIGTERM, SIGHUP, SIGQUIT or SIGPIPE ends capz: capz::remove_temporaries_on_signals).
 #pragma once
 
 #include <cstdint>
@@ -32,8 +32,10 @@ class PipeSpace {
   capz::TemporaryFolder folder_;  // removed with what it holds (signals too)
 };
 
-// Copies the file at `path` to stdout; Error(kIo) naming stdout when a write fails (a closed
-// pipe included: SIGPIPE is ignored while a PipeSpace exists, so the temporaries still go).
+// Copies the file at `path` to stdout; Error(kIo) naming stdout when a write fails. A pipe
+// closed by its reader (`| head`) ends capz by SIGPIPE, its temporaries removed first
+// (capz::remove_temporaries_on_signals), or, with SIGPIPE ignored when capz started, is such an
+// error.
 void copy_to_stdout(const std::string& path);
 
 // Runs `work` for a job, with a PipeSpace when the job reads stdin or writes stdout (else

@@ -61,9 +61,11 @@ struct CompressOptions {
 // context warm-up. With a transform codec it stands for 1024.
 size_t auto_window_frames(size_t points);
 
-// The key of raw windows (docs/FORMAT.md "Raw windows": a lossless window's coordinates as
-// their bits through LZMA2) in CompressStats / StreamInfo::float32_split_windows, beside the
-// float32 split exponents and -128 (plain float32 bits).
+// The keys of CompressStats / StreamInfo::float32_split_windows beside the float32 split
+// exponents (-64..64): windows of plain float32 bits (docs/FORMAT.md "Lossless ragged streams",
+// no split), and raw windows ("Raw windows": a lossless window's coordinates as their bits
+// through LZMA2).
+constexpr int kPlainFloat32WindowsKey = -128;
 constexpr int kRawWindowsKey = -127;
 
 struct CompressStats {
@@ -74,8 +76,8 @@ struct CompressStats {
   std::string mode;      // "grid", "decimal-grid", "float32-bits", "float64-bits",
                          // "transform-output" (only a KG target and a transform)
   // A ragged stream in mode 2 or 3: its windows per float32 split exponent, as
-  // StreamInfo::float32_split_windows counts them (key -128: plain float32 bits;
-  // kRawWindowsKey: raw windows). Else empty.
+  // StreamInfo::float32_split_windows counts them (kPlainFloat32WindowsKey:
+  // plain float32 bits; kRawWindowsKey: raw windows). Else empty.
   std::map<int, size_t> float32_split_windows;
   std::string codec;  // transform stage used: "none", "ts", "pdct" (what auto chose)
   bool lossless = false;
@@ -150,8 +152,9 @@ struct StreamInfo {
   std::string mode;  // as CompressStats::mode
   // A ragged stream in mode "float32-bits" (FORMAT.md "Lossless ragged streams"): how many of
   // its windows code their float32 coordinates on each float32 split grid 2^-E (the key E),
-  // exactly, with corrections; key -128: windows of plain float32 bits; kRawWindowsKey: raw
-  // windows (also in mode "float64-bits", where every window is raw). Empty otherwise.
+  // exactly, with corrections; kPlainFloat32WindowsKey: windows of plain float32 bits;
+  // kRawWindowsKey: raw windows (also in mode "float64-bits", where every window is raw). Empty
+  // otherwise.
   std::map<int, size_t> float32_split_windows;
   std::string codec;  // "none", "ts", "pdct", or "id N" when unknown
   bool lossless = false;

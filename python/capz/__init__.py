@@ -507,7 +507,8 @@ def compress(
                    depend on it.
     attr_error     dict field name -> bound for float point fields (PCD attributes), in the
                    field's units; a name also bounds every field NAME_* ("normal"). The CLI's
-                   --attr-error. Fields not named are lossless.
+                   --attr-error. Fields not named are lossless; a bounded field is kept
+                   exact in each window where that codes no larger.
     drop_fields    leave the point fields out of the archive (the CLI's --drop-fields).
     analog_max_error  dict channel label or unit -> bound for analog channels, in the
                    channel's physical units (after ANALOG:SCALE, GEN_SCALE and OFFSET), e.g.
@@ -574,7 +575,9 @@ def compress_file(
     them; overwrite is the CLI's -f). output defaults to INPUT.capz. The input is read a window
     at a time (and for a C3D or TRC the original file's checksum and residue are stored, and
     with lossless=True those of every PCD, PLY or .bin frame file, so a lossless archive
-    rebuilds the files byte for byte). Returns the report as a dict.
+    rebuilds the files byte for byte). Returns the report as a dict. The CLI's notes are
+    UserWarnings (a default bound set without far points; C3D samples marked absent that hold
+    coordinates, not kept at a bound).
     """
     src = _path(input, "input")
     out = _path(output, "output") if output is not None else src.rstrip("/") + ".capz"

@@ -309,6 +309,7 @@ py::tuple compress_take(const capz::Take& take, bool lossless, std::optional<dou
     bytes = capz::compress(t, opts, &st);
   }
   warn_note(note);
+  warn_note(capz::dropped_coordinates_note(st));
   return py::make_tuple(py::bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
                         compress_stats(st));
 }
@@ -661,6 +662,7 @@ void bind_functions(py::module_& m) {
                 units, overwrite, &st);
           }
           warn_note(note);
+          warn_note(capz::dropped_coordinates_note(st));
           return compress_stats(st);
         });
 

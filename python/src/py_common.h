@@ -102,7 +102,8 @@ inline py::list texts(const std::vector<std::string>& v) {
   return out;
 }
 
-// A note of the library's (the default bound's) as a Python UserWarning, as the CLI prints it.
+// A note of the library's (the default bound's, dropped_coordinates_note's) as a Python
+// UserWarning, as the CLI prints it.
 inline void warn_note(const std::string& note) {
   if (!note.empty() && PyErr_WarnEx(PyExc_UserWarning, ("capz: " + note).c_str(), 1) != 0)
     throw py::error_already_set();

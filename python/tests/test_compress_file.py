@@ -1,5 +1,6 @@
 """compress_file gives the same bytes as `capz compress`, for every input kind and target."""
 import json
+import warnings
 
 import pytest
 
@@ -83,3 +84,15 @@ def test_a_stray_point_does_not_set_the_default_bound(tmp_path):
         stats = capz.compress_file(str(path), str(tmp_path / "s.capz"))
     out = json.loads(cli("compress", str(path), "-o", str(tmp_path / "c.capz"), "--json"))
     assert stats["grid_step"] == out["grid_step"] < 0.05
+
+
+def test_absent_samples_holding_coordinates_warn_as_the_cli_notes(tmp_path):
+    """A C3D whose samples are marked absent but hold coordinates (SIMI, sample_16): at a bound
+    they are not kept, which the CLI's note says and compress_file now warns too (it said
+    nothing); lossless=True keeps them, without a word."""
+    giant = shared("c3d/c3dorg/sample_16/giant.c3d")
+    with pytest.warns(UserWarning, match="10295 samples marked absent .* hold coordinates"):
+        capz.compress_file(giant, str(tmp_path / "g.capz"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        capz.compress_file(giant, str(tmp_path / "l.capz"), lossless=True)

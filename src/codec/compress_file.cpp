@@ -145,6 +145,13 @@ double default_bound(const Take& t, const ValidExtent& e, std::string* note) {
 
 }  // namespace
 
+std::string dropped_coordinates_note(const CompressStats& stats) {
+  if (stats.dropped_coordinates == 0) return "";
+  return std::to_string(stats.dropped_coordinates) +
+         " samples marked absent (negative residual) hold coordinates, which are not kept at a "
+         "bound (--lossless keeps them)";
+}
+
 CompressInput open_compress_input(const std::string& path, bool whole, const std::string& units) {
   CompressInput input;
   if (whole) {

@@ -17,6 +17,10 @@
 #include "coding/scan_split.h"
 
 namespace capz {
+
+static_assert(scan::kNoSplit == kPlainFloat32WindowsKey,
+              "plain float32 windows' key in the reports");
+
 namespace {
 
 // Frames [first, first + count) of the stream, clipped, with the per-frame metadata sliced.
@@ -94,7 +98,7 @@ StreamInfo describe_bytes(StreamBytes& bytes, const std::string& name) {
   si.total_points =
       si.ragged ? ragged_frame_offsets(bytes, ps, &splits).back() : si.frames * si.points;
   if (ps.h.mode == PosMode::kFloat32 || ps.h.mode == PosMode::kFloat64)  // with raw windows
-    for (int e : splits) ++si.float32_split_windows[e];
+    for (int e : splits) ++si.float32_split_windows[e];  // SCNW's E, or kRawWindowKey
   si.window_frames = ps.h.window_frames;
   si.windows = ps.h.windows();
   si.mode = ps.h.transform_output ? "transform-output" : mode_name(ps.h.mode);

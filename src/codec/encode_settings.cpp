@@ -2,7 +2,6 @@
 #include "codec/encode_settings.h"
 
 #include <cmath>
-#include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
@@ -51,39 +50,6 @@ void set_field_bounds(Take& e, const CompressOptions& opts) {
 
 void set_field_bounds(FrameSource& source, const CompressOptions& opts) {
   set_field_bounds(source.edit_header(), opts);
-}
-
-// FORMAT.md 16.4 "fields within a bound": each finite value of a bounded float field replaced
-// by the multiple of 2B nearest it, in the field's float type, when that is within B.
-void quantise_bounded_fields(const PCDExtra& layout, std::vector<std::vector<uint8_t>>* fields) {
-  const std::vector<double>& bounds = layout.field_bounds;
-  if (bounds.empty()) return;
-  size_t a = 0;
-  for (size_t i = 0; i < layout.fields.size() && a < fields->size(); ++i) {
-    const PCDField& f = layout.fields[i];
-    if (f.name == "x" || f.name == "y" || f.name == "z") continue;
-    const double b = i < bounds.size() ? bounds[i] : 0;
-    std::vector<uint8_t>& bytes = (*fields)[a++];
-    if (b <= 0 || f.type != 'F') continue;
-    const double step = 2 * b;
-    for (size_t k = 0; k + static_cast<size_t>(f.size) <= bytes.size();
-         k += static_cast<size_t>(f.size)) {
-      if (f.size == 4) {
-        float v;
-        std::memcpy(&v, &bytes[k], 4);
-        if (!std::isfinite(v)) continue;
-        const float q = static_cast<float>(std::round(static_cast<double>(v) / step) * step);
-        if (std::fabs(static_cast<double>(q) - static_cast<double>(v)) <= b)
-          std::memcpy(&bytes[k], &q, 4);
-      } else {
-        double v;
-        std::memcpy(&v, &bytes[k], 8);
-        if (!std::isfinite(v)) continue;
-        const double q = std::round(v / step) * step;
-        if (std::fabs(q - v) <= b) std::memcpy(&bytes[k], &q, 8);
-      }
-    }
-  }
 }
 
 // The per-channel bounds of opts.analog_max_error (FORMAT.md 5.7) on the header's analog

@@ -28,9 +28,6 @@ void settle_frame_layout(Take* t, bool drop_fields = false);
 // The per-field bounds of opts.attr_error on the header's PCD layout (field_bounds).
 void set_field_bounds(FrameSource& source, const CompressOptions& opts);
 void set_field_bounds(Take& header, const CompressOptions& opts);
-// FORMAT.md 16.4: the values of the bounded float fields of `layout` (field_bounds) quantised in
-// place; fields: one byte array per attribute of the layout (its fields but x y z), in order.
-void quantise_bounded_fields(const PCDExtra& layout, std::vector<std::vector<uint8_t>>* fields);
 // The per-channel bounds of opts.analog_max_error on the header's analog channels: a key names
 // a channel's label or its unit; a label's bound wins over its unit's. Returns the keys that
 // name no channel.

@@ -491,9 +491,9 @@ class Encoder {
   }
 
   // ATTR (FORMAT.md 13): the window's point fields, lossless whatever the bound but for the
-  // float fields given a bound of their own (--attr-error), which are quantised first.
+  // float fields given a bound of their own (--attr-error), quantised where that codes smaller
+  // (encode_attributes_within: the block then holds the values the decoder gives back).
   void append_attributes(Window* win) const {
-    quantise_bounded_fields(*take_.pcd, &win->block.attributes);
     std::vector<uint8_t>* buf = &win->buf;
     const size_t before = buf->size();
     if (tuning_.attr_empty) {  // EncoderTuning: a size bound
@@ -501,13 +501,13 @@ class Encoder {
       win->attribute_bytes = buf->size() - before;
       return;
     }
-    const std::vector<uint8_t> at =
-        encode_attributes(attribute_specs(take_.pcd->fields), win->block.attributes,
-                          win->wi.valid.data(), win->block.frames, take_.points, take_.pcd->width,
-                          // FORMAT.md 7.3: predictors 10 and 11 are candidates for an unorganized
-                          // cloud's fields (an organized one has its pixel neighbours).
-                          take_.pcd->height == 1 && !plan_.tout ? win->wi.q.data() : nullptr,
-                          tuning_.attr_estimate, nullptr, tuning_.attr_estimate);
+    const std::vector<uint8_t> at = encode_attributes_within(
+        attribute_specs(take_.pcd->fields), attribute_bounds(*take_.pcd), &win->block.attributes,
+        win->wi.valid.data(), win->block.frames, take_.points, take_.pcd->width,
+        // FORMAT.md 7.3: predictors 10 and 11 are candidates for an unorganized
+        // cloud's fields (an organized one has its pixel neighbours).
+        take_.pcd->height == 1 && !plan_.tout ? win->wi.q.data() : nullptr, tuning_.attr_estimate,
+        nullptr, tuning_.attr_estimate);
     append_chunk(buf, "ATTR", with_window_index(win->w, 0xFF, at));
     win->attribute_bytes = buf->size() - before;
   }

@@ -287,9 +287,11 @@ void append_scan_chunk(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<
 // "Scans (format 1.1)": the ATTR chunk of window w, its fields as one frame of its n points
 // (width n), the SCNW integers q offered to predictors 10 and 11 and the positions the decoder
 // will have to predictor 12 (0 at gaps): lossless, the source's (b.xyz; every valid coordinate
-// decodes bit for bit, whether the window is split or not), else q's by the grid.
-void append_fields_chunk(RaggedRun& r, size_t w, const std::vector<std::vector<uint8_t>>& fields,
-                         const FrameBlock& b, const std::vector<int32_t>& q,
+// decodes bit for bit, whether the window is split or not), else q's by the grid. The bounded
+// float fields of META's layout (FORMAT.md 16.4) are quantised where that codes them smaller
+// (encode_attributes_within), with `bounded`; *fields then holds what the decoder gives back.
+void append_fields_chunk(RaggedRun& r, size_t w, std::vector<std::vector<uint8_t>>* fields,
+                         bool bounded, const FrameBlock& b, const std::vector<int32_t>& q,
                          const std::vector<uint16_t>& rings) {
   const std::vector<uint8_t>& valid = b.valid;
   const size_t n = valid.size();
@@ -314,9 +316,10 @@ void append_fields_chunk(RaggedRun& r, size_t w, const std::vector<std::vector<u
   ByteWriter aw;
   aw.varint(w);
   std::vector<uint8_t> payload = std::move(aw.buffer());
-  const std::vector<uint8_t> at =
-      encode_attributes(attribute_specs(r.meta.pcd->fields), fields, valid.data(), 1, n, n,
-                        q.empty() ? nullptr : q.data(), true, &ragged, true);
+  const std::vector<uint8_t> at = encode_attributes_within(
+      attribute_specs(r.meta.pcd->fields),
+      bounded ? attribute_bounds(*r.meta.pcd) : std::vector<double>(), fields, valid.data(), 1, n,
+      n, q.empty() ? nullptr : q.data(), true, &ragged, true);
   payload.insert(payload.end(), at.begin(), at.end());
   const size_t before = r.buf.size();
   append_chunk(&r.buf, "ATTR", payload);
@@ -324,29 +327,28 @@ void append_fields_chunk(RaggedRun& r, size_t w, const std::vector<std::vector<u
 }
 
 // Window w's SCNW and, with fields, ATTR appended to r.buf from block b (its fields taken into
-// *fields, the bounded float ones of META's layout quantised as the decoder gives them back,
-// FORMAT.md 16.4); *q: the SCNW integers; coded: as append_scan_chunk's.
+// *fields, the bounded float ones of META's layout as the decoder gives them back, FORMAT.md
+// 16.4); *q: the SCNW integers; coded: as append_scan_chunk's.
 void code_chunks(RaggedRun& r, size_t w, FrameBlock* b, std::vector<int32_t>* q,
                  std::vector<std::vector<uint8_t>>* fields, const std::vector<uint8_t>* coded) {
   std::vector<uint16_t> rings;  // with a field predictor 13 may code (a key field)
   append_scan_chunk(r, w, *b, q, coded, r.key_fields ? &rings : nullptr);
   if (r.meta.attributes.empty()) return;
   *fields = std::move(b->attributes);
-  quantise_bounded_fields(*r.meta.pcd, fields);
-  append_fields_chunk(r, w, *fields, *b, *q, rings);
+  append_fields_chunk(r, w, fields, true, *b, *q, rings);
 }
 
 // "Raw windows": window w's SCNW as a raw window of block b (its points as read), appended to
-// r.buf, and ATTR of `fields` (taken and quantised as code_chunks takes them); *q: the integers
-// ATTR's predictors see.
+// r.buf, and ATTR of *fields (as read with `bounded`, then as code_chunks leaves them; else as
+// they are); *q: the integers ATTR's predictors see.
 void code_raw_chunks(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<int32_t>* q,
-                     const std::vector<std::vector<uint8_t>>& fields) {
+                     std::vector<std::vector<uint8_t>>* fields, bool bounded) {
   const size_t before = r.buf.size();
   append_chunk(&r.buf, "SCNW", raw_scan_payload(w, b, r.grid.mode, r.t.source));
   r.position_bytes += r.buf.size() - before;
   r.fine = 0;
   *q = r.meta.attributes.empty() ? std::vector<int32_t>() : raw_scan_ints(b, r.grid.mode);
-  if (!r.meta.attributes.empty()) append_fields_chunk(r, w, fields, b, *q, {});
+  if (!r.meta.attributes.empty()) append_fields_chunk(r, w, fields, bounded, b, *q, {});
 }
 
 // The position and field bytes counted before a window's chunks.
@@ -384,14 +386,14 @@ void keep_smaller(RaggedRun& r, size_t w, const WindowBytes& at, FrameBlock* oth
   fields->swap(fields2);
 }
 
-// "Raw windows", mode 2: window w's chunks in r.buf (of block b as read, *q and fields as
+// "Raw windows", mode 2: window w's chunks in r.buf (of block b as read, *q and *fields as
 // code_chunks gave them; the byte counts from `at` on) replaced by a raw window's when the
 // estimate lets it be tried (raw_may_win) and it is smaller.
 void keep_raw_if_smaller(RaggedRun& r, size_t w, const WindowBytes& at, const FrameBlock& b,
-                         std::vector<int32_t>* q, const std::vector<std::vector<uint8_t>>& fields) {
+                         std::vector<int32_t>* q, std::vector<std::vector<uint8_t>>* fields) {
   if (r.grid.mode != PosMode::kFloat32 || !raw_may_win(b, r.position_bytes - at.position)) return;
   std::vector<int32_t> q2;
-  if (!replaced_if_smaller(r, at, [&] { code_raw_chunks(r, w, b, &q2, fields); })) return;
+  if (!replaced_if_smaller(r, at, [&] { code_raw_chunks(r, w, b, &q2, fields, false); })) return;
   q->swap(q2);
   if (--r.splits[r.last_split] == 0) r.splits.erase(r.last_split);  // counted as split before
   ++r.splits[scan::kRawWindowKey];
@@ -465,8 +467,7 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b) {
   const WindowBytes at{r.position_bytes, r.attribute_bytes};
   if (raw) {
     fields = std::move(b->attributes);
-    if (!r.meta.attributes.empty()) quantise_bounded_fields(*r.meta.pcd, &fields);
-    code_raw_chunks(r, w, *b, &q, fields);
+    code_raw_chunks(r, w, *b, &q, &fields, true);
     ++r.splits[scan::kRawWindowKey];
   } else {
     code_chunks(r, w, b, &q, &fields, any ? &coded : nullptr);
@@ -475,7 +476,7 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b) {
   if (octree_may_win(r, at, offer))
     keep_smaller(r, w, at, &offer.block, offer.coded, b, &q, &fields);
   if (r.origin) origin_points(b);  // b as read again
-  if (!raw) keep_raw_if_smaller(r, w, at, *b, &q, fields);
+  if (!raw) keep_raw_if_smaller(r, w, at, *b, &q, &fields);
   FrameBlock& d = r.back;
   if (decodes_windows(r)) {
     decode_window_chunks(r.ctx, w, r.buf.data(), base, base + r.buf.size(), &d);

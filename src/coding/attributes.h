@@ -66,6 +66,27 @@ std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
                                        bool estimate = false, const RaggedFields* ragged = nullptr,
                                        bool estimate_split = false);
 
+// encode_attributes, with the float fields given a bound (bounds[a] > 0 for specs[a]; --attr-error,
+// FORMAT.md 5.5 and 16.4) coded within it: *data holds the values as read; each bounded field is
+// coded as it is and with its finite values quantised (quantise_field), and the quantised values
+// replace *data's only when their coding is smaller (exact is within any bound, so a bound never
+// makes a field's coding larger). On return *data holds the values the decoder gives back.
+// bounds: one per spec or empty (then encode_attributes' bytes).
+std::vector<uint8_t> encode_attributes_within(
+    const std::vector<AttrSpec>& specs, const std::vector<double>& bounds,
+    std::vector<std::vector<uint8_t>>* data, const uint8_t* valid, size_t frames, size_t points,
+    size_t width, const int32_t* q = nullptr, bool estimate = false,
+    const RaggedFields* ragged = nullptr, bool estimate_split = false);
+
+// FORMAT.md 16.4, "a field within a bound": each finite value v of a float field (elements of
+// s.size bytes, little-endian) replaced by q = float(round(v / (2 bound)) 2 bound) in the field's
+// own float type when |q - v| <= bound. True when some value changed.
+bool quantise_field(const AttrSpec& s, double bound, std::vector<uint8_t>* bytes);
+
+// The bounds of a PCD layout's attributes, one per attribute_specs(layout.fields) entry (0: exact),
+// from layout.field_bounds (one per field, x y z included); empty when it is.
+std::vector<double> attribute_bounds(const PCDExtra& layout);
+
 // Decodes what encode_attributes wrote into *out (one byte array per spec, resized). Throws
 // Error(kCorrupt) naming `what` on a bad transform or predictor, a window larger than the
 // payload can hold (checked before allocating), a truncated block or bytes left over.

@@ -339,25 +339,46 @@ bool has_unit_candidate(const std::vector<AttrSpec>& specs) {
   return false;
 }
 
-std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
-                                       const std::vector<std::vector<uint8_t>>& data,
-                                       const uint8_t* valid, size_t frames, size_t points,
-                                       size_t width, const int32_t* q, bool estimate,
-                                       const RaggedFields* ragged, bool estimate_split) {
-  const size_t n = frames * points;
-  const size_t W = width ? width : std::max<size_t>(points, 1);
-  const bool gaps = valid && std::find(valid, valid + n, 0) != valid + n;
-  // 7.3: the neighbours, found once for every lane (under a mask all set when there is none).
+namespace {
+
+// What every field of one window is coded with: the gap mask (a mask all set under predictors
+// 10 to 13 when the window has none), the neighbours of 7.3 (found once), the shape and the
+// choices encode_attributes was given.
+struct FieldCoder {
+  const std::vector<AttrSpec>& specs;
+  const uint8_t* valid;
+  bool gaps;
   std::vector<uint8_t> all_valid;
   std::vector<uint32_t> near;
-  if ((q && points > 1) || ragged) {
-    if (!valid) all_valid.assign(n, 1);
-    valid = valid ? valid : all_valid.data();
+  size_t frames, points, W;
+  const RaggedFields* ragged;
+  bool estimate, estimate_split;
+
+  FieldCoder(const std::vector<AttrSpec>& s, const std::vector<std::vector<uint8_t>>& data,
+             const uint8_t* v, size_t f, size_t p, size_t width, const int32_t* q, bool est,
+             const RaggedFields* rf, bool est_split)
+      : specs(s),
+        valid(v),
+        frames(f),
+        points(p),
+        ragged(rf),
+        estimate(est),
+        estimate_split(est_split) {
+    const size_t n = frames * points;
+    W = width ? width : std::max<size_t>(points, 1);
+    gaps = valid && std::find(valid, valid + n, 0) != valid + n;
+    // 7.3: the neighbours, found once for every lane (under a mask all set when there is none).
+    if ((q && points > 1) || ragged) {
+      if (!valid) all_valid.assign(n, 1);
+      valid = valid ? valid : all_valid.data();
+    }
+    if (q && points > 1 && (!ragged || near_pays(specs, data, valid, gaps, q, points, *ragged)))
+      near = nearest_points(q, valid, frames, points);
   }
-  if (q && points > 1 && (!ragged || near_pays(specs, data, valid, gaps, q, points, *ragged)))
-    near = nearest_points(q, valid, frames, points);
-  ByteWriter w;
-  for (size_t a : coding_order(specs, ragged != nullptr)) {
+
+  // Field a of data, coded by its smallest transform.
+  std::vector<uint8_t> code(const std::vector<std::vector<uint8_t>>& data, size_t a) const {
+    const size_t n = frames * points;
     const AttrSpec& s = specs[a];
     const size_t bytes = n * static_cast<size_t>(s.size) * static_cast<size_t>(s.count);
     if (data[a].size() != bytes)
@@ -413,6 +434,84 @@ std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
       }
       if (alt.size() < best.size() && bytes <= kMaxSymbolsPerByte * m)
         best = std::move(alt.buffer());
+    }
+    return best;
+  }
+};
+
+}  // namespace
+
+std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
+                                       const std::vector<std::vector<uint8_t>>& data,
+                                       const uint8_t* valid, size_t frames, size_t points,
+                                       size_t width, const int32_t* q, bool estimate,
+                                       const RaggedFields* ragged, bool estimate_split) {
+  const FieldCoder coder(specs, data, valid, frames, points, width, q, estimate, ragged,
+                         estimate_split);
+  ByteWriter w;
+  for (size_t a : coding_order(specs, ragged != nullptr)) w.bytes(coder.code(data, a));
+  return std::move(w.buffer());
+}
+
+bool quantise_field(const AttrSpec& s, double bound, std::vector<uint8_t>* bytes) {
+  if (!(bound > 0) || s.type != 'F') return false;
+  const double step = 2 * bound;
+  bool moved = false;
+  for (size_t k = 0; k + static_cast<size_t>(s.size) <= bytes->size();
+       k += static_cast<size_t>(s.size)) {
+    uint8_t* at = bytes->data() + k;
+    if (s.size == 4) {
+      float v;
+      std::memcpy(&v, at, 4);
+      if (!std::isfinite(v)) continue;
+      const float q = static_cast<float>(std::round(static_cast<double>(v) / step) * step);
+      if (q == v || std::fabs(static_cast<double>(q) - static_cast<double>(v)) > bound) continue;
+      std::memcpy(at, &q, 4);
+    } else {
+      double v;
+      std::memcpy(&v, at, 8);
+      if (!std::isfinite(v)) continue;
+      const double q = std::round(v / step) * step;
+      if (q == v || std::fabs(q - v) > bound) continue;
+      std::memcpy(at, &q, 8);
+    }
+    moved = true;
+  }
+  return moved;
+}
+
+std::vector<double> attribute_bounds(const PCDExtra& layout) {
+  std::vector<double> bounds;
+  if (layout.field_bounds.empty()) return bounds;
+  for (size_t i = 0; i < layout.fields.size(); ++i) {
+    const std::string& name = layout.fields[i].name;
+    if (name == "x" || name == "y" || name == "z") continue;
+    bounds.push_back(i < layout.field_bounds.size() ? layout.field_bounds[i] : 0.0);
+  }
+  return bounds;
+}
+
+std::vector<uint8_t> encode_attributes_within(const std::vector<AttrSpec>& specs,
+                                              const std::vector<double>& bounds,
+                                              std::vector<std::vector<uint8_t>>* data,
+                                              const uint8_t* valid, size_t frames, size_t points,
+                                              size_t width, const int32_t* q, bool estimate,
+                                              const RaggedFields* ragged, bool estimate_split) {
+  const FieldCoder coder(specs, *data, valid, frames, points, width, q, estimate, ragged,
+                         estimate_split);
+  ByteWriter w;
+  for (size_t a : coding_order(specs, ragged != nullptr)) {
+    std::vector<uint8_t> best = coder.code(*data, a);
+    const double bound = a < bounds.size() ? bounds[a] : 0;
+    std::vector<uint8_t> moved;  // field a with its values quantised (FORMAT.md 16.4)
+    if (bound > 0 && specs[a].type == 'F') moved = (*data)[a];
+    if (!moved.empty() && quantise_field(specs[a], bound, &moved)) {
+      (*data)[a].swap(moved);  // the later fields' predictors read field a as the decoder will
+      std::vector<uint8_t> coded = coder.code(*data, a);
+      if (coded.size() < best.size())
+        best.swap(coded);
+      else
+        (*data)[a].swap(moved);  // exact, which is within any bound, and not larger
     }
     w.bytes(best);
   }

@@ -26,9 +26,10 @@ std::string without_trailing_slashes(std::string path) {
   return path;
 }
 
-void check_output_free(const std::string& path, bool overwrite) {
+void check_output_free(const std::string& path, bool overwrite,
+                       bool (*takes_files)(const std::string& path)) {
   std::error_code ec;
-  if (!overwrite && fs::exists(fs::symlink_status(path, ec)))
+  if (!overwrite && fs::exists(fs::symlink_status(path, ec)) && !(takes_files && takes_files(path)))
     fail(ErrorCode::kUsage, path, "output exists (use -f to overwrite)");
 }
 
@@ -95,7 +96,7 @@ void AtomicFile::commit() {
 AtomicDir::AtomicDir(const std::string& path, bool overwrite,
                      bool (*beside)(const std::string& path))
     : path_(without_trailing_slashes(path)), overwrite_(overwrite), beside_(beside) {
-  if (!beside_ || !beside_(path_)) check_output_free(path_, overwrite);
+  check_output_free(path_, overwrite, beside_);
   tmp_ = temporaries::create_folder(path_ + ".tmp-XXXXXX", path_);
   // mkdtemp makes it 0700; a folder of frames is read by others as its files are (0644).
   ::chmod(tmp_.c_str(), 0755);

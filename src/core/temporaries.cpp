@@ -26,7 +26,8 @@ namespace {
 
 struct Registry {
   std::mutex lock;
-  std::vector<std::string> paths;  // in registration order: a folder before what it holds
+  std::vector<std::string> paths;    // in registration order: a folder before what it holds
+  std::vector<std::string> folders;  // create_output_folders', in creation order
 };
 
 // Never destroyed: a signal may come while the process exits, after static destructors ran.
@@ -45,6 +46,13 @@ void remove_path(const std::string& path) {
   fs::remove_all(path, ec);
 }
 
+// The folders of `folders` that are empty, deepest first (rmdir(2) removes nothing else); all of
+// them forgotten.
+void remove_empty(std::vector<std::string>* folders) {
+  for (auto p = folders->rbegin(); p != folders->rend(); ++p) ::rmdir(p->c_str());
+  folders->clear();
+}
+
 // The signal thread: waits for one of `signals`, removes every registered temporary while holding
 // the registry's lock (so no temporary is made or renamed into place meanwhile, nor after), then
 // ends the process by that signal with its default action.
@@ -55,6 +63,7 @@ void remove_path(const std::string& path) {
   Registry& r = registry();
   r.lock.lock();  // kept: the process ends holding it
   for (auto p = r.paths.rbegin(); p != r.paths.rend(); ++p) remove_path(*p);
+  remove_empty(&r.folders);
   std::signal(sig, SIG_DFL);
   sigset_t one;
   sigemptyset(&one);
@@ -62,6 +71,30 @@ void remove_path(const std::string& path) {
   pthread_sigmask(SIG_UNBLOCK, &one, nullptr);
   raise(sig);  // this thread's, unblocked now with the default action: the process ends
   _exit(128 + sig);
+}
+
+// The signal thread, which alone blocks SIGPIPE once remove_temporaries_on_signals() handles it.
+pthread_t cleaner;
+
+// SIGPIPE: a write to a pipe (or socket) nobody reads any more, raised in the writing thread,
+// which sigwait() in another thread cannot take. It is handed to the signal thread, and the
+// writing thread waits here for the process to end, so it goes on with nothing (no error message
+// after its write fails, no output of the next step); no write of capz's happens under the
+// registry's lock. The kernel sends it as from this process; one sent by another (kill -PIPE) may
+// have stopped this thread anywhere, holding that lock even, so the thread goes on then.
+// pthread_kill, getpid and pause are async-signal-safe.
+extern "C" void on_broken_pipe(int, siginfo_t* info, void*) {
+  pthread_kill(cleaner, SIGPIPE);
+  if (info && info->si_pid == getpid())
+    for (;;) pause();
+}
+
+// Whether `sig` is at its default action and not blocked in the calling thread (one ignored,
+// blocked or handled by whoever started the process is left to it).
+bool at_default(int sig, const sigset_t& blocked) {
+  struct sigaction now {};
+  return sigaction(sig, nullptr, &now) == 0 && now.sa_handler == SIG_DFL &&
+         !sigismember(&blocked, sig);
 }
 
 }  // namespace
@@ -112,16 +145,47 @@ void remove_temporaries_on_signals() {
     sigset_t signals, blocked;
     sigemptyset(&signals);
     pthread_sigmask(SIG_BLOCK, nullptr, &blocked);
-    for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
-      struct sigaction now {};
-      if (sigaction(sig, nullptr, &now) == 0 && now.sa_handler == SIG_DFL &&
-          !sigismember(&blocked, sig))
-        sigaddset(&signals, sig);
-    }
+    for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT})
+      if (at_default(sig, blocked)) sigaddset(&signals, sig);
+    const bool pipe = at_default(SIGPIPE, blocked);
+    if (pipe) sigaddset(&signals, SIGPIPE);
     if (sigisemptyset(&signals)) return;
-    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
-    std::thread(wait_and_clean, signals).detach();
+    pthread_sigmask(SIG_BLOCK, &signals, nullptr);  // the signal thread starts with them blocked
+    std::thread waiter(wait_and_clean, signals);
+    cleaner = waiter.native_handle();
+    waiter.detach();
+    if (!pipe) return;
+    // Every other thread takes SIGPIPE in on_broken_pipe, which passes it to the signal thread.
+    struct sigaction handed {};
+    handed.sa_sigaction = on_broken_pipe;
+    handed.sa_flags = SA_SIGINFO;
+    sigemptyset(&handed.sa_mask);
+    sigaction(SIGPIPE, &handed, nullptr);
+    sigset_t one;
+    sigemptyset(&one);
+    sigaddset(&one, SIGPIPE);
+    pthread_sigmask(SIG_UNBLOCK, &one, nullptr);
   });
+}
+
+void create_output_folders(const std::string& path) {
+  Registry& r = registry();
+  std::lock_guard<std::mutex> hold(r.lock);
+  fs::path made;
+  for (const fs::path& part : fs::path(path)) {
+    made /= part;
+    std::error_code ec;
+    if (fs::create_directory(made, ec))
+      r.folders.push_back(made.string());
+    else if (ec)
+      fail(ErrorCode::kIo, made.string(), "cannot create: " + ec.message());
+  }
+}
+
+void remove_empty_output_folders() {
+  Registry& r = registry();
+  std::lock_guard<std::mutex> hold(r.lock);
+  remove_empty(&r.folders);
 }
 
 TemporaryFolder::TemporaryFolder(const std::string& templ)

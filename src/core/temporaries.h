@@ -1,7 +1,8 @@
 // The temporaries of outputs not yet in place (AtomicFile's and AtomicDir's "<path>.tmp-XXXXXX",
 // the folder an AtomicDir moves an old output to, the CLI's pipe folder): registered from their
 // creation to their rename into place or their removal, so that remove_temporaries_on_signals()
-// (capz/tool/file.h) removes what is registered when SIGINT, SIGTERM or SIGHUP ends the process.
+// (capz/tool/file.h) removes what is registered when SIGINT, SIGTERM, SIGHUP, SIGQUIT or SIGPIPE
+// ends the process.
 // Each step runs under the registry's lock, which that removal takes too (and keeps until the
 // process ends): it sees a temporary either registered or not made yet, never half.
 #pragma once

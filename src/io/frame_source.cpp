@@ -509,7 +509,7 @@ std::unique_ptr<FrameSink> create_frame_sink(const Take& header, bool words,
   // Folders of frame files, file by file as the blocks come; a single frame file from its block.
   const char* ext = frame_extension(f);
   if (*ext) {
-    if (!frames_go_beside(target)) check_output_free(target, opts.overwrite);
+    check_output_free(target, opts.overwrite, frames_go_beside);
     // path, not target: a trailing '/' says a folder (a folder named "x.ply/")
     if (f == Format::kPCDFolder) return pcd_folder_sink(header, path, opts);
     if (f == Format::kPLYFolder) return ply_folder_sink(header, path, opts);

@@ -13,8 +13,12 @@
 // frame file.
 #include "capz/io.h"
 
+#include <dirent.h>
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <charconv>
 #include <cstring>
 #include <filesystem>
@@ -130,20 +134,39 @@ bool holds_frame_files(const std::string& dir) {
   return false;
 }
 
+namespace {
+
+// The type of directory entry `e` of folder `dir` as lstat(2) gives it (S_IFDIR, S_IFREG, ...):
+// from readdir's d_type, a stat only where the file system leaves it unknown; 0 when it is gone.
+mode_t entry_type(const std::string& dir, const dirent& e) {
+#ifdef _DIRENT_HAVE_D_TYPE
+  if (e.d_type != DT_UNKNOWN) return DTTOIF(e.d_type);
+#endif
+  struct stat st {};
+  return ::lstat((dir + "/" + e.d_name).c_str(), &st) == 0 ? st.st_mode & S_IFMT : 0;
+}
+
+}  // namespace
+
+// One readdir pass without a stat per entry: its callers ask again and again (the CLI's output
+// check, the sink's, AtomicDir's and its commit's), and the folder may hold many archives.
 bool frames_go_beside(const std::string& dir) {
   const std::string d = without_trailing_slashes(dir);
-  std::error_code ec;
-  if (!fs::is_directory(fs::symlink_status(d, ec))) return false;
-  for (fs::directory_iterator it(d, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    std::error_code ec2;
-    const auto st = it->symlink_status(ec2);
-    if (hidden_name(name) || fs::is_directory(st) ||
-        (fs::is_regular_file(st) && lower_extension(name) == ".capz"))
-      continue;
-    return false;
+  struct stat st {};
+  if (::lstat(d.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) return false;
+  DIR* h = ::opendir(d.c_str());
+  if (!h) return false;
+  bool takes = true;
+  errno = 0;
+  for (const dirent* e; takes && (e = ::readdir(h)) != nullptr; errno = 0) {
+    const std::string name = e->d_name;
+    if (name == "." || name == ".." || hidden_name(name)) continue;
+    const mode_t type = entry_type(d, *e);
+    takes = type == S_IFDIR || (type == S_IFREG && lower_extension(name) == ".capz");
   }
-  return !ec;
+  takes = takes && errno == 0;  // a listing that failed midway is not a folder that takes files
+  ::closedir(h);
+  return takes;
 }
 
 Format detect_format(const std::string& path) {
@@ -264,7 +287,7 @@ void write_take(const Take& take, const std::string& path, const WriteOptions& o
   const Format f = output_format(take, path, opts);
   const std::string target = without_trailing_slashes(path);
   check_fields_fit(take, f, target, opts);
-  if (!is_frame_files(f) || !frames_go_beside(target)) check_output_free(target, opts.overwrite);
+  check_output_free(target, opts.overwrite, is_frame_files(f) ? frames_go_beside : nullptr);
   switch (f) {
     case Format::kC3D:
       write_c3d(take, target, opts);

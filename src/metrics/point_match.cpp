@@ -21,8 +21,8 @@ int64_t cell_of(double v, double cell) {
 // One frame's pairing: the decoded valid points sorted by cell, and which original point holds
 // each decoded point.
 struct Frame {
-  const Take& o;
-  const Take& d;
+  const PointsView& o;
+  const PointsView& d;
   double bound, cell;
   const std::vector<bool>& exact;
   std::vector<std::pair<Key, size_t>> sorted;
@@ -31,15 +31,21 @@ struct Frame {
   size_t search = 0;
 };
 
+// The bytes a point of field f of v holds.
+size_t bytes_per_point(const PointsView& v, size_t f) {
+  const size_t n = v.total();
+  return n ? v.fields[f]->size() / n : 0;
+}
+
 // Whether original point i and decoded point j agree: coordinates within the bound, the exact
 // fields byte for byte.
 bool agree(const Frame& fr, size_t i, size_t j) {
   for (size_t a = 0; a < 3; ++a)
     if (!(std::fabs(fr.o.xyz[3 * i + a] - fr.d.xyz[3 * j + a]) <= fr.bound)) return false;
-  for (size_t f = 0; f < fr.o.attributes.size() && f < fr.d.attributes.size(); ++f) {
+  for (size_t f = 0; f < fr.o.fields.size() && f < fr.d.fields.size(); ++f) {
     if (f >= fr.exact.size() || !fr.exact[f]) continue;
-    const size_t bpp = fr.o.attributes[f].bytes_per_point();
-    if (std::memcmp(&fr.o.attributes[f].data[i * bpp], &fr.d.attributes[f].data[j * bpp], bpp) != 0)
+    const size_t bpp = bytes_per_point(fr.o, f);
+    if (std::memcmp(fr.o.fields[f]->data() + i * bpp, fr.d.fields[f]->data() + j * bpp, bpp) != 0)
       return false;
   }
   return true;
@@ -93,30 +99,49 @@ bool assign(Frame* fr, size_t i, int depth) {
   return false;
 }
 
-// Copies original point i (with its fields) to place j of *out.
-void move_point(const Take& o, size_t i, size_t j, Take* out) {
-  std::copy_n(o.xyz.begin() + static_cast<std::ptrdiff_t>(3 * i), 3,
-              out->xyz.begin() + static_cast<std::ptrdiff_t>(3 * j));
-  out->valid[j] = o.valid[i];
-  for (size_t f = 0; f < o.attributes.size(); ++f) {
-    const size_t bpp = o.attributes[f].bytes_per_point();
-    if (o.attributes[f].data.size() != o.total_points() * bpp) continue;
-    std::copy_n(o.attributes[f].data.begin() + static_cast<std::ptrdiff_t>(i * bpp), bpp,
-                out->attributes[f].data.begin() + static_cast<std::ptrdiff_t>(j * bpp));
-  }
+}  // namespace
+
+namespace {
+
+// The view of a take or a block; bytes(a): the bytes of one of its attributes.
+template <class Frames, class Bytes>
+PointsView view_of(const Frames& t, Bytes bytes) {
+  PointsView v;
+  v.frames = t.frames;
+  v.points = t.points;
+  v.offsets = t.ragged() ? &t.frame_offsets : nullptr;
+  v.xyz = t.xyz.data();
+  v.valid = t.valid.data();
+  for (const auto& a : t.attributes) v.fields.push_back(&bytes(a));
+  return v;
 }
 
 }  // namespace
 
-bool match_reordered(const Take& original, const Take& decoded, double bound,
-                     const std::vector<bool>& exact_fields, Take* out, std::string* why) {
-  *out = original;
+PointsView points_of(const Take& t) {
+  return view_of(t, [](const PointAttribute& a) -> const std::vector<uint8_t>& { return a.data; });
+}
+
+PointsView points_of(const FrameBlock& b) {
+  return view_of(b, [](const std::vector<uint8_t>& a) -> const std::vector<uint8_t>& { return a; });
+}
+
+bool same_counts(const PointsView& a, const PointsView& b) {
+  if (a.frames != b.frames) return false;
+  for (size_t f = 0; f <= a.frames; ++f)
+    if (a.begin(f) != b.begin(f)) return false;
+  return true;
+}
+
+bool match_reordered(const PointsView& original, const PointsView& decoded, double bound,
+                     const std::vector<bool>& exact_fields, std::vector<size_t>* partner,
+                     std::string* why) {
   const double cell = bound > 0 ? 2 * bound : 1.0;
   Frame fr{original, decoded, bound, cell, exact_fields, {}, {}, {}, 0};
-  fr.owner.assign(original.total_points(), kNone);
-  fr.seen.assign(original.total_points(), 0);
+  fr.owner.assign(original.total(), kNone);
+  fr.seen.assign(original.total(), 0);
   for (size_t f = 0; f < original.frames; ++f) {
-    const size_t p0 = original.frame_begin(f), p1 = p0 + original.frame_points(f);
+    const size_t p0 = original.begin(f), p1 = original.begin(f + 1);
     fr.sorted.clear();
     std::vector<size_t> gaps;
     for (size_t j = p0; j < p1; ++j) {
@@ -148,9 +173,34 @@ bool match_reordered(const Take& original, const Take& decoded, double bound,
         return false;
       }
     }
-    for (size_t j = p0; j < p1; ++j) move_point(original, fr.owner[j], j, out);
   }
+  partner->swap(fr.owner);
   return true;
+}
+
+void move_to_partners(const PointsView& v, const std::vector<size_t>& partner,
+                      std::vector<double>* xyz, std::vector<uint8_t>* valid,
+                      std::vector<std::vector<uint8_t>>* fields) {
+  const size_t n = v.total();
+  xyz->resize(3 * n);
+  valid->resize(n);
+  for (size_t j = 0; j < n; ++j) {
+    std::copy_n(v.xyz + 3 * partner[j], 3, xyz->data() + 3 * j);
+    (*valid)[j] = v.valid[partner[j]];
+  }
+  fields->resize(v.fields.size());
+  for (size_t f = 0; f < v.fields.size(); ++f) {
+    const std::vector<uint8_t>& in = *v.fields[f];
+    std::vector<uint8_t>& out = (*fields)[f];
+    const size_t bpp = bytes_per_point(v, f);
+    if (bpp == 0 || in.size() != n * bpp) {
+      out = in;
+      continue;
+    }
+    out.resize(in.size());
+    for (size_t j = 0; j < n; ++j)
+      std::copy_n(in.data() + partner[j] * bpp, bpp, out.data() + j * bpp);
+  }
 }
 
 }  // namespace capz

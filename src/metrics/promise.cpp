@@ -74,33 +74,15 @@ std::string extras_difference(const Take& a, const Take& b) {
   return "";
 }
 
-// FORMAT.md "Points reordered": `original` with its points at their partners' places in
-// `decoded` (metrics/point_match.h), or false with the breach in *why.
-bool pair_reordered(const Take& original, const Take& decoded, const Promise& p, Take* paired,
-                    std::string* why) {
+// FORMAT.md "Points reordered": each decoded point's partner among the original's
+// (metrics/point_match.h), or false with the breach in *why.
+bool pair_reordered(const PointsView& original, const PointsView& decoded, const Promise& p,
+                    std::vector<size_t>* partner, std::string* why) {
   std::vector<bool> exact;
-  for (size_t i = 0; i < original.attributes.size(); ++i)
+  for (size_t i = 0; i < original.fields.size(); ++i)
     exact.push_back(i >= p.attribute_bounds.size() || p.attribute_bounds[i] <= 0);
   const double bound = p.kind == Promise::Kind::kBound ? p.max_error : 0;
-  return match_reordered(original, decoded, bound, exact, paired, why);
-}
-
-// A block's frames as a take (positions, gaps, fields; offsets from the block's first point).
-Take block_take(const FrameBlock& b) {
-  Take t;
-  t.frames = b.frames;
-  t.points = b.ragged() ? 0 : b.points;
-  t.frame_offsets = b.frame_offsets;
-  t.xyz = b.xyz;
-  t.valid = b.valid;
-  for (const std::vector<uint8_t>& a : b.attributes) {
-    PointAttribute pa;
-    pa.size = 1;
-    pa.count = b.total_points() > 0 ? static_cast<int>(a.size() / b.total_points()) : 1;
-    pa.data = a;
-    t.attributes.push_back(std::move(pa));
-  }
-  return t;
+  return match_reordered(original, decoded, bound, exact, partner, why);
 }
 
 std::string header_difference(const Take& a, const Take& b) {
@@ -173,6 +155,23 @@ struct PromiseCheck::Frames {
         rotation_reliability(&t.rotations.reliability) {
     if (t.c3d) residual = &t.c3d->residual, camera_mask = &t.c3d->camera_mask;
     for (const auto& a : t.attributes) attributes.push_back(&a.data);
+  }
+  // These frames with the original's points at their partners' places in `decoded`
+  // (pair_reordered), taken from *m, and decoded's shape: the original as the decoder ordered it.
+  struct Moved {
+    std::vector<double> xyz;
+    std::vector<uint8_t> valid;
+    std::vector<std::vector<uint8_t>> fields;
+  };
+  void move_to(const PointsView& original, const std::vector<size_t>& partner,
+               const Frames& decoded, Moved* m) {
+    move_to_partners(original, partner, &m->xyz, &m->valid, &m->fields);
+    points = decoded.points;
+    offsets = decoded.offsets;
+    xyz = m->xyz.data();
+    valid = m->valid.data();
+    for (size_t a = 0; a < attributes.size() && a < m->fields.size(); ++a)
+      attributes[a] = &m->fields[a];
   }
   size_t total() const { return offsets ? offsets->back() : frames * points; }
   bool same_shape(const Frames& o) const {
@@ -375,20 +374,16 @@ bool PromiseCheck::analog(const Frames& a, const Frames& b) {
 bool PromiseCheck::frames(const FrameBlock& original, const FrameBlock& decoded) {
   if (!promise_.points_reordered) return check(Frames(original), Frames(decoded));
   // FORMAT.md "Points reordered": the block's frames compared as sets.
-  const Take d = block_take(decoded), o = in_shape_of(block_take(original), d);
-  if (!same_frame_counts(o, d))
+  const PointsView o = points_of(original), d = points_of(decoded);
+  if (!same_counts(o, d))
     return check(Frames(original), Frames(decoded));  // the shape check names it
-  Take paired;
+  std::vector<size_t> partner;
   std::string why;
-  if (!pair_reordered(o, d, promise_, &paired, &why)) return breach(why);
-  FrameBlock p = original;
-  p.points = decoded.points;  // a fixed source's frames, compared as the ragged ones they are
-  p.frame_offsets = decoded.frame_offsets;
-  p.xyz = std::move(paired.xyz);
-  p.valid = std::move(paired.valid);
-  for (size_t a = 0; a < p.attributes.size() && a < paired.attributes.size(); ++a)
-    p.attributes[a] = std::move(paired.attributes[a].data);
-  return check(Frames(p), Frames(decoded));
+  if (!pair_reordered(o, d, promise_, &partner, &why)) return breach(why);
+  Frames a(original), b(decoded);  // a fixed source's frames compared as the ragged ones they are
+  Frames::Moved moved;
+  a.move_to(o, partner, b, &moved);
+  return check(a, b);
 }
 
 bool PromiseCheck::finish() {
@@ -407,31 +402,31 @@ ErrorStats PromiseCheck::error() const {
   return s;
 }
 
-PromiseResult check_promise(const Take& original_as_read, const Take& decoded,
-                            const Promise& promise) {
+PromiseResult check_promise(const Take& original, const Take& decoded, const Promise& promise) {
   PromiseCheck c(promise);
   PromiseResult r;
-  c.header(original_as_read, decoded);
-  // A fixed original of a ragged take's shape (same_frame_counts) is compared as that take.
-  const Take reshaped =
-      same_frame_counts(original_as_read, decoded) && original_as_read.ragged() != decoded.ragged()
-          ? in_shape_of(original_as_read, decoded)
-          : Take();
-  const Take& original = reshaped.frames ? reshaped : original_as_read;
-  // The frames are measured even when the metadata differs, so the caller can report both.
-  const bool whole = original.xyz.size() == original.total_points() * 3 &&
-                     original.valid.size() == original.total_points() &&
-                     decoded.xyz.size() == original.xyz.size() &&
-                     decoded.valid.size() == original.valid.size();
-  if (original.frames == decoded.frames && original.points == decoded.points &&
-      original.frame_offsets == decoded.frame_offsets) {
+  c.header(original, decoded);
+  // The frames are measured even when the metadata differs, so the caller can report both. A
+  // fixed original of a ragged take's shape (same_frame_counts) is compared as that take.
+  if (same_frame_counts(original, decoded)) {
+    const bool whole = original.xyz.size() == original.total_points() * 3 &&
+                       original.valid.size() == original.total_points() &&
+                       decoded.xyz.size() == original.xyz.size() &&
+                       decoded.valid.size() == original.valid.size();
     if (!whole) return {false, "the takes' frame arrays do not match their shapes", c.error()};
-    Take paired;
-    std::string why;
-    if (promise.points_reordered && !pair_reordered(original, decoded, promise, &paired, &why))
-      return {false, why, c.error()};
-    c.check(PromiseCheck::Frames(promise.points_reordered ? paired : original),
-            PromiseCheck::Frames(decoded));
+    PromiseCheck::Frames a(original), b(decoded);
+    a.points = b.points;
+    a.offsets = b.offsets;
+    PromiseCheck::Frames::Moved moved;
+    if (promise.points_reordered) {
+      std::vector<size_t> partner;
+      std::string why;
+      const PointsView o = points_of(original);
+      if (!pair_reordered(o, points_of(decoded), promise, &partner, &why))
+        return {false, why, c.error()};
+      a.move_to(o, partner, b, &moved);
+    }
+    c.check(a, b);
     c.finish();
   }
   r.holds = c.holds();

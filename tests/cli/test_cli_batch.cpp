@@ -174,6 +174,36 @@ TEST(CliBatch, GivenManyInputsWithOneBadThenOthersWrittenAndExitNonZero) {
   EXPECT_EQ(std::distance(fs::directory_iterator(d.file("back")), fs::directory_iterator()), 2);
 }
 
+// The output folders a run makes (--output-dir-mirror, --output-dir-flat) for outputs it does not
+// write (a bad input) are removed at its end, those it did not make kept, empty or not.
+TEST(CliBatch, GivenFailedOutputsThenTheEmptyFoldersTheRunMadeAreRemoved) {
+  capz_test::TempDir d("capz_cli_batch");
+  const std::string dir = d.path().string();
+  fs::create_directories(d.file("t/good"));
+  fs::create_directories(d.file("t/bad/deeper"));
+  fs::copy_file(repo("EB015PI.c3d"), d.file("t/good/e.c3d"));
+  std::ofstream(d.file("t/bad/deeper/x.c3d")) << "this is not a C3D file at all";
+  fs::create_directories(d.file("m/t/bad"));  // there before the run: kept
+  Result r = shell(dir, "capz compress -r -q t --output-dir-mirror m");
+  EXPECT_NE(r.status, 0);
+  EXPECT_TRUE(fs::is_regular_file(d.file("m/t/good/e.c3d.capz")));
+  EXPECT_FALSE(fs::exists(d.file("m/t/bad/deeper"))) << "left by a failed output";
+  EXPECT_TRUE(fs::is_directory(d.file("m/t/bad")));
+  // Every output failed: the flat folder and the mirror tree go, all of them made by the run.
+  EXPECT_NE(shell(dir, "capz compress -q t/bad/deeper/x.c3d --output-dir-flat f/g").status, 0);
+  EXPECT_FALSE(fs::exists(d.file("f")));
+  // decompress: a truncated archive in a folder of its own, beside a good one, two at a time.
+  std::vector<uint8_t> b = capz::read_file(d.file("m/t/good/e.c3d.capz"));
+  b.resize(b.size() / 2);
+  fs::create_directories(d.file("z/sub"));
+  capz::write_file(d.file("z/sub/cut.c3d.capz"), b, false);
+  EXPECT_EQ(shell(dir, "capz decompress -q -r -T 2 m/t/good z --output-dir-mirror back").status, 5);
+  EXPECT_TRUE(fs::is_regular_file(d.file("back/m/t/good/e.c3d")));
+  EXPECT_FALSE(fs::exists(d.file("back/z")));
+  EXPECT_NE(shell(dir, "capz compress -r -q t/bad --output-dir-mirror n").status, 0);
+  EXPECT_FALSE(fs::exists(d.file("n")));
+}
+
 TEST(CliBatch, GivenOneOutputOptionForManyInputsThenUsageErrorAndNothingWritten) {
   capz_test::TempDir d("capz_cli_batch");
   const std::string dir = d.path().string();

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <string>
 
+#include "capz/codec.h"
 #include "capz/io.h"
 #include "test_util.h"
 
@@ -372,9 +373,9 @@ TEST(CliScan, InfoDescribesTheFloat32SplitOfALosslessArchive) {
     const int e = std::stoi(counts.substr(p + 1, q - p - 1));
     const size_t n = std::stoul(counts.substr(q + 2));
     windows += n;
-    if (e == -128) {
+    if (e == capz::kPlainFloat32WindowsKey) {
       plain = n;
-    } else if (e == -127) {  // raw windows (FORMAT.md "Raw windows")
+    } else if (e == capz::kRawWindowsKey) {  // raw windows (FORMAT.md "Raw windows")
       raw = n;
     } else {
       ++grids;

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <iterator>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -137,6 +138,10 @@ TEST(ScanLossless, EdgeCoordinatesComeBackBitForBitWithAndWithoutASplit) {
   ASSERT_EQ(split.size(), 2u);
   EXPECT_EQ(split[0], -128);  // 1e30 has no integer below 2^29 at any exponent tried
   EXPECT_GE(split[1], 7);
+  // The report counts the first window under the plain float32 windows' key, the second under
+  // its exponent.
+  const std::map<int, size_t> windows = capz::describe(z.data(), z.size()).float32_split_windows;
+  EXPECT_EQ(windows, (std::map<int, size_t>{{capz::kPlainFloat32WindowsKey, 1}, {split[1], 1}}));
 }
 
 // The writer's frames in each encoding, then files of other forms: a header comment with CRLF

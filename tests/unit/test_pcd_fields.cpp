@@ -378,7 +378,9 @@ TEST(PcdFields, FloatFieldsWithinTheirOwnBound) {
         changed += fx != fy;
       }
     }
-    if (a != 2) {  // normal_x is all 0: on the grid already
+    // intensity's quantised values code smaller; normal_x is all 0 (on the grid already), and
+    // normal_z's quantised values code no smaller, so they stay exact (test_attr_bound_size.cpp).
+    if (a == 1) {
       EXPECT_GT(changed, 0u) << t.attributes[a].name;
     }
   }

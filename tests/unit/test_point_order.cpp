@@ -164,12 +164,18 @@ TEST(PointOrder, GivenCrowdedPointsThenThePairingFindsTheOneThatHolds) {
   o.valid = {1, 1};
   d = o;
   d.xyz = {0.96, 0, 0, -0.98, 0, 0};
-  Take paired;
+  std::vector<size_t> partner;
   std::string why;
-  ASSERT_TRUE(match_reordered(o, d, 1.0, {}, &paired, &why)) << why;
-  EXPECT_EQ(paired.xyz, (std::vector<double>{1.95, 0, 0, 0, 0, 0}));
+  ASSERT_TRUE(match_reordered(points_of(o), points_of(d), 1.0, {}, &partner, &why)) << why;
+  EXPECT_EQ(partner, (std::vector<size_t>{1, 0}));
+  std::vector<double> xyz;
+  std::vector<uint8_t> valid;
+  std::vector<std::vector<uint8_t>> fields;
+  move_to_partners(points_of(o), partner, &xyz, &valid, &fields);
+  EXPECT_EQ(xyz, (std::vector<double>{1.95, 0, 0, 0, 0, 0}));
+  EXPECT_EQ(valid, (std::vector<uint8_t>{1, 1}));
   d.xyz[0] = 3.5;  // now nothing decoded is within 1 of B
-  EXPECT_FALSE(match_reordered(o, d, 1.0, {}, &paired, &why));
+  EXPECT_FALSE(match_reordered(points_of(o), points_of(d), 1.0, {}, &partner, &why));
   EXPECT_NE(why.find("frame 0, point 1 has no decoded point within the bound"), std::string::npos)
       << why;
 }
@@ -187,10 +193,10 @@ TEST(PointOrder, GivenPointsMovedTowardTheirNeighboursThenTheOwnPlacePairingHold
   for (size_t i = 0; i < n; ++i) o.xyz[3 * i] = static_cast<double>(i);
   d = o;
   for (size_t i = 0; i < n; ++i) d.xyz[3 * i] -= 0.55;  // 0.45 from point i - 1's original
-  Take paired;
+  std::vector<size_t> partner;
   std::string why;
-  ASSERT_TRUE(match_reordered(o, d, 0.6, {}, &paired, &why)) << why;
-  EXPECT_EQ(paired.xyz, o.xyz);
+  ASSERT_TRUE(match_reordered(points_of(o), points_of(d), 0.6, {}, &partner, &why)) << why;
+  for (size_t j = 0; j < n; ++j) ASSERT_EQ(partner[j], j);
 }
 
 // shuffled_scan's frames cut to one count (a fixed take, as a folder of fixed-size sweeps is read),

@@ -59,6 +59,12 @@ std::string set_compress_target(FrameSource& source, const CompressTarget& targe
 void compress_input(CompressInput& input, const CompressOptions& opts, const std::string& out,
                     bool overwrite, CompressStats* stats = nullptr);
 
+// The note a compression's report gives on samples marked absent (a C3D's negative residual
+// word) whose coordinates the archive does not keep (stats.dropped_coordinates: at a bound, as
+// for every gap; --lossless keeps them), as the CLI prints it ("capz compress: note: IN: " before
+// it) and the Python module warns it (a UserWarning); "" when there are none.
+std::string dropped_coordinates_note(const CompressStats& stats);
+
 // The three above in a row: `capz compress IN -o OUT` with `target`, `units` (--units; checked
 // to name a unit capz knows) and the coding options of `opts` (codec, clusters, codec_options,
 // window_frames, check, progress; its target fields are replaced). Returns
