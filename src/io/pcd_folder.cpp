@@ -379,6 +379,8 @@ void set_layout(const FrameLayout& l, const std::vector<std::string>& names, Tak
 // fields, which every frame must share; then the first frame whole (the layout PCL reads). A
 // range reads its files only.
 class PCDSource : public FileFrameSource {
+  static constexpr size_t kKeptPoints = size_t{1} << 20;
+
  public:
   explicit PCDSource(const std::string& path) : FileFrameSource(list_frame_files(path, ".pcd")) {
     std::vector<size_t> counts;
@@ -417,8 +419,13 @@ class PCDSource : public FileFrameSource {
  private:
   // Frame f into *out (with `coordinates`, maybe without its fields: read_pcd_frame).
   void read_file(size_t f, FrameData* out, bool coordinates) {
-    if (have_first_ && f == 0 && files_.names.size() == 1) {  // a one-file source's every read
-      *out = first_;  // (the one-frame choice reads its frame three times; compress.cpp)
+    // A one-file source's every read (the one-frame choice reads its frame three times,
+    // compress.cpp), but for a binary cloud of more than kKeptPoints points: read again from the
+    // file after the first read, so the encoder's copies are not joined by this one while it
+    // codes (an ascii body is kept: reading it again would cost more than coding it).
+    if (have_first_ && f == 0 && files_.names.size() == 1 &&
+        (first_.points <= kKeptPoints || layout_.encoding == "ascii")) {
+      *out = first_;
       return;
     }
     if (have_first_ && f == 0) {  // frame 0 read when opening: not read twice (kept until then:
