@@ -111,6 +111,15 @@ inline void warn_note(const std::string& note) {
 
 using TakeClass = py::class_<capz::Take, TakePtr>;
 
+// numpy's name of a PCD field type: 'F' 4 -> "<f4", 'U' 2 -> "<u2", 'I' 8 -> "<i8"; throws
+// for a type numpy has no dtype of (py_take.cpp).
+std::string attribute_dtype(char type, int size);
+
+// Take: positions, gaps and what names them; analog channels, rotations and point fields; counts,
+// copies, pickling and repr (py_take.cpp).
+void bind_take_positions(TakeClass* cls);
+void bind_take_channels(TakeClass* cls);
+void bind_take_rest(TakeClass* cls);
 // Take: the C3D parameter section, sample words and header events (py_c3d.cpp).
 void bind_take_c3d(TakeClass* cls);
 // Take: a TRC file's Time and Frame# columns and its header's rates (py_c3d.cpp).
