@@ -376,10 +376,6 @@ std::vector<size_t> offsets_of_counts(const std::vector<size_t>& counts);
 // whose frames all hold a fixed take's count has its shape (the scan coder's frames of one count
 // reordered: --point-order any on a folder of fixed-size sweeps decodes to such a ragged take).
 bool same_frame_counts(const Take& a, const Take& b);
-// t with `like`'s representation of the same shape (same_frame_counts): a fixed take made ragged
-// (or a ragged one of one count made fixed) as `like` is; t itself when they are alike already.
-// Taken by value: a temporary moves in, not copied.
-Take in_shape_of(Take t, const Take& like);
 
 // The names of the take's point fields (Take::attributes), separated by ", "; empty when none.
 std::string field_names(const Take& take);

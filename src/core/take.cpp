@@ -165,14 +165,6 @@ bool same_frame_counts(const Take& a, const Take& b) {
   return true;
 }
 
-Take in_shape_of(Take r, const Take& like) {
-  if (r.ragged() == like.ragged()) return r;
-  r.points = like.points;
-  r.frame_offsets = like.frame_offsets;
-  if (r.ragged()) r.labels.clear(), r.descriptions.clear();
-  return r;
-}
-
 std::string Take::shape_fault() const {
   if (ragged()) {
     if (frame_offsets.size() != frames + 1)

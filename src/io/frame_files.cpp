@@ -304,28 +304,28 @@ void FileFrameSource::read_frames(size_t first, size_t count, FrameBlock* out, b
   out->attributes.assign(A, std::vector<uint8_t>());
   for (size_t a = 0; a < A; ++a)
     out->attributes[a].reserve(out->total_points() * header_.attributes[a].bytes_per_point());
+  // One frame's buffers, reused from frame to frame and freed at the end: not kept until the next
+  // read (a one-frame take's whole cloud, while the encoder codes it).
+  FrameData data;
   for (size_t k = 0; k < count; ++k) {
     const size_t f = first + k;
     if (coordinates)
-      read_frame_coordinates(f, &data_);
+      read_frame_coordinates(f, &data);
     else
-      read_frame(f, &data_);
-    if (data_.points != counts_[f] || data_.xyz.size() != data_.points * 3 ||
-        data_.valid.size() != data_.points)
+      read_frame(f, &data);
+    if (data.points != counts_[f] || data.xyz.size() != data.points * 3 ||
+        data.valid.size() != data.points)
       fail(ErrorCode::kCorrupt, files_.path(f),
-           "frame holds " + std::to_string(data_.points) + " points, its header announced " +
+           "frame holds " + std::to_string(data.points) + " points, its header announced " +
                std::to_string(counts_[f]) + " (was the file changed while being read?)");
     const size_t b = out->frame_begin(k);
-    std::copy(data_.xyz.begin(), data_.xyz.end(), out->xyz.begin() + static_cast<long>(b * 3));
-    std::copy(data_.valid.begin(), data_.valid.end(), out->valid.begin() + static_cast<long>(b));
-    if (data_.attrs.size() != A) continue;  // fields left out of the header (drop_fields)
+    std::copy(data.xyz.begin(), data.xyz.end(), out->xyz.begin() + static_cast<long>(b * 3));
+    std::copy(data.valid.begin(), data.valid.end(), out->valid.begin() + static_cast<long>(b));
+    if (data.attrs.size() != A) continue;  // fields left out of the header (drop_fields)
     for (size_t a = 0; a < A; ++a)
-      out->attributes[a].insert(out->attributes[a].end(), data_.attrs[a].begin(),
-                                data_.attrs[a].end());
+      out->attributes[a].insert(out->attributes[a].end(), data.attrs[a].begin(),
+                                data.attrs[a].end());
   }
-  // The last frame read is in *out now: its buffers are not kept until the next read (a one-frame
-  // take's whole cloud, while the encoder codes it: 29 bytes a point of x y z float32 intensity).
-  data_ = FrameData();
 }
 
 Take read_all_frames(FrameSource& source) {

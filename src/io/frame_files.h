@@ -147,8 +147,6 @@ class FileFrameSource : public FrameSource {
 
  private:
   void read_frames(size_t first, size_t count, FrameBlock* out, bool coordinates);
-
-  FrameData data_;
 };
 
 // Every frame of a source read into one take (the header's metadata, the frames' arrays).

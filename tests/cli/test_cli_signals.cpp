@@ -155,6 +155,19 @@ bool ended_within_120s(pid_t pid, int* status) {
   return false;
 }
 
+// Expects no temporary left under `dir`.
+void expect_no_temporaries(const TempDir& dir) {
+  const std::vector<std::string> left = temporaries(dir.path());
+  EXPECT_TRUE(left.empty()) << left.size() << " left, the first " << left.front();
+}
+
+// Expects capz's `status` to say it ended by `sig` (its stderr shown otherwise).
+void expect_ended_by(int status, int sig, const TempDir& dir) {
+  ASSERT_TRUE(WIFSIGNALED(status))
+      << "status " << status << ": " << capz_test::file_text(dir.file("stderr"));
+  EXPECT_EQ(WTERMSIG(status), sig);
+}
+
 // Runs capz with `args` in `dir`, sends `sig` once a temporary shows under `dir`, and checks that
 // capz ended by that signal leaving no temporary. Skips (saying so) when capz ended before a
 // temporary was seen, or wrote `output` before the signal came.
@@ -182,13 +195,10 @@ void interrupt(const std::vector<std::string>& args, const TempDir& dir, int sig
   }
   ASSERT_EQ(kill(pid, sig), 0);
   if (!ended_within_120s(pid, &status)) FAIL() << "capz did not end within 120 s of signal " << sig;
-  const std::vector<std::string> left = temporaries(dir.path());
-  EXPECT_TRUE(left.empty()) << left.size() << " left, the first " << left.front();
+  expect_no_temporaries(dir);
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0)  // done and renamed before the signal came
     GTEST_SKIP() << "capz finished before signal " << sig << " came";
-  ASSERT_TRUE(WIFSIGNALED(status))
-      << "status " << status << ": " << capz_test::file_text(dir.file("stderr"));
-  EXPECT_EQ(WTERMSIG(status), sig);
+  expect_ended_by(status, sig, dir);
   if (fs::exists(output))  // whole: renamed into place before the signal came
     GTEST_SKIP() << output << " was written before signal " << sig << " came";
 }
@@ -204,12 +214,9 @@ void broken_pipe(const std::vector<std::string>& args, const TempDir& dir) {
   ASSERT_GT(pid, 0);
   int status = 0;
   if (!ended_within_120s(pid, &status)) FAIL() << "capz did not end within 120 s";
-  ASSERT_TRUE(WIFSIGNALED(status))
-      << "status " << status << ": " << capz_test::file_text(dir.file("stderr"));
-  EXPECT_EQ(WTERMSIG(status), SIGPIPE);
+  expect_ended_by(status, SIGPIPE, dir);
   EXPECT_EQ(capz_test::file_text(dir.file("stderr")), "");
-  const std::vector<std::string> left = temporaries(dir.path());
-  EXPECT_TRUE(left.empty()) << left.size() << " left, the first " << left.front();
+  expect_no_temporaries(dir);
 }
 
 }  // namespace
