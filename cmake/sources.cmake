@@ -166,6 +166,7 @@ set(CAPZ_ENCODE_SOURCES
   src/coding/scan_table.cpp
   src/coding/scan_shares_encode.cpp
   src/coding/scan_trial_gates_encode.cpp
+  src/coding/scan_turns_encode.cpp
   src/io/residue/c3d_residue_encode.cpp
   src/io/residue/pack_encode.cpp
   src/io/residue/patch_encode.cpp

@@ -4,7 +4,7 @@
   make_scan_sequences.py depth MESH_DIR OUT_DIR [--frames N] [--width W --height H] [--seed S]
                            [--world]
   make_scan_sequences.py lidar OUT_DIR [--frames N] [--rings R] [--steps A] [--seed S]
-                        [--order ring|azimuth] [--drive D] [--reflectivity]
+                        [--order ring|azimuth] [--drive D] [--turn DEG] [--reflectivity]
 
 depth: renders a mesh animation given as a folder of PCD frames (x y z, the same vertices in
   every frame, e.g. ../shared/data/pcd/horse-gallop) from a fixed virtual depth camera. Each
@@ -34,8 +34,9 @@ lidar: a spinning-LiDAR-like sequence, unorganized: R rings (elevations -15..+15
   --order azimuth stores the points column by column (every ring at one azimuth, then the next
   azimuth, as Velodyne and Ouster packets give them) instead of ring by ring; --drive D moves
   the sensor D units along x per frame (a vehicle's scan: the points stay in sensor
-  coordinates, the scene slides by), so a beam sees other surface points in every frame.
-  Without these options the output is what it was before they existed.
+  coordinates, the scene slides by), so a beam sees other surface points in every frame; --turn
+  DEG turns the sensor DEG degrees about its z axis per frame (a turning platform: the scene
+  turns the other way in sensor coordinates). Without these options the output is what it was before they existed.
 Point p is the same pixel (depth) or beam (lidar) in every frame, as capz needs.
 """
 import argparse
@@ -203,6 +204,12 @@ def lidar(args):
     os.makedirs(args.out, exist_ok=True)
     for fi in range(args.frames):
         ox = args.drive * fi  # the sensor's x in the world
+        # The sensor's yaw in the world (--turn): the rays are cast along the directions turned.
+        yaw = math.radians(args.turn * fi)
+        cw, sw = math.cos(yaw), math.sin(yaw)
+        sensor_dirs = dirs
+        dirs = np.stack([cw * sensor_dirs[:, 0] - sw * sensor_dirs[:, 1],
+                         sw * sensor_dirs[:, 0] + cw * sensor_dirs[:, 1], sensor_dirs[:, 2]], axis=-1)
         rng_t = np.full(len(dirs), np.inf)
         kind = np.zeros(len(dirs))
         which = np.full(len(dirs), -1)  # the pillar hit
@@ -234,6 +241,7 @@ def lidar(args):
         rng_t[better], kind[better] = t[better], 0.9
         hit = rng_t < 60
         rr = np.where(hit, rng_t + rng.normal(0, 0.01, len(dirs)), np.nan)
+        dirs = sensor_dirs  # the points in the sensor's frame
         P = (dirs * rr[:, None]).astype(np.float32)
         inten = np.where(hit, kind / np.maximum(rr, 1) * 10 * (1 + rng.normal(0, 0.03, len(dirs))), np.nan).astype(np.float32)
         time = (t_in_sweep + np.float32(0.1 * fi)).astype(np.float32)
@@ -273,6 +281,7 @@ def main():
     l.add_argument("--seed", type=int, default=1)
     l.add_argument("--order", choices=("ring", "azimuth"), default="ring")
     l.add_argument("--drive", type=float, default=0.0)
+    l.add_argument("--turn", type=float, default=0.0)
     l.add_argument("--reflectivity", action="store_true")
     a = ap.parse_args()
     np.seterr(invalid="ignore", divide="ignore")

@@ -231,6 +231,7 @@ struct Coding {
   std::unique_ptr<IntEncoder> enc;
   std::unique_ptr<scan::State> st;
   std::vector<uint8_t> flags;
+  std::vector<int32_t> turns;    // per frame its turn (FORMAT.md "Turns")
   size_t frames = 0, first = 0;  // the frames coded, their points
   int walk = -1;                 // its ring walk choice (Scratch::walk)
 };
@@ -244,6 +245,7 @@ void code_frames(const ScanGeometry& g, const scan::Placement& placed, size_t to
   s->cart.resize(g.counts.size());
   s->spherical_ok.resize(g.counts.size(), -1);
   c->flags.resize(to);
+  c->turns.resize(to);
   s->walk = c->walk;  // the coding's ring walk choice (code_chosen)
   for (size_t f = c->frames; f < to; ++f) {
     const size_t n = g.counts[f], first = c->first;
@@ -253,7 +255,12 @@ void code_frames(const ScanGeometry& g, const scan::Placement& placed, size_t to
     flags = validity(g, first, n);
     int8_t& ok = s->spherical_ok[f];  // the same under every table
     if (t.rings() > 0 && flags != scan::kNoneValid && ok < 0) ok = scan::spherical_ok(g, first, n);
-    if (t.rings() > 0 && flags != scan::kNoneValid && ok) {
+    const bool sph = t.rings() > 0 && flags != scan::kNoneValid && ok;
+    // A frame after the window's first is lined up with the previous sweep's map (FORMAT.md
+    // "Turns").
+    c->turns[f] = sph && f > 0 ? find_turn(g, placed.polar, *c->st, first, n) : 0;
+    c->st->set_turn(c->turns[f]);
+    if (sph) {
       flags = code_chosen(c->enc.get(), c->st.get(), flags, g, placed, f, first, n, s);
     } else {
       scan::code_frame(io, *c->st, flags, first, n, s->q.data(), s->v.data());
@@ -269,7 +276,7 @@ std::vector<uint8_t> finish(const ScanGeometry& g, Coding* c) {
   ScanGeometry head;  // write_header reads the counts only
   head.counts.assign(g.counts.begin(), g.counts.begin() + static_cast<std::ptrdiff_t>(c->frames));
   std::vector<uint8_t> out;
-  scan::write_header(head, c->flags, c->st->table(), &out);
+  scan::write_header(head, c->flags, c->st->table(), &out, &c->turns);
   const std::vector<uint8_t> body = c->enc->finish();
   out.insert(out.end(), body.begin(), body.end());
   return out;
@@ -280,7 +287,7 @@ size_t finished_size(const ScanGeometry& g, const Coding& c) {
   ScanGeometry head;
   head.counts.assign(g.counts.begin(), g.counts.begin() + static_cast<std::ptrdiff_t>(c.frames));
   std::vector<uint8_t> out;
-  scan::write_header(head, c.flags, c.st->table(), &out);
+  scan::write_header(head, c.flags, c.st->table(), &out, &c.turns);
   return out.size() + c.enc->finished_size();
 }
 

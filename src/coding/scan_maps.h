@@ -30,16 +30,17 @@ class SweepMaps {
     *smooth = prev_.smooth[i];
     return true;
   }
-  // Sets cell i of this sweep from its range and the previous sweep's cell: the mean of up to
-  // kMeanOf ranges while each is within kMeanReach steps of the mean, else the range.
-  void set(size_t i, int32_t range) {
+  // Sets cell i of this sweep from its range and the previous sweep's cell j (i, or another
+  // on a turning sensor's frame): the mean of up to kMeanOf ranges while each is within
+  // kMeanReach steps of the mean, else the range.
+  void set(size_t i, size_t j, int32_t range) {
     int64_t v = int64_t{range} * 16;
     uint8_t n = 1;
-    if (prev_.set[i]) {
-      const int64_t d = v - prev_.smooth[i];
+    if (prev_.set[j]) {
+      const int64_t d = v - prev_.smooth[j];
       if (d <= kMeanReach * 16 && d >= -kMeanReach * 16) {
-        n = static_cast<uint8_t>(std::min(prev_.count[i] + 1, kMeanOf));
-        v = prev_.smooth[i] + d / n;  // rounded toward zero
+        n = static_cast<uint8_t>(std::min(prev_.count[j] + 1, kMeanOf));
+        v = prev_.smooth[j] + d / n;  // rounded toward zero
       }
     }
     cur_.smooth[i] = v;

@@ -153,16 +153,16 @@ void write_packed_table(const Table& t, ByteWriter* w) {
 }
 
 void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, const Table& t,
-                  std::vector<uint8_t>* out) {
+                  std::vector<uint8_t>* out, const std::vector<int32_t>* turns) {
   ByteWriter w;
   w.varint(g.counts.size());
   for (uint32_t n : g.counts) w.varint(n);
   w.bytes(flags);
-  write_table(t, &w);
+  write_table(t, &w, turns);
   out->insert(out->end(), w.buffer().begin(), w.buffer().end());
 }
 
-void write_table(const Table& t, ByteWriter* out) {
+void write_table(const Table& t, ByteWriter* out, const std::vector<int32_t>* turns) {
   ByteWriter& w = *out;
   w.varint(t.rings());
   if (t.rings() > 0) {
@@ -199,6 +199,11 @@ void write_table(const Table& t, ByteWriter* out) {
       w.u8(static_cast<uint8_t>(t.slots));
       for (uint8_t m : t.slot) w.u8(m);
     }
+    const bool turned =
+        turns && std::any_of(turns->begin(), turns->end(), [](int32_t v) { return v != 0; });
+    w.u8(turned ? scan::kMoreTurns : 0);  // the more byte (FORMAT.md "Turns")
+    if (turned)
+      for (int32_t v : *turns) w.svarint(v);
   }
 }
 

@@ -186,6 +186,18 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
     }
     if (byte & kShareBit) read_shares(&r, rings, &t, what);
     if (byte & kSlotBit) read_slots(&r, rings, &t, what);
+    const uint8_t more = r.u8();
+    if (more & ~kMoreTurns)
+      fail(ErrorCode::kCorrupt, what, "unknown bits in the table's more byte");
+    if (more & kMoreTurns) {  // the frames' turns (FORMAT.md "Turns")
+      h.turns.resize(frames);
+      for (int32_t& v : h.turns) {
+        const int64_t s = r.svarint();
+        if (s >= int64_t{t.columns} || s <= -int64_t{t.columns})
+          fail(ErrorCode::kCorrupt, what, "a frame's turn is a whole turn or more");
+        v = static_cast<int32_t>(s);
+      }
+    }
   }
   uint64_t coded = 0;    // points that code at least one symbol
   uint64_t counted = 0;  // coded points of frames with cells: a count each at most

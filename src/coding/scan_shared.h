@@ -74,6 +74,8 @@ constexpr uint32_t kMaxSlots = 64;
 // (FORMAT.md step 3).
 constexpr uint8_t kBeforeBit = 128;
 constexpr double kMaxBow = 1;
+// The table's `more` byte's bit of the frames' turns (FORMAT.md "Turns").
+constexpr uint8_t kMoreTurns = 1;
 // Coordinates of a spherical frame stay below this in magnitude (so a range fits an int32).
 constexpr int64_t kMaxSphericalCoord = int64_t{1} << 29;
 constexpr int kMaxFine = 12;  // the raster header's fine shift k (FORMAT.md "Raster frames")
@@ -217,10 +219,13 @@ inline int bit_length(int64_t v) {
 
 // The header: frames, counts, flags, table (the entropy-coded block follows it). write_header
 // is the encoder's (scan_encode.cpp), read_header the decoder's (scan_shared.cpp).
+// turns: the frames' turns (FORMAT.md "Turns"; one a frame, written only when the table has
+// rings and one of them is not 0), or null: none.
 void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, const Table& t,
-                  std::vector<uint8_t>* out);
-// The header's K and laser table (write_header's part after the flags).
-void write_table(const Table& t, ByteWriter* w);
+                  std::vector<uint8_t>* out, const std::vector<int32_t>* turns = nullptr);
+// The header's K and laser table (write_header's part after the flags), with its `more` byte
+// and the frames' turns (as write_header's).
+void write_table(const Table& t, ByteWriter* w, const std::vector<int32_t>* turns = nullptr);
 struct Header {
   std::vector<uint32_t> counts;
   std::vector<uint8_t> flags;
@@ -235,8 +240,9 @@ struct Header {
   size_t cells = 0, cells_size = 0;
   // The octree block's offset and size (size 0: no octree frame; FORMAT "Octree frames").
   size_t octree = 0, octree_size = 0;
-  size_t flags_end = 0;  // offset just past flags_f (where d_f, else K, begins)
-  size_t body = 0;       // offset of the entropy-coded block
+  size_t flags_end = 0;        // offset just past flags_f (where d_f, else K, begins)
+  std::vector<int32_t> turns;  // per frame its turn t_f (FORMAT.md "Turns"), or empty: none
+  size_t body = 0;             // offset of the entropy-coded block
 };
 Header read_header(const uint8_t* data, size_t size, const std::string& what, size_t max_points);
 
@@ -327,13 +333,21 @@ class State {
     uint32_t last = 0;
   };
   Slots slots;
-  // The previous sweep's smoothed range (1/16 steps) at ring k, column col (false: none there).
+  // The previous sweep's smoothed range (1/16 steps) at ring k, column col (false: none there),
+  // the column shifted by the frame's turn (FORMAT.md "Turns").
   bool map_prev(uint32_t k, int32_t col, int64_t* smooth) const {
+    return maps_->prev(cell(k, int64_t{col} + turn_), smooth);
+  }
+  // The same at column col + s, whatever the frame's turn (the encoder's search for it).
+  bool map_prev_at(uint32_t k, int64_t col, int64_t* smooth) const {
     return maps_->prev(cell(k, col), smooth);
   }
   void map_set(uint32_t k, int32_t col, int32_t range) {
-    if (!trial_) maps_->set(cell(k, col), range);
+    if (!trial_) maps_->set(cell(k, col), cell(k, int64_t{col} + turn_), range);
   }
+  // The turn t_f of the frame coded next (0 until set; kept until set again).
+  void set_turn(int32_t t) { turn_ = t; }
+  int32_t turn() const { return turn_; }
   // Cartesian / cross-frame state.
   int32_t last[3] = {0, 0, 0};
   int last_bits[3] = {0, 0, 0};
@@ -342,7 +356,7 @@ class State {
   uint16_t* ring_out = nullptr;
 
  private:
-  size_t cell(uint32_t k, int32_t col) const {
+  size_t cell(uint32_t k, int64_t col) const {
     const uint32_t n = t_->columns;
     int64_t c = col;
     if (static_cast<uint64_t>(c) >= n) {  // a column off [0, n): its residue mod n
@@ -354,6 +368,7 @@ class State {
   const Table* t_;
   std::shared_ptr<SweepMaps> maps_;  // the previous sweep's ranges and this sweep's
   bool trial_ = false;
+  int32_t turn_ = 0;
 };
 
 // The one frame loop. Io provides:

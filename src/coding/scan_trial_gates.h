@@ -27,4 +27,11 @@ bool walk_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& po
 bool pairs_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& polar,
                         const scan::State& st, size_t first, size_t n);
 
+// The turn of frame [first, first + n) against the previous sweep's map in st (FORMAT.md
+// "Turns", the encoder's search, informative there): the column shift under which most of a
+// sample of its valid points find their range in the previous sweep's cells, or 0 when no shift
+// beats none clearly. polar: the points' places under st's table (valid points only are read).
+int32_t find_turn(const ScanGeometry& g, const std::vector<scan::Polar>& polar,
+                  const scan::State& st, size_t first, size_t n);
+
 }  // namespace capz

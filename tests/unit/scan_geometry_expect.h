@@ -199,7 +199,7 @@ inline std::vector<uint8_t> unpacked(const std::vector<uint8_t>& p) {
   ScanGeometry head;
   head.counts = hd.counts;
   std::vector<uint8_t> out;
-  scan::write_header(head, hd.flags, t, &out);
+  scan::write_header(head, hd.flags, t, &out, &hd.turns);
   out.insert(out.end(), p.begin() + static_cast<std::ptrdiff_t>(hd.body), p.end());
   return out;
 }

@@ -166,7 +166,7 @@ TEST(ScanBow, GivenADamagedBowWhenDecodedThenCorrupt) {
   std::vector<uint8_t> p;
   const scan::Header hd = coded(g, h, &p);
   ASSERT_NE(hd.table.bow, 0.0f);
-  const size_t bow_at = hd.body - 4, units_at = units_offset(p);
+  const size_t bow_at = hd.body - 1 - 4, units_at = units_offset(p);
   ASSERT_EQ(p[units_at] & scan::kBowBit, scan::kBowBit);
   for (uint8_t bit : {8, 16}) {  // (bit 7, the range's fourth candidate, is any table's)
     std::vector<uint8_t> d = p;

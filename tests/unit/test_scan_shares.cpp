@@ -81,9 +81,9 @@ TEST(ScanSlots, GivenTheVlp16sFiringTimesThenTheSlotsExact) {
   ASSERT_EQ(hd.table.slot.size(), 16u);
   for (uint32_t k = 0; k < 16; ++k) EXPECT_EQ(hd.table.slot[k], k < 8 ? 2 * k : 2 * (k - 8) + 1);
   // Removing the slots (bit 6 cleared, N and m_k cut) makes the decoder predict otherwise.
-  std::vector<uint8_t> d(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(hd.body) - 17);
+  std::vector<uint8_t> d(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(hd.body) - 1 - 17);
   d[units_at(p)] &= static_cast<uint8_t>(~scan::kSlotBit);
-  d.insert(d.end(), p.begin() + static_cast<std::ptrdiff_t>(hd.body), p.end());
+  d.insert(d.end(), p.begin() + static_cast<std::ptrdiff_t>(hd.body) - 1, p.end());  // more on
   expect_decoded_otherwise(d, g);
 }
 
@@ -91,7 +91,7 @@ TEST(ScanSlots, GivenDamagedSlotsOrBitsThenCorrupt) {
   ScanHints h;
   const ScanGeometry g = sweep(&h, kSlotShare);
   const std::vector<uint8_t> p = coded(g, h);
-  const size_t at = units_at(p), n = header(p).body - 17;
+  const size_t at = units_at(p), n = header(p).body - 1 - 17;  // (the more byte last)
   std::vector<uint8_t> d = p;
   d[at] = static_cast<uint8_t>(d[at] & ~scan::kTurnBit);  // bit 6 without bit 4
   expect_scan_corrupt(d);
@@ -113,10 +113,10 @@ TEST(ScanShares, GivenTheSharesRemovedThenTheDecoderPredictsOtherwise) {
   const ScanGeometry g = sweep(&h, kOtherShare);
   const std::vector<uint8_t> p = coded(g, h);
   const scan::Header hd = header(p);
-  std::vector<uint8_t> d(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(hd.body) - 4 -
+  std::vector<uint8_t> d(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(hd.body) - 1 - 4 -
                                         4 * static_cast<std::ptrdiff_t>(hd.table.rings()));
   d[units_at(p)] &= static_cast<uint8_t>(~scan::kShareBit);
-  d.insert(d.end(), p.begin() + static_cast<std::ptrdiff_t>(hd.body), p.end());
+  d.insert(d.end(), p.begin() + static_cast<std::ptrdiff_t>(hd.body) - 1, p.end());  // more on
   expect_decoded_otherwise(d, g);
 }
 
@@ -124,7 +124,7 @@ TEST(ScanShares, GivenDamagedTurnSharesOrBitsThenCorrupt) {
   ScanHints h;
   const ScanGeometry g = sweep(&h, kOtherShare);
   const std::vector<uint8_t> p = coded(g, h);
-  const size_t at = units_at(p), turn = header(p).body - 4 - 4 * header(p).table.rings();
+  const size_t at = units_at(p), turn = header(p).body - 1 - 4 - 4 * header(p).table.rings();
   std::vector<uint8_t> d = p;
   d[at] = static_cast<uint8_t>(d[at] & ~scan::kTurnBit);  // bit 3 without bit 4
   expect_scan_corrupt(d);

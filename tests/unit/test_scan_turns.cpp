@@ -1,0 +1,117 @@
+// A turning sensor's turns (docs/FORMAT.md "Turns"): the encoder finds how far each sweep
+// turned, in the table's columns, and both sides read the previous sweep's map that far on.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "capz/error.h"
+#include "coding/bytes.h"
+#include "coding/scan_geometry.h"
+#include "coding/scan_shared.h"
+#include "scan_geometry_expect.h"
+
+namespace capz {
+namespace {
+
+constexpr int kRings = 16, kColumns = 1800;  // 0.2 degree columns
+constexpr double kTwoPi = 6.283185307179586;
+
+// `frames` sweeps of a still scene by a sensor that turns `turn` columns a sweep: column c of
+// sweep f looks along the scene's azimuth of column c + f turn. Each ring's range is a function
+// of that azimuth (walls at their distances, by ring), 5 % of the points missing.
+ScanGeometry turning_sweeps(int frames, int turn, ScanHints* h) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0, 1);
+  ScanGeometry g;
+  for (int f = 0; f < frames; ++f) {
+    uint32_t n = 0;
+    for (int c = 0; c < kColumns; ++c) {
+      const double world = kTwoPi * (c + f * turn) / kColumns;
+      for (int k = 0; k < kRings; ++k) {
+        if (u(rng) < 0.05) continue;
+        const double el = (-15.0 + 2.0 * k) * kTwoPi / 360;
+        const double range = 12 + 4 * std::sin(3 * world) + 2 * std::sin(11 * world + k) +
+                             0.5 * std::floor(8 * std::sin(29 * world));
+        push_polar(&g, h, kTwoPi * c / kColumns, el, range, static_cast<uint32_t>(k));
+        ++n;
+      }
+    }
+    g.counts.push_back(n);
+  }
+  h->grid_per_unit = 500;
+  return g;
+}
+
+// The payload's header, read back.
+scan::Header header_of(const std::vector<uint8_t>& p) {
+  return scan::read_header(p.data(), p.size(), "turns", size_t{1} << 24);
+}
+
+// The offset of the more byte of a payload whose header ends with its turns (no raster or cells).
+size_t more_at(const scan::Header& hd) {
+  ByteWriter w;
+  for (int32_t t : hd.turns) w.svarint(t);
+  return hd.body - 1 - w.buffer().size();
+}
+
+TEST(ScanTurns, GivenSweepsOfATurningSensorThenEachFindsItsTurnAndCostsWhatAStillOneDoes) {
+  ScanHints ht, hs;
+  const ScanGeometry turned = turning_sweeps(4, 10, &ht), still = turning_sweeps(4, 0, &hs);
+  const std::vector<uint8_t> p = coded_exact(turned, ht, "turned");
+  const std::vector<uint8_t> q = coded_exact(still, hs, "still");
+  const scan::Header a = header_of(p), b = header_of(q);
+  ASSERT_GT(a.table.rings(), 0u);
+  ASSERT_EQ(a.table.columns % kColumns, 0u);  // the step found, or a divisor of it
+  const auto per = static_cast<int32_t>(a.table.columns / kColumns);
+  EXPECT_EQ(a.turns, (std::vector<int32_t>{0, 10 * per, 10 * per, 10 * per}));
+  EXPECT_TRUE(b.turns.empty());  // a still sensor's payload has none (its more byte 0)
+  EXPECT_EQ(q[b.body - 1], 0);
+  // The turned sweeps cost about what the still ones do (the map read where the scene was).
+  EXPECT_LT(static_cast<double>(p.size()), 1.03 * static_cast<double>(q.size()));
+}
+
+TEST(ScanTurns, GivenTheTurnsTakenAwayThenTheDecoderPredictsOtherwise) {
+  ScanHints h;
+  const ScanGeometry g = turning_sweeps(3, 10, &h);
+  const std::vector<uint8_t> p = coded_exact(g, h, "turned");
+  const scan::Header hd = header_of(p);
+  ASSERT_EQ(hd.turns.size(), 3u);
+  const size_t more = more_at(hd);
+  ASSERT_EQ(p[more], scan::kMoreTurns);
+  std::vector<uint8_t> d(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(more));
+  d.push_back(0);
+  d.insert(d.end(), p.begin() + static_cast<std::ptrdiff_t>(hd.body), p.end());
+  expect_decoded_otherwise(d, g);
+}
+
+TEST(ScanTurns, GivenDamagedTurnsOrMoreBitsThenCorrupt) {
+  ScanHints h;
+  const ScanGeometry g = turning_sweeps(3, 10, &h);
+  const std::vector<uint8_t> p = coded_exact(g, h, "turned");
+  const scan::Header hd = header_of(p);
+  const size_t more = more_at(hd);
+  ASSERT_EQ(p[more], scan::kMoreTurns);
+  for (uint8_t bit : {2, 128}) {  // bits 1-7 are not known
+    std::vector<uint8_t> d = p;
+    d[more] = static_cast<uint8_t>(d[more] | bit);
+    expect_scan_corrupt(d);
+  }
+  // A whole turn, |t_f| = C, in place of frame 2's turn.
+  ByteWriter w;
+  w.u8(scan::kMoreTurns);
+  w.svarint(hd.turns[0]);
+  w.svarint(hd.turns[1]);
+  w.svarint(-static_cast<int64_t>(hd.table.columns));
+  std::vector<uint8_t> d(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(more));
+  d.insert(d.end(), w.buffer().begin(), w.buffer().end());
+  d.insert(d.end(), p.begin() + static_cast<std::ptrdiff_t>(hd.body), p.end());
+  expect_scan_corrupt(d);
+  d.assign(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(more + 2));  // cut in the turns
+  expect_scan_corrupt(d);
+}
+
+}  // namespace
+}  // namespace capz
