@@ -4,7 +4,7 @@
   make_scan_sequences.py depth MESH_DIR OUT_DIR [--frames N] [--width W --height H] [--seed S]
                            [--world]
   make_scan_sequences.py lidar OUT_DIR [--frames N] [--rings R] [--steps A] [--seed S]
-                        [--order ring|azimuth] [--drive D] [--turn DEG] [--reflectivity]
+                        [--order ring|azimuth] [--drive D] [--turn DEG] [--street] [--reflectivity]
 
 depth: renders a mesh animation given as a folder of PCD frames (x y z, the same vertices in
   every frame, e.g. ../shared/data/pcd/horse-gallop) from a fixed virtual depth camera. Each
@@ -36,7 +36,9 @@ lidar: a spinning-LiDAR-like sequence, unorganized: R rings (elevations -15..+15
   the sensor D units along x per frame (a vehicle's scan: the points stay in sensor
   coordinates, the scene slides by), so a beam sees other surface points in every frame; --turn
   DEG turns the sensor DEG degrees about its z axis per frame (a turning platform: the scene
-  turns the other way in sensor coordinates). Without these options the output is what it was before they existed.
+  turns the other way in sensor coordinates); --street adds two walls 6 units high along x, 8
+  units either side of the sensor's path (a street: most beams above the ground hit a wall).
+  Without these options the output is what it was before they existed.
 Point p is the same pixel (depth) or beam (lidar) in every frame, as capz needs.
 """
 import argparse
@@ -230,6 +232,13 @@ def lidar(args):
             better = t < rng_t
             rng_t[better], kind[better] = t[better], 0.6
             which[better] = k
+        if args.street:  # two walls along x, 8 units either side, 6 high, the street between
+            for wy in (-8.0, 8.0):
+                t = np.where(np.abs(dy) > 1e-9, wy / np.where(np.abs(dy) > 1e-9, dy, 1), np.inf)
+                hz = t * dirs[:, 2]
+                t = np.where((t > 0) & (hz > -1.7) & (hz < 4.3), t, np.inf)
+                better = t < rng_t
+                rng_t[better], kind[better] = t[better], 0.4
         # A sphere of radius 1 moving along a circle.
         s = np.array([6 * math.cos(fi * 0.05) - ox, 6 * math.sin(fi * 0.05), -0.5])
         b = -2 * dirs @ s
@@ -282,6 +291,7 @@ def main():
     l.add_argument("--order", choices=("ring", "azimuth"), default="ring")
     l.add_argument("--drive", type=float, default=0.0)
     l.add_argument("--turn", type=float, default=0.0)
+    l.add_argument("--street", action="store_true")
     l.add_argument("--reflectivity", action="store_true")
     a = ap.parse_args()
     np.seterr(invalid="ignore", divide="ignore")
