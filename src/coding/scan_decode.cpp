@@ -117,8 +117,6 @@ ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& 
     if (f == 0 || !scan::near_part(h.flags[f - 1]))  // a far part keeps its near part's cells
       prev_cells.clear();
     st.set_turn(h.turns.empty() ? 0 : h.turns[f]);  // FORMAT "Turns"
-    if (!h.moves.empty() && !h.moves[f].zero() && !(h.flags[f] & scan::kRaster))
-      st.recast(h.moves[f]);  // FORMAT "Moves"
     if (h.flags[f] & scan::kRaster) {
       scan::raster::code_frame(io, px, rs, h.flags[f], first, coded, q, valid);
     } else if (f + 1 < h.counts.size()) {

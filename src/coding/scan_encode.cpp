@@ -62,7 +62,6 @@ struct Scratch {
   std::vector<int8_t> spherical_ok;     // per frame: scan::spherical_ok, -1 not yet known
   std::shared_ptr<scan::SweepMaps> maps = std::make_shared<scan::SweepMaps>();   // every table's
   std::shared_ptr<scan::SweepMaps> spare = std::make_shared<scan::SweepMaps>();  // a kept coding's
-  double per_metre = 0;  // grid units a unit of the source (ScanHints::grid_per_unit), or 0
 };
 
 // The raw bits (below each token) of frame [first, first + n)'s Cartesian coding from state st:
@@ -232,8 +231,7 @@ struct Coding {
   std::unique_ptr<IntEncoder> enc;
   std::unique_ptr<scan::State> st;
   std::vector<uint8_t> flags;
-  std::vector<int32_t> turns;  // per frame its turn and move (FORMAT.md "Turns", "Moves")
-  std::vector<scan::Move> moves;
+  std::vector<int32_t> turns;    // per frame its turn (FORMAT.md "Turns")
   size_t frames = 0, first = 0;  // the frames coded, their points
   int walk = -1;                 // its ring walk choice (Scratch::walk)
 };
@@ -248,7 +246,6 @@ void code_frames(const ScanGeometry& g, const scan::Placement& placed, size_t to
   s->spherical_ok.resize(g.counts.size(), -1);
   c->flags.resize(to);
   c->turns.resize(to);
-  c->moves.resize(to);
   s->walk = c->walk;  // the coding's ring walk choice (code_chosen)
   for (size_t f = c->frames; f < to; ++f) {
     const size_t n = g.counts[f], first = c->first;
@@ -259,7 +256,10 @@ void code_frames(const ScanGeometry& g, const scan::Placement& placed, size_t to
     int8_t& ok = s->spherical_ok[f];  // the same under every table
     if (t.rings() > 0 && flags != scan::kNoneValid && ok < 0) ok = scan::spherical_ok(g, first, n);
     const bool sph = t.rings() > 0 && flags != scan::kNoneValid && ok;
-    line_up(g, placed.polar, sph, f, first, n, s->per_metre, c->st.get(), &c->turns, &c->moves);
+    // A frame after the window's first is lined up with the previous sweep's map (FORMAT.md
+    // "Turns").
+    c->turns[f] = sph && f > 0 ? find_turn(g, placed.polar, *c->st, first, n) : 0;
+    c->st->set_turn(c->turns[f]);
     if (sph) {
       flags = code_chosen(c->enc.get(), c->st.get(), flags, g, placed, f, first, n, s);
     } else {
@@ -276,7 +276,7 @@ std::vector<uint8_t> finish(const ScanGeometry& g, Coding* c) {
   ScanGeometry head;  // write_header reads the counts only
   head.counts.assign(g.counts.begin(), g.counts.begin() + static_cast<std::ptrdiff_t>(c->frames));
   std::vector<uint8_t> out;
-  scan::write_header(head, c->flags, c->st->table(), &out, &c->turns, &c->moves);
+  scan::write_header(head, c->flags, c->st->table(), &out, &c->turns);
   const std::vector<uint8_t> body = c->enc->finish();
   out.insert(out.end(), body.begin(), body.end());
   return out;
@@ -287,7 +287,7 @@ size_t finished_size(const ScanGeometry& g, const Coding& c) {
   ScanGeometry head;
   head.counts.assign(g.counts.begin(), g.counts.begin() + static_cast<std::ptrdiff_t>(c.frames));
   std::vector<uint8_t> out;
-  scan::write_header(head, c.flags, c.st->table(), &out, &c.turns, &c.moves);
+  scan::write_header(head, c.flags, c.st->table(), &out, &c.turns);
   return out.size() + c.enc->finished_size();
 }
 
@@ -501,14 +501,13 @@ constexpr double kBeforeLost = 1.002;
 
 // The payload of window g under the rings of `fit` (fit_rings of g and hints).
 std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const scan::RingFit& fit,
-                                   ScanWorkspace* ws, double per_metre) {
+                                   ScanWorkspace* ws) {
   // The table's azimuth step as found, and finer ones for azimuths off that step, each with
   // ranges in grid units and, when the sensor's range step is found, in that step: the smallest
   // payload wins. In a window of more than kTrialFrames frames, only the tables whose payload for
   // the first kTrialFrames frames is within kTrialSlack of the smallest such payload code the
   // whole window.
   Scratch scratch;
-  scratch.per_metre = per_metre;
   if (ws) {  // the maps of the windows before (reset for each table: the same coding)
     if (!ws->maps) ws->maps = std::make_shared<scan::SweepMaps>();
     if (!ws->spare) ws->spare = std::make_shared<scan::SweepMaps>();
@@ -614,8 +613,8 @@ bool skip_second(ScanWorkspace* ws) {
 
 // Replaces *best by the payload of g under `fit` when that is smaller; whether it did.
 bool keep_smaller_fit(const ScanGeometry& g, const scan::RingFit& fit, ScanWorkspace* ws,
-                      double per_metre, std::vector<uint8_t>* best) {
-  std::vector<uint8_t> out = encode_fitted(g, fit, ws, per_metre);
+                      std::vector<uint8_t>* best) {
+  std::vector<uint8_t> out = encode_fitted(g, fit, ws);
   if (ws && ws->remember && !best->empty()) {
     ws->second_ratio = static_cast<double>(out.size()) / static_cast<double>(best->size());
     ws->second_skipped = 0;
@@ -664,7 +663,7 @@ std::vector<uint8_t> encode_geometry(const ScanGeometry& g, const ScanHints& hin
   if (both) other = scan::fit_rings(g, hints, true, true, false, &found);
   found = scan::FoundRings();  // (the window's rings twice: not held while it is coded)
   const ScanChoice before = ws ? ws->choice : ScanChoice();
-  std::vector<uint8_t> best = encode_fitted(g, fit, ws, hints.grid_per_unit);
+  std::vector<uint8_t> best = encode_fitted(g, fit, ws);
   bool second = false;
   if (other.rings() > 0) {
     ScanChoice chosen;
@@ -672,7 +671,7 @@ std::vector<uint8_t> encode_geometry(const ScanGeometry& g, const ScanHints& hin
       chosen = ws->choice;
       ws->choice = before;  // the second fit's trial sees the windows before as the first's did
     }
-    second = keep_smaller_fit(g, other, ws, hints.grid_per_unit, &best);
+    second = keep_smaller_fit(g, other, ws, &best);
     if (ws && !second) ws->choice = chosen;
   }
   // A raster payload's rings are the first fit's (as when each fit tried the raster itself).

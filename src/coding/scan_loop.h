@@ -433,27 +433,14 @@ __attribute__((always_inline)) inline void code_spherical(Io& io, State& st, con
   int64_t smooth = 0;
   const bool mapped = st.map_prev(k, col, &smooth);
   if (mapped) cand[2] = static_cast<int32_t>(floor_div16(smooth + 8));
-  int sr = detail::argmin(r.score_range, nr);
-  // A moving sensor's frame: the moved map's cell, a fifth candidate (FORMAT.md "Moves").
-  const bool moved = st.moved();
-  int64_t moved_smooth = 0;
-  const bool moved_mapped = moved && st.map_moved(k, col, &moved_smooth);
-  const int32_t moved_cand = moved_mapped ? static_cast<int32_t>(floor_div16(moved_smooth + 8)) : w;
-  if (moved && r.score_range[4] < r.score_range[sr]) sr = 4;
+  const int sr = detail::argmin(r.score_range, nr);
   const int g = std::min(bit_length(r.score_range[sr] >> 1), 15);
-  int32_t range;
-  if (sr == 2 && mapped)
-    range = sym_fraction(io, pa.range, cand[2],
-                         static_cast<double>(smooth - int64_t{cand[2]} * 16) / 16.0,
-                         kCtxRangeFrac + 3 * (g >> 1));
-  else if (sr == 4 && moved_mapped)
-    range = sym_fraction(io, pa.range, moved_cand,
-                         static_cast<double>(moved_smooth - int64_t{moved_cand} * 16) / 16.0,
-                         kCtxRangeFrac + 3 * (g >> 1));
-  else
-    range = io.sym(pa.range, sr == 4 ? moved_cand : cand[sr], kCtxRange + g);
+  const int32_t range =
+      sr == 2 && mapped ? sym_fraction(io, pa.range, cand[2],
+                                       static_cast<double>(smooth - int64_t{cand[2]} * 16) / 16.0,
+                                       kCtxRangeFrac + 3 * (g >> 1))
+                        : io.sym(pa.range, cand[sr], kCtxRange + g);
   for (int j = 0; j < nr; ++j) score(&r.score_range[j], range, cand[j]);
-  if (moved) score(&r.score_range[4], range, moved_cand);
   // x y on the column's azimuth at that range, z on the ring's cone.
   const bool units = !t.unit.empty();
   const double rho =

@@ -7,46 +7,33 @@
 namespace capz {
 namespace scan {
 
-void SweepMaps::allocate(Map* m, size_t cells) {
-  m->smooth_buf.reset();
-  m->set_buf.reset();
-  m->count_buf.reset();
-  // Only the set flags start zeroed: a cell's smoothed range and count are read only when it
-  // is set, and written when it is set (zeroing them cost 4 % of a pandar64 sweep's encode).
-  m->smooth_buf.reset(static_cast<int64_t*>(std::malloc(cells * sizeof(int64_t))));
-  m->set_buf.reset(static_cast<uint8_t*>(std::calloc(cells, 1)));
-  m->count_buf.reset(static_cast<uint8_t*>(std::malloc(cells)));
-  if (!m->smooth_buf || !m->set_buf || !m->count_buf) throw std::bad_alloc();
-  m->smooth = m->smooth_buf.get();
-  m->set = m->set_buf.get();
-  m->count = m->count_buf.get();
-  m->wrote.clear();
-}
-
 void SweepMaps::reset(size_t cells) {
-  next_.clear();
   if (cells <= capacity_) {
     prev_.clear();
     cur_.clear();
     return;
   }
-  allocate(&prev_, cells);
-  allocate(&cur_, cells);
-  capacity_ = cells;
-}
-
-void SweepMaps::begin_recast() {
-  if (next_capacity_ < capacity_) {
-    allocate(&next_, capacity_);
-    next_capacity_ = capacity_;
+  for (Map* m : {&prev_, &cur_}) {
+    m->smooth_buf.reset();
+    m->set_buf.reset();
+    m->count_buf.reset();
+    // Only the set flags start zeroed: a cell's smoothed range and count are read only when it
+    // is set, and written when it is set (zeroing them cost 4 % of a pandar64 sweep's encode).
+    m->smooth_buf.reset(static_cast<int64_t*>(std::malloc(cells * sizeof(int64_t))));
+    m->set_buf.reset(static_cast<uint8_t*>(std::calloc(cells, 1)));
+    m->count_buf.reset(static_cast<uint8_t*>(std::malloc(cells)));
+    if (!m->smooth_buf || !m->set_buf || !m->count_buf) throw std::bad_alloc();
+    m->smooth = m->smooth_buf.get();
+    m->set = m->set_buf.get();
+    m->count = m->count_buf.get();
+    m->wrote.clear();
   }
-  next_.clear();
+  capacity_ = cells;
 }
 
 void SweepMaps::end_sweep() {
   std::swap(prev_, cur_);
   cur_.clear();
-  next_.clear();
 }
 
 }  // namespace scan

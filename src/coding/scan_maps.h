@@ -52,27 +52,6 @@ class SweepMaps {
   }
   // This sweep's map becomes the previous one; the new sweep's is empty.
   void end_sweep();
-  // The moved map (a moving sensor's, FORMAT.md "Moves"): the previous sweep's map recast to
-  // where the sensor is now, for this sweep only. Its cells are put after begin_recast (the
-  // smaller smoothed range kept where two fall in one cell), read by moved; end_sweep empties
-  // it. prev_cells lists the previous sweep's set cells in the order it first set them.
-  // begin_recast throws std::bad_alloc.
-  const std::vector<uint32_t>& prev_cells() const { return prev_.wrote; }
-  int64_t prev_smooth(size_t i) const { return prev_.smooth[i]; }
-  void begin_recast();
-  void recast_put(size_t i, int64_t smooth) {
-    if (next_.set[i] && next_.smooth[i] <= smooth) return;
-    next_.smooth[i] = smooth;
-    if (!next_.set[i]) {
-      next_.set[i] = 1;
-      next_.wrote.push_back(static_cast<uint32_t>(i));
-    }
-  }
-  bool moved(size_t i, int64_t* smooth) const {
-    if (!next_.set[i]) return false;
-    *smooth = next_.smooth[i];
-    return true;
-  }
   // Forgets what this sweep wrote.
   void clear_sweep() { cur_.clear(); }
 
@@ -93,11 +72,8 @@ class SweepMaps {
       wrote.clear();
     }
   };
-  // Allocates m's buffers for `cells` cells, set flags zeroed. Throws std::bad_alloc.
-  static void allocate(Map* m, size_t cells);
   Map prev_, cur_;
-  Map next_;  // the moved map (FORMAT.md "Moves"), allocated on the first recast
-  size_t capacity_ = 0, next_capacity_ = 0;
+  size_t capacity_ = 0;
 };
 
 }  // namespace scan

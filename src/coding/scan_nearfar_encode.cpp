@@ -82,8 +82,8 @@ std::vector<uint8_t> encode_scan_split(const ScanGeometry& near,
     throw Error(ErrorCode::kInternal, "split: a far flag per frame");
   const scan::Header h =
       scan::read_header(far_payload.data(), far_payload.size(), "split", SIZE_MAX);
-  // (A far payload with turns or moves is not split: they are one a frame of its own frames.)
-  if (h.fine > 0 || h.octree_size > 0 || !h.turns.empty() || !h.moves.empty()) return {};
+  // (A far payload with turns is not split: its turns are one a frame of its own frames.)
+  if (h.fine > 0 || h.octree_size > 0 || !h.turns.empty()) return {};
   std::vector<PayloadFrame> frames;
   const std::vector<uint8_t> block = near_block(near, far, h, l, &frames);
   if (block.empty()) return {};

@@ -153,18 +153,16 @@ void write_packed_table(const Table& t, ByteWriter* w) {
 }
 
 void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, const Table& t,
-                  std::vector<uint8_t>* out, const std::vector<int32_t>* turns,
-                  const std::vector<Move>* moves) {
+                  std::vector<uint8_t>* out, const std::vector<int32_t>* turns) {
   ByteWriter w;
   w.varint(g.counts.size());
   for (uint32_t n : g.counts) w.varint(n);
   w.bytes(flags);
-  write_table(t, &w, turns, moves);
+  write_table(t, &w, turns);
   out->insert(out->end(), w.buffer().begin(), w.buffer().end());
 }
 
-void write_table(const Table& t, ByteWriter* out, const std::vector<int32_t>* turns,
-                 const std::vector<Move>* moves) {
+void write_table(const Table& t, ByteWriter* out, const std::vector<int32_t>* turns) {
   ByteWriter& w = *out;
   w.varint(t.rings());
   if (t.rings() > 0) {
@@ -203,15 +201,9 @@ void write_table(const Table& t, ByteWriter* out, const std::vector<int32_t>* tu
     }
     const bool turned =
         turns && std::any_of(turns->begin(), turns->end(), [](int32_t v) { return v != 0; });
-    const bool moved =
-        moves && std::any_of(moves->begin(), moves->end(), [](const Move& m) { return !m.zero(); });
-    // The more byte (FORMAT.md "Turns", "Moves").
-    w.u8(static_cast<uint8_t>((turned ? scan::kMoreTurns : 0) | (moved ? scan::kMoreMoves : 0)));
+    w.u8(turned ? scan::kMoreTurns : 0);  // the more byte (FORMAT.md "Turns")
     if (turned)
       for (int32_t v : *turns) w.svarint(v);
-    if (moved)
-      for (const Move& m : *moves)
-        for (int32_t v : m.d) w.svarint(v);
   }
 }
 

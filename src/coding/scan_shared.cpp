@@ -187,7 +187,7 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
     if (byte & kShareBit) read_shares(&r, rings, &t, what);
     if (byte & kSlotBit) read_slots(&r, rings, &t, what);
     const uint8_t more = r.u8();
-    if (more & ~(kMoreTurns | kMoreMoves))
+    if (more & ~kMoreTurns)
       fail(ErrorCode::kCorrupt, what, "unknown bits in the table's more byte");
     if (more & kMoreTurns) {  // the frames' turns (FORMAT.md "Turns")
       h.turns.resize(frames);
@@ -197,16 +197,6 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
           fail(ErrorCode::kCorrupt, what, "a frame's turn is a whole turn or more");
         v = static_cast<int32_t>(s);
       }
-    }
-    if (more & kMoreMoves) {  // the frames' moves (FORMAT.md "Moves")
-      h.moves.resize(frames);
-      for (Move& m : h.moves)
-        for (int32_t& v : m.d) {
-          const int64_t s = r.svarint();
-          if (s > kMaxMove || s < -kMaxMove)
-            fail(ErrorCode::kCorrupt, what, "a frame's move is out of range");
-          v = static_cast<int32_t>(s);
-        }
     }
   }
   uint64_t coded = 0;    // points that code at least one symbol
@@ -258,58 +248,10 @@ State::State(const Table& t, std::shared_ptr<SweepMaps> maps)
 
 void State::end_frame() {
   if (!trial_) maps_->end_sweep();
-  moved_ = false;
 }
 
 void State::clear_sweep() {
   maps_->clear_sweep();
-}
-
-bool cast_point(const Table& t, double x, double y, double z, uint32_t* ring, size_t* cell,
-                int64_t* smooth) {
-  const double h = std::sqrt(x * x + y * y);
-  if (!(h > 0) || !std::isfinite(h)) return false;
-  const double bent = static_cast<double>(t.bow) * (1.0 - x / h);
-  uint32_t best = 0;
-  double least = 0;
-  for (uint32_t k = 0; k < t.rings(); ++k) {  // the nearest cone, the first on ties
-    const double slope = static_cast<double>(t.slope[k]) + bent;
-    const double e = std::fabs(z - (static_cast<double>(t.z0[k]) + slope * h));
-    if (k == 0 || e < least) best = k, least = e;
-  }
-  const double a =
-      (det_atan2(y, x) - static_cast<double>(t.azimuth0[best])) / static_cast<double>(t.step);
-  int64_t col = round_clamp(a) % static_cast<int64_t>(t.columns);
-  if (col < 0) col += t.columns;
-  const double r = t.unit.empty() ? h : (h - t.offset[best]) / t.unit[best];
-  const double v = 16.0 * r;
-  if (!(std::fabs(v) < 1099511627776.0)) return false;  // 2^40
-  *ring = best;
-  *cell = static_cast<size_t>(best) * t.columns + static_cast<size_t>(col);
-  *smooth = static_cast<int64_t>(floor_fast(v + 0.5));
-  return true;
-}
-
-void State::recast(const Move& m) {
-  const Table& t = *t_;
-  maps_->begin_recast();
-  for (uint32_t i : maps_->prev_cells()) {
-    const uint32_t k = i / t.columns, c = i % t.columns;
-    const int64_t a = maps_->prev_smooth(i);
-    const double r = static_cast<double>(a) / 16.0;
-    const double rho = t.unit.empty() ? r : r * t.unit[k] + t.offset[k];
-    const double phi = static_cast<double>(t.azimuth0[k]) + static_cast<double>(c) * t.step;
-    double s, co;
-    det_sincos(phi, &s, &co);
-    const double slope = static_cast<double>(t.slope[k]) + static_cast<double>(t.bow) * (1.0 - co);
-    const double x = rho * co - m.d[0], y = rho * s - m.d[1],
-                 z = (static_cast<double>(t.z0[k]) + slope * rho) - m.d[2];
-    uint32_t to_ring = 0;
-    size_t cell = 0;
-    int64_t smooth = 0;
-    if (cast_point(t, x, y, z, &to_ring, &cell, &smooth)) maps_->recast_put(cell, smooth);
-  }
-  moved_ = true;
 }
 
 }  // namespace scan

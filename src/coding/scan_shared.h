@@ -74,10 +74,8 @@ constexpr uint32_t kMaxSlots = 64;
 // (FORMAT.md step 3).
 constexpr uint8_t kBeforeBit = 128;
 constexpr double kMaxBow = 1;
-// The table's `more` byte's bits of the frames' turns and moves (FORMAT.md "Turns", "Moves"),
-// and the bound of a move's component (grid units).
-constexpr uint8_t kMoreTurns = 1, kMoreMoves = 2;
-constexpr int64_t kMaxMove = int64_t{1} << 24;
+// The table's `more` byte's bit of the frames' turns (FORMAT.md "Turns").
+constexpr uint8_t kMoreTurns = 1;
 // Coordinates of a spherical frame stay below this in magnitude (so a range fits an int32).
 constexpr int64_t kMaxSphericalCoord = int64_t{1} << 29;
 constexpr int kMaxFine = 12;  // the raster header's fine shift k (FORMAT.md "Raster frames")
@@ -198,19 +196,6 @@ inline void det_sincos(double a, double* s, double* c) {
     *s = -pc, *c = ps;
   }
 }
-// atan2(y, x) with binary64 +, -, *, / only (FORMAT.md "Moves": Abramowitz and Stegun 4.4.49's
-// arctan on [0, 1], within 1e-5): the same bits on every build.
-inline double det_atan2(double y, double x) {
-  const double ax = std::fabs(x), ay = std::fabs(y);
-  if (ax == 0.0 && ay == 0.0) return 0.0;
-  const double u = ay <= ax ? ay / ax : ax / ay, v = u * u;
-  double p =
-      u * (0.9998660 + v * (-0.3302995 + v * (0.1801410 + v * (-0.0851330 + v * 0.0208351))));
-  if (ay > ax) p = 1.5707963267948966 - p;
-  if (x < 0) p = 3.141592653589793 - p;
-  return y < 0 ? -p : p;
-}
-
 // floor(v + 0.5) clamped to the int32 range (NaN gives 0). Below 2^31 - 1 in magnitude (every
 // prediction of a point but the odd far one) v + 0.5 truncates into an int64 exactly, and
 // floor is that, less one above v + 0.5: floor_fast's value, without its range test or the
@@ -236,23 +221,11 @@ inline int bit_length(int64_t v) {
 // is the encoder's (scan_encode.cpp), read_header the decoder's (scan_shared.cpp).
 // turns: the frames' turns (FORMAT.md "Turns"; one a frame, written only when the table has
 // rings and one of them is not 0), or null: none.
-// A frame's move (FORMAT.md "Moves"): where the sensor is now in the previous sweep's grid
-// units and axes.
-struct Move {
-  int32_t d[3] = {0, 0, 0};
-  bool zero() const { return d[0] == 0 && d[1] == 0 && d[2] == 0; }
-  bool operator==(const Move& o) const {
-    return d[0] == o.d[0] && d[1] == o.d[1] && d[2] == o.d[2];
-  }
-};
-// moves: the frames' moves (written as turns are), or null: none.
 void write_header(const ScanGeometry& g, const std::vector<uint8_t>& flags, const Table& t,
-                  std::vector<uint8_t>* out, const std::vector<int32_t>* turns = nullptr,
-                  const std::vector<Move>* moves = nullptr);
+                  std::vector<uint8_t>* out, const std::vector<int32_t>* turns = nullptr);
 // The header's K and laser table (write_header's part after the flags), with its `more` byte
 // and the frames' turns (as write_header's).
-void write_table(const Table& t, ByteWriter* w, const std::vector<int32_t>* turns = nullptr,
-                 const std::vector<Move>* moves = nullptr);
+void write_table(const Table& t, ByteWriter* w, const std::vector<int32_t>* turns = nullptr);
 struct Header {
   std::vector<uint32_t> counts;
   std::vector<uint8_t> flags;
@@ -269,16 +242,9 @@ struct Header {
   size_t octree = 0, octree_size = 0;
   size_t flags_end = 0;        // offset just past flags_f (where d_f, else K, begins)
   std::vector<int32_t> turns;  // per frame its turn t_f (FORMAT.md "Turns"), or empty: none
-  std::vector<Move> moves;     // per frame its move m_f (FORMAT.md "Moves"), or empty: none
   size_t body = 0;             // offset of the entropy-coded block
 };
 Header read_header(const uint8_t* data, size_t size, const std::string& what, size_t max_points);
-
-// A point seen from the sensor (grid units, binary64) cast into the ring x column map as a
-// recast cell is (FORMAT.md "Moves", steps 3 to 6): its ring, its column's cell index in the
-// map (k C + column) and its smoothed range A'; false when it is skipped.
-bool cast_point(const Table& t, double x, double y, double z, uint32_t* ring, size_t* cell,
-                int64_t* smooth);
 
 // The per-point quantities of a spherical frame (encoder side: computed from the integers).
 struct Polar {
@@ -326,9 +292,7 @@ class State {
     uint32_t lead_ring = 0;     // that point's ring
     bool has_last = false, has_before = false, has_lead = false;
     uint32_t score_col[4] = {0, 0, 0, 0};
-    // The range's candidates' scores: 3 = the range before the last (units bit 7), 4 = the moved
-    // map's (FORMAT.md "Moves").
-    uint32_t score_range[5] = {0, 0, 0, 0, 0};
+    uint32_t score_range[4] = {0, 0, 0, 0};
     int32_t before_range = 0;  // the range before the last (has_before_range; units bit 7)
     bool has_before_range = false;
   };
@@ -374,26 +338,16 @@ class State {
   bool map_prev(uint32_t k, int32_t col, int64_t* smooth) const {
     return maps_->prev(cell(k, int64_t{col} + turn_), smooth);
   }
-  // The same at column col + s, whatever the frame's turn (the encoder's search for it), and at
-  // a cell index (k C + column).
+  // The same at column col + s, whatever the frame's turn (the encoder's search for it).
   bool map_prev_at(uint32_t k, int64_t col, int64_t* smooth) const {
     return maps_->prev(cell(k, col), smooth);
   }
-  bool map_prev_cell(size_t i, int64_t* smooth) const { return maps_->prev(i, smooth); }
   void map_set(uint32_t k, int32_t col, int32_t range) {
     if (!trial_) maps_->set(cell(k, col), cell(k, int64_t{col} + turn_), range);
   }
   // The turn t_f of the frame coded next (0 until set; kept until set again).
   void set_turn(int32_t t) { turn_ = t; }
   int32_t turn() const { return turn_; }
-  // Recasts the previous sweep's map into the moved map for a frame's move (FORMAT.md "Moves";
-  // m not zero): read by map_moved until the frame's end.
-  void recast(const Move& m);
-  bool moved() const { return moved_; }
-  // The moved map's smoothed range at ring k, column col shifted by the frame's turn (moved()).
-  bool map_moved(uint32_t k, int32_t col, int64_t* smooth) const {
-    return maps_->moved(cell(k, int64_t{col} + turn_), smooth);
-  }
   // Cartesian / cross-frame state.
   int32_t last[3] = {0, 0, 0};
   int last_bits[3] = {0, 0, 0};
@@ -415,7 +369,6 @@ class State {
   std::shared_ptr<SweepMaps> maps_;  // the previous sweep's ranges and this sweep's
   bool trial_ = false;
   int32_t turn_ = 0;
-  bool moved_ = false;  // this frame has a moved map (FORMAT.md "Moves")
 };
 
 // The one frame loop. Io provides:

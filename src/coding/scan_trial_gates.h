@@ -30,28 +30,8 @@ bool pairs_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& p
 // The turn of frame [first, first + n) against the previous sweep's map in st (FORMAT.md
 // "Turns", the encoder's search, informative there): the column shift under which most of a
 // sample of its valid points find their range in the previous sweep's cells, or 0 when no shift
-// beats none clearly; with the points of the sample that matched under it, and the sample's
-// size. polar: the points' places under st's table (valid points only are read).
-struct TurnFound {
-  int32_t turn = 0;
-  uint32_t top = 0;
-  size_t sampled = 0;
-};
-TurnFound find_turn(const ScanGeometry& g, const std::vector<scan::Polar>& polar,
-                    const scan::State& st, size_t first, size_t n);
-// The move of frame [first, first + n) under its turn (FORMAT.md "Moves", the encoder's
-// search): the move (dx, dy, 0) under which the most of a sample of the frame's valid points are
-// predicted by the previous sweep's map moved or not, starting from `guess` (the frame before's
-// move); zero when none beats no move clearly. per_metre: grid units a metre (the search's
-// spacing and reach).
-scan::Move find_move(const ScanGeometry& g, const scan::State& st, size_t first, size_t n,
-                     int32_t turn, const scan::Move& guess, double per_metre);
-// Frame f's turn and move (f > 0, a frame tried spherically; else none) set in *st, its map
-// recast for the move, and both kept in (*turns)[f] and (*moves)[f] (sized for f already):
-// the move is looked for (per_metre > 0) when the turn's best matches at most three quarters
-// of its sample.
-void line_up(const ScanGeometry& g, const std::vector<scan::Polar>& polar, bool spherical, size_t f,
-             size_t first, size_t n, double per_metre, scan::State* st, std::vector<int32_t>* turns,
-             std::vector<scan::Move>* moves);
+// beats none clearly. polar: the points' places under st's table (valid points only are read).
+int32_t find_turn(const ScanGeometry& g, const std::vector<scan::Polar>& polar,
+                  const scan::State& st, size_t first, size_t n);
 
 }  // namespace capz
