@@ -144,6 +144,21 @@ uint64_t path_size(const std::string& path) {
   return ec ? 0 : s;
 }
 
+uint64_t output_size(const std::string& path) {
+  std::error_code ec;
+  if (!fs::is_directory(path, ec)) return path_size(path);
+  uint64_t total = 0;
+  for (fs::directory_iterator it(path, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    std::string e = it->path().extension().string();
+    std::transform(e.begin(), e.end(), e.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    std::error_code e2;
+    if (name[0] != '.' && e != ".capz" && it->is_regular_file(e2)) total += it->file_size(e2);
+  }
+  return total;
+}
+
 std::string number(double v) {
   if (std::isnan(v)) return "NaN";
   char buf[400];  // the longest fixed form of a double below 1e21 fits

@@ -48,6 +48,10 @@ std::string strprintf(const char* fmt, ...) __attribute__((format(printf, 1, 2))
 std::string human_size(uint64_t bytes);
 // Size of a file, or the total of the regular files directly inside a directory.
 uint64_t path_size(const std::string& path);
+// The bytes a take written to `path` takes: a file's size, or for a folder of frames the total
+// of its regular files but the hidden ones and the .capz archives (any case), which the frames
+// may have gone in beside (capz::frames_go_beside).
+uint64_t output_size(const std::string& path);
 // Shortest decimal text that reads back exactly (no exponent for magnitudes in [1e-12, 1e21)).
 std::string number(double v);
 // The double nearest the shortest decimal that reads back as float32 f: 0.86f gives 0.86, not

@@ -166,7 +166,7 @@ int cmd_convert(const Args& args) {
   if (g_verbosity >= 1)
     std::fprintf(stderr, "capz convert: %s (%s) -> %s (%s): %s, %s\n", in.c_str(),
                  capz::format_name(take.format), target.c_str(), capz::format_name(out_format),
-                 shape_text(take).c_str(), human_size(path_size(target)).c_str());
+                 shape_text(take).c_str(), human_size(output_size(target)).c_str());
   return 0;
 }
 

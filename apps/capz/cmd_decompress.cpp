@@ -256,7 +256,7 @@ FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) 
   rec.units = w.units;
   rec.input = job.from_stdin ? "stdin" : in;
   rec.bytes_in = path_size(in);
-  rec.bytes_out = path_size(capz::without_trailing_slashes(w.out));
+  rec.bytes_out = output_size(capz::without_trailing_slashes(w.out));
   rec.ratio = rec.bytes_in ? static_cast<double>(rec.bytes_out) / static_cast<double>(rec.bytes_in)
                            : FileRecord::kNone;
   if (!s.batch.report.empty()) {  // the bound, for --report (the archive read whole once more)

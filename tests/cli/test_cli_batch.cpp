@@ -314,6 +314,31 @@ TEST(CliBatch, GivenAFolderOfFramesHoldingASubfolderOfFramesThenDecompressRestor
   same_frames("m");
 }
 
+// Frames that go in beside what a folder holds (a .capz archive, a hidden file): the report's
+// bytes out are the frames', not the folder's whole (which counted the archive's bytes too).
+TEST(CliBatch, GivenFramesDecompressedBesideAnArchiveThenBytesOutCountTheFramesOnly) {
+  capz_test::TempDir d("capz_cli_batch");
+  const std::string dir = d.path().string();
+  fs::create_directories(d.file("t"));
+  fs::create_directories(d.file("out"));
+  size_t copied = 0;
+  for (const auto& f : fs::directory_iterator(repo("synth_wave")))
+    if (f.path().extension() == ".pcd" && copied < 3) {
+      fs::copy_file(f.path(), d.file("t/" + f.path().filename().string()));
+      ++copied;
+    }
+  ASSERT_EQ(shell(dir, "capz compress -q --lossless t -o t.capz").status, 0);
+  fs::copy_file(d.file("t.capz"), d.file("out/held.capz"));
+  { std::ofstream(d.file("out/.hidden")) << "not a frame"; }
+  Result r = shell(dir, "capz decompress -q t.capz -o out --report d.jsonl");
+  ASSERT_EQ(r.status, 0) << r.err;
+  uint64_t frames = 0;
+  for (const auto& f : fs::directory_iterator(d.file("t"))) frames += fs::file_size(f.path());
+  std::map<std::string, std::string> dd = parse_object(file_text(d.file("d.jsonl")));
+  EXPECT_EQ(std::stoull(dd["bytes_out"]), frames);
+  EXPECT_TRUE(fs::is_regular_file(d.file("out/held.capz")));
+}
+
 TEST(CliBatch, GivenThreadCountsThenArchivesIdentical) {
   capz_test::TempDir d("capz_cli_batch");
   const std::string dir = d.path().string();
