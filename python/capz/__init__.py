@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import os
 import warnings
-from typing import Any, Dict, Iterator, List, Mapping, NamedTuple, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, Iterator, List, Mapping, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -472,6 +472,7 @@ def compress(
     drop_fields: bool = False,
     analog_max_error: Optional[Mapping[str, float]] = None,
     point_order: str = "kept",
+    progress: Optional[Callable[[int, int], Any]] = None,
 ) -> Union[bytes, Tuple[bytes, Dict[str, Any]]]:
     """Compresses a take to .capz bytes (`capz compress` on a take in memory).
 
@@ -519,9 +520,14 @@ def compress(
                    of a scan (frames of their own point counts, or one sweep), each with its
                    fields, gaps after the valid points, and decodes in that order (the CLI's
                    --point-order; not with lossless=True).
+    progress       called as progress(frames_done, frames_total) after each window (a window
+                   is up to `window` frames); an exception it raises stops the coding and is
+                   raised here.
 
     The GIL is released while coding: separate takes can be compressed from several threads.
-    Raises capz.Error (invalid-parameter for an impossible target or bad arrays).
+    Ctrl-C (a pending signal's handler raising) stops the coding after the window at hand and
+    raises KeyboardInterrupt. Raises capz.Error (invalid-parameter for an impossible target or
+    bad arrays).
     """
     _check_take(take)
     _check_positions(take)
@@ -530,6 +536,7 @@ def compress(
         *_coding(max_error, lossless, kg_error, units, codec, clusters, window, check,
                  codec_options, threads, attr_error, drop_fields, analog_max_error,
                  point_order),
+        progress,
     )
     return (data, report) if stats else data
 
@@ -569,6 +576,7 @@ def compress_file(
     drop_fields: bool = False,
     analog_max_error: Optional[Mapping[str, float]] = None,
     point_order: str = "kept",
+    progress: Optional[Callable[[int, int], Any]] = None,
 ) -> Dict[str, Any]:
     """Compresses a .c3d, a .trc, a .pcd / .ply / .bin frame or a folder of them to a .capz file:
     the same bytes as `capz compress INPUT -o OUTPUT` with the same options (see compress() for
@@ -577,7 +585,8 @@ def compress_file(
     with lossless=True those of every PCD, PLY or .bin frame file, so a lossless archive
     rebuilds the files byte for byte). Returns the report as a dict. The CLI's notes are
     UserWarnings (a default bound set without far points; C3D samples marked absent that hold
-    coordinates, not kept at a bound).
+    coordinates, not kept at a bound). progress and Ctrl-C as in compress(): a coding stopped so
+    leaves no output file and no temporary behind.
     """
     src = _path(input, "input")
     out = _path(output, "output") if output is not None else src.rstrip("/") + ".capz"
@@ -588,6 +597,7 @@ def compress_file(
                  codec_options, threads, attr_error, drop_fields, analog_max_error,
                  point_order),
         bool(overwrite),
+        progress,
     )
 
 

@@ -242,13 +242,27 @@ capz::CompressTarget target_of(bool lossless, std::optional<double> kg_error,
 }
 
 // capz.compress: (bytes, stats). `units` is given to a take without units, as --units does.
+// The progress hook of a Python compress, called after each window from the thread that writes
+// it: with the GIL, the caller's progress(done, total) when it gave one (a borrowed reference:
+// the call's argument outlives the coding, and a handle copies without the GIL), then the
+// handlers of pending signals (Ctrl-C: KeyboardInterrupt). A Python exception from either stops
+// the coding, which leaves nothing written, and is raised to the caller.
+std::function<void(size_t, size_t)> python_progress(const py::object& progress) {
+  PyObject* call = progress.is_none() ? nullptr : progress.ptr();
+  return [call](size_t done, size_t total) {
+    py::gil_scoped_acquire gil;
+    if (call) py::handle{call}(done, total);
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+  };
+}
+
 py::tuple compress_take(const capz::Take& take, bool lossless, std::optional<double> kg_error,
                         std::optional<std::string> max_error, const std::string& units,
                         const std::string& codec, int clusters, size_t window, bool check,
                         const std::map<std::string, std::string>& codec_options, int threads,
                         const std::map<std::string, double>& attr_error, bool drop_fields,
-                        const std::map<std::string, double>& analog_max_error,
-                        bool any_point_order) {
+                        const std::map<std::string, double>& analog_max_error, bool any_point_order,
+                        const py::object& progress) {
   std::vector<uint8_t> bytes;
   capz::CompressStats st;
   std::string note;  // the default bound's, as the CLI's note
@@ -267,6 +281,7 @@ py::tuple compress_take(const capz::Take& take, bool lossless, std::optional<dou
     capz::CompressOptions opts =
         coding_options(codec, clusters, window, check, codec_options, threads, attr_error,
                        drop_fields, analog_max_error, any_point_order);
+    opts.progress = python_progress(progress);
     std::unique_ptr<capz::FrameSource> src = capz::take_frames(t);
     note =
         capz::set_compress_target(*src, target_of(lossless, kg_error, std::move(max_error)), &opts);
@@ -372,16 +387,17 @@ void bind_functions(py::module_& m) {
            bool check, const std::map<std::string, std::string>& codec_options, int threads,
            const std::map<std::string, double>& attr_error, bool drop_fields,
            const std::map<std::string, double>& analog_max_error, bool any_point_order,
-           bool overwrite) {
+           bool overwrite, const py::object& progress) {
           capz::CompressStats st;
           std::string note;
           {
             py::gil_scoped_release nogil;
-            note = capz::compress_file(
-                in, out, target_of(lossless, kg_error, std::move(max_error)),
+            capz::CompressOptions opts =
                 coding_options(codec, clusters, window, check, codec_options, threads, attr_error,
-                               drop_fields, analog_max_error, any_point_order),
-                units, overwrite, &st);
+                               drop_fields, analog_max_error, any_point_order);
+            opts.progress = python_progress(progress);
+            note = capz::compress_file(in, out, target_of(lossless, kg_error, std::move(max_error)),
+                                       opts, units, overwrite, &st);
           }
           warn_note(note);
           warn_note(capz::dropped_coordinates_note(st));

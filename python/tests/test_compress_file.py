@@ -1,7 +1,11 @@
 """compress_file gives the same bytes as `capz compress`, for every input kind and target."""
 import json
+import os
+import signal
+import threading
 import warnings
 
+import numpy as np
 import pytest
 
 import capz
@@ -96,3 +100,61 @@ def test_absent_samples_holding_coordinates_warn_as_the_cli_notes(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         capz.compress_file(giant, str(tmp_path / "l.capz"), lossless=True)
+
+
+def test_progress_reports_each_window_and_same_bytes(tmp_path):
+    src = shared("repo:lidar_small")
+    calls = []
+    out = str(tmp_path / "p.capz")
+    capz.compress_file(src, out, max_error="1mm", window=2,
+                       progress=lambda done, total: calls.append((done, total)))
+    assert calls == [(2, 6), (4, 6), (6, 6)]
+    plain = str(tmp_path / "q.capz")
+    capz.compress_file(src, plain, max_error="1mm", window=2)
+    with open(out, "rb") as a, open(plain, "rb") as b:
+        assert a.read() == b.read()
+    take = capz.read(src)
+    seen = []
+    data = capz.compress(take, max_error="1mm", window=4, progress=lambda d, t: seen.append(d))
+    assert seen == [4, 6] and data == capz.compress(take, max_error="1mm", window=4)
+
+
+class Stop(Exception):
+    pass
+
+
+def test_an_exception_from_progress_stops_and_leaves_nothing(tmp_path):
+    src = shared("repo:lidar_small")
+
+    def stop(done, total):
+        if done >= 2:
+            raise Stop("enough")
+
+    out = str(tmp_path / "s.capz")
+    with pytest.raises(Stop):
+        capz.compress_file(src, out, max_error="1mm", window=1, progress=stop)
+    assert os.listdir(tmp_path) == []  # no output, no temporary
+    with pytest.raises(Stop):
+        capz.compress(capz.read(src), max_error="1mm", window=1, progress=stop)
+
+
+def test_ctrl_c_stops_compress_file_after_the_window_at_hand(tmp_path):
+    # SIGINT sent from another thread while the library codes (the GIL released, no progress
+    # callback): its handler runs at the end of the window at hand, and KeyboardInterrupt stops
+    # the coding with nothing written. Without the check the 400 windows would all be coded and
+    # the archive written before KeyboardInterrupt was raised.
+    rng = np.random.default_rng(1)
+    xyz = np.cumsum(rng.normal(0, 0.001, (400, 4096, 3)), axis=0) + rng.normal(0, 1, (1, 4096, 3))
+    src = str(tmp_path / "frames")
+    with warnings.catch_warnings():  # (PCD frames keep no frame rate)
+        warnings.simplefilter("ignore")
+        capz.write(capz.Take.from_arrays(xyz, units="m"), src)
+    out = str(tmp_path / "c.capz")
+    timer = threading.Timer(0.05, os.kill, (os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            capz.compress_file(src, out, max_error="1mm", window=1)
+    finally:
+        timer.cancel()
+    assert os.listdir(tmp_path) == ["frames"]
