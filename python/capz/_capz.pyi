@@ -1,6 +1,6 @@
 # Type stubs of capz._capz, the compiled module (python/src/capz_py.cpp). Use it through the
 # package capz, whose functions check their arguments and carry the documentation.
-from typing import Any, Dict, Iterator, List, Mapping, Optional, Tuple
+from typing import Any, Callable, Dict, Iterator, List, Mapping, Optional, Tuple
 
 import numpy as np
 import numpy.typing as npt
@@ -161,6 +161,8 @@ def compress(
     attr_error: Dict[str, float],
     drop_fields: bool,
     analog_max_error: Dict[str, float],
+    any_point_order: bool,
+    progress: Optional[Callable[[int, int], Any]],
 ) -> Tuple[bytes, Dict[str, Any]]: ...
 def decompress(data: Any, name: str, memory_limit: int) -> Take: ...
 def compress_file(
@@ -179,7 +181,9 @@ def compress_file(
     attr_error: Dict[str, float],
     drop_fields: bool,
     analog_max_error: Dict[str, float],
+    any_point_order: bool,
     overwrite: bool,
+    progress: Optional[Callable[[int, int], Any]],
 ) -> Dict[str, Any]: ...
 def compare(a: Take, b: Take) -> Dict[str, Any]: ...
 def parse_length(text: str, take_units: str, assume_units: str = "") -> float: ...
