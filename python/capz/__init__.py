@@ -515,7 +515,7 @@ def compress(
                    channel's physical units (after ANALOG:SCALE, GEN_SCALE and OFFSET), e.g.
                    {"N": 0.05, "Nmm": 5, "V": 1e-5} or {"Fz1": 0.1}; a label wins over its
                    unit. The CLI's --analog-max-error. Channels not named stay lossless; not
-                   with lossless=True.
+                   with lossless=True. A key that names no channel is a UserWarning.
     point_order    "kept" (default) or "any": the archive may reorder the points of each frame
                    of a scan (frames of their own point counts, or one sweep), each with its
                    fields, gaps after the valid points, and decodes in that order (the CLI's
@@ -585,7 +585,7 @@ def compress_file(
     with lossless=True those of every PCD, PLY or .bin frame file, so a lossless archive
     rebuilds the files byte for byte). Returns the report as a dict. The CLI's notes are
     UserWarnings (a default bound set without far points; C3D samples marked absent that hold
-    coordinates, not kept at a bound). progress and Ctrl-C as in compress(): a coding stopped so
+    coordinates, not kept at a bound; an analog_max_error key that names no channel). progress and Ctrl-C as in compress(): a coding stopped so
     leaves no output file and no temporary behind.
     """
     src = _path(input, "input")

@@ -256,6 +256,16 @@ std::function<void(size_t, size_t)> python_progress(const py::object& progress) 
   };
 }
 
+// A compress's notes as UserWarnings, as the CLI's: the default bound's (note), the coordinates
+// dropped, and each analog_max_error key that named no channel (those stay lossless).
+void warn_notes(const std::string& note, const capz::CompressStats& st) {
+  warn_note(note);
+  warn_note(capz::dropped_coordinates_note(st));
+  for (const std::string& k : st.analog_unmatched)
+    warn_note("analog_max_error '" + k +
+              "' names no analog channel's label or unit; those stay lossless");
+}
+
 py::tuple compress_take(const capz::Take& take, bool lossless, std::optional<double> kg_error,
                         std::optional<std::string> max_error, const std::string& units,
                         const std::string& codec, int clusters, size_t window, bool check,
@@ -291,8 +301,7 @@ py::tuple compress_take(const capz::Take& take, bool lossless, std::optional<dou
     }
     bytes = capz::compress(t, opts, &st);
   }
-  warn_note(note);
-  warn_note(capz::dropped_coordinates_note(st));
+  warn_notes(note, st);
   return py::make_tuple(py::bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
                         compress_stats(st));
 }
@@ -399,8 +408,7 @@ void bind_functions(py::module_& m) {
             note = capz::compress_file(in, out, target_of(lossless, kg_error, std::move(max_error)),
                                        opts, units, overwrite, &st);
           }
-          warn_note(note);
-          warn_note(capz::dropped_coordinates_note(st));
+          warn_notes(note, st);
           return compress_stats(st);
         });
 

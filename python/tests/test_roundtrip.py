@@ -181,3 +181,7 @@ def test_analog_max_error_bounds_the_named_channels_only(tmp_path):
     assert e.value.code == "invalid-parameter"
     with pytest.raises(capz.Error):
         capz.compress(take, analog_max_error={"N": "half"})
+    # A key that names no channel is a UserWarning (the CLI's note), the data as without it.
+    with pytest.warns(UserWarning, match="'kN' names no analog channel"):
+        other = capz.compress(take, analog_max_error={"N": 0.5, "Nmm": 50, "kN": 1})
+    assert other == data
