@@ -62,30 +62,14 @@ struct Scratch {
   std::vector<int8_t> spherical_ok;     // per frame: scan::spherical_ok, -1 not yet known
   std::shared_ptr<scan::SweepMaps> maps = std::make_shared<scan::SweepMaps>();   // every table's
   std::shared_ptr<scan::SweepMaps> spare = std::make_shared<scan::SweepMaps>();  // a kept coding's
+  size_t record_limit = ScanWorkspace().record_limit;
 };
-
-// The raw bits (below each token) of frame [first, first + n)'s Cartesian coding from state st:
-// each valid point's x y z against the previous one's (scan_loop.h's code_cartesian).
-uint64_t cartesian_raw_bits(const scan::State& st, const ScanGeometry& g, size_t first, size_t n) {
-  int32_t last[3] = {st.last[0], st.last[1], st.last[2]};
-  uint64_t bits = 0;
-  for (size_t i = first; i < first + n; ++i) {
-    if (!g.valid[i]) continue;
-    const int32_t* a = &g.q[3 * i];
-    for (int ax = 0; ax < 3; ++ax) {
-      const uint32_t u = zigzag(wrap_sub(a[ax], last[ax]));
-      bits += u < 4 ? 0u : static_cast<uint32_t>(30 - __builtin_clz(u));  // token_of's extra
-      last[ax] = a[ax];
-    }
-  }
-  return bits;
-}
 
 // Whether spherical coding (its symbols recorded in s->trial, tallied in its tally) costs less than
 // Cartesian by CostSink, the exact estimate. Decided on Tally::estimate when the two differ by
 // more than both estimates' rounding can move them (N terms each below 2^6, summed in binary64:
 // at most N (2^-52 sum + 2^-46) apart in all, with room to spare); else by CostSink itself.
-bool spherical_wins(const scan::State& st, uint8_t flags, const ScanGeometry& g,
+bool spherical_wins(const scan::State& st, uint8_t flags, uint8_t coded, const ScanGeometry& g,
                     const scan::Placement& placed, size_t f, size_t first, size_t n, Scratch* s) {
   CartesianEstimate& c = s->cart[f];
   const double sph = s->trial.tally.estimate(&s->log_t, &s->log_c);
@@ -112,15 +96,18 @@ bool spherical_wins(const scan::State& st, uint8_t flags, const ScanGeometry& g,
   if (sph < c.bits - margin) return true;
   if (sph > c.bits + margin) return false;
   CostSink exact_sph, exact_cart;
-  for (const Sym& y : s->trial) exact_sph.put(y.u, static_cast<int>(y.ctx));
+  if (s->trial.syms > 0 || n == 0) {
+    for (const Sym& y : s->trial) exact_sph.put(y.u, static_cast<int>(y.ctx));
+  } else {  // a frame too large to record (code_chosen): its trial coded again, counted
+    EncodeIo<CostSink> sph_io(&exact_sph, g, placed);
+    scan::State again = st.trial();
+    scan::code_points(sph_io, again, coded, first, n, s->q.data(), s->v.data());
+  }
   EncodeIo<CostSink> io(&exact_cart, g, placed);
   scan::State trial = st.trial();
   scan::code_points(io, trial, flags, first, n, s->q.data(), s->v.data());
   return exact_sph.bits < exact_cart.bits;
 }
-
-// The most points of a frame whose two spherical trials are both recorded (code_chosen).
-constexpr size_t kRecordedTwice = size_t{1} << 20;
 
 // The spherical trial of frame [first, first + n) under *flags on a staged copy of *st (a
 // trial copy for a window's last frame, whose map no later sweep reads; returned), its symbols
@@ -177,24 +164,18 @@ uint8_t code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanG
   auto coded = static_cast<uint8_t>(upward && s->walk == 1 ? sph | scan::kRingWalk
                                     : s->pairs == 1        ? sph | scan::kRingPairs
                                                            : sph);
-  scan::State staged = spherical_trial(*st, last, &coded, g, placed, first, n, room, &s->trial, s);
-  // Codes the frame with `bit` as well (into the spare trial) and keeps the smaller: *choice. A
-  // frame of more than kRecordedTwice points is only counted there, and coded again into the
-  // first trial's records when it wins: two trials' records take about 100 bytes a point.
+  const bool record = n <= s->record_limit;  // (ScanWorkspace::record_limit)
+  scan::State staged =
+      spherical_trial(*st, last, &coded, g, placed, first, n, room, &s->trial, s, record);
+  // Codes the frame with `bit` as well (into the spare trial) and keeps the smaller: *choice.
   auto try_also = [&](uint8_t bit, int* choice) {
     auto other = static_cast<uint8_t>(sph | bit);
-    const bool record = n <= kRecordedTwice;
     scan::State kept =
         spherical_trial(*st, last, &other, g, placed, first, n, room, &s->walk_trial, s, record);
     *choice = s->walk_trial.tally.estimate(&s->log_t, &s->log_c) <
               s->trial.tally.estimate(&s->log_t, &s->log_c);
     if (*choice == 1) {
-      if (record) {
-        std::swap(s->trial, s->walk_trial);
-      } else {
-        other = static_cast<uint8_t>(sph | bit);
-        kept = spherical_trial(*st, last, &other, g, placed, first, n, room, &s->trial, s);
-      }
+      std::swap(s->trial, s->walk_trial);
       staged = std::move(kept);
       coded = other;
     }
@@ -208,10 +189,18 @@ uint8_t code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanG
     s->pairs = 0;
     if (pairs_worth_trying(g, placed.polar, *st, first, n)) try_also(scan::kRingPairs, &s->pairs);
   }
-  if (spherical_wins(*st, flags, g, placed, f, first, n, s)) {
-    IntEncoder::Cursor c = enc->cursor();
-    for (const Sym& y : s->trial) c.put(y.u, static_cast<int>(y.ctx));
-    enc->commit(c);
+  if (spherical_wins(*st, flags, coded, g, placed, f, first, n, s)) {
+    if (record) {
+      IntEncoder::Cursor c = enc->cursor();
+      for (const Sym& y : s->trial) c.put(y.u, static_cast<int>(y.ctx));
+      enc->commit(c);
+    } else {  // coded again, as the trial did (the map's cells written again, the same)
+      st->clear_sweep();
+      staged = last ? st->trial() : st->staged();
+      PutSink put{enc};
+      EncodeIo<PutSink> io(&put, g, placed);
+      scan::code_points(io, staged, coded, first, n, s->q.data(), s->v.data());
+    }
     *st = staged;
     st->end_frame();
     return coded;
@@ -509,6 +498,7 @@ std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const scan::RingFit& f
   // whole window.
   Scratch scratch;
   if (ws) {  // the maps of the windows before (reset for each table: the same coding)
+    scratch.record_limit = ws->record_limit;
     if (!ws->maps) ws->maps = std::make_shared<scan::SweepMaps>();
     if (!ws->spare) ws->spare = std::make_shared<scan::SweepMaps>();
     scratch.maps = ws->maps;

@@ -27,6 +27,11 @@ bool walk_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& po
 bool pairs_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& polar,
                         const scan::State& st, size_t first, size_t n);
 
+// The raw bits (below each token) of frame [first, first + n)'s Cartesian coding from state st:
+// each valid point's x y z against the previous one's (scan_loop.h's code_cartesian); a lower
+// bound of that coding's cost (scan_encode.cpp's spherical_wins).
+uint64_t cartesian_raw_bits(const scan::State& st, const ScanGeometry& g, size_t first, size_t n);
+
 // The turn of frame [first, first + n) against the previous sweep's map in st (FORMAT.md
 // "Turns", the encoder's search, informative there): the column shift under which most of a
 // sample of its valid points find their range in the previous sweep's cells, or 0 when no shift

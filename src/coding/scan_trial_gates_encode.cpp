@@ -43,4 +43,19 @@ bool pairs_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& p
   return pair > same + valid / 8;
 }
 
+uint64_t cartesian_raw_bits(const scan::State& st, const ScanGeometry& g, size_t first, size_t n) {
+  int32_t last[3] = {st.last[0], st.last[1], st.last[2]};
+  uint64_t bits = 0;
+  for (size_t i = first; i < first + n; ++i) {
+    if (!g.valid[i]) continue;
+    const int32_t* a = &g.q[3 * i];
+    for (int ax = 0; ax < 3; ++ax) {
+      const uint32_t u = zigzag(wrap_sub(a[ax], last[ax]));
+      bits += u < 4 ? 0u : static_cast<uint32_t>(30 - __builtin_clz(u));  // token_of's extra
+      last[ax] = a[ax];
+    }
+  }
+  return bits;
+}
+
 }  // namespace capz
