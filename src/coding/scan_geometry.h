@@ -95,8 +95,10 @@ struct ScanWorkspace {
   size_t tables_coded = 0, sample_codings = 0;
   // The most points of a frame whose spherical trials are recorded and replayed; a larger
   // frame's trials are only counted, and the one kept coded again (the same payload; recording
-  // takes about 60 bytes a point). Lowered by tests.
-  size_t record_limit = size_t{1} << 20;
+  // takes about 60 bytes a point). Replaying is the cheaper below about 2^18 points (pandar64's
+  // 113k-point sweeps took 1.22x the CPU with a limit of 2^16), coding again above (a 600k-point
+  // frame 0.93x). Lowered by tests.
+  size_t record_limit = size_t{1} << 18;
   // The elevation peaks of the last window whose rings from the elevations were its ring field's
   // (the next window's ring check tries them first, scan_encode.cpp); else empty.
   std::vector<double> ring_peaks;
