@@ -459,33 +459,33 @@ std::vector<TableChoice> sampled_choice(const ScanGeometry& g, const ScanGeometr
   return out;
 }
 
-// The range's fourth candidate (units bit 7): table t again with it, *best replaced when its
-// payload is smaller; first on the trial sample when t's sample payload is known (`sampled` >
-// 0), and the whole window only when the sample is smaller with it. Returns the sample's payload
-// with it over `sampled` (0 when not sampled).
-double try_before(const ScanGeometry& g, const ScanGeometry& sample,
-                  const std::vector<size_t>& from, const scan::RingFit& fit, scan::Table t,
-                  size_t sampled, std::vector<uint8_t>* best, Scratch* s) {
-  t.before = true;
-  double ratio = 0;
-  if (sampled > 0) {
+// Table t (the best's with units bit 7 or the more byte's bit 1) tried: *best replaced when its
+// payload is smaller (true), first on the trial sample when its size under the best table is
+// known (*sampled > 0, then t's if kept); *ratio: t's sample over *sampled (0: not sampled).
+bool try_table(const ScanGeometry& g, const ScanGeometry& sample, const std::vector<size_t>& from,
+               const scan::RingFit& fit, const scan::Table& t, size_t* sampled,
+               std::vector<uint8_t>* best, Scratch* s, double* ratio) {
+  *ratio = 0;
+  size_t size = 0;
+  if (*sampled > 0) {
     s->cart.clear();  // the estimates and checks are the frames' they were made on
     s->spherical_ok.clear();
-    const size_t size = sample_size(g, sample, from, fit, t, s);
+    size = sample_size(g, sample, from, fit, t, s);
     s->cart.clear();
     s->spherical_ok.clear();
-    ratio = static_cast<double>(size) / static_cast<double>(sampled);
-    if (size >= sampled) return ratio;
+    *ratio = static_cast<double>(size) / static_cast<double>(*sampled);
+    if (size >= *sampled) return false;
   }
   scan::Placement placed;
   scan::place_points(g, fit, t, g.total(), &placed);
   std::vector<uint8_t> out = encode_with(g, t, placed, s);
-  if (out.size() < best->size()) best->swap(out);
-  return ratio;
+  if (out.size() >= best->size()) return false;
+  best->swap(out);
+  if (*sampled > 0) *sampled = size;
+  return true;
 }
 
-// How much larger units bit 7 made the last window's sample for a remembered table's window
-// not to try it (encode_fitted).
+// How much larger units bit 7 made the last window's sample for a remembered table not to try it.
 constexpr double kBeforeLost = 1.002;
 
 // The payload of window g under the rings of `fit` (fit_rings of g and hints).
@@ -579,9 +579,18 @@ std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const scan::RingFit& f
   const bool remembered =
       ws && ws->remember &&
       std::count_if(sizes.begin(), sizes.end(), [](size_t v) { return v > 0; }) == 1;
+  double ratio = 0;
   if (best_table.rings() > 0 && !(remembered && best_sample > 0 && ws->before > kBeforeLost)) {
-    const double ratio = try_before(g, sample, from, fit, best_table, best_sample, &best, &scratch);
+    scan::Table with = best_table;
+    with.before = true;
+    if (try_table(g, sample, from, fit, with, &best_sample, &best, &scratch, &ratio))
+      best_table.before = true;
     if (ws && ws->remember && ratio > 0) ws->before = ratio;
+  }
+  // The previous sweep's successors, in a window of ring pair frames (FORMAT.md).
+  if (best_table.rings() > 0 && g.counts.size() > 1 && has_pair_frames(best)) {
+    best_table.successors = true;
+    try_table(g, sample, from, fit, best_table, &best_sample, &best, &scratch, &ratio);
   }
   return best;
 }

@@ -264,17 +264,22 @@ template <class Io>
 uint32_t pair_ring(Io& io, const State& st, uint32_t want, const Prev* pv, uint32_t khat,
                    uint32_t other, uint32_t* u) {
   const uint32_t rings = static_cast<uint32_t>(st.table().rings());
-  uint32_t c[4] = {khat, other, st.succ[pv->ring], pv->ring + 1 == rings ? 0 : pv->ring + 1};
-  // The place of v among the first m candidates (m when absent): a loop of at most 4, inline
+  // With the previous sweep's successors, the ring that followed P's cell then comes first.
+  uint32_t k0 = 0;
+  const bool has_k0 = st.table().successors && st.map_prev_successor(pv->ring, pv->column, &k0);
+  uint32_t c[5] = {k0, khat, other, st.succ[pv->ring], pv->ring + 1 == rings ? 0 : pv->ring + 1};
+  uint32_t* cc = has_k0 ? c : c + 1;  // the candidates, in order
+  const uint32_t all = has_k0 ? 5 : 4;
+  // The place of v among the first m candidates (m when absent): a loop of at most 5, inline
   // (std::find's out-of-line unrolled search cost more than the search).
-  const auto place = [&c](uint32_t m, uint32_t v) {
+  const auto place = [cc](uint32_t m, uint32_t v) {
     uint32_t j = 0;
-    while (j < m && c[j] != v) ++j;
+    while (j < m && cc[j] != v) ++j;
     return j;
   };
   uint32_t n = 1;
-  for (int j = 1; j < 4; ++j)
-    if (place(n, c[j]) == n) c[n++] = c[j];
+  for (uint32_t j = 1; j < all; ++j)
+    if (place(n, cc[j]) == n) cc[n++] = cc[j];
   uint32_t a = place(n, want);
   if (a == n) {  // the encoder's residual (the decoder's `want` is anything)
     const uint32_t d = mod_small(want + rings - khat, rings);
@@ -282,7 +287,7 @@ uint32_t pair_ring(Io& io, const State& st, uint32_t want, const Prev* pv, uint3
                                         : static_cast<int32_t>(d) - static_cast<int32_t>(rings));
   }
   *u = io.ring(a, n + rings, kCtxPairRing + static_cast<int>(std::min(pv->ring_residual, 5u)));
-  if (*u < n) return c[*u];
+  if (*u < n) return cc[*u];
   return mod_small(static_cast<uint32_t>(static_cast<int32_t>(khat + rings) + unzigzag(*u - n)),
                    rings);
 }
@@ -308,6 +313,7 @@ __attribute__((always_inline)) inline RingColumn ring_successor(Io& io, State& s
   uint32_t d, k;
   if (after_pair) {
     k = pair_ring(io, st, pa.ring, pv, khat, sk ? k1 : k2, &d);
+    if (st.table().successors) st.map_set_successor(pv->ring, pv->column, k);
   } else {
     d = io.ring(mod_small(pa.ring + rings - khat, rings), rings,
                 kCtxRing + (pv->ring_residual != 0));

@@ -17,15 +17,19 @@ void SweepMaps::reset(size_t cells) {
     m->smooth_buf.reset();
     m->set_buf.reset();
     m->count_buf.reset();
-    // Only the set flags start zeroed: a cell's smoothed range and count are read only when it
-    // is set, and written when it is set (zeroing them cost 4 % of a pandar64 sweep's encode).
+    m->succ_buf.reset();
+    // Only the set flags start zeroed: a cell's smoothed range, count and successor are read
+    // only when it is set, and written when it is set (zeroing them cost 4 % of a pandar64
+    // sweep's encode).
     m->smooth_buf.reset(static_cast<int64_t*>(std::malloc(cells * sizeof(int64_t))));
     m->set_buf.reset(static_cast<uint8_t*>(std::calloc(cells, 1)));
     m->count_buf.reset(static_cast<uint8_t*>(std::malloc(cells)));
-    if (!m->smooth_buf || !m->set_buf || !m->count_buf) throw std::bad_alloc();
+    m->succ_buf.reset(static_cast<uint16_t*>(std::malloc(cells * sizeof(uint16_t))));
+    if (!m->smooth_buf || !m->set_buf || !m->count_buf || !m->succ_buf) throw std::bad_alloc();
     m->smooth = m->smooth_buf.get();
     m->set = m->set_buf.get();
     m->count = m->count_buf.get();
+    m->succ = m->succ_buf.get();
     m->wrote.clear();
   }
   capacity_ = cells;

@@ -47,9 +47,18 @@ class SweepMaps {
     cur_.count[i] = n;
     if (!cur_.set[i]) {
       cur_.set[i] = 1;
+      cur_.succ[i] = 0;
       cur_.wrote.push_back(static_cast<uint32_t>(i));
     }
   }
+  // The successor ring of the previous sweep's cell i (FORMAT.md "The previous sweep's
+  // successors"; false: none), and this sweep's cell i's, set (cell i set in this sweep).
+  bool prev_successor(size_t i, uint32_t* ring) const {
+    if (!prev_.set[i] || prev_.succ[i] == 0) return false;
+    *ring = prev_.succ[i] - 1u;
+    return true;
+  }
+  void set_successor(size_t i, uint32_t ring) { cur_.succ[i] = static_cast<uint16_t>(ring + 1); }
   // This sweep's map becomes the previous one; the new sweep's is empty.
   void end_sweep();
   // Forgets what this sweep wrote.
@@ -63,9 +72,11 @@ class SweepMaps {
   struct Map {
     std::unique_ptr<int64_t[], Free> smooth_buf;
     std::unique_ptr<uint8_t[], Free> set_buf, count_buf;
+    std::unique_ptr<uint16_t[], Free> succ_buf;
     int64_t* smooth = nullptr;
     uint8_t* set = nullptr;
     uint8_t* count = nullptr;
+    uint16_t* succ = nullptr;     // the successor ring + 1 (0: none), where set
     std::vector<uint32_t> wrote;  // the cells set, each once
     void clear() {
       for (uint32_t i : wrote) set[i] = 0;

@@ -201,7 +201,8 @@ void write_table(const Table& t, ByteWriter* out, const std::vector<int32_t>* tu
     }
     const bool turned =
         turns && std::any_of(turns->begin(), turns->end(), [](int32_t v) { return v != 0; });
-    w.u8(turned ? scan::kMoreTurns : 0);  // the more byte (FORMAT.md "Turns")
+    w.u8(static_cast<uint8_t>((turned ? scan::kMoreTurns : 0) |  // the more byte (FORMAT.md)
+                              (t.successors ? scan::kMoreSuccessors : 0)));
     if (turned)
       for (int32_t v : *turns) w.svarint(v);
   }

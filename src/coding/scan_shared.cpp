@@ -187,7 +187,8 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
     if (byte & kShareBit) read_shares(&r, rings, &t, what);
     if (byte & kSlotBit) read_slots(&r, rings, &t, what);
     const uint8_t more = r.u8();
-    if (more & ~kMoreTurns)
+    t.successors = (more & kMoreSuccessors) != 0;
+    if (more & ~(kMoreTurns | kMoreSuccessors))
       fail(ErrorCode::kCorrupt, what, "unknown bits in the table's more byte");
     if (more & kMoreTurns) {  // the frames' turns (FORMAT.md "Turns")
       h.turns.resize(frames);

@@ -74,8 +74,9 @@ constexpr uint32_t kMaxSlots = 64;
 // (FORMAT.md step 3).
 constexpr uint8_t kBeforeBit = 128;
 constexpr double kMaxBow = 1;
-// The table's `more` byte's bit of the frames' turns (FORMAT.md "Turns").
-constexpr uint8_t kMoreTurns = 1;
+// The table's `more` byte's bits: the frames' turns (FORMAT.md "Turns"), the previous sweep's
+// successors (FORMAT.md "The previous sweep's successors").
+constexpr uint8_t kMoreTurns = 1, kMoreSuccessors = 2;
 // Coordinates of a spherical frame stay below this in magnitude (so a range fits an int32).
 constexpr int64_t kMaxSphericalCoord = int64_t{1} << 29;
 constexpr int kMaxFine = 12;  // the raster header's fine shift k (FORMAT.md "Raster frames")
@@ -92,6 +93,8 @@ struct Table {
   float bow = 0;
   bool turn = false;    // the column's third candidate (units bit 4)
   bool before = false;  // the range's fourth candidate (units bit 7)
+  // Ring pair frames read the previous sweep's successors (FORMAT.md, the more byte's bit 1).
+  bool successors = false;
   // The column's fourth candidate (units bit 3): the firing's turn in columns and per ring its
   // laser's share of it (empty: none).
   float fire_turn = 0;
@@ -344,6 +347,14 @@ class State {
   }
   void map_set(uint32_t k, int32_t col, int32_t range) {
     if (!trial_) maps_->set(cell(k, col), cell(k, int64_t{col} + turn_), range);
+  }
+  // The previous sweep's successor ring of ring k, column col (the frame's turn added; false:
+  // none), and this sweep's, set (FORMAT.md "The previous sweep's successors").
+  bool map_prev_successor(uint32_t k, int32_t col, uint32_t* next) const {
+    return maps_->prev_successor(cell(k, int64_t{col} + turn_), next);
+  }
+  void map_set_successor(uint32_t k, int32_t col, uint32_t next) {
+    if (!trial_) maps_->set_successor(cell(k, col), next);
   }
   // The turn t_f of the frame coded next (0 until set; kept until set again).
   void set_turn(int32_t t) { turn_ = t; }

@@ -27,6 +27,10 @@ bool walk_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& po
 bool pairs_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& polar,
                         const scan::State& st, size_t first, size_t n);
 
+// Whether payload p has ring pair frames (FORMAT.md flags_f bit 7): a window whose payload is
+// worth the previous sweep's successors' trial (the more byte's bit 1, scan_encode.cpp).
+bool has_pair_frames(const std::vector<uint8_t>& p);
+
 // The raw bits (below each token) of frame [first, first + n)'s Cartesian coding from state st:
 // each valid point's x y z against the previous one's (scan_loop.h's code_cartesian); a lower
 // bound of that coding's cost (scan_encode.cpp's spherical_wins).

@@ -1,4 +1,5 @@
 // The scan encoder's trial gates (scan_trial_gates.h).
+#include <algorithm>
 #include <cstdint>
 
 #include "coding/predict.h"
@@ -56,6 +57,12 @@ uint64_t cartesian_raw_bits(const scan::State& st, const ScanGeometry& g, size_t
     }
   }
   return bits;
+}
+
+bool has_pair_frames(const std::vector<uint8_t>& p) {
+  const scan::Header h = scan::read_header(p.data(), p.size(), "scan geometry", SIZE_MAX);
+  return std::any_of(h.flags.begin(), h.flags.end(),
+                     [](uint8_t f) { return !scan::octree_frame(f) && (f & scan::kRingPairs); });
 }
 
 }  // namespace capz

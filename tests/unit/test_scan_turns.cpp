@@ -94,7 +94,7 @@ TEST(ScanTurns, GivenDamagedTurnsOrMoreBitsThenCorrupt) {
   const scan::Header hd = header_of(p);
   const size_t more = more_at(hd);
   ASSERT_EQ(p[more], scan::kMoreTurns);
-  for (uint8_t bit : {2, 128}) {  // bits 1-7 are not known
+  for (uint8_t bit : {4, 128}) {  // bits 2-7 are not known
     std::vector<uint8_t> d = p;
     d[more] = static_cast<uint8_t>(d[more] | bit);
     expect_scan_corrupt(d);
