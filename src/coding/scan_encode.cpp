@@ -63,6 +63,7 @@ struct Scratch {
   std::shared_ptr<scan::SweepMaps> maps = std::make_shared<scan::SweepMaps>();   // every table's
   std::shared_ptr<scan::SweepMaps> spare = std::make_shared<scan::SweepMaps>();  // a kept coding's
   size_t record_limit = ScanWorkspace().record_limit;
+  bool successors = false;  // a window before kept the previous sweep's successors
 };
 
 // Whether spherical coding (its symbols recorded in s->trial, tallied in its tally) costs less than
@@ -339,44 +340,21 @@ std::vector<TableChoice> first_frame_choice(const ScanGeometry& g, const scan::R
   return out;
 }
 
-// The trial sample of a window: the first points of each of its first kTrialFrames frames (the
-// sensor's first firings of each sweep, so the second frame's sample is predicted from the first
-// one's map of the same azimuths): a share 1 / kSampleShare of a frame's points, at least
-// kSampleMin of them. *from: the index of each sample point in g.
-constexpr size_t kSampleShare = 4, kSampleMin = 16384;
-ScanGeometry trial_sample(const ScanGeometry& g, std::vector<size_t>* from) {
-  ScanGeometry s;
-  from->clear();
-  size_t first = 0;
-  for (size_t f = 0; f < std::min(kTrialFrames, g.counts.size()); ++f) {
-    const size_t n = g.counts[f], m = std::min(n, std::max(kSampleMin, n / kSampleShare));
-    s.counts.push_back(static_cast<uint32_t>(m));
-    for (size_t i = first; i < first + m; ++i) from->push_back(i);
-    first += n;
-  }
-  s.valid.resize(from->size());
-  s.q.resize(3 * from->size());
-  for (size_t j = 0; j < from->size(); ++j) {
-    const size_t i = (*from)[j];
-    s.valid[j] = g.valid[i];
-    std::copy(&g.q[3 * i], &g.q[3 * i] + 3, &s.q[3 * j]);
-  }
-  return s;
-}
-
 // The size of the trial sample's payload (trial_sample, drawn as `from`) under table t.
 size_t sample_size(const ScanGeometry& g, const ScanGeometry& sample,
                    const std::vector<size_t>& from, const scan::RingFit& fit, const scan::Table& t,
                    Scratch* s) {
   scan::Placement all, placed;
-  scan::place_points(g, fit, t, from.back() + 1, &all);
+  scan::Table u = t;  // (with the successors once a window kept them: sizes of one kind)
+  u.successors = u.successors || s->successors;
+  scan::place_points(g, fit, u, from.back() + 1, &all);
   placed.polar.resize(from.size());
   for (size_t j = 0; j < from.size(); ++j) placed.polar[j] = all.polar[from[j]];
   if (!all.fire.empty()) {
     placed.fire.resize(from.size());
     for (size_t j = 0; j < from.size(); ++j) placed.fire[j] = all.fire[from[j]];
   }
-  Coding coding(t, s->maps);
+  Coding coding(u, s->maps);
   code_frames(sample, placed, sample.counts.size(), &coding, s);
   return finished_size(sample, coding);
 }
@@ -459,9 +437,9 @@ std::vector<TableChoice> sampled_choice(const ScanGeometry& g, const ScanGeometr
   return out;
 }
 
-// Table t (the best's with units bit 7 or the more byte's bit 1) tried: *best replaced when its
-// payload is smaller (true), first on the trial sample when its size under the best table is
-// known (*sampled > 0, then t's if kept); *ratio: t's sample over *sampled (0: not sampled).
+// Table t (the best's with units bit 7 or the more byte's bit 1) tried: *best replaced when smaller
+// (true), first on the trial sample when its size under the best table is known (*sampled > 0,
+// then t's if kept); *ratio: t's sample over *sampled (0: not sampled).
 bool try_table(const ScanGeometry& g, const ScanGeometry& sample, const std::vector<size_t>& from,
                const scan::RingFit& fit, const scan::Table& t, size_t* sampled,
                std::vector<uint8_t>* best, Scratch* s, double* ratio) {
@@ -499,6 +477,7 @@ std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const scan::RingFit& f
   Scratch scratch;
   if (ws) {  // the maps of the windows before (reset for each table: the same coding)
     scratch.record_limit = ws->record_limit;
+    scratch.successors = ws->remember && ws->successors;
     if (!ws->maps) ws->maps = std::make_shared<scan::SweepMaps>();
     if (!ws->spare) ws->spare = std::make_shared<scan::SweepMaps>();
     scratch.maps = ws->maps;
@@ -517,7 +496,7 @@ std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const scan::RingFit& f
   std::vector<scan::Table> tables;  // of the choices tried on the first frames, in order
   std::unique_ptr<Coding> kept;     // the first frames' coding under one of them
   std::vector<size_t> from;
-  const ScanGeometry sample = trial_sample(g, &from);
+  const ScanGeometry sample = trial_sample(g, kTrialFrames, &from);
   size_t trial_points = 0;  // the points of the frames sampled
   for (size_t f = 0; f < sample.counts.size(); ++f) trial_points += g.counts[f];
   const bool every = ws && ws->every_table;
@@ -536,6 +515,25 @@ std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const scan::RingFit& f
   scan::Table t;           // the table of the choice before, then this one's
   scan::Table best_table;  // the smallest payload's
   size_t best_sample = 0;  // its sample's payload (0: not known)
+  // The previous sweep's successors (FORMAT.md): on once a window of the sequence kept them, else
+  // tried on the trial sample under its smallest table, or without a sample after the coding.
+  bool successors = ws && ws->remember && ws->successors && !kept, decided = successors;
+  if (!successors && !kept && g.counts.size() > 1 &&
+      std::count_if(sizes.begin(), sizes.end(), [](size_t v) { return v > 0; }) > 0) {
+    size_t k = 0;
+    for (size_t j = 0; j < sizes.size(); ++j)
+      if (sizes[j] > 0 && (sizes[k] == 0 || sizes[j] < sizes[k])) k = j;
+    scan::Table with = tables[k];
+    with.successors = true;
+    scratch.cart.clear();  // the estimates and checks are the frames' they were made on
+    scratch.spherical_ok.clear();
+    const size_t size = with.rings() > 0 ? sample_size(g, sample, from, fit, with, &scratch) : 0;
+    scratch.cart.clear();
+    scratch.spherical_ok.clear();
+    successors = size > 0 && size < sizes[k];
+    if (successors) sizes[k] = size, scratch.successors = true;  // the sizes compared from here
+    decided = true;
+  }
   for (const TableChoice& c : choices) {
     const auto k =
         static_cast<size_t>(std::find_if(tried.begin(), tried.end(),
@@ -547,6 +545,7 @@ std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const scan::RingFit& f
       t = tables[k];
     else
       t = scan::table_fit(fit, c.divisor, c.units, &t);
+    t.successors = successors;
     scan::place_points(g, fit, t, g.total(), &placed);
     std::vector<uint8_t> out;
     if (kept && &kept->st->table() == &tables[k]) {  // its first frames coded already
@@ -587,11 +586,12 @@ std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const scan::RingFit& f
       best_table.before = true;
     if (ws && ws->remember && ratio > 0) ws->before = ratio;
   }
-  // The previous sweep's successors, in a window of ring pair frames (FORMAT.md).
-  if (best_table.rings() > 0 && g.counts.size() > 1 && has_pair_frames(best)) {
+  // The successors of a window without a trial sample: tried after its coding.
+  if (!decided && best_table.rings() > 0 && g.counts.size() > 1 && has_pair_frames(best)) {
     best_table.successors = true;
-    try_table(g, sample, from, fit, best_table, &best_sample, &best, &scratch, &ratio);
+    successors = try_table(g, sample, from, fit, best_table, &best_sample, &best, &scratch, &ratio);
   }
+  if (ws && ws->remember && successors) ws->successors = true;
   return best;
 }
 

@@ -108,6 +108,9 @@ struct ScanWorkspace {
   // With remember: the trial sample's payload with units bit 7 over the one without, in the last
   // window where it was tried on the sample (0: none yet).
   double before = 0;
+  // With remember: a window kept the previous sweep's successors (the more byte's bit 1), so the
+  // later windows are coded with them without a trial (scan_encode.cpp's encode_fitted).
+  bool successors = false;
   // With remember: the payload under the rings found from the elevations over the one under the
   // ring field's, in the last window where both were coded (0: none yet), and the windows since
   // then that coded only the ring field's (scan_encode.cpp's encode_geometry).

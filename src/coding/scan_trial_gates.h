@@ -27,6 +27,12 @@ bool walk_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& po
 bool pairs_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& polar,
                         const scan::State& st, size_t first, size_t n);
 
+// The trial sample of a window (scan_encode.cpp's table trials): the first points of each of its
+// first `frames` frames (the sensor's first firings of each sweep, so the second frame's sample
+// is predicted from the first one's map of the same azimuths), a quarter of a frame's points, at
+// least 16,384 of them. *from: the index of each sample point in g.
+ScanGeometry trial_sample(const ScanGeometry& g, size_t frames, std::vector<size_t>* from);
+
 // Whether payload p has ring pair frames (FORMAT.md flags_f bit 7): a window whose payload is
 // worth the previous sweep's successors' trial (the more byte's bit 1, scan_encode.cpp).
 bool has_pair_frames(const std::vector<uint8_t>& p);

@@ -65,4 +65,25 @@ bool has_pair_frames(const std::vector<uint8_t>& p) {
                      [](uint8_t f) { return !scan::octree_frame(f) && (f & scan::kRingPairs); });
 }
 
+ScanGeometry trial_sample(const ScanGeometry& g, size_t frames, std::vector<size_t>* from) {
+  constexpr size_t kSampleShare = 4, kSampleMin = 16384;
+  ScanGeometry s;
+  from->clear();
+  size_t first = 0;
+  for (size_t f = 0; f < std::min(frames, g.counts.size()); ++f) {
+    const size_t n = g.counts[f], m = std::min(n, std::max(kSampleMin, n / kSampleShare));
+    s.counts.push_back(static_cast<uint32_t>(m));
+    for (size_t i = first; i < first + m; ++i) from->push_back(i);
+    first += n;
+  }
+  s.valid.resize(from->size());
+  s.q.resize(3 * from->size());
+  for (size_t j = 0; j < from->size(); ++j) {
+    const size_t i = (*from)[j];
+    s.valid[j] = g.valid[i];
+    std::copy(&g.q[3 * i], &g.q[3 * i] + 3, &s.q[3 * j]);
+  }
+  return s;
+}
+
 }  // namespace capz
