@@ -126,6 +126,9 @@ struct DecompressOptions {
   // hostile file from exhausting memory. kAutoMemoryLimit (the default): 4 GiB, or 1024 bytes
   // per archive byte when that is more; 0: no limit.
   uint64_t memory_limit = kAutoMemoryLimit;
+  // Called after each window decoded with (frames decoded, frames asked for), in the calling
+  // thread; may be empty. An exception it throws leaves decompress() (nothing is returned).
+  std::function<void(size_t, size_t)> progress;
 };
 
 // Throws Error(kNotOurFormat / kUnsupportedVersion / kCorrupt) naming `name` and the chunk.

@@ -386,7 +386,12 @@ def _memory_limit(v: Optional[int]) -> int:
     return v
 
 
-def read(path: PathLike, *, memory_limit: Optional[int] = None) -> Take:
+def read(
+    path: PathLike,
+    *,
+    memory_limit: Optional[int] = None,
+    progress: Optional[Callable[[int, int], Any]] = None,
+) -> Take:
     """Reads a take: a .c3d, a .trc, a .pcd / .ply / .bin frame or a folder of them, or a .capz
     (decompressed). A folder whose frames have different point counts (LiDAR sweeps) gives a
     ragged take: xyz (total points, 3) with frame_offsets, and frame(i) / iter_frames() views.
@@ -395,9 +400,11 @@ def read(path: PathLike, *, memory_limit: Optional[int] = None) -> Take:
     memory_limit: for a .capz, the most bytes of decoded samples it may ask for (None: 4 GiB,
     DEFAULT_MEMORY_LIMIT, or 1024 bytes per byte of the archive when that is more; 0: no limit);
     a stream asking for more raises capz.Error with code "memory-limit" before anything is
-    allocated (the CLI's --memlimit).
+    allocated (the CLI's --memlimit). For a .capz, progress(frames_done, frames_total) is called
+    after each window decoded, and Ctrl-C (or an exception progress raises) stops the decoding at
+    the end of the window at hand; other inputs are read whole.
     """
-    return _capz.read(_path(path, "path"), _memory_limit(memory_limit))
+    return _capz.read(_path(path, "path"), _memory_limit(memory_limit), progress)
 
 
 def write(
@@ -546,15 +553,17 @@ def decompress(
     name: str = "",
     *,
     memory_limit: Optional[int] = None,
+    progress: Optional[Callable[[int, int], Any]] = None,
 ) -> Take:
     """Decodes .capz bytes back to a Take (`name` is only used in error messages).
 
     Damaged bytes raise capz.Error (corrupt, not-our-format or unsupported-version); a stream
     asking for more than memory_limit bytes of samples (as in read()) raises "memory-limit".
+    progress and Ctrl-C as in read().
     """
     if not isinstance(data, (bytes, bytearray, memoryview)):
         raise _invalid(f"decompress wants bytes, got {type(data).__name__}")
-    return _capz.decompress(data, name, _memory_limit(memory_limit))
+    return _capz.decompress(data, name, _memory_limit(memory_limit), progress)
 
 
 def compress_file(

@@ -332,7 +332,7 @@ void bind_functions(py::module_& m) {
   m.attr("DEFAULT_MEMORY_LIMIT") = capz::kDefaultMemoryLimit;
   m.attr("AUTO_MEMORY_LIMIT") = capz::kAutoMemoryLimit;
 
-  m.def("read", [](const std::string& path, uint64_t memory_limit) {
+  m.def("read", [](const std::string& path, uint64_t memory_limit, const py::object& progress) {
     capz::Take t;
     {
       py::gil_scoped_release nogil;
@@ -340,6 +340,7 @@ void bind_functions(py::module_& m) {
         const std::vector<uint8_t> bytes = capz::read_file(path);
         capz::DecompressOptions o;
         o.memory_limit = memory_limit;
+        o.progress = python_progress(progress);
         t = capz::decompress(bytes.data(), bytes.size(), path, o);
       } else {
         t = capz::read_take(path);
@@ -375,7 +376,8 @@ void bind_functions(py::module_& m) {
     return capz::dropped_by(take, capz::format_for_output(path));
   });
 
-  m.def("decompress", [](const py::buffer& data, const std::string& name, uint64_t memory_limit) {
+  m.def("decompress", [](const py::buffer& data, const std::string& name, uint64_t memory_limit,
+                         const py::object& progress) {
     const py::buffer_info b = data.request();
     if (b.ndim != 1 || b.itemsize != 1) invalid("decompress wants bytes (a 1-D buffer of bytes)");
     capz::Take t;
@@ -383,6 +385,7 @@ void bind_functions(py::module_& m) {
       py::gil_scoped_release nogil;
       capz::DecompressOptions o;
       o.memory_limit = memory_limit;
+      o.progress = python_progress(progress);
       t = capz::decompress(static_cast<const uint8_t*>(b.ptr), static_cast<size_t>(b.size), name,
                            o);
     }

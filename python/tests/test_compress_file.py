@@ -158,3 +158,25 @@ def test_ctrl_c_stops_compress_file_after_the_window_at_hand(tmp_path):
     finally:
         timer.cancel()
     assert os.listdir(tmp_path) == ["frames"]
+
+
+def test_decompress_and_read_report_each_window_and_stop_on_an_exception(tmp_path):
+    src = shared("repo:lidar_small")
+    out = str(tmp_path / "w.capz")
+    capz.compress_file(src, out, max_error="1mm", window=2)
+    with open(out, "rb") as f:
+        data = f.read()
+    seen = []
+    back = capz.decompress(data, progress=lambda done, total: seen.append((done, total)))
+    assert seen == [(2, 6), (4, 6), (6, 6)] and back.frames == 6
+    read = []
+    assert capz.read(out, progress=lambda d, t: read.append(d)).frames == 6 and read == [2, 4, 6]
+
+    def stop(done, total):
+        if done >= 4:
+            raise Stop("enough")
+
+    with pytest.raises(Stop):
+        capz.decompress(data, progress=stop)
+    with pytest.raises(Stop):
+        capz.read(out, progress=stop)

@@ -217,6 +217,7 @@ void CapzSource::decode(size_t w) {
     decode_window(*bytes_, ps_, w, &win_, &ints_);
   cached_ = w;
   have_ = true;
+  if (after_window_) after_window_(w);
 }
 
 // Window w from the workers: the windows after it are submitted too, up to ahead_cap_. A read

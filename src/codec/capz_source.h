@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <deque>
 #include <exception>
+#include <functional>
 #include <future>
 #include <memory>
 #include <string>
@@ -44,6 +45,9 @@ class CapzSource : public FrameSource {
   // The last window decoded is kept, so reading in window-sized steps decodes each window once;
   // a block that is exactly one window is handed over without a copy.
   void read(size_t first, size_t count, FrameBlock* out) override;
+  // Called with a window's index after it is decoded (in the reading thread; not for a window
+  // kept from before); an exception it throws leaves read() (DecompressOptions::progress).
+  void after_window(std::function<void(size_t)> f) { after_window_ = std::move(f); }
 
  private:
   // A window decoded ahead: its chunks copied out of the stream (StreamBytes is not shared
@@ -70,6 +74,7 @@ class CapzSource : public FrameSource {
   void drop_ahead();
 
   std::unique_ptr<StreamBytes> bytes_;
+  std::function<void(size_t)> after_window_;
   std::string name_;
   ParsedStream ps_;
   FrameBlock win_;

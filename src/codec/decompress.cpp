@@ -33,6 +33,10 @@ Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
   first = std::min(first, F);
   count = std::min(count, F - first);
   if (first == 0 && count == F) check_tiling(ps, size, name);
+  if (opts.progress) {
+    const size_t W = ps.h.window_frames, end = first + count;
+    src.after_window([&](size_t w) { opts.progress(std::min((w + 1) * W, end) - first, count); });
+  }
   FrameBlock b;
   src.read(first, count, &b);
   Take t = src.header();  // a stream of one ragged frame: one fixed frame (capz_source.h)

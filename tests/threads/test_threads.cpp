@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -350,6 +351,35 @@ TEST(ThreadsSynthetic, CorruptWindowDecodedInParallelThrowsTheSerialError) {
                 c1);
       EXPECT_EQ(mt, m1);
     }
+  }
+}
+
+// DecompressOptions::progress: called once a window in the calling thread, with the frames
+// decoded so far, for every thread count; an exception it throws at the fourth window leaves
+// decompress as it came, with windows decoded ahead on the workers.
+TEST(ThreadsSynthetic, DecompressProgressPerWindowAndItsExceptionLeaveDecompress) {
+  const capz::Take t = synthetic_take(700, 20, 0.05);
+  capz::CompressOptions o;
+  o.window_frames = 64;
+  o.max_error = 0.05;
+  const std::vector<uint8_t> bytes = capz::compress(t, o);
+  for (int th : {1, 2, 8}) {
+    capz::DecompressOptions d;
+    d.threads = th;
+    std::vector<size_t> done;
+    d.progress = [&](size_t frames, size_t total) {
+      EXPECT_EQ(total, 700u);
+      done.push_back(frames);
+    };
+    EXPECT_EQ(capz::decompress(bytes.data(), bytes.size(), "p.capz", d).frames, 700u);
+    ASSERT_EQ(done.size(), 11u) << th;
+    EXPECT_EQ(done[0], 64u);
+    EXPECT_EQ(done.back(), 700u);
+    d.progress = [](size_t frames, size_t) {
+      if (frames >= 4 * 64) throw std::runtime_error("stopped");
+    };
+    EXPECT_THROW(capz::decompress(bytes.data(), bytes.size(), "p.capz", d), std::runtime_error)
+        << th;
   }
 }
 
