@@ -306,14 +306,19 @@ TEST(ThreadsSynthetic, WindowsInFlightAreBoundedByThreads) {
   }
 }
 
-// A stream with a corrupt window in the middle: decoding with 2 or 8 threads throws the
-// capz::Error a serial decode throws, from the same window.
-TEST(ThreadsSynthetic, CorruptWindowDecodedInParallelThrowsTheSerialError) {
+// synthetic_take(700, 20, 0.05) at a bound of 0.05 in windows of 64 frames: 11 windows.
+std::vector<uint8_t> eleven_windows() {
   const capz::Take t = synthetic_take(700, 20, 0.05);
   capz::CompressOptions o;
   o.window_frames = 64;
   o.max_error = 0.05;
-  std::vector<uint8_t> bytes = capz::compress(t, o);
+  return capz::compress(t, o);
+}
+
+// A stream with a corrupt window in the middle: decoding with 2 or 8 threads throws the
+// capz::Error a serial decode throws, from the same window.
+TEST(ThreadsSynthetic, CorruptWindowDecodedInParallelThrowsTheSerialError) {
+  std::vector<uint8_t> bytes = eleven_windows();
   const capz::StreamInfo info = capz::describe(bytes.data(), bytes.size());
   ASSERT_EQ(info.windows, 11u);
   // The POSW chunk of window 6: found by walking the chunks after the file header.
@@ -358,11 +363,7 @@ TEST(ThreadsSynthetic, CorruptWindowDecodedInParallelThrowsTheSerialError) {
 // decoded so far, for every thread count; an exception it throws at the fourth window leaves
 // decompress as it came, with windows decoded ahead on the workers.
 TEST(ThreadsSynthetic, DecompressProgressPerWindowAndItsExceptionLeaveDecompress) {
-  const capz::Take t = synthetic_take(700, 20, 0.05);
-  capz::CompressOptions o;
-  o.window_frames = 64;
-  o.max_error = 0.05;
-  const std::vector<uint8_t> bytes = capz::compress(t, o);
+  const std::vector<uint8_t> bytes = eleven_windows();
   for (int th : {1, 2, 8}) {
     capz::DecompressOptions d;
     d.threads = th;
