@@ -22,8 +22,7 @@ import os
 
 import numpy as np
 
-import capz
-from make_scan_sequences import write_pcd
+from turn_sweeps import read_sweeps, write_xyz
 
 
 def ring_elevations(xyz, ring):
@@ -70,28 +69,21 @@ def main():
     ap.add_argument("--speed", type=float, default=0.3, help="metres a sweep along x")
     ap.add_argument("--step", type=float, default=0.2, help="degrees a column")
     a = ap.parse_args()
-    take = capz.read(a.source)
-    if not take.ragged:
-        raise SystemExit(f"{a.source}: not a folder of sweeps of their own counts")
-    names = sorted(n for n in os.listdir(a.source) if n.lower().endswith(".pcd"))
-    offsets = np.asarray(take.frame_offsets)
-    xyz = np.asarray(take.xyz, dtype=np.float64).reshape(-1, 3)
+    take, names, offsets, xyz = read_sweeps(a.source)
     rings = [n for n in ("ring", "channel", "laser_id") if n in take.attributes]
     if not rings:
         raise SystemExit(f"{a.source}: no ring field to find the lasers' elevations by")
     ring = np.asarray(take.attributes[rings[0]]).reshape(-1).astype(np.int64)
     good = np.isfinite(xyz).all(axis=1)
     elev = ring_elevations(xyz[good], ring[good])
+    elev = elev[~np.isnan(elev)]  # the ring numbers the field never holds
     step = np.radians(a.step)
     columns = int(round(2 * np.pi / step))
     os.makedirs(a.out, exist_ok=True)
-    fields = [("x", "F", 4, 1), ("y", "F", 4, 1), ("z", "F", 4, 1)]
     for f, name in enumerate(names):
         sel = slice(offsets[f], offsets[f + 1])
         p = xyz[sel][good[sel]] - np.array([a.speed * f, 0.0, 0.0])
-        q = render(p, elev[~np.isnan(elev)] if np.isnan(elev).any() else elev, step, columns)
-        q = q.astype(np.float32)
-        write_pcd(os.path.join(a.out, name), len(q), 1, fields, [q[:, 0], q[:, 1], q[:, 2]])
+        write_xyz(os.path.join(a.out, name), render(p, elev, step, columns))
     print(f"{a.out}: {len(names)} sweeps, {a.speed} m a sweep along x")
 
 

@@ -17,18 +17,13 @@
 #include "capz/error.h"
 #include "capz/io.h"
 #include "capz/tool/file.h"
+#include "cli_util.h"
 
 namespace fs = std::filesystem;
 
 namespace capz_cli {
 
 namespace {
-
-std::string lower_extension(const fs::path& p) {
-  std::string e = p.extension().string();
-  for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return e;
-}
 
 // The inputs below `dir` (itself included, for a folder of PCD, PLY or .bin frames), sorted.
 void walk(const fs::path& dir, InputKind kind, std::vector<fs::path>* found) {

@@ -130,33 +130,40 @@ std::string human_size(uint64_t bytes) {
   return buf;
 }
 
-uint64_t path_size(const std::string& path) {
+std::string lower_extension(const fs::path& p) {
+  std::string e = p.extension().string();
+  for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return e;
+}
+
+namespace {
+
+// A file's size, or the total of the regular files directly inside a directory that `counts`.
+template <class Counts>
+uint64_t bytes_at(const std::string& path, Counts counts) {
   std::error_code ec;
-  if (fs::is_directory(path, ec)) {
-    uint64_t total = 0;
-    for (fs::directory_iterator it(path, ec), end; !ec && it != end; it.increment(ec)) {
-      std::error_code e2;
-      if (it->is_regular_file(e2)) total += it->file_size(e2);
-    }
-    return total;
+  if (!fs::is_directory(path, ec)) {
+    const uint64_t s = fs::file_size(path, ec);
+    return ec ? 0 : s;
   }
-  uint64_t s = fs::file_size(path, ec);
-  return ec ? 0 : s;
+  uint64_t total = 0;
+  for (fs::directory_iterator it(path, ec), end; !ec && it != end; it.increment(ec)) {
+    std::error_code e2;
+    if (it->is_regular_file(e2) && counts(it->path())) total += it->file_size(e2);
+  }
+  return total;
+}
+
+}  // namespace
+
+uint64_t path_size(const std::string& path) {
+  return bytes_at(path, [](const fs::path&) { return true; });
 }
 
 uint64_t output_size(const std::string& path) {
-  std::error_code ec;
-  if (!fs::is_directory(path, ec)) return path_size(path);
-  uint64_t total = 0;
-  for (fs::directory_iterator it(path, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    std::string e = it->path().extension().string();
-    std::transform(e.begin(), e.end(), e.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    std::error_code e2;
-    if (name[0] != '.' && e != ".capz" && it->is_regular_file(e2)) total += it->file_size(e2);
-  }
-  return total;
+  return bytes_at(path, [](const fs::path& p) {
+    return p.filename().string()[0] != '.' && lower_extension(p) != ".capz";
+  });
 }
 
 std::string number(double v) {

@@ -4,6 +4,7 @@
 
 #include <boost/program_options.hpp>
 #include <cstdint>
+#include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
@@ -48,6 +49,8 @@ std::string strprintf(const char* fmt, ...) __attribute__((format(printf, 1, 2))
 std::string human_size(uint64_t bytes);
 // Size of a file, or the total of the regular files directly inside a directory.
 uint64_t path_size(const std::string& path);
+// A path's extension in lower case (".C3D" -> ".c3d"; "" for none).
+std::string lower_extension(const std::filesystem::path& p);
 // The bytes a take written to `path` takes: a file's size, or for a folder of frames the total
 // of its regular files but the hidden ones and the .capz archives (any case), which the frames
 // may have gone in beside (capz::frames_go_beside).

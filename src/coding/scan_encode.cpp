@@ -62,7 +62,7 @@ struct Scratch {
   std::vector<int8_t> spherical_ok;     // per frame: scan::spherical_ok, -1 not yet known
   std::shared_ptr<scan::SweepMaps> maps = std::make_shared<scan::SweepMaps>();   // every table's
   std::shared_ptr<scan::SweepMaps> spare = std::make_shared<scan::SweepMaps>();  // a kept coding's
-  size_t record_limit = ScanWorkspace().record_limit;
+  size_t record_limit = ScanWorkspace::kRecordLimit;
   bool successors = false;  // a window before kept the previous sweep's successors
 };
 
@@ -340,10 +340,12 @@ std::vector<TableChoice> first_frame_choice(const ScanGeometry& g, const scan::R
   return out;
 }
 
-// The size of the trial sample's payload (trial_sample, drawn as `from`) under table t.
+// The size of the trial sample's payload (trial_sample, drawn as `from`) under table t. `apart`:
+// between codings of the window, whose frames' estimates and checks are set aside around it.
 size_t sample_size(const ScanGeometry& g, const ScanGeometry& sample,
                    const std::vector<size_t>& from, const scan::RingFit& fit, const scan::Table& t,
-                   Scratch* s) {
+                   Scratch* s, bool apart = false) {
+  if (apart) s->cart.clear(), s->spherical_ok.clear();
   scan::Placement all, placed;
   scan::Table u = t;  // (with the successors once a window kept them: sizes of one kind)
   u.successors = u.successors || s->successors;
@@ -356,6 +358,7 @@ size_t sample_size(const ScanGeometry& g, const ScanGeometry& sample,
   }
   Coding coding(u, s->maps);
   code_frames(sample, placed, sample.counts.size(), &coding, s);
+  if (apart) s->cart.clear(), s->spherical_ok.clear();
   return finished_size(sample, coding);
 }
 
@@ -446,11 +449,7 @@ bool try_table(const ScanGeometry& g, const ScanGeometry& sample, const std::vec
   *ratio = 0;
   size_t size = 0;
   if (*sampled > 0) {
-    s->cart.clear();  // the estimates and checks are the frames' they were made on
-    s->spherical_ok.clear();
-    size = sample_size(g, sample, from, fit, t, s);
-    s->cart.clear();
-    s->spherical_ok.clear();
+    size = sample_size(g, sample, from, fit, t, s, true);
     *ratio = static_cast<double>(size) / static_cast<double>(*sampled);
     if (size >= *sampled) return false;
   }
@@ -518,20 +517,15 @@ std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const scan::RingFit& f
   // The previous sweep's successors (FORMAT.md): on once a window of the sequence kept them, else
   // tried on the trial sample under its smallest table, or without a sample after the coding.
   bool successors = ws && ws->remember && ws->successors && !kept, decided = successors;
-  if (!successors && !kept && g.counts.size() > 1 &&
-      std::count_if(sizes.begin(), sizes.end(), [](size_t v) { return v > 0; }) > 0) {
-    size_t k = 0;
-    for (size_t j = 0; j < sizes.size(); ++j)
-      if (sizes[j] > 0 && (sizes[k] == 0 || sizes[j] < sizes[k])) k = j;
-    scan::Table with = tables[k];
+  size_t least = 0;  // the table of the smallest sample (sizes: 0 for a table not tried)
+  for (size_t j = 0; j < sizes.size(); ++j)
+    if (sizes[j] > 0 && (sizes[least] == 0 || sizes[j] < sizes[least])) least = j;
+  if (!successors && !kept && g.counts.size() > 1 && !sizes.empty() && sizes[least] > 0) {
+    scan::Table with = tables[least];
     with.successors = true;
-    scratch.cart.clear();  // the estimates and checks are the frames' they were made on
-    scratch.spherical_ok.clear();
-    const size_t size = with.rings() > 0 ? sample_size(g, sample, from, fit, with, &scratch) : 0;
-    scratch.cart.clear();
-    scratch.spherical_ok.clear();
-    successors = size > 0 && size < sizes[k];
-    if (successors) sizes[k] = size, scratch.successors = true;  // the sizes compared from here
+    const size_t size = with.rings() ? sample_size(g, sample, from, fit, with, &scratch, true) : 0;
+    successors = size > 0 && size < sizes[least];
+    if (successors) sizes[least] = size, scratch.successors = true;  // (sizes compared from here)
     decided = true;
   }
   for (const TableChoice& c : choices) {

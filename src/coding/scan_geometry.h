@@ -98,7 +98,8 @@ struct ScanWorkspace {
   // takes about 60 bytes a point). Replaying is the cheaper below about 2^18 points (pandar64's
   // 113k-point sweeps took 1.22x the CPU with a limit of 2^16), coding again above (a 600k-point
   // frame 0.93x). Lowered by tests.
-  size_t record_limit = size_t{1} << 18;
+  static constexpr size_t kRecordLimit = size_t{1} << 18;
+  size_t record_limit = kRecordLimit;
   // The elevation peaks of the last window whose rings from the elevations were its ring field's
   // (the next window's ring check tries them first, scan_encode.cpp); else empty.
   std::vector<double> ring_peaks;

@@ -346,7 +346,9 @@ class State {
     return maps_->prev(cell(k, col), smooth);
   }
   void map_set(uint32_t k, int32_t col, int32_t range) {
-    if (!trial_) maps_->set(cell(k, col), cell(k, int64_t{col} + turn_), range);
+    if (trial_) return;
+    const size_t i = cell(k, col);
+    maps_->set(i, turn_ == 0 ? i : cell(k, int64_t{col} + turn_), range);
   }
   // The previous sweep's successor ring of ring k, column col (the frame's turn added; false:
   // none), and this sweep's, set (FORMAT.md "The previous sweep's successors").
@@ -358,7 +360,6 @@ class State {
   }
   // The turn t_f of the frame coded next (0 until set; kept until set again).
   void set_turn(int32_t t) { turn_ = t; }
-  int32_t turn() const { return turn_; }
   // Cartesian / cross-frame state.
   int32_t last[3] = {0, 0, 0};
   int last_bits[3] = {0, 0, 0};

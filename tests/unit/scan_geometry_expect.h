@@ -29,6 +29,11 @@ inline void expect_same(const ScanGeometry& a, const ScanGeometry& b) {
   }
 }
 
+// Payload p's header, read back (at most 2^24 points).
+inline scan::Header payload_header(const std::vector<uint8_t>& p) {
+  return scan::read_header(p.data(), p.size(), "payload", size_t{1} << 24);
+}
+
 // Decoding payload d fails as corrupt, naming it ("damaged").
 inline void expect_scan_corrupt(const std::vector<uint8_t>& d) {
   try {

@@ -41,10 +41,6 @@ std::vector<uint8_t> coded(const ScanGeometry& g, const ScanHints& h) {
   return coded_exact(g, h, "shares");
 }
 
-scan::Header header(const std::vector<uint8_t>& p) {
-  return scan::read_header(p.data(), p.size(), "shares", 1u << 22);
-}
-
 // The offset of the laser table's `units` byte.
 size_t units_at(const std::vector<uint8_t>& p) {
   return units_offset(p);
@@ -56,7 +52,7 @@ TEST(ScanShares, GivenLasersSpreadByTheirFiringTimeThenTheFiringsBaseExact) {
   ScanHints h;
   const ScanGeometry g = sweep(&h, kOtherShare);
   const std::vector<uint8_t> p = coded(g, h);
-  const scan::Header hd = header(p);
+  const scan::Header hd = payload_header(p);
   EXPECT_TRUE(hd.table.turn);
   EXPECT_NEAR(hd.table.step, kQuantum, 1e-9);
   ASSERT_EQ(hd.table.share.size(), hd.table.rings());
@@ -74,7 +70,7 @@ TEST(ScanSlots, GivenTheVlp16sFiringTimesThenTheSlotsExact) {
   ScanHints h;
   const ScanGeometry g = sweep(&h, kSlotShare);
   const std::vector<uint8_t> p = coded(g, h);
-  const scan::Header hd = header(p);
+  const scan::Header hd = payload_header(p);
   EXPECT_TRUE(hd.table.share.empty());
   EXPECT_EQ(hd.table.slots, 24u);
   EXPECT_EQ(p[units_at(p)] & ~scan::kPackBit, 1 | scan::kSlotBit | scan::kTurnBit);
@@ -91,7 +87,7 @@ TEST(ScanSlots, GivenDamagedSlotsOrBitsThenCorrupt) {
   ScanHints h;
   const ScanGeometry g = sweep(&h, kSlotShare);
   const std::vector<uint8_t> p = coded(g, h);
-  const size_t at = units_at(p), n = header(p).body - 1 - 17;  // (the more byte last)
+  const size_t at = units_at(p), n = payload_header(p).body - 1 - 17;  // (the more byte last)
   std::vector<uint8_t> d = p;
   d[at] = static_cast<uint8_t>(d[at] & ~scan::kTurnBit);  // bit 6 without bit 4
   expect_scan_corrupt(d);
@@ -112,7 +108,7 @@ TEST(ScanShares, GivenTheSharesRemovedThenTheDecoderPredictsOtherwise) {
   ScanHints h;
   const ScanGeometry g = sweep(&h, kOtherShare);
   const std::vector<uint8_t> p = coded(g, h);
-  const scan::Header hd = header(p);
+  const scan::Header hd = payload_header(p);
   std::vector<uint8_t> d(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(hd.body) - 1 - 4 -
                                         4 * static_cast<std::ptrdiff_t>(hd.table.rings()));
   d[units_at(p)] &= static_cast<uint8_t>(~scan::kShareBit);
@@ -124,7 +120,8 @@ TEST(ScanShares, GivenDamagedTurnSharesOrBitsThenCorrupt) {
   ScanHints h;
   const ScanGeometry g = sweep(&h, kOtherShare);
   const std::vector<uint8_t> p = coded(g, h);
-  const size_t at = units_at(p), turn = header(p).body - 1 - 4 - 4 * header(p).table.rings();
+  const size_t at = units_at(p),
+               turn = payload_header(p).body - 1 - 4 - 4 * payload_header(p).table.rings();
   std::vector<uint8_t> d = p;
   d[at] = static_cast<uint8_t>(d[at] & ~scan::kTurnBit);  // bit 3 without bit 4
   expect_scan_corrupt(d);
@@ -163,7 +160,7 @@ TEST(ScanSlots, GivenASweepInRowsThenNoSlots) {
     }
   rows.counts = g.counts;
   ASSERT_EQ(rows.valid.size(), g.valid.size());
-  const scan::Header hd = header(coded(rows, rh));
+  const scan::Header hd = payload_header(coded(rows, rh));
   EXPECT_EQ(hd.table.slots, 0u);
   EXPECT_TRUE(hd.table.slot.empty());
 }

@@ -44,15 +44,11 @@ ScanGeometry shuffled_sweeps(int frames, ScanHints* h) {
   return g;
 }
 
-scan::Header header_of(const std::vector<uint8_t>& p) {
-  return scan::read_header(p.data(), p.size(), "successors", size_t{1} << 24);
-}
-
 TEST(ScanSuccessors, GivenSweepsOfADriversOwnRingOrderThenThePreviousSweepsSuccessorsAreUsed) {
   ScanHints h;
   const ScanGeometry g = shuffled_sweeps(3, &h);
   const std::vector<uint8_t> p = coded_exact(g, h, "shuffled");
-  const scan::Header hd = header_of(p);
+  const scan::Header hd = payload_header(p);
   ASSERT_GT(hd.table.rings(), 0u);
   EXPECT_TRUE(hd.table.successors);
   size_t pairs = 0;
@@ -68,7 +64,7 @@ TEST(ScanSuccessors, GivenSweepsOfADriversOwnRingOrderThenThePreviousSweepsSucce
   // sweep before it: the bit is not written.
   ScanHints h1;
   const ScanGeometry one = shuffled_sweeps(1, &h1);
-  EXPECT_FALSE(header_of(coded_exact(one, h1, "one sweep")).table.successors);
+  EXPECT_FALSE(payload_header(coded_exact(one, h1, "one sweep")).table.successors);
 }
 
 }  // namespace

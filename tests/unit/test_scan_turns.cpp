@@ -45,11 +45,6 @@ ScanGeometry turning_sweeps(int frames, int turn, ScanHints* h) {
   return g;
 }
 
-// The payload's header, read back.
-scan::Header header_of(const std::vector<uint8_t>& p) {
-  return scan::read_header(p.data(), p.size(), "turns", size_t{1} << 24);
-}
-
 // The offset of the more byte of a payload whose header ends with its turns (no raster or cells).
 size_t more_at(const scan::Header& hd) {
   ByteWriter w;
@@ -62,7 +57,7 @@ TEST(ScanTurns, GivenSweepsOfATurningSensorThenEachFindsItsTurnAndCostsWhatAStil
   const ScanGeometry turned = turning_sweeps(4, 10, &ht), still = turning_sweeps(4, 0, &hs);
   const std::vector<uint8_t> p = coded_exact(turned, ht, "turned");
   const std::vector<uint8_t> q = coded_exact(still, hs, "still");
-  const scan::Header a = header_of(p), b = header_of(q);
+  const scan::Header a = payload_header(p), b = payload_header(q);
   ASSERT_GT(a.table.rings(), 0u);
   ASSERT_EQ(a.table.columns % kColumns, 0u);  // the step found, or a divisor of it
   const auto per = static_cast<int32_t>(a.table.columns / kColumns);
@@ -77,7 +72,7 @@ TEST(ScanTurns, GivenTheTurnsTakenAwayThenTheDecoderPredictsOtherwise) {
   ScanHints h;
   const ScanGeometry g = turning_sweeps(3, 10, &h);
   const std::vector<uint8_t> p = coded_exact(g, h, "turned");
-  const scan::Header hd = header_of(p);
+  const scan::Header hd = payload_header(p);
   ASSERT_EQ(hd.turns.size(), 3u);
   const size_t more = more_at(hd);
   ASSERT_EQ(p[more], scan::kMoreTurns);
@@ -91,7 +86,7 @@ TEST(ScanTurns, GivenDamagedTurnsOrMoreBitsThenCorrupt) {
   ScanHints h;
   const ScanGeometry g = turning_sweeps(3, 10, &h);
   const std::vector<uint8_t> p = coded_exact(g, h, "turned");
-  const scan::Header hd = header_of(p);
+  const scan::Header hd = payload_header(p);
   const size_t more = more_at(hd);
   ASSERT_EQ(p[more], scan::kMoreTurns);
   for (uint8_t bit : {4, 128}) {  // bits 2-7 are not known
