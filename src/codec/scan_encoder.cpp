@@ -215,6 +215,7 @@ struct RaggedRun {
   bool origin;                       // the window's gaps are origin points (SCNW's gaps bit 0)
   bool key_fields = false;           // META has a field predictor 13 may code (attr::is_key_field)
   int last_split = scan::kNoSplit;   // mode 2: the window before's (choose_split's start)
+  std::vector<uint8_t> lzma_rest;    // the fields' LZMA trials skipped (RaggedFields::lzma_rest)
 };
 
 // The SCNW chunk of window w (the frames of b), appended to r.buf; *q gets the integers the
@@ -306,6 +307,7 @@ void append_fields_chunk(RaggedRun& r, size_t w, std::vector<std::vector<uint8_t
                                : dequantise_as<decltype(m)::value>(r.grid, q[3 * i + a], 0) * fine;
   });
   RaggedFields ragged;
+  ragged.lzma_rest = &r.lzma_rest;
   ragged.xyz = xyz.data();
   ragged.ring = rings.size() == n ? rings.data() : nullptr;
   if (q.size() == 3 * n && n > 0 && b.frame_offsets.size() > 1 && b.frame_offsets.back() == n) {
@@ -577,7 +579,10 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
               FrameBlock(),
               0,
               ScanWorkspace(),
-              false};
+              false,
+              false,
+              scan::kNoSplit,
+              {}};
   if (!meta_take.attributes.empty()) {
     const std::vector<AttrSpec> specs = attribute_specs(meta_take.pcd->fields);
     r.key_fields = std::any_of(specs.begin(), specs.end(), attr::is_key_field);

@@ -38,13 +38,20 @@ bool has_unit_candidate(const std::vector<AttrSpec>& specs);
 // ScanGeometry::kNoRing for none), or nullptr when no point has one.
 // q, frame_offsets, frames: the window's SCNW integers (x y z per point) and its frames' point
 // offsets (frames + 1 of them), for predictor 12's sweep cells; nullptr / 0 when not given.
+// lzma_rest: the encoder's own, carried from window to window of one stream (any choice decodes):
+// per field (specs' order), the windows left in which its LZMA transforms are not tried, set
+// after a window where they were tried and its predictive coding was under kLzmaRestRatio of the
+// smallest (coded or estimated); nullptr: they are tried in every window.
 struct RaggedFields {
   const double* xyz = nullptr;
   const uint16_t* ring = nullptr;
   const int32_t* q = nullptr;
   const size_t* frame_offsets = nullptr;
   size_t frames = 0;
+  std::vector<uint8_t>* lzma_rest = nullptr;
 };
+constexpr double kLzmaRestRatio = 0.9;
+constexpr uint8_t kLzmaRest = 7;  // windows: the trial comes back every eighth
 
 // The ATTR payload after the window index: per attribute, its transform and data.
 // valid: the window's gap mask (frames x points, from POSW / MASK), or nullptr for none (the

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <type_traits>
 
 #include "capz/error.h"
@@ -230,20 +231,22 @@ std::vector<uint8_t> lzma_transform(uint8_t t, const std::vector<uint8_t>& b, si
 
 // The one LZMA transform (2 or 3) worth a full trial against a predictive coding of `pred`
 // bytes, or 0 for none: each is tried on the first 1/kSampleShare of the elements and its size
-// scaled to the whole; the smaller wins, and none when the predictive coding is below
-// kSkipRatio of that estimate. Fields under kSampleMin bytes: 0xFF (every transform tried),
-// but from kRankMin bytes with elements of several bytes the smaller of 2 and 3 by
-// lzma2_quick_size of the whole field (no skip: it is then coded and compared).
-// The sample is first sized by lzma2_quick_size; when the answer would be the same for any
-// lzma2_encode_fast sizes between kQuickLow and kQuickHigh times the quick ones, it is taken,
-// else the sample is coded again as the full trial would code it.
+// scaled to the whole; the smaller wins (its estimate in *est when not null), and none when the
+// predictive coding is below kSkipRatio of that estimate. Fields under kSampleMin bytes: 0xFF
+// (every transform tried), but from kRankMin bytes with elements of several bytes the smaller of 2
+// and 3 by lzma2_quick_size of the whole field (no skip: it is then coded and compared). The sample
+// is first sized by lzma2_quick_size; when the answer would be the same for any lzma2_encode_fast
+// sizes between kQuickLow and kQuickHigh times the quick ones, it is taken, else the sample is
+// coded again as the full trial would code it.
 constexpr size_t kSampleShare = 8, kSampleMin = size_t{1} << 18, kRankMin = size_t{1} << 17;
 constexpr double kSkipRatio = 0.9, kQuickLow = 0.8, kQuickHigh = 1.1;
-uint8_t lzma_choice(const double est[2], size_t pred) {
+uint8_t lzma_choice(const double est[2], size_t pred, double* smaller = nullptr) {
   const uint8_t t = est[1] < est[0] ? 3 : 2;
+  if (smaller) *smaller = est[t - 2];
   return static_cast<double>(pred) < kSkipRatio * est[t - 2] ? 0 : t;
 }
-uint8_t lzma_worth_trying(const std::vector<uint8_t>& b, size_t size, size_t pred) {
+uint8_t lzma_worth_trying(const std::vector<uint8_t>& b, size_t size, size_t pred,
+                          double* est_out = nullptr) {
   if (b.size() < kSampleMin && (size == 1 || b.size() < kRankMin)) return 0xFF;
   if (b.size() < kSampleMin) {  // the smaller of 2 and 3 coded quickly, whole, is tried
     const size_t planes = lzma2_quick_size(to_planes(b, size).data(), b.size());
@@ -269,13 +272,13 @@ uint8_t lzma_worth_trying(const std::vector<uint8_t>& b, size_t size, size_t pre
     high[k] = kQuickHigh * quick[k];
   }
   const double favour2[2] = {low[0], high[1]}, favour3[2] = {high[0], low[1]};
-  const uint8_t c = lzma_choice(quick, pred);
+  const uint8_t c = lzma_choice(quick, pred, est_out);
   if (lzma_choice(low, pred) == c && lzma_choice(high, pred) == c &&
       lzma_choice(favour2, pred) == c && (size == 1 || lzma_choice(favour3, pred) == c))
     return c;
   double est[2];
   estimates(false, est);
-  return lzma_choice(est, pred);
+  return lzma_choice(est, pred, est_out);
 }
 
 // A ragged window's (one frame of n points) trial of predictors 10 and 11 before their
@@ -376,8 +379,11 @@ struct FieldCoder {
       near = nearest_points(q, valid, frames, points);
   }
 
-  // Field a of data, coded by its smallest transform.
-  std::vector<uint8_t> code(const std::vector<std::vector<uint8_t>>& data, size_t a) const {
+  // Field a of data, coded by its smallest transform; without `lzma` by the predictive transforms
+  // alone. *ratio (when not null): the predictive coding's size over the smallest LZMA
+  // transform's, coded or estimated (0 when none was tried).
+  std::vector<uint8_t> code(const std::vector<std::vector<uint8_t>>& data, size_t a,
+                            bool lzma = true, double* ratio = nullptr) const {
     const size_t n = frames * points;
     const AttrSpec& s = specs[a];
     const size_t bytes = n * static_cast<size_t>(s.size) * static_cast<size_t>(s.count);
@@ -390,7 +396,10 @@ struct FieldCoder {
     // LZMA of the byte planes (2) and, for elements of several bytes, of the bytes as they are
     // (3); in a window with gaps and valid points, the same of the valid points' values with
     // the gap points' values apart (4, 5; FORMAT.md 6.2): the smallest wins.
-    const size_t size = static_cast<size_t>(s.size);
+    if (ratio) *ratio = 0;
+    if (!lzma) return best;
+    const size_t size = static_cast<size_t>(s.size), pred = best.size();
+    double least = std::numeric_limits<double>::infinity();  // LZMA's smallest, coded or estimated
     std::vector<uint8_t> at_valid, at_gaps;
     // An unorganized cloud's window with predictors 10 and 11 (FORMAT.md 13.5) skips transforms
     // 4 and 5: measured on the LiDAR sequences of docs/BENCHMARKS.md, they then won on one of
@@ -401,12 +410,15 @@ struct FieldCoder {
       split_by_mask(data[a], valid, n, size * static_cast<size_t>(s.count), &at_valid, &at_gaps);
     const uint8_t last = !at_valid.empty() ? (size > 1 ? 5 : 4) : (size > 1 ? 3 : 2);
     const bool split = !at_valid.empty();
+    double est = least, est_split = least;
     const uint8_t tried = (estimate && !split) || estimate_split
-                              ? lzma_worth_trying(data[a], size, best.size())
+                              ? lzma_worth_trying(data[a], size, pred, &est)
                               : 0xFF;
     // Of 4 and 5 (estimate_split): the one lzma_worth_trying takes for the valid values.
     const uint8_t tried_split =
-        estimate_split && split ? lzma_worth_trying(at_valid, size, best.size()) : 0xFF;
+        estimate_split && split ? lzma_worth_trying(at_valid, size, pred, &est_split) : 0xFF;
+    if (tried == 0) least = est;
+    if (tried_split == 0) least = std::min(least, est_split);
     for (uint8_t t = 2; bytes > 0 && t <= last; ++t) {
       if (t == 3 && size == 1) continue;
       if (t <= 3 && tried != 0xFF && t != tried) continue;
@@ -432,9 +444,11 @@ struct FieldCoder {
         alt.varint(body.size());
         alt.bytes(body.buffer());
       }
+      least = std::min(least, static_cast<double>(m));
       if (alt.size() < best.size() && bytes <= kMaxSymbolsPerByte * m)
         best = std::move(alt.buffer());
     }
+    if (ratio && least > 0) *ratio = static_cast<double>(pred) / least;
     return best;
   }
 };
@@ -446,11 +460,9 @@ std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
                                        const uint8_t* valid, size_t frames, size_t points,
                                        size_t width, const int32_t* q, bool estimate,
                                        const RaggedFields* ragged, bool estimate_split) {
-  const FieldCoder coder(specs, data, valid, frames, points, width, q, estimate, ragged,
-                         estimate_split);
-  ByteWriter w;
-  for (size_t a : coding_order(specs, ragged != nullptr)) w.bytes(coder.code(data, a));
-  return std::move(w.buffer());
+  std::vector<std::vector<uint8_t>> copy = data;
+  return encode_attributes_within(specs, {}, &copy, valid, frames, points, width, q, estimate,
+                                  ragged, estimate_split);
 }
 
 bool quantise_field(const AttrSpec& s, double bound, std::vector<uint8_t>* bytes) {
@@ -499,20 +511,27 @@ std::vector<uint8_t> encode_attributes_within(const std::vector<AttrSpec>& specs
                                               const RaggedFields* ragged, bool estimate_split) {
   const FieldCoder coder(specs, *data, valid, frames, points, width, q, estimate, ragged,
                          estimate_split);
+  std::vector<uint8_t>* rest = ragged ? ragged->lzma_rest : nullptr;
+  if (rest) rest->resize(specs.size(), 0);
   ByteWriter w;
   for (size_t a : coding_order(specs, ragged != nullptr)) {
-    std::vector<uint8_t> best = coder.code(*data, a);
+    const bool lzma = !rest || (*rest)[a] == 0;
+    double ratio = 0, moved_ratio = 0;  // (FieldCoder::code's)
+    std::vector<uint8_t> best = coder.code(*data, a, lzma, &ratio);
     const double bound = a < bounds.size() ? bounds[a] : 0;
     std::vector<uint8_t> moved;  // field a with its values quantised (FORMAT.md 16.4)
     if (bound > 0 && specs[a].type == 'F') moved = (*data)[a];
     if (!moved.empty() && quantise_field(specs[a], bound, &moved)) {
       (*data)[a].swap(moved);  // the later fields' predictors read field a as the decoder will
-      std::vector<uint8_t> coded = coder.code(*data, a);
+      std::vector<uint8_t> coded = coder.code(*data, a, lzma, &moved_ratio);
       if (coded.size() < best.size())
         best.swap(coded);
       else
         (*data)[a].swap(moved);  // exact, which is within any bound, and not larger
     }
+    if (rest && !lzma) --(*rest)[a];
+    if (rest && lzma)
+      (*rest)[a] = std::max(ratio, moved_ratio) < kLzmaRestRatio ? kLzmaRest : uint8_t{0};
     w.bytes(best);
   }
   return std::move(w.buffer());

@@ -1,0 +1,91 @@
+// RaggedFields::lzma_rest, the scan encoder's memory of the fields' LZMA trials from window to
+// window: a field whose predictive coding beat LZMA by the margin skips the trials for the next
+// kLzmaRest windows (the same bytes while the predictive coding stays the smaller); a field that
+// LZMA codes smaller keeps its trial every window; a skipped window's field still decodes.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include "coding/attributes.h"
+#include "test_util.h"
+
+namespace capz {
+namespace {
+
+// One ragged window of n points: a drift (U4, a random walk of unit steps: the predictive
+// coding's) and a byte pattern repeating every 4096 points (random within it: LZMA's).
+struct Window {
+  std::vector<AttrSpec> specs = {capz_test::field_spec("drift", 'U', 4),
+                                 capz_test::field_spec("pattern", 'U', 1)};
+  std::vector<std::vector<uint8_t>> data = std::vector<std::vector<uint8_t>>(2);
+  std::vector<uint8_t> valid;
+  size_t n = 0;
+};
+
+Window window(size_t n, uint32_t start) {
+  Window w;
+  w.n = n;
+  w.valid.assign(n, 1);
+  std::mt19937 rng(5);
+  std::vector<uint8_t> period(4096);
+  for (uint8_t& b : period) b = static_cast<uint8_t>(rng());
+  rng.seed(start);
+  uint32_t v = start;
+  for (size_t i = 0; i < n; ++i) {
+    v = v + static_cast<uint32_t>(rng() % 3) - 1;
+    for (int k = 0; k < 4; ++k) w.data[0].push_back(static_cast<uint8_t>(v >> (8 * k)));
+    w.data[1].push_back(period[i % period.size()]);
+  }
+  return w;
+}
+
+std::vector<uint8_t> encode(const Window& w, std::vector<uint8_t>* rest) {
+  RaggedFields rf;
+  rf.lzma_rest = rest;
+  return encode_attributes(w.specs, w.data, w.valid.data(), 1, w.n, w.n, nullptr, true, &rf);
+}
+
+std::vector<std::vector<uint8_t>> decode(const Window& w, const std::vector<uint8_t>& e) {
+  RaggedFields rf;
+  std::vector<std::vector<uint8_t>> back;
+  decode_attributes(e.data(), e.size(), w.specs, w.valid.data(), 1, w.n, w.n, &back, "test",
+                    nullptr, &rf);
+  return back;
+}
+
+TEST(AttrLzmaRest, TheTrialRestsWhilePredictionWins) {
+  const Window w = window(40000, 100000);
+  const std::vector<uint8_t> alone = encode(w, nullptr);
+  std::vector<uint8_t> rest;
+  // The first window tries every transform: the bytes of a coding without the memory.
+  EXPECT_EQ(encode(w, &rest), alone);
+  ASSERT_EQ(rest.size(), 2u);
+  EXPECT_EQ(rest[0], kLzmaRest);  // the drift: predicted far below LZMA
+  EXPECT_EQ(rest[1], 0);          // the pattern: LZMA's, tried again
+  // The next windows skip the drift's trials and count down; the bytes stay the same.
+  for (int k = 1; k <= kLzmaRest; ++k) {
+    EXPECT_EQ(encode(w, &rest), alone) << k;
+    EXPECT_EQ(rest[0], kLzmaRest - k);
+    EXPECT_EQ(rest[1], 0);
+  }
+  // The eighth tries them again.
+  EXPECT_EQ(encode(w, &rest), alone);
+  EXPECT_EQ(rest[0], kLzmaRest);
+}
+
+TEST(AttrLzmaRest, ASkippedFieldIsCodedPredictivelyAndDecodes) {
+  const Window w = window(40000, 700000);
+  const std::vector<uint8_t> alone = encode(w, nullptr);
+  // The pattern's trial resting (as if an earlier window had been predictable): not LZMA.
+  std::vector<uint8_t> rest = {0, 3};
+  const std::vector<uint8_t> skipped = encode(w, &rest);
+  EXPECT_EQ(rest[1], 2);
+  EXPECT_GT(skipped.size(), alone.size() + 1000);
+  EXPECT_EQ(decode(w, skipped), w.data);
+  EXPECT_EQ(decode(w, alone), w.data);
+}
+
+}  // namespace
+}  // namespace capz
