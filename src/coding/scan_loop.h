@@ -42,10 +42,15 @@ inline int argmin(const uint32_t* s, int n) {
 template <class Io>
 __attribute__((always_inline)) inline int32_t sym_fraction(Io& io, int32_t v, int32_t pred,
                                                            double fr, int ctx) {
-  const double af = fr < 0 ? -fr : fr;
-  const int b = af < 0.1875 ? 0 : af < 0.375 ? 1 : 2;
-  if (fr < 0) return wrap_sub(0, io.sym(wrap_sub(0, v), wrap_sub(0, pred), ctx + b));
-  return io.sym(v, pred, ctx + b);
+  // Without branches (fr is as likely either way): b by two comparisons, the sign flipped by
+  // m, all ones when fr < 0 ((x ^ m) - m is then -x, wrapping, else x).
+  const double af = std::fabs(fr);
+  const int b = static_cast<int>(af >= 0.1875) + static_cast<int>(af >= 0.375);
+  const uint32_t m = 0u - static_cast<uint32_t>(fr < 0);
+  const auto flip = [m](int32_t x) {
+    return static_cast<int32_t>((static_cast<uint32_t>(x) ^ m) - m);
+  };
+  return flip(io.sym(flip(v), flip(pred), ctx + b));
 }
 
 // floor(a / 16) for the smoothed ranges (|a| < 2^40).
@@ -261,8 +266,9 @@ __attribute__((always_inline)) inline int32_t code_column(Io& io, State& st, Sta
 // candidates khat, `other`, the ring's successor and the ring above P's, else n plus the
 // zig-zag of its signed residual against khat. *u: the symbol.
 template <class Io>
-uint32_t pair_ring(Io& io, const State& st, uint32_t want, const Prev* pv, uint32_t khat,
-                   uint32_t other, uint32_t* u) {
+__attribute__((always_inline)) inline uint32_t pair_ring(Io& io, const State& st, uint32_t want,
+                                                         const Prev* pv, uint32_t khat,
+                                                         uint32_t other, uint32_t* u) {
   const uint32_t rings = static_cast<uint32_t>(st.table().rings());
   // With the previous sweep's successors, the ring that followed P's cell then comes first.
   uint32_t k0 = 0;

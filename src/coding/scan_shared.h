@@ -207,7 +207,7 @@ inline int32_t round_clamp(double v) {
   if (__builtin_expect(std::fabs(v) < 2147483647.0, 1)) {
     const double w = v + 0.5;
     const int64_t i = static_cast<int64_t>(w);
-    return static_cast<int32_t>(static_cast<double>(i) > w ? i - 1 : i);
+    return static_cast<int32_t>(i - static_cast<int64_t>(static_cast<double>(i) > w));
   }
   if (!(v == v)) return 0;
   if (v >= 2147483647.0) return INT32_MAX;
