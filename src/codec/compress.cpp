@@ -49,7 +49,17 @@ std::vector<uint8_t> compress_ragged_frames(const Take& take, const CompressOpti
     return compress_ragged(take, opts, stats, original, organized);
   Take t = take;  // its fields stay: a ring field guides the geometry coder, --drop-fields or not
   settle_frame_layout(&t, opts.drop_fields);
-  return compress_ragged(t, opts, stats, original, organized);
+  return compress_ragged(std::move(t), opts, stats, original, organized);
+}
+// The same for a take given up: its arrays go to the coder's window, not copied (a one-frame
+// take's x y z once in memory, not three times).
+std::vector<uint8_t> compress_ragged_frames(Take&& take, const CompressOptions& opts,
+                                            CompressStats* stats,
+                                            const std::string& original = std::string(),
+                                            bool organized = false) {
+  if (!take.pcd && (take.format == Format::kPLYFolder || take.format == Format::kBinFolder))
+    settle_frame_layout(&take, opts.drop_fields);
+  return compress_ragged(std::move(take), opts, stats, original, organized);
 }
 
 // An organized cloud (PCD HEIGHT above 1): its layout kept through the scan coder (FORMAT.md

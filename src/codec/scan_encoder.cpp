@@ -34,6 +34,7 @@
 #include "coding/scan_raw.h"
 #include "coding/scan_split.h"
 #include "io/frame_files.h"
+#include "io/take_source.h"
 
 namespace capz {
 namespace {
@@ -601,9 +602,10 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
   if (stats) fill_stats(r, t.total_points(), stats);
 }
 
-std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
-                                     CompressStats* stats, const std::string& original,
-                                     bool organized) {
+namespace {
+
+// compress_ragged's checks of its take.
+void check_ragged(const Take& t, const CompressOptions& opts) {
   const size_t total = t.total_points();
   if (t.frame_offsets.size() != t.frames + 1 || t.xyz.size() != total * 3 ||
       t.valid.size() != total)
@@ -617,11 +619,30 @@ std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
       fail(ErrorCode::kInvalidParameter, t.source,
            "point field '" + a.name + "' does not hold a value for every point");
   refuse_unsupported(t, opts);
-  std::unique_ptr<FrameSource> src = take_frames(t);
+}
+
+std::vector<uint8_t> encode_source_ragged(FrameSource& src, const CompressOptions& opts,
+                                          CompressStats* stats, const std::string& original,
+                                          bool organized) {
   std::vector<uint8_t> bytes;
   StreamOut out(&bytes);
-  encode_ragged(*src, opts, &out, stats, original, organized);
+  encode_ragged(src, opts, &out, stats, original, organized);
   return bytes;
+}
+
+}  // namespace
+
+std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
+                                     CompressStats* stats, const std::string& original,
+                                     bool organized) {
+  check_ragged(t, opts);
+  return encode_source_ragged(*take_frames(t), opts, stats, original, organized);
+}
+
+std::vector<uint8_t> compress_ragged(Take&& t, const CompressOptions& opts, CompressStats* stats,
+                                     const std::string& original, bool organized) {
+  check_ragged(t, opts);
+  return encode_source_ragged(*handing_take_frames(std::move(t)), opts, stats, original, organized);
 }
 
 }  // namespace capz

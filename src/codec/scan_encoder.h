@@ -36,5 +36,9 @@ void encode_ragged(FrameSource& source, const CompressOptions& opts, StreamOut* 
 std::vector<uint8_t> compress_ragged(const Take& t, const CompressOptions& opts,
                                      CompressStats* stats, const std::string& original = "",
                                      bool organized = false);
+// The same for a take given up: a window of all its frames takes its arrays instead of a copy
+// (io/take_source.h).
+std::vector<uint8_t> compress_ragged(Take&& t, const CompressOptions& opts, CompressStats* stats,
+                                     const std::string& original = "", bool organized = false);
 
 }  // namespace capz

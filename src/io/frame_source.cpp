@@ -13,6 +13,7 @@
 #include "io/c3d_internal.h"
 #include "io/pcd_folder.h"
 #include "io/ply.h"
+#include "io/take_source.h"
 #include "io/trc_internal.h"
 
 namespace capz {
@@ -183,9 +184,10 @@ class C3DSource : public FrameSource {
 
 class TakeSource : public FrameSource {
  public:
-  // `owned` keeps a take read here alive; else `take` must outlive the source.
-  TakeSource(const Take& take, std::unique_ptr<Take> owned)
-      : owned_(std::move(owned)), take_(take) {
+  // `owned` keeps a take read here alive; else `take` must outlive the source. hand_over (with
+  // `owned`): see handing_take_frames.
+  TakeSource(const Take& take, std::unique_ptr<Take> owned, bool hand_over = false)
+      : owned_(std::move(owned)), take_(take), hand_over_(hand_over && owned_) {
     header_ = header_of(take);
     std::string fault = take.shape_fault();
     if (!fault.empty()) fail(ErrorCode::kInvalidParameter, take.source, "take arrays: " + fault);
@@ -246,6 +248,9 @@ class TakeSource : public FrameSource {
  private:
   // Frames of a ragged take: the points between their offsets (no words, analog or rotations).
   void read_ragged(size_t first, size_t count, FrameBlock* out) {
+    if (handed_)
+      fail(ErrorCode::kInternal, take_.source, "a take's frames read after they were handed out");
+    if (hand_over_ && first == 0 && count == take_.frames) return hand_ragged(out);
     const std::vector<size_t>& o = take_.frame_offsets;
     out->reset(first, count, 0, 0, false, 0);
     out->frame_offsets.assign(o.begin() + static_cast<long>(first),
@@ -262,8 +267,21 @@ class TakeSource : public FrameSource {
       cut(take_.attributes[a].data, take_.attributes[a].bytes_per_point(), &out->attributes[a]);
   }
 
+  // All the frames of an owned take: its arrays moved into the block, not copied.
+  void hand_ragged(FrameBlock* out) {
+    out->reset(0, take_.frames, 0, 0, false, 0);
+    out->frame_offsets = take_.frame_offsets;
+    out->xyz.swap(owned_->xyz);
+    out->valid.swap(owned_->valid);
+    out->attributes.resize(take_.attributes.size());
+    for (size_t a = 0; a < take_.attributes.size(); ++a)
+      out->attributes[a].swap(owned_->attributes[a].data);
+    handed_ = true;
+  }
+
   std::unique_ptr<Take> owned_;
   const Take& take_;
+  bool hand_over_ = false, handed_ = false;
   bool words_ = false;
   size_t analog_ = 0, rotations_ = 0;  // analog values and rotations per frame
 };
@@ -479,6 +497,12 @@ std::unique_ptr<FrameSource> open_c3d_frames(const std::string& path) {
 
 std::unique_ptr<FrameSource> take_frames(const Take& take) {
   return std::unique_ptr<FrameSource>(new TakeSource(take, nullptr));
+}
+
+std::unique_ptr<FrameSource> handing_take_frames(Take take) {
+  std::unique_ptr<Take> t(new Take(std::move(take)));
+  const Take& ref = *t;
+  return std::unique_ptr<FrameSource>(new TakeSource(ref, std::move(t), true));
 }
 
 std::unique_ptr<FrameSource> open_frames(const std::string& path) {

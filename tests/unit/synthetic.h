@@ -144,4 +144,17 @@ inline capz::Take synthetic_sweeps(size_t frames, size_t columns0, size_t dcolum
   return t;
 }
 
+// t (a PCD take of x y z) with a U2 point field `name` whose byte i is byte(i), and the PCD
+// layout x y z F4 plus the field.
+template <class Byte>
+capz::Take with_u2_field(capz::Take t, const std::string& name, Byte byte) {
+  capz::PointAttribute a{name, 'U', 2, 1, {}};
+  a.data.resize(t.total_points() * 2);
+  for (size_t i = 0; i < a.data.size(); ++i) a.data[i] = static_cast<uint8_t>(byte(i));
+  t.attributes.push_back(a);
+  t.pcd->fields = {capz::PCDField{"x", 'F', 4, 1}, capz::PCDField{"y", 'F', 4, 1},
+                   capz::PCDField{"z", 'F', 4, 1}, capz::PCDField{name, 'U', 2, 1}};
+  return t;
+}
+
 }  // namespace capz_test

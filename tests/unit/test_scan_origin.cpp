@@ -22,14 +22,8 @@ namespace {
 
 // 4 sweeps of 16 beams, a fifth of the points without a return (NaN gaps), with a U2 field.
 Take nan_sweeps() {
-  Take t = capz_test::synthetic_sweeps(4, 300, 7, 5, 30, 3, 0.3, 5, 5, 2);
-  PointAttribute ring{"intensity", 'U', 2, 1, {}};
-  ring.data.resize(t.total_points() * 2);
-  for (size_t i = 0; i < ring.data.size(); ++i) ring.data[i] = static_cast<uint8_t>(i * 7 % 23);
-  t.attributes.push_back(ring);
-  t.pcd->fields = {PCDField{"x", 'F', 4, 1}, PCDField{"y", 'F', 4, 1}, PCDField{"z", 'F', 4, 1},
-                   PCDField{"intensity", 'U', 2, 1}};
-  return t;
+  return capz_test::with_u2_field(capz_test::synthetic_sweeps(4, 300, 7, 5, 30, 3, 0.3, 5, 5, 2),
+                                  "intensity", [](size_t i) { return i * 7 % 23; });
 }
 
 // t with its gaps made valid points at +0.0 +0.0 +0.0.
