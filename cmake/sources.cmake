@@ -119,6 +119,7 @@ set(CAPZ_ENCODE_SOURCES
   src/codec/scan_field_hints.cpp
   src/codec/scan_raw_choice.cpp
   src/codec/scan_split_choice.cpp
+  src/codec/scan_window_check.cpp
   src/codec/transform.cpp
   src/codec/ts/align.cpp
   src/codec/ts/cluster.cpp

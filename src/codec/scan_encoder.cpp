@@ -24,6 +24,7 @@
 #include "codec/scan_field_hints.h"
 #include "codec/scan_raw_choice.h"
 #include "codec/scan_split_choice.h"
+#include "codec/scan_window_check.h"
 #include "codec/stream_reader.h"
 #include "coding/attributes.h"
 #include "coding/attributes_quantum.h"
@@ -112,29 +113,6 @@ Grid choose_grid(FrameSource& src, const CompressOptions& opts, size_t W, FrameB
   return g;
 }
 
-// Throws kInternal unless the decoded window d has the counts and gaps of the frames read (b)
-// and every valid coordinate within the bound, also as the float32 a PCD writer stores
-// (lossless: bit for bit).
-void check_window(const Take& t, const FrameBlock& b, const FrameBlock& d, double bound,
-                  bool exact) {
-  const bool f32 = float32_frames(t);
-  bool counts = d.frames == b.frames && d.ragged() && d.valid.size() == b.valid.size();
-  for (size_t k = 0; counts && k < b.frames; ++k) counts = d.frame_points(k) == b.frame_points(k);
-  if (!counts) fail(ErrorCode::kInternal, t.source, "self-check: frame counts differ");
-  for (size_t i = 0; i < d.valid.size(); ++i) {
-    if (d.valid[i] != b.valid[i]) fail(ErrorCode::kInternal, t.source, "self-check: gaps differ");
-    if (!d.valid[i]) continue;
-    for (size_t a = 0; a < 3; ++a) {
-      const double x = b.xyz[3 * i + a], y = d.xyz[3 * i + a];
-      const double y32 = f32 ? static_cast<double>(static_cast<float>(y)) : y;
-      if (exact ? !same_bits(x, y) : !(std::fabs(y - x) <= bound && std::fabs(y32 - x) <= bound))
-        fail(ErrorCode::kInternal, t.source,
-             "self-check: coordinate " + std::to_string(x) + " comes back as " + std::to_string(y) +
-                 ", off by more than " + std::to_string(bound));
-    }
-  }
-}
-
 // The organized shape META keeps for t's frames (FORMAT.md "Ragged frames: HEAD and the window
 // chunk"): its PCD layout's width x height when that is every frame's count, else the count x 1.
 // Throws kInvalidParameter when the frames' counts differ or are 0.
@@ -185,17 +163,6 @@ Take meta_take_of(const Take& t, const CompressOptions& opts, bool organized) {
   return m;
 }
 
-// Throws kInternal unless the decoded window's fields are `fields`, byte for byte.
-void check_fields(const Take& t, const std::vector<std::vector<uint8_t>>& fields,
-                  const FrameBlock& d) {
-  if (d.attributes.size() != fields.size())
-    fail(ErrorCode::kInternal, t.source, "self-check: the fields come back as another number");
-  for (size_t a = 0; a < fields.size(); ++a)
-    if (d.attributes[a] != fields[a])
-      fail(ErrorCode::kInternal, t.source,
-           "self-check: field " + t.attributes[a].name + " does not come back byte for byte");
-}
-
 // What encode_ragged carries from window to window.
 struct RaggedRun {
   const Take& t;  // the source's header
@@ -210,7 +177,7 @@ struct RaggedRun {
   ErrorAccumulator acc;
   ResidueWriter* residue = nullptr;  // a lossless stream of a folder: PCDP per window
   std::vector<uint8_t> buf;          // the window's chunks
-  FrameBlock back;                   // the window decoded again (kept: its memory is reused)
+  WindowChecks* checks = nullptr;    // the self-check of each window (decodes_windows)
   int fine;                          // the last SCNW's fine shift (FORMAT.md "Raster frames")
   ScanWorkspace scan_ws;             // the scan coder's maps, kept from window to window
   bool origin;                       // the window's gaps are origin points (SCNW's gaps bit 0)
@@ -480,17 +447,11 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b) {
     keep_smaller(r, w, at, &offer.block, offer.coded, b, &q, &fields);
   if (r.origin) origin_points(b);  // b as read again
   if (!raw) keep_raw_if_smaller(r, w, at, *b, &q, &fields);
-  FrameBlock& d = r.back;
-  if (decodes_windows(r)) {
-    decode_window_chunks(r.ctx, w, r.buf.data(), base, base + r.buf.size(), &d);
-    check_window(t, *b, d, r.opts.max_error, r.grid.lossless);
-    check_fields(t, fields, d);
-    r.acc.add_ragged(b->frames, d.frame_offsets.data(), b->xyz.data(), d.xyz.data(),
-                     b->valid.data());
-  }
-  if (r.residue) {  // last in the window, rebuilt from d by the self-check
+  // The self-check (beside the next window's coding, it takes b and the fields).
+  if (decodes_windows(r)) r.checks->check(w, r.buf.data(), r.buf.size(), base, b, &fields);
+  if (r.residue) {  // last in the window, rebuilt from the self-check's decode (in place)
     b->attributes = std::move(fields);
-    r.residue->window_chunk(w, *b, decodes_windows(r) ? &d : nullptr, &r.buf);
+    r.residue->window_chunk(w, *b, decodes_windows(r) ? &r.checks->decoded() : nullptr, &r.buf);
   }
   r.index.push_back(IndexEntry{base, r.buf.size()});
   r.out->flush(&r.buf);
@@ -577,7 +538,7 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
               ErrorAccumulator(),
               residue.get(),
               {},
-              FrameBlock(),
+              nullptr,
               0,
               ScanWorkspace(),
               false,
@@ -589,12 +550,19 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
     r.key_fields = std::any_of(specs.begin(), specs.end(), attr::is_key_field);
   }
   const size_t W = h.window_frames;
+  // With threads, each window's self-check runs beside the next window's coding (not with a
+  // residue, which is written from the check's decode; nor for one window).
+  const bool beside =
+      decodes_windows(r) && !residue && resolve_threads(opts.threads) > 1 && t.frames > W;
+  WindowChecks checks(t, ctx, opts.max_error, grid.lossless, beside, &r.acc);
+  r.checks = &checks;
   for (size_t w = 0; w * W < t.frames; ++w) {
     const size_t f0 = w * W, f1 = std::min<size_t>(f0 + W, t.frames);
     if (w > 0) src.read(f0, f1 - f0, &block);  // window 0: still there from pass 1
     code_window(r, w, &block);
     if (opts.progress) opts.progress(f1, t.frames);
   }
+  checks.finish();
   if (residue) residue->finish();
   std::vector<uint8_t> tail;
   append_chunk(&tail, "INDX", encode_index(r.index));

@@ -198,6 +198,25 @@ TEST(ThreadsSynthetic, SameStreamAndTakeForEveryThreadCount) {
   check_compress(t, o, "ts transform output");
 }
 
+// Ragged sweeps through the scan coder, whose windows' self-checks run beside the next window's
+// coding with threads: the same stream, stats and take for every count, at a bound (the fields
+// kept, and dropped) and with --point-order any.
+TEST(ThreadsSynthetic, ScanWindowsTheSameForEveryThreadCount) {
+  const capz::Take t =
+      capz_test::with_u2_field(capz_test::synthetic_sweeps(7, 150, 37, 5, 40, 3, 0.3, 7, 23, 5),
+                               "ring", [](size_t i) { return i % 2 ? 0 : i / 2 % 16; });
+  capz::CompressOptions o;
+  o.window_frames = 2;  // 4 windows
+  o.max_error = 0.001;
+  check_compress(t, o, "scan at a bound");
+  o.drop_fields = true;
+  check_compress(t, o, "scan without fields");
+  o.drop_fields = false;
+  o.any_point_order = true;
+  o.max_error = 0.01;
+  check_compress(t, o, "scan reordered");
+}
+
 TEST(ThreadsSynthetic, ThreadsZeroMeansAllCoresAndNegativeIsRejected) {
   const capz::Take t = synthetic_take(200, 5, 0);
   capz::CompressOptions o;
