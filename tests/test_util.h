@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -105,6 +106,37 @@ inline void expect_same_samples(const capz::Take& a, const capz::Take& b) {
   }
   EXPECT_EQ(differ, 0u) << "first differing sample: frame " << first / (a.points ? a.points : 1)
                         << ", point " << first % (a.points ? a.points : 1);
+}
+
+// Every per-frame array of the two takes, bit for bit (x y z and analog samples by their bits,
+// NaN payloads too), with the frame offsets, labels and warnings.
+inline void expect_same_take(const capz::Take& a, const capz::Take& b) {
+  ASSERT_EQ(a.frames, b.frames);
+  ASSERT_EQ(a.points, b.points);
+  EXPECT_EQ(a.frame_offsets, b.frame_offsets);
+  EXPECT_EQ(a.valid, b.valid);
+  ASSERT_EQ(a.xyz.size(), b.xyz.size());
+  if (!a.xyz.empty()) {
+    EXPECT_EQ(std::memcmp(a.xyz.data(), b.xyz.data(), a.xyz.size() * sizeof(double)), 0);
+  }
+  ASSERT_EQ(a.analog.values.size(), b.analog.values.size());
+  if (!a.analog.values.empty()) {
+    EXPECT_EQ(std::memcmp(a.analog.values.data(), b.analog.values.data(),
+                          a.analog.values.size() * sizeof(double)),
+              0);
+  }
+  EXPECT_EQ(a.rotations.matrices, b.rotations.matrices);
+  EXPECT_EQ(a.rotations.reliability, b.rotations.reliability);
+  ASSERT_EQ(a.attributes.size(), b.attributes.size());
+  for (size_t i = 0; i < a.attributes.size(); ++i)
+    EXPECT_TRUE(a.attributes[i].data == b.attributes[i].data) << a.attributes[i].name;
+  ASSERT_EQ(a.c3d != nullptr, b.c3d != nullptr);
+  if (a.c3d) {
+    EXPECT_EQ(a.c3d->residual, b.c3d->residual);
+    EXPECT_EQ(a.c3d->camera_mask, b.c3d->camera_mask);
+  }
+  EXPECT_EQ(a.labels, b.labels);
+  EXPECT_EQ(a.warnings, b.warnings);
 }
 
 // Shapes *t for frames of these point counts: a fixed take when they are all the same, else a

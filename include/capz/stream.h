@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -168,6 +169,15 @@ void compress_stream(FrameSource& source, const CompressOptions& opts, const std
 // when the sink asks and cannot skip it, or when a write without it needs redoing), then
 // commits the sink.
 void copy_frames(FrameSource& source, FrameSink& sink, size_t block = 1024);
+
+// Every frame of the source as one take in memory (the header's metadata, the frames' arrays,
+// and the source's frame_warnings() added to its warnings: read_take() of a frame folder is
+// this), read `block` frames at a time (0: the source's preferred_block(), at most 64).
+// progress, when set, is called with (frames read, frames) after each block; what it throws
+// stops the read and leaves this call.
+Take read_all_frames(FrameSource& source,
+                     const std::function<void(size_t, size_t)>& progress = nullptr,
+                     size_t block = 0);
 
 // Writes every frame of the source to `path` (create_frame_sink: the bytes write_take writes of
 // the whole take), `block` frames at a time (0: the source's preferred_block()). A frame folder

@@ -400,9 +400,10 @@ def read(
     memory_limit: for a .capz, the most bytes of decoded samples it may ask for (None: 4 GiB,
     DEFAULT_MEMORY_LIMIT, or 1024 bytes per byte of the archive when that is more; 0: no limit);
     a stream asking for more raises capz.Error with code "memory-limit" before anything is
-    allocated (the CLI's --memlimit). For a .capz, progress(frames_done, frames_total) is called
-    after each window decoded, and Ctrl-C (or an exception progress raises) stops the decoding at
-    the end of the window at hand; other inputs are read whole.
+    allocated (the CLI's --memlimit). progress(frames_done, frames_total) is called after each
+    window decoded of a .capz, and after each block of up to 64 frames read of other inputs;
+    Ctrl-C (or an exception progress raises) stops the reading at the end of the window or block
+    at hand.
     """
     return _capz.read(_path(path, "path"), _memory_limit(memory_limit), progress)
 

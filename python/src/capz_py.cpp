@@ -342,8 +342,9 @@ void bind_functions(py::module_& m) {
         o.memory_limit = memory_limit;
         o.progress = python_progress(progress);
         t = capz::decompress(bytes.data(), bytes.size(), path, o);
-      } else {
-        t = capz::read_take(path);
+      } else {  // read_take's take, block by block: progress and Ctrl-C between blocks
+        std::unique_ptr<capz::FrameSource> src = capz::open_frames(path);
+        t = capz::read_all_frames(*src, python_progress(progress));
       }
     }
     return adopt(std::move(t));

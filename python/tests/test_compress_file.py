@@ -180,3 +180,32 @@ def test_decompress_and_read_report_each_window_and_stop_on_an_exception(tmp_pat
         capz.decompress(data, progress=stop)
     with pytest.raises(Stop):
         capz.read(out, progress=stop)
+
+
+def test_read_of_a_folder_reports_each_block_and_stops_on_an_exception(tmp_path):
+    # Frame folders and files (and C3D, TRC) are read a block at a time (up to 64 frames):
+    # progress after each, and an exception it raises, or Ctrl-C, stops the read there.
+    src = shared("repo:lidar_small")
+    whole = capz.read(src)
+    seen = []
+    back = capz.read(src, progress=lambda done, total: seen.append((done, total)))
+    assert seen and seen[-1] == (whole.frames, whole.frames)
+    assert [d for d, _ in seen] == sorted(set(d for d, _ in seen))
+    assert np.array_equal(back.xyz, whole.xyz, equal_nan=True)
+    assert np.array_equal(back.valid, whole.valid)
+    frames = str(tmp_path / "frames")
+    rng = np.random.default_rng(2)
+    with warnings.catch_warnings():  # (PCD frames keep no frame rate)
+        warnings.simplefilter("ignore")
+        capz.write(capz.Take.from_arrays(rng.normal(0, 1, (200, 64, 3)), units="m"), frames)
+    calls = []
+
+    def stop(done, total):
+        calls.append(done)
+        if len(calls) == 2:
+            raise Stop("enough")
+
+    with pytest.raises(Stop):
+        capz.read(frames, progress=stop)
+    assert len(calls) == 2 and calls[1] < 200
+

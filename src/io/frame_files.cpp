@@ -328,25 +328,6 @@ void FileFrameSource::read_frames(size_t first, size_t count, FrameBlock* out, b
   }
 }
 
-Take read_all_frames(FrameSource& source) {
-  Take t = source.header();
-  const size_t F = t.frames;
-  // The take grows block by block (not sized for every file up front), so memory follows what
-  // has actually been read and checked, not what the headers announce.
-  FrameBlock b;
-  const size_t B = std::max<size_t>(1, source.preferred_block());
-  for (size_t f = 0; f < F; f += B) {
-    source.read(f, std::min(B, F - f), &b);
-    t.xyz.insert(t.xyz.end(), b.xyz.begin(), b.xyz.end());
-    t.valid.insert(t.valid.end(), b.valid.begin(), b.valid.end());
-    for (size_t a = 0; a < t.attributes.size() && a < b.attributes.size(); ++a)
-      t.attributes[a].data.insert(t.attributes[a].data.end(), b.attributes[a].begin(),
-                                  b.attributes[a].end());
-  }
-  for (const std::string& w : source.frame_warnings()) t.warnings.push_back(w);
-  return t;
-}
-
 const char* frame_extension(Format f) {
   return f == Format::kPCDFolder   ? ".pcd"
          : f == Format::kPLYFolder ? ".ply"

@@ -149,7 +149,4 @@ class FileFrameSource : public FrameSource {
   void read_frames(size_t first, size_t count, FrameBlock* out, bool coordinates);
 };
 
-// Every frame of a source read into one take (the header's metadata, the frames' arrays).
-Take read_all_frames(FrameSource& source);
-
 }  // namespace capz

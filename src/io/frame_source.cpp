@@ -2,6 +2,7 @@
 // Frame sources and sinks (include/capz/stream.h): C3D read by frame ranges, an in-memory take,
 // a C3D, a TRC and folders of frame files written block by block, and the whole-take fallback.
 #include <algorithm>
+#include <functional>
 #include <memory>
 
 #include "capz/error.h"
@@ -287,12 +288,12 @@ class TakeSource : public FrameSource {
 };
 
 // ---------------------------------------------------------------------------------------------
-// Collects the frames and writes the whole take at commit (C3D files whose int16 scale must
-// come from the data).
-class WholeTakeSink : public FrameSink {
+// A take grown block by block from a source's header and its frames (read_all_frames,
+// WholeTakeSink).
+class TakeCollector {
  public:
-  WholeTakeSink(const Take& header, bool words, const std::string& path, const WriteOptions& opts)
-      : take_(header), words_(words), path_(path), opts_(opts) {
+  TakeCollector(const Take& header, bool words, const std::string& name)
+      : take_(header), words_(words), name_(name) {
     if (take_.ragged()) take_.frame_offsets.assign(1, 0);  // grows block by block
     take_.xyz.clear();
     take_.valid.clear();
@@ -306,9 +307,9 @@ class WholeTakeSink : public FrameSink {
       take_.c3d->camera_mask.clear();
     }
   }
-  void write(const FrameBlock& b) override {
+  void add(const FrameBlock& b) {
     if (b.ragged() != take_.ragged())
-      fail(ErrorCode::kInternal, path_, "a block of another shape than the take's");
+      fail(ErrorCode::kInternal, name_, "a block of another shape than the take's");
     for (size_t k = 0; k < b.frames && b.ragged(); ++k)
       take_.frame_offsets.push_back(take_.frame_offsets.back() + b.frame_points(k));
     take_.xyz.insert(take_.xyz.end(), b.xyz.begin(), b.xyz.end());
@@ -319,7 +320,7 @@ class WholeTakeSink : public FrameSink {
     r.reliability.insert(r.reliability.end(), b.rotation_reliability.begin(),
                          b.rotation_reliability.end());
     if (b.attributes.size() != take_.attributes.size())
-      fail(ErrorCode::kInternal, path_, "a block without the take's point fields");
+      fail(ErrorCode::kInternal, name_, "a block without the take's point fields");
     for (size_t a = 0; a < take_.attributes.size(); ++a)
       take_.attributes[a].data.insert(take_.attributes[a].data.end(), b.attributes[a].begin(),
                                       b.attributes[a].end());
@@ -329,11 +330,26 @@ class WholeTakeSink : public FrameSink {
                                     b.camera_mask.end());
     }
   }
-  void commit() override { write_take(take_, path_, opts_); }
+  const Take& take() const { return take_; }
+  Take release() { return std::move(take_); }
 
  private:
   Take take_;
   bool words_;
+  std::string name_;
+};
+
+// Collects the frames and writes the whole take at commit (C3D files whose int16 scale must
+// come from the data).
+class WholeTakeSink : public FrameSink {
+ public:
+  WholeTakeSink(const Take& header, bool words, const std::string& path, const WriteOptions& opts)
+      : take_(header, words, path), path_(path), opts_(opts) {}
+  void write(const FrameBlock& b) override { take_.add(b); }
+  void commit() override { write_take(take_.take(), path_, opts_); }
+
+ private:
+  TakeCollector take_;
   std::string path_;
   WriteOptions opts_;
 };
@@ -562,6 +578,23 @@ void copy_frames(FrameSource& source, FrameSink& sink, size_t block) {
     prescan = sink.wants_prescan();  // before a rewrite, if the sink still needs one
   }
   sink.commit();
+}
+
+Take read_all_frames(FrameSource& source, const std::function<void(size_t, size_t)>& progress,
+                     size_t block) {
+  const Take& h = source.header();
+  TakeCollector c(h, source.has_sample_words(), h.source);
+  if (block == 0) block = std::min<size_t>(source.preferred_block(), 64);
+  FrameBlock b;
+  for (size_t f = 0; f < h.frames; f += block) {
+    const size_t n = std::min(block, h.frames - f);
+    source.read(f, n, &b);
+    c.add(b);
+    if (progress) progress(f + n, h.frames);
+  }
+  Take t = c.release();
+  for (const std::string& w : source.frame_warnings()) t.warnings.push_back(w);
+  return t;
 }
 
 void write_frames(FrameSource& source, const std::string& path, const WriteOptions& opts,

@@ -45,29 +45,6 @@ void expect_same_stats(const capz::CompressStats& a, const capz::CompressStats& 
   EXPECT_EQ(std::memcmp(&a.error.kg_error, &b.error.kg_error, sizeof(double)), 0);
 }
 
-// Every per-frame array of the two takes, bit for bit.
-void expect_same_take(const capz::Take& a, const capz::Take& b) {
-  ASSERT_EQ(a.frames, b.frames);
-  ASSERT_EQ(a.points, b.points);
-  EXPECT_EQ(a.valid, b.valid);
-  ASSERT_EQ(a.xyz.size(), b.xyz.size());
-  EXPECT_EQ(std::memcmp(a.xyz.data(), b.xyz.data(), a.xyz.size() * sizeof(double)), 0);
-  ASSERT_EQ(a.analog.values.size(), b.analog.values.size());
-  EXPECT_EQ(std::memcmp(a.analog.values.data(), b.analog.values.data(),
-                        a.analog.values.size() * sizeof(double)),
-            0);
-  EXPECT_EQ(a.rotations.matrices, b.rotations.matrices);
-  EXPECT_EQ(a.rotations.reliability, b.rotations.reliability);
-  ASSERT_EQ(a.attributes.size(), b.attributes.size());
-  for (size_t i = 0; i < a.attributes.size(); ++i)
-    EXPECT_TRUE(a.attributes[i].data == b.attributes[i].data) << a.attributes[i].name;
-  ASSERT_EQ(a.c3d != nullptr, b.c3d != nullptr);
-  if (a.c3d) {
-    EXPECT_EQ(a.c3d->residual, b.c3d->residual);
-    EXPECT_EQ(a.c3d->camera_mask, b.c3d->camera_mask);
-  }
-}
-
 // compress() of the take with 1, 2 and 8 threads: the same bytes and stats; decompress() of them
 // with 1, 2 and 8 threads: the same take. Returns the stream.
 std::vector<uint8_t> check_compress(const capz::Take& take, capz::CompressOptions o,
@@ -89,7 +66,7 @@ std::vector<uint8_t> check_compress(const capz::Take& take, capz::CompressOption
   for (int t : kThreads) {
     if (t == 1) continue;
     d.threads = t;
-    expect_same_take(back, capz::decompress(one.data(), one.size(), what, d));
+    capz_test::expect_same_take(back, capz::decompress(one.data(), one.size(), what, d));
   }
   return one;
 }
@@ -127,7 +104,7 @@ void check_stream(const std::string& in, capz::CompressOptions o) {
     if (t == 1)
       first = got;
     else
-      expect_same_take(first, got);
+      capz_test::expect_same_take(first, got);
   }
   const capz::OriginalInfo info = capz::original_info(capz_path);
   if (!capz::can_rebuild(info, first.format == capz::Format::kC3D)) return;
