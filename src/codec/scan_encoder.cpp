@@ -321,24 +321,28 @@ void code_raw_chunks(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<in
   if (!r.meta.attributes.empty()) append_fields_chunk(r, w, fields, bounded, b, *q, {});
 }
 
-// The position and field bytes counted before a window's chunks.
+// The position and field bytes counted before a window's chunks, and the fields' LZMA rests
+// its codings start from.
 struct WindowBytes {
   size_t position, attribute;
+  std::vector<uint8_t> lzma_rest;
 };
 
-// Window w's chunks in r.buf (the byte counts from `at` on) replaced by those `code` appends
-// to an empty r.buf when they are smaller: true, the caller then takes what `code` made; else
-// false, r.buf and the counts as they were.
+// Window w's chunks in r.buf (the byte counts and LZMA rests from `at` on) replaced by those
+// `code` appends to an empty r.buf when they are smaller: true, the caller then takes what `code`
+// made; else false, r.buf, the counts and the rests as they were.
 template <class Code>
 bool replaced_if_smaller(RaggedRun& r, const WindowBytes& at, Code code) {
   std::vector<uint8_t> first;
   first.swap(r.buf);
-  const WindowBytes first_at{r.position_bytes, r.attribute_bytes};
+  WindowBytes first_at{r.position_bytes, r.attribute_bytes, at.lzma_rest};
+  first_at.lzma_rest.swap(r.lzma_rest);
   r.position_bytes = at.position, r.attribute_bytes = at.attribute;
   code();
   if (r.buf.size() < first.size()) return true;
   r.buf.swap(first);
   r.position_bytes = first_at.position, r.attribute_bytes = first_at.attribute;
+  r.lzma_rest.swap(first_at.lzma_rest);
   return false;
 }
 
@@ -434,7 +438,7 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b) {
   r.buf.clear();
   std::vector<int32_t> q;
   std::vector<std::vector<uint8_t>> fields;
-  const WindowBytes at{r.position_bytes, r.attribute_bytes};
+  const WindowBytes at{r.position_bytes, r.attribute_bytes, r.lzma_rest};
   if (raw) {
     fields = std::move(b->attributes);
     code_raw_chunks(r, w, *b, &q, &fields, true);

@@ -585,6 +585,8 @@ Take read_all_frames(FrameSource& source, const std::function<void(size_t, size_
   const Take& h = source.header();
   TakeCollector c(h, source.has_sample_words(), h.source);
   if (block == 0) block = std::min<size_t>(source.preferred_block(), 64);
+  // The take grows block by block (not sized for every file up front), so memory follows what
+  // has been read and checked, not what the headers announce.
   FrameBlock b;
   for (size_t f = 0; f < h.frames; f += block) {
     const size_t n = std::min(block, h.frames - f);
