@@ -184,6 +184,7 @@ struct RaggedRun {
   bool key_fields = false;           // META has a field predictor 13 may code (attr::is_key_field)
   int last_split = scan::kNoSplit;   // mode 2: the window before's (choose_split's start)
   std::vector<uint8_t> lzma_rest;    // the fields' LZMA trials skipped (RaggedFields::lzma_rest)
+  RaggedFields::NearMemory near;     // the fields' neighbour trial skipped (RaggedFields::near)
 };
 
 // The SCNW chunk of window w (the frames of b), appended to r.buf; *q gets the integers the
@@ -276,6 +277,7 @@ void append_fields_chunk(RaggedRun& r, size_t w, std::vector<std::vector<uint8_t
   });
   RaggedFields ragged;
   ragged.lzma_rest = &r.lzma_rest;
+  ragged.near = &r.near;
   ragged.xyz = xyz.data();
   ragged.ring = rings.size() == n ? rings.data() : nullptr;
   if (q.size() == 3 * n && n > 0 && b.frame_offsets.size() > 1 && b.frame_offsets.back() == n) {
@@ -321,28 +323,30 @@ void code_raw_chunks(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<in
   if (!r.meta.attributes.empty()) append_fields_chunk(r, w, fields, bounded, b, *q, {});
 }
 
-// The position and field bytes counted before a window's chunks, and the fields' LZMA rests
+// The position and field bytes counted before a window's chunks, and the fields' trial rests
 // its codings start from.
 struct WindowBytes {
   size_t position, attribute;
   std::vector<uint8_t> lzma_rest;
+  RaggedFields::NearMemory near;
 };
 
-// Window w's chunks in r.buf (the byte counts and LZMA rests from `at` on) replaced by those
+// Window w's chunks in r.buf (the byte counts and trial rests from `at` on) replaced by those
 // `code` appends to an empty r.buf when they are smaller: true, the caller then takes what `code`
 // made; else false, r.buf, the counts and the rests as they were.
 template <class Code>
 bool replaced_if_smaller(RaggedRun& r, const WindowBytes& at, Code code) {
   std::vector<uint8_t> first;
   first.swap(r.buf);
-  WindowBytes first_at{r.position_bytes, r.attribute_bytes, at.lzma_rest};
+  WindowBytes first_at{r.position_bytes, r.attribute_bytes, at.lzma_rest, r.near};
   first_at.lzma_rest.swap(r.lzma_rest);
-  r.position_bytes = at.position, r.attribute_bytes = at.attribute;
+  r.position_bytes = at.position, r.attribute_bytes = at.attribute, r.near = at.near;
   code();
   if (r.buf.size() < first.size()) return true;
   r.buf.swap(first);
   r.position_bytes = first_at.position, r.attribute_bytes = first_at.attribute;
   r.lzma_rest.swap(first_at.lzma_rest);
+  r.near = first_at.near;
   return false;
 }
 
@@ -438,7 +442,7 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b) {
   r.buf.clear();
   std::vector<int32_t> q;
   std::vector<std::vector<uint8_t>> fields;
-  const WindowBytes at{r.position_bytes, r.attribute_bytes, r.lzma_rest};
+  const WindowBytes at{r.position_bytes, r.attribute_bytes, r.lzma_rest, r.near};
   if (raw) {
     fields = std::move(b->attributes);
     code_raw_chunks(r, w, *b, &q, &fields, true);
@@ -548,6 +552,7 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
               false,
               false,
               scan::kNoSplit,
+              {},
               {}};
   if (!meta_take.attributes.empty()) {
     const std::vector<AttrSpec> specs = attribute_specs(meta_take.pcd->fields);

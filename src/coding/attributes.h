@@ -49,9 +49,18 @@ struct RaggedFields {
   const size_t* frame_offsets = nullptr;
   size_t frames = 0;
   std::vector<uint8_t>* lzma_rest = nullptr;
+  // The same for the window's trial of predictors 10 and 11 (whether their neighbour search
+  // pays): its answer, taken without the trial in the next kNearRest windows; nullptr: the
+  // trial runs in every window.
+  struct NearMemory {
+    uint8_t rest = 0;
+    bool pays = false;
+  };
+  NearMemory* near = nullptr;
 };
 constexpr double kLzmaRestRatio = 0.9;
 constexpr uint8_t kLzmaRest = 7;  // windows: the trial comes back every eighth
+constexpr uint8_t kNearRest = 7;
 
 // The ATTR payload after the window index: per attribute, its transform and data.
 // valid: the window's gap mask (frames x points, from POSW / MASK), or nullptr for none (the

@@ -328,6 +328,21 @@ bool near_pays(const std::vector<AttrSpec>& specs, const std::vector<std::vector
   return false;
 }
 
+// near_pays, or with the ragged run's memory (RaggedFields::near) the answer of its last trial in
+// the kNearRest windows after it.
+bool near_answer(const std::vector<AttrSpec>& specs, const std::vector<std::vector<uint8_t>>& data,
+                 const uint8_t* valid, bool gaps, const int32_t* q, size_t n,
+                 const RaggedFields& ragged) {
+  RaggedFields::NearMemory* m = ragged.near;
+  if (m && m->rest > 0) {
+    --m->rest;
+    return m->pays;
+  }
+  const bool pays = near_pays(specs, data, valid, gaps, q, n, ragged);
+  if (m) *m = RaggedFields::NearMemory{kNearRest, pays};
+  return pays;
+}
+
 }  // namespace
 
 bool is_colour_field(const AttrSpec& s) {
@@ -375,7 +390,7 @@ struct FieldCoder {
       if (!valid) all_valid.assign(n, 1);
       valid = valid ? valid : all_valid.data();
     }
-    if (q && points > 1 && (!ragged || near_pays(specs, data, valid, gaps, q, points, *ragged)))
+    if (q && points > 1 && (!ragged || near_answer(specs, data, valid, gaps, q, points, *ragged)))
       near = nearest_points(q, valid, frames, points);
   }
 

@@ -1,7 +1,9 @@
-// RaggedFields::lzma_rest, the scan encoder's memory of the fields' LZMA trials from window to
-// window: a field whose predictive coding beat LZMA by the margin skips the trials for the next
-// kLzmaRest windows (the same bytes while the predictive coding stays the smaller); a field that
-// LZMA codes smaller keeps its trial every window; a skipped window's field still decodes.
+// The scan encoder's memory of the fields' trials from window to window (RaggedFields):
+// - lzma_rest: a field whose predictive coding beat LZMA by the margin skips the trials for the
+//   next kLzmaRest windows (the same bytes while the predictive coding stays the smaller); a
+//   field that LZMA codes smaller keeps its trial every window; a resting field still decodes;
+// - near: the answer of the neighbour predictors' trial is taken without the trial for the next
+//   kNearRest windows; a resting answer that they do not pay codes without them, and decodes.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -85,6 +87,65 @@ TEST(AttrLzmaRest, ASkippedFieldIsCodedPredictivelyAndDecodes) {
   EXPECT_GT(skipped.size(), alone.size() + 1000);
   EXPECT_EQ(decode(w, skipped), w.data);
   EXPECT_EQ(decode(w, alone), w.data);
+}
+
+// One frame of 6000 points at random grid positions with an intensity smooth in space (in the
+// points' random order only a neighbour predicts it).
+struct Spatial {
+  std::vector<AttrSpec> specs = {capz_test::field_spec("intensity", 'F', 4)};
+  std::vector<std::vector<uint8_t>> data = std::vector<std::vector<uint8_t>>(1);
+  std::vector<uint8_t> valid;
+  std::vector<int32_t> q;
+  size_t n = 6000;
+  Spatial() {
+    std::mt19937 rng(3);
+    valid.assign(n, 1);
+    for (size_t i = 0; i < n; ++i) {
+      for (int a = 0; a < 3; ++a) q.push_back(static_cast<int32_t>(rng() % (a == 2 ? 50 : 4000)));
+      const float v = 0.25f + 0.0002f * static_cast<float>(q[3 * i]) +
+                      0.0001f * static_cast<float>(q[3 * i + 1]);
+      uint8_t b[4];
+      std::memcpy(b, &v, 4);
+      data[0].insert(data[0].end(), b, b + 4);
+    }
+  }
+  std::vector<uint8_t> encode(RaggedFields::NearMemory* m) const {
+    RaggedFields rf;
+    rf.near = m;
+    return encode_attributes(specs, data, valid.data(), 1, n, n, q.data(), true, &rf);
+  }
+  std::vector<std::vector<uint8_t>> decode(const std::vector<uint8_t>& e) const {
+    RaggedFields rf;
+    std::vector<std::vector<uint8_t>> back;
+    decode_attributes(e.data(), e.size(), specs, valid.data(), 1, n, n, &back, "test", q.data(),
+                      &rf);
+    return back;
+  }
+};
+
+TEST(AttrNearRest, TheAnswerRestsAndIsTakenWithoutTheTrial) {
+  const Spatial s;
+  const std::vector<uint8_t> alone = s.encode(nullptr);
+  RaggedFields::NearMemory m;
+  EXPECT_EQ(s.encode(&m), alone);  // the trial's window: a coding without the memory's bytes
+  EXPECT_EQ(m.rest, kNearRest);
+  EXPECT_TRUE(m.pays);
+  for (int k = 1; k <= kNearRest; ++k) {
+    EXPECT_EQ(s.encode(&m), alone) << k;
+    EXPECT_EQ(m.rest, kNearRest - k);
+    EXPECT_TRUE(m.pays);
+  }
+  EXPECT_EQ(s.decode(alone), s.data);
+}
+
+TEST(AttrNearRest, ARestingNoCodesWithoutTheNeighboursAndDecodes) {
+  const Spatial s;
+  const std::vector<uint8_t> alone = s.encode(nullptr);
+  RaggedFields::NearMemory m{3, false};
+  const std::vector<uint8_t> without = s.encode(&m);
+  EXPECT_EQ(m.rest, 2);
+  EXPECT_GT(without.size(), alone.size());
+  EXPECT_EQ(s.decode(without), s.data);
 }
 
 }  // namespace
