@@ -39,27 +39,31 @@ void refuse_scans(const Take& t, const CompressOptions& opts) {
          "for byte, in their order; give --max-error, or keep the order");
 }
 
-// A ragged take, one of PLY or .bin frames with the point layout META stores for it (also
-// without point fields). original, organized: as compress_ragged's.
-std::vector<uint8_t> compress_ragged_frames(const Take& take, const CompressOptions& opts,
-                                            CompressStats* stats,
-                                            const std::string& original = std::string(),
-                                            bool organized = false) {
-  if (take.pcd || (take.format != Format::kPLYFolder && take.format != Format::kBinFolder))
-    return compress_ragged(take, opts, stats, original, organized);
-  Take t = take;  // its fields stay: a ring field guides the geometry coder, --drop-fields or not
-  settle_frame_layout(&t, opts.drop_fields);
-  return compress_ragged(std::move(t), opts, stats, original, organized);
+// Whether a ragged take's frames are PLY or .bin frames, whose point layout META stores is
+// settled first (settle_frame_layout; also without point fields).
+bool settles_layout(const Take& take) {
+  return !take.pcd && (take.format == Format::kPLYFolder || take.format == Format::kBinFolder);
 }
-// The same for a take given up: its arrays go to the coder's window, not copied (a one-frame
-// take's x y z once in memory, not three times).
+
+// A ragged take given up (its arrays go to the coder's window, not copied: a one-frame take's
+// x y z once in memory, not three times), PLY or .bin frames with their layout settled.
+// original, organized: as compress_ragged's.
 std::vector<uint8_t> compress_ragged_frames(Take&& take, const CompressOptions& opts,
                                             CompressStats* stats,
                                             const std::string& original = std::string(),
                                             bool organized = false) {
-  if (!take.pcd && (take.format == Format::kPLYFolder || take.format == Format::kBinFolder))
-    settle_frame_layout(&take, opts.drop_fields);
+  // Its fields stay: a ring field guides the geometry coder, --drop-fields or not.
+  if (settles_layout(take)) settle_frame_layout(&take, opts.drop_fields);
   return compress_ragged(std::move(take), opts, stats, original, organized);
+}
+// The same for a take the caller keeps: read where it is, or copied when its layout is settled.
+std::vector<uint8_t> compress_ragged_frames(const Take& take, const CompressOptions& opts,
+                                            CompressStats* stats,
+                                            const std::string& original = std::string(),
+                                            bool organized = false) {
+  if (settles_layout(take))
+    return compress_ragged_frames(Take(take), opts, stats, original, organized);
+  return compress_ragged(take, opts, stats, original, organized);
 }
 
 // An organized cloud (PCD HEIGHT above 1): its layout kept through the scan coder (FORMAT.md

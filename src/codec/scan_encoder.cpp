@@ -183,8 +183,7 @@ struct RaggedRun {
   bool origin;                       // the window's gaps are origin points (SCNW's gaps bit 0)
   bool key_fields = false;           // META has a field predictor 13 may code (attr::is_key_field)
   int last_split = scan::kNoSplit;   // mode 2: the window before's (choose_split's start)
-  std::vector<uint8_t> lzma_rest;    // the fields' LZMA trials skipped (RaggedFields::lzma_rest)
-  RaggedFields::NearMemory near;     // the fields' neighbour trial skipped (RaggedFields::near)
+  FieldTrials trials;                // the fields' trials skipped (RaggedFields::trials)
 };
 
 // The SCNW chunk of window w (the frames of b), appended to r.buf; *q gets the integers the
@@ -276,8 +275,7 @@ void append_fields_chunk(RaggedRun& r, size_t w, std::vector<std::vector<uint8_t
                                : dequantise_as<decltype(m)::value>(r.grid, q[3 * i + a], 0) * fine;
   });
   RaggedFields ragged;
-  ragged.lzma_rest = &r.lzma_rest;
-  ragged.near = &r.near;
+  ragged.trials = &r.trials;
   ragged.xyz = xyz.data();
   ragged.ring = rings.size() == n ? rings.data() : nullptr;
   if (q.size() == 3 * n && n > 0 && b.frame_offsets.size() > 1 && b.frame_offsets.back() == n) {
@@ -327,8 +325,7 @@ void code_raw_chunks(RaggedRun& r, size_t w, const FrameBlock& b, std::vector<in
 // its codings start from.
 struct WindowBytes {
   size_t position, attribute;
-  std::vector<uint8_t> lzma_rest;
-  RaggedFields::NearMemory near;
+  FieldTrials trials;
 };
 
 // Window w's chunks in r.buf (the byte counts and trial rests from `at` on) replaced by those
@@ -338,15 +335,14 @@ template <class Code>
 bool replaced_if_smaller(RaggedRun& r, const WindowBytes& at, Code code) {
   std::vector<uint8_t> first;
   first.swap(r.buf);
-  WindowBytes first_at{r.position_bytes, r.attribute_bytes, at.lzma_rest, r.near};
-  first_at.lzma_rest.swap(r.lzma_rest);
-  r.position_bytes = at.position, r.attribute_bytes = at.attribute, r.near = at.near;
+  WindowBytes first_at{r.position_bytes, r.attribute_bytes, at.trials};
+  std::swap(first_at.trials, r.trials);
+  r.position_bytes = at.position, r.attribute_bytes = at.attribute;
   code();
   if (r.buf.size() < first.size()) return true;
   r.buf.swap(first);
   r.position_bytes = first_at.position, r.attribute_bytes = first_at.attribute;
-  r.lzma_rest.swap(first_at.lzma_rest);
-  r.near = first_at.near;
+  std::swap(r.trials, first_at.trials);
   return false;
 }
 
@@ -442,7 +438,7 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b) {
   r.buf.clear();
   std::vector<int32_t> q;
   std::vector<std::vector<uint8_t>> fields;
-  const WindowBytes at{r.position_bytes, r.attribute_bytes, r.lzma_rest, r.near};
+  const WindowBytes at{r.position_bytes, r.attribute_bytes, r.trials};
   if (raw) {
     fields = std::move(b->attributes);
     code_raw_chunks(r, w, *b, &q, &fields, true);
@@ -552,7 +548,6 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
               false,
               false,
               scan::kNoSplit,
-              {},
               {}};
   if (!meta_take.attributes.empty()) {
     const std::vector<AttrSpec> specs = attribute_specs(meta_take.pcd->fields);

@@ -38,25 +38,28 @@ bool has_unit_candidate(const std::vector<AttrSpec>& specs);
 // ScanGeometry::kNoRing for none), or nullptr when no point has one.
 // q, frame_offsets, frames: the window's SCNW integers (x y z per point) and its frames' point
 // offsets (frames + 1 of them), for predictor 12's sweep cells; nullptr / 0 when not given.
-// lzma_rest: the encoder's own, carried from window to window of one stream (any choice decodes):
-// per field (specs' order), the windows left in which its LZMA transforms are not tried, set
-// after a window where they were tried and its predictive coding was under kLzmaRestRatio of the
-// smallest (coded or estimated); nullptr: they are tried in every window.
+// trials: the encoder's memory of the stream's field trials (FieldTrials), or nullptr: every
+// trial runs in every window.
+// The encoder's own, carried from window to window of one ragged stream (any choice decodes):
+// - lzma_rest: per field (specs' order), the windows left in which its LZMA transforms are not
+//   tried, set after a window where they were tried and its predictive coding was under
+//   kLzmaRestRatio of the smallest (coded or estimated);
+// - near: the answer of the window's trial of predictors 10 and 11 (whether their neighbour
+//   search pays), taken without the trial in the kNearRest windows after it (rest: those left).
+struct FieldTrials {
+  std::vector<uint8_t> lzma_rest;
+  struct Near {
+    uint8_t rest = 0;
+    bool pays = false;
+  } near;
+};
 struct RaggedFields {
   const double* xyz = nullptr;
   const uint16_t* ring = nullptr;
   const int32_t* q = nullptr;
   const size_t* frame_offsets = nullptr;
   size_t frames = 0;
-  std::vector<uint8_t>* lzma_rest = nullptr;
-  // The same for the window's trial of predictors 10 and 11 (whether their neighbour search
-  // pays): its answer, taken without the trial in the next kNearRest windows; nullptr: the
-  // trial runs in every window.
-  struct NearMemory {
-    uint8_t rest = 0;
-    bool pays = false;
-  };
-  NearMemory* near = nullptr;
+  FieldTrials* trials = nullptr;
 };
 constexpr double kLzmaRestRatio = 0.9;
 constexpr uint8_t kLzmaRest = 7;  // windows: the trial comes back every eighth

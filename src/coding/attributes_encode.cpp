@@ -328,19 +328,37 @@ bool near_pays(const std::vector<AttrSpec>& specs, const std::vector<std::vector
   return false;
 }
 
-// near_pays, or with the ragged run's memory (RaggedFields::near) the answer of its last trial in
+// near_pays, or with the ragged run's memory (FieldTrials::near) the answer of its last trial in
 // the kNearRest windows after it.
 bool near_answer(const std::vector<AttrSpec>& specs, const std::vector<std::vector<uint8_t>>& data,
                  const uint8_t* valid, bool gaps, const int32_t* q, size_t n,
                  const RaggedFields& ragged) {
-  RaggedFields::NearMemory* m = ragged.near;
+  FieldTrials::Near* m = ragged.trials ? &ragged.trials->near : nullptr;
   if (m && m->rest > 0) {
     --m->rest;
     return m->pays;
   }
   const bool pays = near_pays(specs, data, valid, gaps, q, n, ragged);
-  if (m) *m = RaggedFields::NearMemory{kNearRest, pays};
+  if (m) *m = FieldTrials::Near{kNearRest, pays};
   return pays;
+}
+
+// The run's memory of the LZMA trials (FieldTrials::lzma_rest) for `fields` fields, or null.
+FieldTrials* lzma_memory(const RaggedFields* ragged, size_t fields) {
+  FieldTrials* t = ragged ? ragged->trials : nullptr;
+  if (t) t->lzma_rest.resize(fields, 0);
+  return t;
+}
+// Whether field a's LZMA transforms are tried in this window.
+bool lzma_tried(const FieldTrials* t, size_t a) {
+  return !t || t->lzma_rest[a] == 0;
+}
+// The memory after field a's codings in this window (`tried` as lzma_tried said; ratio: the
+// largest of the codings' FieldCoder::code ratios).
+void lzma_after(FieldTrials* t, size_t a, bool tried, double ratio) {
+  if (!t) return;
+  uint8_t& rest = t->lzma_rest[a];
+  rest = !tried ? static_cast<uint8_t>(rest - 1) : ratio < kLzmaRestRatio ? kLzmaRest : uint8_t{0};
 }
 
 }  // namespace
@@ -475,9 +493,17 @@ std::vector<uint8_t> encode_attributes(const std::vector<AttrSpec>& specs,
                                        const uint8_t* valid, size_t frames, size_t points,
                                        size_t width, const int32_t* q, bool estimate,
                                        const RaggedFields* ragged, bool estimate_split) {
-  std::vector<std::vector<uint8_t>> copy = data;
-  return encode_attributes_within(specs, {}, &copy, valid, frames, points, width, q, estimate,
-                                  ragged, estimate_split);
+  const FieldCoder coder(specs, data, valid, frames, points, width, q, estimate, ragged,
+                         estimate_split);
+  FieldTrials* trials = lzma_memory(ragged, specs.size());
+  ByteWriter w;
+  for (size_t a : coding_order(specs, ragged != nullptr)) {
+    const bool lzma = lzma_tried(trials, a);
+    double ratio = 0;
+    w.bytes(coder.code(data, a, lzma, &ratio));
+    lzma_after(trials, a, lzma, ratio);
+  }
+  return std::move(w.buffer());
 }
 
 bool quantise_field(const AttrSpec& s, double bound, std::vector<uint8_t>* bytes) {
@@ -526,11 +552,10 @@ std::vector<uint8_t> encode_attributes_within(const std::vector<AttrSpec>& specs
                                               const RaggedFields* ragged, bool estimate_split) {
   const FieldCoder coder(specs, *data, valid, frames, points, width, q, estimate, ragged,
                          estimate_split);
-  std::vector<uint8_t>* rest = ragged ? ragged->lzma_rest : nullptr;
-  if (rest) rest->resize(specs.size(), 0);
+  FieldTrials* trials = lzma_memory(ragged, specs.size());
   ByteWriter w;
   for (size_t a : coding_order(specs, ragged != nullptr)) {
-    const bool lzma = !rest || (*rest)[a] == 0;
+    const bool lzma = lzma_tried(trials, a);
     double ratio = 0, moved_ratio = 0;  // (FieldCoder::code's)
     std::vector<uint8_t> best = coder.code(*data, a, lzma, &ratio);
     const double bound = a < bounds.size() ? bounds[a] : 0;
@@ -544,9 +569,7 @@ std::vector<uint8_t> encode_attributes_within(const std::vector<AttrSpec>& specs
       else
         (*data)[a].swap(moved);  // exact, which is within any bound, and not larger
     }
-    if (rest && !lzma) --(*rest)[a];
-    if (rest && lzma)
-      (*rest)[a] = std::max(ratio, moved_ratio) < kLzmaRestRatio ? kLzmaRest : uint8_t{0};
+    lzma_after(trials, a, lzma, std::max(ratio, moved_ratio));
     w.bytes(best);
   }
   return std::move(w.buffer());

@@ -1,4 +1,4 @@
-// The scan encoder's memory of the fields' trials from window to window (RaggedFields):
+// The scan encoder's memory of the fields' trials from window to window (FieldTrials):
 // - lzma_rest: a field whose predictive coding beat LZMA by the margin skips the trials for the
 //   next kLzmaRest windows (the same bytes while the predictive coding stays the smaller); a
 //   field that LZMA codes smaller keeps its trial every window; a resting field still decodes;
@@ -43,9 +43,9 @@ Window window(size_t n, uint32_t start) {
   return w;
 }
 
-std::vector<uint8_t> encode(const Window& w, std::vector<uint8_t>* rest) {
+std::vector<uint8_t> encode(const Window& w, FieldTrials* trials) {
   RaggedFields rf;
-  rf.lzma_rest = rest;
+  rf.trials = trials;
   return encode_attributes(w.specs, w.data, w.valid.data(), 1, w.n, w.n, nullptr, true, &rf);
 }
 
@@ -60,20 +60,21 @@ std::vector<std::vector<uint8_t>> decode(const Window& w, const std::vector<uint
 TEST(AttrLzmaRest, TheTrialRestsWhilePredictionWins) {
   const Window w = window(40000, 100000);
   const std::vector<uint8_t> alone = encode(w, nullptr);
-  std::vector<uint8_t> rest;
+  FieldTrials trials;
+  const std::vector<uint8_t>& rest = trials.lzma_rest;
   // The first window tries every transform: the bytes of a coding without the memory.
-  EXPECT_EQ(encode(w, &rest), alone);
+  EXPECT_EQ(encode(w, &trials), alone);
   ASSERT_EQ(rest.size(), 2u);
   EXPECT_EQ(rest[0], kLzmaRest);  // the drift: predicted far below LZMA
   EXPECT_EQ(rest[1], 0);          // the pattern: LZMA's, tried again
   // The next windows skip the drift's trials and count down; the bytes stay the same.
   for (int k = 1; k <= kLzmaRest; ++k) {
-    EXPECT_EQ(encode(w, &rest), alone) << k;
+    EXPECT_EQ(encode(w, &trials), alone) << k;
     EXPECT_EQ(rest[0], kLzmaRest - k);
     EXPECT_EQ(rest[1], 0);
   }
   // The eighth tries them again.
-  EXPECT_EQ(encode(w, &rest), alone);
+  EXPECT_EQ(encode(w, &trials), alone);
   EXPECT_EQ(rest[0], kLzmaRest);
 }
 
@@ -81,8 +82,10 @@ TEST(AttrLzmaRest, ASkippedFieldIsCodedPredictivelyAndDecodes) {
   const Window w = window(40000, 700000);
   const std::vector<uint8_t> alone = encode(w, nullptr);
   // The pattern's trial resting (as if an earlier window had been predictable): not LZMA.
-  std::vector<uint8_t> rest = {0, 3};
-  const std::vector<uint8_t> skipped = encode(w, &rest);
+  FieldTrials trials;
+  trials.lzma_rest = {0, 3};
+  const std::vector<uint8_t>& rest = trials.lzma_rest;
+  const std::vector<uint8_t> skipped = encode(w, &trials);
   EXPECT_EQ(rest[1], 2);
   EXPECT_GT(skipped.size(), alone.size() + 1000);
   EXPECT_EQ(decode(w, skipped), w.data);
@@ -109,9 +112,9 @@ struct Spatial {
       data[0].insert(data[0].end(), b, b + 4);
     }
   }
-  std::vector<uint8_t> encode(RaggedFields::NearMemory* m) const {
+  std::vector<uint8_t> encode(FieldTrials* trials) const {
     RaggedFields rf;
-    rf.near = m;
+    rf.trials = trials;
     return encode_attributes(specs, data, valid.data(), 1, n, n, q.data(), true, &rf);
   }
   std::vector<std::vector<uint8_t>> decode(const std::vector<uint8_t>& e) const {
@@ -126,12 +129,13 @@ struct Spatial {
 TEST(AttrNearRest, TheAnswerRestsAndIsTakenWithoutTheTrial) {
   const Spatial s;
   const std::vector<uint8_t> alone = s.encode(nullptr);
-  RaggedFields::NearMemory m;
-  EXPECT_EQ(s.encode(&m), alone);  // the trial's window: a coding without the memory's bytes
+  FieldTrials trials;
+  const FieldTrials::Near& m = trials.near;
+  EXPECT_EQ(s.encode(&trials), alone);  // the trial's window: a coding without the memory's bytes
   EXPECT_EQ(m.rest, kNearRest);
   EXPECT_TRUE(m.pays);
   for (int k = 1; k <= kNearRest; ++k) {
-    EXPECT_EQ(s.encode(&m), alone) << k;
+    EXPECT_EQ(s.encode(&trials), alone) << k;
     EXPECT_EQ(m.rest, kNearRest - k);
     EXPECT_TRUE(m.pays);
   }
@@ -141,8 +145,10 @@ TEST(AttrNearRest, TheAnswerRestsAndIsTakenWithoutTheTrial) {
 TEST(AttrNearRest, ARestingNoCodesWithoutTheNeighboursAndDecodes) {
   const Spatial s;
   const std::vector<uint8_t> alone = s.encode(nullptr);
-  RaggedFields::NearMemory m{3, false};
-  const std::vector<uint8_t> without = s.encode(&m);
+  FieldTrials trials;
+  trials.near = FieldTrials::Near{3, false};
+  const FieldTrials::Near& m = trials.near;
+  const std::vector<uint8_t> without = s.encode(&trials);
   EXPECT_EQ(m.rest, 2);
   EXPECT_GT(without.size(), alone.size());
   EXPECT_EQ(s.decode(without), s.data);
