@@ -52,12 +52,16 @@ class BreakdownIo {
  public:
   BreakdownIo(const capz::ScanGeometry& g, const capz::scan::Placement& placed)
       : g_(g), placed_(placed) {
-    for (auto& e : enc_) e.reset(new capz::IntEncoder(capz::scan::kContexts));
+    for (auto& e : enc_) {
+      e.reset(new capz::IntEncoder(capz::scan::kContexts));
+      e->add_bit_models();
+    }
   }
   int32_t sym(int32_t actual, int32_t pred, int ctx) {
     put(capz::zigzag(capz::wrap_sub(actual, pred)), ctx);
     return actual;
   }
+  int32_t sym_plain(int32_t actual, int32_t pred, int ctx) { return sym(actual, pred, ctx); }
   uint32_t ring(uint32_t d, uint32_t, int ctx) { return put(d, ctx), d; }
   bool flag(bool v, int ctx) { return put(v, ctx), v; }
   capz::scan::Polar polar(size_t i) const { return placed_.polar[i]; }
@@ -94,7 +98,7 @@ class BreakdownIo {
                   : ctx < kCtxPairRing   ? 2
                   : ctx >= kCtxShare     ? 2  // the column against the firing's base
                                          : 1;
-    enc_[k]->put(u, ctx);
+    capz::scan::put_value(*enc_[k], u, ctx);
   }
   const capz::ScanGeometry& g_;
   const capz::scan::Placement& placed_;

@@ -99,6 +99,15 @@ class IntEncoder {
       return tok;
     }
     int put_signed(int32_t v, int ctx, int eset = 0) { return put(zigzag(v), ctx, eset); }
+    // FORMAT.md 2.8 (a block with binary models, IntEncoder::add_bit_models): a bit with
+    // context ctx's binary model; u zero first (the bit u != 0, then u - 1 if it is 1).
+    __attribute__((always_inline)) void put_bit(bool b, int ctx) {
+      bit_models_[ctx].encode(this, b);
+    }
+    __attribute__((always_inline)) void put_zero_first(uint32_t u, int ctx) {
+      put_bit(u != 0, ctx);
+      if (u != 0) put(u - 1, ctx);
+    }
     // One symbol 0..15 with the context's model itself: no token, no escape (FORMAT.md 2.3).
     void put_symbol(int s, int ctx) { models_[ctx].encode(this, s); }
     // n raw bits of v (0 <= n <= 32), uncompressed.
@@ -118,6 +127,7 @@ class IntEncoder {
     std::vector<uint8_t>* bits_out_ = nullptr;
     SymbolModel* models_ = nullptr;
     SymbolModel* escape_ = nullptr;
+    BitModel* bit_models_ = nullptr;
   };
 
   explicit IntEncoder(int contexts = 1) : models_(static_cast<size_t>(contexts)) {
@@ -132,11 +142,18 @@ class IntEncoder {
   void skew_contexts() {
     for (SymbolModel& m : models_) m.skew();
   }
+  // Gives every context a binary model too (FORMAT.md 2.8), before anything is coded.
+  void add_bit_models() {
+    bit_models_.assign(models_.size(), BitModel());
+    cur_.bit_models_ = bit_models_.data();
+  }
   // Starts context ctx's model on its first m symbols (SymbolModel::restrict).
   void restrict_context(int ctx, int m) { models_[static_cast<size_t>(ctx)].restrict(m); }
   int put(uint32_t u, int ctx, int eset = 0) { return cur_.put(u, ctx, eset); }
   int put_signed(int32_t v, int ctx, int eset = 0) { return cur_.put_signed(v, ctx, eset); }
   void put_symbol(int s, int ctx) { cur_.put_symbol(s, ctx); }
+  void put_bit(bool b, int ctx) { cur_.put_bit(b, ctx); }
+  void put_zero_first(uint32_t u, int ctx) { cur_.put_zero_first(u, ctx); }
   void raw_bits(uint32_t v, int n) { cur_.raw_bits(v, n); }
   // The range coder's interval [start, start + freq) of kTotal, for a caller's own model.
   void encode(uint32_t start, uint32_t freq) { cur_.encode(start, freq); }
@@ -154,6 +171,7 @@ class IntEncoder {
  private:
   std::vector<SymbolModel> models_;
   SymbolModel escape_[kEscapeLevels * kEscapeSets];
+  std::vector<BitModel> bit_models_;
   std::vector<uint8_t> rc_out_, bits_out_;
   Cursor cur_;
 };
@@ -193,6 +211,18 @@ class IntDecoder {
     __attribute__((always_inline)) int32_t get_signed(int ctx, int* tok, int eset = 0) {
       return unzigzag(get(ctx, tok, eset));
     }
+    // FORMAT.md 2.8 (a block with binary models, IntDecoder::add_bit_models): a bit; a value
+    // zero first.
+    __attribute__((always_inline)) bool get_bit(int ctx) {
+      return bit_models_[ctx].decode(&rc_, *what_);
+    }
+    __attribute__((always_inline)) uint32_t get_zero_first(int ctx) {
+      if (!get_bit(ctx)) return 0;
+      int tok;
+      const uint32_t v = get(ctx, &tok);
+      if (__builtin_expect(v == 0xFFFFFFFFu, 0)) corrupt("zero-first value out of range");
+      return v + 1;
+    }
     // The symbol put_symbol coded.
     int get_symbol(int ctx) { return models_[ctx].decode(this); }
     // For SymbolModel::decode.
@@ -206,6 +236,7 @@ class IntDecoder {
     BitReader bits_;
     SymbolModel* models_ = nullptr;
     SymbolModel* escape_ = nullptr;
+    BitModel* bit_models_ = nullptr;
     const std::string* what_ = nullptr;
   };
 
@@ -230,6 +261,11 @@ class IntDecoder {
   void skew_contexts() {
     for (SymbolModel& m : models_) m.skew();
   }
+  // Gives every context a binary model too (FORMAT.md 2.8), before anything is decoded.
+  void add_bit_models() {
+    bit_models_.assign(models_.size(), BitModel());
+    cur_.bit_models_ = bit_models_.data();
+  }
   void restrict_context(int ctx, int m) { models_[static_cast<size_t>(ctx)].restrict(m); }
   Cursor cursor() const { return cur_; }
   void commit(const Cursor& c) { cur_ = c; }
@@ -238,6 +274,7 @@ class IntDecoder {
   std::string what_;
   std::vector<SymbolModel> models_;
   SymbolModel escape_[kEscapeLevels * kEscapeSets];
+  std::vector<BitModel> bit_models_;
   Cursor cur_;
 };
 

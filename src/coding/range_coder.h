@@ -144,6 +144,14 @@ class RangeDecoder {
       if (v >= kTotal) throw_corrupt(what, "entropy-coded value out of range");
       return v;
     }
+    // A binary model's bit (FORMAT.md 2.8): 1 when the target is at least p0, without the
+    // division; consume(start, freq) follows.
+    __attribute__((always_inline)) bool decide(uint32_t p0, const std::string& what) {
+      r = range >> kTotalBits;
+      if (__builtin_expect(code >= (r << kTotalBits), 0))
+        throw_corrupt(what, "entropy-coded value out of range");
+      return code >= r * p0;
+    }
     void consume(uint32_t start, uint32_t freq, const std::string& what) {
       code -= r * start;
       range = r * freq;
@@ -380,6 +388,39 @@ class SymbolModel {
 
   int count_ = 0;
   alignas(16) uint16_t cum_[kSymbols + 8];  // cum_[16] = kTotal; the rest is padding
+};
+
+// Adaptive binary model (docs/FORMAT.md 2.8): q, the chance of a 0 in 2^-22, adapting at the
+// symbol models' rates; coded as p = q >> 7 within [kBitFloor, kTotal - kBitFloor].
+class BitModel {
+ public:
+  static constexpr uint32_t kBitFloor = 64, kOne = 1u << 22;
+  template <typename Enc>
+  __attribute__((always_inline)) void encode(Enc* enc, bool bit) {
+    const uint32_t p = coded();
+    enc->encode(bit ? p : 0u, bit ? kTotal - p : p);
+    update(bit);
+  }
+  // dec: a RangeDecoder::Core; what names the block in errors.
+  __attribute__((always_inline)) bool decode(RangeDecoder::Core* dec, const std::string& what) {
+    const uint32_t p = coded();
+    const bool bit = dec->decide(p, what);
+    dec->consume(bit ? p : 0u, bit ? kTotal - p : p, what);
+    update(bit);
+    return bit;
+  }
+
+ private:
+  uint32_t coded() const {
+    return std::min(std::max(q_ >> (22 - kTotalBits), kBitFloor), kTotal - kBitFloor);
+  }
+  __attribute__((always_inline)) void update(bool bit) {
+    const int r = detail::kRates.r[count_];
+    count_ += count_ < 256;
+    q_ = bit ? q_ - (q_ >> r) : q_ + ((kOne - q_) >> r);
+  }
+  uint32_t q_ = kOne / 2;
+  uint32_t count_ = 0;
 };
 
 }  // namespace capz

@@ -22,22 +22,20 @@ class DecodeIo {
  public:
   // Decodes through a copy of dec's cursor (entropy.h): commit() stores it back at the end.
   explicit DecodeIo(IntDecoder* dec) : dec_(dec), c_(dec->cursor()) {}
+  // The block's values (FORMAT.md "Zero first"; scan::value_kind).
   __attribute__((always_inline)) int32_t sym(int32_t, int32_t pred, int ctx) {
+    return wrap_add(pred, unzigzag(c_.get_zero_first(ctx)));
+  }
+  __attribute__((always_inline)) int32_t sym_plain(int32_t, int32_t pred, int ctx) {
     int tok;
     return wrap_add(pred, c_.get_signed(ctx, &tok));
   }
   __attribute__((always_inline)) uint32_t ring(uint32_t, uint32_t rings, int ctx) {
-    int tok;
-    const uint32_t d = c_.get(ctx, &tok);
+    const uint32_t d = c_.get_zero_first(ctx);
     if (d >= rings) c_.corrupt("ring residual beyond the laser table");
     return d;
   }
-  __attribute__((always_inline)) bool flag(bool, int ctx) {
-    int tok;
-    const uint32_t v = c_.get(ctx, &tok);
-    if (v > 1) c_.corrupt("point validity flag is neither 0 nor 1");
-    return v == 1;
-  }
+  __attribute__((always_inline)) bool flag(bool, int ctx) { return c_.get_bit(ctx); }
   scan::Polar polar(size_t) const { return {}; }
   scan::Fire fire(size_t) const { return {}; }
   const int32_t* actual(size_t) const { return zero_; }
@@ -76,6 +74,7 @@ ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& 
     size_for_overwrite(&g.q, 3 * total);  // every value written below
   g.valid.resize(total);
   IntDecoder dec(data + h.body, size - h.body, scan::kContexts, what);
+  dec.add_bit_models();
   scan::State st(h.table);
   if (rings) {
     g.ring.assign(total, ScanGeometry::kNoRing);

@@ -193,7 +193,7 @@ uint8_t code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanG
   if (spherical_wins(*st, flags, coded, g, placed, f, first, n, s)) {
     if (record) {
       IntEncoder::Cursor c = enc->cursor();
-      for (const Sym& y : s->trial) c.put(y.u, static_cast<int>(y.ctx));
+      for (const Sym& y : s->trial) scan::put_value(c, y.u, static_cast<int>(y.ctx));
       enc->commit(c);
     } else {  // coded again, as the trial did (the map's cells written again, the same)
       st->clear_sweep();
@@ -217,7 +217,9 @@ uint8_t code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanG
 // the frames' flags. (The encoder points into itself and the state at its table: neither moves.)
 struct Coding {
   Coding(const scan::Table& t, std::shared_ptr<scan::SweepMaps> maps)
-      : enc(new IntEncoder(scan::kContexts)), st(new scan::State(t, std::move(maps))) {}
+      : enc(new IntEncoder(scan::kContexts)), st(new scan::State(t, std::move(maps))) {
+    enc->add_bit_models();
+  }
   std::unique_ptr<IntEncoder> enc;
   std::unique_ptr<scan::State> st;
   std::vector<uint8_t> flags;

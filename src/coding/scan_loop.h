@@ -39,7 +39,8 @@ inline int argmin(const uint32_t* s, int n) {
 
 // FORMAT's fraction rule: v against pred, the rounding of u (fr = u - pred, known to the
 // decoder): the context by |fr| (3 from ctx), the residual's sign flipped when fr < 0.
-template <class Io>
+// (kPlain: the value is one of value_kind's plain ones, coded by io.sym_plain.)
+template <bool kPlain = false, class Io>
 __attribute__((always_inline)) inline int32_t sym_fraction(Io& io, int32_t v, int32_t pred,
                                                            double fr, int ctx) {
   // Without branches (fr is as likely either way): b by two comparisons, the sign flipped by
@@ -50,6 +51,7 @@ __attribute__((always_inline)) inline int32_t sym_fraction(Io& io, int32_t v, in
   const auto flip = [m](int32_t x) {
     return static_cast<int32_t>((static_cast<uint32_t>(x) ^ m) - m);
   };
+  if (kPlain) return flip(io.sym_plain(flip(v), flip(pred), ctx + b));
   return flip(io.sym(flip(v), flip(pred), ctx + b));
 }
 
@@ -134,7 +136,7 @@ __attribute__((always_inline)) inline void code_cartesian(Io& io, State& st, con
                                                           int32_t* p) {
   for (int ax = 0; ax < 3; ++ax) {
     const int ctx = kCtxCart + ax * 8 + std::min((st.last_bits[ax] + 1) / 2, 7);
-    p[ax] = io.sym(a[ax], st.last[ax], ctx);
+    p[ax] = io.sym_plain(a[ax], st.last[ax], ctx);
     st.last_bits[ax] = bit_length(wrap_sub(p[ax], st.last[ax]));
     st.last[ax] = p[ax];
   }
@@ -448,10 +450,11 @@ __attribute__((always_inline)) inline void code_spherical(Io& io, State& st, con
   const int sr = detail::argmin(r.score_range, nr);
   const int g = std::min(bit_length(r.score_range[sr] >> 1), 15);
   const int32_t range =
-      sr == 2 && mapped ? sym_fraction(io, pa.range, cand[2],
-                                       static_cast<double>(smooth - int64_t{cand[2]} * 16) / 16.0,
-                                       kCtxRangeFrac + 3 * (g >> 1))
-                        : io.sym(pa.range, cand[sr], kCtxRange + g);
+      sr == 2 && mapped
+          ? sym_fraction<true>(io, pa.range, cand[2],
+                               static_cast<double>(smooth - int64_t{cand[2]} * 16) / 16.0,
+                               kCtxRangeFrac + 3 * (g >> 1))
+          : io.sym_plain(pa.range, cand[sr], kCtxRange + g);
   for (int j = 0; j < nr; ++j) score(&r.score_range[j], range, cand[j]);
   // x y on the column's azimuth at that range, z on the ring's cone.
   const bool units = !t.unit.empty();

@@ -76,7 +76,7 @@ void code_frame(Io& io, const Pixels& px, State& st, uint8_t flags, size_t first
     const int j = st.score[1] < st.score[0] ? 1 : 0;
     const int rctx = kCtxRange + std::min(bit_length(st.score[j] >> 1), 15);
     const int32_t pred = j ? c1 : c0;
-    const int32_t rho = io.sym(io.rho(first + i, pred), pred, rctx);
+    const int32_t rho = io.sym_plain(io.rho(first + i, pred), pred, rctx);
     scan::detail::score(&st.score[0], rho, c0);  // as the other frames' scores (scan_loop.h)
     scan::detail::score(&st.score[1], rho, c1);
     st.range[pu] = rho, st.has[pu] = 1, st.last = rho;

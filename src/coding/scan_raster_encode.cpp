@@ -236,11 +236,12 @@ class EncodeIo {
         t_(t),
         unit_(std::ldexp(hints.step, -t.fine)) {}
   int32_t sym(int32_t actual, int32_t pred, int ctx) {
-    enc_->put_signed(wrap_sub(actual, pred), ctx);
+    scan::put_value(*enc_, zigzag(wrap_sub(actual, pred)), ctx);
     return actual;
   }
+  int32_t sym_plain(int32_t actual, int32_t pred, int ctx) { return sym(actual, pred, ctx); }
   bool flag(bool actual, int ctx) {
-    enc_->put(actual ? 1u : 0u, ctx);
+    scan::put_value(*enc_, actual ? 1u : 0u, ctx);
     return actual;
   }
   bool actual_valid(size_t i) const { return g_.valid[i] != 0; }
@@ -395,6 +396,7 @@ std::vector<uint8_t> code_raster(const ScanGeometry& g, const ScanHints& hints, 
   for (size_t j = 0; j < vint.size(); ++j) px.v[j] = vint[j] * unit;
   if (t.fine == 0) rho = ranges(g, r, px, c);
   IntEncoder enc(kContexts);
+  enc.add_bit_models();
   put_pixels(vint, r.count, &enc);
   EncodeIo io(&enc, g, hints, r, px, rho, t);
   State st(r.count);

@@ -134,6 +134,37 @@ enum Ctx : int {
   kContexts = kCtxSlots + 8,
 };
 
+// How the block codes a value of context ctx (FORMAT.md "Zero first"): ranges (spherical and
+// raster frames'), Cartesian frames' residuals and the pixel table as plain hybrid tokens (most
+// of them are not 0), flags by their bit only, every other value zero first. (The Io's sym_plain
+// codes the plain ones, sym the zero-first ones.)
+enum class ValueKind { kPlain, kZeroFirst, kFlag };
+constexpr ValueKind value_kind(int ctx) {
+  return (ctx >= kCtxRange && ctx < kCtxRange + 16) || (ctx >= kCtxCart && ctx < kCtxRaster + 3) ||
+                 (ctx >= kCtxRaster + 5 && ctx < kCtxRaster + 21) ||
+                 (ctx >= kCtxRangeFrac && ctx < kCtxRangeFrac + 24)
+             ? ValueKind::kPlain
+         : ctx < kCtxValid + 2 || (ctx >= kCtxWalkRepeat && ctx < kCtxWalkColumn)
+             ? ValueKind::kFlag
+             : ValueKind::kZeroFirst;
+}
+// Codes u (a residual's zig-zag, or an unsigned value) under ctx as the block does; Enc: an
+// IntEncoder or its Cursor, with binary models.
+template <class Enc>
+__attribute__((always_inline)) inline void put_value(Enc& enc, uint32_t u, int ctx) {
+  switch (value_kind(ctx)) {
+    case ValueKind::kPlain:
+      enc.put(u, ctx);
+      break;
+    case ValueKind::kFlag:
+      enc.put_bit(u != 0, ctx);
+      break;
+    case ValueKind::kZeroFirst:
+      enc.put_zero_first(u, ctx);
+      break;
+  }
+}
+
 // A point's validity under the frame's validity mode (FORMAT: a flag per point in mode 1, under
 // the previous point's flag); *prev_valid carries that flag from point to point.
 template <class Io>
@@ -385,6 +416,7 @@ class State {
 
 // The one frame loop. Io provides:
 //   int32_t sym(int32_t actual, int32_t pred, int ctx)  -> the value (actual when encoding)
+//   int32_t sym_plain(...) as sym, for the contexts value_kind says are plain
 //   uint32_t ring(uint32_t actual_residual, uint32_t rings, int ctx) -> the ring residual
 //   bool flag(bool actual, int ctx)
 //   Polar polar(size_t i) (encoder: the point's ring, column, range; decoder: anything)

@@ -23,7 +23,7 @@ namespace scan_sinks {
 // Codes into the block.
 struct PutSink {
   IntEncoder* enc;
-  void put(uint32_t u, int ctx) { enc->put(u, ctx); }
+  void put(uint32_t u, int ctx) { scan::put_value(*enc, u, ctx); }
 };
 // The bits the block would take: each context's tokens under adaptive counts (about what the
 // range coder's models learn) plus the raw bits below the token, summed symbol by symbol. The
@@ -182,9 +182,13 @@ class EncodeIo {
  public:
   EncodeIo(Sink* sink, const ScanGeometry& g, const scan::Placement& placed)
       : sink_(sink), g_(g), polar_(placed.polar.data()), fire_(placed.fire.data()) {}
+  // (The sink codes each value as its context says: scan::value_kind.)
   __attribute__((always_inline)) int32_t sym(int32_t actual, int32_t pred, int ctx) {
     sink_->put(zigzag(wrap_sub(actual, pred)), ctx);
     return actual;
+  }
+  __attribute__((always_inline)) int32_t sym_plain(int32_t actual, int32_t pred, int ctx) {
+    return sym(actual, pred, ctx);
   }
   __attribute__((always_inline)) uint32_t ring(uint32_t d, uint32_t, int ctx) {
     sink_->put(d, ctx);

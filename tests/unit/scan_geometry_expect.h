@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -137,6 +138,7 @@ class BlockIo {
     put(zigzag(wrap_sub(actual, pred)), ctx);
     return actual;
   }
+  int32_t sym_plain(int32_t actual, int32_t pred, int ctx) { return sym(actual, pred, ctx); }
   uint32_t ring(uint32_t d, uint32_t, int ctx) { return put(d, ctx), d; }
   bool flag(bool v, int ctx) { return put(v ? 1u : 0u, ctx), v; }
   scan::Polar polar(size_t i) const { return placed_.polar[i]; }
@@ -148,12 +150,18 @@ class BlockIo {
 
  private:
   void put(uint32_t u, int ctx) {
-    enc_->put(u, ctx);
+    scan::put_value(*enc_, u, ctx);
     const bool ring_or_column = ctx < scan::kCtxRange || ctx >= scan::kCtxWalkRepeat;
-    if (ring_or_column) apart_.put(u, ctx);
+    if (ring_or_column) scan::put_value(apart_, u, ctx);
+  }
+  static std::unique_ptr<IntEncoder> with_bit_models() {
+    std::unique_ptr<IntEncoder> e(new IntEncoder(scan::kContexts));
+    e->add_bit_models();
+    return e;
   }
   IntEncoder* enc_;
-  IntEncoder apart_{scan::kContexts};
+  std::unique_ptr<IntEncoder> apart_owner_ = with_bit_models();
+  IntEncoder& apart_ = *apart_owner_;
   const ScanGeometry& g_;
   const scan::Placement& placed_;
 };
@@ -166,6 +174,7 @@ inline std::vector<uint8_t> one_frame_payload(const ScanGeometry& g, const ScanH
   const scan::Table t = scan::table_for(g, scan::fit_rings(g, h, false), 1.0, false, &placed);
   EXPECT_GT(t.rings(), 0u);
   IntEncoder enc(scan::kContexts);
+  enc.add_bit_models();
   BlockIo io(&enc, g, placed);
   scan::State st(t);
   std::vector<int32_t> q(g.q.size());

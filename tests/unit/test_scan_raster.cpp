@@ -73,16 +73,19 @@ std::vector<uint8_t> two_point_payload(int32_t pixel1, uint8_t flags = scan::kRa
   w.u8(0);      // e
   w.u8(fine);   // k
   IntEncoder enc(scan::kContexts);
-  const int t = scan::raster::kCtxTable;
+  enc.add_bit_models();
+  const int t = scan::raster::kCtxTable;  // the pixel table: plain tokens (FORMAT "Zero first")
   enc.put_signed(1, t), enc.put_signed(0, t + 1), enc.put_signed(0, t + 2);   // V[0] - 0
   enc.put_signed(-2, t), enc.put_signed(1, t + 1), enc.put_signed(0, t + 2);  // V[1] - 2 V[0]
   const int p = scan::raster::kCtxPixel, r = scan::raster::kCtxRange, x = scan::raster::kCtxXyz;
-  enc.put_signed(0, p + 1);  // point 0: pixel 0 (s' = 1 at the frame's start)
-  enc.put_signed(5, r + 0);  // rho 5 against L = 0, scores 0
-  for (int a = 0; a < 3; ++a) enc.put_signed(0, x + 2 * a);  // (5, 0, 0) as predicted
-  enc.put_signed(pixel1, p + 0);                             // point 1
-  enc.put_signed(2, r + 2);  // rho 7 against L = 5; score 5: bits(5 >> 1) = 2
-  enc.put_signed(0, x), enc.put_signed(1, x + 2), enc.put_signed(0, x + 4);  // (0, 7 + 1, 0)
+  // The pixel residuals and x y z zero first, the ranges plain.
+  const auto z = [&enc](int32_t v, int ctx) { enc.put_zero_first(zigzag(v), ctx); };
+  z(0, p + 1);                                  // point 0: pixel 0 (s' = 1 at the frame's start)
+  enc.put_signed(5, r + 0);                     // rho 5 against L = 0, scores 0
+  for (int a = 0; a < 3; ++a) z(0, x + 2 * a);  // (5, 0, 0) as predicted
+  z(pixel1, p + 0);                             // point 1
+  enc.put_signed(2, r + 2);                     // rho 7 against L = 5; score 5: bits(5 >> 1) = 2
+  z(0, x), z(1, x + 2), z(0, x + 4);            // (0, 7 + 1, 0)
   std::vector<uint8_t> out = w.buffer();
   const std::vector<uint8_t> body = enc.finish();
   out.insert(out.end(), body.begin(), body.end());
