@@ -406,7 +406,9 @@ class State {
       c %= n;
       if (c < 0) c += n;
     }
-    return static_cast<size_t>(k) * n + static_cast<size_t>(c);
+    // Column-major: a firing's rings lie side by side, and the next firing's beside them (a
+    // sweep's walk through the previous sweep's map then reads lines in order).
+    return static_cast<size_t>(c) * t_->rings() + k;
   }
   const Table* t_;
   std::shared_ptr<SweepMaps> maps_;  // the previous sweep's ranges and this sweep's
