@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The table of docs/BENCHMARKS.md "Scans: speed": capz against TMC13's octree coder with its
 # default options, on pandar64-factory20's first sweep (01.pcd, a one-frame take) and on its 20
-# sweeps (p20), at 1 mm, each row a tools/paired_time.sh pair (whole-process CPU, user + sys,
+# sweeps (p20), as given (binary_compressed) and as binary PCD (the issue's frames, by `capz
+# convert`), at 1 mm, each row a tools/paired_time.sh pair (whole-process CPU, user + sys,
 # medians; the ratio is the median of the pairs' ratios).
 #
 #   tools/scan_bench/speed.sh [-n PAIRS] CAPZ [TMC3] [SCAN_DATA]
@@ -15,7 +16,7 @@
 set -euo pipefail
 pairs=3
 [ "${1:-}" = -n ] && { pairs=$2; shift 2; }
-[ $# -ge 1 ] || { sed -n 2,13p "$0"; exit 2; }
+[ $# -ge 1 ] || { sed -n 2,15p "$0"; exit 2; }
 here="$(cd "$(dirname "$0")" && pwd)"
 capz=$(readlink -f "$1")
 tmc3=$(readlink -f "${2:-/work/build-peers/tmc13/tmc3/tmc3}")
@@ -58,6 +59,9 @@ $enc1 >/dev/null 2>&1
 $enc20 >/dev/null 2>&1
 "$capz" compress "$w/01.pcd" --max-error 1mm --drop-fields -q -f -o "$w/swd.capz"
 "$capz" compress "$w/p20" --max-error 1mm --drop-fields -q -f -o "$w/p20d.capz"
+# The issue's frames: the same 20 sweeps as binary PCD (every field kept), and their archive.
+"$capz" convert "$w/p20" "$w/p20b" --pcd-encoding binary -q -f
+"$capz" compress "$w/p20b" --max-error 1mm --drop-fields -q -f -o "$w/p20bd.capz"
 
 # row NAME SWEEPS TMC13_COMMAND -- CAPZ_ARGS...: one pair, one table row.
 row() {
@@ -87,5 +91,10 @@ row "decode one sweep, \`--drop-fields\` archive (to .pcd)" 1 \
 row "decode p20, \`--drop-fields\` archive (to PCD files)" 20 \
   "$tmc3 --mode=1 --compressedStreamPath=$w/s20.bin --firstFrameNum=0 --reconstructedDataPath=$w/d%04d.ply" -- \
   decompress "$w/p20d.capz" -q -f -o "$w/p20d.out/"
+row "encode p20 as binary PCD, \`--drop-fields\`" 20 "$enc20" -- \
+  compress "$w/p20b" --max-error 1mm --drop-fields -q -f -o "$w/a.capz"
+row "decode p20 as binary PCD, \`--drop-fields\` archive (to PCD files)" 20 \
+  "$tmc3 --mode=1 --compressedStreamPath=$w/s20.bin --firstFrameNum=0 --reconstructedDataPath=$w/d%04d.ply" -- \
+  decompress "$w/p20bd.capz" -q -f -o "$w/p20bd.out/"
 echo
 echo "TMC13's one-sweep stream: $(stat -c %s "$w/f.bin") B; p20: $(stat -c %s "$w/s20.bin") B"
