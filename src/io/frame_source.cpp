@@ -584,7 +584,8 @@ Take read_all_frames(FrameSource& source, const std::function<void(size_t, size_
                      size_t block) {
   const Take& h = source.header();
   TakeCollector c(h, source.has_sample_words(), h.source);
-  if (block == 0) block = std::min<size_t>(source.preferred_block(), 64);
+  if (block == 0)  // (a source may prefer 0: at least one frame a read)
+    block = std::max<size_t>(1, std::min<size_t>(source.preferred_block(), 64));
   // The take grows block by block (not sized for every file up front), so memory follows what
   // has been read and checked, not what the headers announce.
   FrameBlock b;

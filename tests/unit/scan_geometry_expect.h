@@ -7,7 +7,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -133,7 +132,9 @@ inline void expect_decoded_otherwise(const std::vector<uint8_t>& d, const ScanGe
 class BlockIo {
  public:
   BlockIo(IntEncoder* enc, const ScanGeometry& g, const scan::Placement& placed)
-      : enc_(enc), g_(g), placed_(placed) {}
+      : enc_(enc), g_(g), placed_(placed) {
+    apart_.add_bit_models();
+  }
   int32_t sym(int32_t actual, int32_t pred, int ctx) {
     put(zigzag(wrap_sub(actual, pred)), ctx);
     return actual;
@@ -154,14 +155,8 @@ class BlockIo {
     const bool ring_or_column = ctx < scan::kCtxRange || ctx >= scan::kCtxWalkRepeat;
     if (ring_or_column) scan::put_value(apart_, u, ctx);
   }
-  static std::unique_ptr<IntEncoder> with_bit_models() {
-    std::unique_ptr<IntEncoder> e(new IntEncoder(scan::kContexts));
-    e->add_bit_models();
-    return e;
-  }
   IntEncoder* enc_;
-  std::unique_ptr<IntEncoder> apart_owner_ = with_bit_models();
-  IntEncoder& apart_ = *apart_owner_;
+  IntEncoder apart_{scan::kContexts};
   const ScanGeometry& g_;
   const scan::Placement& placed_;
 };

@@ -47,6 +47,28 @@ TEST(ReadAllFrames, EveryKindOfInputGivesReadTakesTake) {
   }
 }
 
+// A source that prefers blocks of 0 frames (a user's FrameSource may) is read a frame at a time.
+class NoBlockSource : public FrameSource {
+ public:
+  explicit NoBlockSource(std::unique_ptr<FrameSource> s) : s_(std::move(s)) {
+    header_ = s_->header();
+  }
+  bool has_sample_words() const override { return s_->has_sample_words(); }
+  void read(size_t first, size_t count, FrameBlock* out) override { s_->read(first, count, out); }
+  size_t preferred_block() const override { return 0; }
+
+ private:
+  std::unique_ptr<FrameSource> s_;
+};
+
+TEST(ReadAllFrames, ASourcePreferringNoBlockIsReadAFrameAtATime) {
+  NoBlockSource src(open_frames(data("scan_small")));
+  size_t calls = 0;
+  const Take t = read_all_frames(src, [&](size_t, size_t) { ++calls; });
+  EXPECT_EQ(calls, t.frames);
+  capz_test::expect_same_take(t, read_take(data("scan_small")));
+}
+
 TEST(ReadAllFrames, AProgressThatThrowsStopsTheRead) {
   std::unique_ptr<FrameSource> src = open_frames(data("scan_small"));
   ASSERT_GE(src->header().frames, 3u);
