@@ -158,6 +158,7 @@ set(CAPZ_ENCODE_SOURCES
   src/coding/scan_octree_encode.cpp
   src/coding/scan_nearfar_encode.cpp
   src/coding/scan_encode.cpp
+  src/coding/scan_frames_encode.cpp
   src/coding/scan_rings_encode.cpp
   src/coding/scan_order_encode.cpp
   src/coding/scan_raster_encode.cpp
