@@ -56,6 +56,84 @@ class DecodeIo {
   int32_t zero_[3] = {0, 0, 0};
 };
 
+// The blocks beside the payload's body: the counts block of frames with cells (FORMAT "Cells
+// with counts") and the octree block of octree frames (FORMAT "Octree frames"), each when there.
+struct SideBlocks {
+  std::unique_ptr<IntDecoder> cells, tree;
+  scan::OctreeMode mode;
+  size_t cells_left = 0;            // the octree's cells still allowed (FORMAT "Octree frames")
+  std::vector<int32_t> prev_cells;  // the previous frame's cells when it is an octree frame
+  std::vector<uint32_t> counts;     // expand_cells' scratch
+};
+
+void open_side_blocks(const uint8_t* data, const scan::Header& h, const std::string& what,
+                      SideBlocks* b) {
+  if (h.cells_size > 0)
+    b->cells.reset(new IntDecoder(data + h.cells, h.cells_size, scan::kCellContexts, what));
+  if (h.octree_size > 0) {
+    b->tree.reset(new IntDecoder(data + h.octree, h.octree_size, scan::kOctreeContexts, what));
+    scan::start_octree_block(b->tree.get());
+    b->mode = scan::read_octree_flags(b->tree.get(), h.table);
+    if (b->mode.cones()) b->mode.cones()->budget = scan::kMaxConeWorkPerByte * h.octree_size;
+  }
+  b->cells_left = kMaxSymbolsPerByte * h.octree_size;
+}
+
+// The frames' counts as the take has them: a split frame is its two parts (FORMAT "Split
+// frames"), whose points are already in order.
+std::vector<uint32_t> take_counts(const scan::Header& h, const std::string& what) {
+  std::vector<uint32_t> out;
+  for (size_t f = 0; f < h.counts.size(); ++f)
+    if (f > 0 && scan::near_part(h.flags[f - 1])) {
+      if (h.counts[f] > UINT32_MAX - out.back())
+        fail(ErrorCode::kCorrupt, what, "a split frame of 2^32 points or more");
+      out.back() += h.counts[f];
+    } else {
+      out.push_back(h.counts[f]);
+    }
+  return out;
+}
+
+// The raster frames' pixel table (FORMAT "Raster frames"), read ahead of the body's values.
+scan::raster::Pixels read_pixel_table(const scan::Header& h, IntDecoder* dec) {
+  scan::raster::Pixels px;
+  if (h.pixels > 0) scan::raster::read_pixels(dec, h, &px);
+  return px;
+}
+
+// The moving state of decode_frames' body: the spherical and raster states and their decoder
+// (whose cursor io copies after the pixel table is read: members in this order).
+struct BodyState {
+  BodyState(const scan::Header& h, IntDecoder* dec)
+      : st(h.table), px(read_pixel_table(h, dec)), io(dec), rs(px.count()) {}
+  scan::State st;
+  scan::raster::Pixels px;
+  DecodeIo io;
+  scan::raster::State rs;
+};
+
+// Frame f of the body (not an octree frame), its first point `first`, into q and valid; its
+// repeated cells expanded, and with `ring` (the points' geometry rings) none for them.
+void decode_body_frame(const scan::Header& h, size_t f, size_t first, BodyState* b,
+                       SideBlocks* side, int32_t* q, uint8_t* valid, uint16_t* ring) {
+  const size_t coded = h.counts[f] - h.copies[f];  // the frame's coded points
+  if (f == 0 || !scan::near_part(h.flags[f - 1]))  // a far part keeps its near part's cells
+    side->prev_cells.clear();
+  b->st.set_turn(h.turns.empty() ? 0 : h.turns[f]);  // FORMAT "Turns"
+  if (h.flags[f] & scan::kRaster) {
+    scan::raster::code_frame(b->io, b->px, b->rs, h.flags[f], first, coded, q, valid);
+  } else if (f + 1 < h.counts.size()) {
+    scan::code_frame(b->io, b->st, h.flags[f], first, coded, q, valid);
+  } else {  // the last: on a trial state, which leaves the map no later sweep reads
+    scan::State last = b->st.trial();
+    scan::code_points(b->io, last, h.flags[f], first, coded, q, valid);
+  }
+  if (h.copies[f] == 0) return;
+  scan::expand_cells(side->cells.get(), h.copies[f], h.counts[f], q, valid, &side->counts);
+  if (ring)  // a frame with cells has no geometry ring (FORMAT.md predictor 13)
+    std::fill(ring + first, ring + first + h.counts[f], ScanGeometry::kNoRing);
+}
+
 // decode_scan_geometry: with `frame`, each frame's integers go to it from a buffer of one frame;
 // without, into g.q.
 ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& what,
@@ -75,80 +153,34 @@ ScanGeometry decode_frames(const uint8_t* data, size_t size, const std::string& 
   g.valid.resize(total);
   IntDecoder dec(data + h.body, size - h.body, scan::kContexts, what);
   dec.add_bit_models();
-  scan::State st(h.table);
+  BodyState body(h, &dec);
   if (rings) {
     g.ring.assign(total, ScanGeometry::kNoRing);
-    st.ring_out = g.ring.data();
+    body.st.ring_out = g.ring.data();
   }
-  scan::raster::Pixels px;
-  if (h.pixels > 0) scan::raster::read_pixels(&dec, h, &px);
-  DecodeIo io(&dec);
-  scan::raster::State rs(px.count());
-  // The counts block of frames with cells (FORMAT "Cells with counts").
-  std::unique_ptr<IntDecoder> cells;
-  if (h.cells_size > 0)
-    cells.reset(new IntDecoder(data + h.cells, h.cells_size, scan::kCellContexts, what));
-  // The octree block of octree frames (FORMAT "Octree frames").
-  std::unique_ptr<IntDecoder> tree;
-  if (h.octree_size > 0) {
-    tree.reset(new IntDecoder(data + h.octree, h.octree_size, scan::kOctreeContexts, what));
-    scan::start_octree_block(tree.get());
-    g.octree = true;
-  }
-  scan::OctreeMode mode = tree ? scan::read_octree_flags(tree.get(), h.table) : scan::OctreeMode{};
-  if (mode.cones()) mode.cones()->budget = scan::kMaxConeWorkPerByte * h.octree_size;
-  std::vector<uint32_t> counts;
-  std::vector<int32_t> prev_cells;  // the previous frame's cells when it is an octree frame
-  size_t cells_left = kMaxSymbolsPerByte * h.octree_size;  // FORMAT "Octree frames"
+  SideBlocks side;
+  open_side_blocks(data, h, what, &side);
+  g.octree = side.tree != nullptr;
   size_t first = 0;
   for (size_t f = 0; f < h.counts.size(); ++f) {
     int32_t* q = frame ? one.data() : g.q.data() + 3 * first;
     uint8_t* valid = g.valid.data() + first;
-    const size_t coded = h.counts[f] - h.copies[f];  // the frame's coded points
-    if (scan::octree_frame(h.flags[f])) {
-      scan::decode_octree_frame(tree.get(), h.counts[f], h.copies[f],
-                                (h.flags[f] & 3) == scan::kSomeValid, &cells_left, &prev_cells, q,
-                                valid, &mode);
-      if (frame) (*frame)(first, h.counts[f], q, valid);
-      first += h.counts[f];
-      continue;
-    }
-    if (f == 0 || !scan::near_part(h.flags[f - 1]))  // a far part keeps its near part's cells
-      prev_cells.clear();
-    st.set_turn(h.turns.empty() ? 0 : h.turns[f]);  // FORMAT "Turns"
-    if (h.flags[f] & scan::kRaster) {
-      scan::raster::code_frame(io, px, rs, h.flags[f], first, coded, q, valid);
-    } else if (f + 1 < h.counts.size()) {
-      scan::code_frame(io, st, h.flags[f], first, coded, q, valid);
-    } else {  // the last: on a trial state, which leaves the map no later sweep reads
-      scan::State last = st.trial();
-      scan::code_points(io, last, h.flags[f], first, coded, q, valid);
-    }
-    if (h.copies[f] > 0) {
-      scan::expand_cells(cells.get(), h.copies[f], h.counts[f], q, valid, &counts);
-      if (rings)  // a frame with cells has no geometry ring (FORMAT.md predictor 13)
-        std::fill(g.ring.begin() + static_cast<std::ptrdiff_t>(first),
-                  g.ring.begin() + static_cast<std::ptrdiff_t>(first + h.counts[f]),
-                  ScanGeometry::kNoRing);
-    }
+    if (scan::octree_frame(h.flags[f]))
+      scan::decode_octree_frame(side.tree.get(), h.counts[f], h.copies[f],
+                                (h.flags[f] & 3) == scan::kSomeValid, &side.cells_left,
+                                &side.prev_cells, q, valid, &side.mode);
+    else
+      decode_body_frame(h, f, first, &body, &side, q, valid, rings ? g.ring.data() : nullptr);
     if (frame) (*frame)(first, h.counts[f], q, valid);
     first += h.counts[f];
   }
-  io.commit();
-  // A split frame is its two parts (FORMAT "Split frames"): their points are already in order.
-  g.counts.clear();
-  for (size_t f = 0; f < h.counts.size(); ++f)
-    if (f > 0 && scan::near_part(h.flags[f - 1])) {
-      if (h.counts[f] > UINT32_MAX - g.counts.back())
-        fail(ErrorCode::kCorrupt, what, "a split frame of 2^32 points or more");
-      g.counts.back() += h.counts[f];
-    } else {
-      g.counts.push_back(h.counts[f]);
-    }
+  body.io.commit();
+  g.counts = take_counts(h, what);
   if (!dec.at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the scan geometry");
-  if (cells && !cells->at_end())
+  if (side.cells && !side.cells->at_end())
     fail(ErrorCode::kCorrupt, what, "bytes left after the cells' counts");
-  if (tree && !tree->at_end()) fail(ErrorCode::kCorrupt, what, "bytes left after the octree");
+  if (side.tree && !side.tree->at_end())
+    fail(ErrorCode::kCorrupt, what, "bytes left after the octree");
   if (frame && space) space->swap(one);
   return g;
 }

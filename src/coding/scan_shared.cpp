@@ -133,79 +133,88 @@ void read_side_block(ByteReader* r, uint64_t symbols, const char* name, const ch
   r->bytes(*size);
 }
 
-}  // namespace
-
-Header read_header(const uint8_t* data, size_t size, const std::string& what, size_t max_points) {
-  ByteReader r(data, size, what);
-  Header h;
-  const size_t frames = static_cast<size_t>(r.count(2, "frame count"));
-  h.counts.resize(frames);
+// The header's frame counts (their sum at most max_points), flags and copies.
+void read_frames(ByteReader* r, size_t max_points, Header* h) {
+  const std::string& what = r->what();
+  const size_t frames = static_cast<size_t>(r->count(2, "frame count"));
+  h->counts.resize(frames);
   uint64_t total = 0;
-  for (uint32_t& n : h.counts) {
-    const uint64_t v = r.varint();
+  for (uint32_t& n : h->counts) {
+    const uint64_t v = r->varint();
     total += v;
     if (v > UINT32_MAX || total > max_points)
       fail(ErrorCode::kCorrupt, what,
            "the frames' point counts exceed " + std::to_string(max_points) + " points");
     n = static_cast<uint32_t>(v);
   }
-  const uint8_t* f = r.bytes(frames);
-  h.flags.assign(f, f + frames);
-  h.flags_end = r.offset();
-  h.copies.assign(frames, 0);
+  const uint8_t* f = r->bytes(frames);
+  h->flags.assign(f, f + frames);
+  h->flags_end = r->offset();
+  h->copies.assign(frames, 0);
   for (size_t i = 0; i < frames; ++i) {
-    if (!(h.flags[i] & kCells)) continue;
-    const uint64_t d = r.varint();
-    if (d == 0 || d >= h.counts[i])
+    if (!(h->flags[i] & kCells)) continue;
+    const uint64_t d = r->varint();
+    if (d == 0 || d >= h->counts[i])
       fail(ErrorCode::kCorrupt, what, "frame " + std::to_string(i) + "'s copies are out of range");
-    h.copies[i] = static_cast<uint32_t>(d);
+    h->copies[i] = static_cast<uint32_t>(d);
   }
-  const uint64_t rings = r.varint();
-  if (rings > kMaxRings) fail(ErrorCode::kCorrupt, what, "more than 1024 rings in the laser table");
-  Table& t = h.table;
-  if (rings > 0) {
-    t.step = r.f32();
-    check_finite(t.step, &r);
-    const uint64_t cols = r.varint();
-    if (t.step == 0.0f || cols == 0 || cols * rings > kMaxMapCells)
-      fail(ErrorCode::kCorrupt, what, "laser table with a zero step or too many columns");
-    t.columns = static_cast<uint32_t>(cols);
-    const uint8_t byte = r.u8(), units = byte & 3;
-    if (units == 3 ||
-        (byte & ~(7 | kShareBit | kTurnBit | kPackBit | kSlotBit | kBeforeBit)) != 0 ||
-        ((byte & (kShareBit | kSlotBit)) && !(byte & kTurnBit)) ||
-        ((byte & kShareBit) && (byte & kSlotBit)))
-      fail(ErrorCode::kCorrupt, what, "unknown range units in the laser table");
-    read_rings(&r, rings, byte, &t);
-    t.turn = (byte & kTurnBit) != 0;
-    t.before = (byte & kBeforeBit) != 0;
-    if (byte & kBowBit) {
-      t.bow = r.f32();
-      if (!(std::fabs(t.bow) <= kMaxBow))
-        fail(ErrorCode::kCorrupt, what, "the laser table's bow is out of range");
-    }
-    if (byte & kShareBit) read_shares(&r, rings, &t, what);
-    if (byte & kSlotBit) read_slots(&r, rings, &t, what);
-    const uint8_t more = r.u8();
-    t.successors = (more & kMoreSuccessors) != 0;
-    if (more & ~(kMoreTurns | kMoreSuccessors))
-      fail(ErrorCode::kCorrupt, what, "unknown bits in the table's more byte");
-    if (more & kMoreTurns) {  // the frames' turns (FORMAT.md "Turns")
-      h.turns.resize(frames);
-      for (int32_t& v : h.turns) {
-        const int64_t s = r.svarint();
-        if (s >= int64_t{t.columns} || s <= -int64_t{t.columns})
-          fail(ErrorCode::kCorrupt, what, "a frame's turn is a whole turn or more");
-        v = static_cast<int32_t>(s);
-      }
+}
+
+// The laser table of `rings` rings (at least 1) after its ring count, its more byte and the
+// frames' turns.
+void read_table(ByteReader* r, uint64_t rings, Header* h) {
+  const std::string& what = r->what();
+  Table& t = h->table;
+  t.step = r->f32();
+  check_finite(t.step, r);
+  const uint64_t cols = r->varint();
+  if (t.step == 0.0f || cols == 0 || cols * rings > kMaxMapCells)
+    fail(ErrorCode::kCorrupt, what, "laser table with a zero step or too many columns");
+  t.columns = static_cast<uint32_t>(cols);
+  const uint8_t byte = r->u8(), units = byte & 3;
+  if (units == 3 || (byte & ~(7 | kShareBit | kTurnBit | kPackBit | kSlotBit | kBeforeBit)) != 0 ||
+      ((byte & (kShareBit | kSlotBit)) && !(byte & kTurnBit)) ||
+      ((byte & kShareBit) && (byte & kSlotBit)))
+    fail(ErrorCode::kCorrupt, what, "unknown range units in the laser table");
+  read_rings(r, rings, byte, &t);
+  t.turn = (byte & kTurnBit) != 0;
+  t.before = (byte & kBeforeBit) != 0;
+  if (byte & kBowBit) {
+    t.bow = r->f32();
+    if (!(std::fabs(t.bow) <= kMaxBow))
+      fail(ErrorCode::kCorrupt, what, "the laser table's bow is out of range");
+  }
+  if (byte & kShareBit) read_shares(r, rings, &t, what);
+  if (byte & kSlotBit) read_slots(r, rings, &t, what);
+  const uint8_t more = r->u8();
+  t.successors = (more & kMoreSuccessors) != 0;
+  if (more & ~(kMoreTurns | kMoreSuccessors))
+    fail(ErrorCode::kCorrupt, what, "unknown bits in the table's more byte");
+  if (more & kMoreTurns) {  // the frames' turns (FORMAT.md "Turns")
+    h->turns.resize(h->counts.size());
+    for (int32_t& v : h->turns) {
+      const int64_t s = r->svarint();
+      if (s >= int64_t{t.columns} || s <= -int64_t{t.columns})
+        fail(ErrorCode::kCorrupt, what, "a frame's turn is a whole turn or more");
+      v = static_cast<int32_t>(s);
     }
   }
+}
+
+// What the frames' flags say the blocks after the header hold (read_header).
+struct FrameTally {
   uint64_t coded = 0;    // points that code at least one symbol
   uint64_t counted = 0;  // coded points of frames with cells: a count each at most
   // Octree frames' cells as far as known here (FORMAT "Octree frames"): the points less copies
   // of a frame without gaps, 1 at least for one with gaps (its G is in the octree block).
   uint64_t in_tree = 0;
   bool raster = false;
+};
+
+// The frames' flags checked (rings: the laser table's) and tallied.
+FrameTally check_flags(const Header& h, uint64_t rings, const std::string& what) {
+  FrameTally c;
+  const size_t frames = h.counts.size();
   for (size_t i = 0; i < frames; ++i) {
     const uint8_t fl = h.flags[i];
     if (octree_frame(fl)) {
@@ -214,7 +223,7 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
       if ((fl & kNearPart) && (i + 1 == frames || octree_frame(h.flags[i + 1])))
         fail(ErrorCode::kCorrupt, what,
              "split frame " + std::to_string(i) + "'s near part is not followed by a far part");
-      in_tree += (fl & 3) == kSomeValid ? 1 : h.counts[i] - h.copies[i];
+      c.in_tree += (fl & 3) == kSomeValid ? 1 : h.counts[i] - h.copies[i];
       continue;
     }
     if ((fl & ~kFrameFlagMask) != 0 || (fl & 3) == 3 || ((fl & kSpherical) && (fl & kRaster)) ||
@@ -223,19 +232,32 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
       fail(ErrorCode::kCorrupt, what, "frame " + std::to_string(i) + " has unknown flags");
     if ((fl & kSpherical) && rings == 0)
       fail(ErrorCode::kCorrupt, what, "a spherical frame without a laser table");
-    if ((fl & 3) != kNoneValid) coded += h.counts[i] - h.copies[i];
-    if (fl & kCells) counted += h.counts[i] - h.copies[i];
-    raster = raster || (fl & kRaster);
+    if ((fl & 3) != kNoneValid) c.coded += h.counts[i] - h.copies[i];
+    if (fl & kCells) c.counted += h.counts[i] - h.copies[i];
+    c.raster = c.raster || (fl & kRaster);
   }
-  if (raster) coded += read_raster_header(&r, &h);
-  if (counted > 0)  // the counts block (FORMAT "Cells with counts")
-    read_side_block(&r, counted, "the counts block", "more points than the counts block can hold",
+  return c;
+}
+
+}  // namespace
+
+Header read_header(const uint8_t* data, size_t size, const std::string& what, size_t max_points) {
+  ByteReader r(data, size, what);
+  Header h;
+  read_frames(&r, max_points, &h);
+  const uint64_t rings = r.varint();
+  if (rings > kMaxRings) fail(ErrorCode::kCorrupt, what, "more than 1024 rings in the laser table");
+  if (rings > 0) read_table(&r, rings, &h);
+  FrameTally c = check_flags(h, rings, what);
+  if (c.raster) c.coded += read_raster_header(&r, &h);
+  if (c.counted > 0)  // the counts block (FORMAT "Cells with counts")
+    read_side_block(&r, c.counted, "the counts block", "more points than the counts block can hold",
                     &h.cells, &h.cells_size);
-  if (in_tree > 0)  // the octree block (FORMAT "Octree frames")
-    read_side_block(&r, in_tree, "the octree block", "more cells than the octree block can hold",
+  if (c.in_tree > 0)  // the octree block (FORMAT "Octree frames")
+    read_side_block(&r, c.in_tree, "the octree block", "more cells than the octree block can hold",
                     &h.octree, &h.octree_size);
   h.body = r.offset();
-  if (coded > kMaxSymbolsPerByte * (size - h.body))
+  if (c.coded > kMaxSymbolsPerByte * (size - h.body))
     fail(ErrorCode::kCorrupt, what, "more points than the coded bytes can hold");
   return h;
 }
