@@ -245,6 +245,76 @@ bool block_holds(const std::vector<int>& pred, size_t n, const uint8_t* valid, u
   return values <= kMaxSymbolsPerByte * m;
 }
 
+// What a field's lanes read beside their block: the fields decoded before (out), the points'
+// validity (mask: every point valid when the window gives none and a lane needs one), the nearest
+// earlier points (7.3, when a lane reads them) and the ragged window's geometry.
+struct FieldInputs {
+  const std::vector<AttrSpec>& specs;
+  const std::vector<std::vector<uint8_t>>& out;
+  const uint8_t* mask;
+  const uint32_t* near;
+  size_t frames, points, width;
+  const RaggedFields* ragged;
+  const std::string& what;
+};
+
+// Lane j of field s under predictor `pred` into *lane (its bits and residual kind set by the
+// caller). True when the lane is stored whatever the field's transform (predictors 11, 12, 13).
+bool decode_lane(IntDecoder::Cursor* c, const FieldInputs& in, int pred, const UnitRef* refs,
+                 const QuantumParams& quantum, Lane* lane) {
+  LaneState st;
+  if (pred == kUnitPredictor) {
+    int last_sign = 0;
+    walk_unit(&lane->u, in.specs, in.out, refs,
+              [&](uint64_t* v, float x, float y, bool completable) {
+                uint32_t sign = 0;
+                if (completable) {
+                  int tok;
+                  sign = c->get(kSignContext + last_sign, &tok);
+                  if (sign > 1) fail(ErrorCode::kCorrupt, in.what, "bad sign symbol");
+                  last_sign = static_cast<int>(sign);
+                }
+                const uint64_t p = unit_prediction(x, y, completable, sign);
+                const int64_t res = get_float_residual(c, &st.prev_nb[completable ? 0 : 1]);
+                *v = (p + static_cast<uint64_t>(res)) & 0xFFFFFFFFu;
+              });
+    return true;
+  }
+  if (pred == kRingPredictor) {
+    decode_ring_lane(c, in.mask, in.ragged->ring, &st, lane, in.what);
+    return true;
+  }
+  if (pred == kQuantumPredictor) {
+    decode_quantum_lane(c, quantum, in.specs, in.out, in.mask, in.ragged->xyz, in.near, &st, lane,
+                        in.ragged);
+    return true;
+  }
+  const uint64_t mask = mask_of(lane->bits);
+  walk_lane(pred, &lane->u, in.mask, in.near, in.frames, in.points, in.width, mask,
+            [&](uint64_t* v, uint64_t p, bool gap) {
+              const int64_t res = lane->float_residuals ? get_float_residual(c, &st.prev_nb[gap])
+                                                        : get_int_residual(c, &st.mag[gap]);
+              *v = (p + static_cast<uint64_t>(res)) & mask;
+            });
+  return false;
+}
+
+// Whether a field's lanes read the nearest earlier points (FORMAT.md 7.3).
+bool reads_near(const std::vector<int>& pred, const std::vector<QuantumParams>& quanta) {
+  bool uses = false;
+  for (size_t j = 0; j < pred.size(); ++j)
+    uses = uses || pred[j] == kNearPredictor || pred[j] == kNearChangePredictor ||
+           (pred[j] == kQuantumPredictor && quanta[j].base == kBaseNear);
+  return uses;
+}
+
+// Whether a field's lanes read the points' validity.
+bool reads_mask(const std::vector<int>& pred, bool near) {
+  return near || std::any_of(pred.begin(), pred.end(), [](int id) {
+           return (id >= 5 && id <= 8) || id == kQuantumPredictor || id == kRingPredictor;
+         });
+}
+
 }  // namespace
 
 void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrSpec>& specs,
@@ -280,21 +350,12 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
     if (!block_holds(pred, n, valid, m))
       fail(ErrorCode::kCorrupt, awhat, "field larger than its block can hold");
     const uint8_t* block = r.bytes(static_cast<size_t>(m));
-    bool uses_near = std::any_of(pred.begin(), pred.end(), [](int id) {
-      return id == kNearPredictor || id == kNearChangePredictor;
-    });
-    for (size_t j = 0; j < lanes; ++j)
-      uses_near = uses_near || (pred[j] == kQuantumPredictor && quanta[j].base == kBaseNear);
-    if (!valid && all_valid.empty() &&
-        (uses_near ||
-         std::any_of(pred.begin(), pred.end(), [](int id) { return id >= 5 && id <= 8; })))
-      all_valid.assign(n, 1);
-    if (!valid && all_valid.empty() && std::any_of(pred.begin(), pred.end(), [](int id) {
-          return id == kQuantumPredictor || id == kRingPredictor;
-        }))
-      all_valid.assign(n, 1);
+    const bool uses_near = reads_near(pred, quanta);
+    if (!valid && all_valid.empty() && reads_mask(pred, uses_near)) all_valid.assign(n, 1);
     const uint8_t* mask_of_window = valid ? valid : all_valid.data();
     if (uses_near && near.empty()) near = nearest_points(q, mask_of_window, frames, points);
+    const FieldInputs in{specs,  *out, mask_of_window, near.data(), frames,
+                         points, W,    ragged,         awhat};
     IntDecoder dec(block, static_cast<size_t>(m), kContexts, awhat);
     IntDecoder::Cursor c = dec.cursor();
     bytes.assign(n * bpp, 0);
@@ -303,45 +364,8 @@ void decode_attributes(const uint8_t* data, size_t size, const std::vector<AttrS
       cur_lane.bits = lane_bits(s, colour, j);
       cur_lane.float_residuals = !colour && (s.type == 'F' || cur_lane.bits == 64);
       cur_lane.u.assign(n, 0);
-      const uint64_t mask = mask_of(cur_lane.bits);
-      LaneState st;
-      if (pred[j] == kUnitPredictor) {
-        int last_sign = 0;
-        walk_unit(&cur_lane.u, specs, *out, refs[j].data(),
-                  [&](uint64_t* v, float x, float y, bool completable) {
-                    uint32_t sign = 0;
-                    if (completable) {
-                      int tok;
-                      sign = c.get(kSignContext + last_sign, &tok);
-                      if (sign > 1) fail(ErrorCode::kCorrupt, awhat, "bad sign symbol");
-                      last_sign = static_cast<int>(sign);
-                    }
-                    const uint64_t p = unit_prediction(x, y, completable, sign);
-                    const int64_t res = get_float_residual(&c, &st.prev_nb[completable ? 0 : 1]);
-                    *v = (p + static_cast<uint64_t>(res)) & 0xFFFFFFFFu;
-                  });
+      if (decode_lane(&c, in, pred[j], refs[j].data(), quanta[j], &cur_lane) || !colour)
         store_lane(s, cur_lane, n, j, &bytes);
-        continue;
-      }
-      if (pred[j] == kRingPredictor) {
-        decode_ring_lane(&c, mask_of_window, ragged->ring, &st, &cur_lane, awhat);
-        store_lane(s, cur_lane, n, j, &bytes);
-        continue;
-      }
-      if (pred[j] == kQuantumPredictor) {
-        decode_quantum_lane(&c, quanta[j], specs, *out, mask_of_window, ragged->xyz, near.data(),
-                            &st, &cur_lane, ragged);
-        store_lane(s, cur_lane, n, j, &bytes);
-        continue;
-      }
-      walk_lane(pred[j], &cur_lane.u, mask_of_window, near.data(), frames, points, W, mask,
-                [&](uint64_t* v, uint64_t p, bool gap) {
-                  const int64_t res = cur_lane.float_residuals
-                                          ? get_float_residual(&c, &st.prev_nb[gap])
-                                          : get_int_residual(&c, &st.mag[gap]);
-                  *v = (p + static_cast<uint64_t>(res)) & mask;
-                });
-      if (!colour) store_lane(s, cur_lane, n, j, &bytes);
     }
     dec.commit(c);
     if (!dec.at_end()) fail(ErrorCode::kCorrupt, awhat, "attribute block has bytes left over");
