@@ -165,6 +165,9 @@ Take meta_take_of(const Take& t, const CompressOptions& opts, bool organized) {
 
 // What encode_ragged carries from window to window.
 struct RaggedRun {
+  RaggedRun(const Take& t_, const CompressOptions& opts_, const Grid& grid_,
+            const StreamContext& ctx_, const Take& meta_, StreamOut* out_, ResidueWriter* residue_)
+      : t(t_), opts(opts_), grid(grid_), ctx(ctx_), meta(meta_), out(out_), residue(residue_) {}
   const Take& t;  // the source's header
   const CompressOptions& opts;
   const Grid& grid;
@@ -178,9 +181,9 @@ struct RaggedRun {
   ResidueWriter* residue = nullptr;  // a lossless stream of a folder: PCDP per window
   std::vector<uint8_t> buf;          // the window's chunks
   WindowChecks* checks = nullptr;    // the self-check of each window (decodes_windows)
-  int fine;                          // the last SCNW's fine shift (FORMAT.md "Raster frames")
+  int fine = 0;                      // the last SCNW's fine shift (FORMAT.md "Raster frames")
   ScanWorkspace scan_ws;             // the scan coder's maps, kept from window to window
-  bool origin;                       // the window's gaps are origin points (SCNW's gaps bit 0)
+  bool origin = false;               // the window's gaps are origin points (SCNW's gaps bit 0)
   bool key_fields = false;           // META has a field predictor 13 may code (attr::is_key_field)
   int last_split = scan::kNoSplit;   // mode 2: the window before's (choose_split's start)
   FieldTrials trials;                // the fields' trials skipped (RaggedFields::trials)
@@ -485,11 +488,8 @@ void fill_stats(const RaggedRun& r, size_t total, CompressStats* stats) {
   stats->other_bytes = bytes - r.position_bytes - r.attribute_bytes;
 }
 
-}  // namespace
-
-void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out,
-                   CompressStats* stats, const std::string& original, bool organized) {
-  const Take& t = src.header();
+// encode_ragged's checks of its source's header.
+void check_ragged_header(const Take& t, const CompressOptions& opts, bool organized) {
   if (t.points != 0 || !t.labels.empty())  // take.h: a ragged take has neither
     fail(ErrorCode::kInvalidParameter, t.source,
          "a ragged take has no per-point labels or shared point count (points " +
@@ -498,12 +498,13 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
   if (organized && opts.any_point_order)  // FORMAT.md: not in such a stream
     fail(ErrorCode::kInvalidParameter, t.source,
          "frames of one organized shape are coded in their order");
+}
+
+// The stream's HEAD of a ragged take on `grid`.
+StreamHeader ragged_header(const Take& t, const CompressOptions& opts, const Grid& grid) {
   StreamHeader h;
   h.frames = t.frames;
   h.window_frames = window_frames(t, opts);
-  FrameBlock block;  // window 0 after pass 1; then each window as read
-  const Grid grid = choose_grid(src, opts, h.window_frames, &block);
-  const Take meta_take = meta_take_of(t, opts, organized);
   h.source_format = t.format;  // PLY and .bin: HEAD's frame-file source (feature bit 4)
   h.mode = grid.mode;
   h.step = grid.step;
@@ -512,6 +513,20 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
   h.ragged = true;
   h.points_reordered = opts.any_point_order;
   h.octree_frames = opts.any_point_order;  // point_order_encode.cpp may code octree frames
+  return h;
+}
+
+}  // namespace
+
+void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out,
+                   CompressStats* stats, const std::string& original, bool organized) {
+  const Take& t = src.header();
+  check_ragged_header(t, opts, organized);
+  FrameBlock block;  // window 0 after pass 1; then each window as read
+  const size_t W = window_frames(t, opts);
+  const Grid grid = choose_grid(src, opts, W, &block);
+  const Take meta_take = meta_take_of(t, opts, organized);
+  const StreamHeader h = ragged_header(t, opts, grid);
   std::vector<uint8_t> head_buf;
   write_file_header(&head_buf, kFormatScans.minor);
   const std::vector<uint8_t> head = encode_header(h), meta = encode_meta(meta_take, false);
@@ -529,31 +544,11 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
     residue = ResidueWriter::open(original, ctx.take, opts.check);
   if (residue) residue->file_chunks(&head_buf, true);
   out->flush(&head_buf);
-  RaggedRun r{t,
-              opts,
-              grid,
-              ctx,
-              meta_take,
-              out,
-              {},
-              0,
-              0,
-              {},
-              ErrorAccumulator(),
-              residue.get(),
-              {},
-              nullptr,
-              0,
-              ScanWorkspace(),
-              false,
-              false,
-              scan::kNoSplit,
-              {}};
+  RaggedRun r(t, opts, grid, ctx, meta_take, out, residue.get());
   if (!meta_take.attributes.empty()) {
     const std::vector<AttrSpec> specs = attribute_specs(meta_take.pcd->fields);
     r.key_fields = std::any_of(specs.begin(), specs.end(), attr::is_key_field);
   }
-  const size_t W = h.window_frames;
   // With threads, each window's self-check runs beside the next window's coding (not with a
   // residue, which is written from the check's decode; nor for one window).
   const bool beside =
