@@ -132,6 +132,106 @@ uint64_t ring_cost(Lane& l, const uint8_t* valid, const uint16_t* rings) {
   return cost;
 }
 
+// What encode_predictive's lanes read beside their own values: every field's bytes (data), the
+// points' validity (a mask, all set without gaps, in a ragged window), the nearest earlier points
+// (7.3) and the ragged window's geometry.
+struct LaneInputs {
+  const std::vector<AttrSpec>& specs;
+  const std::vector<std::vector<uint8_t>>& data;
+  size_t a;  // the field
+  const uint8_t* valid;
+  bool gaps;
+  const uint32_t* near;
+  size_t frames, points, width;
+  const RaggedFields* ragged;
+};
+
+// A lane's predictor (FORMAT.md 13), with what it writes beside its id.
+struct LaneChoice {
+  int pred = 0;
+  UnitRef refs[2];
+  QuantumParams qp;
+  QuantumPoints qpoints;
+};
+
+// The least costly predictor of lane j (*lane) of field in.a.
+LaneChoice choose_lane(const LaneInputs& in, bool colour, size_t j, Lane* lane) {
+  Lane& l = *lane;  // (not const: the lane walkers are the decoder's too, which fill it)
+  const AttrSpec& s = in.specs[in.a];
+  const size_t n = in.frames * in.points;
+  LaneChoice ch;
+  uint64_t cost = 0;
+  ch.pred = choose_predictor(l, in.valid, in.gaps, in.near, in.frames, in.points, in.width, &cost);
+  if (!colour && unit_candidate(in.specs, in.a, j, ch.refs)) {
+    const uint64_t u = unit_cost(l, in.specs, in.data, ch.refs);
+    if (u < cost || (u == cost && ch.pred > kUnitPredictor)) ch.pred = kUnitPredictor;
+  }
+  // Predictor 12 (a ragged window's; valid then holds a mask, all set without gaps).
+  uint64_t qcost = 0;
+  if (in.ragged && !colour && ch.pred != kUnitPredictor &&
+      choose_quantum(in.specs, in.data, in.a, l, in.valid, in.ragged->xyz, in.near, &ch.qp, &qcost,
+                     &ch.qpoints, in.ragged) &&
+      qcost < cost)
+    ch.pred = kQuantumPredictor;
+  // Predictor 13 (a ragged window's, on a key field's lane): the geometry's rings. Its runs
+  // code a valid point that takes its prediction in no symbol, the others in one, which costs
+  // about 1/160 bit at least (2.3's models at rate 7): counted against them.
+  if (in.ragged && ring_lane(s, colour) &&
+      ring_cost(l, in.valid, in.ragged->ring) <
+          cost + static_cast<uint64_t>(std::count(in.valid, in.valid + n, 1)) / kLeastSymbolShare)
+    ch.pred = kRingPredictor;
+  return ch;
+}
+
+// Lane l under its choice: what the predictor writes beside its id into *w, its values into *c.
+void encode_lane(IntEncoder::Cursor* c, ByteWriter* w, const LaneInputs& in, const LaneChoice& ch,
+                 Lane* l) {
+  LaneState st;
+  if (ch.pred == kRingPredictor) {
+    ring_symbols(*l, in.valid, in.ragged->ring, [&](int kind, uint64_t u) {
+      if (kind == 2)
+        put_int_residual(c, &st.mag[1], static_cast<int32_t>(static_cast<int64_t>(u)));
+      else
+        c->put(static_cast<uint32_t>(u), kind == 0 ? kRunContext : kMissContext);
+    });
+    return;
+  }
+  if (ch.pred == kQuantumPredictor) {
+    write_quantum(w, ch.qp);
+    encode_quantum_lane(c, ch.qp, in.specs, in.data, in.valid, in.ragged->xyz, in.near, ch.qpoints,
+                        &st, *l, in.ragged);
+    return;
+  }
+  if (ch.pred == kUnitPredictor) {
+    for (const UnitRef& r : ch.refs) {
+      w->varint(r.attribute);
+      w->varint(r.element);
+    }
+    int q = 0;  // sign bit of the previous completable value
+    walk_unit(&l->u, in.specs, in.data, ch.refs,
+              [&](uint64_t* v, float x, float y, bool completable) {
+                const uint32_t sign = static_cast<uint32_t>(from_ordered(*v, 'F', 32) >> 31);
+                if (completable) {
+                  c->put(sign, kSignContext + q);
+                  q = static_cast<int>(sign);
+                }
+                const uint64_t p = unit_prediction(x, y, completable, sign);
+                put_float_residual(c, &st.prev_nb[completable ? 0 : 1],
+                                   signed_residual((*v - p) & 0xFFFFFFFFu, 32));
+              });
+    return;
+  }
+  const uint64_t mask = mask_of(l->bits);
+  walk_lane(ch.pred, &l->u, in.valid, in.near, in.frames, in.points, in.width, mask,
+            [&](uint64_t* v, uint64_t p, bool gap) {
+              const int64_t r = signed_residual((*v - p) & mask, l->bits);
+              if (l->float_residuals)
+                put_float_residual(c, &st.prev_nb[gap], r);
+              else
+                put_int_residual(c, &st.mag[gap], static_cast<int32_t>(r));
+            });
+}
+
 // One attribute, predictively (transforms 0 and 1): transform, predictors, size, block.
 std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
                                        const std::vector<std::vector<uint8_t>>& data, size_t a,
@@ -139,82 +239,19 @@ std::vector<uint8_t> encode_predictive(const std::vector<AttrSpec>& specs,
                                        size_t frames, size_t points, size_t W,
                                        const RaggedFields* ragged) {
   const AttrSpec& s = specs[a];
-  const std::vector<uint8_t>& bytes = data[a];
   const size_t n = frames * points;
   const bool colour = is_colour_field(s);
+  const LaneInputs in{specs, data, a, valid, gaps, near, frames, points, W, ragged};
   ByteWriter w;
   w.u8(colour ? 1 : 0);
   IntEncoder enc(kContexts);
   IntEncoder::Cursor c = enc.cursor();
   Lane l;
   for (size_t j = 0; j < lane_count(s, colour); ++j) {
-    make_lane(s, colour, bytes, n, j, &l);
-    uint64_t cost = 0;
-    int pred = choose_predictor(l, valid, gaps, near, frames, points, W, &cost);
-    UnitRef refs[2];
-    if (!colour && unit_candidate(specs, a, j, refs)) {
-      const uint64_t u = unit_cost(l, specs, data, refs);
-      if (u < cost || (u == cost && pred > kUnitPredictor)) pred = kUnitPredictor;
-    }
-    // Predictor 12 (a ragged window's; valid then holds a mask, all set without gaps).
-    QuantumParams qp;
-    QuantumPoints qpoints;
-    uint64_t qcost = 0;
-    if (ragged && !colour && pred != kUnitPredictor &&
-        choose_quantum(specs, data, a, l, valid, ragged->xyz, near, &qp, &qcost, &qpoints,
-                       ragged) &&
-        qcost < cost)
-      pred = kQuantumPredictor;
-    const uint64_t mask = mask_of(l.bits);
-    // Predictor 13 (a ragged window's, on a key field's lane): the geometry's rings. Its runs
-    // code a valid point that takes its prediction in no symbol, the others in one, which costs
-    // about 1/160 bit at least (2.3's models at rate 7): counted against them.
-    if (ragged && ring_lane(s, colour) &&
-        ring_cost(l, valid, ragged->ring) <
-            cost + static_cast<uint64_t>(std::count(valid, valid + n, 1)) / kLeastSymbolShare)
-      pred = kRingPredictor;
-    w.u8(static_cast<uint8_t>(pred));
-    LaneState st;
-    if (pred == kRingPredictor) {
-      ring_symbols(l, valid, ragged->ring, [&](int kind, uint64_t u) {
-        if (kind == 2)
-          put_int_residual(&c, &st.mag[1], static_cast<int32_t>(static_cast<int64_t>(u)));
-        else
-          c.put(static_cast<uint32_t>(u), kind == 0 ? kRunContext : kMissContext);
-      });
-      continue;
-    }
-    if (pred == kQuantumPredictor) {
-      write_quantum(&w, qp);
-      encode_quantum_lane(&c, qp, specs, data, valid, ragged->xyz, near, qpoints, &st, l, ragged);
-      continue;
-    }
-    if (pred == kUnitPredictor) {
-      for (const UnitRef& r : refs) {
-        w.varint(r.attribute);
-        w.varint(r.element);
-      }
-      int q = 0;  // sign bit of the previous completable value
-      walk_unit(&l.u, specs, data, refs, [&](uint64_t* v, float x, float y, bool completable) {
-        const uint32_t sign = static_cast<uint32_t>(from_ordered(*v, 'F', 32) >> 31);
-        if (completable) {
-          c.put(sign, kSignContext + q);
-          q = static_cast<int>(sign);
-        }
-        const uint64_t p = unit_prediction(x, y, completable, sign);
-        put_float_residual(&c, &st.prev_nb[completable ? 0 : 1],
-                           signed_residual((*v - p) & 0xFFFFFFFFu, 32));
-      });
-      continue;
-    }
-    walk_lane(pred, &l.u, valid, near, frames, points, W, mask,
-              [&](uint64_t* v, uint64_t p, bool gap) {
-                const int64_t r = signed_residual((*v - p) & mask, l.bits);
-                if (l.float_residuals)
-                  put_float_residual(&c, &st.prev_nb[gap], r);
-                else
-                  put_int_residual(&c, &st.mag[gap], static_cast<int32_t>(r));
-              });
+    make_lane(s, colour, data[a], n, j, &l);
+    const LaneChoice ch = choose_lane(in, colour, j, &l);
+    w.u8(static_cast<uint8_t>(ch.pred));
+    encode_lane(&c, &w, in, ch, &l);
   }
   enc.commit(c);
   const std::vector<uint8_t> block = enc.finish();
