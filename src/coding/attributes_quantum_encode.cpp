@@ -82,6 +82,89 @@ std::vector<uint16_t> keys_of(const QuantumParams& qp, const std::vector<AttrSpe
   return key_values(specs[qp.key.attribute], data[qp.key.attribute], n, qp.key.element);
 }
 
+// Predictor 12's candidates for a lane on `quantum`: the previous value's base, each key field's
+// element (by sweep bins too in a ragged window of frames), the range and the nearest point.
+std::vector<QuantumParams> quantum_candidates(const std::vector<AttrSpec>& specs, const Lane& l,
+                                              const uint8_t* valid, const double* xyz,
+                                              const uint32_t* near, double quantum, bool wide,
+                                              const RaggedFields* rf) {
+  std::vector<QuantumParams> cands;
+  cands.push_back({quantum, kBasePrevious, {}, 0, wide});
+  for (size_t b = 0; b < specs.size(); ++b)
+    for (size_t e = 0; is_key_field(specs[b]) && e < static_cast<size_t>(specs[b].count) && e < 8;
+         ++e)
+      for (int sweep : {0, kSweepBinsTried})
+        if (sweep == 0 || (rf && rf->q && rf->frame_offsets && rf->frames > 1))
+          cands.push_back({quantum, kBaseKey, {b, e}, 0, wide, sweep});
+  if (xyz) cands.push_back({quantum, kBaseRange, {}, range_offset(l, valid, xyz), wide});
+  if (near) cands.push_back({quantum, kBaseNear, {}, 0, wide});
+  return cands;
+}
+
+// What every candidate's walk_encode would sum alike, summed once: each valid point's k and
+// correction (k_of depends on the prediction only for a value without an int32 multiple, `own`:
+// those are costed per candidate) and the gap points' residuals. Fills pts (corr with `corr`).
+uint64_t shared_cost(const Lane& l, const uint8_t* valid, double quantum, bool wide, bool corr,
+                     QuantumPoints* pts) {
+  const uint64_t mask = mask_of(l.bits);
+  const int size = l.bits / 8;
+  const size_t n = l.u.size();
+  pts->k.assign(n, 0);
+  pts->own.assign(n, 0);
+  pts->corr.assign(corr ? n : 0, 0);
+  uint64_t shared = 0, last_gap = 0;
+  for (size_t p = 0; p < n; ++p) {
+    const uint64_t v = l.u[p];
+    if (!valid[p]) {
+      shared += bit_length(zigzag64(signed_residual((v - last_gap) & mask, l.bits)));
+      last_gap = v;
+      continue;
+    }
+    const double t = lane_double(v, l.bits) / quantum;
+    if (!std::isfinite(t) || std::fabs(t) >= 2147483647.0) {
+      pts->own[p] = 1;
+      continue;
+    }
+    pts->k[p] = static_cast<int32_t>(std::nearbyint(t));
+    const int64_t r =
+        signed_residual((v - quantum_value(pts->k[p], quantum, size, wide)) & mask, l.bits);
+    if (corr) pts->corr[p] = r;
+    shared += bit_length(zigzag64(r));
+  }
+  return shared;
+}
+
+// Candidate c's cost beyond shared_cost's: its k residuals, and the corrections of the `own`
+// values against its predictions.
+uint64_t candidate_cost(const std::vector<AttrSpec>& specs,
+                        const std::vector<std::vector<uint8_t>>& data, Lane& l,
+                        const uint8_t* valid, const double* xyz, const uint32_t* near,
+                        const QuantumParams& c, const QuantumPoints& pts, const RaggedFields* rf) {
+  const uint64_t mask = mask_of(l.bits);
+  const int size = l.bits / 8;
+  const size_t n = l.u.size();
+  uint64_t sum = 0;
+  const uint64_t* base = l.u.data();
+  const std::vector<uint16_t> keys = keys_of(c, specs, data, n);
+  const std::vector<int32_t> cells = cells_of(c, keys.data(), valid, n, rf);
+  walk_quantum(
+      &l.u, valid, c, keys.data(), xyz, near, [](uint64_t*, uint64_t) {},
+      [&](uint64_t* v, int32_t kh, int32_t* k) {
+        const size_t p = static_cast<size_t>(v - base);
+        if (pts.own[p]) {  // k = kh: no integer residual, the correction against kh D
+          *k = kh;
+          sum += bit_length(zigzag64(
+              signed_residual((*v - quantum_value(kh, c.quantum, size, c.wide)) & mask, l.bits)));
+          return;
+        }
+        *k = pts.k[p];
+        sum += bit_length(zigzag(
+            static_cast<int32_t>(static_cast<uint32_t>(pts.k[p]) - static_cast<uint32_t>(kh))));
+      },
+      cells.empty() ? nullptr : cells.data(), rf);
+  return sum;
+}
+
 }  // namespace
 
 bool choose_quantum(const std::vector<AttrSpec>& specs,
@@ -94,69 +177,14 @@ bool choose_quantum(const std::vector<AttrSpec>& specs,
   bool wide = false;
   const double quantum = find_quantum(l, valid, &wide);
   if (quantum == 0) return false;
-  std::vector<QuantumParams> cands;
-  cands.push_back({quantum, kBasePrevious, {}, 0, wide});
-  for (size_t b = 0; b < specs.size(); ++b)
-    for (size_t e = 0; is_key_field(specs[b]) && e < static_cast<size_t>(specs[b].count) && e < 8;
-         ++e)
-      for (int sweep : {0, kSweepBinsTried})
-        if (sweep == 0 || (rf && rf->q && rf->frame_offsets && rf->frames > 1))
-          cands.push_back({quantum, kBaseKey, {b, e}, 0, wide, sweep});
-  if (xyz) cands.push_back({quantum, kBaseRange, {}, range_offset(l, valid, xyz), wide});
-  if (near) cands.push_back({quantum, kBaseNear, {}, 0, wide});
-  // What every candidate's walk_encode would sum alike, summed once: each valid point's k and
-  // correction (k_of depends on the prediction only for a value without an int32 multiple,
-  // `own`: those are costed per candidate) and the gap points' residuals.
-  const uint64_t mask = mask_of(l.bits);
-  const int size = l.bits / 8;
-  const size_t n = l.u.size();
+  const std::vector<QuantumParams> cands =
+      quantum_candidates(specs, l, valid, xyz, near, quantum, wide, rf);
   QuantumPoints local;
   QuantumPoints& pts = points ? *points : local;
-  std::vector<int32_t>& ks = pts.k;
-  std::vector<uint8_t>& own = pts.own;
-  ks.assign(n, 0);
-  own.assign(n, 0);
-  pts.corr.assign(points ? n : 0, 0);
-  uint64_t shared = 0, last_gap = 0;
-  for (size_t p = 0; p < n; ++p) {
-    const uint64_t v = l.u[p];
-    if (!valid[p]) {
-      shared += bit_length(zigzag64(signed_residual((v - last_gap) & mask, l.bits)));
-      last_gap = v;
-      continue;
-    }
-    const double t = lane_double(v, l.bits) / quantum;
-    if (!std::isfinite(t) || std::fabs(t) >= 2147483647.0) {
-      own[p] = 1;
-      continue;
-    }
-    ks[p] = static_cast<int32_t>(std::nearbyint(t));
-    const int64_t r =
-        signed_residual((v - quantum_value(ks[p], quantum, size, wide)) & mask, l.bits);
-    if (points) pts.corr[p] = r;
-    shared += bit_length(zigzag64(r));
-  }
+  const uint64_t shared = shared_cost(l, valid, quantum, wide, points != nullptr, &pts);
   *cost = ~uint64_t{0};
   for (const QuantumParams& c : cands) {
-    uint64_t sum = shared;
-    const uint64_t* base = l.u.data();
-    const std::vector<uint16_t> keys = keys_of(c, specs, data, n);
-    const std::vector<int32_t> cells = cells_of(c, keys.data(), valid, n, rf);
-    walk_quantum(
-        &l.u, valid, c, keys.data(), xyz, near, [](uint64_t*, uint64_t) {},
-        [&](uint64_t* v, int32_t kh, int32_t* k) {
-          const size_t p = static_cast<size_t>(v - base);
-          if (own[p]) {  // k = kh: no integer residual, the correction against kh D
-            *k = kh;
-            sum += bit_length(zigzag64(
-                signed_residual((*v - quantum_value(kh, quantum, size, wide)) & mask, l.bits)));
-            return;
-          }
-          *k = ks[p];
-          sum += bit_length(zigzag(
-              static_cast<int32_t>(static_cast<uint32_t>(ks[p]) - static_cast<uint32_t>(kh))));
-        },
-        cells.empty() ? nullptr : cells.data(), rf);
+    const uint64_t sum = shared + candidate_cost(specs, data, l, valid, xyz, near, c, pts, rf);
     if (sum < *cost) {
       *cost = sum;
       *qp = c;
