@@ -135,17 +135,17 @@ char choose_separator(const std::vector<Span>& content, size_t cols) {
   return ' ';
 }
 
-}  // namespace
+// What the body's lines mostly are: their line end, NaN spelling and each column's style.
+struct AsciiConventions {
+  std::string eol, nan;
+  std::vector<std::pair<uint8_t, uint8_t>> styles;
+};
 
-bool encode_ascii_body(const PcdFramePlan& plan, const uint8_t* points, size_t n,
-                       const uint8_t* body, size_t size, ByteWriter* out) {
-  size_t step = 0;
-  const std::vector<Column> cols = columns_of(plan, &step);
-  Lines lines;
-  if (cols.empty() || n == 0 || !cut_lines(body, size, n, &lines)) return false;
+// The line end, the NaN spelling and each column's style, from lines of C fields (step: a point's
+// bytes in `points`).
+AsciiConventions survey(const std::vector<Column>& cols, const Lines& lines, char sep,
+                        const uint8_t* points, size_t step, size_t n) {
   const size_t C = cols.size();
-  const char sep = choose_separator(lines.content, C);
-  // The line end, the NaN spelling and each column's samples, from lines of C fields.
   std::map<std::string, size_t> endings, nans;
   std::vector<std::vector<std::pair<Span, const uint8_t*>>> samples(C);
   std::vector<Span> tok;
@@ -163,21 +163,29 @@ bool encode_ascii_body(const PcdFramePlan& plan, const uint8_t* points, size_t n
       }
     }
   }
-  std::string eol = mode<std::string>(endings, "\n");
-  if (eol.size() > kMaxEnding) eol = "\n";
-  std::string nan = mode<std::string>(nans, "nan");
-  if (nan.size() > kMaxNan) nan = "nan";
-  std::vector<std::pair<uint8_t, uint8_t>> styles(C);
-  for (size_t c = 0; c < C; ++c) styles[c] = choose_style(cols[c], samples[c], nan);
+  AsciiConventions a;
+  a.eol = mode<std::string>(endings, "\n");
+  if (a.eol.size() > kMaxEnding) a.eol = "\n";
+  a.nan = mode<std::string>(nans, "nan");
+  if (a.nan.size() > kMaxNan) a.nan = "nan";
+  a.styles.resize(C);
+  for (size_t c = 0; c < C; ++c) a.styles[c] = choose_style(cols[c], samples[c], a.nan);
+  return a;
+}
 
-  ByteWriter ex;
+// Each line the conventions do not give back, into *ex: its distance from the last such line,
+// its flags, then the whole line or the fields to fix, and its own line end. Returns their count.
+size_t write_exceptions(const std::vector<Column>& cols, const Lines& lines, char sep,
+                        const AsciiConventions& a, const uint8_t* points, size_t step, size_t n,
+                        ByteWriter* ex) {
+  const size_t C = cols.size();
   size_t count = 0, last = 0;
   std::string text;
-  std::vector<size_t> starts(C + 1);
+  std::vector<Span> tok;
   std::vector<size_t> fix;
   for (size_t i = 0; i < n; ++i) {
     split_tokens(lines.content[i], sep, &tok);
-    uint8_t flags = lines.ending[i].is(eol) ? 0 : kNewEnding;
+    uint8_t flags = lines.ending[i].is(a.eol) ? 0 : kNewEnding;
     fix.clear();
     if (tok.size() != C) {
       flags |= kWholeLine;
@@ -185,7 +193,7 @@ bool encode_ascii_body(const PcdFramePlan& plan, const uint8_t* points, size_t n
       const uint8_t* pt = points + i * step;
       for (size_t c = 0; c < C; ++c) {
         text.clear();
-        append_column(cols[c], pt, styles[c].first, styles[c].second, nan, &text);
+        append_column(cols[c], pt, a.styles[c].first, a.styles[c].second, a.nan, &text);
         if (!tok[c].is(text)) fix.push_back(c);
       }
       if (2 * fix.size() > C)
@@ -195,32 +203,47 @@ bool encode_ascii_body(const PcdFramePlan& plan, const uint8_t* points, size_t n
     }
     if (!flags) continue;
     ++count;
-    ex.varint(i - last);
+    ex->varint(i - last);
     last = i;
-    ex.u8(flags);
+    ex->u8(flags);
     if (flags & kWholeLine) {
-      ex.str(lines.content[i].str());
+      ex->str(lines.content[i].str());
     } else if (flags & kFixFields) {
-      ex.varint(fix.size());
+      ex->varint(fix.size());
       for (size_t j = 0, prev = 0; j < fix.size(); prev = fix[j], ++j) {
-        ex.varint(fix[j] - prev);
-        ex.str(tok[fix[j]].str());
+        ex->varint(fix[j] - prev);
+        ex->str(tok[fix[j]].str());
       }
     }
-    if (flags & kNewEnding) ex.str(lines.ending[i].str());
+    if (flags & kNewEnding) ex->str(lines.ending[i].str());
   }
+  return count;
+}
+
+}  // namespace
+
+bool encode_ascii_body(const PcdFramePlan& plan, const uint8_t* points, size_t n,
+                       const uint8_t* body, size_t size, ByteWriter* out) {
+  size_t step = 0;
+  const std::vector<Column> cols = columns_of(plan, &step);
+  Lines lines;
+  if (cols.empty() || n == 0 || !cut_lines(body, size, n, &lines)) return false;
+  const char sep = choose_separator(lines.content, cols.size());
+  const AsciiConventions a = survey(cols, lines, sep, points, step, n);
+  ByteWriter ex;
+  const size_t count = write_exceptions(cols, lines, sep, a, points, step, n, &ex);
   ByteWriter packed;
   packed.varint(count);
   packed.bytes(ex.buffer());
   packed.str(lines.tail.str());
-  out->varint(C);
-  for (const auto& s : styles) {
-    out->u8(s.first);
-    out->u8(s.second);
+  out->varint(cols.size());
+  for (const auto& st : a.styles) {
+    out->u8(st.first);
+    out->u8(st.second);
   }
   out->str(std::string(1, sep));
-  out->str(eol);
-  out->str(nan);
+  out->str(a.eol);
+  out->str(a.nan);
   pack(packed.buffer(), {}, *out);
   return true;
 }
