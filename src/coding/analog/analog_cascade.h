@@ -96,25 +96,6 @@ class SignLms {
   double bound_ = 0;  // at least max |w[j]|
 };
 
-// The cascade over a whole known input: out[i] = in[i] - p[i] with p[i] exactly SignLms's
-// prediction after in[0..i) (the encoder's pass); returns the summed bit lengths of the
-// zig-zags of in and of out. The history is read from a precomputed array of clamped inputs
-// and their signs in increasing addresses (weights kept reversed), so the loop stores nothing
-// that a later load of the history must wait for; the signs are stored times +kStep and times
-// -kStep, and a weight update adds one of the two windows, or a window of zeros for a zero
-// residual (d sgn(h) of the filter; the same values up to the sign of a zero weight, which no
-// product, sum or comparison here sees). The arrays are a reused per-thread buffer.
-//
-// The prediction's sum S[i] = W[i] . H[i] (weights at sample i times its history window) is a
-// chain through every sample: S[i] needs the weights updated by sample i - 1's residual. The
-// loop shortens it by the identity, exact as every product and partial sum is an integer below
-// 2^53 (and the clamp not reached),
-//   S[i + 1] = (W[i] + d U[i]) . H[i + 1] = W[i] . H[i + 1] + d (U[i] . H[i + 1])
-// with d = sgn(residual i) and U[i] the +kStep sign window: W[i] . H[i + 1] is computed while
-// sample i's residual is (it needs only W[i]), and B[i] = U[i] . H[i + 1], a sum over the input
-// alone, is precomputed as a sliding sum of up[t] c[t + 1] (on int64: the same integers). A
-// step that clamps a weight computes S[i + 1] directly.
-//
 // W: the lanes of the weights' vectors (2, or 4 in sign_lms_run_avx2): a dot product is a sum
 // of exact integers, the same in any order. Always inlined, so that it is compiled for its
 // caller's target.
@@ -128,23 +109,32 @@ template <>
 struct LmsLanes<4> {
   typedef double D __attribute__((vector_size(32)));
 };
+
+// Bit length of the zig-zag u of v (|v| < 2^62 here): the top set bit of 2 u + 1 (one bsr).
+__attribute__((always_inline)) inline uint64_t lms_zigzag_bits(int64_t v) {
+  const uint64_t u = (static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63);
+  return static_cast<uint64_t>(63 - __builtin_clzll((u << 1) | 1));
+}
+
+// The kernel's arrays, views of its per-thread buffers. c[kTaps + i] = clamp(in[i]), zeros
+// before; up / down its sign times kStep / -kStep. down, zeros and up lie `stride` apart in that
+// order, so that the window of a residual of sign d starts at down + (d + 1) stride (no branch
+// on d). ci and sg: the clamped inputs and their signs as int32, for the sliding sums b and b2.
+struct LmsScratch {
+  double* down;
+  double* up;
+  double* c;
+  size_t stride;
+  int64_t* b;
+  int64_t* b2;
+  int32_t* ci;
+  int32_t* sg;
+};
+
+// The per-thread buffers of sign_lms_kernel<W, T> for m = n + kTaps + 2 slots; the zeros are
+// written when the buffer grows.
 template <int W, typename T>
-__attribute__((always_inline)) inline std::pair<uint64_t, uint64_t> sign_lms_kernel(
-    const int32_t* in, size_t n, T* out) {
-  typedef double Lanes __attribute__((vector_size(16)));
-  typedef typename LmsLanes<W>::D Wide;
-  constexpr int kTaps = SignLms::kTaps, kVecs = kTaps / W;
-  constexpr double kStep = SignLms::kStep, kMaxWeight = SignLms::kMaxWeight;
-  // Bit length of the zig-zag u of v (|v| < 2^62 here): the top set bit of 2 u + 1 (one bsr).
-  auto bits = [](int64_t v) __attribute__((always_inline)) {
-    const uint64_t u = (static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63);
-    return static_cast<uint64_t>(63 - __builtin_clzll((u << 1) | 1));
-  };
-  // c[kTaps + i] = clamp(in[i]), zeros before; up / down its sign times kStep / -kStep. down,
-  // zeros and up lie `stride` apart in that order, so that the window of a residual of sign d
-  // starts at down + (d + 1) stride (no branch on d); the zeros are written when the buffer
-  // grows. ci and sg: the clamped inputs and their signs as int32, for the sliding sums.
-  const size_t m = n + kTaps + 2;  // two zeros after the inputs (b2 reads c[n + kTaps + 1])
+__attribute__((always_inline)) inline LmsScratch lms_scratch(size_t m) {
   thread_local std::vector<double> buf;
   thread_local size_t stride = 0;
   thread_local std::vector<int64_t> bbuf;
@@ -155,14 +145,30 @@ __attribute__((always_inline)) inline std::pair<uint64_t, uint64_t> sign_lms_ker
   }
   if (bbuf.size() < 2 * m) bbuf.resize(2 * m);
   if (cbuf.size() < 2 * m) cbuf.resize(2 * m);
-  double* down = buf.data();
-  double* up = down + 2 * stride;
-  double* c = down + 3 * stride;
-  int64_t* b = bbuf.data();
-  int64_t* b2 = b + m;
-  int32_t* ci = cbuf.data();
-  int32_t* sg = ci + m;
-  uint64_t before = 0;
+  LmsScratch s;
+  s.down = buf.data();
+  s.up = s.down + 2 * stride;
+  s.c = s.down + 3 * stride;
+  s.stride = stride;
+  s.b = bbuf.data();
+  s.b2 = s.b + m;
+  s.ci = cbuf.data();
+  s.sg = s.ci + m;
+  return s;
+}
+
+// Fills c, up, down, ci and sg from the n inputs (m slots) and returns the summed bit lengths of
+// the zig-zags of the inputs.
+__attribute__((always_inline)) inline uint64_t lms_fill_history(const int32_t* in, size_t n,
+                                                                size_t m, const LmsScratch& s) {
+  typedef double Lanes __attribute__((vector_size(16)));
+  constexpr size_t kTaps = SignLms::kTaps;
+  constexpr double kStep = SignLms::kStep;
+  double* const c = s.c;
+  double* const up = s.up;
+  double* const down = s.down;
+  int32_t* const ci = s.ci;
+  int32_t* const sg = s.sg;
   for (size_t k = 0; k < kTaps; ++k) c[k] = up[k] = down[k] = 0, ci[k] = sg[k] = 0;
   for (size_t k = n + kTaps; k < m; ++k) c[k] = 0, ci[k] = 0;
   // Two samples a step: the clamp on doubles (exact), the signs from compares, and the bit
@@ -190,68 +196,136 @@ __attribute__((always_inline)) inline std::pair<uint64_t, uint64_t> sign_lms_ker
     std::memcpy(&eb, &e, sizeof e);
     acc += (eb & mag) >> 52;
   }
-  before = acc[0] + acc[1] - 1022 * i0;
+  uint64_t before = acc[0] + acc[1] - 1022 * i0;
   for (size_t i = i0; i < n; ++i) {
     const int64_t v = in[i] > kMaxSample ? kMaxSample : in[i] < -kMaxSample ? -kMaxSample : in[i];
     const double sgn = v > 0 ? 1.0 : v < 0 ? -1.0 : 0.0;
     c[kTaps + i] = static_cast<double>(v);
     up[kTaps + i] = kStep * sgn;
     down[kTaps + i] = -kStep * sgn;
-    before += bits(in[i]);
+    before += lms_zigzag_bits(in[i]);
   }
   for (size_t i = 0; i < n; ++i) {
     const int32_t v = in[i] > kMaxSample ? kMaxSample : in[i] < -kMaxSample ? -kMaxSample : in[i];
     ci[kTaps + i] = v;
     sg[kTaps + i] = (v > 0) - (v < 0);
   }
-  // b[i] = U[i] . H[i + 1] and b2[i] = U[i] . H[i + 2]: kStep times the sums of the products
-  // p1[t] = sg[t] ci[t + 1] and p2[t] = sg[t] ci[t + 2] (|p| <= 2^28) for t in [i, i + kTaps),
-  // sliding (exact, on int64). The products go where ci and sg were read (p1 over sg, p2 over ci:
-  // each slot is read before it is written).
-  {
-    int32_t* p1 = sg;
-    int32_t* p2 = ci;
-    for (size_t t = 0; t < n + kTaps; ++t) {
-      const int32_t g = sg[t];
-      p1[t] = g * ci[t + 1];
-      p2[t] = g * ci[t + 2];
-    }
-    int64_t s1 = 0, s2 = 0;
-    for (size_t t = 0; t < kTaps; ++t) {
-      s1 += p1[t];
-      s2 += p2[t];
-    }
-    for (size_t i = 0; i < n; ++i) {
-      b[i] = s1 * SignLms::kStep;
-      b2[i] = s2 * SignLms::kStep;
-      s1 += p1[i + kTaps] - p1[i];
-      s2 += p2[i + kTaps] - p2[i];
-    }
+  return before;
+}
+
+// b[i] = U[i] . H[i + 1] and b2[i] = U[i] . H[i + 2]: kStep times the sums of the products
+// p1[t] = sg[t] ci[t + 1] and p2[t] = sg[t] ci[t + 2] (|p| <= 2^28) for t in [i, i + kTaps),
+// sliding (exact, on int64). The products go where ci and sg were read (p1 over sg, p2 over ci:
+// each slot is read before it is written).
+__attribute__((always_inline)) inline void lms_step_sums(size_t n, const LmsScratch& s) {
+  constexpr size_t kTaps = SignLms::kTaps;
+  const int32_t* const ci = s.ci;
+  const int32_t* const sg = s.sg;
+  int32_t* p1 = s.sg;
+  int32_t* p2 = s.ci;
+  for (size_t t = 0; t < n + kTaps; ++t) {
+    const int32_t g = sg[t];
+    p1[t] = g * ci[t + 1];
+    p2[t] = g * ci[t + 2];
   }
-  // Adds (or multiplies) W doubles from p into v (an out parameter: a lambda returning a
-  // 32-byte vector would have another ABI outside the AVX2 target).
-  auto add = [](Wide * v, const double* p) __attribute__((always_inline)) {
-    Wide x;
-    std::memcpy(&x, p, sizeof x);
-    *v += x;
-  };
-  auto mul = [](Wide * v, const double* p) __attribute__((always_inline)) {
-    Wide x;
-    std::memcpy(&x, p, sizeof x);
-    *v *= x;
-  };
-  auto dot = [&](const Wide* w, const double* h) __attribute__((always_inline)) {
-    Wide p[kVecs];
-    for (int j = 0; j < kVecs; ++j) {
-      p[j] = w[j];
-      mul(&p[j], h + W * j);
-    }
-    for (int k = kVecs / 2; k >= 1; k /= 2)
-      for (int j = 0; j < k; ++j) p[j] += p[j + k];
-    double a = 0;
-    for (int l = 0; l < W; ++l) a += p[0][l];
-    return static_cast<int64_t>(a);
-  };
+  int64_t s1 = 0, s2 = 0;
+  for (size_t t = 0; t < kTaps; ++t) {
+    s1 += p1[t];
+    s2 += p2[t];
+  }
+  for (size_t i = 0; i < n; ++i) {
+    s.b[i] = s1 * SignLms::kStep;
+    s.b2[i] = s2 * SignLms::kStep;
+    s1 += p1[i + kTaps] - p1[i];
+    s2 += p2[i + kTaps] - p2[i];
+  }
+}
+
+// Adds (or multiplies) W doubles from p into v (an out parameter: a function returning a
+// 32-byte vector would have another ABI outside the AVX2 target).
+template <int W>
+__attribute__((always_inline)) inline void lms_add(typename LmsLanes<W>::D* v, const double* p) {
+  typename LmsLanes<W>::D x;
+  std::memcpy(&x, p, sizeof x);
+  *v += x;
+}
+template <int W>
+__attribute__((always_inline)) inline void lms_mul(typename LmsLanes<W>::D* v, const double* p) {
+  typename LmsLanes<W>::D x;
+  std::memcpy(&x, p, sizeof x);
+  *v *= x;
+}
+
+// The dot product of the kTaps weights w with the history h (an exact integer).
+template <int W>
+__attribute__((always_inline)) inline int64_t lms_dot(const typename LmsLanes<W>::D* w,
+                                                      const double* h) {
+  constexpr int kVecs = SignLms::kTaps / W;
+  typename LmsLanes<W>::D p[kVecs];
+  for (int j = 0; j < kVecs; ++j) {
+    p[j] = w[j];
+    lms_mul<W>(&p[j], h + W * j);
+  }
+  for (int k = kVecs / 2; k >= 1; k /= 2)
+    for (int j = 0; j < k; ++j) p[j] += p[j + k];
+  double a = 0;
+  for (int l = 0; l < W; ++l) a += p[0][l];
+  return static_cast<int64_t>(a);
+}
+
+// Adds the window g (d sgn(h), d = +-kStep) to the weights wr with the clamp to
+// [-kMaxWeight, kMaxWeight]; returns the new bound, max |w[j]|.
+template <int W>
+__attribute__((always_inline)) inline int64_t lms_clamped_update(typename LmsLanes<W>::D* wr,
+                                                                 const double* g) {
+  typedef typename LmsLanes<W>::D Wide;
+  constexpr int kVecs = SignLms::kTaps / W;
+  Wide lim, mx;
+  for (int l = 0; l < W; ++l) lim[l] = SignLms::kMaxWeight, mx[l] = 0;
+  const Wide nlim = -lim;
+  for (int j = 0; j < kVecs; ++j) {
+    Wide w = wr[j];
+    lms_add<W>(&w, g + W * j);
+    w = w > lim ? lim : w;
+    w = w < nlim ? nlim : w;
+    wr[j] = w;
+    const Wide aw = w < 0 ? -w : w;
+    mx = aw > mx ? aw : mx;
+  }
+  double top = 0;
+  for (int l = 0; l < W; ++l) top = mx[l] > top ? mx[l] : top;
+  return static_cast<int64_t>(top);
+}
+
+// The cascade over a whole known input: out[i] = in[i] - p[i] with p[i] exactly SignLms's
+// prediction after in[0..i) (the encoder's pass); returns the summed bit lengths of the
+// zig-zags of in and of out. The history is read from a precomputed array of clamped inputs
+// and their signs in increasing addresses (weights kept reversed), so the loop stores nothing
+// that a later load of the history must wait for; the signs are stored times +kStep and times
+// -kStep, and a weight update adds one of the two windows, or a window of zeros for a zero
+// residual (d sgn(h) of the filter; the same values up to the sign of a zero weight, which no
+// product, sum or comparison here sees). The arrays are a reused per-thread buffer.
+//
+// The prediction's sum S[i] = W[i] . H[i] (weights at sample i times its history window) is a
+// chain through every sample: S[i] needs the weights updated by sample i - 1's residual. The
+// loop shortens it by the identity, exact as every product and partial sum is an integer below
+// 2^53 (and the clamp not reached),
+//   S[i + 1] = (W[i] + d U[i]) . H[i + 1] = W[i] . H[i + 1] + d (U[i] . H[i + 1])
+// with d = sgn(residual i) and U[i] the +kStep sign window: W[i] . H[i + 1] is computed while
+// sample i's residual is (it needs only W[i]), and B[i] = U[i] . H[i + 1], a sum over the input
+// alone, is precomputed as a sliding sum of up[t] c[t + 1] (on int64: the same integers). A
+// step that clamps a weight computes S[i + 1] directly.
+template <int W, typename T>
+__attribute__((always_inline)) inline std::pair<uint64_t, uint64_t> sign_lms_kernel(
+    const int32_t* in, size_t n, T* out) {
+  typedef typename LmsLanes<W>::D Wide;
+  constexpr int kVecs = SignLms::kTaps / W;
+  // Two zeros after the inputs (b2 reads c[n + kTaps + 1]).
+  const size_t m = n + SignLms::kTaps + 2;
+  const LmsScratch s = lms_scratch<W, T>(m);
+  const uint64_t before = lms_fill_history(in, n, m, s);
+  lms_step_sums(n, s);
+  const double* const c = s.c;
   // wr[k] = w[kTaps - 1 - k] multiplies c[kTaps + i - kTaps + k] = in[i - kTaps + k].
   Wide wr[kVecs] = {};
   // The sums are exact integers, kept as int64 from here, and the weights' dot product runs a
@@ -268,40 +342,25 @@ __attribute__((always_inline)) inline std::pair<uint64_t, uint64_t> sign_lms_ker
   int64_t ahead = 0;  // A[i - 1] (0 for i = 0: the weights start at 0)
   int64_t bprev = 0;  // d[i - 1] b2[i - 1]
   for (size_t i = 0; i < n; ++i) {
-    const int64_t next = ahead + bprev;             // W[i] . H[i + 1]
-    const int64_t ahead_next = dot(wr, c + i + 2);  // W[i] . H[i + 2]
-    int64_t s = (sum + (int64_t{1} << (SignLms::kShift - 1))) >> SignLms::kShift;
-    s = s > kMaxSample ? kMaxSample : s < -kMaxSample ? -kMaxSample : s;
-    const int64_t o = in[i] - s;
+    const int64_t next = ahead + bprev;                    // W[i] . H[i + 1]
+    const int64_t ahead_next = lms_dot<W>(wr, c + i + 2);  // W[i] . H[i + 2]
+    int64_t p = (sum + (int64_t{1} << (SignLms::kShift - 1))) >> SignLms::kShift;
+    p = p > kMaxSample ? kMaxSample : p < -kMaxSample ? -kMaxSample : p;
+    const int64_t o = in[i] - p;
     out[i] = static_cast<T>(o);
-    after += bits(o);
+    after += lms_zigzag_bits(o);
     const int64_t d = (o > 0) - (o < 0);
     if (bound + SignLms::kStep <= SignLms::kMaxWeight || d == 0) {
-      const double* g = down + static_cast<size_t>(d + 1) * stride + i;
-      for (int j = 0; j < kVecs; ++j) add(&wr[j], g + W * j);
+      const double* g = s.down + static_cast<size_t>(d + 1) * s.stride + i;
+      for (int j = 0; j < kVecs; ++j) lms_add<W>(&wr[j], g + W * j);
       bound += d * d * SignLms::kStep;
-      sum = next + d * b[i];
+      sum = next + d * s.b[i];
       ahead = ahead_next;
-      bprev = d * b2[i];
+      bprev = d * s.b2[i];
     } else {
-      const double* g = (d > 0 ? up : down) + i;  // d sgn(h), d = +-kStep
-      Wide lim, mx;
-      for (int l = 0; l < W; ++l) lim[l] = kMaxWeight, mx[l] = 0;
-      const Wide nlim = -lim;
-      for (int j = 0; j < kVecs; ++j) {
-        Wide w = wr[j];
-        add(&w, g + W * j);
-        w = w > lim ? lim : w;
-        w = w < nlim ? nlim : w;
-        wr[j] = w;
-        const Wide aw = w < 0 ? -w : w;
-        mx = aw > mx ? aw : mx;
-      }
-      double top = 0;
-      for (int l = 0; l < W; ++l) top = mx[l] > top ? mx[l] : top;
-      bound = static_cast<int64_t>(top);
-      sum = dot(wr, c + i + 1);
-      ahead = dot(wr, c + i + 2);
+      bound = lms_clamped_update<W>(wr, (d > 0 ? s.up : s.down) + i);  // d sgn(h), d = +-kStep
+      sum = lms_dot<W>(wr, c + i + 1);
+      ahead = lms_dot<W>(wr, c + i + 2);
       bprev = 0;
     }
   }
