@@ -188,10 +188,109 @@ void attach_parameters(std::vector<Pending>& params,
                        ", which has no group entry (kept in an unnamed group)");
 }
 
-}  // namespace
+// The entries read so far: parameters waiting for their groups, and the order of the groups.
+struct Entries {
+  std::vector<Pending> params;
+  std::vector<std::pair<size_t, size_t>> group_order;  // (entry index, group index)
+  size_t count = 0;                                    // entries read
+};
 
-ParameterSection parse_parameter_section(const uint8_t* data, size_t size, size_t offset,
-                                         size_t limit, const std::string& name) {
+// How messages name the entry starting at byte p.
+std::string entry_at(size_t p) {
+  return "parameter entry at byte " + std::to_string(p);
+}
+
+// Reads a description (a length byte, then the bytes) at *q into *out, advancing *q; false with
+// *what set when it is cut off.
+bool read_description(const uint8_t* data, size_t size, size_t* q, std::string* out,
+                      std::string* what) {
+  if (*q >= size) {
+    *what = "cut off before its description";
+    return false;
+  }
+  size_t dlen = data[(*q)++];
+  if (size - *q < dlen) {
+    *what = "description cut off by the end of the file";
+    return false;
+  }
+  out->assign(reinterpret_cast<const char*>(data + *q), dlen);
+  *q += dlen;
+  return true;
+}
+
+// Reads the rest of a group (gid < 0) or parameter entry named ename from *q, advancing *q, into
+// s->groups or e->params; false with *what set when the entry is malformed or cut off.
+bool read_entry_body(const uint8_t* data, size_t size, const NumberFormat& nf, int8_t nlen,
+                     int8_t gid, const std::string& ename, size_t* q, Entries* e,
+                     ParameterSection* s, std::string* what) {
+  if (gid < 0) {
+    C3DGroup g;
+    g.id = -gid;
+    g.name = ename;
+    g.locked = nlen < 0;
+    if (!read_description(data, size, q, &g.description, what)) return false;
+    e->group_order.emplace_back(e->count, s->groups.size());
+    s->groups.push_back(std::move(g));
+    return true;
+  }
+  C3DParameter p;
+  p.name = ename;
+  p.locked = nlen < 0;
+  if (!read_parameter_value(data, size, nf, q, &p, what) ||
+      !read_description(data, size, q, &p.description, what))
+    return false;
+  e->params.push_back({gid, e->count, std::move(p)});
+  return true;
+}
+
+// Reads the entry at *pos (below limit, with its first two bytes in the file) and moves *pos to
+// the next entry; false when the section ends here: a terminator, the last entry, or a malformed
+// entry (warned, ignoring the rest of the section).
+bool read_entry(const uint8_t* data, size_t size, size_t limit, const NumberFormat& nf, size_t* pos,
+                Entries* e, ParameterSection* s) {
+  const size_t at = *pos;
+  int8_t nlen = static_cast<int8_t>(data[at]);
+  int8_t gid = static_cast<int8_t>(data[at + 1]);
+  if (nlen == 0) return false;                    // terminator
+  if (gid == 0 || gid == -128 || nlen == -128) {  // ids and name lengths are 1..127
+    s->warnings.push_back(entry_at(at) + " has " +
+                          (nlen == -128 ? "name length -128" : "group id " + std::to_string(gid)) +
+                          "; ignoring the rest of the section");
+    return false;
+  }
+  size_t len = static_cast<size_t>(nlen < 0 ? -nlen : nlen);
+  size_t q = at + 2;
+  if (size - q < len + 2) {
+    s->warnings.push_back(entry_at(at) + " is cut off by the end of the file");
+    return false;
+  }
+  std::string ename(reinterpret_cast<const char*>(data + q), len);
+  q += len;
+  size_t offpos = q;
+  int off = nf.i16(data + q);
+  q += 2;
+  std::string what;
+  if (!read_entry_body(data, size, nf, nlen, gid, ename, &q, e, s, &what)) {
+    s->warnings.push_back(entry_at(at) + " (" + printable(ename) + ") " + what +
+                          "; ignoring the rest of the section");
+    return false;
+  }
+  ++e->count;
+  if (off == 0) return false;  // the last entry
+  const size_t next =
+      next_entry(off, offpos, q, limit, entry_at(at) + " (" + printable(ename) + ")", s);
+  if (next < q) {
+    // The entry claims to end before its description does: the description is not there.
+    if (!s->groups.empty() && gid < 0) s->groups.back().description.clear();
+    if (!e->params.empty() && gid > 0) e->params.back().p.description.clear();
+  }
+  *pos = next;
+  return true;
+}
+
+// The section's header (4 bytes at offset): its declared block count and processor type.
+ParameterSection read_section_header(const uint8_t* data, size_t size, size_t offset,
+                                     const std::string& name) {
   if (offset > size || size - offset < 4)
     fail(ErrorCode::kCorrupt, name,
          "parameter section at byte " + std::to_string(offset) +
@@ -204,95 +303,30 @@ ParameterSection parse_parameter_section(const uint8_t* data, size_t size, size_
          "unknown processor type " + std::to_string(s.processor) +
              " in the parameter section at byte " + std::to_string(offset) +
              " (expected 84 Intel, 85 DEC or 86 MIPS)");
-  NumberFormat nf{s.processor};
+  return s;
+}
 
-  std::vector<Pending> params;
-  std::vector<std::pair<size_t, size_t>> group_order;  // (entry index, group index)
-  size_t entry = 0;
+}  // namespace
+
+ParameterSection parse_parameter_section(const uint8_t* data, size_t size, size_t offset,
+                                         size_t limit, const std::string& name) {
+  ParameterSection s = read_section_header(data, size, offset, name);
+  NumberFormat nf{s.processor};
+  Entries e;
   size_t pos = offset + 4;
   // Many writers understate the block count (byte 2), so entries are bounded by `limit` only.
   limit = std::min(limit, size);
-  auto warn = [&](const std::string& w) { s.warnings.push_back(w); };
-  auto at = [&](size_t p) { return "parameter entry at byte " + std::to_string(p); };
-
   while (true) {
     if (pos >= limit || size - pos < 2) {
-      warn(limit < size ? "parameter section runs into the data section without a terminator"
-                        : std::string("parameter section runs to the end of the file without a "
-                                      "terminator"));
+      s.warnings.push_back(
+          limit < size ? "parameter section runs into the data section without a terminator"
+                       : std::string("parameter section runs to the end of the file without a "
+                                     "terminator"));
       break;
     }
-    int8_t nlen = static_cast<int8_t>(data[pos]);
-    int8_t gid = static_cast<int8_t>(data[pos + 1]);
-    if (nlen == 0) break;                           // terminator
-    if (gid == 0 || gid == -128 || nlen == -128) {  // ids and name lengths are 1..127
-      warn(at(pos) + " has " +
-           (nlen == -128 ? "name length -128" : "group id " + std::to_string(gid)) +
-           "; ignoring the rest of the section");
-      break;
-    }
-    size_t len = static_cast<size_t>(nlen < 0 ? -nlen : nlen);
-    size_t q = pos + 2;
-    if (size - q < len + 2) {
-      warn(at(pos) + " is cut off by the end of the file");
-      break;
-    }
-    std::string ename(reinterpret_cast<const char*>(data + q), len);
-    q += len;
-    size_t offpos = q;
-    int off = nf.i16(data + q);
-    q += 2;
-    bool ok = true;
-    std::string what;
-    // Description: a length byte, then the bytes.
-    auto read_desc = [&](std::string* out) {
-      if (q >= size) {
-        what = "cut off before its description";
-        return false;
-      }
-      size_t dlen = data[q++];
-      if (size - q < dlen) {
-        what = "description cut off by the end of the file";
-        return false;
-      }
-      out->assign(reinterpret_cast<const char*>(data + q), dlen);
-      q += dlen;
-      return true;
-    };
-    if (gid < 0) {
-      C3DGroup g;
-      g.id = -gid;
-      g.name = ename;
-      g.locked = nlen < 0;
-      ok = read_desc(&g.description);
-      if (ok) {
-        group_order.emplace_back(entry, s.groups.size());
-        s.groups.push_back(std::move(g));
-      }
-    } else {
-      C3DParameter p;
-      p.name = ename;
-      p.locked = nlen < 0;
-      ok = read_parameter_value(data, size, nf, &q, &p, &what) && read_desc(&p.description);
-      if (ok) params.push_back({gid, entry, std::move(p)});
-    }
-    if (!ok) {
-      warn(at(pos) + " (" + printable(ename) + ") " + what + "; ignoring the rest of the section");
-      break;
-    }
-    ++entry;
-    if (off == 0) break;  // the last entry
-    const size_t next =
-        next_entry(off, offpos, q, limit, at(pos) + " (" + printable(ename) + ")", &s);
-    if (next < q) {
-      // The entry claims to end before its description does: the description is not there.
-      if (!s.groups.empty() && gid < 0) s.groups.back().description.clear();
-      if (!params.empty() && gid > 0) params.back().p.description.clear();
-    }
-    pos = next;
+    if (!read_entry(data, size, limit, nf, &pos, &e, &s)) break;
   }
-
-  attach_parameters(params, group_order, &s);
+  attach_parameters(e.params, e.group_order, &s);
   return s;
 }
 
