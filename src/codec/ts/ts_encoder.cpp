@@ -174,110 +174,143 @@ void align_stage(const PositionsView& in, const Options& o, const WindowStats& s
   rep->t_align = since(ta);
 }
 
+// The search over models for one window: the best trial of the runs so far (the smallest payload
+// that meets the target, else the one closest to it).
+class ModelSearch {
+ public:
+  ModelSearch(const Base& base, const Options& o, TsEncodeReport* rep)
+      : base_(base), o_(o), rep_(rep) {}
+
+  // Segments the aligned points into n segments (timed in the report).
+  ts::Segmentation segment(int n) const {
+    ts::SegmentParams sp;
+    sp.segments = n;
+    sp.seed = o_.seed;
+    auto t0 = Clock::now();
+    ts::Segmentation sg = ts::segment_points(base_.aligned, sp);
+    rep_->t_segment += since(t0);
+    return sg;
+  }
+
+  // One run: the trial of k clusters at seg, kept when better than the best so far; returns its
+  // payload size (infinity when it did not meet the target).
+  double run(int k, const ts::Segmentation& seg) {
+    Trial t = trial(k, seg);
+    const double size = t.ok && !t.bytes.empty() ? static_cast<double>(t.bytes.size()) : INFINITY;
+    const bool better =
+        !have_ || (t.ok && !best_.ok) ||
+        (t.ok == best_.ok && (t.ok ? t.bytes.size() < best_.bytes.size() : t.sq < best_.sq));
+    if (better) {
+      best_ = std::move(t);
+      have_ = true;
+    }
+    return size;
+  }
+
+  // segments=auto: the ladder 1, 2, 4, .., 64 cut to counts with >= kMinPointsPerSegment points
+  // per segment on average; starts at kAutoSegmentsStart (or the largest allowed), then walks
+  // down while the payload of k clusters shrinks, else up while it shrinks. Returns the chosen
+  // segmentation and sets *seg_size to its payload size.
+  ts::Segmentation auto_segments(int k, double* seg_size) {
+    std::vector<int> ladder;
+    for (int n = 1; n <= ts::kMaxSegments &&
+                    (n == 1 || static_cast<size_t>(n) * kMinPointsPerSegment <= base_.in.points);
+         n *= 2)
+      ladder.push_back(n);
+    size_t at = 0;
+    while (at + 1 < ladder.size() && ladder[at + 1] <= kAutoSegmentsStart) ++at;
+    std::vector<double> size(ladder.size(), -1);
+    std::vector<ts::Segmentation> segs(ladder.size());
+    auto eval = [&](size_t i) {
+      if (size[i] < 0) {
+        segs[i] = segment(ladder[i]);
+        size[i] = run(k, segs[i]);
+      }
+      return size[i];
+    };
+    size_t best_i = at;
+    eval(at);
+    for (size_t i = at; i > 0 && eval(i - 1) < size[best_i]; --i) best_i = i - 1;
+    if (best_i == at)
+      for (size_t i = at; i + 1 < ladder.size() && eval(i + 1) < size[best_i]; ++i) best_i = i + 1;
+    *seg_size = size[best_i];
+    return std::move(segs[best_i]);
+  }
+
+  // The best trial; the fallback model when no trial fits the payload's int32 values, the empty
+  // model when nothing was run (an empty window).
+  Trial result() {
+    if (have_ && best_.bytes.empty())  // every budget tried gave values outside the payload's range
+      best_ = ts::enc::fallback_trial(base_, o_);
+    if (!have_) {  // empty window
+      best_.model.frames = base_.in.frames;
+      best_.model.points = base_.in.points;
+      best_.model.clusters = 1;
+      best_.model.label.assign(base_.in.frames, 0);
+      ts::reconstruct(best_.model, &best_.recon);
+      ByteWriter bw;
+      ts::write_model(best_.model, &bw);
+      best_.bytes = std::move(bw.buffer());
+    }
+    return std::move(best_);
+  }
+
+ private:
+  // The trial of k clusters at seg. A target tighter than the basis quantiser allows (the first
+  // PC carries the mean shape and needs the finest step): widens the basis bits beyond the
+  // paper's 16 until it is met.
+  Trial trial(int k, const ts::Segmentation& seg) {
+    ts::enc::Prepared prep = ts::enc::prepare(base_, k, seg, o_, rep_);
+    Trial t = ts::enc::rate_search(base_, prep, o_, &scale_, rep_);
+    for (Options wide = o_; !t.ok && wide.bits_max < 24;) {
+      wide.bits_max = std::min(24, wide.bits_max + 4);
+      double s2 = 1.0;
+      Trial t2 = ts::enc::rate_search(base_, prep, wide, &s2, rep_);
+      if (t2.ok || t2.sq < t.sq) t = std::move(t2);
+    }
+    return t;
+  }
+
+  const Base& base_;
+  const Options& o_;
+  TsEncodeReport* rep_;
+  Trial best_;
+  bool have_ = false;
+  double scale_ = 1.0;  // each run starts its search where the previous one ended
+};
+
 // Stages 2..4 for each (segment count, cluster count) tried: the trial with the smallest payload
 // that meets the target (else the one closest to it); the fallback model when no trial fits the
 // payload's int32 values, the empty model for an empty window.
 Trial search_models(const Base& base, const TransformParams& params, const Options& o,
                     TsEncodeReport* rep) {
-  const PositionsView& in = base.in;
-  const size_t nf = in.frames;
+  const size_t nf = base.in.frames;
   const int kmax = static_cast<int>(
       std::min<size_t>(static_cast<size_t>(o.max_clusters), std::max<size_t>(nf, 1)));
   const bool k_auto = params.clusters <= 0;  // auto (the default): K = 1..max_clusters
   const int k_fixed = k_auto ? 1
                              : static_cast<int>(std::min<size_t>(
                                    static_cast<size_t>(params.clusters), std::max<size_t>(nf, 1)));
-  Trial best;
-  bool have = false;
-  double scale = 1.0;  // each run starts its search where the previous one ended
-  // One run: returns the payload size of its best trial (infinity when none met the target).
-  auto run = [&](int k, const ts::Segmentation& seg) {
-    ts::enc::Prepared prep = ts::enc::prepare(base, k, seg, o, rep);
-    Trial t = ts::enc::rate_search(base, prep, o, &scale, rep);
-    // A target tighter than the basis quantiser allows (the first PC carries the mean shape and
-    // needs the finest step): widen the basis bits beyond the paper's 16 until it is met.
-    for (Options wide = o; !t.ok && wide.bits_max < 24;) {
-      wide.bits_max = std::min(24, wide.bits_max + 4);
-      double s2 = 1.0;
-      Trial t2 = ts::enc::rate_search(base, prep, wide, &s2, rep);
-      if (t2.ok || t2.sq < t.sq) t = std::move(t2);
-    }
-    const double size = t.ok && !t.bytes.empty() ? static_cast<double>(t.bytes.size()) : INFINITY;
-    const bool better =
-        !have || (t.ok && !best.ok) ||
-        (t.ok == best.ok && (t.ok ? t.bytes.size() < best.bytes.size() : t.sq < best.sq));
-    if (better) {
-      best = std::move(t);
-      have = true;
-    }
-    return size;
-  };
+  ModelSearch search(base, o, rep);
   if (nf > 0) {
     // Point segments: a fixed count, or (auto) the counts of kAutoSegments with at least
     // kMinPointsPerSegment points each on average, in increasing order while the payload shrinks.
-    auto segment = [&](int n) {
-      ts::SegmentParams sp;
-      sp.segments = n;
-      sp.seed = o.seed;
-      auto t0 = Clock::now();
-      ts::Segmentation sg = ts::segment_points(base.aligned, sp);
-      rep->t_segment += since(t0);
-      return sg;
-    };
-    ts::Segmentation best_seg = segment(1);
+    ts::Segmentation best_seg = search.segment(1);
     double seg_size = INFINITY;  // payload size at best_seg
     if (o.segments > 0) {
-      best_seg = segment(o.segments);
-      seg_size = run(k_fixed, best_seg);
+      best_seg = search.segment(o.segments);
+      seg_size = search.run(k_fixed, best_seg);
     } else {
-      // The ladder 1, 2, 4, .., 64 cut to counts with >= kMinPointsPerSegment points per segment
-      // on average; start at kAutoSegmentsStart (or the largest allowed), then walk down while
-      // the payload shrinks, else up while it shrinks.
-      std::vector<int> ladder;
-      for (int n = 1; n <= ts::kMaxSegments &&
-                      (n == 1 || static_cast<size_t>(n) * kMinPointsPerSegment <= in.points);
-           n *= 2)
-        ladder.push_back(n);
-      size_t at = 0;
-      while (at + 1 < ladder.size() && ladder[at + 1] <= kAutoSegmentsStart) ++at;
-      std::vector<double> size(ladder.size(), -1);
-      std::vector<ts::Segmentation> segs(ladder.size());
-      auto eval = [&](size_t i) {
-        if (size[i] < 0) {
-          segs[i] = segment(ladder[i]);
-          size[i] = run(k_fixed, segs[i]);
-        }
-        return size[i];
-      };
-      size_t best_i = at;
-      eval(at);
-      for (size_t i = at; i > 0 && eval(i - 1) < size[best_i]; --i) best_i = i - 1;
-      if (best_i == at)
-        for (size_t i = at; i + 1 < ladder.size() && eval(i + 1) < size[best_i]; ++i)
-          best_i = i + 1;
-      best_seg = std::move(segs[best_i]);
-      seg_size = size[best_i];
+      best_seg = search.auto_segments(k_fixed, &seg_size);
     }
     // --clusters auto: K = 2, 3, .. max_clusters at the chosen segments while the payload shrinks.
     for (int k = 2; k_auto && k <= kmax; ++k) {
-      const double size = run(k, best_seg);
+      const double size = search.run(k, best_seg);
       if (!(size < seg_size)) break;
       seg_size = size;
     }
   }
-  if (have && best.bytes.empty())  // every budget tried gave values outside the payload's range
-    best = ts::enc::fallback_trial(base, o);
-  if (!have) {  // empty window
-    best.model.frames = nf;
-    best.model.points = in.points;
-    best.model.clusters = 1;
-    best.model.label.assign(nf, 0);
-    ts::reconstruct(best.model, &best.recon);
-    ByteWriter bw;
-    ts::write_model(best.model, &bw);
-    best.bytes = std::move(bw.buffer());
-  }
-  return best;
+  return search.result();
 }
 
 // Fills the report's model description and achieved error from the chosen trial.
