@@ -548,6 +548,94 @@ size_t pdct_default_clusters(size_t points) {
   return std::min<size_t>(40, std::max<size_t>(1, points / 8));
 }
 
+namespace {
+
+// The steps before any search: seed and first steps (and the coefficients' when bounded) from
+// the max error, else from the diagonal; none below min_step.
+Steps initial_steps(const TransformParams& params, const PdctOptions& o, double diag,
+                    double min_step) {
+  Steps S;
+  S.seed_order = o.seed_order;
+  S.local_order = o.local_order;
+  if (params.max_error > 0) {
+    S.seed = o.seed_factor * 2 * params.max_error;
+    S.first = o.first_factor * 2 * params.max_error;
+    S.coef = o.coef_factor * 2 * params.max_error;
+  } else {
+    S.seed = std::ldexp(diag, -o.seed_bits);
+    S.first = std::ldexp(diag, -o.first_bits);
+  }
+  S.seed = std::max(S.seed, min_step);
+  S.first = std::max(S.first, min_step);
+  return S;
+}
+
+// Candidate cluster counts: the one asked for, the default, or (auto) a ladder of counts with at
+// least 3 points a cluster.
+std::vector<size_t> candidate_counts(const TransformParams& params, size_t points) {
+  std::vector<size_t> counts;
+  if (params.clusters > 0) {
+    counts.push_back(static_cast<size_t>(params.clusters));
+  } else if (params.clusters == 0) {
+    counts.push_back(pdct_default_clusters(points));
+  } else {
+    for (size_t n : {2, 4, 6, 8, 12, 16, 24, 32, 40, 56, 80})
+      if (n == 2 || 3 * n <= points) counts.push_back(n);
+  }
+  return counts;
+}
+
+// mode=grid: the trial with the fewest bytes over the cluster counts.
+Trial best_grid_trial(const PositionsView& in, const TransformParams& params, const PdctOptions& o,
+                      const std::vector<size_t>& counts, double min_step) {
+  const double grid =
+      params.grid_step > 0 ? params.grid_step : 2.0 * params.max_error * (1.0 - 0x1p-30);
+  if (!(grid >= min_step) || !std::isfinite(grid))
+    throw Error(ErrorCode::kInvalidParameter,
+                "pdct: grid step " + std::to_string(grid) + " too fine for this take");
+  Trial best;
+  bool have = false;
+  for (size_t n : counts) {
+    Trial t = run_grid_encode(in, build_layout(in, n, o), grid);
+    if (!have || t.bytes.size() < best.bytes.size()) best = std::move(t);
+    have = true;
+  }
+  return best;
+}
+
+// mode=dct: the trial of least cost (its bits, plus the bound layer's estimate when bounded) over
+// the cluster counts; sets *best_layout to its layout and S->coef to its coefficients' step.
+Trial best_dct_trial(const PositionsView& in, const TransformParams& params, const PdctOptions& o,
+                     const std::vector<size_t>& counts, double min_step, Steps* S,
+                     Layout* best_layout) {
+  const bool bounded = params.max_error > 0;
+  auto coef_step_for = [&](const Layout& L) {
+    if (bounded) return std::max(S->coef, min_step);
+    const double M = open_loop_max_coefficient(in, L);
+    return std::max(M > 0 ? std::ldexp(2 * M, -o.coef_bits) : S->first, min_step);
+  };
+  Trial best;
+  double best_cost = std::numeric_limits<double>::infinity();
+  for (size_t n : counts) {
+    Layout L = build_layout(in, n, o);
+    Steps s = *S;
+    s.coef = coef_step_for(
+        counts.size() == 1 ? L : build_layout(in, pdct_default_clusters(in.points), o));
+    Trial t = run_encode(in, L, s, o.zero_share);
+    double cost = 8.0 * static_cast<double>(t.bytes.size());
+    if (bounded) cost += bound_bits_estimate(in, t.recon, params.max_error);
+    if (cost < best_cost) {
+      best_cost = cost;
+      best = std::move(t);
+      *best_layout = std::move(L);
+      S->coef = s.coef;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
 void encode_pdct(const PositionsView& in, const TransformParams& params, std::vector<uint8_t>* out,
                  std::vector<double>* recon, PdctReport* report) {
   const PdctOptions o = parse_pdct_options(params);
@@ -560,84 +648,24 @@ void encode_pdct(const PositionsView& in, const TransformParams& params, std::ve
   // No step below 2^-26 of the take's extent, so positions (|local| <= 2 extent) stay well inside
   // the 2^29 steps a stored integer may hold.
   const double min_step = std::max(maxabs, diag) * std::ldexp(1.0, -26);
+  Steps S = initial_steps(params, o, diag, min_step);
+  const std::vector<size_t> counts = candidate_counts(params, in.points);
 
-  Steps S;
-  S.seed_order = o.seed_order;
-  S.local_order = o.local_order;
   const bool bounded = params.max_error > 0;
-  if (bounded) {
-    S.seed = o.seed_factor * 2 * params.max_error;
-    S.first = o.first_factor * 2 * params.max_error;
-    S.coef = o.coef_factor * 2 * params.max_error;
-  } else {
-    S.seed = std::ldexp(diag, -o.seed_bits);
-    S.first = std::ldexp(diag, -o.first_bits);
-  }
-  S.seed = std::max(S.seed, min_step);
-  S.first = std::max(S.first, min_step);
-
-  // Candidate cluster counts.
-  std::vector<size_t> counts;
-  if (params.clusters > 0) {
-    counts.push_back(static_cast<size_t>(params.clusters));
-  } else if (params.clusters == 0) {
-    counts.push_back(pdct_default_clusters(in.points));
-  } else {
-    for (size_t n : {2, 4, 6, 8, 12, 16, 24, 32, 40, 56, 80})
-      if (n == 2 || 3 * n <= in.points) counts.push_back(n);
-  }
-
-  auto coef_step_for = [&](const Layout& L) {
-    if (bounded) return std::max(S.coef, min_step);
-    const double M = open_loop_max_coefficient(in, L);
-    return std::max(M > 0 ? std::ldexp(2 * M, -o.coef_bits) : S.first, min_step);
-  };
-
   const bool grid_mode = o.mode == "grid" || (o.mode == "auto" && bounded);
   if (grid_mode && !bounded)
     throw Error(ErrorCode::kInvalidParameter,
                 "pdct: mode=grid needs a max error (the bound layer's grid)");
-  if (grid_mode) {
-    const double grid =
-        params.grid_step > 0 ? params.grid_step : 2.0 * params.max_error * (1.0 - 0x1p-30);
-    if (!(grid >= min_step) || !std::isfinite(grid))
-      throw Error(ErrorCode::kInvalidParameter,
-                  "pdct: grid step " + std::to_string(grid) + " too fine for this take");
-    Trial best;
-    bool have = false;
-    for (size_t n : counts) {
-      Trial t = run_grid_encode(in, build_layout(in, n, o), grid);
-      if (!have || t.bytes.size() < best.bytes.size()) best = std::move(t);
-      have = true;
-    }
-    out->insert(out->end(), best.bytes.begin(), best.bytes.end());
-    *recon = std::move(best.recon);
-    if (report) *report = best.report;
-    return;
-  }
-
-  Layout best_layout;
   Trial best;
-  double best_cost = std::numeric_limits<double>::infinity();
-  for (size_t n : counts) {
-    Layout L = build_layout(in, n, o);
-    Steps s = S;
-    s.coef = coef_step_for(
-        counts.size() == 1 ? L : build_layout(in, pdct_default_clusters(in.points), o));
-    Trial t = run_encode(in, L, s, o.zero_share);
-    double cost = 8.0 * static_cast<double>(t.bytes.size());
-    if (bounded) cost += bound_bits_estimate(in, t.recon, params.max_error);
-    if (cost < best_cost) {
-      best_cost = cost;
-      best = std::move(t);
-      best_layout = std::move(L);
-      S.coef = s.coef;
-    }
+  if (grid_mode) {
+    best = best_grid_trial(in, params, o, counts, min_step);
+  } else {
+    Layout best_layout;
+    best = best_dct_trial(in, params, o, counts, min_step, &S, &best_layout);
+    // KG target without a max error: scale the steps to meet it (kg_search).
+    if (!bounded && params.kg_error > 0)
+      best = kg_search(in, best_layout, S, min_step, o.zero_share, params.kg_error, best);
   }
-
-  // KG target without a max error: scale the steps to meet it (kg_search).
-  if (!bounded && params.kg_error > 0)
-    best = kg_search(in, best_layout, S, min_step, o.zero_share, params.kg_error, best);
   out->insert(out->end(), best.bytes.begin(), best.bytes.end());
   *recon = std::move(best.recon);
   if (report) *report = best.report;
