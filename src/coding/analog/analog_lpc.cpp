@@ -314,6 +314,60 @@ inline int64_t second_prediction(int64_t x1, int64_t x2) {
   return p2 > kMaxSample ? kMaxSample : p2 < -kMaxSample ? -kMaxSample : p2;
 }
 
+// The mean of the block's n > 0 samples, rounded: a constant prediction.
+int32_t block_level(const int32_t* x, size_t n) {
+  int64_t sum = 0;
+  for (size_t i = 0; i < n; ++i) sum += x[i];
+  return static_cast<int32_t>(std::llround(static_cast<double>(sum) / static_cast<double>(n)));
+}
+
+// The token histograms of the residuals r, of the fixed predictors 0, x[i-1] and
+// 2 x[i-1] - x[i-2] (LPC orders 0, 1, 2 with exact coefficients, so their residuals are these)
+// and of the constant, in one pass, two samples a step on doubles (all exact integers below
+// 2^31).
+inline void count_candidate_tokens(const int32_t* x, const double* xd, size_t n, const int32_t* r,
+                                   int32_t constant, TokenCounts* counts) {
+  const Lanes hi = {kMaxSample, kMaxSample}, lo = -hi;
+  const Lanes c = {static_cast<double>(constant), static_cast<double>(constant)};
+  size_t i = 0;
+  for (; i + 2 <= n; i += 2) {
+    const Lanes x0 = load(xd + i), x1 = load(xd + i - 1), x2 = load(xd + i - 2);
+    Lanes p2 = (x1 + x1) - x2;
+    p2 = p2 > hi ? hi : p2;
+    p2 = p2 < lo ? lo : p2;
+    const Lanes ri = {static_cast<double>(r[i]), static_cast<double>(r[i + 1])};
+    const Bins b[5] = {token_bins(ri), token_bins(x0), token_bins(x0 - x1), token_bins(x0 - p2),
+                       token_bins(x0 - c)};
+    for (int k = 0; k < 5; ++k) {
+      counts[k].add(0, b[k][0]);
+      counts[k].add(1, b[k][1]);
+    }
+  }
+  for (; i < n; ++i) {
+    const int64_t x0 = x[i], x1 = static_cast<int64_t>(xd[i - 1]);
+    const int64_t x2 = static_cast<int64_t>(xd[i - 2]);
+    counts[0].add(0, token_bins(r[i])[0]);
+    counts[1].add(0, token_bins(x0)[0]);
+    counts[2].add(0, token_bins(x0 - x1)[0]);
+    counts[3].add(0, token_bins(x0 - second_prediction(x1, x2))[0]);
+    counts[4].add(0, token_bins(x0 - constant)[0]);
+  }
+}
+
+// The residuals into r of fixed predictor pick (0 to 3, as in choose_block_predictor's fixed[];
+// LpcKernel of it predicts exactly these).
+inline void fixed_residuals(const int32_t* x, const double* xd, size_t n, int pick,
+                            int32_t constant, int32_t* r) {
+  int64_t x1 = static_cast<int64_t>(xd[-1]), x2 = static_cast<int64_t>(xd[-2]);
+  for (size_t i = 0; i < n; ++i) {
+    const int64_t x0 = x[i];
+    const int64_t p = pick == 1 ? x1 : pick == 2 ? second_prediction(x1, x2) : constant;
+    r[i] = static_cast<int32_t>(x0 - p);
+    x2 = x1;
+    x1 = x0;
+  }
+}
+
 }  // namespace
 
 // Order-0 entropy of the tokens of n values plus their raw bits (token / 2 - 1 for tokens
@@ -369,44 +423,9 @@ LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, i
   // sign no longer waste the zig-zag's sign bit on a level far from 0 (noise around an offset,
   // rank indices). The median codes 0.006% smaller on the shared takes and costs a selection.
   LpcParams level;
-  if (allow_constant && n > 0) {
-    int64_t sum = 0;
-    for (size_t i = 0; i < n; ++i) sum += x[i];
-    level.constant =
-        static_cast<int32_t>(std::llround(static_cast<double>(sum) / static_cast<double>(n)));
-  }
-  // The token histograms of those residuals, of the fixed predictors 0, x[i-1] and
-  // 2 x[i-1] - x[i-2] (LPC orders 0, 1, 2 with exact coefficients, so their residuals are
-  // these) and of the constant, in one pass, two samples a step on doubles (all exact integers
-  // below 2^31).
+  if (allow_constant && n > 0) level.constant = block_level(x, n);
   TokenCounts counts[5];
-  {
-    const Lanes hi = {kMaxSample, kMaxSample}, lo = -hi;
-    const Lanes c = {static_cast<double>(level.constant), static_cast<double>(level.constant)};
-    size_t i = 0;
-    for (; i + 2 <= n; i += 2) {
-      const Lanes x0 = load(xd + i), x1 = load(xd + i - 1), x2 = load(xd + i - 2);
-      Lanes p2 = (x1 + x1) - x2;
-      p2 = p2 > hi ? hi : p2;
-      p2 = p2 < lo ? lo : p2;
-      const Lanes ri = {static_cast<double>(r[i]), static_cast<double>(r[i + 1])};
-      const Bins b[5] = {token_bins(ri), token_bins(x0), token_bins(x0 - x1), token_bins(x0 - p2),
-                         token_bins(x0 - c)};
-      for (int k = 0; k < 5; ++k) {
-        counts[k].add(0, b[k][0]);
-        counts[k].add(1, b[k][1]);
-      }
-    }
-    for (; i < n; ++i) {
-      const int64_t x0 = x[i], x1 = static_cast<int64_t>(xd[i - 1]);
-      const int64_t x2 = static_cast<int64_t>(xd[i - 2]);
-      counts[0].add(0, token_bins(r[i])[0]);
-      counts[1].add(0, token_bins(x0)[0]);
-      counts[2].add(0, token_bins(x0 - x1)[0]);
-      counts[3].add(0, token_bins(x0 - second_prediction(x1, x2))[0]);
-      counts[4].add(0, token_bins(x0 - level.constant)[0]);
-    }
-  }
+  count_candidate_tokens(x, xd, n, r, level.constant, counts);
   double best_bits = counts[0].bits(n) + full_bits;
   // The fixed predictors and the constant, in the order of counts[1..4]; with a constant of 0
   // (none allowed) the last is the first with the same histogram and cost, never picked.
@@ -428,15 +447,7 @@ LpcParams choose_block_predictor(const int32_t* x, const double* xd, size_t n, i
   }
   if (tally) counts[1 + pick].add_to(tally);  // pick = -1: choose_lpc's
   if (pick < 0) return best;
-  // The chosen predictor's residuals (LpcKernel of fixed[pick] predicts exactly these).
-  int64_t x1 = static_cast<int64_t>(xd[-1]), x2 = static_cast<int64_t>(xd[-2]);
-  for (size_t i = 0; i < n; ++i) {
-    const int64_t x0 = x[i];
-    const int64_t p = pick == 1 ? x1 : pick == 2 ? second_prediction(x1, x2) : fixed[pick].constant;
-    r[i] = static_cast<int32_t>(x0 - p);
-    x2 = x1;
-    x1 = x0;
-  }
+  fixed_residuals(x, xd, n, pick, fixed[pick].constant, r);
   return fixed[pick];
 }
 
