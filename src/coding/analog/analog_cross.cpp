@@ -145,6 +145,67 @@ void cross_sums(const int32_t* r1, const int32_t* const* p, size_t n, double* e)
   for (size_t k = 0; k < K; ++k) e[k] = acc[k / 2][k % 2];
 }
 
+// Writes t = 2 r1 + 1/2 for residual_bits and returns sum bit_length(r1): residual_bits's with
+// p = 0, |t| = u + 1/2 (two samples a step); *nonzero tells whether any r1 is not 0.
+inline int64_t residual_terms(const int32_t* r1, size_t n, double* t, bool* nonzero) {
+  typedef int32_t Pair __attribute__((vector_size(8)));
+  const Lanes two = {2.0, 2.0}, half = {0.5, 0.5};
+  const Ints mag = {~(uint64_t{1} << 63), ~(uint64_t{1} << 63)};
+  Ints acc = {0, 0};
+  Pair any = {0, 0};
+  size_t i0 = 0;
+  for (; i0 + 2 <= n; i0 += 2) {
+    Pair q;
+    std::memcpy(&q, r1 + i0, sizeof q);
+    any |= q;
+    const Lanes ti = two * __builtin_convertvector(q, Lanes) + half;
+    std::memcpy(t + i0, &ti, sizeof ti);
+    Ints tb;
+    std::memcpy(&tb, &ti, sizeof ti);
+    acc += (tb & mag) >> 52;
+  }
+  int64_t base = static_cast<int64_t>(acc[0] + acc[1]) - 1022 * static_cast<int64_t>(i0);
+  bool nz = any[0] != 0 || any[1] != 0;
+  for (size_t i = i0; i < n; ++i) {
+    t[i] = 2.0 * r1[i] + 0.5;
+    nz |= r1[i] != 0;
+    base += bit_length(r1[i]);
+  }
+  *nonzero = nz;
+  return base;
+}
+
+// Whether reference d exists and has n samples.
+inline bool usable_ref(const std::vector<const std::vector<int32_t>*>& refs, size_t d, size_t n) {
+  return refs[d] && refs[d]->size() == n;
+}
+
+// Cross energies ecrs[d] = sum r1[i] refs[d][i], up to eight references a pass in two-lane vectors
+// (each lane the same sum, in the same order, as one reference alone; a missing reference reads
+// zeros): each sum is a chain of dependent additions, so four chains a pass cost little more
+// than two. ecrs has kPass - 1 more entries than refs.
+constexpr size_t kPass = 8;
+inline void cross_energies(const int32_t* r1, const std::vector<const std::vector<int32_t>*>& refs,
+                           size_t n, std::vector<double>* ecrs) {
+  const size_t nr = refs.size();
+  std::vector<int32_t> zeros;
+  for (size_t d0 = 0; d0 < nr; d0 += kPass) {
+    const int32_t* p[kPass];
+    for (size_t k = 0; k < kPass; ++k) {
+      if (d0 + k < nr && usable_ref(refs, d0 + k, n)) {
+        p[k] = refs[d0 + k]->data();
+      } else {
+        zeros.resize(n, 0);
+        p[k] = zeros.data();
+      }
+    }
+    if (nr - d0 > kPass / 2)
+      cross_sums<kPass>(r1, p, n, &(*ecrs)[d0]);
+    else
+      cross_sums<kPass / 2>(r1, p, n, &(*ecrs)[d0]);
+  }
+}
+
 }  // namespace
 
 double reference_energy(const std::vector<int32_t>& r) {
@@ -159,61 +220,19 @@ CrossParams choose_cross(const std::vector<int32_t>& r1,
   CrossParams best;
   const size_t n = r1.size();
   // t = 2 r1 + 1/2 for residual_bits; r1 all zero (no energy) takes no reference.
-  // Bits saved = sum bit_length(r1) - sum bit_length(r1 - prediction), the first sum shared:
-  // residual_bits's with p = 0, |t| = u + 1/2 (two samples a step).
+  // Bits saved = sum bit_length(r1) - sum bit_length(r1 - prediction), the first sum shared.
   // t in a per-thread buffer (every entry is written below), not a vector zeroed per channel.
   double* t = scratch<double, Scratch::kCrossTerms>(n);
-  typedef int32_t Pair __attribute__((vector_size(8)));
-  const Lanes two = {2.0, 2.0}, half = {0.5, 0.5};
-  const Ints mag = {~(uint64_t{1} << 63), ~(uint64_t{1} << 63)};
-  Ints acc = {0, 0};
-  Pair any = {0, 0};
-  size_t i0 = 0;
-  for (; i0 + 2 <= n; i0 += 2) {
-    Pair q;
-    std::memcpy(&q, r1.data() + i0, sizeof q);
-    any |= q;
-    const Lanes ti = two * __builtin_convertvector(q, Lanes) + half;
-    std::memcpy(t + i0, &ti, sizeof ti);
-    Ints tb;
-    std::memcpy(&tb, &ti, sizeof ti);
-    acc += (tb & mag) >> 52;
-  }
-  int64_t base = static_cast<int64_t>(acc[0] + acc[1]) - 1022 * static_cast<int64_t>(i0);
-  bool nonzero = any[0] != 0 || any[1] != 0;
-  for (size_t i = i0; i < n; ++i) {
-    t[i] = 2.0 * r1[i] + 0.5;
-    nonzero |= r1[i] != 0;
-    base += bit_length(r1[i]);
-  }
+  bool nonzero = false;
+  const int64_t base = residual_terms(r1.data(), n, t, &nonzero);
   if (!nonzero) return best;
   double best_bits = min_gain_bits;
-  // Cross energies, up to eight references a pass in two-lane vectors (each lane the same sum,
-  // in the same order, as one reference alone; a missing reference reads zeros): each sum is a
-  // chain of dependent additions, so four chains a pass cost little more than two. The
-  // references' own energies were computed once, in the same order.
-  constexpr size_t kPass = 8;
+  // The references' own energies were computed once, in the same order as the cross energies.
   const size_t nr = refs.size();
-  auto usable = [&](size_t d) { return refs[d] && refs[d]->size() == n; };
   std::vector<double> ecrs(nr + kPass - 1, 0.0);
-  std::vector<int32_t> zeros;
-  for (size_t d0 = 0; d0 < nr; d0 += kPass) {
-    const int32_t* p[kPass];
-    for (size_t k = 0; k < kPass; ++k) {
-      if (d0 + k < nr && usable(d0 + k)) {
-        p[k] = refs[d0 + k]->data();
-      } else {
-        zeros.resize(n, 0);
-        p[k] = zeros.data();
-      }
-    }
-    if (nr - d0 > kPass / 2)
-      cross_sums<kPass>(r1.data(), p, n, &ecrs[d0]);
-    else
-      cross_sums<kPass / 2>(r1.data(), p, n, &ecrs[d0]);
-  }
+  cross_energies(r1.data(), refs, n, &ecrs);
   for (size_t d = 0; d < nr; ++d) {
-    if (!usable(d)) continue;
+    if (!usable_ref(refs, d, n)) continue;
     const std::vector<int32_t>* ref = refs[d];
     const double ecr = ecrs[d], err = ref_energy[d];
     if (err <= 0) continue;
