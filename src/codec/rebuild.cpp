@@ -125,6 +125,58 @@ void rebuild_pcd(const std::string& path, StreamBytes& raw, CapzSource& src, con
   }
 }
 
+// A C3D or TRC file rebuilt from the record's residue (its head, the frames' windows, a C3D's
+// regenerated rotation section, its tail), every byte handed to `out` in order.
+void rebuild_c3d_trc(const std::string& path, StreamBytes& raw, CapzSource& src, const Record& r,
+                     const Write& out) {
+  const ParsedStream& ps = src.parsed();
+  const Take& t = ps.take;
+  static const std::vector<C3DGroup> kNone;
+  std::unique_ptr<residue::C3DResidueDecoder> c3d;
+  std::unique_ptr<residue::TRCResidueDecoder> trc;
+  if (r.c3d) {
+    c3d.reset(new residue::C3DResidueDecoder(r.file_part.data(), r.file_part.size(),
+                                             t.c3d ? t.c3d->groups : kNone, path, r.info.size));
+    out(c3d->head().data(), c3d->head().size());
+  } else {
+    trc.reset(new residue::TRCResidueDecoder(r.file_part.data(), r.file_part.size(), t, path,
+                                             r.info.size));
+    out(trc->head().data(), trc->head().size());
+  }
+  const size_t W = ps.h.window_frames;
+  FrameBlock block;
+  std::vector<uint8_t> bytes;
+  // A regenerated rotation section follows every frame: its windows are read again, after the
+  // frames' (whose pass is left out when they have no bytes).
+  const bool rotations = c3d && c3d->layout().rotations;
+  const bool frames_pass = !rotations || c3d->layout().per_frame > 0;
+  for (size_t w = 0, f0 = 0; frames_pass && f0 < t.frames; ++w, f0 += W) {
+    src.read(f0, W, &block);
+    // At every target from 5.0 on (a 4.0 stream has them when lossless only).
+    const std::vector<uint8_t> p = window_payload(raw, ps, w, r.c3d ? "C3DP" : "TRCP", path);
+    bytes.clear();
+    if (c3d)
+      c3d->window(block, p.data(), p.size(), &bytes);
+    else
+      trc->window(block, p.data(), p.size(), &bytes, ps.h.lossless);
+    out(bytes.data(), bytes.size());
+  }
+  if (rotations) {
+    out(c3d->gap().data(), c3d->gap().size());
+    for (size_t w = 0, f0 = 0; f0 < t.frames; ++w, f0 += W) {
+      src.read(f0, W, &block);
+      const std::vector<uint8_t> p = window_payload(raw, ps, w, "C3DP", path);
+      bytes.clear();
+      c3d->rotation_window(block, p.data(), p.size(), &bytes);
+      out(bytes.data(), bytes.size());
+    }
+  }
+  if (c3d)
+    out(c3d->tail().data(), c3d->tail().size());
+  else
+    trc->finish();
+}
+
 // The rebuild, handed to `write` in order (a PCD folder's: to `frame`, file by file); checks the
 // size, and the hash when lossless.
 void rebuild(const std::string& path, const Write& write, const DecompressOptions& opts = {},
@@ -154,51 +206,7 @@ void rebuild(const std::string& path, const Write& write, const DecompressOption
                std::to_string(r.info.size) + " bytes, " + r.info.hash_hex);
     return;
   }
-  const Take& t = ps.take;
-  static const std::vector<C3DGroup> kNone;
-  std::unique_ptr<residue::C3DResidueDecoder> c3d;
-  std::unique_ptr<residue::TRCResidueDecoder> trc;
-  if (r.c3d) {
-    c3d.reset(new residue::C3DResidueDecoder(r.file_part.data(), r.file_part.size(),
-                                             t.c3d ? t.c3d->groups : kNone, path, r.info.size));
-    out(c3d->head().data(), c3d->head().size());
-  } else {
-    trc.reset(new residue::TRCResidueDecoder(r.file_part.data(), r.file_part.size(), t, path,
-                                             r.info.size));
-    out(trc->head().data(), trc->head().size());
-  }
-  const size_t W = ps.h.window_frames;
-  FrameBlock block;
-  std::vector<uint8_t> bytes;
-  // A regenerated rotation section follows every frame: its windows are read again, after the
-  // frames' (whose pass is left out when they have no bytes).
-  const bool rotations = c3d && c3d->layout().rotations;
-  const bool frames_pass = !rotations || c3d->layout().per_frame > 0;
-  for (size_t w = 0, f0 = 0; frames_pass && f0 < t.frames; ++w, f0 += W) {
-    src.read(f0, W, &block);
-    // At every target from 5.0 on (a 4.0 stream has them when lossless only).
-    const std::vector<uint8_t> p = window_payload(*raw, ps, w, r.c3d ? "C3DP" : "TRCP", path);
-    bytes.clear();
-    if (c3d)
-      c3d->window(block, p.data(), p.size(), &bytes);
-    else
-      trc->window(block, p.data(), p.size(), &bytes, ps.h.lossless);
-    out(bytes.data(), bytes.size());
-  }
-  if (rotations) {
-    out(c3d->gap().data(), c3d->gap().size());
-    for (size_t w = 0, f0 = 0; f0 < t.frames; ++w, f0 += W) {
-      src.read(f0, W, &block);
-      const std::vector<uint8_t> p = window_payload(*raw, ps, w, "C3DP", path);
-      bytes.clear();
-      c3d->rotation_window(block, p.data(), p.size(), &bytes);
-      out(bytes.data(), bytes.size());
-    }
-  }
-  if (c3d)
-    out(c3d->tail().data(), c3d->tail().size());
-  else
-    trc->finish();
+  rebuild_c3d_trc(path, *raw, src, r, out);
   // A TRC at a bound prints its own coordinates: its size is its own.
   if ((r.c3d || r.info.exact) && n != r.info.size)
     fail(ErrorCode::kCorrupt, path,
