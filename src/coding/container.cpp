@@ -107,6 +107,73 @@ Chunk read_chunk(const uint8_t* data, size_t size, size_t offset, const std::str
   return c;
 }
 
+namespace {
+
+// HEAD's feature bits 3 (ragged frames), 5 (points reordered) and 6 (octree frames) into h, each
+// checked against the format and the other fields; bit 7 (a later minor version's) refused.
+void decode_scan_flags(uint8_t flags, uint8_t mode, const StreamFeatures& f,
+                       const std::string& what, StreamHeader* h) {
+  for (int bit = 7; bit < 8; ++bit)  // FORMAT.md 17: a flag a later minor version adds
+    if (flags >> bit & 1)
+      fail(ErrorCode::kUnsupportedVersion, what,
+           "feature bit " + std::to_string(bit) + " of format " + f.version() +
+               " is not known to this decoder");
+  h->ragged = (flags & 8) != 0;  // "Scans (format 1.1)": frames of their own point counts
+  if (h->ragged && !f.ragged_frames())
+    fail(ErrorCode::kCorrupt, what, "feature bit 3 (ragged frames) in a format 1.0 stream");
+  // Mode 3 only lossless: every window raw ("Raw windows", format 1.1).
+  if (h->ragged &&
+      (h->points != 0 || (flags & 2) != 0 || h->codec != 0 || (mode == 3 && !(flags & 1))))
+    fail(ErrorCode::kCorrupt, what,
+         "ragged frames with points, a transform or position mode 3 without lossless");
+  h->points_reordered = (flags & 32) != 0;  // "Scans (format 1.1)": points reordered
+  if (h->points_reordered && !f.ragged_frames())
+    fail(ErrorCode::kCorrupt, what, "feature bit 5 (points reordered) in a format 1.0 stream");
+  if (h->points_reordered && (!h->ragged || (flags & 1) != 0))
+    fail(ErrorCode::kCorrupt, what,
+         "feature bit 5 (points reordered) without ragged frames or with lossless positions");
+  h->octree_frames = (flags & 64) != 0;  // "Octree frames" (format 1.1)
+  if (h->octree_frames && !h->points_reordered)
+    fail(ErrorCode::kCorrupt, what, "feature bit 6 (octree frames) without points reordered");
+}
+
+// HEAD's feature bit 1 (transform output) into h, with its KG target read from r and checked;
+// without it, the grid modes' step checked.
+void decode_transform_output(ByteReader* r, uint8_t flags, uint8_t mode, const std::string& what,
+                             StreamHeader* h) {
+  h->transform_output = (flags & 2) != 0;
+  if (h->transform_output) {  // FORMAT.md 4.3: the transform's reconstruction is the output
+    h->kg_target = r->f64();
+    if (flags & 1) fail(ErrorCode::kCorrupt, what, "transform output cannot be lossless");
+    if (h->codec == 0)
+      fail(ErrorCode::kCorrupt, what, "transform output without a transform codec");
+    if (mode != 0 || h->step != 0 || h->max_error != 0)
+      fail(ErrorCode::kCorrupt, what, "transform output with a grid mode, step or bound");
+    if (h->points == 0) fail(ErrorCode::kCorrupt, what, "transform output without points");
+    if (!(h->kg_target > 0 && std::isfinite(h->kg_target)))
+      fail(ErrorCode::kCorrupt, what, "transform output: KG target is not a positive number");
+  } else if ((mode == 0 || mode == 1 || mode == 4) && !(h->step > 0 && std::isfinite(h->step)))
+    fail(ErrorCode::kCorrupt, what, "grid step is not a positive number");
+}
+
+// HEAD's feature bit 4 (a frame-file source, named after the fields above): the frame-file
+// format read from r and checked, returned as the source format (fmt, which must be 0).
+uint8_t decode_frame_file_source(ByteReader* r, uint8_t fmt, const StreamFeatures& f,
+                                 const std::string& what) {
+  if (!f.frame_file_sources())
+    fail(ErrorCode::kCorrupt, what, "feature bit 4 (frame-file source) in a format 1.0 stream");
+  if (fmt != 0)
+    fail(ErrorCode::kCorrupt, what,
+         "frame-file source with source format " + std::to_string(fmt) + " (must be 0)");
+  fmt = r->u8();
+  if (fmt != static_cast<uint8_t>(Format::kBinFolder) &&
+      fmt != static_cast<uint8_t>(Format::kPLYFolder))
+    fail(ErrorCode::kCorrupt, what, "unknown frame-file format " + std::to_string(fmt));
+  return fmt;
+}
+
+}  // namespace
+
 StreamHeader decode_header(const Chunk& c, const std::string& name, const StreamFeatures& f) {
   const std::string what = chunk_what(name, c);
   ByteReader r(c.payload, c.size, what);
@@ -127,57 +194,15 @@ StreamHeader decode_header(const Chunk& c, const std::string& name, const Stream
     fail(ErrorCode::kCorrupt, what,
          "window of " + std::to_string(h.window_frames) + " frames (1.." +
              std::to_string(kMaxWindowFrames) + ")");
-  for (int bit = 7; bit < 8; ++bit)  // FORMAT.md 17: a flag a later minor version adds
-    if (flags >> bit & 1)
-      fail(ErrorCode::kUnsupportedVersion, what,
-           "feature bit " + std::to_string(bit) + " of format " + f.version() +
-               " is not known to this decoder");
-  h.ragged = (flags & 8) != 0;  // "Scans (format 1.1)": frames of their own point counts
-  if (h.ragged && !f.ragged_frames())
-    fail(ErrorCode::kCorrupt, what, "feature bit 3 (ragged frames) in a format 1.0 stream");
-  // Mode 3 only lossless: every window raw ("Raw windows", format 1.1).
-  if (h.ragged &&
-      (h.points != 0 || (flags & 2) != 0 || h.codec != 0 || (mode == 3 && !(flags & 1))))
-    fail(ErrorCode::kCorrupt, what,
-         "ragged frames with points, a transform or position mode 3 without lossless");
-  h.points_reordered = (flags & 32) != 0;  // "Scans (format 1.1)": points reordered
-  if (h.points_reordered && !f.ragged_frames())
-    fail(ErrorCode::kCorrupt, what, "feature bit 5 (points reordered) in a format 1.0 stream");
-  if (h.points_reordered && (!h.ragged || (flags & 1) != 0))
-    fail(ErrorCode::kCorrupt, what,
-         "feature bit 5 (points reordered) without ragged frames or with lossless positions");
-  h.octree_frames = (flags & 64) != 0;  // "Octree frames" (format 1.1)
-  if (h.octree_frames && !h.points_reordered)
-    fail(ErrorCode::kCorrupt, what, "feature bit 6 (octree frames) without points reordered");
-  h.transform_output = (flags & 2) != 0;
-  if (h.transform_output) {  // FORMAT.md 4.3: the transform's reconstruction is the output
-    h.kg_target = r.f64();
-    if (flags & 1) fail(ErrorCode::kCorrupt, what, "transform output cannot be lossless");
-    if (h.codec == 0) fail(ErrorCode::kCorrupt, what, "transform output without a transform codec");
-    if (mode != 0 || h.step != 0 || h.max_error != 0)
-      fail(ErrorCode::kCorrupt, what, "transform output with a grid mode, step or bound");
-    if (h.points == 0) fail(ErrorCode::kCorrupt, what, "transform output without points");
-    if (!(h.kg_target > 0 && std::isfinite(h.kg_target)))
-      fail(ErrorCode::kCorrupt, what, "transform output: KG target is not a positive number");
-  } else if ((mode == 0 || mode == 1 || mode == 4) && !(h.step > 0 && std::isfinite(h.step)))
-    fail(ErrorCode::kCorrupt, what, "grid step is not a positive number");
+  decode_scan_flags(flags, mode, f, what, &h);
+  decode_transform_output(&r, flags, mode, what, &h);
   if (flags & 4) {  // FORMAT.md 4.4: the rotation layout
     h.rotation_segments = r.u32();
     h.rotation_samples_per_frame = r.u32();
     if (h.rotation_segments == 0 || h.rotation_samples_per_frame == 0)
       fail(ErrorCode::kCorrupt, what, "rotations with 0 segments or 0 samples per frame");
   }
-  if (flags & 16) {  // "Scans (format 1.1)": a frame-file source, named after the fields above
-    if (!f.frame_file_sources())
-      fail(ErrorCode::kCorrupt, what, "feature bit 4 (frame-file source) in a format 1.0 stream");
-    if (fmt != 0)
-      fail(ErrorCode::kCorrupt, what,
-           "frame-file source with source format " + std::to_string(fmt) + " (must be 0)");
-    fmt = r.u8();
-    if (fmt != static_cast<uint8_t>(Format::kBinFolder) &&
-        fmt != static_cast<uint8_t>(Format::kPLYFolder))
-      fail(ErrorCode::kCorrupt, what, "unknown frame-file format " + std::to_string(fmt));
-  }
+  if (flags & 16) fmt = decode_frame_file_source(&r, fmt, f, what);
   if (h.frames > (uint64_t{1} << 40)) fail(ErrorCode::kCorrupt, what, "implausible frame count");
   if ((h.analog_channels == 0) != (h.analog_samples_per_frame == 0) && h.analog_channels != 0)
     fail(ErrorCode::kCorrupt, what, "analog channels without samples per frame");
