@@ -127,11 +127,11 @@ void code_unit(const Prepared& prep, size_t c, int rank, double per_entry, doubl
   *t_lcps += since(tl);
 }
 
-Trial build_trial(const Base& base, const Prepared& prep, double budget, const Options& o,
-                  TsEncodeReport* rep) {
-  auto t0 = Clock::now();
-  Trial tr;
-  TsModel& m = tr.model;
+namespace {
+
+// The model's fields that the window, its alignment and the preparation fix.
+void init_model(const Base& base, const Prepared& prep, const Options& o, TsModel* model) {
+  TsModel& m = *model;
   m.frames = base.in.frames;
   m.points = base.in.points;
   m.rigid = base.rigid;
@@ -146,13 +146,13 @@ Trial build_trial(const Base& base, const Prepared& prep, double budget, const O
   m.segment_rigid = !prep.motion.empty();
   m.f32_scales = prep.segments > 1;
   m.segment_motion = prep.motion;
-  const size_t nc = prep.pca.size();  // units: segments x clusters
+}
 
-  // PCs: a global threshold on sigma^2 (the paper's per-cluster "covered variation" threshold,
-  // set from the error target): drop the smallest components of all units while their energy
-  // fits.
-  const double d_trunc = o.trunc_share * budget, d_basis = o.basis_share * budget;
-  const double d_coef = budget - d_trunc - d_basis;
+// PCs kept per unit: a global threshold on sigma^2 (the paper's per-cluster "covered variation"
+// threshold, set from the error target): drops the smallest components of all units while their
+// energy fits in d_trunc.
+std::vector<int> kept_ranks(const Prepared& prep, double d_trunc) {
+  const size_t nc = prep.pca.size();
   // (Measured: ordering by sigma^2 / 3N_s, the reverse water-filling order, instead of sigma^2
   // changes the size by < 0.3 % on horse-gallop and chickenCrossing at 16 segments.)
   std::vector<std::pair<double, size_t>> comp;  // (sigma^2, unit)
@@ -169,6 +169,39 @@ Trial build_trial(const Base& base, const Prepared& prep, double budget, const O
     dropped += e.first;
     --r[e.second];
   }
+  return r;
+}
+
+// The decoder's reconstruction path on the quantised model, its error, and the model's bytes;
+// a quantised value outside int32 makes the trial unusable (infinite error, not ok).
+void finish_trial(const Base& base, Trial* tr) {
+  ts::reconstruct(tr->model, &tr->recon);
+  tr->sq = sq_error(base.in, tr->recon);
+  ByteWriter bw;
+  try {
+    ts::write_model(tr->model, &bw);
+    tr->bytes = std::move(bw.buffer());
+    tr->ok = tr->sq <= base.target_sq;
+  } catch (const Error& e) {  // a quantised value outside int32: this budget is unusable
+    if (e.code() != ErrorCode::kInternal) throw;
+    tr->sq = std::numeric_limits<double>::infinity();
+    tr->ok = false;
+  }
+}
+
+}  // namespace
+
+Trial build_trial(const Base& base, const Prepared& prep, double budget, const Options& o,
+                  TsEncodeReport* rep) {
+  auto t0 = Clock::now();
+  Trial tr;
+  TsModel& m = tr.model;
+  init_model(base, prep, o, &m);
+  const size_t nc = prep.pca.size();  // units: segments x clusters
+
+  const double d_trunc = o.trunc_share * budget, d_basis = o.basis_share * budget;
+  const double d_coef = budget - d_trunc - d_basis;
+  const std::vector<int> r = kept_ranks(prep, d_trunc);
   size_t total_entries = 0, total_coefs = 0;
   for (size_t c = 0; c < nc; ++c) {
     total_entries += static_cast<size_t>(r[c]) * prep.unit_dim(c);
@@ -185,19 +218,7 @@ Trial build_trial(const Base& base, const Prepared& prep, double budget, const O
   for (size_t c = 0; c < nc; ++c)
     code_unit(prep, c, r[c], per_entry, m.coef_step, m.f32_scales, o, &m.cluster[c], &t_quant,
               &t_lcps);
-  // The decoder's reconstruction path on the quantised model.
-  ts::reconstruct(m, &tr.recon);
-  tr.sq = sq_error(base.in, tr.recon);
-  ByteWriter bw;
-  try {
-    ts::write_model(m, &bw);
-    tr.bytes = std::move(bw.buffer());
-    tr.ok = tr.sq <= base.target_sq;
-  } catch (const Error& e) {  // a quantised value outside int32: this budget is unusable
-    if (e.code() != ErrorCode::kInternal) throw;
-    tr.sq = std::numeric_limits<double>::infinity();
-    tr.ok = false;
-  }
+  finish_trial(base, &tr);
   if (rep) {
     rep->t_quant += t_quant;
     rep->t_lcps += t_lcps;
@@ -291,24 +312,77 @@ Trial fallback_trial(const Base& base, const Options& o) {
   return tr;
 }
 
-Prepared prepare(const Base& base, int k, const ts::Segmentation& seg, const Options& o,
-                 TsEncodeReport* rep) {
-  Prepared p;
-  auto t0 = Clock::now();
-  const size_t nf = base.in.frames;
+namespace {
+
+// The frames' clusters into p (k <= 1: one cluster of every frame, else k-means) and their
+// layout.
+void cluster_frames(const Base& base, int k, const Options& o, Prepared* p) {
   if (k <= 1) {
-    p.k = 1;
-    p.label.assign(nf, 0);
+    p->k = 1;
+    p->label.assign(base.in.frames, 0);
   } else {
     ts::ClusterParams cp;
     cp.k = k;
     cp.seed = o.seed;
     cp.restarts = o.restarts;
     ts::Clustering cl = ts::kmeans_frames(base.aligned, cp);
-    p.k = cl.k;
-    p.label.assign(cl.label.begin(), cl.label.end());
+    p->k = cl.k;
+    p->label.assign(cl.label.begin(), cl.label.end());
   }
-  p.layout = ts::cluster_layout(p.label, p.k);
+  p->layout = ts::cluster_layout(p->label, p->k);
+}
+
+// The aligned frames of the points pts (3 N_s x F).
+Eigen::MatrixXd segment_frames(const Base& base, const std::vector<uint32_t>& pts) {
+  const size_t nf_all = base.in.frames;
+  Eigen::MatrixXd frames_s(static_cast<Eigen::Index>(3 * pts.size()),
+                           static_cast<Eigen::Index>(nf_all));
+  for (size_t f = 0; f < nf_all; ++f) {
+    const double* src = base.aligned.col(static_cast<Eigen::Index>(f)).data();
+    double* dst = frames_s.col(static_cast<Eigen::Index>(f)).data();
+    for (size_t i = 0; i < pts.size(); ++i)
+      for (size_t a = 0; a < 3; ++a) dst[3 * i + a] = src[3 * size_t{pts[i]} + a];
+  }
+  return frames_s;
+}
+
+// Removes the segment's own rigid motion from its frames (of the points pts) and returns it
+// coded: about the segment's centroid in frame 0.
+TsModel::SegmentMotion remove_segment_motion(const Base& base, const Options& o,
+                                             const std::vector<uint32_t>& pts,
+                                             Eigen::MatrixXd* frames) {
+  Eigen::MatrixXd& frames_s = *frames;
+  TsModel::SegmentMotion sm;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
+  for (Eigen::Index f = 0; f < frames_s.cols(); ++f)
+    for (Eigen::Index i = 0; i < frames_s.rows() / 3; ++i) {
+      lo = lo.cwiseMin(frames_s.col(f).segment<3>(3 * i));
+      hi = hi.cwiseMax(frames_s.col(f).segment<3>(3 * i));
+    }
+  // Rotations about the segment's centroid in frame 0, not the origin: the translations stay
+  // small and smooth (measured: -19 % on chickenCrossing, -1.6 % on horse-gallop).
+  for (Eigen::Index a = 0; a < 3; ++a) {
+    double c = 0;
+    for (Eigen::Index i = 0; i < frames_s.rows() / 3; ++i) c += frames_s(3 * i + a, 0);
+    sm.center[a] = c / static_cast<double>(frames_s.rows() / 3);
+  }
+  for (Eigen::Index f = 0; f < frames_s.cols(); ++f)
+    for (Eigen::Index i = 0; i < frames_s.rows() / 3; ++i)
+      for (Eigen::Index a = 0; a < 3; ++a) frames_s(3 * i + a, f) -= sm.center[a];
+  // (Measured: steps 4x / 16x / 64x coarser cut the rigid part but the PCs absorb the
+  // misalignment: -1 % / 0 % / 0 % on chickenCrossing, +3 % / +7 % / +18 % on horse-gallop.)
+  sm.code = code_rigid(base.in.valid, base.in.points, base.rms, (hi - lo).norm(), o.lpc_order,
+                       &frames_s, &sm.rot_step, &sm.trans_step, pts);
+  return sm;
+}
+
+}  // namespace
+
+Prepared prepare(const Base& base, int k, const ts::Segmentation& seg, const Options& o,
+                 TsEncodeReport* rep) {
+  Prepared p;
+  auto t0 = Clock::now();
+  cluster_frames(base, k, o, &p);
   if (seg.segments > 1) {
     p.segments = seg.segments;
     p.segment = seg.label;
@@ -319,41 +393,11 @@ Prepared prepare(const Base& base, int k, const ts::Segmentation& seg, const Opt
   }
   if (rep) rep->t_cluster += since(t0);
   auto t1 = Clock::now();
-  const size_t nf_all = base.in.frames;
   for (const auto& pts : p.members) {
-    // The segment's aligned frames (3 N_s x F), with its own rigid motion removed when asked.
-    Eigen::MatrixXd frames_s(static_cast<Eigen::Index>(3 * pts.size()),
-                             static_cast<Eigen::Index>(nf_all));
-    for (size_t f = 0; f < nf_all; ++f) {
-      const double* src = base.aligned.col(static_cast<Eigen::Index>(f)).data();
-      double* dst = frames_s.col(static_cast<Eigen::Index>(f)).data();
-      for (size_t i = 0; i < pts.size(); ++i)
-        for (size_t a = 0; a < 3; ++a) dst[3 * i + a] = src[3 * size_t{pts[i]} + a];
-    }
-    if (p.segments > 1 && o.segment_align && nf_all > 1) {
-      TsModel::SegmentMotion sm;
-      Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
-      for (Eigen::Index f = 0; f < frames_s.cols(); ++f)
-        for (Eigen::Index i = 0; i < frames_s.rows() / 3; ++i) {
-          lo = lo.cwiseMin(frames_s.col(f).segment<3>(3 * i));
-          hi = hi.cwiseMax(frames_s.col(f).segment<3>(3 * i));
-        }
-      // Rotations about the segment's centroid in frame 0, not the origin: the translations stay
-      // small and smooth (measured: -19 % on chickenCrossing, -1.6 % on horse-gallop).
-      for (Eigen::Index a = 0; a < 3; ++a) {
-        double c = 0;
-        for (Eigen::Index i = 0; i < frames_s.rows() / 3; ++i) c += frames_s(3 * i + a, 0);
-        sm.center[a] = c / static_cast<double>(frames_s.rows() / 3);
-      }
-      for (Eigen::Index f = 0; f < frames_s.cols(); ++f)
-        for (Eigen::Index i = 0; i < frames_s.rows() / 3; ++i)
-          for (Eigen::Index a = 0; a < 3; ++a) frames_s(3 * i + a, f) -= sm.center[a];
-      // (Measured: steps 4x / 16x / 64x coarser cut the rigid part but the PCs absorb the
-      // misalignment: -1 % / 0 % / 0 % on chickenCrossing, +3 % / +7 % / +18 % on horse-gallop.)
-      sm.code = code_rigid(base.in.valid, base.in.points, base.rms, (hi - lo).norm(), o.lpc_order,
-                           &frames_s, &sm.rot_step, &sm.trans_step, pts);
-      p.motion.push_back(std::move(sm));
-    }
+    // The segment's aligned frames, with its own rigid motion removed when asked.
+    Eigen::MatrixXd frames_s = segment_frames(base, pts);
+    if (p.segments > 1 && o.segment_align && base.in.frames > 1)
+      p.motion.push_back(remove_segment_motion(base, o, pts, &frames_s));
     for (const auto& lay : p.layout) {
       Eigen::MatrixXd f(frames_s.rows(), static_cast<Eigen::Index>(lay.frames.size()));
       for (size_t j = 0; j < lay.frames.size(); ++j)
