@@ -405,28 +405,11 @@ void read_header_events(const uint8_t* data, const NumberFormat& nf, C3DExtra* x
   }
 }
 
-}  // namespace
-
-Take read_header(const uint8_t* data, size_t avail, size_t size, const std::string& name,
-                 DataLayout* out) {
-  check_header_block(data, avail, size, name);
-  const size_t param_offset = (static_cast<size_t>(data[0]) - 1) * kBlock;
-  const size_t limit = parameter_limit(data, size);
-  ParameterSection sec = parse_parameter_section(data, avail, param_offset, limit, name);
-  const NumberFormat nf{sec.processor};
+// The header block's fields (1-based 16-bit words 2 to 12; word 6, the interpolation gap, into
+// x).
+HeaderFields read_header_words(const uint8_t* data, const NumberFormat& nf, C3DExtra* x) {
   auto word = [&](int w) { return nf.u16(data + 2 * (w - 1)); };  // 1-based header words
   auto fword = [&](int w) { return nf.f32(data + 2 * (w - 1)); };
-
-  Take t;
-  t.source = name;
-  t.format = Format::kC3D;
-  auto x = std::make_shared<C3DExtra>();
-  x->processor = sec.processor;
-  x->groups = std::move(sec.groups);
-  for (auto& w : sec.warnings) t.warnings.push_back(w);
-  for (auto& w : sec.notes) t.warnings.push_back(w);
-  std::vector<std::string>* warnings = &t.warnings;
-
   HeaderFields h;
   h.points = word(2);
   h.analog_total = word(3);
@@ -437,6 +420,49 @@ Take read_header(const uint8_t* data, size_t avail, size_t size, const std::stri
   h.data_start = word(9);
   h.analog_spf = word(10);
   h.rate = fword(11);
+  return h;
+}
+
+// The point / analog section's layout into out: frames of per_frame bytes from data_offset, as
+// fl lays them out; warning_at, where a warning about the frames belongs in the take's list.
+void set_frame_layout(const NumberFormat& nf, const C3DExtra& x, const FrameLayout& fl,
+                      size_t data_offset, size_t per_frame, size_t frames, size_t warning_at,
+                      DataLayout* out) {
+  bool analog_unsigned = false;
+  if (const C3DParameter* fmt = x.param("ANALOG", "FORMAT"))
+    if (fmt->type == -1) analog_unsigned = upper(trim(fmt->as_string())) == "UNSIGNED";
+  out->nf = nf;
+  out->data_offset = data_offset;
+  out->per_frame = per_frame;
+  out->frames = frames;
+  out->points = fl.points;
+  out->analog_values = fl.spf * fl.channels;
+  out->float_storage = x.float_storage;
+  out->analog_unsigned = analog_unsigned;
+  out->scale = x.point_scale;
+  out->warning_at = warning_at;
+}
+
+}  // namespace
+
+Take read_header(const uint8_t* data, size_t avail, size_t size, const std::string& name,
+                 DataLayout* out) {
+  check_header_block(data, avail, size, name);
+  const size_t param_offset = (static_cast<size_t>(data[0]) - 1) * kBlock;
+  const size_t limit = parameter_limit(data, size);
+  ParameterSection sec = parse_parameter_section(data, avail, param_offset, limit, name);
+  const NumberFormat nf{sec.processor};
+
+  Take t;
+  t.source = name;
+  t.format = Format::kC3D;
+  auto x = std::make_shared<C3DExtra>();
+  x->processor = sec.processor;
+  x->groups = std::move(sec.groups);
+  for (auto& w : sec.warnings) t.warnings.push_back(w);
+  for (auto& w : sec.notes) t.warnings.push_back(w);
+  std::vector<std::string>* warnings = &t.warnings;
+  const HeaderFields h = read_header_words(data, nf, x.get());
 
   read_storage(h, x.get(), warnings);
   const size_t elem = x->float_storage ? 4 : 2;
@@ -462,19 +488,7 @@ Take read_header(const uint8_t* data, size_t avail, size_t size, const std::stri
   t.first_frame = first;
   t.analog.channels = static_cast<int>(fl.channels);
   t.analog.samples_per_frame = static_cast<int>(fl.spf);
-  bool analog_unsigned = false;
-  if (const C3DParameter* fmt = x->param("ANALOG", "FORMAT"))
-    if (fmt->type == -1) analog_unsigned = upper(trim(fmt->as_string())) == "UNSIGNED";
-  out->nf = nf;
-  out->data_offset = data_offset;
-  out->per_frame = per_frame;
-  out->frames = frames;
-  out->points = fl.points;
-  out->analog_values = fl.spf * fl.channels;
-  out->float_storage = x->float_storage;
-  out->analog_unsigned = analog_unsigned;
-  out->scale = x->point_scale;
-  out->warning_at = t.warnings.size();
+  set_frame_layout(nf, *x, fl, data_offset, per_frame, frames, t.warnings.size(), out);
 
   read_labels_rates_units(*x, h.rate, &t, warnings);
   read_header_events(data, nf, x.get(), warnings);
