@@ -43,20 +43,10 @@ void read_gaps(ByteReader* in, size_t n, ChannelRepr* r) {
     }
 }
 
-}  // namespace
-
-ChannelRepr read_repr_header(ByteReader* in, size_t n, const HeaderRules& rules, HeaderState* state,
-                             KeptRows* kept) {
-  ChannelRepr r;
-  const int byte = in->u8();
-  // At most one of bits 5-7 (FORMAT.md 7.2, 9.2, 9.4), and neither 6 nor 7 with kind 0.
-  const int layouts = ((byte >> 5) & 1) + ((byte >> 6) & 1) + ((byte >> 7) & 1);
-  // Bit 4 names kind 0's previous constant, or kind 2's previous scaling (9.6).
-  const bool same_ok = (byte & 7) == 0 || (byte & 7) == static_cast<int>(Kind::kScaled);
-  if ((byte & 7) >= kKinds || ((byte & 16) && !same_ok) || layouts > 1 ||
-      ((byte & 192) && (byte & 7) == 0))
-    throw Error(ErrorCode::kCorrupt,
-                in->what() + ": unknown analog channel kind " + std::to_string(byte));
+// The rows the header byte's bits 6 (interpolated), 7 (held) and 5 (repeated frames) leave out
+// of the n samples, read into kept; returns how many samples are coded.
+size_t read_kept_rows(ByteReader* in, int byte, size_t n, const HeaderRules& rules,
+                      KeptRows* kept) {
   *kept = KeptRows();
   if (byte & 64) {
     kept->interp = read_interp(in, n);
@@ -75,6 +65,54 @@ ChannelRepr read_repr_header(ByteReader* in, size_t n, const HeaderRules& rules,
     kept->repeats = read_repeats(in, n / S);
     n -= S * kept->repeats.size();
   }
+  return n;
+}
+
+// A scaled channel's header (kind 2, n coded samples): its scaling, or with bit 4 of the header
+// byte the previous channel's (FORMAT.md 11.7), then its exceptions.
+void read_scaled(ByteReader* in, int byte, size_t n, HeaderState* state, ChannelRepr* r) {
+  if (byte & 16) {  // FORMAT.md 11.7
+    const ScaledShare& share = state->share;
+    if (!share.have)
+      throw Error(ErrorCode::kCorrupt,
+                  in->what() + ": analog scaling shared with no earlier channel");
+    r->round_f32 = share.round_f32;
+    r->step = share.step;
+    r->offset = share.offset;
+  } else {
+    const int f = in->u8();
+    if (f > 1) throw Error(ErrorCode::kCorrupt, in->what() + ": bad analog rounding flag");
+    r->round_f32 = f == 1;
+    r->step = in->f64();
+    r->offset = in->f64();
+  }
+  state->share = ScaledShare{true, r->round_f32, r->step, r->offset};
+  const uint64_t ne = in->count(2, "analog exceptions");
+  uint64_t prev = 0;
+  for (uint64_t e = 0; e < ne; ++e) {
+    const uint64_t i = prev + in->varint();
+    if (i >= n) throw Error(ErrorCode::kCorrupt, in->what() + ": analog exception past the window");
+    r->exc_index.push_back(static_cast<uint32_t>(i));
+    r->exc_delta.push_back(in->svarint());
+    prev = i + 1;
+  }
+}
+
+}  // namespace
+
+ChannelRepr read_repr_header(ByteReader* in, size_t n, const HeaderRules& rules, HeaderState* state,
+                             KeptRows* kept) {
+  ChannelRepr r;
+  const int byte = in->u8();
+  // At most one of bits 5-7 (FORMAT.md 7.2, 9.2, 9.4), and neither 6 nor 7 with kind 0.
+  const int layouts = ((byte >> 5) & 1) + ((byte >> 6) & 1) + ((byte >> 7) & 1);
+  // Bit 4 names kind 0's previous constant, or kind 2's previous scaling (9.6).
+  const bool same_ok = (byte & 7) == 0 || (byte & 7) == static_cast<int>(Kind::kScaled);
+  if ((byte & 7) >= kKinds || ((byte & 16) && !same_ok) || layouts > 1 ||
+      ((byte & 192) && (byte & 7) == 0))
+    throw Error(ErrorCode::kCorrupt,
+                in->what() + ": unknown analog channel kind " + std::to_string(byte));
+  n = read_kept_rows(in, byte, n, rules, kept);
   r.kind = static_cast<Kind>(byte & 7);
   if (byte & 8) read_gaps(in, n, &r);
   switch (r.kind) {
@@ -82,35 +120,9 @@ ChannelRepr read_repr_header(ByteReader* in, size_t n, const HeaderRules& rules,
       r.const_bits = (byte & 16) ? state->last_const : __builtin_bswap64(in->varint());
       state->last_const = r.const_bits;
       break;
-    case Kind::kScaled: {
-      if (byte & 16) {  // FORMAT.md 11.7
-        const ScaledShare& share = state->share;
-        if (!share.have)
-          throw Error(ErrorCode::kCorrupt,
-                      in->what() + ": analog scaling shared with no earlier channel");
-        r.round_f32 = share.round_f32;
-        r.step = share.step;
-        r.offset = share.offset;
-      } else {
-        const int f = in->u8();
-        if (f > 1) throw Error(ErrorCode::kCorrupt, in->what() + ": bad analog rounding flag");
-        r.round_f32 = f == 1;
-        r.step = in->f64();
-        r.offset = in->f64();
-      }
-      state->share = ScaledShare{true, r.round_f32, r.step, r.offset};
-      const uint64_t ne = in->count(2, "analog exceptions");
-      uint64_t prev = 0;
-      for (uint64_t e = 0; e < ne; ++e) {
-        const uint64_t i = prev + in->varint();
-        if (i >= n)
-          throw Error(ErrorCode::kCorrupt, in->what() + ": analog exception past the window");
-        r.exc_index.push_back(static_cast<uint32_t>(i));
-        r.exc_delta.push_back(in->svarint());
-        prev = i + 1;
-      }
+    case Kind::kScaled:
+      read_scaled(in, byte, n, state, &r);
       break;
-    }
     case Kind::kRank:
       r.table = read_value_table(in, n);
       break;
