@@ -124,75 +124,96 @@ void append_compressed(const std::vector<uint8_t>& fm, LzfVariant lzf, std::vect
   }
 }
 
+// A point's bytes under `fields`.
+size_t point_bytes(const std::vector<PCDField>& fields) {
+  size_t step = 0;
+  for (const PCDField& f : fields)
+    step += static_cast<size_t>(f.size) * static_cast<size_t>(f.count);
+  return step;
+}
+
+// n points of `layout` without its padding fields ("_"), point by point, into *packed.
+void drop_padding(const PcdFrameLayout& layout, const uint8_t* all_points, size_t n,
+                  std::vector<uint8_t>* packed) {
+  const size_t all_step = point_bytes(layout.fields);
+  std::vector<std::pair<size_t, size_t>> keep;  // (offset, bytes) of the kept fields
+  size_t off = 0;
+  for (const PCDField& f : layout.fields) {
+    const size_t fs = static_cast<size_t>(f.size) * static_cast<size_t>(f.count);
+    if (f.name != "_") keep.emplace_back(off, fs);
+    off += fs;
+  }
+  for (size_t p = 0; p < n; ++p)
+    for (const auto& k : keep)
+      packed->insert(packed->end(), all_points + p * all_step + k.first,
+                     all_points + p * all_step + k.first + k.second);
+}
+
+// A binary_compressed body: the n points (of `step` bytes) field-major in *fm, compressed.
+void append_field_major(const PcdFrameLayout& l, const uint8_t* points, size_t n, size_t step,
+                        LzfVariant lzf, std::vector<uint8_t>* fm, std::vector<uint8_t>* out) {
+  fm->resize(n * step);  // each byte written below
+  uint8_t* d = fm->data();
+  size_t off = 0;
+  for (const PCDField& f : l.fields) {
+    const size_t fs = static_cast<size_t>(f.size) * static_cast<size_t>(f.count);
+    const uint8_t* s = points + off;
+    if (fs == 4)  // fixed sizes: a copy the compiler inlines
+      for (size_t p = 0; p < n; ++p, d += 4) std::memcpy(d, s + p * step, 4);
+    else if (fs == 8)
+      for (size_t p = 0; p < n; ++p, d += 8) std::memcpy(d, s + p * step, 8);
+    else
+      for (size_t p = 0; p < n; ++p, d += fs) std::memcpy(d, s + p * step, fs);
+    off += fs;
+  }
+  append_compressed(*fm, lzf, out);
+}
+
+// An ascii body: a line a point, its values separated by spaces.
+void append_ascii(const PcdFrameLayout& l, const uint8_t* points, size_t n, size_t step,
+                  std::vector<uint8_t>* out) {
+  std::string body;
+  for (size_t p = 0; p < n; ++p) {
+    const uint8_t* q = points + p * step;
+    bool first = true;
+    for (const PCDField& f : l.fields) {
+      const bool colour = is_packed_colour(f);
+      for (int k = 0; k < f.count; ++k) {
+        if (!first) body += ' ';
+        first = false;
+        append_value(f, colour, q, &body);
+        q += f.size;
+      }
+    }
+    body += '\n';
+  }
+  out->insert(out->end(), body.begin(), body.end());
+}
+
 }  // namespace
 
 std::vector<uint8_t> pcd_frame_bytes(const PcdFrameLayout& layout, const uint8_t* all_points,
                                      LzfVariant lzf, std::vector<uint8_t>* scratch) {
   const size_t n = layout.width * layout.height;
-  size_t all_step = 0;
-  for (const PCDField& f : layout.fields)
-    all_step += static_cast<size_t>(f.size) * static_cast<size_t>(f.count);
   // Padding fields ("_") exist only in binary bodies: PCL's ASCII and compressed readers skip
   // them, so those encodings leave them out, as PCL's writers do.
   const PcdFrameLayout l = written_layout(layout);
   std::vector<uint8_t> packed;
   const uint8_t* points = all_points;
   if (l.fields.size() != layout.fields.size()) {
-    std::vector<std::pair<size_t, size_t>> keep;  // (offset, bytes) of the kept fields
-    size_t off = 0;
-    for (const PCDField& f : layout.fields) {
-      const size_t fs = static_cast<size_t>(f.size) * static_cast<size_t>(f.count);
-      if (f.name != "_") keep.emplace_back(off, fs);
-      off += fs;
-    }
-    for (size_t p = 0; p < n; ++p)
-      for (const auto& k : keep)
-        packed.insert(packed.end(), all_points + p * all_step + k.first,
-                      all_points + p * all_step + k.first + k.second);
+    drop_padding(layout, all_points, n, &packed);
     points = packed.data();
   }
-  size_t step = 0;
-  for (const PCDField& f : l.fields)
-    step += static_cast<size_t>(f.size) * static_cast<size_t>(f.count);
+  const size_t step = point_bytes(l.fields);
   const std::string h = header(l, n);
   std::vector<uint8_t> out(h.begin(), h.end());
   if (l.encoding == "binary") {
     out.insert(out.end(), points, points + n * step);
   } else if (l.encoding == "binary_compressed") {
     std::vector<uint8_t> own;
-    std::vector<uint8_t>& fm = scratch ? *scratch : own;  // field-major, each byte written below
-    fm.resize(n * step);
-    uint8_t* d = fm.data();
-    size_t off = 0;
-    for (const PCDField& f : l.fields) {
-      const size_t fs = static_cast<size_t>(f.size) * static_cast<size_t>(f.count);
-      const uint8_t* s = points + off;
-      if (fs == 4)  // fixed sizes: a copy the compiler inlines
-        for (size_t p = 0; p < n; ++p, d += 4) std::memcpy(d, s + p * step, 4);
-      else if (fs == 8)
-        for (size_t p = 0; p < n; ++p, d += 8) std::memcpy(d, s + p * step, 8);
-      else
-        for (size_t p = 0; p < n; ++p, d += fs) std::memcpy(d, s + p * step, fs);
-      off += fs;
-    }
-    append_compressed(fm, lzf, &out);
+    append_field_major(l, points, n, step, lzf, scratch ? scratch : &own, &out);
   } else if (l.encoding == "ascii") {
-    std::string body;
-    for (size_t p = 0; p < n; ++p) {
-      const uint8_t* q = points + p * step;
-      bool first = true;
-      for (const PCDField& f : l.fields) {
-        const bool colour = is_packed_colour(f);
-        for (int k = 0; k < f.count; ++k) {
-          if (!first) body += ' ';
-          first = false;
-          append_value(f, colour, q, &body);
-          q += f.size;
-        }
-      }
-      body += '\n';
-    }
-    out.insert(out.end(), body.begin(), body.end());
+    append_ascii(l, points, n, step, &out);
   } else {
     fail(ErrorCode::kInvalidParameter, "", "unknown PCD encoding '" + l.encoding + "'");
   }
