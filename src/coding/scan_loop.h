@@ -107,12 +107,11 @@ struct BothSeconds<Io, std::void_t<decltype(Io::kBothSeconds)>>
 // `hypot` (bit 6) from the range's hypotenuse; z on the ring's cone (bent by the table's bow).
 // (rho: the range in grid units; lb: the contexts' bit length.)
 template <class Io>
-__attribute__((always_inline)) inline void code_xyz(Io& io, const Table& t, bool hypot, uint32_t k,
-                                                    int32_t col, double rho, int lb,
-                                                    const int32_t* a, int32_t* p) {
-  const double phi = static_cast<double>(t.azimuth0[k]) + static_cast<double>(col) * t.step;
+__attribute__((always_inline)) inline void code_xyz(Io& io, const Table& t, const Angles& an,
+                                                    bool hypot, uint32_t k, int32_t col, double rho,
+                                                    int lb, const int32_t* a, int32_t* p) {
   double s, c;
-  det_sincos(phi, &s, &c);
+  an.of(k, col, &s, &c);
   const int i0 = std::fabs(c) <= std::fabs(s) ? 0 : 1, i1 = 1 - i0;
   const double u0 = rho * (i0 == 0 ? c : s);
   const int32_t h0 = round_clamp(u0);
@@ -461,7 +460,7 @@ __attribute__((always_inline)) inline void code_spherical(Io& io, State& st, con
   const double rho =
       units ? static_cast<double>(range) * t.unit[k] + t.offset[k] : static_cast<double>(range);
   const int lb = std::min(bit_length(units ? round_clamp(rho) : range), 23);
-  code_xyz(io, t, hypot, k, col, rho, lb, a, p);
+  code_xyz(io, t, st.angles(), hypot, k, col, rho, lb, a, p);
   if (r.has_last && (!walk || rc.opened)) r.step = wrap_sub(col, r.last_column);
   r.has_lead = pv->have;
   r.lead = wrap_sub(col, pv->column);

@@ -263,7 +263,12 @@ Header read_header(const uint8_t* data, size_t size, const std::string& what, si
 }
 
 State::State(const Table& t, std::shared_ptr<SweepMaps> maps)
-    : ring(t.rings()), succ(t.rings()), firing(t.rings()), t_(&t), maps_(std::move(maps)) {
+    : ring(t.rings()),
+      succ(t.rings()),
+      firing(t.rings()),
+      t_(&t),
+      angles_(std::make_shared<const Angles>(t.azimuth0, static_cast<double>(t.step), t.columns)),
+      maps_(std::move(maps)) {
   for (size_t k = 0; k < succ.size(); ++k) succ[k] = static_cast<uint32_t>((k + 1) % succ.size());
   if (!maps_) maps_ = std::make_shared<SweepMaps>();
   maps_->reset(t.rings() * t.columns);

@@ -230,6 +230,39 @@ inline void det_sincos(double a, double* s, double* c) {
     *s = -pc, *c = ps;
   }
 }
+// sin and cos of a spherical point's azimuth, phi_k + c s (FORMAT step 4): the sum of ring k's
+// phi_k and column c's c s, each angle's sine and cosine by det_sincos, ring k's and those of the
+// columns 0 .. C - 1 worked out once for the table.
+class Angles {
+ public:
+  Angles() = default;
+  Angles(const std::vector<float>& azimuth0, double step, uint32_t columns) : step_(step) {
+    ring_.resize(2 * azimuth0.size());
+    for (size_t k = 0; k < azimuth0.size(); ++k)
+      det_sincos(static_cast<double>(azimuth0[k]), &ring_[2 * k], &ring_[2 * k + 1]);
+    column_.resize(2 * size_t{columns});
+    for (uint32_t c = 0; c < columns; ++c)
+      det_sincos(static_cast<double>(c) * step, &column_[2 * c], &column_[2 * c + 1]);
+  }
+  __attribute__((always_inline)) void of(uint32_t k, int32_t col, double* s, double* c) const {
+    const double sa = ring_[2 * k], ca = ring_[2 * k + 1];
+    double sb, cb;
+    if (__builtin_expect(static_cast<uint64_t>(static_cast<uint32_t>(col)) < column_.size() / 2,
+                         1)) {
+      sb = column_[2 * static_cast<uint32_t>(col)];
+      cb = column_[2 * static_cast<uint32_t>(col) + 1];
+    } else {
+      det_sincos(static_cast<double>(col) * step_, &sb, &cb);
+    }
+    *s = sa * cb + ca * sb;
+    *c = ca * cb - sa * sb;
+  }
+
+ private:
+  double step_ = 0;
+  std::vector<double> ring_, column_;  // sin, cos of each
+};
+
 // floor(v + 0.5) clamped to the int32 range (NaN gives 0). Below 2^31 - 1 in magnitude (every
 // prediction of a point but the odd far one) v + 0.5 truncates into an int64 exactly, and
 // floor is that, less one above v + 0.5: floor_fast's value, without its range test or the
@@ -299,6 +332,7 @@ class State {
   // The maps are the state's own, or `maps` (reset for this table: an encoder's for each table).
   explicit State(const Table& t, std::shared_ptr<SweepMaps> maps = nullptr);
   const Table& table() const { return *t_; }
+  const Angles& angles() const { return *angles_; }
   // Call after each frame: this sweep's map becomes the previous one.
   void end_frame();
   // A copy for a trial (the encoder's cost estimate): shares the maps, never writes them.
@@ -411,7 +445,8 @@ class State {
     return static_cast<size_t>(c) * t_->rings() + k;
   }
   const Table* t_;
-  std::shared_ptr<SweepMaps> maps_;  // the previous sweep's ranges and this sweep's
+  std::shared_ptr<const Angles> angles_;  // the table's (shared by copies)
+  std::shared_ptr<SweepMaps> maps_;       // the previous sweep's ranges and this sweep's
   bool trial_ = false;
   int32_t turn_ = 0;
 };

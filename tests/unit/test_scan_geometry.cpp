@@ -199,6 +199,29 @@ TEST(ScanGeometry, GivenDeterministicTrigonometryThenCloseToLibm) {
   }
 }
 
+// FORMAT.md step 4: a spherical point's azimuth cosine and sine are the sum of its ring's angle
+// and its column's, each by det_sincos; the tables give those bits for columns inside and
+// outside 0 .. C-1 (negative and past the turn), close to libm's of the whole angle.
+TEST(ScanGeometry, GivenAnglesOfAzimuthsThenTheSumOfTwoAnglesAsFormatSays) {
+  const std::vector<float> a0 = {0.0f, 0.0123f, -3.1f, 2.5f};
+  const uint32_t columns = 1800;
+  for (double step : {6.283185307179586 / columns, -0.000785398}) {
+    const scan::Angles angles(a0, step, columns);
+    for (uint32_t k = 0; k < a0.size(); ++k)
+      for (int32_t col : {0, 1, 17, 899, 1799, 1800, 2500, -1, -450, 123457}) {
+        double sa, ca, sb, cb, s, c;
+        scan::det_sincos(static_cast<double>(a0[k]), &sa, &ca);
+        scan::det_sincos(static_cast<double>(col) * step, &sb, &cb);
+        angles.of(k, col, &s, &c);
+        EXPECT_EQ(c, ca * cb - sa * sb) << k << " " << col;
+        EXPECT_EQ(s, sa * cb + ca * sb) << k << " " << col;
+        const double phi = static_cast<double>(a0[k]) + static_cast<double>(col) * step;
+        EXPECT_NEAR(c, std::cos(phi), 1e-13);
+        EXPECT_NEAR(s, std::sin(phi), 1e-13);
+      }
+  }
+}
+
 // Every truncation and many byte flips of a payload either decode or throw capz::Error.
 TEST(ScanGeometry, GivenDamagedPayloadsWhenDecodedThenErrorOrValues) {
   ScanHints h;
