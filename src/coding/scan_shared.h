@@ -148,11 +148,22 @@ constexpr ValueKind value_kind(int ctx) {
              ? ValueKind::kFlag
              : ValueKind::kZeroFirst;
 }
-// Codes u (a residual's zig-zag, or an unsigned value) under ctx as the block does; Enc: an
-// IntEncoder or its Cursor, with binary models.
+namespace detail {
+// value_kind of every context, one load for the encoder's replay of a trial's symbols.
+struct ValueKinds {
+  ValueKind k[kContexts];
+  constexpr ValueKinds() : k() {
+    for (int c = 0; c < kContexts; ++c) k[c] = value_kind(c);
+  }
+};
+inline constexpr ValueKinds kValueKinds{};
+}  // namespace detail
+
+// Codes u (a residual's zig-zag, or an unsigned value) under ctx (below kContexts) as the block
+// does; Enc: an IntEncoder or its Cursor, with binary models.
 template <class Enc>
 __attribute__((always_inline)) inline void put_value(Enc& enc, uint32_t u, int ctx) {
-  switch (value_kind(ctx)) {
+  switch (detail::kValueKinds.k[ctx]) {
     case ValueKind::kPlain:
       enc.put(u, ctx);
       break;
