@@ -324,14 +324,17 @@ char trc_delimiter_char(const std::string& name) {
   return 0;
 }
 
-// The module's functions: reading, writing, coding, comparing.
-void bind_functions(py::module_& m) {
+// Building takes from arrays, and the memory limits' constants.
+void bind_take_builders(py::module_& m) {
   m.def("take_from_arrays", &take_from_arrays);
   m.def("take_from_frames", &take_from_frames);
 
   m.attr("DEFAULT_MEMORY_LIMIT") = capz::kDefaultMemoryLimit;
   m.attr("AUTO_MEMORY_LIMIT") = capz::kAutoMemoryLimit;
+}
 
+// Reading and writing takes by path.
+void bind_reading_writing(py::module_& m) {
   m.def("read", [](const std::string& path, uint64_t memory_limit, const py::object& progress) {
     capz::Take t;
     {
@@ -370,7 +373,10 @@ void bind_functions(py::module_& m) {
           py::gil_scoped_release nogil;
           capz::write_take(take, path, o);
         });
+}
 
+// Coding: compress, decompress, compress_file, and what a format would drop.
+void bind_coding(py::module_& m) {
   m.def("compress", &compress_take);
 
   m.def("dropped_by", [](const capz::Take& take, const std::string& path) {
@@ -415,7 +421,10 @@ void bind_functions(py::module_& m) {
           warn_notes(note, st);
           return compress_stats(st);
         });
+}
 
+// Comparing two takes, and the unit helpers.
+void bind_comparing(py::module_& m) {
   m.def("compare", [](const capz::Take& a, const capz::Take& b) {
     capz::ErrorStats e;
     {
@@ -427,6 +436,14 @@ void bind_functions(py::module_& m) {
 
   m.def("parse_length", &capz::parse_length);
   m.def("units_to_metres", &capz::units_to_metres);
+}
+
+// The module's functions: reading, writing, coding, comparing.
+void bind_functions(py::module_& m) {
+  bind_take_builders(m);
+  bind_reading_writing(m);
+  bind_coding(m);
+  bind_comparing(m);
 }
 
 }  // namespace
