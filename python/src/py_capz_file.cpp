@@ -16,6 +16,80 @@ namespace capz_py {
 
 namespace {
 
+// The windows per float32 split exponent, keyed by the exponent as text, as the CLI.
+py::dict split_windows_dict(const capz::StreamInfo& si) {
+  py::dict splits;
+  for (const auto& kv : si.float32_split_windows)
+    splits[py::str(std::to_string(kv.first))] = kv.second;
+  return splits;
+}
+
+// The lossy analog channels (FORMAT.md 5.7) with their labels, units and bounds, as the CLI.
+py::list analog_bounds_list(const capz::StreamInfo& si) {
+  py::list bounds;
+  for (size_t c = 0; c < si.analog_bounds.size(); ++c)
+    if (si.analog_bounds[c] > 0) {
+      py::dict b;
+      b["channel"] = c;
+      b["label"] = text(c < si.analog_labels.size() ? si.analog_labels[c] : std::string());
+      b["unit"] = text(c < si.analog_units.size() ? si.analog_units[c] : std::string());
+      b["bound"] = si.analog_bounds[c];
+      bounds.append(b);
+    }
+  return bounds;
+}
+
+// The rotation segments' counts, rate and labels.
+py::dict rotations_dict(const capz::StreamInfo& si) {
+  py::dict rot;
+  rot["segments"] = si.rotation_segments;
+  rot["samples"] = si.rotation_segments > 0
+                       ? si.frames * static_cast<size_t>(si.rotation_samples_per_frame)
+                       : size_t{0};
+  rot["rate"] = si.rotation_rate;
+  rot["samples_per_frame"] = si.rotation_samples_per_frame;
+  rot["labels"] = texts(si.rotation_labels);
+  return rot;
+}
+
+// Adds a PCD sequence's layout, fields and their bounds to d.
+void add_pcd_layout(const capz::StreamInfo& si, py::dict* d) {
+  (*d)["width"] = si.pcd_width;
+  (*d)["height"] = si.pcd_height;
+  py::list fields;
+  for (const capz::PCDField& f : si.pcd_fields) {
+    py::dict x;
+    x["name"] = text(f.name);
+    x["type"] = std::string(1, f.type);
+    x["size"] = f.size;
+    x["count"] = f.count;
+    fields.append(x);
+  }
+  (*d)["fields"] = fields;
+  py::dict bounds_of;
+  for (size_t i = 0; i < si.pcd_field_bounds.size() && i < si.pcd_fields.size(); ++i)
+    if (si.pcd_field_bounds[i] > 0) bounds_of[text(si.pcd_fields[i].name)] = si.pcd_field_bounds[i];
+  (*d)["field_bounds"] = bounds_of;
+}
+
+// The original file's size and hash from the HASH chunk, or None when it has none.
+py::object original_dict(const std::string& path) {
+  const capz::OriginalInfo orig = capz::original_info(path);
+  if (!orig.hashed) return py::none();
+  py::dict o;
+  o["bytes"] = orig.size;
+  o["xxh3_128"] = orig.hash_hex;
+  o["byte_exact"] = orig.exact;
+  return o;
+}
+
+// The bytes of each chunk, keyed by the chunk's name.
+py::dict chunk_bytes_dict(const capz::StreamInfo& si) {
+  py::dict chunks;
+  for (const auto& kv : si.chunk_bytes) chunks[py::str(kv.first)] = kv.second;
+  return chunks;
+}
+
 // The same members as `capz info --json` on a .capz (apps/capz/cmd_info_capz.cpp).
 py::dict info_dict(const std::string& path, const std::vector<uint8_t>& bytes) {
   const capz::StreamInfo si = capz::describe(bytes.data(), bytes.size(), path);
@@ -31,12 +105,7 @@ py::dict info_dict(const std::string& path, const std::vector<uint8_t>& bytes) {
   d["rate"] = si.rate;
   d["units"] = text(si.units);
   d["mode"] = si.mode;
-  if (!si.float32_split_windows.empty()) {  // windows per float32 split exponent, as the CLI
-    py::dict splits;
-    for (const auto& kv : si.float32_split_windows)
-      splits[py::str(std::to_string(kv.first))] = kv.second;
-    d["float32_split_windows"] = splits;
-  }
+  if (!si.float32_split_windows.empty()) d["float32_split_windows"] = split_windows_dict(si);
   d["codec"] = si.codec;
   d["lossless"] = si.lossless;
   d["grid_step"] = si.step;
@@ -48,63 +117,16 @@ py::dict info_dict(const std::string& path, const std::vector<uint8_t>& bytes) {
   d["windows"] = si.windows;
   d["analog_channels"] = si.analog_channels;
   d["analog_samples_per_frame"] = si.analog_samples_per_frame;
-  py::list bounds;  // the lossy analog channels (FORMAT.md 5.7), as `capz info --json`
-  for (size_t c = 0; c < si.analog_bounds.size(); ++c)
-    if (si.analog_bounds[c] > 0) {
-      py::dict b;
-      b["channel"] = c;
-      b["label"] = text(c < si.analog_labels.size() ? si.analog_labels[c] : std::string());
-      b["unit"] = text(c < si.analog_units.size() ? si.analog_units[c] : std::string());
-      b["bound"] = si.analog_bounds[c];
-      bounds.append(b);
-    }
-  d["analog_bounds"] = bounds;
-  py::dict rot;
-  rot["segments"] = si.rotation_segments;
-  rot["samples"] = si.rotation_segments > 0
-                       ? si.frames * static_cast<size_t>(si.rotation_samples_per_frame)
-                       : size_t{0};
-  rot["rate"] = si.rotation_rate;
-  rot["samples_per_frame"] = si.rotation_samples_per_frame;
-  rot["labels"] = texts(si.rotation_labels);
-  d["rotations"] = rot;
-  if (!si.pcd_fields.empty()) {  // a PCD sequence's layout, fields and their bounds
-    d["width"] = si.pcd_width;
-    d["height"] = si.pcd_height;
-    py::list fields;
-    for (const capz::PCDField& f : si.pcd_fields) {
-      py::dict x;
-      x["name"] = text(f.name);
-      x["type"] = std::string(1, f.type);
-      x["size"] = f.size;
-      x["count"] = f.count;
-      fields.append(x);
-    }
-    d["fields"] = fields;
-    py::dict bounds_of;
-    for (size_t i = 0; i < si.pcd_field_bounds.size() && i < si.pcd_fields.size(); ++i)
-      if (si.pcd_field_bounds[i] > 0)
-        bounds_of[text(si.pcd_fields[i].name)] = si.pcd_field_bounds[i];
-    d["field_bounds"] = bounds_of;
-  }
+  d["analog_bounds"] = analog_bounds_list(si);
+  d["rotations"] = rotations_dict(si);
+  if (!si.pcd_fields.empty()) add_pcd_layout(si, &d);
   if (si.source_format == capz::Format::kC3D) {  // the EVENT group, from META
     const capz::Take h = capz::decompress_frames(bytes.data(), bytes.size(), 0, 0, path);
     d["events"] = h.c3d ? events_list(capz::c3d_events(*h.c3d)) : py::list();
   }
-  const capz::OriginalInfo orig = capz::original_info(path);  // HASH: the original file
-  if (orig.hashed) {
-    py::dict o;
-    o["bytes"] = orig.size;
-    o["xxh3_128"] = orig.hash_hex;
-    o["byte_exact"] = orig.exact;
-    d["original"] = o;
-  } else {
-    d["original"] = py::none();
-  }
+  d["original"] = original_dict(path);                       // HASH: the original file
   d["bpvf"] = capz::bpvf(bytes.size(), 1, si.total_points);  // as capz info: over every point
-  py::dict chunks;
-  for (const auto& kv : si.chunk_bytes) chunks[py::str(kv.first)] = kv.second;
-  d["chunk_bytes"] = chunks;
+  d["chunk_bytes"] = chunk_bytes_dict(si);
   return d;
 }
 
