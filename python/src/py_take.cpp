@@ -56,10 +56,8 @@ py::dict attributes_of(py::handle self, const capz::Take& t) {
   return d;
 }
 
-}  // namespace
-
-// Take: positions, gaps and what names them.
-void bind_take_positions(TakeClass* cls) {
+// Take's positions and gaps as views, and their counts and frame offsets.
+void bind_take_position_arrays(TakeClass* cls) {
   (*cls)
       .def_property_readonly(
           "xyz",
@@ -102,7 +100,12 @@ void bind_take_positions(TakeClass* cls) {
             return a;
           },
           "int64 (frames + 1,): frame f holds points frame_offsets[f] to frame_offsets[f + 1] "
-          "of the flattened arrays (for a fixed take too: multiples of points). A new array")
+          "of the flattened arrays (for a fixed take too: multiples of points). A new array");
+}
+
+// Take's labels, rate, units, frame numbering and source.
+void bind_take_naming(TakeClass* cls) {
+  (*cls)
       .def_property_readonly(
           "units_assumed", [](const capz::Take& t) { return t.units_assumed; },
           "True when the file holds no units and the reader assumed them "
@@ -145,8 +148,39 @@ void bind_take_positions(TakeClass* cls) {
       .def_property_readonly("warnings", [](const capz::Take& t) { return texts(t.warnings); });
 }
 
-// Take: analog channels, rotations and point fields.
-void bind_take_channels(TakeClass* cls) {
+}  // namespace
+
+// Take: positions, gaps and what names them.
+void bind_take_positions(TakeClass* cls) {
+  bind_take_position_arrays(cls);
+  bind_take_naming(cls);
+}
+
+namespace {
+
+// Take.rotations: the matrices and reliability as views of the take's storage, with labels and
+// rates.
+py::dict rotations_of(py::handle self, const capz::Take& t) {
+  const capz::Rotations& r = t.rotations;
+  const size_t G = static_cast<size_t>(std::max(0, r.segments));
+  const size_t S = r.samples(t.frames);
+  if (r.matrices.size() != S * G * 16 || r.reliability.size() != S * G)
+    capz::fail(capz::ErrorCode::kInternal, t.source,
+               "rotation arrays do not match samples x segments");
+  py::dict d;
+  const py::ssize_t f = sizeof(float);
+  // M[s, g, row, col] = matrices[(s * G + g) * 16 + col * 4 + row] (column-major).
+  d["matrices"] = view(self, py::dtype::of<float>(), {ss(S), ss(G), 4, 4}, r.matrices.data(),
+                       {ss(G) * 16 * f, 16 * f, f, 4 * f});
+  d["reliability"] = view(self, py::dtype::of<float>(), {ss(S), ss(G)}, r.reliability.data());
+  d["labels"] = texts(r.labels);
+  d["rate"] = r.rate;
+  d["samples_per_frame"] = r.samples_per_frame;
+  return d;
+}
+
+// Take's analog samples, rotations and point fields as stored.
+void bind_take_stored_channels(TakeClass* cls) {
   (*cls)
       .def_property_readonly(
           "analog",
@@ -172,26 +206,7 @@ void bind_take_channels(TakeClass* cls) {
                              [](const capz::Take& t) { return t.analog.samples_per_frame; })
       .def_property_readonly(
           "rotations",
-          [](const py::object& self) {
-            const auto& t = self.cast<const capz::Take&>();
-            const capz::Rotations& r = t.rotations;
-            const size_t G = static_cast<size_t>(std::max(0, r.segments));
-            const size_t S = r.samples(t.frames);
-            if (r.matrices.size() != S * G * 16 || r.reliability.size() != S * G)
-              capz::fail(capz::ErrorCode::kInternal, t.source,
-                         "rotation arrays do not match samples x segments");
-            py::dict d;
-            const py::ssize_t f = sizeof(float);
-            // M[s, g, row, col] = matrices[(s * G + g) * 16 + col * 4 + row] (column-major).
-            d["matrices"] = view(self, py::dtype::of<float>(), {ss(S), ss(G), 4, 4},
-                                 r.matrices.data(), {ss(G) * 16 * f, 16 * f, f, 4 * f});
-            d["reliability"] =
-                view(self, py::dtype::of<float>(), {ss(S), ss(G)}, r.reliability.data());
-            d["labels"] = texts(r.labels);
-            d["rate"] = r.rate;
-            d["samples_per_frame"] = r.samples_per_frame;
-            return d;
-          },
+          [](const py::object& self) { return rotations_of(self, self.cast<const capz::Take&>()); },
           "C3D rotations: dict with matrices float32 (samples, segments, 4, 4) indexed "
           "[sample, segment, row, column], reliability float32 (samples, segments), labels, "
           "rate and samples_per_frame")
@@ -203,7 +218,12 @@ void bind_take_channels(TakeClass* cls) {
           "per-point fields of the source besides x y z (PCD: rgb, "
           "intensity, normals, ...): dict name -> array (frames, points) or "
           "(frames, points, count) of the field's type (float32, uint8, ...); a ragged take's: "
-          "(total points) or (total points, count), flattened like xyz")
+          "(total points) or (total points, count), flattened like xyz");
+}
+
+// Take's analog channels' units, and the channels in them.
+void bind_take_analog_physics(TakeClass* cls) {
+  (*cls)
       .def_property_readonly(
           "analog_units",
           [](const capz::Take& t) {
@@ -228,6 +248,14 @@ void bind_take_channels(TakeClass* cls) {
           "ANALOG:OFFSET) x ANALOG:SCALE x ANALOG:GEN_SCALE per channel, as the C3D "
           "specification gives it (the stored numbers when the take has no C3D parameters). "
           "A new array");
+}
+
+}  // namespace
+
+// Take: analog channels, rotations and point fields.
+void bind_take_channels(TakeClass* cls) {
+  bind_take_stored_channels(cls);
+  bind_take_analog_physics(cls);
 }
 
 namespace {
