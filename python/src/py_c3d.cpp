@@ -115,23 +115,67 @@ py::object parameter_value(const capz::C3DParameter& p) {
   return std::move(a);
 }
 
+// Appends x to data as a little-endian int16 (a value in -32768 .. 65535).
+void put_int16(long long x, std::vector<uint8_t>* data) {
+  if (x < -32768 || x > 65535) invalid("set_parameter: " + std::to_string(x) + " is not int16");
+  const uint16_t u = static_cast<uint16_t>(x);
+  data->push_back(static_cast<uint8_t>(u & 0xFF));
+  data->push_back(static_cast<uint8_t>(u >> 8));
+}
+
+// Appends x to data as a float32's bytes.
+void put_float32(double x, std::vector<uint8_t>* data) {
+  const float f = static_cast<float>(x);
+  uint8_t b[4];
+  std::memcpy(b, &f, 4);
+  data->insert(data->end(), b, b + 4);
+}
+
+// A list or tuple of str as a 2-D char parameter, each string blank padded to the longest.
+void strings_parameter(const py::handle& v, bool latin1, capz::C3DParameter* p) {
+  std::vector<std::string> strings;
+  for (const py::handle& e : v) {
+    if (!py::isinstance<py::str>(e)) invalid("set_parameter: a list value must hold str only");
+    strings.push_back(file_text(e, latin1));
+  }
+  size_t width = 0;
+  for (const std::string& x : strings) width = std::max(width, x.size());
+  p->type = -1;
+  p->dims = {static_cast<int>(width), static_cast<int>(strings.size())};
+  for (std::string x : strings) {
+    x.resize(width, ' ');
+    p->data.insert(p->data.end(), x.begin(), x.end());
+  }
+}
+
+// A numpy array as a byte, int16 or float32 parameter, its dimensions the shape reversed.
+void array_parameter(const py::array& a, capz::C3DParameter* p) {
+  const char kind = a.dtype().kind();
+  if (a.ndim() > 7) invalid("set_parameter: a C3D parameter has at most 7 dimensions");
+  for (py::ssize_t k = a.ndim(); k-- > 0;) p->dims.push_back(static_cast<int>(a.shape(k)));
+  if (kind == 'u' && a.itemsize() == 1) {
+    p->type = 1;
+    const py::array_t<uint8_t, py::array::c_style | py::array::forcecast> b(a);
+    p->data.assign(b.data(), b.data() + b.size());
+  } else if (kind == 'i' || kind == 'u') {
+    p->type = 2;
+    const py::array_t<long long, py::array::c_style | py::array::forcecast> b(a);
+    for (py::ssize_t i = 0; i < b.size(); ++i) put_int16(b.data()[i], &p->data);
+  } else if (kind == 'f') {
+    p->type = 4;
+    const py::array_t<double, py::array::c_style | py::array::forcecast> b(a);
+    for (py::ssize_t i = 0; i < b.size(); ++i) put_float32(b.data()[i], &p->data);
+  } else {
+    invalid("set_parameter: numpy dtype " + py::str(a.dtype()).cast<std::string>() +
+            " has no C3D type (uint8, integers, floats)");
+  }
+}
+
 // Take.set_parameter's value as a C3D parameter's type, dimensions and bytes: a str is a char
 // array of one dimension, a list or tuple of str a 2-D one (blank padded to the longest); an int
 // an int16, a float a float32; a numpy array uint8 (byte), any other integer type (int16, each
 // value in -32768 .. 65535) or float (float32), its dimensions the array's shape reversed.
 void parameter_from_python(const py::handle& v, bool latin1, capz::C3DParameter* p) {
-  auto put16 = [&](long long x) {
-    if (x < -32768 || x > 65535) invalid("set_parameter: " + std::to_string(x) + " is not int16");
-    const uint16_t u = static_cast<uint16_t>(x);
-    p->data.push_back(static_cast<uint8_t>(u & 0xFF));
-    p->data.push_back(static_cast<uint8_t>(u >> 8));
-  };
-  auto put32 = [&](double x) {
-    const float f = static_cast<float>(x);
-    uint8_t b[4];
-    std::memcpy(b, &f, 4);
-    p->data.insert(p->data.end(), b, b + 4);
-  };
   p->data.clear();
   p->dims.clear();
   if (py::isinstance<py::str>(v)) {
@@ -140,48 +184,17 @@ void parameter_from_python(const py::handle& v, bool latin1, capz::C3DParameter*
     p->dims = {static_cast<int>(s.size())};
     p->data.assign(s.begin(), s.end());
   } else if (py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v)) {
-    std::vector<std::string> strings;
-    for (const py::handle& e : v) {
-      if (!py::isinstance<py::str>(e)) invalid("set_parameter: a list value must hold str only");
-      strings.push_back(file_text(e, latin1));
-    }
-    size_t width = 0;
-    for (const std::string& x : strings) width = std::max(width, x.size());
-    p->type = -1;
-    p->dims = {static_cast<int>(width), static_cast<int>(strings.size())};
-    for (std::string x : strings) {
-      x.resize(width, ' ');
-      p->data.insert(p->data.end(), x.begin(), x.end());
-    }
+    strings_parameter(v, latin1, p);
   } else if (py::isinstance<py::bool_>(v)) {
     invalid("set_parameter: a bool has no C3D type (give 0 or 1)");
   } else if (py::isinstance<py::int_>(v)) {
     p->type = 2;
-    put16(v.cast<long long>());
+    put_int16(v.cast<long long>(), &p->data);
   } else if (py::isinstance<py::float_>(v)) {
     p->type = 4;
-    put32(v.cast<double>());
+    put_float32(v.cast<double>(), &p->data);
   } else if (py::isinstance<py::array>(v)) {
-    const py::array a = py::reinterpret_borrow<py::array>(v);
-    const char kind = a.dtype().kind();
-    if (a.ndim() > 7) invalid("set_parameter: a C3D parameter has at most 7 dimensions");
-    for (py::ssize_t k = a.ndim(); k-- > 0;) p->dims.push_back(static_cast<int>(a.shape(k)));
-    if (kind == 'u' && a.itemsize() == 1) {
-      p->type = 1;
-      const py::array_t<uint8_t, py::array::c_style | py::array::forcecast> b(a);
-      p->data.assign(b.data(), b.data() + b.size());
-    } else if (kind == 'i' || kind == 'u') {
-      p->type = 2;
-      const py::array_t<long long, py::array::c_style | py::array::forcecast> b(a);
-      for (py::ssize_t i = 0; i < b.size(); ++i) put16(b.data()[i]);
-    } else if (kind == 'f') {
-      p->type = 4;
-      const py::array_t<double, py::array::c_style | py::array::forcecast> b(a);
-      for (py::ssize_t i = 0; i < b.size(); ++i) put32(b.data()[i]);
-    } else {
-      invalid("set_parameter: numpy dtype " + py::str(a.dtype()).cast<std::string>() +
-              " has no C3D type (uint8, integers, floats)");
-    }
+    array_parameter(py::reinterpret_borrow<py::array>(v), p);
   } else {
     invalid(
         "set_parameter: the value must be a str, a list of str, an int, a float or a numpy "
@@ -336,10 +349,8 @@ py::object parameter_of(const capz::Take& t, const std::string& group, const std
   return py::none();
 }
 
-}  // namespace
-
-// Take: the C3D parameter section, sample words and header events.
-void bind_take_c3d(TakeClass* cls) {
+// Take's C3D parameters: set_parameter, parameters and parameter.
+void bind_take_c3d_parameters(TakeClass* cls) {
   (*cls)
       .def("set_parameter", &set_parameter, py::arg("group"), py::arg("name"), py::arg("value"),
            py::arg("description") = py::none(),
@@ -366,7 +377,12 @@ void bind_take_c3d(TakeClass* cls) {
           "one C3D parameter, names matched without regard to case: dict with value (as in "
           "parameters), description, type (\"char\", \"byte\", \"int16\", \"float\"), dims (as "
           "the file gives them, first varying fastest), locked and group_description; None when "
-          "absent")
+          "absent");
+}
+
+// Take's C3D sample words: residuals and camera masks.
+void bind_take_c3d_samples(TakeClass* cls) {
+  (*cls)
       .def_property_readonly(
           "residuals",
           [](const py::object& self) { return sample_words(self, &capz::C3DExtra::residual); },
@@ -377,7 +393,12 @@ void bind_take_c3d(TakeClass* cls) {
           "camera_masks",
           [](const py::object& self) { return sample_words(self, &capz::C3DExtra::camera_mask); },
           "C3D camera masks, uint8 (frames, points): bit k set when camera k + 1 saw the "
-          "point (0 at a gap); None when the take did not come from C3D (a view, like xyz)")
+          "point (0 at a gap); None when the take did not come from C3D (a view, like xyz)");
+}
+
+// Take's C3D events: the EVENT group's, setting them, and the header's event table.
+void bind_take_c3d_events(TakeClass* cls) {
+  (*cls)
       .def_property_readonly(
           "events",
           [](const capz::Take& t) {
@@ -410,6 +431,15 @@ void bind_take_c3d(TakeClass* cls) {
           "the C3D header's event table (at most 18, labels of 4 characters, older writers): "
           "list of dict label, time (s), display. Most files keep their events in the EVENT "
           "group: events");
+}
+
+}  // namespace
+
+// Take: the C3D parameter section, sample words and header events.
+void bind_take_c3d(TakeClass* cls) {
+  bind_take_c3d_parameters(cls);
+  bind_take_c3d_samples(cls);
+  bind_take_c3d_events(cls);
 }
 
 // Take: a TRC file's Time and Frame# columns and its header's rates.
