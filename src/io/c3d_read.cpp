@@ -216,23 +216,28 @@ struct FrameLayout {
   size_t points = 0, analog_total = 0, spf = 0, channels = 0;
 };
 
-// Points and analog values per frame: the header's counts, unless POINT:USED / ANALOG:USED
-// give a layout that fills the `data_bytes` of the data section exactly where the header's does
-// not fit or leaves more unexplained bytes (some writers put the channel count in header word 3
-// instead of channels x samples).
-FrameLayout choose_layout(const HeaderFields& h, const C3DExtra& x, size_t frames, size_t elem,
-                          size_t data_bytes, std::vector<std::string>* warnings) {
-  auto warn = [&](const std::string& w) { warnings->push_back(w); };
+// Analog samples per frame: the header's, or for a header that gives 0 with analog values,
+// ANALOG:USED's division of them (1 when it does not divide them), with a warning.
+size_t analog_samples_per_frame(const HeaderFields& h, long a_used,
+                                std::vector<std::string>* warnings) {
   size_t spf = h.analog_spf;
-  long p_used = count_param(x, "POINT", "USED");
-  long a_used = count_param(x, "ANALOG", "USED");
   if (h.analog_total > 0 && spf == 0) {
     spf = 1;
     if (a_used > 0 && h.analog_total % static_cast<size_t>(a_used) == 0)
       spf = h.analog_total / static_cast<size_t>(a_used);
-    warn("header gives 0 analog samples per frame for " + std::to_string(h.analog_total) +
-         " analog values per frame; using " + std::to_string(spf));
+    warnings->push_back("header gives 0 analog samples per frame for " +
+                        std::to_string(h.analog_total) + " analog values per frame; using " +
+                        std::to_string(spf));
   }
+  return spf;
+}
+
+// The points and analog values per frame (points and analog_total only) of the first candidate
+// that fills the `data_bytes` of the data section up to block padding: the header's counts
+// first, then those with POINT:USED and ANALOG:USED x spf in their place; the header's when none
+// fits.
+FrameLayout fitting_layout(const HeaderFields& h, long p_used, long a_used, size_t spf,
+                           size_t frames, size_t elem, size_t data_bytes) {
   struct Layout {
     size_t points, analog_total;
   };
@@ -260,6 +265,20 @@ FrameLayout choose_layout(const HeaderFields& h, const C3DExtra& x, size_t frame
   FrameLayout out;
   out.points = lay.points;
   out.analog_total = lay.analog_total;
+  return out;
+}
+
+// Points and analog values per frame: the header's counts, unless POINT:USED / ANALOG:USED
+// give a layout that fills the `data_bytes` of the data section exactly where the header's does
+// not fit or leaves more unexplained bytes (some writers put the channel count in header word 3
+// instead of channels x samples).
+FrameLayout choose_layout(const HeaderFields& h, const C3DExtra& x, size_t frames, size_t elem,
+                          size_t data_bytes, std::vector<std::string>* warnings) {
+  auto warn = [&](const std::string& w) { warnings->push_back(w); };
+  long p_used = count_param(x, "POINT", "USED");
+  long a_used = count_param(x, "ANALOG", "USED");
+  const size_t spf = analog_samples_per_frame(h, a_used, warnings);
+  FrameLayout out = fitting_layout(h, p_used, a_used, spf, frames, elem, data_bytes);
   if (p_used >= 0 && static_cast<size_t>(p_used) != h.points)
     warn("header says " + std::to_string(h.points) + " points, POINT:USED says " +
          std::to_string(p_used) + " (" +
@@ -496,70 +515,81 @@ Take read_header(const uint8_t* data, size_t avail, size_t size, const std::stri
   return t;
 }
 
+namespace {
+
+// Decodes `count` frames (decode_frames) for one processor type and storage, both fixed at
+// compile time: the number reads then carry no test per value (this loop reads every frame of a
+// take twice when it is compressed: once for the scan, once to code it).
+template <class Proc, class FloatStorage>
+void decode_frames_as(const DataLayout& lay, const uint8_t* bytes, size_t count, double* xyz,
+                      uint8_t* valid_out, float* residual, uint8_t* camera, double* analog,
+                      size_t* wide_word4) {
+  const size_t points = lay.points;
+  const double scale = lay.scale;
+  NumberFormat nf;
+  nf.processor = Proc::value;
+  constexpr bool float_storage = FloatStorage::value;
+  constexpr size_t elem = float_storage ? 4 : 2;
+  for (size_t f = 0; f < count; ++f) {
+    const uint8_t* fp = bytes + f * lay.per_frame;
+    for (size_t p = 0; p < points; ++p) {
+      const uint8_t* q = fp + p * 4 * elem;
+      double c[3];
+      bool valid;
+      uint32_t word4 = 0;
+      if (float_storage) {
+        for (int a = 0; a < 3; ++a) c[a] = nf.f32(q + 4 * a);
+        // The float holds the int16 4th word: 32768..65535 are negative int16 values
+        // (Qualisys and Vicon write 65535 for -1). Larger values are no int16 at all: valid,
+        // residual 0.
+        float w = nf.f32(q + 12);
+        valid = w >= 0 && !(w >= 32768.0f && w <= 65535.0f);  // NaN is not >= 0
+        if (valid && w < 32768.0f) word4 = static_cast<uint32_t>(w);
+        if (valid && w > 65535.0f) ++*wide_word4;
+      } else {
+        for (int a = 0; a < 3; ++a) c[a] = nf.i16(q + 2 * a) * scale;
+        int16_t w = nf.i16(q + 6);
+        valid = w >= 0;
+        if (valid) word4 = static_cast<uint32_t>(w);
+      }
+      if (valid) {
+        bool finite = std::isfinite(c[0]) && std::isfinite(c[1]) && std::isfinite(c[2]);
+        bool zero = c[0] == 0 && c[1] == 0 && c[2] == 0;
+        valid = finite && !zero;
+      }
+      const size_t i = f * points + p;
+      double* dst = xyz + 3 * i;
+      valid_out[i] = valid ? 1 : 0;
+      residual[i] = valid ? static_cast<float>((word4 & 0xff) * scale) : -1.0f;
+      camera[i] = valid ? static_cast<uint8_t>((word4 >> 8) & 0xff) : 0;
+      for (int a = 0; a < 3; ++a) dst[a] = valid ? c[a] : 0.0;
+    }
+    const uint8_t* ap = fp + points * 4 * elem;
+    double* av = analog + f * lay.analog_values;
+    for (size_t k = 0; k < lay.analog_values; ++k) {
+      const uint8_t* q = ap + k * elem;
+      if (float_storage)
+        av[k] = nf.f32(q);
+      else
+        av[k] =
+            lay.analog_unsigned ? static_cast<double>(nf.u16(q)) : static_cast<double>(nf.i16(q));
+    }
+  }
+}
+
+}  // namespace
+
 void decode_frames(const DataLayout& lay, const uint8_t* bytes, size_t count, double* xyz,
                    uint8_t* valid_out, float* residual, uint8_t* camera, double* analog,
                    size_t* wide_word4) {
-  const size_t points = lay.points;
-  const double scale = lay.scale;
-  // One loop per processor type and storage, fixed at compile time: the number reads then
-  // carry no test per value (this loop reads every frame of a take twice when it is
-  // compressed: once for the scan, once to code it).
-  auto frames = [&](auto proc, auto float_c) {
-    NumberFormat nf;
-    nf.processor = decltype(proc)::value;
-    constexpr bool float_storage = decltype(float_c)::value;
-    constexpr size_t elem = float_storage ? 4 : 2;
-    for (size_t f = 0; f < count; ++f) {
-      const uint8_t* fp = bytes + f * lay.per_frame;
-      for (size_t p = 0; p < points; ++p) {
-        const uint8_t* q = fp + p * 4 * elem;
-        double c[3];
-        bool valid;
-        uint32_t word4 = 0;
-        if (float_storage) {
-          for (int a = 0; a < 3; ++a) c[a] = nf.f32(q + 4 * a);
-          // The float holds the int16 4th word: 32768..65535 are negative int16 values
-          // (Qualisys and Vicon write 65535 for -1). Larger values are no int16 at all: valid,
-          // residual 0.
-          float w = nf.f32(q + 12);
-          valid = w >= 0 && !(w >= 32768.0f && w <= 65535.0f);  // NaN is not >= 0
-          if (valid && w < 32768.0f) word4 = static_cast<uint32_t>(w);
-          if (valid && w > 65535.0f) ++*wide_word4;
-        } else {
-          for (int a = 0; a < 3; ++a) c[a] = nf.i16(q + 2 * a) * scale;
-          int16_t w = nf.i16(q + 6);
-          valid = w >= 0;
-          if (valid) word4 = static_cast<uint32_t>(w);
-        }
-        if (valid) {
-          bool finite = std::isfinite(c[0]) && std::isfinite(c[1]) && std::isfinite(c[2]);
-          bool zero = c[0] == 0 && c[1] == 0 && c[2] == 0;
-          valid = finite && !zero;
-        }
-        const size_t i = f * points + p;
-        double* dst = xyz + 3 * i;
-        valid_out[i] = valid ? 1 : 0;
-        residual[i] = valid ? static_cast<float>((word4 & 0xff) * scale) : -1.0f;
-        camera[i] = valid ? static_cast<uint8_t>((word4 >> 8) & 0xff) : 0;
-        for (int a = 0; a < 3; ++a) dst[a] = valid ? c[a] : 0.0;
-      }
-      const uint8_t* ap = fp + points * 4 * elem;
-      double* av = analog + f * lay.analog_values;
-      for (size_t k = 0; k < lay.analog_values; ++k) {
-        const uint8_t* q = ap + k * elem;
-        if (float_storage)
-          av[k] = nf.f32(q);
-        else
-          av[k] =
-              lay.analog_unsigned ? static_cast<double>(nf.u16(q)) : static_cast<double>(nf.i16(q));
-      }
-    }
-  };
   auto with_storage = [&](auto proc) {
+    using Proc = decltype(proc);
     if (lay.float_storage)
-      frames(proc, std::true_type());
+      decode_frames_as<Proc, std::true_type>(lay, bytes, count, xyz, valid_out, residual, camera,
+                                             analog, wide_word4);
     else
-      frames(proc, std::false_type());
+      decode_frames_as<Proc, std::false_type>(lay, bytes, count, xyz, valid_out, residual, camera,
+                                              analog, wide_word4);
   };
   if (lay.nf.processor == kDec)
     with_storage(std::integral_constant<int, kDec>());
