@@ -80,15 +80,19 @@ int usage() {
   return 2;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  if (argc < 3) return usage();
-  const std::string mode = argv[1];
+// The command line: the mode, the inputs and the lists each option gives (defaults otherwise).
+struct Args {
+  std::string mode;
   std::vector<std::string> inputs;
   size_t frames = 0;
   std::vector<std::string> clusters = {"10", "25", "40"}, zero = {"0"}, bits = {"12"},
                            kg = {"0.1", "0.5", "1"}, max_err = {"0.1", "1"};
+};
+
+// Reads the options after the mode; exits with the usage when an option lacks its value.
+Args parse_args(int argc, char** argv) {
+  Args r;
+  r.mode = argv[1];
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -96,85 +100,114 @@ int main(int argc, char** argv) {
       return argv[++i];
     };
     if (a == "--frames")
-      frames = std::stoul(next());
+      r.frames = std::stoul(next());
     else if (a == "--clusters")
-      clusters = split(next());
+      r.clusters = split(next());
     else if (a == "--zero")
-      zero = split(next());
+      r.zero = split(next());
     else if (a == "--bits")
-      bits = split(next());
+      r.bits = split(next());
     else if (a == "--kg")
-      kg = split(next());
+      r.kg = split(next());
     else if (a == "--max-error")
-      max_err = split(next());
+      r.max_err = split(next());
     else
-      inputs.push_back(a);
+      r.inputs.push_back(a);
   }
+  return r;
+}
+
+// Reads a take, cut to its first `frames` frames when that is fewer (0: all).
+capz::Take read_input(const std::string& in, size_t frames) {
+  capz::Take t = capz::read_take(in);
+  if (frames > 0 && frames < t.frames) {
+    t.frames = frames;
+    t.xyz.resize(frames * t.points * 3);
+    t.valid.resize(frames * t.points);
+  }
+  return t;
+}
+
+// One transform-only row: pdct of the gap-filled positions v at clusters c, zero share z and
+// x (coef_bits for grid, the KG target for kg), compared with the take's own positions.
+void transform_row(const std::string& mode, const std::string& name, const capz::Take& t,
+                   const capz::PositionsView& v, const std::string& c, const std::string& z,
+                   const std::string& x) {
+  capz::TransformParams p;
+  p.clusters = c == "auto" ? -1 : std::stoi(c);
+  p.options["zero_share"] = z;
+  if (mode == "grid")
+    p.options["coef_bits"] = x;
+  else
+    p.kg_error = std::stod(x);
+  std::vector<uint8_t> bytes;
+  std::vector<double> rec;
+  capz::PdctReport rep;
+  const auto t0 = std::chrono::steady_clock::now();
+  capz::encode_pdct(v, p, &bytes, &rec, &rep);
+  const double secs = seconds_since(t0);
+  const auto s = capz::compare(t.frames, t.points, t.xyz.data(), rec.data(), t.valid.data());
+  char detail[200];
+  std::snprintf(detail, sizeof detail,
+                "frames_pts=%zu seed_B=%zu first_B=%zu coef_B=%zu clusters=%zu", rep.frame_points,
+                rep.seed_bytes, rep.first_bytes, rep.coef_bytes, rep.clusters);
+  row(mode.c_str(), name, t.frames, t.points, c, std::stod(z), mode == "grid" ? std::stoi(x) : 0,
+      mode == "kg" ? std::stod(x) : 0, bytes.size(), s, secs, detail);
+}
+
+// The grid and kg modes on one take: a row per (clusters, zero share, bits or KG target).
+void run_transform(const Args& a, const std::string& name, const capz::Take& t) {
+  capz::Take filled = t;
+  fill_gaps(&filled);
+  const capz::PositionsView v{filled.frames, filled.points, filled.xyz.data(), filled.valid.data()};
+  for (const auto& c : a.clusters)
+    for (const auto& z : a.zero)
+      for (const auto& x : (a.mode == "grid" ? a.bits : a.kg))
+        transform_row(a.mode, name, t, v, c, z, x);
+}
+
+// The bound mode on one take: codec "none", then "pdct" at each of the clusters, at each max
+// error. Returns 2 when the container is not built in (after saying so), else 0.
+int run_bound(const Args& a, const std::string& name, const capz::Take& t) {
+#ifdef CAPZ_PDCT_BENCH_BOUND
+  for (const auto& e : a.max_err)
+    for (const std::string codec : {"none", "pdct"})
+      for (const auto& c : (codec == "none" ? std::vector<std::string>{"-"} : a.clusters)) {
+        capz::CompressOptions o;
+        o.max_error = std::stod(e);
+        o.codec = codec == "none" ? "" : codec;
+        if (codec != "none") o.clusters = c == "auto" ? -1 : std::stoi(c);
+        capz::CompressStats st;
+        const auto t0 = std::chrono::steady_clock::now();
+        const auto bytes = capz::compress(t, o, &st);
+        const double secs = seconds_since(t0);
+        row((std::string("bound-") + codec).c_str(), name, t.frames, t.points, c, 0, 0, o.max_error,
+            st.position_bytes, st.error, secs, "total_B=" + std::to_string(bytes.size()));
+      }
+  return 0;
+#else
+  (void)a, (void)name, (void)t;
+  std::fprintf(stderr, "pdct_bench: built without the container (bound mode unavailable)\n");
+  return 2;
+#endif
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 3) return usage();
+  const Args a = parse_args(argc, argv);
   std::printf(
       "mode,take,frames,points,clusters,zero_share,coef_bits,target,bytes,bpvf,kg,max_error,rmse,"
       "seconds,detail\n");
   try {
-    for (const std::string& in : inputs) {
-      capz::Take t = capz::read_take(in);
-      if (frames > 0 && frames < t.frames) {
-        t.frames = frames;
-        t.xyz.resize(frames * t.points * 3);
-        t.valid.resize(frames * t.points);
-      }
+    for (const std::string& in : a.inputs) {
+      const capz::Take t = read_input(in, a.frames);
       const std::string name = base_name(in);
-      if (mode == "grid" || mode == "kg") {
-        capz::Take filled = t;
-        fill_gaps(&filled);
-        const capz::PositionsView v{filled.frames, filled.points, filled.xyz.data(),
-                                    filled.valid.data()};
-        for (const auto& c : clusters)
-          for (const auto& z : zero)
-            for (const auto& x : (mode == "grid" ? bits : kg)) {
-              capz::TransformParams p;
-              p.clusters = c == "auto" ? -1 : std::stoi(c);
-              p.options["zero_share"] = z;
-              if (mode == "grid")
-                p.options["coef_bits"] = x;
-              else
-                p.kg_error = std::stod(x);
-              std::vector<uint8_t> bytes;
-              std::vector<double> rec;
-              capz::PdctReport rep;
-              const auto t0 = std::chrono::steady_clock::now();
-              capz::encode_pdct(v, p, &bytes, &rec, &rep);
-              const double secs = seconds_since(t0);
-              const auto s =
-                  capz::compare(t.frames, t.points, t.xyz.data(), rec.data(), t.valid.data());
-              char detail[200];
-              std::snprintf(detail, sizeof detail,
-                            "frames_pts=%zu seed_B=%zu first_B=%zu coef_B=%zu clusters=%zu",
-                            rep.frame_points, rep.seed_bytes, rep.first_bytes, rep.coef_bytes,
-                            rep.clusters);
-              row(mode.c_str(), name, t.frames, t.points, c, std::stod(z),
-                  mode == "grid" ? std::stoi(x) : 0, mode == "kg" ? std::stod(x) : 0, bytes.size(),
-                  s, secs, detail);
-            }
-      } else if (mode == "bound") {
-#ifdef CAPZ_PDCT_BENCH_BOUND
-        for (const auto& e : max_err)
-          for (const std::string codec : {"none", "pdct"})
-            for (const auto& c : (codec == "none" ? std::vector<std::string>{"-"} : clusters)) {
-              capz::CompressOptions o;
-              o.max_error = std::stod(e);
-              o.codec = codec == "none" ? "" : codec;
-              if (codec != "none") o.clusters = c == "auto" ? -1 : std::stoi(c);
-              capz::CompressStats st;
-              const auto t0 = std::chrono::steady_clock::now();
-              const auto bytes = capz::compress(t, o, &st);
-              const double secs = seconds_since(t0);
-              row((std::string("bound-") + codec).c_str(), name, t.frames, t.points, c, 0, 0,
-                  o.max_error, st.position_bytes, st.error, secs,
-                  "total_B=" + std::to_string(bytes.size()));
-            }
-#else
-        std::fprintf(stderr, "pdct_bench: built without the container (bound mode unavailable)\n");
-        return 2;
-#endif
+      if (a.mode == "grid" || a.mode == "kg") {
+        run_transform(a, name, t);
+      } else if (a.mode == "bound") {
+        if (const int rc = run_bound(a, name, t)) return rc;
       } else {
         return usage();
       }
