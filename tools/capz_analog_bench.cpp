@@ -233,6 +233,87 @@ const char* kind_name(int k) {
   return names[k & 7];
 }
 
+// The capz bytes of one channel coded alone in windows of `window` rows, and in *kind the kind
+// its first window keeps.
+size_t channel_bytes_alone(const std::vector<double>& col, size_t window, const AnalogHints& h1,
+                           int* kind) {
+  const size_t rows = col.size();
+  size_t bytes = 0;
+  for (size_t r0 = 0; r0 < rows; r0 += window) {
+    const size_t n = std::min(window, rows - r0);
+    const std::vector<uint8_t> w = encode_analog_window(col.data() + r0, n, 1, h1, 0);
+    bytes += w.size();
+    if (*kind < 0) {
+      size_t k = 1;  // version byte, then the header size (varint), then the kind byte
+      while (w[k] & 0x80) ++k;
+      *kind = w[k + 1] & 7;
+    }
+  }
+  return bytes;
+}
+
+// A channel's reference figures in bytes (-1 when it is no integer kind), and whether its
+// integers fit int16.
+struct ChannelFigures {
+  double hx = -1, hd1 = -1, hd2 = -1, hlpc = -1, hlms = -1, htok = -1;
+  bool fits16 = false;
+};
+
+// The order-0 entropies of an integer channel's samples, differences, LPC residual and
+// sign-LMS residual, and the least token entropy among them.
+ChannelFigures channel_figures(const analog::ChannelRepr& r, size_t rows) {
+  ChannelFigures g;
+  if (!analog::is_integer_kind(r.kind)) return g;
+  const std::vector<int32_t>& x = r.ints;
+  std::vector<int32_t> d1(rows), d2(rows);
+  g.fits16 = true;
+  for (size_t i = 0; i < rows; ++i) {
+    d1[i] = x[i] - (i ? x[i - 1] : 0);
+    d2[i] = d1[i] - (i ? d1[i - 1] : 0);
+    g.fits16 &= x[i] >= -32768 && x[i] <= 32767;
+  }
+  g.hx = entropy_bytes(x);
+  g.hd1 = entropy_bytes(d1);
+  g.hd2 = entropy_bytes(d2);
+  const std::vector<int32_t> lr = lpc_residual(x);
+  g.hlpc = entropy_bytes(lr);
+  std::vector<int64_t> lms(rows);
+  analog::sign_lms_run(lr.data(), rows, lms.data());
+  g.hlms = entropy_bytes(lms);
+  g.htok = std::min({token_entropy_bytes(x), token_entropy_bytes(d1), token_entropy_bytes(d2),
+                     token_entropy_bytes(lr), token_entropy_bytes(lms)});
+  return g;
+}
+
+// The peers' bytes on one channel alone (-1 when not run).
+struct ChannelPeers {
+  long flac = -1, wv = -1, xz = -1;
+};
+
+// flac -8 and wavpack of the channel as int16 when it fits, and xz -9e of it (int16, else its
+// float32 samples).
+ChannelPeers channel_peers(const analog::ChannelRepr& r, const std::vector<double>& col,
+                           bool fits16) {
+  ChannelPeers p;
+  const std::string pcm = g_tmp + "/ch.raw";
+  if (fits16) {
+    std::vector<int16_t> v(r.ints.begin(), r.ints.end());
+    write_file(pcm, v.data(), v.size() * 2);
+    p.flac = run_peer(
+        "flac -8 -s -f --no-padding --no-seektable --force-raw-format --endian=little "
+        "--sign=signed --channels=1 --bps=16 --sample-rate=1000 -o " +
+            pcm + ".flac " + pcm,
+        pcm + ".flac");
+    p.wv = run_peer("wavpack -hhx6 -q -y --raw-pcm=1000,16,1,le " + pcm + " -o " + pcm + ".wv",
+                    pcm + ".wv");
+  } else {
+    std::vector<float> v(col.begin(), col.end());
+    write_file(pcm, v.data(), v.size() * 4);
+  }
+  p.xz = run_peer("xz -9e -T1 -k -c " + pcm + " > " + pcm + ".xz", pcm + ".xz");
+  return p;
+}
+
 // One line per channel (see the file comment); returns the summed one-channel capz bytes.
 size_t per_channel(const std::string& name, const Take& t, const AnalogHints& h, size_t window,
                    bool peers) {
@@ -244,104 +325,133 @@ size_t per_channel(const std::string& name, const Take& t, const AnalogHints& h,
     for (size_t i = 0; i < rows; ++i) col[i] = a.values[i * a.channels + c];
     AnalogHints h1;
     if (static_cast<size_t>(c) < h.channel.size()) h1.channel.push_back(h.channel[c]);
-    size_t bytes = 0;
     int kind = -1;
-    for (size_t r0 = 0; r0 < rows; r0 += window) {
-      const size_t n = std::min(window, rows - r0);
-      const std::vector<uint8_t> w = encode_analog_window(col.data() + r0, n, 1, h1, 0);
-      bytes += w.size();
-      if (kind < 0) {
-        size_t k = 1;  // version byte, then the header size (varint), then the kind byte
-        while (w[k] & 0x80) ++k;
-        kind = w[k + 1] & 7;
-      }
-    }
+    const size_t bytes = channel_bytes_alone(col, window, h1, &kind);
     total += bytes;
     const analog::ChannelRepr r = analog::choose_representation(
         col.data(), 1, rows, h1.channel.empty() ? analog::ChannelHint() : h1.channel[0]);
-    double hx = -1, hd1 = -1, hd2 = -1, hlpc = -1, hlms = -1, htok = -1;
-    bool fits16 = false;
-    if (analog::is_integer_kind(r.kind)) {
-      const std::vector<int32_t>& x = r.ints;
-      std::vector<int32_t> d1(rows), d2(rows);
-      fits16 = true;
-      for (size_t i = 0; i < rows; ++i) {
-        d1[i] = x[i] - (i ? x[i - 1] : 0);
-        d2[i] = d1[i] - (i ? d1[i - 1] : 0);
-        fits16 &= x[i] >= -32768 && x[i] <= 32767;
-      }
-      hx = entropy_bytes(x);
-      hd1 = entropy_bytes(d1);
-      hd2 = entropy_bytes(d2);
-      const std::vector<int32_t> lr = lpc_residual(x);
-      hlpc = entropy_bytes(lr);
-      std::vector<int64_t> lms(rows);
-      analog::sign_lms_run(lr.data(), rows, lms.data());
-      hlms = entropy_bytes(lms);
-      htok = std::min({token_entropy_bytes(x), token_entropy_bytes(d1), token_entropy_bytes(d2),
-                       token_entropy_bytes(lr), token_entropy_bytes(lms)});
-    }
-    long flac = -1, wv = -1, xz = -1;
-    if (peers) {
-      const std::string pcm = g_tmp + "/ch.raw";
-      if (fits16) {
-        std::vector<int16_t> v(r.ints.begin(), r.ints.end());
-        write_file(pcm, v.data(), v.size() * 2);
-        flac = run_peer(
-            "flac -8 -s -f --no-padding --no-seektable --force-raw-format --endian=little "
-            "--sign=signed --channels=1 --bps=16 --sample-rate=1000 -o " +
-                pcm + ".flac " + pcm,
-            pcm + ".flac");
-        wv = run_peer("wavpack -hhx6 -q -y --raw-pcm=1000,16,1,le " + pcm + " -o " + pcm + ".wv",
-                      pcm + ".wv");
-      } else {
-        std::vector<float> v(col.begin(), col.end());
-        write_file(pcm, v.data(), v.size() * 4);
-      }
-      xz = run_peer("xz -9e -T1 -k -c " + pcm + " > " + pcm + ".xz", pcm + ".xz");
-    }
+    const ChannelFigures g = channel_figures(r, rows);
+    const ChannelPeers p = peers ? channel_peers(r, col, g.fits16) : ChannelPeers();
     std::string label = static_cast<size_t>(c) < a.labels.size() ? a.labels[c] : "";
     if (label.empty()) label = "-";
     std::replace(label.begin(), label.end(), ' ', '_');  // one field
     std::printf(
         "CH %-40s %3d %-12.12s %-6s %8zu %9.0f %9.0f %9.0f %9.0f %9.0f %9.0f %8ld %8ld %8ld\n",
-        name.c_str(), c, label.c_str(), kind < 0 ? "-" : kind_name(kind), bytes, hx, hd1, hd2, hlpc,
-        hlms, htok, flac, wv, xz);
+        name.c_str(), c, label.c_str(), kind < 0 ? "-" : kind_name(kind), bytes, g.hx, g.hd1, g.hd2,
+        g.hlpc, g.hlms, g.htok, p.flac, p.wv, p.xz);
   }
   return total;
+}
+
+// The command line: the window and modes, and the files.
+struct Options {
+  size_t window = 8192;
+  bool peers = true, repeats = false, whole_frames = false, channels = false, as_stream = false;
+  std::vector<std::string> files;
+};
+
+// Reads the options and the files from the command line.
+Options parse_options(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--window") && i + 1 < argc)
+      o.window = std::strtoul(argv[++i], nullptr, 10);
+    else if (!std::strcmp(argv[i], "--no-peers"))
+      o.peers = false;
+    else if (!std::strcmp(argv[i], "--repeats"))
+      o.repeats = o.whole_frames = true;
+    else if (!std::strcmp(argv[i], "--per-channel"))
+      o.channels = true;
+    else if (!std::strcmp(argv[i], "--whole-frames"))
+      o.whole_frames = true;
+    else if (!std::strcmp(argv[i], "--as-stream"))
+      o.as_stream = true;
+    else
+      o.files.push_back(argv[i]);
+  }
+  return o;
+}
+
+// The --per-channel report of one take: the column heads before the first take, a line per
+// channel, then the take's summed one-channel bytes.
+void per_channel_take(const std::string& path, const Take& t, const AnalogHints& h,
+                      const Options& o, size_t* n_takes) {
+  const std::string name = path.size() > 40 ? path.substr(path.size() - 40) : path;
+  if ((*n_takes)++ == 0)
+    std::printf("CH %-40s %3s %-12s %-6s %8s %9s %9s %9s %9s %9s %9s %8s %8s %8s\n", "take", "c",
+                "label", "kind", "capz1", "H0(x)", "H0(d1)", "H0(d2)", "H0(lpc)", "H0(lms)", "Htok",
+                "flac-8", "wavpack", "xz-9e");
+  const size_t alone = per_channel(name, t, h, o.window, o.peers);
+  std::printf("TAKE %s channels alone %zu\n", name.c_str(), alone);
+}
+
+// The window rows for a take, and in *rep_S the samples per frame when repeat lists are offered
+// (0 when not).
+size_t window_rows(const Take& t, const Options& o, size_t* rep_S) {
+  const size_t S = static_cast<size_t>(std::max(t.analog.samples_per_frame, 1));
+  size_t rows = o.whole_frames ? std::max(S, o.window / S * S) : o.window;
+  *rep_S = o.repeats ? S : 0;
+  if (o.as_stream) {
+    // As `capz compress` codes the take: windows of auto_window_frames(points) point frames,
+    // repeat lists when the encoder's scan asks for them (a channel with varying repeated
+    // frames in 10% of the take's frames, grid_choice.cpp analog_repeats_worth).
+    rows = auto_window_frames(t.points) * S;
+    const size_t C = static_cast<size_t>(t.analog.channels),
+                 frames = t.analog.values.size() / C / S;
+    TakeScan scan;  // its analog counts, as the encoder's scan makes them (over the whole take)
+    for (size_t c = 0; c < C; ++c)
+      scan.analog_repeats.push_back(
+          analog::count_varying_repeats(t.analog.values.data() + c, C, frames, S));
+    *rep_S = analog_repeats_worth(scan, frames) ? S : 0;
+  }
+  return rows;
+}
+
+// The sums over the takes of the summary line.
+struct Totals {
+  size_t ours = 0, raw = 0, miss = 0, takes = 0;
+  double enc_s = 0, dec_s = 0;
+};
+
+// One take's line: capz's analog bytes against the peers' (when run), added to the totals.
+void bench_take(const std::string& path, const Take& t, const AnalogHints& h, const Options& o,
+                Totals* tot) {
+  size_t rep_S = 0;
+  const size_t rows = window_rows(t, o, &rep_S);
+  const Result r = run_ours(t.analog, h, rows, rep_S);
+  const Peers p = o.peers ? run_peers(t.analog, h) : Peers();
+  long best = -1;
+  for (long v : {p.xz, p.zstd, p.fpzip, p.flac, p.wavpack})
+    if (v > 0 && (best < 0 || v < best)) best = v;
+  const double ratio = best > 0 ? static_cast<double>(r.ours) / best : 0;
+  const size_t raw = t.analog.values.size() * 4;
+  tot->ours += r.ours;
+  tot->raw += raw;
+  tot->enc_s += raw / 1e6 / r.enc_mbs;
+  tot->dec_s += raw / 1e6 / r.dec_mbs;
+  ++tot->takes;
+  tot->miss += ratio > 0.85;
+  std::string name = path.size() > 48 ? path.substr(path.size() - 48) : path;
+  std::printf("%-48s %5d %7zu %9zu %9zu %9ld %9ld %9ld %9ld %9ld %7.3f %7.1f %7.1f%s\n",
+              name.c_str(), t.analog.channels, t.analog.values.size() / t.analog.channels, raw,
+              r.ours, p.xz, p.zstd, p.fpzip, p.flac, p.wavpack, ratio, r.enc_mbs, r.dec_mbs,
+              r.exact ? "" : "  NOT EXACT");
+  std::fflush(stdout);
+  if (!r.exact) tot->miss += 1000;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  size_t window = 8192;
-  bool peers = true, repeats = false, whole_frames = false, channels = false, as_stream = false;
-  std::vector<std::string> files;
-  for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--window") && i + 1 < argc)
-      window = std::strtoul(argv[++i], nullptr, 10);
-    else if (!std::strcmp(argv[i], "--no-peers"))
-      peers = false;
-    else if (!std::strcmp(argv[i], "--repeats"))
-      repeats = whole_frames = true;
-    else if (!std::strcmp(argv[i], "--per-channel"))
-      channels = true;
-    else if (!std::strcmp(argv[i], "--whole-frames"))
-      whole_frames = true;
-    else if (!std::strcmp(argv[i], "--as-stream"))
-      as_stream = true;
-    else
-      files.push_back(argv[i]);
-  }
+  const Options o = parse_options(argc, argv);
   char tmpl[] = "/tmp/capz_analog_bench.XXXXXX";
   if (!mkdtemp(tmpl)) return 2;
   g_tmp = tmpl;
   std::printf("%-48s %5s %7s %9s %9s %9s %9s %9s %9s %7s %7s %7s %s\n", "take", "ch", "rows",
               "raw_f32", "capz", "xz-9e", "zstd-19", "fpzip", "flac-8", "wavpack", "ratio", "enc",
               "dec");
-  size_t total_ours = 0, total_raw = 0, miss = 0, n_takes = 0;
-  double total_enc_s = 0, total_dec_s = 0;
-  for (const std::string& path : files) {
+  Totals tot;
+  for (const std::string& path : o.files) {
     Take t;
     try {
       t = read_take(path);
@@ -350,57 +460,16 @@ int main(int argc, char** argv) {
     }
     if (t.analog.channels == 0 || t.analog.values.empty()) continue;
     const AnalogHints h = analog_hints(t);
-    if (channels) {
-      const std::string name = path.size() > 40 ? path.substr(path.size() - 40) : path;
-      if (n_takes++ == 0)
-        std::printf("CH %-40s %3s %-12s %-6s %8s %9s %9s %9s %9s %9s %9s %8s %8s %8s\n", "take",
-                    "c", "label", "kind", "capz1", "H0(x)", "H0(d1)", "H0(d2)", "H0(lpc)",
-                    "H0(lms)", "Htok", "flac-8", "wavpack", "xz-9e");
-      const size_t alone = per_channel(name, t, h, window, peers);
-      std::printf("TAKE %s channels alone %zu\n", name.c_str(), alone);
-      continue;
-    }
-    const size_t S = static_cast<size_t>(std::max(t.analog.samples_per_frame, 1));
-    size_t rows = whole_frames ? std::max(S, window / S * S) : window, rep_S = repeats ? S : 0;
-    if (as_stream) {
-      // As `capz compress` codes the take: windows of auto_window_frames(points) point frames,
-      // repeat lists when the encoder's scan asks for them (a channel with varying repeated
-      // frames in 10% of the take's frames, grid_choice.cpp analog_repeats_worth).
-      rows = auto_window_frames(t.points) * S;
-      const size_t C = static_cast<size_t>(t.analog.channels),
-                   frames = t.analog.values.size() / C / S;
-      TakeScan scan;  // its analog counts, as the encoder's scan makes them (over the whole take)
-      for (size_t c = 0; c < C; ++c)
-        scan.analog_repeats.push_back(
-            analog::count_varying_repeats(t.analog.values.data() + c, C, frames, S));
-      rep_S = analog_repeats_worth(scan, frames) ? S : 0;
-    }
-    const Result r = run_ours(t.analog, h, rows, rep_S);
-    const Peers p = peers ? run_peers(t.analog, h) : Peers();
-    long best = -1;
-    for (long v : {p.xz, p.zstd, p.fpzip, p.flac, p.wavpack})
-      if (v > 0 && (best < 0 || v < best)) best = v;
-    const double ratio = best > 0 ? static_cast<double>(r.ours) / best : 0;
-    const size_t raw = t.analog.values.size() * 4;
-    total_ours += r.ours;
-    total_raw += raw;
-    total_enc_s += raw / 1e6 / r.enc_mbs;
-    total_dec_s += raw / 1e6 / r.dec_mbs;
-    ++n_takes;
-    miss += ratio > 0.85;
-    std::string name = path.size() > 48 ? path.substr(path.size() - 48) : path;
-    std::printf("%-48s %5d %7zu %9zu %9zu %9ld %9ld %9ld %9ld %9ld %7.3f %7.1f %7.1f%s\n",
-                name.c_str(), t.analog.channels, t.analog.values.size() / t.analog.channels, raw,
-                r.ours, p.xz, p.zstd, p.fpzip, p.flac, p.wavpack, ratio, r.enc_mbs, r.dec_mbs,
-                r.exact ? "" : "  NOT EXACT");
-    std::fflush(stdout);
-    if (!r.exact) miss += 1000;
+    if (o.channels)
+      per_channel_take(path, t, h, o, &tot.takes);
+    else
+      bench_take(path, t, h, o, &tot);
   }
   std::printf(
       "takes %zu, raw %zu, capz %zu (%.3f), above 0.85x best peer: %zu; overall encode %.1f MB/s, "
       "decode %.1f MB/s\n",
-      n_takes, total_raw, total_ours, static_cast<double>(total_ours) / total_raw, miss,
-      total_raw / 1e6 / total_enc_s, total_raw / 1e6 / total_dec_s);
+      tot.takes, tot.raw, tot.ours, static_cast<double>(tot.ours) / tot.raw, tot.miss,
+      tot.raw / 1e6 / tot.enc_s, tot.raw / 1e6 / tot.dec_s);
   std::string rm = "rm -rf " + g_tmp;
   if (std::system(rm.c_str()) != 0) return 2;
   return 0;
