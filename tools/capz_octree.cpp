@@ -140,6 +140,86 @@ struct PcdRun {
   bool colour_multiset_exact = true;  // every frame's r g b values came back, in some order
 };
 
+// Frame f's valid points with finite x y z as a PCL cloud, with their rgb / rgba for a colour
+// point type.
+template <typename PointT>
+typename pcl::PointCloud<PointT>::Ptr frame_points(const capz::Take& t,
+                                                   const capz::PointAttribute* rgb, size_t f) {
+  using C = pcl::PointCloud<PointT>;
+  constexpr bool kColour = std::is_same<PointT, pcl::PointXYZRGBA>::value;
+  typename C::Ptr c(new C);
+  for (size_t p = 0; p < t.points; ++p) {
+    const double* x = t.at(f, p);
+    if (!t.is_valid(f, p) || !std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+      continue;
+    PointT q;
+    q.x = static_cast<float>(x[0]);
+    q.y = static_cast<float>(x[1]);
+    q.z = static_cast<float>(x[2]);
+    if constexpr (kColour) std::memcpy(&q.rgba, &rgb->data[(f * t.points + p) * 4], 4);
+    c->push_back(q);
+  }
+  return c;
+}
+
+// Adds to run the colour error of original point q: the closest colour among the decoded points
+// d[ties] (coincident points at its nearest distance), and whether all of them differ in alpha.
+template <typename PointT>
+void add_colour_error(const PointT& q, const pcl::PointCloud<PointT>& d,
+                      const std::vector<uint32_t>& ties, PcdRun* run) {
+  int best = 256;
+  bool alpha = true;
+  for (uint32_t k : ties) {
+    const PointT& c = d[k];
+    int dr = std::abs(int{q.r} - int{c.r}), dg = std::abs(int{q.g} - int{c.g}),
+        db = std::abs(int{q.b} - int{c.b});
+    best = std::min(best, std::max({dr, dg, db}));
+    alpha = alpha && q.a != c.a;
+  }
+  run->colour_max = std::max(run->colour_max, static_cast<double>(best));
+  run->colour_exact += best == 0;
+  run->alpha_differs += alpha;
+}
+
+// Adds to run one frame's errors: each original point's distance to its nearest decoded point
+// (per coordinate and euclidean) and, for a colour point type, the colours' multiset and error.
+template <typename PointT>
+void compare_frame(const pcl::PointCloud<PointT>& orig, const pcl::PointCloud<PointT>& d,
+                   double bound, const std::string& source, PcdRun* run) {
+  using C = pcl::PointCloud<PointT>;
+  constexpr bool kColour = std::is_same<PointT, pcl::PointXYZRGBA>::value;
+  std::vector<float> back(d.size() * 3);
+  for (size_t i = 0; i < d.size(); ++i) {
+    back[i * 3] = d[i].x;
+    back[i * 3 + 1] = d[i].y;
+    back[i * 3 + 2] = d[i].z;
+  }
+  capz_tools::CloudGrid grid(back, bound);
+  if constexpr (kColour) {  // the colours of the frame as a multiset (r g b, not alpha)
+    auto sorted = [](const C& c) {
+      std::vector<uint32_t> v;
+      for (const PointT& q : c) v.push_back(q.rgba & 0xffffffu);
+      std::sort(v.begin(), v.end());
+      return v;
+    };
+    if (sorted(d) != sorted(orig)) run->colour_multiset_exact = false;
+  }
+  std::vector<uint32_t> ties;
+  for (const PointT& q : orig) {
+    float xyz[3] = {q.x, q.y, q.z};
+    double e = 0;
+    long j = grid.nearest(xyz, &e, &ties);
+    if (j < 0) capz::fail(capz::ErrorCode::kInternal, source, "PCL decoded no points");
+    double s2 = 0;
+    for (int a = 0; a < 3; ++a) s2 += (back[j * 3 + a] - xyz[a]) * (back[j * 3 + a] - xyz[a]);
+    run->pos_max = std::max(run->pos_max, e);
+    run->pos_max_euclid = std::max(run->pos_max_euclid, std::sqrt(s2));
+    if constexpr (kColour) add_colour_error(q, d, ties, run);
+  }
+}
+
+// Codes and decodes every frame of t through PCL's coder at point resolution res, the errors
+// measured against bound.
 template <typename PointT>
 PcdRun pcd_round_trip(const capz::Take& t, const capz::PointAttribute* rgb, double bound,
                       double res, unsigned iframe) {
@@ -153,18 +233,7 @@ PcdRun pcd_round_trip(const capz::Take& t, const capz::PointAttribute* rgb, doub
   std::stringstream s;
   std::clock_t c0 = std::clock();
   for (size_t f = 0; f < t.frames; ++f) {
-    typename C::Ptr c(new C);
-    for (size_t p = 0; p < t.points; ++p) {
-      const double* x = t.at(f, p);
-      if (!t.is_valid(f, p) || !std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
-        continue;
-      PointT q;
-      q.x = static_cast<float>(x[0]);
-      q.y = static_cast<float>(x[1]);
-      q.z = static_cast<float>(x[2]);
-      if constexpr (kColour) std::memcpy(&q.rgba, &rgb->data[(f * t.points + p) * 4], 4);
-      c->push_back(q);
-    }
+    typename C::Ptr c = frame_points<PointT>(t, rgb, f);
     run.kept += c->size();
     if (c->empty()) capz::fail(capz::ErrorCode::kUsage, t.source, "a frame has no finite point");
     enc.encodePointCloud(c, s);
@@ -182,48 +251,7 @@ PcdRun pcd_round_trip(const capz::Take& t, const capz::PointAttribute* rgb, doub
     dec.decodePointCloud(s, d);
     run.dec_s += static_cast<double>(std::clock() - d0) / CLOCKS_PER_SEC;
     run.decoded += d->size();
-    std::vector<float> back(d->size() * 3);
-    for (size_t i = 0; i < d->size(); ++i) {
-      back[i * 3] = (*d)[i].x;
-      back[i * 3 + 1] = (*d)[i].y;
-      back[i * 3 + 2] = (*d)[i].z;
-    }
-    capz_tools::CloudGrid grid(back, bound);
-    if constexpr (kColour) {  // the colours of the frame as a multiset (r g b, not alpha)
-      auto sorted = [](const C& c) {
-        std::vector<uint32_t> v;
-        for (const PointT& q : c) v.push_back(q.rgba & 0xffffffu);
-        std::sort(v.begin(), v.end());
-        return v;
-      };
-      if (sorted(*d) != sorted(*originals[f])) run.colour_multiset_exact = false;
-    }
-    std::vector<uint32_t> ties;
-    for (const PointT& q : *originals[f]) {
-      float xyz[3] = {q.x, q.y, q.z};
-      double e = 0;
-      long j = grid.nearest(xyz, &e, &ties);
-      if (j < 0) capz::fail(capz::ErrorCode::kInternal, t.source, "PCL decoded no points");
-      double s2 = 0;
-      for (int a = 0; a < 3; ++a) s2 += (back[j * 3 + a] - xyz[a]) * (back[j * 3 + a] - xyz[a]);
-      run.pos_max = std::max(run.pos_max, e);
-      run.pos_max_euclid = std::max(run.pos_max_euclid, std::sqrt(s2));
-      if constexpr (kColour) {
-        // The closest colour among the decoded points at that distance (coincident points).
-        int best = 256;
-        bool alpha = true;
-        for (uint32_t k : ties) {
-          const PointT& c = (*d)[k];
-          int dr = std::abs(int{q.r} - int{c.r}), dg = std::abs(int{q.g} - int{c.g}),
-              db = std::abs(int{q.b} - int{c.b});
-          best = std::min(best, std::max({dr, dg, db}));
-          alpha = alpha && q.a != c.a;
-        }
-        run.colour_max = std::max(run.colour_max, static_cast<double>(best));
-        run.colour_exact += best == 0;
-        run.alpha_differs += alpha;
-      }
-    }
+    compare_frame(*originals[f], *d, bound, t.source, &run);
   }
   run.enc_s = static_cast<double>(c1 - c0) / CLOCKS_PER_SEC;
   return run;
