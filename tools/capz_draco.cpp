@@ -176,147 +176,236 @@ struct Totals {
   double pos_max = 0, pos_max_euclid = 0, enc_s = 0, dec_s = 0;
 };
 
-void run_frame(const capz::Take& t, size_t f, double bound, int speed, std::vector<Group>* groups,
-               Totals* tot) {
+// The points of frame f with a valid, finite x y z.
+std::vector<size_t> finite_points(const capz::Take& t, size_t f) {
   std::vector<size_t> idx;
   for (size_t p = 0; p < t.points; ++p) {
     const double* x = t.at(f, p);
     if (t.is_valid(f, p) && std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]))
       idx.push_back(p);
   }
+  return idx;
+}
+
+// The float32 positions of frame f's points idx into *pos; returns the largest extent of their
+// bounding box.
+double frame_positions(const capz::Take& t, size_t f, const std::vector<size_t>& idx,
+                       std::vector<float>* pos) {
   const size_t n = idx.size();
-  if (n == 0) return;  // Draco cannot code an empty cloud; the frame costs nothing here
-  std::vector<float> pos(n * 3);
+  pos->assign(n * 3, 0.0f);
   float lo[3], hi[3];
   for (int a = 0; a < 3; ++a) lo[a] = hi[a] = static_cast<float>(t.at(f, idx[0])[a]);
   for (size_t i = 0; i < n; ++i)
     for (int a = 0; a < 3; ++a) {
-      pos[i * 3 + a] = static_cast<float>(t.at(f, idx[i])[a]);
-      lo[a] = std::min(lo[a], pos[i * 3 + a]);
-      hi[a] = std::max(hi[a], pos[i * 3 + a]);
+      (*pos)[i * 3 + a] = static_cast<float>(t.at(f, idx[i])[a]);
+      lo[a] = std::min(lo[a], (*pos)[i * 3 + a]);
+      hi[a] = std::max(hi[a], (*pos)[i * 3 + a]);
     }
-  std::vector<std::vector<uint8_t>> rows(groups->size());
-  draco::PointCloudBuilder b;
-  b.Start(static_cast<draco::PointIndex::ValueType>(n));
-  int pos_id = b.AddAttribute(draco::GeometryAttribute::POSITION, 3, draco::DT_FLOAT32);
-  b.SetAttributeValuesForAllPoints(pos_id, pos.data(), 0);
-  std::vector<int> ids;
-  for (size_t k = 0; k < groups->size(); ++k) {
-    const Group& g = (*groups)[k];
-    rows[k].resize(n * g.row_bytes);
-    for (size_t i = 0; i < n; ++i) row(t, g, f, idx[i], &rows[k][i * g.row_bytes]);
-    ids.push_back(b.AddAttribute(g.type, static_cast<int8_t>(g.components), g.dtype));
-    b.SetAttributeValuesForAllPoints(ids.back(), rows[k].data(), 0);
-  }
-  std::unique_ptr<draco::PointCloud> pc = b.Finalize(false);
-  if (!pc)
-    capz::fail(capz::ErrorCode::kInternal, t.source, "draco refused frame " + std::to_string(f));
-
   double range = 0;
   for (int a = 0; a < 3; ++a) range = std::max(range, static_cast<double>(hi[a]) - lo[a]);
+  return range;
+}
+
+// A frame as a Draco point cloud, with each group's attribute id and rows (Draco's layout).
+struct FrameCloud {
+  std::unique_ptr<draco::PointCloud> pc;
+  int pos_id = -1;
+  std::vector<int> ids;
+  std::vector<std::vector<uint8_t>> rows;
+};
+
+// Builds frame f's cloud of the points idx at positions pos, one attribute a group.
+FrameCloud build_cloud(const capz::Take& t, size_t f, const std::vector<size_t>& idx,
+                       const std::vector<float>& pos, const std::vector<Group>& groups) {
+  const size_t n = idx.size();
+  FrameCloud c;
+  c.rows.resize(groups.size());
+  draco::PointCloudBuilder b;
+  b.Start(static_cast<draco::PointIndex::ValueType>(n));
+  c.pos_id = b.AddAttribute(draco::GeometryAttribute::POSITION, 3, draco::DT_FLOAT32);
+  b.SetAttributeValuesForAllPoints(c.pos_id, pos.data(), 0);
+  for (size_t k = 0; k < groups.size(); ++k) {
+    const Group& g = groups[k];
+    c.rows[k].resize(n * g.row_bytes);
+    for (size_t i = 0; i < n; ++i) row(t, g, f, idx[i], &c.rows[k][i * g.row_bytes]);
+    c.ids.push_back(b.AddAttribute(g.type, static_cast<int8_t>(g.components), g.dtype));
+    b.SetAttributeValuesForAllPoints(c.ids.back(), c.rows[k].data(), 0);
+  }
+  c.pc = b.Finalize(false);
+  if (!c.pc)
+    capz::fail(capz::ErrorCode::kInternal, t.source, "draco refused frame " + std::to_string(f));
+  return c;
+}
+
+// The fewest position bits (at most 30) whose grid over an extent of `range` keeps every
+// coordinate within bound.
+int first_bits(double range, double bound) {
   int bits = 1;
   while (bits < 30 && range / (std::pow(2.0, bits) - 1) / 2 > bound) ++bits;
-  for (;; ++bits) {
-    draco::ExpertEncoder enc(*pc);
-    enc.SetSpeedOptions(speed, speed);
-    enc.SetAttributeQuantization(pos_id, bits);
-    draco::EncoderBuffer buf;
-    std::clock_t c0 = std::clock();
-    draco::Status st = enc.EncodeToBuffer(&buf);
-    std::clock_t c1 = std::clock();
-    if (!st.ok())
-      capz::fail(capz::ErrorCode::kInternal, t.source,
-                 "draco encode of frame " + std::to_string(f) + ": " + st.error_msg_string());
-    draco::DecoderBuffer db;
-    db.Init(buf.data(), buf.size());
-    draco::Decoder dec;
-    auto r = dec.DecodePointCloudFromBuffer(&db);
-    std::clock_t c2 = std::clock();
-    if (!r.ok())
-      capz::fail(
-          capz::ErrorCode::kInternal, t.source,
-          "draco decode of frame " + std::to_string(f) + ": " + r.status().error_msg_string());
-    std::unique_ptr<draco::PointCloud> out = std::move(r).value();
-    const bool kd = method_of(buf) == 1;
-    const size_t m = out->num_points();
-    const draco::PointAttribute* op = out->GetNamedAttribute(draco::GeometryAttribute::POSITION);
-    if (op == nullptr || m == 0 || (!kd && m != n))
-      capz::fail(capz::ErrorCode::kInternal, t.source,
-                 "draco gave back " + std::to_string(m) + " of " + std::to_string(n) +
-                     " points in frame " + std::to_string(f));
-    std::vector<float> back(m * 3);
-    for (size_t i = 0; i < m; ++i)
-      op->GetMappedValue(draco::PointIndex(static_cast<uint32_t>(i)), &back[i * 3]);
-    // Pairing: identity for the sequential coder, nearest decoded point for the kd-tree one
-    // (with the decoded points at the same distance, `ties`, for the attributes).
-    std::vector<size_t> pair(n);
-    std::vector<std::vector<uint32_t>> ties(kd ? n : 0);
-    double emax = 0, eeuc = 0;
-    capz_tools::CloudGrid grid(back, bound);
-    for (size_t i = 0; i < n; ++i) {
-      double e = 0;
-      if (kd) {
-        long j = grid.nearest(&pos[i * 3], &e, &ties[i]);
-        pair[i] = static_cast<size_t>(j < 0 ? 0 : j);
-      } else {
-        pair[i] = i;
-      }
-      double s = 0;
-      e = 0;
-      for (int a = 0; a < 3; ++a) {
-        double d = static_cast<double>(back[pair[i] * 3 + a]) - pos[i * 3 + a];
-        e = std::max(e, std::fabs(d));
-        s += d * d;
-      }
-      emax = std::max(emax, e);
-      eeuc = std::max(eeuc, std::sqrt(s));
+  return bits;
+}
+
+// Encodes the cloud with `bits` position bits into *buf and decodes it again; clocks gets the
+// clock before encoding, after encoding and after decoding.
+std::unique_ptr<draco::PointCloud> code_frame(const FrameCloud& c, int speed, int bits,
+                                              const std::string& source, size_t f,
+                                              draco::EncoderBuffer* buf, std::clock_t clocks[3]) {
+  draco::ExpertEncoder enc(*c.pc);
+  enc.SetSpeedOptions(speed, speed);
+  enc.SetAttributeQuantization(c.pos_id, bits);
+  clocks[0] = std::clock();
+  draco::Status st = enc.EncodeToBuffer(buf);
+  clocks[1] = std::clock();
+  if (!st.ok())
+    capz::fail(capz::ErrorCode::kInternal, source,
+               "draco encode of frame " + std::to_string(f) + ": " + st.error_msg_string());
+  draco::DecoderBuffer db;
+  db.Init(buf->data(), buf->size());
+  draco::Decoder dec;
+  auto r = dec.DecodePointCloudFromBuffer(&db);
+  clocks[2] = std::clock();
+  if (!r.ok())
+    capz::fail(capz::ErrorCode::kInternal, source,
+               "draco decode of frame " + std::to_string(f) + ": " + r.status().error_msg_string());
+  return std::move(r).value();
+}
+
+// The decoded positions, checked: some points, and all n of them in order for the sequential
+// coder (kd false).
+std::vector<float> decoded_positions(const draco::PointCloud& out, size_t n, bool kd,
+                                     const std::string& source, size_t f) {
+  const size_t m = out.num_points();
+  const draco::PointAttribute* op = out.GetNamedAttribute(draco::GeometryAttribute::POSITION);
+  if (op == nullptr || m == 0 || (!kd && m != n))
+    capz::fail(capz::ErrorCode::kInternal, source,
+               "draco gave back " + std::to_string(m) + " of " + std::to_string(n) +
+                   " points in frame " + std::to_string(f));
+  std::vector<float> back(m * 3);
+  for (size_t i = 0; i < m; ++i)
+    op->GetMappedValue(draco::PointIndex(static_cast<uint32_t>(i)), &back[i * 3]);
+  return back;
+}
+
+// Each original point's decoded point (with the decoded points at the same distance, `ties`, for
+// the attributes) and the largest per-coordinate and euclidean errors.
+struct Pairing {
+  std::vector<size_t> pair;
+  std::vector<std::vector<uint32_t>> ties;
+  double emax = 0, eeuc = 0;
+};
+
+// Pairs the points: identity for the sequential coder, nearest decoded point for the kd-tree one.
+Pairing pair_points(const std::vector<float>& pos, const std::vector<float>& back, bool kd,
+                    double bound) {
+  const size_t n = pos.size() / 3;
+  Pairing r;
+  r.pair.resize(n);
+  r.ties.resize(kd ? n : 0);
+  capz_tools::CloudGrid grid(back, bound);
+  for (size_t i = 0; i < n; ++i) {
+    double e = 0;
+    if (kd) {
+      long j = grid.nearest(&pos[i * 3], &e, &r.ties[i]);
+      r.pair[i] = static_cast<size_t>(j < 0 ? 0 : j);
+    } else {
+      r.pair[i] = i;
     }
-    if (emax > bound && bits < 30) continue;  // float rounding at the grid's edge: one more bit
-    tot->bytes += buf.size();
-    tot->kept += n;
-    tot->frames += 1;
-    tot->kd_frames += kd ? 1 : 0;
-    tot->min_bits = std::min(tot->min_bits, bits);
-    tot->max_bits = std::max(tot->max_bits, bits);
-    tot->pos_max = std::max(tot->pos_max, emax);
-    tot->pos_max_euclid = std::max(tot->pos_max_euclid, eeuc);
-    tot->enc_s += static_cast<double>(c1 - c0) / CLOCKS_PER_SEC;
-    tot->dec_s += static_cast<double>(c2 - c1) / CLOCKS_PER_SEC;
+    double s = 0;
+    e = 0;
+    for (int a = 0; a < 3; ++a) {
+      double d = static_cast<double>(back[r.pair[i] * 3 + a]) - pos[i * 3 + a];
+      e = std::max(e, std::fabs(d));
+      s += d * d;
+    }
+    r.emax = std::max(r.emax, e);
+    r.eeuc = std::max(r.eeuc, std::sqrt(s));
+  }
+  return r;
+}
+
+// Adds a coded frame of n points to the totals.
+void add_frame(size_t bytes, size_t n, bool kd, int bits, const Pairing& pr,
+               const std::clock_t clocks[3], Totals* tot) {
+  tot->bytes += bytes;
+  tot->kept += n;
+  tot->frames += 1;
+  tot->kd_frames += kd ? 1 : 0;
+  tot->min_bits = std::min(tot->min_bits, bits);
+  tot->max_bits = std::max(tot->max_bits, bits);
+  tot->pos_max = std::max(tot->pos_max, pr.emax);
+  tot->pos_max_euclid = std::max(tot->pos_max_euclid, pr.eeuc);
+  tot->enc_s += static_cast<double>(clocks[1] - clocks[0]) / CLOCKS_PER_SEC;
+  tot->dec_s += static_cast<double>(clocks[2] - clocks[1]) / CLOCKS_PER_SEC;
+}
+
+// The m decoded rows of group g's attribute oa (checked: present, with g's row size).
+std::vector<uint8_t> decoded_rows(const draco::PointAttribute* oa, const Group& g, size_t m,
+                                  const std::string& source) {
+  if (oa == nullptr || static_cast<size_t>(oa->byte_stride()) != g.row_bytes)
+    capz::fail(capz::ErrorCode::kInternal, source, "draco lost attribute " + g.name);
+  std::vector<uint8_t> got(m * g.row_bytes);
+  for (size_t i = 0; i < m; ++i)
+    oa->GetMappedValue(draco::PointIndex(static_cast<uint32_t>(i)), &got[i * g.row_bytes]);
+  return got;
+}
+
+// Adds to g the comparison of its n original rows with the m decoded ones: point by point on
+// the pairing, and as a multiset.
+void compare_rows(const std::vector<uint8_t>& rows, const std::vector<uint8_t>& got, size_t n,
+                  size_t m, const Pairing& pr, bool kd, Group* g) {
+  for (size_t i = 0; i < n; ++i) {
+    const uint8_t* x = &rows[i * g->row_bytes];
+    // The closest attribute among the decoded points the pairing cannot tell apart.
+    bool exact = false;
+    double diff = INFINITY;
+    auto take = [&](size_t j) {
+      const uint8_t* y = &got[j * g->row_bytes];
+      exact = exact || std::memcmp(x, y, g->row_bytes) == 0;
+      diff = std::min(diff, row_diff(*g, x, y));
+    };
+    take(pr.pair[i]);
+    if (kd)
+      for (uint32_t j : pr.ties[i]) take(j);
+    g->points += 1;
+    g->exact_points += exact ? 1 : 0;
+    g->max_abs = std::max(g->max_abs, diff);
+  }
+  // As a multiset: the sorted rows of both sides.
+  auto sorted = [&](const std::vector<uint8_t>& v, size_t cnt) {
+    std::vector<std::string> s(cnt);
+    for (size_t i = 0; i < cnt; ++i)
+      s[i].assign(reinterpret_cast<const char*>(&v[i * g->row_bytes]), g->row_bytes);
+    std::sort(s.begin(), s.end());
+    return s;
+  };
+  if (m != n || sorted(rows, n) != sorted(got, m)) g->multiset_exact = false;
+}
+
+// Codes frame f with the fewest position bits that keep it within bound, and adds its bytes and
+// errors to the totals and the groups.
+void run_frame(const capz::Take& t, size_t f, double bound, int speed, std::vector<Group>* groups,
+               Totals* tot) {
+  const std::vector<size_t> idx = finite_points(t, f);
+  const size_t n = idx.size();
+  if (n == 0) return;  // Draco cannot code an empty cloud; the frame costs nothing here
+  std::vector<float> pos;
+  const double range = frame_positions(t, f, idx, &pos);
+  const FrameCloud c = build_cloud(t, f, idx, pos, *groups);
+  for (int bits = first_bits(range, bound);; ++bits) {
+    draco::EncoderBuffer buf;
+    std::clock_t clocks[3];
+    const std::unique_ptr<draco::PointCloud> out =
+        code_frame(c, speed, bits, t.source, f, &buf, clocks);
+    const bool kd = method_of(buf) == 1;
+    const Pairing pr = pair_points(pos, decoded_positions(*out, n, kd, t.source, f), kd, bound);
+    if (pr.emax > bound && bits < 30) continue;  // float rounding at the grid's edge: one more bit
+    add_frame(buf.size(), n, kd, bits, pr, clocks, tot);
+    const size_t m = out->num_points();
     for (size_t k = 0; k < groups->size(); ++k) {
       Group& g = (*groups)[k];
       const draco::PointAttribute* oa =
-          out->GetAttributeByUniqueId(pc->attribute(ids[k])->unique_id());
-      if (oa == nullptr || static_cast<size_t>(oa->byte_stride()) != g.row_bytes)
-        capz::fail(capz::ErrorCode::kInternal, t.source, "draco lost attribute " + g.name);
-      std::vector<uint8_t> got(m * g.row_bytes);
-      for (size_t i = 0; i < m; ++i)
-        oa->GetMappedValue(draco::PointIndex(static_cast<uint32_t>(i)), &got[i * g.row_bytes]);
-      for (size_t i = 0; i < n; ++i) {
-        const uint8_t* x = &rows[k][i * g.row_bytes];
-        // The closest attribute among the decoded points the pairing cannot tell apart.
-        bool exact = false;
-        double diff = INFINITY;
-        auto take = [&](size_t j) {
-          const uint8_t* y = &got[j * g.row_bytes];
-          exact = exact || std::memcmp(x, y, g.row_bytes) == 0;
-          diff = std::min(diff, row_diff(g, x, y));
-        };
-        take(pair[i]);
-        if (kd)
-          for (uint32_t j : ties[i]) take(j);
-        g.points += 1;
-        g.exact_points += exact ? 1 : 0;
-        g.max_abs = std::max(g.max_abs, diff);
-      }
-      // As a multiset: the sorted rows of both sides.
-      auto sorted = [&](const std::vector<uint8_t>& v, size_t cnt) {
-        std::vector<std::string> s(cnt);
-        for (size_t i = 0; i < cnt; ++i)
-          s[i].assign(reinterpret_cast<const char*>(&v[i * g.row_bytes]), g.row_bytes);
-        std::sort(s.begin(), s.end());
-        return s;
-      };
-      if (m != n || sorted(rows[k], n) != sorted(got, m)) g.multiset_exact = false;
+          out->GetAttributeByUniqueId(c.pc->attribute(c.ids[k])->unique_id());
+      compare_rows(c.rows[k], decoded_rows(oa, g, m, t.source), n, m, pr, kd, &g);
     }
     return;
   }
