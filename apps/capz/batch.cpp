@@ -292,30 +292,25 @@ FileRecord run_one(const Job& job, const Worker& work) {
   return r;
 }
 
-}  // namespace
-
-int run_batch(const std::string& command, const BatchSettings& s, std::vector<Job> jobs,
-              const Worker& work, bool failed_lines) {
-  if (!s.report.empty()) capz::check_output_free(s.report, s.force);
-  const size_t workers = std::min<size_t>(std::max(1u, s.threads), jobs.size());
-  for (Job& j : jobs) {
-    j.threads = std::max<unsigned>(1, s.threads / static_cast<unsigned>(workers));
-    j.alone = workers == 1;
-  }
-  const bool data_on_stdout =
-      std::any_of(jobs.begin(), jobs.end(), [](const Job& j) { return j.to_stdout; });
-  std::FILE* text_out = data_on_stdout ? stderr : stdout;
-
-  std::vector<FileRecord> records(jobs.size());
-  std::vector<bool> finished(jobs.size(), false);
-  size_t next_job = 0, printed = 0, done = 0;
-  uint64_t bytes_done = 0;
-  std::mutex m;
-  BatchProgress progress(command, jobs.size(),
-                         jobs.size() > 1 && g_verbosity >= 1 && isatty(STDERR_FILENO));
+// The jobs of one batch run by its workers, each file's lines printed in the jobs' order as they
+// finish (flush, with m held).
+struct BatchRun {
+  BatchRun(const std::string& command_, const std::vector<Job>& jobs_, const Worker& work_,
+           bool failed_lines_)
+      : command(command_),
+        jobs(jobs_),
+        work(work_),
+        failed_lines(failed_lines_),
+        data_on_stdout(
+            std::any_of(jobs.begin(), jobs.end(), [](const Job& j) { return j.to_stdout; })),
+        text_out(data_on_stdout ? stderr : stdout),
+        records(jobs.size()),
+        finished(jobs.size(), false),
+        progress(command, jobs.size(),
+                 jobs.size() > 1 && g_verbosity >= 1 && isatty(STDERR_FILENO)) {}
 
   // Prints the finished records that follow the last one printed (called with m held).
-  auto flush = [&] {
+  void flush() {
     progress.clear();
     for (; printed < jobs.size() && finished[printed]; ++printed) {
       const FileRecord& r = records[printed];
@@ -329,9 +324,10 @@ int run_batch(const std::string& command, const BatchSettings& s, std::vector<Jo
     }
     std::fflush(text_out);
     progress.update(done, bytes_done);
-  };
-  progress.update(0, 0);
-  auto worker = [&] {
+  }
+
+  // A worker: takes the next job until none is left.
+  void worker() {
     for (;;) {
       size_t i;
       {
@@ -347,25 +343,57 @@ int run_batch(const std::string& command, const BatchSettings& s, std::vector<Jo
       finished[i] = true;
       flush();
     }
-  };
-  if (workers == 1) {
-    worker();
-  } else {
-    std::vector<std::thread> pool;
-    for (size_t k = 0; k < workers; ++k) pool.emplace_back(worker);
-    for (std::thread& t : pool) t.join();
   }
-  progress.clear();
 
-  int status = 0;
-  for (const FileRecord& r : records)
-    if (!r.ok) {
-      status = failed_lines ? 1 : r.code;
-      break;
+  // Every job by `workers` threads (the calling one alone for 1).
+  void run(size_t workers) {
+    progress.update(0, 0);
+    if (workers == 1) {
+      worker();
+    } else {
+      std::vector<std::thread> pool;
+      for (size_t k = 0; k < workers; ++k) pool.emplace_back([this] { worker(); });
+      for (std::thread& t : pool) t.join();
     }
+    progress.clear();
+  }
+
+  const std::string& command;
+  const std::vector<Job>& jobs;
+  const Worker& work;
+  const bool failed_lines, data_on_stdout;
+  std::FILE* const text_out;
+  std::vector<FileRecord> records;
+  std::vector<bool> finished;
+  size_t next_job = 0, printed = 0, done = 0;
+  uint64_t bytes_done = 0;
+  std::mutex m;
+  BatchProgress progress;
+};
+
+// The batch's exit status: the first failed file's code (1 with failed_lines), else 0.
+int batch_status(const std::vector<FileRecord>& records, bool failed_lines) {
+  for (const FileRecord& r : records)
+    if (!r.ok) return failed_lines ? 1 : r.code;
+  return 0;
+}
+
+}  // namespace
+
+int run_batch(const std::string& command, const BatchSettings& s, std::vector<Job> jobs,
+              const Worker& work, bool failed_lines) {
+  if (!s.report.empty()) capz::check_output_free(s.report, s.force);
+  const size_t workers = std::min<size_t>(std::max(1u, s.threads), jobs.size());
+  for (Job& j : jobs) {
+    j.threads = std::max<unsigned>(1, s.threads / static_cast<unsigned>(workers));
+    j.alone = workers == 1;
+  }
+  BatchRun run(command, jobs, work, failed_lines);
+  run.run(workers);
+  int status = batch_status(run.records, failed_lines);
   if (!s.report.empty()) {
     std::string text;
-    for (const FileRecord& r : records) text += report_line(r);
+    for (const FileRecord& r : run.records) text += report_line(r);
     try {
       capz::write_file(s.report, std::vector<uint8_t>(text.begin(), text.end()), s.force);
     } catch (const capz::Error& e) {

@@ -299,27 +299,70 @@ void remove_input(const std::string& in, const capz::Take& take) {
   }
 }
 
+// compress's output for job (from IN, spooled when it is stdin), checked free; sets r.in and r.out.
+void choose_output(const Job& job, const Settings& s, PipeSpace* space, std::string* in,
+                   Report* r) {
+  if (job.from_stdin) check_take_stream(*in = space->spool_stdin("stdin"));
+  r->in = job.from_stdin ? "stdin" : *in;
+  if (job.to_stdout) {
+    refuse_terminal_stdout("a .capz archive");
+    r->out = space->path("stdout.capz");
+    return;
+  }
+  r->out = !job.output.empty()
+               ? job.output
+               : place_output(
+                     s.batch, job,
+                     fs::path(capz::without_trailing_slashes(*in)).filename().string() + ".capz");
+  claim_output(r->out, *in);
+  capz::check_output_free(r->out, s.batch.force);
+}
+
+// The notes of a compress (at the default verbosity, the analog bounds' always): labels or units
+// --analog-max-error matched none of, and the coordinates left out of the grid.
+void print_compress_notes(const std::string& in, const capz::CompressStats& st) {
+  for (const std::string& k : st.analog_unmatched)
+    std::fprintf(stderr,
+                 "capz compress: note: %s: --analog-max-error %s names no analog channel's label "
+                 "or unit; those stay lossless\n",
+                 in.c_str(), k.c_str());
+  const std::string dropped = capz::dropped_coordinates_note(st);
+  if (!dropped.empty() && g_verbosity > 0)
+    std::fprintf(stderr, "capz compress: note: %s: %s\n", in.c_str(), dropped.c_str());
+}
+
+// The batch's record of one compressed file (*rp: its report so far).
+FileRecord compress_record(const Job& job, const po::variables_map& vm, Report* rp,
+                           const capz::Take& take, const capz::CompressOptions& opts,
+                           const capz::CompressStats& st) {
+  Report& r = *rp;  // r.out becomes "stdout" for stdout
+  FileRecord rec;
+  rec.input = r.in;
+  const capz::OriginalInfo original = capz::original_info(r.out);
+  if (original.hashed) rec.checksum = original.hash_hex;
+  if (job.to_stdout) {
+    copy_to_stdout(r.out);
+    r.out = "stdout";
+  }
+  rec.output = r.out;
+  rec.bytes_in = r.in_bytes;
+  rec.bytes_out = st.bytes;
+  rec.ratio = r.ratio;
+  rec.lossless = st.lossless;
+  rec.bound = st.lossless ? 0 : opts.kg_error > 0 ? FileRecord::kNone : opts.max_error;
+  rec.units = r.units;
+  rec.max_error = st.error.max_abs;
+  rec.text = vm.count("json") ? report_json(r, take, opts, st) : report_text(r, take, opts, st);
+  return rec;
+}
+
 FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
   const po::variables_map& vm = s.vm;
-  const bool force = s.batch.force;
   if (vm.count("rm") && (job.from_stdin || job.to_stdout))
     capz::fail(capz::ErrorCode::kUsage, "", "--rm does not apply to stdin or stdout");
   std::string in = job.input;
-  if (job.from_stdin) check_take_stream(in = space->spool_stdin("stdin"));
   Report r;
-  r.in = job.from_stdin ? "stdin" : in;
-  if (job.to_stdout) {
-    refuse_terminal_stdout("a .capz archive");
-    r.out = space->path("stdout.capz");
-  } else {
-    r.out = !job.output.empty()
-                ? job.output
-                : place_output(
-                      s.batch, job,
-                      fs::path(capz::without_trailing_slashes(in)).filename().string() + ".capz");
-    claim_output(r.out, in);
-    capz::check_output_free(r.out, force);
-  }
+  choose_output(job, s, space, &in, &r);
   if (vm.count("rm") && vm.count("drop-fields"))
     capz::fail(capz::ErrorCode::kUsage, in,
                "--rm with --drop-fields: the archive would not give the input back");
@@ -340,15 +383,8 @@ FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
   if (take.units_assumed) r.units_note = "units " + capz::units_text(take);
 
   capz::CompressStats st;
-  r.t_enc = encode(input, opts, r.out, force, s.single, job.alone, &st);
-  for (const std::string& k : st.analog_unmatched)
-    std::fprintf(stderr,
-                 "capz compress: note: %s: --analog-max-error %s names no analog channel's label "
-                 "or unit; those stay lossless\n",
-                 in.c_str(), k.c_str());
-  const std::string dropped = capz::dropped_coordinates_note(st);
-  if (!dropped.empty() && g_verbosity > 0)
-    std::fprintf(stderr, "capz compress: note: %s: %s\n", in.c_str(), dropped.c_str());
+  r.t_enc = encode(input, opts, r.out, s.batch.force, s.single, job.alone, &st);
+  print_compress_notes(in, st);
   r.in_bytes = path_size(in);
   r.ratio = st.bytes ? static_cast<double>(r.in_bytes) / static_cast<double>(st.bytes) : 0;
   r.mbps = r.t_enc > 0 ? static_cast<double>(st.raw_bytes) / 1e6 / r.t_enc : 0;
@@ -356,24 +392,7 @@ FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
     check_written(r.out, in, take);  // like zstd: only a verified output lets IN go
     remove_input(in, take);
   }
-  FileRecord rec;
-  rec.input = r.in;
-  const capz::OriginalInfo original = capz::original_info(r.out);
-  if (original.hashed) rec.checksum = original.hash_hex;
-  if (job.to_stdout) {
-    copy_to_stdout(r.out);
-    r.out = "stdout";
-  }
-  rec.output = r.out;
-  rec.bytes_in = r.in_bytes;
-  rec.bytes_out = st.bytes;
-  rec.ratio = r.ratio;
-  rec.lossless = st.lossless;
-  rec.bound = st.lossless ? 0 : opts.kg_error > 0 ? FileRecord::kNone : opts.max_error;
-  rec.units = r.units;
-  rec.max_error = st.error.max_abs;
-  rec.text = vm.count("json") ? report_json(r, take, opts, st) : report_text(r, take, opts, st);
-  return rec;
+  return compress_record(job, vm, &r, take, opts, st);
 }
 
 }  // namespace

@@ -75,9 +75,8 @@ void print_notes(const capz::Take& take, const std::string& in, capz::Format out
     std::fprintf(stderr, "capz convert: note: the source has no frame rate; give --rate\n");
 }
 
-}  // namespace
-
-int cmd_convert(const Args& args) {
+// convert's options.
+po::options_description convert_options() {
   po::options_description opts("convert options");
   opts.add_options()("force,f", "overwrite OUT if it exists")(
       "pcd-encoding", po::value<std::string>(),
@@ -96,6 +95,49 @@ int cmd_convert(const Args& args) {
       "rate", po::value<double>(), "set the frame rate in Hz (for sources without one, e.g. PCD)")(
       "units", po::value<std::string>(), "set the units (mm, cm, m, ...) when the source has none");
   add_trc_delimiter_option(&opts, "tab");
+  return opts;
+}
+
+// The cheap checks, before anything is read: the rate given, OUT's name, an existing OUT and OUT
+// the input itself. Returns OUT without trailing slashes.
+std::string check_convert_output(const po::variables_map& vm, const std::string& in,
+                                 const std::string& out, const capz::WriteOptions& wo) {
+  if (vm.count("rate")) {
+    double r = vm["rate"].as<double>();
+    if (!(r > 0) || !std::isfinite(r))
+      capz::fail(capz::ErrorCode::kInvalidParameter, "", "--rate must be a positive number of Hz");
+  }
+  if (capz::format_for_output(out) == capz::Format::kUnknown)
+    capz::fail(capz::ErrorCode::kUsage, out,
+               "cannot tell the output format from the name: use .c3d, .trc, .pcd, .ply, .bin, "
+               "or a folder path (no extension or ending in '/') for frame files");
+  const std::string target = capz::without_trailing_slashes(out);
+  capz::check_output_free(target, wo.overwrite, capz::frames_go_beside);
+  std::error_code ec;
+  if (fs::exists(in, ec) && fs::exists(target, ec) && fs::equivalent(in, target, ec))
+    capz::fail(capz::ErrorCode::kUsage, out, "output is the input");
+  return target;
+}
+
+// What convert says after writing (at the default verbosity): the frames' warnings, the fields
+// a C3D or TRC left out, and the line of what was converted.
+void print_converted(const capz::FrameSource& src, const capz::Take& take, const std::string& in,
+                     const std::string& target, capz::Format out_format) {
+  if (g_verbosity < 1) return;
+  for (const std::string& w : src.frame_warnings())
+    std::fprintf(stderr, "capz convert: %s: %s\n", in.c_str(), w.c_str());
+  if (!is_frames(out_format) && !take.attributes.empty())
+    std::fprintf(stderr, "capz convert: dropped point fields: %s\n",
+                 capz::field_names(take).c_str());
+  std::fprintf(stderr, "capz convert: %s (%s) -> %s (%s): %s, %s\n", in.c_str(),
+               capz::format_name(take.format), target.c_str(), capz::format_name(out_format),
+               shape_text(take).c_str(), human_size(output_size(target)).c_str());
+}
+
+}  // namespace
+
+int cmd_convert(const Args& args) {
+  const po::options_description opts = convert_options();
   po::options_description positionals;
   positionals.add_options()("input", po::value<std::string>(), "IN")(
       "output", po::value<std::string>(), "OUT");
@@ -118,25 +160,10 @@ int cmd_convert(const Args& args) {
   if (!vm.count("input") || !vm.count("output")) throw po::error("need IN and OUT");
   const std::string in = vm["input"].as<std::string>();
   const std::string out = vm["output"].as<std::string>();
-
   const char* enc_opt = nullptr;
   capz::WriteOptions wo = write_options(vm, &enc_opt);
-  if (vm.count("rate")) {
-    double r = vm["rate"].as<double>();
-    if (!(r > 0) || !std::isfinite(r))
-      capz::fail(capz::ErrorCode::kInvalidParameter, "", "--rate must be a positive number of Hz");
-  }
-
   // Cheap checks first: a bad output name or an existing output fails before reading anything.
-  if (capz::format_for_output(out) == capz::Format::kUnknown)
-    capz::fail(capz::ErrorCode::kUsage, out,
-               "cannot tell the output format from the name: use .c3d, .trc, .pcd, .ply, .bin, "
-               "or a folder path (no extension or ending in '/') for frame files");
-  const std::string target = capz::without_trailing_slashes(out);
-  capz::check_output_free(target, wo.overwrite, capz::frames_go_beside);
-  std::error_code ec;
-  if (fs::exists(in, ec) && fs::exists(target, ec) && fs::equivalent(in, target, ec))
-    capz::fail(capz::ErrorCode::kUsage, out, "output is the input");
+  const std::string target = check_convert_output(vm, in, out, wo);
 
   // Read a block of frames at a time (open_frames: C3D by seeks, TRC rows, frame files one by
   // one) and written as they come (write_frames): memory follows a block, not the take, except
@@ -153,20 +180,9 @@ int cmd_convert(const Args& args) {
   // What the output cannot hold is an error naming it (before anything is written), unless
   // --drop-fields says to leave it out.
   capz::check_fields_fit(take, out_format, target, wo);
-
   if (g_verbosity >= 1) print_notes(take, in, out_format);
-
   capz::write_frames(*src, out, wo);
-  if (g_verbosity >= 1)
-    for (const std::string& w : src->frame_warnings())
-      std::fprintf(stderr, "capz convert: %s: %s\n", in.c_str(), w.c_str());
-  if (!is_frames(out_format) && !take.attributes.empty() && g_verbosity >= 1)
-    std::fprintf(stderr, "capz convert: dropped point fields: %s\n",
-                 capz::field_names(take).c_str());
-  if (g_verbosity >= 1)
-    std::fprintf(stderr, "capz convert: %s (%s) -> %s (%s): %s, %s\n", in.c_str(),
-                 capz::format_name(take.format), target.c_str(), capz::format_name(out_format),
-                 shape_text(take).c_str(), human_size(output_size(target)).c_str());
+  print_converted(*src, take, in, target, out_format);
   return 0;
 }
 

@@ -236,83 +236,103 @@ void print_text(const std::string& path, const capz::Take& t, const Summary& s) 
   }
 }
 
+// info --json: what the source's format says of it (C3D, TRC, PCD, PLY, .bin).
+void json_variant(Json* j, const capz::Take& t) {
+  j->key("variant");
+  j->begin_object();
+  if (t.c3d) {
+    j->member("processor", processor_name(t.c3d->processor));
+    j->member("processor_type", t.c3d->processor);
+    j->member("storage", t.c3d->float_storage ? "float" : "int16");
+    j->member("scale", t.c3d->point_scale);
+  } else if (t.trc) {
+    j->member("path_file_type", t.trc->path_file_type_line);
+    j->member("decimals", t.trc->decimals);
+  } else if (t.pcd) {
+    j->member("encoding", t.pcd->encoding);
+    j->member_strings("frame_files", t.pcd->frame_names);
+    j->member("organized", t.pcd->height > 1);
+    j->member("width", static_cast<uint64_t>(t.pcd->width ? t.pcd->width : t.points));
+    j->member("height", static_cast<uint64_t>(t.pcd->width ? t.pcd->height : 1));
+    pcd_fields_json(j, t.pcd->fields);
+  } else if (t.ply) {
+    j->member("encoding", t.ply->encoding);
+    j->member_strings("frame_files", t.ply->frame_names);
+    pcd_fields_json(j, t.ply->fields);
+  } else if (t.bin) {
+    j->member_strings("frame_files", t.bin->frame_names);
+  }
+  j->end_object();
+}
+
+// info --json: points and frames, with a ragged take's points per frame, and the rate.
+void json_counts(Json* j, const capz::Take& t, const Summary& s) {
+  j->member("points", static_cast<uint64_t>(t.points));
+  j->member("ragged", t.ragged());
+  j->member("total_points", static_cast<uint64_t>(t.total_points()));
+  if (t.ragged()) {
+    j->key("points_per_frame");
+    j->begin_object();
+    j->member("min", static_cast<uint64_t>(s.min_points));
+    j->member("median", static_cast<uint64_t>(s.median_points));
+    j->member("max", static_cast<uint64_t>(s.max_points));
+    j->end_object();
+  }
+  j->member("frames", static_cast<uint64_t>(t.frames));
+  j->member("first_frame", t.first_frame);
+  j->key("rate");
+  if (t.rate > 0)
+    j->value(t.rate);
+  else
+    j->null();
+  j->key("duration_s");
+  if (t.rate > 0)
+    j->value(s.duration);
+  else
+    j->null();
+}
+
+// info --json: the units, the samples and their gaps, the labels.
+void json_samples(Json* j, const capz::Take& t, const Summary& s) {
+  j->member("units", t.units);
+  j->member("units_assumed", t.units_assumed);
+  j->member("samples", static_cast<uint64_t>(s.samples));
+  j->member("gap_samples", static_cast<uint64_t>(s.gaps));
+  j->member("gap_share",
+            s.samples ? static_cast<double>(s.gaps) / static_cast<double>(s.samples) : 0.0);
+  j->member("points_with_gaps", static_cast<uint64_t>(s.points_with_gaps));
+  j->member_strings("labels", t.labels);
+}
+
+// info --json: the analog channels and the rotation segments.
+void json_channels(Json* j, const capz::Take& t) {
+  j->key("analog");
+  j->begin_object();
+  j->member("channels", t.analog.channels);
+  j->member("rate", t.analog.rate);
+  j->member("samples_per_frame", t.analog.samples_per_frame);
+  j->member_strings("labels", t.analog.labels);
+  j->end_object();
+  j->key("rotations");
+  j->begin_object();
+  j->member("segments", t.rotations.segments);
+  j->member("samples", static_cast<uint64_t>(t.rotations.samples(t.frames)));
+  j->member("rate", t.rotations.rate);
+  j->member("samples_per_frame", t.rotations.samples_per_frame);
+  j->member_strings("labels", t.rotations.labels);
+  j->end_object();
+}
+
 void print_json(const std::string& path, const capz::Take& t, const Summary& s) {
   Json j;
   j.begin_object();
   j.member("file", path);
   j.member("bytes", static_cast<uint64_t>(path_size(path)));
   j.member("format", capz::format_name(t.format));
-  j.key("variant");
-  j.begin_object();
-  if (t.c3d) {
-    j.member("processor", processor_name(t.c3d->processor));
-    j.member("processor_type", t.c3d->processor);
-    j.member("storage", t.c3d->float_storage ? "float" : "int16");
-    j.member("scale", t.c3d->point_scale);
-  } else if (t.trc) {
-    j.member("path_file_type", t.trc->path_file_type_line);
-    j.member("decimals", t.trc->decimals);
-  } else if (t.pcd) {
-    j.member("encoding", t.pcd->encoding);
-    j.member_strings("frame_files", t.pcd->frame_names);
-    j.member("organized", t.pcd->height > 1);
-    j.member("width", static_cast<uint64_t>(t.pcd->width ? t.pcd->width : t.points));
-    j.member("height", static_cast<uint64_t>(t.pcd->width ? t.pcd->height : 1));
-    pcd_fields_json(&j, t.pcd->fields);
-  } else if (t.ply) {
-    j.member("encoding", t.ply->encoding);
-    j.member_strings("frame_files", t.ply->frame_names);
-    pcd_fields_json(&j, t.ply->fields);
-  } else if (t.bin) {
-    j.member_strings("frame_files", t.bin->frame_names);
-  }
-  j.end_object();
-  j.member("points", static_cast<uint64_t>(t.points));
-  j.member("ragged", t.ragged());
-  j.member("total_points", static_cast<uint64_t>(t.total_points()));
-  if (t.ragged()) {
-    j.key("points_per_frame");
-    j.begin_object();
-    j.member("min", static_cast<uint64_t>(s.min_points));
-    j.member("median", static_cast<uint64_t>(s.median_points));
-    j.member("max", static_cast<uint64_t>(s.max_points));
-    j.end_object();
-  }
-  j.member("frames", static_cast<uint64_t>(t.frames));
-  j.member("first_frame", t.first_frame);
-  j.key("rate");
-  if (t.rate > 0)
-    j.value(t.rate);
-  else
-    j.null();
-  j.key("duration_s");
-  if (t.rate > 0)
-    j.value(s.duration);
-  else
-    j.null();
-  j.member("units", t.units);
-  j.member("units_assumed", t.units_assumed);
-  j.member("samples", static_cast<uint64_t>(s.samples));
-  j.member("gap_samples", static_cast<uint64_t>(s.gaps));
-  j.member("gap_share",
-           s.samples ? static_cast<double>(s.gaps) / static_cast<double>(s.samples) : 0.0);
-  j.member("points_with_gaps", static_cast<uint64_t>(s.points_with_gaps));
-  j.member_strings("labels", t.labels);
-  j.key("analog");
-  j.begin_object();
-  j.member("channels", t.analog.channels);
-  j.member("rate", t.analog.rate);
-  j.member("samples_per_frame", t.analog.samples_per_frame);
-  j.member_strings("labels", t.analog.labels);
-  j.end_object();
-  j.key("rotations");
-  j.begin_object();
-  j.member("segments", t.rotations.segments);
-  j.member("samples", static_cast<uint64_t>(t.rotations.samples(t.frames)));
-  j.member("rate", t.rotations.rate);
-  j.member("samples_per_frame", t.rotations.samples_per_frame);
-  j.member_strings("labels", t.rotations.labels);
-  j.end_object();
+  json_variant(&j, t);
+  json_counts(&j, t, s);
+  json_samples(&j, t, s);
+  json_channels(&j, t);
   if (t.c3d) events_json(&j, capz::c3d_events(*t.c3d));
   j.member_strings("warnings", t.warnings);
   j.end_object();

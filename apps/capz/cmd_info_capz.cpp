@@ -51,6 +51,87 @@ std::string analog_text(const capz::StreamInfo& si) {
   return v;
 }
 
+// info --json: how the archive codes its positions (mode, codec, grid, order, windows).
+void json_coding(Json* j, const capz::StreamInfo& si) {
+  j->member("mode", si.mode);
+  // Windows per float32 split exponent (capz::kPlainFloat32WindowsKey: none, kRawWindowsKey: raw).
+  if (!si.float32_split_windows.empty()) {
+    j->key("float32_split_windows");
+    j->begin_object();
+    for (const auto& kv : si.float32_split_windows)
+      j->member(std::to_string(kv.first), static_cast<uint64_t>(kv.second));
+    j->end_object();
+  }
+  j->member("codec", si.codec);
+  j->member("lossless", si.lossless);
+  j->member("grid_step", si.step);
+  j->member("max_error", si.max_error);
+  if (si.transform_output) j->member("kg_target", si.kg_target);
+  if (si.ragged || si.points_reordered)  // a one-frame stream's order, if the encoder chose it
+    j->member("point_order", si.points_reordered ? "reordered" : "kept");
+  j->member("window_frames", static_cast<uint64_t>(si.window_frames));
+  j->member("windows", static_cast<uint64_t>(si.windows));
+}
+
+// info --json: the analog channels and their bounds (FORMAT.md 5.7; the others lossless).
+void json_analog(Json* j, const capz::StreamInfo& si) {
+  j->member("analog_channels", si.analog_channels);
+  j->member("analog_samples_per_frame", si.analog_samples_per_frame);
+  j->key("analog_bounds");  // the lossy channels (FORMAT.md 5.7); the others are lossless
+  j->begin_array();
+  for (size_t c = 0; c < si.analog_bounds.size(); ++c)
+    if (si.analog_bounds[c] > 0) {
+      j->begin_object();
+      j->member("channel", static_cast<uint64_t>(c));
+      j->member("label", c < si.analog_labels.size() ? si.analog_labels[c] : std::string());
+      j->member("unit", c < si.analog_units.size() ? si.analog_units[c] : std::string());
+      j->member("bound", si.analog_bounds[c]);
+      j->end_object();
+    }
+  j->end_array();
+}
+
+// info --json: the rotation segments.
+void json_rotations(Json* j, const capz::StreamInfo& si) {
+  j->key("rotations");
+  j->begin_object();
+  j->member("segments", si.rotation_segments);
+  j->member("samples", static_cast<uint64_t>(si.frames * rotations_per_frame(si)));
+  j->member("rate", si.rotation_rate);
+  j->member("samples_per_frame", si.rotation_samples_per_frame);
+  j->member_strings("labels", si.rotation_labels);
+  j->end_object();
+}
+
+// info --json: a PCD source's shape, fields and the fields' bounds.
+void json_pcd(Json* j, const capz::StreamInfo& si) {
+  if (!si.pcd_fields.empty()) {
+    j->member("width", static_cast<uint64_t>(si.pcd_width));
+    j->member("height", static_cast<uint64_t>(si.pcd_height));
+    pcd_fields_json(j, si.pcd_fields);
+    j->key("field_bounds");
+    j->begin_object();
+    for (size_t i = 0; i < si.pcd_field_bounds.size() && i < si.pcd_fields.size(); ++i)
+      if (si.pcd_field_bounds[i] > 0) j->member(si.pcd_fields[i].name, si.pcd_field_bounds[i]);
+    j->end_object();
+  }
+}
+
+// info --json: the original file (HASH, FORMAT.md 6), null when the archive records none.
+void json_original(Json* j, const std::string& path) {
+  const capz::OriginalInfo orig = capz::original_info(path);
+  j->key("original");
+  if (orig.hashed) {
+    j->begin_object();
+    j->member("bytes", orig.size);
+    j->member("xxh3_128", orig.hash_hex);
+    j->member("byte_exact", orig.exact);
+    j->end_object();
+  } else {
+    j->null();
+  }
+}
+
 void print_json(const std::string& path, size_t size, const capz::StreamInfo& si, double bp,
                 const std::vector<capz::C3DEvent>* events) {
   Json j;
@@ -65,69 +146,12 @@ void print_json(const std::string& path, size_t size, const capz::StreamInfo& si
   j.member("points", static_cast<uint64_t>(si.points));
   j.member("rate", si.rate);
   j.member("units", si.units);
-  j.member("mode", si.mode);
-  // Windows per float32 split exponent (capz::kPlainFloat32WindowsKey: none, kRawWindowsKey: raw).
-  if (!si.float32_split_windows.empty()) {
-    j.key("float32_split_windows");
-    j.begin_object();
-    for (const auto& kv : si.float32_split_windows)
-      j.member(std::to_string(kv.first), static_cast<uint64_t>(kv.second));
-    j.end_object();
-  }
-  j.member("codec", si.codec);
-  j.member("lossless", si.lossless);
-  j.member("grid_step", si.step);
-  j.member("max_error", si.max_error);
-  if (si.transform_output) j.member("kg_target", si.kg_target);
-  if (si.ragged || si.points_reordered)  // a one-frame stream's order, if the encoder chose it
-    j.member("point_order", si.points_reordered ? "reordered" : "kept");
-  j.member("window_frames", static_cast<uint64_t>(si.window_frames));
-  j.member("windows", static_cast<uint64_t>(si.windows));
-  j.member("analog_channels", si.analog_channels);
-  j.member("analog_samples_per_frame", si.analog_samples_per_frame);
-  j.key("analog_bounds");  // the lossy channels (FORMAT.md 5.7); the others are lossless
-  j.begin_array();
-  for (size_t c = 0; c < si.analog_bounds.size(); ++c)
-    if (si.analog_bounds[c] > 0) {
-      j.begin_object();
-      j.member("channel", static_cast<uint64_t>(c));
-      j.member("label", c < si.analog_labels.size() ? si.analog_labels[c] : std::string());
-      j.member("unit", c < si.analog_units.size() ? si.analog_units[c] : std::string());
-      j.member("bound", si.analog_bounds[c]);
-      j.end_object();
-    }
-  j.end_array();
-  j.key("rotations");
-  j.begin_object();
-  j.member("segments", si.rotation_segments);
-  j.member("samples", static_cast<uint64_t>(si.frames * rotations_per_frame(si)));
-  j.member("rate", si.rotation_rate);
-  j.member("samples_per_frame", si.rotation_samples_per_frame);
-  j.member_strings("labels", si.rotation_labels);
-  j.end_object();
+  json_coding(&j, si);
+  json_analog(&j, si);
+  json_rotations(&j, si);
   if (events) events_json(&j, *events);
-  if (!si.pcd_fields.empty()) {
-    j.member("width", static_cast<uint64_t>(si.pcd_width));
-    j.member("height", static_cast<uint64_t>(si.pcd_height));
-    pcd_fields_json(&j, si.pcd_fields);
-    j.key("field_bounds");
-    j.begin_object();
-    for (size_t i = 0; i < si.pcd_field_bounds.size() && i < si.pcd_fields.size(); ++i)
-      if (si.pcd_field_bounds[i] > 0) j.member(si.pcd_fields[i].name, si.pcd_field_bounds[i]);
-    j.end_object();
-  }
-  // The original file (HASH, FORMAT.md 6): null when the archive records none.
-  const capz::OriginalInfo orig = capz::original_info(path);
-  j.key("original");
-  if (orig.hashed) {
-    j.begin_object();
-    j.member("bytes", orig.size);
-    j.member("xxh3_128", orig.hash_hex);
-    j.member("byte_exact", orig.exact);
-    j.end_object();
-  } else {
-    j.null();
-  }
+  json_pcd(&j, si);
+  json_original(&j, path);
   j.member("bpvf", bp);
   j.key("chunk_bytes");
   j.begin_object();
