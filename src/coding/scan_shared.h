@@ -242,26 +242,32 @@ inline void det_sincos(double a, double* s, double* c) {
   }
 }
 // sin and cos of a spherical point's azimuth, phi_k + c s (FORMAT step 4): the sum of ring k's
-// phi_k and column c's c s, each angle's sine and cosine by det_sincos, ring k's and those of the
-// columns 0 .. C - 1 worked out once for the table.
+// phi_k and column c's c s, each angle's sine and cosine by det_sincos; ring k's worked out
+// once for the table, column c's (0 .. C-1) when first asked for, so that a window's table of
+// many columns costs only those its points use. Shared by a state's copies, within one thread.
 class Angles {
  public:
-  Angles() = default;
-  Angles(const std::vector<float>& azimuth0, double step, uint32_t columns) : step_(step) {
+  Angles(const std::vector<float>& azimuth0, double step, uint32_t columns)
+      : step_(step),
+        columns_(columns),
+        column_(new double[2 * size_t{columns}]),
+        filled_(columns, 0) {
     ring_.resize(2 * azimuth0.size());
     for (size_t k = 0; k < azimuth0.size(); ++k)
       det_sincos(static_cast<double>(azimuth0[k]), &ring_[2 * k], &ring_[2 * k + 1]);
-    column_.resize(2 * size_t{columns});
-    for (uint32_t c = 0; c < columns; ++c)
-      det_sincos(static_cast<double>(c) * step, &column_[2 * c], &column_[2 * c + 1]);
   }
   __attribute__((always_inline)) void of(uint32_t k, int32_t col, double* s, double* c) const {
     const double sa = ring_[2 * k], ca = ring_[2 * k + 1];
     double sb, cb;
-    if (__builtin_expect(static_cast<uint64_t>(static_cast<uint32_t>(col)) < column_.size() / 2,
-                         1)) {
-      sb = column_[2 * static_cast<uint32_t>(col)];
-      cb = column_[2 * static_cast<uint32_t>(col) + 1];
+    const auto u = static_cast<uint32_t>(col);
+    if (__builtin_expect(u < columns_, 1)) {
+      if (__builtin_expect(!filled_[u], 0)) {
+        det_sincos(static_cast<double>(col) * step_, &column_[2 * size_t{u}],
+                   &column_[2 * size_t{u} + 1]);
+        filled_[u] = 1;
+      }
+      sb = column_[2 * size_t{u}];
+      cb = column_[2 * size_t{u} + 1];
     } else {
       det_sincos(static_cast<double>(col) * step_, &sb, &cb);
     }
@@ -270,8 +276,11 @@ class Angles {
   }
 
  private:
-  double step_ = 0;
-  std::vector<double> ring_, column_;  // sin, cos of each
+  double step_;
+  uint32_t columns_;
+  std::vector<double> ring_;             // sin, cos of each ring's phi_k
+  std::unique_ptr<double[]> column_;     // sin, cos of each column's angle, where filled_
+  mutable std::vector<uint8_t> filled_;  // (column_'s values are written through the pointer)
 };
 
 // floor(v + 0.5) clamped to the int32 range (NaN gives 0). Below 2^31 - 1 in magnitude (every
