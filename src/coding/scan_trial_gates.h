@@ -46,7 +46,8 @@ uint64_t cartesian_raw_bits(const scan::State& st, const ScanGeometry& g, size_t
 // "Turns", the encoder's search, informative there): the column shift under which most of a
 // sample of its valid points find their range in the previous sweep's cells, or 0 when no shift
 // beats none clearly. polar: the points' places under st's table (valid points only are read).
+// *scored (when given) counts the shifts scored besides shift 0.
 int32_t find_turn(const ScanGeometry& g, const std::vector<scan::Polar>& polar,
-                  const scan::State& st, size_t first, size_t n);
+                  const scan::State& st, size_t first, size_t n, size_t* scored = nullptr);
 
 }  // namespace capz

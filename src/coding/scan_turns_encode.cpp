@@ -15,6 +15,7 @@ namespace {
 constexpr size_t kTurnSample = 1024;                               // points of a frame scored
 constexpr double kTurnReach = 6.0 * 3.14159265358979323846 / 180;  // radians either way (6 degrees)
 constexpr int64_t kCoarseSteps = 32;                               // coarse shifts each way
+constexpr int64_t kFineAll = 128;    // coarse steps up to this many columns searched whole
 constexpr uint32_t kTurnLeast = 32;  // points a kept shift scores more than shift 0, at least
 constexpr size_t kBeatShare = 32;    // and more than this share of the sample
 
@@ -46,7 +47,7 @@ bool better(int64_t a, uint32_t sa, int64_t b, uint32_t sb) {
 }  // namespace
 
 int32_t find_turn(const ScanGeometry& g, const std::vector<scan::Polar>& polar,
-                  const scan::State& st, size_t first, size_t n) {
+                  const scan::State& st, size_t first, size_t n, size_t* scored) {
   const scan::Table& t = st.table();
   if (t.rings() == 0 || n == 0) return 0;
   std::vector<Sampled> s;
@@ -61,21 +62,31 @@ int32_t find_turn(const ScanGeometry& g, const std::vector<scan::Polar>& polar,
   const double reach = kTurnReach / std::fabs(static_cast<double>(t.step));
   const int64_t most = std::min<int64_t>(std::llround(std::min(reach, 1e9)), t.columns / 2);
   if (s.empty() || most < 1) return 0;
-  const int64_t d = (most + kCoarseSteps - 1) / kCoarseSteps;
+  int64_t d = (most + kCoarseSteps - 1) / kCoarseSteps;
   const uint32_t still = score(s, st, 0);
   int64_t best = 0;
   uint32_t top = still;
   for (int64_t j = -(most / d); j <= most / d; ++j) {
     if (j == 0) continue;
     const uint32_t v = score(s, st, j * d);
+    if (scored) ++*scored;
     if (better(j * d, v, best, top)) best = j * d, top = v;
   }
-  const int64_t coarse = best;
-  for (int64_t shift = std::max(-most, coarse - d + 1); shift <= std::min(most, coarse + d - 1);
-       ++shift) {
-    if (shift % d == 0) continue;  // scored above
-    const uint32_t v = score(s, st, shift);
-    if (better(shift, v, best, top)) best = shift, top = v;
+  // Then around the best so far, at finer steps down to one column: every shift within d - 1 of
+  // it when d is at most kFineAll (every sensor's table: 6 degrees is a few thousand of its
+  // columns at most), else at a 32nd of d, level after level, so that a table fitted to odd
+  // points (2^22 columns of a tiny step) costs a few hundred scores, not 2^17.
+  while (d > 1) {
+    const int64_t next = d <= kFineAll ? 1 : (d + kCoarseSteps - 1) / kCoarseSteps;
+    const int64_t centre = best;
+    for (int64_t k = -((d - 1) / next); k <= (d - 1) / next; ++k) {
+      const int64_t shift = centre + k * next;
+      if (k == 0 || shift < -most || shift > most) continue;  // (k 0: scored above)
+      const uint32_t v = score(s, st, shift);
+      if (scored) ++*scored;
+      if (better(shift, v, best, top)) best = shift, top = v;
+    }
+    d = next;
   }
   // (A shift kept scores most of the sample: on a still sensor's table whose map predicts
   // poorly, scan_small's at 1 cm, some shift beats none by chance, and costs more than it saves.)

@@ -11,6 +11,7 @@
 #include "coding/bytes.h"
 #include "coding/scan_geometry.h"
 #include "coding/scan_shared.h"
+#include "coding/scan_trial_gates.h"
 #include "scan_geometry_expect.h"
 
 namespace capz {
@@ -106,6 +107,42 @@ TEST(ScanTurns, GivenDamagedTurnsOrMoreBitsThenCorrupt) {
   expect_scan_corrupt(d);
   d.assign(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(more + 2));  // cut in the turns
   expect_scan_corrupt(d);
+}
+
+// The encoder's search for a turn scores a bounded number of shifts however many columns a
+// fitted table has: a table of 2^22 columns whose step is tiny (points fitted by chance) reaches
+// 2^21 columns either way, and a search of every column within one coarse step of the best
+// scored 2^17 shifts of 1,024 points. A sensor's table (below) still has every shift near the
+// coarse best scored.
+TEST(ScanTurns, GivenAFittedTableOfManyTinyColumnsThenTheSearchScoresFewShifts) {
+  ScanGeometry g;
+  std::vector<scan::Polar> polar;
+  for (uint32_t i = 0; i < 4096; ++i) {
+    g.valid.push_back(1);
+    polar.push_back({0, static_cast<int32_t>(i * 1000), 5000});
+  }
+  g.counts.push_back(4096);
+  // The shifts scored (besides 0) under a one-ring table of `columns` columns of `step` radians.
+  auto scored_under = [&](uint32_t columns, float step) {
+    scan::Table t;
+    t.azimuth0 = {0};
+    t.slope = {0};
+    t.z0 = {0};
+    t.columns = columns;
+    t.step = step;
+    scan::State st(t);
+    size_t scored = 0;
+    EXPECT_EQ(find_turn(g, polar, st, 0, 4096, &scored), 0);  // (no previous sweep to match)
+    return scored;
+  };
+  const size_t tiny = scored_under(1u << 22, 1e-8f);
+  EXPECT_GT(tiny, 64u);
+  EXPECT_LT(tiny, 600u);
+  // 1,800 columns of 0.2 degrees: 6 degrees is 30 columns, one coarse step a column, so the
+  // coarse search is all of them (60 shifts) and no finer level runs.
+  EXPECT_EQ(scored_under(1800, static_cast<float>(kTwoPi / 1800)), 60u);
+  // 36,000 columns: 600 columns, coarse steps of 19 (62 shifts), then the 36 around the best.
+  EXPECT_EQ(scored_under(36000, static_cast<float>(kTwoPi / 36000)), 62u + 36u);
 }
 
 }  // namespace
