@@ -1,15 +1,18 @@
 #!/usr/bin/env python3
-"""Writes data/scan_small_ply/ and data/scan_small_bin/: the first two frames of data/scan_small/
-(binary PCD, a cut of real RoboSense Helios 16P sweeps) as other tools write PLY and KITTI .bin
-frames, for the golden streams of format 1.1's frame-file sources and their lossless residue
-(docs/FORMAT.md "Frame-file sources", "Lossless frame-file streams"):
+"""Writes data/scan_small_ply/, data/scan_small_bin/ and data/scan_small_nus/: the first two
+frames of data/scan_small/ (binary PCD, a cut of real RoboSense Helios 16P sweeps) as other tools
+write PLY, KITTI .bin and nuScenes .pcd.bin frames, for the golden streams of format 1.1's
+frame-file sources and their lossless residue (docs/FORMAT.md "Frame-file sources", "Lossless
+frame-file streams"):
 
 - scan_small_ply/NAME.ply: a script's binary_little_endian PLY: "ply", the format line, a comment
   line, `element vertex N`, `property float x|y|z|intensity` (intensity: the PCD's U1 value as a
   float), an empty face element (`element face 0`, `property list uchar int vertex_indices`),
   `end_header`, then the vertices, float32 little-endian;
 - scan_small_bin/NAME.bin: float32 little-endian x y z intensity a point (what numpy's tofile of
-  an (N, 4) float32 array writes), no header.
+  an (N, 4) float32 array writes), no header;
+- scan_small_nus/NAME.pcd.bin: float32 little-endian x y z intensity ring a point, the ring the
+  PCD's U2 channel as a float (nuScenes' layout and name: numpy's tofile of an (N, 5) array).
 
 File names are the PCD frames' with the extension changed. Deterministic, standard library only.
 
@@ -24,7 +27,7 @@ CODES = {('F', 4): 'f', ('F', 8): 'd', ('U', 1): 'B', ('U', 2): 'H', ('U', 4): '
 
 
 def read_binary_pcd(path):
-    """Rows of (x, y, z, intensity) of a binary PCD frame."""
+    """Rows of (x, y, z, intensity, channel) of a binary PCD frame."""
     b = open(path, 'rb').read()
     head, pos = {}, 0
     while True:
@@ -41,7 +44,7 @@ def read_binary_pcd(path):
                         zip(head['TYPE'], head['SIZE'], head['COUNT']))
     step = struct.calcsize(fmt)
     names = head['FIELDS']
-    cols = [names.index(n) for n in ('x', 'y', 'z', 'intensity')]
+    cols = [names.index(n) for n in ('x', 'y', 'z', 'intensity', 'channel')]
     n = int(head['POINTS'][0])
     return [tuple(float(v[c]) for c in cols)
             for v in (struct.unpack_from(fmt, b, pos + i * step) for i in range(n))]
@@ -50,12 +53,13 @@ def read_binary_pcd(path):
 def main():
     src = os.path.join(HERE, 'scan_small')
     ply_dir, bin_dir = os.path.join(HERE, 'scan_small_ply'), os.path.join(HERE, 'scan_small_bin')
-    os.makedirs(ply_dir, exist_ok=True)
-    os.makedirs(bin_dir, exist_ok=True)
+    nus_dir = os.path.join(HERE, 'scan_small_nus')
+    for d in (ply_dir, bin_dir, nus_dir):
+        os.makedirs(d, exist_ok=True)
     for name in sorted(os.listdir(src))[:2]:
         rows = read_binary_pcd(os.path.join(src, name))
         stem = os.path.splitext(name)[0]
-        body = b''.join(struct.pack('<4f', *r) for r in rows)
+        body = b''.join(struct.pack('<4f', *r[:4]) for r in rows)
         head = ('ply\nformat binary_little_endian 1.0\ncomment made by make_scan_small_frames.py\n'
                 'element vertex %d\nproperty float x\nproperty float y\nproperty float z\n'
                 'property float intensity\nelement face 0\n'
@@ -64,6 +68,8 @@ def main():
             f.write(head.encode('ascii') + body)
         with open(os.path.join(bin_dir, stem + '.bin'), 'wb') as f:
             f.write(body)
+        with open(os.path.join(nus_dir, stem + '.pcd.bin'), 'wb') as f:
+            f.write(b''.join(struct.pack('<5f', *r) for r in rows))
 
 
 if __name__ == '__main__':

@@ -108,7 +108,11 @@ std::string variant_text(const capz::Take& t) {
     return s;
   }
   if (t.bin) {
-    std::string s = "KITTI .bin frames (float32 x y z intensity)";
+    const std::vector<std::string> record = capz::bin_record_of(t);
+    std::string s = record.size() == 2 ? "nuScenes .bin frames (float32 x y z"
+                                       : "KITTI .bin frames (float32 x y z";
+    for (const std::string& f : record) s += " " + f;
+    s += ")";
     if (!t.bin->frame_names.empty())
       s += " " + t.bin->frame_names.front() + " .. " + t.bin->frame_names.back();
     return s;
@@ -210,7 +214,9 @@ void print_text(const std::string& path, const capz::Take& t, const Summary& s) 
     // Every field of the frames, x y z included: NAME TYPE SIZE[xCOUNT].
     line("fields:", pcd_fields_text(*t.file_fields()));
   } else if (t.bin) {
-    line("fields:", "x F4, y F4, z F4, intensity F4");
+    std::string fields = "x F4, y F4, z F4";
+    for (const std::string& f : capz::bin_record_of(t)) fields += ", " + f + " F4";
+    line("fields:", fields);
   }
   print_analog(t);
   const capz::Rotations& r = t.rotations;
@@ -261,6 +267,10 @@ void json_variant(Json* j, const capz::Take& t) {
     pcd_fields_json(j, t.ply->fields);
   } else if (t.bin) {
     j->member_strings("frame_files", t.bin->frame_names);
+    std::vector<capz::PCDField> fields;
+    for (const char* axis : {"x", "y", "z"}) fields.push_back({axis, 'F', 4, 1});
+    for (const std::string& f : capz::bin_record_of(t)) fields.push_back({f, 'F', 4, 1});
+    pcd_fields_json(j, fields);
   }
   j->end_object();
 }

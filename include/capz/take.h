@@ -260,11 +260,17 @@ struct PCDExtra {
   std::vector<double> field_bounds;
 };
 
-// KITTI-style .bin folder specifics (a .bin frame is float32 x y z intensity per point, no
-// header; intensity is the take's one point attribute).
+// .bin folder specifics. A .bin frame has no header: a record of float32 values a point, x y z
+// then bin_record_fields (below), which the take holds as point attributes.
 struct BinExtra {
   std::vector<std::string> frame_names;  // file names in natural-sort order, one per frame
 };
+
+// The fields of a .bin frame's record after x y z (each float32; docs/FORMAT.md "Frame-file
+// sources"), by the frame files' names: nuScenes' "intensity" "ring" when every name ends in
+// ".pcd.bin" (as nuScenes and Lyft name their sweeps), else KITTI's "intensity" (no names too).
+// Empty when some names end in ".pcd.bin" and some do not: no one record holds such frames.
+std::vector<std::string> bin_record_fields(const std::vector<std::string>& frame_names);
 
 // PLY folder specifics: the vertex element's layout and the header's text, so a PLY written
 // back looks like the source.
@@ -350,6 +356,10 @@ struct Take {
   // ragged take), as a phrase; empty when the shape is right.
   std::string shape_fault() const;
 };
+
+// The fields after x y z of the record a .bin frame of `take` is written with: those of its .bin
+// frame names (bin_record_fields, of take.bin), else KITTI's "intensity".
+std::vector<std::string> bin_record_of(const Take& take);
 
 // What is wrong with the take's point field names, as a phrase (empty when nothing): a field
 // named x, y or z (the positions' names in every frame file), two of one name, an empty name, or

@@ -1,5 +1,5 @@
-"""Lossless PLY and KITTI .bin frames (docs/FORMAT.md "Lossless frame-file streams"): capz.read
-of a PLY and a .bin folder, capz.compress / capz.decompress of the take (positions bit for bit,
+"""Lossless PLY, KITTI .bin and nuScenes .pcd.bin frames (docs/FORMAT.md "Lossless frame-file streams"): capz.read
+of a PLY, a .bin and a .pcd.bin folder, capz.compress / capz.decompress of the take (positions bit for bit,
 fields exact), and compress_file with lossless=True writing the same bytes as `capz compress
 --lossless`, whose archive `capz decompress` turns back into the frame files byte for byte."""
 import filecmp
@@ -31,6 +31,10 @@ def write_folder(d, kind):
         if kind == "bin":
             p.astype("<f4").tofile(str(d / f"{f:06d}.bin"))
             continue
+        if kind == "nus":  # nuScenes: x y z intensity ring, NAME.pcd.bin
+            ring = (np.arange(len(p)) % 32).astype(np.float32)[:, None]
+            np.hstack([p, ring]).astype("<f4").tofile(str(d / f"{f:06d}.pcd.bin"))
+            continue
         head = ("ply\nformat ascii 1.0\ncomment written by numpy\nelement vertex %d\n"
                 "property float x\nproperty float y\nproperty float z\nproperty float intensity\n"
                 "element face 0\nproperty list uchar int vertex_indices\nend_header\n" % len(p))
@@ -39,7 +43,7 @@ def write_folder(d, kind):
     return d
 
 
-@pytest.mark.parametrize("kind", ["ply", "bin"])
+@pytest.mark.parametrize("kind", ["ply", "bin", "nus"])
 def test_read_compress_decompress_exact(tmp_path, kind):
     d = write_folder(tmp_path / kind, kind)
     t = capz.read(str(d))
@@ -53,9 +57,13 @@ def test_read_compress_decompress_exact(tmp_path, kind):
     ok = np.asarray(t.valid)
     assert np.asarray(back.xyz)[ok].tobytes() == np.asarray(t.xyz)[ok].tobytes()
     np.testing.assert_array_equal(back.attributes["intensity"], t.attributes["intensity"])
+    if kind == "nus":  # nuScenes' ring comes as a float32 field
+        ring = np.concatenate([np.arange(5 + 2 * f) % 32 for f in range(3)]).astype(np.float32)
+        np.testing.assert_array_equal(np.asarray(t.attributes["ring"]).ravel(), ring)
+        np.testing.assert_array_equal(back.attributes["ring"], t.attributes["ring"])
 
 
-@pytest.mark.parametrize("kind", ["ply", "bin"])
+@pytest.mark.parametrize("kind", ["ply", "bin", "nus"])
 def test_compress_file_lossless_same_bytes_as_cli_and_files_back(tmp_path, kind):
     d = write_folder(tmp_path / kind, kind)
     ours, theirs = str(tmp_path / "py.capz"), str(tmp_path / "cli.capz")

@@ -1,6 +1,7 @@
 // What CompressOptions settle on a source's header before encoding (encode_settings.h).
 #include "codec/encode_settings.h"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -104,6 +105,13 @@ std::vector<std::string> set_analog_bounds(FrameSource& source, const CompressOp
 
 namespace {
 
+// "x y z intensity, float32", the record of t's .bin frames.
+std::string bin_record_text(const Take& t) {
+  std::string s = "x y z";
+  for (const std::string& f : bin_record_of(t)) s += " " + f;
+  return s + ", float32";
+}
+
 // The fields of a frame-file source's layout: a PLY's vertex properties, a .bin's x y z intensity
 // (float32), those the take's attributes still are (--drop-fields: x y z); else x y z as float64
 // (float32 for .bin) then the attributes. Empty when an attribute cannot be the format's
@@ -111,8 +119,11 @@ namespace {
 std::vector<PCDField> frame_file_fields(const Take& t) {
   std::vector<PCDField> source, fields;
   if (t.ply) source = t.ply->fields;
-  if (t.format == Format::kBinFolder)
-    for (const char* name : {"x", "y", "z", "intensity"}) source.push_back({name, 'F', 4, 1});
+  const std::vector<std::string> record = bin_record_of(t);
+  if (t.format == Format::kBinFolder) {
+    for (const char* axis : {"x", "y", "z"}) source.push_back({axis, 'F', 4, 1});
+    for (const std::string& name : record) source.push_back({name, 'F', 4, 1});
+  }
   // The source's x y z and those of its fields the take still has, in the source's order.
   size_t k = 0, axes = 0;
   for (const PCDField& f : source) {
@@ -131,7 +142,9 @@ std::vector<PCDField> frame_file_fields(const Take& t) {
   for (const char* axis : {"x", "y", "z"}) fields.push_back(PCDField{axis, 'F', 8, 1});
   for (const PointAttribute& a : t.attributes) {
     if (a.count != 1 || !ply_type_name(a.type, a.size) ||
-        (t.format == Format::kBinFolder && (a.name != "intensity" || a.type != 'F' || a.size != 4)))
+        (t.format == Format::kBinFolder &&
+         (std::find(record.begin(), record.end(), a.name) == record.end() || a.type != 'F' ||
+          a.size != 4)))
       return {};
     fields.push_back(PCDField{a.name, a.type, a.size, a.count});
   }
@@ -143,6 +156,10 @@ std::vector<PCDField> frame_file_fields(const Take& t) {
 
 void settle_frame_layout(Take* t, bool drop_fields) {
   if ((t->format != Format::kPLYFolder && t->format != Format::kBinFolder) || t->pcd) return;
+  if (t->format == Format::kBinFolder && t->bin && bin_record_fields(t->bin->frame_names).empty())
+    fail(ErrorCode::kInvalidParameter, t->source,
+         "the .bin frame names are of two kinds (some *.pcd.bin, nuScenes', some not, KITTI's): "
+         "no one record holds the frames");
   auto x = std::make_shared<PCDExtra>();
   x->encoding = "binary";
   x->fields = frame_file_fields(*t);
@@ -156,7 +173,7 @@ void settle_frame_layout(Take* t, bool drop_fields) {
     fail(ErrorCode::kInvalidParameter, t->source,
          std::string("the point fields (") + field_names(*t) + ") cannot be written back as " +
              (t->format == Format::kPLYFolder ? "PLY properties (one value a point each)"
-                                              : ".bin frames (x y z intensity, float32)") +
+                                              : ".bin frames (" + bin_record_text(*t) + ")") +
              ": give --drop-fields to leave them out");
   if (const std::vector<std::string>* names = t->ply   ? &t->ply->frame_names
                                               : t->bin ? &t->bin->frame_names

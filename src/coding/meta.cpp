@@ -277,12 +277,16 @@ void set_frame_file_extras(const std::string& what, std::shared_ptr<PLYExtra> pl
     t->ply = std::move(ply);
     return;
   }
-  const std::vector<std::string> names = {"x", "y", "z", "intensity"};
-  bool ok = p->fields.size() == 3 || p->fields.size() == 4;
+  // "Frame-file sources": x y z, then the record's fields of the frame names, or none.
+  std::vector<std::string> names = bin_record_fields(p->frame_names);
+  if (names.empty())
+    fail(ErrorCode::kCorrupt, what, ".bin source whose frame names are of two kinds");
+  names.insert(names.begin(), {"x", "y", "z"});
+  bool ok = p->fields.size() == 3 || p->fields.size() == names.size();
   for (size_t i = 0; ok && i < p->fields.size(); ++i)
     ok = p->fields[i].name == names[i] && p->fields[i].type == 'F' && p->fields[i].size == 4 &&
          p->fields[i].count == 1;
-  if (!ok) fail(ErrorCode::kCorrupt, what, ".bin source whose fields are not x y z intensity");
+  if (!ok) fail(ErrorCode::kCorrupt, what, ".bin source whose fields are not those of its record");
   t->bin = std::make_shared<BinExtra>();
   t->bin->frame_names = p->frame_names;
 }

@@ -28,6 +28,23 @@ const char* format_name(Format f) {
   return "unknown";
 }
 
+std::vector<std::string> bin_record_fields(const std::vector<std::string>& frame_names) {
+  static const std::string kNuScenes = ".pcd.bin";
+  size_t nuscenes = 0;
+  for (const std::string& n : frame_names)
+    nuscenes += n.size() > kNuScenes.size() &&
+                n.compare(n.size() - kNuScenes.size(), kNuScenes.size(), kNuScenes) == 0;
+  if (nuscenes == 0) return {"intensity"};
+  if (nuscenes == frame_names.size()) return {"intensity", "ring"};
+  return {};
+}
+
+std::vector<std::string> bin_record_of(const Take& take) {
+  std::vector<std::string> r =
+      bin_record_fields(take.bin ? take.bin->frame_names : std::vector<std::string>());
+  return r.empty() ? std::vector<std::string>{"intensity"} : r;
+}
+
 bool is_frame_files(Format f) {
   return f == Format::kPCDFolder || f == Format::kPLYFolder || f == Format::kBinFolder;
 }

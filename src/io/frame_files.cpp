@@ -227,8 +227,12 @@ std::vector<std::string> frame_output_names(const Take& take, const std::string&
   if (names && names->size() == take.frames) {
     std::set<std::string> seen;
     for (const std::string& n : *names) {
-      const std::string name =
-          has_extension(n, ext) ? n : fs::path(n).replace_extension(ext).string();
+      // (A nuScenes sweep's name, NAME.pcd.bin, gives NAME.pcd, NAME.ply: its stem is NAME.)
+      const bool nuscenes =
+          ext != ".bin" && n.size() > 8 && n.compare(n.size() - 8, 8, ".pcd.bin") == 0;
+      const std::string name = has_extension(n, ext) ? n
+                               : nuscenes            ? n.substr(0, n.size() - 8) + ext
+                                                     : fs::path(n).replace_extension(ext).string();
       if (n.empty() || name.find('/') != std::string::npos || name == ext ||
           fs::path(n).stem().string().empty() || n == "." || n == ".." || !seen.insert(name).second)
         break;

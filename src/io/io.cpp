@@ -28,6 +28,7 @@
 #include "capz/error.h"
 #include "coding/ply_types.h"
 #include "core/atomic_file.h"
+#include "io/bin_folder.h"
 #include "io/frame_files.h"
 
 namespace fs = std::filesystem;
@@ -237,13 +238,15 @@ std::vector<std::string> dropped_by(const Take& take, Format out) {
   }
   if (take.rotations.segments > 0)
     d.push_back("the " + std::to_string(take.rotations.segments) + " rotation segments");
-  if (out == Format::kBinFolder) {  // float32 x y z intensity (KITTI's layout)
+  if (out == Format::kBinFolder) {  // float32 x y z and the record's fields
     const std::vector<PCDField>* fields = take.file_fields();
+    const std::vector<std::string> record = bin_record_of(take);
     std::string wide;  // the 8-byte float fields a .bin frame rounds to float32
     if (fields)
       for (const PCDField& f : *fields)
         if (f.type == 'F' && f.size == 8 &&
-            (f.name == "x" || f.name == "y" || f.name == "z" || f.name == "intensity"))
+            (f.name == "x" || f.name == "y" || f.name == "z" ||
+             std::find(record.begin(), record.end(), f.name) != record.end()))
           wide += (wide.empty() ? "" : " ") + f.name;
     if (!wide.empty()) d.push_back("float64 values (" + wide + ": rounded to float32)");
   }
@@ -263,20 +266,26 @@ void check_fields_fit(const Take& take, Format f, const std::string& path,
              " file cannot hold frames of different point counts: write a PCD, PLY or .bin "
              "folder");
   if (opts.drop_fields || f == Format::kPCDFolder || f == Format::kUnknown) return;
+  const std::vector<std::string> record =
+      f == Format::kBinFolder ? bin_output_record(take, path) : std::vector<std::string>();
   std::string unfit;  // the fields f cannot hold
   for (const PointAttribute& a : take.attributes) {
     // PLY has no 8-byte integers (ply_type_name): such a field would be left out.
     const bool fits = a.name == "_" ||
                       (f == Format::kPLYFolder && a.count == 1 && ply_type_name(a.type, a.size)) ||
-                      (f == Format::kBinFolder && a.name == "intensity" && a.count == 1);
+                      (f == Format::kBinFolder && a.count == 1 &&
+                       std::find(record.begin(), record.end(), a.name) != record.end());
     if (!fits) unfit += (unfit.empty() ? "" : ", ") + a.name;
   }
   if (unfit.empty()) return;
+  std::string bin = ".bin frame (x y z";
+  for (const std::string& r : record) bin += " " + r;
+  bin += ")";
   const char* what = f == Format::kTRC   ? "TRC file"
                      : f == Format::kC3D ? "C3D file"
                      : f == Format::kPLYFolder
                          ? "PLY frame (one value a property, no 64-bit integers)"
-                         : ".bin frame (x y z intensity)";
+                         : bin.c_str();
   fail(ErrorCode::kUsage, path,
        std::string("a ") + what + " cannot hold the point fields " + unfit +
            ": write a PCD folder, or give --drop-fields to leave them out");

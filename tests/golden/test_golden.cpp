@@ -281,9 +281,9 @@ TEST(Golden, GivenTheScanGoldenStreamsThenFormat11RaggedFramesWithOneScnwPerWind
   EXPECT_GE(organized, 1u);
 }
 
-// The lossless golden streams of format 1.1's frame files (scan_small as PCD, PLY and .bin
-// frames: FORMAT.md "Lossless ragged streams", "Lossless frame-file streams") rebuild every
-// frame file of their source byte for byte.
+// The lossless golden streams of format 1.1's frame files (scan_small as PCD, PLY, KITTI .bin
+// and nuScenes .pcd.bin frames: FORMAT.md "Lossless ragged streams", "Lossless frame-file streams")
+// rebuild every frame file of their source byte for byte.
 TEST(Golden, GivenTheLosslessScanGoldenStreamsThenTheirFrameFilesRebuildByteForByte) {
   capz_test::TempDir tmp("capz_golden_rebuild");
   size_t rebuilt = 0;
@@ -307,7 +307,7 @@ TEST(Golden, GivenTheLosslessScanGoldenStreamsThenTheirFrameFilesRebuildByteForB
     EXPECT_EQ(back, files);
     ++rebuilt;
   }
-  EXPECT_GE(rebuilt, 3u);  // scan_small, scan_small_ply, scan_small_bin
+  EXPECT_GE(rebuilt, 4u);  // scan_small, scan_small_ply, scan_small_bin, scan_small_nus
 }
 
 // A stream of capz 0.1.0 (format 9.3, magic "\x89capz") is refused, by the library and the CLI,

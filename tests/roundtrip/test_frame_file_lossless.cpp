@@ -132,6 +132,21 @@ std::string bin_bytes(const std::vector<std::array<float, 4>>& p) {
   return s;
 }
 
+// nuScenes' .pcd.bin: float32 x y z intensity ring; point 1's x a NaN of payload 0x123.
+std::string nuscenes_bytes(const std::vector<std::array<float, 4>>& p) {
+  std::string s;
+  for (size_t i = 0; i < p.size(); ++i) {
+    const float ring = static_cast<float>(i % 32);
+    s.append(reinterpret_cast<const char*>(p[i].data()), 16);
+    s.append(reinterpret_cast<const char*>(&ring), 4);
+  }
+  if (p.size() > 1) {
+    const uint32_t nan = 0x7fc00123;
+    std::memcpy(&s[20], &nan, 4);
+  }
+  return s;
+}
+
 }  // namespace
 
 // capz's own writer: PLY in each encoding and .bin, ragged, with every field; windows of 2.
@@ -157,7 +172,8 @@ TEST(FrameFileLossless, CapzWrittenFoldersRebuildByteForByte) {
 }
 
 // Other writers' forms: "%.6f" ascii PLY with LF and CRLF lines (float and double properties),
-// binary PLY of both byte orders with trailing bytes, .bin with NaN payloads; ragged and fixed.
+// binary PLY of both byte orders with trailing bytes, .bin (KITTI's and nuScenes') with NaN
+// payloads; ragged and fixed.
 TEST(FrameFileLossless, OtherWritersFilesRebuildByteForByte) {
   capz_test::TempDir tmp("capz_ffl_other");
   struct Case {
@@ -174,6 +190,7 @@ TEST(FrameFileLossless, OtherWritersFilesRebuildByteForByte) {
        [](size_t f, size_t n) { return binary_ply(sweep(f, n), false, f == 1 ? "tail\n" : ""); }},
       {"be", ".ply", [](size_t f, size_t n) { return binary_ply(sweep(f, n), true, "\0\0"); }},
       {"bin", ".bin", [](size_t f, size_t n) { return bin_bytes(sweep(f, n)); }},
+      {"nus", ".pcd.bin", [](size_t f, size_t n) { return nuscenes_bytes(sweep(f, n)); }},
   };
   for (const Case& c : cases)
     for (size_t fixed : {size_t{0}, size_t{9}}) {
@@ -191,8 +208,10 @@ TEST(FrameFileLossless, SingleFilesRebuildByteForByteAndDroppedFieldsKeepPositio
   capz_test::TempDir tmp("capz_ffl_single");
   put(tmp.file("one.ply"), python_ply(sweep(3), "\n", "float"));
   put(tmp.file("one.bin"), bin_bytes(sweep(4)));
+  put(tmp.file("one.pcd.bin"), nuscenes_bytes(sweep(5)));
   expect_rebuilt(tmp.file("one.ply"), tmp.file("back.ply"), tmp);
   expect_rebuilt(tmp.file("one.bin"), tmp.file("back.bin"), tmp);
+  expect_rebuilt(tmp.file("one.pcd.bin"), tmp.file("back.bin"), tmp);  // its record, any name
   const std::string dir = tmp.file("drop");
   fs::create_directories(dir);
   for (size_t f = 0; f < 3; ++f)

@@ -188,6 +188,48 @@ TEST(ScanFormats, GivenBinTakesThenTheyComeBackAsBinWithTheirIntensity) {
   }
 }
 
+// A take of nuScenes' .bin frames (NAME.pcd.bin: x y z intensity ring) keeps its record through
+// the archive, with --drop-fields too (its files are then written with zeros); a take whose .bin
+// frame names are of both kinds has no one record and is refused by name.
+TEST(ScanFormats, GivenNuScenesBinTakesThenTheirRecordComesBack) {
+  capz::Take t = bin_take({500, 200, 333});
+  for (std::string& n : t.bin->frame_names) n = "sweep" + n.substr(0, n.size() - 4) + ".pcd.bin";
+  capz::PointAttribute ring{"ring", 'F', 4, 1, {}};
+  for (size_t i = 0; i < t.total_points(); ++i) {
+    const float v = static_cast<float>(i % 32);
+    uint8_t b[4];
+    std::memcpy(b, &v, 4);
+    ring.data.insert(ring.data.end(), b, b + 4);
+  }
+  t.attributes.push_back(ring);
+  for (bool drop : {false, true}) {
+    const std::vector<uint8_t> s = compress_at(t, 0.01, drop);
+    const capz::Take d = capz::decompress(s.data(), s.size(), "nus.capz");
+    ASSERT_TRUE(d.bin);
+    EXPECT_EQ(d.bin->frame_names, t.bin->frame_names);
+    EXPECT_EQ(capz::bin_record_of(d), (std::vector<std::string>{"intensity", "ring"}));
+    ASSERT_EQ(d.attributes.size(), drop ? 0u : 2u);
+    if (!drop) {
+      EXPECT_EQ(d.attributes[1].name, "ring");
+      EXPECT_EQ(d.attributes[1].data, ring.data);
+    }
+    expect_within(t, d, 0.01);
+  }
+  t.bin->frame_names[1] = "sweep1.bin";  // KITTI's name among nuScenes'
+  try {
+    compress_at(t, 0.01);
+    FAIL() << "frame names of both kinds were compressed";
+  } catch (const capz::Error& e) {
+    EXPECT_EQ(e.code(), capz::ErrorCode::kInvalidParameter) << e.what();
+    EXPECT_NE(std::string(e.what()).find("two kinds"), std::string::npos) << e.what();
+  }
+  // A KITTI take with a ring field cannot write it back: refused unless dropped.
+  t.bin->frame_names[1] = "sweep1.pcd.bin";
+  for (std::string& n : t.bin->frame_names) n = n.substr(0, n.size() - 8) + ".bin";
+  EXPECT_THROW(compress_at(t, 0.01), capz::Error);
+  EXPECT_NO_THROW(compress_at(t, 0.01, true));
+}
+
 // --lossless on PLY and .bin takes in memory (no frame files to rebuild: no residue): every
 // valid coordinate bit for bit, every field exact (FORMAT.md "Lossless frame-file streams").
 TEST(ScanFormats, GivenLosslessOnPLYOrBinTakesThenPositionsAndFieldsComeBackExact) {

@@ -17,6 +17,7 @@
 #include "capz/io.h"
 #include "capz/stream.h"
 #include "capz/tool/compress_file.h"
+#include "capz/tool/file.h"
 #include "capz/tool/original.h"
 #include "support/frame_files.h"
 #include "test_util.h"
@@ -295,4 +296,58 @@ TEST(ScanIO, GivenAnEmptyBinFrameWhenCompressedLosslessThenItRebuilds) {
   capz::rebuild_original(dir.file("e.capz"), dir.file("back.bin"), false);
   EXPECT_TRUE(fs::exists(dir.file("back.bin")));
   EXPECT_EQ(fs::file_size(dir.file("back.bin")), 0u);
+}
+
+// nuScenes (and Lyft) sweeps are .bin files of float32 x y z intensity ring, named NAME.pcd.bin:
+// read with both fields, written back 20 bytes a point; converted to PCD as NAME.pcd; a folder
+// mixing them with KITTI's files, or a file cut mid-point, is refused naming it.
+TEST(ScanIO, GivenNuScenesPcdBinFramesThenReadWithTheirRingAndWrittenBackAsTheyWere) {
+  TempDir dir;
+  fs::create_directories(dir.path() / "nus");
+  const float nan = std::nanf("");
+  const std::vector<float> a = {1.5f, -2.25f, 3, 40, 7, nan, nan, nan, 5, 31};  // point 1 a gap
+  const std::vector<float> b = {0.1f, 0.2f, 0.3f, 255, 0};
+  const std::vector<uint8_t> ab = float_bytes(a), bb = float_bytes(b);
+  put(dir.path() / "nus" / "s__LIDAR_TOP__1.pcd.bin", std::string(ab.begin(), ab.end()));
+  put(dir.path() / "nus" / "s__LIDAR_TOP__2.pcd.bin", std::string(bb.begin(), bb.end()));
+  const capz::Take t = capz::read_take(dir.file("nus"));
+  ASSERT_EQ(t.frame_offsets, (std::vector<size_t>{0, 2, 3}));
+  ASSERT_EQ(t.attributes.size(), 2u);
+  EXPECT_EQ(t.attributes[0].name, "intensity");
+  EXPECT_EQ(t.attributes[1].name, "ring");
+  EXPECT_EQ(t.attributes[1].type, 'F');
+  EXPECT_EQ(t.attributes[1].data, float_bytes({7, 31, 0}));
+  EXPECT_EQ(t.valid, (std::vector<uint8_t>{1, 0, 1}));
+  EXPECT_EQ(capz::bin_record_of(t), (std::vector<std::string>{"intensity", "ring"}));
+  capz::write_take(t, dir.file("back/"));
+  EXPECT_EQ(capz::read_file(dir.file("back/s__LIDAR_TOP__1.pcd.bin")),
+            ab);  // NaN's bits: 0x7fc00000
+  EXPECT_EQ(capz::read_file(dir.file("back/s__LIDAR_TOP__2.pcd.bin")), bb);
+  // One file written under another name keeps its source's record (its bytes).
+  capz::Take one = capz::read_take(dir.file("nus/s__LIDAR_TOP__2.pcd.bin"));
+  capz::write_take(one, dir.file("one.bin"));
+  EXPECT_EQ(capz::read_file(dir.file("one.bin")), bb);
+  // To PCD and back to .bin: NAME.pcd, then NAME.bin, KITTI's (the ring is not its field).
+  capz::WriteOptions wo;
+  wo.folder_format = capz::Format::kPCDFolder;
+  capz::write_take(t, dir.file("pcd/"), wo);
+  EXPECT_TRUE(fs::exists(dir.file("pcd/s__LIDAR_TOP__1.pcd")));
+  const capz::Take p = capz::read_take(dir.file("pcd"));
+  wo.folder_format = capz::Format::kBinFolder;
+  std::string what;
+  EXPECT_EQ(code_of([&] { capz::write_take(p, dir.file("kitti/"), wo); }, &what),
+            ErrorCode::kUsage);
+  EXPECT_NE(what.find("x y z intensity)"), std::string::npos) << what;
+  // A PCD take written as one file named *.pcd.bin gets nuScenes' record.
+  capz::Take p1 = capz::read_take(dir.file("pcd/s__LIDAR_TOP__2.pcd"));
+  capz::write_take(p1, dir.file("p1.pcd.bin"));
+  EXPECT_EQ(capz::read_file(dir.file("p1.pcd.bin")), bb);
+  // Mixed with a KITTI file; cut mid-point (16 bytes is not a whole nuScenes point).
+  put(dir.path() / "nus" / "kitti.bin", std::string(16, '\0'));
+  EXPECT_EQ(code_of([&] { capz::read_take(dir.file("nus")); }, &what), ErrorCode::kNotOurFormat);
+  EXPECT_NE(what.find("nus"), std::string::npos) << what;
+  put(dir.path() / "cut.pcd.bin", std::string(16, '\0'));
+  EXPECT_EQ(code_of([&] { capz::read_take(dir.file("cut.pcd.bin")); }, &what), ErrorCode::kCorrupt);
+  EXPECT_NE(what.find("cut.pcd.bin"), std::string::npos) << what;
+  EXPECT_NE(what.find("multiple of 20"), std::string::npos) << what;
 }

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""PLY and KITTI .bin frame folders made from the shared scan sequences, compressed with
+"""PLY, KITTI .bin and nuScenes .pcd.bin frame folders made from the shared scan sequences, compressed with
 `capz compress --lossless`, given back by `capz decompress` and compared byte for byte (`cmp` of
 every frame file), with the archive's size against `xz -9e` of the frame files (one tar of the
 folder in name order, as BENCHMARKS "Scan folders with --lossless" measures PCD folders).
@@ -13,6 +13,8 @@ Variants of each sequence (docs/FORMAT.md "Lossless frame-file streams"):
   ply-f6d     the same with double properties (the positions on a decimal grid of 6 digits)
   bin         a Python writer's KITTI .bin: float32 x y z intensity (array.tofile, the bytes
               numpy's tofile gives)
+  nus         the same in nuScenes' layout and names: NAME.pcd.bin, float32 x y z intensity ring
+              (the ring the source's ring or channel field, 0 without one)
 
 usage: frame_files_lossless.py CAPZ SCAN_DIR WORK_DIR [SEQUENCE ...] [--variants a,b]
 Prints one Markdown row per sequence and variant.
@@ -57,9 +59,12 @@ def write_python_ply(path, fields, rows, double):
         f.write("".join(out))
 
 
-def write_python_bin(path, fields, rows):
+def write_python_bin(path, fields, rows, ring=False):
     cols = [fields.index(n) for n in ("x", "y", "z")]
     cols.append(fields.index("intensity") if "intensity" in fields else -1)
+    if ring:
+        names = [n for n in ("ring", "channel") if n in fields]
+        cols.append(fields.index(names[0]) if names else -1)
     a = array.array("f")
     for r in rows:
         a.extend(float(r[c]) if c >= 0 else 0.0 for c in cols)
@@ -81,6 +86,8 @@ def make_variant(capz, src, ascii_dir, out, variant):
         stem = os.path.splitext(name)[0]
         if variant == "bin":
             write_python_bin(os.path.join(out, stem + ".bin"), fields, rows)
+        elif variant == "nus":
+            write_python_bin(os.path.join(out, stem + ".pcd.bin"), fields, rows, ring=True)
         else:
             write_python_ply(os.path.join(out, stem + ".ply"), fields, rows, variant == "ply-f6d")
 

@@ -62,7 +62,8 @@ class PcdRegen {
   uint8_t kind_ = 3;
   PcdFramePlan plans_[3];
   PlyPlan plies_[3];
-  int take_enc_ = 1, intensity_ = -1;
+  int take_enc_ = 1;
+  std::vector<long> record_;  // kind 4: per .bin record field its attribute, or -1 (zeros)
   std::string take_header_;
   std::vector<uint8_t> points_;
   std::vector<const uint8_t*> attrs_;
