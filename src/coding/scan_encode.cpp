@@ -89,7 +89,9 @@ size_t sample_size(const ScanGeometry& g, const ScanGeometry& sample,
     for (size_t j = 0; j < from.size(); ++j) placed.fire[j] = all.fire[from[j]];
   }
   Coding coding(u, s->maps);
+  s->sampling = true;
   code_frames(sample, placed, sample.counts.size(), &coding, s);
+  s->sampling = false;
   if (apart) s->cart.clear(), s->spherical_ok.clear();
   return finished_size(sample, coding);
 }
@@ -304,6 +306,7 @@ std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const scan::RingFit& f
   // smallest such payload code the whole window.
   Scratch scratch;
   attach_workspace(ws, &scratch);
+  scratch.flipped = fit.flipped;
   scan::Placement placed;
   const std::vector<TableChoice> tried = tables_to_try(fit);
   std::vector<TableChoice> choices = tried;
@@ -412,7 +415,8 @@ std::vector<uint8_t> encode_geometry(const ScanGeometry& g, const ScanHints& hin
   if (g.valid.size() != total || g.q.size() != 3 * total)
     fail(ErrorCode::kInternal, "scan geometry", "the points disagree with the frames' counts");
   scan::FoundRings found;  // the bow and both rings, found once for the fits and the check
-  const scan::RingFit fit = scan::fit_rings(g, hints, true, true, true, &found);
+  scan::RingFit fit = scan::fit_rings(g, hints, true, true, true, &found);
+  if (scan::rings_run_downward(g, fit)) scan::flip_rings(g, &fit);
   // A ring field is not always the best rings: the RoboSense Helios 16P's near points, seen
   // from the origin 35 mm off its optical centre, leave each laser's cone by their range, and
   // rings found from the elevations split a laser by range, which keeps its two returns apart
@@ -424,6 +428,7 @@ std::vector<uint8_t> encode_geometry(const ScanGeometry& g, const ScanHints& hin
                     !skip_second(ws);
   scan::RingFit other;
   if (both) other = scan::fit_rings(g, hints, true, true, false, &found);
+  if (both && scan::rings_run_downward(g, other)) scan::flip_rings(g, &other);
   found = scan::FoundRings();  // (the window's rings twice: not held while it is coded)
   const ScanChoice before = ws ? ws->choice : ScanChoice();
   std::vector<uint8_t> best = encode_fitted(g, fit, ws);

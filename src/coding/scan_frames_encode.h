@@ -54,6 +54,9 @@ struct Scratch {
   Trial trial, walk_trial;  // the spherical trial of the frame; with the ring walk
   int walk = -1;            // the window's choice of the ring walk (code_chosen): -1 not made yet
   int pairs = -1;           // the window's choice of ring pair frames (code_chosen), every table's
+  // Coding a trial sample (sample_size) of a fit whose rings were numbered from the top down
+  // (scan::flip_rings): the ring walk is not tried on the sample, only on the window.
+  bool sampling = false, flipped = false;
   std::vector<double> log_t, log_c;     // Tally::estimate's prefix sums
   std::vector<CartesianEstimate> cart;  // per frame of the window
   std::vector<int8_t> spherical_ok;     // per frame: scan::spherical_ok, -1 not yet known

@@ -8,6 +8,7 @@
 #include "coding/scan_geometry.h"
 #include "coding/scan_shared.h"
 #include "coding/scan_table.h"
+#include "coding/scan_trial_gates.h"
 
 namespace capz {
 
@@ -96,4 +97,39 @@ bool scan_rings_differ(const ScanGeometry& g, const ScanHints& hints) {
   return scan::rings_differ(g, hints, nullptr, nullptr);
 }
 
+namespace scan {
+
+bool rings_run_downward(const ScanGeometry& g, const RingFit& fit) {
+  const size_t K = fit.rings();
+  if (K < 2) return false;
+  size_t valid = 0, up = 0, down = 0;
+  uint32_t prev = 0;
+  for (size_t i = 0; i < g.valid.size() && i < fit.polar.size(); ++i) {
+    if (!g.valid[i]) continue;
+    const uint32_t k = fit.polar[i].ring;
+    if (valid++ > 0 && k != prev) {
+      up += k > prev ? k - prev : k + K - prev;
+      down += k < prev ? prev - k : prev + K - k;
+    }
+    prev = k;
+  }
+  return up >= kWalkFlags * valid && down < kDownwardFlags * valid;
+}
+
+void flip_rings(const ScanGeometry& g, RingFit* fit) {
+  const size_t K = fit->rings();
+  if (K < 2) return;
+  for (size_t i = 0; i < g.valid.size() && i < fit->polar.size(); ++i)
+    if (g.valid[i]) fit->polar[i].ring = static_cast<uint32_t>(K - 1 - fit->polar[i].ring);
+  std::reverse(fit->phi.begin(), fit->phi.end());
+  std::reverse(fit->slope.begin(), fit->slope.end());
+  std::reverse(fit->z0.begin(), fit->z0.end());
+  std::reverse(fit->unit.begin(), fit->unit.end());
+  std::reverse(fit->offset.begin(), fit->offset.end());
+  std::reverse(fit->share.begin(), fit->share.end());
+  std::reverse(fit->slot.begin(), fit->slot.end());
+  fit->flipped = !fit->flipped;
+}
+
+}  // namespace scan
 }  // namespace capz

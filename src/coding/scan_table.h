@@ -35,6 +35,7 @@ struct RingFit {
   // empty).
   uint32_t slots = 0;
   std::vector<uint8_t> slot;
+  bool flipped = false;  // its rings numbered from the top down (flip_rings)
   size_t rings() const { return phi.size(); }
 };
 // What fit_rings and placed_rings find on one window (g and hints) before they fit anything: the
@@ -73,6 +74,15 @@ size_t peak_rings(const ScanGeometry& g, const ScanHints& hints, const std::vect
 // ws->ring_peaks and tried first on the next window's points (scan_rings_encode.cpp).
 bool rings_differ(const ScanGeometry& g, const ScanHints& hints, FoundRings* found,
                   ScanWorkspace* ws);
+// Whether g's valid points, in their order, pass many rings a point going up the rings of `fit`
+// (kWalkFlags, scan_trial_gates.h: the ring walk is not tried) and few going down (under
+// kDownwardFlags): a driver that writes each firing's rings from the top one down, as most
+// Hesai drivers do (scan_rings_encode.cpp).
+constexpr size_t kDownwardFlags = 2;
+bool rings_run_downward(const ScanGeometry& g, const RingFit& fit);
+// Numbers fit's rings the other way, K - 1 - k (per ring values and g's valid points' rings):
+// the same table read from the top ring down, so that rings_run_downward's rings run up.
+void flip_rings(const ScanGeometry& g, RingFit* fit);
 // The geometry rings a decoder finds in `payload`, coded from g's points under the rings of
 // `fit` (FORMAT.md predictor 13; scan_rings_encode.cpp).
 std::vector<uint16_t> payload_rings(const ScanGeometry& g, const RingFit& fit,

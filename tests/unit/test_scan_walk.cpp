@@ -95,6 +95,26 @@ TEST(ScanWalk, GivenRingsFiredOutOfAscendingOrderThenTheEncoderKeepsTheSuccessor
   expect_same(g, decode_scan_geometry(p.data(), p.size(), "encoded"));
 }
 
+TEST(ScanWalk, GivenRingsFiredFromTheTopDownThenTheTableIsNumberedDownAndWalked) {
+  // Each firing's rings from the highest down, as most Hesai drivers write them: the encoder
+  // numbers its table's rings from the top (scan::flip_rings), so the walk runs up them, and the
+  // sweep costs what the same points fired from the bottom up cost (within 1 %). Before, the
+  // walk was not tried on them: 22,957 B against 20,941 here.
+  std::vector<uint32_t> down;
+  for (uint32_t i = 0; i < 32; ++i) down.push_back(31 - i);
+  for (bool field : {true, false}) {  // rings from a ring field, and from the elevations
+    ScanHints hu, hd;
+    const ScanGeometry up_g = firing_order({}, &hu), down_g = firing_order(down, &hd);
+    if (!field) hu.ring.clear(), hd.ring.clear();
+    const std::vector<uint8_t> pu = encode_scan_geometry(up_g, hu);
+    const std::vector<uint8_t> pd = encode_scan_geometry(down_g, hd);
+    EXPECT_EQ(frame_flags(pd) & scan::kRingWalk, scan::kRingWalk) << field;
+    EXPECT_LT(static_cast<double>(pd.size()), 1.01 * static_cast<double>(pu.size()))
+        << field << ": from the top down " << pd.size() << " B, from the bottom up " << pu.size();
+    expect_same(down_g, decode_scan_geometry(pd.data(), pd.size(), "down"));
+  }
+}
+
 TEST(ScanWalk, GivenAnyOrderWhenCodedWithTheWalkThenExact) {
   // Shuffled points (rings repeated in new firings, walks round the whole table) and a
   // one-ring table still round-trip exactly.
