@@ -25,6 +25,14 @@ namespace {
 
 const size_t kLabelsShown = 8;  // labels listed without -v
 
+// A .bin source's frame fields: x y z then its record's, each float32 (text and --json).
+std::vector<capz::PCDField> bin_fields(const capz::Take& t) {
+  std::vector<capz::PCDField> fields;
+  for (const char* axis : {"x", "y", "z"}) fields.push_back({axis, 'F', 4, 1});
+  for (const std::string& f : capz::bin_record_of(t)) fields.push_back({f, 'F', 4, 1});
+  return fields;
+}
+
 // True for a file that starts with the .capz magic or is named *.capz.
 bool looks_like_capz(const std::string& path) {
   std::error_code ec;
@@ -109,10 +117,8 @@ std::string variant_text(const capz::Take& t) {
   }
   if (t.bin) {
     const std::vector<std::string> record = capz::bin_record_of(t);
-    std::string s = record.size() == 2 ? "nuScenes .bin frames (float32 x y z"
-                                       : "KITTI .bin frames (float32 x y z";
-    for (const std::string& f : record) s += " " + f;
-    s += ")";
+    std::string s = std::string(record.size() == 2 ? "nuScenes" : "KITTI") +
+                    " .bin frames (float32 " + capz::bin_record_text(record) + ")";
     if (!t.bin->frame_names.empty())
       s += " " + t.bin->frame_names.front() + " .. " + t.bin->frame_names.back();
     return s;
@@ -214,9 +220,7 @@ void print_text(const std::string& path, const capz::Take& t, const Summary& s) 
     // Every field of the frames, x y z included: NAME TYPE SIZE[xCOUNT].
     line("fields:", pcd_fields_text(*t.file_fields()));
   } else if (t.bin) {
-    std::string fields = "x F4, y F4, z F4";
-    for (const std::string& f : capz::bin_record_of(t)) fields += ", " + f + " F4";
-    line("fields:", fields);
+    line("fields:", pcd_fields_text(bin_fields(t)));
   }
   print_analog(t);
   const capz::Rotations& r = t.rotations;
@@ -267,10 +271,7 @@ void json_variant(Json* j, const capz::Take& t) {
     pcd_fields_json(j, t.ply->fields);
   } else if (t.bin) {
     j->member_strings("frame_files", t.bin->frame_names);
-    std::vector<capz::PCDField> fields;
-    for (const char* axis : {"x", "y", "z"}) fields.push_back({axis, 'F', 4, 1});
-    for (const std::string& f : capz::bin_record_of(t)) fields.push_back({f, 'F', 4, 1});
-    pcd_fields_json(j, fields);
+    pcd_fields_json(j, bin_fields(t));
   }
   j->end_object();
 }

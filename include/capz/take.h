@@ -266,11 +266,18 @@ struct BinExtra {
   std::vector<std::string> frame_names;  // file names in natural-sort order, one per frame
 };
 
+// Whether a .bin frame file's name is a nuScenes sweep's, NAME.pcd.bin (as nuScenes and Lyft
+// name them).
+bool nuscenes_bin_name(const std::string& name);
 // The fields of a .bin frame's record after x y z (each float32; docs/FORMAT.md "Frame-file
-// sources"), by the frame files' names: nuScenes' "intensity" "ring" when every name ends in
-// ".pcd.bin" (as nuScenes and Lyft name their sweeps), else KITTI's "intensity" (no names too).
-// Empty when some names end in ".pcd.bin" and some do not: no one record holds such frames.
+// sources"), by the frame files' names: nuScenes' "intensity" "ring" when every name is
+// nuscenes_bin_name, else KITTI's "intensity" (no names too). Empty when some are and some are
+// not: no one record holds such frames.
 std::vector<std::string> bin_record_fields(const std::vector<std::string>& frame_names);
+// bin_record_fields, but KITTI's record for names of both kinds (a writer's fallback).
+std::vector<std::string> bin_record_or_kitti(const std::vector<std::string>& frame_names);
+// "x y z intensity ring": the record's values in order (record: bin_record_fields').
+std::string bin_record_text(const std::vector<std::string>& record);
 
 // PLY folder specifics: the vertex element's layout and the header's text, so a PLY written
 // back looks like the source.

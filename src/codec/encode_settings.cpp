@@ -105,13 +105,6 @@ std::vector<std::string> set_analog_bounds(FrameSource& source, const CompressOp
 
 namespace {
 
-// "x y z intensity, float32", the record of t's .bin frames.
-std::string bin_record_text(const Take& t) {
-  std::string s = "x y z";
-  for (const std::string& f : bin_record_of(t)) s += " " + f;
-  return s + ", float32";
-}
-
 // The fields of a frame-file source's layout: a PLY's vertex properties, a .bin's x y z intensity
 // (float32), those the take's attributes still are (--drop-fields: x y z); else x y z as float64
 // (float32 for .bin) then the attributes. Empty when an attribute cannot be the format's
@@ -172,8 +165,9 @@ void settle_frame_layout(Take* t, bool drop_fields) {
   if (x->fields.empty())
     fail(ErrorCode::kInvalidParameter, t->source,
          std::string("the point fields (") + field_names(*t) + ") cannot be written back as " +
-             (t->format == Format::kPLYFolder ? "PLY properties (one value a point each)"
-                                              : ".bin frames (" + bin_record_text(*t) + ")") +
+             (t->format == Format::kPLYFolder
+                  ? "PLY properties (one value a point each)"
+                  : ".bin frames (" + bin_record_text(bin_record_of(*t)) + ", float32)") +
              ": give --drop-fields to leave them out");
   if (const std::vector<std::string>* names = t->ply   ? &t->ply->frame_names
                                               : t->bin ? &t->bin->frame_names

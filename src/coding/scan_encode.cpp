@@ -89,9 +89,9 @@ size_t sample_size(const ScanGeometry& g, const ScanGeometry& sample,
     for (size_t j = 0; j < from.size(); ++j) placed.fire[j] = all.fire[from[j]];
   }
   Coding coding(u, s->maps);
-  s->sampling = true;
+  s->no_walk_trial = fit.flipped;
   code_frames(sample, placed, sample.counts.size(), &coding, s);
-  s->sampling = false;
+  s->no_walk_trial = false;
   if (apart) s->cart.clear(), s->spherical_ok.clear();
   return finished_size(sample, coding);
 }
@@ -306,7 +306,6 @@ std::vector<uint8_t> encode_fitted(const ScanGeometry& g, const scan::RingFit& f
   // smallest such payload code the whole window.
   Scratch scratch;
   attach_workspace(ws, &scratch);
-  scratch.flipped = fit.flipped;
   scan::Placement placed;
   const std::vector<TableChoice> tried = tables_to_try(fit);
   std::vector<TableChoice> choices = tried;

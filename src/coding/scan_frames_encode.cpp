@@ -139,7 +139,7 @@ uint8_t code_chosen(IntEncoder* enc, scan::State* st, uint8_t flags, const ScanG
   };
   // The window's first frame whose rings run upward is coded both ways (both write the same
   // ranges into this sweep's map), the smaller kept; the window's later frames follow it.
-  if (upward && s->walk < 0 && !(s->sampling && s->flipped)) try_also(scan::kRingWalk, &s->walk);
+  if (upward && s->walk < 0 && !s->no_walk_trial) try_also(scan::kRingWalk, &s->walk);
   // The window's first frame coded without the walk tries ring pair frames when they look
   // worth it (the trial of the walk's room), the smaller kept; the window's later frames follow.
   if (!(coded & scan::kRingWalk) && s->pairs < 0) {

@@ -56,7 +56,7 @@ struct Scratch {
   int pairs = -1;           // the window's choice of ring pair frames (code_chosen), every table's
   // Coding a trial sample (sample_size) of a fit whose rings were numbered from the top down
   // (scan::flip_rings): the ring walk is not tried on the sample, only on the window.
-  bool sampling = false, flipped = false;
+  bool no_walk_trial = false;
   std::vector<double> log_t, log_c;     // Tally::estimate's prefix sums
   std::vector<CartesianEstimate> cart;  // per frame of the window
   std::vector<int8_t> spherical_ok;     // per frame: scan::spherical_ok, -1 not yet known

@@ -100,19 +100,10 @@ bool scan_rings_differ(const ScanGeometry& g, const ScanHints& hints) {
 namespace scan {
 
 bool rings_run_downward(const ScanGeometry& g, const RingFit& fit) {
-  const size_t K = fit.rings();
-  if (K < 2) return false;
-  size_t valid = 0, up = 0, down = 0;
-  uint32_t prev = 0;
-  for (size_t i = 0; i < g.valid.size() && i < fit.polar.size(); ++i) {
-    if (!g.valid[i]) continue;
-    const uint32_t k = fit.polar[i].ring;
-    if (valid++ > 0 && k != prev) {
-      up += k > prev ? k - prev : k + K - prev;
-      down += k < prev ? prev - k : prev + K - k;
-    }
-    prev = k;
-  }
+  if (fit.rings() < 2) return false;
+  size_t up = 0, down = 0;
+  const size_t valid = ring_passes(g.valid, fit.polar, fit.rings(), 0,
+                                   std::min(g.valid.size(), fit.polar.size()), &up, &down);
   return up >= kWalkFlags * valid && down < kDownwardFlags * valid;
 }
 

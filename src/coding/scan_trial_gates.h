@@ -17,6 +17,10 @@ namespace capz {
 // firing permutation or in blocks (most files' own order) never pay the walk, and a long walk
 // costs time.
 constexpr size_t kWalkFlags = 8;
+// The rings the valid points of [first, first + n) pass from each to the next, counted up the
+// table's rings (*up) and down them (*down), each with wrap; returns the valid points.
+size_t ring_passes(const std::vector<uint8_t>& valid, const std::vector<scan::Polar>& polar,
+                   size_t rings, size_t first, size_t n, size_t* up, size_t* down);
 bool walk_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& polar, size_t rings,
                        size_t first, size_t n, size_t* passed);
 

@@ -7,18 +7,29 @@
 
 namespace capz {
 
-bool walk_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& polar, size_t rings,
-                       size_t first, size_t n, size_t* passed) {
-  size_t valid = 0, flags = 0;
+size_t ring_passes(const std::vector<uint8_t>& valid, const std::vector<scan::Polar>& polar,
+                   size_t rings, size_t first, size_t n, size_t* up, size_t* down) {
+  size_t points = 0, u = 0, d = 0;
   uint32_t prev = 0;
   for (size_t i = first; i < first + n; ++i) {
-    if (!g.valid[i]) continue;
+    if (!valid[i]) continue;
     const uint32_t k = polar[i].ring;
-    if (valid++ > 0 && k != prev) flags += k > prev ? k - prev : k + rings - prev;
+    if (points++ > 0 && k != prev) {
+      u += k > prev ? k - prev : k + rings - prev;
+      d += k < prev ? prev - k : prev + rings - k;
+    }
     prev = k;
   }
-  *passed = flags;
-  return flags < kWalkFlags * valid;
+  *up = u;
+  *down = d;
+  return points;
+}
+
+bool walk_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& polar, size_t rings,
+                       size_t first, size_t n, size_t* passed) {
+  size_t down = 0;
+  const size_t valid = ring_passes(g.valid, polar, rings, first, n, passed, &down);
+  return *passed < kWalkFlags * valid;
 }
 
 bool pairs_worth_trying(const ScanGeometry& g, const std::vector<scan::Polar>& polar,

@@ -64,12 +64,15 @@ int32_t find_turn(const ScanGeometry& g, const std::vector<scan::Polar>& polar,
   if (s.empty() || most < 1) return 0;
   int64_t d = (most + kCoarseSteps - 1) / kCoarseSteps;
   const uint32_t still = score(s, st, 0);
+  auto scored_at = [&](int64_t shift) {  // a shift besides 0, counted
+    if (scored) ++*scored;
+    return score(s, st, shift);
+  };
   int64_t best = 0;
   uint32_t top = still;
   for (int64_t j = -(most / d); j <= most / d; ++j) {
     if (j == 0) continue;
-    const uint32_t v = score(s, st, j * d);
-    if (scored) ++*scored;
+    const uint32_t v = scored_at(j * d);
     if (better(j * d, v, best, top)) best = j * d, top = v;
   }
   // Then around the best so far, at finer steps down to one column: every shift within d - 1 of
@@ -82,8 +85,7 @@ int32_t find_turn(const ScanGeometry& g, const std::vector<scan::Polar>& polar,
     for (int64_t k = -((d - 1) / next); k <= (d - 1) / next; ++k) {
       const int64_t shift = centre + k * next;
       if (k == 0 || shift < -most || shift > most) continue;  // (k 0: scored above)
-      const uint32_t v = score(s, st, shift);
-      if (scored) ++*scored;
+      const uint32_t v = scored_at(shift);
       if (better(shift, v, best, top)) best = shift, top = v;
     }
     d = next;

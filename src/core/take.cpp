@@ -28,21 +28,33 @@ const char* format_name(Format f) {
   return "unknown";
 }
 
-std::vector<std::string> bin_record_fields(const std::vector<std::string>& frame_names) {
+bool nuscenes_bin_name(const std::string& name) {
   static const std::string kNuScenes = ".pcd.bin";
-  size_t nuscenes = 0;
-  for (const std::string& n : frame_names)
-    nuscenes += n.size() > kNuScenes.size() &&
-                n.compare(n.size() - kNuScenes.size(), kNuScenes.size(), kNuScenes) == 0;
+  return name.size() > kNuScenes.size() &&
+         name.compare(name.size() - kNuScenes.size(), kNuScenes.size(), kNuScenes) == 0;
+}
+
+std::vector<std::string> bin_record_fields(const std::vector<std::string>& frame_names) {
+  const auto nuscenes =
+      static_cast<size_t>(std::count_if(frame_names.begin(), frame_names.end(), nuscenes_bin_name));
   if (nuscenes == 0) return {"intensity"};
   if (nuscenes == frame_names.size()) return {"intensity", "ring"};
   return {};
 }
 
+std::vector<std::string> bin_record_or_kitti(const std::vector<std::string>& frame_names) {
+  std::vector<std::string> r = bin_record_fields(frame_names);
+  return r.empty() ? bin_record_fields({}) : r;
+}
+
+std::string bin_record_text(const std::vector<std::string>& record) {
+  std::string s = "x y z";
+  for (const std::string& f : record) s += " " + f;
+  return s;
+}
+
 std::vector<std::string> bin_record_of(const Take& take) {
-  std::vector<std::string> r =
-      bin_record_fields(take.bin ? take.bin->frame_names : std::vector<std::string>());
-  return r.empty() ? std::vector<std::string>{"intensity"} : r;
+  return bin_record_or_kitti(take.bin ? take.bin->frame_names : std::vector<std::string>());
 }
 
 bool is_frame_files(Format f) {

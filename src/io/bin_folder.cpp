@@ -36,9 +36,10 @@ void put_le_float(float f, uint8_t* p) {
   for (int k = 0; k < 4; ++k) p[k] = static_cast<uint8_t>(u >> (8 * k));
 }
 
-// "x y z intensity", or with " ring" (nuScenes' record).
-std::string record_text(size_t fields) {
-  return fields == 2 ? "x y z intensity ring" : "x y z intensity";
+// The record of `fields` values after x y z: nuScenes' (2, a NAME.pcd.bin's), else KITTI's.
+std::vector<std::string> record_of(size_t fields) {
+  return bin_record_fields(fields == 2 ? std::vector<std::string>{"x.pcd.bin"}
+                                       : std::vector<std::string>());
 }
 
 // The point count of a .bin frame of `fields` values after x y z a point from its size. Throws
@@ -49,7 +50,7 @@ size_t bin_points(const std::string& path, uint64_t size, size_t fields) {
     fail(ErrorCode::kCorrupt, path,
          ".bin frame truncated mid-point: " + std::to_string(size) +
              " bytes is not a multiple of " + std::to_string(point) + " (float32 " +
-             record_text(fields) + " a point" +
+             bin_record_text(record_of(fields)) + " a point" +
              (fields == 1 ? "; nuScenes' x y z intensity ring frames are read as such when "
                             "named *.pcd.bin)"
                           : ")"));
@@ -185,44 +186,47 @@ std::unique_ptr<FrameSource> open_bin_frames(const std::string& path) {
 
 std::vector<std::string> bin_output_record(const Take& take, const std::string& path) {
   if (take.bin) return bin_record_of(take);
-  std::vector<std::string> names;
   if (single_frame_output(path, ".bin"))
-    names.push_back(fs::path(without_trailing_slashes(path)).filename().string());
-  else
-    names = frame_output_names(take, ".bin");
-  const std::vector<std::string> r = bin_record_fields(names);
-  return r.empty() ? std::vector<std::string>{"intensity"} : r;
+    return bin_record_or_kitti({fs::path(without_trailing_slashes(path)).filename().string()});
+  return bin_record_or_kitti(frame_output_names(take, ".bin"));
 }
 
-namespace {
-
-// The frame's record (bin_output_record): each field the take's field of that name and COUNT 1
-// (its layout kept, not its values), else zeros.
-FrameFileBytes bin_file_writer(const Take& take, const std::string& path) {
-  struct Source {
-    size_t k;               // the take's attribute, or SIZE_MAX: zeros
-    PointAttribute layout;  // its type and size
-  };
-  std::vector<Source> record;
-  for (const std::string& name : bin_output_record(take, path)) {
-    Source s{SIZE_MAX, {}};
+std::vector<BinRecordSource> bin_record_sources(const Take& take,
+                                                const std::vector<std::string>& record) {
+  std::vector<BinRecordSource> out;
+  for (const std::string& name : record) {
+    BinRecordSource s;
     for (size_t k = 0; k < take.attributes.size() && s.k == SIZE_MAX; ++k)
       if (take.attributes[k].name == name && take.attributes[k].count == 1) {
         s.k = k;
         s.layout.type = take.attributes[k].type;
         s.layout.size = take.attributes[k].size;
       }
-    record.push_back(s);
+    out.push_back(s);
   }
+  return out;
+}
+
+std::vector<uint8_t> bin_record_frame(const std::vector<BinRecordSource>& record, size_t n,
+                                      const double* xyz, const uint8_t* valid,
+                                      const std::vector<const uint8_t*>& attrs) {
+  std::vector<std::vector<float>> values(record.size());
+  std::vector<const float*> fields(record.size(), nullptr);
+  for (size_t r = 0; r < record.size(); ++r)
+    if (record[r].k < attrs.size()) {
+      values[r] = bin_values(record[r].layout, attrs[record[r].k], n);
+      fields[r] = values[r].data();
+    }
+  return bin_frame_bytes(n, xyz, valid, fields);
+}
+
+namespace {
+
+// The frame's record (bin_output_record) from the take's fields (bin_record_sources).
+FrameFileBytes bin_file_writer(const Take& take, const std::string& path) {
+  std::vector<BinRecordSource> record = bin_record_sources(take, bin_output_record(take, path));
   return [record](const FrameView& v) {
-    std::vector<std::vector<float>> values(record.size());
-    std::vector<const float*> fields(record.size(), nullptr);
-    for (size_t r = 0; r < record.size(); ++r)
-      if (record[r].k < v.attrs.size()) {
-        values[r] = bin_values(record[r].layout, v.attrs[record[r].k], v.points);
-        fields[r] = values[r].data();
-      }
-    return bin_frame_bytes(v.points, v.xyz, v.valid, fields);
+    return bin_record_frame(record, v.points, v.xyz, v.valid, v.attrs);
   };
 }
 

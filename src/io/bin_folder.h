@@ -5,6 +5,7 @@
 // is a gap, kept in place. Part of the decoder library.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -36,6 +37,21 @@ std::vector<float> bin_values(const PointAttribute& a, const uint8_t* bytes, siz
 // named); else those of the names written (bin_record_fields: a file named *.pcd.bin gets
 // nuScenes' record), KITTI's when they are of two kinds.
 std::vector<std::string> bin_output_record(const Take& take, const std::string& path);
+
+// Per field of a .bin record, the take's field of that name and COUNT 1 (its layout kept, not its
+// values), or none (SIZE_MAX: zeros).
+struct BinRecordSource {
+  size_t k = SIZE_MAX;
+  PointAttribute layout;  // its type and size
+};
+std::vector<BinRecordSource> bin_record_sources(const Take& take,
+                                                const std::vector<std::string>& record);
+// The .bin file of a frame of `n` points in a record (bin_record_sources): attrs[k] the frame's
+// bytes of the take's field k. The one writer of .bin frames (the folder writers and the lossless
+// residue's regenerated frames).
+std::vector<uint8_t> bin_record_frame(const std::vector<BinRecordSource>& record, size_t n,
+                                      const double* xyz, const uint8_t* valid,
+                                      const std::vector<const uint8_t*>& attrs);
 
 // A folder of .bin frames written block by block (frame_folder_sink): the files write_bin_folder
 // writes of the whole take.

@@ -228,11 +228,10 @@ std::vector<std::string> frame_output_names(const Take& take, const std::string&
     std::set<std::string> seen;
     for (const std::string& n : *names) {
       // (A nuScenes sweep's name, NAME.pcd.bin, gives NAME.pcd, NAME.ply: its stem is NAME.)
-      const bool nuscenes =
-          ext != ".bin" && n.size() > 8 && n.compare(n.size() - 8, 8, ".pcd.bin") == 0;
+      const bool nuscenes = ext != ".bin" && nuscenes_bin_name(n);
       const std::string name = has_extension(n, ext) ? n
-                               : nuscenes            ? n.substr(0, n.size() - 8) + ext
-                                                     : fs::path(n).replace_extension(ext).string();
+                               : nuscenes ? fs::path(n).stem().replace_extension(ext).string()
+                                          : fs::path(n).replace_extension(ext).string();
       if (n.empty() || name.find('/') != std::string::npos || name == ext ||
           fs::path(n).stem().string().empty() || n == "." || n == ".." || !seen.insert(name).second)
         break;

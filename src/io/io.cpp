@@ -278,9 +278,7 @@ void check_fields_fit(const Take& take, Format f, const std::string& path,
     if (!fits) unfit += (unfit.empty() ? "" : ", ") + a.name;
   }
   if (unfit.empty()) return;
-  std::string bin = ".bin frame (x y z";
-  for (const std::string& r : record) bin += " " + r;
-  bin += ")";
+  const std::string bin = ".bin frame (" + bin_record_text(record) + ")";
   const char* what = f == Format::kTRC   ? "TRC file"
                      : f == Format::kC3D ? "C3D file"
                      : f == Format::kPLYFolder

@@ -61,13 +61,8 @@ PcdRegen::PcdRegen(const Take& header) : kind_(kind_of(header.format)) {
     PlyPlan own = ply_plan(header, header.ply ? header.ply->encoding : "");
     const std::vector<uint8_t> b = ply_frame_bytes(own, 0, nullptr, nullptr, attrs_);
     take_header_.assign(b.begin(), b.end());
-  } else if (kind_ == 4) {  // (a .bin source's fields are float32: META's check)
-    for (const std::string& name : bin_record_of(header)) {
-      long k = -1;
-      for (size_t a = 0; a < header.attributes.size() && k < 0; ++a)
-        if (header.attributes[a].name == name) k = static_cast<long>(a);
-      record_.push_back(k);
-    }
+  } else if (kind_ == 4) {
+    record_ = bin_record_sources(header, bin_record_of(header));
   } else {
     take_header_ = pcd_frame_header(plans_[take_enc_].layout);  // before frame() sets a width
   }
@@ -101,15 +96,7 @@ void PcdRegen::frame(const FrameBlock& b, size_t k, int enc, std::vector<uint8_t
   const double* xyz = b.xyz.data() + p0 * 3;
   const uint8_t* valid = b.valid.data() + p0;
   if (kind_ == 4) {
-    std::vector<std::vector<float>> values(record_.size());
-    std::vector<const float*> fields(record_.size(), nullptr);
-    for (size_t r = 0; r < record_.size(); ++r)
-      if (record_[r] >= 0) {
-        values[r].resize(N);
-        if (N) std::memcpy(values[r].data(), attrs_[static_cast<size_t>(record_[r])], N * 4);
-        fields[r] = values[r].data();
-      }
-    *out = bin_frame_bytes(N, xyz, valid, fields);
+    *out = bin_record_frame(record_, N, xyz, valid, attrs_);
     *header_end = 0;
     return;
   }

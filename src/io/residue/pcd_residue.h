@@ -21,6 +21,7 @@
 #include "capz/take.h"
 #include "coding/bytes.h"
 #include "core/hash.h"
+#include "io/bin_folder.h"
 #include "io/pcd_frame_writer.h"
 #include "io/ply.h"
 
@@ -63,7 +64,7 @@ class PcdRegen {
   PcdFramePlan plans_[3];
   PlyPlan plies_[3];
   int take_enc_ = 1;
-  std::vector<long> record_;  // kind 4: per .bin record field its attribute, or -1 (zeros)
+  std::vector<BinRecordSource> record_;  // kind 4: the .bin record's fields (bin_folder.h)
   std::string take_header_;
   std::vector<uint8_t> points_;
   std::vector<const uint8_t*> attrs_;
