@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Writes data/scan_small_ply/, data/scan_small_bin/ and data/scan_small_nus/: the first two
+"""Writes data/scan_small_ply/, data/scan_small_bin/, data/scan_small_nus/ and
+data/scan_small_rec/: the first two
 frames of data/scan_small/ (binary PCD, a cut of real RoboSense Helios 16P sweeps) as other tools
 write PLY, KITTI .bin and nuScenes .pcd.bin frames, for the golden streams of format 1.1's
 frame-file sources and their lossless residue (docs/FORMAT.md "Frame-file sources", "Lossless
@@ -12,7 +13,10 @@ frame-file streams"):
 - scan_small_bin/NAME.bin: float32 little-endian x y z intensity a point (what numpy's tofile of
   an (N, 4) float32 array writes), no header;
 - scan_small_nus/NAME.pcd.bin: float32 little-endian x y z intensity ring a point, the ring the
-  PCD's U2 channel as a float (nuScenes' layout and name: numpy's tofile of an (N, 5) array).
+  PCD's U2 channel as a float (nuScenes' layout and name: numpy's tofile of an (N, 5) array);
+- scan_small_rec/NAME.bin: a record of another layout, as a C struct written out would give it
+  (`--bin-fields "x y z intensity:U1 _:U1 ring:U2 t:U4"`, 20 bytes a point): float32 x y z, the
+  PCD's U1 intensity, a zero padding byte, its U2 channel and its U4 time_stamp.
 
 File names are the PCD frames' with the extension changed. Deterministic, standard library only.
 
@@ -27,7 +31,7 @@ CODES = {('F', 4): 'f', ('F', 8): 'd', ('U', 1): 'B', ('U', 2): 'H', ('U', 4): '
 
 
 def read_binary_pcd(path):
-    """Rows of (x, y, z, intensity, channel) of a binary PCD frame."""
+    """Rows of (x, y, z, intensity, channel, time_stamp) of a binary PCD frame."""
     b = open(path, 'rb').read()
     head, pos = {}, 0
     while True:
@@ -44,7 +48,7 @@ def read_binary_pcd(path):
                         zip(head['TYPE'], head['SIZE'], head['COUNT']))
     step = struct.calcsize(fmt)
     names = head['FIELDS']
-    cols = [names.index(n) for n in ('x', 'y', 'z', 'intensity', 'channel')]
+    cols = [names.index(n) for n in ('x', 'y', 'z', 'intensity', 'channel', 'time_stamp')]
     n = int(head['POINTS'][0])
     return [tuple(float(v[c]) for c in cols)
             for v in (struct.unpack_from(fmt, b, pos + i * step) for i in range(n))]
@@ -53,8 +57,8 @@ def read_binary_pcd(path):
 def main():
     src = os.path.join(HERE, 'scan_small')
     ply_dir, bin_dir = os.path.join(HERE, 'scan_small_ply'), os.path.join(HERE, 'scan_small_bin')
-    nus_dir = os.path.join(HERE, 'scan_small_nus')
-    for d in (ply_dir, bin_dir, nus_dir):
+    nus_dir, rec_dir = os.path.join(HERE, 'scan_small_nus'), os.path.join(HERE, 'scan_small_rec')
+    for d in (ply_dir, bin_dir, nus_dir, rec_dir):
         os.makedirs(d, exist_ok=True)
     for name in sorted(os.listdir(src))[:2]:
         rows = read_binary_pcd(os.path.join(src, name))
@@ -69,7 +73,10 @@ def main():
         with open(os.path.join(bin_dir, stem + '.bin'), 'wb') as f:
             f.write(body)
         with open(os.path.join(nus_dir, stem + '.pcd.bin'), 'wb') as f:
-            f.write(b''.join(struct.pack('<5f', *r) for r in rows))
+            f.write(b''.join(struct.pack('<5f', *r[:5]) for r in rows))
+        with open(os.path.join(rec_dir, stem + '.bin'), 'wb') as f:
+            f.write(b''.join(struct.pack('<3fBBHI', r[0], r[1], r[2], int(r[3]), 0, int(r[4]),
+                                         int(r[5])) for r in rows))
 
 
 if __name__ == '__main__':

@@ -68,6 +68,21 @@ void add_trc_delimiter_option(po::options_description* o, const char* default_te
                        .c_str());
 }
 
+void add_bin_fields_option(po::options_description* o) {
+  o->add_options()("bin-fields", po::value<std::string>(),
+                   "the record of .bin frames other than KITTI's (x y z intensity) or nuScenes' "
+                   "(*.pcd.bin: x y z intensity ring): \"x y z NAME[:TYPE] ...\", TYPE one of "
+                   "F4 F8 U1 U2 U4 U8 I1 I2 I4 I8 (F4 when none), _ for padding");
+}
+
+capz::ReadOptions read_options(const po::variables_map& vm) {
+  capz::ReadOptions r;
+  if (!vm.count("bin-fields")) return r;
+  r.bin_fields = vm["bin-fields"].as<std::string>();
+  capz::parse_bin_record(r.bin_fields, "");  // a bad record is a usage error up front
+  return r;
+}
+
 char trc_delimiter(const po::variables_map& vm, char fallback) {
   if (!vm.count("trc-delimiter")) return fallback;
   const std::string v = vm["trc-delimiter"].as<std::string>();

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "capz/io.h"
 #include "capz/take.h"
 #include "commands.h"
 
@@ -41,6 +42,12 @@ uint64_t memlimit(const po::variables_map& vm);
 void add_trc_delimiter_option(po::options_description* o, const char* default_text);
 // '\t' for tab, ',' for comma, `fallback` without the option. Throws Error(kInvalidParameter).
 char trc_delimiter(const po::variables_map& vm, char fallback);
+
+// --bin-fields "x y z NAME[:TYPE] ...": the record of .bin frames other than KITTI's or nuScenes'
+// (capz::ReadOptions::bin_fields).
+void add_bin_fields_option(po::options_description* o);
+// The read options of --bin-fields (its text checked: Error(kUsage) for a bad record).
+capz::ReadOptions read_options(const po::variables_map& vm);
 
 // printf into a std::string.
 std::string strprintf(const char* fmt, ...) __attribute__((format(printf, 1, 2)));

@@ -46,6 +46,7 @@ po::options_description compress_options() {
       "units", po::value<std::string>(),
       "units of data that has none or assumed ones (PCD, PLY, .bin frames: metres assumed) or "
       "whose units capz cannot read: mm, cm or m")(
+
       "window", po::value<size_t>()->default_value(0),
       "frames per independently decodable window, 1..8192; 0 (default): 1024, or with codec "
       "none up to 8192 for takes of fewer than 64 points (about 2^16 samples a window)")(
@@ -70,6 +71,7 @@ po::options_description compress_options() {
       "rm",
       "remove IN (a file) after the output, read back from disk and decoded, reproduced it "
       "within the bound")("json", "print the report as one JSON object");
+  add_bin_fields_option(&o);
   return o;
 }
 
@@ -81,9 +83,10 @@ struct Input {
 
 // Opens IN; `units` (--units, may be empty) is given to data that has none, or whose units capz
 // cannot read (a POINT:UNITS naming several different units, a name it does not know).
-void open_input(const std::string& in, bool whole, const std::string& units, Input* input) {
+void open_input(const std::string& in, bool whole, const std::string& units,
+                const capz::ReadOptions& read, Input* input) {
   const double c_read = cpu_seconds();
-  input->in = capz::open_compress_input(in, whole, units);
+  input->in = capz::open_compress_input(in, whole, units, read);
   input->read_cpu_seconds = cpu_seconds() - c_read;
 }
 
@@ -247,8 +250,9 @@ std::string report_text(const Report& r, const capz::Take& take, const capz::Com
 struct Settings {
   po::variables_map vm;
   BatchSettings batch;
-  std::string units;    // --units, may be empty
-  bool single = false;  // one input: the per-frame progress line
+  std::string units;       // --units, may be empty
+  capz::ReadOptions read;  // --bin-fields
+  bool single = false;     // one input: the per-frame progress line
 };
 
 // stdin's bytes must be a C3D or a TRC: the format comes from them (the spool has no name).
@@ -368,7 +372,7 @@ FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
                "--rm with --drop-fields: the archive would not give the input back");
 
   Input input;
-  open_input(in, vm["codec"].as<std::string>() == "auto", s.units, &input);
+  open_input(in, vm["codec"].as<std::string>() == "auto", s.units, s.read, &input);
   r.t_read = input.read_cpu_seconds;
   capz::CompressOptions opts;
   set_coding_options(vm, &opts);
@@ -376,6 +380,9 @@ FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
   // files at once): the windows of the take coded in parallel.
   opts.threads = static_cast<int>(job.threads);
   const capz::Take& take = input.in.source->header();
+  if (take.bin)  // a .bin record guessed from the names that the first frame does not fit
+    for (const std::string& w : take.warnings)
+      std::fprintf(stderr, "capz compress: warning: %s: %s\n", in.c_str(), w.c_str());
   const std::string bound_note = set_target(vm, *input.in.source, &opts);
   if (!bound_note.empty() && g_verbosity > 0)
     std::fprintf(stderr, "capz compress: note: %s: %s\n", in.c_str(), bound_note.c_str());
@@ -389,7 +396,7 @@ FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
   r.ratio = st.bytes ? static_cast<double>(r.in_bytes) / static_cast<double>(st.bytes) : 0;
   r.mbps = r.t_enc > 0 ? static_cast<double>(st.raw_bytes) / 1e6 / r.t_enc : 0;
   if (vm.count("rm")) {
-    check_written(r.out, in, take);  // like zstd: only a verified output lets IN go
+    check_written(r.out, in, take, s.read);  // like zstd: only a verified output lets IN go
     remove_input(in, take);
   }
   return compress_record(job, vm, &r, take, opts, st);
@@ -423,6 +430,7 @@ int cmd_compress(const Args& args) {
                       (vm.count("max-error") ? 1 : 0);
   if (targets > 1) throw po::error("give only one of --max-error, --kg-error, --lossless");
   s.units = vm.count("units") ? vm["units"].as<std::string>() : "";
+  s.read = read_options(vm);
   if (!s.units.empty() && capz::units_to_metres(s.units) == 0)
     capz::fail(capz::ErrorCode::kInvalidParameter, "", "--units: unknown unit '" + s.units + "'");
   {

@@ -95,6 +95,7 @@ po::options_description convert_options() {
       "rate", po::value<double>(), "set the frame rate in Hz (for sources without one, e.g. PCD)")(
       "units", po::value<std::string>(), "set the units (mm, cm, m, ...) when the source has none");
   add_trc_delimiter_option(&opts, "tab");
+  add_bin_fields_option(&opts);
   return opts;
 }
 
@@ -168,7 +169,7 @@ int cmd_convert(const Args& args) {
   // Read a block of frames at a time (open_frames: C3D by seeks, TRC rows, frame files one by
   // one) and written as they come (write_frames): memory follows a block, not the take, except
   // where an output needs the whole take (a single frame file, an int16 C3D scaled from the data).
-  std::unique_ptr<capz::FrameSource> src = capz::open_frames(in);
+  std::unique_ptr<capz::FrameSource> src = capz::open_frames(in, read_options(vm));
   capz::Take& take = src->edit_header();
   const capz::Format out_format = capz::output_format(take, out, wo);
   if (vm.count("rate")) take.rate = vm["rate"].as<double>();

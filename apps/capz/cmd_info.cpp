@@ -25,11 +25,11 @@ namespace {
 
 const size_t kLabelsShown = 8;  // labels listed without -v
 
-// A .bin source's frame fields: x y z then its record's, each float32 (text and --json).
+// A .bin source's frame fields: float32 x y z then its record's (text and --json).
 std::vector<capz::PCDField> bin_fields(const capz::Take& t) {
   std::vector<capz::PCDField> fields;
   for (const char* axis : {"x", "y", "z"}) fields.push_back({axis, 'F', 4, 1});
-  for (const std::string& f : capz::bin_record_of(t)) fields.push_back({f, 'F', 4, 1});
+  for (const capz::PCDField& f : capz::bin_record_of(t)) fields.push_back(f);
   return fields;
 }
 
@@ -116,9 +116,11 @@ std::string variant_text(const capz::Take& t) {
     return s;
   }
   if (t.bin) {
-    const std::vector<std::string> record = capz::bin_record_of(t);
-    std::string s = std::string(record.size() == 2 ? "nuScenes" : "KITTI") +
-                    " .bin frames (float32 " + capz::bin_record_text(record) + ")";
+    const std::vector<capz::PCDField> record = capz::bin_record_of(t);
+    const std::string text = capz::bin_record_text(record);
+    std::string s = !t.bin->record.empty() ? ".bin frames (" + text + ", given by --bin-fields)"
+                    : record.size() == 2   ? "nuScenes .bin frames (float32 " + text + ")"
+                                           : "KITTI .bin frames (float32 " + text + ")";
     if (!t.bin->frame_names.empty())
       s += " " + t.bin->frame_names.front() + " .. " + t.bin->frame_names.back();
     return s;
@@ -358,6 +360,7 @@ int cmd_info(const Args& args) {
       "parameters",
       "print the C3D parameter section and header events instead (of a .c3d, or of the C3D "
       "a .capz holds; the first 8 values of each, all with -v or --json)");
+  add_bin_fields_option(&opts);
   po::variables_map vm;
   std::string path;
   if (!parse_single_input(
@@ -373,7 +376,7 @@ int cmd_info(const Args& args) {
     return info_parameters(path, vm.count("json") > 0, looks_like_capz(path));
   if (looks_like_capz(path)) return info_capz(path, vm.count("json") > 0);
 
-  std::unique_ptr<capz::FrameSource> src = capz::open_frames(path);
+  std::unique_ptr<capz::FrameSource> src = capz::open_frames(path, read_options(vm));
   const Summary s = summarise(*src);
   capz::Take& t = src->edit_header();
   for (const std::string& w : src->frame_warnings()) t.warnings.push_back(w);

@@ -65,7 +65,10 @@ Verdict check_stream(const std::string& in, const std::string& orig, capz::Frame
   std::unique_ptr<capz::FrameSource> src;
   capz::Take a;
   if (!orig.empty()) {
-    src = capz::open_frames(orig);
+    capz::ReadOptions read;  // a .bin original in the record the archive holds (a declared one)
+    if (b.bin && !b.bin->record.empty() && capz::detect_format(orig) == capz::Format::kBinFolder)
+      read.bin_fields = capz::bin_record_text(b.bin->record);
+    src = capz::open_frames(orig, read);
     a = src->header();
     match_original(in, orig, b, &a);
     v.dropped_fields = drop_left_out_fields(&a, b);

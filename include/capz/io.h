@@ -33,6 +33,17 @@ bool frames_go_beside(const std::string& dir);
 // give a ragged take (take.h).
 Take read_take(const std::string& path);
 
+// What a reader is told that its files do not say.
+struct ReadOptions {
+  // A .bin source's record (parse_bin_record's text, the CLI's --bin-fields); empty: the frame
+  // names' (KITTI's or nuScenes'). Given for another source, an Error(kUsage).
+  std::string bin_fields;
+};
+Take read_take(const std::string& path, const ReadOptions& opts);
+// The record opts gives a .bin source at `path` (its fields after x y z), or none (empty
+// bin_fields). Throws Error(kUsage) for a bad text or a source of another format.
+std::vector<PCDField> declared_bin_record(const std::string& path, const ReadOptions& opts);
+
 struct WriteOptions {
   bool overwrite = false;  // replace an existing output (the CLI's -f)
   // PCD DATA: "ascii", "binary" or "binary_compressed"; empty: the source's (Take::pcd), else

@@ -116,6 +116,8 @@ std::unique_ptr<FrameSource> open_trc_frames(const std::string& path);
 std::unique_ptr<FrameSource> open_pcd_frames(const std::string& path);
 std::unique_ptr<FrameSource> open_ply_frames(const std::string& path);
 std::unique_ptr<FrameSource> open_bin_frames(const std::string& path);
+// open_frames with what its files do not say (io.h): a .bin source in a declared record.
+std::unique_ptr<FrameSource> open_frames(const std::string& path, const ReadOptions& opts);
 // A .capz read window by window (HEAD, META and INDX up front; a range decodes the windows it
 // touches). The header is what decompress() returns without its frame arrays. With
 // opts.threads above 1, windows are decoded ahead in parallel when read in order.

@@ -260,24 +260,35 @@ struct PCDExtra {
   std::vector<double> field_bounds;
 };
 
-// .bin folder specifics. A .bin frame has no header: a record of float32 values a point, x y z
-// then bin_record_fields (below), which the take holds as point attributes.
+// .bin folder specifics. A .bin frame has no header: a record a point, float32 x y z then the
+// fields bin_record_of gives (below), which the take holds as point attributes.
 struct BinExtra {
   std::vector<std::string> frame_names;  // file names in natural-sort order, one per frame
+  // The record's fields after x y z when it is not the frame names' (bin_record_fields): one a
+  // user declared (--bin-fields, parse_bin_record); empty: the names'.
+  std::vector<PCDField> record;
 };
 
 // Whether a .bin frame file's name is a nuScenes sweep's, NAME.pcd.bin (as nuScenes and Lyft
 // name them).
 bool nuscenes_bin_name(const std::string& name);
-// The fields of a .bin frame's record after x y z (each float32; docs/FORMAT.md "Frame-file
-// sources"), by the frame files' names: nuScenes' "intensity" "ring" when every name is
+// The fields of a .bin frame's record after x y z by the frame files' names (docs/FORMAT.md
+// "Frame-file sources"), each float32: nuScenes' "intensity" "ring" when every name is
 // nuscenes_bin_name, else KITTI's "intensity" (no names too). Empty when some are and some are
 // not: no one record holds such frames.
-std::vector<std::string> bin_record_fields(const std::vector<std::string>& frame_names);
+std::vector<PCDField> bin_record_fields(const std::vector<std::string>& frame_names);
 // bin_record_fields, but KITTI's record for names of both kinds (a writer's fallback).
-std::vector<std::string> bin_record_or_kitti(const std::vector<std::string>& frame_names);
-// "x y z intensity ring": the record's values in order (record: bin_record_fields').
-std::string bin_record_text(const std::vector<std::string>& record);
+std::vector<PCDField> bin_record_or_kitti(const std::vector<std::string>& frame_names);
+// "x y z intensity ring:U2": the record's values in order (the fields after x y z given), a field
+// other than a float32 with its TYPE and SIZE.
+std::string bin_record_text(const std::vector<PCDField>& record);
+// Whether every field of a record is a float32 (KITTI's and nuScenes' are).
+bool bin_record_float32(const std::vector<PCDField>& record);
+// The record a --bin-fields text declares, its fields after x y z: names separated by spaces or
+// commas, each with an optional ":TYPE" (F4 F8 U1 U2 U4 U8 I1 I2 I4 I8, either case; F4 when
+// none), "x y z" first (float32), "_" a padding field. Throws Error(kUsage) naming `what` for
+// another text (x y z missing or typed otherwise, a name twice, an unknown type).
+std::vector<PCDField> parse_bin_record(const std::string& text, const std::string& what);
 
 // PLY folder specifics: the vertex element's layout and the header's text, so a PLY written
 // back looks like the source.
@@ -364,9 +375,10 @@ struct Take {
   std::string shape_fault() const;
 };
 
-// The fields after x y z of the record a .bin frame of `take` is written with: those of its .bin
-// frame names (bin_record_fields, of take.bin), else KITTI's "intensity".
-std::vector<std::string> bin_record_of(const Take& take);
+// The fields after x y z of the record a .bin frame of `take` is written with: its declared record
+// (take.bin->record), else those of its .bin frame names (bin_record_fields), else KITTI's
+// "intensity".
+std::vector<PCDField> bin_record_of(const Take& take);
 
 // What is wrong with the take's point field names, as a phrase (empty when nothing): a field
 // named x, y or z (the positions' names in every frame file), two of one name, an empty name, or

@@ -391,10 +391,14 @@ def read(
     *,
     memory_limit: Optional[int] = None,
     progress: Optional[Callable[[int, int], Any]] = None,
+    bin_fields: Optional[str] = None,
 ) -> Take:
     """Reads a take: a .c3d, a .trc, a .pcd / .ply / .bin frame or a folder of them, or a .capz
     (decompressed). A folder whose frames have different point counts (LiDAR sweeps) gives a
     ragged take: xyz (total points, 3) with frame_offsets, and frame(i) / iter_frames() views.
+    bin_fields: the record of .bin frames other than KITTI's or nuScenes' (the CLI's
+    --bin-fields), as "x y z intensity ring:U2 t:F8" (TYPE F4 F8 U1 U2 U4 U8 I1 I2 I4 I8, F4
+    when none; "_" for padding).
 
     Gaps read as valid == False and NaN in xyz. Raises capz.Error naming the file and fault.
     memory_limit: for a .capz, the most bytes of decoded samples it may ask for (None: 4 GiB,
@@ -405,7 +409,8 @@ def read(
     Ctrl-C (or an exception progress raises) stops the reading at the end of the window or block
     at hand.
     """
-    return _capz.read(_path(path, "path"), _memory_limit(memory_limit), progress)
+    return _capz.read(_path(path, "path"), _memory_limit(memory_limit), progress,
+                      bin_fields or "")
 
 
 def write(
@@ -587,10 +592,11 @@ def compress_file(
     analog_max_error: Optional[Mapping[str, float]] = None,
     point_order: str = "kept",
     progress: Optional[Callable[[int, int], Any]] = None,
+    bin_fields: Optional[str] = None,
 ) -> Dict[str, Any]:
     """Compresses a .c3d, a .trc, a .pcd / .ply / .bin frame or a folder of them to a .capz file:
     the same bytes as `capz compress INPUT -o OUTPUT` with the same options (see compress() for
-    them; overwrite is the CLI's -f). output defaults to INPUT.capz. The input is read a window
+    them; overwrite is the CLI's -f; bin_fields as read()'s, the CLI's --bin-fields). output defaults to INPUT.capz. The input is read a window
     at a time (and for a C3D or TRC the original file's checksum and residue are stored, and
     with lossless=True those of every PCD, PLY or .bin frame file, so a lossless archive
     rebuilds the files byte for byte). Returns the report as a dict. The CLI's notes are
@@ -608,6 +614,7 @@ def compress_file(
                  point_order),
         bool(overwrite),
         progress,
+        bin_fields or "",
     )
 
 

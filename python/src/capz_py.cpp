@@ -335,7 +335,8 @@ void bind_take_builders(py::module_& m) {
 
 // Reading and writing takes by path.
 void bind_reading_writing(py::module_& m) {
-  m.def("read", [](const std::string& path, uint64_t memory_limit, const py::object& progress) {
+  m.def("read", [](const std::string& path, uint64_t memory_limit, const py::object& progress,
+                   const std::string& bin_fields) {
     capz::Take t;
     {
       py::gil_scoped_release nogil;
@@ -346,7 +347,9 @@ void bind_reading_writing(py::module_& m) {
         o.progress = python_progress(progress);
         t = capz::decompress(bytes.data(), bytes.size(), path, o);
       } else {  // read_take's take, block by block: progress and Ctrl-C between blocks
-        std::unique_ptr<capz::FrameSource> src = capz::open_frames(path);
+        capz::ReadOptions read;
+        read.bin_fields = bin_fields;
+        std::unique_ptr<capz::FrameSource> src = capz::open_frames(path, read);
         t = capz::read_all_frames(*src, python_progress(progress));
       }
     }
@@ -406,7 +409,7 @@ void bind_coding(py::module_& m) {
            bool check, const std::map<std::string, std::string>& codec_options, int threads,
            const std::map<std::string, double>& attr_error, bool drop_fields,
            const std::map<std::string, double>& analog_max_error, bool any_point_order,
-           bool overwrite, const py::object& progress) {
+           bool overwrite, const py::object& progress, const std::string& bin_fields) {
           capz::CompressStats st;
           std::string note;
           {
@@ -415,8 +418,10 @@ void bind_coding(py::module_& m) {
                 coding_options(codec, clusters, window, check, codec_options, threads, attr_error,
                                drop_fields, analog_max_error, any_point_order);
             opts.progress = python_progress(progress);
+            capz::ReadOptions read;
+            read.bin_fields = bin_fields;
             note = capz::compress_file(in, out, target_of(lossless, kg_error, std::move(max_error)),
-                                       opts, units, overwrite, &st);
+                                       opts, units, overwrite, &st, read);
           }
           warn_notes(note, st);
           return compress_stats(st);

@@ -153,12 +153,17 @@ std::string dropped_coordinates_note(const CompressStats& stats) {
 }
 
 CompressInput open_compress_input(const std::string& path, bool whole, const std::string& units) {
+  return open_compress_input(path, whole, units, ReadOptions());
+}
+
+CompressInput open_compress_input(const std::string& path, bool whole, const std::string& units,
+                                  const ReadOptions& read) {
   CompressInput input;
   if (whole) {
-    input.take = std::make_unique<Take>(read_take(path));
+    input.take = std::make_unique<Take>(read_take(path, read));
     input.source = take_frames(*input.take);
   } else {
-    input.source = open_frames(path);
+    input.source = open_frames(path, read);
   }
   Take& h = input.source->edit_header();
   if (!units.empty() && (units_to_metres(h.units) == 0 || h.units_assumed)) {
@@ -226,11 +231,12 @@ void compress_input(CompressInput& input, const CompressOptions& opts, const std
 
 std::string compress_file(const std::string& in, const std::string& out,
                           const CompressTarget& target, const CompressOptions& opts,
-                          const std::string& units, bool overwrite, CompressStats* stats) {
+                          const std::string& units, bool overwrite, CompressStats* stats,
+                          const ReadOptions& read) {
   if (!units.empty() && units_to_metres(units) == 0)
     fail(ErrorCode::kInvalidParameter, "", "--units: unknown unit '" + units + "'");
   check_output_free(out, overwrite);
-  CompressInput input = open_compress_input(in, opts.codec == "auto", units);
+  CompressInput input = open_compress_input(in, opts.codec == "auto", units, read);
   CompressOptions o = opts;
   const std::string note = set_compress_target(*input.source, target, &o);
   compress_input(input, o, out, overwrite, stats);

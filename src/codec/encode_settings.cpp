@@ -105,17 +105,17 @@ std::vector<std::string> set_analog_bounds(FrameSource& source, const CompressOp
 
 namespace {
 
-// The fields of a frame-file source's layout: a PLY's vertex properties, a .bin's x y z intensity
-// (float32), those the take's attributes still are (--drop-fields: x y z); else x y z as float64
-// (float32 for .bin) then the attributes. Empty when an attribute cannot be the format's
-// (COUNT above 1 or an 8-byte integer in a PLY; a .bin field other than a float32 intensity).
+// The fields of a frame-file source's layout: a PLY's vertex properties, a .bin's float32 x y z and
+// record (bin_record_of), those the take's attributes still are (--drop-fields: x y z); else
+// x y z as float64 (float32 for .bin) then the attributes. Empty when an attribute cannot be the
+// format's (COUNT above 1 or an 8-byte integer in a PLY; a .bin field not of its record).
 std::vector<PCDField> frame_file_fields(const Take& t) {
   std::vector<PCDField> source, fields;
   if (t.ply) source = t.ply->fields;
-  const std::vector<std::string> record = bin_record_of(t);
+  const std::vector<PCDField> record = bin_record_of(t);
   if (t.format == Format::kBinFolder) {
     for (const char* axis : {"x", "y", "z"}) source.push_back({axis, 'F', 4, 1});
-    for (const std::string& name : record) source.push_back({name, 'F', 4, 1});
+    source.insert(source.end(), record.begin(), record.end());
   }
   // The source's x y z and those of its fields the take still has, in the source's order.
   size_t k = 0, axes = 0;
@@ -134,10 +134,12 @@ std::vector<PCDField> frame_file_fields(const Take& t) {
   fields.clear();
   for (const char* axis : {"x", "y", "z"}) fields.push_back(PCDField{axis, 'F', 8, 1});
   for (const PointAttribute& a : t.attributes) {
+    const auto in_record = [&](const PCDField& f) {
+      return f.name == a.name && f.type == a.type && f.size == a.size;
+    };
     if (a.count != 1 || !ply_type_name(a.type, a.size) ||
         (t.format == Format::kBinFolder &&
-         (std::find(record.begin(), record.end(), a.name) == record.end() || a.type != 'F' ||
-          a.size != 4)))
+         std::find_if(record.begin(), record.end(), in_record) == record.end()))
       return {};
     fields.push_back(PCDField{a.name, a.type, a.size, a.count});
   }
@@ -149,7 +151,8 @@ std::vector<PCDField> frame_file_fields(const Take& t) {
 
 void settle_frame_layout(Take* t, bool drop_fields) {
   if ((t->format != Format::kPLYFolder && t->format != Format::kBinFolder) || t->pcd) return;
-  if (t->format == Format::kBinFolder && t->bin && bin_record_fields(t->bin->frame_names).empty())
+  if (t->format == Format::kBinFolder && t->bin && t->bin->record.empty() &&
+      bin_record_fields(t->bin->frame_names).empty())
     fail(ErrorCode::kInvalidParameter, t->source,
          "the .bin frame names are of two kinds (some *.pcd.bin, nuScenes', some not, KITTI's): "
          "no one record holds the frames");
@@ -167,7 +170,7 @@ void settle_frame_layout(Take* t, bool drop_fields) {
          std::string("the point fields (") + field_names(*t) + ") cannot be written back as " +
              (t->format == Format::kPLYFolder
                   ? "PLY properties (one value a point each)"
-                  : ".bin frames (" + bin_record_text(bin_record_of(*t)) + ", float32)") +
+                  : ".bin frames (" + bin_record_text(bin_record_of(*t)) + ")") +
              ": give --drop-fields to leave them out");
   if (const std::vector<std::string>* names = t->ply   ? &t->ply->frame_names
                                               : t->bin ? &t->bin->frame_names

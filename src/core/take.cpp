@@ -34,26 +34,79 @@ bool nuscenes_bin_name(const std::string& name) {
          name.compare(name.size() - kNuScenes.size(), kNuScenes.size(), kNuScenes) == 0;
 }
 
-std::vector<std::string> bin_record_fields(const std::vector<std::string>& frame_names) {
+std::vector<PCDField> bin_record_fields(const std::vector<std::string>& frame_names) {
   const auto nuscenes =
       static_cast<size_t>(std::count_if(frame_names.begin(), frame_names.end(), nuscenes_bin_name));
-  if (nuscenes == 0) return {"intensity"};
-  if (nuscenes == frame_names.size()) return {"intensity", "ring"};
+  if (nuscenes == 0) return {{"intensity", 'F', 4, 1}};
+  if (nuscenes == frame_names.size()) return {{"intensity", 'F', 4, 1}, {"ring", 'F', 4, 1}};
   return {};
 }
 
-std::vector<std::string> bin_record_or_kitti(const std::vector<std::string>& frame_names) {
-  std::vector<std::string> r = bin_record_fields(frame_names);
+std::vector<PCDField> bin_record_or_kitti(const std::vector<std::string>& frame_names) {
+  std::vector<PCDField> r = bin_record_fields(frame_names);
   return r.empty() ? bin_record_fields({}) : r;
 }
 
-std::string bin_record_text(const std::vector<std::string>& record) {
+bool bin_record_float32(const std::vector<PCDField>& record) {
+  return std::all_of(record.begin(), record.end(),
+                     [](const PCDField& f) { return f.type == 'F' && f.size == 4; });
+}
+
+std::string bin_record_text(const std::vector<PCDField>& record) {
   std::string s = "x y z";
-  for (const std::string& f : record) s += " " + f;
+  for (const PCDField& f : record) {
+    s += " " + f.name;
+    if (f.type != 'F' || f.size != 4) s += ":" + std::string(1, f.type) + std::to_string(f.size);
+  }
   return s;
 }
 
-std::vector<std::string> bin_record_of(const Take& take) {
+std::vector<PCDField> parse_bin_record(const std::string& text, const std::string& what) {
+  std::vector<std::string> words;
+  std::string w;
+  for (char c : text + " ") {
+    if (c == ' ' || c == ',' || c == '\t') {
+      if (!w.empty()) words.push_back(w);
+      w.clear();
+    } else {
+      w += c;
+    }
+  }
+  const auto bad = [&](const std::string& why) {
+    fail(ErrorCode::kUsage, what,
+         "--bin-fields '" + text + "': " + why +
+             " (give x y z first, then the fields, each NAME or NAME:TYPE, TYPE one of F4 F8 U1 "
+             "U2 U4 U8 I1 I2 I4 I8; F4 when none)");
+  };
+  std::vector<PCDField> record;
+  for (size_t i = 0; i < words.size(); ++i) {
+    const size_t colon = words[i].find(':');
+    PCDField f;
+    f.name = words[i].substr(0, colon);
+    if (colon != std::string::npos) {
+      const std::string t = words[i].substr(colon + 1);
+      const bool form = t.size() == 2 && std::isdigit(static_cast<unsigned char>(t[1]));
+      f.type = form ? static_cast<char>(std::toupper(static_cast<unsigned char>(t[0]))) : '?';
+      f.size = form ? t[1] - '0' : 0;
+      if (!valid_field_form(f.type, f.size, 1)) bad("unknown type '" + t + "'");
+    }
+    if (f.name.empty()) bad("a field without a name");
+    if (i < 3) {
+      if (f.name != std::string(1, static_cast<char>('x' + i)) || f.type != 'F' || f.size != 4)
+        bad("the record starts with x y z, each float32");
+      continue;
+    }
+    for (const PCDField& g : record)
+      if (g.name == f.name && f.name != "_") bad("two fields named '" + f.name + "'");
+    if (f.name == "x" || f.name == "y" || f.name == "z") bad("two fields named '" + f.name + "'");
+    record.push_back(f);
+  }
+  if (words.size() < 3) bad("the record starts with x y z, each float32");
+  return record;
+}
+
+std::vector<PCDField> bin_record_of(const Take& take) {
+  if (take.bin && !take.bin->record.empty()) return take.bin->record;
   return bin_record_or_kitti(take.bin ? take.bin->frame_names : std::vector<std::string>());
 }
 

@@ -1,8 +1,9 @@
-// .bin frames: a file per frame of float32 little-endian values, a record a point, no header:
-// KITTI's x y z intensity (16 bytes a point), or nuScenes' x y z intensity ring (20) when the
-// frames are named *.pcd.bin (bin_record_fields, capz/take.h). Read into a take whose point
-// attributes are the record's fields after x y z (F 4); a point with a NaN or infinite coordinate
-// is a gap, kept in place. Part of the decoder library.
+// .bin frames: a file per frame, a record a point, no header, little-endian: KITTI's float32
+// x y z intensity (16 bytes a point), nuScenes' x y z intensity ring (20) when the frames are named
+// *.pcd.bin (bin_record_fields, capz/take.h), or a record the reader is given (--bin-fields:
+// float32 x y z, then fields of any PCD type). Read into a take whose point attributes are the
+// record's fields after x y z; a point with a NaN or infinite coordinate is a gap, kept in place.
+// Part of the decoder library.
 #pragma once
 
 #include <cstdint>
@@ -17,38 +18,39 @@
 
 namespace capz {
 
-// Reads a .bin frame's bytes (`name` for messages) of `fields` float32 values a point after
-// x y z into *out: xyz, valid, and each of those values' bytes as an attribute. Throws
-// Error(kCorrupt) when `size` is not a whole number of points (a file truncated mid-point).
+// Reads a .bin frame's bytes (`name` for messages) in `record` (the fields after float32 x y z)
+// into *out: xyz, valid, and each field's bytes as an attribute. Throws Error(kCorrupt) when
+// `size` is not a whole number of points (a file truncated mid-point).
 void read_bin_frame(const uint8_t* bytes, size_t size, const std::string& name, FrameData* out,
-                    size_t fields = 1);
+                    const std::vector<PCDField>& record);
 
-// The .bin file of `n` points: xyz (n x 3; gaps written as NaN points), then per point one
-// float32 of each of `fields` (n values each, or null for zeros).
-std::vector<uint8_t> bin_frame_bytes(size_t n, const double* xyz, const uint8_t* valid,
-                                     const std::vector<const float*>& fields);
+// The bytes of a point of `record` (float32 x y z and the fields).
+size_t bin_point_bytes(const std::vector<PCDField>& record);
 
-// A field of `n` points as a .bin frame holds it: the bytes of field `a` (its type and size;
-// COUNT 1, any numeric type) converted to float32, a float32 field bit for bit.
-std::vector<float> bin_values(const PointAttribute& a, const uint8_t* bytes, size_t n);
+// Opens a .bin frame folder (or one .bin file) in `record` (the fields after x y z), or in its
+// names' record (bin_record_fields) when `record` is null.
+std::unique_ptr<FrameSource> open_bin_frames(const std::string& path,
+                                             const std::vector<PCDField>* record);
 
 // The fields after x y z of the record of `take`'s .bin frames written at `path`: a .bin
 // source's own (bin_record_of, so that its frames come back as they were, whatever the output is
 // named); else those of the names written (bin_record_fields: a file named *.pcd.bin gets
 // nuScenes' record), KITTI's when they are of two kinds.
-std::vector<std::string> bin_output_record(const Take& take, const std::string& path);
+std::vector<PCDField> bin_output_record(const Take& take, const std::string& path);
 
-// Per field of a .bin record, the take's field of that name and COUNT 1 (its layout kept, not its
-// values), or none (SIZE_MAX: zeros).
+// Per field of a .bin record, its layout and the take's field of that name and COUNT 1, or none
+// (SIZE_MAX: zeros).
 struct BinRecordSource {
   size_t k = SIZE_MAX;
-  PointAttribute layout;  // its type and size
+  PCDField field;         // the record's (its type and size written)
+  PointAttribute layout;  // the take's field's type and size
 };
 std::vector<BinRecordSource> bin_record_sources(const Take& take,
-                                                const std::vector<std::string>& record);
+                                                const std::vector<PCDField>& record);
 // The .bin file of a frame of `n` points in a record (bin_record_sources): attrs[k] the frame's
-// bytes of the take's field k. The one writer of .bin frames (the folder writers and the lossless
-// residue's regenerated frames).
+// bytes of the take's field k, each value written in the record's type (a field of the same type
+// and size bit for bit; gaps' x y z as quiet NaNs). The one writer of .bin frames (the folder
+// writers and the lossless residue's regenerated frames).
 std::vector<uint8_t> bin_record_frame(const std::vector<BinRecordSource>& record, size_t n,
                                       const double* xyz, const uint8_t* valid,
                                       const std::vector<const uint8_t*>& attrs);

@@ -533,6 +533,12 @@ std::unique_ptr<FrameSource> open_frames(const std::string& path) {
   return std::unique_ptr<FrameSource>(new TakeSource(ref, std::move(t)));
 }
 
+std::unique_ptr<FrameSource> open_frames(const std::string& path, const ReadOptions& opts) {
+  if (opts.bin_fields.empty()) return open_frames(path);
+  const std::vector<PCDField> record = declared_bin_record(path, opts);
+  return open_bin_frames(path, &record);
+}
+
 std::unique_ptr<FrameSink> create_frame_sink(const Take& header, bool words,
                                              const std::string& path, const WriteOptions& opts) {
   const std::string target = without_trailing_slashes(path);

@@ -26,6 +26,7 @@
 #include <string>
 
 #include "capz/error.h"
+#include "capz/stream.h"
 #include "coding/ply_types.h"
 #include "core/atomic_file.h"
 #include "io/bin_folder.h"
@@ -205,6 +206,22 @@ Take read_take(const std::string& path) {
        "not a C3D or TRC file, a PCD, PLY or .bin frame, nor a folder of them");
 }
 
+std::vector<PCDField> declared_bin_record(const std::string& path, const ReadOptions& opts) {
+  if (opts.bin_fields.empty()) return {};
+  std::vector<PCDField> record = parse_bin_record(opts.bin_fields, path);
+  if (detect_format(path) != Format::kBinFolder)
+    fail(ErrorCode::kUsage, path,
+         "--bin-fields is for .bin frames, and this is not a .bin frame "
+         "nor a folder of them");
+  return record;
+}
+
+Take read_take(const std::string& path, const ReadOptions& opts) {
+  if (opts.bin_fields.empty()) return read_take(path);
+  const std::vector<PCDField> record = declared_bin_record(path, opts);
+  return read_all_frames(*open_bin_frames(path, &record));
+}
+
 Format format_for_output(const std::string& path) {
   if (!path.empty() && path.back() == '/') return Format::kPCDFolder;
   std::error_code ec;
@@ -240,13 +257,17 @@ std::vector<std::string> dropped_by(const Take& take, Format out) {
     d.push_back("the " + std::to_string(take.rotations.segments) + " rotation segments");
   if (out == Format::kBinFolder) {  // float32 x y z and the record's fields
     const std::vector<PCDField>* fields = take.file_fields();
-    const std::vector<std::string> record = bin_record_of(take);
+    const std::vector<PCDField> record = bin_record_of(take);
     std::string wide;  // the 8-byte float fields a .bin frame rounds to float32
+    const auto rounded = [&](const PCDField& f) {
+      return std::any_of(record.begin(), record.end(), [&](const PCDField& r) {
+        return r.name == f.name && r.type == 'F' && r.size == 4;
+      });
+    };
     if (fields)
       for (const PCDField& f : *fields)
         if (f.type == 'F' && f.size == 8 &&
-            (f.name == "x" || f.name == "y" || f.name == "z" ||
-             std::find(record.begin(), record.end(), f.name) != record.end()))
+            (f.name == "x" || f.name == "y" || f.name == "z" || rounded(f)))
           wide += (wide.empty() ? "" : " ") + f.name;
     if (!wide.empty()) d.push_back("float64 values (" + wide + ": rounded to float32)");
   }
@@ -266,15 +287,18 @@ void check_fields_fit(const Take& take, Format f, const std::string& path,
              " file cannot hold frames of different point counts: write a PCD, PLY or .bin "
              "folder");
   if (opts.drop_fields || f == Format::kPCDFolder || f == Format::kUnknown) return;
-  const std::vector<std::string> record =
-      f == Format::kBinFolder ? bin_output_record(take, path) : std::vector<std::string>();
+  const std::vector<PCDField> record =
+      f == Format::kBinFolder ? bin_output_record(take, path) : std::vector<PCDField>();
+  const auto in_record = [&](const PointAttribute& a) {
+    return std::any_of(record.begin(), record.end(),
+                       [&](const PCDField& r) { return r.name == a.name; });
+  };
   std::string unfit;  // the fields f cannot hold
   for (const PointAttribute& a : take.attributes) {
     // PLY has no 8-byte integers (ply_type_name): such a field would be left out.
     const bool fits = a.name == "_" ||
                       (f == Format::kPLYFolder && a.count == 1 && ply_type_name(a.type, a.size)) ||
-                      (f == Format::kBinFolder && a.count == 1 &&
-                       std::find(record.begin(), record.end(), a.name) != record.end());
+                      (f == Format::kBinFolder && a.count == 1 && in_record(a));
     if (!fits) unfit += (unfit.empty() ? "" : ", ") + a.name;
   }
   if (unfit.empty()) return;

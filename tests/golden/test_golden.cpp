@@ -76,6 +76,17 @@ std::vector<Entry> manifest() {
   return v;
 }
 
+// The source of an entry, read as its options say (a .bin record: --bin-fields R).
+Take read_source(const Entry& e) {
+  ReadOptions ro;
+  const size_t at = e.options.find("--bin-fields ");
+  if (at != std::string::npos) {
+    std::istringstream rest(e.options.substr(at + 13));
+    rest >> ro.bin_fields;
+  }
+  return read_take(std::string(CAPZ_REPO_DATA) + "/" + e.source, ro);
+}
+
 // The format version a stream's name ends with: "x.v1.0.capz" -> {1, 0} ({0, 0} without one).
 FormatVersion version_of(const std::string& stream) {
   FormatVersion v;
@@ -167,7 +178,7 @@ TEST(Golden, GivenGoldenStreamsWhenDecodedThenKnownContentAndWithinBoundOfSource
     std::snprintf(hex, sizeof hex, "%08x", content_crc(b));
     EXPECT_EQ(content_crc(b), e.crc) << "decoded content changed: now " << hex;
     const StreamInfo si = describe(bytes.data(), bytes.size(), e.stream);
-    expect_within_promise(read_take(std::string(CAPZ_REPO_DATA) + "/" + e.source), b, si);
+    expect_within_promise(read_source(e), b, si);
   }
 }
 
@@ -226,7 +237,7 @@ TEST(Golden, GivenGoldenSourcesWhenRecompressedWithTheirOptionsThenAsTheManifest
     if (si.lossless) {
       EXPECT_EQ(content_crc(b), e.crc);
     }
-    expect_within_promise(read_take(std::string(CAPZ_REPO_DATA) + "/" + e.source), b, si);
+    expect_within_promise(read_source(e), b, si);
   }
   EXPECT_GE(checked, 20u);
 }
@@ -256,7 +267,7 @@ TEST(Golden, GivenTheScanGoldenStreamsThenFormat11RaggedFramesWithOneScnwPerWind
       other += c.compare(0, 4, "POSW") == 0 || c.compare(0, 4, "MASK") == 0;
     }
     const StreamInfo si = describe(b.data(), b.size(), e.stream);
-    const Take src = read_take(std::string(CAPZ_REPO_DATA) + "/" + e.source);
+    const Take src = read_source(e);
     // A fixed source reordered (--point-order any) is coded as frames of their own counts that
     // happen to be equal, and decodes so.
     const bool reordered_fixed = si.points_reordered && !src.ragged();
@@ -281,9 +292,9 @@ TEST(Golden, GivenTheScanGoldenStreamsThenFormat11RaggedFramesWithOneScnwPerWind
   EXPECT_GE(organized, 1u);
 }
 
-// The lossless golden streams of format 1.1's frame files (scan_small as PCD, PLY, KITTI .bin
-// and nuScenes .pcd.bin frames: FORMAT.md "Lossless ragged streams", "Lossless frame-file streams")
-// rebuild every frame file of their source byte for byte.
+// The lossless golden streams of format 1.1's frame files (scan_small as PCD, PLY, KITTI .bin,
+// nuScenes .pcd.bin and a declared record's .bin frames: FORMAT.md "Lossless ragged streams",
+// "Lossless frame-file streams") rebuild every frame file of their source byte for byte.
 TEST(Golden, GivenTheLosslessScanGoldenStreamsThenTheirFrameFilesRebuildByteForByte) {
   capz_test::TempDir tmp("capz_golden_rebuild");
   size_t rebuilt = 0;
@@ -307,7 +318,7 @@ TEST(Golden, GivenTheLosslessScanGoldenStreamsThenTheirFrameFilesRebuildByteForB
     EXPECT_EQ(back, files);
     ++rebuilt;
   }
-  EXPECT_GE(rebuilt, 4u);  // scan_small, scan_small_ply, scan_small_bin, scan_small_nus
+  EXPECT_GE(rebuilt, 5u);  // scan_small, scan_small_ply, scan_small_bin, scan_small_nus, _rec
 }
 
 // A stream of capz 0.1.0 (format 9.3, magic "\x89capz") is refused, by the library and the CLI,

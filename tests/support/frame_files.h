@@ -23,6 +23,15 @@ inline std::string floats(const std::vector<float>& v) {
   return s;
 }
 
+// A value's bytes appended to *s (little-endian hosts): a record of a .bin frame built field by
+// field.
+template <class T>
+void append_bytes(std::string* s, T v) {
+  char b[sizeof(T)];
+  std::memcpy(b, &v, sizeof(T));
+  s->append(b, sizeof(T));
+}
+
 // An ASCII PCD frame: x y z, intensity (U1) and a 2-element field n (F4, COUNT 2).
 inline std::string ascii_pcd(const std::vector<std::vector<std::string>>& rows) {
   std::string s =

@@ -36,6 +36,9 @@ struct CompressInput {
 // given to data that has none, whose units capz cannot read, or whose units the reader assumed
 // (Take::units_assumed: metres for PCD, PLY and .bin).
 CompressInput open_compress_input(const std::string& path, bool whole, const std::string& units);
+// The same, told what the files do not say (a .bin source's record: ReadOptions, capz/io.h).
+CompressInput open_compress_input(const std::string& path, bool whole, const std::string& units,
+                                  const ReadOptions& read);
 
 // Sets opts->lossless, kg_error and max_error from `target` as `capz compress` does. The default
 // bound is 0.1 mm; for data without units, or with assumed ones, it is 1e-4 of the bounding-box
@@ -67,10 +70,11 @@ std::string dropped_coordinates_note(const CompressStats& stats);
 
 // The three above in a row: `capz compress IN -o OUT` with `target`, `units` (--units; checked
 // to name a unit capz knows) and the coding options of `opts` (codec, clusters, codec_options,
-// window_frames, check, progress; its target fields are replaced). Returns
+// window_frames, check, progress; its target fields are replaced), IN read with `read`. Returns
 // set_compress_target's note.
 std::string compress_file(const std::string& in, const std::string& out,
                           const CompressTarget& target, const CompressOptions& opts,
-                          const std::string& units, bool overwrite, CompressStats* stats = nullptr);
+                          const std::string& units, bool overwrite, CompressStats* stats = nullptr,
+                          const ReadOptions& read = {});
 
 }  // namespace capz
