@@ -60,13 +60,14 @@ class KeyMap {
   std::vector<uint32_t> vals_;
 };
 
-// A point's direction rounded: the key of its pixel.
+// A point's direction rounded: the key of its pixel. Each coordinate over r (a distance, or a
+// depth camera's depth: find_depth_axis keeps those below 3.9) takes 18 bits, offset by 2^17.
 uint64_t direction_key(const float* xyz, double r) {
   uint64_t k = 0;
   for (int a = 0; a < 3; ++a) {
     const double u = r > 0 ? static_cast<double>(xyz[a]) / r : 0.0;
     k = (k << 18) |
-        static_cast<uint64_t>(static_cast<int64_t>(round_half_away(u * kKeyScale)) + 65536);
+        static_cast<uint64_t>(static_cast<int64_t>(round_half_away(u * kKeyScale)) + 131072);
   }
   return k;
 }
@@ -209,7 +210,37 @@ struct Found {
   double quantum = 0;           // source units
   double step = 0;              // the grid step in source units
   int64_t largest = 0;          // the largest magnitude of an integer
+  int axis = -1;                // a depth camera's: ranges along this axis (dist its |x_a|)
 };
+
+// A depth camera's window (a pinhole's pixels, depth on a quantum along its axis, no quantum in
+// the distances): the first axis along which every valid point lies on one side, at most 3.9
+// times as far as along the others (the direction keys' reach), with those magnitudes on a
+// quantum. r->dist, quantum and axis set; false, r untouched, for none.
+bool find_depth_axis(const ScanGeometry& g, const ScanHints& hints, Found* r) {
+  const size_t total = g.total();
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double> d(total, 0.0);
+    int side = 0;
+    bool ok = true;
+    for (size_t i = 0; i < total && ok; ++i) {
+      if (!g.valid[i]) continue;
+      const float* x = &hints.xyz[3 * i];
+      const int s = x[a] > 0 ? 1 : x[a] < 0 ? -1 : 0;
+      d[i] = std::fabs(static_cast<double>(x[a]));
+      ok = s != 0 && (side == 0 || s == side) && std::fabs(x[(a + 1) % 3]) < 3.9 * d[i] &&
+           std::fabs(x[(a + 2) % 3]) < 3.9 * d[i];
+      side = s;
+    }
+    const double c = ok && side != 0 ? find_quantum(d) : 0;
+    if (c == 0) continue;
+    r->dist.swap(d);
+    r->quantum = c;
+    r->axis = a;
+    return true;
+  }
+  return false;
+}
 
 // How a window's raster frames code: ranges in quanta of `range` (source units); fine = 0: the
 // integers given, exactly; else on the grid step times 2^-fine, chosen within the bound (FORMAT.md
@@ -319,7 +350,7 @@ bool find_raster(const ScanGeometry& g, const ScanHints& hints, Found* r, bool* 
     ++valid;
   }
   r->quantum = find_quantum(r->dist);
-  if (r->quantum == 0) return false;
+  if (r->quantum == 0 && !find_depth_axis(g, hints, r)) return false;
   std::vector<uint64_t> keys(total, 0);
   for (size_t i = 0; i < total; ++i)
     if (g.valid[i]) keys[i] = direction_key(&hints.xyz[3 * i], r->dist[i]);
@@ -328,7 +359,9 @@ bool find_raster(const ScanGeometry& g, const ScanHints& hints, Found* r, bool* 
   for (size_t i = 0; i < total; ++i) {
     if (!g.valid[i]) continue;
     double r2 = 0;
-    for (size_t a = 0; a < 3; ++a) r2 += static_cast<double>(g.q[3 * i + a]) * g.q[3 * i + a];
+    for (size_t a = 0; a < 3; ++a)
+      if (r->axis < 0 || a == static_cast<size_t>(r->axis))
+        r2 += static_cast<double>(g.q[3 * i + a]) * g.q[3 * i + a];
     sxy += r->dist[i] * std::sqrt(r2);
     syy += r2;
   }

@@ -1,10 +1,12 @@
 // Raw windows (docs/FORMAT.md "Raw windows"): a lossless ragged take whose coordinates are
 // float64 on no decimal grid is kept as float64 bits (mode 3, every window raw; refused before);
-// a depth camera's frames without their invalid pixels, which the scan coder codes larger than
-// LZMA2 of their bits, are kept raw; LiDAR sweeps keep the scan coder. Each gives every
+// a depth camera's frames without their invalid pixels whose depth is off any quantum, which the
+// scan coder codes larger than LZMA2 of their bits, are kept raw (on a quantum they are raster
+// frames); LiDAR sweeps keep the scan coder. Each gives every
 // coordinate back bit for bit, its fields byte for byte and, from a folder, its files.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -62,14 +64,32 @@ TEST(ScanRaw, Float64FramesOnNoDecimalGridAreKeptAsTheirBits) {
 }
 
 // A depth camera's frames without their invalid pixels (data/make_raw_small.py, 8,952 points):
-// a raw window, 46,084 B (41.2 bits a point; `xz -9e` of the files 48,956 B), where the scan
-// coder's float32 split took 68,554 B (61.3 bits a point) at 841c43da.
-TEST(ScanRaw, DepthCameraFramesWithoutInvalidPixelsAreKeptRaw) {
+// raster frames along the depth axis (its depth on a millimetre quantum), 18,470 B (16.5 bits a
+// point), where a raw window took 46,084 B (41.2 bits a point; `xz -9e` of the files 48,956 B) and
+// the scan coder's other frames 68,554 B (at 841c43da).
+TEST(ScanRaw, DepthCameraFramesWithoutInvalidPixelsAreRasterFrames) {
   const capz::CompressStats st = lossless_folder(kData + "/depth_drop_small", 0);
+  EXPECT_EQ(st.float32_split_windows.count(capz::kRawWindowsKey), 0u);
+  EXPECT_EQ(st.mode, "float32-split");
+  EXPECT_LT(st.bytes * 8, 20 * 8952u);
+}
+
+// The same frames with their depth moved off any quantum (each z times 1 + 3e-4 sin(i), rounded
+// to float32): no raster, and the scan coder's other frames code larger than LZMA2 of the bits,
+// so the window is kept raw.
+TEST(ScanRaw, DepthFramesOffAnyQuantumAreKeptRaw) {
+  capz::Take t = capz::read_take(kData + "/depth_drop_small");
+  for (size_t i = 0; i < t.total_points(); ++i)
+    if (t.valid[i])
+      t.xyz[3 * i + 2] =
+          static_cast<float>(t.xyz[3 * i + 2] * (1 + 3e-4 * std::sin(static_cast<double>(i))));
+  capz::CompressOptions o;
+  o.lossless = true;
+  capz::CompressStats st;
+  const std::vector<uint8_t> z = capz::compress(t, o, &st);
   ASSERT_EQ(st.float32_split_windows.count(capz::kRawWindowsKey), 1u);
-  EXPECT_EQ(st.float32_split_windows.at(capz::kRawWindowsKey), 1u);
   EXPECT_EQ(st.mode, "float32-bits");
-  EXPECT_LT(st.bytes * 8, 45 * 8952u);
+  expect_exact(t, capz::decompress(z.data(), z.size()));
 }
 
 // An in-memory float64 take with a field, NaN gaps and a point at +0.0 0 0 (kept a point, bit
