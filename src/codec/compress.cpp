@@ -344,9 +344,22 @@ constexpr double kAnyMargin = 0.8;
 //   mesh's vertices, or a sensor's sweeps of one count without gaps. The scan coder's frame 0
 //   tells them apart: at least 8/10 of POSW's keeps POSW (the shared mesh animations 0.96-1.00:
 //   no sensor geometry), below goes on (sweeps 0.46-0.65;
-//   docs/lab/2026-11-30-lossless-fixed-count.md).
+//   docs/lab/2026-11-30-lossless-fixed-count.md). A frame 0 with 1/200 of its points at exactly
+//   0 0 0 (a sensor's padding for no return: the scan coder's gaps) goes on whatever its size (a
+//   Livox-like sensor's 0.99 of POSW there, 0.77 over the take:
+//   docs/lab/2026-12-01-padded-fixed-count.md).
 // - Sweeps: POSW's second frame under 6/10 of its first keeps POSW (a still sensor: per-index
 //   prediction pays).
+// Frame 0's points at exactly +0 +0 +0 (bit patterns).
+size_t origin_points(const Take& t) {
+  size_t n = 0;
+  for (size_t i = 0; i < t.points; ++i) {
+    const double* p = &t.xyz[3 * i];
+    n += same_bits(p[0], 0.0) && same_bits(p[1], 0.0) && same_bits(p[2], 0.0);
+  }
+  return n;
+}
+
 bool posw_without_trial(const Take& t, const CompressOptions& opts,
                         std::pair<size_t, size_t>* first) {
   const bool gaps = std::find(t.valid.begin(), t.valid.begin() + static_cast<long>(t.points),
@@ -355,6 +368,7 @@ bool posw_without_trial(const Take& t, const CompressOptions& opts,
   *first = {one, 0};
   if (!organized_cloud(t) && !gaps) {
     first->second = scan_stream(first_frames(t, 1), opts, nullptr).size();
+    if (first->second != 0 && 200 * origin_points(t) >= t.points) return false;
     return first->second == 0 || 10 * first->second >= 8 * one;
   }
   const size_t two = posw_trial_size(first_frames(t, 2), opts);

@@ -246,6 +246,27 @@ TEST(ScanOrganized, GivenOneOrganizedFrameThenTheSmallerStreamKeepsItsLayout) {
 // choice keeps the scan coder's stream (SCNW, no POSW); its files come back byte for byte, and the
 // archive is under the POSW stream alone (which has no residue). They kept POSW without a trial
 // before (2.2x larger on five real sweeps cut so: docs/lab/2026-11-30-lossless-fixed-count.md).
+// The folder `sub` of dir (frames of one count, no gap) compressed --lossless: its stream is the
+// scan coder's (SCNW, no POSW), under `ratio` times POSW's, and rebuilds every file byte for byte.
+void expect_scan_coder_lossless(const capz_test::TempDir& dir, const std::string& sub,
+                                double ratio) {
+  const Take c = read_take(dir.file(sub));
+  ASSERT_FALSE(c.ragged());
+  ASSERT_EQ(c.gap_samples(), 0u);
+  CompressOptions lossless;
+  lossless.lossless = true;
+  std::unique_ptr<FrameSource> s = open_frames(dir.file(sub));
+  compress_stream(*s, lossless, dir.file("l.capz"), true);
+  const std::vector<uint8_t> l = read_file(dir.file("l.capz"));
+  EXPECT_TRUE(has_chunk(l, "SCNW"));
+  EXPECT_FALSE(has_chunk(l, "POSW"));
+  EXPECT_LT(static_cast<double>(l.size()),
+            ratio * static_cast<double>(posw_stream(c, lossless).size()));
+  rebuild_original(dir.file("l.capz"), dir.file("back"), true);
+  for (const std::string& name : c.pcd->frame_names)
+    EXPECT_EQ(read_file(dir.file("back/" + name)), read_file(dir.file(sub + "/" + name))) << name;
+}
+
 TEST(ScanOrganized, GivenLosslessSweepsOfOneCountWithoutGapsThenTheScanCoderIsTried) {
   capz_test::TempDir dir("capz_scan_fixed_nogap");
   std::filesystem::create_directories(dir.file("src"));
@@ -271,22 +292,46 @@ TEST(ScanOrganized, GivenLosslessSweepsOfOneCountWithoutGapsThenTheScanCoderIsTr
   WriteOptions w;
   w.pcd_encoding = "binary";
   write_pcd_folder(t, dir.file("cut"), w);
-  const Take c = read_take(dir.file("cut"));
-  ASSERT_FALSE(c.ragged());
-  ASSERT_EQ(c.gap_samples(), 0u);
-  CompressOptions lossless;
-  lossless.lossless = true;
-  std::unique_ptr<FrameSource> s = open_frames(dir.file("cut"));
-  compress_stream(*s, lossless, dir.file("l.capz"), true);
-  const std::vector<uint8_t> l = read_file(dir.file("l.capz"));
-  EXPECT_TRUE(has_chunk(l, "SCNW"));
-  EXPECT_FALSE(has_chunk(l, "POSW"));
-  EXPECT_LT(l.size(), posw_stream(c, lossless).size());
-  rebuild_original(dir.file("l.capz"), dir.file("back"), true);
-  for (size_t f = 0; f < c.frames; ++f) {
-    const std::string name = c.pcd->frame_names[f];
-    EXPECT_EQ(read_file(dir.file("back/" + name)), read_file(dir.file("cut/" + name))) << name;
+  expect_scan_coder_lossless(dir, "cut", 1.0);
+}
+
+// A non-repetitive (Livox-like) sensor's frames of one count, its no-returns written as points at
+// exactly 0 0 0 (padding, not NaN: no gap in frame 0): a rosette turning from frame to frame over
+// a floor and three walls, ranges on a 2 mm quantum. The scan coder's frame 0 is about POSW's,
+// which alone kept POSW without a trial; the points at the origin (its gaps: FORMAT.md "Origin
+// points") now send it to the trial, where the whole take codes smaller through the scan coder.
+TEST(ScanOrganized, GivenLosslessPaddedFramesOfOneCountThenTheScanCoderIsTried) {
+  capz_test::TempDir dir("capz_scan_padded");
+  std::filesystem::create_directories(dir.file("src"));
+  const size_t N = 6000;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> n01(0, 1);
+  std::uniform_real_distribution<double> u01(0, 1);
+  const std::string header =
+      "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH " + std::to_string(N) +
+      "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + std::to_string(N) + "\nDATA binary\n";
+  for (size_t f = 0; f < 5; ++f) {
+    std::vector<uint8_t> bytes(header.begin(), header.end());
+    for (size_t i = 0; i < N; ++i) {
+      const double th = 2 * kPi * 1.37e-4 * static_cast<double>(i + f * N);
+      const double rr = std::fabs(std::sin(7.3 * th)) * 0.6;
+      const double az = rr * std::cos(th + 0.3 * f), el = rr * std::sin(th + 0.3 * f);
+      const double d[3] = {std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
+      double r = d[0] > 1e-3 ? 20 / d[0] : 1e9;
+      if (d[2] < -1e-3) r = std::min(r, -1.5 / d[2]);
+      if (std::fabs(d[1]) > 1e-3) r = std::min(r, 8 / std::fabs(d[1]));
+      r = 0.002 * std::nearbyint((r + 0.01 * n01(rng)) / 0.002);
+      const bool miss = r > 60 || u01(rng) < 0.08;
+      float p[3];
+      for (int a = 0; a < 3; ++a) p[a] = miss ? 0.0f : static_cast<float>(d[a] * r);
+      const uint8_t* q = reinterpret_cast<const uint8_t*>(p);
+      bytes.insert(bytes.end(), q, q + sizeof p);
+    }
+    char name[16];
+    std::snprintf(name, sizeof name, "%04zu.pcd", f);
+    write_file(dir.file("src/") + name, bytes, true);
   }
+  expect_scan_coder_lossless(dir, "src", 0.9);
 }
 
 // META's layout in a stream of ragged frames (FORMAT.md "Ragged frames: HEAD and the window
