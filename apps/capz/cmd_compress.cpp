@@ -46,7 +46,6 @@ po::options_description compress_options() {
       "units", po::value<std::string>(),
       "units of data that has none or assumed ones (PCD, PLY, .bin frames: metres assumed) or "
       "whose units capz cannot read: mm, cm or m")(
-
       "window", po::value<size_t>()->default_value(0),
       "frames per independently decodable window, 1..8192; 0 (default): 1024, or with codec "
       "none up to 8192 for takes of fewer than 64 points (about 2^16 samples a window)")(

@@ -118,9 +118,9 @@ std::string variant_text(const capz::Take& t) {
   if (t.bin) {
     const std::vector<capz::PCDField> record = capz::bin_record_of(t);
     const std::string text = capz::bin_record_text(record);
-    std::string s = !t.bin->record.empty() ? ".bin frames (" + text + ", given by --bin-fields)"
-                    : record.size() == 2   ? "nuScenes .bin frames (float32 " + text + ")"
-                                           : "KITTI .bin frames (float32 " + text + ")";
+    std::string s = t.bin->declared      ? ".bin frames (" + text + ", given by --bin-fields)"
+                    : record.size() == 2 ? "nuScenes .bin frames (float32 " + text + ")"
+                                         : "KITTI .bin frames (float32 " + text + ")";
     if (!t.bin->frame_names.empty())
       s += " " + t.bin->frame_names.front() + " .. " + t.bin->frame_names.back();
     return s;

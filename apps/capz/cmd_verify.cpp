@@ -66,7 +66,7 @@ Verdict check_stream(const std::string& in, const std::string& orig, capz::Frame
   capz::Take a;
   if (!orig.empty()) {
     capz::ReadOptions read;  // a .bin original in the record the archive holds (a declared one)
-    if (b.bin && !b.bin->record.empty() && capz::detect_format(orig) == capz::Format::kBinFolder)
+    if (b.bin && b.bin->declared && capz::detect_format(orig) == capz::Format::kBinFolder)
       read.bin_fields = capz::bin_record_text(b.bin->record);
     src = capz::open_frames(orig, read);
     a = src->header();

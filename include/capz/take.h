@@ -264,8 +264,10 @@ struct PCDExtra {
 // fields bin_record_of gives (below), which the take holds as point attributes.
 struct BinExtra {
   std::vector<std::string> frame_names;  // file names in natural-sort order, one per frame
-  // The record's fields after x y z when it is not the frame names' (bin_record_fields): one a
-  // user declared (--bin-fields, parse_bin_record); empty: the names'.
+  // A record a user declared (--bin-fields, parse_bin_record) that is not the frame names'
+  // (bin_record_fields): `record` its fields after x y z (none: x y z alone). Not declared: the
+  // names' record, `record` empty.
+  bool declared = false;
   std::vector<PCDField> record;
 };
 
@@ -376,8 +378,8 @@ struct Take {
 };
 
 // The fields after x y z of the record a .bin frame of `take` is written with: its declared record
-// (take.bin->record), else those of its .bin frame names (bin_record_fields), else KITTI's
-// "intensity".
+// (take.bin->declared: take.bin->record), else those of its .bin frame names (bin_record_fields),
+// else KITTI's "intensity".
 std::vector<PCDField> bin_record_of(const Take& take);
 
 // What is wrong with the take's point field names, as a phrase (empty when nothing): a field

@@ -151,7 +151,7 @@ std::vector<PCDField> frame_file_fields(const Take& t) {
 
 void settle_frame_layout(Take* t, bool drop_fields) {
   if ((t->format != Format::kPLYFolder && t->format != Format::kBinFolder) || t->pcd) return;
-  if (t->format == Format::kBinFolder && t->bin && t->bin->record.empty() &&
+  if (t->format == Format::kBinFolder && t->bin && !t->bin->declared &&
       bin_record_fields(t->bin->frame_names).empty())
     fail(ErrorCode::kInvalidParameter, t->source,
          "the .bin frame names are of two kinds (some *.pcd.bin, nuScenes', some not, KITTI's): "

@@ -25,6 +25,13 @@ void settle_fields(Take& header, const CompressOptions& opts);
 // Fields the format cannot hold: with drop_fields the layout is the source's x y z alone, else
 // Error(kInvalidParameter) (--drop-fields leaves them out).
 void settle_frame_layout(Take* t, bool drop_fields = false);
+// Whether the stream of take t says its .bin record is a declared one (HEAD's frame_format 6,
+// FORMAT.md "Frame-file sources"): t's record is declared (t.bin->declared) and its fields are
+// kept, or it has none (x y z alone). Dropped, the stream takes the names' record (4).
+inline bool declares_bin_record(const Take& t, bool drop_fields) {
+  return t.format == Format::kBinFolder && t.bin && t.bin->declared &&
+         (t.bin->record.empty() || !drop_fields);
+}
 // The per-field bounds of opts.attr_error on the header's PCD layout (field_bounds).
 void set_field_bounds(FrameSource& source, const CompressOptions& opts);
 void set_field_bounds(Take& header, const CompressOptions& opts);

@@ -257,6 +257,7 @@ class Encoder {
     h.points = static_cast<uint32_t>(take_.points);
     h.window_frames = static_cast<uint32_t>(plan_.W);
     h.source_format = take_.format;
+    h.bin_record_declared = declares_bin_record(take_, opts_.drop_fields);
     h.mode = g_.mode;
     h.codec = plan_.codec ? plan_.codec->id() : 0;
     // FORMAT.md 5.7: with a lossy analog channel the stream is not lossless, whatever its

@@ -506,6 +506,7 @@ StreamHeader ragged_header(const Take& t, const CompressOptions& opts, const Gri
   h.frames = t.frames;
   h.window_frames = window_frames(t, opts);
   h.source_format = t.format;  // PLY and .bin: HEAD's frame-file source (feature bit 4)
+  h.bin_record_declared = declares_bin_record(t, opts.drop_fields);
   h.mode = grid.mode;
   h.step = grid.step;
   h.max_error = grid.lossless ? 0 : opts.max_error;

@@ -38,6 +38,10 @@ StreamContext read_context(const StreamHeader& h, const Chunk& meta, const Strea
   c.take.rotations.segments = static_cast<int>(std::min<uint32_t>(c.h.rotation_segments, 1u << 30));
   c.take.rotations.samples_per_frame =
       static_cast<int>(std::min<uint32_t>(c.h.rotation_samples_per_frame, 1u << 30));
+  if (c.h.bin_record_declared) {  // META's fields are the record (FORMAT.md "Frame-file sources")
+    c.take.bin = std::make_shared<BinExtra>();
+    c.take.bin->declared = true;
+  }
   decode_meta(meta, name, &c.take, &c.words, c.h.ragged);
   if (organized_points(c) > 0 && c.h.points_reordered)
     fail(ErrorCode::kCorrupt, name,

@@ -156,8 +156,11 @@ void decode_transform_output(ByteReader* r, uint8_t flags, uint8_t mode, const s
     fail(ErrorCode::kCorrupt, what, "grid step is not a positive number");
 }
 
+// HEAD's frame_format of a .bin folder in a declared record ("Frame-file sources").
+constexpr uint8_t kDeclaredBinFolder = 6;
+
 // HEAD's feature bit 4 (a frame-file source, named after the fields above): the frame-file
-// format read from r and checked, returned as the source format (fmt, which must be 0).
+// format read from r and checked (4, 5 or kDeclaredBinFolder), returned (fmt, which must be 0).
 uint8_t decode_frame_file_source(ByteReader* r, uint8_t fmt, const StreamFeatures& f,
                                  const std::string& what) {
   if (!f.frame_file_sources())
@@ -167,7 +170,7 @@ uint8_t decode_frame_file_source(ByteReader* r, uint8_t fmt, const StreamFeature
          "frame-file source with source format " + std::to_string(fmt) + " (must be 0)");
   fmt = r->u8();
   if (fmt != static_cast<uint8_t>(Format::kBinFolder) &&
-      fmt != static_cast<uint8_t>(Format::kPLYFolder))
+      fmt != static_cast<uint8_t>(Format::kPLYFolder) && fmt != kDeclaredBinFolder)
     fail(ErrorCode::kCorrupt, what, "unknown frame-file format " + std::to_string(fmt));
   return fmt;
 }
@@ -206,7 +209,8 @@ StreamHeader decode_header(const Chunk& c, const std::string& name, const Stream
   if (h.frames > (uint64_t{1} << 40)) fail(ErrorCode::kCorrupt, what, "implausible frame count");
   if ((h.analog_channels == 0) != (h.analog_samples_per_frame == 0) && h.analog_channels != 0)
     fail(ErrorCode::kCorrupt, what, "analog channels without samples per frame");
-  h.source_format = static_cast<Format>(fmt);
+  h.bin_record_declared = fmt == kDeclaredBinFolder;
+  h.source_format = h.bin_record_declared ? Format::kBinFolder : static_cast<Format>(fmt);
   h.mode = static_cast<PosMode>(mode);
   h.lossless = (flags & 1) != 0;
   return h;

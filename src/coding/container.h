@@ -87,6 +87,10 @@ struct StreamHeader {
   // requires points_reordered.
   bool octree_frames = false;
 
+  // HEAD's frame_format 6 ("Frame-file sources"): a .bin folder (source_format kBinFolder) in a
+  // declared record, META's fields after x y z.
+  bool bin_record_declared = false;
+
   bool rotations() const { return rotation_segments > 0; }
   // HEAD flags bit 4 ("Scans (format 1.1)"): the source is a PLY or .bin folder (source_format
   // kPLYFolder or kBinFolder), written as HEAD's appended frame_format.

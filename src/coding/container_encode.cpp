@@ -60,7 +60,8 @@ std::vector<uint8_t> encode_header(const StreamHeader& h) {
     w.u32(h.rotation_segments);
     w.u32(h.rotation_samples_per_frame);
   }
-  if (h.frame_file_source()) w.u8(static_cast<uint8_t>(h.source_format));
+  if (h.frame_file_source())  // 6: a .bin folder in a declared record
+    w.u8(h.bin_record_declared ? uint8_t{6} : static_cast<uint8_t>(h.source_format));
   return std::move(w.buffer());
 }
 

@@ -277,23 +277,28 @@ void set_frame_file_extras(const std::string& what, std::shared_ptr<PLYExtra> pl
     t->ply = std::move(ply);
     return;
   }
-  // "Frame-file sources": float32 x y z, then the record's fields: the names' record, or none (the
-  // names' then, KITTI's for names of two kinds), or a declared record.
+  // "Frame-file sources": float32 x y z, then the record's fields. HEAD's frame_format 6 (the
+  // caller's t->bin, declared): a declared record, any fields; else the names' record (KITTI's for
+  // names of two kinds) or none (the fields dropped).
+  const bool declared = t->bin && t->bin->declared;
   bool ok = p->fields.size() >= 3;
   for (size_t i = 0; ok && i < p->fields.size(); ++i)
     ok =
         p->fields[i].count == 1 && (i >= 3 || (p->fields[i].name == std::string(1, "xyz"[i]) &&
                                                p->fields[i].type == 'F' && p->fields[i].size == 4));
-  if (!ok) fail(ErrorCode::kCorrupt, what, ".bin source whose fields are not a record's");
-  const std::vector<PCDField> names = bin_record_fields(p->frame_names);
+  const std::vector<PCDField> names = bin_record_or_kitti(p->frame_names);
   const std::vector<PCDField> record(p->fields.begin() + 3, p->fields.end());
-  bool same = record.size() == names.size();
-  for (size_t i = 0; same && i < record.size(); ++i)
-    same = record[i].name == names[i].name && record[i].type == names[i].type &&
+  if (ok && !declared && !record.empty()) {
+    ok = record.size() == names.size();
+    for (size_t i = 0; ok && i < record.size(); ++i)
+      ok = record[i].name == names[i].name && record[i].type == names[i].type &&
            record[i].size == names[i].size;
+  }
+  if (!ok) fail(ErrorCode::kCorrupt, what, ".bin source whose fields are not those of its record");
   t->bin = std::make_shared<BinExtra>();
   t->bin->frame_names = p->frame_names;
-  if (!same && !record.empty()) t->bin->record = record;  // a declared record
+  t->bin->declared = declared;
+  if (declared) t->bin->record = record;
 }
 
 // FORMAT.md 5.7: the bounded analog channels.

@@ -106,7 +106,7 @@ std::vector<PCDField> parse_bin_record(const std::string& text, const std::strin
 }
 
 std::vector<PCDField> bin_record_of(const Take& take) {
-  if (take.bin && !take.bin->record.empty()) return take.bin->record;
+  if (take.bin && take.bin->declared) return take.bin->record;
   return bin_record_or_kitti(take.bin ? take.bin->frame_names : std::vector<std::string>());
 }
 

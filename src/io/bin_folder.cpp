@@ -100,7 +100,7 @@ class BinSource : public FileFrameSource {
   BinSource(const std::string& path, const std::vector<PCDField>* declared)
       : FileFrameSource(list_frame_files(path, ".bin")) {
     record_ = declared ? *declared : bin_record_fields(files_.names);
-    if (record_.empty())
+    if (!declared && record_.empty())
       fail(ErrorCode::kNotOurFormat, path,
            "some .bin frames are named *.pcd.bin (nuScenes: x y z intensity ring) and some are "
            "not (KITTI: x y z intensity): one folder holds one kind, or --bin-fields gives the "
@@ -120,8 +120,10 @@ class BinSource : public FileFrameSource {
     header_.units_assumed = true;
     auto extra = std::make_shared<BinExtra>();
     extra->frame_names = files_.names;
-    if (declared && !same_layouts(*declared, bin_record_fields(files_.names)))
-      extra->record = *declared;  // else the names' record: the stream as without --bin-fields
+    if (declared && !same_layouts(*declared, bin_record_fields(files_.names))) {
+      extra->declared = true;  // else the names' record: the stream as without --bin-fields
+      extra->record = *declared;
+    }
     header_.bin = std::move(extra);
     for (const PCDField& f : record_) header_.attributes.push_back(attribute_of(f));
     if (!declared) check_names_record();

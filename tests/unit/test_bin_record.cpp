@@ -174,6 +174,38 @@ TEST(BinRecord, GivenADeclaredRecordThenTheArchiveKeepsItAndLosslessRebuildsTheF
   EXPECT_NE(what.find("--bin-fields"), std::string::npos) << what;
 }
 
+// A record of x y z alone (12 bytes a point, numpy's tofile of an (N, 3) float32 array): declared,
+// it holds no field, and the archive keeps it (HEAD's frame_format 6), so the files come back in
+// it, not as KITTI's 16-byte points.
+TEST(BinRecord, GivenARecordOfXyzAloneThenTheFilesComeBackTwelveBytesAPoint) {
+  TempDir dir;
+  fs::create_directories(dir.path() / "in");
+  std::string a;
+  for (int i = 0; i < 64; ++i)  // 64 x 12 bytes: 48 KITTI points too
+    for (float v : {0.5f * static_cast<float>(i), -2.0f, 1.25f + 0.01f * static_cast<float>(i)})
+      capz_test::append_bytes(&a, v);
+  put(dir.path() / "in" / "0.bin", a);
+  capz::ReadOptions ro;
+  ro.bin_fields = "x y z";
+  const capz::Take t = capz::read_take(dir.file("in"), ro);
+  ASSERT_EQ(t.total_points(), 64u);
+  EXPECT_TRUE(t.attributes.empty());
+  capz::CompressOptions o;
+  o.max_error = 0.001;
+  const std::vector<uint8_t> s = capz::compress(t, o);
+  const capz::Take d = capz::decompress(s.data(), s.size(), "x.capz");
+  ASSERT_TRUE(d.bin);
+  EXPECT_TRUE(d.bin->declared);
+  capz::write_take(d, dir.file("back/"));
+  EXPECT_EQ(fs::file_size(dir.file("back/0.bin")), 64u * 12u);
+  capz::CompressTarget lossless;
+  lossless.lossless = true;
+  capz::compress_file(dir.file("in"), dir.file("l.capz"), lossless, capz::CompressOptions(), "",
+                      false, nullptr, ro);
+  capz::rebuild_original(dir.file("l.capz"), dir.file("lback"), false);
+  EXPECT_EQ(capz::read_file(dir.file("lback/0.bin")), std::vector<uint8_t>(a.begin(), a.end()));
+}
+
 // KITTI frames of real sweeps do not draw the warning (data/scan_small_bin: pandar64 sweeps).
 TEST(BinRecord, GivenRealKittiFramesThenNoRecordWarning) {
   const capz::Take t = capz::read_take(std::string(CAPZ_REPO_DATA) + "/scan_small_bin");
