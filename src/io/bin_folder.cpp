@@ -141,7 +141,7 @@ class BinSource : public FileFrameSource {
  private:
   // A names' record (KITTI's, nuScenes') is a guess: frames of another record whose size happens
   // to be a whole number of its points read as garbage. The first frame with points is looked
-  // at, and a warning (info, convert, compress) names --bin-fields when more than 1 % of its
+  // at, and a warning (info, convert, compress) names --bin-fields when more than 1 % of its valid
   // points have an intensity below 0 or not finite, or a coordinate beyond 10^6 m: neither
   // happens in a real sweep, and both do in another record read with the wrong stride.
   void check_names_record() {
@@ -150,19 +150,22 @@ class BinSource : public FileFrameSource {
     if (f == counts_.size()) return;
     FrameData d;
     read_frame(f, &d);
-    size_t odd = 0;
+    size_t odd = 0, valid = 0;  // of the valid points (a gap's intensity may be anything)
     for (size_t i = 0; i < d.points; ++i) {
+      if (!d.valid[i]) continue;
+      ++valid;
       const float v = le_float(d.attrs[0].data() + 4 * i);  // "intensity", float32
-      bool far = !d.valid[i];
+      bool far = false;
       for (int a = 0; a < 3 && !far; ++a) far = std::fabs(d.xyz[3 * i + a]) > 1e6;
-      if (!(v >= 0) || !std::isfinite(v) || (far && d.valid[i])) ++odd;
+      if (!(v >= 0) || !std::isfinite(v) || far) ++odd;
     }
-    if (odd * 100 <= d.points || odd < 4) return;
+    if (odd * 100 <= valid || odd < 4) return;
     char share[32];
     std::snprintf(share, sizeof share, "%.1f%%",
-                  100.0 * static_cast<double>(odd) / static_cast<double>(d.points));
+                  100.0 * static_cast<double>(odd) / static_cast<double>(valid));
     header_.warnings.push_back(
-        files_.names[f] + ": " + share + " of its points have an intensity below 0 or not a " +
+        files_.names[f] + ": " + share +
+        " of its valid points have an intensity below 0 or not a " +
         "number, or a coordinate beyond 10^6 m, as in frames of another record read as " +
         bin_record_text(record_) + " (float32): if they hold another, --bin-fields gives it " +
         "(\"x y z intensity ring:U2 t:F8\")");

@@ -206,9 +206,20 @@ TEST(BinRecord, GivenARecordOfXyzAloneThenTheFilesComeBackTwelveBytesAPoint) {
   EXPECT_EQ(capz::read_file(dir.file("lback/0.bin")), std::vector<uint8_t>(a.begin(), a.end()));
 }
 
-// KITTI frames of real sweeps do not draw the warning (data/scan_small_bin: pandar64 sweeps).
+// KITTI frames of real sweeps do not draw the warning (data/scan_small_bin: pandar64 sweeps), nor
+// do gaps whose intensity is NaN too (a driver's no-return: 10 of 100 points here).
 TEST(BinRecord, GivenRealKittiFramesThenNoRecordWarning) {
   const capz::Take t = capz::read_take(std::string(CAPZ_REPO_DATA) + "/scan_small_bin");
   ASSERT_GT(t.total_points(), 0u);
   EXPECT_TRUE(t.warnings.empty()) << t.warnings.front();
+  TempDir dir;
+  std::string a;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (int i = 0; i < 100; ++i)
+    for (float v : {i % 10 ? 0.1f * static_cast<float>(i) : nan, 2.0f, -1.0f, i % 10 ? 0.5f : nan})
+      capz_test::append_bytes(&a, v);
+  put(dir.path() / "gaps.bin", a);
+  const capz::Take g = capz::read_take(dir.file("gaps.bin"));
+  EXPECT_EQ(g.gap_samples(), 10u);
+  EXPECT_TRUE(g.warnings.empty()) << g.warnings.front();
 }
