@@ -20,7 +20,7 @@ namespace {
 
 // "" when OUT reproduces IN as OUT's header promises, else what differs first.
 std::string written_difference(const std::string& out, const std::string& in,
-                               const capz::Take& in_header, const capz::ReadOptions& read) {
+                               const capz::Take& in_header) {
   const capz::StreamInfo info = capz::describe_file(out);  // a chunk at a time
   // Lossless: the archive must rebuild IN's bytes, proved through the checksum.
   if (info.lossless && capz::original_info(out).hashed) return capz::rebuilds_file(out, in);
@@ -28,7 +28,8 @@ std::string written_difference(const std::string& out, const std::string& in,
   // (An archive of one frame decodes in the shape a reader gives one frame file: capz_source.h.)
   std::unique_ptr<capz::FrameSource> dec = capz::open_capz_frames(out);
   if (!check.header(in_header, dec->header())) return check.why();
-  std::unique_ptr<capz::FrameSource> src = capz::open_frames(in, read);  // IN again
+  std::unique_ptr<capz::FrameSource> src =
+      capz::open_frames(in, capz::read_options_of(in_header));  // IN again
   if (src->header().frames != in_header.frames || src->header().points != in_header.points ||
       src->header().frame_offsets != in_header.frame_offsets)
     return "IN changed while it was compressed";
@@ -45,12 +46,11 @@ std::string written_difference(const std::string& out, const std::string& in,
 
 }  // namespace
 
-void check_written(const std::string& out, const std::string& in, const capz::Take& in_header,
-                   const capz::ReadOptions& read) {
+void check_written(const std::string& out, const std::string& in, const capz::Take& in_header) {
   before_reading_back(out);
   std::string what;
   try {
-    what = written_difference(out, in, in_header, read);
+    what = written_difference(out, in, in_header);
   } catch (const capz::Error& e) {
     what = e.what();
   }

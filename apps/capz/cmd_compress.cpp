@@ -395,7 +395,7 @@ FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
   r.ratio = st.bytes ? static_cast<double>(r.in_bytes) / static_cast<double>(st.bytes) : 0;
   r.mbps = r.t_enc > 0 ? static_cast<double>(st.raw_bytes) / 1e6 / r.t_enc : 0;
   if (vm.count("rm")) {
-    check_written(r.out, in, take, s.read);  // like zstd: only a verified output lets IN go
+    check_written(r.out, in, take);  // like zstd: only a verified output lets IN go
     remove_input(in, take);
   }
   return compress_record(job, vm, &r, take, opts, st);

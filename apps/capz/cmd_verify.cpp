@@ -65,10 +65,9 @@ Verdict check_stream(const std::string& in, const std::string& orig, capz::Frame
   std::unique_ptr<capz::FrameSource> src;
   capz::Take a;
   if (!orig.empty()) {
-    capz::ReadOptions read;  // a .bin original in the record the archive holds (a declared one)
-    if (b.bin && b.bin->declared && capz::detect_format(orig) == capz::Format::kBinFolder)
-      read.bin_fields = capz::bin_record_text(b.bin->record);
-    src = capz::open_frames(orig, read);
+    // A .bin original in the record the archive holds (a declared one).
+    const bool bin = capz::detect_format(orig) == capz::Format::kBinFolder;
+    src = capz::open_frames(orig, bin ? capz::read_options_of(b) : capz::ReadOptions());
     a = src->header();
     match_original(in, orig, b, &a);
     v.dropped_fields = drop_left_out_fields(&a, b);

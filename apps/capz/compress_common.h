@@ -12,7 +12,6 @@
 
 #include "capz/codec.h"
 #include "capz/error.h"
-#include "capz/io.h"
 #include "capz/metrics.h"
 #include "capz/tool/file.h"
 #include "cli_util.h"
@@ -62,11 +61,11 @@ inline std::string num(double v, int digits = 4) {
 }
 
 // `compress --rm` (check_written.cpp): reads OUT back from disk and decodes it, a window at a
-// time, against IN read again from disk (with `read`; `in_header`: the metadata compress coded), as
+// time, against IN read again from disk (in_header: the metadata compress coded; a .bin IN in its
+// declared record, read_options_of), as
 // OUT's header promises (capz/verify.h). On any difference or decoding error, removes OUT and
 // throws Error(kCorrupt) saying IN was kept. The rule is the library's (capz/verify.h).
-void check_written(const std::string& out, const std::string& in, const capz::Take& in_header,
-                   const capz::ReadOptions& read);
+void check_written(const std::string& out, const std::string& in, const capz::Take& in_header);
 
 // Called by check_written just before OUT is read back. The release binary's does nothing
 // (release_hooks.cpp); the CLI built for the tests (tests/support/flip_written_byte.cpp) damages

@@ -43,6 +43,9 @@ Take read_take(const std::string& path, const ReadOptions& opts);
 // The record opts gives a .bin source at `path` (its fields after x y z), or none (empty
 // bin_fields). Throws Error(kUsage) for a bad text or a source of another format.
 std::vector<PCDField> declared_bin_record(const std::string& path, const ReadOptions& opts);
+// The options that read a .bin source in the record `header` holds: its declared record's text
+// (take.h BinExtra), else none (the names' record, and any other format).
+ReadOptions read_options_of(const Take& header);
 
 struct WriteOptions {
   bool overwrite = false;  // replace an existing output (the CLI's -f)

@@ -284,6 +284,8 @@ std::vector<PCDField> bin_record_or_kitti(const std::vector<std::string>& frame_
 // "x y z intensity ring:U2": the record's values in order (the fields after x y z given), a field
 // other than a float32 with its TYPE and SIZE.
 std::string bin_record_text(const std::vector<PCDField>& record);
+// Whether two records have the same fields (names, types and sizes) in the same order.
+bool same_bin_records(const std::vector<PCDField>& a, const std::vector<PCDField>& b);
 // Whether every field of a record is a float32 (KITTI's and nuScenes' are).
 bool bin_record_float32(const std::vector<PCDField>& record);
 // The record a --bin-fields text declares, its fields after x y z: names separated by spaces or

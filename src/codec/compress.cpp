@@ -345,18 +345,15 @@ constexpr double kAnyMargin = 0.8;
 //   tells them apart: at least 8/10 of POSW's keeps POSW (the shared mesh animations 0.96-1.00:
 //   no sensor geometry), below goes on (sweeps 0.46-0.65;
 //   docs/lab/2026-11-30-lossless-fixed-count.md). A frame 0 with 1/200 of its points at exactly
-//   0 0 0 (a sensor's padding for no return: the scan coder's gaps) goes on whatever its size (a
-//   Livox-like sensor's 0.99 of POSW there, 0.77 over the take:
-//   docs/lab/2026-12-01-padded-fixed-count.md).
+//   0 0 0 (a sensor's padding for no return: the scan coder's gaps) goes on whatever its size
+//   (Livox-like frames: 0.99 of POSW there in docs/lab/2026-11-30-user-inputs-2.md, the whole
+//   take 0.77 of POSW's archive in docs/lab/2026-12-01-padded-fixed-count.md).
 // - Sweeps: POSW's second frame under 6/10 of its first keeps POSW (a still sensor: per-index
 //   prediction pays).
-// Frame 0's points at exactly +0 +0 +0 (bit patterns).
+// Frame 0's points at exactly +0 +0 +0 (origin_point).
 size_t origin_points(const Take& t) {
   size_t n = 0;
-  for (size_t i = 0; i < t.points; ++i) {
-    const double* p = &t.xyz[3 * i];
-    n += same_bits(p[0], 0.0) && same_bits(p[1], 0.0) && same_bits(p[2], 0.0);
-  }
+  for (size_t i = 0; i < t.points; ++i) n += origin_point(&t.xyz[3 * i]);
   return n;
 }
 

@@ -390,10 +390,7 @@ bool octree_may_win(const RaggedRun& r, const WindowBytes& at, const OctreeOffer
 // FORMAT.md "Origin points": when block b has points at exactly +0.0 +0.0 +0.0 (bit patterns)
 // and no gap, those points become its gaps (true returned), else b is left as it is.
 bool origin_gaps(FrameBlock* b) {
-  const auto origin = [&](size_t i) {
-    const double* p = &b->xyz[3 * i];
-    return same_bits(p[0], 0.0) && same_bits(p[1], 0.0) && same_bits(p[2], 0.0);
-  };
+  const auto origin = [&](size_t i) { return origin_point(&b->xyz[3 * i]); };
   bool any = false;
   for (size_t i = 0; i < b->valid.size(); ++i) {
     if (!b->valid[i]) return false;

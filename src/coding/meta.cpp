@@ -288,12 +288,7 @@ void set_frame_file_extras(const std::string& what, std::shared_ptr<PLYExtra> pl
                                                p->fields[i].type == 'F' && p->fields[i].size == 4));
   const std::vector<PCDField> names = bin_record_or_kitti(p->frame_names);
   const std::vector<PCDField> record(p->fields.begin() + 3, p->fields.end());
-  if (ok && !declared && !record.empty()) {
-    ok = record.size() == names.size();
-    for (size_t i = 0; ok && i < record.size(); ++i)
-      ok = record[i].name == names[i].name && record[i].type == names[i].type &&
-           record[i].size == names[i].size;
-  }
+  if (ok && !declared && !record.empty()) ok = same_bin_records(record, names);
   if (!ok) fail(ErrorCode::kCorrupt, what, ".bin source whose fields are not those of its record");
   t->bin = std::make_shared<BinExtra>();
   t->bin->frame_names = p->frame_names;

@@ -93,6 +93,12 @@ inline bool same_bits(double a, double b) {
   return std::memcmp(&a, &b, 8) == 0;
 }
 
+// True when x y z (p[0..2]) are exactly +0.0 (bit patterns): FORMAT.md "Origin points", a
+// sensor's padding for no return.
+inline bool origin_point(const double* p) {
+  return same_bits(p[0], 0.0) && same_bits(p[1], 0.0) && same_bits(p[2], 0.0);
+}
+
 // True when x is exactly a float32 value (NaN excluded).
 inline bool is_float32(double x) {
   return static_cast<double>(static_cast<float>(x)) == x;

@@ -47,6 +47,13 @@ std::vector<PCDField> bin_record_or_kitti(const std::vector<std::string>& frame_
   return r.empty() ? bin_record_fields({}) : r;
 }
 
+bool same_bin_records(const std::vector<PCDField>& a, const std::vector<PCDField>& b) {
+  return std::equal(a.begin(), a.end(), b.begin(), b.end(),
+                    [](const PCDField& x, const PCDField& y) {
+                      return x.name == y.name && x.type == y.type && x.size == y.size;
+                    });
+}
+
 bool bin_record_float32(const std::vector<PCDField>& record) {
   return std::all_of(record.begin(), record.end(),
                      [](const PCDField& f) { return f.type == 'F' && f.size == 4; });

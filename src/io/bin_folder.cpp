@@ -120,7 +120,7 @@ class BinSource : public FileFrameSource {
     header_.units_assumed = true;
     auto extra = std::make_shared<BinExtra>();
     extra->frame_names = files_.names;
-    if (declared && !same_layouts(*declared, bin_record_fields(files_.names))) {
+    if (declared && !same_bin_records(*declared, bin_record_fields(files_.names))) {
       extra->declared = true;  // else the names' record: the stream as without --bin-fields
       extra->record = *declared;
     }
@@ -169,13 +169,6 @@ class BinSource : public FileFrameSource {
         "number, or a coordinate beyond 10^6 m, as in frames of another record read as " +
         bin_record_text(record_) + " (float32): if they hold another, --bin-fields gives it " +
         "(\"x y z intensity ring:U2 t:F8\")");
-  }
-
-  static bool same_layouts(const std::vector<PCDField>& a, const std::vector<PCDField>& b) {
-    if (a.size() != b.size()) return false;
-    for (size_t i = 0; i < a.size(); ++i)
-      if (a[i].name != b[i].name || a[i].type != b[i].type || a[i].size != b[i].size) return false;
-    return true;
   }
 
   std::vector<uint8_t> bytes_;

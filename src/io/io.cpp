@@ -216,6 +216,12 @@ std::vector<PCDField> declared_bin_record(const std::string& path, const ReadOpt
   return record;
 }
 
+ReadOptions read_options_of(const Take& header) {
+  ReadOptions r;
+  if (header.bin && header.bin->declared) r.bin_fields = bin_record_text(header.bin->record);
+  return r;
+}
+
 Take read_take(const std::string& path, const ReadOptions& opts) {
   if (opts.bin_fields.empty()) return read_take(path);
   const std::vector<PCDField> record = declared_bin_record(path, opts);

@@ -11,6 +11,7 @@
 #include "capz/error.h"
 #include "capz/tool/file.h"
 #include "chunk_util.h"
+#include "support/stream_pieces.h"
 
 namespace {
 
@@ -28,17 +29,6 @@ std::vector<uint8_t> with_frame_format(const std::string& name, uint8_t v, uint8
   return b;
 }
 
-// What decoding b throws ("" when it decodes).
-std::string fault(const std::vector<uint8_t>& b) {
-  try {
-    capz::decompress(b.data(), b.size(), "s.capz");
-  } catch (const capz::Error& e) {
-    EXPECT_EQ(e.code(), capz::ErrorCode::kCorrupt) << e.what();
-    return e.what();
-  }
-  return "";
-}
-
 }  // namespace
 
 TEST(BinRecordCorrupt, GivenADeclaredRecordsFrameFormatChangedThenCorruptOrTheRecordItSays) {
@@ -47,9 +37,11 @@ TEST(BinRecordCorrupt, GivenADeclaredRecordsFrameFormatChangedThenCorruptOrTheRe
   // are not KITTI's, whose names these are.
   std::vector<uint8_t> b = with_frame_format("scan_small_rec.grid1mm.v1.1.capz", 4, &was);
   EXPECT_EQ(was, 6);
-  EXPECT_NE(fault(b).find("not those of its record"), std::string::npos) << fault(b);
+  std::string why = capz_test::decode_error(b);
+  EXPECT_NE(why.find("not those of its record"), std::string::npos) << why;
   b = with_frame_format("scan_small_rec.grid1mm.v1.1.capz", 7, &was);
-  EXPECT_NE(fault(b).find("unknown frame-file format 7"), std::string::npos) << fault(b);
+  why = capz_test::decode_error(b);
+  EXPECT_NE(why.find("unknown frame-file format 7"), std::string::npos) << why;
   // nuScenes' record under frame_format 6: a declared record of the same fields, which decodes.
   b = with_frame_format("scan_small_nus.grid1mm.v1.1.capz", 6, &was);
   EXPECT_EQ(was, 4);
