@@ -177,7 +177,7 @@ TEST(ThreadsSynthetic, SameStreamAndTakeForEveryThreadCount) {
 
 // Ragged sweeps through the scan coder, whose windows' self-checks run beside the next window's
 // coding with threads: the same stream, stats and take for every count, at a bound (the fields
-// kept, and dropped) and with --point-order any.
+// kept, and dropped), with --point-order any and lossless (float32 splits).
 TEST(ThreadsSynthetic, ScanWindowsTheSameForEveryThreadCount) {
   const capz::Take t =
       capz_test::with_u2_field(capz_test::synthetic_sweeps(7, 150, 37, 5, 40, 3, 0.3, 7, 23, 5),
@@ -192,6 +192,12 @@ TEST(ThreadsSynthetic, ScanWindowsTheSameForEveryThreadCount) {
   o.any_point_order = true;
   o.max_error = 0.01;
   check_compress(t, o, "scan reordered");
+  o.any_point_order = false;
+  o.max_error = 0;
+  o.lossless = true;
+  check_compress(t, o, "scan lossless");
+  o.window_frames = 3;  // three windows, the last short
+  check_compress(t, o, "scan lossless, 3 windows");
 }
 
 TEST(ThreadsSynthetic, ThreadsZeroMeansAllCoresAndNegativeIsRejected) {
@@ -380,15 +386,20 @@ TEST(ThreadsSynthetic, DecompressProgressPerWindowAndItsExceptionLeaveDecompress
   }
 }
 
-// The repository's samples (data/): C3D with analog and 4th words, TRC, lossless and at a bound,
-// streamed (HASH and residue, rebuilt originals) and in memory.
+// The repository's samples (data/): C3D with analog and 4th words, TRC, and a scan folder one
+// sweep a window (a residue chunk after each window, rebuilt from its self-check's decode),
+// lossless and at a bound, streamed (HASH and residue, rebuilt originals) and in memory.
 TEST(ThreadsRepo, SamplesStreamAndDecodeTheSameForEveryThreadCount) {
   const std::string d = CAPZ_REPO_DATA;
-  for (const char* f :
-       {"admarche2.c3d", "EB015PI.c3d", "Capture0004.c3d", "std_walking5_markers.trc"}) {
+  const std::pair<const char*, size_t> samples[] = {{"admarche2.c3d", 128},
+                                                    {"EB015PI.c3d", 128},
+                                                    {"Capture0004.c3d", 128},
+                                                    {"std_walking5_markers.trc", 128},
+                                                    {"scan_small", 1}};
+  for (const auto& [f, window] : samples) {
     const std::string in = d + "/" + f;
     capz::CompressOptions o;
-    o.window_frames = 128;
+    o.window_frames = window;
     o.lossless = true;
     check_stream(in, o);
     o.lossless = false;
