@@ -194,4 +194,14 @@ inline CliResult run_command(const std::string& exe, const std::string& args,
   return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, file_text(out_file)};
 }
 
+// `text` without its lines that carry a reader's warning ("capz compress: warning: ..."), which
+// a command prints beside its other lines (in a batch, as its file is read).
+inline std::string without_warnings(const std::string& text) {
+  std::stringstream in(text);
+  std::string line, kept;
+  while (std::getline(in, line))
+    if (line.find(": warning: ") == std::string::npos) kept += line + "\n";
+  return kept;
+}
+
 }  // namespace capz_test

@@ -147,6 +147,13 @@ std::string set_target(const po::variables_map& vm, capz::FrameSource& source,
 // Compresses the input into `out`; returns the encoding's CPU seconds: of the process when the
 // file is coded `alone` on window threads, else of the calling thread.
 // `progress`: the per-frame progress line (a single input; a batch shows its own).
+// The reader's warnings, as info lists them and convert prints them (unless -q).
+void print_warnings(const std::string& in, const std::vector<std::string>& warnings) {
+  if (g_verbosity > 0)
+    for (const std::string& w : warnings)
+      std::fprintf(stderr, "capz compress: warning: %s: %s\n", in.c_str(), w.c_str());
+}
+
 double encode(Input& input, capz::CompressOptions opts, const std::string& out, bool force,
               bool progress_line, bool alone, capz::CompressStats* st) {
   const bool workers = alone && opts.threads > 1;
@@ -379,18 +386,17 @@ FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
   // files at once): the windows of the take coded in parallel.
   opts.threads = static_cast<int>(job.threads);
   const capz::Take& take = input.in.source->header();
-  if (take.bin)  // a .bin record guessed from the names that the first frame does not fit
-    for (const std::string& w : take.warnings)
-      std::fprintf(stderr, "capz compress: warning: %s: %s\n", in.c_str(), w.c_str());
+  print_warnings(r.in, take.warnings);  // the header's (a .bin record guessed from the names)
   const std::string bound_note = set_target(vm, *input.in.source, &opts);
   if (!bound_note.empty() && g_verbosity > 0)
-    std::fprintf(stderr, "capz compress: note: %s: %s\n", in.c_str(), bound_note.c_str());
+    std::fprintf(stderr, "capz compress: note: %s: %s\n", r.in.c_str(), bound_note.c_str());
   r.units = take.units;
   if (take.units_assumed) r.units_note = "units " + capz::units_text(take);
 
   capz::CompressStats st;
   r.t_enc = encode(input, opts, r.out, s.batch.force, s.single, job.alone, &st);
-  print_compress_notes(in, st);
+  print_warnings(r.in, input.in.source->frame_warnings());  // found reading the frames
+  print_compress_notes(r.in, st);
   r.in_bytes = path_size(in);
   r.ratio = st.bytes ? static_cast<double>(r.in_bytes) / static_cast<double>(st.bytes) : 0;
   r.mbps = r.t_enc > 0 ? static_cast<double>(st.raw_bytes) / 1e6 / r.t_enc : 0;

@@ -208,3 +208,28 @@ TEST(CliArchive, GivenALosslessArchiveAndAnotherFileOfTheSameTakeThenVerifyAgain
   EXPECT_EQ(r.status, 5) << r.out;
   EXPECT_NE(r.out.find("the recorded hash is not the input's"), std::string::npos) << r.out;
 }
+
+// compress repeats the reader's warnings that info lists, one line each, unless -q: a C3D's
+// found reading its frames (4th words beyond 16 bits) and a TRC header's.
+TEST(CliArchive, CompressPrintsTheReadersWarningsUnlessQuiet) {
+  capz_test::TempDir d("capz_cli_warnings");
+  const std::string c3d = std::string(CAPZ_REPO_DATA) + "/admarche2.c3d";
+  Result r = run("compress '" + c3d + "' -o '" + d.file("a.capz") + "'");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("capz compress: warning: " + c3d +
+                       ": 2649 samples have a 4th word beyond 16 bits"),
+            std::string::npos)
+      << r.out;
+  const std::string trc = d.file("t.trc");
+  std::ofstream(trc, std::ios::binary)
+      << "PathFileType\t4\t(X/Y/Z)\tt.trc\nDataRate\tNumFrames\tNumMarkers\tUnits\n100\t1\t2\tmm\n"
+         "Frame#\tTime\tA\t\t\nX1\tY1\tZ1\n1\t0\t1\t2\t3\n";
+  r = run("compress '" + trc + "' -o '" + d.file("t.capz") + "'");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("capz compress: warning: " + trc + ": header says 2 markers, file holds 1"),
+            std::string::npos)
+      << r.out;
+  r = run("compress -q -f '" + trc + "' -o '" + d.file("t.capz") + "'");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(r.out, "");
+}
