@@ -266,10 +266,28 @@ std::string report_line(const FileRecord& r) {
   return j.str() + "\n";
 }
 
-// Runs one job, turning its failure into the record.
-FileRecord run_one(const Job& job, const Worker& work) {
+// Where file_note keeps the lines of this thread's file (null: printed at once).
+thread_local std::string* t_notes = nullptr;
+
+// Keeps file_note's lines in `notes` while it lives (`keep`), else lets them print at once.
+class NotesKept {
+ public:
+  NotesKept(bool keep, std::string* notes) : saved_(t_notes) { t_notes = keep ? notes : nullptr; }
+  ~NotesKept() { t_notes = saved_; }
+  NotesKept(const NotesKept&) = delete;
+  NotesKept& operator=(const NotesKept&) = delete;
+
+ private:
+  std::string* saved_;
+};
+
+// Runs one job, turning its failure into the record; with `keep_notes`, file_note's lines go
+// into the record.
+FileRecord run_one(const Job& job, const Worker& work, bool keep_notes) {
   const auto t0 = std::chrono::steady_clock::now();
   FileRecord r;
+  std::string notes;
+  NotesKept kept(keep_notes, &notes);
   try {
     if (!job.expand_error.empty()) throw capz::Error(capz::ErrorCode::kUsage, job.expand_error);
     r = work(job);
@@ -288,6 +306,7 @@ FileRecord run_one(const Job& job, const Worker& work) {
   }
   if (r.input.empty()) r.input = job.from_stdin ? "-" : job.input;
   if (!r.ok && r.code == 0) r.code = 1;
+  r.notes = std::move(notes);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }
@@ -314,6 +333,7 @@ struct BatchRun {
     progress.clear();
     for (; printed < jobs.size() && finished[printed]; ++printed) {
       const FileRecord& r = records[printed];
+      if (!r.notes.empty()) std::fputs(r.notes.c_str(), stderr);
       // As zstd: with the data on stdout the per-file lines need -v.
       if (!r.text.empty() && (!data_on_stdout || g_verbosity >= 2))
         std::fputs(r.text.c_str(), text_out);
@@ -335,7 +355,7 @@ struct BatchRun {
         if (next_job == jobs.size()) return;
         i = next_job++;
       }
-      FileRecord r = run_one(jobs[i], work);
+      FileRecord r = run_one(jobs[i], work, jobs.size() > 1);
       std::lock_guard<std::mutex> lock(m);
       bytes_done += r.bytes_in;
       ++done;
@@ -379,6 +399,13 @@ int batch_status(const std::vector<FileRecord>& records, bool failed_lines) {
 }
 
 }  // namespace
+
+void file_note(const std::string& line) {
+  if (t_notes)
+    *t_notes += line + "\n";
+  else
+    std::fprintf(stderr, "%s\n", line.c_str());
+}
 
 int run_batch(const std::string& command, const BatchSettings& s, std::vector<Job> jobs,
               const Worker& work, bool failed_lines) {

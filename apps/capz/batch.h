@@ -57,6 +57,7 @@ struct FileRecord {
   double max_error = kNone;  // achieved, per coordinate (compress)
   std::string checksum;      // the original's XXH3-128 the archive records ("" when none)
   std::string text;          // the command's lines for this file (to stdout, or stderr with -c)
+  std::string notes;         // its warning and note lines (stderr; file_note), in a batch
   // Filled by the driver.
   bool ok = true;
   int code = 0;  // exit status of the failure
@@ -99,6 +100,12 @@ std::string place_output(const BatchSettings& s, const Job& job, const std::stri
 using Worker = std::function<FileRecord(const Job&)>;
 int run_batch(const std::string& command, const BatchSettings& s, std::vector<Job> jobs,
               const Worker& work, bool failed_lines = false);
+
+// Prints one warning or note line (no newline) about the file being worked on, on stderr: at
+// once for a batch of one file; in a batch of several, kept with the file's record (also when
+// the file then fails) and printed before its lines, in input order, so that the lines of files
+// coded at once do not mix and the progress line is cleared first.
+void file_note(const std::string& line);
 
 // Claims `out` for `input` for the rest of the batch; throws Error(kUsage) when another input
 // of the batch already writes there (two takes of the same name into one flat folder).

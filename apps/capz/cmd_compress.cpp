@@ -150,8 +150,7 @@ std::string set_target(const po::variables_map& vm, capz::FrameSource& source,
 // The reader's warnings, as info lists them and convert prints them (unless -q).
 void print_warnings(const std::string& in, const std::vector<std::string>& warnings) {
   if (g_verbosity > 0)
-    for (const std::string& w : warnings)
-      std::fprintf(stderr, "capz compress: warning: %s: %s\n", in.c_str(), w.c_str());
+    for (const std::string& w : warnings) file_note("capz compress: warning: " + in + ": " + w);
 }
 
 double encode(Input& input, capz::CompressOptions opts, const std::string& out, bool force,
@@ -302,10 +301,8 @@ void remove_input(const std::string& in, const capz::Take& take) {
     if (ec)
       capz::fail(capz::ErrorCode::kIo, in, "could not remove after compressing: " + ec.message());
   } else if (g_verbosity > 0) {
-    std::fprintf(stderr,
-                 "capz compress: note: %s: its %zu frame files removed; the folder is kept, as it "
-                 "holds other files\n",
-                 in.c_str(), names->size());
+    file_note("capz compress: note: " + in + ": its " + std::to_string(names->size()) +
+              " frame files removed; the folder is kept, as it holds other files");
   }
 }
 
@@ -332,13 +329,10 @@ void choose_output(const Job& job, const Settings& s, PipeSpace* space, std::str
 // --analog-max-error matched none of, and the coordinates left out of the grid.
 void print_compress_notes(const std::string& in, const capz::CompressStats& st) {
   for (const std::string& k : st.analog_unmatched)
-    std::fprintf(stderr,
-                 "capz compress: note: %s: --analog-max-error %s names no analog channel's label "
-                 "or unit; those stay lossless\n",
-                 in.c_str(), k.c_str());
+    file_note("capz compress: note: " + in + ": --analog-max-error " + k +
+              " names no analog channel's label or unit; those stay lossless");
   const std::string dropped = capz::dropped_coordinates_note(st);
-  if (!dropped.empty() && g_verbosity > 0)
-    std::fprintf(stderr, "capz compress: note: %s: %s\n", in.c_str(), dropped.c_str());
+  if (!dropped.empty() && g_verbosity > 0) file_note("capz compress: note: " + in + ": " + dropped);
 }
 
 // The batch's record of one compressed file (*rp: its report so far).
@@ -389,7 +383,7 @@ FileRecord compress_file(const Job& job, const Settings& s, PipeSpace* space) {
   print_warnings(r.in, take.warnings);  // the header's (a .bin record guessed from the names)
   const std::string bound_note = set_target(vm, *input.in.source, &opts);
   if (!bound_note.empty() && g_verbosity > 0)
-    std::fprintf(stderr, "capz compress: note: %s: %s\n", r.in.c_str(), bound_note.c_str());
+    file_note("capz compress: note: " + r.in + ": " + bound_note);
   r.units = take.units;
   if (take.units_assumed) r.units_note = "units " + capz::units_text(take);
 

@@ -241,13 +241,14 @@ FileRecord decompress_file(const Job& job, const Settings& s, PipeSpace* space) 
   const double c0 = cpu_seconds(workers);
   Written w = vm.count("frames") ? decode_range(job, s, in, dopts, wo, space)
                                  : decode_whole(job, s, in, dopts, wo, space);
+  const std::string name = job.from_stdin ? "stdin" : in;
   if (wo.drop_fields && capz::format_for_output(w.out) != capz::Format::kPCDFolder &&
       g_verbosity >= 1 && !w.fields.empty())
-    std::fprintf(stderr, "capz decompress: dropped point fields: %s\n", w.fields.c_str());
+    file_note("capz decompress: note: " + name + ": dropped point fields: " + w.fields);
   if (g_verbosity >= 1)
     for (const std::string& d : w.dropped)
-      std::fprintf(stderr, "capz decompress: note: %s does not keep %s\n",
-                   capz::format_name(capz::format_for_output(w.out)), d.c_str());
+      file_note("capz decompress: note: " + name + ": " +
+                capz::format_name(capz::format_for_output(w.out)) + " does not keep " + d);
   const double t_dec = cpu_seconds(workers) - c0;
   const double raw = static_cast<double>(w.total_points * 12);
   const double mbps = t_dec > 0 ? raw / 1e6 / t_dec : 0;

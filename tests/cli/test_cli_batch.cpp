@@ -555,6 +555,52 @@ TEST(CliBatch, GivenTerminalThenProgressLineUnlessQuiet) {
   EXPECT_EQ(capz_test::without_warnings(pipe.err), "") << pipe.err;
 }
 
+// The readers' warnings and the notes of a batch come with their file's lines, in input order
+// whatever -T, and on a terminal after the progress line is cleared, never glued to it.
+TEST(CliBatch, GivenNotesOfSeveralFilesThenEachWithItsFileInInputOrder) {
+  capz_test::TempDir d("capz_cli_batch");
+  const std::string dir = d.path().string();
+  make_tree(dir);
+  // A warning of a.c3d's (4th words beyond 16 bits), and a note for each file: no channel is
+  // named nosuch.
+  const std::string args = " t --analog-max-error nosuch=1 --output-dir-flat ";
+  const Result r = shell(dir, "capz compress -r -T 4" + args + "f");
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::vector<std::string> inputs;  // in input order, from the per-file lines
+  for (const std::string& l : split_lines(r.out)) inputs.push_back(l.substr(0, l.find(" -> ")));
+  ASSERT_EQ(inputs.size(), kTreeArchives.size()) << r.out;
+  std::vector<size_t> order;  // the input each stderr line names
+  for (const std::string& l : split_lines(r.err)) {
+    size_t i = 0;
+    while (i < inputs.size() && l.find(": " + inputs[i] + ": ") == std::string::npos) ++i;
+    ASSERT_LT(i, inputs.size()) << "names no input: " << l;
+    order.push_back(i);
+  }
+  ASSERT_EQ(order.size(), kTreeArchives.size() + 1) << r.err;
+  EXPECT_TRUE(std::is_sorted(order.begin(), order.end())) << r.err;
+
+  if (std::system("command -v script >/dev/null 2>&1") != 0) {
+    GTEST_SKIP() << "util-linux 'script' not found: no terminal to show the progress line on";
+  }
+  for (const char* t : {"1", "4"}) {
+    const Result tty = shell(dir, std::string("script -qec \"$CAPZ compress -r -T ") + t + args +
+                                      "tty" + t + "\" /dev/null");
+    ASSERT_EQ(tty.status, 0) << tty.out;
+    size_t lines = 0;
+    for (size_t at = tty.out.find("capz compress: "); at != std::string::npos;
+         at = tty.out.find("capz compress: ", at + 1)) {
+      if (tty.out.compare(at, 21, "capz compress: note: ") != 0 &&
+          tty.out.compare(at, 24, "capz compress: warning: ") != 0)
+        continue;  // the progress line
+      ++lines;
+      const bool after_clear = at >= 3 && tty.out.compare(at - 3, 3, "\033[K") == 0;
+      const bool line_start = at > 0 && tty.out[at - 1] == '\n';
+      EXPECT_TRUE(after_clear || line_start) << "-T " << t << ": " << tty.out.substr(0, at + 40);
+    }
+    EXPECT_EQ(lines, order.size()) << "-T " << t << ": " << tty.out;
+  }
+}
+
 // docs/ARCHIVE.md, GNU parallel: the one-host recipe and --sshlogin with this host (':').
 TEST(CliRecipes, GivenGnuParallelThenEveryTakeCompressed) {
   if (std::system("command -v parallel >/dev/null 2>&1") != 0) {

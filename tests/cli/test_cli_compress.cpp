@@ -349,12 +349,9 @@ TEST(CliCompress, GivenDecompressToTrcThenNotesNameWhatTrcDoesNotKeep) {
   ASSERT_EQ(r.status, 0) << r.out;
   r = capz_cli("decompress '" + d.file("e.capz") + "' -o '" + d.file("e.trc") + "'", true);
   ASSERT_EQ(r.status, 0) << r.out;
-  EXPECT_NE(r.out.find("capz decompress: note: trc does not keep the 16 analog channels\n"),
-            std::string::npos)
-      << r.out;
-  EXPECT_NE(r.out.find("capz decompress: note: trc does not keep the C3D parameter section\n"),
-            std::string::npos)
-      << r.out;
+  const std::string note = "capz decompress: note: " + d.file("e.capz") + ": trc does not keep ";
+  EXPECT_NE(r.out.find(note + "the 16 analog channels\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(note + "the C3D parameter section\n"), std::string::npos) << r.out;
   r = capz_cli("decompress '" + d.file("e.capz") + "' -o '" + d.file("e.c3d") + "'", true);
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_EQ(r.out.find("does not keep"), std::string::npos) << r.out;
