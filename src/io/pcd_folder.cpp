@@ -315,6 +315,7 @@ void read_pcd_frame(const std::string& path, FrameLayout* l, FrameData* data, Pc
   // Field i's value of point p: at base(i) + p x stride(i), in the points or in the planes.
   const uint8_t* points = b->is_planar ? b->planar.data() : cloud.data.data();
   const auto base = [&](uint32_t offset) {
+    if (n == 0) return points;  // may be null: no offset from it
     return points + (b->is_planar ? n * size_t{offset} : size_t{offset});
   };
   FieldRef ref[3];

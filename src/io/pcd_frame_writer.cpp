@@ -157,8 +157,8 @@ void append_field_major(const PcdFrameLayout& l, const uint8_t* points, size_t n
   size_t off = 0;
   for (const PCDField& f : l.fields) {
     const size_t fs = static_cast<size_t>(f.size) * static_cast<size_t>(f.count);
-    const uint8_t* s = points + off;
-    if (fs == 4)  // fixed sizes: a copy the compiler inlines
+    const uint8_t* s = n > 0 ? points + off : points;  // no points: may be null
+    if (fs == 4)                                       // fixed sizes: a copy the compiler inlines
       for (size_t p = 0; p < n; ++p, d += 4) std::memcpy(d, s + p * step, 4);
     else if (fs == 8)
       for (size_t p = 0; p < n; ++p, d += 8) std::memcpy(d, s + p * step, 8);

@@ -296,7 +296,7 @@ bool PromiseCheck::positions(const Frames& a, const Frames& b) {
     for (size_t i = 0; i < n; ++i) {
       if (!a.valid[i]) continue;
       const double *x = a.xyz + i * 3, *y = b.xyz + i * 3;
-      if (ok(x[0], y[0]) & ok(x[1], y[1]) & ok(x[2], y[2])) continue;
+      if (ok(x[0], y[0]) && ok(x[1], y[1]) && ok(x[2], y[2])) continue;
       bad = i;
       axis = ok(x[0], y[0]) ? ok(x[1], y[1]) ? 2 : 1 : 0;
       return;

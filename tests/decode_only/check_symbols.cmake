@@ -55,7 +55,8 @@ foreach(_o IN LISTS _dec_objs)
   endif()
 endforeach()
 
-# nm -C --defined-only -A: "LIB:OBJECT:ADDRESS TYPE NAME", one symbol a line.
+# nm -C --defined-only -A: "LIB:OBJECT:ADDRESS TYPE NAME", one symbol a line (llvm-nm, which a
+# clang build uses, puts a space before ADDRESS).
 function(defined_symbols lib types out)
   execute_process(COMMAND ${NM} -C --defined-only -A ${lib} OUTPUT_VARIABLE _nm
                   RESULT_VARIABLE _r ERROR_QUIET)
@@ -66,7 +67,7 @@ function(defined_symbols lib types out)
   string(REPLACE "\n" ";" _nm "${_nm}")
   set(_res "")
   foreach(_line IN LISTS _nm)
-    if(_line MATCHES "^[^:]*:([^:]+):[0-9a-f]+ ([${types}]) (.*)$")
+    if(_line MATCHES "^[^:]*:([^:]+): ?[0-9a-f]+ ([${types}]) (.*)$")
       list(APPEND _res "${CMAKE_MATCH_1}|${CMAKE_MATCH_3}")
     endif()
   endforeach()

@@ -147,13 +147,14 @@ void decode_analog_window(const uint8_t* data, size_t size, size_t nrows, int ch
   // The channel's samples into its column of rows: directly, or through its kept samples.
   std::vector<double> tmp;
   auto put = [&](size_t c) {
+    double* column = nrows > 0 ? rows + c : rows;  // no rows: rows may be null (no offset)
     if (layouts[c].all()) {
-      analog::reconstruct(reprs[c], nrows, rows + c, nch, what);
+      analog::reconstruct(reprs[c], nrows, column, nch, what);
       return;
     }
     tmp.resize(kept[c]);
     analog::reconstruct(reprs[c], kept[c], tmp.data(), 1, what);
-    layouts[c].expand(tmp.data(), nrows, repeat_S, rows + c, nch, what);
+    layouts[c].expand(tmp.data(), nrows, repeat_S, column, nch, what);
   };
   if (!any_coded) {
     if (!in.at_end())
