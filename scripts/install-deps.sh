@@ -2,7 +2,7 @@
 # Installs what capz needs to build, test and benchmark on Debian 12, if it is missing.
 # Runs as root or through sudo. Safe to run again: installed packages are skipped.
 set -euo pipefail
-pkgs=(build-essential cmake ccache pkg-config
+pkgs=(build-essential cmake ninja-build ccache pkg-config
       libpcl-dev libeigen3-dev libflann-dev libboost-program-options-dev libgtest-dev
       libxxhash-dev libzstd-dev liblzma-dev pybind11-dev python3-dev python3-pytest
       clang libclang-rt-14-dev clang-format

@@ -9,17 +9,16 @@
 # about half the time GCC takes with ASan + UBSan, and in 0.8x with TSan.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-# ccache keys on paths relative to the checkout, so a fresh clone reuses earlier compilations.
-export CCACHE_BASEDIR="$PWD" CCACHE_NOHASHDIR=true
+source scripts/build_env.sh
 sanitizer_compilers=(-DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++)
 scripts/install-deps.sh
 scripts/build.sh
 (cd build && ctest --output-on-failure -j"$(nproc)" --timeout 900)
 
 if [ "${CAPZ_SKIP_ASAN:-0}" != "1" ]; then
-  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g1" \
-    "-DCMAKE_C_FLAGS_DEBUG=-O1 -g1" "${sanitizer_compilers[@]}" -DCAPZ_SANITIZE=address,undefined -DCAPZ_BUILD_BENCH=OFF \
-    -DCAPZ_BUILD_PYTHON=OFF >/dev/null
+  cmake -S . -B build-asan $(capz_generator build-asan) -DCMAKE_BUILD_TYPE=Debug \
+    "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g1" "-DCMAKE_C_FLAGS_DEBUG=-O1 -g1" "${sanitizer_compilers[@]}" \
+    -DCAPZ_SANITIZE=address,undefined -DCAPZ_BUILD_BENCH=OFF -DCAPZ_BUILD_PYTHON=OFF >/dev/null
   # Only the executables this pass runs (tests/CMakeLists.txt); the others' tests show up as
   # *_NOT_BUILT without labels, so the label filter below leaves them out.
   cmake --build build-asan -j"$(nproc)" --target capz_sanitizer_tests
@@ -33,9 +32,9 @@ if [ "${CAPZ_SKIP_ASAN:-0}" != "1" ]; then
 fi
 
 if [ "${CAPZ_SKIP_TSAN:-0}" != "1" ]; then
-  cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g1" \
-    "-DCMAKE_C_FLAGS_DEBUG=-O1 -g1" "${sanitizer_compilers[@]}" -DCAPZ_SANITIZE=thread -DCAPZ_BUILD_BENCH=OFF \
-    -DCAPZ_BUILD_PYTHON=OFF >/dev/null
+  cmake -S . -B build-tsan $(capz_generator build-tsan) -DCMAKE_BUILD_TYPE=Debug \
+    "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g1" "-DCMAKE_C_FLAGS_DEBUG=-O1 -g1" "${sanitizer_compilers[@]}" \
+    -DCAPZ_SANITIZE=thread -DCAPZ_BUILD_BENCH=OFF -DCAPZ_BUILD_PYTHON=OFF >/dev/null
   cmake --build build-tsan -j"$(nproc)" --target capz_threads_tests
   # The synthetic and data/ tests (the shared-data ones are for the Release suite): a race or a
   # lock-order inversion fails the run (third-party suppressions: tests/threads/tsan.supp).

@@ -75,7 +75,7 @@ void write_sweeps(const std::string& dir, size_t frames, size_t H, size_t W, siz
         bytes.insert(bytes.end(), q, q + sizeof p);
       }
     }
-    char name[16];
+    char name[32];
     std::snprintf(name, sizeof name, "%04zu.pcd", f);
     write_file(dir + "/" + name, bytes, true);
   }
