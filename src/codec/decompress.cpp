@@ -34,8 +34,11 @@ Take decode_range(const uint8_t* data, size_t size, size_t first, size_t count,
   count = std::min(count, F - first);
   if (first == 0 && count == F) check_tiling(ps, size, name);
   if (opts.progress) {
+    // By value: the source calls it from read() below, after this block's locals are gone.
     const size_t W = ps.h.window_frames, end = first + count;
-    src.after_window([&](size_t w) { opts.progress(std::min((w + 1) * W, end) - first, count); });
+    src.after_window([W, end, first, count, &opts](size_t w) {
+      opts.progress(std::min((w + 1) * W, end) - first, count);
+    });
   }
   FrameBlock b;
   src.read(first, count, &b);

@@ -6,6 +6,8 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include "capz/codec.h"
 #include "capz/error.h"
@@ -248,6 +250,29 @@ TEST(Container, GivenDefaultWindowThenSizedByPointCount) {
   EXPECT_EQ(window_of("", 0), 8192u);
   EXPECT_EQ(window_of("none", 500), 500u);
   EXPECT_EQ(window_of("ts", 0), 1024u);
+}
+
+// The progress callback runs from inside the decode, after decompress() set it up: what it
+// reports must outlive that set-up (a stack-use-after-scope under ASan when it did not).
+TEST(Container, GivenProgressThenEachWindowReportsTheFramesDoneOfThoseAsked) {
+  Take t = synthetic(1000, 4, 0, 9);
+  CompressOptions o;
+  o.max_error = 0.5;
+  o.codec = "none";
+  o.window_frames = 300;
+  const auto bytes = compress(t, o);
+  std::vector<std::pair<size_t, size_t>> calls;
+  DecompressOptions d;
+  d.progress = [&](size_t done, size_t of) { calls.emplace_back(done, of); };
+  decompress(bytes.data(), bytes.size(), "mem", d);
+  const std::vector<std::pair<size_t, size_t>> whole = {
+      {300, 1000}, {600, 1000}, {900, 1000}, {1000, 1000}};
+  EXPECT_EQ(calls, whole);
+  calls.clear();
+  const Take part = decompress_frames(bytes.data(), bytes.size(), 250, 500, "mem", d);
+  EXPECT_EQ(part.frames, 500u);
+  const std::vector<std::pair<size_t, size_t>> range = {{50, 500}, {350, 500}, {500, 500}};
+  EXPECT_EQ(calls, range);
 }
 
 TEST(Container, GivenKgTargetThenAchievedAtOrJustUnder) {
