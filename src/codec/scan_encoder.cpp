@@ -57,16 +57,19 @@ void refuse_unsupported(const Take& t, const CompressOptions& opts) {
          "--lossless keeps every analog sample: it cannot be given with --analog-max-error");
 }
 
-// Frames per window: about 2^21 points in a window, 1 .. 8192 frames. A window's first sweep has
-// no sweep before it and costs 2.2-2.6x the next ones (pandar64: 4.9 bits a point more at 1 cm),
-// while the encoder holds 85-90 bytes a point of the window: 2^21 points halve that first
-// sweep's share of 2^20's for about 90 MiB more (docs/lab/2026-12-02-scan-windows.md).
+// Frames per window: about 2^21 points in a window at a bound, 2^20 lossless, 1 .. 8192 frames.
+// A window's first sweep has no sweep before it and costs 2.2-2.6x the next ones at a bound
+// (pandar64: 4.9 bits a point more at 1 cm), while the encoder holds 85-90 bytes a point of the
+// window: 2^21 points halve that first sweep's share of 2^20's for about 90 MiB more. Lossless,
+// a window of 2^21 points was only 1.5 % smaller, for 55 % more memory
+// (docs/lab/2026-12-02-scan-windows.md).
 uint32_t window_frames(const Take& t, const CompressOptions& opts) {
   if (opts.window_frames > 0)
     return static_cast<uint32_t>(std::min<size_t>(opts.window_frames, kMaxWindowFrames));
   size_t most = 1;
   for (size_t f = 0; f < t.frames; ++f) most = std::max(most, t.frame_points(f));
-  return static_cast<uint32_t>(std::clamp<size_t>((size_t{1} << 21) / most, 1, kMaxWindowFrames));
+  const size_t points = opts.lossless ? size_t{1} << 20 : size_t{1} << 21;
+  return static_cast<uint32_t>(std::clamp<size_t>(points / most, 1, kMaxWindowFrames));
 }
 
 // What choose_grid reads of the take (hdr: its header): x y z's layout spelled out, and no
@@ -462,6 +465,7 @@ void code_window(RaggedRun& r, size_t w, FrameBlock* b) {
   }
   r.index.push_back(IndexEntry{base, r.buf.size()});
   r.out->flush(&r.buf);
+  if (decodes_windows(r)) r.checks->release();
 }
 
 void fill_stats(const RaggedRun& r, size_t total, CompressStats* stats) {
