@@ -60,7 +60,7 @@ void refuse_unsupported(const Take& t, const CompressOptions& opts) {
 // Frames per window: about 2^21 points in a window at a bound, 2^20 lossless, 1 .. 8192 frames.
 // A window's first sweep has no sweep before it and costs 2.2-2.6x the next ones at a bound
 // (pandar64: 4.9 bits a point more at 1 cm), while the encoder holds 85-90 bytes a point of the
-// window: 2^21 points halve that first sweep's share of 2^20's for about 90 MiB more. Lossless,
+// window: 2^21 points halve that first sweep's share of 2^20's for about 110 MiB more. Lossless,
 // a window of 2^21 points was only 1.5 % smaller, for 55 % more memory
 // (docs/lab/2026-12-02-scan-windows.md).
 uint32_t window_frames(const Take& t, const CompressOptions& opts) {
