@@ -504,11 +504,12 @@ void check_ragged_header(const Take& t, const CompressOptions& opts, bool organi
          "frames of one organized shape are coded in their order");
 }
 
-// The stream's HEAD of a ragged take on `grid`.
-StreamHeader ragged_header(const Take& t, const CompressOptions& opts, const Grid& grid) {
+// The stream's HEAD of a ragged take on `grid`, in windows of W frames (window_frames).
+StreamHeader ragged_header(const Take& t, const CompressOptions& opts, const Grid& grid,
+                           uint32_t W) {
   StreamHeader h;
   h.frames = t.frames;
-  h.window_frames = window_frames(t, opts);
+  h.window_frames = W;
   h.source_format = t.format;  // PLY and .bin: HEAD's frame-file source (feature bit 4)
   h.bin_record_declared = declares_bin_record(t, opts.drop_fields);
   h.mode = grid.mode;
@@ -528,10 +529,10 @@ void encode_ragged(FrameSource& src, const CompressOptions& opts, StreamOut* out
   const Take& t = src.header();
   check_ragged_header(t, opts, organized);
   FrameBlock block;  // window 0 after pass 1; then each window as read
-  const size_t W = window_frames(t, opts);
+  const uint32_t W = window_frames(t, opts);
   const Grid grid = choose_grid(src, opts, W, &block);
   const Take meta_take = meta_take_of(t, opts, organized);
-  const StreamHeader h = ragged_header(t, opts, grid);
+  const StreamHeader h = ragged_header(t, opts, grid, W);
   std::vector<uint8_t> head_buf;
   write_file_header(&head_buf, kFormatScans.minor);
   const std::vector<uint8_t> head = encode_header(h), meta = encode_meta(meta_take, false);
