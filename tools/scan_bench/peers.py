@@ -232,30 +232,58 @@ def file_compressor(files, name, work):
 
 # --- capz ---
 
-def capz(seq, bound, xyz_dir, capz_bin, work):
-    """capz compress of the x y z frames at the bound, one thread; 'not yet' while capz
-    refuses scans."""
+def _capz_round(capz_bin, src, work, opts):
+    """capz compress of src with opts, one thread, then decompress to work/dec: (archive path,
+    output path, encode CPU s, decode CPU s), or a failed Result."""
     _fresh(work)
     arc = os.path.join(work, 'seq.capz')
-    p, enc_s = run([capz_bin, 'compress', xyz_dir, '-o', arc, '--max-error', '%gm' % bound,
-                    '--units', 'm', '-T', '1', '-q'])
+    p, enc_s = run([capz_bin, 'compress', src, '-o', arc, '-T', '1', '-q'] + opts)
     if p.returncode != 0:
-        r = _fail(p, 'capz compress')
-        r['not_yet'] = True
-        return r
+        return _fail(p, 'capz compress ' + ' '.join(opts))
     out = os.path.join(work, 'dec')
     p, dec_s = run([capz_bin, 'decompress', arc, '-o', out, '-T', '1', '-q'])
     if p.returncode != 0:
         return _fail(p, 'capz decompress')
+    return arc, out, enc_s, dec_s
+
+
+def capz(seq, bound, xyz_dir, capz_bin, work, order='kept'):
+    """capz compress of the x y z frames at the bound, one thread, the points' order kept or
+    (order 'any') as the encoder finds cheapest; the error by the decoded point in order, or by
+    the nearest decoded point when the order changed."""
+    opts = ['--max-error', '%gm' % bound, '--units', 'm']
+    opts += ['--point-order', 'any'] if order == 'any' else []
+    done = _capz_round(capz_bin, xyz_dir, work, opts)
+    if isinstance(done, Result):
+        return done
+    arc, out, enc_s, dec_s = done
     import pcd
     dec = [pcd.read_xyz(f)[0] for f in sorted(glob.glob(os.path.join(out, '*.pcd')))]
-    in_order = len(dec) == len(seq.frames) and all(
+    same = len(dec) == len(seq.frames) and all(
         len(a) == len(b) for a, b in zip(seq.frames, dec))
+    in_order = same and (order != 'any' or all(
+        fr.max_abs_error(a, b) <= bound for a, b in zip(seq.frames, dec)))
     if in_order:
         err = max(fr.max_abs_error(a, b) for a, b in zip(seq.frames, dec))
     else:
-        err = max(fr.nn_error(a, b) for a, b in zip(seq.frames, dec)) if len(dec) == len(
-            seq.frames) else float('inf')
+        err = max(fr.nn_error(a, b) for a, b in zip(seq.frames, dec)) if same else float('inf')
     return Result(ok=True, bytes=os.path.getsize(arc), max_error=err, enc_s=enc_s,
                   dec_s=dec_s, check='in order' if in_order else 'nearest decoded point',
-                  config='--max-error %gm -T 1' % bound)
+                  config=' '.join(opts + ['-T 1']))
+
+
+def capz_lossless(files, capz_bin, work):
+    """capz compress --lossless of the frame files as given (all fields; the folder, or the
+    file of a one-frame sequence), decompressed and compared byte for byte with each file."""
+    src = files[0] if len(files) == 1 else os.path.dirname(files[0])
+    done = _capz_round(capz_bin, src, work, ['--lossless'])
+    if isinstance(done, Result):
+        return done
+    arc, out, enc_s, dec_s = done
+    got = out if os.path.isfile(out) else None
+    for f in files:
+        g = got or os.path.join(out, os.path.basename(f))
+        if not os.path.exists(g) or open(g, 'rb').read() != open(f, 'rb').read():
+            return Result(ok=False, note='capz --lossless: %s not given back byte for byte' % f)
+    return Result(ok=True, bytes=os.path.getsize(arc), max_error=0.0, enc_s=enc_s,
+                  dec_s=dec_s, check='lossless', config='--lossless -T 1')

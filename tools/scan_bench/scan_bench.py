@@ -19,7 +19,11 @@ Debian's draco; the PCL probe is build/tools/scan_pcl_octree):
   cloudini           Cloudini's per-cloud encoder at resolution 2 B
   draco              draco_encoder -point_cloud, quantisation bits meeting B per frame
   pcl-octree         PCL's OctreePointCloudCompression, point resolution B
-  capz               capz compress of the x y z frames (binary PCD) at --max-error B, -T 1
+  capz               capz compress of the x y z frames (binary PCD) at --max-error B, -T 1,
+                     the points' order kept (the default)
+  capz-any           the same with --point-order any
+  capz-lossless      capz compress --lossless of the frame files as given (all fields), every
+                     file given back byte for byte
   xz-9e, zstd-19     of the frame files as given (all fields; lossless), and xz-9e-xyz of the
                      x y z binary PCD frames capz reads (geometry only, lossless)
 Bits per point: 8 x bytes / points over all frames (geometry only, except xz-9e and zstd-19 of
@@ -125,6 +129,12 @@ def bench_sequence(name, files, a, out):
                                                        os.path.join(bw, 'pcl')))
         if 'capz' not in a.skip:
             emit(bound, 'capz', peers.capz(seq, bound, xyz_dir, a.capz, os.path.join(bw, 'capz')))
+        if 'capz-any' not in a.skip:
+            emit(bound, 'capz-any', peers.capz(seq, bound, xyz_dir, a.capz,
+                                               os.path.join(bw, 'capz-any'), order='any'))
+    if 'capz-lossless' not in a.skip:
+        emit(0, 'capz-lossless', peers.capz_lossless(files, a.capz, os.path.join(work, 'capzl')),
+             seq.file_bytes / 1e6)
     if 'xz' not in a.skip:
         emit(0, 'xz-9e', peers.file_compressor(files, 'xz', os.path.join(work, 'xz')),
              seq.file_bytes / 1e6)
