@@ -418,6 +418,7 @@ bool decodes_windows(const RaggedRun& r) {
 // the one decoder has given them back for the check and the report's measures (decodes_windows).
 void code_window(RaggedRun& r, size_t w, FrameBlock* b) {
   const Take& t = r.t;
+  if (r.opts.drop_fields) keep_hint_fields(t.attributes, b);
   for (size_t a = 0; a < t.attributes.size() && !r.opts.drop_fields; ++a)
     if (a >= b->attributes.size() ||
         b->attributes[a].size() != b->total_points() * t.attributes[a].bytes_per_point())

@@ -24,13 +24,23 @@ long field_index(const std::vector<PointAttribute>& layouts, const FrameBlock& b
   return -1;
 }
 
+long ring_index(const std::vector<PointAttribute>& layouts, const FrameBlock& b) {
+  return field_index(layouts, b, {"ring", "channel", "laser_id", "laser"},
+                     [](const PointAttribute& a) { return a.type != 'F' && a.size <= 4; });
+}
+
+long distance_index(const std::vector<PointAttribute>& layouts, const FrameBlock& b) {
+  return field_index(layouts, b, {"distance", "range"}, [](const PointAttribute& a) {
+    return a.type == 'F' && (a.size == 4 || a.size == 8);
+  });
+}
+
 }  // namespace
 
 // The ring / laser / channel number of every point of block b from an unsigned or signed
 // integer field of that name (layouts: the take's attributes), or empty.
 std::vector<uint32_t> ring_field(const std::vector<PointAttribute>& layouts, const FrameBlock& b) {
-  const long i = field_index(layouts, b, {"ring", "channel", "laser_id", "laser"},
-                             [](const PointAttribute& a) { return a.type != 'F' && a.size <= 4; });
+  const long i = ring_index(layouts, b);
   if (i < 0) return {};
   const size_t n = b.total_points(), sz = static_cast<size_t>(layouts[size_t(i)].size);
   const std::vector<uint8_t>& data = b.attributes[size_t(i)];
@@ -46,9 +56,7 @@ std::vector<uint32_t> ring_field(const std::vector<PointAttribute>& layouts, con
 // The source's distance field (a float `distance` or `range`, the sensor's measured range), or
 // empty: a hint of the sensor's range step (ScanHints::distance).
 std::vector<float> distance_field(const std::vector<PointAttribute>& layouts, const FrameBlock& b) {
-  const long i = field_index(layouts, b, {"distance", "range"}, [](const PointAttribute& a) {
-    return a.type == 'F' && (a.size == 4 || a.size == 8);
-  });
+  const long i = distance_index(layouts, b);
   if (i < 0) return {};
   const size_t n = b.total_points();
   const std::vector<uint8_t>& data = b.attributes[size_t(i)];
@@ -63,6 +71,13 @@ std::vector<float> distance_field(const std::vector<PointAttribute>& layouts, co
     }
   }
   return d;
+}
+
+void keep_hint_fields(const std::vector<PointAttribute>& layouts, FrameBlock* b) {
+  const long ring = ring_index(layouts, *b), distance = distance_index(layouts, *b);
+  for (size_t i = 0; i < b->attributes.size(); ++i)
+    if (static_cast<long>(i) != ring && static_cast<long>(i) != distance)
+      std::vector<uint8_t>().swap(b->attributes[i]);
 }
 
 }  // namespace capz

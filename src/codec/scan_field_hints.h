@@ -18,4 +18,8 @@ std::vector<uint32_t> ring_field(const std::vector<PointAttribute>& layouts, con
 // empty: a hint of the sensor's range step (ScanHints::distance).
 std::vector<float> distance_field(const std::vector<PointAttribute>& layouts, const FrameBlock& b);
 
+// Frees every point field of block b but the two above read (--drop-fields: the others are
+// not coded, and held through the window's coding they cost their bytes a point for nothing).
+void keep_hint_fields(const std::vector<PointAttribute>& layouts, FrameBlock* b);
+
 }  // namespace capz
