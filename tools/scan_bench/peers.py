@@ -3,6 +3,7 @@
 Times are the CPU seconds (user + system) of the peer's processes, or of the probe's own coding
 loops where a peer has no command line (Cloudini, PCL), one thread each.
 """
+import filecmp
 import glob
 import os
 import resource
@@ -261,12 +262,13 @@ def capz(seq, bound, xyz_dir, capz_bin, work, order='kept'):
     dec = [pcd.read_xyz(f)[0] for f in sorted(glob.glob(os.path.join(out, '*.pcd')))]
     same = len(dec) == len(seq.frames) and all(
         len(a) == len(b) for a, b in zip(seq.frames, dec))
-    in_order = same and (order != 'any' or all(
-        fr.max_abs_error(a, b) <= bound for a, b in zip(seq.frames, dec)))
-    if in_order:
-        err = max(fr.max_abs_error(a, b) for a, b in zip(seq.frames, dec))
-    else:
-        err = max(fr.nn_error(a, b) for a, b in zip(seq.frames, dec)) if same else float('inf')
+    # In order when the kept order came back, or `any` left every point within the bound of its
+    # own; else by the nearest decoded point.
+    err = max((fr.max_abs_error(a, b) for a, b in zip(seq.frames, dec)), default=0.0) \
+        if same else float('inf')
+    in_order = same and (order != 'any' or err <= bound)
+    if same and not in_order:
+        err = max(fr.nn_error(a, b) for a, b in zip(seq.frames, dec))
     return Result(ok=True, bytes=os.path.getsize(arc), max_error=err, enc_s=enc_s,
                   dec_s=dec_s, check='in order' if in_order else 'nearest decoded point',
                   config=' '.join(opts + ['-T 1']))
@@ -283,7 +285,7 @@ def capz_lossless(files, capz_bin, work):
     got = out if os.path.isfile(out) else None
     for f in files:
         g = got or os.path.join(out, os.path.basename(f))
-        if not os.path.exists(g) or open(g, 'rb').read() != open(f, 'rb').read():
+        if not os.path.exists(g) or not filecmp.cmp(f, g, shallow=False):
             return Result(ok=False, note='capz --lossless: %s not given back byte for byte' % f)
     return Result(ok=True, bytes=os.path.getsize(arc), max_error=0.0, enc_s=enc_s,
                   dec_s=dec_s, check='lossless', config='--lossless -T 1')

@@ -73,13 +73,18 @@ def _singles_total(rows):
     return out
 
 
+def _row(allrows, s, peer, bound='lossless'):
+    """The row of sequence s, peer and bound that has a size, or None."""
+    return next((r for r in allrows if r['sequence'] == s and r['peer'] == peer
+                 and r['bound_m'] == bound and _f(r, 'bytes') is not None), None)
+
+
 def _bpp(allrows, s, peer, bound):
-    r = next((r for r in allrows if r['sequence'] == s and r['peer'] == peer
-              and r['bound_m'] == bound and _f(r, 'bytes') is not None), None)
+    r = _row(allrows, s, peer, bound)
     return (_f(r, 'bits_per_point'), r) if r else (None, None)
 
 
-def targets(rows, seqs, allrows, best):
+def targets(seqs, allrows, best):
     """Issue #37's size targets against the strongest G-PCC and Cloudini of the same run:
     order kept at most 1.1x G-PCC and below Cloudini, --point-order any at most 0.8x, each
     within its bound; --lossless at most 0.75x xz -9e of the files."""
@@ -89,7 +94,7 @@ def targets(rows, seqs, allrows, best):
              'G-PCC | | capz-any | any / G-PCC | |', '|---|---|---|---:|---:|---:|---:|---|---:|'
              '---:|---|']
     held = {}
-    bounds = sorted(set(r['bound_m'] for r in rows if r['bound_m'] != 'lossless'), key=float)
+    bounds = sorted(set(r['bound_m'] for r in allrows if r['bound_m'] != 'lossless'), key=float)
     for s in seqs:
         for bound in bounds:
             g = best.get((s, bound))
@@ -112,10 +117,7 @@ def targets(rows, seqs, allrows, best):
                 s, bound_label(bound), g['peer'], _f(g, 'bits_per_point'),
                 '%.2f' % c if c is not None else '', ' | '.join(cells)))
     for s in seqs:
-        xz = next((r for r in allrows if r['sequence'] == s and r['peer'] == 'xz-9e'
-                   and _f(r, 'bytes') is not None), None)
-        cl = next((r for r in allrows if r['sequence'] == s and r['peer'] == 'capz-lossless'
-                   and _f(r, 'bytes') is not None), None)
+        xz, cl = _row(allrows, s, 'xz-9e'), _row(allrows, s, 'capz-lossless')
         if xz and cl and not s.startswith('single ('):
             held.setdefault(('capz-lossless', 'lossless'), []).append(
                 int(cl['bytes']) <= 0.75 * int(xz['bytes']))
@@ -168,7 +170,7 @@ def markdown(rows):
                 cells.append(c)
             lines.append('| %s | %s | %s | %s |' % (s, npts, ' | '.join(cells),
                                                    g['peer'] if g else ''))
-    lines += targets(rows, seqs, allrows, best)
+    lines += targets(seqs, allrows, best)
     lines.append('\n**Lossless** (bits per point over all frames; capz-lossless, xz-9e and '
                  'zstd-19 of the frame files with all their fields, xz-9e-xyz of x y z float32 '
                  'only)\n')
@@ -182,9 +184,7 @@ def markdown(rows):
         for p in lossless:
             r = next((r for r in allrows if r['sequence'] == s and r['peer'] == p), None)
             cells.append('%.2f' % _f(r, 'bits_per_point') if r else '')
-        xz = next((r for r in allrows if r['sequence'] == s and r['peer'] == 'xz-9e'), None)
-        cl = next((r for r in allrows if r['sequence'] == s and r['peer'] == 'capz-lossless'
-                   and _f(r, 'bytes') is not None), None)
+        xz, cl = _row(allrows, s, 'xz-9e'), _row(allrows, s, 'capz-lossless')
         cells.append('%.2f' % (0.75 * _f(xz, 'bits_per_point')) if xz else '')
         cells.append('%.3f' % (int(cl['bytes']) / int(xz['bytes'])) if xz and cl else '')
         lines.append('| %s | %s |' % (s, ' | '.join(cells)))

@@ -22,7 +22,7 @@ def verdicts(rows):
     for r in allrows:
         if r['sequence'] not in seqs:
             seqs.append(r['sequence'])
-    lines = report.targets(rows, seqs, allrows, report.best_gpcc(allrows))
+    lines = report.targets(seqs, allrows, report.best_gpcc(allrows))
     return [ln for ln in lines if ln.startswith('| single/') or ln.startswith('| seq')], \
         [ln for ln in lines if ln.startswith('- ')]
 
